@@ -1,0 +1,36 @@
+//! Writing files so that a failed write never leaves a half-written file behind: the content
+//! goes to a temporary file in the same folder, is flushed to disk, then renamed over the target.
+
+use std::io::Write;
+use std::path::Path;
+
+/// Writes `path` atomically through `fill`, which gets a buffered writer.
+///
+/// On any error the previous content of `path` (if any) is left untouched and the temporary file
+/// is removed.
+pub fn write_with<F>(path: &Path, fill: F) -> std::io::Result<()>
+where
+    F: FnOnce(&mut dyn Write) -> std::io::Result<()>,
+{
+    let dir = match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    };
+    let tmp = tempfile::Builder::new()
+        .prefix(".driftlab-")
+        .suffix(".tmp")
+        .tempfile_in(dir)?;
+    {
+        let mut w = std::io::BufWriter::with_capacity(1 << 20, tmp.as_file());
+        fill(&mut w)?;
+        w.flush()?;
+    }
+    tmp.as_file().sync_all()?;
+    tmp.persist(path).map_err(|e| e.error)?;
+    Ok(())
+}
+
+/// Writes `bytes` to `path` atomically.
+pub fn write_bytes(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    write_with(path, |w| w.write_all(bytes))
+}

@@ -1,0 +1,34 @@
+//! driftlab: calibration of the thermal drift of gyroscopes.
+//!
+//! The engine behind the workbench and the command line. It reads chamber test logs, finds the
+//! temperature plateaus, differentiates the temperature, fits the Vakhrameev model
+//! `Ω = K0(T) + K1±(Ṫ)·Ṫ + K2±(T̈)·T̈` and corrects logs in batch or one sample at a time.
+//! Nothing here depends on a user interface.
+//!
+//! The flow, each step a plain function of the one before:
+//!
+//! ```text
+//! ingest::read_path -> Log
+//!   Recipe (every choice, validated once)
+//!     model::fit(&Log, &Recipe) -> Calibration
+//!        Calibration::correct(&Log) -> Correction      (batch)
+//!        Calibration::corrector()   -> StreamCorrector (one sample at a time)
+//!   metrics::FiguresOfMerit::of(...)                   (before and after)
+//!   calfile::save / calfile::load                      (versioned JSON)
+//! ```
+
+pub mod approx;
+pub mod atomic;
+pub mod calfile;
+pub mod correct;
+pub mod error;
+pub mod ingest;
+pub mod log;
+pub mod metrics;
+pub mod model;
+pub mod plateau;
+pub mod recipe;
+pub mod signal;
+pub mod sim;
+
+pub use log::Log;

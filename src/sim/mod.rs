@@ -1,0 +1,1 @@
+//! The chamber simulator (in progress).
