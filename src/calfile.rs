@@ -1,1 +1,126 @@
-//! (in progress)
+//! The calibration file: versioned JSON that names its format, its version, its units and the
+//! log it came from, so that a calibration found on a test-stand PC years later can still be
+//! read and checked against its source.
+//!
+//! ```json
+//! { "format": "driftlab-calibration", "version": 1, "model": "vakhrameev",
+//!   "calibration": { "gyro_id": ..., "source": {...}, "recipe": {...}, "k0": {...}, ... } }
+//! ```
+//!
+//! Loading checks the format name and version before anything else, then reads the body with
+//! every unknown field rejected and every approximation validated (finite numbers, ordered
+//! knots), so a hand-edited file fails with a message that says where.
+
+use crate::error::{Error, Result};
+use crate::model::Calibration;
+use serde::{Deserialize, Serialize};
+use sha2::{Digest, Sha256};
+use std::io::Read;
+use std::path::Path;
+
+/// The format name written into every calibration file.
+pub const FORMAT: &str = "driftlab-calibration";
+/// The newest format version this build writes and reads.
+pub const VERSION: u32 = 1;
+
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct CalFile {
+    format: String,
+    version: u32,
+    model: String,
+    calibration: Calibration,
+}
+
+/// Only the header, read first so that a file of another kind or version is named as such
+/// instead of failing on its first unexpected field.
+#[derive(Deserialize)]
+struct Header {
+    format: Option<String>,
+    version: Option<u64>,
+    model: Option<String>,
+}
+
+/// The calibration as the JSON text of a calibration file.
+pub fn to_json(cal: &Calibration) -> String {
+    let file = CalFile {
+        format: FORMAT.into(),
+        version: VERSION,
+        model: "vakhrameev".into(),
+        calibration: cal.clone(),
+    };
+    // Serialising plain data with string keys cannot fail.
+    serde_json::to_string_pretty(&file).unwrap_or_default() + "\n"
+}
+
+/// Reads a calibration from JSON text; `path` names the file in messages.
+pub fn from_json(path: &Path, text: &str) -> Result<Calibration> {
+    let err = |message: String| Error::File {
+        path: path.to_path_buf(),
+        message,
+    };
+    let header: Header =
+        serde_json::from_str(text).map_err(|e| err(format!("not a calibration file: {e}")))?;
+    match header.format.as_deref() {
+        Some(FORMAT) => {}
+        Some(other) => {
+            return Err(err(format!("format is \"{other}\", expected \"{FORMAT}\"")));
+        }
+        None => return Err(err(format!("no \"format\" field: not a {FORMAT} file"))),
+    }
+    match header.version {
+        Some(v) if v == VERSION as u64 => {}
+        Some(v) => {
+            return Err(err(format!(
+                "version {v} is not supported by this driftlab (reads version {VERSION}); \
+                 use a newer driftlab"
+            )));
+        }
+        None => return Err(err("no \"version\" field".into())),
+    }
+    match header.model.as_deref() {
+        Some("vakhrameev") => {}
+        Some(other) => {
+            return Err(err(format!(
+                "model \"{other}\" is not known to this driftlab"
+            )));
+        }
+        None => return Err(err("no \"model\" field".into())),
+    }
+    let file: CalFile = serde_json::from_str(text).map_err(|e| err(e.to_string()))?;
+    Ok(file.calibration)
+}
+
+/// Writes a calibration file atomically.
+pub fn save(path: &Path, cal: &Calibration) -> Result<()> {
+    crate::atomic::write_bytes(path, to_json(cal).as_bytes()).map_err(|e| Error::io(path, e))
+}
+
+/// Reads a calibration file.
+pub fn load(path: &Path) -> Result<Calibration> {
+    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    let text = String::from_utf8(bytes).map_err(|e| Error::File {
+        path: path.to_path_buf(),
+        message: format!("not UTF-8 text: {e}"),
+    })?;
+    from_json(path, &text)
+}
+
+/// SHA-256 of a file's bytes as lowercase hex, read in blocks (logs can be gigabytes).
+pub fn sha256_file(path: &Path) -> Result<String> {
+    let mut f = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
+    let mut hasher = Sha256::new();
+    let mut buf = vec![0u8; 1 << 20];
+    loop {
+        let n = f.read(&mut buf).map_err(|e| Error::io(path, e))?;
+        if n == 0 {
+            break;
+        }
+        hasher.update(&buf[..n]);
+    }
+    Ok(hasher
+        .finalize()
+        .iter()
+        .map(|b| format!("{b:02x}"))
+        .collect())
+}

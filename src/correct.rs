@@ -1,1 +1,194 @@
-//! (in progress)
+//! Applying a calibration: `Ω_cor = Ω_raw − Ω_pred` (METHOD.md §1, equation 2), for a whole
+//! log at once or one sample at a time.
+//!
+//! Both paths use only past samples for Ṫ and T̈ (causal smoothing, backward differences), so a
+//! correction computed here is the correction a gyro's processor would have made in real time.
+//! [`StreamCorrector`] is the piece a firmware engineer ports; it keeps a few short ring buffers
+//! and does a fixed amount of work per sample.
+
+use crate::log::Log;
+use crate::model::{Calibration, Regime};
+use crate::signal::{self, CausalMean, DerivativeSteps, Derivatives};
+use rayon::prelude::*;
+
+/// A corrected log.
+#[derive(Debug, Clone, Default)]
+pub struct Correction {
+    /// Predicted thermal drift, °/h.
+    pub pred_dph: Vec<f64>,
+    /// Corrected rate, °/h.
+    pub cor_dph: Vec<f64>,
+    /// Regime of each sample.
+    pub regime: Vec<Regime>,
+    /// The derivatives the prediction used.
+    pub deriv: Derivatives,
+    /// Share of samples whose T, Ṫ or T̈ lay outside the calibrated ranges (edge values held).
+    pub outside_fraction: f64,
+}
+
+impl Calibration {
+    /// Derivative settings for a log sampled every `dt_s` seconds.
+    pub fn steps_for(&self, dt_s: f64) -> DerivativeSteps {
+        self.resolved.steps_for(dt_s)
+    }
+
+    /// Corrects a whole log.
+    pub fn correct(&self, log: &Log) -> Correction {
+        let dt = log.nominal_dt_s();
+        let deriv = signal::derivatives(&log.temp_c, self.steps_for(dt), dt);
+        self.correct_with(log, deriv)
+    }
+
+    /// Corrects a log whose derivatives are already known (the workbench keeps them while only
+    /// approximations change). Runs in parallel over chunks of the log.
+    pub fn correct_with(&self, log: &Log, deriv: Derivatives) -> Correction {
+        let n = log.len();
+        let mut pred_dph = vec![0.0; n];
+        let mut regime = vec![Regime::Static; n];
+        const CHUNK: usize = 1 << 15;
+        let outside: usize = pred_dph
+            .par_chunks_mut(CHUNK)
+            .zip(regime.par_chunks_mut(CHUNK))
+            .enumerate()
+            .map(|(c, (p, r))| {
+                let base = c * CHUNK;
+                let mut outside = 0;
+                for k in 0..p.len() {
+                    let i = base + k;
+                    let (t, td, tdd) = (log.temp_c[i], deriv.tdot[i], deriv.tddot[i]);
+                    (p[k], r[k]) = self.predict(t, td, tdd);
+                    outside += usize::from(self.outside(t, td, tdd, r[k]));
+                }
+                outside
+            })
+            .sum();
+        let cor_dph = log
+            .omega_dph
+            .par_iter()
+            .zip(&pred_dph)
+            .map(|(w, p)| w - p)
+            .collect();
+        Correction {
+            pred_dph,
+            cor_dph,
+            regime,
+            deriv,
+            outside_fraction: if n > 0 {
+                outside as f64 / n as f64
+            } else {
+                0.0
+            },
+        }
+    }
+
+    /// Whether a sample lies beyond what the calibration saw (its T outside K0's range, or its
+    /// rate outside the range of the approximation its regime uses).
+    fn outside(&self, temp_c: f64, tdot: f64, tddot: f64, regime: Regime) -> bool {
+        let beyond = |a: &crate::approx::Approx, x: f64| x < a.x_min() || x > a.x_max();
+        beyond(&self.k0, temp_c)
+            || match regime {
+                Regime::Static => false,
+                Regime::Plus => beyond(&self.k1_plus, tdot) || beyond(&self.k2_plus, tddot),
+                Regime::Minus => beyond(&self.k1_minus, tdot) || beyond(&self.k2_minus, tddot),
+            }
+    }
+
+    /// A streaming corrector for samples every `dt_s` seconds.
+    pub fn corrector_for(&self, dt_s: f64) -> StreamCorrector {
+        StreamCorrector::new(self.clone(), self.steps_for(dt_s), dt_s)
+    }
+
+    /// A streaming corrector at the calibration log's sampling step.
+    pub fn corrector(&self) -> StreamCorrector {
+        self.corrector_for(self.resolved.dt_s)
+    }
+}
+
+/// One corrected sample.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Corrected {
+    /// Time of the sample, s (as given).
+    pub time_s: f64,
+    /// Corrected rate, °/h.
+    pub omega_cor_dph: f64,
+    /// Predicted thermal drift, °/h.
+    pub omega_pred_dph: f64,
+    /// Ṫ used, °C/s.
+    pub tdot: f64,
+    /// T̈ used, °C/s².
+    pub tddot: f64,
+    /// Regime of the sample.
+    pub regime: Regime,
+}
+
+/// Real-time correction, one sample at a time, using only past samples.
+///
+/// State: the causal T filter, the last `2s+1` smoothed temperatures and the last `2s+1` values
+/// of Ṫ. Per sample: one filter update, two backward differences, one model evaluation. Samples
+/// are assumed to arrive at the fixed step the corrector was made for.
+#[derive(Debug, Clone)]
+pub struct StreamCorrector {
+    cal: Calibration,
+    steps: DerivativeSteps,
+    dt_s: f64,
+    smooth: CausalMean,
+    step: usize,
+    h2: f64,
+    temp_ring: Vec<f64>,
+    tdot_ring: Vec<f64>,
+    count: usize,
+}
+
+impl StreamCorrector {
+    /// A corrector for `cal` with the given derivative settings and sampling step.
+    pub fn new(cal: Calibration, steps: DerivativeSteps, dt_s: f64) -> StreamCorrector {
+        let step = steps.step.max(1);
+        StreamCorrector {
+            cal,
+            steps,
+            dt_s,
+            smooth: CausalMean::new(steps.smooth),
+            step,
+            h2: 2.0 * step as f64 * dt_s,
+            temp_ring: vec![0.0; 2 * step + 1],
+            tdot_ring: vec![0.0; 2 * step + 1],
+            count: 0,
+        }
+    }
+
+    /// Forgets all history (after a power cycle or a gap in the data).
+    pub fn reset(&mut self) {
+        *self = StreamCorrector::new(self.cal.clone(), self.steps, self.dt_s);
+    }
+
+    /// Feeds one sample and returns its correction.
+    pub fn push(&mut self, time_s: f64, omega_dph: f64, temp_c: f64) -> Corrected {
+        let (s, len) = (self.step, self.temp_ring.len());
+        let i = self.count;
+        let slot = i % len;
+        let ts = self.smooth.push(temp_c);
+        self.temp_ring[slot] = ts;
+        let back = |k: usize| (i - k) % len;
+        let tdot = if i < 2 * s {
+            0.0
+        } else {
+            (3.0 * ts - 4.0 * self.temp_ring[back(s)] + self.temp_ring[back(2 * s)]) / self.h2
+        };
+        self.tdot_ring[slot] = tdot;
+        let tddot = if i < 4 * s {
+            0.0
+        } else {
+            (3.0 * tdot - 4.0 * self.tdot_ring[back(s)] + self.tdot_ring[back(2 * s)]) / self.h2
+        };
+        self.count += 1;
+        let (pred, regime) = self.cal.predict(temp_c, tdot, tddot);
+        Corrected {
+            time_s,
+            omega_cor_dph: omega_dph - pred,
+            omega_pred_dph: pred,
+            tdot,
+            tddot,
+            regime,
+        }
+    }
+}

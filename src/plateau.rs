@@ -1,1 +1,197 @@
-//! (in progress)
+//! Temperature-stabilisation plateaus: where Ṫ = T̈ = 0, so the mean output is the static bias
+//! K0 at that temperature (METHOD.md §1, step 1).
+//!
+//! The detector looks for long stretches where |Ṫ| stays under a threshold and keeps only their
+//! settled tail: after the chamber stops, heat still diffuses into the coil for many minutes and
+//! the rate-driven drift dies away slowly, so the start of a hold is not yet static.
+
+use serde::{Deserialize, Serialize};
+
+/// A plateau as a time range, s (inclusive).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PlateauRange {
+    /// Start, s.
+    pub start_s: f64,
+    /// End, s.
+    pub end_s: f64,
+}
+
+impl PlateauRange {
+    /// Whether `t` lies within the range.
+    pub fn contains(&self, t: f64) -> bool {
+        t >= self.start_s && t <= self.end_s
+    }
+
+    /// Sample index range `[lo, hi)` of a sorted time column covered by the plateau.
+    pub fn index_range(&self, time_s: &[f64]) -> (usize, usize) {
+        let lo = time_s.partition_point(|&t| t < self.start_s);
+        let hi = time_s.partition_point(|&t| t <= self.end_s);
+        (lo, hi.max(lo))
+    }
+}
+
+impl std::str::FromStr for PlateauRange {
+    type Err = String;
+    /// Parses `START:END` in seconds, as given on the command line.
+    fn from_str(s: &str) -> Result<Self, String> {
+        let (a, b) = s
+            .split_once(':')
+            .ok_or_else(|| format!("plateau \"{s}\" must be START:END in seconds"))?;
+        let parse = |v: &str| {
+            v.trim()
+                .parse::<f64>()
+                .map_err(|_| format!("plateau \"{s}\": \"{v}\" is not a number of seconds"))
+        };
+        let (start_s, end_s) = (parse(a)?, parse(b)?);
+        if !(start_s.is_finite() && end_s.is_finite() && start_s < end_s) {
+            return Err(format!(
+                "plateau \"{s}\": the start must come before the end"
+            ));
+        }
+        Ok(PlateauRange { start_s, end_s })
+    }
+}
+
+/// Settings of the automatic plateau detector.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct DetectOptions {
+    /// |Ṫ| must stay below this, °C/min.
+    pub max_rate_c_per_min: f64,
+    /// The quiet stretch must last at least this long, s.
+    pub min_duration_s: f64,
+    /// Fraction of each quiet stretch kept, counted back from its end (the settled tail).
+    pub settled_fraction: f64,
+    /// Excursions above the threshold shorter than this do not split a stretch, s.
+    pub bridge_s: f64,
+}
+
+impl Default for DetectOptions {
+    fn default() -> Self {
+        DetectOptions {
+            max_rate_c_per_min: 0.05,
+            min_duration_s: 1200.0,
+            settled_fraction: 0.5,
+            bridge_s: 60.0,
+        }
+    }
+}
+
+impl DetectOptions {
+    /// Checks the settings; the message names the one that is wrong.
+    pub fn validate(&self) -> Result<(), String> {
+        if !(self.max_rate_c_per_min.is_finite() && self.max_rate_c_per_min > 0.0) {
+            return Err("plateau max_rate_c_per_min must be positive".into());
+        }
+        if !(self.min_duration_s.is_finite() && self.min_duration_s >= 0.0) {
+            return Err("plateau min_duration_s must be non-negative".into());
+        }
+        if !(self.settled_fraction > 0.0 && self.settled_fraction <= 1.0) {
+            return Err("plateau settled_fraction must be in (0, 1]".into());
+        }
+        if !(self.bridge_s.is_finite() && self.bridge_s >= 0.0) {
+            return Err("plateau bridge_s must be non-negative".into());
+        }
+        Ok(())
+    }
+}
+
+/// Finds plateaus from the temperature rate `tdot` (°C/s) sampled at `time_s`.
+///
+/// Samples before `ready_from` (no derivative history yet) are never part of a plateau.
+pub fn detect(
+    time_s: &[f64],
+    tdot: &[f64],
+    ready_from: usize,
+    opts: &DetectOptions,
+) -> Vec<PlateauRange> {
+    let n = time_s.len().min(tdot.len());
+    let limit = opts.max_rate_c_per_min / 60.0;
+    let quiet = |i: usize| i >= ready_from && tdot[i].abs() < limit;
+    // Quiet runs as index ranges [a, b).
+    let mut runs: Vec<(usize, usize)> = Vec::new();
+    let mut i = 0;
+    while i < n {
+        if !quiet(i) {
+            i += 1;
+            continue;
+        }
+        let a = i;
+        while i < n && quiet(i) {
+            i += 1;
+        }
+        match runs.last_mut() {
+            Some(last) if time_s[a] - time_s[last.1 - 1] <= opts.bridge_s => last.1 = i,
+            _ => runs.push((a, i)),
+        }
+    }
+    runs.into_iter()
+        .filter(|&(a, b)| time_s[b - 1] - time_s[a] >= opts.min_duration_s && b - a >= 2)
+        .map(|(a, b)| {
+            let end = time_s[b - 1];
+            let start = end - (end - time_s[a]) * opts.settled_fraction;
+            PlateauRange {
+                start_s: start,
+                end_s: end,
+            }
+        })
+        .collect()
+}
+
+/// What a plateau says about the gyro: the K0 point and how trustworthy it is.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PlateauStats {
+    /// The time range.
+    pub range: PlateauRange,
+    /// Mean temperature, °C.
+    pub temp_c: f64,
+    /// Mean output, °/h: the K0 point.
+    pub omega_dph: f64,
+    /// Standard deviation of the raw output on the plateau, °/h.
+    pub omega_std_dph: f64,
+    /// Standard error of the mean output, °/h (std/√n: white noise assumed).
+    pub omega_sem_dph: f64,
+    /// Max − min temperature on the plateau, °C: a large value means it was not stable.
+    pub temp_spread_c: f64,
+    /// Samples in the plateau.
+    pub samples: usize,
+}
+
+/// Statistics of `range` over the given columns; `None` when it holds no sample.
+pub fn stats(
+    time_s: &[f64],
+    temp_c: &[f64],
+    omega_dph: &[f64],
+    range: PlateauRange,
+) -> Option<PlateauStats> {
+    let (lo, hi) = range.index_range(time_s);
+    let n = hi - lo;
+    if n == 0 {
+        return None;
+    }
+    let t = &temp_c[lo..hi];
+    let w = &omega_dph[lo..hi];
+    let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
+    let (mt, mw) = (mean(t), mean(w));
+    let var = if n > 1 {
+        w.iter().map(|v| (v - mw).powi(2)).sum::<f64>() / (n - 1) as f64
+    } else {
+        0.0
+    };
+    let (tmin, tmax) = t
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
+            (a.min(v), b.max(v))
+        });
+    Some(PlateauStats {
+        range,
+        temp_c: mt,
+        omega_dph: mw,
+        omega_std_dph: var.sqrt(),
+        omega_sem_dph: (var / n as f64).sqrt(),
+        temp_spread_c: tmax - tmin,
+        samples: n,
+    })
+}
