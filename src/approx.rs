@@ -505,7 +505,20 @@ pub fn knot_weights(kind: ApproxKind, knots_x: &[f64], x: f64) -> (usize, [f64; 
 
 /// Fits `spec` to the points `(xs[k], ys[k])` by least squares. Non-finite points are skipped.
 pub fn fit(spec: &ApproxSpec, xs: &[f64], ys: &[f64]) -> Result<Approx, FitError> {
-    let finite = |k: usize| xs[k].is_finite() && ys[k].is_finite();
+    fit_weighted(spec, xs, ys, None)
+}
+
+/// Fits `spec` by weighted least squares: point `k` counts `weights[k]` times (points with a
+/// non-finite or non-positive weight are skipped). `None` weighs every point alike.
+pub fn fit_weighted(
+    spec: &ApproxSpec,
+    xs: &[f64],
+    ys: &[f64],
+    weights: Option<&[f64]>,
+) -> Result<Approx, FitError> {
+    let wt = |k: usize| weights.map_or(1.0, |w| w.get(k).copied().unwrap_or(0.0));
+    let finite =
+        |k: usize| xs[k].is_finite() && ys[k].is_finite() && wt(k).is_finite() && wt(k) > 0.0;
     let idx: Vec<usize> = (0..xs.len().min(ys.len())).filter(|&k| finite(k)).collect();
     let needed = match spec.kind {
         ApproxKind::Pwl | ApproxKind::Spline if spec.knots < 2 => {
@@ -527,11 +540,11 @@ pub fn fit(spec: &ApproxSpec, xs: &[f64], ys: &[f64]) -> Result<Approx, FitError
         });
     let curve = match spec.kind {
         ApproxKind::Linear | ApproxKind::Parabolic => {
-            fit_polynomial(spec.params(), &idx, xs, ys, lo, hi)
+            fit_polynomial(spec.params(), &idx, xs, ys, &wt, lo, hi)
         }
         ApproxKind::Pwl | ApproxKind::Spline => {
             let knots_x = knot_positions(lo, hi, spec.knots);
-            let knots_y = fit_knots(spec.kind, &knots_x, &idx, xs, ys);
+            let knots_y = fit_knots(spec.kind, &knots_x, &idx, xs, ys, &wt);
             if spec.kind == ApproxKind::Pwl {
                 Curve::Pwl { knots_x, knots_y }
             } else {
@@ -558,22 +571,30 @@ pub fn fit(spec: &ApproxSpec, xs: &[f64], ys: &[f64]) -> Result<Approx, FitError
         needed,
         got: idx.len(),
     })?;
-    approx.stats = stats_of(&approx, &idx, xs, ys);
+    approx.stats = stats_of(&approx, &idx, xs, ys, &wt);
     Ok(approx)
 }
 
-fn stats_of(a: &Approx, idx: &[usize], xs: &[f64], ys: &[f64]) -> FitStats {
+/// Weighted statistics (plain ones when every weight is 1).
+fn stats_of(
+    a: &Approx,
+    idx: &[usize],
+    xs: &[f64],
+    ys: &[f64],
+    wt: &dyn Fn(usize) -> f64,
+) -> FitStats {
     let n = idx.len();
-    let mean = idx.iter().map(|&k| ys[k]).sum::<f64>() / n as f64;
+    let sw: f64 = idx.iter().map(|&k| wt(k)).sum();
+    let mean = idx.iter().map(|&k| wt(k) * ys[k]).sum::<f64>() / sw;
     let (mut ss_res, mut ss_tot) = (0.0, 0.0);
     for &k in idx {
         let r = ys[k] - a.eval(xs[k]);
-        ss_res += r * r;
-        ss_tot += (ys[k] - mean).powi(2);
+        ss_res += wt(k) * r * r;
+        ss_tot += wt(k) * (ys[k] - mean).powi(2);
     }
     FitStats {
         n,
-        rmse: (ss_res / n as f64).sqrt(),
+        rmse: (ss_res / sw).sqrt(),
         r2: if ss_tot > 0.0 {
             1.0 - ss_res / ss_tot
         } else {
@@ -584,7 +605,15 @@ fn stats_of(a: &Approx, idx: &[usize], xs: &[f64], ys: &[f64]) -> FitStats {
 
 /// Polynomial of `p` coefficients, fitted on x scaled to [−1, 1] (for conditioning) and
 /// expanded back to powers of x.
-fn fit_polynomial(p: usize, idx: &[usize], xs: &[f64], ys: &[f64], lo: f64, hi: f64) -> Curve {
+fn fit_polynomial(
+    p: usize,
+    idx: &[usize],
+    xs: &[f64],
+    ys: &[f64],
+    wt: &dyn Fn(usize) -> f64,
+    lo: f64,
+    hi: f64,
+) -> Curve {
     let c = 0.5 * (lo + hi);
     let s = if hi > lo { 0.5 * (hi - lo) } else { 1.0 };
     let mut ata = DMatrix::<f64>::zeros(p, p);
@@ -596,10 +625,11 @@ fn fit_polynomial(p: usize, idx: &[usize], xs: &[f64], ys: &[f64], lo: f64, hi: 
         for j in 1..p {
             row[j] = row[j - 1] * u;
         }
+        let w = wt(k);
         for a in 0..p {
-            aty[a] += row[a] * ys[k];
+            aty[a] += w * row[a] * ys[k];
             for b in a..p {
-                ata[(a, b)] += row[a] * row[b];
+                ata[(a, b)] += w * row[a] * row[b];
             }
         }
     }
@@ -622,17 +652,25 @@ fn binomial(n: usize, k: usize) -> u64 {
 
 /// Knot values by least squares over the knot-weight basis, with a vanishing second-difference
 /// penalty so that a knot interval without points is bridged smoothly instead of left singular.
-fn fit_knots(kind: ApproxKind, knots_x: &[f64], idx: &[usize], xs: &[f64], ys: &[f64]) -> Vec<f64> {
+fn fit_knots(
+    kind: ApproxKind,
+    knots_x: &[f64],
+    idx: &[usize],
+    xs: &[f64],
+    ys: &[f64],
+    wt: &dyn Fn(usize) -> f64,
+) -> Vec<f64> {
     let m = knots_x.len();
     let mut ata = DMatrix::<f64>::zeros(m, m);
     let mut aty = DVector::<f64>::zeros(m);
     for &k in idx {
         let (first, w) = knot_weights(kind, knots_x, xs[k]);
         let width = (m - first).min(4);
+        let pw = wt(k);
         for a in 0..width {
-            aty[first + a] += w[a] * ys[k];
+            aty[first + a] += pw * w[a] * ys[k];
             for b in a..width {
-                ata[(first + a, first + b)] += w[a] * w[b];
+                ata[(first + a, first + b)] += pw * w[a] * w[b];
             }
         }
     }

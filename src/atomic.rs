@@ -20,6 +20,17 @@ where
         .prefix(".driftlab-")
         .suffix(".tmp")
         .tempfile_in(dir)?;
+    // A temporary file is private (0600); the result should have the permissions a plain
+    // write would give: those of the file it replaces, or the usual 0644.
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        let mode = std::fs::metadata(path)
+            .map(|m| m.permissions().mode())
+            .unwrap_or(0o644);
+        tmp.as_file()
+            .set_permissions(std::fs::Permissions::from_mode(mode))?;
+    }
     {
         let mut w = std::io::BufWriter::with_capacity(1 << 20, tmp.as_file());
         fill(&mut w)?;

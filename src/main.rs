@@ -1,1 +1,24 @@
-fn main() {}
+//! The `driftlab` binary: the command line, and (with the `gui` feature) the workbench.
+
+mod cli;
+
+use clap::Parser;
+
+fn main() -> std::process::ExitCode {
+    let args = cli::Cli::parse();
+    let result = match args.command {
+        Some(command) => cli::run(command),
+        None => {
+            // The workbench comes with the `gui` feature; until it is built, point at the CLI.
+            eprintln!("driftlab: no command given. Run `driftlab --help` for the commands.");
+            Ok(())
+        }
+    };
+    match result {
+        Ok(()) => std::process::ExitCode::SUCCESS,
+        Err(message) => {
+            eprintln!("error: {message}");
+            std::process::ExitCode::FAILURE
+        }
+    }
+}

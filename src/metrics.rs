@@ -146,3 +146,41 @@ fn min_max(x: &[f64]) -> (f64, f64) {
             (a.min(v), b.max(v))
         })
 }
+
+/// A calibration judged on one log: the comparison plus how much of the log lay beyond the
+/// calibrated ranges.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct Evaluation {
+    /// Raw against corrected.
+    pub comparison: Comparison,
+    /// Share of samples outside the calibrated T, Ṫ or T̈ ranges (edge values held there).
+    pub outside_fraction: f64,
+    /// Leading samples left out (no rate history yet).
+    pub warmup_samples: usize,
+}
+
+impl Evaluation {
+    /// Corrects `log` with `cal` and compares the result with the raw record.
+    pub fn of(
+        cal: &crate::model::Calibration,
+        log: &crate::log::Log,
+        opts: &MeritOptions,
+    ) -> Evaluation {
+        let correction = cal.correct(log);
+        Evaluation::of_correction(log, &correction, opts)
+    }
+
+    /// Compares an existing correction of `log` with the raw record.
+    pub fn of_correction(
+        log: &crate::log::Log,
+        c: &crate::correct::Correction,
+        opts: &MeritOptions,
+    ) -> Evaluation {
+        let skip = c.deriv.ready_from;
+        Evaluation {
+            comparison: Comparison::of(&log.omega_dph, &c.cor_dph, log.nominal_dt_s(), skip, opts),
+            outside_fraction: c.outside_fraction,
+            warmup_samples: skip,
+        }
+    }
+}

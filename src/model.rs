@@ -15,7 +15,7 @@ use crate::approx::{self, Approx, ApproxKind, ApproxSpec};
 use crate::error::{Error, Result};
 use crate::log::Log;
 use crate::plateau::{self, PlateauRange, PlateauStats};
-use crate::recipe::{PlateauChoice, Recipe};
+use crate::recipe::{PlateauChoice, Recipe, Weighting};
 use crate::signal::{self, DerivativeSteps, Derivatives};
 use serde::{Deserialize, Serialize};
 
@@ -316,14 +316,25 @@ pub fn fit_or_fallback(
     y: &[f64],
     warnings: &mut Vec<String>,
 ) -> Approx {
-    if let Ok(a) = approx::fit(spec, x, y) {
+    fit_or_fallback_weighted(name, spec, x, y, None, warnings)
+}
+
+/// [`fit_or_fallback`] with point weights.
+pub fn fit_or_fallback_weighted(
+    name: &str,
+    spec: &ApproxSpec,
+    x: &[f64],
+    y: &[f64],
+    weights: Option<&[f64]>,
+    warnings: &mut Vec<String>,
+) -> Approx {
+    if let Ok(a) = approx::fit_weighted(spec, x, y, weights) {
         return a;
     }
-    let (xs, ys): (Vec<f64>, Vec<f64>) = x
-        .iter()
-        .zip(y)
-        .filter(|(a, b)| a.is_finite() && b.is_finite())
-        .map(|(a, b)| (*a, *b))
+    let wt = |k: usize| weights.map_or(1.0, |w| w.get(k).copied().unwrap_or(0.0));
+    let (xs, ys): (Vec<f64>, Vec<f64>) = (0..x.len().min(y.len()))
+        .filter(|&k| x[k].is_finite() && y[k].is_finite() && wt(k) > 0.0)
+        .map(|k| (x[k], y[k]))
         .unzip();
     let got = xs.len();
     if got == 0 {
@@ -416,14 +427,16 @@ pub fn deadbands(prepared: &Prepared, mask: &[bool], recipe: &Recipe) -> (f64, f
     (db1, db2)
 }
 
-/// Pointwise K1 on the set `regime`: `(Ω_f − K0(T)) / Ṫ` where |Ṫ| exceeds the dead-band,
-/// outside plateaus.
+/// Pointwise K1 on the set `regime`: `(Ω_f − K0(T) − K2(T̈)·T̈) / Ṫ` where |Ṫ| exceeds the
+/// dead-band, outside plateaus. The paper's first pass has no K2 yet (`k2 = None`); refinement
+/// passes subtract the K2 term fitted in the pass before.
 #[allow(clippy::needless_range_loop)] // one index walks six parallel columns
 pub fn k1_points(
     log: &Log,
     prepared: &Prepared,
     mask: &[bool],
     k0: &Approx,
+    k2: Option<&Approx>,
     deadband: f64,
     regime: Regime,
 ) -> PointSet {
@@ -434,9 +447,10 @@ pub fn k1_points(
         if mask[i] || td.abs() <= deadband || Regime::of(td, tdd) != regime {
             continue;
         }
+        let k2_term = k2.map_or(0.0, |k2| k2.eval(tdd) * tdd);
         out.x.push(td);
         out.y
-            .push((prepared.omega_filtered_dph[i] - k0.eval(log.temp_c[i])) / td);
+            .push((prepared.omega_filtered_dph[i] - k0.eval(log.temp_c[i]) - k2_term) / td);
     }
     out
 }
@@ -465,6 +479,68 @@ pub fn k2_points(
         out.y.push(rest / tdd);
     }
     out
+}
+
+/// K1 and K2 of one set (+ or −), as the paper does (K1 from the ratios, then K2 from what the
+/// fitted K1 leaves), followed by the recipe's refinement passes, each refitting K1 with the K2
+/// term removed and then K2 with the new K1.
+#[allow(clippy::too_many_arguments)]
+fn fit_set(
+    log: &Log,
+    prepared: &Prepared,
+    mask: &[bool],
+    k0: &Approx,
+    (db1, db2): (f64, f64),
+    regime: Regime,
+    recipe: &Recipe,
+    warnings: &mut Vec<String>,
+) -> (Approx, Approx, PointSet, PointSet) {
+    let (spec1, spec2, sign) = match regime {
+        Regime::Minus => (&recipe.k1_minus, &recipe.k2_minus, "-"),
+        _ => (&recipe.k1_plus, &recipe.k2_plus, "+"),
+    };
+    let mut k2: Option<Approx> = None;
+    let passes = 1 + recipe.refinements;
+    let mut out = None;
+    for pass in 0..passes {
+        // Warnings from the last pass only: earlier passes fit the same point sets.
+        let mut w = Vec::new();
+        let p1 = k1_points(log, prepared, mask, k0, k2.as_ref(), db1, regime);
+        let k1 = fit_points(&format!("K1{sign}"), spec1, &p1, recipe.weighting, &mut w);
+        let p2 = k2_points(log, prepared, mask, k0, &k1, db2, regime);
+        let k2_fit = fit_points(&format!("K2{sign}"), spec2, &p2, recipe.weighting, &mut w);
+        if pass + 1 == passes {
+            warnings.extend(w);
+        }
+        k2 = Some(k2_fit.clone());
+        out = Some((k1, k2_fit, p1, p2));
+    }
+    // `passes` is at least 1, so the loop has run.
+    out.unwrap_or_else(|| {
+        (
+            Approx::zero(spec1.kind),
+            Approx::zero(spec2.kind),
+            PointSet::default(),
+            PointSet::default(),
+        )
+    })
+}
+
+/// Fits pointwise coefficients, weighted as the recipe says.
+fn fit_points(
+    name: &str,
+    spec: &ApproxSpec,
+    p: &PointSet,
+    weighting: Weighting,
+    warnings: &mut Vec<String>,
+) -> Approx {
+    match weighting {
+        Weighting::Ratio => fit_or_fallback(name, spec, &p.x, &p.y, warnings),
+        Weighting::Drift => {
+            let w: Vec<f64> = p.x.iter().map(|x| x * x).collect();
+            fit_or_fallback_weighted(name, spec, &p.x, &p.y, Some(&w), warnings)
+        }
+    }
 }
 
 /// Calibrates the Vakhrameev model on `log` with `recipe`.
@@ -496,36 +572,24 @@ pub fn fit_prepared(
     let mask = plateau_mask(&log.time_s, ranges);
     let (db1, db2) = deadbands(&prepared, &mask, recipe);
 
-    let k1p_pts = k1_points(log, &prepared, &mask, &k0, db1, Regime::Plus);
-    let k1m_pts = k1_points(log, &prepared, &mask, &k0, db1, Regime::Minus);
-    let k1_plus = fit_or_fallback(
-        "K1+",
-        &recipe.k1_plus,
-        &k1p_pts.x,
-        &k1p_pts.y,
+    let (k1_plus, k2_plus, k1p_pts, k2p_pts) = fit_set(
+        log,
+        &prepared,
+        &mask,
+        &k0,
+        (db1, db2),
+        Regime::Plus,
+        recipe,
         &mut warnings,
     );
-    let k1_minus = fit_or_fallback(
-        "K1-",
-        &recipe.k1_minus,
-        &k1m_pts.x,
-        &k1m_pts.y,
-        &mut warnings,
-    );
-    let k2p_pts = k2_points(log, &prepared, &mask, &k0, &k1_plus, db2, Regime::Plus);
-    let k2m_pts = k2_points(log, &prepared, &mask, &k0, &k1_minus, db2, Regime::Minus);
-    let k2_plus = fit_or_fallback(
-        "K2+",
-        &recipe.k2_plus,
-        &k2p_pts.x,
-        &k2p_pts.y,
-        &mut warnings,
-    );
-    let k2_minus = fit_or_fallback(
-        "K2-",
-        &recipe.k2_minus,
-        &k2m_pts.x,
-        &k2m_pts.y,
+    let (k1_minus, k2_minus, k1m_pts, k2m_pts) = fit_set(
+        log,
+        &prepared,
+        &mask,
+        &k0,
+        (db1, db2),
+        Regime::Minus,
+        recipe,
         &mut warnings,
     );
 

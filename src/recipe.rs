@@ -40,6 +40,23 @@ pub struct Recipe {
     pub k2_plus: ApproxSpec,
     /// Approximation of K2− over T̈.
     pub k2_minus: ApproxSpec,
+    /// How the pointwise coefficients are weighed in the least-squares fits.
+    pub weighting: Weighting,
+    /// Extra passes after the paper's K1-then-K2 fit: each refits K1 with the fitted K2 term
+    /// taken out of Ω, then K2 with the new K1 (0: the paper's method exactly).
+    pub refinements: usize,
+}
+
+/// Weighing of the pointwise coefficients K1 = r/Ṫ and K2 = r/T̈ in their fits.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Weighting {
+    /// Every ratio counts alike, as the paper fits them. Ratios at small Ṫ (T̈) carry the
+    /// noise of Ω divided by a small number and can dominate the fit.
+    Ratio,
+    /// Each ratio weighted by its denominator squared: the fit then minimises the error of the
+    /// predicted drift itself, K·Ṫ against Ω − K0, which is what the correction is judged on.
+    Drift,
 }
 
 /// Where the plateaus come from.
@@ -79,6 +96,8 @@ impl Default for Recipe {
             k1_minus: ApproxSpec::of(ApproxKind::Linear),
             k2_plus: ApproxSpec::of(ApproxKind::Linear),
             k2_minus: ApproxSpec::of(ApproxKind::Linear),
+            weighting: Weighting::Drift,
+            refinements: 2,
         }
     }
 }
@@ -107,6 +126,12 @@ impl Recipe {
             {
                 return Err(format!("{name} must be a non-negative number, got {v}"));
             }
+        }
+        if self.refinements > 20 {
+            return Err(format!(
+                "refinements must be at most 20, got {}",
+                self.refinements
+            ));
         }
         for (name, spec) in self.specs() {
             if spec.kind.has_knots() && !(2..=64).contains(&spec.knots) {

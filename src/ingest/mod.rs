@@ -1,8 +1,68 @@
-//! Reading test-stand logs (in progress).
+//! Reading test-stand logs into a [`Log`].
+//!
+//! Thermal-chamber stands write CSV in many dialects: comma, semicolon, tab or aligned
+//! columns; decimal points or (Russian and European stands) decimal commas; with or without
+//! a header; rates in °/h, °/s or rad/s; time in s, ms, minutes or as a sample counter.
+//! This module tells the dialect from the first lines, maps columns by name (or by the
+//! options), converts every calibration column to driftlab's units (time s, rate °/h,
+//! temperature °C) and reports, rather than hides, what was wrong with the file: a cell that
+//! cannot be read stops the read with its file, line and column; blank cells, time going
+//! backwards and gaps are worked around and listed in
+//! [`LogInfo::problems`](crate::log::LogInfo::problems).
+//!
+//! # Column mapping
+//!
+//! * With a header, columns are found by name, case-insensitively and ignoring units:
+//!   time (`time`, `t`, `sec`, `timestamp`, `Time [ms]`, `t_min`, a sample counter such as
+//!   `sample` or `n`), rate (`omega`, `rate`, `gyro`, `drift`, `w`, `omega_dph`,
+//!   `gyro_x_rad_s`, `Rate (deg/s)`...), temperature (`temp`, `temperature`, `t_c`,
+//!   `Temp [°C]`, `T1`...). The first temperature column is the calibration temperature;
+//!   every other numeric column is kept by name in [`Log::extra`] (other temperatures
+//!   converted to °C).
+//! * Without a header, column 1 is time, 2 the rate and 3 the temperature, unless the
+//!   options map them; a two-column file without a header is rate and temperature and needs
+//!   [`ReadOptions::sample_rate_hz`].
+//! * [`ReadOptions::time_col`], `rate_col` and `temp_col` (a name or a 1-based index)
+//!   always override guessing.
+//!
+//! # Units
+//!
+//! Units are read from the column names (`omega_dph`, `gyro_x_rad_s`, `Rate [deg/s]`,
+//! `time_ms`, `t [min]`, `Temp [K]`) and can be overridden with
+//! [`ReadOptions::rate_unit`] and [`ReadOptions::time_unit`]; without either, rate is in
+//! °/h and time in seconds. The unit each column was read in is recorded in
+//! [`ColumnInfo::unit`].
+//!
+//! # Speed
+//!
+//! Files are never held whole in memory: they are read in blocks of a few MB cut at line
+//! ends, parsed in parallel (rayon) and stitched together in order, with exact line numbers.
+//! Plain numeric rows take a fast path (memchr + fast-float); quoted, blank or odd rows a
+//! careful one; a file whose quoted fields span lines is read again sequentially.
 
-/// A log that could not be read, with file, line and column.
-#[derive(Debug, thiserror::Error)]
-#[error("{file}:{line}:{column}: {message}")]
+mod columns;
+mod parse;
+mod read;
+mod sniff;
+mod units;
+
+pub use units::{RateUnit, TimeUnit};
+
+use crate::log::{ColumnInfo, Log};
+use serde::{Deserialize, Serialize};
+use std::fmt;
+use std::path::Path;
+use std::str::FromStr;
+
+/// More columns than this means the separator was misread (or the file is not a log).
+pub(crate) const MAX_COLUMNS: usize = 4096;
+
+/// A log that could not be read, with file, line and column, so that a test engineer can
+/// open the file at the offending cell.
+///
+/// Displayed as `file:line:column: message`; the column (and the line) are left out when
+/// they are 0, i.e. when the error is not about one cell (or one line).
+#[derive(Debug, Clone, PartialEq, Eq)]
 pub struct IngestError {
     /// File name.
     pub file: String,
@@ -12,4 +72,245 @@ pub struct IngestError {
     pub column: usize,
     /// What is wrong.
     pub message: String,
+}
+
+impl fmt::Display for IngestError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match (self.line, self.column) {
+            (0, _) => write!(f, "{}: {}", self.file, self.message),
+            (l, 0) => write!(f, "{}:{}: {}", self.file, l, self.message),
+            (l, c) => write!(f, "{}:{}:{}: {}", self.file, l, c, self.message),
+        }
+    }
+}
+
+impl std::error::Error for IngestError {}
+
+/// An error before the file name is attached.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub(crate) struct Fail {
+    pub line: usize,
+    pub column: usize,
+    pub message: String,
+}
+
+impl Fail {
+    pub(crate) fn new(line: usize, column: usize, message: String) -> Fail {
+        Fail {
+            line,
+            column,
+            message,
+        }
+    }
+
+    /// An error about the whole file.
+    pub(crate) fn file(message: impl Into<String>) -> Fail {
+        Fail::new(0, 0, message.into())
+    }
+
+    pub(crate) fn at(self, file: &str) -> IngestError {
+        IngestError {
+            file: file.to_string(),
+            line: self.line,
+            column: self.column,
+            message: self.message,
+        }
+    }
+}
+
+/// A column named in the options: recipes and the command line say `omega_dph` or `2`.
+#[derive(Debug, Clone, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(untagged)]
+pub enum ColumnRef {
+    /// A 1-based column number, for files without a header or with unhelpful names.
+    Index(usize),
+    /// A header name, matched case-insensitively, with or without its unit
+    /// (`omega` finds `Omega [deg/s]`).
+    Name(String),
+}
+
+impl FromStr for ColumnRef {
+    type Err = String;
+    /// `"3"` is the third column; anything else a name.
+    fn from_str(s: &str) -> Result<Self, String> {
+        let t = s.trim();
+        if t.is_empty() {
+            return Err("empty column reference: give a column name or a 1-based number".into());
+        }
+        Ok(match t.parse::<usize>() {
+            Ok(i) => ColumnRef::Index(i),
+            Err(_) => ColumnRef::Name(t.to_string()),
+        })
+    }
+}
+
+impl fmt::Display for ColumnRef {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            ColumnRef::Index(i) => write!(f, "{i}"),
+            ColumnRef::Name(n) => f.write_str(n),
+        }
+    }
+}
+
+/// Everything an engineer may have to tell the reader about a file; `None` fields are
+/// sniffed or guessed, so the default reads most logs as they are. Recipes store these.
+#[derive(Default, Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct ReadOptions {
+    /// The time column, when its name does not say so.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub time_col: Option<ColumnRef>,
+    /// The gyro rate column, when its name does not say so.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rate_col: Option<ColumnRef>,
+    /// The calibration temperature, when there are several sensors or the name is unclear.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub temp_col: Option<ColumnRef>,
+    /// Unit of the rate column, when the header does not say or says it wrong.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rate_unit: Option<RateUnit>,
+    /// Unit of the time column, when the header does not say or says it wrong.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub time_unit: Option<TimeUnit>,
+    /// Sampling rate, Hz: needed when time is a sample index, or when the file has no time
+    /// column at all (time is then the data row's index over this rate, counting rows that
+    /// were dropped, so that gaps stay visible).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sample_rate_hz: Option<f64>,
+    /// Field separator, when sniffing gets it wrong; `b' '` means runs of blanks (aligned
+    /// columns). Stored as a one-character string (`";"`, `"\t"`).
+    #[serde(skip_serializing_if = "Option::is_none", with = "delimiter_serde")]
+    pub delimiter: Option<u8>,
+    /// Whether numbers use a decimal comma (`1,5`), when sniffing gets it wrong.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub decimal_comma: Option<bool>,
+    /// Whether the first non-comment line is a header, when sniffing gets it wrong.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub has_header: Option<bool>,
+}
+
+/// Reads a separator as people write it on a command line or in a recipe: `,`, `;`, `\t`
+/// or `tab`, `space` or `whitespace` (runs of blanks), or any single ASCII character.
+pub fn parse_delimiter(s: &str) -> Result<u8, String> {
+    match s {
+        "\\t" | "\t" => return Ok(b'\t'),
+        " " => return Ok(b' '),
+        _ => {}
+    }
+    match s.trim().to_ascii_lowercase().as_str() {
+        "tab" => Ok(b'\t'),
+        "space" | "spaces" | "whitespace" | "blank" | "blanks" => Ok(b' '),
+        "comma" => Ok(b','),
+        "semicolon" => Ok(b';'),
+        t if t.len() == 1 && t.is_ascii() && !matches!(t, "\"" | "\n" | "\r" | "#") => {
+            Ok(t.as_bytes()[0])
+        }
+        _ => Err(format!(
+            "unknown delimiter \"{s}\": use a single character such as , or ;, \\t (tab) or \
+             space (runs of blanks)"
+        )),
+    }
+}
+
+mod delimiter_serde {
+    use serde::de::Error;
+    use serde::{Deserialize, Deserializer, Serializer};
+
+    pub fn serialize<S: Serializer>(d: &Option<u8>, s: S) -> Result<S::Ok, S::Error> {
+        match d {
+            Some(b) => s.serialize_some(&char::from(*b).to_string()),
+            None => s.serialize_none(),
+        }
+    }
+
+    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Option<u8>, D::Error> {
+        match Option::<String>::deserialize(d)? {
+            None => Ok(None),
+            Some(s) => super::parse_delimiter(&s)
+                .map(Some)
+                .map_err(D::Error::custom),
+        }
+    }
+}
+
+/// What the reader would do with a file, for the import view: the GUI shows it so the
+/// engineer can correct the mapping before a long read.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Preview {
+    /// Field separator (a blank for runs of blanks).
+    pub delimiter: char,
+    /// Whether numbers use a decimal comma.
+    pub decimal_comma: bool,
+    /// Whether the first non-comment line is a header.
+    pub has_header: bool,
+    /// Line of the header, 0 without one.
+    pub header_line: usize,
+    /// Column names (`colN` without a header).
+    pub names: Vec<String>,
+    /// The first data rows, cell by cell as text.
+    pub rows: Vec<Vec<String>>,
+    /// The file line of each row in `rows`.
+    pub row_lines: Vec<usize>,
+    /// Every column with the role and unit it would be read with.
+    pub columns: Vec<ColumnInfo>,
+    /// True when time would be the row index over `sample_rate_hz` (no time column).
+    pub time_from_sample_rate: bool,
+    /// Why the columns cannot be mapped with these options (roles then only say which
+    /// columns are numeric); `None` when a read would start.
+    pub mapping_error: Option<String>,
+}
+
+/// Reads a log file.
+///
+/// # Errors
+/// An unreadable file or cell, with file, line and column; see the module documentation.
+pub fn read_path(path: &Path, opts: &ReadOptions) -> Result<Log, IngestError> {
+    read_path_with_progress(path, opts, &|_| true)
+}
+
+/// Reads a log file, telling `progress` the fraction done (0 to 1) every few MB so a GUI
+/// can draw a bar; when `progress` returns false the read stops with the error
+/// `cancelled`.
+///
+/// # Errors
+/// As [`read_path`], plus `cancelled`.
+pub fn read_path_with_progress(
+    path: &Path,
+    opts: &ReadOptions,
+    progress: &(dyn Fn(f64) -> bool + Sync),
+) -> Result<Log, IngestError> {
+    let name = path.display().to_string();
+    read::read(read::Src::Path(path), &name, opts, progress).map_err(|f| f.at(&name))
+}
+
+/// Reads a log already in memory (a test, a paste, an upload); `source` names it in messages.
+///
+/// # Errors
+/// As [`read_path`].
+pub fn read_bytes(source: &str, bytes: &[u8], opts: &ReadOptions) -> Result<Log, IngestError> {
+    read::read(read::Src::Bytes(bytes), source, opts, &|_| true).map_err(|f| f.at(source))
+}
+
+/// Sniffs a log file and shows what a read would do, reading only its first lines.
+///
+/// # Errors
+/// Only when the file cannot be read as a text table at all (missing, empty, binary, one
+/// column); a mapping the options cannot make is reported in [`Preview::mapping_error`].
+pub fn preview(path: &Path, opts: &ReadOptions, max_rows: usize) -> Result<Preview, IngestError> {
+    let name = path.display().to_string();
+    read::preview(read::Src::Path(path), opts, max_rows).map_err(|f| f.at(&name))
+}
+
+/// [`preview`] of a log already in memory.
+///
+/// # Errors
+/// As [`preview`].
+pub fn preview_bytes(
+    source: &str,
+    bytes: &[u8],
+    opts: &ReadOptions,
+    max_rows: usize,
+) -> Result<Preview, IngestError> {
+    read::preview(read::Src::Bytes(bytes), opts, max_rows).map_err(|f| f.at(source))
 }

@@ -1,0 +1,183 @@
+//! Pieces every subcommand shares: how to read a log, progress bars, number formatting.
+
+use driftlab::Log;
+use driftlab::ingest::{self, ColumnRef, RateUnit, ReadOptions, TimeUnit};
+use indicatif::{ProgressBar, ProgressStyle};
+use std::io::IsTerminal;
+use std::path::Path;
+
+/// Column mapping and format options, on every command that reads a log.
+#[derive(clap::Args, Debug, Clone, Default)]
+pub struct LogArgs {
+    /// Time column: a header name or a 1-based index (default: found by name).
+    #[arg(long, value_name = "NAME|N")]
+    pub time_col: Option<String>,
+    /// Gyro rate column: a header name or a 1-based index (default: found by name).
+    #[arg(long, value_name = "NAME|N")]
+    pub rate_col: Option<String>,
+    /// Calibration temperature column: a header name or a 1-based index (default: the first
+    /// temperature column).
+    #[arg(long, value_name = "NAME|N")]
+    pub temp_col: Option<String>,
+    /// Unit of the rate column: deg/h, deg/s or rad/s (default: from the header, else deg/h).
+    #[arg(long, value_name = "UNIT")]
+    pub rate_unit: Option<String>,
+    /// Unit of the time column: s, ms, min, h or samples (default: from the header, else s).
+    #[arg(long, value_name = "UNIT")]
+    pub time_unit: Option<String>,
+    /// Sampling rate in Hz, for a time column in samples or a log without time.
+    #[arg(long, value_name = "HZ")]
+    pub sample_rate: Option<f64>,
+    /// Field separator: ',', ';', 'tab' or 'space' (default: sniffed).
+    #[arg(long, value_name = "SEP")]
+    pub delimiter: Option<String>,
+    /// Numbers use a decimal comma (default: sniffed).
+    #[arg(long)]
+    pub decimal_comma: bool,
+}
+
+impl LogArgs {
+    /// The engine's read options for these arguments.
+    pub fn options(&self) -> Result<ReadOptions, String> {
+        let col = |s: &Option<String>| s.as_deref().map(|v| v.parse::<ColumnRef>()).transpose();
+        let delimiter = match self.delimiter.as_deref() {
+            None => None,
+            Some("tab" | "\\t" | "\t") => Some(b'\t'),
+            Some("space" | "whitespace" | " ") => Some(b' '),
+            Some(s) if s.len() == 1 => Some(s.as_bytes()[0]),
+            Some(s) => return Err(format!("--delimiter \"{s}\": use ',', ';', tab or space")),
+        };
+        Ok(ReadOptions {
+            time_col: col(&self.time_col).map_err(|e| format!("--time-col: {e}"))?,
+            rate_col: col(&self.rate_col).map_err(|e| format!("--rate-col: {e}"))?,
+            temp_col: col(&self.temp_col).map_err(|e| format!("--temp-col: {e}"))?,
+            rate_unit: self
+                .rate_unit
+                .as_deref()
+                .map(|s| s.parse::<RateUnit>())
+                .transpose()
+                .map_err(|e| format!("--rate-unit: {e}"))?,
+            time_unit: self
+                .time_unit
+                .as_deref()
+                .map(|s| s.parse::<TimeUnit>())
+                .transpose()
+                .map_err(|e| format!("--time-unit: {e}"))?,
+            sample_rate_hz: self.sample_rate,
+            delimiter,
+            decimal_comma: self.decimal_comma.then_some(true),
+            has_header: None,
+        })
+    }
+
+    /// Reads a log, with a progress bar on an interactive terminal.
+    pub fn read(&self, path: &Path) -> Result<Log, String> {
+        let opts = self.options()?;
+        let bar = progress_bar(&format!("reading {}", path.display()));
+        let log = ingest::read_path_with_progress(path, &opts, &|f| {
+            if let Some(b) = &bar {
+                b.set_position((f * 1000.0) as u64);
+            }
+            true
+        })
+        .map_err(|e| e.to_string());
+        if let Some(b) = bar {
+            b.finish_and_clear();
+        }
+        let log = log?;
+        for p in &log.info.problems {
+            let col = p.column.map(|c| format!(":{c}")).unwrap_or_default();
+            eprintln!(
+                "warning: {}:{}{col}: {} ({} time{})",
+                log.source,
+                p.line,
+                p.message,
+                p.count,
+                if p.count == 1 { "" } else { "s" }
+            );
+        }
+        Ok(log)
+    }
+}
+
+/// A progress bar counting to 1000, or `None` when stderr is not a terminal (scripts, CI).
+pub fn progress_bar(message: &str) -> Option<ProgressBar> {
+    if !std::io::stderr().is_terminal() {
+        return None;
+    }
+    let bar = ProgressBar::new(1000);
+    bar.set_style(
+        ProgressStyle::with_template("{msg} [{bar:40}] {percent}%")
+            .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
+    bar.set_message(message.to_string());
+    Some(bar)
+}
+
+/// A short spinner-free status line on stderr when interactive.
+pub fn status(message: &str) {
+    if std::io::stderr().is_terminal() {
+        eprintln!("{message}");
+    }
+}
+
+/// Prints a value as pretty JSON on stdout.
+pub fn print_json<T: serde::Serialize>(value: &T) -> Result<(), String> {
+    let text = serde_json::to_string_pretty(value).map_err(|e| e.to_string())?;
+    println!("{text}");
+    Ok(())
+}
+
+/// Formats a ratio for tables ("inf" when the corrected figure is zero).
+pub fn ratio(r: f64) -> String {
+    if r.is_finite() {
+        format!("{r:.2}x")
+    } else {
+        "inf".into()
+    }
+}
+
+/// Prints an evaluation as a small table of raw, corrected and ratio.
+pub fn print_evaluation(e: &driftlab::metrics::Evaluation) {
+    let c = &e.comparison;
+    println!(
+        "  {:<34} {:>11} {:>11} {:>9}",
+        "figure (deg/h)", "raw", "corrected", "ratio"
+    );
+    let rows = [
+        (
+            "peak-to-peak of filtered drift",
+            c.raw.p2p_dph,
+            c.corrected.p2p_dph,
+            c.p2p_ratio,
+        ),
+        (
+            "std of filtered drift",
+            c.raw.std_dph,
+            c.corrected.std_dph,
+            c.std_ratio,
+        ),
+        (
+            "max |10-min mean|",
+            c.raw.win_mean_max_abs_dph,
+            c.corrected.win_mean_max_abs_dph,
+            c.win_mean_ratio,
+        ),
+        (
+            "mean 10-min RMS",
+            c.raw.win_rms_mean_dph,
+            c.corrected.win_rms_mean_dph,
+            c.win_rms_ratio,
+        ),
+    ];
+    for (name, raw, cor, r) in rows {
+        println!("  {name:<34} {raw:>11.4} {cor:>11.4} {:>9}", ratio(r));
+    }
+    println!(
+        "  {} samples ({} warm-up samples left out), {} windows; {:.1}% outside the calibrated ranges",
+        c.raw.samples,
+        e.warmup_samples,
+        c.raw.windows,
+        e.outside_fraction * 100.0
+    );
+}

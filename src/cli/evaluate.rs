@@ -1,0 +1,61 @@
+//! `driftlab evaluate`: figures of merit of a log, raw and corrected.
+
+use super::common::{self, LogArgs};
+use driftlab::calfile;
+use driftlab::metrics::{Evaluation, MeritOptions};
+use std::path::PathBuf;
+
+/// Arguments of `evaluate`.
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// The calibration (JSON).
+    pub calibration: PathBuf,
+    /// The log to judge it on.
+    pub log: PathBuf,
+    /// Moving-average window of the filtered drift, s (default: the calibration's filter).
+    #[arg(long, value_name = "S")]
+    pub filter: Option<f64>,
+    /// Length of the consecutive mean/RMS windows, s.
+    #[arg(long, value_name = "S", default_value_t = 600.0)]
+    pub window: f64,
+    /// Print the figures as JSON.
+    #[arg(long)]
+    pub json: bool,
+    #[command(flatten)]
+    pub log_args: LogArgs,
+}
+
+pub fn run(a: Args) -> Result<(), String> {
+    let cal = calfile::load(&a.calibration).map_err(|e| e.to_string())?;
+    let log = a.log_args.read(&a.log)?;
+    let opts = MeritOptions {
+        filter_s: a.filter.unwrap_or(cal.recipe.filter_s),
+        window_s: a.window,
+    };
+    if !(opts.filter_s > 0.0 && opts.window_s > 0.0) {
+        return Err("--filter and --window must be positive".into());
+    }
+    let eval = Evaluation::of(&cal, &log, &opts);
+    if a.json {
+        return common::print_json(&serde_json::json!({
+            "calibration": a.calibration,
+            "log": a.log,
+            "in_sample": cal.source.sha256 == calfile::sha256_file(&a.log).unwrap_or_default(),
+            "options": opts,
+            "evaluation": eval,
+        }));
+    }
+    let held_out = cal.source.sha256 != calfile::sha256_file(&a.log).unwrap_or_default();
+    println!(
+        "{} on {} ({}):",
+        super::calibrate::file_name(&a.calibration),
+        super::calibrate::file_name(&a.log),
+        if held_out {
+            "held out: not the calibration log"
+        } else {
+            "in-sample: the calibration log"
+        }
+    );
+    common::print_evaluation(&eval);
+    Ok(())
+}

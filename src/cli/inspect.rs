@@ -1,0 +1,100 @@
+//! `driftlab inspect`: what driftlab reads in a log.
+
+use super::common::{self, LogArgs};
+use driftlab::model::{self, Prepared};
+use driftlab::recipe::Recipe;
+use std::path::PathBuf;
+
+/// Arguments of `inspect`.
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// The log to look at.
+    pub log: PathBuf,
+    /// Print as JSON.
+    #[arg(long)]
+    pub json: bool,
+    #[command(flatten)]
+    pub log_args: LogArgs,
+}
+
+pub fn run(a: Args) -> Result<(), String> {
+    let log = a.log_args.read(&a.log)?;
+    let recipe = Recipe::default();
+    let prepared = Prepared::new(&log, &recipe);
+    let ranges = model::plateau_ranges(&log, &prepared, &recipe);
+    let plateaus = model::plateau_stats(&log, &ranges);
+    let (tmin, tmax) = log
+        .temp_c
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
+            (a.min(v), b.max(v))
+        });
+    let rate_max = prepared
+        .deriv
+        .tdot
+        .iter()
+        .fold(0.0f64, |a, v| a.max(v.abs()))
+        * 60.0;
+    let dt = log.nominal_dt_s();
+    if a.json {
+        return common::print_json(&serde_json::json!({
+            "source": log.source,
+            "info": log.info,
+            "samples": log.len(),
+            "step_s": dt,
+            "sample_rate_hz": 1.0 / dt,
+            "duration_s": log.duration_s(),
+            "temp_min_c": tmin,
+            "temp_max_c": tmax,
+            "max_abs_rate_c_per_min": rate_max,
+            "extra_channels": log.extra.iter().map(|c| &c.name).collect::<Vec<_>>(),
+            "plateaus": plateaus,
+        }));
+    }
+    let i = &log.info;
+    println!("{}", log.source);
+    println!(
+        "  format: separator {:?}, decimal {}, {}",
+        i.delimiter,
+        if i.decimal_comma { "comma" } else { "point" },
+        if i.has_header {
+            "header row"
+        } else {
+            "no header"
+        }
+    );
+    println!("  columns:");
+    for c in &i.columns {
+        let unit = if c.unit.is_empty() {
+            String::new()
+        } else {
+            format!(" [{}]", c.unit)
+        };
+        println!("    {:>2}  {:<24} {:?}{unit}", c.index, c.name, c.role);
+    }
+    println!(
+        "  {} samples ({} rows read), step {} s ({:.4} Hz), duration {:.2} h",
+        log.len(),
+        i.rows_read,
+        dt,
+        1.0 / dt,
+        log.duration_s() / 3600.0
+    );
+    println!("  temperature {tmin:.3} .. {tmax:.3} degC, fastest |Tdot| {rate_max:.3} degC/min");
+    println!("  plateaus found ({}):", plateaus.len());
+    for p in &plateaus {
+        println!(
+            "    {:>9.0} .. {:>9.0} s   T {:>8.3} degC   Omega {:>9.4} deg/h   std {:.4}   {} samples",
+            p.range.start_s, p.range.end_s, p.temp_c, p.omega_dph, p.omega_std_dph, p.samples
+        );
+    }
+    if i.problems.is_empty() {
+        println!("  problems: none");
+    } else {
+        println!("  problems:");
+        for p in &i.problems {
+            println!("    line {}: {} ({}x)", p.line, p.message, p.count);
+        }
+    }
+    Ok(())
+}

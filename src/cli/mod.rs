@@ -1,0 +1,45 @@
+//! The command line: argument parsing and printing over the engine's calls. No calculation
+//! lives here; if the CLI needs a number, the engine computes it.
+
+mod apply;
+mod calibrate;
+mod common;
+mod evaluate;
+mod inspect;
+mod simulate;
+
+use clap::{Parser, Subcommand};
+
+/// driftlab: calibrate the thermal drift of gyroscopes from thermal-chamber test logs.
+#[derive(Parser, Debug)]
+#[command(name = "driftlab", version, about, long_about = None)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Option<Command>,
+}
+
+/// The subcommands.
+#[derive(Subcommand, Debug)]
+pub enum Command {
+    /// Fit a Vakhrameev calibration (K0, K1±, K2±) to a chamber log and save it as JSON.
+    Calibrate(calibrate::Args),
+    /// Correct a log with a calibration and write time, raw, predicted and corrected rate as CSV.
+    Apply(apply::Args),
+    /// Figures of merit of a log before and after correction (peak-to-peak, std, 10-min mean/RMS).
+    Evaluate(evaluate::Args),
+    /// Show what driftlab reads in a log: columns, units, sampling, plateaus, problems.
+    Inspect(inspect::Args),
+    /// Simulate a motionless fibre-optic gyro in a thermal chamber and write the log as CSV.
+    Simulate(simulate::Args),
+}
+
+/// Runs a parsed command line; the error is printed by `main`.
+pub fn run(command: Command) -> Result<(), String> {
+    match command {
+        Command::Calibrate(a) => calibrate::run(a),
+        Command::Apply(a) => apply::run(a),
+        Command::Evaluate(a) => evaluate::run(a),
+        Command::Inspect(a) => inspect::run(a),
+        Command::Simulate(a) => simulate::run(a),
+    }
+}

@@ -1,0 +1,681 @@
+//! Which column is time, rate and temperature, in which unit, and what is kept besides.
+//!
+//! Names are matched by words, not by exact spelling: a header is split into a base name and
+//! a unit (`Rate (deg/s)`, `Temp [°C]`, `T, °C`, or a suffix as in `omega_dph`,
+//! `gyro_x_rad_s`, `time_ms`), and the base name's words are looked up in short word lists.
+//! Explicit options always win over guessing.
+
+use super::sniff::Sniffed;
+use super::units::{RateUnit, TempUnit, TimeUnit, unit_key};
+use super::{ColumnRef, Fail, ReadOptions};
+use crate::log::{ColumnInfo, ColumnRole};
+
+/// A unit conversion `v · mul / div + add`, kept as a division where that is exact
+/// (milliseconds, a sample rate) so that round values stay round.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Conv {
+    mul: f64,
+    div: f64,
+    add: f64,
+    ident: bool,
+}
+
+impl Conv {
+    pub(crate) const IDENT: Conv = Conv {
+        mul: 1.0,
+        div: 1.0,
+        add: 0.0,
+        ident: true,
+    };
+
+    fn new(mul: f64, div: f64, add: f64) -> Conv {
+        Conv {
+            mul,
+            div,
+            add,
+            ident: mul == 1.0 && div == 1.0 && add == 0.0,
+        }
+    }
+
+    #[inline(always)]
+    pub(crate) fn apply(self, v: f64) -> f64 {
+        if self.ident {
+            v
+        } else {
+            v * self.mul / self.div + self.add
+        }
+    }
+}
+
+/// What to do with one column of the file.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) enum Action {
+    /// Not read.
+    Skip,
+    /// Read into `slot`; a required cell that is blank drops the row, an unreadable one is
+    /// an error.
+    Parse {
+        slot: usize,
+        required: bool,
+        conv: Conv,
+    },
+}
+
+/// Where the time axis comes from.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) enum TimeSource {
+    /// A column of the file (0-based).
+    Column(usize),
+    /// No time column: the data row's index divided by the sample rate.
+    RowIndex { rate_hz: f64 },
+}
+
+/// Slots 0, 1 and 2 are time, rate and temperature; extras follow.
+pub(crate) const SLOT_TIME: usize = 0;
+pub(crate) const SLOT_RATE: usize = 1;
+pub(crate) const SLOT_TEMP: usize = 2;
+
+/// How a file's columns are read.
+#[derive(Debug, Clone)]
+pub(crate) struct Plan {
+    /// Every column of the file with its role and unit.
+    pub columns: Vec<ColumnInfo>,
+    /// One action per column, up to the last one read.
+    pub actions: Vec<Action>,
+    /// Number of value slots.
+    pub nslots: usize,
+    pub time: TimeSource,
+    /// The 0-based file column of each slot (`None` for a synthesised time).
+    pub slot_col: Vec<Option<usize>>,
+    /// Name and unit of each extra slot (slot 3 onwards).
+    pub extras: Vec<(String, String)>,
+}
+
+impl Plan {
+    /// A column's name, for messages.
+    pub(crate) fn name(&self, col: usize) -> &str {
+        self.columns.get(col).map_or("?", |c| c.name.as_str())
+    }
+}
+
+/// What a header name says about a column.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Kind {
+    Time(Option<TimeUnit>),
+    /// A sample counter.
+    Index,
+    Rate(Option<RateUnit>),
+    Temp(Option<TempUnit>),
+    Other,
+}
+
+/// A header name split into base words and a unit.
+#[derive(Debug, Clone)]
+struct NameParts {
+    /// Base name, lower case, without the unit.
+    base: String,
+    /// Words of the base name.
+    words: Vec<String>,
+    /// The unit as written in brackets or after a comma, if any.
+    unit: Option<String>,
+}
+
+fn name_parts(name: &str) -> NameParts {
+    let name = name.trim();
+    let mut base = name.to_string();
+    let mut unit = None;
+    if let Some(open) = name.find(['[', '(', '{']) {
+        let close = match name[open..].chars().next() {
+            Some('[') => ']',
+            Some('(') => ')',
+            _ => '}',
+        };
+        let inner_start = open + 1;
+        let inner_end = name[inner_start..]
+            .find(close)
+            .map_or(name.len(), |i| inner_start + i);
+        unit = Some(name[inner_start..inner_end].trim().to_string());
+        let after = name.get(inner_end + 1..).unwrap_or("");
+        base = format!("{} {}", &name[..open], after).trim().to_string();
+    } else if let Some(i) = name.rfind(',') {
+        let (b, u) = (&name[..i], name[i + 1..].trim());
+        if !u.is_empty() && u.chars().count() <= 12 {
+            unit = Some(u.to_string());
+            base = b.trim().to_string();
+        }
+    } else if let Some(i) = name.find(" in ") {
+        unit = Some(name[i + 4..].trim().to_string());
+        base = name[..i].trim().to_string();
+    }
+    let base = base.to_lowercase();
+    let words = base
+        .split(|c: char| !c.is_alphanumeric() && c != 'ω')
+        .filter(|w| !w.is_empty())
+        .map(str::to_string)
+        .collect();
+    NameParts { base, words, unit }
+}
+
+const TIME_WORDS: &[&str] = &[
+    "time",
+    "timestamp",
+    "t",
+    "sec",
+    "secs",
+    "seconds",
+    "elapsed",
+    "ts",
+    "uptime",
+    "время",
+    "zeit",
+];
+const INDEX_WORDS: &[&str] = &[
+    "sample", "samples", "n", "idx", "index", "no", "num", "nr", "counter", "cnt", "№",
+];
+const RATE_WORDS: &[&str] = &[
+    "omega",
+    "rate",
+    "gyro",
+    "gyr",
+    "drift",
+    "w",
+    "ω",
+    "angular",
+    "омега",
+    "дрейф",
+];
+const TEMP_WORDS: &[&str] = &[
+    "temp",
+    "temperature",
+    "tmp",
+    "tc",
+    "therm",
+    "thermistor",
+    "thermocouple",
+    "температура",
+    "темп",
+];
+
+/// Whether `word` is `kw` followed by nothing, digits, or an axis letter (`gyro2`, `wz`).
+fn word_is(word: &str, kw: &str) -> bool {
+    match word.strip_prefix(kw) {
+        Some("") => true,
+        Some(rest) => {
+            rest.chars().all(|c| c.is_ascii_digit())
+                || ((kw.len() > 1 || kw == "w") && matches!(rest, "x" | "y" | "z"))
+        }
+        None => false,
+    }
+}
+
+fn in_list(word: &str, list: &[&str]) -> bool {
+    list.iter().any(|kw| word_is(word, kw))
+}
+
+/// The unit named by the last words of a name (`gyro_x_rad_s` → `rad s`), if any.
+fn suffix_unit<T>(words: &[String], from_key: impl Fn(&str) -> Option<T>) -> Option<T> {
+    (0..words.len()).find_map(|i| from_key(&unit_key(&words[i..].concat())))
+}
+
+/// What a header name says, with a strength for ranking candidates (0 = nothing).
+fn classify(name: &str) -> (Kind, u8) {
+    let p = name_parts(name);
+    let Some(first) = p.words.first() else {
+        return (Kind::Other, 0);
+    };
+    let rest = &p.words[1..];
+    let bracket = p.unit.as_deref().map(unit_key);
+    let temp_unit = || {
+        bracket
+            .as_deref()
+            .and_then(TempUnit::from_key)
+            .or_else(|| suffix_unit(rest, TempUnit::from_key))
+    };
+    let time_unit = || {
+        bracket
+            .as_deref()
+            .and_then(TimeUnit::from_key)
+            .or_else(|| suffix_unit(rest, TimeUnit::from_key))
+    };
+    let rate_unit = || {
+        bracket
+            .as_deref()
+            .and_then(RateUnit::from_key)
+            .or_else(|| suffix_unit(rest, RateUnit::from_key))
+            .or_else(|| {
+                // A unit glued to the word: omegadph.
+                RATE_WORDS.iter().find_map(|kw| {
+                    first
+                        .strip_prefix(kw)
+                        .filter(|r| !r.is_empty())
+                        .and_then(|r| RateUnit::from_key(&unit_key(r)))
+                })
+            })
+    };
+
+    // "t" alone is time unless a temperature unit says otherwise; "t1", "T2" are sensors.
+    if first == "t" {
+        if let Some(u) = temp_unit() {
+            return (Kind::Temp(Some(u)), 3);
+        }
+        if rest.is_empty() || time_unit().is_some() {
+            return (Kind::Time(time_unit()), 3);
+        }
+    }
+    if first.len() > 1 && first.starts_with('t') && first[1..].chars().all(|c| c.is_ascii_digit()) {
+        return (Kind::Temp(temp_unit()), 3);
+    }
+    if p.words.iter().any(|w| in_list(w, TEMP_WORDS)) {
+        return (Kind::Temp(temp_unit()), 3);
+    }
+    if in_list(first, TIME_WORDS) || (first.starts_with("time") && time_unit().is_some()) {
+        let implied = match first.as_str() {
+            "sec" | "secs" | "seconds" => Some(TimeUnit::Seconds),
+            _ => None,
+        };
+        return (Kind::Time(time_unit().or(implied)), 3);
+    }
+    if in_list(first, RATE_WORDS)
+        || RATE_WORDS
+            .iter()
+            .any(|kw| first.starts_with(kw) && rate_unit().is_some())
+    {
+        return (Kind::Rate(rate_unit()), 3);
+    }
+    if in_list(first, INDEX_WORDS) {
+        return (Kind::Index, 1);
+    }
+    if rest.is_empty() {
+        if let Some(u) = TimeUnit::from_key(first).filter(|u| *u != TimeUnit::Samples) {
+            return (Kind::Time(Some(u)), 2);
+        }
+        if let Some(u) = RateUnit::from_key(first) {
+            return (Kind::Rate(Some(u)), 2);
+        }
+    }
+    if rest.iter().any(|w| in_list(w, RATE_WORDS)) {
+        return (Kind::Rate(rate_unit()), 2);
+    }
+    if rest.iter().any(|w| w == "time") {
+        return (Kind::Time(time_unit()), 2);
+    }
+    // Only the unit speaks.
+    if let Some(b) = bracket.as_deref() {
+        let raw = p.unit.as_deref().unwrap_or("");
+        if let Some(u) = RateUnit::from_key(b).filter(|_| raw.contains('/') || b.len() > 2) {
+            return (Kind::Rate(Some(u)), 2);
+        }
+        if let Some(u) = TempUnit::from_key(b) {
+            return (Kind::Temp(Some(u)), 2);
+        }
+        if let Some(u) = TimeUnit::from_key(b).filter(|u| *u != TimeUnit::Samples) {
+            return (Kind::Time(Some(u)), 1);
+        }
+    }
+    (Kind::Other, 0)
+}
+
+/// The unit text of a kept extra column, as the header wrote it.
+fn raw_unit(name: &str) -> String {
+    name_parts(name).unit.unwrap_or_default()
+}
+
+/// Finds an explicitly named or numbered column.
+fn find_column(r: &ColumnRef, names: &[String], role: &str) -> Result<usize, String> {
+    let list = || {
+        names
+            .iter()
+            .map(|n| format!("\"{n}\""))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    match r {
+        ColumnRef::Index(i) => {
+            if *i >= 1 && *i <= names.len() {
+                Ok(i - 1)
+            } else {
+                Err(format!(
+                    "{role} column {i} does not exist: columns are numbered from 1 and the file \
+                     has {}: {}",
+                    names.len(),
+                    list()
+                ))
+            }
+        }
+        ColumnRef::Name(n) => {
+            let want = n.trim();
+            let want_base = name_parts(want).base;
+            names
+                .iter()
+                .position(|c| {
+                    c.trim().eq_ignore_ascii_case(want)
+                        || c.trim().to_lowercase() == want.to_lowercase()
+                })
+                .or_else(|| {
+                    names
+                        .iter()
+                        .position(|c| name_parts(c).base == want_base && !want_base.is_empty())
+                })
+                .ok_or_else(|| {
+                    format!(
+                        "no {role} column named \"{want}\" in the file; its columns are: {}",
+                        list()
+                    )
+                })
+        }
+    }
+}
+
+/// Decides the role and unit of every column.
+pub(crate) fn plan(sn: &Sniffed, opts: &ReadOptions) -> Result<Plan, Fail> {
+    let ncols = sn.names.len();
+    let at_header = |message: String| Fail::new(sn.header_line, 0, message);
+    if let Some(r) = opts.sample_rate_hz
+        && !(r.is_finite() && r > 0.0)
+    {
+        return Err(Fail::file(format!(
+            "sample_rate_hz must be a positive number of hertz, not {r}"
+        )));
+    }
+
+    let guessable: Vec<bool> = (0..ncols).map(|j| sn.stats[j].numeric()).collect();
+    let kinds: Vec<(Kind, u8)> = if sn.has_header {
+        sn.names.iter().map(|n| classify(n)).collect()
+    } else {
+        vec![(Kind::Other, 0); ncols]
+    };
+
+    let mut used = vec![false; ncols];
+    let explicit =
+        |r: &Option<ColumnRef>, role: &str, used: &mut Vec<bool>| -> Result<Option<usize>, Fail> {
+            match r {
+                None => Ok(None),
+                Some(r) => {
+                    let j = find_column(r, &sn.names, role).map_err(at_header)?;
+                    if used[j] {
+                        return Err(at_header(format!(
+                            "column {} (\"{}\") is mapped to two roles",
+                            j + 1,
+                            sn.names[j]
+                        )));
+                    }
+                    used[j] = true;
+                    Ok(Some(j))
+                }
+            }
+        };
+    let time_x = explicit(&opts.time_col, "time", &mut used)?;
+    let rate_x = explicit(&opts.rate_col, "rate", &mut used)?;
+    let temp_x = explicit(&opts.temp_col, "temperature", &mut used)?;
+
+    let names_list = || {
+        sn.names
+            .iter()
+            .map(|n| format!("\"{n}\""))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+
+    // Guess the roles the options leave open.
+    let (time_col, rate_col, temp_col);
+    if sn.has_header {
+        let best = |used: &[bool], want: fn(&Kind) -> bool| -> Option<usize> {
+            let mut best: Option<(usize, u8)> = None;
+            for j in 0..ncols {
+                let (k, s) = kinds[j];
+                if used[j] || !guessable[j] || !want(&k) {
+                    continue;
+                }
+                if best.is_none_or(|(_, bs)| s > bs) {
+                    best = Some((j, s));
+                }
+            }
+            best.map(|(j, _)| j)
+        };
+        let pick = |x: Option<usize>, want: fn(&Kind) -> bool, used: &mut Vec<bool>| {
+            x.or_else(|| {
+                let j = best(used, want)?;
+                used[j] = true;
+                Some(j)
+            })
+        };
+        rate_col = pick(rate_x, |k| matches!(k, Kind::Rate(_)), &mut used);
+        temp_col = pick(temp_x, |k| matches!(k, Kind::Temp(_)), &mut used);
+        time_col = match pick(time_x, |k| matches!(k, Kind::Time(_)), &mut used) {
+            Some(j) => Some(j),
+            None => pick(None, |k| matches!(k, Kind::Index), &mut used),
+        };
+    } else {
+        // No header: time, rate, temperature in the first columns the options leave free,
+        // except that a 2-column file (or one whose rate and temperature are both mapped)
+        // with a sample rate has no time column.
+        let next_free = |used: &mut Vec<bool>| {
+            let j = (0..ncols).find(|&j| !used[j])?;
+            used[j] = true;
+            Some(j)
+        };
+        let no_time = time_x.is_none()
+            && opts.sample_rate_hz.is_some()
+            && (ncols == 2 || (rate_x.is_some() && temp_x.is_some()));
+        time_col = if no_time {
+            None
+        } else {
+            time_x.or_else(|| next_free(&mut used))
+        };
+        rate_col = rate_x.or_else(|| next_free(&mut used));
+        temp_col = temp_x.or_else(|| next_free(&mut used));
+        if time_col.is_none() && opts.sample_rate_hz.is_none() {
+            return Err(at_header(format!(
+                "the file has no header and {ncols} columns: without a time column pass \
+                 sample_rate_hz (then col1 is the rate and col2 the temperature), or map the \
+                 columns with time_col, rate_col and temp_col"
+            )));
+        }
+    }
+
+    let Some(rate_col) = rate_col else {
+        return Err(at_header(format!(
+            "no gyro rate column: none of {} reads as one (omega, rate, gyro, drift, w...); \
+             pass rate_col",
+            names_list()
+        )));
+    };
+    let Some(temp_col) = temp_col else {
+        return Err(at_header(format!(
+            "no temperature column: none of {} reads as one (temp, temperature, T1...); \
+             pass temp_col",
+            names_list()
+        )));
+    };
+
+    // Units.
+    let header_unit = |j: usize| kinds.get(j).map(|k| k.0);
+    let time = match time_col {
+        None => match opts.sample_rate_hz {
+            Some(rate_hz) => TimeSource::RowIndex { rate_hz },
+            None => {
+                return Err(at_header(format!(
+                    "no time column among {}: pass time_col, or sample_rate_hz if the file has \
+                     none",
+                    names_list()
+                )));
+            }
+        },
+        Some(j) => TimeSource::Column(j),
+    };
+    let time_unit = match time {
+        TimeSource::RowIndex { .. } => None,
+        TimeSource::Column(j) => Some(opts.time_unit.unwrap_or(match header_unit(j) {
+            Some(Kind::Time(Some(u))) => u,
+            Some(Kind::Index) => TimeUnit::Samples,
+            _ => TimeUnit::Seconds,
+        })),
+    };
+    let time_conv = match time_unit {
+        None => Conv::IDENT,
+        Some(TimeUnit::Samples) => match opts.sample_rate_hz {
+            Some(r) => Conv::new(1.0, r, 0.0),
+            None => {
+                return Err(at_header(format!(
+                    "the time column \"{}\" counts samples: pass sample_rate_hz",
+                    sn.names[time_col.unwrap_or(0)]
+                )));
+            }
+        },
+        Some(TimeUnit::Millis) => Conv::new(1.0, 1000.0, 0.0),
+        Some(u) => Conv::new(u.to_s_factor().unwrap_or(1.0), 1.0, 0.0),
+    };
+    let rate_unit = opts.rate_unit.unwrap_or(match header_unit(rate_col) {
+        Some(Kind::Rate(Some(u))) => u,
+        _ => RateUnit::DegPerHour,
+    });
+    let temp_unit_of = |j: usize| match header_unit(j) {
+        Some(Kind::Temp(Some(u))) => u,
+        _ => TempUnit::Celsius,
+    };
+    let celsius = |u: TempUnit| {
+        let (m, a) = u.to_celsius();
+        Conv::new(m, 1.0, a)
+    };
+
+    // Columns and actions.
+    let mut columns = Vec::with_capacity(ncols);
+    let mut actions = vec![Action::Skip; ncols];
+    let mut slot_col = vec![time_col, Some(rate_col), Some(temp_col)];
+    let mut extras = Vec::new();
+    for j in 0..ncols {
+        let name = sn.names[j].clone();
+        let (role, unit) = if Some(j) == time_col {
+            actions[j] = Action::Parse {
+                slot: SLOT_TIME,
+                required: true,
+                conv: time_conv,
+            };
+            let u = time_unit.map(|u| u.to_string()).unwrap_or_default();
+            (ColumnRole::Time, u)
+        } else if j == rate_col {
+            actions[j] = Action::Parse {
+                slot: SLOT_RATE,
+                required: true,
+                conv: Conv::new(rate_unit.to_dph_factor(), 1.0, 0.0),
+            };
+            (ColumnRole::Rate, rate_unit.to_string())
+        } else if j == temp_col {
+            let u = temp_unit_of(j);
+            actions[j] = Action::Parse {
+                slot: SLOT_TEMP,
+                required: true,
+                conv: celsius(u),
+            };
+            (ColumnRole::Temperature, u.to_string())
+        } else if guessable[j] && (sn.stats[j].numbers > 0 || sn.named[j]) {
+            let slot = slot_col.len();
+            slot_col.push(Some(j));
+            let (conv, read_unit, kept_unit) = match header_unit(j) {
+                Some(Kind::Temp(u)) => {
+                    let u = u.unwrap_or(TempUnit::Celsius);
+                    (celsius(u), u.to_string(), TempUnit::Celsius.to_string())
+                }
+                Some(Kind::Rate(Some(u))) => (Conv::IDENT, u.to_string(), u.to_string()),
+                Some(Kind::Time(Some(u))) => (Conv::IDENT, u.to_string(), u.to_string()),
+                _ => {
+                    let raw = if sn.has_header {
+                        raw_unit(&name)
+                    } else {
+                        String::new()
+                    };
+                    (Conv::IDENT, raw.clone(), raw)
+                }
+            };
+            actions[j] = Action::Parse {
+                slot,
+                required: false,
+                conv,
+            };
+            extras.push((name.clone(), kept_unit));
+            (ColumnRole::Extra, read_unit)
+        } else {
+            (ColumnRole::Ignored, String::new())
+        };
+        columns.push(ColumnInfo {
+            index: j + 1,
+            name,
+            role,
+            unit,
+        });
+    }
+    let last = actions
+        .iter()
+        .rposition(|a| matches!(a, Action::Parse { .. }))
+        .map_or(0, |i| i + 1);
+    actions.truncate(last);
+    let nslots = slot_col.len();
+    Ok(Plan {
+        columns,
+        actions,
+        nslots,
+        time,
+        slot_col,
+        extras,
+    })
+}
+
+/// Roles as far as they can be told without a complete mapping (for a preview whose mapping
+/// failed): numeric columns are extras, the rest ignored.
+pub(crate) fn fallback_columns(sn: &Sniffed) -> Vec<ColumnInfo> {
+    sn.names
+        .iter()
+        .enumerate()
+        .map(|(j, n)| ColumnInfo {
+            index: j + 1,
+            name: n.clone(),
+            role: if sn.stats[j].numeric() {
+                ColumnRole::Extra
+            } else {
+                ColumnRole::Ignored
+            },
+            unit: if sn.has_header {
+                raw_unit(n)
+            } else {
+                String::new()
+            },
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names() {
+        let k = |s: &str| classify(s).0;
+        assert_eq!(k("time"), Kind::Time(None));
+        assert_eq!(k("t"), Kind::Time(None));
+        assert_eq!(k("Time [ms]"), Kind::Time(Some(TimeUnit::Millis)));
+        assert_eq!(k("time_ms"), Kind::Time(Some(TimeUnit::Millis)));
+        assert_eq!(k("t_min"), Kind::Time(Some(TimeUnit::Minutes)));
+        assert_eq!(k("t [min]"), Kind::Time(Some(TimeUnit::Minutes)));
+        assert_eq!(k("sec"), Kind::Time(Some(TimeUnit::Seconds)));
+        assert_eq!(k("timestamp"), Kind::Time(None));
+        assert_eq!(k("time_s"), Kind::Time(Some(TimeUnit::Seconds)));
+        assert_eq!(k("omega"), Kind::Rate(None));
+        assert_eq!(k("omega_dph"), Kind::Rate(Some(RateUnit::DegPerHour)));
+        assert_eq!(k("gyro_x_rad_s"), Kind::Rate(Some(RateUnit::RadPerSec)));
+        assert_eq!(k("Rate (deg/s)"), Kind::Rate(Some(RateUnit::DegPerSec)));
+        assert_eq!(k("rate_dps"), Kind::Rate(Some(RateUnit::DegPerSec)));
+        assert_eq!(k("w"), Kind::Rate(None));
+        assert_eq!(k("drift"), Kind::Rate(None));
+        assert_eq!(k("temp"), Kind::Temp(None));
+        assert_eq!(k("t_c"), Kind::Temp(Some(TempUnit::Celsius)));
+        assert_eq!(k("temperature"), Kind::Temp(None));
+        assert_eq!(k("Temp [°C]"), Kind::Temp(Some(TempUnit::Celsius)));
+        assert_eq!(k("T1"), Kind::Temp(None));
+        assert_eq!(k("temp2_K"), Kind::Temp(Some(TempUnit::Kelvin)));
+        assert_eq!(k("T, °C"), Kind::Temp(Some(TempUnit::Celsius)));
+        assert_eq!(k("gyro_temp"), Kind::Temp(None));
+        assert_eq!(k("sample"), Kind::Index);
+        assert_eq!(k("laser_power [mW]"), Kind::Other);
+        assert_eq!(k("status"), Kind::Other);
+    }
+}

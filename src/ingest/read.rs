@@ -1,0 +1,704 @@
+//! The reading pipeline: head → sniff → plan → blocks parsed in parallel → checks → `Log`.
+//!
+//! Memory stays near the size of the result: the file is read in blocks of
+//! [`BLOCK_BYTES`] cut at the last line end, a couple of batches of blocks are in flight at a
+//! time (one being parsed while the next is read), and each parsed block is appended to the
+//! output columns, reserved once from an estimate of the row count.
+
+use super::columns::{Plan, SLOT_TIME, TimeSource, plan};
+use super::parse::{Chunk, Parser, Stop, Tally, note};
+use super::sniff::{
+    MAX_LINE_BYTES, Sniffed, Unterminated, is_skippable, read_head, sniff, split_fields, strip_cr,
+};
+use super::{Fail, Preview, ReadOptions};
+use crate::log::{Channel, Log, LogInfo, Problem, ProblemKind, nominal_dt_s};
+use memchr::memrchr;
+use rayon::prelude::*;
+use std::borrow::Cow;
+use std::fs::File;
+use std::io::{self, BufRead, BufReader, Read, Seek, SeekFrom};
+use std::path::Path;
+
+/// Bytes per block handed to one parser thread.
+const BLOCK_BYTES: usize = 4 << 20;
+/// A gap is a time step above this many nominal steps.
+const GAP_FACTOR: f64 = 2.5;
+/// Lines of head read for sniffing a full read.
+const HEAD_LINES: usize = 1000;
+
+/// Where a log's bytes come from; it can be opened more than once (to sniff, to read, and to
+/// read again sequentially).
+#[derive(Clone, Copy)]
+pub(crate) enum Src<'a> {
+    Path(&'a Path),
+    Bytes(&'a [u8]),
+}
+
+impl<'a> Src<'a> {
+    fn open_at(&self, offset: usize) -> Result<Box<dyn Read + Send + 'a>, Fail> {
+        match *self {
+            Src::Path(p) => {
+                let mut f = File::open(p).map_err(|e| Fail::file(format!("cannot open: {e}")))?;
+                if offset > 0 {
+                    f.seek(SeekFrom::Start(offset as u64)).map_err(io_fail)?;
+                }
+                Ok(Box::new(f))
+            }
+            Src::Bytes(b) => Ok(Box::new(b.get(offset..).unwrap_or(&[]))),
+        }
+    }
+
+    fn len(&self) -> Result<u64, Fail> {
+        match *self {
+            Src::Path(p) => {
+                let m =
+                    std::fs::metadata(p).map_err(|e| Fail::file(format!("cannot open: {e}")))?;
+                if m.is_dir() {
+                    return Err(Fail::file("this is a directory, not a log file"));
+                }
+                Ok(m.len())
+            }
+            Src::Bytes(b) => Ok(b.len() as u64),
+        }
+    }
+}
+
+fn io_fail(e: io::Error) -> Fail {
+    Fail::file(format!("cannot read the file: {e}"))
+}
+
+/// What stopped the fast pipeline.
+enum Flow {
+    Fail(Fail),
+    /// Quoted fields span lines: read the file again sequentially.
+    General,
+}
+
+impl From<Fail> for Flow {
+    fn from(f: Fail) -> Flow {
+        Flow::Fail(f)
+    }
+}
+
+/// The output columns and what was noticed, stitched together from chunks in file order.
+struct Acc {
+    cols: Vec<Vec<f64>>,
+    jumps: Vec<(usize, usize)>,
+    rows_read: usize,
+    missing: Vec<Option<Tally>>,
+    ragged: Option<Tally>,
+    bad_extra: Vec<Option<Tally>>,
+}
+
+impl Acc {
+    fn new(nslots: usize, reserve: usize) -> Acc {
+        Acc {
+            cols: (0..nslots).map(|_| Vec::with_capacity(reserve)).collect(),
+            jumps: Vec::new(),
+            rows_read: 0,
+            missing: vec![None; nslots],
+            ragged: None,
+            bad_extra: vec![None; nslots],
+        }
+    }
+
+    /// Appends a chunk whose line numbers are relative to `base`.
+    fn absorb(&mut self, c: Chunk, base: usize, time: TimeSource) {
+        let rows_before = self.cols.first().map_or(0, Vec::len);
+        let read_before = self.rows_read as f64;
+        self.jumps
+            .extend(c.jumps.iter().map(|&(r, l)| (r + rows_before, l + base)));
+        for (s, col) in c.cols.iter().enumerate() {
+            let Some(dst) = self.cols.get_mut(s) else {
+                continue;
+            };
+            match time {
+                TimeSource::RowIndex { rate_hz } if s == SLOT_TIME => {
+                    dst.extend(col.iter().map(|&i| (i + read_before) / rate_hz));
+                }
+                _ => dst.extend_from_slice(col),
+            }
+        }
+        self.rows_read += c.rows_read;
+        let merge = |dst: &mut Option<Tally>, src: Option<Tally>| {
+            if let Some(t) = src {
+                match dst {
+                    Some(d) => d.count += t.count,
+                    None => {
+                        *dst = Some(Tally {
+                            first: t.first + base,
+                            count: t.count,
+                        })
+                    }
+                }
+            }
+        };
+        for (d, s) in self.missing.iter_mut().zip(c.missing) {
+            merge(d, s);
+        }
+        for (d, s) in self.bad_extra.iter_mut().zip(c.bad_extra) {
+            merge(d, s);
+        }
+        merge(&mut self.ragged, c.ragged);
+    }
+
+    /// The file line of a kept row (before rows are dropped for time order).
+    fn line_of(&self, row: usize) -> usize {
+        let k = self.jumps.partition_point(|&(r, _)| r <= row);
+        match k.checked_sub(1).and_then(|k| self.jumps.get(k)) {
+            Some(&(r, l)) => l + (row - r),
+            None => 0,
+        }
+    }
+}
+
+/// A block of whole lines, or the news that a line is too long to be one.
+enum Item {
+    Data(Vec<u8>),
+    TooLong,
+}
+
+/// Cuts a byte stream into blocks that end at a line end, reusing buffers.
+struct Blocks<'a> {
+    r: Box<dyn Read + Send + 'a>,
+    carry: Vec<u8>,
+    eof: bool,
+    done: bool,
+    pool: Vec<Vec<u8>>,
+}
+
+impl Blocks<'_> {
+    fn next_block(&mut self) -> io::Result<Option<Item>> {
+        if self.done || (self.eof && self.carry.is_empty()) {
+            return Ok(None);
+        }
+        let mut buf = self.pool.pop().unwrap_or_default();
+        buf.clear();
+        buf.extend_from_slice(&self.carry);
+        self.carry.clear();
+        let mut scan_from = 0;
+        let mut target = BLOCK_BYTES.max(buf.len());
+        loop {
+            if !self.eof && buf.len() < target {
+                let want = target - buf.len();
+                let n = (&mut self.r).take(want as u64).read_to_end(&mut buf)?;
+                if n < want {
+                    self.eof = true;
+                }
+            }
+            if self.eof {
+                return Ok(if buf.is_empty() {
+                    None
+                } else {
+                    Some(Item::Data(buf))
+                });
+            }
+            match memrchr(b'\n', &buf[scan_from..]) {
+                Some(i) => {
+                    let cut = scan_from + i + 1;
+                    self.carry.extend_from_slice(&buf[cut..]);
+                    buf.truncate(cut);
+                    return Ok(Some(Item::Data(buf)));
+                }
+                None if buf.len() > MAX_LINE_BYTES => {
+                    self.done = true;
+                    return Ok(Some(Item::TooLong));
+                }
+                None => {
+                    scan_from = buf.len();
+                    target = buf.len() + BLOCK_BYTES;
+                }
+            }
+        }
+    }
+
+    fn batch(&mut self, n: usize) -> io::Result<Vec<Item>> {
+        let mut v = Vec::with_capacity(n);
+        while v.len() < n {
+            match self.next_block()? {
+                Some(item) => {
+                    let stop = matches!(item, Item::TooLong);
+                    v.push(item);
+                    if stop {
+                        break;
+                    }
+                }
+                None => break,
+            }
+        }
+        Ok(v)
+    }
+}
+
+fn too_long(line: usize) -> Fail {
+    Fail::new(
+        line,
+        0,
+        format!(
+            "the line is longer than {} MiB: this is not a line-oriented text log",
+            MAX_LINE_BYTES >> 20
+        ),
+    )
+}
+
+fn cancelled() -> Fail {
+    Fail::file("cancelled")
+}
+
+/// Reads a whole log.
+pub(crate) fn read(
+    src: Src<'_>,
+    source: &str,
+    opts: &ReadOptions,
+    progress: &(dyn Fn(f64) -> bool + Sync),
+) -> Result<Log, Fail> {
+    let total = src.len()?;
+    let (head, eof) = read_head(&mut *src.open_at(0)?, HEAD_LINES).map_err(io_fail)?;
+    let sn = sniff(&head, eof, opts, 0)?;
+    drop(head);
+    let plan = plan(&sn, opts)?;
+    let parser = Parser {
+        plan: &plan,
+        delim: sn.delim,
+        decimal_comma: sn.decimal_comma,
+    };
+    let data_bytes = total.saturating_sub(sn.data_start as u64) as f64;
+    let reserve = ((data_bytes / sn.avg_line_len) * 1.05) as usize + 1024;
+    // A wildly short head line must not reserve more than the file could hold.
+    let reserve = reserve.min(total as usize / 2 + 1024);
+    let mut acc = Acc::new(plan.nslots, reserve);
+    if !progress(0.0) {
+        return Err(cancelled());
+    }
+    match fast(&src, &sn, &parser, &mut acc, progress, total) {
+        Ok(()) => {}
+        Err(Flow::Fail(f)) => return Err(f),
+        Err(Flow::General) => {
+            acc = Acc::new(plan.nslots, reserve);
+            general(&src, &sn, &parser, &mut acc, progress, total)?;
+        }
+    }
+    let log = finish(acc, &sn, &plan, source)?;
+    // The answer no longer matters: the work is done.
+    let _ = progress(1.0);
+    Ok(log)
+}
+
+/// The parallel block pipeline.
+fn fast(
+    src: &Src<'_>,
+    sn: &Sniffed,
+    parser: &Parser<'_>,
+    acc: &mut Acc,
+    progress: &(dyn Fn(f64) -> bool + Sync),
+    total: u64,
+) -> Result<(), Flow> {
+    let mut blocks = Blocks {
+        r: src.open_at(sn.data_start)?,
+        carry: Vec::new(),
+        eof: false,
+        done: false,
+        pool: Vec::new(),
+    };
+    let per_batch = (2 * rayon::current_num_threads()).max(2);
+    let capacity = |len: usize| (len as f64 / sn.avg_line_len * 1.1) as usize + 16;
+    let mut line = sn.data_first_line;
+    let mut done_bytes = sn.data_start as u64;
+    let mut batch = blocks.batch(per_batch).map_err(io_fail)?;
+    while !batch.is_empty() {
+        let (next, chunks) = rayon::join(
+            || blocks.batch(per_batch),
+            || {
+                batch
+                    .par_iter()
+                    .map(|item| match item {
+                        Item::Data(d) => Some(parser.parse_block(d, capacity(d.len()))),
+                        Item::TooLong => None,
+                    })
+                    .collect::<Vec<_>>()
+            },
+        );
+        for (item, chunk) in batch.into_iter().zip(chunks) {
+            let (buf, mut chunk) = match (item, chunk) {
+                (Item::Data(buf), Some(c)) => (buf, c),
+                _ => return Err(too_long(line).into()),
+            };
+            match chunk.stop.take() {
+                Some(Stop::Error(mut f)) => {
+                    f.line += line;
+                    return Err(f.into());
+                }
+                Some(Stop::NeedsGeneral) => return Err(Flow::General),
+                None => {}
+            }
+            let lines = chunk.lines;
+            acc.absorb(chunk, line, parser.plan.time);
+            line += lines;
+            done_bytes += buf.len() as u64;
+            blocks.pool.push(buf);
+        }
+        if !progress(fraction(done_bytes, total)) {
+            return Err(cancelled().into());
+        }
+        batch = next.map_err(io_fail)?;
+    }
+    Ok(())
+}
+
+fn fraction(done: u64, total: u64) -> f64 {
+    if total == 0 {
+        1.0
+    } else {
+        (done as f64 / total as f64).clamp(0.0, 1.0)
+    }
+}
+
+/// The sequential reader for files whose quoted fields span lines.
+fn general(
+    src: &Src<'_>,
+    sn: &Sniffed,
+    parser: &Parser<'_>,
+    acc: &mut Acc,
+    progress: &(dyn Fn(f64) -> bool + Sync),
+    total: u64,
+) -> Result<(), Fail> {
+    let mut rdr = BufReader::with_capacity(1 << 20, src.open_at(sn.data_start)?);
+    let nslots = parser.plan.nslots;
+    let mut chunk = Chunk::new(nslots, 0);
+    let mut vals = vec![0.0; nslots];
+    let mut rec: Vec<u8> = Vec::new();
+    let mut line = sn.data_first_line;
+    let mut done_bytes = sn.data_start as u64;
+    let mut next_report = done_bytes + BLOCK_BYTES as u64;
+    loop {
+        rec.clear();
+        let start = line;
+        loop {
+            let limit = (MAX_LINE_BYTES + 1 - rec.len().min(MAX_LINE_BYTES)) as u64;
+            let n = (&mut rdr)
+                .take(limit)
+                .read_until(b'\n', &mut rec)
+                .map_err(io_fail)?;
+            if n == 0 {
+                break;
+            }
+            done_bytes += n as u64;
+            if rec.len() > MAX_LINE_BYTES {
+                return Err(too_long(start));
+            }
+            line += 1;
+            if rec.last() != Some(&b'\n') {
+                break;
+            }
+            let body = strip_cr(&rec[..rec.len() - 1]);
+            let mut fields = Vec::new();
+            if split_fields(body, sn.delim, &mut fields).is_ok() {
+                break;
+            }
+        }
+        if rec.is_empty() {
+            break;
+        }
+        let body = strip_cr(rec.strip_suffix(b"\n").unwrap_or(&rec));
+        if is_skippable(body) {
+            continue;
+        }
+        let mut fields: Vec<Cow<'_, [u8]>> = Vec::new();
+        if let Err(Unterminated) = split_fields(body, sn.delim, &mut fields) {
+            return Err(Fail::new(
+                start,
+                0,
+                "a quoted field opened on this line is never closed".to_string(),
+            ));
+        }
+        match parser.fields_row(&mut chunk, &fields, start, &mut vals) {
+            Ok(()) => {}
+            Err(Stop::Error(f)) => return Err(f),
+            Err(Stop::NeedsGeneral) => {}
+        }
+        if chunk.rows >= 1 << 16 {
+            let full = std::mem::replace(&mut chunk, Chunk::new(nslots, 0));
+            acc.absorb(full, 0, parser.plan.time);
+        }
+        if done_bytes >= next_report {
+            next_report = done_bytes + BLOCK_BYTES as u64;
+            if !progress(fraction(done_bytes, total)) {
+                return Err(cancelled());
+            }
+        }
+    }
+    acc.absorb(chunk, 0, parser.plan.time);
+    Ok(())
+}
+
+/// Time-order checks, dropped rows, problems, and the `Log`.
+fn finish(mut acc: Acc, sn: &Sniffed, plan: &Plan, source: &str) -> Result<Log, Fail> {
+    let n = acc.cols.first().map_or(0, Vec::len);
+    if acc.rows_read == 0 {
+        return Err(if sn.has_header {
+            Fail::new(
+                sn.header_line,
+                0,
+                "the file has a header but no data rows".to_string(),
+            )
+        } else {
+            Fail::file("the file has no data rows")
+        });
+    }
+    let col_no = |slot: usize| plan.slot_col.get(slot).copied().flatten().map(|c| c + 1);
+    let col_name = |slot: usize| {
+        plan.slot_col
+            .get(slot)
+            .copied()
+            .flatten()
+            .map_or("?", |c| plan.name(c))
+            .to_string()
+    };
+    if n == 0 {
+        let first = acc
+            .missing
+            .iter()
+            .flatten()
+            .map(|t| t.first)
+            .min()
+            .unwrap_or(0);
+        return Err(Fail::new(
+            first,
+            0,
+            format!(
+                "none of the {} data rows can be used: each has a blank or NaN value in the \
+                 time, rate or temperature column",
+                acc.rows_read
+            ),
+        ));
+    }
+
+    let mut problems = Vec::new();
+    for (slot, t) in acc.missing.iter().enumerate() {
+        if let Some(t) = t {
+            problems.push(Problem {
+                line: t.first,
+                column: col_no(slot),
+                kind: ProblemKind::MissingValue,
+                count: t.count,
+                message: format!(
+                    "{} dropped: blank or NaN in column \"{}\" (first at line {})",
+                    rows(t.count),
+                    col_name(slot),
+                    t.first
+                ),
+            });
+        }
+    }
+    for (slot, t) in acc.bad_extra.iter().enumerate() {
+        if let Some(t) = t {
+            problems.push(Problem {
+                line: t.first,
+                column: col_no(slot),
+                kind: ProblemKind::MissingValue,
+                count: t.count,
+                message: format!(
+                    "{} cell{} of extra column \"{}\" could not be read as numbers and are \
+                     kept as NaN (first at line {})",
+                    t.count,
+                    if t.count == 1 { "" } else { "s" },
+                    col_name(slot),
+                    t.first
+                ),
+            });
+        }
+    }
+    if let Some(t) = acc.ragged {
+        problems.push(Problem {
+            line: t.first,
+            column: None,
+            kind: ProblemKind::RaggedRow,
+            count: t.count,
+            message: format!(
+                "{} fewer fields than the header; the missing extra columns are NaN (first at \
+                 line {})",
+                if t.count == 1 {
+                    "1 row has".to_string()
+                } else {
+                    format!("{} rows have", t.count)
+                },
+                t.first
+            ),
+        });
+    }
+
+    // Time order: keep a row only if its time is above every earlier time; note gaps.
+    let time_col = col_no(SLOT_TIME);
+    let mut drop: Vec<usize> = Vec::new();
+    {
+        let time = &acc.cols[SLOT_TIME];
+        let dt = nominal_dt_s(time);
+        let (mut back, mut rep, mut gaps): (Option<Tally>, Option<Tally>, Option<Tally>) =
+            (None, None, None);
+        let mut largest = (0.0f64, 0usize);
+        let mut first_back = (0.0, 0.0);
+        let mut last = time[0];
+        for (i, &t) in time.iter().enumerate().skip(1) {
+            if t > last {
+                let step = t - last;
+                if step > GAP_FACTOR * dt {
+                    note(&mut gaps, i);
+                    if step > largest.0 {
+                        largest = (step, i);
+                    }
+                }
+                last = t;
+            } else {
+                drop.push(i);
+                if t == last {
+                    note(&mut rep, i);
+                } else {
+                    if back.is_none() {
+                        first_back = (t, last);
+                    }
+                    note(&mut back, i);
+                }
+            }
+        }
+        if let Some(t) = rep {
+            let line = acc.line_of(t.first);
+            problems.push(Problem {
+                line,
+                column: time_col,
+                kind: ProblemKind::TimeRepeated,
+                count: t.count,
+                message: format!(
+                    "{} dropped: time repeats an earlier value (first at line {line})",
+                    rows(t.count)
+                ),
+            });
+        }
+        if let Some(t) = back {
+            let line = acc.line_of(t.first);
+            problems.push(Problem {
+                line,
+                column: time_col,
+                kind: ProblemKind::TimeBackwards,
+                count: t.count,
+                message: format!(
+                    "{} dropped: time went backwards (first at line {line}: {} s after {} s)",
+                    rows(t.count),
+                    first_back.0,
+                    first_back.1
+                ),
+            });
+        }
+        if let Some(t) = gaps {
+            let line = acc.line_of(t.first);
+            problems.push(Problem {
+                line,
+                column: time_col,
+                kind: ProblemKind::Gap,
+                count: t.count,
+                message: format!(
+                    "{} gap{} in time (steps above {GAP_FACTOR} × the nominal {dt} s; first at \
+                     line {line}, largest {} s at line {})",
+                    t.count,
+                    if t.count == 1 { "" } else { "s" },
+                    largest.0,
+                    acc.line_of(largest.1)
+                ),
+            });
+        }
+    }
+    if !drop.is_empty() {
+        for col in &mut acc.cols {
+            remove_sorted(col, &drop);
+        }
+    }
+    problems.sort_by_key(|p| p.line);
+
+    let mut cols = acc.cols.into_iter();
+    let mut take = || {
+        let mut v = cols.next().unwrap_or_default();
+        v.shrink_to_fit();
+        v
+    };
+    let time_s = take();
+    let omega_dph = take();
+    let temp_c = take();
+    let extra = plan
+        .extras
+        .iter()
+        .map(|(name, unit)| Channel {
+            name: name.clone(),
+            unit: unit.clone(),
+            values: take(),
+        })
+        .collect();
+    Ok(Log {
+        source: source.to_string(),
+        time_s,
+        omega_dph,
+        temp_c,
+        extra,
+        info: LogInfo {
+            delimiter: sn.delim.as_char(),
+            decimal_comma: sn.decimal_comma,
+            has_header: sn.has_header,
+            columns: plan.columns.clone(),
+            rows_read: acc.rows_read,
+            problems,
+        },
+    })
+}
+
+fn rows(n: usize) -> String {
+    if n == 1 {
+        "1 row".to_string()
+    } else {
+        format!("{n} rows")
+    }
+}
+
+/// Removes the elements at the sorted indices `drop`, in place.
+fn remove_sorted(v: &mut Vec<f64>, drop: &[usize]) {
+    let mut w = 0;
+    let mut d = drop.iter().peekable();
+    for r in 0..v.len() {
+        if d.peek() == Some(&&r) {
+            d.next();
+            continue;
+        }
+        v[w] = v[r];
+        w += 1;
+    }
+    v.truncate(w);
+}
+
+/// Sniffs and maps without reading the data.
+pub(crate) fn preview(src: Src<'_>, opts: &ReadOptions, max_rows: usize) -> Result<Preview, Fail> {
+    src.len()?;
+    let min_lines = max_rows.saturating_add(HEAD_LINES);
+    let (head, eof) = read_head(&mut *src.open_at(0)?, min_lines).map_err(io_fail)?;
+    let sn = sniff(&head, eof, opts, max_rows)?;
+    let (columns, mapping_error, time_from_sample_rate) = match plan(&sn, opts) {
+        Ok(p) => (
+            p.columns,
+            None,
+            matches!(p.time, TimeSource::RowIndex { .. }),
+        ),
+        Err(f) => (
+            super::columns::fallback_columns(&sn),
+            Some(f.message),
+            false,
+        ),
+    };
+    Ok(Preview {
+        delimiter: sn.delim.as_char(),
+        decimal_comma: sn.decimal_comma,
+        has_header: sn.has_header,
+        header_line: sn.header_line,
+        names: sn.names.clone(),
+        row_lines: sn.rows.iter().map(|(l, _)| *l).collect(),
+        rows: sn.rows.into_iter().map(|(_, r)| r).collect(),
+        columns,
+        time_from_sample_rate,
+        mapping_error,
+    })
+}

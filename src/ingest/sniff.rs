@@ -1,0 +1,665 @@
+//! Telling a log's dialect (separator, decimal mark, header) from its first lines, and
+//! splitting records into fields.
+//!
+//! Sniffing looks at a bounded head of the file only, so it costs the same on a 300 MB log
+//! as on a 3 kB one. Each candidate dialect is scored on the lines after the first (the
+//! first may be a header): it must split them into a consistent number (≥ 2) of fields, and
+//! the dialect under which most fields read as numbers wins; ties go to the more specific
+//! separator (tab, then `;`, then `,`, then runs of blanks).
+
+use super::parse::{Cell, parse_cell};
+use super::{Fail, ReadOptions};
+use memchr::{memchr, memchr_iter};
+use std::borrow::Cow;
+use std::io::{self, Read};
+
+/// The longest line the reader accepts; anything longer is not a text log.
+pub(crate) const MAX_LINE_BYTES: usize = 4 << 20;
+/// The head is read in chunks of this size until it holds enough lines.
+const HEAD_CHUNK: usize = 64 << 10;
+/// Lines of the head used to score dialects and to guess which columns are numeric.
+const SNIFF_LINES: usize = 200;
+
+/// How fields are separated.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Delim {
+    /// One byte between fields (`,`, `;`, tab...).
+    Byte(u8),
+    /// Runs of spaces and tabs (aligned columns); leading blanks are ignored.
+    Whitespace,
+}
+
+impl Delim {
+    /// The option value `b' '` means "runs of blanks", anything else that exact byte.
+    pub(crate) fn from_option(b: u8) -> Delim {
+        if b == b' ' {
+            Delim::Whitespace
+        } else {
+            Delim::Byte(b)
+        }
+    }
+
+    /// The separator as recorded in `LogInfo` (a blank for runs of blanks).
+    pub(crate) fn as_char(self) -> char {
+        match self {
+            Delim::Byte(b) => char::from(b),
+            Delim::Whitespace => ' ',
+        }
+    }
+
+    /// True for a byte that ends an unquoted field.
+    #[inline]
+    pub(crate) fn is_sep(self, b: u8) -> bool {
+        match self {
+            Delim::Byte(d) => b == d,
+            Delim::Whitespace => b == b' ' || b == b'\t',
+        }
+    }
+
+    /// True for a blank that is padding around a field rather than a separator.
+    #[inline]
+    pub(crate) fn is_pad(self, b: u8) -> bool {
+        match self {
+            Delim::Byte(b'\t') => b == b' ',
+            Delim::Byte(_) => b == b' ' || b == b'\t',
+            Delim::Whitespace => false,
+        }
+    }
+}
+
+/// A quoted field was still open at the end of the record: the record continues on the next
+/// line (or the quote is never closed).
+#[derive(Debug)]
+pub(crate) struct Unterminated;
+
+/// Splits one record (without its line end) into fields, removing quotes and padding.
+///
+/// Quotes follow RFC 4180 (`""` inside a quoted field is one quote); text after a closing
+/// quote is kept, as spreadsheets do. On an unterminated quote the fields read so far are
+/// left in `out`, the open one holding the rest of the record.
+pub(crate) fn split_fields<'a>(
+    rec: &'a [u8],
+    delim: Delim,
+    out: &mut Vec<Cow<'a, [u8]>>,
+) -> Result<(), Unterminated> {
+    out.clear();
+    let n = rec.len();
+    let mut p = 0;
+    if delim == Delim::Whitespace {
+        while p < n && delim.is_sep(rec[p]) {
+            p += 1;
+        }
+        if p == n {
+            return Ok(());
+        }
+    }
+    loop {
+        while p < n && delim.is_pad(rec[p]) {
+            p += 1;
+        }
+        if p < n && rec[p] == b'"' {
+            let start = p + 1;
+            let mut seg = start;
+            let mut owned: Option<Vec<u8>> = None;
+            p = start;
+            loop {
+                let Some(i) = memchr(b'"', &rec[p..]) else {
+                    let mut v = owned.unwrap_or_default();
+                    v.extend_from_slice(&rec[seg..]);
+                    out.push(Cow::Owned(v));
+                    return Err(Unterminated);
+                };
+                let q = p + i;
+                if rec.get(q + 1) == Some(&b'"') {
+                    owned
+                        .get_or_insert_with(Vec::new)
+                        .extend_from_slice(&rec[seg..=q]);
+                    p = q + 2;
+                    seg = p;
+                    continue;
+                }
+                let tail_end = find_sep(rec, q + 1, delim);
+                let tail = trim_pad(&rec[q + 1..tail_end], delim);
+                let field = match owned {
+                    None if tail.is_empty() => Cow::Borrowed(&rec[start..q]),
+                    o => {
+                        let mut v = o.unwrap_or_default();
+                        v.extend_from_slice(&rec[seg..q]);
+                        v.extend_from_slice(tail);
+                        Cow::Owned(v)
+                    }
+                };
+                out.push(field);
+                p = tail_end;
+                break;
+            }
+        } else {
+            let end = find_sep(rec, p, delim);
+            out.push(Cow::Borrowed(trim_pad(&rec[p..end], delim)));
+            p = end;
+        }
+        if p >= n {
+            return Ok(());
+        }
+        // At a separator.
+        match delim {
+            Delim::Whitespace => {
+                while p < n && delim.is_sep(rec[p]) {
+                    p += 1;
+                }
+                if p >= n {
+                    return Ok(());
+                }
+            }
+            Delim::Byte(_) => {
+                p += 1;
+                if p >= n {
+                    out.push(Cow::Borrowed(&rec[n..]));
+                    return Ok(());
+                }
+            }
+        }
+    }
+}
+
+/// Index of the first separator at or after `from`, or the record's end.
+#[inline]
+fn find_sep(rec: &[u8], from: usize, delim: Delim) -> usize {
+    let rest = rec.get(from..).unwrap_or(&[]);
+    let off = match delim {
+        Delim::Byte(d) => memchr(d, rest),
+        Delim::Whitespace => rest.iter().position(|&b| b == b' ' || b == b'\t'),
+    };
+    off.map_or(rec.len(), |i| from + i)
+}
+
+/// The field without padding blanks on either side.
+fn trim_pad(f: &[u8], delim: Delim) -> &[u8] {
+    let pad = |b: &u8| *b == b' ' || *b == b'\t' || (delim == Delim::Whitespace && *b == b'\r');
+    let start = f.iter().position(|b| !pad(b)).unwrap_or(f.len());
+    let end = f.iter().rposition(|b| !pad(b)).map_or(start, |i| i + 1);
+    &f[start..end]
+}
+
+/// A line without its `\n` and an optional `\r` before it.
+#[inline]
+pub(crate) fn strip_cr(line: &[u8]) -> &[u8] {
+    match line.last() {
+        Some(b'\r') => &line[..line.len() - 1],
+        _ => line,
+    }
+}
+
+/// True for a line that carries no data: blank, or a `#` comment.
+#[inline]
+pub(crate) fn is_skippable(line: &[u8]) -> bool {
+    match line.iter().find(|b| !b.is_ascii_whitespace()) {
+        None => true,
+        Some(b) => *b == b'#',
+    }
+}
+
+/// Reads the head of a log: whole lines enough to sniff (and preview) it, bounded in size.
+///
+/// Returns the bytes and whether they are the whole file.
+pub(crate) fn read_head(r: &mut dyn Read, min_lines: usize) -> io::Result<(Vec<u8>, bool)> {
+    let mut head = Vec::new();
+    let mut lines = 0usize;
+    loop {
+        let before = head.len();
+        let n = r.take(HEAD_CHUNK as u64).read_to_end(&mut head)?;
+        lines += memchr_iter(b'\n', &head[before..]).count();
+        if n < HEAD_CHUNK {
+            return Ok((head, true));
+        }
+        if head.len() >= MAX_LINE_BYTES || lines >= min_lines {
+            return Ok((head, false));
+        }
+    }
+}
+
+/// A line of the head: its number and where it is.
+#[derive(Clone, Copy, Debug)]
+struct HeadLine {
+    no: usize,
+    start: usize,
+    /// End of the text, before `\r\n`.
+    end: usize,
+    /// Start of the next line.
+    next: usize,
+}
+
+/// What sniffing found out about a log.
+#[derive(Debug, Clone)]
+pub(crate) struct Sniffed {
+    pub delim: Delim,
+    pub decimal_comma: bool,
+    pub has_header: bool,
+    /// Line of the header, 0 without one.
+    pub header_line: usize,
+    /// One name per column (`colN` where the header has none).
+    pub names: Vec<String>,
+    /// Whether the name came from the header (a generated one is never worth keeping alone).
+    pub named: Vec<bool>,
+    /// Cells seen in the sample, per column.
+    pub stats: Vec<ColStats>,
+    /// The first data rows (line, fields as text), for previews.
+    pub rows: Vec<(usize, Vec<String>)>,
+    /// Byte offset (in the file) where data lines start, and that line's number.
+    pub data_start: usize,
+    pub data_first_line: usize,
+    /// Mean length of a data line in the head, bytes (for reserving memory).
+    pub avg_line_len: f64,
+}
+
+/// How the sampled cells of one column read.
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct ColStats {
+    pub numbers: usize,
+    pub missing: usize,
+    pub bad: usize,
+}
+
+impl ColStats {
+    /// A column worth parsing: no cell in the sample failed to read as a number.
+    pub(crate) fn numeric(&self) -> bool {
+        self.bad == 0
+    }
+}
+
+/// Sniffs the dialect and header of a log from its head.
+///
+/// `head` starts at the file's first byte; `eof` says it is the whole file. `preview_rows`
+/// data rows are kept as text.
+pub(crate) fn sniff(
+    head: &[u8],
+    eof: bool,
+    opts: &ReadOptions,
+    preview_rows: usize,
+) -> Result<Sniffed, Fail> {
+    let bom = if head.starts_with(b"\xEF\xBB\xBF") {
+        3
+    } else {
+        0
+    };
+    if head.len() <= bom {
+        return Err(Fail::file("the file is empty"));
+    }
+    if let Some(i) = memchr(0, head) {
+        let line = 1 + memchr_iter(b'\n', &head[..i]).count();
+        return Err(Fail::new(
+            line,
+            0,
+            "this is a binary file (it contains NUL bytes), not a text log".to_string(),
+        ));
+    }
+    let has_lf = memchr(b'\n', head).is_some();
+    if !has_lf && !eof {
+        return Err(Fail::new(
+            1,
+            0,
+            format!(
+                "line 1 is longer than {} MiB: this is not a line-oriented text log",
+                MAX_LINE_BYTES >> 20
+            ),
+        ));
+    }
+    if !has_lf && memchr_iter(b'\r', head).count() >= 2 {
+        return Err(Fail::new(
+            1,
+            0,
+            "lines end with a bare CR (old Mac style); convert the file to LF or CRLF line ends"
+                .to_string(),
+        ));
+    }
+
+    // Whole lines of the head; content lines are those carrying data or a header.
+    let mut all: Vec<HeadLine> = Vec::new();
+    let mut pos = bom;
+    let mut no = 1;
+    while pos < head.len() {
+        let (end, next) = match memchr(b'\n', &head[pos..]) {
+            Some(i) => (pos + i, pos + i + 1),
+            None if eof => (head.len(), head.len()),
+            None => break,
+        };
+        let text_end = if end > pos && head[end - 1] == b'\r' {
+            end - 1
+        } else {
+            end
+        };
+        all.push(HeadLine {
+            no,
+            start: pos,
+            end: text_end,
+            next,
+        });
+        pos = next;
+        no += 1;
+    }
+    let text = |l: &HeadLine| &head[l.start..l.end];
+    let want = SNIFF_LINES.max(preview_rows.saturating_add(1));
+    let content: Vec<HeadLine> = all
+        .iter()
+        .filter(|l| !is_skippable(text(l)))
+        .take(want)
+        .copied()
+        .collect();
+    let Some(first) = content.first().copied() else {
+        return Err(Fail::file(
+            "the file has no data: only blank or comment lines",
+        ));
+    };
+
+    // Dialect.
+    let score_lines: Vec<&[u8]> = if content.len() >= 2 {
+        content[1..].iter().take(SNIFF_LINES).map(text).collect()
+    } else {
+        vec![text(&first)]
+    };
+    let delims: Vec<Delim> = match opts.delimiter {
+        Some(b) => vec![Delim::from_option(b)],
+        None => vec![
+            Delim::Byte(b'\t'),
+            Delim::Byte(b';'),
+            Delim::Byte(b','),
+            Delim::Whitespace,
+        ],
+    };
+    let commas: Vec<bool> = match opts.decimal_comma {
+        Some(c) => vec![c],
+        None => vec![false, true],
+    };
+    let mut best: Option<(Delim, bool, f64)> = None;
+    let mut widest = 0usize;
+    let mut fields = Vec::new();
+    for &d in &delims {
+        let counts: Vec<usize> = score_lines
+            .iter()
+            .map(|l| {
+                let _ = split_fields(l, d, &mut fields);
+                fields.len()
+            })
+            .collect();
+        let (mode, freq) = mode_of(&counts);
+        widest = widest.max(mode);
+        let consistent = freq as f64 >= 0.9 * counts.len() as f64 || opts.delimiter.is_some();
+        if mode < 2 || !consistent {
+            continue;
+        }
+        for &dc in &commas {
+            let (mut num, mut all_cells) = (0usize, 0usize);
+            for l in &score_lines {
+                let _ = split_fields(l, d, &mut fields);
+                for f in &fields {
+                    all_cells += 1;
+                    if !matches!(parse_cell(f, dc), Cell::Bad) {
+                        num += 1;
+                    }
+                }
+            }
+            let nf = num as f64 / all_cells.max(1) as f64;
+            if best.is_none_or(|(_, _, b)| nf > b + 1e-9) {
+                best = Some((d, dc, nf));
+            }
+        }
+    }
+    let Some((delim, decimal_comma, _)) = best else {
+        return Err(if widest < 2 {
+            Fail::new(
+                first.no,
+                0,
+                "the file has only one column; driftlab needs a rate and a temperature column \
+                 (and a time column, or sample_rate_hz)"
+                    .to_string(),
+            )
+        } else {
+            Fail::new(
+                first.no,
+                0,
+                "cannot tell the column separator: lines split into different numbers of \
+                 fields; pass the delimiter"
+                    .to_string(),
+            )
+        });
+    };
+
+    // Header.
+    let _ = split_fields(text(&first), delim, &mut fields);
+    let kinds0: Vec<Cell> = fields
+        .iter()
+        .map(|f| parse_cell(f, decimal_comma))
+        .collect();
+    let has_header = match opts.has_header {
+        Some(h) => h,
+        None => {
+            let any_bad = kinds0.iter().any(|k| matches!(k, Cell::Bad));
+            if !any_bad {
+                false
+            } else if content.len() == 1 || kinds0.iter().all(|k| !matches!(k, Cell::Num(_))) {
+                true
+            } else {
+                // A text cell above a column of numbers is a column name.
+                let rest: Vec<Vec<Cell>> = content[1..]
+                    .iter()
+                    .take(SNIFF_LINES)
+                    .map(|l| {
+                        let mut fs = Vec::new();
+                        let _ = split_fields(text(l), delim, &mut fs);
+                        fs.iter().map(|f| parse_cell(f, decimal_comma)).collect()
+                    })
+                    .collect();
+                kinds0.iter().enumerate().any(|(j, k)| {
+                    matches!(k, Cell::Bad)
+                        && 2 * rest
+                            .iter()
+                            .filter(|r| matches!(r.get(j), Some(Cell::Num(_))))
+                            .count()
+                            >= rest.len()
+                })
+            }
+        }
+    };
+
+    let data_lines: &[HeadLine] = if has_header {
+        &content[1..]
+    } else {
+        &content[..]
+    };
+    let mut data_fields: Vec<(usize, Vec<Vec<u8>>)> = Vec::with_capacity(data_lines.len());
+    for l in data_lines {
+        let _ = split_fields(text(l), delim, &mut fields);
+        data_fields.push((l.no, fields.iter().map(|f| f.to_vec()).collect()));
+    }
+    let counts: Vec<usize> = data_fields.iter().map(|(_, f)| f.len()).collect();
+    let (data_mode, _) = mode_of(&counts);
+
+    let mut names: Vec<String> = Vec::new();
+    let mut named: Vec<bool> = Vec::new();
+    if has_header {
+        let raw = text(&first);
+        let header = std::str::from_utf8(raw).map_err(|_| {
+            Fail::new(
+                first.no,
+                0,
+                "the header is not valid UTF-8; save the file as UTF-8 (it may be in a legacy \
+                 encoding such as Windows-1251)"
+                    .to_string(),
+            )
+        })?;
+        let _ = split_fields(header.as_bytes(), delim, &mut fields);
+        let mut hdr: Vec<String> = fields
+            .iter()
+            .map(|f| String::from_utf8_lossy(f).trim().to_string())
+            .collect();
+        if delim == Delim::Whitespace && data_mode >= 2 && hdr.len() > data_mode {
+            // Names with single blanks inside ("Time [s]"): columns are two blanks apart.
+            let wide: Vec<String> = split_wide(header);
+            if wide.len() == data_mode {
+                hdr = wide;
+            }
+        }
+        for (j, h) in hdr.into_iter().enumerate() {
+            named.push(!h.is_empty());
+            names.push(if h.is_empty() {
+                format!("col{}", j + 1)
+            } else {
+                h
+            });
+        }
+    }
+    let ncols = names.len().max(data_mode);
+    if ncols > super::MAX_COLUMNS {
+        return Err(Fail::new(
+            first.no,
+            0,
+            format!(
+                "{ncols} columns: more than driftlab reads ({}); is the separator right?",
+                super::MAX_COLUMNS
+            ),
+        ));
+    }
+    while names.len() < ncols {
+        names.push(format!("col{}", names.len() + 1));
+        named.push(false);
+    }
+    if ncols < 2 {
+        return Err(Fail::new(
+            first.no,
+            0,
+            "the file has only one column; driftlab needs a rate and a temperature column \
+             (and a time column, or sample_rate_hz)"
+                .to_string(),
+        ));
+    }
+
+    let mut stats = vec![ColStats::default(); ncols];
+    for (_, fs) in data_fields.iter().take(SNIFF_LINES) {
+        for (j, f) in fs.iter().enumerate().take(ncols) {
+            match parse_cell(f, decimal_comma) {
+                Cell::Num(_) => stats[j].numbers += 1,
+                Cell::Missing => stats[j].missing += 1,
+                Cell::Bad => stats[j].bad += 1,
+            }
+        }
+    }
+    let rows = data_fields
+        .iter()
+        .take(preview_rows)
+        .map(|(no, fs)| {
+            (
+                *no,
+                fs.iter()
+                    .map(|f| String::from_utf8_lossy(f).into_owned())
+                    .collect(),
+            )
+        })
+        .collect();
+
+    let (data_start, data_first_line) = if has_header {
+        (first.next, first.no + 1)
+    } else {
+        (bom, 1)
+    };
+    let (mut bytes, mut nlines) = (0usize, 0usize);
+    for l in all.iter().filter(|l| l.start >= data_start) {
+        bytes += l.next - l.start;
+        nlines += 1;
+    }
+    let avg_line_len = if nlines > 0 {
+        (bytes as f64 / nlines as f64).max(1.0)
+    } else {
+        32.0
+    };
+
+    Ok(Sniffed {
+        delim,
+        decimal_comma,
+        has_header,
+        header_line: if has_header { first.no } else { 0 },
+        names,
+        named,
+        stats,
+        rows,
+        data_start,
+        data_first_line,
+        avg_line_len,
+    })
+}
+
+/// The most frequent value and how often it occurs (0, 0 for none).
+fn mode_of(counts: &[usize]) -> (usize, usize) {
+    let mut sorted = counts.to_vec();
+    sorted.sort_unstable();
+    let (mut best, mut best_n) = (0, 0);
+    let mut i = 0;
+    while i < sorted.len() {
+        let mut j = i;
+        while j < sorted.len() && sorted[j] == sorted[i] {
+            j += 1;
+        }
+        if j - i > best_n || (j - i == best_n && sorted[i] > best) {
+            best = sorted[i];
+            best_n = j - i;
+        }
+        i = j;
+    }
+    (best, best_n)
+}
+
+/// Splits a header at tabs and runs of two or more spaces.
+fn split_wide(header: &str) -> Vec<String> {
+    let mut out = Vec::new();
+    let mut cur = String::new();
+    let mut spaces = 0;
+    for c in header.trim().chars() {
+        match c {
+            ' ' => spaces += 1,
+            '\t' => spaces += 2,
+            c => {
+                if spaces >= 2 && !cur.is_empty() {
+                    out.push(std::mem::take(&mut cur));
+                } else if spaces == 1 {
+                    cur.push(' ');
+                }
+                spaces = 0;
+                cur.push(c);
+            }
+        }
+    }
+    if !cur.is_empty() {
+        out.push(cur);
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn split(s: &str, d: Delim) -> Vec<String> {
+        let mut out = Vec::new();
+        let _ = split_fields(s.as_bytes(), d, &mut out);
+        out.iter()
+            .map(|f| String::from_utf8_lossy(f).into_owned())
+            .collect()
+    }
+
+    #[test]
+    fn splits_quotes_padding_and_trailing_separators() {
+        assert_eq!(split("a, b ,c", Delim::Byte(b',')), ["a", "b", "c"]);
+        assert_eq!(
+            split("\"1,5\",\"x\"\"y\"", Delim::Byte(b',')),
+            ["1,5", "x\"y"]
+        );
+        assert_eq!(split("1,2,", Delim::Byte(b',')), ["1", "2", ""]);
+        assert_eq!(split("  1  2\t3 ", Delim::Whitespace), ["1", "2", "3"]);
+        assert_eq!(split("", Delim::Whitespace), Vec::<String>::new());
+        let mut out = Vec::new();
+        assert!(split_fields(b"1,\"open", Delim::Byte(b','), &mut out).is_err());
+        assert_eq!(
+            split_wide("Time [s]   Rate [deg/h]\tT"),
+            ["Time [s]", "Rate [deg/h]", "T"]
+        );
+    }
+}

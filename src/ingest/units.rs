@@ -1,0 +1,262 @@
+//! Units a test stand writes its columns in, and how the reader recognises them in headers.
+//!
+//! Spellings are compared through [`unit_key`], which drops case, blanks and punctuation and
+//! turns every degree sign into `deg`, so that `°/h`, `deg/h`, `Deg_H` and `deg h` are one key.
+
+use serde::{Deserialize, Serialize};
+use std::fmt;
+use std::str::FromStr;
+
+/// The unit a gyro's rate column is written in.
+///
+/// Stands disagree: navigation-grade rigs log °/h, MEMS evaluation boards log °/s or rad/s.
+/// The engine works in °/h only, so the reader converts on ingest and remembers what it saw.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(try_from = "String", into = "String")]
+pub enum RateUnit {
+    /// Degrees per hour (driftlab's own unit).
+    DegPerHour,
+    /// Degrees per second.
+    DegPerSec,
+    /// Radians per second.
+    RadPerSec,
+}
+
+impl RateUnit {
+    /// The factor that turns a value in this unit into °/h, so a whole column converts with
+    /// one multiplication.
+    pub fn to_dph_factor(self) -> f64 {
+        match self {
+            RateUnit::DegPerHour => 1.0,
+            RateUnit::DegPerSec => 3600.0,
+            RateUnit::RadPerSec => 180.0 / std::f64::consts::PI * 3600.0,
+        }
+    }
+
+    /// Recognises a unit key (see [`unit_key`]).
+    pub(crate) fn from_key(key: &str) -> Option<RateUnit> {
+        Some(match key {
+            "dph" | "degh" | "deghr" | "deghour" | "degperh" | "degperhr" | "degperhour"
+            | "degreeshour" | "degreesperhour" | "degreeh" | "degч" | "градч" | "градусч" => {
+                RateUnit::DegPerHour
+            }
+            "dps" | "degs" | "degsec" | "degsecond" | "degpers" | "degpersec" | "degpersecond"
+            | "degreess" | "degreessec" | "degreespersecond" | "degс" | "градс" | "градусс" => {
+                RateUnit::DegPerSec
+            }
+            "rads" | "radsec" | "radpers" | "radpersec" | "radpersecond" | "rps" | "радс" => {
+                RateUnit::RadPerSec
+            }
+            _ => return None,
+        })
+    }
+}
+
+impl fmt::Display for RateUnit {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            RateUnit::DegPerHour => "deg/h",
+            RateUnit::DegPerSec => "deg/s",
+            RateUnit::RadPerSec => "rad/s",
+        })
+    }
+}
+
+impl FromStr for RateUnit {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        RateUnit::from_key(&unit_key(s)).ok_or_else(|| {
+            format!(
+                "unknown rate unit \"{}\": use deg/h (dph), deg/s (dps) or rad/s",
+                s.trim()
+            )
+        })
+    }
+}
+
+impl TryFrom<String> for RateUnit {
+    type Error = String;
+    fn try_from(s: String) -> Result<Self, String> {
+        s.parse()
+    }
+}
+
+impl From<RateUnit> for String {
+    fn from(u: RateUnit) -> String {
+        u.to_string()
+    }
+}
+
+/// The unit a time column is written in.
+///
+/// `Samples` is for stands that log a sample counter instead of a clock: the reader then
+/// needs the sampling rate to know how far apart the samples are.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(try_from = "String", into = "String")]
+pub enum TimeUnit {
+    /// Seconds (driftlab's own unit).
+    Seconds,
+    /// Milliseconds.
+    Millis,
+    /// Minutes.
+    Minutes,
+    /// Hours.
+    Hours,
+    /// A sample index; seconds = index / sample rate.
+    Samples,
+}
+
+impl TimeUnit {
+    /// Seconds per unit, or `None` for a sample index, whose length depends on the sampling
+    /// rate rather than on the unit.
+    pub fn to_s_factor(self) -> Option<f64> {
+        match self {
+            TimeUnit::Seconds => Some(1.0),
+            TimeUnit::Millis => Some(0.001),
+            TimeUnit::Minutes => Some(60.0),
+            TimeUnit::Hours => Some(3600.0),
+            TimeUnit::Samples => None,
+        }
+    }
+
+    /// Recognises a unit key (see [`unit_key`]).
+    pub(crate) fn from_key(key: &str) -> Option<TimeUnit> {
+        Some(match key {
+            "s" | "sec" | "secs" | "second" | "seconds" | "с" | "сек" => TimeUnit::Seconds,
+            "ms" | "msec" | "msecs" | "millis" | "millisecond" | "milliseconds" | "мс" => {
+                TimeUnit::Millis
+            }
+            "min" | "mins" | "minute" | "minutes" | "мин" => TimeUnit::Minutes,
+            "h" | "hr" | "hrs" | "hour" | "hours" | "ч" => TimeUnit::Hours,
+            "samples" | "sample" | "smp" | "idx" | "index" | "n" | "#" => TimeUnit::Samples,
+            _ => return None,
+        })
+    }
+}
+
+impl fmt::Display for TimeUnit {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            TimeUnit::Seconds => "s",
+            TimeUnit::Millis => "ms",
+            TimeUnit::Minutes => "min",
+            TimeUnit::Hours => "h",
+            TimeUnit::Samples => "samples",
+        })
+    }
+}
+
+impl FromStr for TimeUnit {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        TimeUnit::from_key(&unit_key(s)).ok_or_else(|| {
+            format!(
+                "unknown time unit \"{}\": use s, ms, min, h or samples",
+                s.trim()
+            )
+        })
+    }
+}
+
+impl TryFrom<String> for TimeUnit {
+    type Error = String;
+    fn try_from(s: String) -> Result<Self, String> {
+        s.parse()
+    }
+}
+
+impl From<TimeUnit> for String {
+    fn from(u: TimeUnit) -> String {
+        u.to_string()
+    }
+}
+
+/// Temperature units a header may name; values are converted to °C on ingest.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum TempUnit {
+    Celsius,
+    Kelvin,
+    Fahrenheit,
+}
+
+impl TempUnit {
+    /// Recognises a unit key (see [`unit_key`]).
+    pub(crate) fn from_key(key: &str) -> Option<TempUnit> {
+        Some(match key {
+            "c" | "degc" | "celsius" | "degreesc" | "degreec" | "℃" | "degс" | "с" | "градс"
+            | "градусс" => TempUnit::Celsius,
+            "k" | "kelvin" | "degk" | "к" => TempUnit::Kelvin,
+            "f" | "degf" | "fahrenheit" | "degreesf" | "℉" => TempUnit::Fahrenheit,
+            _ => return None,
+        })
+    }
+
+    /// `(scale, offset)` with °C = value · scale + offset.
+    pub(crate) fn to_celsius(self) -> (f64, f64) {
+        match self {
+            TempUnit::Celsius => (1.0, 0.0),
+            TempUnit::Kelvin => (1.0, -273.15),
+            TempUnit::Fahrenheit => (5.0 / 9.0, -32.0 * 5.0 / 9.0),
+        }
+    }
+}
+
+impl fmt::Display for TempUnit {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            TempUnit::Celsius => "°C",
+            TempUnit::Kelvin => "K",
+            TempUnit::Fahrenheit => "°F",
+        })
+    }
+}
+
+/// A spelling-independent form of a unit: lower case, no blanks or punctuation, every degree
+/// sign and `degree(s)` written `deg`, so the tables stay short.
+pub(crate) fn unit_key(s: &str) -> String {
+    let mut k = String::with_capacity(s.len() + 4);
+    for c in s.trim().chars().flat_map(char::to_lowercase) {
+        match c {
+            '°' | 'º' | '˚' => k.push_str("deg"),
+            '/' | '_' | '-' | '.' | '*' | '[' | ']' | '(' | ')' | '{' | '}' | '^' | '\'' | '"' => {}
+            c if c.is_whitespace() => {}
+            c => k.push(c),
+        }
+    }
+    for long in ["degrees", "degree"] {
+        if k.contains(long) {
+            k = k.replace(long, "deg");
+        }
+    }
+    k
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn keys_unify_spellings() {
+        for s in [
+            "deg/h",
+            "°/h",
+            "DEG_H",
+            "deg h",
+            "degrees/hour",
+            "dph",
+            "°/ч",
+        ] {
+            assert_eq!(RateUnit::from_str(s), Ok(RateUnit::DegPerHour), "{s}");
+        }
+        for s in ["rad/s", "rad_s", "rps", "rad/sec"] {
+            assert_eq!(RateUnit::from_str(s), Ok(RateUnit::RadPerSec), "{s}");
+        }
+        for s in ["deg/s", "dps", "°/s", "degrees per second"] {
+            assert_eq!(RateUnit::from_str(s), Ok(RateUnit::DegPerSec), "{s}");
+        }
+        assert_eq!(TempUnit::from_key(&unit_key("°C")), Some(TempUnit::Celsius));
+        assert_eq!(TempUnit::from_key(&unit_key("K")), Some(TempUnit::Kelvin));
+        assert_eq!(TimeUnit::from_str("ms"), Ok(TimeUnit::Millis));
+        assert!(TimeUnit::from_str("fortnight").is_err());
+    }
+}

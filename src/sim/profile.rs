@@ -1,0 +1,397 @@
+//! Test programs for the chamber and the one simulated gyro they all run on.
+
+use serde::{Deserialize, Serialize};
+
+/// A chamber test: the temperature program, the sampling, and the gyro under test.
+///
+/// Everything a run depends on besides the seed, so that a profile plus a seed names one log.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Profile {
+    /// Short name, as given to `driftlab simulate --profile`; written into the CSV comment.
+    pub name: String,
+    /// One sentence on what the run is for, shown when the profiles are listed.
+    pub description: String,
+    /// Sampling rate of the recorded log, Hz (the papers record at 1 Hz).
+    pub sample_rate_hz: f64,
+    /// Chamber air temperature at t = 0, °C; the gyro starts in equilibrium at it.
+    pub start_c: f64,
+    /// The chamber program, run in order from `start_c`.
+    pub program: Vec<Segment>,
+    /// The gyro under test (the same for every built-in profile).
+    pub gyro: GyroParams,
+}
+
+/// One step of the chamber program.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub enum Segment {
+    /// Keep the air at the current temperature for `duration_s` seconds (a plateau, when the
+    /// gyro has time to settle).
+    Hold {
+        /// Length of the hold, s.
+        duration_s: f64,
+    },
+    /// Drive the air linearly from the current temperature to `to_c` at `rate_c_per_min`.
+    Ramp {
+        /// Target air temperature, °C.
+        to_c: f64,
+        /// Absolute ramp rate, °C/min (positive whichever way the ramp goes).
+        rate_c_per_min: f64,
+    },
+}
+
+/// The physical constants of the simulated gyro, its housing and its sensors.
+///
+/// Units are in the field names so that a profile file reads without a manual. The defaults
+/// (`GyroParams::default()`) are driftlab's reference gyro, tuned so that a calibration run
+/// resembles the published ones (METHOD.md §1, §2).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct GyroParams {
+    /// Time constant of the housing following the chamber air (first-order lag), s.
+    pub housing_tau_s: f64,
+    /// Inner radius of the fibre winding, m.
+    pub coil_inner_radius_m: f64,
+    /// Outer radius of the fibre winding (where the housing drives it), m.
+    pub coil_outer_radius_m: f64,
+    /// Number of radial finite-volume layers of the winding.
+    pub coil_layers: usize,
+    /// Thermal diffusivity of the potted winding at 20 °C, m²/s.
+    pub coil_diffusivity_20c_m2_per_s: f64,
+    /// Relative rise of the diffusivity per °C: K(T) = K20·(1 + α·(T − 20)), 1/°C.
+    pub coil_diffusivity_coeff_per_c: f64,
+    /// Static zero bias K0 at 20 °C, °/h.
+    pub bias_20c_dph: f64,
+    /// Linear coefficient of K0 around 20 °C, °/h per °C.
+    pub bias_slope_dph_per_c: f64,
+    /// Quadratic coefficient of K0 around 20 °C, °/h per °C².
+    pub bias_curvature_dph_per_c2: f64,
+    /// Shupe coefficient: drift per unit of fibre-weighted radial difference of heating rates,
+    /// °/h per (°C/s).
+    pub shupe_dph_per_c_per_s: f64,
+    /// Thermal-stress coefficient: drift per unit of fibre-weighted radial temperature
+    /// difference, °/h per °C.
+    pub stress_dph_per_c: f64,
+    /// Relative asymmetry of the transient drift: ×(1 + a) when the winding is heated from
+    /// outside, ×(1 − a) when cooled, dimensionless.
+    pub heating_asymmetry: f64,
+    /// Angle random walk (white rate noise), °/√h.
+    pub arw_deg_per_sqrt_h: f64,
+    /// Standard deviation of the correlated (first-order Gauss-Markov) bias, °/h.
+    pub bias_instability_dph: f64,
+    /// Correlation time of the Gauss-Markov bias, s.
+    pub bias_correlation_s: f64,
+    /// Rate random walk, °/h per √h.
+    pub rrw_dph_per_sqrt_h: f64,
+    /// White noise of the temperature sensor before quantisation, °C.
+    pub sensor_noise_c: f64,
+    /// Resolution of the temperature sensor, °C.
+    pub sensor_resolution_c: f64,
+}
+
+impl Default for GyroParams {
+    /// driftlab's reference gyro: coil lag ≈ 930/550/330 s at −35/0/+55 °C, near Yan's (2019)
+    /// 863/547/309 s; filtered drift ≈ 1.7 °/h peak to peak on the calibration run, as
+    /// Vakhrameev's (2017) 1.68 °/h; filtered noise ≈ 0.13 °/h peak to peak.
+    fn default() -> Self {
+        GyroParams {
+            housing_tau_s: 720.0,
+            coil_inner_radius_m: 0.030,
+            coil_outer_radius_m: 0.042,
+            coil_layers: 16,
+            coil_diffusivity_20c_m2_per_s: 1.52e-7,
+            coil_diffusivity_coeff_per_c: 0.010,
+            bias_20c_dph: 0.0,
+            bias_slope_dph_per_c: 0.003,
+            bias_curvature_dph_per_c2: 8.0e-5,
+            shupe_dph_per_c_per_s: 280.0,
+            stress_dph_per_c: 0.56,
+            heating_asymmetry: 0.15,
+            arw_deg_per_sqrt_h: 0.003,
+            bias_instability_dph: 0.006,
+            bias_correlation_s: 600.0,
+            rrw_dph_per_sqrt_h: 0.001,
+            sensor_noise_c: 0.0003,
+            sensor_resolution_c: 0.001,
+        }
+    }
+}
+
+impl GyroParams {
+    /// The true static bias K0(T) of this gyro at coil temperature `temp_c`, °/h: the curve a
+    /// K0 fit on plateaus is judged against.
+    pub fn static_bias_dph(&self, temp_c: f64) -> f64 {
+        let d = temp_c - 20.0;
+        self.bias_20c_dph + self.bias_slope_dph_per_c * d + self.bias_curvature_dph_per_c2 * d * d
+    }
+
+    /// Thermal diffusivity of the winding at `temp_c`, m²/s, kept above 5 % of K20 so that an
+    /// extreme temperature cannot stop diffusion or make it negative.
+    pub fn diffusivity_m2_per_s(&self, temp_c: f64) -> f64 {
+        let k20 = self.coil_diffusivity_20c_m2_per_s;
+        (k20 * (1.0 + self.coil_diffusivity_coeff_per_c * (temp_c - 20.0))).max(0.05 * k20)
+    }
+
+    /// Checks that every constant is usable, so that a hand-written profile fails with a
+    /// sentence instead of NaN columns.
+    pub fn check(&self) -> Result<(), String> {
+        let positive = [
+            ("housing_tau_s", self.housing_tau_s),
+            ("coil_inner_radius_m", self.coil_inner_radius_m),
+            (
+                "coil_diffusivity_20c_m2_per_s",
+                self.coil_diffusivity_20c_m2_per_s,
+            ),
+            ("bias_correlation_s", self.bias_correlation_s),
+            ("sensor_resolution_c", self.sensor_resolution_c),
+        ];
+        for (name, v) in positive {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(format!("gyro.{name} must be a positive number, got {v}"));
+            }
+        }
+        let finite = [
+            (
+                "coil_diffusivity_coeff_per_c",
+                self.coil_diffusivity_coeff_per_c,
+            ),
+            ("bias_20c_dph", self.bias_20c_dph),
+            ("bias_slope_dph_per_c", self.bias_slope_dph_per_c),
+            ("bias_curvature_dph_per_c2", self.bias_curvature_dph_per_c2),
+            ("shupe_dph_per_c_per_s", self.shupe_dph_per_c_per_s),
+            ("stress_dph_per_c", self.stress_dph_per_c),
+            ("heating_asymmetry", self.heating_asymmetry),
+        ];
+        for (name, v) in finite {
+            if !v.is_finite() {
+                return Err(format!("gyro.{name} must be a finite number, got {v}"));
+            }
+        }
+        let non_negative = [
+            ("arw_deg_per_sqrt_h", self.arw_deg_per_sqrt_h),
+            ("bias_instability_dph", self.bias_instability_dph),
+            ("rrw_dph_per_sqrt_h", self.rrw_dph_per_sqrt_h),
+            ("sensor_noise_c", self.sensor_noise_c),
+        ];
+        for (name, v) in non_negative {
+            if !(v.is_finite() && v >= 0.0) {
+                return Err(format!("gyro.{name} must be zero or positive, got {v}"));
+            }
+        }
+        if !(self.coil_outer_radius_m.is_finite()
+            && self.coil_outer_radius_m > self.coil_inner_radius_m)
+        {
+            return Err(format!(
+                "gyro.coil_outer_radius_m ({}) must exceed coil_inner_radius_m ({})",
+                self.coil_outer_radius_m, self.coil_inner_radius_m
+            ));
+        }
+        if !(2..=1000).contains(&self.coil_layers) {
+            return Err(format!(
+                "gyro.coil_layers must be between 2 and 1000, got {}",
+                self.coil_layers
+            ));
+        }
+        Ok(())
+    }
+}
+
+impl Profile {
+    /// Total length of the program, s.
+    pub fn duration_s(&self) -> f64 {
+        let mut temp = self.start_c;
+        let mut total = 0.0;
+        for seg in &self.program {
+            total += seg.duration_from(temp);
+            if let Segment::Ramp { to_c, .. } = *seg {
+                temp = to_c;
+            }
+        }
+        total
+    }
+
+    /// Number of samples a run of this profile records (both ends included).
+    pub fn sample_count(&self) -> usize {
+        (self.duration_s() * self.sample_rate_hz + 1e-9).floor() as usize + 1
+    }
+
+    /// Checks the program and the gyro, so that callers that build profiles by hand (a GUI
+    /// editor, a profile file) can refuse a bad one with a sentence before simulating.
+    pub fn check(&self) -> Result<(), String> {
+        if !(self.sample_rate_hz.is_finite() && self.sample_rate_hz > 0.0) {
+            return Err(format!(
+                "sample_rate_hz must be a positive number, got {}",
+                self.sample_rate_hz
+            ));
+        }
+        if !self.start_c.is_finite() {
+            return Err(format!("start_c must be finite, got {}", self.start_c));
+        }
+        for (i, seg) in self.program.iter().enumerate() {
+            match *seg {
+                Segment::Hold { duration_s } => {
+                    if !(duration_s.is_finite() && duration_s >= 0.0) {
+                        return Err(format!(
+                            "segment {}: hold duration_s must be zero or positive, got {duration_s}",
+                            i + 1
+                        ));
+                    }
+                }
+                Segment::Ramp {
+                    to_c,
+                    rate_c_per_min,
+                } => {
+                    if !to_c.is_finite() {
+                        return Err(format!(
+                            "segment {}: ramp to_c must be finite, got {to_c}",
+                            i + 1
+                        ));
+                    }
+                    if !(rate_c_per_min.is_finite() && rate_c_per_min > 0.0) {
+                        return Err(format!(
+                            "segment {}: ramp rate_c_per_min must be positive, got {rate_c_per_min}",
+                            i + 1
+                        ));
+                    }
+                }
+            }
+        }
+        let samples = self.duration_s() * self.sample_rate_hz;
+        if samples > 1e9 {
+            return Err(format!(
+                "the run would record {samples:.0} samples; more than 10⁹ is refused"
+            ));
+        }
+        self.gyro.check()
+    }
+}
+
+impl Segment {
+    /// How long the segment lasts when it starts at air temperature `from_c`, s.
+    pub fn duration_from(&self, from_c: f64) -> f64 {
+        match *self {
+            Segment::Hold { duration_s } => duration_s,
+            Segment::Ramp {
+                to_c,
+                rate_c_per_min,
+            } => (to_c - from_c).abs() / rate_c_per_min * 60.0,
+        }
+    }
+}
+
+/// Names of the built-in profiles, in the order a listing shows them.
+pub fn profile_names() -> &'static [&'static str] {
+    &[
+        "calibration",
+        "validation",
+        "no-plateaus",
+        "fast-ramps",
+        "square-steps",
+    ]
+}
+
+fn hold_min(minutes: f64) -> Segment {
+    Segment::Hold {
+        duration_s: minutes * 60.0,
+    }
+}
+
+fn ramp(to_c: f64, rate_c_per_min: f64) -> Segment {
+    Segment::Ramp {
+        to_c,
+        rate_c_per_min,
+    }
+}
+
+/// A built-in profile by name, or `None` for an unknown name (callers list `profile_names`).
+pub fn profile(name: &str) -> Option<Profile> {
+    let (description, start_c, program) = match name {
+        "calibration" => (
+            "Cyclic calibration run as Vakhrameev (2017): plateaus at 20, 60, -50, 20 °C \
+             (2 h, 2 h, 2 h, 1.5 h), 1 °C/min ramps, about 11 h at 1 Hz.",
+            20.0,
+            vec![
+                hold_min(120.0),
+                ramp(60.0, 1.0),
+                hold_min(120.0),
+                ramp(-50.0, 1.0),
+                hold_min(120.0),
+                ramp(20.0, 1.0),
+                hold_min(90.0),
+            ],
+        ),
+        "validation" => (
+            "Held-out run of the same gyro: plateaus at 0, 40, -30 °C (1.5 h each), ramps at \
+             0.5 and 1.5 °C/min, about 10.5 h at 1 Hz.",
+            20.0,
+            vec![
+                hold_min(60.0),
+                ramp(0.0, 0.5),
+                hold_min(90.0),
+                ramp(40.0, 1.5),
+                hold_min(90.0),
+                ramp(-30.0, 0.5),
+                hold_min(90.0),
+                ramp(20.0, 1.5),
+                hold_min(60.0),
+            ],
+        ),
+        "no-plateaus" => (
+            "Continuous cycling between -40 and +50 °C at 0.7 to 1.2 °C/min with no holds, \
+             about 6.8 h at 1 Hz: nothing to fit K0 on.",
+            20.0,
+            vec![
+                ramp(50.0, 1.0),
+                ramp(-40.0, 0.8),
+                ramp(50.0, 1.2),
+                ramp(-40.0, 0.7),
+                ramp(20.0, 1.0),
+            ],
+        ),
+        "fast-ramps" => (
+            "Ramps at 2 °C/min (twice the calibration rate) between 60 and -50 °C with short \
+             holds (30 to 45 min), about 4.3 h at 1 Hz.",
+            20.0,
+            vec![
+                hold_min(30.0),
+                ramp(60.0, 2.0),
+                hold_min(45.0),
+                ramp(-50.0, 2.0),
+                hold_min(45.0),
+                ramp(20.0, 2.0),
+                hold_min(30.0),
+            ],
+        ),
+        "square-steps" => (
+            "Square-wave steps in three bands as Yan (2019): -25/-45, 10/-10, 40/60 °C, 3 h \
+             holds, 20 min ramps at 1 °C/min, about 30 h at 1 Hz: for the delay model.",
+            -25.0,
+            vec![
+                hold_min(180.0),
+                ramp(-45.0, 1.0),
+                hold_min(180.0),
+                ramp(-25.0, 1.0),
+                hold_min(180.0),
+                ramp(10.0, 1.0),
+                hold_min(180.0),
+                ramp(-10.0, 1.0),
+                hold_min(180.0),
+                ramp(10.0, 1.0),
+                hold_min(180.0),
+                ramp(40.0, 1.0),
+                hold_min(180.0),
+                ramp(60.0, 1.0),
+                hold_min(180.0),
+                ramp(40.0, 1.0),
+                hold_min(180.0),
+            ],
+        ),
+        _ => return None,
+    };
+    Some(Profile {
+        name: name.to_string(),
+        description: description.to_string(),
+        sample_rate_hz: 1.0,
+        start_c,
+        program,
+        gyro: GyroParams::default(),
+    })
+}

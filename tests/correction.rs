@@ -1,0 +1,148 @@
+//! Streaming correction equals batch correction; the calibration file round-trips; figures of
+//! merit match closed forms.
+
+mod common;
+
+use common::{Program, Truth, log_from};
+use driftlab::calfile;
+use driftlab::metrics::{self, MeritOptions};
+use driftlab::model;
+use driftlab::recipe::Recipe;
+use std::path::Path;
+
+const TRUTH: Truth = Truth {
+    k0: [0.2, 0.004, -6e-5],
+    k1_plus: 40.0,
+    k1_minus: 25.0,
+    k2_plus: 2e4,
+    k2_minus: -1e4,
+};
+
+fn noisy_log() -> driftlab::Log {
+    log_from(&Program::paper_like(), &TRUTH, 0.3, 0.001, 7)
+}
+
+#[test]
+fn streaming_equals_batch() {
+    let log = noisy_log();
+    let cal = model::fit(&log, &Recipe::default()).unwrap().calibration;
+    let batch = cal.correct(&log);
+    let mut stream = cal.corrector();
+    let mut worst: f64 = 0.0;
+    for i in 0..log.len() {
+        let s = stream.push(log.time_s[i], log.omega_dph[i], log.temp_c[i]);
+        worst = worst.max((s.omega_cor_dph - batch.cor_dph[i]).abs());
+        assert_eq!(s.regime, batch.regime[i], "sample {i}");
+    }
+    assert!(worst <= 1e-9, "largest difference {worst}");
+    // The stream starts again from nothing after a reset.
+    stream.reset();
+    let first = stream.push(0.0, log.omega_dph[0], log.temp_c[0]);
+    assert_eq!(first.omega_cor_dph, batch.cor_dph[0]);
+}
+
+#[test]
+fn calibration_round_trip_predicts_the_same() {
+    let log = noisy_log();
+    let mut recipe = Recipe::default();
+    recipe.k1_plus.kind = driftlab::approx::ApproxKind::Spline;
+    recipe.k2_minus.kind = driftlab::approx::ApproxKind::Pwl;
+    recipe.gyro_id = "FOG-0042".into();
+    let cal = model::fit(&log, &recipe).unwrap().calibration;
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("cal.json");
+    calfile::save(&path, &cal).unwrap();
+    let back = calfile::load(&path).unwrap();
+    assert_eq!(back, cal);
+    let (a, b) = (cal.correct(&log), back.correct(&log));
+    assert_eq!(a.cor_dph, b.cor_dph);
+    // No temporary file is left beside it.
+    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
+}
+
+fn load_err(text: &str) -> String {
+    calfile::from_json(Path::new("gyro7.json"), text)
+        .unwrap_err()
+        .to_string()
+}
+
+#[test]
+fn malformed_calibration_files_are_refused_with_a_reason() {
+    let cal = model::fit(&noisy_log(), &Recipe::default())
+        .unwrap()
+        .calibration;
+    let good = calfile::to_json(&cal);
+    let v2 = good.replacen("\"version\": 1", "\"version\": 2", 1);
+    assert!(load_err(&v2).contains("version 2 is not supported"));
+    let other = good.replacen("driftlab-calibration", "something-else", 1);
+    assert!(load_err(&other).contains("something-else"));
+    let unknown = good.replacen("\"gyro_id\"", "\"colour\": 1, \"gyro_id\"", 1);
+    let e = load_err(&unknown);
+    assert!(e.contains("colour") && e.contains("line"), "{e}");
+    let truncated = &good[..good.len() / 2];
+    assert!(load_err(truncated).starts_with("gyro7.json: "));
+    let nan = good.replacen("\"dt_s\": 1.0", "\"dt_s\": NaN", 1);
+    assert!(load_err(&nan).contains("line"), "{}", load_err(&nan));
+    let null = good.replacen("\"dt_s\": 1.0", "\"dt_s\": null", 1);
+    assert!(load_err(&null).contains("null"));
+    assert!(load_err("").contains("gyro7.json"));
+    assert!(load_err("[1,2]").contains("gyro7.json"));
+}
+
+#[test]
+fn a_failed_save_leaves_the_old_file() {
+    let cal = model::fit(&noisy_log(), &Recipe::default())
+        .unwrap()
+        .calibration;
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("cal.json");
+    std::fs::write(&path, "old").unwrap();
+    // A folder that does not exist: the write fails, the error names the file.
+    let bad = dir.path().join("missing").join("cal.json");
+    let e = calfile::save(&bad, &cal).unwrap_err().to_string();
+    assert!(e.contains("missing"), "{e}");
+    assert_eq!(std::fs::read_to_string(&path).unwrap(), "old");
+}
+
+#[test]
+fn figures_of_a_ramp_match_closed_form() {
+    // Ω = a·t over 2 h at 1 Hz: the 100-s centred average of a line is the line, so its
+    // peak-to-peak is a·(span of the full-window centres) and its std that of a uniform ramp.
+    let a = 1e-4;
+    let x: Vec<f64> = (0..7200).map(|i| a * i as f64).collect();
+    let f = metrics::figures(&x, 1.0, 0, &MeritOptions::default());
+    let span = (7200 - 100) as f64;
+    assert!((f.p2p_dph - a * span).abs() < 1e-9);
+    let std_uniform = a * ((span + 1.0).powi(2) - 1.0).sqrt() / 12f64.sqrt();
+    assert!(
+        (f.std_dph - std_uniform).abs() < 1e-9,
+        "{} vs {std_uniform}",
+        f.std_dph
+    );
+    // Twelve 10-minute windows; the last one's mean is a·(6600 + 299.5).
+    assert_eq!(f.windows, 12);
+    assert!((f.win_mean_max_abs_dph - a * 6899.5).abs() < 1e-9);
+    assert!((f.win_mean_p2p_dph - a * 6600.0).abs() < 1e-9);
+}
+
+#[test]
+fn correction_reduces_drift_in_sample_and_held_out() {
+    let log = noisy_log();
+    let cal = model::fit(&log, &Recipe::default()).unwrap().calibration;
+    let opts = MeritOptions::default();
+    let ins = metrics::Evaluation::of(&cal, &log, &opts).comparison;
+    // Another run of the same gyro: other plateau temperatures and ramp lengths.
+    let program = Program {
+        start_c: 0.0,
+        start_hold_s: 3000.0,
+        legs: vec![
+            (40.0, 4200.0, 4000.0),
+            (-30.0, 5000.0, 4000.0),
+            (10.0, 3000.0, 2000.0),
+        ],
+    };
+    let other = log_from(&program, &TRUTH, 0.3, 0.001, 8);
+    let out = metrics::Evaluation::of(&cal, &other, &opts).comparison;
+    assert!(ins.p2p_ratio > 3.0, "in-sample {:.2}", ins.p2p_ratio);
+    assert!(out.p2p_ratio > 3.0, "held out {:.2}", out.p2p_ratio);
+}

@@ -1,0 +1,189 @@
+//! The Vakhrameev calibration recovers the coefficients its data were built with.
+
+mod common;
+
+use common::{Program, Truth, log_from};
+use driftlab::approx::{ApproxKind, ApproxSpec, Curve};
+use driftlab::metrics::{Evaluation, MeritOptions};
+use driftlab::model::{self, Regime};
+use driftlab::plateau::PlateauRange;
+use driftlab::recipe::{PlateauChoice, Recipe};
+
+const TRUTH: Truth = Truth {
+    k0: [0.2, 0.004, -6e-5],
+    k1_plus: 40.0,
+    k1_minus: 25.0,
+    k2_plus: 0.0,
+    k2_minus: 0.0,
+};
+
+/// A recipe that differentiates with almost no lag, for noise-free data.
+fn sharp_recipe() -> Recipe {
+    Recipe {
+        filter_s: 1.0,
+        temp_smoothing_s: 1.0,
+        step_h_s: 2.0,
+        ..Recipe::default()
+    }
+}
+
+#[test]
+fn plateaus_found_at_the_holds_of_the_program() {
+    let program = Program::paper_like();
+    let log = log_from(&program, &TRUTH, 0.0, 0.001, 1);
+    let fit = model::fit(&log, &Recipe::default()).unwrap();
+    let temps: Vec<f64> = fit.calibration.plateaus.iter().map(|p| p.temp_c).collect();
+    assert_eq!(temps.len(), 4, "holds at 20, 60, -50, 20: {temps:?}");
+    for (got, want) in temps.iter().zip([20.0, 60.0, -50.0, 20.0]) {
+        assert!((got - want).abs() < 0.01, "{got} vs {want}");
+    }
+    // The settled tail of each hold: the last half, ending where the hold ends.
+    let p = fit.calibration.plateaus[1].range;
+    assert!((p.end_s - (3600.0 + 3000.0 + 5400.0)).abs() < 40.0, "{p:?}");
+}
+
+#[test]
+fn k0_recovered_from_plateaus() {
+    let log = log_from(&Program::paper_like(), &TRUTH, 0.0, 0.0, 1);
+    let fit = model::fit(&log, &sharp_recipe()).unwrap();
+    let Curve::Polynomial { coeffs } = fit.calibration.k0.curve() else {
+        panic!("parabolic K0")
+    };
+    for (got, want) in coeffs.iter().zip(TRUTH.k0) {
+        assert!((got - want).abs() < 1e-9, "{coeffs:?}");
+    }
+}
+
+#[test]
+fn k1_recovered_from_synthetic_ramps() {
+    let log = log_from(&Program::paper_like(), &TRUTH, 0.0, 0.0, 1);
+    let fit = model::fit(&log, &sharp_recipe()).unwrap();
+    let cal = &fit.calibration;
+    assert!(fit.k1_plus_points.len() > 1000 && fit.k1_minus_points.len() > 1000);
+    for (name, a, want) in [
+        ("K1+", &cal.k1_plus, TRUTH.k1_plus),
+        ("K1-", &cal.k1_minus, TRUTH.k1_minus),
+    ] {
+        for x in [a.x_min(), 0.5 * (a.x_min() + a.x_max()), a.x_max()] {
+            assert!(
+                (a.eval(x) - want).abs() < 0.01 * want,
+                "{name}({x}) = {} vs {want}",
+                a.eval(x)
+            );
+        }
+    }
+    // With K2 = 0 in the data, what K1 leaves is noise of the derivative scheme: K2 ≈ 0
+    // against a scale of K1·Ṫ/T̈.
+    for a in [&cal.k2_plus, &cal.k2_minus] {
+        assert!(a.eval(a.x_max()).abs() < 0.01 * 40.0 * 0.02 / 1e-5);
+    }
+}
+
+#[test]
+fn model_with_k2_terms_predicts_its_own_data() {
+    let truth = Truth {
+        k2_plus: 3.0e4,
+        k2_minus: -2.0e4,
+        ..TRUTH
+    };
+    let log = log_from(&Program::paper_like(), &truth, 0.0, 0.0, 1);
+    let recipe = Recipe {
+        k1_plus: ApproxSpec::of(ApproxKind::Parabolic),
+        k1_minus: ApproxSpec::of(ApproxKind::Parabolic),
+        ..sharp_recipe()
+    };
+    let fit = model::fit(&log, &recipe).unwrap();
+    let eval = Evaluation::of(&fit.calibration, &log, &MeritOptions::default());
+    let c = eval.comparison;
+    assert!(
+        c.raw.p2p_dph > 1.0,
+        "the test data must have a real drift: {}",
+        c.raw.p2p_dph
+    );
+    assert!(
+        c.p2p_ratio > 10.0,
+        "raw {} corrected {}",
+        c.raw.p2p_dph,
+        c.corrected.p2p_dph
+    );
+}
+
+#[test]
+fn regimes_follow_the_signs_of_the_rates() {
+    assert_eq!(Regime::of(0.01, 1e-5), Regime::Plus);
+    assert_eq!(Regime::of(-0.01, -1e-5), Regime::Plus);
+    assert_eq!(Regime::of(0.01, -1e-5), Regime::Minus);
+    assert_eq!(Regime::of(0.0, 1e-5), Regime::Static);
+}
+
+#[test]
+fn manual_plateaus_replace_detection() {
+    let log = log_from(&Program::paper_like(), &TRUTH, 0.0, 0.0, 1);
+    let ranges = vec![
+        PlateauRange {
+            start_s: 1000.0,
+            end_s: 3000.0,
+        },
+        PlateauRange {
+            start_s: 9000.0,
+            end_s: 11000.0,
+        },
+    ];
+    let recipe = Recipe {
+        plateaus: PlateauChoice::Manual {
+            ranges: ranges.clone(),
+        },
+        ..sharp_recipe()
+    };
+    let fit = model::fit(&log, &recipe).unwrap();
+    let got: Vec<PlateauRange> = fit.calibration.plateaus.iter().map(|p| p.range).collect();
+    assert_eq!(got, ranges);
+    // Two plateaus cannot carry a parabola: K0 falls back to a line, with a warning.
+    assert!(
+        fit.warnings.iter().any(|w| w.starts_with("K0")),
+        "{:?}",
+        fit.warnings
+    );
+    assert!((fit.calibration.k0.eval(60.0) - TRUTH.k0(60.0)).abs() < 1e-9);
+}
+
+#[test]
+fn a_log_without_plateaus_cannot_define_k0() {
+    let program = Program {
+        start_c: 0.0,
+        start_hold_s: 0.0,
+        legs: vec![(40.0, 4000.0, 0.0), (0.0, 4000.0, 0.0)],
+    };
+    let log = log_from(&program, &TRUTH, 0.0, 0.0, 1);
+    let err = model::fit(&log, &Recipe::default()).unwrap_err();
+    assert!(err.to_string().contains("no plateaus"), "{err}");
+}
+
+#[test]
+fn invalid_recipes_are_refused_with_the_setting_named() {
+    let log = log_from(&Program::paper_like(), &TRUTH, 0.0, 0.0, 1);
+    let bad = Recipe {
+        step_h_s: -1.0,
+        ..Recipe::default()
+    };
+    assert!(
+        model::fit(&log, &bad)
+            .unwrap_err()
+            .to_string()
+            .contains("step_h_s")
+    );
+    let bad = Recipe {
+        k1_plus: ApproxSpec {
+            kind: ApproxKind::Spline,
+            knots: 1,
+            extrapolate: false,
+        },
+        ..Recipe::default()
+    };
+    assert!(
+        model::fit(&log, &bad)
+            .unwrap_err()
+            .to_string()
+            .contains("k1_plus")
+    );
+}

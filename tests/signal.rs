@@ -1,0 +1,96 @@
+//! Filters and derivatives against closed-form truth.
+
+use driftlab::signal::{self, DerivativeSteps};
+
+fn quadratic(a: f64, b: f64, c: f64, n: usize, dt: f64) -> Vec<f64> {
+    (0..n)
+        .map(|i| {
+            let t = i as f64 * dt;
+            a + b * t + c * t * t
+        })
+        .collect()
+}
+
+#[test]
+fn backward_difference_is_exact_for_quadratics() {
+    let (b, c, dt) = (0.3, -0.0125, 0.5);
+    let x = quadratic(20.0, b, c, 400, dt);
+    for step in [1, 3, 10] {
+        let d = signal::backward_derivative(&x, step, dt);
+        for i in 2 * step..x.len() {
+            let t = i as f64 * dt;
+            assert!(
+                (d[i] - (b + 2.0 * c * t)).abs() < 1e-9,
+                "step {step} sample {i}: {} vs {}",
+                d[i],
+                b + 2.0 * c * t
+            );
+        }
+        assert!(
+            d[..2 * step].iter().all(|&v| v == 0.0),
+            "no rate before the history is full"
+        );
+    }
+}
+
+#[test]
+fn second_derivative_of_quadratic_is_constant_and_exact() {
+    let (c, dt) = (0.004, 1.0);
+    let x = quadratic(-5.0, 0.1, c, 300, dt);
+    let d = signal::derivatives(&x, DerivativeSteps { smooth: 1, step: 4 }, dt);
+    assert_eq!(d.ready_from, 16);
+    for i in d.ready_from..x.len() {
+        assert!(
+            (d.tddot[i] - 2.0 * c).abs() < 1e-9,
+            "sample {i}: {}",
+            d.tddot[i]
+        );
+    }
+}
+
+#[test]
+fn causal_smoothing_delays_a_quadratic_by_half_the_window() {
+    // The mean of a quadratic over the last w samples is the quadratic at the window's centre
+    // plus a constant c·(w²−1)/12·dt²: its derivative is the true rate (w−1)/2 samples earlier.
+    let (b, c, dt, w) = (0.02, 1e-4, 1.0, 9);
+    let x = quadratic(10.0, b, c, 500, dt);
+    let d = signal::derivatives(&x, DerivativeSteps { smooth: w, step: 5 }, dt);
+    for i in (w + 20)..x.len() {
+        let t_centre = (i as f64 - (w as f64 - 1.0) / 2.0) * dt;
+        assert!((d.tdot[i] - (b + 2.0 * c * t_centre)).abs() < 1e-10);
+        assert!((d.tddot[i] - 2.0 * c).abs() < 1e-10);
+    }
+}
+
+#[test]
+fn centred_average_leaves_a_line_unchanged() {
+    let x: Vec<f64> = (0..200).map(|i| 3.0 - 0.25 * i as f64).collect();
+    for w in [1, 2, 7, 100] {
+        let m = signal::moving_average_centered(&x, w);
+        // Away from the ends an odd window is symmetric; an even one is centred half a sample late.
+        let shift = if w % 2 == 0 { -0.125 } else { 0.0 };
+        for i in w..200 - w {
+            assert!((m[i] - (x[i] + shift)).abs() < 1e-9, "w {w} i {i}");
+        }
+    }
+    let valid = signal::moving_average_valid(&x, 11);
+    assert_eq!(valid.len(), 190);
+    assert!((valid[0] - x[5]).abs() < 1e-12);
+}
+
+#[test]
+fn causal_average_fills_its_window_then_slides() {
+    let x = [1.0, 2.0, 3.0, 4.0, 5.0, 6.0];
+    assert_eq!(
+        signal::moving_average_causal(&x, 3),
+        vec![1.0, 1.5, 2.0, 3.0, 4.0, 5.0]
+    );
+}
+
+#[test]
+fn seconds_become_whole_samples() {
+    assert_eq!(signal::seconds_to_samples(100.0, 1.0), 100);
+    assert_eq!(signal::seconds_to_samples(30.0, 0.01), 3000);
+    assert_eq!(signal::seconds_to_samples(0.2, 1.0), 1);
+    assert_eq!(signal::seconds_to_samples(f64::NAN, 1.0), 1);
+}
