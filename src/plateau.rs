@@ -126,15 +126,22 @@ pub fn detect(
             _ => runs.push((a, i)),
         }
     }
+    // Inside each long quiet stretch, the ends where the rate is above a fifth of the limit are
+    // a ramp still fading out or already creeping in: the plateau ends before them.
+    let strict = limit / 5.0;
     runs.into_iter()
         .filter(|&(a, b)| time_s[b - 1] - time_s[a] >= opts.min_duration_s && b - a >= 2)
-        .map(|(a, b)| {
+        .filter_map(|(a, b)| {
+            let b = (a..b)
+                .rev()
+                .find(|&i| tdot[i].abs() < strict)
+                .map(|i| i + 1)?;
             let end = time_s[b - 1];
             let start = end - (end - time_s[a]) * opts.settled_fraction;
-            PlateauRange {
+            (end > start).then_some(PlateauRange {
                 start_s: start,
                 end_s: end,
-            }
+            })
         })
         .collect()
 }

@@ -1,4 +1,5 @@
 //! Approximations recover the curves their data were made from.
+#![allow(clippy::needless_range_loop)] // tests index several columns by sample number
 
 use driftlab::approx::{self, Approx, ApproxKind, ApproxSpec, Curve};
 use splines::{Interpolation, Key, Spline};

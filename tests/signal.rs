@@ -1,4 +1,5 @@
 //! Filters and derivatives against closed-form truth.
+#![allow(clippy::needless_range_loop)] // tests index several columns by sample number
 
 use driftlab::signal::{self, DerivativeSteps};
 

@@ -419,15 +419,18 @@ pub(crate) fn plan(sn: &Sniffed, opts: &ReadOptions) -> Result<Plan, Fail> {
     // Guess the roles the options leave open.
     let (time_col, rate_col, temp_col);
     if sn.has_header {
+        // The strongest name wins; among equals a numeric column, then the leftmost. A text
+        // column is taken only when nothing else fits, so its first cell is reported.
         let best = |used: &[bool], want: fn(&Kind) -> bool| -> Option<usize> {
-            let mut best: Option<(usize, u8)> = None;
+            let mut best: Option<(usize, (u8, bool))> = None;
             for j in 0..ncols {
                 let (k, s) = kinds[j];
-                if used[j] || !guessable[j] || !want(&k) {
+                if used[j] || !want(&k) {
                     continue;
                 }
-                if best.is_none_or(|(_, bs)| s > bs) {
-                    best = Some((j, s));
+                let key = (s, guessable[j]);
+                if best.is_none_or(|(_, bk)| key > bk) {
+                    best = Some((j, key));
                 }
             }
             best.map(|(j, _)| j)
@@ -464,7 +467,10 @@ pub(crate) fn plan(sn: &Sniffed, opts: &ReadOptions) -> Result<Plan, Fail> {
         };
         rate_col = rate_x.or_else(|| next_free(&mut used));
         temp_col = temp_x.or_else(|| next_free(&mut used));
-        if time_col.is_none() && opts.sample_rate_hz.is_none() {
+        if (rate_col.is_none() || temp_col.is_none())
+            && time_x.is_none()
+            && opts.sample_rate_hz.is_none()
+        {
             return Err(at_header(format!(
                 "the file has no header and {ncols} columns: without a time column pass \
                  sample_rate_hz (then col1 is the rate and col2 the temperature), or map the \

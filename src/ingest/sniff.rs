@@ -3,7 +3,8 @@
 //!
 //! Sniffing looks at a bounded head of the file only, so it costs the same on a 300 MB log
 //! as on a 3 kB one. Each candidate dialect is scored on the lines after the first (the
-//! first may be a header): it must split them into a consistent number (≥ 2) of fields, and
+//! first may be a header): it must split most of them into the same number (≥ 2) of fields
+//! (or, in a short ragged file, every one into several), and
 //! the dialect under which most fields read as numbers wins; ties go to the more specific
 //! separator (tab, then `;`, then `,`, then runs of blanks).
 
@@ -261,9 +262,10 @@ pub(crate) struct ColStats {
 }
 
 impl ColStats {
-    /// A column worth parsing: no cell in the sample failed to read as a number.
+    /// A column worth parsing: more of its sampled cells read as numbers than not (a few
+    /// bad cells are then reported where they are, not hidden by ignoring the column).
     pub(crate) fn numeric(&self) -> bool {
-        self.bad == 0
+        self.numbers > self.bad || (self.numbers == 0 && self.bad == 0)
     }
 }
 
@@ -383,7 +385,9 @@ pub(crate) fn sniff(
             .collect();
         let (mode, freq) = mode_of(&counts);
         widest = widest.max(mode);
-        let consistent = freq as f64 >= 0.9 * counts.len() as f64 || opts.delimiter.is_some();
+        // Most lines agree, or (a short ragged file) every line has several fields.
+        let consistent =
+            2 * freq > counts.len() || counts.iter().all(|&c| c >= 2) || opts.delimiter.is_some();
         if mode < 2 || !consistent {
             continue;
         }
