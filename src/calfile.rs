@@ -88,6 +88,7 @@ pub fn from_json(path: &Path, text: &str) -> Result<Calibration> {
         None => return Err(err("no \"model\" field".into())),
     }
     let file: CalFile = serde_json::from_str(text).map_err(|e| err(e.to_string()))?;
+    file.calibration.validate().map_err(err)?;
     Ok(file.calibration)
 }
 

@@ -23,12 +23,18 @@ pub mod calfile;
 pub mod correct;
 pub mod error;
 pub mod ingest;
+pub mod lod;
 pub mod log;
 pub mod metrics;
 pub mod model;
 pub mod plateau;
 pub mod recipe;
+pub mod session;
 pub mod signal;
 pub mod sim;
+
+/// The desktop workbench (feature `gui`): a face over the engine, holding no calculation.
+#[cfg(feature = "gui")]
+pub mod gui;
 
 pub use log::Log;

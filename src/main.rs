@@ -8,11 +8,7 @@ fn main() -> std::process::ExitCode {
     let args = cli::Cli::parse();
     let result = match args.command {
         Some(command) => cli::run(command),
-        None => {
-            // The workbench comes with the `gui` feature; until it is built, point at the CLI.
-            eprintln!("driftlab: no command given. Run `driftlab --help` for the commands.");
-            Ok(())
-        }
+        None => cli::run(cli::Command::Gui(cli::GuiArgs::default())),
     };
     match result {
         Ok(()) => std::process::ExitCode::SUCCESS,

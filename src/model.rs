@@ -237,6 +237,48 @@ impl Calibration {
         (pred, regime)
     }
 
+    /// Checks what a file could get wrong and the approximations do not check themselves: the
+    /// sampling step, the windows, the dead-bands and the plateau numbers.
+    pub fn validate(&self) -> std::result::Result<(), String> {
+        self.recipe.validate()?;
+        let r = &self.resolved;
+        if !(r.dt_s.is_finite() && r.dt_s > 0.0) {
+            return Err(format!(
+                "resolved.dt_s must be a positive step in seconds, got {}",
+                r.dt_s
+            ));
+        }
+        if r.filter_samples == 0 || r.smooth_samples == 0 || r.step_samples == 0 {
+            return Err("resolved windows and step must be at least one sample".into());
+        }
+        if !(r.deadband_tdot >= 0.0 && r.deadband_tddot >= 0.0)
+            || !r.deadband_tdot.is_finite()
+            || !r.deadband_tddot.is_finite()
+        {
+            return Err("resolved dead-bands must be finite and non-negative".into());
+        }
+        if self.units != Units::default() {
+            return Err(format!(
+                "units {:?} differ from the ones this driftlab works in ({:?})",
+                self.units,
+                Units::default()
+            ));
+        }
+        for p in &self.plateaus {
+            let v = [
+                p.range.start_s,
+                p.range.end_s,
+                p.temp_c,
+                p.omega_dph,
+                p.omega_std_dph,
+            ];
+            if v.iter().any(|x| !x.is_finite()) {
+                return Err("plateau statistics must be finite".into());
+            }
+        }
+        Ok(())
+    }
+
     /// The five approximations with their names, for listing.
     pub fn approximations(&self) -> [(&'static str, &Approx); 5] {
         [

@@ -85,6 +85,10 @@ fn malformed_calibration_files_are_refused_with_a_reason() {
     assert!(load_err(&nan).contains("line"), "{}", load_err(&nan));
     let null = good.replacen("\"dt_s\": 1.0", "\"dt_s\": null", 1);
     assert!(load_err(&null).contains("null"));
+    let zero_step = good.replacen("\"dt_s\": 1.0", "\"dt_s\": 0.0", 1);
+    assert!(load_err(&zero_step).contains("dt_s"));
+    let units = good.replacen("\"deg/h\"", "\"rad/s\"", 1);
+    assert!(load_err(&units).contains("units"));
     assert!(load_err("").contains("gyro7.json"));
     assert!(load_err("[1,2]").contains("gyro7.json"));
 }

@@ -31,6 +31,18 @@ pub enum Command {
     Inspect(inspect::Args),
     /// Simulate a motionless fibre-optic gyro in a thermal chamber and write the log as CSV.
     Simulate(simulate::Args),
+    /// Open the workbench (the default when no command is given).
+    Gui(GuiArgs),
+}
+
+/// Arguments of `gui`.
+#[derive(clap::Args, Debug, Default)]
+pub struct GuiArgs {
+    /// Log to open (default: sample_logs/calibration.csv when present).
+    pub log: Option<std::path::PathBuf>,
+    /// Render the loaded, calibrated workbench, save the window as PNG here and exit.
+    #[arg(long, value_name = "PNG")]
+    pub screenshot: Option<std::path::PathBuf>,
 }
 
 /// Runs a parsed command line; the error is printed by `main`.
@@ -41,5 +53,23 @@ pub fn run(command: Command) -> Result<(), String> {
         Command::Evaluate(a) => evaluate::run(a),
         Command::Inspect(a) => inspect::run(a),
         Command::Simulate(a) => simulate::run(a),
+        Command::Gui(a) => gui(a),
     }
+}
+
+#[cfg(feature = "gui")]
+fn gui(a: GuiArgs) -> Result<(), String> {
+    driftlab::gui::run(driftlab::gui::GuiOptions {
+        log: a.log,
+        screenshot: a.screenshot,
+    })
+}
+
+#[cfg(not(feature = "gui"))]
+fn gui(_: GuiArgs) -> Result<(), String> {
+    Err(
+        "this driftlab was built without the workbench (cargo feature `gui`); \
+         use the commands listed by --help"
+            .into(),
+    )
 }

@@ -48,7 +48,7 @@
 //!   `omega_dph = thermal_dph + noise_dph` exactly.
 //!
 //! Magnitudes (reference gyro, `calibration` profile): the drift smoothed by a centred
-//! 100-sample moving average spans about 1.7 °/h peak to peak (Vakhrameev 2017: 1.68 °/h); the
+//! 100-sample moving average spans about 1.6 °/h peak to peak (Vakhrameev 2017: 1.68 °/h); the
 //! noise smoothed the same way about 0.13 °/h. Gyro noise and sensor noise come from two
 //! ChaCha streams of the one seed.
 

@@ -68,7 +68,7 @@ pub struct GyroParams {
     /// °/h per (°C/s).
     pub shupe_dph_per_c_per_s: f64,
     /// Thermal-stress coefficient: drift per unit of fibre-weighted radial temperature
-    /// difference, °/h per °C.
+    /// difference at 20 °C, °/h per °C; scaled by K(T)/K20 so that it follows the heat flux.
     pub stress_dph_per_c: f64,
     /// Relative asymmetry of the transient drift: ×(1 + a) when the winding is heated from
     /// outside, ×(1 − a) when cooled, dimensionless.
@@ -89,7 +89,7 @@ pub struct GyroParams {
 
 impl Default for GyroParams {
     /// driftlab's reference gyro: coil lag ≈ 930/550/330 s at −35/0/+55 °C, near Yan's (2019)
-    /// 863/547/309 s; filtered drift ≈ 1.7 °/h peak to peak on the calibration run, as
+    /// 863/547/309 s; filtered drift ≈ 1.6 °/h peak to peak on the calibration run, as
     /// Vakhrameev's (2017) 1.68 °/h; filtered noise ≈ 0.13 °/h peak to peak.
     fn default() -> Self {
         GyroParams {

@@ -1,0 +1,1 @@
+//! Level-of-detail reduction of long series for plotting (in progress).

@@ -1,0 +1,1 @@
+//! The workbench session file (in progress).
