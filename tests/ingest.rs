@@ -976,11 +976,69 @@ impl XorShift {
     }
 }
 
+/// Options of every kind, some of them nonsensical, chosen by the generator.
+fn random_options(rng: &mut XorShift) -> ReadOptions {
+    let pick = |rng: &mut XorShift, n: u64| rng.next() % n;
+    let col = |rng: &mut XorShift| match rng.next() % 5 {
+        0 => Some(ColumnRef::Index((rng.next() % 5) as usize)),
+        1 => Some(ColumnRef::Name(
+            ["time", "omega", "temp", "x", ""][(rng.next() % 5) as usize].into(),
+        )),
+        _ => None,
+    };
+    ReadOptions {
+        time_col: col(rng),
+        rate_col: col(rng),
+        temp_col: col(rng),
+        rate_unit: [None, Some(RateUnit::DegPerSec), Some(RateUnit::RadPerSec)]
+            [pick(rng, 3) as usize],
+        time_unit: [None, Some(TimeUnit::Millis), Some(TimeUnit::Samples)][pick(rng, 3) as usize],
+        sample_rate_hz: [None, Some(10.0), Some(0.0), Some(f64::NAN)][pick(rng, 4) as usize],
+        delimiter: [
+            None,
+            None,
+            Some(b','),
+            Some(b';'),
+            Some(b' '),
+            Some(b'\t'),
+            Some(b'"'),
+            Some(b'\n'),
+        ][pick(rng, 8) as usize],
+        decimal_comma: [None, Some(true), Some(false)][pick(rng, 3) as usize],
+        has_header: [None, Some(true), Some(false)][pick(rng, 3) as usize],
+    }
+}
+
+fn fuzz_iterations() -> usize {
+    std::env::var("DRIFTLAB_FUZZ_ITERS")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(600)
+}
+
+/// A read that returned must have returned a consistent log.
+fn check_consistent(log: &Log) {
+    assert_eq!(log.time_s.len(), log.omega_dph.len());
+    assert_eq!(log.time_s.len(), log.temp_c.len());
+    assert!(!log.is_empty());
+    assert!(log.time_s.windows(2).all(|w| w[0] < w[1]));
+    assert!(
+        log.time_s
+            .iter()
+            .chain(&log.omega_dph)
+            .chain(&log.temp_c)
+            .all(|v| v.is_finite())
+    );
+    for ch in &log.extra {
+        assert_eq!(ch.values.len(), log.len());
+    }
+}
+
 #[test]
 fn random_bytes_never_panic() {
     let mut rng = XorShift(0x2545_F491_4F6C_DD1D);
     let alphabet = b"0123456789.,;\t \n\r\"#-+eE naNtimeomgarp[]()/\xEF\xBB\xBF\xff\x00";
-    for i in 0..600 {
+    for i in 0..fuzz_iterations() {
         let len = (rng.next() % 400) as usize;
         let bytes: Vec<u8> = (0..len)
             .map(|_| {
@@ -992,14 +1050,15 @@ fn random_bytes_never_panic() {
                 }
             })
             .collect();
-        let _ = read_bytes("fuzz", &bytes, &opts());
+        if let Ok(log) = read_bytes("fuzz", &bytes, &opts()) {
+            check_consistent(&log);
+        }
         let _ = preview_bytes("fuzz", &bytes, &opts(), 5);
-        let o = ReadOptions {
-            sample_rate_hz: Some(1.0),
-            decimal_comma: Some(i % 2 == 0),
-            ..opts()
-        };
-        let _ = read_bytes("fuzz", &bytes, &o);
+        let o = random_options(&mut rng);
+        if let Ok(log) = read_bytes("fuzz", &bytes, &o) {
+            check_consistent(&log);
+        }
+        let _ = preview_bytes("fuzz", &bytes, &o, 3);
     }
 }
 
@@ -1008,7 +1067,7 @@ fn mutated_logs_never_panic() {
     let base = b"time,omega,temp,aux\n0,1.5,20,\"a\"\n1,2.5,21,7\n# c\n2,3.5,22,8\n3,4.5,23,9\n";
     let mut rng = XorShift(0x9E37_79B9_7F4A_7C15);
     let swaps = b",;\t \n\r\"#.-e0x";
-    for _ in 0..600 {
+    for i in 0..fuzz_iterations() {
         let mut b = base.to_vec();
         for _ in 0..(1 + rng.next() % 4) {
             let at = (rng.next() % b.len() as u64) as usize;
@@ -1024,11 +1083,12 @@ fn mutated_logs_never_panic() {
             }
         }
         if let Ok(log) = read_bytes("m", &b, &opts()) {
-            assert_eq!(log.time_s.len(), log.omega_dph.len());
-            assert_eq!(log.time_s.len(), log.temp_c.len());
-            assert!(log.time_s.windows(2).all(|w| w[0] < w[1]));
-            for ch in &log.extra {
-                assert_eq!(ch.values.len(), log.len());
+            check_consistent(&log);
+        }
+        if i % 4 == 0 {
+            let o = random_options(&mut rng);
+            if let Ok(log) = read_bytes("m", &b, &o) {
+                check_consistent(&log);
             }
         }
     }
@@ -1044,6 +1104,11 @@ fn vm_hwm_kb() -> Option<u64> {
     line.split_whitespace().nth(1)?.parse().ok()
 }
 
+/// Generates (once, in /tmp) and reads a large log, printing the time and peak memory.
+///
+/// `DRIFTLAB_BENCH_ROWS` (default 10 000 000) sets the size; `DRIFTLAB_BENCH_STYLE` the
+/// dialect: `csv` (default: `time_s,omega_dph,temp_c,aux`), `csv3` (no extra column),
+/// `semicolon` (decimal comma) or `spaces` (aligned columns).
 #[test]
 #[ignore]
 fn bench_ten_million_rows() {
@@ -1051,27 +1116,38 @@ fn bench_ten_million_rows() {
         .ok()
         .and_then(|s| s.parse().ok())
         .unwrap_or(10_000_000);
-    let path = std::path::PathBuf::from(format!("/tmp/driftlab_bench_{rows}.csv"));
+    let style = std::env::var("DRIFTLAB_BENCH_STYLE").unwrap_or_else(|_| "csv".into());
+    let path = std::path::PathBuf::from(format!("/tmp/driftlab_bench_{style}_{rows}.csv"));
     if !path.exists() {
         let t0 = std::time::Instant::now();
         let tmp = path.with_extension("tmp");
         let mut w =
             std::io::BufWriter::with_capacity(1 << 20, std::fs::File::create(&tmp).unwrap());
-        writeln!(w, "time_s,omega_dph,temp_c,aux").unwrap();
+        let (d, header) = match style.as_str() {
+            "csv3" => (",", "time_s,omega_dph,temp_c"),
+            "semicolon" => (";", "time_s;omega_dph;temp_c;aux"),
+            "spaces" => ("  ", "time_s  omega_dph  temp_c  aux"),
+            _ => (",", "time_s,omega_dph,temp_c,aux"),
+        };
+        writeln!(w, "{header}").unwrap();
         let mut rng = XorShift(42);
         for i in 0..rows {
             let noise = (rng.next() >> 11) as f64 / (1u64 << 53) as f64 - 0.5;
             let temp = 25.0 + 40.0 * (i as f64 * 2e-6).sin();
-            writeln!(
-                w,
-                "{}.{:03},{:.7},{:.6},{:.4}",
+            let mut line = format!(
+                "{}.{:03}{d}{:.7}{d}{:.6}",
                 i,
                 (rng.next() % 3),
                 0.01234 + 0.05 * noise,
-                temp,
-                12.5 + noise
-            )
-            .unwrap();
+                temp
+            );
+            if style != "csv3" {
+                line += &format!("{d}{:.4}", 12.5 + noise);
+            }
+            if style == "semicolon" {
+                line = line.replace('.', ",");
+            }
+            writeln!(w, "{line}").unwrap();
         }
         w.flush().unwrap();
         drop(w);

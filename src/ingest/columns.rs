@@ -356,6 +356,11 @@ fn find_column(r: &ColumnRef, names: &[String], role: &str) -> Result<usize, Str
                         .iter()
                         .position(|c| name_parts(c).base == want_base && !want_base.is_empty())
                 })
+                .or_else(|| {
+                    // "3" from a recipe that meant a column number.
+                    let i: usize = want.parse().ok()?;
+                    (i >= 1 && i <= names.len()).then(|| i - 1)
+                })
                 .ok_or_else(|| {
                     format!(
                         "no {role} column named \"{want}\" in the file; its columns are: {}",

@@ -33,6 +33,20 @@
 //! °/h and time in seconds. The unit each column was read in is recorded in
 //! [`ColumnInfo::unit`].
 //!
+//! # What is an error and what is a problem
+//!
+//! A calibration must not be fitted on numbers the reader made up, so:
+//!
+//! * a cell of the time, rate or temperature column that is not a number, or a row too short
+//!   to have one, stops the read with an [`IngestError`] at that line and column;
+//! * a blank, `NaN` (or `NA`, `null`, infinite) cell in one of those columns drops the row:
+//!   `MissingValue`, with the first line and the count;
+//! * a time equal to or below an earlier one drops the row (`TimeRepeated`,
+//!   `TimeBackwards`); a step above 2.5 × the median step is a `Gap` (rows kept);
+//! * in an extra column, blanks are NaN silently; unreadable cells are NaN and reported
+//!   (as `MissingValue`, naming the column), and a row too short for an extra column is a
+//!   `RaggedRow`. A column that is mostly text is `Ignored`. Extra trailing fields are fine.
+//!
 //! # Speed
 //!
 //! Files are never held whole in memory: they are read in blocks of a few MB cut at line
@@ -122,11 +136,12 @@ impl Fail {
 #[derive(Debug, Clone, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(untagged)]
 pub enum ColumnRef {
+    /// A header name, matched case-insensitively, with or without its unit
+    /// (`omega` finds `Omega [deg/s]`); `col3` names the third column of a file without a
+    /// header, and a number written as text (`"3"`) that matches no name is a column number.
+    Name(String),
     /// A 1-based column number, for files without a header or with unhelpful names.
     Index(usize),
-    /// A header name, matched case-insensitively, with or without its unit
-    /// (`omega` finds `Omega [deg/s]`).
-    Name(String),
 }
 
 impl FromStr for ColumnRef {
@@ -192,6 +207,9 @@ pub struct ReadOptions {
 
 /// Reads a separator as people write it on a command line or in a recipe: `,`, `;`, `\t`
 /// or `tab`, `space` or `whitespace` (runs of blanks), or any single ASCII character.
+///
+/// # Errors
+/// Anything else, with a message listing what is accepted.
 pub fn parse_delimiter(s: &str) -> Result<u8, String> {
     match s {
         "\\t" | "\t" => return Ok(b'\t'),

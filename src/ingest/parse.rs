@@ -8,7 +8,7 @@
 use super::Fail;
 use super::columns::{Action, Plan, TimeSource};
 use super::sniff::{Delim, Unterminated, is_skippable, split_fields, strip_cr};
-use memchr::memchr;
+use memchr::{memchr, memchr2};
 use std::borrow::Cow;
 
 /// How one cell reads.
@@ -171,8 +171,22 @@ pub(crate) struct Parser<'a> {
 
 impl Parser<'_> {
     /// Parses a block of whole lines; line numbers in the result are relative to its start.
-    pub(crate) fn parse_block(&self, data: &[u8], capacity: usize) -> Chunk {
-        let mut chunk = Chunk::new(self.plan.nslots, capacity);
+    /// `spare` hands out recycled column vectors (so fresh pages are not faulted in again
+    /// for every block).
+    pub(crate) fn parse_block(
+        &self,
+        data: &[u8],
+        capacity: usize,
+        spare: &dyn Fn() -> Option<Vec<f64>>,
+    ) -> Chunk {
+        let mut chunk = Chunk::new(self.plan.nslots, 0);
+        for c in &mut chunk.cols {
+            if let Some(v) = spare() {
+                *c = v;
+                c.clear();
+            }
+            c.reserve(capacity);
+        }
         match (self.delim, self.decimal_comma) {
             (Delim::Whitespace, false) => self.block_impl::<true, false>(data, b' ', &mut chunk),
             (Delim::Whitespace, true) => self.block_impl::<true, true>(data, b' ', &mut chunk),
@@ -183,6 +197,7 @@ impl Parser<'_> {
     }
 
     fn block_impl<const WS: bool, const DC: bool>(&self, data: &[u8], d: u8, chunk: &mut Chunk) {
+        // Quotes anywhere in the block: every line with one takes the careful path.
         let quoted = memchr(b'"', data).is_some();
         let row_index = matches!(self.plan.time, TimeSource::RowIndex { .. });
         let mut vals = vec![0.0; self.plan.nslots];
@@ -190,28 +205,38 @@ impl Parser<'_> {
         let mut pos = 0;
         let mut rel = 0;
         while pos < data.len() {
-            let end = memchr(b'\n', &data[pos..]).map_or(data.len(), |i| pos + i);
-            let line = &data[pos..end];
-            let simple = line.first().is_some_and(|&b| b != b'#')
-                && !(quoted && memchr(b'"', line).is_some());
             if row_index {
                 vals[0] = chunk.rows_read as f64;
             }
-            if simple && self.fast_row::<WS, DC>(line, d, &mut vals) {
+            if !quoted && let Some(next) = self.fast_row::<WS, DC>(data, pos, d, &mut vals) {
                 chunk.rows_read += 1;
                 chunk.push(&vals, rel);
-            } else {
-                let rec = strip_cr(line);
-                if !is_skippable(rec) {
-                    let res = match split_fields(rec, self.delim, &mut fields) {
-                        Ok(()) => self.fields_row(chunk, &fields, rel, &mut vals),
-                        Err(Unterminated) => Err(Stop::NeedsGeneral),
-                    };
-                    if let Err(stop) = res {
-                        chunk.stop = Some(stop);
-                        chunk.lines = rel;
-                        return;
-                    }
+                pos = next;
+                rel += 1;
+                continue;
+            }
+            let end = memchr(b'\n', &data[pos..]).map_or(data.len(), |i| pos + i);
+            let line = &data[pos..end];
+            if quoted
+                && memchr(b'"', line).is_none()
+                && let Some(next) = self.fast_row::<WS, DC>(data, pos, d, &mut vals)
+            {
+                chunk.rows_read += 1;
+                chunk.push(&vals, rel);
+                pos = next;
+                rel += 1;
+                continue;
+            }
+            let rec = strip_cr(line);
+            if !is_skippable(rec) {
+                let res = match split_fields(rec, self.delim, &mut fields) {
+                    Ok(()) => self.fields_row(chunk, &fields, rel, &mut vals),
+                    Err(Unterminated) => Err(Stop::NeedsGeneral),
+                };
+                if let Err(stop) = res {
+                    chunk.stop = Some(stop);
+                    chunk.lines = rel;
+                    return;
                 }
             }
             pos = end + 1;
@@ -220,99 +245,116 @@ impl Parser<'_> {
         chunk.lines = rel;
     }
 
-    /// The happy path: every parsed cell a plain finite number followed by a separator.
-    /// Returns false (having changed nothing but `vals`) when the careful path must decide.
+    /// The happy path for the line starting at `data[pos]`: every parsed cell a plain finite
+    /// number between separators. Returns the start of the next line, or `None` (having
+    /// changed nothing but `vals`) when the careful path must decide.
     #[inline(always)]
     fn fast_row<const WS: bool, const DC: bool>(
         &self,
-        line: &[u8],
+        data: &[u8],
+        pos: usize,
         d: u8,
         vals: &mut [f64],
-    ) -> bool {
-        let n = line.len();
+    ) -> Option<usize> {
+        let n = data.len();
         let acts = &self.plan.actions;
-        let last = acts.len();
-        let mut p = 0usize;
+        let last = acts.len().checked_sub(1)?;
+        let mut p = pos;
         for (j, act) in acts.iter().enumerate() {
             if WS {
-                while p < n && (line[p] == b' ' || line[p] == b'\t') {
+                while p < n && (data[p] == b' ' || data[p] == b'\t') {
                     p += 1;
                 }
             } else {
-                while p < n && line[p] == b' ' {
+                while p < n && data[p] == b' ' {
                     p += 1;
                 }
             }
-            if p >= n {
-                return false;
+            let &b = data.get(p)?;
+            if b == b'#' {
+                return None;
             }
             match *act {
                 Action::Parse { slot, conv, .. } => {
                     let v = if DC {
-                        let mut e = p;
-                        while e < n {
-                            let b = line[e];
-                            if b == b' ' || b == b'\r' || b == b'\t' || (!WS && b == d) {
+                        // Copy the cell with its comma made a point, in one pass.
+                        let mut buf = [0u8; 48];
+                        let mut k = 0;
+                        while p < n {
+                            let b = data[p];
+                            if b == b' '
+                                || b == b'\r'
+                                || b == b'\t'
+                                || b == b'\n'
+                                || (!WS && b == d)
+                            {
                                 break;
                             }
-                            e += 1;
+                            *buf.get_mut(k)? = if b == b',' { b'.' } else { b };
+                            k += 1;
+                            p += 1;
                         }
-                        let Some(v) = parse_dc(&line[p..e]) else {
-                            return false;
-                        };
-                        p = e;
-                        v
+                        fast_float2::parse::<f64, _>(&buf[..k]).ok()?
                     } else {
-                        match fast_float2::parse_partial::<f64, _>(&line[p..]) {
-                            Ok((v, k)) => {
-                                p += k;
-                                v
-                            }
-                            Err(_) => return false,
-                        }
+                        let (v, k) = fast_float2::parse_partial::<f64, _>(&data[p..]).ok()?;
+                        p += k;
+                        v
                     };
                     if !v.is_finite() {
-                        return false;
+                        return None;
                     }
-                    if let Some(s) = vals.get_mut(slot) {
-                        *s = conv.apply(v);
-                    }
+                    *vals.get_mut(slot)? = conv.apply(v);
                 }
                 Action::Skip => {
-                    if line[p] == b'"' {
-                        return false;
+                    if b == b'"' {
+                        return None;
                     }
                     if WS {
-                        while p < n && line[p] != b' ' && line[p] != b'\t' {
+                        while p < n && !matches!(data[p], b' ' | b'\t' | b'\r' | b'\n') {
                             p += 1;
                         }
                     } else {
-                        p = memchr(d, &line[p..]).map_or(n, |i| p + i);
+                        p = memchr2(d, b'\n', &data[p..]).map_or(n, |i| p + i);
                     }
                 }
             }
+            let field_end = p;
             if WS {
-                if p >= n {
-                    return j + 1 == last;
-                }
-                let b = line[p];
-                if !(b == b' ' || b == b'\t' || (b == b'\r' && j + 1 == last)) {
-                    return false;
-                }
-            } else {
-                while p < n && line[p] == b' ' {
+                while p < n && (data[p] == b' ' || data[p] == b'\t') {
                     p += 1;
                 }
-                if p >= n || (line[p] == b'\r' && p + 1 == n) {
-                    return j + 1 == last;
+            } else {
+                while p < n && data[p] == b' ' {
+                    p += 1;
                 }
-                if line[p] != d {
-                    return false;
-                }
+            }
+            // At a separator, a line end, or the end of the block.
+            let Some(&b) = data.get(p) else {
+                return (j == last).then_some(n);
+            };
+            let line_end = match b {
+                b'\n' => Some(p + 1),
+                b'\r' if data.get(p + 1) == Some(&b'\n') => Some(p + 2),
+                b'\r' if p + 1 == n => Some(n),
+                _ => None,
+            };
+            if let Some(next) = line_end {
+                return (j == last).then_some(next);
+            }
+            // Runs of blanks separate fields only if there is at least one.
+            let at_sep = if WS { p > field_end } else { b == d };
+            if !at_sep {
+                return None;
+            }
+            if j == last {
+                // Trailing fields are not read.
+                return Some(memchr(b'\n', &data[p..]).map_or(n, |i| p + i + 1));
+            }
+            if !WS {
                 p += 1;
             }
         }
-        true
+        None
     }
 
     /// The careful path for one record already split into fields.
