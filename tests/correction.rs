@@ -150,3 +150,21 @@ fn correction_reduces_drift_in_sample_and_held_out() {
     assert!(ins.p2p_ratio > 3.0, "in-sample {:.2}", ins.p2p_ratio);
     assert!(out.p2p_ratio > 3.0, "held out {:.2}", out.p2p_ratio);
 }
+
+#[test]
+fn corrected_csv_reads_back_exactly() {
+    let log = noisy_log();
+    let cal = model::fit(&log, &Recipe::default()).unwrap().calibration;
+    let c = cal.correct(&log);
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("out.csv");
+    driftlab::corrected_csv::write(&path, &log, &c.pred_dph, &c.cor_dph, &|_| {}).unwrap();
+    let opts = driftlab::ingest::ReadOptions {
+        rate_col: Some(driftlab::ingest::ColumnRef::Name("omega_cor_dph".into())),
+        ..Default::default()
+    };
+    let back = driftlab::ingest::read_path(&path, &opts).unwrap();
+    assert_eq!(back.time_s, log.time_s);
+    assert_eq!(back.temp_c, log.temp_c);
+    assert_eq!(back.omega_dph, c.cor_dph, "shortest round-trip formatting loses nothing");
+}

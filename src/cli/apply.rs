@@ -1,7 +1,7 @@
 //! `driftlab apply`: correct a log with a calibration and write the result as CSV.
 
 use super::common::{self, LogArgs};
-use driftlab::calfile;
+use driftlab::{calfile, corrected_csv};
 use std::path::PathBuf;
 
 /// Arguments of `apply`.
@@ -23,26 +23,10 @@ pub fn run(a: Args) -> Result<(), String> {
     let log = a.log_args.read(&a.log)?;
     let c = cal.correct(&log);
     let bar = common::progress_bar(&format!("writing {}", a.out.display()));
-    let n = log.len();
-    driftlab::atomic::write_with(&a.out, |w| {
-        w.write_all(b"time_s,omega_raw_dph,omega_pred_dph,omega_cor_dph,temp_c\n")?;
-        let mut line = String::with_capacity(128);
-        for i in 0..n {
-            line.clear();
-            use std::fmt::Write as _;
-            let _ = writeln!(
-                line,
-                "{},{},{},{},{}",
-                log.time_s[i], log.omega_dph[i], c.pred_dph[i], c.cor_dph[i], log.temp_c[i]
-            );
-            w.write_all(line.as_bytes())?;
-            if i % 100_000 == 0
-                && let Some(b) = &bar
-            {
-                b.set_position((i as f64 / n as f64 * 1000.0) as u64);
-            }
+    corrected_csv::write(&a.out, &log, &c.pred_dph, &c.cor_dph, &|f| {
+        if let Some(b) = &bar {
+            b.set_position((f * 1000.0) as u64);
         }
-        Ok(())
     })
     .map_err(|e| format!("{}: {e}", a.out.display()))?;
     if let Some(b) = bar {
@@ -55,6 +39,10 @@ pub fn run(a: Args) -> Result<(), String> {
             c.outside_fraction * 100.0
         );
     }
-    eprintln!("{n} samples corrected, written to {}", a.out.display());
+    eprintln!(
+        "{} samples corrected, written to {}",
+        log.len(),
+        a.out.display()
+    );
     Ok(())
 }
