@@ -21,6 +21,7 @@ pub mod approx;
 pub mod atomic;
 pub mod calfile;
 pub mod correct;
+pub mod corrected_csv;
 pub mod error;
 pub mod ingest;
 pub mod lod;
