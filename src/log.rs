@@ -103,6 +103,8 @@ pub struct Problem {
 pub enum ProblemKind {
     /// Blank or NaN cells in a used column: the row was dropped.
     MissingValue,
+    /// Unreadable cells in an extra column: kept as NaN, the row was kept.
+    BadExtraValue,
     /// Time went backwards: the row was dropped.
     TimeBackwards,
     /// Time repeated: the row was dropped.

@@ -750,7 +750,7 @@ fn unreadable_extra_cells_are_nan_and_reported() {
         log.info
             .problems
             .iter()
-            .any(|p| p.line == 4 && p.column == Some(4)),
+            .any(|p| p.line == 4 && p.column == Some(4) && p.kind == ProblemKind::BadExtraValue),
         "{:?}",
         log.info.problems
     );

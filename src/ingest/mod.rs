@@ -44,7 +44,7 @@
 //! * a time equal to or below an earlier one drops the row (`TimeRepeated`,
 //!   `TimeBackwards`); a step above 2.5 × the median step is a `Gap` (rows kept);
 //! * in an extra column, blanks are NaN silently; unreadable cells are NaN and reported
-//!   (as `MissingValue`, naming the column), and a row too short for an extra column is a
+//!   (`BadExtraValue`, naming the column), and a row too short for an extra column is a
 //!   `RaggedRow`. A column that is mostly text is `Ignored`. Extra trailing fields are fine.
 //!
 //! # Speed

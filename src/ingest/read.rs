@@ -533,7 +533,7 @@ fn finish(mut acc: Acc, sn: &Sniffed, plan: &Plan, source: &str) -> Result<Log, 
             problems.push(Problem {
                 line: t.first,
                 column: col_no(slot),
-                kind: ProblemKind::MissingValue,
+                kind: ProblemKind::BadExtraValue,
                 count: t.count,
                 message: format!(
                     "{} cell{} of extra column \"{}\" could not be read as numbers and are \
