@@ -24,6 +24,7 @@ pub mod correct;
 pub mod corrected_csv;
 pub mod error;
 pub mod ingest;
+pub mod live;
 pub mod lod;
 pub mod log;
 pub mod metrics;

@@ -251,10 +251,8 @@ impl Calibration {
         if r.filter_samples == 0 || r.smooth_samples == 0 || r.step_samples == 0 {
             return Err("resolved windows and step must be at least one sample".into());
         }
-        if !(r.deadband_tdot >= 0.0 && r.deadband_tddot >= 0.0)
-            || !r.deadband_tdot.is_finite()
-            || !r.deadband_tddot.is_finite()
-        {
+        let usable = |d: f64| d.is_finite() && d >= 0.0;
+        if !usable(r.deadband_tdot) || !usable(r.deadband_tddot) {
             return Err("resolved dead-bands must be finite and non-negative".into());
         }
         if self.units != Units::default() {

@@ -1,6 +1,39 @@
-//! The workbench (in progress).
+//! The desktop workbench (eframe/egui): a face over the engine that holds no calculation.
+//!
+//! * [`app`]: the window — menus, shortcuts, layout, job results, unsaved-work questions,
+//!   screenshots;
+//! * [`state`]: the application data in one plain struct (logs, choices, newest fit, undo);
+//! * [`jobs`]: reading logs, refitting (newest request wins) and exports on worker threads;
+//! * one file per view: [`view_import`], [`view_time`], [`view_plateaus`], [`view_coeffs`],
+//!   [`view_result`];
+//! * [`plot_items`]: plot items drawn from level-of-detail data ([`crate::lod`]);
+//! * [`export`], [`dialogs`], [`settings`].
+//!
+//! Fitting is a pure function of (log, recipe, knots moved by hand), run by
+//! [`crate::live::Pipeline`] on the worker; a GUI edit changes the recipe and the next frame
+//! sends the refit.
 
+pub mod app;
+pub mod dialogs;
+pub mod export;
+pub mod jobs;
+pub mod plot_items;
+pub mod settings;
+pub mod state;
+pub mod view_coeffs;
+pub mod view_import;
+pub mod view_plateaus;
+pub mod view_result;
+pub mod view_time;
+
+pub use app::{Action, Workbench, default_log};
+pub use dialogs::{FileDialogs, FileKind, RfdDialogs, ScriptedDialogs};
+pub use jobs::Target;
+
+use eframe::egui;
+use settings::Settings;
 use std::path::PathBuf;
+use std::sync::{Arc, Mutex};
 
 /// How the workbench is started.
 #[derive(Debug, Clone, Default)]
@@ -12,7 +45,84 @@ pub struct GuiOptions {
 }
 
 /// Opens the workbench window and runs until it is closed.
+///
+/// # Errors
+/// When no window can be opened, or (screenshot mode) when the log cannot be read or
+/// calibrated or the picture cannot be written.
 pub fn run(options: GuiOptions) -> Result<(), String> {
-    let _ = options;
-    Err("the workbench is not built yet".into())
+    let log = options.log.clone().or_else(default_log);
+    let shot = options.screenshot.clone();
+    if shot.is_some() && log.is_none() {
+        // (no log, no sample next to us: nothing to render)
+        return Err(
+            "--screenshot needs a log (none given, and no sample_logs/calibration.csv found)"
+                .into(),
+        );
+    }
+    if let Some(l) = &log
+        && !l.is_file()
+    {
+        return Err(format!("{}: no such file", l.display()));
+    }
+    // Screenshot mode renders with the engineer's theme but writes no settings back.
+    let settings = Settings::default_path()
+        .as_deref()
+        .map(Settings::load)
+        .unwrap_or_default();
+    let settings_path = if shot.is_some() {
+        None
+    } else {
+        Settings::default_path()
+    };
+
+    let mut viewport = egui::ViewportBuilder::default()
+        .with_title("driftlab workbench")
+        .with_app_id("driftlab")
+        .with_drag_and_drop(true)
+        .with_min_inner_size([900.0, 620.0]);
+    viewport = match (&shot, settings.window) {
+        (None, Some(w)) if w.width >= 900.0 && w.height >= 620.0 => viewport
+            .with_inner_size([w.width, w.height])
+            .with_position([w.x, w.y])
+            .with_maximized(w.maximized),
+        _ => viewport.with_inner_size([1600.0, 1000.0]),
+    };
+    if shot.is_some() {
+        viewport = viewport.with_resizable(false);
+    }
+    let native = eframe::NativeOptions {
+        viewport,
+        ..Default::default()
+    };
+    let outcome: Arc<Mutex<Option<Result<(), String>>>> = Arc::default();
+    let slot = outcome.clone();
+    eframe::run_native(
+        "driftlab",
+        native,
+        Box::new(move |_cc| {
+            let mut wb = Workbench::new(settings, settings_path, Box::new(RfdDialogs));
+            match log {
+                // `driftlab gui run7.session.json` reopens a saved session.
+                Some(p)
+                    if p.extension()
+                        .is_some_and(|e| e.eq_ignore_ascii_case("json")) =>
+                {
+                    wb.open_session(p)
+                }
+                Some(p) => wb.start_load(p, Default::default(), Target::Calibration),
+                None => {}
+            }
+            if let Some(s) = shot {
+                app::set_auto_screenshot(&mut wb, s, slot);
+            }
+            Ok(Box::new(wb))
+        }),
+    )
+    .map_err(|e| format!("cannot open the workbench window: {e}"))?;
+    if options.screenshot.is_some() {
+        let result = outcome.lock().map(|mut r| r.take()).unwrap_or(None);
+        return result
+            .unwrap_or_else(|| Err("the window closed before the screenshot was taken".into()));
+    }
+    Ok(())
 }

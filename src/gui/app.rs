@@ -1,0 +1,1582 @@
+//! The workbench window: menus and shortcuts, the layout of the views, the jobs' results,
+//! unsaved-work questions and screenshots. It holds no calculation: choices go to the worker
+//! as refit requests, results come back and are drawn.
+
+use super::dialogs::{FileDialogs, FileKind};
+use super::export;
+use super::jobs::{JobResult, Jobs, Target};
+use super::plot_items::num;
+use super::settings::{Settings, ThemeChoice, WindowGeometry};
+use super::state::{AppState, Choices, Severity};
+use super::view_coeffs::{CoeffView, Pair};
+use super::view_import::{ImportDecision, ImportView};
+use super::view_plateaus::PlateauView;
+use super::view_result::ResultView;
+use super::view_time::{TimeView, XCommand};
+use crate::ingest::ReadOptions;
+use crate::recipe::Weighting;
+use crate::session::{self, Session};
+use eframe::egui::{
+    self, Align, Color32, ColorImage, Key, KeyboardShortcut, Layout, Modifiers, Panel, Rect,
+    RichText, ScrollArea, Ui, ViewportCommand,
+};
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+use std::sync::mpsc::{Receiver, Sender};
+use std::sync::{Arc, Mutex};
+use std::time::{Duration, Instant};
+
+/// Something the engineer asked for, from a menu, a shortcut, a button or a view.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Action {
+    /// Pick a log to open (import view next).
+    OpenLog,
+    /// Open this log (import view next).
+    OpenLogPath(PathBuf),
+    /// Pick a validation log.
+    OpenValidation,
+    /// Forget the validation log.
+    CloseValidation,
+    /// Pick a session to open.
+    OpenSession,
+    /// Open this session.
+    OpenSessionPath(PathBuf),
+    /// Save the session (asking where the first time).
+    SaveSession,
+    /// Save the session under a new name.
+    SaveSessionAs,
+    /// Write the calibration file.
+    ExportCalibration,
+    /// Write the corrected log.
+    ExportCsv,
+    /// Save the window as PNG.
+    Screenshot,
+    /// Save one plot (by name) as PNG, cropped to this rectangle.
+    SavePlot(String, Rect),
+    /// Save one plot (by name) as PNG, at its last known rectangle.
+    SavePlotNamed(String),
+    /// Where a plot was drawn this frame (for [`Action::SavePlotNamed`]).
+    PlotRect(String, Rect),
+    /// Undo the last change of choices.
+    Undo,
+    /// Redo.
+    Redo,
+    /// Fill the plateau table from the detector.
+    SuggestPlateaus,
+    /// Every choice back to the defaults.
+    ResetRecipe,
+    /// Close the workbench.
+    Quit,
+    /// Change the theme.
+    Theme(ThemeChoice),
+}
+
+const SC_OPEN: KeyboardShortcut = KeyboardShortcut::new(Modifiers::COMMAND, Key::O);
+const SC_OPEN_SESSION: KeyboardShortcut =
+    KeyboardShortcut::new(Modifiers::COMMAND.plus(Modifiers::SHIFT), Key::O);
+const SC_SAVE: KeyboardShortcut = KeyboardShortcut::new(Modifiers::COMMAND, Key::S);
+const SC_SHOT: KeyboardShortcut =
+    KeyboardShortcut::new(Modifiers::COMMAND.plus(Modifiers::SHIFT), Key::S);
+const SC_SHOT_F12: KeyboardShortcut = KeyboardShortcut::new(Modifiers::NONE, Key::F12);
+const SC_EXPORT: KeyboardShortcut = KeyboardShortcut::new(Modifiers::COMMAND, Key::E);
+const SC_EXPORT_CSV: KeyboardShortcut =
+    KeyboardShortcut::new(Modifiers::COMMAND.plus(Modifiers::SHIFT), Key::E);
+const SC_UNDO: KeyboardShortcut = KeyboardShortcut::new(Modifiers::COMMAND, Key::Z);
+const SC_REDO: KeyboardShortcut = KeyboardShortcut::new(Modifiers::COMMAND, Key::Y);
+const SC_REDO2: KeyboardShortcut =
+    KeyboardShortcut::new(Modifiers::COMMAND.plus(Modifiers::SHIFT), Key::Z);
+const SC_QUIT: KeyboardShortcut = KeyboardShortcut::new(Modifiers::COMMAND, Key::Q);
+
+/// A screenshot waiting to be taken: a couple of frames first, so menus have closed.
+struct PendingShot {
+    frames: u32,
+    path: PathBuf,
+    crop: Option<Rect>,
+    what: String,
+}
+
+/// `driftlab gui LOG --screenshot OUT.png`: render, save, close.
+struct AutoShot {
+    path: PathBuf,
+    settled: u32,
+    requested: bool,
+    started: Instant,
+    result: Arc<Mutex<Option<Result<(), String>>>>,
+}
+
+type Shot = (Arc<ColorImage>, PathBuf, Option<Rect>, f32, String);
+
+/// The workbench: application data, views, workers.
+pub struct Workbench {
+    /// The application data.
+    pub state: AppState,
+    jobs: Jobs,
+    dialogs: Box<dyn FileDialogs>,
+    settings: Settings,
+    settings_path: Option<PathBuf>,
+    time: TimeView,
+    plateaus: PlateauView,
+    coeffs: CoeffView,
+    result: ResultView,
+    import: Option<ImportView>,
+    confirm: Option<Action>,
+    error: Option<String>,
+    pending_session: Option<(PathBuf, Session)>,
+    /// A session's validation log on its way: whether the session showed it.
+    restoring_validation: Option<bool>,
+    plot_rects: HashMap<String, Rect>,
+    last_request: Option<(Choices, usize, usize)>,
+    pending_shot: Option<PendingShot>,
+    shot_tx: Sender<Shot>,
+    shot_rx: Receiver<Shot>,
+    auto: Option<AutoShot>,
+    quitting: bool,
+    theme_applied: Option<ThemeChoice>,
+    show_help: bool,
+}
+
+fn arc_addr<T>(a: &Arc<T>) -> usize {
+    Arc::as_ptr(a) as usize
+}
+
+impl Workbench {
+    /// A workbench with these remembered settings (saved back to `settings_path` on exit)
+    /// and file dialogs.
+    pub fn new(
+        settings: Settings,
+        settings_path: Option<PathBuf>,
+        dialogs: Box<dyn FileDialogs>,
+    ) -> Workbench {
+        let (shot_tx, shot_rx) = std::sync::mpsc::channel();
+        Workbench {
+            state: AppState::default(),
+            jobs: Jobs::new(),
+            dialogs,
+            settings,
+            settings_path,
+            time: TimeView::default(),
+            plateaus: PlateauView,
+            coeffs: CoeffView::default(),
+            result: ResultView,
+            import: None,
+            confirm: None,
+            error: None,
+            pending_session: None,
+            restoring_validation: None,
+            plot_rects: HashMap::new(),
+            last_request: None,
+            pending_shot: None,
+            shot_tx,
+            shot_rx,
+            auto: None,
+            quitting: false,
+            theme_applied: None,
+            show_help: false,
+        }
+    }
+
+    /// A workbench for tests: no remembered settings, scripted dialogs, `log` read and
+    /// calibrated before it returns.
+    ///
+    /// # Panics
+    /// When the log cannot be read or calibrated (a test should fail then).
+    pub fn new_for_test(log: &Path) -> Workbench {
+        let mut wb = Workbench::new(
+            Settings::default(),
+            None,
+            Box::new(super::dialogs::ScriptedDialogs::new()),
+        );
+        wb.start_load(
+            log.to_path_buf(),
+            ReadOptions::default(),
+            Target::Calibration,
+        );
+        wb.wait_for_jobs();
+        assert!(
+            wb.state.log.is_some(),
+            "the test log could not be read: {:?}",
+            wb.state.status
+        );
+        wb.refit_if_needed();
+        wb.wait_for_jobs();
+        assert!(
+            wb.state.fit.is_some(),
+            "the test log could not be calibrated: {:?}",
+            wb.state.fit_error
+        );
+        wb
+    }
+
+    /// Replaces the file dialogs (tests inject [`super::dialogs::ScriptedDialogs`]).
+    pub fn set_dialogs(&mut self, dialogs: Box<dyn FileDialogs>) {
+        self.dialogs = dialogs;
+    }
+
+    /// Sends the refit the current choices need, if not sent yet, then waits until every
+    /// job (read, refit, export) has answered, handling the answers (for tests and scripts).
+    pub fn wait_for_jobs(&mut self) {
+        let deadline = Instant::now() + Duration::from_secs(120);
+        loop {
+            self.refit_if_needed();
+            while let Some(r) = self.jobs.next(Duration::ZERO) {
+                self.handle(r);
+            }
+            self.refit_if_needed();
+            if !self.jobs.busy() || Instant::now() > deadline {
+                break;
+            }
+            if let Some(r) = self.jobs.next(Duration::from_millis(20)) {
+                self.handle(r);
+            }
+        }
+    }
+
+    /// True while a read, refit or export runs.
+    pub fn busy(&self) -> bool {
+        self.jobs.busy()
+    }
+
+    /// The import view, when open (tests read its preview and press its buttons).
+    pub fn import_view(&mut self) -> Option<&mut ImportView> {
+        self.import.as_mut()
+    }
+
+    /// Where a plot (`time_omega`, `time_temp`, `time_tdot`, `time_tddot`, `k0`, `k1`, `k2`,
+    /// `result`) was drawn last frame.
+    pub fn plot_rect(&self, name: &str) -> Option<Rect> {
+        self.plot_rects.get(name).copied()
+    }
+
+    /// Screen x of time `t_s` on the time plots as drawn last frame (tests aim the mouse).
+    pub fn time_plot_x(&self, t_s: f64) -> Option<f32> {
+        self.time.screen_x(t_s)
+    }
+
+    /// Where knot `j` of a K1/K2 coefficient is on screen (tests aim the mouse).
+    pub fn knot_screen_pos(&self, c: crate::session::Coefficient, j: usize) -> Option<egui::Pos2> {
+        self.coeffs.knot_pos(&self.state, c, j)
+    }
+
+    /// Runs an action as if chosen from the menu.
+    pub fn act(&mut self, ctx: &egui::Context, action: Action) {
+        self.run_action(ctx, action);
+    }
+
+    /// Starts reading a log (no import view: the options are given).
+    pub fn start_load(&mut self, path: PathBuf, read: ReadOptions, target: Target) {
+        self.state
+            .say(Severity::Info, format!("Reading {} …", file_name(&path)));
+        self.jobs.load(path, read, target);
+    }
+
+    fn refit_if_needed(&mut self) {
+        let Some(log) = &self.state.log else {
+            return;
+        };
+        let key = (
+            self.state.choices.clone(),
+            arc_addr(&log.log),
+            self.state
+                .validation
+                .as_ref()
+                .map_or(0, |v| arc_addr(&v.log)),
+        );
+        if self.last_request.as_ref() != Some(&key)
+            && let Some(req) = self.state.request()
+        {
+            self.jobs.fit(req);
+            self.last_request = Some(key);
+        }
+    }
+
+    fn handle(&mut self, r: JobResult) {
+        match r {
+            JobResult::Loaded(Target::Calibration, l) => {
+                let l = *l;
+                let path = l.path.clone();
+                let msg = format!(
+                    "Read {} samples from {} in {:.2} s{}",
+                    l.log.len(),
+                    file_name(&path),
+                    l.seconds,
+                    if l.log.info.problems.is_empty() {
+                        String::new()
+                    } else {
+                        format!(
+                            "; {} kind(s) of problems worked around (see Data)",
+                            l.log.info.problems.len()
+                        )
+                    }
+                );
+                self.state.log = Some(l);
+                self.state.fit = None;
+                self.state.fit_error = None;
+                self.time.selected = None;
+                match self.pending_session.take() {
+                    Some((spath, s))
+                        if s.log.as_ref().is_some_and(|r| same_file(&r.path, &path)) =>
+                    {
+                        self.state.choices = Choices {
+                            recipe: s.recipe.clone(),
+                            knots: s.knots.clone(),
+                        };
+                        self.state.view = s.view.clone();
+                        self.time.x_command = Some(match s.view.time_range_s {
+                            Some([a, b]) => XCommand::Range(a, b),
+                            None => XCommand::Fit,
+                        });
+                        self.state.session_path = Some(spath.clone());
+                        self.state.validation = None;
+                        self.state.mark_saved();
+                        if let Some(v) = &s.validation {
+                            self.restoring_validation = Some(s.view.show_validation);
+                            self.start_load(v.path.clone(), v.read.clone(), Target::Validation);
+                        }
+                        self.settings.add_recent(&spath);
+                    }
+                    _ => {
+                        // Choices carry over to the new log, except what belonged to the old one.
+                        if !self.state.plateaus_auto() {
+                            self.state.recipe_mut().plateaus =
+                                crate::recipe::PlateauChoice::default();
+                        }
+                        self.state.choices.knots = Default::default();
+                        self.state.session_path = None;
+                        self.state.mark_saved();
+                        self.time.x_command = Some(XCommand::Fit);
+                        self.settings.add_recent(&path);
+                    }
+                }
+                self.state.history.reset(&self.state.choices);
+                self.state.say(Severity::Info, msg);
+            }
+            JobResult::Loaded(Target::Validation, l) => {
+                let msg = format!(
+                    "Validation log {} ({} samples)",
+                    file_name(&l.path),
+                    l.log.len()
+                );
+                self.state.validation = Some(*l);
+                match self.restoring_validation.take() {
+                    Some(shown) => {
+                        self.state.view.show_validation = shown;
+                        self.state.mark_saved();
+                    }
+                    None => self.state.view.show_validation = true,
+                }
+                self.state.say(Severity::Info, msg);
+            }
+            JobResult::LoadFailed(_, path, message) => {
+                self.pending_session = None;
+                self.restoring_validation = None;
+                self.state.say(
+                    Severity::Error,
+                    format!("Could not read {}", file_name(&path)),
+                );
+                if self.auto.is_some() {
+                    self.finish_auto(Err(message));
+                } else {
+                    self.fail(format!(
+                        "Could not read the log. Nothing was changed.\n\n{message}"
+                    ));
+                }
+            }
+            JobResult::LoadCancelled(_, path) => {
+                self.pending_session = None;
+                self.state.say(
+                    Severity::Info,
+                    format!("Reading {} cancelled", file_name(&path)),
+                );
+            }
+            JobResult::Fitted(view) => {
+                let newer = self
+                    .state
+                    .fit
+                    .as_ref()
+                    .is_none_or(|f| f.generation < view.generation);
+                if newer {
+                    if view.generation == self.jobs.requested {
+                        self.state.fit_error = None;
+                    }
+                    self.state.fit = Some(view);
+                }
+            }
+            JobResult::FitFailed(generation, message) => {
+                if generation == self.jobs.requested {
+                    self.state.fit_error = Some(message.clone());
+                    self.state
+                        .say(Severity::Error, format!("Calibration failed: {message}"));
+                }
+            }
+            JobResult::Exported(what, result) => match result {
+                Ok(path) => {
+                    self.state
+                        .say(Severity::Info, format!("Saved {what}: {}", path.display()));
+                    if what == "screenshot" {
+                        self.finish_auto(Ok(()));
+                    }
+                }
+                Err(e) => {
+                    self.state
+                        .say(Severity::Error, format!("Could not save {what}"));
+                    if what == "screenshot" && self.auto.is_some() {
+                        self.finish_auto(Err(e));
+                    } else {
+                        self.fail(e);
+                    }
+                }
+            },
+        }
+    }
+
+    fn fail(&mut self, message: String) {
+        if self.auto.is_some() {
+            self.finish_auto(Err(message));
+        } else {
+            self.error = Some(message);
+        }
+    }
+
+    fn finish_auto(&mut self, result: Result<(), String>) {
+        if let Some(a) = &self.auto
+            && let Ok(mut slot) = a.result.lock()
+            && slot.is_none()
+        {
+            *slot = Some(result);
+        }
+    }
+
+    /// The whole window, for one frame.
+    pub fn ui(&mut self, ui: &mut Ui) {
+        let ctx = ui.ctx().clone();
+        self.jobs.set_context(&ctx);
+        self.apply_theme(&ctx);
+        while let Some(r) = self.jobs.next(Duration::ZERO) {
+            self.handle(r);
+        }
+        let mut actions = Vec::new();
+        self.shortcuts(&ctx, &mut actions);
+        self.files_dropped(&ctx, &mut actions);
+        self.close_requested(&ctx);
+
+        Panel::top("menu").show(ui, |ui| self.menu_bar(ui, &mut actions));
+        Panel::bottom("status").show(ui, |ui| self.status_bar(ui));
+        Panel::bottom("figures")
+            .resizable(false)
+            .show(ui, |ui| ResultView::figures(ui, &self.state));
+        Panel::left("controls")
+            .default_size(330.0)
+            .size_range(250.0..=520.0)
+            .show(ui, |ui| {
+                ScrollArea::vertical().show(ui, |ui| self.controls(ui, &mut actions));
+            });
+        Panel::right("coefficients")
+            .default_size(470.0)
+            .size_range(320.0..=800.0)
+            .show(ui, |ui| self.coefficient_panel(ui, &mut actions));
+        egui::CentralPanel::default().show(ui, |ui| {
+            if self.state.log.is_none() {
+                self.welcome(ui, &mut actions);
+                return;
+            }
+            let h = ui.available_height();
+            let time_h = (h * 0.66).max(240.0);
+            ui.allocate_ui(egui::vec2(ui.available_width(), time_h), |ui| {
+                self.time.ui(ui, &mut self.state, &mut actions);
+            });
+            ui.separator();
+            self.result.ui(ui, &mut self.state, &mut actions);
+        });
+        for (name, rect) in &self.time.rects {
+            self.plot_rects.insert((*name).to_string(), *rect);
+        }
+
+        self.modals(&ctx, &mut actions);
+        for a in actions {
+            self.run_action(&ctx, a);
+        }
+        let settled = !ctx.input(|i| i.pointer.any_down());
+        self.state.history.observe(&self.state.choices, settled);
+        self.refit_if_needed();
+        self.screenshots(&ctx);
+        self.remember_window(&ctx);
+        if self.jobs.busy() {
+            ctx.request_repaint_after(Duration::from_millis(100));
+        }
+    }
+
+    fn apply_theme(&mut self, ctx: &egui::Context) {
+        if self.theme_applied != Some(self.settings.theme) {
+            ctx.set_theme(match self.settings.theme {
+                ThemeChoice::System => egui::ThemePreference::System,
+                ThemeChoice::Light => egui::ThemePreference::Light,
+                ThemeChoice::Dark => egui::ThemePreference::Dark,
+            });
+            self.theme_applied = Some(self.settings.theme);
+        }
+    }
+
+    fn shortcuts(&mut self, ctx: &egui::Context, actions: &mut Vec<Action>) {
+        if self.import.is_some() || self.confirm.is_some() {
+            if ctx.input(|i| i.key_pressed(Key::Escape)) {
+                self.confirm = None;
+            }
+            return;
+        }
+        let text_focus = ctx.egui_wants_keyboard_input();
+        ctx.input_mut(|i| {
+            // Shift variants first: Ctrl+S also matches Ctrl+Shift+S.
+            if i.consume_shortcut(&SC_OPEN_SESSION) {
+                actions.push(Action::OpenSession);
+            }
+            if i.consume_shortcut(&SC_OPEN) {
+                actions.push(Action::OpenLog);
+            }
+            if i.consume_shortcut(&SC_SHOT) || i.consume_shortcut(&SC_SHOT_F12) {
+                actions.push(Action::Screenshot);
+            }
+            if i.consume_shortcut(&SC_SAVE) {
+                actions.push(Action::SaveSession);
+            }
+            if i.consume_shortcut(&SC_EXPORT_CSV) {
+                actions.push(Action::ExportCsv);
+            }
+            if i.consume_shortcut(&SC_EXPORT) {
+                actions.push(Action::ExportCalibration);
+            }
+            if i.consume_shortcut(&SC_QUIT) {
+                actions.push(Action::Quit);
+            }
+            if !text_focus {
+                if i.consume_shortcut(&SC_REDO2) || i.consume_shortcut(&SC_REDO) {
+                    actions.push(Action::Redo);
+                }
+                if i.consume_shortcut(&SC_UNDO) {
+                    actions.push(Action::Undo);
+                }
+            }
+            if i.key_pressed(Key::Escape) && self.jobs.loading.is_some() {
+                self.jobs.cancel_load();
+            }
+        });
+    }
+
+    fn files_dropped(&mut self, ctx: &egui::Context, actions: &mut Vec<Action>) {
+        let (hovered, dropped) =
+            ctx.input(|i| (!i.raw.hovered_files.is_empty(), i.raw.dropped_files.clone()));
+        if let Some(path) = dropped.first().map(|f| f.path().to_path_buf()) {
+            actions.push(if is_json(&path) {
+                Action::OpenSessionPath(path)
+            } else {
+                Action::OpenLogPath(path)
+            });
+        }
+        if hovered {
+            let painter = ctx.layer_painter(egui::LayerId::new(
+                egui::Order::Foreground,
+                egui::Id::unique("drop"),
+            ));
+            let r = ctx.content_rect();
+            painter.rect_filled(r, 0.0, Color32::from_black_alpha(150));
+            painter.text(
+                r.center(),
+                egui::Align2::CENTER_CENTER,
+                "Drop a log to import it (or a session .json to open it)",
+                egui::FontId::proportional(22.0),
+                Color32::WHITE,
+            );
+        }
+    }
+
+    fn close_requested(&mut self, ctx: &egui::Context) {
+        if ctx.input(|i| i.viewport().close_requested()) && !self.quitting && self.auto.is_none() {
+            if self.state.dirty() {
+                ctx.send_viewport_cmd(ViewportCommand::CancelClose);
+                self.confirm = Some(Action::Quit);
+            } else {
+                self.quitting = true;
+                self.save_settings();
+            }
+        }
+    }
+
+    /// Runs `action` now, or asks first when it would drop unsaved work.
+    fn run_action(&mut self, ctx: &egui::Context, action: Action) {
+        let drops_work = matches!(
+            action,
+            Action::OpenLog
+                | Action::OpenLogPath(_)
+                | Action::OpenSession
+                | Action::OpenSessionPath(_)
+                | Action::Quit
+        );
+        if drops_work && self.state.dirty() && self.confirm.is_none() {
+            self.confirm = Some(action);
+            return;
+        }
+        self.run_confirmed(ctx, action);
+    }
+
+    fn dir(&self) -> Option<PathBuf> {
+        self.settings.last_dir.clone()
+    }
+
+    fn run_confirmed(&mut self, ctx: &egui::Context, action: Action) {
+        match action {
+            Action::OpenLog => {
+                if let Some(p) = self.dialogs.open(FileKind::Log, self.dir().as_deref()) {
+                    self.open_import(p, Target::Calibration);
+                }
+            }
+            Action::OpenLogPath(p) => self.open_import(p, Target::Calibration),
+            Action::OpenValidation => {
+                if self.state.log.is_none() {
+                    self.state
+                        .say(Severity::Warning, "Open the calibration log first");
+                } else if let Some(p) = self
+                    .dialogs
+                    .open(FileKind::ValidationLog, self.dir().as_deref())
+                {
+                    self.open_import(p, Target::Validation);
+                }
+            }
+            Action::CloseValidation => {
+                self.state.validation = None;
+                self.state.view.show_validation = false;
+            }
+            Action::OpenSession => {
+                if let Some(p) = self.dialogs.open(FileKind::Session, self.dir().as_deref()) {
+                    self.open_session(p);
+                }
+            }
+            Action::OpenSessionPath(p) => self.open_session(p),
+            Action::SaveSession => {
+                let _ = self.save_session(false);
+            }
+            Action::SaveSessionAs => {
+                let _ = self.save_session(true);
+            }
+            Action::ExportCalibration => self.export_calibration(),
+            Action::ExportCsv => self.export_csv(),
+            Action::Screenshot => {
+                let name = export::suggested_name(
+                    self.state.log.as_ref().map(|l| l.path.as_path()),
+                    "workbench.png",
+                );
+                if let Some(p) = self
+                    .dialogs
+                    .save(FileKind::Png, self.dir().as_deref(), &name)
+                {
+                    self.pending_shot = Some(PendingShot {
+                        frames: 2,
+                        path: p,
+                        crop: None,
+                        what: "screenshot".into(),
+                    });
+                }
+            }
+            Action::SavePlot(name, rect) => {
+                let file = export::suggested_name(
+                    self.state.log.as_ref().map(|l| l.path.as_path()),
+                    &format!("{name}.png"),
+                );
+                if rect.is_positive()
+                    && let Some(p) = self
+                        .dialogs
+                        .save(FileKind::Png, self.dir().as_deref(), &file)
+                {
+                    self.pending_shot = Some(PendingShot {
+                        frames: 2,
+                        path: p,
+                        crop: Some(rect),
+                        what: format!("plot {name}"),
+                    });
+                }
+            }
+            Action::SavePlotNamed(name) => {
+                if let Some(r) = self.plot_rects.get(&name).copied() {
+                    self.run_confirmed(ctx, Action::SavePlot(name, r));
+                }
+            }
+            Action::PlotRect(name, rect) => {
+                self.plot_rects.insert(name, rect);
+            }
+            Action::Undo => {
+                if !self.state.history.undo(&mut self.state.choices) {
+                    self.state.say(Severity::Info, "Nothing to undo");
+                }
+            }
+            Action::Redo => {
+                if !self.state.history.redo(&mut self.state.choices) {
+                    self.state.say(Severity::Info, "Nothing to redo");
+                }
+            }
+            Action::SuggestPlateaus => self.suggest_plateaus(),
+            Action::ResetRecipe => {
+                self.state.choices = Choices::default();
+            }
+            Action::Quit => {
+                self.quitting = true;
+                self.save_settings();
+                ctx.send_viewport_cmd(ViewportCommand::Close);
+            }
+            Action::Theme(t) => {
+                self.settings.theme = t;
+            }
+        }
+    }
+
+    fn open_import(&mut self, path: PathBuf, target: Target) {
+        let read = match (target, &self.state.log) {
+            // A second log of the same stand is likely written alike.
+            (Target::Validation, Some(l)) => l.read.clone(),
+            _ => ReadOptions::default(),
+        };
+        self.import = Some(ImportView::new(path, target, read));
+    }
+
+    /// Opens a session file: its log is read (with its mapping), then its choices applied;
+    /// a session that cannot be read or whose log fails leaves the current work as it was.
+    pub fn open_session(&mut self, path: PathBuf) {
+        match session::load(&path) {
+            Ok(s) => match s.log.clone() {
+                Some(log) => {
+                    self.pending_session = Some((path.clone(), s));
+                    self.start_load(log.path, log.read, Target::Calibration);
+                }
+                None => self.fail(format!("{}: the session names no log", path.display())),
+            },
+            Err(e) => self.fail(format!(
+                "Could not open the session. Nothing was changed.\n\n{e}"
+            )),
+        }
+    }
+
+    /// Saves the session; true when written.
+    fn save_session(&mut self, ask: bool) -> bool {
+        if self.state.log.is_none() {
+            self.state
+                .say(Severity::Warning, "Nothing to save: no log is open");
+            return false;
+        }
+        let path = match (&self.state.session_path, ask) {
+            (Some(p), false) => Some(p.clone()),
+            _ => {
+                let name = export::suggested_name(
+                    self.state.log.as_ref().map(|l| l.path.as_path()),
+                    "session.json",
+                );
+                self.dialogs
+                    .save(FileKind::Session, self.dir().as_deref(), &name)
+            }
+        };
+        let Some(path) = path else {
+            return false;
+        };
+        match session::save(&path, &self.state.session()) {
+            Ok(()) => {
+                self.state.session_path = Some(path.clone());
+                self.state.mark_saved();
+                self.settings.add_recent(&path);
+                self.state
+                    .say(Severity::Info, format!("Session saved: {}", path.display()));
+                true
+            }
+            Err(e) => {
+                self.fail(format!("Could not save the session.\n\n{e}"));
+                false
+            }
+        }
+    }
+
+    fn export_calibration(&mut self) {
+        let (Some(log), Some(fit)) = (self.state.log.clone(), self.state.fit.clone()) else {
+            self.state
+                .say(Severity::Warning, "Nothing to export yet: no calibration");
+            return;
+        };
+        if !self.state.fit_current() || self.jobs.fitting() {
+            // The newest choices first: wait for the refit on its way (milliseconds on a
+            // sample log, a second or two on ten million samples).
+            self.refit_if_needed();
+            let deadline = Instant::now() + Duration::from_secs(60);
+            while self.jobs.fitting() && Instant::now() < deadline {
+                if let Some(r) = self.jobs.next(Duration::from_millis(20)) {
+                    self.handle(r);
+                }
+            }
+        }
+        let fit = self.state.fit.clone().unwrap_or(fit);
+        let name = export::suggested_name(Some(&log.path), "calibration.json");
+        if let Some(p) = self
+            .dialogs
+            .save(FileKind::Calibration, self.dir().as_deref(), &name)
+        {
+            match export::save_calibration(
+                &p,
+                &fit.outcome.calibration,
+                &log.path,
+                log.sha256.as_deref(),
+            ) {
+                Ok(p) => {
+                    self.settings.last_dir = p.parent().map(Path::to_path_buf);
+                    self.state.say(
+                        Severity::Info,
+                        format!("Calibration written: {}", p.display()),
+                    );
+                }
+                Err(e) => self.fail(format!("Could not write the calibration.\n\n{e}")),
+            }
+        }
+    }
+
+    fn export_csv(&mut self) {
+        let (Some(log), Some(fit)) = (self.state.log.clone(), self.state.fit.clone()) else {
+            self.state
+                .say(Severity::Warning, "Nothing to export yet: no calibration");
+            return;
+        };
+        let name = export::suggested_name(Some(&log.path), "corrected.csv");
+        if let Some(p) = self
+            .dialogs
+            .save(FileKind::CorrectedCsv, self.dir().as_deref(), &name)
+        {
+            self.state
+                .say(Severity::Info, format!("Writing {} …", p.display()));
+            let l = log.log.clone();
+            self.jobs.spawn_export("corrected log", move || {
+                export::write_corrected_csv(&p, &l, &fit.outcome.in_sample.corrected)
+            });
+        }
+    }
+
+    fn suggest_plateaus(&mut self) {
+        let (Some(log), Some(fit)) = (self.state.log.clone(), self.state.fit.clone()) else {
+            self.state.say(Severity::Warning, "Open a log first");
+            return;
+        };
+        let found = crate::live::suggest_plateaus(&log.log, &fit.outcome.prepared);
+        let n = found.len();
+        self.state.set_ranges(found);
+        self.time.selected = None;
+        self.state.say(
+            Severity::Info,
+            format!(
+                "The detector suggests {n} plateau{}; edit them in the table or on the time plots",
+                if n == 1 { "" } else { "s" }
+            ),
+        );
+    }
+
+    fn screenshots(&mut self, ctx: &egui::Context) {
+        if let Some(a) = &mut self.auto {
+            ctx.request_repaint();
+            let ready = self.state.log.is_some()
+                && self.state.fit.is_some()
+                && !self.jobs.busy()
+                && self.import.is_none()
+                && self.pending_shot.is_none();
+            a.settled = if ready { a.settled + 1 } else { 0 };
+            if a.settled >= 4 && !a.requested {
+                a.requested = true;
+                self.pending_shot = Some(PendingShot {
+                    frames: 1,
+                    path: a.path.clone(),
+                    crop: None,
+                    what: "screenshot".into(),
+                });
+            }
+            let timed_out = a.started.elapsed() > Duration::from_secs(180);
+            if timed_out {
+                self.finish_auto(Err(
+                    "timed out waiting for the workbench to load and calibrate".into(),
+                ));
+            }
+            if self
+                .auto
+                .as_ref()
+                .is_some_and(|a| a.result.lock().is_ok_and(|r| r.is_some()))
+            {
+                ctx.send_viewport_cmd(ViewportCommand::Close);
+            }
+        }
+        if let Some(p) = &mut self.pending_shot {
+            ctx.request_repaint();
+            if p.frames > 0 {
+                p.frames -= 1;
+            } else if let Some(p) = self.pending_shot.take() {
+                let tx = self.shot_tx.clone();
+                let ctx2 = ctx.clone();
+                let ppp = ctx.pixels_per_point();
+                ctx.send_viewport_cmd(ViewportCommand::Screenshot(egui::ScreenshotCallback::new(
+                    move |img: Arc<ColorImage>| {
+                        let _ = tx.send((img, p.path, p.crop, ppp, p.what));
+                        ctx2.request_repaint();
+                    },
+                )));
+            }
+        }
+        while let Ok((img, path, crop, ppp, what)) = self.shot_rx.try_recv() {
+            self.jobs
+                .spawn_export(&what, move || export::save_png(&path, &img, crop, ppp));
+        }
+    }
+
+    fn remember_window(&mut self, ctx: &egui::Context) {
+        if self.auto.is_some() {
+            return;
+        }
+        let (inner, outer, maximized) = ctx.input(|i| {
+            let v = i.viewport();
+            (v.inner_rect, v.outer_rect, v.maximized.unwrap_or(false))
+        });
+        if let (Some(inner), Some(outer)) = (inner, outer) {
+            let g = WindowGeometry {
+                x: outer.min.x,
+                y: outer.min.y,
+                width: inner.width(),
+                height: inner.height(),
+                maximized,
+            };
+            if maximized {
+                if let Some(w) = &mut self.settings.window {
+                    w.maximized = true;
+                }
+            } else {
+                self.settings.window = Some(g);
+            }
+        }
+    }
+
+    /// Writes the remembered settings (theme, recent files, window).
+    pub fn save_settings(&mut self) {
+        if let Some(p) = &self.settings_path
+            && let Err(e) = self.settings.save(p)
+        {
+            eprintln!("warning: could not save the workbench settings: {e}");
+        }
+    }
+
+    // ------------------------------------------------------------------ layout
+
+    fn menu_bar(&mut self, ui: &mut Ui, actions: &mut Vec<Action>) {
+        let ctx = ui.ctx().clone();
+        let sc = |s: &KeyboardShortcut| ctx.format_shortcut(s);
+        egui::MenuBar::new().ui(ui, |ui| {
+            ui.menu_button("File", |ui| {
+                let has_log = self.state.log.is_some();
+                let has_fit = self.state.fit.is_some();
+                if ui
+                    .add(egui::Button::new("Open log…").shortcut_text(sc(&SC_OPEN)))
+                    .on_hover_text("Open a chamber log: preview, fix the mapping, then read it")
+                    .clicked()
+                {
+                    actions.push(Action::OpenLog);
+                    ui.close();
+                }
+                if ui
+                    .add_enabled(has_log, egui::Button::new("Open validation log…"))
+                    .on_hover_text("A second log of the same gyro, to judge the calibration held out")
+                    .clicked()
+                {
+                    actions.push(Action::OpenValidation);
+                    ui.close();
+                }
+                ui.menu_button("Recent", |ui| {
+                    if self.settings.recent.is_empty() {
+                        ui.weak("No recent files");
+                    }
+                    for p in self.settings.recent.clone() {
+                        let label = p.file_name().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+                        if ui.button(label).on_hover_text(p.display().to_string()).clicked() {
+                            actions.push(if is_json(&p) {
+                                Action::OpenSessionPath(p)
+                            } else {
+                                Action::OpenLogPath(p)
+                            });
+                            ui.close();
+                        }
+                    }
+                });
+                ui.separator();
+                if ui
+                    .add(egui::Button::new("Open session…").shortcut_text(sc(&SC_OPEN_SESSION)))
+                    .on_hover_text("Reopen a saved session exactly as it was left")
+                    .clicked()
+                {
+                    actions.push(Action::OpenSession);
+                    ui.close();
+                }
+                if ui
+                    .add_enabled(has_log, egui::Button::new("Save session").shortcut_text(sc(&SC_SAVE)))
+                    .on_hover_text("Save the log path, mapping, plateaus and every choice")
+                    .clicked()
+                {
+                    actions.push(Action::SaveSession);
+                    ui.close();
+                }
+                if ui
+                    .add_enabled(has_log, egui::Button::new("Save session as…"))
+                    .on_hover_text("Save the session under a new name")
+                    .clicked()
+                {
+                    actions.push(Action::SaveSessionAs);
+                    ui.close();
+                }
+                ui.separator();
+                if ui
+                    .add_enabled(has_fit, egui::Button::new("Export calibration…").shortcut_text(sc(&SC_EXPORT)))
+                    .on_hover_text("Write the calibration file (JSON) the gyro's processor and `driftlab apply` read")
+                    .clicked()
+                {
+                    actions.push(Action::ExportCalibration);
+                    ui.close();
+                }
+                if ui
+                    .add_enabled(has_fit, egui::Button::new("Export corrected log…").shortcut_text(sc(&SC_EXPORT_CSV)))
+                    .on_hover_text("Write time, raw, predicted and corrected rate and temperature as CSV")
+                    .clicked()
+                {
+                    actions.push(Action::ExportCsv);
+                    ui.close();
+                }
+                if ui
+                    .add(egui::Button::new("Save screenshot…").shortcut_text(format!("{} / {}", sc(&SC_SHOT_F12), sc(&SC_SHOT))))
+                    .on_hover_text("Save the whole window as a PNG picture")
+                    .clicked()
+                {
+                    actions.push(Action::Screenshot);
+                    ui.close();
+                }
+                ui.separator();
+                if ui.add(egui::Button::new("Quit").shortcut_text(sc(&SC_QUIT))).on_hover_text("Close the workbench (asks first when the session has unsaved changes)").clicked() {
+                    actions.push(Action::Quit);
+                    ui.close();
+                }
+            });
+            ui.menu_button("Edit", |ui| {
+                if ui
+                    .add_enabled(self.state.history.can_undo(), egui::Button::new("Undo").shortcut_text(sc(&SC_UNDO)))
+                    .on_hover_text("Undo the last change of plateaus, filters or approximations")
+                    .clicked()
+                {
+                    actions.push(Action::Undo);
+                    ui.close();
+                }
+                if ui
+                    .add_enabled(self.state.history.can_redo(), egui::Button::new("Redo").shortcut_text(sc(&SC_REDO)))
+                    .on_hover_text("Redo the change undone last (Ctrl+Y or Ctrl+Shift+Z)")
+                    .clicked()
+                {
+                    actions.push(Action::Redo);
+                    ui.close();
+                }
+                ui.separator();
+                if ui
+                    .add_enabled(self.state.fit.is_some(), egui::Button::new("Suggest plateaus"))
+                    .on_hover_text("Fill the plateau table from the engine's detector")
+                    .clicked()
+                {
+                    actions.push(Action::SuggestPlateaus);
+                    ui.close();
+                }
+                if ui
+                    .button("Reset all choices")
+                    .on_hover_text("Filters, plateaus and approximations back to the defaults (undoable)")
+                    .clicked()
+                {
+                    actions.push(Action::ResetRecipe);
+                    ui.close();
+                }
+            });
+            ui.menu_button("View", |ui| {
+                for (t, name) in [
+                    (ThemeChoice::System, "Follow the system theme"),
+                    (ThemeChoice::Light, "Light theme"),
+                    (ThemeChoice::Dark, "Dark theme"),
+                ] {
+                    if ui.radio(self.settings.theme == t, name).clicked() {
+                        actions.push(Action::Theme(t));
+                        ui.close();
+                    }
+                }
+                ui.separator();
+                if ui.button("Show the whole log").on_hover_text("Whole log on the time axis (Home)").clicked() {
+                    self.time.x_command = Some(XCommand::Fit);
+                    ui.close();
+                }
+            });
+            ui.menu_button("Help", |ui| {
+                if ui.button("Keyboard and mouse").on_hover_text("Every shortcut and mouse gesture of the workbench").clicked() {
+                    self.show_help = true;
+                    ui.close();
+                }
+            });
+            ui.separator();
+            if let Some(l) = &self.state.log {
+                let name = l.path.file_name().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+                let dirty = if self.state.dirty() { " •" } else { "" };
+                ui.label(RichText::new(format!("{name}{dirty}")).strong())
+                    .on_hover_text(format!("{}{}", l.path.display(), if dirty.is_empty() { "" } else { "\nunsaved changes" }));
+                ui.weak(format!(
+                    "{} samples · {:.2} h · step {} s",
+                    l.log.len(),
+                    l.log.duration_s() / 3600.0,
+                    num(l.log.nominal_dt_s())
+                ));
+            }
+            ui.with_layout(Layout::right_to_left(Align::Center), |ui| {
+                let dark = ui.visuals().dark_mode;
+                if ui
+                    .small_button(if dark { "Light theme" } else { "Dark theme" })
+                    .on_hover_text(if dark { "Switch to the light theme" } else { "Switch to the dark theme" })
+                    .clicked()
+                {
+                    actions.push(Action::Theme(if dark { ThemeChoice::Light } else { ThemeChoice::Dark }));
+                }
+                if self.jobs.fitting() {
+                    ui.spinner().on_hover_text("Refitting on the worker thread");
+                }
+            });
+        });
+    }
+
+    fn status_bar(&mut self, ui: &mut Ui) {
+        ui.horizontal(|ui| {
+            if let Some(h) = self.jobs.loading.clone() {
+                let name = h
+                    .path
+                    .file_name()
+                    .map(|s| s.to_string_lossy().into_owned())
+                    .unwrap_or_default();
+                ui.add(
+                    egui::ProgressBar::new(h.progress() as f32)
+                        .desired_width(260.0)
+                        .text(format!("Reading {name} … {:.0}%", h.progress() * 100.0)),
+                );
+                if ui
+                    .button("Cancel")
+                    .on_hover_text("Stop reading (Esc); the current work stays")
+                    .clicked()
+                {
+                    self.jobs.cancel_load();
+                }
+                ui.separator();
+            }
+            if let Some(e) = &self.state.fit_error {
+                ui.colored_label(
+                    ui.visuals().error_fg_color,
+                    format!("Calibration failed: {e}"),
+                );
+            } else if let Some((sev, msg)) = &self.state.status {
+                let color = match sev {
+                    Severity::Info => ui.visuals().text_color(),
+                    Severity::Warning => ui.visuals().warn_fg_color,
+                    Severity::Error => ui.visuals().error_fg_color,
+                };
+                ui.colored_label(color, msg);
+            }
+        });
+    }
+
+    fn welcome(&mut self, ui: &mut Ui, actions: &mut Vec<Action>) {
+        ui.vertical_centered(|ui| {
+            ui.add_space(ui.available_height() * 0.3);
+            ui.heading("driftlab workbench");
+            ui.label("Calibrate the thermal drift of a gyroscope from a thermal-chamber log.");
+            ui.add_space(12.0);
+            if self.jobs.loading.is_some() {
+                ui.spinner();
+            } else if ui
+                .button(RichText::new("Open log…").size(18.0))
+                .on_hover_text("Ctrl+O — or drop a log file onto the window")
+                .clicked()
+            {
+                actions.push(Action::OpenLog);
+            }
+            if let Some(s) = default_log()
+                && ui
+                    .button("Open the bundled sample log")
+                    .on_hover_text(s.display().to_string())
+                    .clicked()
+            {
+                self.start_load(s, ReadOptions::default(), Target::Calibration);
+            }
+        });
+    }
+
+    fn controls(&mut self, ui: &mut Ui, actions: &mut Vec<Action>) {
+        if let Some(e) = &self.state.fit_error {
+            ui.colored_label(
+                ui.visuals().error_fg_color,
+                format!("Calibration failed: {e}"),
+            );
+        }
+        egui::CollapsingHeader::new("Data")
+            .default_open(true)
+            .show(ui, |ui| {
+                match &self.state.log {
+                    Some(l) => {
+                        let log = &l.log;
+                        let (tmin, tmax) = l
+                            .lods
+                            .temp
+                            .range_min_max(&log.temp_c, 0, log.len())
+                            .unwrap_or((f64::NAN, f64::NAN));
+                        ui.label(format!(
+                            "{} samples, {:.2} h, T {:.1} … {:.1} °C",
+                            log.len(),
+                            log.duration_s() / 3600.0,
+                            tmin,
+                            tmax
+                        ))
+                        .on_hover_text(l.path.display().to_string());
+                        let problems = &log.info.problems;
+                        if !problems.is_empty() {
+                            let text: Vec<String> = problems
+                                .iter()
+                                .map(|p| format!("line {}: {} ({}×)", p.line, p.message, p.count))
+                                .collect();
+                            ui.colored_label(
+                                ui.visuals().warn_fg_color,
+                                format!("{} kind(s) of problems worked around", problems.len()),
+                            )
+                            .on_hover_text(text.join("\n"));
+                        }
+                    }
+                    None => {
+                        ui.weak("No log.");
+                    }
+                }
+                ui.horizontal(|ui| match &self.state.validation {
+                    Some(v) => {
+                        let name = v
+                            .path
+                            .file_name()
+                            .map(|s| s.to_string_lossy().into_owned())
+                            .unwrap_or_default();
+                        ui.label(format!("Validation: {name}"))
+                            .on_hover_text(v.path.display().to_string());
+                        if ui
+                            .small_button("×")
+                            .on_hover_text("Forget the validation log")
+                            .clicked()
+                        {
+                            actions.push(Action::CloseValidation);
+                        }
+                    }
+                    None => {
+                        if ui
+                            .add_enabled(
+                                self.state.log.is_some(),
+                                egui::Button::new("Open validation log…"),
+                            )
+                            .on_hover_text(
+                                "A second log of the same gyro, to judge the calibration held out",
+                            )
+                            .clicked()
+                        {
+                            actions.push(Action::OpenValidation);
+                        }
+                    }
+                });
+            });
+        let dt = self
+            .state
+            .log
+            .as_ref()
+            .map_or(1.0, |l| l.log.nominal_dt_s());
+        egui::CollapsingHeader::new("Derivatives").default_open(true).show(ui, |ui| {
+            let r = self.state.recipe_mut();
+            egui::Grid::new("deriv_grid").num_columns(3).spacing([8.0, 4.0]).show(ui, |ui| {
+                let samples = |s: f64| format!("{} samples", crate::signal::seconds_to_samples(s, dt));
+                ui.label("Ω filter").on_hover_text("Centred moving average of Ω before the pointwise coefficients and in the figures");
+                ui.add(egui::DragValue::new(&mut r.filter_s).range(dt..=100_000.0).speed(1.0).suffix(" s"))
+                    .on_hover_text("Ω moving-average window, s (the paper: 100 recording intervals)");
+                ui.weak(samples(r.filter_s));
+                ui.end_row();
+                ui.label("T smoothing").on_hover_text("Causal moving average of T before differentiating");
+                ui.add(egui::DragValue::new(&mut r.temp_smoothing_s).range(dt..=100_000.0).speed(1.0).suffix(" s"))
+                    .on_hover_text("T smoothing window, s: longer quietens dT/dt and d²T/dt² but delays them");
+                ui.weak(samples(r.temp_smoothing_s));
+                ui.end_row();
+                ui.label("Step H").on_hover_text("Step of the 3-point backward derivative");
+                ui.add(egui::DragValue::new(&mut r.step_h_s).range(dt..=10_000.0).speed(0.5).suffix(" s"))
+                    .on_hover_text("Derivative step H, s: H = 1 sample makes d²T/dt² pure quantisation noise on a 1 Hz log");
+                ui.weak(samples(r.step_h_s));
+                ui.end_row();
+            });
+            let resolved = self.state.fit.as_ref().map(|f| f.outcome.calibration.resolved);
+            for (name, tip, is_tdot) in [
+                ("K1 dead-band |dT/dt|", "Points with |dT/dt| below this are left out of the K1 fits, °C/s", true),
+                ("K2 dead-band |d²T/dt²|", "Points with |d²T/dt²| below this are left out of the K2 fits, °C/s²", false),
+            ] {
+                ui.horizontal(|ui| {
+                    let r = self.state.recipe_mut();
+                    let slot = if is_tdot { &mut r.deadband_tdot } else { &mut r.deadband_tddot };
+                    let used = resolved.map(|r| if is_tdot { r.deadband_tdot } else { r.deadband_tddot });
+                    let mut auto = slot.is_none();
+                    ui.label(name).on_hover_text(tip);
+                    if ui
+                        .checkbox(&mut auto, "auto")
+                        .on_hover_text("Automatic: a fifth of the 95th percentile of the rate outside plateaus")
+                        .changed()
+                    {
+                        *slot = if auto { None } else { Some(used.unwrap_or(0.0)) };
+                    }
+                    match slot {
+                        Some(v) => {
+                            let speed = (v.abs() * 0.01).max(1e-9);
+                            ui.add(egui::DragValue::new(v).range(0.0..=f64::MAX).speed(speed).max_decimals(10))
+                                .on_hover_text(tip);
+                        }
+                        None => {
+                            ui.weak(used.map(num).unwrap_or_default());
+                        }
+                    }
+                });
+            }
+        });
+        egui::CollapsingHeader::new("Plateaus (K0 points)")
+            .default_open(true)
+            .show(ui, |ui| {
+                self.plateaus
+                    .table(ui, &mut self.state, &mut self.time, actions);
+            });
+        egui::CollapsingHeader::new("Fit").default_open(true).show(ui, |ui| {
+            let r = self.state.recipe_mut();
+            ui.horizontal(|ui| {
+                ui.label("Gyro id");
+                ui.add(egui::TextEdit::singleline(&mut r.gyro_id).desired_width(140.0).hint_text("serial number"))
+                    .on_hover_text("Identifier of the gyro, written into the calibration file");
+            });
+            ui.horizontal(|ui| {
+                ui.label("Weighting");
+                egui::ComboBox::from_id_salt("weighting")
+                    .selected_text(match r.weighting {
+                        Weighting::Drift => "drift",
+                        Weighting::Ratio => "ratio (paper)",
+                    })
+                    .show_ui(ui, |ui| {
+                        ui.selectable_value(&mut r.weighting, Weighting::Drift, "drift")
+                            .on_hover_text("Each ratio weighted by its denominator squared: minimises the error of the predicted drift");
+                        ui.selectable_value(&mut r.weighting, Weighting::Ratio, "ratio (paper)")
+                            .on_hover_text("Every pointwise ratio counts alike, as the paper fits them");
+                    })
+                    .response
+                    .on_hover_text("How the pointwise K1/K2 values are weighed in their least-squares fits");
+            });
+            ui.horizontal(|ui| {
+                ui.label("Refinements");
+                ui.add(egui::DragValue::new(&mut r.refinements).range(0..=10).speed(0.05))
+                    .on_hover_text("Extra passes refitting K1 with the K2 term removed, then K2 (0: the paper's single pass)");
+            });
+        });
+    }
+
+    fn coefficient_panel(&mut self, ui: &mut Ui, actions: &mut Vec<Action>) {
+        if self.state.log.is_none() {
+            ui.weak("K0, K1± and K2± appear here once a log is loaded.");
+            return;
+        }
+        let h = ui.available_height();
+        // Three plots with their control rows (K0: one row, K1/K2: three rows each).
+        let row = ui.spacing().interact_size.y + ui.spacing().item_spacing.y;
+        let plot_h = ((h - 11.0 * row - 30.0) / 3.0).max(110.0);
+        self.plateaus.k0_plot(ui, &mut self.state, plot_h, actions);
+        ui.separator();
+        self.coeffs
+            .ui(ui, &mut self.state, Pair::K1, plot_h, actions);
+        ui.separator();
+        self.coeffs
+            .ui(ui, &mut self.state, Pair::K2, plot_h, actions);
+    }
+
+    fn modals(&mut self, ctx: &egui::Context, actions: &mut Vec<Action>) {
+        if let Some(view) = &mut self.import {
+            match view.show(ctx) {
+                Some(ImportDecision::Load(path, read, target)) => {
+                    self.import = None;
+                    self.start_load(path, read, target);
+                }
+                Some(ImportDecision::Cancel) => self.import = None,
+                None => {}
+            }
+        }
+        if let Some(action) = self.confirm.clone() {
+            let mut answer: Option<u8> = None;
+            egui::Modal::new(egui::Id::unique("confirm_discard")).show(ctx, |ui| {
+                ui.heading("Unsaved work");
+                ui.label(
+                    "The plateaus and choices of this calibration are not saved in a session.",
+                );
+                ui.label(match action {
+                    Action::Quit => "Save them before closing?",
+                    _ => "Save them before opening another file?",
+                });
+                ui.add_space(8.0);
+                ui.horizontal(|ui| {
+                    if ui.button(RichText::new("Save session…").strong()).clicked() {
+                        answer = Some(0);
+                    }
+                    if ui
+                        .button("Discard")
+                        .on_hover_text("Go on without saving")
+                        .clicked()
+                    {
+                        answer = Some(1);
+                    }
+                    if ui
+                        .button("Cancel")
+                        .on_hover_text("Stay with the current work (Esc)")
+                        .clicked()
+                    {
+                        answer = Some(2);
+                    }
+                });
+            });
+            match answer {
+                Some(0) => {
+                    self.confirm = None;
+                    if self.save_session(false) {
+                        self.run_confirmed(ctx, action);
+                    }
+                }
+                Some(1) => {
+                    self.confirm = None;
+                    self.state.mark_saved();
+                    self.run_confirmed(ctx, action);
+                }
+                Some(_) => self.confirm = None,
+                None => {}
+            }
+        }
+        if let Some(msg) = self.error.clone() {
+            let r = egui::Modal::new(egui::Id::unique("error")).show(ctx, |ui| {
+                ui.set_max_width(640.0);
+                ui.heading("Something went wrong");
+                ui.label(msg.as_str());
+                ui.add_space(8.0);
+                ui.button("OK").clicked()
+            });
+            if r.inner || r.should_close() {
+                self.error = None;
+            }
+        }
+        if self.show_help {
+            egui::Window::new("Keyboard and mouse")
+                .open(&mut self.show_help)
+                .resizable(false)
+                .show(ctx, |ui| {
+                    egui::Grid::new("help").striped(true).show(ui, |ui| {
+                        for (k, what) in [
+                            ("Ctrl+O", "open a log (preview and mapping first)"),
+                            ("Ctrl+Shift+O", "open a session"),
+                            ("Ctrl+S", "save the session"),
+                            (
+                                "Ctrl+E / Ctrl+Shift+E",
+                                "export the calibration / the corrected log",
+                            ),
+                            ("F12 or Ctrl+Shift+S", "save the window as PNG"),
+                            (
+                                "Ctrl+Z / Ctrl+Y",
+                                "undo / redo a change of plateaus or choices",
+                            ),
+                            ("Home, +, −, ←, →", "time axis: whole log, zoom, pan"),
+                            (
+                                "mouse wheel / drag",
+                                "zoom / pan the time axis (all time plots together)",
+                            ),
+                            ("Shift+drag on a time plot", "mark a new plateau"),
+                            (
+                                "drag a plateau edge",
+                                "move it; Delete removes the selected plateau",
+                            ),
+                            (
+                                "drag a knot",
+                                "set a spline or piecewise-linear knot by hand",
+                            ),
+                            ("right-click a plot", "save that plot as PNG"),
+                            ("Esc", "cancel reading a log, close dialogs"),
+                        ] {
+                            ui.monospace(k);
+                            ui.label(what);
+                            ui.end_row();
+                        }
+                    });
+                });
+        }
+        let _ = actions;
+    }
+}
+
+impl eframe::App for Workbench {
+    fn ui(&mut self, ui: &mut Ui, _frame: &mut eframe::Frame) {
+        Workbench::ui(self, ui);
+    }
+
+    fn raw_input_hook(&mut self, _ctx: &egui::Context, raw_input: &mut egui::RawInput) {
+        if self.auto.is_some() {
+            // A picture for reports: no pointer hovering anything, whatever the X server's
+            // pointer does.
+            raw_input.events.retain(|e| {
+                !matches!(
+                    e,
+                    egui::Event::PointerMoved(_)
+                        | egui::Event::PointerButton { .. }
+                        | egui::Event::MouseWheel { .. }
+                )
+            });
+            raw_input.events.push(egui::Event::PointerGone);
+        }
+    }
+
+    fn on_exit(&mut self, _gl: Option<&eframe::glow::Context>) {
+        if self.auto.is_none() {
+            self.save_settings();
+        }
+    }
+}
+
+/// A file's name for short messages (the full path is in tooltips).
+fn file_name(p: &Path) -> String {
+    p.file_name()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| p.display().to_string())
+}
+
+fn is_json(p: &Path) -> bool {
+    p.extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("json"))
+}
+
+fn same_file(a: &Path, b: &Path) -> bool {
+    let canon = |p: &Path| std::fs::canonicalize(p).unwrap_or_else(|_| p.to_path_buf());
+    canon(a) == canon(b)
+}
+
+/// The bundled calibration sample log: `sample_logs/calibration.csv` in the current folder,
+/// else in the crate's folder.
+pub fn default_log() -> Option<PathBuf> {
+    let rel = Path::new("sample_logs").join("calibration.csv");
+    if rel.is_file() {
+        return Some(rel);
+    }
+    let p = Path::new(env!("CARGO_MANIFEST_DIR")).join(rel);
+    p.is_file().then_some(p)
+}
+
+/// Starts the workbench in screenshot mode (internal to [`super::run`]).
+pub(super) fn set_auto_screenshot(
+    wb: &mut Workbench,
+    path: PathBuf,
+    result: Arc<Mutex<Option<Result<(), String>>>>,
+) {
+    wb.auto = Some(AutoShot {
+        path,
+        settled: 0,
+        requested: false,
+        started: Instant::now(),
+        result,
+    });
+}

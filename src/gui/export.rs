@@ -1,0 +1,96 @@
+//! Writing what the workbench made: PNG pictures (the window, or one plot cropped out of a
+//! window screenshot), the calibration file, the corrected log and the session. Every file is
+//! written atomically; every failure comes back as a message naming the file.
+
+use crate::live::Corrected;
+use crate::log::Log;
+use crate::model::Calibration;
+use eframe::egui::{ColorImage, Rect};
+use std::path::{Path, PathBuf};
+
+/// Writes `image` as PNG, cropped to `crop` (points) when given; `pixels_per_point` converts
+/// the crop to pixels.
+pub fn save_png(
+    path: &Path,
+    image: &ColorImage,
+    crop: Option<Rect>,
+    pixels_per_point: f32,
+) -> Result<PathBuf, String> {
+    let [w, h] = image.size;
+    let (x0, y0, x1, y1) = match crop {
+        Some(r) => {
+            let ppp = pixels_per_point.max(0.1);
+            let x0 = ((r.min.x * ppp).floor().max(0.0) as usize).min(w);
+            let y0 = ((r.min.y * ppp).floor().max(0.0) as usize).min(h);
+            let x1 = ((r.max.x * ppp).ceil().max(0.0) as usize).clamp(x0, w);
+            let y1 = ((r.max.y * ppp).ceil().max(0.0) as usize).clamp(y0, h);
+            (x0, y0, x1, y1)
+        }
+        None => (0, 0, w, h),
+    };
+    if x1 <= x0 || y1 <= y0 {
+        return Err(format!(
+            "{}: nothing to save (empty picture)",
+            path.display()
+        ));
+    }
+    // Opaque RGB, best compression: pictures for reports stay small.
+    let mut rgb = Vec::with_capacity((x1 - x0) * (y1 - y0) * 3);
+    for y in y0..y1 {
+        for p in &image.pixels[y * w + x0..y * w + x1] {
+            let [r, g, b, _] = p.to_array();
+            rgb.extend_from_slice(&[r, g, b]);
+        }
+    }
+    let mut bytes = Vec::new();
+    {
+        use image::ImageEncoder as _;
+        use image::codecs::png::{CompressionType, FilterType, PngEncoder};
+        PngEncoder::new_with_quality(&mut bytes, CompressionType::Best, FilterType::Adaptive)
+            .write_image(
+                &rgb,
+                (x1 - x0) as u32,
+                (y1 - y0) as u32,
+                image::ExtendedColorType::Rgb8,
+            )
+            .map_err(|e| format!("{}: {e}", path.display()))?;
+    }
+    crate::atomic::write_bytes(path, &bytes).map_err(|e| format!("{}: {e}", path.display()))?;
+    Ok(path.to_path_buf())
+}
+
+/// Writes the calibration file, naming its source log and the log's SHA-256.
+pub fn save_calibration(
+    path: &Path,
+    cal: &Calibration,
+    log_path: &Path,
+    sha256: Option<&str>,
+) -> Result<PathBuf, String> {
+    let mut cal = cal.clone();
+    cal.source.name = log_path
+        .file_name()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| log_path.display().to_string());
+    cal.source.sha256 = match sha256 {
+        Some(s) => s.to_string(),
+        None => crate::calfile::sha256_file(log_path).map_err(|e| e.to_string())?,
+    };
+    crate::calfile::save(path, &cal).map_err(|e| e.to_string())?;
+    Ok(path.to_path_buf())
+}
+
+/// Writes the corrected log with the engine's writer (the columns of `driftlab apply`).
+pub fn write_corrected_csv(path: &Path, log: &Log, c: &Corrected) -> Result<PathBuf, String> {
+    crate::corrected_csv::write(path, log, &c.pred_dph, &c.cor_dph, &|_| {})
+        .map_err(|e| format!("{}: {e}", path.display()))?;
+    Ok(path.to_path_buf())
+}
+
+/// A file name next to the log: `run7.csv` → `run7-<suffix>`.
+pub fn suggested_name(log_path: Option<&Path>, suffix: &str) -> String {
+    let stem = log_path
+        .and_then(|p| p.file_stem())
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "driftlab".into());
+    format!("{stem}-{suffix}")
+}

@@ -1,0 +1,464 @@
+//! Plot items drawn from level-of-detail data: a min/max band (or the raw samples when
+//! zoomed in), a decimated point cloud, and shaded time spans. None of them holds more than
+//! a few thousand points, whatever the log's length.
+
+use crate::lod::Band;
+use eframe::egui::epaint::{BandPoint, BandShape};
+use eframe::egui::{self, Color32, Mesh, Pos2, Rangef, Rect, Shape, Stroke, Ui};
+use egui_plot::{PlotBounds, PlotGeometry, PlotItem, PlotItemBase, PlotPoint, PlotTransform};
+use std::ops::RangeInclusive;
+
+/// Colours of the workbench's plots, readable on light and dark backgrounds.
+#[derive(Debug, Clone, Copy)]
+pub struct Palette {
+    /// Raw samples (a faint band).
+    pub raw: Color32,
+    /// Filtered signal.
+    pub filtered: Color32,
+    /// The model's prediction.
+    pub model: Color32,
+    /// The corrected signal.
+    pub corrected: Color32,
+    /// Temperature.
+    pub temp: Color32,
+    /// Thermal acceleration (+), points and shading.
+    pub plus: Color32,
+    /// Thermal deceleration (−).
+    pub minus: Color32,
+    /// Plateaus.
+    pub plateau: Color32,
+    /// Dead-band shading.
+    pub deadband: Color32,
+    /// Fitted curves.
+    pub curve: Color32,
+}
+
+impl Palette {
+    /// The palette for the current theme.
+    pub fn of(ui: &Ui) -> Palette {
+        if ui.visuals().dark_mode {
+            Palette {
+                raw: Color32::from_rgb(120, 120, 130),
+                filtered: Color32::from_rgb(100, 170, 255),
+                model: Color32::from_rgb(255, 170, 60),
+                corrected: Color32::from_rgb(90, 210, 120),
+                temp: Color32::from_rgb(255, 120, 110),
+                plus: Color32::from_rgb(255, 150, 50),
+                minus: Color32::from_rgb(80, 160, 255),
+                plateau: Color32::from_rgb(110, 220, 130),
+                deadband: Color32::from_gray(90),
+                curve: Color32::from_rgb(240, 240, 240),
+            }
+        } else {
+            Palette {
+                raw: Color32::from_rgb(165, 165, 175),
+                filtered: Color32::from_rgb(20, 90, 200),
+                model: Color32::from_rgb(215, 110, 0),
+                corrected: Color32::from_rgb(20, 150, 60),
+                temp: Color32::from_rgb(200, 40, 30),
+                plus: Color32::from_rgb(235, 120, 0),
+                minus: Color32::from_rgb(30, 110, 220),
+                plateau: Color32::from_rgb(40, 170, 70),
+                deadband: Color32::from_gray(170),
+                curve: Color32::from_rgb(20, 20, 20),
+            }
+        }
+    }
+
+    /// A translucent version of a colour, for shading.
+    pub fn shade(c: Color32, alpha: f32) -> Color32 {
+        c.gamma_multiply(alpha)
+    }
+}
+
+/// A series reduced to one min/max column per pixel, drawn as a filled band; or, when zoomed
+/// in far enough that the reduction returned the samples themselves, as a line through them.
+pub struct BandItem {
+    base: PlotItemBase,
+    band: Band,
+    x_div: f64,
+    color: Color32,
+    width: f32,
+    bounds: PlotBounds,
+}
+
+impl BandItem {
+    /// A band of `band` (x in seconds, shown divided by `x_div`); `x_full` is the x-range of
+    /// the whole series (for "fit all"), the y-range is that of the visible columns.
+    pub fn new(name: &str, band: Band, x_div: f64, x_full: (f64, f64)) -> BandItem {
+        let mut bounds = PlotBounds::NOTHING;
+        if x_full.1 >= x_full.0 {
+            bounds.extend_with_x(x_full.0 / x_div);
+            bounds.extend_with_x(x_full.1 / x_div);
+        }
+        if let Some((lo, hi)) = band.value_range() {
+            bounds.extend_with_y(lo);
+            bounds.extend_with_y(hi);
+        }
+        BandItem {
+            base: PlotItemBase::new(name.to_string()),
+            band,
+            x_div,
+            color: Color32::GRAY,
+            width: 1.5,
+            bounds,
+        }
+    }
+
+    /// Colour of the band or line.
+    pub fn color(mut self, color: Color32) -> Self {
+        self.color = color;
+        self
+    }
+
+    /// Line width (and the least thickness of the band), points.
+    pub fn width(mut self, width: f32) -> Self {
+        self.width = width;
+        self
+    }
+
+    /// Leaves the item out of automatic bounds in y (a faint background series).
+    pub fn no_y_bounds(mut self) -> Self {
+        let mut b = PlotBounds::NOTHING;
+        if self.bounds.is_finite_x() {
+            b.extend_with_x(self.bounds.min()[0]);
+            b.extend_with_x(self.bounds.max()[0]);
+        }
+        self.bounds = b;
+        self
+    }
+}
+
+impl PlotItem for BandItem {
+    fn shapes(&self, _ui: &Ui, transform: &PlotTransform, shapes: &mut Vec<Shape>) {
+        let b = &self.band;
+        let stroke = Stroke::new(self.width, self.color);
+        let mut run_line: Vec<Pos2> = Vec::new();
+        let mut run_band: Vec<BandPoint> = Vec::new();
+        let flush_line = |run: &mut Vec<Pos2>, shapes: &mut Vec<Shape>| {
+            if run.len() >= 2 {
+                shapes.push(Shape::line(std::mem::take(run), stroke));
+            } else {
+                run.clear();
+            }
+        };
+        let flush_band = |run: &mut Vec<BandPoint>, shapes: &mut Vec<Shape>| {
+            if run.len() >= 2 {
+                shapes.push(BandShape::filled(std::mem::take(run), self.color).into());
+            } else {
+                run.clear();
+            }
+        };
+        for k in 0..b.len() {
+            let (x, lo, hi) = (b.x[k], b.lo[k], b.hi[k]);
+            if !(lo.is_finite() && hi.is_finite()) {
+                flush_line(&mut run_line, shapes);
+                flush_band(&mut run_band, shapes);
+                continue;
+            }
+            let px = transform.position_from_point_x(x / self.x_div);
+            if b.exact {
+                run_line.push(Pos2::new(px, transform.position_from_point_y(lo)));
+            } else {
+                let y0 = transform.position_from_point_y(lo);
+                let y1 = transform.position_from_point_y(hi);
+                let (top, bottom) = (y0.min(y1), y0.max(y1));
+                let mid = 0.5 * (top + bottom);
+                let half = (0.5 * (bottom - top)).max(0.5 * self.width);
+                run_band.push(BandPoint::new(px, Rangef::new(mid - half, mid + half)));
+            }
+        }
+        flush_line(&mut run_line, shapes);
+        flush_band(&mut run_band, shapes);
+    }
+
+    fn initialize(&mut self, _x_range: RangeInclusive<f64>) {}
+
+    fn color(&self) -> Color32 {
+        self.color
+    }
+
+    fn geometry(&self) -> PlotGeometry<'_> {
+        PlotGeometry::None
+    }
+
+    fn bounds(&self) -> PlotBounds {
+        self.bounds
+    }
+
+    fn base(&self) -> &PlotItemBase {
+        &self.base
+    }
+
+    fn base_mut(&mut self) -> &mut PlotItemBase {
+        &mut self.base
+    }
+}
+
+/// Decimated scatter points drawn as small squares in one mesh.
+pub struct CloudItem {
+    base: PlotItemBase,
+    points: Vec<[f64; 2]>,
+    color: Color32,
+    size: f32,
+    bounds: PlotBounds,
+}
+
+impl CloudItem {
+    /// Points (already decimated) with the bounds auto-scaling should use.
+    pub fn new(name: &str, points: Vec<[f64; 2]>, bounds: PlotBounds) -> CloudItem {
+        CloudItem {
+            base: PlotItemBase::new(name.to_string()),
+            points,
+            color: Color32::GRAY,
+            size: 2.5,
+            bounds,
+        }
+    }
+
+    /// Colour of the points.
+    pub fn color(mut self, color: Color32) -> Self {
+        self.color = color;
+        self
+    }
+}
+
+impl PlotItem for CloudItem {
+    fn shapes(&self, _ui: &Ui, transform: &PlotTransform, shapes: &mut Vec<Shape>) {
+        let mut mesh = Mesh::default();
+        mesh.reserve_vertices(self.points.len() * 4);
+        mesh.reserve_triangles(self.points.len() * 2);
+        let h = 0.5 * self.size;
+        for p in &self.points {
+            let c = transform.position_from_point(&PlotPoint::new(p[0], p[1]));
+            mesh.add_colored_rect(
+                Rect::from_min_max(Pos2::new(c.x - h, c.y - h), Pos2::new(c.x + h, c.y + h)),
+                self.color,
+            );
+        }
+        if !mesh.is_empty() {
+            shapes.push(Shape::mesh(mesh));
+        }
+    }
+
+    fn initialize(&mut self, _x_range: RangeInclusive<f64>) {}
+
+    fn color(&self) -> Color32 {
+        self.color
+    }
+
+    fn geometry(&self) -> PlotGeometry<'_> {
+        PlotGeometry::None
+    }
+
+    fn bounds(&self) -> PlotBounds {
+        self.bounds
+    }
+
+    fn base(&self) -> &PlotItemBase {
+        &self.base
+    }
+
+    fn base_mut(&mut self) -> &mut PlotItemBase {
+        &mut self.base
+    }
+}
+
+/// One shaded span of x (full plot height).
+#[derive(Debug, Clone, Copy)]
+pub struct ShadeSpan {
+    /// Start, plot units.
+    pub x0: f64,
+    /// End, plot units.
+    pub x1: f64,
+    /// Fill.
+    pub fill: Color32,
+    /// Outline of the span's two edges (width 0: none).
+    pub edge: Stroke,
+}
+
+/// Shaded x-spans behind the data (regimes, plateaus, dead-bands); no effect on bounds.
+pub struct ShadeItem {
+    base: PlotItemBase,
+    spans: Vec<ShadeSpan>,
+}
+
+impl ShadeItem {
+    /// The spans.
+    pub fn new(name: &str, spans: Vec<ShadeSpan>) -> ShadeItem {
+        ShadeItem {
+            base: PlotItemBase::new(name.to_string()),
+            spans,
+        }
+    }
+}
+
+impl PlotItem for ShadeItem {
+    fn shapes(&self, _ui: &Ui, transform: &PlotTransform, shapes: &mut Vec<Shape>) {
+        let frame = *transform.frame();
+        let mut mesh = Mesh::default();
+        let mut edges = Vec::new();
+        for s in &self.spans {
+            let a = transform.position_from_point_x(s.x0);
+            let b = transform.position_from_point_x(s.x1);
+            let (l, r) = (
+                a.min(b).max(frame.left() - 2.0),
+                a.max(b).min(frame.right() + 2.0),
+            );
+            if r < frame.left() || l > frame.right() {
+                continue;
+            }
+            mesh.add_colored_rect(
+                Rect::from_x_y_ranges(l..=r.max(l + 1.0), frame.y_range()),
+                s.fill,
+            );
+            // Edges only where the span is wide enough to tell them from its fill.
+            if s.edge.width > 0.0 && (b - a).abs() >= 4.0 {
+                for x in [a, b] {
+                    edges.push(Shape::line_segment(
+                        [Pos2::new(x, frame.top()), Pos2::new(x, frame.bottom())],
+                        s.edge,
+                    ));
+                }
+            }
+        }
+        if !mesh.is_empty() {
+            shapes.push(Shape::mesh(mesh));
+        }
+        shapes.extend(edges);
+    }
+
+    fn initialize(&mut self, _x_range: RangeInclusive<f64>) {}
+
+    fn color(&self) -> Color32 {
+        self.spans.first().map_or(Color32::GRAY, |s| s.fill)
+    }
+
+    fn geometry(&self) -> PlotGeometry<'_> {
+        PlotGeometry::None
+    }
+
+    fn bounds(&self) -> PlotBounds {
+        PlotBounds::NOTHING
+    }
+
+    fn base(&self) -> &PlotItemBase {
+        &self.base
+    }
+
+    fn base_mut(&mut self) -> &mut PlotItemBase {
+        &mut self.base
+    }
+}
+
+/// How time is shown on the x-axis: seconds, minutes or hours, by the log's length.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TimeScale {
+    /// Seconds per axis unit.
+    pub div: f64,
+    /// Axis unit.
+    pub unit: &'static str,
+}
+
+impl TimeScale {
+    /// The scale for a log lasting `duration_s`.
+    pub fn for_duration(duration_s: f64) -> TimeScale {
+        if duration_s >= 3.0 * 3600.0 {
+            TimeScale {
+                div: 3600.0,
+                unit: "h",
+            }
+        } else if duration_s >= 600.0 {
+            TimeScale {
+                div: 60.0,
+                unit: "min",
+            }
+        } else {
+            TimeScale {
+                div: 1.0,
+                unit: "s",
+            }
+        }
+    }
+}
+
+/// A number formatted to about four significant digits, in scientific notation when tiny or
+/// huge.
+pub fn num(v: f64) -> String {
+    if !v.is_finite() {
+        return if v.is_nan() {
+            "—".into()
+        } else {
+            "∞".into()
+        };
+    }
+    let a = v.abs();
+    if a != 0.0 && !(1e-3..1e5).contains(&a) {
+        format!("{v:.3e}")
+    } else if a >= 100.0 {
+        format!("{v:.1}")
+    } else if a >= 1.0 {
+        format!("{v:.3}")
+    } else {
+        format!("{v:.4}")
+    }
+}
+
+/// An axis tick label: as many decimals as the tick step needs, scientific notation for
+/// tiny or huge steps (rates in °C/s² are of order 1e-5).
+pub fn tick(mark: egui_plot::GridMark, _range: &RangeInclusive<f64>) -> String {
+    let (v, step) = (mark.value, mark.step_size.abs());
+    if v == 0.0 {
+        return "0".into();
+    }
+    if step > 0.0 && !(1e-3..1e5).contains(&step) {
+        let e = step.log10().floor();
+        let mant_decimals = ((v.abs().log10().floor() - e).max(0.0) as usize).min(4);
+        return format!("{v:.mant_decimals$e}");
+    }
+    let decimals = if step > 0.0 {
+        (-step.log10().floor()).max(0.0) as usize
+    } else {
+        3
+    };
+    format!("{v:.decimals$}")
+}
+
+/// Grid steps of 1, 2 or 5 × 10^k giving about four labelled lines over the visible range
+/// (egui_plot's default powers of ten leave a short plot with a single label).
+pub fn nice_steps(input: egui_plot::GridInput) -> [f64; 3] {
+    nice_steps_n(input, 4.0)
+}
+
+/// [`nice_steps`] for a wide x-axis: about eight labelled lines.
+pub fn nice_steps_x(input: egui_plot::GridInput) -> [f64; 3] {
+    nice_steps_n(input, 8.0)
+}
+
+fn nice_steps_n(input: egui_plot::GridInput, labels: f64) -> [f64; 3] {
+    let span = (input.bounds.1 - input.bounds.0).abs();
+    let target = (span / labels)
+        .max(input.base_step_size)
+        .max(f64::MIN_POSITIVE);
+    let p = 10f64.powf(target.log10().floor());
+    let major = [1.0, 2.0, 5.0, 10.0]
+        .into_iter()
+        .map(|m| m * p)
+        .find(|&s| s >= target)
+        .unwrap_or(10.0 * p);
+    [major / 5.0, major, major * 5.0]
+}
+
+/// A ratio as shown in the figures ("4.72×").
+pub fn ratio(r: f64) -> String {
+    if r.is_finite() {
+        format!("{r:.2}×")
+    } else {
+        "∞".into()
+    }
+}
+
+/// Keeps egui's own id for a plot item stable when its name changes.
+pub fn item_id(salt: &str) -> egui::Id {
+    egui::Id::unique(("driftlab-item", salt))
+}

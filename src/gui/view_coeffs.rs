@@ -1,0 +1,427 @@
+//! K1± and K2±: the pointwise coefficients against dT/dt and d²T/dt² (+ and − in two colours,
+//! thinned for drawing), the excluded dead-band shaded, the fitted curves, the approximation
+//! of each of the four with its statistics, and spline/piecewise-linear knots that can be
+//! dragged by hand.
+
+use super::app::Action;
+use super::plot_items::{CloudItem, Palette, ShadeItem, ShadeSpan, num};
+use super::state::AppState;
+use crate::approx::{ApproxKind, ApproxSpec};
+use crate::session::Coefficient;
+use eframe::egui::{self, Color32, CursorIcon, RichText, Stroke, Ui, WidgetInfo};
+use egui_plot::{Line, MarkerShape, Plot, PlotBounds, PlotPoints, PlotTransform, Points};
+
+/// The name people read for an approximation kind.
+pub fn kind_name(k: ApproxKind) -> &'static str {
+    match k {
+        ApproxKind::Linear => "linear",
+        ApproxKind::Parabolic => "parabolic",
+        ApproxKind::Pwl => "piecewise-linear",
+        ApproxKind::Spline => "spline",
+    }
+}
+
+fn kind_tip(k: ApproxKind) -> &'static str {
+    match k {
+        ApproxKind::Linear => "c0 + c1·x",
+        ApproxKind::Parabolic => "c0 + c1·x + c2·x²",
+        ApproxKind::Pwl => "straight segments between equally spaced knots",
+        ApproxKind::Spline => "Catmull-Rom cubic spline through equally spaced knots",
+    }
+}
+
+/// Kind, knot count and "reset knots" for one coefficient; returns true when the hand-set
+/// knots are to be forgotten.
+pub fn approx_controls(
+    ui: &mut Ui,
+    id: &str,
+    label: &str,
+    spec: &mut ApproxSpec,
+    edited: bool,
+) -> bool {
+    let r = egui::ComboBox::from_id_salt(("approx_kind", id))
+        .selected_text(kind_name(spec.kind))
+        .width(118.0)
+        .show_ui(ui, |ui| {
+            for k in ApproxKind::ALL {
+                ui.selectable_value(&mut spec.kind, k, kind_name(k))
+                    .on_hover_text(kind_tip(k));
+            }
+        })
+        .response;
+    let text = format!("{label} approximation");
+    let value = kind_name(spec.kind).to_string();
+    r.widget_info(|| {
+        let mut info = WidgetInfo::labeled(egui::accesskit::Role::ComboBox, true, &text);
+        info.current_text_value = Some(value.clone());
+        info
+    });
+    r.on_hover_text(format!(
+        "Approximation of {label}: linear, parabolic, piecewise-linear or spline"
+    ));
+    if spec.kind.has_knots() {
+        ui.add(
+            egui::DragValue::new(&mut spec.knots)
+                .range(2..=24)
+                .suffix(" knots")
+                .speed(0.05),
+        )
+        .on_hover_text(format!(
+            "Number of equally spaced knots of {label} (2 to 24)"
+        ));
+    }
+    ui.checkbox(&mut spec.extrapolate, "extrap.")
+        .on_hover_text(format!(
+            "Evaluate {label} beyond the range it was fitted on, instead of holding its edge value"
+        ));
+    edited
+        && ui
+            .small_button("reset knots")
+            .on_hover_text(format!(
+                "Forget the knots of {label} moved by hand and use the fitted ones"
+            ))
+            .clicked()
+}
+
+/// Which pair a plot shows.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Pair {
+    /// K1+ and K1− against dT/dt.
+    K1,
+    /// K2+ and K2− against d²T/dt².
+    K2,
+}
+
+impl Pair {
+    fn coefs(self) -> [Coefficient; 2] {
+        match self {
+            Pair::K1 => [Coefficient::K1Plus, Coefficient::K1Minus],
+            Pair::K2 => [Coefficient::K2Plus, Coefficient::K2Minus],
+        }
+    }
+    fn scatter_index(self) -> usize {
+        match self {
+            Pair::K1 => 0,
+            Pair::K2 => 2,
+        }
+    }
+    fn id(self) -> &'static str {
+        match self {
+            Pair::K1 => "k1",
+            Pair::K2 => "k2",
+        }
+    }
+}
+
+/// View state of the K1 and K2 plots.
+#[derive(Default)]
+pub struct CoeffView {
+    drag: Option<(Coefficient, usize)>,
+    transforms: [Option<PlotTransform>; 2],
+    /// Whether the pointer was over each plot last frame (not covered by a window).
+    hovered: [bool; 2],
+}
+
+const KNOT_GRAB_PX: f32 = 9.0;
+
+impl CoeffView {
+    /// One pair's controls and plot.
+    pub fn ui(
+        &mut self,
+        ui: &mut Ui,
+        state: &mut AppState,
+        pair: Pair,
+        height: f32,
+        out: &mut Vec<Action>,
+    ) {
+        let pal = Palette::of(ui);
+        let slot = if pair == Pair::K1 { 0 } else { 1 };
+        let (title, x_label, y_label, tip) = match pair {
+            Pair::K1 => (
+                "K1±(dT/dt)",
+                "dT/dt, °C/s",
+                "K1, (°/h)/(°C/s)",
+                "Pointwise K1 = (Ω − K0(T)) / (dT/dt) on the + set (orange) and − set (blue), outside plateaus and the dead-band",
+            ),
+            Pair::K2 => (
+                "K2±(d²T/dt²)",
+                "d²T/dt², °C/s²",
+                "K2, (°/h)/(°C/s²)",
+                "Pointwise K2 = what K0 and the fitted K1 leave, over d²T/dt², on the + and − sets",
+            ),
+        };
+        let fit = state.fit.clone();
+        ui.horizontal(|ui| {
+            ui.strong(title).on_hover_text(tip);
+            ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
+                if ui
+                    .small_button("PNG")
+                    .on_hover_text("Save this plot as PNG")
+                    .clicked()
+                {
+                    out.push(Action::SavePlotNamed(pair.id().into()));
+                }
+            });
+        });
+        for (c, color) in pair.coefs().into_iter().zip([pal.plus, pal.minus]) {
+            ui.horizontal(|ui| {
+                ui.label(RichText::new(c.label()).color(color).strong())
+                    .on_hover_text(if matches!(c, Coefficient::K1Plus | Coefficient::K2Plus) {
+                        "+ set: thermal acceleration, dT/dt·d²T/dt² > 0"
+                    } else {
+                        "− set: thermal deceleration, dT/dt·d²T/dt² < 0"
+                    });
+                let edited = state.choices.knots.get(c).is_some();
+                let mut spec = *c.spec(&state.choices.recipe);
+                let reset = approx_controls(ui, c.key(), c.label(), &mut spec, edited);
+                if spec != *c.spec(&state.choices.recipe) {
+                    *c.spec_mut(&mut state.choices.recipe) = spec;
+                    state.choices.knots.retain_matching(&state.choices.recipe);
+                }
+                if reset {
+                    state.choices.knots.set(c, None);
+                }
+                if let Some(f) = &fit {
+                    let s = c.approx(&f.outcome.calibration).stats();
+                    ui.weak(format!("n {} · R² {:.3}", s.n, s.r2))
+                        .on_hover_text(format!(
+                            "{} points fitted; RMSE {} ; R² {:.4}{}",
+                            s.n,
+                            num(s.rmse),
+                            s.r2,
+                            if edited { "; knots set by hand" } else { "" }
+                        ));
+                }
+            });
+        }
+
+        self.edit_knots(ui, state, slot, pair);
+
+        let knots = state.choices.knots.clone();
+        let dragging = self.drag.is_some();
+        let resp = ui.scope(|ui| {
+            Plot::new(("coeff_plot", pair.id()))
+                .height(height)
+                .x_axis_label(x_label)
+                .y_axis_label(y_label)
+                .y_axis_min_width(60.0)
+                .x_axis_formatter(super::plot_items::tick)
+                .y_axis_formatter(super::plot_items::tick)
+                .x_grid_spacer(egui_plot::uniform_grid_spacer(
+                    super::plot_items::nice_steps,
+                ))
+                .y_grid_spacer(egui_plot::uniform_grid_spacer(
+                    super::plot_items::nice_steps,
+                ))
+                .allow_drag(!dragging)
+                .allow_boxed_zoom(!dragging)
+                .show(ui, |pui| {
+                    let Some(f) = &fit else {
+                        return;
+                    };
+                    let cal = &f.outcome.calibration;
+                    let db = match pair {
+                        Pair::K1 => cal.resolved.deadband_tdot,
+                        Pair::K2 => cal.resolved.deadband_tddot,
+                    };
+                    pui.add(ShadeItem::new(
+                        "dead-band",
+                        vec![ShadeSpan {
+                            x0: -db,
+                            x1: db,
+                            fill: Palette::shade(pal.deadband, 0.35),
+                            edge: Stroke::new(1.0, Palette::shade(pal.deadband, 0.8)),
+                        }],
+                    ));
+                    let rect = pui.response().rect;
+                    let b = pui.plot_bounds();
+                    for (k, (c, color)) in pair
+                        .coefs()
+                        .into_iter()
+                        .zip([pal.plus, pal.minus])
+                        .enumerate()
+                    {
+                        let lod = &f.lods.scatter[pair.scatter_index() + k];
+                        if lod.is_empty() {
+                            continue;
+                        }
+                        let lb = lod.bounds();
+                        let ry = lod.robust_y();
+                        let pad = 0.1 * (ry[1] - ry[0]).abs().max(1e-12);
+                        let view = if b.is_valid() && b.width() > 0.0 && b.height() > 0.0 {
+                            [b.min()[0], b.max()[0], b.min()[1], b.max()[1]]
+                        } else {
+                            [lb[0], lb[1], ry[0] - pad, ry[1] + pad]
+                        };
+                        let pts = lod.visible(view, [rect.width(), rect.height()], 2.5, 4000);
+                        let bounds =
+                            PlotBounds::from_min_max([lb[0], ry[0] - pad], [lb[1], ry[1] + pad]);
+                        pui.add(
+                            CloudItem::new(&format!("{} points", c.label()), pts, bounds)
+                                .color(Palette::shade(color, 0.55)),
+                        );
+                    }
+                    for (c, color) in pair.coefs().into_iter().zip([pal.plus, pal.minus]) {
+                        let a = crate::live::with_knots(c.approx(cal), knots.get(c));
+                        let (lo, hi) = (a.x_min(), a.x_max());
+                        if hi > lo {
+                            let curve: Vec<[f64; 2]> = (0..=200)
+                                .map(|j| {
+                                    let x = lo + (hi - lo) * j as f64 / 200.0;
+                                    [x, a.eval(x)]
+                                })
+                                .collect();
+                            pui.line(
+                                Line::new(format!("{} fit", c.label()), PlotPoints::new(curve))
+                                    .color(darker(color))
+                                    .width(2.5),
+                            );
+                        }
+                        let (kx, ky) = a.knots();
+                        if !kx.is_empty() {
+                            let edited = knots.get(c).is_some();
+                            let pts: Vec<[f64; 2]> =
+                                kx.iter().zip(ky).map(|(&x, &y)| [x, y]).collect();
+                            pui.points(
+                                Points::new(format!("{} knots", c.label()), PlotPoints::new(pts))
+                                    .shape(if edited {
+                                        MarkerShape::Diamond
+                                    } else {
+                                        MarkerShape::Circle
+                                    })
+                                    .radius(5.5)
+                                    .filled(true)
+                                    .color(darker(color)),
+                            );
+                        }
+                    }
+                })
+        });
+        let tf = resp.inner.transform;
+        self.transforms[slot] = Some(tf);
+        self.hovered[slot] = resp.inner.response.hovered();
+        resp.inner.response.context_menu(|ui| {
+            if ui
+                .button("Save this plot as PNG…")
+                .on_hover_text("Write this plot alone as a PNG picture")
+                .clicked()
+            {
+                out.push(Action::SavePlotNamed(pair.id().into()));
+                ui.close();
+            }
+        });
+        out.push(Action::PlotRect(pair.id().into(), resp.response.rect));
+        if let Some(p) = ui.input(|i| i.pointer.hover_pos())
+            && tf.frame().contains(p)
+            && (self.drag.is_some() || self.knot_at(state, pair, &tf, p).is_some())
+        {
+            ui.ctx().set_cursor_icon(CursorIcon::ResizeVertical);
+        }
+        if dragging {
+            ui.ctx().request_repaint();
+        }
+    }
+
+    /// Where knot `j` of `c` is on screen (as drawn last frame).
+    pub fn knot_pos(&self, state: &AppState, c: Coefficient, j: usize) -> Option<egui::Pos2> {
+        let slot = match c {
+            Coefficient::K1Plus | Coefficient::K1Minus => 0,
+            Coefficient::K2Plus | Coefficient::K2Minus => 1,
+            Coefficient::K0 => return None,
+        };
+        let tf = self.transforms[slot]?;
+        let f = state.fit.as_ref()?;
+        let a =
+            crate::live::with_knots(c.approx(&f.outcome.calibration), state.choices.knots.get(c));
+        let (kx, ky) = a.knots();
+        Some(tf.position_from_point(&egui_plot::PlotPoint::new(*kx.get(j)?, *ky.get(j)?)))
+    }
+
+    /// The value (y) at a screen position of a K1 (`slot` 0) or K2 (1) plot.
+    pub fn value_at(&self, slot: usize, p: egui::Pos2) -> Option<f64> {
+        Some(
+            self.transforms
+                .get(slot)?
+                .as_ref()?
+                .value_from_position(p)
+                .y,
+        )
+    }
+
+    fn knot_at(
+        &self,
+        state: &AppState,
+        pair: Pair,
+        tf: &PlotTransform,
+        p: egui::Pos2,
+    ) -> Option<(Coefficient, usize)> {
+        let f = state.fit.as_ref()?;
+        let mut best: Option<(f32, Coefficient, usize)> = None;
+        for c in pair.coefs() {
+            let a = crate::live::with_knots(
+                c.approx(&f.outcome.calibration),
+                state.choices.knots.get(c),
+            );
+            let (kx, ky) = a.knots();
+            for (j, (&x, &y)) in kx.iter().zip(ky).enumerate() {
+                let q = tf.position_from_point(&egui_plot::PlotPoint::new(x, y));
+                let d = q.distance(p);
+                if d <= KNOT_GRAB_PX && best.is_none_or(|b| d < b.0) {
+                    best = Some((d, c, j));
+                }
+            }
+        }
+        best.map(|(_, c, j)| (c, j))
+    }
+
+    fn edit_knots(&mut self, ui: &Ui, state: &mut AppState, slot: usize, pair: Pair) {
+        let Some(tf) = self.transforms[slot] else {
+            return;
+        };
+        let (pressed, down, pos) = ui.input(|i| {
+            (
+                i.pointer.primary_pressed(),
+                i.pointer.primary_down(),
+                i.pointer.interact_pos(),
+            )
+        });
+        if pressed
+            && self.drag.is_none()
+            && self.hovered[slot]
+            && let Some(p) = pos
+            && tf.frame().contains(p)
+        {
+            self.drag = self.knot_at(state, pair, &tf, p);
+        }
+        let Some((c, j)) = self.drag else {
+            return;
+        };
+        if !pair.coefs().contains(&c) {
+            return;
+        }
+        if let (Some(p), Some(f)) = (pos, state.fit.clone()) {
+            let y = tf.value_from_position(p).y;
+            let a = crate::live::with_knots(
+                c.approx(&f.outcome.calibration),
+                state.choices.knots.get(c),
+            );
+            let mut values = a.knots().1.to_vec();
+            if j < values.len() && y.is_finite() {
+                values[j] = y;
+                state.choices.knots.set(c, Some(values));
+            }
+        }
+        if !down {
+            self.drag = None;
+        }
+    }
+}
+
+fn darker(c: Color32) -> Color32 {
+    let [r, g, b, _] = c.to_array();
+    Color32::from_rgb(
+        (r as f32 * 0.8) as u8,
+        (g as f32 * 0.8) as u8,
+        (b as f32 * 0.8) as u8,
+    )
+}

@@ -1,0 +1,398 @@
+//! The import view: what the reader would make of a file (its first rows, the column each
+//! role would take, the units), and the controls to correct the mapping, units, separator and
+//! decimal comma before the (possibly long) read starts.
+
+use super::jobs::Target;
+use crate::ingest::{self, ColumnRef, Preview, RateUnit, ReadOptions, TimeUnit};
+use crate::log::ColumnRole;
+use eframe::egui::{self, Color32, ComboBox, Grid, RichText, ScrollArea, Ui};
+use std::path::PathBuf;
+
+/// What the engineer decided in the import view.
+#[derive(Debug, Clone, PartialEq)]
+pub enum ImportDecision {
+    /// Read the file with these options.
+    Load(PathBuf, ReadOptions, Target),
+    /// Do not read it.
+    Cancel,
+}
+
+/// The import view's state.
+pub struct ImportView {
+    /// The file.
+    pub path: PathBuf,
+    /// Which slot it goes into.
+    pub target: Target,
+    /// The options being edited.
+    pub read: ReadOptions,
+    preview: Result<Preview, String>,
+    previewed: ReadOptions,
+}
+
+const PREVIEW_ROWS: usize = 25;
+
+impl ImportView {
+    /// Opens the view on `path` with starting options.
+    pub fn new(path: PathBuf, target: Target, read: ReadOptions) -> ImportView {
+        let preview = ingest::preview(&path, &read, PREVIEW_ROWS).map_err(|e| e.to_string());
+        ImportView {
+            path,
+            target,
+            previewed: read.clone(),
+            read,
+            preview,
+        }
+    }
+
+    /// The preview as it stands (for tests).
+    pub fn preview(&self) -> Result<&Preview, &str> {
+        self.preview.as_ref().map_err(String::as_str)
+    }
+
+    /// Shows the view as a modal window; returns the decision once made.
+    pub fn show(&mut self, ctx: &egui::Context) -> Option<ImportDecision> {
+        let mut decision = None;
+        let modal = egui::Modal::new(egui::Id::unique("import_view")).show(ctx, |ui| {
+            ui.set_width((ctx.content_rect().width() * 0.8).clamp(480.0, 1200.0));
+            decision = self.contents(ui);
+        });
+        if modal.should_close() && decision.is_none() {
+            decision = Some(ImportDecision::Cancel);
+        }
+        if self.read != self.previewed {
+            self.preview =
+                ingest::preview(&self.path, &self.read, PREVIEW_ROWS).map_err(|e| e.to_string());
+            self.previewed = self.read.clone();
+        }
+        decision
+    }
+
+    fn contents(&mut self, ui: &mut Ui) -> Option<ImportDecision> {
+        let name = self
+            .path
+            .file_name()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        ui.heading(match self.target {
+            Target::Calibration => format!("Import {name}"),
+            Target::Validation => format!("Import {name} as the validation log"),
+        });
+        ui.weak(self.path.display().to_string());
+        ui.add_space(4.0);
+        let detected = self.preview.as_ref().ok().cloned();
+        self.dialect_controls(ui, detected.as_ref());
+        self.column_controls(ui, detected.as_ref());
+        ui.add_space(4.0);
+        let mut ok = false;
+        match &self.preview {
+            Err(e) => {
+                ui.colored_label(ui.visuals().error_fg_color, e.as_str());
+            }
+            Ok(p) => {
+                if let Some(e) = &p.mapping_error {
+                    ui.colored_label(
+                        ui.visuals().error_fg_color,
+                        format!("Cannot map the columns: {e}"),
+                    );
+                } else {
+                    ok = true;
+                    let role_of = |r: ColumnRole| p.columns.iter().find(|c| c.role == r);
+                    let describe = |r: ColumnRole, what: &str| match role_of(r) {
+                        Some(c) => format!(
+                            "{what}: column {} \"{}\"{}",
+                            c.index,
+                            c.name,
+                            if c.unit.is_empty() {
+                                String::new()
+                            } else {
+                                format!(" [{}]", c.unit)
+                            }
+                        ),
+                        None => format!("{what}: —"),
+                    };
+                    ui.label(format!(
+                        "{} · {} · {}{}",
+                        describe(ColumnRole::Time, "time"),
+                        describe(ColumnRole::Rate, "rate"),
+                        describe(ColumnRole::Temperature, "temperature"),
+                        if p.time_from_sample_rate {
+                            " · time from the sample rate"
+                        } else {
+                            ""
+                        }
+                    ));
+                }
+                preview_table(ui, p);
+            }
+        }
+        ui.separator();
+        let mut decision = None;
+        ui.horizontal(|ui| {
+            if ui
+                .add_enabled(ok, egui::Button::new(RichText::new("Load").strong()))
+                .on_hover_text("Read the whole file with these settings (on a background thread; it can be cancelled)")
+                .clicked()
+            {
+                decision = Some(ImportDecision::Load(self.path.clone(), self.read.clone(), self.target));
+            }
+            if ui.button("Cancel").on_hover_text("Close without reading; the current work stays as it is").clicked() {
+                decision = Some(ImportDecision::Cancel);
+            }
+            if ui
+                .button("Reset")
+                .on_hover_text("Back to what the reader guesses from the file")
+                .clicked()
+            {
+                self.read = ReadOptions::default();
+            }
+        });
+        if ui.input(|i| i.key_pressed(egui::Key::Enter))
+            && ok
+            && !ui.ctx().egui_wants_keyboard_input()
+        {
+            decision = Some(ImportDecision::Load(
+                self.path.clone(),
+                self.read.clone(),
+                self.target,
+            ));
+        }
+        decision
+    }
+
+    fn dialect_controls(&mut self, ui: &mut Ui, p: Option<&Preview>) {
+        ui.horizontal_wrapped(|ui| {
+            let sep_name = |d: u8| match d {
+                b',' => "comma".to_string(),
+                b';' => "semicolon".to_string(),
+                b'\t' => "tab".to_string(),
+                b' ' => "spaces".to_string(),
+                c => format!("'{}'", c as char),
+            };
+            let detected = p.map(|p| sep_name(p.delimiter as u8)).unwrap_or_default();
+            ui.label("Separator");
+            ComboBox::from_id_salt("imp_sep")
+                .selected_text(match self.read.delimiter {
+                    None => format!("auto ({detected})"),
+                    Some(d) => sep_name(d),
+                })
+                .show_ui(ui, |ui| {
+                    ui.selectable_value(
+                        &mut self.read.delimiter,
+                        None,
+                        format!("auto ({detected})"),
+                    );
+                    for d in [b',', b';', b'\t', b' '] {
+                        ui.selectable_value(&mut self.read.delimiter, Some(d), sep_name(d));
+                    }
+                })
+                .response
+                .on_hover_text("Field separator; 'spaces' means runs of blanks (aligned columns)");
+            ui.label("Decimal");
+            let dc = p
+                .map(|p| if p.decimal_comma { "comma" } else { "point" })
+                .unwrap_or("");
+            ComboBox::from_id_salt("imp_dec")
+                .selected_text(match self.read.decimal_comma {
+                    None => format!("auto ({dc})"),
+                    Some(true) => "comma (1,5)".into(),
+                    Some(false) => "point (1.5)".into(),
+                })
+                .show_ui(ui, |ui| {
+                    ui.selectable_value(&mut self.read.decimal_comma, None, format!("auto ({dc})"));
+                    ui.selectable_value(&mut self.read.decimal_comma, Some(false), "point (1.5)");
+                    ui.selectable_value(&mut self.read.decimal_comma, Some(true), "comma (1,5)");
+                })
+                .response
+                .on_hover_text("Whether numbers are written with a decimal comma");
+            ui.label("Header");
+            let hh = p
+                .map(|p| if p.has_header { "yes" } else { "no" })
+                .unwrap_or("");
+            ComboBox::from_id_salt("imp_head")
+                .selected_text(match self.read.has_header {
+                    None => format!("auto ({hh})"),
+                    Some(true) => "yes".into(),
+                    Some(false) => "no".into(),
+                })
+                .show_ui(ui, |ui| {
+                    ui.selectable_value(&mut self.read.has_header, None, format!("auto ({hh})"));
+                    ui.selectable_value(&mut self.read.has_header, Some(true), "yes");
+                    ui.selectable_value(&mut self.read.has_header, Some(false), "no");
+                })
+                .response
+                .on_hover_text("Whether the first non-comment line names the columns");
+        });
+    }
+
+    fn column_controls(&mut self, ui: &mut Ui, p: Option<&Preview>) {
+        let names: Vec<String> = p.map(|p| p.names.clone()).unwrap_or_default();
+        let found = |r: ColumnRole| {
+            p.and_then(|p| p.columns.iter().find(|c| c.role == r))
+                .map(|c| format!("{}: {}", c.index, c.name))
+                .unwrap_or_else(|| "none".into())
+        };
+        ui.horizontal_wrapped(|ui| {
+            for (label, id, slot, role, tip) in [
+                (
+                    "Time",
+                    "imp_time",
+                    &mut self.read.time_col,
+                    ColumnRole::Time,
+                    "The time column (auto: found by name)",
+                ),
+                (
+                    "Rate",
+                    "imp_rate",
+                    &mut self.read.rate_col,
+                    ColumnRole::Rate,
+                    "The gyro rate column",
+                ),
+                (
+                    "Temperature",
+                    "imp_temp",
+                    &mut self.read.temp_col,
+                    ColumnRole::Temperature,
+                    "The calibration temperature (coil or frame sensor)",
+                ),
+            ] {
+                ui.label(label);
+                let shown = match slot {
+                    None => format!("auto ({})", found(role)),
+                    Some(ColumnRef::Index(i)) => format!(
+                        "{i}: {}",
+                        names.get(i.wrapping_sub(1)).cloned().unwrap_or_default()
+                    ),
+                    Some(ColumnRef::Name(n)) => n.clone(),
+                };
+                ComboBox::from_id_salt(id)
+                    .selected_text(shown)
+                    .show_ui(ui, |ui| {
+                        ui.selectable_value(slot, None, format!("auto ({})", found(role)));
+                        for (i, n) in names.iter().enumerate() {
+                            ui.selectable_value(
+                                slot,
+                                Some(ColumnRef::Index(i + 1)),
+                                format!("{}: {n}", i + 1),
+                            );
+                        }
+                    })
+                    .response
+                    .on_hover_text(tip);
+            }
+        });
+        ui.horizontal_wrapped(|ui| {
+            let unit_of = |r: ColumnRole| {
+                p.and_then(|p| p.columns.iter().find(|c| c.role == r))
+                    .map(|c| if c.unit.is_empty() { "default".to_string() } else { c.unit.clone() })
+                    .unwrap_or_default()
+            };
+            ui.label("Rate unit");
+            let ru = unit_of(ColumnRole::Rate);
+            ComboBox::from_id_salt("imp_ru")
+                .selected_text(match self.read.rate_unit {
+                    None => format!("auto ({ru})"),
+                    Some(u) => u.to_string(),
+                })
+                .show_ui(ui, |ui| {
+                    ui.selectable_value(&mut self.read.rate_unit, None, format!("auto ({ru})"));
+                    for u in [RateUnit::DegPerHour, RateUnit::DegPerSec, RateUnit::RadPerSec] {
+                        ui.selectable_value(&mut self.read.rate_unit, Some(u), u.to_string());
+                    }
+                })
+                .response
+                .on_hover_text("Unit of the rate column (auto: from the header, else °/h); converted to °/h");
+            ui.label("Time unit");
+            let tu = unit_of(ColumnRole::Time);
+            ComboBox::from_id_salt("imp_tu")
+                .selected_text(match self.read.time_unit {
+                    None => format!("auto ({tu})"),
+                    Some(u) => u.to_string(),
+                })
+                .show_ui(ui, |ui| {
+                    ui.selectable_value(&mut self.read.time_unit, None, format!("auto ({tu})"));
+                    for u in [
+                        TimeUnit::Seconds,
+                        TimeUnit::Millis,
+                        TimeUnit::Minutes,
+                        TimeUnit::Hours,
+                        TimeUnit::Samples,
+                    ] {
+                        ui.selectable_value(&mut self.read.time_unit, Some(u), u.to_string());
+                    }
+                })
+                .response
+                .on_hover_text("Unit of the time column (auto: from the header, else s); 'samples' needs a sample rate");
+            let mut has_rate = self.read.sample_rate_hz.is_some();
+            if ui
+                .checkbox(&mut has_rate, "Sample rate")
+                .on_hover_text("Needed when time is a sample counter or the file has no time column")
+                .changed()
+            {
+                self.read.sample_rate_hz = has_rate.then_some(1.0);
+            }
+            if let Some(hz) = &mut self.read.sample_rate_hz {
+                ui.add(egui::DragValue::new(hz).range(1e-6..=1e6).speed(0.1).suffix(" Hz"))
+                    .on_hover_text("Samples per second");
+            }
+        });
+    }
+}
+
+fn role_color(ui: &Ui, r: ColumnRole) -> Color32 {
+    match r {
+        ColumnRole::Time => ui.visuals().hyperlink_color,
+        ColumnRole::Rate => Color32::from_rgb(220, 120, 0),
+        ColumnRole::Temperature => Color32::from_rgb(200, 50, 40),
+        ColumnRole::Extra => ui.visuals().text_color(),
+        ColumnRole::Ignored => ui.visuals().weak_text_color(),
+    }
+}
+
+fn preview_table(ui: &mut Ui, p: &Preview) {
+    ScrollArea::both()
+        .max_height(320.0)
+        .auto_shrink([false, true])
+        .show(ui, |ui| {
+            Grid::new("import_preview")
+                .striped(true)
+                .spacing([12.0, 2.0])
+                .show(ui, |ui| {
+                    // Column names and cells on one line each: the grid widens, the view scrolls.
+                    ui.style_mut().wrap_mode = Some(egui::TextWrapMode::Extend);
+                    ui.label(RichText::new("line").weak());
+                    for (i, n) in p.names.iter().enumerate() {
+                        let info = p.columns.iter().find(|c| c.index == i + 1);
+                        let (role, unit) = info.map_or((ColumnRole::Ignored, String::new()), |c| {
+                            (c.role, c.unit.clone())
+                        });
+                        let role_name = match role {
+                            ColumnRole::Time => "time",
+                            ColumnRole::Rate => "rate",
+                            ColumnRole::Temperature => "temperature",
+                            ColumnRole::Extra => "kept",
+                            ColumnRole::Ignored => "ignored",
+                        };
+                        ui.vertical(|ui| {
+                            ui.label(RichText::new(n).strong());
+                            ui.label(
+                                RichText::new(if unit.is_empty() {
+                                    role_name.to_string()
+                                } else {
+                                    format!("{role_name} [{unit}]")
+                                })
+                                .small()
+                                .color(role_color(ui, role)),
+                            );
+                        });
+                    }
+                    ui.end_row();
+                    for (row, line) in p.rows.iter().zip(&p.row_lines) {
+                        ui.label(RichText::new(line.to_string()).weak().monospace());
+                        for cell in row {
+                            ui.monospace(cell);
+                        }
+                        ui.end_row();
+                    }
+                });
+        });
+}

@@ -1,0 +1,188 @@
+//! The workbench session file: a session reopens exactly as it was left (log, mapping,
+//! plateaus, every choice, knots moved by hand), and a malformed file is refused with a
+//! message that says where.
+
+use driftlab::approx::{ApproxKind, ApproxSpec};
+use driftlab::ingest::{ColumnRef, ReadOptions};
+use driftlab::live::{Pipeline, Request};
+use driftlab::plateau::PlateauRange;
+use driftlab::recipe::{PlateauChoice, Recipe};
+use driftlab::session::{self, Coefficient, KnotEdits, LogRef, Session, ViewState};
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+fn sample(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("sample_logs")
+        .join(name)
+}
+
+fn a_session(log: PathBuf) -> Session {
+    let mut recipe = Recipe {
+        gyro_id: "FOG-0007".into(),
+        filter_s: 120.0,
+        plateaus: PlateauChoice::Manual {
+            ranges: vec![
+                PlateauRange {
+                    start_s: 3700.0,
+                    end_s: 7200.0,
+                },
+                PlateauRange {
+                    start_s: 14400.0,
+                    end_s: 16800.0,
+                },
+                PlateauRange {
+                    start_s: 28200.0,
+                    end_s: 30600.0,
+                },
+            ],
+        },
+        ..Recipe::default()
+    };
+    recipe.k1_plus = ApproxSpec {
+        kind: ApproxKind::Spline,
+        knots: 5,
+        extrapolate: false,
+    };
+    Session {
+        log: Some(LogRef {
+            path: log,
+            read: ReadOptions {
+                delimiter: Some(b','),
+                rate_col: Some(ColumnRef::Name("omega_dph".into())),
+                ..ReadOptions::default()
+            },
+        }),
+        validation: Some(LogRef {
+            path: sample("validation.csv"),
+            read: ReadOptions::default(),
+        }),
+        recipe,
+        knots: KnotEdits {
+            k1_plus: Some(vec![30.0, 35.0, 40.0, 45.0, 50.0]),
+            ..KnotEdits::default()
+        },
+        merit: Default::default(),
+        view: ViewState {
+            time_range_s: Some([1000.0, 20000.0]),
+            show_validation: true,
+        },
+    }
+}
+
+#[test]
+fn a_saved_session_loads_back_equal() {
+    let dir = tempfile::tempdir().unwrap();
+    let s = a_session(sample("calibration.csv"));
+    let path = dir.path().join("run7.session.json");
+    session::save(&path, &s).unwrap();
+    let back = session::load(&path).unwrap();
+    assert_eq!(back, s);
+    // It says what it is.
+    let text = std::fs::read_to_string(&path).unwrap();
+    assert!(text.contains("\"format\": \"driftlab-session\""));
+    assert!(text.contains("\"version\": 1"));
+}
+
+#[test]
+fn logs_beside_the_session_are_stored_relative_to_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let log = dir.path().join("logs").join("run7.csv");
+    std::fs::create_dir_all(log.parent().unwrap()).unwrap();
+    std::fs::copy(sample("calibration.csv"), &log).unwrap();
+    let path = dir.path().join("s.json");
+    session::save(&path, &a_session(log.clone())).unwrap();
+    let text = std::fs::read_to_string(&path).unwrap();
+    assert!(text.contains("\"path\": \"logs/run7.csv\""), "{text}");
+    // The folder moves as a whole: the session still finds its log.
+    let moved = tempfile::tempdir().unwrap();
+    std::fs::create_dir_all(moved.path().join("logs")).unwrap();
+    std::fs::copy(&log, moved.path().join("logs/run7.csv")).unwrap();
+    std::fs::copy(&path, moved.path().join("s.json")).unwrap();
+    let back = session::load(&moved.path().join("s.json")).unwrap();
+    assert_eq!(back.log.unwrap().path, moved.path().join("logs/run7.csv"));
+    // A log elsewhere keeps its absolute path.
+    assert!(text.contains(&sample("validation.csv").display().to_string()));
+}
+
+#[test]
+fn a_reopened_session_gives_the_same_calibration() {
+    let dir = tempfile::tempdir().unwrap();
+    let s = a_session(sample("calibration.csv"));
+    let path = dir.path().join("s.json");
+    session::save(&path, &s).unwrap();
+    let run = |s: &Session| {
+        let l = s.log.as_ref().unwrap();
+        let log = Arc::new(driftlab::ingest::read_path(&l.path, &l.read).unwrap());
+        let mut p = Pipeline::new();
+        p.run(&Request {
+            log,
+            recipe: s.recipe.clone(),
+            knots: s.knots.clone(),
+            merit: s.merit,
+            validation: None,
+        })
+        .unwrap()
+        .calibration
+    };
+    let before = run(&s);
+    let after = run(&session::load(&path).unwrap());
+    assert_eq!(after.k0, before.k0);
+    assert_eq!(after.k1_plus, before.k1_plus);
+    assert_eq!(after.k2_plus, before.k2_plus);
+    assert_eq!(after.plateaus, before.plateaus);
+    // The knots moved by hand are the curve's knots.
+    assert_eq!(after.k1_plus.knots().1, &[30.0, 35.0, 40.0, 45.0, 50.0][..]);
+}
+
+fn refused(text: &str) -> String {
+    match session::from_json(Path::new("bad.json"), text) {
+        Ok(_) => panic!("accepted: {text}"),
+        Err(e) => e.to_string(),
+    }
+}
+
+#[test]
+fn malformed_sessions_are_refused_with_a_reason() {
+    let good = session::to_json(&a_session(sample("calibration.csv")));
+    assert!(refused("{}").contains("no \"format\""));
+    assert!(
+        refused(r#"{"format": "driftlab-calibration", "version": 1}"#)
+            .contains("expected \"driftlab-session\"")
+    );
+    assert!(refused(&good.replace("\"version\": 1", "\"version\": 9")).contains("version 9"));
+    let unknown = good.replacen("\"recipe\": {", "\"recipe\": { \"colour\": \"red\",", 1);
+    assert!(
+        refused(&unknown).contains("colour"),
+        "{}",
+        refused(&unknown)
+    );
+    let bad_filter = good.replace("\"filter_s\": 120.0", "\"filter_s\": -1.0");
+    assert!(refused(&bad_filter).contains("filter_s"));
+    let truncated = &good[..good.len() / 2];
+    assert!(refused(truncated).contains("bad.json"));
+}
+
+#[test]
+fn knot_edits_are_dropped_when_the_curve_changes() {
+    let mut recipe = Recipe {
+        k1_plus: ApproxSpec {
+            kind: ApproxKind::Pwl,
+            knots: 4,
+            extrapolate: false,
+        },
+        ..Recipe::default()
+    };
+    let mut k = KnotEdits::default();
+    k.set(Coefficient::K1Plus, Some(vec![1.0; 4]));
+    k.set(Coefficient::K2Minus, Some(vec![1.0; 4]));
+    k.retain_matching(&recipe);
+    assert!(k.get(Coefficient::K1Plus).is_some());
+    assert!(
+        k.get(Coefficient::K2Minus).is_none(),
+        "K2− is linear: no knots to set"
+    );
+    recipe.k1_plus.knots = 6;
+    k.retain_matching(&recipe);
+    assert!(k.is_empty());
+}
