@@ -48,9 +48,18 @@ pub fn moving_average_valid(x: &[f64], window: usize) -> Vec<f64> {
     if n < window {
         return Vec::new();
     }
-    let back = (window - 1) / 2;
-    let full = moving_average_centered(x, window);
-    full[back..n - window / 2].to_vec()
+    // One running sum over the full windows only, relative to the first value so the sum stays
+    // small on long logs.
+    let origin = x[0];
+    let w = window as f64;
+    let mut s: f64 = x[..window].iter().map(|v| v - origin).sum();
+    let mut out = Vec::with_capacity(n - window + 1);
+    out.push(origin + s / w);
+    for i in window..n {
+        s += (x[i] - origin) - (x[i - window] - origin);
+        out.push(origin + s / w);
+    }
+    out
 }
 
 /// Causal moving average: sample `i` averages the last `window` samples up to and including

@@ -236,3 +236,56 @@ fn stored_curves_are_validated_on_load() {
     let round: Approx = serde_json::from_str(&serde_json::to_string(&a).unwrap()).unwrap();
     assert_eq!(round, a);
 }
+
+#[test]
+fn evaluation_equals_the_crate_on_equal_and_unequal_knots() {
+    for kx in [
+        vec![-0.02, -0.01, 0.0, 0.01, 0.02, 0.03],
+        vec![0.0, 0.4, 1.1, 1.5, 3.0, 3.2],
+    ] {
+        let ky = [2.0, -1.0, 0.3, 4.0, 1.0, -0.5];
+        let a = Approx::new(
+            ApproxKind::Spline,
+            Curve::CatmullRom {
+                knots_x: kx.clone(),
+                knots_y: ky.to_vec(),
+            },
+            kx[0],
+            kx[5],
+            false,
+            Default::default(),
+        )
+        .unwrap();
+        let s = crate_catmull_rom(&kx, &ky);
+        let lin = Spline::from_vec(
+            kx.iter()
+                .zip(&ky)
+                .map(|(&x, &y)| Key::new(x, y, Interpolation::Linear))
+                .collect(),
+        );
+        let p = Approx::new(
+            ApproxKind::Pwl,
+            Curve::Pwl {
+                knots_x: kx.clone(),
+                knots_y: ky.to_vec(),
+            },
+            kx[0],
+            kx[5],
+            false,
+            Default::default(),
+        )
+        .unwrap();
+        for x in grid(kx[0], kx[5] - 1e-9, 1999) {
+            let scale = 1.0 + s.sample(x).unwrap().abs();
+            assert!(
+                (a.eval(x) - s.sample(x).unwrap()).abs() < 1e-12 * scale,
+                "spline at {x}"
+            );
+            assert!(
+                (p.eval(x) - lin.sample(x).unwrap()).abs() < 1e-12 * scale,
+                "pwl at {x}"
+            );
+        }
+        assert_eq!(a.eval(kx[5]), ky[5]);
+    }
+}
