@@ -20,10 +20,22 @@ pub struct Correction {
     pub cor_dph: Vec<f64>,
     /// Regime of each sample.
     pub regime: Vec<Regime>,
-    /// The derivatives the prediction used.
-    pub deriv: Derivatives,
     /// Share of samples whose T, Ṫ or T̈ lay outside the calibrated ranges (edge values held).
     pub outside_fraction: f64,
+    /// Samples outside the calibrated ranges, by regime (static, +, −), so that a partial
+    /// re-correction of one regime can keep the others' counts.
+    pub outside_by_regime: [usize; 3],
+    /// First sample with full derivative history (figures of merit start there).
+    pub ready_from: usize,
+}
+
+impl Correction {
+    /// Recomputes `outside_fraction` from the per-regime counts.
+    pub fn update_outside_fraction(&mut self) {
+        let n = self.pred_dph.len();
+        let total: usize = self.outside_by_regime.iter().sum();
+        self.outside_fraction = if n > 0 { total as f64 / n as f64 } else { 0.0 };
+    }
 }
 
 impl Calibration {
@@ -32,58 +44,61 @@ impl Calibration {
         self.resolved.steps_for(dt_s)
     }
 
+    /// The smoothed temperature and its rates on `log`, as this calibration computes them.
+    pub fn derivatives(&self, log: &Log) -> Derivatives {
+        let dt = log.nominal_dt_s();
+        signal::derivatives(&log.temp_c, self.steps_for(dt), dt)
+    }
+
     /// Corrects a whole log.
     pub fn correct(&self, log: &Log) -> Correction {
-        let dt = log.nominal_dt_s();
-        let deriv = signal::derivatives(&log.temp_c, self.steps_for(dt), dt);
-        self.correct_with(log, deriv)
+        self.correct_with(log, &self.derivatives(log))
     }
 
     /// Corrects a log whose derivatives are already known (the workbench keeps them while only
     /// approximations change). Runs in parallel over chunks of the log.
-    pub fn correct_with(&self, log: &Log, deriv: Derivatives) -> Correction {
-        let n = log.len();
+    pub fn correct_with(&self, log: &Log, deriv: &Derivatives) -> Correction {
+        let n = log.len().min(deriv.tdot.len()).min(deriv.tddot.len());
         let mut pred_dph = vec![0.0; n];
         let mut regime = vec![Regime::Static; n];
         const CHUNK: usize = 1 << 15;
-        let outside: usize = pred_dph
+        let outside_by_regime = pred_dph
             .par_chunks_mut(CHUNK)
             .zip(regime.par_chunks_mut(CHUNK))
             .enumerate()
             .map(|(c, (p, r))| {
                 let base = c * CHUNK;
-                let mut outside = 0;
+                let mut out = [0usize; 3];
                 for k in 0..p.len() {
                     let i = base + k;
                     let (t, td, tdd) = (log.temp_c[i], deriv.tdot[i], deriv.tddot[i]);
                     (p[k], r[k]) = self.predict(t, td, tdd);
-                    outside += usize::from(self.outside(t, td, tdd, r[k]));
+                    out[r[k] as usize] += usize::from(self.is_outside(t, td, tdd, r[k]));
                 }
-                outside
+                out
             })
-            .sum();
-        let cor_dph = log
-            .omega_dph
+            .reduce(|| [0; 3], |a, b| [a[0] + b[0], a[1] + b[1], a[2] + b[2]]);
+        let cor_dph = log.omega_dph[..n]
             .par_iter()
             .zip(&pred_dph)
             .map(|(w, p)| w - p)
             .collect();
-        Correction {
+        let mut c = Correction {
             pred_dph,
             cor_dph,
             regime,
-            deriv,
-            outside_fraction: if n > 0 {
-                outside as f64 / n as f64
-            } else {
-                0.0
-            },
-        }
+            outside_fraction: 0.0,
+            outside_by_regime,
+            ready_from: deriv.ready_from,
+        };
+        c.update_outside_fraction();
+        c
     }
 
     /// Whether a sample lies beyond what the calibration saw (its T outside K0's range, or its
     /// rate outside the range of the approximation its regime uses).
-    fn outside(&self, temp_c: f64, tdot: f64, tddot: f64, regime: Regime) -> bool {
+    #[inline]
+    pub fn is_outside(&self, temp_c: f64, tdot: f64, tddot: f64, regime: Regime) -> bool {
         let beyond = |a: &crate::approx::Approx, x: f64| x < a.x_min() || x > a.x_max();
         beyond(&self.k0, temp_c)
             || match regime {

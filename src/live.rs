@@ -45,20 +45,8 @@ pub struct Request {
     pub validation: Option<Arc<Log>>,
 }
 
-/// A corrected log (without a copy of the derivatives it was made from).
-#[derive(Debug, Clone, Default)]
-pub struct Corrected {
-    /// Predicted thermal drift, °/h.
-    pub pred_dph: Vec<f64>,
-    /// Corrected rate, °/h.
-    pub cor_dph: Vec<f64>,
-    /// Regime of each sample.
-    pub regime: Vec<Regime>,
-    /// Share of samples outside the calibrated ranges.
-    pub outside_fraction: f64,
-    /// First sample with full derivative history.
-    pub ready_from: usize,
-}
+/// A corrected log: the engine's correction.
+pub use crate::correct::Correction as Corrected;
 
 /// The calibration judged on one log.
 #[derive(Debug, Clone)]
@@ -225,23 +213,6 @@ fn ms(t: Instant) -> f64 {
 
 fn ptr<T>(a: &Arc<T>) -> usize {
     Arc::as_ptr(a) as usize
-}
-
-/// Fits pointwise coefficients, weighted as the recipe says (as the engine's fit does).
-fn fit_points(
-    name: &str,
-    spec: &ApproxSpec,
-    p: &PointSet,
-    weighting: Weighting,
-    warnings: &mut Vec<String>,
-) -> Approx {
-    match weighting {
-        Weighting::Ratio => model::fit_or_fallback(name, spec, &p.x, &p.y, warnings),
-        Weighting::Drift => {
-            let w: Vec<f64> = p.x.iter().map(|x| x * x).collect();
-            model::fit_or_fallback_weighted(name, spec, &p.x, &p.y, Some(&w), warnings)
-        }
-    }
 }
 
 /// `approx` with its knot values replaced by `values`, when the counts agree.
@@ -525,7 +496,8 @@ impl Pipeline {
                 (Arc::new(corrected), outside, c.index.clone())
             }
             None => {
-                let (corrected, outside) = correct_counted(cal, log, &prepared.deriv);
+                let corrected = cal.correct_with(log, &prepared.deriv);
+                let outside = corrected.outside_by_regime;
                 let index = Arc::new(regime_index(&corrected.regime));
                 (Arc::new(corrected), outside, index)
             }
@@ -574,7 +546,7 @@ impl Pipeline {
         let Some(v) = self.validation.as_mut() else {
             unreachable!("validation cache was just filled")
         };
-        let corrected = correct(cal, log, &v.deriv);
+        let corrected = cal.correct_with(log, &v.deriv);
         if v.raw_key != (corrected.ready_from, *merit) {
             v.raw_figures =
                 crate::metrics::figures(&log.omega_dph, dt, corrected.ready_from, merit);
@@ -612,49 +584,23 @@ fn evaluation(raw: Figures, corrected: Figures, c: &Corrected) -> Evaluation {
     }
 }
 
-/// K1 and K2 of one set, as the engine's fit makes them: the paper's pass (K1 from the ratios,
-/// then K2 from what the fitted K1 leaves), then the recipe's refinement passes.
-#[allow(clippy::too_many_arguments)]
+/// K1 and K2 of one set, by the engine's own per-set fit.
 fn fit_set(
     log: &Log,
     prepared: &Prepared,
     mask: &[bool],
     k0: &Approx,
-    (db1, db2): (f64, f64),
+    deadbands: (f64, f64),
     regime: Regime,
     recipe: &Recipe,
 ) -> SetFit {
-    let (c1, c2, sign) = set_names(regime);
-    let (spec1, spec2) = (c1.spec(recipe), c2.spec(recipe));
-    let passes = 1 + recipe.refinements;
-    let mut k2: Option<Approx> = None;
-    let mut out = None;
-    for pass in 0..passes {
-        let mut w = Vec::new();
-        let p1 = model::k1_points(log, prepared, mask, k0, k2.as_ref(), db1, regime);
-        let k1 = fit_points(&format!("K1{sign}"), spec1, &p1, recipe.weighting, &mut w);
-        let p2 = model::k2_points(log, prepared, mask, k0, &k1, db2, regime);
-        let k2_fit = fit_points(&format!("K2{sign}"), spec2, &p2, recipe.weighting, &mut w);
-        k2 = Some(k2_fit.clone());
-        if pass + 1 == passes {
-            out = Some((k1, k2_fit, p1, p2, w));
-        }
-    }
-    let (k1, k2, p1, p2, warnings) = out.unwrap_or_else(|| {
-        (
-            Approx::zero(spec1.kind),
-            Approx::zero(spec2.kind),
-            PointSet::default(),
-            PointSet::default(),
-            Vec::new(),
-        )
-    });
+    let f = model::fit_set(log, prepared, mask, k0, deadbands, regime, recipe);
     SetFit {
-        k1,
-        k2,
-        p1: Arc::new(p1),
-        p2: Arc::new(p2),
-        warnings,
+        k1: f.k1,
+        k2: f.k2,
+        p1: Arc::new(f.k1_points),
+        p2: Arc::new(f.k2_points),
+        warnings: f.warnings,
     }
 }
 
@@ -687,7 +633,7 @@ fn apply_knot_edits(
         if knots.get(c2).is_none() {
             let p2 = model::k2_points(log, prepared, mask, k0, &out.k1, db2, regime);
             let mut w = Vec::new();
-            out.k2 = fit_points(
+            out.k2 = model::fit_points(
                 &format!("K2{sign}"),
                 c2.spec(recipe),
                 &p2,
@@ -702,64 +648,6 @@ fn apply_knot_edits(
     }
     out.k2 = with_knots(&out.k2, knots.get(c2));
     out
-}
-
-/// Corrects `log` with `cal` from derivatives already computed (borrowed, not copied):
-/// the same numbers as [`Calibration::correct_with`], in parallel over chunks of the log.
-pub fn correct(cal: &Calibration, log: &Log, deriv: &Derivatives) -> Corrected {
-    correct_counted(cal, log, deriv).0
-}
-
-/// Whether a sample lies beyond what the calibration saw (as the engine's correction counts).
-#[inline]
-fn outside(cal: &Calibration, t: f64, td: f64, tdd: f64, r: Regime) -> bool {
-    let beyond = |a: &Approx, x: f64| x < a.x_min() || x > a.x_max();
-    beyond(&cal.k0, t)
-        || match r {
-            Regime::Static => false,
-            Regime::Plus => beyond(&cal.k1_plus, td) || beyond(&cal.k2_plus, tdd),
-            Regime::Minus => beyond(&cal.k1_minus, td) || beyond(&cal.k2_minus, tdd),
-        }
-}
-
-/// [`correct`], with the samples outside the calibrated ranges counted per regime.
-fn correct_counted(cal: &Calibration, log: &Log, deriv: &Derivatives) -> (Corrected, [usize; 3]) {
-    let n = log.len().min(deriv.tdot.len()).min(deriv.tddot.len());
-    let mut pred_dph = vec![0.0; n];
-    let mut regime = vec![Regime::Static; n];
-    const CHUNK: usize = 1 << 15;
-    let counts: [usize; 3] = pred_dph
-        .par_chunks_mut(CHUNK)
-        .zip(regime.par_chunks_mut(CHUNK))
-        .enumerate()
-        .map(|(c, (p, r))| {
-            let base = c * CHUNK;
-            let mut out = [0usize; 3];
-            for k in 0..p.len() {
-                let i = base + k;
-                let (t, td, tdd) = (log.temp_c[i], deriv.tdot[i], deriv.tddot[i]);
-                (p[k], r[k]) = cal.predict(t, td, tdd);
-                out[r[k] as usize] += usize::from(outside(cal, t, td, tdd, r[k]));
-            }
-            out
-        })
-        .reduce(|| [0; 3], |a, b| [a[0] + b[0], a[1] + b[1], a[2] + b[2]]);
-    let cor_dph = log.omega_dph[..n]
-        .par_iter()
-        .zip(&pred_dph)
-        .map(|(w, p)| w - p)
-        .collect();
-    let total: usize = counts.iter().sum();
-    (
-        Corrected {
-            pred_dph,
-            cor_dph,
-            regime,
-            outside_fraction: if n > 0 { total as f64 / n as f64 } else { 0.0 },
-            ready_from: deriv.ready_from,
-        },
-        counts,
-    )
 }
 
 /// Indices of the + and − samples.
@@ -797,7 +685,7 @@ fn patch(
                 let i = i as usize;
                 let (t, td, tdd) = (log.temp_c[i], deriv.tdot[i], deriv.tddot[i]);
                 let (p, r) = cal.predict(t, td, tdd);
-                (p, outside(cal, t, td, tdd, r))
+                (p, cal.is_outside(t, td, tdd, r))
             })
             .collect();
         let mut out = 0;
@@ -809,12 +697,8 @@ fn patch(
         }
         counts[s + 1] = out;
     }
-    let n = c.pred_dph.len();
-    c.outside_fraction = if n > 0 {
-        counts.iter().sum::<usize>() as f64 / n as f64
-    } else {
-        0.0
-    };
+    c.outside_by_regime = counts;
+    c.update_outside_fraction();
     (c, counts)
 }
 
@@ -880,9 +764,7 @@ mod tests {
         assert_eq!(out.warnings, fit.warnings);
 
         // The correction and figures are the engine's too.
-        let c = fit
-            .calibration
-            .correct_with(&log, fit.prepared.deriv.clone());
+        let c = fit.calibration.correct_with(&log, &fit.prepared.deriv);
         assert_eq!(out.in_sample.corrected.cor_dph, c.cor_dph);
         assert_eq!(out.in_sample.corrected.regime, c.regime);
         assert_eq!(out.in_sample.corrected.outside_fraction, c.outside_fraction);
@@ -893,7 +775,7 @@ mod tests {
         // correction (only the − samples recomputed) equals a whole one.
         recipe.k1_minus.kind = ApproxKind::Parabolic;
         let out2 = p.run(&request(&log, recipe.clone())).unwrap();
-        let whole = correct(&out2.calibration, &log, &out2.prepared.deriv);
+        let whole = out2.calibration.correct_with(&log, &out2.prepared.deriv);
         assert_eq!(out2.in_sample.corrected.cor_dph, whole.cor_dph);
         assert_eq!(out2.in_sample.corrected.pred_dph, whole.pred_dph);
         assert_eq!(

@@ -176,7 +176,7 @@ impl Evaluation {
         c: &crate::correct::Correction,
         opts: &MeritOptions,
     ) -> Evaluation {
-        let skip = c.deriv.ready_from;
+        let skip = c.ready_from;
         Evaluation {
             comparison: Comparison::of(&log.omega_dph, &c.cor_dph, log.nominal_dt_s(), skip, opts),
             outside_fraction: c.outside_fraction,

@@ -521,11 +521,25 @@ pub fn k2_points(
     out
 }
 
+/// K1 and K2 of one set with the points they were fitted to.
+#[derive(Debug, Clone)]
+pub struct SetFit {
+    /// K1 of the set.
+    pub k1: Approx,
+    /// K2 of the set.
+    pub k2: Approx,
+    /// The pointwise K1 of the last pass.
+    pub k1_points: PointSet,
+    /// The pointwise K2 of the last pass.
+    pub k2_points: PointSet,
+    /// What the fits had to work around.
+    pub warnings: Vec<String>,
+}
+
 /// K1 and K2 of one set (+ or −), as the paper does (K1 from the ratios, then K2 from what the
 /// fitted K1 leaves), followed by the recipe's refinement passes, each refitting K1 with the K2
 /// term removed and then K2 with the new K1.
-#[allow(clippy::too_many_arguments)]
-fn fit_set(
+pub fn fit_set(
     log: &Log,
     prepared: &Prepared,
     mask: &[bool],
@@ -533,41 +547,52 @@ fn fit_set(
     (db1, db2): (f64, f64),
     regime: Regime,
     recipe: &Recipe,
-    warnings: &mut Vec<String>,
-) -> (Approx, Approx, PointSet, PointSet) {
+) -> SetFit {
     let (spec1, spec2, sign) = match regime {
         Regime::Minus => (&recipe.k1_minus, &recipe.k2_minus, "-"),
         _ => (&recipe.k1_plus, &recipe.k2_plus, "+"),
     };
     let mut k2: Option<Approx> = None;
-    let passes = 1 + recipe.refinements;
-    let mut out = None;
-    for pass in 0..passes {
+    let mut out = SetFit {
+        k1: Approx::zero(spec1.kind),
+        k2: Approx::zero(spec2.kind),
+        k1_points: PointSet::default(),
+        k2_points: PointSet::default(),
+        warnings: Vec::new(),
+    };
+    for _ in 0..=recipe.refinements {
         // Warnings from the last pass only: earlier passes fit the same point sets.
-        let mut w = Vec::new();
+        let mut warnings = Vec::new();
         let p1 = k1_points(log, prepared, mask, k0, k2.as_ref(), db1, regime);
-        let k1 = fit_points(&format!("K1{sign}"), spec1, &p1, recipe.weighting, &mut w);
+        let k1 = fit_points(
+            &format!("K1{sign}"),
+            spec1,
+            &p1,
+            recipe.weighting,
+            &mut warnings,
+        );
         let p2 = k2_points(log, prepared, mask, k0, &k1, db2, regime);
-        let k2_fit = fit_points(&format!("K2{sign}"), spec2, &p2, recipe.weighting, &mut w);
-        if pass + 1 == passes {
-            warnings.extend(w);
-        }
+        let k2_fit = fit_points(
+            &format!("K2{sign}"),
+            spec2,
+            &p2,
+            recipe.weighting,
+            &mut warnings,
+        );
         k2 = Some(k2_fit.clone());
-        out = Some((k1, k2_fit, p1, p2));
+        out = SetFit {
+            k1,
+            k2: k2_fit,
+            k1_points: p1,
+            k2_points: p2,
+            warnings,
+        };
     }
-    // `passes` is at least 1, so the loop has run.
-    out.unwrap_or_else(|| {
-        (
-            Approx::zero(spec1.kind),
-            Approx::zero(spec2.kind),
-            PointSet::default(),
-            PointSet::default(),
-        )
-    })
+    out
 }
 
 /// Fits pointwise coefficients, weighted as the recipe says.
-fn fit_points(
+pub fn fit_points(
     name: &str,
     spec: &ApproxSpec,
     p: &PointSet,
@@ -612,17 +637,8 @@ pub fn fit_prepared(
     let mask = plateau_mask(&log.time_s, ranges);
     let (db1, db2) = deadbands(&prepared, &mask, recipe);
 
-    let (k1_plus, k2_plus, k1p_pts, k2p_pts) = fit_set(
-        log,
-        &prepared,
-        &mask,
-        &k0,
-        (db1, db2),
-        Regime::Plus,
-        recipe,
-        &mut warnings,
-    );
-    let (k1_minus, k2_minus, k1m_pts, k2m_pts) = fit_set(
+    let plus = fit_set(log, &prepared, &mask, &k0, (db1, db2), Regime::Plus, recipe);
+    let minus = fit_set(
         log,
         &prepared,
         &mask,
@@ -630,8 +646,12 @@ pub fn fit_prepared(
         (db1, db2),
         Regime::Minus,
         recipe,
-        &mut warnings,
     );
+    warnings.extend(plus.warnings);
+    warnings.extend(minus.warnings);
+    let (k1_plus, k2_plus, k1p_pts, k2p_pts) = (plus.k1, plus.k2, plus.k1_points, plus.k2_points);
+    let (k1_minus, k2_minus, k1m_pts, k2m_pts) =
+        (minus.k1, minus.k2, minus.k1_points, minus.k2_points);
 
     let steps = prepared
         .steps
