@@ -166,5 +166,8 @@ fn corrected_csv_reads_back_exactly() {
     let back = driftlab::ingest::read_path(&path, &opts).unwrap();
     assert_eq!(back.time_s, log.time_s);
     assert_eq!(back.temp_c, log.temp_c);
-    assert_eq!(back.omega_dph, c.cor_dph, "shortest round-trip formatting loses nothing");
+    assert_eq!(
+        back.omega_dph, c.cor_dph,
+        "shortest round-trip formatting loses nothing"
+    );
 }
