@@ -21,7 +21,7 @@
 use crate::approx::{Approx, ApproxSpec};
 use crate::log::Log;
 use crate::metrics::{Comparison, Evaluation, Figures, MeritOptions};
-use crate::model::{self, Calibration, PointSet, Prepared, Regime, Resolved, SourceInfo, Units};
+use crate::model::{self, Calibration, PointSet, Prepared, Regime};
 use crate::plateau::{PlateauRange, PlateauStats};
 use crate::recipe::{Recipe, Weighting};
 use crate::session::{Coefficient, KnotEdits};
@@ -360,35 +360,14 @@ impl Pipeline {
         warnings.extend(plus.warnings.iter().cloned());
         warnings.extend(minus.warnings.iter().cloned());
 
-        let steps = prepared
-            .steps
-            .unwrap_or(DerivativeSteps { smooth: 1, step: 1 });
-        let calibration = Calibration {
-            gyro_id: recipe.gyro_id.clone(),
-            source: SourceInfo {
-                name: log.source.clone(),
-                sha256: String::new(),
-                samples: log.len(),
-                duration_s: log.duration_s(),
-            },
-            created: humantime::format_rfc3339_seconds(std::time::SystemTime::now()).to_string(),
-            recipe: recipe.clone(),
-            resolved: Resolved {
-                dt_s: prepared.dt_s,
-                filter_samples: prepared.filter_samples,
-                smooth_samples: steps.smooth,
-                step_samples: steps.step,
-                deadband_tdot: deadbands.0,
-                deadband_tddot: deadbands.1,
-            },
-            units: Units::default(),
-            plateaus: stats,
-            k0,
-            k1_plus: plus.k1,
-            k1_minus: minus.k1,
-            k2_plus: plus.k2,
-            k2_minus: minus.k2,
-        };
+        let calibration = Calibration::assemble(
+            log,
+            &prepared,
+            recipe,
+            deadbands,
+            stats,
+            [k0, plus.k1, minus.k1, plus.k2, minus.k2],
+        );
 
         let t = Instant::now();
         let corrected = self.correct_kept(&calibration, log, &prepared);
@@ -569,16 +548,8 @@ impl Pipeline {
 
 /// Raw against corrected figures, with the ratios as [`Comparison::of`] makes them.
 fn evaluation(raw: Figures, corrected: Figures, c: &Corrected) -> Evaluation {
-    let ratio = |a: f64, b: f64| if b > 0.0 { a / b } else { f64::INFINITY };
     Evaluation {
-        comparison: Comparison {
-            raw,
-            corrected,
-            p2p_ratio: ratio(raw.p2p_dph, corrected.p2p_dph),
-            std_ratio: ratio(raw.std_dph, corrected.std_dph),
-            win_mean_ratio: ratio(raw.win_mean_max_abs_dph, corrected.win_mean_max_abs_dph),
-            win_rms_ratio: ratio(raw.win_rms_mean_dph, corrected.win_rms_mean_dph),
-        },
+        comparison: Comparison::from_figures(raw, corrected),
         outside_fraction: c.outside_fraction,
         warmup_samples: c.ready_from,
     }

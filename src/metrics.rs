@@ -124,6 +124,11 @@ impl Comparison {
             || figures(raw_dph, dt_s, skip, opts),
             || figures(cor_dph, dt_s, skip, opts),
         );
+        Comparison::from_figures(raw, corrected)
+    }
+
+    /// The comparison of figures already computed (the workbench keeps the raw ones).
+    pub fn from_figures(raw: Figures, corrected: Figures) -> Comparison {
         let ratio = |a: f64, b: f64| if b > 0.0 { a / b } else { f64::INFINITY };
         Comparison {
             raw,

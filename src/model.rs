@@ -237,6 +237,47 @@ impl Calibration {
         (pred, regime)
     }
 
+    /// Puts a calibration together from what the stages fitted on `log`:
+    /// `[k0, k1_plus, k1_minus, k2_plus, k2_minus]`.
+    pub fn assemble(
+        log: &Log,
+        prepared: &Prepared,
+        recipe: &Recipe,
+        (db1, db2): (f64, f64),
+        plateaus: Vec<PlateauStats>,
+        [k0, k1_plus, k1_minus, k2_plus, k2_minus]: [Approx; 5],
+    ) -> Calibration {
+        let steps = prepared
+            .steps
+            .unwrap_or(DerivativeSteps { smooth: 1, step: 1 });
+        Calibration {
+            gyro_id: recipe.gyro_id.clone(),
+            source: SourceInfo {
+                name: log.source.clone(),
+                sha256: String::new(),
+                samples: log.len(),
+                duration_s: log.duration_s(),
+            },
+            created: humantime::format_rfc3339_seconds(std::time::SystemTime::now()).to_string(),
+            recipe: recipe.clone(),
+            resolved: Resolved {
+                dt_s: prepared.dt_s,
+                filter_samples: prepared.filter_samples,
+                smooth_samples: steps.smooth,
+                step_samples: steps.step,
+                deadband_tdot: db1,
+                deadband_tddot: db2,
+            },
+            units: Units::default(),
+            plateaus,
+            k0,
+            k1_plus,
+            k1_minus,
+            k2_plus,
+            k2_minus,
+        }
+    }
+
     /// Checks what a file could get wrong and the approximations do not check themselves: the
     /// sampling step, the windows, the dead-bands and the plateau numbers.
     pub fn validate(&self) -> std::result::Result<(), String> {
@@ -653,35 +694,14 @@ pub fn fit_prepared(
     let (k1_minus, k2_minus, k1m_pts, k2m_pts) =
         (minus.k1, minus.k2, minus.k1_points, minus.k2_points);
 
-    let steps = prepared
-        .steps
-        .unwrap_or(DerivativeSteps { smooth: 1, step: 1 });
-    let calibration = Calibration {
-        gyro_id: recipe.gyro_id.clone(),
-        source: SourceInfo {
-            name: log.source.clone(),
-            sha256: String::new(),
-            samples: log.len(),
-            duration_s: log.duration_s(),
-        },
-        created: humantime::format_rfc3339_seconds(std::time::SystemTime::now()).to_string(),
-        recipe: recipe.clone(),
-        resolved: Resolved {
-            dt_s: prepared.dt_s,
-            filter_samples: prepared.filter_samples,
-            smooth_samples: steps.smooth,
-            step_samples: steps.step,
-            deadband_tdot: db1,
-            deadband_tddot: db2,
-        },
-        units: Units::default(),
+    let calibration = Calibration::assemble(
+        log,
+        &prepared,
+        recipe,
+        (db1, db2),
         plateaus,
-        k0,
-        k1_plus,
-        k1_minus,
-        k2_plus,
-        k2_minus,
-    };
+        [k0, k1_plus, k1_minus, k2_plus, k2_minus],
+    );
     Ok(Fit {
         calibration,
         prepared,
