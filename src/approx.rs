@@ -162,6 +162,8 @@ pub struct Approx {
     stats: FitStats,
     /// Knot curves as one cubic per segment, read off the `splines` evaluator once.
     segments: Option<Segments>,
+    /// Polynomials of up to 4 coefficients, unpacked for a branch-free Horner step.
+    poly: Option<[f64; 4]>,
 }
 
 /// A knot curve as cubic polynomials in the local parameter `u ∈ [0, 1]` of each segment.
@@ -331,6 +333,7 @@ impl Approx {
         };
         Ok(Approx {
             kind,
+            poly: poly4(&curve),
             curve,
             x_min,
             x_max,
@@ -351,6 +354,7 @@ impl Approx {
             extrapolate: false,
             stats: FitStats::default(),
             segments: None,
+            poly: Some([0.0; 4]),
         }
     }
 
@@ -417,6 +421,9 @@ impl Approx {
         } else {
             x.clamp(self.x_min, self.x_max)
         };
+        if let Some(c) = &self.poly {
+            return ((c[3] * x + c[2]) * x + c[1]) * x + c[0];
+        }
         match &self.curve {
             Curve::Polynomial { coeffs } => coeffs.iter().rev().fold(0.0, |acc, c| acc * x + c),
             Curve::Pwl { knots_x, knots_y } | Curve::CatmullRom { knots_x, knots_y } => {
@@ -436,6 +443,19 @@ impl Approx {
                 }
             }
         }
+    }
+}
+
+/// The coefficients of a polynomial of degree at most 3, padded with zeros (the padding adds
+/// exact zeros, so the value is bit for bit the plain Horner sum).
+fn poly4(curve: &Curve) -> Option<[f64; 4]> {
+    match curve {
+        Curve::Polynomial { coeffs } if coeffs.len() <= 4 => {
+            let mut c = [0.0; 4];
+            c[..coeffs.len()].copy_from_slice(coeffs);
+            Some(c)
+        }
+        _ => None,
     }
 }
 
