@@ -116,8 +116,13 @@ pub fn run(a: Args) -> Result<(), String> {
     let recipe = a.recipe()?;
     let log = a.log_args.read(&a.log)?;
     common::status("fitting ...");
-    let fit = model::fit(&log, &recipe).map_err(|e| format!("{}: {e}", a.log.display()))?;
+    let mut fit = model::fit(&log, &recipe).map_err(|e| format!("{}: {e}", a.log.display()))?;
+    // Keep only what is still needed: the point sets and filtered Ω of a 10⁷-sample log are
+    // hundreds of MB.
     let mut cal = fit.calibration.clone();
+    let warnings = std::mem::take(&mut fit.warnings);
+    let deriv = std::mem::take(&mut fit.prepared.deriv);
+    drop(fit);
     cal.source.name = file_name(&a.log);
     cal.source.sha256 = calfile::sha256_file(&a.log).map_err(|e| e.to_string())?;
     calfile::save(&a.out, &cal).map_err(|e| e.to_string())?;
@@ -130,7 +135,9 @@ pub fn run(a: Args) -> Result<(), String> {
         filter_s: recipe.filter_s,
         ..MeritOptions::default()
     };
-    let eval = Evaluation::of(&cal, &log, &opts);
+    // In-sample: the derivatives of the fit are the ones the calibration computes on this log.
+    let eval = Evaluation::of_correction(&log, &cal.correct_with(&log, &deriv), &opts);
+    drop(deriv);
     if a.json {
         return common::print_json(&serde_json::json!({
             "calibration": a.out,
@@ -140,10 +147,10 @@ pub fn run(a: Args) -> Result<(), String> {
             })).collect::<Vec<_>>(),
             "resolved": cal.resolved,
             "in_sample": eval,
-            "warnings": fit.warnings,
+            "warnings": warnings,
         }));
     }
-    print_summary(&cal, &fit.warnings);
+    print_summary(&cal, &warnings);
     println!();
     println!(
         "In-sample (calibrated and evaluated on {}):",
