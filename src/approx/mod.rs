@@ -1,0 +1,412 @@
+//! Approximations of a coefficient as a function of one variable: linear, parabolic,
+//! piecewise-linear and cubic spline, fitted by least squares.
+//!
+//! Every kind is linear in its parameters (polynomial coefficients, or the values at fixed
+//! knots), so one solver serves all four: accumulate the normal equations over the points'
+//! basis values, then solve the small system by SVD (nalgebra). Piecewise-linear and spline
+//! curves are defined by the `splines` crate: the basis used to fit them is that curve written
+//! as weights on the knot values, and evaluation reads one cubic per segment off it
+//! (`knots.rs`); tests hold all three equal.
+//!
+//! A fitted approximation remembers the x-range it saw. Outside it, it holds the edge value
+//! unless told to extrapolate: a calibration must not invent coefficients for rates the test
+//! never reached.
+
+mod fit;
+mod knots;
+
+pub use fit::{fit, fit_weighted};
+pub use knots::{knot_positions, knot_weights};
+
+use knots::Segments;
+use serde::{Deserialize, Serialize};
+use std::fmt;
+use std::str::FromStr;
+
+/// The family of curve an engineer picks for a coefficient.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ApproxKind {
+    /// `c0 + c1·x`.
+    Linear,
+    /// `c0 + c1·x + c2·x²` (the paper's choice for K0).
+    Parabolic,
+    /// Straight segments between equally spaced knots.
+    Pwl,
+    /// Catmull-Rom cubic spline through values at equally spaced knots.
+    Spline,
+}
+
+impl ApproxKind {
+    /// All kinds, in the order a user interface lists them.
+    pub const ALL: [ApproxKind; 4] = [
+        ApproxKind::Linear,
+        ApproxKind::Parabolic,
+        ApproxKind::Pwl,
+        ApproxKind::Spline,
+    ];
+
+    /// Whether the kind is defined by knots (and so takes a knot count).
+    pub fn has_knots(self) -> bool {
+        matches!(self, ApproxKind::Pwl | ApproxKind::Spline)
+    }
+}
+
+impl fmt::Display for ApproxKind {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            ApproxKind::Linear => "linear",
+            ApproxKind::Parabolic => "parabolic",
+            ApproxKind::Pwl => "pwl",
+            ApproxKind::Spline => "spline",
+        })
+    }
+}
+
+impl FromStr for ApproxKind {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s.trim().to_ascii_lowercase().as_str() {
+            "linear" | "line" => Ok(ApproxKind::Linear),
+            "parabolic" | "parabola" | "quadratic" => Ok(ApproxKind::Parabolic),
+            "pwl" | "piecewise-linear" | "piecewise_linear" => Ok(ApproxKind::Pwl),
+            "spline" | "cubic-spline" | "cubic_spline" => Ok(ApproxKind::Spline),
+            other => Err(format!(
+                "unknown approximation \"{other}\": use linear, parabolic, pwl or spline"
+            )),
+        }
+    }
+}
+
+/// What the engineer chose for one coefficient.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct ApproxSpec {
+    /// The curve family.
+    pub kind: ApproxKind,
+    /// Number of knots for `pwl` and `spline` (at least 2); ignored otherwise.
+    pub knots: usize,
+    /// Evaluate the curve beyond the fitted x-range instead of holding the edge value.
+    pub extrapolate: bool,
+}
+
+impl Default for ApproxSpec {
+    fn default() -> Self {
+        ApproxSpec {
+            kind: ApproxKind::Linear,
+            knots: 5,
+            extrapolate: false,
+        }
+    }
+}
+
+impl ApproxSpec {
+    /// A spec of `kind` with default knots and no extrapolation.
+    pub fn of(kind: ApproxKind) -> ApproxSpec {
+        ApproxSpec {
+            kind,
+            ..ApproxSpec::default()
+        }
+    }
+
+    /// Number of free parameters the fit will have.
+    pub fn params(&self) -> usize {
+        match self.kind {
+            ApproxKind::Linear => 2,
+            ApproxKind::Parabolic => 3,
+            ApproxKind::Pwl | ApproxKind::Spline => self.knots,
+        }
+    }
+}
+
+/// How well a fit matches its points.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, Default)]
+pub struct FitStats {
+    /// Points used.
+    pub n: usize,
+    /// Root-mean-square residual, in the coefficient's unit.
+    pub rmse: f64,
+    /// Coefficient of determination (1 − SSres/SStot); 0 when the points have no spread.
+    pub r2: f64,
+}
+
+/// The fitted curve, as stored in calibration files.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "form", rename_all = "snake_case", deny_unknown_fields)]
+pub enum Curve {
+    /// `Σ coeffs[k]·x^k`, lowest power first.
+    Polynomial {
+        /// Coefficients, lowest power first.
+        coeffs: Vec<f64>,
+    },
+    /// Straight segments through `(knots_x[j], knots_y[j])`.
+    Pwl {
+        /// Knot positions, strictly increasing.
+        knots_x: Vec<f64>,
+        /// Values at the knots.
+        knots_y: Vec<f64>,
+    },
+    /// Catmull-Rom spline through the knots; the tangent at an end knot uses a phantom knot
+    /// continuing the first (last) segment in a straight line.
+    CatmullRom {
+        /// Knot positions, strictly increasing.
+        knots_x: Vec<f64>,
+        /// Values at the knots.
+        knots_y: Vec<f64>,
+    },
+}
+
+/// A fitted approximation: its curve, the x-range it was fitted on and its statistics.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(try_from = "ApproxRepr", into = "ApproxRepr")]
+pub struct Approx {
+    kind: ApproxKind,
+    curve: Curve,
+    x_min: f64,
+    x_max: f64,
+    extrapolate: bool,
+    stats: FitStats,
+    /// Knot curves as one cubic per segment, read off the `splines` evaluator once.
+    segments: Option<Segments>,
+    /// Polynomials of up to 4 coefficients, unpacked for a branch-free Horner step.
+    poly: Option<[f64; 4]>,
+}
+
+impl PartialEq for Approx {
+    fn eq(&self, other: &Self) -> bool {
+        self.kind == other.kind
+            && self.curve == other.curve
+            && self.x_min == other.x_min
+            && self.x_max == other.x_max
+            && self.extrapolate == other.extrapolate
+            && self.stats == other.stats
+    }
+}
+
+/// The serialised form of [`Approx`]; loading validates it.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ApproxRepr {
+    kind: ApproxKind,
+    x_min: f64,
+    x_max: f64,
+    extrapolate: bool,
+    stats: FitStats,
+    curve: Curve,
+}
+
+impl From<Approx> for ApproxRepr {
+    fn from(a: Approx) -> Self {
+        ApproxRepr {
+            kind: a.kind,
+            x_min: a.x_min,
+            x_max: a.x_max,
+            extrapolate: a.extrapolate,
+            stats: a.stats,
+            curve: a.curve,
+        }
+    }
+}
+
+impl TryFrom<ApproxRepr> for Approx {
+    type Error = String;
+    fn try_from(r: ApproxRepr) -> Result<Self, String> {
+        Approx::new(r.kind, r.curve, r.x_min, r.x_max, r.extrapolate, r.stats)
+    }
+}
+
+/// Why a fit could not be made.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum FitError {
+    /// Fewer usable points than parameters.
+    #[error("{kind} needs at least {needed} points, {got} usable")]
+    TooFewPoints {
+        /// The kind asked for.
+        kind: ApproxKind,
+        /// Parameters of the fit.
+        needed: usize,
+        /// Finite points given.
+        got: usize,
+    },
+    /// A knot curve with fewer than two knots.
+    #[error("{0} needs at least 2 knots")]
+    TooFewKnots(ApproxKind),
+}
+
+impl Approx {
+    /// Builds an approximation from stored parts, checking that every number is finite and the
+    /// knots are ordered.
+    pub fn new(
+        kind: ApproxKind,
+        curve: Curve,
+        x_min: f64,
+        x_max: f64,
+        extrapolate: bool,
+        stats: FitStats,
+    ) -> Result<Approx, String> {
+        if !x_min.is_finite() || !x_max.is_finite() || x_min > x_max {
+            return Err(format!("invalid x-range [{x_min}, {x_max}]"));
+        }
+        let spline = match &curve {
+            Curve::Polynomial { coeffs } => {
+                if coeffs.is_empty() || coeffs.iter().any(|c| !c.is_finite()) {
+                    return Err("polynomial coefficients must be finite and non-empty".into());
+                }
+                None
+            }
+            Curve::Pwl { knots_x, knots_y } | Curve::CatmullRom { knots_x, knots_y } => {
+                check_knots(knots_x, knots_y)?;
+                Segments::of(&curve)
+            }
+        };
+        Ok(Approx {
+            kind,
+            poly: poly4(&curve),
+            curve,
+            x_min,
+            x_max,
+            extrapolate,
+            stats,
+            segments: spline,
+        })
+    }
+
+    /// The zero function, for a coefficient with no data to fit (its term then contributes
+    /// nothing, which is what an uncalibrated term should do).
+    pub fn zero(kind: ApproxKind) -> Approx {
+        Approx {
+            kind,
+            curve: Curve::Polynomial { coeffs: vec![0.0] },
+            x_min: 0.0,
+            x_max: 0.0,
+            extrapolate: false,
+            stats: FitStats::default(),
+            segments: None,
+            poly: Some([0.0; 4]),
+        }
+    }
+
+    /// The family this approximation was fitted as.
+    pub fn kind(&self) -> ApproxKind {
+        self.kind
+    }
+    /// The fitted curve.
+    pub fn curve(&self) -> &Curve {
+        &self.curve
+    }
+    /// Smallest x seen by the fit.
+    pub fn x_min(&self) -> f64 {
+        self.x_min
+    }
+    /// Largest x seen by the fit.
+    pub fn x_max(&self) -> f64 {
+        self.x_max
+    }
+    /// Whether evaluation goes beyond the fitted range.
+    pub fn extrapolates(&self) -> bool {
+        self.extrapolate
+    }
+    /// Fit statistics.
+    pub fn stats(&self) -> FitStats {
+        self.stats
+    }
+    /// Knots of a knot curve (empty for polynomials).
+    pub fn knots(&self) -> (&[f64], &[f64]) {
+        match &self.curve {
+            Curve::Polynomial { .. } => (&[], &[]),
+            Curve::Pwl { knots_x, knots_y } | Curve::CatmullRom { knots_x, knots_y } => {
+                (knots_x, knots_y)
+            }
+        }
+    }
+
+    /// Returns a copy with knot `j` moved to value `y` (the workbench's dragged knot).
+    pub fn with_knot_value(&self, j: usize, y: f64) -> Approx {
+        let mut curve = self.curve.clone();
+        if let Curve::Pwl { knots_y, .. } | Curve::CatmullRom { knots_y, .. } = &mut curve
+            && j < knots_y.len()
+            && y.is_finite()
+        {
+            knots_y[j] = y;
+        }
+        let segments = Segments::of(&curve);
+        Approx {
+            curve,
+            segments,
+            ..self.clone()
+        }
+    }
+
+    /// Value at `x`, holding the edge value outside the fitted range unless extrapolating.
+    /// A non-finite `x` gives 0: no correction from a sample that has no derivative.
+    #[inline]
+    pub fn eval(&self, x: f64) -> f64 {
+        if !x.is_finite() {
+            return 0.0;
+        }
+        let x = if self.extrapolate {
+            x
+        } else {
+            x.clamp(self.x_min, self.x_max)
+        };
+        if let Some(c) = &self.poly {
+            return ((c[3] * x + c[2]) * x + c[1]) * x + c[0];
+        }
+        match &self.curve {
+            Curve::Polynomial { coeffs } => coeffs.iter().rev().fold(0.0, |acc, c| acc * x + c),
+            Curve::Pwl { knots_x, knots_y } | Curve::CatmullRom { knots_x, knots_y } => {
+                let n = knots_x.len();
+                if x <= knots_x[0] {
+                    edge_line(knots_x[0], knots_y[0], knots_x[1], knots_y[1], x)
+                } else if x >= knots_x[n - 1] {
+                    edge_line(
+                        knots_x[n - 1],
+                        knots_y[n - 1],
+                        knots_x[n - 2],
+                        knots_y[n - 2],
+                        x,
+                    )
+                } else {
+                    self.segments.as_ref().map_or(0.0, |s| s.eval(x))
+                }
+            }
+        }
+    }
+}
+
+/// The coefficients of a polynomial of degree at most 3, padded with zeros (the padding adds
+/// exact zeros, so the value is bit for bit the plain Horner sum).
+fn poly4(curve: &Curve) -> Option<[f64; 4]> {
+    match curve {
+        Curve::Polynomial { coeffs } if coeffs.len() <= 4 => {
+            let mut c = [0.0; 4];
+            c[..coeffs.len()].copy_from_slice(coeffs);
+            Some(c)
+        }
+        _ => None,
+    }
+}
+
+/// The line through the end knot `(x0, y0)` and its neighbour, evaluated at `x` (equal to
+/// `y0` at the knot itself, which is what clamped evaluation asks for).
+#[inline]
+fn edge_line(x0: f64, y0: f64, x1: f64, y1: f64, x: f64) -> f64 {
+    if x == x0 {
+        y0
+    } else {
+        y0 + (y1 - y0) / (x1 - x0) * (x - x0)
+    }
+}
+
+fn check_knots(xs: &[f64], ys: &[f64]) -> Result<(), String> {
+    if xs.len() < 2 || xs.len() != ys.len() {
+        return Err("a knot curve needs at least 2 knots with one value each".into());
+    }
+    if xs.iter().chain(ys).any(|v| !v.is_finite()) {
+        return Err("knot positions and values must be finite".into());
+    }
+    if xs.windows(2).any(|w| w[1] <= w[0]) {
+        return Err("knot positions must be strictly increasing".into());
+    }
+    Ok(())
+}
