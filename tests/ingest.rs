@@ -1117,8 +1117,12 @@ fn bench_ten_million_rows() {
         .and_then(|s| s.parse().ok())
         .unwrap_or(10_000_000);
     let style = std::env::var("DRIFTLAB_BENCH_STYLE").unwrap_or_else(|_| "csv".into());
-    let path = std::path::PathBuf::from(format!("/tmp/driftlab_bench_{style}_{rows}.csv"));
-    if !path.exists() {
+    // `DRIFTLAB_BENCH_PATH` reads an existing log instead (e.g. /tmp/driftlab-bench/big.csv).
+    let given = std::env::var_os("DRIFTLAB_BENCH_PATH").map(std::path::PathBuf::from);
+    let path = given
+        .clone()
+        .unwrap_or_else(|| format!("/tmp/driftlab_bench_{style}_{rows}.csv").into());
+    if given.is_none() && !path.exists() {
         let t0 = std::time::Instant::now();
         let tmp = path.with_extension("tmp");
         let mut w =
@@ -1180,11 +1184,18 @@ fn bench_ten_million_rows() {
     );
     drop(log);
     let mut times = Vec::new();
-    for _ in 0..3 {
+    let repeat: usize = std::env::var("DRIFTLAB_BENCH_REPEAT")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(3);
+    for _ in 0..repeat {
         let t0 = std::time::Instant::now();
         let log = read_path(&path, &opts()).unwrap();
         times.push(t0.elapsed().as_secs_f64());
         drop(log);
     }
-    println!("three more reads: {times:.3?} s");
+    let mut sorted = times.clone();
+    sorted.sort_by(f64::total_cmp);
+    let median = sorted.get(sorted.len() / 2).copied().unwrap_or(f64::NAN);
+    println!("{repeat} more reads: {times:.3?} s; median {median:.3} s");
 }

@@ -41,6 +41,68 @@ pub(crate) fn parse_cell(raw: &[u8], decimal_comma: bool) -> Cell {
     }
 }
 
+/// Exact powers of ten as f64 (every one up to 10^22 is representable).
+const POW10: [f64; 23] = [
+    1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16,
+    1e17, 1e18, 1e19, 1e20, 1e21, 1e22,
+];
+
+/// Reads a short plain decimal at the start of `s` (`[+-]digits[.digits]`, the point may be a
+/// comma when `comma` is set, no exponent) and returns it with the number of bytes read.
+///
+/// Only numbers whose digits form an integer m ≤ 2^53 with at most 22 digits after the
+/// point are taken: then m and 10^k are exact f64 and the one division m / 10^k is
+/// correctly rounded, so the result is bit-identical to `fast_float2`. Anything else
+/// (exponents, long mantissas, `inf`, `nan`, no digits) gives `None` and the caller falls
+/// back to `fast_float2`.
+#[inline(always)]
+pub(crate) fn parse_plain(s: &[u8], comma: bool) -> Option<(f64, usize)> {
+    let (neg, mut i) = match s.first() {
+        Some(b'-') => (true, 1),
+        Some(b'+') => (false, 1),
+        _ => (false, 0),
+    };
+    let mut m: u64 = 0;
+    let int_start = i;
+    while let Some(&c) = s.get(i) {
+        let d = c.wrapping_sub(b'0');
+        if d > 9 {
+            break;
+        }
+        m = m.wrapping_mul(10).wrapping_add(u64::from(d));
+        i += 1;
+    }
+    let mut digits = i - int_start;
+    let mut frac = 0;
+    if let Some(&c) = s.get(i)
+        && (c == b'.' || (comma && c == b','))
+    {
+        i += 1;
+        let frac_start = i;
+        while let Some(&c) = s.get(i) {
+            let d = c.wrapping_sub(b'0');
+            if d > 9 {
+                break;
+            }
+            m = m.wrapping_mul(10).wrapping_add(u64::from(d));
+            i += 1;
+        }
+        frac = i - frac_start;
+        digits += frac;
+    }
+    // At most 19 digits cannot overflow a u64.
+    if digits == 0 || digits > 19 || m > (1u64 << 53) || frac >= POW10.len() {
+        return None;
+    }
+    if let Some(&c) = s.get(i)
+        && (c | 0x20) == b'e'
+    {
+        return None;
+    }
+    let v = m as f64 / POW10[frac];
+    Some((if neg { -v } else { v }, i))
+}
+
 /// Words loggers and spreadsheets write for "no value".
 fn is_missing_word(s: &[u8]) -> bool {
     const WORDS: [&[u8]; 6] = [b"na", b"n/a", b"null", b"none", b"nil", b"#n/a"];
@@ -276,7 +338,10 @@ impl Parser<'_> {
             }
             match *act {
                 Action::Parse { slot, conv, .. } => {
-                    let v = if DC {
+                    let v = if let Some((v, k)) = parse_plain(&data[p..], DC && d != b',') {
+                        p += k;
+                        v
+                    } else if DC {
                         // Copy the cell with its comma made a point, in one pass.
                         let mut buf = [0u8; 48];
                         let mut k = 0;
@@ -294,15 +359,18 @@ impl Parser<'_> {
                             k += 1;
                             p += 1;
                         }
-                        fast_float2::parse::<f64, _>(&buf[..k]).ok()?
+                        fast_float2::parse::<f64, _>(&buf[..k])
+                            .ok()
+                            .filter(|v| v.is_finite())?
                     } else {
                         let (v, k) = fast_float2::parse_partial::<f64, _>(&data[p..]).ok()?;
+                        if !v.is_finite() {
+                            return None;
+                        }
                         p += k;
                         v
                     };
-                    if !v.is_finite() {
-                        return None;
-                    }
+                    // (The plain fast path is always finite.)
                     *vals.get_mut(slot)? = conv.apply(v);
                 }
                 Action::Skip => {
@@ -458,5 +526,140 @@ mod tests {
         assert_eq!(parse_cell(b"", false), Cell::Missing);
         assert_eq!(parse_cell(b"1.2.3", false), Cell::Bad);
         assert_eq!(show_cell(b"1.2.3"), "\"1.2.3\"");
+    }
+
+    /// Checks `parse_plain` against `fast_float2` and `str::parse`: same bits, same length.
+    fn check_plain(s: &str) -> bool {
+        let Some((v, k)) = parse_plain(s.as_bytes(), false) else {
+            return false;
+        };
+        let (w, kw) = fast_float2::parse_partial::<f64, _>(s.as_bytes())
+            .unwrap_or_else(|e| panic!("{s:?}: fast path {v}, fast_float2 {e:?}"));
+        assert_eq!((v.to_bits(), k), (w.to_bits(), kw), "{s:?}: {v} vs {w}");
+        let std: f64 = s[..k].parse().unwrap_or_else(|e| panic!("{s:?}: {e}"));
+        assert_eq!(v.to_bits(), std.to_bits(), "{s:?}");
+        // The same number with a decimal comma (unless a comma already follows it).
+        if s.contains(',') {
+            return true;
+        }
+        let c = s.replacen('.', ",", 1);
+        let (vc, kc) = parse_plain(c.as_bytes(), true).unwrap();
+        assert_eq!((vc.to_bits(), kc), (v.to_bits(), k), "{c:?}");
+        assert_eq!(
+            parse_dc(&c.as_bytes()[..kc]).map(f64::to_bits),
+            Some(v.to_bits())
+        );
+        true
+    }
+
+    #[test]
+    fn plain_decimals_match_fast_float() {
+        for s in [
+            "0",
+            "-0",
+            "-0.0",
+            "+0",
+            "0.",
+            "-0.",
+            ".5",
+            "-.5",
+            "+.5",
+            "5.",
+            "+5.",
+            "007.250",
+            "-0000.000100",
+            "12345",
+            "-0.2554",
+            "20.000",
+            "9007199254740992",
+            "0.1",
+            "0.3",
+            "1.797693134862315",
+            ".0000000000000000001",
+            "123456789012345.6",
+        ] {
+            assert!(check_plain(s), "{s:?} should take the fast path");
+        }
+        assert_eq!(
+            parse_plain(b"-0.0", false).map(|(v, _)| v.to_bits()),
+            Some((-0.0f64).to_bits())
+        );
+        // Must fall back: no digits, exponents, words, mantissas of 2^53 + 1 and more, more
+        // than 22 digits after the point, more than 19 digits.
+        for s in [
+            "",
+            "-",
+            "+",
+            ".",
+            "-.",
+            "1e5",
+            "1.5E-3",
+            "inf",
+            "-nan",
+            "NaN",
+            "9007199254740993",
+            "0.00000000000000000000001",
+            "12345678901234567890",
+            "1.2345678901234567890123",
+            "0000000000000000000001",
+        ] {
+            assert!(parse_plain(s.as_bytes(), false).is_none(), "{s:?}");
+        }
+        // Stops where the number ends; the caller judges what follows.
+        assert_eq!(parse_plain(b"1.5,2", false), Some((1.5, 3)));
+        assert_eq!(parse_plain(b"1,5;2", true), Some((1.5, 3)));
+        assert_eq!(parse_plain(b"1,5;2", false), Some((1.0, 1)));
+        assert_eq!(parse_plain(b"1.5.3", false), Some((1.5, 3)));
+
+        // Random decimals (deterministic xorshift).
+        let mut x: u64 = 0x9E37_79B9_7F4A_7C15;
+        let mut next = move || {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            x
+        };
+        let mut fast = 0;
+        let total = 200_000;
+        for _ in 0..total {
+            let r = next();
+            let mut s = String::new();
+            match r % 4 {
+                0 => s.push('-'),
+                1 if r % 16 == 1 => s.push('+'),
+                _ => {}
+            }
+            for _ in 0..((r >> 4) % 8).saturating_sub(5) {
+                s.push('0');
+            }
+            let int_digits = ((r >> 8) % 18) as usize;
+            let frac_digits = ((r >> 16) % 24) as usize;
+            let point = (r >> 24) % 8 != 0;
+            let d = next();
+            let digit = |i: usize| char::from(b'0' + ((d >> (i % 60)) ^ (i as u64 * 7)) as u8 % 10);
+            for i in 0..int_digits {
+                s.push(digit(i));
+            }
+            if point {
+                s.push('.');
+                for i in 0..frac_digits {
+                    s.push(digit(i + 20));
+                }
+            }
+            match (r >> 28) % 16 {
+                0 => s.push_str("e3"),
+                1 => s.push(','),
+                2 => s.push_str(";7"),
+                3 => s.push('x'),
+                _ => {}
+            }
+            if check_plain(&s) {
+                fast += 1;
+            }
+        }
+        assert!(
+            fast > total / 3,
+            "only {fast} of {total} took the fast path"
+        );
     }
 }
