@@ -59,40 +59,56 @@ impl Calibration {
     /// approximations change). Runs in parallel over chunks of the log.
     pub fn correct_with(&self, log: &Log, deriv: &Derivatives) -> Correction {
         let n = log.len().min(deriv.tdot.len()).min(deriv.tddot.len());
-        let mut pred_dph = vec![0.0; n];
-        let mut regime = vec![Regime::Static; n];
+        // Zeroed allocations are cheap (the pages are mapped on first write), and with the
+        // lengths right `correct_into` writes every sample once.
+        let mut c = Correction {
+            pred_dph: vec![0.0; n],
+            cor_dph: vec![0.0; n],
+            regime: vec![Regime::Static; n],
+            ..Correction::default()
+        };
+        self.correct_into(log, deriv, &mut c);
+        c
+    }
+
+    /// Corrects a log into `out`, reusing its buffers (the workbench's live loop corrects a
+    /// long log on every edit; new buffers would cost more than the correction). The result
+    /// equals [`Calibration::correct_with`]'s sample for sample.
+    pub fn correct_into(&self, log: &Log, deriv: &Derivatives, out: &mut Correction) {
+        let n = log.len().min(deriv.tdot.len()).min(deriv.tddot.len());
+        for v in [&mut out.pred_dph, &mut out.cor_dph] {
+            if v.len() != n {
+                v.clear();
+                v.resize(n, 0.0);
+            }
+        }
+        if out.regime.len() != n {
+            out.regime.clear();
+            out.regime.resize(n, Regime::Static);
+        }
         const CHUNK: usize = 1 << 15;
-        let outside_by_regime = pred_dph
+        let omega = &log.omega_dph[..n];
+        out.outside_by_regime = out
+            .pred_dph
             .par_chunks_mut(CHUNK)
-            .zip(regime.par_chunks_mut(CHUNK))
+            .zip(out.cor_dph.par_chunks_mut(CHUNK))
+            .zip(out.regime.par_chunks_mut(CHUNK))
             .enumerate()
-            .map(|(c, (p, r))| {
+            .map(|(c, ((p, q), r))| {
                 let base = c * CHUNK;
-                let mut out = [0usize; 3];
+                let mut outside = [0usize; 3];
                 for k in 0..p.len() {
                     let i = base + k;
                     let (t, td, tdd) = (log.temp_c[i], deriv.tdot[i], deriv.tddot[i]);
                     (p[k], r[k]) = self.predict(t, td, tdd);
-                    out[r[k] as usize] += usize::from(self.is_outside(t, td, tdd, r[k]));
+                    q[k] = omega[i] - p[k];
+                    outside[r[k] as usize] += usize::from(self.is_outside(t, td, tdd, r[k]));
                 }
-                out
+                outside
             })
             .reduce(|| [0; 3], |a, b| [a[0] + b[0], a[1] + b[1], a[2] + b[2]]);
-        let cor_dph = log.omega_dph[..n]
-            .par_iter()
-            .zip(&pred_dph)
-            .map(|(w, p)| w - p)
-            .collect();
-        let mut c = Correction {
-            pred_dph,
-            cor_dph,
-            regime,
-            outside_fraction: 0.0,
-            outside_by_regime,
-            ready_from: deriv.ready_from,
-        };
-        c.update_outside_fraction();
-        c
+        out.ready_from = deriv.ready_from;
+        out.update_outside_fraction();
     }
 
     /// Whether a sample lies beyond what the calibration saw (its T outside K0's range, or its

@@ -53,14 +53,15 @@ pub use crate::correct::Correction as Corrected;
 pub struct Judged {
     /// The log.
     pub log: Arc<Log>,
-    /// The correction (shared: the next refit patches a copy of it).
+    /// The correction (shared: the next refit patches it in place once this is dropped, or a
+    /// copy of it while it is held).
     pub corrected: Arc<Corrected>,
     /// Raw against corrected.
     pub evaluation: Evaluation,
     /// Ω filtered as for the figures (centred moving average), °/h.
     pub raw_filtered_dph: Arc<Vec<f64>>,
-    /// Corrected Ω filtered alike, °/h.
-    pub cor_filtered_dph: Vec<f64>,
+    /// Corrected Ω filtered alike, °/h (shared: kept while the correction stays).
+    pub cor_filtered_dph: Arc<Vec<f64>>,
 }
 
 /// Milliseconds spent per stage of one run (0 for a stage that was reused).
@@ -190,21 +191,80 @@ pub struct Pipeline {
     raw_figures: Option<((usize, usize, MeritOptions), Figures)>,
     raw_filtered: Option<(RawFilteredKey, Arc<Vec<f64>>)>,
     validation: Option<ValidationCache>,
-    correction: Option<CorrectionCache>,
+    /// The validation log's last correction, reused in place once the UI has dropped it.
+    validation_corrected: Option<Arc<Corrected>>,
+    /// The last corrections of the calibration log, newest first (at most two: the one the
+    /// UI shows and the one before, whose buffers the next run reuses once they are free).
+    corrections: Vec<CorrectionBuf>,
+    /// Counts the corrections made, so that what is derived from one can be kept with it.
+    correction_generation: u64,
+    /// The figures and display series of the last correction.
+    evaluated: Option<EvalCache>,
+    /// A display series buffer to reuse.
+    spare_filtered: Option<Arc<Vec<f64>>>,
+    /// Scratch prefix sums of the display average.
+    prefix: Vec<f64>,
+    /// The per-set samples the pointwise K1/K2 are made from.
+    points: Option<PointsCache>,
 }
 
-/// The last correction of the calibration log and what it was made with, so that a change
-/// of one set's approximations recomputes only that set's samples.
-struct CorrectionCache {
+/// What a correction of the calibration log was made with.
+#[derive(Debug, Clone, PartialEq)]
+struct CorrectionKey {
     log: usize,
     prepared: usize,
     k0: Approx,
     sets: [(Approx, Approx); 2],
+}
+
+impl CorrectionKey {
+    /// Whether a correction made with `self` can be turned into one with `other` by
+    /// recomputing the samples of the sets whose approximations differ.
+    fn patchable_to(&self, other: &CorrectionKey) -> bool {
+        self.log == other.log && self.prepared == other.prepared && self.k0 == other.k0
+    }
+
+    /// The sets whose approximations differ.
+    fn changed(&self, other: &CorrectionKey) -> [bool; 2] {
+        [self.sets[0] != other.sets[0], self.sets[1] != other.sets[1]]
+    }
+}
+
+/// A correction of the calibration log and what it was made with.
+struct CorrectionBuf {
+    key: CorrectionKey,
     corrected: Arc<Corrected>,
-    /// Samples outside the calibrated ranges, per regime (static, +, −).
-    outside: [usize; 3],
-    /// Indices of the + and − samples.
-    index: Arc<[Vec<u32>; 2]>,
+}
+
+/// Figures of merit and display series of one correction.
+struct EvalCache {
+    generation: u64,
+    merit: MeritOptions,
+    filter: usize,
+    figures: Figures,
+    filtered: Arc<Vec<f64>>,
+}
+
+/// The samples of one set's pointwise K1 or K2: Ṫ, T̈ and Ω_f − K0(T) at each, in log order.
+#[derive(Debug, Default)]
+struct Columns {
+    tdot: Vec<f64>,
+    tddot: Vec<f64>,
+    rest: Vec<f64>,
+}
+
+/// The samples of the pointwise K1 and K2 of one set.
+#[derive(Debug, Default)]
+struct SetColumns {
+    k1: Columns,
+    k2: Columns,
+}
+
+/// Per-set sample columns, kept while the plateaus and K0 stay.
+struct PointsCache {
+    plateaus: PlateauKey,
+    k0: Approx,
+    sets: Arc<[SetColumns; 2]>,
 }
 
 fn ms(t: Instant) -> f64 {
@@ -330,14 +390,30 @@ impl Pipeline {
         let todo: Vec<usize> = (0..2)
             .filter(|&s| self.sets[s].as_ref().is_none_or(|(k, _)| *k != keys[s]))
             .collect();
-        let fitted: Vec<(usize, SetFit)> = todo
-            .par_iter()
-            .map(|&s| {
-                let regime = if s == 0 { Regime::Plus } else { Regime::Minus };
-                let fit = fit_set(log, &prepared, &mask, &k0, deadbands, regime, recipe);
-                (s, fit)
-            })
-            .collect();
+        let needs_columns = !todo.is_empty() || !req.knots.is_empty();
+        let columns = match &self.points {
+            Some(c) if c.plateaus == pkey && c.k0 == k0 => Some(c.sets.clone()),
+            _ if needs_columns => {
+                let sets = Arc::new(set_columns(log, &prepared, &mask, &k0, deadbands));
+                self.points = Some(PointsCache {
+                    plateaus: pkey.clone(),
+                    k0: k0.clone(),
+                    sets: sets.clone(),
+                });
+                Some(sets)
+            }
+            _ => None,
+        };
+        let fitted: Vec<(usize, SetFit)> = match &columns {
+            Some(columns) => todo
+                .par_iter()
+                .map(|&s| {
+                    let regime = if s == 0 { Regime::Plus } else { Regime::Minus };
+                    (s, fit_set(&columns[s], regime, recipe))
+                })
+                .collect(),
+            None => Vec::new(),
+        };
         for (s, fit) in fitted {
             self.sets[s] = Some((keys[s].clone(), fit));
         }
@@ -346,10 +422,9 @@ impl Pipeline {
         }
         let t = Instant::now();
         let edited = |s: usize, regime: Regime| {
-            self.sets[s].as_ref().map(|(_, fit)| {
-                apply_knot_edits(
-                    fit, log, &prepared, &mask, &k0, deadbands, regime, recipe, &req.knots,
-                )
+            self.sets[s].as_ref().map(|(_, fit)| match &columns {
+                Some(columns) => apply_knot_edits(fit, &columns[s], regime, recipe, &req.knots),
+                None => fit.clone(),
             })
         };
         let plus = edited(0, Regime::Plus).ok_or("+ set missing")?;
@@ -398,17 +473,8 @@ impl Pipeline {
                 f
             }
         };
-        let (cor_figures, cor_filtered) = rayon::join(
-            || {
-                crate::metrics::figures(
-                    &corrected.cor_dph,
-                    prepared.dt_s,
-                    corrected.ready_from,
-                    &merit,
-                )
-            },
-            || signal::moving_average_centered(&corrected.cor_dph, filter),
-        );
+        let (cor_figures, cor_filtered) =
+            self.evaluate_kept(&corrected, prepared.dt_s, &merit, filter);
         let evaluation = evaluation(raw_figures, cor_figures, &corrected);
         let in_sample = Judged {
             log: log.clone(),
@@ -444,53 +510,124 @@ impl Pipeline {
     }
 
     /// Corrects the calibration log; when only one set's approximations changed since the last
-    /// run, only that set's samples are recomputed (the rest is copied).
+    /// run, only that set's samples are recomputed. The buffers of a correction the UI no
+    /// longer holds are reused in place; one it still holds is copied first.
     fn correct_kept(
         &mut self,
         cal: &Calibration,
         log: &Arc<Log>,
         prepared: &Arc<Prepared>,
     ) -> Arc<Corrected> {
-        let sets = [
-            (cal.k1_plus.clone(), cal.k2_plus.clone()),
-            (cal.k1_minus.clone(), cal.k2_minus.clone()),
-        ];
-        let reusable = self
-            .correction
-            .as_ref()
-            .filter(|c| c.log == ptr(log) && c.prepared == ptr(prepared) && c.k0 == cal.k0);
-        let (corrected, outside, index) = match reusable {
-            Some(c) if c.sets == sets => (c.corrected.clone(), c.outside, c.index.clone()),
-            Some(c) => {
-                let changed = [c.sets[0] != sets[0], c.sets[1] != sets[1]];
-                let (corrected, outside) = patch(
-                    cal,
-                    log,
-                    &prepared.deriv,
-                    &c.corrected,
-                    c.outside,
-                    &c.index,
-                    changed,
-                );
-                (Arc::new(corrected), outside, c.index.clone())
-            }
-            None => {
-                let corrected = cal.correct_with(log, &prepared.deriv);
-                let outside = corrected.outside_by_regime;
-                let index = Arc::new(regime_index(&corrected.regime));
-                (Arc::new(corrected), outside, index)
-            }
-        };
-        self.correction = Some(CorrectionCache {
+        let key = CorrectionKey {
             log: ptr(log),
             prepared: ptr(prepared),
             k0: cal.k0.clone(),
-            sets,
-            corrected: corrected.clone(),
-            outside,
-            index,
-        });
+            sets: [
+                (cal.k1_plus.clone(), cal.k2_plus.clone()),
+                (cal.k1_minus.clone(), cal.k2_minus.clone()),
+            ],
+        };
+        if let Some(cur) = self.corrections.first()
+            && cur.key == key
+        {
+            return cur.corrected.clone();
+        }
+        self.correction_generation += 1;
+        let deriv = &prepared.deriv;
+        let mut bufs = std::mem::take(&mut self.corrections);
+        // A buffer nobody else holds, preferably one that only needs patching.
+        let free = bufs
+            .iter_mut()
+            .position(|b| b.key.patchable_to(&key) && Arc::get_mut(&mut b.corrected).is_some())
+            .or_else(|| {
+                bufs.iter_mut()
+                    .position(|b| Arc::get_mut(&mut b.corrected).is_some())
+            });
+        let fresh = match free {
+            Some(j) => {
+                let mut b = bufs.remove(j);
+                let Some(c) = Arc::get_mut(&mut b.corrected) else {
+                    unreachable!("the buffer was just found unshared")
+                };
+                let base = bufs.first().filter(|cur| cur.key.patchable_to(&key));
+                if b.key.patchable_to(&key) {
+                    patch(cal, log, deriv, c, b.key.changed(&key));
+                } else if let Some(cur) = base {
+                    copy_correction(c, &cur.corrected);
+                    patch(cal, log, deriv, c, cur.key.changed(&key));
+                } else {
+                    cal.correct_into(log, deriv, c);
+                }
+                b.key = key;
+                b
+            }
+            None => {
+                let corrected = match bufs.first().filter(|cur| cur.key.patchable_to(&key)) {
+                    Some(cur) => {
+                        let mut c = Corrected::clone(&cur.corrected);
+                        patch(cal, log, deriv, &mut c, cur.key.changed(&key));
+                        c
+                    }
+                    None => cal.correct_with(log, deriv),
+                };
+                CorrectionBuf {
+                    key,
+                    corrected: Arc::new(corrected),
+                }
+            }
+        };
+        let corrected = fresh.corrected.clone();
+        bufs.truncate(1);
+        bufs.insert(0, fresh);
+        self.corrections = bufs;
         corrected
+    }
+
+    /// The figures of merit and the display series of the correction made last, kept while
+    /// that correction stays; the display series reuses a buffer the UI no longer holds.
+    fn evaluate_kept(
+        &mut self,
+        corrected: &Corrected,
+        dt_s: f64,
+        merit: &MeritOptions,
+        filter: usize,
+    ) -> (Figures, Arc<Vec<f64>>) {
+        let generation = self.correction_generation;
+        if let Some(e) = &self.evaluated
+            && e.generation == generation
+            && e.merit == *merit
+            && e.filter == filter
+        {
+            return (e.figures, e.filtered.clone());
+        }
+        let mut pool: Vec<Arc<Vec<f64>>> = self
+            .evaluated
+            .take()
+            .map(|e| e.filtered)
+            .into_iter()
+            .chain(self.spare_filtered.take())
+            .collect();
+        let mut target = match pool.iter_mut().position(|a| Arc::get_mut(a).is_some()) {
+            Some(j) => pool.swap_remove(j),
+            None => Arc::new(Vec::new()),
+        };
+        self.spare_filtered = pool.pop();
+        let Some(out) = Arc::get_mut(&mut target) else {
+            unreachable!("the buffer was just found unshared")
+        };
+        let prefix = &mut self.prefix;
+        let (figures, ()) = rayon::join(
+            || crate::metrics::figures(&corrected.cor_dph, dt_s, corrected.ready_from, merit),
+            || moving_average_centered_into(&corrected.cor_dph, filter, prefix, out),
+        );
+        self.evaluated = Some(EvalCache {
+            generation,
+            merit: *merit,
+            filter,
+            figures,
+            filtered: target.clone(),
+        });
+        (figures, target)
     }
 
     /// Corrects and judges the validation log, keeping its derivatives and raw figures.
@@ -525,7 +662,16 @@ impl Pipeline {
         let Some(v) = self.validation.as_mut() else {
             unreachable!("validation cache was just filled")
         };
-        let corrected = cal.correct_with(log, &v.deriv);
+        let mut corrected = self
+            .validation_corrected
+            .take()
+            .and_then(|mut c| Arc::get_mut(&mut c).is_some().then_some(c))
+            .unwrap_or_default();
+        let Some(c) = Arc::get_mut(&mut corrected) else {
+            unreachable!("the buffer was just found unshared")
+        };
+        cal.correct_into(log, &v.deriv, c);
+        self.validation_corrected = Some(corrected.clone());
         if v.raw_key != (corrected.ready_from, *merit) {
             v.raw_figures =
                 crate::metrics::figures(&log.omega_dph, dt, corrected.ready_from, merit);
@@ -538,10 +684,10 @@ impl Pipeline {
         let evaluation = evaluation(v.raw_figures, cor_figures, &corrected);
         Judged {
             log: log.clone(),
-            corrected: Arc::new(corrected),
+            corrected,
             evaluation,
             raw_filtered_dph: v.raw_filtered.clone(),
-            cor_filtered_dph: cor_filtered,
+            cor_filtered_dph: Arc::new(cor_filtered),
         }
     }
 }
@@ -555,24 +701,121 @@ fn evaluation(raw: Figures, corrected: Figures, c: &Corrected) -> Evaluation {
     }
 }
 
-/// K1 and K2 of one set, by the engine's own per-set fit.
-fn fit_set(
+/// The samples of the pointwise K1 and K2 of both sets (+, −), as [`model::k1_points`] and
+/// [`model::k2_points`] select them, with the parts that do not change between refinement
+/// passes and edits (Ṫ, T̈, Ω_f − K0(T)) computed once.
+#[allow(clippy::needless_range_loop)] // one index walks six parallel columns, as in the engine
+fn set_columns(
     log: &Log,
     prepared: &Prepared,
     mask: &[bool],
     k0: &Approx,
-    deadbands: (f64, f64),
-    regime: Regime,
-    recipe: &Recipe,
-) -> SetFit {
-    let f = model::fit_set(log, prepared, mask, k0, deadbands, regime, recipe);
-    SetFit {
-        k1: f.k1,
-        k2: f.k2,
-        p1: Arc::new(f.k1_points),
-        p2: Arc::new(f.k2_points),
-        warnings: f.warnings,
+    (db1, db2): (f64, f64),
+) -> [SetColumns; 2] {
+    let d = &prepared.deriv;
+    let mut out = [SetColumns::default(), SetColumns::default()];
+    for i in d.ready_from..log.len() {
+        let (td, tdd) = (d.tdot[i], d.tddot[i]);
+        if mask[i] {
+            continue;
+        }
+        let s = match Regime::of(td, tdd) {
+            Regime::Plus => 0,
+            Regime::Minus => 1,
+            Regime::Static => continue,
+        };
+        // The engine's tests, negated as written there (a NaN rate passes them).
+        let skip1 = td.abs() <= db1;
+        let skip2 = tdd.abs() <= db2;
+        if skip1 && skip2 {
+            continue;
+        }
+        let rest = prepared.omega_filtered_dph[i] - k0.eval(log.temp_c[i]);
+        for (skip, c) in [(skip1, &mut out[s].k1), (skip2, &mut out[s].k2)] {
+            if !skip {
+                c.tdot.push(td);
+                c.tddot.push(tdd);
+                c.rest.push(rest);
+            }
+        }
     }
+    out
+}
+
+/// [`model::k1_points`] from a set's columns.
+fn k1_points(c: &Columns, k2: Option<&Approx>) -> PointSet {
+    let y = c
+        .tdot
+        .iter()
+        .zip(&c.tddot)
+        .zip(&c.rest)
+        .map(|((&td, &tdd), &rest)| {
+            let k2_term = k2.map_or(0.0, |k2| k2.eval(tdd) * tdd);
+            (rest - k2_term) / td
+        })
+        .collect();
+    PointSet {
+        x: c.tdot.clone(),
+        y,
+    }
+}
+
+/// [`model::k2_points`] from a set's columns.
+fn k2_points(c: &Columns, k1: &Approx) -> PointSet {
+    let y = c
+        .tdot
+        .iter()
+        .zip(&c.tddot)
+        .zip(&c.rest)
+        .map(|((&td, &tdd), &rest)| (rest - k1.eval(td) * td) / tdd)
+        .collect();
+    PointSet {
+        x: c.tddot.clone(),
+        y,
+    }
+}
+
+/// K1 and K2 of one set, as [`model::fit_set`] fits them, from the set's columns.
+fn fit_set(columns: &SetColumns, regime: Regime, recipe: &Recipe) -> SetFit {
+    let (c1, c2, sign) = set_names(regime);
+    let (spec1, spec2) = (c1.spec(recipe), c2.spec(recipe));
+    let mut k2: Option<Approx> = None;
+    let mut out = SetFit {
+        k1: Approx::zero(spec1.kind),
+        k2: Approx::zero(spec2.kind),
+        p1: Arc::new(PointSet::default()),
+        p2: Arc::new(PointSet::default()),
+        warnings: Vec::new(),
+    };
+    for _ in 0..=recipe.refinements {
+        // Warnings from the last pass only: earlier passes fit the same point sets.
+        let mut warnings = Vec::new();
+        let p1 = k1_points(&columns.k1, k2.as_ref());
+        let k1 = model::fit_points(
+            &format!("K1{sign}"),
+            spec1,
+            &p1,
+            recipe.weighting,
+            &mut warnings,
+        );
+        let p2 = k2_points(&columns.k2, &k1);
+        let k2_fit = model::fit_points(
+            &format!("K2{sign}"),
+            spec2,
+            &p2,
+            recipe.weighting,
+            &mut warnings,
+        );
+        k2 = Some(k2_fit.clone());
+        out = SetFit {
+            k1,
+            k2: k2_fit,
+            p1: Arc::new(p1),
+            p2: Arc::new(p2),
+            warnings,
+        };
+    }
+    out
 }
 
 fn set_names(regime: Regime) -> (Coefficient, Coefficient, &'static str) {
@@ -584,14 +827,9 @@ fn set_names(regime: Regime) -> (Coefficient, Coefficient, &'static str) {
 
 /// The hand-set knots applied to a fitted set: a hand-set K1 is followed by a K2 fitted on
 /// what it leaves (unless K2's knots are set by hand too), then K2's hand-set knots.
-#[allow(clippy::too_many_arguments)]
 fn apply_knot_edits(
     fit: &SetFit,
-    log: &Log,
-    prepared: &Prepared,
-    mask: &[bool],
-    k0: &Approx,
-    (_, db2): (f64, f64),
+    columns: &SetColumns,
     regime: Regime,
     recipe: &Recipe,
     knots: &KnotEdits,
@@ -602,7 +840,7 @@ fn apply_knot_edits(
     if edit1.is_some() {
         out.k1 = with_knots(&fit.k1, edit1);
         if knots.get(c2).is_none() {
-            let p2 = model::k2_points(log, prepared, mask, k0, &out.k1, db2, regime);
+            let p2 = k2_points(&columns.k2, &out.k1);
             let mut w = Vec::new();
             out.k2 = model::fit_points(
                 &format!("K2{sign}"),
@@ -621,56 +859,99 @@ fn apply_knot_edits(
     out
 }
 
-/// Indices of the + and − samples.
-fn regime_index(regime: &[Regime]) -> [Vec<u32>; 2] {
-    let mut out = [Vec::new(), Vec::new()];
-    for (i, r) in regime.iter().enumerate() {
-        match r {
-            Regime::Plus => out[0].push(i as u32),
-            Regime::Minus => out[1].push(i as u32),
-            Regime::Static => {}
-        }
-    }
-    out
+/// `dst` made equal to `src`, reusing `dst`'s buffers.
+fn copy_correction(dst: &mut Corrected, src: &Corrected) {
+    dst.pred_dph.clone_from(&src.pred_dph);
+    dst.cor_dph.clone_from(&src.cor_dph);
+    dst.regime.clone_from(&src.regime);
+    dst.outside_fraction = src.outside_fraction;
+    dst.outside_by_regime = src.outside_by_regime;
+    dst.ready_from = src.ready_from;
 }
 
-/// A copy of `prev` with the samples of the `changed` sets recomputed with `cal`.
-fn patch(
-    cal: &Calibration,
-    log: &Log,
-    deriv: &Derivatives,
-    prev: &Corrected,
-    prev_outside: [usize; 3],
-    index: &[Vec<u32>; 2],
-    changed: [bool; 2],
-) -> (Corrected, [usize; 3]) {
-    let mut c = prev.clone();
-    let mut counts = prev_outside;
-    for s in 0..2 {
-        if !changed[s] {
-            continue;
-        }
-        let fresh: Vec<(f64, bool)> = index[s]
-            .par_iter()
-            .map(|&i| {
-                let i = i as usize;
-                let (t, td, tdd) = (log.temp_c[i], deriv.tdot[i], deriv.tddot[i]);
-                let (p, r) = cal.predict(t, td, tdd);
-                (p, cal.is_outside(t, td, tdd, r))
-            })
-            .collect();
-        let mut out = 0;
-        for (&i, &(p, o)) in index[s].iter().zip(&fresh) {
-            let i = i as usize;
-            c.pred_dph[i] = p;
-            c.cor_dph[i] = log.omega_dph[i] - p;
-            out += usize::from(o);
-        }
-        counts[s + 1] = out;
+/// Recomputes in place the samples of the `changed` sets of a correction made with the same
+/// log, derivatives and K0 (the regime of a sample depends on its derivatives only).
+fn patch(cal: &Calibration, log: &Log, deriv: &Derivatives, c: &mut Corrected, changed: [bool; 2]) {
+    if !changed.contains(&true) {
+        return;
     }
-    c.outside_by_regime = counts;
+    const CHUNK: usize = 1 << 15;
+    let counts = c
+        .pred_dph
+        .par_chunks_mut(CHUNK)
+        .zip(c.cor_dph.par_chunks_mut(CHUNK))
+        .zip(c.regime.par_chunks(CHUNK))
+        .enumerate()
+        .map(|(ci, ((p, q), r))| {
+            let base = ci * CHUNK;
+            let mut out = [0usize; 3];
+            for k in 0..p.len() {
+                let s = match r[k] {
+                    Regime::Plus => 0,
+                    Regime::Minus => 1,
+                    Regime::Static => continue,
+                };
+                if !changed[s] {
+                    continue;
+                }
+                let i = base + k;
+                let (t, td, tdd) = (log.temp_c[i], deriv.tdot[i], deriv.tddot[i]);
+                let (pred, regime) = cal.predict(t, td, tdd);
+                p[k] = pred;
+                q[k] = log.omega_dph[i] - pred;
+                out[s + 1] += usize::from(cal.is_outside(t, td, tdd, regime));
+            }
+            out
+        })
+        .reduce(|| [0; 3], |a, b| [a[0] + b[0], a[1] + b[1], a[2] + b[2]]);
+    for s in 0..2 {
+        if changed[s] {
+            c.outside_by_regime[s + 1] = counts[s + 1];
+        }
+    }
     c.update_outside_fraction();
-    (c, counts)
+}
+
+/// [`signal::moving_average_centered`] into `out`, with the same arithmetic (so the same
+/// bits), reusing `out` and the scratch `prefix`; the averages are taken in parallel.
+fn moving_average_centered_into(
+    x: &[f64],
+    window: usize,
+    prefix: &mut Vec<f64>,
+    out: &mut Vec<f64>,
+) {
+    let n = x.len();
+    if window <= 1 || n == 0 {
+        out.clear();
+        out.extend_from_slice(x);
+        return;
+    }
+    let back = (window - 1) / 2;
+    let ahead = window / 2;
+    let origin = x[0];
+    prefix.clear();
+    prefix.reserve(n + 1);
+    prefix.push(0.0);
+    let mut s = 0.0;
+    for &v in x {
+        s += v - origin;
+        prefix.push(s);
+    }
+    if out.len() != n {
+        out.clear();
+        out.resize(n, 0.0);
+    }
+    const CHUNK: usize = 1 << 15;
+    let prefix = &prefix[..];
+    out.par_chunks_mut(CHUNK).enumerate().for_each(|(c, o)| {
+        let base = c * CHUNK;
+        for (k, v) in o.iter_mut().enumerate() {
+            let i = base + k;
+            let lo = i.saturating_sub(back);
+            let hi = (i + ahead).min(n - 1);
+            *v = origin + (prefix[hi + 1] - prefix[lo]) / (hi + 1 - lo) as f64;
+        }
+    });
 }
 
 /// The plateaus the engine's detector finds on a log with the recipe's filters, for
@@ -785,5 +1066,131 @@ mod tests {
         req.knots.k1_plus = Some(vec![1.0; 3]);
         let out3 = p.run(&req).unwrap();
         assert_eq!(out3.calibration.k1_plus, out.calibration.k1_plus);
+    }
+
+    /// The correction, figures and display series of `out` are the engine's, made afresh.
+    fn judged_afresh(log: &Arc<Log>, req: &Request, out: &Outcome) {
+        let c = out.calibration.correct_with(log, &out.prepared.deriv);
+        let got = &out.in_sample.corrected;
+        assert_eq!(got.pred_dph, c.pred_dph);
+        assert_eq!(got.cor_dph, c.cor_dph);
+        assert_eq!(got.regime, c.regime);
+        assert_eq!(got.outside_by_regime, c.outside_by_regime);
+        assert_eq!(got.outside_fraction, c.outside_fraction);
+        assert_eq!(got.ready_from, c.ready_from);
+        assert_eq!(
+            out.in_sample.evaluation,
+            Evaluation::of_correction(log, &c, &req.merit)
+        );
+        let filter = signal::seconds_to_samples(req.merit.filter_s, out.prepared.dt_s).max(1);
+        assert_eq!(
+            *out.in_sample.cor_filtered_dph,
+            signal::moving_average_centered(&c.cor_dph, filter)
+        );
+    }
+
+    #[test]
+    fn reused_buffers_give_a_fresh_correction() {
+        let log = sample_log();
+        let base = Recipe {
+            k1_plus: ApproxSpec::of(ApproxKind::Pwl),
+            k2_plus: ApproxSpec::of(ApproxKind::Pwl),
+            k2_minus: ApproxSpec::of(ApproxKind::Pwl),
+            ..Recipe::default()
+        };
+        let mut p = Pipeline::new();
+        let first = request(&log, base.clone());
+        let out = p.run(&first).unwrap();
+        judged_afresh(&log, &first, &out);
+        let k1p = out.calibration.k1_plus.knots().1.to_vec();
+        let k2m = out.calibration.k2_minus.knots().1.to_vec();
+        // A sequence of edits touching one set, the other, both, K0 and nothing; each outcome
+        // is kept for a while (the UI holds it) or dropped at once (its buffers are reused).
+        let mut reqs = Vec::new();
+        for j in 0..6 {
+            let mut r = request(&log, base.clone());
+            let mut v = k1p.clone();
+            v[1] += 10.0 * j as f64;
+            r.knots.k1_plus = Some(v);
+            if j % 2 == 1 {
+                let mut v = k2m.clone();
+                v[0] -= 3.0 * j as f64;
+                r.knots.k2_minus = Some(v);
+            }
+            reqs.push(r);
+        }
+        let mut other = request(&log, base.clone());
+        other.recipe.k2_minus.kind = ApproxKind::Parabolic;
+        reqs.push(other.clone());
+        reqs.push(other);
+        let mut k0 = request(&log, base.clone());
+        k0.recipe.k0.kind = ApproxKind::Linear;
+        reqs.push(k0);
+        reqs.push(first.clone());
+        let mut merit = first.clone();
+        merit.merit.window_s = 300.0;
+        reqs.push(merit);
+        let mut held: Vec<(Request, Outcome)> = Vec::new();
+        for (j, r) in reqs.iter().enumerate() {
+            let out = p.run(r).unwrap();
+            judged_afresh(&log, r, &out);
+            // Held outcomes are never written to by later runs.
+            for (hr, h) in &held {
+                judged_afresh(&log, hr, h);
+            }
+            if j % 3 != 0 {
+                held.push((r.clone(), out));
+            }
+            if held.len() > 2 {
+                held.remove(0);
+            }
+        }
+        // A free buffer made with another K0 while the UI holds the one to patch: copied into.
+        held.clear();
+        let k0 = &reqs[8];
+        judged_afresh(&log, k0, &p.run(k0).unwrap());
+        let kept = p.run(&first).unwrap();
+        let edit = &reqs[3];
+        let out = p.run(edit).unwrap();
+        judged_afresh(&log, edit, &out);
+        judged_afresh(&log, &first, &kept);
+    }
+
+    #[test]
+    fn knot_edits_follow_with_the_engines_k2_points() {
+        let log = sample_log();
+        let recipe = Recipe {
+            k1_minus: ApproxSpec::of(ApproxKind::Pwl),
+            refinements: 2,
+            ..Recipe::default()
+        };
+        let mut p = Pipeline::new();
+        let req = request(&log, recipe.clone());
+        let out = p.run(&req).unwrap();
+        let fit = model::fit(&log, &recipe).unwrap();
+        same(&out.calibration, &fit.calibration);
+        assert_eq!(*out.k1_minus_points, fit.k1_minus_points);
+        assert_eq!(*out.k2_plus_points, fit.k2_plus_points);
+        let mut values = out.calibration.k1_minus.knots().1.to_vec();
+        values[2] -= 20.0;
+        let mut req = request(&log, recipe.clone());
+        req.knots.k1_minus = Some(values);
+        let out2 = p.run(&req).unwrap();
+        judged_afresh(&log, &req, &out2);
+        let mask = model::plateau_mask(&log.time_s, &out2.ranges);
+        let (_, db2) = model::deadbands(&out2.prepared, &mask, &recipe);
+        let p2 = model::k2_points(
+            &log,
+            &out2.prepared,
+            &mask,
+            &out2.calibration.k0,
+            &out2.calibration.k1_minus,
+            db2,
+            Regime::Minus,
+        );
+        assert_eq!(*out2.k2_minus_points, p2);
+        let mut w = Vec::new();
+        let k2 = model::fit_points("K2-", &recipe.k2_minus, &p2, recipe.weighting, &mut w);
+        assert_eq!(out2.calibration.k2_minus, k2);
     }
 }

@@ -57,25 +57,47 @@ pub fn figures(omega_dph: &[f64], dt_s: f64, skip: usize, opts: &MeritOptions) -
     if x.is_empty() {
         return Figures::default();
     }
-    let filtered = signal::moving_average_valid(x, signal::seconds_to_samples(opts.filter_s, dt_s));
-    let (p2p, std) = if filtered.is_empty() {
-        (0.0, 0.0)
-    } else {
-        let (lo, hi) = min_max(&filtered);
-        let m = mean(&filtered);
-        let var = filtered.iter().map(|v| (v - m).powi(2)).sum::<f64>() / filtered.len() as f64;
-        (hi - lo, var.sqrt())
+    // The filtered drift is walked twice (min/max/mean, then the variance) rather than kept:
+    // on a long log the buffer would cost more than the second walk.
+    let window = signal::seconds_to_samples(opts.filter_s, dt_s);
+    let (p2p, std) = match valid_len(x.len(), window) {
+        0 => (0.0, 0.0),
+        len => {
+            // One walk for min, max and the sum, the sum folded exactly as `Iterator::sum`
+            // folds (from its own neutral element, in order).
+            let zero: f64 = std::iter::empty::<f64>().sum();
+            let (lo, hi, sum) = MovingAverageValid::new(x, window)
+                .fold((f64::INFINITY, f64::NEG_INFINITY, zero), |(a, b, s), v| {
+                    (a.min(v), b.max(v), s + v)
+                });
+            let m = sum / len as f64;
+            let var = MovingAverageValid::new(x, window)
+                .map(|v| (v - m).powi(2))
+                .sum::<f64>()
+                / len as f64;
+            (hi - lo, var.sqrt())
+        }
     };
     let w = signal::seconds_to_samples(opts.window_s, dt_s);
-    let (means, rms): (Vec<f64>, Vec<f64>) = x
-        .chunks_exact(w)
-        .map(|c| {
-            (
-                mean(c),
-                (c.iter().map(|v| v * v).sum::<f64>() / c.len() as f64).sqrt(),
-            )
-        })
-        .unzip();
+    // One walk for the whole-record mean and the window means and RMS: each sum adds the same
+    // values in the same order as `Iterator::sum` would, from its neutral element.
+    let zero: f64 = std::iter::empty::<f64>().sum();
+    let mut total = zero;
+    let whole = x.len().checked_div(w).unwrap_or(0);
+    let (mut means, mut rms) = (Vec::with_capacity(whole), Vec::with_capacity(whole));
+    for c in x.chunks(w.max(1)) {
+        let (mut s, mut q) = (zero, zero);
+        for &v in c {
+            total += v;
+            s += v;
+            q += v * v;
+        }
+        if c.len() == w {
+            means.push(s / c.len().max(1) as f64);
+            rms.push((q / c.len() as f64).sqrt());
+        }
+    }
+    let mean_x = total / x.len().max(1) as f64;
     let (mlo, mhi) = if means.is_empty() {
         (0.0, 0.0)
     } else {
@@ -84,7 +106,7 @@ pub fn figures(omega_dph: &[f64], dt_s: f64, skip: usize, opts: &MeritOptions) -
     Figures {
         p2p_dph: p2p,
         std_dph: std,
-        mean_dph: mean(x),
+        mean_dph: mean_x,
         win_mean_max_abs_dph: means.iter().fold(0.0, |a: f64, m| a.max(m.abs())),
         win_mean_p2p_dph: mhi - mlo,
         win_rms_mean_dph: if rms.is_empty() { 0.0 } else { mean(&rms) },
@@ -152,6 +174,67 @@ fn min_max(x: &[f64]) -> (f64, f64) {
         })
 }
 
+/// Length of [`signal::moving_average_valid`]'s output.
+fn valid_len(n: usize, window: usize) -> usize {
+    if window <= 1 {
+        n
+    } else if n < window {
+        0
+    } else {
+        n - window + 1
+    }
+}
+
+/// The values of [`signal::moving_average_valid`], one at a time and with the same arithmetic
+/// (so the same bits), without a buffer.
+struct MovingAverageValid<'a> {
+    x: &'a [f64],
+    window: usize,
+    origin: f64,
+    w: f64,
+    s: f64,
+    /// Index of the next value to yield, counted as the index of its window's last sample + 1.
+    next: usize,
+}
+
+impl<'a> MovingAverageValid<'a> {
+    fn new(x: &'a [f64], window: usize) -> Self {
+        let origin = x.first().copied().unwrap_or(0.0);
+        MovingAverageValid {
+            x,
+            window,
+            origin,
+            w: window as f64,
+            s: 0.0,
+            next: if window <= 1 { 0 } else { window },
+        }
+    }
+}
+
+impl Iterator for MovingAverageValid<'_> {
+    type Item = f64;
+
+    fn next(&mut self) -> Option<f64> {
+        let (x, window, origin) = (self.x, self.window, self.origin);
+        if window <= 1 {
+            let v = x.get(self.next).copied();
+            self.next += 1;
+            return v;
+        }
+        let i = self.next;
+        if i > x.len() {
+            return None;
+        }
+        if i == window {
+            self.s = x[..window].iter().map(|v| v - origin).sum();
+        } else {
+            self.s += (x[i - 1] - origin) - (x[i - 1 - window] - origin);
+        }
+        self.next += 1;
+        Some(origin + self.s / self.w)
+    }
+}
+
 /// A calibration judged on one log: the comparison plus how much of the log lay beyond the
 /// calibrated ranges.
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
@@ -186,6 +269,89 @@ impl Evaluation {
             comparison: Comparison::of(&log.omega_dph, &c.cor_dph, log.nominal_dt_s(), skip, opts),
             outside_fraction: c.outside_fraction,
             warmup_samples: skip,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `figures` as it was written before its walks were fused.
+    fn reference(omega_dph: &[f64], dt_s: f64, skip: usize, opts: &MeritOptions) -> Figures {
+        let x = &omega_dph[skip.min(omega_dph.len())..];
+        if x.is_empty() {
+            return Figures::default();
+        }
+        let filtered =
+            signal::moving_average_valid(x, signal::seconds_to_samples(opts.filter_s, dt_s));
+        let (p2p, std) = if filtered.is_empty() {
+            (0.0, 0.0)
+        } else {
+            let (lo, hi) = min_max(&filtered);
+            let m = mean(&filtered);
+            let var = filtered.iter().map(|v| (v - m).powi(2)).sum::<f64>() / filtered.len() as f64;
+            (hi - lo, var.sqrt())
+        };
+        let w = signal::seconds_to_samples(opts.window_s, dt_s);
+        let (means, rms): (Vec<f64>, Vec<f64>) = x
+            .chunks_exact(w)
+            .map(|c| {
+                (
+                    mean(c),
+                    (c.iter().map(|v| v * v).sum::<f64>() / c.len() as f64).sqrt(),
+                )
+            })
+            .unzip();
+        let (mlo, mhi) = if means.is_empty() {
+            (0.0, 0.0)
+        } else {
+            min_max(&means)
+        };
+        Figures {
+            p2p_dph: p2p,
+            std_dph: std,
+            mean_dph: mean(x),
+            win_mean_max_abs_dph: means.iter().fold(0.0, |a: f64, m| a.max(m.abs())),
+            win_mean_p2p_dph: mhi - mlo,
+            win_rms_mean_dph: if rms.is_empty() { 0.0 } else { mean(&rms) },
+            win_rms_max_dph: rms.iter().fold(0.0, |a: f64, &r| a.max(r)),
+            windows: means.len(),
+            samples: x.len(),
+        }
+    }
+
+    #[test]
+    fn figures_are_the_unfused_ones() {
+        let x: Vec<f64> = (0..5000)
+            .map(|i| (i as f64 * 0.013).sin() * 30.0 - 4.0 + (i % 11) as f64 * 1e-2)
+            .collect();
+        for skip in [0, 3, 4990, 5000] {
+            for (filter_s, window_s) in [(100.0, 600.0), (0.0, 600.0), (1.0, 1.0), (5e4, 1e5)] {
+                let opts = MeritOptions { filter_s, window_s };
+                let want = reference(&x, 1.0, skip, &opts);
+                let got = figures(&x, 1.0, skip, &opts);
+                assert_eq!(format!("{got:?}"), format!("{want:?}"), "{skip} {opts:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn unbuffered_moving_average_is_the_signal_one() {
+        let x: Vec<f64> = (0..500)
+            .map(|i| (i as f64 * 0.37).sin() * 3.0 + 1e3 + (i % 7) as f64 * 1e-3)
+            .collect();
+        for n in [0, 1, 5, 17, 500] {
+            for window in [0, 1, 2, 5, 17, 18, 600] {
+                let want = signal::moving_average_valid(&x[..n], window);
+                let got: Vec<f64> = MovingAverageValid::new(&x[..n], window).collect();
+                assert_eq!(got.len(), valid_len(n, window));
+                assert_eq!(
+                    got.iter().map(|v| v.to_bits()).collect::<Vec<_>>(),
+                    want.iter().map(|v| v.to_bits()).collect::<Vec<_>>(),
+                    "n {n} window {window}"
+                );
+            }
         }
     }
 }
