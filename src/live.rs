@@ -21,7 +21,7 @@
 use crate::approx::{Approx, ApproxSpec};
 use crate::log::Log;
 use crate::metrics::{Comparison, Evaluation, Figures, MeritOptions};
-use crate::model::{self, Calibration, PointSet, Prepared, Regime};
+use crate::model::{self, Calibration, PointSet, Prepared, Regime, SetColumns};
 use crate::plateau::{PlateauRange, PlateauStats};
 use crate::recipe::{Recipe, Weighting};
 use crate::session::{Coefficient, KnotEdits};
@@ -245,21 +245,6 @@ struct EvalCache {
     filtered: Arc<Vec<f64>>,
 }
 
-/// The samples of one set's pointwise K1 or K2: Ṫ, T̈ and Ω_f − K0(T) at each, in log order.
-#[derive(Debug, Default)]
-struct Columns {
-    tdot: Vec<f64>,
-    tddot: Vec<f64>,
-    rest: Vec<f64>,
-}
-
-/// The samples of the pointwise K1 and K2 of one set.
-#[derive(Debug, Default)]
-struct SetColumns {
-    k1: Columns,
-    k2: Columns,
-}
-
 /// Per-set sample columns, kept while the plateaus and K0 stay.
 struct PointsCache {
     plateaus: PlateauKey,
@@ -394,7 +379,7 @@ impl Pipeline {
         let columns = match &self.points {
             Some(c) if c.plateaus == pkey && c.k0 == k0 => Some(c.sets.clone()),
             _ if needs_columns => {
-                let sets = Arc::new(set_columns(log, &prepared, &mask, &k0, deadbands));
+                let sets = Arc::new(model::set_columns(log, &prepared, &mask, &k0, deadbands));
                 self.points = Some(PointsCache {
                     plateaus: pkey.clone(),
                     k0: k0.clone(),
@@ -701,121 +686,16 @@ fn evaluation(raw: Figures, corrected: Figures, c: &Corrected) -> Evaluation {
     }
 }
 
-/// The samples of the pointwise K1 and K2 of both sets (+, −), as [`model::k1_points`] and
-/// [`model::k2_points`] select them, with the parts that do not change between refinement
-/// passes and edits (Ṫ, T̈, Ω_f − K0(T)) computed once.
-#[allow(clippy::needless_range_loop)] // one index walks six parallel columns, as in the engine
-fn set_columns(
-    log: &Log,
-    prepared: &Prepared,
-    mask: &[bool],
-    k0: &Approx,
-    (db1, db2): (f64, f64),
-) -> [SetColumns; 2] {
-    let d = &prepared.deriv;
-    let mut out = [SetColumns::default(), SetColumns::default()];
-    for i in d.ready_from..log.len() {
-        let (td, tdd) = (d.tdot[i], d.tddot[i]);
-        if mask[i] {
-            continue;
-        }
-        let s = match Regime::of(td, tdd) {
-            Regime::Plus => 0,
-            Regime::Minus => 1,
-            Regime::Static => continue,
-        };
-        // The engine's tests, negated as written there (a NaN rate passes them).
-        let skip1 = td.abs() <= db1;
-        let skip2 = tdd.abs() <= db2;
-        if skip1 && skip2 {
-            continue;
-        }
-        let rest = prepared.omega_filtered_dph[i] - k0.eval(log.temp_c[i]);
-        for (skip, c) in [(skip1, &mut out[s].k1), (skip2, &mut out[s].k2)] {
-            if !skip {
-                c.tdot.push(td);
-                c.tddot.push(tdd);
-                c.rest.push(rest);
-            }
-        }
-    }
-    out
-}
-
-/// [`model::k1_points`] from a set's columns.
-fn k1_points(c: &Columns, k2: Option<&Approx>) -> PointSet {
-    let y = c
-        .tdot
-        .iter()
-        .zip(&c.tddot)
-        .zip(&c.rest)
-        .map(|((&td, &tdd), &rest)| {
-            let k2_term = k2.map_or(0.0, |k2| k2.eval(tdd) * tdd);
-            (rest - k2_term) / td
-        })
-        .collect();
-    PointSet {
-        x: c.tdot.clone(),
-        y,
-    }
-}
-
-/// [`model::k2_points`] from a set's columns.
-fn k2_points(c: &Columns, k1: &Approx) -> PointSet {
-    let y = c
-        .tdot
-        .iter()
-        .zip(&c.tddot)
-        .zip(&c.rest)
-        .map(|((&td, &tdd), &rest)| (rest - k1.eval(td) * td) / tdd)
-        .collect();
-    PointSet {
-        x: c.tddot.clone(),
-        y,
-    }
-}
-
-/// K1 and K2 of one set, as [`model::fit_set`] fits them, from the set's columns.
+/// K1 and K2 of one set by the engine's per-set fit, with the points shared for display.
 fn fit_set(columns: &SetColumns, regime: Regime, recipe: &Recipe) -> SetFit {
-    let (c1, c2, sign) = set_names(regime);
-    let (spec1, spec2) = (c1.spec(recipe), c2.spec(recipe));
-    let mut k2: Option<Approx> = None;
-    let mut out = SetFit {
-        k1: Approx::zero(spec1.kind),
-        k2: Approx::zero(spec2.kind),
-        p1: Arc::new(PointSet::default()),
-        p2: Arc::new(PointSet::default()),
-        warnings: Vec::new(),
-    };
-    for _ in 0..=recipe.refinements {
-        // Warnings from the last pass only: earlier passes fit the same point sets.
-        let mut warnings = Vec::new();
-        let p1 = k1_points(&columns.k1, k2.as_ref());
-        let k1 = model::fit_points(
-            &format!("K1{sign}"),
-            spec1,
-            &p1,
-            recipe.weighting,
-            &mut warnings,
-        );
-        let p2 = k2_points(&columns.k2, &k1);
-        let k2_fit = model::fit_points(
-            &format!("K2{sign}"),
-            spec2,
-            &p2,
-            recipe.weighting,
-            &mut warnings,
-        );
-        k2 = Some(k2_fit.clone());
-        out = SetFit {
-            k1,
-            k2: k2_fit,
-            p1: Arc::new(p1),
-            p2: Arc::new(p2),
-            warnings,
-        };
+    let f = model::fit_set(columns, regime, recipe);
+    SetFit {
+        k1: f.k1,
+        k2: f.k2,
+        p1: Arc::new(f.k1_points),
+        p2: Arc::new(f.k2_points),
+        warnings: f.warnings,
     }
-    out
 }
 
 fn set_names(regime: Regime) -> (Coefficient, Coefficient, &'static str) {
@@ -840,7 +720,7 @@ fn apply_knot_edits(
     if edit1.is_some() {
         out.k1 = with_knots(&fit.k1, edit1);
         if knots.get(c2).is_none() {
-            let p2 = k2_points(&columns.k2, &out.k1);
+            let p2 = model::k2_points_from(&columns.k2, &out.k1);
             let mut w = Vec::new();
             out.k2 = model::fit_points(
                 &format!("K2{sign}"),

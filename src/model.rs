@@ -579,16 +579,9 @@ pub struct SetFit {
 
 /// K1 and K2 of one set (+ or −), as the paper does (K1 from the ratios, then K2 from what the
 /// fitted K1 leaves), followed by the recipe's refinement passes, each refitting K1 with the K2
-/// term removed and then K2 with the new K1.
-pub fn fit_set(
-    log: &Log,
-    prepared: &Prepared,
-    mask: &[bool],
-    k0: &Approx,
-    (db1, db2): (f64, f64),
-    regime: Regime,
-    recipe: &Recipe,
-) -> SetFit {
+/// term removed and then K2 with the new K1. The set's samples come from [`set_columns`], so
+/// the passes do not walk the whole log again.
+pub fn fit_set(columns: &SetColumns, regime: Regime, recipe: &Recipe) -> SetFit {
     let (spec1, spec2, sign) = match regime {
         Regime::Minus => (&recipe.k1_minus, &recipe.k2_minus, "-"),
         _ => (&recipe.k1_plus, &recipe.k2_plus, "+"),
@@ -604,7 +597,7 @@ pub fn fit_set(
     for _ in 0..=recipe.refinements {
         // Warnings from the last pass only: earlier passes fit the same point sets.
         let mut warnings = Vec::new();
-        let p1 = k1_points(log, prepared, mask, k0, k2.as_ref(), db1, regime);
+        let p1 = k1_points_from(&columns.k1, k2.as_ref());
         let k1 = fit_points(
             &format!("K1{sign}"),
             spec1,
@@ -612,7 +605,7 @@ pub fn fit_set(
             recipe.weighting,
             &mut warnings,
         );
-        let p2 = k2_points(log, prepared, mask, k0, &k1, db2, regime);
+        let p2 = k2_points_from(&columns.k2, &k1);
         let k2_fit = fit_points(
             &format!("K2{sign}"),
             spec2,
@@ -630,6 +623,100 @@ pub fn fit_set(
         };
     }
     out
+}
+
+/// The samples of one set's pointwise K1 or K2: Ṫ, T̈ and Ω_f − K0(T) at each, in log order.
+#[derive(Debug, Default)]
+pub struct Columns {
+    /// Ṫ, °C/s.
+    pub tdot: Vec<f64>,
+    /// T̈, °C/s².
+    pub tddot: Vec<f64>,
+    /// Ω_f − K0(T), °/h.
+    pub rest: Vec<f64>,
+}
+
+/// The samples of the pointwise K1 and K2 of one set.
+#[derive(Debug, Default)]
+pub struct SetColumns {
+    /// Samples outside the Ṫ dead-band.
+    pub k1: Columns,
+    /// Samples outside the T̈ dead-band.
+    pub k2: Columns,
+}
+
+/// The samples of the pointwise K1 and K2 of both sets (+, −), as [`k1_points`] and
+/// [`k2_points`] select them, with the parts that do not change between refinement
+/// passes and edits (Ṫ, T̈, Ω_f − K0(T)) computed once.
+#[allow(clippy::needless_range_loop)] // one index walks six parallel columns
+pub fn set_columns(
+    log: &Log,
+    prepared: &Prepared,
+    mask: &[bool],
+    k0: &Approx,
+    (db1, db2): (f64, f64),
+) -> [SetColumns; 2] {
+    let d = &prepared.deriv;
+    let mut out = [SetColumns::default(), SetColumns::default()];
+    for i in d.ready_from..log.len() {
+        let (td, tdd) = (d.tdot[i], d.tddot[i]);
+        if mask[i] {
+            continue;
+        }
+        let s = match Regime::of(td, tdd) {
+            Regime::Plus => 0,
+            Regime::Minus => 1,
+            Regime::Static => continue,
+        };
+        // The engine's tests, negated as written there (a NaN rate passes them).
+        let skip1 = td.abs() <= db1;
+        let skip2 = tdd.abs() <= db2;
+        if skip1 && skip2 {
+            continue;
+        }
+        let rest = prepared.omega_filtered_dph[i] - k0.eval(log.temp_c[i]);
+        for (skip, c) in [(skip1, &mut out[s].k1), (skip2, &mut out[s].k2)] {
+            if !skip {
+                c.tdot.push(td);
+                c.tddot.push(tdd);
+                c.rest.push(rest);
+            }
+        }
+    }
+    out
+}
+
+/// [`k1_points`] from a set's columns.
+pub fn k1_points_from(c: &Columns, k2: Option<&Approx>) -> PointSet {
+    let y = c
+        .tdot
+        .iter()
+        .zip(&c.tddot)
+        .zip(&c.rest)
+        .map(|((&td, &tdd), &rest)| {
+            let k2_term = k2.map_or(0.0, |k2| k2.eval(tdd) * tdd);
+            (rest - k2_term) / td
+        })
+        .collect();
+    PointSet {
+        x: c.tdot.clone(),
+        y,
+    }
+}
+
+/// [`k2_points`] from a set's columns.
+pub fn k2_points_from(c: &Columns, k1: &Approx) -> PointSet {
+    let y = c
+        .tdot
+        .iter()
+        .zip(&c.tddot)
+        .zip(&c.rest)
+        .map(|((&td, &tdd), &rest)| (rest - k1.eval(td) * td) / tdd)
+        .collect();
+    PointSet {
+        x: c.tddot.clone(),
+        y,
+    }
 }
 
 /// Fits pointwise coefficients, weighted as the recipe says.
@@ -678,16 +765,9 @@ pub fn fit_prepared(
     let mask = plateau_mask(&log.time_s, ranges);
     let (db1, db2) = deadbands(&prepared, &mask, recipe);
 
-    let plus = fit_set(log, &prepared, &mask, &k0, (db1, db2), Regime::Plus, recipe);
-    let minus = fit_set(
-        log,
-        &prepared,
-        &mask,
-        &k0,
-        (db1, db2),
-        Regime::Minus,
-        recipe,
-    );
+    let [plus_columns, minus_columns] = set_columns(log, &prepared, &mask, &k0, (db1, db2));
+    let plus = fit_set(&plus_columns, Regime::Plus, recipe);
+    let minus = fit_set(&minus_columns, Regime::Minus, recipe);
     warnings.extend(plus.warnings);
     warnings.extend(minus.warnings);
     let (k1_plus, k2_plus, k1p_pts, k2p_pts) = (plus.k1, plus.k2, plus.k1_points, plus.k2_points);

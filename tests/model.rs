@@ -212,3 +212,33 @@ fn invalid_recipes_are_refused_with_the_setting_named() {
             .contains("k1_plus")
     );
 }
+
+#[test]
+fn set_columns_select_the_points_of_the_direct_walk() {
+    // The fit takes its points from per-set columns computed once; the plain per-sample walk
+    // of METHOD.md (k1_points, k2_points) must select and compute the very same points.
+    let truth = Truth {
+        k2_plus: 2e4,
+        k2_minus: -1e4,
+        ..TRUTH
+    };
+    let log = log_from(&Program::paper_like(), &truth, 0.3, 0.001, 3);
+    let recipe = Recipe::default();
+    let fit = model::fit(&log, &recipe).unwrap();
+    let cal = &fit.calibration;
+    let ranges: Vec<PlateauRange> = cal.plateaus.iter().map(|p| p.range).collect();
+    let mask = model::plateau_mask(&log.time_s, &ranges);
+    let db = (cal.resolved.deadband_tdot, cal.resolved.deadband_tddot);
+    let sets = model::set_columns(&log, &fit.prepared, &mask, &cal.k0, db);
+    for (s, regime, k1, k2) in [
+        (0, Regime::Plus, &cal.k1_plus, &cal.k2_plus),
+        (1, Regime::Minus, &cal.k1_minus, &cal.k2_minus),
+    ] {
+        let walk1 = model::k1_points(&log, &fit.prepared, &mask, &cal.k0, Some(k2), db.0, regime);
+        assert!(walk1.len() > 1000);
+        assert_eq!(model::k1_points_from(&sets[s].k1, Some(k2)), walk1);
+        let walk2 = model::k2_points(&log, &fit.prepared, &mask, &cal.k0, k1, db.1, regime);
+        assert!(walk2.len() > 1000);
+        assert_eq!(model::k2_points_from(&sets[s].k2, k1), walk2);
+    }
+}
