@@ -5,14 +5,22 @@
 //! ```json
 //! { "format": "driftlab-calibration", "version": 1, "model": "vakhrameev",
 //!   "calibration": { "gyro_id": ..., "source": {...}, "recipe": {...}, "k0": {...}, ... } }
+//! { "format": "driftlab-calibration", "version": 1, "model": "regression",
+//!   "calibration": { "gyro_id": ..., "source": {...}, "model": { "spec": {...},
+//!                    "coefficients": [...], "ranges": {...}, ... } } }
 //! ```
+//!
+//! `model` tags the body: a reader that does not know a model says so by name instead of
+//! misreading it.
 //!
 //! Loading checks the format name and version before anything else, then reads the body with
 //! every unknown field rejected and every approximation validated (finite numbers, ordered
 //! knots), so a hand-edited file fails with a message that says where.
 
+use crate::drift_model::DriftModel;
 use crate::error::{Error, Result};
 use crate::model::Calibration;
+use crate::regression::RegressionCalibration;
 use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
 use std::io::Read;
@@ -30,6 +38,16 @@ struct CalFile {
     version: u32,
     model: String,
     calibration: Calibration,
+}
+
+/// A file whose body is a regression model.
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RegressionFile {
+    format: String,
+    version: u32,
+    model: String,
+    calibration: RegressionCalibration,
 }
 
 /// Only the header, read first so that a file of another kind or version is named as such
@@ -53,8 +71,8 @@ pub fn to_json(cal: &Calibration) -> String {
     serde_json::to_string_pretty(&file).unwrap_or_default() + "\n"
 }
 
-/// Reads a calibration from JSON text; `path` names the file in messages.
-pub fn from_json(path: &Path, text: &str) -> Result<Calibration> {
+/// Checks the header and returns the model tag.
+fn header(path: &Path, text: &str) -> Result<String> {
     let err = |message: String| Error::File {
         path: path.to_path_buf(),
         message,
@@ -79,17 +97,69 @@ pub fn from_json(path: &Path, text: &str) -> Result<Calibration> {
         None => return Err(err("no \"version\" field".into())),
     }
     match header.model.as_deref() {
-        Some("vakhrameev") => {}
-        Some(other) => {
-            return Err(err(format!(
-                "model \"{other}\" is not known to this driftlab"
-            )));
-        }
-        None => return Err(err("no \"model\" field".into())),
+        Some(m @ ("vakhrameev" | "regression")) => Ok(m.to_string()),
+        Some(other) => Err(err(format!(
+            "model \"{other}\" is not known to this driftlab (it knows vakhrameev and \
+             regression)"
+        ))),
+        None => Err(err("no \"model\" field".into())),
     }
-    let file: CalFile = serde_json::from_str(text).map_err(|e| err(e.to_string()))?;
-    file.calibration.validate().map_err(err)?;
-    Ok(file.calibration)
+}
+
+/// Reads a Vakhrameev calibration from JSON text; `path` names the file in messages.
+pub fn from_json(path: &Path, text: &str) -> Result<Calibration> {
+    match model_from_json(path, text)? {
+        DriftModel::Vakhrameev(c) => Ok(*c),
+        DriftModel::Regression(r) => Err(Error::File {
+            path: path.to_path_buf(),
+            message: format!(
+                "holds the regression model \"{}\", and this needs a Vakhrameev calibration",
+                r.model.spec.name
+            ),
+        }),
+    }
+}
+
+/// Reads any model from JSON text; `path` names the file in messages.
+pub fn model_from_json(path: &Path, text: &str) -> Result<DriftModel> {
+    let err = |message: String| Error::File {
+        path: path.to_path_buf(),
+        message,
+    };
+    let model = if header(path, text)? == "regression" {
+        let file: RegressionFile = serde_json::from_str(text).map_err(|e| err(e.to_string()))?;
+        DriftModel::Regression(Box::new(file.calibration))
+    } else {
+        let file: CalFile = serde_json::from_str(text).map_err(|e| err(e.to_string()))?;
+        DriftModel::Vakhrameev(Box::new(file.calibration))
+    };
+    model.validate().map_err(err)?;
+    Ok(model)
+}
+
+/// Any model as the JSON text of a calibration file.
+pub fn model_to_json(model: &DriftModel) -> String {
+    let text = match model {
+        DriftModel::Vakhrameev(c) => return to_json(c),
+        DriftModel::Regression(r) => serde_json::to_string_pretty(&RegressionFile {
+            format: FORMAT.into(),
+            version: VERSION,
+            model: "regression".into(),
+            calibration: (**r).clone(),
+        }),
+    };
+    text.unwrap_or_default() + "\n"
+}
+
+/// Writes any model's calibration file atomically.
+pub fn save_model(path: &Path, model: &DriftModel) -> Result<()> {
+    crate::atomic::write_bytes(path, model_to_json(model).as_bytes())
+        .map_err(|e| Error::io(path, e))
+}
+
+/// Reads any model's calibration file.
+pub fn load_model(path: &Path) -> Result<DriftModel> {
+    model_from_json(path, &read_text(path)?)
 }
 
 /// Writes a calibration file atomically.
@@ -99,12 +169,15 @@ pub fn save(path: &Path, cal: &Calibration) -> Result<()> {
 
 /// Reads a calibration file.
 pub fn load(path: &Path) -> Result<Calibration> {
+    from_json(path, &read_text(path)?)
+}
+
+fn read_text(path: &Path) -> Result<String> {
     let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
-    let text = String::from_utf8(bytes).map_err(|e| Error::File {
+    String::from_utf8(bytes).map_err(|e| Error::File {
         path: path.to_path_buf(),
         message: format!("not UTF-8 text: {e}"),
-    })?;
-    from_json(path, &text)
+    })
 }
 
 /// SHA-256 of a file's bytes as lowercase hex, read in blocks (logs can be gigabytes).

@@ -26,6 +26,16 @@ pub struct Args {
     /// Gyro identifier (serial number) stored in the calibration.
     #[arg(long)]
     pub gyro_id: Option<String>,
+    /// The model to fit (default vakhrameev): a preset (ieee952, yan-cross, yan-delayed,
+    /// sukhanov, poly-t, pwl-t) or `custom` with --terms. See `driftlab compare`.
+    #[arg(long, value_name = "NAME")]
+    pub model: Option<String>,
+    /// Terms of a custom model, comma-separated (see `driftlab compare --help`).
+    #[arg(long, value_name = "TERMS")]
+    pub terms: Option<String>,
+    /// Delay of a custom model's temperature channels: none, SECONDS, auto or bands:N.
+    #[arg(long, value_name = "DELAY", default_value = "none")]
+    pub delay: String,
     /// A plateau as START:END in seconds (repeatable); replaces automatic detection.
     #[arg(long = "plateau", value_name = "START:END")]
     pub plateaus: Vec<PlateauRange>,
@@ -114,6 +124,9 @@ impl Args {
 
 pub fn run(a: Args) -> Result<(), String> {
     let recipe = a.recipe()?;
+    if a.model.as_deref().is_some_and(|m| m != "vakhrameev") || a.terms.is_some() {
+        return super::calibrate_model::run(&a, &recipe);
+    }
     let log = a.log_args.read(&a.log)?;
     common::status("fitting ...");
     let mut fit = model::fit(&log, &recipe).map_err(|e| format!("{}: {e}", a.log.display()))?;

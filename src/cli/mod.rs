@@ -3,7 +3,9 @@
 
 mod apply;
 mod calibrate;
+mod calibrate_model;
 mod common;
+mod compare;
 mod evaluate;
 mod inspect;
 mod simulate;
@@ -31,6 +33,8 @@ pub enum Command {
     Inspect(inspect::Args),
     /// Simulate a motionless fibre-optic gyro in a thermal chamber and write the log as CSV.
     Simulate(simulate::Args),
+    /// Fit several models on one log and compare them on it and on held-out logs.
+    Compare(compare::Args),
     /// Open the workbench (the default when no command is given).
     Gui(GuiArgs),
 }
@@ -53,6 +57,7 @@ pub fn run(command: Command) -> Result<(), String> {
         Command::Evaluate(a) => evaluate::run(a),
         Command::Inspect(a) => inspect::run(a),
         Command::Simulate(a) => simulate::run(a),
+        Command::Compare(a) => compare::run(a),
         Command::Gui(a) => gui(a),
     }
 }

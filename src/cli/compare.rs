@@ -1,0 +1,181 @@
+//! `driftlab compare`: several models fitted on one log, judged on it and on held-out logs.
+
+use super::common::{self, LogArgs};
+use driftlab::compare::{self, ModelReport, Outcome};
+use driftlab::metrics::MeritOptions;
+use driftlab::presets::{ModelChoice, Preset};
+use driftlab::recipe::Recipe;
+use driftlab::regression::{DelaySpec, RegressionSpec, terms};
+use std::path::PathBuf;
+
+/// Arguments of `compare`.
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// The log every model is fitted on.
+    #[arg(long, value_name = "LOG")]
+    pub train: PathBuf,
+    /// Logs of the same gyro to judge the models on (held out).
+    #[arg(long, value_name = "LOG", num_args = 1..)]
+    pub test: Vec<PathBuf>,
+    /// Models to compare, comma-separated (default: every preset): vakhrameev, ieee952,
+    /// yan-cross, yan-delayed, sukhanov, poly-t, pwl-t.
+    #[arg(long, value_name = "LIST", value_delimiter = ',')]
+    pub models: Vec<String>,
+    /// A custom model as comma-separated terms: 1, T, T^2, T^3, Tdot, Tddot, T*Tdot, dT,
+    /// dT^2, selfheat, ch:NAME, ch^2:NAME, pwlT:N (repeatable).
+    #[arg(long, value_name = "TERMS")]
+    pub custom: Vec<String>,
+    /// Delay of the temperature channels in custom models: none, SECONDS, auto (one delay
+    /// searched up to 1800 s) or bands:N (one per temperature band).
+    #[arg(long, value_name = "DELAY", default_value = "none")]
+    pub delay: String,
+    /// Moving-average window of the filtered drift, s.
+    #[arg(long, value_name = "S", default_value_t = 100.0)]
+    pub filter: f64,
+    /// Length of the consecutive mean/RMS windows, s.
+    #[arg(long, value_name = "S", default_value_t = 600.0)]
+    pub window: f64,
+    /// Print the comparison as JSON.
+    #[arg(long)]
+    pub json: bool,
+    #[command(flatten)]
+    pub log_args: LogArgs,
+}
+
+/// Reads `--delay`.
+pub fn parse_delay(s: &str) -> Result<DelaySpec, String> {
+    let s = s.trim();
+    Ok(match s {
+        "none" | "0" => DelaySpec::None,
+        "auto" => DelaySpec::Search { max_s: 1800.0 },
+        _ => {
+            if let Some(n) = s.strip_prefix("bands:") {
+                let bands = n
+                    .parse()
+                    .map_err(|_| format!("--delay {s}: bands:N needs a whole number"))?;
+                DelaySpec::Bands {
+                    bands,
+                    max_s: 1800.0,
+                }
+            } else {
+                let seconds: f64 = s
+                    .parse()
+                    .map_err(|_| format!("--delay {s}: expected none, SECONDS, auto or bands:N"))?;
+                DelaySpec::Fixed { seconds }
+            }
+        }
+    })
+}
+
+/// The models `--models` and `--custom` ask for.
+pub fn choices(
+    models: &[String],
+    custom: &[String],
+    delay: &str,
+) -> Result<Vec<ModelChoice>, String> {
+    let mut out: Vec<ModelChoice> = if models.is_empty() && custom.is_empty() {
+        Preset::ALL.into_iter().map(ModelChoice::Preset).collect()
+    } else {
+        models
+            .iter()
+            .map(|m| Preset::from_name(m.trim()).map(ModelChoice::Preset))
+            .collect::<Result<_, _>>()?
+    };
+    for (k, c) in custom.iter().enumerate() {
+        let mut spec = RegressionSpec::new(
+            &if custom.len() == 1 {
+                "custom".to_string()
+            } else {
+                format!("custom-{}", k + 1)
+            },
+            terms::parse_terms(c)?,
+        );
+        spec.delay = parse_delay(delay)?;
+        spec.validate()?;
+        out.push(ModelChoice::Custom(spec));
+    }
+    Ok(out)
+}
+
+pub fn run(a: Args) -> Result<(), String> {
+    let choices = choices(&a.models, &a.custom, &a.delay)?;
+    let merit = MeritOptions {
+        filter_s: a.filter,
+        window_s: a.window,
+    };
+    if !(merit.filter_s > 0.0 && merit.window_s > 0.0) {
+        return Err("--filter and --window must be positive".into());
+    }
+    let train = a.log_args.read(&a.train)?;
+    let tests = a
+        .test
+        .iter()
+        .map(|p| a.log_args.read(p))
+        .collect::<Result<Vec<_>, _>>()?;
+    common::status(&format!("fitting {} models ...", choices.len()));
+    let recipe = Recipe {
+        filter_s: a.filter,
+        ..Recipe::default()
+    };
+    let reports = compare::compare(&train, &tests, &choices, &recipe, &merit);
+    if a.json {
+        return common::print_json(&serde_json::json!({
+            "train": a.train,
+            "test": a.test,
+            "options": merit,
+            "models": reports,
+        }));
+    }
+    print_tables(&reports, &merit);
+    Ok(())
+}
+
+fn print_tables(reports: &[ModelReport], merit: &MeritOptions) {
+    println!(
+        "Figures of the drift filtered over {} s, in deg/h; ratio = raw / corrected (above 1 is \
+         better); windows of {} s.",
+        merit.filter_s, merit.window_s
+    );
+    for r in reports.iter().filter(|r| r.error.is_some()) {
+        println!(
+            "  {}: not fitted: {}",
+            r.model,
+            r.error.as_deref().unwrap_or("")
+        );
+    }
+    let Some(first) = reports.iter().find(|r| r.error.is_none()) else {
+        return;
+    };
+    for (k, j) in first.logs.iter().enumerate() {
+        println!();
+        println!(
+            "{} ({})",
+            j.log,
+            if j.held_out { "held out" } else { "in-sample" }
+        );
+        println!(
+            "  {:<12} {:>9} {:>9} {:>8} {:>8} {:>10} {:>8} {:>8}",
+            "model", "p2p raw", "p2p cor", "p2p", "std", "10-min", "RMS", "outside"
+        );
+        for r in reports.iter().filter(|r| r.error.is_none()) {
+            match r.logs.get(k).map(|j| &j.result) {
+                Some(Outcome::Evaluation(e)) => {
+                    let c = &e.comparison;
+                    println!(
+                        "  {:<12} {:>9.4} {:>9.4} {:>8} {:>8} {:>10} {:>8} {:>7.1}%",
+                        r.model,
+                        c.raw.p2p_dph,
+                        c.corrected.p2p_dph,
+                        common::ratio(c.p2p_ratio),
+                        common::ratio(c.std_ratio),
+                        common::ratio(c.win_mean_ratio),
+                        common::ratio(c.win_rms_ratio),
+                        100.0 * e.outside_fraction
+                    );
+                }
+                Some(Outcome::Error(msg)) => println!("  {:<12} {msg}", r.model),
+                None => {}
+            }
+        }
+    }
+}

@@ -1,0 +1,174 @@
+//! Any fitted drift model — the Vakhrameev calibration or a regression model — behind one
+//! face, so that files, `apply`, `compare` and the workbench treat them alike.
+
+use crate::correct::{Corrected, Correction, StreamCorrector};
+use crate::error::{Error, Result};
+use crate::log::Log;
+use crate::model::{self, Calibration, SourceInfo};
+use crate::presets::{ModelChoice, Preset};
+use crate::recipe::Recipe;
+use crate::regression::{self, RegressionCalibration, RegressionCorrector};
+
+/// A fitted model of a gyro's thermal drift.
+#[derive(Debug, Clone, PartialEq)]
+pub enum DriftModel {
+    /// K0/K1±/K2± (METHOD.md §1).
+    Vakhrameev(Box<Calibration>),
+    /// A model linear in its coefficients over the log's channels.
+    Regression(Box<RegressionCalibration>),
+}
+
+impl DriftModel {
+    /// The model's name (`vakhrameev`, a preset's name, or the custom model's).
+    pub fn name(&self) -> &str {
+        match self {
+            DriftModel::Vakhrameev(_) => Preset::Vakhrameev.name(),
+            DriftModel::Regression(r) => &r.model.spec.name,
+        }
+    }
+
+    /// The tag of the model section in a calibration file.
+    pub fn tag(&self) -> &'static str {
+        match self {
+            DriftModel::Vakhrameev(_) => "vakhrameev",
+            DriftModel::Regression(_) => "regression",
+        }
+    }
+
+    /// Gyro identifier.
+    pub fn gyro_id(&self) -> &str {
+        match self {
+            DriftModel::Vakhrameev(c) => &c.gyro_id,
+            DriftModel::Regression(r) => &r.gyro_id,
+        }
+    }
+
+    /// The log the model was fitted on.
+    pub fn source(&self) -> &SourceInfo {
+        match self {
+            DriftModel::Vakhrameev(c) => &c.source,
+            DriftModel::Regression(r) => &r.source,
+        }
+    }
+
+    /// The log the model was fitted on, to fill in its name and hash.
+    pub fn source_mut(&mut self) -> &mut SourceInfo {
+        match self {
+            DriftModel::Vakhrameev(c) => &mut c.source,
+            DriftModel::Regression(r) => &mut r.source,
+        }
+    }
+
+    /// Corrects a whole log.
+    ///
+    /// # Errors
+    /// The log lacks a channel a regression model reads.
+    pub fn correct(&self, log: &Log) -> Result<Correction> {
+        match self {
+            DriftModel::Vakhrameev(c) => Ok(c.correct(log)),
+            DriftModel::Regression(r) => r.model.correct(log),
+        }
+    }
+
+    /// A streaming corrector for samples `dt_s` seconds apart.
+    pub fn corrector_for(&self, dt_s: f64) -> ModelCorrector {
+        match self {
+            DriftModel::Vakhrameev(c) => {
+                ModelCorrector::Vakhrameev(Box::new(c.corrector_for(dt_s)))
+            }
+            DriftModel::Regression(r) => {
+                ModelCorrector::Regression(Box::new(r.model.corrector_for(dt_s)))
+            }
+        }
+    }
+
+    /// The second temperature channel and the extra channels a streaming corrector wants.
+    pub fn inputs(&self) -> (Option<String>, Vec<String>) {
+        match self {
+            DriftModel::Vakhrameev(_) => (None, Vec::new()),
+            DriftModel::Regression(r) => (r.model.temp2.clone(), r.model.channel_names()),
+        }
+    }
+
+    /// Checks a model read from a file.
+    ///
+    /// # Errors
+    /// A message naming what is inconsistent.
+    pub fn validate(&self) -> std::result::Result<(), String> {
+        match self {
+            DriftModel::Vakhrameev(c) => c.validate(),
+            DriftModel::Regression(r) => r.model.validate(),
+        }
+    }
+}
+
+/// A streaming corrector for any model.
+#[derive(Debug, Clone)]
+pub enum ModelCorrector {
+    /// The Vakhrameev corrector.
+    Vakhrameev(Box<StreamCorrector>),
+    /// A regression model's corrector.
+    Regression(Box<RegressionCorrector>),
+}
+
+impl ModelCorrector {
+    /// Feeds one sample (see [`DriftModel::inputs`] for what `temp2_c` and `channels` are;
+    /// the Vakhrameev model reads neither).
+    pub fn push(
+        &mut self,
+        time_s: f64,
+        omega_dph: f64,
+        temp_c: f64,
+        temp2_c: f64,
+        channels: &[f64],
+    ) -> Corrected {
+        match self {
+            ModelCorrector::Vakhrameev(c) => c.push(time_s, omega_dph, temp_c),
+            ModelCorrector::Regression(c) => c.push(time_s, omega_dph, temp_c, temp2_c, channels),
+        }
+    }
+}
+
+/// Fits `choice` on `log`; the Vakhrameev model uses `recipe`.
+///
+/// # Errors
+/// What the fit reports (too few samples, a missing channel, ...).
+pub fn fit(log: &Log, choice: &ModelChoice, recipe: &Recipe) -> Result<DriftModel> {
+    let spec = match choice {
+        ModelChoice::Preset(p) => p.spec(log)?,
+        ModelChoice::Custom(s) => Some(s.clone()),
+    };
+    match spec {
+        None => Ok(DriftModel::Vakhrameev(Box::new(
+            model::fit(log, recipe)?.calibration,
+        ))),
+        Some(spec) => {
+            let m = regression::fit(log, &spec)?;
+            Ok(DriftModel::Regression(Box::new(
+                RegressionCalibration::new(&recipe.gyro_id, log, m),
+            )))
+        }
+    }
+}
+
+/// The values a streaming corrector is fed for sample `i` of `log`: the second temperature
+/// and the extra channels the model reads.
+///
+/// # Errors
+/// A channel the log lacks.
+pub fn stream_inputs(model: &DriftModel, log: &Log) -> Result<(Vec<f64>, Vec<Vec<f64>>)> {
+    let (temp2, names) = model.inputs();
+    let find = |name: &str| {
+        log.extra
+            .iter()
+            .find(|c| c.name == name)
+            .map(|c| c.values.clone())
+            .ok_or_else(|| Error::Fit(format!("{}: no channel \"{name}\"", log.source)))
+    };
+    let t2 = match temp2 {
+        Some(n) => find(&n)?,
+        None => vec![f64::NAN; log.len()],
+    };
+    let ch = names.iter().map(|n| find(n)).collect::<Result<Vec<_>>>()?;
+    Ok((t2, ch))
+}
