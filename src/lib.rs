@@ -23,6 +23,7 @@ pub mod calfile;
 pub mod correct;
 pub mod corrected_csv;
 pub mod error;
+pub mod firmware;
 pub mod ingest;
 pub mod live;
 pub mod lod;

@@ -5,6 +5,7 @@ mod apply;
 mod calibrate;
 mod common;
 mod evaluate;
+mod export;
 mod inspect;
 mod simulate;
 
@@ -27,6 +28,9 @@ pub enum Command {
     Apply(apply::Args),
     /// Figures of merit of a log before and after correction (peak-to-peak, std, 10-min mean/RMS).
     Evaluate(evaluate::Args),
+    /// Write a calibration for a gyro's processor: a C99 header with the streaming corrector, or
+    /// lookup tables as CSV.
+    Export(export::Args),
     /// Show what driftlab reads in a log: columns, units, sampling, plateaus, problems.
     Inspect(inspect::Args),
     /// Simulate a motionless fibre-optic gyro in a thermal chamber and write the log as CSV.
@@ -51,6 +55,7 @@ pub fn run(command: Command) -> Result<(), String> {
         Command::Calibrate(a) => calibrate::run(a),
         Command::Apply(a) => apply::run(a),
         Command::Evaluate(a) => evaluate::run(a),
+        Command::Export(a) => export::run(a),
         Command::Inspect(a) => inspect::run(a),
         Command::Simulate(a) => simulate::run(a),
         Command::Gui(a) => gui(a),
