@@ -13,11 +13,13 @@
 //! `x_j = x_min + (x_max − x_min)·j/(N−1)`, and the coefficients are driftlab's values there,
 //! every number printed so that it reads back exactly.
 //!
-//! How firmware interpolates one table at an argument `v`: clamp `v` to `[x_0, x_{N−1}]` (the
-//! edge value is held, as driftlab holds it); take `j = min(⌊(v − x_0)/h⌋, N − 2)` with
-//! `h = (x_{N−1} − x_0)/(N − 1)`, or the last `j` with `x_j ≤ v`; then
-//! `K = K_j + (v − x_j)/(x_{j+1} − x_j)·(K_{j+1} − K_j)`. A table whose range is one value
-//! (`h = 0`) is the constant `K_0`. At the grid points this is driftlab's value exactly; between
+//! How firmware interpolates one table at an argument `v`: `K_0` when `v ≤ x_0`, `K_{N−1}` when
+//! `v ≥ x_{N−1}` (the edge value is held, as driftlab holds it; this also covers a table whose
+//! range is one value); otherwise the row `j` is the last one with `x_j ≤ v` (arithmetically
+//! `min(⌊(v − x_0)/h⌋, N − 2)` with `h = (x_{N−1} − x_0)/(N − 1)`, checked against its
+//! neighbours since `v/h` rounds), and
+//! `K = K_j + (v − x_j)/(x_{j+1} − x_j)·(K_{j+1} − K_j)`. At the grid points this is driftlab's
+//! value exactly; between
 //! them the error of linear interpolation is at most `h²/8·max|K''|` over the step (0 for a
 //! linear curve, `h²·|c2|/4` for a parabola), and at most `h/4·|jump of the slope|` over a step
 //! holding a knot of a piecewise-linear curve. Beyond the fitted range the table holds the edge
@@ -77,7 +79,7 @@ pub fn vakhrameev(cal: &Calibration, points: usize) -> Result<String, ExportErro
          (0 for the first 2s (4s) samples)\n\
          # Each (argument, coefficient) column pair is one table of {points} equally spaced rows over the \
          range the curve was fitted on. Interpolate linearly between rows; outside the first and last \
-         row hold the edge value.\n",
+         row hold the edge value (x <= first: first K; x >= last: last K).\n",
         version = env!("CARGO_PKG_VERSION"),
         gyro = comment_text(&cal.gyro_id),
         source = comment_text(&src.name),

@@ -103,7 +103,8 @@ pub fn export(
 }
 
 /// A text from a calibration file made safe to quote inside a comment of either format: one
-/// line of printable ASCII (others become `?`), no `*/` or `/*`, at most 200 characters.
+/// line of printable ASCII (others become `?`), no `*/`, `/*` or `??` (a C trigraph), at most
+/// 200 characters.
 pub(crate) fn comment_text(s: &str) -> String {
     let mut out: String = s
         .chars()
@@ -116,8 +117,11 @@ pub(crate) fn comment_text(s: &str) -> String {
             }
         })
         .collect();
-    while out.contains("*/") || out.contains("/*") {
-        out = out.replace("*/", "* /").replace("/*", "/ *");
+    while out.contains("*/") || out.contains("/*") || out.contains("??") {
+        out = out
+            .replace("*/", "* /")
+            .replace("/*", "/ *")
+            .replace("??", "? ?");
     }
     out
 }
