@@ -364,8 +364,11 @@ fn c_header_follows_hand_edited_curves() {
 
 // ---- Tables ----------------------------------------------------------------------------
 
-/// The tables of a csv-table export: for each of K0, K1+, K1−, K2+, K2−, (arguments, values).
-fn parse_table(text: &str) -> (Vec<String>, Vec<(Vec<f64>, Vec<f64>)>) {
+/// One table: its arguments and the coefficient's values there.
+type Table = (Vec<f64>, Vec<f64>);
+
+/// The header and tables of a csv-table export (K0, K1+, K1−, K2+, K2− in that order).
+fn parse_table(text: &str) -> (Vec<String>, Vec<Table>) {
     let mut lines = text.lines().filter(|l| !l.starts_with('#'));
     let header: Vec<String> = lines
         .next()
