@@ -16,7 +16,7 @@ pub struct Args {
     #[arg(long, value_name = "c-header|csv-table")]
     pub format: Format,
     /// Where to write (atomically); standard output when not given.
-    #[arg(long, short)]
+    #[arg(long, short, value_name = "FILE")]
     pub out: Option<PathBuf>,
     /// Rows of each table, end points included (csv-table only).
     #[arg(long, value_name = "N", default_value_t = ExportOptions::default().points)]
