@@ -69,8 +69,8 @@ impl Default for ExportOptions {
 }
 
 /// Most grid points per coefficient a table may have (10 columns of this many rows is already
-/// far more than any processor's memory).
-pub const MAX_TABLE_POINTS: usize = 1_000_000;
+/// far more than any processor's memory, and about 20 MB of text).
+pub const MAX_TABLE_POINTS: usize = 100_000;
 
 /// Largest smoothing window or derivative step, in samples, a header will size a ring buffer
 /// for (about 134 MB of doubles: anything near it is a mistake in the calibration file).
