@@ -25,6 +25,7 @@ pub mod correct;
 pub mod corrected_csv;
 pub mod drift_model;
 pub mod error;
+pub mod firmware;
 pub mod ingest;
 pub mod live;
 pub mod lod;

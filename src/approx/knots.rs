@@ -66,6 +66,11 @@ impl Segments {
         })
     }
 
+    /// The knot positions, `1/h` (0 when not equally spaced) and the per-segment cubics.
+    pub(super) fn parts(&self) -> (&[f64], f64, &[[f64; 4]]) {
+        (&self.knots_x, self.inv_step, &self.coeffs)
+    }
+
     /// Value at `x` inside the knots.
     #[inline]
     pub(super) fn eval(&self, x: f64) -> f64 {

@@ -215,6 +215,20 @@ impl TryFrom<ApproxRepr> for Approx {
     }
 }
 
+/// A knot curve as [`Approx::eval`] evaluates it inside its knots, for code generators that must
+/// repeat that arithmetic exactly (the firmware export).
+#[derive(Debug, Clone, Copy)]
+pub struct SegmentCubics<'a> {
+    /// Knot positions, strictly increasing.
+    pub knots_x: &'a [f64],
+    /// `1/h` when the knots are equally spaced (segment `⌊(x − knots_x[0])·inv_step⌋`, at most
+    /// the last), else 0 (the segment is the last knot `≤ x`).
+    pub inv_step: f64,
+    /// Per segment `i`, `c0 + c1·u + c2·u² + c3·u³` in Horner order, with
+    /// `u = (x − knots_x[i]) / (knots_x[i+1] − knots_x[i])` clamped to `[0, 1]`.
+    pub coeffs: &'a [[f64; 4]],
+}
+
 /// Why a fit could not be made.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum FitError {
@@ -318,6 +332,18 @@ impl Approx {
                 (knots_x, knots_y)
             }
         }
+    }
+
+    /// The per-segment cubics of a knot curve (`None` for polynomials).
+    pub fn segment_cubics(&self) -> Option<SegmentCubics<'_>> {
+        self.segments.as_ref().map(|s| {
+            let (knots_x, inv_step, coeffs) = s.parts();
+            SegmentCubics {
+                knots_x,
+                inv_step,
+                coeffs,
+            }
+        })
     }
 
     /// Returns a copy with knot `j` moved to value `y` (the workbench's dragged knot).

@@ -7,6 +7,7 @@ mod calibrate_model;
 mod common;
 mod compare;
 mod evaluate;
+mod export;
 mod inspect;
 mod simulate;
 
@@ -29,6 +30,9 @@ pub enum Command {
     Apply(apply::Args),
     /// Figures of merit of a log before and after correction (peak-to-peak, std, 10-min mean/RMS).
     Evaluate(evaluate::Args),
+    /// Write a calibration for a gyro's processor: a C99 header with the streaming corrector, or
+    /// lookup tables as CSV.
+    Export(export::Args),
     /// Show what driftlab reads in a log: columns, units, sampling, plateaus, problems.
     Inspect(inspect::Args),
     /// Simulate a motionless fibre-optic gyro in a thermal chamber and write the log as CSV.
@@ -55,6 +59,7 @@ pub fn run(command: Command) -> Result<(), String> {
         Command::Calibrate(a) => calibrate::run(a),
         Command::Apply(a) => apply::run(a),
         Command::Evaluate(a) => evaluate::run(a),
+        Command::Export(a) => export::run(a),
         Command::Inspect(a) => inspect::run(a),
         Command::Simulate(a) => simulate::run(a),
         Command::Compare(a) => compare::run(a),

@@ -1,0 +1,50 @@
+//! `driftlab export`: a calibration for a gyro's processor, as a C header or lookup tables.
+
+use driftlab::calfile;
+use driftlab::firmware::{self, ExportOptions, Format};
+use std::io::Write;
+use std::path::PathBuf;
+
+/// Arguments of `export`.
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// The calibration (JSON) made by `driftlab calibrate`.
+    pub calibration: PathBuf,
+    /// c-header: one self-contained C99 header with the coefficients and the streaming corrector
+    /// (init/reset/push), correcting bit for bit as driftlab does; csv-table: K0(T), K1±(Ṫ) and
+    /// K2±(T̈) tabulated over their fitted ranges, to interpolate linearly.
+    #[arg(long, value_name = "c-header|csv-table")]
+    pub format: Format,
+    /// Where to write (atomically); standard output when not given.
+    #[arg(long, short, value_name = "FILE")]
+    pub out: Option<PathBuf>,
+    /// Rows of each table, end points included (csv-table only).
+    #[arg(long, value_name = "N", default_value_t = ExportOptions::default().points)]
+    pub points: usize,
+}
+
+pub fn run(a: Args) -> Result<(), String> {
+    let cal = calfile::load(&a.calibration).map_err(|e| e.to_string())?;
+    let opts = ExportOptions { points: a.points };
+    let text = firmware::export(&cal, a.format, &opts)
+        .map_err(|e| format!("{}: {e}", a.calibration.display()))?;
+    match &a.out {
+        Some(path) => {
+            driftlab::atomic::write_bytes(path, text.as_bytes())
+                .map_err(|e| format!("{}: {e}", path.display()))?;
+            let what = if cal.gyro_id.is_empty() {
+                cal.source.name.clone()
+            } else {
+                cal.gyro_id.clone()
+            };
+            eprintln!("{} of {what} written to {}", a.format, path.display());
+        }
+        None => {
+            let mut out = std::io::stdout().lock();
+            out.write_all(text.as_bytes())
+                .and_then(|()| out.flush())
+                .map_err(|e| format!("standard output: {e}"))?;
+        }
+    }
+    Ok(())
+}
