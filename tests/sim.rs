@@ -69,6 +69,7 @@ fn step_profile(from_c: f64, to_c: f64) -> Profile {
             },
         ],
         gyro: GyroParams::default(),
+        laser: None,
     }
 }
 
