@@ -646,11 +646,12 @@ fn least_squares(cols: &[Vec<f64>], y: &[f64]) -> (Vec<f64>, f64) {
             .max_by(|&p, &q| a[p][c].abs().total_cmp(&a[q][c].abs()))
             .unwrap();
         a.swap(c, piv);
-        for r in 0..k {
+        let pivot = a[c].clone();
+        for (r, row) in a.iter_mut().enumerate() {
             if r != c {
-                let f = a[r][c] / a[c][c];
-                for j in c..=k {
-                    a[r][j] -= f * a[c][j];
+                let f = row[c] / pivot[c];
+                for (x, p) in row[c..].iter_mut().zip(&pivot[c..]) {
+                    *x -= f * p;
                 }
             }
         }

@@ -29,7 +29,8 @@ pub enum Command {
     Evaluate(evaluate::Args),
     /// Show what driftlab reads in a log: columns, units, sampling, plateaus, problems.
     Inspect(inspect::Args),
-    /// Simulate a motionless fibre-optic gyro in a thermal chamber and write the log as CSV.
+    /// Simulate a motionless gyro (fibre-optic; ring laser for `laser-gyro`) in a thermal
+    /// chamber and write the log as CSV.
     Simulate(simulate::Args),
     /// Open the workbench (the default when no command is given).
     Gui(GuiArgs),
