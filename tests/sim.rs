@@ -1002,3 +1002,23 @@ fn sample_logs_are_what_their_first_line_says() {
         );
     }
 }
+
+#[test]
+fn profiles_round_trip_through_json_and_old_files_still_load() {
+    for name in ["laser-gyro", "yan-steps-mid"] {
+        let p = profile(name).unwrap();
+        let text = serde_json::to_string(&p).unwrap();
+        assert_eq!(text.contains("\"laser\""), name == "laser-gyro");
+        let back: Profile = serde_json::from_str(&text).unwrap();
+        assert_eq!(back, p);
+    }
+    // A profile file written before the laser gyro existed has no `laser` field: a FOG.
+    let mut v = serde_json::to_value(profile("calibration").unwrap()).unwrap();
+    v.as_object_mut().unwrap().remove("laser");
+    let old: Profile = serde_json::from_value(v).unwrap();
+    assert!(old.laser.is_none());
+    // A hand-made laser profile with an unusable constant is refused with its name.
+    let mut bad = profile("laser-gyro").unwrap();
+    bad.laser.as_mut().unwrap().base_tau_s = f64::NAN;
+    assert!(bad.check().unwrap_err().contains("base_tau_s"));
+}
