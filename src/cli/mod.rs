@@ -35,7 +35,8 @@ pub enum Command {
     Export(export::Args),
     /// Show what driftlab reads in a log: columns, units, sampling, plateaus, problems.
     Inspect(inspect::Args),
-    /// Simulate a motionless fibre-optic gyro in a thermal chamber and write the log as CSV.
+    /// Simulate a motionless gyro (fibre-optic; ring laser for `laser-gyro`) in a thermal
+    /// chamber and write the log as CSV.
     Simulate(simulate::Args),
     /// Fit several models on one log and compare them on it and on held-out logs.
     Compare(compare::Args),

@@ -1,4 +1,5 @@
-//! driftlab's own simulator of a motionless fibre-optic gyro (FOG) in a thermal chamber.
+//! driftlab's own simulator of a motionless fibre-optic gyro (FOG) in a thermal chamber, and
+//! of a ring laser gyro for the `laser-gyro` profile ([`LaserParams`], Sukhanov 2011).
 //!
 //! It makes test logs whose truth is known, so that every calibration method of the workbench
 //! (METHOD.md) can be exercised and judged without a chamber: the noise-free thermal drift and
@@ -51,7 +52,25 @@
 //! 100-sample moving average spans about 1.6 °/h peak to peak (Vakhrameev 2017: 1.68 °/h); the
 //! noise smoothed the same way about 0.13 °/h. Gyro noise and sensor noise come from two
 //! ChaCha streams of the one seed.
+//!
+//! # Profiles
+//!
+//! [`profile_names`] lists the built-in chamber programs: the calibration run of Vakhrameev
+//! (2017) and held-out runs of the same FOG (other plateaus and rates, no plateaus, 2 °C/min
+//! ramps), Yan's (2019) three square-wave tests (`yan-steps-low`, `-mid`, `-high`) and his
+//! full-range run at 0.5 °C/min (`yan-full-range`), and a laser gyro with two temperature
+//! sensors, self-heating and extra channels (`laser-gyro`; physics in [`LaserParams`]).
+//!
+//! # Noise floor
+//!
+//! [`SimRun::noise_only`] (and [`simulate_noise_only`]) gives the same run with every
+//! deterministic drift term zero: the output is the gyro noise alone, sample for sample the
+//! noise of the full run of that seed, and the temperatures and channels are unchanged. It is
+//! the simulator's own floor: filtered like the drift, it is what a perfect correction would
+//! leave. `omega_dph` of the full run minus that of the noise-only run is `thermal_dph`, to the
+//! rounding of one addition.
 
+mod laser;
 mod noise;
 mod profile;
 mod thermal;
@@ -61,6 +80,7 @@ use std::path::Path;
 
 use crate::log::{Channel, ColumnInfo, ColumnRole, Log};
 
+pub use laser::LaserParams;
 pub use profile::{GyroParams, Profile, Segment, profile, profile_names};
 pub use thermal::Coil;
 
@@ -98,7 +118,58 @@ pub struct SimRun {
     /// Fibre-weighted mean temperature of the winding, °C (what K0 is a function of).
     pub coil_mean_c: Vec<f64>,
     /// Temperature of the innermost layer of the winding, °C (the most delayed one).
+    /// For a laser gyro, `coil_mean_c` and `coil_inner_c` are both the true resonator-base
+    /// temperature (the block has no winding).
     pub coil_inner_c: Vec<f64>,
+    /// Logged channels written after `temp_chamber_c`, in column order: for a laser gyro
+    /// `temp_housing_c`, `laser_power_mw`, `piezo_v`, `dither_amp_arcsec`; none for a FOG.
+    pub channels: Vec<SimChannel>,
+    /// Truth behind a laser-gyro run; `None` for a FOG.
+    pub laser: Option<LaserTruth>,
+    /// True for a noise-only run ([`SimRun::noise_only`]): `thermal_dph` is zero and
+    /// `omega_dph` is `noise_dph`. Written into the CSV comment as `--noise-only`.
+    pub noise_only: bool,
+}
+
+/// One logged channel of a simulated run besides time, rate and the two temperatures every run
+/// has, as the CSV holds it.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct SimChannel {
+    /// Column name, with the unit as its last word (`laser_power_mw`).
+    pub name: String,
+    /// Unit, for [`SimRun::to_log`].
+    pub unit: String,
+    /// Decimals written to the CSV: the values are quantised to them, so they read back
+    /// exactly.
+    pub decimals: usize,
+    /// One value a sample.
+    pub values: Vec<f64>,
+}
+
+impl SimChannel {
+    pub(crate) fn new(name: &str, unit: &str, decimals: usize, values: Vec<f64>) -> SimChannel {
+        SimChannel {
+            name: name.to_string(),
+            unit: unit.to_string(),
+            decimals,
+            values,
+        }
+    }
+}
+
+/// What a laser-gyro run's drift is made of, sample by sample (see [`LaserParams`]).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct LaserTruth {
+    /// True resonator-base temperature, °C (the logged `temp_base_c` is its sensor).
+    pub base_c: Vec<f64>,
+    /// True laser power, mW, before measurement noise.
+    pub laser_power_mw: Vec<f64>,
+    /// True piezo-corrector voltage, V.
+    pub piezo_v: Vec<f64>,
+    /// True dither amplitude, arcsec.
+    pub dither_amp_arcsec: Vec<f64>,
+    /// The self-heating term B1·(1 − e^(−t/λ)) of the drift, °/h.
+    pub self_heating_dph: Vec<f64>,
 }
 
 /// Simulates `profile` with noise seed `seed`.
@@ -117,6 +188,9 @@ pub fn simulate(profile: &Profile, seed: u64) -> SimRun {
 pub fn simulate_with_progress(profile: &Profile, seed: u64, progress: &dyn Fn(f64)) -> SimRun {
     if let Err(e) = profile.check() {
         panic!("invalid profile {:?}: {e}", profile.name);
+    }
+    if let Some(l) = &profile.laser {
+        return laser::simulate(profile, l, seed, progress);
     }
     let p = &profile.gyro;
     let dt = 1.0 / profile.sample_rate_hz;
@@ -202,7 +276,53 @@ fn thermal_drift(p: &GyroParams, coil: &mut Coil, housing_c: f64) -> f64 {
     p.static_bias_dph(coil.mean_c()) + transient * asymmetry
 }
 
+/// The run of `profile` with seed `seed` with every deterministic drift term zero: the gyro
+/// noise alone, exactly the `noise_dph` of [`simulate`] with the same arguments, beside the
+/// same temperatures and channels. See [`SimRun::noise_only`].
+///
+/// # Panics
+/// When `profile.check()` fails.
+pub fn simulate_noise_only(profile: &Profile, seed: u64) -> SimRun {
+    simulate(profile, seed).noise_only()
+}
+
 impl SimRun {
+    /// This run with every deterministic drift term zero: `thermal_dph` (and a laser gyro's
+    /// self-heating term) set to 0, `omega_dph` = `noise_dph`, everything else unchanged,
+    /// marked `noise_only` so its CSV says so. The simulator's own noise floor: the same noise
+    /// samples as the full run, so that the full output minus this one is the drift.
+    pub fn noise_only(&self) -> SimRun {
+        let mut run = self.clone();
+        run.omega_dph.clone_from(&run.noise_dph);
+        run.thermal_dph.iter_mut().for_each(|x| *x = 0.0);
+        if let Some(l) = &mut run.laser {
+            l.self_heating_dph.iter_mut().for_each(|x| *x = 0.0);
+        }
+        run.noise_only = true;
+        run
+    }
+
+    /// Name of the calibration temperature column: `temp_c` for a FOG, `temp_base_c` (the
+    /// resonator-base sensor) for a laser gyro. It is the first temperature column of the CSV,
+    /// so ingest takes it as the calibration temperature.
+    pub fn temp_column(&self) -> &'static str {
+        if self.laser.is_some() {
+            "temp_base_c"
+        } else {
+            "temp_c"
+        }
+    }
+
+    /// The command that makes this run, as the CSV's first line says it (without `--out`).
+    pub fn command(&self) -> String {
+        format!(
+            "driftlab simulate --profile {} --seed {}{}",
+            self.profile,
+            self.seed,
+            if self.noise_only { " --noise-only" } else { "" }
+        )
+    }
+
     /// Number of samples.
     pub fn len(&self) -> usize {
         self.time_s.len()
@@ -213,9 +333,11 @@ impl SimRun {
         self.time_s.is_empty()
     }
 
-    /// The run as the engine's [`Log`], the way ingest would read its CSV: time, rate and
-    /// sensor temperature as the calibration columns, the chamber air as the extra channel
-    /// `temp_chamber_c`. The truth columns are not part of a log.
+    /// The run as the engine's [`Log`], the way ingest reads its CSV: time, rate and sensor
+    /// temperature as the calibration columns, the chamber air as the extra channel
+    /// `temp_chamber_c`, then the run's [`channels`](SimRun::channels) by name (with their
+    /// units, which the CSV header only carries as the last word of the name). The truth
+    /// columns are not part of a log.
     pub fn to_log(&self, source: &str) -> Log {
         let mut log = Log::from_columns(
             source,
@@ -228,46 +350,66 @@ impl SimRun {
             unit: "°C".to_string(),
             values: self.chamber_c.clone(),
         });
+        for c in &self.channels {
+            log.extra.push(Channel {
+                name: c.name.clone(),
+                unit: c.unit.clone(),
+                values: c.values.clone(),
+            });
+        }
         log.info.has_header = true;
-        log.info.columns = [
+        let fixed = [
             ("time_s", ColumnRole::Time, "s"),
             ("omega_dph", ColumnRole::Rate, "deg/h"),
-            ("temp_c", ColumnRole::Temperature, "°C"),
+            (self.temp_column(), ColumnRole::Temperature, "°C"),
             ("temp_chamber_c", ColumnRole::Extra, "°C"),
-        ]
-        .into_iter()
-        .enumerate()
-        .map(|(i, (name, role, unit))| ColumnInfo {
-            index: i + 1,
-            name: name.to_string(),
-            role,
-            unit: unit.to_string(),
-        })
-        .collect();
+        ];
+        log.info.columns = fixed
+            .into_iter()
+            .chain(
+                self.channels
+                    .iter()
+                    .map(|c| (c.name.as_str(), ColumnRole::Extra, c.unit.as_str())),
+            )
+            .enumerate()
+            .map(|(i, (name, role, unit))| ColumnInfo {
+                index: i + 1,
+                name: name.to_string(),
+                role,
+                unit: unit.to_string(),
+            })
+            .collect();
         log
     }
 
     /// Writes the run as a test-stand CSV, atomically: a `# driftlab simulate --profile NAME
-    /// --seed N` comment, the header `time_s,omega_dph,temp_c,temp_chamber_c`, then one row a
-    /// sample (time exact, rate to 0.0001 °/h, temperatures to 0.001 °C).
+    /// --seed N` comment (with `--noise-only` for a noise-only run), the header
+    /// `time_s,omega_dph,temp_c,temp_chamber_c` (a laser gyro: `temp_base_c` for `temp_c`, then
+    /// its [`channels`](SimRun::channels)), then one row a sample (time exact, rate to
+    /// 0.0001 °/h, temperatures to 0.001 °C, channels to their resolution).
     pub fn write_csv(&self, path: &Path) -> std::io::Result<()> {
         crate::atomic::write_with(path, |w| self.write_csv_to(w))
     }
 
     fn write_csv_to(&self, w: &mut dyn Write) -> std::io::Result<()> {
-        writeln!(
-            w,
-            "# driftlab simulate --profile {} --seed {}",
-            self.profile, self.seed
-        )?;
-        writeln!(w, "time_s,omega_dph,temp_c,temp_chamber_c")?;
+        writeln!(w, "# {}", self.command())?;
+        write!(w, "time_s,omega_dph,{},temp_chamber_c", self.temp_column())?;
+        for c in &self.channels {
+            write!(w, ",{}", c.name)?;
+        }
+        writeln!(w)?;
         for i in 0..self.len() {
             // Display of f64 is the shortest text that reads back to the same number.
-            writeln!(
+            write!(
                 w,
                 "{},{:.4},{:.3},{:.3}",
                 self.time_s[i], self.omega_dph[i], self.temp_c[i], self.chamber_c[i]
             )?;
+            for c in &self.channels {
+                let v = c.values.get(i).copied().unwrap_or(f64::NAN);
+                write!(w, ",{:.*}", c.decimals, v)?;
+            }
+            writeln!(w)?;
         }
         Ok(())
     }

@@ -18,13 +18,53 @@ pub(crate) struct GyroNoise {
     rrw: f64,
 }
 
-/// ChaCha stream of the gyro noise and of the temperature-sensor noise: separate streams of
-/// one seed, so changing one noise never reshuffles the other.
+/// ChaCha streams of one seed, one for each random part, so that changing one noise never
+/// reshuffles another: the gyro noise, the calibration temperature sensor, and (laser gyro
+/// only) the housing sensor, the wander of the laser's channels and their measurement noise.
 const GYRO_STREAM: u64 = 0;
 const SENSOR_STREAM: u64 = 1;
+pub(crate) const HOUSING_SENSOR_STREAM: u64 = 2;
+pub(crate) const WANDER_STREAM: u64 = 3;
+pub(crate) const CHANNEL_NOISE_STREAM: u64 = 4;
 
-fn normal(rng: &mut ChaCha8Rng) -> f64 {
+/// The generator of stream `stream` of `seed`.
+pub(crate) fn rng(seed: u64, stream: u64) -> ChaCha8Rng {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    rng.set_stream(stream);
+    rng
+}
+
+pub(crate) fn normal(rng: &mut ChaCha8Rng) -> f64 {
     StandardNormal.sample(rng)
+}
+
+/// A first-order Gauss-Markov process sampled every `dt_s`, started in its stationary
+/// distribution: standard deviation `sigma`, correlation time `corr_s`.
+pub(crate) struct GaussMarkov {
+    phi: f64,
+    drive: f64,
+    x: f64,
+}
+
+impl GaussMarkov {
+    pub(crate) fn new(sigma: f64, corr_s: f64, dt_s: f64, rng: &mut ChaCha8Rng) -> GaussMarkov {
+        let phi = (-dt_s / corr_s).exp();
+        GaussMarkov {
+            phi,
+            drive: sigma * (1.0 - phi * phi).sqrt(),
+            x: sigma * normal(rng),
+        }
+    }
+
+    /// The current value.
+    pub(crate) fn value(&self) -> f64 {
+        self.x
+    }
+
+    /// Moves on by one sample.
+    pub(crate) fn advance(&mut self, rng: &mut ChaCha8Rng) {
+        self.x = self.phi * self.x + self.drive * normal(rng);
+    }
 }
 
 impl GyroNoise {
@@ -68,10 +108,13 @@ pub(crate) struct Sensor {
 
 impl Sensor {
     pub(crate) fn new(p: &GyroParams, seed: u64) -> Sensor {
-        let mut rng = ChaCha8Rng::seed_from_u64(seed);
-        rng.set_stream(SENSOR_STREAM);
+        Sensor::on_stream(p, seed, SENSOR_STREAM)
+    }
+
+    /// A sensor with the constants of `p` drawing its noise from stream `stream` of `seed`.
+    pub(crate) fn on_stream(p: &GyroParams, seed: u64, stream: u64) -> Sensor {
         Sensor {
-            rng,
+            rng: rng(seed, stream),
             sigma: p.sensor_noise_c,
             resolution: p.sensor_resolution_c,
         }

@@ -2,6 +2,8 @@
 
 use serde::{Deserialize, Serialize};
 
+use super::laser::LaserParams;
+
 /// A chamber test: the temperature program, the sampling, and the gyro under test.
 ///
 /// Everything a run depends on besides the seed, so that a profile plus a seed names one log.
@@ -17,8 +19,15 @@ pub struct Profile {
     pub start_c: f64,
     /// The chamber program, run in order from `start_c`.
     pub program: Vec<Segment>,
-    /// The gyro under test (the same for every built-in profile).
+    /// The gyro under test (the same for every built-in profile). For a laser-gyro profile
+    /// only its noise and temperature-sensor constants are used.
     pub gyro: GyroParams,
+    /// A ring laser gyro instead of the fibre-optic one: its two-sensor thermal model,
+    /// self-heating after power-on, extra logged channels and drift coefficients
+    /// ([`LaserParams`]). `None` (the default, and what a profile file without the field
+    /// reads as) runs the fibre-optic gyro of `gyro`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub laser: Option<LaserParams>,
 }
 
 /// One step of the chamber program.
@@ -260,7 +269,11 @@ impl Profile {
                 "the run would record {samples:.0} samples; more than 10⁹ is refused"
             ));
         }
-        self.gyro.check()
+        self.gyro.check()?;
+        match &self.laser {
+            Some(l) => l.check(),
+            None => Ok(()),
+        }
     }
 }
 
@@ -285,6 +298,11 @@ pub fn profile_names() -> &'static [&'static str] {
         "no-plateaus",
         "fast-ramps",
         "square-steps",
+        "yan-steps-low",
+        "yan-steps-mid",
+        "yan-steps-high",
+        "yan-full-range",
+        "laser-gyro",
     ]
 }
 
@@ -361,8 +379,9 @@ pub fn profile(name: &str) -> Option<Profile> {
             ],
         ),
         "square-steps" => (
-            "Square-wave steps in three bands as Yan (2019): -25/-45, 10/-10, 40/60 °C, 3 h \
-             holds, 20 min ramps at 1 °C/min, about 30 h at 1 Hz: for the delay model.",
+            "The three square-wave bands of Yan (2019) in one run, high band lowered to \
+             40/60 °C to stay in the calibrated range: -25/-45, 10/-10, 40/60 °C, 3 h holds, \
+             20 min ramps at 1 °C/min, about 30 h at 1 Hz (the paper's tests: yan-steps-*).",
             -25.0,
             vec![
                 hold_min(180.0),
@@ -384,6 +403,55 @@ pub fn profile(name: &str) -> Option<Profile> {
                 hold_min(180.0),
             ],
         ),
+        "yan-steps-low" => (
+            "Yan (2019) square-wave test, low band: -25 -> -45 -> -25 °C, 180 min holds, \
+             20 min ramps at 1 °C/min, about 9.7 h at 1 Hz.",
+            -25.0,
+            yan_steps(-25.0, -45.0),
+        ),
+        "yan-steps-mid" => (
+            "Yan (2019) square-wave test, middle band: 10 -> -10 -> 10 °C, 180 min holds, \
+             20 min ramps at 1 °C/min, about 9.7 h at 1 Hz.",
+            10.0,
+            yan_steps(10.0, -10.0),
+        ),
+        "yan-steps-high" => (
+            "Yan (2019) square-wave test, high band: 45 -> 65 -> 45 °C, 180 min holds, \
+             20 min ramps at 1 °C/min, about 9.7 h at 1 Hz (65 °C: 5 °C above the \
+             calibration run).",
+            45.0,
+            yan_steps(45.0, 65.0),
+        ),
+        "yan-full-range" => (
+            "Yan (2019) full-range check at 0.5 °C/min: -25 °C 1 h, to -45, 2 h, to 65, 2 h, \
+             to 25, 0.5 h; about 11.2 h at 1 Hz.",
+            -25.0,
+            vec![
+                hold_min(60.0),
+                ramp(-45.0, 0.5),
+                hold_min(120.0),
+                ramp(65.0, 0.5),
+                hold_min(120.0),
+                ramp(25.0, 0.5),
+                hold_min(30.0),
+            ],
+        ),
+        "laser-gyro" => (
+            "Ring laser gyro as Sukhanov (2011), powered on at t = 0: self-heating (λ = 30 min), \
+             housing and resonator-base sensors, laser power, piezo voltage and dither \
+             amplitude logged; 20 °C 2 h, 0.5 °C/min to 50, 1.5 h, to -10, 1.5 h, to 20, 1 h; \
+             10 h at 1 Hz.",
+            20.0,
+            vec![
+                hold_min(120.0),
+                ramp(50.0, 0.5),
+                hold_min(90.0),
+                ramp(-10.0, 0.5),
+                hold_min(90.0),
+                ramp(20.0, 0.5),
+                hold_min(60.0),
+            ],
+        ),
         _ => return None,
     };
     Some(Profile {
@@ -393,5 +461,20 @@ pub fn profile(name: &str) -> Option<Profile> {
         start_c,
         program,
         gyro: GyroParams::default(),
+        laser: (name == "laser-gyro").then(LaserParams::default),
     })
+}
+
+/// One square-wave test of Yan (2019) as the paper programs the chamber: hold `from_c` for
+/// 180 min, ramp to `to_c` in 20 min, hold 180 min, ramp back in 20 min, hold 180 min.
+fn yan_steps(from_c: f64, to_c: f64) -> Vec<Segment> {
+    // The paper: 20 °C in 20 min, "about 1.0 °C/min".
+    let rate = (to_c - from_c).abs() / 20.0;
+    vec![
+        hold_min(180.0),
+        ramp(to_c, rate),
+        hold_min(180.0),
+        ramp(from_c, rate),
+        hold_min(180.0),
+    ]
 }
