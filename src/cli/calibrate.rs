@@ -36,6 +36,9 @@ pub struct Args {
     /// Delay of a custom model's temperature channels: none, SECONDS, auto or bands:N.
     #[arg(long, value_name = "DELAY", default_value = "none")]
     pub delay: String,
+    /// First-order lag of a custom model's T: none, SECONDS or auto.
+    #[arg(long, value_name = "LAG", default_value = "none")]
+    pub lag: String,
     /// A plateau as START:END in seconds (repeatable); replaces automatic detection.
     #[arg(long = "plateau", value_name = "START:END")]
     pub plateaus: Vec<PlateauRange>,

@@ -24,7 +24,7 @@ pub fn run(a: &Args, recipe: &Recipe) -> Result<(), String> {
     if name == "custom" && a.terms.is_none() {
         return Err("--model custom needs --terms".into());
     }
-    let choice: ModelChoice = super::compare::choices(&models, &customs, &a.delay)?
+    let choice: ModelChoice = super::compare::choices(&models, &customs, &a.delay, &a.lag)?
         .into_iter()
         .next()
         .ok_or("no model chosen")?;
@@ -65,6 +65,9 @@ pub fn run(a: &Args, recipe: &Recipe) -> Result<(), String> {
         }
         if let Some(l) = m.lambda_s {
             println!("  self-heating λ = {l:.0} s");
+        }
+        if let Some(l) = m.lag_s {
+            println!("  lag of T τ = {l:.0} s");
         }
         for p in &m.delay.points {
             println!("  delay τd = {:.0} s at {:.1} degC", p[1], p[0]);

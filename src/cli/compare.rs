@@ -5,7 +5,7 @@ use driftlab::compare::{self, ModelReport, Outcome};
 use driftlab::metrics::MeritOptions;
 use driftlab::presets::{ModelChoice, Preset};
 use driftlab::recipe::Recipe;
-use driftlab::regression::{DelaySpec, RegressionSpec, terms};
+use driftlab::regression::{DelaySpec, LagSpec, RegressionSpec, terms};
 use std::path::PathBuf;
 
 /// Arguments of `compare`.
@@ -29,6 +29,10 @@ pub struct Args {
     /// searched up to 1800 s) or bands:N (one per temperature band).
     #[arg(long, value_name = "DELAY", default_value = "none")]
     pub delay: String,
+    /// First-order lag of T in custom models (an estimate of the temperature inside the
+    /// gyro): none, SECONDS or auto (searched up to 3600 s).
+    #[arg(long, value_name = "LAG", default_value = "none")]
+    pub lag: String,
     /// Moving-average window of the filtered drift, s.
     #[arg(long, value_name = "S", default_value_t = 100.0)]
     pub filter: f64,
@@ -67,11 +71,25 @@ pub fn parse_delay(s: &str) -> Result<DelaySpec, String> {
     })
 }
 
+/// Reads `--lag`.
+pub fn parse_lag(s: &str) -> Result<LagSpec, String> {
+    Ok(match s.trim() {
+        "none" | "0" => LagSpec::None,
+        "auto" => LagSpec::Search { max_s: 3600.0 },
+        v => LagSpec::Fixed {
+            seconds: v
+                .parse()
+                .map_err(|_| format!("--lag {v}: expected none, SECONDS or auto"))?,
+        },
+    })
+}
+
 /// The models `--models` and `--custom` ask for.
 pub fn choices(
     models: &[String],
     custom: &[String],
     delay: &str,
+    lag: &str,
 ) -> Result<Vec<ModelChoice>, String> {
     let mut out: Vec<ModelChoice> = if models.is_empty() && custom.is_empty() {
         Preset::ALL.into_iter().map(ModelChoice::Preset).collect()
@@ -91,6 +109,7 @@ pub fn choices(
             terms::parse_terms(c)?,
         );
         spec.delay = parse_delay(delay)?;
+        spec.lag = parse_lag(lag)?;
         spec.validate()?;
         out.push(ModelChoice::Custom(spec));
     }
@@ -98,7 +117,7 @@ pub fn choices(
 }
 
 pub fn run(a: Args) -> Result<(), String> {
-    let choices = choices(&a.models, &a.custom, &a.delay)?;
+    let choices = choices(&a.models, &a.custom, &a.delay, &a.lag)?;
     let merit = MeritOptions {
         filter_s: a.filter,
         window_s: a.window,

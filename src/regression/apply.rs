@@ -4,7 +4,7 @@
 //! back in time), so the batch correction is what a gyro's processor would have computed in
 //! real time; a test holds the two to 1e-9 °/h.
 
-use super::{Inputs, RegressionModel, Signals, delayed_index, split};
+use super::{Inputs, Lag, RegressionModel, Signals, delayed_index, split};
 use crate::correct::{Corrected, Correction};
 use crate::error::Result;
 use crate::log::Log;
@@ -17,7 +17,7 @@ impl RegressionModel {
     /// # Errors
     /// The log lacks a channel the model reads.
     pub fn correct(&self, log: &Log) -> Result<Correction> {
-        let s = Signals::of(log, &self.spec, self.temp2.as_deref())?;
+        let s = Signals::of(log, &self.spec, self.temp2.as_deref(), self.lag_s)?;
         let n = s.len();
         let mut out = Correction {
             pred_dph: Vec::with_capacity(n),
@@ -94,6 +94,7 @@ pub struct RegressionCorrector {
     dt_s: f64,
     step: usize,
     h2: f64,
+    lag: Lag,
     smooth: CausalMean,
     smoothed: History,
     temp: History,
@@ -117,6 +118,7 @@ impl RegressionCorrector {
             dt_s,
             step,
             h2: 2.0 * step as f64 * dt_s,
+            lag: Lag::new(model.lag_s.unwrap_or(0.0), dt_s),
             smooth: CausalMean::new(steps.smooth),
             smoothed: History::new(2 * step + 1),
             temp: History::new(back),
@@ -156,6 +158,12 @@ impl RegressionCorrector {
         if i == 0 {
             self.t0 = time_s;
         }
+        // T as the model reads it: through the lag, when there is one.
+        let temp_c = if self.model.lag_s.is_some_and(|l| l > 0.0) {
+            self.lag.push(temp_c)
+        } else {
+            temp_c
+        };
         let ts = self.smooth.push(temp_c);
         self.smoothed.set(i, ts);
         let tdot = if i < 2 * s {

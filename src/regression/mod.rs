@@ -68,6 +68,29 @@ pub enum LambdaSpec {
     },
 }
 
+/// How the first-order lag of the temperature is chosen: the model then reads T through
+/// `dy/dt = (T − y)/τ`, an estimate of the temperature inside the gyro (the coil of a FOG)
+/// from a sensor on its housing. A driftlab addition to the papers' models: a pure delay
+/// (Yan 2019) shifts a ramp's whole response, while heat diffusing inward starts to respond
+/// at once and settles exponentially.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+pub enum LagSpec {
+    /// T as measured.
+    #[default]
+    None,
+    /// A given time constant, s.
+    Fixed {
+        /// τ, s.
+        seconds: f64,
+    },
+    /// Searched over `[0, max_s]`.
+    Search {
+        /// Longest τ tried, s.
+        max_s: f64,
+    },
+}
+
 /// What an engineer asks for: the terms and how to find the non-linear parameters.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -83,6 +106,9 @@ pub struct RegressionSpec {
     pub delay: DelaySpec,
     /// How λ is chosen.
     pub lambda: LambdaSpec,
+    /// How the first-order lag of T is chosen.
+    #[serde(default)]
+    pub lag: LagSpec,
     /// Causal smoothing of T before differentiating, s.
     pub smoothing_s: f64,
     /// Derivative step H, s.
@@ -103,6 +129,7 @@ impl RegressionSpec {
                 min_s: 60.0,
                 max_s: 6.0 * 3600.0,
             },
+            lag: LagSpec::None,
             smoothing_s: r.temp_smoothing_s,
             step_h_s: r.step_h_s,
         }
@@ -131,6 +158,17 @@ impl RegressionSpec {
             _ => {
                 return Err(format!(
                     "model {}: the delay must be non-negative seconds and bands 1 to 20",
+                    self.name
+                ));
+            }
+        }
+        match self.lag {
+            LagSpec::None => {}
+            LagSpec::Fixed { seconds } if seconds.is_finite() && seconds >= 0.0 => {}
+            LagSpec::Search { max_s } if pos(max_s) => {}
+            _ => {
+                return Err(format!(
+                    "model {}: the lag must be non-negative seconds",
                     self.name
                 ));
             }
@@ -239,6 +277,9 @@ pub struct RegressionModel {
     pub lambda_s: Option<f64>,
     /// τd(T).
     pub delay: Delay,
+    /// Time constant of the first-order lag T is read through, s (`None`: T as measured).
+    #[serde(default)]
+    pub lag_s: Option<f64>,
     /// Knots of a `pwlT` term, °C.
     pub t_knots: Vec<f64>,
     /// Input ranges of the fit; inputs are clamped to them.
@@ -283,27 +324,38 @@ impl RegressionModel {
     }
 
     /// The model's inputs clamped to the fitted ranges, and whether any was outside.
+    ///
+    /// T, ΔT and the extra channels are clamped: the terms of them are curves (T², T³,
+    /// ΔT², hats) that must not be extrapolated. Ṫ and T̈ are only checked: every term enters
+    /// them to the first power (`Tdot`, `T*Tdot`, `|Tdot|`, `Tddot`, `T*Tddot`), so a term's
+    /// coefficient of the rate is what is held at the edge and the term scales with the rate,
+    /// as Vakhrameev's K1(Ṫ)·Ṫ does with K1 held. Clamping the rate instead would cap the
+    /// correction of a ramp faster than the calibration's at the calibration's rate.
     #[inline]
     pub fn clamp(&self, x: &mut Inputs, channels: &mut [f64]) -> bool {
         let r = &self.ranges;
         let mut outside = false;
-        let mut c = |v: &mut f64, range: &Option<Range>| {
+        let mut c = |v: &mut f64, range: &Option<Range>, hold: bool| {
             if let Some([lo, hi]) = range {
                 if *v < *lo {
-                    *v = *lo;
                     outside = true;
+                    if hold {
+                        *v = *lo;
+                    }
                 } else if *v > *hi {
-                    *v = *hi;
                     outside = true;
+                    if hold {
+                        *v = *hi;
+                    }
                 }
             }
         };
-        c(&mut x.temp, &r.temp);
-        c(&mut x.tdot, &r.tdot);
-        c(&mut x.tddot, &r.tddot);
-        c(&mut x.dt, &r.dt);
+        c(&mut x.temp, &r.temp, true);
+        c(&mut x.tdot, &r.tdot, false);
+        c(&mut x.tddot, &r.tddot, false);
+        c(&mut x.dt, &r.dt, true);
         for (v, range) in channels.iter_mut().zip(&r.channels) {
-            c(v, &Some(*range));
+            c(v, &Some(*range), true);
         }
         outside
     }
@@ -384,6 +436,9 @@ impl RegressionModel {
                 self.spec.name
             ));
         }
+        if self.lag_s.is_some_and(|l| !(l.is_finite() && l >= 0.0)) {
+            return Err(format!("model {}: the lag must be non-negative", self.spec.name));
+        }
         if self.lambda_s.is_some_and(|l| !(l.is_finite() && l > 0.0)) {
             return Err(format!("model {}: λ must be positive", self.spec.name));
         }
@@ -422,7 +477,8 @@ pub fn guess_temp2(log: &Log) -> Option<String> {
 pub(crate) struct Signals<'a> {
     pub time: &'a [f64],
     pub omega: &'a [f64],
-    pub temp: &'a [f64],
+    /// T as the model reads it (through the lag, when there is one).
+    pub temp: Vec<f64>,
     pub tdot: Vec<f64>,
     pub tddot: Vec<f64>,
     pub temp2: Option<&'a [f64]>,
@@ -456,9 +512,17 @@ impl<'a> Signals<'a> {
         log: &'a Log,
         spec: &RegressionSpec,
         temp2: Option<&str>,
+        lag_s: Option<f64>,
     ) -> Result<Signals<'a>> {
         let dt_s = log.nominal_dt_s();
-        let d = signal::derivatives(&log.temp_c, steps(spec, dt_s), dt_s);
+        let temp = match lag_s {
+            Some(tau) if tau > 0.0 => {
+                let mut lag = Lag::new(tau, dt_s);
+                log.temp_c.iter().map(|&t| lag.push(t)).collect()
+            }
+            _ => log.temp_c.clone(),
+        };
+        let d = signal::derivatives(&temp, steps(spec, dt_s), dt_s);
         let temp2 = temp2.map(|n| channel(log, n)).transpose()?;
         let channels = terms::channel_names(&spec.terms)
             .iter()
@@ -467,7 +531,7 @@ impl<'a> Signals<'a> {
         Ok(Signals {
             time: &log.time_s,
             omega: &log.omega_dph,
-            temp: &log.temp_c,
+            temp,
             tdot: d.tdot,
             tddot: d.tddot,
             temp2,
@@ -486,7 +550,7 @@ impl<'a> Signals<'a> {
     #[inline]
     pub(crate) fn inputs(&self, i: usize, delay: &Delay, channels: &mut [f64]) -> Inputs {
         let f = delayed_index(i, delay.at(self.temp[i]), self.dt_s);
-        let temp = interp(self.temp, f);
+        let temp = interp(&self.temp, f);
         for (v, c) in channels.iter_mut().zip(&self.channels) {
             *v = c[i];
         }
@@ -497,6 +561,37 @@ impl<'a> Signals<'a> {
             tddot: interp(&self.tddot, f),
             dt: self.temp2.map_or(0.0, |t2| temp - interp(t2, f)),
         }
+    }
+}
+
+/// A first-order lag `dy/dt = (x − y)/τ` stepped once a sample (input held over the step);
+/// it starts at its first input.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Lag {
+    alpha: f64,
+    y: Option<f64>,
+}
+
+impl Lag {
+    pub(crate) fn new(tau_s: f64, dt_s: f64) -> Lag {
+        Lag {
+            alpha: if tau_s > 0.0 {
+                1.0 - (-dt_s / tau_s).exp()
+            } else {
+                1.0
+            },
+            y: None,
+        }
+    }
+
+    #[inline]
+    pub(crate) fn push(&mut self, x: f64) -> f64 {
+        let y = match self.y {
+            Some(y) if y.is_finite() => y + self.alpha * (x - y),
+            _ => x,
+        };
+        self.y = Some(y);
+        y
     }
 }
 
@@ -652,7 +747,7 @@ pub fn fit(log: &Log, spec: &RegressionSpec) -> Result<RegressionModel> {
     } else {
         None
     };
-    let s = Signals::of(log, spec, temp2.as_deref())?;
+    let s = Signals::of(log, spec, temp2.as_deref(), None)?;
     let p = terms::column_names(&spec.terms).len();
     let n = s.len();
     if n < s.ready_from + 2 * p + 2 {
@@ -661,37 +756,45 @@ pub fn fit(log: &Log, spec: &RegressionSpec) -> Result<RegressionModel> {
             log.source, spec.name
         )));
     }
-    let t_knots = match spec.terms.iter().find_map(|t| match t {
-        Term::PwlT { knots } => Some(*knots),
-        _ => None,
-    }) {
-        Some(k) => {
-            let (lo, hi) = s.temp[s.ready_from..]
-                .iter()
-                .filter(|v| v.is_finite())
-                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
-                    (a.min(v), b.max(v))
-                });
-            if hi <= lo || hi.is_nan() {
-                return Err(Error::Fit(format!(
-                    "{}: T does not vary, so model {} cannot be fitted over it",
-                    log.source, spec.name
-                )));
-            }
-            search::grid(lo, hi, k, false)
-        }
-        None => Vec::new(),
-    };
-    // Searches run on at most 200 000 evenly spread samples: the cost curve's shape does not
-    // need every sample, and a 10⁷-sample log would otherwise take minutes.
     let stride = ((n - s.ready_from) / 200_000).max(1);
-    let sub = || (s.ready_from..n).step_by(stride);
-    let has_selfheat = spec.terms.contains(&Term::SelfHeating);
     let mut searches = Vec::new();
-    let mut lambda = match spec.lambda {
+    let lambda0 = match spec.lambda {
         LambdaSpec::Fixed { seconds } => seconds,
         LambdaSpec::Search { min_s, max_s } => (min_s * max_s).sqrt(),
     };
+    let lag_s = match spec.lag {
+        LagSpec::None => None,
+        LagSpec::Fixed { seconds } => Some(seconds),
+        LagSpec::Search { max_s } => {
+            let g = search::grid(0.0, max_s, 25, false);
+            let c = search::minimize("lag_s", &g, false, |tau| {
+                let Ok(s) = Signals::of(log, spec, temp2.as_deref(), Some(tau)) else {
+                    return f64::INFINITY;
+                };
+                let knots = t_knots_of(spec, &s).unwrap_or_default();
+                let d = Design {
+                    terms: &spec.terms,
+                    lambda: lambda0,
+                    t_knots: &knots,
+                    delay: &Delay::default(),
+                };
+                cost(&s, &d, (s.ready_from..n).step_by(stride))
+            });
+            let best = c.best;
+            searches.push(c);
+            Some(best)
+        }
+    };
+    let s = match lag_s {
+        Some(_) => Signals::of(log, spec, temp2.as_deref(), lag_s)?,
+        None => s,
+    };
+    let t_knots = t_knots_of(spec, &s).map_err(|e| Error::Fit(format!("{}: {e}", log.source)))?;
+    // Searches run on at most 200 000 evenly spread samples: the cost curve's shape does not
+    // need every sample, and a 10⁷-sample log would otherwise take minutes.
+    let sub = || (s.ready_from..n).step_by(stride);
+    let has_selfheat = spec.terms.contains(&Term::SelfHeating);
+    let mut lambda = lambda0;
     let mut delay = match spec.delay {
         DelaySpec::Fixed { seconds } => Delay::constant(seconds),
         _ => Delay::default(),
@@ -810,6 +913,7 @@ pub fn fit(log: &Log, spec: &RegressionSpec) -> Result<RegressionModel> {
         std_errors,
         lambda_s: has_selfheat.then_some(lambda),
         delay,
+        lag_s,
         t_knots,
         ranges: InputRanges::default(),
         dt_s: s.dt_s,
@@ -820,6 +924,29 @@ pub fn fit(log: &Log, spec: &RegressionSpec) -> Result<RegressionModel> {
     model.ranges = ranges;
     model.stats = stats;
     Ok(model)
+}
+
+/// Knots of a `pwlT` term over the range of T (none when the model has no such term).
+fn t_knots_of(spec: &RegressionSpec, s: &Signals) -> std::result::Result<Vec<f64>, String> {
+    let Some(k) = spec.terms.iter().find_map(|t| match t {
+        Term::PwlT { knots } => Some(*knots),
+        _ => None,
+    }) else {
+        return Ok(Vec::new());
+    };
+    let (lo, hi) = s.temp[s.ready_from.min(s.temp.len())..]
+        .iter()
+        .filter(|v| v.is_finite())
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
+            (a.min(v), b.max(v))
+        });
+    if hi <= lo || hi.is_nan() {
+        return Err(format!(
+            "T does not vary, so model {} cannot be fitted over it",
+            spec.name
+        ));
+    }
+    Ok(search::grid(lo, hi, k, false))
 }
 
 /// The input ranges over the fitted samples and the fit's statistics (from the residuals, not
