@@ -3,7 +3,7 @@
 
 use crate::error::{Error, Result};
 use crate::log::Log;
-use crate::regression::{self, DelaySpec, RegressionSpec, Term};
+use crate::regression::{self, DelaySpec, FitSamples, LagSpec, RegressionSpec, Term};
 use serde::{Deserialize, Serialize};
 
 /// A named model.
@@ -22,15 +22,20 @@ pub enum Preset {
     /// B1·(1 − e^(−t/λ)) + B2·ΔT + B3·ΔT² + a coefficient per extra channel + bias (Sukhanov
     /// 2011, equation 11).
     Sukhanov,
-    /// Polynomial of degree 2 in T: the traditional calibration.
+    /// Polynomial of degree 2 in T fitted on the plateaus: the traditional calibration.
     PolyT,
-    /// Piecewise-linear in T over 6 knots: the traditional calibration by sub-ranges.
+    /// Piecewise-linear in T over 3 knots fitted on the plateaus: the traditional
+    /// calibration by sub-ranges.
     PwlT,
+    /// driftlab's model for a gyro whose sensor sits outside the part that drifts: T read
+    /// through a first-order lag (searched), a bias curve in T, and the rates with heating
+    /// and cooling apart and a lag that changes with temperature.
+    CoilLag,
 }
 
 impl Preset {
     /// Every preset, in the order tables list them.
-    pub const ALL: [Preset; 7] = [
+    pub const ALL: [Preset; 8] = [
         Preset::Vakhrameev,
         Preset::Ieee952,
         Preset::YanCross,
@@ -38,6 +43,7 @@ impl Preset {
         Preset::Sukhanov,
         Preset::PolyT,
         Preset::PwlT,
+        Preset::CoilLag,
     ];
 
     /// The name used on the command line and in files.
@@ -50,6 +56,7 @@ impl Preset {
             Preset::Sukhanov => "sukhanov",
             Preset::PolyT => "poly-t",
             Preset::PwlT => "pwl-t",
+            Preset::CoilLag => "coil-lag",
         }
     }
 
@@ -67,8 +74,11 @@ impl Preset {
             Preset::Sukhanov => {
                 "B1·(1 − e^(−t/λ)) + B2·ΔT + B3·ΔT² + extra channels + bias (Sukhanov 2011)"
             }
-            Preset::PolyT => "polynomial of degree 2 in T (traditional)",
-            Preset::PwlT => "piecewise-linear in T over 6 knots (traditional)",
+            Preset::PolyT => "polynomial of degree 2 in T, on the plateaus (traditional)",
+            Preset::PwlT => "piecewise-linear in T over 3 knots, on the plateaus (traditional)",
+            Preset::CoilLag => {
+                "T through a first-order lag; 1, T, T², Ṫ, |Ṫ|, T·Ṫ, T̈, T·T̈ (driftlab)"
+            }
         }
     }
 
@@ -129,10 +139,22 @@ impl Preset {
                 s.temp2 = Some(temp2);
                 Some(s)
             }
-            Preset::PolyT => spec(vec![One, T, T2]),
-            Preset::PwlT => spec(vec![PwlT { knots: 6 }]),
+            Preset::PolyT => spec(vec![One, T, T2]).map(on_plateaus),
+            Preset::PwlT => spec(vec![PwlT { knots: 3 }]).map(on_plateaus),
+            Preset::CoilLag => spec(vec![One, T, T2, Tdot, AbsTdot, TTdot, Tddot, TTddot]).map(
+                |mut s| {
+                    s.lag = LagSpec::Search { max_s: 3600.0 };
+                    s
+                },
+            ),
         })
     }
+}
+
+/// A static-bias model fitted on the plateaus, as the traditional calibration is.
+fn on_plateaus(mut s: RegressionSpec) -> RegressionSpec {
+    s.samples = FitSamples::Plateaus;
+    s
 }
 
 /// A model to fit: a preset or a spec built by the engineer.

@@ -18,7 +18,7 @@ pub struct Args {
     #[arg(long, value_name = "LOG", num_args = 1..)]
     pub test: Vec<PathBuf>,
     /// Models to compare, comma-separated (default: every preset): vakhrameev, ieee952,
-    /// yan-cross, yan-delayed, sukhanov, poly-t, pwl-t.
+    /// yan-cross, yan-delayed, sukhanov, poly-t, pwl-t, coil-lag.
     #[arg(long, value_name = "LIST", value_delimiter = ',')]
     pub models: Vec<String>,
     /// A custom model as comma-separated terms: 1, T, T^2, T^3, Tdot, Tddot, T*Tdot, dT,
@@ -33,6 +33,12 @@ pub struct Args {
     /// gyro): none, SECONDS or auto (searched up to 3600 s).
     #[arg(long, value_name = "LAG", default_value = "none")]
     pub lag: String,
+    /// Causal smoothing of T before differentiating, in custom models, s.
+    #[arg(long, value_name = "S", default_value_t = 60.0)]
+    pub smooth: f64,
+    /// Derivative step H in custom models, s.
+    #[arg(long = "step-h", value_name = "S", default_value_t = 30.0)]
+    pub step_h: f64,
     /// Moving-average window of the filtered drift, s.
     #[arg(long, value_name = "S", default_value_t = 100.0)]
     pub filter: f64,
@@ -117,7 +123,14 @@ pub fn choices(
 }
 
 pub fn run(a: Args) -> Result<(), String> {
-    let choices = choices(&a.models, &a.custom, &a.delay, &a.lag)?;
+    let mut choices = choices(&a.models, &a.custom, &a.delay, &a.lag)?;
+    for c in &mut choices {
+        if let ModelChoice::Custom(s) = c {
+            s.smoothing_s = a.smooth;
+            s.step_h_s = a.step_h;
+            s.validate()?;
+        }
+    }
     let merit = MeritOptions {
         filter_s: a.filter,
         window_s: a.window,

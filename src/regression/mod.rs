@@ -91,6 +91,19 @@ pub enum LagSpec {
     },
 }
 
+/// Which samples a model is fitted on.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FitSamples {
+    /// Every sample with a full rate history.
+    #[default]
+    All,
+    /// The temperature plateaus only (found as the Vakhrameev model finds them): for models
+    /// of the static bias alone, which the ramps would otherwise pull toward the transient
+    /// drift they cannot describe.
+    Plateaus,
+}
+
 /// What an engineer asks for: the terms and how to find the non-linear parameters.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -109,6 +122,9 @@ pub struct RegressionSpec {
     /// How the first-order lag of T is chosen.
     #[serde(default)]
     pub lag: LagSpec,
+    /// Which samples the model is fitted on.
+    #[serde(default)]
+    pub samples: FitSamples,
     /// Causal smoothing of T before differentiating, s.
     pub smoothing_s: f64,
     /// Derivative step H, s.
@@ -130,6 +146,7 @@ impl RegressionSpec {
                 max_s: 6.0 * 3600.0,
             },
             lag: LagSpec::None,
+            samples: FitSamples::All,
             smoothing_s: r.temp_smoothing_s,
             step_h_s: r.step_h_s,
         }
@@ -757,6 +774,21 @@ pub fn fit(log: &Log, spec: &RegressionSpec) -> Result<RegressionModel> {
         )));
     }
     let stride = ((n - s.ready_from) / 200_000).max(1);
+    let use_sample: Vec<bool> = match spec.samples {
+        FitSamples::All => vec![true; n],
+        FitSamples::Plateaus => {
+            let opts = crate::plateau::DetectOptions::default();
+            let ranges = crate::plateau::detect(&log.time_s, &s.tdot, s.ready_from, &opts);
+            if ranges.is_empty() {
+                return Err(Error::Fit(format!(
+                    "{}: model {} is fitted on plateaus and the log has none",
+                    log.source, spec.name
+                )));
+            }
+            crate::model::plateau_mask(&log.time_s, &ranges)
+        }
+    };
+    let used = |i: &usize| use_sample[*i];
     let mut searches = Vec::new();
     let lambda0 = match spec.lambda {
         LambdaSpec::Fixed { seconds } => seconds,
@@ -778,7 +810,7 @@ pub fn fit(log: &Log, spec: &RegressionSpec) -> Result<RegressionModel> {
                     t_knots: &knots,
                     delay: &Delay::default(),
                 };
-                cost(&s, &d, (s.ready_from..n).step_by(stride))
+                cost(&s, &d, (s.ready_from..n).step_by(stride).filter(used))
             });
             let best = c.best;
             searches.push(c);
@@ -792,7 +824,7 @@ pub fn fit(log: &Log, spec: &RegressionSpec) -> Result<RegressionModel> {
     let t_knots = t_knots_of(spec, &s).map_err(|e| Error::Fit(format!("{}: {e}", log.source)))?;
     // Searches run on at most 200 000 evenly spread samples: the cost curve's shape does not
     // need every sample, and a 10⁷-sample log would otherwise take minutes.
-    let sub = || (s.ready_from..n).step_by(stride);
+    let sub = || (s.ready_from..n).step_by(stride).filter(used);
     let has_selfheat = spec.terms.contains(&Term::SelfHeating);
     let mut lambda = lambda0;
     let mut delay = match spec.delay {
@@ -891,7 +923,7 @@ pub fn fit(log: &Log, spec: &RegressionSpec) -> Result<RegressionModel> {
         t_knots: &t_knots,
         delay: &delay,
     };
-    let nm = accumulate(&s, &design, s.ready_from..n);
+    let nm = accumulate(&s, &design, (s.ready_from..n).filter(used));
     let sol = solve(&nm).ok_or_else(|| {
         Error::Fit(format!(
             "{}: model {} could not be fitted ({} usable samples for {p} coefficients)",
@@ -920,7 +952,7 @@ pub fn fit(log: &Log, spec: &RegressionSpec) -> Result<RegressionModel> {
         stats: RegressionStats::default(),
         searches,
     };
-    let (ranges, stats) = ranges_and_stats(&model, &s);
+    let (ranges, stats) = ranges_and_stats(&model, &s, &use_sample);
     model.ranges = ranges;
     model.stats = stats;
     Ok(model)
@@ -951,7 +983,11 @@ fn t_knots_of(spec: &RegressionSpec, s: &Signals) -> std::result::Result<Vec<f64
 
 /// The input ranges over the fitted samples and the fit's statistics (from the residuals, not
 /// the normal equations, for accuracy).
-fn ranges_and_stats(m: &RegressionModel, s: &Signals) -> (InputRanges, RegressionStats) {
+fn ranges_and_stats(
+    m: &RegressionModel,
+    s: &Signals,
+    used: &[bool],
+) -> (InputRanges, RegressionStats) {
     let t = &m.spec.terms;
     let uses = |f: fn(&Term) -> bool| t.iter().any(f);
     let mut r = [[f64::INFINITY, f64::NEG_INFINITY]; 4];
@@ -965,7 +1001,7 @@ fn ranges_and_stats(m: &RegressionModel, s: &Signals) -> (InputRanges, Regressio
             r[1] = r[1].max(v);
         }
     };
-    for i in s.ready_from..s.len() {
+    for i in (s.ready_from..s.len()).filter(|&i| used[i]) {
         let x = s.inputs(i, &m.delay, &mut ch);
         let y = s.omega[i];
         let pred = m.predict(&x, &ch, &mut row);
