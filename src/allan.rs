@@ -450,7 +450,7 @@ pub fn edf_greenhall(
     let mf = m as f64;
     let s = if overlapping { mf } else { 1.0 };
     let f = Filter::Finite(mf);
-    let l = mf / mf + mf * df; // filter length: m/F + m·d with F = m
+    let l = 1.0 + mf * df; // filter length m/F + m·d, with F = m for unmodified variances
     let nf = n_phase as f64;
     if nf < l {
         return None;

@@ -1,6 +1,7 @@
 //! The command line: argument parsing and printing over the engine's calls. No calculation
 //! lives here; if the CLI needs a number, the engine computes it.
 
+mod allan;
 mod apply;
 mod calibrate;
 mod common;
@@ -31,6 +32,8 @@ pub enum Command {
     Inspect(inspect::Args),
     /// Simulate a motionless fibre-optic gyro in a thermal chamber and write the log as CSV.
     Simulate(simulate::Args),
+    /// Allan deviation of a log's rate with intervals, and ARW, bias instability and RRW.
+    Allan(allan::Args),
     /// Open the workbench (the default when no command is given).
     Gui(GuiArgs),
 }
@@ -53,6 +56,7 @@ pub fn run(command: Command) -> Result<(), String> {
         Command::Evaluate(a) => evaluate::run(a),
         Command::Inspect(a) => inspect::run(a),
         Command::Simulate(a) => simulate::run(a),
+        Command::Allan(a) => allan::run(a),
         Command::Gui(a) => gui(a),
     }
 }

@@ -57,9 +57,11 @@
 mod columns;
 mod parse;
 mod read;
+mod series;
 mod sniff;
 mod units;
 
+pub use series::{RateSeries, read_rate_series};
 pub use units::{RateUnit, TimeUnit};
 
 use crate::log::{ColumnInfo, Log};
