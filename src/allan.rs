@@ -248,7 +248,7 @@ pub fn allan_at(
         .par_iter()
         .map(|&m| {
             let (s, k) = second_difference_sum(&phase, m, opts.overlapping);
-            (s, k, identify_noise(rate, m))
+            (s, k, identify_noise_from_phase(&phase, m))
         })
         .collect();
 
@@ -361,14 +361,31 @@ fn second_difference_sum(x: &[f64], m: usize, overlapping: bool) -> (f64, usize)
 /// `None` with fewer than 30 averages, where the estimate is too scattered to trust.
 pub fn identify_noise(rate: &[f64], m: usize) -> Option<i32> {
     const MIN_POINTS: usize = 30;
-    const D_MAX: i32 = 2;
     if m == 0 || rate.len() / m < MIN_POINTS {
         return None;
     }
-    let mut z: Vec<f64> = rate
+    let z: Vec<f64> = rate
         .chunks_exact(m)
         .map(|c| c.iter().sum::<f64>() / m as f64)
         .collect();
+    lag1_noise_type(z)
+}
+
+/// [`identify_noise`] from the phase: the rate averaged over block k is
+/// (x[(k+1)m] − x[km]) / (m·τ0), and the method is blind to scale and offset, so the phase
+/// differences serve as they are. O(N/m) instead of O(N).
+fn identify_noise_from_phase(x: &[f64], m: usize) -> Option<i32> {
+    if m == 0 || x.len() < 2 || (x.len() - 1) / m < 30 {
+        return None;
+    }
+    let blocks = (x.len() - 1) / m;
+    let z: Vec<f64> = (0..blocks).map(|k| x[(k + 1) * m] - x[k * m]).collect();
+    lag1_noise_type(z)
+}
+
+/// The lag-1 autocorrelation steps of [`identify_noise`] on block averages `z`.
+fn lag1_noise_type(mut z: Vec<f64>) -> Option<i32> {
+    const D_MAX: i32 = 2;
     detrend_linear(&mut z);
     let mut d = 0;
     loop {
