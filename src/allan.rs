@@ -22,9 +22,17 @@
 //! differences"; the bounds are the chi-squared ones of NIST SP 1065 eq. (45):
 //! `σ_min = σ·√(edf/χ²(1−p/2))`, `σ_max = σ·√(edf/χ²(p/2))`, with `p = 1 − confidence`.
 //! The lag-1 method needs 30 averaged points; at longer τ the α found at the longest τ that
-//! had them is carried forward (Stable32 switches to another estimator there; on PHASE.DAT both
-//! give the same α). A series too short for any identification assumes white rate noise
-//! (α = 0). Each point says which of the three happened ([`NoiseIdSource`]).
+//! had them is carried forward. A series too short for any identification assumes white rate
+//! noise (α = 0). Each point says which of the three happened ([`NoiseIdSource`]).
+//!
+//! Where this is known to differ from Stable32: with fewer than 30 averages Stable32 identifies
+//! the noise with the B1 and R(n) ratios instead of carrying α forward. On PHASE.DAT that makes
+//! no difference at octave τ (α = 0 at m = 64 and 128 both ways, and the intervals match the
+//! printed ones to 3.3e-4 relative), but in the all-τ tables Stable32 prints α = 1 at 55 of the
+//! 106 factors m ≥ 34 where this module carries α = 0 (the lag-1 α agrees at all 33 factors
+//! m ≤ 33). Those tables print no intervals, so the effect is unmeasured there; at such τ an
+//! interval from here is the white-noise one where Stable32 would use flicker-PM degrees of
+//! freedom.
 //!
 //! # Units
 //!
@@ -224,14 +232,14 @@ pub fn allan_at(
     factors: &[usize],
 ) -> Result<AllanDeviation, AllanError> {
     let n = rate.len();
+    if n < 2 {
+        return Err(AllanError::TooShort(n));
+    }
     if !(opts.tau0_s.is_finite() && opts.tau0_s > 0.0) {
         return Err(AllanError::BadTau0(opts.tau0_s));
     }
     if !(opts.confidence > 0.0 && opts.confidence < 1.0) {
         return Err(AllanError::BadConfidence(opts.confidence));
-    }
-    if n < 2 {
-        return Err(AllanError::TooShort(n));
     }
     if let Some((index, &value)) = rate.iter().enumerate().find(|(_, v)| !v.is_finite()) {
         return Err(AllanError::NotFinite { index, value });
