@@ -255,6 +255,9 @@ fn white_rate_noise_falls_as_one_over_root_tau() {
         );
         if p.alpha_source == NoiseIdSource::Lag1Acf {
             assert_eq!(p.alpha, 0, "white rate noise identified at m {}", p.m);
+            // The engine identifies from phase differences; the public function from the
+            // rate averaged directly. Same method, same answer.
+            assert_eq!(allan::identify_noise(&y, p.m), Some(p.alpha));
         }
     }
     // A pure white noise curve has no floor and no +1/2 region.

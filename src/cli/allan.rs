@@ -126,7 +126,8 @@ fn print_table(source: &str, d: &AllanDeviation) {
     for p in &d.points {
         println!(
             "  {:>12} {:>13.6e} {:>10} {:>13} {:>13} {:>5}",
-            format!("{}", p.tau_s),
+            // m·τ0 in binary can print as 0.30000000000000004; nine decimals are plenty.
+            format!("{}", (p.tau_s * 1e9).round() / 1e9),
             p.adev,
             p.n_terms,
             opt(p.adev_min),
