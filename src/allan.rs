@@ -306,7 +306,7 @@ pub fn allan_at(
     })
 }
 
-/// Phase (angle) from rate: x[0] = 0, x[k] = Σ_{j<k} (y[j] − ȳ)·τ0.
+/// Phase (angle) from rate: `x[0] = 0`, `x[k] = Σ_{j<k} (y[j] − ȳ)·τ0`.
 ///
 /// The mean is taken out first (σ does not depend on it) so that the phase of a long log with
 /// a large bias stays small and the second differences do not lose digits.
