@@ -17,6 +17,7 @@
 //!   calfile::save / calfile::load                      (versioned JSON)
 //! ```
 
+pub mod allan;
 pub mod approx;
 pub mod atomic;
 pub mod calfile;

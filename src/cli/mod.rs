@@ -1,6 +1,7 @@
 //! The command line: argument parsing and printing over the engine's calls. No calculation
 //! lives here; if the CLI needs a number, the engine computes it.
 
+mod allan;
 mod apply;
 mod calibrate;
 mod calibrate_model;
@@ -40,6 +41,8 @@ pub enum Command {
     Simulate(simulate::Args),
     /// Fit several models on one log and compare them on it and on held-out logs.
     Compare(compare::Args),
+    /// Allan deviation of a log's rate with intervals, and ARW, bias instability and RRW.
+    Allan(allan::Args),
     /// Open the workbench (the default when no command is given).
     Gui(GuiArgs),
 }
@@ -64,6 +67,7 @@ pub fn run(command: Command) -> Result<(), String> {
         Command::Inspect(a) => inspect::run(a),
         Command::Simulate(a) => simulate::run(a),
         Command::Compare(a) => compare::run(a),
+        Command::Allan(a) => allan::run(a),
         Command::Gui(a) => gui(a),
     }
 }

@@ -315,6 +315,15 @@ fn classify(name: &str) -> (Kind, u8) {
     (Kind::Other, 0)
 }
 
+/// The rate unit a header name states (`omega_dph`, `Rate [deg/s]`), for the one-column
+/// reader, which has no other columns to rank it against.
+pub(crate) fn rate_unit_of_name(name: &str) -> Option<RateUnit> {
+    match classify(name).0 {
+        Kind::Rate(u) => u,
+        _ => None,
+    }
+}
+
 /// The unit text of a kept extra column, as the header wrote it.
 fn raw_unit(name: &str) -> String {
     name_parts(name).unit.unwrap_or_default()

@@ -24,6 +24,8 @@
 //!   [`ReadOptions::sample_rate_hz`].
 //! * [`ReadOptions::time_col`], `rate_col` and `temp_col` (a name or a 1-based index)
 //!   always override guessing.
+//! * A file of one column is not a log (it has no temperature); [`read_rate_series`] reads it
+//!   as a bare rate series, for noise analysis (`driftlab allan`).
 //!
 //! # Units
 //!
@@ -57,9 +59,11 @@
 mod columns;
 mod parse;
 mod read;
+mod series;
 mod sniff;
 mod units;
 
+pub use series::{RateSeries, read_rate_series};
 pub use units::{RateUnit, TimeUnit};
 
 use crate::log::{ColumnInfo, Log};
