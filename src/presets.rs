@@ -77,7 +77,7 @@ impl Preset {
             Preset::PolyT => "polynomial of degree 2 in T, on the plateaus (traditional)",
             Preset::PwlT => "piecewise-linear in T over 3 knots, on the plateaus (traditional)",
             Preset::CoilLag => {
-                "T through a first-order lag; 1, T, T², Ṫ, |Ṫ|, T·Ṫ, T̈, T·T̈ (driftlab)"
+                "T through a first-order lag; 1, T, T², Ṫ, |Ṫ|, T·Ṫ, T̈, T·T̈, sgn(Ṫ)·T̈ (driftlab)"
             }
         }
     }
@@ -141,12 +141,21 @@ impl Preset {
             }
             Preset::PolyT => spec(vec![One, T, T2]).map(on_plateaus),
             Preset::PwlT => spec(vec![PwlT { knots: 3 }]).map(on_plateaus),
-            Preset::CoilLag => spec(vec![One, T, T2, Tdot, AbsTdot, TTdot, Tddot, TTddot]).map(
-                |mut s| {
-                    s.lag = LagSpec::Search { max_s: 3600.0 };
-                    s
-                },
-            ),
+            Preset::CoilLag => spec(vec![
+                One,
+                T,
+                T2,
+                Tdot,
+                AbsTdot,
+                TTdot,
+                Tddot,
+                TTddot,
+                SgnTdotTddot,
+            ])
+            .map(|mut s| {
+                s.lag = LagSpec::Search { max_s: 3600.0 };
+                s
+            }),
         })
     }
 }

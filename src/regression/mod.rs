@@ -454,7 +454,10 @@ impl RegressionModel {
             ));
         }
         if self.lag_s.is_some_and(|l| !(l.is_finite() && l >= 0.0)) {
-            return Err(format!("model {}: the lag must be non-negative", self.spec.name));
+            return Err(format!(
+                "model {}: the lag must be non-negative",
+                self.spec.name
+            ));
         }
         if self.lambda_s.is_some_and(|l| !(l.is_finite() && l > 0.0)) {
             return Err(format!("model {}: λ must be positive", self.spec.name));
@@ -1031,10 +1034,18 @@ fn ranges_and_stats(
             r[0],
         ),
         tdot: some(
-            uses(|t| matches!(t, Term::Tdot | Term::TTdot | Term::AbsTdot)),
+            uses(|t| {
+                matches!(
+                    t,
+                    Term::Tdot | Term::TTdot | Term::AbsTdot | Term::SgnTdotTddot
+                )
+            }),
             r[1],
         ),
-        tddot: some(uses(|t| matches!(t, Term::Tddot | Term::TTddot)), r[2]),
+        tddot: some(
+            uses(|t| matches!(t, Term::Tddot | Term::TTddot | Term::SgnTdotTddot)),
+            r[2],
+        ),
         dt: some(uses(Term::needs_temp2), r[3]),
         channels: rc
             .into_iter()

@@ -29,6 +29,8 @@ pub enum Term {
     /// `|Tdot|`: heating and cooling drift apart (a coil warmed from outside is not a coil
     /// cooled from outside).
     AbsTdot,
+    /// `sgn(Tdot)*Tddot`: the T̈ part of the drift, heating and cooling apart.
+    SgnTdotTddot,
     /// `T*Tddot`: the lag of the coil behind its housing changes with temperature, and so
     /// does the T̈ part of the drift.
     TTddot,
@@ -80,6 +82,7 @@ impl Term {
             Term::TTdot => "cross term T·Ṫ (Yan 2019)".into(),
             Term::AbsTdot => "|Ṫ|: heating and cooling differ".into(),
             Term::TTddot => "cross term T·T̈: a lag that changes with temperature".into(),
+            Term::SgnTdotTddot => "sgn(Ṫ)·T̈: the T̈ part, heating and cooling apart".into(),
             Term::Dt => "difference of the two temperature sensors ΔT".into(),
             Term::Dt2 => "ΔT squared".into(),
             Term::SelfHeating => "self-heating after power-on, 1 − e^(−t/λ)".into(),
@@ -100,6 +103,7 @@ impl Term {
             Term::Tddot,
             Term::TTdot,
             Term::AbsTdot,
+            Term::SgnTdotTddot,
             Term::TTddot,
             Term::Dt,
             Term::Dt2,
@@ -129,6 +133,7 @@ impl fmt::Display for Term {
             Term::TTdot => f.write_str("T*Tdot"),
             Term::AbsTdot => f.write_str("|Tdot|"),
             Term::TTddot => f.write_str("T*Tddot"),
+            Term::SgnTdotTddot => f.write_str("sgn(Tdot)*Tddot"),
             Term::Dt => f.write_str("dT"),
             Term::Dt2 => f.write_str("dT^2"),
             Term::SelfHeating => f.write_str("selfheat"),
@@ -154,6 +159,7 @@ impl FromStr for Term {
             "T*Tdot" | "TTdot" => Some(Term::TTdot),
             "|Tdot|" | "absTdot" => Some(Term::AbsTdot),
             "T*Tddot" | "TTddot" => Some(Term::TTddot),
+            "sgn(Tdot)*Tddot" => Some(Term::SgnTdotTddot),
             "dT" => Some(Term::Dt),
             "dT^2" | "dT2" => Some(Term::Dt2),
             "selfheat" => Some(Term::SelfHeating),
@@ -186,7 +192,7 @@ impl FromStr for Term {
         }
         Err(format!(
             "unknown term \"{s}\"; terms are 1, T, T^2, T^3, Tdot, Tddot, T*Tdot, |Tdot|, \
-             T*Tddot, dT, dT^2, selfheat, ch:NAME, ch^2:NAME, pwlT:N"
+             T*Tddot, sgn(Tdot)*Tddot, dT, dT^2, selfheat, ch:NAME, ch^2:NAME, pwlT:N"
         ))
     }
 }
@@ -259,6 +265,13 @@ pub fn row(
             Term::TTdot => out.push(x.temp * x.tdot),
             Term::AbsTdot => out.push(x.tdot.abs()),
             Term::TTddot => out.push(x.temp * x.tddot),
+            Term::SgnTdotTddot => out.push(if x.tdot > 0.0 {
+                x.tddot
+            } else if x.tdot < 0.0 {
+                -x.tddot
+            } else {
+                0.0
+            }),
             Term::Dt => out.push(x.dt),
             Term::Dt2 => out.push(x.dt * x.dt),
             Term::SelfHeating => out.push(1.0 - (-x.t_s / lambda_s).exp()),
