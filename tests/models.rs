@@ -1,0 +1,430 @@
+//! Regression models against independent truth: coefficients, a delay, a lag and a
+//! self-heating constant recovered from logs built with known ones; streaming equal to batch
+//! for every model; calibration files read back predicting the same; the models side by side
+//! on the sample logs against the simulator's own noise floor.
+
+mod common;
+
+use common::{Noise, Program};
+use driftlab::calfile;
+use driftlab::compare::{self, Outcome};
+use driftlab::drift_model::{self, DriftModel};
+use driftlab::ingest::{self, ReadOptions};
+use driftlab::log::{Channel, Log};
+use driftlab::metrics::MeritOptions;
+use driftlab::presets::{ModelChoice, Preset};
+use driftlab::recipe::Recipe;
+use driftlab::regression::{self, DelaySpec, LagSpec, LambdaSpec, RegressionSpec, Term};
+use std::f64::consts::TAU;
+use std::path::Path;
+
+/// A smooth temperature program and its exact derivatives: two sinusoids, so that the
+/// 3-point backward difference (exact for quadratics) is exact to ~1e-9 at 1 s steps.
+fn temp(t: f64) -> (f64, f64, f64) {
+    let (p1, p2) = (4.0 * 3600.0, 1.5 * 3600.0);
+    let (w1, w2) = (TAU / p1, TAU / p2);
+    (
+        20.0 + 35.0 * (w1 * t).sin() + 8.0 * (w2 * t).sin(),
+        35.0 * w1 * (w1 * t).cos() + 8.0 * w2 * (w2 * t).cos(),
+        -35.0 * w1 * w1 * (w1 * t).sin() - 8.0 * w2 * w2 * (w2 * t).sin(),
+    )
+}
+
+/// A 1 Hz log of `n` samples whose rate is `drift(t)` plus white noise of `sigma` °/h.
+fn log_of(n: usize, sigma: f64, drift: impl Fn(f64) -> f64) -> Log {
+    log_with(&temp, n, sigma, drift)
+}
+
+/// Chamber cycles of holds and smooth ramps (closed-form Ṫ, T̈): a delay shows as a shift of
+/// every ramp's start and end, which a pair of sinusoids would let a phase shift absorb.
+fn cycles() -> Program {
+    Program {
+        start_c: 20.0,
+        start_hold_s: 1800.0,
+        legs: vec![
+            (60.0, 3000.0, 2400.0),
+            (-50.0, 6600.0, 2400.0),
+            (60.0, 6600.0, 2400.0),
+            (-50.0, 6600.0, 2400.0),
+            (20.0, 4200.0, 2400.0),
+        ],
+    }
+}
+
+/// A 1 Hz log of `n` samples of the program `temp`, rate `drift(t)` plus white noise.
+fn log_with(
+    temp: &dyn Fn(f64) -> (f64, f64, f64),
+    n: usize,
+    sigma: f64,
+    drift: impl Fn(f64) -> f64,
+) -> Log {
+    let mut noise = Noise::new(7);
+    let time: Vec<f64> = (0..n).map(|i| i as f64).collect();
+    let temp_c: Vec<f64> = time.iter().map(|&t| temp(t).0).collect();
+    let omega = time
+        .iter()
+        .map(|&t| drift(t) + sigma * noise.normal())
+        .collect();
+    Log::from_columns("synthetic", time, omega, temp_c)
+}
+
+/// A spec that differentiates T without smoothing and with H = 1 sample, so Ṫ and T̈ are the
+/// exact derivatives of the smooth program.
+fn exact_spec(terms: &str) -> RegressionSpec {
+    let mut s = RegressionSpec::new("test", regression::terms::parse_terms(terms).unwrap());
+    s.smoothing_s = 1.0;
+    s.step_h_s = 1.0;
+    s
+}
+
+fn close(got: f64, want: f64, tol: f64, what: &str) {
+    assert!(
+        (got - want).abs() <= tol,
+        "{what}: got {got}, want {want} ± {tol}"
+    );
+}
+
+#[test]
+fn coefficients_of_the_cross_term_model_are_recovered_within_their_standard_errors() {
+    // Yan 2019 (8): D = a·T·Ṫ + b·T + c·Ṫ + d.
+    let (a, b, c, d) = (-0.8, 0.004, 300.0, 0.12);
+    let log = log_of(40_000, 0.05, |t| {
+        let (x, xd, _) = temp(t);
+        a * x * xd + b * x + c * xd + d
+    });
+    let m = regression::fit(&log, &exact_spec("T*Tdot,T,Tdot,1")).unwrap();
+    for (k, want) in [a, b, c, d].into_iter().enumerate() {
+        let (got, se) = (m.coefficients[k], m.std_errors[k]);
+        assert!(se > 0.0 && se.is_finite(), "{}: se {se}", m.names[k]);
+        assert!(
+            (got - want).abs() < 5.0 * se,
+            "{}: {got} vs {want}, se {se}",
+            m.names[k]
+        );
+    }
+    // The residual is the noise that was added.
+    close(m.stats.rmse, 0.05, 0.002, "rmse");
+}
+
+#[test]
+fn a_known_delay_is_found_by_the_search() {
+    let tau = 420.0;
+    let prog = cycles();
+    let at = |t: f64| prog.at(t);
+    let log = log_with(&at, prog.duration_s() as usize, 0.02, |t| {
+        let (x, xd, _) = prog.at((t - tau).max(0.0));
+        0.01 * x + 250.0 * xd - 0.05
+    });
+    let mut spec = exact_spec("T,Tdot,1");
+    spec.delay = DelaySpec::Search { max_s: 1200.0 };
+    let m = regression::fit(&log, &spec).unwrap();
+    assert_eq!(m.delay.points.len(), 1);
+    close(m.delay.points[0][1], tau, 3.0, "delay");
+    close(m.coefficients[1], 250.0, 1.0, "Ṫ coefficient");
+    let curve = &m.searches[0];
+    assert_eq!(curve.parameter, "delay_s");
+    assert!(!curve.at_edge);
+}
+
+#[test]
+fn a_delay_that_shrinks_with_temperature_is_found_band_by_band() {
+    // τd(T) = 700 − 6·T s: 1000 s at −50 °C, 340 s at +60 °C, as the coil of Yan 2019.
+    let tau_of = |x: f64| 700.0 - 6.0 * x;
+    let prog = cycles();
+    let at = |t: f64| prog.at(t);
+    let log = log_with(&at, prog.duration_s() as usize, 0.01, |t| {
+        let now = prog.at(t).0;
+        let (x, xd, _) = prog.at((t - tau_of(now)).max(0.0));
+        0.002 * x + 300.0 * xd
+    });
+    let mut spec = exact_spec("T,Tdot,1");
+    spec.delay = DelaySpec::Bands {
+        bands: 3,
+        max_s: 1500.0,
+    };
+    let m = regression::fit(&log, &spec).unwrap();
+    assert_eq!(m.delay.points.len(), 3, "{:?}", m.delay);
+    for p in &m.delay.points {
+        // Within a band of 37 °C the delay varies by ±110 s around its centre's value.
+        close(p[1], tau_of(p[0]), 80.0, &format!("delay at {:.1} °C", p[0]));
+    }
+    assert!(m.delay.points[0][1] > m.delay.points[2][1]);
+}
+
+#[test]
+fn a_known_first_order_lag_is_found_by_the_search() {
+    // y' = (T − y)/τ integrated finely (0.05 s steps) against the exact program.
+    let tau = 500.0;
+    let n = 40_000;
+    let mut y = temp(0.0).0;
+    let mut lagged = Vec::with_capacity(n);
+    for i in 0..n {
+        lagged.push(y);
+        for k in 0..20 {
+            let t = i as f64 + k as f64 * 0.05;
+            y += 0.05 * (temp(t).0 - y) / tau;
+        }
+    }
+    let mut noise = Noise::new(3);
+    let mut log = log_of(n, 0.0, |_| 0.0);
+    for i in 1..n {
+        let rate = (lagged[i] - lagged[i - 1]) / 1.0;
+        log.omega_dph[i] = 400.0 * rate + 0.003 * lagged[i] + 0.02 * noise.normal();
+    }
+    let mut spec = exact_spec("Tdot,T,1");
+    spec.lag = LagSpec::Search { max_s: 2000.0 };
+    let m = regression::fit(&log, &spec).unwrap();
+    let found = m.lag_s.unwrap();
+    close(found, tau, 15.0, "lag");
+    close(m.coefficients[0], 400.0, 8.0, "Ṫ coefficient");
+}
+
+#[test]
+fn self_heating_constant_and_amplitude_are_recovered() {
+    let (lambda, b1) = (1800.0, 0.15);
+    let log = log_of(30_000, 0.02, |t| {
+        b1 * (1.0 - (-t / lambda).exp()) + 0.002 * temp(t).0
+    });
+    let mut spec = exact_spec("selfheat,T,1");
+    spec.lambda = LambdaSpec::Search {
+        min_s: 60.0,
+        max_s: 20_000.0,
+    };
+    let m = regression::fit(&log, &spec).unwrap();
+    close(m.lambda_s.unwrap(), lambda, 0.03 * lambda, "λ");
+    close(m.coefficients[0], b1, 0.03 * b1, "B1");
+}
+
+#[test]
+fn extra_channels_and_a_second_sensor_are_fitted_by_name() {
+    let n = 20_000;
+    let mut log = log_of(n, 0.01, |_| 0.0);
+    let t2: Vec<f64> = log.temp_c.iter().map(|x| x - 1.5).collect();
+    let p: Vec<f64> = (0..n)
+        .map(|i| 0.8 + 0.05 * (i as f64 / 3000.0).sin())
+        .collect();
+    let mut noise = Noise::new(11);
+    for i in 0..n {
+        let dt = log.temp_c[i] - t2[i] + 3.0 * (i as f64 / 5000.0).cos();
+        log.omega_dph[i] = 0.02 * dt + 0.003 * dt * dt - 0.6 * p[i] + 0.01 * noise.normal();
+    }
+    let t2 = (0..n)
+        .map(|i| t2[i] - 3.0 * (i as f64 / 5000.0).cos())
+        .collect();
+    log.extra = vec![
+        Channel {
+            name: "temp_housing_c".into(),
+            unit: "°C".into(),
+            values: t2,
+        },
+        Channel {
+            name: "laser_power_mw".into(),
+            unit: String::new(),
+            values: p,
+        },
+    ];
+    let m = regression::fit(&log, &exact_spec("dT,dT^2,ch:laser_power_mw,1")).unwrap();
+    assert_eq!(m.temp2.as_deref(), Some("temp_housing_c"));
+    for (k, want) in [0.02, 0.003, -0.6, 0.0].into_iter().enumerate() {
+        let (got, se) = (m.coefficients[k], m.std_errors[k]);
+        assert!((got - want).abs() < 5.0 * se, "{}: {got} vs {want}, se {se}", m.names[k]);
+        if want != 0.0 {
+            assert!(se < 0.05 * want.abs(), "{}: se {se}", m.names[k]);
+        }
+    }
+    // A log without the channel is refused by name.
+    let mut bare = log.clone();
+    bare.extra.truncate(1);
+    let err = m.correct(&bare).unwrap_err().to_string();
+    assert!(err.contains("laser_power_mw"), "{err}");
+}
+
+fn read(name: &str) -> Log {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("sample_logs")
+        .join(name);
+    ingest::read_path(&path, &ReadOptions::default()).unwrap()
+}
+
+/// Every preset and a custom model using every feature.
+fn every_choice() -> Vec<ModelChoice> {
+    let mut v: Vec<ModelChoice> = Preset::ALL.into_iter().map(ModelChoice::Preset).collect();
+    let mut spec = RegressionSpec::new(
+        "everything",
+        regression::terms::parse_terms(
+            "1,T,T^2,T^3,Tdot,Tddot,T*Tdot,|Tdot|,T*Tddot,sgn(Tdot)*Tddot,dT,dT^2,selfheat,\
+             ch:laser_power_mw,ch^2:piezo_v,pwlT:4",
+        )
+        .unwrap(),
+    );
+    spec.delay = DelaySpec::Bands {
+        bands: 2,
+        max_s: 600.0,
+    };
+    spec.lag = LagSpec::Fixed { seconds: 300.0 };
+    v.push(ModelChoice::Custom(spec));
+    v
+}
+
+#[test]
+fn streaming_equals_batch_for_every_model() {
+    let log = read("laser-gyro.csv");
+    let recipe = Recipe::default();
+    for choice in every_choice() {
+        let model = drift_model::fit(&log, &choice, &recipe).unwrap();
+        let batch = model.correct(&log).unwrap();
+        let (t2, ch) = drift_model::stream_inputs(&model, &log).unwrap();
+        let mut stream = model.corrector_for(log.nominal_dt_s());
+        let mut row = vec![0.0; ch.len()];
+        let mut worst: f64 = 0.0;
+        for i in 0..log.len() {
+            for (r, c) in row.iter_mut().zip(&ch) {
+                *r = c[i];
+            }
+            let c = stream.push(
+                log.time_s[i],
+                log.omega_dph[i],
+                log.temp_c[i],
+                t2[i],
+                &row,
+            );
+            worst = worst.max((c.omega_cor_dph - batch.cor_dph[i]).abs());
+            assert_eq!(c.regime, batch.regime[i], "{} at {i}", choice.name());
+        }
+        assert!(worst <= 1e-9, "{}: stream − batch up to {worst}", choice.name());
+    }
+}
+
+#[test]
+fn every_model_reads_back_from_its_calibration_file_and_predicts_the_same() {
+    let log = read("laser-gyro.csv");
+    let dir = tempfile::tempdir().unwrap();
+    for choice in every_choice() {
+        let model = drift_model::fit(&log, &choice, &Recipe::default()).unwrap();
+        let path = dir.path().join(format!("{}.json", choice.name()));
+        calfile::save_model(&path, &model).unwrap();
+        let back = calfile::load_model(&path).unwrap();
+        assert_eq!(back, model, "{}", choice.name());
+        assert_eq!(
+            back.correct(&log).unwrap().cor_dph,
+            model.correct(&log).unwrap().cor_dph
+        );
+    }
+}
+
+#[test]
+fn a_damaged_regression_file_is_refused_with_a_reason() {
+    let log = read("validation.csv");
+    let model = drift_model::fit(
+        &log,
+        &ModelChoice::Preset(Preset::YanCross),
+        &Recipe::default(),
+    )
+    .unwrap();
+    let text = calfile::model_to_json(&model);
+    let p = Path::new("cal.json");
+    // One coefficient too few.
+    let DriftModel::Regression(r) = &model else {
+        panic!("yan-cross is a regression")
+    };
+    let mut short = (**r).clone();
+    short.model.coefficients.pop();
+    let bad = calfile::model_to_json(&DriftModel::Regression(Box::new(short)));
+    let err = calfile::model_from_json(p, &bad).unwrap_err().to_string();
+    assert!(err.contains("coefficients"), "{err}");
+    // An unknown term.
+    let bad = text.replacen("\"T*Tdot\"", "\"T^7\"", 1);
+    let err = calfile::model_from_json(p, &bad).unwrap_err().to_string();
+    assert!(err.contains("unknown term"), "{err}");
+    // A Vakhrameev-only reader names what the file holds.
+    let err = calfile::from_json(p, &text).unwrap_err().to_string();
+    assert!(err.contains("regression model \"yan-cross\""), "{err}");
+}
+
+#[test]
+fn inputs_beyond_the_fitted_range_are_held_and_counted() {
+    // Fitted on 0…40 °C, applied at 60 °C: the T² curve is held at 40 °C.
+    let n = 20_000;
+    let mk = |lo: f64, hi: f64| {
+        let time: Vec<f64> = (0..n).map(|i| i as f64).collect();
+        let temp_c: Vec<f64> = time
+            .iter()
+            .map(|&t| lo + (hi - lo) * (0.5 - 0.5 * (TAU * t / n as f64).cos()))
+            .collect();
+        let omega = temp_c.iter().map(|x| 0.001 * x * x).collect();
+        Log::from_columns("ramp", time, omega, temp_c)
+    };
+    let m = regression::fit(&mk(0.0, 40.0), &exact_spec("1,T,T^2")).unwrap();
+    let hot = mk(0.0, 60.0);
+    let c = m.correct(&hot).unwrap();
+    let i = n / 2; // the top of the program, 60 °C
+    close(c.pred_dph[i], 0.001 * 40.0 * 40.0, 1e-6, "held prediction");
+    assert!(c.outside_fraction > 0.2 && c.outside_fraction < 0.6);
+}
+
+/// The filtered peak-to-peak of the simulator's noise alone on the run of `profile`.
+fn noise_floor(profile: &str, merit: &MeritOptions) -> f64 {
+    let p = driftlab::sim::profile(profile).unwrap();
+    let run = driftlab::sim::simulate_noise_only(&p, 1);
+    let log = run.to_log(profile);
+    let f = driftlab::metrics::figures(&log.omega_dph, log.nominal_dt_s(), 0, merit);
+    f.p2p_dph
+}
+
+#[test]
+fn models_side_by_side_on_the_sample_logs() {
+    let merit = MeritOptions::default();
+    let train = read("calibration.csv");
+    let tests: Vec<Log> = [
+        "validation.csv",
+        "yan-full-range.csv",
+        "yan-steps-low.csv",
+        "yan-steps-mid.csv",
+        "yan-steps-high.csv",
+    ]
+    .iter()
+    .map(|n| read(n))
+    .collect();
+    let choices: Vec<ModelChoice> = Preset::ALL.into_iter().map(ModelChoice::Preset).collect();
+    let reports = compare::compare(&train, &tests, &choices, &Recipe::default(), &merit);
+    let mut lines = Vec::new();
+    for (k, log) in std::iter::once(&train).chain(&tests).enumerate() {
+        let profile = Path::new(&log.source)
+            .file_stem()
+            .unwrap()
+            .to_string_lossy()
+            .into_owned();
+        let floor = noise_floor(&profile, &merit);
+        let mut best = f64::INFINITY;
+        for r in &reports {
+            assert!(r.error.is_none(), "{}: {:?}", r.model, r.error);
+            let Outcome::Evaluation(e) = &r.logs[k].result else {
+                panic!("{} on {profile}", r.model)
+            };
+            let c = &e.comparison;
+            // The models that correct transients must improve every log; the static-bias
+            // models (fitted on plateaus) must not cost more than 1 % of peak-to-peak.
+            let least = if matches!(r.model.as_str(), "poly-t" | "pwl-t") {
+                0.99
+            } else {
+                1.5
+            };
+            assert!(
+                c.p2p_ratio >= least,
+                "{} on {profile}: p2p ratio {}",
+                r.model,
+                c.p2p_ratio
+            );
+            best = best.min(c.corrected.p2p_dph);
+        }
+        lines.push(format!(
+            "{profile}: best corrected p2p {best:.4} °/h, noise floor {floor:.4} °/h, {:.2}×",
+            best / floor
+        ));
+        // The measured state (README, "Which model"): within 1.5× of the floor on the Yan
+        // runs; up to 1.9× on the validation run, whose 1.5 °C/min ramps exceed the
+        // calibration's.
+        assert!(best <= 1.9 * floor, "{}", lines.last().unwrap());
+    }
+    eprintln!("{}", lines.join("\n"));
+}
