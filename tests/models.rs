@@ -146,7 +146,12 @@ fn a_delay_that_shrinks_with_temperature_is_found_band_by_band() {
     assert_eq!(m.delay.points.len(), 3, "{:?}", m.delay);
     for p in &m.delay.points {
         // Within a band of 37 °C the delay varies by ±110 s around its centre's value.
-        close(p[1], tau_of(p[0]), 80.0, &format!("delay at {:.1} °C", p[0]));
+        close(
+            p[1],
+            tau_of(p[0]),
+            80.0,
+            &format!("delay at {:.1} °C", p[0]),
+        );
     }
     assert!(m.delay.points[0][1] > m.delay.points[2][1]);
 }
@@ -227,7 +232,11 @@ fn extra_channels_and_a_second_sensor_are_fitted_by_name() {
     assert_eq!(m.temp2.as_deref(), Some("temp_housing_c"));
     for (k, want) in [0.02, 0.003, -0.6, 0.0].into_iter().enumerate() {
         let (got, se) = (m.coefficients[k], m.std_errors[k]);
-        assert!((got - want).abs() < 5.0 * se, "{}: {got} vs {want}, se {se}", m.names[k]);
+        assert!(
+            (got - want).abs() < 5.0 * se,
+            "{}: {got} vs {want}, se {se}",
+            m.names[k]
+        );
         if want != 0.0 {
             assert!(se < 0.05 * want.abs(), "{}: se {se}", m.names[k]);
         }
@@ -281,17 +290,15 @@ fn streaming_equals_batch_for_every_model() {
             for (r, c) in row.iter_mut().zip(&ch) {
                 *r = c[i];
             }
-            let c = stream.push(
-                log.time_s[i],
-                log.omega_dph[i],
-                log.temp_c[i],
-                t2[i],
-                &row,
-            );
+            let c = stream.push(log.time_s[i], log.omega_dph[i], log.temp_c[i], t2[i], &row);
             worst = worst.max((c.omega_cor_dph - batch.cor_dph[i]).abs());
             assert_eq!(c.regime, batch.regime[i], "{} at {i}", choice.name());
         }
-        assert!(worst <= 1e-9, "{}: stream − batch up to {worst}", choice.name());
+        assert!(
+            worst <= 1e-9,
+            "{}: stream − batch up to {worst}",
+            choice.name()
+        );
     }
 }
 
@@ -364,30 +371,27 @@ fn inputs_beyond_the_fitted_range_are_held_and_counted() {
 
 /// The filtered peak-to-peak of the simulator's noise alone on the run of `profile`.
 fn noise_floor(profile: &str, merit: &MeritOptions) -> f64 {
-    let p = driftlab::sim::profile(profile).unwrap();
-    let run = driftlab::sim::simulate_noise_only(&p, 1);
+    let (name, seed) = match profile.strip_suffix("-2") {
+        Some(name) => (name, 2),
+        None => (profile, 1),
+    };
+    let p = driftlab::sim::profile(name).unwrap();
+    let run = driftlab::sim::simulate_noise_only(&p, seed);
     let log = run.to_log(profile);
     let f = driftlab::metrics::figures(&log.omega_dph, log.nominal_dt_s(), 0, merit);
     f.p2p_dph
 }
 
-#[test]
-fn models_side_by_side_on_the_sample_logs() {
+/// Every model fitted on `train` and judged on it and on `tests`: returns, per log, the best
+/// corrected peak-to-peak over the simulator's noise floor.
+fn side_by_side(train: &str, tests: &[&str]) -> Vec<(String, f64)> {
     let merit = MeritOptions::default();
-    let train = read("calibration.csv");
-    let tests: Vec<Log> = [
-        "validation.csv",
-        "yan-full-range.csv",
-        "yan-steps-low.csv",
-        "yan-steps-mid.csv",
-        "yan-steps-high.csv",
-    ]
-    .iter()
-    .map(|n| read(n))
-    .collect();
+    let train = read(train);
+    let tests: Vec<Log> = tests.iter().map(|n| read(n)).collect();
     let choices: Vec<ModelChoice> = Preset::ALL.into_iter().map(ModelChoice::Preset).collect();
     let reports = compare::compare(&train, &tests, &choices, &Recipe::default(), &merit);
     let mut lines = Vec::new();
+    let mut out = Vec::new();
     for (k, log) in std::iter::once(&train).chain(&tests).enumerate() {
         let profile = Path::new(&log.source)
             .file_stem()
@@ -421,10 +425,40 @@ fn models_side_by_side_on_the_sample_logs() {
             "{profile}: best corrected p2p {best:.4} °/h, noise floor {floor:.4} °/h, {:.2}×",
             best / floor
         ));
-        // The measured state (README, "Which model"): within 1.5× of the floor on the Yan
-        // runs; up to 1.9× on the validation run, whose 1.5 °C/min ramps exceed the
-        // calibration's.
-        assert!(best <= 1.9 * floor, "{}", lines.last().unwrap());
+        out.push((profile, best / floor));
     }
     eprintln!("{}", lines.join("\n"));
+    out
+}
+
+#[test]
+fn fog_models_side_by_side_on_the_sample_logs() {
+    let ratios = side_by_side(
+        "calibration.csv",
+        &[
+            "validation.csv",
+            "yan-full-range.csv",
+            "yan-steps-low.csv",
+            "yan-steps-mid.csv",
+            "yan-steps-high.csv",
+        ],
+    );
+    for (profile, r) in ratios {
+        // The measured state (README, "Which model"): within 1.5× of the floor on the Yan
+        // runs and 1.55× on the low band; 1.9× on the validation run, whose 1.5 °C/min ramps
+        // exceed the calibration's.
+        let limit = match profile.as_str() {
+            "validation" | "calibration" => 1.9,
+            "yan-steps-low" => 1.55,
+            _ => 1.5,
+        };
+        assert!(r <= limit, "{profile}: {r:.2}× the noise floor");
+    }
+}
+
+#[test]
+fn laser_gyro_models_side_by_side_on_its_two_runs() {
+    for (profile, r) in side_by_side("laser-gyro.csv", &["laser-gyro-2.csv"]) {
+        assert!(r <= 1.5, "{profile}: {r:.2}× the noise floor");
+    }
 }
