@@ -14,7 +14,7 @@ use driftlab::log::{Channel, Log};
 use driftlab::metrics::MeritOptions;
 use driftlab::presets::{ModelChoice, Preset};
 use driftlab::recipe::Recipe;
-use driftlab::regression::{self, DelaySpec, LagSpec, LambdaSpec, RegressionSpec, Term};
+use driftlab::regression::{self, DelaySpec, LagSpec, LambdaSpec, RegressionSpec};
 use std::f64::consts::TAU;
 use std::path::Path;
 
