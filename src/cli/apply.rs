@@ -19,9 +19,11 @@ pub struct Args {
 }
 
 pub fn run(a: Args) -> Result<(), String> {
-    let cal = calfile::load(&a.calibration).map_err(|e| e.to_string())?;
+    let model = calfile::load_model(&a.calibration).map_err(|e| e.to_string())?;
     let log = a.log_args.read(&a.log)?;
-    let c = cal.correct(&log);
+    let c = model
+        .correct(&log)
+        .map_err(|e| format!("{}: {e}", a.calibration.display()))?;
     let bar = common::progress_bar(&format!("writing {}", a.out.display()));
     corrected_csv::write(&a.out, &log, &c.pred_dph, &c.cor_dph, &|f| {
         if let Some(b) = &bar {
@@ -34,8 +36,8 @@ pub fn run(a: Args) -> Result<(), String> {
     }
     if c.outside_fraction > 0.0 {
         eprintln!(
-            "note: {:.1}% of the samples lie outside the calibrated ranges of T, Tdot or Tddot; \
-             the coefficients were held at their edge values there",
+            "note: {:.1}% of the samples lie outside the calibrated ranges of the model's \
+             inputs; edge values were held there",
             c.outside_fraction * 100.0
         );
     }

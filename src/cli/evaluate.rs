@@ -2,6 +2,7 @@
 
 use super::common::{self, LogArgs};
 use driftlab::calfile;
+use driftlab::drift_model::DriftModel;
 use driftlab::metrics::{Evaluation, MeritOptions};
 use std::path::PathBuf;
 
@@ -26,26 +27,35 @@ pub struct Args {
 }
 
 pub fn run(a: Args) -> Result<(), String> {
-    let cal = calfile::load(&a.calibration).map_err(|e| e.to_string())?;
+    let model = calfile::load_model(&a.calibration).map_err(|e| e.to_string())?;
     let log = a.log_args.read(&a.log)?;
+    let default_filter = match &model {
+        DriftModel::Vakhrameev(cal) => cal.recipe.filter_s,
+        DriftModel::Regression(_) => MeritOptions::default().filter_s,
+    };
     let opts = MeritOptions {
-        filter_s: a.filter.unwrap_or(cal.recipe.filter_s),
+        filter_s: a.filter.unwrap_or(default_filter),
         window_s: a.window,
     };
     if !(opts.filter_s > 0.0 && opts.window_s > 0.0) {
         return Err("--filter and --window must be positive".into());
     }
-    let eval = Evaluation::of(&cal, &log, &opts);
+    let correction = model
+        .correct(&log)
+        .map_err(|e| format!("{}: {e}", a.calibration.display()))?;
+    let eval = Evaluation::of_correction(&log, &correction, &opts);
+    let sha = &model.source().sha256;
     if a.json {
         return common::print_json(&serde_json::json!({
             "calibration": a.calibration,
             "log": a.log,
-            "in_sample": cal.source.sha256 == calfile::sha256_file(&a.log).unwrap_or_default(),
+            "model": model.name(),
+            "in_sample": *sha == calfile::sha256_file(&a.log).unwrap_or_default(),
             "options": opts,
             "evaluation": eval,
         }));
     }
-    let held_out = cal.source.sha256 != calfile::sha256_file(&a.log).unwrap_or_default();
+    let held_out = *sha != calfile::sha256_file(&a.log).unwrap_or_default();
     println!(
         "{} on {} ({}):",
         super::calibrate::file_name(&a.calibration),
