@@ -31,6 +31,7 @@ pub mod metrics;
 pub mod model;
 pub mod plateau;
 pub mod recipe;
+pub mod report;
 pub mod session;
 pub mod signal;
 pub mod sim;

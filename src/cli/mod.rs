@@ -6,6 +6,7 @@ mod calibrate;
 mod common;
 mod evaluate;
 mod inspect;
+mod report;
 mod simulate;
 
 use clap::{Parser, Subcommand};
@@ -29,6 +30,8 @@ pub enum Command {
     Evaluate(evaluate::Args),
     /// Show what driftlab reads in a log: columns, units, sampling, plateaus, problems.
     Inspect(inspect::Args),
+    /// Write the test report: figures (PNG and SVG) and one self-contained HTML page.
+    Report(report::Args),
     /// Simulate a motionless fibre-optic gyro in a thermal chamber and write the log as CSV.
     Simulate(simulate::Args),
     /// Open the workbench (the default when no command is given).
@@ -52,6 +55,7 @@ pub fn run(command: Command) -> Result<(), String> {
         Command::Apply(a) => apply::run(a),
         Command::Evaluate(a) => evaluate::run(a),
         Command::Inspect(a) => inspect::run(a),
+        Command::Report(a) => report::run(a),
         Command::Simulate(a) => simulate::run(a),
         Command::Gui(a) => gui(a),
     }
