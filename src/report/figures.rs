@@ -153,20 +153,49 @@ fn tick_label(v: f64, span: f64) -> String {
     if v == 0.0 {
         return "0".into();
     }
-    if big < 1e-3 || big >= 1e6 {
+    if !(1e-3..1e6).contains(&big) {
         return format!("{v:.1e}");
     }
-    let decimals = if step > 0.0 && step.is_finite() {
+    let mut decimals = if step > 0.0 && step.is_finite() {
         (-(step.log10().floor()) as i32).clamp(0, 6) as usize
     } else {
         2
     };
+    // A tick at 0.25 keeps its second decimal even when the spacing suggests one.
+    let exact = |d: usize| {
+        let s = format!("{v:.d$}");
+        s.parse::<f64>()
+            .is_ok_and(|r| (r - v).abs() <= 1e-6 * span.abs())
+    };
+    let limit = decimals + 2;
+    while decimals < limit && !exact(decimals) {
+        decimals += 1;
+    }
     let s = format!("{v:.decimals$}");
     if s.trim_start_matches('-')
         .trim_matches(['0', '.'])
         .is_empty()
     {
         "0".into()
+    } else {
+        s
+    }
+}
+
+/// Tick labels of a logarithmic axis: 0.02, 0.5, 200 as a reader writes them, powers of ten
+/// beyond.
+fn log_label(v: f64) -> String {
+    if !(v.is_finite() && v > 0.0) {
+        return String::new();
+    }
+    if !(1e-4..1e6).contains(&v) {
+        return format!("{v:.0e}");
+    }
+    // Three significant digits, trailing zeros dropped.
+    let decimals = (2 - v.log10().floor() as i32).max(0) as usize;
+    let s = format!("{v:.decimals$}");
+    if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
     } else {
         s
     }
@@ -454,9 +483,12 @@ pub fn drift(
 // ---------------------------------------------------------------------------------------------
 // Coefficients
 
+/// Points of a polyline.
+type Line = Vec<(f64, f64)>;
+
 /// Samples of a curve over `[a, b]`, split where the curve holds its edge value (outside the
 /// fitted range): `(inside, outside)` runs.
-fn curve_points(f: &Approx, a: f64, b: f64) -> (Vec<(f64, f64)>, Vec<Vec<(f64, f64)>>) {
+fn curve_points(f: &Approx, a: f64, b: f64) -> (Line, Vec<Line>) {
     const N: usize = 400;
     let (lo, hi) = (f.x_min(), f.x_max());
     let mut inside = Vec::new();
@@ -834,8 +866,9 @@ impl Plot for AllanPlot<'_> {
         let xs = finite_range(pts.iter().flatten().map(|p| p.0)).unwrap_or((1.0, 10.0));
         let ys = finite_range(pts.iter().flatten().map(|p| p.1)).unwrap_or((1e-3, 1.0));
         let decade = |(a, b): (f64, f64), room: f64| {
-            let lo = 10f64.powf(a.log10().floor());
-            let hi = 10f64.powf((b.log10() + room).ceil());
+            // Whole decades, widened a hair so that their end labels are drawn too.
+            let lo = 10f64.powf(a.log10().floor()) * 0.99;
+            let hi = 10f64.powf((b.log10() + room).ceil()) * 1.01;
             if hi > lo { (lo, hi) } else { (lo, lo * 10.0) }
         };
         let xr = decade(xs, 0.0);
@@ -843,9 +876,11 @@ impl Plot for AllanPlot<'_> {
         let mut chart = chart_builder(root, self.caption)
             .build_cartesian_2d((xr.0..xr.1).log_scale(), (yr.0..yr.1).log_scale())
             .map_err(de)?;
-        let fmt = |v: &f64| format!("{v:.0e}");
+        let fmt = |v: &f64| log_label(*v);
         chart
             .configure_mesh()
+            .x_labels(12)
+            .y_labels(12)
             .x_desc("averaging time τ, s")
             .y_desc("Allan deviation σ(τ), °/h")
             .x_label_formatter(&fmt)
@@ -883,6 +918,14 @@ mod tests {
         assert_eq!(tick_label(12.0, 80.0), "12");
         assert_eq!(tick_label(0.25, 1.0), "0.25");
         assert_eq!(tick_label(2e-5, 1e-4), "2.0e-5");
+    }
+
+    #[test]
+    fn log_labels_read_as_written() {
+        assert_eq!(log_label(0.02), "0.02");
+        assert_eq!(log_label(200.0), "200");
+        assert_eq!(log_label(1.0), "1");
+        assert_eq!(log_label(1e7), "1e7");
     }
 
     #[test]

@@ -22,6 +22,23 @@ pub fn fmt_ratio(r: f64) -> String {
     }
 }
 
+/// A number with about five significant digits: fixed-point for everyday magnitudes,
+/// mantissa-exponent for very small and very large ones.
+pub fn fmt_num(v: f64) -> String {
+    let a = v.abs();
+    if !v.is_finite() {
+        return format!("{v}");
+    }
+    if a == 0.0 {
+        return "0".into();
+    }
+    if !(1e-3..1e5).contains(&a) {
+        return format!("{v:.4e}");
+    }
+    let decimals = (4 - a.log10().floor() as i32).clamp(0, 7) as usize;
+    format!("{v:.decimals$}")
+}
+
 /// Escapes text for HTML content and attribute values.
 pub fn escape(s: &str) -> String {
     let mut out = String::with_capacity(s.len());
@@ -84,12 +101,7 @@ fn tag(in_sample: bool) -> &'static str {
 }
 
 fn curve_text(a: &Approx) -> String {
-    let list = |v: &[f64]| {
-        v.iter()
-            .map(|x| format!("{x:.6e}"))
-            .collect::<Vec<_>>()
-            .join(", ")
-    };
+    let list = |v: &[f64]| v.iter().map(|&x| fmt_num(x)).collect::<Vec<_>>().join(", ");
     match a.curve() {
         Curve::Polynomial { coeffs } => {
             format!("coefficients (lowest power first): {}", list(coeffs))
@@ -388,13 +400,13 @@ pub fn page(cal: &Calibration, s: &ReportSummary) -> Result<String> {
         let st = a.stats();
         let _ = writeln!(
             o,
-            "<tr><td>{} [{}]</td><td>{}</td><td class=\"num\">{:.4e} … {:.4e} {}</td><td>{}</td>\
-             <td class=\"num\">{}</td><td class=\"num\">{:.4e}</td><td class=\"num\">{:.4}</td><td><small>{}</small></td></tr>",
+            "<tr><td>{} [{}]</td><td>{}</td><td class=\"num\">{} … {} {}</td><td>{}</td>\
+             <td class=\"num\">{}</td><td class=\"num\">{}</td><td class=\"num\">{:.4}</td><td><small>{}</small></td></tr>",
             escape(name),
             escape(yu),
             a.kind(),
-            a.x_min(),
-            a.x_max(),
+            fmt_num(a.x_min()),
+            fmt_num(a.x_max()),
             escape(xu),
             if a.extrapolates() {
                 "extrapolated"
@@ -402,7 +414,7 @@ pub fn page(cal: &Calibration, s: &ReportSummary) -> Result<String> {
                 "edge value held"
             },
             st.n,
-            st.rmse,
+            fmt_num(st.rmse),
             st.r2,
             escape(&curve_text(a))
         );
@@ -429,4 +441,27 @@ pub fn page(cal: &Calibration, s: &ReportSummary) -> Result<String> {
     }
     o.push_str("</body>\n</html>\n");
     Ok(o)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn numbers_keep_five_significant_digits() {
+        assert_eq!(fmt_num(-49.995), "-49.995");
+        assert_eq!(fmt_num(0.016671), "0.016671");
+        assert_eq!(fmt_num(39.71605), "39.716");
+        assert_eq!(fmt_num(-7.594423e6), "-7.5944e6");
+        assert_eq!(fmt_num(2.9648e-5), "2.9648e-5");
+        assert_eq!(fmt_num(0.0), "0");
+    }
+
+    #[test]
+    fn text_is_escaped() {
+        assert_eq!(
+            escape("<a href=\"x\">&'"),
+            "&lt;a href=&quot;x&quot;&gt;&amp;&#39;"
+        );
+    }
 }
