@@ -295,35 +295,57 @@ fn draw_mesh<DB: DrawingBackend>(
         .map_err(de)
 }
 
-/// Points of a min/max band drawn as one line: per column from min to max and back, the way
-/// an oscilloscope draws a long record. Gaps (NaN columns) split the line. Columns thinner
-/// than `eps_y` are drawn as one point: plotters draws a wide line segment by segment, and
-/// segments much shorter than the line is wide leave spikes at the joints.
-fn band_segments(band: &lod::Band, div: f64, eps_y: f64) -> Vec<Vec<(f64, f64)>> {
-    let mut out = Vec::new();
-    let mut cur: Vec<(f64, f64)> = Vec::new();
+/// How a piece of a series is drawn.
+enum Shape {
+    /// Raw samples, joined by a line.
+    Line(Line),
+    /// A min/max envelope, one column per pixel: filled between the smallest and the largest
+    /// value of each column, at least `2·half` tall so that a quiet stretch still reads as a
+    /// line of the series' width. (Drawing the columns as a zig-zag line instead gives moiré
+    /// on dense records and spikes at the joints of wide lines.)
+    Area(Line),
+}
+
+/// The shapes that draw `band` (times divided by `div`); gaps (NaN columns) split them.
+fn band_shapes(band: &lod::Band, div: f64, half: f64) -> Vec<Shape> {
+    let mut runs: Vec<Vec<usize>> = Vec::new();
+    let mut cur = Vec::new();
     for k in 0..band.len() {
-        let (x, lo, hi) = (band.x[k] / div, band.lo[k], band.hi[k]);
-        if !(x.is_finite() && lo.is_finite() && hi.is_finite()) {
-            if !cur.is_empty() {
-                out.push(std::mem::take(&mut cur));
-            }
-            continue;
-        }
-        if hi - lo <= eps_y {
-            cur.push((x, 0.5 * (lo + hi)));
-        } else if k % 2 == 0 {
-            cur.push((x, lo));
-            cur.push((x, hi));
-        } else {
-            cur.push((x, hi));
-            cur.push((x, lo));
+        if band.x[k].is_finite() && band.lo[k].is_finite() && band.hi[k].is_finite() {
+            cur.push(k);
+        } else if !cur.is_empty() {
+            runs.push(std::mem::take(&mut cur));
         }
     }
     if !cur.is_empty() {
-        out.push(cur);
+        runs.push(cur);
     }
-    out
+    runs.into_iter()
+        .map(|run| {
+            if band.exact {
+                return Shape::Line(run.iter().map(|&k| (band.x[k] / div, band.lo[k])).collect());
+            }
+            let widen = |k: usize| {
+                let mid = 0.5 * (band.lo[k] + band.hi[k]);
+                (band.lo[k].min(mid - half), band.hi[k].max(mid + half))
+            };
+            // Each column also reaches to its neighbours' values, so that a steep stretch is
+            // as wide as a flat one instead of a hairline.
+            let n = run.len();
+            let reach: Vec<(f64, f64)> = (0..n)
+                .map(|j| {
+                    (j.saturating_sub(1)..(j + 2).min(n))
+                        .map(|i| widen(run[i]))
+                        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), (l, h)| {
+                            (a.min(l), b.max(h))
+                        })
+                })
+                .collect();
+            let mut poly: Line = (0..n).map(|j| (band.x[run[j]] / div, reach[j].0)).collect();
+            poly.extend((0..n).rev().map(|j| (band.x[run[j]] / div, reach[j].1)));
+            Shape::Area(poly)
+        })
+        .collect()
 }
 
 /// One series of a time plot.
@@ -408,8 +430,9 @@ impl Plot for TimePlot<'_> {
                     Rectangle::new([(x, y - 8), (x + 30, y + 8)], GREEN.mix(0.3).filled())
                 });
         }
-        // About a pixel of the plot's height.
-        let eps_y = (yr.1 - yr.0) / f64::from(SIZE.1);
+        // Data units per pixel of the plot's height (the plotting area is about 160 px
+        // shorter than the figure).
+        let per_px = (yr.1 - yr.0) / (f64::from(SIZE.1) - 160.0);
         let mut k = 0;
         for (s, (band, _, _)) in self.series.iter().zip(&bands) {
             let color = if s.faint {
@@ -418,14 +441,22 @@ impl Plot for TimePlot<'_> {
                 k += 1;
                 PALETTE[(k - 1) % PALETTE.len()]
             };
-            let style = if s.faint {
-                color.mix(0.6).stroke_width(s.width)
+            let (line, fill) = if s.faint {
+                (
+                    color.mix(0.6).stroke_width(s.width),
+                    color.mix(0.6).filled(),
+                )
             } else {
-                color.stroke_width(s.width)
+                (color.stroke_width(s.width), color.filled())
             };
+            let half = 0.5 * f64::from(s.width) * per_px;
             let mut first = true;
-            for seg in band_segments(band, axis.div, if s.faint { 0.0 } else { eps_y }) {
-                let drawn = chart.draw_series(LineSeries::new(seg, style)).map_err(de)?;
+            for shape in band_shapes(band, axis.div, half) {
+                let drawn = match shape {
+                    Shape::Line(p) => chart.draw_series(LineSeries::new(p, line)),
+                    Shape::Area(p) => chart.draw_series(std::iter::once(Polygon::new(p, fill))),
+                }
+                .map_err(de)?;
                 if first {
                     drawn
                         .label(s.label)
