@@ -330,6 +330,16 @@ fn odd_logs_give_a_report_not_a_panic() {
             dir.path().join("nan.csv"),
             Log::from_columns("nan", t, w, vec![f64::NAN; n as usize]),
         ),
+        // Clock time: the axis counts from the first sample.
+        (
+            dir.path().join("clock.csv"),
+            Log::from_columns(
+                "clock",
+                (0..n).map(|i| 1.7e9 + f64::from(i)).collect(),
+                vec![0.1; n as usize],
+                (0..n).map(|i| 20.0 + 0.01 * f64::from(i)).collect(),
+            ),
+        ),
         // The same stem twice: the figures must not overwrite each other.
         (
             dir.path().join("a").join("flat.csv"),
@@ -345,7 +355,9 @@ fn odd_logs_give_a_report_not_a_panic() {
     let summary = report::write(cal, &logs, &out, &ReportOptions::default()).unwrap();
     assert!(out.join("drift-flat.png").is_file());
     assert!(out.join("drift-flat-2.png").is_file());
-    assert_eq!(summary.logs.len(), 5);
+    assert_eq!(summary.logs.len(), 6);
+    let clock = svg_text(&out.join("temperature-clock.svg"));
+    assert!(clock.contains("time, s from the first sample"));
     assert!(summary.logs.iter().all(|l| !l.in_sample));
     let html = std::fs::read_to_string(&summary.html).unwrap();
     assert_self_contained(&html);

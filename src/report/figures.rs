@@ -95,6 +95,11 @@ fn render(stem: &Path, plot: &impl Plot) -> Result<Vec<PathBuf>> {
         Ok(Err((what, message))) => return Err(fail(what, message)),
         Err(_) => return Err(fail("png", "the plotting library panicked".into())),
     };
+    // The SVG names the family the text was laid out with, then the generic fallback.
+    let svg = svg.replace(
+        "font-family=\"sans-serif\"",
+        "font-family=\"DejaVu Sans, Verdana, sans-serif\"",
+    );
     let png_bytes = encode_png(&rgb, SIZE).map_err(|e| fail("png", e))?;
     let svg_path = stem.with_extension("svg");
     let png_path = stem.with_extension("png");
@@ -307,7 +312,8 @@ enum Shape {
 }
 
 /// The shapes that draw `band` (times divided by `div`); gaps (NaN columns) split them.
-fn band_shapes(band: &lod::Band, div: f64, half: f64) -> Vec<Shape> {
+fn band_shapes(band: &lod::Band, origin: f64, div: f64, half: f64) -> Vec<Shape> {
+    let tx = |x: f64| (x - origin) / div;
     let mut runs: Vec<Vec<usize>> = Vec::new();
     let mut cur = Vec::new();
     for k in 0..band.len() {
@@ -323,7 +329,7 @@ fn band_shapes(band: &lod::Band, div: f64, half: f64) -> Vec<Shape> {
     runs.into_iter()
         .map(|run| {
             if band.exact {
-                return Shape::Line(run.iter().map(|&k| (band.x[k] / div, band.lo[k])).collect());
+                return Shape::Line(run.iter().map(|&k| (tx(band.x[k]), band.lo[k])).collect());
             }
             let widen = |k: usize| {
                 let mid = 0.5 * (band.lo[k] + band.hi[k]);
@@ -341,8 +347,8 @@ fn band_shapes(band: &lod::Band, div: f64, half: f64) -> Vec<Shape> {
                         })
                 })
                 .collect();
-            let mut poly: Line = (0..n).map(|j| (band.x[run[j]] / div, reach[j].0)).collect();
-            poly.extend((0..n).rev().map(|j| (band.x[run[j]] / div, reach[j].1)));
+            let mut poly: Line = (0..n).map(|j| (tx(band.x[run[j]]), reach[j].0)).collect();
+            poly.extend((0..n).rev().map(|j| (tx(band.x[run[j]]), reach[j].1)));
             Shape::Area(poly)
         })
         .collect()
@@ -410,18 +416,29 @@ impl Plot for TimePlot<'_> {
         }
         let entries = self.series.len() + usize::from(!self.shaded.is_empty());
         let yr = with_legend_room(lo, hi, entries);
-        let xr = (t0 / axis.div, t1 / axis.div);
+        // Time from the first sample (logs stamped with clock time start far from zero).
+        let xr = (0.0, (t1 - t0) / axis.div);
         let mut chart = chart_builder(root, self.caption)
             .build_cartesian_2d(xr.0..xr.1, yr.0..yr.1)
             .map_err(de)?;
-        draw_mesh(&mut chart, axis.name, self.y_desc, xr, yr)?;
+        let x_desc = if t0 == 0.0 {
+            axis.name.to_string()
+        } else {
+            format!("{} from the first sample", axis.name)
+        };
+        draw_mesh(&mut chart, &x_desc, self.y_desc, xr, yr)?;
         if !self.shaded.is_empty() {
             let fill = GREEN.mix(0.15).filled();
             let rects = self
                 .shaded
                 .iter()
                 .filter(|(a, b)| a.is_finite() && b.is_finite())
-                .map(|&(a, b)| Rectangle::new([(a / axis.div, yr.0), (b / axis.div, yr.1)], fill));
+                .map(|&(a, b)| {
+                    Rectangle::new(
+                        [((a - t0) / axis.div, yr.0), ((b - t0) / axis.div, yr.1)],
+                        fill,
+                    )
+                });
             chart
                 .draw_series(rects)
                 .map_err(de)?
@@ -451,7 +468,7 @@ impl Plot for TimePlot<'_> {
             };
             let half = 0.5 * f64::from(s.width) * per_px;
             let mut first = true;
-            for shape in band_shapes(band, axis.div, half) {
+            for shape in band_shapes(band, t0, axis.div, half) {
                 let drawn = match shape {
                     Shape::Line(p) => chart.draw_series(LineSeries::new(p, line)),
                     Shape::Area(p) => chart.draw_series(std::iter::once(Polygon::new(p, fill))),
