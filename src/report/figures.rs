@@ -367,34 +367,50 @@ pub struct TimeSeries<'a> {
     pub faint: bool,
 }
 
-/// A time plot of several series over one time column.
+/// A time plot of several series over one time column, each reduced once to one min/max
+/// column per pixel (the same reduction then draws the SVG and the PNG).
 struct TimePlot<'a> {
     caption: &'a str,
     y_desc: &'a str,
-    time_s: &'a [f64],
     series: &'a [TimeSeries<'a>],
+    bands: Vec<lod::Band>,
+    /// First and last time, s.
+    span: (f64, f64),
     shaded: &'a [(f64, f64)],
     shaded_label: &'a str,
 }
 
-impl TimePlot<'_> {
-    fn bands(&self) -> Vec<(lod::Band, TimeAxis, (f64, f64))> {
-        let n = self.time_s.len();
-        let (t0, t1) = match (self.time_s.first(), self.time_s.last()) {
+impl<'a> TimePlot<'a> {
+    fn new(
+        caption: &'a str,
+        y_desc: &'a str,
+        time_s: &[f64],
+        series: &'a [TimeSeries<'a>],
+        (shaded, shaded_label): (&'a [(f64, f64)], &'a str),
+    ) -> TimePlot<'a> {
+        let n = time_s.len();
+        let span = match (time_s.first(), time_s.last()) {
             (Some(&a), Some(&b)) if a.is_finite() && b.is_finite() && b > a => (a, b),
             _ => (0.0, 1.0),
         };
-        let axis = TimeAxis::for_span(t1 - t0);
-        self.series
+        let bands = series
             .iter()
             .map(|s| {
                 let m = s.values.len().min(n);
-                let (t, v) = (&self.time_s[..m], &s.values[..m]);
+                let (t, v) = (&time_s[..m], &s.values[..m]);
                 let pyramid = MinMaxPyramid::new(v);
-                let band = lod::reduce(t, v, &pyramid, t0, t1, COLUMNS);
-                (band, axis, (t0, t1))
+                lod::reduce(t, v, &pyramid, span.0, span.1, COLUMNS)
             })
-            .collect()
+            .collect();
+        TimePlot {
+            caption,
+            y_desc,
+            series,
+            bands,
+            span,
+            shaded,
+            shaded_label,
+        }
     }
 }
 
@@ -404,11 +420,10 @@ impl Plot for TimePlot<'_> {
         root: &DrawingArea<DB, Shift>,
     ) -> std::result::Result<(), String> {
         root.fill(&WHITE).map_err(de)?;
-        let bands = self.bands();
-        let (t0, t1) = bands.first().map_or((0.0, 1.0), |b| b.2);
+        let (t0, t1) = self.span;
         let axis = TimeAxis::for_span(t1 - t0);
         let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
-        for (b, _, _) in &bands {
+        for b in &self.bands {
             if let Some((a, z)) = b.value_range() {
                 lo = lo.min(a);
                 hi = hi.max(z);
@@ -451,7 +466,7 @@ impl Plot for TimePlot<'_> {
         // shorter than the figure).
         let per_px = (yr.1 - yr.0) / (f64::from(SIZE.1) - 160.0);
         let mut k = 0;
-        for (s, (band, _, _)) in self.series.iter().zip(&bands) {
+        for (s, band) in self.series.iter().zip(&self.bands) {
             let color = if s.faint {
                 GREY
             } else {
@@ -497,14 +512,13 @@ pub fn temperature_program(
 ) -> Result<Vec<PathBuf>> {
     render(
         stem,
-        &TimePlot {
+        &TimePlot::new(
             caption,
-            y_desc: "temperature, °C",
+            "temperature, °C",
             time_s,
-            series: temps,
-            shaded: plateaus_s,
-            shaded_label: "plateaus used for K0",
-        },
+            temps,
+            (plateaus_s, "plateaus used for K0"),
+        ),
     )
 }
 
@@ -517,14 +531,7 @@ pub fn drift(
 ) -> Result<Vec<PathBuf>> {
     render(
         stem,
-        &TimePlot {
-            caption,
-            y_desc: "gyro rate Ω, °/h",
-            time_s,
-            series,
-            shaded: &[],
-            shaded_label: "",
-        },
+        &TimePlot::new(caption, "gyro rate Ω, °/h", time_s, series, (&[], "")),
     )
 }
 
