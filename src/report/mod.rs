@@ -323,7 +323,7 @@ pub fn write(
         let pts = points.as_ref();
         let f = figures::rate_coefficient(
             &out_dir.join(name.to_lowercase()),
-            &format!("{name}± over {var}: the + set (thermal acceleration) and the − set"),
+            &format!("{name}± over {var}: + set (thermal acceleration) and − set (deceleration)"),
             RateAxes {
                 name,
                 x_desc,
