@@ -37,6 +37,7 @@ pub mod plateau;
 pub mod presets;
 pub mod recipe;
 pub mod regression;
+pub mod report;
 pub mod session;
 pub mod signal;
 pub mod sim;

@@ -10,6 +10,7 @@ mod compare;
 mod evaluate;
 mod export;
 mod inspect;
+mod report;
 mod simulate;
 
 use clap::{Parser, Subcommand};
@@ -36,6 +37,8 @@ pub enum Command {
     Export(export::Args),
     /// Show what driftlab reads in a log: columns, units, sampling, plateaus, problems.
     Inspect(inspect::Args),
+    /// Write the test report: figures (PNG and SVG) and one self-contained HTML page.
+    Report(report::Args),
     /// Simulate a motionless gyro (fibre-optic; ring laser for `laser-gyro`) in a thermal
     /// chamber and write the log as CSV.
     Simulate(simulate::Args),
@@ -65,6 +68,7 @@ pub fn run(command: Command) -> Result<(), String> {
         Command::Evaluate(a) => evaluate::run(a),
         Command::Export(a) => export::run(a),
         Command::Inspect(a) => inspect::run(a),
+        Command::Report(a) => report::run(a),
         Command::Simulate(a) => simulate::run(a),
         Command::Compare(a) => compare::run(a),
         Command::Allan(a) => allan::run(a),

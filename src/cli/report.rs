@@ -1,0 +1,72 @@
+//! `driftlab report`: the test report of a calibration judged on one or more logs.
+
+use super::common::{self, LogArgs};
+use driftlab::calfile;
+use driftlab::metrics::MeritOptions;
+use driftlab::report::{self, ReportOptions};
+use std::path::PathBuf;
+
+/// Arguments of `report`.
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// The calibration (JSON).
+    pub calibration: PathBuf,
+    /// The logs to judge it on: its own log (in-sample) and other runs (held out).
+    #[arg(required = true, num_args = 1..)]
+    pub logs: Vec<PathBuf>,
+    /// Folder to write the figures and report.html into (created if missing).
+    #[arg(long, value_name = "DIR")]
+    pub out: PathBuf,
+    /// Moving-average window of the filtered drift, s (default: the calibration's filter).
+    #[arg(long, value_name = "S")]
+    pub filter: Option<f64>,
+    /// Length of the consecutive mean/RMS windows, s.
+    #[arg(long, value_name = "S", default_value_t = 600.0)]
+    pub window: f64,
+    #[command(flatten)]
+    pub log_args: LogArgs,
+}
+
+pub fn run(a: Args) -> Result<(), String> {
+    let cal = calfile::load(&a.calibration).map_err(|e| e.to_string())?;
+    let merit = MeritOptions {
+        filter_s: a.filter.unwrap_or(cal.recipe.filter_s),
+        window_s: a.window,
+    };
+    if !(merit.filter_s > 0.0 && merit.window_s > 0.0) {
+        return Err("--filter and --window must be positive".into());
+    }
+    let mut logs = Vec::with_capacity(a.logs.len());
+    for path in &a.logs {
+        logs.push((path.clone(), a.log_args.read(path)?));
+    }
+    common::status(&format!("writing the report into {}", a.out.display()));
+    let summary = report::write(
+        &cal,
+        &logs,
+        &a.out,
+        &ReportOptions {
+            merit: Some(merit),
+            allan: None,
+        },
+    )
+    .map_err(|e| e.to_string())?;
+    for l in &summary.logs {
+        println!(
+            "{} ({}): peak-to-peak of filtered drift {:.4} -> {:.4} deg/h ({})",
+            l.name,
+            if l.in_sample { "in-sample" } else { "held out" },
+            l.evaluation.comparison.raw.p2p_dph,
+            l.evaluation.comparison.corrected.p2p_dph,
+            common::ratio(l.evaluation.comparison.p2p_ratio)
+        );
+    }
+    for n in &summary.notes {
+        println!("note: {n}");
+    }
+    println!("wrote {} files:", summary.files.len());
+    for f in &summary.files {
+        println!("  {}", f.display());
+    }
+    Ok(())
+}

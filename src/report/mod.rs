@@ -1,0 +1,548 @@
+//! The test report of a calibration: figures (PNG and SVG) and one self-contained HTML page.
+//!
+//! [`write`] takes a calibration and the logs to judge it on and writes, into one folder:
+//!
+//! * `temperature-LOG` and `drift-LOG` for every log: the temperature program, and the raw
+//!   drift with its filtered version, the predicted drift and the corrected drift;
+//! * `k0`, `k1`, `k2`: the fitted coefficients over their variables, with the plateau points
+//!   and (when the calibration's own log is among the logs) the pointwise K1± and K2± values
+//!   they were fitted to;
+//! * `allan-LOG`: Allan deviation before and after correction, when curves are given or the
+//!   Allan hook ([`allan_curves`]) provides them;
+//! * `report.html`: the gyro's identity, the recipe, the coefficients with their ranges, the
+//!   figures of merit of every log (in-sample or held out) and every figure, inline.
+//!
+//! A log is *in-sample* when it is the calibration's source log (same SHA-256 of the file, or
+//! the same file name when the calibration records no hash) and *held out* otherwise.
+//! Nothing here depends on a user interface: the command line and the workbench call the same
+//! function.
+
+pub mod figures;
+pub mod html;
+
+use crate::calfile;
+use crate::correct::Correction;
+use crate::error::{Error, Result};
+use crate::log::Log;
+use crate::metrics::{Evaluation, MeritOptions};
+use crate::model::{self, Calibration, PointSet, Prepared};
+use crate::plateau::PlateauRange;
+use crate::signal;
+use figures::{AllanLine, PlateauPoint, RateAxes, RateSet, TimeSeries};
+use std::path::{Path, PathBuf};
+
+/// One Allan-deviation curve, computed elsewhere (`allan.rs`).
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct AllanCurve {
+    /// Legend text, e.g. "raw" or "corrected".
+    pub label: String,
+    /// Averaging times τ, s.
+    pub tau_s: Vec<f64>,
+    /// Allan deviation at each τ, °/h.
+    pub adev_dph: Vec<f64>,
+}
+
+/// The Allan curves of one log (typically raw and corrected).
+pub type AllanCurves = Vec<AllanCurve>;
+
+/// Choices of a report.
+#[derive(Debug, Clone, Default)]
+pub struct ReportOptions {
+    /// How the figures of merit are computed; `None`: the calibration's own Ω filter and
+    /// 10-minute windows, as `driftlab evaluate` does.
+    pub merit: Option<MeritOptions>,
+    /// Allan curves already computed, one entry per log in the order of the logs. `None`: the
+    /// report asks [`allan_curves`] for each log.
+    pub allan: Option<Vec<Option<AllanCurves>>>,
+}
+
+/// One figure of the report.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Figure {
+    /// Title, also the figure's caption in the page.
+    pub title: String,
+    /// What the reader sees in it.
+    pub caption: String,
+    /// The PNG file.
+    pub png: PathBuf,
+    /// The SVG file.
+    pub svg: PathBuf,
+}
+
+/// One log judged by the calibration.
+#[derive(Debug, Clone)]
+pub struct LogReport {
+    /// File name of the log.
+    pub name: String,
+    /// The path it was read from.
+    pub path: PathBuf,
+    /// SHA-256 of the file (empty when it could not be read again).
+    pub sha256: String,
+    /// True for the calibration's own log.
+    pub in_sample: bool,
+    /// Raw against corrected, as `metrics::Evaluation::of` computes them.
+    pub evaluation: Evaluation,
+    /// Samples and duration of the log.
+    pub samples: usize,
+    /// Duration, s.
+    pub duration_s: f64,
+    /// Range of the calibration temperature, °C.
+    pub temp_range_c: (f64, f64),
+    /// Its figures (temperature program, drift, Allan deviation when available).
+    pub figures: Vec<Figure>,
+}
+
+/// What [`write`] wrote.
+#[derive(Debug, Clone)]
+pub struct ReportSummary {
+    /// The HTML page.
+    pub html: PathBuf,
+    /// Every file written, the page last.
+    pub files: Vec<PathBuf>,
+    /// The calibration's figures (K0, K1±, K2±).
+    pub figures: Vec<Figure>,
+    /// Every log, in the order given.
+    pub logs: Vec<LogReport>,
+    /// The merit options used.
+    pub merit: MeritOptions,
+    /// Things the reader should know (no in-sample log given, no Allan curves, ...).
+    pub notes: Vec<String>,
+}
+
+/// Allan deviation of `log`'s raw rate and of its `correction`, for the
+/// report's "before and after" figure: the octave overlapping deviation of the raw and the
+/// corrected rate over the same samples (after the correction's warm-up), or `None` when the
+/// log is too short for one.
+pub fn allan_curves(log: &Log, correction: &Correction) -> Option<AllanCurves> {
+    let opts = crate::allan::AllanOptions {
+        tau0_s: log.nominal_dt_s(),
+        ..crate::allan::AllanOptions::default()
+    };
+    let skip = correction.ready_from.min(correction.cor_dph.len());
+    let curve = |label: &str, rate: &[f64]| {
+        crate::allan::allan(rate, &opts).ok().map(|d| AllanCurve {
+            label: label.to_string(),
+            tau_s: d.points.iter().map(|p| p.tau_s).collect(),
+            adev_dph: d.points.iter().map(|p| p.adev).collect(),
+        })
+    };
+    let raw = curve("raw", &log.omega_dph[skip.min(log.omega_dph.len())..])?;
+    let cor = curve("corrected", &correction.cor_dph[skip..])?;
+    Some(vec![raw, cor])
+}
+
+/// Whether `path` holds the calibration's own log: the file's SHA-256 equals the recorded one,
+/// or, for a calibration that records no hash, the file name matches.
+pub fn is_in_sample(cal: &Calibration, path: &Path, sha256: &str) -> bool {
+    if cal.source.sha256.is_empty() {
+        file_name(path) == cal.source.name
+    } else {
+        !sha256.is_empty() && sha256.eq_ignore_ascii_case(&cal.source.sha256)
+    }
+}
+
+/// The merit options a report uses by default: the calibration's Ω filter, 10-minute windows.
+pub fn default_merit(cal: &Calibration) -> MeritOptions {
+    MeritOptions {
+        filter_s: cal.recipe.filter_s,
+        ..MeritOptions::default()
+    }
+}
+
+fn file_name(p: &Path) -> String {
+    p.file_name()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| p.display().to_string())
+}
+
+/// A file-name-safe stem for a log, unique among `taken`.
+fn unique_stem(path: &Path, taken: &mut Vec<String>) -> String {
+    let raw = path
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let mut stem: String = raw
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '-' || c == '_' {
+                c
+            } else {
+                '_'
+            }
+        })
+        .take(60)
+        .collect();
+    if stem.is_empty() {
+        stem = "log".into();
+    }
+    let mut candidate = stem.clone();
+    let mut k = 2;
+    while taken.contains(&candidate) {
+        candidate = format!("{stem}-{k}");
+        k += 1;
+    }
+    taken.push(candidate.clone());
+    candidate
+}
+
+/// The pointwise K1± and K2± of the calibration's own log, as the fit saw them (plateaus and
+/// dead-bands of the calibration; K1 with the fitted K2 term removed, K2 with the fitted K1).
+/// Order: K1+, K1−, K2+, K2−.
+pub fn pointwise(cal: &Calibration, log: &Log) -> [PointSet; 4] {
+    if log.len() < 16 {
+        return Default::default();
+    }
+    let prepared = Prepared::new(log, &cal.recipe);
+    let ranges: Vec<PlateauRange> = cal.plateaus.iter().map(|p| p.range).collect();
+    let mask = model::plateau_mask(&log.time_s, &ranges);
+    let db = (cal.resolved.deadband_tdot, cal.resolved.deadband_tddot);
+    let [plus, minus] = model::set_columns(log, &prepared, &mask, &cal.k0, db);
+    [
+        model::k1_points_from(&plus.k1, Some(&cal.k2_plus)),
+        model::k1_points_from(&minus.k1, Some(&cal.k2_minus)),
+        model::k2_points_from(&plus.k2, &cal.k1_plus),
+        model::k2_points_from(&minus.k2, &cal.k1_minus),
+    ]
+}
+
+fn figure(title: String, caption: String, files: Vec<PathBuf>) -> Figure {
+    let pick = |ext: &str| {
+        files
+            .iter()
+            .find(|p| p.extension().is_some_and(|e| e == ext))
+            .cloned()
+            .unwrap_or_default()
+    };
+    Figure {
+        title,
+        caption,
+        png: pick("png"),
+        svg: pick("svg"),
+    }
+}
+
+fn min_max(v: &[f64]) -> (f64, f64) {
+    v.iter()
+        .filter(|x| x.is_finite())
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
+            (a.min(x), b.max(x))
+        })
+}
+
+/// Writes the report of `cal` judged on `logs` (each with the path it was read from) into
+/// `out_dir`, creating it. Every file is written atomically.
+pub fn write(
+    cal: &Calibration,
+    logs: &[(PathBuf, Log)],
+    out_dir: &Path,
+    opts: &ReportOptions,
+) -> Result<ReportSummary> {
+    std::fs::create_dir_all(out_dir).map_err(|e| Error::io(out_dir, e))?;
+    let merit = opts.merit.unwrap_or_else(|| default_merit(cal));
+    if !(merit.filter_s > 0.0 && merit.window_s > 0.0) {
+        return Err(Error::Recipe(
+            "the figures of merit need a positive filter and window".into(),
+        ));
+    }
+    let mut notes = Vec::new();
+    let mut files = Vec::new();
+    let mut taken: Vec<String> = ["k0", "k1", "k2", "report"]
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
+
+    let hashes: Vec<String> = logs
+        .iter()
+        .map(|(p, _)| calfile::sha256_file(p).unwrap_or_default())
+        .collect();
+    let in_sample: Vec<bool> = logs
+        .iter()
+        .zip(&hashes)
+        .map(|((p, _), h)| is_in_sample(cal, p, h))
+        .collect();
+
+    // The calibration's figures.
+    let mut cal_figures = Vec::new();
+    let k0_points: Vec<PlateauPoint> = cal
+        .plateaus
+        .iter()
+        .map(|p| PlateauPoint {
+            temp_c: p.temp_c,
+            omega_dph: p.omega_dph,
+            std_dph: p.omega_std_dph,
+        })
+        .collect();
+    let f = figures::k0(
+        &out_dir.join("k0"),
+        "Static bias K0(T) from the temperature plateaus",
+        &cal.k0,
+        &k0_points,
+    )?;
+    files.extend(f.iter().cloned());
+    cal_figures.push(figure(
+        "K0(T)".into(),
+        format!(
+            "Static bias K0 over temperature: the mean rate of each of the {} plateaus (± std of \
+             the raw rate) and the {} fit over {:.1} … {:.1} °C, held at its edge value beyond.",
+            cal.plateaus.len(),
+            cal.k0.kind(),
+            cal.k0.x_min(),
+            cal.k0.x_max()
+        ),
+        f,
+    ));
+
+    let own = in_sample.iter().position(|&b| b);
+    let points = own.map(|i| pointwise(cal, &logs[i].1));
+    let source_note = match own {
+        Some(i) => format!(
+            "Dots: the pointwise values on the calibration log {} (thinned for drawing).",
+            file_name(&logs[i].0)
+        ),
+        None => {
+            notes.push(format!(
+                "The calibration's own log ({}) is not among the logs: the K1 and K2 figures \
+                 show the fitted curves without their points, and every log is held out.",
+                cal.source.name
+            ));
+            "The calibration log was not given, so only the fitted curves are drawn.".into()
+        }
+    };
+    for (k, (name, var, x_desc, y_desc, db, plus, minus)) in [
+        (
+            "K1",
+            "dT/dt",
+            "rate of temperature dT/dt, °C/s",
+            "K1, (°/h)/(°C/s)",
+            cal.resolved.deadband_tdot,
+            &cal.k1_plus,
+            &cal.k1_minus,
+        ),
+        (
+            "K2",
+            "d²T/dt²",
+            "second derivative of temperature d²T/dt², °C/s²",
+            "K2, (°/h)/(°C/s²)",
+            cal.resolved.deadband_tddot,
+            &cal.k2_plus,
+            &cal.k2_minus,
+        ),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        let pts = points.as_ref();
+        let f = figures::rate_coefficient(
+            &out_dir.join(name.to_lowercase()),
+            &format!("{name}± over {var}: + set (thermal acceleration) and − set (deceleration)"),
+            RateAxes {
+                name,
+                x_desc,
+                y_desc,
+                deadband: db,
+            },
+            [
+                RateSet {
+                    sign: "+",
+                    curve: plus,
+                    points: pts.map(|p| &p[2 * k]),
+                },
+                RateSet {
+                    sign: "−",
+                    curve: minus,
+                    points: pts.map(|p| &p[2 * k + 1]),
+                },
+            ],
+        )?;
+        files.extend(f.iter().cloned());
+        cal_figures.push(figure(
+            format!("{name}±({var})"),
+            format!(
+                "{name}+ and {name}− over {var}: fitted curves (dashed where held at the edge \
+                 value) and the dead-band |{var}| ≤ {:.3e} left out of the fits. {source_note}",
+                db
+            ),
+            f,
+        ));
+    }
+    drop(points);
+
+    // Every log.
+    let mut reports = Vec::new();
+    let mut any_allan = false;
+    for (i, ((path, log), sha)) in logs.iter().zip(&hashes).enumerate() {
+        let name = file_name(path);
+        let stem = unique_stem(path, &mut taken);
+        let label = if in_sample[i] {
+            "in-sample"
+        } else {
+            "held out"
+        };
+        let correction = cal.correct(log);
+        let evaluation = Evaluation::of_correction(log, &correction, &merit);
+        let mut log_figures = Vec::new();
+
+        // Temperature program.
+        let mut temps = vec![TimeSeries {
+            label: "calibration temperature T",
+            values: &log.temp_c,
+            width: 3,
+            faint: false,
+        }];
+        for ch in &log.extra {
+            let u = ch.unit.to_lowercase();
+            if ch.name.to_lowercase().contains("temp") || u.contains("°c") || u == "degc" {
+                temps.push(TimeSeries {
+                    label: &ch.name,
+                    values: &ch.values,
+                    width: 2,
+                    faint: false,
+                });
+            }
+        }
+        let plateaus: Vec<(f64, f64)> = if in_sample[i] {
+            cal.plateaus
+                .iter()
+                .map(|p| (p.range.start_s, p.range.end_s))
+                .collect()
+        } else {
+            Vec::new()
+        };
+        let f = figures::temperature_program(
+            &out_dir.join(format!("temperature-{stem}")),
+            &format!("Temperature program: {name} ({label})"),
+            &log.time_s,
+            &temps,
+            &plateaus,
+        )?;
+        files.extend(f.iter().cloned());
+        log_figures.push(figure(
+            format!("Temperature program, {name}"),
+            if plateaus.is_empty() {
+                "The calibration temperature and every other temperature column of the log.".into()
+            } else {
+                "The calibration temperature and every other temperature column of the log; \
+                 shaded: the plateaus K0 was taken from."
+                    .into()
+            },
+            f,
+        ));
+        drop(temps);
+
+        // Drift.
+        let dt = log.nominal_dt_s();
+        let window = signal::seconds_to_samples(merit.filter_s, dt);
+        let raw_f = signal::moving_average_centered(&log.omega_dph, window);
+        let cor_f = signal::moving_average_centered(&correction.cor_dph, window);
+        let filter_label = format!("raw, {:.0}-s moving average", merit.filter_s);
+        let cor_label = format!("corrected, {:.0}-s moving average", merit.filter_s);
+        let series = [
+            TimeSeries {
+                label: "raw rate (every sample)",
+                values: &log.omega_dph,
+                width: 1,
+                faint: true,
+            },
+            TimeSeries {
+                label: &filter_label,
+                values: &raw_f,
+                width: 2,
+                faint: false,
+            },
+            TimeSeries {
+                label: "predicted thermal drift",
+                values: &correction.pred_dph,
+                width: 2,
+                faint: false,
+            },
+            TimeSeries {
+                label: &cor_label,
+                values: &cor_f,
+                width: 2,
+                faint: false,
+            },
+        ];
+        let f = figures::drift(
+            &out_dir.join(format!("drift-{stem}")),
+            &format!("Drift before and after correction: {name} ({label})"),
+            &log.time_s,
+            &series,
+        )?;
+        files.extend(f.iter().cloned());
+        let c = &evaluation.comparison;
+        log_figures.push(figure(
+            format!("Drift, {name}"),
+            format!(
+                "Raw rate (grey, every sample as min/max per pixel column), its {:.0}-s moving \
+                 average, the drift the calibration predicts, and the corrected rate filtered the \
+                 same way. Peak-to-peak of the filtered drift {:.4} → {:.4} °/h.",
+                merit.filter_s, c.raw.p2p_dph, c.corrected.p2p_dph
+            ),
+            f,
+        ));
+        drop((raw_f, cor_f));
+
+        // Allan deviation.
+        let curves = match &opts.allan {
+            Some(given) => given.get(i).cloned().flatten(),
+            None => allan_curves(log, &correction),
+        };
+        if let Some(curves) = curves.filter(|c| !c.is_empty()) {
+            any_allan = true;
+            let lines: Vec<AllanLine> = curves
+                .iter()
+                .map(|c| AllanLine {
+                    label: &c.label,
+                    tau_s: &c.tau_s,
+                    adev_dph: &c.adev_dph,
+                })
+                .collect();
+            let f = figures::allan(
+                &out_dir.join(format!("allan-{stem}")),
+                &format!("Allan deviation before and after correction: {name} ({label})"),
+                &lines,
+            )?;
+            files.extend(f.iter().cloned());
+            log_figures.push(figure(
+                format!("Allan deviation, {name}"),
+                "Allan deviation of the rate before and after correction, log-log.".into(),
+                f,
+            ));
+        }
+
+        let (t_lo, t_hi) = min_max(&log.temp_c);
+        reports.push(LogReport {
+            name,
+            path: path.clone(),
+            sha256: sha.clone(),
+            in_sample: in_sample[i],
+            evaluation,
+            samples: log.len(),
+            duration_s: log.duration_s(),
+            temp_range_c: (t_lo, t_hi),
+            figures: log_figures,
+        });
+    }
+    if !any_allan && !logs.is_empty() {
+        notes.push(
+            "Allan deviation: not computed in this build (the report's Allan hook returned no \
+             curves)."
+                .into(),
+        );
+    }
+
+    let html_path = out_dir.join("report.html");
+    let mut summary = ReportSummary {
+        html: html_path.clone(),
+        files,
+        figures: cal_figures,
+        logs: reports,
+        merit,
+        notes,
+    };
+    let page = html::page(cal, &summary)?;
+    crate::atomic::write_bytes(&html_path, page.as_bytes())
+        .map_err(|e| Error::io(&html_path, e))?;
+    summary.files.push(html_path);
+    Ok(summary)
+}
