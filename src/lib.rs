@@ -2,8 +2,11 @@
 //!
 //! The engine behind the workbench and the command line. It reads chamber test logs, finds the
 //! temperature plateaus, differentiates the temperature, fits the Vakhrameev model
-//! `Ω = K0(T) + K1±(Ṫ)·Ṫ + K2±(T̈)·T̈` and corrects logs in batch or one sample at a time.
-//! Nothing here depends on a user interface.
+//! `Ω = K0(T) + K1±(Ṫ)·Ṫ + K2±(T̈)·T̈` or a regression model over the log's channels
+//! (`regression`, `presets`), corrects logs in batch or one sample at a time, compares models
+//! on held-out logs (`compare`), and reports: Allan deviation (`allan`), figures and HTML
+//! (`report`), C for the gyro's processor (`firmware`). Nothing here depends on a user
+//! interface.
 //!
 //! The flow, each step a plain function of the one before:
 //!
@@ -15,6 +18,9 @@
 //!        Calibration::corrector()   -> StreamCorrector (one sample at a time)
 //!   metrics::FiguresOfMerit::of(...)                   (before and after)
 //!   calfile::save / calfile::load                      (versioned JSON)
+//!   regression::fit(&Log, &RegressionSpec) -> RegressionModel   (other models)
+//!     drift_model::DriftModel: any fitted model, correct / corrector_for
+//!   compare::compare(train, tests, choices, ...)       (side by side, held out)
 //! ```
 
 pub mod allan;
