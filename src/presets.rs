@@ -28,8 +28,8 @@ pub enum Preset {
     /// calibration by sub-ranges.
     PwlT,
     /// driftlab's model for a gyro whose sensor sits outside the part that drifts: T read
-    /// through a first-order lag (searched), a bias curve in T, and the rates with heating
-    /// and cooling apart and a lag that changes with temperature.
+    /// through a first-order lag whose time constant shrinks as the coil warms (both
+    /// searched), a bias curve in T, and the rates with heating and cooling apart.
     CoilLag,
 }
 
@@ -77,7 +77,7 @@ impl Preset {
             Preset::PolyT => "polynomial of degree 2 in T, on the plateaus (traditional)",
             Preset::PwlT => "piecewise-linear in T over 3 knots, on the plateaus (traditional)",
             Preset::CoilLag => {
-                "T through a first-order lag; 1, T, T², Ṫ, |Ṫ|, T·Ṫ, T̈, T·T̈, sgn(Ṫ)·T̈ (driftlab)"
+                "T through a lag τ20/(1 + β·(T − 20)); 1, T, T², Ṫ, |Ṫ|, T·Ṫ, T̈, T·T̈, sgn(Ṫ)·T̈ (driftlab)"
             }
         }
     }
@@ -153,7 +153,10 @@ impl Preset {
                 SgnTdotTddot,
             ])
             .map(|mut s| {
-                s.lag = LagSpec::Search { max_s: 3600.0 };
+                s.lag = LagSpec::Search {
+                    max_s: 3600.0,
+                    with_temperature: true,
+                };
                 s
             }),
         })

@@ -67,7 +67,14 @@ pub fn run(a: &Args, recipe: &Recipe) -> Result<(), String> {
             println!("  self-heating λ = {l:.0} s");
         }
         if let Some(l) = m.lag_s {
-            println!("  lag of T τ = {l:.0} s");
+            if m.lag_per_c == 0.0 {
+                println!("  lag of T τ = {l:.0} s");
+            } else {
+                println!(
+                    "  lag of T τ = {l:.0} s at 20 degC, τ20/(1 + {:.4}·(T − 20)) elsewhere",
+                    m.lag_per_c
+                );
+            }
         }
         for p in &m.delay.points {
             println!("  delay τd = {:.0} s at {:.1} degC", p[1], p[0]);

@@ -30,7 +30,8 @@ pub struct Args {
     #[arg(long, value_name = "DELAY", default_value = "none")]
     pub delay: String,
     /// First-order lag of T in custom models (an estimate of the temperature inside the
-    /// gyro): none, SECONDS or auto (searched up to 3600 s).
+    /// gyro): none, SECONDS, auto (searched up to 3600 s) or auto-t (searched with a time
+    /// constant that changes with temperature).
     #[arg(long, value_name = "LAG", default_value = "none")]
     pub lag: String,
     /// Causal smoothing of T before differentiating, in custom models, s.
@@ -81,11 +82,19 @@ pub fn parse_delay(s: &str) -> Result<DelaySpec, String> {
 pub fn parse_lag(s: &str) -> Result<LagSpec, String> {
     Ok(match s.trim() {
         "none" | "0" => LagSpec::None,
-        "auto" => LagSpec::Search { max_s: 3600.0 },
+        "auto" => LagSpec::Search {
+            max_s: 3600.0,
+            with_temperature: false,
+        },
+        "auto-t" => LagSpec::Search {
+            max_s: 3600.0,
+            with_temperature: true,
+        },
         v => LagSpec::Fixed {
             seconds: v
                 .parse()
-                .map_err(|_| format!("--lag {v}: expected none, SECONDS or auto"))?,
+                .map_err(|_| format!("--lag {v}: expected none, SECONDS, auto or auto-t"))?,
+            per_c: 0.0,
         },
     })
 }

@@ -17,7 +17,12 @@ impl RegressionModel {
     /// # Errors
     /// The log lacks a channel the model reads.
     pub fn correct(&self, log: &Log) -> Result<Correction> {
-        let s = Signals::of(log, &self.spec, self.temp2.as_deref(), self.lag_s)?;
+        let s = Signals::of(
+            log,
+            &self.spec,
+            self.temp2.as_deref(),
+            self.lag_s.map(|l| (l, self.lag_per_c)),
+        )?;
         let n = s.len();
         let mut out = Correction {
             pred_dph: Vec::with_capacity(n),
@@ -118,7 +123,7 @@ impl RegressionCorrector {
             dt_s,
             step,
             h2: 2.0 * step as f64 * dt_s,
-            lag: Lag::new(model.lag_s.unwrap_or(0.0), dt_s),
+            lag: Lag::new(model.lag_s.unwrap_or(0.0), model.lag_per_c, dt_s),
             smooth: CausalMean::new(steps.smooth),
             smoothed: History::new(2 * step + 1),
             temp: History::new(back),

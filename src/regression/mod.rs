@@ -81,14 +81,34 @@ pub enum LagSpec {
     None,
     /// A given time constant, s.
     Fixed {
-        /// τ, s.
+        /// τ at 20 °C, s.
         seconds: f64,
+        /// Relative rise of the coil's diffusivity per °C above 20 °C (see [`lag_at`]).
+        #[serde(default)]
+        per_c: f64,
     },
     /// Searched over `[0, max_s]`.
     Search {
         /// Longest τ tried, s.
         max_s: f64,
+        /// Also search how τ changes with temperature: diffusivity rises with temperature, so
+        /// a warm coil follows its housing faster (Yan 2019 measured 863, 547 and 309 s in
+        /// three bands).
+        #[serde(default)]
+        with_temperature: bool,
     },
+}
+
+/// Temperature at which a lag's time constant is quoted, °C.
+pub const LAG_REF_C: f64 = 20.0;
+
+/// The lag's time constant at temperature `temp_c`: `τ20 / (1 + β·(T − 20 °C))`. A coil's
+/// time constant is d²/K with a diffusivity K that rises about linearly with temperature, so
+/// β is K's relative rise per °C. The divisor is kept above 0.2 so that a slope fitted over
+/// the calibration's range cannot make τ infinite or negative outside it.
+#[inline]
+pub fn lag_at(tau_20_s: f64, per_c: f64, temp_c: f64) -> f64 {
+    tau_20_s / (1.0 + per_c * (temp_c - LAG_REF_C)).max(0.2)
 }
 
 /// Which samples a model is fitted on.
@@ -181,8 +201,9 @@ impl RegressionSpec {
         }
         match self.lag {
             LagSpec::None => {}
-            LagSpec::Fixed { seconds } if seconds.is_finite() && seconds >= 0.0 => {}
-            LagSpec::Search { max_s } if pos(max_s) => {}
+            LagSpec::Fixed { seconds, per_c }
+                if seconds.is_finite() && seconds >= 0.0 && per_c.is_finite() => {}
+            LagSpec::Search { max_s, .. } if pos(max_s) => {}
             _ => {
                 return Err(format!(
                     "model {}: the lag must be non-negative seconds",
@@ -294,9 +315,13 @@ pub struct RegressionModel {
     pub lambda_s: Option<f64>,
     /// τd(T).
     pub delay: Delay,
-    /// Time constant of the first-order lag T is read through, s (`None`: T as measured).
+    /// Time constant at 20 °C of the first-order lag T is read through, s (`None`: T as
+    /// measured).
     #[serde(default)]
     pub lag_s: Option<f64>,
+    /// Relative rise per °C of the diffusivity behind the lag ([`lag_at`]).
+    #[serde(default)]
+    pub lag_per_c: f64,
     /// Knots of a `pwlT` term, °C.
     pub t_knots: Vec<f64>,
     /// Input ranges of the fit; inputs are clamped to them.
@@ -453,7 +478,7 @@ impl RegressionModel {
                 self.spec.name
             ));
         }
-        if self.lag_s.is_some_and(|l| !(l.is_finite() && l >= 0.0)) {
+        if self.lag_s.is_some_and(|l| !(l.is_finite() && l >= 0.0)) || !self.lag_per_c.is_finite() {
             return Err(format!(
                 "model {}: the lag must be non-negative",
                 self.spec.name
@@ -532,12 +557,12 @@ impl<'a> Signals<'a> {
         log: &'a Log,
         spec: &RegressionSpec,
         temp2: Option<&str>,
-        lag_s: Option<f64>,
+        lag: Option<(f64, f64)>,
     ) -> Result<Signals<'a>> {
         let dt_s = log.nominal_dt_s();
-        let temp = match lag_s {
-            Some(tau) if tau > 0.0 => {
-                let mut lag = Lag::new(tau, dt_s);
+        let temp = match lag {
+            Some((tau, per_c)) if tau > 0.0 => {
+                let mut lag = Lag::new(tau, per_c, dt_s);
                 log.temp_c.iter().map(|&t| lag.push(t)).collect()
             }
             _ => log.temp_c.clone(),
@@ -588,13 +613,20 @@ impl<'a> Signals<'a> {
 /// it starts at its first input.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Lag {
+    tau_s: f64,
+    per_c: f64,
+    dt_s: f64,
+    /// The step's weight when τ does not change with temperature (computed once).
     alpha: f64,
     y: Option<f64>,
 }
 
 impl Lag {
-    pub(crate) fn new(tau_s: f64, dt_s: f64) -> Lag {
+    pub(crate) fn new(tau_s: f64, per_c: f64, dt_s: f64) -> Lag {
         Lag {
+            tau_s,
+            per_c,
+            dt_s,
             alpha: if tau_s > 0.0 {
                 1.0 - (-dt_s / tau_s).exp()
             } else {
@@ -604,10 +636,16 @@ impl Lag {
         }
     }
 
+    /// Steps the lag with input `x`; with a temperature-dependent τ, τ is taken at `x`.
     #[inline]
     pub(crate) fn push(&mut self, x: f64) -> f64 {
+        let alpha = if self.per_c == 0.0 || self.tau_s <= 0.0 {
+            self.alpha
+        } else {
+            1.0 - (-self.dt_s / lag_at(self.tau_s, self.per_c, x)).exp()
+        };
         let y = match self.y {
-            Some(y) if y.is_finite() => y + self.alpha * (x - y),
+            Some(y) if y.is_finite() => y + alpha * (x - y),
             _ => x,
         };
         self.y = Some(y);
@@ -797,31 +835,61 @@ pub fn fit(log: &Log, spec: &RegressionSpec) -> Result<RegressionModel> {
         LambdaSpec::Fixed { seconds } => seconds,
         LambdaSpec::Search { min_s, max_s } => (min_s * max_s).sqrt(),
     };
-    let lag_s = match spec.lag {
+    let lag: Option<(f64, f64)> = match spec.lag {
         LagSpec::None => None,
-        LagSpec::Fixed { seconds } => Some(seconds),
-        LagSpec::Search { max_s } => {
+        LagSpec::Fixed { seconds, per_c } => Some((seconds, per_c)),
+        LagSpec::Search {
+            max_s,
+            with_temperature,
+        } => {
             let g = search::grid(0.0, max_s, 25, false);
-            let c = search::minimize("lag_s", &g, false, |tau| {
-                let Ok(s) = Signals::of(log, spec, temp2.as_deref(), Some(tau)) else {
-                    return f64::INFINITY;
-                };
-                let knots = t_knots_of(spec, &s).unwrap_or_default();
-                let d = Design {
-                    terms: &spec.terms,
-                    lambda: lambda0,
-                    t_knots: &knots,
-                    delay: &Delay::default(),
-                };
-                cost(&s, &d, (s.ready_from..n).step_by(stride).filter(used))
-            });
-            let best = c.best;
-            searches.push(c);
-            Some(best)
+            let tau_curve = |per_c: f64| {
+                search::minimize("lag_s", &g, false, |tau| {
+                    let Ok(s) = Signals::of(log, spec, temp2.as_deref(), Some((tau, per_c))) else {
+                        return f64::INFINITY;
+                    };
+                    let knots = t_knots_of(spec, &s).unwrap_or_default();
+                    let d = Design {
+                        terms: &spec.terms,
+                        lambda: lambda0,
+                        t_knots: &knots,
+                        delay: &Delay::default(),
+                    };
+                    cost(&s, &d, (s.ready_from..n).step_by(stride).filter(used))
+                })
+            };
+            if with_temperature {
+                // One τ search per slope: the slope's own curve is the best cost of each.
+                let slopes = search::grid(0.0, 0.025, 11, false);
+                let curves: Vec<CostCurve> = slopes.iter().map(|&b| tau_curve(b)).collect();
+                let best_cost =
+                    |c: &CostCurve| c.rmse.iter().copied().fold(f64::INFINITY, f64::min);
+                let k = (0..curves.len())
+                    .min_by(|&a, &b| best_cost(&curves[a]).total_cmp(&best_cost(&curves[b])))
+                    .unwrap_or(0);
+                let per_c = slopes[k];
+                searches.push(CostCurve {
+                    parameter: "lag_per_c".into(),
+                    x: slopes.clone(),
+                    rmse: curves.iter().map(best_cost).collect(),
+                    best: per_c,
+                    at_edge: k == 0 || k + 1 == slopes.len(),
+                });
+                let mut c = curves[k].clone();
+                c.parameter = format!("lag_s at {per_c} per degC");
+                let tau = c.best;
+                searches.push(c);
+                Some((tau, per_c))
+            } else {
+                let c = tau_curve(0.0);
+                let tau = c.best;
+                searches.push(c);
+                Some((tau, 0.0))
+            }
         }
     };
-    let s = match lag_s {
-        Some(_) => Signals::of(log, spec, temp2.as_deref(), lag_s)?,
+    let s = match lag {
+        Some(_) => Signals::of(log, spec, temp2.as_deref(), lag)?,
         None => s,
     };
     let t_knots = t_knots_of(spec, &s).map_err(|e| Error::Fit(format!("{}: {e}", log.source)))?;
@@ -948,7 +1016,8 @@ pub fn fit(log: &Log, spec: &RegressionSpec) -> Result<RegressionModel> {
         std_errors,
         lambda_s: has_selfheat.then_some(lambda),
         delay,
-        lag_s,
+        lag_s: lag.map(|l| l.0),
+        lag_per_c: lag.map_or(0.0, |l| l.1),
         t_knots,
         ranges: InputRanges::default(),
         dt_s: s.dt_s,
