@@ -2,6 +2,7 @@
 //! unsaved-work questions and screenshots. It holds no calculation: choices go to the worker
 //! as refit requests, results come back and are drawn.
 
+use super::autosave::{Autosave, LeftBehind};
 use super::dialogs::{FileDialogs, FileKind};
 use super::export;
 use super::jobs::{JobResult, Jobs, Target};
@@ -133,6 +134,11 @@ pub struct Workbench {
     quitting: bool,
     theme_applied: Option<ThemeChoice>,
     show_help: bool,
+    autosave: Autosave,
+    /// Work an earlier workbench left behind, offered back until answered.
+    recover: Option<LeftBehind>,
+    /// The session being opened is autosaved work: it stays unsaved, with no session file.
+    restoring_autosave: bool,
 }
 
 fn arc_addr<T>(a: &Arc<T>) -> usize {
@@ -148,6 +154,8 @@ impl Workbench {
         dialogs: Box<dyn FileDialogs>,
     ) -> Workbench {
         let (shot_tx, shot_rx) = std::sync::mpsc::channel();
+        let autosave = Autosave::new(settings_path.as_deref().map(Autosave::path_beside));
+        let recover = autosave.left_behind();
         Workbench {
             state: AppState::default(),
             jobs: Jobs::new(),
@@ -172,6 +180,9 @@ impl Workbench {
             quitting: false,
             theme_applied: None,
             show_help: false,
+            autosave,
+            recover,
+            restoring_autosave: false,
         }
     }
 
@@ -181,9 +192,17 @@ impl Workbench {
     /// # Panics
     /// When the log cannot be read or calibrated (a test should fail then).
     pub fn new_for_test(log: &Path) -> Workbench {
+        Workbench::new_for_test_in(log, None)
+    }
+
+    /// [`Workbench::new_for_test`] with a settings file (and so an autosave file beside it).
+    ///
+    /// # Panics
+    /// When the log cannot be read or calibrated.
+    pub fn new_for_test_in(log: &Path, settings_path: Option<PathBuf>) -> Workbench {
         let mut wb = Workbench::new(
             Settings::default(),
-            None,
+            settings_path,
             Box::new(super::dialogs::ScriptedDialogs::new()),
         );
         wb.start_load(
@@ -325,14 +344,23 @@ impl Workbench {
                             Some([a, b]) => XCommand::Range(a, b),
                             None => XCommand::Fit,
                         });
-                        self.state.session_path = Some(spath.clone());
                         self.state.validation = None;
-                        self.state.mark_saved();
+                        if self.restoring_autosave {
+                            // Autosaved work is not saved work: no session file, still dirty.
+                            self.restoring_autosave = false;
+                            self.state.session_path = None;
+                            self.state.mark_unsaved();
+                        } else {
+                            self.state.session_path = Some(spath.clone());
+                            self.state.mark_saved();
+                        }
                         if let Some(v) = &s.validation {
                             self.restoring_validation = Some(s.view.show_validation);
                             self.start_load(v.path.clone(), v.read.clone(), Target::Validation);
                         }
-                        self.settings.add_recent(&spath);
+                        if self.state.session_path.is_some() {
+                            self.settings.add_recent(&spath);
+                        }
                     }
                     _ => {
                         // Choices carry over to the new log, except what belonged to the old one.
@@ -498,6 +526,13 @@ impl Workbench {
         let settled = !ctx.input(|i| i.pointer.any_down());
         self.state.history.observe(&self.state.choices, settled);
         self.refit_if_needed();
+        if self.auto.is_none() {
+            self.autosave.tick(&self.state);
+            if let Some(e) = self.autosave.error.take() {
+                self.state
+                    .say(Severity::Warning, format!("Autosave failed: {e}"));
+            }
+        }
         self.screenshots(&ctx);
         self.remember_window(&ctx);
         if self.jobs.busy() {
@@ -588,14 +623,92 @@ impl Workbench {
         }
     }
 
+    /// Offers back the work an earlier workbench left unsaved.
+    fn recovery_modal(&mut self, ctx: &egui::Context) {
+        let Some(left) = self.recover.clone() else {
+            return;
+        };
+        if self.auto.is_some() || self.import.is_some() {
+            return;
+        }
+        let mut answer: Option<bool> = None;
+        egui::Modal::new(egui::Id::unique("recover_autosave")).show(ctx, |ui| {
+            ui.heading("Unsaved work from last time");
+            ui.label("The workbench did not close cleanly, and it had work that was not saved.");
+            if let Some(log) = &left.log {
+                ui.label(format!("Log: {}", log.display()));
+            }
+            if let Some(t) = left.modified {
+                ui.label(format!(
+                    "Autosaved: {}",
+                    humantime::format_rfc3339_seconds(t)
+                ));
+            }
+            ui.add_space(8.0);
+            ui.horizontal(|ui| {
+                if ui
+                    .button(RichText::new("Restore").strong())
+                    .on_hover_text("Open that log with its plateaus and choices")
+                    .clicked()
+                {
+                    answer = Some(true);
+                }
+                if ui
+                    .button("Discard")
+                    .on_hover_text("Forget that work")
+                    .clicked()
+                {
+                    answer = Some(false);
+                }
+            });
+        });
+        match answer {
+            Some(true) => self.restore_autosave(),
+            Some(false) => {
+                self.recover = None;
+                self.autosave.clear();
+            }
+            None => {}
+        }
+    }
+
+    /// Opens the autosaved work (see [`Workbench::recovery`]).
+    pub fn restore_autosave(&mut self) {
+        if let Some(left) = self.recover.take() {
+            self.restoring_autosave = true;
+            self.open_session(left.path);
+        }
+    }
+
+    /// Work left behind by an earlier workbench, while it is being offered back.
+    pub fn recovery(&self) -> Option<&LeftBehind> {
+        self.recover.as_ref()
+    }
+
+    /// Writes the autosave file now and waits for it (tests).
+    pub fn autosave_now(&mut self) {
+        self.autosave.save_now(&self.state);
+        self.autosave.flush();
+    }
+
+    /// The window closes cleanly: settings written, nothing left to recover.
+    pub fn close_cleanly(&mut self) {
+        self.quitting = true;
+        self.save_settings();
+    }
+
+    /// Where this workbench autosaves, when it does.
+    pub fn autosave_path(&self) -> Option<&Path> {
+        self.autosave.path()
+    }
+
     fn close_requested(&mut self, ctx: &egui::Context) {
         if ctx.input(|i| i.viewport().close_requested()) && !self.quitting && self.auto.is_none() {
             if self.state.dirty() {
                 ctx.send_viewport_cmd(ViewportCommand::CancelClose);
                 self.confirm = Some(Action::Quit);
             } else {
-                self.quitting = true;
-                self.save_settings();
+                self.close_cleanly();
             }
         }
     }
@@ -716,8 +829,7 @@ impl Workbench {
                 self.state.choices = Choices::default();
             }
             Action::Quit => {
-                self.quitting = true;
-                self.save_settings();
+                self.close_cleanly();
                 ctx.send_viewport_cmd(ViewportCommand::Close);
             }
             Action::Theme(t) => {
@@ -777,6 +889,7 @@ impl Workbench {
             Ok(()) => {
                 self.state.session_path = Some(path.clone());
                 self.state.mark_saved();
+                self.autosave.clear();
                 self.settings.add_recent(&path);
                 self.state
                     .say(Severity::Info, format!("Session saved: {}", path.display()));
@@ -950,6 +1063,10 @@ impl Workbench {
 
     /// Writes the remembered settings (theme, recent files, window).
     pub fn save_settings(&mut self) {
+        if self.quitting {
+            // A clean close: nothing is left to recover at the next start.
+            self.autosave.clear();
+        }
         if let Some(p) = &self.settings_path
             && let Err(e) = self.settings.save(p)
         {
@@ -1393,6 +1510,7 @@ impl Workbench {
     }
 
     fn modals(&mut self, ctx: &egui::Context, actions: &mut Vec<Action>) {
+        self.recovery_modal(ctx);
         if let Some(view) = &mut self.import {
             match view.show(ctx) {
                 Some(ImportDecision::Load(path, read, target)) => {

@@ -14,6 +14,7 @@
 //! sends the refit.
 
 pub mod app;
+pub mod autosave;
 pub mod dialogs;
 pub mod export;
 pub mod jobs;

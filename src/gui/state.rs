@@ -225,6 +225,11 @@ impl AppState {
         self.baseline = Some(self.session());
     }
 
+    /// Marks the current state as not saved anywhere (work recovered from an autosave).
+    pub fn mark_unsaved(&mut self) {
+        self.baseline = None;
+    }
+
     /// Whether the newest fit answers the current choices (or a refit is still on its way).
     pub fn fit_current(&self) -> bool {
         self.fit
