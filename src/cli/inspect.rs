@@ -82,11 +82,24 @@ pub fn run(a: Args) -> Result<(), String> {
     );
     println!("  temperature {tmin:.3} .. {tmax:.3} degC, fastest |Tdot| {rate_max:.3} degC/min");
     println!("  plateaus found ({}):", plateaus.len());
-    for p in &plateaus {
+    // A week-long log can hold thousands: the first and last ones say enough on a terminal
+    // (`--json` lists every one).
+    const SHOWN: usize = 10;
+    let line = |p: &driftlab::plateau::PlateauStats| {
         println!(
             "    {:>9.0} .. {:>9.0} s   T {:>8.3} degC   Omega {:>9.4} deg/h   std {:.4}   {} samples",
             p.range.start_s, p.range.end_s, p.temp_c, p.omega_dph, p.omega_std_dph, p.samples
         );
+    };
+    if plateaus.len() <= 2 * SHOWN {
+        plateaus.iter().for_each(line);
+    } else {
+        plateaus[..SHOWN].iter().for_each(line);
+        println!(
+            "    ... {} more (--json lists them all) ...",
+            plateaus.len() - 2 * SHOWN
+        );
+        plateaus[plateaus.len() - SHOWN..].iter().for_each(line);
     }
     if i.problems.is_empty() {
         println!("  problems: none");
