@@ -4,7 +4,8 @@
 //! back in time), so the batch correction is what a gyro's processor would have computed in
 //! real time; a test holds the two to 1e-9 °/h.
 
-use super::{Inputs, Lag, RegressionModel, Signals, delayed_index, split};
+use super::signals::{Lag, Signals, delayed_index, split};
+use super::{Inputs, RegressionModel};
 use crate::correct::{Corrected, Correction};
 use crate::error::Result;
 use crate::log::Log;

@@ -1,0 +1,187 @@
+//! A log's columns as a regression model reads them: T through its lag, T's rates, the
+//! delayed read of the temperature channels, and the extra channels looked up by name.
+
+use super::{Delay, Inputs, RegressionSpec, lag_at, terms};
+use crate::error::{Error, Result};
+use crate::log::Log;
+use crate::signal::{self, DerivativeSteps};
+
+pub(crate) fn steps(spec: &RegressionSpec, dt_s: f64) -> DerivativeSteps {
+    DerivativeSteps {
+        smooth: signal::seconds_to_samples(spec.smoothing_s, dt_s),
+        step: signal::seconds_to_samples(spec.step_h_s, dt_s),
+    }
+}
+
+/// The first extra channel that looks like a second temperature sensor.
+pub fn guess_temp2(log: &Log) -> Option<String> {
+    log.extra
+        .iter()
+        .find(|c| {
+            let n = c.name.to_ascii_lowercase();
+            n.contains("temp") || matches!(c.unit.as_str(), "°C" | "degC" | "C")
+        })
+        .map(|c| c.name.clone())
+}
+
+/// A log's columns as a model reads them: T's rates computed, channels looked up by name.
+pub(crate) struct Signals<'a> {
+    pub time: &'a [f64],
+    pub omega: &'a [f64],
+    /// T as the model reads it (through the lag, when there is one).
+    pub temp: Vec<f64>,
+    pub tdot: Vec<f64>,
+    pub tddot: Vec<f64>,
+    pub temp2: Option<&'a [f64]>,
+    pub channels: Vec<&'a [f64]>,
+    pub dt_s: f64,
+    pub ready_from: usize,
+}
+
+/// Looks up a channel by name, with a message that lists what the log has.
+fn channel<'a>(log: &'a Log, name: &str) -> Result<&'a [f64]> {
+    log.extra
+        .iter()
+        .find(|c| c.name == name)
+        .map(|c| c.values.as_slice())
+        .ok_or_else(|| {
+            let have: Vec<&str> = log.extra.iter().map(|c| c.name.as_str()).collect();
+            Error::Fit(format!(
+                "{}: no channel \"{name}\" (extra channels: {})",
+                log.source,
+                if have.is_empty() {
+                    "none".to_string()
+                } else {
+                    have.join(", ")
+                }
+            ))
+        })
+}
+
+impl<'a> Signals<'a> {
+    pub(crate) fn of(
+        log: &'a Log,
+        spec: &RegressionSpec,
+        temp2: Option<&str>,
+        lag: Option<(f64, f64)>,
+    ) -> Result<Signals<'a>> {
+        let dt_s = log.nominal_dt_s();
+        let temp = match lag {
+            Some((tau, per_c)) if tau > 0.0 => {
+                let mut lag = Lag::new(tau, per_c, dt_s);
+                log.temp_c.iter().map(|&t| lag.push(t)).collect()
+            }
+            _ => log.temp_c.clone(),
+        };
+        let d = signal::derivatives(&temp, steps(spec, dt_s), dt_s);
+        let temp2 = temp2.map(|n| channel(log, n)).transpose()?;
+        let channels = terms::channel_names(&spec.terms)
+            .iter()
+            .map(|n| channel(log, n))
+            .collect::<Result<Vec<_>>>()?;
+        Ok(Signals {
+            time: &log.time_s,
+            omega: &log.omega_dph,
+            temp,
+            tdot: d.tdot,
+            tddot: d.tddot,
+            temp2,
+            channels,
+            dt_s,
+            ready_from: d.ready_from,
+        })
+    }
+
+    pub(crate) fn len(&self) -> usize {
+        self.time.len()
+    }
+
+    /// The inputs of sample `i` with the temperature channels read `delay` seconds back
+    /// (linear interpolation between samples; before the log's start, its first sample).
+    #[inline]
+    pub(crate) fn inputs(&self, i: usize, delay: &Delay, channels: &mut [f64]) -> Inputs {
+        let f = delayed_index(i, delay.at(self.temp[i]), self.dt_s);
+        let temp = interp(&self.temp, f);
+        for (v, c) in channels.iter_mut().zip(&self.channels) {
+            *v = c[i];
+        }
+        Inputs {
+            t_s: self.time[i] - self.time[0],
+            temp,
+            tdot: interp(&self.tdot, f),
+            tddot: interp(&self.tddot, f),
+            dt: self.temp2.map_or(0.0, |t2| temp - interp(t2, f)),
+        }
+    }
+}
+
+/// A first-order lag `dy/dt = (x − y)/τ` stepped once a sample (input held over the step);
+/// it starts at its first input.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Lag {
+    tau_s: f64,
+    per_c: f64,
+    dt_s: f64,
+    /// The step's weight when τ does not change with temperature (computed once).
+    alpha: f64,
+    y: Option<f64>,
+}
+
+impl Lag {
+    pub(crate) fn new(tau_s: f64, per_c: f64, dt_s: f64) -> Lag {
+        Lag {
+            tau_s,
+            per_c,
+            dt_s,
+            alpha: if tau_s > 0.0 {
+                1.0 - (-dt_s / tau_s).exp()
+            } else {
+                1.0
+            },
+            y: None,
+        }
+    }
+
+    /// Steps the lag with input `x`; with a temperature-dependent τ, τ is taken at `x`.
+    #[inline]
+    pub(crate) fn push(&mut self, x: f64) -> f64 {
+        let alpha = if self.per_c == 0.0 || self.tau_s <= 0.0 {
+            self.alpha
+        } else {
+            1.0 - (-self.dt_s / lag_at(self.tau_s, self.per_c, x)).exp()
+        };
+        let y = match self.y {
+            Some(y) if y.is_finite() => y + alpha * (x - y),
+            _ => x,
+        };
+        self.y = Some(y);
+        y
+    }
+}
+
+/// The fractional sample index `delay_s` before sample `i` (never before the first sample).
+#[inline]
+pub(crate) fn delayed_index(i: usize, delay_s: f64, dt_s: f64) -> f64 {
+    if delay_s > 0.0 {
+        (i as f64 - delay_s / dt_s).max(0.0)
+    } else {
+        i as f64
+    }
+}
+
+/// Splits a fractional index into a sample and a weight for the next one.
+#[inline]
+pub(crate) fn split(f: f64) -> (usize, f64) {
+    let j = f.floor();
+    (j as usize, f - j)
+}
+
+#[inline]
+fn interp(x: &[f64], f: f64) -> f64 {
+    let (j, w) = split(f);
+    if w == 0.0 || j + 1 >= x.len() {
+        x[j]
+    } else {
+        x[j] + (x[j + 1] - x[j]) * w
+    }
+}
