@@ -105,7 +105,7 @@ pub struct RegressionModel {
     /// measured).
     #[serde(default)]
     pub lag_s: Option<f64>,
-    /// Relative rise per °C of the diffusivity behind the lag ([`lag_at`]).
+    /// Relative rise per °C of the diffusivity behind the lag ([`lag_at`](super::lag_at)).
     #[serde(default)]
     pub lag_per_c: f64,
     /// Knots of a `pwlT` term, °C.
