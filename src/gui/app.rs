@@ -50,6 +50,8 @@ pub enum Action {
     ExportCalibration,
     /// Write the corrected log.
     ExportCsv,
+    /// Write the test report (figures and an HTML page) into a folder.
+    ExportReport,
     /// Save the window as PNG.
     Screenshot,
     /// Save one plot (by name) as PNG, cropped to this rectangle.
@@ -771,6 +773,7 @@ impl Workbench {
             }
             Action::ExportCalibration => self.export_calibration(),
             Action::ExportCsv => self.export_csv(),
+            Action::ExportReport => self.export_report(),
             Action::Screenshot => {
                 let name = export::suggested_name(
                     self.state.log.as_ref().map(|l| l.path.as_path()),
@@ -961,6 +964,38 @@ impl Workbench {
                 export::write_corrected_csv(&p, &l, &fit.outcome.in_sample.corrected)
             });
         }
+    }
+
+    fn export_report(&mut self) {
+        let (Some(log), Some(fit)) = (self.state.log.clone(), self.state.fit.clone()) else {
+            self.state
+                .say(Severity::Warning, "Nothing to report yet: no calibration");
+            return;
+        };
+        let name = export::suggested_name(Some(&log.path), "report");
+        let Some(dir) = self
+            .dialogs
+            .save(FileKind::Report, self.dir().as_deref(), &name)
+        else {
+            return;
+        };
+        // A name typed as "x.html" means the folder "x".
+        let dir = dir.with_extension("");
+        let cal = match export::stamped(&fit.outcome.calibration, &log.path, log.sha256.as_deref())
+        {
+            Ok(c) => c,
+            Err(e) => return self.fail(format!("Could not write the report.\n\n{e}")),
+        };
+        let mut logs = vec![(log.path.clone(), (*log.log).clone())];
+        if let Some(v) = &self.state.validation {
+            logs.push((v.path.clone(), (*v.log).clone()));
+        }
+        self.state.say(
+            Severity::Info,
+            format!("Writing the report into {} …", dir.display()),
+        );
+        self.jobs
+            .spawn_export("report", move || export::write_report(&dir, &cal, &logs));
     }
 
     fn suggest_plateaus(&mut self) {
@@ -1155,6 +1190,14 @@ impl Workbench {
                     .clicked()
                 {
                     actions.push(Action::ExportCsv);
+                    ui.close();
+                }
+                if ui
+                    .add_enabled(has_fit, egui::Button::new("Export test report…"))
+                    .on_hover_text("Write a folder with the figures (PNG and SVG) and one self-contained HTML page: gyro, recipe, coefficients, figures of merit of the calibration log and of the validation log, Allan deviation")
+                    .clicked()
+                {
+                    actions.push(Action::ExportReport);
                     ui.close();
                 }
                 if ui

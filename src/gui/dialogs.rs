@@ -20,6 +20,8 @@ pub enum FileKind {
     CorrectedCsv,
     /// A picture (PNG).
     Png,
+    /// The test report (a folder of figures and one HTML page).
+    Report,
 }
 
 impl FileKind {
@@ -32,6 +34,7 @@ impl FileKind {
             FileKind::Calibration => "Export calibration",
             FileKind::CorrectedCsv => "Export corrected log",
             FileKind::Png => "Save picture",
+            FileKind::Report => "Export test report (a folder)",
         }
     }
 
@@ -45,6 +48,7 @@ impl FileKind {
             FileKind::Calibration => ("Calibration", &["json"]),
             FileKind::CorrectedCsv => ("CSV", &["csv"]),
             FileKind::Png => ("PNG image", &["png"]),
+            FileKind::Report => ("Report folder", &["*"]),
         }
     }
 }

@@ -66,6 +66,17 @@ pub fn save_calibration(
     log_path: &Path,
     sha256: Option<&str>,
 ) -> Result<PathBuf, String> {
+    let cal = stamped(cal, log_path, sha256)?;
+    crate::calfile::save(path, &cal).map_err(|e| e.to_string())?;
+    Ok(path.to_path_buf())
+}
+
+/// The calibration with its source log's name and SHA-256 filled in, as files record it.
+pub fn stamped(
+    cal: &Calibration,
+    log_path: &Path,
+    sha256: Option<&str>,
+) -> Result<Calibration, String> {
     let mut cal = cal.clone();
     cal.source.name = log_path
         .file_name()
@@ -75,8 +86,19 @@ pub fn save_calibration(
         Some(s) => s.to_string(),
         None => crate::calfile::sha256_file(log_path).map_err(|e| e.to_string())?,
     };
-    crate::calfile::save(path, &cal).map_err(|e| e.to_string())?;
-    Ok(path.to_path_buf())
+    Ok(cal)
+}
+
+/// Writes the test report of `cal` on `logs` into the folder `dir` (the engine's report, as
+/// `driftlab report` writes it); returns the HTML page.
+pub fn write_report(
+    dir: &Path,
+    cal: &Calibration,
+    logs: &[(PathBuf, Log)],
+) -> Result<PathBuf, String> {
+    let summary = crate::report::write(cal, logs, dir, &crate::report::ReportOptions::default())
+        .map_err(|e| e.to_string())?;
+    Ok(summary.html)
 }
 
 /// Writes the corrected log with the engine's writer (the columns of `driftlab apply`).
