@@ -667,7 +667,7 @@ int main(void)
 {
     static driftlab_state st;
     static char line[4096];
-    double ch[DRIFTLAB_N_CHANNELS + 1];
+    double ch[DRIFTLAB_N_CHANNELS + 1] = { 0.0 };
     driftlab_init(&st);
     while (fgets(line, sizeof line, stdin) != NULL) {
         double v[4];
@@ -1003,5 +1003,33 @@ fn export_command_writes_a_regression_header() {
         std::fs::read_to_string(&csv)
             .unwrap()
             .contains("term,coefficient,std_error")
+    );
+}
+
+#[test]
+fn c_header_corrects_as_driftlab_with_one_searched_delay_and_a_searched_lag() {
+    // One delay for every temperature (a single τd point), a lag found by search, λ given,
+    // and the chamber's temperature read as an extra channel, on the FOG.
+    let (cal_log, val_log) = (read("calibration.csv"), read("validation.csv"));
+    let mut spec = RegressionSpec::new(
+        "custom-fog",
+        parse_terms("1,T,T^3,Tdot,T*Tdot,selfheat,ch^2:temp_chamber_c").unwrap(),
+    );
+    spec.delay = DelaySpec::Search { max_s: 900.0 };
+    spec.lag = LagSpec::Search { max_s: 1800.0 };
+    spec.lambda = driftlab::regression::LambdaSpec::Fixed { seconds: 1200.0 };
+    let model = drift_model::fit(&cal_log, &ModelChoice::Custom(spec), &Recipe::default()).unwrap();
+    if let DriftModel::Regression(r) = &model {
+        assert_eq!(r.model.delay.points.len(), 1, "{:?}", r.model.delay);
+        assert_eq!(r.model.lambda_s, Some(1200.0));
+        println!(
+            "custom-fog: delay {:?} s, lag {:?} s",
+            r.model.delay.points, r.model.lag_s
+        );
+    }
+    regression_c_agrees(
+        "custom (one delay, searched lag, fixed lambda)",
+        &model,
+        &[&val_log, &cal_log],
     );
 }
