@@ -1007,28 +1007,25 @@ fn export_command_writes_a_regression_header() {
 }
 
 #[test]
-fn c_header_corrects_as_driftlab_with_one_searched_delay_and_a_searched_lag() {
-    // One delay for every temperature (a single τd point), a lag found by search, λ given,
-    // and the chamber's temperature read as an extra channel, on the FOG.
+fn c_header_corrects_as_driftlab_with_one_delay_a_lag_and_a_fixed_lambda() {
+    // One delay for every temperature (a single τd point, between samples), a lag and λ
+    // given, and the chamber's temperature read as an extra channel, on the FOG.
     let (cal_log, val_log) = (read("calibration.csv"), read("validation.csv"));
     let mut spec = RegressionSpec::new(
         "custom-fog",
         parse_terms("1,T,T^3,Tdot,T*Tdot,selfheat,ch^2:temp_chamber_c").unwrap(),
     );
-    spec.delay = DelaySpec::Search { max_s: 900.0 };
-    spec.lag = LagSpec::Search { max_s: 1800.0 };
+    spec.delay = DelaySpec::Fixed { seconds: 250.5 };
+    spec.lag = LagSpec::Fixed { seconds: 120.0 };
     spec.lambda = driftlab::regression::LambdaSpec::Fixed { seconds: 1200.0 };
     let model = drift_model::fit(&cal_log, &ModelChoice::Custom(spec), &Recipe::default()).unwrap();
     if let DriftModel::Regression(r) = &model {
-        assert_eq!(r.model.delay.points.len(), 1, "{:?}", r.model.delay);
+        assert_eq!(r.model.delay.points, vec![[0.0, 250.5]]);
+        assert_eq!(r.model.lag_s, Some(120.0));
         assert_eq!(r.model.lambda_s, Some(1200.0));
-        println!(
-            "custom-fog: delay {:?} s, lag {:?} s",
-            r.model.delay.points, r.model.lag_s
-        );
     }
     regression_c_agrees(
-        "custom (one delay, searched lag, fixed lambda)",
+        "custom (one delay, lag, fixed lambda)",
         &model,
         &[&val_log, &cal_log],
     );
