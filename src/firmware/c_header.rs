@@ -17,6 +17,11 @@
 //! - [`crate::correct::StreamCorrector`]: the causal running mean of T, the 3-point backward
 //!   differences with `2H` as one constant, the first `2s` (`4s`) samples without Ṫ (T̈).
 //!
+//! A regression model gets its own header ([`regression`]): the same preamble shape, its terms
+//! as an array of codes evaluated by one `switch`, and a port of
+//! [`crate::regression::RegressionCorrector::push`] (lag, smoothing, differences, τd(T), the
+//! delayed read, clamping, the row and the dot product from −0, as `f64::sum` starts).
+//!
 //! One difference of form: driftlab counts samples without bound, the C keeps the ring slot
 //! and a count that stops at `4s`, so a processor running for years never wraps a counter.
 //!
@@ -675,6 +680,11 @@ fn term_macro(t: &Term) -> &'static str {
 fn regression_preamble(h: &mut String, cal: &RegressionCalibration) -> Result<(), ExportError> {
     let m = &cal.model;
     let src = &cal.source;
+    let gyro = if cal.gyro_id.is_empty() {
+        "(no gyro id)".to_string()
+    } else {
+        comment_text(&cal.gyro_id)
+    };
     let sha = if src.sha256.is_empty() {
         "(not recorded)".to_string()
     } else {
@@ -699,9 +709,12 @@ fn regression_preamble(h: &mut String, cal: &RegressionCalibration) -> Result<()
         None => "unused by this model (pass anything, e.g. 0.0)".to_string(),
     };
     let exp_doc = if m.spec.terms.contains(&Term::SelfHeating) {
-        " * The selfheat term calls the C library's exp (link with -lm): the result is then bit for\n\
-         * bit driftlab's where that exp rounds as the one driftlab was built against (on Linux both\n\
-         * use the platform's libm); elsewhere expect agreement to about 1e-15 relative.\n"
+        concat!(
+            " * The selfheat term calls the C library's exp (link with -lm): bit for bit driftlab's\n",
+            " * where that exp rounds as the one driftlab runs with (on Linux both call the platform's\n",
+            " * libm: the tests compare). With another libm, exp may differ in its last bit: require\n",
+            " * agreement within 1e-12 relative there.\n",
+        )
     } else {
         " * This model calls no libm function (isfinite, fabs and NAN are macros or builtins).\n"
     };
@@ -765,7 +778,7 @@ fn regression_preamble(h: &mut String, cal: &RegressionCalibration) -> Result<()
 #define DRIFTLAB_CREATED {created_c}
 #define DRIFTLAB_MODEL {name_c}
 "#,
-        gyro = comment_text(&cal.gyro_id),
+        gyro = gyro,
         version = env!("CARGO_PKG_VERSION"),
         name = comment_text(&m.spec.name),
         terms = comment_text(&terms.join(" + ")),

@@ -1,6 +1,6 @@
 //! The test report of a calibration: figures (PNG and SVG) and one self-contained HTML page.
 //!
-//! [`write`] takes a calibration and the logs to judge it on and writes, into one folder:
+//! [`write()`] takes a calibration and the logs to judge it on and writes, into one folder:
 //!
 //! * `temperature-LOG` and `drift-LOG` for every log: the temperature program, and the raw
 //!   drift with its filtered version, the predicted drift and the corrected drift;
@@ -99,7 +99,7 @@ pub struct LogReport {
     pub figures: Vec<Figure>,
 }
 
-/// What [`write`] wrote.
+/// What [`write()`] wrote.
 #[derive(Debug, Clone)]
 pub struct ReportSummary {
     /// The HTML page.
@@ -251,7 +251,7 @@ fn min_max(v: &[f64]) -> (f64, f64) {
 }
 
 /// Writes the report of any model judged on `logs` into `out_dir`: a Vakhrameev calibration as
-/// [`write`] does, a regression model as [`write_regression`] does.
+/// [`write()`] does, a regression model as [`write_regression`] does.
 pub fn write_model(
     model: &DriftModel,
     logs: &[(PathBuf, Log)],
