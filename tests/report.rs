@@ -5,11 +5,15 @@
 
 use driftlab::Log;
 use driftlab::calfile;
+use driftlab::drift_model::{self, DriftModel};
 use driftlab::ingest::{self, ReadOptions};
 use driftlab::metrics::{Evaluation, MeritOptions};
 use driftlab::model::{self, Calibration};
+use driftlab::presets::ModelChoice;
 use driftlab::recipe::Recipe;
-use driftlab::report::{self, AllanCurve, ReportOptions};
+use driftlab::regression::terms::parse_terms;
+use driftlab::regression::{DelaySpec, LagSpec, RegressionSpec};
+use driftlab::report::{self, AllanCurve, ReportOptions, html};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::sync::OnceLock;
@@ -437,4 +441,193 @@ fn cli_report_writes_the_files_it_lists() {
     assert!(!out.status.success(), "a report needs at least one log");
     let out = driftlab(&["report", &val_log, &cal_log, "--out", &rep_s]);
     assert!(!out.status.success(), "a log is not a calibration");
+}
+
+// ---- Regression models -----------------------------------------------------------------
+
+/// A regression model fitted on the laser gyro's first run, with searches for λ, τd per
+/// temperature band and the lag, and its source recorded as `driftlab calibrate` records it.
+fn regression_model(terms: &str, searches: bool) -> DriftModel {
+    let path = sample("laser-gyro.csv");
+    let log = read(&path);
+    let mut spec = RegressionSpec::new("custom-rlg", parse_terms(terms).unwrap());
+    if searches {
+        spec.delay = DelaySpec::Bands {
+            bands: 2,
+            max_s: 900.0,
+        };
+        spec.lag = LagSpec::Search { max_s: 1800.0 };
+    }
+    let recipe = Recipe {
+        gyro_id: "RLG-REPORT-3".into(),
+        ..Recipe::default()
+    };
+    let mut model = drift_model::fit(&log, &ModelChoice::Custom(spec), &recipe).unwrap();
+    let src = model.source_mut();
+    src.name = "laser-gyro.csv".into();
+    src.sha256 = calfile::sha256_file(&path).unwrap();
+    model
+}
+
+fn laser_logs() -> Vec<(PathBuf, Log)> {
+    ["laser-gyro.csv", "laser-gyro-2.csv"]
+        .into_iter()
+        .map(|n| {
+            let p = sample(n);
+            let log = read(&p);
+            (p, log)
+        })
+        .collect()
+}
+
+#[test]
+fn regression_report_shows_coefficients_searches_and_every_log() {
+    let model = regression_model("1,T,Tdot,T*Tdot,dT,selfheat,ch:laser_power_mw", true);
+    let DriftModel::Regression(rc) = &model else {
+        panic!("not a regression model");
+    };
+    let m = &rc.model;
+    assert!(m.searches.len() >= 3, "{:?}", m.searches);
+    let logs = laser_logs();
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("report");
+    let summary = report::write_model(&model, &logs, &out, &ReportOptions::default()).unwrap();
+
+    for stem in [
+        "costs",
+        "temperature-laser-gyro",
+        "drift-laser-gyro",
+        "allan-laser-gyro",
+        "temperature-laser-gyro-2",
+        "drift-laser-gyro-2",
+        "allan-laser-gyro-2",
+    ] {
+        for ext in ["png", "svg"] {
+            let p = out.join(format!("{stem}.{ext}"));
+            assert!(summary.files.contains(&p), "{} not listed", p.display());
+            assert!(p.is_file(), "{} missing", p.display());
+        }
+        assert_eq!(png_size(&out.join(format!("{stem}.png"))), (1200, 700));
+    }
+    let costs = svg_text(&out.join("costs.svg"));
+    for c in &m.searches {
+        assert!(
+            costs.contains(&c.parameter),
+            "costs.svg lacks {}",
+            c.parameter
+        );
+    }
+    assert!(costs.contains("RMS residual, °/h") && costs.contains("chosen:"));
+    assert!(summary.files.iter().all(|f| f.is_file()));
+
+    // In-sample by the recorded hash, held out otherwise.
+    assert_eq!(
+        summary.logs.iter().map(|l| l.in_sample).collect::<Vec<_>>(),
+        vec![true, false]
+    );
+    let html = std::fs::read_to_string(&summary.html).unwrap();
+    assert!(html.starts_with("<!DOCTYPE html>"));
+    assert_self_contained(&html);
+    assert!(html.contains("<b class=\"gyro-id\">RLG-REPORT-3</b>"));
+    assert!(html.contains("<b class=\"model-name\">custom-rlg</b>"));
+    // Every coefficient ± its standard error, as the page prints them.
+    for ((name, c), se) in m.names.iter().zip(&m.coefficients).zip(&m.std_errors) {
+        let row = format!(
+            "<td class=\"num\">{}</td><td class=\"num\">± {}</td>",
+            html::fmt_coef(*c),
+            html::fmt_se(*se)
+        );
+        assert!(
+            html.contains(&row),
+            "coefficient {name}: {row} not in the page"
+        );
+    }
+    assert!(html.contains(&format!("{} s", html::fmt_num(m.lambda_s.unwrap()))));
+    assert!(html.contains(&format!("τ = {} s", html::fmt_num(m.lag_s.unwrap()))));
+    for p in &m.delay.points {
+        assert!(html.contains(&format!(
+            "{} s at {} °C",
+            html::fmt_num(p[1]),
+            html::fmt_num(p[0])
+        )));
+    }
+    assert!(html.contains("laser_power_mw"));
+    assert!(html.contains(&format!("{} samples, RMS residual", m.stats.n)));
+    // The figures of merit of each log are those of its correction.
+    for (path, log) in &logs {
+        let name = path.file_name().unwrap().to_string_lossy().into_owned();
+        let e =
+            Evaluation::of_correction(log, &model.correct(log).unwrap(), &MeritOptions::default());
+        let table = merit_table(&html, &name);
+        assert!(table.contains(&cell(e.comparison.raw.p2p_dph)), "{name}");
+        assert!(
+            table.contains(&cell(e.comparison.corrected.p2p_dph)),
+            "{name}"
+        );
+    }
+    // The cost curves, then temperature, drift and Allan deviation per log, all inline.
+    assert_eq!(html.matches("<figure>").count(), 7);
+    assert_eq!(html.matches("<svg ").count(), 7);
+}
+
+#[test]
+fn regression_report_without_searches_has_no_cost_figure() {
+    let model = regression_model("1,T,Tdot", false);
+    let logs = laser_logs();
+    let dir = tempfile::tempdir().unwrap();
+    let summary =
+        report::write_model(&model, &logs[1..], dir.path(), &ReportOptions::default()).unwrap();
+    assert!(summary.figures.is_empty());
+    assert!(!dir.path().join("costs.svg").exists());
+    let html = std::fs::read_to_string(&summary.html).unwrap();
+    assert!(!html.contains("<h2>Searches</h2>"));
+    assert!(html.contains("not among the logs"));
+    assert_eq!(html.matches("<figure>").count(), 3);
+}
+
+#[test]
+fn regression_report_names_a_missing_channel() {
+    // A model reading the laser power, judged on the FOG log that has none: an error naming
+    // the log and the channel, no panic.
+    let model = regression_model("1,T,ch:laser_power_mw", false);
+    let p = sample("validation.csv");
+    let logs = vec![(p.clone(), read(&p))];
+    let dir = tempfile::tempdir().unwrap();
+    let err = report::write_model(&model, &logs, dir.path(), &ReportOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("laser_power_mw") && err.contains("validation.csv"),
+        "{err}"
+    );
+}
+
+#[test]
+fn cli_report_of_a_regression_calibration() {
+    let dir = tempfile::tempdir().unwrap();
+    let cal = dir.path().join("cal.json").display().to_string();
+    let out = dir.path().join("rep");
+    let (a, b) = (
+        sample("laser-gyro.csv").display().to_string(),
+        sample("laser-gyro-2.csv").display().to_string(),
+    );
+    let run = driftlab(&["calibrate", &a, "--model", "sukhanov", "--out", &cal]);
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let run = driftlab(&["report", &cal, &a, &b, "--out", &out.display().to_string()]);
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let stdout = String::from_utf8(run.stdout).unwrap();
+    assert!(stdout.contains("laser-gyro.csv (in-sample)"), "{stdout}");
+    assert!(stdout.contains("laser-gyro-2.csv (held out)"), "{stdout}");
+    let html = std::fs::read_to_string(out.join("report.html")).unwrap();
+    assert!(html.contains("<b class=\"model-name\">sukhanov</b>"));
+    assert!(html.contains("lambda_s"));
+    assert!(out.join("costs.svg").is_file());
 }

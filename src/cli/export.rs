@@ -12,30 +12,31 @@ pub struct Args {
     pub calibration: PathBuf,
     /// c-header: one self-contained C99 header with the coefficients and the streaming corrector
     /// (init/reset/push), correcting bit for bit as driftlab does; csv-table: K0(T), K1±(Ṫ) and
-    /// K2±(T̈) tabulated over their fitted ranges, to interpolate linearly.
+    /// K2±(T̈) tabulated over their fitted ranges, to interpolate linearly (a regression model:
+    /// its coefficients with standard errors, ranges and settings as comments).
     #[arg(long, value_name = "c-header|csv-table")]
     pub format: Format,
     /// Where to write (atomically); standard output when not given.
     #[arg(long, short, value_name = "FILE")]
     pub out: Option<PathBuf>,
-    /// Rows of each table, end points included (csv-table only).
+    /// Rows of each table, end points included (csv-table of a Vakhrameev calibration only).
     #[arg(long, value_name = "N", default_value_t = ExportOptions::default().points)]
     pub points: usize,
 }
 
 pub fn run(a: Args) -> Result<(), String> {
-    let cal = calfile::load(&a.calibration).map_err(|e| e.to_string())?;
+    let model = calfile::load_model(&a.calibration).map_err(|e| e.to_string())?;
     let opts = ExportOptions { points: a.points };
-    let text = firmware::export(&cal, a.format, &opts)
+    let text = firmware::export_model(&model, a.format, &opts)
         .map_err(|e| format!("{}: {e}", a.calibration.display()))?;
     match &a.out {
         Some(path) => {
             driftlab::atomic::write_bytes(path, text.as_bytes())
                 .map_err(|e| format!("{}: {e}", path.display()))?;
-            let what = if cal.gyro_id.is_empty() {
-                cal.source.name.clone()
+            let what = if model.gyro_id().is_empty() {
+                model.source().name.clone()
             } else {
-                cal.gyro_id.clone()
+                model.gyro_id().to_string()
             };
             eprintln!("{} of {what} written to {}", a.format, path.display());
         }

@@ -9,7 +9,7 @@ use std::path::PathBuf;
 /// Arguments of `report`.
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// The calibration (JSON).
+    /// The calibration (JSON): a Vakhrameev calibration or a regression model.
     pub calibration: PathBuf,
     /// The logs to judge it on: its own log (in-sample) and other runs (held out).
     #[arg(required = true, num_args = 1..)]
@@ -17,7 +17,8 @@ pub struct Args {
     /// Folder to write the figures and report.html into (created if missing).
     #[arg(long, value_name = "DIR")]
     pub out: PathBuf,
-    /// Moving-average window of the filtered drift, s (default: the calibration's filter).
+    /// Moving-average window of the filtered drift, s (default: a Vakhrameev calibration's
+    /// filter; 100 s for a regression model).
     #[arg(long, value_name = "S")]
     pub filter: Option<f64>,
     /// Length of the consecutive mean/RMS windows, s.
@@ -28,9 +29,11 @@ pub struct Args {
 }
 
 pub fn run(a: Args) -> Result<(), String> {
-    let cal = calfile::load(&a.calibration).map_err(|e| e.to_string())?;
+    let model = calfile::load_model(&a.calibration).map_err(|e| e.to_string())?;
     let merit = MeritOptions {
-        filter_s: a.filter.unwrap_or(cal.recipe.filter_s),
+        filter_s: a
+            .filter
+            .unwrap_or(report::default_merit_for(&model).filter_s),
         window_s: a.window,
     };
     if !(merit.filter_s > 0.0 && merit.window_s > 0.0) {
@@ -41,8 +44,8 @@ pub fn run(a: Args) -> Result<(), String> {
         logs.push((path.clone(), a.log_args.read(path)?));
     }
     common::status(&format!("writing the report into {}", a.out.display()));
-    let summary = report::write(
-        &cal,
+    let summary = report::write_model(
+        &model,
         &logs,
         &a.out,
         &ReportOptions {

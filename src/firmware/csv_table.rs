@@ -28,6 +28,7 @@
 use super::{ExportError, MAX_TABLE_POINTS, comment_text, number};
 use crate::approx::Approx;
 use crate::model::Calibration;
+use crate::regression::RegressionCalibration;
 
 /// The tables of `cal` with `points` rows (at least 2, at most [`MAX_TABLE_POINTS`]).
 pub fn csv_table(cal: &Calibration, points: usize) -> Result<String, ExportError> {
@@ -142,4 +143,134 @@ fn column(name: &str, a: &Approx, points: usize) -> Result<Vec<(String, String)>
             ))
         })
         .collect()
+}
+
+/// A regression model as CSV: one row per coefficient (`term,coefficient,std_error`, deg/h per
+/// unit of the term), every number printed so that it reads back exactly, after `#` comment
+/// lines giving everything else the correction needs: λ, τd(T) points, the lag, the `pwlT`
+/// knots, the input ranges (T, ΔT and the channels clamped to them, Ṫ and T̈ only flagged),
+/// the channels in order and the derivative settings. A regression model's coefficients are
+/// constants, so there is nothing to tabulate over a range: firmware evaluates the terms (the C
+/// header does it for you, bit for bit).
+pub fn regression(cal: &RegressionCalibration) -> Result<String, ExportError> {
+    let m = &cal.model;
+    m.validate().map_err(ExportError::Calibration)?;
+    let src = &cal.source;
+    let steps = m.steps_for(m.dt_s);
+    let list = |v: &[f64], what: &str| -> Result<String, ExportError> {
+        Ok(v.iter()
+            .map(|&x| number(x, what))
+            .collect::<Result<Vec<_>, _>>()?
+            .join(" "))
+    };
+    let range = |r: Option<[f64; 2]>, what: &str| -> Result<String, ExportError> {
+        match r {
+            Some(r) => Ok(format!(
+                "[{}, {}]",
+                number(r[0], what)?,
+                number(r[1], what)?
+            )),
+            None => Ok("not read".into()),
+        }
+    };
+    let mut out = format!(
+        "# driftlab {version} coefficients (`driftlab export --format csv-table`), regression model {name}\n\
+         # gyro id: {gyro}\n\
+         # source: {source} ({samples} samples, {duration} s), sha256 {sha}\n\
+         # created: {created}\n\
+         # Omega_pred = sum of coefficient * term (deg/h); Omega_cor = Omega_raw - Omega_pred\n\
+         # terms: {terms}\n\
+         # lambda_s (selfheat = 1 - exp(-t/lambda), t from the first sample): {lambda}\n\
+         # delay (tau_d(T) points degC:s, piecewise-linear, held at the ends): {delay}\n\
+         # lag_s (T read through dy/dt = (T - y)/tau): {lag}\n\
+         # pwlT knots degC: {knots}\n\
+         # range T degC (clamped): {rt}\n\
+         # range Tdot degC/s (flagged): {rtd}\n\
+         # range Tddot degC/s^2 (flagged): {rtdd}\n\
+         # range dT degC (clamped): {rdt}\n",
+        version = env!("CARGO_PKG_VERSION"),
+        name = comment_text(&m.spec.name),
+        gyro = comment_text(&cal.gyro_id),
+        source = comment_text(&src.name),
+        samples = src.samples,
+        duration = src.duration_s,
+        sha = if src.sha256.is_empty() {
+            "(not recorded)".to_string()
+        } else {
+            comment_text(&src.sha256)
+        },
+        created = comment_text(&cal.created),
+        terms = comment_text(
+            &m.spec
+                .terms
+                .iter()
+                .map(ToString::to_string)
+                .collect::<Vec<_>>()
+                .join(" + ")
+        ),
+        lambda = match m.lambda_s {
+            Some(l) => number(l, "lambda")?,
+            None => "none".into(),
+        },
+        delay = if m.delay.points.is_empty() {
+            "none".to_string()
+        } else {
+            m.delay
+                .points
+                .iter()
+                .map(|p| {
+                    Ok(format!(
+                        "{}:{}",
+                        number(p[0], "a delay")?,
+                        number(p[1], "a delay")?
+                    ))
+                })
+                .collect::<Result<Vec<_>, ExportError>>()?
+                .join(" ")
+        },
+        lag = match m.lag_s {
+            Some(l) => number(l, "the lag")?,
+            None => "none".into(),
+        },
+        knots = if m.t_knots.is_empty() {
+            "none".to_string()
+        } else {
+            list(&m.t_knots, "a knot")?
+        },
+        rt = range(m.ranges.temp, "the T range")?,
+        rtd = range(m.ranges.tdot, "the Tdot range")?,
+        rtdd = range(m.ranges.tddot, "the Tddot range")?,
+        rdt = range(m.ranges.dt, "the dT range")?,
+    );
+    if let Some(t2) = &m.temp2 {
+        out.push_str(&format!(
+            "# second temperature sensor (dT = T - T2): {}\n",
+            comment_text(t2)
+        ));
+    }
+    for (k, (name, r)) in m.channel_names().iter().zip(&m.ranges.channels).enumerate() {
+        out.push_str(&format!(
+            "# channel {k}: {} range (clamped) {}\n",
+            comment_text(name),
+            range(Some(*r), "a channel range")?
+        ));
+    }
+    out.push_str(&format!(
+        "# Tdot, Tddot: causal moving average of T over {} samples, then the backward difference \
+         (3x_i - 4x_(i-s) + x_(i-2s))/(2H) twice, s = {} samples, H = s*dt, dt = {} s \
+         (0 for the first 2s (4s) samples)\n",
+        steps.smooth.max(1),
+        steps.step.max(1),
+        number(m.dt_s, "the sampling period")?
+    ));
+    out.push_str("term,coefficient,std_error\n");
+    for ((name, c), se) in m.names.iter().zip(&m.coefficients).zip(&m.std_errors) {
+        out.push_str(&format!(
+            "{},{},{}\n",
+            comment_text(name).replace(',', ";"),
+            number(*c, &format!("coefficient {name}"))?,
+            number(*se, &format!("standard error of {name}"))?
+        ));
+    }
+    Ok(out)
 }

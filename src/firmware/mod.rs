@@ -8,13 +8,16 @@
 //! bit for bit as driftlab does (the tests compile it and compare). The tables are for
 //! processors that interpolate coefficients instead of evaluating curves.
 //!
-//! Each model a calibration file can hold is written by its own function (today the
-//! Vakhrameev model: [`c_header::vakhrameev`], [`csv_table::vakhrameev`]); what every model
-//! shares (the comment block, the curve evaluator, T smoothing and derivatives) is written once.
+//! Each model a calibration file can hold is written by its own function: the Vakhrameev model
+//! by [`c_header::c_header`] and [`csv_table::vakhrameev`], a regression model by
+//! [`c_header::regression`] (a port of [`crate::regression::RegressionCorrector`], bit for bit
+//! in the same way) and [`csv_table::regression`] (its coefficients with standard errors, the
+//! ranges and settings as comments). [`export_model`] picks by the model.
 
 pub mod c_header;
 pub mod csv_table;
 
+use crate::drift_model::DriftModel;
 use crate::model::Calibration;
 use std::fmt;
 use std::str::FromStr;
@@ -24,7 +27,8 @@ use std::str::FromStr;
 pub enum Format {
     /// A C99 header: constants, curve evaluator and the streaming corrector.
     CHeader,
-    /// K0, K1±, K2± tabulated over their fitted ranges, as CSV.
+    /// K0, K1±, K2± tabulated over their fitted ranges, as CSV (a regression model: its
+    /// coefficients with standard errors).
     CsvTable,
 }
 
@@ -99,6 +103,24 @@ pub fn export(
     match format {
         Format::CHeader => c_header::c_header(cal),
         Format::CsvTable => csv_table::csv_table(cal, opts.points),
+    }
+}
+
+/// Writes any model's calibration in `format`: a Vakhrameev calibration as [`export`] does, a
+/// regression model as [`c_header::regression`] or [`csv_table::regression`] (its coefficients
+/// table: regression coefficients are constants, so there is nothing to tabulate over a range
+/// and `opts.points` is not used).
+pub fn export_model(
+    model: &DriftModel,
+    format: Format,
+    opts: &ExportOptions,
+) -> Result<String, ExportError> {
+    match model {
+        DriftModel::Vakhrameev(cal) => export(cal, format, opts),
+        DriftModel::Regression(r) => match format {
+            Format::CHeader => c_header::regression(r),
+            Format::CsvTable => csv_table::regression(r),
+        },
     }
 }
 

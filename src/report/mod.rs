@@ -1,6 +1,6 @@
 //! The test report of a calibration: figures (PNG and SVG) and one self-contained HTML page.
 //!
-//! [`write`] takes a calibration and the logs to judge it on and writes, into one folder:
+//! [`write()`] takes a calibration and the logs to judge it on and writes, into one folder:
 //!
 //! * `temperature-LOG` and `drift-LOG` for every log: the temperature program, and the raw
 //!   drift with its filtered version, the predicted drift and the corrected drift;
@@ -12,6 +12,11 @@
 //! * `report.html`: the gyro's identity, the recipe, the coefficients with their ranges, the
 //!   figures of merit of every log (in-sample or held out) and every figure, inline.
 //!
+//! [`write_model`] takes any model of a calibration file; for a regression model
+//! ([`write_regression`]) the calibration's figures are replaced by `costs`, the cost curves of
+//! its searches for λ, τd and the lag (when it searched), and the page lists its terms with
+//! coefficients ± standard errors instead of the recipe, plateaus and K curves.
+//!
 //! A log is *in-sample* when it is the calibration's source log (same SHA-256 of the file, or
 //! the same file name when the calibration records no hash) and *held out* otherwise.
 //! Nothing here depends on a user interface: the command line and the workbench call the same
@@ -22,11 +27,13 @@ pub mod html;
 
 use crate::calfile;
 use crate::correct::Correction;
+use crate::drift_model::DriftModel;
 use crate::error::{Error, Result};
 use crate::log::Log;
 use crate::metrics::{Evaluation, MeritOptions};
-use crate::model::{self, Calibration, PointSet, Prepared};
+use crate::model::{self, Calibration, PointSet, Prepared, SourceInfo};
 use crate::plateau::PlateauRange;
+use crate::regression::RegressionCalibration;
 use crate::signal;
 use figures::{AllanLine, PlateauPoint, RateAxes, RateSet, TimeSeries};
 use std::path::{Path, PathBuf};
@@ -92,7 +99,7 @@ pub struct LogReport {
     pub figures: Vec<Figure>,
 }
 
-/// What [`write`] wrote.
+/// What [`write()`] wrote.
 #[derive(Debug, Clone)]
 pub struct ReportSummary {
     /// The HTML page.
@@ -134,10 +141,24 @@ pub fn allan_curves(log: &Log, correction: &Correction) -> Option<AllanCurves> {
 /// Whether `path` holds the calibration's own log: the file's SHA-256 equals the recorded one,
 /// or, for a calibration that records no hash, the file name matches.
 pub fn is_in_sample(cal: &Calibration, path: &Path, sha256: &str) -> bool {
-    if cal.source.sha256.is_empty() {
-        file_name(path) == cal.source.name
+    is_source(&cal.source, path, sha256)
+}
+
+/// Whether `path` is the log `source` describes (see [`is_in_sample`]).
+pub fn is_source(source: &SourceInfo, path: &Path, sha256: &str) -> bool {
+    if source.sha256.is_empty() {
+        file_name(path) == source.name
     } else {
-        !sha256.is_empty() && sha256.eq_ignore_ascii_case(&cal.source.sha256)
+        !sha256.is_empty() && sha256.eq_ignore_ascii_case(&source.sha256)
+    }
+}
+
+/// The merit options a report of any model uses by default: a Vakhrameev calibration's own Ω
+/// filter, the default filter for a regression model (which has none); 10-minute windows.
+pub fn default_merit_for(model: &DriftModel) -> MeritOptions {
+    match model {
+        DriftModel::Vakhrameev(cal) => default_merit(cal),
+        DriftModel::Regression(_) => MeritOptions::default(),
     }
 }
 
@@ -227,6 +248,151 @@ fn min_max(v: &[f64]) -> (f64, f64) {
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
             (a.min(x), b.max(x))
         })
+}
+
+/// Writes the report of any model judged on `logs` into `out_dir`: a Vakhrameev calibration as
+/// [`write()`] does, a regression model as [`write_regression`] does.
+pub fn write_model(
+    model: &DriftModel,
+    logs: &[(PathBuf, Log)],
+    out_dir: &Path,
+    opts: &ReportOptions,
+) -> Result<ReportSummary> {
+    match model {
+        DriftModel::Vakhrameev(cal) => write(cal, logs, out_dir, opts),
+        DriftModel::Regression(r) => write_regression(r, logs, out_dir, opts),
+    }
+}
+
+/// Writes the report of a regression model judged on `logs` into `out_dir`, creating it:
+/// `costs` (the searches for λ, τd and the lag: RMS residual over the values tried, the chosen
+/// one marked; only when the model searched), then per log the temperature program, the drift
+/// and the Allan deviation as for the Vakhrameev model, and `report.html` with the model's
+/// terms, coefficients ± standard errors, λ, τd(T), lag, input ranges and fit statistics.
+///
+/// # Errors
+/// A log lacking a channel the model reads, a file that cannot be written.
+pub fn write_regression(
+    cal: &RegressionCalibration,
+    logs: &[(PathBuf, Log)],
+    out_dir: &Path,
+    opts: &ReportOptions,
+) -> Result<ReportSummary> {
+    std::fs::create_dir_all(out_dir).map_err(|e| Error::io(out_dir, e))?;
+    let merit = opts.merit.unwrap_or_default();
+    if !(merit.filter_s > 0.0 && merit.window_s > 0.0) {
+        return Err(Error::Recipe(
+            "the figures of merit need a positive filter and window".into(),
+        ));
+    }
+    let m = &cal.model;
+    let mut notes = Vec::new();
+    let mut files = Vec::new();
+    let mut taken: Vec<String> = ["costs", "report"].iter().map(|s| s.to_string()).collect();
+    let hashes: Vec<String> = logs
+        .iter()
+        .map(|(p, _)| calfile::sha256_file(p).unwrap_or_default())
+        .collect();
+    let in_sample: Vec<bool> = logs
+        .iter()
+        .zip(&hashes)
+        .map(|((p, _), h)| is_source(&cal.source, p, h))
+        .collect();
+    if !logs.is_empty() && !in_sample.contains(&true) {
+        notes.push(format!(
+            "The model's own log ({}) is not among the logs: every log is held out.",
+            cal.source.name
+        ));
+    }
+
+    // The searches.
+    let mut model_figures = Vec::new();
+    let lines: Vec<figures::CostLine> = m
+        .searches
+        .iter()
+        .map(|c| figures::CostLine {
+            parameter: &c.parameter,
+            x: &c.x,
+            rmse: &c.rmse,
+            best: c.best,
+            log_x: c.parameter == "lambda_s",
+        })
+        .collect();
+    if !lines.is_empty() {
+        let f = figures::cost_curves(
+            &out_dir.join("costs"),
+            &format!(
+                "Searches of model {}: RMS residual over the values tried",
+                m.spec.name
+            ),
+            &lines,
+        )?;
+        files.extend(f.iter().cloned());
+        let edge: Vec<&str> = m
+            .searches
+            .iter()
+            .filter(|c| c.at_edge)
+            .map(|c| c.parameter.as_str())
+            .collect();
+        model_figures.push(figure(
+            "Search cost curves".into(),
+            format!(
+                "RMS residual of the least-squares fit at each value tried for the parameters                  the model is not linear in (λ on a logarithmic axis; a delay per temperature                  band for τd(T)); the vertical line marks the value chosen.{}",
+                if edge.is_empty() {
+                    String::new()
+                } else {
+                    format!(
+                        " At the edge of the searched range (the optimum may lie beyond): {}.",
+                        edge.join(", ")
+                    )
+                }
+            ),
+            f,
+        ));
+    }
+
+    // Every log.
+    let mut reports = Vec::new();
+    let mut any_allan = false;
+    for (i, ((path, log), sha)) in logs.iter().zip(&hashes).enumerate() {
+        let correction = m.correct(log).map_err(|e| match e {
+            Error::Fit(msg) => Error::Fit(format!("{}: {msg}", path.display())),
+            other => other,
+        })?;
+        let section = LogSection {
+            path,
+            log,
+            sha,
+            in_sample: in_sample[i],
+            correction,
+            plateaus: &[],
+            allan: opts
+                .allan
+                .as_ref()
+                .map(|given| given.get(i).cloned().flatten()),
+        };
+        let (report, drew_allan) = log_report(out_dir, section, &merit, &mut taken, &mut files)?;
+        any_allan |= drew_allan;
+        reports.push(report);
+    }
+    if !any_allan && !logs.is_empty() {
+        notes.push(ALLAN_NOTE.into());
+    }
+
+    let html_path = out_dir.join("report.html");
+    let mut summary = ReportSummary {
+        html: html_path.clone(),
+        files,
+        figures: model_figures,
+        logs: reports,
+        merit,
+        notes,
+    };
+    let page = html::regression_page(cal, &summary)?;
+    crate::atomic::write_bytes(&html_path, page.as_bytes())
+        .map_err(|e| Error::io(&html_path, e))?;
+    summary.files.push(html_path);
+    Ok(summary)
 }
 
 /// Writes the report of `cal` judged on `logs` (each with the path it was read from) into
@@ -371,35 +537,6 @@ pub fn write(
     let mut reports = Vec::new();
     let mut any_allan = false;
     for (i, ((path, log), sha)) in logs.iter().zip(&hashes).enumerate() {
-        let name = file_name(path);
-        let stem = unique_stem(path, &mut taken);
-        let label = if in_sample[i] {
-            "in-sample"
-        } else {
-            "held out"
-        };
-        let correction = cal.correct(log);
-        let evaluation = Evaluation::of_correction(log, &correction, &merit);
-        let mut log_figures = Vec::new();
-
-        // Temperature program.
-        let mut temps = vec![TimeSeries {
-            label: "calibration temperature T",
-            values: &log.temp_c,
-            width: 3,
-            faint: false,
-        }];
-        for ch in &log.extra {
-            let u = ch.unit.to_lowercase();
-            if ch.name.to_lowercase().contains("temp") || u.contains("°c") || u == "degc" {
-                temps.push(TimeSeries {
-                    label: &ch.name,
-                    values: &ch.values,
-                    width: 2,
-                    faint: false,
-                });
-            }
-        }
         let plateaus: Vec<(f64, f64)> = if in_sample[i] {
             cal.plateaus
                 .iter()
@@ -408,127 +545,24 @@ pub fn write(
         } else {
             Vec::new()
         };
-        let f = figures::temperature_program(
-            &out_dir.join(format!("temperature-{stem}")),
-            &format!("Temperature program: {name} ({label})"),
-            &log.time_s,
-            &temps,
-            &plateaus,
-        )?;
-        files.extend(f.iter().cloned());
-        log_figures.push(figure(
-            format!("Temperature program, {name}"),
-            if plateaus.is_empty() {
-                "The calibration temperature and every other temperature column of the log.".into()
-            } else {
-                "The calibration temperature and every other temperature column of the log; \
-                 shaded: the plateaus K0 was taken from."
-                    .into()
-            },
-            f,
-        ));
-        drop(temps);
-
-        // Drift.
-        let dt = log.nominal_dt_s();
-        let window = signal::seconds_to_samples(merit.filter_s, dt);
-        let raw_f = signal::moving_average_centered(&log.omega_dph, window);
-        let cor_f = signal::moving_average_centered(&correction.cor_dph, window);
-        let filter_label = format!("raw, {:.0}-s moving average", merit.filter_s);
-        let cor_label = format!("corrected, {:.0}-s moving average", merit.filter_s);
-        let series = [
-            TimeSeries {
-                label: "raw rate (every sample)",
-                values: &log.omega_dph,
-                width: 1,
-                faint: true,
-            },
-            TimeSeries {
-                label: &filter_label,
-                values: &raw_f,
-                width: 2,
-                faint: false,
-            },
-            TimeSeries {
-                label: "predicted thermal drift",
-                values: &correction.pred_dph,
-                width: 2,
-                faint: false,
-            },
-            TimeSeries {
-                label: &cor_label,
-                values: &cor_f,
-                width: 2,
-                faint: false,
-            },
-        ];
-        let f = figures::drift(
-            &out_dir.join(format!("drift-{stem}")),
-            &format!("Drift before and after correction: {name} ({label})"),
-            &log.time_s,
-            &series,
-        )?;
-        files.extend(f.iter().cloned());
-        let c = &evaluation.comparison;
-        log_figures.push(figure(
-            format!("Drift, {name}"),
-            format!(
-                "Raw rate (grey, every sample as min/max per pixel column), its {:.0}-s moving \
-                 average, the drift the calibration predicts, and the corrected rate filtered the \
-                 same way. Peak-to-peak of the filtered drift {:.4} → {:.4} °/h.",
-                merit.filter_s, c.raw.p2p_dph, c.corrected.p2p_dph
-            ),
-            f,
-        ));
-        drop((raw_f, cor_f));
-
-        // Allan deviation.
-        let curves = match &opts.allan {
-            Some(given) => given.get(i).cloned().flatten(),
-            None => allan_curves(log, &correction),
-        };
-        if let Some(curves) = curves.filter(|c| !c.is_empty()) {
-            any_allan = true;
-            let lines: Vec<AllanLine> = curves
-                .iter()
-                .map(|c| AllanLine {
-                    label: &c.label,
-                    tau_s: &c.tau_s,
-                    adev_dph: &c.adev_dph,
-                })
-                .collect();
-            let f = figures::allan(
-                &out_dir.join(format!("allan-{stem}")),
-                &format!("Allan deviation before and after correction: {name} ({label})"),
-                &lines,
-            )?;
-            files.extend(f.iter().cloned());
-            log_figures.push(figure(
-                format!("Allan deviation, {name}"),
-                "Allan deviation of the rate before and after correction, log-log.".into(),
-                f,
-            ));
-        }
-
-        let (t_lo, t_hi) = min_max(&log.temp_c);
-        reports.push(LogReport {
-            name,
-            path: path.clone(),
-            sha256: sha.clone(),
+        let section = LogSection {
+            path,
+            log,
+            sha,
             in_sample: in_sample[i],
-            evaluation,
-            samples: log.len(),
-            duration_s: log.duration_s(),
-            temp_range_c: (t_lo, t_hi),
-            figures: log_figures,
-        });
+            correction: cal.correct(log),
+            plateaus: &plateaus,
+            allan: opts
+                .allan
+                .as_ref()
+                .map(|given| given.get(i).cloned().flatten()),
+        };
+        let (report, drew_allan) = log_report(out_dir, section, &merit, &mut taken, &mut files)?;
+        any_allan |= drew_allan;
+        reports.push(report);
     }
     if !any_allan && !logs.is_empty() {
-        notes.push(
-            "Allan deviation: not computed in this build (the report's Allan hook returned no \
-             curves)."
-                .into(),
-        );
+        notes.push(ALLAN_NOTE.into());
     }
 
     let html_path = out_dir.join("report.html");
@@ -545,4 +579,182 @@ pub fn write(
         .map_err(|e| Error::io(&html_path, e))?;
     summary.files.push(html_path);
     Ok(summary)
+}
+
+/// One log to judge, with its correction.
+struct LogSection<'a> {
+    path: &'a Path,
+    log: &'a Log,
+    sha: &'a str,
+    in_sample: bool,
+    correction: Correction,
+    /// Plateaus to shade in its temperature program, (start, end) s.
+    plateaus: &'a [(f64, f64)],
+    /// Allan curves given by the caller (`None`: computed here).
+    allan: Option<Option<AllanCurves>>,
+}
+
+const ALLAN_NOTE: &str = "Allan deviation: not computed in this build (the report's Allan hook \
+                          returned no curves).";
+
+/// The figures and figures of merit of one log (any model's correction); the files drawn go
+/// to `files`. Also says whether an Allan figure was drawn.
+fn log_report(
+    out_dir: &Path,
+    section: LogSection<'_>,
+    merit: &MeritOptions,
+    taken: &mut Vec<String>,
+    files: &mut Vec<PathBuf>,
+) -> Result<(LogReport, bool)> {
+    let LogSection {
+        path,
+        log,
+        sha,
+        in_sample,
+        correction,
+        plateaus,
+        allan,
+    } = section;
+    let mut drew_allan = false;
+    let name = file_name(path);
+    let stem = unique_stem(path, taken);
+    let label = if in_sample { "in-sample" } else { "held out" };
+    let evaluation = Evaluation::of_correction(log, &correction, merit);
+    let mut log_figures = Vec::new();
+
+    // Temperature program.
+    let mut temps = vec![TimeSeries {
+        label: "calibration temperature T",
+        values: &log.temp_c,
+        width: 3,
+        faint: false,
+    }];
+    for ch in &log.extra {
+        let u = ch.unit.to_lowercase();
+        if ch.name.to_lowercase().contains("temp") || u.contains("°c") || u == "degc" {
+            temps.push(TimeSeries {
+                label: &ch.name,
+                values: &ch.values,
+                width: 2,
+                faint: false,
+            });
+        }
+    }
+    let f = figures::temperature_program(
+        &out_dir.join(format!("temperature-{stem}")),
+        &format!("Temperature program: {name} ({label})"),
+        &log.time_s,
+        &temps,
+        plateaus,
+    )?;
+    files.extend(f.iter().cloned());
+    log_figures.push(figure(
+        format!("Temperature program, {name}"),
+        if plateaus.is_empty() {
+            "The calibration temperature and every other temperature column of the log.".into()
+        } else {
+            "The calibration temperature and every other temperature column of the log; \
+             shaded: the plateaus K0 was taken from."
+                .into()
+        },
+        f,
+    ));
+    drop(temps);
+
+    // Drift.
+    let dt = log.nominal_dt_s();
+    let window = signal::seconds_to_samples(merit.filter_s, dt);
+    let raw_f = signal::moving_average_centered(&log.omega_dph, window);
+    let cor_f = signal::moving_average_centered(&correction.cor_dph, window);
+    let filter_label = format!("raw, {:.0}-s moving average", merit.filter_s);
+    let cor_label = format!("corrected, {:.0}-s moving average", merit.filter_s);
+    let series = [
+        TimeSeries {
+            label: "raw rate (every sample)",
+            values: &log.omega_dph,
+            width: 1,
+            faint: true,
+        },
+        TimeSeries {
+            label: &filter_label,
+            values: &raw_f,
+            width: 2,
+            faint: false,
+        },
+        TimeSeries {
+            label: "predicted thermal drift",
+            values: &correction.pred_dph,
+            width: 2,
+            faint: false,
+        },
+        TimeSeries {
+            label: &cor_label,
+            values: &cor_f,
+            width: 2,
+            faint: false,
+        },
+    ];
+    let f = figures::drift(
+        &out_dir.join(format!("drift-{stem}")),
+        &format!("Drift before and after correction: {name} ({label})"),
+        &log.time_s,
+        &series,
+    )?;
+    files.extend(f.iter().cloned());
+    let c = &evaluation.comparison;
+    log_figures.push(figure(
+        format!("Drift, {name}"),
+        format!(
+            "Raw rate (grey, every sample as min/max per pixel column), its {:.0}-s moving \
+             average, the drift the calibration predicts, and the corrected rate filtered the \
+             same way. Peak-to-peak of the filtered drift {:.4} → {:.4} °/h.",
+            merit.filter_s, c.raw.p2p_dph, c.corrected.p2p_dph
+        ),
+        f,
+    ));
+    drop((raw_f, cor_f));
+
+    // Allan deviation.
+    let curves = match allan {
+        Some(given) => given,
+        None => allan_curves(log, &correction),
+    };
+    if let Some(curves) = curves.filter(|c| !c.is_empty()) {
+        drew_allan = true;
+        let lines: Vec<AllanLine> = curves
+            .iter()
+            .map(|c| AllanLine {
+                label: &c.label,
+                tau_s: &c.tau_s,
+                adev_dph: &c.adev_dph,
+            })
+            .collect();
+        let f = figures::allan(
+            &out_dir.join(format!("allan-{stem}")),
+            &format!("Allan deviation before and after correction: {name} ({label})"),
+            &lines,
+        )?;
+        files.extend(f.iter().cloned());
+        log_figures.push(figure(
+            format!("Allan deviation, {name}"),
+            "Allan deviation of the rate before and after correction, log-log.".into(),
+            f,
+        ));
+    }
+
+    let (t_lo, t_hi) = min_max(&log.temp_c);
+    Ok((
+        LogReport {
+            name,
+            path: path.to_path_buf(),
+            sha256: sha.to_string(),
+            in_sample,
+            evaluation,
+            samples: log.len(),
+            duration_s: log.duration_s(),
+            temp_range_c: (t_lo, t_hi),
+            figures: log_figures,
+        },
+        drew_allan,
+    ))
 }
