@@ -926,7 +926,10 @@ fn c_header_corrects_as_driftlab_for_a_custom_model_with_every_feature() {
         bands: 3,
         max_s: 600.0,
     };
-    spec.lag = LagSpec::Fixed { seconds: 300.0 };
+    spec.lag = LagSpec::Fixed {
+        seconds: 300.0,
+        per_c: 0.01,
+    };
     let mut model =
         drift_model::fit(&cal_log, &ModelChoice::Custom(spec), &Recipe::default()).unwrap();
     if let DriftModel::Regression(r) = &mut model {
@@ -1016,7 +1019,10 @@ fn c_header_corrects_as_driftlab_with_one_delay_a_lag_and_a_fixed_lambda() {
         parse_terms("1,T,T^3,Tdot,T*Tdot,selfheat,ch^2:temp_chamber_c").unwrap(),
     );
     spec.delay = DelaySpec::Fixed { seconds: 250.5 };
-    spec.lag = LagSpec::Fixed { seconds: 120.0 };
+    spec.lag = LagSpec::Fixed {
+        seconds: 120.0,
+        per_c: 0.0,
+    };
     spec.lambda = driftlab::regression::LambdaSpec::Fixed { seconds: 1200.0 };
     let model = drift_model::fit(&cal_log, &ModelChoice::Custom(spec), &Recipe::default()).unwrap();
     if let DriftModel::Regression(r) = &model {

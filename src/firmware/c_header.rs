@@ -899,10 +899,20 @@ fn regression_constants(h: &mut String, m: &RegressionModel) -> Result<(), Expor
     };
     h.push_str(&format!(
         "\n/* First-order lag of T, dy/dt = (T - y)/tau, stepped as y += alpha*(T - y) with\n   \
-         alpha = 1 - exp(-dt/tau) computed by driftlab; tau = {tau} s. */\n\
-         #define DRIFTLAB_HAS_LAG {}\n#define DRIFTLAB_LAG_ALPHA {}\n",
+         alpha = 1 - exp(-dt/tau). With DRIFTLAB_LAG_PER_C = 0, tau = {tau} s and alpha is\n   \
+         computed by driftlab; otherwise tau = DRIFTLAB_LAG_TAU_S / max(1 + DRIFTLAB_LAG_PER_C\n   \
+         * (T - DRIFTLAB_LAG_REF_C), 0.2) at each sample's T (the coil follows faster when\n   \
+         warm) and alpha needs libm's exp. */\n\
+         #define DRIFTLAB_HAS_LAG {}\n#define DRIFTLAB_LAG_ALPHA {}\n\
+         #define DRIFTLAB_LAG_TAU_S {tau}\n#define DRIFTLAB_LAG_PER_C {}\n\
+         #define DRIFTLAB_LAG_REF_C {}\n",
         u8::from(has_lag),
         number(alpha, "the lag's alpha")?,
+        number(m.lag_per_c, "the lag's slope")?,
+        number(
+            crate::regression::LAG_REF_C,
+            "the lag's reference temperature"
+        )?,
         tau = number(tau, "the lag")?,
     ));
     let r = &m.ranges;
@@ -1110,7 +1120,17 @@ static inline int driftlab_check(double *v, const double range[2], int hold)
              outside |= driftlab_check(&ch[k], driftlab_range_channels[k], 1);\n    }\n",
         );
     }
-    let lag = if m.lag_s.is_some_and(|l| l > 0.0) {
+    let lag = if m.lag_s.is_some_and(|l| l > 0.0) && m.lag_per_c != 0.0 {
+        // As regression::Lag::push with a slope: τ at this sample's T, then α.
+        "    /* T as the model reads it: through the lag, whose tau depends on T. */\n    \
+         if (st->lag_started && isfinite(st->lag_y)) {\n        \
+         double d = 1.0 + DRIFTLAB_LAG_PER_C * (temp_c - DRIFTLAB_LAG_REF_C);\n        \
+         double alpha;\n        \
+         if (!(d >= 0.2)) {\n            d = 0.2;\n        }\n        \
+         alpha = 1.0 - exp(-DRIFTLAB_DT_S / (DRIFTLAB_LAG_TAU_S / d));\n        \
+         temp_c = st->lag_y + alpha * (temp_c - st->lag_y);\n    }\n    \
+         st->lag_y = temp_c;\n    st->lag_started = 1;\n"
+    } else if m.lag_s.is_some_and(|l| l > 0.0) {
         "    /* T as the model reads it: through the lag. */\n    \
          if (st->lag_started && isfinite(st->lag_y)) {\n        \
          temp_c = st->lag_y + DRIFTLAB_LAG_ALPHA * (temp_c - st->lag_y);\n    }\n    \

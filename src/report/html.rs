@@ -584,6 +584,11 @@ pub fn regression_page(cal: &RegressionCalibration, s: &ReportSummary) -> Result
         &mut o,
         "lag of T",
         &match m.lag_s {
+            Some(l) if m.lag_per_c != 0.0 => format!(
+                "first-order, τ = {} s at 20 °C, τ/(1 + {}·(T − 20 °C)) elsewhere",
+                fmt_num(l),
+                fmt_num(m.lag_per_c)
+            ),
             Some(l) => format!("first-order, τ = {} s", fmt_num(l)),
             None => "none (T as measured)".into(),
         },
