@@ -456,7 +456,10 @@ fn regression_model(terms: &str, searches: bool) -> DriftModel {
             bands: 2,
             max_s: 900.0,
         };
-        spec.lag = LagSpec::Search { max_s: 1800.0 };
+        spec.lag = LagSpec::Search {
+            max_s: 1800.0,
+            with_temperature: false,
+        };
     }
     let recipe = Recipe {
         gyro_id: "RLG-REPORT-3".into(),
