@@ -21,7 +21,7 @@
 use crate::approx::{Approx, ApproxSpec};
 use crate::log::Log;
 use crate::metrics::{Comparison, Evaluation, Figures, MeritOptions};
-use crate::model::{self, Calibration, PointSet, Prepared, Regime, SetColumns};
+use crate::model::{self, Calibration, PointSet, Prepared, Regime, SetInputs, SetSamples};
 use crate::plateau::{PlateauRange, PlateauStats};
 use crate::recipe::{Recipe, Weighting};
 use crate::session::{Coefficient, KnotEdits};
@@ -205,7 +205,9 @@ pub struct Pipeline {
     /// Scratch prefix sums of the display average.
     prefix: Vec<f64>,
     /// The per-set samples the pointwise K1/K2 are made from.
-    points: Option<PointsCache>,
+    samples: Option<SamplesCache>,
+    /// `Ω_f − K0(T)` over the calibration log.
+    rest: Option<RestCache>,
 }
 
 /// What a correction of the calibration log was made with.
@@ -245,11 +247,17 @@ struct EvalCache {
     filtered: Arc<Vec<f64>>,
 }
 
-/// Per-set sample columns, kept while the plateaus and K0 stay.
-struct PointsCache {
+/// Per-set sample indices, kept while the plateaus (and so the derivatives) stay.
+struct SamplesCache {
     plateaus: PlateauKey,
+    sets: Arc<[SetSamples; 2]>,
+}
+
+/// `Ω_f − K0(T)`, kept while the filtered Ω and K0 stay.
+struct RestCache {
+    prepared: usize,
     k0: Approx,
-    sets: Arc<[SetColumns; 2]>,
+    rest: Arc<Vec<f64>>,
 }
 
 fn ms(t: Instant) -> f64 {
@@ -375,28 +383,25 @@ impl Pipeline {
         let todo: Vec<usize> = (0..2)
             .filter(|&s| self.sets[s].as_ref().is_none_or(|(k, _)| *k != keys[s]))
             .collect();
-        let needs_columns = !todo.is_empty() || !req.knots.is_empty();
-        let columns = match &self.points {
-            Some(c) if c.plateaus == pkey && c.k0 == k0 => Some(c.sets.clone()),
-            _ if needs_columns => {
-                let sets = Arc::new(model::set_columns(log, &prepared, &mask, &k0, deadbands));
-                self.points = Some(PointsCache {
-                    plateaus: pkey.clone(),
-                    k0: k0.clone(),
-                    sets: sets.clone(),
-                });
-                Some(sets)
-            }
-            _ => None,
+        let inputs = if !todo.is_empty() || !req.knots.is_empty() {
+            Some(self.set_inputs(&pkey, &prepared, &mask, deadbands, &k0, &log.temp_c))
+        } else {
+            None
         };
-        let fitted: Vec<(usize, SetFit)> = match &columns {
-            Some(columns) => todo
-                .par_iter()
-                .map(|&s| {
-                    let regime = if s == 0 { Regime::Plus } else { Regime::Minus };
-                    (s, fit_set(&columns[s], regime, recipe))
-                })
-                .collect(),
+        let fitted: Vec<(usize, SetFit)> = match &inputs {
+            Some((samples, rest)) => {
+                let inputs = SetInputs {
+                    tdot: &prepared.deriv.tdot,
+                    tddot: &prepared.deriv.tddot,
+                    rest,
+                };
+                todo.par_iter()
+                    .map(|&s| {
+                        let regime = if s == 0 { Regime::Plus } else { Regime::Minus };
+                        (s, fit_set(&samples[s], inputs, regime, recipe))
+                    })
+                    .collect()
+            }
             None => Vec::new(),
         };
         for (s, fit) in fitted {
@@ -407,8 +412,15 @@ impl Pipeline {
         }
         let t = Instant::now();
         let edited = |s: usize, regime: Regime| {
-            self.sets[s].as_ref().map(|(_, fit)| match &columns {
-                Some(columns) => apply_knot_edits(fit, &columns[s], regime, recipe, &req.knots),
+            self.sets[s].as_ref().map(|(_, fit)| match &inputs {
+                Some((samples, rest)) => {
+                    let inputs = SetInputs {
+                        tdot: &prepared.deriv.tdot,
+                        tddot: &prepared.deriv.tddot,
+                        rest,
+                    };
+                    apply_knot_edits(fit, &samples[s], inputs, regime, recipe, &req.knots)
+                }
                 None => fit.clone(),
             })
         };
@@ -492,6 +504,42 @@ impl Pipeline {
             held_out,
             timings,
         })
+    }
+
+    /// The sets' samples and `Ω_f − K0(T)`, kept while their inputs stay.
+    fn set_inputs(
+        &mut self,
+        pkey: &PlateauKey,
+        prepared: &Arc<Prepared>,
+        mask: &[bool],
+        deadbands: (f64, f64),
+        k0: &Approx,
+        temp_c: &[f64],
+    ) -> (Arc<[SetSamples; 2]>, Arc<Vec<f64>>) {
+        let samples = match &self.samples {
+            Some(c) if c.plateaus == *pkey => c.sets.clone(),
+            _ => {
+                let sets = Arc::new(model::set_samples(&prepared.deriv, mask, deadbands));
+                self.samples = Some(SamplesCache {
+                    plateaus: pkey.clone(),
+                    sets: sets.clone(),
+                });
+                sets
+            }
+        };
+        let rest = match &self.rest {
+            Some(c) if c.prepared == ptr(prepared) && c.k0 == *k0 => c.rest.clone(),
+            _ => {
+                let rest = Arc::new(model::rest_dph(&prepared.omega_filtered_dph, temp_c, k0));
+                self.rest = Some(RestCache {
+                    prepared: ptr(prepared),
+                    k0: k0.clone(),
+                    rest: rest.clone(),
+                });
+                rest
+            }
+        };
+        (samples, rest)
     }
 
     /// Corrects the calibration log; when only one set's approximations changed since the last
@@ -687,8 +735,8 @@ fn evaluation(raw: Figures, corrected: Figures, c: &Corrected) -> Evaluation {
 }
 
 /// K1 and K2 of one set by the engine's per-set fit, with the points shared for display.
-fn fit_set(columns: &SetColumns, regime: Regime, recipe: &Recipe) -> SetFit {
-    let f = model::fit_set(columns, regime, recipe);
+fn fit_set(samples: &SetSamples, inputs: SetInputs, regime: Regime, recipe: &Recipe) -> SetFit {
+    let f = model::fit_set(samples, inputs, regime, recipe, true);
     SetFit {
         k1: f.k1,
         k2: f.k2,
@@ -709,7 +757,8 @@ fn set_names(regime: Regime) -> (Coefficient, Coefficient, &'static str) {
 /// what it leaves (unless K2's knots are set by hand too), then K2's hand-set knots.
 fn apply_knot_edits(
     fit: &SetFit,
-    columns: &SetColumns,
+    samples: &SetSamples,
+    inputs: SetInputs,
     regime: Regime,
     recipe: &Recipe,
     knots: &KnotEdits,
@@ -720,15 +769,12 @@ fn apply_knot_edits(
     if edit1.is_some() {
         out.k1 = with_knots(&fit.k1, edit1);
         if knots.get(c2).is_none() {
-            let p2 = model::k2_points_from(&columns.k2, &out.k1);
             let mut w = Vec::new();
-            out.k2 = model::fit_points(
-                &format!("K2{sign}"),
-                c2.spec(recipe),
-                &p2,
-                recipe.weighting,
-                &mut w,
+            let (k2, p2) = rayon::join(
+                || model::fit_k2(samples, inputs, &out.k1, regime, recipe, &mut w),
+                || model::k2_points_of(samples, inputs, &out.k1),
             );
+            out.k2 = k2;
             out.p2 = Arc::new(p2);
             out.warnings
                 .retain(|m| !m.starts_with(&format!("K2{sign}")));

@@ -15,7 +15,7 @@
 mod fit;
 mod knots;
 
-pub use fit::{fit, fit_weighted};
+pub use fit::{CHUNK, FitOptions, PointSource, XRange, fit, fit_weighted, fit_with, x_range};
 pub use knots::{knot_positions, knot_weights};
 
 use knots::Segments;

@@ -20,7 +20,7 @@ pub struct Args {
 
 pub fn run(a: Args) -> Result<(), String> {
     let cal = calfile::load(&a.calibration).map_err(|e| e.to_string())?;
-    let log = a.log_args.read(&a.log)?;
+    let log = a.log_args.read_columns(&a.log)?;
     let c = cal.correct(&log);
     let bar = common::progress_bar(&format!("writing {}", a.out.display()));
     corrected_csv::write(&a.out, &log, &c.pred_dph, &c.cor_dph, &|f| {

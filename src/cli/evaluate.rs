@@ -27,7 +27,7 @@ pub struct Args {
 
 pub fn run(a: Args) -> Result<(), String> {
     let cal = calfile::load(&a.calibration).map_err(|e| e.to_string())?;
-    let log = a.log_args.read(&a.log)?;
+    let log = a.log_args.read_columns(&a.log)?;
     let opts = MeritOptions {
         filter_s: a.filter.unwrap_or(cal.recipe.filter_s),
         window_s: a.window,
