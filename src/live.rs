@@ -23,7 +23,7 @@ use crate::log::Log;
 use crate::metrics::{Comparison, Evaluation, Figures, MeritOptions};
 use crate::model::{self, Calibration, PointSet, Prepared, Regime, SetInputs, SetSamples};
 use crate::plateau::{PlateauRange, PlateauStats};
-use crate::recipe::{Recipe, Weighting};
+use crate::recipe::{PlateauChoice, Recipe, Weighting};
 use crate::session::{Coefficient, KnotEdits};
 use crate::signal::{self, DerivativeSteps, Derivatives};
 use rayon::prelude::*;
@@ -208,6 +208,10 @@ pub struct Pipeline {
     samples: Option<SamplesCache>,
     /// `Ω_f − K0(T)` over the calibration log.
     rest: Option<RestCache>,
+    /// `K0(T) + K1(Ṫ)·Ṫ` per sample, for patching a correction when only K2 changes.
+    base: Option<BaseTerms>,
+    /// The plateau ranges of the last run, with the signals and plateau choice they came from.
+    ranges: Option<(usize, PlateauChoice, Vec<PlateauRange>)>,
 }
 
 /// What a correction of the calibration log was made with.
@@ -226,10 +230,59 @@ impl CorrectionKey {
         self.log == other.log && self.prepared == other.prepared && self.k0 == other.k0
     }
 
-    /// The sets whose approximations differ.
-    fn changed(&self, other: &CorrectionKey) -> [bool; 2] {
-        [self.sets[0] != other.sets[0], self.sets[1] != other.sets[1]]
+    /// The sets whose approximations differ, and of those, the ones whose x-ranges differ
+    /// too (only then can a sample's "outside the calibrated ranges" change).
+    fn changed(&self, other: &CorrectionKey) -> Changed {
+        let ranges = |a: &Approx| (a.x_min(), a.x_max());
+        let differ = |s: usize| self.sets[s] != other.sets[s];
+        let moved = |s: usize| {
+            let ((a1, a2), (b1, b2)) = (&self.sets[s], &other.sets[s]);
+            ranges(a1) != ranges(b1) || ranges(a2) != ranges(b2)
+        };
+        Changed {
+            sets: [differ(0), differ(1)],
+            ranges: [differ(0) && moved(0), differ(1) && moved(1)],
+        }
     }
+}
+
+/// `K0(T) + K1(Ṫ)·Ṫ` of the samples of each set: the part of their prediction that stays while
+/// only the set's K2 changes (a K2 knot dragged), so that a patch evaluates K2 alone.
+#[derive(Default)]
+struct BaseTerms {
+    log: usize,
+    prepared: usize,
+    k0: Option<Approx>,
+    /// The K1 each set's values were made with (`None`: not made yet).
+    k1: [Option<Approx>; 2],
+    values: Vec<f64>,
+}
+
+impl BaseTerms {
+    /// Made ready for a log, its signals and K0 (forgetting values made with others).
+    fn ready_for(&mut self, log: usize, prepared: usize, k0: &Approx, n: usize) {
+        if self.log != log
+            || self.prepared != prepared
+            || self.k0.as_ref() != Some(k0)
+            || self.values.len() != n
+        {
+            self.log = log;
+            self.prepared = prepared;
+            self.k0 = Some(k0.clone());
+            self.k1 = [None, None];
+            self.values.clear();
+            self.values.resize(n, 0.0);
+        }
+    }
+}
+
+/// Which sets of a correction must be recomputed.
+#[derive(Debug, Clone, Copy)]
+struct Changed {
+    /// The set's approximations changed.
+    sets: [bool; 2],
+    /// Their x-ranges changed too.
+    ranges: [bool; 2],
 }
 
 /// A correction of the calibration log and what it was made with.
@@ -336,7 +389,7 @@ impl Pipeline {
         }
 
         let t = Instant::now();
-        let ranges = model::plateau_ranges(log, &prepared, recipe);
+        let ranges = self.plateau_ranges(log, &prepared, recipe);
         let pkey = PlateauKey {
             prepared: ptr(&prepared),
             ranges: ranges.clone(),
@@ -506,6 +559,25 @@ impl Pipeline {
         })
     }
 
+    /// The plateau ranges the recipe asks for (the detector walks the whole log), kept while
+    /// the signals and the plateau choice stay.
+    fn plateau_ranges(
+        &mut self,
+        log: &Log,
+        prepared: &Arc<Prepared>,
+        recipe: &Recipe,
+    ) -> Vec<PlateauRange> {
+        if let Some((p, choice, ranges)) = &self.ranges
+            && *p == ptr(prepared)
+            && *choice == recipe.plateaus
+        {
+            return ranges.clone();
+        }
+        let ranges = model::plateau_ranges(log, prepared, recipe);
+        self.ranges = Some((ptr(prepared), recipe.plateaus.clone(), ranges.clone()));
+        ranges
+    }
+
     /// The sets' samples and `Ω_f − K0(T)`, kept while their inputs stay.
     fn set_inputs(
         &mut self,
@@ -567,6 +639,8 @@ impl Pipeline {
         }
         self.correction_generation += 1;
         let deriv = &prepared.deriv;
+        let terms = self.base.get_or_insert_with(BaseTerms::default);
+        terms.ready_for(ptr(log), ptr(prepared), &cal.k0, log.len());
         let mut bufs = std::mem::take(&mut self.corrections);
         // A buffer nobody else holds, preferably one that only needs patching.
         let free = bufs
@@ -584,10 +658,10 @@ impl Pipeline {
                 };
                 let base = bufs.first().filter(|cur| cur.key.patchable_to(&key));
                 if b.key.patchable_to(&key) {
-                    patch(cal, log, deriv, c, b.key.changed(&key));
+                    patch(cal, log, deriv, c, b.key.changed(&key), terms);
                 } else if let Some(cur) = base {
                     copy_correction(c, &cur.corrected);
-                    patch(cal, log, deriv, c, cur.key.changed(&key));
+                    patch(cal, log, deriv, c, cur.key.changed(&key), terms);
                 } else {
                     cal.correct_into(log, deriv, c);
                 }
@@ -598,7 +672,7 @@ impl Pipeline {
                 let corrected = match bufs.first().filter(|cur| cur.key.patchable_to(&key)) {
                     Some(cur) => {
                         let mut c = Corrected::clone(&cur.corrected);
-                        patch(cal, log, deriv, &mut c, cur.key.changed(&key));
+                        patch(cal, log, deriv, &mut c, cur.key.changed(&key), terms);
                         c
                     }
                     None => cal.correct_with(log, deriv),
@@ -796,19 +870,44 @@ fn copy_correction(dst: &mut Corrected, src: &Corrected) {
 }
 
 /// Recomputes in place the samples of the `changed` sets of a correction made with the same
-/// log, derivatives and K0 (the regime of a sample depends on its derivatives only).
-fn patch(cal: &Calibration, log: &Log, deriv: &Derivatives, c: &mut Corrected, changed: [bool; 2]) {
+/// log, derivatives and K0 (the regime of a sample depends on its derivatives only). A sample's
+/// prediction is [`Calibration::predict`]'s, term for term; its "outside" flag is recounted
+/// only where the set's ranges moved.
+fn patch(
+    cal: &Calibration,
+    log: &Log,
+    deriv: &Derivatives,
+    c: &mut Corrected,
+    changed: Changed,
+    base: &mut BaseTerms,
+) {
+    let Changed {
+        sets: changed,
+        ranges: recount,
+    } = changed;
     if !changed.contains(&true) {
         return;
     }
+    let approx = [
+        (&cal.k1_plus, &cal.k2_plus, Regime::Plus),
+        (&cal.k1_minus, &cal.k2_minus, Regime::Minus),
+    ];
+    if base.values.len() != c.pred_dph.len() {
+        base.k1 = [None, None];
+        base.values.clear();
+        base.values.resize(c.pred_dph.len(), 0.0);
+    }
+    // Whether a set's kept K0 + K1 terms are those of this calibration.
+    let kept = [0, 1].map(|s| base.k1[s].as_ref() == Some(approx[s].0));
     const CHUNK: usize = 1 << 15;
     let counts = c
         .pred_dph
         .par_chunks_mut(CHUNK)
         .zip(c.cor_dph.par_chunks_mut(CHUNK))
         .zip(c.regime.par_chunks(CHUNK))
+        .zip(base.values.par_chunks_mut(CHUNK))
         .enumerate()
-        .map(|(ci, ((p, q), r))| {
+        .map(|(ci, (((p, q), r), b))| {
             let base = ci * CHUNK;
             let mut out = [0usize; 3];
             for k in 0..p.len() {
@@ -822,16 +921,28 @@ fn patch(cal: &Calibration, log: &Log, deriv: &Derivatives, c: &mut Corrected, c
                 }
                 let i = base + k;
                 let (t, td, tdd) = (log.temp_c[i], deriv.tdot[i], deriv.tddot[i]);
-                let (pred, regime) = cal.predict(t, td, tdd);
+                let (k1, k2, regime) = approx[s];
+                // `predict`'s sum, (K0 + K1·Ṫ) + K2·T̈, with the first part kept.
+                if !kept[s] {
+                    b[k] = cal.k0.eval(t) + k1.eval(td) * td;
+                }
+                let pred = b[k] + k2.eval(tdd) * tdd;
                 p[k] = pred;
                 q[k] = log.omega_dph[i] - pred;
-                out[s + 1] += usize::from(cal.is_outside(t, td, tdd, regime));
+                if recount[s] {
+                    out[s + 1] += usize::from(cal.is_outside(t, td, tdd, regime));
+                }
             }
             out
         })
         .reduce(|| [0; 3], |a, b| [a[0] + b[0], a[1] + b[1], a[2] + b[2]]);
     for s in 0..2 {
         if changed[s] {
+            base.k1[s] = Some(approx[s].0.clone());
+        }
+    }
+    for s in 0..2 {
+        if recount[s] {
             c.outside_by_regime[s + 1] = counts[s + 1];
         }
     }
@@ -869,10 +980,29 @@ fn moving_average_centered_into(
     }
     const CHUNK: usize = 1 << 15;
     let prefix = &prefix[..];
+    // Samples whose whole window lies inside the log: the divisor is the window itself.
+    let (full_lo, full_hi) = (back, n.saturating_sub(ahead));
+    let w = window as f64;
     out.par_chunks_mut(CHUNK).enumerate().for_each(|(c, o)| {
         let base = c * CHUNK;
+        let (a, b) = (
+            full_lo.clamp(base, base + o.len()),
+            full_hi.clamp(base, base + o.len()),
+        );
+        if a < b {
+            let (lo_p, hi_p) = (
+                &prefix[a - back..b - back],
+                &prefix[a + ahead + 1..b + ahead + 1],
+            );
+            for ((v, &h), &l) in o[a - base..b - base].iter_mut().zip(hi_p).zip(lo_p) {
+                *v = origin + (h - l) / w;
+            }
+        }
         for (k, v) in o.iter_mut().enumerate() {
             let i = base + k;
+            if a < b && (a..b).contains(&i) {
+                continue;
+            }
             let lo = i.saturating_sub(back);
             let hi = (i + ahead).min(n - 1);
             *v = origin + (prefix[hi + 1] - prefix[lo]) / (hi + 1 - lo) as f64;

@@ -790,24 +790,41 @@ fn collect_points<S: PointSource>(src: &S) -> (PointSet, Vec<f64>) {
 
 /// The pointwise K1 of a set ([`k1_points`]), from its samples.
 pub fn k1_points_of(samples: &SetSamples, inputs: SetInputs, k2: Option<&Approx>) -> PointSet {
-    let src = K1Source {
-        idx: &samples.k1,
-        inputs,
-        k2,
-        drift: false,
-    };
-    collect_points(&src).0
+    let SetInputs { tdot, tddot, rest } = inputs;
+    let idx = &samples.k1;
+    let (x, y) = rayon::join(
+        || idx.par_iter().map(|&i| tdot[i as usize]).collect(),
+        || {
+            idx.par_iter()
+                .map(|&i| {
+                    let i = i as usize;
+                    let (td, tdd) = (tdot[i], tddot[i]);
+                    let k2_term = k2.map_or(0.0, |k2| k2.eval(tdd) * tdd);
+                    (rest[i] - k2_term) / td
+                })
+                .collect()
+        },
+    );
+    PointSet { x, y }
 }
 
 /// The pointwise K2 of a set ([`k2_points`]), from its samples.
 pub fn k2_points_of(samples: &SetSamples, inputs: SetInputs, k1: &Approx) -> PointSet {
-    let src = K2Source {
-        idx: &samples.k2,
-        inputs,
-        k1,
-        drift: false,
-    };
-    collect_points(&src).0
+    let SetInputs { tdot, tddot, rest } = inputs;
+    let idx = &samples.k2;
+    let (x, y) = rayon::join(
+        || idx.par_iter().map(|&i| tddot[i as usize]).collect(),
+        || {
+            idx.par_iter()
+                .map(|&i| {
+                    let i = i as usize;
+                    let (td, tdd) = (tdot[i], tddot[i]);
+                    (rest[i] - k1.eval(td) * td) / tdd
+                })
+                .collect()
+        },
+    );
+    PointSet { x, y }
 }
 
 /// [`fit_or_fallback_weighted`] over a point source: the fit streams over the points, which are

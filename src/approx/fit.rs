@@ -267,6 +267,22 @@ fn fit_polynomial<S: PointSource>(n: usize, src: &S, lo: f64, hi: f64) -> (Curve
     type Acc = (usize, [f64; 5], [f64; 3]);
     let part = |from, to| {
         let (mut used, mut su, mut suy) = (0usize, [0.0f64; 5], [0.0f64; 3]);
+        if n <= 2 {
+            // A line needs the sums up to u² and u·y only (the others would go unused).
+            src.visit(from, to, |x, y, w| {
+                if !usable(x, y, w) {
+                    return;
+                }
+                used += 1;
+                let u = (x - c) / s;
+                su[0] += w;
+                su[1] += w * u;
+                su[2] += w * (u * u);
+                suy[0] += w * y;
+                suy[1] += w * u * y;
+            });
+            return (used, su, suy);
+        }
         src.visit(from, to, |x, y, w| {
             if !usable(x, y, w) {
                 return;
