@@ -606,6 +606,7 @@ pub struct SetInputs<'a> {
 
 /// The samples of both sets (+, −), as [`k1_points`] and [`k2_points`] select them; they depend
 /// on the derivatives, the plateaus and the dead-bands only.
+#[allow(clippy::needless_range_loop)] // one index walks three parallel columns
 pub fn set_samples(deriv: &Derivatives, mask: &[bool], (db1, db2): (f64, f64)) -> [SetSamples; 2] {
     let n = deriv.tdot.len().min(deriv.tddot.len()).min(mask.len());
     let from = deriv.ready_from.min(n);
@@ -628,10 +629,11 @@ pub fn set_samples(deriv: &Derivatives, mask: &[bool], (db1, db2): (f64, f64)) -
                     Regime::Static => continue,
                 };
                 // The engine's tests, negated as written there (a NaN rate passes them).
-                if !(td.abs() <= db1) {
+                let (skip1, skip2) = (td.abs() <= db1, tdd.abs() <= db2);
+                if !skip1 {
                     out[s][0].push(i as u32);
                 }
-                if !(tdd.abs() <= db2) {
+                if !skip2 {
                     out[s][1].push(i as u32);
                 }
             }
