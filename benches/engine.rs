@@ -606,7 +606,10 @@ fn stages(path: &Path) {
     drop(fit);
     for k in 0..repeat_compute {
         stage(
-            &format!("model::calibrate (lean, as calibrate calls it) (run {})", k + 1),
+            &format!(
+                "model::calibrate (lean, as calibrate calls it) (run {})",
+                k + 1
+            ),
             || model::calibrate(&log, &recipe).expect("calibrate"),
         );
     }
