@@ -9,7 +9,10 @@
 //! * the plateau mask, statistics and dead-bands while the plateaus stay;
 //! * each set (+ and −) of K1/K2 while its inputs (K0, dead-bands, its two approximations,
 //!   its hand-set knots) stay — changing K1+ refits only the + set;
-//! * the raw figures of merit and the validation log's derivatives while they stay.
+//! * the raw figures of merit and the validation log's derivatives while they stay;
+//! * the plateau ranges while the signals and the plateau choice stay;
+//! * `Ω_f − K0(T)` while K0 stays, and the sets' sample indices while the plateaus stay;
+//! * `K0(T) + K1(Ṫ)·Ṫ` per sample, so that a K2 edit re-evaluates K2 alone.
 //!
 //! Knots set by hand ([`KnotEdits`]) replace the fitted knot values of their approximation;
 //! a hand-edited K1 is followed by a fresh K2 fit on what it leaves (unless K2's knots are
