@@ -2,7 +2,8 @@
 """A plain numpy implementation of `driftlab calibrate` + `driftlab apply` with the default
 recipe, the reference of requirement 2 (BENCHMARKS.md).
 
-    python3 bench/numpy_pipeline.py BIG.csv [--out-dir DIR] [--no-write] [--check CAL.json]
+    python3 bench/numpy_pipeline.py BIG.csv [--io polars|numpy] [--out-dir DIR] [--no-write]
+                                            [--check CAL.json]
 
 It does the steps driftlab does (METHOD.md section 1 and src/model.rs, src/correct.rs,
 src/metrics.rs), vectorised the way a numpy user would write them, not deliberately slow:
@@ -23,6 +24,11 @@ apply      load the JSON, read the log again, derivatives, prediction and correc
            time_s,omega_raw_dph,omega_pred_dph,omega_cor_dph,temp_c with polars.write_csv
            (np.savetxt would take minutes).
 
+`--io` chooses the reading and writing: `polars` (the default above: a "strong numpy" baseline
+whose I/O is compiled and multithreaded) or `numpy`, numpy's own I/O as a plain numpy script
+uses it: `np.loadtxt` to read the three columns and `np.savetxt` (`%.17g`, lossless) to write.
+The compute is the same numpy code in both modes.
+
 Both commands run in this one process, one after the other, each reading the file as the two
 driftlab commands do. Stage timings go to stderr as one JSON object (the compute-only
 comparison of BENCHMARKS.md uses them); `--check CAL.json` compares the fitted coefficients
@@ -36,7 +42,9 @@ import sys
 import time
 
 import numpy as np
-import polars as pl
+
+# Set by --io: "polars" or "numpy".
+IO = "polars"
 
 # The default recipe (src/recipe.rs).
 FILTER_S = 100.0
@@ -68,7 +76,25 @@ class Stage:
 # ---- reading ---------------------------------------------------------------------------------
 
 
+def header_line(path):
+    """0-based index of the header line (the first line that is not a # comment)."""
+    with open(path, "rb") as f:
+        for k, line in enumerate(f):
+            if not line.startswith(b"#"):
+                return k, line.decode().strip().split(",")
+    raise ValueError(f"{path}: no header")
+
+
 def read_log(path):
+    if IO == "numpy":
+        k, names = header_line(path)
+        cols = tuple(names.index(c) for c in ("time_s", "omega_dph", "temp_c"))
+        t, omega, temp = np.loadtxt(
+            path, delimiter=",", skiprows=k + 1, usecols=cols, unpack=True, dtype=np.float64
+        )
+        return t, omega, temp
+    import polars as pl
+
     df = pl.read_csv(
         path,
         comment_prefix="#",
@@ -381,6 +407,18 @@ def apply(cal_json, path, out_csv):
         cor = omega - pred
     if out_csv is not None:
         with Stage("apply.write"):
+            if IO == "numpy":
+                np.savetxt(
+                    out_csv,
+                    np.column_stack((t, omega, pred, cor, temp)),
+                    fmt="%.17g",
+                    delimiter=",",
+                    header="time_s,omega_raw_dph,omega_pred_dph,omega_cor_dph,temp_c",
+                    comments="",
+                )
+                return pred, cor, outside
+            import polars as pl
+
             pl.DataFrame(
                 {
                     "time_s": t,
@@ -415,7 +453,11 @@ def main():
     ap.add_argument("--out-dir", default=None, help="where cal.json and out.csv go (default: a temp dir)")
     ap.add_argument("--no-write", action="store_true", help="skip writing the corrected CSV")
     ap.add_argument("--check", metavar="CAL.json", help="compare with a driftlab calibration")
+    ap.add_argument("--io", choices=("polars", "numpy"), default="polars",
+                    help="read and write with polars (default) or with numpy's loadtxt/savetxt")
     a = ap.parse_args()
+    global IO
+    IO = a.io
     import tempfile
 
     out_dir = a.out_dir or tempfile.mkdtemp(prefix="numpy-pipeline-")
@@ -436,7 +478,8 @@ def main():
         "calibrate.prepare", "calibrate.plateaus_k0", "calibrate.points_fits"))
     info = {
         "numpy": np.__version__,
-        "polars": pl.__version__,
+        "io": IO,
+        "polars": __import__("polars").__version__ if IO == "polars" else None,
         "samples": doc["source"]["samples"],
         "plateaus": doc["plateaus"],
         "points": doc["points"],

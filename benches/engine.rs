@@ -597,13 +597,22 @@ fn stages(path: &Path) {
     for k in 0..repeat_compute {
         drop(fit.take());
         fit = Some(stage(
-            &format!("model::fit (whole, as calibrate calls it) (run {})", k + 1),
+            &format!("model::fit (whole, with the point sets) (run {})", k + 1),
             || model::fit(&log, &recipe).expect("fit"),
         ));
     }
     let fit = fit.expect("at least one fit");
     let cal = fit.calibration.clone();
     drop(fit);
+    for k in 0..repeat_compute {
+        stage(
+            &format!(
+                "model::calibrate (lean, as calibrate calls it) (run {})",
+                k + 1
+            ),
+            || model::calibrate(&log, &recipe).expect("calibrate"),
+        );
+    }
     stage("calfile::sha256_file", || {
         driftlab::calfile::sha256_file(path).expect("sha")
     });

@@ -9,7 +9,10 @@
 //! * the plateau mask, statistics and dead-bands while the plateaus stay;
 //! * each set (+ and −) of K1/K2 while its inputs (K0, dead-bands, its two approximations,
 //!   its hand-set knots) stay — changing K1+ refits only the + set;
-//! * the raw figures of merit and the validation log's derivatives while they stay.
+//! * the raw figures of merit and the validation log's derivatives while they stay;
+//! * the plateau ranges while the signals and the plateau choice stay;
+//! * `Ω_f − K0(T)` while K0 stays, and the sets' sample indices while the plateaus stay;
+//! * `K0(T) + K1(Ṫ)·Ṫ` per sample, so that a K2 edit re-evaluates K2 alone.
 //!
 //! Knots set by hand ([`KnotEdits`]) replace the fitted knot values of their approximation;
 //! a hand-edited K1 is followed by a fresh K2 fit on what it leaves (unless K2's knots are
@@ -21,9 +24,9 @@
 use crate::approx::{Approx, ApproxSpec};
 use crate::log::Log;
 use crate::metrics::{Comparison, Evaluation, Figures, MeritOptions};
-use crate::model::{self, Calibration, PointSet, Prepared, Regime, SetColumns};
+use crate::model::{self, Calibration, PointSet, Prepared, Regime, SetInputs, SetSamples};
 use crate::plateau::{PlateauRange, PlateauStats};
-use crate::recipe::{Recipe, Weighting};
+use crate::recipe::{PlateauChoice, Recipe, Weighting};
 use crate::session::{Coefficient, KnotEdits};
 use crate::signal::{self, DerivativeSteps, Derivatives};
 use rayon::prelude::*;
@@ -205,7 +208,13 @@ pub struct Pipeline {
     /// Scratch prefix sums of the display average.
     prefix: Vec<f64>,
     /// The per-set samples the pointwise K1/K2 are made from.
-    points: Option<PointsCache>,
+    samples: Option<SamplesCache>,
+    /// `Ω_f − K0(T)` over the calibration log.
+    rest: Option<RestCache>,
+    /// `K0(T) + K1(Ṫ)·Ṫ` per sample, for patching a correction when only K2 changes.
+    base: Option<BaseTerms>,
+    /// The plateau ranges of the last run, with the signals and plateau choice they came from.
+    ranges: Option<(usize, PlateauChoice, Vec<PlateauRange>)>,
 }
 
 /// What a correction of the calibration log was made with.
@@ -224,10 +233,59 @@ impl CorrectionKey {
         self.log == other.log && self.prepared == other.prepared && self.k0 == other.k0
     }
 
-    /// The sets whose approximations differ.
-    fn changed(&self, other: &CorrectionKey) -> [bool; 2] {
-        [self.sets[0] != other.sets[0], self.sets[1] != other.sets[1]]
+    /// The sets whose approximations differ, and of those, the ones whose x-ranges differ
+    /// too (only then can a sample's "outside the calibrated ranges" change).
+    fn changed(&self, other: &CorrectionKey) -> Changed {
+        let ranges = |a: &Approx| (a.x_min(), a.x_max());
+        let differ = |s: usize| self.sets[s] != other.sets[s];
+        let moved = |s: usize| {
+            let ((a1, a2), (b1, b2)) = (&self.sets[s], &other.sets[s]);
+            ranges(a1) != ranges(b1) || ranges(a2) != ranges(b2)
+        };
+        Changed {
+            sets: [differ(0), differ(1)],
+            ranges: [differ(0) && moved(0), differ(1) && moved(1)],
+        }
     }
+}
+
+/// `K0(T) + K1(Ṫ)·Ṫ` of the samples of each set: the part of their prediction that stays while
+/// only the set's K2 changes (a K2 knot dragged), so that a patch evaluates K2 alone.
+#[derive(Default)]
+struct BaseTerms {
+    log: usize,
+    prepared: usize,
+    k0: Option<Approx>,
+    /// The K1 each set's values were made with (`None`: not made yet).
+    k1: [Option<Approx>; 2],
+    values: Vec<f64>,
+}
+
+impl BaseTerms {
+    /// Made ready for a log, its signals and K0 (forgetting values made with others).
+    fn ready_for(&mut self, log: usize, prepared: usize, k0: &Approx, n: usize) {
+        if self.log != log
+            || self.prepared != prepared
+            || self.k0.as_ref() != Some(k0)
+            || self.values.len() != n
+        {
+            self.log = log;
+            self.prepared = prepared;
+            self.k0 = Some(k0.clone());
+            self.k1 = [None, None];
+            self.values.clear();
+            self.values.resize(n, 0.0);
+        }
+    }
+}
+
+/// Which sets of a correction must be recomputed.
+#[derive(Debug, Clone, Copy)]
+struct Changed {
+    /// The set's approximations changed.
+    sets: [bool; 2],
+    /// Their x-ranges changed too.
+    ranges: [bool; 2],
 }
 
 /// A correction of the calibration log and what it was made with.
@@ -245,11 +303,17 @@ struct EvalCache {
     filtered: Arc<Vec<f64>>,
 }
 
-/// Per-set sample columns, kept while the plateaus and K0 stay.
-struct PointsCache {
+/// Per-set sample indices, kept while the plateaus (and so the derivatives) stay.
+struct SamplesCache {
     plateaus: PlateauKey,
+    sets: Arc<[SetSamples; 2]>,
+}
+
+/// `Ω_f − K0(T)`, kept while the filtered Ω and K0 stay.
+struct RestCache {
+    prepared: usize,
     k0: Approx,
-    sets: Arc<[SetColumns; 2]>,
+    rest: Arc<Vec<f64>>,
 }
 
 fn ms(t: Instant) -> f64 {
@@ -328,7 +392,7 @@ impl Pipeline {
         }
 
         let t = Instant::now();
-        let ranges = model::plateau_ranges(log, &prepared, recipe);
+        let ranges = self.plateau_ranges(log, &prepared, recipe);
         let pkey = PlateauKey {
             prepared: ptr(&prepared),
             ranges: ranges.clone(),
@@ -375,28 +439,25 @@ impl Pipeline {
         let todo: Vec<usize> = (0..2)
             .filter(|&s| self.sets[s].as_ref().is_none_or(|(k, _)| *k != keys[s]))
             .collect();
-        let needs_columns = !todo.is_empty() || !req.knots.is_empty();
-        let columns = match &self.points {
-            Some(c) if c.plateaus == pkey && c.k0 == k0 => Some(c.sets.clone()),
-            _ if needs_columns => {
-                let sets = Arc::new(model::set_columns(log, &prepared, &mask, &k0, deadbands));
-                self.points = Some(PointsCache {
-                    plateaus: pkey.clone(),
-                    k0: k0.clone(),
-                    sets: sets.clone(),
-                });
-                Some(sets)
-            }
-            _ => None,
+        let inputs = if !todo.is_empty() || !req.knots.is_empty() {
+            Some(self.set_inputs(&pkey, &prepared, &mask, deadbands, &k0, &log.temp_c))
+        } else {
+            None
         };
-        let fitted: Vec<(usize, SetFit)> = match &columns {
-            Some(columns) => todo
-                .par_iter()
-                .map(|&s| {
-                    let regime = if s == 0 { Regime::Plus } else { Regime::Minus };
-                    (s, fit_set(&columns[s], regime, recipe))
-                })
-                .collect(),
+        let fitted: Vec<(usize, SetFit)> = match &inputs {
+            Some((samples, rest)) => {
+                let inputs = SetInputs {
+                    tdot: &prepared.deriv.tdot,
+                    tddot: &prepared.deriv.tddot,
+                    rest,
+                };
+                todo.par_iter()
+                    .map(|&s| {
+                        let regime = if s == 0 { Regime::Plus } else { Regime::Minus };
+                        (s, fit_set(&samples[s], inputs, regime, recipe))
+                    })
+                    .collect()
+            }
             None => Vec::new(),
         };
         for (s, fit) in fitted {
@@ -407,8 +468,15 @@ impl Pipeline {
         }
         let t = Instant::now();
         let edited = |s: usize, regime: Regime| {
-            self.sets[s].as_ref().map(|(_, fit)| match &columns {
-                Some(columns) => apply_knot_edits(fit, &columns[s], regime, recipe, &req.knots),
+            self.sets[s].as_ref().map(|(_, fit)| match &inputs {
+                Some((samples, rest)) => {
+                    let inputs = SetInputs {
+                        tdot: &prepared.deriv.tdot,
+                        tddot: &prepared.deriv.tddot,
+                        rest,
+                    };
+                    apply_knot_edits(fit, &samples[s], inputs, regime, recipe, &req.knots)
+                }
                 None => fit.clone(),
             })
         };
@@ -494,6 +562,61 @@ impl Pipeline {
         })
     }
 
+    /// The plateau ranges the recipe asks for (the detector walks the whole log), kept while
+    /// the signals and the plateau choice stay.
+    fn plateau_ranges(
+        &mut self,
+        log: &Log,
+        prepared: &Arc<Prepared>,
+        recipe: &Recipe,
+    ) -> Vec<PlateauRange> {
+        if let Some((p, choice, ranges)) = &self.ranges
+            && *p == ptr(prepared)
+            && *choice == recipe.plateaus
+        {
+            return ranges.clone();
+        }
+        let ranges = model::plateau_ranges(log, prepared, recipe);
+        self.ranges = Some((ptr(prepared), recipe.plateaus.clone(), ranges.clone()));
+        ranges
+    }
+
+    /// The sets' samples and `Ω_f − K0(T)`, kept while their inputs stay.
+    fn set_inputs(
+        &mut self,
+        pkey: &PlateauKey,
+        prepared: &Arc<Prepared>,
+        mask: &[bool],
+        deadbands: (f64, f64),
+        k0: &Approx,
+        temp_c: &[f64],
+    ) -> (Arc<[SetSamples; 2]>, Arc<Vec<f64>>) {
+        let samples = match &self.samples {
+            Some(c) if c.plateaus == *pkey => c.sets.clone(),
+            _ => {
+                let sets = Arc::new(model::set_samples(&prepared.deriv, mask, deadbands));
+                self.samples = Some(SamplesCache {
+                    plateaus: pkey.clone(),
+                    sets: sets.clone(),
+                });
+                sets
+            }
+        };
+        let rest = match &self.rest {
+            Some(c) if c.prepared == ptr(prepared) && c.k0 == *k0 => c.rest.clone(),
+            _ => {
+                let rest = Arc::new(model::rest_dph(&prepared.omega_filtered_dph, temp_c, k0));
+                self.rest = Some(RestCache {
+                    prepared: ptr(prepared),
+                    k0: k0.clone(),
+                    rest: rest.clone(),
+                });
+                rest
+            }
+        };
+        (samples, rest)
+    }
+
     /// Corrects the calibration log; when only one set's approximations changed since the last
     /// run, only that set's samples are recomputed. The buffers of a correction the UI no
     /// longer holds are reused in place; one it still holds is copied first.
@@ -519,6 +642,8 @@ impl Pipeline {
         }
         self.correction_generation += 1;
         let deriv = &prepared.deriv;
+        let terms = self.base.get_or_insert_with(BaseTerms::default);
+        terms.ready_for(ptr(log), ptr(prepared), &cal.k0, log.len());
         let mut bufs = std::mem::take(&mut self.corrections);
         // A buffer nobody else holds, preferably one that only needs patching.
         let free = bufs
@@ -536,10 +661,10 @@ impl Pipeline {
                 };
                 let base = bufs.first().filter(|cur| cur.key.patchable_to(&key));
                 if b.key.patchable_to(&key) {
-                    patch(cal, log, deriv, c, b.key.changed(&key));
+                    patch(cal, log, deriv, c, b.key.changed(&key), terms);
                 } else if let Some(cur) = base {
                     copy_correction(c, &cur.corrected);
-                    patch(cal, log, deriv, c, cur.key.changed(&key));
+                    patch(cal, log, deriv, c, cur.key.changed(&key), terms);
                 } else {
                     cal.correct_into(log, deriv, c);
                 }
@@ -550,7 +675,7 @@ impl Pipeline {
                 let corrected = match bufs.first().filter(|cur| cur.key.patchable_to(&key)) {
                     Some(cur) => {
                         let mut c = Corrected::clone(&cur.corrected);
-                        patch(cal, log, deriv, &mut c, cur.key.changed(&key));
+                        patch(cal, log, deriv, &mut c, cur.key.changed(&key), terms);
                         c
                     }
                     None => cal.correct_with(log, deriv),
@@ -687,8 +812,8 @@ fn evaluation(raw: Figures, corrected: Figures, c: &Corrected) -> Evaluation {
 }
 
 /// K1 and K2 of one set by the engine's per-set fit, with the points shared for display.
-fn fit_set(columns: &SetColumns, regime: Regime, recipe: &Recipe) -> SetFit {
-    let f = model::fit_set(columns, regime, recipe);
+fn fit_set(samples: &SetSamples, inputs: SetInputs, regime: Regime, recipe: &Recipe) -> SetFit {
+    let f = model::fit_set(samples, inputs, regime, recipe, true);
     SetFit {
         k1: f.k1,
         k2: f.k2,
@@ -709,7 +834,8 @@ fn set_names(regime: Regime) -> (Coefficient, Coefficient, &'static str) {
 /// what it leaves (unless K2's knots are set by hand too), then K2's hand-set knots.
 fn apply_knot_edits(
     fit: &SetFit,
-    columns: &SetColumns,
+    samples: &SetSamples,
+    inputs: SetInputs,
     regime: Regime,
     recipe: &Recipe,
     knots: &KnotEdits,
@@ -720,15 +846,12 @@ fn apply_knot_edits(
     if edit1.is_some() {
         out.k1 = with_knots(&fit.k1, edit1);
         if knots.get(c2).is_none() {
-            let p2 = model::k2_points_from(&columns.k2, &out.k1);
             let mut w = Vec::new();
-            out.k2 = model::fit_points(
-                &format!("K2{sign}"),
-                c2.spec(recipe),
-                &p2,
-                recipe.weighting,
-                &mut w,
+            let (k2, p2) = rayon::join(
+                || model::fit_k2(samples, inputs, &out.k1, regime, recipe, &mut w),
+                || model::k2_points_of(samples, inputs, &out.k1),
             );
+            out.k2 = k2;
             out.p2 = Arc::new(p2);
             out.warnings
                 .retain(|m| !m.starts_with(&format!("K2{sign}")));
@@ -750,19 +873,44 @@ fn copy_correction(dst: &mut Corrected, src: &Corrected) {
 }
 
 /// Recomputes in place the samples of the `changed` sets of a correction made with the same
-/// log, derivatives and K0 (the regime of a sample depends on its derivatives only).
-fn patch(cal: &Calibration, log: &Log, deriv: &Derivatives, c: &mut Corrected, changed: [bool; 2]) {
+/// log, derivatives and K0 (the regime of a sample depends on its derivatives only). A sample's
+/// prediction is [`Calibration::predict`]'s, term for term; its "outside" flag is recounted
+/// only where the set's ranges moved.
+fn patch(
+    cal: &Calibration,
+    log: &Log,
+    deriv: &Derivatives,
+    c: &mut Corrected,
+    changed: Changed,
+    base: &mut BaseTerms,
+) {
+    let Changed {
+        sets: changed,
+        ranges: recount,
+    } = changed;
     if !changed.contains(&true) {
         return;
     }
+    let approx = [
+        (&cal.k1_plus, &cal.k2_plus, Regime::Plus),
+        (&cal.k1_minus, &cal.k2_minus, Regime::Minus),
+    ];
+    if base.values.len() != c.pred_dph.len() {
+        base.k1 = [None, None];
+        base.values.clear();
+        base.values.resize(c.pred_dph.len(), 0.0);
+    }
+    // Whether a set's kept K0 + K1 terms are those of this calibration.
+    let kept = [0, 1].map(|s| base.k1[s].as_ref() == Some(approx[s].0));
     const CHUNK: usize = 1 << 15;
     let counts = c
         .pred_dph
         .par_chunks_mut(CHUNK)
         .zip(c.cor_dph.par_chunks_mut(CHUNK))
         .zip(c.regime.par_chunks(CHUNK))
+        .zip(base.values.par_chunks_mut(CHUNK))
         .enumerate()
-        .map(|(ci, ((p, q), r))| {
+        .map(|(ci, (((p, q), r), b))| {
             let base = ci * CHUNK;
             let mut out = [0usize; 3];
             for k in 0..p.len() {
@@ -776,16 +924,28 @@ fn patch(cal: &Calibration, log: &Log, deriv: &Derivatives, c: &mut Corrected, c
                 }
                 let i = base + k;
                 let (t, td, tdd) = (log.temp_c[i], deriv.tdot[i], deriv.tddot[i]);
-                let (pred, regime) = cal.predict(t, td, tdd);
+                let (k1, k2, regime) = approx[s];
+                // `predict`'s sum, (K0 + K1·Ṫ) + K2·T̈, with the first part kept.
+                if !kept[s] {
+                    b[k] = cal.k0.eval(t) + k1.eval(td) * td;
+                }
+                let pred = b[k] + k2.eval(tdd) * tdd;
                 p[k] = pred;
                 q[k] = log.omega_dph[i] - pred;
-                out[s + 1] += usize::from(cal.is_outside(t, td, tdd, regime));
+                if recount[s] {
+                    out[s + 1] += usize::from(cal.is_outside(t, td, tdd, regime));
+                }
             }
             out
         })
         .reduce(|| [0; 3], |a, b| [a[0] + b[0], a[1] + b[1], a[2] + b[2]]);
     for s in 0..2 {
         if changed[s] {
+            base.k1[s] = Some(approx[s].0.clone());
+        }
+    }
+    for s in 0..2 {
+        if recount[s] {
             c.outside_by_regime[s + 1] = counts[s + 1];
         }
     }
@@ -823,10 +983,29 @@ fn moving_average_centered_into(
     }
     const CHUNK: usize = 1 << 15;
     let prefix = &prefix[..];
+    // Samples whose whole window lies inside the log: the divisor is the window itself.
+    let (full_lo, full_hi) = (back, n.saturating_sub(ahead));
+    let w = window as f64;
     out.par_chunks_mut(CHUNK).enumerate().for_each(|(c, o)| {
         let base = c * CHUNK;
+        let (a, b) = (
+            full_lo.clamp(base, base + o.len()),
+            full_hi.clamp(base, base + o.len()),
+        );
+        if a < b {
+            let (lo_p, hi_p) = (
+                &prefix[a - back..b - back],
+                &prefix[a + ahead + 1..b + ahead + 1],
+            );
+            for ((v, &h), &l) in o[a - base..b - base].iter_mut().zip(hi_p).zip(lo_p) {
+                *v = origin + (h - l) / w;
+            }
+        }
         for (k, v) in o.iter_mut().enumerate() {
             let i = base + k;
+            if a < b && (a..b).contains(&i) {
+                continue;
+            }
             let lo = i.saturating_sub(back);
             let hi = (i + ahead).min(n - 1);
             *v = origin + (prefix[hi + 1] - prefix[lo]) / (hi + 1 - lo) as f64;

@@ -51,8 +51,21 @@ pub struct Figures {
     pub samples: usize,
 }
 
+/// Moving-average values per segment of a parallel walk: each segment starts its running sum
+/// afresh (the first segment's values are those of one sequential walk).
+const SEGMENT: usize = 1 << 15;
+
+/// Samples (at least; whole windows) per group of a parallel walk over the windows.
+const WINDOW_GROUP: usize = 1 << 16;
+
 /// Figures of `omega_dph` sampled every `dt_s`, from sample `skip` on.
+///
+/// The walks run in parallel over fixed segments of the record (so the result does not depend
+/// on the number of threads): each segment's running sums start from its own first window, and
+/// the segments' sums are added in order. On a record of at most one segment the figures are
+/// those of one sequential walk to the bit.
 pub fn figures(omega_dph: &[f64], dt_s: f64, skip: usize, opts: &MeritOptions) -> Figures {
+    use rayon::prelude::*;
     let x = &omega_dph[skip.min(omega_dph.len())..];
     if x.is_empty() {
         return Figures::default();
@@ -60,43 +73,83 @@ pub fn figures(omega_dph: &[f64], dt_s: f64, skip: usize, opts: &MeritOptions) -
     // The filtered drift is walked twice (min/max/mean, then the variance) rather than kept:
     // on a long log the buffer would cost more than the second walk.
     let window = signal::seconds_to_samples(opts.filter_s, dt_s);
-    let (p2p, std) = match valid_len(x.len(), window) {
-        0 => (0.0, 0.0),
-        len => {
-            // One walk for min, max and the sum, the sum folded exactly as `Iterator::sum`
-            // folds (from its own neutral element, in order).
-            let zero: f64 = std::iter::empty::<f64>().sum();
-            let (lo, hi, sum) = MovingAverageValid::new(x, window)
-                .fold((f64::INFINITY, f64::NEG_INFINITY, zero), |(a, b, s), v| {
-                    (a.min(v), b.max(v), s + v)
+    let len = valid_len(x.len(), window);
+    let segments = len.div_ceil(SEGMENT);
+    let filtered = || {
+        if len == 0 {
+            return (0.0, 0.0);
+        }
+        // One walk for min, max and the sum, the sum folded as `Iterator::sum` folds (from its
+        // own neutral element, in order) within each segment.
+        let zero: f64 = std::iter::empty::<f64>().sum();
+        let parts: Vec<(f64, f64, f64)> = (0..segments)
+            .into_par_iter()
+            .map(|k| {
+                let mut acc = (f64::INFINITY, f64::NEG_INFINITY, zero);
+                moving_average_segment(x, window, k * SEGMENT, ((k + 1) * SEGMENT).min(len), |v| {
+                    acc = (acc.0.min(v), acc.1.max(v), acc.2 + v);
                 });
-            let m = sum / len as f64;
-            let var = MovingAverageValid::new(x, window)
-                .map(|v| (v - m).powi(2))
-                .sum::<f64>()
-                / len as f64;
-            (hi - lo, var.sqrt())
-        }
+                acc
+            })
+            .collect();
+        let (lo, hi, sum) = parts
+            .into_iter()
+            .reduce(|a, b| (a.0.min(b.0), a.1.max(b.1), a.2 + b.2))
+            .unwrap_or((0.0, 0.0, 0.0));
+        let m = sum / len as f64;
+        let var = (0..segments)
+            .into_par_iter()
+            .map(|k| {
+                let mut sum = zero;
+                moving_average_segment(x, window, k * SEGMENT, ((k + 1) * SEGMENT).min(len), |v| {
+                    sum += (v - m).powi(2);
+                });
+                sum
+            })
+            .collect::<Vec<f64>>()
+            .into_iter()
+            .reduce(|a, b| a + b)
+            .unwrap_or(0.0)
+            / len as f64;
+        (hi - lo, var.sqrt())
     };
-    let w = signal::seconds_to_samples(opts.window_s, dt_s);
-    // One walk for the whole-record mean and the window means and RMS: each sum adds the same
-    // values in the same order as `Iterator::sum` would, from its neutral element.
-    let zero: f64 = std::iter::empty::<f64>().sum();
-    let mut total = zero;
-    let whole = x.len().checked_div(w).unwrap_or(0);
-    let (mut means, mut rms) = (Vec::with_capacity(whole), Vec::with_capacity(whole));
-    for c in x.chunks(w.max(1)) {
-        let (mut s, mut q) = (zero, zero);
-        for &v in c {
-            total += v;
-            s += v;
-            q += v * v;
+    let w = signal::seconds_to_samples(opts.window_s, dt_s).max(1);
+    // One walk for the whole-record mean and the window means and RMS: each window's sums add
+    // its values in order from the neutral element of `Iterator::sum`.
+    let windows = || {
+        let zero: f64 = std::iter::empty::<f64>().sum();
+        let span = w * (WINDOW_GROUP / w).max(1);
+        let parts: Vec<(f64, Vec<(f64, f64)>)> = x
+            .par_chunks(span)
+            .map(|g| {
+                let mut total = zero;
+                let mut stats = Vec::with_capacity(g.len() / w);
+                for c in g.chunks(w) {
+                    let (mut s, mut q) = (zero, zero);
+                    for &v in c {
+                        total += v;
+                        s += v;
+                        q += v * v;
+                    }
+                    if c.len() == w {
+                        stats.push((s / c.len() as f64, (q / c.len() as f64).sqrt()));
+                    }
+                }
+                (total, stats)
+            })
+            .collect();
+        let mut total = zero;
+        let (mut means, mut rms) = (Vec::new(), Vec::new());
+        for (t, stats) in parts {
+            total += t;
+            for (m, r) in stats {
+                means.push(m);
+                rms.push(r);
+            }
         }
-        if c.len() == w {
-            means.push(s / c.len().max(1) as f64);
-            rms.push((q / c.len() as f64).sqrt());
-        }
-    }
+        (total, means, rms)
+    };
+    let ((p2p, std), (total, means, rms)) = rayon::join(filtered, windows);
     let mean_x = total / x.len().max(1) as f64;
     let (mlo, mhi) = if means.is_empty() {
         (0.0, 0.0)
@@ -185,8 +238,39 @@ fn valid_len(n: usize, window: usize) -> usize {
     }
 }
 
+/// Values `from..to` of [`signal::moving_average_valid`], passed to `f` in order, with the
+/// running sum started afresh at `from` (so values `0..` are those of one sequential walk, bit
+/// for bit).
+#[inline]
+fn moving_average_segment(
+    x: &[f64],
+    window: usize,
+    from: usize,
+    to: usize,
+    mut f: impl FnMut(f64),
+) {
+    if window <= 1 {
+        x[from..to].iter().for_each(|&v| f(v));
+        return;
+    }
+    if from >= to {
+        return;
+    }
+    let origin = x[0];
+    let w = window as f64;
+    // Value j averages x[j .. j + window].
+    let mut s: f64 = x[from..from + window].iter().map(|v| v - origin).sum();
+    f(origin + s / w);
+    let (add, sub) = (&x[from + window..to + window - 1], &x[from..to - 1]);
+    for (&a, &b) in add.iter().zip(sub) {
+        s += (a - origin) - (b - origin);
+        f(origin + s / w);
+    }
+}
+
 /// The values of [`signal::moving_average_valid`], one at a time and with the same arithmetic
 /// (so the same bits), without a buffer.
+#[cfg(test)]
 struct MovingAverageValid<'a> {
     x: &'a [f64],
     window: usize,
@@ -197,6 +281,7 @@ struct MovingAverageValid<'a> {
     next: usize,
 }
 
+#[cfg(test)]
 impl<'a> MovingAverageValid<'a> {
     fn new(x: &'a [f64], window: usize) -> Self {
         let origin = x.first().copied().unwrap_or(0.0);
@@ -211,6 +296,7 @@ impl<'a> MovingAverageValid<'a> {
     }
 }
 
+#[cfg(test)]
 impl Iterator for MovingAverageValid<'_> {
     type Item = f64;
 
@@ -333,6 +419,44 @@ mod tests {
                 let got = figures(&x, 1.0, skip, &opts);
                 assert_eq!(format!("{got:?}"), format!("{want:?}"), "{skip} {opts:?}");
             }
+        }
+    }
+
+    #[test]
+    fn figures_of_a_long_record_are_the_sequential_ones_but_for_rounding() {
+        // Several segments and window groups: the walks are split, so the sums are
+        // reassociated, and nothing else.
+        let x: Vec<f64> = (0..300_000)
+            .map(|i| (i as f64 * 1.3e-4).sin() * 30.0 - 4.0 + (i % 11) as f64 * 1e-2)
+            .collect();
+        let opts = MeritOptions::default();
+        let want = reference(&x, 1.0, 7, &opts);
+        let got = figures(&x, 1.0, 7, &opts);
+        let close = |a: f64, b: f64| (a - b).abs() <= 1e-11 * a.abs().max(b.abs());
+        assert_eq!((got.windows, got.samples), (want.windows, want.samples));
+        for (a, b) in [
+            (got.p2p_dph, want.p2p_dph),
+            (got.std_dph, want.std_dph),
+            (got.mean_dph, want.mean_dph),
+            (got.win_mean_max_abs_dph, want.win_mean_max_abs_dph),
+            (got.win_mean_p2p_dph, want.win_mean_p2p_dph),
+            (got.win_rms_mean_dph, want.win_rms_mean_dph),
+            (got.win_rms_max_dph, want.win_rms_max_dph),
+        ] {
+            assert!(close(a, b), "{got:?}\n{want:?}");
+        }
+    }
+
+    #[test]
+    fn a_segment_from_the_start_is_the_sequential_walk() {
+        let x: Vec<f64> = (0..700)
+            .map(|i| (i as f64 * 0.37).sin() * 3.0 + 1e3)
+            .collect();
+        for window in [0, 1, 2, 17, 100] {
+            let want = signal::moving_average_valid(&x, window);
+            let mut got = Vec::new();
+            moving_average_segment(&x, window, 0, want.len(), |v| got.push(v));
+            assert_eq!(got, want, "window {window}");
         }
     }
 

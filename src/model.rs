@@ -11,12 +11,13 @@
 //! [`fit`] runs them all and returns a [`Calibration`] plus everything the stages made, so that a
 //! change of one approximation refits only that approximation (and K2 after K1).
 
-use crate::approx::{self, Approx, ApproxKind, ApproxSpec};
+use crate::approx::{self, Approx, ApproxKind, ApproxSpec, FitOptions, PointSource, XRange};
 use crate::error::{Error, Result};
 use crate::log::Log;
 use crate::plateau::{self, PlateauRange, PlateauStats};
 use crate::recipe::{PlateauChoice, Recipe, Weighting};
 use crate::signal::{self, DerivativeSteps, Derivatives};
+use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 /// Thermal regime of a sample, from the signs of Ṫ and T̈.
@@ -569,23 +570,325 @@ pub struct SetFit {
     pub k1: Approx,
     /// K2 of the set.
     pub k2: Approx,
-    /// The pointwise K1 of the last pass.
+    /// The pointwise K1 of the last pass (empty unless asked for).
     pub k1_points: PointSet,
-    /// The pointwise K2 of the last pass.
+    /// The pointwise K2 of the last pass (empty unless asked for).
     pub k2_points: PointSet,
     /// What the fits had to work around.
     pub warnings: Vec<String>,
 }
 
+/// The samples of the pointwise K1 and K2 of one set (+ or −), as indices into the log, in log
+/// order: those [`k1_points`] and [`k2_points`] select. Indices are `u32`, so a log to be
+/// fitted may have at most `u32::MAX` (about 4.3 billion) samples; [`fit`] refuses longer ones.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct SetSamples {
+    /// Samples outside the Ṫ dead-band (K1's points).
+    pub k1: Vec<u32>,
+    /// Samples outside the T̈ dead-band (K2's points).
+    pub k2: Vec<u32>,
+    /// Count and range of the finite Ṫ of `k1` (the x of K1's points).
+    pub k1_range: Option<XRange>,
+    /// Count and range of the finite T̈ of `k2` (the x of K2's points).
+    pub k2_range: Option<XRange>,
+}
+
+/// Whole-log columns the pointwise K1 and K2 are computed from.
+#[derive(Debug, Clone, Copy)]
+pub struct SetInputs<'a> {
+    /// Ṫ, °C/s.
+    pub tdot: &'a [f64],
+    /// T̈, °C/s².
+    pub tddot: &'a [f64],
+    /// Ω_f − K0(T), °/h ([`rest_dph`]).
+    pub rest: &'a [f64],
+}
+
+/// The samples of both sets (+, −), as [`k1_points`] and [`k2_points`] select them; they depend
+/// on the derivatives, the plateaus and the dead-bands only.
+#[allow(clippy::needless_range_loop)] // one index walks three parallel columns
+pub fn set_samples(deriv: &Derivatives, mask: &[bool], (db1, db2): (f64, f64)) -> [SetSamples; 2] {
+    let n = deriv.tdot.len().min(deriv.tddot.len()).min(mask.len());
+    let from = deriv.ready_from.min(n);
+    const SPAN: usize = 1 << 16;
+    // [set][k1, k2] index lists of one span of the log.
+    let parts: Vec<[[Vec<u32>; 2]; 2]> = (from..n)
+        .step_by(SPAN)
+        .collect::<Vec<_>>()
+        .into_par_iter()
+        .map(|a| {
+            let mut out: [[Vec<u32>; 2]; 2] = Default::default();
+            for i in a..(a + SPAN).min(n) {
+                let (td, tdd) = (deriv.tdot[i], deriv.tddot[i]);
+                if mask[i] {
+                    continue;
+                }
+                let s = match Regime::of(td, tdd) {
+                    Regime::Plus => 0,
+                    Regime::Minus => 1,
+                    Regime::Static => continue,
+                };
+                // The engine's tests, negated as written there (a NaN rate passes them).
+                let (skip1, skip2) = (td.abs() <= db1, tdd.abs() <= db2);
+                if !skip1 {
+                    out[s][0].push(i as u32);
+                }
+                if !skip2 {
+                    out[s][1].push(i as u32);
+                }
+            }
+            out
+        })
+        .collect();
+    let gather = |s: usize, k: usize| {
+        let mut v = Vec::with_capacity(parts.iter().map(|p| p[s][k].len()).sum());
+        for p in &parts {
+            v.extend_from_slice(&p[s][k]);
+        }
+        v
+    };
+    let range = |idx: &[u32], col: &[f64]| {
+        let mut r = XRange {
+            n: 0,
+            lo: f64::INFINITY,
+            hi: f64::NEG_INFINITY,
+        };
+        for &i in idx {
+            let x = col[i as usize];
+            if x.is_finite() {
+                r.n += 1;
+                r.lo = r.lo.min(x);
+                r.hi = r.hi.max(x);
+            }
+        }
+        r
+    };
+    [0, 1].map(|s| {
+        let (k1, k2) = (gather(s, 0), gather(s, 1));
+        SetSamples {
+            k1_range: Some(range(&k1, &deriv.tdot)),
+            k2_range: Some(range(&k2, &deriv.tddot)),
+            k1,
+            k2,
+        }
+    })
+}
+
+/// `Ω_f − K0(T)` over the whole log: what K1 and K2 explain.
+pub fn rest_dph(omega_filtered_dph: &[f64], temp_c: &[f64], k0: &Approx) -> Vec<f64> {
+    let mut rest = omega_filtered_dph.to_vec();
+    into_rest(&mut rest, temp_c, k0);
+    rest
+}
+
+/// Turns filtered Ω into `Ω_f − K0(T)` in place.
+fn into_rest(omega_filtered_dph: &mut [f64], temp_c: &[f64], k0: &Approx) {
+    omega_filtered_dph
+        .par_chunks_mut(1 << 15)
+        .zip(temp_c.par_chunks(1 << 15))
+        .for_each(|(o, t)| {
+            for (o, &t) in o.iter_mut().zip(t) {
+                *o -= k0.eval(t);
+            }
+        });
+}
+
+/// The pointwise K1 of a set as fit points: `(Ṫ, (Ω_f − K0(T) − K2(T̈)·T̈) / Ṫ)`.
+struct K1Source<'a> {
+    idx: &'a [u32],
+    inputs: SetInputs<'a>,
+    k2: Option<&'a Approx>,
+    drift: bool,
+}
+
+impl PointSource for K1Source<'_> {
+    fn candidates(&self) -> usize {
+        self.idx.len()
+    }
+    #[inline]
+    fn visit<F: FnMut(f64, f64, f64)>(&self, from: usize, to: usize, mut f: F) {
+        let SetInputs { tdot, tddot, rest } = self.inputs;
+        let drift = self.drift;
+        match self.k2 {
+            None => {
+                for &i in &self.idx[from..to] {
+                    let i = i as usize;
+                    let td = tdot[i];
+                    f(td, (rest[i] - 0.0) / td, if drift { td * td } else { 1.0 });
+                }
+            }
+            Some(k2) => {
+                for &i in &self.idx[from..to] {
+                    let i = i as usize;
+                    let (td, tdd) = (tdot[i], tddot[i]);
+                    let y = (rest[i] - k2.eval(tdd) * tdd) / td;
+                    f(td, y, if drift { td * td } else { 1.0 });
+                }
+            }
+        }
+    }
+}
+
+/// The pointwise K2 of a set as fit points: `(T̈, (Ω_f − K0(T) − K1(Ṫ)·Ṫ) / T̈)`.
+struct K2Source<'a> {
+    idx: &'a [u32],
+    inputs: SetInputs<'a>,
+    k1: &'a Approx,
+    drift: bool,
+}
+
+impl PointSource for K2Source<'_> {
+    fn candidates(&self) -> usize {
+        self.idx.len()
+    }
+    #[inline]
+    fn visit<F: FnMut(f64, f64, f64)>(&self, from: usize, to: usize, mut f: F) {
+        let SetInputs { tdot, tddot, rest } = self.inputs;
+        for &i in &self.idx[from..to] {
+            let i = i as usize;
+            let (td, tdd) = (tdot[i], tddot[i]);
+            let y = (rest[i] - self.k1.eval(td) * td) / tdd;
+            f(tdd, y, if self.drift { tdd * tdd } else { 1.0 });
+        }
+    }
+}
+
+/// The points of a source, materialised (for display, or for a fit that falls back).
+fn collect_points<S: PointSource>(src: &S) -> (PointSet, Vec<f64>) {
+    let n = src.candidates();
+    let parts: Vec<(Vec<f64>, Vec<f64>, Vec<f64>)> = (0..n)
+        .step_by(approx::CHUNK)
+        .collect::<Vec<_>>()
+        .into_par_iter()
+        .map(|a| {
+            let b = (a + approx::CHUNK).min(n);
+            let mut p = (
+                Vec::with_capacity(b - a),
+                Vec::with_capacity(b - a),
+                Vec::with_capacity(b - a),
+            );
+            src.visit(a, b, |x, y, w| {
+                p.0.push(x);
+                p.1.push(y);
+                p.2.push(w);
+            });
+            p
+        })
+        .collect();
+    let mut out = (
+        PointSet {
+            x: Vec::with_capacity(n),
+            y: Vec::with_capacity(n),
+        },
+        Vec::with_capacity(n),
+    );
+    for (x, y, w) in parts {
+        out.0.x.extend(x);
+        out.0.y.extend(y);
+        out.1.extend(w);
+    }
+    out
+}
+
+/// The pointwise K1 of a set ([`k1_points`]), from its samples.
+pub fn k1_points_of(samples: &SetSamples, inputs: SetInputs, k2: Option<&Approx>) -> PointSet {
+    let SetInputs { tdot, tddot, rest } = inputs;
+    let idx = &samples.k1;
+    let (x, y) = rayon::join(
+        || idx.par_iter().map(|&i| tdot[i as usize]).collect(),
+        || {
+            idx.par_iter()
+                .map(|&i| {
+                    let i = i as usize;
+                    let (td, tdd) = (tdot[i], tddot[i]);
+                    let k2_term = k2.map_or(0.0, |k2| k2.eval(tdd) * tdd);
+                    (rest[i] - k2_term) / td
+                })
+                .collect()
+        },
+    );
+    PointSet { x, y }
+}
+
+/// The pointwise K2 of a set ([`k2_points`]), from its samples.
+pub fn k2_points_of(samples: &SetSamples, inputs: SetInputs, k1: &Approx) -> PointSet {
+    let SetInputs { tdot, tddot, rest } = inputs;
+    let idx = &samples.k2;
+    let (x, y) = rayon::join(
+        || idx.par_iter().map(|&i| tddot[i as usize]).collect(),
+        || {
+            idx.par_iter()
+                .map(|&i| {
+                    let i = i as usize;
+                    let (td, tdd) = (tdot[i], tddot[i]);
+                    (rest[i] - k1.eval(td) * td) / tdd
+                })
+                .collect()
+        },
+    );
+    PointSet { x, y }
+}
+
+/// [`fit_or_fallback_weighted`] over a point source: the fit streams over the points, which are
+/// gathered only when they cannot support `spec` and a simpler curve is sought.
+fn fit_or_fallback_source<S: PointSource>(
+    name: &str,
+    spec: &ApproxSpec,
+    src: &S,
+    opts: FitOptions,
+    warnings: &mut Vec<String>,
+) -> Approx {
+    if let Ok(a) = approx::fit_with(spec, src, opts) {
+        return a;
+    }
+    let (p, w) = collect_points(src);
+    fit_or_fallback_weighted(name, spec, &p.x, &p.y, Some(&w), warnings)
+}
+
+/// K2 of a set fitted on what `k1` leaves (the paper's K2 step), with its statistics.
+pub fn fit_k2(
+    samples: &SetSamples,
+    inputs: SetInputs,
+    k1: &Approx,
+    regime: Regime,
+    recipe: &Recipe,
+    warnings: &mut Vec<String>,
+) -> Approx {
+    let (spec2, sign) = match regime {
+        Regime::Minus => (&recipe.k2_minus, "-"),
+        _ => (&recipe.k2_plus, "+"),
+    };
+    let src = K2Source {
+        idx: &samples.k2,
+        inputs,
+        k1,
+        drift: recipe.weighting == Weighting::Drift,
+    };
+    let opts = FitOptions {
+        known: samples.k2_range,
+        stats: true,
+    };
+    fit_or_fallback_source(&format!("K2{sign}"), spec2, &src, opts, warnings)
+}
+
 /// K1 and K2 of one set (+ or −), as the paper does (K1 from the ratios, then K2 from what the
 /// fitted K1 leaves), followed by the recipe's refinement passes, each refitting K1 with the K2
-/// term removed and then K2 with the new K1. The set's samples come from [`set_columns`], so
-/// the passes do not walk the whole log again.
-pub fn fit_set(columns: &SetColumns, regime: Regime, recipe: &Recipe) -> SetFit {
+/// term removed and then K2 with the new K1. The fits stream over the set's samples; the
+/// statistics are computed for the last pass only (the earlier ones serve only their curves), and
+/// the points of the last pass are gathered only when `points` is true (for display).
+pub fn fit_set(
+    samples: &SetSamples,
+    inputs: SetInputs,
+    regime: Regime,
+    recipe: &Recipe,
+    points: bool,
+) -> SetFit {
     let (spec1, spec2, sign) = match regime {
         Regime::Minus => (&recipe.k1_minus, &recipe.k2_minus, "-"),
         _ => (&recipe.k1_plus, &recipe.k2_plus, "+"),
     };
+    let drift = recipe.weighting == Weighting::Drift;
+    let (name1, name2) = (format!("K1{sign}"), format!("K2{sign}"));
     let mut k2: Option<Approx> = None;
     let mut out = SetFit {
         k1: Approx::zero(spec1.kind),
@@ -594,33 +897,44 @@ pub fn fit_set(columns: &SetColumns, regime: Regime, recipe: &Recipe) -> SetFit 
         k2_points: PointSet::default(),
         warnings: Vec::new(),
     };
-    for _ in 0..=recipe.refinements {
+    for pass in 0..=recipe.refinements {
+        let last = pass == recipe.refinements;
         // Warnings from the last pass only: earlier passes fit the same point sets.
         let mut warnings = Vec::new();
-        let p1 = k1_points_from(&columns.k1, k2.as_ref());
-        let k1 = fit_points(
-            &format!("K1{sign}"),
-            spec1,
-            &p1,
-            recipe.weighting,
-            &mut warnings,
-        );
-        let p2 = k2_points_from(&columns.k2, &k1);
-        let k2_fit = fit_points(
-            &format!("K2{sign}"),
-            spec2,
-            &p2,
-            recipe.weighting,
-            &mut warnings,
-        );
-        k2 = Some(k2_fit.clone());
-        out = SetFit {
-            k1,
-            k2: k2_fit,
-            k1_points: p1,
-            k2_points: p2,
-            warnings,
+        let src1 = K1Source {
+            idx: &samples.k1,
+            inputs,
+            k2: k2.as_ref(),
+            drift,
         };
+        let opts1 = FitOptions {
+            known: samples.k1_range,
+            stats: last,
+        };
+        let k1 = fit_or_fallback_source(&name1, spec1, &src1, opts1, &mut warnings);
+        let src2 = K2Source {
+            idx: &samples.k2,
+            inputs,
+            k1: &k1,
+            drift,
+        };
+        let opts2 = FitOptions {
+            known: samples.k2_range,
+            stats: last,
+        };
+        let k2_fit = fit_or_fallback_source(&name2, spec2, &src2, opts2, &mut warnings);
+        if last && points {
+            let (p1, p2) = rayon::join(
+                || k1_points_of(samples, inputs, k2.as_ref()),
+                || k2_points_of(samples, inputs, &k1),
+            );
+            out.k1_points = p1;
+            out.k2_points = p2;
+        }
+        out.k1 = k1;
+        out.k2 = k2_fit.clone();
+        out.warnings = warnings;
+        k2 = Some(k2_fit);
     }
     out
 }
@@ -738,6 +1052,13 @@ pub fn fit_points(
 
 /// Calibrates the Vakhrameev model on `log` with `recipe`.
 pub fn fit(log: &Log, recipe: &Recipe) -> Result<Fit> {
+    check_fittable(log, recipe)?;
+    let prepared = Prepared::new(log, recipe);
+    let ranges = plateau_ranges(log, &prepared, recipe);
+    fit_prepared(log, prepared, &ranges, recipe)
+}
+
+fn check_fittable(log: &Log, recipe: &Recipe) -> Result<()> {
     recipe.validate().map_err(Error::Recipe)?;
     if log.len() < 16 {
         return Err(Error::Fit(format!(
@@ -746,9 +1067,58 @@ pub fn fit(log: &Log, recipe: &Recipe) -> Result<Fit> {
             log.len()
         )));
     }
-    let prepared = Prepared::new(log, recipe);
-    let ranges = plateau_ranges(log, &prepared, recipe);
-    fit_prepared(log, prepared, &ranges, recipe)
+    if log.len() > u32::MAX as usize {
+        return Err(Error::Fit(format!(
+            "{}: {} samples are more than the {} one calibration can take",
+            log.source,
+            log.len(),
+            u32::MAX
+        )));
+    }
+    Ok(())
+}
+
+/// The stages before the K1/K2 fits: plateau statistics, K0, dead-bands and the sets' samples.
+struct Staged {
+    plateaus: Vec<PlateauStats>,
+    k0: Approx,
+    deadbands: (f64, f64),
+    samples: [SetSamples; 2],
+    warnings: Vec<String>,
+}
+
+fn stage(
+    log: &Log,
+    prepared: &Prepared,
+    ranges: &[PlateauRange],
+    recipe: &Recipe,
+) -> Result<Staged> {
+    let mut warnings = Vec::new();
+    let plateaus = plateau_stats(log, ranges);
+    let k0 = fit_k0(&plateaus, &recipe.k0, &mut warnings)?;
+    let mask = plateau_mask(&log.time_s, ranges);
+    let deadbands = deadbands(prepared, &mask, recipe);
+    let samples = set_samples(&prepared.deriv, &mask, deadbands);
+    Ok(Staged {
+        plateaus,
+        k0,
+        deadbands,
+        samples,
+        warnings,
+    })
+}
+
+/// Both sets fitted, side by side.
+fn fit_sets(
+    samples: &[SetSamples; 2],
+    inputs: SetInputs,
+    recipe: &Recipe,
+    points: bool,
+) -> (SetFit, SetFit) {
+    rayon::join(
+        || fit_set(&samples[0], inputs, Regime::Plus, recipe, points),
+        || fit_set(&samples[1], inputs, Regime::Minus, recipe, points),
+    )
 }
 
 /// Calibrates from already prepared signals and given plateau ranges (the workbench's path: it
@@ -759,36 +1129,90 @@ pub fn fit_prepared(
     ranges: &[PlateauRange],
     recipe: &Recipe,
 ) -> Result<Fit> {
-    let mut warnings = Vec::new();
-    let plateaus = plateau_stats(log, ranges);
-    let k0 = fit_k0(&plateaus, &recipe.k0, &mut warnings)?;
-    let mask = plateau_mask(&log.time_s, ranges);
-    let (db1, db2) = deadbands(&prepared, &mask, recipe);
-
-    let [plus_columns, minus_columns] = set_columns(log, &prepared, &mask, &k0, (db1, db2));
-    let plus = fit_set(&plus_columns, Regime::Plus, recipe);
-    let minus = fit_set(&minus_columns, Regime::Minus, recipe);
+    let Staged {
+        plateaus,
+        k0,
+        deadbands,
+        samples,
+        mut warnings,
+    } = stage(log, &prepared, ranges, recipe)?;
+    let rest = rest_dph(&prepared.omega_filtered_dph, &log.temp_c, &k0);
+    let inputs = SetInputs {
+        tdot: &prepared.deriv.tdot,
+        tddot: &prepared.deriv.tddot,
+        rest: &rest,
+    };
+    let (plus, minus) = fit_sets(&samples, inputs, recipe, true);
+    drop(rest);
     warnings.extend(plus.warnings);
     warnings.extend(minus.warnings);
-    let (k1_plus, k2_plus, k1p_pts, k2p_pts) = (plus.k1, plus.k2, plus.k1_points, plus.k2_points);
-    let (k1_minus, k2_minus, k1m_pts, k2m_pts) =
-        (minus.k1, minus.k2, minus.k1_points, minus.k2_points);
-
     let calibration = Calibration::assemble(
         log,
         &prepared,
         recipe,
-        (db1, db2),
+        deadbands,
         plateaus,
-        [k0, k1_plus, k1_minus, k2_plus, k2_minus],
+        [k0, plus.k1, minus.k1, plus.k2, minus.k2],
     );
     Ok(Fit {
         calibration,
         prepared,
-        k1_plus_points: k1p_pts,
-        k1_minus_points: k1m_pts,
-        k2_plus_points: k2p_pts,
-        k2_minus_points: k2m_pts,
+        k1_plus_points: plus.k1_points,
+        k1_minus_points: minus.k1_points,
+        k2_plus_points: plus.k2_points,
+        k2_minus_points: minus.k2_points,
+        warnings,
+    })
+}
+
+/// A calibration with the derivatives it computed on its log (what an in-sample evaluation
+/// needs) and no more.
+#[derive(Debug, Clone)]
+pub struct Calibrated {
+    /// The result.
+    pub calibration: Calibration,
+    /// Ṫ and T̈ of the log, as the calibration computes them.
+    pub deriv: Derivatives,
+    /// What the fit had to work around.
+    pub warnings: Vec<String>,
+}
+
+/// [`fit`] for a caller that wants only the calibration (the command line): the same result,
+/// made holding no more than the log, the filtered Ω (turned into `Ω_f − K0(T)` in place), Ṫ,
+/// T̈ and the sets' sample indices; no points are gathered.
+pub fn calibrate(log: &Log, recipe: &Recipe) -> Result<Calibrated> {
+    check_fittable(log, recipe)?;
+    let mut prepared = Prepared::new(log, recipe);
+    let ranges = plateau_ranges(log, &prepared, recipe);
+    let Staged {
+        plateaus,
+        k0,
+        deadbands,
+        samples,
+        mut warnings,
+    } = stage(log, &prepared, &ranges, recipe)?;
+    let mut rest = std::mem::take(&mut prepared.omega_filtered_dph);
+    into_rest(&mut rest, &log.temp_c, &k0);
+    let inputs = SetInputs {
+        tdot: &prepared.deriv.tdot,
+        tddot: &prepared.deriv.tddot,
+        rest: &rest,
+    };
+    let (plus, minus) = fit_sets(&samples, inputs, recipe, false);
+    drop((rest, samples));
+    warnings.extend(plus.warnings);
+    warnings.extend(minus.warnings);
+    let calibration = Calibration::assemble(
+        log,
+        &prepared,
+        recipe,
+        deadbands,
+        plateaus,
+        [k0, plus.k1, minus.k1, plus.k2, minus.k2],
+    );
+    Ok(Calibrated {
+        calibration,
+        deriv: prepared.deriv,
         warnings,
     })
 }

@@ -132,11 +132,9 @@ pub struct DerivativeSteps {
     pub step: usize,
 }
 
-/// Smoothed temperature and its first and second time derivatives.
+/// The first and second time derivatives of the (smoothed) temperature.
 #[derive(Debug, Clone, Default)]
 pub struct Derivatives {
-    /// Causally smoothed temperature, °C.
-    pub temp_c: Vec<f64>,
     /// Ṫ, °C/s.
     pub tdot: Vec<f64>,
     /// T̈, °C/s².
@@ -147,15 +145,18 @@ pub struct Derivatives {
 
 /// Ṫ and T̈ of a temperature column by smoothing then differentiating twice with the backward
 /// difference (METHOD.md §1, step 2).
+///
+/// The smoothed temperature is dropped once Ṫ is made from it, so that at most two columns are
+/// held at a time.
 pub fn derivatives(temp_c: &[f64], steps: DerivativeSteps, dt_s: f64) -> Derivatives {
     let smoothed = moving_average_causal(temp_c, steps.smooth);
     let tdot = backward_derivative(&smoothed, steps.step, dt_s);
+    drop(smoothed);
     let mut tddot = backward_derivative(&tdot, steps.step, dt_s);
     // T̈ at 2s..4s would difference the zeros standing for "no Ṫ yet": not a real rate.
     let ready_from = (4 * steps.step.max(1)).min(temp_c.len());
     tddot[..ready_from].fill(0.0);
     Derivatives {
-        temp_c: smoothed,
         tdot,
         tddot,
         ready_from,

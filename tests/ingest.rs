@@ -404,6 +404,7 @@ fn options_round_trip_through_json() {
         delimiter: Some(b'\t'),
         decimal_comma: Some(true),
         has_header: Some(false),
+        skip_extras: false,
     };
     let json = serde_json::to_string(&o).unwrap();
     assert!(json.contains("\"deg/s\""), "{json}");
@@ -588,6 +589,46 @@ fn several_temperatures_and_extra_channels() {
     for ch in &log.extra {
         assert_eq!(ch.values.len(), log.len());
     }
+}
+
+#[test]
+fn skipped_extras_are_not_read_and_the_three_columns_are_the_same() {
+    let text = "time,T1,omega,T2 [K],laser_power [mW],status,piezo\n\
+                0,20,1,300,5.5,OK,\n\
+                1,21,2,301,5.6,OK,0.25\n\
+                2,22.5,-3e-2,302,oops,OK,1\n";
+    let all = read(text);
+    let only = read_with(
+        text,
+        &ReadOptions {
+            skip_extras: true,
+            ..opts()
+        },
+    );
+    assert_eq!(all.extra.len(), 3);
+    assert!(only.extra.is_empty(), "{:?}", only.extra);
+    assert_eq!(only.time_s, all.time_s);
+    assert_eq!(only.omega_dph, all.omega_dph);
+    assert_eq!(only.temp_c, all.temp_c);
+    for name in ["T2 [K]", "laser_power [mW]", "piezo", "status"] {
+        assert_eq!(role_of(&only, name), ColumnRole::Ignored, "{name}");
+    }
+    assert_eq!(role_of(&only, "T1"), ColumnRole::Temperature);
+    // The unreadable extra cell is not read, so not reported either.
+    assert!(only.info.problems.is_empty(), "{:?}", only.info.problems);
+    assert!(
+        all.info
+            .problems
+            .iter()
+            .any(|p| p.kind == ProblemKind::BadExtraValue)
+    );
+    // Not a setting of the file: recipes do not store it.
+    let json = serde_json::to_string(&ReadOptions {
+        skip_extras: true,
+        ..opts()
+    })
+    .unwrap();
+    assert!(!json.contains("skip"), "{json}");
 }
 
 #[test]
@@ -1006,6 +1047,7 @@ fn random_options(rng: &mut XorShift) -> ReadOptions {
         ][pick(rng, 8) as usize],
         decimal_comma: [None, Some(true), Some(false)][pick(rng, 3) as usize],
         has_header: [None, Some(true), Some(false)][pick(rng, 3) as usize],
+        skip_extras: pick(rng, 4) == 0,
     }
 }
 

@@ -1,11 +1,13 @@
 //! Where a live frame goes on a 1M-sample log (run with `--ignored --nocapture`; timing only).
+//! `DRIFTLAB_LIVE_RUNS` sets the runs per scenario (default 12), `DRIFTLAB_LIVE_ONLY` picks
+//! scenarios by name.
 
-use driftlab::approx::ApproxKind;
-use driftlab::live::{Pipeline, Request};
+use driftlab::approx::{ApproxKind, ApproxSpec};
+use driftlab::live::{Pipeline, Request, Timings};
 use driftlab::log::Log;
 use driftlab::metrics::MeritOptions;
 use driftlab::recipe::Recipe;
-use driftlab::session::KnotEdits;
+use driftlab::session::{Coefficient, KnotEdits};
 use std::sync::Arc;
 
 fn tiled_log(rows: usize) -> Log {
@@ -20,9 +22,19 @@ fn tiled_log(rows: usize) -> Log {
     Log::from_columns("tiled", time_s, tile(&run.omega_dph), tile(&run.temp_c))
 }
 
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
+}
+
 #[test]
 #[ignore = "timing only"]
 fn live_frame_stages_1m() {
+    let runs: usize = std::env::var("DRIFTLAB_LIVE_RUNS")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(12);
+    let only = std::env::var("DRIFTLAB_LIVE_ONLY").unwrap_or_default();
     let log = Arc::new(tiled_log(1_000_000));
     let request = |recipe: Recipe, knots: KnotEdits| Request {
         log: log.clone(),
@@ -34,15 +46,66 @@ fn live_frame_stages_1m() {
     let base = Recipe::default();
     let mut other = base.clone();
     other.k2_plus.kind = ApproxKind::Parabolic;
-    let reqs = [
-        request(base.clone(), KnotEdits::default()),
-        request(other, KnotEdits::default()),
+    let mut pwl = base.clone();
+    pwl.k1_plus = ApproxSpec::of(ApproxKind::Pwl);
+    pwl.k2_plus = ApproxSpec::of(ApproxKind::Pwl);
+    let fitted = Pipeline::new()
+        .run(&request(pwl.clone(), KnotEdits::default()))
+        .expect("pipeline");
+    let dragged = |c: Coefficient| {
+        let a = match c {
+            Coefficient::K1Plus => &fitted.calibration.k1_plus,
+            _ => &fitted.calibration.k2_plus,
+        };
+        let mut v = a.knots().1.to_vec();
+        let j = v.len() / 2;
+        v[j] += 0.05 * (v[j].abs() + 1.0);
+        let mut k = KnotEdits::default();
+        k.set(c, Some(v));
+        k
+    };
+    let scenarios = [
+        (
+            "k2p_kind_changed",
+            [
+                request(base.clone(), KnotEdits::default()),
+                request(other, KnotEdits::default()),
+            ],
+        ),
+        (
+            "k2p_knot_dragged",
+            [
+                request(pwl.clone(), KnotEdits::default()),
+                request(pwl.clone(), dragged(Coefficient::K2Plus)),
+            ],
+        ),
+        (
+            "k1p_knot_dragged",
+            [
+                request(pwl.clone(), KnotEdits::default()),
+                request(pwl, dragged(Coefficient::K1Plus)),
+            ],
+        ),
     ];
-    let mut p = Pipeline::new();
-    for k in 0..12 {
-        let out = p.run(&reqs[k % 2]).expect("run");
-        if k >= 2 {
-            eprintln!("{:?}", out.timings);
+    for (name, reqs) in &scenarios {
+        if !name.contains(only.as_str()) {
+            continue;
         }
+        let mut p = Pipeline::new();
+        let mut t: Vec<Timings> = Vec::new();
+        for k in 0..runs + 2 {
+            let out = p.run(&reqs[k % 2]).expect("run");
+            if k >= 2 {
+                t.push(out.timings);
+            }
+        }
+        let m = |f: fn(&Timings) -> f64| median(t.iter().map(f).collect());
+        eprintln!(
+            "{name}: medians of {runs}: fit {:.2} ms, correct {:.2}, evaluate {:.2}, total {:.2}",
+            m(|t| t.fit_ms),
+            m(|t| t.correct_ms),
+            m(|t| t.evaluate_ms),
+            m(|t| t.total_ms)
+        );
     }
 }

@@ -242,3 +242,66 @@ fn set_columns_select_the_points_of_the_direct_walk() {
         assert_eq!(model::k2_points_from(&sets[s].k2, k1), walk2);
     }
 }
+
+#[test]
+fn set_samples_select_the_points_of_the_direct_walk() {
+    // The fit streams over per-set sample indices; the plain per-sample walk of METHOD.md
+    // (k1_points, k2_points) must select and compute the very same points, in the same order.
+    let truth = Truth {
+        k2_plus: 2e4,
+        k2_minus: -1e4,
+        ..TRUTH
+    };
+    let log = log_from(&Program::paper_like(), &truth, 0.3, 0.001, 3);
+    let recipe = Recipe::default();
+    let fit = model::fit(&log, &recipe).unwrap();
+    let cal = &fit.calibration;
+    let ranges: Vec<PlateauRange> = cal.plateaus.iter().map(|p| p.range).collect();
+    let mask = model::plateau_mask(&log.time_s, &ranges);
+    let db = (cal.resolved.deadband_tdot, cal.resolved.deadband_tddot);
+    let sets = model::set_samples(&fit.prepared.deriv, &mask, db);
+    let rest = model::rest_dph(&fit.prepared.omega_filtered_dph, &log.temp_c, &cal.k0);
+    let inputs = model::SetInputs {
+        tdot: &fit.prepared.deriv.tdot,
+        tddot: &fit.prepared.deriv.tddot,
+        rest: &rest,
+    };
+    for (s, regime, k1, k2) in [
+        (0, Regime::Plus, &cal.k1_plus, &cal.k2_plus),
+        (1, Regime::Minus, &cal.k1_minus, &cal.k2_minus),
+    ] {
+        let walk1 = model::k1_points(&log, &fit.prepared, &mask, &cal.k0, Some(k2), db.0, regime);
+        assert!(walk1.len() > 1000);
+        assert_eq!(model::k1_points_of(&sets[s], inputs, Some(k2)), walk1);
+        let walk2 = model::k2_points(&log, &fit.prepared, &mask, &cal.k0, k1, db.1, regime);
+        assert!(walk2.len() > 1000);
+        assert_eq!(model::k2_points_of(&sets[s], inputs, k1), walk2);
+        // The streaming K2 fit is the fit of the walked points.
+        let spec = if s == 0 {
+            &recipe.k2_plus
+        } else {
+            &recipe.k2_minus
+        };
+        let want = model::fit_points("K2", spec, &walk2, recipe.weighting, &mut Vec::new());
+        let got = model::fit_k2(&sets[s], inputs, k1, regime, &recipe, &mut Vec::new());
+        assert_eq!(got, want);
+        assert_eq!(got.stats().n, walk2.len());
+    }
+}
+
+#[test]
+fn lean_calibration_is_the_full_fit() {
+    let log = log_from(&Program::paper_like(), &TRUTH, 0.3, 0.001, 5);
+    for recipe in [Recipe::default(), sharp_recipe()] {
+        let fit = model::fit(&log, &recipe).unwrap();
+        let lean = model::calibrate(&log, &recipe).unwrap();
+        let strip = |c: &model::Calibration| model::Calibration {
+            created: String::new(),
+            ..c.clone()
+        };
+        assert_eq!(strip(&lean.calibration), strip(&fit.calibration));
+        assert_eq!(lean.warnings, fit.warnings);
+        assert_eq!(lean.deriv.tdot, fit.prepared.deriv.tdot);
+        assert_eq!(lean.deriv.tddot, fit.prepared.deriv.tddot);
+    }
+}

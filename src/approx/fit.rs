@@ -1,8 +1,134 @@
-//! Least-squares fitting of every approximation kind over packed points.
+//! Least-squares fitting of every approximation kind, streaming over the points.
+//!
+//! Every fit here is a normal-equation accumulation (polynomials: power sums; knot curves: the
+//! banded AᵀA over [`knot_weights`]) preceded by a pass for the x-range and followed, when the
+//! statistics are wanted, by a pass for the residuals. None of these passes needs the points
+//! held in memory: a fit takes a [`PointSource`] that produces them on demand, so a calibration
+//! of a long log fits straight from its columns. Each pass runs over fixed chunks of
+//! [`CHUNK`] candidate points in parallel and adds the chunks' sums in order, so the result does
+//! not depend on the number of threads; a set of at most `CHUNK` points is summed exactly as one
+//! sequential loop would.
 
 use super::knots::{knot_positions, knot_weights};
 use super::{Approx, ApproxKind, ApproxSpec, Curve, FitError, FitStats};
 use nalgebra::{DMatrix, DVector};
+use rayon::prelude::*;
+
+/// Candidate points per chunk of a pass.
+pub const CHUNK: usize = 1 << 16;
+
+/// Points a fit streams over: candidates `0..candidates()`, each an `(x, y, w)`. A candidate
+/// with a non-finite x or y, or a weight that is not finite and positive, is skipped.
+pub trait PointSource: Sync {
+    /// Number of candidates.
+    fn candidates(&self) -> usize;
+    /// Calls `f(x, y, w)` for candidates `from..to`, in order.
+    fn visit<F: FnMut(f64, f64, f64)>(&self, from: usize, to: usize, f: F);
+}
+
+/// What a source may know of its points before a fit: how many have a usable x and weight, and
+/// their x-range. A fit that is given it checks it (it counts the points it used) and makes its
+/// own pass when it did not hold, e.g. because some y was not finite.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct XRange {
+    /// Points with a usable x and weight.
+    pub n: usize,
+    /// Smallest such x.
+    pub lo: f64,
+    /// Largest such x.
+    pub hi: f64,
+}
+
+/// How [`fit_with`] runs.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FitOptions {
+    /// The points' x-range when known (saves a pass).
+    pub known: Option<XRange>,
+    /// Compute [`FitStats`] (a pass more); without them the stats hold only `n`.
+    pub stats: bool,
+}
+
+impl Default for FitOptions {
+    fn default() -> Self {
+        FitOptions {
+            known: None,
+            stats: true,
+        }
+    }
+}
+
+#[inline]
+fn usable(x: f64, y: f64, w: f64) -> bool {
+    x.is_finite() && y.is_finite() && w.is_finite() && w > 0.0
+}
+
+/// Sums `chunk(from, to)` over the fixed chunks of `n` candidates, in parallel, folding the
+/// chunks' results in order with `add`.
+fn over_chunks<T: Send>(
+    n: usize,
+    chunk: impl Fn(usize, usize) -> T + Sync,
+    add: impl Fn(T, T) -> T,
+) -> Option<T> {
+    let parts: Vec<T> = if n <= CHUNK {
+        vec![chunk(0, n)]
+    } else {
+        (0..n.div_ceil(CHUNK))
+            .into_par_iter()
+            .map(|c| chunk(c * CHUNK, ((c + 1) * CHUNK).min(n)))
+            .collect()
+    };
+    parts.into_iter().reduce(add)
+}
+
+/// The usable points' count and x-range, by a pass over the source.
+pub fn x_range<S: PointSource>(src: &S) -> XRange {
+    let part = |from, to| {
+        let mut r = XRange {
+            n: 0,
+            lo: f64::INFINITY,
+            hi: f64::NEG_INFINITY,
+        };
+        src.visit(from, to, |x, y, w| {
+            if usable(x, y, w) {
+                r.n += 1;
+                r.lo = r.lo.min(x);
+                r.hi = r.hi.max(x);
+            }
+        });
+        r
+    };
+    over_chunks(src.candidates(), part, |a, b| XRange {
+        n: a.n + b.n,
+        lo: a.lo.min(b.lo),
+        hi: a.hi.max(b.hi),
+    })
+    .unwrap_or(XRange {
+        n: 0,
+        lo: f64::INFINITY,
+        hi: f64::NEG_INFINITY,
+    })
+}
+
+/// Points given as slices (`weights`: `None` weighs every point 1; a missing weight is 0).
+struct Slices<'a> {
+    xs: &'a [f64],
+    ys: &'a [f64],
+    weights: Option<&'a [f64]>,
+}
+
+impl PointSource for Slices<'_> {
+    fn candidates(&self) -> usize {
+        self.xs.len().min(self.ys.len())
+    }
+    fn visit<F: FnMut(f64, f64, f64)>(&self, from: usize, to: usize, mut f: F) {
+        for k in from..to {
+            let w = self
+                .weights
+                .map_or(1.0, |w| w.get(k).copied().unwrap_or(0.0));
+            f(self.xs[k], self.ys[k], w);
+        }
+    }
+}
 
 /// Fits `spec` to the points `(xs[k], ys[k])` by least squares. Non-finite points are skipped.
 pub fn fit(spec: &ApproxSpec, xs: &[f64], ys: &[f64]) -> Result<Approx, FitError> {
@@ -17,14 +143,26 @@ pub fn fit_weighted(
     ys: &[f64],
     weights: Option<&[f64]>,
 ) -> Result<Approx, FitError> {
-    let pts = Points::gather(xs, ys, weights);
+    fit_with(spec, &Slices { xs, ys, weights }, FitOptions::default())
+}
+
+/// Fits `spec` by weighted least squares to the points of `src`, without holding them.
+pub fn fit_with<S: PointSource>(
+    spec: &ApproxSpec,
+    src: &S,
+    opts: FitOptions,
+) -> Result<Approx, FitError> {
     let needed = match spec.kind {
         ApproxKind::Pwl | ApproxKind::Spline if spec.knots < 2 => {
             return Err(FitError::TooFewKnots(spec.kind));
         }
         _ => spec.params(),
     };
-    let got = pts.x.len();
+    let range = match opts.known {
+        Some(r) if r.n >= needed => r,
+        _ => x_range(src),
+    };
+    let got = range.n;
     if got < needed {
         return Err(FitError::TooFewPoints {
             kind: spec.kind,
@@ -32,24 +170,31 @@ pub fn fit_weighted(
             got,
         });
     }
-    let (lo, hi) = pts
-        .x
-        .iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &x| {
-            (lo.min(x), hi.max(x))
-        });
-    let curve = match spec.kind {
-        ApproxKind::Linear | ApproxKind::Parabolic => fit_polynomial(spec.params(), &pts, lo, hi),
+    let (lo, hi) = (range.lo, range.hi);
+    let (curve, sums) = match spec.kind {
+        ApproxKind::Linear | ApproxKind::Parabolic => fit_polynomial(spec.params(), src, lo, hi),
         ApproxKind::Pwl | ApproxKind::Spline => {
             let knots_x = knot_positions(lo, hi, spec.knots);
-            let knots_y = fit_knots(spec.kind, &knots_x, &pts);
-            if spec.kind == ApproxKind::Pwl {
+            let (knots_y, sums) = fit_knots(spec.kind, &knots_x, src);
+            let curve = if spec.kind == ApproxKind::Pwl {
                 Curve::Pwl { knots_x, knots_y }
             } else {
                 Curve::CatmullRom { knots_x, knots_y }
-            }
+            };
+            (curve, sums)
         }
     };
+    if sums.n != got {
+        // The range given was not that of the usable points: find it.
+        return fit_with(
+            spec,
+            src,
+            FitOptions {
+                known: None,
+                ..opts
+            },
+        );
+    }
     let (lo, hi) = match &curve {
         Curve::Pwl { knots_x, .. } | Curve::CatmullRom { knots_x, .. } => {
             (knots_x[0], knots_x[knots_x.len() - 1])
@@ -62,58 +207,49 @@ pub fn fit_weighted(
         lo,
         hi,
         spec.extrapolate,
-        FitStats::default(),
+        FitStats {
+            n: got,
+            ..FitStats::default()
+        },
     )
     .map_err(|_| FitError::TooFewPoints {
         kind: spec.kind,
         needed,
         got,
     })?;
-    approx.stats = stats_of(&approx, &pts);
+    if opts.stats {
+        approx.stats = stats_of(&approx, src, sums);
+    }
     Ok(approx)
 }
 
-/// The usable points of a fit, packed so that every pass over them is a plain loop over
-/// contiguous arrays (fits run on hundreds of thousands of points per workbench edit).
-struct Points {
-    x: Vec<f64>,
-    y: Vec<f64>,
-    w: Vec<f64>,
-}
-
-impl Points {
-    fn gather(xs: &[f64], ys: &[f64], weights: Option<&[f64]>) -> Points {
-        let n = xs.len().min(ys.len());
-        let mut p = Points {
-            x: Vec::with_capacity(n),
-            y: Vec::with_capacity(n),
-            w: Vec::with_capacity(n),
-        };
-        for k in 0..n {
-            let w = weights.map_or(1.0, |w| w.get(k).copied().unwrap_or(0.0));
-            if xs[k].is_finite() && ys[k].is_finite() && w.is_finite() && w > 0.0 {
-                p.x.push(xs[k]);
-                p.y.push(ys[k]);
-                p.w.push(w);
-            }
-        }
-        p
-    }
+/// Count, Σw and Σw·y of the points a fit used, gathered while accumulating.
+#[derive(Debug, Clone, Copy)]
+struct Sums {
+    n: usize,
+    sw: f64,
+    swy: f64,
 }
 
 /// Weighted statistics (plain ones when every weight is 1).
-fn stats_of(a: &Approx, p: &Points) -> FitStats {
-    let sw: f64 = p.w.iter().sum();
-    let mean = p.y.iter().zip(&p.w).map(|(y, w)| w * y).sum::<f64>() / sw;
-    let (mut ss_res, mut ss_tot) = (0.0, 0.0);
-    for ((&x, &y), &w) in p.x.iter().zip(&p.y).zip(&p.w) {
-        let r = y - a.eval(x);
-        ss_res += w * r * r;
-        ss_tot += w * (y - mean) * (y - mean);
-    }
+fn stats_of<S: PointSource>(a: &Approx, src: &S, sums: Sums) -> FitStats {
+    let mean = sums.swy / sums.sw;
+    let part = |from, to| {
+        let (mut ss_res, mut ss_tot) = (0.0, 0.0);
+        src.visit(from, to, |x, y, w| {
+            if usable(x, y, w) {
+                let r = y - a.eval(x);
+                ss_res += w * r * r;
+                ss_tot += w * (y - mean) * (y - mean);
+            }
+        });
+        (ss_res, ss_tot)
+    };
+    let (ss_res, ss_tot) =
+        over_chunks(src.candidates(), part, |a, b| (a.0 + b.0, a.1 + b.1)).unwrap_or((0.0, 0.0));
     FitStats {
-        n: p.x.len(),
-        rmse: (ss_res / sw).sqrt(),
+        n: sums.n,
+        rmse: (ss_res / sums.sw).sqrt(),
         r2: if ss_tot > 0.0 {
             1.0 - ss_res / ss_tot
         } else {
@@ -124,23 +260,59 @@ fn stats_of(a: &Approx, p: &Points) -> FitStats {
 
 /// Polynomial of `n` coefficients (at most 3), fitted on x scaled to [−1, 1] (for
 /// conditioning) and expanded back to powers of x.
-fn fit_polynomial(n: usize, p: &Points, lo: f64, hi: f64) -> Curve {
+fn fit_polynomial<S: PointSource>(n: usize, src: &S, lo: f64, hi: f64) -> (Curve, Sums) {
     let c = 0.5 * (lo + hi);
     let s = if hi > lo { 0.5 * (hi - lo) } else { 1.0 };
     // Sums of w·u^k for k = 0..4 and of w·u^k·y for k = 0..2 fill the whole normal matrix.
-    let (mut su, mut suy) = ([0.0f64; 5], [0.0f64; 3]);
-    for ((&x, &y), &w) in p.x.iter().zip(&p.y).zip(&p.w) {
-        let u = (x - c) / s;
-        let u2 = u * u;
-        su[0] += w;
-        su[1] += w * u;
-        su[2] += w * u2;
-        su[3] += w * u2 * u;
-        su[4] += w * u2 * u2;
-        suy[0] += w * y;
-        suy[1] += w * u * y;
-        suy[2] += w * u2 * y;
-    }
+    type Acc = (usize, [f64; 5], [f64; 3]);
+    let part = |from, to| {
+        let (mut used, mut su, mut suy) = (0usize, [0.0f64; 5], [0.0f64; 3]);
+        if n <= 2 {
+            // A line needs the sums up to u² and u·y only (the others would go unused).
+            src.visit(from, to, |x, y, w| {
+                if !usable(x, y, w) {
+                    return;
+                }
+                used += 1;
+                let u = (x - c) / s;
+                su[0] += w;
+                su[1] += w * u;
+                su[2] += w * (u * u);
+                suy[0] += w * y;
+                suy[1] += w * u * y;
+            });
+            return (used, su, suy);
+        }
+        src.visit(from, to, |x, y, w| {
+            if !usable(x, y, w) {
+                return;
+            }
+            used += 1;
+            let u = (x - c) / s;
+            let u2 = u * u;
+            su[0] += w;
+            su[1] += w * u;
+            su[2] += w * u2;
+            su[3] += w * u2 * u;
+            su[4] += w * u2 * u2;
+            suy[0] += w * y;
+            suy[1] += w * u * y;
+            suy[2] += w * u2 * y;
+        });
+        (used, su, suy)
+    };
+    let add = |a: Acc, b: Acc| {
+        let mut r = a;
+        r.0 += b.0;
+        for k in 0..5 {
+            r.1[k] += b.1[k];
+        }
+        for k in 0..3 {
+            r.2[k] += b.2[k];
+        }
+        r
+    };
+    let (used, su, suy) = over_chunks(src.candidates(), part, add).unwrap_or_default();
     let ata = DMatrix::from_fn(n, n, |a, b| su[a + b]);
     let aty = DVector::from_fn(n, |a, _| suy[a]);
     let q = solve(ata, aty);
@@ -152,7 +324,14 @@ fn fit_polynomial(n: usize, p: &Points, lo: f64, hi: f64) -> Curve {
             *ck += scale * binomial(j, k) as f64 * (-c).powi((j - k) as i32);
         }
     }
-    Curve::Polynomial { coeffs }
+    (
+        Curve::Polynomial { coeffs },
+        Sums {
+            n: used,
+            sw: su[0],
+            swy: suy[0],
+        },
+    )
 }
 
 fn binomial(n: usize, k: usize) -> u64 {
@@ -161,25 +340,68 @@ fn binomial(n: usize, k: usize) -> u64 {
 
 /// Knot values by least squares over the knot-weight basis, with a vanishing second-difference
 /// penalty so that a knot interval without points is bridged smoothly instead of left singular.
-fn fit_knots(kind: ApproxKind, knots_x: &[f64], p: &Points) -> Vec<f64> {
+fn fit_knots<S: PointSource>(kind: ApproxKind, knots_x: &[f64], src: &S) -> (Vec<f64>, Sums) {
     let m = knots_x.len();
     // Row-major upper triangle of AᵀA and Aᵀy, in plain arrays for the hot loop.
-    let mut ata = vec![0.0f64; m * m];
-    let mut aty = vec![0.0f64; m];
-    for ((&x, &y), &pw) in p.x.iter().zip(&p.y).zip(&p.w) {
-        let (first, w) = knot_weights(kind, knots_x, x);
-        let width = (m - first).min(4);
-        for a in 0..width {
-            let wa = pw * w[a];
-            aty[first + a] += wa * y;
-            let row = (first + a) * m + first;
-            for b in a..width {
-                ata[row + b] += wa * w[b];
-            }
-        }
+    struct Acc {
+        used: usize,
+        sw: f64,
+        swy: f64,
+        ata: Vec<f64>,
+        aty: Vec<f64>,
     }
-    let mut ata = DMatrix::from_fn(m, m, |a, b| ata[a.min(b) * m + a.max(b)]);
-    let aty = DVector::from_vec(aty);
+    let part = |from, to| {
+        let mut a = Acc {
+            used: 0,
+            sw: 0.0,
+            swy: 0.0,
+            ata: vec![0.0f64; m * m],
+            aty: vec![0.0f64; m],
+        };
+        let (ata, aty) = (&mut a.ata, &mut a.aty);
+        let (mut used, mut sw, mut swy) = (0usize, 0.0f64, 0.0f64);
+        src.visit(from, to, |x, y, pw| {
+            if !usable(x, y, pw) {
+                return;
+            }
+            used += 1;
+            sw += pw;
+            swy += pw * y;
+            let (first, w) = knot_weights(kind, knots_x, x);
+            let width = (m - first).min(4);
+            for a in 0..width {
+                let wa = pw * w[a];
+                aty[first + a] += wa * y;
+                let row = (first + a) * m + first;
+                for b in a..width {
+                    ata[row + b] += wa * w[b];
+                }
+            }
+        });
+        (a.used, a.sw, a.swy) = (used, sw, swy);
+        a
+    };
+    let add = |mut a: Acc, b: Acc| {
+        a.used += b.used;
+        a.sw += b.sw;
+        a.swy += b.swy;
+        a.ata.iter_mut().zip(&b.ata).for_each(|(p, q)| *p += q);
+        a.aty.iter_mut().zip(&b.aty).for_each(|(p, q)| *p += q);
+        a
+    };
+    let Some(acc) = over_chunks(src.candidates(), part, add) else {
+        return (
+            vec![0.0; m],
+            Sums {
+                n: 0,
+                sw: 0.0,
+                swy: 0.0,
+            },
+        );
+    };
+    let ata_flat = &acc.ata;
+    let mut ata = DMatrix::from_fn(m, m, |a, b| ata_flat[a.min(b) * m + a.max(b)]);
+    let aty = DVector::from_vec(acc.aty);
     let lambda = 1e-9 * ata.trace() / m as f64;
     for j in 1..m.saturating_sub(1) {
         let d = [(j - 1, 1.0), (j, -2.0), (j + 1, 1.0)];
@@ -189,7 +411,14 @@ fn fit_knots(kind: ApproxKind, knots_x: &[f64], p: &Points) -> Vec<f64> {
             }
         }
     }
-    solve(ata, aty).iter().copied().collect()
+    (
+        solve(ata, aty).iter().copied().collect(),
+        Sums {
+            n: acc.used,
+            sw: acc.sw,
+            swy: acc.swy,
+        },
+    )
 }
 
 /// Least-squares solution of the normal equations; SVD so that a rank-deficient system (all

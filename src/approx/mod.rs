@@ -15,7 +15,7 @@
 mod fit;
 mod knots;
 
-pub use fit::{fit, fit_weighted};
+pub use fit::{CHUNK, FitOptions, PointSource, XRange, fit, fit_weighted, fit_with, x_range};
 pub use knots::{knot_positions, knot_weights};
 
 use knots::Segments;
@@ -365,7 +365,7 @@ impl Approx {
 
     /// Value at `x`, holding the edge value outside the fitted range unless extrapolating.
     /// A non-finite `x` gives 0: no correction from a sample that has no derivative.
-    #[inline]
+    #[inline(always)]
     pub fn eval(&self, x: f64) -> f64 {
         if !x.is_finite() {
             return 0.0;
@@ -378,6 +378,13 @@ impl Approx {
         if let Some(c) = &self.poly {
             return ((c[3] * x + c[2]) * x + c[1]) * x + c[0];
         }
+        self.eval_curve(x)
+    }
+
+    /// [`Approx::eval`] past the polynomial fast path, at an `x` already clamped (kept out of
+    /// line so that the fast path inlines into the hot loops).
+    #[inline(never)]
+    fn eval_curve(&self, x: f64) -> f64 {
         match &self.curve {
             Curve::Polynomial { coeffs } => coeffs.iter().rev().fold(0.0, |acc, c| acc * x + c),
             Curve::Pwl { knots_x, knots_y } | Curve::CatmullRom { knots_x, knots_y } => {

@@ -20,7 +20,7 @@ pub struct Args {
 
 pub fn run(a: Args) -> Result<(), String> {
     let model = calfile::load_model(&a.calibration).map_err(|e| e.to_string())?;
-    let log = a.log_args.read(&a.log)?;
+    let log = a.log_args.read_for(&a.log, &model)?;
     let c = model
         .correct(&log)
         .map_err(|e| format!("{}: {e}", a.calibration.display()))?;

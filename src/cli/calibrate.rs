@@ -130,17 +130,26 @@ pub fn run(a: Args) -> Result<(), String> {
     if a.model.as_deref().is_some_and(|m| m != "vakhrameev") || a.terms.is_some() {
         return super::calibrate_model::run(&a, &recipe);
     }
-    let log = a.log_args.read(&a.log)?;
+    let log = a.log_args.read_columns(&a.log)?;
     common::status("fitting ...");
-    let mut fit = model::fit(&log, &recipe).map_err(|e| format!("{}: {e}", a.log.display()))?;
-    // Keep only what is still needed: the point sets and filtered Ω of a 10⁷-sample log are
-    // hundreds of MB.
-    let mut cal = fit.calibration.clone();
-    let warnings = std::mem::take(&mut fit.warnings);
-    let deriv = std::mem::take(&mut fit.prepared.deriv);
-    drop(fit);
+    // The file's hash is taken beside the fit, whose stages are partly sequential.
+    let (fitted, sha256) = std::thread::scope(|scope| {
+        let sha = scope.spawn(|| calfile::sha256_file(&a.log).map_err(|e| e.to_string()));
+        let fitted = model::calibrate(&log, &recipe);
+        let sha256 = sha
+            .join()
+            .unwrap_or_else(|_| Err("the hashing thread failed".to_string()));
+        (fitted, sha256)
+    });
+    // Only the calibration and the derivatives (for the in-sample figures) are kept: no point
+    // sets and no filtered Ω, which on a 10⁷-sample log are hundreds of MB.
+    let model::Calibrated {
+        calibration: mut cal,
+        deriv,
+        warnings,
+    } = fitted.map_err(|e| format!("{}: {e}", a.log.display()))?;
     cal.source.name = file_name(&a.log);
-    cal.source.sha256 = calfile::sha256_file(&a.log).map_err(|e| e.to_string())?;
+    cal.source.sha256 = sha256?;
     calfile::save(&a.out, &cal).map_err(|e| e.to_string())?;
     if let Some(p) = &a.save_recipe {
         let text = serde_json::to_string_pretty(&recipe).map_err(|e| e.to_string())? + "\n";

@@ -67,14 +67,41 @@ impl LogArgs {
             delimiter,
             decimal_comma: self.decimal_comma.then_some(true),
             has_header: None,
+            skip_extras: false,
         })
+    }
+
+    /// Reads only the time, rate and temperature columns of a log (for the commands that use
+    /// nothing else: the other columns are neither parsed nor held).
+    pub fn read_columns(&self, path: &Path) -> Result<Log, String> {
+        let opts = ReadOptions {
+            skip_extras: true,
+            ..self.options()?
+        };
+        self.read_with(path, &opts)
+    }
+
+    /// Reads the columns `model` needs: the calibration columns, and the second temperature
+    /// and extra channels when the model reads them.
+    pub fn read_for(
+        &self,
+        path: &Path,
+        model: &driftlab::drift_model::DriftModel,
+    ) -> Result<Log, String> {
+        match model.inputs() {
+            (None, channels) if channels.is_empty() => self.read_columns(path),
+            _ => self.read(path),
+        }
     }
 
     /// Reads a log, with a progress bar on an interactive terminal.
     pub fn read(&self, path: &Path) -> Result<Log, String> {
-        let opts = self.options()?;
+        self.read_with(path, &self.options()?)
+    }
+
+    fn read_with(&self, path: &Path, opts: &ReadOptions) -> Result<Log, String> {
         let bar = progress_bar(&format!("reading {}", path.display()));
-        let log = ingest::read_path_with_progress(path, &opts, &|f| {
+        let log = ingest::read_path_with_progress(path, opts, &|f| {
             if let Some(b) = &bar {
                 b.set_position((f * 1000.0) as u64);
             }

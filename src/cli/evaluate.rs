@@ -28,7 +28,7 @@ pub struct Args {
 
 pub fn run(a: Args) -> Result<(), String> {
     let model = calfile::load_model(&a.calibration).map_err(|e| e.to_string())?;
-    let log = a.log_args.read(&a.log)?;
+    let log = a.log_args.read_for(&a.log, &model)?;
     let default_filter = match &model {
         DriftModel::Vakhrameev(cal) => cal.recipe.filter_s,
         DriftModel::Regression(_) => MeritOptions::default().filter_s,

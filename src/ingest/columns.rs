@@ -588,7 +588,7 @@ pub(crate) fn plan(sn: &Sniffed, opts: &ReadOptions) -> Result<Plan, Fail> {
                 conv: celsius(u),
             };
             (ColumnRole::Temperature, u.to_string())
-        } else if guessable[j] && (sn.stats[j].numbers > 0 || sn.named[j]) {
+        } else if !opts.skip_extras && guessable[j] && (sn.stats[j].numbers > 0 || sn.named[j]) {
             let slot = slot_col.len();
             slot_col.push(Some(j));
             let (conv, read_unit, kept_unit) = match header_unit(j) {

@@ -207,6 +207,11 @@ pub struct ReadOptions {
     /// Whether the first non-comment line is a header, when sniffing gets it wrong.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub has_header: Option<bool>,
+    /// Read only time, rate and temperature: other columns are neither parsed nor kept (they
+    /// are listed as ignored), which saves their memory and parse time for a caller that needs
+    /// just those three. A choice of the caller, not of the file: recipes do not store it.
+    #[serde(skip)]
+    pub skip_extras: bool,
 }
 
 /// Reads a separator as people write it on a command line or in a recipe: `,`, `;`, `\t`
