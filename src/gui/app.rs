@@ -8,8 +8,8 @@ use super::jobs::{JobResult, Jobs, Target};
 use super::plot_items::num;
 use super::settings::{Settings, ThemeChoice, WindowGeometry};
 use super::state::{AppState, Choices, Severity};
-use super::view_coeffs::{CoeffView, Pair};
 use super::view_allan::AllanPage;
+use super::view_coeffs::{CoeffView, Pair};
 use super::view_import::{ImportDecision, ImportView};
 use super::view_models::ModelsView;
 use super::view_plateaus::PlateauView;
@@ -132,8 +132,10 @@ impl Page {
                 "The models of the papers and a custom one side by side, in-sample and held out; \
                  export any of them"
             }
-            Page::Allan => "Allan deviation of the raw and the corrected rate, with ARW, bias \
-                 instability and RRW",
+            Page::Allan => {
+                "Allan deviation of the raw and the corrected rate, with ARW, bias \
+                 instability and RRW"
+            }
         }
     }
 }
@@ -660,7 +662,11 @@ impl Workbench {
             for p in Page::ALL {
                 if ui
                     .selectable_label(self.page == p, RichText::new(p.title()).size(15.0))
-                    .on_hover_text(format!("{} ({})", p.tip(), ctx.format_shortcut(&p.shortcut())))
+                    .on_hover_text(format!(
+                        "{} ({})",
+                        p.tip(),
+                        ctx.format_shortcut(&p.shortcut())
+                    ))
                     .clicked()
                 {
                     actions.push(Action::ShowPage(p));
@@ -700,8 +706,10 @@ impl Workbench {
             return;
         };
         if self.jobs.comparing.is_some() {
-            self.state
-                .say(Severity::Info, "A comparison is running; wait for it to finish");
+            self.state.say(
+                Severity::Info,
+                "A comparison is running; wait for it to finish",
+            );
             return;
         }
         let choices = match self.models.choices() {
@@ -711,8 +719,12 @@ impl Workbench {
                 return;
             }
         };
-        let tests: Vec<Arc<crate::log::Log>> =
-            self.state.validation.iter().map(|v| v.log.clone()).collect();
+        let tests: Vec<Arc<crate::log::Log>> = self
+            .state
+            .validation
+            .iter()
+            .map(|v| v.log.clone())
+            .collect();
         let n = choices.len();
         let names = super::view_models::log_names(&log.log, &tests);
         self.jobs.compare(super::jobs::CompareRequest {
@@ -722,17 +734,17 @@ impl Workbench {
             recipe: self.state.recipe().clone(),
             merit: self.state.merit(),
         });
-        self.state.say(
-            Severity::Info,
-            format!("Fitting {n} models on {names} …"),
-        );
+        self.state
+            .say(Severity::Info, format!("Fitting {n} models on {names} …"));
     }
 
     /// Writes the model chosen on the Models page, asking where.
     fn export_model(&mut self) {
         let (Some(log), Some(c)) = (self.state.log.clone(), self.state.models.clone()) else {
-            self.state
-                .say(Severity::Warning, "Nothing to export yet: compare the models first");
+            self.state.say(
+                Severity::Warning,
+                "Nothing to export yet: compare the models first",
+            );
             return;
         };
         let Some(model) = self.models.export.as_ref().and_then(|n| {
@@ -1142,10 +1154,7 @@ impl Workbench {
 
     fn screenshots(&mut self, ctx: &egui::Context) {
         let loaded = self.state.log.is_some() && self.state.fit.is_some() && !self.jobs.busy();
-        if loaded
-            && self.page == Page::Models
-            && self.auto.as_ref().is_some_and(|a| !a.compared)
-        {
+        if loaded && self.page == Page::Models && self.auto.as_ref().is_some_and(|a| !a.compared) {
             if let Some(a) = &mut self.auto {
                 a.compared = true;
             }

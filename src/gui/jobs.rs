@@ -2,19 +2,19 @@
 //! request wins) and long exports. Results come back through one channel; each sender asks
 //! egui for a repaint so the UI shows them at once.
 
+use crate::allan::{AllanDeviation, AllanOptions};
+use crate::compare::{self, ModelReport};
 use crate::ingest::{self, ReadOptions};
 use crate::live::{Outcome, Pipeline, Request};
 use crate::lod::{ClassLod, MinMaxPyramid, ScatterLod};
 use crate::log::Log;
-use crate::model::{PointSet, Prepared};
-use eframe::egui;
-use std::path::PathBuf;
-use crate::allan::{AllanDeviation, AllanOptions};
-use crate::compare::{self, ModelReport};
 use crate::metrics::MeritOptions;
+use crate::model::{PointSet, Prepared};
 use crate::presets::ModelChoice;
 use crate::recipe::Recipe;
+use eframe::egui;
 use rayon::prelude::*;
+use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
 use std::sync::mpsc::{self, Receiver, Sender};
 use std::sync::{Arc, Mutex};

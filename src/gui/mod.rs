@@ -21,8 +21,8 @@ pub mod jobs;
 pub mod plot_items;
 pub mod settings;
 pub mod state;
-pub mod view_coeffs;
 pub mod view_allan;
+pub mod view_coeffs;
 pub mod view_import;
 pub mod view_models;
 pub mod view_plateaus;
@@ -126,6 +126,12 @@ pub fn run(options: GuiOptions) -> Result<(), String> {
             }
             if let Some(p) = page {
                 wb.set_page(p);
+            }
+            // DRIFTLAB_GUI_MODEL=NAME: the model the Models page shows the details of.
+            if let Ok(name) = std::env::var("DRIFTLAB_GUI_MODEL")
+                && !name.trim().is_empty()
+            {
+                wb.models_view().selected = Some(name.trim().to_string());
             }
             if let Some(s) = shot {
                 app::set_auto_screenshot(&mut wb, s, slot);

@@ -46,11 +46,12 @@ impl AllanPage {
             .show(ui, |ui| readouts(ui, data.as_deref()));
         egui::CentralPanel::default().show(ui, |ui| {
             ui.horizontal(|ui| {
-                ui.strong("Allan deviation, raw and corrected").on_hover_text(
-                    "Octave τ, overlapping estimator, 68.3 % confidence intervals (shaded); \
+                ui.strong("Allan deviation, raw and corrected")
+                    .on_hover_text(
+                        "Octave τ, overlapping estimator, 68.3 % confidence intervals (shaded); \
                      the corrected rate is the calibration log's (or the validation log's) \
                      rate corrected by the calibration of the Calibration page",
-                );
+                    );
                 ui.separator();
                 ui.radio_value(&mut self.validation, false, "calibration log")
                     .on_hover_text("The log the calibration was fitted on");
@@ -110,7 +111,13 @@ fn plot(ui: &mut Ui, d: &AllanData) {
     }
     Plot::new("allan_plot")
         .height(ui.available_height().max(160.0))
-        .legend(Legend::default().position(Corner::RightTop))
+        .legend(
+            // Bottom left: the curves start high at short τ, so that corner stays clear.
+            Legend::default()
+                .position(Corner::LeftBottom)
+                .follow_insertion_order(true)
+                .color_conflict_handling(egui_plot::ColorConflictHandling::PickLast),
+        )
         .x_axis_label("τ, s")
         .y_axis_label("σ(τ), °/h")
         .y_axis_min_width(64.0)
@@ -173,25 +180,26 @@ fn plot(ui: &mut Ui, d: &AllanData) {
         });
 }
 
-/// Grid lines at every decade (labelled) and at 2…9 times each decade (thin).
+/// Grid lines at every decade (thick), at 2 and 5 times each decade (medium) and at the other
+/// multiples (thin), on an axis of log10 values.
 fn decades(input: GridInput) -> Vec<GridMark> {
     let (a, b) = input.bounds;
     if !(a.is_finite() && b.is_finite()) || b - a > 60.0 {
         return Vec::new();
     }
     let mut marks = Vec::new();
-    let few = b - a > 6.0;
+    let wide = b - a > 6.0;
     let mut d = a.floor();
     while d <= b.ceil() {
         marks.push(GridMark {
             value: d,
             step_size: 1.0,
         });
-        if !few {
+        if !wide {
             for k in 2..=9 {
                 marks.push(GridMark {
                     value: d + f64::from(k).log10(),
-                    step_size: 0.1,
+                    step_size: if k == 2 || k == 5 { 0.5 } else { 0.1 },
                 });
             }
         }
@@ -200,21 +208,24 @@ fn decades(input: GridInput) -> Vec<GridMark> {
     marks
 }
 
-/// Decade marks labelled as plain numbers (1, 10, 0.01, 1e5); the others unlabelled.
-fn decade_label(mark: GridMark, _range: &RangeInclusive<f64>) -> String {
-    if mark.step_size < 1.0 {
+/// Decades labelled as plain numbers (1, 10, 0.01, 1e5); 2 and 5 times a decade too when the
+/// axis spans under three decades; the other marks unlabelled.
+fn decade_label(mark: GridMark, range: &RangeInclusive<f64>) -> String {
+    let span = range.end() - range.start();
+    if mark.step_size < 0.5 || (mark.step_size < 1.0 && span > 3.0) {
         return String::new();
     }
-    let d = mark.value.round() as i32;
-    if (-3..=4).contains(&d) {
-        let v = 10f64.powi(d);
+    let d = mark.value.floor() as i32;
+    let k = 10f64.powf(mark.value - f64::from(d)).round();
+    if (-4..=4).contains(&d) {
+        let v = k * 10f64.powi(d);
         if d >= 0 {
             format!("{v:.0}")
         } else {
             format!("{v:.*}", (-d) as usize)
         }
     } else {
-        format!("1e{d}")
+        format!("{k:.0}e{d}")
     }
 }
 
@@ -224,9 +235,14 @@ fn readouts(ui: &mut Ui, d: Option<&AllanData>) {
         ui.weak("ARW, bias instability and RRW, raw and corrected, appear here.");
         return;
     };
+    let name = std::path::Path::new(&d.source)
+        .file_name()
+        .map_or(d.source.clone(), |s| s.to_string_lossy().into_owned());
     ui.weak(format!(
-        "{}: samples from {} on (the correction's warm-up left out of both), {:.2} s",
-        d.source, d.from_sample, d.seconds
+        "{name}: samples from {} on (the correction's warm-up left out of both curves); \
+         computed in {:.0} ms",
+        d.from_sample,
+        d.seconds * 1000.0
     ));
     ui.add_space(4.0);
     let get = |r: &Result<AllanDeviation, String>, k: usize| -> Option<Readout> {

@@ -211,8 +211,11 @@ impl ModelsView {
     /// Keeps the selection and the export choice on models of the newest comparison.
     pub fn adopt(&mut self, c: &Compared) {
         let fitted = |n: &Option<String>| {
-            n.as_ref()
-                .is_some_and(|n| c.reports.iter().any(|r| &r.model == n && r.fitted.is_some()))
+            n.as_ref().is_some_and(|n| {
+                c.reports
+                    .iter()
+                    .any(|r| &r.model == n && r.fitted.is_some())
+            })
         };
         let first_regression = c
             .reports
@@ -220,7 +223,11 @@ impl ModelsView {
             .find(|r| matches!(r.fitted, Some(DriftModel::Regression(_))))
             .or_else(|| c.reports.iter().find(|r| r.fitted.is_some()))
             .map(|r| r.model.clone());
-        if !fitted(&self.selected) {
+        let listed = |n: &Option<String>| {
+            n.as_ref()
+                .is_some_and(|n| c.reports.iter().any(|r| &r.model == n))
+        };
+        if !listed(&self.selected) {
             self.selected = first_regression.clone();
         }
         if !fitted(&self.export) {
@@ -274,7 +281,14 @@ impl ModelsView {
                 return;
             };
             self.stale_note(ui, state, &c, running);
-            let table_h = (ui.available_height() * 0.42).max(150.0);
+            // The whole table when it fits in a little over half the height, the plot below.
+            let row_h = ui.spacing().interact_size.y + 3.0;
+            let rows = 2 + c
+                .reports
+                .iter()
+                .map(|r| r.logs.len().max(1) + usize::from(r.error.is_some()))
+                .sum::<usize>();
+            let table_h = (rows as f32 * row_h).clamp(120.0, ui.available_height() * 0.55);
             ScrollArea::both()
                 .id_salt("models_table_scroll")
                 .max_height(table_h)
@@ -298,7 +312,7 @@ impl ModelsView {
         ui.strong("Presets");
         for (k, p) in Preset::ALL.iter().enumerate() {
             ui.checkbox(&mut self.presets[k], p.name())
-                .on_hover_text(p.describe());
+                .on_hover_text(plain(p.describe()));
         }
         ui.horizontal(|ui| {
             if ui.small_button("all").clicked() {
@@ -395,44 +409,49 @@ impl ModelsView {
             ui.label("Terms").on_hover_text(
                 "One coefficient each, fitted by least squares over every usable sample",
             );
+            let (base, chans): (Vec<Term>, Vec<Term>) = Term::catalogue(&channels)
+                .into_iter()
+                .partition(|t| !matches!(t, Term::Channel { .. }));
+            let mut tick = |ui: &mut Ui, term: Term| {
+                let mut on = b.terms.contains(&term);
+                if ui
+                    .checkbox(&mut on, term.to_string())
+                    .on_hover_text(plain(&term.describe()))
+                    .changed()
+                {
+                    if on {
+                        b.terms.push(term);
+                    } else {
+                        b.terms.retain(|t| *t != term);
+                    }
+                }
+            };
             Grid::new("custom_terms")
                 .num_columns(2)
                 .spacing([10.0, 2.0])
                 .show(ui, |ui| {
-                    for (k, term) in Term::catalogue(&channels).into_iter().enumerate() {
-                        let mut on = b.terms.contains(&term);
-                        if ui
-                            .checkbox(&mut on, term.to_string())
-                            .on_hover_text(term.describe())
-                            .changed()
-                        {
-                            if on {
-                                b.terms.push(term.clone());
-                            } else {
-                                b.terms.retain(|t| *t != term);
-                            }
-                        }
+                    for (k, term) in base.into_iter().enumerate() {
+                        tick(ui, term);
                         if k % 2 == 1 {
                             ui.end_row();
                         }
                     }
                 });
+            // A channel's name is long: its terms get a line each.
+            for term in chans {
+                tick(ui, term);
+            }
             Grid::new("custom_params")
                 .num_columns(2)
                 .spacing([8.0, 4.0])
                 .show(ui, |ui| {
                     ui.label("Delay τd").on_hover_text(
-                        "Delay of T and Ṫ behind the gyro's response (Yan 2019)",
+                        "Delay of T and dT/dt behind the gyro's response (Yan 2019)",
                     );
                     ui.horizontal(|ui| {
-                        egui::ComboBox::from_id_salt("custom_delay")
+                        let r = egui::ComboBox::from_id_salt("custom_delay")
                             .width(90.0)
-                            .selected_text(match b.delay {
-                                DelayChoice::None => "none",
-                                DelayChoice::Fixed => "fixed",
-                                DelayChoice::Search => "search",
-                                DelayChoice::Bands => "bands",
-                            })
+                            .selected_text(delay_name(b.delay))
                             .show_ui(ui, |ui| {
                                 ui.selectable_value(&mut b.delay, DelayChoice::None, "none");
                                 ui.selectable_value(&mut b.delay, DelayChoice::Fixed, "fixed")
@@ -443,7 +462,9 @@ impl ModelsView {
                                     .on_hover_text(
                                         "One delay per temperature band, searched, then τd(T)",
                                     );
-                            });
+                            })
+                            .response;
+                        accessible(&r, "Delay τd", delay_name(b.delay));
                         match b.delay {
                             DelayChoice::None => {}
                             DelayChoice::Fixed => {
@@ -458,7 +479,7 @@ impl ModelsView {
                                 ui.add(
                                     egui::DragValue::new(&mut b.delay_max_s)
                                         .range(1.0..=86_400.0)
-                                        .prefix("≤ ")
+                                        .prefix("up to ")
                                         .suffix(" s"),
                                 )
                                 .on_hover_text("Longest delay tried, s");
@@ -473,7 +494,7 @@ impl ModelsView {
                                 ui.add(
                                     egui::DragValue::new(&mut b.delay_max_s)
                                         .range(1.0..=86_400.0)
-                                        .prefix("≤ ")
+                                        .prefix("up to ")
                                         .suffix(" s"),
                                 )
                                 .on_hover_text("Longest delay tried, s");
@@ -486,20 +507,18 @@ impl ModelsView {
                          estimated from a sensor on its housing",
                     );
                     ui.horizontal(|ui| {
-                        egui::ComboBox::from_id_salt("custom_lag")
+                        let r = egui::ComboBox::from_id_salt("custom_lag")
                             .width(90.0)
-                            .selected_text(match b.lag {
-                                LagChoice::None => "none",
-                                LagChoice::Fixed => "fixed",
-                                LagChoice::Search => "search",
-                            })
+                            .selected_text(lag_name(b.lag))
                             .show_ui(ui, |ui| {
                                 ui.selectable_value(&mut b.lag, LagChoice::None, "none");
                                 ui.selectable_value(&mut b.lag, LagChoice::Fixed, "fixed")
                                     .on_hover_text("A given time constant");
                                 ui.selectable_value(&mut b.lag, LagChoice::Search, "search")
                                     .on_hover_text("The time constant searched");
-                            });
+                            })
+                            .response;
+                        accessible(&r, "Lag of T", lag_name(b.lag));
                         match b.lag {
                             LagChoice::None => {}
                             LagChoice::Fixed => {
@@ -514,7 +533,7 @@ impl ModelsView {
                                 ui.add(
                                     egui::DragValue::new(&mut b.lag_max_s)
                                         .range(1.0..=86_400.0)
-                                        .prefix("≤ ")
+                                        .prefix("up to ")
                                         .suffix(" s"),
                                 )
                                 .on_hover_text("Longest time constant tried, s");
@@ -596,9 +615,15 @@ impl ModelsView {
             .show(ui, |ui| {
                 for (h, tip) in [
                     ("model", "Click a model to see what it found (right)"),
-                    ("log", "In-sample: the log it was fitted on; held out: the validation log"),
+                    (
+                        "log",
+                        "In-sample: the log it was fitted on; held out: the validation log",
+                    ),
                     ("p2p raw", "Peak-to-peak of the raw filtered drift, °/h"),
-                    ("p2p cor", "Peak-to-peak of the corrected filtered drift, °/h"),
+                    (
+                        "p2p cor",
+                        "Peak-to-peak of the corrected filtered drift, °/h",
+                    ),
                     ("p2p", "Peak-to-peak ratio, raw ÷ corrected"),
                     ("std", "Standard-deviation ratio"),
                     ("10-min", "Ratio of the largest |10-minute mean|"),
@@ -616,7 +641,7 @@ impl ModelsView {
                             swatch(ui, color);
                             if ui
                                 .selectable_label(sel, RichText::new(&r.model).monospace())
-                                .on_hover_text(&r.description)
+                                .on_hover_text(plain(&r.description))
                                 .clicked()
                             {
                                 this.selected = Some(r.model.clone());
@@ -672,7 +697,11 @@ impl ModelsView {
         for r in c.reports.iter().filter(|r| r.error.is_some()) {
             ui.colored_label(
                 bad,
-                format!("{} not fitted: {}", r.model, r.error.as_deref().unwrap_or("")),
+                format!(
+                    "{} not fitted: {}",
+                    r.model,
+                    r.error.as_deref().unwrap_or("")
+                ),
             );
         }
     }
@@ -681,11 +710,10 @@ impl ModelsView {
         let pal = Palette::of(ui);
         let dark = ui.visuals().dark_mode;
         ui.horizontal(|ui| {
-            ui.strong("Corrected drift of each model")
-                .on_hover_text(
-                    "Ω filtered as for the figures: raw (grey) and corrected by each fitted model; \
+            ui.strong("Corrected drift of each model").on_hover_text(
+                "Ω filtered as for the figures: raw (grey) and corrected by each fitted model; \
                      click a name in the legend to hide it",
-                );
+            );
             ui.separator();
             for (j, l) in c.logs.iter().enumerate() {
                 let label = if l.held_out {
@@ -710,7 +738,11 @@ impl ModelsView {
         let li = self.log_index;
         Plot::new("models_drift")
             .height(ui.available_height().max(120.0))
-            .legend(Legend::default().position(Corner::LeftTop))
+            .legend(
+                Legend::default()
+                    .position(Corner::LeftTop)
+                    .follow_insertion_order(true),
+            )
             .x_axis_label(format!("time, {}", scale.unit))
             .y_axis_label("drift, °/h")
             .y_axis_min_width(64.0)
@@ -772,15 +804,17 @@ impl ModelsView {
         let fitted: Vec<&ModelReport> = c.reports.iter().filter(|r| r.fitted.is_some()).collect();
         ui.horizontal(|ui| {
             ui.heading("Model");
-            egui::ComboBox::from_id_salt("models_selected")
-                .selected_text(self.selected.clone().unwrap_or_else(|| "—".into()))
+            let shown = self.selected.clone().unwrap_or_else(|| "—".into());
+            let r = egui::ComboBox::from_id_salt("models_selected")
+                .selected_text(&shown)
                 .show_ui(ui, |ui| {
                     for r in &c.reports {
                         ui.selectable_value(&mut self.selected, Some(r.model.clone()), &r.model);
                     }
                 })
-                .response
-                .on_hover_text("The model whose coefficients and searches are shown");
+                .response;
+            accessible(&r, "Model shown", &shown);
+            r.on_hover_text("The model whose coefficients and searches are shown");
         });
         let report = self
             .selected
@@ -791,7 +825,7 @@ impl ModelsView {
                 ui.weak("Click a model in the table.");
             }
             Some(r) => {
-                ui.label(&r.description);
+                ui.label(plain(&r.description));
                 match (&r.fitted, &r.error) {
                     (_, Some(e)) => {
                         ui.colored_label(ui.visuals().error_fg_color, format!("Not fitted: {e}"));
@@ -799,7 +833,7 @@ impl ModelsView {
                     (Some(DriftModel::Regression(rc)), _) => regression_detail(ui, &rc.model),
                     (Some(DriftModel::Vakhrameev(cal)), _) => {
                         ui.label(format!(
-                            "K0(T), K1±(Ṫ), K2±(T̈) fitted with the workbench's recipe on {} \
+                            "K0(T), K1±(dT/dt), K2±(d²T/dt²) fitted with the workbench's recipe on {} \
                              samples; the Calibration page shows and edits them.",
                             cal.source.samples
                         ));
@@ -818,15 +852,12 @@ impl ModelsView {
         ui.horizontal_wrapped(|ui| {
             for r in &fitted {
                 ui.radio_value(&mut self.export, Some(r.model.clone()), &r.model)
-                    .on_hover_text(&r.description);
+                    .on_hover_text(plain(&r.description));
             }
         });
         ui.add_space(4.0);
         if ui
-            .add_enabled(
-                self.export.is_some(),
-                egui::Button::new("Export model…"),
-            )
+            .add_enabled(self.export.is_some(), egui::Button::new("Export model…"))
             .on_hover_text(
                 "Write the chosen model's calibration file (JSON), which `driftlab apply` and \
                  the gyro's processor read. File › Export calibration keeps writing the \
@@ -850,9 +881,10 @@ fn regression_detail(ui: &mut Ui, m: &RegressionModel) {
             ui.label(RichText::new("term").strong());
             ui.label(RichText::new("coefficient").strong())
                 .on_hover_text("°/h per unit of the term");
-            ui.label(RichText::new("± std error").strong()).on_hover_text(
-                "White-noise assumption: correlated noise makes the real uncertainty larger",
-            );
+            ui.label(RichText::new("± std error").strong())
+                .on_hover_text(
+                    "White-noise assumption: correlated noise makes the real uncertainty larger",
+                );
             ui.end_row();
             for (k, name) in m.names.iter().enumerate() {
                 ui.monospace(name);
@@ -867,21 +899,21 @@ fn regression_detail(ui: &mut Ui, m: &RegressionModel) {
         .spacing([14.0, 2.0])
         .show(ui, |ui| {
             ui.label("λ (self-heating)");
-            ui.monospace(m.lambda_s.map_or("—".into(), |v| format!("{} s", num(v))));
+            ui.monospace(m.lambda_s.map_or("—".into(), |v| format!("{} s", secs(v))));
             ui.end_row();
             ui.label("τd (delay)");
             ui.monospace(match m.delay.points.as_slice() {
                 [] => "—".to_string(),
-                [p] => format!("{} s", num(p[1])),
+                [p] => format!("{} s", secs(p[1])),
                 pts => pts
                     .iter()
-                    .map(|p| format!("{} s at {:.1} °C", num(p[1]), p[0]))
+                    .map(|p| format!("{} s at {:.1} °C", secs(p[1]), p[0]))
                     .collect::<Vec<_>>()
                     .join("\n"),
             });
             ui.end_row();
             ui.label("lag of T");
-            ui.monospace(m.lag_s.map_or("—".into(), |v| format!("{} s", num(v))));
+            ui.monospace(m.lag_s.map_or("—".into(), |v| format!("{} s", secs(v))));
             ui.end_row();
             if let Some(t2) = &m.temp2 {
                 ui.label("second sensor");
@@ -904,34 +936,52 @@ fn regression_detail(ui: &mut Ui, m: &RegressionModel) {
         return;
     }
     for s in m.searches.iter().filter(|s| s.at_edge) {
+        let beyond = if s.best > 0.0 {
+            ": the optimum may lie beyond it"
+        } else {
+            ""
+        };
         ui.colored_label(
             ui.visuals().warn_fg_color,
             format!(
-                "{}: best at the edge of the searched range ({} s): the optimum may lie beyond",
+                "{}: the best value, {} s, is an end of the range searched{beyond}",
                 s.parameter,
-                num(s.best)
+                secs(s.best)
             ),
         );
     }
     ui.add_space(4.0);
-    ui.strong("Cost of the searches")
-        .on_hover_text("RMS residual of the fit at each value tried; the line marks the value chosen");
+    ui.strong("Cost of the searches").on_hover_text(
+        "RMS residual of the fit at each value tried; the dashed line marks the value chosen",
+    );
     let dark = ui.visuals().dark_mode;
+    // The key above the plot, not inside it: a cost curve may have its minimum anywhere.
+    ui.horizontal_wrapped(|ui| {
+        for (k, s) in m.searches.iter().enumerate() {
+            swatch(ui, model_color(k, dark));
+            ui.label(format!("{}: best {} s", s.parameter, secs(s.best)));
+            ui.add_space(6.0);
+        }
+    });
     Plot::new("models_cost")
         .height(190.0)
-        .legend(Legend::default().position(Corner::RightTop))
-        .x_axis_label("parameter, s")
+        .x_axis_label("value tried, s")
         .y_axis_label("RMS, °/h")
         .y_axis_min_width(56.0)
         .y_axis_formatter(super::plot_items::tick)
+        .x_grid_spacer(egui_plot::uniform_grid_spacer(
+            super::plot_items::nice_steps,
+        ))
+        .y_grid_spacer(egui_plot::uniform_grid_spacer(
+            super::plot_items::nice_steps,
+        ))
         .allow_zoom(false)
         .allow_drag(false)
         .allow_scroll(false)
         .show(ui, |pui| {
             for (k, s) in m.searches.iter().enumerate() {
                 let color = model_color(k, dark);
-                let pts: Vec<[f64; 2]> =
-                    s.x.iter().zip(&s.rmse).map(|(&x, &y)| [x, y]).collect();
+                let pts: Vec<[f64; 2]> = s.x.iter().zip(&s.rmse).map(|(&x, &y)| [x, y]).collect();
                 pui.line(
                     Line::new(s.parameter.clone(), PlotPoints::from(pts.clone()))
                         .color(color)
@@ -952,6 +1002,37 @@ fn regression_detail(ui: &mut Ui, m: &RegressionModel) {
         });
 }
 
+/// Seconds as the details show them: 0 as "0", else about four significant digits.
+fn secs(v: f64) -> String {
+    if v == 0.0 { "0".into() } else { num(v) }
+}
+
+fn delay_name(d: DelayChoice) -> &'static str {
+    match d {
+        DelayChoice::None => "none",
+        DelayChoice::Fixed => "fixed",
+        DelayChoice::Search => "search",
+        DelayChoice::Bands => "bands",
+    }
+}
+
+fn lag_name(l: LagChoice) -> &'static str {
+    match l {
+        LagChoice::None => "none",
+        LagChoice::Fixed => "fixed",
+        LagChoice::Search => "search",
+    }
+}
+
+/// Names a combo box for screen readers (and tests).
+fn accessible(r: &egui::Response, name: &str, value: &str) {
+    r.widget_info(|| {
+        let mut info = egui::WidgetInfo::labeled(egui::accesskit::Role::ComboBox, true, name);
+        info.current_text_value = Some(value.to_string());
+        info
+    });
+}
+
 fn swatch(ui: &mut Ui, color: Color32) {
     let (rect, _) = ui.allocate_exact_size(egui::vec2(12.0, 12.0), egui::Sense::hover());
     ui.painter().rect_filled(rect, 2.0, color);
@@ -967,6 +1048,14 @@ fn progress(ui: &mut Ui, h: &CompareHandle) {
             h.started.elapsed().as_secs_f64()
         ));
     });
+}
+
+/// The engine's text with Ṫ and T̈ written as dT/dt and d²T/dt² (the workbench's fonts have
+/// no glyphs for the dotted letters).
+pub fn plain(s: &str) -> String {
+    s.replace("T\u{308}", "d²T/dt²")
+        .replace('\u{1E6A}', "dT/dt")
+        .replace("T\u{307}", "dT/dt")
 }
 
 /// A message cut to `n` characters for a table cell (the whole of it is in the tooltip).
