@@ -726,7 +726,7 @@ fn a_model_that_cannot_be_fitted_shows_why() {
     let cut: String = text
         .lines()
         .filter(|l| !l.starts_with('#'))
-        .map(|l| l.rsplitn(2, ',').nth(1).unwrap_or(l).to_string() + "\n")
+        .map(|l| l.rsplit_once(',').map_or(l, |(head, _)| head).to_string() + "\n")
         .collect();
     std::fs::write(&path, cut).unwrap();
     let mut h = harness(Workbench::new_for_test(&path));

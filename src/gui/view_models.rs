@@ -586,17 +586,24 @@ impl ModelsView {
                     .log
                     .as_ref()
                     .is_some_and(|l| std::sync::Arc::ptr_eq(&l.log, &c.logs[0].log));
+                let held: Vec<_> = c.logs.iter().skip(1).map(|l| &l.log).collect();
+                let same_held = match &state.validation {
+                    Some(v) => held.len() == 1 && std::sync::Arc::ptr_eq(held[0], &v.log),
+                    None => held.is_empty(),
+                };
                 let same_choices = self.choices().is_ok_and(|ch| ch == c.choices);
-                if !same_log || !same_choices {
+                let changed = if !same_log {
+                    Some("the log changed: press Compare again")
+                } else if !same_held {
+                    Some("the validation log changed: press Compare again")
+                } else if !same_choices {
+                    Some("the models ticked changed: press Compare again")
+                } else {
+                    None
+                };
+                if let Some(text) = changed {
                     ui.separator();
-                    ui.colored_label(
-                        ui.visuals().warn_fg_color,
-                        if same_log {
-                            "the models ticked changed: press Compare again"
-                        } else {
-                            "the log changed: press Compare again"
-                        },
-                    );
+                    ui.colored_label(ui.visuals().warn_fg_color, text);
                 }
             }
             if let Some(e) = &state.models_error {
@@ -968,7 +975,7 @@ fn regression_detail(ui: &mut Ui, m: &RegressionModel) {
         .x_axis_label("value tried, s")
         .y_axis_label("RMS, °/h")
         .y_axis_min_width(56.0)
-        .y_axis_formatter(super::plot_items::tick)
+        .y_axis_formatter(fixed_tick)
         .x_grid_spacer(egui_plot::uniform_grid_spacer(
             super::plot_items::nice_steps,
         ))
@@ -1000,6 +1007,18 @@ fn regression_detail(ui: &mut Ui, m: &RegressionModel) {
                 );
             }
         });
+}
+
+/// A tick label with as many decimals as the visible range needs, the same for every label,
+/// never in scientific notation (the cost of a search often changes in its fourth digit only).
+fn fixed_tick(mark: egui_plot::GridMark, range: &std::ops::RangeInclusive<f64>) -> String {
+    let span = (range.end() - range.start()).abs() / 5.0;
+    let decimals = if span > 0.0 && span.is_finite() {
+        ((-span.log10().floor()).max(0.0) as usize).min(9)
+    } else {
+        4
+    };
+    format!("{:.decimals$}", mark.value)
 }
 
 /// Seconds as the details show them: 0 as "0", else about four significant digits.
