@@ -812,3 +812,39 @@ fn the_allan_page_shows_raw_and_corrected_deviations_and_read_outs() {
         "{shown} shown"
     );
 }
+
+/// Frame cost of the Models and Allan pages on a big log (`DRIFTLAB_BIG_LOG=/path/to/1M.csv
+/// cargo test --release --test gui -- --ignored --nocapture big_log_pages`): every model's
+/// corrected drift is drawn from its pyramid, so a frame stays cheap whatever the length.
+#[test]
+#[ignore = "needs a big log: set DRIFTLAB_BIG_LOG"]
+fn big_log_pages_stay_cheap() {
+    let Ok(path) = std::env::var("DRIFTLAB_BIG_LOG") else {
+        return;
+    };
+    let mut h = harness(Workbench::new_for_test(Path::new(&path)));
+    settle(&mut h);
+    let t = std::time::Instant::now();
+    compare_on_models_page(&mut h);
+    eprintln!(
+        "{} samples: compared {} models in {:.2?}",
+        h.state().state.log.as_ref().unwrap().log.len(),
+        h.state().state.models.as_ref().unwrap().reports.len(),
+        t.elapsed()
+    );
+    for (page, key) in [(Page::Models, Key::Num2), (Page::Allan, Key::Num3)] {
+        h.key_press_modifiers(Modifiers::COMMAND, key);
+        settle(&mut h);
+        assert_eq!(h.state().page(), page);
+        let mut worst = 0.0f64;
+        for _ in 0..10 {
+            let t = std::time::Instant::now();
+            h.step();
+            let shapes = h.output().shapes.clone();
+            let _ = h.ctx.tessellate(shapes, 1.0);
+            worst = worst.max(t.elapsed().as_secs_f64() * 1e3);
+        }
+        eprintln!("{page:?}: worst frame (layout + tessellation) {worst:.1} ms");
+        assert!(worst < 100.0, "{page:?}: {worst:.1} ms");
+    }
+}

@@ -1086,12 +1086,18 @@ fn short(s: &str, n: usize) -> String {
     }
 }
 
-/// The log names a request needs, for messages.
+/// The logs of a comparison by file name, for messages.
 pub fn log_names(train: &Log, tests: &[std::sync::Arc<Log>]) -> String {
-    let mut s = train.source.clone();
+    let name = |l: &Log| {
+        std::path::Path::new(&l.source)
+            .file_name()
+            .map_or(l.source.clone(), |s| s.to_string_lossy().into_owned())
+    };
+    let mut s = name(train);
     for t in tests {
-        s.push_str(", ");
-        s.push_str(&t.source);
+        s.push_str(" (held out: ");
+        s.push_str(&name(t));
+        s.push(')');
     }
     s
 }
