@@ -836,15 +836,20 @@ fn big_log_pages_stay_cheap() {
         h.key_press_modifiers(Modifiers::COMMAND, key);
         settle(&mut h);
         assert_eq!(h.state().page(), page);
-        let mut worst = 0.0f64;
+        let (mut worst, mut sum) = (0.0f64, 0.0);
         for _ in 0..10 {
             let t = std::time::Instant::now();
             h.step();
             let shapes = h.output().shapes.clone();
             let _ = h.ctx.tessellate(shapes, 1.0);
-            worst = worst.max(t.elapsed().as_secs_f64() * 1e3);
+            let ms = t.elapsed().as_secs_f64() * 1e3;
+            worst = worst.max(ms);
+            sum += ms;
         }
-        eprintln!("{page:?}: worst frame (layout + tessellation) {worst:.1} ms");
+        eprintln!(
+            "{page:?}: frames (layout + tessellation) {:.1} ms on average, worst {worst:.1} ms",
+            sum / 10.0
+        );
         assert!(worst < 100.0, "{page:?}: {worst:.1} ms");
     }
 }
