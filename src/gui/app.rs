@@ -9,8 +9,10 @@ use super::jobs::{JobResult, Jobs, Target};
 use super::plot_items::num;
 use super::settings::{Settings, ThemeChoice, WindowGeometry};
 use super::state::{AppState, Choices, Severity};
+use super::view_allan::AllanPage;
 use super::view_coeffs::{CoeffView, Pair};
 use super::view_import::{ImportDecision, ImportView};
+use super::view_models::ModelsView;
 use super::view_plateaus::PlateauView;
 use super::view_result::ResultView;
 use super::view_time::{TimeView, XCommand};
@@ -72,6 +74,73 @@ pub enum Action {
     Quit,
     /// Change the theme.
     Theme(ThemeChoice),
+    /// Show a page of the workbench.
+    ShowPage(Page),
+    /// Fit and judge the models ticked on the Models page (in the background).
+    CompareModels,
+    /// Write the model chosen on the Models page as a calibration file.
+    ExportModel,
+}
+
+/// The pages of the workbench.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Page {
+    /// The Vakhrameev calibration: time plots, plateaus, coefficients, result.
+    #[default]
+    Calibration,
+    /// Several models side by side.
+    Models,
+    /// Allan deviation, raw and corrected.
+    Allan,
+}
+
+impl Page {
+    /// Every page, in tab order.
+    pub const ALL: [Page; 3] = [Page::Calibration, Page::Models, Page::Allan];
+
+    /// The tab's title.
+    pub fn title(self) -> &'static str {
+        match self {
+            Page::Calibration => "Calibration",
+            Page::Models => "Models",
+            Page::Allan => "Allan deviation",
+        }
+    }
+
+    /// The page named `name` (`calibration`, `models`, `allan`), for the command line and
+    /// the environment.
+    pub fn from_name(name: &str) -> Option<Page> {
+        match name.trim().to_ascii_lowercase().as_str() {
+            "calibration" | "main" => Some(Page::Calibration),
+            "models" => Some(Page::Models),
+            "allan" => Some(Page::Allan),
+            _ => None,
+        }
+    }
+
+    fn shortcut(self) -> KeyboardShortcut {
+        match self {
+            Page::Calibration => SC_PAGE1,
+            Page::Models => SC_PAGE2,
+            Page::Allan => SC_PAGE3,
+        }
+    }
+
+    fn tip(self) -> &'static str {
+        match self {
+            Page::Calibration => {
+                "The Vakhrameev calibration: time plots, plateaus, K0/K1±/K2±, the result"
+            }
+            Page::Models => {
+                "The models of the papers and a custom one side by side, in-sample and held out; \
+                 export any of them"
+            }
+            Page::Allan => {
+                "Allan deviation of the raw and the corrected rate, with ARW, bias \
+                 instability and RRW"
+            }
+        }
+    }
 }
 
 const SC_OPEN: KeyboardShortcut = KeyboardShortcut::new(Modifiers::COMMAND, Key::O);
@@ -89,6 +158,10 @@ const SC_REDO: KeyboardShortcut = KeyboardShortcut::new(Modifiers::COMMAND, Key:
 const SC_REDO2: KeyboardShortcut =
     KeyboardShortcut::new(Modifiers::COMMAND.plus(Modifiers::SHIFT), Key::Z);
 const SC_QUIT: KeyboardShortcut = KeyboardShortcut::new(Modifiers::COMMAND, Key::Q);
+const SC_PAGE1: KeyboardShortcut = KeyboardShortcut::new(Modifiers::COMMAND, Key::Num1);
+const SC_PAGE2: KeyboardShortcut = KeyboardShortcut::new(Modifiers::COMMAND, Key::Num2);
+const SC_PAGE3: KeyboardShortcut = KeyboardShortcut::new(Modifiers::COMMAND, Key::Num3);
+const SC_COMPARE: KeyboardShortcut = KeyboardShortcut::new(Modifiers::NONE, Key::F5);
 
 /// A screenshot waiting to be taken: a couple of frames first, so menus have closed.
 struct PendingShot {
@@ -103,6 +176,8 @@ struct AutoShot {
     path: PathBuf,
     settled: u32,
     requested: bool,
+    /// The Models page's comparison was sent.
+    compared: bool,
     started: Instant,
     result: Arc<Mutex<Option<Result<(), String>>>>,
 }
@@ -141,6 +216,9 @@ pub struct Workbench {
     recover: Option<LeftBehind>,
     /// The session being opened is autosaved work: it stays unsaved, with no session file.
     restoring_autosave: bool,
+    page: Page,
+    models: ModelsView,
+    allan: AllanPage,
 }
 
 fn arc_addr<T>(a: &Arc<T>) -> usize {
@@ -185,6 +263,9 @@ impl Workbench {
             autosave,
             recover,
             restoring_autosave: false,
+            page: Page::Calibration,
+            models: ModelsView::default(),
+            allan: AllanPage::default(),
         }
     }
 
@@ -276,6 +357,21 @@ impl Workbench {
     /// Where knot `j` of a K1/K2 coefficient is on screen (tests aim the mouse).
     pub fn knot_screen_pos(&self, c: crate::session::Coefficient, j: usize) -> Option<egui::Pos2> {
         self.coeffs.knot_pos(&self.state, c, j)
+    }
+
+    /// The page shown.
+    pub fn page(&self) -> Page {
+        self.page
+    }
+
+    /// Shows a page.
+    pub fn set_page(&mut self, page: Page) {
+        self.page = page;
+    }
+
+    /// The Models page's choices and selection (tests and scripts set them).
+    pub fn models_view(&mut self) -> &mut ModelsView {
+        &mut self.models
     }
 
     /// Runs an action as if chosen from the menu.
@@ -438,6 +534,39 @@ impl Workbench {
                         .say(Severity::Error, format!("Calibration failed: {message}"));
                 }
             }
+            JobResult::Compared(generation, result) => {
+                if generation == self.jobs.compare_requested() {
+                    match result {
+                        Ok(c) => {
+                            let failed = c.reports.iter().filter(|r| r.error.is_some()).count();
+                            self.state.say(
+                                Severity::Info,
+                                format!(
+                                    "Compared {} models in {:.1} s{}",
+                                    c.reports.len(),
+                                    c.seconds,
+                                    if failed > 0 {
+                                        format!("; {failed} could not be fitted")
+                                    } else {
+                                        String::new()
+                                    }
+                                ),
+                            );
+                            self.models.adopt(&c);
+                            self.state.models = Some(c);
+                            self.state.models_error = None;
+                        }
+                        Err(e) => {
+                            self.state
+                                .say(Severity::Error, format!("Comparison failed: {e}"));
+                            self.state.models_error = Some(e);
+                        }
+                    }
+                }
+            }
+            JobResult::Allan(v) => {
+                self.state.allan = Some(v);
+            }
             JobResult::Exported(what, result) => match result {
                 Ok(path) => {
                     self.state
@@ -490,33 +619,26 @@ impl Workbench {
         self.close_requested(&ctx);
 
         Panel::top("menu").show(ui, |ui| self.menu_bar(ui, &mut actions));
+        Panel::top("pages").show(ui, |ui| self.page_tabs(ui, &mut actions));
         Panel::bottom("status").show(ui, |ui| self.status_bar(ui));
-        Panel::bottom("figures")
-            .resizable(false)
-            .show(ui, |ui| ResultView::figures(ui, &self.state));
-        Panel::left("controls")
-            .default_size(330.0)
-            .size_range(250.0..=520.0)
-            .show(ui, |ui| {
-                ScrollArea::vertical().show(ui, |ui| self.controls(ui, &mut actions));
-            });
-        Panel::right("coefficients")
-            .default_size(470.0)
-            .size_range(320.0..=800.0)
-            .show(ui, |ui| self.coefficient_panel(ui, &mut actions));
-        egui::CentralPanel::default().show(ui, |ui| {
-            if self.state.log.is_none() {
-                self.welcome(ui, &mut actions);
-                return;
+        match self.page {
+            Page::Calibration => self.calibration_page(ui, &mut actions),
+            Page::Models => {
+                let running = self.jobs.comparing.clone();
+                self.models
+                    .ui(ui, &self.state, running.as_ref(), &mut actions);
             }
-            let h = ui.available_height();
-            let time_h = (h * 0.66).max(240.0);
-            ui.allocate_ui(egui::vec2(ui.available_width(), time_h), |ui| {
-                self.time.ui(ui, &mut self.state, &mut actions);
-            });
-            ui.separator();
-            self.result.ui(ui, &mut self.state, &mut actions);
-        });
+            Page::Allan => {
+                if let Some(key) = self.allan.wanted(&self.state)
+                    && self.state.allan.as_ref().is_none_or(|a| a.key != key)
+                    && self.jobs.allan != Some(key)
+                {
+                    self.request_allan(key);
+                }
+                let running = self.jobs.allan.is_some();
+                self.allan.ui(ui, &self.state, running, &mut actions);
+            }
+        }
         for (name, rect) in &self.time.rects {
             self.plot_rects.insert((*name).to_string(), *rect);
         }
@@ -539,6 +661,157 @@ impl Workbench {
         self.remember_window(&ctx);
         if self.jobs.busy() {
             ctx.request_repaint_after(Duration::from_millis(100));
+        }
+    }
+
+    fn calibration_page(&mut self, ui: &mut Ui, actions: &mut Vec<Action>) {
+        Panel::bottom("figures")
+            .resizable(false)
+            .show(ui, |ui| ResultView::figures(ui, &self.state));
+        Panel::left("controls")
+            .default_size(330.0)
+            .size_range(250.0..=520.0)
+            .show(ui, |ui| {
+                ScrollArea::vertical().show(ui, |ui| self.controls(ui, actions));
+            });
+        Panel::right("coefficients")
+            .default_size(470.0)
+            .size_range(320.0..=800.0)
+            .show(ui, |ui| self.coefficient_panel(ui, actions));
+        egui::CentralPanel::default().show(ui, |ui| {
+            if self.state.log.is_none() {
+                self.welcome(ui, actions);
+                return;
+            }
+            let h = ui.available_height();
+            let time_h = (h * 0.66).max(240.0);
+            ui.allocate_ui(egui::vec2(ui.available_width(), time_h), |ui| {
+                self.time.ui(ui, &mut self.state, actions);
+            });
+            ui.separator();
+            self.result.ui(ui, &mut self.state, actions);
+        });
+    }
+
+    fn page_tabs(&mut self, ui: &mut Ui, actions: &mut Vec<Action>) {
+        let ctx = ui.ctx().clone();
+        ui.horizontal(|ui| {
+            for p in Page::ALL {
+                if ui
+                    .selectable_label(self.page == p, RichText::new(p.title()).size(15.0))
+                    .on_hover_text(format!(
+                        "{} ({})",
+                        p.tip(),
+                        ctx.format_shortcut(&p.shortcut())
+                    ))
+                    .clicked()
+                {
+                    actions.push(Action::ShowPage(p));
+                }
+            }
+            if let Some(h) = &self.jobs.comparing {
+                ui.separator();
+                ui.spinner();
+                ui.label(format!("fitting models… {} of {}", h.done(), h.total));
+            }
+        });
+    }
+
+    /// Asks the worker for the Allan deviations of the log the Allan page shows.
+    fn request_allan(&mut self, key: (u64, bool)) {
+        let Some(fit) = &self.state.fit else {
+            return;
+        };
+        let judged = if key.1 {
+            fit.outcome.held_out.as_ref()
+        } else {
+            Some(&fit.outcome.in_sample)
+        };
+        if let Some(j) = judged {
+            self.jobs.allan(super::jobs::AllanRequest {
+                key,
+                log: j.log.clone(),
+                corrected: j.corrected.clone(),
+            });
+        }
+    }
+
+    /// Sends the comparison of the models ticked on the Models page to a worker.
+    fn compare_models(&mut self) {
+        let Some(log) = &self.state.log else {
+            self.state.say(Severity::Warning, "Open a log first");
+            return;
+        };
+        if self.jobs.comparing.is_some() {
+            self.state.say(
+                Severity::Info,
+                "A comparison is running; wait for it to finish",
+            );
+            return;
+        }
+        let choices = match self.models.choices() {
+            Ok(c) => c,
+            Err(e) => {
+                self.state.say(Severity::Warning, e);
+                return;
+            }
+        };
+        let tests: Vec<Arc<crate::log::Log>> = self
+            .state
+            .validation
+            .iter()
+            .map(|v| v.log.clone())
+            .collect();
+        let n = choices.len();
+        let names = super::view_models::log_names(&log.log, &tests);
+        self.jobs.compare(super::jobs::CompareRequest {
+            train: log.log.clone(),
+            tests,
+            choices,
+            recipe: self.state.recipe().clone(),
+            merit: self.state.merit(),
+        });
+        self.state
+            .say(Severity::Info, format!("Fitting {n} models on {names} …"));
+    }
+
+    /// Writes the model chosen on the Models page, asking where.
+    fn export_model(&mut self) {
+        let (Some(log), Some(c)) = (self.state.log.clone(), self.state.models.clone()) else {
+            self.state.say(
+                Severity::Warning,
+                "Nothing to export yet: compare the models first",
+            );
+            return;
+        };
+        let Some(model) = self.models.export.as_ref().and_then(|n| {
+            c.reports
+                .iter()
+                .find(|r| &r.model == n)
+                .and_then(|r| r.fitted.clone())
+        }) else {
+            self.state
+                .say(Severity::Warning, "Choose a fitted model to export");
+            return;
+        };
+        if !Arc::ptr_eq(&log.log, &c.logs[0].log) {
+            self.state.say(
+                Severity::Warning,
+                "The log changed since the comparison: compare the models again first",
+            );
+            return;
+        }
+        let name = export::suggested_name(Some(&log.path), &format!("{}.json", model.name()));
+        if let Some(p) = self
+            .dialogs
+            .save(FileKind::Model, self.dir().as_deref(), &name)
+        {
+            self.settings.last_dir = p.parent().map(Path::to_path_buf);
+            let what = format!("model {}", model.name());
+            let (log_path, sha) = (log.path.clone(), log.sha256.clone());
+            self.jobs.spawn_export(&what, move || {
+                export::save_model(&p, &model, &log_path, sha.as_deref())
+            });
         }
     }
 
@@ -583,6 +856,14 @@ impl Workbench {
             }
             if i.consume_shortcut(&SC_QUIT) {
                 actions.push(Action::Quit);
+            }
+            for p in Page::ALL {
+                if i.consume_shortcut(&p.shortcut()) {
+                    actions.push(Action::ShowPage(p));
+                }
+            }
+            if self.page == Page::Models && i.consume_shortcut(&SC_COMPARE) {
+                actions.push(Action::CompareModels);
             }
             if !text_focus {
                 if i.consume_shortcut(&SC_REDO2) || i.consume_shortcut(&SC_REDO) {
@@ -838,6 +1119,9 @@ impl Workbench {
             Action::Theme(t) => {
                 self.settings.theme = t;
             }
+            Action::ShowPage(p) => self.page = p,
+            Action::CompareModels => self.compare_models(),
+            Action::ExportModel => self.export_model(),
         }
     }
 
@@ -1017,11 +1301,27 @@ impl Workbench {
     }
 
     fn screenshots(&mut self, ctx: &egui::Context) {
+        let loaded = self.state.log.is_some() && self.state.fit.is_some() && !self.jobs.busy();
+        if loaded && self.page == Page::Models && self.auto.as_ref().is_some_and(|a| !a.compared) {
+            if let Some(a) = &mut self.auto {
+                a.compared = true;
+            }
+            self.compare_models();
+        }
+        let page_done = match self.page {
+            Page::Calibration => true,
+            Page::Models => {
+                self.auto.as_ref().is_some_and(|a| a.compared)
+                    && (self.state.models.is_some() || self.state.models_error.is_some())
+            }
+            Page::Allan => self.state.allan.is_some(),
+        };
         if let Some(a) = &mut self.auto {
             ctx.request_repaint();
             let ready = self.state.log.is_some()
                 && self.state.fit.is_some()
                 && !self.jobs.busy()
+                && page_done
                 && self.import.is_none()
                 && self.pending_shot.is_none();
             a.settled = if ready { a.settled + 1 } else { 0 };
@@ -1192,6 +1492,19 @@ impl Workbench {
                     actions.push(Action::ExportCsv);
                     ui.close();
                 }
+                let has_models = self
+                    .state
+                    .models
+                    .as_ref()
+                    .is_some_and(|c| c.reports.iter().any(|r| r.fitted.is_some()));
+                if ui
+                    .add_enabled(has_models, egui::Button::new("Export model…"))
+                    .on_hover_text("Write the model chosen on the Models page as a calibration file")
+                    .clicked()
+                {
+                    actions.push(Action::ExportModel);
+                    ui.close();
+                }
                 if ui
                     .add_enabled(has_fit, egui::Button::new("Export test report…"))
                     .on_hover_text("Write a folder with the figures (PNG and SVG) and one self-contained HTML page: gyro, recipe, coefficients, figures of merit of the calibration log and of the validation log, Allan deviation")
@@ -1250,6 +1563,17 @@ impl Workbench {
                 }
             });
             ui.menu_button("View", |ui| {
+                for p in Page::ALL {
+                    if ui
+                        .add(egui::Button::selectable(self.page == p, p.title()).shortcut_text(sc(&p.shortcut())))
+                        .on_hover_text(p.tip())
+                        .clicked()
+                    {
+                        actions.push(Action::ShowPage(p));
+                        ui.close();
+                    }
+                }
+                ui.separator();
                 for (t, name) in [
                     (ThemeChoice::System, "Follow the system theme"),
                     (ThemeChoice::Light, "Light theme"),
@@ -1635,6 +1959,11 @@ impl Workbench {
                             ("Ctrl+Shift+O", "open a session"),
                             ("Ctrl+S", "save the session"),
                             (
+                                "Ctrl+1 / Ctrl+2 / Ctrl+3",
+                                "pages: Calibration / Models / Allan deviation",
+                            ),
+                            ("F5 (Models page)", "compare the models ticked"),
+                            (
                                 "Ctrl+E / Ctrl+Shift+E",
                                 "export the calibration / the corrected log",
                             ),
@@ -1737,6 +2066,7 @@ pub(super) fn set_auto_screenshot(
         path,
         settled: 0,
         requested: false,
+        compared: false,
         started: Instant::now(),
         result,
     });

@@ -16,6 +16,8 @@ pub enum FileKind {
     Session,
     /// A calibration file (JSON).
     Calibration,
+    /// A calibration file of a model chosen in the Models view (JSON).
+    Model,
     /// The corrected log (CSV).
     CorrectedCsv,
     /// A picture (PNG).
@@ -32,6 +34,7 @@ impl FileKind {
             FileKind::ValidationLog => "Open validation log",
             FileKind::Session => "Workbench session",
             FileKind::Calibration => "Export calibration",
+            FileKind::Model => "Export model",
             FileKind::CorrectedCsv => "Export corrected log",
             FileKind::Png => "Save picture",
             FileKind::Report => "Export test report (a folder)",
@@ -45,7 +48,7 @@ impl FileKind {
                 ("Logs", &["csv", "txt", "dat", "tsv", "log"])
             }
             FileKind::Session => ("driftlab session", &["json"]),
-            FileKind::Calibration => ("Calibration", &["json"]),
+            FileKind::Calibration | FileKind::Model => ("Calibration", &["json"]),
             FileKind::CorrectedCsv => ("CSV", &["csv"]),
             FileKind::Png => ("PNG image", &["png"]),
             FileKind::Report => ("Report folder", &["*"]),

@@ -101,6 +101,28 @@ pub fn write_report(
     Ok(summary.html)
 }
 
+/// Writes any fitted model's calibration file (the engine's format, atomically), naming its
+/// source log and the log's SHA-256.
+pub fn save_model(
+    path: &Path,
+    model: &crate::drift_model::DriftModel,
+    log_path: &Path,
+    sha256: Option<&str>,
+) -> Result<PathBuf, String> {
+    let mut model = model.clone();
+    let source = model.source_mut();
+    source.name = log_path
+        .file_name()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| log_path.display().to_string());
+    source.sha256 = match sha256 {
+        Some(s) => s.to_string(),
+        None => crate::calfile::sha256_file(log_path).map_err(|e| e.to_string())?,
+    };
+    crate::calfile::save_model(path, &model).map_err(|e| e.to_string())?;
+    Ok(path.to_path_buf())
+}
+
 /// Writes the corrected log with the engine's writer (the columns of `driftlab apply`).
 pub fn write_corrected_csv(path: &Path, log: &Log, c: &Corrected) -> Result<PathBuf, String> {
     crate::corrected_csv::write(path, log, &c.pred_dph, &c.cor_dph, &|_| {})

@@ -2,14 +2,20 @@
 //! request wins) and long exports. Results come back through one channel; each sender asks
 //! egui for a repaint so the UI shows them at once.
 
+use crate::allan::{AllanDeviation, AllanOptions};
+use crate::compare::{self, ModelReport};
 use crate::ingest::{self, ReadOptions};
 use crate::live::{Outcome, Pipeline, Request};
 use crate::lod::{ClassLod, MinMaxPyramid, ScatterLod};
 use crate::log::Log;
+use crate::metrics::MeritOptions;
 use crate::model::{PointSet, Prepared};
+use crate::presets::ModelChoice;
+use crate::recipe::Recipe;
 use eframe::egui;
+use rayon::prelude::*;
 use std::path::PathBuf;
-use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
 use std::sync::mpsc::{self, Receiver, Sender};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
@@ -105,6 +111,110 @@ pub enum JobResult {
     FitFailed(u64, String),
     /// A long export finished.
     Exported(String, Result<PathBuf, String>),
+    /// A comparison of models finished (or stopped on an internal error).
+    Compared(u64, Result<Arc<Compared>, String>),
+    /// Allan deviations finished.
+    Allan(Arc<AllanView>),
+}
+
+/// A comparison of models to run: every choice fitted on `train`, judged on `train` and on
+/// each of `tests` (what `driftlab compare` does).
+#[derive(Clone)]
+pub struct CompareRequest {
+    /// The log the models are fitted on.
+    pub train: Arc<Log>,
+    /// Held-out logs of the same gyro.
+    pub tests: Vec<Arc<Log>>,
+    /// The models.
+    pub choices: Vec<ModelChoice>,
+    /// The workbench's recipe (the Vakhrameev model's choices; knots moved by hand are not
+    /// part of it).
+    pub recipe: Recipe,
+    /// How the figures are computed.
+    pub merit: MeritOptions,
+}
+
+/// One model's corrected drift on one log, filtered as for the figures, with its pyramid.
+pub struct ModelSeries {
+    /// Corrected Ω filtered, °/h.
+    pub cor_filtered_dph: Vec<f64>,
+    /// Its pyramid.
+    pub lod: MinMaxPyramid,
+}
+
+/// A log of a comparison with its raw drift filtered as for the figures.
+pub struct ComparedLog {
+    /// The log.
+    pub log: Arc<Log>,
+    /// False for the training log.
+    pub held_out: bool,
+    /// Raw Ω filtered, °/h.
+    pub raw_filtered_dph: Vec<f64>,
+    /// Its pyramid.
+    pub raw_lod: MinMaxPyramid,
+}
+
+/// What a comparison of models gives back, ready to draw.
+pub struct Compared {
+    /// The request number it answers.
+    pub generation: u64,
+    /// The models asked for, in order.
+    pub choices: Vec<ModelChoice>,
+    /// The engine's reports, one per choice.
+    pub reports: Vec<ModelReport>,
+    /// Per report, per log (training first): the corrected drift, or `None` when the model
+    /// could not be fitted or applied.
+    pub series: Vec<Vec<Option<ModelSeries>>>,
+    /// The training log first, then the held-out ones.
+    pub logs: Vec<ComparedLog>,
+    /// Seconds the comparison took.
+    pub seconds: f64,
+}
+
+/// A comparison in progress.
+#[derive(Debug, Clone)]
+pub struct CompareHandle {
+    /// The request number.
+    pub generation: u64,
+    /// Models asked for.
+    pub total: usize,
+    done: Arc<AtomicUsize>,
+    /// When it started.
+    pub started: Instant,
+}
+
+impl CompareHandle {
+    /// Models fitted and judged so far.
+    pub fn done(&self) -> usize {
+        self.done.load(Ordering::Relaxed).min(self.total)
+    }
+}
+
+/// Allan deviations of a log's raw rate and of the same rate corrected.
+#[derive(Clone)]
+pub struct AllanRequest {
+    /// What the answer is for (the fit's generation, and which log), to tell stale answers.
+    pub key: (u64, bool),
+    /// The log.
+    pub log: Arc<Log>,
+    /// Its correction.
+    pub corrected: Arc<crate::live::Corrected>,
+}
+
+/// The Allan deviations of one log, raw and corrected.
+pub struct AllanView {
+    /// The request's key.
+    pub key: (u64, bool),
+    /// The log's name.
+    pub source: String,
+    /// First sample used (the correction's warm-up is left out of both curves).
+    pub from_sample: usize,
+    /// Raw rate.
+    pub raw: Result<AllanDeviation, String>,
+    /// Corrected rate.
+    pub corrected: Result<AllanDeviation, String>,
+    /// Seconds the two took.
+    pub seconds: f64,
 }
 
 /// A read in progress.
@@ -158,6 +268,12 @@ pub struct Jobs {
     pub answered: u64,
     /// Exports running.
     pub exports: usize,
+    /// The comparison of models in progress, if any.
+    pub comparing: Option<CompareHandle>,
+    /// Number of the newest comparison asked for.
+    compare_requested: u64,
+    /// The Allan deviations in progress, if any.
+    pub allan: Option<(u64, bool)>,
 }
 
 impl Default for Jobs {
@@ -189,6 +305,9 @@ impl Jobs {
             requested: 0,
             answered: 0,
             exports: 0,
+            comparing: None,
+            compare_requested: 0,
+            allan: None,
         }
     }
 
@@ -203,7 +322,11 @@ impl Jobs {
 
     /// True while anything runs.
     pub fn busy(&self) -> bool {
-        self.loading.is_some() || self.fitting() || self.exports > 0
+        self.loading.is_some()
+            || self.fitting()
+            || self.exports > 0
+            || self.comparing.is_some()
+            || self.allan.is_some()
     }
 
     /// True while a refit asked for has not been answered.
@@ -289,6 +412,63 @@ impl Jobs {
         }
     }
 
+    /// Starts a comparison of models on a thread (one already running finishes, its answer
+    /// is dropped as stale); returns its number.
+    pub fn compare(&mut self, request: CompareRequest) -> u64 {
+        self.compare_requested += 1;
+        let generation = self.compare_requested;
+        let handle = CompareHandle {
+            generation,
+            total: request.choices.len(),
+            done: Arc::new(AtomicUsize::new(0)),
+            started: Instant::now(),
+        };
+        let (tx, ctx, h) = (self.tx.clone(), self.ctx.clone(), handle.clone());
+        let spawned = std::thread::Builder::new()
+            .name("driftlab-compare".into())
+            .spawn(move || {
+                let run = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+                    run_compare(&request, &h, &ctx)
+                }));
+                let result = run.map(Arc::new).map_err(|_| {
+                    "the comparison stopped on an internal error (see the terminal)".to_string()
+                });
+                let _ = tx.send(JobResult::Compared(h.generation, result));
+                repaint(&ctx);
+            });
+        match spawned {
+            Ok(_) => self.comparing = Some(handle),
+            Err(e) => {
+                let _ = self.tx.send(JobResult::Compared(
+                    generation,
+                    Err(format!("cannot start a thread: {e}")),
+                ));
+            }
+        }
+        generation
+    }
+
+    /// The number of the newest comparison asked for.
+    pub fn compare_requested(&self) -> u64 {
+        self.compare_requested
+    }
+
+    /// Starts the Allan deviations of a log, raw and corrected, on a thread.
+    pub fn allan(&mut self, request: AllanRequest) {
+        let key = request.key;
+        let (tx, ctx) = (self.tx.clone(), self.ctx.clone());
+        let spawned = std::thread::Builder::new()
+            .name("driftlab-allan".into())
+            .spawn(move || {
+                let view = run_allan(&request);
+                let _ = tx.send(JobResult::Allan(Arc::new(view)));
+                repaint(&ctx);
+            });
+        if spawned.is_ok() {
+            self.allan = Some(key);
+        }
+    }
+
     /// The next result, waiting at most `wait`.
     pub fn next(&mut self, wait: Duration) -> Option<JobResult> {
         let r = if wait.is_zero() {
@@ -303,6 +483,16 @@ impl Jobs {
             JobResult::Fitted(v) => self.answered = self.answered.max(v.generation),
             JobResult::FitFailed(g, _) => self.answered = self.answered.max(*g),
             JobResult::Exported(..) => self.exports = self.exports.saturating_sub(1),
+            JobResult::Compared(g, _) => {
+                if self.comparing.as_ref().is_some_and(|c| c.generation == *g) {
+                    self.comparing = None;
+                }
+            }
+            JobResult::Allan(v) => {
+                if self.allan == Some(v.key) {
+                    self.allan = None;
+                }
+            }
         }
         Some(r)
     }
@@ -508,5 +698,103 @@ fn build_lods(cache: &mut LodCache, o: &Outcome) -> FitLods {
         cor_filtered,
         scatter,
         held_out,
+    }
+}
+
+/// The comparison: each model fitted and judged by the engine (in parallel, counting them
+/// done), then its correction of every log filtered as the figures filter it, for drawing.
+fn run_compare(req: &CompareRequest, h: &CompareHandle, ctx: &SharedCtx) -> Compared {
+    let t = Instant::now();
+    let tests: Vec<Log> = req.tests.iter().map(|l| (**l).clone()).collect();
+    let all: Vec<(Arc<Log>, bool)> = std::iter::once((req.train.clone(), false))
+        .chain(req.tests.iter().map(|l| (l.clone(), true)))
+        .collect();
+    let filter = |log: &Log| {
+        crate::signal::seconds_to_samples(req.merit.filter_s, log.nominal_dt_s()).max(1)
+    };
+    let done: Vec<(ModelReport, Vec<Option<ModelSeries>>)> = req
+        .choices
+        .par_iter()
+        .map(|choice| {
+            let report = compare::compare(
+                &req.train,
+                &tests,
+                std::slice::from_ref(choice),
+                &req.recipe,
+                &req.merit,
+            )
+            .pop()
+            .unwrap_or_else(|| ModelReport {
+                model: choice.name(),
+                description: choice.describe(),
+                error: Some("the engine returned no report".into()),
+                fitted: None,
+                logs: Vec::new(),
+            });
+            let series = match &report.fitted {
+                Some(m) => all
+                    .iter()
+                    .map(|(log, _)| {
+                        m.correct(log).ok().map(|c| {
+                            let f = crate::signal::moving_average_centered(&c.cor_dph, filter(log));
+                            ModelSeries {
+                                lod: MinMaxPyramid::new(&f),
+                                cor_filtered_dph: f,
+                            }
+                        })
+                    })
+                    .collect(),
+                None => Vec::new(),
+            };
+            h.done.fetch_add(1, Ordering::Relaxed);
+            repaint(ctx);
+            (report, series)
+        })
+        .collect();
+    let logs = all
+        .par_iter()
+        .map(|(log, held_out)| {
+            let f = crate::signal::moving_average_centered(&log.omega_dph, filter(log));
+            ComparedLog {
+                log: log.clone(),
+                held_out: *held_out,
+                raw_lod: MinMaxPyramid::new(&f),
+                raw_filtered_dph: f,
+            }
+        })
+        .collect();
+    let (reports, series) = done.into_iter().unzip();
+    Compared {
+        generation: h.generation,
+        choices: req.choices.clone(),
+        reports,
+        series,
+        logs,
+        seconds: t.elapsed().as_secs_f64(),
+    }
+}
+
+/// Octave Allan deviations of the raw and the corrected rate over the same samples (after
+/// the correction's warm-up).
+fn run_allan(req: &AllanRequest) -> AllanView {
+    let t = Instant::now();
+    let log = &req.log;
+    let end = req.corrected.cor_dph.len().min(log.len());
+    let from = req.corrected.ready_from.min(end);
+    let opts = AllanOptions {
+        tau0_s: log.nominal_dt_s(),
+        ..AllanOptions::default()
+    };
+    let (raw, corrected) = rayon::join(
+        || crate::allan::allan(&log.omega_dph[from..end], &opts).map_err(|e| e.to_string()),
+        || crate::allan::allan(&req.corrected.cor_dph[from..end], &opts).map_err(|e| e.to_string()),
+    );
+    AllanView {
+        key: req.key,
+        source: log.source.clone(),
+        from_sample: from,
+        raw,
+        corrected,
+        seconds: t.elapsed().as_secs_f64(),
     }
 }

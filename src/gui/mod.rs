@@ -5,7 +5,8 @@
 //! * [`state`]: the application data in one plain struct (logs, choices, newest fit, undo);
 //! * [`jobs`]: reading logs, refitting (newest request wins) and exports on worker threads;
 //! * one file per view: [`view_import`], [`view_time`], [`view_plateaus`], [`view_coeffs`],
-//!   [`view_result`];
+//!   [`view_result`] (the Calibration page), [`view_models`] (the Models page: presets and a
+//!   custom model side by side, their export) and [`view_allan`] (the Allan page);
 //! * [`plot_items`]: plot items drawn from level-of-detail data ([`crate::lod`]);
 //! * [`export`], [`dialogs`], [`settings`].
 //!
@@ -21,13 +22,15 @@ pub mod jobs;
 pub mod plot_items;
 pub mod settings;
 pub mod state;
+pub mod view_allan;
 pub mod view_coeffs;
 pub mod view_import;
+pub mod view_models;
 pub mod view_plateaus;
 pub mod view_result;
 pub mod view_time;
 
-pub use app::{Action, Workbench, default_log};
+pub use app::{Action, Page, Workbench, default_log};
 pub use dialogs::{FileDialogs, FileKind, RfdDialogs, ScriptedDialogs};
 pub use jobs::Target;
 
@@ -41,7 +44,9 @@ use std::sync::{Arc, Mutex};
 pub struct GuiOptions {
     /// Log to open at start (default: the bundled calibration sample log when present).
     pub log: Option<PathBuf>,
-    /// Render the loaded, calibrated workbench, save the window as PNG here, and exit.
+    /// Render the loaded, calibrated workbench, save the window as PNG here, and exit (with
+    /// the page named by the environment variable `DRIFTLAB_GUI_PAGE` shown, its work done
+    /// first: the Models page compares the models ticked by default).
     pub screenshot: Option<PathBuf>,
 }
 
@@ -52,6 +57,13 @@ pub struct GuiOptions {
 /// calibrated or the picture cannot be written.
 pub fn run(options: GuiOptions) -> Result<(), String> {
     let log = options.log.clone().or_else(default_log);
+    // DRIFTLAB_GUI_PAGE=models|allan|calibration: the page to start on (a screenshot of it).
+    let page = match std::env::var("DRIFTLAB_GUI_PAGE") {
+        Ok(name) if !name.trim().is_empty() => Some(Page::from_name(&name).ok_or_else(|| {
+            format!("DRIFTLAB_GUI_PAGE={name}: pages are calibration, models and allan")
+        })?),
+        _ => None,
+    };
     let shot = options.screenshot.clone();
     if shot.is_some() && log.is_none() {
         // (no log, no sample next to us: nothing to render)
@@ -112,6 +124,15 @@ pub fn run(options: GuiOptions) -> Result<(), String> {
                 }
                 Some(p) => wb.start_load(p, Default::default(), Target::Calibration),
                 None => {}
+            }
+            if let Some(p) = page {
+                wb.set_page(p);
+            }
+            // DRIFTLAB_GUI_MODEL=NAME: the model the Models page shows the details of.
+            if let Ok(name) = std::env::var("DRIFTLAB_GUI_MODEL")
+                && !name.trim().is_empty()
+            {
+                wb.models_view().selected = Some(name.trim().to_string());
             }
             if let Some(s) = shot {
                 app::set_auto_screenshot(&mut wb, s, slot);

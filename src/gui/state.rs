@@ -2,7 +2,7 @@
 //! and knots moved by hand), the newest fit result, the undo history and what was last saved.
 //! Views read it and change the choices; the app turns changed choices into refit requests.
 
-use super::jobs::{FitView, Loaded};
+use super::jobs::{AllanView, Compared, FitView, Loaded};
 use crate::live::Request;
 use crate::metrics::MeritOptions;
 use crate::plateau::PlateauRange;
@@ -124,6 +124,12 @@ pub struct AppState {
     pub status: Option<(Severity, String)>,
     /// What was on screen (kept in sessions).
     pub view: ViewState,
+    /// The newest comparison of models (Models view).
+    pub models: Option<Arc<Compared>>,
+    /// Why the newest comparison failed, if it did.
+    pub models_error: Option<String>,
+    /// The newest Allan deviations (Allan view).
+    pub allan: Option<Arc<AllanView>>,
 }
 
 impl AppState {
