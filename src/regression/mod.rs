@@ -437,10 +437,7 @@ impl RegressionModel {
             ));
         }
         if self.lag_s.is_some_and(|l| !(l.is_finite() && l >= 0.0)) {
-            return Err(format!(
-                "model {}: the lag must be non-negative",
-                self.spec.name
-            ));
+            return Err(format!("model {}: the lag must be non-negative", self.spec.name));
         }
         if self.lambda_s.is_some_and(|l| !(l.is_finite() && l > 0.0)) {
             return Err(format!("model {}: λ must be positive", self.spec.name));
