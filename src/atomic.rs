@@ -31,6 +31,22 @@ where
         Some(p) if !p.as_os_str().is_empty() => p,
         _ => Path::new("."),
     };
+    // Said plainly, rather than as the temporary file's name that could not be created.
+    match std::fs::metadata(dir) {
+        Ok(m) if m.is_dir() => {}
+        Ok(_) => {
+            return Err(std::io::Error::new(
+                std::io::ErrorKind::NotADirectory,
+                format!("{} is not a folder", dir.display()),
+            ));
+        }
+        Err(e) => {
+            return Err(std::io::Error::new(
+                e.kind(),
+                format!("the folder {} cannot be used: {e}", dir.display()),
+            ));
+        }
+    }
     let tmp = tempfile::Builder::new()
         .prefix(".driftlab-")
         .suffix(".tmp")

@@ -127,8 +127,24 @@ fn a_folder_that_does_not_exist() {
     for kind in KINDS {
         let path = tmp.path().join("no-such-folder").join("out.json");
         let e = assert_refused(kind, &path, tmp.path(), write(kind, &path));
-        assert!(e.contains("No such file or directory"), "{kind:?}: {e}");
+        assert!(
+            e.contains("no-such-folder cannot be used: No such file or directory"),
+            "{kind:?}: {e}"
+        );
         assert!(!path.exists());
+    }
+}
+
+#[test]
+fn a_file_where_the_folder_should_be() {
+    let tmp = tempfile::tempdir().unwrap();
+    let not_a_folder = tmp.path().join("run7.csv");
+    fs::write(&not_a_folder, OLD).unwrap();
+    for kind in KINDS {
+        let path = not_a_folder.join("cal.json");
+        let e = assert_refused(kind, &path, tmp.path(), write(kind, &path));
+        assert!(e.contains("is not a folder"), "{kind:?}: {e}");
+        assert_eq!(fs::read(&not_a_folder).unwrap(), OLD);
     }
 }
 
