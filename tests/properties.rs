@@ -35,7 +35,12 @@ const TRUTH: Truth = Truth {
 const HOUSING: &str = "temp_housing_c";
 const POWER: &str = "laser_power_mw";
 
+/// `cases` cases, or `PROPTEST_CASES` of them when set (for a longer run by hand).
 fn config(cases: u32) -> ProptestConfig {
+    let cases = std::env::var("PROPTEST_CASES")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(cases);
     ProptestConfig {
         cases,
         // Shrinking re-runs whole fits; a few steps are enough to show a small failing case.
