@@ -134,7 +134,50 @@ pub fn model_from_json(path: &Path, text: &str) -> Result<DriftModel> {
         DriftModel::Vakhrameev(Box::new(file.calibration))
     };
     model.validate().map_err(err)?;
+    check_windows(&model).map_err(err)?;
     Ok(model)
+}
+
+/// The longest window (T smoothing, derivative step, delay, lag) a calibration file may ask
+/// for, in samples at its own sampling step. A corrector holds that much history, so a file
+/// asking for more (a hand-edited `1e28`) would exhaust memory instead of correcting; no
+/// chamber run needs it (10 million samples are 30 hours at 93 Hz).
+const MAX_WINDOW_SAMPLES: f64 = 1e7;
+
+fn check_windows(model: &DriftModel) -> std::result::Result<(), String> {
+    let (dt_s, windows) = match model {
+        DriftModel::Vakhrameev(c) => {
+            let r = &c.resolved;
+            (
+                r.dt_s,
+                vec![
+                    ("resolved.smooth_samples", r.smooth_samples as f64 * r.dt_s),
+                    ("resolved.step_samples", r.step_samples as f64 * r.dt_s),
+                ],
+            )
+        }
+        DriftModel::Regression(r) => {
+            let m = &r.model;
+            (
+                m.dt_s,
+                vec![
+                    ("spec.smoothing_s", m.spec.smoothing_s),
+                    ("spec.step_h_s", m.spec.step_h_s),
+                    ("delay", m.delay.max_s()),
+                    ("lag_s", m.lag_s.unwrap_or(0.0)),
+                ],
+            )
+        }
+    };
+    for (name, seconds) in windows {
+        if seconds / dt_s > MAX_WINDOW_SAMPLES {
+            return Err(format!(
+                "{name} spans {seconds} s, more than {MAX_WINDOW_SAMPLES:e} samples of \
+                 {dt_s} s: no corrector can hold that much history"
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// Any model as the JSON text of a calibration file.
