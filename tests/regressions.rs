@@ -205,3 +205,28 @@ fn a_log_sampled_every_nanosecond_is_corrected_without_exhausting_memory() {
         assert!(c.cor_dph.iter().all(|v| v.is_finite()), "{}", model.name());
     }
 }
+
+/// The other side of the refusal above: `driftlab calibrate --smooth 1e30` made a calibration
+/// whose smoothing window saturated to 2⁶⁴ − 1 samples. It is not written, since it could not
+/// be read back; the file already there stays.
+#[test]
+fn a_calibration_that_could_not_be_read_back_is_not_written() {
+    let train = log_from(&Program::paper_like(), &TRUTH, 0.05, 0.001, 5);
+    let mut cal = driftlab::model::fit(&train, &Recipe::default())
+        .unwrap()
+        .calibration;
+    cal.resolved.smooth_samples = usize::MAX;
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("cal.json");
+    std::fs::write(&path, "old").unwrap();
+    let e = calfile::save(&path, &cal).unwrap_err().to_string();
+    assert!(
+        e.contains("cal.json: not written: resolved.smooth_samples spans"),
+        "{e}"
+    );
+    let e = calfile::save_model(&path, &DriftModel::Vakhrameev(Box::new(cal)))
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("not written"), "{e}");
+    assert_eq!(std::fs::read_to_string(&path).unwrap(), "old");
+}
