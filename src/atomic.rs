@@ -7,15 +7,46 @@ use std::path::Path;
 /// Writes `path` atomically through `fill`, which gets a buffered writer.
 ///
 /// On any error the previous content of `path` (if any) is left untouched and the temporary file
-/// is removed.
+/// is removed. A read-only file is not replaced (a rename would go around its protection,
+/// since the folder and not the file decides who may rename), nor is a directory.
 pub fn write_with<F>(path: &Path, fill: F) -> std::io::Result<()>
 where
     F: FnOnce(&mut dyn Write) -> std::io::Result<()>,
 {
+    if let Ok(m) = std::fs::metadata(path) {
+        if m.is_dir() {
+            return Err(std::io::Error::new(
+                std::io::ErrorKind::IsADirectory,
+                "is a directory, not a file",
+            ));
+        }
+        if m.permissions().readonly() {
+            return Err(std::io::Error::new(
+                std::io::ErrorKind::PermissionDenied,
+                "the file is read-only; it was left as it was",
+            ));
+        }
+    }
     let dir = match path.parent() {
         Some(p) if !p.as_os_str().is_empty() => p,
         _ => Path::new("."),
     };
+    // Said plainly, rather than as the temporary file's name that could not be created.
+    match std::fs::metadata(dir) {
+        Ok(m) if m.is_dir() => {}
+        Ok(_) => {
+            return Err(std::io::Error::new(
+                std::io::ErrorKind::NotADirectory,
+                format!("{} is not a folder", dir.display()),
+            ));
+        }
+        Err(e) => {
+            return Err(std::io::Error::new(
+                e.kind(),
+                format!("the folder {} cannot be used: {e}", dir.display()),
+            ));
+        }
+    }
     let tmp = tempfile::Builder::new()
         .prefix(".driftlab-")
         .suffix(".tmp")

@@ -134,7 +134,67 @@ pub fn model_from_json(path: &Path, text: &str) -> Result<DriftModel> {
         DriftModel::Vakhrameev(Box::new(file.calibration))
     };
     model.validate().map_err(err)?;
+    check_windows(windows(&model)).map_err(err)?;
     Ok(model)
+}
+
+/// The longest window (T smoothing, derivative step, delay, lag) a calibration file may ask
+/// for, in samples at its own sampling step. A corrector holds that much history, so a file
+/// asking for more (a hand-edited `1e28`) would exhaust memory instead of correcting; no
+/// chamber run needs it (10 million samples are 30 hours at 93 Hz).
+const MAX_WINDOW_SAMPLES: f64 = 1e7;
+
+/// The windows of a model that set how much history its corrector holds, with the sampling
+/// step they are counted in.
+fn windows(model: &DriftModel) -> (f64, Vec<(&'static str, f64)>) {
+    match model {
+        DriftModel::Vakhrameev(c) => calibration_windows(c),
+        DriftModel::Regression(r) => {
+            let m = &r.model;
+            (
+                m.dt_s,
+                vec![
+                    ("spec.smoothing_s", m.spec.smoothing_s),
+                    ("spec.step_h_s", m.spec.step_h_s),
+                    ("delay", m.delay.max_s()),
+                    ("lag_s", m.lag_s.unwrap_or(0.0)),
+                ],
+            )
+        }
+    }
+}
+
+fn calibration_windows(c: &Calibration) -> (f64, Vec<(&'static str, f64)>) {
+    let r = &c.resolved;
+    (
+        r.dt_s,
+        vec![
+            ("resolved.smooth_samples", r.smooth_samples as f64 * r.dt_s),
+            ("resolved.step_samples", r.step_samples as f64 * r.dt_s),
+        ],
+    )
+}
+
+fn check_windows(
+    (dt_s, windows): (f64, Vec<(&'static str, f64)>),
+) -> std::result::Result<(), String> {
+    for (name, seconds) in windows {
+        if seconds / dt_s > MAX_WINDOW_SAMPLES {
+            return Err(format!(
+                "{name} spans {seconds} s, more than {MAX_WINDOW_SAMPLES:e} samples of \
+                 {dt_s} s: no corrector can hold that much history"
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// A model this build would refuse to read back is not written: the error says why.
+fn check_before_saving(path: &Path, w: (f64, Vec<(&'static str, f64)>)) -> Result<()> {
+    check_windows(w).map_err(|m| Error::File {
+        path: path.to_path_buf(),
+        message: format!("not written: {m}"),
+    })
 }
 
 /// Any model as the JSON text of a calibration file.
@@ -153,6 +213,7 @@ pub fn model_to_json(model: &DriftModel) -> String {
 
 /// Writes any model's calibration file atomically.
 pub fn save_model(path: &Path, model: &DriftModel) -> Result<()> {
+    check_before_saving(path, windows(model))?;
     crate::atomic::write_bytes(path, model_to_json(model).as_bytes())
         .map_err(|e| Error::io(path, e))
 }
@@ -164,6 +225,7 @@ pub fn load_model(path: &Path) -> Result<DriftModel> {
 
 /// Writes a calibration file atomically.
 pub fn save(path: &Path, cal: &Calibration) -> Result<()> {
+    check_before_saving(path, calibration_windows(cal))?;
     crate::atomic::write_bytes(path, to_json(cal).as_bytes()).map_err(|e| Error::io(path, e))
 }
 

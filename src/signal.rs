@@ -65,7 +65,9 @@ pub fn moving_average_valid(x: &[f64], window: usize) -> Vec<f64> {
 /// Causal moving average: sample `i` averages the last `window` samples up to and including
 /// `i` (fewer at the start, while the window fills).
 pub fn moving_average_causal(x: &[f64], window: usize) -> Vec<f64> {
-    let mut ma = CausalMean::new(window);
+    // A window longer than the series never fills: the series' length gives the same means
+    // without holding a buffer sized from seconds over a tiny sampling step.
+    let mut ma = CausalMean::new(window.min(x.len()));
     x.iter().map(|&v| ma.push(v)).collect()
 }
 
@@ -114,7 +116,7 @@ pub fn backward_derivative(x: &[f64], step: usize, dt_s: f64) -> Vec<f64> {
     let h2 = 2.0 * s as f64 * dt_s;
     (0..x.len())
         .map(|i| {
-            if i < 2 * s {
+            if i < s.saturating_mul(2) {
                 0.0
             } else {
                 (3.0 * x[i] - 4.0 * x[i - s] + x[i - 2 * s]) / h2
@@ -154,7 +156,7 @@ pub fn derivatives(temp_c: &[f64], steps: DerivativeSteps, dt_s: f64) -> Derivat
     drop(smoothed);
     let mut tddot = backward_derivative(&tdot, steps.step, dt_s);
     // T̈ at 2s..4s would difference the zeros standing for "no Ṫ yet": not a real rate.
-    let ready_from = (4 * steps.step.max(1)).min(temp_c.len());
+    let ready_from = steps.step.max(1).saturating_mul(4).min(temp_c.len());
     tddot[..ready_from].fill(0.0);
     Derivatives {
         tdot,
