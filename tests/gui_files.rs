@@ -1,7 +1,7 @@
-//! Nothing lost: the workbench autosaves unsaved work, offers it back after a crash, and
-//! leaves nothing behind after a clean close.
+//! Files the workbench writes outside its views: the autosave (unsaved work offered back
+//! after a crash, nothing left behind after a clean close) and the test report.
 
-use driftlab::gui::app::Workbench;
+use driftlab::gui::app::{Action, Workbench};
 use driftlab::gui::dialogs::ScriptedDialogs;
 use driftlab::gui::settings::Settings;
 use driftlab::session;
@@ -64,4 +64,25 @@ fn work_with_nothing_unsaved_writes_no_autosave() {
     let mut wb = Workbench::new_for_test_in(&sample(), Some(dir.path().join("workbench.json")));
     wb.autosave_now();
     assert!(!wb.autosave_path().unwrap().exists());
+}
+
+#[test]
+fn the_workbench_exports_the_test_report_into_a_folder() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut wb = Workbench::new_for_test(&sample());
+    let dialogs = ScriptedDialogs::new();
+    // A name typed with an extension still means a folder.
+    dialogs.answer(Some(dir.path().join("gyro7-report.html")));
+    wb.set_dialogs(Box::new(dialogs.clone()));
+    wb.act(&eframe::egui::Context::default(), Action::ExportReport);
+    wb.wait_for_jobs();
+    let html = dir.path().join("gyro7-report").join("report.html");
+    let text = std::fs::read_to_string(&html).expect("the report page");
+    assert!(text.contains("calibration.csv"), "names the log");
+    assert!(text.contains("Allan deviation"), "has the Allan figure");
+    assert!(
+        dir.path()
+            .join("gyro7-report/drift-calibration.png")
+            .is_file()
+    );
 }
