@@ -203,13 +203,23 @@ impl StreamCorrector {
         let tdot = if i < 2 * s {
             0.0
         } else {
-            (3.0 * ts - 4.0 * self.temp_ring[back(s)] + self.temp_ring[back(2 * s)]) / self.h2
+            signal::backward_step(
+                ts,
+                self.temp_ring[back(s)],
+                self.temp_ring[back(2 * s)],
+                self.h2,
+            )
         };
         self.tdot_ring[slot] = tdot;
         let tddot = if i < 4 * s {
             0.0
         } else {
-            (3.0 * tdot - 4.0 * self.tdot_ring[back(s)] + self.tdot_ring[back(2 * s)]) / self.h2
+            signal::backward_step(
+                tdot,
+                self.tdot_ring[back(s)],
+                self.tdot_ring[back(2 * s)],
+                self.h2,
+            )
         };
         self.count += 1;
         let (pred, regime) = self.cal.predict(temp_c, tdot, tddot);

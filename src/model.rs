@@ -191,6 +191,24 @@ pub struct SourceInfo {
     pub duration_s: f64,
 }
 
+impl SourceInfo {
+    /// The identity of `log` as far as the log itself knows it (the file's SHA-256 is filled
+    /// in by whoever reads the file).
+    pub fn of(log: &Log) -> SourceInfo {
+        SourceInfo {
+            name: log.source.clone(),
+            sha256: String::new(),
+            samples: log.len(),
+            duration_s: log.duration_s(),
+        }
+    }
+}
+
+/// The current time as calibration files record it: RFC 3339, UTC, whole seconds.
+pub fn now_rfc3339() -> String {
+    humantime::format_rfc3339_seconds(std::time::SystemTime::now()).to_string()
+}
+
 /// A fitted Vakhrameev calibration: everything needed to correct a log, and the recipe that
 /// made it.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -253,13 +271,8 @@ impl Calibration {
             .unwrap_or(DerivativeSteps { smooth: 1, step: 1 });
         Calibration {
             gyro_id: recipe.gyro_id.clone(),
-            source: SourceInfo {
-                name: log.source.clone(),
-                sha256: String::new(),
-                samples: log.len(),
-                duration_s: log.duration_s(),
-            },
-            created: humantime::format_rfc3339_seconds(std::time::SystemTime::now()).to_string(),
+            source: SourceInfo::of(log),
+            created: now_rfc3339(),
             recipe: recipe.clone(),
             resolved: Resolved {
                 dt_s: prepared.dt_s,

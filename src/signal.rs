@@ -119,10 +119,17 @@ pub fn backward_derivative(x: &[f64], step: usize, dt_s: f64) -> Vec<f64> {
             if i < s.saturating_mul(2) {
                 0.0
             } else {
-                (3.0 * x[i] - 4.0 * x[i - s] + x[i - 2 * s]) / h2
+                backward_step(x[i], x[i - s], x[i - 2 * s], h2)
             }
         })
         .collect()
+}
+
+/// One 3-point backward difference, `(3x_i − 4x_{i−s} + x_{i−2s}) / (2H)` with `h2 = 2H`: the
+/// one formula of the batch path and of both streaming correctors, so they agree bit for bit.
+#[inline]
+pub fn backward_step(x: f64, x_s: f64, x_2s: f64, h2: f64) -> f64 {
+    (3.0 * x - 4.0 * x_s + x_2s) / h2
 }
 
 /// How the temperature is turned into rates, in samples (resolved from seconds for one log).

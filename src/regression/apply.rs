@@ -10,7 +10,7 @@ use crate::correct::{Corrected, Correction};
 use crate::error::Result;
 use crate::log::Log;
 use crate::model::{Regime, SourceInfo};
-use crate::signal::CausalMean;
+use crate::signal::{self, CausalMean};
 
 impl RegressionModel {
     /// Corrects a whole log.
@@ -175,13 +175,23 @@ impl RegressionCorrector {
         let tdot = if i < 2 * s {
             0.0
         } else {
-            (3.0 * ts - 4.0 * self.smoothed.get(i - s) + self.smoothed.get(i - 2 * s)) / self.h2
+            signal::backward_step(
+                ts,
+                self.smoothed.get(i - s),
+                self.smoothed.get(i - 2 * s),
+                self.h2,
+            )
         };
         self.tdot.set(i, tdot);
         let tddot = if i < 4 * s {
             0.0
         } else {
-            (3.0 * tdot - 4.0 * self.tdot.get(i - s) + self.tdot.get(i - 2 * s)) / self.h2
+            signal::backward_step(
+                tdot,
+                self.tdot.get(i - s),
+                self.tdot.get(i - 2 * s),
+                self.h2,
+            )
         };
         self.tddot.set(i, tddot);
         self.temp.set(i, temp_c);
@@ -222,13 +232,8 @@ impl super::RegressionCalibration {
     pub fn new(gyro_id: &str, log: &Log, model: RegressionModel) -> super::RegressionCalibration {
         super::RegressionCalibration {
             gyro_id: gyro_id.to_string(),
-            source: SourceInfo {
-                name: log.source.clone(),
-                sha256: String::new(),
-                samples: log.len(),
-                duration_s: log.duration_s(),
-            },
-            created: humantime::format_rfc3339_seconds(std::time::SystemTime::now()).to_string(),
+            source: SourceInfo::of(log),
+            created: crate::model::now_rfc3339(),
             model,
         }
     }
