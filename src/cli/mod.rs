@@ -26,7 +26,8 @@ pub struct Cli {
 /// The subcommands.
 #[derive(Subcommand, Debug)]
 pub enum Command {
-    /// Fit a Vakhrameev calibration (K0, K1±, K2±) to a chamber log and save it as JSON.
+    /// Fit a calibration to a chamber log and save it as JSON: Vakhrameev's K0, K1±, K2± by
+    /// default, or any model of `compare` with --model.
     Calibrate(calibrate::Args),
     /// Correct a log with a calibration and write time, raw, predicted and corrected rate as CSV.
     Apply(apply::Args),
