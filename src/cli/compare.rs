@@ -21,8 +21,8 @@ pub struct Args {
     /// yan-cross, yan-delayed, sukhanov, poly-t, pwl-t, coil-lag.
     #[arg(long, value_name = "LIST", value_delimiter = ',')]
     pub models: Vec<String>,
-    /// A custom model as comma-separated terms: 1, T, T^2, T^3, Tdot, Tddot, T*Tdot, dT,
-    /// dT^2, selfheat, ch:NAME, ch^2:NAME, pwlT:N (repeatable).
+    /// A custom model as comma-separated terms: 1, T, T^2, T^3, Tdot, Tddot, T*Tdot, |Tdot|,
+    /// T*Tddot, sgn(Tdot)*Tddot, dT, dT^2, selfheat, ch:NAME, ch^2:NAME, pwlT:N (repeatable).
     #[arg(long, value_name = "TERMS")]
     pub custom: Vec<String>,
     /// Delay of the temperature channels in custom models: none, SECONDS, auto (one delay
