@@ -54,7 +54,9 @@ fn benches(c: &mut Criterion) {
 }
 
 fn main() {
-    let mut c = Criterion::default().configure_from_args();
+    // No plots: criterion draws them with plotters, whose text needs a system font that
+    // driftlab's own plotters build (a bundled font, no font lookup) does not provide.
+    let mut c = Criterion::default().without_plots().configure_from_args();
     benches(&mut c);
     c.final_summary();
 }

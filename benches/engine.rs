@@ -658,7 +658,10 @@ fn main() {
         stages(Path::new(&path));
         return;
     }
+    // No plots: criterion draws them with plotters, whose text needs a system font that
+    // driftlab's own plotters build (a bundled font, no font lookup) does not provide.
     let mut c = Criterion::default()
+        .without_plots()
         .sample_size(10)
         .warm_up_time(Duration::from_secs(1))
         .measurement_time(Duration::from_secs(4))
