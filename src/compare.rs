@@ -1,6 +1,7 @@
 //! Several models fitted on one log and judged side by side on it (in-sample) and on other
 //! logs of the same gyro (held out) — what tells an engineer which model to ship.
 
+use crate::correct::Correction;
 use crate::drift_model::{self, DriftModel};
 use crate::log::Log;
 use crate::metrics::{Evaluation, MeritOptions};
@@ -55,39 +56,51 @@ pub fn compare(
     recipe: &Recipe,
     merit: &MeritOptions,
 ) -> Vec<ModelReport> {
+    let tests: Vec<&Log> = tests.iter().collect();
     choices
         .par_iter()
-        .map(|choice| {
-            let mut report = ModelReport {
-                model: choice.name(),
-                description: choice.describe(),
-                error: None,
-                fitted: None,
-                logs: Vec::new(),
-            };
-            match drift_model::fit(train, choice, recipe) {
-                Ok(m) => {
-                    report.logs = std::iter::once((train, false))
-                        .chain(tests.iter().map(|t| (t, true)))
-                        .map(|(log, held_out)| judge(&m, log, held_out, merit))
-                        .collect();
-                    report.fitted = Some(m);
-                }
-                Err(e) => report.error = Some(e.to_string()),
-            }
-            report
-        })
+        .map(|choice| compare_one(train, &tests, choice, recipe, merit, &mut |_, _| {}))
         .collect()
 }
 
-/// One model on one log.
-pub fn judge(model: &DriftModel, log: &Log, held_out: bool, merit: &MeritOptions) -> Judgement {
-    Judgement {
-        log: log.source.clone(),
-        held_out,
-        result: match model.correct(log) {
-            Ok(c) => Outcome::Evaluation(Evaluation::of_correction(log, &c, merit)),
-            Err(e) => Outcome::Error(e.to_string()),
-        },
+/// One model of [`compare`]: fitted on `train`, judged on `train` then each of `tests`.
+/// `seen(k, correction)` gets each log's correction (log `k`, the training log first) before
+/// it is dropped, for a caller that also draws them.
+pub fn compare_one(
+    train: &Log,
+    tests: &[&Log],
+    choice: &ModelChoice,
+    recipe: &Recipe,
+    merit: &MeritOptions,
+    seen: &mut dyn FnMut(usize, &Correction),
+) -> ModelReport {
+    let mut report = ModelReport {
+        model: choice.name(),
+        description: choice.describe(),
+        error: None,
+        fitted: None,
+        logs: Vec::new(),
+    };
+    match drift_model::fit(train, choice, recipe) {
+        Ok(m) => {
+            report.logs = std::iter::once((train, false))
+                .chain(tests.iter().map(|t| (*t, true)))
+                .enumerate()
+                .map(|(k, (log, held_out))| Judgement {
+                    log: log.source.clone(),
+                    held_out,
+                    result: match m.correct(log) {
+                        Ok(c) => {
+                            seen(k, &c);
+                            Outcome::Evaluation(Evaluation::of_correction(log, &c, merit))
+                        }
+                        Err(e) => Outcome::Error(e.to_string()),
+                    },
+                })
+                .collect();
+            report.fitted = Some(m);
+        }
+        Err(e) => report.error = Some(e.to_string()),
     }
+    report
 }

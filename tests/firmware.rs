@@ -143,14 +143,20 @@ int unused_file_step(void)
 
 /// Builds the driver with `header`; `None` (after saying so) when there is no C compiler.
 fn build_driver(dir: &Path, header: &str) -> Option<PathBuf> {
+    compile(dir, header, [DRIVER_C, OTHER_C], &[])
+}
+
+/// Writes `header` and three C files including it (the driver, another file calling it, one
+/// using nothing of it) and compiles them strictly, with `libs`; `None` without a compiler.
+fn compile(dir: &Path, header: &str, [driver, other]: [&str; 2], libs: &[&str]) -> Option<PathBuf> {
     let Some(cc) = compiler() else {
         println!("no C compiler (CC or cc): the compiled-C checks are skipped");
         return None;
     };
     std::fs::write(dir.join("calibration.h"), header).unwrap();
     let sources = [
-        ("driver.c", DRIVER_C),
-        ("other.c", OTHER_C),
+        ("driver.c", driver),
+        ("other.c", other),
         ("unused.c", UNUSED_C),
     ];
     for (name, text) in sources {
@@ -170,11 +176,12 @@ fn build_driver(dir: &Path, header: &str) -> Option<PathBuf> {
         .args(sources.iter().map(|(n, _)| dir.join(n)))
         .arg("-o")
         .arg(&exe)
+        .args(libs)
         .output()
         .expect("the compiler runs");
     assert!(
         out.status.success(),
-        "the generated header does not compile:\n{}",
+        "the generated header does not compile:\n{}\n{header}",
         String::from_utf8_lossy(&out.stderr)
     );
     Some(exe)
@@ -710,42 +717,12 @@ double other_file_push(driftlab_state *st, double t, double omega_dph, double te
 
 /// Builds the regression driver with `header`, linking libm (exp); `None` without a compiler.
 fn build_regression_driver(dir: &Path, header: &str) -> Option<PathBuf> {
-    let Some(cc) = compiler() else {
-        println!("no C compiler (CC or cc): the compiled-C checks are skipped");
-        return None;
-    };
-    std::fs::write(dir.join("calibration.h"), header).unwrap();
-    let sources = [
-        ("driver.c", REGRESSION_DRIVER_C),
-        ("other.c", REGRESSION_OTHER_C),
-        ("unused.c", UNUSED_C),
-    ];
-    for (name, text) in sources {
-        std::fs::write(dir.join(name), text).unwrap();
-    }
-    let exe = dir.join("driver");
-    let out = Command::new(&cc[0])
-        .args(&cc[1..])
-        .args([
-            "-std=c99",
-            "-Wall",
-            "-Wextra",
-            "-Werror",
-            "-pedantic",
-            "-O2",
-        ])
-        .args(sources.iter().map(|(n, _)| dir.join(n)))
-        .arg("-o")
-        .arg(&exe)
-        .arg("-lm")
-        .output()
-        .expect("the compiler runs");
-    assert!(
-        out.status.success(),
-        "the generated header does not compile:\n{}\n{header}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    Some(exe)
+    compile(
+        dir,
+        header,
+        [REGRESSION_DRIVER_C, REGRESSION_OTHER_C],
+        &["-lm"],
+    )
 }
 
 /// Runs the regression driver over `logs`, resetting between them.

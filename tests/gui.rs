@@ -26,6 +26,16 @@ fn harness(wb: Workbench) -> Harness<'static, Workbench> {
         .build_ui_state(|ui, wb: &mut Workbench| wb.ui(ui), wb)
 }
 
+/// The workbench on the sample log, settled, whose next file dialog answers `out`.
+fn answering(out: &Path) -> Harness<'static, Workbench> {
+    let mut wb = Workbench::new_for_test(&sample("calibration.csv"));
+    let dialogs = with_dialogs(&mut wb);
+    let mut h = harness(wb);
+    settle(&mut h);
+    dialogs.answer(Some(out.to_path_buf()));
+    h
+}
+
 /// Lets the workers finish and the UI show their results.
 fn settle(h: &mut Harness<'_, Workbench>) {
     for _ in 0..3 {
@@ -122,11 +132,7 @@ fn changing_an_approximation_changes_the_figures() {
 fn export_writes_a_calibration_the_engine_loads() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("gyro7.json");
-    let mut wb = Workbench::new_for_test(&sample("calibration.csv"));
-    let dialogs = with_dialogs(&mut wb);
-    let mut h = harness(wb);
-    settle(&mut h);
-    dialogs.answer(Some(out.clone()));
+    let mut h = answering(&out);
     h.key_press_modifiers(Modifiers::COMMAND, Key::E);
     settle(&mut h);
     let cal = driftlab::calfile::load(&out).expect("the engine reads the exported file");
@@ -168,11 +174,7 @@ fn export_writes_a_calibration_the_engine_loads() {
 fn export_corrected_log_from_the_menu() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("corrected.csv");
-    let mut wb = Workbench::new_for_test(&sample("calibration.csv"));
-    let dialogs = with_dialogs(&mut wb);
-    let mut h = harness(wb);
-    settle(&mut h);
-    dialogs.answer(Some(out.clone()));
+    let mut h = answering(&out);
     h.get_by_label("File").click();
     h.run_ok();
     h.get_by_label_contains("Export corrected log").click();

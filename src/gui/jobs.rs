@@ -705,7 +705,7 @@ fn build_lods(cache: &mut LodCache, o: &Outcome) -> FitLods {
 /// done), then its correction of every log filtered as the figures filter it, for drawing.
 fn run_compare(req: &CompareRequest, h: &CompareHandle, ctx: &SharedCtx) -> Compared {
     let t = Instant::now();
-    let tests: Vec<Log> = req.tests.iter().map(|l| (**l).clone()).collect();
+    let tests: Vec<&Log> = req.tests.iter().map(|l| &**l).collect();
     let all: Vec<(Arc<Log>, bool)> = std::iter::once((req.train.clone(), false))
         .chain(req.tests.iter().map(|l| (l.clone(), true)))
         .collect();
@@ -716,36 +716,25 @@ fn run_compare(req: &CompareRequest, h: &CompareHandle, ctx: &SharedCtx) -> Comp
         .choices
         .par_iter()
         .map(|choice| {
-            let report = compare::compare(
+            // Each log's correction is filtered for drawing as the engine judges it, once.
+            let mut series: Vec<Option<ModelSeries>> = all.iter().map(|_| None).collect();
+            let report = compare::compare_one(
                 &req.train,
                 &tests,
-                std::slice::from_ref(choice),
+                choice,
                 &req.recipe,
                 &req.merit,
-            )
-            .pop()
-            .unwrap_or_else(|| ModelReport {
-                model: choice.name(),
-                description: choice.describe(),
-                error: Some("the engine returned no report".into()),
-                fitted: None,
-                logs: Vec::new(),
-            });
-            let series = match &report.fitted {
-                Some(m) => all
-                    .iter()
-                    .map(|(log, _)| {
-                        m.correct(log).ok().map(|c| {
-                            let f = crate::signal::moving_average_centered(&c.cor_dph, filter(log));
-                            ModelSeries {
-                                lod: MinMaxPyramid::new(&f),
-                                cor_filtered_dph: f,
-                            }
-                        })
-                    })
-                    .collect(),
-                None => Vec::new(),
-            };
+                &mut |k, c| {
+                    let f = crate::signal::moving_average_centered(&c.cor_dph, filter(&all[k].0));
+                    series[k] = Some(ModelSeries {
+                        lod: MinMaxPyramid::new(&f),
+                        cor_filtered_dph: f,
+                    });
+                },
+            );
+            if report.fitted.is_none() {
+                series.clear();
+            }
             h.done.fetch_add(1, Ordering::Relaxed);
             repaint(ctx);
             (report, series)

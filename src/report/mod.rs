@@ -378,20 +378,26 @@ pub fn write_regression(
     if !any_allan && !logs.is_empty() {
         notes.push(ALLAN_NOTE.into());
     }
-
-    let html_path = out_dir.join("report.html");
-    let mut summary = ReportSummary {
-        html: html_path.clone(),
+    let summary = ReportSummary {
+        html: out_dir.join("report.html"),
         files,
         figures: model_figures,
         logs: reports,
         merit,
         notes,
     };
-    let page = html::regression_page(cal, &summary)?;
-    crate::atomic::write_bytes(&html_path, page.as_bytes())
-        .map_err(|e| Error::io(&html_path, e))?;
-    summary.files.push(html_path);
+    write_page(summary, |s| html::regression_page(cal, s))
+}
+
+/// Writes the HTML page of a finished summary (atomically) and lists it among the files.
+fn write_page(
+    mut summary: ReportSummary,
+    page: impl FnOnce(&ReportSummary) -> Result<String>,
+) -> Result<ReportSummary> {
+    let text = page(&summary)?;
+    let path = summary.html.clone();
+    crate::atomic::write_bytes(&path, text.as_bytes()).map_err(|e| Error::io(&path, e))?;
+    summary.files.push(path);
     Ok(summary)
 }
 
@@ -564,21 +570,15 @@ pub fn write(
     if !any_allan && !logs.is_empty() {
         notes.push(ALLAN_NOTE.into());
     }
-
-    let html_path = out_dir.join("report.html");
-    let mut summary = ReportSummary {
-        html: html_path.clone(),
+    let summary = ReportSummary {
+        html: out_dir.join("report.html"),
         files,
         figures: cal_figures,
         logs: reports,
         merit,
         notes,
     };
-    let page = html::page(cal, &summary)?;
-    crate::atomic::write_bytes(&html_path, page.as_bytes())
-        .map_err(|e| Error::io(&html_path, e))?;
-    summary.files.push(html_path);
-    Ok(summary)
+    write_page(summary, |s| html::page(cal, s))
 }
 
 /// One log to judge, with its correction.
