@@ -10,11 +10,12 @@
 //!
 //! Each model a calibration file can hold is written by its own function: the Vakhrameev model
 //! by [`c_header::c_header`] and [`csv_table::vakhrameev`], a regression model by
-//! [`c_header::regression`] (a port of [`crate::regression::RegressionCorrector`], bit for bit
+//! [`c_regression::regression`] (a port of [`crate::regression::RegressionCorrector`], bit for bit
 //! in the same way) and [`csv_table::regression`] (its coefficients with standard errors, the
 //! ranges and settings as comments). [`export_model`] picks by the model.
 
 pub mod c_header;
+pub mod c_regression;
 pub mod csv_table;
 
 use crate::drift_model::DriftModel;
@@ -107,7 +108,7 @@ pub fn export(
 }
 
 /// Writes any model's calibration in `format`: a Vakhrameev calibration as [`export`] does, a
-/// regression model as [`c_header::regression`] or [`csv_table::regression`] (its coefficients
+/// regression model as [`c_regression::regression`] or [`csv_table::regression`] (its coefficients
 /// table: regression coefficients are constants, so there is nothing to tabulate over a range
 /// and `opts.points` is not used).
 pub fn export_model(
@@ -118,7 +119,7 @@ pub fn export_model(
     match model {
         DriftModel::Vakhrameev(cal) => export(cal, format, opts),
         DriftModel::Regression(r) => match format {
-            Format::CHeader => c_header::regression(r),
+            Format::CHeader => c_regression::regression(r),
             Format::CsvTable => csv_table::regression(r),
         },
     }
