@@ -62,14 +62,59 @@ where
         tmp.as_file()
             .set_permissions(std::fs::Permissions::from_mode(mode))?;
     }
-    {
-        let mut w = std::io::BufWriter::with_capacity(1 << 20, tmp.as_file());
+    let file = tmp.as_file();
+    std::thread::scope(|scope| -> std::io::Result<()> {
+        // A big file is handed to the disk while it is written, not all at once at the end:
+        // the kernel would otherwise hold it as dirty pages (up to a tenth of the memory) and
+        // the final sync would wait for all of it after the work is done.
+        let (tx, rx) = std::sync::mpsc::sync_channel::<()>(1);
+        scope.spawn(move || {
+            for () in rx {
+                // An error here shows again in the final sync, which reports it.
+                let _ = file.sync_data();
+            }
+        });
+        let mut w = std::io::BufWriter::with_capacity(
+            1 << 20,
+            EarlySync {
+                file,
+                unsynced: 0,
+                tx,
+            },
+        );
         fill(&mut w)?;
-        w.flush()?;
-    }
-    tmp.as_file().sync_all()?;
+        w.flush()
+    })?;
+    file.sync_all()?;
     tmp.persist(path).map_err(|e| e.error)?;
     Ok(())
+}
+
+/// Bytes written between two background syncs of a file being written.
+const SYNC_EVERY: u64 = 32 << 20;
+
+/// The temporary file's writer: asks the sync thread to start on what is written every
+/// [`SYNC_EVERY`] bytes, without waiting for it (a sync still running is not queued again).
+struct EarlySync<'a> {
+    file: &'a std::fs::File,
+    unsynced: u64,
+    tx: std::sync::mpsc::SyncSender<()>,
+}
+
+impl Write for EarlySync<'_> {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        let n = self.file.write(buf)?;
+        self.unsynced += n as u64;
+        if self.unsynced >= SYNC_EVERY {
+            self.unsynced = 0;
+            let _ = self.tx.try_send(());
+        }
+        Ok(n)
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
+        self.file.flush()
+    }
 }
 
 /// Writes `bytes` to `path` atomically.

@@ -1,7 +1,7 @@
 //! The corrected log as CSV: `time_s,omega_raw_dph,omega_pred_dph,omega_cor_dph,temp_c`, the
 //! output of `driftlab apply` and of the workbench's export.
 //!
-//! Numbers are written in their shortest form that reads back to the same f64 (ryu), so a
+//! Numbers are written in their shortest form that reads back to the same f64 (zmij), so a
 //! corrected log loses nothing; blocks of rows are formatted in parallel and written in order,
 //! the writing of one batch overlapping the formatting of the next.
 
@@ -31,16 +31,21 @@ pub fn write(
         let batch = BLOCK * rayon::current_num_threads().max(1) * 2;
         std::thread::scope(|scope| {
             let (tx, rx) = std::sync::mpsc::sync_channel::<(usize, Vec<Vec<u8>>)>(1);
+            // Written blocks go back to the formatter: fresh buffers would each cost their
+            // pages again (a tenth of the time of a big write went to page faults).
+            let (back_tx, back_rx) = std::sync::mpsc::channel::<Vec<u8>>();
             scope.spawn(move || {
                 let mut start = 0;
                 while start < n {
                     let end = (start + batch).min(n);
-                    let texts: Vec<Vec<u8>> = (start..end)
+                    let mut jobs: Vec<(usize, Vec<u8>)> = (start..end)
                         .step_by(BLOCK)
-                        .collect::<Vec<_>>()
-                        .into_par_iter()
-                        .map(|b| format_rows(log, pred_dph, cor_dph, b, (b + BLOCK).min(end)))
+                        .map(|b| (b, back_rx.try_recv().unwrap_or_default()))
                         .collect();
+                    jobs.par_iter_mut().for_each(|(b, text)| {
+                        format_rows(text, log, pred_dph, cor_dph, *b, (*b + BLOCK).min(end))
+                    });
+                    let texts = jobs.into_iter().map(|(_, t)| t).collect();
                     if tx.send((end, texts)).is_err() {
                         // The writer stopped (an error): nothing more to format.
                         return;
@@ -49,8 +54,10 @@ pub fn write(
                 }
             });
             for (end, texts) in rx {
-                for t in &texts {
-                    w.write_all(t)?;
+                for t in texts {
+                    w.write_all(&t)?;
+                    // The formatter may have finished; a buffer it no longer wants is freed.
+                    let _ = back_tx.send(t);
                 }
                 progress(end as f64 / n as f64);
             }
@@ -59,13 +66,15 @@ pub fn write(
     })
 }
 
-fn format_rows(log: &Log, pred: &[f64], cor: &[f64], from: usize, to: usize) -> Vec<u8> {
-    let mut out = Vec::with_capacity((to - from) * 64);
-    let mut buf = ryu::Buffer::new();
+/// Formats rows `from..to` into `out`, replacing what it held.
+fn format_rows(out: &mut Vec<u8>, log: &Log, pred: &[f64], cor: &[f64], from: usize, to: usize) {
+    out.clear();
+    out.reserve((to - from) * 64);
+    let mut buf = zmij::Buffer::new();
     let mut num = |out: &mut Vec<u8>, v: f64, end: u8| {
         if v.is_finite() {
             let s = buf.format_finite(v);
-            // ryu writes integers as "20.0"; drop the ".0" as the reader needs no point.
+            // zmij writes integers as "20.0"; drop the ".0" as the reader needs no point.
             out.extend_from_slice(s.strip_suffix(".0").unwrap_or(s).as_bytes());
         } else {
             out.extend_from_slice(b"NaN");
@@ -73,11 +82,10 @@ fn format_rows(log: &Log, pred: &[f64], cor: &[f64], from: usize, to: usize) -> 
         out.push(end);
     };
     for i in from..to {
-        num(&mut out, log.time_s[i], b',');
-        num(&mut out, log.omega_dph[i], b',');
-        num(&mut out, pred[i], b',');
-        num(&mut out, cor[i], b',');
-        num(&mut out, log.temp_c[i], b'\n');
+        num(out, log.time_s[i], b',');
+        num(out, log.omega_dph[i], b',');
+        num(out, pred[i], b',');
+        num(out, cor[i], b',');
+        num(out, log.temp_c[i], b'\n');
     }
-    out
 }
