@@ -155,15 +155,44 @@ pub struct Derivatives {
 /// Ṫ and T̈ of a temperature column by smoothing then differentiating twice with the backward
 /// difference (METHOD.md §1, step 2).
 ///
-/// The smoothed temperature is dropped once Ṫ is made from it, so that at most two columns are
-/// held at a time.
+/// One pass: the smoothed temperature lives only in a ring of its last `2s + 1` values, so a
+/// long log costs its two rate columns and nothing more. The arithmetic is that of
+/// [`moving_average_causal`] followed twice by [`backward_derivative`], operation for
+/// operation, so the rates are the same bits (a test holds them equal).
 pub fn derivatives(temp_c: &[f64], steps: DerivativeSteps, dt_s: f64) -> Derivatives {
-    let smoothed = moving_average_causal(temp_c, steps.smooth);
-    let tdot = backward_derivative(&smoothed, steps.step, dt_s);
-    drop(smoothed);
-    let mut tddot = backward_derivative(&tdot, steps.step, dt_s);
+    let n = temp_c.len();
+    let s = steps.step.max(1);
+    let h2 = 2.0 * s as f64 * dt_s;
+    let mut mean = CausalMean::new(steps.smooth.min(n));
+    // The last 2s + 1 (and a few more) smoothed temperatures, indexed by sample number masked
+    // to the ring's power-of-two length.
+    let mask = (2 * s + 1).next_power_of_two() - 1;
+    let mut smoothed = vec![0.0; mask + 1];
+    let mut tdot = Vec::with_capacity(n);
+    let mut tddot = Vec::with_capacity(n);
+    for (i, &t) in temp_c.iter().enumerate() {
+        let sm = mean.push(t);
+        smoothed[i & mask] = sm;
+        let td = if i < 2 * s {
+            0.0
+        } else {
+            backward_step(
+                sm,
+                smoothed[(i - s) & mask],
+                smoothed[(i - 2 * s) & mask],
+                h2,
+            )
+        };
+        tdot.push(td);
+        let tdd = if i < 2 * s {
+            0.0
+        } else {
+            backward_step(td, tdot[i - s], tdot[i - 2 * s], h2)
+        };
+        tddot.push(tdd);
+    }
     // T̈ at 2s..4s would difference the zeros standing for "no Ṫ yet": not a real rate.
-    let ready_from = steps.step.max(1).saturating_mul(4).min(temp_c.len());
+    let ready_from = s.saturating_mul(4).min(n);
     tddot[..ready_from].fill(0.0);
     Derivatives {
         tdot,

@@ -64,6 +64,46 @@ fn causal_smoothing_delays_a_quadratic_by_half_the_window() {
 }
 
 #[test]
+fn one_pass_derivatives_are_the_three_passes_bit_for_bit() {
+    // `derivatives` fuses the causal mean and both differences into one pass; it must give the
+    // very bits of the three separate passes (the streaming corrector makes those).
+    let x: Vec<f64> = (0..5000)
+        .map(|i| {
+            let t = i as f64;
+            20.0 + 30.0 * (t / 700.0).sin() + 0.001 * ((i * 7919) % 13) as f64
+        })
+        .collect();
+    for (smooth, step, n) in [
+        (1, 1, 5000),
+        (9, 5, 5000),
+        (60, 30, 5000),
+        (300, 7, 200),
+        (3, 50, 60),
+    ] {
+        let x = &x[..n];
+        let dt = 0.5;
+        let d = signal::derivatives(x, DerivativeSteps { smooth, step }, dt);
+        let sm = signal::moving_average_causal(x, smooth);
+        let tdot = signal::backward_derivative(&sm, step, dt);
+        let mut tddot = signal::backward_derivative(&tdot, step, dt);
+        let ready = (4 * step).min(n);
+        tddot[..ready].fill(0.0);
+        let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        assert_eq!(
+            bits(&d.tdot),
+            bits(&tdot),
+            "Tdot, smooth {smooth} step {step}"
+        );
+        assert_eq!(
+            bits(&d.tddot),
+            bits(&tddot),
+            "Tddot, smooth {smooth} step {step}"
+        );
+        assert_eq!(d.ready_from, ready);
+    }
+}
+
+#[test]
 fn centred_average_leaves_a_line_unchanged() {
     let x: Vec<f64> = (0..200).map(|i| 3.0 - 0.25 * i as f64).collect();
     for w in [1, 2, 7, 100] {
