@@ -1,0 +1,376 @@
+//! The Models page: the models of the papers and one built term by term, fitted on the
+//! calibration log and judged on it and on the validation log (what `driftlab compare`
+//! prints), their corrected drifts overlaid on one plot, what a regression model found
+//! (coefficients, λ, τd, lag and the cost curves of its searches), and which model to export.
+//!
+//! The view holds the choices and what is selected; the comparison runs on a worker
+//! ([`super::jobs::Jobs::compare`]) and comes back as [`Compared`] in the application data.
+
+//!
+//! One file a panel: [`builder`] (the custom model), [`table`] (the figures of every model),
+//! [`plot`] (the corrected drifts overlaid) and [`detail`] (what the selected model found, and
+//! its export); this file holds the page's state and lays the panels out.
+
+mod builder;
+mod detail;
+mod plot;
+mod table;
+
+pub use builder::{CustomBuilder, DelayChoice, LagChoice};
+pub use plot::model_color;
+
+use super::app::Action;
+use super::jobs::{CompareHandle, Compared};
+use super::state::AppState;
+use crate::drift_model::DriftModel;
+use crate::gui::plot_items::num;
+use crate::log::Log;
+use crate::presets::{ModelChoice, Preset};
+use eframe::egui::{self, Color32, Panel, RichText, ScrollArea, Ui};
+
+/// View state of the Models page.
+pub struct ModelsView {
+    /// Which presets are compared, in [`Preset::ALL`] order.
+    pub presets: [bool; Preset::ALL.len()],
+    /// The custom model.
+    pub custom: CustomBuilder,
+    /// The model whose details are shown (by name).
+    pub selected: Option<String>,
+    /// The model to export (by name).
+    pub export: Option<String>,
+    /// Which log of the comparison the plot shows (0: the calibration log).
+    pub log_index: usize,
+}
+
+impl Default for ModelsView {
+    fn default() -> Self {
+        ModelsView {
+            presets: [true; Preset::ALL.len()],
+            custom: CustomBuilder::default(),
+            selected: None,
+            export: None,
+            log_index: 0,
+        }
+    }
+}
+
+impl ModelsView {
+    /// The models ticked, in table order (presets, then the custom model).
+    ///
+    /// # Errors
+    /// Nothing ticked, or a custom model the engine would refuse.
+    pub fn choices(&self) -> Result<Vec<ModelChoice>, String> {
+        let mut out: Vec<ModelChoice> = Preset::ALL
+            .iter()
+            .zip(self.presets)
+            .filter(|(_, on)| *on)
+            .map(|(p, _)| ModelChoice::Preset(*p))
+            .collect();
+        if self.custom.enabled {
+            let spec = self.custom.spec()?;
+            if out.iter().any(|c| c.name() == spec.name) {
+                return Err(format!(
+                    "the custom model is named \"{}\" like a preset; give it another name",
+                    spec.name
+                ));
+            }
+            out.push(ModelChoice::Custom(spec));
+        }
+        if out.is_empty() {
+            return Err("tick at least one model".into());
+        }
+        Ok(out)
+    }
+
+    /// Keeps the selection and the export choice on models of the newest comparison.
+    pub fn adopt(&mut self, c: &Compared) {
+        let fitted = |n: &Option<String>| {
+            n.as_ref().is_some_and(|n| {
+                c.reports
+                    .iter()
+                    .any(|r| &r.model == n && r.fitted.is_some())
+            })
+        };
+        let first_regression = c
+            .reports
+            .iter()
+            .find(|r| matches!(r.fitted, Some(DriftModel::Regression(_))))
+            .or_else(|| c.reports.iter().find(|r| r.fitted.is_some()))
+            .map(|r| r.model.clone());
+        let listed = |n: &Option<String>| {
+            n.as_ref()
+                .is_some_and(|n| c.reports.iter().any(|r| &r.model == n))
+        };
+        if !listed(&self.selected) {
+            self.selected = first_regression.clone();
+        }
+        if !fitted(&self.export) {
+            self.export = first_regression;
+        }
+        if self.log_index >= c.logs.len() {
+            self.log_index = 0;
+        }
+    }
+
+    /// The whole page: choices on the left, details and export on the right, the table and
+    /// the plot in the middle.
+    pub fn ui(
+        &mut self,
+        ui: &mut Ui,
+        state: &AppState,
+        running: Option<&CompareHandle>,
+        out: &mut Vec<Action>,
+    ) {
+        Panel::left("models_choose")
+            .default_size(300.0)
+            .size_range(260.0..=460.0)
+            .show(ui, |ui| {
+                ScrollArea::vertical()
+                    .id_salt("models_choose_scroll")
+                    .show(ui, |ui| self.choose(ui, state, running, out));
+            });
+        Panel::right("models_detail")
+            .default_size(440.0)
+            .size_range(320.0..=720.0)
+            .show(ui, |ui| {
+                ScrollArea::vertical()
+                    .id_salt("models_detail_scroll")
+                    .show(ui, |ui| self.detail(ui, state, out));
+            });
+        egui::CentralPanel::default().show(ui, |ui| {
+            let Some(c) = state.models.clone() else {
+                ui.add_space(12.0);
+                match running {
+                    Some(h) => progress(ui, h),
+                    None => {
+                        if let Some(e) = &state.models_error {
+                            ui.colored_label(ui.visuals().error_fg_color, e);
+                        }
+                        ui.weak(
+                            "Tick the models on the left and press Compare (F5): each is fitted on \
+                             the calibration log and judged on it and on the validation log.",
+                        );
+                    }
+                }
+                return;
+            };
+            self.stale_note(ui, state, &c, running);
+            // The whole table when it fits in a little over half the height, the plot below.
+            let row_h = ui.spacing().interact_size.y + 3.0;
+            let rows = 2 + c
+                .reports
+                .iter()
+                .map(|r| r.logs.len().max(1) + usize::from(r.error.is_some()))
+                .sum::<usize>();
+            let table_h = (rows as f32 * row_h).clamp(120.0, ui.available_height() * 0.55);
+            ScrollArea::both()
+                .id_salt("models_table_scroll")
+                .max_height(table_h)
+                .auto_shrink([false, true])
+                .show(ui, |ui| self.table(ui, &c));
+            ui.separator();
+            self.plot(ui, &c);
+        });
+    }
+
+    fn choose(
+        &mut self,
+        ui: &mut Ui,
+        state: &AppState,
+        running: Option<&CompareHandle>,
+        out: &mut Vec<Action>,
+    ) {
+        ui.heading("Models");
+        ui.label("Fitted on the calibration log, judged on it and on the validation log.");
+        ui.add_space(4.0);
+        ui.strong("Presets");
+        for (k, p) in Preset::ALL.iter().enumerate() {
+            ui.checkbox(&mut self.presets[k], p.name())
+                .on_hover_text(plain(p.describe()));
+        }
+        ui.horizontal(|ui| {
+            if ui.small_button("all").clicked() {
+                self.presets = [true; Preset::ALL.len()];
+            }
+            if ui.small_button("none").clicked() {
+                self.presets = [false; Preset::ALL.len()];
+            }
+        });
+        ui.separator();
+        self.builder(ui, state);
+        ui.separator();
+        let choices = self.choices();
+        let can = state.log.is_some() && choices.is_ok() && running.is_none();
+        ui.horizontal(|ui| {
+            let n = choices.as_ref().map_or(0, Vec::len);
+            if ui
+                .add_enabled(
+                    can,
+                    egui::Button::new(RichText::new("Compare").strong())
+                        .min_size(egui::vec2(110.0, 26.0)),
+                )
+                .on_hover_text(format!(
+                    "Fit the {n} ticked model(s) on the calibration log and judge them (F5); \
+                     runs in the background"
+                ))
+                .clicked()
+            {
+                out.push(Action::CompareModels);
+            }
+            if let Some(h) = running {
+                ui.spinner();
+                ui.label(format!("{} of {} fitted", h.done(), h.total));
+            }
+        });
+        if let Err(e) = &choices {
+            ui.colored_label(ui.visuals().warn_fg_color, e);
+        }
+        let name = |l: &Option<super::jobs::Loaded>| {
+            l.as_ref()
+                .and_then(|l| l.path.file_name())
+                .map(|s| s.to_string_lossy().into_owned())
+        };
+        match name(&state.log) {
+            Some(n) => ui.weak(format!("Fitted on: {n}")),
+            None => ui.weak("Open a log first."),
+        };
+        match name(&state.validation) {
+            Some(n) => {
+                ui.weak(format!("Held out: {n}"));
+            }
+            None => {
+                ui.horizontal(|ui| {
+                    ui.weak("Held out: none");
+                    if ui
+                        .add_enabled(state.log.is_some(), egui::Button::new("Open…").small())
+                        .on_hover_text(
+                            "Open a validation log: a second log of the same gyro to judge the \
+                             models held out",
+                        )
+                        .clicked()
+                    {
+                        out.push(Action::OpenValidation);
+                    }
+                });
+            }
+        }
+        ui.weak(format!(
+            "The Vakhrameev model uses the recipe of the Calibration page (knots moved by hand \
+             are not part of it); the figures filter the drift over {} s.",
+            num(state.recipe().filter_s)
+        ));
+    }
+
+    fn stale_note(
+        &self,
+        ui: &mut Ui,
+        state: &AppState,
+        c: &Compared,
+        running: Option<&CompareHandle>,
+    ) {
+        ui.horizontal(|ui| {
+            ui.strong("Figures of the filtered drift, °/h")
+                .on_hover_text(
+                    "As `driftlab compare` prints them: ratio = raw ÷ corrected, above 1 is \
+                     better; 10-min mean: largest |mean| over consecutive 10-minute windows; \
+                     RMS: mean RMS within those windows; outside: share of samples beyond the \
+                     ranges the model was fitted on",
+                );
+            ui.weak(format!(
+                "{} model(s) in {:.1} s",
+                c.reports.len(),
+                c.seconds
+            ));
+            if let Some(h) = running {
+                ui.separator();
+                progress(ui, h);
+            } else {
+                let same_log = state
+                    .log
+                    .as_ref()
+                    .is_some_and(|l| std::sync::Arc::ptr_eq(&l.log, &c.logs[0].log));
+                let held: Vec<_> = c.logs.iter().skip(1).map(|l| &l.log).collect();
+                let same_held = match &state.validation {
+                    Some(v) => held.len() == 1 && std::sync::Arc::ptr_eq(held[0], &v.log),
+                    None => held.is_empty(),
+                };
+                let same_choices = self.choices().is_ok_and(|ch| ch == c.choices);
+                let changed = if !same_log {
+                    Some("the log changed: press Compare again")
+                } else if !same_held {
+                    Some("the validation log changed: press Compare again")
+                } else if !same_choices {
+                    Some("the models ticked changed: press Compare again")
+                } else {
+                    None
+                };
+                if let Some(text) = changed {
+                    ui.separator();
+                    ui.colored_label(ui.visuals().warn_fg_color, text);
+                }
+            }
+            if let Some(e) = &state.models_error {
+                ui.colored_label(ui.visuals().error_fg_color, e);
+            }
+        });
+    }
+}
+
+/// Names a combo box for screen readers (and tests).
+fn accessible(r: &egui::Response, name: &str, value: &str) {
+    r.widget_info(|| {
+        let mut info = egui::WidgetInfo::labeled(egui::accesskit::Role::ComboBox, true, name);
+        info.current_text_value = Some(value.to_string());
+        info
+    });
+}
+
+fn swatch(ui: &mut Ui, color: Color32) {
+    let (rect, _) = ui.allocate_exact_size(egui::vec2(12.0, 12.0), egui::Sense::hover());
+    ui.painter().rect_filled(rect, 2.0, color);
+}
+
+fn progress(ui: &mut Ui, h: &CompareHandle) {
+    ui.horizontal(|ui| {
+        ui.spinner();
+        ui.label(format!(
+            "fitting… {} of {} models done ({:.0} s)",
+            h.done(),
+            h.total,
+            h.started.elapsed().as_secs_f64()
+        ));
+    });
+}
+
+/// The engine's text with Ṫ and T̈ written as dT/dt and d²T/dt² (the workbench's fonts have
+/// no glyphs for the dotted letters).
+pub fn plain(s: &str) -> String {
+    s.replace("T\u{308}", "d²T/dt²")
+        .replace('\u{1E6A}', "dT/dt")
+        .replace("T\u{307}", "dT/dt")
+}
+
+/// A message cut to `n` characters for a table cell (the whole of it is in the tooltip).
+fn short(s: &str, n: usize) -> String {
+    if s.chars().count() <= n {
+        s.to_string()
+    } else {
+        format!("{}…", s.chars().take(n).collect::<String>())
+    }
+}
+
+/// The logs of a comparison by file name, for messages.
+pub fn log_names(train: &Log, tests: &[std::sync::Arc<Log>]) -> String {
+    let name = |l: &Log| {
+        std::path::Path::new(&l.source)
+            .file_name()
+            .map_or(l.source.clone(), |s| s.to_string_lossy().into_owned())
+    };
+    let mut s = name(train);
+    for t in tests {
+        s.push_str(" (held out: ");
+        s.push_str(&name(t));
+        s.push(')');
+    }
+    s
+}

@@ -1,0 +1,130 @@
+//! The corrected drifts of the chosen models overlaid on the raw drift, one colour a model.
+
+use super::ModelsView;
+use crate::gui::jobs::Compared;
+use crate::gui::plot_items::{BandItem, Palette, TimeScale};
+use eframe::egui::{Color32, Ui, Vec2b};
+use egui_plot::{Corner, Legend, Plot};
+
+/// Colours of the models, by their place in the comparison: distinct from each other and
+/// from the grey of the raw drift, on light and dark backgrounds.
+pub fn model_color(k: usize, dark: bool) -> Color32 {
+    const LIGHT: [Color32; 9] = [
+        Color32::from_rgb(31, 119, 180),
+        Color32::from_rgb(230, 110, 0),
+        Color32::from_rgb(40, 150, 40),
+        Color32::from_rgb(214, 39, 40),
+        Color32::from_rgb(148, 103, 189),
+        Color32::from_rgb(140, 86, 75),
+        Color32::from_rgb(210, 90, 180),
+        Color32::from_rgb(150, 150, 20),
+        Color32::from_rgb(20, 170, 190),
+    ];
+    const DARK: [Color32; 9] = [
+        Color32::from_rgb(90, 170, 255),
+        Color32::from_rgb(255, 160, 60),
+        Color32::from_rgb(100, 210, 100),
+        Color32::from_rgb(255, 100, 100),
+        Color32::from_rgb(190, 150, 255),
+        Color32::from_rgb(205, 150, 120),
+        Color32::from_rgb(255, 140, 220),
+        Color32::from_rgb(215, 215, 70),
+        Color32::from_rgb(70, 220, 235),
+    ];
+    if dark {
+        DARK[k % DARK.len()]
+    } else {
+        LIGHT[k % LIGHT.len()]
+    }
+}
+
+impl ModelsView {
+    pub(super) fn plot(&mut self, ui: &mut Ui, c: &Compared) {
+        let pal = Palette::of(ui);
+        let dark = ui.visuals().dark_mode;
+        ui.horizontal(|ui| {
+            ui.strong("Corrected drift of each model").on_hover_text(
+                "Ω filtered as for the figures: raw (grey) and corrected by each fitted model; \
+                     click a name in the legend to hide it",
+            );
+            ui.separator();
+            for (j, l) in c.logs.iter().enumerate() {
+                let label = if l.held_out {
+                    "validation log"
+                } else {
+                    "calibration log"
+                };
+                ui.radio_value(&mut self.log_index, j, label)
+                    .on_hover_text(&l.log.source);
+            }
+        });
+        let Some(cl) = c.logs.get(self.log_index) else {
+            return;
+        };
+        let log = &cl.log;
+        let n = log.len();
+        if n == 0 || cl.raw_filtered_dph.len() != n {
+            return;
+        }
+        let scale = TimeScale::for_duration(log.duration_s());
+        let t_full = (log.time_s[0], log.time_s[n - 1]);
+        let li = self.log_index;
+        Plot::new("models_drift")
+            .height(ui.available_height().max(120.0))
+            .legend(
+                Legend::default()
+                    .position(Corner::LeftTop)
+                    .follow_insertion_order(true),
+            )
+            .x_axis_label(format!("time, {}", scale.unit))
+            .y_axis_label("drift, °/h")
+            .y_axis_min_width(64.0)
+            .y_axis_formatter(crate::gui::plot_items::tick)
+            .x_grid_spacer(egui_plot::uniform_grid_spacer(
+                crate::gui::plot_items::nice_steps_x,
+            ))
+            .y_grid_spacer(egui_plot::uniform_grid_spacer(
+                crate::gui::plot_items::nice_steps,
+            ))
+            .allow_zoom(Vec2b::new(true, false))
+            .allow_drag(Vec2b::new(true, false))
+            .allow_scroll(Vec2b::new(true, false))
+            .show(ui, |pui| {
+                let b = pui.plot_bounds();
+                let (x0, x1) = if b.is_valid_x() && b.width() > 0.0 {
+                    (b.min()[0] * scale.div, b.max()[0] * scale.div)
+                } else {
+                    t_full
+                };
+                let cols = pui.response().rect.width().max(50.0) as usize;
+                let raw = crate::lod::reduce(
+                    &log.time_s,
+                    &cl.raw_filtered_dph,
+                    &cl.raw_lod,
+                    x0,
+                    x1,
+                    cols,
+                );
+                pui.add(
+                    BandItem::new("raw", raw, scale.div, t_full)
+                        .color(pal.raw)
+                        .width(1.6),
+                );
+                for (k, r) in c.reports.iter().enumerate() {
+                    let Some(Some(s)) = c.series.get(k).and_then(|v| v.get(li)) else {
+                        continue;
+                    };
+                    if s.cor_filtered_dph.len() != n {
+                        continue;
+                    }
+                    let band =
+                        crate::lod::reduce(&log.time_s, &s.cor_filtered_dph, &s.lod, x0, x1, cols);
+                    pui.add(
+                        BandItem::new(&r.model, band, scale.div, t_full)
+                            .color(model_color(k, dark))
+                            .width(1.4),
+                    );
+                }
+            });
+    }
+}
