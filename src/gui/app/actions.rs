@@ -1,0 +1,253 @@
+//! The engineer's requests, from menus, shortcuts, dropped files and the close button, and the
+//! unsaved-work question some of them ask first.
+
+use super::*;
+
+impl Workbench {
+    pub(super) fn shortcuts(&mut self, ctx: &egui::Context, actions: &mut Vec<Action>) {
+        if self.import.is_some() || self.confirm.is_some() {
+            if ctx.input(|i| i.key_pressed(Key::Escape)) {
+                self.confirm = None;
+            }
+            return;
+        }
+        let text_focus = ctx.egui_wants_keyboard_input();
+        ctx.input_mut(|i| {
+            // Shift variants first: Ctrl+S also matches Ctrl+Shift+S.
+            if i.consume_shortcut(&SC_OPEN_SESSION) {
+                actions.push(Action::OpenSession);
+            }
+            if i.consume_shortcut(&SC_OPEN) {
+                actions.push(Action::OpenLog);
+            }
+            if i.consume_shortcut(&SC_SHOT) || i.consume_shortcut(&SC_SHOT_F12) {
+                actions.push(Action::Screenshot);
+            }
+            if i.consume_shortcut(&SC_SAVE) {
+                actions.push(Action::SaveSession);
+            }
+            if i.consume_shortcut(&SC_EXPORT_CSV) {
+                actions.push(Action::ExportCsv);
+            }
+            if i.consume_shortcut(&SC_EXPORT) {
+                actions.push(Action::ExportCalibration);
+            }
+            if i.consume_shortcut(&SC_QUIT) {
+                actions.push(Action::Quit);
+            }
+            for p in Page::ALL {
+                if i.consume_shortcut(&p.shortcut()) {
+                    actions.push(Action::ShowPage(p));
+                }
+            }
+            if self.page == Page::Models && i.consume_shortcut(&SC_COMPARE) {
+                actions.push(Action::CompareModels);
+            }
+            if !text_focus {
+                if i.consume_shortcut(&SC_REDO2) || i.consume_shortcut(&SC_REDO) {
+                    actions.push(Action::Redo);
+                }
+                if i.consume_shortcut(&SC_UNDO) {
+                    actions.push(Action::Undo);
+                }
+            }
+            if i.key_pressed(Key::Escape) && self.jobs.loading.is_some() {
+                self.jobs.cancel_load();
+            }
+        });
+    }
+
+    pub(super) fn files_dropped(&mut self, ctx: &egui::Context, actions: &mut Vec<Action>) {
+        let (hovered, dropped) =
+            ctx.input(|i| (!i.raw.hovered_files.is_empty(), i.raw.dropped_files.clone()));
+        if let Some(path) = dropped.first().map(|f| f.path().to_path_buf()) {
+            actions.push(if is_json(&path) {
+                Action::OpenSessionPath(path)
+            } else {
+                Action::OpenLogPath(path)
+            });
+        }
+        if hovered {
+            let painter = ctx.layer_painter(egui::LayerId::new(
+                egui::Order::Foreground,
+                egui::Id::unique("drop"),
+            ));
+            let r = ctx.content_rect();
+            painter.rect_filled(r, 0.0, Color32::from_black_alpha(150));
+            painter.text(
+                r.center(),
+                egui::Align2::CENTER_CENTER,
+                "Drop a log to import it (or a session .json to open it)",
+                egui::FontId::proportional(22.0),
+                Color32::WHITE,
+            );
+        }
+    }
+
+    pub(super) fn close_requested(&mut self, ctx: &egui::Context) {
+        if ctx.input(|i| i.viewport().close_requested()) && !self.quitting && self.auto.is_none() {
+            if self.state.dirty() {
+                ctx.send_viewport_cmd(ViewportCommand::CancelClose);
+                self.confirm = Some(Action::Quit);
+            } else {
+                self.close_cleanly();
+            }
+        }
+    }
+
+    /// Runs `action` now, or asks first when it would drop unsaved work.
+    pub(super) fn run_action(&mut self, ctx: &egui::Context, action: Action) {
+        let drops_work = matches!(
+            action,
+            Action::OpenLog
+                | Action::OpenLogPath(_)
+                | Action::OpenSession
+                | Action::OpenSessionPath(_)
+                | Action::Quit
+        );
+        if drops_work && self.state.dirty() && self.confirm.is_none() {
+            self.confirm = Some(action);
+            return;
+        }
+        self.run_confirmed(ctx, action);
+    }
+
+    pub(super) fn dir(&self) -> Option<PathBuf> {
+        self.settings.last_dir.clone()
+    }
+
+    pub(super) fn run_confirmed(&mut self, ctx: &egui::Context, action: Action) {
+        match action {
+            Action::OpenLog => {
+                if let Some(p) = self.dialogs.open(FileKind::Log, self.dir().as_deref()) {
+                    self.open_import(p, Target::Calibration);
+                }
+            }
+            Action::OpenLogPath(p) => self.open_import(p, Target::Calibration),
+            Action::OpenValidation => {
+                if self.state.log.is_none() {
+                    self.state
+                        .say(Severity::Warning, "Open the calibration log first");
+                } else if let Some(p) = self
+                    .dialogs
+                    .open(FileKind::ValidationLog, self.dir().as_deref())
+                {
+                    self.open_import(p, Target::Validation);
+                }
+            }
+            Action::CloseValidation => {
+                self.state.validation = None;
+                self.state.view.show_validation = false;
+            }
+            Action::OpenSession => {
+                if let Some(p) = self.dialogs.open(FileKind::Session, self.dir().as_deref()) {
+                    self.open_session(p);
+                }
+            }
+            Action::OpenSessionPath(p) => self.open_session(p),
+            Action::SaveSession => {
+                let _ = self.save_session(false);
+            }
+            Action::SaveSessionAs => {
+                let _ = self.save_session(true);
+            }
+            Action::ExportCalibration => self.export_calibration(),
+            Action::ExportCsv => self.export_csv(),
+            Action::ExportReport => self.export_report(),
+            Action::Screenshot => {
+                let name = export::suggested_name(
+                    self.state.log.as_ref().map(|l| l.path.as_path()),
+                    "workbench.png",
+                );
+                if let Some(p) = self
+                    .dialogs
+                    .save(FileKind::Png, self.dir().as_deref(), &name)
+                {
+                    self.pending_shot = Some(PendingShot {
+                        frames: 2,
+                        path: p,
+                        crop: None,
+                        what: "screenshot".into(),
+                    });
+                }
+            }
+            Action::SavePlot(name, rect) => {
+                let file = export::suggested_name(
+                    self.state.log.as_ref().map(|l| l.path.as_path()),
+                    &format!("{name}.png"),
+                );
+                if rect.is_positive()
+                    && let Some(p) = self
+                        .dialogs
+                        .save(FileKind::Png, self.dir().as_deref(), &file)
+                {
+                    self.pending_shot = Some(PendingShot {
+                        frames: 2,
+                        path: p,
+                        crop: Some(rect),
+                        what: format!("plot {name}"),
+                    });
+                }
+            }
+            Action::SavePlotNamed(name) => {
+                if let Some(r) = self.plot_rects.get(&name).copied() {
+                    self.run_confirmed(ctx, Action::SavePlot(name, r));
+                }
+            }
+            Action::PlotRect(name, rect) => {
+                self.plot_rects.insert(name, rect);
+            }
+            Action::Undo => {
+                if !self.state.history.undo(&mut self.state.choices) {
+                    self.state.say(Severity::Info, "Nothing to undo");
+                }
+            }
+            Action::Redo => {
+                if !self.state.history.redo(&mut self.state.choices) {
+                    self.state.say(Severity::Info, "Nothing to redo");
+                }
+            }
+            Action::SuggestPlateaus => self.suggest_plateaus(),
+            Action::ResetRecipe => {
+                self.state.choices = Choices::default();
+            }
+            Action::Quit => {
+                self.close_cleanly();
+                ctx.send_viewport_cmd(ViewportCommand::Close);
+            }
+            Action::Theme(t) => {
+                self.settings.theme = t;
+            }
+            Action::ShowPage(p) => self.page = p,
+            Action::CompareModels => self.compare_models(),
+            Action::ExportModel => self.export_model(),
+        }
+    }
+
+    pub(super) fn open_import(&mut self, path: PathBuf, target: Target) {
+        let read = match (target, &self.state.log) {
+            // A second log of the same stand is likely written alike.
+            (Target::Validation, Some(l)) => l.read.clone(),
+            _ => ReadOptions::default(),
+        };
+        self.import = Some(ImportView::new(path, target, read));
+    }
+
+    pub(super) fn suggest_plateaus(&mut self) {
+        let (Some(log), Some(fit)) = (self.state.log.clone(), self.state.fit.clone()) else {
+            self.state.say(Severity::Warning, "Open a log first");
+            return;
+        };
+        let found = crate::live::suggest_plateaus(&log.log, &fit.outcome.prepared);
+        let n = found.len();
+        self.state.set_ranges(found);
+        self.time.selected = None;
+        self.state.say(
+            Severity::Info,
+            format!(
+                "The detector suggests {n} plateau{}; edit them in the table or on the time plots",
+                if n == 1 { "" } else { "s" }
+            ),
+        );
+    }
+}
