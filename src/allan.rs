@@ -326,7 +326,7 @@ pub fn phase_from_rate(rate: &[f64], tau0_s: f64) -> Vec<f64> {
     x
 }
 
-/// Overlapping sums Σ_i (x[i+2m] − 2x[i+m] + x[i])² for every factor, with their numbers of
+/// Overlapping sums Σ_i (x\[i+2m\] − 2x\[i+m\] + x\[i\])² for every factor, with their numbers of
 /// terms N_x − 2m.
 ///
 /// The sum is memory-bound, so all factors are computed in one pass over the phase, block by
@@ -419,7 +419,7 @@ pub fn identify_noise(rate: &[f64], m: usize) -> Option<i32> {
 }
 
 /// [`identify_noise`] from the phase: the rate averaged over block k is
-/// (x[(k+1)m] − x[km]) / (m·τ0), and the method is blind to scale and offset, so the phase
+/// (x\[(k+1)m\] − x\[km\]) / (m·τ0), and the method is blind to scale and offset, so the phase
 /// differences serve as they are. O(N/m) instead of O(N).
 fn identify_noise_from_phase(x: &[f64], m: usize) -> Option<i32> {
     if m == 0 || x.len() < 2 || (x.len() - 1) / m < 30 {
@@ -456,7 +456,7 @@ fn lag1_noise_type(mut z: Vec<f64>) -> Option<i32> {
     }
 }
 
-/// Removes the least-squares line through (i, z[i]).
+/// Removes the least-squares line through (i, z\[i\]).
 fn detrend_linear(z: &mut [f64]) {
     let n = z.len() as f64;
     if z.len() < 2 {
