@@ -1,0 +1,139 @@
+//! The Models page's comparison: every chosen model fitted on the calibration log and judged
+//! on it and on the held-out logs, on a worker, with a count of the models done.
+
+use super::*;
+
+/// A comparison of models to run: every choice fitted on `train`, judged on `train` and on
+/// each of `tests` (what `driftlab compare` does).
+#[derive(Clone)]
+pub struct CompareRequest {
+    /// The log the models are fitted on.
+    pub train: Arc<Log>,
+    /// Held-out logs of the same gyro.
+    pub tests: Vec<Arc<Log>>,
+    /// The models.
+    pub choices: Vec<ModelChoice>,
+    /// The workbench's recipe (the Vakhrameev model's choices; knots moved by hand are not
+    /// part of it).
+    pub recipe: Recipe,
+    /// How the figures are computed.
+    pub merit: MeritOptions,
+}
+
+/// One model's corrected drift on one log, filtered as for the figures, with its pyramid.
+pub struct ModelSeries {
+    /// Corrected Ω filtered, °/h.
+    pub cor_filtered_dph: Vec<f64>,
+    /// Its pyramid.
+    pub lod: MinMaxPyramid,
+}
+
+/// A log of a comparison with its raw drift filtered as for the figures.
+pub struct ComparedLog {
+    /// The log.
+    pub log: Arc<Log>,
+    /// False for the training log.
+    pub held_out: bool,
+    /// Raw Ω filtered, °/h.
+    pub raw_filtered_dph: Vec<f64>,
+    /// Its pyramid.
+    pub raw_lod: MinMaxPyramid,
+}
+
+/// What a comparison of models gives back, ready to draw.
+pub struct Compared {
+    /// The request number it answers.
+    pub generation: u64,
+    /// The models asked for, in order.
+    pub choices: Vec<ModelChoice>,
+    /// The engine's reports, one per choice.
+    pub reports: Vec<ModelReport>,
+    /// Per report, per log (training first): the corrected drift, or `None` when the model
+    /// could not be fitted or applied.
+    pub series: Vec<Vec<Option<ModelSeries>>>,
+    /// The training log first, then the held-out ones.
+    pub logs: Vec<ComparedLog>,
+    /// Seconds the comparison took.
+    pub seconds: f64,
+}
+
+/// A comparison in progress.
+#[derive(Debug, Clone)]
+pub struct CompareHandle {
+    /// The request number.
+    pub generation: u64,
+    /// Models asked for.
+    pub total: usize,
+    pub(super) done: Arc<AtomicUsize>,
+    /// When it started.
+    pub started: Instant,
+}
+
+impl CompareHandle {
+    /// Models fitted and judged so far.
+    pub fn done(&self) -> usize {
+        self.done.load(Ordering::Relaxed).min(self.total)
+    }
+}
+
+/// The comparison: each model fitted and judged by the engine (in parallel, counting them
+/// done), then its correction of every log filtered as the figures filter it, for drawing.
+pub(super) fn run_compare(req: &CompareRequest, h: &CompareHandle, ctx: &SharedCtx) -> Compared {
+    let t = Instant::now();
+    let tests: Vec<&Log> = req.tests.iter().map(|l| &**l).collect();
+    let all: Vec<(Arc<Log>, bool)> = std::iter::once((req.train.clone(), false))
+        .chain(req.tests.iter().map(|l| (l.clone(), true)))
+        .collect();
+    let filter = |log: &Log| {
+        crate::signal::seconds_to_samples(req.merit.filter_s, log.nominal_dt_s()).max(1)
+    };
+    let done: Vec<(ModelReport, Vec<Option<ModelSeries>>)> = req
+        .choices
+        .par_iter()
+        .map(|choice| {
+            // Each log's correction is filtered for drawing as the engine judges it, once.
+            let mut series: Vec<Option<ModelSeries>> = all.iter().map(|_| None).collect();
+            let report = crate::compare::compare_one(
+                &req.train,
+                &tests,
+                choice,
+                &req.recipe,
+                &req.merit,
+                &mut |k, c| {
+                    let f = crate::signal::moving_average_centered(&c.cor_dph, filter(&all[k].0));
+                    series[k] = Some(ModelSeries {
+                        lod: MinMaxPyramid::new(&f),
+                        cor_filtered_dph: f,
+                    });
+                },
+            );
+            if report.fitted.is_none() {
+                series.clear();
+            }
+            h.done.fetch_add(1, Ordering::Relaxed);
+            repaint(ctx);
+            (report, series)
+        })
+        .collect();
+    let logs = all
+        .par_iter()
+        .map(|(log, held_out)| {
+            let f = crate::signal::moving_average_centered(&log.omega_dph, filter(log));
+            ComparedLog {
+                log: log.clone(),
+                held_out: *held_out,
+                raw_lod: MinMaxPyramid::new(&f),
+                raw_filtered_dph: f,
+            }
+        })
+        .collect();
+    let (reports, series) = done.into_iter().unzip();
+    Compared {
+        generation: h.generation,
+        choices: req.choices.clone(),
+        reports,
+        series,
+        logs,
+        seconds: t.elapsed().as_secs_f64(),
+    }
+}
