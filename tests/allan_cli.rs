@@ -5,30 +5,9 @@ use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, StandardNormal};
 use serde_json::Value;
 use std::path::Path;
-use std::process::{Command, Output};
 
-fn driftlab(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_driftlab"))
-        .args(args)
-        .output()
-        .expect("driftlab runs")
-}
-
-fn ok(args: &[&str]) -> String {
-    let out = driftlab(args);
-    assert!(
-        out.status.success(),
-        "driftlab {args:?} failed:\n{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    String::from_utf8(out.stdout).unwrap()
-}
-
-fn fails(args: &[&str]) -> String {
-    let out = driftlab(args);
-    assert!(!out.status.success(), "driftlab {args:?} should fail");
-    String::from_utf8(out.stderr).unwrap()
-}
+mod common;
+use common::run::{fails, ok};
 
 fn floats(v: &Value) -> Vec<f64> {
     v.as_array()

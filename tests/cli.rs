@@ -3,30 +3,9 @@
 
 use serde_json::Value;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 
-fn driftlab(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_driftlab"))
-        .args(args)
-        .output()
-        .expect("driftlab runs")
-}
-
-fn ok(args: &[&str]) -> String {
-    let out = driftlab(args);
-    assert!(
-        out.status.success(),
-        "driftlab {args:?} failed:\n{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    String::from_utf8(out.stdout).unwrap()
-}
-
-fn fails(args: &[&str]) -> String {
-    let out = driftlab(args);
-    assert!(!out.status.success(), "driftlab {args:?} should fail");
-    String::from_utf8(out.stderr).unwrap()
-}
+mod common;
+use common::run::{fails, ok};
 
 fn sample(name: &str) -> String {
     Path::new(env!("CARGO_MANIFEST_DIR"))

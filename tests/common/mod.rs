@@ -1,6 +1,8 @@
 //! Logs built in tests from known coefficients, with a small deterministic noise source.
 #![allow(dead_code)]
 
+pub mod run;
+
 use driftlab::Log;
 
 /// A deterministic Gaussian-ish noise source (xorshift + sum of uniforms), so tests need no
