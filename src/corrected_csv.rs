@@ -22,7 +22,32 @@ pub fn write(
     cor_dph: &[f64],
     progress: &dyn Fn(f64),
 ) -> std::io::Result<()> {
-    let n = log.len().min(pred_dph.len()).min(cor_dph.len());
+    write_rows(path, log, pred_dph, Some(cor_dph), progress)
+}
+
+/// Writes the corrected log atomically from the predicted drift alone, the corrected rate
+/// being `Ω − pred` (as every model computes it): a caller need not hold a column of it.
+pub fn write_predicted(
+    path: &Path,
+    log: &Log,
+    pred_dph: &[f64],
+    progress: &dyn Fn(f64),
+) -> std::io::Result<()> {
+    write_rows(path, log, pred_dph, None, progress)
+}
+
+/// The writer of both: `cor_dph` when given, else `Ω − pred` row by row.
+fn write_rows(
+    path: &Path,
+    log: &Log,
+    pred_dph: &[f64],
+    cor_dph: Option<&[f64]>,
+    progress: &dyn Fn(f64),
+) -> std::io::Result<()> {
+    let n = log
+        .len()
+        .min(pred_dph.len())
+        .min(cor_dph.map_or(usize::MAX, <[f64]>::len));
     crate::atomic::write_with(path, |w| {
         w.write_all(HEADER.as_bytes())?;
         w.write_all(b"\n")?;
@@ -67,7 +92,14 @@ pub fn write(
 }
 
 /// Formats rows `from..to` into `out`, replacing what it held.
-fn format_rows(out: &mut Vec<u8>, log: &Log, pred: &[f64], cor: &[f64], from: usize, to: usize) {
+fn format_rows(
+    out: &mut Vec<u8>,
+    log: &Log,
+    pred: &[f64],
+    cor: Option<&[f64]>,
+    from: usize,
+    to: usize,
+) {
     out.clear();
     out.reserve((to - from) * 64);
     let mut buf = zmij::Buffer::new();
@@ -85,7 +117,8 @@ fn format_rows(out: &mut Vec<u8>, log: &Log, pred: &[f64], cor: &[f64], from: us
         num(out, log.time_s[i], b',');
         num(out, log.omega_dph[i], b',');
         num(out, pred[i], b',');
-        num(out, cor[i], b',');
+        let c = cor.map_or_else(|| log.omega_dph[i] - pred[i], |c| c[i]);
+        num(out, c, b',');
         num(out, log.temp_c[i], b'\n');
     }
 }

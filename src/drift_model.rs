@@ -1,7 +1,7 @@
 //! Any fitted drift model — the Vakhrameev calibration or a regression model — behind one
 //! face, so that files, `apply`, `compare` and the workbench treat them alike.
 
-use crate::correct::{Corrected, Correction, StreamCorrector};
+use crate::correct::{Corrected, Correction, Prediction, StreamCorrector};
 use crate::error::{Error, Result};
 use crate::log::Log;
 use crate::model::{self, Calibration, SourceInfo};
@@ -67,6 +67,25 @@ impl DriftModel {
         match self {
             DriftModel::Vakhrameev(c) => Ok(c.correct(log)),
             DriftModel::Regression(r) => r.model.correct(log),
+        }
+    }
+
+    /// The predicted drift of every sample of `log` (the corrected rate is `Ω − pred`), as
+    /// `driftlab apply` writes it: for the Vakhrameev model without the other columns of a
+    /// correction ([`Calibration::predict_log`]).
+    ///
+    /// # Errors
+    /// The log lacks a channel the model reads.
+    pub fn predict_log(&self, log: &Log) -> Result<Prediction> {
+        match self {
+            DriftModel::Vakhrameev(c) => Ok(c.predict_log(log)),
+            DriftModel::Regression(r) => {
+                let c = r.model.correct(log)?;
+                Ok(Prediction {
+                    pred_dph: c.pred_dph,
+                    outside_fraction: c.outside_fraction,
+                })
+            }
         }
     }
 

@@ -141,6 +141,18 @@ pub struct DerivativeSteps {
     pub step: usize,
 }
 
+impl DerivativeSteps {
+    /// The same steps for a series of `n` samples, with no buffer longer than the series: a
+    /// window longer than it never fills (its length gives the same means), and a step whose
+    /// `2s` reaches past it gives no rate anywhere (any such step gives the same zeros).
+    pub fn within(self, n: usize) -> DerivativeSteps {
+        DerivativeSteps {
+            smooth: self.smooth.min(n),
+            step: self.step.min(n.div_ceil(2).max(1)),
+        }
+    }
+}
+
 /// The first and second time derivatives of the (smoothed) temperature.
 #[derive(Debug, Clone, Default)]
 pub struct Derivatives {
@@ -155,49 +167,94 @@ pub struct Derivatives {
 /// Ṫ and T̈ of a temperature column by smoothing then differentiating twice with the backward
 /// difference (METHOD.md §1, step 2).
 ///
-/// One pass: the smoothed temperature lives only in a ring of its last `2s + 1` values, so a
-/// long log costs its two rate columns and nothing more. The arithmetic is that of
+/// One pass of [`Rates`]: the smoothed temperature lives only in its short ring, so a long
+/// log costs its two rate columns and nothing more. The arithmetic is that of
 /// [`moving_average_causal`] followed twice by [`backward_derivative`], operation for
 /// operation, so the rates are the same bits (a test holds them equal).
 pub fn derivatives(temp_c: &[f64], steps: DerivativeSteps, dt_s: f64) -> Derivatives {
     let n = temp_c.len();
-    let s = steps.step.max(1);
-    let h2 = 2.0 * s as f64 * dt_s;
-    let mut mean = CausalMean::new(steps.smooth.min(n));
-    // The last 2s + 1 (and a few more) smoothed temperatures, indexed by sample number masked
-    // to the ring's power-of-two length.
-    let mask = (2 * s + 1).next_power_of_two() - 1;
-    let mut smoothed = vec![0.0; mask + 1];
-    let mut tdot = Vec::with_capacity(n);
-    let mut tddot = Vec::with_capacity(n);
-    for (i, &t) in temp_c.iter().enumerate() {
-        let sm = mean.push(t);
-        smoothed[i & mask] = sm;
-        let td = if i < 2 * s {
+    let mut rates = Rates::new(steps.within(n), dt_s);
+    let (mut tdot, mut tddot) = (Vec::with_capacity(n), Vec::with_capacity(n));
+    for &t in temp_c {
+        let (td, tdd) = rates.push(t);
+        tdot.push(td);
+        tddot.push(tdd);
+    }
+    Derivatives {
+        tdot,
+        tddot,
+        ready_from: rates.ready_from().min(n),
+    }
+}
+
+/// Ṫ and T̈ one sample at a time, from past samples only: the causal mean of T and two
+/// backward differences over short rings. The one implementation of METHOD.md §1, step 2,
+/// shared by the batch path ([`derivatives`]), the streaming corrector and the lean
+/// prediction of `driftlab apply`, so all three give the same bits.
+#[derive(Debug, Clone)]
+pub struct Rates {
+    mean: CausalMean,
+    step: usize,
+    h2: f64,
+    /// Ring index mask: the rings hold a power of two of at least `2·step + 1` values.
+    mask: usize,
+    smoothed: Vec<f64>,
+    tdot: Vec<f64>,
+    count: usize,
+}
+
+impl Rates {
+    /// Rates with these settings for samples `dt_s` seconds apart.
+    pub fn new(steps: DerivativeSteps, dt_s: f64) -> Rates {
+        let step = steps.step.max(1);
+        let len = (2 * step + 1).next_power_of_two();
+        Rates {
+            mean: CausalMean::new(steps.smooth),
+            step,
+            h2: 2.0 * step as f64 * dt_s,
+            mask: len - 1,
+            smoothed: vec![0.0; len],
+            tdot: vec![0.0; len],
+            count: 0,
+        }
+    }
+
+    /// Adds a temperature and returns (Ṫ, T̈) at it: 0 while the history is short (Ṫ for the
+    /// first `2s` samples, T̈ for the first `4s`: before that it would difference the zeros
+    /// standing for "no Ṫ yet").
+    #[inline]
+    pub fn push(&mut self, temp_c: f64) -> (f64, f64) {
+        let (i, s, m) = (self.count, self.step, self.mask);
+        let sm = self.mean.push(temp_c);
+        self.smoothed[i & m] = sm;
+        let tdot = if i < 2 * s {
             0.0
         } else {
             backward_step(
                 sm,
-                smoothed[(i - s) & mask],
-                smoothed[(i - 2 * s) & mask],
-                h2,
+                self.smoothed[(i - s) & m],
+                self.smoothed[(i - 2 * s) & m],
+                self.h2,
             )
         };
-        tdot.push(td);
-        let tdd = if i < 2 * s {
+        self.tdot[i & m] = tdot;
+        let tddot = if i < 4 * s {
             0.0
         } else {
-            backward_step(td, tdot[i - s], tdot[i - 2 * s], h2)
+            backward_step(
+                tdot,
+                self.tdot[(i - s) & m],
+                self.tdot[(i - 2 * s) & m],
+                self.h2,
+            )
         };
-        tddot.push(tdd);
+        self.count += 1;
+        (tdot, tddot)
     }
-    // T̈ at 2s..4s would difference the zeros standing for "no Ṫ yet": not a real rate.
-    let ready_from = s.saturating_mul(4).min(n);
-    tddot[..ready_from].fill(0.0);
-    Derivatives {
-        tdot,
-        tddot,
-        ready_from,
+
+    /// The first sample whose T̈ has its full history.
+    pub fn ready_from(&self) -> usize {
+        self.step.saturating_mul(4)
     }
 }
 

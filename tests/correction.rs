@@ -210,3 +210,22 @@ fn corrected_csv_reads_back_extreme_numbers_exactly() {
     assert_eq!(bits(&read("omega_cor_dph")), bits(&extremes));
     assert_eq!(bits(&read("omega_pred_dph")), bits(&pred));
 }
+
+#[test]
+fn the_lean_prediction_of_apply_is_the_whole_correction_bit_for_bit() {
+    // `driftlab apply` predicts without holding rates, regimes or the corrected rate; it must
+    // write what the whole correction (which the workbench and `evaluate` use) computes, also
+    // with a smoothing window longer than the log.
+    let log = noisy_log();
+    let fitted = model::fit(&log, &Recipe::default()).unwrap().calibration;
+    let mut long_window = fitted.clone();
+    long_window.resolved.smooth_samples = 3 * log.len();
+    for cal in [fitted, long_window] {
+        let whole = cal.correct(&log);
+        let lean = cal.predict_log(&log);
+        let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        assert_eq!(bits(&lean.pred_dph), bits(&whole.pred_dph));
+        assert_eq!(lean.outside_fraction, whole.outside_fraction);
+        assert!(lean.outside_fraction < 1.0);
+    }
+}

@@ -21,11 +21,13 @@ pub struct Args {
 pub fn run(a: Args) -> Result<(), String> {
     let model = calfile::load_model(&a.calibration).map_err(|e| e.to_string())?;
     let log = a.log_args.read_for(&a.log, &model)?;
+    // The predicted drift alone: the corrected rate is written as Ω − pred row by row, so
+    // no column of it (nor of rates and regimes) is held.
     let c = model
-        .correct(&log)
+        .predict_log(&log)
         .map_err(|e| format!("{}: {e}", a.calibration.display()))?;
     let bar = common::progress_bar(&format!("writing {}", a.out.display()));
-    corrected_csv::write(&a.out, &log, &c.pred_dph, &c.cor_dph, &|f| {
+    corrected_csv::write_predicted(&a.out, &log, &c.pred_dph, &|f| {
         if let Some(b) = &bar {
             b.set_position((f * 1000.0) as u64);
         }
