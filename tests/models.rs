@@ -588,6 +588,37 @@ fn side_by_side(train: &str, tests: &[&str]) -> Vec<(String, f64)> {
 }
 
 #[test]
+fn a_line_in_t_through_the_calibration_plateaus_misses_the_mid_band_bias() {
+    // The best a static part linear in T can learn from the calibration run: the simulator's
+    // true K0 at its plateaus (20, 60, −50, 20 °C for 2, 2, 2, 1.5 h), fitted by a line. At the
+    // −10 and 10 °C holds of yan-steps-mid it is off by more than 0.1 °/h, five times the
+    // raw bias there (BELOW_RAW's first cause).
+    let gyro = driftlab::sim::profile("calibration").unwrap().gyro;
+    let plateaus = [(20.0, 3.5), (60.0, 2.0), (-50.0, 2.0)];
+    let w: f64 = plateaus.iter().map(|p| p.1).sum();
+    let mean_t = plateaus.iter().map(|p| p.0 * p.1).sum::<f64>() / w;
+    let mean_k = plateaus
+        .iter()
+        .map(|p| gyro.static_bias_dph(p.0) * p.1)
+        .sum::<f64>()
+        / w;
+    let slope = plateaus
+        .iter()
+        .map(|p| p.1 * (p.0 - mean_t) * (gyro.static_bias_dph(p.0) - mean_k))
+        .sum::<f64>()
+        / plateaus
+            .iter()
+            .map(|p| p.1 * (p.0 - mean_t).powi(2))
+            .sum::<f64>();
+    for t in [-10.0, 10.0] {
+        let raw = gyro.static_bias_dph(t);
+        let miss = mean_k + slope * (t - mean_t) - raw;
+        assert!(raw.abs() < 0.03, "raw bias at {t} °C: {raw}");
+        assert!(miss.abs() > 0.1, "line misses K0 at {t} °C by {miss}");
+    }
+}
+
+#[test]
 fn a_perfect_static_correction_also_makes_some_figures_worse() {
     // The simulator's true static bias K0 at the true mean coil temperature, subtracted from
     // the raw rate: the best any static model (poly-t, pwl-t) could do. On these runs the raw
