@@ -12,19 +12,21 @@ use serde::{Deserialize, Serialize};
 pub enum Preset {
     /// K0(T) + K1±(Ṫ)·Ṫ + K2±(T̈)·T̈ (Vakhrameev, METHOD.md §1).
     Vakhrameev,
-    /// c_T·T + c_Ṫ·Ṫ + bias (IEEE Std 952-1997 as quoted by Yan 2019).
+    /// c_T·T + c_Ṫ·Ṫ + bias (IEEE Std 952-1997 as quoted by Yan 2019), fitted in stages: T
+    /// and bias on the plateaus, then Ṫ on what they leave.
     Ieee952,
-    /// a·T·Ṫ + b·T + c·Ṫ + d (Yan 2019, equation 8).
+    /// a·T·Ṫ + b·T + c·Ṫ + d (Yan 2019, equation 8), fitted in stages: b and d on the
+    /// plateaus, then a and c on what they leave.
     YanCross,
     /// The cross-term model on T(t − τd), Ṫ(t − τd), with τd found per temperature band and
-    /// interpolated as τd(T) (Yan 2019, equation 10).
+    /// interpolated as τd(T) (Yan 2019, equation 10); fitted in stages as the cross-term model.
     YanDelayed,
     /// B1·(1 − e^(−t/λ)) + B2·ΔT + B3·ΔT² + a coefficient per extra channel + bias (Sukhanov
     /// 2011, equation 11).
     Sukhanov,
-    /// Polynomial of degree 2 in T fitted on the plateaus: the traditional calibration.
+    /// Polynomial of degree 2 in T fitted over the whole run: the traditional calibration.
     PolyT,
-    /// Piecewise-linear in T over 3 knots fitted on the plateaus: the traditional
+    /// Piecewise-linear in T over 3 knots fitted over the whole run: the traditional
     /// calibration by sub-ranges.
     PwlT,
     /// driftlab's model for a gyro whose sensor sits outside the part that drifts: T read
@@ -66,16 +68,25 @@ impl Preset {
             Preset::Vakhrameev => {
                 "K0(T) + K1±(Ṫ)·Ṫ + K2±(T̈)·T̈, from plateaus and ramps (Vakhrameev)"
             }
-            Preset::Ieee952 => "c·T + c·Ṫ + bias (IEEE Std 952 form)",
-            Preset::YanCross => "a·T·Ṫ + b·T + c·Ṫ + d (Yan 2019 cross term)",
+            Preset::Ieee952 => {
+                "c·T + c·Ṫ + bias (IEEE Std 952 form); T and bias on the plateaus, then Ṫ"
+            }
+            Preset::YanCross => {
+                "a·T·Ṫ + b·T + c·Ṫ + d (Yan 2019 cross term); T and d on the plateaus, then the rates"
+            }
             Preset::YanDelayed => {
-                "Yan 2019 cross term on T and Ṫ delayed by τd(T), τd per temperature band"
+                "Yan 2019 cross term on T and Ṫ delayed by τd(T), τd per temperature band; T and d \
+                 on the plateaus, then the rates"
             }
             Preset::Sukhanov => {
                 "B1·(1 − e^(−t/λ)) + B2·ΔT + B3·ΔT² + extra channels + bias (Sukhanov 2011)"
             }
-            Preset::PolyT => "polynomial of degree 2 in T, on the plateaus (traditional)",
-            Preset::PwlT => "piecewise-linear in T over 3 knots, on the plateaus (traditional)",
+            Preset::PolyT => {
+                "polynomial of degree 2 in T, least squares over the whole run (traditional)"
+            }
+            Preset::PwlT => {
+                "piecewise-linear in T over 3 knots, least squares over the whole run (traditional)"
+            }
             Preset::CoilLag => {
                 "T through a lag τ20/(1 + β·(T − 20)); 1, T, T², Ṫ, |Ṫ|, T·Ṫ, T̈, T·T̈, sgn(Ṫ)·T̈ (driftlab)"
             }
@@ -108,9 +119,9 @@ impl Preset {
         let spec = |terms: Vec<Term>| Some(RegressionSpec::new(self.name(), terms));
         Ok(match self {
             Preset::Vakhrameev => None,
-            Preset::Ieee952 => spec(vec![T, Tdot, One]),
-            Preset::YanCross => spec(vec![TTdot, T, Tdot, One]),
-            Preset::YanDelayed => spec(vec![TTdot, T, Tdot, One]).map(|mut s| {
+            Preset::Ieee952 => spec(vec![T, Tdot, One]).map(staged),
+            Preset::YanCross => spec(vec![TTdot, T, Tdot, One]).map(staged),
+            Preset::YanDelayed => spec(vec![TTdot, T, Tdot, One]).map(staged).map(|mut s| {
                 s.delay = DelaySpec::Bands {
                     bands: 3,
                     max_s: 1800.0,
@@ -139,8 +150,10 @@ impl Preset {
                 s.temp2 = Some(temp2);
                 Some(s)
             }
-            Preset::PolyT => spec(vec![One, T, T2]).map(on_plateaus),
-            Preset::PwlT => spec(vec![PwlT { knots: 3 }]).map(on_plateaus),
+            // Static curves fitted over every sample: held out, they cost less than the same
+            // curves fitted on the plateaus alone (tests/models.rs, README "Which model").
+            Preset::PolyT => spec(vec![One, T, T2]),
+            Preset::PwlT => spec(vec![PwlT { knots: 3 }]),
             Preset::CoilLag => spec(vec![
                 One,
                 T,
@@ -163,9 +176,11 @@ impl Preset {
     }
 }
 
-/// A static-bias model fitted on the plateaus, as the traditional calibration is.
-fn on_plateaus(mut s: RegressionSpec) -> RegressionSpec {
-    s.samples = FitSamples::Plateaus;
+/// A model with static and rate terms fitted as Vakhrameev calibrates: the static terms on
+/// the plateaus, the rate terms on what they leave. A joint fit over every sample lets the
+/// ramps tilt the bias line, which then misses the holds between the calibration's plateaus.
+fn staged(mut s: RegressionSpec) -> RegressionSpec {
+    s.samples = FitSamples::Staged;
     s
 }
 

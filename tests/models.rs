@@ -14,7 +14,7 @@ use driftlab::log::{Channel, Log};
 use driftlab::metrics::MeritOptions;
 use driftlab::presets::{ModelChoice, Preset};
 use driftlab::recipe::Recipe;
-use driftlab::regression::{self, DelaySpec, LagSpec, LambdaSpec, RegressionSpec};
+use driftlab::regression::{self, DelaySpec, FitSamples, LagSpec, LambdaSpec, RegressionSpec};
 use std::f64::consts::TAU;
 use std::path::Path;
 
@@ -104,6 +104,85 @@ fn coefficients_of_the_cross_term_model_are_recovered_within_their_standard_erro
     }
     // The residual is the noise that was added.
     close(m.stats.rmse, 0.05, 0.002, "rmse");
+}
+
+/// A cycles log whose rate is a bias parabola in T, a rate term `c·Ṫ` and white noise.
+fn parabola_and_rate_log(c_tdot: f64, sigma: f64) -> (Log, [f64; 3]) {
+    let k0 = [0.05, 0.003, 8.0e-5];
+    let prog = cycles();
+    let at = |t: f64| prog.at(t);
+    let log = log_with(&at, prog.duration_s() as usize, sigma, |t| {
+        let (x, xd, _) = prog.at(t);
+        k0[0] + k0[1] * x + k0[2] * x * x + c_tdot * xd
+    });
+    (log, k0)
+}
+
+#[test]
+fn a_staged_fit_recovers_the_bias_from_the_plateaus_and_the_rate_from_the_ramps() {
+    let c = 300.0;
+    let (log, k0) = parabola_and_rate_log(c, 0.03);
+    let mut spec = exact_spec("1,T,T^2,Tdot");
+    spec.samples = FitSamples::Staged;
+    let m = regression::fit(&log, &spec).unwrap();
+    for (k, want) in [k0[0], k0[1], k0[2], c].into_iter().enumerate() {
+        let (got, se) = (m.coefficients[k], m.std_errors[k]);
+        assert!(se > 0.0 && se.is_finite(), "{}: se {se}", m.names[k]);
+        assert!(
+            (got - want).abs() < 5.0 * se,
+            "{}: {got} vs {want}, se {se}",
+            m.names[k]
+        );
+    }
+    // Statistics cover every sample, as the rate stage does.
+    assert!(m.stats.n > log.len() * 9 / 10, "{} samples", m.stats.n);
+    close(m.stats.rmse, 0.03, 0.002, "rmse");
+}
+
+#[test]
+fn a_staged_fit_takes_its_static_terms_from_the_plateaus_alone() {
+    // The rate terms cannot move the static coefficients: they are those of the static terms
+    // fitted on the plateaus by themselves, standard errors included.
+    let (log, _) = parabola_and_rate_log(300.0, 0.03);
+    let mut staged = exact_spec("1,Tdot,T,T*Tdot,T^2");
+    staged.samples = FitSamples::Staged;
+    let mut plateaus = exact_spec("1,T,T^2");
+    plateaus.samples = FitSamples::Plateaus;
+    let (m, p) = (
+        regression::fit(&log, &staged).unwrap(),
+        regression::fit(&log, &plateaus).unwrap(),
+    );
+    for (k, j) in [(0, 0), (2, 1), (4, 2)] {
+        let (a, b) = (m.coefficients[k], p.coefficients[j]);
+        assert!(
+            (a - b).abs() <= 1e-9 * b.abs().max(1e-6),
+            "{}: staged {a}, plateaus {b}",
+            m.names[k]
+        );
+        let (a, b) = (m.std_errors[k], p.std_errors[j]);
+        assert!((a - b).abs() <= 1e-9 * b, "{}: se {a} vs {b}", m.names[k]);
+    }
+    // A joint fit over every sample would have let the rate terms share the bias.
+    let joint = regression::fit(&log, &exact_spec("1,Tdot,T,T*Tdot,T^2")).unwrap();
+    assert_ne!(joint.coefficients[0], m.coefficients[0]);
+}
+
+#[test]
+fn a_calibration_spec_without_a_fit_strategy_reads_as_every_sample() {
+    // Files written before staged fits existed name no `samples`: they are fitted on all.
+    let spec = RegressionSpec::new("old", regression::terms::parse_terms("T,Tdot,1").unwrap());
+    let mut json: serde_json::Value = serde_json::to_value(&spec).unwrap();
+    json.as_object_mut().unwrap().remove("samples");
+    let back: RegressionSpec = serde_json::from_value(json).unwrap();
+    assert_eq!(back.samples, FitSamples::All);
+    let mut staged = spec.clone();
+    staged.samples = FitSamples::Staged;
+    let text = serde_json::to_string(&staged).unwrap();
+    assert!(text.contains("\"samples\":\"staged\""), "{text}");
+    assert_eq!(
+        serde_json::from_str::<RegressionSpec>(&text).unwrap(),
+        staged
+    );
 }
 
 #[test]
@@ -410,7 +489,41 @@ fn noise_floor(profile: &str, merit: &MeritOptions) -> f64 {
     f.p2p_dph
 }
 
-/// Every model fitted on `train` and judged on it and on `tests`: returns, per log, the best
+/// The (model, log, figure) whose ratio raw ÷ corrected stays below 1, with the floor it
+/// must keep (the measured ratio, rounded down). Every other preset on every sample log, in
+/// sample and held out, must not make any figure worse than raw. Two causes, both of the
+/// model's form rather than its fit:
+///
+/// * A line in T (`ieee952`, `yan-cross`, `yan-delayed`) or no T at all (`sukhanov`: its ΔT on a
+///   FOG is housing − chamber, a rate) cannot follow the bias parabola of a FOG calibrated over
+///   −50…60 °C: at the −10 and 10 °C holds of yan-steps-mid it misses the bias by 0.12 °/h, more
+///   than the raw record's own, and the mean 10-min RMS (which counts the bias) rises. Fitted
+///   in stages the line is 4.5 % worse there; fitted jointly it was 8 %.
+/// * A static curve (`poly-t`, `pwl-t`) leaves the transient drift in place, and on these logs
+///   the raw bias partly cancels it: even the simulator's true K0 on the true coil
+///   temperature makes some figures worse
+///   (`a_perfect_static_correction_also_makes_some_figures_worse`).
+const BELOW_RAW: &[(&str, &str, &str, f64)] = &[
+    ("ieee952", "yan-steps-mid", "win_rms", 0.95),
+    ("yan-cross", "yan-steps-mid", "win_rms", 0.95),
+    ("yan-delayed", "yan-steps-mid", "win_rms", 0.95),
+    ("sukhanov", "yan-steps-mid", "win_rms", 0.895),
+    ("poly-t", "validation", "win_rms", 0.99),
+    ("poly-t", "yan-full-range", "std", 0.97),
+    ("poly-t", "yan-steps-high", "p2p", 0.995),
+    ("poly-t", "yan-steps-mid", "win_rms", 0.985),
+    ("pwl-t", "validation", "p2p", 0.99),
+    ("pwl-t", "validation", "std", 0.995),
+    ("pwl-t", "validation", "win_rms", 0.99),
+    ("pwl-t", "yan-full-range", "std", 0.945),
+    ("pwl-t", "yan-steps-high", "p2p", 0.995),
+    ("pwl-t", "yan-steps-mid", "std", 0.99),
+    ("pwl-t", "yan-steps-mid", "win_mean", 0.97),
+    ("pwl-t", "yan-steps-mid", "win_rms", 0.995),
+];
+
+/// Every model fitted on `train` and judged on it and on `tests`: asserts that no model makes
+/// any figure of any log worse than raw (save [`BELOW_RAW`]), and returns, per log, the best
 /// corrected peak-to-peak over the simulator's noise floor.
 fn side_by_side(train: &str, tests: &[&str]) -> Vec<(String, f64)> {
     let merit = MeritOptions::default();
@@ -419,6 +532,7 @@ fn side_by_side(train: &str, tests: &[&str]) -> Vec<(String, f64)> {
     let choices: Vec<ModelChoice> = Preset::ALL.into_iter().map(ModelChoice::Preset).collect();
     let reports = compare::compare(&train, &tests, &choices, &Recipe::default(), &merit);
     let mut lines = Vec::new();
+    let mut worse = Vec::new();
     let mut out = Vec::new();
     for (k, log) in std::iter::once(&train).chain(&tests).enumerate() {
         let profile = Path::new(&log.source)
@@ -434,19 +548,32 @@ fn side_by_side(train: &str, tests: &[&str]) -> Vec<(String, f64)> {
                 panic!("{} on {profile}", r.model)
             };
             let c = &e.comparison;
-            // The models that correct transients must improve every log; the static-bias
-            // models (fitted on plateaus) must not cost more than 1 % of peak-to-peak.
-            let least = if matches!(r.model.as_str(), "poly-t" | "pwl-t") {
-                0.99
-            } else {
-                1.5
-            };
-            assert!(
-                c.p2p_ratio >= least,
-                "{} on {profile}: p2p ratio {}",
-                r.model,
-                c.p2p_ratio
-            );
+            for (figure, ratio) in [
+                ("p2p", c.p2p_ratio),
+                ("std", c.std_ratio),
+                ("win_mean", c.win_mean_ratio),
+                ("win_rms", c.win_rms_ratio),
+            ] {
+                let known = BELOW_RAW
+                    .iter()
+                    .find(|b| (b.0, b.1, b.2) == (r.model.as_str(), profile.as_str(), figure));
+                match known {
+                    None if ratio < 1.0 => worse.push(format!(
+                        "{} makes {figure} of {profile} worse than raw: ratio {ratio:.4}",
+                        r.model
+                    )),
+                    Some(b) if ratio < b.3 => worse.push(format!(
+                        "{} on {profile}: {figure} ratio {ratio:.4} below its floor {}",
+                        r.model, b.3
+                    )),
+                    Some(_) if ratio >= 1.0 => worse.push(format!(
+                        "{} on {profile}: {figure} ratio {ratio:.4} now reaches 1, strike it \
+                         from BELOW_RAW",
+                        r.model
+                    )),
+                    _ => {}
+                }
+            }
             best = best.min(c.corrected.p2p_dph);
         }
         lines.push(format!(
@@ -456,7 +583,69 @@ fn side_by_side(train: &str, tests: &[&str]) -> Vec<(String, f64)> {
         out.push((profile, best / floor));
     }
     eprintln!("{}", lines.join("\n"));
+    assert!(worse.is_empty(), "{}", worse.join("\n"));
     out
+}
+
+#[test]
+fn a_line_in_t_through_the_calibration_plateaus_misses_the_mid_band_bias() {
+    // The best a static part linear in T can learn from the calibration run: the simulator's
+    // true K0 at its plateaus (20, 60, −50, 20 °C for 2, 2, 2, 1.5 h), fitted by a line. At the
+    // −10 and 10 °C holds of yan-steps-mid it is off by more than 0.1 °/h, five times the
+    // raw bias there (BELOW_RAW's first cause).
+    let gyro = driftlab::sim::profile("calibration").unwrap().gyro;
+    let plateaus = [(20.0, 3.5), (60.0, 2.0), (-50.0, 2.0)];
+    let w: f64 = plateaus.iter().map(|p| p.1).sum();
+    let mean_t = plateaus.iter().map(|p| p.0 * p.1).sum::<f64>() / w;
+    let mean_k = plateaus
+        .iter()
+        .map(|p| gyro.static_bias_dph(p.0) * p.1)
+        .sum::<f64>()
+        / w;
+    let slope = plateaus
+        .iter()
+        .map(|p| p.1 * (p.0 - mean_t) * (gyro.static_bias_dph(p.0) - mean_k))
+        .sum::<f64>()
+        / plateaus
+            .iter()
+            .map(|p| p.1 * (p.0 - mean_t).powi(2))
+            .sum::<f64>();
+    for t in [-10.0, 10.0] {
+        let raw = gyro.static_bias_dph(t);
+        let miss = mean_k + slope * (t - mean_t) - raw;
+        assert!(raw.abs() < 0.03, "raw bias at {t} °C: {raw}");
+        assert!(miss.abs() > 0.1, "line misses K0 at {t} °C by {miss}");
+    }
+}
+
+#[test]
+fn a_perfect_static_correction_also_makes_some_figures_worse() {
+    // The simulator's true static bias K0 at the true mean coil temperature, subtracted from
+    // the raw rate: the best any static model (poly-t, pwl-t) could do. On these runs the raw
+    // bias partly cancels the transient drift, so removing the bias alone uncovers it.
+    let merit = MeritOptions::default();
+    for (profile, figure) in [
+        ("validation", "win_mean"),
+        ("yan-full-range", "std"),
+        ("yan-steps-mid", "win_mean"),
+        ("yan-steps-high", "p2p"),
+    ] {
+        let p = driftlab::sim::profile(profile).unwrap();
+        let run = driftlab::sim::simulate(&p, 1);
+        let cor: Vec<f64> = run
+            .omega_dph
+            .iter()
+            .zip(&run.coil_mean_c)
+            .map(|(w, t)| w - p.gyro.static_bias_dph(*t))
+            .collect();
+        let c = driftlab::metrics::Comparison::of(&run.omega_dph, &cor, 1.0, 0, &merit);
+        let ratio = match figure {
+            "p2p" => c.p2p_ratio,
+            "std" => c.std_ratio,
+            _ => c.win_mean_ratio,
+        };
+        assert!(ratio < 0.995, "{profile}: {figure} ratio {ratio:.4}");
+    }
 }
 
 #[test]

@@ -27,7 +27,14 @@ struct Design<'a> {
     delay: &'a Delay,
 }
 
-fn accumulate(s: &Signals, d: &Design, samples: impl Iterator<Item = usize>) -> Normal {
+/// The normal equations of `d` over `samples`, fitted to the rate less the prediction of
+/// each earlier stage in `less` (its design and coefficients).
+fn accumulate(
+    s: &Signals,
+    d: &Design,
+    less: &[(&Design, &[f64])],
+    samples: impl Iterator<Item = usize>,
+) -> Normal {
     let p = terms::column_names(d.terms).len();
     let mut nm = Normal {
         p,
@@ -37,10 +44,15 @@ fn accumulate(s: &Signals, d: &Design, samples: impl Iterator<Item = usize>) -> 
         n: 0,
     };
     let mut row = Vec::with_capacity(p);
+    let mut earlier = Vec::new();
     let mut ch = vec![0.0; s.channels.len()];
     for i in samples {
         let x = s.inputs(i, d.delay, &mut ch);
-        let y = s.omega[i];
+        let mut y = s.omega[i];
+        for (e, beta) in less {
+            terms::row(e.terms, &x, &ch, e.lambda, e.t_knots, &mut earlier);
+            y -= earlier.iter().zip(*beta).map(|(a, b)| a * b).sum::<f64>();
+        }
         terms::row(d.terms, &x, &ch, d.lambda, d.t_knots, &mut row);
         if !y.is_finite() || row.iter().any(|v| !v.is_finite()) {
             continue;
@@ -104,12 +116,152 @@ fn solve(nm: &Normal) -> Option<Solution> {
     })
 }
 
-/// RMS residual of the best fit over `samples`, or +∞ when it cannot be fitted.
-fn cost(s: &Signals, d: &Design, samples: impl Iterator<Item = usize>) -> f64 {
-    let nm = accumulate(s, d, samples);
-    match solve(&nm) {
-        Some(sol) if nm.n > 0 => (sol.rss / nm.n as f64).sqrt(),
-        _ => f64::INFINITY,
+/// The terms one least-squares solve finds, the columns they fill, and whether it runs on
+/// the plateaus only.
+struct Stage {
+    terms: Vec<Term>,
+    cols: Vec<usize>,
+    on_plateaus: bool,
+}
+
+/// The solves of a fit in order: one for [`FitSamples::All`] and [`FitSamples::Plateaus`];
+/// the static terms, then the rate terms, for [`FitSamples::Staged`] (a stage without
+/// terms is left out).
+fn stages(spec: &RegressionSpec) -> Vec<Stage> {
+    let mut cols = Vec::new();
+    let mut start = 0;
+    for t in &spec.terms {
+        cols.push((start..start + t.width()).collect::<Vec<usize>>());
+        start += t.width();
+    }
+    let stage = |keep: &dyn Fn(&Term) -> bool, on_plateaus: bool| Stage {
+        terms: spec.terms.iter().filter(|t| keep(t)).cloned().collect(),
+        cols: spec
+            .terms
+            .iter()
+            .zip(&cols)
+            .filter(|(t, _)| keep(t))
+            .flat_map(|(_, c)| c.iter().copied())
+            .collect(),
+        on_plateaus,
+    };
+    let v = match spec.samples {
+        FitSamples::All => vec![stage(&|_| true, false)],
+        FitSamples::Plateaus => vec![stage(&|_| true, true)],
+        FitSamples::Staged => vec![
+            stage(&|t| !t.is_rate(), true),
+            stage(&|t| t.is_rate(), false),
+        ],
+    };
+    v.into_iter().filter(|s| !s.terms.is_empty()).collect()
+}
+
+/// Coefficients of every column with their standard errors (each from its own stage's
+/// residual), and the last stage's residual sum of squares over its `n` samples.
+struct Solved {
+    beta: Vec<f64>,
+    std_errors: Vec<f64>,
+    last_rss: f64,
+    last_n: usize,
+}
+
+/// Solves the stages in turn, each on what the earlier ones leave. `samples(on_plateaus)`
+/// gives the samples of a stage; a plateau stage keeps only those in `plateau`.
+fn solve_stages<I: Iterator<Item = usize>>(
+    s: &Signals,
+    d: &Design,
+    stages: &[Stage],
+    plateau: &[bool],
+    samples: impl Fn(bool) -> I,
+) -> std::result::Result<Solved, (usize, usize)> {
+    let p = terms::column_names(d.terms).len();
+    let mut out = Solved {
+        beta: vec![0.0; p],
+        std_errors: vec![0.0; p],
+        last_rss: 0.0,
+        last_n: 0,
+    };
+    let designs: Vec<Design> = stages
+        .iter()
+        .map(|st| Design {
+            terms: &st.terms,
+            ..*d
+        })
+        .collect();
+    let mut fitted: Vec<Vec<f64>> = Vec::new();
+    for (k, st) in stages.iter().enumerate() {
+        let less: Vec<(&Design, &[f64])> = designs[..k]
+            .iter()
+            .zip(&fitted)
+            .map(|(d, b)| (d, b.as_slice()))
+            .collect();
+        let nm = if st.on_plateaus {
+            accumulate(s, &designs[k], &less, samples(true).filter(|&i| plateau[i]))
+        } else {
+            accumulate(s, &designs[k], &less, samples(false))
+        };
+        let sol = solve(&nm).ok_or((nm.n, nm.p))?;
+        let dof = nm.n.saturating_sub(nm.p).max(1) as f64;
+        let sigma2 = sol.rss / dof;
+        for (j, &c) in st.cols.iter().enumerate() {
+            out.beta[c] = sol.beta[j];
+            out.std_errors[c] = (sigma2 * sol.inv_diag[j].max(0.0)).sqrt();
+        }
+        out.last_rss = sol.rss;
+        out.last_n = nm.n;
+        fitted.push(sol.beta);
+    }
+    Ok(out)
+}
+
+/// RMS residual of coefficients `beta` over `samples`.
+fn rms_residual(
+    s: &Signals,
+    d: &Design,
+    beta: &[f64],
+    samples: impl Iterator<Item = usize>,
+) -> f64 {
+    let mut row = Vec::with_capacity(beta.len());
+    let mut ch = vec![0.0; s.channels.len()];
+    let (mut ss, mut n) = (0.0, 0usize);
+    for i in samples {
+        let x = s.inputs(i, d.delay, &mut ch);
+        terms::row(d.terms, &x, &ch, d.lambda, d.t_knots, &mut row);
+        let r = s.omega[i] - row.iter().zip(beta).map(|(a, b)| a * b).sum::<f64>();
+        if r.is_finite() {
+            ss += r * r;
+            n += 1;
+        }
+    }
+    if n == 0 {
+        f64::INFINITY
+    } else {
+        (ss / n as f64).sqrt()
+    }
+}
+
+/// RMS residual of the fit over `samples(false)` (every sample of the search, the ramps
+/// included, even where coefficients come from the plateaus), or +∞ when it cannot be
+/// fitted.
+fn cost<I: Iterator<Item = usize>>(
+    s: &Signals,
+    d: &Design,
+    stages: &[Stage],
+    plateau: &[bool],
+    samples: impl Fn(bool) -> I,
+) -> f64 {
+    let Ok(sol) = solve_stages(s, d, stages, plateau, &samples) else {
+        return f64::INFINITY;
+    };
+    match stages {
+        [one] if !one.on_plateaus => {
+            if sol.last_n > 0 {
+                (sol.last_rss / sol.last_n as f64).sqrt()
+            } else {
+                f64::INFINITY
+            }
+        }
+        _ => rms_residual(s, d, &sol.beta, samples(false)),
     }
 }
 
@@ -145,21 +297,26 @@ pub fn fit(log: &Log, spec: &RegressionSpec) -> Result<RegressionModel> {
         )));
     }
     let stride = ((n - s.ready_from) / 200_000).max(1);
-    let use_sample: Vec<bool> = match spec.samples {
-        FitSamples::All => vec![true; n],
-        FitSamples::Plateaus => {
-            let opts = crate::plateau::DetectOptions::default();
-            let ranges = crate::plateau::detect(&log.time_s, &s.tdot, s.ready_from, &opts);
-            if ranges.is_empty() {
-                return Err(Error::Fit(format!(
-                    "{}: model {} is fitted on plateaus and the log has none",
-                    log.source, spec.name
-                )));
-            }
-            crate::model::plateau_mask(&log.time_s, &ranges)
+    let stages = stages(spec);
+    // The plateaus, found on T as measured (where the chamber held), when a stage needs them.
+    let plateau: Vec<bool> = if stages.iter().any(|st| st.on_plateaus) {
+        let opts = crate::plateau::DetectOptions::default();
+        let ranges = crate::plateau::detect(&log.time_s, &s.tdot, s.ready_from, &opts);
+        if ranges.is_empty() {
+            return Err(Error::Fit(format!(
+                "{}: model {} is fitted on plateaus and the log has none",
+                log.source, spec.name
+            )));
         }
+        crate::model::plateau_mask(&log.time_s, &ranges)
+    } else {
+        vec![true; n]
     };
-    let used = |i: &usize| use_sample[*i];
+    // The samples the fit's statistics and input ranges cover.
+    let use_sample: Vec<bool> = match spec.samples {
+        FitSamples::Plateaus => plateau.clone(),
+        FitSamples::All | FitSamples::Staged => vec![true; n],
+    };
     let mut searches = Vec::new();
     let lambda0 = match spec.lambda {
         LambdaSpec::Fixed { seconds } => seconds,
@@ -185,7 +342,9 @@ pub fn fit(log: &Log, spec: &RegressionSpec) -> Result<RegressionModel> {
                         t_knots: &knots,
                         delay: &Delay::default(),
                     };
-                    cost(&s, &d, (s.ready_from..n).step_by(stride).filter(used))
+                    cost(&s, &d, &stages, &plateau, |_| {
+                        (s.ready_from..n).step_by(stride)
+                    })
                 })
             };
             if with_temperature {
@@ -225,7 +384,7 @@ pub fn fit(log: &Log, spec: &RegressionSpec) -> Result<RegressionModel> {
     let t_knots = t_knots_of(spec, &s).map_err(|e| Error::Fit(format!("{}: {e}", log.source)))?;
     // Searches run on at most 200 000 evenly spread samples: the cost curve's shape does not
     // need every sample, and a 10⁷-sample log would otherwise take minutes.
-    let sub = || (s.ready_from..n).step_by(stride).filter(used);
+    let sub = || (s.ready_from..n).step_by(stride);
     let has_selfheat = spec.terms.contains(&Term::SelfHeating);
     let mut lambda = lambda0;
     let mut delay = match spec.delay {
@@ -247,7 +406,7 @@ pub fn fit(log: &Log, spec: &RegressionSpec) -> Result<RegressionModel> {
                 t_knots: &t_knots,
                 delay,
             };
-            cost(&s, &d, sub())
+            cost(&s, &d, &stages, &plateau, |_| sub())
         }))
     };
     if let Some(c) = search_lambda(&delay) {
@@ -265,7 +424,7 @@ pub fn fit(log: &Log, spec: &RegressionSpec) -> Result<RegressionModel> {
                     t_knots: &t_knots,
                     delay: &d,
                 };
-                cost(&s, &design, sub())
+                cost(&s, &design, &stages, &plateau, |_| sub())
             });
             delay = Delay::constant(c.best);
             searches.push(c);
@@ -300,7 +459,10 @@ pub fn fit(log: &Log, spec: &RegressionSpec) -> Result<RegressionModel> {
                             t_knots: &t_knots,
                             delay: &d,
                         };
-                        cost(&s, &design, sub().filter(in_band))
+                        // Plateau stages keep every plateau: a band may hold only one.
+                        cost(&s, &design, &stages, &plateau, |on_plateaus| {
+                            sub().filter(move |i| on_plateaus || in_band(i))
+                        })
                     });
                 points.push([centre, c.best]);
                 searches.push(c);
@@ -324,26 +486,20 @@ pub fn fit(log: &Log, spec: &RegressionSpec) -> Result<RegressionModel> {
         t_knots: &t_knots,
         delay: &delay,
     };
-    let nm = accumulate(&s, &design, (s.ready_from..n).filter(used));
-    let sol = solve(&nm).ok_or_else(|| {
-        Error::Fit(format!(
-            "{}: model {} could not be fitted ({} usable samples for {p} coefficients)",
-            log.source, spec.name, nm.n
-        ))
-    })?;
-    let dof = nm.n.saturating_sub(p).max(1) as f64;
-    let sigma2 = sol.rss / dof;
-    let std_errors = sol
-        .inv_diag
-        .iter()
-        .map(|d| (sigma2 * d.max(0.0)).sqrt())
-        .collect();
+    let sol = solve_stages(&s, &design, &stages, &plateau, |_| s.ready_from..n).map_err(
+        |(used, p)| {
+            Error::Fit(format!(
+                "{}: model {} could not be fitted ({used} usable samples for {p} coefficients)",
+                log.source, spec.name
+            ))
+        },
+    )?;
     let mut model = RegressionModel {
         spec: spec.clone(),
         temp2,
         names: terms::column_names(&spec.terms),
         coefficients: sol.beta,
-        std_errors,
+        std_errors: sol.std_errors,
         lambda_s: has_selfheat.then_some(lambda),
         delay,
         lag_s: lag.map(|l| l.0),

@@ -3,8 +3,9 @@
 //! Sukhanov 2011's generalised model, polynomials and piecewise-linear curves in T, and any
 //! model an engineer builds from the same terms.
 //!
-//! Coefficients come from least squares over every usable sample, with standard errors; the
-//! parameters the model is not linear in (the self-heating constant λ, the delay τd, the lag
+//! Coefficients come from least squares with standard errors, over every usable sample, over
+//! the plateaus, or in stages (static terms on the plateaus, then rate terms on what they
+//! leave: [`FitSamples`]); the parameters the model is not linear in (the self-heating constant λ, the delay τd, the lag
 //! of T) come from one-dimensional searches whose cost curves are kept in the model. Outside
 //! the ranges its inputs were fitted on, a model holds the edge values
 //! ([`RegressionModel::clamp`]), so it never extrapolates blindly.

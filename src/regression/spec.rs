@@ -100,8 +100,15 @@ pub enum FitSamples {
     All,
     /// The temperature plateaus only (found as the Vakhrameev model finds them): for models
     /// of the static bias alone, which the ramps would otherwise pull toward the transient
-    /// drift they cannot describe.
+    /// drift they cannot describe. A searched lag, delay or λ is still judged on every sample:
+    /// the ramps are where they show.
     Plateaus,
+    /// In stages, as Vakhrameev calibrates (METHOD.md §1): the static terms (1, T, T², T³,
+    /// pwlT, ΔT, ΔT², self-heating, extra channels) on the plateaus, where the rates are
+    /// zero; then the rate terms (Ṫ, T̈, T·Ṫ, |Ṫ|, T·T̈, sgn(Ṫ)·T̈) on what the static part
+    /// leaves, over every sample. The ramps then cannot pull the bias curve away from the
+    /// holds. Each stage has its own standard errors.
+    Staged,
 }
 
 /// What an engineer asks for: the terms and how to find the non-linear parameters.

@@ -65,6 +65,21 @@ impl Term {
         }
     }
 
+    /// Whether the term is a rate of temperature (zero on a plateau): a staged fit
+    /// ([`FitSamples::Staged`](super::FitSamples::Staged)) fits these on what the static
+    /// terms leave.
+    pub fn is_rate(&self) -> bool {
+        matches!(
+            self,
+            Term::Tdot
+                | Term::Tddot
+                | Term::TTdot
+                | Term::AbsTdot
+                | Term::SgnTdotTddot
+                | Term::TTddot
+        )
+    }
+
     /// Whether the term reads the second temperature sensor.
     pub fn needs_temp2(&self) -> bool {
         matches!(self, Term::Dt | Term::Dt2)

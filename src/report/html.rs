@@ -545,6 +545,7 @@ pub fn regression_page(cal: &RegressionCalibration, s: &ReportSummary) -> Result
         match spec.samples {
             FitSamples::All => "every sample with a full rate history",
             FitSamples::Plateaus => "the temperature plateaus only",
+            FitSamples::Staged => "static terms on the plateaus, then rate terms on every sample",
         },
     );
     row(
