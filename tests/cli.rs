@@ -287,3 +287,70 @@ fn explicit_column_mapping_and_units() {
         );
     }
 }
+
+#[test]
+fn compare_judges_presets_and_a_custom_model_and_fit_chooses_its_samples() {
+    let out = ok(&[
+        "compare",
+        "--train",
+        &sample("calibration.csv"),
+        "--test",
+        &sample("validation.csv"),
+        "--models",
+        "vakhrameev,poly-t",
+        "--custom",
+        "1,T,Tdot",
+        "--fit",
+        "staged",
+        "--json",
+    ]);
+    let v: Value = serde_json::from_str(&out).unwrap();
+    let models = v["models"].as_array().unwrap();
+    let names: Vec<&str> = models
+        .iter()
+        .map(|m| m["model"].as_str().unwrap())
+        .collect();
+    assert_eq!(names, ["vakhrameev", "poly-t", "custom"]);
+    for m in models {
+        assert!(m["error"].is_null(), "{m}");
+        let logs = m["logs"].as_array().unwrap();
+        let held: Vec<bool> = logs
+            .iter()
+            .map(|l| l["held_out"].as_bool().unwrap())
+            .collect();
+        assert_eq!(held, [false, true]);
+        for l in logs {
+            let r = l["evaluation"]["comparison"]["p2p_ratio"].as_f64().unwrap();
+            assert!(r.is_finite() && r > 0.0, "{r}");
+        }
+    }
+
+    // The same choice reaches a calibration file through `calibrate --fit`.
+    let dir = tempfile::tempdir().unwrap();
+    let cal = dir.path().join("custom.json");
+    ok(&[
+        "calibrate",
+        &sample("calibration.csv"),
+        "--model",
+        "custom",
+        "--terms",
+        "1,T,Tdot",
+        "--fit",
+        "staged",
+        "--out",
+        cal.to_str().unwrap(),
+    ]);
+    let file: Value = serde_json::from_str(&std::fs::read_to_string(&cal).unwrap()).unwrap();
+    assert_eq!(file["calibration"]["model"]["spec"]["samples"], "staged");
+
+    let err = fails(&[
+        "compare",
+        "--train",
+        &sample("calibration.csv"),
+        "--custom",
+        "1,T",
+        "--fit",
+        "sometimes",
+    ]);
+    assert!(err.contains("--fit") && err.contains("staged"), "{err}");
+}

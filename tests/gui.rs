@@ -756,10 +756,12 @@ fn the_custom_model_builder_makes_the_spec_the_command_line_would() {
         delay_max_s: 1200.0,
         lag: LagChoice::Fixed,
         lag_s: 90.0,
+        samples: driftlab::regression::FitSamples::Staged,
         ..CustomBuilder::default()
     };
     let s = b.spec().unwrap();
     assert_eq!(s.name, "mine");
+    assert_eq!(s.samples, driftlab::regression::FitSamples::Staged);
     assert_eq!(
         s.delay,
         DelaySpec::Bands {

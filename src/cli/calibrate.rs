@@ -39,6 +39,9 @@ pub struct Args {
     /// First-order lag of a custom model's T: none, SECONDS or auto.
     #[arg(long, value_name = "LAG", default_value = "none")]
     pub lag: String,
+    /// Samples a custom model is fitted on: all, plateaus or staged (see `driftlab compare`).
+    #[arg(long, value_name = "SAMPLES", default_value = "all")]
+    pub fit: String,
     /// A plateau as START:END in seconds (repeatable); replaces automatic detection.
     #[arg(long = "plateau", value_name = "START:END")]
     pub plateaus: Vec<PlateauRange>,

@@ -24,10 +24,18 @@ pub fn run(a: &Args, recipe: &Recipe) -> Result<(), String> {
     if name == "custom" && a.terms.is_none() {
         return Err("--model custom needs --terms".into());
     }
-    let choice: ModelChoice = super::compare::choices(&models, &customs, &a.delay, &a.lag)?
-        .into_iter()
-        .next()
-        .ok_or("no model chosen")?;
+    let choice: ModelChoice = super::compare::choices(
+        &models,
+        &customs,
+        &super::compare::CustomOptions {
+            delay: &a.delay,
+            lag: &a.lag,
+            fit: &a.fit,
+        },
+    )?
+    .into_iter()
+    .next()
+    .ok_or("no model chosen")?;
     let log = a.log_args.read(&a.log)?;
     common::status("fitting ...");
     let mut model =

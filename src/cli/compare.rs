@@ -5,7 +5,7 @@ use driftlab::compare::{self, ModelReport, Outcome};
 use driftlab::metrics::MeritOptions;
 use driftlab::presets::{ModelChoice, Preset};
 use driftlab::recipe::Recipe;
-use driftlab::regression::{DelaySpec, LagSpec, RegressionSpec, terms};
+use driftlab::regression::{DelaySpec, FitSamples, LagSpec, RegressionSpec, terms};
 use std::path::PathBuf;
 
 /// Arguments of `compare`.
@@ -34,6 +34,11 @@ pub struct Args {
     /// constant that changes with temperature).
     #[arg(long, value_name = "LAG", default_value = "none")]
     pub lag: String,
+    /// Samples custom models are fitted on: all (every sample with a rate history), plateaus
+    /// (the temperature plateaus only: static models) or staged (static terms on the
+    /// plateaus, then rate terms on what they leave, as Vakhrameev calibrates).
+    #[arg(long, value_name = "SAMPLES", default_value = "all")]
+    pub fit: String,
     /// Causal smoothing of T before differentiating, in custom models, s.
     #[arg(long, value_name = "S", default_value_t = 60.0)]
     pub smooth: f64,
@@ -99,12 +104,31 @@ pub fn parse_lag(s: &str) -> Result<LagSpec, String> {
     })
 }
 
+/// Reads `--fit`.
+pub fn parse_fit(s: &str) -> Result<FitSamples, String> {
+    match s.trim() {
+        "all" => Ok(FitSamples::All),
+        "plateaus" => Ok(FitSamples::Plateaus),
+        "staged" => Ok(FitSamples::Staged),
+        other => Err(format!("--fit {other:?}: expected all, plateaus or staged")),
+    }
+}
+
+/// How `--custom` models are made: `--delay`, `--lag` and `--fit`.
+pub struct CustomOptions<'a> {
+    /// `--delay`.
+    pub delay: &'a str,
+    /// `--lag`.
+    pub lag: &'a str,
+    /// `--fit`.
+    pub fit: &'a str,
+}
+
 /// The models `--models` and `--custom` ask for.
 pub fn choices(
     models: &[String],
     custom: &[String],
-    delay: &str,
-    lag: &str,
+    how: &CustomOptions<'_>,
 ) -> Result<Vec<ModelChoice>, String> {
     let mut out: Vec<ModelChoice> = if models.is_empty() && custom.is_empty() {
         Preset::ALL.into_iter().map(ModelChoice::Preset).collect()
@@ -123,8 +147,9 @@ pub fn choices(
             },
             terms::parse_terms(c)?,
         );
-        spec.delay = parse_delay(delay)?;
-        spec.lag = parse_lag(lag)?;
+        spec.delay = parse_delay(how.delay)?;
+        spec.lag = parse_lag(how.lag)?;
+        spec.samples = parse_fit(how.fit)?;
         spec.validate()?;
         out.push(ModelChoice::Custom(spec));
     }
@@ -132,7 +157,12 @@ pub fn choices(
 }
 
 pub fn run(a: Args) -> Result<(), String> {
-    let mut choices = choices(&a.models, &a.custom, &a.delay, &a.lag)?;
+    let how = CustomOptions {
+        delay: &a.delay,
+        lag: &a.lag,
+        fit: &a.fit,
+    };
+    let mut choices = choices(&a.models, &a.custom, &how)?;
     for c in &mut choices {
         if let ModelChoice::Custom(s) = c {
             s.smoothing_s = a.smooth;

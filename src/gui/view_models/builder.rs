@@ -4,7 +4,7 @@
 use super::ModelsView;
 use super::{accessible, plain};
 use crate::gui::state::AppState;
-use crate::regression::{DelaySpec, LagSpec, RegressionSpec, Term};
+use crate::regression::{DelaySpec, FitSamples, LagSpec, RegressionSpec, Term};
 use eframe::egui::{self, Grid, RichText, Ui};
 
 /// How the builder's delay τd is chosen.
@@ -56,6 +56,8 @@ pub struct CustomBuilder {
     pub lag_max_s: f64,
     /// Whether the search also finds how the lag changes with temperature.
     pub lag_with_temperature: bool,
+    /// Which samples the coefficients are fitted on.
+    pub samples: FitSamples,
 }
 
 impl Default for CustomBuilder {
@@ -72,6 +74,7 @@ impl Default for CustomBuilder {
             lag_s: 600.0,
             lag_max_s: 3600.0,
             lag_with_temperature: true,
+            samples: FitSamples::All,
         }
     }
 }
@@ -111,6 +114,7 @@ impl CustomBuilder {
                 with_temperature: self.lag_with_temperature,
             },
         };
+        s.samples = self.samples;
         s.validate()?;
         Ok(s)
     }
@@ -249,6 +253,30 @@ impl ModelsView {
                         }
                     });
                     ui.end_row();
+                    ui.label("Fit on").on_hover_text(
+                        "Which samples the coefficients are fitted on (searches are judged on \
+                         every sample)",
+                    );
+                    let r = egui::ComboBox::from_id_salt("custom_fit")
+                        .width(90.0)
+                        .selected_text(fit_name(b.samples))
+                        .show_ui(ui, |ui| {
+                            ui.selectable_value(&mut b.samples, FitSamples::All, "all samples")
+                                .on_hover_text("Every sample with a full rate history");
+                            ui.selectable_value(&mut b.samples, FitSamples::Plateaus, "plateaus")
+                                .on_hover_text(
+                                    "The temperature plateaus only: for a model of the static \
+                                     bias",
+                                );
+                            ui.selectable_value(&mut b.samples, FitSamples::Staged, "staged")
+                                .on_hover_text(
+                                    "Static terms on the plateaus, then the rate terms on what \
+                                     they leave, as Vakhrameev calibrates",
+                                );
+                        })
+                        .response;
+                    accessible(&r, "Fit on", fit_name(b.samples));
+                    ui.end_row();
                 });
             if b.enabled {
                 let terms = b
@@ -273,6 +301,14 @@ fn delay_name(d: DelayChoice) -> &'static str {
         DelayChoice::Fixed => "fixed",
         DelayChoice::Search => "search",
         DelayChoice::Bands => "bands",
+    }
+}
+
+fn fit_name(f: FitSamples) -> &'static str {
+    match f {
+        FitSamples::All => "all samples",
+        FitSamples::Plateaus => "plateaus",
+        FitSamples::Staged => "staged",
     }
 }
 
