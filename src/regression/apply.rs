@@ -10,7 +10,7 @@ use crate::correct::{Corrected, Correction};
 use crate::error::Result;
 use crate::log::Log;
 use crate::model::{Regime, SourceInfo};
-use crate::signal::{self, CausalMean};
+use crate::signal::Rates;
 
 impl RegressionModel {
     /// Corrects a whole log.
@@ -98,11 +98,8 @@ impl History {
 pub struct RegressionCorrector {
     model: RegressionModel,
     dt_s: f64,
-    step: usize,
-    h2: f64,
     lag: Lag,
-    smooth: CausalMean,
-    smoothed: History,
+    rates: Rates,
     temp: History,
     tdot: History,
     tddot: History,
@@ -116,19 +113,14 @@ pub struct RegressionCorrector {
 impl RegressionCorrector {
     /// A corrector for `model` on samples `dt_s` seconds apart.
     pub fn new(model: RegressionModel, dt_s: f64) -> RegressionCorrector {
-        let steps = model.steps_for(dt_s);
-        let step = steps.step.max(1);
         let back = (model.delay.max_s() / dt_s).ceil() as usize + 2;
         let n_ch = model.channel_names().len();
         RegressionCorrector {
             dt_s,
-            step,
-            h2: 2.0 * step as f64 * dt_s,
             lag: Lag::new(model.lag_s.unwrap_or(0.0), model.lag_per_c, dt_s),
-            smooth: CausalMean::new(steps.smooth),
-            smoothed: History::new(2 * step + 1),
+            rates: Rates::new(model.steps_for(dt_s), dt_s),
             temp: History::new(back),
-            tdot: History::new(back.max(2 * step + 1)),
+            tdot: History::new(back),
             tddot: History::new(back),
             temp2: History::new(back),
             channels: vec![0.0; n_ch],
@@ -160,7 +152,7 @@ impl RegressionCorrector {
         temp2_c: f64,
         channels: &[f64],
     ) -> Corrected {
-        let (i, s) = (self.count, self.step);
+        let i = self.count;
         if i == 0 {
             self.t0 = time_s;
         }
@@ -170,29 +162,8 @@ impl RegressionCorrector {
         } else {
             temp_c
         };
-        let ts = self.smooth.push(temp_c);
-        self.smoothed.set(i, ts);
-        let tdot = if i < 2 * s {
-            0.0
-        } else {
-            signal::backward_step(
-                ts,
-                self.smoothed.get(i - s),
-                self.smoothed.get(i - 2 * s),
-                self.h2,
-            )
-        };
+        let (tdot, tddot) = self.rates.push(temp_c);
         self.tdot.set(i, tdot);
-        let tddot = if i < 4 * s {
-            0.0
-        } else {
-            signal::backward_step(
-                tdot,
-                self.tdot.get(i - s),
-                self.tdot.get(i - 2 * s),
-                self.h2,
-            )
-        };
         self.tddot.set(i, tddot);
         self.temp.set(i, temp_c);
         self.temp2.set(i, temp2_c);
