@@ -142,7 +142,7 @@ pub fn model_from_json(path: &Path, text: &str) -> Result<DriftModel> {
 /// for, in samples at its own sampling step. A corrector holds that much history, so a file
 /// asking for more (a hand-edited `1e28`) would exhaust memory instead of correcting; no
 /// chamber run needs it (10 million samples are 30 hours at 93 Hz).
-const MAX_WINDOW_SAMPLES: f64 = 1e7;
+const MAX_WINDOW_SAMPLES: f64 = crate::signal::MAX_HISTORY_SAMPLES as f64;
 
 /// The windows of a model that set how much history its corrector holds, with the sampling
 /// step they are counted in.

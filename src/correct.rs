@@ -6,6 +6,7 @@
 //! [`StreamCorrector`] is the piece a firmware engineer ports; it keeps a few short ring buffers
 //! and does a fixed amount of work per sample.
 
+use crate::error::{Error, Result};
 use crate::log::Log;
 use crate::model::{Calibration, Regime};
 use crate::signal::{self, DerivativeSteps, Derivatives, Rates};
@@ -164,12 +165,21 @@ impl Calibration {
     }
 
     /// A streaming corrector for samples every `dt_s` seconds.
-    pub fn corrector_for(&self, dt_s: f64) -> StreamCorrector {
-        StreamCorrector::new(self.clone(), self.steps_for(dt_s), dt_s)
+    ///
+    /// # Errors
+    /// A step that is not a positive number of seconds, or one so small that the corrector's
+    /// windows would span more than [`signal::MAX_HISTORY_SAMPLES`] samples.
+    pub fn corrector_for(&self, dt_s: f64) -> Result<StreamCorrector> {
+        let steps = self.steps_for(dt_s);
+        signal::check_history(steps, 0.0, dt_s).map_err(Error::Recipe)?;
+        Ok(StreamCorrector::new(self.clone(), steps, dt_s))
     }
 
     /// A streaming corrector at the calibration log's sampling step.
-    pub fn corrector(&self) -> StreamCorrector {
+    ///
+    /// # Errors
+    /// As [`Calibration::corrector_for`].
+    pub fn corrector(&self) -> Result<StreamCorrector> {
         self.corrector_for(self.resolved.dt_s)
     }
 }

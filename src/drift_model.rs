@@ -90,15 +90,19 @@ impl DriftModel {
     }
 
     /// A streaming corrector for samples `dt_s` seconds apart.
-    pub fn corrector_for(&self, dt_s: f64) -> ModelCorrector {
-        match self {
+    ///
+    /// # Errors
+    /// A step the corrector cannot keep histories for (see
+    /// [`Calibration::corrector_for`]).
+    pub fn corrector_for(&self, dt_s: f64) -> Result<ModelCorrector> {
+        Ok(match self {
             DriftModel::Vakhrameev(c) => {
-                ModelCorrector::Vakhrameev(Box::new(c.corrector_for(dt_s)))
+                ModelCorrector::Vakhrameev(Box::new(c.corrector_for(dt_s)?))
             }
             DriftModel::Regression(r) => {
-                ModelCorrector::Regression(Box::new(r.model.corrector_for(dt_s)))
+                ModelCorrector::Regression(Box::new(r.model.corrector_for(dt_s)?))
             }
-        }
+        })
     }
 
     /// The second temperature channel and the extra channels a streaming corrector wants.

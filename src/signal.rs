@@ -187,6 +187,42 @@ pub fn derivatives(temp_c: &[f64], steps: DerivativeSteps, dt_s: f64) -> Derivat
     }
 }
 
+/// The most past samples a streaming corrector keeps of one signal (80 MB of f64): a window,
+/// derivative step or delay longer than this, in samples, is refused rather than allocated.
+/// Also the limit a calibration file's windows are checked against.
+pub const MAX_HISTORY_SAMPLES: usize = 10_000_000;
+
+/// Checks that a streaming corrector at `dt_s` with these steps, looking `back_s` seconds into
+/// the past for delays, keeps histories of a sane length.
+///
+/// # Errors
+/// A message naming the step, window or delay that would need more than
+/// [`MAX_HISTORY_SAMPLES`] samples, or a step that is not a positive number of seconds.
+pub fn check_history(steps: DerivativeSteps, back_s: f64, dt_s: f64) -> Result<(), String> {
+    if !(dt_s.is_finite() && dt_s > 0.0) {
+        return Err(format!(
+            "a sampling step of {dt_s} s: a positive number of seconds is needed"
+        ));
+    }
+    let back = back_s / dt_s;
+    for (what, samples) in [
+        ("the T smoothing window", steps.smooth as f64),
+        (
+            "the derivative step's history (2H)",
+            2.0 * steps.step as f64 + 1.0,
+        ),
+        ("the longest delay", back),
+    ] {
+        if samples > MAX_HISTORY_SAMPLES as f64 {
+            return Err(format!(
+                "{what} spans {samples:.3e} samples of {dt_s} s, more than the \
+                 {MAX_HISTORY_SAMPLES} a streaming corrector keeps"
+            ));
+        }
+    }
+    Ok(())
+}
+
 /// Ṫ and T̈ one sample at a time, from past samples only: the causal mean of T and two
 /// backward differences over short rings. The one implementation of METHOD.md §1, step 2,
 /// shared by the batch path ([`derivatives`]), the streaming corrector and the lean

@@ -27,7 +27,7 @@ fn streaming_equals_batch() {
     let log = noisy_log();
     let cal = model::fit(&log, &Recipe::default()).unwrap().calibration;
     let batch = cal.correct(&log);
-    let mut stream = cal.corrector();
+    let mut stream = cal.corrector().unwrap();
     let mut worst: f64 = 0.0;
     for i in 0..log.len() {
         let s = stream.push(log.time_s[i], log.omega_dph[i], log.temp_c[i]);

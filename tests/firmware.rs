@@ -262,7 +262,7 @@ struct Agreement {
 fn compare(cal: &Calibration, log: &Log, c: &[CSample]) -> Agreement {
     assert_eq!(c.len(), log.len());
     let batch = cal.correct(log);
-    let mut stream = cal.corrector();
+    let mut stream = cal.corrector().unwrap();
     let mut a = Agreement {
         samples: log.len(),
         ..Agreement::default()
@@ -806,7 +806,7 @@ fn regression_c_agrees(label: &str, model: &DriftModel, logs: &[&Log]) -> Option
         );
         let batch = m.correct(log).unwrap();
         let (t2, ch) = drift_model::stream_inputs(model, log).unwrap();
-        let mut stream = m.corrector_for(m.dt_s);
+        let mut stream = m.corrector_for(m.dt_s).unwrap();
         let mut row = vec![0.0; ch.len()];
         let (mut vs_stream, mut vs_batch, mut same_n, mut outside) = (0.0f64, 0.0f64, 0, 0);
         for (i, c) in run.iter().enumerate() {

@@ -390,7 +390,7 @@ fn streaming_equals_batch_for_every_model() {
         let model = drift_model::fit(&log, &choice, &recipe).unwrap();
         let batch = model.correct(&log).unwrap();
         let (t2, ch) = drift_model::stream_inputs(&model, &log).unwrap();
-        let mut stream = model.corrector_for(log.nominal_dt_s());
+        let mut stream = model.corrector_for(log.nominal_dt_s()).unwrap();
         let mut row = vec![0.0; ch.len()];
         let mut worst: f64 = 0.0;
         for i in 0..log.len() {

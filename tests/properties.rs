@@ -164,7 +164,7 @@ fn sampled(program: &Program, dt_s: f64, n: usize, seed: u64) -> Log {
 fn worst_stream_vs_batch(model: &DriftModel, log: &Log) -> f64 {
     let batch = model.correct(log).unwrap();
     let (temp2, channels) = drift_model::stream_inputs(model, log).unwrap();
-    let mut stream = model.corrector_for(log.nominal_dt_s());
+    let mut stream = model.corrector_for(log.nominal_dt_s()).unwrap();
     let mut ch = vec![0.0; channels.len()];
     let mut worst: f64 = 0.0;
     for i in 0..log.len() {

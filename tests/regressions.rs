@@ -171,7 +171,7 @@ fn a_calibration_asking_for_an_impossible_window_is_refused() {
     let fixed = text.replace("30888888888888888888888888888.0", "30.0");
     let model = calfile::model_from_json(Path::new("sukhanov.json"), &fixed).unwrap();
     let (_, channels) = model.inputs();
-    let mut c = model.corrector_for(1.0);
+    let mut c = model.corrector_for(1.0).unwrap();
     let out = c.push(0.0, 0.1, 20.0, 19.0, &vec![0.0; channels.len()]);
     assert!(out.omega_cor_dph.is_finite());
 }
@@ -203,6 +203,32 @@ fn a_log_sampled_every_nanosecond_is_corrected_without_exhausting_memory() {
         // no rate is ever ready, so the prediction is that of the temperature alone.
         assert_eq!(c.ready_from, log.len(), "{}", model.name());
         assert!(c.cor_dph.iter().all(|v| v.is_finite()), "{}", model.name());
+    }
+}
+
+/// The streaming side of the nanosecond log: a corrector sized its rings from the caller's
+/// step, so `corrector_for(1e-9)` asked for 6·10¹⁰ samples of history and aborted. Every
+/// model's corrector now refuses such a step, and a step that is not a positive number, with
+/// a message; at the log's real step it runs.
+#[test]
+fn a_streaming_corrector_refuses_a_step_it_cannot_keep_history_for() {
+    let train = log_from(&Program::paper_like(), &TRUTH, 0.05, 0.001, 5);
+    for choice in [
+        ModelChoice::Preset(Preset::Vakhrameev),
+        ModelChoice::Preset(Preset::YanDelayed),
+    ] {
+        let model: DriftModel = drift_model::fit(&train, &choice, &Recipe::default()).unwrap();
+        let e = model.corrector_for(1e-9).expect_err("refused").to_string();
+        assert!(
+            e.contains("samples of 0.000000001 s") && e.contains("streaming corrector keeps"),
+            "{}: {e}",
+            model.name()
+        );
+        for bad in [0.0, -1.0, f64::NAN, f64::INFINITY] {
+            let e = model.corrector_for(bad).expect_err("refused").to_string();
+            assert!(e.contains("positive number of seconds"), "{e}");
+        }
+        assert!(model.corrector_for(train.nominal_dt_s()).is_ok());
     }
 }
 

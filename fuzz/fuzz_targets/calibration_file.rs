@@ -38,8 +38,9 @@ fuzz_target!(|data: &[u8]| {
         assert!(again.is_ok(), "a loaded model must read back: {again:?}");
         let log = short_log(&model);
         let _ = model.correct(&log);
-        if let Ok((t2, ch)) = drift_model::stream_inputs(&model, &log) {
-            let mut c = model.corrector_for(log.nominal_dt_s());
+        if let Ok((t2, ch)) = drift_model::stream_inputs(&model, &log)
+            && let Ok(mut c) = model.corrector_for(log.nominal_dt_s())
+        {
             let mut row = vec![0.0; ch.len()];
             for i in 0..log.len() {
                 for (v, c) in row.iter_mut().zip(&ch) {

@@ -51,8 +51,15 @@ impl RegressionModel {
     }
 
     /// A streaming corrector for a log sampled every `dt_s` seconds.
-    pub fn corrector_for(&self, dt_s: f64) -> RegressionCorrector {
-        RegressionCorrector::new(self.clone(), dt_s)
+    ///
+    /// # Errors
+    /// A step that is not a positive number of seconds, or one so small that the corrector's
+    /// windows or delay history would span more than [`crate::signal::MAX_HISTORY_SAMPLES`]
+    /// samples.
+    pub fn corrector_for(&self, dt_s: f64) -> Result<RegressionCorrector> {
+        crate::signal::check_history(self.steps_for(dt_s), self.delay.max_s(), dt_s)
+            .map_err(crate::error::Error::Recipe)?;
+        Ok(RegressionCorrector::new(self.clone(), dt_s))
     }
 }
 
