@@ -163,6 +163,16 @@ struct SetKey {
     refinements: usize,
 }
 
+/// What the first pass's K1 of a set depends on (not K2: it is fitted before any K2), so that
+/// it is kept while only the set's K2 changes.
+#[derive(Debug, Clone, PartialEq)]
+struct FirstKey {
+    plateaus: PlateauKey,
+    k0: Approx,
+    spec1: ApproxSpec,
+    weighting: Weighting,
+}
+
 #[derive(Clone)]
 struct SetFit {
     k1: Approx,
@@ -191,6 +201,8 @@ pub struct Pipeline {
     prepared: Option<(PrepKey, Arc<Prepared>)>,
     plateaus: Option<PlateauStage>,
     sets: [Option<(SetKey, SetFit)>; 2],
+    /// Each set's first-pass K1, kept while only its K2 changes.
+    first_k1: [Option<(FirstKey, Approx)>; 2],
     raw_figures: Option<((usize, usize, MeritOptions), Figures)>,
     raw_filtered: Option<(RawFilteredKey, Arc<Vec<f64>>)>,
     validation: Option<ValidationCache>,
@@ -451,12 +463,38 @@ impl Pipeline {
                     tddot: &prepared.deriv.tddot,
                     rest,
                 };
-                todo.par_iter()
+                let first_keys = [0, 1].map(|s| FirstKey {
+                    plateaus: pkey.clone(),
+                    k0: k0.clone(),
+                    spec1: keys[s].spec1,
+                    weighting: recipe.weighting,
+                });
+                let kept = [0, 1].map(|s| {
+                    self.first_k1[s]
+                        .as_ref()
+                        .filter(|(k, _)| *k == first_keys[s])
+                        .map(|(_, a)| a.clone())
+                });
+                let fitted: Vec<(usize, SetFit, Option<Approx>)> = todo
+                    .par_iter()
                     .map(|&s| {
                         let regime = if s == 0 { Regime::Plus } else { Regime::Minus };
-                        (s, fit_set(&samples[s], inputs, regime, recipe))
+                        // The first pass's K1 only serves when a refinement follows it.
+                        let first = (recipe.refinements > 0).then(|| {
+                            kept[s].clone().unwrap_or_else(|| {
+                                model::first_k1(&samples[s], inputs, regime, recipe)
+                            })
+                        });
+                        let fit = fit_set(&samples[s], inputs, regime, recipe, first.as_ref());
+                        (s, fit, first)
                     })
-                    .collect()
+                    .collect();
+                for (s, _, first) in &fitted {
+                    if let Some(a) = first {
+                        self.first_k1[*s] = Some((first_keys[*s].clone(), a.clone()));
+                    }
+                }
+                fitted.into_iter().map(|(s, f, _)| (s, f)).collect()
             }
             None => Vec::new(),
         };
@@ -812,8 +850,14 @@ fn evaluation(raw: Figures, corrected: Figures, c: &Corrected) -> Evaluation {
 }
 
 /// K1 and K2 of one set by the engine's per-set fit, with the points shared for display.
-fn fit_set(samples: &SetSamples, inputs: SetInputs, regime: Regime, recipe: &Recipe) -> SetFit {
-    let f = model::fit_set(samples, inputs, regime, recipe, true);
+fn fit_set(
+    samples: &SetSamples,
+    inputs: SetInputs,
+    regime: Regime,
+    recipe: &Recipe,
+    first_k1: Option<&Approx>,
+) -> SetFit {
+    let f = model::fit_set_from(samples, inputs, regime, recipe, true, first_k1);
     SetFit {
         k1: f.k1,
         k2: f.k2,
@@ -847,11 +891,10 @@ fn apply_knot_edits(
         out.k1 = with_knots(&fit.k1, edit1);
         if knots.get(c2).is_none() {
             let mut w = Vec::new();
-            let (k2, p2) = rayon::join(
-                || model::fit_k2(samples, inputs, &out.k1, regime, recipe, &mut w),
-                || model::k2_points_of(samples, inputs, &out.k1),
-            );
-            out.k2 = k2;
+            // The points are gathered for display anyway; the fit reads them rather than
+            // evaluating the edited K1 again in each of its passes.
+            let p2 = model::k2_points_of(samples, inputs, &out.k1);
+            out.k2 = model::fit_k2_gathered(samples, &p2, regime, recipe, &mut w);
             out.p2 = Arc::new(p2);
             out.warnings
                 .retain(|m| !m.starts_with(&format!("K2{sign}")));
@@ -902,6 +945,8 @@ fn patch(
     }
     // Whether a set's kept K0 + K1 terms are those of this calibration.
     let kept = [0, 1].map(|s| base.k1[s].as_ref() == Some(approx[s].0));
+    let k0 = cal.k0.evaluator();
+    let eval = [0, 1].map(|s| (approx[s].0.evaluator(), approx[s].1.evaluator()));
     const CHUNK: usize = 1 << 15;
     let counts = c
         .pred_dph
@@ -924,10 +969,11 @@ fn patch(
                 }
                 let i = base + k;
                 let (t, td, tdd) = (log.temp_c[i], deriv.tdot[i], deriv.tddot[i]);
-                let (k1, k2, regime) = approx[s];
+                let (k1, k2) = &eval[s];
+                let regime = approx[s].2;
                 // `predict`'s sum, (K0 + K1·Ṫ) + K2·T̈, with the first part kept.
                 if !kept[s] {
-                    b[k] = cal.k0.eval(t) + k1.eval(td) * td;
+                    b[k] = k0.eval(t) + k1.eval(td) * td;
                 }
                 let pred = b[k] + k2.eval(tdd) * tdd;
                 p[k] = pred;
@@ -1001,11 +1047,11 @@ fn moving_average_centered_into(
                 *v = origin + (h - l) / w;
             }
         }
-        for (k, v) in o.iter_mut().enumerate() {
-            let i = base + k;
-            if a < b && (a..b).contains(&i) {
-                continue;
-            }
+        // The rest (none unless the chunk reaches an end of the log): shrunk windows.
+        let end = base + o.len();
+        let (a, b) = if a < b { (a, b) } else { (end, end) };
+        for i in (base..a).chain(b..end) {
+            let v = &mut o[i - base];
             let lo = i.saturating_sub(back);
             let hi = (i + ahead).min(n - 1);
             *v = origin + (prefix[hi + 1] - prefix[lo]) / (hi + 1 - lo) as f64;
