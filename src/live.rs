@@ -9,6 +9,8 @@
 //! * the plateau mask, statistics and dead-bands while the plateaus stay;
 //! * each set (+ and −) of K1/K2 while its inputs (K0, dead-bands, its two approximations,
 //!   its hand-set knots) stay — changing K1+ refits only the + set;
+//! * each set's first-pass K1 (fitted before any K2) while its samples, K0 and K1 spec stay —
+//!   changing K2's kind refits one K1 less;
 //! * the raw figures of merit and the validation log's derivatives while they stay;
 //! * the plateau ranges while the signals and the plateau choice stay;
 //! * `Ω_f − K0(T)` while K0 stays, and the sets' sample indices while the plateaus stay;
@@ -1144,6 +1146,34 @@ mod tests {
         assert!(Arc::ptr_eq(&out.k1_plus_points, &out2.k1_plus_points));
         let fit2 = model::fit(&log, &recipe).unwrap();
         same(&out2.calibration, &fit2.calibration);
+    }
+
+    #[test]
+    fn a_k2_kind_change_with_the_kept_first_k1_is_the_engines_fit() {
+        // The + set refits from the first pass's K1 kept from the run before; the − set and
+        // the kept K1 of other specs must not leak in either.
+        let log = sample_log();
+        let mut recipe = Recipe::default();
+        let mut p = Pipeline::new();
+        p.run(&request(&log, recipe.clone())).unwrap();
+        for (kind, k1_minus) in [
+            (ApproxKind::Parabolic, ApproxKind::Linear),
+            (ApproxKind::Pwl, ApproxKind::Linear),
+            (ApproxKind::Linear, ApproxKind::Parabolic),
+            (ApproxKind::Spline, ApproxKind::Parabolic),
+        ] {
+            recipe.k2_plus.kind = kind;
+            recipe.k1_minus.kind = k1_minus;
+            let req = request(&log, recipe.clone());
+            let out = p.run(&req).unwrap();
+            let fit = model::fit(&log, &recipe).unwrap();
+            same(&out.calibration, &fit.calibration);
+            assert_eq!(*out.k1_plus_points, fit.k1_plus_points);
+            assert_eq!(*out.k2_plus_points, fit.k2_plus_points);
+            assert_eq!(*out.k2_minus_points, fit.k2_minus_points);
+            assert_eq!(out.warnings, fit.warnings);
+            judged_afresh(&log, &req, &out);
+        }
     }
 
     #[test]

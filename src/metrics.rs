@@ -65,7 +65,6 @@ const WINDOW_GROUP: usize = 1 << 16;
 /// the segments' sums are added in order. On a record of at most one segment the figures are
 /// those of one sequential walk to the bit.
 pub fn figures(omega_dph: &[f64], dt_s: f64, skip: usize, opts: &MeritOptions) -> Figures {
-    use rayon::prelude::*;
     let x = &omega_dph[skip.min(omega_dph.len())..];
     if x.is_empty() {
         return Figures::default();

@@ -141,30 +141,3 @@ fn live_frame_stages_1m() {
         );
     }
 }
-
-#[test]
-#[ignore = "timing only"]
-fn scratch_parts() {
-    let log = tiled_log(1_000_000);
-    let x = &log.omega_dph;
-    let opts = MeritOptions::default();
-    let k: usize = std::env::var("K")
-        .ok()
-        .and_then(|s| s.parse().ok())
-        .unwrap_or(1);
-    let what = std::env::var("WHAT").unwrap_or_default();
-    let mut best = f64::INFINITY;
-    for _ in 0..k {
-        let t = std::time::Instant::now();
-        match what.as_str() {
-            "figures" => {
-                std::hint::black_box(driftlab::metrics::figures(x, 1.0, 100, &opts));
-            }
-            _ => {
-                std::hint::black_box(driftlab::signal::moving_average_centered(x, 100));
-            }
-        }
-        best = best.min(t.elapsed().as_secs_f64() * 1e3);
-    }
-    eprintln!("{what}: fastest of {k}: {best:.3} ms");
-}
