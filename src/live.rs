@@ -1,7 +1,7 @@
 //! The workbench's live refit: a calibration as a pure function of (log, recipe, knots moved by
 //! hand), run in stages with each stage's result kept until its inputs change.
 //!
-//! The stages are those of [`model::fit_prepared`](crate::model::fit_prepared), called through
+//! The stages are those of [`model::fit_prepared`], called through
 //! the same public stage functions, so the result is the same calibration (a test holds them
 //! equal). What this adds is memory between calls:
 //!
@@ -20,7 +20,8 @@
 //! a hand-edited K1 is followed by a fresh K2 fit on what it leaves (unless K2's knots are
 //! set by hand too), as the paper's K2 step asks.
 //!
-//! The correction is made from the kept derivatives by reference ([`correct`]); it equals
+//! The correction is made from the kept derivatives ([`Calibration::correct_into`], or a patch
+//! of the samples of the sets that changed); it equals
 //! [`Calibration::correct_with`](crate::model::Calibration) sample for sample.
 
 use crate::approx::{Approx, ApproxSpec};

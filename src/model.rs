@@ -987,7 +987,7 @@ pub fn fit_set(
 /// [`fit_set`], with the first pass's K1 given when it is known ([`first_k1`] of the same
 /// samples, inputs and recipe; used only when a refinement pass follows, since the last pass
 /// alone computes statistics and warnings). When the points are asked for, the last pass
-/// gathers them first and fits on them ([`Gathered`]): the same curves, with K2 (K1) evaluated
+/// gathers them first and fits on them: the same curves, with K2 (K1) evaluated
 /// once per point instead of three times.
 pub fn fit_set_from(
     samples: &SetSamples,
