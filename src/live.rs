@@ -1,7 +1,7 @@
 //! The workbench's live refit: a calibration as a pure function of (log, recipe, knots moved by
 //! hand), run in stages with each stage's result kept until its inputs change.
 //!
-//! The stages are those of [`model::fit_prepared`](crate::model::fit_prepared), called through
+//! The stages are those of [`model::fit_prepared`], called through
 //! the same public stage functions, so the result is the same calibration (a test holds them
 //! equal). What this adds is memory between calls:
 //!
@@ -9,6 +9,8 @@
 //! * the plateau mask, statistics and dead-bands while the plateaus stay;
 //! * each set (+ and −) of K1/K2 while its inputs (K0, dead-bands, its two approximations,
 //!   its hand-set knots) stay — changing K1+ refits only the + set;
+//! * each set's first-pass K1 (fitted before any K2) while its samples, K0 and K1 spec stay —
+//!   changing K2's kind refits one K1 less;
 //! * the raw figures of merit and the validation log's derivatives while they stay;
 //! * the plateau ranges while the signals and the plateau choice stay;
 //! * `Ω_f − K0(T)` while K0 stays, and the sets' sample indices while the plateaus stay;
@@ -18,7 +20,8 @@
 //! a hand-edited K1 is followed by a fresh K2 fit on what it leaves (unless K2's knots are
 //! set by hand too), as the paper's K2 step asks.
 //!
-//! The correction is made from the kept derivatives by reference ([`correct`]); it equals
+//! The correction is made from the kept derivatives ([`Calibration::correct_into`], or a patch
+//! of the samples of the sets that changed); it equals
 //! [`Calibration::correct_with`](crate::model::Calibration) sample for sample.
 
 use crate::approx::{Approx, ApproxSpec};
@@ -163,6 +166,16 @@ struct SetKey {
     refinements: usize,
 }
 
+/// What the first pass's K1 of a set depends on (not K2: it is fitted before any K2), so that
+/// it is kept while only the set's K2 changes.
+#[derive(Debug, Clone, PartialEq)]
+struct FirstKey {
+    plateaus: PlateauKey,
+    k0: Approx,
+    spec1: ApproxSpec,
+    weighting: Weighting,
+}
+
 #[derive(Clone)]
 struct SetFit {
     k1: Approx,
@@ -191,6 +204,8 @@ pub struct Pipeline {
     prepared: Option<(PrepKey, Arc<Prepared>)>,
     plateaus: Option<PlateauStage>,
     sets: [Option<(SetKey, SetFit)>; 2],
+    /// Each set's first-pass K1, kept while only its K2 changes.
+    first_k1: [Option<(FirstKey, Approx)>; 2],
     raw_figures: Option<((usize, usize, MeritOptions), Figures)>,
     raw_filtered: Option<(RawFilteredKey, Arc<Vec<f64>>)>,
     validation: Option<ValidationCache>,
@@ -451,12 +466,38 @@ impl Pipeline {
                     tddot: &prepared.deriv.tddot,
                     rest,
                 };
-                todo.par_iter()
+                let first_keys = [0, 1].map(|s| FirstKey {
+                    plateaus: pkey.clone(),
+                    k0: k0.clone(),
+                    spec1: keys[s].spec1,
+                    weighting: recipe.weighting,
+                });
+                let kept = [0, 1].map(|s| {
+                    self.first_k1[s]
+                        .as_ref()
+                        .filter(|(k, _)| *k == first_keys[s])
+                        .map(|(_, a)| a.clone())
+                });
+                let fitted: Vec<(usize, SetFit, Option<Approx>)> = todo
+                    .par_iter()
                     .map(|&s| {
                         let regime = if s == 0 { Regime::Plus } else { Regime::Minus };
-                        (s, fit_set(&samples[s], inputs, regime, recipe))
+                        // The first pass's K1 only serves when a refinement follows it.
+                        let first = (recipe.refinements > 0).then(|| {
+                            kept[s].clone().unwrap_or_else(|| {
+                                model::first_k1(&samples[s], inputs, regime, recipe)
+                            })
+                        });
+                        let fit = fit_set(&samples[s], inputs, regime, recipe, first.as_ref());
+                        (s, fit, first)
                     })
-                    .collect()
+                    .collect();
+                for (s, _, first) in &fitted {
+                    if let Some(a) = first {
+                        self.first_k1[*s] = Some((first_keys[*s].clone(), a.clone()));
+                    }
+                }
+                fitted.into_iter().map(|(s, f, _)| (s, f)).collect()
             }
             None => Vec::new(),
         };
@@ -812,8 +853,14 @@ fn evaluation(raw: Figures, corrected: Figures, c: &Corrected) -> Evaluation {
 }
 
 /// K1 and K2 of one set by the engine's per-set fit, with the points shared for display.
-fn fit_set(samples: &SetSamples, inputs: SetInputs, regime: Regime, recipe: &Recipe) -> SetFit {
-    let f = model::fit_set(samples, inputs, regime, recipe, true);
+fn fit_set(
+    samples: &SetSamples,
+    inputs: SetInputs,
+    regime: Regime,
+    recipe: &Recipe,
+    first_k1: Option<&Approx>,
+) -> SetFit {
+    let f = model::fit_set_from(samples, inputs, regime, recipe, true, first_k1);
     SetFit {
         k1: f.k1,
         k2: f.k2,
@@ -847,11 +894,10 @@ fn apply_knot_edits(
         out.k1 = with_knots(&fit.k1, edit1);
         if knots.get(c2).is_none() {
             let mut w = Vec::new();
-            let (k2, p2) = rayon::join(
-                || model::fit_k2(samples, inputs, &out.k1, regime, recipe, &mut w),
-                || model::k2_points_of(samples, inputs, &out.k1),
-            );
-            out.k2 = k2;
+            // The points are gathered for display anyway; the fit reads them rather than
+            // evaluating the edited K1 again in each of its passes.
+            let p2 = model::k2_points_of(samples, inputs, &out.k1);
+            out.k2 = model::fit_k2_gathered(samples, &p2, regime, recipe, &mut w);
             out.p2 = Arc::new(p2);
             out.warnings
                 .retain(|m| !m.starts_with(&format!("K2{sign}")));
@@ -902,6 +948,8 @@ fn patch(
     }
     // Whether a set's kept K0 + K1 terms are those of this calibration.
     let kept = [0, 1].map(|s| base.k1[s].as_ref() == Some(approx[s].0));
+    let k0 = cal.k0.evaluator();
+    let eval = [0, 1].map(|s| (approx[s].0.evaluator(), approx[s].1.evaluator()));
     const CHUNK: usize = 1 << 15;
     let counts = c
         .pred_dph
@@ -924,10 +972,11 @@ fn patch(
                 }
                 let i = base + k;
                 let (t, td, tdd) = (log.temp_c[i], deriv.tdot[i], deriv.tddot[i]);
-                let (k1, k2, regime) = approx[s];
+                let (k1, k2) = &eval[s];
+                let regime = approx[s].2;
                 // `predict`'s sum, (K0 + K1·Ṫ) + K2·T̈, with the first part kept.
                 if !kept[s] {
-                    b[k] = cal.k0.eval(t) + k1.eval(td) * td;
+                    b[k] = k0.eval(t) + k1.eval(td) * td;
                 }
                 let pred = b[k] + k2.eval(tdd) * tdd;
                 p[k] = pred;
@@ -1001,11 +1050,11 @@ fn moving_average_centered_into(
                 *v = origin + (h - l) / w;
             }
         }
-        for (k, v) in o.iter_mut().enumerate() {
-            let i = base + k;
-            if a < b && (a..b).contains(&i) {
-                continue;
-            }
+        // The rest (none unless the chunk reaches an end of the log): shrunk windows.
+        let end = base + o.len();
+        let (a, b) = if a < b { (a, b) } else { (end, end) };
+        for i in (base..a).chain(b..end) {
+            let v = &mut o[i - base];
             let lo = i.saturating_sub(back);
             let hi = (i + ahead).min(n - 1);
             *v = origin + (prefix[hi + 1] - prefix[lo]) / (hi + 1 - lo) as f64;
@@ -1098,6 +1147,34 @@ mod tests {
         assert!(Arc::ptr_eq(&out.k1_plus_points, &out2.k1_plus_points));
         let fit2 = model::fit(&log, &recipe).unwrap();
         same(&out2.calibration, &fit2.calibration);
+    }
+
+    #[test]
+    fn a_k2_kind_change_with_the_kept_first_k1_is_the_engines_fit() {
+        // The + set refits from the first pass's K1 kept from the run before; the − set and
+        // the kept K1 of other specs must not leak in either.
+        let log = sample_log();
+        let mut recipe = Recipe::default();
+        let mut p = Pipeline::new();
+        p.run(&request(&log, recipe.clone())).unwrap();
+        for (kind, k1_minus) in [
+            (ApproxKind::Parabolic, ApproxKind::Linear),
+            (ApproxKind::Pwl, ApproxKind::Linear),
+            (ApproxKind::Linear, ApproxKind::Parabolic),
+            (ApproxKind::Spline, ApproxKind::Parabolic),
+        ] {
+            recipe.k2_plus.kind = kind;
+            recipe.k1_minus.kind = k1_minus;
+            let req = request(&log, recipe.clone());
+            let out = p.run(&req).unwrap();
+            let fit = model::fit(&log, &recipe).unwrap();
+            same(&out.calibration, &fit.calibration);
+            assert_eq!(*out.k1_plus_points, fit.k1_plus_points);
+            assert_eq!(*out.k2_plus_points, fit.k2_plus_points);
+            assert_eq!(*out.k2_minus_points, fit.k2_minus_points);
+            assert_eq!(out.warnings, fit.warnings);
+            judged_afresh(&log, &req, &out);
+        }
     }
 
     #[test]

@@ -65,7 +65,6 @@ const WINDOW_GROUP: usize = 1 << 16;
 /// the segments' sums are added in order. On a record of at most one segment the figures are
 /// those of one sequential walk to the bit.
 pub fn figures(omega_dph: &[f64], dt_s: f64, skip: usize, opts: &MeritOptions) -> Figures {
-    use rayon::prelude::*;
     let x = &omega_dph[skip.min(omega_dph.len())..];
     if x.is_empty() {
         return Figures::default();
@@ -82,34 +81,43 @@ pub fn figures(omega_dph: &[f64], dt_s: f64, skip: usize, opts: &MeritOptions) -
         // One walk for min, max and the sum, the sum folded as `Iterator::sum` folds (from its
         // own neutral element, in order) within each segment.
         let zero: f64 = std::iter::empty::<f64>().sum();
-        let parts: Vec<(f64, f64, f64)> = (0..segments)
-            .into_par_iter()
-            .map(|k| {
-                let mut acc = (f64::INFINITY, f64::NEG_INFINITY, zero);
-                moving_average_segment(x, window, k * SEGMENT, ((k + 1) * SEGMENT).min(len), |v| {
-                    acc = (acc.0.min(v), acc.1.max(v), acc.2 + v);
-                });
-                acc
-            })
-            .collect();
+        let seg = |k: usize| (k * SEGMENT, ((k + 1) * SEGMENT).min(len));
+        let parts: Vec<(f64, f64, f64)> = over_segment_pairs(segments, |ka, kb| {
+            let acc0 = (f64::INFINITY, f64::NEG_INFINITY, zero);
+            let (mut a, mut b) = (acc0, acc0);
+            let step = |acc: &mut (f64, f64, f64), v: f64| {
+                *acc = (acc.0.min(v), acc.1.max(v), acc.2 + v);
+            };
+            moving_average_segments(
+                x,
+                window,
+                seg(ka),
+                kb.map(seg),
+                |v| step(&mut a, v),
+                |v| step(&mut b, v),
+            );
+            (a, b)
+        });
         let (lo, hi, sum) = parts
             .into_iter()
             .reduce(|a, b| (a.0.min(b.0), a.1.max(b.1), a.2 + b.2))
             .unwrap_or((0.0, 0.0, 0.0));
         let m = sum / len as f64;
-        let var = (0..segments)
-            .into_par_iter()
-            .map(|k| {
-                let mut sum = zero;
-                moving_average_segment(x, window, k * SEGMENT, ((k + 1) * SEGMENT).min(len), |v| {
-                    sum += (v - m).powi(2);
-                });
-                sum
-            })
-            .collect::<Vec<f64>>()
-            .into_iter()
-            .reduce(|a, b| a + b)
-            .unwrap_or(0.0)
+        let var = over_segment_pairs(segments, |ka, kb| {
+            let (mut a, mut b) = (zero, zero);
+            moving_average_segments(
+                x,
+                window,
+                seg(ka),
+                kb.map(seg),
+                |v| a += (v - m).powi(2),
+                |v| b += (v - m).powi(2),
+            );
+            (a, b)
+        })
+        .into_iter()
+        .reduce(|a, b| a + b)
+        .unwrap_or(0.0)
             / len as f64;
         (hi - lo, var.sqrt())
     };
@@ -119,25 +127,56 @@ pub fn figures(omega_dph: &[f64], dt_s: f64, skip: usize, opts: &MeritOptions) -
     let windows = || {
         let zero: f64 = std::iter::empty::<f64>().sum();
         let span = w * (WINDOW_GROUP / w).max(1);
-        let parts: Vec<(f64, Vec<(f64, f64)>)> = x
-            .par_chunks(span)
-            .map(|g| {
-                let mut total = zero;
-                let mut stats = Vec::with_capacity(g.len() / w);
-                for c in g.chunks(w) {
-                    let (mut s, mut q) = (zero, zero);
-                    for &v in c {
-                        total += v;
-                        s += v;
-                        q += v * v;
+        // One window's sums into its group's total and statistics.
+        let one = |c: &[f64], total: &mut f64, stats: &mut Vec<(f64, f64)>| {
+            let (mut s, mut q) = (zero, zero);
+            for &v in c {
+                *total += v;
+                s += v;
+                q += v * v;
+            }
+            if c.len() == w {
+                stats.push((s / c.len() as f64, (q / c.len() as f64).sqrt()));
+            }
+        };
+        let groups: Vec<&[f64]> = x.chunks(span).collect();
+        // Two groups walked in lockstep (independent chains, as for the filtered drift), each
+        // summed exactly as alone.
+        let parts: Vec<(f64, Vec<(f64, f64)>)> = over_segment_pairs(groups.len(), |a, b| {
+            let (ga, gb) = (groups[a], b.map_or(&[][..], |b| groups[b]));
+            let (mut ta, mut tb) = (zero, zero);
+            let mut sa = Vec::with_capacity(ga.len() / w);
+            let mut sb = Vec::with_capacity(gb.len() / w);
+            let (mut ca, mut cb) = (ga.chunks(w), gb.chunks(w));
+            loop {
+                match (ca.next(), cb.next()) {
+                    (Some(a), Some(b)) if a.len() == w && b.len() == w => {
+                        let (mut s1, mut q1, mut s2, mut q2) = (zero, zero, zero, zero);
+                        for (&u, &v) in a.iter().zip(b) {
+                            ta += u;
+                            s1 += u;
+                            q1 += u * u;
+                            tb += v;
+                            s2 += v;
+                            q2 += v * v;
+                        }
+                        let n = w as f64;
+                        sa.push((s1 / n, (q1 / n).sqrt()));
+                        sb.push((s2 / n, (q2 / n).sqrt()));
                     }
-                    if c.len() == w {
-                        stats.push((s / c.len() as f64, (q / c.len() as f64).sqrt()));
+                    (None, None) => break,
+                    (a, b) => {
+                        if let Some(a) = a {
+                            one(a, &mut ta, &mut sa);
+                        }
+                        if let Some(b) = b {
+                            one(b, &mut tb, &mut sb);
+                        }
                     }
                 }
-                (total, stats)
-            })
-            .collect();
+            }
+            ((ta, sa), (tb, sb))
+        });
         let mut total = zero;
         let (mut means, mut rms) = (Vec::new(), Vec::new());
         for (t, stats) in parts {
@@ -265,6 +304,79 @@ fn moving_average_segment(
     for (&a, &b) in add.iter().zip(sub) {
         s += (a - origin) - (b - origin);
         f(origin + s / w);
+    }
+}
+
+/// `walk(a, Some(a + 1))` for the segments of a walk taken in pairs (`walk(last, None)` for an
+/// odd one out), in parallel; the segments' results in segment order.
+fn over_segment_pairs<T: Send>(
+    segments: usize,
+    walk: impl Fn(usize, Option<usize>) -> (T, T) + Sync,
+) -> Vec<T> {
+    use rayon::prelude::*;
+    let pairs: Vec<(T, Option<T>)> = (0..segments.div_ceil(2))
+        .into_par_iter()
+        .map(|p| {
+            let (a, b) = (2 * p, 2 * p + 1);
+            let kb = (b < segments).then_some(b);
+            let (ra, rb) = walk(a, kb);
+            (ra, kb.map(|_| rb))
+        })
+        .collect();
+    let mut out = Vec::with_capacity(segments);
+    for (a, b) in pairs {
+        out.push(a);
+        out.extend(b);
+    }
+    out
+}
+
+/// [`moving_average_segment`] over segment `a` and, when given, segment `b`, in lockstep: each
+/// segment's values are computed and passed on exactly as a walk of its own would (so the same
+/// bits), but the two running sums are independent chains that the processor overlaps. A walk
+/// of one running sum waits on each addition; that wait, not the arithmetic, is its cost.
+#[inline]
+fn moving_average_segments(
+    x: &[f64],
+    window: usize,
+    (a_from, a_to): (usize, usize),
+    b: Option<(usize, usize)>,
+    mut fa: impl FnMut(f64),
+    mut fb: impl FnMut(f64),
+) {
+    let Some((b_from, b_to)) = b.filter(|&(f, t)| f < t && window > 1 && a_from < a_to) else {
+        moving_average_segment(x, window, a_from, a_to, fa);
+        if let Some((f, t)) = b {
+            moving_average_segment(x, window, f, t, fb);
+        }
+        return;
+    };
+    let origin = x[0];
+    let w = window as f64;
+    let mut sa: f64 = x[a_from..a_from + window].iter().map(|v| v - origin).sum();
+    let mut sb: f64 = x[b_from..b_from + window].iter().map(|v| v - origin).sum();
+    fa(origin + sa / w);
+    fb(origin + sb / w);
+    let (add_a, sub_a) = (&x[a_from + window..a_to + window - 1], &x[a_from..a_to - 1]);
+    let (add_b, sub_b) = (&x[b_from + window..b_to + window - 1], &x[b_from..b_to - 1]);
+    let n = add_a.len().min(add_b.len());
+    for ((&pa, &ma), (&pb, &mb)) in add_a[..n]
+        .iter()
+        .zip(&sub_a[..n])
+        .zip(add_b[..n].iter().zip(&sub_b[..n]))
+    {
+        sa += (pa - origin) - (ma - origin);
+        fa(origin + sa / w);
+        sb += (pb - origin) - (mb - origin);
+        fb(origin + sb / w);
+    }
+    for (&p, &m) in add_a[n..].iter().zip(&sub_a[n..]) {
+        sa += (p - origin) - (m - origin);
+        fa(origin + sa / w);
+    }
+    for (&p, &m) in add_b[n..].iter().zip(&sub_b[n..]) {
+        sb += (p - origin) - (m - origin);
+        fb(origin + sb / w);
     }
 }
 

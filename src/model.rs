@@ -700,6 +700,7 @@ fn into_rest(omega_filtered_dph: &mut [f64], temp_c: &[f64], k0: &Approx) {
         .par_chunks_mut(1 << 15)
         .zip(temp_c.par_chunks(1 << 15))
         .for_each(|(o, t)| {
+            let k0 = k0.evaluator();
             for (o, &t) in o.iter_mut().zip(t) {
                 *o -= k0.eval(t);
             }
@@ -731,6 +732,7 @@ impl PointSource for K1Source<'_> {
                 }
             }
             Some(k2) => {
+                let k2 = k2.evaluator();
                 for &i in &self.idx[from..to] {
                     let i = i as usize;
                     let (td, tdd) = (tdot[i], tddot[i]);
@@ -757,11 +759,41 @@ impl PointSource for K2Source<'_> {
     #[inline]
     fn visit<F: FnMut(f64, f64, f64)>(&self, from: usize, to: usize, mut f: F) {
         let SetInputs { tdot, tddot, rest } = self.inputs;
+        let k1 = self.k1.evaluator();
         for &i in &self.idx[from..to] {
             let i = i as usize;
             let (td, tdd) = (tdot[i], tddot[i]);
-            let y = (rest[i] - self.k1.eval(td) * td) / tdd;
+            let y = (rest[i] - k1.eval(td) * td) / tdd;
             f(tdd, y, if self.drift { tdd * tdd } else { 1.0 });
+        }
+    }
+}
+
+/// Points already gathered by [`k1_points_of`] or [`k2_points_of`], as a fit's source: the same
+/// `(x, y, w)` in the same order as the [`K1Source`] or [`K2Source`] they were gathered from
+/// (the weight is made from x as those make it from Ṫ or T̈), so a fit over them equals the
+/// streaming fit to the bit. When the points are wanted anyway (for display), the fit and its
+/// statistics then read them instead of evaluating the other coefficient twice more.
+struct Gathered<'a> {
+    p: &'a PointSet,
+    drift: bool,
+}
+
+impl PointSource for Gathered<'_> {
+    fn candidates(&self) -> usize {
+        self.p.x.len().min(self.p.y.len())
+    }
+    #[inline]
+    fn visit<F: FnMut(f64, f64, f64)>(&self, from: usize, to: usize, mut f: F) {
+        let (x, y) = (&self.p.x[from..to], &self.p.y[from..to]);
+        if self.drift {
+            for (&x, &y) in x.iter().zip(y) {
+                f(x, y, x * x);
+            }
+        } else {
+            for (&x, &y) in x.iter().zip(y) {
+                f(x, y, 1.0);
+            }
         }
     }
 }
@@ -807,6 +839,7 @@ fn collect_points<S: PointSource>(src: &S) -> (PointSet, Vec<f64>) {
 pub fn k1_points_of(samples: &SetSamples, inputs: SetInputs, k2: Option<&Approx>) -> PointSet {
     let SetInputs { tdot, tddot, rest } = inputs;
     let idx = &samples.k1;
+    let k2 = k2.map(Approx::evaluator);
     let (x, y) = rayon::join(
         || idx.par_iter().map(|&i| tdot[i as usize]).collect(),
         || {
@@ -827,6 +860,7 @@ pub fn k1_points_of(samples: &SetSamples, inputs: SetInputs, k2: Option<&Approx>
 pub fn k2_points_of(samples: &SetSamples, inputs: SetInputs, k1: &Approx) -> PointSet {
     let SetInputs { tdot, tddot, rest } = inputs;
     let idx = &samples.k2;
+    let k1 = k1.evaluator();
     let (x, y) = rayon::join(
         || idx.par_iter().map(|&i| tddot[i as usize]).collect(),
         || {
@@ -884,6 +918,57 @@ pub fn fit_k2(
     fit_or_fallback_source(&format!("K2{sign}"), spec2, &src, opts, warnings)
 }
 
+/// [`fit_k2`] on the points [`k2_points_of`] gave for the same samples and K1: the same
+/// approximation, bit for bit, from one evaluation of K1 per point instead of three (the
+/// workbench gathers the points for display when a K1 knot is dragged, and fits on them).
+pub fn fit_k2_gathered(
+    samples: &SetSamples,
+    points: &PointSet,
+    regime: Regime,
+    recipe: &Recipe,
+    warnings: &mut Vec<String>,
+) -> Approx {
+    let (spec2, sign) = match regime {
+        Regime::Minus => (&recipe.k2_minus, "-"),
+        _ => (&recipe.k2_plus, "+"),
+    };
+    let src = Gathered {
+        p: points,
+        drift: recipe.weighting == Weighting::Drift,
+    };
+    let opts = FitOptions {
+        known: samples.k2_range,
+        stats: true,
+    };
+    fit_or_fallback_source(&format!("K2{sign}"), spec2, &src, opts, warnings)
+}
+
+/// The K1 of a set's first pass (fitted on the ratios alone, before any K2): it depends on
+/// the samples, K0 and K1's own spec only, so the workbench keeps it while K2 changes and hands
+/// it to [`fit_set_from`]. Its warnings are not kept, as [`fit_set`] keeps only the last pass's.
+pub fn first_k1(
+    samples: &SetSamples,
+    inputs: SetInputs,
+    regime: Regime,
+    recipe: &Recipe,
+) -> Approx {
+    let (spec1, sign) = match regime {
+        Regime::Minus => (&recipe.k1_minus, "-"),
+        _ => (&recipe.k1_plus, "+"),
+    };
+    let src = K1Source {
+        idx: &samples.k1,
+        inputs,
+        k2: None,
+        drift: recipe.weighting == Weighting::Drift,
+    };
+    let opts = FitOptions {
+        known: samples.k1_range,
+        stats: false,
+    };
+    fit_or_fallback_source(&format!("K1{sign}"), spec1, &src, opts, &mut Vec::new())
+}
+
 /// K1 and K2 of one set (+ or −), as the paper does (K1 from the ratios, then K2 from what the
 /// fitted K1 leaves), followed by the recipe's refinement passes, each refitting K1 with the K2
 /// term removed and then K2 with the new K1. The fits stream over the set's samples; the
@@ -895,6 +980,22 @@ pub fn fit_set(
     regime: Regime,
     recipe: &Recipe,
     points: bool,
+) -> SetFit {
+    fit_set_from(samples, inputs, regime, recipe, points, None)
+}
+
+/// [`fit_set`], with the first pass's K1 given when it is known ([`first_k1`] of the same
+/// samples, inputs and recipe; used only when a refinement pass follows, since the last pass
+/// alone computes statistics and warnings). When the points are asked for, the last pass
+/// gathers them first and fits on them: the same curves, with K2 (K1) evaluated
+/// once per point instead of three times.
+pub fn fit_set_from(
+    samples: &SetSamples,
+    inputs: SetInputs,
+    regime: Regime,
+    recipe: &Recipe,
+    points: bool,
+    first_k1: Option<&Approx>,
 ) -> SetFit {
     let (spec1, spec2, sign) = match regime {
         Regime::Minus => (&recipe.k1_minus, &recipe.k2_minus, "-"),
@@ -924,25 +1025,33 @@ pub fn fit_set(
             known: samples.k1_range,
             stats: last,
         };
-        let k1 = fit_or_fallback_source(&name1, spec1, &src1, opts1, &mut warnings);
-        let src2 = K2Source {
-            idx: &samples.k2,
-            inputs,
-            k1: &k1,
-            drift,
-        };
         let opts2 = FitOptions {
             known: samples.k2_range,
             stats: last,
         };
-        let k2_fit = fit_or_fallback_source(&name2, spec2, &src2, opts2, &mut warnings);
+        let k2_fit;
+        let k1;
         if last && points {
-            let (p1, p2) = rayon::join(
-                || k1_points_of(samples, inputs, k2.as_ref()),
-                || k2_points_of(samples, inputs, &k1),
-            );
+            let p1 = k1_points_of(samples, inputs, k2.as_ref());
+            let src1 = Gathered { p: &p1, drift };
+            k1 = fit_or_fallback_source(&name1, spec1, &src1, opts1, &mut warnings);
+            let p2 = k2_points_of(samples, inputs, &k1);
+            let src2 = Gathered { p: &p2, drift };
+            k2_fit = fit_or_fallback_source(&name2, spec2, &src2, opts2, &mut warnings);
             out.k1_points = p1;
             out.k2_points = p2;
+        } else {
+            k1 = match first_k1 {
+                Some(k1) if pass == 0 && !last => k1.clone(),
+                _ => fit_or_fallback_source(&name1, spec1, &src1, opts1, &mut warnings),
+            };
+            let src2 = K2Source {
+                idx: &samples.k2,
+                inputs,
+                k1: &k1,
+                drift,
+            };
+            k2_fit = fit_or_fallback_source(&name2, spec2, &src2, opts2, &mut warnings);
         }
         out.k1 = k1;
         out.k2 = k2_fit.clone();

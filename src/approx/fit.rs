@@ -234,6 +234,7 @@ struct Sums {
 /// Weighted statistics (plain ones when every weight is 1).
 fn stats_of<S: PointSource>(a: &Approx, src: &S, sums: Sums) -> FitStats {
     let mean = sums.swy / sums.sw;
+    let a = a.evaluator();
     let part = |from, to| {
         let (mut ss_res, mut ss_tot) = (0.0, 0.0);
         src.visit(from, to, |x, y, w| {

@@ -77,7 +77,15 @@ impl Segments {
         let k = &self.knots_x;
         let last = k.len() - 2;
         let i = if self.inv_step > 0.0 {
-            (((x - k[0]) * self.inv_step) as usize).min(last)
+            // ⌊t⌋ capped at the last segment, as `(t as usize).min(last)` gives it (t ≥ 0 here),
+            // without the saturating float-to-usize conversion, which costs more than the rest
+            // of a segment's evaluation.
+            let t = (x - k[0]) * self.inv_step;
+            if t < last as f64 {
+                t as u32 as usize
+            } else {
+                last
+            }
         } else {
             k.partition_point(|&v| v <= x).saturating_sub(1).min(last)
         };
