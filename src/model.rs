@@ -892,6 +892,14 @@ fn fit_or_fallback_source<S: PointSource>(
     fit_or_fallback_weighted(name, spec, &p.x, &p.y, Some(&w), warnings)
 }
 
+/// The approximation specs of a set (K1, K2) and its sign as names carry it.
+fn set_specs(regime: Regime, recipe: &Recipe) -> (&ApproxSpec, &ApproxSpec, &'static str) {
+    match regime {
+        Regime::Minus => (&recipe.k1_minus, &recipe.k2_minus, "-"),
+        _ => (&recipe.k1_plus, &recipe.k2_plus, "+"),
+    }
+}
+
 /// K2 of a set fitted on what `k1` leaves (the paper's K2 step), with its statistics.
 pub fn fit_k2(
     samples: &SetSamples,
@@ -901,21 +909,13 @@ pub fn fit_k2(
     recipe: &Recipe,
     warnings: &mut Vec<String>,
 ) -> Approx {
-    let (spec2, sign) = match regime {
-        Regime::Minus => (&recipe.k2_minus, "-"),
-        _ => (&recipe.k2_plus, "+"),
-    };
     let src = K2Source {
         idx: &samples.k2,
         inputs,
         k1,
         drift: recipe.weighting == Weighting::Drift,
     };
-    let opts = FitOptions {
-        known: samples.k2_range,
-        stats: true,
-    };
-    fit_or_fallback_source(&format!("K2{sign}"), spec2, &src, opts, warnings)
+    fit_k2_from(samples, &src, regime, recipe, warnings)
 }
 
 /// [`fit_k2`] on the points [`k2_points_of`] gave for the same samples and K1: the same
@@ -928,19 +928,27 @@ pub fn fit_k2_gathered(
     recipe: &Recipe,
     warnings: &mut Vec<String>,
 ) -> Approx {
-    let (spec2, sign) = match regime {
-        Regime::Minus => (&recipe.k2_minus, "-"),
-        _ => (&recipe.k2_plus, "+"),
-    };
     let src = Gathered {
         p: points,
         drift: recipe.weighting == Weighting::Drift,
     };
+    fit_k2_from(samples, &src, regime, recipe, warnings)
+}
+
+/// The K2 fit of both: over the set's K2 samples, with statistics.
+fn fit_k2_from<S: PointSource>(
+    samples: &SetSamples,
+    src: &S,
+    regime: Regime,
+    recipe: &Recipe,
+    warnings: &mut Vec<String>,
+) -> Approx {
+    let (_, spec2, sign) = set_specs(regime, recipe);
     let opts = FitOptions {
         known: samples.k2_range,
         stats: true,
     };
-    fit_or_fallback_source(&format!("K2{sign}"), spec2, &src, opts, warnings)
+    fit_or_fallback_source(&format!("K2{sign}"), spec2, src, opts, warnings)
 }
 
 /// The K1 of a set's first pass (fitted on the ratios alone, before any K2): it depends on
@@ -952,10 +960,7 @@ pub fn first_k1(
     regime: Regime,
     recipe: &Recipe,
 ) -> Approx {
-    let (spec1, sign) = match regime {
-        Regime::Minus => (&recipe.k1_minus, "-"),
-        _ => (&recipe.k1_plus, "+"),
-    };
+    let (spec1, _, sign) = set_specs(regime, recipe);
     let src = K1Source {
         idx: &samples.k1,
         inputs,
@@ -997,10 +1002,7 @@ pub fn fit_set_from(
     points: bool,
     first_k1: Option<&Approx>,
 ) -> SetFit {
-    let (spec1, spec2, sign) = match regime {
-        Regime::Minus => (&recipe.k1_minus, &recipe.k2_minus, "-"),
-        _ => (&recipe.k1_plus, &recipe.k2_plus, "+"),
-    };
+    let (spec1, spec2, sign) = set_specs(regime, recipe);
     let drift = recipe.weighting == Weighting::Drift;
     let (name1, name2) = (format!("K1{sign}"), format!("K2{sign}"));
     let mut k2: Option<Approx> = None;

@@ -278,26 +278,12 @@ pub fn write_regression(
     out_dir: &Path,
     opts: &ReportOptions,
 ) -> Result<ReportSummary> {
-    std::fs::create_dir_all(out_dir).map_err(|e| Error::io(out_dir, e))?;
     let merit = opts.merit.unwrap_or_default();
-    if !(merit.filter_s > 0.0 && merit.window_s > 0.0) {
-        return Err(Error::Recipe(
-            "the figures of merit need a positive filter and window".into(),
-        ));
-    }
+    let (hashes, in_sample) = start(out_dir, logs, &merit, |p, h| is_source(&cal.source, p, h))?;
     let m = &cal.model;
     let mut notes = Vec::new();
     let mut files = Vec::new();
-    let mut taken: Vec<String> = ["costs", "report"].iter().map(|s| s.to_string()).collect();
-    let hashes: Vec<String> = logs
-        .iter()
-        .map(|(p, _)| calfile::sha256_file(p).unwrap_or_default())
-        .collect();
-    let in_sample: Vec<bool> = logs
-        .iter()
-        .zip(&hashes)
-        .map(|((p, _), h)| is_source(&cal.source, p, h))
-        .collect();
+    let taken: Vec<String> = ["costs", "report"].iter().map(|s| s.to_string()).collect();
     if !logs.is_empty() && !in_sample.contains(&true) {
         notes.push(format!(
             "The model's own log ({}) is not among the logs: every log is held out.",
@@ -351,42 +337,23 @@ pub fn write_regression(
         ));
     }
 
-    // Every log.
-    let mut reports = Vec::new();
-    let mut any_allan = false;
-    for (i, ((path, log), sha)) in logs.iter().zip(&hashes).enumerate() {
+    let pieces = Pieces {
+        hashes,
+        in_sample,
+        merit,
+        taken,
+        files,
+        notes,
+        figures: model_figures,
+    };
+    finish(out_dir, logs, opts, pieces, |_, path, log| {
         let correction = m.correct(log).map_err(|e| match e {
             Error::Fit(msg) => Error::Fit(format!("{}: {msg}", path.display())),
             other => other,
         })?;
-        let section = LogSection {
-            path,
-            log,
-            sha,
-            in_sample: in_sample[i],
-            correction,
-            plateaus: &[],
-            allan: opts
-                .allan
-                .as_ref()
-                .map(|given| given.get(i).cloned().flatten()),
-        };
-        let (report, drew_allan) = log_report(out_dir, section, &merit, &mut taken, &mut files)?;
-        any_allan |= drew_allan;
-        reports.push(report);
-    }
-    if !any_allan && !logs.is_empty() {
-        notes.push(ALLAN_NOTE.into());
-    }
-    let summary = ReportSummary {
-        html: out_dir.join("report.html"),
-        files,
-        figures: model_figures,
-        logs: reports,
-        merit,
-        notes,
-    };
-    write_page(summary, |s| html::regression_page(cal, s))
+        Ok((correction, Vec::new()))
+    })
+    .and_then(|summary| write_page(summary, |s| html::regression_page(cal, s)))
 }
 
 /// Writes the HTML page of a finished summary (atomically) and lists it among the files.
@@ -409,28 +376,13 @@ pub fn write(
     out_dir: &Path,
     opts: &ReportOptions,
 ) -> Result<ReportSummary> {
-    std::fs::create_dir_all(out_dir).map_err(|e| Error::io(out_dir, e))?;
     let merit = opts.merit.unwrap_or_else(|| default_merit(cal));
-    if !(merit.filter_s > 0.0 && merit.window_s > 0.0) {
-        return Err(Error::Recipe(
-            "the figures of merit need a positive filter and window".into(),
-        ));
-    }
+    let (hashes, in_sample) = start(out_dir, logs, &merit, |p, h| is_in_sample(cal, p, h))?;
     let mut notes = Vec::new();
     let mut files = Vec::new();
-    let mut taken: Vec<String> = ["k0", "k1", "k2", "report"]
+    let taken: Vec<String> = ["k0", "k1", "k2", "report"]
         .iter()
         .map(|s| s.to_string())
-        .collect();
-
-    let hashes: Vec<String> = logs
-        .iter()
-        .map(|(p, _)| calfile::sha256_file(p).unwrap_or_default())
-        .collect();
-    let in_sample: Vec<bool> = logs
-        .iter()
-        .zip(&hashes)
-        .map(|((p, _), h)| is_in_sample(cal, p, h))
         .collect();
 
     // The calibration's figures.
@@ -539,11 +491,18 @@ pub fn write(
     }
     drop(points);
 
-    // Every log.
-    let mut reports = Vec::new();
-    let mut any_allan = false;
-    for (i, ((path, log), sha)) in logs.iter().zip(&hashes).enumerate() {
-        let plateaus: Vec<(f64, f64)> = if in_sample[i] {
+    let pieces = Pieces {
+        hashes,
+        in_sample,
+        merit,
+        taken,
+        files,
+        notes,
+        figures: cal_figures,
+    };
+    finish(out_dir, logs, opts, pieces, |own, _, log| {
+        // The plateaus are shaded on the calibration's own log only.
+        let plateaus = if own {
             cal.plateaus
                 .iter()
                 .map(|p| (p.range.start_s, p.range.end_s))
@@ -551,12 +510,76 @@ pub fn write(
         } else {
             Vec::new()
         };
+        Ok((cal.correct(log), plateaus))
+    })
+    .and_then(|summary| write_page(summary, |s| html::page(cal, s)))
+}
+
+/// What both writers start with: the folder made, the figures of merit checked, and each
+/// log's hash with whether it is the model's own log (`is_own(path, sha256)`).
+fn start(
+    out_dir: &Path,
+    logs: &[(PathBuf, Log)],
+    merit: &MeritOptions,
+    is_own: impl Fn(&Path, &str) -> bool,
+) -> Result<(Vec<String>, Vec<bool>)> {
+    std::fs::create_dir_all(out_dir).map_err(|e| Error::io(out_dir, e))?;
+    if !(merit.filter_s > 0.0 && merit.window_s > 0.0) {
+        return Err(Error::Recipe(
+            "the figures of merit need a positive filter and window".into(),
+        ));
+    }
+    let hashes: Vec<String> = logs
+        .iter()
+        .map(|(p, _)| calfile::sha256_file(p).unwrap_or_default())
+        .collect();
+    let in_sample = logs
+        .iter()
+        .zip(&hashes)
+        .map(|((p, _), h)| is_own(p, h))
+        .collect();
+    Ok((hashes, in_sample))
+}
+
+/// What a writer has gathered when its model's own figures are drawn.
+struct Pieces {
+    hashes: Vec<String>,
+    in_sample: Vec<bool>,
+    merit: MeritOptions,
+    taken: Vec<String>,
+    files: Vec<PathBuf>,
+    notes: Vec<String>,
+    figures: Vec<Figure>,
+}
+
+/// What both writers end with: a section for every log, corrected by `correct(own log?, path,
+/// log)`, which also gives the plateaus to shade; the summary the page is written from.
+fn finish(
+    out_dir: &Path,
+    logs: &[(PathBuf, Log)],
+    opts: &ReportOptions,
+    pieces: Pieces,
+    correct: impl Fn(bool, &Path, &Log) -> Result<(Correction, Vec<(f64, f64)>)>,
+) -> Result<ReportSummary> {
+    let Pieces {
+        hashes,
+        in_sample,
+        merit,
+        mut taken,
+        mut files,
+        mut notes,
+        figures,
+    } = pieces;
+    let mut reports = Vec::new();
+    let mut any_allan = false;
+    for (i, ((path, log), sha)) in logs.iter().zip(&hashes).enumerate() {
+        let (correction, plateaus) = correct(in_sample[i], path, log)?;
         let section = LogSection {
             path,
             log,
             sha,
             in_sample: in_sample[i],
-            correction: cal.correct(log),
+            correction,
             plateaus: &plateaus,
             allan: opts
                 .allan
@@ -570,15 +593,14 @@ pub fn write(
     if !any_allan && !logs.is_empty() {
         notes.push(ALLAN_NOTE.into());
     }
-    let summary = ReportSummary {
+    Ok(ReportSummary {
         html: out_dir.join("report.html"),
         files,
-        figures: cal_figures,
+        figures,
         logs: reports,
         merit,
         notes,
-    };
-    write_page(summary, |s| html::page(cal, s))
+    })
 }
 
 /// One log to judge, with its correction.
