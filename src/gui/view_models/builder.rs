@@ -141,7 +141,7 @@ impl ModelsView {
                 .map(|l| l.log.extra.iter().map(|c| c.name.clone()).collect())
                 .unwrap_or_default();
             ui.label("Terms").on_hover_text(
-                "One coefficient each, fitted by least squares over every usable sample",
+                "One coefficient each, fitted by least squares on the samples \"Fit on\" chooses",
             );
             let (base, chans): (Vec<Term>, Vec<Term>) = Term::catalogue(&channels)
                 .into_iter()

@@ -1,0 +1,657 @@
+//! The + and − sets of the Vakhrameev model: which samples each holds, their pointwise K1 and
+//! K2 (gathered for display, or streamed to the fits without being held), and the fits of
+//! K1± and K2± over them, with the paper's refinement passes.
+
+use super::*;
+
+/// Pointwise K1 on the set `regime`: `(Ω_f − K0(T) − K2(T̈)·T̈) / Ṫ` where |Ṫ| exceeds the
+/// dead-band, outside plateaus. The paper's first pass has no K2 yet (`k2 = None`); refinement
+/// passes subtract the K2 term fitted in the pass before.
+#[allow(clippy::needless_range_loop)] // one index walks six parallel columns
+pub fn k1_points(
+    log: &Log,
+    prepared: &Prepared,
+    mask: &[bool],
+    k0: &Approx,
+    k2: Option<&Approx>,
+    deadband: f64,
+    regime: Regime,
+) -> PointSet {
+    let d = &prepared.deriv;
+    let mut out = PointSet::default();
+    for i in d.ready_from..log.len() {
+        let (td, tdd) = (d.tdot[i], d.tddot[i]);
+        if mask[i] || td.abs() <= deadband || Regime::of(td, tdd) != regime {
+            continue;
+        }
+        let k2_term = k2.map_or(0.0, |k2| k2.eval(tdd) * tdd);
+        out.x.push(td);
+        out.y
+            .push((prepared.omega_filtered_dph[i] - k0.eval(log.temp_c[i]) - k2_term) / td);
+    }
+    out
+}
+
+/// Pointwise K2 on the set `regime`: `(Ω_f − K0(T) − K1(Ṫ)·Ṫ) / T̈` with the fitted K1, where
+/// |T̈| exceeds the dead-band, outside plateaus.
+#[allow(clippy::needless_range_loop)] // one index walks six parallel columns
+pub fn k2_points(
+    log: &Log,
+    prepared: &Prepared,
+    mask: &[bool],
+    k0: &Approx,
+    k1: &Approx,
+    deadband: f64,
+    regime: Regime,
+) -> PointSet {
+    let d = &prepared.deriv;
+    let mut out = PointSet::default();
+    for i in d.ready_from..log.len() {
+        let (td, tdd) = (d.tdot[i], d.tddot[i]);
+        if mask[i] || tdd.abs() <= deadband || Regime::of(td, tdd) != regime {
+            continue;
+        }
+        let rest = prepared.omega_filtered_dph[i] - k0.eval(log.temp_c[i]) - k1.eval(td) * td;
+        out.x.push(tdd);
+        out.y.push(rest / tdd);
+    }
+    out
+}
+
+/// K1 and K2 of one set with the points they were fitted to.
+#[derive(Debug, Clone)]
+pub struct SetFit {
+    /// K1 of the set.
+    pub k1: Approx,
+    /// K2 of the set.
+    pub k2: Approx,
+    /// The pointwise K1 of the last pass (empty unless asked for).
+    pub k1_points: PointSet,
+    /// The pointwise K2 of the last pass (empty unless asked for).
+    pub k2_points: PointSet,
+    /// What the fits had to work around.
+    pub warnings: Vec<String>,
+}
+
+/// The samples of the pointwise K1 and K2 of one set (+ or −), as indices into the log, in log
+/// order: those [`k1_points`] and [`k2_points`] select. Indices are `u32`, so a log to be
+/// fitted may have at most `u32::MAX` (about 4.3 billion) samples; [`fit`] refuses longer ones.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct SetSamples {
+    /// Samples outside the Ṫ dead-band (K1's points).
+    pub k1: Vec<u32>,
+    /// Samples outside the T̈ dead-band (K2's points).
+    pub k2: Vec<u32>,
+    /// Count and range of the finite Ṫ of `k1` (the x of K1's points).
+    pub k1_range: Option<XRange>,
+    /// Count and range of the finite T̈ of `k2` (the x of K2's points).
+    pub k2_range: Option<XRange>,
+}
+
+/// Whole-log columns the pointwise K1 and K2 are computed from.
+#[derive(Debug, Clone, Copy)]
+pub struct SetInputs<'a> {
+    /// Ṫ, °C/s.
+    pub tdot: &'a [f64],
+    /// T̈, °C/s².
+    pub tddot: &'a [f64],
+    /// Ω_f − K0(T), °/h ([`rest_dph`]).
+    pub rest: &'a [f64],
+}
+
+/// The samples of both sets (+, −), as [`k1_points`] and [`k2_points`] select them; they depend
+/// on the derivatives, the plateaus and the dead-bands only.
+#[allow(clippy::needless_range_loop)] // one index walks three parallel columns
+pub fn set_samples(deriv: &Derivatives, mask: &[bool], (db1, db2): (f64, f64)) -> [SetSamples; 2] {
+    let n = deriv.tdot.len().min(deriv.tddot.len()).min(mask.len());
+    let from = deriv.ready_from.min(n);
+    const SPAN: usize = 1 << 16;
+    // [set][k1, k2] index lists of one span of the log.
+    let parts: Vec<[[Vec<u32>; 2]; 2]> = (from..n)
+        .step_by(SPAN)
+        .collect::<Vec<_>>()
+        .into_par_iter()
+        .map(|a| {
+            let mut out: [[Vec<u32>; 2]; 2] = Default::default();
+            for i in a..(a + SPAN).min(n) {
+                let (td, tdd) = (deriv.tdot[i], deriv.tddot[i]);
+                if mask[i] {
+                    continue;
+                }
+                let s = match Regime::of(td, tdd) {
+                    Regime::Plus => 0,
+                    Regime::Minus => 1,
+                    Regime::Static => continue,
+                };
+                // The engine's tests, negated as written there (a NaN rate passes them).
+                let (skip1, skip2) = (td.abs() <= db1, tdd.abs() <= db2);
+                if !skip1 {
+                    out[s][0].push(i as u32);
+                }
+                if !skip2 {
+                    out[s][1].push(i as u32);
+                }
+            }
+            out
+        })
+        .collect();
+    let gather = |s: usize, k: usize| {
+        let mut v = Vec::with_capacity(parts.iter().map(|p| p[s][k].len()).sum());
+        for p in &parts {
+            v.extend_from_slice(&p[s][k]);
+        }
+        v
+    };
+    let range = |idx: &[u32], col: &[f64]| {
+        let mut r = XRange {
+            n: 0,
+            lo: f64::INFINITY,
+            hi: f64::NEG_INFINITY,
+        };
+        for &i in idx {
+            let x = col[i as usize];
+            if x.is_finite() {
+                r.n += 1;
+                r.lo = r.lo.min(x);
+                r.hi = r.hi.max(x);
+            }
+        }
+        r
+    };
+    [0, 1].map(|s| {
+        let (k1, k2) = (gather(s, 0), gather(s, 1));
+        SetSamples {
+            k1_range: Some(range(&k1, &deriv.tdot)),
+            k2_range: Some(range(&k2, &deriv.tddot)),
+            k1,
+            k2,
+        }
+    })
+}
+
+/// `Ω_f − K0(T)` over the whole log: what K1 and K2 explain.
+pub fn rest_dph(omega_filtered_dph: &[f64], temp_c: &[f64], k0: &Approx) -> Vec<f64> {
+    let mut rest = omega_filtered_dph.to_vec();
+    into_rest(&mut rest, temp_c, k0);
+    rest
+}
+
+/// Turns filtered Ω into `Ω_f − K0(T)` in place.
+pub(super) fn into_rest(omega_filtered_dph: &mut [f64], temp_c: &[f64], k0: &Approx) {
+    omega_filtered_dph
+        .par_chunks_mut(1 << 15)
+        .zip(temp_c.par_chunks(1 << 15))
+        .for_each(|(o, t)| {
+            let k0 = k0.evaluator();
+            for (o, &t) in o.iter_mut().zip(t) {
+                *o -= k0.eval(t);
+            }
+        });
+}
+
+/// The pointwise K1 of a set as fit points: `(Ṫ, (Ω_f − K0(T) − K2(T̈)·T̈) / Ṫ)`.
+struct K1Source<'a> {
+    idx: &'a [u32],
+    inputs: SetInputs<'a>,
+    k2: Option<&'a Approx>,
+    drift: bool,
+}
+
+impl PointSource for K1Source<'_> {
+    fn candidates(&self) -> usize {
+        self.idx.len()
+    }
+    #[inline]
+    fn visit<F: FnMut(f64, f64, f64)>(&self, from: usize, to: usize, mut f: F) {
+        let SetInputs { tdot, tddot, rest } = self.inputs;
+        let drift = self.drift;
+        match self.k2 {
+            None => {
+                for &i in &self.idx[from..to] {
+                    let i = i as usize;
+                    let td = tdot[i];
+                    f(td, (rest[i] - 0.0) / td, if drift { td * td } else { 1.0 });
+                }
+            }
+            Some(k2) => {
+                let k2 = k2.evaluator();
+                for &i in &self.idx[from..to] {
+                    let i = i as usize;
+                    let (td, tdd) = (tdot[i], tddot[i]);
+                    let y = (rest[i] - k2.eval(tdd) * tdd) / td;
+                    f(td, y, if drift { td * td } else { 1.0 });
+                }
+            }
+        }
+    }
+}
+
+/// The pointwise K2 of a set as fit points: `(T̈, (Ω_f − K0(T) − K1(Ṫ)·Ṫ) / T̈)`.
+struct K2Source<'a> {
+    idx: &'a [u32],
+    inputs: SetInputs<'a>,
+    k1: &'a Approx,
+    drift: bool,
+}
+
+impl PointSource for K2Source<'_> {
+    fn candidates(&self) -> usize {
+        self.idx.len()
+    }
+    #[inline]
+    fn visit<F: FnMut(f64, f64, f64)>(&self, from: usize, to: usize, mut f: F) {
+        let SetInputs { tdot, tddot, rest } = self.inputs;
+        let k1 = self.k1.evaluator();
+        for &i in &self.idx[from..to] {
+            let i = i as usize;
+            let (td, tdd) = (tdot[i], tddot[i]);
+            let y = (rest[i] - k1.eval(td) * td) / tdd;
+            f(tdd, y, if self.drift { tdd * tdd } else { 1.0 });
+        }
+    }
+}
+
+/// Points already gathered by [`k1_points_of`] or [`k2_points_of`], as a fit's source: the same
+/// `(x, y, w)` in the same order as the [`K1Source`] or [`K2Source`] they were gathered from
+/// (the weight is made from x as those make it from Ṫ or T̈), so a fit over them equals the
+/// streaming fit to the bit. When the points are wanted anyway (for display), the fit and its
+/// statistics then read them instead of evaluating the other coefficient twice more.
+struct Gathered<'a> {
+    p: &'a PointSet,
+    drift: bool,
+}
+
+impl PointSource for Gathered<'_> {
+    fn candidates(&self) -> usize {
+        self.p.x.len().min(self.p.y.len())
+    }
+    #[inline]
+    fn visit<F: FnMut(f64, f64, f64)>(&self, from: usize, to: usize, mut f: F) {
+        let (x, y) = (&self.p.x[from..to], &self.p.y[from..to]);
+        if self.drift {
+            for (&x, &y) in x.iter().zip(y) {
+                f(x, y, x * x);
+            }
+        } else {
+            for (&x, &y) in x.iter().zip(y) {
+                f(x, y, 1.0);
+            }
+        }
+    }
+}
+
+/// The points of a source, materialised (for display, or for a fit that falls back).
+fn collect_points<S: PointSource>(src: &S) -> (PointSet, Vec<f64>) {
+    let n = src.candidates();
+    let parts: Vec<(Vec<f64>, Vec<f64>, Vec<f64>)> = (0..n)
+        .step_by(approx::CHUNK)
+        .collect::<Vec<_>>()
+        .into_par_iter()
+        .map(|a| {
+            let b = (a + approx::CHUNK).min(n);
+            let mut p = (
+                Vec::with_capacity(b - a),
+                Vec::with_capacity(b - a),
+                Vec::with_capacity(b - a),
+            );
+            src.visit(a, b, |x, y, w| {
+                p.0.push(x);
+                p.1.push(y);
+                p.2.push(w);
+            });
+            p
+        })
+        .collect();
+    let mut out = (
+        PointSet {
+            x: Vec::with_capacity(n),
+            y: Vec::with_capacity(n),
+        },
+        Vec::with_capacity(n),
+    );
+    for (x, y, w) in parts {
+        out.0.x.extend(x);
+        out.0.y.extend(y);
+        out.1.extend(w);
+    }
+    out
+}
+
+/// The pointwise K1 of a set ([`k1_points`]), from its samples.
+pub fn k1_points_of(samples: &SetSamples, inputs: SetInputs, k2: Option<&Approx>) -> PointSet {
+    let SetInputs { tdot, tddot, rest } = inputs;
+    let idx = &samples.k1;
+    let k2 = k2.map(Approx::evaluator);
+    let (x, y) = rayon::join(
+        || idx.par_iter().map(|&i| tdot[i as usize]).collect(),
+        || {
+            idx.par_iter()
+                .map(|&i| {
+                    let i = i as usize;
+                    let (td, tdd) = (tdot[i], tddot[i]);
+                    let k2_term = k2.map_or(0.0, |k2| k2.eval(tdd) * tdd);
+                    (rest[i] - k2_term) / td
+                })
+                .collect()
+        },
+    );
+    PointSet { x, y }
+}
+
+/// The pointwise K2 of a set ([`k2_points`]), from its samples.
+pub fn k2_points_of(samples: &SetSamples, inputs: SetInputs, k1: &Approx) -> PointSet {
+    let SetInputs { tdot, tddot, rest } = inputs;
+    let idx = &samples.k2;
+    let k1 = k1.evaluator();
+    let (x, y) = rayon::join(
+        || idx.par_iter().map(|&i| tddot[i as usize]).collect(),
+        || {
+            idx.par_iter()
+                .map(|&i| {
+                    let i = i as usize;
+                    let (td, tdd) = (tdot[i], tddot[i]);
+                    (rest[i] - k1.eval(td) * td) / tdd
+                })
+                .collect()
+        },
+    );
+    PointSet { x, y }
+}
+
+/// [`fit_or_fallback_weighted`] over a point source: the fit streams over the points, which are
+/// gathered only when they cannot support `spec` and a simpler curve is sought.
+fn fit_or_fallback_source<S: PointSource>(
+    name: &str,
+    spec: &ApproxSpec,
+    src: &S,
+    opts: FitOptions,
+    warnings: &mut Vec<String>,
+) -> Approx {
+    if let Ok(a) = approx::fit_with(spec, src, opts) {
+        return a;
+    }
+    let (p, w) = collect_points(src);
+    fit_or_fallback_weighted(name, spec, &p.x, &p.y, Some(&w), warnings)
+}
+
+/// The approximation specs of a set (K1, K2) and its sign as names carry it.
+fn set_specs(regime: Regime, recipe: &Recipe) -> (&ApproxSpec, &ApproxSpec, &'static str) {
+    match regime {
+        Regime::Minus => (&recipe.k1_minus, &recipe.k2_minus, "-"),
+        _ => (&recipe.k1_plus, &recipe.k2_plus, "+"),
+    }
+}
+
+/// K2 of a set fitted on what `k1` leaves (the paper's K2 step), with its statistics.
+pub fn fit_k2(
+    samples: &SetSamples,
+    inputs: SetInputs,
+    k1: &Approx,
+    regime: Regime,
+    recipe: &Recipe,
+    warnings: &mut Vec<String>,
+) -> Approx {
+    let src = K2Source {
+        idx: &samples.k2,
+        inputs,
+        k1,
+        drift: recipe.weighting == Weighting::Drift,
+    };
+    fit_k2_from(samples, &src, regime, recipe, warnings)
+}
+
+/// [`fit_k2`] on the points [`k2_points_of`] gave for the same samples and K1: the same
+/// approximation, bit for bit, from one evaluation of K1 per point instead of three (the
+/// workbench gathers the points for display when a K1 knot is dragged, and fits on them).
+pub fn fit_k2_gathered(
+    samples: &SetSamples,
+    points: &PointSet,
+    regime: Regime,
+    recipe: &Recipe,
+    warnings: &mut Vec<String>,
+) -> Approx {
+    let src = Gathered {
+        p: points,
+        drift: recipe.weighting == Weighting::Drift,
+    };
+    fit_k2_from(samples, &src, regime, recipe, warnings)
+}
+
+/// The K2 fit of both: over the set's K2 samples, with statistics.
+fn fit_k2_from<S: PointSource>(
+    samples: &SetSamples,
+    src: &S,
+    regime: Regime,
+    recipe: &Recipe,
+    warnings: &mut Vec<String>,
+) -> Approx {
+    let (_, spec2, sign) = set_specs(regime, recipe);
+    let opts = FitOptions {
+        known: samples.k2_range,
+        stats: true,
+    };
+    fit_or_fallback_source(&format!("K2{sign}"), spec2, src, opts, warnings)
+}
+
+/// The K1 of a set's first pass (fitted on the ratios alone, before any K2): it depends on
+/// the samples, K0 and K1's own spec only, so the workbench keeps it while K2 changes and hands
+/// it to [`fit_set_from`]. Its warnings are not kept, as [`fit_set`] keeps only the last pass's.
+pub fn first_k1(
+    samples: &SetSamples,
+    inputs: SetInputs,
+    regime: Regime,
+    recipe: &Recipe,
+) -> Approx {
+    let (spec1, _, sign) = set_specs(regime, recipe);
+    let src = K1Source {
+        idx: &samples.k1,
+        inputs,
+        k2: None,
+        drift: recipe.weighting == Weighting::Drift,
+    };
+    let opts = FitOptions {
+        known: samples.k1_range,
+        stats: false,
+    };
+    fit_or_fallback_source(&format!("K1{sign}"), spec1, &src, opts, &mut Vec::new())
+}
+
+/// K1 and K2 of one set (+ or −), as the paper does (K1 from the ratios, then K2 from what the
+/// fitted K1 leaves), followed by the recipe's refinement passes, each refitting K1 with the K2
+/// term removed and then K2 with the new K1. The fits stream over the set's samples; the
+/// statistics are computed for the last pass only (the earlier ones serve only their curves), and
+/// the points of the last pass are gathered only when `points` is true (for display).
+pub fn fit_set(
+    samples: &SetSamples,
+    inputs: SetInputs,
+    regime: Regime,
+    recipe: &Recipe,
+    points: bool,
+) -> SetFit {
+    fit_set_from(samples, inputs, regime, recipe, points, None)
+}
+
+/// [`fit_set`], with the first pass's K1 given when it is known ([`first_k1`] of the same
+/// samples, inputs and recipe; used only when a refinement pass follows, since the last pass
+/// alone computes statistics and warnings). When the points are asked for, the last pass
+/// gathers them first and fits on them: the same curves, with K2 (K1) evaluated
+/// once per point instead of three times.
+pub fn fit_set_from(
+    samples: &SetSamples,
+    inputs: SetInputs,
+    regime: Regime,
+    recipe: &Recipe,
+    points: bool,
+    first_k1: Option<&Approx>,
+) -> SetFit {
+    let (spec1, spec2, sign) = set_specs(regime, recipe);
+    let drift = recipe.weighting == Weighting::Drift;
+    let (name1, name2) = (format!("K1{sign}"), format!("K2{sign}"));
+    let mut k2: Option<Approx> = None;
+    let mut out = SetFit {
+        k1: Approx::zero(spec1.kind),
+        k2: Approx::zero(spec2.kind),
+        k1_points: PointSet::default(),
+        k2_points: PointSet::default(),
+        warnings: Vec::new(),
+    };
+    for pass in 0..=recipe.refinements {
+        let last = pass == recipe.refinements;
+        // Warnings from the last pass only: earlier passes fit the same point sets.
+        let mut warnings = Vec::new();
+        let src1 = K1Source {
+            idx: &samples.k1,
+            inputs,
+            k2: k2.as_ref(),
+            drift,
+        };
+        let opts1 = FitOptions {
+            known: samples.k1_range,
+            stats: last,
+        };
+        let opts2 = FitOptions {
+            known: samples.k2_range,
+            stats: last,
+        };
+        let k2_fit;
+        let k1;
+        if last && points {
+            let p1 = k1_points_of(samples, inputs, k2.as_ref());
+            let src1 = Gathered { p: &p1, drift };
+            k1 = fit_or_fallback_source(&name1, spec1, &src1, opts1, &mut warnings);
+            let p2 = k2_points_of(samples, inputs, &k1);
+            let src2 = Gathered { p: &p2, drift };
+            k2_fit = fit_or_fallback_source(&name2, spec2, &src2, opts2, &mut warnings);
+            out.k1_points = p1;
+            out.k2_points = p2;
+        } else {
+            k1 = match first_k1 {
+                Some(k1) if pass == 0 && !last => k1.clone(),
+                _ => fit_or_fallback_source(&name1, spec1, &src1, opts1, &mut warnings),
+            };
+            let src2 = K2Source {
+                idx: &samples.k2,
+                inputs,
+                k1: &k1,
+                drift,
+            };
+            k2_fit = fit_or_fallback_source(&name2, spec2, &src2, opts2, &mut warnings);
+        }
+        out.k1 = k1;
+        out.k2 = k2_fit.clone();
+        out.warnings = warnings;
+        k2 = Some(k2_fit);
+    }
+    out
+}
+
+/// The samples of one set's pointwise K1 or K2: Ṫ, T̈ and Ω_f − K0(T) at each, in log order.
+#[derive(Debug, Default)]
+pub struct Columns {
+    /// Ṫ, °C/s.
+    pub tdot: Vec<f64>,
+    /// T̈, °C/s².
+    pub tddot: Vec<f64>,
+    /// Ω_f − K0(T), °/h.
+    pub rest: Vec<f64>,
+}
+
+/// The samples of the pointwise K1 and K2 of one set.
+#[derive(Debug, Default)]
+pub struct SetColumns {
+    /// Samples outside the Ṫ dead-band.
+    pub k1: Columns,
+    /// Samples outside the T̈ dead-band.
+    pub k2: Columns,
+}
+
+/// The samples of the pointwise K1 and K2 of both sets (+, −), as [`k1_points`] and
+/// [`k2_points`] select them, with the parts that do not change between refinement
+/// passes and edits (Ṫ, T̈, Ω_f − K0(T)) computed once.
+#[allow(clippy::needless_range_loop)] // one index walks six parallel columns
+pub fn set_columns(
+    log: &Log,
+    prepared: &Prepared,
+    mask: &[bool],
+    k0: &Approx,
+    (db1, db2): (f64, f64),
+) -> [SetColumns; 2] {
+    let d = &prepared.deriv;
+    let mut out = [SetColumns::default(), SetColumns::default()];
+    for i in d.ready_from..log.len() {
+        let (td, tdd) = (d.tdot[i], d.tddot[i]);
+        if mask[i] {
+            continue;
+        }
+        let s = match Regime::of(td, tdd) {
+            Regime::Plus => 0,
+            Regime::Minus => 1,
+            Regime::Static => continue,
+        };
+        // The engine's tests, negated as written there (a NaN rate passes them).
+        let skip1 = td.abs() <= db1;
+        let skip2 = tdd.abs() <= db2;
+        if skip1 && skip2 {
+            continue;
+        }
+        let rest = prepared.omega_filtered_dph[i] - k0.eval(log.temp_c[i]);
+        for (skip, c) in [(skip1, &mut out[s].k1), (skip2, &mut out[s].k2)] {
+            if !skip {
+                c.tdot.push(td);
+                c.tddot.push(tdd);
+                c.rest.push(rest);
+            }
+        }
+    }
+    out
+}
+
+/// [`k1_points`] from a set's columns.
+pub fn k1_points_from(c: &Columns, k2: Option<&Approx>) -> PointSet {
+    let y = c
+        .tdot
+        .iter()
+        .zip(&c.tddot)
+        .zip(&c.rest)
+        .map(|((&td, &tdd), &rest)| {
+            let k2_term = k2.map_or(0.0, |k2| k2.eval(tdd) * tdd);
+            (rest - k2_term) / td
+        })
+        .collect();
+    PointSet {
+        x: c.tdot.clone(),
+        y,
+    }
+}
+
+/// [`k2_points`] from a set's columns.
+pub fn k2_points_from(c: &Columns, k1: &Approx) -> PointSet {
+    let y = c
+        .tdot
+        .iter()
+        .zip(&c.tddot)
+        .zip(&c.rest)
+        .map(|((&td, &tdd), &rest)| (rest - k1.eval(td) * td) / tdd)
+        .collect();
+    PointSet {
+        x: c.tddot.clone(),
+        y,
+    }
+}
+
+/// Fits pointwise coefficients, weighted as the recipe says.
+pub fn fit_points(
+    name: &str,
+    spec: &ApproxSpec,
+    p: &PointSet,
+    weighting: Weighting,
+    warnings: &mut Vec<String>,
+) -> Approx {
+    match weighting {
+        Weighting::Ratio => fit_or_fallback(name, spec, &p.x, &p.y, warnings),
+        Weighting::Drift => {
+            let w: Vec<f64> = p.x.iter().map(|x| x * x).collect();
+            fit_or_fallback_weighted(name, spec, &p.x, &p.y, Some(&w), warnings)
+        }
+    }
+}
