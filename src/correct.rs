@@ -39,6 +39,55 @@ pub struct Prediction {
     pub outside_fraction: f64,
 }
 
+/// A log's predicted drift produced in order, one batch at a time
+/// ([`Calibration::log_predictor`]): the rates are one causal pass, so each batch continues
+/// where the one before stopped.
+#[derive(Debug, Clone)]
+pub struct LogPredictor<'a> {
+    cal: &'a Calibration,
+    rates: Rates,
+    temps: &'a [f64],
+    next: usize,
+    outside: usize,
+}
+
+impl LogPredictor<'_> {
+    /// Samples in the log.
+    pub fn len(&self) -> usize {
+        self.temps.len()
+    }
+
+    /// Whether the log has no samples.
+    pub fn is_empty(&self) -> bool {
+        self.temps.is_empty()
+    }
+
+    /// Predicts the next `out.len()` samples (fewer at the end of the log; the rest of `out`
+    /// is left as it was) and returns how many it predicted.
+    pub fn fill(&mut self, out: &mut [f64]) -> usize {
+        let end = (self.next + out.len()).min(self.temps.len());
+        let n = end - self.next;
+        for (o, &t) in out.iter_mut().zip(&self.temps[self.next..end]) {
+            let (td, tdd) = self.rates.push(t);
+            let (p, regime) = self.cal.predict(t, td, tdd);
+            self.outside += usize::from(self.cal.is_outside(t, td, tdd, regime));
+            *o = p;
+        }
+        self.next = end;
+        n
+    }
+
+    /// Share of the samples predicted so far whose T, Ṫ or T̈ lay outside the calibrated
+    /// ranges (edge values held).
+    pub fn outside_fraction(&self) -> f64 {
+        if self.next > 0 {
+            self.outside as f64 / self.next as f64
+        } else {
+            0.0
+        }
+    }
+}
+
 impl Correction {
     /// Recomputes `outside_fraction` from the per-regime counts.
     pub fn update_outside_fraction(&mut self) {
@@ -127,27 +176,26 @@ impl Calibration {
     /// are 330 MB. The same bits as [`Calibration::correct`]'s `pred_dph` (a test holds them
     /// equal): one pass of the same [`Rates`] and the same [`Calibration::predict`].
     pub fn predict_log(&self, log: &Log) -> Prediction {
-        let n = log.len();
-        let dt = log.nominal_dt_s();
-        let steps = self.steps_for(dt);
-        let mut rates = Rates::new(steps.within(n), dt);
-        let mut outside = 0usize;
-        let pred_dph = log.temp_c[..n]
-            .iter()
-            .map(|&t| {
-                let (td, tdd) = rates.push(t);
-                let (p, regime) = self.predict(t, td, tdd);
-                outside += usize::from(self.is_outside(t, td, tdd, regime));
-                p
-            })
-            .collect();
+        let mut p = self.log_predictor(log);
+        let mut pred_dph = vec![0.0; p.len()];
+        p.fill(&mut pred_dph);
         Prediction {
             pred_dph,
-            outside_fraction: if n > 0 {
-                outside as f64 / n as f64
-            } else {
-                0.0
-            },
+            outside_fraction: p.outside_fraction(),
+        }
+    }
+
+    /// [`Calibration::predict_log`] a batch at a time, in order: a writer can format one batch
+    /// while the next is predicted, and hold no column of the prediction.
+    pub fn log_predictor<'a>(&'a self, log: &'a Log) -> LogPredictor<'a> {
+        let n = log.len();
+        let dt = log.nominal_dt_s();
+        LogPredictor {
+            cal: self,
+            rates: Rates::new(self.steps_for(dt).within(n), dt),
+            temps: &log.temp_c[..n],
+            next: 0,
+            outside: 0,
         }
     }
 

@@ -5,9 +5,11 @@
 //! corrected log loses nothing; blocks of rows are formatted in parallel and written in order,
 //! the writing of one batch overlapping the formatting of the next.
 
+use crate::drift_model::Predictor;
 use crate::log::Log;
 use rayon::prelude::*;
 use std::path::Path;
+use std::sync::mpsc::{Receiver, Sender};
 
 /// The header line.
 pub const HEADER: &str = "time_s,omega_raw_dph,omega_pred_dph,omega_cor_dph,temp_c";
@@ -22,7 +24,12 @@ pub fn write(
     cor_dph: &[f64],
     progress: &dyn Fn(f64),
 ) -> std::io::Result<()> {
-    write_rows(path, log, pred_dph, Some(cor_dph), progress)
+    let n = log.len().min(pred_dph.len()).min(cor_dph.len());
+    let source = Source::Columns {
+        pred: pred_dph,
+        cor: Some(cor_dph),
+    };
+    write_rows(path, log, n, source, progress)
 }
 
 /// Writes the corrected log atomically from the predicted drift alone, the corrected rate
@@ -33,22 +40,47 @@ pub fn write_predicted(
     pred_dph: &[f64],
     progress: &dyn Fn(f64),
 ) -> std::io::Result<()> {
-    write_rows(path, log, pred_dph, None, progress)
+    let n = log.len().min(pred_dph.len());
+    let source = Source::Columns {
+        pred: pred_dph,
+        cor: None,
+    };
+    write_rows(path, log, n, source, progress)
 }
 
-/// The writer of both: `cor_dph` when given, else `Ω − pred` row by row.
+/// Writes the corrected log atomically as `predictor` predicts it, batch after batch: the
+/// prediction of one batch overlaps the formatting of the one before, and no column of it is
+/// held. The predictor should start at the log's first sample; the corrected rate is
+/// `Ω − pred`.
+pub fn write_streamed(
+    path: &Path,
+    log: &Log,
+    predictor: &mut Predictor<'_>,
+    progress: &dyn Fn(f64),
+) -> std::io::Result<()> {
+    write_rows(path, log, log.len(), Source::Stream(predictor), progress)
+}
+
+/// Where the predicted (and perhaps corrected) rates come from.
+enum Source<'a, 'p> {
+    /// Columns over the whole log; `cor` absent means `Ω − pred`.
+    Columns {
+        pred: &'a [f64],
+        cor: Option<&'a [f64]>,
+    },
+    /// Predicted batch by batch on a thread of its own.
+    Stream(&'a mut Predictor<'p>),
+}
+
+/// The writer of all three: rows `0..n`.
 fn write_rows(
     path: &Path,
     log: &Log,
-    pred_dph: &[f64],
-    cor_dph: Option<&[f64]>,
+    n: usize,
+    source: Source<'_, '_>,
     progress: &dyn Fn(f64),
 ) -> std::io::Result<()> {
-    let n = log
-        .len()
-        .min(pred_dph.len())
-        .min(cor_dph.map_or(usize::MAX, <[f64]>::len));
-    crate::atomic::write_with(path, |w| {
+    crate::atomic::write_big_with(path, |w| {
         w.write_all(HEADER.as_bytes())?;
         w.write_all(b"\n")?;
         // Batches of blocks are formatted in parallel on one side while the batch before is
@@ -59,17 +91,40 @@ fn write_rows(
             // Written blocks go back to the formatter: fresh buffers would each cost their
             // pages again (a tenth of the time of a big write went to page faults).
             let (back_tx, back_rx) = std::sync::mpsc::channel::<Vec<u8>>();
+            // A streamed prediction runs one batch ahead of the formatter, on its own thread.
+            let (columns, predicted) = match source {
+                Source::Columns { pred, cor } => (Some((pred, cor)), None),
+                Source::Stream(predictor) => {
+                    (None, Some(predict_ahead(scope, predictor, n, batch)))
+                }
+            };
             scope.spawn(move || {
                 let mut start = 0;
                 while start < n {
                     let end = (start + batch).min(n);
+                    let streamed = match &predicted {
+                        Some((rx, _)) => match rx.recv() {
+                            Ok(p) => Some(p),
+                            Err(_) => return,
+                        },
+                        None => None,
+                    };
+                    let (pred, cor) = match (&streamed, columns) {
+                        (Some(p), _) => (&p[..end - start], None),
+                        (None, Some((p, c))) => (&p[start..end], c.map(|c| &c[start..end])),
+                        (None, None) => return,
+                    };
                     let mut jobs: Vec<(usize, Vec<u8>)> = (start..end)
                         .step_by(BLOCK)
                         .map(|b| (b, back_rx.try_recv().unwrap_or_default()))
                         .collect();
                     jobs.par_iter_mut().for_each(|(b, text)| {
-                        format_rows(text, log, pred_dph, cor_dph, *b, (*b + BLOCK).min(end))
+                        let rows = *b..(*b + BLOCK).min(end);
+                        format_rows(text, log, pred, cor, start, rows)
                     });
+                    if let (Some(p), Some((_, back))) = (streamed, &predicted) {
+                        let _ = back.send(p);
+                    }
                     let texts = jobs.into_iter().map(|(_, t)| t).collect();
                     if tx.send((end, texts)).is_err() {
                         // The writer stopped (an error): nothing more to format.
@@ -78,30 +133,65 @@ fn write_rows(
                     start = end;
                 }
             });
+            let mut done = 0;
             for (end, texts) in rx {
                 for t in texts {
                     w.write_all(&t)?;
                     // The formatter may have finished; a buffer it no longer wants is freed.
                     let _ = back_tx.send(t);
                 }
+                done = end;
                 progress(end as f64 / n as f64);
+            }
+            if done < n {
+                // Never a short file renamed into place as if it were whole.
+                return Err(std::io::Error::other(
+                    "the rows stopped coming before the end",
+                ));
             }
             Ok(())
         })
     })
 }
 
-/// Formats rows `from..to` into `out`, replacing what it held.
+/// Starts predicting batches of `batch` samples on a thread of `scope`, one batch ahead of
+/// whoever receives them; used batches sent back are filled again.
+fn predict_ahead<'s, 'a: 's>(
+    scope: &'s std::thread::Scope<'s, '_>,
+    predictor: &'a mut Predictor<'_>,
+    n: usize,
+    batch: usize,
+) -> (Receiver<Vec<f64>>, Sender<Vec<f64>>) {
+    let (tx, rx) = std::sync::mpsc::sync_channel::<Vec<f64>>(1);
+    let (back_tx, back_rx) = std::sync::mpsc::channel::<Vec<f64>>();
+    scope.spawn(move || {
+        let mut start = 0;
+        while start < n {
+            let len = batch.min(n - start);
+            let mut p = back_rx.try_recv().unwrap_or_default();
+            p.resize(len, 0.0);
+            predictor.fill(&mut p);
+            if tx.send(p).is_err() {
+                return;
+            }
+            start += len;
+        }
+    });
+    (rx, back_tx)
+}
+
+/// Formats rows `rows` into `out`, replacing what it held; `pred` and `cor` start at row
+/// `base`, and `cor` absent means `Ω − pred`.
 fn format_rows(
     out: &mut Vec<u8>,
     log: &Log,
     pred: &[f64],
     cor: Option<&[f64]>,
-    from: usize,
-    to: usize,
+    base: usize,
+    rows: std::ops::Range<usize>,
 ) {
     out.clear();
-    out.reserve((to - from) * 64);
+    out.reserve(rows.len() * 64);
     let mut buf = zmij::Buffer::new();
     let mut num = |out: &mut Vec<u8>, v: f64, end: u8| {
         if v.is_finite() {
@@ -113,11 +203,12 @@ fn format_rows(
         }
         out.push(end);
     };
-    for i in from..to {
+    for i in rows {
+        let p = pred[i - base];
         num(out, log.time_s[i], b',');
         num(out, log.omega_dph[i], b',');
-        num(out, pred[i], b',');
-        let c = cor.map_or_else(|| log.omega_dph[i] - pred[i], |c| c[i]);
+        num(out, p, b',');
+        let c = cor.map_or_else(|| log.omega_dph[i] - p, |c| c[i - base]);
         num(out, c, b',');
         num(out, log.temp_c[i], b'\n');
     }

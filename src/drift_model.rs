@@ -1,7 +1,7 @@
 //! Any fitted drift model — the Vakhrameev calibration or a regression model — behind one
 //! face, so that files, `apply`, `compare` and the workbench treat them alike.
 
-use crate::correct::{Corrected, Correction, Prediction, StreamCorrector};
+use crate::correct::{Corrected, Correction, LogPredictor, Prediction, StreamCorrector};
 use crate::error::{Error, Result};
 use crate::log::Log;
 use crate::model::{self, Calibration, SourceInfo};
@@ -89,6 +89,22 @@ impl DriftModel {
         }
     }
 
+    /// The predicted drift of `log` a batch at a time ([`Predictor`]), as `driftlab apply`
+    /// writes it: the Vakhrameev model predicts each batch as it is asked for; a regression
+    /// model, whose channels may be filtered over the whole log, predicts all at once.
+    ///
+    /// # Errors
+    /// The log lacks a channel the model reads.
+    pub fn predictor<'a>(&'a self, log: &'a Log) -> Result<Predictor<'a>> {
+        Ok(match self {
+            DriftModel::Vakhrameev(c) => Predictor::Batches(c.log_predictor(log)),
+            DriftModel::Regression(_) => Predictor::Whole {
+                prediction: self.predict_log(log)?,
+                next: 0,
+            },
+        })
+    }
+
     /// A streaming corrector for samples `dt_s` seconds apart.
     ///
     /// # Errors
@@ -121,6 +137,45 @@ impl DriftModel {
         match self {
             DriftModel::Vakhrameev(c) => c.validate(),
             DriftModel::Regression(r) => r.model.validate(),
+        }
+    }
+}
+
+/// A log's predicted drift handed out in order, a batch at a time ([`DriftModel::predictor`]).
+#[derive(Debug, Clone)]
+pub enum Predictor<'a> {
+    /// Predicted batch by batch.
+    Batches(LogPredictor<'a>),
+    /// Predicted whole, handed out in batches.
+    Whole {
+        /// The whole prediction.
+        prediction: Prediction,
+        /// The next sample to hand out.
+        next: usize,
+    },
+}
+
+impl Predictor<'_> {
+    /// Fills `out` with the next samples' predicted drift (fewer at the end of the log) and
+    /// returns how many it filled.
+    pub fn fill(&mut self, out: &mut [f64]) -> usize {
+        match self {
+            Predictor::Batches(p) => p.fill(out),
+            Predictor::Whole { prediction, next } => {
+                let rest = &prediction.pred_dph[(*next).min(prediction.pred_dph.len())..];
+                let n = rest.len().min(out.len());
+                out[..n].copy_from_slice(&rest[..n]);
+                *next += n;
+                n
+            }
+        }
+    }
+
+    /// Share of the samples outside the calibrated ranges, of those predicted so far.
+    pub fn outside_fraction(&self) -> f64 {
+        match self {
+            Predictor::Batches(p) => p.outside_fraction(),
+            Predictor::Whole { prediction, .. } => prediction.outside_fraction,
         }
     }
 }

@@ -379,3 +379,46 @@ fn a_successful_write_replaces_the_file_and_keeps_its_permissions() {
     assert_eq!(fs::read(&path).unwrap(), b"new");
     assert!(temporaries(tmp.path()).is_empty());
 }
+
+#[test]
+fn a_big_write_keeps_every_byte_at_every_length() {
+    // Big files go past the page cache in aligned blocks, the last one padded and the file
+    // then cut back: lengths on both sides of the block and buffer sizes must come out whole.
+    // The same in a tmpfs, where direct writes are refused or ignored, when there is one.
+    let mut dirs = vec![tempfile::tempdir().unwrap()];
+    match tempfile::tempdir_in("/dev/shm") {
+        Ok(d) => dirs.push(d),
+        Err(e) => eprintln!("skipped the tmpfs case: /dev/shm cannot be used here ({e})"),
+    }
+    let (block, buffer) = (4096, 8 << 20);
+    for dir in &dirs {
+        for len in [
+            0,
+            1,
+            block - 1,
+            block,
+            block + 1,
+            buffer - 1,
+            buffer,
+            2 * buffer + 4097,
+        ] {
+            let content: Vec<u8> = (0..len).map(|i| (i * 7 + i / 4096) as u8).collect();
+            let path = dir.path().join("big.csv");
+            fs::write(&path, OLD).unwrap();
+            // Written in uneven pieces, as the corrected log's blocks come.
+            atomic::write_big_with(&path, |w| {
+                for piece in content.chunks(1_000_003) {
+                    w.write_all(piece)?;
+                }
+                Ok(())
+            })
+            .unwrap();
+            assert!(fs::read(&path).unwrap() == content, "length {len}");
+            assert_eq!(
+                temporaries(dir.path()),
+                Vec::<PathBuf>::new(),
+                "length {len}"
+            );
+        }
+    }
+}

@@ -229,3 +229,46 @@ fn the_lean_prediction_of_apply_is_the_whole_correction_bit_for_bit() {
         assert!(lean.outside_fraction < 1.0);
     }
 }
+
+#[test]
+fn a_log_written_as_it_is_predicted_is_the_file_written_from_whole_columns() {
+    // `driftlab apply` predicts batch by batch on one thread while the rows before are
+    // formatted on others. The log is tiled to cover several batches (and end inside one),
+    // so the rates must carry over from batch to batch for the files to match.
+    let one = noisy_log();
+    let tiles = 700_000 / one.len() + 1;
+    let n = one.len() * tiles - 12_345;
+    let period = one.time_s[one.len() - 1] - one.time_s[0] + one.nominal_dt_s();
+    let m = one.len();
+    let col = |f: &dyn Fn(usize, usize) -> f64| (0..n).map(|r| f(r / m, r % m)).collect();
+    let log = driftlab::Log::from_columns(
+        "tiled",
+        col(&|k, i| one.time_s[i] + k as f64 * period),
+        col(&|_, i| one.omega_dph[i]),
+        col(&|_, i| one.temp_c[i]),
+    );
+    let cal = model::fit(&one, &Recipe::default()).unwrap().calibration;
+    let whole = cal.correct(&log);
+    let dir = tempfile::tempdir().unwrap();
+    let (from_columns, streamed) = (dir.path().join("a.csv"), dir.path().join("b.csv"));
+    driftlab::corrected_csv::write(
+        &from_columns,
+        &log,
+        &whole.pred_dph,
+        &whole.cor_dph,
+        &|_| {},
+    )
+    .unwrap();
+    let model = driftlab::drift_model::DriftModel::Vakhrameev(Box::new(cal));
+    let mut predictor = model.predictor(&log).unwrap();
+    let fractions = std::sync::Mutex::new(Vec::new());
+    driftlab::corrected_csv::write_streamed(&streamed, &log, &mut predictor, &|f| {
+        fractions.lock().unwrap().push(f)
+    })
+    .unwrap();
+    assert!(std::fs::read(&from_columns).unwrap() == std::fs::read(&streamed).unwrap());
+    assert_eq!(predictor.outside_fraction(), whole.outside_fraction);
+    let fractions = fractions.into_inner().unwrap();
+    assert!(fractions.len() >= 3, "{fractions:?}");
+    assert_eq!(fractions.last(), Some(&1.0));
+}

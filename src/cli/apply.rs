@@ -21,13 +21,13 @@ pub struct Args {
 pub fn run(a: Args) -> Result<(), String> {
     let model = calfile::load_model(&a.calibration).map_err(|e| e.to_string())?;
     let log = a.log_args.read_for(&a.log, &model)?;
-    // The predicted drift alone: the corrected rate is written as Ω − pred row by row, so
-    // no column of it (nor of rates and regimes) is held.
-    let c = model
-        .predict_log(&log)
+    // The predicted drift alone, batch by batch as the rows are written: the corrected rate
+    // is written as Ω − pred row by row, so no column of it (nor of rates and regimes) is held.
+    let mut predictor = model
+        .predictor(&log)
         .map_err(|e| format!("{}: {e}", a.calibration.display()))?;
     let bar = common::progress_bar(&format!("writing {}", a.out.display()));
-    corrected_csv::write_predicted(&a.out, &log, &c.pred_dph, &|f| {
+    corrected_csv::write_streamed(&a.out, &log, &mut predictor, &|f| {
         if let Some(b) = &bar {
             b.set_position((f * 1000.0) as u64);
         }
@@ -36,11 +36,12 @@ pub fn run(a: Args) -> Result<(), String> {
     if let Some(b) = bar {
         b.finish_and_clear();
     }
-    if c.outside_fraction > 0.0 {
+    let outside_fraction = predictor.outside_fraction();
+    if outside_fraction > 0.0 {
         eprintln!(
             "note: {:.1}% of the samples lie outside the calibrated ranges of the model's \
              inputs; edge values were held there",
-            c.outside_fraction * 100.0
+            outside_fraction * 100.0
         );
     }
     eprintln!(
