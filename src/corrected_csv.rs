@@ -2,8 +2,9 @@
 //! output of `driftlab apply` and of the workbench's export.
 //!
 //! Numbers are written in their shortest form that reads back to the same f64 (zmij), so a
-//! corrected log loses nothing; blocks of rows are formatted in parallel and written in order,
-//! the writing of one batch overlapping the formatting of the next.
+//! corrected log loses nothing. Three stages overlap, each a batch apart: the prediction of
+//! `apply` (sequential, its rates being one causal pass), the formatting of blocks of rows in
+//! parallel, and the writing in order ([`crate::atomic::write_big_with`]).
 
 use crate::drift_model::Predictor;
 use crate::log::Log;
@@ -112,6 +113,7 @@ fn write_rows(
                     let (pred, cor) = match (&streamed, columns) {
                         (Some(p), _) => (&p[..end - start], None),
                         (None, Some((p, c))) => (&p[start..end], c.map(|c| &c[start..end])),
+                        // One of the two is always there (see above).
                         (None, None) => return,
                     };
                     let mut jobs: Vec<(usize, Vec<u8>)> = (start..end)
