@@ -56,6 +56,7 @@
 //! Plain numeric rows take a fast path (memchr + fast-float); quoted, blank or odd rows a
 //! careful one; a file whose quoted fields span lines is read again sequentially.
 
+mod checks;
 mod columns;
 mod parse;
 mod read;
