@@ -25,6 +25,7 @@
 pub mod figures;
 pub mod html;
 mod log_section;
+mod regression_page;
 
 use crate::calfile;
 use crate::correct::Correction;
