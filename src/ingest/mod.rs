@@ -58,6 +58,7 @@
 
 mod checks;
 mod columns;
+mod names;
 mod parse;
 mod read;
 mod series;
