@@ -14,6 +14,7 @@
 //! in the same way) and [`csv_table::regression`] (its coefficients with standard errors, the
 //! ranges and settings as comments). [`export_model`] picks by the model.
 
+mod c_corrector;
 pub mod c_header;
 pub mod c_regression;
 pub mod csv_table;

@@ -56,7 +56,9 @@
 //! Plain numeric rows take a fast path (memchr + fast-float); quoted, blank or odd rows a
 //! careful one; a file whose quoted fields span lines is read again sequentially.
 
+mod checks;
 mod columns;
+mod names;
 mod parse;
 mod read;
 mod series;

@@ -6,13 +6,14 @@
 //! the output columns are reserved once from an estimate of the row count (untouched
 //! reserve costs address space, not memory), and the parsers' column vectors are recycled.
 
-use super::columns::{Plan, SLOT_TIME, TimeSource, plan};
-use super::parse::{Chunk, Parser, Stop, Tally, note};
+use super::checks::finish;
+use super::columns::{SLOT_TIME, TimeSource, plan};
+use super::parse::{Chunk, Parser, Stop, Tally};
 use super::sniff::{
     MAX_LINE_BYTES, Sniffed, Unterminated, is_skippable, read_head, sniff, split_fields, strip_cr,
 };
 use super::{Fail, Preview, ReadOptions};
-use crate::log::{Channel, Log, LogInfo, Problem, ProblemKind, nominal_dt_s};
+use crate::log::Log;
 use memchr::memrchr;
 use rayon::prelude::*;
 use std::borrow::Cow;
@@ -23,8 +24,6 @@ use std::sync::Mutex;
 
 /// Bytes per block handed to one parser thread.
 const BLOCK_BYTES: usize = 4 << 20;
-/// A gap is a time step above this many nominal steps.
-const GAP_FACTOR: f64 = 2.5;
 /// Lines of head read for sniffing a full read.
 const HEAD_LINES: usize = 1000;
 
@@ -83,13 +82,13 @@ impl From<Fail> for Flow {
 }
 
 /// The output columns and what was noticed, stitched together from chunks in file order.
-struct Acc {
-    cols: Vec<Vec<f64>>,
+pub(super) struct Acc {
+    pub(super) cols: Vec<Vec<f64>>,
     jumps: Vec<(usize, usize)>,
-    rows_read: usize,
-    missing: Vec<Option<Tally>>,
-    ragged: Option<Tally>,
-    bad_extra: Vec<Option<Tally>>,
+    pub(super) rows_read: usize,
+    pub(super) missing: Vec<Option<Tally>>,
+    pub(super) ragged: Option<Tally>,
+    pub(super) bad_extra: Vec<Option<Tally>>,
 }
 
 impl Acc {
@@ -151,7 +150,7 @@ impl Acc {
     }
 
     /// The file line of a kept row (before rows are dropped for time order).
-    fn line_of(&self, row: usize) -> usize {
+    pub(super) fn line_of(&self, row: usize) -> usize {
         let k = self.jumps.partition_point(|&(r, _)| r <= row);
         match k.checked_sub(1).and_then(|k| self.jumps.get(k)) {
             Some(&(r, l)) => l + (row - r),
@@ -467,246 +466,6 @@ fn general(
     }
     let _ = acc.absorb(chunk, 0, parser.plan.time);
     Ok(())
-}
-
-/// Time-order checks, dropped rows, problems, and the `Log`.
-fn finish(mut acc: Acc, sn: &Sniffed, plan: &Plan, source: &str) -> Result<Log, Fail> {
-    let n = acc.cols.first().map_or(0, Vec::len);
-    if acc.rows_read == 0 {
-        return Err(if sn.has_header {
-            Fail::new(
-                sn.header_line,
-                0,
-                "the file has a header but no data rows".to_string(),
-            )
-        } else {
-            Fail::file("the file has no data rows")
-        });
-    }
-    let col_no = |slot: usize| plan.slot_col.get(slot).copied().flatten().map(|c| c + 1);
-    let col_name = |slot: usize| {
-        plan.slot_col
-            .get(slot)
-            .copied()
-            .flatten()
-            .map_or("?", |c| plan.name(c))
-            .to_string()
-    };
-    if n == 0 {
-        let first = acc
-            .missing
-            .iter()
-            .flatten()
-            .map(|t| t.first)
-            .min()
-            .unwrap_or(0);
-        return Err(Fail::new(
-            first,
-            0,
-            format!(
-                "none of the {} data rows can be used: each has a blank or NaN value in the \
-                 time, rate or temperature column",
-                acc.rows_read
-            ),
-        ));
-    }
-
-    let mut problems = Vec::new();
-    for (slot, t) in acc.missing.iter().enumerate() {
-        if let Some(t) = t {
-            problems.push(Problem {
-                line: t.first,
-                column: col_no(slot),
-                kind: ProblemKind::MissingValue,
-                count: t.count,
-                message: format!(
-                    "{} dropped: blank or NaN in column \"{}\" (first at line {})",
-                    rows(t.count),
-                    col_name(slot),
-                    t.first
-                ),
-            });
-        }
-    }
-    for (slot, t) in acc.bad_extra.iter().enumerate() {
-        if let Some(t) = t {
-            problems.push(Problem {
-                line: t.first,
-                column: col_no(slot),
-                kind: ProblemKind::BadExtraValue,
-                count: t.count,
-                message: format!(
-                    "{} cell{} of extra column \"{}\" could not be read as numbers and are \
-                     kept as NaN (first at line {})",
-                    t.count,
-                    if t.count == 1 { "" } else { "s" },
-                    col_name(slot),
-                    t.first
-                ),
-            });
-        }
-    }
-    if let Some(t) = acc.ragged {
-        problems.push(Problem {
-            line: t.first,
-            column: None,
-            kind: ProblemKind::RaggedRow,
-            count: t.count,
-            message: format!(
-                "{} fewer fields than the header; the missing extra columns are NaN (first at \
-                 line {})",
-                if t.count == 1 {
-                    "1 row has".to_string()
-                } else {
-                    format!("{} rows have", t.count)
-                },
-                t.first
-            ),
-        });
-    }
-
-    // Time order: keep a row only if its time is above every earlier time; note gaps.
-    let time_col = col_no(SLOT_TIME);
-    let mut drop: Vec<usize> = Vec::new();
-    {
-        let time = &acc.cols[SLOT_TIME];
-        let dt = nominal_dt_s(time);
-        let (mut back, mut rep, mut gaps): (Option<Tally>, Option<Tally>, Option<Tally>) =
-            (None, None, None);
-        let mut largest = (0.0f64, 0usize);
-        let mut first_back = (0.0, 0.0);
-        let mut last = time[0];
-        for (i, &t) in time.iter().enumerate().skip(1) {
-            if t > last {
-                let step = t - last;
-                if step > GAP_FACTOR * dt {
-                    note(&mut gaps, i);
-                    if step > largest.0 {
-                        largest = (step, i);
-                    }
-                }
-                last = t;
-            } else {
-                drop.push(i);
-                if t == last {
-                    note(&mut rep, i);
-                } else {
-                    if back.is_none() {
-                        first_back = (t, last);
-                    }
-                    note(&mut back, i);
-                }
-            }
-        }
-        if let Some(t) = rep {
-            let line = acc.line_of(t.first);
-            problems.push(Problem {
-                line,
-                column: time_col,
-                kind: ProblemKind::TimeRepeated,
-                count: t.count,
-                message: format!(
-                    "{} dropped: time repeats an earlier value (first at line {line})",
-                    rows(t.count)
-                ),
-            });
-        }
-        if let Some(t) = back {
-            let line = acc.line_of(t.first);
-            problems.push(Problem {
-                line,
-                column: time_col,
-                kind: ProblemKind::TimeBackwards,
-                count: t.count,
-                message: format!(
-                    "{} dropped: time went backwards (first at line {line}: {} s after {} s)",
-                    rows(t.count),
-                    first_back.0,
-                    first_back.1
-                ),
-            });
-        }
-        if let Some(t) = gaps {
-            let line = acc.line_of(t.first);
-            problems.push(Problem {
-                line,
-                column: time_col,
-                kind: ProblemKind::Gap,
-                count: t.count,
-                message: format!(
-                    "{} gap{} in time (steps above {GAP_FACTOR} × the nominal {dt} s; first at \
-                     line {line}, largest {} s at line {})",
-                    t.count,
-                    if t.count == 1 { "" } else { "s" },
-                    largest.0,
-                    acc.line_of(largest.1)
-                ),
-            });
-        }
-    }
-    if !drop.is_empty() {
-        for col in &mut acc.cols {
-            remove_sorted(col, &drop);
-        }
-    }
-    problems.sort_by_key(|p| p.line);
-
-    let mut cols = acc.cols.into_iter();
-    let mut take = || {
-        let mut v = cols.next().unwrap_or_default();
-        v.shrink_to_fit();
-        v
-    };
-    let time_s = take();
-    let omega_dph = take();
-    let temp_c = take();
-    let extra = plan
-        .extras
-        .iter()
-        .map(|(name, unit)| Channel {
-            name: name.clone(),
-            unit: unit.clone(),
-            values: take(),
-        })
-        .collect();
-    Ok(Log {
-        source: source.to_string(),
-        time_s,
-        omega_dph,
-        temp_c,
-        extra,
-        info: LogInfo {
-            delimiter: sn.delim.as_char(),
-            decimal_comma: sn.decimal_comma,
-            has_header: sn.has_header,
-            columns: plan.columns.clone(),
-            rows_read: acc.rows_read,
-            problems,
-        },
-    })
-}
-
-fn rows(n: usize) -> String {
-    if n == 1 {
-        "1 row".to_string()
-    } else {
-        format!("{n} rows")
-    }
-}
-
-/// Removes the elements at the sorted indices `drop`, in place.
-fn remove_sorted(v: &mut Vec<f64>, drop: &[usize]) {
-    let mut w = 0;
-    let mut d = drop.iter().peekable();
-    for r in 0..v.len() {
-        if d.peek() == Some(&&r) {
-            d.next();
-            continue;
-        }
-        v[w] = v[r];
-        w += 1;
-    }
-    v.truncate(w);
 }
 
 /// Sniffs and maps without reading the data.

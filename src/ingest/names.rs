@@ -1,0 +1,274 @@
+//! What a header name says about its column: the name split into base words and a unit
+//! (`Rate (deg/s)`, `Temp [°C]`, `T, °C`, a suffix as in `omega_dph`), the words looked up in
+//! short word lists, and the role and unit they give, ranked by strength. Apart from the plan
+//! because it reads one name at a time, knowing nothing of the options or the other columns.
+
+use super::units::{RateUnit, TempUnit, TimeUnit, unit_key};
+
+/// What a header name says about a column.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) enum Kind {
+    Time(Option<TimeUnit>),
+    /// A sample counter.
+    Index,
+    Rate(Option<RateUnit>),
+    Temp(Option<TempUnit>),
+    Other,
+}
+
+/// A header name split into base words and a unit.
+#[derive(Debug, Clone)]
+pub(super) struct NameParts {
+    /// Base name, lower case, without the unit.
+    pub(super) base: String,
+    /// Words of the base name.
+    words: Vec<String>,
+    /// The unit as written in brackets or after a comma, if any.
+    unit: Option<String>,
+}
+
+pub(super) fn name_parts(name: &str) -> NameParts {
+    let name = name.trim();
+    let mut base = name.to_string();
+    let mut unit = None;
+    if let Some(open) = name.find(['[', '(', '{']) {
+        let close = match name[open..].chars().next() {
+            Some('[') => ']',
+            Some('(') => ')',
+            _ => '}',
+        };
+        let inner_start = open + 1;
+        let inner_end = name[inner_start..]
+            .find(close)
+            .map_or(name.len(), |i| inner_start + i);
+        unit = Some(name[inner_start..inner_end].trim().to_string());
+        let after = name.get(inner_end + 1..).unwrap_or("");
+        base = format!("{} {}", &name[..open], after).trim().to_string();
+    } else if let Some(i) = name.rfind(',') {
+        let (b, u) = (&name[..i], name[i + 1..].trim());
+        if !u.is_empty() && u.chars().count() <= 12 {
+            unit = Some(u.to_string());
+            base = b.trim().to_string();
+        }
+    } else if let Some(i) = name.find(" in ") {
+        unit = Some(name[i + 4..].trim().to_string());
+        base = name[..i].trim().to_string();
+    }
+    let base = base.to_lowercase();
+    let words = base
+        .split(|c: char| !c.is_alphanumeric() && c != 'ω')
+        .filter(|w| !w.is_empty())
+        .map(str::to_string)
+        .collect();
+    NameParts { base, words, unit }
+}
+
+const TIME_WORDS: &[&str] = &[
+    "time",
+    "timestamp",
+    "t",
+    "sec",
+    "secs",
+    "seconds",
+    "elapsed",
+    "ts",
+    "uptime",
+    "время",
+    "zeit",
+];
+const INDEX_WORDS: &[&str] = &[
+    "sample", "samples", "n", "idx", "index", "no", "num", "nr", "counter", "cnt", "№",
+];
+const RATE_WORDS: &[&str] = &[
+    "omega",
+    "rate",
+    "gyro",
+    "gyr",
+    "drift",
+    "w",
+    "ω",
+    "angular",
+    "омега",
+    "дрейф",
+];
+const TEMP_WORDS: &[&str] = &[
+    "temp",
+    "temperature",
+    "tmp",
+    "tc",
+    "therm",
+    "thermistor",
+    "thermocouple",
+    "температура",
+    "темп",
+];
+
+/// Whether `word` is `kw` followed by nothing, digits, or an axis letter (`gyro2`, `wz`).
+fn word_is(word: &str, kw: &str) -> bool {
+    match word.strip_prefix(kw) {
+        Some("") => true,
+        Some(rest) => {
+            rest.chars().all(|c| c.is_ascii_digit())
+                || ((kw.len() > 1 || kw == "w") && matches!(rest, "x" | "y" | "z"))
+        }
+        None => false,
+    }
+}
+
+fn in_list(word: &str, list: &[&str]) -> bool {
+    list.iter().any(|kw| word_is(word, kw))
+}
+
+/// The unit named by the last words of a name (`gyro_x_rad_s` → `rad s`), if any.
+fn suffix_unit<T>(words: &[String], from_key: impl Fn(&str) -> Option<T>) -> Option<T> {
+    (0..words.len()).find_map(|i| from_key(&unit_key(&words[i..].concat())))
+}
+
+/// What a header name says, with a strength for ranking candidates (0 = nothing).
+pub(super) fn classify(name: &str) -> (Kind, u8) {
+    let p = name_parts(name);
+    let Some(first) = p.words.first() else {
+        return (Kind::Other, 0);
+    };
+    let rest = &p.words[1..];
+    let bracket = p.unit.as_deref().map(unit_key);
+    let temp_unit = || {
+        bracket
+            .as_deref()
+            .and_then(TempUnit::from_key)
+            .or_else(|| suffix_unit(rest, TempUnit::from_key))
+    };
+    let time_unit = || {
+        bracket
+            .as_deref()
+            .and_then(TimeUnit::from_key)
+            .or_else(|| suffix_unit(rest, TimeUnit::from_key))
+    };
+    let rate_unit = || {
+        bracket
+            .as_deref()
+            .and_then(RateUnit::from_key)
+            .or_else(|| suffix_unit(rest, RateUnit::from_key))
+            .or_else(|| {
+                // A unit glued to the word: omegadph.
+                RATE_WORDS.iter().find_map(|kw| {
+                    first
+                        .strip_prefix(kw)
+                        .filter(|r| !r.is_empty())
+                        .and_then(|r| RateUnit::from_key(&unit_key(r)))
+                })
+            })
+    };
+
+    // "t" alone is time unless a temperature unit says otherwise; "t1", "T2" are sensors.
+    if first == "t" {
+        if let Some(u) = temp_unit() {
+            return (Kind::Temp(Some(u)), 3);
+        }
+        if rest.is_empty() || time_unit().is_some() {
+            return (Kind::Time(time_unit()), 3);
+        }
+    }
+    if first.len() > 1 && first.starts_with('t') && first[1..].chars().all(|c| c.is_ascii_digit()) {
+        return (Kind::Temp(temp_unit()), 3);
+    }
+    if p.words.iter().any(|w| in_list(w, TEMP_WORDS)) {
+        return (Kind::Temp(temp_unit()), 3);
+    }
+    if in_list(first, TIME_WORDS) || (first.starts_with("time") && time_unit().is_some()) {
+        let implied = match first.as_str() {
+            "sec" | "secs" | "seconds" => Some(TimeUnit::Seconds),
+            _ => None,
+        };
+        return (Kind::Time(time_unit().or(implied)), 3);
+    }
+    if in_list(first, RATE_WORDS)
+        || RATE_WORDS
+            .iter()
+            .any(|kw| first.starts_with(kw) && rate_unit().is_some())
+    {
+        return (Kind::Rate(rate_unit()), 3);
+    }
+    if in_list(first, INDEX_WORDS) {
+        return (Kind::Index, 1);
+    }
+    if rest.is_empty() {
+        if let Some(u) = TimeUnit::from_key(first).filter(|u| *u != TimeUnit::Samples) {
+            return (Kind::Time(Some(u)), 2);
+        }
+        if let Some(u) = RateUnit::from_key(first) {
+            return (Kind::Rate(Some(u)), 2);
+        }
+    }
+    if rest.iter().any(|w| in_list(w, RATE_WORDS)) {
+        return (Kind::Rate(rate_unit()), 2);
+    }
+    if rest.iter().any(|w| w == "time") {
+        return (Kind::Time(time_unit()), 2);
+    }
+    // Only the unit speaks.
+    if let Some(b) = bracket.as_deref() {
+        let raw = p.unit.as_deref().unwrap_or("");
+        if let Some(u) = RateUnit::from_key(b).filter(|_| raw.contains('/') || b.len() > 2) {
+            return (Kind::Rate(Some(u)), 2);
+        }
+        if let Some(u) = TempUnit::from_key(b) {
+            return (Kind::Temp(Some(u)), 2);
+        }
+        if let Some(u) = TimeUnit::from_key(b).filter(|u| *u != TimeUnit::Samples) {
+            return (Kind::Time(Some(u)), 1);
+        }
+    }
+    (Kind::Other, 0)
+}
+
+/// The rate unit a header name states (`omega_dph`, `Rate [deg/s]`), for the one-column
+/// reader, which has no other columns to rank it against.
+pub(crate) fn rate_unit_of_name(name: &str) -> Option<RateUnit> {
+    match classify(name).0 {
+        Kind::Rate(u) => u,
+        _ => None,
+    }
+}
+
+/// The unit text of a kept extra column, as the header wrote it.
+pub(super) fn raw_unit(name: &str) -> String {
+    name_parts(name).unit.unwrap_or_default()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names() {
+        let k = |s: &str| classify(s).0;
+        assert_eq!(k("time"), Kind::Time(None));
+        assert_eq!(k("t"), Kind::Time(None));
+        assert_eq!(k("Time [ms]"), Kind::Time(Some(TimeUnit::Millis)));
+        assert_eq!(k("time_ms"), Kind::Time(Some(TimeUnit::Millis)));
+        assert_eq!(k("t_min"), Kind::Time(Some(TimeUnit::Minutes)));
+        assert_eq!(k("t [min]"), Kind::Time(Some(TimeUnit::Minutes)));
+        assert_eq!(k("sec"), Kind::Time(Some(TimeUnit::Seconds)));
+        assert_eq!(k("timestamp"), Kind::Time(None));
+        assert_eq!(k("time_s"), Kind::Time(Some(TimeUnit::Seconds)));
+        assert_eq!(k("omega"), Kind::Rate(None));
+        assert_eq!(k("omega_dph"), Kind::Rate(Some(RateUnit::DegPerHour)));
+        assert_eq!(k("gyro_x_rad_s"), Kind::Rate(Some(RateUnit::RadPerSec)));
+        assert_eq!(k("Rate (deg/s)"), Kind::Rate(Some(RateUnit::DegPerSec)));
+        assert_eq!(k("rate_dps"), Kind::Rate(Some(RateUnit::DegPerSec)));
+        assert_eq!(k("w"), Kind::Rate(None));
+        assert_eq!(k("drift"), Kind::Rate(None));
+        assert_eq!(k("temp"), Kind::Temp(None));
+        assert_eq!(k("t_c"), Kind::Temp(Some(TempUnit::Celsius)));
+        assert_eq!(k("temperature"), Kind::Temp(None));
+        assert_eq!(k("Temp [°C]"), Kind::Temp(Some(TempUnit::Celsius)));
+        assert_eq!(k("T1"), Kind::Temp(None));
+        assert_eq!(k("temp2_K"), Kind::Temp(Some(TempUnit::Kelvin)));
+        assert_eq!(k("T, °C"), Kind::Temp(Some(TempUnit::Celsius)));
+        assert_eq!(k("gyro_temp"), Kind::Temp(None));
+        assert_eq!(k("sample"), Kind::Index);
+        assert_eq!(k("laser_power [mW]"), Kind::Other);
+        assert_eq!(k("status"), Kind::Other);
+    }
+}
