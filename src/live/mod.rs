@@ -30,6 +30,7 @@ mod correction;
 mod evaluate;
 mod plateaus;
 mod sets;
+mod terms;
 #[cfg(test)]
 mod tests;
 
@@ -44,12 +45,13 @@ use crate::recipe::{PlateauChoice, Recipe, Weighting};
 use crate::session::{Coefficient, KnotEdits};
 use crate::signal::{self, DerivativeSteps, Derivatives};
 use cache::*;
-use correction::{BaseTerms, CorrectionBuf};
+use correction::CorrectionBuf;
 use evaluate::evaluation;
 use rayon::prelude::*;
 use sets::{apply_knot_edits, fit_set};
 use std::sync::Arc;
 use std::time::Instant;
+use terms::Terms;
 
 /// What to fit.
 #[derive(Debug, Clone)]
@@ -179,8 +181,8 @@ pub struct Pipeline {
     samples: Option<SamplesCache>,
     /// `Ω_f − K0(T)` over the calibration log.
     rest: Option<RestCache>,
-    /// `K0(T) + K1(Ṫ)·Ṫ` per sample, for patching a correction when only K2 changes.
-    base: Option<BaseTerms>,
+    /// Each regime's samples with `K0(T)` and `K1(Ṫ)·Ṫ` kept, for patching a correction.
+    terms: Terms,
     /// The plateau ranges of the last run, with the signals and plateau choice they came from.
     ranges: Option<(usize, PlateauChoice, Vec<PlateauRange>)>,
 }
