@@ -37,8 +37,12 @@ impl Pipeline {
             unreachable!("the buffer was just found unshared")
         };
         let prefix = &mut self.prefix;
+        let kept = &mut self.merit_filtered;
         let (figures, ()) = rayon::join(
-            || crate::metrics::figures(&corrected.cor_dph, dt_s, corrected.ready_from, merit),
+            || {
+                let (x, skip) = (&corrected.cor_dph, corrected.ready_from);
+                crate::metrics::figures_buffered(x, dt_s, skip, merit, kept)
+            },
             || moving_average_centered_into(&corrected.cor_dph, filter, prefix, out),
         );
         self.evaluated = Some(EvalCache {

@@ -177,6 +177,8 @@ pub struct Pipeline {
     spare_filtered: Option<Arc<Vec<f64>>>,
     /// Scratch prefix sums of the display average.
     prefix: Vec<f64>,
+    /// Scratch filtered drift of the figures of merit.
+    merit_filtered: Vec<f64>,
     /// The per-set samples the pointwise K1/K2 are made from.
     samples: Option<SamplesCache>,
     /// `Ω_f − K0(T)` over the calibration log.
