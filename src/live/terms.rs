@@ -43,6 +43,9 @@ pub(super) struct Terms {
     k0_of: Option<Approx>,
     /// `[+, −]`.
     sets: [RegimeSamples; 2],
+    /// Samples of each regime the last patch recomputed (for the tests).
+    #[cfg(test)]
+    pub(super) patched: [usize; 2],
 }
 
 impl Terms {
@@ -151,6 +154,10 @@ impl Terms {
             sets: changed,
             ranges: recount,
         } = changed;
+        #[cfg(test)]
+        {
+            self.patched = [0, 0];
+        }
         if !changed.contains(&true) {
             return;
         }
@@ -211,6 +218,10 @@ impl Terms {
         for s in 0..2 {
             if recount[s] {
                 c.outside_by_regime[s + 1] = counts[s + 1];
+            }
+            #[cfg(test)]
+            if changed[s] {
+                self.patched[s] = self.sets[s].idx.len();
             }
         }
         c.update_outside_fraction();

@@ -1,7 +1,7 @@
 //! The live loop held to the batch path: fits, corrections, figures and display series.
 
 use super::*;
-use crate::approx::ApproxKind;
+use crate::approx::{Approx, ApproxKind};
 
 fn sample_log() -> Arc<Log> {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("sample_logs/calibration.csv");
@@ -253,4 +253,56 @@ fn knot_edits_follow_with_the_engines_k2_points() {
     let mut w = Vec::new();
     let k2 = model::fit_points("K2-", &recipe.k2_minus, &p2, recipe.weighting, &mut w);
     assert_eq!(out2.calibration.k2_minus, k2);
+}
+
+#[test]
+fn a_patch_over_one_regimes_samples_is_a_whole_correction() {
+    // Each edit is patched into the correction before it over the samples of one regime only;
+    // every result equals a correction made afresh. A K1+ drag (K2+ refitted on what it
+    // leaves), a K2+ drag, a K1− drag, back again, and a change of K2+'s kind.
+    let log = sample_log();
+    let recipe = Recipe {
+        k1_plus: ApproxSpec::of(ApproxKind::Pwl),
+        k2_plus: ApproxSpec::of(ApproxKind::Pwl),
+        k1_minus: ApproxSpec::of(ApproxKind::Pwl),
+        ..Recipe::default()
+    };
+    let mut p = Pipeline::new();
+    let first = request(&log, recipe.clone());
+    let out = p.run(&first).unwrap();
+    judged_afresh(&log, &first, &out);
+    let regime_samples = |r: Regime| {
+        let c = &out.in_sample.corrected;
+        c.regime.iter().filter(|&&x| x == r).count()
+    };
+    let (plus, minus) = (regime_samples(Regime::Plus), regime_samples(Regime::Minus));
+    assert!(plus > 0 && minus > 0);
+    let dragged = |a: &Approx, j: usize, by: f64| {
+        let mut v = a.knots().1.to_vec();
+        v[j] += by;
+        Some(v)
+    };
+    let cal = &out.calibration;
+    let mut k1p = first.clone();
+    k1p.knots.k1_plus = dragged(&cal.k1_plus, 2, 30.0);
+    let mut k2p = k1p.clone();
+    k2p.knots.k2_plus = dragged(&cal.k2_plus, 1, -4.0);
+    let mut k1m = k2p.clone();
+    k1m.knots.k1_minus = dragged(&cal.k1_minus, 3, 12.0);
+    let mut kind = first.clone();
+    kind.recipe.k2_plus.kind = ApproxKind::Parabolic;
+    kind.recipe.k2_plus.extrapolate = true;
+    for (r, patched) in [
+        (&k1p, [plus, 0]),
+        (&k2p, [plus, 0]),
+        (&k1m, [0, minus]),
+        (&k2p, [0, minus]),
+        (&first, [plus, 0]),
+        (&kind, [plus, 0]),
+        (&first, [plus, 0]),
+    ] {
+        let out = p.run(r).unwrap();
+        judged_afresh(&log, r, &out);
+        assert_eq!(p.terms.patched, patched);
+    }
 }
