@@ -131,7 +131,8 @@ fn figures_kept(
                     buf.clear();
                     buf.resize(len, 0.0);
                 }
-                // The same walks in the same pairs, each value also stored at its place.
+                // The same walks in the same pairs, each value also stored at its place; the
+                // extremes are found afterwards from the stored values (`kept_extremes`).
                 let pairs: Vec<_> = buf
                     .par_chunks_mut(2 * SEGMENT)
                     .enumerate()
@@ -149,12 +150,12 @@ fn figures_kept(
                             |v| {
                                 oa[ja] = v;
                                 ja += 1;
-                                step(&mut a, v);
+                                a.2 += v;
                             },
                             |v| {
                                 ob[jb] = v;
                                 jb += 1;
-                                step(&mut b, v);
+                                b.2 += v;
                             },
                         );
                         (a, kb.map(|_| b))
@@ -167,10 +168,13 @@ fn figures_kept(
                     .collect()
             }
         };
-        let (lo, hi, sum) = parts
+        let (mut lo, mut hi, sum) = parts
             .into_iter()
             .reduce(|a, b| (a.0.min(b.0), a.1.max(b.1), a.2 + b.2))
             .unwrap_or((0.0, 0.0, 0.0));
+        if let Some(buf) = keep.as_deref() {
+            (lo, hi) = kept_extremes(buf);
+        }
         let m = sum / len as f64;
         let squares: Vec<f64> = match keep {
             None => over_segment_pairs(segments, |ka, kb| {
@@ -302,6 +306,55 @@ fn figures_kept(
         windows: means.len(),
         samples: x.len(),
     }
+}
+
+/// The smallest and largest of the filtered drift kept by [`figures_buffered`], as the walk
+/// of [`figures`] finds them (each segment folded in order with `f64::min` and `f64::max`
+/// from ±∞, the segments' extremes folded in order), the same bits.
+///
+/// That walk's folds are chains, each step waiting on the one before; here each part of the
+/// record is folded by four independent chains of comparisons instead. Both ignore NaN, so
+/// both give the smallest (largest) number of the record, whatever the order, and a number
+/// other than zero has one representation. Only a zero extreme, whose sign the order of the folds may decide,
+/// is found again by the walk's own folds.
+fn kept_extremes(filtered: &[f64]) -> (f64, f64) {
+    use rayon::prelude::*;
+    // A comparison that a NaN fails keeps the extreme, as `f64::min` and `f64::max` do; it is
+    // one instruction where those take several to tell NaN apart.
+    let lanes = |part: &[f64]| {
+        let (mut lo, mut hi) = ([f64::INFINITY; 4], [f64::NEG_INFINITY; 4]);
+        let quads = part.chunks_exact(4);
+        for &v in quads.remainder() {
+            lo[0] = if v < lo[0] { v } else { lo[0] };
+            hi[0] = if v > hi[0] { v } else { hi[0] };
+        }
+        for q in quads {
+            for k in 0..4 {
+                lo[k] = if q[k] < lo[k] { q[k] } else { lo[k] };
+                hi[k] = if q[k] > hi[k] { q[k] } else { hi[k] };
+            }
+        }
+        let lo = lo.into_iter().fold(f64::INFINITY, f64::min);
+        let hi = hi.into_iter().fold(f64::NEG_INFINITY, f64::max);
+        (lo, hi)
+    };
+    let (lo, hi) = filtered.par_chunks(SEGMENT).map(lanes).reduce(
+        || (f64::INFINITY, f64::NEG_INFINITY),
+        |a, b| (a.0.min(b.0), a.1.max(b.1)),
+    );
+    if lo != 0.0 && hi != 0.0 {
+        return (lo, hi);
+    }
+    filtered
+        .chunks(SEGMENT)
+        .map(|seg| {
+            seg.iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |a, &v| {
+                    (a.0.min(v), a.1.max(v))
+                })
+        })
+        .reduce(|a, b| (a.0.min(b.0), a.1.max(b.1)))
+        .unwrap_or((0.0, 0.0))
 }
 
 /// Raw against corrected, with the improvement ratios (raw ÷ corrected: above 1 is better).
@@ -684,6 +737,49 @@ mod tests {
                     "{n} {skip} {opts:?}"
                 );
             }
+        }
+    }
+
+    #[test]
+    fn kept_extremes_are_the_walks_even_at_signed_zeros_and_nan() {
+        let walk = |x: &[f64]| {
+            x.chunks(SEGMENT)
+                .map(|seg| {
+                    seg.iter()
+                        .fold((f64::INFINITY, f64::NEG_INFINITY), |a, &v| {
+                            (a.0.min(v), a.1.max(v))
+                        })
+                })
+                .reduce(|a, b| (a.0.min(b.0), a.1.max(b.1)))
+                .unwrap_or((0.0, 0.0))
+        };
+        let bits = |(a, b): (f64, f64)| (a.to_bits(), b.to_bits());
+        let mut cases: Vec<Vec<f64>> = vec![
+            vec![0.0, -0.0, 0.0, -0.0, -0.0],
+            vec![-0.0, 0.0, 1.0],
+            vec![0.0, -0.0, -1.0],
+            vec![f64::NAN, -0.0, 0.0, f64::NAN, 0.0],
+            vec![f64::NAN; 7],
+            vec![f64::INFINITY, f64::NAN, -3.0],
+        ];
+        let long: Vec<f64> = (0..3 * SEGMENT + 5)
+            .map(|i| match i % 9 {
+                0 => -0.0,
+                1 => 0.0,
+                2 => f64::NAN,
+                _ => (i as f64 * 0.1).sin(),
+            })
+            .collect();
+        cases.push(long.clone());
+        cases.push(long.iter().map(|v| v.abs()).collect());
+        cases.push(long.iter().map(|v| -v.abs()).collect());
+        for x in &cases {
+            assert_eq!(
+                bits(kept_extremes(x)),
+                bits(walk(x)),
+                "{:?}",
+                &x[..x.len().min(8)]
+            );
         }
     }
 
