@@ -15,7 +15,9 @@
 mod fit;
 mod knots;
 
-pub use fit::{CHUNK, FitOptions, PointSource, XRange, fit, fit_weighted, fit_with, x_range};
+pub use fit::{
+    CHUNK, FitOptions, PointSource, XRange, fit, fit_weighted, fit_with, fit_with_then, x_range,
+};
 pub use knots::{knot_positions, knot_weights};
 
 use knots::{Segments, Uniform};
