@@ -14,7 +14,15 @@
 //! * the raw figures of merit and the validation log's derivatives while they stay;
 //! * the plateau ranges while the signals and the plateau choice stay;
 //! * `Ω_f − K0(T)` while K0 stays, and the sets' sample indices while the plateaus stay;
-//! * `K0(T) + K1(Ṫ)·Ṫ` per sample, so that a K2 edit re-evaluates K2 alone.
+//! * each regime's samples with `K0(T)` and `K1(Ṫ)·Ṫ` per sample (`terms.rs`), so that a
+//!   patch of the correction walks only the samples of the set that changed, and a K2 edit
+//!   re-evaluates K2 alone.
+//!
+//! The files: this one holds the pipeline and its stages in order; `cache.rs` what is kept and
+//! under which key; `correction.rs` the kept corrections and their buffers; `terms.rs` the
+//! patch over one regime's samples; `sets.rs` each set's fit with hand-set knots; `evaluate.rs`
+//! the figures of merit and the validation log; `average.rs` the display series' centred
+//! moving average; `plateaus.rs` the plateau ranges and "Suggest plateaus".
 //!
 //! Knots set by hand ([`KnotEdits`]) replace the fitted knot values of their approximation;
 //! a hand-edited K1 is followed by a fresh K2 fit on what it leaves (unless K2's knots are
