@@ -152,7 +152,11 @@ pub fn fit_with<S: PointSource>(
     src: &S,
     opts: FitOptions,
 ) -> Result<Approx, FitError> {
-    fit_with_then(spec, src, opts, |_| ()).map(|(a, ())| a)
+    let (mut approx, sums) = fit_curve(spec, src, opts)?;
+    if opts.stats {
+        approx.stats = stats_of(&approx, src, sums);
+    }
+    Ok(approx)
 }
 
 /// [`fit_with`], and `then` of the fitted curve, run beside the pass that computes the
