@@ -65,12 +65,38 @@ const WINDOW_GROUP: usize = 1 << 16;
 /// the segments' sums are added in order. On a record of at most one segment the figures are
 /// those of one sequential walk to the bit.
 pub fn figures(omega_dph: &[f64], dt_s: f64, skip: usize, opts: &MeritOptions) -> Figures {
+    figures_kept(omega_dph, dt_s, skip, opts, None)
+}
+
+/// [`figures`], the same bits, with the filtered drift kept in `filtered` between its two walks
+/// (min/max/mean, then the variance) instead of computed twice. The workbench judges a
+/// correction on every edit and keeps the buffer between edits; there the second walk, one
+/// division per value, costs more than reading the buffer.
+pub fn figures_buffered(
+    omega_dph: &[f64],
+    dt_s: f64,
+    skip: usize,
+    opts: &MeritOptions,
+    filtered: &mut Vec<f64>,
+) -> Figures {
+    figures_kept(omega_dph, dt_s, skip, opts, Some(filtered))
+}
+
+/// [`figures`], keeping the filtered drift in `keep` when given.
+fn figures_kept(
+    omega_dph: &[f64],
+    dt_s: f64,
+    skip: usize,
+    opts: &MeritOptions,
+    keep: Option<&mut Vec<f64>>,
+) -> Figures {
+    use rayon::prelude::*;
     let x = &omega_dph[skip.min(omega_dph.len())..];
     if x.is_empty() {
         return Figures::default();
     }
-    // The filtered drift is walked twice (min/max/mean, then the variance) rather than kept:
-    // on a long log the buffer would cost more than the second walk.
+    // Without a buffer to keep it in, the filtered drift is walked twice (min/max/mean, then
+    // the variance): on a long log a fresh buffer would cost more than the second walk.
     let window = signal::seconds_to_samples(opts.filter_s, dt_s);
     let len = valid_len(x.len(), window);
     let segments = len.div_ceil(SEGMENT);
@@ -82,43 +108,117 @@ pub fn figures(omega_dph: &[f64], dt_s: f64, skip: usize, opts: &MeritOptions) -
         // own neutral element, in order) within each segment.
         let zero: f64 = std::iter::empty::<f64>().sum();
         let seg = |k: usize| (k * SEGMENT, ((k + 1) * SEGMENT).min(len));
-        let parts: Vec<(f64, f64, f64)> = over_segment_pairs(segments, |ka, kb| {
-            let acc0 = (f64::INFINITY, f64::NEG_INFINITY, zero);
-            let (mut a, mut b) = (acc0, acc0);
-            let step = |acc: &mut (f64, f64, f64), v: f64| {
-                *acc = (acc.0.min(v), acc.1.max(v), acc.2 + v);
-            };
-            moving_average_segments(
-                x,
-                window,
-                seg(ka),
-                kb.map(seg),
-                |v| step(&mut a, v),
-                |v| step(&mut b, v),
-            );
-            (a, b)
-        });
-        let (lo, hi, sum) = parts
+        let acc0 = (f64::INFINITY, f64::NEG_INFINITY, zero);
+        let step = |acc: &mut (f64, f64, f64), v: f64| {
+            *acc = (acc.0.min(v), acc.1.max(v), acc.2 + v);
+        };
+        let mut keep = keep;
+        let parts: Vec<(f64, f64, f64)> = match keep.as_deref_mut() {
+            None => over_segment_pairs(segments, |ka, kb| {
+                let (mut a, mut b) = (acc0, acc0);
+                moving_average_segments(
+                    x,
+                    window,
+                    seg(ka),
+                    kb.map(seg),
+                    |v| step(&mut a, v),
+                    |v| step(&mut b, v),
+                );
+                (a, b)
+            }),
+            Some(buf) => {
+                if buf.len() != len {
+                    buf.clear();
+                    buf.resize(len, 0.0);
+                }
+                // The same walks in the same pairs, each value also stored at its place; the
+                // extremes are found afterwards from the stored values (`kept_extremes`).
+                let pairs: Vec<_> = buf
+                    .par_chunks_mut(2 * SEGMENT)
+                    .enumerate()
+                    .map(|(p, out)| {
+                        let (ka, kb) = (2 * p, 2 * p + 1);
+                        let kb = (kb < segments).then_some(kb);
+                        let (oa, ob) = out.split_at_mut(SEGMENT.min(out.len()));
+                        let (mut a, mut b) = (acc0, acc0);
+                        let (mut ja, mut jb) = (0, 0);
+                        moving_average_segments(
+                            x,
+                            window,
+                            seg(ka),
+                            kb.map(seg),
+                            |v| {
+                                oa[ja] = v;
+                                ja += 1;
+                                a.2 += v;
+                            },
+                            |v| {
+                                ob[jb] = v;
+                                jb += 1;
+                                b.2 += v;
+                            },
+                        );
+                        (a, kb.map(|_| b))
+                    })
+                    .collect();
+                pairs
+                    .into_iter()
+                    .flat_map(|(a, b)| [Some(a), b])
+                    .flatten()
+                    .collect()
+            }
+        };
+        let (mut lo, mut hi, sum) = parts
             .into_iter()
             .reduce(|a, b| (a.0.min(b.0), a.1.max(b.1), a.2 + b.2))
             .unwrap_or((0.0, 0.0, 0.0));
+        if let Some(buf) = keep.as_deref() {
+            (lo, hi) = kept_extremes(buf);
+        }
         let m = sum / len as f64;
-        let var = over_segment_pairs(segments, |ka, kb| {
-            let (mut a, mut b) = (zero, zero);
-            moving_average_segments(
-                x,
-                window,
-                seg(ka),
-                kb.map(seg),
-                |v| a += (v - m).powi(2),
-                |v| b += (v - m).powi(2),
-            );
-            (a, b)
-        })
-        .into_iter()
-        .reduce(|a, b| a + b)
-        .unwrap_or(0.0)
-            / len as f64;
+        let squares: Vec<f64> = match keep {
+            None => over_segment_pairs(segments, |ka, kb| {
+                let (mut a, mut b) = (zero, zero);
+                moving_average_segments(
+                    x,
+                    window,
+                    seg(ka),
+                    kb.map(seg),
+                    |v| a += (v - m).powi(2),
+                    |v| b += (v - m).powi(2),
+                );
+                (a, b)
+            }),
+            Some(buf) => {
+                // The kept values, summed per segment in order as the walk above sums them,
+                // two segments side by side.
+                let pairs: Vec<_> = buf
+                    .par_chunks(2 * SEGMENT)
+                    .map(|out| {
+                        let (oa, ob) = out.split_at(SEGMENT.min(out.len()));
+                        let (mut a, mut b) = (zero, zero);
+                        let n = oa.len().min(ob.len());
+                        for (&u, &v) in oa[..n].iter().zip(&ob[..n]) {
+                            a += (u - m).powi(2);
+                            b += (v - m).powi(2);
+                        }
+                        for &u in &oa[n..] {
+                            a += (u - m).powi(2);
+                        }
+                        for &v in &ob[n..] {
+                            b += (v - m).powi(2);
+                        }
+                        (a, (!ob.is_empty()).then_some(b))
+                    })
+                    .collect();
+                pairs
+                    .into_iter()
+                    .flat_map(|(a, b)| [Some(a), b])
+                    .flatten()
+                    .collect()
+            }
+        };
+        let var = squares.into_iter().reduce(|a, b| a + b).unwrap_or(0.0) / len as f64;
         (hi - lo, var.sqrt())
     };
     let w = signal::seconds_to_samples(opts.window_s, dt_s).max(1);
@@ -206,6 +306,55 @@ pub fn figures(omega_dph: &[f64], dt_s: f64, skip: usize, opts: &MeritOptions) -
         windows: means.len(),
         samples: x.len(),
     }
+}
+
+/// The smallest and largest of the filtered drift kept by [`figures_buffered`], as the walk
+/// of [`figures`] finds them (each segment folded in order with `f64::min` and `f64::max`
+/// from ±∞, the segments' extremes folded in order), the same bits.
+///
+/// That walk's folds are chains, each step waiting on the one before; here each part of the
+/// record is folded by four independent chains of comparisons instead. Both ignore NaN, so
+/// both give the smallest (largest) number of the record, whatever the order, and a number
+/// other than zero has one representation. Only a zero extreme, whose sign the order of the folds may decide,
+/// is found again by the walk's own folds.
+fn kept_extremes(filtered: &[f64]) -> (f64, f64) {
+    use rayon::prelude::*;
+    // A comparison that a NaN fails keeps the extreme, as `f64::min` and `f64::max` do; it is
+    // one instruction where those take several to tell NaN apart.
+    let lanes = |part: &[f64]| {
+        let (mut lo, mut hi) = ([f64::INFINITY; 4], [f64::NEG_INFINITY; 4]);
+        let quads = part.chunks_exact(4);
+        for &v in quads.remainder() {
+            lo[0] = if v < lo[0] { v } else { lo[0] };
+            hi[0] = if v > hi[0] { v } else { hi[0] };
+        }
+        for q in quads {
+            for k in 0..4 {
+                lo[k] = if q[k] < lo[k] { q[k] } else { lo[k] };
+                hi[k] = if q[k] > hi[k] { q[k] } else { hi[k] };
+            }
+        }
+        let lo = lo.into_iter().fold(f64::INFINITY, f64::min);
+        let hi = hi.into_iter().fold(f64::NEG_INFINITY, f64::max);
+        (lo, hi)
+    };
+    let (lo, hi) = filtered.par_chunks(SEGMENT).map(lanes).reduce(
+        || (f64::INFINITY, f64::NEG_INFINITY),
+        |a, b| (a.0.min(b.0), a.1.max(b.1)),
+    );
+    if lo != 0.0 && hi != 0.0 {
+        return (lo, hi);
+    }
+    filtered
+        .chunks(SEGMENT)
+        .map(|seg| {
+            seg.iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |a, &v| {
+                    (a.0.min(v), a.1.max(v))
+                })
+        })
+        .reduce(|a, b| (a.0.min(b.0), a.1.max(b.1)))
+        .unwrap_or((0.0, 0.0))
 }
 
 /// Raw against corrected, with the improvement ratios (raw ÷ corrected: above 1 is better).
@@ -530,6 +679,9 @@ mod tests {
                 let want = reference(&x, 1.0, skip, &opts);
                 let got = figures(&x, 1.0, skip, &opts);
                 assert_eq!(format!("{got:?}"), format!("{want:?}"), "{skip} {opts:?}");
+                let mut kept = vec![f64::NAN; 3];
+                let got = figures_buffered(&x, 1.0, skip, &opts, &mut kept);
+                assert_eq!(format!("{got:?}"), format!("{want:?}"), "{skip} {opts:?}");
             }
         }
     }
@@ -556,6 +708,78 @@ mod tests {
             (got.win_rms_max_dph, want.win_rms_max_dph),
         ] {
             assert!(close(a, b), "{got:?}\n{want:?}");
+        }
+    }
+
+    #[test]
+    fn buffered_figures_of_a_long_record_are_the_walked_ones() {
+        // Odd and even numbers of segments, a buffer reused across lengths, a window of one.
+        let x: Vec<f64> = (0..300_000)
+            .map(|i| (i as f64 * 1.3e-4).sin() * 30.0 - 4.0 + (i % 11) as f64 * 1e-2)
+            .collect();
+        let mut kept = Vec::new();
+        for (n, skip) in [
+            (300_000, 7),
+            (3 * SEGMENT + 99, 0),
+            (2 * SEGMENT + 99, 0),
+            (SEGMENT, 5),
+        ] {
+            for filter_s in [100.0, 1.0] {
+                let opts = MeritOptions {
+                    filter_s,
+                    window_s: 600.0,
+                };
+                let want = figures(&x[..n], 1.0, skip, &opts);
+                let got = figures_buffered(&x[..n], 1.0, skip, &opts, &mut kept);
+                assert_eq!(
+                    format!("{got:?}"),
+                    format!("{want:?}"),
+                    "{n} {skip} {opts:?}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn kept_extremes_are_the_walks_even_at_signed_zeros_and_nan() {
+        let walk = |x: &[f64]| {
+            x.chunks(SEGMENT)
+                .map(|seg| {
+                    seg.iter()
+                        .fold((f64::INFINITY, f64::NEG_INFINITY), |a, &v| {
+                            (a.0.min(v), a.1.max(v))
+                        })
+                })
+                .reduce(|a, b| (a.0.min(b.0), a.1.max(b.1)))
+                .unwrap_or((0.0, 0.0))
+        };
+        let bits = |(a, b): (f64, f64)| (a.to_bits(), b.to_bits());
+        let mut cases: Vec<Vec<f64>> = vec![
+            vec![0.0, -0.0, 0.0, -0.0, -0.0],
+            vec![-0.0, 0.0, 1.0],
+            vec![0.0, -0.0, -1.0],
+            vec![f64::NAN, -0.0, 0.0, f64::NAN, 0.0],
+            vec![f64::NAN; 7],
+            vec![f64::INFINITY, f64::NAN, -3.0],
+        ];
+        let long: Vec<f64> = (0..3 * SEGMENT + 5)
+            .map(|i| match i % 9 {
+                0 => -0.0,
+                1 => 0.0,
+                2 => f64::NAN,
+                _ => (i as f64 * 0.1).sin(),
+            })
+            .collect();
+        cases.push(long.clone());
+        cases.push(long.iter().map(|v| v.abs()).collect());
+        cases.push(long.iter().map(|v| -v.abs()).collect());
+        for x in &cases {
+            assert_eq!(
+                bits(kept_extremes(x)),
+                bits(walk(x)),
+                "{:?}",
+                &x[..x.len().min(8)]
+            );
         }
     }
 

@@ -152,6 +152,42 @@ pub fn fit_with<S: PointSource>(
     src: &S,
     opts: FitOptions,
 ) -> Result<Approx, FitError> {
+    let (mut approx, sums) = fit_curve(spec, src, opts)?;
+    if opts.stats {
+        approx.stats = stats_of(&approx, src, sums);
+    }
+    Ok(approx)
+}
+
+/// [`fit_with`], and `then` of the fitted curve, run beside the pass that computes the
+/// statistics when they are asked for (they change nothing `then` may read of the curve): a
+/// caller whose next step needs the curve alone, as the K2 fit needs K1, overlaps the two.
+///
+/// # Errors
+/// As [`fit_with`] (`then` is not called).
+pub fn fit_with_then<S: PointSource, T: Send>(
+    spec: &ApproxSpec,
+    src: &S,
+    opts: FitOptions,
+    then: impl FnOnce(&Approx) -> T + Send,
+) -> Result<(Approx, T), FitError> {
+    let (mut approx, sums) = fit_curve(spec, src, opts)?;
+    if !opts.stats {
+        let t = then(&approx);
+        return Ok((approx, t));
+    }
+    let (stats, t) = rayon::join(|| stats_of(&approx, src, sums), || then(&approx));
+    approx.stats = stats;
+    Ok((approx, t))
+}
+
+/// The curve of [`fit_with`], with the sums its statistics start from (its stats hold `n`
+/// only).
+fn fit_curve<S: PointSource>(
+    spec: &ApproxSpec,
+    src: &S,
+    opts: FitOptions,
+) -> Result<(Approx, Sums), FitError> {
     let needed = match spec.kind {
         ApproxKind::Pwl | ApproxKind::Spline if spec.knots < 2 => {
             return Err(FitError::TooFewKnots(spec.kind));
@@ -186,7 +222,7 @@ pub fn fit_with<S: PointSource>(
     };
     if sums.n != got {
         // The range given was not that of the usable points: find it.
-        return fit_with(
+        return fit_curve(
             spec,
             src,
             FitOptions {
@@ -201,7 +237,7 @@ pub fn fit_with<S: PointSource>(
         }
         Curve::Polynomial { .. } => (lo, hi),
     };
-    let mut approx = Approx::new(
+    let approx = Approx::new(
         spec.kind,
         curve,
         lo,
@@ -217,10 +253,7 @@ pub fn fit_with<S: PointSource>(
         needed,
         got,
     })?;
-    if opts.stats {
-        approx.stats = stats_of(&approx, src, sums);
-    }
-    Ok(approx)
+    Ok((approx, sums))
 }
 
 /// Count, Σw and Σw·y of the points a fit used, gathered while accumulating.

@@ -19,6 +19,46 @@ pub(super) struct Segments {
     inv_step: f64,
     /// Per segment, `c0 + c1·u + c2·u² + c3·u³`.
     coeffs: Vec<[f64; 4]>,
+    /// Equally spaced knots only: each segment's start, width and cubic side by side, so that
+    /// the hot loop reads one small record per sample ([`Uniform`]).
+    flat: Vec<Flat>,
+}
+
+/// A segment as the uniform evaluator reads it: its left knot, its width (the same difference
+/// [`Segments::eval`] takes, so the same bits) and its cubic.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Flat {
+    x0: f64,
+    width: f64,
+    c: [f64; 4],
+}
+
+/// [`Segments::eval`] for equally spaced knots, with everything it recomputes per call (the
+/// last segment's index as a float, the knot and coefficient lookups) taken out of the loop.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Uniform<'a> {
+    first: f64,
+    inv_step: f64,
+    last_f: f64,
+    last: usize,
+    flat: &'a [Flat],
+}
+
+impl Uniform<'_> {
+    /// [`Segments::eval`], bit for bit.
+    #[inline(always)]
+    pub(super) fn eval(&self, x: f64) -> f64 {
+        let t = (x - self.first) * self.inv_step;
+        let i = if t < self.last_f {
+            t as u32 as usize
+        } else {
+            self.last
+        };
+        let s = &self.flat[i];
+        let u = ((x - s.x0) / s.width).clamp(0.0, 1.0);
+        let c = &s.c;
+        ((c[3] * u + c[2]) * u + c[1]) * u + c[0]
+    }
 }
 
 impl Segments {
@@ -29,7 +69,7 @@ impl Segments {
         };
         let spline = build_spline(curve);
         let n = knots_x.len();
-        let coeffs = (0..n - 1)
+        let coeffs: Vec<[f64; 4]> = (0..n - 1)
             .map(|i| {
                 let (a, b) = (knots_x[i], knots_x[i + 1]);
                 let at = |u: f64| {
@@ -59,16 +99,41 @@ impl Segments {
             .iter()
             .enumerate()
             .all(|(j, &x)| (x - (knots_x[0] + h * j as f64)).abs() <= 1e-12 * h.abs().max(1e-300));
+        let flat = if uniform {
+            coeffs
+                .iter()
+                .enumerate()
+                .map(|(i, &c)| Flat {
+                    x0: knots_x[i],
+                    width: knots_x[i + 1] - knots_x[i],
+                    c,
+                })
+                .collect()
+        } else {
+            Vec::new()
+        };
         Some(Segments {
             knots_x: knots_x.clone(),
             inv_step: if uniform { 1.0 / h } else { 0.0 },
             coeffs,
+            flat,
         })
     }
 
     /// The knot positions, `1/h` (0 when not equally spaced) and the per-segment cubics.
     pub(super) fn parts(&self) -> (&[f64], f64, &[[f64; 4]]) {
         (&self.knots_x, self.inv_step, &self.coeffs)
+    }
+
+    /// The uniform evaluator, when the knots are equally spaced.
+    pub(super) fn uniform(&self) -> Option<Uniform<'_>> {
+        (self.inv_step > 0.0 && !self.flat.is_empty()).then(|| Uniform {
+            first: self.knots_x[0],
+            inv_step: self.inv_step,
+            last_f: (self.knots_x.len() - 2) as f64,
+            last: self.knots_x.len() - 2,
+            flat: &self.flat,
+        })
     }
 
     /// Value at `x` inside the knots.

@@ -15,10 +15,12 @@
 mod fit;
 mod knots;
 
-pub use fit::{CHUNK, FitOptions, PointSource, XRange, fit, fit_weighted, fit_with, x_range};
+pub use fit::{
+    CHUNK, FitOptions, PointSource, XRange, fit, fit_weighted, fit_with, fit_with_then, x_range,
+};
 pub use knots::{knot_positions, knot_weights};
 
-use knots::Segments;
+use knots::{Segments, Uniform};
 use serde::{Deserialize, Serialize};
 use std::fmt;
 use std::str::FromStr;
@@ -370,18 +372,35 @@ impl Approx {
         } else {
             (self.x_min, self.x_max)
         };
-        let knots = match (&self.curve, &self.segments) {
-            (Curve::Pwl { knots_x, knots_y } | Curve::CatmullRom { knots_x, knots_y }, Some(s)) => {
-                Some((&knots_x[..], &knots_y[..], s))
+        let form = match (&self.curve, &self.segments, self.poly) {
+            (_, _, Some(c)) => Form::Poly(c),
+            (
+                Curve::Pwl { knots_x, knots_y } | Curve::CatmullRom { knots_x, knots_y },
+                Some(s),
+                _,
+            ) => {
+                let n = knots_x.len();
+                let ends = Ends {
+                    first: [knots_x[0], knots_y[0], knots_x[1], knots_y[1]],
+                    last: [
+                        knots_x[n - 1],
+                        knots_y[n - 1],
+                        knots_x[n - 2],
+                        knots_y[n - 2],
+                    ],
+                };
+                match s.uniform() {
+                    Some(u) => Form::Uniform(ends, u),
+                    None => Form::Knots(ends, s),
+                }
             }
-            _ => None,
+            _ => Form::Curve,
         };
         Evaluator {
             approx: self,
             lo,
             hi,
-            poly: self.poly,
-            knots,
+            form,
         }
     }
 
@@ -439,9 +458,28 @@ pub struct Evaluator<'a> {
     /// The clamp bounds (infinite when extrapolating: the same as not clamping a finite x).
     lo: f64,
     hi: f64,
-    poly: Option<[f64; 4]>,
-    /// A knot curve's knots and per-segment cubics.
-    knots: Option<(&'a [f64], &'a [f64], &'a Segments)>,
+    form: Form<'a>,
+}
+
+/// The end knots of a knot curve as [`edge_line`] takes them: `(x0, y0, x1, y1)` of the first
+/// knot and its neighbour, and of the last knot and its neighbour.
+#[derive(Debug, Clone, Copy)]
+struct Ends {
+    first: [f64; 4],
+    last: [f64; 4],
+}
+
+/// What an [`Evaluator`] does per sample.
+#[derive(Debug, Clone, Copy)]
+enum Form<'a> {
+    /// A polynomial of at most 4 coefficients.
+    Poly([f64; 4]),
+    /// A knot curve with equally spaced knots (every fitted one).
+    Uniform(Ends, Uniform<'a>),
+    /// A knot curve with knots set otherwise (a loaded file's).
+    Knots(Ends, &'a Segments),
+    /// Anything else, through [`Approx::eval_curve`].
+    Curve,
 }
 
 impl Evaluator<'_> {
@@ -452,23 +490,30 @@ impl Evaluator<'_> {
             return 0.0;
         }
         let x = x.clamp(self.lo, self.hi);
-        if let Some(c) = &self.poly {
-            return ((c[3] * x + c[2]) * x + c[1]) * x + c[0];
-        }
-        match self.knots {
-            Some((kx, ky, segments)) => {
-                let n = kx.len();
-                if x <= kx[0] {
-                    edge_line(kx[0], ky[0], kx[1], ky[1], x)
-                } else if x >= kx[n - 1] {
-                    edge_line(kx[n - 1], ky[n - 1], kx[n - 2], ky[n - 2], x)
-                } else {
-                    segments.eval(x)
-                }
+        let (ends, inner) = match &self.form {
+            Form::Poly(c) => return ((c[3] * x + c[2]) * x + c[1]) * x + c[0],
+            Form::Uniform(e, u) => (e, Inner::Uniform(u)),
+            Form::Knots(e, s) => (e, Inner::Knots(s)),
+            Form::Curve => return self.approx.eval_curve(x),
+        };
+        let ([x0, y0, x1, y1], [xn, yn, xm, ym]) = (ends.first, ends.last);
+        if x <= x0 {
+            edge_line(x0, y0, x1, y1, x)
+        } else if x >= xn {
+            edge_line(xn, yn, xm, ym, x)
+        } else {
+            match inner {
+                Inner::Uniform(u) => u.eval(x),
+                Inner::Knots(s) => s.eval(x),
             }
-            None => self.approx.eval_curve(x),
         }
     }
+}
+
+/// The segment lookup of a knot curve's [`Form`].
+enum Inner<'a, 'b> {
+    Uniform(&'b Uniform<'a>),
+    Knots(&'b Segments),
 }
 
 /// The coefficients of a polynomial of degree at most 3, padded with zeros (the padding adds

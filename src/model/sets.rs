@@ -518,10 +518,34 @@ pub fn fit_set_from(
         if last && points {
             let p1 = k1_points_of(samples, inputs, k2.as_ref());
             let src1 = Gathered { p: &p1, drift };
-            k1 = fit_or_fallback_source(&name1, spec1, &src1, opts1, &mut warnings);
-            let p2 = k2_points_of(samples, inputs, &k1);
-            let src2 = Gathered { p: &p2, drift };
-            k2_fit = fit_or_fallback_source(&name2, spec2, &src2, opts2, &mut warnings);
+            // K2 needs K1's curve only, so it is fitted while K1's statistics are computed.
+            let k2_step = |k1: &Approx| {
+                let p2 = k2_points_of(samples, inputs, k1);
+                let src2 = Gathered { p: &p2, drift };
+                let mut w = Vec::new();
+                let k2 = fit_or_fallback_source(&name2, spec2, &src2, opts2, &mut w);
+                (p2, k2, w)
+            };
+            let (p2, k2_warnings);
+            (k1, (p2, k2_fit, k2_warnings)) =
+                match approx::fit_with_then(spec1, &src1, opts1, k2_step) {
+                    Ok(fitted) => fitted,
+                    Err(_) => {
+                        // As `fit_or_fallback_source` falls back.
+                        let (p, w) = collect_points(&src1);
+                        let k1 = fit_or_fallback_weighted(
+                            &name1,
+                            spec1,
+                            &p.x,
+                            &p.y,
+                            Some(&w),
+                            &mut warnings,
+                        );
+                        let k2 = k2_step(&k1);
+                        (k1, k2)
+                    }
+                };
+            warnings.extend(k2_warnings);
             out.k1_points = p1;
             out.k2_points = p2;
         } else {

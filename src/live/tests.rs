@@ -1,0 +1,308 @@
+//! The live loop held to the batch path: fits, corrections, figures and display series.
+
+use super::*;
+use crate::approx::{Approx, ApproxKind};
+
+fn sample_log() -> Arc<Log> {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("sample_logs/calibration.csv");
+    Arc::new(crate::ingest::read_path(&path, &Default::default()).expect("sample log reads"))
+}
+
+fn request(log: &Arc<Log>, recipe: Recipe) -> Request {
+    Request {
+        log: log.clone(),
+        merit: MeritOptions {
+            filter_s: recipe.filter_s,
+            ..MeritOptions::default()
+        },
+        recipe,
+        knots: KnotEdits::default(),
+        validation: None,
+    }
+}
+
+fn same(a: &Calibration, b: &Calibration) {
+    let strip = |c: &Calibration| Calibration {
+        created: String::new(),
+        ..c.clone()
+    };
+    assert_eq!(strip(a), strip(b));
+}
+
+#[test]
+fn staged_fit_is_the_engines_fit() {
+    let log = sample_log();
+    let mut recipe = Recipe {
+        k1_plus: ApproxSpec {
+            kind: ApproxKind::Spline,
+            knots: 6,
+            extrapolate: false,
+        },
+        ..Recipe::default()
+    };
+    let mut p = Pipeline::new();
+    let out = p.run(&request(&log, recipe.clone())).unwrap();
+    let fit = model::fit(&log, &recipe).unwrap();
+    same(&out.calibration, &fit.calibration);
+    assert_eq!(*out.k1_plus_points, fit.k1_plus_points);
+    assert_eq!(*out.k2_minus_points, fit.k2_minus_points);
+    assert_eq!(out.warnings, fit.warnings);
+
+    // The correction and figures are the engine's too.
+    let c = fit.calibration.correct_with(&log, &fit.prepared.deriv);
+    assert_eq!(out.in_sample.corrected.cor_dph, c.cor_dph);
+    assert_eq!(out.in_sample.corrected.regime, c.regime);
+    assert_eq!(out.in_sample.corrected.outside_fraction, c.outside_fraction);
+    let e = Evaluation::of_correction(&log, &c, &request(&log, recipe.clone()).merit);
+    assert_eq!(out.in_sample.evaluation, e);
+
+    // A change of K1− only refits the − set, and still equals a fit from scratch; its
+    // correction (only the − samples recomputed) equals a whole one.
+    recipe.k1_minus.kind = ApproxKind::Parabolic;
+    let out2 = p.run(&request(&log, recipe.clone())).unwrap();
+    let whole = out2.calibration.correct_with(&log, &out2.prepared.deriv);
+    assert_eq!(out2.in_sample.corrected.cor_dph, whole.cor_dph);
+    assert_eq!(out2.in_sample.corrected.pred_dph, whole.pred_dph);
+    assert_eq!(
+        out2.in_sample.corrected.outside_fraction,
+        whole.outside_fraction
+    );
+    assert_eq!(out2.timings.prepare_ms, 0.0);
+    assert_eq!(out2.timings.plateaus_ms, 0.0);
+    assert!(Arc::ptr_eq(&out.k1_plus_points, &out2.k1_plus_points));
+    let fit2 = model::fit(&log, &recipe).unwrap();
+    same(&out2.calibration, &fit2.calibration);
+}
+
+#[test]
+fn a_k2_kind_change_with_the_kept_first_k1_is_the_engines_fit() {
+    // The + set refits from the first pass's K1 kept from the run before; the − set and
+    // the kept K1 of other specs must not leak in either.
+    let log = sample_log();
+    let mut recipe = Recipe::default();
+    let mut p = Pipeline::new();
+    p.run(&request(&log, recipe.clone())).unwrap();
+    for (kind, k1_minus) in [
+        (ApproxKind::Parabolic, ApproxKind::Linear),
+        (ApproxKind::Pwl, ApproxKind::Linear),
+        (ApproxKind::Linear, ApproxKind::Parabolic),
+        (ApproxKind::Spline, ApproxKind::Parabolic),
+    ] {
+        recipe.k2_plus.kind = kind;
+        recipe.k1_minus.kind = k1_minus;
+        let req = request(&log, recipe.clone());
+        let out = p.run(&req).unwrap();
+        let fit = model::fit(&log, &recipe).unwrap();
+        same(&out.calibration, &fit.calibration);
+        assert_eq!(*out.k1_plus_points, fit.k1_plus_points);
+        assert_eq!(*out.k2_plus_points, fit.k2_plus_points);
+        assert_eq!(*out.k2_minus_points, fit.k2_minus_points);
+        assert_eq!(out.warnings, fit.warnings);
+        judged_afresh(&log, &req, &out);
+    }
+}
+
+#[test]
+fn hand_set_knots_replace_the_fitted_ones_and_k2_follows() {
+    let log = sample_log();
+    let recipe = Recipe {
+        k1_plus: ApproxSpec {
+            kind: ApproxKind::Pwl,
+            knots: 4,
+            extrapolate: false,
+        },
+        ..Recipe::default()
+    };
+    let mut p = Pipeline::new();
+    let out = p.run(&request(&log, recipe.clone())).unwrap();
+    let mut values = out.calibration.k1_plus.knots().1.to_vec();
+    values[1] += 50.0;
+    let mut req = request(&log, recipe);
+    req.knots.k1_plus = Some(values.clone());
+    let out2 = p.run(&req).unwrap();
+    assert_eq!(out2.calibration.k1_plus.knots().1, &values[..]);
+    assert_ne!(out2.calibration.k2_plus, out.calibration.k2_plus);
+    assert_eq!(out2.calibration.k1_minus, out.calibration.k1_minus);
+    // A list of the wrong length is ignored.
+    req.knots.k1_plus = Some(vec![1.0; 3]);
+    let out3 = p.run(&req).unwrap();
+    assert_eq!(out3.calibration.k1_plus, out.calibration.k1_plus);
+}
+
+/// The correction, figures and display series of `out` are the engine's, made afresh.
+fn judged_afresh(log: &Arc<Log>, req: &Request, out: &Outcome) {
+    let c = out.calibration.correct_with(log, &out.prepared.deriv);
+    let got = &out.in_sample.corrected;
+    assert_eq!(got.pred_dph, c.pred_dph);
+    assert_eq!(got.cor_dph, c.cor_dph);
+    assert_eq!(got.regime, c.regime);
+    assert_eq!(got.outside_by_regime, c.outside_by_regime);
+    assert_eq!(got.outside_fraction, c.outside_fraction);
+    assert_eq!(got.ready_from, c.ready_from);
+    assert_eq!(
+        out.in_sample.evaluation,
+        Evaluation::of_correction(log, &c, &req.merit)
+    );
+    let filter = signal::seconds_to_samples(req.merit.filter_s, out.prepared.dt_s).max(1);
+    assert_eq!(
+        *out.in_sample.cor_filtered_dph,
+        signal::moving_average_centered(&c.cor_dph, filter)
+    );
+}
+
+#[test]
+fn reused_buffers_give_a_fresh_correction() {
+    let log = sample_log();
+    let base = Recipe {
+        k1_plus: ApproxSpec::of(ApproxKind::Pwl),
+        k2_plus: ApproxSpec::of(ApproxKind::Pwl),
+        k2_minus: ApproxSpec::of(ApproxKind::Pwl),
+        ..Recipe::default()
+    };
+    let mut p = Pipeline::new();
+    let first = request(&log, base.clone());
+    let out = p.run(&first).unwrap();
+    judged_afresh(&log, &first, &out);
+    let k1p = out.calibration.k1_plus.knots().1.to_vec();
+    let k2m = out.calibration.k2_minus.knots().1.to_vec();
+    // A sequence of edits touching one set, the other, both, K0 and nothing; each outcome
+    // is kept for a while (the UI holds it) or dropped at once (its buffers are reused).
+    let mut reqs = Vec::new();
+    for j in 0..6 {
+        let mut r = request(&log, base.clone());
+        let mut v = k1p.clone();
+        v[1] += 10.0 * j as f64;
+        r.knots.k1_plus = Some(v);
+        if j % 2 == 1 {
+            let mut v = k2m.clone();
+            v[0] -= 3.0 * j as f64;
+            r.knots.k2_minus = Some(v);
+        }
+        reqs.push(r);
+    }
+    let mut other = request(&log, base.clone());
+    other.recipe.k2_minus.kind = ApproxKind::Parabolic;
+    reqs.push(other.clone());
+    reqs.push(other);
+    let mut k0 = request(&log, base.clone());
+    k0.recipe.k0.kind = ApproxKind::Linear;
+    reqs.push(k0);
+    reqs.push(first.clone());
+    let mut merit = first.clone();
+    merit.merit.window_s = 300.0;
+    reqs.push(merit);
+    let mut held: Vec<(Request, Outcome)> = Vec::new();
+    for (j, r) in reqs.iter().enumerate() {
+        let out = p.run(r).unwrap();
+        judged_afresh(&log, r, &out);
+        // Held outcomes are never written to by later runs.
+        for (hr, h) in &held {
+            judged_afresh(&log, hr, h);
+        }
+        if j % 3 != 0 {
+            held.push((r.clone(), out));
+        }
+        if held.len() > 2 {
+            held.remove(0);
+        }
+    }
+    // A free buffer made with another K0 while the UI holds the one to patch: copied into.
+    held.clear();
+    let k0 = &reqs[8];
+    judged_afresh(&log, k0, &p.run(k0).unwrap());
+    let kept = p.run(&first).unwrap();
+    let edit = &reqs[3];
+    let out = p.run(edit).unwrap();
+    judged_afresh(&log, edit, &out);
+    judged_afresh(&log, &first, &kept);
+}
+
+#[test]
+fn knot_edits_follow_with_the_engines_k2_points() {
+    let log = sample_log();
+    let recipe = Recipe {
+        k1_minus: ApproxSpec::of(ApproxKind::Pwl),
+        refinements: 2,
+        ..Recipe::default()
+    };
+    let mut p = Pipeline::new();
+    let req = request(&log, recipe.clone());
+    let out = p.run(&req).unwrap();
+    let fit = model::fit(&log, &recipe).unwrap();
+    same(&out.calibration, &fit.calibration);
+    assert_eq!(*out.k1_minus_points, fit.k1_minus_points);
+    assert_eq!(*out.k2_plus_points, fit.k2_plus_points);
+    let mut values = out.calibration.k1_minus.knots().1.to_vec();
+    values[2] -= 20.0;
+    let mut req = request(&log, recipe.clone());
+    req.knots.k1_minus = Some(values);
+    let out2 = p.run(&req).unwrap();
+    judged_afresh(&log, &req, &out2);
+    let mask = model::plateau_mask(&log.time_s, &out2.ranges);
+    let (_, db2) = model::deadbands(&out2.prepared, &mask, &recipe);
+    let p2 = model::k2_points(
+        &log,
+        &out2.prepared,
+        &mask,
+        &out2.calibration.k0,
+        &out2.calibration.k1_minus,
+        db2,
+        Regime::Minus,
+    );
+    assert_eq!(*out2.k2_minus_points, p2);
+    let mut w = Vec::new();
+    let k2 = model::fit_points("K2-", &recipe.k2_minus, &p2, recipe.weighting, &mut w);
+    assert_eq!(out2.calibration.k2_minus, k2);
+}
+
+#[test]
+fn a_patch_over_one_regimes_samples_is_a_whole_correction() {
+    // Each edit is patched into the correction before it over the samples of one regime only;
+    // every result equals a correction made afresh. A K1+ drag (K2+ refitted on what it
+    // leaves), a K2+ drag, a K1− drag, back again, and a change of K2+'s kind.
+    let log = sample_log();
+    let recipe = Recipe {
+        k1_plus: ApproxSpec::of(ApproxKind::Pwl),
+        k2_plus: ApproxSpec::of(ApproxKind::Pwl),
+        k1_minus: ApproxSpec::of(ApproxKind::Pwl),
+        ..Recipe::default()
+    };
+    let mut p = Pipeline::new();
+    let first = request(&log, recipe.clone());
+    let out = p.run(&first).unwrap();
+    judged_afresh(&log, &first, &out);
+    let regime_samples = |r: Regime| {
+        let c = &out.in_sample.corrected;
+        c.regime.iter().filter(|&&x| x == r).count()
+    };
+    let (plus, minus) = (regime_samples(Regime::Plus), regime_samples(Regime::Minus));
+    assert!(plus > 0 && minus > 0);
+    let dragged = |a: &Approx, j: usize, by: f64| {
+        let mut v = a.knots().1.to_vec();
+        v[j] += by;
+        Some(v)
+    };
+    let cal = &out.calibration;
+    let mut k1p = first.clone();
+    k1p.knots.k1_plus = dragged(&cal.k1_plus, 2, 30.0);
+    let mut k2p = k1p.clone();
+    k2p.knots.k2_plus = dragged(&cal.k2_plus, 1, -4.0);
+    let mut k1m = k2p.clone();
+    k1m.knots.k1_minus = dragged(&cal.k1_minus, 3, 12.0);
+    let mut kind = first.clone();
+    kind.recipe.k2_plus.kind = ApproxKind::Parabolic;
+    kind.recipe.k2_plus.extrapolate = true;
+    for (r, patched) in [
+        (&k1p, [plus, 0]),
+        (&k2p, [plus, 0]),
+        (&k1m, [0, minus]),
+        (&k2p, [0, minus]),
+        (&first, [plus, 0]),
+        (&kind, [plus, 0]),
+        (&first, [plus, 0]),
+    ] {
+        let out = p.run(r).unwrap();
+        judged_afresh(&log, r, &out);
+        assert_eq!(p.terms.patched, patched);
+    }
+}
