@@ -4,7 +4,7 @@ use super::*;
 
 #[derive(Debug, Clone, PartialEq)]
 pub(super) struct PrepKey {
-    pub(super) log: usize,
+    pub(super) log: Same<Log>,
     pub(super) filter_s: f64,
     pub(super) smoothing_s: f64,
     pub(super) step_h_s: f64,
@@ -12,7 +12,7 @@ pub(super) struct PrepKey {
 
 #[derive(Debug, Clone, PartialEq)]
 pub(super) struct PlateauKey {
-    pub(super) prepared: usize,
+    pub(super) prepared: Same<Prepared>,
     pub(super) ranges: Vec<PlateauRange>,
     pub(super) deadband_tdot: Option<f64>,
     pub(super) deadband_tddot: Option<f64>,
@@ -55,7 +55,7 @@ pub(super) struct SetFit {
 }
 
 pub(super) struct ValidationCache {
-    pub(super) log: usize,
+    pub(super) log: Same<Log>,
     pub(super) steps: DerivativeSteps,
     pub(super) deriv: Arc<Derivatives>,
     pub(super) filter: usize,
@@ -80,7 +80,7 @@ pub(super) struct SamplesCache {
 
 /// `Ω_f − K0(T)`, kept while the filtered Ω and K0 stay.
 pub(super) struct RestCache {
-    pub(super) prepared: usize,
+    pub(super) prepared: Same<Prepared>,
     pub(super) k0: Approx,
     pub(super) rest: Arc<Vec<f64>>,
 }

@@ -6,8 +6,8 @@ use super::*;
 /// What a correction of the calibration log was made with.
 #[derive(Debug, Clone, PartialEq)]
 pub(super) struct CorrectionKey {
-    log: usize,
-    prepared: usize,
+    log: Same<Log>,
+    prepared: Same<Prepared>,
     k0: Approx,
     sets: [(Approx, Approx); 2],
 }
@@ -94,10 +94,10 @@ impl Pipeline {
                 };
                 let base = bufs.first().filter(|cur| cur.key.patchable_to(&key));
                 if b.key.patchable_to(&key) {
-                    terms.patch(cal, log, deriv, c, b.key.changed(&key));
+                    terms.patch(cal, log, prepared, c, b.key.changed(&key));
                 } else if let Some(cur) = base {
                     copy_correction(c, &cur.corrected);
-                    terms.patch(cal, log, deriv, c, cur.key.changed(&key));
+                    terms.patch(cal, log, prepared, c, cur.key.changed(&key));
                 } else {
                     cal.correct_into(log, deriv, c);
                 }
@@ -108,7 +108,7 @@ impl Pipeline {
                 let corrected = match bufs.first().filter(|cur| cur.key.patchable_to(&key)) {
                     Some(cur) => {
                         let mut c = Corrected::clone(&cur.corrected);
-                        terms.patch(cal, log, deriv, &mut c, cur.key.changed(&key));
+                        terms.patch(cal, log, prepared, &mut c, cur.key.changed(&key));
                         c
                     }
                     None => cal.correct_with(log, deriv),

@@ -159,7 +159,10 @@ impl Outcome {
 }
 
 /// (log, filter samples) of a kept filtered raw Ω.
-type RawFilteredKey = (usize, usize);
+type RawFilteredKey = (Same<Log>, usize);
+
+/// (log, first sample judged, merit options) of kept raw figures.
+type RawFiguresKey = (Same<Log>, usize, MeritOptions);
 
 /// The staged, caching fitter. Keep one per workbench (it is not shared between threads).
 #[derive(Default)]
@@ -169,7 +172,7 @@ pub struct Pipeline {
     sets: [Option<(SetKey, SetFit)>; 2],
     /// Each set's first-pass K1, kept while only its K2 changes.
     first_k1: [Option<(FirstKey, Approx)>; 2],
-    raw_figures: Option<((usize, usize, MeritOptions), Figures)>,
+    raw_figures: Option<(RawFiguresKey, Figures)>,
     raw_filtered: Option<(RawFilteredKey, Arc<Vec<f64>>)>,
     validation: Option<ValidationCache>,
     /// The validation log's last correction, reused in place once the UI has dropped it.
@@ -194,15 +197,38 @@ pub struct Pipeline {
     /// Each regime's samples with `K0(T)` and `K1(Ṫ)·Ṫ` kept, for patching a correction.
     terms: Terms,
     /// The plateau ranges of the last run, with the signals and plateau choice they came from.
-    ranges: Option<(usize, PlateauChoice, Vec<PlateauRange>)>,
+    ranges: Option<(Same<Prepared>, PlateauChoice, Vec<PlateauRange>)>,
 }
 
 fn ms(t: Instant) -> f64 {
     t.elapsed().as_secs_f64() * 1e3
 }
 
-fn ptr<T>(a: &Arc<T>) -> usize {
-    Arc::as_ptr(a) as usize
+/// The identity of a shared value in a cache key. The key holds the value: were it a bare
+/// address, a new log (or set of signals) allocated where an old one was freed would pass for
+/// the old one, and a stage would be kept that was made from other data.
+pub(super) struct Same<T>(Arc<T>);
+
+impl<T> Clone for Same<T> {
+    fn clone(&self) -> Self {
+        Same(self.0.clone())
+    }
+}
+
+impl<T> PartialEq for Same<T> {
+    fn eq(&self, other: &Self) -> bool {
+        Arc::ptr_eq(&self.0, &other.0)
+    }
+}
+
+impl<T> std::fmt::Debug for Same<T> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "Same({:p})", Arc::as_ptr(&self.0))
+    }
+}
+
+fn ptr<T>(a: &Arc<T>) -> Same<T> {
+    Same(a.clone())
 }
 
 /// `approx` with its knot values replaced by `values`, when the counts agree.

@@ -36,8 +36,8 @@ struct RegimeSamples {
 /// Both regimes' samples and kept terms, for one log and its derivatives.
 #[derive(Default)]
 pub(super) struct Terms {
-    log: usize,
-    deriv: usize,
+    /// The log and signals the samples were gathered from.
+    of: Option<(Same<Log>, Same<Prepared>)>,
     n: usize,
     /// The K0 the `k0` terms were made with (`None`: not made yet).
     k0_of: Option<Approx>,
@@ -51,15 +51,12 @@ pub(super) struct Terms {
 impl Terms {
     /// Made ready for `n` samples of a log and its derivatives: each regime's samples found
     /// afresh (and every kept term forgotten) when they are other than last time.
-    fn ready_for(&mut self, log: &Log, deriv: &Derivatives, n: usize) {
-        let (log_id, deriv_id) = (log as *const Log as usize, deriv as *const _ as usize);
-        if self.log == log_id
-            && self.deriv == deriv_id
-            && self.n == n
-            && !self.sets[0].bounds.is_empty()
-        {
+    fn ready_for(&mut self, log: &Arc<Log>, prepared: &Arc<Prepared>, n: usize) {
+        let of = (ptr(log), ptr(prepared));
+        if self.of.as_ref() == Some(&of) && self.n == n && !self.sets[0].bounds.is_empty() {
             return;
         }
+        let deriv = &prepared.deriv;
         let (tdot, tddot) = (&deriv.tdot[..n], &deriv.tddot[..n]);
         let parts: Vec<[Vec<u32>; 2]> = (0..n.div_ceil(CHUNK))
             .into_par_iter()
@@ -94,7 +91,7 @@ impl Terms {
             set.k1_of = None;
         }
         self.k0_of = None;
-        (self.log, self.deriv, self.n) = (log_id, deriv_id, n);
+        (self.of, self.n) = (Some(of), n);
     }
 
     /// The K0 terms made with `k0`.
@@ -145,8 +142,8 @@ impl Terms {
     pub(super) fn patch(
         &mut self,
         cal: &Calibration,
-        log: &Log,
-        deriv: &Derivatives,
+        log: &Arc<Log>,
+        prepared: &Arc<Prepared>,
         c: &mut Corrected,
         changed: Changed,
     ) {
@@ -162,7 +159,7 @@ impl Terms {
             return;
         }
         let n = c.pred_dph.len();
-        self.ready_for(log, deriv, n);
+        self.ready_for(log, prepared, n);
         self.ensure_k0(log, &cal.k0);
         let approx = [
             (&cal.k1_plus, &cal.k2_plus, Regime::Plus),

@@ -306,3 +306,31 @@ fn a_patch_over_one_regimes_samples_is_a_whole_correction() {
         assert_eq!(p.terms.patched, patched);
     }
 }
+
+#[test]
+fn a_new_log_of_the_same_length_is_never_taken_for_the_one_before() {
+    // The stages are kept under the identity of the log and signals they were made from. A
+    // log made right after the previous one was dropped is usually allocated at the freed
+    // address; with the same length, a key of bare addresses would keep the old signals.
+    // Each run must equal a run of a fresh pipeline, however the allocator places the logs.
+    let recipe = Recipe::default();
+    let mut p = Pipeline::new();
+    let mut log = sample_log();
+    p.run(&request(&log, recipe.clone())).unwrap();
+    for scale in [1.5, 0.5, 2.0] {
+        let mut next = Log::clone(&log);
+        for w in &mut next.omega_dph {
+            *w *= scale;
+        }
+        drop(log);
+        log = Arc::new(next);
+        let kept = p.run(&request(&log, recipe.clone())).unwrap();
+        let fresh = Pipeline::new().run(&request(&log, recipe.clone())).unwrap();
+        same(&kept.calibration, &fresh.calibration);
+        assert_eq!(
+            kept.in_sample.corrected.cor_dph,
+            fresh.in_sample.corrected.cor_dph
+        );
+        assert_eq!(kept.in_sample.evaluation, fresh.in_sample.evaluation);
+    }
+}
