@@ -3,6 +3,7 @@
 
 pub mod ingest;
 pub mod run;
+pub mod sim;
 
 use driftlab::Log;
 
