@@ -1,6 +1,7 @@
 //! Logs built in tests from known coefficients, with a small deterministic noise source.
 #![allow(dead_code)]
 
+pub mod firmware;
 pub mod ingest;
 pub mod run;
 pub mod sim;

@@ -1,0 +1,237 @@
+//! The firmware export of a calibration. The generated C header, compiled with the machine's C
+//! compiler, corrects a held-out log as driftlab's streaming and batch corrections do, for every
+//! approximation kind, mixed kinds with extrapolation and hand-edited curves.
+
+use driftlab::approx::ApproxKind;
+use driftlab::firmware::{self, ExportOptions, Format};
+use driftlab::model::Calibration;
+use driftlab::{Log, calfile};
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+
+mod common;
+use common::firmware::*;
+
+/// What the C must agree with driftlab to, °/h.
+const TOLERANCE_DPH: f64 = 1e-6;
+
+/// Reads samples `t,omega,temp` from stdin (a line `reset` resets the corrector) and prints
+/// every field of each corrected sample.
+const DRIVER_C: &str = r#"#include <stdio.h>
+#include "calibration.h"
+
+double other_file_push(driftlab_state *st, double omega_dph, double temp_c);
+
+int main(void)
+{
+    static driftlab_state st;
+    char line[256];
+    driftlab_init(&st);
+    while (fgets(line, sizeof line, stdin) != NULL) {
+        double t, omega, temp;
+        driftlab_sample s;
+        if (line[0] == 'r') {
+            driftlab_reset(&st);
+            printf("reset\n");
+            continue;
+        }
+        if (sscanf(line, "%lf,%lf,%lf", &t, &omega, &temp) != 3) {
+            return 2;
+        }
+        driftlab_push_detail(&st, omega, temp, &s);
+        printf("%.17g,%.17g,%.17g,%.17g,%d,%d\n", s.omega_cor_dph, s.omega_pred_dph,
+               s.tdot_c_s, s.tddot_c_s2, s.regime, s.outside);
+    }
+    return 0;
+}
+"#;
+
+/// A second file including the header: it can be included more than once in a program.
+const OTHER_C: &str = r#"#include "calibration.h"
+
+double other_file_push(driftlab_state *st, double omega_dph, double temp_c)
+{
+    return driftlab_push(st, omega_dph, temp_c);
+}
+"#;
+
+/// Builds the driver with `header`; `None` (after saying so) when there is no C compiler.
+fn build_driver(dir: &Path, header: &str) -> Option<PathBuf> {
+    compile(dir, header, [DRIVER_C, OTHER_C], &[])
+}
+
+/// Runs the driver over `logs`, resetting the corrector between them.
+fn run_driver(exe: &Path, logs: &[&Log]) -> Vec<Vec<CSample>> {
+    let mut input = String::new();
+    for (k, log) in logs.iter().enumerate() {
+        if k > 0 {
+            input.push_str("reset\n");
+        }
+        for i in 0..log.len() {
+            // Round-trip decimals: the C reads exactly the doubles driftlab holds.
+            input.push_str(&format!(
+                "{:?},{:?},{:?}\n",
+                log.time_s[i], log.omega_dph[i], log.temp_c[i]
+            ));
+        }
+    }
+    let mut child = Command::new(exe)
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .spawn()
+        .expect("the driver runs");
+    let mut stdin = child.stdin.take().unwrap();
+    let writer = std::thread::spawn(move || stdin.write_all(input.as_bytes()));
+    let out = child.wait_with_output().unwrap();
+    writer.join().unwrap().unwrap();
+    assert!(out.status.success(), "driver failed: {:?}", out.status);
+    let text = String::from_utf8(out.stdout).unwrap();
+    let mut runs = vec![Vec::new()];
+    for line in text.lines() {
+        if line == "reset" {
+            runs.push(Vec::new());
+            continue;
+        }
+        let f: Vec<&str> = line.split(',').collect();
+        assert_eq!(f.len(), 6, "{line}");
+        let num = |k: usize| f[k].parse::<f64>().unwrap();
+        runs.last_mut().unwrap().push(CSample {
+            cor: num(0),
+            pred: num(1),
+            tdot: num(2),
+            tddot: num(3),
+            regime: f[4].parse().unwrap(),
+            outside: f[5] == "1",
+        });
+    }
+    runs
+}
+
+/// How far the C is from driftlab on one run.
+#[derive(Debug, Default, Clone, Copy)]
+struct Agreement {
+    /// Largest |C − StreamCorrector| of the corrected rate, °/h.
+    vs_stream_dph: f64,
+    /// Largest |C − batch correction| of the corrected rate, °/h.
+    vs_batch_dph: f64,
+    /// Samples whose corrected rate, prediction, Ṫ and T̈ are the same doubles as driftlab's.
+    identical: usize,
+    /// Samples the C flagged outside the calibrated ranges.
+    outside: usize,
+    samples: usize,
+}
+
+fn compare(cal: &Calibration, log: &Log, c: &[CSample]) -> Agreement {
+    assert_eq!(c.len(), log.len());
+    let batch = cal.correct(log);
+    let mut stream = cal.corrector().unwrap();
+    let mut a = Agreement {
+        samples: log.len(),
+        ..Agreement::default()
+    };
+    for (i, c) in c.iter().enumerate() {
+        let s = stream.push(log.time_s[i], log.omega_dph[i], log.temp_c[i]);
+        a.vs_stream_dph = a.vs_stream_dph.max((c.cor - s.omega_cor_dph).abs());
+        a.vs_batch_dph = a.vs_batch_dph.max((c.cor - batch.cor_dph[i]).abs());
+        assert_eq!(c.regime, s.regime as u8, "regime of sample {i}");
+        let outside = cal.is_outside(log.temp_c[i], s.tdot, s.tddot, s.regime);
+        assert_eq!(c.outside, outside, "outside flag of sample {i}");
+        a.outside += usize::from(c.outside);
+        let same = |x: f64, y: f64| x.to_bits() == y.to_bits() || x == y;
+        if same(c.cor, s.omega_cor_dph)
+            && same(c.pred, s.omega_pred_dph)
+            && same(c.tdot, s.tdot)
+            && same(c.tddot, s.tddot)
+        {
+            a.identical += 1;
+        }
+    }
+    a
+}
+
+/// Exports `cal` as a header, compiles it, runs it on the validation log and on the calibration
+/// log (after a reset), and checks every sample against driftlab.
+fn c_agrees_with_driftlab(label: &str, cal: &Calibration, logs: &[&Log]) -> Option<Agreement> {
+    let header = firmware::export(cal, Format::CHeader, &ExportOptions::default()).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let exe = build_driver(dir.path(), &header)?;
+    let runs = run_driver(&exe, logs);
+    assert_eq!(runs.len(), logs.len());
+    let mut total = Agreement::default();
+    for (log, run) in logs.iter().zip(&runs) {
+        let a = compare(cal, log, run);
+        println!(
+            "{label} on {}: max |C - stream| {:.3e} deg/h, max |C - batch| {:.3e} deg/h, \
+             {} of {} samples bit-identical, {} outside the calibrated ranges",
+            log.source, a.vs_stream_dph, a.vs_batch_dph, a.identical, a.samples, a.outside
+        );
+        assert!(
+            a.vs_stream_dph <= TOLERANCE_DPH && a.vs_batch_dph <= TOLERANCE_DPH,
+            "{label}: {a:?}"
+        );
+        total.vs_stream_dph = total.vs_stream_dph.max(a.vs_stream_dph);
+        total.vs_batch_dph = total.vs_batch_dph.max(a.vs_batch_dph);
+        total.identical += a.identical;
+        total.outside += a.outside;
+        total.samples += a.samples;
+    }
+    Some(total)
+}
+
+#[test]
+fn c_header_corrects_as_driftlab_for_each_kind() {
+    let (cal_log, val_log) = (read("calibration.csv"), read("validation.csv"));
+    for kind in ApproxKind::ALL {
+        let cal = calibrate(&cal_log, [kind; 3], false);
+        let label = format!("K0, K1, K2 all {kind}");
+        let Some(a) = c_agrees_with_driftlab(&label, &cal, &[&val_log, &cal_log]) else {
+            return;
+        };
+        // The validation log's 1.5 °C/min ramps lie beyond the calibration's Ṫ range, so the
+        // edge holding was exercised.
+        assert!(a.outside > 0, "{label}: no sample outside the ranges");
+    }
+}
+
+#[test]
+fn c_header_corrects_as_driftlab_for_mixed_kinds_and_extrapolation() {
+    let (cal_log, val_log) = (read("calibration.csv"), read("validation.csv"));
+    use ApproxKind::{Linear, Parabolic, Pwl, Spline};
+    // Every kind once for each coefficient; K1 extrapolating in two of them.
+    let combos = [
+        ([Parabolic, Spline, Pwl], true),
+        ([Pwl, Linear, Spline], false),
+        ([Spline, Parabolic, Linear], true),
+        ([Linear, Pwl, Parabolic], false),
+    ];
+    for (kinds, extrapolate) in combos {
+        let mut cal = calibrate(&cal_log, kinds, extrapolate);
+        // A gyro id that must not break the C: comment ends, quotes, trigraphs, UTF-8.
+        cal.gyro_id = "FOG */ \"7\" ??/ ??= ünï\\".to_string();
+        let label = format!("K0 {}, K1 {}, K2 {}", kinds[0], kinds[1], kinds[2]);
+        if c_agrees_with_driftlab(&label, &cal, &[&val_log]).is_none() {
+            return;
+        }
+    }
+}
+
+#[test]
+fn c_header_follows_hand_edited_curves() {
+    // A calibration file edited by hand: K1+ knots no longer equally spaced (the C searches
+    // for the segment) and K0 a polynomial of degree 4 (the general Horner sum).
+    let (cal_log, val_log) = (read("calibration.csv"), read("validation.csv"));
+    use ApproxKind::{Parabolic, Spline};
+    let cal = calibrate(&cal_log, [Parabolic, Spline, Spline], false);
+    let mut v: serde_json::Value = serde_json::from_str(&calfile::to_json(&cal)).unwrap();
+    let body = &mut v["calibration"];
+    let kx = body["k1_plus"]["curve"]["knots_x"].as_array_mut().unwrap();
+    let (a, b) = (kx[1].as_f64().unwrap(), kx[2].as_f64().unwrap());
+    kx[1] = serde_json::json!(a + 0.3 * (b - a));
+    let coeffs = body["k0"]["curve"]["coeffs"].as_array_mut().unwrap();
+    coeffs.push(serde_json::json!(1e-9));
+    coeffs.push(serde_json::json!(-2e-11));
+    let edited = calfile::from_json(Path::new("edited.json"), &v.to_string()).unwrap();
+    assert_eq!(edited.k1_plus.segment_cubics().unwrap().inv_step, 0.0);
+    c_agrees_with_driftlab("hand-edited", &edited, &[&val_log, &cal_log]);
+}
