@@ -2,6 +2,8 @@
 #![allow(dead_code)]
 
 pub mod firmware;
+#[cfg(feature = "gui")]
+pub mod gui;
 pub mod ingest;
 pub mod run;
 pub mod sim;
