@@ -4,7 +4,7 @@
 //! test from known values and must read back as exactly those numbers, converted to driftlab's
 //! units (s, °/h, °C) by factors written out here, not taken from the reader.
 //!
-//! tests/ingest.rs holds the reader's unit tests (one feature per test, and the malformed
+//! tests/ingest_*.rs hold the reader's unit tests (one feature per test, and the malformed
 //! inputs); this file combines the oddities the way whole files from real stands do.
 
 use driftlab::Log;
