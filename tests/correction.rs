@@ -272,3 +272,30 @@ fn a_log_written_as_it_is_predicted_is_the_file_written_from_whole_columns() {
     assert!(fractions.len() >= 3, "{fractions:?}");
     assert_eq!(fractions.last(), Some(&1.0));
 }
+
+#[test]
+fn the_corrected_rate_alone_is_the_whole_corrections_and_judged_the_same() {
+    // `driftlab calibrate` judges its own log by the corrected rate alone, without the
+    // predicted drift and regimes of a whole correction.
+    let log = noisy_log();
+    let fit = model::fit(&log, &Recipe::default()).unwrap();
+    let (cal, deriv) = (&fit.calibration, &fit.prepared.deriv);
+    let whole = cal.correct_with(&log, deriv);
+    let lean = cal.corrected_rate_with(&log, deriv);
+    let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+    assert_eq!(bits(&lean.cor_dph), bits(&whole.cor_dph));
+    assert_eq!(lean.outside_fraction, whole.outside_fraction);
+    assert_eq!(lean.ready_from, whole.ready_from);
+    let opts = MeritOptions::default();
+    let judged = metrics::Evaluation::of_rate(
+        &log,
+        &lean.cor_dph,
+        lean.ready_from,
+        lean.outside_fraction,
+        &opts,
+    );
+    assert_eq!(
+        judged,
+        metrics::Evaluation::of_correction(&log, &whole, &opts)
+    );
+}

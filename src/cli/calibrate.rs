@@ -163,9 +163,11 @@ pub fn run(a: Args) -> Result<(), String> {
         filter_s: recipe.filter_s,
         ..MeritOptions::default()
     };
-    // In-sample: the derivatives of the fit are the ones the calibration computes on this log.
-    let eval = Evaluation::of_correction(&log, &cal.correct_with(&log, &deriv), &opts);
+    // In-sample: the derivatives of the fit are the ones the calibration computes on this log;
+    // the corrected rate alone is all the figures read.
+    let c = cal.corrected_rate_with(&log, &deriv);
     drop(deriv);
+    let eval = Evaluation::of_rate(&log, &c.cor_dph, c.ready_from, c.outside_fraction, &opts);
     if a.json {
         return common::print_json(&serde_json::json!({
             "calibration": a.out,

@@ -558,11 +558,28 @@ impl Evaluation {
         c: &crate::correct::Correction,
         opts: &MeritOptions,
     ) -> Evaluation {
-        let skip = c.ready_from;
+        Evaluation::of_rate(log, &c.cor_dph, c.ready_from, c.outside_fraction, opts)
+    }
+
+    /// Compares a corrected rate of `log` (figures from sample `ready_from` on) with the raw
+    /// record: [`Evaluation::of_correction`] for a caller that holds the corrected rate alone.
+    pub fn of_rate(
+        log: &crate::log::Log,
+        cor_dph: &[f64],
+        ready_from: usize,
+        outside_fraction: f64,
+        opts: &MeritOptions,
+    ) -> Evaluation {
         Evaluation {
-            comparison: Comparison::of(&log.omega_dph, &c.cor_dph, log.nominal_dt_s(), skip, opts),
-            outside_fraction: c.outside_fraction,
-            warmup_samples: skip,
+            comparison: Comparison::of(
+                &log.omega_dph,
+                cor_dph,
+                log.nominal_dt_s(),
+                ready_from,
+                opts,
+            ),
+            outside_fraction,
+            warmup_samples: ready_from,
         }
     }
 }
