@@ -6,9 +6,7 @@ use driftlab::approx::ApproxKind;
 use driftlab::firmware::{self, ExportOptions, Format};
 use driftlab::model::Calibration;
 use driftlab::{Log, calfile};
-use std::io::Write;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Stdio};
 
 mod common;
 use common::firmware::*;
@@ -76,36 +74,7 @@ fn run_driver(exe: &Path, logs: &[&Log]) -> Vec<Vec<CSample>> {
             ));
         }
     }
-    let mut child = Command::new(exe)
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .spawn()
-        .expect("the driver runs");
-    let mut stdin = child.stdin.take().unwrap();
-    let writer = std::thread::spawn(move || stdin.write_all(input.as_bytes()));
-    let out = child.wait_with_output().unwrap();
-    writer.join().unwrap().unwrap();
-    assert!(out.status.success(), "driver failed: {:?}", out.status);
-    let text = String::from_utf8(out.stdout).unwrap();
-    let mut runs = vec![Vec::new()];
-    for line in text.lines() {
-        if line == "reset" {
-            runs.push(Vec::new());
-            continue;
-        }
-        let f: Vec<&str> = line.split(',').collect();
-        assert_eq!(f.len(), 6, "{line}");
-        let num = |k: usize| f[k].parse::<f64>().unwrap();
-        runs.last_mut().unwrap().push(CSample {
-            cor: num(0),
-            pred: num(1),
-            tdot: num(2),
-            tddot: num(3),
-            regime: f[4].parse().unwrap(),
-            outside: f[5] == "1",
-        });
-    }
-    runs
+    drive(exe, input)
 }
 
 /// How far the C is from driftlab on one run.

@@ -9,9 +9,7 @@ use driftlab::recipe::Recipe;
 use driftlab::regression::terms::parse_terms;
 use driftlab::regression::{DelaySpec, LagSpec, RegressionSpec};
 use driftlab::{Log, calfile};
-use std::io::Write;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Stdio};
 
 mod common;
 use common::firmware::*;
@@ -103,36 +101,7 @@ fn run_regression_driver(exe: &Path, model: &DriftModel, logs: &[&Log]) -> Vec<V
             input.push('\n');
         }
     }
-    let mut child = Command::new(exe)
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .spawn()
-        .expect("the driver runs");
-    let mut stdin = child.stdin.take().unwrap();
-    let writer = std::thread::spawn(move || stdin.write_all(input.as_bytes()));
-    let out = child.wait_with_output().unwrap();
-    writer.join().unwrap().unwrap();
-    assert!(out.status.success(), "driver failed: {:?}", out.status);
-    let text = String::from_utf8(out.stdout).unwrap();
-    let mut runs = vec![Vec::new()];
-    for line in text.lines() {
-        if line == "reset" {
-            runs.push(Vec::new());
-            continue;
-        }
-        let f: Vec<&str> = line.split(',').collect();
-        assert_eq!(f.len(), 6, "{line}");
-        let num = |k: usize| f[k].parse::<f64>().unwrap();
-        runs.last_mut().unwrap().push(CSample {
-            cor: num(0),
-            pred: num(1),
-            tdot: num(2),
-            tddot: num(3),
-            regime: f[4].parse().unwrap(),
-            outside: f[5] == "1",
-        });
-    }
-    runs
+    drive(exe, input)
 }
 
 /// Exports a regression model as a header, compiles it, runs it over `logs` (reset between)

@@ -7,6 +7,7 @@ use driftlab::approx::{ApproxKind, ApproxSpec, Curve};
 use driftlab::ingest::{self, ReadOptions};
 use driftlab::model::{self, Calibration};
 use driftlab::recipe::Recipe;
+use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 
@@ -153,4 +154,39 @@ pub fn driftlab(args: &[&str]) -> std::process::Output {
         .args(args)
         .output()
         .expect("driftlab runs")
+}
+
+/// Feeds `input` (rows of samples, `reset` between logs) to a compiled driver and reads back
+/// what it printed, one run of samples per log.
+pub fn drive(exe: &Path, input: String) -> Vec<Vec<CSample>> {
+    let mut child = Command::new(exe)
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .spawn()
+        .expect("the driver runs");
+    let mut stdin = child.stdin.take().unwrap();
+    let writer = std::thread::spawn(move || stdin.write_all(input.as_bytes()));
+    let out = child.wait_with_output().unwrap();
+    writer.join().unwrap().unwrap();
+    assert!(out.status.success(), "driver failed: {:?}", out.status);
+    let text = String::from_utf8(out.stdout).unwrap();
+    let mut runs = vec![Vec::new()];
+    for line in text.lines() {
+        if line == "reset" {
+            runs.push(Vec::new());
+            continue;
+        }
+        let f: Vec<&str> = line.split(',').collect();
+        assert_eq!(f.len(), 6, "{line}");
+        let num = |k: usize| f[k].parse::<f64>().unwrap();
+        runs.last_mut().unwrap().push(CSample {
+            cor: num(0),
+            pred: num(1),
+            tdot: num(2),
+            tddot: num(3),
+            regime: f[4].parse().unwrap(),
+            outside: f[5] == "1",
+        });
+    }
+    runs
 }
