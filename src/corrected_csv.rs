@@ -10,7 +10,6 @@ use crate::drift_model::Predictor;
 use crate::log::Log;
 use rayon::prelude::*;
 use std::path::Path;
-use std::sync::mpsc::{Receiver, Sender};
 
 /// The header line.
 pub const HEADER: &str = "time_s,omega_raw_dph,omega_pred_dph,omega_cor_dph,temp_c";
@@ -69,8 +68,36 @@ enum Source<'a, 'p> {
         pred: &'a [f64],
         cor: Option<&'a [f64]>,
     },
-    /// Predicted batch by batch on a thread of its own.
+    /// Predicted batch by batch.
     Stream(&'a mut Predictor<'p>),
+}
+
+impl Source<'_, '_> {
+    /// Fills `b` with the rates of rows `start..start + len`, in order from the first row.
+    fn fill(&mut self, start: usize, len: usize, b: &mut Batch) {
+        match self {
+            Source::Columns { pred, cor } => {
+                b.pred.clear();
+                b.pred.extend_from_slice(&pred[start..start + len]);
+                b.cor.clear();
+                if let Some(c) = cor {
+                    b.cor.extend_from_slice(&c[start..start + len]);
+                }
+            }
+            Source::Stream(predictor) => {
+                b.pred.resize(len, 0.0);
+                predictor.fill(&mut b.pred);
+                b.cor.clear();
+            }
+        }
+    }
+}
+
+/// The rates of one batch of rows; `cor` empty means `Ω − pred`.
+#[derive(Default)]
+struct Batch {
+    pred: Vec<f64>,
+    cor: Vec<f64>,
 }
 
 /// The writer of all three: rows `0..n`.
@@ -78,61 +105,50 @@ fn write_rows(
     path: &Path,
     log: &Log,
     n: usize,
-    source: Source<'_, '_>,
+    mut source: Source<'_, '_>,
     progress: &dyn Fn(f64),
 ) -> std::io::Result<()> {
     crate::atomic::write_big_with(path, |w| {
         w.write_all(HEADER.as_bytes())?;
         w.write_all(b"\n")?;
-        // Batches of blocks are formatted in parallel on one side while the batch before is
-        // written on the other; memory stays at a few batches.
+        // Three stages a batch apart: the rates of a batch are gathered (or predicted) on one
+        // thread, its blocks formatted in parallel on others, and the batch before written
+        // here; memory stays at a few batches.
         let batch = BLOCK * rayon::current_num_threads().max(1) * 2;
         std::thread::scope(|scope| {
+            let (rates_tx, rates_rx) = std::sync::mpsc::sync_channel::<Batch>(1);
+            let (rates_back, rates_free) = std::sync::mpsc::channel::<Batch>();
+            scope.spawn(move || {
+                for start in (0..n).step_by(batch) {
+                    let mut b = rates_free.try_recv().unwrap_or_default();
+                    source.fill(start, batch.min(n - start), &mut b);
+                    if rates_tx.send(b).is_err() {
+                        return;
+                    }
+                }
+            });
             let (tx, rx) = std::sync::mpsc::sync_channel::<(usize, Vec<Vec<u8>>)>(1);
             // Written blocks go back to the formatter: fresh buffers would each cost their
             // pages again (a tenth of the time of a big write went to page faults).
             let (back_tx, back_rx) = std::sync::mpsc::channel::<Vec<u8>>();
-            // A streamed prediction runs one batch ahead of the formatter, on its own thread.
-            let (columns, predicted) = match source {
-                Source::Columns { pred, cor } => (Some((pred, cor)), None),
-                Source::Stream(predictor) => {
-                    (None, Some(predict_ahead(scope, predictor, n, batch)))
-                }
-            };
             scope.spawn(move || {
-                let mut start = 0;
-                while start < n {
+                for (start, rates) in (0..n).step_by(batch).zip(rates_rx) {
                     let end = (start + batch).min(n);
-                    let streamed = match &predicted {
-                        Some((rx, _)) => match rx.recv() {
-                            Ok(p) => Some(p),
-                            Err(_) => return,
-                        },
-                        None => None,
-                    };
-                    let (pred, cor) = match (&streamed, columns) {
-                        (Some(p), _) => (&p[..end - start], None),
-                        (None, Some((p, c))) => (&p[start..end], c.map(|c| &c[start..end])),
-                        // One of the two is always there (see above).
-                        (None, None) => return,
-                    };
+                    let cor = (!rates.cor.is_empty()).then_some(&rates.cor[..]);
                     let mut jobs: Vec<(usize, Vec<u8>)> = (start..end)
                         .step_by(BLOCK)
                         .map(|b| (b, back_rx.try_recv().unwrap_or_default()))
                         .collect();
                     jobs.par_iter_mut().for_each(|(b, text)| {
                         let rows = *b..(*b + BLOCK).min(end);
-                        format_rows(text, log, pred, cor, start, rows)
+                        format_rows(text, log, &rates.pred, cor, start, rows)
                     });
-                    if let (Some(p), Some((_, back))) = (streamed, &predicted) {
-                        let _ = back.send(p);
-                    }
+                    let _ = rates_back.send(rates);
                     let texts = jobs.into_iter().map(|(_, t)| t).collect();
                     if tx.send((end, texts)).is_err() {
                         // The writer stopped (an error): nothing more to format.
                         return;
                     }
-                    start = end;
                 }
             });
             let mut done = 0;
@@ -154,32 +170,6 @@ fn write_rows(
             Ok(())
         })
     })
-}
-
-/// Starts predicting batches of `batch` samples on a thread of `scope`, one batch ahead of
-/// whoever receives them; used batches sent back are filled again.
-fn predict_ahead<'s, 'a: 's>(
-    scope: &'s std::thread::Scope<'s, '_>,
-    predictor: &'a mut Predictor<'_>,
-    n: usize,
-    batch: usize,
-) -> (Receiver<Vec<f64>>, Sender<Vec<f64>>) {
-    let (tx, rx) = std::sync::mpsc::sync_channel::<Vec<f64>>(1);
-    let (back_tx, back_rx) = std::sync::mpsc::channel::<Vec<f64>>();
-    scope.spawn(move || {
-        let mut start = 0;
-        while start < n {
-            let len = batch.min(n - start);
-            let mut p = back_rx.try_recv().unwrap_or_default();
-            p.resize(len, 0.0);
-            predictor.fill(&mut p);
-            if tx.send(p).is_err() {
-                return;
-            }
-            start += len;
-        }
-    });
-    (rx, back_tx)
 }
 
 /// Formats rows `rows` into `out`, replacing what it held; `pred` and `cor` start at row
