@@ -11,7 +11,7 @@
 //! is timed through the phase and a single factor). No timing is asserted.
 
 use criterion::{Criterion, Throughput};
-use driftlab::allan::{self, AllanOptions, TauSpacing};
+use driftlab::judge::allan::{self, AllanOptions, TauSpacing};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, StandardNormal};

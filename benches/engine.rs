@@ -8,7 +8,7 @@
 //!
 //! The criterion benchmarks run on a 1-million-sample log: the simulator's `calibration`
 //! profile (40 201 samples at 1 Hz) tiled with time continuing, as `examples/make_big_log.rs`
-//! writes it. They cover ingest (CSV written into a temporary folder), `model::fit`,
+//! writes it. They cover ingest (CSV written into a temporary folder), `vakhrameev::fit`,
 //! `Calibration::correct`, and the workbench's live loop (requirement 4: well under 16 ms), in
 //! two forms: at engine level (refit one approximation with `approx::fit_weighted`, correct the
 //! log again with `correct_with` and the derivatives already known), and as the GUI runs it,
@@ -26,16 +26,16 @@
 
 use criterion::{Criterion, Throughput};
 use driftlab::Log;
-use driftlab::approx::{self, Approx, ApproxKind, ApproxSpec};
-use driftlab::correct::Correction;
-use driftlab::ingest::{self, ReadOptions};
+use driftlab::files::session::{Coefficient, KnotEdits};
+use driftlab::judge::metrics::{Evaluation, MeritOptions};
 use driftlab::live::{Pipeline, Request};
 use driftlab::log::Channel;
-use driftlab::metrics::{Evaluation, MeritOptions};
-use driftlab::model::{self, Calibration, Fit, PointSet, Regime};
-use driftlab::plateau::PlateauRange;
-use driftlab::recipe::Recipe;
-use driftlab::session::{Coefficient, KnotEdits};
+use driftlab::log::ingest::{self, ReadOptions};
+use driftlab::models::approx::{self, Approx, ApproxKind, ApproxSpec};
+use driftlab::models::recipe::Recipe;
+use driftlab::models::vakhrameev::correct::Correction;
+use driftlab::models::vakhrameev::{self, Calibration, Fit, PointSet, Regime};
+use driftlab::signal::plateau::PlateauRange;
 use std::fmt::Write as _;
 use std::hint::black_box;
 use std::io::Write;
@@ -105,9 +105,9 @@ struct Live {
 
 impl Live {
     fn new(log: Log) -> Live {
-        let fit = model::fit(&log, &Recipe::default()).expect("fit");
+        let fit = vakhrameev::fit(&log, &Recipe::default()).expect("fit");
         let ranges: Vec<PlateauRange> = fit.calibration.plateaus.iter().map(|p| p.range).collect();
-        let mask = model::plateau_mask(&log.time_s, &ranges);
+        let mask = vakhrameev::plateau_mask(&log.time_s, &ranges);
         Live { log, fit, mask }
     }
 
@@ -135,7 +135,7 @@ impl Live {
         cal.k1_plus = refit(&cal.recipe.k1_plus, &self.fit.k1_plus_points);
         let (p2p, p2m) = rayon::join(
             || {
-                model::k2_points(
+                vakhrameev::k2_points(
                     &self.log,
                     prepared,
                     &self.mask,
@@ -146,7 +146,7 @@ impl Live {
                 )
             },
             || {
-                model::k2_points(
+                vakhrameev::k2_points(
                     &self.log,
                     prepared,
                     &self.mask,
@@ -256,10 +256,10 @@ fn benches(c: &mut Criterion) {
         g.sample_size(10).measurement_time(Duration::from_secs(5));
         g.throughput(Throughput::Elements(ROWS as u64));
         g.bench_function("fit_1M", |b| {
-            b.iter(|| model::fit(black_box(&log), &recipe).expect("fit"))
+            b.iter(|| vakhrameev::fit(black_box(&log), &recipe).expect("fit"))
         });
         g.bench_function("prepared_new_1M", |b| {
-            b.iter(|| model::Prepared::new(black_box(&log), &recipe))
+            b.iter(|| vakhrameev::Prepared::new(black_box(&log), &recipe))
         });
         g.finish();
     }
@@ -297,7 +297,7 @@ fn benches(c: &mut Criterion) {
         });
         g.bench_function("part_k2_points_plus_1M", |b| {
             b.iter(|| {
-                model::k2_points(
+                vakhrameev::k2_points(
                     &live.log,
                     &live.fit.prepared,
                     &live.mask,
@@ -538,24 +538,24 @@ fn stages(path: &Path) {
         return;
     }
 
-    // model::fit, stage by stage (the same calls `model::fit` makes).
+    // vakhrameev::fit, stage by stage (the same calls `vakhrameev::fit` makes).
     let t_fit = Instant::now();
     let prepared = stage("fit: Prepared::new (filter, derivatives)", || {
-        model::Prepared::new(&log, &recipe)
+        vakhrameev::Prepared::new(&log, &recipe)
     });
     let ranges = stage("fit: plateau_ranges", || {
-        model::plateau_ranges(&log, &prepared, &recipe)
+        vakhrameev::plateau_ranges(&log, &prepared, &recipe)
     });
     let mut warnings = Vec::new();
     let k0 = stage("fit: plateau_stats + fit_k0", || {
-        let stats = model::plateau_stats(&log, &ranges);
-        model::fit_k0(&stats, &recipe.k0, &mut warnings).expect("k0")
+        let stats = vakhrameev::plateau_stats(&log, &ranges);
+        vakhrameev::fit_k0(&stats, &recipe.k0, &mut warnings).expect("k0")
     });
     let mask = stage("fit: plateau_mask", || {
-        model::plateau_mask(&log.time_s, &ranges)
+        vakhrameev::plateau_mask(&log.time_s, &ranges)
     });
     let (db1, db2) = stage("fit: deadbands", || {
-        model::deadbands(&prepared, &mask, &recipe)
+        vakhrameev::deadbands(&prepared, &mask, &recipe)
     });
     for (regime, s1, s2) in [
         (Regime::Plus, &recipe.k1_plus, &recipe.k2_plus),
@@ -564,14 +564,14 @@ fn stages(path: &Path) {
         let mut k2: Option<Approx> = None;
         for pass in 0..=recipe.refinements {
             let p1 = stage(&format!("fit: k1_points {regime:?} pass {pass}"), || {
-                model::k1_points(&log, &prepared, &mask, &k0, k2.as_ref(), db1, regime)
+                vakhrameev::k1_points(&log, &prepared, &mask, &k0, k2.as_ref(), db1, regime)
             });
             let k1 = stage(
                 &format!("fit: fit K1 {regime:?} pass {pass} ({} pts)", p1.len()),
                 || refit(s1, &p1),
             );
             let p2 = stage(&format!("fit: k2_points {regime:?} pass {pass}"), || {
-                model::k2_points(&log, &prepared, &mask, &k0, &k1, db2, regime)
+                vakhrameev::k2_points(&log, &prepared, &mask, &k0, &k1, db2, regime)
             });
             k2 = Some(stage(
                 &format!("fit: fit K2 {regime:?} pass {pass} ({} pts)", p2.len()),
@@ -597,8 +597,11 @@ fn stages(path: &Path) {
     for k in 0..repeat_compute {
         drop(fit.take());
         fit = Some(stage(
-            &format!("model::fit (whole, with the point sets) (run {})", k + 1),
-            || model::fit(&log, &recipe).expect("fit"),
+            &format!(
+                "vakhrameev::fit (whole, with the point sets) (run {})",
+                k + 1
+            ),
+            || vakhrameev::fit(&log, &recipe).expect("fit"),
         ));
     }
     let fit = fit.expect("at least one fit");
@@ -607,18 +610,18 @@ fn stages(path: &Path) {
     for k in 0..repeat_compute {
         stage(
             &format!(
-                "model::calibrate (lean, as calibrate calls it) (run {})",
+                "vakhrameev::calibrate (lean, as calibrate calls it) (run {})",
                 k + 1
             ),
-            || model::calibrate(&log, &recipe).expect("calibrate"),
+            || vakhrameev::calibrate(&log, &recipe).expect("calibrate"),
         );
     }
     stage("calfile::sha256_file", || {
-        driftlab::calfile::sha256_file(path).expect("sha")
+        driftlab::files::calibration::sha256_file(path).expect("sha")
     });
     let dir = tempfile::tempdir_in(std::env::temp_dir()).expect("tempdir");
     stage("calfile::save", || {
-        driftlab::calfile::save(&dir.path().join("cal.json"), &cal).expect("save")
+        driftlab::files::calibration::save(&dir.path().join("cal.json"), &cal).expect("save")
     });
     let opts = MeritOptions {
         filter_s: recipe.filter_s,
@@ -647,7 +650,8 @@ fn stages(path: &Path) {
     // blocks, written in order into a temporary file, fsync, rename.
     let out = dir.path().join("out.csv");
     stage("apply: corrected_csv::write (with fsync)", || {
-        driftlab::corrected_csv::write(&out, &log, &c.pred_dph, &c.cor_dph, &|_| {}).expect("write")
+        driftlab::files::corrected_csv::write(&out, &log, &c.pred_dph, &c.cor_dph, &|_| {})
+            .expect("write")
     });
     let size = std::fs::metadata(&out).map(|m| m.len()).unwrap_or(0);
     println!("  corrected CSV: {:.1} MB", size as f64 / 1e6);

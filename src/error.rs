@@ -7,7 +7,7 @@ use std::path::PathBuf;
 pub enum Error {
     /// A log could not be read; says file, line and column.
     #[error(transparent)]
-    Ingest(#[from] crate::ingest::IngestError),
+    Ingest(#[from] crate::log::ingest::IngestError),
     /// A calibration or recipe file is malformed or of an unknown version.
     #[error("{path}: {message}")]
     File {

@@ -23,28 +23,13 @@
 //!   compare::compare(train, tests, choices, ...)       (side by side, held out)
 //! ```
 
-pub mod allan;
-pub mod approx;
-pub mod atomic;
-pub mod calfile;
-pub mod compare;
-pub mod correct;
-pub mod corrected_csv;
-pub mod drift_model;
 pub mod error;
-pub mod firmware;
-pub mod ingest;
+pub mod export;
+pub mod files;
+pub mod judge;
 pub mod live;
-pub mod lod;
 pub mod log;
-pub mod metrics;
-pub mod model;
-pub mod plateau;
-pub mod presets;
-pub mod recipe;
-pub mod regression;
-pub mod report;
-pub mod session;
+pub mod models;
 pub mod signal;
 pub mod sim;
 

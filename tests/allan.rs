@@ -4,7 +4,7 @@
 //! The reference files live in `../shared/data/allan/` (not copied into the repository);
 //! without them the reference tests say so and return.
 
-use driftlab::allan::{
+use driftlab::judge::allan::{
     self, AllanError, AllanOptions, NoiseIdSource, TauSpacing, allan_at, averaging_factors,
 };
 use rand::SeedableRng;

@@ -1,7 +1,7 @@
 //! Approximations recover the curves their data were made from.
 #![allow(clippy::needless_range_loop)] // tests index several columns by sample number
 
-use driftlab::approx::{self, Approx, ApproxKind, ApproxSpec, Curve};
+use driftlab::models::approx::{self, Approx, ApproxKind, ApproxSpec, Curve};
 use splines::{Interpolation, Key, Spline};
 
 fn grid(lo: f64, hi: f64, n: usize) -> Vec<f64> {

@@ -10,14 +10,14 @@
 mod common;
 
 use common::{Program, Truth, log_from};
-use driftlab::calfile;
-use driftlab::corrected_csv;
-use driftlab::drift_model::{self, DriftModel};
-use driftlab::model::{self, Calibration};
-use driftlab::presets::{ModelChoice, Preset};
-use driftlab::recipe::Recipe;
-use driftlab::session::{self, Session};
-use driftlab::{Log, atomic};
+use driftlab::files::calibration;
+use driftlab::files::corrected_csv;
+use driftlab::files::session::{self, Session};
+use driftlab::models::fitted::{self, DriftModel};
+use driftlab::models::presets::{ModelChoice, Preset};
+use driftlab::models::recipe::Recipe;
+use driftlab::models::vakhrameev::{self, Calibration};
+use driftlab::{Log, files::atomic};
 use std::fs;
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -41,14 +41,18 @@ fn log() -> &'static Log {
 
 fn calibration() -> &'static Calibration {
     static CAL: OnceLock<Calibration> = OnceLock::new();
-    CAL.get_or_init(|| model::fit(log(), &Recipe::default()).unwrap().calibration)
+    CAL.get_or_init(|| {
+        vakhrameev::fit(log(), &Recipe::default())
+            .unwrap()
+            .calibration
+    })
 }
 
 fn regression_model() -> &'static DriftModel {
     static MODEL: OnceLock<DriftModel> = OnceLock::new();
     MODEL.get_or_init(|| {
         let choice = ModelChoice::Preset(Preset::Ieee952);
-        drift_model::fit(log(), &choice, &Recipe::default()).unwrap()
+        fitted::fit(log(), &choice, &Recipe::default()).unwrap()
     })
 }
 
@@ -71,9 +75,9 @@ const KINDS: [Kind; 4] = [
 
 fn write(kind: Kind, path: &Path) -> Result<(), String> {
     match kind {
-        Kind::Calibration => calfile::save(path, calibration()).map_err(|e| e.to_string()),
+        Kind::Calibration => calibration::save(path, calibration()).map_err(|e| e.to_string()),
         Kind::RegressionModel => {
-            calfile::save_model(path, regression_model()).map_err(|e| e.to_string())
+            calibration::save_model(path, regression_model()).map_err(|e| e.to_string())
         }
         Kind::Session => session::save(path, &Session::default()).map_err(|e| e.to_string()),
         Kind::CorrectedCsv => {

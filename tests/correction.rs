@@ -4,10 +4,10 @@
 mod common;
 
 use common::{Program, Truth, log_from};
-use driftlab::calfile;
-use driftlab::metrics::{self, MeritOptions};
-use driftlab::model;
-use driftlab::recipe::Recipe;
+use driftlab::files::calibration;
+use driftlab::judge::metrics::{self, MeritOptions};
+use driftlab::models::recipe::Recipe;
+use driftlab::models::vakhrameev;
 use std::path::Path;
 
 const TRUTH: Truth = Truth {
@@ -25,7 +25,9 @@ fn noisy_log() -> driftlab::Log {
 #[test]
 fn streaming_equals_batch() {
     let log = noisy_log();
-    let cal = model::fit(&log, &Recipe::default()).unwrap().calibration;
+    let cal = vakhrameev::fit(&log, &Recipe::default())
+        .unwrap()
+        .calibration;
     let batch = cal.correct(&log);
     let mut stream = cal.corrector().unwrap();
     let mut worst: f64 = 0.0;
@@ -45,14 +47,14 @@ fn streaming_equals_batch() {
 fn calibration_round_trip_predicts_the_same() {
     let log = noisy_log();
     let mut recipe = Recipe::default();
-    recipe.k1_plus.kind = driftlab::approx::ApproxKind::Spline;
-    recipe.k2_minus.kind = driftlab::approx::ApproxKind::Pwl;
+    recipe.k1_plus.kind = driftlab::models::approx::ApproxKind::Spline;
+    recipe.k2_minus.kind = driftlab::models::approx::ApproxKind::Pwl;
     recipe.gyro_id = "FOG-0042".into();
-    let cal = model::fit(&log, &recipe).unwrap().calibration;
+    let cal = vakhrameev::fit(&log, &recipe).unwrap().calibration;
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("cal.json");
-    calfile::save(&path, &cal).unwrap();
-    let back = calfile::load(&path).unwrap();
+    calibration::save(&path, &cal).unwrap();
+    let back = calibration::load(&path).unwrap();
     assert_eq!(back, cal);
     let (a, b) = (cal.correct(&log), back.correct(&log));
     assert_eq!(a.cor_dph, b.cor_dph);
@@ -61,17 +63,17 @@ fn calibration_round_trip_predicts_the_same() {
 }
 
 fn load_err(text: &str) -> String {
-    calfile::from_json(Path::new("gyro7.json"), text)
+    calibration::from_json(Path::new("gyro7.json"), text)
         .unwrap_err()
         .to_string()
 }
 
 #[test]
 fn malformed_calibration_files_are_refused_with_a_reason() {
-    let cal = model::fit(&noisy_log(), &Recipe::default())
+    let cal = vakhrameev::fit(&noisy_log(), &Recipe::default())
         .unwrap()
         .calibration;
-    let good = calfile::to_json(&cal);
+    let good = calibration::to_json(&cal);
     let v2 = good.replacen("\"version\": 1", "\"version\": 2", 1);
     assert!(load_err(&v2).contains("version 2 is not supported"));
     let other = good.replacen("driftlab-calibration", "something-else", 1);
@@ -95,7 +97,7 @@ fn malformed_calibration_files_are_refused_with_a_reason() {
 
 #[test]
 fn a_failed_save_leaves_the_old_file() {
-    let cal = model::fit(&noisy_log(), &Recipe::default())
+    let cal = vakhrameev::fit(&noisy_log(), &Recipe::default())
         .unwrap()
         .calibration;
     let dir = tempfile::tempdir().unwrap();
@@ -103,7 +105,7 @@ fn a_failed_save_leaves_the_old_file() {
     std::fs::write(&path, "old").unwrap();
     // A folder that does not exist: the write fails, the error names the file.
     let bad = dir.path().join("missing").join("cal.json");
-    let e = calfile::save(&bad, &cal).unwrap_err().to_string();
+    let e = calibration::save(&bad, &cal).unwrap_err().to_string();
     assert!(e.contains("missing"), "{e}");
     assert_eq!(std::fs::read_to_string(&path).unwrap(), "old");
 }
@@ -132,7 +134,9 @@ fn figures_of_a_ramp_match_closed_form() {
 #[test]
 fn correction_reduces_drift_in_sample_and_held_out() {
     let log = noisy_log();
-    let cal = model::fit(&log, &Recipe::default()).unwrap().calibration;
+    let cal = vakhrameev::fit(&log, &Recipe::default())
+        .unwrap()
+        .calibration;
     let opts = MeritOptions::default();
     let ins = metrics::Evaluation::of(&cal, &log, &opts).comparison;
     // Another run of the same gyro: other plateau temperatures and ramp lengths.
@@ -154,16 +158,20 @@ fn correction_reduces_drift_in_sample_and_held_out() {
 #[test]
 fn corrected_csv_reads_back_exactly() {
     let log = noisy_log();
-    let cal = model::fit(&log, &Recipe::default()).unwrap().calibration;
+    let cal = vakhrameev::fit(&log, &Recipe::default())
+        .unwrap()
+        .calibration;
     let c = cal.correct(&log);
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("out.csv");
-    driftlab::corrected_csv::write(&path, &log, &c.pred_dph, &c.cor_dph, &|_| {}).unwrap();
-    let opts = driftlab::ingest::ReadOptions {
-        rate_col: Some(driftlab::ingest::ColumnRef::Name("omega_cor_dph".into())),
+    driftlab::files::corrected_csv::write(&path, &log, &c.pred_dph, &c.cor_dph, &|_| {}).unwrap();
+    let opts = driftlab::log::ingest::ReadOptions {
+        rate_col: Some(driftlab::log::ingest::ColumnRef::Name(
+            "omega_cor_dph".into(),
+        )),
         ..Default::default()
     };
-    let back = driftlab::ingest::read_path(&path, &opts).unwrap();
+    let back = driftlab::log::ingest::read_path(&path, &opts).unwrap();
     assert_eq!(back.time_s, log.time_s);
     assert_eq!(back.temp_c, log.temp_c);
     assert_eq!(
@@ -198,13 +206,15 @@ fn corrected_csv_reads_back_extreme_numbers_exactly() {
     let pred: Vec<f64> = extremes.iter().map(|v| -v).collect();
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("out.csv");
-    driftlab::corrected_csv::write(&path, &log, &pred, &extremes, &|_| {}).unwrap();
+    driftlab::files::corrected_csv::write(&path, &log, &pred, &extremes, &|_| {}).unwrap();
     let read = |col: &str| {
-        let opts = driftlab::ingest::ReadOptions {
-            rate_col: Some(driftlab::ingest::ColumnRef::Name(col.into())),
+        let opts = driftlab::log::ingest::ReadOptions {
+            rate_col: Some(driftlab::log::ingest::ColumnRef::Name(col.into())),
             ..Default::default()
         };
-        driftlab::ingest::read_path(&path, &opts).unwrap().omega_dph
+        driftlab::log::ingest::read_path(&path, &opts)
+            .unwrap()
+            .omega_dph
     };
     let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
     assert_eq!(bits(&read("omega_cor_dph")), bits(&extremes));
@@ -217,7 +227,9 @@ fn the_lean_prediction_of_apply_is_the_whole_correction_bit_for_bit() {
     // write what the whole correction (which the workbench and `evaluate` use) computes, also
     // with a smoothing window longer than the log.
     let log = noisy_log();
-    let fitted = model::fit(&log, &Recipe::default()).unwrap().calibration;
+    let fitted = vakhrameev::fit(&log, &Recipe::default())
+        .unwrap()
+        .calibration;
     let mut long_window = fitted.clone();
     long_window.resolved.smooth_samples = 3 * log.len();
     for cal in [fitted, long_window] {
@@ -247,11 +259,13 @@ fn a_log_written_as_it_is_predicted_is_the_file_written_from_whole_columns() {
         col(&|_, i| one.omega_dph[i]),
         col(&|_, i| one.temp_c[i]),
     );
-    let cal = model::fit(&one, &Recipe::default()).unwrap().calibration;
+    let cal = vakhrameev::fit(&one, &Recipe::default())
+        .unwrap()
+        .calibration;
     let whole = cal.correct(&log);
     let dir = tempfile::tempdir().unwrap();
     let (from_columns, streamed) = (dir.path().join("a.csv"), dir.path().join("b.csv"));
-    driftlab::corrected_csv::write(
+    driftlab::files::corrected_csv::write(
         &from_columns,
         &log,
         &whole.pred_dph,
@@ -259,10 +273,10 @@ fn a_log_written_as_it_is_predicted_is_the_file_written_from_whole_columns() {
         &|_| {},
     )
     .unwrap();
-    let model = driftlab::drift_model::DriftModel::Vakhrameev(Box::new(cal));
+    let model = driftlab::models::fitted::DriftModel::Vakhrameev(Box::new(cal));
     let mut predictor = model.predictor(&log).unwrap();
     let fractions = std::sync::Mutex::new(Vec::new());
-    driftlab::corrected_csv::write_streamed(&streamed, &log, &mut predictor, &|f| {
+    driftlab::files::corrected_csv::write_streamed(&streamed, &log, &mut predictor, &|f| {
         fractions.lock().unwrap().push(f)
     })
     .unwrap();
@@ -278,7 +292,7 @@ fn the_corrected_rate_alone_is_the_whole_corrections_and_judged_the_same() {
     // `driftlab calibrate` judges its own log by the corrected rate alone, without the
     // predicted drift and regimes of a whole correction.
     let log = noisy_log();
-    let fit = model::fit(&log, &Recipe::default()).unwrap();
+    let fit = vakhrameev::fit(&log, &Recipe::default()).unwrap();
     let (cal, deriv) = (&fit.calibration, &fit.prepared.deriv);
     let whole = cal.correct_with(&log, deriv);
     let lean = cal.corrected_rate_with(&log, deriv);

@@ -2,10 +2,10 @@
 //! compiler, corrects a held-out log as driftlab's streaming and batch corrections do, for every
 //! approximation kind, mixed kinds with extrapolation and hand-edited curves.
 
-use driftlab::approx::ApproxKind;
-use driftlab::firmware::{self, ExportOptions, Format};
-use driftlab::model::Calibration;
-use driftlab::{Log, calfile};
+use driftlab::export::firmware::{self, ExportOptions, Format};
+use driftlab::models::approx::ApproxKind;
+use driftlab::models::vakhrameev::Calibration;
+use driftlab::{Log, files::calibration};
 use std::path::{Path, PathBuf};
 
 mod common;
@@ -192,7 +192,7 @@ fn c_header_follows_hand_edited_curves() {
     let (cal_log, val_log) = (read("calibration.csv"), read("validation.csv"));
     use ApproxKind::{Parabolic, Spline};
     let cal = calibrate(&cal_log, [Parabolic, Spline, Spline], false);
-    let mut v: serde_json::Value = serde_json::from_str(&calfile::to_json(&cal)).unwrap();
+    let mut v: serde_json::Value = serde_json::from_str(&calibration::to_json(&cal)).unwrap();
     let body = &mut v["calibration"];
     let kx = body["k1_plus"]["curve"]["knots_x"].as_array_mut().unwrap();
     let (a, b) = (kx[1].as_f64().unwrap(), kx[2].as_f64().unwrap());
@@ -200,7 +200,7 @@ fn c_header_follows_hand_edited_curves() {
     let coeffs = body["k0"]["curve"]["coeffs"].as_array_mut().unwrap();
     coeffs.push(serde_json::json!(1e-9));
     coeffs.push(serde_json::json!(-2e-11));
-    let edited = calfile::from_json(Path::new("edited.json"), &v.to_string()).unwrap();
+    let edited = calibration::from_json(Path::new("edited.json"), &v.to_string()).unwrap();
     assert_eq!(edited.k1_plus.segment_cubics().unwrap().inv_step, 0.0);
     c_agrees_with_driftlab("hand-edited", &edited, &[&val_log, &cal_log]);
 }

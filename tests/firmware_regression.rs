@@ -2,13 +2,13 @@
 //! machine's C compiler, corrects as driftlab does for every preset, a custom model with every
 //! feature, and one delay with a lag and a fixed λ; the csv table lists every coefficient.
 
-use driftlab::drift_model::{self, DriftModel};
-use driftlab::firmware::{self, ExportOptions, Format};
-use driftlab::presets::{ModelChoice, Preset};
-use driftlab::recipe::Recipe;
-use driftlab::regression::terms::parse_terms;
-use driftlab::regression::{DelaySpec, LagSpec, RegressionSpec};
-use driftlab::{Log, calfile};
+use driftlab::export::firmware::{self, ExportOptions, Format};
+use driftlab::models::fitted::{self, DriftModel};
+use driftlab::models::presets::{ModelChoice, Preset};
+use driftlab::models::recipe::Recipe;
+use driftlab::models::regression::terms::parse_terms;
+use driftlab::models::regression::{DelaySpec, LagSpec, RegressionSpec};
+use driftlab::{Log, files::calibration};
 use std::path::{Path, PathBuf};
 
 mod common;
@@ -89,7 +89,7 @@ fn run_regression_driver(exe: &Path, model: &DriftModel, logs: &[&Log]) -> Vec<V
         if k > 0 {
             input.push_str("reset\n");
         }
-        let (t2, ch) = drift_model::stream_inputs(model, log).unwrap();
+        let (t2, ch) = fitted::stream_inputs(model, log).unwrap();
         for i in 0..log.len() {
             input.push_str(&format!(
                 "{:?},{:?},{:?},{:?}",
@@ -133,7 +133,7 @@ fn regression_c_agrees(label: &str, model: &DriftModel, logs: &[&Log]) -> Option
             log.source
         );
         let batch = m.correct(log).unwrap();
-        let (t2, ch) = drift_model::stream_inputs(model, log).unwrap();
+        let (t2, ch) = fitted::stream_inputs(model, log).unwrap();
         let mut stream = m.corrector_for(m.dt_s).unwrap();
         let mut row = vec![0.0; ch.len()];
         let (mut vs_stream, mut vs_batch, mut same_n, mut outside) = (0.0f64, 0.0f64, 0, 0);
@@ -194,8 +194,7 @@ fn regression_presets() -> Vec<Preset> {
 fn c_header_corrects_as_driftlab_for_every_preset_on_the_laser_gyro() {
     let (cal_log, held_out) = (read("laser-gyro.csv"), read("laser-gyro-2.csv"));
     for p in regression_presets() {
-        let model =
-            drift_model::fit(&cal_log, &ModelChoice::Preset(p), &Recipe::default()).unwrap();
+        let model = fitted::fit(&cal_log, &ModelChoice::Preset(p), &Recipe::default()).unwrap();
         let label = format!("{} (laser gyro)", p.name());
         if regression_c_agrees(&label, &model, &[&held_out, &cal_log]).is_none() {
             return;
@@ -207,8 +206,7 @@ fn c_header_corrects_as_driftlab_for_every_preset_on_the_laser_gyro() {
 fn c_header_corrects_as_driftlab_for_every_preset_on_the_fog() {
     let (cal_log, val_log) = (read("calibration.csv"), read("validation.csv"));
     for p in regression_presets() {
-        let model =
-            drift_model::fit(&cal_log, &ModelChoice::Preset(p), &Recipe::default()).unwrap();
+        let model = fitted::fit(&cal_log, &ModelChoice::Preset(p), &Recipe::default()).unwrap();
         let label = format!("{} (FOG)", p.name());
         if regression_c_agrees(&label, &model, &[&val_log, &cal_log]).is_none() {
             return;
@@ -235,8 +233,7 @@ fn c_header_corrects_as_driftlab_for_a_custom_model_with_every_feature() {
         seconds: 300.0,
         per_c: 0.01,
     };
-    let mut model =
-        drift_model::fit(&cal_log, &ModelChoice::Custom(spec), &Recipe::default()).unwrap();
+    let mut model = fitted::fit(&cal_log, &ModelChoice::Custom(spec), &Recipe::default()).unwrap();
     if let DriftModel::Regression(r) = &mut model {
         assert!(r.model.delay.points.len() >= 2, "{:?}", r.model.delay);
         assert!(r.model.lambda_s.is_some() && r.model.lag_s == Some(300.0));
@@ -253,7 +250,7 @@ fn c_header_corrects_as_driftlab_for_a_custom_model_with_every_feature() {
 #[test]
 fn regression_csv_table_lists_every_coefficient_exactly() {
     let log = read("laser-gyro.csv");
-    let model = drift_model::fit(
+    let model = fitted::fit(
         &log,
         &ModelChoice::Preset(Preset::Sukhanov),
         &Recipe::default(),
@@ -289,7 +286,7 @@ fn export_command_writes_a_regression_header() {
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
-    let loaded = calfile::load_model(Path::new(&cal)).unwrap();
+    let loaded = calibration::load_model(Path::new(&cal)).unwrap();
     let want = firmware::export_model(&loaded, Format::CHeader, &ExportOptions::default()).unwrap();
     let out = driftlab(&["export", &cal, "--format", "c-header", "--out", &h]);
     assert!(
@@ -328,8 +325,8 @@ fn c_header_corrects_as_driftlab_with_one_delay_a_lag_and_a_fixed_lambda() {
         seconds: 120.0,
         per_c: 0.0,
     };
-    spec.lambda = driftlab::regression::LambdaSpec::Fixed { seconds: 1200.0 };
-    let model = drift_model::fit(&cal_log, &ModelChoice::Custom(spec), &Recipe::default()).unwrap();
+    spec.lambda = driftlab::models::regression::LambdaSpec::Fixed { seconds: 1200.0 };
+    let model = fitted::fit(&cal_log, &ModelChoice::Custom(spec), &Recipe::default()).unwrap();
     if let DriftModel::Regression(r) = &model {
         assert_eq!(r.model.delay.points, vec![[0.0, 250.5]]);
         assert_eq!(r.model.lag_s, Some(120.0));

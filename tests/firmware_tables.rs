@@ -2,10 +2,10 @@
 //! within the error bound of linear interpolation between them; `driftlab export` writes
 //! both the header and the tables, and refuses bad input with a reason.
 
-use driftlab::approx::{Approx, ApproxKind, Curve};
-use driftlab::calfile;
-use driftlab::firmware::{self, ExportError, ExportOptions, Format};
-use driftlab::model::Regime;
+use driftlab::export::firmware::{self, ExportError, ExportOptions, Format};
+use driftlab::files::calibration;
+use driftlab::models::approx::{Approx, ApproxKind, Curve};
+use driftlab::models::vakhrameev::Regime;
 use std::path::Path;
 
 mod common;
@@ -196,7 +196,7 @@ fn export_command_writes_header_and_table() {
         "FOG-0007",
     ]);
     assert!(out.status.success());
-    let loaded = calfile::load(Path::new(&cal)).unwrap();
+    let loaded = calibration::load(Path::new(&cal)).unwrap();
 
     // To standard output, and atomically to a file: the engine's text either way.
     let want = firmware::export(&loaded, Format::CHeader, &ExportOptions::default()).unwrap();

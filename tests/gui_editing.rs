@@ -117,11 +117,11 @@ fn a_plateau_edge_is_dragged() {
 
 #[test]
 fn a_spline_knot_is_dragged_and_the_figures_follow() {
-    use driftlab::session::Coefficient;
+    use driftlab::files::session::Coefficient;
     let mut h = harness(Workbench::new_for_test(&sample("calibration.csv")));
     settle(&mut h);
-    h.state_mut().state.recipe_mut().k1_plus = driftlab::approx::ApproxSpec {
-        kind: driftlab::approx::ApproxKind::Spline,
+    h.state_mut().state.recipe_mut().k1_plus = driftlab::models::approx::ApproxSpec {
+        kind: driftlab::models::approx::ApproxKind::Spline,
         knots: 5,
         extrapolate: false,
     };

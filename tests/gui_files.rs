@@ -1,10 +1,10 @@
 //! Files the workbench writes outside its views: the autosave (unsaved work offered back
 //! after a crash, nothing left behind after a clean close) and the test report.
 
+use driftlab::files::session;
 use driftlab::gui::app::{Action, Workbench};
 use driftlab::gui::dialogs::ScriptedDialogs;
 use driftlab::gui::settings::Settings;
-use driftlab::session;
 use std::path::{Path, PathBuf};
 
 fn sample() -> PathBuf {

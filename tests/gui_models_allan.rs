@@ -2,11 +2,11 @@
 //! held out, a model that cannot be fitted, the custom model builder, Allan deviations, and
 //! the frame cost of both pages on a big log (run by hand).
 
-use driftlab::compare::Outcome;
-use driftlab::drift_model::DriftModel;
 use driftlab::gui::{FileKind, Page, Target, Workbench};
-use driftlab::presets::Preset;
-use driftlab::regression::{DelaySpec, LagSpec};
+use driftlab::judge::compare::Outcome;
+use driftlab::models::fitted::DriftModel;
+use driftlab::models::presets::Preset;
+use driftlab::models::regression::{DelaySpec, LagSpec};
 use eframe::egui::accesskit::Role;
 use eframe::egui::{Key, Modifiers};
 use egui_kittest::Harness;
@@ -97,7 +97,8 @@ fn the_models_page_compares_every_model_in_sample_and_held_out_and_exports_one()
     h.get_by_label("Export model…").click();
     settle(&mut h);
     assert_eq!(dialogs.asked().last(), Some(&FileKind::Model));
-    let back = driftlab::calfile::load_model(&out).expect("the engine reads the exported model");
+    let back = driftlab::files::calibration::load_model(&out)
+        .expect("the engine reads the exported model");
     assert_eq!(back.name(), "coil-lag");
     let DriftModel::Regression(read) = &back else {
         panic!("a regression model")
@@ -151,18 +152,18 @@ fn the_custom_model_builder_makes_the_spec_the_command_line_would() {
     let b = CustomBuilder {
         enabled: true,
         name: "mine".into(),
-        terms: driftlab::regression::terms::parse_terms("1,T,T*Tdot").unwrap(),
+        terms: driftlab::models::regression::terms::parse_terms("1,T,T*Tdot").unwrap(),
         delay: DelayChoice::Bands,
         bands: 4,
         delay_max_s: 1200.0,
         lag: LagChoice::Fixed,
         lag_s: 90.0,
-        samples: driftlab::regression::FitSamples::Staged,
+        samples: driftlab::models::regression::FitSamples::Staged,
         ..CustomBuilder::default()
     };
     let s = b.spec().unwrap();
     assert_eq!(s.name, "mine");
-    assert_eq!(s.samples, driftlab::regression::FitSamples::Staged);
+    assert_eq!(s.samples, driftlab::models::regression::FitSamples::Staged);
     assert_eq!(
         s.delay,
         DelaySpec::Bands {

@@ -3,7 +3,7 @@
 //! reads back, save and reopen a session, survive a bad file, import semicolons.
 
 use driftlab::gui::{Action, Workbench};
-use driftlab::recipe::PlateauChoice;
+use driftlab::models::recipe::PlateauChoice;
 use eframe::egui::{Key, Modifiers};
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
@@ -76,12 +76,12 @@ fn changing_an_approximation_changes_the_figures() {
     settle(&mut h);
     assert_eq!(
         h.state().state.recipe().k1_plus.kind,
-        driftlab::approx::ApproxKind::Spline
+        driftlab::models::approx::ApproxKind::Spline
     );
     let fit = h.state().state.fit.clone().unwrap();
     assert_eq!(
         fit.outcome.calibration.k1_plus.kind(),
-        driftlab::approx::ApproxKind::Spline
+        driftlab::models::approx::ApproxKind::Spline
     );
     let after = p2p_corrected(&h);
     assert_ne!(before, after, "the figures follow the new K1+");
@@ -90,7 +90,7 @@ fn changing_an_approximation_changes_the_figures() {
     settle(&mut h);
     assert_eq!(
         h.state().state.recipe().k1_plus.kind,
-        driftlab::approx::ApproxKind::Linear
+        driftlab::models::approx::ApproxKind::Linear
     );
     assert_eq!(p2p_corrected(&h), before);
 }
@@ -102,7 +102,7 @@ fn export_writes_a_calibration_the_engine_loads() {
     let mut h = answering(&out);
     h.key_press_modifiers(Modifiers::COMMAND, Key::E);
     settle(&mut h);
-    let cal = driftlab::calfile::load(&out).expect("the engine reads the exported file");
+    let cal = driftlab::files::calibration::load(&out).expect("the engine reads the exported file");
     let fitted = h
         .state()
         .state
@@ -118,10 +118,11 @@ fn export_writes_a_calibration_the_engine_loads() {
     assert_eq!(cal.source.name, "calibration.csv");
     assert_eq!(
         cal.source.sha256,
-        driftlab::calfile::sha256_file(&sample("calibration.csv")).unwrap()
+        driftlab::files::calibration::sha256_file(&sample("calibration.csv")).unwrap()
     );
     // It corrects a log as the workbench showed it.
-    let log = driftlab::ingest::read_path(&sample("calibration.csv"), &Default::default()).unwrap();
+    let log =
+        driftlab::log::ingest::read_path(&sample("calibration.csv"), &Default::default()).unwrap();
     let c = cal.correct(&log);
     assert_eq!(
         c.cor_dph,

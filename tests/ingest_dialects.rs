@@ -2,8 +2,8 @@
 //! headers, comments, BOM, CRLF, quoting) and the units read from headers and options, checked
 //! against values written into the test itself.
 
-use driftlab::ingest::{ColumnRef, RateUnit, ReadOptions, TimeUnit, parse_delimiter};
 use driftlab::log::ColumnRole;
+use driftlab::log::ingest::{ColumnRef, RateUnit, ReadOptions, TimeUnit, parse_delimiter};
 use std::f64::consts::PI;
 
 mod common;

@@ -1,8 +1,8 @@
 //! Reading test-stand logs: every kind of broken file, and the problems reported for rows
 //! dropped or kept, each located by file, line and column.
 
-use driftlab::ingest::{IngestError, read_bytes};
 use driftlab::log::ProblemKind;
+use driftlab::log::ingest::{IngestError, read_bytes};
 
 mod common;
 use common::ingest::*;

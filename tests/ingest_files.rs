@@ -1,7 +1,7 @@
 //! Reading test-stand logs from files: large files read exactly across parallel blocks,
 //! progress and cancel, the preview, and the 10M-row speed benchmark (run by hand).
 
-use driftlab::ingest::{preview, preview_bytes, read_path, read_path_with_progress};
+use driftlab::log::ingest::{preview, preview_bytes, read_path, read_path_with_progress};
 use driftlab::log::{ColumnRole, ProblemKind};
 use std::io::Write;
 

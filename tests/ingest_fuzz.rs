@@ -2,7 +2,9 @@
 //! fuzz loop that runs on every `cargo test`) give an error or a consistent log, never a panic.
 
 use driftlab::Log;
-use driftlab::ingest::{ColumnRef, RateUnit, ReadOptions, TimeUnit, preview_bytes, read_bytes};
+use driftlab::log::ingest::{
+    ColumnRef, RateUnit, ReadOptions, TimeUnit, preview_bytes, read_bytes,
+};
 
 mod common;
 use common::ingest::*;

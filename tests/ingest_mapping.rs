@@ -2,7 +2,7 @@
 //! by the header's words; sample-index time, a sample rate instead of a time column, several
 //! temperatures and extra channels.
 
-use driftlab::ingest::{ColumnRef, ReadOptions, TimeUnit};
+use driftlab::log::ingest::{ColumnRef, ReadOptions, TimeUnit};
 use driftlab::log::{ColumnRole, ProblemKind};
 
 mod common;

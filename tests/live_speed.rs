@@ -2,12 +2,12 @@
 //! `DRIFTLAB_LIVE_RUNS` sets the runs per scenario (default 12), `DRIFTLAB_LIVE_ONLY` picks
 //! scenarios by name.
 
-use driftlab::approx::{ApproxKind, ApproxSpec};
+use driftlab::files::session::{Coefficient, KnotEdits};
+use driftlab::judge::metrics::MeritOptions;
 use driftlab::live::{Pipeline, Request, Timings};
 use driftlab::log::Log;
-use driftlab::metrics::MeritOptions;
-use driftlab::recipe::Recipe;
-use driftlab::session::{Coefficient, KnotEdits};
+use driftlab::models::approx::{ApproxKind, ApproxSpec};
+use driftlab::models::recipe::Recipe;
 use std::sync::Arc;
 
 fn tiled_log(rows: usize) -> Log {

@@ -2,7 +2,9 @@
 //! column's min and max are exactly those of the samples in it, so no peak or trough of a
 //! ten-million-sample log is lost on screen.
 
-use driftlab::lod::{ClassLod, MinMaxPyramid, ScatterLod, index_range, nearest_index, reduce};
+use driftlab::signal::lod::{
+    ClassLod, MinMaxPyramid, ScatterLod, index_range, nearest_index, reduce,
+};
 
 /// Deterministic noise (xorshift), uniform in [-1, 1).
 struct Rng(u64);

@@ -3,11 +3,11 @@
 mod common;
 
 use common::{Program, Truth, log_from};
-use driftlab::approx::{ApproxKind, ApproxSpec, Curve};
-use driftlab::metrics::{Evaluation, MeritOptions};
-use driftlab::model::{self, Regime};
-use driftlab::plateau::PlateauRange;
-use driftlab::recipe::{PlateauChoice, Recipe};
+use driftlab::judge::metrics::{Evaluation, MeritOptions};
+use driftlab::models::approx::{ApproxKind, ApproxSpec, Curve};
+use driftlab::models::recipe::{PlateauChoice, Recipe};
+use driftlab::models::vakhrameev::{self, Regime};
+use driftlab::signal::plateau::PlateauRange;
 
 const TRUTH: Truth = Truth {
     k0: [0.2, 0.004, -6e-5],
@@ -31,7 +31,7 @@ fn sharp_recipe() -> Recipe {
 fn plateaus_found_at_the_holds_of_the_program() {
     let program = Program::paper_like();
     let log = log_from(&program, &TRUTH, 0.0, 0.001, 1);
-    let fit = model::fit(&log, &Recipe::default()).unwrap();
+    let fit = vakhrameev::fit(&log, &Recipe::default()).unwrap();
     let temps: Vec<f64> = fit.calibration.plateaus.iter().map(|p| p.temp_c).collect();
     assert_eq!(temps.len(), 4, "holds at 20, 60, -50, 20: {temps:?}");
     for (got, want) in temps.iter().zip([20.0, 60.0, -50.0, 20.0]) {
@@ -68,7 +68,7 @@ fn k0_recovered_from_plateaus() {
         plateaus: PlateauChoice::Manual { ranges },
         ..sharp_recipe()
     };
-    let fit = model::fit(&log, &recipe).unwrap();
+    let fit = vakhrameev::fit(&log, &recipe).unwrap();
     let Curve::Polynomial { coeffs } = fit.calibration.k0.curve() else {
         panic!("parabolic K0")
     };
@@ -80,7 +80,7 @@ fn k0_recovered_from_plateaus() {
 #[test]
 fn k1_recovered_from_synthetic_ramps() {
     let log = log_from(&Program::paper_like(), &TRUTH, 0.0, 0.0, 1);
-    let fit = model::fit(&log, &sharp_recipe()).unwrap();
+    let fit = vakhrameev::fit(&log, &sharp_recipe()).unwrap();
     let cal = &fit.calibration;
     assert!(fit.k1_plus_points.len() > 1000 && fit.k1_minus_points.len() > 1000);
     for (name, a, want) in [
@@ -115,7 +115,7 @@ fn model_with_k2_terms_predicts_its_own_data() {
         k1_minus: ApproxSpec::of(ApproxKind::Parabolic),
         ..sharp_recipe()
     };
-    let fit = model::fit(&log, &recipe).unwrap();
+    let fit = vakhrameev::fit(&log, &recipe).unwrap();
     let eval = Evaluation::of(&fit.calibration, &log, &MeritOptions::default());
     let c = eval.comparison;
     assert!(
@@ -160,7 +160,7 @@ fn manual_plateaus_replace_detection() {
         },
         ..sharp_recipe()
     };
-    let fit = model::fit(&log, &recipe).unwrap();
+    let fit = vakhrameev::fit(&log, &recipe).unwrap();
     let got: Vec<PlateauRange> = fit.calibration.plateaus.iter().map(|p| p.range).collect();
     assert_eq!(got, ranges);
     // Two plateaus cannot carry a parabola: K0 falls back to a line, with a warning.
@@ -180,7 +180,7 @@ fn a_log_without_plateaus_cannot_define_k0() {
         legs: vec![(40.0, 4000.0, 0.0), (0.0, 4000.0, 0.0)],
     };
     let log = log_from(&program, &TRUTH, 0.0, 0.0, 1);
-    let err = model::fit(&log, &Recipe::default()).unwrap_err();
+    let err = vakhrameev::fit(&log, &Recipe::default()).unwrap_err();
     assert!(err.to_string().contains("no plateaus"), "{err}");
 }
 
@@ -192,7 +192,7 @@ fn invalid_recipes_are_refused_with_the_setting_named() {
         ..Recipe::default()
     };
     assert!(
-        model::fit(&log, &bad)
+        vakhrameev::fit(&log, &bad)
             .unwrap_err()
             .to_string()
             .contains("step_h_s")
@@ -206,7 +206,7 @@ fn invalid_recipes_are_refused_with_the_setting_named() {
         ..Recipe::default()
     };
     assert!(
-        model::fit(&log, &bad)
+        vakhrameev::fit(&log, &bad)
             .unwrap_err()
             .to_string()
             .contains("k1_plus")
@@ -224,22 +224,23 @@ fn set_columns_select_the_points_of_the_direct_walk() {
     };
     let log = log_from(&Program::paper_like(), &truth, 0.3, 0.001, 3);
     let recipe = Recipe::default();
-    let fit = model::fit(&log, &recipe).unwrap();
+    let fit = vakhrameev::fit(&log, &recipe).unwrap();
     let cal = &fit.calibration;
     let ranges: Vec<PlateauRange> = cal.plateaus.iter().map(|p| p.range).collect();
-    let mask = model::plateau_mask(&log.time_s, &ranges);
+    let mask = vakhrameev::plateau_mask(&log.time_s, &ranges);
     let db = (cal.resolved.deadband_tdot, cal.resolved.deadband_tddot);
-    let sets = model::set_columns(&log, &fit.prepared, &mask, &cal.k0, db);
+    let sets = vakhrameev::set_columns(&log, &fit.prepared, &mask, &cal.k0, db);
     for (s, regime, k1, k2) in [
         (0, Regime::Plus, &cal.k1_plus, &cal.k2_plus),
         (1, Regime::Minus, &cal.k1_minus, &cal.k2_minus),
     ] {
-        let walk1 = model::k1_points(&log, &fit.prepared, &mask, &cal.k0, Some(k2), db.0, regime);
+        let walk1 =
+            vakhrameev::k1_points(&log, &fit.prepared, &mask, &cal.k0, Some(k2), db.0, regime);
         assert!(walk1.len() > 1000);
-        assert_eq!(model::k1_points_from(&sets[s].k1, Some(k2)), walk1);
-        let walk2 = model::k2_points(&log, &fit.prepared, &mask, &cal.k0, k1, db.1, regime);
+        assert_eq!(vakhrameev::k1_points_from(&sets[s].k1, Some(k2)), walk1);
+        let walk2 = vakhrameev::k2_points(&log, &fit.prepared, &mask, &cal.k0, k1, db.1, regime);
         assert!(walk2.len() > 1000);
-        assert_eq!(model::k2_points_from(&sets[s].k2, k1), walk2);
+        assert_eq!(vakhrameev::k2_points_from(&sets[s].k2, k1), walk2);
     }
 }
 
@@ -254,14 +255,14 @@ fn set_samples_select_the_points_of_the_direct_walk() {
     };
     let log = log_from(&Program::paper_like(), &truth, 0.3, 0.001, 3);
     let recipe = Recipe::default();
-    let fit = model::fit(&log, &recipe).unwrap();
+    let fit = vakhrameev::fit(&log, &recipe).unwrap();
     let cal = &fit.calibration;
     let ranges: Vec<PlateauRange> = cal.plateaus.iter().map(|p| p.range).collect();
-    let mask = model::plateau_mask(&log.time_s, &ranges);
+    let mask = vakhrameev::plateau_mask(&log.time_s, &ranges);
     let db = (cal.resolved.deadband_tdot, cal.resolved.deadband_tddot);
-    let sets = model::set_samples(&fit.prepared.deriv, &mask, db);
-    let rest = model::rest_dph(&fit.prepared.omega_filtered_dph, &log.temp_c, &cal.k0);
-    let inputs = model::SetInputs {
+    let sets = vakhrameev::set_samples(&fit.prepared.deriv, &mask, db);
+    let rest = vakhrameev::rest_dph(&fit.prepared.omega_filtered_dph, &log.temp_c, &cal.k0);
+    let inputs = vakhrameev::SetInputs {
         tdot: &fit.prepared.deriv.tdot,
         tddot: &fit.prepared.deriv.tddot,
         rest: &rest,
@@ -270,20 +271,21 @@ fn set_samples_select_the_points_of_the_direct_walk() {
         (0, Regime::Plus, &cal.k1_plus, &cal.k2_plus),
         (1, Regime::Minus, &cal.k1_minus, &cal.k2_minus),
     ] {
-        let walk1 = model::k1_points(&log, &fit.prepared, &mask, &cal.k0, Some(k2), db.0, regime);
+        let walk1 =
+            vakhrameev::k1_points(&log, &fit.prepared, &mask, &cal.k0, Some(k2), db.0, regime);
         assert!(walk1.len() > 1000);
-        assert_eq!(model::k1_points_of(&sets[s], inputs, Some(k2)), walk1);
-        let walk2 = model::k2_points(&log, &fit.prepared, &mask, &cal.k0, k1, db.1, regime);
+        assert_eq!(vakhrameev::k1_points_of(&sets[s], inputs, Some(k2)), walk1);
+        let walk2 = vakhrameev::k2_points(&log, &fit.prepared, &mask, &cal.k0, k1, db.1, regime);
         assert!(walk2.len() > 1000);
-        assert_eq!(model::k2_points_of(&sets[s], inputs, k1), walk2);
+        assert_eq!(vakhrameev::k2_points_of(&sets[s], inputs, k1), walk2);
         // The streaming K2 fit is the fit of the walked points.
         let spec = if s == 0 {
             &recipe.k2_plus
         } else {
             &recipe.k2_minus
         };
-        let want = model::fit_points("K2", spec, &walk2, recipe.weighting, &mut Vec::new());
-        let got = model::fit_k2(&sets[s], inputs, k1, regime, &recipe, &mut Vec::new());
+        let want = vakhrameev::fit_points("K2", spec, &walk2, recipe.weighting, &mut Vec::new());
+        let got = vakhrameev::fit_k2(&sets[s], inputs, k1, regime, &recipe, &mut Vec::new());
         assert_eq!(got, want);
         assert_eq!(got.stats().n, walk2.len());
     }
@@ -293,9 +295,9 @@ fn set_samples_select_the_points_of_the_direct_walk() {
 fn lean_calibration_is_the_full_fit() {
     let log = log_from(&Program::paper_like(), &TRUTH, 0.3, 0.001, 5);
     for recipe in [Recipe::default(), sharp_recipe()] {
-        let fit = model::fit(&log, &recipe).unwrap();
-        let lean = model::calibrate(&log, &recipe).unwrap();
-        let strip = |c: &model::Calibration| model::Calibration {
+        let fit = vakhrameev::fit(&log, &recipe).unwrap();
+        let lean = vakhrameev::calibrate(&log, &recipe).unwrap();
+        let strip = |c: &vakhrameev::Calibration| vakhrameev::Calibration {
             created: String::new(),
             ..c.clone()
         };

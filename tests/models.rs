@@ -6,15 +6,17 @@
 mod common;
 
 use common::{Noise, Program};
-use driftlab::calfile;
-use driftlab::compare::{self, Outcome};
-use driftlab::drift_model::{self, DriftModel};
-use driftlab::ingest::{self, ReadOptions};
+use driftlab::files::calibration;
+use driftlab::judge::compare::{self, Outcome};
+use driftlab::judge::metrics::MeritOptions;
+use driftlab::log::ingest::{self, ReadOptions};
 use driftlab::log::{Channel, Log};
-use driftlab::metrics::MeritOptions;
-use driftlab::presets::{ModelChoice, Preset};
-use driftlab::recipe::Recipe;
-use driftlab::regression::{self, DelaySpec, FitSamples, LagSpec, LambdaSpec, RegressionSpec};
+use driftlab::models::fitted::{self, DriftModel};
+use driftlab::models::presets::{ModelChoice, Preset};
+use driftlab::models::recipe::Recipe;
+use driftlab::models::regression::{
+    self, DelaySpec, FitSamples, LagSpec, LambdaSpec, RegressionSpec,
+};
 use std::f64::consts::TAU;
 use std::path::Path;
 
@@ -387,9 +389,9 @@ fn streaming_equals_batch_for_every_model() {
     let log = read("laser-gyro.csv");
     let recipe = Recipe::default();
     for choice in every_choice() {
-        let model = drift_model::fit(&log, &choice, &recipe).unwrap();
+        let model = fitted::fit(&log, &choice, &recipe).unwrap();
         let batch = model.correct(&log).unwrap();
-        let (t2, ch) = drift_model::stream_inputs(&model, &log).unwrap();
+        let (t2, ch) = fitted::stream_inputs(&model, &log).unwrap();
         let mut stream = model.corrector_for(log.nominal_dt_s()).unwrap();
         let mut row = vec![0.0; ch.len()];
         let mut worst: f64 = 0.0;
@@ -414,10 +416,10 @@ fn every_model_reads_back_from_its_calibration_file_and_predicts_the_same() {
     let log = read("laser-gyro.csv");
     let dir = tempfile::tempdir().unwrap();
     for choice in every_choice() {
-        let model = drift_model::fit(&log, &choice, &Recipe::default()).unwrap();
+        let model = fitted::fit(&log, &choice, &Recipe::default()).unwrap();
         let path = dir.path().join(format!("{}.json", choice.name()));
-        calfile::save_model(&path, &model).unwrap();
-        let back = calfile::load_model(&path).unwrap();
+        calibration::save_model(&path, &model).unwrap();
+        let back = calibration::load_model(&path).unwrap();
         assert_eq!(back, model, "{}", choice.name());
         assert_eq!(
             back.correct(&log).unwrap().cor_dph,
@@ -429,13 +431,13 @@ fn every_model_reads_back_from_its_calibration_file_and_predicts_the_same() {
 #[test]
 fn a_damaged_regression_file_is_refused_with_a_reason() {
     let log = read("validation.csv");
-    let model = drift_model::fit(
+    let model = fitted::fit(
         &log,
         &ModelChoice::Preset(Preset::YanCross),
         &Recipe::default(),
     )
     .unwrap();
-    let text = calfile::model_to_json(&model);
+    let text = calibration::model_to_json(&model);
     let p = Path::new("cal.json");
     // One coefficient too few.
     let DriftModel::Regression(r) = &model else {
@@ -443,15 +445,19 @@ fn a_damaged_regression_file_is_refused_with_a_reason() {
     };
     let mut short = (**r).clone();
     short.model.coefficients.pop();
-    let bad = calfile::model_to_json(&DriftModel::Regression(Box::new(short)));
-    let err = calfile::model_from_json(p, &bad).unwrap_err().to_string();
+    let bad = calibration::model_to_json(&DriftModel::Regression(Box::new(short)));
+    let err = calibration::model_from_json(p, &bad)
+        .unwrap_err()
+        .to_string();
     assert!(err.contains("coefficients"), "{err}");
     // An unknown term.
     let bad = text.replacen("\"T*Tdot\"", "\"T^7\"", 1);
-    let err = calfile::model_from_json(p, &bad).unwrap_err().to_string();
+    let err = calibration::model_from_json(p, &bad)
+        .unwrap_err()
+        .to_string();
     assert!(err.contains("unknown term"), "{err}");
     // A Vakhrameev-only reader names what the file holds.
-    let err = calfile::from_json(p, &text).unwrap_err().to_string();
+    let err = calibration::from_json(p, &text).unwrap_err().to_string();
     assert!(err.contains("regression model \"yan-cross\""), "{err}");
 }
 
@@ -485,7 +491,7 @@ fn noise_floor(profile: &str, merit: &MeritOptions) -> f64 {
     let p = driftlab::sim::profile(name).unwrap();
     let run = driftlab::sim::simulate_noise_only(&p, seed);
     let log = run.to_log(profile);
-    let f = driftlab::metrics::figures(&log.omega_dph, log.nominal_dt_s(), 0, merit);
+    let f = driftlab::judge::metrics::figures(&log.omega_dph, log.nominal_dt_s(), 0, merit);
     f.p2p_dph
 }
 
@@ -638,7 +644,7 @@ fn a_perfect_static_correction_also_makes_some_figures_worse() {
             .zip(&run.coil_mean_c)
             .map(|(w, t)| w - p.gyro.static_bias_dph(*t))
             .collect();
-        let c = driftlab::metrics::Comparison::of(&run.omega_dph, &cor, 1.0, 0, &merit);
+        let c = driftlab::judge::metrics::Comparison::of(&run.omega_dph, &cor, 1.0, 0, &merit);
         let ratio = match figure {
             "p2p" => c.p2p_ratio,
             "std" => c.std_ratio,

@@ -8,8 +8,8 @@
 //! inputs); this file combines the oddities the way whole files from real stands do.
 
 use driftlab::Log;
-use driftlab::ingest::{self, ReadOptions};
 use driftlab::log::ProblemKind;
+use driftlab::log::ingest::{self, ReadOptions};
 
 /// Values that print exactly (multiples of 1/8), so the text holds exactly the number.
 fn time_s(i: usize) -> f64 {

@@ -10,15 +10,15 @@ mod common;
 
 use common::{Noise, Program, Truth, log_from};
 use driftlab::Log;
-use driftlab::approx::{self, ApproxKind, ApproxSpec, knot_positions};
-use driftlab::calfile;
-use driftlab::drift_model::{self, DriftModel};
-use driftlab::lod::{self, MinMaxPyramid};
+use driftlab::files::calibration;
 use driftlab::log::Channel;
-use driftlab::plateau::PlateauRange;
-use driftlab::presets::{ModelChoice, Preset};
-use driftlab::recipe::{PlateauChoice, Recipe};
-use driftlab::regression::{DelaySpec, LagSpec, RegressionSpec, terms::parse_terms};
+use driftlab::models::approx::{self, ApproxKind, ApproxSpec, knot_positions};
+use driftlab::models::fitted::{self, DriftModel};
+use driftlab::models::presets::{ModelChoice, Preset};
+use driftlab::models::recipe::{PlateauChoice, Recipe};
+use driftlab::models::regression::{DelaySpec, LagSpec, RegressionSpec, terms::parse_terms};
+use driftlab::signal::lod::{self, MinMaxPyramid};
+use driftlab::signal::plateau::PlateauRange;
 use proptest::prelude::*;
 use std::path::Path;
 use std::sync::OnceLock;
@@ -110,9 +110,7 @@ fn fitted_models() -> &'static Vec<DriftModel> {
         choices.push(ModelChoice::Custom(custom_spec()));
         choices
             .iter()
-            .map(|c| {
-                drift_model::fit(&log, c, &recipe).unwrap_or_else(|e| panic!("{}: {e}", c.name()))
-            })
+            .map(|c| fitted::fit(&log, c, &recipe).unwrap_or_else(|e| panic!("{}: {e}", c.name())))
             .collect()
     })
 }
@@ -163,7 +161,7 @@ fn sampled(program: &Program, dt_s: f64, n: usize, seed: u64) -> Log {
 
 fn worst_stream_vs_batch(model: &DriftModel, log: &Log) -> f64 {
     let batch = model.correct(log).unwrap();
-    let (temp2, channels) = drift_model::stream_inputs(model, log).unwrap();
+    let (temp2, channels) = fitted::stream_inputs(model, log).unwrap();
     let mut stream = model.corrector_for(log.nominal_dt_s()).unwrap();
     let mut ch = vec![0.0; channels.len()];
     let mut worst: f64 = 0.0;
@@ -253,8 +251,8 @@ fn approx_spec() -> impl Strategy<Value = ApproxSpec> {
 
 fn assert_same_predictions(model: &DriftModel, log: &Log) -> Result<(), TestCaseError> {
     let path = Path::new("round-trip.json");
-    let text = calfile::model_to_json(model);
-    let back = calfile::model_from_json(path, &text)
+    let text = calibration::model_to_json(model);
+    let back = calibration::model_from_json(path, &text)
         .map_err(|e| TestCaseError::fail(format!("{}: {e}", model.name())))?;
     prop_assert_eq!(&back, model);
     let (a, b) = (model.correct(log).unwrap(), back.correct(log).unwrap());
@@ -285,7 +283,7 @@ proptest! {
             ..Recipe::default()
         };
         recipe.k1_minus.extrapolate = !k1.extrapolate;
-        let cal = driftlab::model::fit(&log, &recipe)
+        let cal = driftlab::models::vakhrameev::fit(&log, &recipe)
             .map_err(|e| TestCaseError::fail(e.to_string()))?
             .calibration;
         assert_same_predictions(&DriftModel::Vakhrameev(Box::new(cal)), &log)?;
@@ -307,7 +305,7 @@ proptest! {
         for c in &choices {
             // A random program may not excite every term; a fit that fails is not this
             // property's business, a fit that succeeds must round-trip.
-            if let Ok(model) = drift_model::fit(&log, c, &recipe) {
+            if let Ok(model) = fitted::fit(&log, c, &recipe) {
                 assert_same_predictions(&model, &log)?;
                 fitted += 1;
             }

@@ -6,10 +6,10 @@ mod common;
 
 use common::{Program, Truth, log_from};
 use driftlab::Log;
-use driftlab::calfile;
-use driftlab::drift_model::{self, DriftModel};
-use driftlab::presets::{ModelChoice, Preset};
-use driftlab::recipe::Recipe;
+use driftlab::files::calibration;
+use driftlab::models::fitted::{self, DriftModel};
+use driftlab::models::presets::{ModelChoice, Preset};
+use driftlab::models::recipe::Recipe;
 use std::path::Path;
 
 const TRUTH: Truth = Truth {
@@ -159,7 +159,7 @@ const HUGE_STEP_CALIBRATION: &[u8] = b"{
 #[test]
 fn a_calibration_asking_for_an_impossible_window_is_refused() {
     let text = String::from_utf8_lossy(HUGE_STEP_CALIBRATION);
-    let e = calfile::model_from_json(Path::new("sukhanov.json"), &text)
+    let e = calibration::model_from_json(Path::new("sukhanov.json"), &text)
         .expect_err("a step of 3e28 s cannot be used");
     let e = e.to_string();
     assert!(
@@ -169,7 +169,7 @@ fn a_calibration_asking_for_an_impossible_window_is_refused() {
     assert!(e.contains("no corrector can hold that much history"), "{e}");
     // The same file with a 30-s step loads, and its corrector runs.
     let fixed = text.replace("30888888888888888888888888888.0", "30.0");
-    let model = calfile::model_from_json(Path::new("sukhanov.json"), &fixed).unwrap();
+    let model = calibration::model_from_json(Path::new("sukhanov.json"), &fixed).unwrap();
     let (_, channels) = model.inputs();
     let mut c = model.corrector_for(1.0).unwrap();
     let out = c.push(0.0, 0.1, 20.0, 19.0, &vec![0.0; channels.len()]);
@@ -196,7 +196,7 @@ fn a_log_sampled_every_nanosecond_is_corrected_without_exhausting_memory() {
         ModelChoice::Preset(Preset::Vakhrameev),
         ModelChoice::Preset(Preset::Ieee952),
     ] {
-        let model: DriftModel = drift_model::fit(&train, &choice, &Recipe::default()).unwrap();
+        let model: DriftModel = fitted::fit(&train, &choice, &Recipe::default()).unwrap();
         let c = model.correct(&log).unwrap();
         assert_eq!(c.cor_dph.len(), log.len(), "{}", model.name());
         // Every window is longer than the log: T is the running mean of all of it so far and
@@ -217,7 +217,7 @@ fn a_streaming_corrector_refuses_a_step_it_cannot_keep_history_for() {
         ModelChoice::Preset(Preset::Vakhrameev),
         ModelChoice::Preset(Preset::YanDelayed),
     ] {
-        let model: DriftModel = drift_model::fit(&train, &choice, &Recipe::default()).unwrap();
+        let model: DriftModel = fitted::fit(&train, &choice, &Recipe::default()).unwrap();
         let e = model.corrector_for(1e-9).expect_err("refused").to_string();
         assert!(
             e.contains("samples of 0.000000001 s") && e.contains("streaming corrector keeps"),
@@ -238,19 +238,19 @@ fn a_streaming_corrector_refuses_a_step_it_cannot_keep_history_for() {
 #[test]
 fn a_calibration_that_could_not_be_read_back_is_not_written() {
     let train = log_from(&Program::paper_like(), &TRUTH, 0.05, 0.001, 5);
-    let mut cal = driftlab::model::fit(&train, &Recipe::default())
+    let mut cal = driftlab::models::vakhrameev::fit(&train, &Recipe::default())
         .unwrap()
         .calibration;
     cal.resolved.smooth_samples = usize::MAX;
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("cal.json");
     std::fs::write(&path, "old").unwrap();
-    let e = calfile::save(&path, &cal).unwrap_err().to_string();
+    let e = calibration::save(&path, &cal).unwrap_err().to_string();
     assert!(
         e.contains("cal.json: not written: resolved.smooth_samples spans"),
         "{e}"
     );
-    let e = calfile::save_model(&path, &DriftModel::Vakhrameev(Box::new(cal)))
+    let e = calibration::save_model(&path, &DriftModel::Vakhrameev(Box::new(cal)))
         .unwrap_err()
         .to_string();
     assert!(e.contains("not written"), "{e}");

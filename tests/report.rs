@@ -4,16 +4,16 @@
 //! `metrics::Evaluation::of` computes, and nothing from outside itself.
 
 use driftlab::Log;
-use driftlab::calfile;
-use driftlab::drift_model::{self, DriftModel};
-use driftlab::ingest::{self, ReadOptions};
-use driftlab::metrics::{Evaluation, MeritOptions};
-use driftlab::model::{self, Calibration};
-use driftlab::presets::ModelChoice;
-use driftlab::recipe::Recipe;
-use driftlab::regression::terms::parse_terms;
-use driftlab::regression::{DelaySpec, LagSpec, RegressionSpec};
-use driftlab::report::{self, AllanCurve, ReportOptions, html};
+use driftlab::export::report::{self, AllanCurve, ReportOptions, html};
+use driftlab::files::calibration;
+use driftlab::judge::metrics::{Evaluation, MeritOptions};
+use driftlab::log::ingest::{self, ReadOptions};
+use driftlab::models::fitted::{self, DriftModel};
+use driftlab::models::presets::ModelChoice;
+use driftlab::models::recipe::Recipe;
+use driftlab::models::regression::terms::parse_terms;
+use driftlab::models::regression::{DelaySpec, LagSpec, RegressionSpec};
+use driftlab::models::vakhrameev::{self, Calibration};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::sync::OnceLock;
@@ -39,9 +39,11 @@ fn calibration() -> &'static Calibration {
             gyro_id: GYRO.into(),
             ..Recipe::default()
         };
-        let mut cal = model::fit(&read(&path), &recipe).expect("fits").calibration;
+        let mut cal = vakhrameev::fit(&read(&path), &recipe)
+            .expect("fits")
+            .calibration;
         cal.source.name = "calibration.csv".into();
-        cal.source.sha256 = calfile::sha256_file(&path).unwrap();
+        cal.source.sha256 = calibration::sha256_file(&path).unwrap();
         cal
     })
 }
@@ -465,10 +467,10 @@ fn regression_model(terms: &str, searches: bool) -> DriftModel {
         gyro_id: "RLG-REPORT-3".into(),
         ..Recipe::default()
     };
-    let mut model = drift_model::fit(&log, &ModelChoice::Custom(spec), &recipe).unwrap();
+    let mut model = fitted::fit(&log, &ModelChoice::Custom(spec), &recipe).unwrap();
     let src = model.source_mut();
     src.name = "laser-gyro.csv".into();
-    src.sha256 = calfile::sha256_file(&path).unwrap();
+    src.sha256 = calibration::sha256_file(&path).unwrap();
     model
 }
 

@@ -2,12 +2,12 @@
 //! plateaus, every choice, knots moved by hand), and a malformed file is refused with a
 //! message that says where.
 
-use driftlab::approx::{ApproxKind, ApproxSpec};
-use driftlab::ingest::{ColumnRef, ReadOptions};
+use driftlab::files::session::{self, Coefficient, KnotEdits, LogRef, Session, ViewState};
 use driftlab::live::{Pipeline, Request};
-use driftlab::plateau::PlateauRange;
-use driftlab::recipe::{PlateauChoice, Recipe};
-use driftlab::session::{self, Coefficient, KnotEdits, LogRef, Session, ViewState};
+use driftlab::log::ingest::{ColumnRef, ReadOptions};
+use driftlab::models::approx::{ApproxKind, ApproxSpec};
+use driftlab::models::recipe::{PlateauChoice, Recipe};
+use driftlab::signal::plateau::PlateauRange;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -113,7 +113,7 @@ fn a_reopened_session_gives_the_same_calibration() {
     session::save(&path, &s).unwrap();
     let run = |s: &Session| {
         let l = s.log.as_ref().unwrap();
-        let log = Arc::new(driftlab::ingest::read_path(&l.path, &l.read).unwrap());
+        let log = Arc::new(driftlab::log::ingest::read_path(&l.path, &l.read).unwrap());
         let mut p = Pipeline::new();
         p.run(&Request {
             log,

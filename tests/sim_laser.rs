@@ -1,7 +1,7 @@
 //! The chamber simulator's laser gyro: its channels logged and read back by name, its drift
 //! recovered as Sukhanov's model with the self-heating term, and the noise-only run.
 
-use driftlab::ingest::{self, ReadOptions};
+use driftlab::log::ingest::{self, ReadOptions};
 use driftlab::sim::{LaserParams, SimRun, profile, simulate, simulate_noise_only};
 
 mod common;

@@ -1,7 +1,7 @@
 //! What the chamber simulator hands out: progress, the run as a log, the CSV read back at its
 //! written precision, the `driftlab simulate` command and the bundled sample logs.
 
-use driftlab::ingest::{self, ReadOptions};
+use driftlab::log::ingest::{self, ReadOptions};
 use driftlab::sim::{profile, profile_names, simulate, simulate_with_progress};
 
 mod common;

@@ -4,12 +4,12 @@
 #![no_main]
 
 use driftlab::log::{Channel, Log};
-use driftlab::{calfile, drift_model};
+use driftlab::{files::calibration, models::fitted};
 use libfuzzer_sys::fuzz_target;
 use std::path::Path;
 
 /// A short 1 Hz ramp with every channel the model reads.
-fn short_log(model: &drift_model::DriftModel) -> Log {
+fn short_log(model: &fitted::DriftModel) -> Log {
     let n = 48;
     let time: Vec<f64> = (0..n).map(|i| i as f64).collect();
     let temp: Vec<f64> = time.iter().map(|t| 20.0 + 0.05 * t).collect();
@@ -31,14 +31,14 @@ fn short_log(model: &drift_model::DriftModel) -> Log {
 fuzz_target!(|data: &[u8]| {
     let text = String::from_utf8_lossy(data);
     let path = Path::new("fuzz-cal.json");
-    let _ = calfile::from_json(path, &text);
-    if let Ok(model) = calfile::model_from_json(path, &text) {
-        let back = calfile::model_to_json(&model);
-        let again = calfile::model_from_json(path, &back);
+    let _ = calibration::from_json(path, &text);
+    if let Ok(model) = calibration::model_from_json(path, &text) {
+        let back = calibration::model_to_json(&model);
+        let again = calibration::model_from_json(path, &back);
         assert!(again.is_ok(), "a loaded model must read back: {again:?}");
         let log = short_log(&model);
         let _ = model.correct(&log);
-        if let Ok((t2, ch)) = drift_model::stream_inputs(&model, &log)
+        if let Ok((t2, ch)) = fitted::stream_inputs(&model, &log)
             && let Ok(mut c) = model.corrector_for(log.nominal_dt_s())
         {
             let mut row = vec![0.0; ch.len()];

@@ -2,7 +2,7 @@
 //! few an engineer might set in the import view); the rest is the file.
 #![no_main]
 
-use driftlab::ingest::{self, ColumnRef, RateUnit, ReadOptions, TimeUnit};
+use driftlab::log::ingest::{self, ColumnRef, RateUnit, ReadOptions, TimeUnit};
 use libfuzzer_sys::fuzz_target;
 
 fn options(selector: u8) -> ReadOptions {

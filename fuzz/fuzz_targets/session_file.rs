@@ -2,7 +2,7 @@
 //! again.
 #![no_main]
 
-use driftlab::session;
+use driftlab::files::session;
 use libfuzzer_sys::fuzz_target;
 use std::path::Path;
 

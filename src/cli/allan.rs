@@ -2,9 +2,9 @@
 //! read-outs (ARW, bias instability, RRW).
 
 use super::common::{self, LogArgs};
-use driftlab::allan::{self, AllanDeviation, AllanOptions, Readout, TauSpacing};
-use driftlab::ingest;
+use driftlab::judge::allan::{self, AllanDeviation, AllanOptions, Readout, TauSpacing};
 use driftlab::log::ProblemKind;
+use driftlab::log::ingest;
 use std::path::PathBuf;
 
 /// Arguments of `allan`.

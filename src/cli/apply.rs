@@ -1,7 +1,7 @@
 //! `driftlab apply`: correct a log with a calibration and write the result as CSV.
 
 use super::common::{self, LogArgs};
-use driftlab::{calfile, corrected_csv};
+use driftlab::{files::calibration, files::corrected_csv};
 use std::path::PathBuf;
 
 /// Arguments of `apply`.
@@ -19,7 +19,7 @@ pub struct Args {
 }
 
 pub fn run(a: Args) -> Result<(), String> {
-    let model = calfile::load_model(&a.calibration).map_err(|e| e.to_string())?;
+    let model = calibration::load_model(&a.calibration).map_err(|e| e.to_string())?;
     let log = a.log_args.read_for(&a.log, &model)?;
     // The predicted drift alone, batch by batch as the rows are written: the corrected rate
     // is written as Ω − pred row by row, so no column of it (nor of rates and regimes) is held.

@@ -1,12 +1,12 @@
 //! `driftlab calibrate`: fit a calibration to a log and save it.
 
 use super::common::{self, LogArgs};
-use driftlab::approx::{ApproxKind, ApproxSpec};
-use driftlab::calfile;
-use driftlab::metrics::{Evaluation, MeritOptions};
-use driftlab::model::{self, Calibration};
-use driftlab::plateau::PlateauRange;
-use driftlab::recipe::{PlateauChoice, Recipe};
+use driftlab::files::calibration;
+use driftlab::judge::metrics::{Evaluation, MeritOptions};
+use driftlab::models::approx::{ApproxKind, ApproxSpec};
+use driftlab::models::recipe::{PlateauChoice, Recipe};
+use driftlab::models::vakhrameev::{self, Calibration};
+use driftlab::signal::plateau::PlateauRange;
 use std::path::{Path, PathBuf};
 
 /// Arguments of `calibrate`. Options given here override those of `--recipe`.
@@ -82,8 +82,8 @@ pub struct Args {
 /// Reads a recipe file, or the recipe of a calibration file.
 fn read_recipe(path: &Path) -> Result<Recipe, String> {
     let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
-    if text.contains(&format!("\"{}\"", calfile::FORMAT)) {
-        return calfile::from_json(path, &text)
+    if text.contains(&format!("\"{}\"", calibration::FORMAT)) {
+        return calibration::from_json(path, &text)
             .map(|c| c.recipe)
             .map_err(|e| e.to_string());
     }
@@ -137,8 +137,8 @@ pub fn run(a: Args) -> Result<(), String> {
     common::status("fitting ...");
     // The file's hash is taken beside the fit, whose stages are partly sequential.
     let (fitted, sha256) = std::thread::scope(|scope| {
-        let sha = scope.spawn(|| calfile::sha256_file(&a.log).map_err(|e| e.to_string()));
-        let fitted = model::calibrate(&log, &recipe);
+        let sha = scope.spawn(|| calibration::sha256_file(&a.log).map_err(|e| e.to_string()));
+        let fitted = vakhrameev::calibrate(&log, &recipe);
         let sha256 = sha
             .join()
             .unwrap_or_else(|_| Err("the hashing thread failed".to_string()));
@@ -146,17 +146,17 @@ pub fn run(a: Args) -> Result<(), String> {
     });
     // Only the calibration and the derivatives (for the in-sample figures) are kept: no point
     // sets and no filtered Ω, which on a 10⁷-sample log are hundreds of MB.
-    let model::Calibrated {
+    let vakhrameev::Calibrated {
         calibration: mut cal,
         deriv,
         warnings,
     } = fitted.map_err(|e| format!("{}: {e}", a.log.display()))?;
     cal.source.name = file_name(&a.log);
     cal.source.sha256 = sha256?;
-    calfile::save(&a.out, &cal).map_err(|e| e.to_string())?;
+    calibration::save(&a.out, &cal).map_err(|e| e.to_string())?;
     if let Some(p) = &a.save_recipe {
         let text = serde_json::to_string_pretty(&recipe).map_err(|e| e.to_string())? + "\n";
-        driftlab::atomic::write_bytes(p, text.as_bytes())
+        driftlab::files::atomic::write_bytes(p, text.as_bytes())
             .map_err(|e| format!("{}: {e}", p.display()))?;
     }
     let opts = MeritOptions {

@@ -2,11 +2,11 @@
 
 use super::calibrate::{Args, file_name};
 use super::common;
-use driftlab::calfile;
-use driftlab::drift_model::{self, DriftModel};
-use driftlab::metrics::{Evaluation, MeritOptions};
-use driftlab::presets::ModelChoice;
-use driftlab::recipe::Recipe;
+use driftlab::files::calibration;
+use driftlab::judge::metrics::{Evaluation, MeritOptions};
+use driftlab::models::fitted::{self, DriftModel};
+use driftlab::models::presets::ModelChoice;
+use driftlab::models::recipe::Recipe;
 
 pub fn run(a: &Args, recipe: &Recipe) -> Result<(), String> {
     let name = a.model.as_deref().unwrap_or("custom");
@@ -39,10 +39,10 @@ pub fn run(a: &Args, recipe: &Recipe) -> Result<(), String> {
     let log = a.log_args.read(&a.log)?;
     common::status("fitting ...");
     let mut model =
-        drift_model::fit(&log, &choice, recipe).map_err(|e| format!("{}: {e}", a.log.display()))?;
+        fitted::fit(&log, &choice, recipe).map_err(|e| format!("{}: {e}", a.log.display()))?;
     model.source_mut().name = file_name(&a.log);
-    model.source_mut().sha256 = calfile::sha256_file(&a.log).map_err(|e| e.to_string())?;
-    calfile::save_model(&a.out, &model).map_err(|e| e.to_string())?;
+    model.source_mut().sha256 = calibration::sha256_file(&a.log).map_err(|e| e.to_string())?;
+    calibration::save_model(&a.out, &model).map_err(|e| e.to_string())?;
     let opts = MeritOptions {
         filter_s: recipe.filter_s,
         ..MeritOptions::default()

@@ -1,7 +1,7 @@
 //! Pieces every subcommand shares: how to read a log, progress bars, number formatting.
 
 use driftlab::Log;
-use driftlab::ingest::{self, ColumnRef, RateUnit, ReadOptions, TimeUnit};
+use driftlab::log::ingest::{self, ColumnRef, RateUnit, ReadOptions, TimeUnit};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::IsTerminal;
 use std::path::Path;
@@ -86,7 +86,7 @@ impl LogArgs {
     pub fn read_for(
         &self,
         path: &Path,
-        model: &driftlab::drift_model::DriftModel,
+        model: &driftlab::models::fitted::DriftModel,
     ) -> Result<Log, String> {
         match model.inputs() {
             (None, channels) if channels.is_empty() => self.read_columns(path),
@@ -165,7 +165,7 @@ pub fn ratio(r: f64) -> String {
 }
 
 /// Prints an evaluation as a small table of raw, corrected and ratio.
-pub fn print_evaluation(e: &driftlab::metrics::Evaluation) {
+pub fn print_evaluation(e: &driftlab::judge::metrics::Evaluation) {
     let c = &e.comparison;
     println!(
         "  {:<34} {:>11} {:>11} {:>9}",

@@ -1,11 +1,11 @@
 //! `driftlab compare`: several models fitted on one log, judged on it and on held-out logs.
 
 use super::common::{self, LogArgs};
-use driftlab::compare::{self, ModelReport, Outcome};
-use driftlab::metrics::MeritOptions;
-use driftlab::presets::{ModelChoice, Preset};
-use driftlab::recipe::Recipe;
-use driftlab::regression::{DelaySpec, FitSamples, LagSpec, RegressionSpec, terms};
+use driftlab::judge::compare::{self, ModelReport, Outcome};
+use driftlab::judge::metrics::MeritOptions;
+use driftlab::models::presets::{ModelChoice, Preset};
+use driftlab::models::recipe::Recipe;
+use driftlab::models::regression::{DelaySpec, FitSamples, LagSpec, RegressionSpec, terms};
 use std::path::PathBuf;
 
 /// Arguments of `compare`.

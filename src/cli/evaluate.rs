@@ -1,9 +1,9 @@
 //! `driftlab evaluate`: figures of merit of a log, raw and corrected.
 
 use super::common::{self, LogArgs};
-use driftlab::calfile;
-use driftlab::drift_model::DriftModel;
-use driftlab::metrics::{Evaluation, MeritOptions};
+use driftlab::files::calibration;
+use driftlab::judge::metrics::{Evaluation, MeritOptions};
+use driftlab::models::fitted::DriftModel;
 use std::path::PathBuf;
 
 /// Arguments of `evaluate`.
@@ -27,7 +27,7 @@ pub struct Args {
 }
 
 pub fn run(a: Args) -> Result<(), String> {
-    let model = calfile::load_model(&a.calibration).map_err(|e| e.to_string())?;
+    let model = calibration::load_model(&a.calibration).map_err(|e| e.to_string())?;
     let log = a.log_args.read_for(&a.log, &model)?;
     let default_filter = match &model {
         DriftModel::Vakhrameev(cal) => cal.recipe.filter_s,
@@ -50,12 +50,12 @@ pub fn run(a: Args) -> Result<(), String> {
             "calibration": a.calibration,
             "log": a.log,
             "model": model.name(),
-            "in_sample": *sha == calfile::sha256_file(&a.log).unwrap_or_default(),
+            "in_sample": *sha == calibration::sha256_file(&a.log).unwrap_or_default(),
             "options": opts,
             "evaluation": eval,
         }));
     }
-    let held_out = *sha != calfile::sha256_file(&a.log).unwrap_or_default();
+    let held_out = *sha != calibration::sha256_file(&a.log).unwrap_or_default();
     println!(
         "{} on {} ({}):",
         super::calibrate::file_name(&a.calibration),

@@ -1,7 +1,7 @@
 //! `driftlab export`: a calibration for a gyro's processor, as a C header or lookup tables.
 
-use driftlab::calfile;
-use driftlab::firmware::{self, ExportOptions, Format};
+use driftlab::export::firmware::{self, ExportOptions, Format};
+use driftlab::files::calibration;
 use std::io::Write;
 use std::path::PathBuf;
 
@@ -25,13 +25,13 @@ pub struct Args {
 }
 
 pub fn run(a: Args) -> Result<(), String> {
-    let model = calfile::load_model(&a.calibration).map_err(|e| e.to_string())?;
+    let model = calibration::load_model(&a.calibration).map_err(|e| e.to_string())?;
     let opts = ExportOptions { points: a.points };
     let text = firmware::export_model(&model, a.format, &opts)
         .map_err(|e| format!("{}: {e}", a.calibration.display()))?;
     match &a.out {
         Some(path) => {
-            driftlab::atomic::write_bytes(path, text.as_bytes())
+            driftlab::files::atomic::write_bytes(path, text.as_bytes())
                 .map_err(|e| format!("{}: {e}", path.display()))?;
             let what = if model.gyro_id().is_empty() {
                 model.source().name.clone()

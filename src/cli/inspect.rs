@@ -1,8 +1,8 @@
 //! `driftlab inspect`: what driftlab reads in a log.
 
 use super::common::{self, LogArgs};
-use driftlab::model::{self, Prepared};
-use driftlab::recipe::Recipe;
+use driftlab::models::recipe::Recipe;
+use driftlab::models::vakhrameev::{self, Prepared};
 use std::path::PathBuf;
 
 /// Arguments of `inspect`.
@@ -21,8 +21,8 @@ pub fn run(a: Args) -> Result<(), String> {
     let log = a.log_args.read(&a.log)?;
     let recipe = Recipe::default();
     let prepared = Prepared::new(&log, &recipe);
-    let ranges = model::plateau_ranges(&log, &prepared, &recipe);
-    let plateaus = model::plateau_stats(&log, &ranges);
+    let ranges = vakhrameev::plateau_ranges(&log, &prepared, &recipe);
+    let plateaus = vakhrameev::plateau_stats(&log, &ranges);
     let (tmin, tmax) = log
         .temp_c
         .iter()
@@ -85,7 +85,7 @@ pub fn run(a: Args) -> Result<(), String> {
     // A week-long log can hold thousands: the first and last ones say enough on a terminal
     // (`--json` lists every one).
     const SHOWN: usize = 10;
-    let line = |p: &driftlab::plateau::PlateauStats| {
+    let line = |p: &driftlab::signal::plateau::PlateauStats| {
         println!(
             "    {:>9.0} .. {:>9.0} s   T {:>8.3} degC   Omega {:>9.4} deg/h   std {:.4}   {} samples",
             p.range.start_s, p.range.end_s, p.temp_c, p.omega_dph, p.omega_std_dph, p.samples

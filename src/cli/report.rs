@@ -1,9 +1,9 @@
 //! `driftlab report`: the test report of a calibration judged on one or more logs.
 
 use super::common::{self, LogArgs};
-use driftlab::calfile;
-use driftlab::metrics::MeritOptions;
-use driftlab::report::{self, ReportOptions};
+use driftlab::export::report::{self, ReportOptions};
+use driftlab::files::calibration;
+use driftlab::judge::metrics::MeritOptions;
 use std::path::PathBuf;
 
 /// Arguments of `report`.
@@ -29,7 +29,7 @@ pub struct Args {
 }
 
 pub fn run(a: Args) -> Result<(), String> {
-    let model = calfile::load_model(&a.calibration).map_err(|e| e.to_string())?;
+    let model = calibration::load_model(&a.calibration).map_err(|e| e.to_string())?;
     let merit = MeritOptions {
         filter_s: a
             .filter

@@ -28,9 +28,9 @@ use super::view_models::ModelsView;
 use super::view_plateaus::PlateauView;
 use super::view_result::ResultView;
 use super::view_time::{TimeView, XCommand};
-use crate::ingest::ReadOptions;
-use crate::recipe::Weighting;
-use crate::session::{self, Session};
+use crate::files::session::{self, Session};
+use crate::log::ingest::ReadOptions;
+use crate::models::recipe::Weighting;
 use eframe::egui::{
     self, Align, Color32, ColorImage, Key, KeyboardShortcut, Layout, Modifiers, Panel, Rect,
     RichText, ScrollArea, Ui, ViewportCommand,
@@ -346,7 +346,11 @@ impl Workbench {
     }
 
     /// Where knot `j` of a K1/K2 coefficient is on screen (tests aim the mouse).
-    pub fn knot_screen_pos(&self, c: crate::session::Coefficient, j: usize) -> Option<egui::Pos2> {
+    pub fn knot_screen_pos(
+        &self,
+        c: crate::files::session::Coefficient,
+        j: usize,
+    ) -> Option<egui::Pos2> {
         self.coeffs.knot_pos(&self.state, c, j)
     }
 

@@ -4,7 +4,7 @@
 //! cleanly (a crash, a killed process, a power cut), and the work in it is offered back.
 
 use super::state::AppState;
-use crate::session;
+use crate::files::session;
 use std::path::{Path, PathBuf};
 use std::sync::mpsc::{self, Receiver};
 use std::time::{Duration, Instant, SystemTime};

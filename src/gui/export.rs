@@ -4,7 +4,7 @@
 
 use crate::live::Corrected;
 use crate::log::Log;
-use crate::model::Calibration;
+use crate::models::vakhrameev::Calibration;
 use eframe::egui::{ColorImage, Rect};
 use std::path::{Path, PathBuf};
 
@@ -55,7 +55,8 @@ pub fn save_png(
             )
             .map_err(|e| format!("{}: {e}", path.display()))?;
     }
-    crate::atomic::write_bytes(path, &bytes).map_err(|e| format!("{}: {e}", path.display()))?;
+    crate::files::atomic::write_bytes(path, &bytes)
+        .map_err(|e| format!("{}: {e}", path.display()))?;
     Ok(path.to_path_buf())
 }
 
@@ -67,7 +68,7 @@ pub fn save_calibration(
     sha256: Option<&str>,
 ) -> Result<PathBuf, String> {
     let cal = stamped(cal, log_path, sha256)?;
-    crate::calfile::save(path, &cal).map_err(|e| e.to_string())?;
+    crate::files::calibration::save(path, &cal).map_err(|e| e.to_string())?;
     Ok(path.to_path_buf())
 }
 
@@ -84,7 +85,7 @@ pub fn stamped(
         .unwrap_or_else(|| log_path.display().to_string());
     cal.source.sha256 = match sha256 {
         Some(s) => s.to_string(),
-        None => crate::calfile::sha256_file(log_path).map_err(|e| e.to_string())?,
+        None => crate::files::calibration::sha256_file(log_path).map_err(|e| e.to_string())?,
     };
     Ok(cal)
 }
@@ -96,8 +97,13 @@ pub fn write_report(
     cal: &Calibration,
     logs: &[(PathBuf, Log)],
 ) -> Result<PathBuf, String> {
-    let summary = crate::report::write(cal, logs, dir, &crate::report::ReportOptions::default())
-        .map_err(|e| e.to_string())?;
+    let summary = crate::export::report::write(
+        cal,
+        logs,
+        dir,
+        &crate::export::report::ReportOptions::default(),
+    )
+    .map_err(|e| e.to_string())?;
     Ok(summary.html)
 }
 
@@ -105,7 +111,7 @@ pub fn write_report(
 /// source log and the log's SHA-256.
 pub fn save_model(
     path: &Path,
-    model: &crate::drift_model::DriftModel,
+    model: &crate::models::fitted::DriftModel,
     log_path: &Path,
     sha256: Option<&str>,
 ) -> Result<PathBuf, String> {
@@ -117,15 +123,15 @@ pub fn save_model(
         .unwrap_or_else(|| log_path.display().to_string());
     source.sha256 = match sha256 {
         Some(s) => s.to_string(),
-        None => crate::calfile::sha256_file(log_path).map_err(|e| e.to_string())?,
+        None => crate::files::calibration::sha256_file(log_path).map_err(|e| e.to_string())?,
     };
-    crate::calfile::save_model(path, &model).map_err(|e| e.to_string())?;
+    crate::files::calibration::save_model(path, &model).map_err(|e| e.to_string())?;
     Ok(path.to_path_buf())
 }
 
 /// Writes the corrected log with the engine's writer (the columns of `driftlab apply`).
 pub fn write_corrected_csv(path: &Path, log: &Log, c: &Corrected) -> Result<PathBuf, String> {
-    crate::corrected_csv::write(path, log, &c.pred_dph, &c.cor_dph, &|_| {})
+    crate::files::corrected_csv::write(path, log, &c.pred_dph, &c.cor_dph, &|_| {})
         .map_err(|e| format!("{}: {e}", path.display()))?;
     Ok(path.to_path_buf())
 }

@@ -7,7 +7,7 @@
 //! * one file per view: [`view_import`], [`view_time`], [`view_plateaus`], [`view_coeffs`],
 //!   [`view_result`] (the Calibration page), [`view_models`] (the Models page: presets and a
 //!   custom model side by side, their export) and [`view_allan`] (the Allan page);
-//! * [`plot_items`]: plot items drawn from level-of-detail data ([`crate::lod`]);
+//! * [`plot_items`]: plot items drawn from level-of-detail data ([`crate::signal::lod`]);
 //! * [`export`], [`dialogs`], [`settings`].
 //!
 //! Fitting is a pure function of (log, recipe, knots moved by hand), run by

@@ -2,7 +2,7 @@
 //! zoomed in), a decimated point cloud, and shaded time spans. None of them holds more than
 //! a few thousand points, whatever the log's length.
 
-use crate::lod::Band;
+use crate::signal::lod::Band;
 use eframe::egui::epaint::{BandPoint, BandShape};
 use eframe::egui::{self, Color32, Mesh, Pos2, Rangef, Rect, Shape, Stroke, Ui};
 use egui_plot::{PlotBounds, PlotGeometry, PlotItem, PlotItemBase, PlotPoint, PlotTransform};

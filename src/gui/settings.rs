@@ -76,7 +76,7 @@ impl Settings {
             std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
         }
         let text = serde_json::to_string_pretty(self).map_err(|e| e.to_string())? + "\n";
-        crate::atomic::write_bytes(path, text.as_bytes())
+        crate::files::atomic::write_bytes(path, text.as_bytes())
             .map_err(|e| format!("{}: {e}", path.display()))
     }
 

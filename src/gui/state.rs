@@ -3,11 +3,11 @@
 //! Views read it and change the choices; the app turns changed choices into refit requests.
 
 use super::jobs::{AllanView, Compared, FitView, Loaded};
+use crate::files::session::{KnotEdits, LogRef, Session, ViewState};
+use crate::judge::metrics::MeritOptions;
 use crate::live::Request;
-use crate::metrics::MeritOptions;
-use crate::plateau::PlateauRange;
-use crate::recipe::{PlateauChoice, Recipe};
-use crate::session::{KnotEdits, LogRef, Session, ViewState};
+use crate::models::recipe::{PlateauChoice, Recipe};
+use crate::signal::plateau::PlateauRange;
 use std::path::PathBuf;
 use std::sync::Arc;
 

@@ -2,7 +2,7 @@
 //! the current Vakhrameev calibration, on one log-log plot with their confidence intervals,
 //! and the gyro read-outs (ARW, bias instability, RRW) of both.
 //!
-//! The deviations come from [`crate::allan::allan`] on a worker
+//! The deviations come from [`crate::judge::allan::allan`] on a worker
 //! ([`super::jobs::Jobs::allan`]); this view asks for them when the calibration or the log
 //! shown changes, and draws what came back.
 
@@ -10,7 +10,7 @@ use super::app::Action;
 use super::jobs::AllanView as AllanData;
 use super::plot_items::{Palette, num};
 use super::state::AppState;
-use crate::allan::{AllanDeviation, Readout};
+use crate::judge::allan::{AllanDeviation, Readout};
 use eframe::egui::{self, Color32, Grid, Panel, RichText, Ui};
 use egui_plot::{Corner, FilledArea, GridInput, GridMark, Legend, Line, Plot, PlotPoints, Points};
 use std::ops::RangeInclusive;

@@ -6,8 +6,8 @@
 use super::app::Action;
 use super::plot_items::{CloudItem, Palette, ShadeItem, ShadeSpan, num};
 use super::state::AppState;
-use crate::approx::{ApproxKind, ApproxSpec};
-use crate::session::Coefficient;
+use crate::files::session::Coefficient;
+use crate::models::approx::{ApproxKind, ApproxSpec};
 use eframe::egui::{self, Color32, CursorIcon, RichText, Stroke, Ui, WidgetInfo};
 use egui_plot::{Line, MarkerShape, Plot, PlotBounds, PlotPoints, PlotTransform, Points};
 

@@ -3,8 +3,8 @@
 //! decimal comma before the (possibly long) read starts.
 
 use super::jobs::Target;
-use crate::ingest::{self, ColumnRef, Preview, RateUnit, ReadOptions, TimeUnit};
 use crate::log::ColumnRole;
+use crate::log::ingest::{self, ColumnRef, Preview, RateUnit, ReadOptions, TimeUnit};
 use eframe::egui::{self, Color32, ComboBox, Grid, RichText, ScrollArea, Ui};
 use std::path::PathBuf;
 

@@ -6,8 +6,8 @@ use super::plot_items::{Palette, num};
 use super::state::AppState;
 use super::view_coeffs::approx_controls;
 use super::view_time::TimeView;
-use crate::plateau::PlateauRange;
-use crate::session::Coefficient;
+use crate::files::session::Coefficient;
+use crate::signal::plateau::PlateauRange;
 use eframe::egui::{self, RichText, Ui};
 use egui_plot::{Line, LineStyle, MarkerShape, Plot, PlotPoints, Points};
 
@@ -71,7 +71,7 @@ impl PlateauView {
                 .changed()
             {
                 if auto {
-                    state.recipe_mut().plateaus = crate::recipe::PlateauChoice::default();
+                    state.recipe_mut().plateaus = crate::models::recipe::PlateauChoice::default();
                 } else {
                     let r = state.ranges();
                     state.set_ranges(r);

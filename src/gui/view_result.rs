@@ -6,7 +6,7 @@ use super::app::Action;
 use super::plot_items::{BandItem, Palette, ShadeItem, ShadeSpan, TimeScale, num, ratio};
 use super::state::AppState;
 use super::view_time::time_link;
-use crate::metrics::Evaluation;
+use crate::judge::metrics::Evaluation;
 use eframe::egui::{self, Grid, RichText, Stroke, Ui, Vec2b};
 use egui_plot::{HLine, Legend, Plot};
 
@@ -131,15 +131,27 @@ impl ResultView {
                         .width(1.0)
                         .allow_hover(false),
                 );
-                let raw =
-                    crate::lod::reduce(&log.time_s, &judged.raw_filtered_dph, raw_p, x0, x1, cols);
+                let raw = crate::signal::lod::reduce(
+                    &log.time_s,
+                    &judged.raw_filtered_dph,
+                    raw_p,
+                    x0,
+                    x1,
+                    cols,
+                );
                 pui.add(
                     BandItem::new("raw", raw, scale.div, t_full)
                         .color(pal.raw)
                         .width(1.6),
                 );
-                let cor =
-                    crate::lod::reduce(&log.time_s, &judged.cor_filtered_dph, cor_p, x0, x1, cols);
+                let cor = crate::signal::lod::reduce(
+                    &log.time_s,
+                    &judged.cor_filtered_dph,
+                    cor_p,
+                    x0,
+                    x1,
+                    cols,
+                );
                 pui.add(
                     BandItem::new("corrected", cor, scale.div, t_full)
                         .color(pal.corrected)

@@ -6,7 +6,7 @@
 use super::app::Action;
 use super::plot_items::{BandItem, Palette, ShadeItem, ShadeSpan, TimeScale, num, tick};
 use super::state::AppState;
-use crate::plateau::PlateauRange;
+use crate::signal::plateau::PlateauRange;
 use eframe::egui::{self, CursorIcon, Key, Rect, Stroke, Ui, Vec2b};
 use egui_plot::{HLine, HoverPosition, LineStyle, Plot, PlotTransform};
 
@@ -215,8 +215,14 @@ impl TimeView {
                     match k {
                         0 => {
                             let raw = &loaded.lods.omega;
-                            let band =
-                                crate::lod::reduce(&log.time_s, &log.omega_dph, raw, x0, x1, cols);
+                            let band = crate::signal::lod::reduce(
+                                &log.time_s,
+                                &log.omega_dph,
+                                raw,
+                                x0,
+                                x1,
+                                cols,
+                            );
                             pui.add(
                                 BandItem::new("Ω raw", band, scale.div, t_full)
                                     .color(Palette::shade(pal.raw, 0.45))
@@ -225,7 +231,7 @@ impl TimeView {
                             );
                             if let Some(f) = &fit {
                                 let p = &f.outcome.prepared;
-                                let band = crate::lod::reduce(
+                                let band = crate::signal::lod::reduce(
                                     &log.time_s,
                                     &p.omega_filtered_dph,
                                     &f.lods.omega_filtered,
@@ -239,7 +245,7 @@ impl TimeView {
                                 );
                                 let pred = &f.outcome.in_sample.corrected.pred_dph;
                                 if pred.len() == log.len() {
-                                    let band = crate::lod::reduce(
+                                    let band = crate::signal::lod::reduce(
                                         &log.time_s,
                                         pred,
                                         &f.lods.pred,
@@ -256,7 +262,7 @@ impl TimeView {
                             }
                         }
                         1 => {
-                            let band = crate::lod::reduce(
+                            let band = crate::signal::lod::reduce(
                                 &log.time_s,
                                 &log.temp_c,
                                 &loaded.lods.temp,
@@ -283,7 +289,8 @@ impl TimeView {
                                     )
                                 };
                                 if v.len() == log.len() {
-                                    let band = crate::lod::reduce(&log.time_s, v, p, x0, x1, cols);
+                                    let band =
+                                        crate::signal::lod::reduce(&log.time_s, v, p, x0, x1, cols);
                                     pui.add(
                                         BandItem::new(spec.label, band, scale.div, t_full)
                                             .color(pal.filtered),
@@ -563,7 +570,7 @@ impl TimeView {
                 }
             }
             // Unsorted while the drag lasts, so the index being edited stays put.
-            state.recipe_mut().plateaus = crate::recipe::PlateauChoice::Manual { ranges };
+            state.recipe_mut().plateaus = crate::models::recipe::PlateauChoice::Manual { ranges };
         }
         if !down {
             let ranges = state.ranges();
@@ -594,7 +601,7 @@ fn hover_formatter<'a>(
 ) -> impl Fn(f64) -> Option<String> + 'a {
     move |t: f64| {
         let log = &loaded.log;
-        let i = crate::lod::nearest_index(&log.time_s, t)?;
+        let i = crate::signal::lod::nearest_index(&log.time_s, t)?;
         let mut s = format!(
             "t = {} {} ({} s)\nΩ raw = {} °/h\nT = {} °C",
             num(log.time_s[i] / scale.div),
@@ -608,9 +615,9 @@ fn hover_formatter<'a>(
             let c = &f.outcome.in_sample.corrected;
             if i < p.omega_filtered_dph.len() && i < c.pred_dph.len() {
                 let regime = match c.regime[i] {
-                    crate::model::Regime::Plus => "+ (thermal acceleration)",
-                    crate::model::Regime::Minus => "− (thermal deceleration)",
-                    crate::model::Regime::Static => "static",
+                    crate::models::vakhrameev::Regime::Plus => "+ (thermal acceleration)",
+                    crate::models::vakhrameev::Regime::Minus => "− (thermal deceleration)",
+                    crate::models::vakhrameev::Regime::Static => "static",
                 };
                 s.push_str(&format!(
                     "\nΩ filtered = {} °/h\nmodel = {} °/h\ncorrected = {} °/h\ndT/dt = {} °C/s\nd²T/dt² = {} °C/s²\nregime {regime}",

@@ -41,7 +41,7 @@ impl Pipeline {
         let (figures, ()) = rayon::join(
             || {
                 let (x, skip) = (&corrected.cor_dph, corrected.ready_from);
-                crate::metrics::figures_buffered(x, dt_s, skip, merit, kept)
+                crate::judge::metrics::figures_buffered(x, dt_s, skip, merit, kept)
             },
             || moving_average_centered_into(&corrected.cor_dph, filter, prefix, out),
         );
@@ -99,11 +99,11 @@ impl Pipeline {
         self.validation_corrected = Some(corrected.clone());
         if v.raw_key != (corrected.ready_from, *merit) {
             v.raw_figures =
-                crate::metrics::figures(&log.omega_dph, dt, corrected.ready_from, merit);
+                crate::judge::metrics::figures(&log.omega_dph, dt, corrected.ready_from, merit);
             v.raw_key = (corrected.ready_from, *merit);
         }
         let (cor_figures, cor_filtered) = rayon::join(
-            || crate::metrics::figures(&corrected.cor_dph, dt, corrected.ready_from, merit),
+            || crate::judge::metrics::figures(&corrected.cor_dph, dt, corrected.ready_from, merit),
             || signal::moving_average_centered(&corrected.cor_dph, filter),
         );
         let evaluation = evaluation(v.raw_figures, cor_figures, &corrected);

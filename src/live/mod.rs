@@ -1,7 +1,7 @@
 //! The workbench's live refit: a calibration as a pure function of (log, recipe, knots moved by
 //! hand), run in stages with each stage's result kept until its inputs change.
 //!
-//! The stages are those of [`model::fit_prepared`], called through
+//! The stages are those of [`vakhrameev::fit_prepared`], called through
 //! the same public stage functions, so the result is the same calibration (a test holds them
 //! equal). What this adds is memory between calls:
 //!
@@ -30,7 +30,7 @@
 //!
 //! The correction is made from the kept derivatives ([`Calibration::correct_into`], or a patch
 //! of the samples of the sets that changed); it equals
-//! [`Calibration::correct_with`](crate::model::Calibration) sample for sample.
+//! [`Calibration::correct_with`](crate::models::vakhrameev::Calibration) sample for sample.
 
 mod average;
 mod cache;
@@ -44,13 +44,15 @@ mod tests;
 
 pub use plateaus::suggest_plateaus;
 
-use crate::approx::{Approx, ApproxSpec};
+use crate::files::session::{Coefficient, KnotEdits};
+use crate::judge::metrics::{Comparison, Evaluation, Figures, MeritOptions};
 use crate::log::Log;
-use crate::metrics::{Comparison, Evaluation, Figures, MeritOptions};
-use crate::model::{self, Calibration, PointSet, Prepared, Regime, SetInputs, SetSamples};
-use crate::plateau::{PlateauRange, PlateauStats};
-use crate::recipe::{PlateauChoice, Recipe, Weighting};
-use crate::session::{Coefficient, KnotEdits};
+use crate::models::approx::{Approx, ApproxSpec};
+use crate::models::recipe::{PlateauChoice, Recipe, Weighting};
+use crate::models::vakhrameev::{
+    self, Calibration, PointSet, Prepared, Regime, SetInputs, SetSamples,
+};
+use crate::signal::plateau::{PlateauRange, PlateauStats};
 use crate::signal::{self, DerivativeSteps, Derivatives};
 use cache::*;
 use correction::CorrectionBuf;
@@ -77,7 +79,7 @@ pub struct Request {
 }
 
 /// A corrected log: the engine's correction.
-pub use crate::correct::Correction as Corrected;
+pub use crate::models::vakhrameev::correct::Correction as Corrected;
 
 /// The calibration judged on one log.
 #[derive(Debug, Clone)]
@@ -307,9 +309,9 @@ impl Pipeline {
             deadband_tddot: recipe.deadband_tddot,
         };
         if self.plateaus.as_ref().is_none_or(|s| s.key != pkey) {
-            let stats = model::plateau_stats(log, &ranges);
-            let mask = model::plateau_mask(&log.time_s, &ranges);
-            let deadbands = model::deadbands(&prepared, &mask, recipe);
+            let stats = vakhrameev::plateau_stats(log, &ranges);
+            let mask = vakhrameev::plateau_mask(&log.time_s, &ranges);
+            let deadbands = vakhrameev::deadbands(&prepared, &mask, recipe);
             self.plateaus = Some(PlateauStage {
                 key: pkey.clone(),
                 stats,
@@ -320,8 +322,8 @@ impl Pipeline {
         }
         let stage = self.plateaus.as_ref().ok_or("plateau stage missing")?;
         let mut warnings = Vec::new();
-        let k0 =
-            model::fit_k0(&stage.stats, &recipe.k0, &mut warnings).map_err(|e| e.to_string())?;
+        let k0 = vakhrameev::fit_k0(&stage.stats, &recipe.k0, &mut warnings)
+            .map_err(|e| e.to_string())?;
         let k0 = with_knots(&k0, req.knots.get(Coefficient::K0));
         let stats = stage.stats.clone();
         let mask = stage.mask.clone();
@@ -377,7 +379,7 @@ impl Pipeline {
                         // The first pass's K1 only serves when a refinement follows it.
                         let first = (recipe.refinements > 0).then(|| {
                             kept[s].clone().unwrap_or_else(|| {
-                                model::first_k1(&samples[s], inputs, regime, recipe)
+                                vakhrameev::first_k1(&samples[s], inputs, regime, recipe)
                             })
                         });
                         let fit = fit_set(&samples[s], inputs, regime, recipe, first.as_ref());
@@ -440,7 +442,7 @@ impl Pipeline {
         let raw_figures = match &self.raw_figures {
             Some((k, f)) if *k == raw_key => *f,
             _ => {
-                let f = crate::metrics::figures(
+                let f = crate::judge::metrics::figures(
                     &log.omega_dph,
                     prepared.dt_s,
                     corrected.ready_from,
@@ -508,7 +510,7 @@ impl Pipeline {
         let samples = match &self.samples {
             Some(c) if c.plateaus == *pkey => c.sets.clone(),
             _ => {
-                let sets = Arc::new(model::set_samples(&prepared.deriv, mask, deadbands));
+                let sets = Arc::new(vakhrameev::set_samples(&prepared.deriv, mask, deadbands));
                 self.samples = Some(SamplesCache {
                     plateaus: pkey.clone(),
                     sets: sets.clone(),
@@ -519,7 +521,11 @@ impl Pipeline {
         let rest = match &self.rest {
             Some(c) if c.prepared == ptr(prepared) && c.k0 == *k0 => c.rest.clone(),
             _ => {
-                let rest = Arc::new(model::rest_dph(&prepared.omega_filtered_dph, temp_c, k0));
+                let rest = Arc::new(vakhrameev::rest_dph(
+                    &prepared.omega_filtered_dph,
+                    temp_c,
+                    k0,
+                ));
                 self.rest = Some(RestCache {
                     prepared: ptr(prepared),
                     k0: k0.clone(),

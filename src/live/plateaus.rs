@@ -17,7 +17,7 @@ impl Pipeline {
         {
             return ranges.clone();
         }
-        let ranges = model::plateau_ranges(log, prepared, recipe);
+        let ranges = vakhrameev::plateau_ranges(log, prepared, recipe);
         self.ranges = Some((ptr(prepared), recipe.plateaus.clone(), ranges.clone()));
         ranges
     }
@@ -27,8 +27,8 @@ impl Pipeline {
 /// "Suggest plateaus" (whatever the recipe's own plateau choice is).
 pub fn suggest_plateaus(log: &Log, prepared: &Prepared) -> Vec<PlateauRange> {
     let auto = Recipe {
-        plateaus: crate::recipe::PlateauChoice::default(),
+        plateaus: crate::models::recipe::PlateauChoice::default(),
         ..Recipe::default()
     };
-    model::plateau_ranges(log, prepared, &auto)
+    vakhrameev::plateau_ranges(log, prepared, &auto)
 }

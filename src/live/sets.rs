@@ -10,7 +10,7 @@ pub(super) fn fit_set(
     recipe: &Recipe,
     first_k1: Option<&Approx>,
 ) -> SetFit {
-    let f = model::fit_set_from(samples, inputs, regime, recipe, true, first_k1);
+    let f = vakhrameev::fit_set_from(samples, inputs, regime, recipe, true, first_k1);
     SetFit {
         k1: f.k1,
         k2: f.k2,
@@ -46,8 +46,8 @@ pub(super) fn apply_knot_edits(
             let mut w = Vec::new();
             // The points are gathered for display anyway; the fit reads them rather than
             // evaluating the edited K1 again in each of its passes.
-            let p2 = model::k2_points_of(samples, inputs, &out.k1);
-            out.k2 = model::fit_k2_gathered(samples, &p2, regime, recipe, &mut w);
+            let p2 = vakhrameev::k2_points_of(samples, inputs, &out.k1);
+            out.k2 = vakhrameev::fit_k2_gathered(samples, &p2, regime, recipe, &mut w);
             out.p2 = Arc::new(p2);
             out.warnings
                 .retain(|m| !m.starts_with(&format!("K2{sign}")));

@@ -1,11 +1,11 @@
 //! The live loop held to the batch path: fits, corrections, figures and display series.
 
 use super::*;
-use crate::approx::{Approx, ApproxKind};
+use crate::models::approx::{Approx, ApproxKind};
 
 fn sample_log() -> Arc<Log> {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("sample_logs/calibration.csv");
-    Arc::new(crate::ingest::read_path(&path, &Default::default()).expect("sample log reads"))
+    Arc::new(crate::log::ingest::read_path(&path, &Default::default()).expect("sample log reads"))
 }
 
 fn request(log: &Arc<Log>, recipe: Recipe) -> Request {
@@ -42,7 +42,7 @@ fn staged_fit_is_the_engines_fit() {
     };
     let mut p = Pipeline::new();
     let out = p.run(&request(&log, recipe.clone())).unwrap();
-    let fit = model::fit(&log, &recipe).unwrap();
+    let fit = vakhrameev::fit(&log, &recipe).unwrap();
     same(&out.calibration, &fit.calibration);
     assert_eq!(*out.k1_plus_points, fit.k1_plus_points);
     assert_eq!(*out.k2_minus_points, fit.k2_minus_points);
@@ -70,7 +70,7 @@ fn staged_fit_is_the_engines_fit() {
     assert_eq!(out2.timings.prepare_ms, 0.0);
     assert_eq!(out2.timings.plateaus_ms, 0.0);
     assert!(Arc::ptr_eq(&out.k1_plus_points, &out2.k1_plus_points));
-    let fit2 = model::fit(&log, &recipe).unwrap();
+    let fit2 = vakhrameev::fit(&log, &recipe).unwrap();
     same(&out2.calibration, &fit2.calibration);
 }
 
@@ -92,7 +92,7 @@ fn a_k2_kind_change_with_the_kept_first_k1_is_the_engines_fit() {
         recipe.k1_minus.kind = k1_minus;
         let req = request(&log, recipe.clone());
         let out = p.run(&req).unwrap();
-        let fit = model::fit(&log, &recipe).unwrap();
+        let fit = vakhrameev::fit(&log, &recipe).unwrap();
         same(&out.calibration, &fit.calibration);
         assert_eq!(*out.k1_plus_points, fit.k1_plus_points);
         assert_eq!(*out.k2_plus_points, fit.k2_plus_points);
@@ -228,7 +228,7 @@ fn knot_edits_follow_with_the_engines_k2_points() {
     let mut p = Pipeline::new();
     let req = request(&log, recipe.clone());
     let out = p.run(&req).unwrap();
-    let fit = model::fit(&log, &recipe).unwrap();
+    let fit = vakhrameev::fit(&log, &recipe).unwrap();
     same(&out.calibration, &fit.calibration);
     assert_eq!(*out.k1_minus_points, fit.k1_minus_points);
     assert_eq!(*out.k2_plus_points, fit.k2_plus_points);
@@ -238,9 +238,9 @@ fn knot_edits_follow_with_the_engines_k2_points() {
     req.knots.k1_minus = Some(values);
     let out2 = p.run(&req).unwrap();
     judged_afresh(&log, &req, &out2);
-    let mask = model::plateau_mask(&log.time_s, &out2.ranges);
-    let (_, db2) = model::deadbands(&out2.prepared, &mask, &recipe);
-    let p2 = model::k2_points(
+    let mask = vakhrameev::plateau_mask(&log.time_s, &out2.ranges);
+    let (_, db2) = vakhrameev::deadbands(&out2.prepared, &mask, &recipe);
+    let p2 = vakhrameev::k2_points(
         &log,
         &out2.prepared,
         &mask,
@@ -251,7 +251,7 @@ fn knot_edits_follow_with_the_engines_k2_points() {
     );
     assert_eq!(*out2.k2_minus_points, p2);
     let mut w = Vec::new();
-    let k2 = model::fit_points("K2-", &recipe.k2_minus, &p2, recipe.weighting, &mut w);
+    let k2 = vakhrameev::fit_points("K2-", &recipe.k2_minus, &p2, recipe.weighting, &mut w);
     assert_eq!(out2.calibration.k2_minus, k2);
 }
 

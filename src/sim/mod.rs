@@ -388,7 +388,7 @@ impl SimRun {
     /// its [`channels`](SimRun::channels)), then one row a sample (time exact, rate to
     /// 0.0001 °/h, temperatures to 0.001 °C, channels to their resolution).
     pub fn write_csv(&self, path: &Path) -> std::io::Result<()> {
-        crate::atomic::write_with(path, |w| self.write_csv_to(w))
+        crate::files::atomic::write_with(path, |w| self.write_csv_to(w))
     }
 
     fn write_csv_to(&self, w: &mut dyn Write) -> std::io::Result<()> {

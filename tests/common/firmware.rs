@@ -3,10 +3,10 @@
 //! of a driver's output, and the `driftlab` binary.
 
 use driftlab::Log;
-use driftlab::approx::{ApproxKind, ApproxSpec, Curve};
-use driftlab::ingest::{self, ReadOptions};
-use driftlab::model::{self, Calibration};
-use driftlab::recipe::Recipe;
+use driftlab::log::ingest::{self, ReadOptions};
+use driftlab::models::approx::{ApproxKind, ApproxSpec, Curve};
+use driftlab::models::recipe::Recipe;
+use driftlab::models::vakhrameev::{self, Calibration};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
@@ -45,7 +45,7 @@ pub fn calibrate(log: &Log, [k0, k1, k2]: [ApproxKind; 3], extrapolate_k1: bool)
             extrapolate,
         };
     }
-    let cal = model::fit(log, &r).expect("fit").calibration;
+    let cal = vakhrameev::fit(log, &r).expect("fit").calibration;
     // The kinds asked for are the curves fitted (no fallback to a simpler curve).
     for (a, kind) in [
         (&cal.k0, k0),

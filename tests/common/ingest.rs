@@ -2,8 +2,8 @@
 //! must fail, comparing columns, and a small deterministic random source.
 
 use driftlab::Log;
-use driftlab::ingest::{IngestError, ReadOptions, read_bytes};
 use driftlab::log::ColumnRole;
+use driftlab::log::ingest::{IngestError, ReadOptions, read_bytes};
 
 pub fn read(text: &str) -> Log {
     read_with(text, &ReadOptions::default())

@@ -82,7 +82,7 @@ impl Workbench {
                         // Choices carry over to the new log, except what belonged to the old one.
                         if !self.state.plateaus_auto() {
                             self.state.recipe_mut().plateaus =
-                                crate::recipe::PlateauChoice::default();
+                                crate::models::recipe::PlateauChoice::default();
                         }
                         self.state.choices.knots = Default::default();
                         self.state.session_path = None;

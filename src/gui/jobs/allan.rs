@@ -41,8 +41,11 @@ pub(super) fn run_allan(req: &AllanRequest) -> AllanView {
         ..AllanOptions::default()
     };
     let (raw, corrected) = rayon::join(
-        || crate::allan::allan(&log.omega_dph[from..end], &opts).map_err(|e| e.to_string()),
-        || crate::allan::allan(&req.corrected.cor_dph[from..end], &opts).map_err(|e| e.to_string()),
+        || crate::judge::allan::allan(&log.omega_dph[from..end], &opts).map_err(|e| e.to_string()),
+        || {
+            crate::judge::allan::allan(&req.corrected.cor_dph[from..end], &opts)
+                .map_err(|e| e.to_string())
+        },
     );
     AllanView {
         key: req.key,

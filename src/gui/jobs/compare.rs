@@ -93,7 +93,7 @@ pub(super) fn run_compare(req: &CompareRequest, h: &CompareHandle, ctx: &SharedC
         .map(|choice| {
             // Each log's correction is filtered for drawing as the engine judges it, once.
             let mut series: Vec<Option<ModelSeries>> = all.iter().map(|_| None).collect();
-            let report = crate::compare::compare_one(
+            let report = crate::judge::compare::compare_one(
                 &req.train,
                 &tests,
                 choice,

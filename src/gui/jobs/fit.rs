@@ -62,7 +62,7 @@ impl LodCache {
     fn prepared(
         &mut self,
         p: &Arc<Prepared>,
-        regime: &[crate::model::Regime],
+        regime: &[crate::models::vakhrameev::Regime],
     ) -> ([Arc<MinMaxPyramid>; 3], Arc<ClassLod>) {
         if let Some((k, s, r)) = &self.prepared
             && *k == addr(p)

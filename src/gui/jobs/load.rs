@@ -79,7 +79,7 @@ pub(super) fn load_log(h: &LoadHandle, read: ReadOptions) -> JobResult {
                         || MinMaxPyramid::new(&log.temp_c),
                     )
                 },
-                || crate::calfile::sha256_file(&path).ok(),
+                || crate::files::calibration::sha256_file(&path).ok(),
             );
             JobResult::Loaded(
                 h.target,

@@ -4,7 +4,7 @@
 use super::ModelsView;
 use super::{accessible, plain};
 use crate::gui::state::AppState;
-use crate::regression::{DelaySpec, FitSamples, LagSpec, RegressionSpec, Term};
+use crate::models::regression::{DelaySpec, FitSamples, LagSpec, RegressionSpec, Term};
 use eframe::egui::{self, Grid, RichText, Ui};
 
 /// How the builder's delay τd is chosen.

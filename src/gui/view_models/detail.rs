@@ -3,12 +3,12 @@
 
 use super::ModelsView;
 use super::{accessible, model_color, plain, swatch};
-use crate::compare::ModelReport;
-use crate::drift_model::DriftModel;
 use crate::gui::app::Action;
 use crate::gui::plot_items::num;
 use crate::gui::state::AppState;
-use crate::regression::RegressionModel;
+use crate::judge::compare::ModelReport;
+use crate::models::fitted::DriftModel;
+use crate::models::regression::RegressionModel;
 use eframe::egui::{self, Grid, RichText, Ui};
 use egui_plot::{Line, Plot, PlotPoints, Points, VLine};
 

@@ -22,10 +22,10 @@ pub use plot::model_color;
 use super::app::Action;
 use super::jobs::{CompareHandle, Compared};
 use super::state::AppState;
-use crate::drift_model::DriftModel;
 use crate::gui::plot_items::num;
 use crate::log::Log;
-use crate::presets::{ModelChoice, Preset};
+use crate::models::fitted::DriftModel;
+use crate::models::presets::{ModelChoice, Preset};
 use eframe::egui::{self, Color32, Panel, RichText, ScrollArea, Ui};
 
 /// View state of the Models page.

@@ -97,7 +97,7 @@ impl ModelsView {
                     t_full
                 };
                 let cols = pui.response().rect.width().max(50.0) as usize;
-                let raw = crate::lod::reduce(
+                let raw = crate::signal::lod::reduce(
                     &log.time_s,
                     &cl.raw_filtered_dph,
                     &cl.raw_lod,
@@ -117,8 +117,14 @@ impl ModelsView {
                     if s.cor_filtered_dph.len() != n {
                         continue;
                     }
-                    let band =
-                        crate::lod::reduce(&log.time_s, &s.cor_filtered_dph, &s.lod, x0, x1, cols);
+                    let band = crate::signal::lod::reduce(
+                        &log.time_s,
+                        &s.cor_filtered_dph,
+                        &s.lod,
+                        x0,
+                        x1,
+                        cols,
+                    );
                     pui.add(
                         BandItem::new(&r.model, band, scale.div, t_full)
                             .color(model_color(k, dark))

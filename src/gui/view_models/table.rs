@@ -3,9 +3,9 @@
 
 use super::ModelsView;
 use super::{model_color, plain, short, swatch};
-use crate::compare::Outcome;
 use crate::gui::jobs::Compared;
 use crate::gui::plot_items::{num, ratio};
+use crate::judge::compare::Outcome;
 use eframe::egui::{self, Grid, RichText, Ui};
 
 impl ModelsView {

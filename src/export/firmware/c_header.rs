@@ -1,0 +1,638 @@
+//! The calibration as one self-contained C99 header: constants, a curve evaluator and the
+//! streaming corrector, all `static const` or `static inline`.
+//!
+//! Why `static inline` and not an implementation block behind a macro: the header can be
+//! included from any number of C files without choosing which one holds the code, nothing has to
+//! be linked, and a compiler drops whatever is unused. The cost is a copy of the (small) tables in
+//! each file that includes it.
+//!
+//! The C repeats driftlab's arithmetic operation for operation, so that it agrees bit for bit:
+//!
+//! - [`crate::models::approx::Approx::eval`]: non-finite argument → 0; clamp to the fitted range unless
+//!   the curve extrapolates; polynomials by the same Horner sum (padded with zeros to 4
+//!   coefficients as driftlab pads them); knot curves by the same edge lines outside their knots
+//!   and the same per-segment cubics in `u` inside (the cubics are exported, not recomputed);
+//! - [`crate::models::vakhrameev::Calibration::predict`]: regime from the sign of `Ṫ·T̈`, then
+//!   `K0 + K1·Ṫ + K2·T̈` summed left to right;
+//! - [`crate::models::vakhrameev::correct::StreamCorrector`]: the causal running mean of T, the 3-point backward
+//!   differences with `2H` as one constant, the first `2s` (`4s`) samples without Ṫ (T̈).
+//!
+//! A regression model gets its own header ([`super::c_regression`]): the same preamble shape,
+//! its terms as an array of codes evaluated by one `switch`, and a port of
+//! [`crate::models::regression::RegressionCorrector::push`] (lag, smoothing, differences, τd(T), the
+//! delayed read, clamping, the row and the dot product from −0, as `f64::sum` starts).
+//!
+//! One difference of form: driftlab counts samples without bound, the C keeps the ring slot
+//! and a count that stops at `4s`, so a processor running for years never wraps a counter.
+//!
+//! Bit-for-bit agreement holds where C doubles are IEEE-754 binary64 evaluated at their own
+//! precision (`FLT_EVAL_METHOD == 0`: x86-64, AArch64, ARM and RISC-V with a double FPU) and
+//! `a*b + c` is not fused into one rounding (GCC: `-ffp-contract=off`, the default with
+//! `-std=c99`; other compilers: the `FP_CONTRACT` pragma the header sets).
+
+use super::{ExportError, MAX_RING_SAMPLES, comment_text, number};
+use crate::models::approx::{Approx, ApproxKind, Curve};
+use crate::models::vakhrameev::Calibration;
+
+/// The header for `cal`, sampled at the calibration log's step.
+pub fn c_header(cal: &Calibration) -> Result<String, ExportError> {
+    let mut h = String::new();
+    preamble(&mut h, cal, "vakhrameev");
+    curve_evaluator(&mut h);
+    vakhrameev(&mut h, cal)?;
+    corrector(&mut h, cal)?;
+    h.push_str("\n#endif /* DRIFTLAB_CALIBRATION_H */\n");
+    Ok(h)
+}
+
+/// A string as a C string literal: printable ASCII as is, `\`, `"` and `?` (trigraphs) escaped,
+/// every other byte in octal; at most 200 bytes of the input.
+pub(super) fn c_string(s: &str) -> String {
+    let mut out = String::from("\"");
+    for &b in s.as_bytes().iter().take(200) {
+        match b {
+            b'\\' | b'"' | b'?' => {
+                out.push('\\');
+                out.push(b as char);
+            }
+            0x20..=0x7e => out.push(b as char),
+            _ => out.push_str(&format!("\\{b:03o}")),
+        }
+    }
+    out.push('"');
+    out
+}
+
+/// The comment block naming gyro, source log and units, the include guard and the includes.
+fn preamble(h: &mut String, cal: &Calibration, model: &str) {
+    let src = &cal.source;
+    let sha = if src.sha256.is_empty() {
+        "(not recorded)".to_string()
+    } else {
+        comment_text(&src.sha256)
+    };
+    let u = &cal.units;
+    h.push_str(&format!(
+        r#"/*
+ * Thermal-drift calibration of gyro {gyro}, for the gyro's processor.
+ * Written by driftlab {version} (`driftlab export --format c-header`); do not edit by hand:
+ * export again from the calibration file instead.
+ *
+ *   model:     {model}
+ *   gyro id:   {gyro}
+ *   source:    {source} ({samples} samples, {duration} s)
+ *   sha256:    {sha}
+ *   created:   {created}
+ *
+ * Units: time {ut}, rate {ur}, temperature {utemp}, Tdot {utd}, Tddot {utdd},
+ *        K1 {uk1}, K2 {uk2}.
+ *
+ * Correction, sample by sample, using only past samples:
+ *     Omega_cor = Omega_raw - Omega_pred
+ *     Omega_pred = K0(T) + K1(Tdot)*Tdot + K2(Tddot)*Tddot
+ * with K1+, K2+ where Tdot*Tddot > 0, K1-, K2- where Tdot*Tddot < 0 and K0 alone where
+ * Tdot*Tddot = 0 (also while the first 2*step (4*step) samples give no Tdot (Tddot) yet).
+ * Tdot and Tddot are 3-point backward differences of T after a causal moving average.
+ *
+ * Use: call driftlab_init once, then driftlab_push for every sample, at the sampling period
+ * DRIFTLAB_DT_S; call driftlab_reset after a gap, a power cycle or an invalid temperature.
+ *
+ *     #include "this_header.h"
+ *     static driftlab_state gyro;
+ *     driftlab_init(&gyro);
+ *     ... every DRIFTLAB_DT_S seconds:
+ *     double omega_cor_dph = driftlab_push(&gyro, omega_raw_dph, temp_c);
+ *
+ * Everything below is static const or static inline: include this header from any number of C
+ * files, nothing to link. C99, doubles, no malloc; the only library call is the isfinite macro
+ * of <math.h>. The state is one struct of sizeof(driftlab_state) bytes, sized at compile time.
+ *
+ * This code repeats driftlab's arithmetic operation for operation, so it corrects a log bit for
+ * bit as driftlab does where doubles are IEEE-754 binary64 computed at their own precision
+ * (FLT_EVAL_METHOD 0: x86-64, AArch64, ARM or RISC-V with a double FPU) and a*b + c is not
+ * fused (GCC: -ffp-contract=off, the default with -std=c99; other compilers: the pragma below).
+ */
+#ifndef DRIFTLAB_CALIBRATION_H
+#define DRIFTLAB_CALIBRATION_H
+
+#include <math.h>   /* isfinite (a macro: no libm function is called) */
+#include <stddef.h> /* size_t, NULL */
+
+#if defined(__clang__) || !defined(__GNUC__)
+#pragma STDC FP_CONTRACT OFF
+#endif
+
+#define DRIFTLAB_GYRO_ID {gyro_c}
+#define DRIFTLAB_CREATED {created_c}
+"#,
+        gyro = comment_text(&cal.gyro_id),
+        version = env!("CARGO_PKG_VERSION"),
+        source = comment_text(&src.name),
+        samples = src.samples,
+        duration = src.duration_s,
+        created = comment_text(&cal.created),
+        ut = comment_text(&u.time),
+        ur = comment_text(&u.rate),
+        utemp = comment_text(&u.temperature),
+        utd = comment_text(&u.tdot),
+        utdd = comment_text(&u.tddot),
+        uk1 = comment_text(&u.k1),
+        uk2 = comment_text(&u.k2),
+        gyro_c = c_string(&cal.gyro_id),
+        created_c = c_string(&cal.created),
+    ));
+}
+
+/// The curve type and its evaluator (every model's coefficients are such curves).
+fn curve_evaluator(h: &mut String) {
+    h.push_str(
+        r#"
+/* ---- Curves: one coefficient as a function of one variable ---------------------------- */
+
+/* The approximation the engineer chose (informational: evaluation follows the curve's form). */
+#define DRIFTLAB_KIND_LINEAR 0
+#define DRIFTLAB_KIND_PARABOLIC 1
+#define DRIFTLAB_KIND_PWL 2
+#define DRIFTLAB_KIND_SPLINE 3
+
+/* A fitted curve. A polynomial is sum coeffs[k]*x^k (lowest power first, n coefficients). A
+ * knot curve (piecewise-linear or Catmull-Rom through n knots) is, between knots i and i+1, the
+ * cubic segments[i][0] + segments[i][1]*u + segments[i][2]*u^2 + segments[i][3]*u^3 with
+ * u = (x - knots_x[i]) / (knots_x[i+1] - knots_x[i]), and beyond its end knots the straight line
+ * through the end knot and its neighbour. Outside [x_min, x_max] the value at the nearer edge
+ * is held, unless extrapolate is set. */
+typedef struct {
+    int kind;                    /* DRIFTLAB_KIND_* */
+    int knot_curve;              /* 0: polynomial in coeffs; 1: knots and segments */
+    int extrapolate;             /* 1: evaluate beyond [x_min, x_max]; 0: hold the edge value */
+    double x_min, x_max;         /* range of the argument the curve was fitted on */
+    size_t n;                    /* coefficients, or knots */
+    const double *coeffs;        /* polynomial only */
+    const double *knots_x;       /* knot curve only: strictly increasing */
+    const double *knots_y;       /* knot curve only */
+    const double (*segments)[4]; /* knot curve only: n - 1 cubics in u */
+    double inv_step;             /* knot curve only: 1/spacing when equally spaced, else 0 */
+} driftlab_curve;
+
+static inline double driftlab_edge_line(double x0, double y0, double x1, double y1, double x)
+{
+    if (x == x0) {
+        return y0;
+    }
+    return y0 + (y1 - y0) / (x1 - x0) * (x - x0);
+}
+
+/* The curve at x; 0 for a non-finite x (no correction from a sample without a rate). */
+static inline double driftlab_curve_eval(const driftlab_curve *c, double x)
+{
+    if (!isfinite(x)) {
+        return 0.0;
+    }
+    if (!c->extrapolate) {
+        if (x < c->x_min) {
+            x = c->x_min;
+        }
+        if (x > c->x_max) {
+            x = c->x_max;
+        }
+    }
+    if (!c->knot_curve) {
+        size_t k = c->n - 1;
+        double acc = c->coeffs[k];
+        while (k > 0) {
+            k--;
+            acc = acc * x + c->coeffs[k];
+        }
+        return acc;
+    } else {
+        const double *kx = c->knots_x;
+        const double *ky = c->knots_y;
+        const double *s;
+        size_t n = c->n, last = c->n - 2, i;
+        double u;
+        if (x <= kx[0]) {
+            return driftlab_edge_line(kx[0], ky[0], kx[1], ky[1], x);
+        }
+        if (x >= kx[n - 1]) {
+            return driftlab_edge_line(kx[n - 1], ky[n - 1], kx[n - 2], ky[n - 2], x);
+        }
+        if (c->inv_step > 0.0) {
+            double f = (x - kx[0]) * c->inv_step; /* > 0 here */
+            i = f >= (double)last ? last : (size_t)f;
+        } else {
+            i = 0;
+            while (i < last && kx[i + 1] <= x) {
+                i++;
+            }
+        }
+        u = (x - kx[i]) / (kx[i + 1] - kx[i]);
+        if (u < 0.0) {
+            u = 0.0;
+        }
+        if (u > 1.0) {
+            u = 1.0;
+        }
+        s = c->segments[i];
+        return ((s[3] * u + s[2]) * u + s[1]) * u + s[0];
+    }
+}
+"#,
+    );
+}
+
+fn kind_macro(kind: ApproxKind) -> &'static str {
+    match kind {
+        ApproxKind::Linear => "DRIFTLAB_KIND_LINEAR",
+        ApproxKind::Parabolic => "DRIFTLAB_KIND_PARABOLIC",
+        ApproxKind::Pwl => "DRIFTLAB_KIND_PWL",
+        ApproxKind::Spline => "DRIFTLAB_KIND_SPLINE",
+    }
+}
+
+/// `static const double NAME[N] = { ... };` with a few numbers a line.
+pub(super) fn array(
+    h: &mut String,
+    name: &str,
+    values: &[f64],
+    what: &str,
+) -> Result<(), ExportError> {
+    h.push_str(&format!(
+        "static const double {name}[{}] = {{\n",
+        values.len()
+    ));
+    for chunk in values.chunks(4) {
+        let cells = chunk
+            .iter()
+            .map(|&v| number(v, what))
+            .collect::<Result<Vec<_>, _>>()?;
+        h.push_str(&format!("    {},\n", cells.join(", ")));
+    }
+    h.push_str("};\n");
+    Ok(())
+}
+
+/// One curve as `driftlab_curve NAME`, with its arrays and a comment saying what it is.
+/// `arg` names the argument and its unit (`"T", "degC"`).
+fn curve(
+    h: &mut String,
+    name: &str,
+    title: &str,
+    (arg, arg_unit): (&str, &str),
+    unit: &str,
+    a: &Approx,
+) -> Result<(), ExportError> {
+    let what = |part: &str| format!("{title}: {part}");
+    let (x_min, x_max) = (
+        number(a.x_min(), &what("x_min"))?,
+        number(a.x_max(), &what("x_max"))?,
+    );
+    let outside = if a.extrapolates() {
+        "evaluated beyond it"
+    } else {
+        "edge values held outside"
+    };
+    let s = a.stats();
+    let form = match a.curve() {
+        Curve::Polynomial { coeffs } if coeffs.len() == 1 && coeffs[0] == 0.0 => {
+            "zero (no data to fit)".to_string()
+        }
+        Curve::Polynomial { coeffs } => format!("polynomial of degree {}", coeffs.len() - 1),
+        Curve::Pwl { knots_x, .. } => format!("piecewise-linear, {} knots", knots_x.len()),
+        Curve::CatmullRom { knots_x, .. } => {
+            format!("Catmull-Rom spline, {} knots", knots_x.len())
+        }
+    };
+    h.push_str(&format!(
+        "\n/* {title}, {unit}: {kind} ({form});\n   fitted on {arg} in [{x_min}, {x_max}] \
+         {arg_unit}, {outside};\n   {n} points, rmse {rmse:e}, R2 {r2}. */\n",
+        kind = a.kind(),
+        n = s.n,
+        rmse = s.rmse,
+        r2 = s.r2,
+    ));
+    let head = format!(
+        "static const driftlab_curve {name} = {{\n    {kind}, {knot}, {ext},\n    {x_min}, {x_max},\n",
+        kind = kind_macro(a.kind()),
+        knot = u8::from(!matches!(a.curve(), Curve::Polynomial { .. })),
+        ext = u8::from(a.extrapolates()),
+    );
+    match (a.curve(), a.segment_cubics()) {
+        (Curve::Polynomial { coeffs }, _) => {
+            // As driftlab evaluates: up to 4 coefficients padded with zeros to 4 (a 3-step
+            // Horner sum), more with one zero above the highest power (a fold from 0).
+            let mut c = coeffs.clone();
+            if c.len() <= 4 {
+                c.resize(4, 0.0);
+            } else {
+                c.push(0.0);
+            }
+            array(h, &format!("{name}_coeffs"), &c, &what("coefficient"))?;
+            h.push_str(&head);
+            h.push_str(&format!(
+                "    {}, {name}_coeffs, NULL, NULL, NULL, 0.0\n}};\n",
+                c.len()
+            ));
+        }
+        (_, Some(seg)) => {
+            let (kx, ky) = a.knots();
+            array(h, &format!("{name}_knots_x"), kx, &what("knot position"))?;
+            array(h, &format!("{name}_knots_y"), ky, &what("knot value"))?;
+            h.push_str(&format!(
+                "static const double {name}_segments[{}][4] = {{\n",
+                seg.coeffs.len()
+            ));
+            for c in seg.coeffs {
+                let cells = c
+                    .iter()
+                    .map(|&v| number(v, &what("segment coefficient")))
+                    .collect::<Result<Vec<_>, _>>()?;
+                h.push_str(&format!("    {{ {} }},\n", cells.join(", ")));
+            }
+            h.push_str("};\n");
+            h.push_str(&head);
+            h.push_str(&format!(
+                "    {}, NULL, {name}_knots_x, {name}_knots_y, {name}_segments,\n    {}\n}};\n",
+                kx.len(),
+                number(seg.inv_step, &what("knot spacing"))?
+            ));
+        }
+        (_, None) => {
+            return Err(ExportError::Calibration(format!(
+                "{title}: a knot curve without its segments"
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// The Vakhrameev model (METHOD.md §1): its five curves, dead-bands, and the two functions
+/// every model provides to the corrector, `driftlab_predict` and `driftlab_is_outside`.
+///
+/// Another model in the calibration file gets its own function beside this one, writing its
+/// constants and the same two functions; the preamble, the curve evaluator and the corrector are
+/// shared.
+pub fn vakhrameev(h: &mut String, cal: &Calibration) -> Result<(), ExportError> {
+    let r = &cal.resolved;
+    let u = &cal.units;
+    h.push_str(&format!(
+        r#"
+/* ---- The Vakhrameev model: Omega_pred = K0(T) + K1(Tdot)*Tdot + K2(Tddot)*Tddot ---------- */
+
+/* Regimes, from the sign of Tdot*Tddot. */
+#define DRIFTLAB_REGIME_STATIC 0 /* Tdot*Tddot = 0: K0 only */
+#define DRIFTLAB_REGIME_PLUS 1   /* Tdot*Tddot > 0, thermal acceleration: K1+, K2+ */
+#define DRIFTLAB_REGIME_MINUS 2  /* Tdot*Tddot < 0, thermal deceleration: K1-, K2- */
+
+/* Dead-bands of the fit, for the record: points with |Tdot| (|Tddot|) below them were left out
+ * of the K1 (K2) fits. The correction does not use them. */
+#define DRIFTLAB_DEADBAND_TDOT {db1}   /* {utd} */
+#define DRIFTLAB_DEADBAND_TDDOT {db2} /* {utdd} */
+"#,
+        db1 = number(r.deadband_tdot, "the Tdot dead-band")?,
+        db2 = number(r.deadband_tddot, "the Tddot dead-band")?,
+        utd = comment_text(&u.tdot),
+        utdd = comment_text(&u.tddot),
+    ));
+    let (temp, tdot, tddot) = (
+        ("T", comment_text(&u.temperature)),
+        ("Tdot", comment_text(&u.tdot)),
+        ("Tddot", comment_text(&u.tddot)),
+    );
+    let (k0u, k1u, k2u) = (
+        comment_text(&u.rate),
+        comment_text(&u.k1),
+        comment_text(&u.k2),
+    );
+    let curves = [
+        ("driftlab_k0", "K0(T)", (temp.0, &temp.1), &k0u, &cal.k0),
+        (
+            "driftlab_k1_plus",
+            "K1+(Tdot)",
+            (tdot.0, &tdot.1),
+            &k1u,
+            &cal.k1_plus,
+        ),
+        (
+            "driftlab_k1_minus",
+            "K1-(Tdot)",
+            (tdot.0, &tdot.1),
+            &k1u,
+            &cal.k1_minus,
+        ),
+        (
+            "driftlab_k2_plus",
+            "K2+(Tddot)",
+            (tddot.0, &tddot.1),
+            &k2u,
+            &cal.k2_plus,
+        ),
+        (
+            "driftlab_k2_minus",
+            "K2-(Tddot)",
+            (tddot.0, &tddot.1),
+            &k2u,
+            &cal.k2_minus,
+        ),
+    ];
+    for (name, title, (arg, arg_unit), unit, a) in curves {
+        curve(h, name, title, (arg, arg_unit.as_str()), unit, a)?;
+    }
+    h.push_str(
+        r#"
+/* The regime of a sample with these rates. */
+static inline int driftlab_regime(double tdot_c_s, double tddot_c_s2)
+{
+    double p = tdot_c_s * tddot_c_s2;
+    if (p > 0.0) {
+        return DRIFTLAB_REGIME_PLUS;
+    }
+    if (p < 0.0) {
+        return DRIFTLAB_REGIME_MINUS;
+    }
+    return DRIFTLAB_REGIME_STATIC;
+}
+
+/* Predicted thermal drift, deg/h, of a sample at temperature temp_c with these rates; its regime
+ * goes to *regime when regime is not NULL. */
+static inline double driftlab_predict(double temp_c, double tdot_c_s, double tddot_c_s2,
+                                      int *regime)
+{
+    int r = driftlab_regime(tdot_c_s, tddot_c_s2);
+    double k0 = driftlab_curve_eval(&driftlab_k0, temp_c);
+    double pred = k0;
+    if (r == DRIFTLAB_REGIME_PLUS) {
+        pred = k0 + driftlab_curve_eval(&driftlab_k1_plus, tdot_c_s) * tdot_c_s +
+               driftlab_curve_eval(&driftlab_k2_plus, tddot_c_s2) * tddot_c_s2;
+    } else if (r == DRIFTLAB_REGIME_MINUS) {
+        pred = k0 + driftlab_curve_eval(&driftlab_k1_minus, tdot_c_s) * tdot_c_s +
+               driftlab_curve_eval(&driftlab_k2_minus, tddot_c_s2) * tddot_c_s2;
+    }
+    if (regime != NULL) {
+        *regime = r;
+    }
+    return pred;
+}
+
+static inline int driftlab_beyond(const driftlab_curve *c, double x)
+{
+    return x < c->x_min || x > c->x_max;
+}
+
+/* 1 when a sample lies beyond what the calibration saw: T outside K0's range, or a rate
+ * outside the range of a curve its regime uses (the curve's edge value was held there). */
+static inline int driftlab_is_outside(double temp_c, double tdot_c_s, double tddot_c_s2,
+                                      int regime)
+{
+    if (driftlab_beyond(&driftlab_k0, temp_c)) {
+        return 1;
+    }
+    if (regime == DRIFTLAB_REGIME_PLUS) {
+        return driftlab_beyond(&driftlab_k1_plus, tdot_c_s) ||
+               driftlab_beyond(&driftlab_k2_plus, tddot_c_s2);
+    }
+    if (regime == DRIFTLAB_REGIME_MINUS) {
+        return driftlab_beyond(&driftlab_k1_minus, tdot_c_s) ||
+               driftlab_beyond(&driftlab_k2_minus, tddot_c_s2);
+    }
+    return 0;
+}
+"#,
+    );
+    Ok(())
+}
+
+/// The streaming corrector: T smoothing, the backward differences and the state, calling the
+/// model's `driftlab_predict` and `driftlab_is_outside`.
+fn corrector(h: &mut String, cal: &Calibration) -> Result<(), ExportError> {
+    let dt = cal.resolved.dt_s;
+    let steps = cal.steps_for(dt);
+    // As StreamCorrector::new: a window or step of 0 is taken as 1.
+    let (smooth, step) = (steps.smooth.max(1), steps.step.max(1));
+    if smooth > MAX_RING_SAMPLES || step > MAX_RING_SAMPLES {
+        return Err(ExportError::Calibration(format!(
+            "a smoothing window of {smooth} samples and a derivative step of {step} samples: \
+             more than the {MAX_RING_SAMPLES} samples a ring buffer is sized for"
+        )));
+    }
+    let two_h = 2.0 * step as f64 * dt;
+    h.push_str(&format!(
+        r#"
+/* ---- The streaming corrector ----------------------------------------------------------- */
+
+#define DRIFTLAB_DT_S {dt}          /* the sampling period it expects, s */
+#define DRIFTLAB_SMOOTH_SAMPLES {smooth} /* causal moving average of T, samples */
+#define DRIFTLAB_STEP_SAMPLES {step}   /* derivative step s, samples (H = s * DRIFTLAB_DT_S) */
+#define DRIFTLAB_RING_SAMPLES (2 * DRIFTLAB_STEP_SAMPLES + 1)
+#define DRIFTLAB_TWO_H_S {two_h}      /* 2H, s: divisor of the backward differences */
+"#,
+        dt = number(dt, "the sampling period")?,
+        two_h = number(two_h, "2H")?,
+    ));
+    h.push_str(
+        r#"
+/* Everything the corrector remembers. */
+typedef struct {
+    double smooth_buf[DRIFTLAB_SMOOTH_SAMPLES]; /* the last raw temperatures, degC */
+    double smooth_sum;                          /* their running sum */
+    size_t smooth_next;                         /* slot of the next temperature */
+    size_t smooth_filled;                       /* temperatures in the window */
+    double temp_ring[DRIFTLAB_RING_SAMPLES];    /* smoothed T, degC */
+    double tdot_ring[DRIFTLAB_RING_SAMPLES];    /* Tdot, degC/s */
+    size_t slot;                                /* ring slot of the next sample */
+    size_t history;                             /* samples seen, counted up to 4 * step */
+} driftlab_state;
+
+/* One corrected sample, in full. */
+typedef struct {
+    double omega_cor_dph;  /* corrected rate, deg/h */
+    double omega_pred_dph; /* predicted thermal drift, deg/h */
+    double tdot_c_s;       /* Tdot used, degC/s (0 while not yet known) */
+    double tddot_c_s2;     /* Tddot used, degC/s^2 (0 while not yet known) */
+    int regime;            /* DRIFTLAB_REGIME_* */
+    int outside;           /* 1: beyond the calibrated ranges (edge values held) */
+} driftlab_sample;
+
+/* Starts with no history. */
+static inline void driftlab_init(driftlab_state *st)
+{
+    size_t k;
+    for (k = 0; k < DRIFTLAB_SMOOTH_SAMPLES; k++) {
+        st->smooth_buf[k] = 0.0;
+    }
+    for (k = 0; k < DRIFTLAB_RING_SAMPLES; k++) {
+        st->temp_ring[k] = 0.0;
+        st->tdot_ring[k] = 0.0;
+    }
+    st->smooth_sum = 0.0;
+    st->smooth_next = 0;
+    st->smooth_filled = 0;
+    st->slot = 0;
+    st->history = 0;
+}
+
+/* Forgets all history (after a power cycle, a gap in the data or an invalid temperature). */
+static inline void driftlab_reset(driftlab_state *st)
+{
+    driftlab_init(st);
+}
+
+/* Feeds one sample (rate in deg/h, temperature in degC) and returns the corrected rate, deg/h;
+ * the details go to *out when out is not NULL. */
+static inline double driftlab_push_detail(driftlab_state *st, double omega_dph, double temp_c,
+                                          driftlab_sample *out)
+{
+    const size_t s = DRIFTLAB_STEP_SAMPLES, len = DRIFTLAB_RING_SAMPLES;
+    const size_t slot = st->slot;
+    const size_t back1 = slot >= s ? slot - s : slot + len - s;
+    const size_t back2 = slot >= 2 * s ? slot - 2 * s : slot + len - 2 * s;
+    double ts, tdot, tddot, pred;
+    int regime;
+
+    /* Causal moving average of T over the last DRIFTLAB_SMOOTH_SAMPLES samples. */
+    if (st->smooth_filled == DRIFTLAB_SMOOTH_SAMPLES) {
+        st->smooth_sum -= st->smooth_buf[st->smooth_next];
+    } else {
+        st->smooth_filled++;
+    }
+    st->smooth_sum += temp_c;
+    st->smooth_buf[st->smooth_next] = temp_c;
+    st->smooth_next = st->smooth_next + 1 == DRIFTLAB_SMOOTH_SAMPLES ? 0 : st->smooth_next + 1;
+    ts = st->smooth_sum / (double)st->smooth_filled;
+
+    /* Backward differences (3x_i - 4x_{i-s} + x_{i-2s}) / (2H) of smoothed T, then of Tdot. */
+    st->temp_ring[slot] = ts;
+    tdot = st->history < 2 * s
+               ? 0.0
+               : (3.0 * ts - 4.0 * st->temp_ring[back1] + st->temp_ring[back2]) / DRIFTLAB_TWO_H_S;
+    st->tdot_ring[slot] = tdot;
+    tddot = st->history < 4 * s
+                ? 0.0
+                : (3.0 * tdot - 4.0 * st->tdot_ring[back1] + st->tdot_ring[back2]) /
+                      DRIFTLAB_TWO_H_S;
+    if (st->history < 4 * s) {
+        st->history++;
+    }
+    st->slot = slot + 1 == len ? 0 : slot + 1;
+
+    /* The model takes the raw temperature for K0, and the rates. */
+    pred = driftlab_predict(temp_c, tdot, tddot, &regime);
+    if (out != NULL) {
+        out->omega_cor_dph = omega_dph - pred;
+        out->omega_pred_dph = pred;
+        out->tdot_c_s = tdot;
+        out->tddot_c_s2 = tddot;
+        out->regime = regime;
+        out->outside = driftlab_is_outside(temp_c, tdot, tddot, regime);
+    }
+    return omega_dph - pred;
+}
+
+/* Feeds one sample (rate in deg/h, temperature in degC) and returns the corrected rate, deg/h. */
+static inline double driftlab_push(driftlab_state *st, double omega_dph, double temp_c)
+{
+    return driftlab_push_detail(st, omega_dph, temp_c, NULL);
+}
+"#,
+    );
+    Ok(())
+}

@@ -1,0 +1,276 @@
+//! The calibration as lookup tables: each coefficient tabulated at equally spaced points over the
+//! range it was fitted on, for processors that interpolate instead of evaluating curves.
+//!
+//! The table has `#` comment lines (gyro, source, the corrector's settings, how to interpolate),
+//! a header line naming every column with its unit, then `points` rows:
+//!
+//! ```text
+//! T [degC],K0 [deg/h],Tdot+ [degC/s],K1+ [(deg/h)/(degC/s)],Tdot- [degC/s],K1- [(deg/h)/(degC/s)],Tddot+ [degC/s^2],K2+ [(deg/h)/(degC/s^2)],Tddot- [degC/s^2],K2- [(deg/h)/(degC/s^2)]
+//! ```
+//!
+//! Each (argument, coefficient) pair of columns is one table: the arguments run from the
+//! curve's `x_min` (first row) to its `x_max` (last row, exactly) in equal steps
+//! `x_j = x_min + (x_max − x_min)·j/(N−1)`, and the coefficients are driftlab's values there,
+//! every number printed so that it reads back exactly.
+//!
+//! How firmware interpolates one table at an argument `v`: `K_0` when `v ≤ x_0`, `K_{N−1}` when
+//! `v ≥ x_{N−1}` (the edge value is held, as driftlab holds it; this also covers a table whose
+//! range is one value); otherwise the row `j` is the last one with `x_j ≤ v` (arithmetically
+//! `min(⌊(v − x_0)/h⌋, N − 2)` with `h = (x_{N−1} − x_0)/(N − 1)`, checked against its
+//! neighbours since `v/h` rounds), and
+//! `K = K_j + (v − x_j)/(x_{j+1} − x_j)·(K_{j+1} − K_j)`. At the grid points this is driftlab's
+//! value exactly; between
+//! them the error of linear interpolation is at most `h²/8·max|K''|` over the step (0 for a
+//! linear curve, `h²·|c2|/4` for a parabola), and at most `h/4·|jump of the slope|` over a step
+//! holding a knot of a piecewise-linear curve. Beyond the fitted range the table holds the edge
+//! value even where the calibration file says a curve extrapolates (the comments say which).
+
+use super::{ExportError, MAX_TABLE_POINTS, comment_text, number};
+use crate::models::approx::Approx;
+use crate::models::regression::RegressionCalibration;
+use crate::models::vakhrameev::Calibration;
+
+/// The tables of `cal` with `points` rows (at least 2, at most [`MAX_TABLE_POINTS`]).
+pub fn csv_table(cal: &Calibration, points: usize) -> Result<String, ExportError> {
+    if points < 2 {
+        return Err(ExportError::TooFewPoints(points));
+    }
+    if points > MAX_TABLE_POINTS {
+        return Err(ExportError::TooManyPoints(points));
+    }
+    vakhrameev(cal, points)
+}
+
+/// The grid of `points` equally spaced arguments over `[lo, hi]`, the last exactly `hi`.
+pub fn grid(lo: f64, hi: f64, points: usize) -> Vec<f64> {
+    let m = points.max(2);
+    (0..m)
+        .map(|j| {
+            if j + 1 == m {
+                hi
+            } else {
+                lo + (hi - lo) * j as f64 / (m - 1) as f64
+            }
+        })
+        .collect()
+}
+
+/// The Vakhrameev model's five tables side by side. Another model in the calibration file gets
+/// its own function beside this one.
+pub fn vakhrameev(cal: &Calibration, points: usize) -> Result<String, ExportError> {
+    let u = &cal.units;
+    let r = &cal.resolved;
+    let steps = cal.steps_for(r.dt_s);
+    let mut out = String::new();
+    let src = &cal.source;
+    let sha = if src.sha256.is_empty() {
+        "(not recorded)".to_string()
+    } else {
+        comment_text(&src.sha256)
+    };
+    out.push_str(&format!(
+        "# driftlab {version} lookup tables (`driftlab export --format csv-table`), model vakhrameev\n\
+         # gyro id: {gyro}\n\
+         # source: {source} ({samples} samples, {duration} s), sha256 {sha}\n\
+         # created: {created}\n\
+         # Omega_pred = K0(T) + K1(Tdot)*Tdot + K2(Tddot)*Tddot; K1+, K2+ where Tdot*Tddot > 0, \
+         K1-, K2- where Tdot*Tddot < 0, K0 alone where Tdot*Tddot = 0; Omega_cor = Omega_raw - Omega_pred\n\
+         # Tdot, Tddot: causal moving average of T over {smooth} samples, then the backward difference \
+         (3x_i - 4x_(i-s) + x_(i-2s))/(2H) twice, s = {step} samples, H = s*dt, dt = {dt} s \
+         (0 for the first 2s (4s) samples)\n\
+         # Each (argument, coefficient) column pair is one table of {points} equally spaced rows over the \
+         range the curve was fitted on. Interpolate linearly between rows; outside the first and last \
+         row hold the edge value (x <= first: first K; x >= last: last K).\n",
+        version = env!("CARGO_PKG_VERSION"),
+        gyro = comment_text(&cal.gyro_id),
+        source = comment_text(&src.name),
+        samples = src.samples,
+        duration = src.duration_s,
+        created = comment_text(&cal.created),
+        smooth = steps.smooth.max(1),
+        step = steps.step.max(1),
+        dt = number(r.dt_s, "the sampling period")?,
+    ));
+    let tables: [(&str, &str, &str, &str, &Approx); 5] = [
+        ("T", &u.temperature, "K0", &u.rate, &cal.k0),
+        ("Tdot+", &u.tdot, "K1+", &u.k1, &cal.k1_plus),
+        ("Tdot-", &u.tdot, "K1-", &u.k1, &cal.k1_minus),
+        ("Tddot+", &u.tddot, "K2+", &u.k2, &cal.k2_plus),
+        ("Tddot-", &u.tddot, "K2-", &u.k2, &cal.k2_minus),
+    ];
+    for (_, _, name, _, a) in &tables {
+        if a.extrapolates() {
+            out.push_str(&format!(
+                "# {name}: driftlab evaluates this curve beyond its fitted range; the table holds \
+                 its edge values there\n"
+            ));
+        }
+    }
+    let header: Vec<String> = tables
+        .iter()
+        .flat_map(|(arg, arg_unit, name, unit, _)| {
+            [
+                format!("{arg} [{}]", comment_text(arg_unit).replace(',', ";")),
+                format!("{name} [{}]", comment_text(unit).replace(',', ";")),
+            ]
+        })
+        .collect();
+    out.push_str(&header.join(","));
+    out.push('\n');
+    let columns = tables
+        .iter()
+        .map(|(_, _, name, _, a)| column(name, a, points))
+        .collect::<Result<Vec<_>, _>>()?;
+    for j in 0..points {
+        let row: Vec<&str> = columns
+            .iter()
+            .flat_map(|c| [c[j].0.as_str(), c[j].1.as_str()])
+            .collect();
+        out.push_str(&row.join(","));
+        out.push('\n');
+    }
+    Ok(out)
+}
+
+/// One table: (argument, value) at each grid point, as text.
+fn column(name: &str, a: &Approx, points: usize) -> Result<Vec<(String, String)>, ExportError> {
+    grid(a.x_min(), a.x_max(), points)
+        .into_iter()
+        .map(|x| {
+            Ok((
+                number(x, &format!("{name}: a grid point"))?,
+                number(a.eval(x), &format!("{name}: a tabulated value"))?,
+            ))
+        })
+        .collect()
+}
+
+/// A regression model as CSV: one row per coefficient (`term,coefficient,std_error`, deg/h per
+/// unit of the term), every number printed so that it reads back exactly, after `#` comment
+/// lines giving everything else the correction needs: λ, τd(T) points, the lag, the `pwlT`
+/// knots, the input ranges (T, ΔT and the channels clamped to them, Ṫ and T̈ only flagged),
+/// the channels in order and the derivative settings. A regression model's coefficients are
+/// constants, so there is nothing to tabulate over a range: firmware evaluates the terms (the C
+/// header does it for you, bit for bit).
+pub fn regression(cal: &RegressionCalibration) -> Result<String, ExportError> {
+    let m = &cal.model;
+    m.validate().map_err(ExportError::Calibration)?;
+    let src = &cal.source;
+    let steps = m.steps_for(m.dt_s);
+    let list = |v: &[f64], what: &str| -> Result<String, ExportError> {
+        Ok(v.iter()
+            .map(|&x| number(x, what))
+            .collect::<Result<Vec<_>, _>>()?
+            .join(" "))
+    };
+    let range = |r: Option<[f64; 2]>, what: &str| -> Result<String, ExportError> {
+        match r {
+            Some(r) => Ok(format!(
+                "[{}, {}]",
+                number(r[0], what)?,
+                number(r[1], what)?
+            )),
+            None => Ok("not read".into()),
+        }
+    };
+    let mut out = format!(
+        "# driftlab {version} coefficients (`driftlab export --format csv-table`), regression model {name}\n\
+         # gyro id: {gyro}\n\
+         # source: {source} ({samples} samples, {duration} s), sha256 {sha}\n\
+         # created: {created}\n\
+         # Omega_pred = sum of coefficient * term (deg/h); Omega_cor = Omega_raw - Omega_pred\n\
+         # terms: {terms}\n\
+         # lambda_s (selfheat = 1 - exp(-t/lambda), t from the first sample): {lambda}\n\
+         # delay (tau_d(T) points degC:s, piecewise-linear, held at the ends): {delay}\n\
+         # lag_s (T read through dy/dt = (T - y)/tau): {lag}\n\
+         # pwlT knots degC: {knots}\n\
+         # range T degC (clamped): {rt}\n\
+         # range Tdot degC/s (flagged): {rtd}\n\
+         # range Tddot degC/s^2 (flagged): {rtdd}\n\
+         # range dT degC (clamped): {rdt}\n",
+        version = env!("CARGO_PKG_VERSION"),
+        name = comment_text(&m.spec.name),
+        gyro = comment_text(&cal.gyro_id),
+        source = comment_text(&src.name),
+        samples = src.samples,
+        duration = src.duration_s,
+        sha = if src.sha256.is_empty() {
+            "(not recorded)".to_string()
+        } else {
+            comment_text(&src.sha256)
+        },
+        created = comment_text(&cal.created),
+        terms = comment_text(
+            &m.spec
+                .terms
+                .iter()
+                .map(ToString::to_string)
+                .collect::<Vec<_>>()
+                .join(" + ")
+        ),
+        lambda = match m.lambda_s {
+            Some(l) => number(l, "lambda")?,
+            None => "none".into(),
+        },
+        delay = if m.delay.points.is_empty() {
+            "none".to_string()
+        } else {
+            m.delay
+                .points
+                .iter()
+                .map(|p| {
+                    Ok(format!(
+                        "{}:{}",
+                        number(p[0], "a delay")?,
+                        number(p[1], "a delay")?
+                    ))
+                })
+                .collect::<Result<Vec<_>, ExportError>>()?
+                .join(" ")
+        },
+        lag = match m.lag_s {
+            Some(l) => number(l, "the lag")?,
+            None => "none".into(),
+        },
+        knots = if m.t_knots.is_empty() {
+            "none".to_string()
+        } else {
+            list(&m.t_knots, "a knot")?
+        },
+        rt = range(m.ranges.temp, "the T range")?,
+        rtd = range(m.ranges.tdot, "the Tdot range")?,
+        rtdd = range(m.ranges.tddot, "the Tddot range")?,
+        rdt = range(m.ranges.dt, "the dT range")?,
+    );
+    if let Some(t2) = &m.temp2 {
+        out.push_str(&format!(
+            "# second temperature sensor (dT = T - T2): {}\n",
+            comment_text(t2)
+        ));
+    }
+    for (k, (name, r)) in m.channel_names().iter().zip(&m.ranges.channels).enumerate() {
+        out.push_str(&format!(
+            "# channel {k}: {} range (clamped) {}\n",
+            comment_text(name),
+            range(Some(*r), "a channel range")?
+        ));
+    }
+    out.push_str(&format!(
+        "# Tdot, Tddot: causal moving average of T over {} samples, then the backward difference \
+         (3x_i - 4x_(i-s) + x_(i-2s))/(2H) twice, s = {} samples, H = s*dt, dt = {} s \
+         (0 for the first 2s (4s) samples)\n",
+        steps.smooth.max(1),
+        steps.step.max(1),
+        number(m.dt_s, "the sampling period")?
+    ));
+    out.push_str("term,coefficient,std_error\n");
+    for ((name, c), se) in m.names.iter().zip(&m.coefficients).zip(&m.std_errors) {
+        out.push_str(&format!(
+            "{},{},{}\n",
+            comment_text(name).replace(',', ";"),
+            number(*c, &format!("coefficient {name}"))?,
+            number(*se, &format!("standard error of {name}"))?
+        ));
+    }
+    Ok(out)
+}

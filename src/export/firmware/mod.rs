@@ -1,0 +1,163 @@
+//! A calibration written for a gyro's processor: a self-contained C99 header with the
+//! coefficients and the streaming corrector ([`c_header`]), or the coefficients tabulated over
+//! their fitted ranges as CSV ([`csv_table`]).
+//!
+//! The header is a port of [`crate::models::vakhrameev::correct::StreamCorrector`] and of
+//! [`crate::models::approx::Approx::eval`] that repeats their arithmetic operation for operation, with
+//! every constant printed to round-trip precision, so on an IEEE-754 machine it corrects a log
+//! bit for bit as driftlab does (the tests compile it and compare). The tables are for
+//! processors that interpolate coefficients instead of evaluating curves.
+//!
+//! Each model a calibration file can hold is written by its own function: the Vakhrameev model
+//! by [`c_header::c_header`] and [`csv_table::vakhrameev`], a regression model by
+//! [`c_regression::regression`] (a port of [`crate::models::regression::RegressionCorrector`], bit for bit
+//! in the same way) and [`csv_table::regression`] (its coefficients with standard errors, the
+//! ranges and settings as comments). [`export_model`] picks by the model.
+
+mod c_corrector;
+pub mod c_header;
+pub mod c_regression;
+pub mod csv_table;
+
+use crate::models::fitted::DriftModel;
+use crate::models::vakhrameev::Calibration;
+use std::fmt;
+use std::str::FromStr;
+
+/// What `export` writes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Format {
+    /// A C99 header: constants, curve evaluator and the streaming corrector.
+    CHeader,
+    /// K0, K1±, K2± tabulated over their fitted ranges, as CSV (a regression model: its
+    /// coefficients with standard errors).
+    CsvTable,
+}
+
+impl Format {
+    /// Every format, in the order `--help` lists them.
+    pub const ALL: [Format; 2] = [Format::CHeader, Format::CsvTable];
+}
+
+impl fmt::Display for Format {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Format::CHeader => "c-header",
+            Format::CsvTable => "csv-table",
+        })
+    }
+}
+
+impl FromStr for Format {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s.trim().to_ascii_lowercase().as_str() {
+            "c-header" | "c_header" | "c" | "h" => Ok(Format::CHeader),
+            "csv-table" | "csv_table" | "csv" | "table" => Ok(Format::CsvTable),
+            other => Err(format!(
+                "unknown export format \"{other}\": use c-header or csv-table"
+            )),
+        }
+    }
+}
+
+/// Settings of an export.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ExportOptions {
+    /// Grid points per coefficient in a table, end points included.
+    pub points: usize,
+}
+
+impl Default for ExportOptions {
+    fn default() -> Self {
+        ExportOptions { points: 101 }
+    }
+}
+
+/// Most grid points per coefficient a table may have (10 columns of this many rows is already
+/// far more than any processor's memory, and about 20 MB of text).
+pub const MAX_TABLE_POINTS: usize = 100_000;
+
+/// Largest smoothing window or derivative step, in samples, a header will size a ring buffer
+/// for (about 134 MB of doubles: anything near it is a mistake in the calibration file).
+pub const MAX_RING_SAMPLES: usize = 1 << 24;
+
+/// Why a calibration could not be exported.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ExportError {
+    /// A table with fewer than two points cannot interpolate.
+    #[error("a table needs at least 2 points per coefficient, got {0}")]
+    TooFewPoints(usize),
+    /// More points than [`MAX_TABLE_POINTS`].
+    #[error("at most {MAX_TABLE_POINTS} points per coefficient, got {0}")]
+    TooManyPoints(usize),
+    /// A number of the calibration cannot be written for a processor.
+    #[error("{0}")]
+    Calibration(String),
+}
+
+/// Writes `cal` in `format`.
+pub fn export(
+    cal: &Calibration,
+    format: Format,
+    opts: &ExportOptions,
+) -> Result<String, ExportError> {
+    match format {
+        Format::CHeader => c_header::c_header(cal),
+        Format::CsvTable => csv_table::csv_table(cal, opts.points),
+    }
+}
+
+/// Writes any model's calibration in `format`: a Vakhrameev calibration as [`export`] does, a
+/// regression model as [`c_regression::regression`] or [`csv_table::regression`] (its coefficients
+/// table: regression coefficients are constants, so there is nothing to tabulate over a range
+/// and `opts.points` is not used).
+pub fn export_model(
+    model: &DriftModel,
+    format: Format,
+    opts: &ExportOptions,
+) -> Result<String, ExportError> {
+    match model {
+        DriftModel::Vakhrameev(cal) => export(cal, format, opts),
+        DriftModel::Regression(r) => match format {
+            Format::CHeader => c_regression::regression(r),
+            Format::CsvTable => csv_table::regression(r),
+        },
+    }
+}
+
+/// A text from a calibration file made safe to quote inside a comment of either format: one
+/// line of printable ASCII (others become `?`), no `*/`, `/*` or `??` (a C trigraph), at most
+/// 200 characters.
+pub(crate) fn comment_text(s: &str) -> String {
+    let mut out: String = s
+        .chars()
+        .take(200)
+        .map(|c| {
+            if c.is_ascii_graphic() || c == ' ' {
+                c
+            } else {
+                '?'
+            }
+        })
+        .collect();
+    while out.contains("*/") || out.contains("/*") || out.contains("??") {
+        out = out
+            .replace("*/", "* /")
+            .replace("/*", "/ *")
+            .replace("??", "? ?");
+    }
+    out
+}
+
+/// The shortest decimal that reads back as exactly `v` (Rust's `{:?}`), valid as a C double
+/// literal and in CSV; non-finite numbers are refused (a validated calibration has none).
+pub(crate) fn number(v: f64, what: &str) -> Result<String, ExportError> {
+    if v.is_finite() {
+        Ok(format!("{v:?}"))
+    } else {
+        Err(ExportError::Calibration(format!(
+            "{what} is {v}: not a number a processor can use"
+        )))
+    }
+}

@@ -1,0 +1,478 @@
+//! The report page: one HTML file with everything inline (figures as inline SVG, styles in the
+//! page), so it can be mailed, archived or printed on its own. No scripts, no links out.
+
+pub use super::regression_page::{fmt_coef, fmt_se, regression_page};
+
+use super::{Figure, LogReport, ReportSummary};
+use crate::error::{Error, Result};
+use crate::models::approx::{Approx, Curve};
+use crate::models::recipe::PlateauChoice;
+use crate::models::vakhrameev::Calibration;
+use std::fmt::Write as _;
+
+/// A figure of merit in °/h as the page prints it (4 decimals, as `driftlab evaluate`).
+pub fn fmt_dph(v: f64) -> String {
+    format!("{v:.4}")
+}
+
+/// An improvement ratio as the page prints it.
+pub fn fmt_ratio(r: f64) -> String {
+    if r.is_finite() {
+        format!("{r:.2}×")
+    } else {
+        "∞".into()
+    }
+}
+
+/// A number with about five significant digits: fixed-point for everyday magnitudes,
+/// mantissa-exponent for very small and very large ones.
+pub fn fmt_num(v: f64) -> String {
+    let a = v.abs();
+    if !v.is_finite() {
+        return format!("{v}");
+    }
+    if a == 0.0 {
+        return "0".into();
+    }
+    if !(1e-3..1e5).contains(&a) {
+        return format!("{v:.4e}");
+    }
+    let decimals = (4 - a.log10().floor() as i32).clamp(0, 7) as usize;
+    format!("{v:.decimals$}")
+}
+
+/// Escapes text for HTML content and attribute values.
+pub fn escape(s: &str) -> String {
+    let mut out = String::with_capacity(s.len());
+    for c in s.chars() {
+        match c {
+            '&' => out.push_str("&amp;"),
+            '<' => out.push_str("&lt;"),
+            '>' => out.push_str("&gt;"),
+            '"' => out.push_str("&quot;"),
+            '\'' => out.push_str("&#39;"),
+            c => out.push(c),
+        }
+    }
+    out
+}
+
+pub(super) const CSS: &str = "
+body { font-family: 'DejaVu Sans', Verdana, sans-serif; font-size: 10.5pt; color: #111;
+       max-width: 1100px; margin: 2em auto; padding: 0 1em; line-height: 1.4; }
+h1 { font-size: 20pt; margin-bottom: 0.2em; }
+h2 { font-size: 14pt; border-bottom: 1px solid #999; margin-top: 1.6em; }
+h3 { font-size: 11.5pt; margin-bottom: 0.3em; }
+table { border-collapse: collapse; margin: 0.5em 0 1em; }
+th, td { border: 1px solid #bbb; padding: 0.2em 0.6em; vertical-align: top; }
+th { background: #eee; text-align: left; }
+td.num { text-align: right; font-variant-numeric: tabular-nums; white-space: nowrap; }
+code, pre { font-family: 'DejaVu Sans Mono', monospace; font-size: 9pt; }
+pre { background: #f6f6f6; padding: 0.6em; overflow-x: auto; }
+.tag { display: inline-block; padding: 0 0.5em; border-radius: 3px; font-size: 9pt;
+       font-weight: bold; }
+.in-sample { background: #fde2c8; }
+.held-out { background: #cde8f6; }
+figure { margin: 1em 0 2em; page-break-inside: avoid; break-inside: avoid; }
+figure svg { width: 100%; height: auto; border: 1px solid #ddd; }
+figcaption { font-size: 9.5pt; color: #333; margin-top: 0.3em; }
+.notes li { color: #7a4b00; }
+@media print {
+  body { max-width: none; margin: 0; font-size: 9.5pt; }
+  h2 { page-break-after: avoid; break-after: avoid; }
+  table, figure { page-break-inside: avoid; break-inside: avoid; }
+  pre { white-space: pre-wrap; }
+}
+";
+
+pub(super) fn row(out: &mut String, key: &str, value: &str) {
+    let _ = writeln!(
+        out,
+        "<tr><th>{}</th><td>{}</td></tr>",
+        escape(key),
+        escape(value)
+    );
+}
+
+fn tag(in_sample: bool) -> &'static str {
+    if in_sample {
+        "<span class=\"tag in-sample\">in-sample</span>"
+    } else {
+        "<span class=\"tag held-out\">held out</span>"
+    }
+}
+
+fn curve_text(a: &Approx) -> String {
+    let list = |v: &[f64]| v.iter().map(|&x| fmt_num(x)).collect::<Vec<_>>().join(", ");
+    match a.curve() {
+        Curve::Polynomial { coeffs } => {
+            format!("coefficients (lowest power first): {}", list(coeffs))
+        }
+        Curve::Pwl { knots_x, knots_y } | Curve::CatmullRom { knots_x, knots_y } => {
+            format!("knots x: {}; values: {}", list(knots_x), list(knots_y))
+        }
+    }
+}
+
+/// The SVG of a figure, ready to sit inside the page (the file as written, which has no XML
+/// declaration and no external references).
+fn inline_svg(f: &Figure) -> Result<String> {
+    let text = std::fs::read_to_string(&f.svg).map_err(|e| Error::io(&f.svg, e))?;
+    let start = text.find("<svg").unwrap_or(0);
+    Ok(text[start..].replacen(
+        "<svg ",
+        &format!(
+            "<svg role=\"img\" aria-label=\"{}\" preserveAspectRatio=\"xMidYMid meet\" ",
+            escape(&f.title)
+        ),
+        1,
+    ))
+}
+
+fn figure_html(out: &mut String, f: &Figure) -> Result<()> {
+    let name = f
+        .png
+        .file_name()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let _ = writeln!(out, "<figure>");
+    out.push_str(&inline_svg(f)?);
+    let _ = writeln!(
+        out,
+        "<figcaption><b>{}.</b> {} <i>(also {} and .svg beside this page)</i></figcaption></figure>",
+        escape(&f.title),
+        escape(&f.caption),
+        escape(&name)
+    );
+    Ok(())
+}
+
+fn merit_table(out: &mut String, l: &LogReport) {
+    let e = &l.evaluation;
+    let c = &e.comparison;
+    let _ = writeln!(
+        out,
+        "<h3>{} {}</h3>\n<p>{} samples, {:.2} h, T {:.1} … {:.1} °C; {} warm-up samples left out, \
+         {} windows of 10 min; {:.1} % of samples outside the calibrated ranges. SHA-256 <code>{}</code></p>",
+        escape(&l.name),
+        tag(l.in_sample),
+        l.samples,
+        l.duration_s / 3600.0,
+        l.temp_range_c.0,
+        l.temp_range_c.1,
+        e.warmup_samples,
+        c.raw.windows,
+        e.outside_fraction * 100.0,
+        escape(&l.sha256)
+    );
+    let _ = writeln!(
+        out,
+        "<table class=\"merit\" data-log=\"{}\" data-set=\"{}\">\n<tr><th>figure, °/h</th>\
+         <th>raw</th><th>corrected</th><th>ratio</th></tr>",
+        escape(&l.name),
+        if l.in_sample { "in-sample" } else { "held-out" }
+    );
+    let rows = [
+        (
+            "peak-to-peak of filtered drift",
+            c.raw.p2p_dph,
+            c.corrected.p2p_dph,
+            Some(c.p2p_ratio),
+        ),
+        (
+            "std of filtered drift",
+            c.raw.std_dph,
+            c.corrected.std_dph,
+            Some(c.std_ratio),
+        ),
+        (
+            "max |10-min mean|",
+            c.raw.win_mean_max_abs_dph,
+            c.corrected.win_mean_max_abs_dph,
+            Some(c.win_mean_ratio),
+        ),
+        (
+            "peak-to-peak of 10-min means",
+            c.raw.win_mean_p2p_dph,
+            c.corrected.win_mean_p2p_dph,
+            None,
+        ),
+        (
+            "mean 10-min RMS",
+            c.raw.win_rms_mean_dph,
+            c.corrected.win_rms_mean_dph,
+            Some(c.win_rms_ratio),
+        ),
+        (
+            "max 10-min RMS",
+            c.raw.win_rms_max_dph,
+            c.corrected.win_rms_max_dph,
+            None,
+        ),
+        ("mean", c.raw.mean_dph, c.corrected.mean_dph, None),
+    ];
+    for (name, raw, cor, ratio) in rows {
+        let _ = writeln!(
+            out,
+            "<tr><td>{name}</td><td class=\"num\">{}</td><td class=\"num\">{}</td><td class=\"num\">{}</td></tr>",
+            fmt_dph(raw),
+            fmt_dph(cor),
+            ratio.map(fmt_ratio).unwrap_or_default()
+        );
+    }
+    out.push_str("</table>\n");
+}
+
+/// The whole page.
+pub fn page(cal: &Calibration, s: &ReportSummary) -> Result<String> {
+    let mut o = String::with_capacity(1 << 20);
+    let gyro = if cal.gyro_id.is_empty() {
+        "(no gyro id)"
+    } else {
+        &cal.gyro_id
+    };
+    let _ = writeln!(
+        o,
+        "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n\
+         <title>Thermal drift calibration report: {}</title>\n<style>{CSS}</style>\n</head>\n<body>",
+        escape(gyro)
+    );
+    let _ = writeln!(
+        o,
+        "<h1>Thermal drift calibration report</h1>\n<p>Gyro <b class=\"gyro-id\">{}</b>, \
+         Vakhrameev model Ω<sub>pred</sub> = K0(T) + K1±(Ṫ)·Ṫ + K2±(T̈)·T̈, \
+         Ω<sub>cor</sub> = Ω<sub>raw</sub> − Ω<sub>pred</sub> (+ where Ṫ·T̈ &gt; 0, − where Ṫ·T̈ &lt; 0).</p>",
+        escape(gyro)
+    );
+
+    // Identity.
+    o.push_str("<h2>Identity</h2>\n<table>\n");
+    row(&mut o, "gyro id", gyro);
+    row(&mut o, "calibration log", &cal.source.name);
+    row(&mut o, "its SHA-256", &cal.source.sha256);
+    row(
+        &mut o,
+        "its samples, duration",
+        &format!(
+            "{} samples, {:.2} h",
+            cal.source.samples,
+            cal.source.duration_s / 3600.0
+        ),
+    );
+    row(&mut o, "calibration created", &cal.created);
+    row(
+        &mut o,
+        "report written",
+        &humantime::format_rfc3339_seconds(std::time::SystemTime::now()).to_string(),
+    );
+    row(
+        &mut o,
+        "written by",
+        &format!("driftlab {}", env!("CARGO_PKG_VERSION")),
+    );
+    o.push_str("</table>\n");
+
+    merit_section(&mut o, s);
+
+    // Recipe.
+    let r = &cal.recipe;
+    let res = &cal.resolved;
+    o.push_str("<h2>Recipe</h2>\n<table>\n");
+    row(
+        &mut o,
+        "Ω filter",
+        &format!(
+            "{} s centred moving average ({} samples)",
+            r.filter_s, res.filter_samples
+        ),
+    );
+    row(
+        &mut o,
+        "T smoothing",
+        &format!(
+            "{} s causal moving average ({} samples)",
+            r.temp_smoothing_s, res.smooth_samples
+        ),
+    );
+    row(
+        &mut o,
+        "derivative step H",
+        &format!(
+            "{} s ({} samples at {} s)",
+            r.step_h_s, res.step_samples, res.dt_s
+        ),
+    );
+    row(
+        &mut o,
+        "dead-band |Ṫ|",
+        &format!(
+            "{:.4e} °C/s ({})",
+            res.deadband_tdot,
+            if r.deadband_tdot.is_some() {
+                "set"
+            } else {
+                "automatic"
+            }
+        ),
+    );
+    row(
+        &mut o,
+        "dead-band |T̈|",
+        &format!(
+            "{:.4e} °C/s² ({})",
+            res.deadband_tddot,
+            if r.deadband_tddot.is_some() {
+                "set"
+            } else {
+                "automatic"
+            }
+        ),
+    );
+    row(
+        &mut o,
+        "plateaus",
+        match &r.plateaus {
+            PlateauChoice::Auto(_) => "detected automatically",
+            PlateauChoice::Manual { .. } => "given by hand",
+        },
+    );
+    row(
+        &mut o,
+        "weighting",
+        &format!("{:?}", r.weighting).to_lowercase(),
+    );
+    row(&mut o, "refinement passes", &r.refinements.to_string());
+    o.push_str("</table>\n");
+    let recipe_json = serde_json::to_string_pretty(r).unwrap_or_default();
+    let _ = writeln!(
+        o,
+        "<p>The recipe as stored in the calibration file:</p>\n<pre>{}</pre>",
+        escape(&recipe_json)
+    );
+
+    // Plateaus.
+    o.push_str(
+        "<h2>Plateaus</h2>\n<table>\n<tr><th>#</th><th>start, s</th><th>end, s</th>\
+         <th>T, °C</th><th>T spread, °C</th><th>Ω mean, °/h</th><th>Ω std, °/h</th><th>samples</th></tr>\n",
+    );
+    for (k, p) in cal.plateaus.iter().enumerate() {
+        let _ = writeln!(
+            o,
+            "<tr><td>{}</td><td class=\"num\">{:.0}</td><td class=\"num\">{:.0}</td>\
+             <td class=\"num\">{:.3}</td><td class=\"num\">{:.3}</td><td class=\"num\">{:.4}</td>\
+             <td class=\"num\">{:.4}</td><td class=\"num\">{}</td></tr>",
+            k + 1,
+            p.range.start_s,
+            p.range.end_s,
+            p.temp_c,
+            p.temp_spread_c,
+            p.omega_dph,
+            p.omega_std_dph,
+            p.samples
+        );
+    }
+    o.push_str("</table>\n");
+
+    // Coefficients.
+    let u = &cal.units;
+    o.push_str(
+        "<h2>Coefficients</h2>\n<table>\n<tr><th>coefficient</th><th>kind</th>\
+         <th>fitted range</th><th>beyond it</th><th>n</th><th>RMSE</th><th>R²</th><th>curve</th></tr>\n",
+    );
+    for (name, a) in cal.approximations() {
+        let (xu, yu) = match &name[..2] {
+            "K0" => (&u.temperature, &u.rate),
+            "K1" => (&u.tdot, &u.k1),
+            _ => (&u.tddot, &u.k2),
+        };
+        let st = a.stats();
+        let _ = writeln!(
+            o,
+            "<tr><td>{} [{}]</td><td>{}</td><td class=\"num\">{} … {} {}</td><td>{}</td>\
+             <td class=\"num\">{}</td><td class=\"num\">{}</td><td class=\"num\">{:.4}</td><td><small>{}</small></td></tr>",
+            escape(name),
+            escape(yu),
+            a.kind(),
+            fmt_num(a.x_min()),
+            fmt_num(a.x_max()),
+            escape(xu),
+            if a.extrapolates() {
+                "extrapolated"
+            } else {
+                "edge value held"
+            },
+            st.n,
+            fmt_num(st.rmse),
+            st.r2,
+            escape(&curve_text(a))
+        );
+    }
+    o.push_str("</table>\n");
+
+    figures_and_end(&mut o, s)?;
+    Ok(o)
+}
+
+/// The figures of merit of every log.
+pub(super) fn merit_section(o: &mut String, s: &ReportSummary) {
+    let _ = writeln!(
+        o,
+        "<h2>Figures of merit</h2>\n<p>Filtered drift: {:.0}-s centred moving average; mean and \
+         RMS over consecutive {:.0}-s windows. Ratio = raw ÷ corrected (above 1: better). \
+         <b>In-sample</b>: fitted and judged on the same log, as the papers do; <b>held out</b>: \
+         judged on another log of the same gyro, what matters in service.</p>",
+        s.merit.filter_s, s.merit.window_s
+    );
+    if s.logs.is_empty() {
+        o.push_str("<p>No log was given: the calibration alone is reported.</p>\n");
+    }
+    for l in &s.logs {
+        merit_table(o, l);
+    }
+}
+
+/// Every figure, the notes, and the end of the page.
+pub(super) fn figures_and_end(o: &mut String, s: &ReportSummary) -> Result<()> {
+    o.push_str("<h2>Figures</h2>\n");
+    for f in &s.figures {
+        figure_html(o, f)?;
+    }
+    for l in &s.logs {
+        for f in &l.figures {
+            figure_html(o, f)?;
+        }
+    }
+
+    if !s.notes.is_empty() {
+        o.push_str("<h2>Notes</h2>\n<ul class=\"notes\">\n");
+        for n in &s.notes {
+            let _ = writeln!(o, "<li>{}</li>", escape(n));
+        }
+        o.push_str("</ul>\n");
+    }
+    o.push_str("</body>\n</html>\n");
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn numbers_keep_five_significant_digits() {
+        assert_eq!(fmt_num(-49.995), "-49.995");
+        assert_eq!(fmt_num(0.016671), "0.016671");
+        assert_eq!(fmt_num(39.71605), "39.716");
+        assert_eq!(fmt_num(-7.594423e6), "-7.5944e6");
+        assert_eq!(fmt_num(2.9648e-5), "2.9648e-5");
+        assert_eq!(fmt_num(0.0), "0");
+    }
+
+    #[test]
+    fn text_is_escaped() {
+        assert_eq!(
+            escape("<a href=\"x\">&'"),
+            "&lt;a href=&quot;x&quot;&gt;&amp;&#39;"
+        );
+    }
+}

@@ -1,0 +1,286 @@
+//! The report page of a regression model: its terms with coefficients ± standard errors, λ,
+//! τd(T), lag, input ranges, fit statistics and searches, in place of the Vakhrameev page's
+//! recipe, plateaus and K curves. Apart from that page because it shares only the page's
+//! frame (styles, figures of merit, figures) with it.
+
+use super::ReportSummary;
+use super::html::{CSS, escape, figures_and_end, fmt_num, merit_section, row};
+use crate::error::Result;
+use crate::models::regression::{FitSamples, RegressionCalibration};
+use std::fmt::Write as _;
+
+/// A coefficient of a regression model as the page prints it: seven significant digits in
+/// mantissa-exponent form (coefficients of T³ and of T̈ differ by many orders of magnitude).
+pub fn fmt_coef(v: f64) -> String {
+    format!("{v:.6e}")
+}
+
+/// A standard error as the page prints it: three significant digits.
+pub fn fmt_se(v: f64) -> String {
+    format!("{v:.2e}")
+}
+
+/// The description of a model named `name`: the preset's sentence, or "custom model".
+fn describe(name: &str) -> String {
+    match crate::models::presets::Preset::from_name(name) {
+        Ok(p) => p.describe().to_string(),
+        Err(_) => "custom model, composed term by term".into(),
+    }
+}
+
+/// The whole page of a regression model.
+pub fn regression_page(cal: &RegressionCalibration, s: &ReportSummary) -> Result<String> {
+    let m = &cal.model;
+    let spec = &m.spec;
+    let mut o = String::with_capacity(1 << 20);
+    let gyro = if cal.gyro_id.is_empty() {
+        "(no gyro id)"
+    } else {
+        &cal.gyro_id
+    };
+    let formula = spec
+        .terms
+        .iter()
+        .map(ToString::to_string)
+        .collect::<Vec<_>>()
+        .join(" + ");
+    let _ = writeln!(
+        o,
+        "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n\
+         <title>Thermal drift calibration report: {}</title>\n<style>{CSS}</style>\n</head>\n<body>",
+        escape(gyro)
+    );
+    let _ = writeln!(
+        o,
+        "<h1>Thermal drift calibration report</h1>\n<p>Gyro <b class=\"gyro-id\">{}</b>, \
+         regression model <b class=\"model-name\">{}</b>: {}. \
+         Ω<sub>pred</sub> = Σ coefficient · term over the terms <code>{}</code>, \
+         Ω<sub>cor</sub> = Ω<sub>raw</sub> − Ω<sub>pred</sub>.</p>",
+        escape(gyro),
+        escape(&spec.name),
+        escape(&describe(&spec.name)),
+        escape(&formula)
+    );
+
+    // Identity.
+    o.push_str("<h2>Identity</h2>\n<table>\n");
+    row(&mut o, "gyro id", gyro);
+    row(&mut o, "model", &spec.name);
+    row(&mut o, "calibration log", &cal.source.name);
+    row(&mut o, "its SHA-256", &cal.source.sha256);
+    row(
+        &mut o,
+        "its samples, duration",
+        &format!(
+            "{} samples, {:.2} h",
+            cal.source.samples,
+            cal.source.duration_s / 3600.0
+        ),
+    );
+    row(&mut o, "calibration created", &cal.created);
+    row(
+        &mut o,
+        "report written",
+        &humantime::format_rfc3339_seconds(std::time::SystemTime::now()).to_string(),
+    );
+    row(
+        &mut o,
+        "written by",
+        &format!("driftlab {}", env!("CARGO_PKG_VERSION")),
+    );
+    o.push_str("</table>\n");
+
+    merit_section(&mut o, s);
+
+    // The model.
+    o.push_str("<h2>Model</h2>\n<table>\n");
+    row(&mut o, "terms", &formula);
+    row(
+        &mut o,
+        "fitted on",
+        match spec.samples {
+            FitSamples::All => "every sample with a full rate history",
+            FitSamples::Plateaus => "the temperature plateaus only",
+            FitSamples::Staged => "static terms on the plateaus, then rate terms on every sample",
+        },
+    );
+    row(
+        &mut o,
+        "fit statistics",
+        &format!(
+            "{} samples, RMS residual {} °/h, R² {:.4}",
+            m.stats.n,
+            fmt_num(m.stats.rmse),
+            m.stats.r2
+        ),
+    );
+    row(
+        &mut o,
+        "self-heating constant λ",
+        &match m.lambda_s {
+            Some(l) => format!("{} s", fmt_num(l)),
+            None => "— (no selfheat term)".into(),
+        },
+    );
+    row(
+        &mut o,
+        "delay τd(T)",
+        &if m.delay.points.is_empty() {
+            "none".to_string()
+        } else {
+            m.delay
+                .points
+                .iter()
+                .map(|p| format!("{} s at {} °C", fmt_num(p[1]), fmt_num(p[0])))
+                .collect::<Vec<_>>()
+                .join("; ")
+                + " (piecewise-linear in T, held at the end values)"
+        },
+    );
+    row(
+        &mut o,
+        "lag of T",
+        &match m.lag_s {
+            Some(l) if m.lag_per_c != 0.0 => format!(
+                "first-order, τ = {} s at 20 °C, τ/(1 + {}·(T − 20 °C)) elsewhere",
+                fmt_num(l),
+                fmt_num(m.lag_per_c)
+            ),
+            Some(l) => format!("first-order, τ = {} s", fmt_num(l)),
+            None => "none (T as measured)".into(),
+        },
+    );
+    if !m.t_knots.is_empty() {
+        row(
+            &mut o,
+            "pwlT knots",
+            &(m.t_knots
+                .iter()
+                .map(|&k| fmt_num(k))
+                .collect::<Vec<_>>()
+                .join(", ")
+                + " °C"),
+        );
+    }
+    if let Some(t2) = &m.temp2 {
+        row(&mut o, "second temperature sensor (dT = T − T2)", t2);
+    }
+    row(
+        &mut o,
+        "T smoothing, derivative step H",
+        &format!(
+            "{} s causal moving average, H = {} s, at {} s sampling",
+            spec.smoothing_s, spec.step_h_s, m.dt_s
+        ),
+    );
+    o.push_str("</table>\n");
+
+    // Coefficients.
+    o.push_str(
+        "<h2>Coefficients</h2>\n<p>Least-squares coefficients, °/h per unit of their term, \
+         ± standard error (white-noise assumption: correlated noise makes the real uncertainty \
+         larger).</p>\n<table class=\"coefficients\">\n<tr><th>term</th><th>coefficient</th>\
+         <th>± standard error</th><th>what it is</th></tr>\n",
+    );
+    let mut col = 0;
+    for t in &spec.terms {
+        for k in 0..t.width() {
+            let (Some(name), Some(c), Some(se)) = (
+                m.names.get(col),
+                m.coefficients.get(col),
+                m.std_errors.get(col),
+            ) else {
+                break;
+            };
+            let what = match t {
+                crate::models::regression::Term::PwlT { .. } => format!(
+                    "value at knot {} ({} °C)",
+                    k,
+                    m.t_knots.get(k).map(|&x| fmt_num(x)).unwrap_or_default()
+                ),
+                _ => t.describe(),
+            };
+            let _ = writeln!(
+                o,
+                "<tr><td><code>{}</code></td><td class=\"num\">{}</td><td class=\"num\">± {}</td><td>{}</td></tr>",
+                escape(name),
+                fmt_coef(*c),
+                fmt_se(*se),
+                escape(&what)
+            );
+            col += 1;
+        }
+    }
+    o.push_str("</table>\n");
+
+    // Input ranges.
+    o.push_str(
+        "<h2>Input ranges</h2>\n<p>The ranges the inputs were fitted on. Outside them T, ΔT and \
+         the extra channels are held at the edge value (the curves of them are not \
+         extrapolated); Ṫ and T̈ are only flagged (terms are linear in them).</p>\n<table>\n\
+         <tr><th>input</th><th>min</th><th>max</th><th>beyond it</th></tr>\n",
+    );
+    let r = &m.ranges;
+    let mut range_row = |name: &str, range: Option<[f64; 2]>, hold: bool| {
+        if let Some([lo, hi]) = range {
+            let _ = writeln!(
+                o,
+                "<tr><td>{}</td><td class=\"num\">{}</td><td class=\"num\">{}</td><td>{}</td></tr>",
+                escape(name),
+                fmt_num(lo),
+                fmt_num(hi),
+                if hold { "edge value held" } else { "flagged" }
+            );
+        }
+    };
+    range_row("T, °C", r.temp, true);
+    range_row("Ṫ, °C/s", r.tdot, false);
+    range_row("T̈, °C/s²", r.tddot, false);
+    range_row("ΔT = T − T2, °C", r.dt, true);
+    for (name, c) in m.channel_names().iter().zip(&r.channels) {
+        range_row(name, Some(*c), true);
+    }
+    o.push_str("</table>\n");
+
+    // Searches.
+    if !m.searches.is_empty() {
+        o.push_str(
+            "<h2>Searches</h2>\n<table>\n<tr><th>parameter</th><th>values tried</th>\
+             <th>chosen</th><th>RMS residual there, °/h</th><th>note</th></tr>\n",
+        );
+        for c in &m.searches {
+            let at =
+                c.x.iter()
+                    .position(|&x| x == c.best)
+                    .and_then(|k| c.rmse.get(k))
+                    .map(|&v| fmt_num(v))
+                    .unwrap_or_default();
+            let _ = writeln!(
+                o,
+                "<tr><td>{}</td><td class=\"num\">{} ({} … {} s)</td><td class=\"num\">{} s</td>\
+                 <td class=\"num\">{}</td><td>{}</td></tr>",
+                escape(&c.parameter),
+                c.x.len(),
+                c.x.first().map(|&v| fmt_num(v)).unwrap_or_default(),
+                c.x.last().map(|&v| fmt_num(v)).unwrap_or_default(),
+                fmt_num(c.best),
+                at,
+                if c.at_edge {
+                    "at the edge of the searched range"
+                } else {
+                    ""
+                }
+            );
+        }
+        o.push_str("</table>\n");
+    }
+    let spec_json = serde_json::to_string_pretty(spec).unwrap_or_default();
+    let _ = writeln!(
+        o,
+        "<p>The model's specification as stored in the calibration file:</p>\n<pre>{}</pre>",
+        escape(&spec_json)
+    );
+
+    figures_and_end(&mut o, s)?;
+    Ok(o)
+}

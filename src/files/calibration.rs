@@ -1,0 +1,262 @@
+//! The calibration file: versioned JSON that names its format, its version, its units and the
+//! log it came from, so that a calibration found on a test-stand PC years later can still be
+//! read and checked against its source.
+//!
+//! ```json
+//! { "format": "driftlab-calibration", "version": 1, "model": "vakhrameev",
+//!   "calibration": { "gyro_id": ..., "source": {...}, "recipe": {...}, "k0": {...}, ... } }
+//! { "format": "driftlab-calibration", "version": 1, "model": "regression",
+//!   "calibration": { "gyro_id": ..., "source": {...}, "model": { "spec": {...},
+//!                    "coefficients": [...], "ranges": {...}, ... } } }
+//! ```
+//!
+//! `model` tags the body: a reader that does not know a model says so by name instead of
+//! misreading it.
+//!
+//! Loading checks the format name and version before anything else, then reads the body with
+//! every unknown field rejected and every approximation validated (finite numbers, ordered
+//! knots), so a hand-edited file fails with a message that says where.
+
+use crate::error::{Error, Result};
+use crate::models::fitted::DriftModel;
+use crate::models::regression::RegressionCalibration;
+use crate::models::vakhrameev::Calibration;
+use serde::{Deserialize, Serialize};
+use sha2::{Digest, Sha256};
+use std::io::Read;
+use std::path::Path;
+
+/// The format name written into every calibration file.
+pub const FORMAT: &str = "driftlab-calibration";
+/// The newest format version this build writes and reads.
+pub const VERSION: u32 = 1;
+
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct CalFile {
+    format: String,
+    version: u32,
+    model: String,
+    calibration: Calibration,
+}
+
+/// A file whose body is a regression model.
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RegressionFile {
+    format: String,
+    version: u32,
+    model: String,
+    calibration: RegressionCalibration,
+}
+
+/// Only the header, read first so that a file of another kind or version is named as such
+/// instead of failing on its first unexpected field.
+#[derive(Deserialize)]
+struct Header {
+    format: Option<String>,
+    version: Option<u64>,
+    model: Option<String>,
+}
+
+/// The calibration as the JSON text of a calibration file.
+pub fn to_json(cal: &Calibration) -> String {
+    let file = CalFile {
+        format: FORMAT.into(),
+        version: VERSION,
+        model: "vakhrameev".into(),
+        calibration: cal.clone(),
+    };
+    // Serialising plain data with string keys cannot fail.
+    serde_json::to_string_pretty(&file).unwrap_or_default() + "\n"
+}
+
+/// Checks the header and returns the model tag.
+fn header(path: &Path, text: &str) -> Result<String> {
+    let err = |message: String| Error::File {
+        path: path.to_path_buf(),
+        message,
+    };
+    let header: Header =
+        serde_json::from_str(text).map_err(|e| err(format!("not a calibration file: {e}")))?;
+    match header.format.as_deref() {
+        Some(FORMAT) => {}
+        Some(other) => {
+            return Err(err(format!("format is \"{other}\", expected \"{FORMAT}\"")));
+        }
+        None => return Err(err(format!("no \"format\" field: not a {FORMAT} file"))),
+    }
+    match header.version {
+        Some(v) if v == VERSION as u64 => {}
+        Some(v) => {
+            return Err(err(format!(
+                "version {v} is not supported by this driftlab (reads version {VERSION}); \
+                 use a newer driftlab"
+            )));
+        }
+        None => return Err(err("no \"version\" field".into())),
+    }
+    match header.model.as_deref() {
+        Some(m @ ("vakhrameev" | "regression")) => Ok(m.to_string()),
+        Some(other) => Err(err(format!(
+            "model \"{other}\" is not known to this driftlab (it knows vakhrameev and \
+             regression)"
+        ))),
+        None => Err(err("no \"model\" field".into())),
+    }
+}
+
+/// Reads a Vakhrameev calibration from JSON text; `path` names the file in messages.
+pub fn from_json(path: &Path, text: &str) -> Result<Calibration> {
+    match model_from_json(path, text)? {
+        DriftModel::Vakhrameev(c) => Ok(*c),
+        DriftModel::Regression(r) => Err(Error::File {
+            path: path.to_path_buf(),
+            message: format!(
+                "holds the regression model \"{}\", and this needs a Vakhrameev calibration",
+                r.model.spec.name
+            ),
+        }),
+    }
+}
+
+/// Reads any model from JSON text; `path` names the file in messages.
+pub fn model_from_json(path: &Path, text: &str) -> Result<DriftModel> {
+    let err = |message: String| Error::File {
+        path: path.to_path_buf(),
+        message,
+    };
+    let model = if header(path, text)? == "regression" {
+        let file: RegressionFile = serde_json::from_str(text).map_err(|e| err(e.to_string()))?;
+        DriftModel::Regression(Box::new(file.calibration))
+    } else {
+        let file: CalFile = serde_json::from_str(text).map_err(|e| err(e.to_string()))?;
+        DriftModel::Vakhrameev(Box::new(file.calibration))
+    };
+    model.validate().map_err(err)?;
+    check_windows(windows(&model)).map_err(err)?;
+    Ok(model)
+}
+
+/// The longest window (T smoothing, derivative step, delay, lag) a calibration file may ask
+/// for, in samples at its own sampling step. A corrector holds that much history, so a file
+/// asking for more (a hand-edited `1e28`) would exhaust memory instead of correcting; no
+/// chamber run needs it (10 million samples are 30 hours at 93 Hz).
+const MAX_WINDOW_SAMPLES: f64 = crate::signal::MAX_HISTORY_SAMPLES as f64;
+
+/// The windows of a model that set how much history its corrector holds, with the sampling
+/// step they are counted in.
+fn windows(model: &DriftModel) -> (f64, Vec<(&'static str, f64)>) {
+    match model {
+        DriftModel::Vakhrameev(c) => calibration_windows(c),
+        DriftModel::Regression(r) => {
+            let m = &r.model;
+            (
+                m.dt_s,
+                vec![
+                    ("spec.smoothing_s", m.spec.smoothing_s),
+                    ("spec.step_h_s", m.spec.step_h_s),
+                    ("delay", m.delay.max_s()),
+                    ("lag_s", m.lag_s.unwrap_or(0.0)),
+                ],
+            )
+        }
+    }
+}
+
+fn calibration_windows(c: &Calibration) -> (f64, Vec<(&'static str, f64)>) {
+    let r = &c.resolved;
+    (
+        r.dt_s,
+        vec![
+            ("resolved.smooth_samples", r.smooth_samples as f64 * r.dt_s),
+            ("resolved.step_samples", r.step_samples as f64 * r.dt_s),
+        ],
+    )
+}
+
+fn check_windows(
+    (dt_s, windows): (f64, Vec<(&'static str, f64)>),
+) -> std::result::Result<(), String> {
+    for (name, seconds) in windows {
+        if seconds / dt_s > MAX_WINDOW_SAMPLES {
+            return Err(format!(
+                "{name} spans {seconds} s, more than {MAX_WINDOW_SAMPLES:e} samples of \
+                 {dt_s} s: no corrector can hold that much history"
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// A model this build would refuse to read back is not written: the error says why.
+fn check_before_saving(path: &Path, w: (f64, Vec<(&'static str, f64)>)) -> Result<()> {
+    check_windows(w).map_err(|m| Error::File {
+        path: path.to_path_buf(),
+        message: format!("not written: {m}"),
+    })
+}
+
+/// Any model as the JSON text of a calibration file.
+pub fn model_to_json(model: &DriftModel) -> String {
+    let text = match model {
+        DriftModel::Vakhrameev(c) => return to_json(c),
+        DriftModel::Regression(r) => serde_json::to_string_pretty(&RegressionFile {
+            format: FORMAT.into(),
+            version: VERSION,
+            model: "regression".into(),
+            calibration: (**r).clone(),
+        }),
+    };
+    text.unwrap_or_default() + "\n"
+}
+
+/// Writes any model's calibration file atomically.
+pub fn save_model(path: &Path, model: &DriftModel) -> Result<()> {
+    check_before_saving(path, windows(model))?;
+    crate::files::atomic::write_bytes(path, model_to_json(model).as_bytes())
+        .map_err(|e| Error::io(path, e))
+}
+
+/// Reads any model's calibration file.
+pub fn load_model(path: &Path) -> Result<DriftModel> {
+    model_from_json(path, &read_text(path)?)
+}
+
+/// Writes a calibration file atomically.
+pub fn save(path: &Path, cal: &Calibration) -> Result<()> {
+    check_before_saving(path, calibration_windows(cal))?;
+    crate::files::atomic::write_bytes(path, to_json(cal).as_bytes()).map_err(|e| Error::io(path, e))
+}
+
+/// Reads a calibration file.
+pub fn load(path: &Path) -> Result<Calibration> {
+    from_json(path, &read_text(path)?)
+}
+
+fn read_text(path: &Path) -> Result<String> {
+    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    String::from_utf8(bytes).map_err(|e| Error::File {
+        path: path.to_path_buf(),
+        message: format!("not UTF-8 text: {e}"),
+    })
+}
+
+/// SHA-256 of a file's bytes as lowercase hex, read in blocks (logs can be gigabytes).
+pub fn sha256_file(path: &Path) -> Result<String> {
+    let mut f = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
+    let mut hasher = Sha256::new();
+    let mut buf = vec![0u8; 1 << 20];
+    loop {
+        let n = f.read(&mut buf).map_err(|e| Error::io(path, e))?;
+        if n == 0 {
+            break;
+        }
+        hasher.update(&buf[..n]);
+    }
+    Ok(hasher
+        .finalize()
+        .iter()
+        .map(|b| format!("{b:02x}"))
+        .collect())
+}

@@ -1,0 +1,8 @@
+//! driftlab's own files: calibrations (`calibration`), workbench sessions (`session`), the
+//! corrected log `apply` writes (`corrected_csv`), and the atomic writes they all go through
+//! (`atomic`).
+
+pub mod atomic;
+pub mod calibration;
+pub mod corrected_csv;
+pub mod session;

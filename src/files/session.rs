@@ -1,0 +1,329 @@
+//! The workbench session file: everything an engineer set up, so that a calibration can be
+//! reopened exactly as it was left — the log and how it was read, the validation log, every
+//! choice of the recipe (plateaus included), knots moved by hand, and what was on screen.
+//!
+//! ```json
+//! { "format": "driftlab-session", "version": 1,
+//!   "session": { "log": { "path": "run7.csv", "read": { "delimiter": ";" } },
+//!                "validation": null, "recipe": { ... }, "knots": { "k1_plus": [...] },
+//!                "merit": { "filter_s": 100, "window_s": 600 }, "view": { ... } } }
+//! ```
+//!
+//! Like calibration files, sessions name their format and version, reject unknown fields and
+//! are written atomically. Paths are stored relative to the session file when the log lies
+//! in the same folder or below it, so a folder of logs and sessions can be moved as a whole.
+
+use crate::error::{Error, Result};
+use crate::judge::metrics::MeritOptions;
+use crate::log::ingest::ReadOptions;
+use crate::models::recipe::Recipe;
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
+
+/// The format name written into every session file.
+pub const FORMAT: &str = "driftlab-session";
+/// The newest session version this build writes and reads.
+pub const VERSION: u32 = 1;
+
+/// A log and how to read it.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LogRef {
+    /// The file (relative paths are relative to the session file's folder).
+    pub path: PathBuf,
+    /// The column mapping, units and dialect the engineer chose in the import view.
+    #[serde(default)]
+    pub read: ReadOptions,
+}
+
+/// Knot values set by hand, per coefficient: the whole list of knot values of a
+/// piecewise-linear or spline approximation, replacing the fitted values. A list applies only
+/// while the approximation has that many knots.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct KnotEdits {
+    /// K0(T) knot values, °/h.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub k0: Option<Vec<f64>>,
+    /// K1+(Ṫ) knot values.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub k1_plus: Option<Vec<f64>>,
+    /// K1−(Ṫ) knot values.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub k1_minus: Option<Vec<f64>>,
+    /// K2+(T̈) knot values.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub k2_plus: Option<Vec<f64>>,
+    /// K2−(T̈) knot values.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub k2_minus: Option<Vec<f64>>,
+}
+
+/// Which coefficient a knot edit is for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Coefficient {
+    /// K0(T).
+    K0,
+    /// K1+(Ṫ).
+    K1Plus,
+    /// K1−(Ṫ).
+    K1Minus,
+    /// K2+(T̈).
+    K2Plus,
+    /// K2−(T̈).
+    K2Minus,
+}
+
+impl Coefficient {
+    /// All five, in the order the calibration lists them.
+    pub const ALL: [Coefficient; 5] = [
+        Coefficient::K0,
+        Coefficient::K1Plus,
+        Coefficient::K1Minus,
+        Coefficient::K2Plus,
+        Coefficient::K2Minus,
+    ];
+
+    /// The name used in recipes and calibration files (`k1_plus`).
+    pub fn key(self) -> &'static str {
+        match self {
+            Coefficient::K0 => "k0",
+            Coefficient::K1Plus => "k1_plus",
+            Coefficient::K1Minus => "k1_minus",
+            Coefficient::K2Plus => "k2_plus",
+            Coefficient::K2Minus => "k2_minus",
+        }
+    }
+
+    /// The name people read (`K1+`).
+    pub fn label(self) -> &'static str {
+        match self {
+            Coefficient::K0 => "K0",
+            Coefficient::K1Plus => "K1+",
+            Coefficient::K1Minus => "K1−",
+            Coefficient::K2Plus => "K2+",
+            Coefficient::K2Minus => "K2−",
+        }
+    }
+
+    /// The recipe's choice for this coefficient.
+    pub fn spec(self, recipe: &Recipe) -> &crate::models::approx::ApproxSpec {
+        match self {
+            Coefficient::K0 => &recipe.k0,
+            Coefficient::K1Plus => &recipe.k1_plus,
+            Coefficient::K1Minus => &recipe.k1_minus,
+            Coefficient::K2Plus => &recipe.k2_plus,
+            Coefficient::K2Minus => &recipe.k2_minus,
+        }
+    }
+
+    /// The recipe's choice for this coefficient, to change it.
+    pub fn spec_mut(self, recipe: &mut Recipe) -> &mut crate::models::approx::ApproxSpec {
+        match self {
+            Coefficient::K0 => &mut recipe.k0,
+            Coefficient::K1Plus => &mut recipe.k1_plus,
+            Coefficient::K1Minus => &mut recipe.k1_minus,
+            Coefficient::K2Plus => &mut recipe.k2_plus,
+            Coefficient::K2Minus => &mut recipe.k2_minus,
+        }
+    }
+
+    /// The fitted approximation of this coefficient in a calibration.
+    pub fn approx(
+        self,
+        cal: &crate::models::vakhrameev::Calibration,
+    ) -> &crate::models::approx::Approx {
+        match self {
+            Coefficient::K0 => &cal.k0,
+            Coefficient::K1Plus => &cal.k1_plus,
+            Coefficient::K1Minus => &cal.k1_minus,
+            Coefficient::K2Plus => &cal.k2_plus,
+            Coefficient::K2Minus => &cal.k2_minus,
+        }
+    }
+}
+
+impl KnotEdits {
+    /// The hand-set knot values of one coefficient.
+    pub fn get(&self, c: Coefficient) -> Option<&Vec<f64>> {
+        self.slot(c).as_ref()
+    }
+
+    /// Sets (or clears, with `None`) the hand-set knot values of one coefficient.
+    pub fn set(&mut self, c: Coefficient, values: Option<Vec<f64>>) {
+        *self.slot_mut(c) = values;
+    }
+
+    /// True when no knot was moved by hand.
+    pub fn is_empty(&self) -> bool {
+        Coefficient::ALL.iter().all(|&c| self.get(c).is_none())
+    }
+
+    /// Drops the edits that no longer fit the recipe (another kind or knot count).
+    pub fn retain_matching(&mut self, recipe: &Recipe) {
+        for c in Coefficient::ALL {
+            let spec = *c.spec(recipe);
+            if let Some(v) = self.get(c)
+                && !(spec.kind.has_knots() && v.len() == spec.knots)
+            {
+                self.set(c, None);
+            }
+        }
+    }
+
+    fn slot(&self, c: Coefficient) -> &Option<Vec<f64>> {
+        match c {
+            Coefficient::K0 => &self.k0,
+            Coefficient::K1Plus => &self.k1_plus,
+            Coefficient::K1Minus => &self.k1_minus,
+            Coefficient::K2Plus => &self.k2_plus,
+            Coefficient::K2Minus => &self.k2_minus,
+        }
+    }
+
+    fn slot_mut(&mut self, c: Coefficient) -> &mut Option<Vec<f64>> {
+        match c {
+            Coefficient::K0 => &mut self.k0,
+            Coefficient::K1Plus => &mut self.k1_plus,
+            Coefficient::K1Minus => &mut self.k1_minus,
+            Coefficient::K2Plus => &mut self.k2_plus,
+            Coefficient::K2Minus => &mut self.k2_minus,
+        }
+    }
+}
+
+/// What was on screen, so the session reopens where it was left.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct ViewState {
+    /// Visible time range of the time plots, s (`None`: the whole log).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub time_range_s: Option<[f64; 2]>,
+    /// Whether the result plot shows the validation log rather than the calibration log.
+    pub show_validation: bool,
+}
+
+/// A workbench session.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Session {
+    /// The calibration log.
+    pub log: Option<LogRef>,
+    /// A second log, held out to judge the calibration.
+    pub validation: Option<LogRef>,
+    /// Every choice of the calibration.
+    pub recipe: Recipe,
+    /// Knots moved by hand.
+    pub knots: KnotEdits,
+    /// How the figures of merit are computed.
+    pub merit: MeritOptions,
+    /// What was on screen.
+    pub view: ViewState,
+}
+
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SessionFile {
+    format: String,
+    version: u32,
+    session: Session,
+}
+
+#[derive(Deserialize)]
+struct Header {
+    format: Option<String>,
+    version: Option<u64>,
+}
+
+impl Session {
+    /// Paths made relative to `dir` where the file lies in it or below it (for saving).
+    pub fn relative_to(&self, dir: &Path) -> Session {
+        let rel = |r: &Option<LogRef>| {
+            r.as_ref().map(|r| LogRef {
+                path: r
+                    .path
+                    .strip_prefix(dir)
+                    .map(Path::to_path_buf)
+                    .unwrap_or_else(|_| r.path.clone()),
+                read: r.read.clone(),
+            })
+        };
+        Session {
+            log: rel(&self.log),
+            validation: rel(&self.validation),
+            ..self.clone()
+        }
+    }
+
+    /// Relative paths resolved against `dir` (after loading).
+    pub fn resolved_in(mut self, dir: &Path) -> Session {
+        for r in [&mut self.log, &mut self.validation].into_iter().flatten() {
+            if r.path.is_relative() {
+                let p = dir.join(&r.path);
+                r.path = std::fs::canonicalize(&p).unwrap_or(p);
+            }
+        }
+        self
+    }
+}
+
+/// The session as the JSON text of a session file.
+pub fn to_json(session: &Session) -> String {
+    let file = SessionFile {
+        format: FORMAT.into(),
+        version: VERSION,
+        session: session.clone(),
+    };
+    serde_json::to_string_pretty(&file).unwrap_or_default() + "\n"
+}
+
+/// Reads a session from JSON text; `path` names the file in messages. Relative log paths are
+/// left as written (see [`Session::resolved_in`]).
+pub fn from_json(path: &Path, text: &str) -> Result<Session> {
+    let err = |message: String| Error::File {
+        path: path.to_path_buf(),
+        message,
+    };
+    let header: Header =
+        serde_json::from_str(text).map_err(|e| err(format!("not a session file: {e}")))?;
+    match header.format.as_deref() {
+        Some(FORMAT) => {}
+        Some(other) => return Err(err(format!("format is \"{other}\", expected \"{FORMAT}\""))),
+        None => return Err(err(format!("no \"format\" field: not a {FORMAT} file"))),
+    }
+    match header.version {
+        Some(v) if v == VERSION as u64 => {}
+        Some(v) => {
+            return Err(err(format!(
+                "version {v} is not supported by this driftlab (reads version {VERSION})"
+            )));
+        }
+        None => return Err(err("no \"version\" field".into())),
+    }
+    let file: SessionFile = serde_json::from_str(text).map_err(|e| err(e.to_string()))?;
+    file.session
+        .recipe
+        .validate()
+        .map_err(|e| err(format!("recipe: {e}")))?;
+    Ok(file.session)
+}
+
+/// Writes a session file atomically, with log paths relative to its folder where possible.
+pub fn save(path: &Path, session: &Session) -> Result<()> {
+    let dir = path.parent().unwrap_or(Path::new(""));
+    let dir = std::path::absolute(dir).unwrap_or_else(|_| dir.to_path_buf());
+    let text = to_json(&session.relative_to(&dir));
+    crate::files::atomic::write_bytes(path, text.as_bytes()).map_err(|e| Error::io(path, e))
+}
+
+/// Reads a session file, resolving relative log paths against its folder.
+pub fn load(path: &Path) -> Result<Session> {
+    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    let text = String::from_utf8(bytes).map_err(|e| Error::File {
+        path: path.to_path_buf(),
+        message: format!("not UTF-8 text: {e}"),
+    })?;
+    let dir = path.parent().unwrap_or(Path::new(""));
+    Ok(from_json(path, &text)?.resolved_in(dir))
+}

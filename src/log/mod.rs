@@ -1,0 +1,194 @@
+//! A gyro test log after ingest: synchronous columns already converted to driftlab's units
+//! (time in s, rate in °/h, temperature in °C), plus what the reader noticed on the way.
+
+pub mod ingest;
+
+use serde::{Deserialize, Serialize};
+
+/// One recorded test run of a motionless gyro.
+///
+/// The three calibration columns are always present and of equal length; every other numeric
+/// column of the file (a second temperature sensor, laser power, piezo voltage...) is kept by
+/// name in `extra`, so that models which need them can find them.
+#[derive(Debug, Clone, Default)]
+pub struct Log {
+    /// Where the log came from (file name or a label), used in messages and calibration files.
+    pub source: String,
+    /// Time since an arbitrary origin, seconds, strictly increasing.
+    pub time_s: Vec<f64>,
+    /// Gyro output, °/h.
+    pub omega_dph: Vec<f64>,
+    /// The temperature the calibration uses (coil or frame sensor), °C.
+    pub temp_c: Vec<f64>,
+    /// Every other numeric column, by name, aligned with `time_s`.
+    pub extra: Vec<Channel>,
+    /// How the file was read and what was wrong with it.
+    pub info: LogInfo,
+}
+
+/// A named column kept alongside the calibration columns.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct Channel {
+    /// The column's header name (or `colN` for a file without a header).
+    pub name: String,
+    /// Unit as read from the header, or empty when the header does not say.
+    pub unit: String,
+    /// Values, aligned with the log's `time_s`; temperatures in °C.
+    pub values: Vec<f64>,
+}
+
+/// What the reader found: dialect, column mapping with units, and problems.
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+pub struct LogInfo {
+    /// Field separator that was used.
+    pub delimiter: char,
+    /// Whether numbers were written with a decimal comma.
+    pub decimal_comma: bool,
+    /// Whether the first non-comment line was a header.
+    pub has_header: bool,
+    /// Every column of the file with the role it was given.
+    pub columns: Vec<ColumnInfo>,
+    /// Data rows read from the file (before any row was dropped).
+    pub rows_read: usize,
+    /// Things that were wrong but did not stop the read (dropped rows, gaps, ...).
+    pub problems: Vec<Problem>,
+}
+
+/// One column of the source file.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct ColumnInfo {
+    /// 1-based column index in the file.
+    pub index: usize,
+    /// Header name, or `colN` without a header.
+    pub name: String,
+    /// What driftlab uses the column for.
+    pub role: ColumnRole,
+    /// The unit the column was read in (`deg/h`, `rad/s`, `ms`, `°C`, ...), empty if unknown.
+    pub unit: String,
+}
+
+/// The use driftlab makes of a column.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ColumnRole {
+    /// Time axis.
+    Time,
+    /// Gyro rate output.
+    Rate,
+    /// The calibration temperature.
+    Temperature,
+    /// Kept by name in `Log::extra`.
+    #[default]
+    Extra,
+    /// Not numeric, not kept.
+    Ignored,
+}
+
+/// Something wrong in a log that the reader worked around, with where it is.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Problem {
+    /// 1-based line in the file where it was first seen.
+    pub line: usize,
+    /// 1-based column, when the problem is in one cell.
+    pub column: Option<usize>,
+    /// What kind of problem.
+    pub kind: ProblemKind,
+    /// How many times it occurred (the first occurrence is at `line`).
+    pub count: usize,
+    /// A sentence a test engineer can act on.
+    pub message: String,
+}
+
+/// Kinds of problems the reader reports.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ProblemKind {
+    /// Blank or NaN cells in a used column: the row was dropped.
+    MissingValue,
+    /// Unreadable cells in an extra column: kept as NaN, the row was kept.
+    BadExtraValue,
+    /// Time went backwards: the row was dropped.
+    TimeBackwards,
+    /// Time repeated: the row was dropped.
+    TimeRepeated,
+    /// The time step jumped well above the nominal step.
+    Gap,
+    /// A row with fewer or more fields than the header.
+    RaggedRow,
+}
+
+impl Log {
+    /// Number of samples.
+    pub fn len(&self) -> usize {
+        self.time_s.len()
+    }
+
+    /// True when the log has no samples.
+    pub fn is_empty(&self) -> bool {
+        self.time_s.is_empty()
+    }
+
+    /// Nominal sampling step: the median of the time differences, s.
+    ///
+    /// The median, not the mean, so that a few gaps do not change the step that windows and
+    /// derivative steps given in seconds are converted with.
+    pub fn nominal_dt_s(&self) -> f64 {
+        nominal_dt_s(&self.time_s)
+    }
+
+    /// Duration from the first to the last sample, s.
+    pub fn duration_s(&self) -> f64 {
+        match (self.time_s.first(), self.time_s.last()) {
+            (Some(a), Some(b)) => b - a,
+            _ => 0.0,
+        }
+    }
+
+    /// A named extra channel.
+    pub fn channel(&self, name: &str) -> Option<&Channel> {
+        self.extra.iter().find(|c| c.name == name)
+    }
+
+    /// Builds a log from columns already in driftlab's units (tests, the simulator).
+    pub fn from_columns(
+        source: &str,
+        time_s: Vec<f64>,
+        omega_dph: Vec<f64>,
+        temp_c: Vec<f64>,
+    ) -> Log {
+        let rows = time_s.len();
+        Log {
+            source: source.to_string(),
+            time_s,
+            omega_dph,
+            temp_c,
+            extra: Vec::new(),
+            info: LogInfo {
+                delimiter: ',',
+                rows_read: rows,
+                ..LogInfo::default()
+            },
+        }
+    }
+}
+
+/// Median time step of a time column, s (1.0 for fewer than two samples).
+pub fn nominal_dt_s(time_s: &[f64]) -> f64 {
+    if time_s.len() < 2 {
+        return 1.0;
+    }
+    // A strided sample of at most ~10k steps keeps this O(1)-ish on huge logs.
+    let stride = (time_s.len() / 10_000).max(1);
+    let mut steps: Vec<f64> = time_s
+        .windows(2)
+        .step_by(stride)
+        .map(|w| w[1] - w[0])
+        .filter(|d| d.is_finite() && *d > 0.0)
+        .collect();
+    if steps.is_empty() {
+        return 1.0;
+    }
+    let mid = steps.len() / 2;
+    let (_, m, _) = steps.select_nth_unstable_by(mid, |a, b| a.total_cmp(b));
+    *m
+}

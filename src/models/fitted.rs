@@ -1,0 +1,254 @@
+//! Any fitted drift model — the Vakhrameev calibration or a regression model — behind one
+//! face, so that files, `apply`, `compare` and the workbench treat them alike.
+
+use crate::error::{Error, Result};
+use crate::log::Log;
+use crate::models::presets::{ModelChoice, Preset};
+use crate::models::recipe::Recipe;
+use crate::models::regression::{self, RegressionCalibration, RegressionCorrector};
+use crate::models::vakhrameev::correct::{
+    Corrected, Correction, LogPredictor, Prediction, StreamCorrector,
+};
+use crate::models::vakhrameev::{self, Calibration, SourceInfo};
+
+/// A fitted model of a gyro's thermal drift.
+#[derive(Debug, Clone, PartialEq)]
+pub enum DriftModel {
+    /// K0/K1±/K2± (METHOD.md §1).
+    Vakhrameev(Box<Calibration>),
+    /// A model linear in its coefficients over the log's channels.
+    Regression(Box<RegressionCalibration>),
+}
+
+impl DriftModel {
+    /// The model's name (`vakhrameev`, a preset's name, or the custom model's).
+    pub fn name(&self) -> &str {
+        match self {
+            DriftModel::Vakhrameev(_) => Preset::Vakhrameev.name(),
+            DriftModel::Regression(r) => &r.model.spec.name,
+        }
+    }
+
+    /// The tag of the model section in a calibration file.
+    pub fn tag(&self) -> &'static str {
+        match self {
+            DriftModel::Vakhrameev(_) => "vakhrameev",
+            DriftModel::Regression(_) => "regression",
+        }
+    }
+
+    /// Gyro identifier.
+    pub fn gyro_id(&self) -> &str {
+        match self {
+            DriftModel::Vakhrameev(c) => &c.gyro_id,
+            DriftModel::Regression(r) => &r.gyro_id,
+        }
+    }
+
+    /// The log the model was fitted on.
+    pub fn source(&self) -> &SourceInfo {
+        match self {
+            DriftModel::Vakhrameev(c) => &c.source,
+            DriftModel::Regression(r) => &r.source,
+        }
+    }
+
+    /// The log the model was fitted on, to fill in its name and hash.
+    pub fn source_mut(&mut self) -> &mut SourceInfo {
+        match self {
+            DriftModel::Vakhrameev(c) => &mut c.source,
+            DriftModel::Regression(r) => &mut r.source,
+        }
+    }
+
+    /// Corrects a whole log.
+    ///
+    /// # Errors
+    /// The log lacks a channel a regression model reads.
+    pub fn correct(&self, log: &Log) -> Result<Correction> {
+        match self {
+            DriftModel::Vakhrameev(c) => Ok(c.correct(log)),
+            DriftModel::Regression(r) => r.model.correct(log),
+        }
+    }
+
+    /// The predicted drift of every sample of `log` (the corrected rate is `Ω − pred`), as
+    /// `driftlab apply` writes it: for the Vakhrameev model without the other columns of a
+    /// correction ([`Calibration::predict_log`]).
+    ///
+    /// # Errors
+    /// The log lacks a channel the model reads.
+    pub fn predict_log(&self, log: &Log) -> Result<Prediction> {
+        match self {
+            DriftModel::Vakhrameev(c) => Ok(c.predict_log(log)),
+            DriftModel::Regression(r) => {
+                let c = r.model.correct(log)?;
+                Ok(Prediction {
+                    pred_dph: c.pred_dph,
+                    outside_fraction: c.outside_fraction,
+                })
+            }
+        }
+    }
+
+    /// The predicted drift of `log` a batch at a time ([`Predictor`]), as `driftlab apply`
+    /// writes it: the Vakhrameev model predicts each batch as it is asked for; a regression
+    /// model, whose channels may be filtered over the whole log, predicts all at once.
+    ///
+    /// # Errors
+    /// The log lacks a channel the model reads.
+    pub fn predictor<'a>(&'a self, log: &'a Log) -> Result<Predictor<'a>> {
+        Ok(match self {
+            DriftModel::Vakhrameev(c) => Predictor::Batches(c.log_predictor(log)),
+            DriftModel::Regression(_) => Predictor::Whole {
+                prediction: self.predict_log(log)?,
+                next: 0,
+            },
+        })
+    }
+
+    /// A streaming corrector for samples `dt_s` seconds apart.
+    ///
+    /// # Errors
+    /// A step the corrector cannot keep histories for (see
+    /// [`Calibration::corrector_for`]).
+    pub fn corrector_for(&self, dt_s: f64) -> Result<ModelCorrector> {
+        Ok(match self {
+            DriftModel::Vakhrameev(c) => {
+                ModelCorrector::Vakhrameev(Box::new(c.corrector_for(dt_s)?))
+            }
+            DriftModel::Regression(r) => {
+                ModelCorrector::Regression(Box::new(r.model.corrector_for(dt_s)?))
+            }
+        })
+    }
+
+    /// The second temperature channel and the extra channels a streaming corrector wants.
+    pub fn inputs(&self) -> (Option<String>, Vec<String>) {
+        match self {
+            DriftModel::Vakhrameev(_) => (None, Vec::new()),
+            DriftModel::Regression(r) => (r.model.temp2.clone(), r.model.channel_names()),
+        }
+    }
+
+    /// Checks a model read from a file.
+    ///
+    /// # Errors
+    /// A message naming what is inconsistent.
+    pub fn validate(&self) -> std::result::Result<(), String> {
+        match self {
+            DriftModel::Vakhrameev(c) => c.validate(),
+            DriftModel::Regression(r) => r.model.validate(),
+        }
+    }
+}
+
+/// A log's predicted drift handed out in order, a batch at a time ([`DriftModel::predictor`]).
+#[derive(Debug, Clone)]
+pub enum Predictor<'a> {
+    /// Predicted batch by batch.
+    Batches(LogPredictor<'a>),
+    /// Predicted whole, handed out in batches.
+    Whole {
+        /// The whole prediction.
+        prediction: Prediction,
+        /// The next sample to hand out.
+        next: usize,
+    },
+}
+
+impl Predictor<'_> {
+    /// Fills `out` with the next samples' predicted drift (fewer at the end of the log) and
+    /// returns how many it filled.
+    pub fn fill(&mut self, out: &mut [f64]) -> usize {
+        match self {
+            Predictor::Batches(p) => p.fill(out),
+            Predictor::Whole { prediction, next } => {
+                let rest = &prediction.pred_dph[(*next).min(prediction.pred_dph.len())..];
+                let n = rest.len().min(out.len());
+                out[..n].copy_from_slice(&rest[..n]);
+                *next += n;
+                n
+            }
+        }
+    }
+
+    /// Share of the samples outside the calibrated ranges, of those predicted so far.
+    pub fn outside_fraction(&self) -> f64 {
+        match self {
+            Predictor::Batches(p) => p.outside_fraction(),
+            Predictor::Whole { prediction, .. } => prediction.outside_fraction,
+        }
+    }
+}
+
+/// A streaming corrector for any model.
+#[derive(Debug, Clone)]
+pub enum ModelCorrector {
+    /// The Vakhrameev corrector.
+    Vakhrameev(Box<StreamCorrector>),
+    /// A regression model's corrector.
+    Regression(Box<RegressionCorrector>),
+}
+
+impl ModelCorrector {
+    /// Feeds one sample (see [`DriftModel::inputs`] for what `temp2_c` and `channels` are;
+    /// the Vakhrameev model reads neither).
+    pub fn push(
+        &mut self,
+        time_s: f64,
+        omega_dph: f64,
+        temp_c: f64,
+        temp2_c: f64,
+        channels: &[f64],
+    ) -> Corrected {
+        match self {
+            ModelCorrector::Vakhrameev(c) => c.push(time_s, omega_dph, temp_c),
+            ModelCorrector::Regression(c) => c.push(time_s, omega_dph, temp_c, temp2_c, channels),
+        }
+    }
+}
+
+/// Fits `choice` on `log`; the Vakhrameev model uses `recipe`.
+///
+/// # Errors
+/// What the fit reports (too few samples, a missing channel, ...).
+pub fn fit(log: &Log, choice: &ModelChoice, recipe: &Recipe) -> Result<DriftModel> {
+    let spec = match choice {
+        ModelChoice::Preset(p) => p.spec(log)?,
+        ModelChoice::Custom(s) => Some(s.clone()),
+    };
+    match spec {
+        None => Ok(DriftModel::Vakhrameev(Box::new(
+            vakhrameev::fit(log, recipe)?.calibration,
+        ))),
+        Some(spec) => {
+            let m = regression::fit(log, &spec)?;
+            Ok(DriftModel::Regression(Box::new(
+                RegressionCalibration::new(&recipe.gyro_id, log, m),
+            )))
+        }
+    }
+}
+
+/// The values a streaming corrector is fed for sample `i` of `log`: the second temperature
+/// and the extra channels the model reads.
+///
+/// # Errors
+/// A channel the log lacks.
+pub fn stream_inputs(model: &DriftModel, log: &Log) -> Result<(Vec<f64>, Vec<Vec<f64>>)> {
+    let (temp2, names) = model.inputs();
+    let find = |name: &str| {
+        log.extra
+            .iter()
+            .find(|c| c.name == name)
+            .map(|c| c.values.clone())
+            .ok_or_else(|| Error::Fit(format!("{}: no channel \"{name}\"", log.source)))
+    };
+    let t2 = match temp2 {
+        Some(n) => find(&n)?,
+        None => vec![f64::NAN; log.len()],
+    };
+    let ch = names.iter().map(|n| find(n)).collect::<Result<Vec<_>>>()?;
+    Ok((t2, ch))
+}

@@ -1,0 +1,218 @@
+//! The models of the papers by name, so that an engineer finds "Yan 2019 delayed" without
+//! composing it term by term (METHOD.md §1–§3).
+
+use crate::error::{Error, Result};
+use crate::log::Log;
+use crate::models::regression::{self, DelaySpec, FitSamples, LagSpec, RegressionSpec, Term};
+use serde::{Deserialize, Serialize};
+
+/// A named model.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Preset {
+    /// K0(T) + K1±(Ṫ)·Ṫ + K2±(T̈)·T̈ (Vakhrameev, METHOD.md §1).
+    Vakhrameev,
+    /// c_T·T + c_Ṫ·Ṫ + bias (IEEE Std 952-1997 as quoted by Yan 2019), fitted in stages: T
+    /// and bias on the plateaus, then Ṫ on what they leave.
+    Ieee952,
+    /// a·T·Ṫ + b·T + c·Ṫ + d (Yan 2019, equation 8), fitted in stages: b and d on the
+    /// plateaus, then a and c on what they leave.
+    YanCross,
+    /// The cross-term model on T(t − τd), Ṫ(t − τd), with τd found per temperature band and
+    /// interpolated as τd(T) (Yan 2019, equation 10); fitted in stages as the cross-term model.
+    YanDelayed,
+    /// B1·(1 − e^(−t/λ)) + B2·ΔT + B3·ΔT² + a coefficient per extra channel + bias (Sukhanov
+    /// 2011, equation 11).
+    Sukhanov,
+    /// Polynomial of degree 2 in T fitted over the whole run: the traditional calibration.
+    PolyT,
+    /// Piecewise-linear in T over 3 knots fitted over the whole run: the traditional
+    /// calibration by sub-ranges.
+    PwlT,
+    /// driftlab's model for a gyro whose sensor sits outside the part that drifts: T read
+    /// through a first-order lag whose time constant shrinks as the coil warms (both
+    /// searched), a bias curve in T, and the rates with heating and cooling apart.
+    CoilLag,
+}
+
+impl Preset {
+    /// Every preset, in the order tables list them.
+    pub const ALL: [Preset; 8] = [
+        Preset::Vakhrameev,
+        Preset::Ieee952,
+        Preset::YanCross,
+        Preset::YanDelayed,
+        Preset::Sukhanov,
+        Preset::PolyT,
+        Preset::PwlT,
+        Preset::CoilLag,
+    ];
+
+    /// The name used on the command line and in files.
+    pub fn name(self) -> &'static str {
+        match self {
+            Preset::Vakhrameev => "vakhrameev",
+            Preset::Ieee952 => "ieee952",
+            Preset::YanCross => "yan-cross",
+            Preset::YanDelayed => "yan-delayed",
+            Preset::Sukhanov => "sukhanov",
+            Preset::PolyT => "poly-t",
+            Preset::PwlT => "pwl-t",
+            Preset::CoilLag => "coil-lag",
+        }
+    }
+
+    /// One line on what the model is and where it comes from.
+    pub fn describe(self) -> &'static str {
+        match self {
+            Preset::Vakhrameev => {
+                "K0(T) + K1±(Ṫ)·Ṫ + K2±(T̈)·T̈, from plateaus and ramps (Vakhrameev)"
+            }
+            Preset::Ieee952 => {
+                "c·T + c·Ṫ + bias (IEEE Std 952 form); T and bias on the plateaus, then Ṫ"
+            }
+            Preset::YanCross => {
+                "a·T·Ṫ + b·T + c·Ṫ + d (Yan 2019 cross term); T and d on the plateaus, then the rates"
+            }
+            Preset::YanDelayed => {
+                "Yan 2019 cross term on T and Ṫ delayed by τd(T), τd per temperature band; T and d \
+                 on the plateaus, then the rates"
+            }
+            Preset::Sukhanov => {
+                "B1·(1 − e^(−t/λ)) + B2·ΔT + B3·ΔT² + extra channels + bias (Sukhanov 2011)"
+            }
+            Preset::PolyT => {
+                "polynomial of degree 2 in T, least squares over the whole run (traditional)"
+            }
+            Preset::PwlT => {
+                "piecewise-linear in T over 3 knots, least squares over the whole run (traditional)"
+            }
+            Preset::CoilLag => {
+                "T through a lag τ20/(1 + β·(T − 20)); 1, T, T², Ṫ, |Ṫ|, T·Ṫ, T̈, T·T̈, sgn(Ṫ)·T̈ (driftlab)"
+            }
+        }
+    }
+
+    /// The preset called `name`.
+    ///
+    /// # Errors
+    /// An unknown name, with the list of known ones.
+    pub fn from_name(name: &str) -> std::result::Result<Preset, String> {
+        Preset::ALL
+            .into_iter()
+            .find(|p| p.name() == name)
+            .ok_or_else(|| {
+                format!(
+                    "unknown model \"{name}\"; models are {}",
+                    Preset::ALL.map(Preset::name).join(", ")
+                )
+            })
+    }
+
+    /// The regression spec of the preset for `log` (Sukhanov's reads the log's extra
+    /// channels); `None` for the Vakhrameev model, which is not a regression.
+    ///
+    /// # Errors
+    /// Sukhanov's model on a log without a second temperature sensor.
+    pub fn spec(self, log: &Log) -> Result<Option<RegressionSpec>> {
+        use Term::*;
+        let spec = |terms: Vec<Term>| Some(RegressionSpec::new(self.name(), terms));
+        Ok(match self {
+            Preset::Vakhrameev => None,
+            Preset::Ieee952 => spec(vec![T, Tdot, One]).map(staged),
+            Preset::YanCross => spec(vec![TTdot, T, Tdot, One]).map(staged),
+            Preset::YanDelayed => spec(vec![TTdot, T, Tdot, One]).map(staged).map(|mut s| {
+                s.delay = DelaySpec::Bands {
+                    bands: 3,
+                    max_s: 1800.0,
+                };
+                s
+            }),
+            Preset::Sukhanov => {
+                let temp2 = regression::guess_temp2(log).ok_or_else(|| {
+                    Error::Fit(format!(
+                        "{}: the Sukhanov model needs a second temperature sensor and the log \
+                         has none",
+                        log.source
+                    ))
+                })?;
+                let mut terms = vec![One, SelfHeating, Dt, Dt2];
+                for c in &log.extra {
+                    let lower = c.name.to_ascii_lowercase();
+                    if c.name != temp2 && !lower.contains("temp") {
+                        terms.push(Channel {
+                            name: c.name.clone(),
+                            power: 1,
+                        });
+                    }
+                }
+                let mut s = RegressionSpec::new(self.name(), terms);
+                s.temp2 = Some(temp2);
+                Some(s)
+            }
+            // Static curves fitted over every sample: held out, they cost less than the same
+            // curves fitted on the plateaus alone (tests/models.rs, README "Which model").
+            Preset::PolyT => spec(vec![One, T, T2]),
+            Preset::PwlT => spec(vec![PwlT { knots: 3 }]),
+            Preset::CoilLag => spec(vec![
+                One,
+                T,
+                T2,
+                Tdot,
+                AbsTdot,
+                TTdot,
+                Tddot,
+                TTddot,
+                SgnTdotTddot,
+            ])
+            .map(|mut s| {
+                s.lag = LagSpec::Search {
+                    max_s: 3600.0,
+                    with_temperature: true,
+                };
+                s
+            }),
+        })
+    }
+}
+
+/// A model with static and rate terms fitted as Vakhrameev calibrates: the static terms on
+/// the plateaus, the rate terms on what they leave. A joint fit over every sample lets the
+/// ramps tilt the bias line, which then misses the holds between the calibration's plateaus.
+fn staged(mut s: RegressionSpec) -> RegressionSpec {
+    s.samples = FitSamples::Staged;
+    s
+}
+
+/// A model to fit: a preset or a spec built by the engineer.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ModelChoice {
+    /// A named model.
+    Preset(Preset),
+    /// A model composed term by term.
+    Custom(RegressionSpec),
+}
+
+impl ModelChoice {
+    /// The name shown in tables.
+    pub fn name(&self) -> String {
+        match self {
+            ModelChoice::Preset(p) => p.name().to_string(),
+            ModelChoice::Custom(s) => s.name.clone(),
+        }
+    }
+
+    /// One line on what the model is.
+    pub fn describe(&self) -> String {
+        match self {
+            ModelChoice::Preset(p) => p.describe().to_string(),
+            ModelChoice::Custom(s) => s
+                .terms
+                .iter()
+                .map(ToString::to_string)
+                .collect::<Vec<_>>()
+                .join(" + "),
+        }
+    }
+}

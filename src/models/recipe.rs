@@ -1,0 +1,170 @@
+//! Every choice an engineer makes for a calibration, apart from what gets fitted.
+//!
+//! A recipe is plain data: filters and derivative step in seconds, dead-bands, plateaus (found
+//! automatically or given as time ranges) and the approximation of each coefficient. Fitting is
+//! a pure function of (log, recipe), so the same recipe file gives the same calibration from the
+//! command line, the workbench or a batch script.
+
+use crate::models::approx::{ApproxKind, ApproxSpec};
+use crate::signal::plateau::{DetectOptions, PlateauRange};
+use serde::{Deserialize, Serialize};
+
+/// All settings of a Vakhrameev calibration.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Recipe {
+    /// Identifier of the gyro (serial number), copied into the calibration file.
+    pub gyro_id: String,
+    /// Centred moving average applied to Ω before the pointwise coefficients and in the
+    /// figures of merit, s (the paper: 100 recording intervals).
+    pub filter_s: f64,
+    /// Causal moving average applied to T before differentiating, s.
+    pub temp_smoothing_s: f64,
+    /// Step H of the backward derivative, s.
+    pub step_h_s: f64,
+    /// |Ṫ| below which a point is left out of the K1 fits, °C/s; `None`: a fifth of the
+    /// 95th percentile of |Ṫ| outside plateaus.
+    pub deadband_tdot: Option<f64>,
+    /// |T̈| below which a point is left out of the K2 fits, °C/s²; `None`: a fifth of the
+    /// 95th percentile of |T̈| outside plateaus.
+    pub deadband_tddot: Option<f64>,
+    /// How the plateaus that define K0(T) are chosen.
+    pub plateaus: PlateauChoice,
+    /// Approximation of K0 over T.
+    pub k0: ApproxSpec,
+    /// Approximation of K1+ over Ṫ (thermal acceleration, Ṫ·T̈ > 0).
+    pub k1_plus: ApproxSpec,
+    /// Approximation of K1− over Ṫ (thermal deceleration, Ṫ·T̈ < 0).
+    pub k1_minus: ApproxSpec,
+    /// Approximation of K2+ over T̈.
+    pub k2_plus: ApproxSpec,
+    /// Approximation of K2− over T̈.
+    pub k2_minus: ApproxSpec,
+    /// How the pointwise coefficients are weighed in the least-squares fits.
+    pub weighting: Weighting,
+    /// Extra passes after the paper's K1-then-K2 fit: each refits K1 with the fitted K2 term
+    /// taken out of Ω, then K2 with the new K1 (0: the paper's method exactly).
+    pub refinements: usize,
+}
+
+/// Weighing of the pointwise coefficients K1 = r/Ṫ and K2 = r/T̈ in their fits.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Weighting {
+    /// Every ratio counts alike, as the paper fits them. Ratios at small Ṫ (T̈) carry the
+    /// noise of Ω divided by a small number and can dominate the fit.
+    Ratio,
+    /// Each ratio weighted by its denominator squared: the fit then minimises the error of the
+    /// predicted drift itself, K·Ṫ against Ω − K0, which is what the correction is judged on.
+    Drift,
+}
+
+/// Where the plateaus come from.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "mode", rename_all = "snake_case", deny_unknown_fields)]
+pub enum PlateauChoice {
+    /// Found by the detector with these options.
+    Auto(DetectOptions),
+    /// Given by the engineer as time ranges.
+    Manual {
+        /// The ranges, s.
+        ranges: Vec<PlateauRange>,
+    },
+}
+
+impl Default for PlateauChoice {
+    fn default() -> Self {
+        PlateauChoice::Auto(DetectOptions::default())
+    }
+}
+
+impl Default for Recipe {
+    /// Defaults that give usable Ṫ and T̈ on a 1 Hz log with 0.001 °C resolution: T smoothed over
+    /// 60 s and differentiated with H = 30 s keeps the quantisation noise of T̈ near 1e-6 °C/s²,
+    /// well below the ~3e-5 °C/s² of a 1 °C/min ramp starting or stopping over ten minutes.
+    fn default() -> Self {
+        Recipe {
+            gyro_id: String::new(),
+            filter_s: 100.0,
+            temp_smoothing_s: 60.0,
+            step_h_s: 30.0,
+            deadband_tdot: None,
+            deadband_tddot: None,
+            plateaus: PlateauChoice::default(),
+            k0: ApproxSpec::of(ApproxKind::Parabolic),
+            k1_plus: ApproxSpec::of(ApproxKind::Linear),
+            k1_minus: ApproxSpec::of(ApproxKind::Linear),
+            k2_plus: ApproxSpec::of(ApproxKind::Linear),
+            k2_minus: ApproxSpec::of(ApproxKind::Linear),
+            weighting: Weighting::Drift,
+            refinements: 2,
+        }
+    }
+}
+
+impl Recipe {
+    /// Checks the numbers once, so fitting can trust them; the message names the setting.
+    pub fn validate(&self) -> Result<(), String> {
+        let positive = |name: &str, v: f64| {
+            if v.is_finite() && v > 0.0 {
+                Ok(())
+            } else {
+                Err(format!(
+                    "{name} must be a positive number of seconds, got {v}"
+                ))
+            }
+        };
+        positive("filter_s", self.filter_s)?;
+        positive("temp_smoothing_s", self.temp_smoothing_s)?;
+        positive("step_h_s", self.step_h_s)?;
+        for (name, v) in [
+            ("deadband_tdot", self.deadband_tdot),
+            ("deadband_tddot", self.deadband_tddot),
+        ] {
+            if let Some(v) = v
+                && !(v.is_finite() && v >= 0.0)
+            {
+                return Err(format!("{name} must be a non-negative number, got {v}"));
+            }
+        }
+        if self.refinements > 20 {
+            return Err(format!(
+                "refinements must be at most 20, got {}",
+                self.refinements
+            ));
+        }
+        for (name, spec) in self.specs() {
+            if spec.kind.has_knots() && !(2..=64).contains(&spec.knots) {
+                return Err(format!(
+                    "{name}: knots must be between 2 and 64, got {}",
+                    spec.knots
+                ));
+            }
+        }
+        match &self.plateaus {
+            PlateauChoice::Auto(o) => o.validate()?,
+            PlateauChoice::Manual { ranges } => {
+                for r in ranges {
+                    if !(r.start_s.is_finite() && r.end_s.is_finite() && r.start_s < r.end_s) {
+                        return Err(format!(
+                            "plateau {}:{} must have a start before its end",
+                            r.start_s, r.end_s
+                        ));
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// The five approximation choices with their names.
+    pub fn specs(&self) -> [(&'static str, ApproxSpec); 5] {
+        [
+            ("k0", self.k0),
+            ("k1_plus", self.k1_plus),
+            ("k1_minus", self.k1_minus),
+            ("k2_plus", self.k2_plus),
+            ("k2_minus", self.k2_minus),
+        ]
+    }
+}

@@ -1,0 +1,287 @@
+//! A fitted regression model: coefficients, the non-linear parameters found, the input ranges
+//! it holds its inputs to, and how it predicts one sample.
+
+use super::{CostCurve, Inputs, RegressionSpec, Term, terms};
+use crate::models::vakhrameev::SourceInfo;
+use crate::signal::DerivativeSteps;
+use serde::{Deserialize, Serialize};
+
+/// τd as a function of the current temperature: piecewise-linear through `points`
+/// (`[temp_c, delay_s]`, ascending in temperature), held at the end values. No points: no
+/// delay.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Delay {
+    /// `[temperature °C, delay s]`, ascending in temperature.
+    pub points: Vec<[f64; 2]>,
+}
+
+impl Delay {
+    /// One delay at every temperature.
+    pub fn constant(seconds: f64) -> Delay {
+        Delay {
+            points: vec![[0.0, seconds]],
+        }
+    }
+
+    /// The delay at temperature `temp_c`, s.
+    #[inline]
+    pub fn at(&self, temp_c: f64) -> f64 {
+        let p = &self.points;
+        match p.len() {
+            0 => 0.0,
+            1 => p[0][1],
+            n => {
+                if temp_c <= p[0][0] || temp_c.is_nan() {
+                    return p[0][1];
+                }
+                if temp_c >= p[n - 1][0] {
+                    return p[n - 1][1];
+                }
+                let j = p.partition_point(|q| q[0] <= temp_c).clamp(1, n - 1) - 1;
+                let w = (temp_c - p[j][0]) / (p[j + 1][0] - p[j][0]);
+                p[j][1] + w * (p[j + 1][1] - p[j][1])
+            }
+        }
+    }
+
+    /// The longest delay at any temperature, s.
+    pub fn max_s(&self) -> f64 {
+        self.points.iter().map(|p| p[1]).fold(0.0, f64::max)
+    }
+}
+
+/// The range of one input over the samples a model was fitted on.
+pub type Range = [f64; 2];
+
+/// The ranges the inputs a model reads were fitted on; `None` for inputs it does not read.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct InputRanges {
+    /// T (after delay), °C.
+    pub temp: Option<Range>,
+    /// Ṫ (after delay), °C/s.
+    pub tdot: Option<Range>,
+    /// T̈ (after delay), °C/s².
+    pub tddot: Option<Range>,
+    /// `T − T2`, °C.
+    pub dt: Option<Range>,
+    /// Each extra channel, in the order of [`terms::channel_names`].
+    pub channels: Vec<Range>,
+}
+
+/// How well the final fit matches the samples it was fitted on.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RegressionStats {
+    /// Samples used.
+    pub n: usize,
+    /// RMS residual, °/h (of the raw rate: the gyro's noise is part of it).
+    pub rmse: f64,
+    /// Coefficient of determination.
+    pub r2: f64,
+}
+
+/// A fitted regression model: everything needed to correct a log, and how it was found.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RegressionModel {
+    /// What was asked for.
+    pub spec: RegressionSpec,
+    /// The second temperature channel used, when the terms read one.
+    pub temp2: Option<String>,
+    /// Names of the coefficients, one per design-matrix column.
+    pub names: Vec<String>,
+    /// The coefficients, °/h per unit of their term.
+    pub coefficients: Vec<f64>,
+    /// Standard errors of the coefficients (white-noise assumption: correlated noise makes the
+    /// real uncertainty larger).
+    pub std_errors: Vec<f64>,
+    /// Self-heating time constant λ, s, when the model has a `selfheat` term.
+    pub lambda_s: Option<f64>,
+    /// τd(T).
+    pub delay: Delay,
+    /// Time constant at 20 °C of the first-order lag T is read through, s (`None`: T as
+    /// measured).
+    #[serde(default)]
+    pub lag_s: Option<f64>,
+    /// Relative rise per °C of the diffusivity behind the lag ([`lag_at`](super::lag_at)).
+    #[serde(default)]
+    pub lag_per_c: f64,
+    /// Knots of a `pwlT` term, °C.
+    pub t_knots: Vec<f64>,
+    /// Input ranges of the fit; inputs are clamped to them.
+    pub ranges: InputRanges,
+    /// Sampling step of the calibration log, s.
+    pub dt_s: f64,
+    /// Fit quality.
+    pub stats: RegressionStats,
+    /// The searches for λ and τd.
+    pub searches: Vec<CostCurve>,
+}
+
+/// A regression model with the identity of the gyro and log it was fitted on: the body of a
+/// calibration file whose model is `regression`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RegressionCalibration {
+    /// Gyro identifier.
+    pub gyro_id: String,
+    /// The log it was made from.
+    pub source: SourceInfo,
+    /// When it was made, RFC 3339 UTC.
+    pub created: String,
+    /// The model.
+    pub model: RegressionModel,
+}
+
+impl RegressionModel {
+    /// Derivative settings for a log sampled every `dt_s` seconds.
+    pub fn steps_for(&self, dt_s: f64) -> DerivativeSteps {
+        super::signals::steps(&self.spec, dt_s)
+    }
+
+    /// The extra channels the model reads, in order.
+    pub fn channel_names(&self) -> Vec<String> {
+        terms::channel_names(&self.spec.terms)
+    }
+
+    /// λ for evaluating the `selfheat` term (1 when there is none: the term is absent).
+    pub(crate) fn lambda(&self) -> f64 {
+        self.lambda_s.unwrap_or(1.0)
+    }
+
+    /// The model's inputs clamped to the fitted ranges, and whether any was outside.
+    ///
+    /// T, ΔT and the extra channels are clamped: the terms of them are curves (T², T³,
+    /// ΔT², hats) that must not be extrapolated. Ṫ and T̈ are only checked: every term enters
+    /// them to the first power (`Tdot`, `T*Tdot`, `|Tdot|`, `Tddot`, `T*Tddot`), so a term's
+    /// coefficient of the rate is what is held at the edge and the term scales with the rate,
+    /// as Vakhrameev's K1(Ṫ)·Ṫ does with K1 held. Clamping the rate instead would cap the
+    /// correction of a ramp faster than the calibration's at the calibration's rate.
+    #[inline]
+    pub fn clamp(&self, x: &mut Inputs, channels: &mut [f64]) -> bool {
+        let r = &self.ranges;
+        let mut outside = false;
+        let mut c = |v: &mut f64, range: &Option<Range>, hold: bool| {
+            if let Some([lo, hi]) = range {
+                if *v < *lo {
+                    outside = true;
+                    if hold {
+                        *v = *lo;
+                    }
+                } else if *v > *hi {
+                    outside = true;
+                    if hold {
+                        *v = *hi;
+                    }
+                }
+            }
+        };
+        c(&mut x.temp, &r.temp, true);
+        c(&mut x.tdot, &r.tdot, false);
+        c(&mut x.tddot, &r.tddot, false);
+        c(&mut x.dt, &r.dt, true);
+        for (v, range) in channels.iter_mut().zip(&r.channels) {
+            c(v, &Some(*range), true);
+        }
+        outside
+    }
+
+    /// The predicted drift for inputs already clamped; `row` is scratch space.
+    #[inline]
+    pub fn predict(&self, x: &Inputs, channels: &[f64], row: &mut Vec<f64>) -> f64 {
+        terms::row(
+            &self.spec.terms,
+            x,
+            channels,
+            self.lambda(),
+            &self.t_knots,
+            row,
+        );
+        row.iter().zip(&self.coefficients).map(|(a, b)| a * b).sum()
+    }
+
+    /// Checks a model read from a file: counts agree, numbers are finite, ranges ordered.
+    ///
+    /// # Errors
+    /// A message naming what is inconsistent.
+    pub fn validate(&self) -> std::result::Result<(), String> {
+        self.spec.validate()?;
+        let p = terms::column_names(&self.spec.terms).len();
+        if self.coefficients.len() != p || self.std_errors.len() != p || self.names.len() != p {
+            return Err(format!(
+                "model {}: {} terms need {p} coefficients, standard errors and names",
+                self.spec.name,
+                self.spec.terms.len()
+            ));
+        }
+        if self.coefficients.iter().any(|c| !c.is_finite()) {
+            return Err(format!(
+                "model {}: coefficients must be finite",
+                self.spec.name
+            ));
+        }
+        let knots = self
+            .spec
+            .terms
+            .iter()
+            .find_map(|t| match t {
+                Term::PwlT { knots } => Some(*knots),
+                _ => None,
+            })
+            .unwrap_or(0);
+        if self.t_knots.len() != knots
+            || self.t_knots.iter().any(|k| !k.is_finite())
+            || self.t_knots.windows(2).any(|w| w[0] >= w[1])
+        {
+            return Err(format!(
+                "model {}: pwlT knots must be {knots} finite ascending temperatures",
+                self.spec.name
+            ));
+        }
+        let ok = |r: &Range| r[0].is_finite() && r[1].is_finite() && r[0] <= r[1];
+        let r = &self.ranges;
+        if [r.temp, r.tdot, r.tddot, r.dt]
+            .iter()
+            .flatten()
+            .any(|r| !ok(r))
+            || r.channels.iter().any(|r| !ok(r))
+            || r.channels.len() != self.channel_names().len()
+        {
+            return Err(format!(
+                "model {}: input ranges must be finite, ordered, one per channel",
+                self.spec.name
+            ));
+        }
+        let d = &self.delay.points;
+        if d.iter()
+            .any(|p| !(p[0].is_finite() && p[1].is_finite() && p[1] >= 0.0))
+            || d.windows(2).any(|w| w[0][0] >= w[1][0])
+        {
+            return Err(format!(
+                "model {}: delay points must be finite, non-negative, ascending in T",
+                self.spec.name
+            ));
+        }
+        if self.lag_s.is_some_and(|l| !(l.is_finite() && l >= 0.0)) || !self.lag_per_c.is_finite() {
+            return Err(format!(
+                "model {}: the lag must be non-negative",
+                self.spec.name
+            ));
+        }
+        if self.lambda_s.is_some_and(|l| !(l.is_finite() && l > 0.0)) {
+            return Err(format!("model {}: λ must be positive", self.spec.name));
+        }
+        if !(self.dt_s.is_finite() && self.dt_s > 0.0) {
+            return Err(format!("model {}: dt_s must be positive", self.spec.name));
+        }
+        if self.spec.terms.iter().any(Term::needs_temp2) != self.temp2.is_some() {
+            return Err(format!(
+                "model {}: dT terms and the second temperature channel go together",
+                self.spec.name
+            ));
+        }
+        Ok(())
+    }
+}

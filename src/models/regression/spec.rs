@@ -1,0 +1,208 @@
+//! What an engineer asks of a regression model: its terms and how its non-linear parameters
+//! (τd, λ, the lag of T) are found.
+
+use super::Term;
+use serde::{Deserialize, Serialize};
+
+/// How the delay τd of the temperature channels is chosen when fitting.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+pub enum DelaySpec {
+    /// No delay.
+    None,
+    /// A given delay, s.
+    Fixed {
+        /// τd, s.
+        seconds: f64,
+    },
+    /// One delay for the whole log, searched over `[0, max_s]`.
+    Search {
+        /// Longest delay tried, s.
+        max_s: f64,
+    },
+    /// One delay per temperature band (Yan 2019: the delay shrinks as the coil warms), each
+    /// searched on that band's samples, then interpolated over temperature as τd(T).
+    Bands {
+        /// Number of equal-width temperature bands over the log's range.
+        bands: usize,
+        /// Longest delay tried, s.
+        max_s: f64,
+    },
+}
+
+/// How the self-heating time constant λ is chosen (only used by the `selfheat` term).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+pub enum LambdaSpec {
+    /// Searched over `[min_s, max_s]` on a logarithmic grid.
+    Search {
+        /// Shortest λ tried, s.
+        min_s: f64,
+        /// Longest λ tried, s.
+        max_s: f64,
+    },
+    /// A given λ, s.
+    Fixed {
+        /// λ, s.
+        seconds: f64,
+    },
+}
+
+/// How the first-order lag of the temperature is chosen: the model then reads T through
+/// `dy/dt = (T − y)/τ`, an estimate of the temperature inside the gyro (the coil of a FOG)
+/// from a sensor on its housing. A driftlab addition to the papers' models: a pure delay
+/// (Yan 2019) shifts a ramp's whole response, while heat diffusing inward starts to respond
+/// at once and settles exponentially.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+pub enum LagSpec {
+    /// T as measured.
+    #[default]
+    None,
+    /// A given time constant, s.
+    Fixed {
+        /// τ at 20 °C, s.
+        seconds: f64,
+        /// Relative rise of the coil's diffusivity per °C above 20 °C (see [`lag_at`]).
+        #[serde(default)]
+        per_c: f64,
+    },
+    /// Searched over `[0, max_s]`.
+    Search {
+        /// Longest τ tried, s.
+        max_s: f64,
+        /// Also search how τ changes with temperature: diffusivity rises with temperature, so
+        /// a warm coil follows its housing faster (Yan 2019 measured 863, 547 and 309 s in
+        /// three bands).
+        #[serde(default)]
+        with_temperature: bool,
+    },
+}
+
+/// Temperature at which a lag's time constant is quoted, °C.
+pub const LAG_REF_C: f64 = 20.0;
+
+/// The lag's time constant at temperature `temp_c`: `τ20 / (1 + β·(T − 20 °C))`. A coil's
+/// time constant is d²/K with a diffusivity K that rises about linearly with temperature, so
+/// β is K's relative rise per °C. The divisor is kept above 0.2 so that a slope fitted over
+/// the calibration's range cannot make τ infinite or negative outside it.
+#[inline]
+pub fn lag_at(tau_20_s: f64, per_c: f64, temp_c: f64) -> f64 {
+    tau_20_s / (1.0 + per_c * (temp_c - LAG_REF_C)).max(0.2)
+}
+
+/// Which samples a model is fitted on.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FitSamples {
+    /// Every sample with a full rate history.
+    #[default]
+    All,
+    /// The temperature plateaus only (found as the Vakhrameev model finds them): for models
+    /// of the static bias alone, which the ramps would otherwise pull toward the transient
+    /// drift they cannot describe. A searched lag, delay or λ is still judged on every sample:
+    /// the ramps are where they show.
+    Plateaus,
+    /// In stages, as Vakhrameev calibrates (METHOD.md §1): the static terms (1, T, T², T³,
+    /// pwlT, ΔT, ΔT², self-heating, extra channels) on the plateaus, where the rates are
+    /// zero; then the rate terms (Ṫ, T̈, T·Ṫ, |Ṫ|, T·T̈, sgn(Ṫ)·T̈) on what the static part
+    /// leaves, over every sample. The ramps then cannot pull the bias curve away from the
+    /// holds. Each stage has its own standard errors.
+    Staged,
+}
+
+/// What an engineer asks for: the terms and how to find the non-linear parameters.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RegressionSpec {
+    /// The preset's name, or `custom`.
+    pub name: String,
+    /// The model's terms, one coefficient each (a `pwlT:N` term has N).
+    pub terms: Vec<Term>,
+    /// The second temperature sensor for `dT` terms; `None` takes the first extra channel
+    /// whose name says "temp".
+    pub temp2: Option<String>,
+    /// How τd is chosen.
+    pub delay: DelaySpec,
+    /// How λ is chosen.
+    pub lambda: LambdaSpec,
+    /// How the first-order lag of T is chosen.
+    #[serde(default)]
+    pub lag: LagSpec,
+    /// Which samples the model is fitted on.
+    #[serde(default)]
+    pub samples: FitSamples,
+    /// Causal smoothing of T before differentiating, s.
+    pub smoothing_s: f64,
+    /// Derivative step H, s.
+    pub step_h_s: f64,
+}
+
+impl RegressionSpec {
+    /// A spec with the given terms and the engine's default signal settings, no delay and a
+    /// searched λ.
+    pub fn new(name: &str, terms: Vec<Term>) -> RegressionSpec {
+        let r = crate::models::recipe::Recipe::default();
+        RegressionSpec {
+            name: name.to_string(),
+            terms,
+            temp2: None,
+            delay: DelaySpec::None,
+            lambda: LambdaSpec::Search {
+                min_s: 60.0,
+                max_s: 6.0 * 3600.0,
+            },
+            lag: LagSpec::None,
+            samples: FitSamples::All,
+            smoothing_s: r.temp_smoothing_s,
+            step_h_s: r.step_h_s,
+        }
+    }
+
+    /// Checks what the fit cannot work around.
+    ///
+    /// # Errors
+    /// No terms, a non-positive window, a negative or non-finite delay or λ, too few bands.
+    pub fn validate(&self) -> std::result::Result<(), String> {
+        if self.terms.is_empty() {
+            return Err(format!("model {}: no terms", self.name));
+        }
+        let pos = |v: f64| v.is_finite() && v > 0.0;
+        if !pos(self.smoothing_s) || !pos(self.step_h_s) {
+            return Err(format!(
+                "model {}: smoothing and step H must be positive seconds",
+                self.name
+            ));
+        }
+        match self.delay {
+            DelaySpec::None => {}
+            DelaySpec::Fixed { seconds } if seconds.is_finite() && seconds >= 0.0 => {}
+            DelaySpec::Search { max_s } if pos(max_s) => {}
+            DelaySpec::Bands { bands, max_s } if pos(max_s) && (1..=20).contains(&bands) => {}
+            _ => {
+                return Err(format!(
+                    "model {}: the delay must be non-negative seconds and bands 1 to 20",
+                    self.name
+                ));
+            }
+        }
+        match self.lag {
+            LagSpec::None => {}
+            LagSpec::Fixed { seconds, per_c }
+                if seconds.is_finite() && seconds >= 0.0 && per_c.is_finite() => {}
+            LagSpec::Search { max_s, .. } if pos(max_s) => {}
+            _ => {
+                return Err(format!(
+                    "model {}: the lag must be non-negative seconds",
+                    self.name
+                ));
+            }
+        }
+        match self.lambda {
+            LambdaSpec::Fixed { seconds } if pos(seconds) => {}
+            LambdaSpec::Search { min_s, max_s } if pos(min_s) && max_s > min_s => {}
+            _ => return Err(format!("model {}: λ must be positive seconds", self.name)),
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,340 @@
+//! Applying a calibration: `Ω_cor = Ω_raw − Ω_pred` (METHOD.md §1, equation 2), for a whole
+//! log at once or one sample at a time.
+//!
+//! Both paths use only past samples for Ṫ and T̈ (causal smoothing, backward differences), so a
+//! correction computed here is the correction a gyro's processor would have made in real time.
+//! [`StreamCorrector`] is the piece a firmware engineer ports; it keeps a few short ring buffers
+//! and does a fixed amount of work per sample.
+
+use crate::error::{Error, Result};
+use crate::log::Log;
+use crate::models::vakhrameev::{Calibration, Regime};
+use crate::signal::{self, DerivativeSteps, Derivatives, Rates};
+use rayon::prelude::*;
+
+/// A corrected log.
+#[derive(Debug, Clone, Default)]
+pub struct Correction {
+    /// Predicted thermal drift, °/h.
+    pub pred_dph: Vec<f64>,
+    /// Corrected rate, °/h.
+    pub cor_dph: Vec<f64>,
+    /// Regime of each sample.
+    pub regime: Vec<Regime>,
+    /// Share of samples whose T, Ṫ or T̈ lay outside the calibrated ranges (edge values held).
+    pub outside_fraction: f64,
+    /// Samples outside the calibrated ranges, by regime (static, +, −), so that a partial
+    /// re-correction of one regime can keep the others' counts.
+    pub outside_by_regime: [usize; 3],
+    /// First sample with full derivative history (figures of merit start there).
+    pub ready_from: usize,
+}
+
+/// A log's predicted drift alone ([`Calibration::predict_log`]).
+#[derive(Debug, Clone, Default)]
+pub struct Prediction {
+    /// Predicted thermal drift, °/h.
+    pub pred_dph: Vec<f64>,
+    /// Share of samples whose T, Ṫ or T̈ lay outside the calibrated ranges (edge values held).
+    pub outside_fraction: f64,
+}
+
+/// A log's predicted drift produced in order, one batch at a time
+/// ([`Calibration::log_predictor`]): the rates are one causal pass, so each batch continues
+/// where the one before stopped.
+#[derive(Debug, Clone)]
+pub struct LogPredictor<'a> {
+    cal: &'a Calibration,
+    rates: Rates,
+    temps: &'a [f64],
+    next: usize,
+    outside: usize,
+}
+
+impl LogPredictor<'_> {
+    /// Samples in the log.
+    pub fn len(&self) -> usize {
+        self.temps.len()
+    }
+
+    /// Whether the log has no samples.
+    pub fn is_empty(&self) -> bool {
+        self.temps.is_empty()
+    }
+
+    /// Predicts the next `out.len()` samples (fewer at the end of the log; the rest of `out`
+    /// is left as it was) and returns how many it predicted.
+    pub fn fill(&mut self, out: &mut [f64]) -> usize {
+        let end = (self.next + out.len()).min(self.temps.len());
+        let n = end - self.next;
+        for (o, &t) in out.iter_mut().zip(&self.temps[self.next..end]) {
+            let (td, tdd) = self.rates.push(t);
+            let (p, regime) = self.cal.predict(t, td, tdd);
+            self.outside += usize::from(self.cal.is_outside(t, td, tdd, regime));
+            *o = p;
+        }
+        self.next = end;
+        n
+    }
+
+    /// Share of the samples predicted so far whose T, Ṫ or T̈ lay outside the calibrated
+    /// ranges (edge values held).
+    pub fn outside_fraction(&self) -> f64 {
+        if self.next > 0 {
+            self.outside as f64 / self.next as f64
+        } else {
+            0.0
+        }
+    }
+}
+
+/// A log's corrected rate alone ([`Calibration::corrected_rate_with`]).
+#[derive(Debug, Clone, Default)]
+pub struct CorrectedRate {
+    /// Corrected rate, °/h.
+    pub cor_dph: Vec<f64>,
+    /// Share of samples whose T, Ṫ or T̈ lay outside the calibrated ranges (edge values held).
+    pub outside_fraction: f64,
+    /// First sample with full derivative history (figures of merit start there).
+    pub ready_from: usize,
+}
+
+impl Correction {
+    /// Recomputes `outside_fraction` from the per-regime counts.
+    pub fn update_outside_fraction(&mut self) {
+        let n = self.pred_dph.len();
+        let total: usize = self.outside_by_regime.iter().sum();
+        self.outside_fraction = if n > 0 { total as f64 / n as f64 } else { 0.0 };
+    }
+}
+
+impl Calibration {
+    /// Derivative settings for a log sampled every `dt_s` seconds.
+    pub fn steps_for(&self, dt_s: f64) -> DerivativeSteps {
+        self.resolved.steps_for(dt_s)
+    }
+
+    /// The smoothed temperature and its rates on `log`, as this calibration computes them.
+    pub fn derivatives(&self, log: &Log) -> Derivatives {
+        let dt = log.nominal_dt_s();
+        signal::derivatives(&log.temp_c, self.steps_for(dt), dt)
+    }
+
+    /// Corrects a whole log.
+    pub fn correct(&self, log: &Log) -> Correction {
+        self.correct_with(log, &self.derivatives(log))
+    }
+
+    /// Corrects a log whose derivatives are already known (the workbench keeps them while only
+    /// approximations change). Runs in parallel over chunks of the log.
+    pub fn correct_with(&self, log: &Log, deriv: &Derivatives) -> Correction {
+        let n = log.len().min(deriv.tdot.len()).min(deriv.tddot.len());
+        // Zeroed allocations are cheap (the pages are mapped on first write), and with the
+        // lengths right `correct_into` writes every sample once.
+        let mut c = Correction {
+            pred_dph: vec![0.0; n],
+            cor_dph: vec![0.0; n],
+            regime: vec![Regime::Static; n],
+            ..Correction::default()
+        };
+        self.correct_into(log, deriv, &mut c);
+        c
+    }
+
+    /// The corrected rate of every sample alone, as [`Calibration::correct_with`] computes it
+    /// (the same bits; a test holds them equal): what `driftlab calibrate` judges its own log
+    /// by. The predicted drift and regimes a whole [`Correction`] also holds would be 90 MB on
+    /// a 10⁷-sample log, allocated and written for nothing.
+    pub fn corrected_rate_with(&self, log: &Log, deriv: &Derivatives) -> CorrectedRate {
+        let n = log.len().min(deriv.tdot.len()).min(deriv.tddot.len());
+        const CHUNK: usize = 1 << 15;
+        let mut cor_dph = vec![0.0; n];
+        let outside: usize = cor_dph
+            .par_chunks_mut(CHUNK)
+            .enumerate()
+            .map(|(c, q)| {
+                let base = c * CHUNK;
+                let mut outside = 0;
+                for (k, q) in q.iter_mut().enumerate() {
+                    let i = base + k;
+                    let (t, td, tdd) = (log.temp_c[i], deriv.tdot[i], deriv.tddot[i]);
+                    let (p, regime) = self.predict(t, td, tdd);
+                    *q = log.omega_dph[i] - p;
+                    outside += usize::from(self.is_outside(t, td, tdd, regime));
+                }
+                outside
+            })
+            .sum();
+        CorrectedRate {
+            cor_dph,
+            outside_fraction: if n > 0 {
+                outside as f64 / n as f64
+            } else {
+                0.0
+            },
+            ready_from: deriv.ready_from,
+        }
+    }
+
+    /// Corrects a log into `out`, reusing its buffers (the workbench's live loop corrects a
+    /// long log on every edit; new buffers would cost more than the correction). The result
+    /// equals [`Calibration::correct_with`]'s sample for sample.
+    pub fn correct_into(&self, log: &Log, deriv: &Derivatives, out: &mut Correction) {
+        let n = log.len().min(deriv.tdot.len()).min(deriv.tddot.len());
+        for v in [&mut out.pred_dph, &mut out.cor_dph] {
+            if v.len() != n {
+                v.clear();
+                v.resize(n, 0.0);
+            }
+        }
+        if out.regime.len() != n {
+            out.regime.clear();
+            out.regime.resize(n, Regime::Static);
+        }
+        const CHUNK: usize = 1 << 15;
+        let omega = &log.omega_dph[..n];
+        out.outside_by_regime = out
+            .pred_dph
+            .par_chunks_mut(CHUNK)
+            .zip(out.cor_dph.par_chunks_mut(CHUNK))
+            .zip(out.regime.par_chunks_mut(CHUNK))
+            .enumerate()
+            .map(|(c, ((p, q), r))| {
+                let base = c * CHUNK;
+                let mut outside = [0usize; 3];
+                for k in 0..p.len() {
+                    let i = base + k;
+                    let (t, td, tdd) = (log.temp_c[i], deriv.tdot[i], deriv.tddot[i]);
+                    (p[k], r[k]) = self.predict(t, td, tdd);
+                    q[k] = omega[i] - p[k];
+                    outside[r[k] as usize] += usize::from(self.is_outside(t, td, tdd, r[k]));
+                }
+                outside
+            })
+            .reduce(|| [0; 3], |a, b| [a[0] + b[0], a[1] + b[1], a[2] + b[2]]);
+        out.ready_from = deriv.ready_from;
+        out.update_outside_fraction();
+    }
+
+    /// The predicted drift of every sample, and the share outside the calibrated ranges: what
+    /// `driftlab apply` writes (the corrected rate is `Ω − pred`), without the columns a whole
+    /// [`Correction`] holds. On a 10⁷-sample log the rates, regimes and corrected rate it skips
+    /// are 330 MB. The same bits as [`Calibration::correct`]'s `pred_dph` (a test holds them
+    /// equal): one pass of the same [`Rates`] and the same [`Calibration::predict`].
+    pub fn predict_log(&self, log: &Log) -> Prediction {
+        let mut p = self.log_predictor(log);
+        let mut pred_dph = vec![0.0; p.len()];
+        p.fill(&mut pred_dph);
+        Prediction {
+            pred_dph,
+            outside_fraction: p.outside_fraction(),
+        }
+    }
+
+    /// [`Calibration::predict_log`] a batch at a time, in order: a writer can format one batch
+    /// while the next is predicted, and hold no column of the prediction.
+    pub fn log_predictor<'a>(&'a self, log: &'a Log) -> LogPredictor<'a> {
+        let n = log.len();
+        let dt = log.nominal_dt_s();
+        LogPredictor {
+            cal: self,
+            rates: Rates::new(self.steps_for(dt).within(n), dt),
+            temps: &log.temp_c[..n],
+            next: 0,
+            outside: 0,
+        }
+    }
+
+    /// Whether a sample lies beyond what the calibration saw (its T outside K0's range, or its
+    /// rate outside the range of the approximation its regime uses).
+    #[inline]
+    pub fn is_outside(&self, temp_c: f64, tdot: f64, tddot: f64, regime: Regime) -> bool {
+        let beyond = |a: &crate::models::approx::Approx, x: f64| x < a.x_min() || x > a.x_max();
+        beyond(&self.k0, temp_c)
+            || match regime {
+                Regime::Static => false,
+                Regime::Plus => beyond(&self.k1_plus, tdot) || beyond(&self.k2_plus, tddot),
+                Regime::Minus => beyond(&self.k1_minus, tdot) || beyond(&self.k2_minus, tddot),
+            }
+    }
+
+    /// A streaming corrector for samples every `dt_s` seconds.
+    ///
+    /// # Errors
+    /// A step that is not a positive number of seconds, or one so small that the corrector's
+    /// windows would span more than [`signal::MAX_HISTORY_SAMPLES`] samples.
+    pub fn corrector_for(&self, dt_s: f64) -> Result<StreamCorrector> {
+        let steps = self.steps_for(dt_s);
+        signal::check_history(steps, 0.0, dt_s).map_err(Error::Recipe)?;
+        Ok(StreamCorrector::new(self.clone(), steps, dt_s))
+    }
+
+    /// A streaming corrector at the calibration log's sampling step.
+    ///
+    /// # Errors
+    /// As [`Calibration::corrector_for`].
+    pub fn corrector(&self) -> Result<StreamCorrector> {
+        self.corrector_for(self.resolved.dt_s)
+    }
+}
+
+/// One corrected sample.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Corrected {
+    /// Time of the sample, s (as given).
+    pub time_s: f64,
+    /// Corrected rate, °/h.
+    pub omega_cor_dph: f64,
+    /// Predicted thermal drift, °/h.
+    pub omega_pred_dph: f64,
+    /// Ṫ used, °C/s.
+    pub tdot: f64,
+    /// T̈ used, °C/s².
+    pub tddot: f64,
+    /// Regime of the sample.
+    pub regime: Regime,
+}
+
+/// Real-time correction, one sample at a time, using only past samples.
+///
+/// State: the causal T filter, the last `2s+1` smoothed temperatures and the last `2s+1` values
+/// of Ṫ ([`signal::Rates`]). Per sample: one filter update, two backward differences, one model
+/// evaluation. Samples are assumed to arrive at the fixed step the corrector was made for.
+#[derive(Debug, Clone)]
+pub struct StreamCorrector {
+    cal: Calibration,
+    steps: DerivativeSteps,
+    dt_s: f64,
+    rates: Rates,
+}
+
+impl StreamCorrector {
+    /// A corrector for `cal` with the given derivative settings and sampling step.
+    pub fn new(cal: Calibration, steps: DerivativeSteps, dt_s: f64) -> StreamCorrector {
+        StreamCorrector {
+            cal,
+            steps,
+            dt_s,
+            rates: Rates::new(steps, dt_s),
+        }
+    }
+
+    /// Forgets all history (after a power cycle or a gap in the data).
+    pub fn reset(&mut self) {
+        self.rates = Rates::new(self.steps, self.dt_s);
+    }
+
+    /// Feeds one sample and returns its correction.
+    pub fn push(&mut self, time_s: f64, omega_dph: f64, temp_c: f64) -> Corrected {
+        let (tdot, tddot) = self.rates.push(temp_c);
+        let (pred, regime) = self.cal.predict(temp_c, tdot, tddot);
+        Corrected {
+            time_s,
+            omega_cor_dph: omega_dph - pred,
+            omega_pred_dph: pred,
+            tdot,
+            tddot,
+            regime,
+        }
+    }
+}
