@@ -135,7 +135,7 @@ impl Live {
         cal.k1_plus = refit(&cal.recipe.k1_plus, &self.fit.k1_plus_points);
         let (p2p, p2m) = rayon::join(
             || {
-                vakhrameev::k2_points(
+                k2_points(
                     &self.log,
                     prepared,
                     &self.mask,
@@ -146,7 +146,7 @@ impl Live {
                 )
             },
             || {
-                vakhrameev::k2_points(
+                k2_points(
                     &self.log,
                     prepared,
                     &self.mask,
@@ -297,7 +297,7 @@ fn benches(c: &mut Criterion) {
         });
         g.bench_function("part_k2_points_plus_1M", |b| {
             b.iter(|| {
-                vakhrameev::k2_points(
+                k2_points(
                     &live.log,
                     &live.fit.prepared,
                     &live.mask,
@@ -564,14 +564,14 @@ fn stages(path: &Path) {
         let mut k2: Option<Approx> = None;
         for pass in 0..=recipe.refinements {
             let p1 = stage(&format!("fit: k1_points {regime:?} pass {pass}"), || {
-                vakhrameev::k1_points(&log, &prepared, &mask, &k0, k2.as_ref(), db1, regime)
+                k1_points(&log, &prepared, &mask, &k0, k2.as_ref(), db1, regime)
             });
             let k1 = stage(
                 &format!("fit: fit K1 {regime:?} pass {pass} ({} pts)", p1.len()),
                 || refit(s1, &p1),
             );
             let p2 = stage(&format!("fit: k2_points {regime:?} pass {pass}"), || {
-                vakhrameev::k2_points(&log, &prepared, &mask, &k0, &k1, db2, regime)
+                k2_points(&log, &prepared, &mask, &k0, &k1, db2, regime)
             });
             k2 = Some(stage(
                 &format!("fit: fit K2 {regime:?} pass {pass} ({} pts)", p2.len()),
@@ -672,4 +672,58 @@ fn main() {
         .configure_from_args();
     benches(&mut c);
     c.final_summary();
+}
+
+/// The plain walk of the method: pointwise K1 on the set `regime`: `(Ω_f − K0(T) − K2(T̈)·T̈) / Ṫ` where |Ṫ| exceeds the
+/// dead-band, outside plateaus. The paper's first pass has no K2 yet (`k2 = None`); refinement
+/// passes subtract the K2 term fitted in the pass before.
+#[allow(clippy::needless_range_loop)] // one index walks six parallel columns
+fn k1_points(
+    log: &Log,
+    prepared: &vakhrameev::Prepared,
+    mask: &[bool],
+    k0: &Approx,
+    k2: Option<&Approx>,
+    deadband: f64,
+    regime: Regime,
+) -> PointSet {
+    let d = &prepared.deriv;
+    let mut out = PointSet::default();
+    for i in d.ready_from..log.len() {
+        let (td, tdd) = (d.tdot[i], d.tddot[i]);
+        if mask[i] || td.abs() <= deadband || Regime::of(td, tdd) != regime {
+            continue;
+        }
+        let k2_term = k2.map_or(0.0, |k2| k2.eval(tdd) * tdd);
+        out.x.push(td);
+        out.y
+            .push((prepared.omega_filtered_dph[i] - k0.eval(log.temp_c[i]) - k2_term) / td);
+    }
+    out
+}
+
+/// Pointwise K2 on the set `regime`: `(Ω_f − K0(T) − K1(Ṫ)·Ṫ) / T̈` with the fitted K1, where
+/// |T̈| exceeds the dead-band, outside plateaus.
+#[allow(clippy::needless_range_loop)] // one index walks six parallel columns
+fn k2_points(
+    log: &Log,
+    prepared: &vakhrameev::Prepared,
+    mask: &[bool],
+    k0: &Approx,
+    k1: &Approx,
+    deadband: f64,
+    regime: Regime,
+) -> PointSet {
+    let d = &prepared.deriv;
+    let mut out = PointSet::default();
+    for i in d.ready_from..log.len() {
+        let (td, tdd) = (d.tdot[i], d.tddot[i]);
+        if mask[i] || tdd.abs() <= deadband || Regime::of(td, tdd) != regime {
+            continue;
+        }
+        let rest = prepared.omega_filtered_dph[i] - k0.eval(log.temp_c[i]) - k1.eval(td) * td;
+        out.x.push(tdd);
+        out.y.push(rest / tdd);
+    }
+    out
 }

@@ -213,41 +213,80 @@ fn invalid_recipes_are_refused_with_the_setting_named() {
     );
 }
 
-#[test]
-fn set_columns_select_the_points_of_the_direct_walk() {
-    // The fit takes its points from per-set columns computed once; the plain per-sample walk
-    // of METHOD.md (k1_points, k2_points) must select and compute the very same points.
-    let truth = Truth {
-        k2_plus: 2e4,
-        k2_minus: -1e4,
-        ..TRUTH
-    };
-    let log = log_from(&Program::paper_like(), &truth, 0.3, 0.001, 3);
-    let recipe = Recipe::default();
-    let fit = vakhrameev::fit(&log, &recipe).unwrap();
+/// The method's pointwise K1 and K2 written as a plain walk over the samples, apart from the
+/// engine: outside plateaus, in the set's regime, beyond the dead-band,
+/// `K1 = (Ω_f − K0(T) − K2(T̈)·T̈) / Ṫ` and `K2 = (Ω_f − K0(T) − K1(Ṫ)·Ṫ) / T̈`.
+fn walk_points(
+    log: &driftlab::Log,
+    fit: &vakhrameev::Fit,
+    regime: Regime,
+    second: bool,
+) -> (Vec<f64>, Vec<f64>) {
     let cal = &fit.calibration;
     let ranges: Vec<PlateauRange> = cal.plateaus.iter().map(|p| p.range).collect();
     let mask = vakhrameev::plateau_mask(&log.time_s, &ranges);
-    let db = (cal.resolved.deadband_tdot, cal.resolved.deadband_tddot);
-    let sets = vakhrameev::set_columns(&log, &fit.prepared, &mask, &cal.k0, db);
-    for (s, regime, k1, k2) in [
-        (0, Regime::Plus, &cal.k1_plus, &cal.k2_plus),
-        (1, Regime::Minus, &cal.k1_minus, &cal.k2_minus),
-    ] {
-        let walk1 =
-            vakhrameev::k1_points(&log, &fit.prepared, &mask, &cal.k0, Some(k2), db.0, regime);
-        assert!(walk1.len() > 1000);
-        assert_eq!(vakhrameev::k1_points_from(&sets[s].k1, Some(k2)), walk1);
-        let walk2 = vakhrameev::k2_points(&log, &fit.prepared, &mask, &cal.k0, k1, db.1, regime);
-        assert!(walk2.len() > 1000);
-        assert_eq!(vakhrameev::k2_points_from(&sets[s].k2, k1), walk2);
+    let (k1, k2) = match regime {
+        Regime::Minus => (&cal.k1_minus, &cal.k2_minus),
+        _ => (&cal.k1_plus, &cal.k2_plus),
+    };
+    let d = &fit.prepared.deriv;
+    let (mut xs, mut ys) = (Vec::new(), Vec::new());
+    for i in d.ready_from..log.len() {
+        let (td, tdd) = (d.tdot[i], d.tddot[i]);
+        let deadband = if second {
+            cal.resolved.deadband_tddot
+        } else {
+            cal.resolved.deadband_tdot
+        };
+        let x = if second { tdd } else { td };
+        if mask[i] || x.abs() <= deadband || Regime::of(td, tdd) != regime {
+            continue;
+        }
+        let rest = fit.prepared.omega_filtered_dph[i] - cal.k0.eval(log.temp_c[i]);
+        xs.push(x);
+        ys.push(if second {
+            (rest - k1.eval(td) * td) / tdd
+        } else {
+            (rest - k2.eval(tdd) * tdd) / td
+        });
     }
+    (xs, ys)
 }
 
 #[test]
-fn set_samples_select_the_points_of_the_direct_walk() {
-    // The fit streams over per-set sample indices; the plain per-sample walk of METHOD.md
-    // (k1_points, k2_points) must select and compute the very same points, in the same order.
+fn pointwise_coefficients_are_the_methods_walk() {
+    // The report's and the workbench's scatter points (Calibration::pointwise) and the points
+    // the fit kept are the method's formula over the samples it names, in log order.
+    let truth = Truth {
+        k2_plus: 2e4,
+        k2_minus: -1e4,
+        ..TRUTH
+    };
+    let log = log_from(&Program::paper_like(), &truth, 0.3, 0.001, 3);
+    let fit = vakhrameev::fit(&log, &Recipe::default()).unwrap();
+    let [k1p, k1m, k2p, k2m] = fit.calibration.pointwise(&log);
+    for (got, regime, second) in [
+        (&k1p, Regime::Plus, false),
+        (&k1m, Regime::Minus, false),
+        (&k2p, Regime::Plus, true),
+        (&k2m, Regime::Minus, true),
+    ] {
+        let (xs, ys) = walk_points(&log, &fit, regime, second);
+        assert!(xs.len() > 1000);
+        assert_eq!(got.x, xs);
+        assert_eq!(got.y, ys);
+    }
+    // The fit's last pass saw the same points (its K1 with the K2 that pass started from, so
+    // only K2's points, made with the final K1, must match the walk exactly).
+    assert_eq!(fit.k2_plus_points.x, k2p.x);
+    assert_eq!(fit.k2_plus_points.y, k2p.y);
+    assert_eq!(fit.k2_minus_points.y, k2m.y);
+}
+
+#[test]
+fn streamed_k2_fit_is_the_weighted_fit_of_the_walked_points() {
+    // The fit streams over sample indices without gathering points; its K2 must be the plain
+    // least-squares fit, weighted by T̈², of the walked points.
     let truth = Truth {
         k2_plus: 2e4,
         k2_minus: -1e4,
@@ -255,39 +294,17 @@ fn set_samples_select_the_points_of_the_direct_walk() {
     };
     let log = log_from(&Program::paper_like(), &truth, 0.3, 0.001, 3);
     let recipe = Recipe::default();
+    let lean = vakhrameev::calibrate(&log, &recipe).unwrap().calibration;
     let fit = vakhrameev::fit(&log, &recipe).unwrap();
-    let cal = &fit.calibration;
-    let ranges: Vec<PlateauRange> = cal.plateaus.iter().map(|p| p.range).collect();
-    let mask = vakhrameev::plateau_mask(&log.time_s, &ranges);
-    let db = (cal.resolved.deadband_tdot, cal.resolved.deadband_tddot);
-    let sets = vakhrameev::set_samples(&fit.prepared.deriv, &mask, db);
-    let rest = vakhrameev::rest_dph(&fit.prepared.omega_filtered_dph, &log.temp_c, &cal.k0);
-    let inputs = vakhrameev::SetInputs {
-        tdot: &fit.prepared.deriv.tdot,
-        tddot: &fit.prepared.deriv.tddot,
-        rest: &rest,
-    };
-    for (s, regime, k1, k2) in [
-        (0, Regime::Plus, &cal.k1_plus, &cal.k2_plus),
-        (1, Regime::Minus, &cal.k1_minus, &cal.k2_minus),
+    for (regime, spec, got) in [
+        (Regime::Plus, &recipe.k2_plus, &lean.k2_plus),
+        (Regime::Minus, &recipe.k2_minus, &lean.k2_minus),
     ] {
-        let walk1 =
-            vakhrameev::k1_points(&log, &fit.prepared, &mask, &cal.k0, Some(k2), db.0, regime);
-        assert!(walk1.len() > 1000);
-        assert_eq!(vakhrameev::k1_points_of(&sets[s], inputs, Some(k2)), walk1);
-        let walk2 = vakhrameev::k2_points(&log, &fit.prepared, &mask, &cal.k0, k1, db.1, regime);
-        assert!(walk2.len() > 1000);
-        assert_eq!(vakhrameev::k2_points_of(&sets[s], inputs, k1), walk2);
-        // The streaming K2 fit is the fit of the walked points.
-        let spec = if s == 0 {
-            &recipe.k2_plus
-        } else {
-            &recipe.k2_minus
-        };
-        let want = vakhrameev::fit_points("K2", spec, &walk2, recipe.weighting, &mut Vec::new());
-        let got = vakhrameev::fit_k2(&sets[s], inputs, k1, regime, &recipe, &mut Vec::new());
-        assert_eq!(got, want);
-        assert_eq!(got.stats().n, walk2.len());
+        let (xs, ys) = walk_points(&log, &fit, regime, true);
+        let w: Vec<f64> = xs.iter().map(|x| x * x).collect();
+        let want = driftlab::models::approx::fit_weighted(spec, &xs, &ys, Some(&w)).unwrap();
+        assert_eq!(got.curve(), want.curve());
+        assert_eq!(got.stats().n, xs.len());
     }
 }
 

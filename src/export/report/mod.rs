@@ -34,8 +34,7 @@ use crate::log::Log;
 use crate::models::fitted::DriftModel;
 use crate::models::regression::RegressionCalibration;
 use crate::models::vakhrameev::correct::Correction;
-use crate::models::vakhrameev::{self, Calibration, PointSet, Prepared, SourceInfo};
-use crate::signal::plateau::PlateauRange;
+use crate::models::vakhrameev::{Calibration, SourceInfo};
 use figures::{PlateauPoint, RateAxes, RateSet};
 use log_section::{LogSection, log_report};
 use std::path::{Path, PathBuf};
@@ -178,26 +177,6 @@ fn file_name(p: &Path) -> String {
     p.file_name()
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_else(|| p.display().to_string())
-}
-
-/// The pointwise K1± and K2± of the calibration's own log, as the fit saw them (plateaus and
-/// dead-bands of the calibration; K1 with the fitted K2 term removed, K2 with the fitted K1).
-/// Order: K1+, K1−, K2+, K2−.
-pub fn pointwise(cal: &Calibration, log: &Log) -> [PointSet; 4] {
-    if log.len() < 16 {
-        return Default::default();
-    }
-    let prepared = Prepared::new(log, &cal.recipe);
-    let ranges: Vec<PlateauRange> = cal.plateaus.iter().map(|p| p.range).collect();
-    let mask = vakhrameev::plateau_mask(&log.time_s, &ranges);
-    let db = (cal.resolved.deadband_tdot, cal.resolved.deadband_tddot);
-    let [plus, minus] = vakhrameev::set_columns(log, &prepared, &mask, &cal.k0, db);
-    [
-        vakhrameev::k1_points_from(&plus.k1, Some(&cal.k2_plus)),
-        vakhrameev::k1_points_from(&minus.k1, Some(&cal.k2_minus)),
-        vakhrameev::k2_points_from(&plus.k2, &cal.k1_plus),
-        vakhrameev::k2_points_from(&minus.k2, &cal.k1_minus),
-    ]
 }
 
 fn figure(title: String, caption: String, files: Vec<PathBuf>) -> Figure {
@@ -383,7 +362,7 @@ pub fn write(
     ));
 
     let own = in_sample.iter().position(|&b| b);
-    let points = own.map(|i| pointwise(cal, &logs[i].1));
+    let points = own.map(|i| cal.pointwise(&logs[i].1));
     let source_note = match own {
         Some(i) => format!(
             "Dots: the pointwise values on the calibration log {} (thinned for drawing).",

@@ -3,9 +3,9 @@
 //!
 //! 1. [`Prepared::new`]: Ω filtered (centred), T smoothed (causal) and differentiated.
 //! 2. Plateaus ([`plateau_ranges`]) and their statistics give the K0 points.
-//! 3. [`k1_points`]: pointwise `(Ω − K0(T)) / Ṫ` on the + and − sets, outside plateaus and the
-//!    Ṫ dead-band.
-//! 4. [`k2_points`]: pointwise `(Ω − K0(T) − K1(Ṫ)·Ṫ) / T̈` with the *fitted* K1, outside the T̈
+//! 3. Pointwise K1, `(Ω − K0(T)) / Ṫ` on the + and − sets, outside plateaus and the Ṫ
+//!    dead-band.
+//! 4. Pointwise K2, `(Ω − K0(T) − K1(Ṫ)·Ṫ) / T̈` with the *fitted* K1, outside the T̈
 //!    dead-band.
 //!
 //! [`fit`] runs them all and returns a [`Calibration`] plus everything the stages made, so that a
@@ -17,7 +17,13 @@
 pub mod correct;
 mod sets;
 
-pub use sets::*;
+// The sets are the model's inner stage; the workbench's live refit (`crate::live`) reruns them
+// one at a time, nothing outside the crate sees them.
+pub(crate) use sets::{
+    SetInputs, SetSamples, fit_k2_gathered, fit_set_from, first_k1, k2_points_of,
+    rest_dph, set_samples,
+};
+use sets::{SetFit, fit_set, into_rest};
 
 use crate::error::{Error, Result};
 use crate::log::Log;

@@ -3,59 +3,23 @@
 //! K1± and K2± over them, with the paper's refinement passes.
 
 use super::*;
+use crate::models::approx::Evaluator;
 
-/// Pointwise K1 on the set `regime`: `(Ω_f − K0(T) − K2(T̈)·T̈) / Ṫ` where |Ṫ| exceeds the
-/// dead-band, outside plateaus. The paper's first pass has no K2 yet (`k2 = None`); refinement
-/// passes subtract the K2 term fitted in the pass before.
-#[allow(clippy::needless_range_loop)] // one index walks six parallel columns
-pub fn k1_points(
-    log: &Log,
-    prepared: &Prepared,
-    mask: &[bool],
-    k0: &Approx,
-    k2: Option<&Approx>,
-    deadband: f64,
-    regime: Regime,
-) -> PointSet {
-    let d = &prepared.deriv;
-    let mut out = PointSet::default();
-    for i in d.ready_from..log.len() {
-        let (td, tdd) = (d.tdot[i], d.tddot[i]);
-        if mask[i] || td.abs() <= deadband || Regime::of(td, tdd) != regime {
-            continue;
-        }
-        let k2_term = k2.map_or(0.0, |k2| k2.eval(tdd) * tdd);
-        out.x.push(td);
-        out.y
-            .push((prepared.omega_filtered_dph[i] - k0.eval(log.temp_c[i]) - k2_term) / td);
-    }
-    out
+/// Pointwise K1 of one sample: `(Ω_f − K0(T) − K2(T̈)·T̈) / Ṫ`, with `rest` = `Ω_f − K0(T)`.
+/// The paper's first pass has no K2 yet (`k2 = None`); refinement passes subtract the K2 term
+/// fitted in the pass before. Every path to the pointwise K1 (the fits, the points shown by the
+/// workbench and the report) computes it here.
+#[inline(always)]
+fn k1_ratio(td: f64, tdd: f64, rest: f64, k2: Option<&Evaluator<'_>>) -> f64 {
+    let k2_term = k2.map_or(0.0, |k2| k2.eval(tdd) * tdd);
+    (rest - k2_term) / td
 }
 
-/// Pointwise K2 on the set `regime`: `(Ω_f − K0(T) − K1(Ṫ)·Ṫ) / T̈` with the fitted K1, where
-/// |T̈| exceeds the dead-band, outside plateaus.
-#[allow(clippy::needless_range_loop)] // one index walks six parallel columns
-pub fn k2_points(
-    log: &Log,
-    prepared: &Prepared,
-    mask: &[bool],
-    k0: &Approx,
-    k1: &Approx,
-    deadband: f64,
-    regime: Regime,
-) -> PointSet {
-    let d = &prepared.deriv;
-    let mut out = PointSet::default();
-    for i in d.ready_from..log.len() {
-        let (td, tdd) = (d.tdot[i], d.tddot[i]);
-        if mask[i] || tdd.abs() <= deadband || Regime::of(td, tdd) != regime {
-            continue;
-        }
-        let rest = prepared.omega_filtered_dph[i] - k0.eval(log.temp_c[i]) - k1.eval(td) * td;
-        out.x.push(tdd);
-        out.y.push(rest / tdd);
-    }
-    out
+/// Pointwise K2 of one sample: `(Ω_f − K0(T) − K1(Ṫ)·Ṫ) / T̈` with the fitted K1. Every path to
+/// the pointwise K2 computes it here.
+#[inline(always)]
+fn k2_ratio(td: f64, tdd: f64, rest: f64, k1: &Evaluator<'_>) -> f64 {
+    (rest - k1.eval(td) * td) / tdd
 }
 
 /// K1 and K2 of one set with the points they were fitted to.
@@ -74,7 +38,7 @@ pub struct SetFit {
 }
 
 /// The samples of the pointwise K1 and K2 of one set (+ or −), as indices into the log, in log
-/// order: those [`k1_points`] and [`k2_points`] select. Indices are `u32`, so a log to be
+/// order: outside plateaus, in the set's regime, beyond the Ṫ (T̈) dead-band. Indices are `u32`, so a log to be
 /// fitted may have at most `u32::MAX` (about 4.3 billion) samples; [`fit`] refuses longer ones.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct SetSamples {
@@ -99,7 +63,7 @@ pub struct SetInputs<'a> {
     pub rest: &'a [f64],
 }
 
-/// The samples of both sets (+, −), as [`k1_points`] and [`k2_points`] select them; they depend
+/// The samples of both sets (+, −) whose pointwise K1 and K2 the fits use; they depend
 /// on the derivatives, the plateaus and the dead-bands only.
 #[allow(clippy::needless_range_loop)] // one index walks three parallel columns
 pub fn set_samples(deriv: &Derivatives, mask: &[bool], (db1, db2): (f64, f64)) -> [SetSamples; 2] {
@@ -210,15 +174,16 @@ impl PointSource for K1Source<'_> {
                 for &i in &self.idx[from..to] {
                     let i = i as usize;
                     let td = tdot[i];
-                    f(td, (rest[i] - 0.0) / td, if drift { td * td } else { 1.0 });
+                    let y = k1_ratio(td, tddot[i], rest[i], None);
+                    f(td, y, if drift { td * td } else { 1.0 });
                 }
             }
             Some(k2) => {
                 let k2 = k2.evaluator();
                 for &i in &self.idx[from..to] {
                     let i = i as usize;
-                    let (td, tdd) = (tdot[i], tddot[i]);
-                    let y = (rest[i] - k2.eval(tdd) * tdd) / td;
+                    let td = tdot[i];
+                    let y = k1_ratio(td, tddot[i], rest[i], Some(&k2));
                     f(td, y, if drift { td * td } else { 1.0 });
                 }
             }
@@ -244,8 +209,8 @@ impl PointSource for K2Source<'_> {
         let k1 = self.k1.evaluator();
         for &i in &self.idx[from..to] {
             let i = i as usize;
-            let (td, tdd) = (tdot[i], tddot[i]);
-            let y = (rest[i] - k1.eval(td) * td) / tdd;
+            let tdd = tddot[i];
+            let y = k2_ratio(tdot[i], tdd, rest[i], &k1);
             f(tdd, y, if self.drift { tdd * tdd } else { 1.0 });
         }
     }
@@ -317,7 +282,7 @@ fn collect_points<S: PointSource>(src: &S) -> (PointSet, Vec<f64>) {
     out
 }
 
-/// The pointwise K1 of a set ([`k1_points`]), from its samples.
+/// The pointwise K1 of a set ([`k1_ratio`]) at each of its K1 samples, in log order.
 pub fn k1_points_of(samples: &SetSamples, inputs: SetInputs, k2: Option<&Approx>) -> PointSet {
     let SetInputs { tdot, tddot, rest } = inputs;
     let idx = &samples.k1;
@@ -328,9 +293,7 @@ pub fn k1_points_of(samples: &SetSamples, inputs: SetInputs, k2: Option<&Approx>
             idx.par_iter()
                 .map(|&i| {
                     let i = i as usize;
-                    let (td, tdd) = (tdot[i], tddot[i]);
-                    let k2_term = k2.map_or(0.0, |k2| k2.eval(tdd) * tdd);
-                    (rest[i] - k2_term) / td
+                    k1_ratio(tdot[i], tddot[i], rest[i], k2.as_ref())
                 })
                 .collect()
         },
@@ -338,7 +301,7 @@ pub fn k1_points_of(samples: &SetSamples, inputs: SetInputs, k2: Option<&Approx>
     PointSet { x, y }
 }
 
-/// The pointwise K2 of a set ([`k2_points`]), from its samples.
+/// The pointwise K2 of a set ([`k2_ratio`]) at each of its K2 samples, in log order.
 pub fn k2_points_of(samples: &SetSamples, inputs: SetInputs, k1: &Approx) -> PointSet {
     let SetInputs { tdot, tddot, rest } = inputs;
     let idx = &samples.k2;
@@ -349,8 +312,7 @@ pub fn k2_points_of(samples: &SetSamples, inputs: SetInputs, k1: &Approx) -> Poi
             idx.par_iter()
                 .map(|&i| {
                     let i = i as usize;
-                    let (td, tdd) = (tdot[i], tddot[i]);
-                    (rest[i] - k1.eval(td) * td) / tdd
+                    k2_ratio(tdot[i], tddot[i], rest[i], &k1)
                 })
                 .collect()
         },
@@ -382,25 +344,8 @@ fn set_specs(regime: Regime, recipe: &Recipe) -> (&ApproxSpec, &ApproxSpec, &'st
     }
 }
 
-/// K2 of a set fitted on what `k1` leaves (the paper's K2 step), with its statistics.
-pub fn fit_k2(
-    samples: &SetSamples,
-    inputs: SetInputs,
-    k1: &Approx,
-    regime: Regime,
-    recipe: &Recipe,
-    warnings: &mut Vec<String>,
-) -> Approx {
-    let src = K2Source {
-        idx: &samples.k2,
-        inputs,
-        k1,
-        drift: recipe.weighting == Weighting::Drift,
-    };
-    fit_k2_from(samples, &src, regime, recipe, warnings)
-}
-
-/// [`fit_k2`] on the points [`k2_points_of`] gave for the same samples and K1: the same
+/// K2 of a set fitted on what `k1` leaves, from the points [`k2_points_of`] gave for the same
+/// samples and K1: the same
 /// approximation, bit for bit, from one evaluation of K1 per point instead of three (the
 /// workbench gathers the points for display when a K1 knot is dragged, and fits on them).
 pub fn fit_k2_gathered(
@@ -569,113 +514,30 @@ pub fn fit_set_from(
     out
 }
 
-/// The samples of one set's pointwise K1 or K2: Ṫ, T̈ and Ω_f − K0(T) at each, in log order.
-#[derive(Debug, Default)]
-pub struct Columns {
-    /// Ṫ, °C/s.
-    pub tdot: Vec<f64>,
-    /// T̈, °C/s².
-    pub tddot: Vec<f64>,
-    /// Ω_f − K0(T), °/h.
-    pub rest: Vec<f64>,
-}
-
-/// The samples of the pointwise K1 and K2 of one set.
-#[derive(Debug, Default)]
-pub struct SetColumns {
-    /// Samples outside the Ṫ dead-band.
-    pub k1: Columns,
-    /// Samples outside the T̈ dead-band.
-    pub k2: Columns,
-}
-
-/// The samples of the pointwise K1 and K2 of both sets (+, −), as [`k1_points`] and
-/// [`k2_points`] select them, with the parts that do not change between refinement
-/// passes and edits (Ṫ, T̈, Ω_f − K0(T)) computed once.
-#[allow(clippy::needless_range_loop)] // one index walks six parallel columns
-pub fn set_columns(
-    log: &Log,
-    prepared: &Prepared,
-    mask: &[bool],
-    k0: &Approx,
-    (db1, db2): (f64, f64),
-) -> [SetColumns; 2] {
-    let d = &prepared.deriv;
-    let mut out = [SetColumns::default(), SetColumns::default()];
-    for i in d.ready_from..log.len() {
-        let (td, tdd) = (d.tdot[i], d.tddot[i]);
-        if mask[i] {
-            continue;
+impl Calibration {
+    /// The pointwise K1± and K2± of `log` as this calibration's fit saw them (its plateaus and
+    /// dead-bands; K1 with the fitted K2 term removed, K2 with the fitted K1), for the report's
+    /// and the workbench's scatter plots. Order: K1+, K1−, K2+, K2−.
+    pub fn pointwise(&self, log: &Log) -> [PointSet; 4] {
+        if log.len() < 16 {
+            return Default::default();
         }
-        let s = match Regime::of(td, tdd) {
-            Regime::Plus => 0,
-            Regime::Minus => 1,
-            Regime::Static => continue,
+        let prepared = Prepared::new(log, &self.recipe);
+        let ranges: Vec<PlateauRange> = self.plateaus.iter().map(|p| p.range).collect();
+        let mask = plateau_mask(&log.time_s, &ranges);
+        let db = (self.resolved.deadband_tdot, self.resolved.deadband_tddot);
+        let [plus, minus] = set_samples(&prepared.deriv, &mask, db);
+        let rest = rest_dph(&prepared.omega_filtered_dph, &log.temp_c, &self.k0);
+        let inputs = SetInputs {
+            tdot: &prepared.deriv.tdot,
+            tddot: &prepared.deriv.tddot,
+            rest: &rest,
         };
-        // The engine's tests, negated as written there (a NaN rate passes them).
-        let skip1 = td.abs() <= db1;
-        let skip2 = tdd.abs() <= db2;
-        if skip1 && skip2 {
-            continue;
-        }
-        let rest = prepared.omega_filtered_dph[i] - k0.eval(log.temp_c[i]);
-        for (skip, c) in [(skip1, &mut out[s].k1), (skip2, &mut out[s].k2)] {
-            if !skip {
-                c.tdot.push(td);
-                c.tddot.push(tdd);
-                c.rest.push(rest);
-            }
-        }
-    }
-    out
-}
-
-/// [`k1_points`] from a set's columns.
-pub fn k1_points_from(c: &Columns, k2: Option<&Approx>) -> PointSet {
-    let y = c
-        .tdot
-        .iter()
-        .zip(&c.tddot)
-        .zip(&c.rest)
-        .map(|((&td, &tdd), &rest)| {
-            let k2_term = k2.map_or(0.0, |k2| k2.eval(tdd) * tdd);
-            (rest - k2_term) / td
-        })
-        .collect();
-    PointSet {
-        x: c.tdot.clone(),
-        y,
-    }
-}
-
-/// [`k2_points`] from a set's columns.
-pub fn k2_points_from(c: &Columns, k1: &Approx) -> PointSet {
-    let y = c
-        .tdot
-        .iter()
-        .zip(&c.tddot)
-        .zip(&c.rest)
-        .map(|((&td, &tdd), &rest)| (rest - k1.eval(td) * td) / tdd)
-        .collect();
-    PointSet {
-        x: c.tddot.clone(),
-        y,
-    }
-}
-
-/// Fits pointwise coefficients, weighted as the recipe says.
-pub fn fit_points(
-    name: &str,
-    spec: &ApproxSpec,
-    p: &PointSet,
-    weighting: Weighting,
-    warnings: &mut Vec<String>,
-) -> Approx {
-    match weighting {
-        Weighting::Ratio => fit_or_fallback(name, spec, &p.x, &p.y, warnings),
-        Weighting::Drift => {
-            let w: Vec<f64> = p.x.iter().map(|x| x * x).collect();
-            fit_or_fallback_weighted(name, spec, &p.x, &p.y, Some(&w), warnings)
-        }
+        [
+            k1_points_of(&plus, inputs, Some(&self.k2_plus)),
+            k1_points_of(&minus, inputs, Some(&self.k2_minus)),
+            k2_points_of(&plus, inputs, &self.k1_plus),
+            k2_points_of(&minus, inputs, &self.k1_minus),
+        ]
     }
 }
