@@ -613,7 +613,7 @@ fn stages(path: &Path) {
                 "vakhrameev::calibrate (lean, as calibrate calls it) (run {})",
                 k + 1
             ),
-            || vakhrameev::calibrate(&log, &recipe).expect("calibrate"),
+            || vakhrameev::fit_lean(&log, &recipe).expect("calibrate"),
         );
     }
     stage("calfile::sha256_file", || {

@@ -13,7 +13,7 @@ use common::{Program, Truth, log_from};
 use driftlab::files::calibration;
 use driftlab::files::corrected_csv;
 use driftlab::files::session::{self, Session};
-use driftlab::models::fitted::{self, DriftModel};
+use driftlab::models::fitted::DriftModel;
 use driftlab::models::presets::{ModelChoice, Preset};
 use driftlab::models::recipe::Recipe;
 use driftlab::models::vakhrameev::{self, Calibration};
@@ -52,7 +52,7 @@ fn regression_model() -> &'static DriftModel {
     static MODEL: OnceLock<DriftModel> = OnceLock::new();
     MODEL.get_or_init(|| {
         let choice = ModelChoice::Preset(Preset::Ieee952);
-        fitted::fit(log(), &choice, &Recipe::default()).unwrap()
+        driftlab::models::fit(log(), &choice, &Recipe::default()).unwrap()
     })
 }
 

@@ -354,3 +354,110 @@ fn compare_judges_presets_and_a_custom_model_and_fit_chooses_its_samples() {
     ]);
     assert!(err.contains("--fit") && err.contains("staged"), "{err}");
 }
+
+/// Least-squares line of Ω over T on the samples of `log` whose time lies in one of `ranges`
+/// (inclusive), computed here from the file's own numbers: (slope, intercept).
+fn line_on_ranges(log: &str, ranges: &[(f64, f64)]) -> (f64, f64) {
+    let text = std::fs::read_to_string(log).unwrap();
+    let (mut xs, mut ys) = (Vec::new(), Vec::new());
+    for line in text.lines().filter(|l| !l.starts_with('#')).skip(1) {
+        let f: Vec<f64> = line.split(',').map(|c| c.parse().unwrap()).collect();
+        if ranges.iter().any(|&(a, b)| (a..=b).contains(&f[0])) {
+            xs.push(f[2]);
+            ys.push(f[1]);
+        }
+    }
+    let n = xs.len() as f64;
+    let (mx, my) = (xs.iter().sum::<f64>() / n, ys.iter().sum::<f64>() / n);
+    let sxy: f64 = xs.iter().zip(&ys).map(|(x, y)| (x - mx) * (y - my)).sum();
+    let sxx: f64 = xs.iter().map(|x| (x - mx) * (x - mx)).sum();
+    (sxy / sxx, my - sxy / sxx * mx)
+}
+
+#[test]
+fn signal_settings_reach_a_regression_model() {
+    // IEEE 952 fitted in stages takes T and bias from the plateaus: given by hand, the static
+    // line must be the least-squares line through exactly those samples, and H and the
+    // smoothing must be the ones asked for.
+    let dir = tempfile::tempdir().unwrap();
+    let log = sample("calibration.csv");
+    let cal = p(dir.path(), "b.json");
+    ok(&[
+        "calibrate",
+        &log,
+        "--model",
+        "ieee952",
+        "--plateau",
+        "3600:7200",
+        "--plateau",
+        "14000:16800",
+        "--step-h",
+        "5",
+        "--smooth",
+        "5",
+        "--out",
+        &cal,
+    ]);
+    let v: Value = serde_json::from_str(&std::fs::read_to_string(&cal).unwrap()).unwrap();
+    let m = &v["calibration"]["model"];
+    assert_eq!(m["spec"]["step_h_s"], 5.0);
+    assert_eq!(m["spec"]["smoothing_s"], 5.0);
+    assert_eq!(m["names"][0], "T");
+    assert_eq!(m["names"][2], "1");
+    let (slope, intercept) = line_on_ranges(&log, &[(3600.0, 7200.0), (14000.0, 16800.0)]);
+    let c = |k: usize| m["coefficients"][k].as_f64().unwrap();
+    assert!(
+        (c(0) - slope).abs() < 1e-9 * slope.abs(),
+        "{} vs {slope}",
+        c(0)
+    );
+    assert!((c(2) - intercept).abs() < 1e-9, "{} vs {intercept}", c(2));
+}
+
+#[test]
+fn an_option_a_model_cannot_use_is_refused_by_name() {
+    let dir = tempfile::tempdir().unwrap();
+    let log = sample("calibration.csv");
+    let out = p(dir.path(), "x.json");
+    for (args, option) in [
+        (
+            &["--model", "poly-t", "--plateau", "3600:7200"][..],
+            "--plateau",
+        ),
+        (&["--model", "ieee952", "--k1", "spline"][..], "--k1"),
+        (&["--model", "coil-lag", "--knots", "5"][..], "--knots"),
+        (
+            &["--model", "sukhanov", "--deadband-tdot", "0.01"][..],
+            "--deadband-tdot",
+        ),
+        (&["--delay", "auto"][..], "--delay"),
+        (&["--model", "ieee952", "--lag", "auto"][..], "--lag"),
+        (&["--model", "yan-cross", "--terms", "T,1"][..], "--terms"),
+    ] {
+        let mut all = vec!["calibrate", &log, "--out", &out];
+        all.extend_from_slice(args);
+        let err = fails(&all);
+        assert!(err.contains(option), "{args:?}: {err}");
+        assert!(!Path::new(&out).exists(), "{args:?} wrote a file");
+    }
+    // A recipe file's Vakhrameev settings are said to be ignored, not silently dropped.
+    let recipe = p(dir.path(), "r.json");
+    std::fs::write(
+        &recipe,
+        r#"{ "k1_plus": { "kind": "spline", "knots": 5 } }"#,
+    )
+    .unwrap();
+    let run = common::run::driftlab(&[
+        "calibrate",
+        &log,
+        "--model",
+        "ieee952",
+        "--recipe",
+        &recipe,
+        "--out",
+        &out,
+    ]);
+    assert!(run.status.success());
+    let err = String::from_utf8_lossy(&run.stderr);
+    assert!(err.contains("k1_plus") && err.contains("not used"), "{err}");
+}

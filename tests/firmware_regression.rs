@@ -194,7 +194,8 @@ fn regression_presets() -> Vec<Preset> {
 fn c_header_corrects_as_driftlab_for_every_preset_on_the_laser_gyro() {
     let (cal_log, held_out) = (read("laser-gyro.csv"), read("laser-gyro-2.csv"));
     for p in regression_presets() {
-        let model = fitted::fit(&cal_log, &ModelChoice::Preset(p), &Recipe::default()).unwrap();
+        let model =
+            driftlab::models::fit(&cal_log, &ModelChoice::Preset(p), &Recipe::default()).unwrap();
         let label = format!("{} (laser gyro)", p.name());
         if regression_c_agrees(&label, &model, &[&held_out, &cal_log]).is_none() {
             return;
@@ -206,7 +207,8 @@ fn c_header_corrects_as_driftlab_for_every_preset_on_the_laser_gyro() {
 fn c_header_corrects_as_driftlab_for_every_preset_on_the_fog() {
     let (cal_log, val_log) = (read("calibration.csv"), read("validation.csv"));
     for p in regression_presets() {
-        let model = fitted::fit(&cal_log, &ModelChoice::Preset(p), &Recipe::default()).unwrap();
+        let model =
+            driftlab::models::fit(&cal_log, &ModelChoice::Preset(p), &Recipe::default()).unwrap();
         let label = format!("{} (FOG)", p.name());
         if regression_c_agrees(&label, &model, &[&val_log, &cal_log]).is_none() {
             return;
@@ -233,7 +235,8 @@ fn c_header_corrects_as_driftlab_for_a_custom_model_with_every_feature() {
         seconds: 300.0,
         per_c: 0.01,
     };
-    let mut model = fitted::fit(&cal_log, &ModelChoice::Custom(spec), &Recipe::default()).unwrap();
+    let mut model =
+        driftlab::models::fit(&cal_log, &ModelChoice::Custom(spec), &Recipe::default()).unwrap();
     if let DriftModel::Regression(r) = &mut model {
         assert!(r.model.delay.points.len() >= 2, "{:?}", r.model.delay);
         assert!(r.model.lambda_s.is_some() && r.model.lag_s == Some(300.0));
@@ -250,7 +253,7 @@ fn c_header_corrects_as_driftlab_for_a_custom_model_with_every_feature() {
 #[test]
 fn regression_csv_table_lists_every_coefficient_exactly() {
     let log = read("laser-gyro.csv");
-    let model = fitted::fit(
+    let model = driftlab::models::fit(
         &log,
         &ModelChoice::Preset(Preset::Sukhanov),
         &Recipe::default(),
@@ -326,7 +329,8 @@ fn c_header_corrects_as_driftlab_with_one_delay_a_lag_and_a_fixed_lambda() {
         per_c: 0.0,
     };
     spec.lambda = driftlab::models::regression::LambdaSpec::Fixed { seconds: 1200.0 };
-    let model = fitted::fit(&cal_log, &ModelChoice::Custom(spec), &Recipe::default()).unwrap();
+    let model =
+        driftlab::models::fit(&cal_log, &ModelChoice::Custom(spec), &Recipe::default()).unwrap();
     if let DriftModel::Regression(r) = &model {
         assert_eq!(r.model.delay.points, vec![[0.0, 250.5]]);
         assert_eq!(r.model.lag_s, Some(120.0));

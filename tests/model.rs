@@ -216,6 +216,7 @@ fn invalid_recipes_are_refused_with_the_setting_named() {
 /// The method's pointwise K1 and K2 written as a plain walk over the samples, apart from the
 /// engine: outside plateaus, in the set's regime, beyond the dead-band,
 /// `K1 = (Ω_f − K0(T) − K2(T̈)·T̈) / Ṫ` and `K2 = (Ω_f − K0(T) − K1(Ṫ)·Ṫ) / T̈`.
+#[allow(clippy::needless_range_loop)] // one index walks six parallel columns
 fn walk_points(
     log: &driftlab::Log,
     fit: &vakhrameev::Fit,
@@ -294,7 +295,7 @@ fn streamed_k2_fit_is_the_weighted_fit_of_the_walked_points() {
     };
     let log = log_from(&Program::paper_like(), &truth, 0.3, 0.001, 3);
     let recipe = Recipe::default();
-    let lean = vakhrameev::calibrate(&log, &recipe).unwrap().calibration;
+    let lean = vakhrameev::fit_lean(&log, &recipe).unwrap().calibration;
     let fit = vakhrameev::fit(&log, &recipe).unwrap();
     for (regime, spec, got) in [
         (Regime::Plus, &recipe.k2_plus, &lean.k2_plus),
@@ -313,7 +314,7 @@ fn lean_calibration_is_the_full_fit() {
     let log = log_from(&Program::paper_like(), &TRUTH, 0.3, 0.001, 5);
     for recipe in [Recipe::default(), sharp_recipe()] {
         let fit = vakhrameev::fit(&log, &recipe).unwrap();
-        let lean = vakhrameev::calibrate(&log, &recipe).unwrap();
+        let lean = vakhrameev::fit_lean(&log, &recipe).unwrap();
         let strip = |c: &vakhrameev::Calibration| vakhrameev::Calibration {
             created: String::new(),
             ..c.clone()

@@ -389,7 +389,7 @@ fn streaming_equals_batch_for_every_model() {
     let log = read("laser-gyro.csv");
     let recipe = Recipe::default();
     for choice in every_choice() {
-        let model = fitted::fit(&log, &choice, &recipe).unwrap();
+        let model = driftlab::models::fit(&log, &choice, &recipe).unwrap();
         let batch = model.correct(&log).unwrap();
         let (t2, ch) = fitted::stream_inputs(&model, &log).unwrap();
         let mut stream = model.corrector_for(log.nominal_dt_s()).unwrap();
@@ -416,7 +416,7 @@ fn every_model_reads_back_from_its_calibration_file_and_predicts_the_same() {
     let log = read("laser-gyro.csv");
     let dir = tempfile::tempdir().unwrap();
     for choice in every_choice() {
-        let model = fitted::fit(&log, &choice, &Recipe::default()).unwrap();
+        let model = driftlab::models::fit(&log, &choice, &Recipe::default()).unwrap();
         let path = dir.path().join(format!("{}.json", choice.name()));
         calibration::save_model(&path, &model).unwrap();
         let back = calibration::load_model(&path).unwrap();
@@ -431,7 +431,7 @@ fn every_model_reads_back_from_its_calibration_file_and_predicts_the_same() {
 #[test]
 fn a_damaged_regression_file_is_refused_with_a_reason() {
     let log = read("validation.csv");
-    let model = fitted::fit(
+    let model = driftlab::models::fit(
         &log,
         &ModelChoice::Preset(Preset::YanCross),
         &Recipe::default(),

@@ -110,7 +110,10 @@ fn fitted_models() -> &'static Vec<DriftModel> {
         choices.push(ModelChoice::Custom(custom_spec()));
         choices
             .iter()
-            .map(|c| fitted::fit(&log, c, &recipe).unwrap_or_else(|e| panic!("{}: {e}", c.name())))
+            .map(|c| {
+                driftlab::models::fit(&log, c, &recipe)
+                    .unwrap_or_else(|e| panic!("{}: {e}", c.name()))
+            })
             .collect()
     })
 }
@@ -305,7 +308,7 @@ proptest! {
         for c in &choices {
             // A random program may not excite every term; a fit that fails is not this
             // property's business, a fit that succeeds must round-trip.
-            if let Ok(model) = fitted::fit(&log, c, &recipe) {
+            if let Ok(model) = driftlab::models::fit(&log, c, &recipe) {
                 assert_same_predictions(&model, &log)?;
                 fitted += 1;
             }

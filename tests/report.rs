@@ -8,7 +8,7 @@ use driftlab::export::report::{self, AllanCurve, ReportOptions, html};
 use driftlab::files::calibration;
 use driftlab::judge::metrics::{Evaluation, MeritOptions};
 use driftlab::log::ingest::{self, ReadOptions};
-use driftlab::models::fitted::{self, DriftModel};
+use driftlab::models::fitted::DriftModel;
 use driftlab::models::presets::ModelChoice;
 use driftlab::models::recipe::Recipe;
 use driftlab::models::regression::terms::parse_terms;
@@ -467,7 +467,7 @@ fn regression_model(terms: &str, searches: bool) -> DriftModel {
         gyro_id: "RLG-REPORT-3".into(),
         ..Recipe::default()
     };
-    let mut model = fitted::fit(&log, &ModelChoice::Custom(spec), &recipe).unwrap();
+    let mut model = driftlab::models::fit(&log, &ModelChoice::Custom(spec), &recipe).unwrap();
     let src = model.source_mut();
     src.name = "laser-gyro.csv".into();
     src.sha256 = calibration::sha256_file(&path).unwrap();

@@ -1,11 +1,13 @@
-//! `driftlab calibrate`: fit a calibration to a log and save it.
+//! `driftlab calibrate`: fit a calibration (any model) to a log and save it.
 
+use super::calibrate_print;
 use super::common::{self, LogArgs};
 use driftlab::files::calibration;
-use driftlab::judge::metrics::{Evaluation, MeritOptions};
+use driftlab::judge::metrics::MeritOptions;
 use driftlab::models::approx::{ApproxKind, ApproxSpec};
 use driftlab::models::recipe::{PlateauChoice, Recipe};
-use driftlab::models::vakhrameev::{self, Calibration};
+use driftlab::models::regression::{DelaySpec, FitSamples, LagSpec, RegressionSpec, terms};
+use driftlab::models::{self, DriftModel, ModelChoice, Preset};
 use driftlab::signal::plateau::PlateauRange;
 use std::path::{Path, PathBuf};
 
@@ -27,21 +29,25 @@ pub struct Args {
     #[arg(long)]
     pub gyro_id: Option<String>,
     /// The model to fit (default vakhrameev): a preset (ieee952, yan-cross, yan-delayed,
-    /// sukhanov, poly-t, pwl-t) or `custom` with --terms. See `driftlab compare`.
+    /// sukhanov, poly-t, pwl-t, coil-lag) or `custom` with --terms. See `driftlab compare`.
+    /// --filter, --smooth, --step-h and --plateau reach every model; the K approximations
+    /// and dead-bands are Vakhrameev's and are refused for another model.
     #[arg(long, value_name = "NAME")]
     pub model: Option<String>,
     /// Terms of a custom model, comma-separated (see `driftlab compare --help`).
     #[arg(long, value_name = "TERMS")]
     pub terms: Option<String>,
-    /// Delay of a custom model's temperature channels: none, SECONDS, auto or bands:N.
-    #[arg(long, value_name = "DELAY", default_value = "none")]
-    pub delay: String,
-    /// First-order lag of a custom model's T: none, SECONDS or auto.
-    #[arg(long, value_name = "LAG", default_value = "none")]
-    pub lag: String,
-    /// Samples a custom model is fitted on: all, plateaus or staged (see `driftlab compare`).
-    #[arg(long, value_name = "SAMPLES", default_value = "all")]
-    pub fit: String,
+    /// Delay of a custom model's temperature channels: none, SECONDS, auto or bands:N
+    /// (default none).
+    #[arg(long, value_name = "DELAY")]
+    pub delay: Option<DelaySpec>,
+    /// First-order lag of a custom model's T: none, SECONDS, auto or auto-t (default none).
+    #[arg(long, value_name = "LAG")]
+    pub lag: Option<LagSpec>,
+    /// Samples a custom model is fitted on: all, plateaus or staged (default all; see
+    /// `driftlab compare`).
+    #[arg(long, value_name = "SAMPLES")]
+    pub fit: Option<FitSamples>,
     /// A plateau as START:END in seconds (repeatable); replaces automatic detection.
     #[arg(long = "plateau", value_name = "START:END")]
     pub plateaus: Vec<PlateauRange>,
@@ -128,117 +134,152 @@ impl Args {
     }
 }
 
+impl Args {
+    /// The model asked for by --model, --terms, --delay, --lag and --fit; the options of a
+    /// custom model are refused, by name, for any other.
+    fn choice(&self) -> Result<ModelChoice, String> {
+        let name = self.model.as_deref().unwrap_or("vakhrameev");
+        if name == "custom" {
+            let terms = self
+                .terms
+                .as_deref()
+                .ok_or("--model custom needs --terms")?;
+            let mut spec = RegressionSpec::new("custom", terms::parse_terms(terms)?);
+            spec.delay = self.delay.clone().unwrap_or(DelaySpec::None);
+            spec.lag = self.lag.clone().unwrap_or_default();
+            spec.samples = self.fit.unwrap_or_default();
+            spec.validate()?;
+            return Ok(ModelChoice::Custom(spec));
+        }
+        let custom_only = [
+            ("--terms", self.terms.is_some()),
+            ("--delay", self.delay.is_some()),
+            ("--lag", self.lag.is_some()),
+            ("--fit", self.fit.is_some()),
+        ];
+        if let Some((option, _)) = custom_only.iter().find(|(_, given)| *given) {
+            return Err(format!(
+                "{option} goes with --model custom --terms ..., not with model {name}"
+            ));
+        }
+        Ok(ModelChoice::Preset(Preset::from_name(name)?))
+    }
+
+    /// Refuses the options `choice` cannot use, by name; returns a warning for each setting
+    /// of the recipe file it will not read.
+    fn check_settings(&self, recipe: &Recipe, choice: &ModelChoice) -> Result<Vec<String>, String> {
+        let name = choice.name();
+        let vakhrameev_only = [
+            ("--k0", self.k0.is_some()),
+            ("--k1", self.k1.is_some()),
+            ("--k2", self.k2.is_some()),
+            ("--knots", self.knots.is_some()),
+            ("--deadband-tdot", self.deadband_tdot.is_some()),
+            ("--deadband-tddot", self.deadband_tddot.is_some()),
+        ];
+        if !choice.is_vakhrameev()
+            && let Some((option, _)) = vakhrameev_only.iter().find(|(_, given)| *given)
+        {
+            return Err(format!(
+                "{option}: it is a setting of the vakhrameev model, not of model {name}"
+            ));
+        }
+        let no_plateaus = format!("model {name} is fitted over every sample and uses no plateaus");
+        if !self.plateaus.is_empty() && !choice.uses_plateaus() {
+            return Err(format!("--plateau: {no_plateaus}"));
+        }
+        Ok(models::settings_unused_by(recipe, choice)
+            .into_iter()
+            .map(|field| {
+                let why = if field == "plateaus" {
+                    no_plateaus.clone()
+                } else {
+                    format!("it is a setting of the vakhrameev model, not of model {name}")
+                };
+                format!("the recipe's {field} is not used: {why}")
+            })
+            .collect())
+    }
+}
+
 pub fn run(a: Args) -> Result<(), String> {
     let recipe = a.recipe()?;
-    if a.model.as_deref().is_some_and(|m| m != "vakhrameev") || a.terms.is_some() {
-        return super::calibrate_model::run(&a, &recipe);
-    }
-    let log = a.log_args.read_columns(&a.log)?;
+    let choice = a.choice()?;
+    let mut warnings = a.check_settings(&recipe, &choice)?;
+    let merit = MeritOptions {
+        filter_s: recipe.filter_s,
+        ..MeritOptions::default()
+    };
+    // Vakhrameev's model reads the three calibration columns only; the others are neither
+    // parsed nor held.
+    let log = if choice.is_vakhrameev() {
+        a.log_args.read_columns(&a.log)?
+    } else {
+        a.log_args.read(&a.log)?
+    };
     common::status("fitting ...");
     // The file's hash is taken beside the fit, whose stages are partly sequential.
     let (fitted, sha256) = std::thread::scope(|scope| {
         let sha = scope.spawn(|| calibration::sha256_file(&a.log).map_err(|e| e.to_string()));
-        let fitted = vakhrameev::calibrate(&log, &recipe);
+        let fitted = models::calibrate(&log, &choice, &recipe, &merit);
         let sha256 = sha
             .join()
             .unwrap_or_else(|_| Err("the hashing thread failed".to_string()));
         (fitted, sha256)
     });
-    // Only the calibration and the derivatives (for the in-sample figures) are kept: no point
-    // sets and no filtered Ω, which on a 10⁷-sample log are hundreds of MB.
-    let vakhrameev::Calibrated {
-        calibration: mut cal,
-        deriv,
-        warnings,
+    let models::Calibrated {
+        mut model,
+        in_sample,
+        warnings: fit_warnings,
     } = fitted.map_err(|e| format!("{}: {e}", a.log.display()))?;
-    cal.source.name = file_name(&a.log);
-    cal.source.sha256 = sha256?;
-    calibration::save(&a.out, &cal).map_err(|e| e.to_string())?;
+    warnings.extend(fit_warnings);
+    model.source_mut().name = file_name(&a.log);
+    model.source_mut().sha256 = sha256?;
+    calibration::save_model(&a.out, &model).map_err(|e| e.to_string())?;
     if let Some(p) = &a.save_recipe {
         let text = serde_json::to_string_pretty(&recipe).map_err(|e| e.to_string())? + "\n";
         driftlab::files::atomic::write_bytes(p, text.as_bytes())
             .map_err(|e| format!("{}: {e}", p.display()))?;
     }
-    let opts = MeritOptions {
-        filter_s: recipe.filter_s,
-        ..MeritOptions::default()
-    };
-    // In-sample: the derivatives of the fit are the ones the calibration computes on this log;
-    // the corrected rate alone is all the figures read.
-    let c = cal.corrected_rate_with(&log, &deriv);
-    drop(deriv);
-    let eval = Evaluation::of_rate(&log, &c.cor_dph, c.ready_from, c.outside_fraction, &opts);
     if a.json {
-        return common::print_json(&serde_json::json!({
+        let body = match &model {
+            DriftModel::Vakhrameev(cal) => serde_json::json!({
+                "plateaus": cal.plateaus,
+                "approximations": cal.approximations().iter().map(|(n, ap)| serde_json::json!({
+                    "name": n, "kind": ap.kind(), "x_min": ap.x_min(), "x_max": ap.x_max(), "stats": ap.stats()
+                })).collect::<Vec<_>>(),
+                "resolved": cal.resolved,
+            }),
+            DriftModel::Regression(r) => serde_json::json!({ "model": r.model }),
+        };
+        let mut out = serde_json::json!({
             "calibration": a.out,
-            "plateaus": cal.plateaus,
-            "approximations": cal.approximations().iter().map(|(n, ap)| serde_json::json!({
-                "name": n, "kind": ap.kind(), "x_min": ap.x_min(), "x_max": ap.x_max(), "stats": ap.stats()
-            })).collect::<Vec<_>>(),
-            "resolved": cal.resolved,
-            "in_sample": eval,
+            "in_sample": in_sample,
             "warnings": warnings,
-        }));
+        });
+        if let (Some(out), serde_json::Value::Object(body)) = (out.as_object_mut(), body) {
+            out.extend(body);
+        }
+        return common::print_json(&out);
     }
-    print_summary(&cal, &warnings);
+    match &model {
+        DriftModel::Vakhrameev(cal) => calibrate_print::vakhrameev_summary(cal, &warnings),
+        DriftModel::Regression(r) => {
+            calibrate_print::regression_summary(r);
+            for w in &warnings {
+                eprintln!("warning: {w}");
+            }
+        }
+    }
     println!();
     println!(
         "In-sample (calibrated and evaluated on {}):",
-        cal.source.name
+        model.source().name
     );
-    common::print_evaluation(&eval);
+    common::print_evaluation(&in_sample);
     println!();
     println!("Calibration written to {}", a.out.display());
     Ok(())
-}
-
-fn print_summary(cal: &Calibration, warnings: &[String]) {
-    let r = &cal.resolved;
-    println!(
-        "Log {}: {} samples, {:.2} h, step {} s",
-        cal.source.name,
-        cal.source.samples,
-        cal.source.duration_s / 3600.0,
-        r.dt_s
-    );
-    println!(
-        "Filter {} samples, T smoothing {} samples, H = {} samples; dead-bands |Tdot| {:.3e} degC/s, |Tddot| {:.3e} degC/s^2",
-        r.filter_samples, r.smooth_samples, r.step_samples, r.deadband_tdot, r.deadband_tddot
-    );
-    println!();
-    println!("Plateaus (K0 points):");
-    println!(
-        "  {:>10} {:>10} {:>9} {:>11} {:>9} {:>8}",
-        "start_s", "end_s", "T_degC", "Omega_dph", "std_dph", "samples"
-    );
-    for p in &cal.plateaus {
-        println!(
-            "  {:>10.0} {:>10.0} {:>9.3} {:>11.4} {:>9.4} {:>8}",
-            p.range.start_s, p.range.end_s, p.temp_c, p.omega_dph, p.omega_std_dph, p.samples
-        );
-    }
-    println!();
-    println!("Approximations:");
-    println!(
-        "  {:<11} {:<10} {:>12} {:>12} {:>8} {:>11} {:>7}",
-        "", "kind", "x_min", "x_max", "n", "rmse", "R2"
-    );
-    for (name, ap) in cal.approximations() {
-        let s = ap.stats();
-        println!(
-            "  {:<11} {:<10} {:>12.4e} {:>12.4e} {:>8} {:>11.4e} {:>7.3}",
-            name,
-            ap.kind().to_string(),
-            ap.x_min(),
-            ap.x_max(),
-            s.n,
-            s.rmse,
-            s.r2
-        );
-    }
-    for w in warnings {
-        eprintln!("warning: {w}");
-    }
 }
 
 /// The file name of a path, for messages and the calibration's source.

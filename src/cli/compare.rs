@@ -3,9 +3,9 @@
 use super::common::{self, LogArgs};
 use driftlab::judge::compare::{self, ModelReport, Outcome};
 use driftlab::judge::metrics::MeritOptions;
-use driftlab::models::presets::{ModelChoice, Preset};
+use driftlab::models::presets::{CustomOptions, ModelChoice};
 use driftlab::models::recipe::Recipe;
-use driftlab::models::regression::{DelaySpec, FitSamples, LagSpec, RegressionSpec, terms};
+use driftlab::models::regression::{DelaySpec, FitSamples, LagSpec};
 use std::path::PathBuf;
 
 /// Arguments of `compare`.
@@ -28,21 +28,21 @@ pub struct Args {
     /// Delay of the temperature channels in custom models: none, SECONDS, auto (one delay
     /// searched up to 1800 s) or bands:N (one per temperature band).
     #[arg(long, value_name = "DELAY", default_value = "none")]
-    pub delay: String,
+    pub delay: DelaySpec,
     /// First-order lag of T in custom models (an estimate of the temperature inside the
     /// gyro): none, SECONDS, auto (searched up to 3600 s) or auto-t (searched with a time
     /// constant that changes with temperature).
     #[arg(long, value_name = "LAG", default_value = "none")]
-    pub lag: String,
+    pub lag: LagSpec,
     /// Samples custom models are fitted on: all (every sample with a rate history), plateaus
     /// (the temperature plateaus only: static models) or staged (static terms on the
     /// plateaus, then rate terms on what they leave, as Vakhrameev calibrates).
     #[arg(long, value_name = "SAMPLES", default_value = "all")]
-    pub fit: String,
-    /// Causal smoothing of T before differentiating, in custom models, s.
+    pub fit: FitSamples,
+    /// Causal smoothing of T before differentiating, s (every model).
     #[arg(long, value_name = "S", default_value_t = 60.0)]
     pub smooth: f64,
-    /// Derivative step H in custom models, s.
+    /// Derivative step H, s (every model).
     #[arg(long = "step-h", value_name = "S", default_value_t = 30.0)]
     pub step_h: f64,
     /// Moving-average window of the filtered drift, s.
@@ -58,118 +58,13 @@ pub struct Args {
     pub log_args: LogArgs,
 }
 
-/// Reads `--delay`.
-pub fn parse_delay(s: &str) -> Result<DelaySpec, String> {
-    let s = s.trim();
-    Ok(match s {
-        "none" | "0" => DelaySpec::None,
-        "auto" => DelaySpec::Search { max_s: 1800.0 },
-        _ => {
-            if let Some(n) = s.strip_prefix("bands:") {
-                let bands = n
-                    .parse()
-                    .map_err(|_| format!("--delay {s}: bands:N needs a whole number"))?;
-                DelaySpec::Bands {
-                    bands,
-                    max_s: 1800.0,
-                }
-            } else {
-                let seconds: f64 = s
-                    .parse()
-                    .map_err(|_| format!("--delay {s}: expected none, SECONDS, auto or bands:N"))?;
-                DelaySpec::Fixed { seconds }
-            }
-        }
-    })
-}
-
-/// Reads `--lag`.
-pub fn parse_lag(s: &str) -> Result<LagSpec, String> {
-    Ok(match s.trim() {
-        "none" | "0" => LagSpec::None,
-        "auto" => LagSpec::Search {
-            max_s: 3600.0,
-            with_temperature: false,
-        },
-        "auto-t" => LagSpec::Search {
-            max_s: 3600.0,
-            with_temperature: true,
-        },
-        v => LagSpec::Fixed {
-            seconds: v
-                .parse()
-                .map_err(|_| format!("--lag {v}: expected none, SECONDS, auto or auto-t"))?,
-            per_c: 0.0,
-        },
-    })
-}
-
-/// Reads `--fit`.
-pub fn parse_fit(s: &str) -> Result<FitSamples, String> {
-    match s.trim() {
-        "all" => Ok(FitSamples::All),
-        "plateaus" => Ok(FitSamples::Plateaus),
-        "staged" => Ok(FitSamples::Staged),
-        other => Err(format!("--fit {other:?}: expected all, plateaus or staged")),
-    }
-}
-
-/// How `--custom` models are made: `--delay`, `--lag` and `--fit`.
-pub struct CustomOptions<'a> {
-    /// `--delay`.
-    pub delay: &'a str,
-    /// `--lag`.
-    pub lag: &'a str,
-    /// `--fit`.
-    pub fit: &'a str,
-}
-
-/// The models `--models` and `--custom` ask for.
-pub fn choices(
-    models: &[String],
-    custom: &[String],
-    how: &CustomOptions<'_>,
-) -> Result<Vec<ModelChoice>, String> {
-    let mut out: Vec<ModelChoice> = if models.is_empty() && custom.is_empty() {
-        Preset::ALL.into_iter().map(ModelChoice::Preset).collect()
-    } else {
-        models
-            .iter()
-            .map(|m| Preset::from_name(m.trim()).map(ModelChoice::Preset))
-            .collect::<Result<_, _>>()?
-    };
-    for (k, c) in custom.iter().enumerate() {
-        let mut spec = RegressionSpec::new(
-            &if custom.len() == 1 {
-                "custom".to_string()
-            } else {
-                format!("custom-{}", k + 1)
-            },
-            terms::parse_terms(c)?,
-        );
-        spec.delay = parse_delay(how.delay)?;
-        spec.lag = parse_lag(how.lag)?;
-        spec.samples = parse_fit(how.fit)?;
-        spec.validate()?;
-        out.push(ModelChoice::Custom(spec));
-    }
-    Ok(out)
-}
-
 pub fn run(a: Args) -> Result<(), String> {
     let how = CustomOptions {
-        delay: &a.delay,
-        lag: &a.lag,
-        fit: &a.fit,
+        delay: a.delay.clone(),
+        lag: a.lag.clone(),
+        samples: a.fit,
     };
-    let mut choices = choices(&a.models, &a.custom, &how)?;
-    for c in &mut choices {
-        if let ModelChoice::Custom(s) = c {
-            s.smoothing_s = a.smooth;
-            s.step_h_s = a.step_h;
-            s.validate()?;
-        }
-    }
+    let choices = ModelChoice::list(&a.models, &a.custom, &how)?;
     let merit = MeritOptions {
         filter_s: a.filter,
         window_s: a.window,
@@ -186,8 +81,13 @@ pub fn run(a: Args) -> Result<(), String> {
     common::status(&format!("fitting {} models ...", choices.len()));
     let recipe = Recipe {
         filter_s: a.filter,
+        temp_smoothing_s: a.smooth,
+        step_h_s: a.step_h,
         ..Recipe::default()
     };
+    recipe
+        .validate()
+        .map_err(|e| format!("--smooth, --step-h: {e}"))?;
     let reports = compare::compare(&train, &tests, &choices, &recipe, &merit);
     if a.json {
         return common::print_json(&serde_json::json!({

@@ -4,7 +4,7 @@
 mod allan;
 mod apply;
 mod calibrate;
-mod calibrate_model;
+mod calibrate_print;
 mod common;
 mod compare;
 mod evaluate;

@@ -3,7 +3,7 @@
 
 use crate::judge::metrics::{Evaluation, MeritOptions};
 use crate::log::Log;
-use crate::models::fitted::{self, DriftModel};
+use crate::models::fitted::DriftModel;
 use crate::models::presets::ModelChoice;
 use crate::models::recipe::Recipe;
 use crate::models::vakhrameev::correct::Correction;
@@ -81,7 +81,7 @@ pub fn compare_one(
         fitted: None,
         logs: Vec::new(),
     };
-    match fitted::fit(train, choice, recipe) {
+    match crate::models::fit(train, choice, recipe) {
         Ok(m) => {
             report.logs = std::iter::once((train, false))
                 .chain(tests.iter().map(|t| (*t, true)))

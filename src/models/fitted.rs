@@ -3,13 +3,12 @@
 
 use crate::error::{Error, Result};
 use crate::log::Log;
-use crate::models::presets::{ModelChoice, Preset};
-use crate::models::recipe::Recipe;
-use crate::models::regression::{self, RegressionCalibration, RegressionCorrector};
+use crate::models::presets::Preset;
+use crate::models::regression::{RegressionCalibration, RegressionCorrector};
 use crate::models::vakhrameev::correct::{
     Corrected, Correction, LogPredictor, Prediction, StreamCorrector,
 };
-use crate::models::vakhrameev::{self, Calibration, SourceInfo};
+use crate::models::vakhrameev::{Calibration, SourceInfo};
 
 /// A fitted model of a gyro's thermal drift.
 #[derive(Debug, Clone, PartialEq)]
@@ -205,28 +204,6 @@ impl ModelCorrector {
         match self {
             ModelCorrector::Vakhrameev(c) => c.push(time_s, omega_dph, temp_c),
             ModelCorrector::Regression(c) => c.push(time_s, omega_dph, temp_c, temp2_c, channels),
-        }
-    }
-}
-
-/// Fits `choice` on `log`; the Vakhrameev model uses `recipe`.
-///
-/// # Errors
-/// What the fit reports (too few samples, a missing channel, ...).
-pub fn fit(log: &Log, choice: &ModelChoice, recipe: &Recipe) -> Result<DriftModel> {
-    let spec = match choice {
-        ModelChoice::Preset(p) => p.spec(log)?,
-        ModelChoice::Custom(s) => Some(s.clone()),
-    };
-    match spec {
-        None => Ok(DriftModel::Vakhrameev(Box::new(
-            vakhrameev::fit(log, recipe)?.calibration,
-        ))),
-        Some(spec) => {
-            let m = regression::fit(log, &spec)?;
-            Ok(DriftModel::Regression(Box::new(
-                RegressionCalibration::new(&recipe.gyro_id, log, m),
-            )))
         }
     }
 }

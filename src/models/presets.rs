@@ -3,7 +3,10 @@
 
 use crate::error::{Error, Result};
 use crate::log::Log;
-use crate::models::regression::{self, DelaySpec, FitSamples, LagSpec, RegressionSpec, Term};
+use crate::models::regression::{
+    self, DELAY_SEARCH_MAX_S, DelaySpec, FitSamples, LAG_SEARCH_MAX_S, LagSpec, RegressionSpec,
+    Term, terms,
+};
 use serde::{Deserialize, Serialize};
 
 /// A named model.
@@ -124,7 +127,7 @@ impl Preset {
             Preset::YanDelayed => spec(vec![TTdot, T, Tdot, One]).map(staged).map(|mut s| {
                 s.delay = DelaySpec::Bands {
                     bands: 3,
-                    max_s: 1800.0,
+                    max_s: DELAY_SEARCH_MAX_S,
                 };
                 s
             }),
@@ -167,7 +170,7 @@ impl Preset {
             ])
             .map(|mut s| {
                 s.lag = LagSpec::Search {
-                    max_s: 3600.0,
+                    max_s: LAG_SEARCH_MAX_S,
                     with_temperature: true,
                 };
                 s
@@ -185,6 +188,8 @@ fn staged(mut s: RegressionSpec) -> RegressionSpec {
 }
 
 /// A model to fit: a preset or a spec built by the engineer.
+// A handful are made per comparison; boxing the spec would buy nothing but indirection.
+#[allow(clippy::large_enum_variant)]
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum ModelChoice {
@@ -194,7 +199,81 @@ pub enum ModelChoice {
     Custom(RegressionSpec),
 }
 
+/// How custom models are made: their delay, lag and which samples they are fitted on.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct CustomOptions {
+    /// The delay of the temperature channels.
+    pub delay: DelaySpec,
+    /// The first-order lag of T.
+    pub lag: LagSpec,
+    /// Which samples the model is fitted on.
+    pub samples: FitSamples,
+}
+
 impl ModelChoice {
+    /// The models named in `presets` (every preset when both lists are empty), then one
+    /// custom model per list of terms in `customs`, each made as `how` says.
+    ///
+    /// # Errors
+    /// An unknown preset, a term that does not parse, or a spec that does not validate.
+    pub fn list(
+        presets: &[String],
+        customs: &[String],
+        how: &CustomOptions,
+    ) -> std::result::Result<Vec<ModelChoice>, String> {
+        let mut out: Vec<ModelChoice> = if presets.is_empty() && customs.is_empty() {
+            Preset::ALL.into_iter().map(ModelChoice::Preset).collect()
+        } else {
+            presets
+                .iter()
+                .map(|m| Preset::from_name(m.trim()).map(ModelChoice::Preset))
+                .collect::<std::result::Result<_, _>>()?
+        };
+        for (k, c) in customs.iter().enumerate() {
+            let name = if customs.len() == 1 {
+                "custom".to_string()
+            } else {
+                format!("custom-{}", k + 1)
+            };
+            let mut spec = RegressionSpec::new(&name, terms::parse_terms(c)?);
+            spec.delay = how.delay.clone();
+            spec.lag = how.lag.clone();
+            spec.samples = how.samples;
+            spec.validate()?;
+            out.push(ModelChoice::Custom(spec));
+        }
+        Ok(out)
+    }
+
+    /// The regression spec of the choice for `log`, before the recipe's signal settings are
+    /// applied; `None` for the Vakhrameev model.
+    ///
+    /// # Errors
+    /// A preset that cannot be built on this log (Sukhanov's without a second sensor).
+    pub fn spec(&self, log: &Log) -> Result<Option<RegressionSpec>> {
+        match self {
+            ModelChoice::Preset(p) => p.spec(log),
+            ModelChoice::Custom(s) => Ok(Some(s.clone())),
+        }
+    }
+
+    /// Whether the model is Vakhrameev's, which reads every setting of the recipe.
+    pub fn is_vakhrameev(&self) -> bool {
+        *self == ModelChoice::Preset(Preset::Vakhrameev)
+    }
+
+    /// Whether the fit uses the log's plateaus: Vakhrameev's K0, and the regressions fitted on
+    /// the plateaus or in stages with static terms.
+    pub fn uses_plateaus(&self) -> bool {
+        match self {
+            ModelChoice::Preset(p) => matches!(
+                p,
+                Preset::Vakhrameev | Preset::Ieee952 | Preset::YanCross | Preset::YanDelayed
+            ),
+            ModelChoice::Custom(s) => s.uses_plateaus(),
+        }
+    }
+
     /// The name shown in tables.
     pub fn name(&self) -> String {
         match self {

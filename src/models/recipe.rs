@@ -78,6 +78,13 @@ impl Default for PlateauChoice {
     }
 }
 
+impl PlateauChoice {
+    /// Whether this is the detector with its default options.
+    pub fn is_default(&self) -> bool {
+        *self == PlateauChoice::default()
+    }
+}
+
 impl Default for Recipe {
     /// Defaults that give usable Ṫ and T̈ on a 1 Hz log with 0.001 °C resolution: T smoothed over
     /// 60 s and differentiated with H = 30 s keeps the quantisation noise of T̈ near 1e-6 °C/s²,

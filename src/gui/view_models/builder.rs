@@ -4,7 +4,9 @@
 use super::ModelsView;
 use super::{accessible, plain};
 use crate::gui::state::AppState;
-use crate::models::regression::{DelaySpec, FitSamples, LagSpec, RegressionSpec, Term};
+use crate::models::regression::{
+    DELAY_SEARCH_MAX_S, DelaySpec, FitSamples, LAG_SEARCH_MAX_S, LagSpec, RegressionSpec, Term,
+};
 use eframe::egui::{self, Grid, RichText, Ui};
 
 /// How the builder's delay τd is chosen.
@@ -68,11 +70,11 @@ impl Default for CustomBuilder {
             terms: vec![Term::One, Term::T, Term::Tdot, Term::TTdot],
             delay: DelayChoice::None,
             delay_s: 300.0,
-            delay_max_s: 1800.0,
+            delay_max_s: DELAY_SEARCH_MAX_S,
             bands: 3,
             lag: LagChoice::None,
             lag_s: 600.0,
-            lag_max_s: 3600.0,
+            lag_max_s: LAG_SEARCH_MAX_S,
             lag_with_temperature: true,
             samples: FitSamples::All,
         }

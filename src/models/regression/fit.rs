@@ -8,6 +8,7 @@ use super::{
 };
 use crate::error::{Error, Result};
 use crate::log::Log;
+use crate::models::recipe::PlateauChoice;
 use nalgebra::{DMatrix, DVector};
 
 /// The normal equations of a least-squares fit, accumulated sample by sample.
@@ -298,10 +299,15 @@ pub fn fit(log: &Log, spec: &RegressionSpec) -> Result<RegressionModel> {
     }
     let stride = ((n - s.ready_from) / 200_000).max(1);
     let stages = stages(spec);
-    // The plateaus, found on T as measured (where the chamber held), when a stage needs them.
+    // The plateaus, when a stage needs them: the engineer's ranges, or found by the detector
+    // (with the recipe's options) on T as measured, where the chamber held.
     let plateau: Vec<bool> = if stages.iter().any(|st| st.on_plateaus) {
-        let opts = crate::signal::plateau::DetectOptions::default();
-        let ranges = crate::signal::plateau::detect(&log.time_s, &s.tdot, s.ready_from, &opts);
+        let ranges = match &spec.plateaus {
+            PlateauChoice::Auto(opts) => {
+                crate::signal::plateau::detect(&log.time_s, &s.tdot, s.ready_from, opts)
+            }
+            PlateauChoice::Manual { ranges } => ranges.clone(),
+        };
         if ranges.is_empty() {
             return Err(Error::Fit(format!(
                 "{}: model {} is fitted on plateaus and the log has none",

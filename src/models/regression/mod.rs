@@ -28,5 +28,8 @@ pub use fitted::{
 };
 pub use search::CostCurve;
 pub use signals::guess_temp2;
-pub use spec::{DelaySpec, FitSamples, LAG_REF_C, LagSpec, LambdaSpec, RegressionSpec, lag_at};
+pub use spec::{
+    DELAY_SEARCH_MAX_S, DelaySpec, FitSamples, LAG_REF_C, LAG_SEARCH_MAX_S, LagSpec, LambdaSpec,
+    MAX_DELAY_BANDS, RegressionSpec, lag_at,
+};
 pub use terms::{Inputs, Term};

@@ -2,13 +2,27 @@
 //! (τd, λ, the lag of T) are found.
 
 use super::Term;
+use crate::models::recipe::{PlateauChoice, Recipe};
 use serde::{Deserialize, Serialize};
+use std::str::FromStr;
+
+/// Longest delay τd a search tries, s (`auto`, `bands:N`): half an hour, past the longest delay
+/// Yan 2019 measured (about 15 min) with room for a slower gyro.
+pub const DELAY_SEARCH_MAX_S: f64 = 1800.0;
+
+/// Longest first-order lag of T a search tries, s (`auto`, `auto-t`): an hour, past the coil
+/// time constants of the gyros in the papers (5–15 min).
+pub const LAG_SEARCH_MAX_S: f64 = 3600.0;
+
+/// Most temperature bands a banded delay search may use: each band needs ramps of its own.
+pub const MAX_DELAY_BANDS: usize = 20;
 
 /// How the delay τd of the temperature channels is chosen when fitting.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
 pub enum DelaySpec {
     /// No delay.
+    #[default]
     None,
     /// A given delay, s.
     Fixed {
@@ -28,6 +42,46 @@ pub enum DelaySpec {
         /// Longest delay tried, s.
         max_s: f64,
     },
+}
+
+impl FromStr for DelaySpec {
+    type Err = String;
+
+    /// `none` (or `0`), a delay in seconds, `auto` (one delay searched up to
+    /// [`DELAY_SEARCH_MAX_S`]) or `bands:N` (one per temperature band).
+    fn from_str(s: &str) -> Result<Self, String> {
+        let s = s.trim();
+        Ok(match s {
+            "none" | "0" => DelaySpec::None,
+            "auto" => DelaySpec::Search {
+                max_s: DELAY_SEARCH_MAX_S,
+            },
+            _ => {
+                if let Some(n) = s.strip_prefix("bands:") {
+                    let bands = n
+                        .parse()
+                        .ok()
+                        .filter(|b| (1..=MAX_DELAY_BANDS).contains(b))
+                        .ok_or_else(|| {
+                            format!("{s:?}: bands:N needs N from 1 to {MAX_DELAY_BANDS}")
+                        })?;
+                    DelaySpec::Bands {
+                        bands,
+                        max_s: DELAY_SEARCH_MAX_S,
+                    }
+                } else {
+                    let seconds: f64 = s
+                        .parse()
+                        .ok()
+                        .filter(|v: &f64| v.is_finite() && *v >= 0.0)
+                        .ok_or_else(|| {
+                            format!("{s:?}: expected none, SECONDS (0 or more), auto or bands:N")
+                        })?;
+                    DelaySpec::Fixed { seconds }
+                }
+            }
+        })
+    }
 }
 
 /// How the self-heating time constant λ is chosen (only used by the `selfheat` term).
@@ -79,6 +133,37 @@ pub enum LagSpec {
     },
 }
 
+impl FromStr for LagSpec {
+    type Err = String;
+
+    /// `none` (or `0`), a time constant in seconds, `auto` (searched up to
+    /// [`LAG_SEARCH_MAX_S`]) or `auto-t` (searched with a time constant that changes with
+    /// temperature).
+    fn from_str(s: &str) -> Result<Self, String> {
+        Ok(match s.trim() {
+            "none" | "0" => LagSpec::None,
+            "auto" => LagSpec::Search {
+                max_s: LAG_SEARCH_MAX_S,
+                with_temperature: false,
+            },
+            "auto-t" => LagSpec::Search {
+                max_s: LAG_SEARCH_MAX_S,
+                with_temperature: true,
+            },
+            v => LagSpec::Fixed {
+                seconds: v
+                    .parse()
+                    .ok()
+                    .filter(|x: &f64| x.is_finite() && *x >= 0.0)
+                    .ok_or_else(|| {
+                        format!("{v:?}: expected none, SECONDS (0 or more), auto or auto-t")
+                    })?,
+                per_c: 0.0,
+            },
+        })
+    }
+}
+
 /// Temperature at which a lag's time constant is quoted, °C.
 pub const LAG_REF_C: f64 = 20.0;
 
@@ -111,6 +196,20 @@ pub enum FitSamples {
     Staged,
 }
 
+impl FromStr for FitSamples {
+    type Err = String;
+
+    /// `all`, `plateaus` or `staged`.
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s.trim() {
+            "all" => Ok(FitSamples::All),
+            "plateaus" => Ok(FitSamples::Plateaus),
+            "staged" => Ok(FitSamples::Staged),
+            other => Err(format!("{other:?}: expected all, plateaus or staged")),
+        }
+    }
+}
+
 /// What an engineer asks for: the terms and how to find the non-linear parameters.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -136,6 +235,11 @@ pub struct RegressionSpec {
     pub smoothing_s: f64,
     /// Derivative step H, s.
     pub step_h_s: f64,
+    /// Where the plateaus of a plateau or staged fit come from: found by the detector, or the
+    /// engineer's ranges (written only when they are not the detector's defaults, so files
+    /// from before the field read and write as they were).
+    #[serde(default, skip_serializing_if = "PlateauChoice::is_default")]
+    pub plateaus: PlateauChoice,
 }
 
 impl RegressionSpec {
@@ -156,6 +260,25 @@ impl RegressionSpec {
             samples: FitSamples::All,
             smoothing_s: r.temp_smoothing_s,
             step_h_s: r.step_h_s,
+            plateaus: r.plateaus,
+        }
+    }
+
+    /// The spec with the recipe's signal settings, which every model reads: the smoothing of T,
+    /// the derivative step H and the plateaus (for plateau and staged fits).
+    pub fn with_recipe(mut self, recipe: &Recipe) -> RegressionSpec {
+        self.smoothing_s = recipe.temp_smoothing_s;
+        self.step_h_s = recipe.step_h_s;
+        self.plateaus = recipe.plateaus.clone();
+        self
+    }
+
+    /// Whether the fit looks for plateaus: a plateau fit, or a staged fit with static terms.
+    pub fn uses_plateaus(&self) -> bool {
+        match self.samples {
+            FitSamples::All => false,
+            FitSamples::Plateaus => true,
+            FitSamples::Staged => self.terms.iter().any(|t| !t.is_rate()),
         }
     }
 
@@ -178,7 +301,8 @@ impl RegressionSpec {
             DelaySpec::None => {}
             DelaySpec::Fixed { seconds } if seconds.is_finite() && seconds >= 0.0 => {}
             DelaySpec::Search { max_s } if pos(max_s) => {}
-            DelaySpec::Bands { bands, max_s } if pos(max_s) && (1..=20).contains(&bands) => {}
+            DelaySpec::Bands { bands, max_s }
+                if pos(max_s) && (1..=MAX_DELAY_BANDS).contains(&bands) => {}
             _ => {
                 return Err(format!(
                     "model {}: the delay must be non-negative seconds and bands 1 to 20",

@@ -19,11 +19,11 @@ mod sets;
 
 // The sets are the model's inner stage; the workbench's live refit (`crate::live`) reruns them
 // one at a time, nothing outside the crate sees them.
-pub(crate) use sets::{
-    SetInputs, SetSamples, fit_k2_gathered, fit_set_from, first_k1, k2_points_of,
-    rest_dph, set_samples,
-};
 use sets::{SetFit, fit_set, into_rest};
+pub(crate) use sets::{
+    SetInputs, SetSamples, first_k1, fit_k2_gathered, fit_set_from, k2_points_of, rest_dph,
+    set_samples,
+};
 
 use crate::error::{Error, Result};
 use crate::log::Log;
@@ -668,7 +668,7 @@ pub struct Calibrated {
 /// [`fit`] for a caller that wants only the calibration (the command line): the same result,
 /// made holding no more than the log, the filtered Ω (turned into `Ω_f − K0(T)` in place), Ṫ,
 /// T̈ and the sets' sample indices; no points are gathered.
-pub fn calibrate(log: &Log, recipe: &Recipe) -> Result<Calibrated> {
+pub fn fit_lean(log: &Log, recipe: &Recipe) -> Result<Calibrated> {
     check_fittable(log, recipe)?;
     let mut prepared = Prepared::new(log, recipe);
     let ranges = plateau_ranges(log, &prepared, recipe);
