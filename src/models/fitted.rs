@@ -13,7 +13,7 @@ use crate::models::vakhrameev::{Calibration, SourceInfo};
 /// A fitted model of a gyro's thermal drift.
 #[derive(Debug, Clone, PartialEq)]
 pub enum DriftModel {
-    /// K0/K1±/K2± (METHOD.md §1).
+    /// K0/K1±/K2± (docs/method.md §1).
     Vakhrameev(Box<Calibration>),
     /// A model linear in its coefficients over the log's channels.
     Regression(Box<RegressionCalibration>),

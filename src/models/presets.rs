@@ -1,5 +1,5 @@
 //! The models of the papers by name, so that an engineer finds "Yan 2019 delayed" without
-//! composing it term by term (METHOD.md §1–§3).
+//! composing it term by term (docs/method.md §1–§3).
 
 use crate::error::{Error, Result};
 use crate::log::Log;
@@ -13,7 +13,7 @@ use serde::{Deserialize, Serialize};
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Preset {
-    /// K0(T) + K1±(Ṫ)·Ṫ + K2±(T̈)·T̈ (Vakhrameev, METHOD.md §1).
+    /// K0(T) + K1±(Ṫ)·Ṫ + K2±(T̈)·T̈ (Vakhrameev, docs/method.md §1).
     Vakhrameev,
     /// c_T·T + c_Ṫ·Ṫ + bias (IEEE Std 952-1997 as quoted by Yan 2019), fitted in stages: T
     /// and bias on the plateaus, then Ṫ on what they leave.

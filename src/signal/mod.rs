@@ -1,5 +1,5 @@
 //! Signal processing on uniformly sampled columns: moving averages and the causal 3-point
-//! backward derivative of METHOD.md §1.
+//! backward derivative of docs/method.md §1.
 //!
 //! Two moving averages, for two purposes. The centred one has no lag and is used where the
 //! whole log is at hand (filtering Ω for the fit and for display). The causal one uses only past
@@ -168,7 +168,7 @@ pub struct Derivatives {
 }
 
 /// Ṫ and T̈ of a temperature column by smoothing then differentiating twice with the backward
-/// difference (METHOD.md §1, step 2).
+/// difference (docs/method.md §2, step 2).
 ///
 /// One pass of [`Rates`]: the smoothed temperature lives only in its short ring, so a long
 /// log costs its two rate columns and nothing more. The arithmetic is that of
@@ -227,7 +227,7 @@ pub fn check_history(steps: DerivativeSteps, back_s: f64, dt_s: f64) -> Result<(
 }
 
 /// Ṫ and T̈ one sample at a time, from past samples only: the causal mean of T and two
-/// backward differences over short rings. The one implementation of METHOD.md §1, step 2,
+/// backward differences over short rings. The one implementation of docs/method.md §2, step 2,
 /// shared by the batch path ([`derivatives`]), the streaming corrector and the lean
 /// prediction of `driftlab apply`, so all three give the same bits.
 #[derive(Debug, Clone)]

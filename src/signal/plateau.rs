@@ -1,5 +1,5 @@
 //! Temperature-stabilisation plateaus: where Ṫ = T̈ = 0, so the mean output is the static bias
-//! K0 at that temperature (METHOD.md §1, step 1).
+//! K0 at that temperature (docs/method.md §2, step 3).
 //!
 //! The detector looks for long stretches where |Ṫ| stays under a threshold and keeps only their
 //! settled tail: after the chamber stops, heat still diffuses into the coil for many minutes and

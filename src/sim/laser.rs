@@ -1,4 +1,4 @@
-//! The ring laser gyro of the `laser-gyro` profile: the gyro of Sukhanov (2011), METHOD.md §3.
+//! The ring laser gyro of the `laser-gyro` profile: the gyro of Sukhanov (2011), docs/method.md §3.
 //!
 //! A laser gyro is switched on at t = 0 in the chamber, in equilibrium with the air, and warms
 //! itself. Its log carries two temperature sensors and three state channels of the laser, and

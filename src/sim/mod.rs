@@ -2,7 +2,7 @@
 //! of a ring laser gyro for the `laser-gyro` profile ([`LaserParams`], Sukhanov 2011).
 //!
 //! It makes test logs whose truth is known, so that every calibration method of the workbench
-//! (METHOD.md) can be exercised and judged without a chamber: the noise-free thermal drift and
+//! (docs/method.md) can be exercised and judged without a chamber: the noise-free thermal drift and
 //! the noise are returned beside the raw output. A profile plus a seed names one log: the
 //! random numbers come from `ChaCha8Rng::seed_from_u64(seed)`, the same on every machine.
 //!
@@ -18,7 +18,7 @@
 //!   heat reaches the inner layers sooner when warm: the innermost layer lags a small step of
 //!   the housing by about 930 s around −35 °C, 550 s around 0 °C and 330 s around +55 °C
 //!   (time to half-step), close to the drift delays Yan (2019) fitted for his low, middle and
-//!   high band: 863, 547 and 309 s (METHOD.md §2). Explicit steps, sub-divided as stability
+//!   high band: 863, 547 and 309 s (docs/method.md §3). Explicit steps, sub-divided as stability
 //!   needs ([`Coil`]).
 //! * **Temperature sensor** on the coil frame: the housing temperature plus a little white
 //!   noise (`sensor_noise_c`), quantised to `sensor_resolution_c` (0.001 °C). It leads the
@@ -34,7 +34,7 @@
 //!   The Shupe term `S·Σ w_i·Ṫ_i` is the weighted difference of heating rates across the
 //!   winding: it appears when the rate of the frame changes (start and end of a ramp, so it
 //!   follows T̈ of the sensor through the diffusion lag) and has opposite signs in the
-//!   accelerating and the decelerating phase — the + and − sets of METHOD.md §1. On a steady
+//!   accelerating and the decelerating phase — the + and − sets of docs/method.md §1. On a steady
 //!   ramp every layer heats at the same rate and the Shupe term vanishes; what remains is the
 //!   thermal-stress term `G·Σ w_i·T_i` of the radial gradient, which in a steady ramp is
 //!   proportional to Ṫ (the gradient a ramp of rate Ṫ sustains is about Ṫ·d²/2K). The stress

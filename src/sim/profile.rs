@@ -52,7 +52,7 @@ pub enum Segment {
 ///
 /// Units are in the field names so that a profile file reads without a manual. The defaults
 /// (`GyroParams::default()`) are driftlab's reference gyro, tuned so that a calibration run
-/// resembles the published ones (METHOD.md §1, §2).
+/// resembles the published ones (docs/method.md §1, §3).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct GyroParams {
     /// Time constant of the housing following the chamber air (first-order lag), s.

@@ -365,7 +365,7 @@ fn curve(
     Ok(())
 }
 
-/// The Vakhrameev model (METHOD.md §1): its five curves, dead-bands, and the two functions
+/// The Vakhrameev model (docs/method.md §1): its five curves, dead-bands, and the two functions
 /// every model provides to the corrector, `driftlab_predict` and `driftlab_is_outside`.
 ///
 /// Another model in the calibration file gets its own function beside this one, writing its

@@ -1,4 +1,4 @@
-//! Figures of merit of a drift record, before and after correction (METHOD.md, "How results
+//! Figures of merit of a drift record, before and after correction (docs/method.md §4, "How results
 //! are judged"): peak-to-peak and standard deviation of the filtered drift, and the mean and
 //! RMS over consecutive 10-minute windows (Sukhanov 2011).
 //!

@@ -1,5 +1,5 @@
 //! Drift models linear in their coefficients, composed from terms over the log's channels
-//! (METHOD.md §2 and §3): the IEEE Std 952 form, Yan 2019's cross term and delayed form,
+//! (docs/method.md §3): the IEEE Std 952 form, Yan 2019's cross term and delayed form,
 //! Sukhanov 2011's generalised model, polynomials and piecewise-linear curves in T, and any
 //! model an engineer builds from the same terms.
 //!

@@ -188,7 +188,7 @@ pub enum FitSamples {
     /// drift they cannot describe. A searched lag, delay or λ is still judged on every sample:
     /// the ramps are where they show.
     Plateaus,
-    /// In stages, as Vakhrameev calibrates (METHOD.md §1): the static terms (1, T, T², T³,
+    /// In stages, as Vakhrameev calibrates (docs/method.md §1): the static terms (1, T, T², T³,
     /// pwlT, ΔT, ΔT², self-heating, extra channels) on the plateaus, where the rates are
     /// zero; then the rate terms (Ṫ, T̈, T·Ṫ, |Ṫ|, T·T̈, sgn(Ṫ)·T̈) on what the static part
     /// leaves, over every sample. The ramps then cannot pull the bias curve away from the

@@ -1,4 +1,4 @@
-//! Applying a calibration: `Ω_cor = Ω_raw − Ω_pred` (METHOD.md §1, equation 2), for a whole
+//! Applying a calibration: `Ω_cor = Ω_raw − Ω_pred` (docs/method.md §1), for a whole
 //! log at once or one sample at a time.
 //!
 //! Both paths use only past samples for Ṫ and T̈ (causal smoothing, backward differences), so a

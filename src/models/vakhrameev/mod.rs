@@ -1,5 +1,5 @@
 //! The Vakhrameev model `Ω = K0(T) + K1±(Ṫ)·Ṫ + K2±(T̈)·T̈` and its calibration
-//! (METHOD.md §1), as a pipeline of small stages that the workbench can re-run one at a time:
+//! (docs/method.md §1), as a pipeline of small stages that the workbench can re-run one at a time:
 //!
 //! 1. [`Prepared::new`]: Ω filtered (centred), T smoothed (causal) and differentiated.
 //! 2. Plateaus ([`plateau_ranges`]) and their statistics give the K0 points.
@@ -11,7 +11,7 @@
 //! [`fit`] runs them all and returns a [`Calibration`] plus everything the stages made, so that a
 //! change of one approximation refits only that approximation (and K2 after K1).
 //!
-//! The + and − sets, their pointwise coefficients and the fits over them are in [`sets`]; this
+//! The + and − sets, their pointwise coefficients and the fits over them are in `sets`; this
 //! file holds the calibration, the stages before the sets, and the pipelines that run them.
 
 pub mod correct;
