@@ -7,6 +7,8 @@
 use driftlab::judge::allan::{
     self, AllanError, AllanOptions, NoiseIdSource, TauSpacing, allan_at, averaging_factors,
 };
+mod common;
+
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, StandardNormal};
@@ -17,7 +19,7 @@ fn data_dir() -> Option<PathBuf> {
     if dir.is_dir() {
         Some(dir)
     } else {
-        eprintln!("skipping: reference data {} is missing", dir.display());
+        common::cannot_run(&format!("reference data {} is missing", dir.display()));
         None
     }
 }

@@ -75,7 +75,10 @@ fn malformed_calibration_files_are_refused_with_a_reason() {
         .calibration;
     let good = calibration::to_json(&cal);
     let v2 = good.replacen("\"version\": 1", "\"version\": 2", 1);
-    assert!(load_err(&v2).contains("version 2 is not supported"));
+    assert!(load_err(&v2).contains("version 2 is newer than this driftlab reads"));
+    let v0 = good.replacen("\"version\": 1", "\"version\": 0", 1);
+    let e = load_err(&v0);
+    assert!(e.contains("never written") && !e.contains("newer"), "{e}");
     let other = good.replacen("driftlab-calibration", "something-else", 1);
     assert!(load_err(&other).contains("something-else"));
     let unknown = good.replacen("\"gyro_id\"", "\"colour\": 1, \"gyro_id\"", 1);

@@ -85,22 +85,11 @@ pub struct Args {
     pub log_args: LogArgs,
 }
 
-/// Reads a recipe file, or the recipe of a calibration file.
-fn read_recipe(path: &Path) -> Result<Recipe, String> {
-    let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
-    if text.contains(&format!("\"{}\"", calibration::FORMAT)) {
-        return calibration::from_json(path, &text)
-            .map(|c| c.recipe)
-            .map_err(|e| e.to_string());
-    }
-    serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))
-}
-
 impl Args {
     /// The recipe: the file's (or the defaults), overridden by the options given.
     fn recipe(&self) -> Result<Recipe, String> {
         let mut r = match &self.recipe {
-            Some(p) => read_recipe(p)?,
+            Some(p) => calibration::read_recipe(p).map_err(|e| e.to_string())?,
             None => Recipe::default(),
         };
         if let Some(id) = &self.gyro_id {

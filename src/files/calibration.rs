@@ -19,6 +19,7 @@
 
 use crate::error::{Error, Result};
 use crate::models::fitted::DriftModel;
+use crate::models::recipe::Recipe;
 use crate::models::regression::RegressionCalibration;
 use crate::models::vakhrameev::Calibration;
 use serde::{Deserialize, Serialize};
@@ -88,10 +89,15 @@ fn header(path: &Path, text: &str) -> Result<String> {
     }
     match header.version {
         Some(v) if v == VERSION as u64 => {}
+        Some(v) if v > VERSION as u64 => {
+            return Err(err(format!(
+                "version {v} is newer than this driftlab reads (version {VERSION}); \
+                 use a newer driftlab"
+            )));
+        }
         Some(v) => {
             return Err(err(format!(
-                "version {v} is not supported by this driftlab (reads version {VERSION}); \
-                 use a newer driftlab"
+                "version {v} was never written by driftlab (versions start at 1)"
             )));
         }
         None => return Err(err("no \"version\" field".into())),
@@ -240,6 +246,25 @@ fn read_text(path: &Path) -> Result<String> {
         path: path.to_path_buf(),
         message: format!("not UTF-8 text: {e}"),
     })
+}
+
+/// Reads a recipe file, or the recipe inside a Vakhrameev calibration file. The two are told
+/// apart by the file's `format` field (a recipe has none), not by searching its text.
+///
+/// # Errors
+/// An unreadable file, malformed JSON (with line and column), or a calibration without a
+/// recipe (a regression model's).
+pub fn read_recipe(path: &Path) -> Result<Recipe> {
+    let text = read_text(path)?;
+    let err = |e: serde_json::Error| Error::File {
+        path: path.to_path_buf(),
+        message: e.to_string(),
+    };
+    let value: serde_json::Value = serde_json::from_str(&text).map_err(err)?;
+    if value.get("format").is_some() {
+        return from_json(path, &text).map(|c| c.recipe);
+    }
+    serde_json::from_str(&text).map_err(err)
 }
 
 /// SHA-256 of a file's bytes as lowercase hex, read in blocks (logs can be gigabytes).

@@ -27,23 +27,7 @@ pub fn write(
     let n = log.len().min(pred_dph.len()).min(cor_dph.len());
     let source = Source::Columns {
         pred: pred_dph,
-        cor: Some(cor_dph),
-    };
-    write_rows(path, log, n, source, progress)
-}
-
-/// Writes the corrected log atomically from the predicted drift alone, the corrected rate
-/// being `Ω − pred` (as every model computes it): a caller need not hold a column of it.
-pub fn write_predicted(
-    path: &Path,
-    log: &Log,
-    pred_dph: &[f64],
-    progress: &dyn Fn(f64),
-) -> std::io::Result<()> {
-    let n = log.len().min(pred_dph.len());
-    let source = Source::Columns {
-        pred: pred_dph,
-        cor: None,
+        cor: cor_dph,
     };
     write_rows(path, log, n, source, progress)
 }
@@ -63,11 +47,8 @@ pub fn write_streamed(
 
 /// Where the predicted (and perhaps corrected) rates come from.
 enum Source<'a, 'p> {
-    /// Columns over the whole log; `cor` absent means `Ω − pred`.
-    Columns {
-        pred: &'a [f64],
-        cor: Option<&'a [f64]>,
-    },
+    /// Columns over the whole log.
+    Columns { pred: &'a [f64], cor: &'a [f64] },
     /// Predicted batch by batch.
     Stream(&'a mut Predictor<'p>),
 }
@@ -80,9 +61,7 @@ impl Source<'_, '_> {
                 b.pred.clear();
                 b.pred.extend_from_slice(&pred[start..start + len]);
                 b.cor.clear();
-                if let Some(c) = cor {
-                    b.cor.extend_from_slice(&c[start..start + len]);
-                }
+                b.cor.extend_from_slice(&cor[start..start + len]);
             }
             Source::Stream(predictor) => {
                 b.pred.resize(len, 0.0);
@@ -100,7 +79,7 @@ struct Batch {
     cor: Vec<f64>,
 }
 
-/// The writer of all three: rows `0..n`.
+/// The writer of both: rows `0..n`.
 fn write_rows(
     path: &Path,
     log: &Log,

@@ -2,7 +2,7 @@
 //! window screenshot), the calibration file, the corrected log and the session. Every file is
 //! written atomically; every failure comes back as a message naming the file.
 
-use crate::live::Corrected;
+use crate::live::Correction;
 use crate::log::Log;
 use crate::models::vakhrameev::Calibration;
 use eframe::egui::{ColorImage, Rect};
@@ -130,7 +130,7 @@ pub fn save_model(
 }
 
 /// Writes the corrected log with the engine's writer (the columns of `driftlab apply`).
-pub fn write_corrected_csv(path: &Path, log: &Log, c: &Corrected) -> Result<PathBuf, String> {
+pub fn write_corrected_csv(path: &Path, log: &Log, c: &Correction) -> Result<PathBuf, String> {
     crate::files::corrected_csv::write(path, log, &c.pred_dph, &c.cor_dph, &|_| {})
         .map_err(|e| format!("{}: {e}", path.display()))?;
     Ok(path.to_path_buf())

@@ -47,7 +47,7 @@ pub(super) struct Changed {
 /// A correction of the calibration log and what it was made with.
 pub(super) struct CorrectionBuf {
     key: CorrectionKey,
-    corrected: Arc<Corrected>,
+    corrected: Arc<Correction>,
 }
 
 impl Pipeline {
@@ -59,7 +59,7 @@ impl Pipeline {
         cal: &Calibration,
         log: &Arc<Log>,
         prepared: &Arc<Prepared>,
-    ) -> Arc<Corrected> {
+    ) -> Arc<Correction> {
         let key = CorrectionKey {
             log: ptr(log),
             prepared: ptr(prepared),
@@ -107,7 +107,7 @@ impl Pipeline {
             None => {
                 let corrected = match bufs.first().filter(|cur| cur.key.patchable_to(&key)) {
                     Some(cur) => {
-                        let mut c = Corrected::clone(&cur.corrected);
+                        let mut c = Correction::clone(&cur.corrected);
                         terms.patch(cal, log, prepared, &mut c, cur.key.changed(&key));
                         c
                     }
@@ -128,7 +128,7 @@ impl Pipeline {
 }
 
 /// `dst` made equal to `src`, reusing `dst`'s buffers.
-fn copy_correction(dst: &mut Corrected, src: &Corrected) {
+fn copy_correction(dst: &mut Correction, src: &Correction) {
     dst.pred_dph.clone_from(&src.pred_dph);
     dst.cor_dph.clone_from(&src.cor_dph);
     dst.regime.clone_from(&src.regime);

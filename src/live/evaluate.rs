@@ -8,7 +8,7 @@ impl Pipeline {
     /// that correction stays; the display series reuses a buffer the UI no longer holds.
     pub(super) fn evaluate_kept(
         &mut self,
-        corrected: &Corrected,
+        corrected: &Correction,
         dt_s: f64,
         merit: &MeritOptions,
         filter: usize,
@@ -118,7 +118,7 @@ impl Pipeline {
 }
 
 /// Raw against corrected figures, with the ratios as [`Comparison::of`] makes them.
-pub(super) fn evaluation(raw: Figures, corrected: Figures, c: &Corrected) -> Evaluation {
+pub(super) fn evaluation(raw: Figures, corrected: Figures, c: &Correction) -> Evaluation {
     Evaluation {
         comparison: Comparison::from_figures(raw, corrected),
         outside_fraction: c.outside_fraction,

@@ -79,7 +79,7 @@ pub struct Request {
 }
 
 /// A corrected log: the engine's correction.
-pub use crate::models::vakhrameev::correct::Correction as Corrected;
+pub use crate::models::vakhrameev::correct::Correction;
 
 /// The calibration judged on one log.
 #[derive(Debug, Clone)]
@@ -88,7 +88,7 @@ pub struct Judged {
     pub log: Arc<Log>,
     /// The correction (shared: the next refit patches it in place once this is dropped, or a
     /// copy of it while it is held).
-    pub corrected: Arc<Corrected>,
+    pub corrected: Arc<Correction>,
     /// Raw against corrected.
     pub evaluation: Evaluation,
     /// Ω filtered as for the figures (centred moving average), °/h.
@@ -178,7 +178,7 @@ pub struct Pipeline {
     raw_filtered: Option<(RawFilteredKey, Arc<Vec<f64>>)>,
     validation: Option<ValidationCache>,
     /// The validation log's last correction, reused in place once the UI has dropped it.
-    validation_corrected: Option<Arc<Corrected>>,
+    validation_corrected: Option<Arc<Correction>>,
     /// The last corrections of the calibration log, newest first (at most two: the one the
     /// UI shows and the one before, whose buffers the next run reuses once they are free).
     corrections: Vec<CorrectionBuf>,

@@ -144,7 +144,7 @@ impl Terms {
         cal: &Calibration,
         log: &Arc<Log>,
         prepared: &Arc<Prepared>,
-        c: &mut Corrected,
+        c: &mut Correction,
         changed: Changed,
     ) {
         let Changed {

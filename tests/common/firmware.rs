@@ -101,7 +101,7 @@ pub fn compile(
     libs: &[&str],
 ) -> Option<PathBuf> {
     let Some(cc) = compiler() else {
-        println!("no C compiler (CC or cc): the compiled-C checks are skipped");
+        super::cannot_run("no C compiler (CC or cc) for the compiled-C checks");
         return None;
     };
     std::fs::write(dir.join("calibration.h"), header).unwrap();

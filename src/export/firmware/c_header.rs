@@ -17,7 +17,7 @@
 //! - [`crate::models::vakhrameev::correct::StreamCorrector`]: the causal running mean of T, the 3-point backward
 //!   differences with `2H` as one constant, the first `2s` (`4s`) samples without Ṫ (T̈).
 //!
-//! A regression model gets its own header ([`super::c_regression`]): the same preamble shape,
+//! A regression model gets its own header ([`super::c_regression`]): a preamble of the same shape,
 //! its terms as an array of codes evaluated by one `switch`, and a port of
 //! [`crate::models::regression::RegressionCorrector::push`] (lag, smoothing, differences, τd(T), the
 //! delayed read, clamping, the row and the dot product from −0, as `f64::sum` starts).
@@ -368,9 +368,8 @@ fn curve(
 /// The Vakhrameev model (docs/method.md §1): its five curves, dead-bands, and the two functions
 /// every model provides to the corrector, `driftlab_predict` and `driftlab_is_outside`.
 ///
-/// Another model in the calibration file gets its own function beside this one, writing its
-/// constants and the same two functions; the preamble, the curve evaluator and the corrector are
-/// shared.
+/// A regression model has a header of its own ([`super::c_regression`]) with its own preamble,
+/// constants and corrector; only the number formatting and the ring limits are shared.
 pub fn vakhrameev(h: &mut String, cal: &Calibration) -> Result<(), ExportError> {
     let r = &cal.resolved;
     let u = &cal.units;

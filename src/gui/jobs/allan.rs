@@ -10,7 +10,7 @@ pub struct AllanRequest {
     /// The log.
     pub log: Arc<Log>,
     /// Its correction.
-    pub corrected: Arc<crate::live::Corrected>,
+    pub corrected: Arc<crate::live::Correction>,
 }
 
 /// The Allan deviations of one log, raw and corrected.
