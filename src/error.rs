@@ -16,12 +16,16 @@ pub enum Error {
         /// What is wrong, with line and column where known.
         message: String,
     },
-    /// The recipe asks for something that cannot be done on this log.
-    #[error("{0}")]
-    Recipe(String),
+    /// A setting, a field of a file or a spec holds a value driftlab cannot use.
+    #[error(transparent)]
+    Invalid(#[from] Invalid),
     /// The data cannot support the fit that was asked for.
     #[error("{0}")]
     Fit(String),
+    /// A stage the engine needed was not there: a defect of driftlab, named so it can be
+    /// reported.
+    #[error("internal: {0} (please report this)")]
+    Internal(&'static str),
     /// An operating-system error while reading or writing a file.
     #[error("{path}: {source}")]
     Io {
@@ -30,6 +34,34 @@ pub enum Error {
         /// The underlying error.
         source: std::io::Error,
     },
+}
+
+/// A setting or a field with a value driftlab cannot use: which one (as a recipe or file
+/// names it, `k1_plus.knots`, `resolved.dt_s`), and why.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("{field}: {reason}")]
+pub struct Invalid {
+    /// The setting or field, as a recipe or file names it.
+    pub field: String,
+    /// What is wrong with its value.
+    pub reason: String,
+}
+
+impl Invalid {
+    /// `field` cannot be used, for `reason`.
+    pub fn new(field: impl Into<String>, reason: impl Into<String>) -> Invalid {
+        Invalid {
+            field: field.into(),
+            reason: reason.into(),
+        }
+    }
+}
+
+/// For the faces, whose messages are text: `?` turns an [`Invalid`] into its message.
+impl From<Invalid> for String {
+    fn from(e: Invalid) -> String {
+        e.to_string()
+    }
 }
 
 /// Shorthand for the engine's results.

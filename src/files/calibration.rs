@@ -139,7 +139,7 @@ pub fn model_from_json(path: &Path, text: &str) -> Result<DriftModel> {
         let file: CalFile = serde_json::from_str(text).map_err(|e| err(e.to_string()))?;
         DriftModel::Vakhrameev(Box::new(file.calibration))
     };
-    model.validate().map_err(err)?;
+    model.validate().map_err(|e| err(e.to_string()))?;
     check_windows(windows(&model)).map_err(err)?;
     Ok(model)
 }

@@ -44,6 +44,7 @@ mod tests;
 
 pub use plateaus::suggest_plateaus;
 
+use crate::error::Error;
 use crate::files::session::{Coefficient, KnotEdits};
 use crate::judge::metrics::{Comparison, Evaluation, Figures, MeritOptions};
 use crate::log::Log;
@@ -280,18 +281,18 @@ impl Pipeline {
     ///
     /// # Errors
     /// An invalid recipe, a log too short to calibrate, no plateaus.
-    pub fn run(&mut self, req: &Request) -> Result<Outcome, String> {
+    pub fn run(&mut self, req: &Request) -> Result<Outcome, Error> {
         let t_all = Instant::now();
         let mut timings = Timings::default();
         let log = &req.log;
         let recipe = &req.recipe;
         recipe.validate()?;
         if log.len() < 16 {
-            return Err(format!(
+            return Err(Error::Fit(format!(
                 "{}: {} samples are too few to calibrate",
                 log.source,
                 log.len()
-            ));
+            )));
         }
 
         let t = Instant::now();
@@ -320,10 +321,12 @@ impl Pipeline {
             });
             timings.plateaus_ms = ms(t);
         }
-        let stage = self.plateaus.as_ref().ok_or("plateau stage missing")?;
+        let stage = self
+            .plateaus
+            .as_ref()
+            .ok_or(Error::Internal("the plateau stage is missing"))?;
         let mut warnings = Vec::new();
-        let k0 = vakhrameev::fit_k0(&stage.stats, &recipe.k0, &mut warnings)
-            .map_err(|e| e.to_string())?;
+        let k0 = vakhrameev::fit_k0(&stage.stats, &recipe.k0, &mut warnings)?;
         let k0 = with_knots(&k0, req.knots.get(Coefficient::K0));
         let stats = stage.stats.clone();
         let mask = stage.mask.clone();
@@ -415,8 +418,8 @@ impl Pipeline {
                 None => fit.clone(),
             })
         };
-        let plus = edited(0, Regime::Plus).ok_or("+ set missing")?;
-        let minus = edited(1, Regime::Minus).ok_or("− set missing")?;
+        let plus = edited(0, Regime::Plus).ok_or(Error::Internal("the + set is missing"))?;
+        let minus = edited(1, Regime::Minus).ok_or(Error::Internal("the − set is missing"))?;
         if !req.knots.is_empty() {
             timings.fit_ms += ms(t);
         }

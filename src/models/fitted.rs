@@ -1,7 +1,7 @@
 //! Any fitted drift model — the Vakhrameev calibration or a regression model — behind one
 //! face, so that files, `apply`, `compare` and the workbench treat them alike.
 
-use crate::error::{Error, Result};
+use crate::error::{Error, Invalid, Result};
 use crate::log::Log;
 use crate::models::presets::Preset;
 use crate::models::regression::{RegressionCalibration, RegressionCorrector};
@@ -134,7 +134,7 @@ impl DriftModel {
     ///
     /// # Errors
     /// A message naming what is inconsistent.
-    pub fn validate(&self) -> std::result::Result<(), String> {
+    pub fn validate(&self) -> std::result::Result<(), Invalid> {
         match self {
             DriftModel::Vakhrameev(c) => c.validate(),
             DriftModel::Regression(r) => r.model.validate(),

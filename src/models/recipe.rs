@@ -5,6 +5,7 @@
 //! a pure function of (log, recipe), so the same recipe file gives the same calibration from the
 //! command line, the workbench or a batch script.
 
+use crate::error::Invalid;
 use crate::models::approx::{ApproxKind, ApproxSpec};
 use crate::signal::plateau::{DetectOptions, PlateauRange};
 use serde::{Deserialize, Serialize};
@@ -111,13 +112,14 @@ impl Default for Recipe {
 
 impl Recipe {
     /// Checks the numbers once, so fitting can trust them; the message names the setting.
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), Invalid> {
         let positive = |name: &str, v: f64| {
             if v.is_finite() && v > 0.0 {
                 Ok(())
             } else {
-                Err(format!(
-                    "{name} must be a positive number of seconds, got {v}"
+                Err(Invalid::new(
+                    name,
+                    format!("must be a positive number of seconds, got {v}"),
                 ))
             }
         };
@@ -131,20 +133,23 @@ impl Recipe {
             if let Some(v) = v
                 && !(v.is_finite() && v >= 0.0)
             {
-                return Err(format!("{name} must be a non-negative number, got {v}"));
+                return Err(Invalid::new(
+                    name,
+                    format!("must be a non-negative number, got {v}"),
+                ));
             }
         }
         if self.refinements > 20 {
-            return Err(format!(
-                "refinements must be at most 20, got {}",
-                self.refinements
+            return Err(Invalid::new(
+                "refinements",
+                format!("must be at most 20, got {}", self.refinements),
             ));
         }
         for (name, spec) in self.specs() {
             if spec.kind.has_knots() && !(2..=64).contains(&spec.knots) {
-                return Err(format!(
-                    "{name}: knots must be between 2 and 64, got {}",
-                    spec.knots
+                return Err(Invalid::new(
+                    format!("{name}.knots"),
+                    format!("must be between 2 and 64, got {}", spec.knots),
                 ));
             }
         }
@@ -153,9 +158,12 @@ impl Recipe {
             PlateauChoice::Manual { ranges } => {
                 for r in ranges {
                     if !(r.start_s.is_finite() && r.end_s.is_finite() && r.start_s < r.end_s) {
-                        return Err(format!(
-                            "plateau {}:{} must have a start before its end",
-                            r.start_s, r.end_s
+                        return Err(Invalid::new(
+                            "plateaus.ranges",
+                            format!(
+                                "plateau {}:{} must have a start before its end",
+                                r.start_s, r.end_s
+                            ),
                         ));
                     }
                 }

@@ -201,10 +201,15 @@ pub const MAX_HISTORY_SAMPLES: usize = 10_000_000;
 /// # Errors
 /// A message naming the step, window or delay that would need more than
 /// [`MAX_HISTORY_SAMPLES`] samples, or a step that is not a positive number of seconds.
-pub fn check_history(steps: DerivativeSteps, back_s: f64, dt_s: f64) -> Result<(), String> {
+pub fn check_history(
+    steps: DerivativeSteps,
+    back_s: f64,
+    dt_s: f64,
+) -> Result<(), crate::error::Invalid> {
     if !(dt_s.is_finite() && dt_s > 0.0) {
-        return Err(format!(
-            "a sampling step of {dt_s} s: a positive number of seconds is needed"
+        return Err(crate::error::Invalid::new(
+            "sampling step",
+            format!("{dt_s} s: a positive number of seconds is needed"),
         ));
     }
     let back = back_s / dt_s;
@@ -217,9 +222,12 @@ pub fn check_history(steps: DerivativeSteps, back_s: f64, dt_s: f64) -> Result<(
         ("the longest delay", back),
     ] {
         if samples > MAX_HISTORY_SAMPLES as f64 {
-            return Err(format!(
-                "{what} spans {samples:.3e} samples of {dt_s} s, more than the \
-                 {MAX_HISTORY_SAMPLES} a streaming corrector keeps"
+            return Err(crate::error::Invalid::new(
+                what,
+                format!(
+                    "spans {samples:.3e} samples of {dt_s} s, more than the \
+                     {MAX_HISTORY_SAMPLES} a streaming corrector keeps"
+                ),
             ));
         }
     }

@@ -5,6 +5,7 @@
 //! settled tail: after the chamber stops, heat still diffuses into the coil for many minutes and
 //! the rate-driven drift dies away slowly, so the start of a hold is not yet static.
 
+use crate::error::Invalid;
 use serde::{Deserialize, Serialize};
 
 /// A plateau as a time range, s (inclusive).
@@ -80,18 +81,20 @@ impl Default for DetectOptions {
 
 impl DetectOptions {
     /// Checks the settings; the message names the one that is wrong.
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), Invalid> {
+        let bad =
+            |field: &str, reason: &str| Err(Invalid::new(format!("plateaus.{field}"), reason));
         if !(self.max_rate_c_per_min.is_finite() && self.max_rate_c_per_min > 0.0) {
-            return Err("plateau max_rate_c_per_min must be positive".into());
+            return bad("max_rate_c_per_min", "must be positive");
         }
         if !(self.min_duration_s.is_finite() && self.min_duration_s >= 0.0) {
-            return Err("plateau min_duration_s must be non-negative".into());
+            return bad("min_duration_s", "must be non-negative");
         }
         if !(self.settled_fraction > 0.0 && self.settled_fraction <= 1.0) {
-            return Err("plateau settled_fraction must be in (0, 1]".into());
+            return bad("settled_fraction", "must be in (0, 1]");
         }
         if !(self.bridge_s.is_finite() && self.bridge_s >= 0.0) {
-            return Err("plateau bridge_s must be non-negative".into());
+            return bad("bridge_s", "must be non-negative");
         }
         Ok(())
     }

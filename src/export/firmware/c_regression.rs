@@ -18,7 +18,7 @@ use crate::models::regression::{RegressionCalibration, RegressionModel, Term};
 /// platform's libm; the tests compile the header and compare).
 pub fn regression(cal: &RegressionCalibration) -> Result<String, ExportError> {
     let m = &cal.model;
-    m.validate().map_err(ExportError::Calibration)?;
+    m.validate()?;
     let mut h = String::new();
     regression_preamble(&mut h, cal)?;
     regression_constants(&mut h, m)?;

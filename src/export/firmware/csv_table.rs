@@ -154,7 +154,7 @@ fn column(name: &str, a: &Approx, points: usize) -> Result<Vec<(String, String)>
 /// header does it for you, bit for bit).
 pub fn regression(cal: &RegressionCalibration) -> Result<String, ExportError> {
     let m = &cal.model;
-    m.validate().map_err(ExportError::Calibration)?;
+    m.validate()?;
     let src = &cal.source;
     let steps = m.steps_for(m.dt_s);
     let list = |v: &[f64], what: &str| -> Result<String, ExportError> {

@@ -94,6 +94,9 @@ pub enum ExportError {
     /// A number of the calibration cannot be written for a processor.
     #[error("{0}")]
     Calibration(String),
+    /// The calibration does not hold together.
+    #[error(transparent)]
+    Invalid(#[from] crate::error::Invalid),
 }
 
 /// Writes `cal` in `format`.

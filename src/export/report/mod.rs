@@ -470,9 +470,10 @@ fn start(
 ) -> Result<(Vec<String>, Vec<bool>)> {
     std::fs::create_dir_all(out_dir).map_err(|e| Error::io(out_dir, e))?;
     if !(merit.filter_s > 0.0 && merit.window_s > 0.0) {
-        return Err(Error::Recipe(
-            "the figures of merit need a positive filter and window".into(),
-        ));
+        return Err(Error::Invalid(crate::error::Invalid::new(
+            "merit",
+            "the figures of merit need a positive filter and window",
+        )));
     }
     let hashes: Vec<String> = logs
         .iter()

@@ -129,7 +129,7 @@ pub(super) fn fit_worker(rx: Receiver<FitMsg>, tx: Sender<JobResult>, ctx: Share
         }
         let FitMsg::Fit(generation, request) = msg;
         let run = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-            let outcome = pipeline.run(&request)?;
+            let outcome = pipeline.run(&request).map_err(|e| e.to_string())?;
             let lods = build_lods(&mut cache, &outcome);
             Ok::<_, String>(FitView {
                 generation,

@@ -57,8 +57,7 @@ impl RegressionModel {
     /// windows or delay history would span more than [`crate::signal::MAX_HISTORY_SAMPLES`]
     /// samples.
     pub fn corrector_for(&self, dt_s: f64) -> Result<RegressionCorrector> {
-        crate::signal::check_history(self.steps_for(dt_s), self.delay.max_s(), dt_s)
-            .map_err(crate::error::Error::Recipe)?;
+        crate::signal::check_history(self.steps_for(dt_s), self.delay.max_s(), dt_s)?;
         Ok(RegressionCorrector::new(self.clone(), dt_s))
     }
 }

@@ -271,7 +271,7 @@ fn cost<I: Iterator<Item = usize>>(
 /// # Errors
 /// An invalid spec, a channel the log lacks, or too few usable samples for the terms.
 pub fn fit(log: &Log, spec: &RegressionSpec) -> Result<RegressionModel> {
-    spec.validate().map_err(Error::Recipe)?;
+    spec.validate()?;
     let needs_temp2 = spec.terms.iter().any(Term::needs_temp2);
     let temp2 = if needs_temp2 {
         let name = spec

@@ -2,6 +2,7 @@
 //! it holds its inputs to, and how it predicts one sample.
 
 use super::{CostCurve, Inputs, RegressionSpec, Term, terms};
+use crate::error::Invalid;
 use crate::models::vakhrameev::SourceInfo;
 use crate::signal::DerivativeSteps;
 use serde::{Deserialize, Serialize};
@@ -206,20 +207,22 @@ impl RegressionModel {
     ///
     /// # Errors
     /// A message naming what is inconsistent.
-    pub fn validate(&self) -> std::result::Result<(), String> {
+    pub fn validate(&self) -> std::result::Result<(), Invalid> {
         self.spec.validate()?;
         let p = terms::column_names(&self.spec.terms).len();
         if self.coefficients.len() != p || self.std_errors.len() != p || self.names.len() != p {
-            return Err(format!(
-                "model {}: {} terms need {p} coefficients, standard errors and names",
-                self.spec.name,
-                self.spec.terms.len()
+            return Err(Invalid::new(
+                format!("model {}", self.spec.name),
+                format!(
+                    "{} terms need {p} coefficients, standard errors and names",
+                    self.spec.terms.len()
+                ),
             ));
         }
         if self.coefficients.iter().any(|c| !c.is_finite()) {
-            return Err(format!(
-                "model {}: coefficients must be finite",
-                self.spec.name
+            return Err(Invalid::new(
+                format!("model {}", self.spec.name),
+                "coefficients must be finite",
             ));
         }
         let knots = self
@@ -235,9 +238,9 @@ impl RegressionModel {
             || self.t_knots.iter().any(|k| !k.is_finite())
             || self.t_knots.windows(2).any(|w| w[0] >= w[1])
         {
-            return Err(format!(
-                "model {}: pwlT knots must be {knots} finite ascending temperatures",
-                self.spec.name
+            return Err(Invalid::new(
+                format!("model {}", self.spec.name),
+                "pwlT knots must be {knots} finite ascending temperatures",
             ));
         }
         let ok = |r: &Range| r[0].is_finite() && r[1].is_finite() && r[0] <= r[1];
@@ -249,9 +252,9 @@ impl RegressionModel {
             || r.channels.iter().any(|r| !ok(r))
             || r.channels.len() != self.channel_names().len()
         {
-            return Err(format!(
-                "model {}: input ranges must be finite, ordered, one per channel",
-                self.spec.name
+            return Err(Invalid::new(
+                format!("model {}", self.spec.name),
+                "input ranges must be finite, ordered, one per channel",
             ));
         }
         let d = &self.delay.points;
@@ -259,27 +262,33 @@ impl RegressionModel {
             .any(|p| !(p[0].is_finite() && p[1].is_finite() && p[1] >= 0.0))
             || d.windows(2).any(|w| w[0][0] >= w[1][0])
         {
-            return Err(format!(
-                "model {}: delay points must be finite, non-negative, ascending in T",
-                self.spec.name
+            return Err(Invalid::new(
+                format!("model {}", self.spec.name),
+                "delay points must be finite, non-negative, ascending in T",
             ));
         }
         if self.lag_s.is_some_and(|l| !(l.is_finite() && l >= 0.0)) || !self.lag_per_c.is_finite() {
-            return Err(format!(
-                "model {}: the lag must be non-negative",
-                self.spec.name
+            return Err(Invalid::new(
+                format!("model {}", self.spec.name),
+                "the lag must be non-negative",
             ));
         }
         if self.lambda_s.is_some_and(|l| !(l.is_finite() && l > 0.0)) {
-            return Err(format!("model {}: λ must be positive", self.spec.name));
+            return Err(Invalid::new(
+                format!("model {}", self.spec.name),
+                "λ must be positive",
+            ));
         }
         if !(self.dt_s.is_finite() && self.dt_s > 0.0) {
-            return Err(format!("model {}: dt_s must be positive", self.spec.name));
+            return Err(Invalid::new(
+                format!("model {}", self.spec.name),
+                "dt_s must be positive",
+            ));
         }
         if self.spec.terms.iter().any(Term::needs_temp2) != self.temp2.is_some() {
-            return Err(format!(
-                "model {}: dT terms and the second temperature channel go together",
-                self.spec.name
+            return Err(Invalid::new(
+                format!("model {}", self.spec.name),
+                "dT terms and the second temperature channel go together",
             ));
         }
         Ok(())

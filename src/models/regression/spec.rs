@@ -2,6 +2,7 @@
 //! (τd, λ, the lag of T) are found.
 
 use super::Term;
+use crate::error::Invalid;
 use crate::models::recipe::{PlateauChoice, Recipe};
 use serde::{Deserialize, Serialize};
 use std::str::FromStr;
@@ -286,15 +287,15 @@ impl RegressionSpec {
     ///
     /// # Errors
     /// No terms, a non-positive window, a negative or non-finite delay or λ, too few bands.
-    pub fn validate(&self) -> std::result::Result<(), String> {
+    pub fn validate(&self) -> std::result::Result<(), Invalid> {
         if self.terms.is_empty() {
-            return Err(format!("model {}: no terms", self.name));
+            return Err(Invalid::new(format!("model {}", self.name), "no terms"));
         }
         let pos = |v: f64| v.is_finite() && v > 0.0;
         if !pos(self.smoothing_s) || !pos(self.step_h_s) {
-            return Err(format!(
-                "model {}: smoothing and step H must be positive seconds",
-                self.name
+            return Err(Invalid::new(
+                format!("model {}", self.name),
+                "smoothing and step H must be positive seconds",
             ));
         }
         match self.delay {
@@ -304,9 +305,9 @@ impl RegressionSpec {
             DelaySpec::Bands { bands, max_s }
                 if pos(max_s) && (1..=MAX_DELAY_BANDS).contains(&bands) => {}
             _ => {
-                return Err(format!(
-                    "model {}: the delay must be non-negative seconds and bands 1 to 20",
-                    self.name
+                return Err(Invalid::new(
+                    format!("model {}", self.name),
+                    "the delay must be non-negative seconds and bands 1 to 20",
                 ));
             }
         }
@@ -316,16 +317,21 @@ impl RegressionSpec {
                 if seconds.is_finite() && seconds >= 0.0 && per_c.is_finite() => {}
             LagSpec::Search { max_s, .. } if pos(max_s) => {}
             _ => {
-                return Err(format!(
-                    "model {}: the lag must be non-negative seconds",
-                    self.name
+                return Err(Invalid::new(
+                    format!("model {}", self.name),
+                    "the lag must be non-negative seconds",
                 ));
             }
         }
         match self.lambda {
             LambdaSpec::Fixed { seconds } if pos(seconds) => {}
             LambdaSpec::Search { min_s, max_s } if pos(min_s) && max_s > min_s => {}
-            _ => return Err(format!("model {}: λ must be positive seconds", self.name)),
+            _ => {
+                return Err(Invalid::new(
+                    format!("model {}", self.name),
+                    "λ must be positive seconds",
+                ));
+            }
         }
         Ok(())
     }

@@ -6,7 +6,7 @@
 //! [`StreamCorrector`] is the piece a firmware engineer ports; it keeps a few short ring buffers
 //! and does a fixed amount of work per sample.
 
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::log::Log;
 use crate::models::vakhrameev::{Calibration, Regime};
 use crate::signal::{self, DerivativeSteps, Derivatives, Rates};
@@ -265,7 +265,7 @@ impl Calibration {
     /// windows would span more than [`signal::MAX_HISTORY_SAMPLES`] samples.
     pub fn corrector_for(&self, dt_s: f64) -> Result<StreamCorrector> {
         let steps = self.steps_for(dt_s);
-        signal::check_history(steps, 0.0, dt_s).map_err(Error::Recipe)?;
+        signal::check_history(steps, 0.0, dt_s)?;
         Ok(StreamCorrector::new(self.clone(), steps, dt_s))
     }
 

@@ -25,7 +25,7 @@ pub(crate) use sets::{
     set_samples,
 };
 
-use crate::error::{Error, Result};
+use crate::error::{Error, Invalid, Result};
 use crate::log::Log;
 use crate::models::approx::{
     self, Approx, ApproxKind, ApproxSpec, FitOptions, PointSource, XRange,
@@ -310,27 +310,36 @@ impl Calibration {
 
     /// Checks what a file could get wrong and the approximations do not check themselves: the
     /// sampling step, the windows, the dead-bands and the plateau numbers.
-    pub fn validate(&self) -> std::result::Result<(), String> {
+    pub fn validate(&self) -> std::result::Result<(), Invalid> {
         self.recipe.validate()?;
         let r = &self.resolved;
         if !(r.dt_s.is_finite() && r.dt_s > 0.0) {
-            return Err(format!(
-                "resolved.dt_s must be a positive step in seconds, got {}",
-                r.dt_s
+            return Err(Invalid::new(
+                "resolved.dt_s",
+                format!("must be a positive step in seconds, got {}", r.dt_s),
             ));
         }
         if r.filter_samples == 0 || r.smooth_samples == 0 || r.step_samples == 0 {
-            return Err("resolved windows and step must be at least one sample".into());
+            return Err(Invalid::new(
+                "resolved",
+                "windows and step must be at least one sample",
+            ));
         }
         let usable = |d: f64| d.is_finite() && d >= 0.0;
         if !usable(r.deadband_tdot) || !usable(r.deadband_tddot) {
-            return Err("resolved dead-bands must be finite and non-negative".into());
+            return Err(Invalid::new(
+                "resolved",
+                "dead-bands must be finite and non-negative",
+            ));
         }
         if self.units != Units::default() {
-            return Err(format!(
-                "units {:?} differ from the ones this driftlab works in ({:?})",
-                self.units,
-                Units::default()
+            return Err(Invalid::new(
+                "units",
+                format!(
+                    "{:?} differ from the ones this driftlab works in ({:?})",
+                    self.units,
+                    Units::default()
+                ),
             ));
         }
         for p in &self.plateaus {
@@ -342,7 +351,7 @@ impl Calibration {
                 p.omega_std_dph,
             ];
             if v.iter().any(|x| !x.is_finite()) {
-                return Err("plateau statistics must be finite".into());
+                return Err(Invalid::new("plateaus", "statistics must be finite"));
             }
         }
         Ok(())
@@ -547,7 +556,7 @@ pub fn fit(log: &Log, recipe: &Recipe) -> Result<Fit> {
 }
 
 fn check_fittable(log: &Log, recipe: &Recipe) -> Result<()> {
-    recipe.validate().map_err(Error::Recipe)?;
+    recipe.validate()?;
     if log.len() < 16 {
         return Err(Error::Fit(format!(
             "{}: {} samples are too few to calibrate",
