@@ -66,5 +66,7 @@ pub fn step_profile(from_c: f64, to_c: f64) -> Profile {
         ],
         gyro: GyroParams::default(),
         laser: None,
+        axes: Vec::new(),
+        accelerometers: Vec::new(),
     }
 }
