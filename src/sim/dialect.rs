@@ -115,7 +115,7 @@ impl DialectPreset {
 }
 
 /// The text of the `#` line of [`CsvDialect::stand`].
-pub const STAND_LINE: &str = "stand: driftlab simulated three-axis FOG IMU test stand";
+pub const STAND_LINE: &str = "stand: driftlab simulated gyro test stand TS-1";
 
 /// How a simulated log is written.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

@@ -37,6 +37,12 @@ impl State {
         self.housing = other.housing;
         self.coil.copy_from(&other.coil);
     }
+
+    /// Makes this state the straight line from `a` (at `f` = 0) to `b` (at `f` = 1).
+    fn interpolate(&mut self, a: &State, b: &State, f: f64) {
+        self.housing = a.housing + (b.housing - a.housing) * f;
+        self.coil.interpolate(&a.coil, &b.coil, f);
+    }
 }
 
 /// The random parts of one axis: its noise, and the stream that splits its white noise over
@@ -83,7 +89,9 @@ pub(crate) fn run<E>(
         housing: profile.start_c,
         coil: Coil::new(p, profile.start_c),
     };
-    let mut branch = state.clone();
+    // The state at the previous profile instant, and the one between it and the current.
+    let mut prev = state.clone();
+    let mut between = state.clone();
     let mut sensor = Sensor::new(p, seed);
     let mut fine_sensor = Sensor::on_stream(p, seed, noise::FINE_SENSOR_STREAM);
     let mut axis_noise: Vec<AxisNoise> = axes
@@ -124,64 +132,31 @@ pub(crate) fn run<E>(
         let t = i as f64 * dt;
         if i > 0 {
             let t_prev = (i - 1) as f64 * dt;
+            if fine > 1 {
+                prev.copy_from(&state);
+            }
             for k in 0..subs {
                 let ta = t_prev + k as f64 * h;
                 let tb = t_prev + (k + 1) as f64 * h;
                 state.advance(&program, p, ta, tb, h);
             }
-        }
-        for a in &mut axis_noise {
-            a.parts = a.noise.next_parts();
-        }
-        for a in &mut accel_noise {
-            a.white = a.sigma * noise::normal(&mut a.rng);
-        }
-        let temp_c = sensor.read(state.housing);
-        if fine == 1 {
-            observe(
-                &mut sample,
-                t,
-                &program,
-                p,
-                &axes,
-                accels,
-                &mut state,
-                temp_c,
-            );
-            for (s, a) in sample.axes.iter_mut().zip(&axis_noise) {
-                s.set_noise(a.parts.total());
-            }
-            for ((s, a), n) in sample.accel.iter_mut().zip(accels).zip(&accel_noise) {
-                s.set_noise(n.white, a);
-            }
-            sink(&sample)?;
-        } else {
-            for a in &mut axis_noise {
-                let sigma = a.noise.white_sigma() * sqrt_fine;
-                noise::split_white(a.parts.white, sigma, &mut a.split, &mut a.fine_white);
-            }
-            for a in &mut accel_noise {
-                let sigma = a.sigma * sqrt_fine;
-                noise::split_white(a.white, sigma, &mut a.split, &mut a.fine_white);
-            }
-            // The profile's instant: its thermal state and temperature reading, the first of
-            // the faster samples of its interval.
-            let last = i + 1 == n;
-            let count = if last { 1 } else { fine };
-            for j in 0..count {
-                let (tj, temp) = if j == 0 {
-                    (t, temp_c)
-                } else {
-                    if j == 1 {
-                        branch.copy_from(&state);
-                    }
-                    let ta = t + (j - 1) as f64 * h_fine;
-                    let tb = t + j as f64 * h_fine;
-                    branch.advance(&program, p, ta, tb, h_fine);
-                    (tb, fine_sensor.read(branch.housing))
-                };
-                let st = if j == 0 { &mut state } else { &mut branch };
-                observe(&mut sample, tj, &program, p, &axes, accels, st, temp);
+            // The faster samples between the previous instant and this one, in the state
+            // interpolated between the two and with the previous sample's noise split.
+            for j in 1..fine {
+                let f = j as f64 / fine as f64;
+                between.interpolate(&prev, &state, f);
+                let tj = t_prev + j as f64 * h_fine;
+                let temp = fine_sensor.read(between.housing);
+                observe(
+                    &mut sample,
+                    tj,
+                    &program,
+                    p,
+                    &axes,
+                    accels,
+                    &mut between,
+                    temp,
+                );
                 for (s, a) in sample.axes.iter_mut().zip(&axis_noise) {
                     s.set_noise(a.parts.with_white(a.fine_white[j]));
                 }
@@ -191,6 +166,47 @@ pub(crate) fn run<E>(
                 sink(&sample)?;
             }
         }
+        for a in &mut axis_noise {
+            a.parts = a.noise.next_parts();
+        }
+        for a in &mut accel_noise {
+            a.white = a.sigma * noise::normal(&mut a.rng);
+        }
+        let temp_c = sensor.read(state.housing);
+        observe(
+            &mut sample,
+            t,
+            &program,
+            p,
+            &axes,
+            accels,
+            &mut state,
+            temp_c,
+        );
+        if fine == 1 {
+            for (s, a) in sample.axes.iter_mut().zip(&axis_noise) {
+                s.set_noise(a.parts.total());
+            }
+            for ((s, a), n) in sample.accel.iter_mut().zip(accels).zip(&accel_noise) {
+                s.set_noise(n.white, a);
+            }
+        } else {
+            for a in &mut axis_noise {
+                let sigma = a.noise.white_sigma() * sqrt_fine;
+                noise::split_white(a.parts.white, sigma, &mut a.split, &mut a.fine_white);
+            }
+            for a in &mut accel_noise {
+                let sigma = a.sigma * sqrt_fine;
+                noise::split_white(a.white, sigma, &mut a.split, &mut a.fine_white);
+            }
+            for (s, a) in sample.axes.iter_mut().zip(&axis_noise) {
+                s.set_noise(a.parts.with_white(a.fine_white[0]));
+            }
+            for ((s, a), n) in sample.accel.iter_mut().zip(accels).zip(&accel_noise) {
+                s.set_noise(n.fine_white[0], a);
+            }
+        }
+        sink(&sample)?;
         if i % report_every == 0 && i > 0 {
             progress(i as f64 / n as f64);
         }
