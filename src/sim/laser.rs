@@ -540,13 +540,13 @@ pub(crate) fn run<E>(
             sink(&sample)?;
             if i + 1 < n {
                 let mut branch = state;
-                for j in 1..fine {
+                for (j, &white) in fine_white.iter().enumerate().skip(1) {
                     let ta = t + (j - 1) as f64 * h_fine;
                     let tb = t + j as f64 * h_fine;
                     branch.advance(l, &program, ta, tb, h_fine, dither_wander.value());
                     observe(&mut sample, tb, &branch, power_w, piezo_w);
                     fine_meters.read(l, &mut sample);
-                    sample.axes[0].set_noise(parts.with_white(fine_white[j]));
+                    sample.axes[0].set_noise(parts.with_white(white));
                     sink(&sample)?;
                 }
             }

@@ -495,6 +495,11 @@ impl SimRun {
         self.time_s.is_empty()
     }
 
+    /// The gyro axis named `name` (`x`, `y`, `z`) of a fibre-optic run.
+    pub fn axis(&self, name: &str) -> Option<&SimAxis> {
+        self.axes.iter().find(|a| a.name == name)
+    }
+
     /// The time column as logged: the host stamps when there are any, else the true times.
     pub fn logged_time_s(&self) -> &[f64] {
         self.stamp_s.as_deref().unwrap_or(&self.time_s)
@@ -620,7 +625,7 @@ impl SimRun {
         let mut rates = vec![0.0; shape.axes.len()];
         let mut accel = vec![0.0; shape.accels.len()];
         let mut channels = vec![0.0; shape.channels.len()];
-        for i in 0..self.len() {
+        for (i, &time_s) in time.iter().enumerate() {
             for (k, r) in rates.iter_mut().enumerate() {
                 *r = self.rate(k, i);
             }
@@ -631,7 +636,7 @@ impl SimRun {
                 *v = c.values.get(i).copied().unwrap_or(f64::NAN);
             }
             let row = Row {
-                time_s: time[i],
+                time_s,
                 rates_dph: &rates,
                 accel_g: &accel,
                 temp_c: self.temp_c[i],

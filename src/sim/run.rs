@@ -10,6 +10,9 @@ use super::logging::{Logging, Stamper};
 use super::profile::Profile;
 use super::{LaserTruth, SimAccel, SimAxis, SimChannel, SimRun, fog, laser};
 
+/// Where a run's recorded samples go, each with its host stamp (`None` without jitter).
+pub(crate) type Sink<'a, E> = dyn FnMut(&Sample, Option<f64>) -> Result<(), E> + 'a;
+
 /// Most samples a run may log.
 const MAX_SAMPLES: f64 = 1e9;
 
@@ -161,7 +164,7 @@ impl Plan {
         seed: u64,
         logging: &Logging,
         progress: &dyn Fn(f64),
-        sink: &mut dyn FnMut(&Sample, Option<f64>) -> Result<(), E>,
+        sink: &mut Sink<'_, E>,
     ) -> Result<(), E> {
         let mut stamper = logging.jitter.as_ref().map(|j| Stamper::new(j, seed));
         let mut logged = |s: &Sample| {
