@@ -47,18 +47,18 @@
 //!   0.18 °/h per sample at 1 Hz), a first-order Gauss-Markov bias (`bias_instability_dph`,
 //!   `bias_correlation_s`) started in its stationary state, and a tiny rate random walk.
 //!   `omega_dph = thermal_dph + noise_dph` exactly.
-//!
-//! Magnitudes (reference gyro, `calibration` profile): the drift smoothed by a centred
-//! 100-sample moving average spans about 1.6 °/h peak to peak (Vakhrameev 2017: 1.68 °/h); the
-//! noise smoothed the same way about 0.13 °/h. Gyro noise and sensor noise come from two
-//! ChaCha streams of the one seed.
-//!
 //! * **Several axes** ([`AxisParams`], `--axes 3`): one housing and one winding model, so one
 //!   thermal field; each axis turns it into drift with its own K0(T), Shupe, stress and
 //!   asymmetry constants (other signs and sizes) and has its own noise from its own stream.
 //!   Each axis's drift is the formula above with its constants ([`axes`](SimRun::axes) holds
 //!   it split into its K0, Shupe and stress parts). Accelerometers ([`AccelParams`],
 //!   `--accel`) read gravity with a small dependence on the housing temperature.
+//!
+//! Magnitudes (reference gyro, `calibration` profile): the drift smoothed by a centred
+//! 100-sample moving average spans about 1.6 °/h peak to peak (Vakhrameev 2017: 1.68 °/h); the
+//! noise smoothed the same way about 0.13 °/h. Every random part (each axis's gyro noise, each
+//! sensor, the split of the noise over faster samples, the host's stamps) has its own ChaCha
+//! stream of the one seed, so that adding one never reshuffles another.
 //!
 //! # Profiles
 //!
