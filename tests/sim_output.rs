@@ -101,6 +101,23 @@ fn cli_lists_the_profiles_and_writes_noise_only() {
         assert!(help.contains(name), "--help lists {name}");
     }
     assert!(help.contains("--noise-only"));
+    for flag in [
+        "--axes",
+        "--accel",
+        "--rate-hz",
+        "--gap",
+        "--bursts",
+        "--jitter",
+        "--raw-temp-col",
+        "--dialect",
+        "--rate-names",
+        "--rate-unit",
+        "--time-unit",
+        "--separator",
+        "--decimal-mark",
+    ] {
+        assert!(help.contains(flag), "--help shows {flag}");
+    }
 
     let dir = tempfile::tempdir().unwrap();
     let full = dir.path().join("full.csv");
@@ -136,12 +153,38 @@ fn cli_lists_the_profiles_and_writes_noise_only() {
     let bad = driftlab_cli(&["simulate", "--profile", "moon", "--out", "x.csv"]);
     assert!(!bad.status.success());
     assert!(String::from_utf8_lossy(&bad.stderr).contains("laser-gyro"));
+
+    // Options that cannot be honoured are refused, naming the option, and nothing is written.
+    let x = dir.path().join("x.csv");
+    let x = x.to_str().unwrap();
+    for (args, word) in [
+        (vec!["--gap", "5"], "--gap"),
+        (vec!["--bursts", "10:5"], "--bursts"),
+        (vec!["--rate-hz", "0"], "--rate-hz"),
+        (vec!["--axes", "4"], "--axes"),
+        (vec!["--profile", "laser-gyro", "--axes", "3"], "--axes"),
+        (vec!["--profile", "laser-gyro", "--accel"], "--accel"),
+        (vec!["--rate-hz", "600", "--jitter"], "--jitter"),
+        (vec!["--decimal-mark", "comma"], "--decimal-mark"),
+        (vec!["--dialect", "moon"], "stand"),
+        (vec!["--rate-names", "q"], "gx_dps"),
+    ] {
+        let mut all = vec!["simulate", "--out", x];
+        all.extend(&args);
+        let out = driftlab_cli(&all);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "{args:?}");
+        assert!(err.contains(word), "{args:?}: {err}");
+        assert!(!std::path::Path::new(x).exists(), "{args:?} wrote a file");
+    }
 }
 
 #[test]
 fn sample_logs_are_what_their_first_line_says() {
-    // Every bundled log is remade, byte for byte, by the command on its first line.
+    // Every bundled log is remade, byte for byte, by the `driftlab simulate` command on its
+    // first `#` line (after the stand's line, for a stand's dialect), run as a user runs it.
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("sample_logs");
+    let out = tempfile::tempdir().unwrap();
     let mut seen = Vec::new();
     for entry in std::fs::read_dir(&dir).unwrap() {
         let path = entry.unwrap().path();
@@ -149,28 +192,38 @@ fn sample_logs_are_what_their_first_line_says() {
             continue;
         }
         let text = std::fs::read_to_string(&path).unwrap();
-        let first = text.lines().next().unwrap();
-        let words: Vec<&str> = first.split_whitespace().collect();
-        assert_eq!(
-            &words[..4],
-            ["#", "driftlab", "simulate", "--profile"],
-            "{first}"
-        );
-        let name = words[4];
-        assert_eq!(words[5], "--seed");
-        let seed: u64 = words[6].parse().unwrap();
-        let mut run = simulate(&profile(name).unwrap(), seed);
-        if words.get(7) == Some(&"--noise-only") {
-            run = run.noise_only();
-        }
-        let out = tempfile::tempdir().unwrap();
+        let command = text
+            .lines()
+            .take_while(|l| l.starts_with('#'))
+            .find_map(|l| l.strip_prefix("# driftlab simulate "))
+            .unwrap_or_else(|| panic!("{}: no `# driftlab simulate` line", path.display()));
+        let words: Vec<&str> = command.split_whitespace().collect();
+        assert_eq!(words[0], "--profile", "{command}");
         let remade = out.path().join("x.csv");
-        run.write_csv(&remade).unwrap();
+        let mut args = vec!["simulate"];
+        args.extend(&words);
+        args.extend(["--out", remade.to_str().unwrap()]);
+        let run = driftlab_cli(&args);
+        assert!(
+            run.status.success(),
+            "{command}: {}",
+            String::from_utf8_lossy(&run.stderr)
+        );
         assert!(
             std::fs::read_to_string(&remade).unwrap() == text,
-            "{} differs from `{first}`",
+            "{} differs from `driftlab simulate {command}`",
             path.display()
         );
+        // The single-axis logs are also the library's run of their profile and seed.
+        if words.len() <= 5 {
+            let seed: u64 = words[3].parse().unwrap();
+            let mut lib = simulate(&profile(words[1]).unwrap(), seed);
+            if words.get(4) == Some(&"--noise-only") {
+                lib = lib.noise_only();
+            }
+            lib.write_csv(&remade).unwrap();
+            assert!(std::fs::read_to_string(&remade).unwrap() == text);
+        }
         seen.push(path.file_stem().unwrap().to_string_lossy().to_string());
     }
     for name in [
@@ -181,10 +234,37 @@ fn sample_logs_are_what_their_first_line_says() {
         "yan-steps-high",
         "yan-full-range",
         "laser-gyro",
+        "imu3-calibration",
+        "imu3-validation",
     ] {
         assert!(
             seen.iter().any(|s| s == name),
             "sample_logs/{name}.csv missing"
         );
+    }
+}
+
+#[test]
+fn the_three_axis_sample_logs_are_a_stands_three_axis_runs() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("sample_logs");
+    for (name, profile_name) in [
+        ("imu3-calibration", "calibration"),
+        ("imu3-validation", "validation"),
+    ] {
+        let path = dir.join(format!("{name}.csv"));
+        let csv = Csv::read(&path, ';', true);
+        assert!(csv.comments[0].starts_with("stand: "), "{name}");
+        assert_eq!(
+            csv.names.join(";"),
+            "time_ms;gx_dps;gy_dps;gz_dps;ax_g;ay_g;az_g;temp_c;temp_chamber_c"
+        );
+        // 5 Hz over the whole program, time in ms.
+        let p = profile(profile_name).unwrap();
+        let ms = csv.column("time_ms");
+        assert_eq!(ms.len(), (p.sample_count() - 1) * 5 + 1);
+        assert!(ms.windows(2).all(|w| (w[1] - w[0] - 200.0).abs() < 1e-6));
+        // Under 25 MB each, so they can be bundled.
+        let size = std::fs::metadata(&path).unwrap().len();
+        assert!(size < 25_000_000, "{name}: {size} bytes");
     }
 }

@@ -1,7 +1,8 @@
 //! `driftlab simulate`: write a simulated chamber log.
 
 use clap::builder::{PossibleValue, PossibleValuesParser};
-use driftlab::sim;
+use driftlab::log::ingest::{RateUnit, TimeUnit};
+use driftlab::sim::{self, DialectPreset, HostJitter, Logging, RateNames, SimOptions};
 use std::path::PathBuf;
 
 /// Arguments of `simulate`.
@@ -23,6 +24,54 @@ pub struct Args {
     /// List the profiles and exit.
     #[arg(long)]
     pub list: bool,
+    /// Gyro axes of the unit, 1 to 3 (x, y, z): one thermal field, each axis with its own drift
+    /// constants (other signs and sizes) and its own noise; x is the single gyro. Not for
+    /// laser-gyro.
+    #[arg(long, value_name = "N")]
+    pub axes: Option<usize>,
+    /// Three accelerometers on the housing (acc_x_g.. or ax_g..), reading gravity (0, 0, 1 g)
+    /// with a small thermal sensitivity. Not for laser-gyro.
+    #[arg(long)]
+    pub accel: bool,
+    /// Sampling rate of the log, Hz (default: the profile's, 1 Hz). A whole multiple is the
+    /// same run sampled faster: the same thermal state and drift at the profile's instants,
+    /// and the noise averaged over each second equal to the 1 Hz run's.
+    #[arg(long, value_name = "HZ")]
+    pub rate_hz: Option<f64>,
+    /// A logger outage: no sample from START_S for DURATION_S seconds (repeatable).
+    #[arg(long = "gap", value_name = "START_S:DURATION_S")]
+    pub gaps: Vec<sim::Gap>,
+    /// Log in bursts: ON_S seconds at the start of every EVERY_S seconds (e.g. 10:120).
+    #[arg(long, value_name = "ON_S:EVERY_S")]
+    pub bursts: Option<sim::Bursts>,
+    /// Time stamps of a host reading the samples in batches (2 ms a sample, waits of 1-25 ms,
+    /// now and then a stall up to 0.5 s); the true sampling stays regular.
+    #[arg(long)]
+    pub jitter: bool,
+    /// Write the temperature as a raw int16 register, temp_raw_int16 (T = counts/340 + 36.53
+    /// °C), followed by the real one as temp_C_est.
+    #[arg(long)]
+    pub raw_temp_col: bool,
+    /// Column names, units and separators: driftlab (time_s,omega_dph,temp_c,...; default) or
+    /// stand (time_ms;gx_dps;gy_dps;gz_dps;... in deg/s, decimal comma, a # line naming the
+    /// stand). The options below change one thing of it.
+    #[arg(long, value_name = "driftlab|stand")]
+    pub dialect: Option<DialectPreset>,
+    /// Rate column names: omega (omega_dph), g (gx_dps), w (wx_dps) or gyro (gyro_x_dps).
+    #[arg(long, value_name = "omega|g|w|gyro")]
+    pub rate_names: Option<RateNames>,
+    /// Unit of the rate columns: dph (deg/h), dps (deg/s) or rad/s.
+    #[arg(long, value_name = "UNIT")]
+    pub rate_unit: Option<RateUnit>,
+    /// Unit of the time column: s or ms.
+    #[arg(long, value_name = "s|ms")]
+    pub time_unit: Option<TimeUnit>,
+    /// Field separator: comma, semicolon or tab.
+    #[arg(long, value_name = "comma|semicolon|tab", value_parser = sim::parse_separator)]
+    pub separator: Option<char>,
+    /// Decimal mark: point or comma.
+    #[arg(long, value_name = "point|comma", value_parser = sim::parse_decimal_mark)]
+    pub decimal_mark: Option<bool>,
 }
 
 /// The built-in profiles as the values `--profile` accepts, each with its description.
@@ -44,7 +93,7 @@ pub fn run(a: Args) -> Result<(), String> {
         }
         return Ok(());
     }
-    let profile = sim::profile(&a.profile).ok_or_else(|| {
+    let mut profile = sim::profile(&a.profile).ok_or_else(|| {
         format!(
             "unknown profile \"{}\"; profiles: {}",
             a.profile,
@@ -54,8 +103,42 @@ pub fn run(a: Args) -> Result<(), String> {
     let Some(out) = a.out else {
         return Err("--out is required".into());
     };
+    if let Some(n) = a.axes {
+        profile = profile.with_axes(n)?;
+    }
+    if a.accel {
+        profile = profile.with_accelerometers()?;
+    }
+    let mut dialect = a.dialect.unwrap_or(DialectPreset::Driftlab).dialect();
+    if let Some(names) = a.rate_names {
+        dialect.rate_names = names;
+    }
+    if let Some(unit) = a.rate_unit {
+        dialect.rate_unit = unit;
+    }
+    if let Some(unit) = a.time_unit {
+        dialect.time_unit = unit;
+    }
+    if let Some(sep) = a.separator {
+        dialect.separator = sep;
+    }
+    if let Some(comma) = a.decimal_mark {
+        dialect.decimal_comma = comma;
+    }
+    dialect.raw_temp_register = a.raw_temp_col;
+    let options = SimOptions {
+        noise_only: a.noise_only,
+        logging: Logging {
+            rate_hz: a.rate_hz,
+            gaps: a.gaps,
+            bursts: a.bursts,
+            jitter: a.jitter.then(HostJitter::default),
+        },
+        dialect,
+    };
+
     let bar = super::common::progress_bar(&format!("simulating {}", a.profile));
-    let mut run = sim::simulate_with_progress(&profile, a.seed, &|f| {
+    let rows = sim::write_simulated_csv(&profile, a.seed, &options, &out, &|f| {
         if let Some(b) = &bar {
             b.set_position((f * 1000.0) as u64);
         }
@@ -63,15 +146,10 @@ pub fn run(a: Args) -> Result<(), String> {
     if let Some(b) = bar {
         b.finish_and_clear();
     }
-    if a.noise_only {
-        run = run.noise_only();
-    }
-    run.write_csv(&out)
-        .map_err(|e| format!("{}: {e}", out.display()))?;
+    let rows = rows.map_err(|e| e.to_string())?;
     eprintln!(
-        "{} samples ({:.2} h){} written to {}",
-        run.time_s.len(),
-        run.time_s.last().copied().unwrap_or(0.0) / 3600.0,
+        "{rows} samples ({:.2} h){} written to {}",
+        profile.duration_s() / 3600.0,
         if a.noise_only { ", noise only," } else { "" },
         out.display()
     );

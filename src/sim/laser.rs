@@ -45,10 +45,13 @@
 
 use serde::{Deserialize, Serialize};
 
+use rand_chacha::ChaCha8Rng;
+
+use super::MAX_PHYSICS_STEP_S;
 use super::noise::{self, GaussMarkov, GyroNoise, Sensor};
-use super::profile::Profile;
+use super::profile::{GyroParams, Profile};
+use super::run::{AxisSample, LaserSample, Sample};
 use super::thermal::{Program, lag_step};
-use super::{LaserTruth, MAX_PHYSICS_STEP_S, SimChannel, SimRun};
 
 /// The constants of the simulated ring laser gyro (see the module doc for the equations).
 ///
@@ -305,6 +308,7 @@ fn decimals_of(resolution: f64) -> usize {
 }
 
 /// The dither-amplitude stabiliser: relay law with hysteresis on the drive.
+#[derive(Debug, Clone, Copy)]
 struct Dither {
     /// Drive, as the amplitude it gives at unit gain, arcsec.
     drive: f64,
@@ -323,28 +327,138 @@ impl Dither {
     }
 }
 
-/// Simulates the laser gyro `l` through the chamber program of `profile` (module doc).
+/// The name, unit and decimals of the channels a laser gyro logs after `temp_chamber_c`.
+pub(crate) fn channel_specs(
+    p: &GyroParams,
+    l: &LaserParams,
+) -> Vec<(&'static str, &'static str, usize)> {
+    vec![
+        ("temp_housing_c", "°C", decimals_of(p.sensor_resolution_c)),
+        (
+            "laser_power_mw",
+            "mW",
+            decimals_of(l.laser_power_resolution_mw),
+        ),
+        ("piezo_v", "V", decimals_of(l.piezo_resolution_v)),
+        (
+            "dither_amp_arcsec",
+            "arcsec",
+            decimals_of(l.dither_resolution_arcsec),
+        ),
+    ]
+}
+
+/// The thermal and dither state of the laser gyro.
+#[derive(Debug, Clone, Copy)]
+struct State {
+    housing: f64,
+    base: f64,
+    dither: Dither,
+    /// Dither amplitude after the relay's last action, arcsec.
+    amp: f64,
+}
+
+impl State {
+    /// Advances from `ta` to `tb` (`h` = tb − ta) with the dither gain's wander at `wander`.
+    fn advance(
+        &mut self,
+        l: &LaserParams,
+        program: &Program,
+        ta: f64,
+        tb: f64,
+        h: f64,
+        wander: f64,
+    ) {
+        let s_h = l.housing_self_heating_c;
+        let next = lag_step(
+            self.housing,
+            program.air_c(ta) + s_h,
+            program.air_c(tb) + s_h,
+            h,
+            l.housing_tau_s,
+        );
+        let s_r = l.base_self_heating_c;
+        self.base = lag_step(self.base, self.housing + s_r, next + s_r, h, l.base_tau_s);
+        self.housing = next;
+        self.amp = self
+            .dither
+            .regulate(l, dither_gain(l, self.housing, wander));
+    }
+}
+
+/// The dither gain at housing temperature `housing` with relative wander `wander`.
+fn dither_gain(l: &LaserParams, housing: f64, wander: f64) -> f64 {
+    l.dither_gain(housing) * (1.0 + wander).max(0.1)
+}
+
+/// The random parts of the logged values: the base and housing sensors and the channels'
+/// measurement noise.
+struct Meters {
+    base: Sensor,
+    housing: Sensor,
+    channels: ChaCha8Rng,
+}
+
+impl Meters {
+    /// Fills the logged temperature and channels of `sample` (whose truth is set).
+    fn read(&mut self, l: &LaserParams, sample: &mut Sample) {
+        let truth = &sample.laser;
+        sample.temp_c = self.base.read(truth.base_c);
+        let rng = &mut self.channels;
+        let mut measure =
+            |x: f64, sigma: f64, res: f64| noise::quantise(x + sigma * noise::normal(rng), res);
+        let logged = [
+            self.housing.read(sample.housing_c),
+            measure(
+                truth.laser_power_mw,
+                l.laser_power_noise_mw,
+                l.laser_power_resolution_mw,
+            ),
+            measure(truth.piezo_v, l.piezo_noise_v, l.piezo_resolution_v),
+            measure(
+                truth.dither_amp_arcsec,
+                l.dither_noise_arcsec,
+                l.dither_resolution_arcsec,
+            ),
+        ];
+        sample.channels.clear();
+        sample.channels.extend_from_slice(&logged);
+    }
+}
+
+/// Simulates the laser gyro `l` through the chamber program of `profile` (module doc),
+/// logging `fine` samples per profile sample, and hands every sample to `sink` in time order.
 /// `profile` has been checked.
-pub(crate) fn simulate(
+pub(crate) fn run<E>(
     profile: &Profile,
     l: &LaserParams,
+    fine: usize,
     seed: u64,
     progress: &dyn Fn(f64),
-) -> SimRun {
+    sink: &mut dyn FnMut(&Sample) -> Result<(), E>,
+) -> Result<(), E> {
     let p = &profile.gyro;
     let dt = 1.0 / profile.sample_rate_hz;
     let n = profile.sample_count();
     let subs = ((dt / MAX_PHYSICS_STEP_S).ceil() as usize).max(1);
     let h = dt / subs as f64;
+    let h_fine = dt / fine as f64;
 
     let program = Program::new(profile);
-    let mut housing = profile.start_c;
-    let mut base = profile.start_c;
     let mut gyro_noise = GyroNoise::new(p, dt, seed);
-    let mut base_sensor = Sensor::new(p, seed);
-    let mut housing_sensor = Sensor::on_stream(p, seed, noise::HOUSING_SENSOR_STREAM);
+    let mut split = noise::rng(seed, noise::bridge_stream(0));
+    let mut fine_white = vec![0.0; fine];
+    let mut meters = Meters {
+        base: Sensor::new(p, seed),
+        housing: Sensor::on_stream(p, seed, noise::HOUSING_SENSOR_STREAM),
+        channels: noise::rng(seed, noise::CHANNEL_NOISE_STREAM),
+    };
+    let mut fine_meters = Meters {
+        base: Sensor::on_stream(p, seed, noise::FINE_SENSOR_STREAM),
+        housing: Sensor::on_stream(p, seed, noise::FINE_HOUSING_SENSOR_STREAM),
+        channels: noise::rng(seed, noise::FINE_CHANNEL_NOISE_STREAM),
+    };
     let mut wander_rng = noise::rng(seed, noise::WANDER_STREAM);
-    let mut channel_rng = noise::rng(seed, noise::CHANNEL_NOISE_STREAM);
     let mut power_wander = GaussMarkov::new(
         l.laser_power_wander_mw,
         l.laser_power_wander_corr_s,
@@ -360,40 +474,43 @@ pub(crate) fn simulate(
         &mut wander_rng,
     );
     let mut dither = Dither {
-        drive: l.dither_setpoint_arcsec / l.dither_gain(housing),
+        drive: l.dither_setpoint_arcsec / l.dither_gain(profile.start_c),
     };
-    let dither_gain = |housing: f64, wander: f64| l.dither_gain(housing) * (1.0 + wander).max(0.1);
-
-    let mut run = SimRun {
-        profile: profile.name.clone(),
-        seed,
-        ..SimRun::default()
+    let amp = dither.regulate(l, dither_gain(l, profile.start_c, dither_wander.value()));
+    let mut state = State {
+        housing: profile.start_c,
+        base: profile.start_c,
+        dither,
+        amp,
     };
-    let mut truth = LaserTruth::default();
-    let mut logged: [Vec<f64>; 4] = Default::default();
-    for col in [
-        &mut run.time_s,
-        &mut run.chamber_c,
-        &mut run.temp_c,
-        &mut run.omega_dph,
-        &mut run.thermal_dph,
-        &mut run.noise_dph,
-        &mut run.housing_c,
-        &mut run.coil_mean_c,
-        &mut run.coil_inner_c,
-        &mut truth.base_c,
-        &mut truth.laser_power_mw,
-        &mut truth.piezo_v,
-        &mut truth.dither_amp_arcsec,
-        &mut truth.self_heating_dph,
-    ]
-    .into_iter()
-    .chain(logged.iter_mut())
-    {
-        col.reserve_exact(n);
-    }
+    let mut sample = Sample {
+        axes: vec![AxisSample::default()],
+        ..Sample::default()
+    };
+    // Everything at time t in state st but the noise and the logged values.
+    let observe = |sample: &mut Sample, t: f64, st: &State, power_w: f64, piezo_w: f64| {
+        let base = st.base;
+        let power = l.laser_power_20c_mw
+            * (1.0 + l.laser_power_temp_coeff_per_c * (base - 20.0))
+            * (1.0 - l.laser_power_warmup_fraction * (-t / l.laser_power_warmup_tau_s).exp())
+            + power_w;
+        let piezo = l.piezo_20c_v + l.piezo_slope_v_per_c * (base - 20.0) + piezo_w;
+        sample.axes[0].thermal = l.drift_dph(t, st.housing, base, st.amp, power, piezo);
+        sample.time_s = (t * 1e9).round() / 1e9;
+        sample.chamber_c = program.air_c(t);
+        sample.housing_c = st.housing;
+        sample.coil_mean_c = base;
+        sample.coil_inner_c = base;
+        sample.laser = LaserSample {
+            base_c: base,
+            laser_power_mw: power,
+            piezo_v: piezo,
+            dither_amp_arcsec: st.amp,
+            self_heating_dph: l.self_heating_dph(t),
+        };
+    };
 
-    let mut amp = dither.regulate(l, dither_gain(housing, dither_wander.value()));
+    let sqrt_fine = (fine as f64).sqrt();
     let report_every = (n / 200).max(1);
     progress(0.0);
     for i in 0..n {
@@ -403,87 +520,43 @@ pub(crate) fn simulate(
             for k in 0..subs {
                 let ta = t_prev + k as f64 * h;
                 let tb = t_prev + (k + 1) as f64 * h;
-                let s_h = l.housing_self_heating_c;
-                let next = lag_step(
-                    housing,
-                    program.air_c(ta) + s_h,
-                    program.air_c(tb) + s_h,
-                    h,
-                    l.housing_tau_s,
-                );
-                let s_r = l.base_self_heating_c;
-                base = lag_step(base, housing + s_r, next + s_r, h, l.base_tau_s);
-                housing = next;
-                amp = dither.regulate(l, dither_gain(housing, dither_wander.value()));
+                state.advance(l, &program, ta, tb, h, dither_wander.value());
             }
             power_wander.advance(&mut wander_rng);
             piezo_wander.advance(&mut wander_rng);
             dither_wander.advance(&mut wander_rng);
         }
-        let power = l.laser_power_20c_mw
-            * (1.0 + l.laser_power_temp_coeff_per_c * (base - 20.0))
-            * (1.0 - l.laser_power_warmup_fraction * (-t / l.laser_power_warmup_tau_s).exp())
-            + power_wander.value();
-        let piezo = l.piezo_20c_v + l.piezo_slope_v_per_c * (base - 20.0) + piezo_wander.value();
-        let drift = l.drift_dph(t, housing, base, amp, power, piezo);
-        let gyro = gyro_noise.next();
-
-        run.time_s.push((t * 1e9).round() / 1e9);
-        run.chamber_c.push(program.air_c(t));
-        run.temp_c.push(base_sensor.read(base));
-        run.thermal_dph.push(drift);
-        run.noise_dph.push(gyro);
-        run.omega_dph.push(drift + gyro);
-        run.housing_c.push(housing);
-        run.coil_mean_c.push(base);
-        run.coil_inner_c.push(base);
-
-        let mut measure = |x: f64, sigma: f64, res: f64| {
-            noise::quantise(x + sigma * noise::normal(&mut channel_rng), res)
-        };
-        logged[0].push(housing_sensor.read(housing));
-        logged[1].push(measure(
-            power,
-            l.laser_power_noise_mw,
-            l.laser_power_resolution_mw,
-        ));
-        logged[2].push(measure(piezo, l.piezo_noise_v, l.piezo_resolution_v));
-        logged[3].push(measure(
-            amp,
-            l.dither_noise_arcsec,
-            l.dither_resolution_arcsec,
-        ));
-        truth.base_c.push(base);
-        truth.laser_power_mw.push(power);
-        truth.piezo_v.push(piezo);
-        truth.dither_amp_arcsec.push(amp);
-        truth.self_heating_dph.push(l.self_heating_dph(t));
+        let (power_w, piezo_w) = (power_wander.value(), piezo_wander.value());
+        let parts = gyro_noise.next_parts();
+        observe(&mut sample, t, &state, power_w, piezo_w);
+        meters.read(l, &mut sample);
+        if fine == 1 {
+            sample.axes[0].set_noise(parts.total());
+            sink(&sample)?;
+        } else {
+            let sigma = gyro_noise.white_sigma() * sqrt_fine;
+            noise::split_white(parts.white, sigma, &mut split, &mut fine_white);
+            sample.axes[0].set_noise(parts.with_white(fine_white[0]));
+            sink(&sample)?;
+            if i + 1 < n {
+                let mut branch = state;
+                for (j, &white) in fine_white.iter().enumerate().skip(1) {
+                    let ta = t + (j - 1) as f64 * h_fine;
+                    let tb = t + j as f64 * h_fine;
+                    branch.advance(l, &program, ta, tb, h_fine, dither_wander.value());
+                    observe(&mut sample, tb, &branch, power_w, piezo_w);
+                    fine_meters.read(l, &mut sample);
+                    sample.axes[0].set_noise(parts.with_white(white));
+                    sink(&sample)?;
+                }
+            }
+        }
         if i % report_every == 0 && i > 0 {
             progress(i as f64 / n as f64);
         }
     }
     progress(1.0);
-
-    let [housing_col, power_col, piezo_col, dither_col] = logged;
-    let temp_decimals = decimals_of(p.sensor_resolution_c);
-    run.channels = vec![
-        SimChannel::new("temp_housing_c", "°C", temp_decimals, housing_col),
-        SimChannel::new(
-            "laser_power_mw",
-            "mW",
-            decimals_of(l.laser_power_resolution_mw),
-            power_col,
-        ),
-        SimChannel::new("piezo_v", "V", decimals_of(l.piezo_resolution_v), piezo_col),
-        SimChannel::new(
-            "dither_amp_arcsec",
-            "arcsec",
-            decimals_of(l.dither_resolution_arcsec),
-            dither_col,
-        ),
-    ];
-    run.laser = Some(truth);
-    run
+    Ok(())
 }
 
 #[cfg(test)]

@@ -47,11 +47,18 @@
 //!   0.18 °/h per sample at 1 Hz), a first-order Gauss-Markov bias (`bias_instability_dph`,
 //!   `bias_correlation_s`) started in its stationary state, and a tiny rate random walk.
 //!   `omega_dph = thermal_dph + noise_dph` exactly.
+//! * **Several axes** ([`AxisParams`], `--axes 3`): one housing and one winding model, so one
+//!   thermal field; each axis turns it into drift with its own K0(T), Shupe, stress and
+//!   asymmetry constants (other signs and sizes) and has its own noise from its own stream.
+//!   Each axis's drift is the formula above with its constants ([`axes`](SimRun::axes) holds
+//!   it split into its K0, Shupe and stress parts). Accelerometers ([`AccelParams`],
+//!   `--accel`) read gravity with a small dependence on the housing temperature.
 //!
 //! Magnitudes (reference gyro, `calibration` profile): the drift smoothed by a centred
 //! 100-sample moving average spans about 1.6 °/h peak to peak (Vakhrameev 2017: 1.68 °/h); the
-//! noise smoothed the same way about 0.13 °/h. Gyro noise and sensor noise come from two
-//! ChaCha streams of the one seed.
+//! noise smoothed the same way about 0.13 °/h. Every random part (each axis's gyro noise, each
+//! sensor, the split of the noise over faster samples, the host's stamps) has its own ChaCha
+//! stream of the one seed, so that adding one never reshuffles another.
 //!
 //! # Profiles
 //!
@@ -68,21 +75,57 @@
 //! noise of the full run of that seed, and the temperatures and channels are unchanged. It is
 //! the simulator's own floor: filtered like the drift, it is what a perfect correction would
 //! leave. `omega_dph` of the full run minus that of the noise-only run is `thermal_dph`, to the
-//! rounding of one addition.
+//! rounding of one addition. It combines with every logging option below.
+//!
+//! # Logging
+//!
+//! [`Logging`] says what the logger records of a run (the gyro does not care): the sampling
+//! rate (`--rate-hz`; a whole multiple of the profile's rate is the same gyro and thermal
+//! history sampled faster, see [`Logging::rate_hz`] for how), outages that remove samples
+//! (`--gap`), bursts outside which nothing is written (`--bursts`), and the stamps of a host
+//! that reads the samples in batches (`--jitter`, [`HostJitter`]): the true sampling stays
+//! regular and the data are those of the regular run, only the time column changes. The
+//! random parts of the logging have their own streams of the seed, so a run is still named by
+//! its profile, seed and options.
+//!
+//! # Writing
+//!
+//! [`CsvDialect`] says how the log is written: driftlab's own columns, or a test stand's (ms,
+//! deg/s named `gx_dps;gy_dps;gz_dps`, `;`, decimal comma, a `#` line naming the stand), a raw
+//! int16 temperature register beside the real temperature, and the names and units of
+//! [`RateNames`] and the rate unit. [`SimRun::write_csv_as`] writes a collected run;
+//! [`write_simulated_csv`] writes a run as it is simulated, without holding it (a 10-h log at
+//! 1 kHz is 36 million samples), to the same bytes. The first `#` line after the stand's is
+//! the `driftlab simulate` command that makes the file again.
 
+mod axes;
+mod dialect;
+mod fog;
 mod laser;
+mod logging;
 mod noise;
 mod profile;
+mod run;
 mod thermal;
 
 use std::io::Write;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use crate::log::{Channel, ColumnInfo, ColumnRole, Log};
 
+pub use axes::{AccelParams, AxisParams, default_accelerometers, default_axes};
+pub use dialect::{
+    CsvDialect, DialectPreset, ESTIMATED_TEMP_COLUMN, RAW_TEMP_COLUMN, RAW_TEMP_COUNTS_PER_C,
+    RAW_TEMP_OFFSET_C, RateNames, STAND_LINE, parse_decimal_mark, parse_separator, raw_temp_counts,
+    raw_temp_to_c,
+};
 pub use laser::LaserParams;
+pub use logging::{Bursts, Gap, HostJitter, Logging};
 pub use profile::{GyroParams, Profile, Segment, profile, profile_names};
 pub use thermal::Coil;
+
+use dialect::{Row, Shape, Writer};
+use run::Plan;
 
 /// Longest physics step, s: a log sampled slower than 1 Hz is still integrated every second
 /// or finer, so the thermal state does not depend on the sampling rate.
@@ -91,27 +134,65 @@ const MAX_PHYSICS_STEP_S: f64 = 1.0;
 /// Scale of the smooth sign used by the heating/cooling asymmetry, °C of weighted gradient.
 const ASYMMETRY_SCALE_C: f64 = 0.5;
 
+/// Why a run could not be simulated or written.
+#[derive(Debug, thiserror::Error)]
+pub enum SimError {
+    /// A profile or an option that cannot be simulated, with the sentence that names it.
+    #[error("{0}")]
+    Invalid(String),
+    /// The log could not be written.
+    #[error("{}: {source}", path.display())]
+    Write {
+        /// The file being written.
+        path: PathBuf,
+        /// What went wrong.
+        source: std::io::Error,
+    },
+}
+
+/// Everything about a written log besides the profile and the seed: what `driftlab simulate`
+/// takes after `--profile` and `--seed` (the unit's axes and accelerometers are in the
+/// profile, [`Profile::with_axes`]).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct SimOptions {
+    /// Write the noise alone ([`SimRun::noise_only`]).
+    pub noise_only: bool,
+    /// What the logger records.
+    pub logging: Logging,
+    /// How the log is written.
+    pub dialect: CsvDialect,
+}
+
 /// One simulated run: what the test stand would log, plus the truth behind it.
 ///
-/// All columns have one value per sample and are aligned with `time_s`.
+/// All columns have one value per recorded sample and are aligned with `time_s` (those of a
+/// part the run does not have are empty).
 #[derive(Debug, Clone, Default)]
 pub struct SimRun {
     /// Name of the profile that was run, written into the CSV comment.
     pub profile: String,
     /// Seed of the noise, written into the CSV comment.
     pub seed: u64,
-    /// Time since the start of the program, s (rounded to 1 ns so it prints exactly).
+    /// Sampling rate of the log, Hz (the profile's, or `--rate-hz`).
+    pub sample_rate_hz: f64,
+    /// How the run was logged (written into the CSV comment as its options).
+    pub logging: Logging,
+    /// True sampling instant of each sample, s since the start of the program (rounded to
+    /// 1 ns so it prints exactly). Samples the logger left out (gaps, bursts) are not here.
     pub time_s: Vec<f64>,
+    /// The host's time stamps when logged with jitter ([`HostJitter`]): what the time column
+    /// of the CSV holds instead of `time_s`. `None` without jitter.
+    pub stamp_s: Option<Vec<f64>>,
     /// Chamber air temperature (the program), °C.
     pub chamber_c: Vec<f64>,
     /// Calibration temperature sensor on the coil frame, °C, quantised to its resolution.
     pub temp_c: Vec<f64>,
-    /// Raw gyro output, °/h: `thermal_dph + noise_dph`.
+    /// Raw gyro output of the first (or only) axis, °/h: `thermal_dph + noise_dph`.
     pub omega_dph: Vec<f64>,
-    /// Noise-free thermal drift including the static bias K0, °/h: what a perfect
-    /// calibration would predict.
+    /// Noise-free thermal drift including the static bias K0 of the first axis, °/h: what a
+    /// perfect calibration would predict.
     pub thermal_dph: Vec<f64>,
-    /// The noise alone, °/h: the floor a correction cannot go below.
+    /// The noise alone of the first axis, °/h: the floor a correction cannot go below.
     pub noise_dph: Vec<f64>,
     /// True housing (frame) temperature, °C, without sensor noise or quantisation.
     pub housing_c: Vec<f64>,
@@ -121,6 +202,18 @@ pub struct SimRun {
     /// For a laser gyro, `coil_mean_c` and `coil_inner_c` are both the true resonator-base
     /// temperature (the block has no winding).
     pub coil_inner_c: Vec<f64>,
+    /// Fibre-weighted radial temperature difference of the winding, °C (Σ wᵢ·Tᵢ, positive when
+    /// the outside is warmer): the field of the stress term. Empty for a laser gyro.
+    pub coil_gradient_c: Vec<f64>,
+    /// Fibre-weighted radial difference of heating rates, °C/s (Σ wᵢ·Ṫᵢ): the field of the
+    /// Shupe term. Empty for a laser gyro.
+    pub coil_rate_gradient_c_per_s: Vec<f64>,
+    /// Every gyro axis of a fibre-optic run with its truth, the first being `omega_dph`,
+    /// `thermal_dph` and `noise_dph` again (one axis, `x`, for a single gyro). Empty for a
+    /// laser gyro, whose truth is in `laser`.
+    pub axes: Vec<SimAxis>,
+    /// The accelerometers, if the unit has any.
+    pub accelerometers: Vec<SimAccel>,
     /// Logged channels written after `temp_chamber_c`, in column order: for a laser gyro
     /// `temp_housing_c`, `laser_power_mw`, `piezo_v`, `dither_amp_arcsec`; none for a FOG.
     pub channels: Vec<SimChannel>,
@@ -129,6 +222,36 @@ pub struct SimRun {
     /// True for a noise-only run ([`SimRun::noise_only`]): `thermal_dph` is zero and
     /// `omega_dph` is `noise_dph`. Written into the CSV comment as `--noise-only`.
     pub noise_only: bool,
+}
+
+/// One gyro axis of a fibre-optic run, sample by sample, °/h.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct SimAxis {
+    /// Axis name (`x`, `y`, `z`).
+    pub name: String,
+    /// Output: `thermal_dph + noise_dph`.
+    pub omega_dph: Vec<f64>,
+    /// Noise-free drift: `static_dph + shupe_dph + stress_dph` (to the rounding of the sum).
+    pub thermal_dph: Vec<f64>,
+    /// The noise alone.
+    pub noise_dph: Vec<f64>,
+    /// K0 of the axis at the fibre-weighted mean coil temperature.
+    pub static_dph: Vec<f64>,
+    /// Shupe term S·Σwᵢ·Ṫᵢ, times the heating/cooling asymmetry factor.
+    pub shupe_dph: Vec<f64>,
+    /// Thermal-stress term G·Σwᵢ·Tᵢ·K(T)/K20, times the asymmetry factor.
+    pub stress_dph: Vec<f64>,
+}
+
+/// One accelerometer of a run, sample by sample, g.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct SimAccel {
+    /// Axis name (`x`, `y`, `z`).
+    pub name: String,
+    /// Logged reading: noise included, quantised.
+    pub values_g: Vec<f64>,
+    /// Noise-free reading.
+    pub true_g: Vec<f64>,
 }
 
 /// One logged channel of a simulated run besides time, rate and the two temperatures every run
@@ -186,94 +309,26 @@ pub fn simulate(profile: &Profile, seed: u64) -> SimRun {
 /// # Panics
 /// When `profile.check()` fails.
 pub fn simulate_with_progress(profile: &Profile, seed: u64, progress: &dyn Fn(f64)) -> SimRun {
-    if let Err(e) = profile.check() {
-        panic!("invalid profile {:?}: {e}", profile.name);
+    match simulate_logged(profile, seed, &Logging::default(), progress) {
+        Ok(run) => run,
+        Err(e) => panic!("invalid profile {:?}: {e}", profile.name),
     }
-    if let Some(l) = &profile.laser {
-        return laser::simulate(profile, l, seed, progress);
-    }
-    let p = &profile.gyro;
-    let dt = 1.0 / profile.sample_rate_hz;
-    let n = profile.sample_count();
-    let subs = ((dt / MAX_PHYSICS_STEP_S).ceil() as usize).max(1);
-    let h = dt / subs as f64;
-
-    let program = thermal::Program::new(profile);
-    let mut coil = Coil::new(p, profile.start_c);
-    let mut housing = profile.start_c;
-    let mut gyro_noise = noise::GyroNoise::new(p, dt, seed);
-    let mut sensor = noise::Sensor::new(p, seed);
-
-    let mut run = SimRun {
-        profile: profile.name.clone(),
-        seed,
-        ..SimRun::default()
-    };
-    for col in [
-        &mut run.time_s,
-        &mut run.chamber_c,
-        &mut run.temp_c,
-        &mut run.omega_dph,
-        &mut run.thermal_dph,
-        &mut run.noise_dph,
-        &mut run.housing_c,
-        &mut run.coil_mean_c,
-        &mut run.coil_inner_c,
-    ] {
-        col.reserve_exact(n);
-    }
-
-    let report_every = (n / 200).max(1);
-    progress(0.0);
-    for i in 0..n {
-        let t = i as f64 * dt;
-        if i > 0 {
-            let t_prev = (i - 1) as f64 * dt;
-            for k in 0..subs {
-                let ta = t_prev + k as f64 * h;
-                let tb = t_prev + (k + 1) as f64 * h;
-                let next = thermal::lag_step(
-                    housing,
-                    program.air_c(ta),
-                    program.air_c(tb),
-                    h,
-                    p.housing_tau_s,
-                );
-                coil.step(housing, next, h);
-                housing = next;
-            }
-        }
-        let thermal = thermal_drift(p, &mut coil, housing);
-        let noise = gyro_noise.next();
-        run.time_s.push((t * 1e9).round() / 1e9);
-        run.chamber_c.push(program.air_c(t));
-        run.temp_c.push(sensor.read(housing));
-        run.thermal_dph.push(thermal);
-        run.noise_dph.push(noise);
-        run.omega_dph.push(thermal + noise);
-        run.housing_c.push(housing);
-        run.coil_mean_c.push(coil.mean_c());
-        run.coil_inner_c.push(coil.layers_c()[0]);
-        if i % report_every == 0 && i > 0 {
-            progress(i as f64 / n as f64);
-        }
-    }
-    progress(1.0);
-    run
 }
 
-/// The noise-free drift of the gyro in its current thermal state, °/h (see the module doc).
-fn thermal_drift(p: &GyroParams, coil: &mut Coil, housing_c: f64) -> f64 {
-    let gradient = coil.gradient_c();
-    let rate_gradient = coil.rate_gradient_c_per_s(housing_c);
-    // The stress follows the heat flux through the winding (conductivity × gradient): on a
-    // steady ramp the flux is set by the heat the coil must take up, Ṫ times its capacity,
-    // whatever the temperature; the gradient itself grows as the diffusivity falls.
-    let flux_factor = p.diffusivity_m2_per_s(coil.mean_c()) / p.coil_diffusivity_20c_m2_per_s;
-    let transient =
-        p.shupe_dph_per_c_per_s * rate_gradient + p.stress_dph_per_c * gradient * flux_factor;
-    let asymmetry = 1.0 + p.heating_asymmetry * (gradient / ASYMMETRY_SCALE_C).tanh();
-    p.static_bias_dph(coil.mean_c()) + transient * asymmetry
+/// Simulates `profile` with seed `seed` as `logging` records it (rate, gaps, bursts, host
+/// stamps), calling `progress` as [`simulate_with_progress`] does. With the default logging
+/// it is [`simulate_with_progress`].
+///
+/// # Errors
+/// A profile or an option that cannot be simulated, with the sentence naming it.
+pub fn simulate_logged(
+    profile: &Profile,
+    seed: u64,
+    logging: &Logging,
+    progress: &dyn Fn(f64),
+) -> Result<SimRun, SimError> {
+    let plan = Plan::new(profile, logging).map_err(SimError::Invalid)?;
+    Ok(plan.collect(seed, logging, progress))
 }
 
 /// The run of `profile` with seed `seed` with every deterministic drift term zero: the gyro
@@ -286,15 +341,114 @@ pub fn simulate_noise_only(profile: &Profile, seed: u64) -> SimRun {
     simulate(profile, seed).noise_only()
 }
 
+/// Simulates `profile` with seed `seed` and writes it to `path` as `options` say, atomically,
+/// one sample at a time: the bytes of [`simulate_logged`] then ([`SimRun::noise_only`] and)
+/// [`SimRun::write_csv_as`], without holding the run. Returns the number of rows written.
+///
+/// # Errors
+/// An option that cannot be simulated or written (before anything is written), or the write.
+pub fn write_simulated_csv(
+    profile: &Profile,
+    seed: u64,
+    options: &SimOptions,
+    path: &Path,
+    progress: &dyn Fn(f64),
+) -> Result<usize, SimError> {
+    options.dialect.check().map_err(SimError::Invalid)?;
+    let plan = Plan::new(profile, &options.logging).map_err(SimError::Invalid)?;
+    let shape = plan.shape();
+    let command = command_line(
+        &profile.name,
+        seed,
+        options.noise_only,
+        &shape,
+        &options.logging,
+        &options.dialect,
+    );
+    let mut rows = 0;
+    let fill = |w: &mut dyn Write| {
+        let mut writer = Writer::new(&options.dialect);
+        writer.head(w, &shape, &command)?;
+        let mut rates = Vec::with_capacity(shape.axes.len());
+        let mut accel = Vec::with_capacity(shape.accels.len());
+        let mut sink = |s: &run::Sample, stamp: Option<f64>| {
+            rates.clear();
+            let rate = |a: &run::AxisSample| if options.noise_only { a.noise } else { a.omega };
+            rates.extend(s.axes.iter().map(rate));
+            accel.clear();
+            accel.extend(s.accel.iter().map(|a| a.value_g));
+            rows += 1;
+            let row = Row {
+                time_s: stamp.unwrap_or(s.time_s),
+                rates_dph: &rates,
+                accel_g: &accel,
+                temp_c: s.temp_c,
+                chamber_c: s.chamber_c,
+                channels: &s.channels,
+            };
+            writer.row(w, &row, &shape)
+        };
+        plan.drive(seed, &options.logging, progress, &mut sink)
+    };
+    let written = if plan.samples() > 1_000_000 {
+        crate::files::atomic::write_big_with(path, fill)
+    } else {
+        crate::files::atomic::write_with(path, fill)
+    };
+    written.map_err(|source| SimError::Write {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    Ok(rows)
+}
+
+/// The `driftlab simulate` command that makes a log, as its first `#` line says it.
+fn command_line(
+    profile: &str,
+    seed: u64,
+    noise_only: bool,
+    shape: &Shape,
+    logging: &Logging,
+    dialect: &CsvDialect,
+) -> String {
+    let mut words = vec![format!(
+        "driftlab simulate --profile {profile} --seed {seed}"
+    )];
+    if noise_only {
+        words.push("--noise-only".into());
+    }
+    if shape.axes.len() > 1 {
+        words.push(format!("--axes {}", shape.axes.len()));
+    }
+    if !shape.accels.is_empty() {
+        words.push("--accel".into());
+    }
+    words.extend(logging.args());
+    words.extend(dialect.args());
+    words.join(" ")
+}
+
 impl SimRun {
-    /// This run with every deterministic drift term zero: `thermal_dph` (and a laser gyro's
-    /// self-heating term) set to 0, `omega_dph` = `noise_dph`, everything else unchanged,
+    /// This run with every deterministic drift term zero: `thermal_dph` (and every axis's
+    /// drift and its parts, and a laser gyro's self-heating term) set to 0, `omega_dph` =
+    /// `noise_dph`, everything else unchanged (temperatures, channels, accelerometers, stamps),
     /// marked `noise_only` so its CSV says so. The simulator's own noise floor: the same noise
     /// samples as the full run, so that the full output minus this one is the drift.
     pub fn noise_only(&self) -> SimRun {
         let mut run = self.clone();
         run.omega_dph.clone_from(&run.noise_dph);
         run.thermal_dph.iter_mut().for_each(|x| *x = 0.0);
+        for a in &mut run.axes {
+            a.omega_dph.clone_from(&a.noise_dph);
+            for col in [
+                &mut a.thermal_dph,
+                &mut a.static_dph,
+                &mut a.shupe_dph,
+                &mut a.stress_dph,
+            ] {
+                col.iter_mut().for_each(|x| *x = 0.0);
+            }
+        }
         if let Some(l) = &mut run.laser {
             l.self_heating_dph.iter_mut().for_each(|x| *x = 0.0);
         }
@@ -313,13 +467,21 @@ impl SimRun {
         }
     }
 
-    /// The command that makes this run, as the CSV's first line says it (without `--out`).
+    /// The command that makes this run in driftlab's dialect, as the CSV's first line says it
+    /// (without `--out`).
     pub fn command(&self) -> String {
-        format!(
-            "driftlab simulate --profile {} --seed {}{}",
-            self.profile,
+        self.command_as(&CsvDialect::driftlab())
+    }
+
+    /// The command that makes this run written in `dialect` (without `--out`).
+    pub fn command_as(&self, dialect: &CsvDialect) -> String {
+        command_line(
+            &self.profile,
             self.seed,
-            if self.noise_only { " --noise-only" } else { "" }
+            self.noise_only,
+            &self.shape(),
+            &self.logging,
+            dialect,
         )
     }
 
@@ -333,83 +495,155 @@ impl SimRun {
         self.time_s.is_empty()
     }
 
-    /// The run as the engine's [`Log`], the way ingest reads its CSV: time, rate and sensor
-    /// temperature as the calibration columns, the chamber air as the extra channel
-    /// `temp_chamber_c`, then the run's [`channels`](SimRun::channels) by name (with their
-    /// units, which the CSV header only carries as the last word of the name). The truth
-    /// columns are not part of a log.
+    /// The gyro axis named `name` (`x`, `y`, `z`) of a fibre-optic run.
+    pub fn axis(&self, name: &str) -> Option<&SimAxis> {
+        self.axes.iter().find(|a| a.name == name)
+    }
+
+    /// The time column as logged: the host stamps when there are any, else the true times.
+    pub fn logged_time_s(&self) -> &[f64] {
+        self.stamp_s.as_deref().unwrap_or(&self.time_s)
+    }
+
+    fn shape(&self) -> Shape {
+        Shape {
+            axes: if self.axes.is_empty() {
+                vec!["x".to_string()]
+            } else {
+                self.axes.iter().map(|a| a.name.clone()).collect()
+            },
+            accels: self.accelerometers.iter().map(|a| a.name.clone()).collect(),
+            temp_column: self.temp_column(),
+            channels: self
+                .channels
+                .iter()
+                .map(|c| (c.name.clone(), c.decimals))
+                .collect(),
+        }
+    }
+
+    /// The rate of axis `k` at sample `i`, °/h.
+    fn rate(&self, k: usize, i: usize) -> f64 {
+        if k == 0 {
+            self.omega_dph[i]
+        } else {
+            self.axes[k].omega_dph[i]
+        }
+    }
+
+    /// The run as the engine's [`Log`], the way ingest reads its CSV in driftlab's dialect:
+    /// time (the host stamps, if any), the rate of the first axis and the sensor temperature as
+    /// the calibration columns, then by name, in column order, the other axes' rates (°/h),
+    /// the accelerometers (g), the chamber air `temp_chamber_c` and the run's
+    /// [`channels`](SimRun::channels) (with their units, which the CSV header only carries as
+    /// the last word of the name). The truth columns are not part of a log.
     pub fn to_log(&self, source: &str) -> Log {
         let mut log = Log::from_columns(
             source,
-            self.time_s.clone(),
+            self.logged_time_s().to_vec(),
             self.omega_dph.clone(),
             self.temp_c.clone(),
         );
-        log.extra.push(Channel {
-            name: "temp_chamber_c".to_string(),
-            unit: "°C".to_string(),
-            values: self.chamber_c.clone(),
-        });
-        for c in &self.channels {
-            log.extra.push(Channel {
-                name: c.name.clone(),
-                unit: c.unit.clone(),
-                values: c.values.clone(),
-            });
+        let shape = self.shape();
+        let dialect = CsvDialect::driftlab();
+        let names = Writer::new(&dialect).columns(&shape);
+        let n_axes = shape.axes.len();
+        let n_accel = shape.accels.len();
+        let mut columns: Vec<(ColumnRole, String)> = Vec::with_capacity(names.len());
+        for (i, name) in names.iter().enumerate() {
+            let (role, unit, values) = if i == 0 {
+                (ColumnRole::Time, "s", None)
+            } else if i == 1 {
+                (ColumnRole::Rate, "deg/h", None)
+            } else if i <= n_axes {
+                (
+                    ColumnRole::Extra,
+                    "deg/h",
+                    Some(self.axes[i - 1].omega_dph.clone()),
+                )
+            } else if i <= n_axes + n_accel {
+                let a = &self.accelerometers[i - 1 - n_axes];
+                (ColumnRole::Extra, "g", Some(a.values_g.clone()))
+            } else if i == n_axes + n_accel + 1 {
+                (ColumnRole::Temperature, "°C", None)
+            } else if i == n_axes + n_accel + 2 {
+                (ColumnRole::Extra, "°C", Some(self.chamber_c.clone()))
+            } else {
+                let c = &self.channels[i - n_axes - n_accel - 3];
+                (ColumnRole::Extra, c.unit.as_str(), Some(c.values.clone()))
+            };
+            if let Some(values) = values {
+                log.extra.push(Channel {
+                    name: name.clone(),
+                    unit: unit.to_string(),
+                    values,
+                });
+            }
+            columns.push((role, unit.to_string()));
         }
         log.info.has_header = true;
-        let fixed = [
-            ("time_s", ColumnRole::Time, "s"),
-            ("omega_dph", ColumnRole::Rate, "deg/h"),
-            (self.temp_column(), ColumnRole::Temperature, "°C"),
-            ("temp_chamber_c", ColumnRole::Extra, "°C"),
-        ];
-        log.info.columns = fixed
+        log.info.columns = names
             .into_iter()
-            .chain(
-                self.channels
-                    .iter()
-                    .map(|c| (c.name.as_str(), ColumnRole::Extra, c.unit.as_str())),
-            )
+            .zip(columns)
             .enumerate()
-            .map(|(i, (name, role, unit))| ColumnInfo {
+            .map(|(i, (name, (role, unit)))| ColumnInfo {
                 index: i + 1,
-                name: name.to_string(),
+                name,
                 role,
-                unit: unit.to_string(),
+                unit,
             })
             .collect();
         log
     }
 
-    /// Writes the run as a test-stand CSV, atomically: a `# driftlab simulate --profile NAME
-    /// --seed N` comment (with `--noise-only` for a noise-only run), the header
-    /// `time_s,omega_dph,temp_c,temp_chamber_c` (a laser gyro: `temp_base_c` for `temp_c`, then
-    /// its [`channels`](SimRun::channels)), then one row a sample (time exact, rate to
-    /// 0.0001 °/h, temperatures to 0.001 °C, channels to their resolution).
+    /// Writes the run as a test-stand CSV in driftlab's dialect, atomically: a `# driftlab
+    /// simulate --profile NAME --seed N` comment (with `--noise-only` for a noise-only run and
+    /// the run's other options), the header `time_s,omega_dph,temp_c,temp_chamber_c` (a laser
+    /// gyro: `temp_base_c` for `temp_c`, then its [`channels`](SimRun::channels); several axes:
+    /// `omega_x_dph,omega_y_dph,...`, then any accelerometers), then one row a sample (time
+    /// exact, rate to 0.0001 °/h, temperatures to 0.001 °C, channels to their resolution).
     pub fn write_csv(&self, path: &Path) -> std::io::Result<()> {
-        crate::files::atomic::write_with(path, |w| self.write_csv_to(w))
+        self.write_csv_as(path, &CsvDialect::driftlab())
     }
 
-    fn write_csv_to(&self, w: &mut dyn Write) -> std::io::Result<()> {
-        writeln!(w, "# {}", self.command())?;
-        write!(w, "time_s,omega_dph,{},temp_chamber_c", self.temp_column())?;
-        for c in &self.channels {
-            write!(w, ",{}", c.name)?;
-        }
-        writeln!(w)?;
-        for i in 0..self.len() {
-            // Display of f64 is the shortest text that reads back to the same number.
-            write!(
-                w,
-                "{},{:.4},{:.3},{:.3}",
-                self.time_s[i], self.omega_dph[i], self.temp_c[i], self.chamber_c[i]
-            )?;
-            for c in &self.channels {
-                let v = c.values.get(i).copied().unwrap_or(f64::NAN);
-                write!(w, ",{:.*}", c.decimals, v)?;
+    /// Writes the run as [`write_csv`](SimRun::write_csv) does, in `dialect`.
+    ///
+    /// # Errors
+    /// The write's, or `InvalidInput` for a dialect that [`CsvDialect::check`] refuses.
+    pub fn write_csv_as(&self, path: &Path, dialect: &CsvDialect) -> std::io::Result<()> {
+        dialect
+            .check()
+            .map_err(|e| std::io::Error::new(std::io::ErrorKind::InvalidInput, e))?;
+        crate::files::atomic::write_with(path, |w| self.write_csv_to(w, dialect))
+    }
+
+    fn write_csv_to(&self, w: &mut dyn Write, dialect: &CsvDialect) -> std::io::Result<()> {
+        let shape = self.shape();
+        let mut writer = Writer::new(dialect);
+        writer.head(w, &shape, &self.command_as(dialect))?;
+        let time = self.logged_time_s();
+        let mut rates = vec![0.0; shape.axes.len()];
+        let mut accel = vec![0.0; shape.accels.len()];
+        let mut channels = vec![0.0; shape.channels.len()];
+        for (i, &time_s) in time.iter().enumerate() {
+            for (k, r) in rates.iter_mut().enumerate() {
+                *r = self.rate(k, i);
             }
-            writeln!(w)?;
+            for (a, v) in self.accelerometers.iter().zip(&mut accel) {
+                *v = a.values_g[i];
+            }
+            for (c, v) in self.channels.iter().zip(&mut channels) {
+                *v = c.values.get(i).copied().unwrap_or(f64::NAN);
+            }
+            let row = Row {
+                time_s,
+                rates_dph: &rates,
+                accel_g: &accel,
+                temp_c: self.temp_c[i],
+                chamber_c: self.chamber_c[i],
+                channels: &channels,
+            };
+            writer.row(w, &row, &shape)?;
         }
         Ok(())
     }

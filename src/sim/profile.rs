@@ -2,7 +2,9 @@
 
 use serde::{Deserialize, Serialize};
 
+use super::axes::{AccelParams, AxisParams, default_accelerometers, default_axes};
 use super::laser::LaserParams;
+use super::noise::MAX_AXES;
 
 /// A chamber test: the temperature program, the sampling, and the gyro under test.
 ///
@@ -28,6 +30,14 @@ pub struct Profile {
     /// reads as) runs the fibre-optic gyro of `gyro`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub laser: Option<LaserParams>,
+    /// The gyro axes of a multi-axis unit (an IMU), each answering the one thermal field of
+    /// `gyro` with its own constants ([`AxisParams`]). Empty (the default, and what a profile
+    /// file without the field reads as): the single gyro of `gyro`.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub axes: Vec<AxisParams>,
+    /// Accelerometers on the housing, logged beside the rates; none by default.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub accelerometers: Vec<AccelParams>,
 }
 
 /// One step of the chamber program.
@@ -204,6 +214,52 @@ impl GyroParams {
 }
 
 impl Profile {
+    /// This profile run by a unit of `n` gyro axes (1 to 3): `driftlab simulate --axes N`. The
+    /// first axis is the profile's own gyro, the others those of [`default_axes`]; one axis is
+    /// the single gyro again.
+    ///
+    /// # Errors
+    /// When `n` is not 1, 2 or 3, or the profile is a laser gyro's (it has one axis).
+    pub fn with_axes(mut self, n: usize) -> Result<Profile, String> {
+        if self.laser.is_some() {
+            return Err(format!(
+                "--axes: profile {} is a ring laser gyro, which has one axis; the multi-axis \
+                 unit is a fibre-optic IMU (any other profile)",
+                self.name
+            ));
+        }
+        let mut axes = default_axes(n)?;
+        axes[0] = AxisParams::of_gyro("x", &self.gyro);
+        self.axes = if n == 1 { Vec::new() } else { axes };
+        Ok(self)
+    }
+
+    /// This profile with the three accelerometers of [`default_accelerometers`] on the housing:
+    /// `driftlab simulate --accel`.
+    ///
+    /// # Errors
+    /// When the profile is a laser gyro's.
+    pub fn with_accelerometers(mut self) -> Result<Profile, String> {
+        if self.laser.is_some() {
+            return Err(format!(
+                "--accel: profile {} is a ring laser gyro without accelerometers; they come \
+                 with the fibre-optic unit (any other profile)",
+                self.name
+            ));
+        }
+        self.accelerometers = default_accelerometers();
+        Ok(self)
+    }
+
+    /// The gyro axes the run simulates: `axes`, or the single gyro of `gyro` named `x`.
+    pub fn unit_axes(&self) -> Vec<AxisParams> {
+        if self.axes.is_empty() {
+            vec![AxisParams::of_gyro("x", &self.gyro)]
+        } else {
+            self.axes.clone()
+        }
+    }
+
     /// Total length of the program, s.
     pub fn duration_s(&self) -> f64 {
         let mut temp = self.start_c;
@@ -270,6 +326,30 @@ impl Profile {
             ));
         }
         self.gyro.check()?;
+        if self.laser.is_some() && !(self.axes.is_empty() && self.accelerometers.is_empty()) {
+            return Err(
+                "a laser-gyro profile has one axis and no accelerometers: axes and \
+                 accelerometers are for the fibre-optic unit"
+                    .into(),
+            );
+        }
+        if self.axes.len() > MAX_AXES || self.accelerometers.len() > MAX_AXES {
+            return Err(format!("a unit has at most {MAX_AXES} axes"));
+        }
+        let mut names = std::collections::HashSet::new();
+        for a in &self.axes {
+            a.check()?;
+            if !names.insert(a.name.as_str()) {
+                return Err(format!("two gyro axes are named {:?}", a.name));
+            }
+        }
+        let mut names = std::collections::HashSet::new();
+        for a in &self.accelerometers {
+            a.check()?;
+            if !names.insert(a.name.as_str()) {
+                return Err(format!("two accelerometers are named {:?}", a.name));
+            }
+        }
         match &self.laser {
             Some(l) => l.check(),
             None => Ok(()),
@@ -462,6 +542,8 @@ pub fn profile(name: &str) -> Option<Profile> {
         program,
         gyro: GyroParams::default(),
         laser: (name == "laser-gyro").then(LaserParams::default),
+        axes: Vec::new(),
+        accelerometers: Vec::new(),
     })
 }
 

@@ -112,6 +112,20 @@ impl Coil {
         }
     }
 
+    /// Makes this winding's temperatures those of `other` (a winding of the same gyro)
+    /// without allocating.
+    pub(crate) fn copy_from(&mut self, other: &Coil) {
+        self.temps.copy_from_slice(&other.temps);
+    }
+
+    /// Makes this winding's temperatures, layer by layer, the straight line from `a` (at
+    /// `f` = 0) to `b` (at `f` = 1), windings of the same gyro.
+    pub(crate) fn interpolate(&mut self, a: &Coil, b: &Coil, f: f64) {
+        for ((t, x), y) in self.temps.iter_mut().zip(&a.temps).zip(&b.temps) {
+            *t = x + (y - x) * f;
+        }
+    }
+
     /// Layer temperatures, inner layer first, °C.
     pub fn layers_c(&self) -> &[f64] {
         &self.temps

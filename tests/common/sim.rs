@@ -66,5 +66,95 @@ pub fn step_profile(from_c: f64, to_c: f64) -> Profile {
         ],
         gyro: GyroParams::default(),
         laser: None,
+        axes: Vec::new(),
+        accelerometers: Vec::new(),
     }
+}
+
+/// A profile that holds `start_c` for `hours` hours, then ramps to `to_c` at 1 °C/min and holds
+/// an hour: short runs with a transient, for the logging tests.
+pub fn ramp_profile(hours: f64, start_c: f64, to_c: f64) -> Profile {
+    Profile {
+        name: "ramp".into(),
+        program: vec![
+            Segment::Hold {
+                duration_s: hours * 3600.0,
+            },
+            Segment::Ramp {
+                to_c,
+                rate_c_per_min: 1.0,
+            },
+            Segment::Hold { duration_s: 3600.0 },
+        ],
+        ..step_profile(start_c, to_c)
+    }
+}
+
+/// A CSV as written, read here with plain string splitting (no driftlab code): the `#` lines,
+/// the header names and the rows as numbers (a decimal comma read as a point).
+pub struct Csv {
+    pub comments: Vec<String>,
+    pub names: Vec<String>,
+    pub rows: Vec<Vec<f64>>,
+}
+
+impl Csv {
+    pub fn read(path: &std::path::Path, separator: char, decimal_comma: bool) -> Csv {
+        let text = std::fs::read_to_string(path).unwrap();
+        let mut lines = text.lines();
+        let mut comments = Vec::new();
+        let header = loop {
+            let l = lines.next().unwrap();
+            match l.strip_prefix("# ") {
+                Some(c) => comments.push(c.to_string()),
+                None => break l,
+            }
+        };
+        let names = header.split(separator).map(str::to_string).collect();
+        let rows = lines
+            .map(|l| {
+                l.split(separator)
+                    .map(|f| {
+                        let f = if decimal_comma {
+                            f.replace(',', ".")
+                        } else {
+                            f.to_string()
+                        };
+                        f.parse::<f64>()
+                            .unwrap_or_else(|_| panic!("{f:?} in {l:?}"))
+                    })
+                    .collect()
+            })
+            .collect();
+        Csv {
+            comments,
+            names,
+            rows,
+        }
+    }
+
+    /// The values of column `name`.
+    pub fn column(&self, name: &str) -> Vec<f64> {
+        let i = self
+            .names
+            .iter()
+            .position(|n| n == name)
+            .unwrap_or_else(|| panic!("no column {name} in {:?}", self.names));
+        self.rows.iter().map(|r| r[i]).collect()
+    }
+}
+
+/// The rows of `a` and `b` at the same true time: pairs of indices.
+pub fn matching_samples(a: &[f64], b: &[f64]) -> Vec<(usize, usize)> {
+    let mut out = Vec::new();
+    let mut j = 0;
+    for (i, &t) in a.iter().enumerate() {
+        while j < b.len() && b[j] < t - 1e-9 {
+            j += 1;
+        }
+        if j < b.len() && (b[j] - t).abs() <= 1e-9 {
+            out.push((i, j));
+        }
+    }
+    out
 }
