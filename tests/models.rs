@@ -644,7 +644,13 @@ fn a_perfect_static_correction_also_makes_some_figures_worse() {
             .zip(&run.coil_mean_c)
             .map(|(w, t)| w - p.gyro.static_bias_dph(*t))
             .collect();
-        let c = driftlab::judge::metrics::Comparison::of(&run.omega_dph, &cor, 1.0, 0, &merit);
+        let c = driftlab::judge::metrics::Comparison::of(
+            &run.omega_dph,
+            &cor,
+            1.0,
+            &[0..cor.len()],
+            &merit,
+        );
         let ratio = match figure {
             "p2p" => c.p2p_ratio,
             "std" => c.std_ratio,

@@ -34,6 +34,10 @@ pub struct LogArgs {
     /// Numbers use a decimal comma (default: sniffed).
     #[arg(long)]
     pub decimal_comma: bool,
+    /// Average the log into bins of S seconds before anything else (for 100 Hz–2 kHz IMU
+    /// logs). Without it, a log written in bursts is reduced to one sample per burst.
+    #[arg(long, value_name = "S")]
+    pub bin: Option<f64>,
 }
 
 impl LogArgs {
@@ -123,6 +127,11 @@ impl LogArgs {
                 if p.count == 1 { "" } else { "s" }
             );
         }
+        // Averaged into bins (--bin) or one sample per burst, before anything else.
+        let (log, note) = driftlab::log::resample::prepare(log, self.bin)?;
+        if let Some(note) = note {
+            eprintln!("note: {}: {note}", log.source);
+        }
         Ok(log)
     }
 }
@@ -155,12 +164,24 @@ pub fn print_json<T: serde::Serialize>(value: &T) -> Result<(), String> {
     Ok(())
 }
 
-/// Formats a ratio for tables ("inf" when the corrected figure is zero).
+/// Formats a ratio raw ÷ corrected for tables: `n/a` when it cannot be computed, and marked
+/// `worse` below 1, where the correction made the figure worse than raw.
 pub fn ratio(r: f64) -> String {
-    if r.is_finite() {
-        format!("{r:.2}x")
+    if !r.is_finite() {
+        "n/a".into()
+    } else if r < 1.0 {
+        format!("{r:.2}x worse")
     } else {
-        "inf".into()
+        format!("{r:.2}x")
+    }
+}
+
+/// Formats a figure in °/h for tables: `n/a` when it could not be computed.
+pub fn figure(v: f64) -> String {
+    if v.is_finite() {
+        format!("{v:.4}")
+    } else {
+        "n/a".into()
     }
 }
 
@@ -168,8 +189,8 @@ pub fn ratio(r: f64) -> String {
 pub fn print_evaluation(e: &driftlab::judge::metrics::Evaluation) {
     let c = &e.comparison;
     println!(
-        "  {:<34} {:>11} {:>11} {:>9}",
-        "figure (deg/h)", "raw", "corrected", "ratio"
+        "  {:<34} {:>11} {:>11} {:>12}",
+        "figure (deg/h)", "raw", "corrected", "raw/cor"
     );
     let rows = [
         (
@@ -198,7 +219,26 @@ pub fn print_evaluation(e: &driftlab::judge::metrics::Evaluation) {
         ),
     ];
     for (name, raw, cor, r) in rows {
-        println!("  {name:<34} {raw:>11.4} {cor:>11.4} {:>9}", ratio(r));
+        println!(
+            "  {name:<34} {:>11} {:>11} {:>12}",
+            figure(raw),
+            figure(cor),
+            ratio(r)
+        );
+    }
+    for (what, why) in [
+        ("peak-to-peak and std", c.raw.filtered_unavailable),
+        ("window figures", c.raw.windows_unavailable),
+    ] {
+        if let Some(why) = why {
+            println!("  {what} n/a: {why}");
+        }
+    }
+    if c.worse_than_raw.any() {
+        println!(
+            "  worse than raw: {} (ratio below 1)",
+            c.worse_than_raw.names().join(", ")
+        );
     }
     println!(
         "  {} samples ({} warm-up samples left out), {} windows; {:.1}% outside the calibrated ranges",

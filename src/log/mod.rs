@@ -2,6 +2,7 @@
 //! (time in s, rate in °/h, temperature in °C), plus what the reader noticed on the way.
 
 pub mod ingest;
+pub mod resample;
 
 use serde::{Deserialize, Serialize};
 
@@ -128,12 +129,18 @@ impl Log {
         self.time_s.is_empty()
     }
 
-    /// Nominal sampling step: the median of the time differences, s.
-    ///
-    /// The median, not the mean, so that a few gaps do not change the step that windows and
-    /// derivative steps given in seconds are converted with.
+    /// Nominal sampling step within the log's segments, s ([`crate::signal::timing::Timing`]):
+    /// robust to gaps (they split segments) and to host time stamps that bunch (the mean step
+    /// within segments, not the median), so windows and derivative steps given in seconds are
+    /// converted with the step the gyro was really sampled at.
     pub fn nominal_dt_s(&self) -> f64 {
         nominal_dt_s(&self.time_s)
+    }
+
+    /// How the log was sampled in real time: its nominal step, its segments between gaps,
+    /// jitter and bursts ([`crate::signal::timing::Timing`]).
+    pub fn timing(&self) -> crate::signal::timing::Timing {
+        crate::signal::timing::Timing::of(&self.time_s)
     }
 
     /// Duration from the first to the last sample, s.
@@ -172,23 +179,8 @@ impl Log {
     }
 }
 
-/// Median time step of a time column, s (1.0 for fewer than two samples).
+/// Nominal time step of a time column, s (1.0 for fewer than two samples): see
+/// [`Log::nominal_dt_s`].
 pub fn nominal_dt_s(time_s: &[f64]) -> f64 {
-    if time_s.len() < 2 {
-        return 1.0;
-    }
-    // A strided sample of at most ~10k steps keeps this O(1)-ish on huge logs.
-    let stride = (time_s.len() / 10_000).max(1);
-    let mut steps: Vec<f64> = time_s
-        .windows(2)
-        .step_by(stride)
-        .map(|w| w[1] - w[0])
-        .filter(|d| d.is_finite() && *d > 0.0)
-        .collect();
-    if steps.is_empty() {
-        return 1.0;
-    }
-    let mid = steps.len() / 2;
-    let (_, m, _) = steps.select_nth_unstable_by(mid, |a, b| a.total_cmp(b));
-    *m
+    crate::signal::timing::Timing::of(time_s).nominal_dt_s
 }

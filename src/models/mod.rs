@@ -75,8 +75,7 @@ pub fn calibrate(
         } = vakhrameev::fit_lean(log, recipe)?;
         let c = calibration.corrected_rate_with(log, &deriv);
         drop(deriv);
-        let in_sample =
-            Evaluation::of_rate(log, &c.cor_dph, c.ready_from, c.outside_fraction, merit);
+        let in_sample = Evaluation::of_rate(log, &c.cor_dph, &c.ready, c.outside_fraction, merit);
         return Ok(Calibrated {
             model: DriftModel::Vakhrameev(Box::new(calibration)),
             in_sample,

@@ -291,21 +291,31 @@ pub fn fit(log: &Log, spec: &RegressionSpec) -> Result<RegressionModel> {
     let s = Signals::of(log, spec, temp2.as_deref(), None)?;
     let p = terms::column_names(&spec.terms).len();
     let n = s.len();
-    if n < s.ready_from + 2 * p + 2 {
+    if s.ready_count() < 2 * p + 2 {
         return Err(Error::Fit(format!(
             "{}: {n} samples are too few for model {} ({p} coefficients)",
             log.source, spec.name
         )));
     }
-    let stride = ((n - s.ready_from) / 200_000).max(1);
+    let stride = (s.ready_count() / 200_000).max(1);
     let stages = stages(spec);
     // The plateaus, when a stage needs them: the engineer's ranges, or found by the detector
     // (with the recipe's options) on T as measured, where the chamber held.
     let plateau: Vec<bool> = if stages.iter().any(|st| st.on_plateaus) {
         let ranges = match &spec.plateaus {
-            PlateauChoice::Auto(opts) => {
-                crate::signal::plateau::detect(&log.time_s, &s.tdot, s.ready_from, opts)
-            }
+            // Within each segment's samples with full history: no plateau spans a gap.
+            PlateauChoice::Auto(opts) => s
+                .ready
+                .iter()
+                .flat_map(|r| {
+                    crate::signal::plateau::detect(
+                        &log.time_s[r.clone()],
+                        &s.tdot[r.clone()],
+                        0,
+                        opts,
+                    )
+                })
+                .collect(),
             PlateauChoice::Manual { ranges } => ranges.clone(),
         };
         if ranges.is_empty() {
@@ -349,7 +359,7 @@ pub fn fit(log: &Log, spec: &RegressionSpec) -> Result<RegressionModel> {
                         delay: &Delay::default(),
                     };
                     cost(&s, &d, &stages, &plateau, |_| {
-                        (s.ready_from..n).step_by(stride)
+                        s.ready_samples().step_by(stride)
                     })
                 })
             };
@@ -390,7 +400,7 @@ pub fn fit(log: &Log, spec: &RegressionSpec) -> Result<RegressionModel> {
     let t_knots = t_knots_of(spec, &s).map_err(|e| Error::Fit(format!("{}: {e}", log.source)))?;
     // Searches run on at most 200 000 evenly spread samples: the cost curve's shape does not
     // need every sample, and a 10⁷-sample log would otherwise take minutes.
-    let sub = || (s.ready_from..n).step_by(stride);
+    let sub = || s.ready_samples().step_by(stride);
     let has_selfheat = spec.terms.contains(&Term::SelfHeating);
     let mut lambda = lambda0;
     let mut delay = match spec.delay {
@@ -436,10 +446,11 @@ pub fn fit(log: &Log, spec: &RegressionSpec) -> Result<RegressionModel> {
             searches.push(c);
         }
         DelaySpec::Bands { bands, max_s } => {
-            let (lo, hi) = s.temp[s.ready_from..]
-                .iter()
+            let (lo, hi) = s
+                .ready_samples()
+                .map(|i| s.temp[i])
                 .filter(|v| v.is_finite())
-                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
                     (a.min(v), b.max(v))
                 });
             let width = (hi - lo) / bands as f64;
@@ -492,7 +503,7 @@ pub fn fit(log: &Log, spec: &RegressionSpec) -> Result<RegressionModel> {
         t_knots: &t_knots,
         delay: &delay,
     };
-    let sol = solve_stages(&s, &design, &stages, &plateau, |_| s.ready_from..n).map_err(
+    let sol = solve_stages(&s, &design, &stages, &plateau, |_| s.ready_samples()).map_err(
         |(used, p)| {
             Error::Fit(format!(
                 "{}: model {} could not be fitted ({used} usable samples for {p} coefficients)",
@@ -530,10 +541,11 @@ fn t_knots_of(spec: &RegressionSpec, s: &Signals) -> std::result::Result<Vec<f64
     }) else {
         return Ok(Vec::new());
     };
-    let (lo, hi) = s.temp[s.ready_from.min(s.temp.len())..]
-        .iter()
+    let (lo, hi) = s
+        .ready_samples()
+        .map(|i| s.temp[i])
         .filter(|v| v.is_finite())
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
             (a.min(v), b.max(v))
         });
     if hi <= lo || hi.is_nan() {
@@ -565,7 +577,7 @@ fn ranges_and_stats(
             r[1] = r[1].max(v);
         }
     };
-    for i in (s.ready_from..s.len()).filter(|&i| used[i]) {
+    for i in s.ready_samples().filter(|&i| used[i]) {
         let x = s.inputs(i, &m.delay, &mut ch);
         let y = s.omega[i];
         let pred = m.predict(&x, &ch, &mut row);

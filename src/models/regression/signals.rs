@@ -36,6 +36,10 @@ pub(crate) struct Signals<'a> {
     pub channels: Vec<&'a [f64]>,
     pub dt_s: f64,
     pub ready_from: usize,
+    /// The samples with full rate history, one range per segment of the log.
+    pub ready: Vec<std::ops::Range<usize>>,
+    /// The first sample of each segment: no delayed read reaches before its segment's start.
+    pub segment_starts: Vec<usize>,
 }
 
 /// Looks up a channel by name, with a message that lists what the log has.
@@ -65,15 +69,22 @@ impl<'a> Signals<'a> {
         temp2: Option<&str>,
         lag: Option<(f64, f64)>,
     ) -> Result<Signals<'a>> {
-        let dt_s = log.nominal_dt_s();
+        let timing = log.timing();
+        let dt_s = timing.nominal_dt_s;
+        let segments = timing.segments;
+        // The lag, like the rates, starts afresh in each segment.
         let temp = match lag {
             Some((tau, per_c)) if tau > 0.0 => {
-                let mut lag = Lag::new(tau, per_c, dt_s);
-                log.temp_c.iter().map(|&t| lag.push(t)).collect()
+                let mut out = Vec::with_capacity(log.temp_c.len());
+                for r in &segments {
+                    let mut lag = Lag::new(tau, per_c, dt_s);
+                    out.extend(log.temp_c[r.clone()].iter().map(|&t| lag.push(t)));
+                }
+                out
             }
             _ => log.temp_c.clone(),
         };
-        let d = signal::derivatives(&temp, steps(spec, dt_s), dt_s);
+        let d = signal::derivatives_in(&temp, steps(spec, dt_s), dt_s, &segments);
         let temp2 = temp2.map(|n| channel(log, n)).transpose()?;
         let channels = terms::channel_names(&spec.terms)
             .iter()
@@ -89,6 +100,8 @@ impl<'a> Signals<'a> {
             channels,
             dt_s,
             ready_from: d.ready_from,
+            ready: d.ready,
+            segment_starts: segments.iter().map(|r| r.start).collect(),
         })
     }
 
@@ -96,11 +109,31 @@ impl<'a> Signals<'a> {
         self.time.len()
     }
 
+    /// The samples with full rate history, in order.
+    pub(crate) fn ready_samples(&self) -> impl Iterator<Item = usize> + Clone + '_ {
+        self.ready.iter().flat_map(|r| r.clone())
+    }
+
+    /// How many samples have full rate history.
+    pub(crate) fn ready_count(&self) -> usize {
+        self.ready.iter().map(|r| r.len()).sum()
+    }
+
+    /// The first sample of the segment holding sample `i`.
+    #[inline]
+    fn segment_start(&self, i: usize) -> usize {
+        match self.segment_starts.as_slice() {
+            [] | [_] => 0,
+            starts => starts[starts.partition_point(|&s| s <= i).saturating_sub(1)],
+        }
+    }
+
     /// The inputs of sample `i` with the temperature channels read `delay` seconds back
     /// (linear interpolation between samples; before the log's start, its first sample).
     #[inline]
     pub(crate) fn inputs(&self, i: usize, delay: &Delay, channels: &mut [f64]) -> Inputs {
-        let f = delayed_index(i, delay.at(self.temp[i]), self.dt_s);
+        let f =
+            delayed_index(i, delay.at(self.temp[i]), self.dt_s).max(self.segment_start(i) as f64);
         let temp = interp(&self.temp, f);
         for (v, c) in channels.iter_mut().zip(&self.channels) {
             *v = c[i];
