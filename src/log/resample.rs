@@ -179,21 +179,21 @@ mod tests {
 
     #[test]
     fn bins_average_what_they_hold() {
-        // 10 Hz for 10 s: bins of 1 s hold 10 samples each; a missing second leaves a gap.
+        // 10 Hz for 10 s: bins of 1 s hold 10 samples each; two missing seconds leave a gap.
         let t: Vec<f64> = (0..100)
-            .filter(|i| !(30..40).contains(i))
+            .filter(|i| !(30..50).contains(i))
             .map(|i| i as f64 * 0.1)
             .collect();
         let om: Vec<f64> = t.iter().map(|t| 2.0 * t).collect();
         let temp: Vec<f64> = t.iter().map(|t| 20.0 + t).collect();
         let log = Log::from_columns("x", t, om, temp);
         let (b, note) = resample(log.clone(), Resampling::Bins(1.0)).unwrap();
-        assert_eq!(b.len(), 9);
-        assert!(note.unwrap().contains("9 bins of 1 s"));
+        assert_eq!(b.len(), 8);
+        assert!(note.unwrap().contains("8 bins of 1 s"));
         // The first bin holds t = 0.0 … 0.9: mean 0.45.
         assert!((b.time_s[0] - 0.45).abs() < 1e-12);
         assert!((b.omega_dph[0] - 0.9).abs() < 1e-12);
-        assert!((b.temp_c[3] - 24.45).abs() < 1e-12);
+        assert!((b.temp_c[3] - 25.45).abs() < 1e-12);
         assert_eq!(b.timing().gaps.len(), 1);
         assert!(resample(log.clone(), Resampling::Bins(0.0)).is_err());
         assert!(resample(log, Resampling::Bins(f64::INFINITY)).is_err());
