@@ -311,15 +311,16 @@ fn jitter_of(time_s: &[f64], segments: &[Range<usize>], dt: f64) -> Option<Jitte
 /// agree within 20 % of their medians, covering less than half of the time between their
 /// starts.
 fn bursts_of(time_s: &[f64], segments: &[Range<usize>]) -> Option<Bursts> {
-    if segments.len() < 4 || segments.iter().any(|r| r.len() < MIN_BURST_SAMPLES) {
+    // The last burst may be cut short by the end of the run.
+    let body = &segments[..segments.len().saturating_sub(1)];
+    if body.len() < 4 || body.iter().any(|r| r.len() < MIN_BURST_SAMPLES) {
         return None;
     }
-    let body = &segments[..segments.len() - 1]; // the last burst may be cut short
     let mut on: Vec<f64> = body
         .iter()
         .map(|r| time_s[r.end - 1] - time_s[r.start])
         .collect();
-    let mut every: Vec<f64> = segments
+    let mut every: Vec<f64> = body
         .windows(2)
         .map(|w| time_s[w[1].start] - time_s[w[0].start])
         .collect();
