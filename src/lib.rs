@@ -33,6 +33,7 @@ pub mod corrected_csv;
 pub mod drift_model;
 pub mod error;
 pub mod firmware;
+pub mod formats;
 pub mod ingest;
 pub mod live;
 pub mod lod;
