@@ -132,3 +132,52 @@ impl Topics {
         out
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn imu(sec: i64, frame: &str, w: f64) -> Imu {
+        Imu {
+            stamp: RosTime { sec, nsec: 0 },
+            frame_id: frame.into(),
+            angular_velocity: [w, 0.0, 0.0],
+            linear_acceleration: [0.0, 0.0, 9.8],
+        }
+    }
+
+    fn temp(sec: i64, frame: &str, c: f64) -> Temperature {
+        Temperature {
+            stamp: RosTime { sec, nsec: 0 },
+            frame_id: frame.into(),
+            celsius: c,
+        }
+    }
+
+    #[test]
+    fn a_temperature_topic_of_the_same_frame_is_the_gyros_own() {
+        let mut t = Topics::default();
+        for s in 0..6 {
+            t.push_imu("/imu/data", s as u64, imu(s, "imu_link", s as f64));
+            t.push_imu("/other/imu", s as u64, imu(s, "other", 0.0));
+        }
+        // Half as often as the gyro, on its frame; another frame's topic is not used.
+        for s in [0, 2, 4] {
+            t.push_temperature("/imu/temperature", s as u64, temp(s, "imu_link", 30.0 + s as f64));
+            t.push_temperature("/board/temperature", s as u64, temp(s, "board", 99.0));
+        }
+        let mut problems = Vec::new();
+        let inst = t.into_instances(&mut problems);
+        assert_eq!(inst.len(), 2);
+        // The nearest temperature beside each gyro sample (ties go to the earlier one).
+        assert_eq!(
+            inst[0].temp_c,
+            Values::F64(vec![30.0, 30.0, 32.0, 32.0, 34.0, 34.0])
+        );
+        assert!(!inst[1].temp_c.has_numbers());
+        assert!(
+            problems.iter().any(|p| p.message.contains("/board/temperature")),
+            "{problems:?}"
+        );
+    }
+}
