@@ -208,6 +208,16 @@ fn ulog_matches_pyulog() {
     assert!((s[0].rate_hz.unwrap() - 1.0).abs() < 0.01);
     assert!((s[3].rate_hz.unwrap() - 1.0 / 0.004888).abs() < 1.0);
     assert_eq!(s[3].temp_range_c, None);
+    let line = s[0].line();
+    for part in [
+        "gyro 0  sensor_gyro multi_id 0  device_id 2424842 (0x25000A)",
+        "6 samples at 1.000 Hz",
+        "temperature 40.03 .. 40.36 degC",
+        "--temp-from accel: sensor_accel[0].temperature",
+    ] {
+        assert!(line.contains(part), "{line}");
+    }
+    assert!(s[3].line().contains("temperature n/a"), "{}", s[3].line());
     // The 30 ms dropout is reported.
     assert!(
         rec.problems.iter().any(|p| p.message.contains("30 ms")),

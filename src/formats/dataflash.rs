@@ -157,14 +157,49 @@ fn half_to_f32(h: u16) -> f32 {
     f32::from_bits(bits)
 }
 
+/// One channel as it is read: float32 while every value is one, widened to float64 at the
+/// first that is not (4 bytes a value for the usual `f` fields).
+enum Col {
+    F32(Vec<f32>),
+    F64(Vec<f64>),
+}
+
+impl Default for Col {
+    fn default() -> Col {
+        Col::F32(Vec::new())
+    }
+}
+
+impl Col {
+    fn push(&mut self, n: Num) {
+        match (&mut *self, n) {
+            (Col::F32(v), Num::F32(x)) => v.push(x),
+            (Col::F64(v), Num::F32(x)) => v.push(f64::from(x)),
+            (Col::F64(v), Num::F64(x)) => v.push(x),
+            (Col::F32(v), Num::F64(x)) => {
+                let mut w: Vec<f64> = v.iter().map(|&y| f64::from(y)).collect();
+                w.push(x);
+                *self = Col::F64(w);
+            }
+        }
+    }
+
+    fn into_values(self) -> Values {
+        match self {
+            Col::F32(v) => Values::F32(v),
+            Col::F64(v) => Values::F64(v),
+        }
+    }
+}
+
 /// Samples of one IMU instance, in file order.
 #[derive(Default)]
 struct Rows {
     time: Vec<u64>,
-    gyro: [Vec<Num>; 3],
-    accel: [Vec<Num>; 3],
+    gyro: [Col; 3],
+    accel: [Col; 3],
     has_accel: bool,
-    temp: Vec<Num>,
+    temp: Col,
 }
 
 /// Reads a DataFlash log held in memory.
@@ -246,7 +281,7 @@ pub(crate) fn read(data: &[u8]) -> Read {
             }
             r.has_accel |= l.accel.is_some();
             for (k, col) in r.accel.iter_mut().enumerate() {
-                col.push(l.accel.map_or(Num::F64(f64::NAN), |a| number(m, a[k])));
+                col.push(l.accel.map_or(Num::F32(f32::NAN), |a| number(m, a[k])));
             }
             r.temp
                 .push(l.temp.map_or(Num::F32(f32::NAN), |f| number(m, f)));
@@ -267,11 +302,11 @@ pub(crate) fn read(data: &[u8]) -> Read {
             time_sample_us: None,
             log_time_ns: None,
             gyro: Axes {
-                xyz: r.gyro.map(|v| values(&v)),
+                xyz: r.gyro.map(Col::into_values),
             },
-            temp_c: values(&r.temp),
+            temp_c: r.temp.into_values(),
             accel: r.has_accel.then(|| Axes {
-                xyz: r.accel.map(|v| values(&v)),
+                xyz: r.accel.map(Col::into_values),
             }),
             alt_temps: Vec::new(),
         })
@@ -279,29 +314,6 @@ pub(crate) fn read(data: &[u8]) -> Read {
     Read {
         instances,
         problems,
-    }
-}
-
-/// A column as float32 when every value is one, else widened to float64.
-fn values(v: &[Num]) -> Values {
-    if v.iter().all(|n| matches!(n, Num::F32(_))) {
-        Values::F32(
-            v.iter()
-                .map(|n| match n {
-                    Num::F32(x) => *x,
-                    Num::F64(x) => *x as f32,
-                })
-                .collect(),
-        )
-    } else {
-        Values::F64(
-            v.iter()
-                .map(|n| match n {
-                    Num::F32(x) => f64::from(*x),
-                    Num::F64(x) => *x,
-                })
-                .collect(),
-        )
     }
 }
 

@@ -353,6 +353,43 @@ pub struct AltTemperatureSummary {
     pub range_c: Option<(f64, f64)>,
 }
 
+impl InstanceSummary {
+    /// One line for a terminal: `gyro N  label  device  samples at rate over duration,
+    /// temperature range; alternatives`, with `n/a` and the reason where a figure cannot be
+    /// given.
+    pub fn line(&self) -> String {
+        let mut s = format!("gyro {}  {}", self.index, self.label);
+        if let Some(d) = &self.device {
+            s.push_str(&format!("  {d}"));
+        }
+        s.push_str(&format!("  {} samples", self.samples));
+        match self.rate_hz {
+            Some(r) => s.push_str(&format!(" at {r:.3} Hz")),
+            None => s.push_str(" at n/a Hz (fewer than two distinct stamps)"),
+        }
+        if let Some((a, b)) = self.time_range_s {
+            s.push_str(&format!(" over {:.3} s", b - a));
+        }
+        match self.temp_range_c {
+            Some((a, b)) => s.push_str(&format!(", temperature {a:.2} .. {b:.2} degC")),
+            None => s.push_str(", temperature n/a (none of its own)"),
+        }
+        if !self.has_accel {
+            s.push_str(", no accelerometer");
+        }
+        for a in &self.alt_temps {
+            match a.range_c {
+                Some((lo, hi)) => s.push_str(&format!(
+                    "; --temp-from {}: {} {lo:.2} .. {hi:.2} degC",
+                    a.from, a.field
+                )),
+                None => s.push_str(&format!("; {} is all NaN", a.field)),
+            }
+        }
+        s
+    }
+}
+
 impl GyroInstance {
     /// Number of samples.
     pub fn len(&self) -> usize {

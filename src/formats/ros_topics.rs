@@ -163,7 +163,11 @@ mod tests {
         }
         // Half as often as the gyro, on its frame; another frame's topic is not used.
         for s in [0, 2, 4] {
-            t.push_temperature("/imu/temperature", s as u64, temp(s, "imu_link", 30.0 + s as f64));
+            t.push_temperature(
+                "/imu/temperature",
+                s as u64,
+                temp(s, "imu_link", 30.0 + s as f64),
+            );
             t.push_temperature("/board/temperature", s as u64, temp(s, "board", 99.0));
         }
         let mut problems = Vec::new();
@@ -176,7 +180,9 @@ mod tests {
         );
         assert!(!inst[1].temp_c.has_numbers());
         assert!(
-            problems.iter().any(|p| p.message.contains("/board/temperature")),
+            problems
+                .iter()
+                .any(|p| p.message.contains("/board/temperature")),
             "{problems:?}"
         );
     }

@@ -168,6 +168,11 @@ pub fn select(
             })?;
             let how = if rec.instances.len() == 1 {
                 "the log's only gyro".to_string()
+            } else if from == TempFrom::None {
+                format!(
+                    "the first of {}; --gyro N picks another",
+                    rec.instances.len()
+                )
             } else if from == TempFrom::Own {
                 format!(
                     "the first of {} whose temperature is not all NaN; --gyro N picks another",
