@@ -697,3 +697,109 @@ fn convert_writes_a_csv_driftlab_reads_back_with_no_options() {
     assert!(String::from_utf8_lossy(&o.stderr).contains("--temp-from"));
     assert!(!out.exists());
 }
+
+/// The MCAP's zstd chunks rewritten as lz4 (frame format) or uncompressed, each given the CRC
+/// of its decompressed records (the sample's writer leaves it 0, "not computed"); the
+/// summary's offsets go stale, which a front-to-back reader does not use.
+fn recompress_mcap(bytes: &[u8], to: &str) -> Vec<u8> {
+    use std::io::Write;
+    let u64_at = |i: usize| u64::from_le_bytes(bytes[i..i + 8].try_into().unwrap()) as usize;
+    let mut out = bytes[..8].to_vec();
+    let mut pos = 8;
+    let mut chunks = 0;
+    while pos + 9 <= bytes.len() {
+        let op = bytes[pos];
+        let len = u64_at(pos + 1);
+        let content = &bytes[pos + 9..pos + 9 + len];
+        pos += 9 + len;
+        if op != 0x06 {
+            out.push(op);
+            out.extend_from_slice(&(len as u64).to_le_bytes());
+            out.extend_from_slice(content);
+            continue;
+        }
+        chunks += 1;
+        let fixed = &content[..28]; // start, end, uncompressed size, crc
+        let clen = u32::from_le_bytes(content[28..32].try_into().unwrap()) as usize;
+        assert_eq!(&content[32..32 + clen], b"zstd");
+        let at = 32 + clen;
+        let rlen = u64::from_le_bytes(content[at..at + 8].try_into().unwrap()) as usize;
+        let plain = zstd::decode_all(&content[at + 8..at + 8 + rlen]).unwrap();
+        let crc = crc32fast::hash(&plain);
+        let (name, records): (&[u8], Vec<u8>) = match to {
+            "lz4" => {
+                let mut e = lz4_flex::frame::FrameEncoder::new(Vec::new());
+                e.write_all(&plain).unwrap();
+                (b"lz4", e.finish().unwrap())
+            }
+            _ => (b"", plain),
+        };
+        let mut c = fixed.to_vec();
+        c[24..28].copy_from_slice(&crc.to_le_bytes());
+        c.extend_from_slice(&(name.len() as u32).to_le_bytes());
+        c.extend_from_slice(name);
+        c.extend_from_slice(&(records.len() as u64).to_le_bytes());
+        c.extend_from_slice(&records);
+        out.push(op);
+        out.extend_from_slice(&(c.len() as u64).to_le_bytes());
+        out.extend_from_slice(&c);
+    }
+    out.extend_from_slice(&bytes[pos..]);
+    assert_eq!(chunks, 2);
+    out
+}
+
+#[test]
+fn mcap_reads_lz4_and_uncompressed_chunks_and_checks_their_crc() {
+    let Some(dir) = data_dir() else { return };
+    let bytes = std::fs::read(dir.join(MCAP)).unwrap();
+    for to in ["lz4", "none"] {
+        let b = recompress_mcap(&bytes, to);
+        let rec = formats::read_bytes(&format!("razor.{to}.mcap"), &b)
+            .unwrap_or_else(|e| panic!("{to}: {e}"));
+        check_ros(&dir, &rec, MCAP, "log_time_ns");
+        // A flipped bit inside an uncompressed chunk's records is caught by its CRC.
+        if to == "none" {
+            let mut bad = b.clone();
+            let i = bad.len() / 4;
+            bad[i] ^= 0x10;
+            let e = formats::read_bytes("flipped.mcap", &bad).unwrap_err();
+            assert!(e.to_string().contains("CRC"), "{e}");
+            assert!(e.offset().unwrap() < i as u64, "{e}");
+        }
+    }
+}
+
+#[test]
+fn garbage_inside_a_dataflash_log_is_skipped_and_reported() {
+    let Some(dir) = data_dir() else { return };
+    let bytes = std::fs::read(dir.join(DATAFLASH)).unwrap();
+    let whole = formats::read_bytes("whole.bin", &bytes).unwrap();
+    // 37 bytes of noise between two messages, just before the first IMU message.
+    let first_imu = (0..bytes.len() - 3)
+        .find(|&i| {
+            bytes[i] == 0xA3
+                && bytes[i + 1] == 0x95
+                && formats::read_bytes("x.bin", &bytes[..i])
+                    .map(|r| r.instances.is_empty())
+                    .unwrap_or(true)
+                && formats::read_bytes("y.bin", &bytes[..i + 200])
+                    .is_ok_and(|r| !r.instances.is_empty())
+        })
+        .unwrap();
+    let mut b = bytes[..first_imu].to_vec();
+    b.extend((0..37u8).map(|k| k.wrapping_mul(7)));
+    b.extend_from_slice(&bytes[first_imu..]);
+    let rec = formats::read_bytes("noisy.bin", &b).unwrap();
+    assert_eq!(
+        format!("{:?}", rec.instances),
+        format!("{:?}", whole.instances)
+    );
+    let p = rec
+        .problems
+        .iter()
+        .find(|p| p.message.contains("skipped"))
+        .expect("the skipped bytes are reported");
+    assert_eq!(p.offset, Some(first_imu as u64));
+    assert!(p.message.starts_with("37 byte(s)"), "{}", p.message);
+}
