@@ -7,6 +7,7 @@ mod calibrate;
 mod calibrate_print;
 mod common;
 mod compare;
+mod convert;
 mod evaluate;
 mod export;
 mod inspect;
@@ -45,6 +46,9 @@ pub enum Command {
     Simulate(simulate::Args),
     /// Fit several models on one log and compare them on it and on held-out logs.
     Compare(compare::Args),
+    /// Write one gyro of a drone or robot log (PX4 ULog, ArduPilot DataFlash, ROS bag, MCAP)
+    /// as a CSV the other commands read.
+    Convert(convert::Args),
     /// Allan deviation of a log's rate with intervals, and ARW, bias instability and RRW.
     Allan(allan::Args),
     /// Open the workbench (the default when no command is given).
@@ -73,6 +77,7 @@ pub fn run(command: Command) -> Result<(), String> {
         Command::Simulate(a) => simulate::run(a),
         Command::Compare(a) => compare::run(a),
         Command::Allan(a) => allan::run(a),
+        Command::Convert(a) => convert::run(a),
         Command::Gui(a) => gui(a),
     }
 }

@@ -1,6 +1,7 @@
 //! A gyro test log after ingest: synchronous columns already converted to driftlab's units
 //! (time in s, rate in °/h, temperature in °C), plus what the reader noticed on the way.
 
+pub mod formats;
 pub mod ingest;
 pub mod resample;
 
