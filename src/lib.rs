@@ -37,6 +37,7 @@ pub mod ingest;
 pub mod live;
 pub mod lod;
 pub mod log;
+pub mod mapping_check;
 pub mod metrics;
 pub mod model;
 pub mod plateau;
