@@ -15,7 +15,7 @@ mod screenshot;
 use screenshot::{AutoShot, PendingShot, Shot};
 
 use super::autosave::{Autosave, LeftBehind};
-use super::dialogs::{FileDialogs, FileKind};
+use super::dialogs::FileDialogs;
 use super::export;
 use super::jobs::{JobResult, Jobs, Target};
 use super::plot_items::num;
@@ -92,6 +92,9 @@ pub enum Action {
     CompareModels,
     /// Write the model chosen on the Models page as a calibration file.
     ExportModel,
+    /// Reopen the import view on the loaded log (or the validation log) to change its
+    /// column mapping, units or format.
+    ColumnMapping(Target),
 }
 
 /// The pages of the workbench.
@@ -188,6 +191,10 @@ pub struct Workbench {
     coeffs: CoeffView,
     result: ResultView,
     import: Option<ImportView>,
+    /// Height of the coefficient panel's rows other than its three plots, last frame.
+    coeff_overhead: Option<f32>,
+    /// The workbench's own file dialog, open, with what the path is for.
+    file_dialog: Option<(super::file_dialog::FileDialog, files::Purpose)>,
     confirm: Option<Action>,
     error: Option<String>,
     pending_session: Option<(PathBuf, Session)>,
@@ -238,6 +245,8 @@ impl Workbench {
             coeffs: CoeffView::default(),
             result: ResultView,
             import: None,
+            file_dialog: None,
+            coeff_overhead: None,
             confirm: None,
             error: None,
             pending_session: None,
@@ -370,6 +379,25 @@ impl Workbench {
         self.run_action(ctx, action);
     }
 
+    /// Opens a log as the command line does: read with `read` at once, unless `ask_when_unsure`
+    /// and its columns need a look (no header, two candidates for a role, implausible values,
+    /// no mapping): then the import view shows first.
+    pub fn open_log(&mut self, path: PathBuf, read: ReadOptions, ask_when_unsure: bool) {
+        let view = ImportView::new(path.clone(), Target::Calibration, read.clone());
+        if ask_when_unsure && view.needs_a_look() {
+            self.state.say(
+                Severity::Warning,
+                format!(
+                    "Check the columns of {} before it is read",
+                    file_name(&path)
+                ),
+            );
+            self.import = Some(view);
+        } else {
+            self.start_load(path, read, Target::Calibration);
+        }
+    }
+
     /// Starts reading a log (no import view: the options are given).
     pub fn start_load(&mut self, path: PathBuf, read: ReadOptions, target: Target) {
         self.state
@@ -442,7 +470,7 @@ impl Workbench {
             .show(ui, |ui| ResultView::figures(ui, &self.state));
         Panel::left("controls")
             .default_size(330.0)
-            .size_range(250.0..=520.0)
+            .size_range(320.0..=520.0)
             .show(ui, |ui| {
                 ScrollArea::vertical().show(ui, |ui| self.controls(ui, actions));
             });
@@ -602,10 +630,13 @@ impl Workbench {
             ui.weak("K0, K1± and K2± appear here once a log is loaded.");
             return;
         }
+        // The three plots share what their control rows leave, as measured last frame (rows
+        // wrap when the panel is narrow, rather than widening it).
+        let top = ui.cursor().top();
         let h = ui.available_height();
-        // Three plots with their control rows (K0: one row, K1/K2: three rows each).
         let row = ui.spacing().interact_size.y + ui.spacing().item_spacing.y;
-        let plot_h = ((h - 11.0 * row - 30.0) / 3.0).max(110.0);
+        let overhead = self.coeff_overhead.unwrap_or(11.0 * row + 30.0);
+        let plot_h = ((h - overhead) / 3.0).max(90.0).floor();
         self.plateaus.k0_plot(ui, &mut self.state, plot_h, actions);
         ui.separator();
         self.coeffs
@@ -613,6 +644,8 @@ impl Workbench {
         ui.separator();
         self.coeffs
             .ui(ui, &mut self.state, Pair::K2, plot_h, actions);
+        let used = ui.cursor().top() - top;
+        self.coeff_overhead = Some((used - 3.0 * plot_h).max(0.0));
     }
 }
 

@@ -8,7 +8,8 @@
 //!   [`view_result`] (the Calibration page), [`view_models`] (the Models page: presets and a
 //!   custom model side by side, their export) and [`view_allan`] (the Allan page);
 //! * [`plot_items`]: plot items drawn from level-of-detail data ([`crate::lod`]);
-//! * [`export`], [`dialogs`], [`settings`].
+//! * [`export`], [`dialogs`] (which file dialog can appear), [`file_dialog`] (the workbench's
+//!   own, where no system dialog can), [`settings`].
 //!
 //! Fitting is a pure function of (log, recipe, knots moved by hand), run by
 //! [`crate::live::Pipeline`] on the worker; a GUI edit changes the recipe and the next frame
@@ -18,6 +19,7 @@ pub mod app;
 pub mod autosave;
 pub mod dialogs;
 pub mod export;
+pub mod file_dialog;
 pub mod jobs;
 pub mod plot_items;
 pub mod settings;
@@ -31,7 +33,7 @@ pub mod view_result;
 pub mod view_time;
 
 pub use app::{Action, Page, Workbench, default_log};
-pub use dialogs::{FileDialogs, FileKind, RfdDialogs, ScriptedDialogs};
+pub use dialogs::{Answer, FileDialogs, FileKind, ScriptedDialogs, SystemDialogs};
 pub use jobs::Target;
 
 use eframe::egui;
@@ -48,6 +50,9 @@ pub struct GuiOptions {
     /// the page named by the environment variable `DRIFTLAB_GUI_PAGE` shown, its work done
     /// first: the Models page compares the models ticked by default).
     pub screenshot: Option<PathBuf>,
+    /// How to read the log (`--time-col`, `--rate-unit`, …): the import view starts from
+    /// these, and the log is read with them when its columns need no look.
+    pub read: crate::ingest::ReadOptions,
 }
 
 /// Opens the workbench window and runs until it is closed.
@@ -76,6 +81,20 @@ pub fn run(options: GuiOptions) -> Result<(), String> {
         && !l.is_file()
     {
         return Err(format!("{}: no such file", l.display()));
+    }
+    let read = options.read.clone();
+    if read != crate::ingest::ReadOptions::default()
+        && log.as_ref().is_some_and(|p| {
+            p.extension()
+                .is_some_and(|e| e.eq_ignore_ascii_case("json"))
+        })
+    {
+        return Err(
+            "--time-col, --rate-col, --temp-col, --rate-unit, --time-unit, --sample-rate, \
+             --delimiter and --decimal-comma apply to a log: a session keeps the mapping it was \
+             saved with (open it, then File › Column mapping…)"
+                .into(),
+        );
     }
     // Screenshot mode renders with the engineer's theme but writes no settings back.
     let settings = Settings::default_path()
@@ -113,7 +132,7 @@ pub fn run(options: GuiOptions) -> Result<(), String> {
         "driftlab",
         native,
         Box::new(move |_cc| {
-            let mut wb = Workbench::new(settings, settings_path, Box::new(RfdDialogs));
+            let mut wb = Workbench::new(settings, settings_path, Box::new(SystemDialogs::detect()));
             match log {
                 // `driftlab gui run7.session.json` reopens a saved session.
                 Some(p)
@@ -122,7 +141,7 @@ pub fn run(options: GuiOptions) -> Result<(), String> {
                 {
                     wb.open_session(p)
                 }
-                Some(p) => wb.start_load(p, Default::default(), Target::Calibration),
+                Some(p) => wb.open_log(p, read, shot.is_none()),
                 None => {}
             }
             if let Some(p) = page {

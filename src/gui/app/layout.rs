@@ -26,6 +26,14 @@ impl Workbench {
                     actions.push(Action::OpenValidation);
                     ui.close();
                 }
+                if ui
+                    .add_enabled(has_log, egui::Button::new("Column mapping…"))
+                    .on_hover_text("Reopen the import view on the loaded log: columns, units, separator, decimal comma")
+                    .clicked()
+                {
+                    actions.push(Action::ColumnMapping(Target::Calibration));
+                    ui.close();
+                }
                 ui.menu_button("Recent", |ui| {
                     if self.settings.recent.is_empty() {
                         ui.weak("No recent files");
@@ -281,6 +289,13 @@ impl Workbench {
                             tmax
                         ))
                         .on_hover_text(l.path.display().to_string());
+                        if ui
+                            .small_button("Column mapping…")
+                            .on_hover_text("Reopen the import view on this log: columns, units, separator, decimal comma")
+                            .clicked()
+                        {
+                            actions.push(Action::ColumnMapping(Target::Calibration));
+                        }
                         let problems = &log.info.problems;
                         if !problems.is_empty() {
                             let text: Vec<String> = problems
@@ -307,6 +322,13 @@ impl Workbench {
                             .unwrap_or_default();
                         ui.label(format!("Validation: {name}"))
                             .on_hover_text(v.path.display().to_string());
+                        if ui
+                            .small_button("mapping…")
+                            .on_hover_text("Reopen the import view on the validation log")
+                            .clicked()
+                        {
+                            actions.push(Action::ColumnMapping(Target::Validation));
+                        }
                         if ui
                             .small_button("×")
                             .on_hover_text("Forget the validation log")
@@ -426,6 +448,7 @@ impl Workbench {
 
     pub(super) fn modals(&mut self, ctx: &egui::Context, actions: &mut Vec<Action>) {
         self.recovery_modal(ctx);
+        self.file_dialog_modal(ctx);
         if let Some(view) = &mut self.import {
             match view.show(ctx) {
                 Some(ImportDecision::Load(path, read, target)) => {
@@ -471,9 +494,7 @@ impl Workbench {
             match answer {
                 Some(0) => {
                     self.confirm = None;
-                    if self.save_session(false) {
-                        self.run_confirmed(ctx, action);
-                    }
+                    self.save_session(ctx, false, Some(action));
                 }
                 Some(1) => {
                     self.confirm = None;

@@ -43,6 +43,13 @@ impl Workbench {
                         )
                     }
                 );
+                // The same file read again with another mapping keeps the work on it.
+                let remapped = self.pending_session.is_none()
+                    && self
+                        .state
+                        .log
+                        .as_ref()
+                        .is_some_and(|old| same_file(&old.path, &path));
                 self.state.log = Some(l);
                 self.state.fit = None;
                 self.state.fit_error = None;
@@ -78,6 +85,9 @@ impl Workbench {
                             self.settings.add_recent(&spath);
                         }
                     }
+                    _ if remapped => {
+                        self.time.x_command = Some(XCommand::Fit);
+                    }
                     _ => {
                         // Choices carry over to the new log, except what belonged to the old one.
                         if !self.state.plateaus_auto() {
@@ -91,7 +101,9 @@ impl Workbench {
                         self.settings.add_recent(&path);
                     }
                 }
-                self.state.history.reset(&self.state.choices);
+                if !remapped {
+                    self.state.history.reset(&self.state.choices);
+                }
                 self.state.say(Severity::Info, msg);
             }
             JobResult::Loaded(Target::Validation, l) => {
@@ -194,8 +206,10 @@ impl Workbench {
                     }
                 }
                 Err(e) => {
-                    self.state
-                        .say(Severity::Error, format!("Could not save {what}"));
+                    self.state.say(
+                        Severity::Error,
+                        format!("Could not save {what}, nothing was written: {e}"),
+                    );
                     if what == "screenshot" && self.auto.is_some() {
                         self.finish_auto(Err(e));
                     } else {
