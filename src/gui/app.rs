@@ -191,6 +191,8 @@ pub struct Workbench {
     coeffs: CoeffView,
     result: ResultView,
     import: Option<ImportView>,
+    /// The window title last sent.
+    title: Option<String>,
     /// Height of the coefficient panel's rows other than its three plots, last frame.
     coeff_overhead: Option<f32>,
     /// The workbench's own file dialog, open, with what the path is for.
@@ -247,6 +249,7 @@ impl Workbench {
             import: None,
             file_dialog: None,
             coeff_overhead: None,
+            title: None,
             confirm: None,
             error: None,
             pending_session: None,
@@ -449,6 +452,7 @@ impl Workbench {
         }
         let settled = !ctx.input(|i| i.pointer.any_down());
         self.state.history.observe(&self.state.choices, settled);
+        self.state.forget_stale_status();
         self.refit_if_needed();
         if self.auto.is_none() {
             self.autosave.tick(&self.state);
@@ -459,12 +463,16 @@ impl Workbench {
         }
         self.screenshots(&ctx);
         self.remember_window(&ctx);
+        self.window_title(&ctx);
         if self.jobs.busy() {
             ctx.request_repaint_after(Duration::from_millis(100));
         }
     }
 
     fn calibration_page(&mut self, ui: &mut Ui, actions: &mut Vec<Action>) {
+        Panel::top("banner")
+            .resizable(false)
+            .show(ui, |ui| self.banner(ui));
         Panel::bottom("figures")
             .resizable(false)
             .show(ui, |ui| ResultView::figures(ui, &self.state));
@@ -556,6 +564,28 @@ impl Workbench {
     /// Where this workbench autosaves, when it does.
     pub fn autosave_path(&self) -> Option<&Path> {
         self.autosave.path()
+    }
+
+    /// The window's title names the log and says when its calibration is ready (scripts
+    /// that drive the window wait for it).
+    fn window_title(&mut self, ctx: &egui::Context) {
+        let title = match &self.state.log {
+            None => "driftlab workbench".to_string(),
+            Some(l) => format!(
+                "{}{} — driftlab workbench{}",
+                file_name(&l.path),
+                if self.state.dirty() { " •" } else { "" },
+                match (&self.state.fit, &self.state.fit_error) {
+                    (_, Some(_)) => " (calibration failed)",
+                    (None, None) => " (calibrating…)",
+                    (Some(_), None) => "",
+                }
+            ),
+        };
+        if self.title.as_deref() != Some(title.as_str()) {
+            ctx.send_viewport_cmd(ViewportCommand::Title(title.clone()));
+            self.title = Some(title);
+        }
     }
 
     fn remember_window(&mut self, ctx: &egui::Context) {
