@@ -218,7 +218,7 @@ impl Workbench {
         let n = found.len();
         self.state.set_ranges(found);
         self.time.selected = None;
-        self.state.say(
+        self.state.say_about_choices(
             Severity::Info,
             format!(
                 "The detector suggests {n} plateau{}; edit them in the table or on the time plots",

@@ -208,6 +208,9 @@ impl Workbench {
     }
 
     pub(super) fn export_calibration(&mut self, ctx: &egui::Context) {
+        if self.state.log.is_some() {
+            self.settle_fit();
+        }
         if self.state.log.is_none() || self.state.fit.is_none() {
             self.state.say(
                 Severity::Warning,

@@ -247,29 +247,88 @@ impl Workbench {
                 }
                 ui.separator();
             }
-            if let Some(e) = &self.state.fit_error {
-                ui.colored_label(
-                    ui.visuals().error_fg_color,
-                    format!("Calibration failed: {e}"),
-                );
-            } else if let Some((sev, msg)) = &self.state.status {
+            // One line whatever the message: the status bar never grows.
+            if let Some((sev, msg)) = &self.state.status {
                 let color = match sev {
                     Severity::Info => ui.visuals().text_color(),
                     Severity::Warning => ui.visuals().warn_fg_color,
                     Severity::Error => ui.visuals().error_fg_color,
                 };
-                ui.colored_label(color, msg);
+                ui.add(egui::Label::new(RichText::new(msg).color(color)).truncate())
+                    .on_hover_text(msg.as_str());
             }
         });
     }
 
+    /// One line in a fixed slot above the Calibration page: why the calibration failed, that
+    /// the figures are provisional while a refit is on its way, or what the fit had to work
+    /// around. It never moves what is below it.
+    pub(super) fn banner(&mut self, ui: &mut Ui) {
+        let row_h = ui.spacing().interact_size.y;
+        ui.allocate_ui_with_layout(
+            egui::vec2(ui.available_width(), row_h),
+            Layout::left_to_right(Align::Center),
+            |ui| {
+                ui.set_min_size(egui::vec2(ui.available_width(), row_h));
+                let (color, text, tip) = if let Some(e) = &self.state.fit_error {
+                    (
+                        ui.visuals().error_fg_color,
+                        format!("Calibration failed: {e}"),
+                        format!(
+                            "{e}\n\nThe plots show the last calibration that worked (or the raw \
+                             log); change the choice that caused it, or Ctrl+Z."
+                        ),
+                    )
+                } else if self.state.log.is_some() && self.state.fit.is_none() {
+                    (
+                        ui.visuals().weak_text_color(),
+                        "Calibrating…".to_string(),
+                        "The first calibration of this log is on its way".to_string(),
+                    )
+                } else if self.state.fit.is_some() && !self.state.fit_current() {
+                    (
+                        ui.visuals().warn_fg_color,
+                        "Refitting: the figures shown are provisional (the choices as they were a \
+                         moment ago)"
+                            .to_string(),
+                        "The worker is refitting with the current choices; the figures are \
+                         exact again as soon as it answers"
+                            .to_string(),
+                    )
+                } else if let Some(w) = self.state.fit.as_ref().and_then(|f| {
+                    (!f.outcome.warnings.is_empty()).then(|| f.outcome.warnings.join("\n"))
+                }) {
+                    let n = self
+                        .state
+                        .fit
+                        .as_ref()
+                        .map_or(0, |f| f.outcome.warnings.len());
+                    (
+                        ui.visuals().warn_fg_color,
+                        format!(
+                            "{n} warning{} from the fit: {}",
+                            if n == 1 { "" } else { "s" },
+                            w.lines().next().unwrap_or_default()
+                        ),
+                        w,
+                    )
+                } else if self.state.fit.is_some() {
+                    (
+                        ui.visuals().weak_text_color(),
+                        "Calibrated: the figures below are those of the current choices"
+                            .to_string(),
+                        "Every figure and plot answers the choices as they are now".to_string(),
+                    )
+                } else {
+                    (ui.visuals().weak_text_color(), String::new(), String::new())
+                };
+                ui.add(egui::Label::new(RichText::new(text).color(color)).truncate())
+                    .on_hover_text(tip);
+            },
+        );
+    }
+
     pub(super) fn controls(&mut self, ui: &mut Ui, actions: &mut Vec<Action>) {
-        if let Some(e) = &self.state.fit_error {
-            ui.colored_label(
-                ui.visuals().error_fg_color,
-                format!("Calibration failed: {e}"),
-            );
-        }
         egui::CollapsingHeader::new("Data")
             .default_open(true)
             .show(ui, |ui| {

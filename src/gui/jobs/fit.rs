@@ -39,6 +39,8 @@ pub struct HeldLods {
 pub struct FitView {
     /// The request number it answers.
     pub generation: u64,
+    /// The knots moved by hand it was fitted with (the recipe is the calibration's own).
+    pub knots: crate::session::KnotEdits,
     /// The engine's result.
     pub outcome: Outcome,
     /// Drawing data.
@@ -133,6 +135,7 @@ pub(super) fn fit_worker(rx: Receiver<FitMsg>, tx: Sender<JobResult>, ctx: Share
             let lods = build_lods(&mut cache, &outcome);
             Ok::<_, String>(FitView {
                 generation,
+                knots: request.knots.clone(),
                 outcome,
                 lods,
             })
