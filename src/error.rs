@@ -22,6 +22,9 @@ pub enum Error {
     /// The data cannot support the fit that was asked for.
     #[error("{0}")]
     Fit(String),
+    /// The engineer stopped a long fit before it finished.
+    #[error("cancelled")]
+    Cancelled,
     /// An operating-system error while reading or writing a file.
     #[error("{path}: {source}")]
     Io {
