@@ -212,16 +212,36 @@ impl ModelCorrector {
 /// # Errors
 /// What the fit reports (too few samples, a missing channel, ...).
 pub fn fit(log: &Log, choice: &ModelChoice, recipe: &Recipe) -> Result<DriftModel> {
+    fit_with_progress(log, choice, recipe, &|_| true)
+}
+
+/// [`fit`], telling `progress` the share done (0 to 1) as it goes: a regression model's
+/// searches report each cost evaluation, the Vakhrameev fit its start and end. When
+/// `progress` returns false the fit stops as soon as it can with [`Error::Cancelled`].
+///
+/// # Errors
+/// As [`fit`], and [`Error::Cancelled`].
+pub fn fit_with_progress(
+    log: &Log,
+    choice: &ModelChoice,
+    recipe: &Recipe,
+    progress: &(dyn Fn(f64) -> bool + Sync),
+) -> Result<DriftModel> {
+    if !progress(0.0) {
+        return Err(Error::Cancelled);
+    }
     let spec = match choice {
         ModelChoice::Preset(p) => p.spec(log)?,
         ModelChoice::Custom(s) => Some(s.clone()),
     };
     match spec {
-        None => Ok(DriftModel::Vakhrameev(Box::new(
-            model::fit(log, recipe)?.calibration,
-        ))),
+        None => {
+            let cal = model::fit(log, recipe)?.calibration;
+            progress(1.0);
+            Ok(DriftModel::Vakhrameev(Box::new(cal)))
+        }
         Some(spec) => {
-            let m = regression::fit(log, &spec)?;
+            let m = regression::fit_with_progress(log, &spec, progress)?;
             Ok(DriftModel::Regression(Box::new(
                 RegressionCalibration::new(&recipe.gyro_id, log, m),
             )))
