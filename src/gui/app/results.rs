@@ -159,6 +159,10 @@ impl Workbench {
             }
             JobResult::FitFailed(generation, message) => {
                 if generation == self.jobs.requested {
+                    if self.state.fit.is_none() {
+                        // No calibration to show: the raw log, fitted to the window.
+                        self.time.x_command = Some(XCommand::Fit);
+                    }
                     self.state.fit_error = Some(message.clone());
                     self.state
                         .say(Severity::Error, format!("Calibration failed: {message}"));
@@ -185,6 +189,16 @@ impl Workbench {
                             self.models.adopt(&c);
                             self.state.models = Some(c);
                             self.state.models_error = None;
+                        }
+                        Err(e) if e == crate::gui::jobs::CANCELLED => {
+                            self.state.say(
+                                Severity::Info,
+                                if self.state.models.is_some() {
+                                    "Comparison cancelled: the table shows the comparison before"
+                                } else {
+                                    "Comparison cancelled"
+                                },
+                            );
                         }
                         Err(e) => {
                             self.state
