@@ -19,6 +19,31 @@ pub struct Concern {
     pub column: Option<usize>,
     /// What to look at, in a sentence.
     pub message: String,
+    /// The role whose choice is in doubt, for a concern about which column plays it (one the
+    /// engineer settles by mapping that role); `None` for implausible values.
+    pub ambiguous: Option<ColumnRole>,
+}
+
+/// [`concerns`] less the doubts the options settle: a role mapped by name or number is no
+/// longer ambiguous (its values are still checked).
+pub fn concerns_for(p: &Preview, opts: &crate::ingest::ReadOptions) -> Vec<Concern> {
+    let all_mapped = opts.time_col.is_some() || opts.sample_rate_hz.is_some();
+    let mapped = |r: ColumnRole| match r {
+        ColumnRole::Time => opts.time_col.is_some(),
+        ColumnRole::Rate => opts.rate_col.is_some(),
+        ColumnRole::Temperature => opts.temp_col.is_some(),
+        _ => false,
+    };
+    concerns(p)
+        .into_iter()
+        .filter(|c| match c.ambiguous {
+            Some(ColumnRole::Extra) => {
+                !(all_mapped && opts.rate_col.is_some() && opts.temp_col.is_some())
+            }
+            Some(r) => !mapped(r),
+            None => true,
+        })
+        .collect()
 }
 
 /// Words that name the chamber's air or set point rather than a sensor on the gyro: such a
@@ -42,6 +67,7 @@ pub fn concerns(p: &Preview) -> Vec<Concern> {
         out.push(Concern {
             column: None,
             message: format!("The columns cannot be mapped: {e}"),
+            ambiguous: None,
         });
         return out;
     }
@@ -52,6 +78,8 @@ pub fn concerns(p: &Preview) -> Vec<Concern> {
             message: "The file has no header: time, rate and temperature are taken from the \
                       columns in that order"
                 .into(),
+            // Every role at once (settled when all three are mapped).
+            ambiguous: Some(ColumnRole::Extra),
         });
     }
     // Second candidates: kept channels in a temperature or rate unit.
@@ -71,6 +99,7 @@ pub fn concerns(p: &Preview) -> Vec<Concern> {
                      temperature, \"{}\" (column {}) is kept as a channel",
                     t.name, t.index, c.name, c.index
                 ),
+                ambiguous: Some(ColumnRole::Temperature),
             });
         }
     }
@@ -87,6 +116,7 @@ pub fn concerns(p: &Preview) -> Vec<Concern> {
                      (column {}) is kept as a channel",
                     r.name, r.index, c.name, c.index
                 ),
+                ambiguous: Some(ColumnRole::Rate),
             });
         }
     }
@@ -109,6 +139,7 @@ pub fn concerns(p: &Preview) -> Vec<Concern> {
                      rows: is it the time column?",
                     t.name, t.index
                 ),
+                ambiguous: None,
             });
         }
     }
@@ -133,6 +164,7 @@ pub fn concerns(p: &Preview) -> Vec<Concern> {
                     t.index,
                     if t.unit.is_empty() { "°C" } else { &t.unit }
                 ),
+                ambiguous: None,
             });
         }
     }
@@ -157,6 +189,7 @@ pub fn concerns(p: &Preview) -> Vec<Concern> {
                     r.index,
                     if r.unit.is_empty() { "deg/h" } else { &r.unit }
                 ),
+                ambiguous: None,
             });
         } else if v.len() >= 5 && v.windows(2).all(|w| w[1] > w[0]) {
             out.push(Concern {
@@ -166,6 +199,7 @@ pub fn concerns(p: &Preview) -> Vec<Concern> {
                      time or a counter: is it the rate?",
                     r.name, r.index
                 ),
+                ambiguous: None,
             });
         }
     }
@@ -240,5 +274,21 @@ mod tests {
         // A rate in °/s labelled as °/h.
         let c = check("time_s,omega_dph,temp_c\n0,3e5,20\n1,-3e5,20\n2,3e5,20\n");
         assert!(c.iter().any(|c| c.column == Some(2)), "{c:?}");
+    }
+
+    #[test]
+    fn a_role_mapped_by_the_engineer_is_no_longer_in_doubt() {
+        let text =
+            "time_s,omega_dph,temp_base_c,temp_housing_c\n0,0.1,20,20\n1,0.2,20,20\n2,0.1,20,20\n";
+        let opts = ReadOptions {
+            temp_col: Some(crate::ingest::ColumnRef::Name("temp_housing_c".into())),
+            ..ReadOptions::default()
+        };
+        let p = preview_bytes("t.csv", text.as_bytes(), &opts, 25).unwrap();
+        assert!(
+            !concerns(&p).is_empty(),
+            "the other sensor is still a candidate"
+        );
+        assert!(concerns_for(&p, &opts).is_empty());
     }
 }

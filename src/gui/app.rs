@@ -203,6 +203,8 @@ pub struct Workbench {
     /// A session's validation log on its way: whether the session showed it.
     restoring_validation: Option<bool>,
     plot_rects: HashMap<String, Rect>,
+    /// Where each panel of the Calibration page was drawn last frame.
+    panel_rects: HashMap<&'static str, Rect>,
     last_request: Option<(Choices, usize, usize)>,
     pending_shot: Option<PendingShot>,
     shot_tx: Sender<Shot>,
@@ -255,6 +257,7 @@ impl Workbench {
             pending_session: None,
             restoring_validation: None,
             plot_rects: HashMap::new(),
+            panel_rects: HashMap::new(),
             last_request: None,
             pending_shot: None,
             shot_tx,
@@ -350,6 +353,17 @@ impl Workbench {
     /// `result`) was drawn last frame.
     pub fn plot_rect(&self, name: &str) -> Option<Rect> {
         self.plot_rects.get(name).copied()
+    }
+
+    /// Where a panel of the Calibration page (`controls`, `coefficients`, `central`) was drawn
+    /// last frame.
+    pub fn panel_rect(&self, name: &str) -> Option<Rect> {
+        self.panel_rects.get(name).copied()
+    }
+
+    /// The time range the time plots show, s (as drawn last frame).
+    pub fn visible_time_s(&self) -> Option<(f64, f64)> {
+        self.time.visible_s
     }
 
     /// Screen x of time `t_s` on the time plots as drawn last frame (tests aim the mouse).
@@ -476,17 +490,19 @@ impl Workbench {
         Panel::bottom("figures")
             .resizable(false)
             .show(ui, |ui| ResultView::figures(ui, &self.state));
-        Panel::left("controls")
+        let r = Panel::left("controls")
             .default_size(330.0)
             .size_range(320.0..=520.0)
             .show(ui, |ui| {
                 ScrollArea::vertical().show(ui, |ui| self.controls(ui, actions));
             });
-        Panel::right("coefficients")
+        self.panel_rects.insert("controls", r.response.rect);
+        let r = Panel::right("coefficients")
             .default_size(470.0)
             .size_range(320.0..=800.0)
             .show(ui, |ui| self.coefficient_panel(ui, actions));
-        egui::CentralPanel::default().show(ui, |ui| {
+        self.panel_rects.insert("coefficients", r.response.rect);
+        let r = egui::CentralPanel::default().show(ui, |ui| {
             if self.state.log.is_none() {
                 self.welcome(ui, actions);
                 return;
@@ -499,6 +515,7 @@ impl Workbench {
             ui.separator();
             self.result.ui(ui, &mut self.state, actions);
         });
+        self.panel_rects.insert("central", r.response.rect);
     }
 
     fn page_tabs(&mut self, ui: &mut Ui, actions: &mut Vec<Action>) {

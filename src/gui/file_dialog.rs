@@ -178,10 +178,9 @@ impl FileDialog {
             ui.set_width((ctx.content_rect().width() * 0.6).clamp(420.0, 760.0));
             outcome = self.contents(ui);
         });
-        if outcome.is_none() && modal.should_close() {
-            if self.overwrite.take().is_none() {
-                outcome = Some(Outcome::Cancel);
-            }
+        // Escape (or a click beside the dialog) goes back from "replace?" first, then cancels.
+        if outcome.is_none() && modal.should_close() && self.overwrite.take().is_none() {
+            outcome = Some(Outcome::Cancel);
         }
         outcome
     }
@@ -249,6 +248,9 @@ impl FileDialog {
         }
         let enter = ui.input(|i| i.key_pressed(Key::Enter));
         if enter && (resp.lost_focus() || !ui.ctx().egui_wants_keyboard_input()) {
+            // This Enter is the dialog's: the view that opens next (the import view) must not
+            // take it too.
+            ui.input_mut(|i| i.consume_key(egui::Modifiers::NONE, Key::Enter));
             accept = true;
         }
         if let Some(e) = &self.error {
@@ -270,7 +272,7 @@ impl FileDialog {
             let mut go: Option<PathBuf> = None;
             if let Some(parent) = self.folder().parent()
                 && ui
-                    .small_button("⬆ up")
+                    .small_button("Up")
                     .on_hover_text(parent.display().to_string())
                     .clicked()
             {

@@ -55,6 +55,13 @@ pub struct GuiOptions {
     pub read: crate::ingest::ReadOptions,
 }
 
+/// `1280x800` as points, when at least the window's smallest size.
+fn parse_size(s: &str) -> Option<[f32; 2]> {
+    let (w, h) = s.trim().split_once(['x', 'X'])?;
+    let (w, h): (f32, f32) = (w.trim().parse().ok()?, h.trim().parse().ok()?);
+    (w >= 900.0 && h >= 620.0 && w.is_finite() && h.is_finite()).then_some([w, h])
+}
+
 /// Opens the workbench window and runs until it is closed.
 ///
 /// # Errors
@@ -112,8 +119,18 @@ pub fn run(options: GuiOptions) -> Result<(), String> {
         .with_app_id("driftlab")
         .with_drag_and_drop(true)
         .with_min_inner_size([900.0, 620.0]);
-    viewport = match (&shot, settings.window) {
-        (None, Some(w)) if w.width >= 900.0 && w.height >= 620.0 => viewport
+    // DRIFTLAB_GUI_SIZE=WxH: the window's size (a screenshot at 1280x800, say).
+    let size = match std::env::var("DRIFTLAB_GUI_SIZE") {
+        Ok(s) if !s.trim().is_empty() => Some(parse_size(&s).ok_or_else(|| {
+            format!(
+                "DRIFTLAB_GUI_SIZE={s}: give the window's size as WIDTHxHEIGHT, at least 900x620"
+            )
+        })?),
+        _ => None,
+    };
+    viewport = match (&shot, settings.window, size) {
+        (_, _, Some([w, h])) => viewport.with_inner_size([w, h]),
+        (None, Some(w), None) if w.width >= 900.0 && w.height >= 620.0 => viewport
             .with_inner_size([w.width, w.height])
             .with_position([w.x, w.y])
             .with_maximized(w.maximized),

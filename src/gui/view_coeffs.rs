@@ -203,8 +203,8 @@ impl CoeffView {
                 .x_axis_label(x_label)
                 .y_axis_label(y_label)
                 .y_axis_min_width(60.0)
-                .x_axis_formatter(super::plot_items::tick)
-                .y_axis_formatter(super::plot_items::tick)
+                .x_axis_formatter(super::plot_items::tick_x)
+                .y_axis_formatter(super::plot_items::tick_y)
                 .x_grid_spacer(egui_plot::uniform_grid_spacer(
                     super::plot_items::nice_steps,
                 ))

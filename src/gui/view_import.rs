@@ -40,7 +40,7 @@ impl ImportView {
         let preview = ingest::preview(&path, &read, PREVIEW_ROWS).map_err(|e| e.to_string());
         let concerns = preview
             .as_ref()
-            .map(mapping_check::concerns)
+            .map(|p| mapping_check::concerns_for(p, &read))
             .unwrap_or_default();
         ImportView {
             path,
@@ -84,7 +84,7 @@ impl ImportView {
             self.concerns = self
                 .preview
                 .as_ref()
-                .map(mapping_check::concerns)
+                .map(|p| mapping_check::concerns_for(p, &self.read))
                 .unwrap_or_default();
             self.previewed = self.read.clone();
         }

@@ -259,7 +259,11 @@ impl PlateauView {
                 .x_axis_label("T, °C")
                 .y_axis_label("K0, °/h")
                 .y_axis_min_width(56.0)
-                .y_axis_formatter(super::plot_items::tick)
+                .y_axis_formatter(super::plot_items::tick_y)
+                .x_axis_formatter(super::plot_items::tick_x)
+                .x_grid_spacer(egui_plot::uniform_grid_spacer(
+                    super::plot_items::nice_steps,
+                ))
                 .y_grid_spacer(egui_plot::uniform_grid_spacer(
                     super::plot_items::nice_steps,
                 ))

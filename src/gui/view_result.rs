@@ -7,7 +7,7 @@ use super::plot_items::{BandItem, Palette, ShadeItem, ShadeSpan, TimeScale, num,
 use super::state::AppState;
 use super::view_time::time_link;
 use crate::metrics::Evaluation;
-use eframe::egui::{self, Grid, RichText, Stroke, Ui, Vec2b};
+use eframe::egui::{Grid, RichText, Stroke, Ui, Vec2b};
 use egui_plot::{HLine, Legend, Plot};
 
 /// View state of the result plot.
@@ -22,7 +22,7 @@ impl ResultView {
         if !has_val {
             state.view.show_validation = false;
         }
-        ui.horizontal(|ui| {
+        ui.horizontal_wrapped(|ui| {
             ui.strong("Drift before and after correction")
                 .on_hover_text(
                     "Ω filtered by the recipe's moving average: raw (grey) and corrected (green)",
@@ -46,15 +46,13 @@ impl ResultView {
             {
                 out.push(Action::OpenValidation);
             }
-            ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
-                if ui
-                    .small_button("PNG")
-                    .on_hover_text("Save the result plot as PNG")
-                    .clicked()
-                {
-                    out.push(Action::SavePlotNamed("result".into()));
-                }
-            });
+            if ui
+                .small_button("PNG")
+                .on_hover_text("Save the result plot as PNG")
+                .clicked()
+            {
+                out.push(Action::SavePlotNamed("result".into()));
+            }
         });
         let Some(fit) = state.fit.clone() else {
             ui.weak("No calibration yet.");
@@ -90,7 +88,8 @@ impl ResultView {
             .x_axis_label(format!("time, {}", scale.unit))
             .y_axis_label("drift, °/h")
             .y_axis_min_width(64.0)
-            .y_axis_formatter(super::plot_items::tick)
+            .y_axis_formatter(super::plot_items::tick_y)
+            .x_axis_formatter(super::plot_items::tick_x)
             .x_grid_spacer(egui_plot::uniform_grid_spacer(
                 super::plot_items::nice_steps_x,
             ))
