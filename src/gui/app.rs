@@ -490,17 +490,28 @@ impl Workbench {
         Panel::bottom("figures")
             .resizable(false)
             .show(ui, |ui| ResultView::figures(ui, &self.state));
+        // Side panels keep the width they are given (their contents fill it, whatever they
+        // are): an egui panel otherwise takes its contents' width, so a narrow first frame
+        // (the log still loading) or a wider row (a button appearing) would change it.
         let r = Panel::left("controls")
-            .default_size(330.0)
-            .size_range(320.0..=520.0)
+            .default_size(340.0)
+            .size_range(340.0..=520.0)
             .show(ui, |ui| {
-                ScrollArea::vertical().show(ui, |ui| self.controls(ui, actions));
+                ScrollArea::vertical()
+                    .auto_shrink([false, false])
+                    .show(ui, |ui| {
+                        ui.set_min_width(ui.available_width());
+                        self.controls(ui, actions)
+                    });
             });
         self.panel_rects.insert("controls", r.response.rect);
         let r = Panel::right("coefficients")
             .default_size(470.0)
             .size_range(320.0..=800.0)
-            .show(ui, |ui| self.coefficient_panel(ui, actions));
+            .show(ui, |ui| {
+                ui.set_min_width(ui.available_width());
+                self.coefficient_panel(ui, actions)
+            });
         self.panel_rects.insert("coefficients", r.response.rect);
         let r = egui::CentralPanel::default().show(ui, |ui| {
             if self.state.log.is_none() {

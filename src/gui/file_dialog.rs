@@ -215,6 +215,8 @@ impl FileDialog {
             egui::CompletionPopup::new(id)
                 .word_boundary(|c| c == std::path::MAIN_SEPARATOR)
                 .accept_keys([Key::Tab])
+                // Below the field: above it the list would hide the dialog's title.
+                .align(egui::RectAlign::BOTTOM_START)
                 .show(
                     ui,
                     egui::TextEdit::singleline(&mut self.text)
@@ -306,6 +308,16 @@ impl FileDialog {
                 ui.colored_label(ui.visuals().error_fg_color, e);
             }
             let shown: Vec<Entry> = self.shown().cloned().collect();
+            if shown.is_empty() && self.list_error.is_none() {
+                ui.weak(if self.entries.is_empty() {
+                    "This folder is empty.".to_string()
+                } else {
+                    format!(
+                        "No folder and no {what} file here; Show all files lists the {} other files.",
+                        self.entries.len()
+                    )
+                });
+            }
             let typed = self.file_part().to_string();
             egui::ScrollArea::vertical()
                 .id_salt("file_dialog_list")

@@ -416,6 +416,18 @@ pub fn label_fits(v: f64, range: &RangeInclusive<f64>, margin: f64) -> bool {
     v >= a + m && v <= b - m
 }
 
+/// A y-axis label that fits a plot `height` points tall: "name, unit" on one line when it
+/// fits, else on two (a rotated label longer than its plot runs over its neighbours').
+pub fn axis_label(label: &str, height: f32) -> String {
+    // Body text is about 7 points a character.
+    let long = label.chars().count() as f32 * 7.0;
+    if long <= height * 0.95 {
+        label.to_string()
+    } else {
+        label.replacen(", ", "\n", 1)
+    }
+}
+
 /// Share of an x-axis kept clear of labels at each end (half a label's width on a plot a few
 /// hundred points wide).
 pub const X_LABEL_MARGIN: f64 = 0.035;

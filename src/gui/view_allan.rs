@@ -43,7 +43,10 @@ impl AllanPage {
         Panel::right("allan_readouts")
             .default_size(400.0)
             .size_range(320.0..=640.0)
-            .show(ui, |ui| readouts(ui, data.as_deref()));
+            .show(ui, |ui| {
+                ui.set_min_width(ui.available_width());
+                readouts(ui, data.as_deref())
+            });
         egui::CentralPanel::default().show(ui, |ui| {
             ui.horizontal_wrapped(|ui| {
                 ui.strong("Allan deviation, raw and corrected")

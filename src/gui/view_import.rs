@@ -139,7 +139,10 @@ impl ImportView {
                         .iter()
                         .filter(|c| !c.message.starts_with("The columns cannot"))
                     {
-                        ui.colored_label(ui.visuals().warn_fg_color, format!("⚠ {}", c.message));
+                        ui.colored_label(
+                            ui.visuals().warn_fg_color,
+                            format!("Check: {}", c.message),
+                        );
                     }
                     ui.label(format!(
                         "{} · {} · {}{}",

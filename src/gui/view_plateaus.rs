@@ -97,7 +97,7 @@ impl PlateauView {
         let mut edited: Option<Vec<PlateauRange>> = None;
         let step = (log.nominal_dt_s() * 10.0).max(1e-3);
         // Column widths: the table fits the controls panel at its narrowest (320).
-        const W: [f32; 7] = [22.0, 58.0, 58.0, 42.0, 52.0, 48.0, 18.0];
+        const W: [f32; 7] = [20.0, 56.0, 56.0, 42.0, 50.0, 46.0, 18.0];
         let row_h = ui.spacing().interact_size.y;
         let cell = |ui: &mut Ui, k: usize, text: RichText| {
             ui.add_sized([W[k], row_h], egui::Label::new(text).truncate())

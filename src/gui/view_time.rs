@@ -146,7 +146,7 @@ impl TimeView {
                 .y_grid_spacer(egui_plot::uniform_grid_spacer(
                     super::plot_items::nice_steps,
                 ))
-                .y_axis_label(spec.label)
+                .y_axis_label(super::plot_items::axis_label(spec.label, each))
                 .show_axes(Vec2b::new(last, true))
                 .x_axis_label(if last {
                     format!("time, {}", scale.unit)
@@ -421,19 +421,15 @@ impl TimeView {
                 out.push(Action::SavePlot("time_plots".into(), rect));
             }
             let pal = Palette::of(ui);
-            ui.label(egui::RichText::new("+ accel.").color(pal.plus))
+            ui.add(egui::Label::new(egui::RichText::new("+ accel.").color(pal.plus)).extend())
                 .on_hover_text("Shaded orange: thermal acceleration, dT/dt·d²T/dt² > 0 (K1+, K2+)");
-            ui.label(egui::RichText::new("− decel.").color(pal.minus))
+            ui.add(egui::Label::new(egui::RichText::new("− decel.").color(pal.minus)).extend())
                 .on_hover_text("Shaded blue: thermal deceleration, dT/dt·d²T/dt² < 0 (K1−, K2−)");
-            ui.label(egui::RichText::new("plateau").color(pal.plateau))
+            ui.add(egui::Label::new(egui::RichText::new("plateau").color(pal.plateau)).extend())
                 .on_hover_text("Shaded green: the plateaus that define K0(T)");
             if let Some((a, b)) = self.visible_s {
-                ui.weak(format!(
-                    "{} – {} {}",
-                    num(a / scale.div),
-                    num(b / scale.div),
-                    scale.unit
-                ));
+                let text = format!("{} – {} {}", num(a / scale.div), num(b / scale.div), scale.unit);
+                ui.add(egui::Label::new(egui::RichText::new(text).weak()).extend());
             }
             let _ = state;
         });

@@ -109,15 +109,23 @@ impl ModelsView {
             .show(ui, |ui| {
                 ScrollArea::vertical()
                     .id_salt("models_choose_scroll")
-                    .show(ui, |ui| self.choose(ui, state, running, out));
+                    .auto_shrink([false, false])
+                    .show(ui, |ui| {
+                        ui.set_min_width(ui.available_width());
+                        self.choose(ui, state, running, out)
+                    });
             });
         Panel::right("models_detail")
-            .default_size(440.0)
+            .default_size(400.0)
             .size_range(320.0..=720.0)
             .show(ui, |ui| {
                 ScrollArea::vertical()
                     .id_salt("models_detail_scroll")
-                    .show(ui, |ui| self.detail(ui, state, out));
+                    .auto_shrink([false, false])
+                    .show(ui, |ui| {
+                        ui.set_min_width(ui.available_width());
+                        self.detail(ui, state, out)
+                    });
             });
         egui::CentralPanel::default().show(ui, |ui| {
             if let Some(h) = running {
@@ -146,7 +154,8 @@ impl ModelsView {
             self.stale_note(ui, state, &c, running);
             // The whole table when it fits in a little over half the height, the plot below.
             let row_h = ui.spacing().interact_size.y + 3.0;
-            let rows = 2 + c
+            // Two header rows, the "outside" note and a message line besides the models' rows.
+            let rows = 5 + c
                 .reports
                 .iter()
                 .map(|r| r.logs.len().max(1) + usize::from(r.error.is_some()))
@@ -157,6 +166,8 @@ impl ModelsView {
                 .max_height(table_h)
                 .auto_shrink([false, true])
                 .show(ui, |ui| self.table(ui, &c));
+            // Wrapped to the page's width, under the table rather than in its scroll area.
+            ui.weak(format!("outside: {}.", table::OUTSIDE));
             ui.separator();
             self.plot(ui, &c);
         });

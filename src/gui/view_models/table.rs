@@ -9,7 +9,7 @@ use crate::gui::plot_items::{num, ratio};
 use eframe::egui::{self, Grid, RichText, Ui};
 
 /// What the "outside" column means.
-const OUTSIDE: &str = "the share of the log's samples whose inputs (T, dT/dt, d²T/dt², the \
+pub(super) const OUTSIDE: &str = "the share of the log's samples whose inputs (T, dT/dt, d²T/dt², the \
     channels) lay beyond the ranges the model was fitted on; there the model holds its edge \
     values instead of extrapolating";
 
@@ -44,12 +44,9 @@ impl ModelsView {
                         "log",
                         "In-sample: the log it was fitted on; held out: the validation log",
                     ),
+                    ("p2p raw", "Peak-to-peak of the raw filtered drift, °/h"),
                     (
-                        "p2p raw, °/h",
-                        "Peak-to-peak of the raw filtered drift, °/h",
-                    ),
-                    (
-                        "p2p corrected, °/h",
+                        "p2p cor.",
                         "Peak-to-peak of the corrected filtered drift, °/h",
                     ),
                     (
@@ -58,7 +55,7 @@ impl ModelsView {
                     ),
                     ("std", "Standard deviation, raw ÷ corrected"),
                     (
-                        "max |10-min mean|",
+                        "|10-min mean|",
                         "Largest |mean| over consecutive 10-minute windows, raw ÷ corrected",
                     ),
                     (
@@ -135,7 +132,6 @@ impl ModelsView {
                     }
                 }
             });
-        ui.weak(format!("outside: {OUTSIDE}."));
         for r in c.reports.iter().filter(|r| r.error.is_some()) {
             ui.colored_label(
                 bad,
