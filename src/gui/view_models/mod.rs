@@ -116,7 +116,7 @@ impl ModelsView {
                     });
             });
         Panel::right("models_detail")
-            .default_size(400.0)
+            .default_size(380.0)
             .size_range(320.0..=720.0)
             .show(ui, |ui| {
                 ScrollArea::vertical()
@@ -161,8 +161,11 @@ impl ModelsView {
                 .map(|r| r.logs.len().max(1) + usize::from(r.error.is_some()))
                 .sum::<usize>();
             let table_h = (rows as f32 * row_h).clamp(120.0, ui.available_height() * 0.55);
+            // On a narrow window the table scrolls sideways, with its scroll bar always shown
+            // so that the columns off to the right are not missed.
             ScrollArea::both()
                 .id_salt("models_table_scroll")
+                .scroll_bar_visibility(egui::scroll_area::ScrollBarVisibility::AlwaysVisible)
                 .max_height(table_h)
                 .auto_shrink([false, true])
                 .show(ui, |ui| self.table(ui, &c));
