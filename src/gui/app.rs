@@ -479,7 +479,15 @@ impl Workbench {
         self.remember_window(&ctx);
         self.window_title(&ctx);
         if self.jobs.busy() {
-            ctx.request_repaint_after(Duration::from_millis(100));
+            // A comparison's progress at four frames a second; the rest at ten.
+            let only_comparing = self.jobs.comparing.is_some()
+                && self.jobs.loading.is_none()
+                && !self.jobs.fitting();
+            ctx.request_repaint_after(Duration::from_millis(if only_comparing {
+                250
+            } else {
+                100
+            }));
         }
     }
 
@@ -546,8 +554,9 @@ impl Workbench {
                 }
             }
             if let Some(h) = &self.jobs.comparing {
+                // No spinner: it redraws the window every frame, and a comparison takes
+                // seconds of both cores (the counts below change as models finish).
                 ui.separator();
-                ui.spinner();
                 ui.label(format!("fitting models… {} of {}", h.done(), h.total));
             }
         });

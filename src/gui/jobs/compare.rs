@@ -163,9 +163,10 @@ pub(super) fn run_compare(req: &CompareRequest, h: &CompareHandle, ctx: &SharedC
                     return false;
                 }
                 h.set(m, ModelProgress::Fitting(share, t0));
-                // A repaint every tenth of a second at most: a search reports hundreds of steps.
+                // Four repaints a second at most: a search reports hundreds of steps, and on a
+                // machine drawing in software each frame costs the fit a share of a core.
                 if let Ok(mut last) = last_paint.lock()
-                    && last.elapsed() > Duration::from_millis(100)
+                    && last.elapsed() > Duration::from_millis(250)
                 {
                     *last = Instant::now();
                     repaint(ctx);

@@ -221,7 +221,6 @@ impl ModelsView {
                 out.push(Action::CompareModels);
             }
             if let Some(h) = running {
-                ui.spinner();
                 ui.label(format!("{} of {} fitted", h.done(), h.total));
                 cancel_button(ui, h);
             }
@@ -337,7 +336,6 @@ fn swatch(ui: &mut Ui, color: Color32) {
 /// One line: how many models are done, and Cancel.
 fn progress(ui: &mut Ui, h: &CompareHandle) {
     ui.horizontal(|ui| {
-        ui.spinner();
         ui.label(format!(
             "fitting… {} of {} models done ({:.0} s)",
             h.done(),
