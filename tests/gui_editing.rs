@@ -375,3 +375,21 @@ fn figures_after_a_knot_drag_are_those_of_a_fresh_calibration() {
     );
     eprintln!("{provisional_seen} of 12 drag frames showed provisional figures");
 }
+
+#[test]
+fn the_detectors_suggestion_is_forgotten_once_the_plateaus_are_edited() {
+    use egui_kittest::kittest::Queryable;
+    let mut h = harness(Workbench::new_for_test(&sample("calibration.csv")));
+    settle(&mut h);
+    h.get_by_label("Suggest plateaus").click();
+    settle(&mut h);
+    h.get_by_label_contains("The detector suggests 4 plateaus");
+    // Delete one by hand: the status no longer speaks of the detector's four.
+    h.get_all_by_label("×")
+        .next()
+        .expect("a delete button")
+        .click();
+    settle(&mut h);
+    assert_eq!(h.state().state.ranges().len(), 3);
+    assert!(h.query_by_label_contains("The detector suggests").is_none());
+}

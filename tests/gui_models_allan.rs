@@ -275,3 +275,35 @@ fn big_log_pages_stay_cheap() {
         assert!(worst < 100.0, "{page:?}: {worst:.1} ms");
     }
 }
+
+#[test]
+fn a_comparison_shows_each_models_progress_and_is_cancelled() {
+    let mut h = harness(Workbench::new_for_test(&sample("calibration.csv")));
+    settle(&mut h);
+    h.key_press_modifiers(Modifiers::COMMAND, Key::Num2);
+    h.run_ok();
+    h.key_press(Key::F5);
+    h.step();
+    h.step();
+    assert!(h.state().busy(), "the comparison runs");
+    // Each model has a row of its own while the comparison runs.
+    for p in Preset::ALL {
+        assert!(
+            h.query_all_by_label(p.name()).next().is_some(),
+            "{} listed with its progress",
+            p.name()
+        );
+    }
+    h.get_all_by_label("Cancel")
+        .next()
+        .expect("a Cancel button while models are fitted")
+        .click();
+    h.step();
+    settle(&mut h);
+    assert!(!h.state().busy(), "the comparison stopped");
+    assert!(
+        h.state().state.models.is_none(),
+        "no table from a cancelled comparison"
+    );
+    h.get_by_label_contains("Comparison cancelled");
+}
