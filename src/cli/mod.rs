@@ -58,11 +58,15 @@ pub enum Command {
 /// Arguments of `gui`.
 #[derive(clap::Args, Debug, Default)]
 pub struct GuiArgs {
-    /// Log to open (default: sample_logs/calibration.csv when present).
+    /// Log (or saved session .json) to open (default: sample_logs/calibration.csv when
+    /// present). The import view shows first when a column is ambiguous or implausible.
     pub log: Option<std::path::PathBuf>,
     /// Render the loaded, calibrated workbench, save the window as PNG here and exit.
     #[arg(long, value_name = "PNG")]
     pub screenshot: Option<std::path::PathBuf>,
+    /// How to read the log (a session keeps its own mapping).
+    #[command(flatten)]
+    pub log_args: common::LogArgs,
 }
 
 /// Runs a parsed command line; the error is printed by `main`.
@@ -84,9 +88,11 @@ pub fn run(command: Command) -> Result<(), String> {
 
 #[cfg(feature = "gui")]
 fn gui(a: GuiArgs) -> Result<(), String> {
+    let read = a.log_args.options()?;
     driftlab::gui::run(driftlab::gui::GuiOptions {
         log: a.log,
         screenshot: a.screenshot,
+        read,
     })
 }
 

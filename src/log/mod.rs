@@ -3,6 +3,7 @@
 
 pub mod formats;
 pub mod ingest;
+pub mod mapping_check;
 pub mod resample;
 
 use serde::{Deserialize, Serialize};

@@ -21,7 +21,7 @@ pub use fitted::{DriftModel, ModelCorrector, Predictor, stream_inputs};
 pub use presets::{ModelChoice, Preset};
 pub use recipe::Recipe;
 
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::judge::metrics::{Evaluation, MeritOptions};
 use crate::log::Log;
 use regression::RegressionCalibration;
@@ -31,12 +31,32 @@ use regression::RegressionCalibration;
 /// # Errors
 /// What the fit reports (too few samples, a missing channel, no plateaus, ...).
 pub fn fit(log: &Log, choice: &ModelChoice, recipe: &Recipe) -> Result<DriftModel> {
+    fit_with_progress(log, choice, recipe, &|_| true)
+}
+
+/// [`fit`], telling `progress` the share done (0 to 1) as it goes: a regression model's
+/// searches report each cost evaluation, the Vakhrameev fit its start and end. When
+/// `progress` returns false the fit stops as soon as it can with [`Error::Cancelled`].
+///
+/// # Errors
+/// As [`fit`], and [`Error::Cancelled`].
+pub fn fit_with_progress(
+    log: &Log,
+    choice: &ModelChoice,
+    recipe: &Recipe,
+    progress: &(dyn Fn(f64) -> bool + Sync),
+) -> Result<DriftModel> {
+    if !progress(0.0) {
+        return Err(Error::Cancelled);
+    }
     match choice.spec(log)? {
-        None => Ok(DriftModel::Vakhrameev(Box::new(
-            vakhrameev::fit_lean(log, recipe)?.calibration,
-        ))),
+        None => {
+            let cal = vakhrameev::fit_lean(log, recipe)?.calibration;
+            progress(1.0);
+            Ok(DriftModel::Vakhrameev(Box::new(cal)))
+        }
         Some(spec) => {
-            let m = regression::fit(log, &spec.with_recipe(recipe))?;
+            let m = regression::fit_with_progress(log, &spec.with_recipe(recipe), progress)?;
             Ok(DriftModel::Regression(Box::new(
                 RegressionCalibration::new(&recipe.gyro_id, log, m),
             )))
