@@ -25,8 +25,24 @@ pub struct Log {
     pub temp_c: Vec<f64>,
     /// Every other numeric column, by name, aligned with `time_s`.
     pub extra: Vec<Channel>,
+    /// The name of the gyro axis `omega_dph` holds (`gx`, `x`, ...), empty for a log with one
+    /// rate column that names no axis.
+    pub axis: String,
+    /// The log's other gyro axes (a multi-axis IMU's), each a rate in °/h aligned with
+    /// `time_s`: [`Log::select_axis`] swaps one of them into `omega_dph`, so every stage that
+    /// reads `omega_dph` calibrates any axis without a copy of the columns they share.
+    pub other_axes: Vec<Axis>,
     /// How the file was read and what was wrong with it.
     pub info: LogInfo,
+}
+
+/// One gyro axis of a multi-axis log.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Axis {
+    /// The axis's name: the rate column's name without its unit (`gx` for `gx_dps`).
+    pub name: String,
+    /// Rate, °/h.
+    pub omega_dph: Vec<f64>,
 }
 
 /// A named column kept alongside the calibration columns.
@@ -121,6 +137,28 @@ pub enum ProblemKind {
 }
 
 impl Log {
+    /// The names of every gyro axis, `omega_dph`'s first, then the others in file order.
+    pub fn axis_names(&self) -> Vec<String> {
+        std::iter::once(self.axis.clone())
+            .chain(self.other_axes.iter().map(|a| a.name.clone()))
+            .collect()
+    }
+
+    /// Makes `name` the axis `omega_dph` holds, swapping columns (no copy). Returns false when
+    /// the log has no such axis.
+    pub fn select_axis(&mut self, name: &str) -> bool {
+        if self.axis == name {
+            return true;
+        }
+        let Some(k) = self.other_axes.iter().position(|a| a.name == name) else {
+            return false;
+        };
+        let a = &mut self.other_axes[k];
+        std::mem::swap(&mut self.omega_dph, &mut a.omega_dph);
+        std::mem::swap(&mut self.axis, &mut a.name);
+        true
+    }
+
     /// Number of samples.
     pub fn len(&self) -> usize {
         self.time_s.len()
@@ -172,6 +210,8 @@ impl Log {
             omega_dph,
             temp_c,
             extra: Vec::new(),
+            axis: String::new(),
+            other_axes: Vec::new(),
             info: LogInfo {
                 delimiter: ',',
                 rows_read: rows,

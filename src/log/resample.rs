@@ -163,12 +163,22 @@ fn average(log: &Log, groups: &Groups) -> Log {
             ),
         });
     }
+    let other_axes = log
+        .other_axes
+        .par_iter()
+        .map(|a| super::Axis {
+            name: a.name.clone(),
+            omega_dph: avg(&a.omega_dph),
+        })
+        .collect();
     Log {
         source: log.source.clone(),
         time_s,
         omega_dph,
         temp_c,
         extra,
+        axis: log.axis.clone(),
+        other_axes,
         info,
     }
 }

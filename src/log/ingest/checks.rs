@@ -219,6 +219,8 @@ pub(super) fn finish(mut acc: Acc, sn: &Sniffed, plan: &Plan, source: &str) -> R
         omega_dph,
         temp_c,
         extra,
+        axis: String::new(),
+        other_axes: Vec::new(),
         info: LogInfo {
             delimiter: sn.delim.as_char(),
             decimal_comma: sn.decimal_comma,
