@@ -61,6 +61,11 @@ fn build_driver(dir: &Path, header: &str) -> Option<PathBuf> {
 
 /// Runs the driver over `logs`, resetting the corrector between them.
 fn run_driver(exe: &Path, logs: &[&Log]) -> Vec<Vec<CSample>> {
+    drive(exe, driver_input(logs))
+}
+
+/// The driver's input for `logs`: their samples, a `reset` line between logs.
+fn driver_input(logs: &[&Log]) -> String {
     let mut input = String::new();
     for (k, log) in logs.iter().enumerate() {
         if k > 0 {
@@ -74,7 +79,7 @@ fn run_driver(exe: &Path, logs: &[&Log]) -> Vec<Vec<CSample>> {
             ));
         }
     }
-    drive(exe, input)
+    input
 }
 
 /// How far the C is from driftlab on one run.
@@ -203,4 +208,42 @@ fn c_header_follows_hand_edited_curves() {
     let edited = calibration::from_json(Path::new("edited.json"), &v.to_string()).unwrap();
     assert_eq!(edited.k1_plus.segment_cubics().unwrap().inv_step, 0.0);
     c_agrees_with_driftlab("hand-edited", &edited, &[&val_log, &cal_log]);
+}
+
+#[test]
+fn c_header_restarts_after_a_dropout_as_driftlab() {
+    // The validation run with two dropouts: ten minutes, and 4 s (four periods, just beyond
+    // the 2.5 that make a gap). driftlab_push_at sees them in the time stamps and restarts its
+    // history, as the batch correction restarts each segment and StreamCorrector after a gap.
+    let (cal_log, val_log) = (read("calibration.csv"), read("validation.csv"));
+    let gapped = with_dropout(&with_dropout(&val_log, 20_000..20_003), 9_000..9_600);
+    let timing = gapped.timing();
+    assert_eq!(timing.segments.len(), 3, "{:?}", timing.gaps);
+    use ApproxKind::{Parabolic, Spline};
+    let cal = calibrate(&cal_log, [Parabolic, Spline, Spline], false);
+    let header = firmware::export(&cal, Format::CHeader, &ExportOptions::default()).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let driver = DRIVER_C.replace(
+        "driftlab_push_detail(&st, omega, temp, &s)",
+        "driftlab_push_at_detail(&st, t, omega, temp, &s)",
+    );
+    assert_ne!(driver, DRIVER_C);
+    let Some(exe) = compile(dir.path(), &header, [driver.as_str(), OTHER_C], &[]) else {
+        return;
+    };
+    let runs = drive(&exe, driver_input(&[&gapped]));
+    let a = compare(&cal, &gapped, &runs[0]);
+    println!(
+        "after dropouts: max |C - stream| {:.3e} deg/h, max |C - batch| {:.3e} deg/h, {} of {} \
+         samples bit-identical",
+        a.vs_stream_dph, a.vs_batch_dph, a.identical, a.samples
+    );
+    assert_eq!(a.identical, a.samples, "{a:?}");
+    assert_eq!(a.vs_batch_dph, 0.0, "{a:?}");
+    // The restart is real: the rates start again from nothing at each segment.
+    for seg in &timing.segments[1..] {
+        let c = &runs[0][seg.start];
+        assert_eq!((c.tdot, c.tddot), (0.0, 0.0), "sample {}", seg.start);
+        assert_ne!(runs[0][seg.start - 1].tdot, 0.0, "sample {}", seg.start - 1);
+    }
 }

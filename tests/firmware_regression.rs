@@ -342,3 +342,52 @@ fn c_header_corrects_as_driftlab_with_one_delay_a_lag_and_a_fixed_lambda() {
         &[&val_log, &cal_log],
     );
 }
+
+#[test]
+fn c_header_restarts_after_a_dropout_as_driftlab() {
+    // A ten-minute dropout and one of 4 s in the held-out laser-gyro run: the header sees them
+    // in time_s and restarts its filters, rates and lag (the self-heating clock runs on), as
+    // RegressionCorrector and the batch correction of each segment do, bit for bit.
+    let (cal_log, held_out) = (read("laser-gyro.csv"), read("laser-gyro-2.csv"));
+    let gapped = with_dropout(&with_dropout(&held_out, 20_000..20_003), 9_000..9_600);
+    assert_eq!(gapped.timing().segments.len(), 3);
+    let mut spec = RegressionSpec::new(
+        "custom-gaps",
+        parse_terms("1,T,T^2,Tdot,Tddot,T*Tdot,selfheat,ch:laser_power_mw").unwrap(),
+    );
+    spec.delay = DelaySpec::Fixed { seconds: 30.5 };
+    spec.lag = LagSpec::Fixed {
+        seconds: 120.0,
+        per_c: 0.01,
+    };
+    let model =
+        driftlab::models::fit(&cal_log, &ModelChoice::Custom(spec), &Recipe::default()).unwrap();
+    let Some((worst, identical)) = regression_c_agrees("custom with dropouts", &model, &[&gapped])
+    else {
+        return;
+    };
+    assert_eq!((worst, identical), (0.0, gapped.len()));
+    // The restart is real: RegressionCorrector's rates start again at each segment.
+    let DriftModel::Regression(rc) = &model else {
+        unreachable!()
+    };
+    let mut stream = rc.model.corrector_for(rc.model.dt_s).unwrap();
+    let (t2, ch) = fitted::stream_inputs(&model, &gapped).unwrap();
+    let starts: Vec<usize> = gapped.timing().segments[1..]
+        .iter()
+        .map(|s| s.start)
+        .collect();
+    for i in 0..gapped.len() {
+        let row: Vec<f64> = ch.iter().map(|c| c[i]).collect();
+        let s = stream.push(
+            gapped.time_s[i],
+            gapped.omega_dph[i],
+            gapped.temp_c[i],
+            t2[i],
+            &row,
+        );
+        if starts.contains(&i) {
+            assert_eq!(s.tdot, 0.0, "sample {i}");
+        }
+    }
+}
