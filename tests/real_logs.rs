@@ -87,6 +87,10 @@ fn a_logger_outage_splits_the_log_and_the_calibration_still_transfers() {
         .unwrap();
     assert!(in_sample > 3.0, "in-sample {in_sample}");
     let ratio = held_out(&cal, &r.validation);
+    eprintln!(
+        "held-out p2p ratio: with the gap {ratio:.2}x, continuous {:.2}x",
+        r.continuous_ratio
+    );
     assert!(
         ratio > 0.9 * r.continuous_ratio,
         "with the gap {ratio}, continuous {}",
@@ -122,6 +126,10 @@ fn a_burst_log_is_reduced_to_its_bursts_and_transfers_like_the_continuous_one() 
     let dt = v["calibration"]["resolved"]["dt_s"].as_f64().unwrap();
     assert!((dt - 120.0).abs() < 1.0, "step of the burst means {dt}");
     let ratio = held_out(&cal, &r.validation);
+    eprintln!(
+        "held-out p2p ratio: from bursts {ratio:.2}x, continuous {:.2}x",
+        r.continuous_ratio
+    );
     assert!(
         ratio > 0.9 * r.continuous_ratio,
         "from bursts {ratio}, continuous {}",
