@@ -80,13 +80,15 @@ pub const MIN_RAMP_C_PER_MIN: f64 = 0.05;
 /// # Errors
 /// [`Error::Fit`] saying what the log spans and what the model needs.
 pub fn check_span(log: &Log, choice: &ModelChoice) -> Result<()> {
-    let (lo, hi) = log
-        .temp_c
-        .iter()
-        .filter(|v| v.is_finite())
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
-            (a.min(v), b.max(v))
-        });
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for &v in log.temp_c.iter().filter(|v| v.is_finite()) {
+        if v < lo {
+            lo = v;
+        }
+        if v > hi {
+            hi = v;
+        }
+    }
     if (hi - lo).is_nan() || hi - lo < MIN_TEMP_SPAN_C {
         let span = if hi >= lo {
             format!("{:.3} °C ({lo:.3} … {hi:.3} °C)", hi - lo)
@@ -119,6 +121,9 @@ pub fn check_span(log: &Log, choice: &ModelChoice) -> Result<()> {
             let dt = t[i] - t[j];
             if dt >= 0.5 * span {
                 fastest = fastest.max(((log.temp_c[i] - log.temp_c[j]) / dt).abs() * 60.0);
+                if fastest >= MIN_RAMP_C_PER_MIN {
+                    break;
+                }
             }
         }
         if fastest < MIN_RAMP_C_PER_MIN {

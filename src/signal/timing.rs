@@ -107,15 +107,29 @@ impl Timing {
         }
         // A clean clock (every step within 10 % of every other: no gap, no jitter) needs one
         // pass; most logs are that.
-        let (lo, hi) = time_s
-            .windows(2)
-            .map(|w| w[1] - w[0])
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), d| {
-                (a.min(d), b.max(d))
-            });
-        if lo > 0.0 && hi <= 1.1 * lo {
+        // Plain comparisons rather than f64::min/max: a NaN step fails both and the clean
+        // test below, and the loop runs at memory speed (a command asks for the timing of a
+        // 10M-sample log several times).
+        let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+        let mut clean = true;
+        for w in time_s.windows(2) {
+            let d = w[1] - w[0];
+            if d < lo {
+                lo = d;
+            }
+            if d > hi {
+                hi = d;
+            }
+            clean &= !d.is_nan();
+        }
+        if clean && lo > 0.0 && hi <= 1.1 * lo {
             let segments: Vec<_> = std::iter::once(0..n).collect();
-            let nominal_dt_s = refine_step(time_s, &segments, 0.5 * (lo + hi));
+            // Every step the same: that is the step.
+            let nominal_dt_s = if lo == hi {
+                lo
+            } else {
+                refine_step(time_s, &segments, 0.5 * (lo + hi))
+            };
             return Timing {
                 nominal_dt_s,
                 segments,

@@ -15,19 +15,25 @@ const MAX_RATE_DPH: f64 = 1e4 * 3600.0;
 
 /// Range of the finite values, and whether they are all whole numbers.
 fn survey(x: &[f64]) -> Option<(f64, f64, bool)> {
-    let stride = (x.len() / 100_000).max(1);
-    let mut whole = true;
+    // The range over every value (plain comparisons: NaN and infinities are skipped); whether
+    // the values are whole over at most 100 000 of them, evenly spread.
     let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
-    for (i, &v) in x.iter().enumerate() {
-        if !v.is_finite() {
-            continue;
-        }
-        lo = lo.min(v);
-        hi = hi.max(v);
-        if i % stride == 0 && v.fract() != 0.0 {
-            whole = false;
+    for &v in x {
+        if v.is_finite() {
+            if v < lo {
+                lo = v;
+            }
+            if v > hi {
+                hi = v;
+            }
         }
     }
+    let stride = (x.len() / 100_000).max(1);
+    let whole = x
+        .iter()
+        .step_by(stride)
+        .filter(|v| v.is_finite())
+        .all(|v| v.fract() == 0.0);
     (lo <= hi).then_some((lo, hi, whole))
 }
 
