@@ -53,6 +53,8 @@ pub fn run(a: Args) -> Result<(), String> {
             "source": log.source,
             "info": log.info,
             "samples": log.len(),
+            "axis": log.axis,
+            "other_axes": log.other_axes.iter().map(|x| &x.name).collect::<Vec<_>>(),
             "sampling": sampling,
             "step_s": dt,
             "sample_rate_hz": 1.0 / dt,
@@ -84,6 +86,14 @@ pub fn run(a: Args) -> Result<(), String> {
             format!(" [{}]", c.unit)
         };
         println!("    {:>2}  {:<24} {:?}{unit}", c.index, c.name, c.role);
+    }
+    if !log.other_axes.is_empty() {
+        let others: Vec<&str> = log.other_axes.iter().map(|x| x.name.as_str()).collect();
+        println!(
+            "  gyro axes: {} (the rate the commands use), {} (choose one with --rate-col NAME)",
+            if log.axis.is_empty() { "?" } else { &log.axis },
+            others.join(", ")
+        );
     }
     println!(
         "  {recorded_len} samples ({} rows read), step {} s ({} Hz), duration {:.2} h",

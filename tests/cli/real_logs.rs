@@ -320,6 +320,16 @@ fn three_gyro_axes_and_accelerometers_are_found_without_mapping() {
     assert_eq!(log.axis_names(), ["gx", "gy", "gz"]);
     let accel: Vec<_> = log.extra.iter().filter(|c| c.unit == "g").collect();
     assert_eq!(accel.len(), 3, "{:?}", log.extra);
+    // inspect lists the axes, in the text and in JSON.
+    let sample = Path::new(env!("CARGO_MANIFEST_DIR")).join("sample_logs/imu3-calibration.csv");
+    let text = ok(&["inspect", sample.to_str().unwrap()]);
+    assert!(
+        text.contains("gyro axes: gx (the rate the commands use), gy, gz"),
+        "{text}"
+    );
+    let v = json(&["inspect", sample.to_str().unwrap(), "--json"]);
+    assert_eq!(v["axis"], "gx");
+    assert_eq!(v["other_axes"], serde_json::json!(["gy", "gz"]));
 }
 
 #[test]
