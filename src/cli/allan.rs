@@ -2,6 +2,7 @@
 //! read-outs (ARW, bias instability, RRW).
 
 use super::common::{self, LogArgs};
+use super::log_source;
 use driftlab::judge::allan::{self, AllanDeviation, AllanOptions, Readout, TauSpacing};
 use driftlab::log::ProblemKind;
 use driftlab::log::ingest;
@@ -33,35 +34,42 @@ pub fn run(a: Args) -> Result<(), String> {
         return Err(format!("--tau0 {t}: give a positive number of seconds"));
     }
     let read_opts = a.log_args.options()?;
-    let (source, rate, tau0_s) =
-        match ingest::read_rate_series(&a.log, &read_opts).map_err(|e| e.to_string())? {
-            Some(series) => {
-                let tau0 = a
-                    .tau0
-                    .or(a.log_args.sample_rate.map(|hz| 1.0 / hz))
-                    .ok_or_else(|| {
-                        format!(
-                            "{}: a log of one column has no time; give its sampling interval with \
+    let drone = log_source::read_drone_log(&a.log_args, &a.log, &read_opts, false)?;
+    let series = match drone {
+        Some(_) => None,
+        None => ingest::read_rate_series(&a.log, &read_opts).map_err(|e| e.to_string())?,
+    };
+    let (source, rate, tau0_s) = match series {
+        Some(series) => {
+            let tau0 = a
+                .tau0
+                .or(a.log_args.sample_rate.map(|hz| 1.0 / hz))
+                .ok_or_else(|| {
+                    format!(
+                        "{}: a log of one column has no time; give its sampling interval with \
                          --tau0 S (or --sample-rate HZ)",
-                            series.source
-                        )
-                    })?;
-                (series.source, series.omega_dph, tau0)
-            }
-            None => {
-                let log = a.log_args.read(&a.log)?;
-                if log.info.problems.iter().any(|p| p.kind == ProblemKind::Gap) {
-                    eprintln!(
-                        "warning: {}: the log has gaps; the Allan deviation treats the samples as \
+                        series.source
+                    )
+                })?;
+            (series.source, series.omega_dph, tau0)
+        }
+        None => {
+            let log = match drone {
+                Some(log) => log,
+                None => a.log_args.read(&a.log)?,
+            };
+            if log.info.problems.iter().any(|p| p.kind == ProblemKind::Gap) {
+                eprintln!(
+                    "warning: {}: the log has gaps; the Allan deviation treats the samples as \
                      evenly spaced",
-                        log.source
-                    );
-                }
-                let step = log.nominal_dt_s();
-                let tau0 = a.tau0.unwrap_or(step);
-                (log.source, log.omega_dph, tau0)
+                    log.source
+                );
             }
-        };
+            let step = log.nominal_dt_s();
+            let tau0 = a.tau0.unwrap_or(step);
+            (log.source, log.omega_dph, tau0)
+        }
+    };
     let opts = AllanOptions {
         tau0_s,
         spacing: if a.all_tau {

@@ -38,6 +38,9 @@ pub struct LogArgs {
     /// logs). Without it, a log written in bursts is reduced to one sample per burst.
     #[arg(long, value_name = "S")]
     pub bin: Option<f64>,
+    /// Which gyro of a drone or robot log (`log_source.rs`).
+    #[command(flatten)]
+    pub format: super::log_source::FormatArgs,
 }
 
 impl LogArgs {
@@ -104,6 +107,10 @@ impl LogArgs {
     }
 
     fn read_with(&self, path: &Path, opts: &ReadOptions) -> Result<Log, String> {
+        // A drone or robot log, told by its first bytes.
+        if let Some(log) = super::log_source::read_drone_log(self, path, opts, true)? {
+            return Ok(log);
+        }
         let bar = progress_bar(&format!("reading {}", path.display()));
         let log = ingest::read_path_with_progress(path, opts, &|f| {
             if let Some(b) = &bar {
