@@ -4,7 +4,6 @@
 use super::common::{self, LogArgs};
 use super::log_source;
 use driftlab::judge::allan::{self, AllanDeviation, AllanOptions, Readout, TauSpacing};
-use driftlab::log::ProblemKind;
 use driftlab::log::ingest;
 use std::path::PathBuf;
 
@@ -55,15 +54,14 @@ pub fn run(a: Args) -> Result<(), String> {
         }
         None => {
             let log = match drone {
-                Some(log) => log,
+                Some(log) => a.log_args.resampled(log)?,
                 None => a.log_args.read(&a.log)?,
             };
-            if log.info.problems.iter().any(|p| p.kind == ProblemKind::Gap) {
-                eprintln!(
-                    "warning: {}: the log has gaps; the Allan deviation treats the samples as \
-                     evenly spaced",
-                    log.source
-                );
+            // The Allan deviation needs evenly spaced samples: a log with gaps gives its
+            // longest stretch, and says so.
+            let (log, note) = driftlab::log::resample::longest_segment(log);
+            if let Some(note) = note {
+                eprintln!("note: {}: {note}", log.source);
             }
             let step = log.nominal_dt_s();
             let tau0 = a.tau0.unwrap_or(step);

@@ -87,10 +87,11 @@ fn drone(a: &Args) -> Result<Option<(driftlab::Log, Drone)>, String> {
         print_instances(&any.log.source, format, &d.instances);
     }
     log_source::print_notes(&d, &any.log);
-    let (log, note) = driftlab::log::resample::prepare(any.log, a.log_args.bin)?;
-    if let Some(note) = note {
-        eprintln!("note: {}: {note}", log.source);
-    }
+    // As recorded, unless --bin asks for bins (as `LogArgs::read_recorded`).
+    let log = match a.log_args.bin {
+        Some(_) => a.log_args.resampled(any.log)?,
+        None => any.log,
+    };
     Ok(Some((
         log,
         Drone {
@@ -102,9 +103,19 @@ fn drone(a: &Args) -> Result<Option<(driftlab::Log, Drone)>, String> {
 }
 
 pub fn run(a: Args) -> Result<(), String> {
-    let (log, drone) = match drone(&a)? {
+    // The sampling as recorded; the plateaus and rates as the other commands see the log
+    // (a burst log reduced to its bursts' means).
+    let (recorded, drone) = match drone(&a)? {
         Some((log, d)) => (log, Some(d)),
-        None => (a.log_args.read(&a.log)?, None),
+        None => (a.log_args.read_recorded(&a.log)?, None),
+    };
+    let timing = recorded.timing();
+    let sampling = timing.describe(&recorded.time_s);
+    let reduced = timing.bursts.is_some() && a.log_args.bin.is_none();
+    let log = if reduced {
+        driftlab::log::resample::prepare(recorded, None)?.0
+    } else {
+        recorded
     };
     let recipe = Recipe::default();
     let prepared = Prepared::new(&log, &recipe);
@@ -128,6 +139,7 @@ pub fn run(a: Args) -> Result<(), String> {
             "source": log.source,
             "info": log.info,
             "samples": log.len(),
+            "sampling": sampling,
             "step_s": dt,
             "sample_rate_hz": 1.0 / dt,
             "duration_s": log.duration_s(),
@@ -180,6 +192,15 @@ pub fn run(a: Args) -> Result<(), String> {
         1.0 / dt,
         log.duration_s() / 3600.0
     );
+    for line in &sampling {
+        println!("  {line}");
+    }
+    if reduced {
+        println!(
+            "  the other commands reduce each burst to its mean time, rate and temperature \
+             (--bin S chooses bins instead)"
+        );
+    }
     println!("  temperature {tmin:.3} .. {tmax:.3} degC, fastest |Tdot| {rate_max:.3} degC/min");
     println!("  plateaus found ({}):", plateaus.len());
     // A week-long log can hold thousands: the first and last ones say enough on a terminal
@@ -207,7 +228,11 @@ pub fn run(a: Args) -> Result<(), String> {
         println!("  problems:");
         for p in &i.problems {
             let at = if drone.is_some() { "sample" } else { "line" };
-            println!("    {at} {}: {} ({}x)", p.line, p.message, p.count);
+            if p.line == 0 {
+                println!("    {}", p.message);
+            } else {
+                println!("    {at} {}: {}", p.line, p.message);
+            }
         }
     }
     Ok(())

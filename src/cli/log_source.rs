@@ -110,9 +110,9 @@ pub fn print_notes(drone: &DroneLog, log: &Log) {
     }
 }
 
-/// Reads `path` when it is a drone or robot log, as [`LogArgs::read`] reads a CSV: one gyro
-/// as `--gyro` and `--temp-from` say, the notes printed, then `--bin` or burst means. `None`
-/// for a CSV. `needs_temperature`: refuse `--temp-from none` (every command but `allan`).
+/// Reads `path` when it is a drone or robot log: one gyro as `--gyro` and `--temp-from` say,
+/// the notes printed, as recorded (the caller bins it, [`LogArgs::resampled`]). `None` for a
+/// CSV. `needs_temperature`: refuse `--temp-from none` (every command but `allan`).
 ///
 /// # Errors
 /// Options that do not apply, a file that cannot be read, no gyro as asked.
@@ -139,10 +139,6 @@ pub fn read_drone_log(
     let log = any.log;
     if let Some(d) = &any.drone {
         print_notes(d, &log);
-    }
-    let (log, note) = driftlab::log::resample::prepare(log, args.bin)?;
-    if let Some(note) = note {
-        eprintln!("note: {}: {note}", log.source);
     }
     Ok(Some(log))
 }
