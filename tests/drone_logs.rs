@@ -397,7 +397,10 @@ fn the_command_line_refuses_what_does_not_fit_by_name() {
     ]);
     assert!(out.status.success());
     let err = String::from_utf8_lossy(&out.stderr);
-    assert!(err.contains("only its longest stretch is used, 1297 samples"), "{err}");
+    assert!(
+        err.contains("only its longest stretch is used, 1297 samples"),
+        "{err}"
+    );
     let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(json["samples"], 1297);
 }

@@ -19,12 +19,13 @@
 mod common;
 
 use common::Noise;
-use common::run::{fails, ok};
+use common::run::{driftlab, fails, ok};
 use driftlab::Log;
 use driftlab::export::firmware::{self, ExportOptions, Format};
 use driftlab::export::flight::ardupilot::{ArduPilotTarget, ardupilot_parm};
 use driftlab::export::flight::px4::{Px4Target, px4_params};
 use driftlab::export::flight::{AxisFit, ImuFits, axis_index};
+use driftlab::models::approx::ApproxKind;
 use driftlab::models::regression::{RegressionSpec, terms};
 use driftlab::models::{self, DriftModel, ModelChoice, Preset, Recipe};
 use std::collections::HashMap;
@@ -357,11 +358,11 @@ fn vakhrameev_k0_exports_with_its_rate_terms_left_out() {
     };
     let file = firmware::flight(&model, Format::Px4Params, &opts).unwrap();
     assert!(
-        file.notes.iter().any(|n| n.contains("rate terms")),
+        file.warnings.iter().any(|n| n.contains("rate terms")),
         "{:?}",
-        file.notes
+        file.warnings
     );
-    assert!(file.text.contains("# note: gyro X: the rate terms"));
+    assert!(file.text.contains("# warning: gyro X: the rate terms"));
     let p = px4_file(&file.text);
     let ap = ardupilot_file(&firmware::export_model(&model, Format::ArdupilotParm, &opts).unwrap());
     let temps = grid(p["TC_G0_TMIN"], p["TC_G0_TMAX"]);
@@ -379,6 +380,26 @@ fn vakhrameev_k0_exports_with_its_rate_terms_left_out() {
     // which the 1e-8 rad/s bound alone would not check.
     eprintln!("K0 up to {size:.3e} rad/s, worst firmware vs driftlab {worst:.3e}");
     assert!(worst < 1e-8 && worst < 1e-6 * size, "{worst} of {size}");
+    // On the command line the user is warned, and the file is what the library writes.
+    let dir = tempfile::tempdir().unwrap();
+    let cal_path = dir.path().join("cal.json").display().to_string();
+    let csv = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("sample_logs/calibration.csv")
+        .display()
+        .to_string();
+    ok(&["calibrate", &csv, "--out", &cal_path]);
+    for (format, flag, value) in [
+        ("px4-params", "--device-id", "7"),
+        ("ardupilot-parm", "--imu", "1"),
+    ] {
+        let out = driftlab(&["export", &cal_path, "--format", format, flag, value]);
+        assert!(out.status.success(), "{format}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            err.contains("warning: gyro X: the rate terms K1"),
+            "{format}: {err}"
+        );
+    }
 }
 
 #[test]
@@ -410,7 +431,27 @@ fn models_a_firmware_cannot_evaluate_are_refused_by_name() {
     // Rate terms of a regression are left out with a warning, as K1 and K2 are.
     let rate = fit(&log, &custom("1,T,Tdot"));
     let f = firmware::flight(&rate, Format::Px4Params, &opts).unwrap();
-    assert!(f.notes.iter().any(|n| n.contains("Tdot")), "{:?}", f.notes);
+    assert!(
+        f.warnings.iter().any(|n| n.contains("Tdot")),
+        "{:?}",
+        f.warnings
+    );
+    // A Vakhrameev K0 of knots is no polynomial: refused naming the model and what serves.
+    let cal_log = common::firmware::read("calibration.csv");
+    let spline = DriftModel::Vakhrameev(Box::new(common::firmware::calibrate(
+        &cal_log,
+        [ApproxKind::Spline, ApproxKind::Linear, ApproxKind::Linear],
+        false,
+    )));
+    for format in [Format::Px4Params, Format::ArdupilotParm] {
+        let e = firmware::flight(&spline, format, &opts)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("model vakhrameev: K0 is a spline curve") && e.contains("--k0 parabolic"),
+            "{e}"
+        );
+    }
     // Without a device id PX4 cannot match the gyro.
     let poly = fit(&log, &ModelChoice::Preset(Preset::PolyT));
     let e = firmware::flight(&poly, Format::Px4Params, &ExportOptions::default())

@@ -104,6 +104,9 @@ pub fn run(a: Args) -> Result<(), String> {
     let fail = |e: firmware::ExportError| format!("{}: {e}", a.calibration.display());
     let text = if a.format.is_flight() {
         let file = firmware::flight(&model, a.format, &opts).map_err(fail)?;
+        for w in &file.warnings {
+            eprintln!("warning: {w}");
+        }
         for note in &file.notes {
             eprintln!("note: {note}");
         }

@@ -20,7 +20,7 @@
 //! writes both, so that no older accelerometer coefficients are applied over the new range.
 
 use super::numbers::{f32_text, f32_toward};
-use super::{Axes3, FlightError, FlightFile, ImuFits, Sensor, axes3, comment, finite, provenance};
+use super::{Axes3, FlightError, FlightFile, ImuFits, Sensor, axes3, comments, finite, provenance};
 
 /// ArduPilot's fixed reference temperature (`TEMP_REFERENCE`), °C.
 pub const TEMP_REFERENCE_C: f64 = 35.0;
@@ -93,8 +93,9 @@ pub fn ardupilot_parm(
         )));
     }
     let mut notes = Vec::new();
-    let gyro = axes3(&fits.gyro, Sensor::Gyro, &mut notes)?;
-    let accel = axes3(&fits.accel, Sensor::Accel, &mut notes)?;
+    let mut warnings = Vec::new();
+    let gyro = axes3(&fits.gyro, Sensor::Gyro, &mut notes, &mut warnings)?;
+    let accel = axes3(&fits.accel, Sensor::Accel, &mut notes, &mut warnings)?;
     let (t_min, t_max) = match (&gyro, &accel) {
         (None, None) => {
             return Err(FlightError::Missing(
@@ -163,11 +164,13 @@ pub fn ardupilot_parm(
     for p in provenance(fits) {
         text.push_str(&format!("# {p}\n"));
     }
-    for note in &notes {
-        text.push_str(&format!("# note: {}\n", comment(note)));
-    }
+    text.push_str(&comments(&notes, &warnings));
     for (name, value) in lines {
         text.push_str(&format!("{name} {value}\n"));
     }
-    Ok(FlightFile { text, notes })
+    Ok(FlightFile {
+        text,
+        notes,
+        warnings,
+    })
 }

@@ -55,9 +55,11 @@ pub struct ImuFits<'a> {
 pub struct FlightFile {
     /// The file's text.
     pub text: String,
-    /// What was left out or chosen on the user's behalf (also written as comments in the
-    /// file).
+    /// What was chosen on the user's behalf (also written as comments in the file).
     pub notes: Vec<String>,
+    /// What the firmware will not correct as driftlab does: terms left out, a curve held
+    /// where driftlab extrapolates (also written as comments in the file).
+    pub warnings: Vec<String>,
 }
 
 /// Why a calibration cannot be written for a flight controller.
@@ -134,11 +136,12 @@ pub(crate) struct Axes3 {
 
 /// Puts `fits` in X, Y, Z order, their polynomials in the firmware's unit; notes what was
 /// chosen (a single unnamed axis as X, missing axes at zero, a range narrowed to the one
-/// every axis covers) and what was left out.
+/// every axis covers) and warns of what was left out.
 pub(crate) fn axes3(
     fits: &[AxisFit<'_>],
     sensor: Sensor,
     notes: &mut Vec<String>,
+    warnings: &mut Vec<String>,
 ) -> Result<Option<Axes3>, FlightError> {
     if fits.is_empty() {
         return Ok(None);
@@ -184,10 +187,10 @@ pub(crate) fn axes3(
             ))
         })?;
         for w in &p.warnings {
-            notes.push(format!("{} {}: {w}", sensor.name(), ["X", "Y", "Z"][k]));
+            warnings.push(format!("{} {}: {w}", sensor.name(), ["X", "Y", "Z"][k]));
         }
         if p.extrapolates {
-            notes.push(format!(
+            warnings.push(format!(
                 "{} {}: driftlab evaluates this curve beyond {} .. {} degC, the firmware holds \
                  it at the ends",
                 sensor.name(),
@@ -270,19 +273,34 @@ pub(crate) fn provenance(fits: &ImuFits<'_>) -> Vec<String> {
         .collect()
 }
 
-/// `s` as one line of printable ASCII for a `#` comment (others become `?`).
+/// The comment lines of a file's notes and warnings.
+pub(crate) fn comments(notes: &[String], warnings: &[String]) -> String {
+    let mut text = String::new();
+    for w in warnings {
+        text.push_str(&format!("# warning: {}\n", comment(w)));
+    }
+    for n in notes {
+        text.push_str(&format!("# note: {}\n", comment(n)));
+    }
+    text
+}
+
+/// `s` as one line of printable ASCII for a `#` comment: the signs driftlab's messages use
+/// spelled out (`±` as `+-`, `·` as `*`, `°` as `deg`), others as `?`.
 pub(crate) fn comment(s: &str) -> String {
-    s.chars()
-        .map(|c| {
-            if c.is_ascii_graphic() || c == ' ' {
-                c
-            } else if c.is_whitespace() {
-                ' '
-            } else {
-                '?'
-            }
-        })
-        .collect()
+    let mut out = String::with_capacity(s.len());
+    for c in s.chars() {
+        match c {
+            '±' => out.push_str("+-"),
+            '·' | '×' => out.push('*'),
+            '°' => out.push_str("deg"),
+            '−' | '–' | '—' => out.push('-'),
+            c if c.is_ascii_graphic() || c == ' ' => out.push(c),
+            c if c.is_whitespace() => out.push(' '),
+            _ => out.push('?'),
+        }
+    }
+    out
 }
 
 /// A finite number, or an error naming it.

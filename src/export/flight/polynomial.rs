@@ -76,14 +76,17 @@ pub fn static_polynomial(model: &DriftModel) -> Result<TempPolynomial, FlightErr
             let k0 = &cal.k0;
             let Curve::Polynomial { coeffs } = k0.curve() else {
                 return Err(FlightError::NotPolynomial(format!(
-                    "K0 is a {} curve; PX4 and ArduPilot evaluate a polynomial in T: \
-                     calibrate with --k0 parabolic (or linear)",
+                    "model {}: K0 is a {} curve; PX4 and ArduPilot evaluate a polynomial in T \
+                     of degree 3 at most: calibrate with --k0 parabolic (or linear), or with \
+                     --model poly-t or a custom model of 1,T,T^2,T^3",
+                    model.name(),
                     k0.kind()
                 )));
             };
             if coeffs.len() > MAX_ORDER + 1 {
                 return Err(FlightError::NotPolynomial(format!(
-                    "K0 has degree {}, above the {MAX_ORDER} the firmware reads",
+                    "model {}: K0 has degree {}, above the {MAX_ORDER} the firmware reads",
+                    model.name(),
                     coeffs.len() - 1
                 )));
             }

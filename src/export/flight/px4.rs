@@ -16,7 +16,7 @@
 //! curve is taken relative to its value at TREF, so `X0` of `TC_A{n}` is zero.
 
 use super::numbers::{f32_text, f32_toward, python_repr};
-use super::{Axes3, FlightError, FlightFile, ImuFits, Sensor, axes3, comment, finite, provenance};
+use super::{Axes3, FlightError, FlightFile, ImuFits, Sensor, axes3, comments, finite, provenance};
 
 /// Which of PX4's calibration slots, and the sensors' device ids.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -84,8 +84,9 @@ pub fn px4_params(fits: &ImuFits<'_>, target: &Px4Target) -> Result<FlightFile, 
         )));
     }
     let mut notes = Vec::new();
-    let gyro = axes3(&fits.gyro, Sensor::Gyro, &mut notes)?;
-    let accel = axes3(&fits.accel, Sensor::Accel, &mut notes)?;
+    let mut warnings = Vec::new();
+    let gyro = axes3(&fits.gyro, Sensor::Gyro, &mut notes, &mut warnings)?;
+    let accel = axes3(&fits.accel, Sensor::Accel, &mut notes, &mut warnings)?;
     if gyro.is_none() && accel.is_none() {
         return Err(FlightError::Missing(
             "nothing to export: no gyro or accelerometer model".into(),
@@ -153,9 +154,7 @@ pub fn px4_params(fits: &ImuFits<'_>, target: &Px4Target) -> Result<FlightFile, 
     for p in provenance(fits) {
         text.push_str(&format!("# {p}\n"));
     }
-    for note in &notes {
-        text.push_str(&format!("# note: {}\n", comment(note)));
-    }
+    text.push_str(&comments(&notes, &warnings));
     text.push_str(&format!(
         "# only slot {n} is written: the other slots keep their calibrations\n"
     ));
@@ -166,5 +165,9 @@ pub fn px4_params(fits: &ImuFits<'_>, target: &Px4Target) -> Result<FlightFile, 
         };
         text.push_str(&format!("1\t1\t{name}\t{value}\t{ty}\n"));
     }
-    Ok(FlightFile { text, notes })
+    Ok(FlightFile {
+        text,
+        notes,
+        warnings,
+    })
 }
