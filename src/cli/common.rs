@@ -132,7 +132,7 @@ impl LogArgs {
 
     fn read_plain(&self, path: &Path, opts: &ReadOptions) -> Result<Log, String> {
         // A drone or robot log, told by its first bytes.
-        if let Some(log) = super::log_source::read_drone_log(self, path, opts, true)? {
+        if let Some((log, _)) = super::log_source::read_drone_log(self, path, opts, true)? {
             return Ok(log);
         }
         let bar = progress_bar(&format!("reading {}", path.display()));

@@ -121,7 +121,7 @@ pub fn read_drone_log(
     path: &Path,
     opts: &ReadOptions,
     needs_temperature: bool,
-) -> Result<Option<Log>, String> {
+) -> Result<Option<(Log, DroneLog)>, String> {
     if check(args, path, opts)?.is_none() {
         return Ok(None);
     }
@@ -137,8 +137,7 @@ pub fn read_drone_log(
         .map_err(|e| e.to_string())?;
     drop(rec);
     let log = any.log;
-    if let Some(d) = &any.drone {
-        print_notes(d, &log);
-    }
-    Ok(Some(log))
+    let drone = any.drone.ok_or("a drone log read as a CSV")?;
+    print_notes(&drone, &log);
+    Ok(Some((log, drone)))
 }
