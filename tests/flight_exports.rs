@@ -458,6 +458,18 @@ fn models_a_firmware_cannot_evaluate_are_refused_by_name() {
         .unwrap_err()
         .to_string();
     assert!(e.contains("device_id"), "{e}");
+    // A gyro id that is a device id serves as one (the workbench has no other field).
+    let mut with_id = poly.clone();
+    if let DriftModel::Regression(r) = &mut with_id {
+        r.gyro_id = "0x25000A".into();
+    }
+    let f = firmware::flight(&with_id, Format::Px4Params, &ExportOptions::default()).unwrap();
+    assert_eq!(px4_file(&f.text)["TC_G0_ID"], 2424842.0);
+    assert!(
+        f.notes.iter().any(|n| n.contains("gyro id 2424842")),
+        "{:?}",
+        f.notes
+    );
     // Axis names.
     assert_eq!(axis_index("gyro_y"), Some(1));
     assert_eq!(axis_index("gz_dps"), Some(2));

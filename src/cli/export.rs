@@ -3,7 +3,7 @@
 
 use driftlab::export::firmware::{self, ExportOptions, Format};
 use driftlab::export::flight::ardupilot::ArduPilotTarget;
-use driftlab::export::flight::px4::Px4Target;
+use driftlab::export::flight::px4::{self, Px4Target};
 use driftlab::files::calibration;
 use std::io::Write;
 use std::path::PathBuf;
@@ -34,7 +34,8 @@ pub struct Args {
     #[arg(long, value_name = "N")]
     pub points: Option<usize>,
     /// px4-params: the gyro's device_id, decimal or 0x hex (`driftlab inspect LOG` lists each
-    /// gyro's); PX4 applies the parameters to the sensor of that id.
+    /// gyro's); PX4 applies the parameters to the sensor of that id (default: the
+    /// calibration's gyro id, when it is one).
     #[arg(long, value_name = "ID")]
     pub device_id: Option<String>,
     /// px4-params: the calibration slot N of TC_GN_* (0 to 3; default 0).
@@ -48,12 +49,8 @@ pub struct Args {
 
 /// A device id as `inspect` prints it: decimal or `0x` hex.
 fn device_id(s: &str) -> Result<u32, String> {
-    let t = s.trim();
-    let v = match t.strip_prefix("0x").or_else(|| t.strip_prefix("0X")) {
-        Some(hex) => u32::from_str_radix(hex, 16),
-        None => t.parse::<u32>(),
-    };
-    v.map_err(|_| format!("--device-id {s}: give PX4's device_id, decimal or 0x hex"))
+    px4::parse_device_id(s)
+        .ok_or_else(|| format!("--device-id {s}: give PX4's device_id, decimal or 0x hex"))
 }
 
 impl Args {

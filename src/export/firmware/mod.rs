@@ -153,8 +153,10 @@ pub fn export(
 }
 
 /// A one-model calibration as a flight controller's parameter file: the model's axis (a
-/// calibration file names none yet) written as the gyro's X, and what was left out in
-/// [`FlightFile::notes`] (and as comments in the file).
+/// calibration file names none yet) written as the gyro's X, what was chosen in
+/// [`FlightFile::notes`] and left out in [`FlightFile::warnings`] (both also comments in the
+/// file). PX4's device id is `opts.px4`'s, else the calibration's gyro id when that is one
+/// (decimal or 0x hex).
 ///
 /// # Errors
 /// `format` is not a flight controller's, or the model cannot be written for one.
@@ -168,7 +170,23 @@ pub fn flight(
         accel: Vec::new(),
     };
     Ok(match format {
-        Format::Px4Params => px4_params(&fits, &opts.px4)?,
+        Format::Px4Params => {
+            // A gyro id that is a device id (as a drone log's gyro has) serves as one.
+            let from_id = crate::export::flight::px4::parse_device_id(model.gyro_id())
+                .filter(|_| opts.px4.gyro_device_id.is_none());
+            let target = Px4Target {
+                gyro_device_id: opts.px4.gyro_device_id.or(from_id),
+                ..opts.px4
+            };
+            let mut file = px4_params(&fits, &target)?;
+            if let Some(id) = from_id {
+                file.notes.push(format!(
+                    "TC_G{}_ID is the calibration's gyro id {id}",
+                    target.slot
+                ));
+            }
+            file
+        }
         Format::ArdupilotParm => ardupilot_parm(&fits, &opts.ardupilot)?,
         other => {
             return Err(ExportError::Calibration(format!(

@@ -31,6 +31,16 @@ pub struct Px4Target {
     pub slot: usize,
 }
 
+/// A device id as `driftlab inspect` prints it: decimal or `0x` hex; `None` for anything
+/// else (a serial number).
+pub fn parse_device_id(s: &str) -> Option<u32> {
+    let t = s.trim();
+    match t.strip_prefix("0x").or_else(|| t.strip_prefix("0X")) {
+        Some(hex) => u32::from_str_radix(hex, 16).ok(),
+        None => t.parse::<u32>().ok(),
+    }
+}
+
 /// The most slots PX4 reads (`GYRO_COUNT_MAX`, `ACCEL_COUNT_MAX`).
 pub const SLOTS: usize = 4;
 
@@ -125,8 +135,8 @@ pub fn px4_params(fits: &ImuFits<'_>, target: &Px4Target) -> Result<FlightFile, 
     if let Some(g) = &gyro {
         let id = target.gyro_device_id.ok_or_else(|| {
             FlightError::Missing(
-                "PX4 finds the gyro by its device_id (TC_G0_ID): give it (driftlab inspect LOG \
-                 lists each gyro's)"
+                "PX4 finds the gyro by its device_id (TC_G0_ID): give it with --device-id, or \
+                 make it the calibration's gyro id (driftlab inspect LOG lists each gyro's)"
                     .into(),
             )
         })?;
