@@ -590,3 +590,74 @@ fn a_ulog_calibrated_and_exported_on_the_command_line_loads_into_px4_as_driftlab
     let parm = ok(&["export", &cal, "--format", "ardupilot-parm", "--imu", "3"]);
     assert!(parm.contains("INS_TCAL3_GYR3_X"), "{parm}");
 }
+
+#[test]
+fn three_calibrations_on_the_command_line_make_the_three_axes() {
+    let dir = tempfile::tempdir().unwrap();
+    let curves = [
+        Curve([0.012, 2.1e-4, -3.0e-6, 4.0e-8]),
+        Curve([-0.004, -1.3e-4, 2.0e-6, 0.0]),
+        Curve([0.020, 0.6e-4, 1.0e-6, -2.0e-8]),
+    ];
+    let mut paths = Vec::new();
+    let mut models = Vec::new();
+    for (k, &c) in curves.iter().enumerate() {
+        let m = fit(
+            &log_of(c, DPH_PER_RAD_S, 0.002, 20 + k as u64),
+            &custom("1,T,T^2,T^3"),
+        );
+        let p = dir.path().join(format!("cal_{k}.json"));
+        driftlab::files::calibration::save_model(&p, &m).unwrap();
+        paths.push(p.display().to_string());
+        models.push(m);
+    }
+    let text = ok(&[
+        "export",
+        &paths[0],
+        "--y",
+        &paths[1],
+        "--z",
+        &paths[2],
+        "--format",
+        "px4-params",
+        "--device-id",
+        "2424842",
+    ]);
+    let p = px4_file(&text);
+    let parm = ok(&[
+        "export",
+        &paths[0],
+        "--y",
+        &paths[1],
+        "--z",
+        &paths[2],
+        "--format",
+        "ardupilot-parm",
+    ]);
+    let a = ardupilot_file(&parm);
+    let temps = grid(p["TC_G0_TMIN"], p["TC_G0_TMAX"]);
+    let t64: Vec<f64> = temps.iter().map(|&t| f64::from(t)).collect();
+    let mut worst = 0.0f64;
+    for (axis, model) in models.iter().enumerate() {
+        let pred = predict(model, &t64);
+        let at_cal = predict(model, &[30.0])[0] / DPH_PER_RAD_S;
+        for (i, &t) in temps.iter().enumerate() {
+            let want = pred[i] / DPH_PER_RAD_S;
+            worst = worst.max((f64::from(px4_offset(&p, "TC_G0", axis, t)) - want).abs());
+            let name = ["X", "Y", "Z"][axis];
+            let fw = f64::from(ardupilot_correction(&a, 1, "GYR", name, t, 30.0));
+            worst = worst.max((fw - (want - at_cal)).abs());
+        }
+    }
+    eprintln!("three axes from three files: worst firmware vs driftlab {worst:.3e} rad/s");
+    assert!(worst < 1e-8, "{worst}");
+    assert!(!text.contains("single-axis"), "{text}");
+    // --y on a format that reads one axis is refused by name.
+    let e = fails(&[
+        "export", &paths[0], "--y", &paths[1], "--format", "c-header",
+    ]);
+    assert!(
+        e.contains("--y applies to --format px4-params or ardupilot-parm"),
+        "{e}"
+    );
+}

@@ -1,6 +1,9 @@
 //! The workbench's File › Export entries for flight controllers: the file is the engine's
 //! (`driftlab export --format ardupilot-parm|px4-params` of the same calibration), and what
-//! cannot be written is said, with nothing written.
+//! cannot be written is said, with nothing written. Built only with the workbench (the
+//! feature `gui`).
+
+#![cfg(feature = "gui")]
 
 use driftlab::export::firmware::{self, ExportOptions, Format};
 use driftlab::gui::Workbench;

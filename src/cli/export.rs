@@ -45,6 +45,13 @@ pub struct Args {
     /// default 1).
     #[arg(long, value_name = "N")]
     pub imu: Option<usize>,
+    /// px4-params, ardupilot-parm: the calibration of the gyro's Y axis (CALIBRATION is then
+    /// its X axis; without --y and --z a single calibration is written as X).
+    #[arg(long, value_name = "CAL_Y")]
+    pub y: Option<PathBuf>,
+    /// px4-params, ardupilot-parm: the calibration of the gyro's Z axis.
+    #[arg(long, value_name = "CAL_Z")]
+    pub z: Option<PathBuf>,
 }
 
 /// A device id as `inspect` prints it: decimal or `0x` hex.
@@ -80,6 +87,9 @@ impl Args {
         )?;
         refuse(self.slot.is_some() && !px4, "--slot", "px4-params")?;
         refuse(self.imu.is_some() && !ardupilot, "--imu", "ardupilot-parm")?;
+        let flight = "px4-params or ardupilot-parm";
+        refuse(self.y.is_some() && !self.format.is_flight(), "--y", flight)?;
+        refuse(self.z.is_some() && !self.format.is_flight(), "--z", flight)?;
         let d = ExportOptions::default();
         Ok(ExportOptions {
             points: self.points.unwrap_or(d.points),
@@ -100,7 +110,18 @@ pub fn run(a: Args) -> Result<(), String> {
     let opts = a.options()?;
     let fail = |e: firmware::ExportError| format!("{}: {e}", a.calibration.display());
     let text = if a.format.is_flight() {
-        let file = firmware::flight(&model, a.format, &opts).map_err(fail)?;
+        // The other axes' calibrations, each read (and refused) by its own path.
+        let mut others = Vec::new();
+        for (axis, path) in [("y", &a.y), ("z", &a.z)] {
+            if let Some(p) = path {
+                let m = calibration::load_model(p).map_err(|e| e.to_string())?;
+                others.push((axis, m));
+            }
+        }
+        let x_axis = if others.is_empty() { "" } else { "x" };
+        let mut axes = vec![(x_axis, &model)];
+        axes.extend(others.iter().map(|(axis, m)| (*axis, m)));
+        let file = firmware::flight_axes(&axes, a.format, &opts).map_err(fail)?;
         for w in &file.warnings {
             eprintln!("warning: {w}");
         }

@@ -165,8 +165,28 @@ pub fn flight(
     format: Format,
     opts: &ExportOptions,
 ) -> Result<FlightFile, ExportError> {
+    flight_axes(&[("", model)], format, opts)
+}
+
+/// As [`flight`], one model per gyro axis: `(axis, model)` with the axis `x`, `y` or `z`
+/// (or a name holding one, `gyro_y`), put in X, Y, Z order; the device id from the first
+/// model's gyro id when `opts` gives none.
+///
+/// # Errors
+/// As [`flight`], and axes that cannot be told apart.
+pub fn flight_axes(
+    axes: &[(&str, &DriftModel)],
+    format: Format,
+    opts: &ExportOptions,
+) -> Result<FlightFile, ExportError> {
+    let Some(&(_, model)) = axes.first() else {
+        return Err(ExportError::Calibration("no calibration to export".into()));
+    };
     let fits = ImuFits {
-        gyro: vec![AxisFit { axis: "", model }],
+        gyro: axes
+            .iter()
+            .map(|&(axis, model)| AxisFit { axis, model })
+            .collect(),
         accel: Vec::new(),
     };
     Ok(match format {

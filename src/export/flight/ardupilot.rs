@@ -120,7 +120,8 @@ pub fn ardupilot_parm(
         }
         (Some(g), Some(a)) => {
             let (lo, hi) = (g.t_min.max(a.t_min), g.t_max.min(a.t_max));
-            if !(lo < hi) {
+            // NaN ends count as no range.
+            if lo.partial_cmp(&hi) != Some(std::cmp::Ordering::Less) {
                 return Err(FlightError::Missing(format!(
                     "the gyro ({} .. {} degC) and the accelerometer ({} .. {} degC) share no \
                      temperature range: ArduPilot holds one for both",

@@ -218,7 +218,8 @@ pub(crate) fn axes3(
         .map(|p| p.t_min)
         .fold(f64::NEG_INFINITY, f64::max);
     let t_max = given.clone().map(|p| p.t_max).fold(f64::INFINITY, f64::min);
-    if !(t_min < t_max) {
+    // NaN ends count as no range.
+    if t_min.partial_cmp(&t_max) != Some(std::cmp::Ordering::Less) {
         return Err(FlightError::Missing(format!(
             "the {} axes share no temperature range (their fits cover {}): the firmware holds \
              one range for all three",
