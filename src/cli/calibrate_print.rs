@@ -11,7 +11,7 @@ pub fn vakhrameev_summary(cal: &Calibration, warnings: &[String]) {
         cal.source.name,
         cal.source.samples,
         cal.source.duration_s / 3600.0,
-        r.dt_s
+        super::common::readable(r.dt_s)
     );
     println!(
         "Filter {} samples, T smoothing {} samples, H = {} samples; dead-bands |Tdot| {:.3e} degC/s, |Tddot| {:.3e} degC/s^2",

@@ -19,10 +19,10 @@ pub struct LogArgs {
     /// temperature column).
     #[arg(long, value_name = "NAME|N")]
     pub temp_col: Option<String>,
-    /// Unit of the rate column: deg/h, deg/s or rad/s (default: from the header, else deg/h).
+    /// Unit of the rate column: deg/h (dph), deg/s (dps), mdeg/s (mdps) or rad/s (default: from the header, else deg/h).
     #[arg(long, value_name = "UNIT")]
     pub rate_unit: Option<String>,
-    /// Unit of the time column: s, ms, min, h or samples (default: from the header, else s).
+    /// Unit of the time column: s, ms, us, ns, min, h or samples (default: from the header, else s).
     #[arg(long, value_name = "UNIT")]
     pub time_unit: Option<String>,
     /// Sampling rate in Hz, for a time column in samples or a log without time.
@@ -277,4 +277,14 @@ pub fn print_evaluation(e: &driftlab::judge::metrics::Evaluation) {
         c.raw.windows,
         e.outside_fraction * 100.0
     );
+}
+
+/// A number for a person: rounded to six significant digits, printed in its shortest form
+/// (119.985, not 119.98510447761194; 0.02, not 0.020000000000000004).
+pub fn readable(x: f64) -> String {
+    if !x.is_finite() {
+        return "n/a".to_string();
+    }
+    let rounded: f64 = format!("{x:.5e}").parse().unwrap_or(x);
+    format!("{rounded}")
 }

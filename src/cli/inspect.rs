@@ -112,6 +112,8 @@ pub fn run(a: Args) -> Result<(), String> {
     let timing = recorded.timing();
     let sampling = timing.describe(&recorded.time_s);
     let reduced = timing.bursts.is_some() && a.log_args.bin.is_none();
+    let recorded_dt = timing.nominal_dt_s;
+    let recorded_len = recorded.len();
     let log = if reduced {
         driftlab::log::resample::prepare(recorded, None)?.0
     } else {
@@ -185,11 +187,10 @@ pub fn run(a: Args) -> Result<(), String> {
         println!("    {:>2}  {:<24} {:?}{unit}", c.index, c.name, c.role);
     }
     println!(
-        "  {} samples ({} rows read), step {} s ({:.4} Hz), duration {:.2} h",
-        log.len(),
+        "  {recorded_len} samples ({} rows read), step {} s ({} Hz), duration {:.2} h",
         i.rows_read,
-        dt,
-        1.0 / dt,
+        common::readable(recorded_dt),
+        common::readable(1.0 / recorded_dt),
         log.duration_s() / 3600.0
     );
     for line in &sampling {
@@ -197,8 +198,10 @@ pub fn run(a: Args) -> Result<(), String> {
     }
     if reduced {
         println!(
-            "  the other commands reduce each burst to its mean time, rate and temperature \
-             (--bin S chooses bins instead)"
+            "  the other commands reduce each burst to its mean time, rate and temperature: \
+             {} samples, step {} s (--bin S chooses bins instead); the plateaus below are theirs",
+            log.len(),
+            common::readable(dt)
         );
     }
     println!("  temperature {tmin:.3} .. {tmax:.3} degC, fastest |Tdot| {rate_max:.3} degC/min");

@@ -154,7 +154,7 @@ impl Preset {
                 Some(s)
             }
             // Static curves fitted over every sample: held out, they cost less than the same
-            // curves fitted on the plateaus alone (tests/models.rs, README "Which model").
+            // curves fitted on the plateaus alone (tests/engine/models.rs, README "Which model").
             Preset::PolyT => spec(vec![One, T, T2]),
             Preset::PwlT => spec(vec![PwlT { knots: 3 }]),
             Preset::CoilLag => spec(vec![

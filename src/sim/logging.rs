@@ -225,7 +225,7 @@ impl fmt::Display for Bursts {
 /// true sampling step. Steps inside a batch are `per_sample_s`; a step from one batch to the
 /// next is `per_sample_s` plus the wait (plus the empty reads before it: at most one sampling
 /// step more), so no step exceeds `stall_max_s` plus the larger of `per_sample_s` and the
-/// sampling step. With the defaults at 100 Hz over 1.5 h (seed 8, `tests/sim_logging.rs`):
+/// sampling step. With the defaults at 100 Hz over 1.5 h (seed 8, `tests/engine/sim_logging.rs`):
 /// 53 % of the steps are 2 ms, the median step is 2.0 ms, one in ten is above 22.6 ms, the
 /// longest 0.505 s, the mean step 10.000 ms, and no stamp lags its sample by more than
 /// 0.52 s: the host stamps of the static MEMS log the real-logs issue describes (about 99 Hz,

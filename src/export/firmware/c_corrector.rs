@@ -31,6 +31,7 @@ pub(super) fn regression_corrector(h: &mut String, m: &RegressionModel) -> Resul
 /* ---- The streaming corrector ----------------------------------------------------------- */
 
 #define DRIFTLAB_DT_S {dt}             /* the sampling period it expects, s */
+#define DRIFTLAB_GAP_FACTOR {gap}        /* a step of more than this many periods is a dropout */
 #define DRIFTLAB_SMOOTH_SAMPLES {smooth}    /* causal moving average of T, samples */
 #define DRIFTLAB_STEP_SAMPLES {step}      /* derivative step s, samples (H = s * DRIFTLAB_DT_S) */
 #define DRIFTLAB_TWO_H_S {two_h}         /* 2H, s: divisor of the backward differences */
@@ -58,6 +59,9 @@ typedef struct {{
     double temp2[DRIFTLAB_DELAY_SAMPLES];          /* second sensor, degC */
     unsigned long long count;                      /* samples since init/reset */
     double t0_s;                                   /* time of the first sample, s */
+    double last_time_s;                            /* time of the last sample, s */
+    int has_time;                                  /* 0 until the first sample */
+    unsigned long long segment_start;              /* count at the last dropout */
 }} driftlab_state;
 
 /* One corrected sample, in full. */
@@ -95,6 +99,9 @@ static inline void driftlab_init(driftlab_state *st)
     st->smooth_filled = 0;
     st->count = 0;
     st->t0_s = 0.0;
+    st->last_time_s = 0.0;
+    st->has_time = 0;
+    st->segment_start = 0;
 }}
 
 /* Forgets all history (after a power cycle or a gap in the data). */
@@ -140,6 +147,7 @@ static inline int driftlab_check(double *v, const double range[2], int hold)
 "#,
         dt = number(dt, "the sampling period")?,
         two_h = number(two_h, "2H")?,
+        gap = number(crate::signal::timing::GAP_FACTOR, "the dropout factor")?,
         delay_body = delay_body(m.delay.points.len()),
     ));
     h.push_str(&row_fn(m.t_knots.len()));
@@ -215,6 +223,18 @@ static inline double driftlab_push_detail(driftlab_state *st, double time_s, dou
     if (i == 0) {{
         st->t0_s = time_s;
     }}
+    /* A step of more than DRIFTLAB_GAP_FACTOR periods is a dropout: T's filter, rates and lag
+     * start afresh, and nothing is read from before it; the gyro stayed on, so the self-heating
+     * clock runs on. */
+    if (st->has_time && time_s - st->last_time_s > DRIFTLAB_GAP_FACTOR * DRIFTLAB_DT_S) {{
+        st->smooth_sum = 0.0;
+        st->smooth_next = 0;
+        st->smooth_filled = 0;
+        st->lag_started = 0;
+        st->segment_start = i;
+    }}
+    st->last_time_s = time_s;
+    st->has_time = 1;
 {lag}
     /* Causal moving average of T over the last DRIFTLAB_SMOOTH_SAMPLES samples. */
     if (st->smooth_filled == DRIFTLAB_SMOOTH_SAMPLES) {{
@@ -229,12 +249,12 @@ static inline double driftlab_push_detail(driftlab_state *st, double time_s, dou
     st->smoothed[(size_t)(i % sr)] = ts;
 
     /* Backward differences (3x_i - 4x_(i-s) + x_(i-2s)) / (2H) of smoothed T, then of Tdot. */
-    tdot = i < 2 * s ? 0.0
+    tdot = i - st->segment_start < 2 * s ? 0.0
                      : (3.0 * ts - 4.0 * st->smoothed[(size_t)((i - s) % sr)] +
                         st->smoothed[(size_t)((i - 2 * s) % sr)]) /
                            DRIFTLAB_TWO_H_S;
     st->tdot[(size_t)(i % tr)] = tdot;
-    tddot = i < 4 * s ? 0.0
+    tddot = i - st->segment_start < 4 * s ? 0.0
                       : (3.0 * tdot - 4.0 * st->tdot[(size_t)((i - s) % tr)] +
                          st->tdot[(size_t)((i - 2 * s) % tr)]) /
                             DRIFTLAB_TWO_H_S;
@@ -249,6 +269,7 @@ static inline double driftlab_push_detail(driftlab_state *st, double time_s, dou
     if (delay > 0.0) {{
         f = (double)i - delay / DRIFTLAB_DT_S;
         f = f > 0.0 ? f : 0.0;
+        f = f > (double)st->segment_start ? f : (double)st->segment_start;
     }}
     x_temp = driftlab_ring_at(st->temp, dr, f);
     x_tdot = driftlab_ring_at(st->tdot, tr, f);

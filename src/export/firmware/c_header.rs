@@ -96,6 +96,7 @@ fn preamble(h: &mut String, cal: &Calibration, model: &str) {
  *
  * Use: call driftlab_init once, then driftlab_push for every sample, at the sampling period
  * DRIFTLAB_DT_S; call driftlab_reset after a gap, a power cycle or an invalid temperature.
+ * driftlab_push_at takes each sample's time too and restarts by itself after a dropout.
  *
  *     #include "this_header.h"
  *     static driftlab_state gyro;
@@ -519,6 +520,7 @@ fn corrector(h: &mut String, cal: &Calibration) -> Result<(), ExportError> {
 /* ---- The streaming corrector ----------------------------------------------------------- */
 
 #define DRIFTLAB_DT_S {dt}          /* the sampling period it expects, s */
+#define DRIFTLAB_GAP_FACTOR {gap}    /* driftlab_push_at: a longer step is a dropout */
 #define DRIFTLAB_SMOOTH_SAMPLES {smooth} /* causal moving average of T, samples */
 #define DRIFTLAB_STEP_SAMPLES {step}   /* derivative step s, samples (H = s * DRIFTLAB_DT_S) */
 #define DRIFTLAB_RING_SAMPLES (2 * DRIFTLAB_STEP_SAMPLES + 1)
@@ -526,6 +528,7 @@ fn corrector(h: &mut String, cal: &Calibration) -> Result<(), ExportError> {
 "#,
         dt = number(dt, "the sampling period")?,
         two_h = number(two_h, "2H")?,
+        gap = number(crate::signal::timing::GAP_FACTOR, "the dropout factor")?,
     ));
     h.push_str(
         r#"
@@ -539,6 +542,8 @@ typedef struct {
     double tdot_ring[DRIFTLAB_RING_SAMPLES];    /* Tdot, degC/s */
     size_t slot;                                /* ring slot of the next sample */
     size_t history;                             /* samples seen, counted up to 4 * step */
+    double last_time_s;                         /* driftlab_push_at: the last sample's time, s */
+    int has_time;                               /* driftlab_push_at: 0 until the first sample */
 } driftlab_state;
 
 /* One corrected sample, in full. */
@@ -567,6 +572,8 @@ static inline void driftlab_init(driftlab_state *st)
     st->smooth_filled = 0;
     st->slot = 0;
     st->history = 0;
+    st->last_time_s = 0.0;
+    st->has_time = 0;
 }
 
 /* Forgets all history (after a power cycle, a gap in the data or an invalid temperature). */
@@ -630,6 +637,27 @@ static inline double driftlab_push_detail(driftlab_state *st, double omega_dph, 
 static inline double driftlab_push(driftlab_state *st, double omega_dph, double temp_c)
 {
     return driftlab_push_detail(st, omega_dph, temp_c, NULL);
+}
+
+/* As driftlab_push_detail, for samples with their time (s): a step of more than
+ * DRIFTLAB_GAP_FACTOR periods since the last sample is a dropout, after which the history
+ * starts afresh from this sample, as driftlab restarts each segment of a log. */
+static inline double driftlab_push_at_detail(driftlab_state *st, double time_s, double omega_dph,
+                                             double temp_c, driftlab_sample *out)
+{
+    if (st->has_time && time_s - st->last_time_s > DRIFTLAB_GAP_FACTOR * DRIFTLAB_DT_S) {
+        driftlab_reset(st);
+    }
+    st->last_time_s = time_s;
+    st->has_time = 1;
+    return driftlab_push_detail(st, omega_dph, temp_c, out);
+}
+
+/* As driftlab_push, for samples with their time (s); see driftlab_push_at_detail. */
+static inline double driftlab_push_at(driftlab_state *st, double time_s, double omega_dph,
+                                      double temp_c)
+{
+    return driftlab_push_at_detail(st, time_s, omega_dph, temp_c, NULL);
 }
 "#,
     );

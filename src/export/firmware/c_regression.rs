@@ -114,8 +114,10 @@ fn regression_preamble(h: &mut String, cal: &RegressionCalibration) -> Result<()
  * and the channels are clamped to the ranges of the fit; Tdot and Tddot are only flagged.
  *
  * Use: call driftlab_init once, then driftlab_push for every sample, at the sampling period
- * DRIFTLAB_DT_S; call driftlab_reset after a gap or a power cycle (the self-heating clock
- * restarts at the first sample after it).
+ * DRIFTLAB_DT_S. A step in time_s of more than DRIFTLAB_GAP_FACTOR periods is a dropout: the
+ * filters, rates and lag start afresh by themselves, as driftlab restarts each segment of a
+ * log, and the self-heating clock runs on. Call driftlab_reset after a power cycle (the
+ * self-heating clock restarts at the first sample after it).
  *
  *     #include "this_header.h"
  *     static driftlab_state gyro;

@@ -1,0 +1,10 @@
+//! The command line end to end, as a user runs it, on simulated and real-shaped logs.
+//!
+//! One test binary for the area (it links the crate once); a module per file.
+
+#[path = "../common/mod.rs"]
+mod common;
+
+mod allan;
+mod commands;
+mod real_logs;

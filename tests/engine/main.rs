@@ -1,0 +1,24 @@
+//! The engine against independent truth: curves, signals, models, corrections, figures, the Allan deviation and the simulator.
+//!
+//! One test binary for the area (it links the crate once); a module per file.
+
+#[path = "../common/mod.rs"]
+mod common;
+
+mod allan;
+mod approx;
+mod correction;
+mod live_speed;
+mod lod;
+mod model;
+mod models;
+mod properties;
+mod regressions;
+mod signal;
+mod sim_axes;
+mod sim_dialect;
+mod sim_laser;
+mod sim_logging;
+mod sim_output;
+mod sim_physics;
+mod sim_programs;

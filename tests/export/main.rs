@@ -1,0 +1,11 @@
+//! What leaves driftlab for other tools: the C headers compiled and run, lookup tables, the test report.
+//!
+//! One test binary for the area (it links the crate once); a module per file.
+
+#[path = "../common/mod.rs"]
+mod common;
+
+mod firmware_c_header;
+mod firmware_regression;
+mod firmware_tables;
+mod report;

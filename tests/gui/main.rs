@@ -1,0 +1,12 @@
+//! The workbench driven headless (egui_kittest): opening, editing, files, pages, the window.
+//!
+//! One test binary for the area (it links the crate once); a module per file.
+
+#[path = "../common/mod.rs"]
+mod common;
+
+mod editing;
+mod files;
+mod models_allan;
+mod open_export;
+mod window;

@@ -1,0 +1,463 @@
+//! The workbench driven headless, as an engineer would use it: open the sample log, suggest
+//! plateaus, change an approximation and see the figures change, export files the engine
+//! reads back, save and reopen a session, survive a bad file, import semicolons.
+
+use driftlab::gui::{Action, Workbench};
+use driftlab::models::recipe::PlateauChoice;
+use eframe::egui::{Key, Modifiers};
+use egui_kittest::Harness;
+use egui_kittest::kittest::Queryable;
+use std::path::Path;
+
+use crate::common;
+use common::gui::*;
+
+/// The workbench on the sample log, settled, whose next file dialog answers `out`.
+fn answering(out: &Path) -> Harness<'static, Workbench> {
+    let mut wb = Workbench::new_for_test(&sample("calibration.csv"));
+    let dialogs = with_dialogs(&mut wb);
+    let mut h = harness(wb);
+    settle(&mut h);
+    dialogs.answer(Some(out.to_path_buf()));
+    h
+}
+
+#[test]
+fn the_sample_log_opens_calibrated_with_its_figures() {
+    let mut h = harness(Workbench::new_for_test(&sample("calibration.csv")));
+    settle(&mut h);
+    h.get_by_label("peak-to-peak");
+    h.get_by_label_contains("4 plateaus found by the detector");
+    let e = &h
+        .state()
+        .state
+        .fit
+        .as_ref()
+        .unwrap()
+        .outcome
+        .in_sample
+        .evaluation;
+    assert!(
+        e.comparison.p2p_ratio > 3.0,
+        "in-sample ratio {}",
+        e.comparison.p2p_ratio
+    );
+    // The figures on screen are the engine's.
+    h.get_by_label(&driftlab::gui::plot_items::ratio(e.comparison.p2p_ratio));
+}
+
+#[test]
+fn suggest_plateaus_fills_the_table_from_the_detector() {
+    let mut h = harness(Workbench::new_for_test(&sample("calibration.csv")));
+    settle(&mut h);
+    h.get_by_label("Suggest plateaus").click();
+    settle(&mut h);
+    let s = &h.state().state;
+    let PlateauChoice::Manual { ranges } = &s.recipe().plateaus else {
+        panic!("suggested plateaus are editable ranges");
+    };
+    assert_eq!(ranges.len(), 4);
+    assert_eq!(*ranges, s.fit.as_ref().unwrap().outcome.ranges);
+    h.get_by_label_contains("4 plateaus set by hand");
+}
+
+#[test]
+fn changing_an_approximation_changes_the_figures() {
+    let mut h = harness(Workbench::new_for_test(&sample("calibration.csv")));
+    settle(&mut h);
+    let before = p2p_corrected(&h);
+    h.get_by_label("K1+ approximation").click();
+    h.run_ok();
+    let options = h.get_all_by_label("spline").collect::<Vec<_>>();
+    options
+        .last()
+        .expect("the spline choice in the open list")
+        .click();
+    settle(&mut h);
+    assert_eq!(
+        h.state().state.recipe().k1_plus.kind,
+        driftlab::models::approx::ApproxKind::Spline
+    );
+    let fit = h.state().state.fit.clone().unwrap();
+    assert_eq!(
+        fit.outcome.calibration.k1_plus.kind(),
+        driftlab::models::approx::ApproxKind::Spline
+    );
+    let after = p2p_corrected(&h);
+    assert_ne!(before, after, "the figures follow the new K1+");
+    // And undo brings the linear K1+ (and its figures) back.
+    h.key_press_modifiers(Modifiers::COMMAND, Key::Z);
+    settle(&mut h);
+    assert_eq!(
+        h.state().state.recipe().k1_plus.kind,
+        driftlab::models::approx::ApproxKind::Linear
+    );
+    assert_eq!(p2p_corrected(&h), before);
+}
+
+#[test]
+fn export_writes_a_calibration_the_engine_loads() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("gyro7.json");
+    let mut h = answering(&out);
+    h.key_press_modifiers(Modifiers::COMMAND, Key::E);
+    settle(&mut h);
+    let cal = driftlab::files::calibration::load(&out).expect("the engine reads the exported file");
+    let fitted = h
+        .state()
+        .state
+        .fit
+        .as_ref()
+        .unwrap()
+        .outcome
+        .calibration
+        .clone();
+    assert_eq!(cal.k0, fitted.k0);
+    assert_eq!(cal.k1_plus, fitted.k1_plus);
+    assert_eq!(cal.k2_minus, fitted.k2_minus);
+    assert_eq!(cal.source.name, "calibration.csv");
+    assert_eq!(
+        cal.source.sha256,
+        driftlab::files::calibration::sha256_file(&sample("calibration.csv")).unwrap()
+    );
+    // It corrects a log as the workbench showed it.
+    let log =
+        driftlab::log::ingest::read_path(&sample("calibration.csv"), &Default::default()).unwrap();
+    let c = cal.correct(&log);
+    assert_eq!(
+        c.cor_dph,
+        h.state()
+            .state
+            .fit
+            .as_ref()
+            .unwrap()
+            .outcome
+            .in_sample
+            .corrected
+            .cor_dph
+    );
+}
+
+#[test]
+fn export_corrected_log_from_the_menu() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("corrected.csv");
+    let mut h = answering(&out);
+    h.get_by_label("File").click();
+    h.run_ok();
+    h.get_by_label_contains("Export corrected log").click();
+    settle(&mut h);
+    let text = std::fs::read_to_string(&out).expect("written");
+    let mut lines = text.lines();
+    assert_eq!(
+        lines.next(),
+        Some("time_s,omega_raw_dph,omega_pred_dph,omega_cor_dph,temp_c")
+    );
+    assert_eq!(
+        lines.count(),
+        h.state().state.log.as_ref().unwrap().log.len()
+    );
+}
+
+#[test]
+fn a_saved_session_reopens_as_it_was_left() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("run.session.json");
+    let mut wb = Workbench::new_for_test(&sample("calibration.csv"));
+    let dialogs = with_dialogs(&mut wb);
+    let mut h = harness(wb);
+    settle(&mut h);
+    h.get_by_label("Suggest plateaus").click();
+    settle(&mut h);
+    h.state_mut().state.recipe_mut().filter_s = 150.0;
+    settle(&mut h);
+    // A held-out log, through the import view.
+    dialogs.answer(Some(sample("validation.csv")));
+    // (the button in the Data panel; the result plot's header has one too)
+    h.get_all_by_label("Open validation log…")
+        .next()
+        .unwrap()
+        .click();
+    h.run_ok();
+    h.get_by_label("Load").click();
+    settle(&mut h);
+    assert!(h.state().state.validation.is_some());
+    h.get_by_label_contains("Held out · validation.csv");
+    h.state_mut().state.view.show_validation = false;
+    assert!(h.state().state.dirty());
+    dialogs.answer(Some(path.clone()));
+    h.key_press_modifiers(Modifiers::COMMAND, Key::S);
+    settle(&mut h);
+    assert!(!h.state().state.dirty(), "saved");
+    let choices = h.state().state.choices.clone();
+
+    // A fresh workbench on another log opens the session.
+    let mut other = harness(Workbench::new_for_test(&sample("validation.csv")));
+    settle(&mut other);
+    let ctx = other.ctx.clone();
+    other.state_mut().act(&ctx, Action::OpenSessionPath(path));
+    settle(&mut other);
+    let s = &other.state().state;
+    assert_eq!(s.choices, choices);
+    assert!(s.log.as_ref().unwrap().path.ends_with("calibration.csv"));
+    assert!(!s.dirty(), "a reopened session has nothing unsaved");
+    assert!(
+        s.validation
+            .as_ref()
+            .unwrap()
+            .path
+            .ends_with("validation.csv")
+    );
+    assert!(
+        !s.view.show_validation,
+        "the result plot shows what it showed"
+    );
+    let fit = s.fit.as_ref().unwrap();
+    assert_eq!(fit.outcome.calibration.recipe.filter_s, 150.0);
+    assert!(fit.outcome.held_out.is_some());
+}
+
+#[test]
+fn a_bad_file_leaves_the_work_as_it_was() {
+    let dir = tempfile::tempdir().unwrap();
+    let bad = dir.path().join("bad.csv");
+    let mut text = String::from("time_s,omega_dph,temp_c\n");
+    for i in 0..200 {
+        if i == 120 {
+            text.push_str("120,0.1x,20.0\n");
+        } else {
+            text.push_str(&format!("{i},0.1,20.0\n"));
+        }
+    }
+    std::fs::write(&bad, text).unwrap();
+    let mut h = harness(Workbench::new_for_test(&sample("calibration.csv")));
+    settle(&mut h);
+    h.get_by_label("Suggest plateaus").click();
+    settle(&mut h);
+    let choices = h.state().state.choices.clone();
+    let ctx = h.ctx.clone();
+    h.state_mut().act(&ctx, Action::OpenLogPath(bad.clone()));
+    h.run_ok();
+    // Unsaved plateaus: asked first.
+    h.get_by_label("Unsaved work");
+    h.get_by_label("Discard").click();
+    h.run_ok();
+    // The import view previews the first rows; the bad cell is further down.
+    assert!(h.state_mut().import_view().is_some());
+    h.get_by_label("Load").click();
+    settle(&mut h);
+    h.get_by_label_contains("bad.csv:122:2");
+    let s = &h.state().state;
+    assert!(s.log.as_ref().unwrap().path.ends_with("calibration.csv"));
+    assert_eq!(s.choices, choices);
+    assert!(s.fit.is_some());
+    h.get_by_label("OK").click();
+    h.run_ok();
+    assert!(h.query_by_label_contains("bad.csv:122:2").is_none());
+}
+
+#[test]
+fn the_import_view_reads_semicolons_and_decimal_commas() {
+    let dir = tempfile::tempdir().unwrap();
+    let log = dir.path().join("stand.csv");
+    let mut text = String::from("Zeit [s];Drift [deg/h];Temp [°C]\n");
+    for i in 0..2000 {
+        text.push_str(&format!("{i};0,{};20,5\n", i % 7));
+    }
+    std::fs::write(&log, text).unwrap();
+    let mut wb = Workbench::new_for_test(&sample("calibration.csv"));
+    let dialogs = with_dialogs(&mut wb);
+    let mut h = harness(wb);
+    settle(&mut h);
+    dialogs.answer(Some(log.clone()));
+    h.key_press_modifiers(Modifiers::COMMAND, Key::O);
+    h.run_ok();
+    {
+        let view = h
+            .state_mut()
+            .import_view()
+            .expect("Ctrl+O opens the import view");
+        let p = view.preview().unwrap();
+        assert_eq!(p.delimiter, ';');
+        assert!(p.decimal_comma);
+        assert_eq!(p.rows[0], vec!["0", "0,0", "20,5"]);
+    }
+    h.get_by_label("Load").click();
+    settle(&mut h);
+    let l = h.state().state.log.as_ref().unwrap();
+    assert!(l.path.ends_with("stand.csv"));
+    assert_eq!(l.log.omega_dph[3], 0.3);
+    assert_eq!(l.log.temp_c[0], 20.5);
+}
+
+/// The sample log copied into a folder of its own as `run7.csv`, open and calibrated, with
+/// every file dialog answered "no system dialog here".
+fn in_a_folder(dialogs: usize) -> (tempfile::TempDir, Harness<'static, Workbench>) {
+    let dir = tempfile::tempdir().unwrap();
+    let log = dir.path().join("run7.csv");
+    std::fs::copy(sample("calibration.csv"), &log).unwrap();
+    let mut wb = Workbench::new_for_test(&log);
+    let script = with_dialogs(&mut wb);
+    for _ in 0..dialogs {
+        script.answer_in_window();
+    }
+    let mut h = harness(wb);
+    settle(&mut h);
+    (dir, h)
+}
+
+#[test]
+fn the_windows_own_dialog_writes_the_calibration_and_the_session_beside_the_log() {
+    let (dir, mut h) = in_a_folder(3);
+    let folder = std::fs::canonicalize(dir.path()).unwrap();
+
+    // Ctrl+E: the dialog opens on the log's folder with a name beside the log; Enter writes.
+    h.key_press_modifiers(Modifiers::COMMAND, Key::E);
+    h.run_ok();
+    let text = h
+        .state_mut()
+        .file_dialog()
+        .expect("the window's own dialog")
+        .text()
+        .to_string();
+    assert_eq!(
+        Path::new(&text),
+        folder.join("run7-calibration.json"),
+        "prefilled beside the log"
+    );
+    h.get_by_label("Export calibration");
+    h.key_press(Key::Enter);
+    settle(&mut h);
+    assert!(h.state_mut().file_dialog().is_none(), "Enter closed it");
+    let cal = folder.join("run7-calibration.json");
+    let read =
+        driftlab::files::calibration::load(&cal).expect("the engine reads the calibration written");
+    assert_eq!(read.source.name, "run7.csv");
+    h.get_by_label_contains(&format!("Calibration written: {}", cal.display()));
+
+    // Ctrl+S: the session, beside the log too.
+    h.key_press_modifiers(Modifiers::COMMAND, Key::S);
+    h.run_ok();
+    h.key_press(Key::Enter);
+    settle(&mut h);
+    let session = folder.join("run7-session.json");
+    let s = driftlab::files::session::load(&session).expect("the session reads back");
+    assert_eq!(
+        std::fs::canonicalize(s.log.unwrap().path).unwrap(),
+        folder.join("run7.csv")
+    );
+    assert!(!h.state().state.dirty(), "saved");
+    h.get_by_label_contains(&format!("Session saved: {}", session.display()));
+
+    // Escape cancels, and the status says nothing was written.
+    h.key_press_modifiers(Modifiers::COMMAND.plus(Modifiers::SHIFT), Key::E);
+    h.run_ok();
+    assert!(h.state_mut().file_dialog().is_some());
+    h.key_press(Key::Escape);
+    settle(&mut h);
+    assert!(h.state_mut().file_dialog().is_none());
+    assert!(!folder.join("run7-corrected.csv").exists());
+    h.get_by_label_contains("Corrected log not exported: no file was chosen, nothing was written");
+}
+
+#[test]
+fn the_windows_own_dialog_completes_a_name_and_opens_the_log_through_the_import_view() {
+    let (dir, mut h) = in_a_folder(1);
+    std::fs::write(dir.path().join("notes.json"), "not a log\n").unwrap();
+    std::fs::create_dir(dir.path().join("older runs")).unwrap();
+    h.key_press_modifiers(Modifiers::COMMAND, Key::O);
+    h.run_ok();
+    let d = h
+        .state_mut()
+        .file_dialog()
+        .expect("the window's own dialog");
+    assert!(
+        d.text().ends_with(std::path::MAIN_SEPARATOR),
+        "opens on a folder"
+    );
+    // The listing: folders and logs; the typed start of a name completes with Tab.
+    h.get_by_label_contains("older runs");
+    assert!(
+        h.query_all_by_label("notes.json").next().is_none(),
+        "logs only"
+    );
+    h.event(eframe::egui::Event::Text("run7.c".into()));
+    h.run_ok();
+    h.run_ok();
+    h.key_press(Key::Tab);
+    h.run_ok();
+    let text = h.state_mut().file_dialog().unwrap().text().to_string();
+    assert_eq!(Path::new(&text).file_name().unwrap(), "run7.csv", "{text}");
+    h.key_press(Key::Enter);
+    h.run_ok();
+    assert!(h.state_mut().file_dialog().is_none());
+    let import = h
+        .state_mut()
+        .import_view()
+        .expect("the import view shows next");
+    assert_eq!(import.path.file_name().unwrap(), "run7.csv");
+}
+
+#[test]
+fn a_log_whose_columns_need_a_look_opens_on_the_import_view_from_the_command_line() {
+    // Two temperature sensors on the gyro: which is the calibration temperature?
+    let mut wb = Workbench::new(
+        Default::default(),
+        None,
+        Box::new(driftlab::gui::ScriptedDialogs::new()),
+    );
+    wb.open_log(sample("laser-gyro.csv"), Default::default(), true);
+    let view = wb.import_view().expect("the import view shows first");
+    assert!(
+        view.concerns()
+            .iter()
+            .any(|c| c.message.contains("temp_housing_c")),
+        "{:?}",
+        view.concerns()
+    );
+    assert!(
+        wb.state.log.is_none(),
+        "nothing is read before the engineer looks"
+    );
+    // A plain log is read at once; the options given are the ones it is read with.
+    let mut wb = Workbench::new(
+        Default::default(),
+        None,
+        Box::new(driftlab::gui::ScriptedDialogs::new()),
+    );
+    let read = driftlab::log::ingest::ReadOptions {
+        temp_col: Some(driftlab::log::ingest::ColumnRef::Name(
+            "temp_chamber_c".into(),
+        )),
+        ..Default::default()
+    };
+    wb.open_log(sample("calibration.csv"), read.clone(), true);
+    if let Some(v) = wb.import_view() {
+        panic!("no look needed, yet: {:?}", v.concerns());
+    }
+    wb.wait_for_jobs();
+    let l = wb.state.log.as_ref().expect("read");
+    assert_eq!(l.read, read);
+    assert_eq!(l.log.temp_c[100], {
+        let plain =
+            driftlab::log::ingest::read_path(&sample("calibration.csv"), &Default::default())
+                .unwrap();
+        plain
+            .extra
+            .iter()
+            .find(|c| c.name == "temp_chamber_c")
+            .unwrap()
+            .values[100]
+    });
+}
+
+#[test]
+fn column_mapping_reopens_the_import_view_on_the_loaded_log() {
+    let mut h = harness(Workbench::new_for_test(&sample("calibration.csv")));
+    settle(&mut h);
+    // The Data section's button (the File menu has the same entry).
+    h.get_by_label("Column mapping…").click();
+    h.run_ok();
+    let view = h.state_mut().import_view().expect("the import view");
+    assert_eq!(view.path.file_name().unwrap(), "calibration.csv");
+}

@@ -1,0 +1,179 @@
+//! The workbench driven headless: unsaved work is not lost silently, a plot saved as PNG,
+//! remembered settings and recent files, and the frame cost on a big log (run by hand).
+
+use driftlab::gui::{Action, Workbench};
+use eframe::egui::{self, Key, Pos2};
+use egui_kittest::kittest::Queryable;
+use std::path::Path;
+
+use crate::common;
+use common::gui::*;
+
+#[test]
+fn unsaved_work_is_not_lost_silently() {
+    let mut h = harness(Workbench::new_for_test(&sample("calibration.csv")));
+    settle(&mut h);
+    h.get_by_label("Suggest plateaus").click();
+    settle(&mut h);
+    let choices = h.state().state.choices.clone();
+    let ctx = h.ctx.clone();
+    h.state_mut()
+        .act(&ctx, Action::OpenLogPath(sample("validation.csv")));
+    h.run_ok();
+    h.get_by_label("Unsaved work");
+    h.get_by_label("Cancel").click();
+    h.run_ok();
+    assert!(h.query_by_label("Unsaved work").is_none());
+    assert!(h.state_mut().import_view().is_none());
+    assert_eq!(h.state().state.choices, choices);
+    assert!(h.state().state.dirty());
+}
+
+#[test]
+fn a_plot_is_saved_as_png_cropped_from_a_screenshot() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("plot.png");
+    let mut img = egui::ColorImage::filled([200, 100], egui::Color32::WHITE);
+    for y in 20..60 {
+        for x in 50..150 {
+            img.pixels[y * 200 + x] = egui::Color32::from_rgb(10, 20, 30);
+        }
+    }
+    let crop = egui::Rect::from_min_max(Pos2::new(25.0, 10.0), Pos2::new(75.0, 30.0));
+    driftlab::gui::export::save_png(&out, &img, Some(crop), 2.0).unwrap();
+    let back = image::open(&out).unwrap().to_rgba8();
+    assert_eq!(back.dimensions(), (100, 40));
+    assert_eq!(back.get_pixel(0, 0).0, [10, 20, 30, 255]);
+    // An empty crop is refused, nothing is written.
+    let none = dir.path().join("none.png");
+    assert!(driftlab::gui::export::save_png(&none, &img, Some(egui::Rect::NOTHING), 1.0).is_err());
+    assert!(!none.exists());
+}
+
+/// Frame cost on a big log (`DRIFTLAB_BIG_LOG=/path/to/10M.csv cargo test --release --test
+/// gui_window -- --ignored --nocapture big_log`): layout and shapes of the whole window, then
+/// tessellation, while the time axis is zoomed and panned.
+#[test]
+#[ignore = "needs a big log: set DRIFTLAB_BIG_LOG"]
+fn big_log_frames_stay_cheap() {
+    let Ok(path) = std::env::var("DRIFTLAB_BIG_LOG") else {
+        return;
+    };
+    let t = std::time::Instant::now();
+    let wb = Workbench::new_for_test(Path::new(&path));
+    eprintln!("read and calibrated in {:.2?}", t.elapsed());
+    let mut h = harness(wb);
+    settle(&mut h);
+    let keys = [
+        Key::Home,
+        Key::Plus,
+        Key::Plus,
+        Key::ArrowRight,
+        Key::Minus,
+        Key::ArrowLeft,
+        Key::Plus,
+        Key::Plus,
+        Key::Plus,
+    ];
+    let (mut ui_ms, mut tess_ms, mut worst) = (Vec::new(), Vec::new(), 0.0f64);
+    for round in 0..4 {
+        for &k in &keys {
+            h.key_press(k);
+            let t = std::time::Instant::now();
+            h.step();
+            let a = t.elapsed().as_secs_f64() * 1e3;
+            let shapes = h.output().shapes.clone();
+            let t = std::time::Instant::now();
+            let prims = h.ctx.tessellate(shapes, 1.0);
+            let b = t.elapsed().as_secs_f64() * 1e3;
+            let vertices: usize = prims
+                .iter()
+                .map(|p| match &p.primitive {
+                    egui::epaint::Primitive::Mesh(m) => m.vertices.len(),
+                    _ => 0,
+                })
+                .sum();
+            if round > 0 {
+                ui_ms.push(a);
+                tess_ms.push(b);
+                worst = worst.max(a + b);
+            }
+            if round == 1 {
+                eprintln!("{k:?}: ui {a:.1} ms, tessellation {b:.1} ms, {vertices} vertices");
+            }
+        }
+    }
+    let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
+    eprintln!(
+        "mean ui {:.1} ms, tessellation {:.1} ms, worst frame {:.1} ms",
+        mean(&ui_ms),
+        mean(&tess_ms),
+        worst
+    );
+    assert!(mean(&ui_ms) + mean(&tess_ms) < 50.0);
+}
+
+#[test]
+fn remembered_settings_round_trip_and_keep_ten_recent_files() {
+    use driftlab::gui::settings::{Settings, ThemeChoice, WindowGeometry};
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("driftlab").join("workbench.json");
+    let mut s = Settings {
+        theme: ThemeChoice::Dark,
+        window: Some(WindowGeometry {
+            x: 10.0,
+            y: 20.0,
+            width: 1400.0,
+            height: 900.0,
+            maximized: false,
+        }),
+        ..Settings::default()
+    };
+    for i in 0..12 {
+        s.add_recent(&dir.path().join(format!("run{i}.csv")));
+    }
+    s.add_recent(&dir.path().join("run5.csv"));
+    assert_eq!(s.recent.len(), 10);
+    assert!(
+        s.recent[0].ends_with("run5.csv"),
+        "most recent first, no duplicates"
+    );
+    s.save(&path).unwrap();
+    assert_eq!(Settings::load(&path), s);
+    // A damaged file gives the defaults, not an error.
+    std::fs::write(&path, "{ not json").unwrap();
+    assert_eq!(Settings::load(&path), Settings::default());
+}
+
+#[test]
+fn the_gui_command_takes_the_mapping_options_and_refuses_them_for_a_session() {
+    let bin = env!("CARGO_BIN_EXE_driftlab");
+    // A unit it does not know is refused by name, before any window opens.
+    let out = std::process::Command::new(bin)
+        .args(["gui", "--rate-unit", "furlongs/fortnight"])
+        .env_remove("DISPLAY")
+        .env_remove("WAYLAND_DISPLAY")
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("--rate-unit"), "{err}");
+    // A session keeps its own mapping: options given with one are refused, not dropped.
+    let dir = tempfile::tempdir().unwrap();
+    let session = dir.path().join("s.session.json");
+    std::fs::write(&session, "{}").unwrap();
+    let out = std::process::Command::new(bin)
+        .args(["gui"])
+        .arg(&session)
+        .args(["--temp-col", "temp_c"])
+        .env_remove("DISPLAY")
+        .env_remove("WAYLAND_DISPLAY")
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("--temp-col") && err.contains("session"),
+        "{err}"
+    );
+}
