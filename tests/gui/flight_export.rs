@@ -1,9 +1,6 @@
 //! The workbench's File › Export entries for flight controllers: the file is the engine's
 //! (`driftlab export --format ardupilot-parm|px4-params` of the same calibration), and what
-//! cannot be written is said, with nothing written. Built only with the workbench (the
-//! feature `gui`).
-
-#![cfg(feature = "gui")]
+//! cannot be written is said, with nothing written.
 
 use driftlab::export::firmware::{self, ExportOptions, Format};
 use driftlab::gui::Workbench;
@@ -13,7 +10,7 @@ use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
 use std::path::Path;
 
-mod common;
+use crate::common;
 use common::gui::*;
 
 fn answering(out: &Path) -> Harness<'static, Workbench> {

@@ -3,7 +3,7 @@
 //! walk of K, in Kalibr's own definitions. A discrete sample of white noise of density N at
 //! rate f is N·√f; a bias that random-walks with K steps by K·√Δt each sample.
 
-mod common;
+use crate::common;
 
 use common::Noise;
 use common::run::{driftlab, fails, ok};

@@ -16,7 +16,7 @@
 //! the whole path a user takes: a PX4 ULog built here, `driftlab calibrate`, `driftlab
 //! export`, and the firmware's formula against `driftlab apply`'s predicted drift.
 
-mod common;
+use crate::common;
 
 use common::Noise;
 use common::run::{driftlab, fails, ok};

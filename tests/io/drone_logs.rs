@@ -8,7 +8,7 @@
 //! `../shared/data/formats/`. Without them a test fails when `CI` is set and otherwise says
 //! it skips.
 
-mod common;
+use crate::common;
 
 use common::run::{driftlab, fails, ok};
 use driftlab::log::ingest::{self, ReadOptions};
