@@ -2,7 +2,9 @@
 //! read-outs (ARW, bias instability, RRW).
 
 use super::common::{self, LogArgs};
-use driftlab::judge::allan::{self, AllanDeviation, AllanOptions, Readout, TauSpacing};
+use super::log_source;
+use driftlab::judge::allan::{self, AllanDeviation, AllanOptions, Readout, TauSpacing, kalibr};
+use driftlab::log::formats::Format;
 use driftlab::log::ingest;
 use std::path::PathBuf;
 
@@ -18,9 +20,20 @@ pub struct Args {
     /// Every averaging factor up to N/4 instead of octaves (slow on long logs: O(N²)).
     #[arg(long)]
     pub all_tau: bool,
-    /// Print one JSON object instead of the table.
+    /// Print one JSON object instead of the table (with Kalibr's four values under
+    /// "kalibr", in rad/s/sqrt(Hz), rad/s^2/sqrt(Hz), m/s^2/sqrt(Hz), m/s^3/sqrt(Hz)).
     #[arg(long)]
     pub json: bool,
+    /// Also write Kalibr's IMU noise file (imu.yaml): gyroscope_noise_density from the angle
+    /// random walk, gyroscope_random_walk from the rate random walk, the accelerometer's pair
+    /// where the log has accelerometer axes, each the largest over the axes, with the tau
+    /// ranges they were read from (atomically).
+    #[arg(long, value_name = "OUT.yaml")]
+    pub kalibr: Option<PathBuf>,
+    /// The IMU's ROS topic in the Kalibr file (default: the topic of a ROS bag or MCAP gyro,
+    /// else /imu0).
+    #[arg(long, value_name = "TOPIC")]
+    pub rostopic: Option<String>,
     #[command(flatten)]
     pub log_args: LogArgs,
 }
@@ -32,9 +45,26 @@ pub fn run(a: Args) -> Result<(), String> {
         return Err(format!("--tau0 {t}: give a positive number of seconds"));
     }
     let read_opts = a.log_args.options()?;
-    let (source, rate, tau0_s) = match ingest::read_rate_series(&a.log, &read_opts)
-        .map_err(|e| e.to_string())?
-    {
+    if a.rostopic.is_some() && a.kalibr.is_none() && !a.json {
+        return Err("--rostopic names the topic of the Kalibr file: give --kalibr OUT.yaml".into());
+    }
+    let drone = log_source::read_drone_log(&a.log_args, &a.log, &read_opts, false)?;
+    // A ROS gyro's topic is its instance's label.
+    let ros_topic = drone.as_ref().and_then(|(_, d)| {
+        matches!(d.format, Format::RosBag | Format::Mcap)
+            .then(|| d.instances.iter().find(|s| s.index == d.chosen))
+            .flatten()
+            .map(|s| s.label.clone())
+    });
+    let series = match drone {
+        Some(_) => None,
+        None => ingest::read_rate_series(&a.log, &read_opts).map_err(|e| e.to_string())?,
+    };
+    // The other axes (gyro °/h, accelerometer m/s²) for Kalibr, which takes the noisiest.
+    let mut other_gyro: Vec<(String, Vec<f64>)> = Vec::new();
+    let mut accel: Vec<(String, Vec<f64>)> = Vec::new();
+    let mut axis = "rate".to_string();
+    let (source, rate, tau0_s) = match series {
         Some(series) => {
             let tau0 = a
                 .tau0
@@ -49,14 +79,30 @@ pub fn run(a: Args) -> Result<(), String> {
             (series.source, series.omega_dph, tau0)
         }
         None => {
+            let log = match drone {
+                Some((log, _)) => a.log_args.resampled(log)?,
+                None => a.log_args.read(&a.log)?,
+            };
             // The Allan deviation needs evenly spaced samples: a log with gaps gives its
             // longest stretch, and says so.
-            let (log, note) = driftlab::log::resample::longest_segment(a.log_args.read(&a.log)?);
+            let (log, note) = driftlab::log::resample::longest_segment(log);
             if let Some(note) = note {
                 eprintln!("note: {}: {note}", log.source);
             }
             let step = log.nominal_dt_s();
             let tau0 = a.tau0.unwrap_or(step);
+            axis = log.axis.clone();
+            other_gyro = log
+                .other_axes
+                .into_iter()
+                .map(|x| (x.name, x.omega_dph))
+                .collect();
+            accel = log
+                .extra
+                .into_iter()
+                .filter(|c| c.name.starts_with("accel_") && c.name.ends_with("_m_s2"))
+                .map(|c| (c.name, c.values))
+                .collect();
             (log.source, log.omega_dph, tau0)
         }
     };
@@ -79,11 +125,71 @@ pub fn run(a: Args) -> Result<(), String> {
     }
     common::status(&format!("computing the Allan deviation of {source}"));
     let dev = allan::allan(&rate, &opts).map_err(|e| format!("{source}: {e}"))?;
+    let noise = if a.json || a.kalibr.is_some() {
+        let rostopic = match (&a.rostopic, &ros_topic) {
+            (Some(t), _) | (None, Some(t)) => t.clone(),
+            (None, None) => {
+                if a.kalibr.is_some() {
+                    eprintln!(
+                        "note: {source}: rostopic /imu0 in the Kalibr file (give the IMU's with \
+                         --rostopic TOPIC)"
+                    );
+                }
+                "/imu0".to_string()
+            }
+        };
+        Some(kalibr_noise(
+            &source,
+            &axis,
+            &dev,
+            &other_gyro,
+            &accel,
+            tau0_s,
+            &rostopic,
+        )?)
+    } else {
+        None
+    };
+    if let (Some(path), Some(noise)) = (&a.kalibr, &noise) {
+        let text = kalibr::imu_yaml(noise, &source)
+            .map_err(|e| format!("{source}: {e}; {} not written", path.display()))?;
+        driftlab::files::atomic::write_bytes(path, text.as_bytes())
+            .map_err(|e| format!("{}: {e}", path.display()))?;
+        eprintln!("Kalibr noise model written to {}", path.display());
+    }
     if a.json {
-        return common::print_json(&json(&source, &dev));
+        let mut j = json(&source, &dev);
+        j["kalibr"] = serde_json::to_value(&noise).map_err(|e| e.to_string())?;
+        return common::print_json(&j);
     }
     print_table(&source, &dev);
     Ok(())
+}
+
+/// Each named series as borrowed slices.
+fn as_refs(v: &[(String, Vec<f64>)]) -> Vec<(&str, &[f64])> {
+    v.iter().map(|(n, x)| (n.as_str(), x.as_slice())).collect()
+}
+
+/// Kalibr's values: the gyro axis analysed (its read-outs as printed) with the log's other
+/// gyro axes and its accelerometer axes.
+fn kalibr_noise(
+    source: &str,
+    axis: &str,
+    dev: &AllanDeviation,
+    other_gyro: &[(String, Vec<f64>)],
+    accel: &[(String, Vec<f64>)],
+    tau0_s: f64,
+    rostopic: &str,
+) -> Result<kalibr::KalibrNoise, String> {
+    let fail = |(name, e): (String, allan::AllanError)| format!("{source}: {name}: {e}");
+    let mut gyro = vec![kalibr::AxisReadouts {
+        axis: axis.to_string(),
+        readouts: dev.readouts.clone(),
+    }];
+    gyro.extend(kalibr::axis_readouts(&as_refs(other_gyro), tau0_s).map_err(fail)?);
+    let accel = kalibr::axis_readouts(&as_refs(accel), tau0_s).map_err(fail)?;
+    Ok(kalibr::kalibr_noise(&gyro, &accel, tau0_s, rostopic))
 }
 
 /// The one JSON object: columns of the curve, then the read-outs.

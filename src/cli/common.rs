@@ -38,6 +38,9 @@ pub struct LogArgs {
     /// logs). Without it, a log written in bursts is reduced to one sample per burst.
     #[arg(long, value_name = "S")]
     pub bin: Option<f64>,
+    /// Which gyro of a drone or robot log (`log_source.rs`).
+    #[command(flatten)]
+    pub format: super::log_source::FormatArgs,
 }
 
 impl LogArgs {
@@ -119,7 +122,7 @@ impl LogArgs {
     }
 
     /// The log averaged into bins (--bin) or one sample per burst, before anything else.
-    fn resampled(&self, log: Log) -> Result<Log, String> {
+    pub fn resampled(&self, log: Log) -> Result<Log, String> {
         let (log, note) = driftlab::log::resample::prepare(log, self.bin)?;
         if let Some(note) = note {
             eprintln!("note: {}: {note}", log.source);
@@ -128,6 +131,10 @@ impl LogArgs {
     }
 
     fn read_plain(&self, path: &Path, opts: &ReadOptions) -> Result<Log, String> {
+        // A drone or robot log, told by its first bytes.
+        if let Some((log, _)) = super::log_source::read_drone_log(self, path, opts, true)? {
+            return Ok(log);
+        }
         let bar = progress_bar(&format!("reading {}", path.display()));
         let log = ingest::read_path_with_progress(path, opts, &|f| {
             if let Some(b) = &bar {

@@ -1,6 +1,9 @@
-//! `driftlab export`: a calibration for a gyro's processor, as a C header or lookup tables.
+//! `driftlab export`: a calibration for a gyro's processor, as a C header or lookup tables, or
+//! for a flight controller, as PX4 or ArduPilot parameters.
 
 use driftlab::export::firmware::{self, ExportOptions, Format};
+use driftlab::export::flight::ardupilot::ArduPilotTarget;
+use driftlab::export::flight::px4::{self, Px4Target};
 use driftlab::files::calibration;
 use std::io::Write;
 use std::path::PathBuf;
@@ -13,22 +16,122 @@ pub struct Args {
     /// c-header: one self-contained C99 header with the coefficients and the streaming corrector
     /// (init/reset/push), correcting bit for bit as driftlab does; csv-table: K0(T), K1±(Ṫ) and
     /// K2±(T̈) tabulated over their fitted ranges, to interpolate linearly (a regression model:
-    /// its coefficients with standard errors, ranges and settings as comments).
-    #[arg(long, value_name = "c-header|csv-table")]
+    /// its coefficients with standard errors, ranges and settings as comments); px4-params:
+    /// PX4's TC_G* thermal compensation as a QGroundControl .params file; ardupilot-parm:
+    /// ArduPilot's INS_TCALn_* parameters. The flight controllers read a polynomial in T:
+    /// poly-t, a custom model of 1,T,T^2,T^3, or Vakhrameev's K0 (linear or parabolic) with its
+    /// rate terms left out.
+    #[arg(
+        long,
+        value_name = "c-header|csv-table|px4-params|ardupilot-parm",
+        verbatim_doc_comment
+    )]
     pub format: Format,
     /// Where to write (atomically); standard output when not given.
     #[arg(long, short, value_name = "FILE")]
     pub out: Option<PathBuf>,
     /// Rows of each table, end points included (csv-table of a Vakhrameev calibration only).
-    #[arg(long, value_name = "N", default_value_t = ExportOptions::default().points)]
-    pub points: usize,
+    #[arg(long, value_name = "N")]
+    pub points: Option<usize>,
+    /// px4-params: the gyro's device_id, decimal or 0x hex (`driftlab inspect LOG` lists each
+    /// gyro's); PX4 applies the parameters to the sensor of that id (default: the
+    /// calibration's gyro id, when it is one).
+    #[arg(long, value_name = "ID")]
+    pub device_id: Option<String>,
+    /// px4-params: the calibration slot N of TC_GN_* (0 to 3; default 0).
+    #[arg(long, value_name = "N")]
+    pub slot: Option<usize>,
+    /// ardupilot-parm: the IMU N of INS_TCALN_* (1 to 3, 1 for the first IMU, DataFlash I=0;
+    /// default 1).
+    #[arg(long, value_name = "N")]
+    pub imu: Option<usize>,
+    /// px4-params, ardupilot-parm: the calibration of the gyro's Y axis (CALIBRATION is then
+    /// its X axis; without --y and --z a single calibration is written as X).
+    #[arg(long, value_name = "CAL_Y")]
+    pub y: Option<PathBuf>,
+    /// px4-params, ardupilot-parm: the calibration of the gyro's Z axis.
+    #[arg(long, value_name = "CAL_Z")]
+    pub z: Option<PathBuf>,
+}
+
+/// A device id as `inspect` prints it: decimal or `0x` hex.
+fn device_id(s: &str) -> Result<u32, String> {
+    px4::parse_device_id(s)
+        .ok_or_else(|| format!("--device-id {s}: give PX4's device_id, decimal or 0x hex"))
+}
+
+impl Args {
+    /// The options, each refused by name where the format does not read it.
+    fn options(&self) -> Result<ExportOptions, String> {
+        let refuse = |given: bool, flag: &str, formats: &str| {
+            if given {
+                Err(format!(
+                    "{flag} applies to --format {formats}, not {}",
+                    self.format
+                ))
+            } else {
+                Ok(())
+            }
+        };
+        let px4 = self.format == Format::Px4Params;
+        let ardupilot = self.format == Format::ArdupilotParm;
+        refuse(
+            self.points.is_some() && self.format != Format::CsvTable,
+            "--points",
+            "csv-table",
+        )?;
+        refuse(
+            self.device_id.is_some() && !px4,
+            "--device-id",
+            "px4-params",
+        )?;
+        refuse(self.slot.is_some() && !px4, "--slot", "px4-params")?;
+        refuse(self.imu.is_some() && !ardupilot, "--imu", "ardupilot-parm")?;
+        let flight = "px4-params or ardupilot-parm";
+        refuse(self.y.is_some() && !self.format.is_flight(), "--y", flight)?;
+        refuse(self.z.is_some() && !self.format.is_flight(), "--z", flight)?;
+        let d = ExportOptions::default();
+        Ok(ExportOptions {
+            points: self.points.unwrap_or(d.points),
+            px4: Px4Target {
+                gyro_device_id: self.device_id.as_deref().map(device_id).transpose()?,
+                accel_device_id: None,
+                slot: self.slot.unwrap_or(d.px4.slot),
+            },
+            ardupilot: ArduPilotTarget {
+                imu: self.imu.unwrap_or(d.ardupilot.imu),
+            },
+        })
+    }
 }
 
 pub fn run(a: Args) -> Result<(), String> {
     let model = calibration::load_model(&a.calibration).map_err(|e| e.to_string())?;
-    let opts = ExportOptions { points: a.points };
-    let text = firmware::export_model(&model, a.format, &opts)
-        .map_err(|e| format!("{}: {e}", a.calibration.display()))?;
+    let opts = a.options()?;
+    let fail = |e: firmware::ExportError| format!("{}: {e}", a.calibration.display());
+    let text = if a.format.is_flight() {
+        // The other axes' calibrations, each read (and refused) by its own path.
+        let mut others = Vec::new();
+        for (axis, path) in [("y", &a.y), ("z", &a.z)] {
+            if let Some(p) = path {
+                let m = calibration::load_model(p).map_err(|e| e.to_string())?;
+                others.push((axis, m));
+            }
+        }
+        let x_axis = if others.is_empty() { "" } else { "x" };
+        let mut axes = vec![(x_axis, &model)];
+        axes.extend(others.iter().map(|(axis, m)| (*axis, m)));
+        let file = firmware::flight_axes(&axes, a.format, &opts).map_err(fail)?;
+        for w in &file.warnings {
+            eprintln!("warning: {w}");
+        }
+        for note in &file.notes {
+            eprintln!("note: {note}");
+        }
+        file.text
+    } else {
+        firmware::export_model(&model, a.format, &opts).map_err(fail)?
+    };
     match &a.out {
         Some(path) => {
             driftlab::files::atomic::write_bytes(path, text.as_bytes())

@@ -1,6 +1,9 @@
 //! `driftlab inspect`: what driftlab reads in a log.
 
 use super::common::{self, LogArgs};
+use super::log_source;
+use driftlab::log::formats::{self, InstanceSummary};
+use driftlab::log::read::{self, TempFrom};
 use driftlab::models::recipe::Recipe;
 use driftlab::models::vakhrameev::{self, Prepared};
 use std::path::PathBuf;
@@ -17,10 +20,95 @@ pub struct Args {
     pub log_args: LogArgs,
 }
 
+/// What a drone or robot log holds besides the gyro inspected.
+struct Drone {
+    format: formats::Format,
+    instances: Vec<InstanceSummary>,
+    chosen: usize,
+}
+
+fn print_instances(source: &str, format: formats::Format, instances: &[InstanceSummary]) {
+    println!(
+        "{source}: {format} log, {} gyro instance(s):",
+        instances.len()
+    );
+    for s in instances {
+        println!("  {}", s.line());
+        let accel = if s.has_accel {
+            ", accel x y z (m/s^2)"
+        } else {
+            ""
+        };
+        println!("      axes: gyro x y z (rad/s){accel}");
+    }
+}
+
+/// A drone or robot log: its instances listed, then the chosen gyro as a log (`None` for a
+/// CSV). When no gyro can be chosen as asked, the instances are still listed (what an engineer needs to choose
+/// one) before the error says why.
+fn drone(a: &Args) -> Result<Option<(driftlab::Log, Drone)>, String> {
+    let opts = a.log_args.options()?;
+    let Some(format) = log_source::check(&a.log_args, &a.log, &opts)? else {
+        return Ok(None);
+    };
+    if a.log_args.format.temp_from == Some(TempFrom::None) {
+        return Err(format!(
+            "{}: --temp-from none leaves the log without a temperature: inspect lists every \
+             instance's temperatures without it",
+            a.log.display()
+        ));
+    }
+    let rec = formats::read_path(&a.log).map_err(|e| e.to_string())?;
+    let instances = rec.summaries();
+    let any = match read::from_recording(&rec, false, &a.log_args.format.choice()) {
+        Ok(any) => any,
+        Err(e) => {
+            if a.json {
+                common::print_json(&serde_json::json!({
+                    "source": rec.source,
+                    "format": format,
+                    "instances": instances,
+                    "problems": rec.problems,
+                    "chosen": null,
+                    "why_none": e.to_string(),
+                }))?;
+            } else {
+                print_instances(&rec.source, format, &instances);
+                for p in &rec.problems {
+                    println!("  problem: {p}");
+                }
+            }
+            return Err(e.to_string());
+        }
+    };
+    drop(rec);
+    let d = any.drone.ok_or("a drone log read as a CSV")?;
+    if !a.json {
+        print_instances(&any.log.source, format, &d.instances);
+    }
+    log_source::print_notes(&d, &any.log);
+    // As recorded, unless --bin asks for bins (as `LogArgs::read_recorded`).
+    let log = match a.log_args.bin {
+        Some(_) => a.log_args.resampled(any.log)?,
+        None => any.log,
+    };
+    Ok(Some((
+        log,
+        Drone {
+            format,
+            instances: d.instances,
+            chosen: d.chosen,
+        },
+    )))
+}
+
 pub fn run(a: Args) -> Result<(), String> {
     // The sampling as recorded; the plateaus and rates as the other commands see the log
     // (a burst log reduced to its bursts' means).
-    let recorded = a.log_args.read_recorded(&a.log)?;
+    let (recorded, drone) = match drone(&a)? {
+        Some((log, d)) => (log, Some(d)),
+        None => (a.log_args.read_recorded(&a.log)?, None),
+    };
     let timing = recorded.timing();
     let sampling = timing.describe(&recorded.time_s);
     let reduced = timing.bursts.is_some() && a.log_args.bin.is_none();
@@ -63,21 +151,34 @@ pub fn run(a: Args) -> Result<(), String> {
             "temp_max_c": tmax,
             "max_abs_rate_c_per_min": rate_max,
             "extra_channels": log.extra.iter().map(|c| &c.name).collect::<Vec<_>>(),
+            "axis": log.axis,
+            "other_axes": log.other_axes.iter().map(|x| &x.name).collect::<Vec<_>>(),
             "plateaus": plateaus,
+            "format": drone.as_ref().map(|d| d.format),
+            "instances": drone.as_ref().map(|d| &d.instances),
+            "chosen": drone.as_ref().map(|d| d.chosen),
         }));
     }
     let i = &log.info;
-    println!("{}", log.source);
-    println!(
-        "  format: separator {:?}, decimal {}, {}",
-        i.delimiter,
-        if i.decimal_comma { "comma" } else { "point" },
-        if i.has_header {
-            "header row"
-        } else {
-            "no header"
+    match &drone {
+        Some(d) => println!(
+            "{}: gyro {} of the {} log, as read:",
+            log.source, d.chosen, d.format
+        ),
+        None => {
+            println!("{}", log.source);
+            println!(
+                "  format: separator {:?}, decimal {}, {}",
+                i.delimiter,
+                if i.decimal_comma { "comma" } else { "point" },
+                if i.has_header {
+                    "header row"
+                } else {
+                    "no header"
+                }
+            );
         }
-    );
+    }
     println!("  columns:");
     for c in &i.columns {
         let unit = if c.unit.is_empty() {
@@ -139,10 +240,11 @@ pub fn run(a: Args) -> Result<(), String> {
     } else {
         println!("  problems:");
         for p in &i.problems {
+            let at = if drone.is_some() { "sample" } else { "line" };
             if p.line == 0 {
                 println!("    {}", p.message);
             } else {
-                println!("    line {}: {}", p.line, p.message);
+                println!("    {at} {}: {}", p.line, p.message);
             }
         }
     }

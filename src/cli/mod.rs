@@ -11,6 +11,7 @@ mod convert;
 mod evaluate;
 mod export;
 mod inspect;
+mod log_source;
 mod report;
 mod simulate;
 
@@ -88,6 +89,13 @@ pub fn run(command: Command) -> Result<(), String> {
 
 #[cfg(feature = "gui")]
 fn gui(a: GuiArgs) -> Result<(), String> {
+    if a.log_args.format.gyro.is_some() || a.log_args.format.temp_from.is_some() {
+        return Err(
+            "driftlab gui does not take --gyro or --temp-from: convert the gyro first with \
+             `driftlab convert LOG --out CSV --gyro N` and open the CSV"
+                .into(),
+        );
+    }
     let read = a.log_args.options()?;
     driftlab::gui::run(driftlab::gui::GuiOptions {
         log: a.log,

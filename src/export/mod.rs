@@ -1,5 +1,7 @@
 //! What leaves driftlab for other hands: code and tables for the gyro's processor
-//! (`firmware`) and the test report (`report`).
+//! (`firmware`), parameter files for flight controllers (`flight`) and the test report
+//! (`report`).
 
 pub mod firmware;
+pub mod flight;
 pub mod report;

@@ -62,6 +62,8 @@ pub enum Action {
     SaveSessionAs,
     /// Write the calibration file.
     ExportCalibration,
+    /// Write the calibration as a flight controller's parameter file (PX4, ArduPilot).
+    ExportFlight(crate::export::firmware::Format),
     /// Write the corrected log.
     ExportCsv,
     /// Write the test report (figures and an HTML page) into a folder.

@@ -26,6 +26,8 @@ pub enum FileKind {
     Calibration,
     /// A calibration file of a model chosen in the Models view (JSON).
     Model,
+    /// A flight controller's parameter file (PX4 `.params`, ArduPilot `.parm`).
+    FlightParams,
     /// The corrected log (CSV).
     CorrectedCsv,
     /// A picture (PNG).
@@ -43,6 +45,7 @@ impl FileKind {
             FileKind::Session => "Workbench session",
             FileKind::Calibration => "Export calibration",
             FileKind::Model => "Export model",
+            FileKind::FlightParams => "Export flight-controller parameters",
             FileKind::CorrectedCsv => "Export corrected log",
             FileKind::Png => "Save picture",
             FileKind::Report => "Export test report (a folder)",
@@ -58,6 +61,7 @@ impl FileKind {
             FileKind::Session => ("driftlab session", &["json"]),
             FileKind::Calibration | FileKind::Model => ("Calibration", &["json"]),
             FileKind::CorrectedCsv => ("CSV", &["csv"]),
+            FileKind::FlightParams => ("Parameters", &["params", "parm"]),
             FileKind::Png => ("PNG image", &["png"]),
             FileKind::Report => ("Report folder", &["*"]),
         }
@@ -85,6 +89,8 @@ impl FileKind {
             FileKind::CorrectedCsv => Some("csv"),
             FileKind::Png => Some("png"),
             FileKind::Log | FileKind::ValidationLog | FileKind::Report => None,
+            // The suggested name carries the format's own (.params, .parm).
+            FileKind::FlightParams => None,
         }
     }
 }

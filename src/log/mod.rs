@@ -4,6 +4,7 @@
 pub mod formats;
 pub mod ingest;
 pub mod mapping_check;
+pub mod read;
 pub mod resample;
 
 use serde::{Deserialize, Serialize};

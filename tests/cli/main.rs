@@ -7,4 +7,5 @@ mod common;
 
 mod allan;
 mod commands;
+mod kalibr;
 mod real_logs;

@@ -106,7 +106,15 @@ fn tables_give_the_curves_at_grid_points_and_stay_within_the_bound_between() {
     for kind in ApproxKind::ALL {
         let cal = calibrate(&cal_log, [kind; 3], false);
         for points in [101, 7, 2] {
-            let text = firmware::export(&cal, Format::CsvTable, &ExportOptions { points }).unwrap();
+            let text = firmware::export(
+                &cal,
+                Format::CsvTable,
+                &ExportOptions {
+                    points,
+                    ..ExportOptions::default()
+                },
+            )
+            .unwrap();
             let (header, tables) = parse_table(&text);
             assert_eq!(header[0], "T [degC]");
             assert_eq!(header[3], "K1+ [(deg/h)/(degC/s)]");
@@ -164,7 +172,14 @@ fn tables_refuse_fewer_than_two_points() {
             ExportError::TooManyPoints(firmware::MAX_TABLE_POINTS + 1),
         ),
     ] {
-        let e = firmware::export(&cal, Format::CsvTable, &ExportOptions { points });
+        let e = firmware::export(
+            &cal,
+            Format::CsvTable,
+            &ExportOptions {
+                points,
+                ..ExportOptions::default()
+            },
+        );
         assert_eq!(e, Err(want));
     }
 }

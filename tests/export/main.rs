@@ -8,4 +8,5 @@ mod common;
 mod firmware_c_header;
 mod firmware_regression;
 mod firmware_tables;
+mod flight_exports;
 mod report;

@@ -7,6 +7,7 @@ mod common;
 
 mod editing;
 mod files;
+mod flight_export;
 mod models_allan;
 mod open_export;
 mod window;

@@ -6,6 +6,7 @@
 mod common;
 
 mod atomic_writes;
+mod drone_logs;
 mod formats;
 mod ingest_dialects;
 mod ingest_errors;

@@ -12,13 +12,18 @@
 //! by [`c_header::c_header`] and [`csv_table::vakhrameev`], a regression model by
 //! [`c_regression::regression`] (a port of [`crate::models::regression::RegressionCorrector`], bit for bit
 //! in the same way) and [`csv_table::regression`] (its coefficients with standard errors, the
-//! ranges and settings as comments). [`export_model`] picks by the model.
+//! ranges and settings as comments). [`export_model`] picks by the model. The flight
+//! controllers' parameter files ([`Format::Px4Params`], [`Format::ArdupilotParm`]) are written
+//! by [`crate::export::flight`] from the model's static part, through [`flight`].
 
 mod c_corrector;
 pub mod c_header;
 pub mod c_regression;
 pub mod csv_table;
 
+use crate::export::flight::ardupilot::{ArduPilotTarget, ardupilot_parm};
+use crate::export::flight::px4::{Px4Target, px4_params};
+use crate::export::flight::{AxisFit, FlightError, FlightFile, ImuFits};
 use crate::models::fitted::DriftModel;
 use crate::models::vakhrameev::Calibration;
 use std::fmt;
@@ -32,11 +37,28 @@ pub enum Format {
     /// K0, K1±, K2± tabulated over their fitted ranges, as CSV (a regression model: its
     /// coefficients with standard errors).
     CsvTable,
+    /// PX4's thermal compensation (`TC_G*`) as a QGroundControl `.params` file
+    /// ([`crate::export::flight::px4`]).
+    Px4Params,
+    /// ArduPilot's IMU temperature calibration (`INS_TCALn_*`) as a parameter file
+    /// ([`crate::export::flight::ardupilot`]).
+    ArdupilotParm,
 }
 
 impl Format {
     /// Every format, in the order `--help` lists them.
-    pub const ALL: [Format; 2] = [Format::CHeader, Format::CsvTable];
+    pub const ALL: [Format; 4] = [
+        Format::CHeader,
+        Format::CsvTable,
+        Format::Px4Params,
+        Format::ArdupilotParm,
+    ];
+
+    /// Whether the format is a flight controller's parameter file, which holds the static
+    /// part of a model as a polynomial in T.
+    pub fn is_flight(self) -> bool {
+        matches!(self, Format::Px4Params | Format::ArdupilotParm)
+    }
 }
 
 impl fmt::Display for Format {
@@ -44,6 +66,8 @@ impl fmt::Display for Format {
         f.write_str(match self {
             Format::CHeader => "c-header",
             Format::CsvTable => "csv-table",
+            Format::Px4Params => "px4-params",
+            Format::ArdupilotParm => "ardupilot-parm",
         })
     }
 }
@@ -54,8 +78,11 @@ impl FromStr for Format {
         match s.trim().to_ascii_lowercase().as_str() {
             "c-header" | "c_header" | "c" | "h" => Ok(Format::CHeader),
             "csv-table" | "csv_table" | "csv" | "table" => Ok(Format::CsvTable),
+            "px4-params" | "px4_params" | "px4" => Ok(Format::Px4Params),
+            "ardupilot-parm" | "ardupilot_parm" | "ardupilot" => Ok(Format::ArdupilotParm),
             other => Err(format!(
-                "unknown export format \"{other}\": use c-header or csv-table"
+                "unknown export format \"{other}\": use c-header, csv-table, px4-params or \
+                 ardupilot-parm"
             )),
         }
     }
@@ -66,11 +93,19 @@ impl FromStr for Format {
 pub struct ExportOptions {
     /// Grid points per coefficient in a table, end points included.
     pub points: usize,
+    /// The gyro's device id and slot of a PX4 parameter file.
+    pub px4: Px4Target,
+    /// The IMU of an ArduPilot parameter file.
+    pub ardupilot: ArduPilotTarget,
 }
 
 impl Default for ExportOptions {
     fn default() -> Self {
-        ExportOptions { points: 101 }
+        ExportOptions {
+            points: 101,
+            px4: Px4Target::default(),
+            ardupilot: ArduPilotTarget::default(),
+        }
     }
 }
 
@@ -97,6 +132,9 @@ pub enum ExportError {
     /// The calibration does not hold together.
     #[error(transparent)]
     Invalid(#[from] crate::error::Invalid),
+    /// The calibration cannot be written for a flight controller.
+    #[error(transparent)]
+    Flight(#[from] FlightError),
 }
 
 /// Writes `cal` in `format`.
@@ -108,7 +146,74 @@ pub fn export(
     match format {
         Format::CHeader => c_header::c_header(cal),
         Format::CsvTable => csv_table::csv_table(cal, opts.points),
+        Format::Px4Params | Format::ArdupilotParm => {
+            Ok(flight(&DriftModel::Vakhrameev(Box::new(cal.clone())), format, opts)?.text)
+        }
     }
+}
+
+/// A one-model calibration as a flight controller's parameter file: the model's axis (a
+/// calibration file names none yet) written as the gyro's X, what was chosen in
+/// [`FlightFile::notes`] and left out in [`FlightFile::warnings`] (both also comments in the
+/// file). PX4's device id is `opts.px4`'s, else the calibration's gyro id when that is one
+/// (decimal or 0x hex).
+///
+/// # Errors
+/// `format` is not a flight controller's, or the model cannot be written for one.
+pub fn flight(
+    model: &DriftModel,
+    format: Format,
+    opts: &ExportOptions,
+) -> Result<FlightFile, ExportError> {
+    flight_axes(&[("", model)], format, opts)
+}
+
+/// As [`flight`], one model per gyro axis: `(axis, model)` with the axis `x`, `y` or `z`
+/// (or a name holding one, `gyro_y`), put in X, Y, Z order; the device id from the first
+/// model's gyro id when `opts` gives none.
+///
+/// # Errors
+/// As [`flight`], and axes that cannot be told apart.
+pub fn flight_axes(
+    axes: &[(&str, &DriftModel)],
+    format: Format,
+    opts: &ExportOptions,
+) -> Result<FlightFile, ExportError> {
+    let Some(&(_, model)) = axes.first() else {
+        return Err(ExportError::Calibration("no calibration to export".into()));
+    };
+    let fits = ImuFits {
+        gyro: axes
+            .iter()
+            .map(|&(axis, model)| AxisFit { axis, model })
+            .collect(),
+        accel: Vec::new(),
+    };
+    Ok(match format {
+        Format::Px4Params => {
+            // A gyro id that is a device id (as a drone log's gyro has) serves as one.
+            let from_id = crate::export::flight::px4::parse_device_id(model.gyro_id())
+                .filter(|_| opts.px4.gyro_device_id.is_none());
+            let target = Px4Target {
+                gyro_device_id: opts.px4.gyro_device_id.or(from_id),
+                ..opts.px4
+            };
+            let mut file = px4_params(&fits, &target)?;
+            if let Some(id) = from_id {
+                file.notes.push(format!(
+                    "TC_G{}_ID is the calibration's gyro id {id}",
+                    target.slot
+                ));
+            }
+            file
+        }
+        Format::ArdupilotParm => ardupilot_parm(&fits, &opts.ardupilot)?,
+        other => {
+            return Err(ExportError::Calibration(format!(
+                "{other} is not a flight controller's parameter file"
+            )));
+        }
+    })
 }
 
 /// Writes any model's calibration in `format`: a Vakhrameev calibration as [`export`] does, a
@@ -120,11 +225,15 @@ pub fn export_model(
     format: Format,
     opts: &ExportOptions,
 ) -> Result<String, ExportError> {
+    if format.is_flight() {
+        return Ok(flight(model, format, opts)?.text);
+    }
     match model {
         DriftModel::Vakhrameev(cal) => export(cal, format, opts),
         DriftModel::Regression(r) => match format {
             Format::CHeader => c_regression::regression(r),
             Format::CsvTable => csv_table::regression(r),
+            Format::Px4Params | Format::ArdupilotParm => Ok(flight(model, format, opts)?.text),
         },
     }
 }

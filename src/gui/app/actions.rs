@@ -134,6 +134,7 @@ impl Workbench {
             Action::SaveSession => self.save_session(ctx, false, None),
             Action::SaveSessionAs => self.save_session(ctx, true, None),
             Action::ExportCalibration => self.export_calibration(ctx),
+            Action::ExportFlight(format) => self.export_flight(ctx, format),
             Action::ExportCsv => self.export_csv(ctx),
             Action::ExportReport => self.export_report(ctx),
             Action::Screenshot => {

@@ -20,6 +20,8 @@ pub(super) enum Purpose {
     SaveSession { then: Option<Box<Action>> },
     /// The calibration file.
     ExportCalibration,
+    /// The calibration as a flight controller's parameter file.
+    ExportFlight(crate::export::firmware::Format),
     /// The corrected log.
     ExportCsv,
     /// The test report's folder.
@@ -39,6 +41,7 @@ impl Purpose {
             Purpose::OpenValidation => FileKind::ValidationLog,
             Purpose::OpenSession | Purpose::SaveSession { .. } => FileKind::Session,
             Purpose::ExportCalibration => FileKind::Calibration,
+            Purpose::ExportFlight(_) => FileKind::FlightParams,
             Purpose::ExportCsv => FileKind::CorrectedCsv,
             Purpose::ExportReport => FileKind::Report,
             Purpose::ExportModel(_) => FileKind::Model,
@@ -61,6 +64,7 @@ impl Purpose {
             Purpose::OpenSession => "No session opened".into(),
             Purpose::SaveSession { .. } => "Session not saved".into(),
             Purpose::ExportCalibration => "Calibration not exported".into(),
+            Purpose::ExportFlight(f) => format!("{f} file not exported"),
             Purpose::ExportCsv => "Corrected log not exported".into(),
             Purpose::ExportReport => "Report not written".into(),
             Purpose::ExportModel(m) => format!("Model {m} not exported"),
@@ -166,6 +170,7 @@ impl Workbench {
                 }
             }
             Purpose::ExportCalibration => self.write_calibration(&path),
+            Purpose::ExportFlight(format) => self.write_flight(format, &path),
             Purpose::ExportCsv => self.write_csv(path),
             Purpose::ExportReport => self.write_report(path),
             Purpose::ExportModel(name) => self.write_model(&name, path),
@@ -253,6 +258,72 @@ impl Workbench {
                     "Could not write the calibration. Nothing was written.\n\n{e}"
                 ));
             }
+        }
+    }
+
+    pub(super) fn export_flight(
+        &mut self,
+        ctx: &egui::Context,
+        format: crate::export::firmware::Format,
+    ) {
+        if self.state.log.is_some() {
+            self.settle_fit();
+        }
+        if self.state.log.is_none() || self.state.fit.is_none() {
+            self.state.say(
+                Severity::Warning,
+                format!("{format} file not exported: there is no calibration yet"),
+            );
+            return;
+        }
+        let name = match format {
+            crate::export::firmware::Format::Px4Params => "tc.params",
+            _ => "tcal.parm",
+        };
+        let name = self.name_beside_log(name);
+        self.ask(ctx, Purpose::ExportFlight(format), &name);
+    }
+
+    /// The calibration as `driftlab export --format px4-params|ardupilot-parm` writes it
+    /// (the engine's [`crate::export::firmware::flight`]), atomically.
+    fn write_flight(&mut self, format: crate::export::firmware::Format, path: &Path) {
+        self.settle_fit();
+        let (Some(log), Some(fit)) = (self.state.log.clone(), self.state.fit.clone()) else {
+            self.state.say(
+                Severity::Warning,
+                format!("{format} file not exported: there is no calibration any more"),
+            );
+            return;
+        };
+        let written = export::stamped(&fit.outcome.calibration, &log.path, log.sha256.as_deref())
+            .and_then(|cal| {
+                let model = crate::models::fitted::DriftModel::Vakhrameev(Box::new(cal));
+                let opts = crate::export::firmware::ExportOptions::default();
+                crate::export::firmware::flight(&model, format, &opts).map_err(|e| e.to_string())
+            })
+            .and_then(|file| {
+                crate::files::atomic::write_bytes(path, file.text.as_bytes())
+                    .map(|_| file)
+                    .map_err(|e| format!("{}: {e}", path.display()))
+            });
+        match written {
+            Ok(file) => {
+                self.settings.last_dir = path.parent().map(Path::to_path_buf);
+                // One status line: what was written, then what the firmware leaves out.
+                let (severity, warned) = if file.warnings.is_empty() {
+                    (Severity::Info, String::new())
+                } else {
+                    (Severity::Warning, format!("; {}", file.warnings.join("; ")))
+                };
+                self.state.say(
+                    severity,
+                    format!("{format} file written: {}{warned}", path.display()),
+                );
+            }
+            Err(e) => self.state.say(
+                Severity::Error,
+                format!("{format} file not exported, nothing was written: {e}"),
+            ),
         }
     }
 

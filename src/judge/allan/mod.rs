@@ -41,6 +41,7 @@
 
 mod chi2;
 mod edf;
+pub mod kalibr;
 mod noise_id;
 mod readouts;
 

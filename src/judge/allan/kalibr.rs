@@ -1,0 +1,362 @@
+//! The IMU noise model Kalibr reads (`imu.yaml`), from the Allan read-outs: the noise
+//! density of each sensor from its −1/2 line (σ at τ = 1 s), the bias random walk from its
+//! +1/2 line (σ at τ = 3 s), in Kalibr's continuous-time units.
+//!
+//! | key | read-out | unit |
+//! |---|---|---|
+//! | `gyroscope_noise_density` | ARW coefficient N | rad/s/√Hz (= rad/√s) |
+//! | `gyroscope_random_walk` | RRW coefficient K | rad/s²/√Hz (= rad/s/√s) |
+//! | `accelerometer_noise_density` | velocity random walk | m/s²/√Hz |
+//! | `accelerometer_random_walk` | acceleration random walk | m/s³/√Hz |
+//!
+//! Kalibr takes one number per sensor for all three axes: each is the largest over the axes
+//! the log holds (the noisiest axis, the cautious choice), and the file says which axis and
+//! which τ range it was read from. A value the curve does not show (no −1/2 or +1/2 region)
+//! is no number: [`imu_yaml`] refuses to write a file without it, naming why.
+
+use super::{AllanError, AllanOptions, GyroReadouts, Readout, TauSpacing, allan};
+use serde::Serialize;
+
+/// rad/s in one °/h.
+const RAD_S_PER_DPH: f64 = std::f64::consts::PI / 180.0 / 3600.0;
+
+/// One value for Kalibr, and where on which curve it was read.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct KalibrValue {
+    /// The value in Kalibr's unit.
+    pub value: f64,
+    /// Kalibr's unit.
+    pub unit: &'static str,
+    /// The axis whose curve gave it (the largest of the axes).
+    pub axis: String,
+    /// The τ range of the line it was read from, s.
+    pub region_tau_s: [f64; 2],
+    /// Curve points in that range.
+    pub points: usize,
+    /// The τ the line was read at (1 s or 3 s).
+    pub read_at_tau_s: f64,
+    /// The line was read outside the range it was fitted on.
+    pub extrapolated: bool,
+}
+
+/// A value, or why the curves show none.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct KalibrEntry {
+    /// Kalibr's key.
+    pub key: &'static str,
+    /// The value, `None` when no axis's curve shows its region.
+    pub value: Option<KalibrValue>,
+    /// Why there is no value, or which axes showed none.
+    pub note: Option<String>,
+}
+
+/// A sensor's pair of values.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct KalibrSensor {
+    /// `*_noise_density`.
+    pub noise_density: KalibrEntry,
+    /// `*_random_walk`.
+    pub random_walk: KalibrEntry,
+}
+
+/// What Kalibr's `imu.yaml` holds.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct KalibrNoise {
+    /// The gyro's pair.
+    pub gyroscope: KalibrSensor,
+    /// The accelerometer's pair, when the log has accelerometer axes.
+    pub accelerometer: Option<KalibrSensor>,
+    /// The sampling rate, Hz (1/τ0, to a millionth of a hertz).
+    pub update_rate_hz: f64,
+    /// The IMU's ROS topic.
+    pub rostopic: String,
+}
+
+/// Which sensor a set of axes is, for the units.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Sensor {
+    /// Rates in °/h (driftlab's unit).
+    Gyroscope,
+    /// Accelerations in m/s².
+    Accelerometer,
+}
+
+impl Sensor {
+    fn name(self) -> &'static str {
+        match self {
+            Sensor::Gyroscope => "gyroscope",
+            Sensor::Accelerometer => "accelerometer",
+        }
+    }
+
+    /// From the series' unit to Kalibr's (rad/s, m/s²).
+    fn to_si(self) -> f64 {
+        match self {
+            Sensor::Gyroscope => RAD_S_PER_DPH,
+            Sensor::Accelerometer => 1.0,
+        }
+    }
+}
+
+/// The read-outs of one axis.
+#[derive(Debug, Clone)]
+pub struct AxisReadouts {
+    /// The axis's name (`gyro_x`, `accel_z_m_s2`).
+    pub axis: String,
+    /// Its read-outs (σ in the series' unit: °/h for a gyro, m/s² for an accelerometer).
+    pub readouts: GyroReadouts,
+}
+
+/// The read-outs of each series, on octave τ (the points the read-outs are taken from, so
+/// the same numbers as a curve of every τ gives).
+///
+/// # Errors
+/// A series the Allan deviation cannot be computed on.
+pub fn axis_readouts(
+    series: &[(&str, &[f64])],
+    tau0_s: f64,
+) -> Result<Vec<AxisReadouts>, (String, AllanError)> {
+    let opts = AllanOptions {
+        tau0_s,
+        spacing: TauSpacing::Octave,
+        ..AllanOptions::default()
+    };
+    series
+        .iter()
+        .map(|(axis, rate)| {
+            allan(rate, &opts)
+                .map(|d| AxisReadouts {
+                    axis: axis.to_string(),
+                    readouts: d.readouts,
+                })
+                .map_err(|e| (axis.to_string(), e))
+        })
+        .collect()
+}
+
+/// The largest value of one read-out over the axes.
+fn entry(
+    key: &'static str,
+    unit: &'static str,
+    sensor: Sensor,
+    axes: &[AxisReadouts],
+    pick: impl Fn(&GyroReadouts) -> Option<&Readout>,
+    region: &str,
+) -> KalibrEntry {
+    let mut best: Option<KalibrValue> = None;
+    let mut without = Vec::new();
+    for a in axes {
+        match pick(&a.readouts) {
+            Some(r) => {
+                let v = KalibrValue {
+                    value: r.sigma_at_tau * sensor.to_si(),
+                    unit,
+                    axis: a.axis.clone(),
+                    // m·τ0 in binary reads 0.04999999999998295: nine decimals are plenty.
+                    region_tau_s: r.region_tau_s.map(|t| (t * 1e9).round() / 1e9),
+                    points: r.points,
+                    read_at_tau_s: r.read_at_tau_s,
+                    extrapolated: r.extrapolated,
+                };
+                if best.as_ref().is_none_or(|b| v.value > b.value) {
+                    best = Some(v);
+                }
+            }
+            None => without.push(a.axis.as_str()),
+        }
+    }
+    let note = match (&best, without.is_empty()) {
+        (None, _) => Some(format!(
+            "no {} axis's Allan curve shows a {region} region{}",
+            sensor.name(),
+            if region == "+1/2" {
+                " (the rate random walk shows at long tau: record longer)"
+            } else {
+                " (white noise shows at short tau: record faster)"
+            }
+        )),
+        (Some(_), false) => Some(format!(
+            "read on the axes that show a {region} region; {} show{} none",
+            without.join(", "),
+            if without.len() == 1 { "s" } else { "" }
+        )),
+        (Some(_), true) => None,
+    };
+    KalibrEntry {
+        key,
+        value: best,
+        note,
+    }
+}
+
+fn sensor_pair(sensor: Sensor, axes: &[AxisReadouts]) -> KalibrSensor {
+    let (density_key, walk_key, density_unit, walk_unit) = match sensor {
+        Sensor::Gyroscope => (
+            "gyroscope_noise_density",
+            "gyroscope_random_walk",
+            "rad/s/sqrt(Hz)",
+            "rad/s^2/sqrt(Hz)",
+        ),
+        Sensor::Accelerometer => (
+            "accelerometer_noise_density",
+            "accelerometer_random_walk",
+            "m/s^2/sqrt(Hz)",
+            "m/s^3/sqrt(Hz)",
+        ),
+    };
+    KalibrSensor {
+        noise_density: entry(
+            density_key,
+            density_unit,
+            sensor,
+            axes,
+            |r| r.arw.as_ref(),
+            "-1/2",
+        ),
+        random_walk: entry(
+            walk_key,
+            walk_unit,
+            sensor,
+            axes,
+            |r| r.rrw.as_ref(),
+            "+1/2",
+        ),
+    }
+}
+
+/// Kalibr's values from the read-outs of the gyro axes (°/h) and of the accelerometer axes
+/// (m/s², none when the log has no accelerometer).
+pub fn kalibr_noise(
+    gyro: &[AxisReadouts],
+    accel: &[AxisReadouts],
+    tau0_s: f64,
+    rostopic: &str,
+) -> KalibrNoise {
+    KalibrNoise {
+        gyroscope: sensor_pair(Sensor::Gyroscope, gyro),
+        accelerometer: (!accel.is_empty()).then(|| sensor_pair(Sensor::Accelerometer, accel)),
+        // 1/τ0 of a median step read from float stamps is 19.99999999992724 Hz: a
+        // millionth of a hertz is finer than any IMU's rate is known.
+        update_rate_hz: (1e6 / tau0_s).round() / 1e6,
+        rostopic: rostopic.to_string(),
+    }
+}
+
+/// Why an `imu.yaml` cannot be written.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum KalibrError {
+    /// Values the curves do not show.
+    #[error("Kalibr needs {0}")]
+    Missing(String),
+}
+
+impl KalibrNoise {
+    /// Every entry, accelerometer first as Kalibr's example file has them.
+    pub fn entries(&self) -> Vec<&KalibrEntry> {
+        let mut v = Vec::new();
+        if let Some(a) = &self.accelerometer {
+            v.extend([&a.noise_density, &a.random_walk]);
+        }
+        v.extend([&self.gyroscope.noise_density, &self.gyroscope.random_walk]);
+        v
+    }
+}
+
+/// `noise` as Kalibr's `imu.yaml`, each value with a comment naming the axis and the τ range
+/// it was read from.
+///
+/// # Errors
+/// A value no axis's curve shows (the file would be no noise model), named with why.
+pub fn imu_yaml(noise: &KalibrNoise, source: &str) -> Result<String, KalibrError> {
+    let missing: Vec<String> = noise
+        .entries()
+        .iter()
+        .filter(|e| e.value.is_none())
+        .map(|e| format!("{}: {}", e.key, e.note.as_deref().unwrap_or("not read")))
+        .collect();
+    if !missing.is_empty() {
+        return Err(KalibrError::Missing(missing.join("; ")));
+    }
+    let mut out = format!(
+        "# IMU noise model for Kalibr, from the Allan deviation of {} (driftlab {})\n",
+        source.replace('\n', " "),
+        env!("CARGO_PKG_VERSION")
+    );
+    if noise.accelerometer.is_none() {
+        out.push_str(
+            "# the log has no accelerometer: add accelerometer_noise_density and \
+             accelerometer_random_walk before giving this file to Kalibr\n",
+        );
+    }
+    let line = |out: &mut String, e: &KalibrEntry, what: &str| {
+        if let Some(v) = &e.value {
+            out.push_str(&format!(
+                "# {what}: {} axis, {} line fitted on tau {} .. {} s ({} points), read at tau = {} \
+                 s{}\n",
+                v.axis,
+                if v.read_at_tau_s == 1.0 {
+                    "-1/2"
+                } else {
+                    "+1/2"
+                },
+                v.region_tau_s[0],
+                v.region_tau_s[1],
+                v.points,
+                v.read_at_tau_s,
+                // The +1/2 line's coefficient is its value at 3 s by definition, wherever the
+                // region lies; a white-noise line read off its region is worth saying.
+                if v.extrapolated && v.read_at_tau_s == 1.0 {
+                    " (outside the fitted range: extrapolated)"
+                } else {
+                    ""
+                }
+            ));
+            if let Some(n) = &e.note {
+                out.push_str(&format!("#   {n}\n"));
+            }
+            out.push_str(&format!("{}: {:e}  # {}\n", e.key, v.value, v.unit));
+        }
+    };
+    if let Some(a) = &noise.accelerometer {
+        out.push_str("\n# Accelerometers\n");
+        line(
+            &mut out,
+            &a.noise_density,
+            "noise density (continuous time)",
+        );
+        line(&mut out, &a.random_walk, "bias random walk");
+    }
+    out.push_str("\n# Gyroscopes\n");
+    line(
+        &mut out,
+        &noise.gyroscope.noise_density,
+        "noise density (continuous time), the angle random walk",
+    );
+    line(
+        &mut out,
+        &noise.gyroscope.random_walk,
+        "bias random walk, the rate random walk",
+    );
+    out.push_str(&format!(
+        "\nrostopic: {}  # the IMU's ROS topic\nupdate_rate: {}  # Hz, for the discretization of the values above\n",
+        yaml_string(&noise.rostopic),
+        if noise.update_rate_hz.fract() == 0.0 {
+            format!("{:.1}", noise.update_rate_hz)
+        } else {
+            noise.update_rate_hz.to_string()
+        }
+    ));
+    Ok(out)
+}
+
+/// A topic as a YAML plain scalar when it is one, else double-quoted.
+fn yaml_string(s: &str) -> String {
+    let plain = !s.is_empty()
+        && s.chars()
+            .all(|c| c.is_ascii_alphanumeric() || matches!(c, '/' | '_' | '-' | '.'));
+    if plain {
+        s.to_string()
+    } else {
+        format!("\"{}\"", s.replace('\\', "\\\\").replace('"', "\\\""))
+    }
+}

@@ -1,0 +1,453 @@
+//! Any log driftlab reads, told by its first bytes: a test-stand CSV through
+//! [`ingest`](super::ingest), or a drone or robot log (PX4 ULog, ArduPilot DataFlash, ROS 1
+//! bag, MCAP) through [`formats`](super::formats), turned into the same [`Log`].
+//!
+//! A drone log holds several IMUs; one gyro instance becomes the log ([`FormatChoice`]:
+//! `--gyro N`, `--temp-from`, by default the first whose temperature is not all NaN, with a
+//! note saying which):
+//!
+//! | `Log` field | from the instance |
+//! |---|---|
+//! | `time_s` | the format's own time stamp (ULog `timestamp`, DataFlash `TimeUS`, ROS `header.stamp`), s |
+//! | `omega_dph`, `axis` | gyro x, rad/s → °/h, axis `gyro_x` |
+//! | `other_axes` | gyro y and z, °/h, axes `gyro_y`, `gyro_z` |
+//! | `temp_c` | the instance's temperature (or the one `--temp-from` names), °C |
+//! | `extra` | the accelerometer axes `accel_x_m_s2` … in m/s², when the instance has them |
+//!
+//! The names are those of the CSV `driftlab convert` writes for the same instance, so a
+//! calibration that reads a channel by name applies to either. Rows whose gyro axes or
+//! temperature are NaN are dropped, and so are rows whose time does not increase, as the CSV
+//! reader drops them; each is reported in [`LogInfo::problems`] with the 1-based sample
+//! number in the instance as its `line`. What the format reader noticed (dropouts, a cut last
+//! message) is in [`DroneLog::problems`] with its byte offset.
+
+use super::formats::{self, Format, FormatError, ImuRecording, InstanceSummary, SelectionError};
+use super::ingest::{self, IngestError, ReadOptions};
+use super::{Axis, Channel, ColumnInfo, ColumnRole, Log, LogInfo, Problem, ProblemKind};
+use crate::signal::timing::GAP_FACTOR;
+use std::path::Path;
+
+pub use super::formats::TempFrom;
+
+/// Which gyro of a drone or robot log, and which temperature (the CSV reader takes neither).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct FormatChoice {
+    /// The instance (as [`ImuRecording::instances`] numbers them); `None`: the first whose
+    /// temperature (of `temp_from`'s kind) is not all NaN.
+    pub gyro: Option<usize>,
+    /// Where the temperature comes from; `None`: the gyro's own.
+    pub temp_from: Option<TempFrom>,
+}
+
+impl FormatChoice {
+    /// True when nothing was chosen.
+    pub fn is_default(&self) -> bool {
+        *self == FormatChoice::default()
+    }
+}
+
+/// What a drone or robot log was, beyond the [`Log`] made of one of its gyros.
+#[derive(Debug, Clone)]
+pub struct DroneLog {
+    /// The format its magic bytes said.
+    pub format: Format,
+    /// Every gyro instance of the file (what `inspect` lists).
+    pub instances: Vec<InstanceSummary>,
+    /// The instance the log holds.
+    pub chosen: usize,
+    /// Which gyro and temperature were chosen, and why, in a sentence.
+    pub note: String,
+    /// What the format reader worked around, with byte offsets.
+    pub problems: Vec<formats::Problem>,
+}
+
+/// A log as read, and what it was when it was a drone or robot log.
+#[derive(Debug, Clone)]
+pub struct AnyLog {
+    /// The log.
+    pub log: Log,
+    /// `None` for a CSV.
+    pub drone: Option<DroneLog>,
+}
+
+/// Why a log could not be read.
+#[derive(Debug, thiserror::Error)]
+pub enum ReadError {
+    /// A CSV that could not be read (file, line and column).
+    #[error(transparent)]
+    Ingest(#[from] IngestError),
+    /// A drone or robot log that could not be read (file and byte offset).
+    #[error(transparent)]
+    Format(#[from] FormatError),
+    /// No gyro (or temperature) of the log can be used as asked; the alternatives named.
+    #[error(transparent)]
+    Selection(#[from] SelectionError),
+    /// Options of one kind of file given for the other.
+    #[error("{path}: {message}")]
+    Options {
+        /// The file.
+        path: String,
+        /// Which options do not apply and why.
+        message: String,
+    },
+    /// The chosen gyro has no sample left once the unusable ones are dropped.
+    #[error("{path}: {message}")]
+    NoSamples {
+        /// The file.
+        path: String,
+        /// Why none is left.
+        message: String,
+    },
+}
+
+/// The CSV options set in `opts`, by their names in a recipe: none of them applies to a
+/// drone log, whose columns and units are its format's own.
+pub fn csv_options_set(opts: &ReadOptions) -> Vec<&'static str> {
+    let mut v = Vec::new();
+    let mut flag = |set: bool, name| {
+        if set {
+            v.push(name);
+        }
+    };
+    flag(opts.time_col.is_some(), "time_col");
+    flag(opts.rate_col.is_some(), "rate_col");
+    flag(opts.temp_col.is_some(), "temp_col");
+    flag(opts.rate_unit.is_some(), "rate_unit");
+    flag(opts.time_unit.is_some(), "time_unit");
+    flag(opts.sample_rate_hz.is_some(), "sample_rate_hz");
+    flag(opts.delimiter.is_some(), "delimiter");
+    flag(opts.decimal_comma.is_some(), "decimal_comma");
+    flag(opts.has_header.is_some(), "has_header");
+    v
+}
+
+/// The drone-log format of the file at `path`, or `None` for anything else (a CSV).
+///
+/// # Errors
+/// The file cannot be opened or read.
+pub fn drone_format(path: &Path) -> Result<Option<Format>, FormatError> {
+    formats::sniff_path(path)
+}
+
+/// Reads any log driftlab reads: a CSV as [`ingest::read_path`] does (`choice` must then be
+/// the default), a drone or robot log as [`from_recording`] makes it (`opts` must then set
+/// no CSV option; `skip_extras` leaves the accelerometer out).
+///
+/// # Errors
+/// The file cannot be read or is malformed (with line and column, or byte offset), options
+/// that do not apply to the kind of file, or no usable gyro as asked.
+pub fn read_any(
+    path: &Path,
+    opts: &ReadOptions,
+    choice: &FormatChoice,
+) -> Result<AnyLog, ReadError> {
+    read_any_with_progress(path, opts, choice, &|_| true)
+}
+
+/// [`read_any`], telling `progress` the share read of a CSV (a drone log is read whole at
+/// once, in a fraction of a second per 100 MB).
+///
+/// # Errors
+/// As [`read_any`], and `cancelled` when `progress` returns false.
+pub fn read_any_with_progress(
+    path: &Path,
+    opts: &ReadOptions,
+    choice: &FormatChoice,
+    progress: &(dyn Fn(f64) -> bool + Sync),
+) -> Result<AnyLog, ReadError> {
+    let name = path.display().to_string();
+    match drone_format(path)? {
+        None => {
+            if !choice.is_default() {
+                return Err(ReadError::Options {
+                    path: name,
+                    message: "gyro and temp_from choose an instance of a drone or robot log \
+                              (PX4 ULog, ArduPilot DataFlash, ROS bag, MCAP); this file is \
+                              none of them (a CSV is read by its columns: time_col, rate_col, \
+                              temp_col)"
+                        .into(),
+                });
+            }
+            Ok(AnyLog {
+                log: ingest::read_path_with_progress(path, opts, progress)?,
+                drone: None,
+            })
+        }
+        Some(format) => {
+            refuse_csv_options(&name, format, opts)?;
+            let rec = formats::read_path(path)?;
+            from_recording(&rec, opts.skip_extras, choice)
+        }
+    }
+}
+
+fn refuse_csv_options(name: &str, format: Format, opts: &ReadOptions) -> Result<(), ReadError> {
+    let set = csv_options_set(opts);
+    if set.is_empty() {
+        return Ok(());
+    }
+    Err(ReadError::Options {
+        path: name.to_string(),
+        message: format!(
+            "a {format} log has its format's own channels and units: {} do{} not apply to it \
+             (choose the gyro with gyro and temp_from)",
+            set.join(", "),
+            if set.len() == 1 { "es" } else { "" }
+        ),
+    })
+}
+
+/// The angular rate of a drone log (rad/s) in driftlab's °/h: the factor the CSV reader uses
+/// for a column in rad/s.
+fn rad_s_to_dph() -> f64 {
+    ingest::RateUnit::RadPerSec.to_dph_factor()
+}
+
+/// Names of the gyro axes as a log made from a drone log calls them (the columns of the CSV
+/// `driftlab convert` writes, without their unit).
+pub const GYRO_AXES: [&str; 3] = ["gyro_x", "gyro_y", "gyro_z"];
+
+/// Names of the accelerometer channels a log made from a drone log keeps in `extra` (the
+/// columns of the CSV `driftlab convert` writes).
+pub const ACCEL_CHANNELS: [&str; 3] = ["accel_x_m_s2", "accel_y_m_s2", "accel_z_m_s2"];
+
+/// The unit of [`ACCEL_CHANNELS`].
+pub const ACCEL_UNIT: &str = "m/s^2";
+
+/// One gyro instance of a recording as a [`Log`]: the instance and temperature `choice`
+/// names (see the module documentation for the mapping), without the accelerometer when
+/// `skip_extras`.
+///
+/// # Errors
+/// No instance or temperature as asked (the alternatives named), or no sample left once the
+/// unusable ones are dropped.
+pub fn from_recording(
+    rec: &ImuRecording,
+    skip_extras: bool,
+    choice: &FormatChoice,
+) -> Result<AnyLog, ReadError> {
+    let sel = formats::select(rec, choice.gyro, choice.temp_from)?;
+    let inst = sel.instance;
+    let n = inst.len();
+    let keep_nan_temp = sel.temp_from == TempFrom::None;
+    let to_dph = rad_s_to_dph();
+
+    let mut problems = Vec::new();
+    // Unusable rows: a NaN gyro axis or temperature.
+    let mut missing: [(usize, usize); 4] = [(0, 0); 4];
+    let mut keep = vec![true; n];
+    for (i, k) in keep.iter_mut().enumerate() {
+        for (a, v) in inst.gyro.xyz.iter().enumerate() {
+            if !v.get(i).is_finite() {
+                note(&mut missing[a], i);
+                *k = false;
+            }
+        }
+        if !keep_nan_temp && !sel.temp_c.get(i).is_finite() {
+            note(&mut missing[3], i);
+            *k = false;
+        }
+    }
+    let channel_names = ["gyro_x_rad_s", "gyro_y_rad_s", "gyro_z_rad_s", "temp_c"];
+    for (c, &(count, first)) in missing.iter().enumerate() {
+        if count > 0 {
+            problems.push(Problem {
+                line: first + 1,
+                column: None,
+                kind: ProblemKind::MissingValue,
+                count,
+                message: format!(
+                    "{} dropped: NaN or infinite {} (first at sample {})",
+                    samples(count),
+                    channel_names[c],
+                    first + 1
+                ),
+            });
+        }
+    }
+    // Time order, as the CSV reader checks it.
+    let time_all = inst.time.all_seconds();
+    let mut rep = (0, 0);
+    let mut back = (0, 0);
+    let mut last = f64::NEG_INFINITY;
+    for (i, k) in keep.iter_mut().enumerate() {
+        if !*k {
+            continue;
+        }
+        let t = time_all[i];
+        if t > last {
+            last = t;
+        } else {
+            *k = false;
+            if t == last {
+                note(&mut rep, i);
+            } else {
+                note(&mut back, i);
+            }
+        }
+    }
+    for ((count, first), kind, what) in [
+        (
+            rep,
+            ProblemKind::TimeRepeated,
+            "time repeats an earlier stamp",
+        ),
+        (back, ProblemKind::TimeBackwards, "time went backwards"),
+    ] {
+        if count > 0 {
+            problems.push(Problem {
+                line: first + 1,
+                column: None,
+                kind,
+                count,
+                message: format!(
+                    "{} dropped: {what} (first at sample {})",
+                    samples(count),
+                    first + 1
+                ),
+            });
+        }
+    }
+    let rows: Vec<usize> = (0..n).filter(|&i| keep[i]).collect();
+    if rows.is_empty() {
+        return Err(ReadError::NoSamples {
+            path: rec.source.clone(),
+            message: format!(
+                "none of the {n} samples of {} can be used: each has a NaN gyro axis or \
+                 temperature, or a time that does not increase",
+                inst.label
+            ),
+        });
+    }
+    let pick = |v: &formats::Values, scale: f64| -> Vec<f64> {
+        rows.iter().map(|&i| v.get(i) * scale).collect()
+    };
+    let time_s: Vec<f64> = rows.iter().map(|&i| time_all[i]).collect();
+    gaps(&time_s, &rows, &mut problems);
+    problems.sort_by_key(|p| p.line);
+
+    let [gx, gy, gz] = &inst.gyro.xyz;
+    let mut columns = vec![
+        column(1, "time_s", ColumnRole::Time, "s"),
+        column(2, "gyro_x_rad_s", ColumnRole::Rate, "rad/s"),
+        column(3, "gyro_y_rad_s", ColumnRole::Rate, "rad/s"),
+        column(4, "gyro_z_rad_s", ColumnRole::Rate, "rad/s"),
+        column(5, "temp_c", ColumnRole::Temperature, "°C"),
+    ];
+    let mut extra = Vec::new();
+    if let Some(acc) = &inst.accel {
+        for (k, (v, name)) in acc.xyz.iter().zip(ACCEL_CHANNELS).enumerate() {
+            if skip_extras {
+                columns.push(column(6 + k, name, ColumnRole::Ignored, ACCEL_UNIT));
+            } else {
+                columns.push(column(6 + k, name, ColumnRole::Extra, ACCEL_UNIT));
+                extra.push(Channel {
+                    name: name.to_string(),
+                    unit: ACCEL_UNIT.to_string(),
+                    values: pick(v, 1.0),
+                });
+            }
+        }
+    }
+    let log = Log {
+        source: rec.source.clone(),
+        time_s,
+        omega_dph: pick(gx, to_dph),
+        temp_c: pick(&sel.temp_c, 1.0),
+        extra,
+        axis: GYRO_AXES[0].to_string(),
+        other_axes: vec![
+            Axis {
+                name: GYRO_AXES[1].to_string(),
+                omega_dph: pick(gy, to_dph),
+            },
+            Axis {
+                name: GYRO_AXES[2].to_string(),
+                omega_dph: pick(gz, to_dph),
+            },
+        ],
+        info: LogInfo {
+            delimiter: ',',
+            decimal_comma: false,
+            has_header: false,
+            columns,
+            rows_read: n,
+            problems,
+        },
+    };
+    Ok(AnyLog {
+        log,
+        drone: Some(DroneLog {
+            format: rec.format,
+            instances: rec.summaries(),
+            chosen: inst.index,
+            note: sel.note.clone(),
+            problems: rec.problems.clone(),
+        }),
+    })
+}
+
+fn column(index: usize, name: &str, role: ColumnRole, unit: &str) -> ColumnInfo {
+    ColumnInfo {
+        index,
+        name: name.to_string(),
+        role,
+        unit: unit.to_string(),
+    }
+}
+
+/// Counts an occurrence at sample `i`, keeping the first: `(count, first)`.
+fn note(t: &mut (usize, usize), i: usize) {
+    if t.0 == 0 {
+        t.1 = i;
+    }
+    t.0 += 1;
+}
+
+fn samples(n: usize) -> String {
+    if n == 1 {
+        "1 sample".into()
+    } else {
+        format!("{n} samples")
+    }
+}
+
+/// Steps above [`GAP_FACTOR`] × the nominal step, as the CSV reader reports them; `rows`
+/// maps each kept sample to its place in the instance.
+fn gaps(time_s: &[f64], rows: &[usize], problems: &mut Vec<Problem>) {
+    if time_s.len() < 3 {
+        return;
+    }
+    let dt = super::nominal_dt_s(time_s);
+    let mut count = 0;
+    let mut first = 0;
+    let mut largest = (0.0f64, 0usize);
+    for i in 1..time_s.len() {
+        let step = time_s[i] - time_s[i - 1];
+        if step > GAP_FACTOR * dt {
+            if count == 0 {
+                first = rows[i];
+            }
+            count += 1;
+            if step > largest.0 {
+                largest = (step, rows[i]);
+            }
+        }
+    }
+    if count > 0 {
+        problems.push(Problem {
+            line: first + 1,
+            column: None,
+            kind: ProblemKind::Gap,
+            count,
+            message: format!(
+                "{count} gap{} in time (steps above {GAP_FACTOR} × the nominal {dt} s; first at \
+                 sample {}, largest {} s at sample {})",
+                if count == 1 { "" } else { "s" },
+                first + 1,
+                largest.0,
+                largest.1 + 1
+            ),
+        });
+    }
+}

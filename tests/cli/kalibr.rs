@@ -1,0 +1,188 @@
+//! Kalibr's IMU noise file from `driftlab allan --kalibr`, checked against an IMU simulated
+//! with known noise: white rate noise of density N (the angle random walk) and a bias random
+//! walk of K, in Kalibr's own definitions. A discrete sample of white noise of density N at
+//! rate f is N·√f; a bias that random-walks with K steps by K·√Δt each sample.
+
+use crate::common;
+
+use common::Noise;
+use common::run::{driftlab, fails, ok};
+use std::collections::HashMap;
+use std::fmt::Write as _;
+use std::path::PathBuf;
+
+const RATE_HZ: f64 = 20.0;
+
+/// Two hours at 20 Hz of three gyro axes (rad/s) and three accelerometer axes (m/s²), each
+/// axis `(N, K)` scaled by its factor, as `driftlab convert` writes a log.
+fn imu_csv(seconds: f64, gyro: (f64, f64), accel: (f64, f64), scale: [f64; 3]) -> String {
+    let n = (seconds * RATE_HZ) as usize;
+    let dt = 1.0 / RATE_HZ;
+    let mut noise = Noise::new(17);
+    let mut bias = [0.0f64; 6];
+    let mut text = String::from(
+        "time_s,gyro_x_rad_s,gyro_y_rad_s,gyro_z_rad_s,temp_c,accel_x_m_s2,accel_y_m_s2,accel_z_m_s2\n",
+    );
+    for i in 0..n {
+        let mut v = [0.0f64; 6];
+        for k in 0..6 {
+            let (density, walk) = if k < 3 { gyro } else { accel };
+            let s = scale[k % 3];
+            bias[k] += s * walk * dt.sqrt() * noise.normal();
+            v[k] = s * density * RATE_HZ.sqrt() * noise.normal() + bias[k];
+        }
+        writeln!(
+            text,
+            "{},{},{},{},25.0,{},{},{}",
+            i as f64 * dt,
+            v[0],
+            v[1],
+            v[2],
+            v[3],
+            v[4],
+            v[5] - 9.81
+        )
+        .unwrap();
+    }
+    text
+}
+
+/// `key: value  # comment` lines of a YAML file as numbers or text.
+fn yaml(text: &str) -> HashMap<String, String> {
+    text.lines()
+        .filter(|l| !l.trim_start().starts_with('#') && l.contains(':'))
+        .map(|l| {
+            let body = l.split('#').next().unwrap();
+            let (k, v) = body.split_once(':').unwrap();
+            (k.trim().to_string(), v.trim().to_string())
+        })
+        .collect()
+}
+
+#[test]
+fn kalibr_gets_the_noise_the_imu_was_made_with_from_its_noisiest_axis() {
+    let dir = tempfile::tempdir().unwrap();
+    let log = dir.path().join("imu.csv");
+    // Gyro: N = 2e-4 rad/s/sqrt(Hz), K = 2e-5 rad/s^2/sqrt(Hz) (they cross near 17 s);
+    // accelerometer: 2e-3 m/s^2/sqrt(Hz), 2e-4 m/s^3/sqrt(Hz). Axis y is 1.5 times noisier.
+    let (gyro, accel) = ((2e-4, 2e-5), (2e-3, 2e-4));
+    std::fs::write(&log, imu_csv(7200.0, gyro, accel, [1.0, 1.5, 0.8])).unwrap();
+    let log = log.display().to_string();
+    let out_path = dir.path().join("imu.yaml");
+    let out = driftlab(&[
+        "allan",
+        &log,
+        "--kalibr",
+        &out_path.display().to_string(),
+        "--json",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let text = std::fs::read_to_string(&out_path).unwrap();
+    let y = yaml(&text);
+    let value = |k: &str| y[k].parse::<f64>().unwrap();
+    // The white-noise line rests on many octaves of many terms; the random walk on the few
+    // longest, whose σ scatters by tens of percent: the bounds are those spreads.
+    for (key, truth, axis, tol) in [
+        ("gyroscope_noise_density", 1.5 * gyro.0, "gyro_y", 0.10),
+        ("gyroscope_random_walk", 1.5 * gyro.1, "gyro_y", 0.35),
+        (
+            "accelerometer_noise_density",
+            1.5 * accel.0,
+            "accel_y_m_s2",
+            0.10,
+        ),
+        (
+            "accelerometer_random_walk",
+            1.5 * accel.1,
+            "accel_y_m_s2",
+            0.35,
+        ),
+    ] {
+        let v = value(key);
+        eprintln!(
+            "{key}: {v:.4e} for {truth:.4e} ({:+.1}%)",
+            100.0 * (v / truth - 1.0)
+        );
+        assert!((v / truth - 1.0).abs() < tol, "{key}: {v} for {truth}");
+        // The same number in --json, and the axis and tau range named in the comment.
+        let sensor = key.split('_').next().unwrap();
+        let entry = if key.ends_with("noise_density") {
+            &json["kalibr"][sensor]["noise_density"]["value"]
+        } else {
+            &json["kalibr"][sensor]["random_walk"]["value"]
+        };
+        assert_eq!(entry["value"].as_f64().unwrap(), v, "{key}");
+        assert_eq!(entry["axis"], axis, "{key}");
+        let lo = entry["region_tau_s"][0].as_f64().unwrap();
+        let hi = entry["region_tau_s"][1].as_f64().unwrap();
+        assert!(
+            text.contains(&format!("{axis} axis")) && text.contains(&format!("tau {lo} .. {hi} s")),
+            "{text}"
+        );
+    }
+    assert_eq!(y["update_rate"], "20.0");
+    assert_eq!(y["rostopic"], "/imu0");
+    assert_eq!(json["kalibr"]["update_rate_hz"], 20.0);
+}
+
+#[test]
+fn a_log_too_short_for_the_random_walk_writes_no_kalibr_file_and_says_why() {
+    let dir = tempfile::tempdir().unwrap();
+    let log = dir.path().join("short.csv");
+    std::fs::write(&log, imu_csv(60.0, (2e-4, 2e-5), (2e-3, 2e-4), [1.0; 3])).unwrap();
+    let out_path = dir.path().join("imu.yaml");
+    let e = fails(&[
+        "allan",
+        &log.display().to_string(),
+        "--kalibr",
+        &out_path.display().to_string(),
+    ]);
+    assert!(
+        e.contains("gyroscope_random_walk") && e.contains("record longer"),
+        "{e}"
+    );
+    assert!(!out_path.exists());
+    // --json says the same with no number.
+    let json: serde_json::Value =
+        serde_json::from_str(&ok(&["allan", &log.display().to_string(), "--json"])).unwrap();
+    let walk = &json["kalibr"]["gyroscope"]["random_walk"];
+    assert!(walk["value"].is_null(), "{walk}");
+    assert!(walk["note"].as_str().unwrap().contains("+1/2"), "{walk}");
+    // --rostopic without a Kalibr file or --json is refused by name.
+    let e = fails(&["allan", &log.display().to_string(), "--rostopic", "/imu"]);
+    assert!(e.contains("--rostopic"), "{e}");
+}
+
+#[test]
+fn a_ros_bag_gives_kalibr_its_topic() {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/data/formats");
+    if !dir.is_dir() {
+        assert!(
+            std::env::var_os("CI").is_none(),
+            "the reference data {} is missing (CI is set, so this fails)",
+            dir.display()
+        );
+        eprintln!("skipping: reference data {} is missing", dir.display());
+        return;
+    }
+    for rel in [
+        "ros1_bag/sparkfun_razor.bag",
+        "ros2_mcap/sparkfun_razor_ros2.mcap",
+    ] {
+        let log = dir.join(rel).display().to_string();
+        // The sample IMU has no thermometer: inspect lists its instances and says so.
+        let out = driftlab(&["inspect", &log, "--json"]);
+        let listing: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        let topic = listing["instances"][0]["label"].clone();
+        assert!(topic.as_str().unwrap().starts_with('/'), "{listing}");
+        let json: serde_json::Value =
+            serde_json::from_str(&ok(&["allan", &log, "--temp-from", "none", "--json"])).unwrap();
+        assert_eq!(json["kalibr"]["rostopic"], topic, "{rel}");
+        assert!(json["kalibr"]["accelerometer"].is_object(), "{rel}");
+    }
+}
