@@ -4,7 +4,7 @@
 
 use crate::signal::lod::Band;
 use eframe::egui::epaint::{BandPoint, BandShape};
-use eframe::egui::{self, Color32, Mesh, Pos2, Rangef, Rect, Shape, Stroke, Ui};
+use eframe::egui::{Color32, Mesh, Pos2, Rangef, Rect, Shape, Stroke, Ui};
 use egui_plot::{PlotBounds, PlotGeometry, PlotItem, PlotItemBase, PlotPoint, PlotTransform};
 use std::ops::RangeInclusive;
 
@@ -520,9 +520,4 @@ pub fn ratio(r: f64) -> String {
         let decimals = (2.0 - a.log10().floor()) as usize;
         format!("{r:.decimals$}×")
     }
-}
-
-/// Keeps egui's own id for a plot item stable when its name changes.
-pub fn item_id(salt: &str) -> egui::Id {
-    egui::Id::unique(("driftlab-item", salt))
 }

@@ -2,21 +2,13 @@
 //! role would take, the units), and the controls to correct the mapping, units, separator and
 //! decimal comma before the (possibly long) read starts.
 
+use super::action::Action;
 use super::jobs::Target;
 use crate::log::ColumnRole;
 use crate::log::ingest::{self, ColumnRef, Preview, RateUnit, ReadOptions, TimeUnit};
 use crate::log::mapping_check::{self, Concern};
 use eframe::egui::{self, Color32, ComboBox, Grid, RichText, ScrollArea, Ui};
 use std::path::PathBuf;
-
-/// What the engineer decided in the import view.
-#[derive(Debug, Clone, PartialEq)]
-pub enum ImportDecision {
-    /// Read the file with these options.
-    Load(PathBuf, ReadOptions, Target),
-    /// Do not read it.
-    Cancel,
-}
 
 /// The import view's state.
 pub struct ImportView {
@@ -68,15 +60,17 @@ impl ImportView {
         self.preview.is_err() || !self.concerns.is_empty()
     }
 
-    /// Shows the view as a modal window; returns the decision once made.
-    pub fn show(&mut self, ctx: &egui::Context) -> Option<ImportDecision> {
+    /// Shows the view as a modal window; once the engineer decides, the read
+    /// ([`Action::ReadLog`]) or [`Action::CloseImport`].
+    pub fn ui(&mut self, ui: &mut Ui) -> Vec<Action> {
+        let ctx = ui.ctx().clone();
         let mut decision = None;
-        let modal = egui::Modal::new(egui::Id::unique("import_view")).show(ctx, |ui| {
+        let modal = egui::Modal::new(egui::Id::unique("import_view")).show(&ctx, |ui| {
             ui.set_width((ctx.content_rect().width() * 0.8).clamp(480.0, 1200.0));
             decision = self.contents(ui);
         });
         if modal.should_close() && decision.is_none() {
-            decision = Some(ImportDecision::Cancel);
+            decision = Some(Action::CloseImport);
         }
         if self.read != self.previewed {
             self.preview =
@@ -88,10 +82,10 @@ impl ImportView {
                 .unwrap_or_default();
             self.previewed = self.read.clone();
         }
-        decision
+        decision.into_iter().collect()
     }
 
-    fn contents(&mut self, ui: &mut Ui) -> Option<ImportDecision> {
+    fn contents(&mut self, ui: &mut Ui) -> Option<Action> {
         let name = self
             .path
             .file_name()
@@ -167,10 +161,10 @@ impl ImportView {
                 .on_hover_text("Read the whole file with these settings (on a background thread; it can be cancelled)")
                 .clicked()
             {
-                decision = Some(ImportDecision::Load(self.path.clone(), self.read.clone(), self.target));
+                decision = Some(Action::ReadLog(self.path.clone(), self.read.clone(), self.target));
             }
             if ui.button("Cancel").on_hover_text("Close without reading; the current work stays as it is").clicked() {
-                decision = Some(ImportDecision::Cancel);
+                decision = Some(Action::CloseImport);
             }
             if ui
                 .button("Reset")
@@ -184,7 +178,7 @@ impl ImportView {
             && ok
             && !ui.ctx().egui_wants_keyboard_input()
         {
-            decision = Some(ImportDecision::Load(
+            decision = Some(Action::ReadLog(
                 self.path.clone(),
                 self.read.clone(),
                 self.target,

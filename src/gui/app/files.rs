@@ -80,7 +80,7 @@ impl Workbench {
             .as_ref()
             .and_then(|l| std::path::absolute(&l.path).ok())
             .and_then(|p| p.parent().map(Path::to_path_buf));
-        let last = self.settings.last_dir.clone().filter(|d| d.is_dir());
+        let last = self.window.settings.last_dir.clone().filter(|d| d.is_dir());
         let first = match mode {
             Mode::Save => log_dir.or(last),
             Mode::Open => last.or(log_dir),
@@ -95,37 +95,38 @@ impl Workbench {
         let (kind, mode) = (purpose.kind(), purpose.mode());
         let dir = self.start_dir(mode);
         let answer = match mode {
-            Mode::Open => self.dialogs.open(kind, Some(&dir)),
-            Mode::Save => self.dialogs.save(kind, Some(&dir), name),
+            Mode::Open => self.modals.dialogs.open(kind, Some(&dir)),
+            Mode::Save => self.modals.dialogs.save(kind, Some(&dir), name),
         };
         match answer {
             Answer::Chosen(p) => self.chosen(ctx, purpose, p),
             Answer::Cancelled => self.not_chosen(purpose),
             Answer::InWindow => {
-                let mut recent = self.settings.recent_dirs.clone();
+                let mut recent = self.window.settings.recent_dirs.clone();
                 if !recent.contains(&dir) {
                     recent.insert(0, dir.clone());
                 }
                 recent.retain(|d| d.is_dir());
                 recent.truncate(8);
-                self.file_dialog = Some((FileDialog::new(mode, kind, &dir, name, recent), purpose));
+                self.modals.file_dialog =
+                    Some((FileDialog::new(mode, kind, &dir, name, recent), purpose));
             }
         }
     }
 
     /// The workbench's own file dialog, when open.
     pub(super) fn file_dialog_modal(&mut self, ctx: &egui::Context) {
-        let Some((d, _)) = &mut self.file_dialog else {
+        let Some((d, _)) = &mut self.modals.file_dialog else {
             return;
         };
         match d.show(ctx) {
             Some(file_dialog::Outcome::Accept(p)) => {
-                if let Some((_, purpose)) = self.file_dialog.take() {
+                if let Some((_, purpose)) = self.modals.file_dialog.take() {
                     self.chosen(ctx, purpose, p);
                 }
             }
             Some(file_dialog::Outcome::Cancel) => {
-                if let Some((_, purpose)) = self.file_dialog.take() {
+                if let Some((_, purpose)) = self.modals.file_dialog.take() {
                     self.not_chosen(purpose);
                 }
             }
@@ -135,7 +136,7 @@ impl Workbench {
 
     /// The workbench's own file dialog while it is open (tests type into it).
     pub fn file_dialog(&mut self) -> Option<&mut FileDialog> {
-        self.file_dialog.as_mut().map(|(d, _)| d)
+        self.modals.file_dialog.as_mut().map(|(d, _)| d)
     }
 
     fn not_chosen(&mut self, purpose: Purpose) {
@@ -152,7 +153,7 @@ impl Workbench {
     /// Goes on with the path the engineer chose for `purpose`.
     fn chosen(&mut self, ctx: &egui::Context, purpose: Purpose, path: PathBuf) {
         if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-            self.settings.add_recent_dir(dir);
+            self.window.settings.add_recent_dir(dir);
         }
         match purpose {
             Purpose::OpenLog => self.open_import(path, Target::Calibration),
@@ -170,7 +171,7 @@ impl Workbench {
             Purpose::ExportReport => self.write_report(path),
             Purpose::ExportModel(name) => self.write_model(&name, path),
             Purpose::Screenshot => {
-                self.pending_shot = Some(PendingShot {
+                self.shots.pending = Some(PendingShot {
                     frames: 2,
                     path,
                     crop: None,
@@ -178,7 +179,7 @@ impl Workbench {
                 });
             }
             Purpose::SavePlot(name, rect) => {
-                self.pending_shot = Some(PendingShot {
+                self.shots.pending = Some(PendingShot {
                     frames: 2,
                     path,
                     crop: Some(rect),
@@ -238,7 +239,7 @@ impl Workbench {
             log.sha256.as_deref(),
         ) {
             Ok(p) => {
-                self.settings.last_dir = p.parent().map(Path::to_path_buf);
+                self.window.settings.last_dir = p.parent().map(Path::to_path_buf);
                 self.state.say(
                     Severity::Info,
                     format!("Calibration written: {}", p.display()),
@@ -265,7 +266,7 @@ impl Workbench {
             );
             return;
         };
-        let Some(name) = self.models.selected.clone() else {
+        let Some(name) = self.views.models.selected.clone() else {
             self.state.say(
                 Severity::Warning,
                 "Model not exported: select a model in the table first",
@@ -317,7 +318,7 @@ impl Workbench {
             );
             return;
         };
-        self.settings.last_dir = path.parent().map(Path::to_path_buf);
+        self.window.settings.last_dir = path.parent().map(Path::to_path_buf);
         let what = format!("model {}", model.name());
         self.state
             .say(Severity::Info, format!("Writing {} …", path.display()));
@@ -361,7 +362,7 @@ impl Workbench {
         if let Some(v) = &self.state.validation {
             logs.push((v.path.clone(), (*v.log).clone()));
         }
-        self.settings.last_dir = dir.parent().map(Path::to_path_buf);
+        self.window.settings.last_dir = dir.parent().map(Path::to_path_buf);
         self.state.say(
             Severity::Info,
             format!("Writing the report into {} …", dir.display()),
@@ -387,7 +388,7 @@ impl Workbench {
         let (Some(log), Some(fit)) = (self.state.log.clone(), self.state.fit.clone()) else {
             return;
         };
-        self.settings.last_dir = path.parent().map(Path::to_path_buf);
+        self.window.settings.last_dir = path.parent().map(Path::to_path_buf);
         self.state
             .say(Severity::Info, format!("Writing {} …", path.display()));
         let l = log.log.clone();
@@ -434,8 +435,8 @@ impl Workbench {
             Ok(()) => {
                 self.state.session_path = Some(path.to_path_buf());
                 self.state.mark_saved();
-                self.autosave.clear();
-                self.settings.add_recent(path);
+                self.recovery.autosave.clear();
+                self.window.settings.add_recent(path);
                 self.state
                     .say(Severity::Info, format!("Session saved: {}", path.display()));
                 true
@@ -459,7 +460,7 @@ impl Workbench {
         match session::load(&path) {
             Ok(s) => match s.log.clone() {
                 Some(log) => {
-                    self.pending_session = Some((path.clone(), s));
+                    self.opening.session = Some((path.clone(), s));
                     self.start_load(log.path, log.read, Target::Calibration);
                 }
                 None => self.fail(format!("{}: the session names no log", path.display())),

@@ -51,17 +51,43 @@ pub struct FitView {
     pub lods: FitLods,
 }
 
-/// Drawing data kept between refits while its source stays the same.
-#[derive(Default)]
-pub(super) struct LodCache {
-    prepared: Option<(usize, [Arc<MinMaxPyramid>; 3], Arc<ClassLod>)>,
-    raw_filtered: Option<(usize, Arc<MinMaxPyramid>)>,
-    held_raw: Option<(usize, Arc<MinMaxPyramid>)>,
-    scatter: Vec<(usize, Arc<ScatterLod>)>,
+/// What a refit was asked for: the logs by identity, the choices by value. The same inputs
+/// again need no refit.
+#[derive(Debug, Clone, PartialEq)]
+pub(super) struct RefitKey {
+    log: Same<Log>,
+    validation: Option<Same<Log>>,
+    recipe: Recipe,
+    knots: crate::files::session::KnotEdits,
 }
 
-pub(super) fn addr<T>(a: &Arc<T>) -> usize {
-    Arc::as_ptr(a) as usize
+impl RefitKey {
+    pub(super) fn of(r: &Request) -> RefitKey {
+        RefitKey {
+            log: Same::of(&r.log),
+            validation: r.validation.as_ref().map(Same::of),
+            recipe: r.recipe.clone(),
+            knots: r.knots.clone(),
+        }
+    }
+}
+
+/// Pyramids of a fit's filtered Ω, Ṫ and T̈, and its regimes, with the signals they were
+/// built from.
+struct PreparedLods {
+    source: Same<Prepared>,
+    series: [Arc<MinMaxPyramid>; 3],
+    regime: Arc<ClassLod>,
+}
+
+/// Drawing data kept between refits while its source stays the same (the source held by
+/// identity: see [`Same`]).
+#[derive(Default)]
+pub(super) struct LodCache {
+    prepared: Option<PreparedLods>,
+    raw_filtered: Option<(Same<Vec<f64>>, Arc<MinMaxPyramid>)>,
+    held_raw: Option<(Same<Vec<f64>>, Arc<MinMaxPyramid>)>,
+    scatter: Vec<(Same<PointSet>, Arc<ScatterLod>)>,
 }
 
 impl LodCache {
@@ -70,10 +96,10 @@ impl LodCache {
         p: &Arc<Prepared>,
         regime: &[crate::models::vakhrameev::Regime],
     ) -> ([Arc<MinMaxPyramid>; 3], Arc<ClassLod>) {
-        if let Some((k, s, r)) = &self.prepared
-            && *k == addr(p)
+        if let Some(kept) = &self.prepared
+            && kept.source.is(p)
         {
-            return (s.clone(), r.clone());
+            return (kept.series.clone(), kept.regime.clone());
         }
         let ((a, b), c) = rayon::join(
             || {
@@ -86,21 +112,25 @@ impl LodCache {
         );
         let s = [Arc::new(a), Arc::new(b), Arc::new(c)];
         let r = Arc::new(ClassLod::new(regime.iter().map(|&r| r as u8).collect(), 2));
-        self.prepared = Some((addr(p), s.clone(), r.clone()));
+        self.prepared = Some(PreparedLods {
+            source: Same::of(p),
+            series: s.clone(),
+            regime: r.clone(),
+        });
         (s, r)
     }
 
     fn series(
-        slot: &mut Option<(usize, Arc<MinMaxPyramid>)>,
+        slot: &mut Option<(Same<Vec<f64>>, Arc<MinMaxPyramid>)>,
         v: &Arc<Vec<f64>>,
     ) -> Arc<MinMaxPyramid> {
         if let Some((k, p)) = slot
-            && *k == addr(v)
+            && k.is(v)
         {
             return p.clone();
         }
         let p = Arc::new(MinMaxPyramid::new(v));
-        *slot = Some((addr(v), p.clone()));
+        *slot = Some((Same::of(v), p.clone()));
         p
     }
 
@@ -108,11 +138,11 @@ impl LodCache {
         let mut out: Vec<Arc<ScatterLod>> = Vec::with_capacity(4);
         let mut keep = Vec::with_capacity(4);
         for s in sets {
-            let lod = match self.scatter.iter().find(|(k, _)| *k == addr(s)) {
+            let lod = match self.scatter.iter().find(|(k, _)| k.is(s)) {
                 Some((_, l)) => l.clone(),
                 None => Arc::new(ScatterLod::new(&s.x, &s.y)),
             };
-            keep.push((addr(s), lod.clone()));
+            keep.push((Same::of(s), lod.clone()));
             out.push(lod);
         }
         self.scatter = keep;
