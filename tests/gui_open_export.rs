@@ -431,13 +431,17 @@ fn a_log_whose_columns_need_a_look_opens_on_the_import_view_from_the_command_lin
         )),
         ..Default::default()
     };
-    wb.open_log(sample("calibration.csv"), read.clone(), true);
+    wb.open_log(
+        sample("calibration.csv"),
+        driftlab::gui::jobs::LoadOptions::read(read.clone()),
+        true,
+    );
     if let Some(v) = wb.import_view() {
         panic!("no look needed, yet: {:?}", v.concerns());
     }
     wb.wait_for_jobs();
     let l = wb.state.log.as_ref().expect("read");
-    assert_eq!(l.read, read);
+    assert_eq!(l.options.read, read);
     assert_eq!(l.log.temp_c[100], {
         let plain =
             driftlab::log::ingest::read_path(&sample("calibration.csv"), &Default::default())

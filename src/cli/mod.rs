@@ -93,6 +93,7 @@ fn gui(a: GuiArgs) -> Result<(), String> {
         log: a.log,
         screenshot: a.screenshot,
         read,
+        bin_s: a.log_args.bin,
     })
 }
 

@@ -3,10 +3,9 @@
 //! view never imports the window: it returns these, and the window carries them out at the end
 //! of the frame.
 
-use super::jobs::Target;
+use super::jobs::{LoadOptions, Target};
 use super::settings::ThemeChoice;
 use crate::files::session::Coefficient;
-use crate::log::ingest::ReadOptions;
 use crate::models::approx::ApproxSpec;
 use crate::models::recipe::Recipe;
 use crate::signal::plateau::PlateauRange;
@@ -21,7 +20,7 @@ pub enum Action {
     /// Open this log (import view next).
     OpenLogPath(PathBuf),
     /// Read this log with these options into this slot (the import view's Load).
-    ReadLog(PathBuf, ReadOptions, Target),
+    ReadLog(PathBuf, LoadOptions, Target),
     /// Close the import view without reading.
     CloseImport,
     /// Pick a validation log.

@@ -21,7 +21,8 @@ use super::action::{Action, Page, shortcuts};
 use super::autosave::{Autosave, LeftBehind};
 use super::dialogs::FileDialogs;
 use super::export;
-use super::jobs::{JobResult, Jobs, Target};
+use super::jobs::LoadOptions;
+use super::jobs::{JobResult, Jobs, Loaded, Target};
 use super::plot_items::num;
 use super::settings::{Settings, ThemeChoice, WindowGeometry};
 use super::state::{AppState, Choices, Severity};
@@ -35,7 +36,6 @@ use super::view_result::ResultView;
 use super::view_time::{TimeView, XCommand};
 use super::widgets::file_name;
 use crate::files::session::{self, Session};
-use crate::log::ingest::ReadOptions;
 use eframe::egui::{
     self, Align, Color32, ColorImage, Key, KeyboardShortcut, Layout, Panel, Rect, RichText,
     ScrollArea, Ui, ViewportCommand,
@@ -185,7 +185,7 @@ impl Workbench {
         );
         wb.start_load(
             log.to_path_buf(),
-            ReadOptions::default(),
+            LoadOptions::default(),
             Target::Calibration,
         );
         wb.wait_for_jobs();
@@ -292,8 +292,8 @@ impl Workbench {
     /// Opens a log as the command line does: read with `read` at once, unless `ask_when_unsure`
     /// and its columns need a look (no header, two candidates for a role, implausible values,
     /// no mapping): then the import view shows first.
-    pub fn open_log(&mut self, path: PathBuf, read: ReadOptions, ask_when_unsure: bool) {
-        let view = ImportView::new(path.clone(), Target::Calibration, read.clone());
+    pub fn open_log(&mut self, path: PathBuf, options: LoadOptions, ask_when_unsure: bool) {
+        let view = ImportView::new(path.clone(), Target::Calibration, options.clone());
         if ask_when_unsure && view.needs_a_look() {
             self.state.say(
                 Severity::Warning,
@@ -304,15 +304,15 @@ impl Workbench {
             );
             self.modals.import = Some(view);
         } else {
-            self.start_load(path, read, Target::Calibration);
+            self.start_load(path, options, Target::Calibration);
         }
     }
 
     /// Starts reading a log (no import view: the options are given).
-    pub fn start_load(&mut self, path: PathBuf, read: ReadOptions, target: Target) {
+    pub fn start_load(&mut self, path: PathBuf, options: LoadOptions, target: Target) {
         self.state
             .say(Severity::Info, format!("Reading {} …", file_name(&path)));
-        self.jobs.load(path, read, target);
+        self.jobs.load(path, options, target);
     }
 
     /// The whole window, for one frame.
@@ -589,7 +589,7 @@ impl Workbench {
                     .on_hover_text(s.display().to_string())
                     .clicked()
             {
-                self.start_load(s, ReadOptions::default(), Target::Calibration);
+                self.start_load(s, LoadOptions::default(), Target::Calibration);
             }
         });
     }

@@ -108,6 +108,8 @@ pub struct GuiOptions {
     /// How to read the log (`--time-col`, `--rate-unit`, …): the import view starts from
     /// these, and the log is read with them when its columns need no look.
     pub read: crate::log::ingest::ReadOptions,
+    /// Average the log into bins of this many seconds once read (`--bin`).
+    pub bin_s: Option<f64>,
 }
 
 /// `1280x800` as points, when at least the window's smallest size.
@@ -144,8 +146,11 @@ pub fn run(options: GuiOptions) -> Result<(), String> {
     {
         return Err(format!("{}: no such file", l.display()));
     }
-    let read = options.read.clone();
-    if read != crate::log::ingest::ReadOptions::default()
+    let load = jobs::LoadOptions {
+        read: options.read.clone(),
+        bin_s: options.bin_s,
+    };
+    if load != jobs::LoadOptions::default()
         && log.as_ref().is_some_and(|p| {
             p.extension()
                 .is_some_and(|e| e.eq_ignore_ascii_case("json"))
@@ -153,8 +158,8 @@ pub fn run(options: GuiOptions) -> Result<(), String> {
     {
         return Err(
             "--time-col, --rate-col, --temp-col, --rate-unit, --time-unit, --sample-rate, \
-             --delimiter and --decimal-comma apply to a log: a session keeps the mapping it was \
-             saved with (open it, then File › Column mapping…)"
+             --delimiter, --decimal-comma and --bin apply to a log: a session keeps the mapping \
+             it was saved with (open it, then File › Column mapping…)"
                 .into(),
         );
     }
@@ -213,7 +218,7 @@ pub fn run(options: GuiOptions) -> Result<(), String> {
                 {
                     wb.open_session(p)
                 }
-                Some(p) => wb.open_log(p, read, shot.is_none()),
+                Some(p) => wb.open_log(p, load, shot.is_none()),
                 None => {}
             }
             if let Some(p) = page {

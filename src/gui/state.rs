@@ -4,6 +4,7 @@
 
 use super::action::Edit;
 use super::jobs::{AllanView, Compared, FitView, Loaded};
+use super::plot_items::Segments;
 use crate::files::session::{KnotEdits, LogRef, Session, ViewState};
 use crate::judge::metrics::MeritOptions;
 use crate::live::Request;
@@ -143,6 +144,16 @@ pub struct AppState {
 }
 
 impl AppState {
+    /// The segments between gaps of `log` when it is the calibration or the validation log
+    /// (one segment, else: nothing is split).
+    pub fn segments_of(&self, log: &Arc<crate::log::Log>) -> Arc<Segments> {
+        [&self.log, &self.validation]
+            .into_iter()
+            .flatten()
+            .find(|l| Arc::ptr_eq(&l.log, log))
+            .map_or_else(Arc::default, |l| l.segments.clone())
+    }
+
     /// Shows a status message.
     pub fn say(&mut self, severity: Severity, message: impl Into<String>) {
         self.status = Some((severity, message.into()));
@@ -227,7 +238,9 @@ impl AppState {
         let log_ref = |l: &Option<Loaded>| {
             l.as_ref().map(|l| LogRef {
                 path: std::path::absolute(&l.path).unwrap_or_else(|_| l.path.clone()),
-                read: l.read.clone(),
+                read: l.options.read.clone(),
+                bin_s: l.options.bin_s,
+                ..LogRef::default()
             })
         };
         Session {

@@ -1,9 +1,10 @@
 //! The import view: what the reader would make of a file (its first rows, the column each
-//! role would take, the units), and the controls to correct the mapping, units, separator and
-//! decimal comma before the (possibly long) read starts.
+//! role would take, the units), what it said about the file when it last read it, and the
+//! controls to correct the mapping, units, separator and decimal comma, and to average the log
+//! into bins, before the (possibly long) read starts.
 
 use super::action::Action;
-use super::jobs::Target;
+use super::jobs::{LoadOptions, Target};
 use crate::log::ColumnRole;
 use crate::log::ingest::{self, ColumnRef, Preview, RateUnit, ReadOptions, TimeUnit};
 use crate::log::mapping_check::{self, Concern};
@@ -18,6 +19,11 @@ pub struct ImportView {
     pub target: Target,
     /// The options being edited.
     pub read: ReadOptions,
+    /// Bins of this many seconds the log is averaged into after the read (`--bin`).
+    pub bin_s: Option<f64>,
+    /// What the reader said when it last read this file with these options (problems it
+    /// worked around, how the log was averaged), shown first.
+    warnings: Vec<String>,
     preview: Result<Preview, String>,
     previewed: ReadOptions,
     /// What to look at before loading (ambiguous or implausible columns).
@@ -28,7 +34,8 @@ const PREVIEW_ROWS: usize = 25;
 
 impl ImportView {
     /// Opens the view on `path` with starting options.
-    pub fn new(path: PathBuf, target: Target, read: ReadOptions) -> ImportView {
+    pub fn new(path: PathBuf, target: Target, options: LoadOptions) -> ImportView {
+        let LoadOptions { read, bin_s } = options;
         let preview = ingest::preview(&path, &read, PREVIEW_ROWS).map_err(|e| e.to_string());
         let concerns = preview
             .as_ref()
@@ -39,8 +46,29 @@ impl ImportView {
             target,
             previewed: read.clone(),
             read,
+            bin_s,
+            warnings: Vec::new(),
             preview,
             concerns,
+        }
+    }
+
+    /// The view showing, first, what the reader said when it read the file.
+    pub fn with_warnings(mut self, warnings: Vec<String>) -> ImportView {
+        self.warnings = warnings;
+        self
+    }
+
+    /// What the reader said when it last read the file (for tests).
+    pub fn warnings(&self) -> &[String] {
+        &self.warnings
+    }
+
+    /// The options the Load button reads with.
+    pub fn options(&self) -> LoadOptions {
+        LoadOptions {
+            read: self.read.clone(),
+            bin_s: self.bin_s,
         }
     }
 
@@ -97,6 +125,13 @@ impl ImportView {
         });
         ui.weak(self.path.display().to_string());
         ui.add_space(4.0);
+        if !self.warnings.is_empty() {
+            ui.label(RichText::new("When this file was read:").strong());
+            for w in &self.warnings {
+                ui.colored_label(ui.visuals().warn_fg_color, format!("• {w}"));
+            }
+            ui.add_space(4.0);
+        }
         let detected = self.preview.as_ref().ok().cloned();
         self.dialect_controls(ui, detected.as_ref());
         self.column_controls(ui, detected.as_ref());
@@ -161,7 +196,7 @@ impl ImportView {
                 .on_hover_text("Read the whole file with these settings (on a background thread; it can be cancelled)")
                 .clicked()
             {
-                decision = Some(Action::ReadLog(self.path.clone(), self.read.clone(), self.target));
+                decision = Some(Action::ReadLog(self.path.clone(), self.options(), self.target));
             }
             if ui.button("Cancel").on_hover_text("Close without reading; the current work stays as it is").clicked() {
                 decision = Some(Action::CloseImport);
@@ -172,6 +207,7 @@ impl ImportView {
                 .clicked()
             {
                 self.read = ReadOptions::default();
+                self.bin_s = None;
             }
         });
         if ui.input(|i| i.key_pressed(egui::Key::Enter))
@@ -180,7 +216,7 @@ impl ImportView {
         {
             decision = Some(Action::ReadLog(
                 self.path.clone(),
-                self.read.clone(),
+                self.options(),
                 self.target,
             ));
         }
@@ -361,6 +397,39 @@ impl ImportView {
             if let Some(hz) = &mut self.read.sample_rate_hz {
                 ui.add(egui::DragValue::new(hz).range(1e-6..=1e6).speed(0.1).suffix(" Hz"))
                     .on_hover_text("Samples per second");
+            }
+        });
+        self.bin_control(ui);
+    }
+
+    /// `--bin`: average the log into bins of a few seconds once it is read.
+    fn bin_control(&mut self, ui: &mut Ui) {
+        ui.horizontal_wrapped(|ui| {
+            let mut binned = self.bin_s.is_some();
+            if ui
+                .checkbox(&mut binned, "Average into bins of")
+                .on_hover_text(
+                    "Average the log into bins of this many seconds once it is read, before \
+                     anything else (--bin): the usual first step with 100 Hz–2 kHz IMU logs, \
+                     whose thermal drift lives at minutes",
+                )
+                .changed()
+            {
+                self.bin_s = binned.then_some(1.0);
+            }
+            match &mut self.bin_s {
+                Some(s) => {
+                    ui.add(
+                        egui::DragValue::new(s)
+                            .range(1e-3..=86_400.0)
+                            .speed(0.1)
+                            .suffix(" s"),
+                    )
+                    .on_hover_text("Bin length, s");
+                }
+                None => {
+                    ui.weak("no: a log written in bursts is reduced to one sample per burst");
+                }
             }
         });
     }

@@ -82,6 +82,7 @@ impl ResultView {
         }
         let scale = TimeScale::for_duration(log.duration_s());
         let t_full = (log.time_s[0], log.time_s[log.len() - 1]);
+        let segments = state.segments_of(&log);
         let mut plot = Plot::new(if show_val { "result_val" } else { "result_cal" })
             .height(ui.available_height().max(80.0))
             .legend(Legend::default().position(egui_plot::Corner::LeftTop))
@@ -130,29 +131,17 @@ impl ResultView {
                         .width(1.0)
                         .allow_hover(false),
                 );
-                let raw = crate::signal::lod::reduce(
-                    &log.time_s,
-                    &judged.raw_filtered_dph,
-                    raw_p,
-                    x0,
-                    x1,
-                    cols,
-                );
+                let raw =
+                    segments.reduce(&log.time_s, &judged.raw_filtered_dph, raw_p, x0, x1, cols);
                 pui.add(
-                    BandItem::new("raw", raw, scale.div, t_full)
+                    BandItem::segmented("raw", raw, scale.div, t_full)
                         .color(pal.raw)
                         .width(1.6),
                 );
-                let cor = crate::signal::lod::reduce(
-                    &log.time_s,
-                    &judged.cor_filtered_dph,
-                    cor_p,
-                    x0,
-                    x1,
-                    cols,
-                );
+                let cor =
+                    segments.reduce(&log.time_s, &judged.cor_filtered_dph, cor_p, x0, x1, cols);
                 pui.add(
-                    BandItem::new("corrected", cor, scale.div, t_full)
+                    BandItem::segmented("corrected", cor, scale.div, t_full)
                         .color(pal.corrected)
                         .width(1.8),
                 );

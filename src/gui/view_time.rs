@@ -7,6 +7,7 @@ use super::action::{Action, Edit};
 use super::plot_items::{BandItem, Palette, ShadeItem, ShadeSpan, TimeScale, num};
 use super::state::{AppState, sorted_ranges};
 use super::widgets::{save_plot_entry, time_link};
+use crate::signal::lod::MinMaxPyramid;
 use crate::signal::plateau::PlateauRange;
 use eframe::egui::{self, CursorIcon, Key, Rect, Stroke, Ui, Vec2b};
 use egui_plot::{HLine, HoverPosition, LineStyle, Plot, PlotTransform};
@@ -231,51 +232,73 @@ impl TimeView {
                         });
                     }
                     pui.add(ShadeItem::new("shading", spans));
+                    // Every series is reduced segment by segment: nothing is drawn across a
+                    // gap in the log.
+                    let seg = |values: &[f64], pyramid: &MinMaxPyramid| {
+                        loaded
+                            .segments
+                            .reduce(&log.time_s, values, pyramid, x0, x1, cols)
+                    };
                     match k {
                         0 => {
-                            let raw = &loaded.lods.omega;
-                            let band = crate::signal::lod::reduce(
-                                &log.time_s,
-                                &log.omega_dph,
-                                raw,
-                                x0,
-                                x1,
-                                cols,
-                            );
-                            pui.add(
-                                BandItem::new("Ω raw", band, scale.div, t_full)
-                                    .color(Palette::shade(pal.raw, 0.45))
-                                    .width(1.0)
-                                    .no_y_bounds(),
-                            );
-                            if let Some(f) = &fit {
-                                let p = &f.outcome.prepared;
-                                let band = crate::signal::lod::reduce(
-                                    &log.time_s,
-                                    &p.omega_filtered_dph,
-                                    &f.lods.omega_filtered,
+                            if let Some(r) = &loaded.recorded {
+                                // The bursts as recorded, behind the means the fit uses.
+                                let bands = r.segments.reduce(
+                                    &r.log.time_s,
+                                    &r.log.omega_dph,
+                                    &r.lods.omega,
                                     x0,
                                     x1,
                                     cols,
                                 );
                                 pui.add(
-                                    BandItem::new("Ω filtered", band, scale.div, t_full)
-                                        .color(pal.filtered),
+                                    BandItem::segmented(
+                                        "Ω as recorded (bursts)",
+                                        bands,
+                                        scale.div,
+                                        t_full,
+                                    )
+                                    .color(Palette::shade(pal.raw, 0.30))
+                                    .width(1.0)
+                                    .no_y_bounds(),
+                                );
+                            }
+                            let raw = BandItem::segmented(
+                                if loaded.recorded.is_some() {
+                                    "Ω raw (burst means)"
+                                } else {
+                                    "Ω raw"
+                                },
+                                seg(&log.omega_dph, &loaded.lods.omega),
+                                scale.div,
+                                t_full,
+                            )
+                            .color(Palette::shade(pal.raw, 0.45))
+                            .width(1.0);
+                            // Without a calibration the raw rate is all there is: the axis
+                            // fits it.
+                            pui.add(if fit.is_some() {
+                                raw.no_y_bounds()
+                            } else {
+                                raw
+                            });
+                            if let Some(f) = &fit {
+                                let p = &f.outcome.prepared;
+                                pui.add(
+                                    BandItem::segmented(
+                                        "Ω filtered",
+                                        seg(&p.omega_filtered_dph, &f.lods.omega_filtered),
+                                        scale.div,
+                                        t_full,
+                                    )
+                                    .color(pal.filtered),
                                 );
                                 let pred = &f.lods.pred_filtered;
                                 if pred.len() == log.len() {
-                                    let band = crate::signal::lod::reduce(
-                                        &log.time_s,
-                                        pred,
-                                        &f.lods.pred,
-                                        x0,
-                                        x1,
-                                        cols,
-                                    );
                                     pui.add(
-                                        BandItem::new(
+                                        BandItem::segmented(
                                             "model, filtered as Ω",
-                                            band,
+                                            seg(pred, &f.lods.pred),
                                             scale.div,
                                             t_full,
                                         )
@@ -286,15 +309,36 @@ impl TimeView {
                             }
                         }
                         1 => {
-                            let band = crate::signal::lod::reduce(
-                                &log.time_s,
-                                &log.temp_c,
-                                &loaded.lods.temp,
-                                x0,
-                                x1,
-                                cols,
+                            if let Some(r) = &loaded.recorded {
+                                let bands = r.segments.reduce(
+                                    &r.log.time_s,
+                                    &r.log.temp_c,
+                                    &r.lods.temp,
+                                    x0,
+                                    x1,
+                                    cols,
+                                );
+                                pui.add(
+                                    BandItem::segmented(
+                                        "T as recorded (bursts)",
+                                        bands,
+                                        scale.div,
+                                        t_full,
+                                    )
+                                    .color(Palette::shade(pal.temp, 0.35))
+                                    .width(1.0)
+                                    .no_y_bounds(),
+                                );
+                            }
+                            pui.add(
+                                BandItem::segmented(
+                                    "T",
+                                    seg(&log.temp_c, &loaded.lods.temp),
+                                    scale.div,
+                                    t_full,
+                                )
+                                .color(pal.temp),
                             );
-                            pui.add(BandItem::new("T", band, scale.div, t_full).color(pal.temp));
                         }
                         _ => {
                             if let Some(f) = &fit {
@@ -313,11 +357,14 @@ impl TimeView {
                                     )
                                 };
                                 if v.len() == log.len() {
-                                    let band =
-                                        crate::signal::lod::reduce(&log.time_s, v, p, x0, x1, cols);
                                     pui.add(
-                                        BandItem::new(spec.label, band, scale.div, t_full)
-                                            .color(pal.filtered),
+                                        BandItem::segmented(
+                                            spec.label,
+                                            seg(v, p),
+                                            scale.div,
+                                            t_full,
+                                        )
+                                        .color(pal.filtered),
                                     );
                                 }
                                 for y in [db, -db] {

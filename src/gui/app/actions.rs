@@ -2,6 +2,7 @@
 //! unsaved-work question some of them ask first.
 
 use super::files::Purpose;
+use super::results::read_warnings;
 use super::*;
 
 impl Workbench {
@@ -123,9 +124,9 @@ impl Workbench {
         match action {
             Action::OpenLog => self.ask(ctx, Purpose::OpenLog, ""),
             Action::OpenLogPath(p) => self.open_import(p, Target::Calibration),
-            Action::ReadLog(path, read, target) => {
+            Action::ReadLog(path, options, target) => {
                 self.modals.import = None;
-                self.start_load(path, read, target);
+                self.start_load(path, options, target);
             }
             Action::CloseImport => self.modals.import = None,
             Action::OpenValidation => {
@@ -216,8 +217,10 @@ impl Workbench {
                 };
                 match loaded {
                     Some(l) => {
-                        self.modals.import =
-                            Some(ImportView::new(l.path.clone(), target, l.read.clone()))
+                        self.modals.import = Some(
+                            ImportView::new(l.path.clone(), target, l.options.clone())
+                                .with_warnings(read_warnings(l)),
+                        )
                     }
                     None => self.state.say(Severity::Warning, "Open a log first"),
                 }
@@ -226,12 +229,12 @@ impl Workbench {
     }
 
     pub(super) fn open_import(&mut self, path: PathBuf, target: Target) {
-        let read = match (target, &self.state.log) {
-            // A second log of the same stand is likely written alike.
-            (Target::Validation, Some(l)) => l.read.clone(),
-            _ => ReadOptions::default(),
+        let options = match (target, &self.state.log) {
+            // A second log of the same stand is likely written and averaged alike.
+            (Target::Validation, Some(l)) => l.options.clone(),
+            _ => LoadOptions::default(),
         };
-        self.modals.import = Some(ImportView::new(path, target, read));
+        self.modals.import = Some(ImportView::new(path, target, options));
     }
 
     pub(super) fn suggest_plateaus(&mut self) {

@@ -461,7 +461,11 @@ impl Workbench {
             Ok(s) => match s.log.clone() {
                 Some(log) => {
                     self.opening.session = Some((path.clone(), s));
-                    self.start_load(log.path, log.read, Target::Calibration);
+                    let options = LoadOptions {
+                        read: log.read,
+                        bin_s: log.bin_s,
+                    };
+                    self.start_load(log.path, options, Target::Calibration);
                 }
                 None => self.fail(format!("{}: the session names no log", path.display())),
             },

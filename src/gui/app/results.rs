@@ -17,8 +17,8 @@ impl Workbench {
                 let l = *l;
                 let path = l.path.clone();
                 let msg = format!(
-                    "Read {} samples from {} in {:.2} s{}",
-                    l.log.len(),
+                    "Read {} samples from {} in {:.2} s{}{}",
+                    l.log.info.rows_read.max(l.log.len()),
                     file_name(&path),
                     l.seconds,
                     if l.log.info.problems.is_empty() {
@@ -28,8 +28,13 @@ impl Workbench {
                             "; {} kind(s) of problems worked around (see Data)",
                             l.log.info.problems.len()
                         )
-                    }
+                    },
+                    l.resampled
+                        .as_ref()
+                        .map(|n| format!("; {n}"))
+                        .unwrap_or_default()
                 );
+                self.look_at_columns(&l, Target::Calibration);
                 // The same file read again with another mapping keeps the work on it.
                 let remapped = self.opening.session.is_none()
                     && self
@@ -66,7 +71,11 @@ impl Workbench {
                         }
                         if let Some(v) = &s.validation {
                             self.opening.validation_shown = Some(s.view.show_validation);
-                            self.start_load(v.path.clone(), v.read.clone(), Target::Validation);
+                            let options = LoadOptions {
+                                read: v.read.clone(),
+                                bin_s: v.bin_s,
+                            };
+                            self.start_load(v.path.clone(), options, Target::Validation);
                         }
                         if self.state.session_path.is_some() {
                             self.window.settings.add_recent(&spath);
@@ -221,6 +230,24 @@ impl Workbench {
         }
     }
 
+    /// Opens the import view on a log just read when the reader found something about its
+    /// columns to look at (not the rows and time steps it works around), with what it said.
+    fn look_at_columns(&mut self, l: &Loaded, target: Target) {
+        use crate::log::ProblemKind::*;
+        let about_columns = l.log.info.problems.iter().any(|p| {
+            !matches!(
+                p.kind,
+                MissingValue | BadExtraValue | TimeBackwards | TimeRepeated | Gap | RaggedRow
+            )
+        });
+        if about_columns && self.modals.import.is_none() && self.shots.auto.is_none() {
+            self.modals.import = Some(
+                ImportView::new(l.path.clone(), target, l.options.clone())
+                    .with_warnings(read_warnings(l)),
+            );
+        }
+    }
+
     pub(super) fn fail(&mut self, message: String) {
         if self.shots.auto.is_some() {
             self.finish_auto(Err(message));
@@ -295,4 +322,27 @@ impl Workbench {
         self.state
             .say(Severity::Info, format!("Fitting {n} models on {names} …"));
     }
+}
+
+/// What the reader said about a log it read, for the import view: each problem it worked
+/// around (with its line and count), and how the log was averaged after the read.
+pub(super) fn read_warnings(l: &Loaded) -> Vec<String> {
+    let mut out: Vec<String> = l
+        .log
+        .info
+        .problems
+        .iter()
+        .map(|p| {
+            let times = if p.count == 1 {
+                String::new()
+            } else {
+                format!(" ({}×)", p.count)
+            };
+            format!("line {}: {}{times}", p.line, p.message)
+        })
+        .collect();
+    if let Some(note) = &l.resampled {
+        out.push(format!("After the read: {note}"));
+    }
+    out
 }

@@ -20,7 +20,7 @@ pub use compare::{
 pub use fit::{FitLods, FitView, HeldLods};
 use fit::{RefitKey, fit_worker};
 use load::load_log;
-pub use load::{LoadHandle, Loaded, LogLods};
+pub use load::{LoadHandle, LoadOptions, Loaded, LogLods, Recorded};
 
 use super::same::Same;
 use crate::judge::allan::{AllanDeviation, AllanOptions};
@@ -201,7 +201,7 @@ impl Jobs {
     }
 
     /// Starts reading a log (cancelling a read already running).
-    pub fn load(&mut self, path: PathBuf, read: ReadOptions, target: Target) {
+    pub fn load(&mut self, path: PathBuf, options: LoadOptions, target: Target) {
         self.cancel_load();
         let handle = LoadHandle {
             target,
@@ -214,7 +214,7 @@ impl Jobs {
         let spawned = std::thread::Builder::new()
             .name("driftlab-load".into())
             .spawn(move || {
-                let result = load_log(&h, read);
+                let result = load_log(&h, options);
                 let _ = tx.send(result);
                 repaint(&ctx);
             });

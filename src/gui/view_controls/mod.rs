@@ -50,6 +50,19 @@ impl ControlsView {
                             tmax
                         ))
                         .on_hover_text(l.path.display().to_string());
+                        if let Some(note) = &l.resampled {
+                            ui.weak(note.as_str())
+                                .on_hover_text("How the log was averaged after the read (the import view's bins, or one sample per burst)");
+                        }
+                        if l.segments.len() > 1 {
+                            let widest = l.segments.gaps().map(|(a, b)| b - a).fold(0.0, f64::max);
+                            ui.weak(format!(
+                                "{} segments between gaps (widest {}): no window or derivative crosses a gap",
+                                l.segments.len(),
+                                crate::gui::plot_items::duration(widest)
+                            ))
+                            .on_hover_text("The log stops and starts again: each stretch is filtered, differentiated and judged on its own, and the plots leave the gaps empty");
+                        }
                         if ui
                             .small_button("Column mapping…")
                             .on_hover_text("Reopen the import view on this log: columns, units, separator, decimal comma")
