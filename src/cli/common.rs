@@ -103,7 +103,31 @@ impl LogArgs {
         self.read_with(path, &self.options()?)
     }
 
+    /// Reads a log as it was recorded, neither binned nor reduced to its bursts (`inspect`,
+    /// which describes the file), unless `--bin` asks for bins.
+    pub fn read_recorded(&self, path: &Path) -> Result<Log, String> {
+        let log = self.read_plain(path, &self.options()?)?;
+        match self.bin {
+            Some(_) => self.resampled(log),
+            None => Ok(log),
+        }
+    }
+
     fn read_with(&self, path: &Path, opts: &ReadOptions) -> Result<Log, String> {
+        let log = self.read_plain(path, opts)?;
+        self.resampled(log)
+    }
+
+    /// The log averaged into bins (--bin) or one sample per burst, before anything else.
+    fn resampled(&self, log: Log) -> Result<Log, String> {
+        let (log, note) = driftlab::log::resample::prepare(log, self.bin)?;
+        if let Some(note) = note {
+            eprintln!("note: {}: {note}", log.source);
+        }
+        Ok(log)
+    }
+
+    fn read_plain(&self, path: &Path, opts: &ReadOptions) -> Result<Log, String> {
         let bar = progress_bar(&format!("reading {}", path.display()));
         let log = ingest::read_path_with_progress(path, opts, &|f| {
             if let Some(b) = &bar {
@@ -117,20 +141,19 @@ impl LogArgs {
         }
         let log = log?;
         for p in &log.info.problems {
-            let col = p.column.map(|c| format!(":{c}")).unwrap_or_default();
-            eprintln!(
-                "warning: {}:{}{col}: {} ({} time{})",
-                log.source,
-                p.line,
-                p.message,
-                p.count,
-                if p.count == 1 { "" } else { "s" }
-            );
-        }
-        // Averaged into bins (--bin) or one sample per burst, before anything else.
-        let (log, note) = driftlab::log::resample::prepare(log, self.bin)?;
-        if let Some(note) = note {
-            eprintln!("note: {}: {note}", log.source);
+            // A problem of a whole column has no line.
+            let place = match (p.line, p.column) {
+                (0, Some(c)) => format!(" column {c}"),
+                (0, None) => String::new(),
+                (l, Some(c)) => format!("{l}:{c}"),
+                (l, None) => l.to_string(),
+            };
+            let times = if p.count > 1 {
+                format!(" ({} times)", p.count)
+            } else {
+                String::new()
+            };
+            eprintln!("warning: {}:{place}: {}{times}", log.source, p.message);
         }
         Ok(log)
     }

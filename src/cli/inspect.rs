@@ -18,7 +18,17 @@ pub struct Args {
 }
 
 pub fn run(a: Args) -> Result<(), String> {
-    let log = a.log_args.read(&a.log)?;
+    // The sampling as recorded; the plateaus and rates as the other commands see the log
+    // (a burst log reduced to its bursts' means).
+    let recorded = a.log_args.read_recorded(&a.log)?;
+    let timing = recorded.timing();
+    let sampling = timing.describe(&recorded.time_s);
+    let reduced = timing.bursts.is_some() && a.log_args.bin.is_none();
+    let log = if reduced {
+        driftlab::log::resample::prepare(recorded, None)?.0
+    } else {
+        recorded
+    };
     let recipe = Recipe::default();
     let prepared = Prepared::new(&log, &recipe);
     let ranges = vakhrameev::plateau_ranges(&log, &prepared, &recipe);
@@ -41,6 +51,7 @@ pub fn run(a: Args) -> Result<(), String> {
             "source": log.source,
             "info": log.info,
             "samples": log.len(),
+            "sampling": sampling,
             "step_s": dt,
             "sample_rate_hz": 1.0 / dt,
             "duration_s": log.duration_s(),
@@ -80,6 +91,15 @@ pub fn run(a: Args) -> Result<(), String> {
         1.0 / dt,
         log.duration_s() / 3600.0
     );
+    for line in &sampling {
+        println!("  {line}");
+    }
+    if reduced {
+        println!(
+            "  the other commands reduce each burst to its mean time, rate and temperature \
+             (--bin S chooses bins instead)"
+        );
+    }
     println!("  temperature {tmin:.3} .. {tmax:.3} degC, fastest |Tdot| {rate_max:.3} degC/min");
     println!("  plateaus found ({}):", plateaus.len());
     // A week-long log can hold thousands: the first and last ones say enough on a terminal
@@ -106,7 +126,11 @@ pub fn run(a: Args) -> Result<(), String> {
     } else {
         println!("  problems:");
         for p in &i.problems {
-            println!("    line {}: {} ({}x)", p.line, p.message, p.count);
+            if p.line == 0 {
+                println!("    {}", p.message);
+            } else {
+                println!("    line {}: {}", p.line, p.message);
+            }
         }
     }
     Ok(())

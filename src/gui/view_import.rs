@@ -438,7 +438,7 @@ impl ImportView {
 fn role_color(ui: &Ui, r: ColumnRole) -> Color32 {
     match r {
         ColumnRole::Time => ui.visuals().hyperlink_color,
-        ColumnRole::Rate => Color32::from_rgb(220, 120, 0),
+        ColumnRole::Rate | ColumnRole::OtherAxis => Color32::from_rgb(220, 120, 0),
         ColumnRole::Temperature => Color32::from_rgb(200, 50, 40),
         ColumnRole::Extra => ui.visuals().text_color(),
         ColumnRole::Ignored => ui.visuals().weak_text_color(),
@@ -465,6 +465,7 @@ fn preview_table(ui: &mut Ui, p: &Preview) {
                         let role_name = match role {
                             ColumnRole::Time => "time",
                             ColumnRole::Rate => "rate",
+                            ColumnRole::OtherAxis => "other axis",
                             ColumnRole::Temperature => "temperature",
                             ColumnRole::Extra => "kept",
                             ColumnRole::Ignored => "ignored",

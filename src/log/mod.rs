@@ -96,6 +96,8 @@ pub enum ColumnRole {
     Rate,
     /// The calibration temperature.
     Temperature,
+    /// Another gyro axis of a multi-axis unit, kept in `Log::other_axes`.
+    OtherAxis,
     /// Kept by name in `Log::extra`.
     #[default]
     Extra,
@@ -134,6 +136,10 @@ pub enum ProblemKind {
     Gap,
     /// A row with fewer or more fields than the header.
     RaggedRow,
+    /// A column taken for a role holds values that role cannot have (a temperature in
+    /// thousands of counts, a rate beyond any gyro's): the message names the column and the
+    /// option that chooses another.
+    Implausible,
 }
 
 impl Log {

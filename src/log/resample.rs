@@ -88,6 +88,52 @@ pub fn prepare(log: Log, bin_s: Option<f64>) -> Result<(Log, Option<String>), In
     resample(log, how)
 }
 
+/// The log's longest contiguous segment, for analyses that need evenly spaced samples (the
+/// Allan deviation), with a sentence saying what was kept when the log has gaps.
+pub fn longest_segment(log: Log) -> (Log, Option<String>) {
+    let timing = log.timing();
+    if timing.segments.len() <= 1 {
+        return (log, None);
+    }
+    let Some(r) = timing.segments.iter().max_by_key(|r| r.len()).cloned() else {
+        return (log, None);
+    };
+    let cut = |x: &[f64]| x[r.clone()].to_vec();
+    let note = format!(
+        "the log has {} gaps: only its longest stretch is used, {} samples from {} s to {} s",
+        timing.gaps.len(),
+        r.len(),
+        log.time_s[r.start],
+        log.time_s[r.end - 1]
+    );
+    let out = Log {
+        source: log.source.clone(),
+        time_s: cut(&log.time_s),
+        omega_dph: cut(&log.omega_dph),
+        temp_c: cut(&log.temp_c),
+        extra: log
+            .extra
+            .iter()
+            .map(|c| Channel {
+                name: c.name.clone(),
+                unit: c.unit.clone(),
+                values: cut(&c.values),
+            })
+            .collect(),
+        axis: log.axis.clone(),
+        other_axes: log
+            .other_axes
+            .iter()
+            .map(|a| super::Axis {
+                name: a.name.clone(),
+                omega_dph: cut(&a.omega_dph),
+            })
+            .collect(),
+        info: log.info.clone(),
+    };
+    (out, Some(note))
+}
+
 /// "25 bursts of 5.0 s every 305 s".
 pub fn describe_bursts(b: &crate::signal::timing::Bursts) -> String {
     format!(

@@ -49,6 +49,7 @@ pub fn fit_with_progress(
     if !progress(0.0) {
         return Err(Error::Cancelled);
     }
+    check_span(log, choice)?;
     match choice.spec(log)? {
         None => {
             let cal = vakhrameev::fit_lean(log, recipe)?.calibration;
@@ -62,6 +63,75 @@ pub fn fit_with_progress(
             )))
         }
     }
+}
+
+/// The smallest temperature span a model of T is fitted over, °C: across less, a line or a
+/// parabola in T is mostly the sensor's resolution and the noise.
+pub const MIN_TEMP_SPAN_C: f64 = 2.0;
+
+/// The smallest |Ṫ| a log must reach for rate terms, °C/min: a log that never ramps faster
+/// carries no K1 or Ṫ coefficient.
+pub const MIN_RAMP_C_PER_MIN: f64 = 0.05;
+
+/// Refuses, before any fit, a log too narrow for `choice`: a temperature span under
+/// [`MIN_TEMP_SPAN_C`], or rate terms on a log that never ramps faster than
+/// [`MIN_RAMP_C_PER_MIN`].
+///
+/// # Errors
+/// [`Error::Fit`] saying what the log spans and what the model needs.
+pub fn check_span(log: &Log, choice: &ModelChoice) -> Result<()> {
+    let (lo, hi) = log
+        .temp_c
+        .iter()
+        .filter(|v| v.is_finite())
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
+            (a.min(v), b.max(v))
+        });
+    if (hi - lo).is_nan() || hi - lo < MIN_TEMP_SPAN_C {
+        let span = if hi >= lo {
+            format!("{:.3} °C ({lo:.3} … {hi:.3} °C)", hi - lo)
+        } else {
+            "nothing (no finite temperature)".to_string()
+        };
+        return Err(Error::Fit(format!(
+            "{}: the temperature spans {span}: too little for model {} (a calibration in T \
+             needs at least {MIN_TEMP_SPAN_C} °C)",
+            log.source,
+            choice.name()
+        )));
+    }
+    let rates = match choice {
+        ModelChoice::Preset(Preset::PolyT | Preset::PwlT | Preset::Sukhanov) => false,
+        ModelChoice::Custom(s) => s.terms.iter().any(regression::Term::is_rate),
+        _ => true,
+    };
+    if rates {
+        // Ṫ over about a minute (or two samples of a slower log) from the raw temperature,
+        // so the sensor's resolution does not count as a rate.
+        let t = &log.time_s;
+        let span = 60.0f64.max(2.5 * log.nominal_dt_s());
+        let mut fastest = 0.0f64;
+        let mut j = 0;
+        for i in 0..log.len() {
+            while j < i && t[i] - t[j] > span {
+                j += 1;
+            }
+            let dt = t[i] - t[j];
+            if dt >= 0.5 * span {
+                fastest = fastest.max(((log.temp_c[i] - log.temp_c[j]) / dt).abs() * 60.0);
+            }
+        }
+        if fastest < MIN_RAMP_C_PER_MIN {
+            return Err(Error::Fit(format!(
+                "{}: the temperature never changes faster than {fastest:.3} °C/min: model {} \
+                 has rate terms, which need ramps of at least {MIN_RAMP_C_PER_MIN} °C/min \
+                 (try poly-t, a model of T alone)",
+                log.source,
+                choice.name()
+            )));
+        }
+    }
+    Ok(())
 }
 
 /// A model fitted on a log and judged on that same log.
@@ -88,6 +158,7 @@ pub fn calibrate(
     merit: &MeritOptions,
 ) -> Result<Calibrated> {
     if choice.is_vakhrameev() {
+        check_span(log, choice)?;
         let vakhrameev::Calibrated {
             calibration,
             deriv,

@@ -110,6 +110,11 @@ impl CausalMean {
         self.next = if self.next + 1 == w { 0 } else { self.next + 1 };
         self.sum / self.filled as f64
     }
+
+    /// The window's length, samples.
+    pub fn window(&self) -> usize {
+        self.buf.len()
+    }
 }
 
 /// The 3-point backward difference `(3x_i − 4x_{i−s} + x_{i−2s}) / (2H)` with step `s` samples
@@ -201,7 +206,7 @@ pub fn derivatives(temp_c: &[f64], steps: DerivativeSteps, dt_s: f64) -> Derivat
         tddot,
         ready_from,
         ready: if ready_from < n {
-            vec![ready_from..n]
+            std::iter::once(ready_from..n).collect()
         } else {
             Vec::new()
         },
@@ -366,9 +371,14 @@ impl Rates {
         (tdot, tddot)
     }
 
-    /// The first sample whose T̈ has its full history.
+    /// The first sample whose T̈ has its full history: `4·step` samples after the causal mean
+    /// of T first holds its whole window, so that no rate is taken from a mean over fewer
+    /// samples than the others (which at the start of a segment in the middle of a ramp would
+    /// read as a jump of Ṫ and T̈).
     pub fn ready_from(&self) -> usize {
-        self.step.saturating_mul(4)
+        self.step
+            .saturating_mul(4)
+            .saturating_add(self.mean.window().saturating_sub(1))
     }
 }
 

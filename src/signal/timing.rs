@@ -31,6 +31,10 @@ const BLOCKS: [usize; 5] = [16, 64, 256, 1024, 4096];
 /// The most samples after a long step searched for the time it lost to be made up.
 const CATCH_UP_MAX: usize = 1 << 14;
 
+/// The fewest samples after a long step searched: enough for the backlog of a host's stall
+/// (half a second at 100 Hz) that follows a shorter wait.
+const CATCH_UP_MIN: usize = 256;
+
 /// A segment shorter than this many samples cannot be bursts' worth of data: bursts are
 /// recognised only among segments of at least this length.
 const MIN_BURST_SAMPLES: usize = 3;
@@ -95,7 +99,7 @@ impl Timing {
         if n < 2 {
             return Timing {
                 nominal_dt_s: 1.0,
-                segments: vec![0..n],
+                segments: std::iter::once(0..n).collect(),
                 gaps: Vec::new(),
                 jitter: None,
                 bursts: None,
@@ -110,7 +114,7 @@ impl Timing {
                 (a.min(d), b.max(d))
             });
         if lo > 0.0 && hi <= 1.1 * lo {
-            let segments = vec![0..n];
+            let segments: Vec<_> = std::iter::once(0..n).collect();
             let nominal_dt_s = refine_step(time_s, &segments, 0.5 * (lo + hi));
             return Timing {
                 nominal_dt_s,
@@ -154,6 +158,59 @@ impl Timing {
             .filter(|r| span_s(time_s, r, self.nominal_dt_s) < min_s)
             .cloned()
             .collect()
+    }
+}
+
+impl Timing {
+    /// What a person should know of the sampling, one sentence a line: segments and gaps,
+    /// bursts, jitter. Empty for a clean contiguous log.
+    pub fn describe(&self, time_s: &[f64]) -> Vec<String> {
+        let mut out = Vec::new();
+        let ms = |s: f64| {
+            if s < 1.0 {
+                format!("{:.1} ms", s * 1e3)
+            } else {
+                format!("{s:.3} s")
+            }
+        };
+        if let Some(b) = &self.bursts {
+            out.push(format!(
+                "written in bursts: {} bursts of {:.1} s every {:.0} s",
+                b.count, b.on_s, b.every_s
+            ));
+        } else if !self.gaps.is_empty() {
+            let longest = self.gaps.iter().map(|g| g.step_s).fold(0.0, f64::max);
+            out.push(format!(
+                "{} segments between {} gap{} (the first after {:.3} s, the longest {}): \
+                 no window, filter or derivative reaches across a gap",
+                self.segments.len(),
+                self.gaps.len(),
+                if self.gaps.len() == 1 { "" } else { "s" },
+                self.gaps[0].from_s,
+                ms(longest)
+            ));
+        }
+        if let Some(j) = &self.jitter {
+            out.push(format!(
+                "time stamps jitter: steps {} … {} around the nominal {} ({:.0} % of them more \
+                 than 10 % off), stamps up to {} behind regular sampling; the nominal step is \
+                 the mean step within segments",
+                ms(j.min_step_s),
+                ms(j.max_step_s),
+                ms(self.nominal_dt_s),
+                100.0 * j.irregular_fraction,
+                ms(j.max_lag_s)
+            ));
+        }
+        let short = self.shorter_than(time_s, 60.0);
+        if !short.is_empty() && self.bursts.is_none() {
+            out.push(format!(
+                "{} segment{} shorter than a minute",
+                short.len(),
+                if short.len() == 1 { " is" } else { "s are" }
+            ));
+        }
+        out
     }
 }
 
@@ -216,44 +273,38 @@ fn median(v: &mut [f64]) -> Option<f64> {
 }
 
 /// The steps longer than [`GAP_FACTOR`] nominal steps whose lost time the following steps do
-/// not make up: for a step losing `e` seconds, the steps after it must together run at least
-/// `e / 2` ahead of the clock within a few times `e`'s worth of samples.
+/// not make up. Stamps that keep to the clock stay within a fixed lag of the line
+/// `t_{i−1} + (j − i + 1)·dt` drawn from the sample before the step; host stamps that bunch
+/// come back to within half the step's lost time of it once the backlog is stamped (even
+/// when another pause follows before they do), a gap's never do. The samples searched are a
+/// few times the lost time's worth, at least [`CATCH_UP_MIN`], at most [`CATCH_UP_MAX`].
 fn find_gaps(time_s: &[f64], dt: f64) -> Vec<Gap> {
     let n = time_s.len();
     let mut gaps = Vec::new();
-    let mut i = 1;
-    while i < n {
+    for i in 1..n {
         let Some(s) = step(time_s, i) else {
-            i += 1;
             continue;
         };
         if s <= GAP_FACTOR * dt {
-            i += 1;
             continue;
         }
         let lost = s - dt;
-        let window = ((4.0 * lost / dt) as usize + 16).min(CATCH_UP_MAX);
-        let mut made_up = 0.0;
-        let mut caught_up = false;
-        for j in i + 1..(i + 1 + window).min(n) {
-            let sj = time_s[j] - time_s[j - 1];
-            if sj > GAP_FACTOR * dt && sj - dt > lost {
-                break; // a longer outage: this step is judged with it.
-            }
-            made_up += dt - sj;
-            if made_up >= 0.5 * lost {
-                caught_up = true;
-                break;
-            }
-        }
-        if !caught_up {
+        let window = ((4.0 * lost / dt) as usize + 16).clamp(CATCH_UP_MIN, CATCH_UP_MAX);
+        let base = time_s[i - 1];
+        let end = (i + window).min(n);
+        let caught_up =
+            (i + 1..end).any(|j| time_s[j] - (base + (j - i + 1) as f64 * dt) <= 0.5 * lost);
+        // A pause near the end of the log whose backlog is still being stamped faster than the
+        // clock when the log ends is the same jitter, cut short.
+        let catching_up_at_end =
+            end == n && i + 1 < n && (i + 1..n).all(|j| time_s[j] - time_s[j - 1] < dt);
+        if !caught_up && !catching_up_at_end {
             gaps.push(Gap {
                 at: i,
-                from_s: time_s[i - 1],
+                from_s: base,
                 step_s: s,
             });
         }
-        i += 1;
     }
     gaps
 }
@@ -265,7 +316,7 @@ fn refine_step(time_s: &[f64], segments: &[Range<usize>], rough: f64) -> f64 {
         span += time_s[r.end - 1] - time_s[r.start];
         steps += r.len() - 1;
     }
-    if steps == 0 || !(span > 0.0) {
+    if steps == 0 || span.is_nan() || span <= 0.0 {
         return rough;
     }
     let mean = span / steps as f64;
