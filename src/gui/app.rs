@@ -30,7 +30,7 @@ use super::view_allan::AllanPage;
 use super::view_coeffs::CoeffView;
 use super::view_controls::{ControlsView, PlateauFocus};
 use super::view_figures::FiguresView;
-use super::view_import::ImportView;
+use super::view_import::{ImportView, ReadWarning};
 use super::view_models::ModelsView;
 use super::view_result::ResultView;
 use super::view_time::{TimeView, XCommand};

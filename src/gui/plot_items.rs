@@ -84,12 +84,17 @@ pub struct Segments {
 impl Segments {
     /// The segments of `log` ([`Log::timing`]).
     pub fn of(log: &Log) -> Segments {
-        let spans = log
-            .timing()
-            .segments
+        Segments::from_ranges(&log.time_s, &log.timing().segments)
+    }
+
+    /// The stretches of samples `ranges` (in order, within `time_s`): a log's segments, or
+    /// the samples whose rates have their full history (`Derivatives::ready`), outside which
+    /// a derivative or a correction is no reading.
+    pub fn from_ranges(time_s: &[f64], ranges: &[std::ops::Range<usize>]) -> Segments {
+        let spans = ranges
             .iter()
-            .filter(|r| !r.is_empty())
-            .map(|r| (log.time_s[r.start], log.time_s[r.end - 1]))
+            .filter(|r| !r.is_empty() && r.end <= time_s.len())
+            .map(|r| (time_s[r.start], time_s[r.end - 1]))
             .collect();
         Segments { spans }
     }

@@ -4,7 +4,6 @@
 
 use super::action::Edit;
 use super::jobs::{AllanView, Compared, FitView, Loaded};
-use super::plot_items::Segments;
 use crate::files::session::{KnotEdits, LogRef, Session, ViewState};
 use crate::judge::metrics::MeritOptions;
 use crate::live::Request;
@@ -144,16 +143,6 @@ pub struct AppState {
 }
 
 impl AppState {
-    /// The segments between gaps of `log` when it is the calibration or the validation log
-    /// (one segment, else: nothing is split).
-    pub fn segments_of(&self, log: &Arc<crate::log::Log>) -> Arc<Segments> {
-        [&self.log, &self.validation]
-            .into_iter()
-            .flatten()
-            .find(|l| Arc::ptr_eq(&l.log, log))
-            .map_or_else(Arc::default, |l| l.segments.clone())
-    }
-
     /// Shows a status message.
     pub fn say(&mut self, severity: Severity, message: impl Into<String>) {
         self.status = Some((severity, message.into()));

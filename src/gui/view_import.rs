@@ -21,16 +21,33 @@ pub struct ImportView {
     pub read: ReadOptions,
     /// Bins of this many seconds the log is averaged into after the read (`--bin`).
     pub bin_s: Option<f64>,
-    /// What the reader said when it last read this file with these options (problems it
-    /// worked around, how the log was averaged), shown first.
-    warnings: Vec<String>,
+    /// What the reader said when it last read this file (problems it worked around, columns
+    /// that do not hold what their role means, how the log was averaged), shown first while
+    /// the options are the ones it was read with.
+    warnings: Vec<ReadWarning>,
+    /// The options the warnings are about.
+    warned_for: ReadOptions,
     preview: Result<Preview, String>,
     previewed: ReadOptions,
+    /// Where the window was last frame: while it moves or grows (a row wrapping once the
+    /// width is known, the centring that follows a new size) the next frame is asked for, so
+    /// the window settles without waiting for input.
+    last_rect: Option<egui::Rect>,
     /// What to look at before loading (ambiguous or implausible columns).
     concerns: Vec<Concern>,
 }
 
 const PREVIEW_ROWS: usize = 25;
+
+/// One thing the reader said about a file it read.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ReadWarning {
+    /// True when it is about the columns chosen (values their role cannot have), which the
+    /// view's mapping settles; false for rows and time steps the reader worked around.
+    pub about_columns: bool,
+    /// The sentence, with its line or column.
+    pub text: String,
+}
 
 impl ImportView {
     /// Opens the view on `path` with starting options.
@@ -45,23 +62,32 @@ impl ImportView {
             path,
             target,
             previewed: read.clone(),
+            warned_for: read.clone(),
             read,
             bin_s,
             warnings: Vec::new(),
+            last_rect: None,
             preview,
             concerns,
         }
     }
 
-    /// The view showing, first, what the reader said when it read the file.
-    pub fn with_warnings(mut self, warnings: Vec<String>) -> ImportView {
+    /// The view showing, first, what the reader said when it read the file with the view's
+    /// starting options (the columns' doubts first).
+    pub fn with_warnings(mut self, mut warnings: Vec<ReadWarning>) -> ImportView {
+        warnings.sort_by_key(|w| !w.about_columns);
         self.warnings = warnings;
         self
     }
 
-    /// What the reader said when it last read the file (for tests).
-    pub fn warnings(&self) -> &[String] {
-        &self.warnings
+    /// What the reader said when it last read the file, while the options are the ones it
+    /// read with (none once the engineer changes them).
+    pub fn warnings(&self) -> &[ReadWarning] {
+        if self.read == self.warned_for {
+            &self.warnings
+        } else {
+            &[]
+        }
     }
 
     /// The options the Load button reads with.
@@ -97,6 +123,11 @@ impl ImportView {
             ui.set_width((ctx.content_rect().width() * 0.8).clamp(480.0, 1200.0));
             decision = self.contents(ui);
         });
+        let rect = modal.response.rect;
+        if self.last_rect != Some(rect) {
+            self.last_rect = Some(rect);
+            ctx.request_repaint();
+        }
         if modal.should_close() && decision.is_none() {
             decision = Some(Action::CloseImport);
         }
@@ -125,10 +156,23 @@ impl ImportView {
         });
         ui.weak(self.path.display().to_string());
         ui.add_space(4.0);
-        if !self.warnings.is_empty() {
-            ui.label(RichText::new("When this file was read:").strong());
-            for w in &self.warnings {
-                ui.colored_label(ui.visuals().warn_fg_color, format!("• {w}"));
+        let warnings = self.warnings();
+        if !warnings.is_empty() {
+            ui.label(
+                RichText::new(if warnings.iter().any(|w| w.about_columns) {
+                    "When this file was read, its columns did not hold what they were read as:"
+                } else {
+                    "When this file was read:"
+                })
+                .strong(),
+            );
+            for w in warnings {
+                let color = if w.about_columns {
+                    ui.visuals().error_fg_color
+                } else {
+                    ui.visuals().warn_fg_color
+                };
+                ui.colored_label(color, format!("• {}", w.text));
             }
             ui.add_space(4.0);
         }
@@ -404,7 +448,7 @@ impl ImportView {
 
     /// `--bin`: average the log into bins of a few seconds once it is read.
     fn bin_control(&mut self, ui: &mut Ui) {
-        ui.horizontal_wrapped(|ui| {
+        ui.horizontal(|ui| {
             let mut binned = self.bin_s.is_some();
             if ui
                 .checkbox(&mut binned, "Average into bins of")
@@ -446,8 +490,11 @@ fn role_color(ui: &Ui, r: ColumnRole) -> Color32 {
 }
 
 fn preview_table(ui: &mut Ui, p: &Preview) {
+    // As tall as it will be from the first frame (a scroll area that needs scrolling would
+    // otherwise grow by a row a frame, and the window with it).
     ScrollArea::both()
         .max_height(320.0)
+        .min_scrolled_height(320.0)
         .auto_shrink([false, true])
         .show(ui, |ui| {
             Grid::new("import_preview")

@@ -82,7 +82,12 @@ impl ResultView {
         }
         let scale = TimeScale::for_duration(log.duration_s());
         let t_full = (log.time_s[0], log.time_s[log.len() - 1]);
-        let segments = state.segments_of(&log);
+        // Raw drift over the log's segments; the corrected drift only where the rates have
+        // their history (elsewhere it is no reading).
+        let (segments, ready) = match (show_val, fit.lods.held_out.as_ref()) {
+            (true, Some(l)) => (&l.segments, &l.ready),
+            _ => (&fit.lods.segments, &fit.lods.ready),
+        };
         let mut plot = Plot::new(if show_val { "result_val" } else { "result_cal" })
             .height(ui.available_height().max(80.0))
             .legend(Legend::default().position(egui_plot::Corner::LeftTop))
@@ -138,8 +143,7 @@ impl ResultView {
                         .color(pal.raw)
                         .width(1.6),
                 );
-                let cor =
-                    segments.reduce(&log.time_s, &judged.cor_filtered_dph, cor_p, x0, x1, cols);
+                let cor = ready.reduce(&log.time_s, &judged.cor_filtered_dph, cor_p, x0, x1, cols);
                 pui.add(
                     BandItem::segmented("corrected", cor, scale.div, t_full)
                         .color(pal.corrected)

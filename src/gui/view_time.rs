@@ -295,10 +295,18 @@ impl TimeView {
                                 );
                                 let pred = &f.lods.pred_filtered;
                                 if pred.len() == log.len() {
+                                    let band = f.lods.ready.reduce(
+                                        &log.time_s,
+                                        pred,
+                                        &f.lods.pred,
+                                        x0,
+                                        x1,
+                                        cols,
+                                    );
                                     pui.add(
                                         BandItem::segmented(
                                             "model, filtered as Ω",
-                                            seg(pred, &f.lods.pred),
+                                            band,
                                             scale.div,
                                             t_full,
                                         )
@@ -357,14 +365,12 @@ impl TimeView {
                                     )
                                 };
                                 if v.len() == log.len() {
+                                    // Only where the rates have their history: a segment's
+                                    // first samples hold no reading (zero), not a rate.
+                                    let band = f.lods.ready.reduce(&log.time_s, v, p, x0, x1, cols);
                                     pui.add(
-                                        BandItem::segmented(
-                                            spec.label,
-                                            seg(v, p),
-                                            scale.div,
-                                            t_full,
-                                        )
-                                        .color(pal.filtered),
+                                        BandItem::segmented(spec.label, band, scale.div, t_full)
+                                            .color(pal.filtered),
                                     );
                                 }
                                 for y in [db, -db] {

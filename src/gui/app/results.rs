@@ -108,6 +108,7 @@ impl Workbench {
                     file_name(&l.path),
                     l.log.len()
                 );
+                self.look_at_columns(&l, Target::Validation);
                 self.state.validation = Some(*l);
                 match self.opening.validation_shown.take() {
                     Some(shown) => {
@@ -233,14 +234,8 @@ impl Workbench {
     /// Opens the import view on a log just read when the reader found something about its
     /// columns to look at (not the rows and time steps it works around), with what it said.
     fn look_at_columns(&mut self, l: &Loaded, target: Target) {
-        use crate::log::ProblemKind::*;
-        let about_columns = l.log.info.problems.iter().any(|p| {
-            !matches!(
-                p.kind,
-                MissingValue | BadExtraValue | TimeBackwards | TimeRepeated | Gap | RaggedRow
-            )
-        });
-        if about_columns && self.modals.import.is_none() && self.shots.auto.is_none() {
+        let doubts = l.log.info.problems.iter().any(|p| about_columns(p.kind));
+        if doubts && self.modals.import.is_none() && self.shots.auto.is_none() {
             self.modals.import = Some(
                 ImportView::new(l.path.clone(), target, l.options.clone())
                     .with_warnings(read_warnings(l)),
@@ -324,25 +319,47 @@ impl Workbench {
     }
 }
 
+/// Whether a problem the reader reports is about the columns it chose (a role's values that
+/// role cannot have) rather than rows or time steps it worked around.
+fn about_columns(kind: crate::log::ProblemKind) -> bool {
+    use crate::log::ProblemKind::*;
+    match kind {
+        Implausible => true,
+        MissingValue | BadExtraValue | TimeBackwards | TimeRepeated | Gap | RaggedRow => false,
+    }
+}
+
 /// What the reader said about a log it read, for the import view: each problem it worked
-/// around (with its line and count), and how the log was averaged after the read.
-pub(super) fn read_warnings(l: &Loaded) -> Vec<String> {
-    let mut out: Vec<String> = l
+/// around (with its line, column and count), and how the log was averaged after the read.
+pub(super) fn read_warnings(l: &Loaded) -> Vec<ReadWarning> {
+    let mut out: Vec<ReadWarning> = l
         .log
         .info
         .problems
         .iter()
         .map(|p| {
+            let at = match (p.line, p.column) {
+                (0, None) => String::new(),
+                (0, Some(c)) => format!("column {c}: "),
+                (l, None) => format!("line {l}: "),
+                (l, Some(c)) => format!("line {l}, column {c}: "),
+            };
             let times = if p.count == 1 {
                 String::new()
             } else {
                 format!(" ({}×)", p.count)
             };
-            format!("line {}: {}{times}", p.line, p.message)
+            ReadWarning {
+                about_columns: about_columns(p.kind),
+                text: format!("{at}{}{times}", p.message),
+            }
         })
         .collect();
     if let Some(note) = &l.resampled {
-        out.push(format!("After the read: {note}"));
+        out.push(ReadWarning {
+            about_columns: false,
+            text: format!("After the read: {note}"),
+        });
     }
     out
 }

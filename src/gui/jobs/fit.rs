@@ -25,6 +25,12 @@ pub struct FitLods {
     pub cor_filtered: MinMaxPyramid,
     /// K1+, K1−, K2+, K2− points.
     pub scatter: [Arc<ScatterLod>; 4],
+    /// The samples whose rates have their full history, one stretch per segment of the log:
+    /// Ṫ, T̈, the model and the corrected drift are drawn there only (before a segment's
+    /// history fills they are no reading).
+    pub ready: Segments,
+    /// The log's segments between gaps (raw series are drawn over these).
+    pub segments: Segments,
     /// The validation log's series.
     pub held_out: Option<HeldLods>,
 }
@@ -37,6 +43,10 @@ pub struct HeldLods {
     pub cor_filtered: MinMaxPyramid,
     /// Regime per sample.
     pub regime: ClassLod,
+    /// The samples its correction reads (see [`FitLods::ready`]).
+    pub ready: Segments,
+    /// Its segments between gaps.
+    pub segments: Segments,
 }
 
 /// One refit's result, ready to draw.
@@ -200,7 +210,11 @@ pub(super) fn build_lods(cache: &mut LodCache, o: &Outcome) -> FitLods {
     let filter = o.prepared.filter_samples;
     let ((pred_filtered, pred), cor_filtered) = rayon::join(
         || {
-            let f = crate::signal::moving_average_centered(&o.in_sample.corrected.pred_dph, filter);
+            let f = crate::signal::moving_average_centered_in(
+                &o.in_sample.corrected.pred_dph,
+                filter,
+                &o.prepared.segments,
+            );
             let p = MinMaxPyramid::new(&f);
             (f, p)
         },
@@ -216,7 +230,10 @@ pub(super) fn build_lods(cache: &mut LodCache, o: &Outcome) -> FitLods {
         raw_filtered: LodCache::series(&mut cache.held_raw, &h.raw_filtered_dph),
         cor_filtered: MinMaxPyramid::new(&h.cor_filtered_dph),
         regime: ClassLod::new(h.corrected.regime.iter().map(|&r| r as u8).collect(), 2),
+        ready: Segments::from_ranges(&h.log.time_s, &h.corrected.ready),
+        segments: Segments::of(&h.log),
     });
+    let ready = Segments::from_ranges(&o.in_sample.log.time_s, &o.in_sample.corrected.ready);
     FitLods {
         omega_filtered,
         tdot,
@@ -227,6 +244,8 @@ pub(super) fn build_lods(cache: &mut LodCache, o: &Outcome) -> FitLods {
         raw_filtered,
         cor_filtered,
         scatter,
+        ready,
+        segments: Segments::from_ranges(&o.in_sample.log.time_s, &o.prepared.segments),
         held_out,
     }
 }

@@ -22,6 +22,7 @@ use fit::{RefitKey, fit_worker};
 use load::load_log;
 pub use load::{LoadHandle, LoadOptions, Loaded, LogLods, Recorded};
 
+use super::plot_items::Segments;
 use super::same::Same;
 use crate::judge::allan::{AllanDeviation, AllanOptions};
 use crate::judge::compare::ModelReport;

@@ -172,7 +172,7 @@ impl ModelsView {
             // Wrapped to the page's width, under the table rather than in its scroll area.
             ui.weak(format!("outside: {}.", table::OUTSIDE));
             ui.separator();
-            self.plot(ui, state, &c);
+            self.plot(ui, &c);
         });
         out
     }

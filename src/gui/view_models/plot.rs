@@ -3,7 +3,6 @@
 use super::ModelsView;
 use crate::gui::jobs::Compared;
 use crate::gui::plot_items::{BandItem, Palette, TimeScale};
-use crate::gui::state::AppState;
 use eframe::egui::{Color32, Ui, Vec2b};
 use egui_plot::{Corner, Legend, Plot};
 
@@ -40,8 +39,7 @@ pub fn model_color(k: usize, dark: bool) -> Color32 {
 }
 
 impl ModelsView {
-    /// `state` says where the logs' gaps are.
-    pub(super) fn plot(&mut self, ui: &mut Ui, state: &AppState, c: &Compared) {
+    pub(super) fn plot(&mut self, ui: &mut Ui, c: &Compared) {
         let pal = Palette::of(ui);
         let dark = ui.visuals().dark_mode;
         ui.horizontal_wrapped(|ui| {
@@ -69,7 +67,6 @@ impl ModelsView {
             return;
         }
         let scale = TimeScale::for_duration(log.duration_s());
-        let segments = state.segments_of(log);
         let t_full = (log.time_s[0], log.time_s[n - 1]);
         let li = self.log_index;
         Plot::new("models_drift")
@@ -101,8 +98,14 @@ impl ModelsView {
                     t_full
                 };
                 let cols = pui.response().rect.width().max(50.0) as usize;
-                let raw =
-                    segments.reduce(&log.time_s, &cl.raw_filtered_dph, &cl.raw_lod, x0, x1, cols);
+                let raw = cl.segments.reduce(
+                    &log.time_s,
+                    &cl.raw_filtered_dph,
+                    &cl.raw_lod,
+                    x0,
+                    x1,
+                    cols,
+                );
                 pui.add(
                     BandItem::segmented("raw", raw, scale.div, t_full)
                         .color(pal.raw)
@@ -116,7 +119,8 @@ impl ModelsView {
                         continue;
                     }
                     let band =
-                        segments.reduce(&log.time_s, &s.cor_filtered_dph, &s.lod, x0, x1, cols);
+                        s.ready
+                            .reduce(&log.time_s, &s.cor_filtered_dph, &s.lod, x0, x1, cols);
                     pui.add(
                         BandItem::segmented(&r.model, band, scale.div, t_full)
                             .color(model_color(k, dark))
