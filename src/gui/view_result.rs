@@ -55,7 +55,11 @@ impl ResultView {
             out.push(Action::ShowValidation(show_validation));
         }
         let Some(fit) = state.fit.clone() else {
-            ui.weak("No calibration yet.");
+            ui.weak(if state.fit_error.is_some() {
+                "No calibration: it failed (its message is in the status bar)."
+            } else {
+                "No calibration yet."
+            });
             return out;
         };
         let show_val = show_validation && fit.outcome.held_out.is_some();
@@ -64,18 +68,23 @@ impl ResultView {
             else {
                 return out;
             };
-            (h, &l.raw_filtered, &l.cor_filtered, &l.regime)
+            (
+                h,
+                &l.raw_filtered,
+                (&l.cor_filtered_dph, &l.cor_filtered),
+                &l.regime,
+            )
         } else {
             (
                 &fit.outcome.in_sample,
                 &fit.lods.raw_filtered,
-                &fit.lods.cor_filtered,
+                (&fit.lods.cor_filtered_dph, &fit.lods.cor_filtered),
                 &*fit.lods.regime,
             )
         };
         let log = judged.log.clone();
         if log.is_empty()
-            || judged.cor_filtered_dph.len() != log.len()
+            || cor_p.0.len() != log.len()
             || judged.raw_filtered_dph.len() != log.len()
         {
             return out;
@@ -143,7 +152,7 @@ impl ResultView {
                         .color(pal.raw)
                         .width(1.6),
                 );
-                let cor = ready.reduce(&log.time_s, &judged.cor_filtered_dph, cor_p, x0, x1, cols);
+                let cor = ready.reduce(&log.time_s, cor_p.0, cor_p.1, x0, x1, cols);
                 pui.add(
                     BandItem::segmented("corrected", cor, scale.div, t_full)
                         .color(pal.corrected)

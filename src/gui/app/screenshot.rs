@@ -74,8 +74,10 @@ impl Workbench {
             // Ten frames a second while the work runs (the workers wake the window when they
             // answer): drawing flat out would take a core from the work being waited for.
             ctx.request_repaint_after(Duration::from_millis(100));
+            // A calibration that fails is shown as the engineer sees it, its message and the
+            // log's plots.
             let ready = self.state.log.is_some()
-                && self.state.fit.is_some()
+                && (self.state.fit.is_some() || self.state.fit_error.is_some())
                 && !self.jobs.busy()
                 && page_done
                 && self.modals.import.is_none()

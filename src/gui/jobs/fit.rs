@@ -21,7 +21,11 @@ pub struct FitLods {
     pub pred: MinMaxPyramid,
     /// Raw Ω filtered as for the figures.
     pub raw_filtered: Arc<MinMaxPyramid>,
-    /// Corrected Ω filtered alike.
+    /// Corrected Ω filtered alike, within the stretches of [`FitLods::ready`] only (before a
+    /// segment's rates have their history the correction is no reading, and a window reaching
+    /// into those samples would draw a transient the figures do not see), °/h.
+    pub cor_filtered_dph: Vec<f64>,
+    /// Its pyramid.
     pub cor_filtered: MinMaxPyramid,
     /// K1+, K1−, K2+, K2− points.
     pub scatter: [Arc<ScatterLod>; 4],
@@ -39,7 +43,9 @@ pub struct FitLods {
 pub struct HeldLods {
     /// Raw Ω filtered.
     pub raw_filtered: Arc<MinMaxPyramid>,
-    /// Corrected Ω filtered.
+    /// Corrected Ω filtered within its ready stretches (see [`FitLods::cor_filtered_dph`]).
+    pub cor_filtered_dph: Vec<f64>,
+    /// Its pyramid.
     pub cor_filtered: MinMaxPyramid,
     /// Regime per sample.
     pub regime: ClassLod,
@@ -213,13 +219,22 @@ pub(super) fn build_lods(cache: &mut LodCache, o: &Outcome) -> FitLods {
             let f = crate::signal::moving_average_centered_in(
                 &o.in_sample.corrected.pred_dph,
                 filter,
-                &o.prepared.segments,
+                &o.in_sample.corrected.ready,
             );
             let p = MinMaxPyramid::new(&f);
             (f, p)
         },
-        || MinMaxPyramid::new(&o.in_sample.cor_filtered_dph),
+        || {
+            let f = crate::signal::moving_average_centered_in(
+                &o.in_sample.corrected.cor_dph,
+                filter,
+                &o.in_sample.corrected.ready,
+            );
+            let p = MinMaxPyramid::new(&f);
+            (f, p)
+        },
     );
+    let (cor_filtered_dph, cor_filtered) = cor_filtered;
     let scatter = cache.scatter([
         &o.k1_plus_points,
         &o.k1_minus_points,
@@ -228,10 +243,28 @@ pub(super) fn build_lods(cache: &mut LodCache, o: &Outcome) -> FitLods {
     ]);
     let held_out = o.held_out.as_ref().map(|h| HeldLods {
         raw_filtered: LodCache::series(&mut cache.held_raw, &h.raw_filtered_dph),
-        cor_filtered: MinMaxPyramid::new(&h.cor_filtered_dph),
+        cor_filtered_dph: Vec::new(),
+        cor_filtered: MinMaxPyramid::default(),
         regime: ClassLod::new(h.corrected.regime.iter().map(|&r| r as u8).collect(), 2),
         ready: Segments::from_ranges(&h.log.time_s, &h.corrected.ready),
         segments: Segments::of(&h.log),
+    });
+    let held_out = held_out.map(|mut l| {
+        if let Some(h) = o.held_out.as_ref() {
+            // The calibration log's window, in the validation log's samples.
+            let window = crate::signal::seconds_to_samples(
+                filter as f64 * o.prepared.dt_s,
+                h.log.nominal_dt_s(),
+            )
+            .max(1);
+            l.cor_filtered_dph = crate::signal::moving_average_centered_in(
+                &h.corrected.cor_dph,
+                window,
+                &h.corrected.ready,
+            );
+            l.cor_filtered = MinMaxPyramid::new(&l.cor_filtered_dph);
+        }
+        l
     });
     let ready = Segments::from_ranges(&o.in_sample.log.time_s, &o.in_sample.corrected.ready);
     FitLods {
@@ -242,6 +275,7 @@ pub(super) fn build_lods(cache: &mut LodCache, o: &Outcome) -> FitLods {
         pred_filtered,
         pred,
         raw_filtered,
+        cor_filtered_dph,
         cor_filtered,
         scatter,
         ready,

@@ -121,6 +121,9 @@ impl CoeffView {
                 ))
                 .on_hover_text("Fit statistics of K0 over the plateau points");
             }
+            None if state.fit_error.is_some() => {
+                ui.weak("No fit: the calibration failed (its message is in the status bar).");
+            }
             None => {
                 ui.weak("No fit yet.");
             }

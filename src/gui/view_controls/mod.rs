@@ -128,22 +128,25 @@ impl ControlsView {
                 });
             });
         let dt = state.log.as_ref().map_or(1.0, |l| l.log.nominal_dt_s());
+        // A window shorter than the log's step (100 s on a log of one sample per 2-min burst)
+        // is left as the recipe has it: the engine takes one sample, and the recipe is not
+        // changed (nor the work marked unsaved) by opening a log.
         egui::CollapsingHeader::new("Derivatives").default_open(true).show(ui, |ui| {
             let r = &mut recipe;
             egui::Grid::new("deriv_grid").num_columns(3).spacing([8.0, 4.0]).show(ui, |ui| {
                 let samples = |s: f64| format!("{} samples", crate::signal::seconds_to_samples(s, dt));
                 ui.label("Ω filter").on_hover_text("Centred moving average of Ω before the pointwise coefficients and in the figures");
-                ui.add(egui::DragValue::new(&mut r.filter_s).range(dt..=100_000.0).speed(1.0).suffix(" s"))
+                ui.add(egui::DragValue::new(&mut r.filter_s).range(dt..=100_000.0).speed(1.0).suffix(" s").clamp_existing_to_range(false))
                     .on_hover_text("Ω moving-average window, s (the paper: 100 recording intervals)");
                 ui.weak(samples(r.filter_s));
                 ui.end_row();
                 ui.label("T smoothing").on_hover_text("Causal moving average of T before differentiating");
-                ui.add(egui::DragValue::new(&mut r.temp_smoothing_s).range(dt..=100_000.0).speed(1.0).suffix(" s"))
+                ui.add(egui::DragValue::new(&mut r.temp_smoothing_s).range(dt..=100_000.0).speed(1.0).suffix(" s").clamp_existing_to_range(false))
                     .on_hover_text("T smoothing window, s: longer quietens dT/dt and d²T/dt² but delays them");
                 ui.weak(samples(r.temp_smoothing_s));
                 ui.end_row();
                 ui.label("Step H").on_hover_text("Step of the 3-point backward derivative");
-                ui.add(egui::DragValue::new(&mut r.step_h_s).range(dt..=10_000.0).speed(0.5).suffix(" s"))
+                ui.add(egui::DragValue::new(&mut r.step_h_s).range(dt..=10_000.0).speed(0.5).suffix(" s").clamp_existing_to_range(false))
                     .on_hover_text("Derivative step H, s: H = 1 sample makes d²T/dt² pure quantisation noise on a 1 Hz log");
                 ui.weak(samples(r.step_h_s));
                 ui.end_row();
