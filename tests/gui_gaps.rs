@@ -160,3 +160,49 @@ fn the_import_views_bins_are_the_read() {
     // A session keeps the bins.
     assert_eq!(h.state().state.session().log.unwrap().bin_s, Some(10.0));
 }
+
+#[test]
+fn the_corrected_drift_is_drawn_where_the_rates_have_their_history() {
+    // The sample run with an hour lost in the middle of its second ramp.
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("outage.csv");
+    let text = std::fs::read_to_string(sample("calibration.csv")).unwrap();
+    let kept: Vec<&str> = text
+        .lines()
+        .enumerate()
+        .filter(|(i, _)| !(20_000..23_600).contains(i))
+        .map(|(_, l)| l)
+        .collect();
+    std::fs::write(&path, kept.join("\n") + "\n").unwrap();
+    let mut h = harness(Workbench::new_for_test(&path));
+    settle(&mut h);
+    let f = h.state().state.fit.clone().expect("calibrated");
+    let judged = &f.outcome.in_sample;
+    let n = judged.log.len();
+    let ready = &judged.corrected.ready;
+    assert_eq!(ready.len(), 2, "{ready:?}");
+    assert_eq!(f.lods.ready.len(), 2);
+    assert_eq!(f.lods.segments.len(), 2);
+    assert_eq!(f.lods.cor_filtered_dph.len(), n);
+    assert_eq!(f.lods.pred_filtered.len(), n);
+    // Inside a stretch, farther from its ends than the window, the drawn series is the
+    // engine's own filtered correction.
+    let w = f.outcome.prepared.filter_samples;
+    for r in ready {
+        for i in (r.start + w..r.end - w).step_by(997) {
+            let (drawn, engine) = (f.lods.cor_filtered_dph[i], judged.cor_filtered_dph[i]);
+            assert!((drawn - engine).abs() < 1e-9, "sample {i}: {drawn} vs {engine}");
+        }
+    }
+    // At a stretch's start the window holds none of the samples before it.
+    let r = &ready[1];
+    let own: f64 = judged.corrected.cor_dph[r.start..r.start + w / 2 + 1]
+        .iter()
+        .sum::<f64>()
+        / (w / 2 + 1) as f64;
+    assert!(
+        (f.lods.cor_filtered_dph[r.start] - own).abs() < 1e-9,
+        "{} vs {own}",
+        f.lods.cor_filtered_dph[r.start]
+    );
+}

@@ -209,6 +209,20 @@ pub(super) fn fit_worker(rx: Receiver<FitMsg>, tx: Sender<JobResult>, ctx: Share
     }
 }
 
+/// `x` with the centred moving average of `window` samples taken within each of `ranges`
+/// alone (a window is truncated at a range's ends); samples outside every range are left as
+/// they are (they are not drawn). Same length as `x`.
+fn filtered_within(x: &[f64], window: usize, ranges: &[std::ops::Range<usize>]) -> Vec<f64> {
+    let mut out = x.to_vec();
+    for r in ranges.iter().filter(|r| r.end <= x.len()) {
+        out[r.clone()].copy_from_slice(&crate::signal::moving_average_centered(
+            &x[r.clone()],
+            window,
+        ));
+    }
+    out
+}
+
 pub(super) fn build_lods(cache: &mut LodCache, o: &Outcome) -> FitLods {
     let ([omega_filtered, tdot, tddot], regime) =
         cache.prepared(&o.prepared, &o.in_sample.corrected.regime);
@@ -216,7 +230,7 @@ pub(super) fn build_lods(cache: &mut LodCache, o: &Outcome) -> FitLods {
     let filter = o.prepared.filter_samples;
     let ((pred_filtered, pred), cor_filtered) = rayon::join(
         || {
-            let f = crate::signal::moving_average_centered_in(
+            let f = filtered_within(
                 &o.in_sample.corrected.pred_dph,
                 filter,
                 &o.in_sample.corrected.ready,
@@ -225,7 +239,7 @@ pub(super) fn build_lods(cache: &mut LodCache, o: &Outcome) -> FitLods {
             (f, p)
         },
         || {
-            let f = crate::signal::moving_average_centered_in(
+            let f = filtered_within(
                 &o.in_sample.corrected.cor_dph,
                 filter,
                 &o.in_sample.corrected.ready,
@@ -257,11 +271,7 @@ pub(super) fn build_lods(cache: &mut LodCache, o: &Outcome) -> FitLods {
                 h.log.nominal_dt_s(),
             )
             .max(1);
-            l.cor_filtered_dph = crate::signal::moving_average_centered_in(
-                &h.corrected.cor_dph,
-                window,
-                &h.corrected.ready,
-            );
+            l.cor_filtered_dph = filtered_within(&h.corrected.cor_dph, window, &h.corrected.ready);
             l.cor_filtered = MinMaxPyramid::new(&l.cor_filtered_dph);
         }
         l
