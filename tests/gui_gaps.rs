@@ -191,7 +191,10 @@ fn the_corrected_drift_is_drawn_where_the_rates_have_their_history() {
     for r in ready {
         for i in (r.start + w..r.end - w).step_by(997) {
             let (drawn, engine) = (f.lods.cor_filtered_dph[i], judged.cor_filtered_dph[i]);
-            assert!((drawn - engine).abs() < 1e-9, "sample {i}: {drawn} vs {engine}");
+            assert!(
+                (drawn - engine).abs() < 1e-9,
+                "sample {i}: {drawn} vs {engine}"
+            );
         }
     }
     // At a stretch's start the window holds none of the samples before it.

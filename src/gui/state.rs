@@ -229,7 +229,6 @@ impl AppState {
                 path: std::path::absolute(&l.path).unwrap_or_else(|_| l.path.clone()),
                 read: l.options.read.clone(),
                 bin_s: l.options.bin_s,
-                ..LogRef::default()
             })
         };
         Session {

@@ -258,7 +258,7 @@ impl TimeView {
                                         scale.div,
                                         t_full,
                                     )
-                                    .color(Palette::shade(pal.raw, 0.30))
+                                    .color(Palette::shade(pal.raw, 0.55))
                                     .width(1.0)
                                     .no_y_bounds(),
                                 );
@@ -333,7 +333,7 @@ impl TimeView {
                                         scale.div,
                                         t_full,
                                     )
-                                    .color(Palette::shade(pal.temp, 0.35))
+                                    .color(Palette::shade(pal.temp, 0.5))
                                     .width(1.0)
                                     .no_y_bounds(),
                                 );
