@@ -62,7 +62,8 @@ pub struct GuiArgs {
     /// Log (or saved session .json) to open (default: sample_logs/calibration.csv when
     /// present). The import view shows first when a column is ambiguous or implausible.
     pub log: Option<std::path::PathBuf>,
-    /// Render the loaded, calibrated workbench, save the window as PNG here and exit.
+    /// Render the workbench once the log is loaded and calibrated (or the calibration has
+    /// failed, with its message), save the window as PNG here and exit.
     #[arg(long, value_name = "PNG")]
     pub screenshot: Option<std::path::PathBuf>,
     /// How to read the log (a session keeps its own mapping).
@@ -101,6 +102,7 @@ fn gui(a: GuiArgs) -> Result<(), String> {
         log: a.log,
         screenshot: a.screenshot,
         read,
+        bin_s: a.log_args.bin,
     })
 }
 

@@ -26,7 +26,7 @@ pub const FORMAT: &str = "driftlab-session";
 pub const VERSION: u32 = 1;
 
 /// A log and how to read it.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct LogRef {
     /// The file (relative paths are relative to the session file's folder).
@@ -34,6 +34,10 @@ pub struct LogRef {
     /// The column mapping, units and dialect the engineer chose in the import view.
     #[serde(default)]
     pub read: ReadOptions,
+    /// Bins of this many seconds the log is averaged into after the read (`--bin`); absent:
+    /// a log written in bursts is reduced to one sample per burst, any other used as read.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub bin_s: Option<f64>,
 }
 
 /// Knot values set by hand, per coefficient: the whole list of knot values of a
@@ -246,7 +250,7 @@ impl Session {
                     .strip_prefix(dir)
                     .map(Path::to_path_buf)
                     .unwrap_or_else(|_| r.path.clone()),
-                read: r.read.clone(),
+                ..r.clone()
             })
         };
         Session {

@@ -1,10 +1,13 @@
 //! The workbench window: its state, its pages and the frame that draws them. It holds no
 //! calculation: choices go to the worker as refit requests, results come back and are drawn.
 //!
-//! The rest of the window, one file a concern: [`layout`] (menus, status bar, controls and
-//! modals), [`actions`] (what the engineer asks for, and the unsaved-work question),
-//! [`results`] (what the worker is asked and what its answers change), [`files`] (what is
-//! written and opened) and [`screenshot`] (PNG of the window, and the `--screenshot` mode).
+//! Each frame the views draw what the application data holds and return what the engineer
+//! asked for ([`Action`]); the window carries the actions out once every view has drawn.
+//! The rest of the window, one file a concern: `layout` (menus, status bar, the panels of
+//! the Calibration page and modals), `actions` (carrying out what the engineer asks for,
+//! and the unsaved-work question), `results` (what the worker is asked and what its answers
+//! change), `files` (what is written and opened) and `screenshot` (PNG of the window, and
+//! the `--screenshot` mode).
 
 mod actions;
 mod files;
@@ -12,221 +15,116 @@ mod layout;
 mod results;
 mod screenshot;
 
-use screenshot::{AutoShot, PendingShot, Shot};
+use screenshot::{AutoShot, PendingShot, Shots};
 
+use super::action::{Action, Page, shortcuts};
 use super::autosave::{Autosave, LeftBehind};
 use super::dialogs::FileDialogs;
 use super::export;
-use super::jobs::{JobResult, Jobs, Target};
+use super::jobs::LoadOptions;
+use super::jobs::{JobResult, Jobs, Loaded, Target};
 use super::plot_items::num;
 use super::settings::{Settings, ThemeChoice, WindowGeometry};
 use super::state::{AppState, Choices, Severity};
 use super::view_allan::AllanPage;
-use super::view_coeffs::{CoeffView, Pair};
-use super::view_import::{ImportDecision, ImportView};
+use super::view_coeffs::CoeffView;
+use super::view_controls::{ControlsView, PlateauFocus};
+use super::view_figures::FiguresView;
+use super::view_import::{ImportView, ReadWarning};
 use super::view_models::ModelsView;
-use super::view_plateaus::PlateauView;
 use super::view_result::ResultView;
 use super::view_time::{TimeView, XCommand};
+use super::widgets::file_name;
 use crate::files::session::{self, Session};
-use crate::log::ingest::ReadOptions;
-use crate::models::recipe::Weighting;
 use eframe::egui::{
-    self, Align, Color32, ColorImage, Key, KeyboardShortcut, Layout, Modifiers, Panel, Rect,
-    RichText, ScrollArea, Ui, ViewportCommand,
+    self, Align, Color32, ColorImage, Key, KeyboardShortcut, Layout, Panel, Rect, RichText,
+    ScrollArea, Ui, ViewportCommand,
 };
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
-use std::sync::mpsc::{Receiver, Sender};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
-/// Something the engineer asked for, from a menu, a shortcut, a button or a view.
-#[derive(Debug, Clone, PartialEq)]
-pub enum Action {
-    /// Pick a log to open (import view next).
-    OpenLog,
-    /// Open this log (import view next).
-    OpenLogPath(PathBuf),
-    /// Pick a validation log.
-    OpenValidation,
-    /// Forget the validation log.
-    CloseValidation,
-    /// Pick a session to open.
-    OpenSession,
-    /// Open this session.
-    OpenSessionPath(PathBuf),
-    /// Save the session (asking where the first time).
-    SaveSession,
-    /// Save the session under a new name.
-    SaveSessionAs,
-    /// Write the calibration file.
-    ExportCalibration,
-    /// Write the calibration as a flight controller's parameter file (PX4, ArduPilot).
-    ExportFlight(crate::export::firmware::Format),
-    /// Write the corrected log.
-    ExportCsv,
-    /// Write the test report (figures and an HTML page) into a folder.
-    ExportReport,
-    /// Save the window as PNG.
-    Screenshot,
-    /// Save one plot (by name) as PNG, cropped to this rectangle.
-    SavePlot(String, Rect),
-    /// Save one plot (by name) as PNG, at its last known rectangle.
-    SavePlotNamed(String),
-    /// Where a plot was drawn this frame (for [`Action::SavePlotNamed`]).
-    PlotRect(String, Rect),
-    /// Undo the last change of choices.
-    Undo,
-    /// Redo.
-    Redo,
-    /// Fill the plateau table from the detector.
-    SuggestPlateaus,
-    /// Every choice back to the defaults.
-    ResetRecipe,
-    /// Close the workbench.
-    Quit,
-    /// Change the theme.
-    Theme(ThemeChoice),
-    /// Show a page of the workbench.
-    ShowPage(Page),
-    /// Fit and judge the models ticked on the Models page (in the background).
-    CompareModels,
-    /// Write the model chosen on the Models page as a calibration file.
-    ExportModel,
-    /// Reopen the import view on the loaded log (or the validation log) to change its
-    /// column mapping, units or format.
-    ColumnMapping(Target),
-}
-
-/// The pages of the workbench.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum Page {
-    /// The Vakhrameev calibration: time plots, plateaus, coefficients, result.
-    #[default]
-    Calibration,
-    /// Several models side by side.
-    Models,
-    /// Allan deviation, raw and corrected.
-    Allan,
-}
-
-impl Page {
-    /// Every page, in tab order.
-    pub const ALL: [Page; 3] = [Page::Calibration, Page::Models, Page::Allan];
-
-    /// The tab's title.
-    pub fn title(self) -> &'static str {
-        match self {
-            Page::Calibration => "Calibration",
-            Page::Models => "Models",
-            Page::Allan => "Allan deviation",
-        }
-    }
-
-    /// The page named `name` (`calibration`, `models`, `allan`), for the command line and
-    /// the environment.
-    pub fn from_name(name: &str) -> Option<Page> {
-        match name.trim().to_ascii_lowercase().as_str() {
-            "calibration" | "main" => Some(Page::Calibration),
-            "models" => Some(Page::Models),
-            "allan" => Some(Page::Allan),
-            _ => None,
-        }
-    }
-
-    fn shortcut(self) -> KeyboardShortcut {
-        match self {
-            Page::Calibration => SC_PAGE1,
-            Page::Models => SC_PAGE2,
-            Page::Allan => SC_PAGE3,
-        }
-    }
-
-    fn tip(self) -> &'static str {
-        match self {
-            Page::Calibration => {
-                "The Vakhrameev calibration: time plots, plateaus, K0/K1±/K2±, the result"
-            }
-            Page::Models => {
-                "The models of the papers and a custom one side by side, in-sample and held out; \
-                 export any of them"
-            }
-            Page::Allan => {
-                "Allan deviation of the raw and the corrected rate, with ARW, bias \
-                 instability and RRW"
-            }
-        }
-    }
-}
-
-const SC_OPEN: KeyboardShortcut = KeyboardShortcut::new(Modifiers::COMMAND, Key::O);
-const SC_OPEN_SESSION: KeyboardShortcut =
-    KeyboardShortcut::new(Modifiers::COMMAND.plus(Modifiers::SHIFT), Key::O);
-const SC_SAVE: KeyboardShortcut = KeyboardShortcut::new(Modifiers::COMMAND, Key::S);
-const SC_SHOT: KeyboardShortcut =
-    KeyboardShortcut::new(Modifiers::COMMAND.plus(Modifiers::SHIFT), Key::S);
-const SC_SHOT_F12: KeyboardShortcut = KeyboardShortcut::new(Modifiers::NONE, Key::F12);
-const SC_EXPORT: KeyboardShortcut = KeyboardShortcut::new(Modifiers::COMMAND, Key::E);
-const SC_EXPORT_CSV: KeyboardShortcut =
-    KeyboardShortcut::new(Modifiers::COMMAND.plus(Modifiers::SHIFT), Key::E);
-const SC_UNDO: KeyboardShortcut = KeyboardShortcut::new(Modifiers::COMMAND, Key::Z);
-const SC_REDO: KeyboardShortcut = KeyboardShortcut::new(Modifiers::COMMAND, Key::Y);
-const SC_REDO2: KeyboardShortcut =
-    KeyboardShortcut::new(Modifiers::COMMAND.plus(Modifiers::SHIFT), Key::Z);
-const SC_QUIT: KeyboardShortcut = KeyboardShortcut::new(Modifiers::COMMAND, Key::Q);
-const SC_PAGE1: KeyboardShortcut = KeyboardShortcut::new(Modifiers::COMMAND, Key::Num1);
-const SC_PAGE2: KeyboardShortcut = KeyboardShortcut::new(Modifiers::COMMAND, Key::Num2);
-const SC_PAGE3: KeyboardShortcut = KeyboardShortcut::new(Modifiers::COMMAND, Key::Num3);
-const SC_COMPARE: KeyboardShortcut = KeyboardShortcut::new(Modifiers::NONE, Key::F5);
-
-/// The workbench: application data, views, workers.
+/// The workbench: the application data, and the parts of the window that show it and act on
+/// it.
 pub struct Workbench {
     /// The application data.
     pub state: AppState,
+    /// The workers (reading, refitting, comparing, exporting).
     jobs: Jobs,
-    dialogs: Box<dyn FileDialogs>,
-    settings: Settings,
-    settings_path: Option<PathBuf>,
+    /// The views and the page shown.
+    views: Views,
+    /// What shows over the page and asks the engineer something.
+    modals: Modals,
+    /// The window itself: what it remembers, its theme and title, where it drew what.
+    window: Window,
+    /// A session on its way in, while its log is read.
+    opening: Opening,
+    /// Unsaved work kept on disk, and the work an earlier workbench left behind.
+    recovery: Recovery,
+    /// Pictures of the window: asked for, on their way, and the `--screenshot` mode.
+    shots: Shots,
+}
+
+/// The views of the pages, each with its own view state (zoom, drag, selection).
+#[derive(Default)]
+struct Views {
+    page: Page,
     time: TimeView,
-    plateaus: PlateauView,
+    controls: ControlsView,
     coeffs: CoeffView,
     result: ResultView,
-    import: Option<ImportView>,
-    /// The window title last sent.
-    title: Option<String>,
-    /// Height of the coefficient panel's rows other than its three plots, last frame.
-    coeff_overhead: Option<f32>,
-    /// The workbench's own file dialog, open, with what the path is for.
-    file_dialog: Option<(super::file_dialog::FileDialog, files::Purpose)>,
-    confirm: Option<Action>,
-    error: Option<String>,
-    pending_session: Option<(PathBuf, Session)>,
-    /// A session's validation log on its way: whether the session showed it.
-    restoring_validation: Option<bool>,
-    plot_rects: HashMap<String, Rect>,
-    /// Where each panel of the Calibration page was drawn last frame.
-    panel_rects: HashMap<&'static str, Rect>,
-    last_request: Option<(Choices, usize, usize)>,
-    pending_shot: Option<PendingShot>,
-    shot_tx: Sender<Shot>,
-    shot_rx: Receiver<Shot>,
-    auto: Option<AutoShot>,
-    quitting: bool,
-    theme_applied: Option<ThemeChoice>,
-    show_help: bool,
-    autosave: Autosave,
-    /// Work an earlier workbench left behind, offered back until answered.
-    recover: Option<LeftBehind>,
-    /// The session being opened is autosaved work: it stays unsaved, with no session file.
-    restoring_autosave: bool,
-    page: Page,
+    figures: FiguresView,
     models: ModelsView,
     allan: AllanPage,
 }
 
-fn arc_addr<T>(a: &Arc<T>) -> usize {
-    Arc::as_ptr(a) as usize
+/// What shows over the page: the import view, the file dialogs, the unsaved-work question,
+/// an error, the help.
+struct Modals {
+    /// The file dialogs of the desktop (or none, and the workbench's own then).
+    dialogs: Box<dyn FileDialogs>,
+    import: Option<ImportView>,
+    /// The workbench's own file dialog, open, with what the path is for.
+    file_dialog: Option<(super::file_dialog::FileDialog, files::Purpose)>,
+    /// An action waiting for the answer to "Unsaved work".
+    confirm: Option<Action>,
+    error: Option<String>,
+    help: bool,
+}
+
+/// The window: its remembered settings, theme and title, and where it drew what last frame.
+struct Window {
+    settings: Settings,
+    /// Where the settings are saved back (none in tests and screenshots).
+    settings_path: Option<PathBuf>,
+    theme_applied: Option<ThemeChoice>,
+    /// The window title last sent.
+    title: Option<String>,
+    /// The window is closing cleanly (nothing left to recover).
+    quitting: bool,
+    /// Where each plot was drawn last frame (for saving one as PNG, and tests).
+    plot_rects: HashMap<String, Rect>,
+    /// Where each panel of the Calibration page was drawn last frame.
+    panel_rects: HashMap<&'static str, Rect>,
+}
+
+/// A session being opened: its log is read first, then the rest of it is restored.
+#[derive(Default)]
+struct Opening {
+    /// The session file and what it holds.
+    session: Option<(PathBuf, Session)>,
+    /// A session's validation log on its way: whether the session showed it.
+    validation_shown: Option<bool>,
+    /// The session being opened is autosaved work: it stays unsaved, with no session file.
+    autosaved: bool,
+}
+
+/// Unsaved work written to disk every few seconds, and work left behind offered back.
+struct Recovery {
+    autosave: Autosave,
+    /// Work an earlier workbench left behind, offered back until answered.
+    offered: Option<LeftBehind>,
 }
 
 impl Workbench {
@@ -237,43 +135,32 @@ impl Workbench {
         settings_path: Option<PathBuf>,
         dialogs: Box<dyn FileDialogs>,
     ) -> Workbench {
-        let (shot_tx, shot_rx) = std::sync::mpsc::channel();
         let autosave = Autosave::new(settings_path.as_deref().map(Autosave::path_beside));
-        let recover = autosave.left_behind();
+        let offered = autosave.left_behind();
         Workbench {
             state: AppState::default(),
             jobs: Jobs::new(),
-            dialogs,
-            settings,
-            settings_path,
-            time: TimeView::default(),
-            plateaus: PlateauView,
-            coeffs: CoeffView::default(),
-            result: ResultView,
-            import: None,
-            file_dialog: None,
-            coeff_overhead: None,
-            title: None,
-            confirm: None,
-            error: None,
-            pending_session: None,
-            restoring_validation: None,
-            plot_rects: HashMap::new(),
-            panel_rects: HashMap::new(),
-            last_request: None,
-            pending_shot: None,
-            shot_tx,
-            shot_rx,
-            auto: None,
-            quitting: false,
-            theme_applied: None,
-            show_help: false,
-            autosave,
-            recover,
-            restoring_autosave: false,
-            page: Page::Calibration,
-            models: ModelsView::default(),
-            allan: AllanPage::default(),
+            views: Views::default(),
+            modals: Modals {
+                dialogs,
+                import: None,
+                file_dialog: None,
+                confirm: None,
+                error: None,
+                help: false,
+            },
+            window: Window {
+                settings,
+                settings_path,
+                theme_applied: None,
+                title: None,
+                quitting: false,
+                plot_rects: HashMap::new(),
+                panel_rects: HashMap::new(),
+            },
+            opening: Opening::default(),
+            recovery: Recovery { autosave, offered },
+            shots: Shots::new(),
         }
     }
 
@@ -298,7 +185,7 @@ impl Workbench {
         );
         wb.start_load(
             log.to_path_buf(),
-            ReadOptions::default(),
+            LoadOptions::default(),
             Target::Calibration,
         );
         wb.wait_for_jobs();
@@ -319,7 +206,7 @@ impl Workbench {
 
     /// Replaces the file dialogs (tests inject [`super::dialogs::ScriptedDialogs`]).
     pub fn set_dialogs(&mut self, dialogs: Box<dyn FileDialogs>) {
-        self.dialogs = dialogs;
+        self.modals.dialogs = dialogs;
     }
 
     /// Sends the refit the current choices need, if not sent yet, then waits until every
@@ -348,29 +235,29 @@ impl Workbench {
 
     /// The import view, when open (tests read its preview and press its buttons).
     pub fn import_view(&mut self) -> Option<&mut ImportView> {
-        self.import.as_mut()
+        self.modals.import.as_mut()
     }
 
     /// Where a plot (`time_omega`, `time_temp`, `time_tdot`, `time_tddot`, `k0`, `k1`, `k2`,
     /// `result`) was drawn last frame.
     pub fn plot_rect(&self, name: &str) -> Option<Rect> {
-        self.plot_rects.get(name).copied()
+        self.window.plot_rects.get(name).copied()
     }
 
     /// Where a panel of the Calibration page (`controls`, `coefficients`, `central`) was drawn
     /// last frame.
     pub fn panel_rect(&self, name: &str) -> Option<Rect> {
-        self.panel_rects.get(name).copied()
+        self.window.panel_rects.get(name).copied()
     }
 
     /// The time range the time plots show, s (as drawn last frame).
     pub fn visible_time_s(&self) -> Option<(f64, f64)> {
-        self.time.visible_s
+        self.views.time.visible_s
     }
 
     /// Screen x of time `t_s` on the time plots as drawn last frame (tests aim the mouse).
     pub fn time_plot_x(&self, t_s: f64) -> Option<f32> {
-        self.time.screen_x(t_s)
+        self.views.time.screen_x(t_s)
     }
 
     /// Where knot `j` of a K1/K2 coefficient is on screen (tests aim the mouse).
@@ -379,22 +266,22 @@ impl Workbench {
         c: crate::files::session::Coefficient,
         j: usize,
     ) -> Option<egui::Pos2> {
-        self.coeffs.knot_pos(&self.state, c, j)
+        self.views.coeffs.knot_pos(&self.state, c, j)
     }
 
     /// The page shown.
     pub fn page(&self) -> Page {
-        self.page
+        self.views.page
     }
 
     /// Shows a page.
     pub fn set_page(&mut self, page: Page) {
-        self.page = page;
+        self.views.page = page;
     }
 
     /// The Models page's choices and selection (tests and scripts set them).
     pub fn models_view(&mut self) -> &mut ModelsView {
-        &mut self.models
+        &mut self.views.models
     }
 
     /// Runs an action as if chosen from the menu.
@@ -405,8 +292,8 @@ impl Workbench {
     /// Opens a log as the command line does: read with `read` at once, unless `ask_when_unsure`
     /// and its columns need a look (no header, two candidates for a role, implausible values,
     /// no mapping): then the import view shows first.
-    pub fn open_log(&mut self, path: PathBuf, read: ReadOptions, ask_when_unsure: bool) {
-        let view = ImportView::new(path.clone(), Target::Calibration, read.clone());
+    pub fn open_log(&mut self, path: PathBuf, options: LoadOptions, ask_when_unsure: bool) {
+        let view = ImportView::new(path.clone(), Target::Calibration, options.clone());
         if ask_when_unsure && view.needs_a_look() {
             self.state.say(
                 Severity::Warning,
@@ -415,17 +302,17 @@ impl Workbench {
                     file_name(&path)
                 ),
             );
-            self.import = Some(view);
+            self.modals.import = Some(view);
         } else {
-            self.start_load(path, read, Target::Calibration);
+            self.start_load(path, options, Target::Calibration);
         }
     }
 
     /// Starts reading a log (no import view: the options are given).
-    pub fn start_load(&mut self, path: PathBuf, read: ReadOptions, target: Target) {
+    pub fn start_load(&mut self, path: PathBuf, options: LoadOptions, target: Target) {
         self.state
             .say(Severity::Info, format!("Reading {} …", file_name(&path)));
-        self.jobs.load(path, read, target);
+        self.jobs.load(path, options, target);
     }
 
     /// The whole window, for one frame.
@@ -444,29 +331,28 @@ impl Workbench {
         Panel::top("menu").show(ui, |ui| self.menu_bar(ui, &mut actions));
         Panel::top("pages").show(ui, |ui| self.page_tabs(ui, &mut actions));
         Panel::bottom("status").show(ui, |ui| self.status_bar(ui));
-        match self.page {
+        match self.views.page {
             Page::Calibration => self.calibration_page(ui, &mut actions),
             Page::Models => {
                 let running = self.jobs.comparing.clone();
-                self.models
-                    .ui(ui, &self.state, running.as_ref(), &mut actions);
+                actions.extend(self.views.models.ui(ui, &self.state, running.as_ref()));
             }
             Page::Allan => {
-                if let Some(key) = self.allan.wanted(&self.state)
+                if let Some(key) = self.views.allan.wanted(&self.state)
                     && self.state.allan.as_ref().is_none_or(|a| a.key != key)
                     && self.jobs.allan != Some(key)
                 {
                     self.request_allan(key);
                 }
                 let running = self.jobs.allan.is_some();
-                self.allan.ui(ui, &self.state, running, &mut actions);
+                actions.extend(self.views.allan.ui(ui, &self.state, running));
             }
         }
-        for (name, rect) in &self.time.rects {
-            self.plot_rects.insert((*name).to_string(), *rect);
+        for (name, rect) in &self.views.time.rects {
+            self.window.plot_rects.insert((*name).to_string(), *rect);
         }
 
-        self.modals(&ctx, &mut actions);
+        self.modals(ui, &mut actions);
         for a in actions {
             self.run_action(&ctx, a);
         }
@@ -474,9 +360,9 @@ impl Workbench {
         self.state.history.observe(&self.state.choices, settled);
         self.state.forget_stale_status();
         self.refit_if_needed();
-        if self.auto.is_none() {
-            self.autosave.tick(&self.state);
-            if let Some(e) = self.autosave.error.take() {
+        if self.shots.auto.is_none() {
+            self.recovery.autosave.tick(&self.state);
+            if let Some(e) = self.recovery.autosave.error.take() {
                 self.state
                     .say(Severity::Warning, format!("Autosave failed: {e}"));
             }
@@ -498,12 +384,15 @@ impl Workbench {
     }
 
     fn calibration_page(&mut self, ui: &mut Ui, actions: &mut Vec<Action>) {
+        if self.state.validation.is_none() {
+            self.state.view.show_validation = false;
+        }
         Panel::top("banner")
             .resizable(false)
             .show(ui, |ui| self.banner(ui));
-        Panel::bottom("figures")
-            .resizable(false)
-            .show(ui, |ui| ResultView::figures(ui, &self.state));
+        Panel::bottom("figures").resizable(false).show(ui, |ui| {
+            actions.extend(self.views.figures.ui(ui, &self.state))
+        });
         // Side panels keep the width they are given (their contents fill it, whatever they
         // are): an egui panel otherwise takes its contents' width, so a narrow first frame
         // (the log still loading) or a wider row (a button appearing) would change it.
@@ -515,18 +404,24 @@ impl Workbench {
                     .auto_shrink([false, false])
                     .show(ui, |ui| {
                         ui.set_min_width(ui.available_width());
-                        self.controls(ui, actions)
+                        let focus = PlateauFocus {
+                            visible_s: self.views.time.visible_s,
+                            selected: self.views.time.selected,
+                        };
+                        actions.extend(self.views.controls.ui(ui, &self.state, focus));
                     });
             });
-        self.panel_rects.insert("controls", r.response.rect);
+        self.window.panel_rects.insert("controls", r.response.rect);
         let r = Panel::right("coefficients")
             .default_size(470.0)
             .size_range(320.0..=800.0)
             .show(ui, |ui| {
                 ui.set_min_width(ui.available_width());
-                self.coefficient_panel(ui, actions)
+                actions.extend(self.views.coeffs.ui(ui, &self.state));
             });
-        self.panel_rects.insert("coefficients", r.response.rect);
+        self.window
+            .panel_rects
+            .insert("coefficients", r.response.rect);
         let r = egui::CentralPanel::default().show(ui, |ui| {
             if self.state.log.is_none() {
                 self.welcome(ui, actions);
@@ -535,12 +430,13 @@ impl Workbench {
             let h = ui.available_height();
             let time_h = (h * 0.66).max(240.0);
             ui.allocate_ui(egui::vec2(ui.available_width(), time_h), |ui| {
-                self.time.ui(ui, &mut self.state, actions);
+                actions.extend(self.views.time.ui(ui, &self.state));
             });
+            self.state.view.time_range_s = self.views.time.visible_s.map(|(a, b)| [a, b]);
             ui.separator();
-            self.result.ui(ui, &mut self.state, actions);
+            actions.extend(self.views.result.ui(ui, &self.state));
         });
-        self.panel_rects.insert("central", r.response.rect);
+        self.window.panel_rects.insert("central", r.response.rect);
     }
 
     fn page_tabs(&mut self, ui: &mut Ui, actions: &mut Vec<Action>) {
@@ -548,7 +444,7 @@ impl Workbench {
         ui.horizontal(|ui| {
             for p in Page::ALL {
                 if ui
-                    .selectable_label(self.page == p, RichText::new(p.title()).size(15.0))
+                    .selectable_label(self.views.page == p, RichText::new(p.title()).size(15.0))
                     .on_hover_text(format!(
                         "{} ({})",
                         p.tip(),
@@ -569,44 +465,44 @@ impl Workbench {
     }
 
     fn apply_theme(&mut self, ctx: &egui::Context) {
-        if self.theme_applied != Some(self.settings.theme) {
-            ctx.set_theme(match self.settings.theme {
+        if self.window.theme_applied != Some(self.window.settings.theme) {
+            ctx.set_theme(match self.window.settings.theme {
                 ThemeChoice::System => egui::ThemePreference::System,
                 ThemeChoice::Light => egui::ThemePreference::Light,
                 ThemeChoice::Dark => egui::ThemePreference::Dark,
             });
-            self.theme_applied = Some(self.settings.theme);
+            self.window.theme_applied = Some(self.window.settings.theme);
         }
     }
 
     /// Opens the autosaved work (see [`Workbench::recovery`]).
     pub fn restore_autosave(&mut self) {
-        if let Some(left) = self.recover.take() {
-            self.restoring_autosave = true;
+        if let Some(left) = self.recovery.offered.take() {
+            self.opening.autosaved = true;
             self.open_session(left.path);
         }
     }
 
     /// Work left behind by an earlier workbench, while it is being offered back.
     pub fn recovery(&self) -> Option<&LeftBehind> {
-        self.recover.as_ref()
+        self.recovery.offered.as_ref()
     }
 
     /// Writes the autosave file now and waits for it (tests).
     pub fn autosave_now(&mut self) {
-        self.autosave.save_now(&self.state);
-        self.autosave.flush();
+        self.recovery.autosave.save_now(&self.state);
+        self.recovery.autosave.flush();
     }
 
     /// The window closes cleanly: settings written, nothing left to recover.
     pub fn close_cleanly(&mut self) {
-        self.quitting = true;
+        self.window.quitting = true;
         self.save_settings();
     }
 
     /// Where this workbench autosaves, when it does.
     pub fn autosave_path(&self) -> Option<&Path> {
-        self.autosave.path()
+        self.recovery.autosave.path()
     }
 
     /// The window's title names the log and says when its calibration is ready (scripts
@@ -625,14 +521,14 @@ impl Workbench {
                 }
             ),
         };
-        if self.title.as_deref() != Some(title.as_str()) {
+        if self.window.title.as_deref() != Some(title.as_str()) {
             ctx.send_viewport_cmd(ViewportCommand::Title(title.clone()));
-            self.title = Some(title);
+            self.window.title = Some(title);
         }
     }
 
     fn remember_window(&mut self, ctx: &egui::Context) {
-        if self.auto.is_some() {
+        if self.shots.auto.is_some() {
             return;
         }
         let (inner, outer, maximized) = ctx.input(|i| {
@@ -648,23 +544,23 @@ impl Workbench {
                 maximized,
             };
             if maximized {
-                if let Some(w) = &mut self.settings.window {
+                if let Some(w) = &mut self.window.settings.window {
                     w.maximized = true;
                 }
             } else {
-                self.settings.window = Some(g);
+                self.window.settings.window = Some(g);
             }
         }
     }
 
     /// Writes the remembered settings (theme, recent files, window).
     pub fn save_settings(&mut self) {
-        if self.quitting {
+        if self.window.quitting {
             // A clean close: nothing is left to recover at the next start.
-            self.autosave.clear();
+            self.recovery.autosave.clear();
         }
-        if let Some(p) = &self.settings_path
-            && let Err(e) = self.settings.save(p)
+        if let Some(p) = &self.window.settings_path
+            && let Err(e) = self.window.settings.save(p)
         {
             eprintln!("warning: could not save the workbench settings: {e}");
         }
@@ -693,32 +589,9 @@ impl Workbench {
                     .on_hover_text(s.display().to_string())
                     .clicked()
             {
-                self.start_load(s, ReadOptions::default(), Target::Calibration);
+                self.start_load(s, LoadOptions::default(), Target::Calibration);
             }
         });
-    }
-
-    fn coefficient_panel(&mut self, ui: &mut Ui, actions: &mut Vec<Action>) {
-        if self.state.log.is_none() {
-            ui.weak("K0, K1± and K2± appear here once a log is loaded.");
-            return;
-        }
-        // The three plots share what their control rows leave, as measured last frame (rows
-        // wrap when the panel is narrow, rather than widening it).
-        let top = ui.cursor().top();
-        let h = ui.available_height();
-        let row = ui.spacing().interact_size.y + ui.spacing().item_spacing.y;
-        let overhead = self.coeff_overhead.unwrap_or(11.0 * row + 30.0);
-        let plot_h = ((h - overhead) / 3.0).max(90.0).floor();
-        self.plateaus.k0_plot(ui, &mut self.state, plot_h, actions);
-        ui.separator();
-        self.coeffs
-            .ui(ui, &mut self.state, Pair::K1, plot_h, actions);
-        ui.separator();
-        self.coeffs
-            .ui(ui, &mut self.state, Pair::K2, plot_h, actions);
-        let used = ui.cursor().top() - top;
-        self.coeff_overhead = Some((used - 3.0 * plot_h).max(0.0));
     }
 }
 
@@ -728,7 +601,7 @@ impl eframe::App for Workbench {
     }
 
     fn raw_input_hook(&mut self, _ctx: &egui::Context, raw_input: &mut egui::RawInput) {
-        if self.auto.is_some() {
+        if self.shots.auto.is_some() {
             // A picture for reports: no pointer hovering anything, whatever the X server's
             // pointer does.
             raw_input.events.retain(|e| {
@@ -744,17 +617,10 @@ impl eframe::App for Workbench {
     }
 
     fn on_exit(&mut self, _gl: Option<&eframe::glow::Context>) {
-        if self.auto.is_none() {
+        if self.shots.auto.is_none() {
             self.save_settings();
         }
     }
-}
-
-/// A file's name for short messages (the full path is in tooltips).
-fn file_name(p: &Path) -> String {
-    p.file_name()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_else(|| p.display().to_string())
 }
 
 fn is_json(p: &Path) -> bool {
@@ -784,7 +650,7 @@ pub(super) fn set_auto_screenshot(
     path: PathBuf,
     result: Arc<Mutex<Option<Result<(), String>>>>,
 ) {
-    wb.auto = Some(AutoShot {
+    wb.shots.auto = Some(AutoShot {
         path,
         settled: 0,
         requested: false,

@@ -1,20 +1,71 @@
 //! The desktop workbench (eframe/egui): a face over the engine that holds no calculation.
 //!
-//! * [`app`]: the window — menus, shortcuts, layout, job results, unsaved-work questions,
-//!   screenshots;
+//! From the bottom up:
+//! * [`action`]: what the engineer can ask for ([`Action`], with [`action::Edit`] for a change
+//!   of choices) and the pages ([`Page`]); it names only engine types, so every view can use
+//!   it without importing the window;
 //! * [`state`]: the application data in one plain struct (logs, choices, newest fit, undo);
 //! * [`jobs`]: reading logs, refitting (newest request wins) and exports on worker threads;
-//! * one file per view: [`view_import`], [`view_time`], [`view_plateaus`], [`view_coeffs`],
-//!   [`view_result`] (the Calibration page), [`view_models`] (the Models page: presets and a
-//!   custom model side by side, their export) and [`view_allan`] (the Allan page);
-//! * [`plot_items`]: plot items drawn from level-of-detail data ([`crate::signal::lod`]);
+//!   [`same`]: the identity of a shared value, for their cache keys;
+//! * [`plot_items`]: plot items drawn from level-of-detail data ([`crate::signal::lod`]), and
+//!   the number formats; [`widgets`]: the widgets more than one view draws;
+//! * one module per view: [`view_import`], [`view_time`] (the run over time),
+//!   [`view_controls`] (the log, the signal settings and the plateau table), [`view_coeffs`]
+//!   (K0, K1±, K2±), [`view_result`] (the drift before and after), [`view_figures`] (the
+//!   figures of merit), [`view_models`] (the Models page) and [`view_allan`] (the Allan page);
 //! * [`export`], [`dialogs`] (which file dialog can appear), [`file_dialog`] (the workbench's
-//!   own, where no system dialog can), [`settings`].
+//!   own, where no system dialog can), [`settings`], [`autosave`];
+//! * [`app`]: the window, on top — menus, shortcuts, layout, job results, unsaved-work
+//!   questions, screenshots.
+//!
+//! # How a view is written
+//! A view is a struct that owns only its view state (zoom, a drag under way, a selection).
+//! It draws with one method,
+//!
+//! ```text
+//! fn ui(&mut self, ui: &mut egui::Ui, state: &AppState, /* what other views show */) -> Vec<Action>
+//! ```
+//!
+//! It reads what it shows from the application data by shared reference (plus, by value,
+//! what another view holds that it shows too, such as the time range on screen), never
+//! changes that data, and returns what the engineer asked for. A change of a choice is an
+//! [`Action::Edit`]; the window carries every action out once all views have drawn, so undo,
+//! the unsaved mark and the refit see each change in one place. A view that moves something
+//! under the pointer (a plateau edge, a knot) draws the value its action carries, so nothing
+//! lags a frame behind the mouse. Views never call into each other; what two of them draw
+//! lives in [`widgets`] or [`plot_items`]. Modal views (the import view) use the same method
+//! and show themselves over the window through `ui.ctx()`.
 //!
 //! Fitting is a pure function of (log, recipe, knots moved by hand), run by
 //! [`crate::live::Pipeline`] on the worker; a GUI edit changes the recipe and the next frame
 //! sends the refit.
+//!
+//! [`action`]: crate::gui::action
+//! [`Action`]: crate::gui::action::Action
+//! [`action::Edit`]: crate::gui::action::Edit
+//! [`Page`]: crate::gui::action::Page
+//! [`state`]: crate::gui::state
+//! [`jobs`]: crate::gui::jobs
+//! [`same`]: crate::gui::same
+//! [`plot_items`]: crate::gui::plot_items
+//! [`widgets`]: crate::gui::widgets
+//! [`view_import`]: crate::gui::view_import
+//! [`view_time`]: crate::gui::view_time
+//! [`view_controls`]: crate::gui::view_controls
+//! [`view_coeffs`]: crate::gui::view_coeffs
+//! [`view_result`]: crate::gui::view_result
+//! [`view_figures`]: crate::gui::view_figures
+//! [`view_models`]: crate::gui::view_models
+//! [`view_allan`]: crate::gui::view_allan
+//! [`export`]: crate::gui::export
+//! [`dialogs`]: crate::gui::dialogs
+//! [`file_dialog`]: crate::gui::file_dialog
+//! [`settings`]: crate::gui::settings
+//! [`autosave`]: crate::gui::autosave
+//! [`app`]: crate::gui::app
+//! [`Action::Edit`]: crate::gui::action::Action::Edit
 
+pub mod action;
 pub mod app;
 pub mod autosave;
 pub mod dialogs;
@@ -22,17 +73,21 @@ pub mod export;
 pub mod file_dialog;
 pub mod jobs;
 pub mod plot_items;
+pub mod same;
 pub mod settings;
 pub mod state;
 pub mod view_allan;
 pub mod view_coeffs;
+pub mod view_controls;
+pub mod view_figures;
 pub mod view_import;
 pub mod view_models;
-pub mod view_plateaus;
 pub mod view_result;
 pub mod view_time;
+pub mod widgets;
 
-pub use app::{Action, Page, Workbench, default_log};
+pub use action::{Action, Page};
+pub use app::{Workbench, default_log};
 pub use dialogs::{Answer, FileDialogs, FileKind, ScriptedDialogs, SystemDialogs};
 pub use jobs::Target;
 
@@ -53,6 +108,8 @@ pub struct GuiOptions {
     /// How to read the log (`--time-col`, `--rate-unit`, …): the import view starts from
     /// these, and the log is read with them when its columns need no look.
     pub read: crate::log::ingest::ReadOptions,
+    /// Average the log into bins of this many seconds once read (`--bin`).
+    pub bin_s: Option<f64>,
 }
 
 /// `1280x800` as points, when at least the window's smallest size.
@@ -89,8 +146,11 @@ pub fn run(options: GuiOptions) -> Result<(), String> {
     {
         return Err(format!("{}: no such file", l.display()));
     }
-    let read = options.read.clone();
-    if read != crate::log::ingest::ReadOptions::default()
+    let load = jobs::LoadOptions {
+        read: options.read.clone(),
+        bin_s: options.bin_s,
+    };
+    if load != jobs::LoadOptions::default()
         && log.as_ref().is_some_and(|p| {
             p.extension()
                 .is_some_and(|e| e.eq_ignore_ascii_case("json"))
@@ -98,8 +158,8 @@ pub fn run(options: GuiOptions) -> Result<(), String> {
     {
         return Err(
             "--time-col, --rate-col, --temp-col, --rate-unit, --time-unit, --sample-rate, \
-             --delimiter and --decimal-comma apply to a log: a session keeps the mapping it was \
-             saved with (open it, then File › Column mapping…)"
+             --delimiter, --decimal-comma and --bin apply to a log: a session keeps the mapping \
+             it was saved with (open it, then File › Column mapping…)"
                 .into(),
         );
     }
@@ -158,7 +218,7 @@ pub fn run(options: GuiOptions) -> Result<(), String> {
                 {
                     wb.open_session(p)
                 }
-                Some(p) => wb.open_log(p, read, shot.is_none()),
+                Some(p) => wb.open_log(p, load, shot.is_none()),
                 None => {}
             }
             if let Some(p) = page {

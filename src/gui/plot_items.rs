@@ -1,10 +1,11 @@
 //! Plot items drawn from level-of-detail data: a min/max band (or the raw samples when
-//! zoomed in), a decimated point cloud, and shaded time spans. None of them holds more than
-//! a few thousand points, whatever the log's length.
+//! zoomed in) broken at the log's gaps, a decimated point cloud, and shaded time spans. None
+//! of them holds more than a few thousand points, whatever the log's length.
 
-use crate::signal::lod::Band;
+use crate::log::Log;
+use crate::signal::lod::{self, Band, MinMaxPyramid};
 use eframe::egui::epaint::{BandPoint, BandShape};
-use eframe::egui::{self, Color32, Mesh, Pos2, Rangef, Rect, Shape, Stroke, Ui};
+use eframe::egui::{Color32, Mesh, Pos2, Rangef, Rect, Shape, Stroke, Ui};
 use egui_plot::{PlotBounds, PlotGeometry, PlotItem, PlotItemBase, PlotPoint, PlotTransform};
 use std::ops::RangeInclusive;
 
@@ -71,11 +72,115 @@ impl Palette {
     }
 }
 
+/// The stretches of time a log holds samples in: its segments between gaps (a logger
+/// outage, the pauses of a log written in bursts), each from its first sample to its last.
+/// Series are reduced segment by segment, so that nothing is drawn across a gap.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Segments {
+    /// First and last sample time of each segment, s, in order.
+    spans: Vec<(f64, f64)>,
+}
+
+impl Segments {
+    /// The segments of `log` ([`Log::timing`]).
+    pub fn of(log: &Log) -> Segments {
+        Segments::from_ranges(&log.time_s, &log.timing().segments)
+    }
+
+    /// The stretches of samples `ranges` (in order, within `time_s`): a log's segments, or
+    /// the samples whose rates have their full history (`Derivatives::ready`), outside which
+    /// a derivative or a correction is no reading.
+    pub fn from_ranges(time_s: &[f64], ranges: &[std::ops::Range<usize>]) -> Segments {
+        let spans = ranges
+            .iter()
+            .filter(|r| !r.is_empty() && r.end <= time_s.len())
+            .map(|r| (time_s[r.start], time_s[r.end - 1]))
+            .collect();
+        Segments { spans }
+    }
+
+    /// The gaps between segments: the last sample time before each, the first after, s.
+    pub fn gaps(&self) -> impl Iterator<Item = (f64, f64)> + '_ {
+        self.spans.windows(2).map(|w| (w[0].1, w[1].0))
+    }
+
+    /// Number of segments.
+    pub fn len(&self) -> usize {
+        self.spans.len()
+    }
+
+    /// True for a log without samples.
+    pub fn is_empty(&self) -> bool {
+        self.spans.is_empty()
+    }
+
+    /// `values` (sampled at `time_s`, with its pyramid) reduced over `[t0, t1]` to about
+    /// `columns` min/max columns, one band per visible segment: a band never joins two
+    /// segments. When more segments are visible than there are columns, they cannot be told
+    /// apart on screen: one band over the range, broken wherever a column holds no sample.
+    pub fn reduce(
+        &self,
+        time_s: &[f64],
+        values: &[f64],
+        pyramid: &MinMaxPyramid,
+        t0: f64,
+        t1: f64,
+        columns: usize,
+    ) -> Vec<Band> {
+        let visible: Vec<(f64, f64)> = self
+            .spans
+            .iter()
+            .copied()
+            .filter(|&(a, b)| b >= t0 && a <= t1)
+            .collect();
+        let columns = columns.max(1);
+        if visible.len() <= 1 && self.spans.len() <= 1 || visible.len() > columns {
+            return vec![lod::reduce(time_s, values, pyramid, t0, t1, columns)];
+        }
+        let span = (t1 - t0).max(f64::MIN_POSITIVE);
+        visible
+            .into_iter()
+            .map(|(s0, s1)| {
+                let (a, b) = (s0.max(t0), s1.min(t1));
+                if b <= a {
+                    // One sample in view (or a segment of one sample): the samples themselves.
+                    let (i, j) = lod::index_range(time_s, a, b);
+                    return Band {
+                        x: time_s[i..j].to_vec(),
+                        lo: values[i..j].to_vec(),
+                        hi: values[i..j].to_vec(),
+                        exact: true,
+                    };
+                }
+                let n = (((b - a) / span) * columns as f64).ceil().max(1.0) as usize;
+                let band = lod::reduce(time_s, values, pyramid, a, b, n);
+                if !band.exact {
+                    return band;
+                }
+                // The reduction adds a sample beyond each end so that a line runs to the
+                // plot's edges; beyond the segment's own ends that sample is across a gap.
+                let inside: Vec<usize> = (0..band.len())
+                    .filter(|&k| band.x[k] >= s0 && band.x[k] <= s1)
+                    .collect();
+                Band {
+                    x: inside.iter().map(|&k| band.x[k]).collect(),
+                    lo: inside.iter().map(|&k| band.lo[k]).collect(),
+                    hi: inside.iter().map(|&k| band.hi[k]).collect(),
+                    exact: true,
+                }
+            })
+            .collect()
+    }
+}
+
 /// A series reduced to one min/max column per pixel, drawn as a filled band; or, when zoomed
 /// in far enough that the reduction returned the samples themselves, as a line through them.
+/// Given one band per segment of the log ([`Segments::reduce`]), it leaves the gaps between
+/// them empty; a segment narrower than two columns (a short burst) is a vertical stroke from
+/// its least to its largest value, a lone sample a dot.
 pub struct BandItem {
     base: PlotItemBase,
-    band: Band,
+    bands: Vec<Band>,
     x_div: f64,
     color: Color32,
     width: f32,
@@ -86,18 +191,25 @@ impl BandItem {
     /// A band of `band` (x in seconds, shown divided by `x_div`); `x_full` is the x-range of
     /// the whole series (for "fit all"), the y-range is that of the visible columns.
     pub fn new(name: &str, band: Band, x_div: f64, x_full: (f64, f64)) -> BandItem {
+        BandItem::segmented(name, vec![band], x_div, x_full)
+    }
+
+    /// A band drawn in pieces, one per segment of the log, never joined across a gap.
+    pub fn segmented(name: &str, bands: Vec<Band>, x_div: f64, x_full: (f64, f64)) -> BandItem {
         let mut bounds = PlotBounds::NOTHING;
         if x_full.1 >= x_full.0 {
             bounds.extend_with_x(x_full.0 / x_div);
             bounds.extend_with_x(x_full.1 / x_div);
         }
-        if let Some((lo, hi)) = band.value_range() {
-            bounds.extend_with_y(lo);
-            bounds.extend_with_y(hi);
+        for band in &bands {
+            if let Some((lo, hi)) = band.value_range() {
+                bounds.extend_with_y(lo);
+                bounds.extend_with_y(hi);
+            }
         }
         BandItem {
             base: PlotItemBase::new(name.to_string()),
-            band,
+            bands,
             x_div,
             color: Color32::GRAY,
             width: 1.5,
@@ -131,45 +243,45 @@ impl BandItem {
 
 impl PlotItem for BandItem {
     fn shapes(&self, _ui: &Ui, transform: &PlotTransform, shapes: &mut Vec<Shape>) {
-        let b = &self.band;
         let stroke = Stroke::new(self.width, self.color);
-        let mut run_line: Vec<Pos2> = Vec::new();
-        let mut run_band: Vec<BandPoint> = Vec::new();
         let flush_line = |run: &mut Vec<Pos2>, shapes: &mut Vec<Shape>| {
-            if run.len() >= 2 {
-                shapes.push(Shape::line(std::mem::take(run), stroke));
-            } else {
-                run.clear();
+            match run.len() {
+                0 => {}
+                // A lone sample between gaps: a dot, or it would not show at all.
+                1 => shapes.push(Shape::circle_filled(
+                    run[0],
+                    self.width.max(1.5),
+                    self.color,
+                )),
+                _ => shapes.push(Shape::line(std::mem::take(run), stroke)),
             }
+            run.clear();
         };
         let flush_band = |run: &mut Vec<BandPoint>, shapes: &mut Vec<Shape>| {
-            if run.len() >= 2 {
-                shapes.push(BandShape::filled(std::mem::take(run), self.color).into());
-            } else {
-                run.clear();
+            match run.len() {
+                0 => {}
+                // One column between gaps (a burst): its range as a vertical stroke.
+                1 => {
+                    let (x, r) = (run[0].x, run[0].y);
+                    shapes.push(Shape::line_segment(
+                        [Pos2::new(x, r.min), Pos2::new(x, r.max)],
+                        Stroke::new(self.width.max(1.5), self.color),
+                    ));
+                }
+                _ => shapes.push(BandShape::filled(std::mem::take(run), self.color).into()),
             }
+            run.clear();
         };
-        for k in 0..b.len() {
-            let (x, lo, hi) = (b.x[k], b.lo[k], b.hi[k]);
-            if !(lo.is_finite() && hi.is_finite()) {
-                flush_line(&mut run_line, shapes);
-                flush_band(&mut run_band, shapes);
-                continue;
-            }
-            let px = transform.position_from_point_x(x / self.x_div);
-            if b.exact {
-                run_line.push(Pos2::new(px, transform.position_from_point_y(lo)));
-            } else {
-                let y0 = transform.position_from_point_y(lo);
-                let y1 = transform.position_from_point_y(hi);
-                let (top, bottom) = (y0.min(y1), y0.max(y1));
-                let mid = 0.5 * (top + bottom);
-                let half = (0.5 * (bottom - top)).max(0.5 * self.width);
-                run_band.push(BandPoint::new(px, Rangef::new(mid - half, mid + half)));
-            }
+        for b in &self.bands {
+            let mut run_line: Vec<Pos2> = Vec::new();
+            let mut run_band: Vec<BandPoint> = Vec::new();
+            self.band_shapes(b, transform, &mut run_line, &mut run_band, &mut |l, bd| {
+                flush_line(l, shapes);
+                flush_band(bd, shapes);
+            });
+            flush_line(&mut run_line, shapes);
+            flush_band(&mut run_band, shapes);
         }
-        flush_line(&mut run_line, shapes);
-        flush_band(&mut run_band, shapes);
     }
 
     fn initialize(&mut self, _x_range: RangeInclusive<f64>) {}
@@ -192,6 +304,37 @@ impl PlotItem for BandItem {
 
     fn base_mut(&mut self) -> &mut PlotItemBase {
         &mut self.base
+    }
+}
+
+impl BandItem {
+    /// The points of one band, as runs between non-finite values; `flush` draws a run.
+    fn band_shapes(
+        &self,
+        b: &Band,
+        transform: &PlotTransform,
+        run_line: &mut Vec<Pos2>,
+        run_band: &mut Vec<BandPoint>,
+        flush: &mut dyn FnMut(&mut Vec<Pos2>, &mut Vec<BandPoint>),
+    ) {
+        for k in 0..b.len() {
+            let (x, lo, hi) = (b.x[k], b.lo[k], b.hi[k]);
+            if !(lo.is_finite() && hi.is_finite()) {
+                flush(run_line, run_band);
+                continue;
+            }
+            let px = transform.position_from_point_x(x / self.x_div);
+            if b.exact {
+                run_line.push(Pos2::new(px, transform.position_from_point_y(lo)));
+            } else {
+                let y0 = transform.position_from_point_y(lo);
+                let y1 = transform.position_from_point_y(hi);
+                let (top, bottom) = (y0.min(y1), y0.max(y1));
+                let mid = 0.5 * (top + bottom);
+                let half = (0.5 * (bottom - top)).max(0.5 * self.width);
+                run_band.push(BandPoint::new(px, Rangef::new(mid - half, mid + half)));
+            }
+        }
     }
 }
 
@@ -404,6 +547,19 @@ pub fn num(v: f64) -> String {
     }
 }
 
+/// A duration for a person: seconds, minutes or hours, about three digits.
+pub fn duration(s: f64) -> String {
+    if !s.is_finite() {
+        "n/a".into()
+    } else if s >= 3600.0 {
+        format!("{:.2} h", s / 3600.0)
+    } else if s >= 60.0 {
+        format!("{:.1} min", s / 60.0)
+    } else {
+        format!("{} s", num(s))
+    }
+}
+
 /// True when a tick at `v` sits far enough inside `range` for its label to be drawn whole: a
 /// label centred on a tick at an end of the axis is half outside the plot and is clipped
 /// ("10000" read as "100").
@@ -520,9 +676,4 @@ pub fn ratio(r: f64) -> String {
         let decimals = (2.0 - a.log10().floor()) as usize;
         format!("{r:.decimals$}×")
     }
-}
-
-/// Keeps egui's own id for a plot item stable when its name changes.
-pub fn item_id(salt: &str) -> egui::Id {
-    egui::Id::unique(("driftlab-item", salt))
 }

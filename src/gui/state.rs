@@ -2,6 +2,7 @@
 //! and knots moved by hand), the newest fit result, the undo history and what was last saved.
 //! Views read it and change the choices; the app turns changed choices into refit requests.
 
+use super::action::Edit;
 use super::jobs::{AllanView, Compared, FitView, Loaded};
 use crate::files::session::{KnotEdits, LogRef, Session, ViewState};
 use crate::judge::metrics::MeritOptions;
@@ -90,6 +91,13 @@ impl History {
     }
 }
 
+/// Plateaus as the table keeps them: sorted by start, empty and reversed ranges dropped.
+pub fn sorted_ranges(mut ranges: Vec<PlateauRange>) -> Vec<PlateauRange> {
+    ranges.retain(|r| r.start_s.is_finite() && r.end_s.is_finite() && r.end_s > r.start_s);
+    ranges.sort_by(|a, b| a.start_s.total_cmp(&b.start_s));
+    ranges
+}
+
 /// How serious a status message is.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Severity {
@@ -170,10 +178,28 @@ impl AppState {
     }
 
     /// Sets the plateaus by hand (sorted by start; empty and reversed ranges dropped).
-    pub fn set_ranges(&mut self, mut ranges: Vec<PlateauRange>) {
-        ranges.retain(|r| r.start_s.is_finite() && r.end_s.is_finite() && r.end_s > r.start_s);
-        ranges.sort_by(|a, b| a.start_s.total_cmp(&b.start_s));
-        self.choices.recipe.plateaus = PlateauChoice::Manual { ranges };
+    pub fn set_ranges(&mut self, ranges: Vec<PlateauRange>) {
+        self.choices.recipe.plateaus = PlateauChoice::Manual {
+            ranges: sorted_ranges(ranges),
+        };
+    }
+
+    /// Makes the change a view asked for.
+    pub fn apply(&mut self, edit: Edit) {
+        let choices = &mut self.choices;
+        match edit {
+            Edit::Recipe(recipe) => choices.recipe = *recipe,
+            Edit::Approx(c, spec) => {
+                *c.spec_mut(&mut choices.recipe) = spec;
+                choices.knots.retain_matching(&choices.recipe);
+            }
+            Edit::Knots(c, values) => choices.knots.set(c, values),
+            Edit::Plateaus(ranges) => self.set_ranges(ranges),
+            Edit::PlateausDragged(ranges) => {
+                choices.recipe.plateaus = PlateauChoice::Manual { ranges };
+            }
+            Edit::AutoPlateaus => choices.recipe.plateaus = PlateauChoice::default(),
+        }
     }
 
     /// The refit request for the current choices, when a log is loaded.
@@ -201,7 +227,8 @@ impl AppState {
         let log_ref = |l: &Option<Loaded>| {
             l.as_ref().map(|l| LogRef {
                 path: std::path::absolute(&l.path).unwrap_or_else(|_| l.path.clone()),
-                read: l.read.clone(),
+                read: l.options.read.clone(),
+                bin_s: l.options.bin_s,
             })
         };
         Session {

@@ -6,7 +6,7 @@
 //! ([`super::jobs::Jobs::allan`]); this view asks for them when the calibration or the log
 //! shown changes, and draws what came back.
 
-use super::app::Action;
+use super::action::Action;
 use super::jobs::AllanView as AllanData;
 use super::plot_items::{Palette, num};
 use super::state::AppState;
@@ -34,7 +34,8 @@ impl AllanPage {
     }
 
     /// The page.
-    pub fn ui(&mut self, ui: &mut Ui, state: &AppState, running: bool, out: &mut Vec<Action>) {
+    pub fn ui(&mut self, ui: &mut Ui, state: &AppState, running: bool) -> Vec<Action> {
+        let mut out = Vec::new();
         let has_val = state
             .fit
             .as_ref()
@@ -89,6 +90,7 @@ impl AllanPage {
                 (Some(_), Some(d)) => plot(ui, d),
             }
         });
+        out
     }
 }
 

@@ -1,22 +1,15 @@
 //! The import view: what the reader would make of a file (its first rows, the column each
-//! role would take, the units), and the controls to correct the mapping, units, separator and
-//! decimal comma before the (possibly long) read starts.
+//! role would take, the units), what it said about the file when it last read it, and the
+//! controls to correct the mapping, units, separator and decimal comma, and to average the log
+//! into bins, before the (possibly long) read starts.
 
-use super::jobs::Target;
+use super::action::Action;
+use super::jobs::{LoadOptions, Target};
 use crate::log::ColumnRole;
 use crate::log::ingest::{self, ColumnRef, Preview, RateUnit, ReadOptions, TimeUnit};
 use crate::log::mapping_check::{self, Concern};
 use eframe::egui::{self, Color32, ComboBox, Grid, RichText, ScrollArea, Ui};
 use std::path::PathBuf;
-
-/// What the engineer decided in the import view.
-#[derive(Debug, Clone, PartialEq)]
-pub enum ImportDecision {
-    /// Read the file with these options.
-    Load(PathBuf, ReadOptions, Target),
-    /// Do not read it.
-    Cancel,
-}
 
 /// The import view's state.
 pub struct ImportView {
@@ -26,17 +19,40 @@ pub struct ImportView {
     pub target: Target,
     /// The options being edited.
     pub read: ReadOptions,
+    /// Bins of this many seconds the log is averaged into after the read (`--bin`).
+    pub bin_s: Option<f64>,
+    /// What the reader said when it last read this file (problems it worked around, columns
+    /// that do not hold what their role means, how the log was averaged), shown first while
+    /// the options are the ones it was read with.
+    warnings: Vec<ReadWarning>,
+    /// The options the warnings are about.
+    warned_for: ReadOptions,
     preview: Result<Preview, String>,
     previewed: ReadOptions,
+    /// Where the window was last frame: while it moves or grows (a row wrapping once the
+    /// width is known, the centring that follows a new size) the next frame is asked for, so
+    /// the window settles without waiting for input.
+    last_rect: Option<egui::Rect>,
     /// What to look at before loading (ambiguous or implausible columns).
     concerns: Vec<Concern>,
 }
 
 const PREVIEW_ROWS: usize = 25;
 
+/// One thing the reader said about a file it read.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ReadWarning {
+    /// True when it is about the columns chosen (values their role cannot have), which the
+    /// view's mapping settles; false for rows and time steps the reader worked around.
+    pub about_columns: bool,
+    /// The sentence, with its line or column.
+    pub text: String,
+}
+
 impl ImportView {
     /// Opens the view on `path` with starting options.
-    pub fn new(path: PathBuf, target: Target, read: ReadOptions) -> ImportView {
+    pub fn new(path: PathBuf, target: Target, options: LoadOptions) -> ImportView {
+        let LoadOptions { read, bin_s } = options;
         let preview = ingest::preview(&path, &read, PREVIEW_ROWS).map_err(|e| e.to_string());
         let concerns = preview
             .as_ref()
@@ -46,9 +62,39 @@ impl ImportView {
             path,
             target,
             previewed: read.clone(),
+            warned_for: read.clone(),
             read,
+            bin_s,
+            warnings: Vec::new(),
+            last_rect: None,
             preview,
             concerns,
+        }
+    }
+
+    /// The view showing, first, what the reader said when it read the file with the view's
+    /// starting options (the columns' doubts first).
+    pub fn with_warnings(mut self, mut warnings: Vec<ReadWarning>) -> ImportView {
+        warnings.sort_by_key(|w| !w.about_columns);
+        self.warnings = warnings;
+        self
+    }
+
+    /// What the reader said when it last read the file, while the options are the ones it
+    /// read with (none once the engineer changes them).
+    pub fn warnings(&self) -> &[ReadWarning] {
+        if self.read == self.warned_for {
+            &self.warnings
+        } else {
+            &[]
+        }
+    }
+
+    /// The options the Load button reads with.
+    pub fn options(&self) -> LoadOptions {
+        LoadOptions {
+            read: self.read.clone(),
+            bin_s: self.bin_s,
         }
     }
 
@@ -68,15 +114,22 @@ impl ImportView {
         self.preview.is_err() || !self.concerns.is_empty()
     }
 
-    /// Shows the view as a modal window; returns the decision once made.
-    pub fn show(&mut self, ctx: &egui::Context) -> Option<ImportDecision> {
+    /// Shows the view as a modal window; once the engineer decides, the read
+    /// ([`Action::ReadLog`]) or [`Action::CloseImport`].
+    pub fn ui(&mut self, ui: &mut Ui) -> Vec<Action> {
+        let ctx = ui.ctx().clone();
         let mut decision = None;
-        let modal = egui::Modal::new(egui::Id::unique("import_view")).show(ctx, |ui| {
+        let modal = egui::Modal::new(egui::Id::unique("import_view")).show(&ctx, |ui| {
             ui.set_width((ctx.content_rect().width() * 0.8).clamp(480.0, 1200.0));
             decision = self.contents(ui);
         });
+        let rect = modal.response.rect;
+        if self.last_rect != Some(rect) {
+            self.last_rect = Some(rect);
+            ctx.request_repaint();
+        }
         if modal.should_close() && decision.is_none() {
-            decision = Some(ImportDecision::Cancel);
+            decision = Some(Action::CloseImport);
         }
         if self.read != self.previewed {
             self.preview =
@@ -88,10 +141,10 @@ impl ImportView {
                 .unwrap_or_default();
             self.previewed = self.read.clone();
         }
-        decision
+        decision.into_iter().collect()
     }
 
-    fn contents(&mut self, ui: &mut Ui) -> Option<ImportDecision> {
+    fn contents(&mut self, ui: &mut Ui) -> Option<Action> {
         let name = self
             .path
             .file_name()
@@ -103,6 +156,26 @@ impl ImportView {
         });
         ui.weak(self.path.display().to_string());
         ui.add_space(4.0);
+        let warnings = self.warnings();
+        if !warnings.is_empty() {
+            ui.label(
+                RichText::new(if warnings.iter().any(|w| w.about_columns) {
+                    "When this file was read, its columns did not hold what they were read as:"
+                } else {
+                    "When this file was read:"
+                })
+                .strong(),
+            );
+            for w in warnings {
+                let color = if w.about_columns {
+                    ui.visuals().error_fg_color
+                } else {
+                    ui.visuals().warn_fg_color
+                };
+                ui.colored_label(color, format!("• {}", w.text));
+            }
+            ui.add_space(4.0);
+        }
         let detected = self.preview.as_ref().ok().cloned();
         self.dialect_controls(ui, detected.as_ref());
         self.column_controls(ui, detected.as_ref());
@@ -167,10 +240,10 @@ impl ImportView {
                 .on_hover_text("Read the whole file with these settings (on a background thread; it can be cancelled)")
                 .clicked()
             {
-                decision = Some(ImportDecision::Load(self.path.clone(), self.read.clone(), self.target));
+                decision = Some(Action::ReadLog(self.path.clone(), self.options(), self.target));
             }
             if ui.button("Cancel").on_hover_text("Close without reading; the current work stays as it is").clicked() {
-                decision = Some(ImportDecision::Cancel);
+                decision = Some(Action::CloseImport);
             }
             if ui
                 .button("Reset")
@@ -178,15 +251,16 @@ impl ImportView {
                 .clicked()
             {
                 self.read = ReadOptions::default();
+                self.bin_s = None;
             }
         });
         if ui.input(|i| i.key_pressed(egui::Key::Enter))
             && ok
             && !ui.ctx().egui_wants_keyboard_input()
         {
-            decision = Some(ImportDecision::Load(
+            decision = Some(Action::ReadLog(
                 self.path.clone(),
-                self.read.clone(),
+                self.options(),
                 self.target,
             ));
         }
@@ -369,6 +443,39 @@ impl ImportView {
                     .on_hover_text("Samples per second");
             }
         });
+        self.bin_control(ui);
+    }
+
+    /// `--bin`: average the log into bins of a few seconds once it is read.
+    fn bin_control(&mut self, ui: &mut Ui) {
+        ui.horizontal(|ui| {
+            let mut binned = self.bin_s.is_some();
+            if ui
+                .checkbox(&mut binned, "Average into bins of")
+                .on_hover_text(
+                    "Average the log into bins of this many seconds once it is read, before \
+                     anything else (--bin): the usual first step with 100 Hz–2 kHz IMU logs, \
+                     whose thermal drift lives at minutes",
+                )
+                .changed()
+            {
+                self.bin_s = binned.then_some(1.0);
+            }
+            match &mut self.bin_s {
+                Some(s) => {
+                    ui.add(
+                        egui::DragValue::new(s)
+                            .range(1e-3..=86_400.0)
+                            .speed(0.1)
+                            .suffix(" s"),
+                    )
+                    .on_hover_text("Bin length, s");
+                }
+                None => {
+                    ui.weak("no: a log written in bursts is reduced to one sample per burst");
+                }
+            }
+        });
     }
 }
 
@@ -383,8 +490,11 @@ fn role_color(ui: &Ui, r: ColumnRole) -> Color32 {
 }
 
 fn preview_table(ui: &mut Ui, p: &Preview) {
+    // As tall as it will be from the first frame (a scroll area that needs scrolling would
+    // otherwise grow by a row a frame, and the window with it).
     ScrollArea::both()
         .max_height(320.0)
+        .min_scrolled_height(320.0)
         .auto_shrink([false, true])
         .show(ui, |ui| {
             Grid::new("import_preview")

@@ -3,17 +3,14 @@
 //! Plateaus are edited here by mouse: drag an edge to move it, drag across the plot with Shift
 //! held (or with "Mark plateau" on) to add one, click one to select it.
 
-use super::app::Action;
+use super::action::{Action, Edit};
 use super::plot_items::{BandItem, Palette, ShadeItem, ShadeSpan, TimeScale, num};
-use super::state::AppState;
+use super::state::{AppState, sorted_ranges};
+use super::widgets::{save_plot_entry, time_link};
+use crate::signal::lod::MinMaxPyramid;
 use crate::signal::plateau::PlateauRange;
 use eframe::egui::{self, CursorIcon, Key, Rect, Stroke, Ui, Vec2b};
 use egui_plot::{HLine, HoverPosition, LineStyle, Plot, PlotTransform};
-
-/// The id of the time axis shared by the time plots and the result plot.
-pub fn time_link() -> egui::Id {
-    egui::Id::unique("driftlab-time-axis")
-}
 
 /// A pending change of the shared time axis.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -74,12 +71,13 @@ impl TimeView {
     }
 
     /// Draws the plots (the whole height given) and handles plateau editing.
-    pub fn ui(&mut self, ui: &mut Ui, state: &mut AppState, out: &mut Vec<Action>) {
+    pub fn ui(&mut self, ui: &mut Ui, state: &AppState) -> Vec<Action> {
+        let mut out = Vec::new();
         let Some(loaded) = state.log.clone() else {
             ui.centered_and_justified(|ui| {
                 ui.label("Open a chamber log (File › Open log…, Ctrl+O, or drop a file here).");
             });
-            return;
+            return out;
         };
         let log = loaded.log.clone();
         let scale = TimeScale::for_duration(log.duration_s());
@@ -87,11 +85,22 @@ impl TimeView {
         let pal = Palette::of(ui);
         let fit = state.fit.clone();
 
-        self.toolbar(ui, state, out, scale);
-        self.handle_keys(ui, state);
-        self.edit_plateaus(ui, state, log.nominal_dt_s());
-
-        let ranges = state.ranges();
+        self.toolbar(ui, &mut out, scale);
+        let deleted = self.handle_keys(ui, state);
+        let dragged = self.edit_plateaus(ui, state, log.nominal_dt_s());
+        // The plateaus as this frame's edit leaves them (the edit itself is carried out at
+        // the end of the frame).
+        let edited = dragged.or(deleted);
+        let ranges = match edited {
+            Some(r) => {
+                out.push(Action::Edit(r.clone()));
+                match r {
+                    Edit::Plateaus(r) | Edit::PlateausDragged(r) => r,
+                    _ => state.ranges(),
+                }
+            }
+            None => state.ranges(),
+        };
         let t_full = (log.time_s[0], log.time_s[log.len() - 1]);
         let specs = [
             Series {
@@ -223,40 +232,70 @@ impl TimeView {
                         });
                     }
                     pui.add(ShadeItem::new("shading", spans));
+                    // Every series is reduced segment by segment: nothing is drawn across a
+                    // gap in the log.
+                    let seg = |values: &[f64], pyramid: &MinMaxPyramid| {
+                        loaded
+                            .segments
+                            .reduce(&log.time_s, values, pyramid, x0, x1, cols)
+                    };
                     match k {
                         0 => {
-                            let raw = &loaded.lods.omega;
-                            let band = crate::signal::lod::reduce(
-                                &log.time_s,
-                                &log.omega_dph,
-                                raw,
-                                x0,
-                                x1,
-                                cols,
-                            );
-                            pui.add(
-                                BandItem::new("Ω raw", band, scale.div, t_full)
-                                    .color(Palette::shade(pal.raw, 0.45))
-                                    .width(1.0)
-                                    .no_y_bounds(),
-                            );
-                            if let Some(f) = &fit {
-                                let p = &f.outcome.prepared;
-                                let band = crate::signal::lod::reduce(
-                                    &log.time_s,
-                                    &p.omega_filtered_dph,
-                                    &f.lods.omega_filtered,
+                            if let Some(r) = &loaded.recorded {
+                                // The bursts as recorded, behind the means the fit uses.
+                                let bands = r.segments.reduce(
+                                    &r.log.time_s,
+                                    &r.log.omega_dph,
+                                    &r.lods.omega,
                                     x0,
                                     x1,
                                     cols,
                                 );
                                 pui.add(
-                                    BandItem::new("Ω filtered", band, scale.div, t_full)
-                                        .color(pal.filtered),
+                                    BandItem::segmented(
+                                        "Ω as recorded (bursts)",
+                                        bands,
+                                        scale.div,
+                                        t_full,
+                                    )
+                                    .color(Palette::shade(pal.raw, 0.55))
+                                    .width(1.0)
+                                    .no_y_bounds(),
+                                );
+                            }
+                            let raw = BandItem::segmented(
+                                if loaded.recorded.is_some() {
+                                    "Ω raw (burst means)"
+                                } else {
+                                    "Ω raw"
+                                },
+                                seg(&log.omega_dph, &loaded.lods.omega),
+                                scale.div,
+                                t_full,
+                            )
+                            .color(Palette::shade(pal.raw, 0.45))
+                            .width(1.0);
+                            // Without a calibration the raw rate is all there is: the axis
+                            // fits it.
+                            pui.add(if fit.is_some() {
+                                raw.no_y_bounds()
+                            } else {
+                                raw
+                            });
+                            if let Some(f) = &fit {
+                                let p = &f.outcome.prepared;
+                                pui.add(
+                                    BandItem::segmented(
+                                        "Ω filtered",
+                                        seg(&p.omega_filtered_dph, &f.lods.omega_filtered),
+                                        scale.div,
+                                        t_full,
+                                    )
+                                    .color(pal.filtered),
                                 );
                                 let pred = &f.lods.pred_filtered;
                                 if pred.len() == log.len() {
-                                    let band = crate::signal::lod::reduce(
+                                    let band = f.lods.ready.reduce(
                                         &log.time_s,
                                         pred,
                                         &f.lods.pred,
@@ -265,7 +304,7 @@ impl TimeView {
                                         cols,
                                     );
                                     pui.add(
-                                        BandItem::new(
+                                        BandItem::segmented(
                                             "model, filtered as Ω",
                                             band,
                                             scale.div,
@@ -278,15 +317,36 @@ impl TimeView {
                             }
                         }
                         1 => {
-                            let band = crate::signal::lod::reduce(
-                                &log.time_s,
-                                &log.temp_c,
-                                &loaded.lods.temp,
-                                x0,
-                                x1,
-                                cols,
+                            if let Some(r) = &loaded.recorded {
+                                let bands = r.segments.reduce(
+                                    &r.log.time_s,
+                                    &r.log.temp_c,
+                                    &r.lods.temp,
+                                    x0,
+                                    x1,
+                                    cols,
+                                );
+                                pui.add(
+                                    BandItem::segmented(
+                                        "T as recorded (bursts)",
+                                        bands,
+                                        scale.div,
+                                        t_full,
+                                    )
+                                    .color(Palette::shade(pal.temp, 0.5))
+                                    .width(1.0)
+                                    .no_y_bounds(),
+                                );
+                            }
+                            pui.add(
+                                BandItem::segmented(
+                                    "T",
+                                    seg(&log.temp_c, &loaded.lods.temp),
+                                    scale.div,
+                                    t_full,
+                                )
+                                .color(pal.temp),
                             );
-                            pui.add(BandItem::new("T", band, scale.div, t_full).color(pal.temp));
                         }
                         _ => {
                             if let Some(f) = &fit {
@@ -305,10 +365,11 @@ impl TimeView {
                                     )
                                 };
                                 if v.len() == log.len() {
-                                    let band =
-                                        crate::signal::lod::reduce(&log.time_s, v, p, x0, x1, cols);
+                                    // Only where the rates have their history: a segment's
+                                    // first samples hold no reading (zero), not a rate.
+                                    let band = f.lods.ready.reduce(&log.time_s, v, p, x0, x1, cols);
                                     pui.add(
-                                        BandItem::new(spec.label, band, scale.div, t_full)
+                                        BandItem::segmented(spec.label, band, scale.div, t_full)
                                             .color(pal.filtered),
                                     );
                                 }
@@ -327,13 +388,8 @@ impl TimeView {
             });
             let plot_resp = resp.inner;
             plot_resp.response.context_menu(|ui| {
-                if ui
-                    .button("Save this plot as PNG…")
-                    .on_hover_text("Write this plot alone as a PNG picture")
-                    .clicked()
-                {
+                if save_plot_entry(ui) {
                     out.push(Action::SavePlot(spec.id.to_string(), resp.response.rect));
-                    ui.close();
                 }
                 if ui
                     .button("Show the whole log")
@@ -353,7 +409,6 @@ impl TimeView {
         if let Some(t) = transforms.last() {
             let b = t.bounds();
             self.visible_s = Some((b.min()[0] * scale.div, b.max()[0] * scale.div));
-            state.view.time_range_s = self.visible_s.map(|(a, b)| [a, b]);
         }
         // The grab cursor near a plateau edge.
         if let Some(p) = ui.input(|i| i.pointer.hover_pos())
@@ -375,15 +430,10 @@ impl TimeView {
         if command.is_some() || self.drag.is_some() {
             ui.ctx().request_repaint();
         }
+        out
     }
 
-    fn toolbar(
-        &mut self,
-        ui: &mut Ui,
-        state: &mut AppState,
-        out: &mut Vec<Action>,
-        scale: TimeScale,
-    ) {
+    fn toolbar(&mut self, ui: &mut Ui, out: &mut Vec<Action>, scale: TimeScale) {
         // Wrapped: on a narrow window the buttons take a second row rather than widening the
         // central panel under the side panels (which clipped the plots).
         ui.horizontal_wrapped(|ui| {
@@ -438,7 +488,6 @@ impl TimeView {
                 let text = format!("{} – {} {}", num(a / scale.div), num(b / scale.div), scale.unit);
                 ui.add(egui::Label::new(egui::RichText::new(text).weak()).extend());
             }
-            let _ = state;
         });
     }
 
@@ -457,9 +506,10 @@ impl TimeView {
         }
     }
 
-    fn handle_keys(&mut self, ui: &Ui, state: &mut AppState) {
+    /// The time axis keys, and Delete on the selected plateau (the plateaus without it).
+    fn handle_keys(&mut self, ui: &Ui, state: &AppState) -> Option<Edit> {
         if ui.ctx().egui_wants_keyboard_input() {
-            return;
+            return None;
         }
         let (home, plus, minus, left, right, del) = ui.input(|i| {
             (
@@ -490,13 +540,15 @@ impl TimeView {
             let mut r = state.ranges();
             if k < r.len() {
                 r.remove(k);
-                state.set_ranges(r);
+                return Some(Edit::Plateaus(r));
             }
         }
+        None
     }
 
-    /// Starts, follows and ends a plateau drag, from the pointer and last frame's plots.
-    fn edit_plateaus(&mut self, ui: &Ui, state: &mut AppState, dt_s: f64) {
+    /// Starts, follows and ends a plateau drag, from the pointer and last frame's plots; the
+    /// plateaus as the drag leaves them.
+    fn edit_plateaus(&mut self, ui: &Ui, state: &AppState, dt_s: f64) -> Option<Edit> {
         let (pressed, down, pos, shift) = ui.input(|i| {
             (
                 i.pointer.primary_pressed(),
@@ -505,9 +557,7 @@ impl TimeView {
                 i.modifiers.shift,
             )
         });
-        let Some(p) = pos else {
-            return;
-        };
+        let p = pos?;
         let div = state
             .log
             .as_ref()
@@ -521,9 +571,7 @@ impl TimeView {
             .filter(|t| t.frame().contains(p))
             .copied();
         if pressed && self.drag.is_none() && !ui.ctx().any_popup_open() {
-            let Some(tf) = over else {
-                return;
-            };
+            let tf = over?;
             let t = tf.value_from_position(p).x * div;
             let ranges = state.ranges();
             let mut best: Option<(f32, usize, End)> = None;
@@ -536,9 +584,9 @@ impl TimeView {
                 }
             }
             if let Some((_, index, end)) = best {
-                state.set_ranges(ranges);
                 self.drag = Some(Drag::Edge { index, end });
                 self.selected = Some(index);
+                return Some(Edit::Plateaus(ranges));
             } else if shift || self.mark_mode {
                 self.drag = Some(Drag::New {
                     t0: t.clamp(t_lo, t_hi),
@@ -547,15 +595,14 @@ impl TimeView {
             } else {
                 self.selected = ranges.iter().position(|r| r.contains(t));
             }
-            return;
+            return None;
         }
-        let Some(drag) = self.drag else {
-            return;
-        };
+        let drag = self.drag?;
         let tf = over.or_else(|| self.transforms.first().copied());
+        let mut ranges = state.ranges();
+        let mut edit = None;
         if let Some(tf) = tf {
             let t = (tf.value_from_position(p).x * div).clamp(t_lo, t_hi);
-            let mut ranges = state.ranges();
             let min_w = dt_s.max(1e-9);
             match drag {
                 Drag::Edge { index, end } => {
@@ -584,10 +631,9 @@ impl TimeView {
                 }
             }
             // Unsorted while the drag lasts, so the index being edited stays put.
-            state.recipe_mut().plateaus = crate::models::recipe::PlateauChoice::Manual { ranges };
+            edit = Some(Edit::PlateausDragged(ranges.clone()));
         }
         if !down {
-            let ranges = state.ranges();
             let edited = match self.drag {
                 Some(Drag::Edge { index, .. })
                 | Some(Drag::New {
@@ -596,14 +642,17 @@ impl TimeView {
                 _ => None,
             };
             let min_w = 3.0 * dt_s.max(1e-9);
-            let kept: Vec<PlateauRange> = ranges
-                .into_iter()
-                .filter(|r| Some(*r) != edited || r.end_s - r.start_s >= min_w)
-                .collect();
-            state.set_ranges(kept);
-            self.selected = edited.and_then(|e| state.ranges().iter().position(|r| *r == e));
+            let kept = sorted_ranges(
+                ranges
+                    .into_iter()
+                    .filter(|r| Some(*r) != edited || r.end_s - r.start_s >= min_w)
+                    .collect(),
+            );
+            self.selected = edited.and_then(|e| kept.iter().position(|r| *r == e));
             self.drag = None;
+            edit = Some(Edit::Plateaus(kept));
         }
+        edit
     }
 }
 

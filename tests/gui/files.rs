@@ -2,9 +2,9 @@
 //! after a crash, nothing left behind after a clean close) and the test report.
 
 use driftlab::files::session;
-use driftlab::gui::app::{Action, Workbench};
 use driftlab::gui::dialogs::ScriptedDialogs;
 use driftlab::gui::settings::Settings;
+use driftlab::gui::{Action, Workbench};
 use std::path::{Path, PathBuf};
 
 fn sample() -> PathBuf {

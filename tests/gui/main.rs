@@ -8,6 +8,7 @@ mod common;
 mod editing;
 mod files;
 mod flight_export;
+mod gaps;
 mod models_allan;
 mod open_export;
 mod window;

@@ -431,13 +431,17 @@ fn a_log_whose_columns_need_a_look_opens_on_the_import_view_from_the_command_lin
         )),
         ..Default::default()
     };
-    wb.open_log(sample("calibration.csv"), read.clone(), true);
+    wb.open_log(
+        sample("calibration.csv"),
+        driftlab::gui::jobs::LoadOptions::read(read.clone()),
+        true,
+    );
     if let Some(v) = wb.import_view() {
         panic!("no look needed, yet: {:?}", v.concerns());
     }
     wb.wait_for_jobs();
     let l = wb.state.log.as_ref().expect("read");
-    assert_eq!(l.read, read);
+    assert_eq!(l.options.read, read);
     assert_eq!(l.log.temp_c[100], {
         let plain =
             driftlab::log::ingest::read_path(&sample("calibration.csv"), &Default::default())
@@ -460,4 +464,78 @@ fn column_mapping_reopens_the_import_view_on_the_loaded_log() {
     h.run_ok();
     let view = h.state_mut().import_view().expect("the import view");
     assert_eq!(view.path.file_name().unwrap(), "calibration.csv");
+}
+
+#[test]
+fn a_register_read_as_the_temperature_reopens_the_import_view_naming_the_better_column() {
+    // A raw temperature register (T = counts / 340 + 36.53 °C) beside the temperature in °C,
+    // the register chosen by hand: read, then said, with the column to take instead.
+    let dir = tempfile::tempdir().unwrap();
+    let log = dir.path().join("imu.csv");
+    let mut text = String::from("time_s,omega_dph,temp_raw_int16,temp_C_est\n");
+    for i in 0..600 {
+        let t_c = 20.0 + 10.0 * i as f64 / 600.0;
+        let counts = ((t_c - 36.53) * 340.0).round();
+        text.push_str(&format!(
+            "{i},{},{counts},{t_c:.3}\n",
+            0.01 * (i % 5) as f64
+        ));
+    }
+    std::fs::write(&log, text).unwrap();
+    let read = driftlab::log::ingest::ReadOptions {
+        temp_col: Some(driftlab::log::ingest::ColumnRef::Name(
+            "temp_raw_int16".into(),
+        )),
+        ..Default::default()
+    };
+    let mut wb = Workbench::new(
+        Default::default(),
+        None,
+        Box::new(driftlab::gui::ScriptedDialogs::new()),
+    );
+    wb.open_log(
+        log.clone(),
+        driftlab::gui::jobs::LoadOptions::read(read.clone()),
+        true,
+    );
+    assert!(
+        wb.import_view().is_some(),
+        "a temperature of thousands of °C needs a look before the read"
+    );
+    let mut h = harness(wb);
+    h.run_ok();
+    h.get_by_label("Load").click();
+    settle(&mut h);
+    assert!(
+        h.state().state.log.is_some(),
+        "the log is read as asked, and shown"
+    );
+    let view = h
+        .state_mut()
+        .import_view()
+        .expect("the import view opens again after the read");
+    let doubt = view
+        .warnings()
+        .iter()
+        .find(|w| w.about_columns)
+        .unwrap_or_else(|| panic!("{:?}", view.warnings()))
+        .text
+        .clone();
+    assert!(
+        doubt.contains("\"temp_raw_int16\"") && doubt.contains("--temp-col \"temp_C_est\""),
+        "{doubt}"
+    );
+    // On screen, first.
+    h.get_by_label_contains("its columns did not hold what they were read as");
+    h.get_by_label(&format!("• {doubt}"));
+    // Mapping the better column: the warning was about the old mapping, and goes.
+    let view = h.state_mut().import_view().unwrap();
+    view.read.temp_col = Some(driftlab::log::ingest::ColumnRef::Name("temp_C_est".into()));
+    assert!(view.warnings().is_empty());
+    h.run_ok();
+    h.get_by_label("Load").click();
+    settle(&mut h);
+    assert!(h.state_mut().import_view().is_none());
+    let l = h.state().state.log.as_ref().unwrap();
+    assert!((l.log.temp_c[0] - 20.0).abs() < 1e-9, "{}", l.log.temp_c[0]);
 }

@@ -52,10 +52,13 @@ fn a_session(log: PathBuf) -> Session {
                 rate_col: Some(ColumnRef::Name("omega_dph".into())),
                 ..ReadOptions::default()
             },
+            ..LogRef::default()
         }),
+        // Averaged into 2-s bins: kept through a save and a load.
         validation: Some(LogRef {
             path: sample("validation.csv"),
             read: ReadOptions::default(),
+            bin_s: Some(2.0),
         }),
         recipe,
         knots: KnotEdits {

@@ -2,38 +2,42 @@
 //! unsaved-work question some of them ask first.
 
 use super::files::Purpose;
+use super::results::read_warnings;
 use super::*;
 
 impl Workbench {
     pub(super) fn shortcuts(&mut self, ctx: &egui::Context, actions: &mut Vec<Action>) {
-        if self.import.is_some() || self.confirm.is_some() || self.file_dialog.is_some() {
+        if self.modals.import.is_some()
+            || self.modals.confirm.is_some()
+            || self.modals.file_dialog.is_some()
+        {
             if ctx.input(|i| i.key_pressed(Key::Escape)) {
-                self.confirm = None;
+                self.modals.confirm = None;
             }
             return;
         }
         let text_focus = ctx.egui_wants_keyboard_input();
         ctx.input_mut(|i| {
             // Shift variants first: Ctrl+S also matches Ctrl+Shift+S.
-            if i.consume_shortcut(&SC_OPEN_SESSION) {
+            if i.consume_shortcut(&shortcuts::OPEN_SESSION) {
                 actions.push(Action::OpenSession);
             }
-            if i.consume_shortcut(&SC_OPEN) {
+            if i.consume_shortcut(&shortcuts::OPEN) {
                 actions.push(Action::OpenLog);
             }
-            if i.consume_shortcut(&SC_SHOT) || i.consume_shortcut(&SC_SHOT_F12) {
+            if i.consume_shortcut(&shortcuts::SHOT) || i.consume_shortcut(&shortcuts::SHOT_F12) {
                 actions.push(Action::Screenshot);
             }
-            if i.consume_shortcut(&SC_SAVE) {
+            if i.consume_shortcut(&shortcuts::SAVE) {
                 actions.push(Action::SaveSession);
             }
-            if i.consume_shortcut(&SC_EXPORT_CSV) {
+            if i.consume_shortcut(&shortcuts::EXPORT_CSV) {
                 actions.push(Action::ExportCsv);
             }
-            if i.consume_shortcut(&SC_EXPORT) {
+            if i.consume_shortcut(&shortcuts::EXPORT) {
                 actions.push(Action::ExportCalibration);
             }
-            if i.consume_shortcut(&SC_QUIT) {
+            if i.consume_shortcut(&shortcuts::QUIT) {
                 actions.push(Action::Quit);
             }
             for p in Page::ALL {
@@ -41,14 +45,14 @@ impl Workbench {
                     actions.push(Action::ShowPage(p));
                 }
             }
-            if self.page == Page::Models && i.consume_shortcut(&SC_COMPARE) {
+            if self.views.page == Page::Models && i.consume_shortcut(&shortcuts::COMPARE) {
                 actions.push(Action::CompareModels);
             }
             if !text_focus {
-                if i.consume_shortcut(&SC_REDO2) || i.consume_shortcut(&SC_REDO) {
+                if i.consume_shortcut(&shortcuts::REDO2) || i.consume_shortcut(&shortcuts::REDO) {
                     actions.push(Action::Redo);
                 }
-                if i.consume_shortcut(&SC_UNDO) {
+                if i.consume_shortcut(&shortcuts::UNDO) {
                     actions.push(Action::Undo);
                 }
             }
@@ -86,10 +90,13 @@ impl Workbench {
     }
 
     pub(super) fn close_requested(&mut self, ctx: &egui::Context) {
-        if ctx.input(|i| i.viewport().close_requested()) && !self.quitting && self.auto.is_none() {
+        if ctx.input(|i| i.viewport().close_requested())
+            && !self.window.quitting
+            && self.shots.auto.is_none()
+        {
             if self.state.dirty() {
                 ctx.send_viewport_cmd(ViewportCommand::CancelClose);
-                self.confirm = Some(Action::Quit);
+                self.modals.confirm = Some(Action::Quit);
             } else {
                 self.close_cleanly();
             }
@@ -106,8 +113,8 @@ impl Workbench {
                 | Action::OpenSessionPath(_)
                 | Action::Quit
         );
-        if drops_work && self.state.dirty() && self.confirm.is_none() {
-            self.confirm = Some(action);
+        if drops_work && self.state.dirty() && self.modals.confirm.is_none() {
+            self.modals.confirm = Some(action);
             return;
         }
         self.run_confirmed(ctx, action);
@@ -117,6 +124,11 @@ impl Workbench {
         match action {
             Action::OpenLog => self.ask(ctx, Purpose::OpenLog, ""),
             Action::OpenLogPath(p) => self.open_import(p, Target::Calibration),
+            Action::ReadLog(path, options, target) => {
+                self.modals.import = None;
+                self.start_load(path, options, target);
+            }
+            Action::CloseImport => self.modals.import = None,
             Action::OpenValidation => {
                 if self.state.log.is_none() {
                     self.state
@@ -152,7 +164,7 @@ impl Workbench {
                     );
                 }
             }
-            Action::SavePlotNamed(name) => match self.plot_rects.get(&name).copied() {
+            Action::SavePlotNamed(name) => match self.window.plot_rects.get(&name).copied() {
                 Some(r) => self.run_confirmed(ctx, Action::SavePlot(name, r)),
                 None => self.state.say(
                     Severity::Warning,
@@ -160,8 +172,21 @@ impl Workbench {
                 ),
             },
             Action::PlotRect(name, rect) => {
-                self.plot_rects.insert(name, rect);
+                self.window.plot_rects.insert(name, rect);
             }
+            Action::Edit(edit) => self.state.apply(edit),
+            Action::SelectPlateau(k) => self.views.time.selected = k,
+            Action::AddPlateau(r) => {
+                let mut all = self.state.ranges();
+                all.push(r);
+                self.state.set_ranges(all);
+                self.views.time.selected = self
+                    .state
+                    .ranges()
+                    .iter()
+                    .position(|x| (x.start_s - r.start_s).abs() < 1e-9);
+            }
+            Action::ShowValidation(shown) => self.state.view.show_validation = shown,
             Action::Undo => {
                 if !self.state.history.undo(&mut self.state.choices) {
                     self.state.say(Severity::Info, "Nothing to undo");
@@ -181,9 +206,9 @@ impl Workbench {
                 ctx.send_viewport_cmd(ViewportCommand::Close);
             }
             Action::Theme(t) => {
-                self.settings.theme = t;
+                self.window.settings.theme = t;
             }
-            Action::ShowPage(p) => self.page = p,
+            Action::ShowPage(p) => self.views.page = p,
             Action::CompareModels => self.compare_models(),
             Action::ExportModel => self.export_model(ctx),
             Action::ColumnMapping(target) => {
@@ -193,7 +218,10 @@ impl Workbench {
                 };
                 match loaded {
                     Some(l) => {
-                        self.import = Some(ImportView::new(l.path.clone(), target, l.read.clone()))
+                        self.modals.import = Some(
+                            ImportView::new(l.path.clone(), target, l.options.clone())
+                                .with_warnings(read_warnings(l)),
+                        )
                     }
                     None => self.state.say(Severity::Warning, "Open a log first"),
                 }
@@ -202,12 +230,12 @@ impl Workbench {
     }
 
     pub(super) fn open_import(&mut self, path: PathBuf, target: Target) {
-        let read = match (target, &self.state.log) {
-            // A second log of the same stand is likely written alike.
-            (Target::Validation, Some(l)) => l.read.clone(),
-            _ => ReadOptions::default(),
+        let options = match (target, &self.state.log) {
+            // A second log of the same stand is likely written and averaged alike.
+            (Target::Validation, Some(l)) => l.options.clone(),
+            _ => LoadOptions::default(),
         };
-        self.import = Some(ImportView::new(path, target, read));
+        self.modals.import = Some(ImportView::new(path, target, options));
     }
 
     pub(super) fn suggest_plateaus(&mut self) {
@@ -218,7 +246,7 @@ impl Workbench {
         let found = crate::live::suggest_plateaus(&log.log, &fit.outcome.prepared);
         let n = found.len();
         self.state.set_ranges(found);
-        self.time.selected = None;
+        self.views.time.selected = None;
         self.state.say_about_choices(
             Severity::Info,
             format!(

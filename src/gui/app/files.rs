@@ -84,7 +84,7 @@ impl Workbench {
             .as_ref()
             .and_then(|l| std::path::absolute(&l.path).ok())
             .and_then(|p| p.parent().map(Path::to_path_buf));
-        let last = self.settings.last_dir.clone().filter(|d| d.is_dir());
+        let last = self.window.settings.last_dir.clone().filter(|d| d.is_dir());
         let first = match mode {
             Mode::Save => log_dir.or(last),
             Mode::Open => last.or(log_dir),
@@ -99,37 +99,38 @@ impl Workbench {
         let (kind, mode) = (purpose.kind(), purpose.mode());
         let dir = self.start_dir(mode);
         let answer = match mode {
-            Mode::Open => self.dialogs.open(kind, Some(&dir)),
-            Mode::Save => self.dialogs.save(kind, Some(&dir), name),
+            Mode::Open => self.modals.dialogs.open(kind, Some(&dir)),
+            Mode::Save => self.modals.dialogs.save(kind, Some(&dir), name),
         };
         match answer {
             Answer::Chosen(p) => self.chosen(ctx, purpose, p),
             Answer::Cancelled => self.not_chosen(purpose),
             Answer::InWindow => {
-                let mut recent = self.settings.recent_dirs.clone();
+                let mut recent = self.window.settings.recent_dirs.clone();
                 if !recent.contains(&dir) {
                     recent.insert(0, dir.clone());
                 }
                 recent.retain(|d| d.is_dir());
                 recent.truncate(8);
-                self.file_dialog = Some((FileDialog::new(mode, kind, &dir, name, recent), purpose));
+                self.modals.file_dialog =
+                    Some((FileDialog::new(mode, kind, &dir, name, recent), purpose));
             }
         }
     }
 
     /// The workbench's own file dialog, when open.
     pub(super) fn file_dialog_modal(&mut self, ctx: &egui::Context) {
-        let Some((d, _)) = &mut self.file_dialog else {
+        let Some((d, _)) = &mut self.modals.file_dialog else {
             return;
         };
         match d.show(ctx) {
             Some(file_dialog::Outcome::Accept(p)) => {
-                if let Some((_, purpose)) = self.file_dialog.take() {
+                if let Some((_, purpose)) = self.modals.file_dialog.take() {
                     self.chosen(ctx, purpose, p);
                 }
             }
             Some(file_dialog::Outcome::Cancel) => {
-                if let Some((_, purpose)) = self.file_dialog.take() {
+                if let Some((_, purpose)) = self.modals.file_dialog.take() {
                     self.not_chosen(purpose);
                 }
             }
@@ -139,7 +140,7 @@ impl Workbench {
 
     /// The workbench's own file dialog while it is open (tests type into it).
     pub fn file_dialog(&mut self) -> Option<&mut FileDialog> {
-        self.file_dialog.as_mut().map(|(d, _)| d)
+        self.modals.file_dialog.as_mut().map(|(d, _)| d)
     }
 
     fn not_chosen(&mut self, purpose: Purpose) {
@@ -156,7 +157,7 @@ impl Workbench {
     /// Goes on with the path the engineer chose for `purpose`.
     fn chosen(&mut self, ctx: &egui::Context, purpose: Purpose, path: PathBuf) {
         if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-            self.settings.add_recent_dir(dir);
+            self.window.settings.add_recent_dir(dir);
         }
         match purpose {
             Purpose::OpenLog => self.open_import(path, Target::Calibration),
@@ -175,7 +176,7 @@ impl Workbench {
             Purpose::ExportReport => self.write_report(path),
             Purpose::ExportModel(name) => self.write_model(&name, path),
             Purpose::Screenshot => {
-                self.pending_shot = Some(PendingShot {
+                self.shots.pending = Some(PendingShot {
                     frames: 2,
                     path,
                     crop: None,
@@ -183,7 +184,7 @@ impl Workbench {
                 });
             }
             Purpose::SavePlot(name, rect) => {
-                self.pending_shot = Some(PendingShot {
+                self.shots.pending = Some(PendingShot {
                     frames: 2,
                     path,
                     crop: Some(rect),
@@ -243,7 +244,7 @@ impl Workbench {
             log.sha256.as_deref(),
         ) {
             Ok(p) => {
-                self.settings.last_dir = p.parent().map(Path::to_path_buf);
+                self.window.settings.last_dir = p.parent().map(Path::to_path_buf);
                 self.state.say(
                     Severity::Info,
                     format!("Calibration written: {}", p.display()),
@@ -308,7 +309,7 @@ impl Workbench {
             });
         match written {
             Ok(file) => {
-                self.settings.last_dir = path.parent().map(Path::to_path_buf);
+                self.window.settings.last_dir = path.parent().map(Path::to_path_buf);
                 // One status line: what was written, then what the firmware leaves out.
                 let (severity, warned) = if file.warnings.is_empty() {
                     (Severity::Info, String::new())
@@ -336,7 +337,7 @@ impl Workbench {
             );
             return;
         };
-        let Some(name) = self.models.selected.clone() else {
+        let Some(name) = self.views.models.selected.clone() else {
             self.state.say(
                 Severity::Warning,
                 "Model not exported: select a model in the table first",
@@ -388,7 +389,7 @@ impl Workbench {
             );
             return;
         };
-        self.settings.last_dir = path.parent().map(Path::to_path_buf);
+        self.window.settings.last_dir = path.parent().map(Path::to_path_buf);
         let what = format!("model {}", model.name());
         self.state
             .say(Severity::Info, format!("Writing {} …", path.display()));
@@ -432,7 +433,7 @@ impl Workbench {
         if let Some(v) = &self.state.validation {
             logs.push((v.path.clone(), (*v.log).clone()));
         }
-        self.settings.last_dir = dir.parent().map(Path::to_path_buf);
+        self.window.settings.last_dir = dir.parent().map(Path::to_path_buf);
         self.state.say(
             Severity::Info,
             format!("Writing the report into {} …", dir.display()),
@@ -458,7 +459,7 @@ impl Workbench {
         let (Some(log), Some(fit)) = (self.state.log.clone(), self.state.fit.clone()) else {
             return;
         };
-        self.settings.last_dir = path.parent().map(Path::to_path_buf);
+        self.window.settings.last_dir = path.parent().map(Path::to_path_buf);
         self.state
             .say(Severity::Info, format!("Writing {} …", path.display()));
         let l = log.log.clone();
@@ -505,8 +506,8 @@ impl Workbench {
             Ok(()) => {
                 self.state.session_path = Some(path.to_path_buf());
                 self.state.mark_saved();
-                self.autosave.clear();
-                self.settings.add_recent(path);
+                self.recovery.autosave.clear();
+                self.window.settings.add_recent(path);
                 self.state
                     .say(Severity::Info, format!("Session saved: {}", path.display()));
                 true
@@ -530,8 +531,12 @@ impl Workbench {
         match session::load(&path) {
             Ok(s) => match s.log.clone() {
                 Some(log) => {
-                    self.pending_session = Some((path.clone(), s));
-                    self.start_load(log.path, log.read, Target::Calibration);
+                    self.opening.session = Some((path.clone(), s));
+                    let options = LoadOptions {
+                        read: log.read,
+                        bin_s: log.bin_s,
+                    };
+                    self.start_load(log.path, options, Target::Calibration);
                 }
                 None => self.fail(format!("{}: the session names no log", path.display())),
             },

@@ -1,4 +1,4 @@
-//! The workbench's menu bar, status bar, left-hand controls and modal windows.
+//! The workbench's menu bar, status bar, banner and modal windows.
 
 use super::*;
 
@@ -11,7 +11,7 @@ impl Workbench {
                 let has_log = self.state.log.is_some();
                 let has_fit = self.state.fit.is_some();
                 if ui
-                    .add(egui::Button::new("Open log…").shortcut_text(sc(&SC_OPEN)))
+                    .add(egui::Button::new("Open log…").shortcut_text(sc(&shortcuts::OPEN)))
                     .on_hover_text("Open a chamber log: preview, fix the mapping, then read it")
                     .clicked()
                 {
@@ -35,10 +35,10 @@ impl Workbench {
                     ui.close();
                 }
                 ui.menu_button("Recent", |ui| {
-                    if self.settings.recent.is_empty() {
+                    if self.window.settings.recent.is_empty() {
                         ui.weak("No recent files");
                     }
-                    for p in self.settings.recent.clone() {
+                    for p in self.window.settings.recent.clone() {
                         let label = p.file_name().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
                         if ui.button(label).on_hover_text(p.display().to_string()).clicked() {
                             actions.push(if is_json(&p) {
@@ -52,7 +52,7 @@ impl Workbench {
                 });
                 ui.separator();
                 if ui
-                    .add(egui::Button::new("Open session…").shortcut_text(sc(&SC_OPEN_SESSION)))
+                    .add(egui::Button::new("Open session…").shortcut_text(sc(&shortcuts::OPEN_SESSION)))
                     .on_hover_text("Reopen a saved session exactly as it was left")
                     .clicked()
                 {
@@ -60,7 +60,7 @@ impl Workbench {
                     ui.close();
                 }
                 if ui
-                    .add_enabled(has_log, egui::Button::new("Save session").shortcut_text(sc(&SC_SAVE)))
+                    .add_enabled(has_log, egui::Button::new("Save session").shortcut_text(sc(&shortcuts::SAVE)))
                     .on_hover_text("Save the log path, mapping, plateaus and every choice")
                     .clicked()
                 {
@@ -77,7 +77,7 @@ impl Workbench {
                 }
                 ui.separator();
                 if ui
-                    .add_enabled(has_fit, egui::Button::new("Export calibration…").shortcut_text(sc(&SC_EXPORT)))
+                    .add_enabled(has_fit, egui::Button::new("Export calibration…").shortcut_text(sc(&shortcuts::EXPORT)))
                     .on_hover_text("Write the calibration file (JSON) the gyro's processor and `driftlab apply` read")
                     .clicked()
                 {
@@ -94,7 +94,7 @@ impl Workbench {
                     }
                 }
                 if ui
-                    .add_enabled(has_fit, egui::Button::new("Export corrected log…").shortcut_text(sc(&SC_EXPORT_CSV)))
+                    .add_enabled(has_fit, egui::Button::new("Export corrected log…").shortcut_text(sc(&shortcuts::EXPORT_CSV)))
                     .on_hover_text("Write time, raw, predicted and corrected rate and temperature as CSV")
                     .clicked()
                 {
@@ -123,7 +123,7 @@ impl Workbench {
                     ui.close();
                 }
                 if ui
-                    .add(egui::Button::new("Save screenshot…").shortcut_text(format!("{} / {}", sc(&SC_SHOT_F12), sc(&SC_SHOT))))
+                    .add(egui::Button::new("Save screenshot…").shortcut_text(format!("{} / {}", sc(&shortcuts::SHOT_F12), sc(&shortcuts::SHOT))))
                     .on_hover_text("Save the whole window as a PNG picture")
                     .clicked()
                 {
@@ -131,14 +131,14 @@ impl Workbench {
                     ui.close();
                 }
                 ui.separator();
-                if ui.add(egui::Button::new("Quit").shortcut_text(sc(&SC_QUIT))).on_hover_text("Close the workbench (asks first when the session has unsaved changes)").clicked() {
+                if ui.add(egui::Button::new("Quit").shortcut_text(sc(&shortcuts::QUIT))).on_hover_text("Close the workbench (asks first when the session has unsaved changes)").clicked() {
                     actions.push(Action::Quit);
                     ui.close();
                 }
             });
             ui.menu_button("Edit", |ui| {
                 if ui
-                    .add_enabled(self.state.history.can_undo(), egui::Button::new("Undo").shortcut_text(sc(&SC_UNDO)))
+                    .add_enabled(self.state.history.can_undo(), egui::Button::new("Undo").shortcut_text(sc(&shortcuts::UNDO)))
                     .on_hover_text("Undo the last change of plateaus, filters or approximations")
                     .clicked()
                 {
@@ -146,7 +146,7 @@ impl Workbench {
                     ui.close();
                 }
                 if ui
-                    .add_enabled(self.state.history.can_redo(), egui::Button::new("Redo").shortcut_text(sc(&SC_REDO)))
+                    .add_enabled(self.state.history.can_redo(), egui::Button::new("Redo").shortcut_text(sc(&shortcuts::REDO)))
                     .on_hover_text("Redo the change undone last (Ctrl+Y or Ctrl+Shift+Z)")
                     .clicked()
                 {
@@ -174,7 +174,7 @@ impl Workbench {
             ui.menu_button("View", |ui| {
                 for p in Page::ALL {
                     if ui
-                        .add(egui::Button::selectable(self.page == p, p.title()).shortcut_text(sc(&p.shortcut())))
+                        .add(egui::Button::selectable(self.views.page == p, p.title()).shortcut_text(sc(&p.shortcut())))
                         .on_hover_text(p.tip())
                         .clicked()
                     {
@@ -188,20 +188,20 @@ impl Workbench {
                     (ThemeChoice::Light, "Light theme"),
                     (ThemeChoice::Dark, "Dark theme"),
                 ] {
-                    if ui.radio(self.settings.theme == t, name).clicked() {
+                    if ui.radio(self.window.settings.theme == t, name).clicked() {
                         actions.push(Action::Theme(t));
                         ui.close();
                     }
                 }
                 ui.separator();
                 if ui.button("Show the whole log").on_hover_text("Whole log on the time axis (Home)").clicked() {
-                    self.time.x_command = Some(XCommand::Fit);
+                    self.views.time.x_command = Some(XCommand::Fit);
                     ui.close();
                 }
             });
             ui.menu_button("Help", |ui| {
                 if ui.button("Keyboard and mouse").on_hover_text("Every shortcut and mouse gesture of the workbench").clicked() {
-                    self.show_help = true;
+                    self.modals.help = true;
                     ui.close();
                 }
             });
@@ -337,197 +337,15 @@ impl Workbench {
         );
     }
 
-    pub(super) fn controls(&mut self, ui: &mut Ui, actions: &mut Vec<Action>) {
-        egui::CollapsingHeader::new("Data")
-            .default_open(true)
-            .show(ui, |ui| {
-                match &self.state.log {
-                    Some(l) => {
-                        let log = &l.log;
-                        let (tmin, tmax) = l
-                            .lods
-                            .temp
-                            .range_min_max(&log.temp_c, 0, log.len())
-                            .unwrap_or((f64::NAN, f64::NAN));
-                        ui.label(format!(
-                            "{} samples, {:.2} h, T {:.1} … {:.1} °C",
-                            log.len(),
-                            log.duration_s() / 3600.0,
-                            tmin,
-                            tmax
-                        ))
-                        .on_hover_text(l.path.display().to_string());
-                        if ui
-                            .small_button("Column mapping…")
-                            .on_hover_text("Reopen the import view on this log: columns, units, separator, decimal comma")
-                            .clicked()
-                        {
-                            actions.push(Action::ColumnMapping(Target::Calibration));
-                        }
-                        let problems = &log.info.problems;
-                        if !problems.is_empty() {
-                            let text: Vec<String> = problems
-                                .iter()
-                                .map(|p| format!("line {}: {} ({}×)", p.line, p.message, p.count))
-                                .collect();
-                            ui.colored_label(
-                                ui.visuals().warn_fg_color,
-                                format!("{} kind(s) of problems worked around", problems.len()),
-                            )
-                            .on_hover_text(text.join("\n"));
-                        }
-                    }
-                    None => {
-                        ui.weak("No log.");
-                    }
-                }
-                ui.horizontal(|ui| match &self.state.validation {
-                    Some(v) => {
-                        let name = v
-                            .path
-                            .file_name()
-                            .map(|s| s.to_string_lossy().into_owned())
-                            .unwrap_or_default();
-                        ui.label(format!("Validation: {name}"))
-                            .on_hover_text(v.path.display().to_string());
-                        if ui
-                            .small_button("mapping…")
-                            .on_hover_text("Reopen the import view on the validation log")
-                            .clicked()
-                        {
-                            actions.push(Action::ColumnMapping(Target::Validation));
-                        }
-                        if ui
-                            .small_button("×")
-                            .on_hover_text("Forget the validation log")
-                            .clicked()
-                        {
-                            actions.push(Action::CloseValidation);
-                        }
-                    }
-                    None => {
-                        if ui
-                            .add_enabled(
-                                self.state.log.is_some(),
-                                egui::Button::new("Open validation log…"),
-                            )
-                            .on_hover_text(
-                                "A second log of the same gyro, to judge the calibration held out",
-                            )
-                            .clicked()
-                        {
-                            actions.push(Action::OpenValidation);
-                        }
-                    }
-                });
-            });
-        let dt = self
-            .state
-            .log
-            .as_ref()
-            .map_or(1.0, |l| l.log.nominal_dt_s());
-        egui::CollapsingHeader::new("Derivatives").default_open(true).show(ui, |ui| {
-            let r = self.state.recipe_mut();
-            egui::Grid::new("deriv_grid").num_columns(3).spacing([8.0, 4.0]).show(ui, |ui| {
-                let samples = |s: f64| format!("{} samples", crate::signal::seconds_to_samples(s, dt));
-                ui.label("Ω filter").on_hover_text("Centred moving average of Ω before the pointwise coefficients and in the figures");
-                ui.add(egui::DragValue::new(&mut r.filter_s).range(dt..=100_000.0).speed(1.0).suffix(" s"))
-                    .on_hover_text("Ω moving-average window, s (the paper: 100 recording intervals)");
-                ui.weak(samples(r.filter_s));
-                ui.end_row();
-                ui.label("T smoothing").on_hover_text("Causal moving average of T before differentiating");
-                ui.add(egui::DragValue::new(&mut r.temp_smoothing_s).range(dt..=100_000.0).speed(1.0).suffix(" s"))
-                    .on_hover_text("T smoothing window, s: longer quietens dT/dt and d²T/dt² but delays them");
-                ui.weak(samples(r.temp_smoothing_s));
-                ui.end_row();
-                ui.label("Step H").on_hover_text("Step of the 3-point backward derivative");
-                ui.add(egui::DragValue::new(&mut r.step_h_s).range(dt..=10_000.0).speed(0.5).suffix(" s"))
-                    .on_hover_text("Derivative step H, s: H = 1 sample makes d²T/dt² pure quantisation noise on a 1 Hz log");
-                ui.weak(samples(r.step_h_s));
-                ui.end_row();
-            });
-            let resolved = self.state.fit.as_ref().map(|f| f.outcome.calibration.resolved);
-            for (name, tip, is_tdot) in [
-                ("K1 dead-band |dT/dt|", "Points with |dT/dt| below this are left out of the K1 fits, °C/s", true),
-                ("K2 dead-band |d²T/dt²|", "Points with |d²T/dt²| below this are left out of the K2 fits, °C/s²", false),
-            ] {
-                ui.horizontal(|ui| {
-                    let r = self.state.recipe_mut();
-                    let slot = if is_tdot { &mut r.deadband_tdot } else { &mut r.deadband_tddot };
-                    let used = resolved.map(|r| if is_tdot { r.deadband_tdot } else { r.deadband_tddot });
-                    let mut auto = slot.is_none();
-                    ui.label(name).on_hover_text(tip);
-                    if ui
-                        .checkbox(&mut auto, "auto")
-                        .on_hover_text("Automatic: a fifth of the 95th percentile of the rate outside plateaus")
-                        .changed()
-                    {
-                        *slot = if auto { None } else { Some(used.unwrap_or(0.0)) };
-                    }
-                    match slot {
-                        Some(v) => {
-                            let speed = (v.abs() * 0.01).max(1e-9);
-                            ui.add(egui::DragValue::new(v).range(0.0..=f64::MAX).speed(speed).max_decimals(10))
-                                .on_hover_text(tip);
-                        }
-                        None => {
-                            ui.weak(used.map(num).unwrap_or_default());
-                        }
-                    }
-                });
-            }
-        });
-        egui::CollapsingHeader::new("Plateaus (K0 points)")
-            .default_open(true)
-            .show(ui, |ui| {
-                self.plateaus
-                    .table(ui, &mut self.state, &mut self.time, actions);
-            });
-        egui::CollapsingHeader::new("Fit").default_open(true).show(ui, |ui| {
-            let r = self.state.recipe_mut();
-            ui.horizontal(|ui| {
-                ui.label("Gyro id");
-                ui.add(egui::TextEdit::singleline(&mut r.gyro_id).desired_width(140.0).hint_text("serial number"))
-                    .on_hover_text("Identifier of the gyro, written into the calibration file");
-            });
-            ui.horizontal(|ui| {
-                ui.label("Weighting");
-                egui::ComboBox::from_id_salt("weighting")
-                    .selected_text(match r.weighting {
-                        Weighting::Drift => "drift",
-                        Weighting::Ratio => "ratio (paper)",
-                    })
-                    .show_ui(ui, |ui| {
-                        ui.selectable_value(&mut r.weighting, Weighting::Drift, "drift")
-                            .on_hover_text("Each ratio weighted by its denominator squared: minimises the error of the predicted drift");
-                        ui.selectable_value(&mut r.weighting, Weighting::Ratio, "ratio (paper)")
-                            .on_hover_text("Every pointwise ratio counts alike, as the paper fits them");
-                    })
-                    .response
-                    .on_hover_text("How the pointwise K1/K2 values are weighed in their least-squares fits");
-            });
-            ui.horizontal(|ui| {
-                ui.label("Refinements");
-                ui.add(egui::DragValue::new(&mut r.refinements).range(0..=10).speed(0.05))
-                    .on_hover_text("Extra passes refitting K1 with the K2 term removed, then K2 (0: the paper's single pass)");
-            });
-        });
-    }
-
-    pub(super) fn modals(&mut self, ctx: &egui::Context, actions: &mut Vec<Action>) {
+    pub(super) fn modals(&mut self, ui: &mut Ui, actions: &mut Vec<Action>) {
+        let ctx = ui.ctx().clone();
+        let ctx = &ctx;
         self.recovery_modal(ctx);
         self.file_dialog_modal(ctx);
-        if let Some(view) = &mut self.import {
-            match view.show(ctx) {
-                Some(ImportDecision::Load(path, read, target)) => {
-                    self.import = None;
-                    self.start_load(path, read, target);
-                }
-                Some(ImportDecision::Cancel) => self.import = None,
-                None => {}
-            }
+        if let Some(view) = &mut self.modals.import {
+            actions.extend(view.ui(ui));
         }
-        if let Some(action) = self.confirm.clone() {
+        if let Some(action) = self.modals.confirm.clone() {
             let mut answer: Option<u8> = None;
             egui::Modal::new(egui::Id::unique("confirm_discard")).show(ctx, |ui| {
                 ui.heading("Unsaved work");
@@ -561,19 +379,19 @@ impl Workbench {
             });
             match answer {
                 Some(0) => {
-                    self.confirm = None;
+                    self.modals.confirm = None;
                     self.save_session(ctx, false, Some(action));
                 }
                 Some(1) => {
-                    self.confirm = None;
+                    self.modals.confirm = None;
                     self.state.mark_saved();
                     self.run_confirmed(ctx, action);
                 }
-                Some(_) => self.confirm = None,
+                Some(_) => self.modals.confirm = None,
                 None => {}
             }
         }
-        if let Some(msg) = self.error.clone() {
+        if let Some(msg) = self.modals.error.clone() {
             let r = egui::Modal::new(egui::Id::unique("error")).show(ctx, |ui| {
                 ui.set_max_width(640.0);
                 ui.heading("Something went wrong");
@@ -582,12 +400,12 @@ impl Workbench {
                 ui.button("OK").clicked()
             });
             if r.inner || r.should_close() {
-                self.error = None;
+                self.modals.error = None;
             }
         }
-        if self.show_help {
+        if self.modals.help {
             egui::Window::new("Keyboard and mouse")
-                .open(&mut self.show_help)
+                .open(&mut self.modals.help)
                 .resizable(false)
                 .show(ctx, |ui| {
                     egui::Grid::new("help").striped(true).show(ui, |ui| {
@@ -633,15 +451,14 @@ impl Workbench {
                     });
                 });
         }
-        let _ = actions;
     }
 
     /// Offers back the work an earlier workbench left unsaved.
     pub(super) fn recovery_modal(&mut self, ctx: &egui::Context) {
-        let Some(left) = self.recover.clone() else {
+        let Some(left) = self.recovery.offered.clone() else {
             return;
         };
-        if self.auto.is_some() || self.import.is_some() {
+        if self.shots.auto.is_some() || self.modals.import.is_some() {
             return;
         }
         let mut answer: Option<bool> = None;
@@ -678,8 +495,8 @@ impl Workbench {
         match answer {
             Some(true) => self.restore_autosave(),
             Some(false) => {
-                self.recover = None;
-                self.autosave.clear();
+                self.recovery.offered = None;
+                self.recovery.autosave.clear();
             }
             None => {}
         }

@@ -4,23 +4,10 @@
 use super::*;
 
 impl Workbench {
+    /// Sends the refit the current choices need, once.
     pub(super) fn refit_if_needed(&mut self) {
-        let Some(log) = &self.state.log else {
-            return;
-        };
-        let key = (
-            self.state.choices.clone(),
-            arc_addr(&log.log),
-            self.state
-                .validation
-                .as_ref()
-                .map_or(0, |v| arc_addr(&v.log)),
-        );
-        if self.last_request.as_ref() != Some(&key)
-            && let Some(req) = self.state.request()
-        {
-            self.jobs.fit(req);
-            self.last_request = Some(key);
+        if let Some(req) = self.state.request() {
+            self.jobs.refit(req);
         }
     }
 
@@ -30,8 +17,8 @@ impl Workbench {
                 let l = *l;
                 let path = l.path.clone();
                 let msg = format!(
-                    "Read {} samples from {} in {:.2} s{}",
-                    l.log.len(),
+                    "Read {} samples from {} in {:.2} s{}{}",
+                    l.log.info.rows_read.max(l.log.len()),
                     file_name(&path),
                     l.seconds,
                     if l.log.info.problems.is_empty() {
@@ -41,10 +28,15 @@ impl Workbench {
                             "; {} kind(s) of problems worked around (see Data)",
                             l.log.info.problems.len()
                         )
-                    }
+                    },
+                    l.resampled
+                        .as_ref()
+                        .map(|n| format!("; {n}"))
+                        .unwrap_or_default()
                 );
+                self.look_at_columns(&l, Target::Calibration);
                 // The same file read again with another mapping keeps the work on it.
-                let remapped = self.pending_session.is_none()
+                let remapped = self.opening.session.is_none()
                     && self
                         .state
                         .log
@@ -53,8 +45,8 @@ impl Workbench {
                 self.state.log = Some(l);
                 self.state.fit = None;
                 self.state.fit_error = None;
-                self.time.selected = None;
-                match self.pending_session.take() {
+                self.views.time.selected = None;
+                match self.opening.session.take() {
                     Some((spath, s))
                         if s.log.as_ref().is_some_and(|r| same_file(&r.path, &path)) =>
                     {
@@ -63,14 +55,14 @@ impl Workbench {
                             knots: s.knots.clone(),
                         };
                         self.state.view = s.view.clone();
-                        self.time.x_command = Some(match s.view.time_range_s {
+                        self.views.time.x_command = Some(match s.view.time_range_s {
                             Some([a, b]) => XCommand::Range(a, b),
                             None => XCommand::Fit,
                         });
                         self.state.validation = None;
-                        if self.restoring_autosave {
+                        if self.opening.autosaved {
                             // Autosaved work is not saved work: no session file, still dirty.
-                            self.restoring_autosave = false;
+                            self.opening.autosaved = false;
                             self.state.session_path = None;
                             self.state.mark_unsaved();
                         } else {
@@ -78,15 +70,19 @@ impl Workbench {
                             self.state.mark_saved();
                         }
                         if let Some(v) = &s.validation {
-                            self.restoring_validation = Some(s.view.show_validation);
-                            self.start_load(v.path.clone(), v.read.clone(), Target::Validation);
+                            self.opening.validation_shown = Some(s.view.show_validation);
+                            let options = LoadOptions {
+                                read: v.read.clone(),
+                                bin_s: v.bin_s,
+                            };
+                            self.start_load(v.path.clone(), options, Target::Validation);
                         }
                         if self.state.session_path.is_some() {
-                            self.settings.add_recent(&spath);
+                            self.window.settings.add_recent(&spath);
                         }
                     }
                     _ if remapped => {
-                        self.time.x_command = Some(XCommand::Fit);
+                        self.views.time.x_command = Some(XCommand::Fit);
                     }
                     _ => {
                         // Choices carry over to the new log, except what belonged to the old one.
@@ -97,8 +93,8 @@ impl Workbench {
                         self.state.choices.knots = Default::default();
                         self.state.session_path = None;
                         self.state.mark_saved();
-                        self.time.x_command = Some(XCommand::Fit);
-                        self.settings.add_recent(&path);
+                        self.views.time.x_command = Some(XCommand::Fit);
+                        self.window.settings.add_recent(&path);
                     }
                 }
                 if !remapped {
@@ -112,8 +108,9 @@ impl Workbench {
                     file_name(&l.path),
                     l.log.len()
                 );
+                self.look_at_columns(&l, Target::Validation);
                 self.state.validation = Some(*l);
-                match self.restoring_validation.take() {
+                match self.opening.validation_shown.take() {
                     Some(shown) => {
                         self.state.view.show_validation = shown;
                         self.state.mark_saved();
@@ -123,13 +120,13 @@ impl Workbench {
                 self.state.say(Severity::Info, msg);
             }
             JobResult::LoadFailed(_, path, message) => {
-                self.pending_session = None;
-                self.restoring_validation = None;
+                self.opening.session = None;
+                self.opening.validation_shown = None;
                 self.state.say(
                     Severity::Error,
                     format!("Could not read {}", file_name(&path)),
                 );
-                if self.auto.is_some() {
+                if self.shots.auto.is_some() {
                     self.finish_auto(Err(message));
                 } else {
                     self.fail(format!(
@@ -138,7 +135,7 @@ impl Workbench {
                 }
             }
             JobResult::LoadCancelled(_, path) => {
-                self.pending_session = None;
+                self.opening.session = None;
                 self.state.say(
                     Severity::Info,
                     format!("Reading {} cancelled", file_name(&path)),
@@ -161,7 +158,7 @@ impl Workbench {
                 if generation == self.jobs.requested {
                     if self.state.fit.is_none() {
                         // No calibration to show: the raw log, fitted to the window.
-                        self.time.x_command = Some(XCommand::Fit);
+                        self.views.time.x_command = Some(XCommand::Fit);
                     }
                     self.state.fit_error = Some(message.clone());
                     self.state
@@ -186,7 +183,7 @@ impl Workbench {
                                     }
                                 ),
                             );
-                            self.models.adopt(&c);
+                            self.views.models.adopt(&c);
                             self.state.models = Some(c);
                             self.state.models_error = None;
                         }
@@ -224,7 +221,7 @@ impl Workbench {
                         Severity::Error,
                         format!("Could not save {what}, nothing was written: {e}"),
                     );
-                    if what == "screenshot" && self.auto.is_some() {
+                    if what == "screenshot" && self.shots.auto.is_some() {
                         self.finish_auto(Err(e));
                     } else {
                         self.fail(e);
@@ -234,16 +231,28 @@ impl Workbench {
         }
     }
 
+    /// Opens the import view on a log just read when the reader found something about its
+    /// columns to look at (not the rows and time steps it works around), with what it said.
+    fn look_at_columns(&mut self, l: &Loaded, target: Target) {
+        let doubts = l.log.info.problems.iter().any(|p| about_columns(p.kind));
+        if doubts && self.modals.import.is_none() && self.shots.auto.is_none() {
+            self.modals.import = Some(
+                ImportView::new(l.path.clone(), target, l.options.clone())
+                    .with_warnings(read_warnings(l)),
+            );
+        }
+    }
+
     pub(super) fn fail(&mut self, message: String) {
-        if self.auto.is_some() {
+        if self.shots.auto.is_some() {
             self.finish_auto(Err(message));
         } else {
-            self.error = Some(message);
+            self.modals.error = Some(message);
         }
     }
 
     pub(super) fn finish_auto(&mut self, result: Result<(), String>) {
-        if let Some(a) = &self.auto
+        if let Some(a) = &self.shots.auto
             && let Ok(mut slot) = a.result.lock()
             && slot.is_none()
         {
@@ -283,7 +292,7 @@ impl Workbench {
             );
             return;
         }
-        let choices = match self.models.choices() {
+        let choices = match self.views.models.choices() {
             Ok(c) => c,
             Err(e) => {
                 self.state.say(Severity::Warning, e);
@@ -308,4 +317,49 @@ impl Workbench {
         self.state
             .say(Severity::Info, format!("Fitting {n} models on {names} …"));
     }
+}
+
+/// Whether a problem the reader reports is about the columns it chose (a role's values that
+/// role cannot have) rather than rows or time steps it worked around.
+fn about_columns(kind: crate::log::ProblemKind) -> bool {
+    use crate::log::ProblemKind::*;
+    match kind {
+        Implausible => true,
+        MissingValue | BadExtraValue | TimeBackwards | TimeRepeated | Gap | RaggedRow => false,
+    }
+}
+
+/// What the reader said about a log it read, for the import view: each problem it worked
+/// around (with its line, column and count), and how the log was averaged after the read.
+pub(super) fn read_warnings(l: &Loaded) -> Vec<ReadWarning> {
+    let mut out: Vec<ReadWarning> = l
+        .log
+        .info
+        .problems
+        .iter()
+        .map(|p| {
+            let at = match (p.line, p.column) {
+                (0, None) => String::new(),
+                (0, Some(c)) => format!("column {c}: "),
+                (l, None) => format!("line {l}: "),
+                (l, Some(c)) => format!("line {l}, column {c}: "),
+            };
+            let times = if p.count == 1 {
+                String::new()
+            } else {
+                format!(" ({}×)", p.count)
+            };
+            ReadWarning {
+                about_columns: about_columns(p.kind),
+                text: format!("{at}{}{times}", p.message),
+            }
+        })
+        .collect();
+    if let Some(note) = &l.resampled {
+        out.push(ReadWarning {
+            about_columns: false,
+            text: format!("After the read: {note}"),
+        });
+    }
+    out
 }

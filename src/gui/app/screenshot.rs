@@ -2,6 +2,7 @@
 //! the workbench on a log, saves it as PNG and closes.
 
 use super::*;
+use std::sync::mpsc::{Receiver, Sender};
 
 /// A screenshot waiting to be taken: a couple of frames first, so menus have closed.
 pub(super) struct PendingShot {
@@ -24,40 +25,70 @@ pub(super) struct AutoShot {
 
 pub(super) type Shot = (Arc<ColorImage>, PathBuf, Option<Rect>, f32, String);
 
+/// Pictures of the window: the one asked for, those on their way back from the renderer, and
+/// the `--screenshot` mode.
+pub(super) struct Shots {
+    /// A screenshot waiting for its frames.
+    pub(super) pending: Option<PendingShot>,
+    /// Where the renderer's callback sends the picture.
+    pub(super) tx: Sender<Shot>,
+    /// Pictures back from the renderer, to be written.
+    pub(super) rx: Receiver<Shot>,
+    /// The `--screenshot` mode, when on.
+    pub(super) auto: Option<AutoShot>,
+}
+
+impl Shots {
+    pub(super) fn new() -> Shots {
+        let (tx, rx) = std::sync::mpsc::channel();
+        Shots {
+            pending: None,
+            tx,
+            rx,
+            auto: None,
+        }
+    }
+}
+
 impl Workbench {
     pub(super) fn screenshots(&mut self, ctx: &egui::Context) {
         let loaded = self.state.log.is_some() && self.state.fit.is_some() && !self.jobs.busy();
-        if loaded && self.page == Page::Models && self.auto.as_ref().is_some_and(|a| !a.compared) {
-            if let Some(a) = &mut self.auto {
+        if loaded
+            && self.views.page == Page::Models
+            && self.shots.auto.as_ref().is_some_and(|a| !a.compared)
+        {
+            if let Some(a) = &mut self.shots.auto {
                 a.compared = true;
             }
             self.compare_models();
         }
-        let page_done = match self.page {
+        let page_done = match self.views.page {
             Page::Calibration => true,
             Page::Models => {
-                self.auto.as_ref().is_some_and(|a| a.compared)
+                self.shots.auto.as_ref().is_some_and(|a| a.compared)
                     && (self.state.models.is_some() || self.state.models_error.is_some())
             }
             Page::Allan => self.state.allan.is_some(),
         };
-        if let Some(a) = &mut self.auto {
+        if let Some(a) = &mut self.shots.auto {
             // Ten frames a second while the work runs (the workers wake the window when they
             // answer): drawing flat out would take a core from the work being waited for.
             ctx.request_repaint_after(Duration::from_millis(100));
+            // A calibration that fails is shown as the engineer sees it, its message and the
+            // log's plots.
             let ready = self.state.log.is_some()
-                && self.state.fit.is_some()
+                && (self.state.fit.is_some() || self.state.fit_error.is_some())
                 && !self.jobs.busy()
                 && page_done
-                && self.import.is_none()
-                && self.pending_shot.is_none();
+                && self.modals.import.is_none()
+                && self.shots.pending.is_none();
             a.settled = if ready { a.settled + 1 } else { 0 };
             if ready {
                 ctx.request_repaint();
             }
             if a.settled >= 4 && !a.requested {
                 a.requested = true;
-                self.pending_shot = Some(PendingShot {
+                self.shots.pending = Some(PendingShot {
                     frames: 1,
                     path: a.path.clone(),
                     crop: None,
@@ -71,6 +102,7 @@ impl Workbench {
                 ));
             }
             if self
+                .shots
                 .auto
                 .as_ref()
                 .is_some_and(|a| a.result.lock().is_ok_and(|r| r.is_some()))
@@ -78,12 +110,12 @@ impl Workbench {
                 ctx.send_viewport_cmd(ViewportCommand::Close);
             }
         }
-        if let Some(p) = &mut self.pending_shot {
+        if let Some(p) = &mut self.shots.pending {
             ctx.request_repaint();
             if p.frames > 0 {
                 p.frames -= 1;
-            } else if let Some(p) = self.pending_shot.take() {
-                let tx = self.shot_tx.clone();
+            } else if let Some(p) = self.shots.pending.take() {
+                let tx = self.shots.tx.clone();
                 let ctx2 = ctx.clone();
                 let ppp = ctx.pixels_per_point();
                 ctx.send_viewport_cmd(ViewportCommand::Screenshot(egui::ScreenshotCallback::new(
@@ -94,7 +126,7 @@ impl Workbench {
                 )));
             }
         }
-        while let Ok((img, path, crop, ppp, what)) = self.shot_rx.try_recv() {
+        while let Ok((img, path, crop, ppp, what)) = self.shots.rx.try_recv() {
             self.jobs
                 .spawn_export(&what, move || export::save_png(&path, &img, crop, ppp));
         }

@@ -26,6 +26,8 @@ pub struct ModelSeries {
     pub cor_filtered_dph: Vec<f64>,
     /// Its pyramid.
     pub lod: MinMaxPyramid,
+    /// The samples the correction reads (rates with their history), where it is drawn.
+    pub ready: Segments,
 }
 
 /// A log of a comparison with its raw drift filtered as for the figures.
@@ -38,6 +40,8 @@ pub struct ComparedLog {
     pub raw_filtered_dph: Vec<f64>,
     /// Its pyramid.
     pub raw_lod: MinMaxPyramid,
+    /// Its segments between gaps, drawn apart.
+    pub segments: Segments,
 }
 
 /// What a comparison of models gives back, ready to draw.
@@ -149,6 +153,9 @@ pub(super) fn run_compare(req: &CompareRequest, h: &CompareHandle, ctx: &SharedC
     let filter = |log: &Log| {
         crate::signal::seconds_to_samples(req.merit.filter_s, log.nominal_dt_s()).max(1)
     };
+    // Each log's segments between gaps, once: no filter window reaches across a gap.
+    let segments: Vec<Vec<std::ops::Range<usize>>> =
+        all.iter().map(|(log, _)| log.timing().segments).collect();
     let done: Vec<(ModelReport, Vec<Option<ModelSeries>>)> = req
         .choices
         .par_iter()
@@ -181,10 +188,15 @@ pub(super) fn run_compare(req: &CompareRequest, h: &CompareHandle, ctx: &SharedC
                 &req.merit,
                 &progress,
                 &mut |k, c| {
-                    let f = crate::signal::moving_average_centered(&c.cor_dph, filter(&all[k].0));
+                    let f = crate::signal::moving_average_centered_in(
+                        &c.cor_dph,
+                        filter(&all[k].0),
+                        &segments[k],
+                    );
                     series[k] = Some(ModelSeries {
                         lod: MinMaxPyramid::new(&f),
                         cor_filtered_dph: f,
+                        ready: Segments::from_ranges(&all[k].0.time_s, &c.ready),
                     });
                 },
             );
@@ -207,13 +219,16 @@ pub(super) fn run_compare(req: &CompareRequest, h: &CompareHandle, ctx: &SharedC
         .collect();
     let logs = all
         .par_iter()
-        .map(|(log, held_out)| {
-            let f = crate::signal::moving_average_centered(&log.omega_dph, filter(log));
+        .zip(&segments)
+        .map(|((log, held_out), segments)| {
+            let f =
+                crate::signal::moving_average_centered_in(&log.omega_dph, filter(log), segments);
             ComparedLog {
                 log: log.clone(),
                 held_out: *held_out,
                 raw_lod: MinMaxPyramid::new(&f),
                 raw_filtered_dph: f,
+                segments: Segments::from_ranges(&log.time_s, segments),
             }
         })
         .collect();

@@ -21,10 +21,20 @@ pub struct FitLods {
     pub pred: MinMaxPyramid,
     /// Raw Ω filtered as for the figures.
     pub raw_filtered: Arc<MinMaxPyramid>,
-    /// Corrected Ω filtered alike.
+    /// Corrected Ω filtered alike, within the stretches of [`FitLods::ready`] only (before a
+    /// segment's rates have their history the correction is no reading, and a window reaching
+    /// into those samples would draw a transient the figures do not see), °/h.
+    pub cor_filtered_dph: Vec<f64>,
+    /// Its pyramid.
     pub cor_filtered: MinMaxPyramid,
     /// K1+, K1−, K2+, K2− points.
     pub scatter: [Arc<ScatterLod>; 4],
+    /// The samples whose rates have their full history, one stretch per segment of the log:
+    /// Ṫ, T̈, the model and the corrected drift are drawn there only (before a segment's
+    /// history fills they are no reading).
+    pub ready: Segments,
+    /// The log's segments between gaps (raw series are drawn over these).
+    pub segments: Segments,
     /// The validation log's series.
     pub held_out: Option<HeldLods>,
 }
@@ -33,10 +43,16 @@ pub struct FitLods {
 pub struct HeldLods {
     /// Raw Ω filtered.
     pub raw_filtered: Arc<MinMaxPyramid>,
-    /// Corrected Ω filtered.
+    /// Corrected Ω filtered within its ready stretches (see [`FitLods::cor_filtered_dph`]).
+    pub cor_filtered_dph: Vec<f64>,
+    /// Its pyramid.
     pub cor_filtered: MinMaxPyramid,
     /// Regime per sample.
     pub regime: ClassLod,
+    /// The samples its correction reads (see [`FitLods::ready`]).
+    pub ready: Segments,
+    /// Its segments between gaps.
+    pub segments: Segments,
 }
 
 /// One refit's result, ready to draw.
@@ -51,17 +67,43 @@ pub struct FitView {
     pub lods: FitLods,
 }
 
-/// Drawing data kept between refits while its source stays the same.
-#[derive(Default)]
-pub(super) struct LodCache {
-    prepared: Option<(usize, [Arc<MinMaxPyramid>; 3], Arc<ClassLod>)>,
-    raw_filtered: Option<(usize, Arc<MinMaxPyramid>)>,
-    held_raw: Option<(usize, Arc<MinMaxPyramid>)>,
-    scatter: Vec<(usize, Arc<ScatterLod>)>,
+/// What a refit was asked for: the logs by identity, the choices by value. The same inputs
+/// again need no refit.
+#[derive(Debug, Clone, PartialEq)]
+pub(super) struct RefitKey {
+    log: Same<Log>,
+    validation: Option<Same<Log>>,
+    recipe: Recipe,
+    knots: crate::files::session::KnotEdits,
 }
 
-pub(super) fn addr<T>(a: &Arc<T>) -> usize {
-    Arc::as_ptr(a) as usize
+impl RefitKey {
+    pub(super) fn of(r: &Request) -> RefitKey {
+        RefitKey {
+            log: Same::of(&r.log),
+            validation: r.validation.as_ref().map(Same::of),
+            recipe: r.recipe.clone(),
+            knots: r.knots.clone(),
+        }
+    }
+}
+
+/// Pyramids of a fit's filtered Ω, Ṫ and T̈, and its regimes, with the signals they were
+/// built from.
+struct PreparedLods {
+    source: Same<Prepared>,
+    series: [Arc<MinMaxPyramid>; 3],
+    regime: Arc<ClassLod>,
+}
+
+/// Drawing data kept between refits while its source stays the same (the source held by
+/// identity: see [`Same`]).
+#[derive(Default)]
+pub(super) struct LodCache {
+    prepared: Option<PreparedLods>,
+    raw_filtered: Option<(Same<Vec<f64>>, Arc<MinMaxPyramid>)>,
+    held_raw: Option<(Same<Vec<f64>>, Arc<MinMaxPyramid>)>,
+    scatter: Vec<(Same<PointSet>, Arc<ScatterLod>)>,
 }
 
 impl LodCache {
@@ -70,10 +112,10 @@ impl LodCache {
         p: &Arc<Prepared>,
         regime: &[crate::models::vakhrameev::Regime],
     ) -> ([Arc<MinMaxPyramid>; 3], Arc<ClassLod>) {
-        if let Some((k, s, r)) = &self.prepared
-            && *k == addr(p)
+        if let Some(kept) = &self.prepared
+            && kept.source.is(p)
         {
-            return (s.clone(), r.clone());
+            return (kept.series.clone(), kept.regime.clone());
         }
         let ((a, b), c) = rayon::join(
             || {
@@ -86,21 +128,25 @@ impl LodCache {
         );
         let s = [Arc::new(a), Arc::new(b), Arc::new(c)];
         let r = Arc::new(ClassLod::new(regime.iter().map(|&r| r as u8).collect(), 2));
-        self.prepared = Some((addr(p), s.clone(), r.clone()));
+        self.prepared = Some(PreparedLods {
+            source: Same::of(p),
+            series: s.clone(),
+            regime: r.clone(),
+        });
         (s, r)
     }
 
     fn series(
-        slot: &mut Option<(usize, Arc<MinMaxPyramid>)>,
+        slot: &mut Option<(Same<Vec<f64>>, Arc<MinMaxPyramid>)>,
         v: &Arc<Vec<f64>>,
     ) -> Arc<MinMaxPyramid> {
         if let Some((k, p)) = slot
-            && *k == addr(v)
+            && k.is(v)
         {
             return p.clone();
         }
         let p = Arc::new(MinMaxPyramid::new(v));
-        *slot = Some((addr(v), p.clone()));
+        *slot = Some((Same::of(v), p.clone()));
         p
     }
 
@@ -108,11 +154,11 @@ impl LodCache {
         let mut out: Vec<Arc<ScatterLod>> = Vec::with_capacity(4);
         let mut keep = Vec::with_capacity(4);
         for s in sets {
-            let lod = match self.scatter.iter().find(|(k, _)| *k == addr(s)) {
+            let lod = match self.scatter.iter().find(|(k, _)| k.is(s)) {
                 Some((_, l)) => l.clone(),
                 None => Arc::new(ScatterLod::new(&s.x, &s.y)),
             };
-            keep.push((addr(s), lod.clone()));
+            keep.push((Same::of(s), lod.clone()));
             out.push(lod);
         }
         self.scatter = keep;
@@ -163,6 +209,20 @@ pub(super) fn fit_worker(rx: Receiver<FitMsg>, tx: Sender<JobResult>, ctx: Share
     }
 }
 
+/// `x` with the centred moving average of `window` samples taken within each of `ranges`
+/// alone (a window is truncated at a range's ends); samples outside every range are left as
+/// they are (they are not drawn). Same length as `x`.
+fn filtered_within(x: &[f64], window: usize, ranges: &[std::ops::Range<usize>]) -> Vec<f64> {
+    let mut out = x.to_vec();
+    for r in ranges.iter().filter(|r| r.end <= x.len()) {
+        out[r.clone()].copy_from_slice(&crate::signal::moving_average_centered(
+            &x[r.clone()],
+            window,
+        ));
+    }
+    out
+}
+
 pub(super) fn build_lods(cache: &mut LodCache, o: &Outcome) -> FitLods {
     let ([omega_filtered, tdot, tddot], regime) =
         cache.prepared(&o.prepared, &o.in_sample.corrected.regime);
@@ -170,12 +230,25 @@ pub(super) fn build_lods(cache: &mut LodCache, o: &Outcome) -> FitLods {
     let filter = o.prepared.filter_samples;
     let ((pred_filtered, pred), cor_filtered) = rayon::join(
         || {
-            let f = crate::signal::moving_average_centered(&o.in_sample.corrected.pred_dph, filter);
+            let f = filtered_within(
+                &o.in_sample.corrected.pred_dph,
+                filter,
+                &o.in_sample.corrected.ready,
+            );
             let p = MinMaxPyramid::new(&f);
             (f, p)
         },
-        || MinMaxPyramid::new(&o.in_sample.cor_filtered_dph),
+        || {
+            let f = filtered_within(
+                &o.in_sample.corrected.cor_dph,
+                filter,
+                &o.in_sample.corrected.ready,
+            );
+            let p = MinMaxPyramid::new(&f);
+            (f, p)
+        },
     );
+    let (cor_filtered_dph, cor_filtered) = cor_filtered;
     let scatter = cache.scatter([
         &o.k1_plus_points,
         &o.k1_minus_points,
@@ -184,9 +257,26 @@ pub(super) fn build_lods(cache: &mut LodCache, o: &Outcome) -> FitLods {
     ]);
     let held_out = o.held_out.as_ref().map(|h| HeldLods {
         raw_filtered: LodCache::series(&mut cache.held_raw, &h.raw_filtered_dph),
-        cor_filtered: MinMaxPyramid::new(&h.cor_filtered_dph),
+        cor_filtered_dph: Vec::new(),
+        cor_filtered: MinMaxPyramid::default(),
         regime: ClassLod::new(h.corrected.regime.iter().map(|&r| r as u8).collect(), 2),
+        ready: Segments::from_ranges(&h.log.time_s, &h.corrected.ready),
+        segments: Segments::of(&h.log),
     });
+    let held_out = held_out.map(|mut l| {
+        if let Some(h) = o.held_out.as_ref() {
+            // The calibration log's window, in the validation log's samples.
+            let window = crate::signal::seconds_to_samples(
+                filter as f64 * o.prepared.dt_s,
+                h.log.nominal_dt_s(),
+            )
+            .max(1);
+            l.cor_filtered_dph = filtered_within(&h.corrected.cor_dph, window, &h.corrected.ready);
+            l.cor_filtered = MinMaxPyramid::new(&l.cor_filtered_dph);
+        }
+        l
+    });
+    let ready = Segments::from_ranges(&o.in_sample.log.time_s, &o.in_sample.corrected.ready);
     FitLods {
         omega_filtered,
         tdot,
@@ -195,8 +285,11 @@ pub(super) fn build_lods(cache: &mut LodCache, o: &Outcome) -> FitLods {
         pred_filtered,
         pred,
         raw_filtered,
+        cor_filtered_dph,
         cor_filtered,
         scatter,
+        ready,
+        segments: Segments::from_ranges(&o.in_sample.log.time_s, &o.prepared.segments),
         held_out,
     }
 }

@@ -1,6 +1,40 @@
-//! Reading a log off the UI thread, with progress and cancel, and the first views of it.
+//! Reading a log off the UI thread, with progress and cancel, and the first views of it:
+//! the read, then the averaging `--bin` asks for (or one sample per burst for a log written
+//! in bursts), then the pyramids the plots draw from.
 
 use super::*;
+use crate::gui::plot_items::Segments;
+use crate::log::resample::{self, Resampling};
+
+/// How the workbench reads a log: the reader's options, then the averaging applied after the
+/// read. Sessions keep it whole.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct LoadOptions {
+    /// How the reader parses the file (columns, units, dialect).
+    pub read: ReadOptions,
+    /// Average into bins of this many seconds after the read (`--bin`); `None`: a log written
+    /// in bursts is reduced to one sample per burst, any other log is used as recorded.
+    pub bin_s: Option<f64>,
+}
+
+impl LoadOptions {
+    /// Reading with `read`, nothing averaged unless the log is written in bursts.
+    pub fn read(read: ReadOptions) -> LoadOptions {
+        LoadOptions { read, bin_s: None }
+    }
+}
+
+/// The log as it was recorded, kept beside the log the workbench calibrates when that one is
+/// its bursts' means: the plots draw the bursts behind the means.
+#[derive(Debug)]
+pub struct Recorded {
+    /// The columns as read.
+    pub log: Log,
+    /// Pyramids of its Ω and T.
+    pub lods: LogLods,
+    /// Its segments (the bursts).
+    pub segments: Segments,
+}
 
 /// Pyramids of a log's raw columns, built once after reading.
 #[derive(Debug, Default)]
@@ -17,11 +51,17 @@ pub struct Loaded {
     /// The file.
     pub path: PathBuf,
     /// How it was read.
-    pub read: ReadOptions,
-    /// The columns.
+    pub options: LoadOptions,
+    /// The columns (averaged as [`LoadOptions::bin_s`] says).
     pub log: Arc<Log>,
     /// Pyramids of the raw columns.
     pub lods: Arc<LogLods>,
+    /// The log's segments between gaps, for drawing.
+    pub segments: Arc<Segments>,
+    /// What the averaging after the read did, when it did anything.
+    pub resampled: Option<String>,
+    /// The log as recorded, when the workbench calibrates its bursts' means.
+    pub recorded: Option<Arc<Recorded>>,
     /// SHA-256 of the file, for the calibration's source.
     pub sha256: Option<String>,
     /// Seconds the read took.
@@ -50,16 +90,33 @@ impl LoadHandle {
     }
 }
 
-pub(super) fn load_log(h: &LoadHandle, read: ReadOptions) -> JobResult {
+pub(super) fn load_log(h: &LoadHandle, options: LoadOptions) -> JobResult {
     let t = Instant::now();
     let progress = h.progress.clone();
     let cancel = h.cancel.clone();
-    let result = ingest::read_path_with_progress(&h.path, &read, &|f| {
+    let result = ingest::read_path_with_progress(&h.path, &options.read, &|f| {
         progress.store(f.to_bits(), Ordering::Relaxed);
         !cancel.load(Ordering::Relaxed)
     });
     match result {
         Ok(log) => {
+            // Averaged before anything else, as every command does (`--bin`, or bursts).
+            let how = resample::choose(&log, options.bin_s);
+            let recorded = (how == Resampling::BurstMeans).then(|| {
+                let (omega, temp) = rayon::join(
+                    || MinMaxPyramid::new(&log.omega_dph),
+                    || MinMaxPyramid::new(&log.temp_c),
+                );
+                Arc::new(Recorded {
+                    segments: Segments::of(&log),
+                    lods: LogLods { omega, temp },
+                    log: log.clone(),
+                })
+            });
+            let (log, resampled) = match resample::resample(log, how) {
+                Ok(r) => r,
+                Err(e) => return JobResult::LoadFailed(h.target, h.path.clone(), e.to_string()),
+            };
             if log.len() < 16 {
                 return JobResult::LoadFailed(
                     h.target,
@@ -72,11 +129,16 @@ pub(super) fn load_log(h: &LoadHandle, read: ReadOptions) -> JobResult {
                 );
             }
             let path = h.path.clone();
-            let ((omega, temp), sha256) = rayon::join(
+            let (((omega, temp), segments), sha256) = rayon::join(
                 || {
                     rayon::join(
-                        || MinMaxPyramid::new(&log.omega_dph),
-                        || MinMaxPyramid::new(&log.temp_c),
+                        || {
+                            rayon::join(
+                                || MinMaxPyramid::new(&log.omega_dph),
+                                || MinMaxPyramid::new(&log.temp_c),
+                            )
+                        },
+                        || Segments::of(&log),
                     )
                 },
                 || crate::files::calibration::sha256_file(&path).ok(),
@@ -85,9 +147,12 @@ pub(super) fn load_log(h: &LoadHandle, read: ReadOptions) -> JobResult {
                 h.target,
                 Box::new(Loaded {
                     path: h.path.clone(),
-                    read,
+                    options,
                     log: Arc::new(log),
                     lods: Arc::new(LogLods { omega, temp }),
+                    segments: Arc::new(segments),
+                    resampled,
+                    recorded,
                     sha256,
                     seconds: t.elapsed().as_secs_f64(),
                 }),

@@ -2,8 +2,8 @@
 //! request wins) and long exports. Results come back through one channel; each sender asks
 //! egui for a repaint so the UI shows them at once.
 //!
-//! One file a job: [`load`] (a log, with progress and cancel), [`fit`] (the live refit and its
-//! plot levels of detail), [`compare`] (the Models page) and [`allan`] (the Allan page); this
+//! One file a job: `load` (a log, with progress and cancel), `fit` (the live refit and its
+//! plot levels of detail), `compare` (the Models page) and `allan` (the Allan page); this
 //! file holds the workers' handle and the channel their results come back through.
 
 mod allan;
@@ -17,11 +17,13 @@ use compare::run_compare;
 pub use compare::{
     CompareHandle, CompareRequest, Compared, ComparedLog, ModelProgress, ModelSeries,
 };
-use fit::fit_worker;
 pub use fit::{FitLods, FitView, HeldLods};
+use fit::{RefitKey, fit_worker};
 use load::load_log;
-pub use load::{LoadHandle, Loaded, LogLods};
+pub use load::{LoadHandle, LoadOptions, Loaded, LogLods, Recorded};
 
+use super::plot_items::Segments;
+use super::same::Same;
 use crate::judge::allan::{AllanDeviation, AllanOptions};
 use crate::judge::compare::ModelReport;
 use crate::judge::metrics::MeritOptions;
@@ -107,6 +109,8 @@ pub struct Jobs {
     compare_requested: u64,
     /// The Allan deviations in progress, if any.
     pub allan: Option<(u64, bool)>,
+    /// What the newest refit was asked for.
+    sent: Option<RefitKey>,
 }
 
 impl Default for Jobs {
@@ -141,6 +145,7 @@ impl Jobs {
             comparing: None,
             compare_requested: 0,
             allan: None,
+            sent: None,
         }
     }
 
@@ -167,6 +172,18 @@ impl Jobs {
         self.answered < self.requested
     }
 
+    /// Asks for the refit `request` describes unless the newest one asked was for the same
+    /// logs, recipe and knots; true when it was asked for.
+    pub fn refit(&mut self, request: Request) -> bool {
+        let key = RefitKey::of(&request);
+        if self.sent.as_ref() == Some(&key) {
+            return false;
+        }
+        self.fit(request);
+        self.sent = Some(key);
+        true
+    }
+
     /// Asks for a refit; an older one still queued is dropped.
     pub fn fit(&mut self, request: Request) -> u64 {
         self.requested += 1;
@@ -185,7 +202,7 @@ impl Jobs {
     }
 
     /// Starts reading a log (cancelling a read already running).
-    pub fn load(&mut self, path: PathBuf, read: ReadOptions, target: Target) {
+    pub fn load(&mut self, path: PathBuf, options: LoadOptions, target: Target) {
         self.cancel_load();
         let handle = LoadHandle {
             target,
@@ -198,7 +215,7 @@ impl Jobs {
         let spawned = std::thread::Builder::new()
             .name("driftlab-load".into())
             .spawn(move || {
-                let result = load_log(&h, read);
+                let result = load_log(&h, options);
                 let _ = tx.send(result);
                 repaint(&ctx);
             });

@@ -3,7 +3,7 @@
 
 use super::ModelsView;
 use super::{accessible, model_color, plain, swatch};
-use crate::gui::app::Action;
+use crate::gui::action::Action;
 use crate::gui::plot_items::num;
 use crate::gui::state::AppState;
 use crate::judge::compare::ModelReport;

@@ -7,8 +7,8 @@
 //! ([`super::jobs::Jobs::compare`]) and comes back as [`Compared`] in the application data.
 
 //!
-//! One file a panel: [`builder`] (the custom model), [`table`] (the figures of every model),
-//! [`plot`] (the corrected drifts overlaid) and [`detail`] (what the selected model found, and
+//! One file a panel: `builder` (the custom model), `table` (the figures of every model),
+//! `plot` (the corrected drifts overlaid) and `detail` (what the selected model found, and
 //! its export); this file holds the page's state and lays the panels out.
 
 mod builder;
@@ -19,7 +19,7 @@ mod table;
 pub use builder::{CustomBuilder, DelayChoice, LagChoice};
 pub use plot::model_color;
 
-use super::app::Action;
+use super::action::Action;
 use super::jobs::{CompareHandle, Compared};
 use super::state::AppState;
 use crate::gui::plot_items::num;
@@ -101,8 +101,8 @@ impl ModelsView {
         ui: &mut Ui,
         state: &AppState,
         running: Option<&CompareHandle>,
-        out: &mut Vec<Action>,
-    ) {
+    ) -> Vec<Action> {
+        let mut out = Vec::new();
         Panel::left("models_choose")
             .default_size(300.0)
             .size_range(260.0..=460.0)
@@ -112,7 +112,7 @@ impl ModelsView {
                     .auto_shrink([false, false])
                     .show(ui, |ui| {
                         ui.set_min_width(ui.available_width());
-                        self.choose(ui, state, running, out)
+                        self.choose(ui, state, running, &mut out)
                     });
             });
         Panel::right("models_detail")
@@ -124,7 +124,7 @@ impl ModelsView {
                     .auto_shrink([false, false])
                     .show(ui, |ui| {
                         ui.set_min_width(ui.available_width());
-                        self.detail(ui, state, out)
+                        self.detail(ui, state, &mut out)
                     });
             });
         egui::CentralPanel::default().show(ui, |ui| {
@@ -174,6 +174,7 @@ impl ModelsView {
             ui.separator();
             self.plot(ui, &c);
         });
+        out
     }
 
     fn choose(

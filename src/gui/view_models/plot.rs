@@ -98,7 +98,7 @@ impl ModelsView {
                     t_full
                 };
                 let cols = pui.response().rect.width().max(50.0) as usize;
-                let raw = crate::signal::lod::reduce(
+                let raw = cl.segments.reduce(
                     &log.time_s,
                     &cl.raw_filtered_dph,
                     &cl.raw_lod,
@@ -107,7 +107,7 @@ impl ModelsView {
                     cols,
                 );
                 pui.add(
-                    BandItem::new("raw", raw, scale.div, t_full)
+                    BandItem::segmented("raw", raw, scale.div, t_full)
                         .color(pal.raw)
                         .width(1.6),
                 );
@@ -118,16 +118,11 @@ impl ModelsView {
                     if s.cor_filtered_dph.len() != n {
                         continue;
                     }
-                    let band = crate::signal::lod::reduce(
-                        &log.time_s,
-                        &s.cor_filtered_dph,
-                        &s.lod,
-                        x0,
-                        x1,
-                        cols,
-                    );
+                    let band =
+                        s.ready
+                            .reduce(&log.time_s, &s.cor_filtered_dph, &s.lod, x0, x1, cols);
                     pui.add(
-                        BandItem::new(&r.model, band, scale.div, t_full)
+                        BandItem::segmented(&r.model, band, scale.div, t_full)
                             .color(model_color(k, dark))
                             .width(1.4),
                     );

@@ -3,89 +3,18 @@
 //! of each of the four with its statistics, and spline/piecewise-linear knots that can be
 //! dragged by hand.
 
-use super::app::Action;
-use super::plot_items::{CloudItem, Palette, ShadeItem, ShadeSpan, num};
-use super::state::AppState;
+use super::CoeffView;
 use crate::files::session::Coefficient;
-use crate::models::approx::{ApproxKind, ApproxSpec};
-use eframe::egui::{self, Color32, CursorIcon, RichText, Stroke, Ui, WidgetInfo};
+use crate::gui::action::{Action, Edit};
+use crate::gui::plot_items::{CloudItem, Palette, ShadeItem, ShadeSpan, num};
+use crate::gui::state::AppState;
+use crate::gui::widgets::{approx_controls, save_plot_entry};
+use eframe::egui::{self, Color32, CursorIcon, RichText, Stroke, Ui};
 use egui_plot::{Line, MarkerShape, Plot, PlotBounds, PlotPoints, PlotTransform, Points};
-
-/// The name people read for an approximation kind.
-pub fn kind_name(k: ApproxKind) -> &'static str {
-    match k {
-        ApproxKind::Linear => "linear",
-        ApproxKind::Parabolic => "parabolic",
-        ApproxKind::Pwl => "piecewise-linear",
-        ApproxKind::Spline => "spline",
-    }
-}
-
-fn kind_tip(k: ApproxKind) -> &'static str {
-    match k {
-        ApproxKind::Linear => "c0 + c1·x",
-        ApproxKind::Parabolic => "c0 + c1·x + c2·x²",
-        ApproxKind::Pwl => "straight segments between equally spaced knots",
-        ApproxKind::Spline => "Catmull-Rom cubic spline through equally spaced knots",
-    }
-}
-
-/// Kind, knot count and "reset knots" for one coefficient; returns true when the hand-set
-/// knots are to be forgotten. "reset knots" is always there (greyed while no knot is set by
-/// hand), so that the row keeps its width when a drag starts.
-pub fn approx_controls(
-    ui: &mut Ui,
-    id: &str,
-    label: &str,
-    spec: &mut ApproxSpec,
-    edited: bool,
-) -> bool {
-    let r = egui::ComboBox::from_id_salt(("approx_kind", id))
-        .selected_text(kind_name(spec.kind))
-        .width(112.0)
-        .show_ui(ui, |ui| {
-            for k in ApproxKind::ALL {
-                ui.selectable_value(&mut spec.kind, k, kind_name(k))
-                    .on_hover_text(kind_tip(k));
-            }
-        })
-        .response;
-    let text = format!("{label} approximation");
-    let value = kind_name(spec.kind).to_string();
-    r.widget_info(|| {
-        let mut info = WidgetInfo::labeled(egui::accesskit::Role::ComboBox, true, &text);
-        info.current_text_value = Some(value.clone());
-        info
-    });
-    r.on_hover_text(format!(
-        "Approximation of {label}: linear, parabolic, piecewise-linear or spline"
-    ));
-    if spec.kind.has_knots() {
-        ui.add(
-            egui::DragValue::new(&mut spec.knots)
-                .range(2..=24)
-                .suffix(" knots")
-                .speed(0.05),
-        )
-        .on_hover_text(format!(
-            "Number of equally spaced knots of {label} (2 to 24)"
-        ));
-    }
-    ui.checkbox(&mut spec.extrapolate, "extrap.")
-        .on_hover_text(format!(
-            "Evaluate {label} beyond the range it was fitted on, instead of holding its edge value"
-        ));
-    ui.add_enabled(edited, egui::Button::new("reset knots").small())
-        .on_hover_text(format!(
-            "Forget the knots of {label} moved by hand and use the fitted ones"
-        ))
-        .on_disabled_hover_text(format!("No knot of {label} is set by hand"))
-        .clicked()
-}
 
 /// Which pair a plot shows.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Pair {
+pub(super) enum Pair {
     /// K1+ and K1− against dT/dt.
     K1,
     /// K2+ and K2− against d²T/dt².
@@ -113,23 +42,14 @@ impl Pair {
     }
 }
 
-/// View state of the K1 and K2 plots.
-#[derive(Default)]
-pub struct CoeffView {
-    drag: Option<(Coefficient, usize)>,
-    transforms: [Option<PlotTransform>; 2],
-    /// Whether the pointer was over each plot last frame (not covered by a window).
-    hovered: [bool; 2],
-}
-
 const KNOT_GRAB_PX: f32 = 9.0;
 
 impl CoeffView {
     /// One pair's controls and plot.
-    pub fn ui(
+    pub(super) fn pair(
         &mut self,
         ui: &mut Ui,
-        state: &mut AppState,
+        state: &AppState,
         pair: Pair,
         height: f32,
         out: &mut Vec<Action>,
@@ -173,11 +93,10 @@ impl CoeffView {
                 let mut spec = *c.spec(&state.choices.recipe);
                 let reset = approx_controls(ui, c.key(), c.label(), &mut spec, edited);
                 if spec != *c.spec(&state.choices.recipe) {
-                    *c.spec_mut(&mut state.choices.recipe) = spec;
-                    state.choices.knots.retain_matching(&state.choices.recipe);
+                    out.push(Action::Edit(Edit::Approx(c, spec)));
                 }
                 if reset {
-                    state.choices.knots.set(c, None);
+                    out.push(Action::Edit(Edit::Knots(c, None)));
                 }
                 if let Some(f) = &fit {
                     let s = c.approx(&f.outcome.calibration).stats();
@@ -193,23 +112,27 @@ impl CoeffView {
             });
         }
 
-        self.edit_knots(ui, state, slot, pair);
-
-        let knots = state.choices.knots.clone();
+        // The knots as this frame's drag leaves them (the edit is carried out at the end of
+        // the frame).
+        let mut knots = state.choices.knots.clone();
+        if let Some((c, values)) = self.edit_knots(ui, state, slot, pair) {
+            knots.set(c, Some(values.clone()));
+            out.push(Action::Edit(Edit::Knots(c, Some(values))));
+        }
         let dragging = self.drag.is_some();
         let resp = ui.scope(|ui| {
             Plot::new(("coeff_plot", pair.id()))
                 .height(height)
                 .x_axis_label(x_label)
-                .y_axis_label(super::plot_items::axis_label(y_label, height))
+                .y_axis_label(crate::gui::plot_items::axis_label(y_label, height))
                 .y_axis_min_width(60.0)
-                .x_axis_formatter(super::plot_items::tick_x)
-                .y_axis_formatter(super::plot_items::tick_y)
+                .x_axis_formatter(crate::gui::plot_items::tick_x)
+                .y_axis_formatter(crate::gui::plot_items::tick_y)
                 .x_grid_spacer(egui_plot::uniform_grid_spacer(
-                    super::plot_items::nice_steps,
+                    crate::gui::plot_items::nice_steps,
                 ))
                 .y_grid_spacer(egui_plot::uniform_grid_spacer(
-                    super::plot_items::nice_steps,
+                    crate::gui::plot_items::nice_steps,
                 ))
                 .allow_drag(!dragging)
                 .allow_boxed_zoom(!dragging)
@@ -299,13 +222,8 @@ impl CoeffView {
         self.transforms[slot] = Some(tf);
         self.hovered[slot] = resp.inner.response.hovered();
         resp.inner.response.context_menu(|ui| {
-            if ui
-                .button("Save this plot as PNG…")
-                .on_hover_text("Write this plot alone as a PNG picture")
-                .clicked()
-            {
+            if save_plot_entry(ui) {
                 out.push(Action::SavePlotNamed(pair.id().into()));
-                ui.close();
             }
         });
         out.push(Action::PlotRect(pair.id().into(), resp.response.rect));
@@ -318,32 +236,6 @@ impl CoeffView {
         if dragging {
             ui.ctx().request_repaint();
         }
-    }
-
-    /// Where knot `j` of `c` is on screen (as drawn last frame).
-    pub fn knot_pos(&self, state: &AppState, c: Coefficient, j: usize) -> Option<egui::Pos2> {
-        let slot = match c {
-            Coefficient::K1Plus | Coefficient::K1Minus => 0,
-            Coefficient::K2Plus | Coefficient::K2Minus => 1,
-            Coefficient::K0 => return None,
-        };
-        let tf = self.transforms[slot]?;
-        let f = state.fit.as_ref()?;
-        let a =
-            crate::live::with_knots(c.approx(&f.outcome.calibration), state.choices.knots.get(c));
-        let (kx, ky) = a.knots();
-        Some(tf.position_from_point(&egui_plot::PlotPoint::new(*kx.get(j)?, *ky.get(j)?)))
-    }
-
-    /// The value (y) at a screen position of a K1 (`slot` 0) or K2 (1) plot.
-    pub fn value_at(&self, slot: usize, p: egui::Pos2) -> Option<f64> {
-        Some(
-            self.transforms
-                .get(slot)?
-                .as_ref()?
-                .value_from_position(p)
-                .y,
-        )
     }
 
     fn knot_at(
@@ -372,10 +264,15 @@ impl CoeffView {
         best.map(|(_, c, j)| (c, j))
     }
 
-    fn edit_knots(&mut self, ui: &Ui, state: &mut AppState, slot: usize, pair: Pair) {
-        let Some(tf) = self.transforms[slot] else {
-            return;
-        };
+    /// Starts, follows and ends a knot drag: the coefficient's knot values as it leaves them.
+    fn edit_knots(
+        &mut self,
+        ui: &Ui,
+        state: &AppState,
+        slot: usize,
+        pair: Pair,
+    ) -> Option<(Coefficient, Vec<f64>)> {
+        let tf = self.transforms[slot]?;
         let (pressed, down, pos) = ui.input(|i| {
             (
                 i.pointer.primary_pressed(),
@@ -391,12 +288,11 @@ impl CoeffView {
         {
             self.drag = self.knot_at(state, pair, &tf, p);
         }
-        let Some((c, j)) = self.drag else {
-            return;
-        };
+        let (c, j) = self.drag?;
         if !pair.coefs().contains(&c) {
-            return;
+            return None;
         }
+        let mut edited = None;
         if let (Some(p), Some(f)) = (pos, state.fit.clone()) {
             let y = tf.value_from_position(p).y;
             let a = crate::live::with_knots(
@@ -406,12 +302,13 @@ impl CoeffView {
             let mut values = a.knots().1.to_vec();
             if j < values.len() && y.is_finite() {
                 values[j] = y;
-                state.choices.knots.set(c, Some(values));
+                edited = Some((c, values));
             }
         }
         if !down {
             self.drag = None;
         }
+        edited
     }
 }
 

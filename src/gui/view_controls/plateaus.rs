@@ -1,27 +1,20 @@
 //! The plateaus that define K0(T): a table (times typed in, statistics of each, delete), the
-//! detector's suggestion, and the K0 plot of the plateau points with the fitted curve.
+//! detector's suggestion, and whether the detector chooses them.
 
-use super::app::Action;
-use super::plot_items::{Palette, num};
-use super::state::AppState;
-use super::view_coeffs::approx_controls;
-use super::view_time::TimeView;
-use crate::files::session::Coefficient;
+use super::{ControlsView, PlateauFocus};
+use crate::gui::action::{Action, Edit};
+use crate::gui::plot_items::num;
+use crate::gui::state::AppState;
 use crate::signal::plateau::PlateauRange;
 use eframe::egui::{self, RichText, Ui};
-use egui_plot::{Line, LineStyle, MarkerShape, Plot, PlotPoints, Points};
 
-/// View state of the plateau table and the K0 plot.
-#[derive(Default)]
-pub struct PlateauView;
-
-impl PlateauView {
+impl ControlsView {
     /// The plateau table with its buttons.
-    pub fn table(
+    pub(super) fn plateau_table(
         &mut self,
         ui: &mut Ui,
-        state: &mut AppState,
-        time: &mut TimeView,
+        state: &AppState,
+        focus: PlateauFocus,
         out: &mut Vec<Action>,
     ) {
         let Some(loaded) = state.log.clone() else {
@@ -45,21 +38,15 @@ impl PlateauView {
                 .on_hover_text("Add a plateau in the middle of the visible time range (then type its times or drag its edges)")
                 .clicked()
             {
-                let (a, b) = time
+                let (a, b) = focus
                     .visible_s
                     .unwrap_or((log.time_s[0], log.time_s[log.len() - 1]));
                 let c = 0.5 * (a + b);
                 let w = 0.05 * (b - a);
-                let mut r = state.ranges();
-                r.push(PlateauRange {
+                out.push(Action::AddPlateau(PlateauRange {
                     start_s: c - w,
                     end_s: c + w,
-                });
-                state.set_ranges(r);
-                time.selected = state
-                    .ranges()
-                    .iter()
-                    .position(|x| (x.start_s - (c - w)).abs() < 1e-9);
+                }));
             }
             let mut auto = state.plateaus_auto();
             if ui
@@ -70,12 +57,11 @@ impl PlateauView {
                 )
                 .changed()
             {
-                if auto {
-                    state.recipe_mut().plateaus = crate::models::recipe::PlateauChoice::default();
+                out.push(Action::Edit(if auto {
+                    Edit::AutoPlateaus
                 } else {
-                    let r = state.ranges();
-                    state.set_ranges(r);
-                }
+                    Edit::Plateaus(state.ranges())
+                }));
             }
         });
         let ranges = state.ranges();
@@ -138,7 +124,7 @@ impl PlateauView {
                     let r = ranges[k];
                     ui.horizontal(|ui| {
                         ui.spacing_mut().item_spacing.x = 4.0;
-                        let sel = time.selected == Some(k);
+                        let sel = focus.selected == Some(k);
                         let samples = stats
                             .iter()
                             .find(|s| s.range == r)
@@ -153,7 +139,7 @@ impl PlateauView {
                             ))
                             .clicked()
                         {
-                            time.selected = if sel { None } else { Some(k) };
+                            out.push(Action::SelectPlateau(if sel { None } else { Some(k) }));
                         }
                         let (mut a, mut b) = (r.start_s, r.end_s);
                         let ca = ui
@@ -212,141 +198,13 @@ impl PlateauView {
                             let mut all = ranges.clone();
                             all.remove(k);
                             edited = Some(all);
-                            time.selected = None;
+                            out.push(Action::SelectPlateau(None));
                         }
                     });
                 }
             });
         if let Some(r) = edited {
-            state.set_ranges(r);
+            out.push(Action::Edit(Edit::Plateaus(r)));
         }
     }
-
-    /// The K0(T) plot with its approximation controls.
-    pub fn k0_plot(
-        &mut self,
-        ui: &mut Ui,
-        state: &mut AppState,
-        height: f32,
-        out: &mut Vec<Action>,
-    ) {
-        let pal = Palette::of(ui);
-        ui.horizontal_wrapped(|ui| {
-            ui.strong("K0(T)")
-                .on_hover_text("Static bias: mean output on each plateau against its temperature");
-            let edited = state.choices.knots.get(Coefficient::K0).is_some();
-            let mut spec = state.choices.recipe.k0;
-            let reset = approx_controls(ui, "k0", "K0", &mut spec, edited);
-            if spec != state.choices.recipe.k0 {
-                state.choices.recipe.k0 = spec;
-                state.choices.knots.retain_matching(&state.choices.recipe);
-            }
-            if reset {
-                state.choices.knots.set(Coefficient::K0, None);
-            }
-            if ui
-                .small_button("PNG")
-                .on_hover_text("Save the K0 plot as PNG")
-                .clicked()
-            {
-                out.push(Action::SavePlotNamed("k0".into()));
-            }
-        });
-        let fit = state.fit.clone();
-        let resp = ui.scope(|ui| {
-            Plot::new("k0_plot")
-                .height(height)
-                .x_axis_label("T, °C")
-                .y_axis_label("K0, °/h")
-                .y_axis_min_width(56.0)
-                .y_axis_formatter(super::plot_items::tick_y)
-                .x_axis_formatter(super::plot_items::tick_x)
-                .x_grid_spacer(egui_plot::uniform_grid_spacer(
-                    super::plot_items::nice_steps,
-                ))
-                .y_grid_spacer(egui_plot::uniform_grid_spacer(
-                    super::plot_items::nice_steps,
-                ))
-                .show(ui, |pui| {
-                    let Some(f) = &fit else {
-                        return;
-                    };
-                    let cal = &f.outcome.calibration;
-                    let pts: Vec<[f64; 2]> = cal
-                        .plateaus
-                        .iter()
-                        .map(|p| [p.temp_c, p.omega_dph])
-                        .collect();
-                    for p in &cal.plateaus {
-                        pui.line(
-                            Line::new(
-                                "±1 std",
-                                PlotPoints::new(vec![
-                                    [p.temp_c, p.omega_dph - p.omega_std_dph],
-                                    [p.temp_c, p.omega_dph + p.omega_std_dph],
-                                ]),
-                            )
-                            .color(Palette::shade(pal.plateau, 0.6))
-                            .width(1.0)
-                            .allow_hover(false),
-                        );
-                    }
-                    let k0 = &cal.k0;
-                    let (lo, hi) = (k0.x_min(), k0.x_max());
-                    let pad = ((hi - lo) * 0.15).max(2.0);
-                    let curve = |a: f64, b: f64| -> Vec<[f64; 2]> {
-                        (0..=100)
-                            .map(|j| {
-                                let x = a + (b - a) * j as f64 / 100.0;
-                                [x, k0.eval(x)]
-                            })
-                            .collect()
-                    };
-                    pui.line(
-                        Line::new(
-                            format!("K0 ({})", k0.kind()),
-                            PlotPoints::new(curve(lo, hi)),
-                        )
-                        .color(pal.curve)
-                        .width(2.0),
-                    );
-                    for (a, b) in [(lo - pad, lo), (hi, hi + pad)] {
-                        pui.line(
-                            Line::new("held beyond the plateaus", PlotPoints::new(curve(a, b)))
-                                .color(pal.curve)
-                                .style(LineStyle::dashed_dense())
-                                .width(1.0),
-                        );
-                    }
-                    pui.points(
-                        Points::new("plateaus", PlotPoints::new(pts))
-                            .shape(MarkerShape::Circle)
-                            .radius(5.0)
-                            .filled(true)
-                            .color(pal.plateau),
-                    );
-                })
-        });
-        out.push(Action::PlotRect("k0".into(), resp.response.rect));
-        match fit {
-            Some(f) => {
-                let s = f.outcome.calibration.k0.stats();
-                ui.weak(format!(
-                    "{} plateaus · RMSE {} °/h · R² {:.4}",
-                    s.n,
-                    num(s.rmse),
-                    s.r2
-                ))
-                .on_hover_text("Fit statistics of K0 over the plateau points");
-            }
-            None => {
-                ui.weak("No fit yet.");
-            }
-        }
-    }
-}
-
-/// Plateau ranges of the time plots' shared view, for other views.
-pub fn fmt_range(r: &PlateauRange) -> String {
-    format!("{:.0}–{:.0} s", r.start_s, r.end_s)
 }

@@ -1,0 +1,207 @@
+//! What the engineer can ask of the workbench, and the pages it shows: the words the views
+//! speak to the window. This module sits below every view (it names only engine types), so a
+//! view never imports the window: it returns these, and the window carries them out at the end
+//! of the frame.
+
+use super::jobs::{LoadOptions, Target};
+use super::settings::ThemeChoice;
+use crate::files::session::Coefficient;
+use crate::models::approx::ApproxSpec;
+use crate::models::recipe::Recipe;
+use crate::signal::plateau::PlateauRange;
+use eframe::egui::{Key, KeyboardShortcut, Modifiers, Rect};
+use std::path::PathBuf;
+
+/// Something the engineer asked for, from a menu, a shortcut, a button or a view.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Action {
+    /// Pick a log to open (import view next).
+    OpenLog,
+    /// Open this log (import view next).
+    OpenLogPath(PathBuf),
+    /// Read this log with these options into this slot (the import view's Load).
+    ReadLog(PathBuf, LoadOptions, Target),
+    /// Close the import view without reading.
+    CloseImport,
+    /// Pick a validation log.
+    OpenValidation,
+    /// Forget the validation log.
+    CloseValidation,
+    /// Pick a session to open.
+    OpenSession,
+    /// Open this session.
+    OpenSessionPath(PathBuf),
+    /// Save the session (asking where the first time).
+    SaveSession,
+    /// Save the session under a new name.
+    SaveSessionAs,
+    /// Write the calibration file.
+    ExportCalibration,
+    /// Write the calibration as a flight controller's parameter file (PX4, ArduPilot).
+    ExportFlight(crate::export::firmware::Format),
+    /// Write the corrected log.
+    ExportCsv,
+    /// Write the test report (figures and an HTML page) into a folder.
+    ExportReport,
+    /// Save the window as PNG.
+    Screenshot,
+    /// Save one plot (by name) as PNG, cropped to this rectangle.
+    SavePlot(String, Rect),
+    /// Save one plot (by name) as PNG, at its last known rectangle.
+    SavePlotNamed(String),
+    /// Where a plot was drawn this frame (for [`Action::SavePlotNamed`]).
+    PlotRect(String, Rect),
+    /// Change a choice (the recipe, a plateau, a knot): undo, the unsaved mark and the refit
+    /// follow from it.
+    Edit(Edit),
+    /// Select a plateau (highlighted on the time plots and in the table), or none.
+    SelectPlateau(Option<usize>),
+    /// Add this plateau by hand and select it.
+    AddPlateau(PlateauRange),
+    /// Show the result on the validation log (true) or on the calibration log.
+    ShowValidation(bool),
+    /// Undo the last change of choices.
+    Undo,
+    /// Redo.
+    Redo,
+    /// Fill the plateau table from the detector.
+    SuggestPlateaus,
+    /// Every choice back to the defaults.
+    ResetRecipe,
+    /// Close the workbench.
+    Quit,
+    /// Change the theme.
+    Theme(ThemeChoice),
+    /// Show a page of the workbench.
+    ShowPage(Page),
+    /// Fit and judge the models ticked on the Models page (in the background).
+    CompareModels,
+    /// Write the model chosen on the Models page as a calibration file.
+    ExportModel,
+    /// Reopen the import view on the loaded log (or the validation log) to change its
+    /// column mapping, units or format.
+    ColumnMapping(Target),
+}
+
+/// A change of the engineer's choices, as a view asks for it.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Edit {
+    /// The recipe as the Calibration page's controls left it (filters, step H, dead-bands,
+    /// gyro id, weighting, refinements).
+    Recipe(Box<Recipe>),
+    /// A coefficient's approximation (kind, knot count, extrapolation); knots moved by hand
+    /// that no longer fit it are forgotten.
+    Approx(Coefficient, ApproxSpec),
+    /// A coefficient's knot values set by hand (`None`: the fitted ones again).
+    Knots(Coefficient, Option<Vec<f64>>),
+    /// The plateaus, set by hand (sorted; empty and reversed ones dropped).
+    Plateaus(Vec<PlateauRange>),
+    /// The plateaus while a drag lasts: unsorted, so that the one being edited keeps its
+    /// place.
+    PlateausDragged(Vec<PlateauRange>),
+    /// The plateaus back to the detector.
+    AutoPlateaus,
+}
+
+/// The pages of the workbench.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Page {
+    /// The Vakhrameev calibration: time plots, plateaus, coefficients, result.
+    #[default]
+    Calibration,
+    /// Several models side by side.
+    Models,
+    /// Allan deviation, raw and corrected.
+    Allan,
+}
+
+impl Page {
+    /// Every page, in tab order.
+    pub const ALL: [Page; 3] = [Page::Calibration, Page::Models, Page::Allan];
+
+    /// The tab's title.
+    pub fn title(self) -> &'static str {
+        match self {
+            Page::Calibration => "Calibration",
+            Page::Models => "Models",
+            Page::Allan => "Allan deviation",
+        }
+    }
+
+    /// The page named `name` (`calibration`, `models`, `allan`), for the command line and
+    /// the environment.
+    pub fn from_name(name: &str) -> Option<Page> {
+        match name.trim().to_ascii_lowercase().as_str() {
+            "calibration" | "main" => Some(Page::Calibration),
+            "models" => Some(Page::Models),
+            "allan" => Some(Page::Allan),
+            _ => None,
+        }
+    }
+
+    /// The shortcut that shows the page.
+    pub fn shortcut(self) -> KeyboardShortcut {
+        match self {
+            Page::Calibration => shortcuts::PAGE1,
+            Page::Models => shortcuts::PAGE2,
+            Page::Allan => shortcuts::PAGE3,
+        }
+    }
+
+    /// What the page holds, for its tab's tooltip.
+    pub fn tip(self) -> &'static str {
+        match self {
+            Page::Calibration => {
+                "The Vakhrameev calibration: time plots, plateaus, K0/K1±/K2±, the result"
+            }
+            Page::Models => {
+                "The models of the papers and a custom one side by side, in-sample and held out; \
+                 export any of them"
+            }
+            Page::Allan => {
+                "Allan deviation of the raw and the corrected rate, with ARW, bias \
+                 instability and RRW"
+            }
+        }
+    }
+}
+
+/// The keyboard shortcuts of the menus (the menus show them, the window listens for them).
+pub mod shortcuts {
+    use super::{Key, KeyboardShortcut, Modifiers};
+
+    /// Open a log.
+    pub const OPEN: KeyboardShortcut = KeyboardShortcut::new(Modifiers::COMMAND, Key::O);
+    /// Open a session.
+    pub const OPEN_SESSION: KeyboardShortcut =
+        KeyboardShortcut::new(Modifiers::COMMAND.plus(Modifiers::SHIFT), Key::O);
+    /// Save the session.
+    pub const SAVE: KeyboardShortcut = KeyboardShortcut::new(Modifiers::COMMAND, Key::S);
+    /// Save the window as PNG.
+    pub const SHOT: KeyboardShortcut =
+        KeyboardShortcut::new(Modifiers::COMMAND.plus(Modifiers::SHIFT), Key::S);
+    /// Save the window as PNG (the other key).
+    pub const SHOT_F12: KeyboardShortcut = KeyboardShortcut::new(Modifiers::NONE, Key::F12);
+    /// Export the calibration.
+    pub const EXPORT: KeyboardShortcut = KeyboardShortcut::new(Modifiers::COMMAND, Key::E);
+    /// Export the corrected log.
+    pub const EXPORT_CSV: KeyboardShortcut =
+        KeyboardShortcut::new(Modifiers::COMMAND.plus(Modifiers::SHIFT), Key::E);
+    /// Undo.
+    pub const UNDO: KeyboardShortcut = KeyboardShortcut::new(Modifiers::COMMAND, Key::Z);
+    /// Redo.
+    pub const REDO: KeyboardShortcut = KeyboardShortcut::new(Modifiers::COMMAND, Key::Y);
+    /// Redo (the other keys).
+    pub const REDO2: KeyboardShortcut =
+        KeyboardShortcut::new(Modifiers::COMMAND.plus(Modifiers::SHIFT), Key::Z);
+    /// Quit.
+    pub const QUIT: KeyboardShortcut = KeyboardShortcut::new(Modifiers::COMMAND, Key::Q);
+    /// The Calibration page.
+    pub const PAGE1: KeyboardShortcut = KeyboardShortcut::new(Modifiers::COMMAND, Key::Num1);
+    /// The Models page.
+    pub const PAGE2: KeyboardShortcut = KeyboardShortcut::new(Modifiers::COMMAND, Key::Num2);
+    /// The Allan page.
+    pub const PAGE3: KeyboardShortcut = KeyboardShortcut::new(Modifiers::COMMAND, Key::Num3);
+    /// Compare the models ticked (Models page).
+    pub const COMPARE: KeyboardShortcut = KeyboardShortcut::new(Modifiers::NONE, Key::F5);
+}

@@ -1,0 +1,132 @@
+//! K0(T): the plateau points (mean output against mean temperature, ±1 std) with the fitted
+//! curve, held flat beyond the plateaus, and its approximation controls.
+
+use super::CoeffView;
+use crate::files::session::Coefficient;
+use crate::gui::action::{Action, Edit};
+use crate::gui::plot_items::{Palette, num};
+use crate::gui::state::AppState;
+use crate::gui::widgets::approx_controls;
+use eframe::egui::Ui;
+use egui_plot::{Line, LineStyle, MarkerShape, Plot, PlotPoints, Points};
+
+impl CoeffView {
+    /// The K0(T) plot with its approximation controls.
+    pub(super) fn k0(&mut self, ui: &mut Ui, state: &AppState, height: f32, out: &mut Vec<Action>) {
+        let pal = Palette::of(ui);
+        ui.horizontal_wrapped(|ui| {
+            ui.strong("K0(T)")
+                .on_hover_text("Static bias: mean output on each plateau against its temperature");
+            let edited = state.choices.knots.get(Coefficient::K0).is_some();
+            let mut spec = state.choices.recipe.k0;
+            let reset = approx_controls(ui, "k0", "K0", &mut spec, edited);
+            if spec != state.choices.recipe.k0 {
+                out.push(Action::Edit(Edit::Approx(Coefficient::K0, spec)));
+            }
+            if reset {
+                out.push(Action::Edit(Edit::Knots(Coefficient::K0, None)));
+            }
+            if ui
+                .small_button("PNG")
+                .on_hover_text("Save the K0 plot as PNG")
+                .clicked()
+            {
+                out.push(Action::SavePlotNamed("k0".into()));
+            }
+        });
+        let fit = state.fit.clone();
+        let resp = ui.scope(|ui| {
+            Plot::new("k0_plot")
+                .height(height)
+                .x_axis_label("T, °C")
+                .y_axis_label("K0, °/h")
+                .y_axis_min_width(56.0)
+                .y_axis_formatter(crate::gui::plot_items::tick_y)
+                .x_axis_formatter(crate::gui::plot_items::tick_x)
+                .x_grid_spacer(egui_plot::uniform_grid_spacer(
+                    crate::gui::plot_items::nice_steps,
+                ))
+                .y_grid_spacer(egui_plot::uniform_grid_spacer(
+                    crate::gui::plot_items::nice_steps,
+                ))
+                .show(ui, |pui| {
+                    let Some(f) = &fit else {
+                        return;
+                    };
+                    let cal = &f.outcome.calibration;
+                    let pts: Vec<[f64; 2]> = cal
+                        .plateaus
+                        .iter()
+                        .map(|p| [p.temp_c, p.omega_dph])
+                        .collect();
+                    for p in &cal.plateaus {
+                        pui.line(
+                            Line::new(
+                                "±1 std",
+                                PlotPoints::new(vec![
+                                    [p.temp_c, p.omega_dph - p.omega_std_dph],
+                                    [p.temp_c, p.omega_dph + p.omega_std_dph],
+                                ]),
+                            )
+                            .color(Palette::shade(pal.plateau, 0.6))
+                            .width(1.0)
+                            .allow_hover(false),
+                        );
+                    }
+                    let k0 = &cal.k0;
+                    let (lo, hi) = (k0.x_min(), k0.x_max());
+                    let pad = ((hi - lo) * 0.15).max(2.0);
+                    let curve = |a: f64, b: f64| -> Vec<[f64; 2]> {
+                        (0..=100)
+                            .map(|j| {
+                                let x = a + (b - a) * j as f64 / 100.0;
+                                [x, k0.eval(x)]
+                            })
+                            .collect()
+                    };
+                    pui.line(
+                        Line::new(
+                            format!("K0 ({})", k0.kind()),
+                            PlotPoints::new(curve(lo, hi)),
+                        )
+                        .color(pal.curve)
+                        .width(2.0),
+                    );
+                    for (a, b) in [(lo - pad, lo), (hi, hi + pad)] {
+                        pui.line(
+                            Line::new("held beyond the plateaus", PlotPoints::new(curve(a, b)))
+                                .color(pal.curve)
+                                .style(LineStyle::dashed_dense())
+                                .width(1.0),
+                        );
+                    }
+                    pui.points(
+                        Points::new("plateaus", PlotPoints::new(pts))
+                            .shape(MarkerShape::Circle)
+                            .radius(5.0)
+                            .filled(true)
+                            .color(pal.plateau),
+                    );
+                })
+        });
+        out.push(Action::PlotRect("k0".into(), resp.response.rect));
+        match fit {
+            Some(f) => {
+                let s = f.outcome.calibration.k0.stats();
+                ui.weak(format!(
+                    "{} plateaus · RMSE {} °/h · R² {:.4}",
+                    s.n,
+                    num(s.rmse),
+                    s.r2
+                ))
+                .on_hover_text("Fit statistics of K0 over the plateau points");
+            }
+            None if state.fit_error.is_some() => {
+                ui.weak("No fit: the calibration failed (its message is in the status bar).");
+            }
+            None => {
+                ui.weak("No fit yet.");
+            }
+        }
+    }
+}

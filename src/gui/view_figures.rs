@@ -1,0 +1,146 @@
+//! The figures of merit below the Calibration page: peak-to-peak, standard deviation and the
+//! 10-minute figures of the filtered drift, raw and corrected, with the reduction ratios,
+//! in-sample and held out, and the last refit's time and warnings.
+
+use super::action::Action;
+use super::plot_items::{num, ratio};
+use super::state::AppState;
+use super::widgets::file_name;
+use crate::judge::metrics::Evaluation;
+use eframe::egui::{Grid, RichText, Ui};
+
+/// The figures panel (no state of its own).
+#[derive(Debug, Default)]
+pub struct FiguresView;
+
+impl FiguresView {
+    /// The figures of merit, always visible.
+    pub fn ui(&mut self, ui: &mut Ui, state: &AppState) -> Vec<Action> {
+        let Some(fit) = state.fit.as_ref() else {
+            ui.weak("Figures of merit appear once the log is calibrated.");
+            return Vec::new();
+        };
+        let name = |l: &Option<super::jobs::Loaded>| {
+            l.as_ref().map(|l| file_name(&l.path)).unwrap_or_default()
+        };
+        // While a refit is on its way (a knot being dragged on a long log) the figures are those
+        // of the choices a moment ago: shown greyed and marked, never passed off as the
+        // current ones.
+        let exact = state.fit_current();
+        ui.horizontal_top(|ui| {
+            table(
+                ui,
+                "fig_in",
+                &format!("In-sample · {}", name(&state.log)),
+                &fit.outcome.in_sample.evaluation,
+                exact,
+            );
+            ui.separator();
+            match &fit.outcome.held_out {
+                Some(h) => table(
+                    ui,
+                    "fig_out",
+                    &format!("Held out · {}", name(&state.validation)),
+                    &h.evaluation,
+                    exact,
+                ),
+                None => {
+                    ui.vertical(|ui| {
+                        ui.strong("Held out");
+                        ui.weak("Open a validation log (File › Open validation log…)\nto judge the calibration on a run it was not fitted on.");
+                    });
+                }
+            }
+            ui.separator();
+            ui.vertical(|ui| {
+                let t = fit.outcome.timings;
+                ui.strong("Refit");
+                ui.label(format!("{:.1} ms", t.total_ms)).on_hover_text(format!(
+                    "Last refit on the worker thread: prepare {:.1} ms, plateaus {:.1} ms, K1/K2 {:.1} ms, \
+                     correct {:.1} ms, figures {:.1} ms, validation {:.1} ms (0: reused)",
+                    t.prepare_ms, t.plateaus_ms, t.fit_ms, t.correct_ms, t.evaluate_ms, t.validation_ms
+                ));
+                for w in fit.outcome.warnings.iter().take(3) {
+                    ui.colored_label(ui.visuals().warn_fg_color, format!("! {w}"))
+                        .on_hover_text(w.as_str());
+                }
+            });
+        });
+        Vec::new()
+    }
+}
+
+fn table(ui: &mut Ui, id: &str, title: &str, e: &Evaluation, exact: bool) {
+    let c = &e.comparison;
+    ui.vertical(|ui| {
+        ui.horizontal(|ui| {
+            ui.strong(title);
+            if !exact {
+                ui.label(
+                    RichText::new("provisional")
+                        .italics()
+                        .color(ui.visuals().warn_fg_color),
+                )
+                .on_hover_text(
+                    "These figures are those of the choices a moment ago: the refit for the \
+                     current ones is on its way",
+                );
+            }
+        })
+        .response
+        .on_hover_text(format!(
+            "{} samples after {} warm-up samples; {} whole 10-min windows; {:.1}% of samples outside the calibrated ranges",
+            c.raw.samples,
+            e.warmup_samples,
+            c.raw.windows,
+            e.outside_fraction * 100.0
+        ));
+        Grid::new(id).striped(true).spacing([14.0, 2.0]).show(ui, |ui| {
+            for h in ["°/h", "raw", "corrected", "ratio"] {
+                ui.label(RichText::new(h).strong());
+            }
+            ui.end_row();
+            let rows = [
+                (
+                    "peak-to-peak",
+                    "Peak-to-peak of the filtered drift",
+                    c.raw.p2p_dph,
+                    c.corrected.p2p_dph,
+                    c.p2p_ratio,
+                ),
+                ("std", "Standard deviation of the filtered drift", c.raw.std_dph, c.corrected.std_dph, c.std_ratio),
+                (
+                    "10-min RMS",
+                    "Mean over consecutive 10-minute windows of the RMS within each window",
+                    c.raw.win_rms_mean_dph,
+                    c.corrected.win_rms_mean_dph,
+                    c.win_rms_ratio,
+                ),
+                (
+                    "max |10-min mean|",
+                    "Largest |mean| over the consecutive 10-minute windows",
+                    c.raw.win_mean_max_abs_dph,
+                    c.corrected.win_mean_max_abs_dph,
+                    c.win_mean_ratio,
+                ),
+            ];
+            let weak = ui.visuals().weak_text_color();
+            for (name, tip, raw, cor, r) in rows {
+                ui.label(name).on_hover_text(tip);
+                ui.monospace(num(raw));
+                let cor_text = RichText::new(num(cor)).monospace();
+                ui.label(if exact { cor_text } else { cor_text.italics().color(weak) });
+                let good = r >= 1.0;
+                let color = match (exact, good) {
+                    (false, _) => weak,
+                    (true, true) => ui.visuals().text_color(),
+                    (true, false) => ui.visuals().error_fg_color,
+                };
+                let text = RichText::new(ratio(r)).monospace().strong().color(color);
+                ui.label(if exact { text } else { text.italics() })
+                    .on_hover_text("raw ÷ corrected: above 1 is better");
+                ui.end_row();
+            }
+        });
+    });
+}

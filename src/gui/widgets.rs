@@ -1,0 +1,105 @@
+//! Widgets more than one view draws, so that views never call into each other: the time axis
+//! the time plots and the result plot share, an approximation's controls (K0, K1±, K2±), a
+//! plot's "save as PNG" menu entry and a file's short name.
+
+use crate::models::approx::{ApproxKind, ApproxSpec};
+use eframe::egui::{self, Ui, WidgetInfo};
+use std::path::Path;
+
+/// The id of the time axis shared by the time plots and the result plot (zoom and pan
+/// together).
+pub fn time_link() -> egui::Id {
+    egui::Id::unique("driftlab-time-axis")
+}
+
+/// The name people read for an approximation kind.
+pub fn kind_name(k: ApproxKind) -> &'static str {
+    match k {
+        ApproxKind::Linear => "linear",
+        ApproxKind::Parabolic => "parabolic",
+        ApproxKind::Pwl => "piecewise-linear",
+        ApproxKind::Spline => "spline",
+    }
+}
+
+fn kind_tip(k: ApproxKind) -> &'static str {
+    match k {
+        ApproxKind::Linear => "c0 + c1·x",
+        ApproxKind::Parabolic => "c0 + c1·x + c2·x²",
+        ApproxKind::Pwl => "straight segments between equally spaced knots",
+        ApproxKind::Spline => "Catmull-Rom cubic spline through equally spaced knots",
+    }
+}
+
+/// Kind, knot count and "reset knots" for one coefficient; returns true when the hand-set
+/// knots are to be forgotten. "reset knots" is always there (greyed while no knot is set by
+/// hand), so that the row keeps its width when a drag starts.
+pub fn approx_controls(
+    ui: &mut Ui,
+    id: &str,
+    label: &str,
+    spec: &mut ApproxSpec,
+    edited: bool,
+) -> bool {
+    let r = egui::ComboBox::from_id_salt(("approx_kind", id))
+        .selected_text(kind_name(spec.kind))
+        .width(112.0)
+        .show_ui(ui, |ui| {
+            for k in ApproxKind::ALL {
+                ui.selectable_value(&mut spec.kind, k, kind_name(k))
+                    .on_hover_text(kind_tip(k));
+            }
+        })
+        .response;
+    let text = format!("{label} approximation");
+    let value = kind_name(spec.kind).to_string();
+    r.widget_info(|| {
+        let mut info = WidgetInfo::labeled(egui::accesskit::Role::ComboBox, true, &text);
+        info.current_text_value = Some(value.clone());
+        info
+    });
+    r.on_hover_text(format!(
+        "Approximation of {label}: linear, parabolic, piecewise-linear or spline"
+    ));
+    if spec.kind.has_knots() {
+        ui.add(
+            egui::DragValue::new(&mut spec.knots)
+                .range(2..=24)
+                .suffix(" knots")
+                .speed(0.05),
+        )
+        .on_hover_text(format!(
+            "Number of equally spaced knots of {label} (2 to 24)"
+        ));
+    }
+    ui.checkbox(&mut spec.extrapolate, "extrap.")
+        .on_hover_text(format!(
+            "Evaluate {label} beyond the range it was fitted on, instead of holding its edge value"
+        ));
+    ui.add_enabled(edited, egui::Button::new("reset knots").small())
+        .on_hover_text(format!(
+            "Forget the knots of {label} moved by hand and use the fitted ones"
+        ))
+        .on_disabled_hover_text(format!("No knot of {label} is set by hand"))
+        .clicked()
+}
+
+/// The "Save this plot as PNG…" entry of a plot's context menu; true when chosen (the menu
+/// is closed then).
+pub fn save_plot_entry(ui: &mut Ui) -> bool {
+    let chosen = ui
+        .button("Save this plot as PNG…")
+        .on_hover_text("Write this plot alone as a PNG picture")
+        .clicked();
+    if chosen {
+        ui.close();
+    }
+    chosen
+}
+
+/// A file's name for short messages and headings (the full path goes in tooltips).
+pub fn file_name(p: &Path) -> String {
+    p.file_name()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| p.display().to_string())
+}
