@@ -12,8 +12,13 @@ fn main() -> std::process::ExitCode {
     };
     match result {
         Ok(()) => std::process::ExitCode::SUCCESS,
-        Err(message) => {
-            eprintln!("error: {message}");
+        // The reader of the output is gone; a shell reports 141 for a program a closed pipe
+        // stopped, and says nothing.
+        Err(cli::CliError::ClosedOutput) => std::process::ExitCode::from(141),
+        Err(cli::CliError::Message(message)) => {
+            use std::io::Write;
+            // Standard error full or closed: nothing is left to tell; the status still says it.
+            let _ = writeln!(std::io::stderr(), "error: {message}");
             std::process::ExitCode::FAILURE
         }
     }

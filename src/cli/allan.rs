@@ -1,7 +1,7 @@
 //! `driftlab allan`: the Allan deviation of a log's rate, with intervals and the gyro
 //! read-outs (ARW, bias instability, RRW).
 
-use super::common::{self, LogArgs};
+use super::common::{self, CliError, LogArgs};
 use driftlab::judge::allan::{self, AllanDeviation, AllanOptions, Readout, TauSpacing};
 use driftlab::log::ProblemKind;
 use driftlab::log::ingest;
@@ -26,11 +26,11 @@ pub struct Args {
     pub log_args: LogArgs,
 }
 
-pub fn run(a: Args) -> Result<(), String> {
+pub fn run(a: Args) -> Result<(), CliError> {
     if let Some(t) = a.tau0
         && !(t.is_finite() && t > 0.0)
     {
-        return Err(format!("--tau0 {t}: give a positive number of seconds"));
+        return Err(format!("--tau0 {t}: give a positive number of seconds").into());
     }
     let read_opts = a.log_args.options()?;
     let (source, rate, tau0_s) =
@@ -51,7 +51,7 @@ pub fn run(a: Args) -> Result<(), String> {
             None => {
                 let log = a.log_args.read(&a.log)?;
                 if log.info.problems.iter().any(|p| p.kind == ProblemKind::Gap) {
-                    eprintln!(
+                    note!(
                         "warning: {}: the log has gaps; the Allan deviation treats the samples as \
                      evenly spaced",
                         log.source
@@ -72,7 +72,7 @@ pub fn run(a: Args) -> Result<(), String> {
         ..AllanOptions::default()
     };
     if a.all_tau && rate.len() > 200_000 {
-        eprintln!(
+        note!(
             "warning: --all-tau on {} samples computes {} deviations of O(N) each; octave τ \
              (the default) takes a fraction of a second",
             rate.len(),
@@ -84,8 +84,7 @@ pub fn run(a: Args) -> Result<(), String> {
     if a.json {
         return common::print_json(&json(&source, &dev));
     }
-    print_table(&source, &dev);
-    Ok(())
+    print_table(&source, &dev)
 }
 
 /// The one JSON object: columns of the curve, then the read-outs.
@@ -111,20 +110,25 @@ fn json(source: &str, d: &AllanDeviation) -> serde_json::Value {
     })
 }
 
-fn print_table(source: &str, d: &AllanDeviation) {
-    println!(
+fn print_table(source: &str, d: &AllanDeviation) -> Result<(), CliError> {
+    out!(
         "{source}: overlapping Allan deviation of {} samples, tau0 = {} s, {:.1}% intervals",
         d.samples,
         d.options.tau0_s,
         d.options.confidence * 100.0
-    );
-    println!(
+    )?;
+    out!(
         "  {:>12} {:>13} {:>10} {:>13} {:>13} {:>5}",
-        "tau (s)", "sigma (deg/h)", "n", "min", "max", "alpha"
-    );
+        "tau (s)",
+        "sigma (deg/h)",
+        "n",
+        "min",
+        "max",
+        "alpha"
+    )?;
     let opt = |v: Option<f64>| v.map_or_else(|| "-".to_string(), |v| format!("{v:.6e}"));
     for p in &d.points {
-        println!(
+        out!(
             "  {:>12} {:>13.6e} {:>10} {:>13} {:>13} {:>5}",
             // m·τ0 in binary can print as 0.30000000000000004; nine decimals are plenty.
             format!("{}", (p.tau_s * 1e9).round() / 1e9),
@@ -133,22 +137,22 @@ fn print_table(source: &str, d: &AllanDeviation) {
             opt(p.adev_min),
             opt(p.adev_max),
             p.alpha
-        );
+        )?;
     }
-    println!("  read-outs:");
+    out!("  read-outs:")?;
     let r = &d.readouts;
-    readout("angle random walk", &r.arw, "no -1/2 region in the curve");
+    readout("angle random walk", &r.arw, "no -1/2 region in the curve")?;
     readout(
         "bias instability",
         &r.bias_instability,
         "the curve shows no minimum it rises from",
-    );
-    readout("rate random walk", &r.rrw, "no +1/2 region in the curve");
+    )?;
+    readout("rate random walk", &r.rrw, "no +1/2 region in the curve")
 }
 
-fn readout(name: &str, r: &Option<Readout>, none: &str) {
+fn readout(name: &str, r: &Option<Readout>, none: &str) -> Result<(), CliError> {
     match r {
-        Some(r) => println!(
+        Some(r) => out!(
             "    {name:<18} {:.6e} {:<14} {}{}",
             r.value,
             r.unit,
@@ -159,6 +163,6 @@ fn readout(name: &str, r: &Option<Readout>, none: &str) {
                 ""
             }
         ),
-        None => println!("    {name:<18} none: {none}"),
+        None => out!("    {name:<18} none: {none}"),
     }
 }

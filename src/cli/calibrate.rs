@@ -1,7 +1,7 @@
 //! `driftlab calibrate`: fit a calibration (any model) to a log and save it.
 
 use super::calibrate_print;
-use super::common::{self, LogArgs};
+use super::common::{self, CliError, LogArgs};
 use driftlab::files::calibration;
 use driftlab::judge::metrics::MeritOptions;
 use driftlab::models::approx::{ApproxKind, ApproxSpec};
@@ -191,7 +191,7 @@ impl Args {
     }
 }
 
-pub fn run(a: Args) -> Result<(), String> {
+pub fn run(a: Args) -> Result<(), CliError> {
     let recipe = a.recipe()?;
     let choice = a.choice()?;
     let mut warnings = a.check_settings(&recipe, &choice)?;
@@ -252,22 +252,22 @@ pub fn run(a: Args) -> Result<(), String> {
         return common::print_json(&out);
     }
     match &model {
-        DriftModel::Vakhrameev(cal) => calibrate_print::vakhrameev_summary(cal, &warnings),
+        DriftModel::Vakhrameev(cal) => calibrate_print::vakhrameev_summary(cal, &warnings)?,
         DriftModel::Regression(r) => {
-            calibrate_print::regression_summary(r);
+            calibrate_print::regression_summary(r)?;
             for w in &warnings {
-                eprintln!("warning: {w}");
+                note!("warning: {w}");
             }
         }
     }
-    println!();
-    println!(
+    out!()?;
+    out!(
         "In-sample (calibrated and evaluated on {}):",
         model.source().name
-    );
-    common::print_evaluation(&in_sample);
-    println!();
-    println!("Calibration written to {}", a.out.display());
+    )?;
+    common::print_evaluation(&in_sample)?;
+    out!()?;
+    out!("Calibration written to {}", a.out.display())?;
     Ok(())
 }
 

@@ -1,10 +1,98 @@
-//! Pieces every subcommand shares: how to read a log, progress bars, number formatting.
+//! Pieces every subcommand shares: how to read a log, progress bars, number formatting, and
+//! the writes to standard output and error.
+//!
+//! Nothing here prints with `println!`: it panics when standard output is full or closed
+//! (`driftlab inspect run.csv > /dev/full`, `| head -1`). [`out!`] returns the error instead,
+//! and `main` ends the command with one line and a non-zero status, or quietly when the reader
+//! of a pipe has closed it, as Unix tools do. [`note!`] writes a warning or status line to
+//! standard error, where a failure has nowhere left to be told and is let go.
 
 use driftlab::Log;
 use driftlab::log::ingest::{self, ColumnRef, RateUnit, ReadOptions, TimeUnit};
 use indicatif::{ProgressBar, ProgressStyle};
-use std::io::IsTerminal;
+use std::io::{IsTerminal, Write};
 use std::path::Path;
+
+/// Why a command stopped: a message for standard error, or standard output closed by the
+/// program reading it.
+#[derive(Debug)]
+pub enum CliError {
+    /// Printed by `main` after `error: `, with exit status 1.
+    Message(String),
+    /// The reader of standard output closed it (`| head -1`): the command stops without a
+    /// word, with the status a shell gives a program a closed pipe stopped (141).
+    ClosedOutput,
+}
+
+impl From<String> for CliError {
+    fn from(m: String) -> CliError {
+        CliError::Message(m)
+    }
+}
+
+impl From<&str> for CliError {
+    fn from(m: &str) -> CliError {
+        CliError::Message(m.to_string())
+    }
+}
+
+impl From<driftlab::error::Invalid> for CliError {
+    fn from(e: driftlab::error::Invalid) -> CliError {
+        CliError::Message(e.to_string())
+    }
+}
+
+/// The error of a write to standard output, as the command ends with it.
+pub fn stdout_error(e: std::io::Error) -> CliError {
+    if e.kind() == std::io::ErrorKind::BrokenPipe {
+        CliError::ClosedOutput
+    } else {
+        CliError::Message(format!("standard output: {e}"))
+    }
+}
+
+/// Writes formatted text and a line end to standard output.
+///
+/// # Errors
+/// A full disk or a closed pipe, as [`stdout_error`] names them.
+pub fn write_out(args: std::fmt::Arguments<'_>) -> Result<(), CliError> {
+    let mut o = std::io::stdout().lock();
+    o.write_fmt(args)
+        .and_then(|()| o.write_all(b"\n"))
+        .map_err(stdout_error)
+}
+
+/// Flushes standard output, whose last bytes may still be buffered when a command ends.
+///
+/// # Errors
+/// As [`write_out`].
+pub fn flush_out() -> Result<(), CliError> {
+    std::io::stdout().lock().flush().map_err(stdout_error)
+}
+
+/// Writes to standard error, letting a failure go: there is nowhere left to report it.
+pub fn write_err(args: std::fmt::Arguments<'_>) {
+    let mut e = std::io::stderr().lock();
+    let _ = e.write_fmt(args).and_then(|()| e.write_all(b"\n"));
+}
+
+/// `println!` that returns the error of a full or closed standard output instead of
+/// panicking: `out!("{x}")?`.
+macro_rules! out {
+    () => {
+        $crate::cli::common::write_out(format_args!(""))
+    };
+    ($($arg:tt)*) => {
+        $crate::cli::common::write_out(format_args!($($arg)*))
+    };
+}
+
+/// `eprintln!` that never panics (standard error full or closed is let go).
+macro_rules! note {
+    ($($arg:tt)*) => {
+        $crate::cli::common::write_err(format_args!($($arg)*))
+    };
+}
 
 /// Column mapping and format options, on every command that reads a log.
 #[derive(clap::Args, Debug, Clone, Default)]
@@ -114,7 +202,7 @@ impl LogArgs {
         let log = log?;
         for p in &log.info.problems {
             let col = p.column.map(|c| format!(":{c}")).unwrap_or_default();
-            eprintln!(
+            note!(
                 "warning: {}:{}{col}: {} ({} time{})",
                 log.source,
                 p.line,
@@ -144,15 +232,14 @@ pub fn progress_bar(message: &str) -> Option<ProgressBar> {
 /// A short spinner-free status line on stderr when interactive.
 pub fn status(message: &str) {
     if std::io::stderr().is_terminal() {
-        eprintln!("{message}");
+        note!("{message}");
     }
 }
 
 /// Prints a value as pretty JSON on stdout.
-pub fn print_json<T: serde::Serialize>(value: &T) -> Result<(), String> {
+pub fn print_json<T: serde::Serialize>(value: &T) -> Result<(), CliError> {
     let text = serde_json::to_string_pretty(value).map_err(|e| e.to_string())?;
-    println!("{text}");
-    Ok(())
+    out!("{text}")
 }
 
 /// Formats a ratio for tables ("inf" when the corrected figure is zero).
@@ -165,12 +252,15 @@ pub fn ratio(r: f64) -> String {
 }
 
 /// Prints an evaluation as a small table of raw, corrected and ratio.
-pub fn print_evaluation(e: &driftlab::judge::metrics::Evaluation) {
+pub fn print_evaluation(e: &driftlab::judge::metrics::Evaluation) -> Result<(), CliError> {
     let c = &e.comparison;
-    println!(
+    out!(
         "  {:<34} {:>11} {:>11} {:>9}",
-        "figure (deg/h)", "raw", "corrected", "ratio"
-    );
+        "figure (deg/h)",
+        "raw",
+        "corrected",
+        "ratio"
+    )?;
     let rows = [
         (
             "peak-to-peak of filtered drift",
@@ -198,13 +288,13 @@ pub fn print_evaluation(e: &driftlab::judge::metrics::Evaluation) {
         ),
     ];
     for (name, raw, cor, r) in rows {
-        println!("  {name:<34} {raw:>11.4} {cor:>11.4} {:>9}", ratio(r));
+        out!("  {name:<34} {raw:>11.4} {cor:>11.4} {:>9}", ratio(r))?;
     }
-    println!(
+    out!(
         "  {} samples ({} warm-up samples left out), {} windows; {:.1}% outside the calibrated ranges",
         c.raw.samples,
         e.warmup_samples,
         c.raw.windows,
         e.outside_fraction * 100.0
-    );
+    )
 }

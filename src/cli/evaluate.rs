@@ -1,6 +1,6 @@
 //! `driftlab evaluate`: figures of merit of a log, raw and corrected.
 
-use super::common::{self, LogArgs};
+use super::common::{self, CliError, LogArgs};
 use driftlab::files::calibration;
 use driftlab::judge::metrics::{Evaluation, MeritOptions};
 use driftlab::models::fitted::DriftModel;
@@ -26,7 +26,7 @@ pub struct Args {
     pub log_args: LogArgs,
 }
 
-pub fn run(a: Args) -> Result<(), String> {
+pub fn run(a: Args) -> Result<(), CliError> {
     let model = calibration::load_model(&a.calibration).map_err(|e| e.to_string())?;
     let log = a.log_args.read_for(&a.log, &model)?;
     let default_filter = match &model {
@@ -56,7 +56,7 @@ pub fn run(a: Args) -> Result<(), String> {
         }));
     }
     let held_out = *sha != calibration::sha256_file(&a.log).unwrap_or_default();
-    println!(
+    out!(
         "{} on {} ({}):",
         super::calibrate::file_name(&a.calibration),
         super::calibrate::file_name(&a.log),
@@ -65,7 +65,6 @@ pub fn run(a: Args) -> Result<(), String> {
         } else {
             "in-sample: the calibration log"
         }
-    );
-    common::print_evaluation(&eval);
-    Ok(())
+    )?;
+    common::print_evaluation(&eval)
 }

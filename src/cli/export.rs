@@ -1,5 +1,6 @@
 //! `driftlab export`: a calibration for a gyro's processor, as a C header or lookup tables.
 
+use super::common::CliError;
 use driftlab::export::firmware::{self, ExportOptions, Format};
 use driftlab::files::calibration;
 use std::io::Write;
@@ -24,7 +25,7 @@ pub struct Args {
     pub points: usize,
 }
 
-pub fn run(a: Args) -> Result<(), String> {
+pub fn run(a: Args) -> Result<(), CliError> {
     let model = calibration::load_model(&a.calibration).map_err(|e| e.to_string())?;
     let opts = ExportOptions { points: a.points };
     let text = firmware::export_model(&model, a.format, &opts)
@@ -38,13 +39,13 @@ pub fn run(a: Args) -> Result<(), String> {
             } else {
                 model.gyro_id().to_string()
             };
-            eprintln!("{} of {what} written to {}", a.format, path.display());
+            note!("{} of {what} written to {}", a.format, path.display());
         }
         None => {
             let mut out = std::io::stdout().lock();
             out.write_all(text.as_bytes())
                 .and_then(|()| out.flush())
-                .map_err(|e| format!("standard output: {e}"))?;
+                .map_err(super::common::stdout_error)?;
         }
     }
     Ok(())

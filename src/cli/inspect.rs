@@ -1,6 +1,6 @@
 //! `driftlab inspect`: what driftlab reads in a log.
 
-use super::common::{self, LogArgs};
+use super::common::{self, CliError, LogArgs};
 use driftlab::models::recipe::Recipe;
 use driftlab::models::vakhrameev::{self, Prepared};
 use std::path::PathBuf;
@@ -17,7 +17,7 @@ pub struct Args {
     pub log_args: LogArgs,
 }
 
-pub fn run(a: Args) -> Result<(), String> {
+pub fn run(a: Args) -> Result<(), CliError> {
     let log = a.log_args.read(&a.log)?;
     let recipe = Recipe::default();
     let prepared = Prepared::new(&log, &recipe);
@@ -52,8 +52,8 @@ pub fn run(a: Args) -> Result<(), String> {
         }));
     }
     let i = &log.info;
-    println!("{}", log.source);
-    println!(
+    out!("{}", log.source)?;
+    out!(
         "  format: separator {:?}, decimal {}, {}",
         i.delimiter,
         if i.decimal_comma { "comma" } else { "point" },
@@ -62,51 +62,58 @@ pub fn run(a: Args) -> Result<(), String> {
         } else {
             "no header"
         }
-    );
-    println!("  columns:");
+    )?;
+    out!("  columns:")?;
     for c in &i.columns {
         let unit = if c.unit.is_empty() {
             String::new()
         } else {
             format!(" [{}]", c.unit)
         };
-        println!("    {:>2}  {:<24} {:?}{unit}", c.index, c.name, c.role);
+        out!("    {:>2}  {:<24} {:?}{unit}", c.index, c.name, c.role)?;
     }
-    println!(
+    out!(
         "  {} samples ({} rows read), step {} s ({:.4} Hz), duration {:.2} h",
         log.len(),
         i.rows_read,
         dt,
         1.0 / dt,
         log.duration_s() / 3600.0
-    );
-    println!("  temperature {tmin:.3} .. {tmax:.3} degC, fastest |Tdot| {rate_max:.3} degC/min");
-    println!("  plateaus found ({}):", plateaus.len());
+    )?;
+    out!("  temperature {tmin:.3} .. {tmax:.3} degC, fastest |Tdot| {rate_max:.3} degC/min")?;
+    out!("  plateaus found ({}):", plateaus.len())?;
     // A week-long log can hold thousands: the first and last ones say enough on a terminal
     // (`--json` lists every one).
     const SHOWN: usize = 10;
     let line = |p: &driftlab::signal::plateau::PlateauStats| {
-        println!(
+        out!(
             "    {:>9.0} .. {:>9.0} s   T {:>8.3} degC   Omega {:>9.4} deg/h   std {:.4}   {} samples",
-            p.range.start_s, p.range.end_s, p.temp_c, p.omega_dph, p.omega_std_dph, p.samples
-        );
+            p.range.start_s,
+            p.range.end_s,
+            p.temp_c,
+            p.omega_dph,
+            p.omega_std_dph,
+            p.samples
+        )
     };
     if plateaus.len() <= 2 * SHOWN {
-        plateaus.iter().for_each(line);
+        plateaus.iter().try_for_each(line)?;
     } else {
-        plateaus[..SHOWN].iter().for_each(line);
-        println!(
+        plateaus[..SHOWN].iter().try_for_each(line)?;
+        out!(
             "    ... {} more (--json lists them all) ...",
             plateaus.len() - 2 * SHOWN
-        );
-        plateaus[plateaus.len() - SHOWN..].iter().for_each(line);
+        )?;
+        plateaus[plateaus.len() - SHOWN..]
+            .iter()
+            .try_for_each(line)?;
     }
     if i.problems.is_empty() {
-        println!("  problems: none");
+        out!("  problems: none")?;
     } else {
-        println!("  problems:");
+        out!("  problems:")?;
         for p in &i.problems {
-            println!("    line {}: {} ({}x)", p.line, p.message, p.count);
+            out!("    line {}: {} ({}x)", p.line, p.message, p.count)?;
         }
     }
     Ok(())

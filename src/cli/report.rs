@@ -1,6 +1,6 @@
 //! `driftlab report`: the test report of a calibration judged on one or more logs.
 
-use super::common::{self, LogArgs};
+use super::common::{self, CliError, LogArgs};
 use driftlab::export::report::{self, ReportOptions};
 use driftlab::files::calibration;
 use driftlab::judge::metrics::MeritOptions;
@@ -28,7 +28,7 @@ pub struct Args {
     pub log_args: LogArgs,
 }
 
-pub fn run(a: Args) -> Result<(), String> {
+pub fn run(a: Args) -> Result<(), CliError> {
     let model = calibration::load_model(&a.calibration).map_err(|e| e.to_string())?;
     let merit = MeritOptions {
         filter_s: a
@@ -55,21 +55,21 @@ pub fn run(a: Args) -> Result<(), String> {
     )
     .map_err(|e| e.to_string())?;
     for l in &summary.logs {
-        println!(
+        out!(
             "{} ({}): peak-to-peak of filtered drift {:.4} -> {:.4} deg/h ({})",
             l.name,
             if l.in_sample { "in-sample" } else { "held out" },
             l.evaluation.comparison.raw.p2p_dph,
             l.evaluation.comparison.corrected.p2p_dph,
             common::ratio(l.evaluation.comparison.p2p_ratio)
-        );
+        )?;
     }
     for n in &summary.notes {
-        println!("note: {n}");
+        out!("note: {n}")?;
     }
-    println!("wrote {} files:", summary.files.len());
+    out!("wrote {} files:", summary.files.len())?;
     for f in &summary.files {
-        println!("  {}", f.display());
+        out!("  {}", f.display())?;
     }
     Ok(())
 }
