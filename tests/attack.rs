@@ -109,3 +109,62 @@ fn a_closed_pipe_ends_every_command_quietly() {
         );
     }
 }
+
+/// `driftlab ARGS`, killed if it has not ended after `seconds`: a hang fails the test instead of
+/// stalling the run.
+fn within(seconds: u64, args: &[&str]) -> Output {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_driftlab"))
+        .args(args)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("driftlab runs");
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(seconds);
+    while child.try_wait().unwrap().is_none() {
+        if std::time::Instant::now() > deadline {
+            let _ = child.kill();
+            panic!("driftlab {args:?} still running after {seconds} s");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    child.wait_with_output().unwrap()
+}
+
+/// The calibration at `cal` with `edit` applied to its JSON, written to `dir/name`.
+fn edited(dir: &Path, cal: &str, name: &str, edit: impl FnOnce(&mut serde_json::Value)) -> String {
+    let mut v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(cal).unwrap()).unwrap();
+    edit(&mut v);
+    let path = p(dir, name);
+    std::fs::write(&path, serde_json::to_string_pretty(&v).unwrap()).unwrap();
+    path
+}
+
+#[test]
+fn a_report_of_absurd_numbers_is_refused_instead_of_drawn_forever() {
+    let dir = tempfile::tempdir().unwrap();
+    let cal = calibration(dir.path());
+    let coefficients = edited(dir.path(), &cal, "coeffs.json", |v| {
+        v["calibration"]["k0"]["curve"]["coeffs"] = serde_json::json!([1e308, 0.0, 0.0]);
+    });
+    let range = edited(dir.path(), &cal, "range.json", |v| {
+        v["calibration"]["k0"]["x_min"] = serde_json::json!(-1e308);
+        v["calibration"]["k0"]["x_max"] = serde_json::json!(1e308);
+    });
+    for bad in [coefficients, range] {
+        let out = within(
+            120,
+            &[
+                "report",
+                &bad,
+                &sample("calibration.csv"),
+                "--out",
+                &p(dir.path(), "rep"),
+            ],
+        );
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{bad}: {err}");
+        assert_eq!(err.lines().count(), 1, "{err}");
+        assert!(err.to_lowercase().contains("k0"), "{err}");
+    }
+}
