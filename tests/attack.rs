@@ -168,3 +168,111 @@ fn a_report_of_absurd_numbers_is_refused_instead_of_drawn_forever() {
         assert!(err.to_lowercase().contains("k0"), "{err}");
     }
 }
+
+/// A FIFO at `dir/name` that a thread fills with `bytes` once; the thread's result says
+/// whether every byte was taken (a reader that closed early makes the write fail).
+fn fifo_fed(dir: &Path, name: &str, bytes: Vec<u8>) -> (String, std::thread::JoinHandle<bool>) {
+    let path = p(dir, name);
+    let made = Command::new("mkfifo").arg(&path).status();
+    assert!(made.is_ok_and(|s| s.success()), "mkfifo {path}");
+    let target = path.clone();
+    let writer = std::thread::spawn(move || {
+        use std::io::Write;
+        std::fs::OpenOptions::new()
+            .write(true)
+            .open(&target)
+            .and_then(|mut f| f.write_all(&bytes))
+            .is_ok()
+    });
+    (path, writer)
+}
+
+#[test]
+fn a_log_from_a_fifo_is_read_once() {
+    let dir = tempfile::tempdir().unwrap();
+    let cal = calibration(dir.path());
+    let bytes = std::fs::read(sample("calibration.csv")).unwrap();
+    let out = p(dir.path(), "out");
+    let commands: [&[&str]; 7] = [
+        &["inspect", "LOG"],
+        &[
+            "calibrate",
+            "LOG",
+            "--out",
+            &p(dir.path(), "from-fifo.json"),
+        ],
+        &["evaluate", "--json", &cal, "LOG"],
+        &[
+            "apply",
+            &cal,
+            "LOG",
+            "--out",
+            &p(dir.path(), "corrected.csv"),
+        ],
+        &["allan", "LOG"],
+        &["report", &cal, "LOG", "--out", &out],
+        &["compare", "--train", "LOG", "--models", "ieee952"],
+    ];
+    for (k, args) in commands.iter().enumerate() {
+        let (fifo, writer) = fifo_fed(dir.path(), &format!("log{k}.csv"), bytes.clone());
+        let args: Vec<&str> = args
+            .iter()
+            .map(|a| if *a == "LOG" { fifo.as_str() } else { a })
+            .collect();
+        let run = within(120, &args);
+        let err = String::from_utf8_lossy(&run.stderr);
+        assert!(run.status.success(), "{args:?}: {err}");
+        assert!(
+            writer.join().unwrap(),
+            "{args:?}: the FIFO's writer was cut off"
+        );
+        if args[0] == "evaluate" {
+            // Hashed as it was read: the calibration's own log, though it came from a pipe.
+            let v: serde_json::Value = serde_json::from_slice(&run.stdout).unwrap();
+            assert_eq!(v["in_sample"], serde_json::Value::Bool(true));
+        }
+    }
+    // The calibration made from the FIFO is the one made from the file, hash and all.
+    let from_file: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&cal).unwrap()).unwrap();
+    let from_fifo: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(p(dir.path(), "from-fifo.json")).unwrap())
+            .unwrap();
+    assert_eq!(
+        from_fifo["calibration"]["source"]["sha256"],
+        from_file["calibration"]["source"]["sha256"]
+    );
+    assert_eq!(
+        from_fifo["calibration"]["k0"],
+        from_file["calibration"]["k0"]
+    );
+}
+
+#[test]
+fn a_log_on_standard_input_is_named_dash() {
+    let dir = tempfile::tempdir().unwrap();
+    let cal = calibration(dir.path());
+    let run = |args: &[&str]| {
+        Command::new(env!("CARGO_BIN_EXE_driftlab"))
+            .args(args)
+            .stdin(std::fs::File::open(sample("calibration.csv")).unwrap())
+            .output()
+            .unwrap()
+    };
+    let out = run(&["evaluate", "--json", &cal, "-"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["in_sample"], serde_json::Value::Bool(true));
+    let out = run(&["inspect", "-"]);
+    assert!(String::from_utf8_lossy(&out.stdout).starts_with("standard input\n"));
+    // Endless or binary devices are refused from their first bytes, not read on forever.
+    for device in ["/dev/zero", "/dev/urandom"] {
+        let out = within(30, &["inspect", device]);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.contains("binary file"), "{device}: {err}");
+    }
+}

@@ -4,7 +4,6 @@
 use super::common::{self, CliError, LogArgs};
 use driftlab::judge::allan::{self, AllanDeviation, AllanOptions, Readout, TauSpacing};
 use driftlab::log::ProblemKind;
-use driftlab::log::ingest;
 use std::path::PathBuf;
 
 /// Arguments of `allan`.
@@ -33,35 +32,35 @@ pub fn run(a: Args) -> Result<(), CliError> {
         return Err(format!("--tau0 {t}: give a positive number of seconds").into());
     }
     let read_opts = a.log_args.options()?;
-    let (source, rate, tau0_s) =
-        match ingest::read_rate_series(&a.log, &read_opts).map_err(|e| e.to_string())? {
-            Some(series) => {
-                let tau0 = a
-                    .tau0
-                    .or(a.log_args.sample_rate.map(|hz| 1.0 / hz))
-                    .ok_or_else(|| {
-                        format!(
-                            "{}: a log of one column has no time; give its sampling interval with \
+    let input = a.log_args.open(&a.log)?;
+    let (source, rate, tau0_s) = match input.rate_series(&read_opts).map_err(|e| e.to_string())? {
+        Some(series) => {
+            let tau0 = a
+                .tau0
+                .or(a.log_args.sample_rate.map(|hz| 1.0 / hz))
+                .ok_or_else(|| {
+                    format!(
+                        "{}: a log of one column has no time; give its sampling interval with \
                          --tau0 S (or --sample-rate HZ)",
-                            series.source
-                        )
-                    })?;
-                (series.source, series.omega_dph, tau0)
-            }
-            None => {
-                let log = a.log_args.read(&a.log)?;
-                if log.info.problems.iter().any(|p| p.kind == ProblemKind::Gap) {
-                    note!(
-                        "warning: {}: the log has gaps; the Allan deviation treats the samples as \
+                        series.source
+                    )
+                })?;
+            (series.source, series.omega_dph, tau0)
+        }
+        None => {
+            let log = a.log_args.read(&input)?;
+            if log.info.problems.iter().any(|p| p.kind == ProblemKind::Gap) {
+                note!(
+                    "warning: {}: the log has gaps; the Allan deviation treats the samples as \
                      evenly spaced",
-                        log.source
-                    );
-                }
-                let step = log.nominal_dt_s();
-                let tau0 = a.tau0.unwrap_or(step);
-                (log.source, log.omega_dph, tau0)
+                    log.source
+                );
             }
-        };
+            let step = log.nominal_dt_s();
+            let tau0 = a.tau0.unwrap_or(step);
+            (log.source, log.omega_dph, tau0)
+        }
+    };
     let opts = AllanOptions {
         tau0_s,
         spacing: if a.all_tau {

@@ -20,7 +20,7 @@ pub struct Args {
 
 pub fn run(a: Args) -> Result<(), CliError> {
     let model = calibration::load_model(&a.calibration).map_err(|e| e.to_string())?;
-    let log = a.log_args.read_for(&a.log, &model)?;
+    let log = a.log_args.read_for(&a.log_args.open(&a.log)?, &model)?;
     // The predicted drift alone, batch by batch as the rows are written: the corrected rate
     // is written as Ω − pred row by row, so no column of it (nor of rates and regimes) is held.
     let mut predictor = model

@@ -201,15 +201,16 @@ pub fn run(a: Args) -> Result<(), CliError> {
     };
     // Vakhrameev's model reads the three calibration columns only; the others are neither
     // parsed nor held.
+    let input = a.log_args.open(&a.log)?;
     let log = if choice.is_vakhrameev() {
-        a.log_args.read_columns(&a.log)?
+        a.log_args.read_columns(&input)?
     } else {
-        a.log_args.read(&a.log)?
+        a.log_args.read(&input)?
     };
     common::status("fitting ...");
     // The file's hash is taken beside the fit, whose stages are partly sequential.
     let (fitted, sha256) = std::thread::scope(|scope| {
-        let sha = scope.spawn(|| calibration::sha256_file(&a.log).map_err(|e| e.to_string()));
+        let sha = scope.spawn(|| calibration::sha256_input(&input).map_err(|e| e.to_string()));
         let fitted = models::calibrate(&log, &choice, &recipe, &merit);
         let sha256 = sha
             .join()

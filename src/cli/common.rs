@@ -8,7 +8,7 @@
 //! standard error, where a failure has nowhere left to be told and is let go.
 
 use driftlab::Log;
-use driftlab::log::ingest::{self, ColumnRef, RateUnit, ReadOptions, TimeUnit};
+use driftlab::log::ingest::{ColumnRef, Input, RateUnit, ReadOptions, TimeUnit};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::{IsTerminal, Write};
 use std::path::Path;
@@ -159,43 +159,55 @@ impl LogArgs {
         })
     }
 
+    /// Opens a log given on the command line: `-` is standard input, and a FIFO or a device
+    /// is read once, whole ([`Input`]); a file is read later from its path.
+    pub fn open(&self, path: &Path) -> Result<Input, String> {
+        Input::open(path).map_err(|e| e.to_string())
+    }
+
     /// Reads only the time, rate and temperature columns of a log (for the commands that use
     /// nothing else: the other columns are neither parsed nor held).
-    pub fn read_columns(&self, path: &Path) -> Result<Log, String> {
+    pub fn read_columns(&self, input: &Input) -> Result<Log, String> {
         let opts = ReadOptions {
             skip_extras: true,
             ..self.options()?
         };
-        self.read_with(path, &opts)
+        self.read_with(input, &opts)
     }
 
     /// Reads the columns `model` needs: the calibration columns, and the second temperature
     /// and extra channels when the model reads them.
     pub fn read_for(
         &self,
-        path: &Path,
+        input: &Input,
         model: &driftlab::models::fitted::DriftModel,
     ) -> Result<Log, String> {
         match model.inputs() {
-            (None, channels) if channels.is_empty() => self.read_columns(path),
-            _ => self.read(path),
+            (None, channels) if channels.is_empty() => self.read_columns(input),
+            _ => self.read(input),
         }
     }
 
     /// Reads a log, with a progress bar on an interactive terminal.
-    pub fn read(&self, path: &Path) -> Result<Log, String> {
-        self.read_with(path, &self.options()?)
+    pub fn read(&self, input: &Input) -> Result<Log, String> {
+        self.read_with(input, &self.options()?)
     }
 
-    fn read_with(&self, path: &Path, opts: &ReadOptions) -> Result<Log, String> {
-        let bar = progress_bar(&format!("reading {}", path.display()));
-        let log = ingest::read_path_with_progress(path, opts, &|f| {
-            if let Some(b) = &bar {
-                b.set_position((f * 1000.0) as u64);
-            }
-            true
-        })
-        .map_err(|e| e.to_string());
+    /// Opens and reads the log at `path`.
+    pub fn read_path(&self, path: &Path) -> Result<Log, String> {
+        self.read(&self.open(path)?)
+    }
+
+    fn read_with(&self, input: &Input, opts: &ReadOptions) -> Result<Log, String> {
+        let bar = progress_bar(&format!("reading {}", input.name()));
+        let log = input
+            .read(opts, &|f| {
+                if let Some(b) = &bar {
+                    b.set_position((f * 1000.0) as u64);
+                }
+                true
+            })
+            .map_err(|e| e.to_string());
         if let Some(b) = bar {
             b.finish_and_clear();
         }

@@ -72,11 +72,11 @@ pub fn run(a: Args) -> Result<(), CliError> {
     if !(merit.filter_s > 0.0 && merit.window_s > 0.0) {
         return Err("--filter and --window must be positive".into());
     }
-    let train = a.log_args.read(&a.train)?;
+    let train = a.log_args.read_path(&a.train)?;
     let tests = a
         .test
         .iter()
-        .map(|p| a.log_args.read(p))
+        .map(|p| a.log_args.read_path(p))
         .collect::<Result<Vec<_>, _>>()?;
     common::status(&format!("fitting {} models ...", choices.len()));
     let recipe = Recipe {

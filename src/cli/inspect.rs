@@ -18,7 +18,7 @@ pub struct Args {
 }
 
 pub fn run(a: Args) -> Result<(), CliError> {
-    let log = a.log_args.read(&a.log)?;
+    let log = a.log_args.read_path(&a.log)?;
     let recipe = Recipe::default();
     let prepared = Prepared::new(&log, &recipe);
     let ranges = vakhrameev::plateau_ranges(&log, &prepared, &recipe);

@@ -40,8 +40,11 @@ pub fn run(a: Args) -> Result<(), CliError> {
         return Err("--filter and --window must be positive".into());
     }
     let mut logs = Vec::with_capacity(a.logs.len());
+    let mut hashes = Vec::with_capacity(a.logs.len());
     for path in &a.logs {
-        logs.push((path.clone(), a.log_args.read(path)?));
+        let input = a.log_args.open(path)?;
+        logs.push((path.clone(), a.log_args.read(&input)?));
+        hashes.push(calibration::sha256_input(&input).unwrap_or_default());
     }
     common::status(&format!("writing the report into {}", a.out.display()));
     let summary = report::write_model(
@@ -51,6 +54,7 @@ pub fn run(a: Args) -> Result<(), CliError> {
         &ReportOptions {
             merit: Some(merit),
             allan: None,
+            sha256: Some(hashes),
         },
     )
     .map_err(|e| e.to_string())?;

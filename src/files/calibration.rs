@@ -268,7 +268,21 @@ pub fn read_recipe(path: &Path) -> Result<Recipe> {
 }
 
 /// SHA-256 of a file's bytes as lowercase hex, read in blocks (logs can be gigabytes).
+///
+/// # Errors
+/// An unreadable file, or one that is not a regular file: a FIFO or a device gives its bytes
+/// once, to whoever read the log from it, and opening it again would wait for a writer that
+/// never comes ([`sha256_input`] hashes the bytes that were read).
 pub fn sha256_file(path: &Path) -> Result<String> {
+    match std::fs::metadata(path) {
+        Ok(m) if !m.is_file() => {
+            return Err(Error::File {
+                path: path.to_path_buf(),
+                message: "not a regular file: its bytes can be read only once".into(),
+            });
+        }
+        _ => {}
+    }
     let mut f = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
     let mut hasher = Sha256::new();
     let mut buf = vec![0u8; 1 << 20];
@@ -279,9 +293,28 @@ pub fn sha256_file(path: &Path) -> Result<String> {
         }
         hasher.update(&buf[..n]);
     }
-    Ok(hasher
+    Ok(hex(hasher))
+}
+
+/// SHA-256 of the bytes a log was read from: the file's, or the stream's as it was read.
+///
+/// # Errors
+/// As [`sha256_file`].
+pub fn sha256_input(input: &crate::log::ingest::Input) -> Result<String> {
+    match input {
+        crate::log::ingest::Input::Path(p) => sha256_file(p),
+        crate::log::ingest::Input::Bytes { bytes, .. } => {
+            let mut hasher = Sha256::new();
+            hasher.update(bytes);
+            Ok(hex(hasher))
+        }
+    }
+}
+
+fn hex(hasher: Sha256) -> String {
+    hasher
         .finalize()
         .iter()
         .map(|b| format!("{b:02x}"))
-        .collect())
+        .collect()
 }
