@@ -6,6 +6,9 @@ use clap::Parser;
 
 fn main() -> std::process::ExitCode {
     let args = cli::Cli::parse();
+    // Ctrl-C, `kill` or a closed terminal during a write leaves no temporary file behind. A
+    // system that refuses the handlers still runs the command, as before.
+    let _ = driftlab::files::atomic::remove_temporaries_on_signals();
     let result = match args.command {
         Some(command) => cli::run(command),
         None => cli::run(cli::Command::Gui(cli::GuiArgs::default())),

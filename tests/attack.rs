@@ -9,7 +9,7 @@ use std::path::Path;
 use std::process::{Command, Output, Stdio};
 
 mod common;
-use common::run::ok;
+use common::run::{driftlab, fails, ok};
 
 fn sample(name: &str) -> String {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -275,4 +275,155 @@ fn a_log_on_standard_input_is_named_dash() {
         let err = String::from_utf8_lossy(&out.stderr);
         assert!(err.contains("binary file"), "{device}: {err}");
     }
+}
+
+/// The `.driftlab-*.tmp` files in `dir`.
+fn temporaries(dir: &Path) -> Vec<String> {
+    std::fs::read_dir(dir)
+        .unwrap()
+        .flatten()
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .filter(|n| n.starts_with(".driftlab-") && n.ends_with(".tmp"))
+        .collect()
+}
+
+#[test]
+fn a_link_is_written_through_and_a_fifo_or_device_is_written_in_place() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let cal = calibration(d);
+    // A link: the file it names gets the calibration, and the link stays a link.
+    std::fs::write(d.join("cal-2026.json"), "old").unwrap();
+    std::os::unix::fs::symlink("cal-2026.json", d.join("latest.json")).unwrap();
+    ok(&[
+        "calibrate",
+        &sample("calibration.csv"),
+        "--out",
+        &p(d, "latest.json"),
+    ]);
+    let link = std::fs::symlink_metadata(d.join("latest.json")).unwrap();
+    assert!(link.file_type().is_symlink());
+    let written: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(d.join("cal-2026.json")).unwrap()).unwrap();
+    assert_eq!(written["format"], "driftlab-calibration");
+    // A FIFO: a reader on it gets the header, and it is still a FIFO afterwards.
+    let fifo = p(d, "header.fifo");
+    assert!(
+        Command::new("mkfifo")
+            .arg(&fifo)
+            .status()
+            .unwrap()
+            .success()
+    );
+    let reader = {
+        let fifo = fifo.clone();
+        std::thread::spawn(move || std::fs::read(fifo).unwrap())
+    };
+    ok(&["export", &cal, "--format", "c-header", "--out", &fifo]);
+    let header = reader.join().unwrap();
+    assert!(String::from_utf8_lossy(&header).contains("#define"));
+    use std::os::unix::fs::FileTypeExt;
+    assert!(std::fs::metadata(&fifo).unwrap().file_type().is_fifo());
+    // A device that refuses the bytes: its error, once, and a status.
+    if Path::new("/dev/full").exists() {
+        let err = fails(&["export", &cal, "--format", "c-header", "--out", "/dev/full"]);
+        assert_eq!(
+            err.trim_end(),
+            "error: /dev/full: No space left on device (os error 28)"
+        );
+        assert!(
+            std::fs::metadata("/dev/full")
+                .unwrap()
+                .file_type()
+                .is_char_device()
+        );
+    }
+    // Standard output named as a path: written through the descriptor, in order with the
+    // rest of what the command prints.
+    let out = driftlab(&[
+        "export",
+        &cal,
+        "--format",
+        "c-header",
+        "--out",
+        "/dev/stdout",
+    ]);
+    assert!(out.status.success());
+    assert!(String::from_utf8_lossy(&out.stdout).contains("#define"));
+    assert!(temporaries(d).is_empty(), "{:?}", temporaries(d));
+}
+
+/// Starts `driftlab ARGS` and waits until a temporary file appears in `dir`.
+fn writing(dir: &Path, args: &[&str]) -> std::process::Child {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_driftlab"))
+        .args(args)
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(60);
+    while temporaries(dir).is_empty() {
+        assert!(
+            child.try_wait().unwrap().is_none(),
+            "driftlab {args:?} ended before it wrote"
+        );
+        assert!(std::time::Instant::now() < deadline, "no temporary file");
+        std::thread::sleep(std::time::Duration::from_millis(2));
+    }
+    child
+}
+
+#[test]
+fn a_signal_during_a_write_leaves_no_temporary_file_and_a_kill_is_cleaned_up_next_time() {
+    use std::os::unix::process::ExitStatusExt;
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let out = p(d, "run.csv");
+    std::fs::write(&out, "the old log\n").unwrap();
+    // A simulation at 50 Hz writes for a few seconds: long enough to be stopped midway.
+    let args = ["simulate", "--rate-hz", "50", "--out", &out];
+    for (signal, number) in [("TERM", 15), ("INT", 2), ("HUP", 1)] {
+        let mut child = writing(d, &args);
+        let pid = child.id().to_string();
+        assert!(
+            Command::new("kill")
+                .args([&format!("-{signal}"), &pid])
+                .status()
+                .unwrap()
+                .success()
+        );
+        let status = child.wait().unwrap();
+        if status.success() {
+            // The write finished before the signal came: nothing to check this time.
+            continue;
+        }
+        assert_eq!(status.signal(), Some(number), "SIG{signal}: {status:?}");
+        assert!(
+            temporaries(d).is_empty(),
+            "SIG{signal}: {:?}",
+            temporaries(d)
+        );
+        assert_eq!(std::fs::read_to_string(&out).unwrap(), "the old log\n");
+    }
+    // SIGKILL runs no code: the temporary file stays, the old log too, and the next write of
+    // the same output removes it.
+    let mut child = writing(d, &args);
+    child.kill().unwrap();
+    child.wait().unwrap();
+    let left = temporaries(d);
+    assert_eq!(left.len(), 1, "{left:?}");
+    assert!(left[0].starts_with(".driftlab-run.csv."), "{left:?}");
+    assert_eq!(std::fs::read_to_string(&out).unwrap(), "the old log\n");
+    // Another output in the same folder leaves it alone; the same output cleans it up.
+    ok(&[
+        "simulate",
+        "--profile",
+        "calibration",
+        "--out",
+        &p(d, "other.csv"),
+    ]);
+    assert_eq!(temporaries(d), left);
+    ok(&["simulate", "--profile", "calibration", "--out", &out]);
+    assert!(temporaries(d).is_empty(), "{:?}", temporaries(d));
+    assert!(std::fs::read_to_string(&out).unwrap().contains("time_s"));
 }
