@@ -427,3 +427,60 @@ fn a_signal_during_a_write_leaves_no_temporary_file_and_a_kill_is_cleaned_up_nex
     assert!(temporaries(d).is_empty(), "{:?}", temporaries(d));
     assert!(std::fs::read_to_string(&out).unwrap().contains("time_s"));
 }
+
+#[test]
+fn an_output_that_is_an_input_is_refused_and_the_input_kept() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let cal = calibration(d);
+    let log = p(d, "run.csv");
+    std::fs::copy(sample("calibration.csv"), &log).unwrap();
+    std::os::unix::fs::symlink("run.csv", d.join("link.csv")).unwrap();
+    std::fs::hard_link(&log, d.join("hard.csv")).unwrap();
+    let dotted = format!("{}/./run.csv", d.display());
+    let (link, hard, new) = (p(d, "link.csv"), p(d, "hard.csv"), p(d, "new.json"));
+    let before = (std::fs::read(&log).unwrap(), std::fs::read(&cal).unwrap());
+    let cases: Vec<(Vec<&str>, &str)> = vec![
+        (vec!["apply", &cal, &log, "--out", &log], "the log"),
+        (vec!["apply", &cal, &log, "--out", &cal], "the calibration"),
+        (vec!["apply", &cal, &log, "--out", &dotted], "the log"),
+        (vec!["apply", &cal, &log, "--out", &link], "the log"),
+        (vec!["calibrate", &log, "--out", &hard], "the log"),
+        (vec!["calibrate", &log, "--out", &log], "the log"),
+        (
+            vec!["calibrate", &log, "--recipe", &cal, "--out", &cal],
+            "the recipe",
+        ),
+        (
+            vec!["calibrate", &log, "--out", &new, "--save-recipe", &log],
+            "the log",
+        ),
+        (
+            vec!["export", &cal, "--format", "c-header", "--out", &cal],
+            "the calibration",
+        ),
+    ];
+    for (args, what) in cases {
+        let err = fails(&args);
+        assert_eq!(err.lines().count(), 1, "{args:?}: {err}");
+        assert!(
+            err.contains(&format!("this is {what} the command reads")),
+            "{args:?}: {err}"
+        );
+    }
+    // --save-recipe and --out naming one file, not there yet or spelt two ways.
+    let err = fails(&[
+        "calibrate",
+        &log,
+        "--out",
+        &new,
+        "--save-recipe",
+        &format!("{}/./new.json", d.display()),
+    ]);
+    assert!(err.contains("is also --out"), "{err}");
+    assert!(!Path::new(&new).exists());
+    assert_eq!(
+        (std::fs::read(&log).unwrap(), std::fs::read(&cal).unwrap()),
+        before
+    );
+}

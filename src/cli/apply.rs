@@ -19,6 +19,11 @@ pub struct Args {
 }
 
 pub fn run(a: Args) -> Result<(), CliError> {
+    common::refuse_overwriting(
+        "--out",
+        &a.out,
+        &[("the calibration", &a.calibration), ("the log", &a.log)],
+    )?;
     let model = calibration::load_model(&a.calibration).map_err(|e| e.to_string())?;
     let log = a.log_args.read_for(&a.log_args.open(&a.log)?, &model)?;
     // The predicted drift alone, batch by batch as the rows are written: the corrected rate

@@ -192,6 +192,23 @@ impl Args {
 }
 
 pub fn run(a: Args) -> Result<(), CliError> {
+    let mut inputs = vec![("the log", a.log.as_path())];
+    if let Some(r) = &a.recipe {
+        inputs.push(("the recipe", r.as_path()));
+    }
+    common::refuse_overwriting("--out", &a.out, &inputs)?;
+    if let Some(save) = &a.save_recipe {
+        common::refuse_overwriting("--save-recipe", save, &inputs)?;
+        // Both not yet there, or spelt alike: the second write would replace the first.
+        if common::same_output(save, &a.out) {
+            return Err(format!(
+                "--save-recipe {} is also --out: the recipe would replace the calibration; \
+                 give it another file",
+                save.display()
+            )
+            .into());
+        }
+    }
     let recipe = a.recipe()?;
     let choice = a.choice()?;
     let mut warnings = a.check_settings(&recipe, &choice)?;

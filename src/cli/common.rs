@@ -227,6 +227,45 @@ impl LogArgs {
     }
 }
 
+/// Refuses an output (`option`, at `output`) that is one of the command's `inputs` (each named
+/// by what it is: "the log", "the calibration"), before anything is read or written.
+pub fn refuse_overwriting(
+    option: &str,
+    output: &Path,
+    inputs: &[(&str, &Path)],
+) -> Result<(), CliError> {
+    match inputs
+        .iter()
+        .find(|(_, input)| driftlab::files::atomic::is_same_file(output, input))
+    {
+        Some((what, input)) => Err(CliError::Message(format!(
+            "{option} {}: this is {what} the command reads ({}); writing it would destroy it, \
+             so nothing was written: give another file",
+            output.display(),
+            input.display()
+        ))),
+        None => Ok(()),
+    }
+}
+
+/// Whether two outputs are one file: the same existing file, or (not yet there) the same
+/// path once links and `.`/`..` are resolved in their folders.
+pub fn same_output(a: &Path, b: &Path) -> bool {
+    if driftlab::files::atomic::is_same_file(a, b) {
+        return true;
+    }
+    let resolved = |p: &Path| {
+        let dir = match p.parent() {
+            Some(d) if !d.as_os_str().is_empty() => d,
+            _ => Path::new("."),
+        };
+        std::fs::canonicalize(dir)
+            .ok()
+            .map(|d| d.join(p.file_name().unwrap_or_default()))
+    };
+    a == b || matches!((resolved(a), resolved(b)), (Some(x), Some(y)) if x == y)
+}
+
 /// A progress bar counting to 1000, or `None` when stderr is not a terminal (scripts, CI).
 pub fn progress_bar(message: &str) -> Option<ProgressBar> {
     if !std::io::stderr().is_terminal() {

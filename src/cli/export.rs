@@ -26,6 +26,9 @@ pub struct Args {
 }
 
 pub fn run(a: Args) -> Result<(), CliError> {
+    if let Some(out) = &a.out {
+        super::common::refuse_overwriting("--out", out, &[("the calibration", &a.calibration)])?;
+    }
     let model = calibration::load_model(&a.calibration).map_err(|e| e.to_string())?;
     let opts = ExportOptions { points: a.points };
     let text = firmware::export_model(&model, a.format, &opts)

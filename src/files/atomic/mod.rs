@@ -19,6 +19,30 @@ use std::path::Path;
 use target::Target;
 use temporary::Temporary;
 
+/// Whether writing `output` would write over `input`: the same file (through links, hard links
+/// or another spelling of its path), or the same FIFO or device. A command checks each of
+/// its outputs against each of its inputs with this before it writes, so that
+/// `apply cal.json run.csv --out run.csv` cannot destroy the log it reads.
+pub fn is_same_file(output: &Path, input: &Path) -> bool {
+    let (Ok(o), Ok(i)) = (std::fs::metadata(output), std::fs::metadata(input)) else {
+        // An output not yet there is no input; an input not there is not read.
+        return false;
+    };
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::MetadataExt;
+        o.dev() == i.dev() && o.ino() == i.ino()
+    }
+    #[cfg(not(unix))]
+    {
+        let _ = (o, i);
+        matches!(
+            (std::fs::canonicalize(output), std::fs::canonicalize(input)),
+            (Ok(a), Ok(b)) if a == b
+        )
+    }
+}
+
 /// Writes `path` atomically through `fill`, which gets a buffered writer.
 ///
 /// On any error the previous content of `path` (if any) is left untouched and the temporary file
