@@ -484,3 +484,179 @@ fn an_output_that_is_an_input_is_refused_and_the_input_kept() {
         before
     );
 }
+
+/// `driftlab apply CAL calibration.csv` must fail with one line naming `field` and `why`, and
+/// within seconds (a million-coefficient polynomial used to take 20 s per 12k samples).
+fn refused_on_load(dir: &Path, cal: &str, field: &str, why: &str) {
+    let out = within(
+        30,
+        &[
+            "apply",
+            cal,
+            &sample("calibration.csv"),
+            "--out",
+            &p(dir, "x.csv"),
+        ],
+    );
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{cal}: {err}");
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(
+        err.starts_with(&format!("error: {cal}: {field}: ")) && err.contains(why),
+        "{cal}: wanted {field}: ...{why}..., got {err}"
+    );
+    assert!(!Path::new(&p(dir, "x.csv")).exists());
+}
+
+#[test]
+fn a_hand_edited_vakhrameev_calibration_is_checked_as_a_whole() {
+    use serde_json::json;
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let cal = calibration(d);
+    let pwl = p(d, "pwl.json");
+    ok(&[
+        "calibrate",
+        &sample("calibration.csv"),
+        "--k1",
+        "pwl",
+        "--knots",
+        "4",
+        "--out",
+        &pwl,
+    ]);
+    let cases: Vec<(String, &str, &str)> = vec![
+        (
+            edited(d, &cal, "c1.json", |v| {
+                v["calibration"]["k0"]["curve"]["coeffs"] = json!([1e308, 0.0, 0.0])
+            }),
+            "k0",
+            "predicts a drift of up to 1e308 deg/h",
+        ),
+        (
+            edited(d, &cal, "c2.json", |v| {
+                v["calibration"]["k0"]["x_min"] = json!(-1e308);
+                v["calibration"]["k0"]["x_max"] = json!(1e308);
+            }),
+            "k0",
+            "wider than a number can hold",
+        ),
+        (
+            edited(d, &cal, "c3.json", |v| {
+                v["calibration"]["k0"]["curve"]["coeffs"] = json!(vec![1e-9; 1_000_000])
+            }),
+            "k0",
+            "a polynomial has at most 16 coefficients (degree 15), this one has 1000000",
+        ),
+        (
+            edited(d, &cal, "c4.json", |v| {
+                v["calibration"]["k2_plus"]["curve"]["coeffs"] = json!([1e300, 0.0])
+            }),
+            "k2_plus",
+            "predicts a drift",
+        ),
+        (
+            edited(d, &pwl, "c5.json", |v| {
+                let k = &mut v["calibration"]["k1_plus"]["curve"]["knots_x"];
+                let first = k[0].as_f64().unwrap();
+                k[1] = json!(first + 1e-300_f64.max(first.abs() * 1e-15));
+            }),
+            "k1_plus",
+            "two knots are",
+        ),
+        (
+            edited(d, &pwl, "c6.json", |v| {
+                v["calibration"]["k1_plus"]["kind"] = json!("spline")
+            }),
+            "k1_plus",
+            "not how a spline approximation is stored",
+        ),
+    ];
+    for (file, field, why) in cases {
+        refused_on_load(d, &file, field, why);
+    }
+}
+
+#[test]
+fn a_hand_edited_regression_model_is_checked_as_a_whole() {
+    use serde_json::json;
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let model = |name: &str, log: &str| {
+        let out = p(d, &format!("{name}.json"));
+        ok(&["calibrate", &sample(log), "--model", name, "--out", &out]);
+        out
+    };
+    let coil = model("coil-lag", "calibration.csv");
+    let yan = model("yan-delayed", "calibration.csv");
+    let suk = model("sukhanov", "laser-gyro.csv");
+    let cases: Vec<(String, &str, &str)> = vec![
+        (
+            edited(d, &coil, "r1.json", |v| {
+                let n = &mut v["calibration"]["model"]["names"];
+                let (a, b) = (n[1].clone(), n[2].clone());
+                n[1] = b;
+                n[2] = a;
+            }),
+            "model.names",
+            "do not name the terms' coefficients",
+        ),
+        (
+            edited(d, &coil, "r2.json", |v| {
+                v["calibration"]["model"]["lag_s"] = json!(9.9e6)
+            }),
+            "model.lag_s",
+            "9900000 s is longer than the 40200 s log",
+        ),
+        (
+            edited(d, &yan, "r3.json", |v| {
+                v["calibration"]["model"]["delay"]["points"][0][1] = json!(9.9e6)
+            }),
+            "model.delay",
+            "9900000 s is longer than the 40200 s log",
+        ),
+        (
+            edited(d, &suk, "r4.json", |v| {
+                v["calibration"]["model"]["lambda_s"] = serde_json::Value::Null
+            }),
+            "model.lambda_s",
+            "the selfheat term needs its time constant",
+        ),
+        (
+            edited(d, &coil, "r5.json", |v| {
+                v["calibration"]["model"]["coefficients"][2] = json!(1e308)
+            }),
+            "model.coefficients",
+            "predicts a drift",
+        ),
+    ];
+    for (file, field, why) in cases {
+        refused_on_load(d, &file, field, why);
+    }
+}
+
+#[test]
+fn calibrate_writes_only_what_it_can_read_back() {
+    // One rate cell of 1e160 inside the first plateau: its standard deviation overflows. The
+    // calibration used to be written with `null` there, and `apply` then refused it.
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let text = std::fs::read_to_string(sample("calibration.csv")).unwrap();
+    let mut lines: Vec<String> = text.lines().map(String::from).collect();
+    let mut cells: Vec<&str> = lines[5000].split(',').collect();
+    cells[1] = "1e160";
+    lines[5000] = cells.join(",");
+    let log = p(d, "cell.csv");
+    std::fs::write(&log, lines.join("\n") + "\n").unwrap();
+    let out = p(d, "cell.json");
+    let err = fails(&["calibrate", &log, "--out", &out]);
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(
+        err.starts_with(&format!(
+            "error: {out}: not written: plateaus[0].omega_std_dph: is inf"
+        )),
+        "{err}"
+    );
+    assert!(!Path::new(&out).exists());
+    assert!(temporaries(d).is_empty());
+}

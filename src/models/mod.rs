@@ -26,6 +26,32 @@ use crate::judge::metrics::{Evaluation, MeritOptions};
 use crate::log::Log;
 use regression::RegressionCalibration;
 
+/// The largest drift a calibration may predict anywhere over the ranges it was fitted on, °/h.
+/// 10⁸ °/h is 28,000 °/s, beyond the measuring range of any gyro: a model that predicts more
+/// (a hand-edited coefficient of 1e308, a range of ±1e308) is a broken file, not a gyro, and
+/// its corrected rates would be noise of its own making or not numbers at all.
+pub const MAX_DRIFT_DPH: f64 = 1e8;
+
+/// Refuses a predicted drift `bound` (an upper bound of |prediction| over the fitted ranges)
+/// that is not finite or beyond [`MAX_DRIFT_DPH`], naming `field`.
+pub(crate) fn check_drift_bound(
+    field: impl Into<String>,
+    bound: f64,
+) -> std::result::Result<(), crate::error::Invalid> {
+    if bound.is_finite() && bound <= MAX_DRIFT_DPH {
+        return Ok(());
+    }
+    Err(crate::error::Invalid::new(
+        field,
+        format!(
+            "predicts a drift of up to {} deg/h over its own range, more than the {} deg/h \
+             any gyro could show: the coefficients or ranges are not a calibration's",
+            crate::number::readable(bound),
+            crate::number::readable(MAX_DRIFT_DPH)
+        ),
+    ))
+}
+
 /// Fits `choice` on `log` with the recipe's settings.
 ///
 /// # Errors

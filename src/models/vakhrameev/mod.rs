@@ -342,17 +342,57 @@ impl Calibration {
                 ),
             ));
         }
-        for p in &self.plateaus {
-            let v = [
-                p.range.start_s,
-                p.range.end_s,
-                p.temp_c,
-                p.omega_dph,
-                p.omega_std_dph,
-            ];
-            if v.iter().any(|x| !x.is_finite()) {
-                return Err(Invalid::new("plateaus", "statistics must be finite"));
+        let s = &self.source;
+        if !(s.duration_s.is_finite() && s.duration_s >= 0.0) {
+            return Err(Invalid::new(
+                "source.duration_s",
+                format!(
+                    "must be a duration in seconds, got {}",
+                    crate::number::readable(s.duration_s)
+                ),
+            ));
+        }
+        for (k, p) in self.plateaus.iter().enumerate() {
+            for (name, v) in [
+                ("range.start_s", p.range.start_s),
+                ("range.end_s", p.range.end_s),
+                ("temp_c", p.temp_c),
+                ("omega_dph", p.omega_dph),
+                ("omega_std_dph", p.omega_std_dph),
+                ("omega_sem_dph", p.omega_sem_dph),
+                ("temp_spread_c", p.temp_spread_c),
+            ] {
+                if !v.is_finite() {
+                    return Err(Invalid::new(
+                        format!("plateaus[{k}].{name}"),
+                        format!(
+                            "is {} on the plateau {} .. {} s: the log holds values there too \
+                             large to average (check its rate and temperature columns)",
+                            crate::number::readable(v),
+                            crate::number::readable(p.range.start_s),
+                            crate::number::readable(p.range.end_s)
+                        ),
+                    ));
+                }
             }
+        }
+        let names = ["k0", "k1_plus", "k1_minus", "k2_plus", "k2_minus"];
+        let approximations = [
+            &self.k0,
+            &self.k1_plus,
+            &self.k1_minus,
+            &self.k2_plus,
+            &self.k2_minus,
+        ];
+        for (k, (name, a)) in names.iter().zip(approximations).enumerate() {
+            a.check().map_err(|reason| Invalid::new(*name, reason))?;
+            // K0 is the drift itself; K1 and K2 are multiplied by the rates they are of.
+            let bound = if k == 0 {
+                a.bound()
+            } else {
+                a.bound() * a.x_min().abs().max(a.x_max().abs())
+            };
+            crate::models::check_drift_bound(*name, bound)?;
         }
         Ok(())
     }
