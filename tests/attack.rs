@@ -660,3 +660,69 @@ fn calibrate_writes_only_what_it_can_read_back() {
     assert!(!Path::new(&out).exists());
     assert!(temporaries(d).is_empty());
 }
+
+#[test]
+fn a_calibration_worse_than_raw_or_under_determined_is_written_with_a_warning() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    // Ten K0 knots through the calibration log's four plateaus.
+    let out = driftlab(&[
+        "calibrate",
+        &sample("calibration.csv"),
+        "--k0",
+        "spline",
+        "--knots",
+        "10",
+        "--out",
+        &p(d, "spline.json"),
+    ]);
+    assert!(out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    for want in [
+        "warning: K0: spline with 10 parameters asked for through 4 usable points, more \
+         unknowns than points",
+        "warning: K0: spline with 4 parameters through 4 points",
+        "warning: on its own log the correction is worse than raw: peak-to-peak of the \
+         filtered drift 1.577 -> ",
+    ] {
+        assert!(err.contains(want), "{want}\nnot in\n{err}");
+    }
+    // One plateau and one ramp fitted with IEEE 952's model: 0.90 -> 195.7 deg/h.
+    let text = std::fs::read_to_string(sample("calibration.csv")).unwrap();
+    let short: String = text
+        .lines()
+        .take(12_000)
+        .map(|l| format!("{l}\n"))
+        .collect();
+    let log = p(d, "one-ramp.csv");
+    std::fs::write(&log, short).unwrap();
+    let json = ok(&[
+        "calibrate",
+        &log,
+        "--model",
+        "ieee952",
+        "--out",
+        &p(d, "ieee.json"),
+        "--json",
+    ]);
+    let v: serde_json::Value = serde_json::from_str(&json).unwrap();
+    let warnings: Vec<&str> = v["warnings"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|w| w.as_str().unwrap())
+        .collect();
+    assert!(
+        warnings.iter().any(|w| w.starts_with(
+            "on its own log the correction is worse than raw: peak-to-peak of the filtered \
+             drift 0.8981 -> 195.7 deg/h"
+        )),
+        "{warnings:?}"
+    );
+    assert!(
+        warnings.iter().any(|w| w.contains("R² -27845")),
+        "{warnings:?}"
+    );
+    // Written all the same, and readable.
+    ok(&["export", &p(d, "ieee.json"), "--format", "csv-table"]);
+}

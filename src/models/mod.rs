@@ -77,8 +77,76 @@ pub struct Calibrated {
     pub model: DriftModel,
     /// Raw against corrected on the log it was fitted on.
     pub in_sample: Evaluation,
-    /// What the fit had to work around.
+    /// What the fit had to work around, and what a face must show before the model is used:
+    /// a fit with as many unknowns as points or more, a figure of its own log that the
+    /// correction makes worse than raw ([`judge_on_own_log`]).
     pub warnings: Vec<String>,
+}
+
+/// The warnings a model earns on the log it was fitted on: each figure of merit that the
+/// correction makes worse than raw (a calibration that cannot even correct its own log is
+/// wrong: a ramp taken for a plateau, a model that does not suit the test), and for a
+/// regression model more coefficients than samples, or an R² below zero (the fit is worse than
+/// the samples' mean).
+pub fn judge_on_own_log(model: &DriftModel, in_sample: &Evaluation) -> Vec<String> {
+    let mut out = Vec::new();
+    let mut worse = Vec::new();
+    let c = &in_sample.comparison;
+    let n = |v: f64| crate::number::significant(v, 4);
+    for (figure, raw, cor) in [
+        (
+            "peak-to-peak of the filtered drift",
+            c.raw.p2p_dph,
+            c.corrected.p2p_dph,
+        ),
+        (
+            "std of the filtered drift",
+            c.raw.std_dph,
+            c.corrected.std_dph,
+        ),
+        (
+            "max |10-min mean|",
+            c.raw.win_mean_max_abs_dph,
+            c.corrected.win_mean_max_abs_dph,
+        ),
+        (
+            "mean 10-min RMS",
+            c.raw.win_rms_mean_dph,
+            c.corrected.win_rms_mean_dph,
+        ),
+    ] {
+        if raw.is_finite() && cor.is_finite() && cor > raw {
+            worse.push(format!("{figure} {} -> {} deg/h", n(raw), n(cor)));
+        }
+    }
+    if !worse.is_empty() {
+        out.push(format!(
+            "on its own log the correction is worse than raw: {}; check the plateaus and \
+             whether model {} suits this test",
+            worse.join(", "),
+            model.name()
+        ));
+    }
+    if let DriftModel::Regression(r) = model {
+        let m = &r.model;
+        let unknowns = m.coefficients.len();
+        if unknowns >= m.stats.n {
+            out.push(format!(
+                "model {}: {unknowns} coefficients fitted on {} samples: as many unknowns as \
+                 points or more, so the coefficients are not determined by the data",
+                m.spec.name, m.stats.n
+            ));
+        }
+        if m.stats.r2 < 0.0 {
+            out.push(format!(
+                "model {}: R² {} on the samples it was fitted on: it predicts them worse than \
+                 their mean does",
+                m.spec.name,
+                n(m.stats.r2)
+            ));
+        }
+    }
+    out
 }
 
 /// [`fit`], then the model's figures on its own log. For Vakhrameev's model the figures reuse
@@ -103,18 +171,22 @@ pub fn calibrate(
         drop(deriv);
         let in_sample =
             Evaluation::of_rate(log, &c.cor_dph, c.ready_from, c.outside_fraction, merit);
+        let model = DriftModel::Vakhrameev(Box::new(calibration));
+        let mut warnings = warnings;
+        warnings.extend(judge_on_own_log(&model, &in_sample));
         return Ok(Calibrated {
-            model: DriftModel::Vakhrameev(Box::new(calibration)),
+            model,
             in_sample,
             warnings,
         });
     }
     let model = fit(log, choice, recipe)?;
     let correction = model.correct(log)?;
+    let in_sample = Evaluation::of_correction(log, &correction, merit);
     Ok(Calibrated {
-        in_sample: Evaluation::of_correction(log, &correction, merit),
+        warnings: judge_on_own_log(&model, &in_sample),
+        in_sample,
         model,
-        warnings: Vec::new(),
     })
 }
 

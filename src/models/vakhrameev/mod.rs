@@ -489,6 +489,14 @@ pub fn fit_or_fallback_weighted(
     warnings: &mut Vec<String>,
 ) -> Approx {
     if let Ok(a) = approx::fit_weighted(spec, x, y, weights) {
+        let n = a.stats().n;
+        if n == spec.params() && n > 1 {
+            warnings.push(format!(
+                "{name}: {} with {n} parameters through {n} points: the curve passes through \
+                 every point and averages none of their noise",
+                spec.kind
+            ));
+        }
         return a;
     }
     let wt = |k: usize| weights.map_or(1.0, |w| w.get(k).copied().unwrap_or(0.0));
@@ -516,13 +524,40 @@ pub fn fit_or_fallback_weighted(
     });
     for fallback in simpler {
         if let Ok(a) = approx::fit(&fallback, &xs, &ys) {
-            warnings.push(format!(
-                "{name}: {got} usable points, fitted as {} with {} parameters instead of {} with {}",
-                fallback.kind,
-                fallback.params(),
-                spec.kind,
-                spec.params()
-            ));
+            let same = fallback.kind == spec.kind && fallback.params() == spec.params();
+            warnings.push(if same {
+                // Not fewer points: the weights made the fit singular.
+                format!(
+                    "{name}: the weighted fit of {} could not be solved; fitted with every one \
+                     of its {got} points weighed alike",
+                    spec.kind
+                )
+            } else if got < spec.params() {
+                format!(
+                    "{name}: {} with {} parameters asked for through {got} usable points, more \
+                     unknowns than points: fitted as {} with {} parameters instead",
+                    spec.kind,
+                    spec.params(),
+                    fallback.kind,
+                    fallback.params()
+                )
+            } else {
+                format!(
+                    "{name}: {} with {} parameters could not be fitted to its {got} usable \
+                     points: fitted as {} with {} parameters instead",
+                    spec.kind,
+                    spec.params(),
+                    fallback.kind,
+                    fallback.params()
+                )
+            });
+            if fallback.params() == got && got > 1 {
+                warnings.push(format!(
+                    "{name}: {} with {got} parameters through {got} points: the curve passes \
+                     through every point and averages none of their noise",
+                    fallback.kind
+                ));
+            }
             return a;
         }
     }
@@ -752,4 +787,46 @@ pub fn fit_lean(log: &Log, recipe: &Recipe) -> Result<Calibrated> {
         deriv: prepared.deriv,
         warnings,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_fallback_says_what_it_fitted_instead_and_why() {
+        // Weights that overflowed (Ṫ² of a wild temperature cell) leave the weighted fit one
+        // point; the same line is fitted to every point weighed alike, and said so (this used
+        // to read "fitted as linear with 2 parameters instead of linear with 2").
+        let (x, y) = ([0.0, 1.0, 2.0, 3.0], [1.0, 3.0, 5.0, 7.0]);
+        let weights = [f64::INFINITY, f64::INFINITY, f64::INFINITY, 1.0];
+        let spec = ApproxSpec::of(ApproxKind::Linear);
+        let mut warnings = Vec::new();
+        let a = fit_or_fallback_weighted("K1+", &spec, &x, &y, Some(&weights), &mut warnings);
+        assert_eq!(a.kind(), ApproxKind::Linear);
+        assert_eq!(
+            warnings,
+            [
+                "K1+: the weighted fit of linear could not be solved; fitted with every one of \
+              its 4 points weighed alike"
+            ]
+        );
+        // Too few points for the curve asked for: the count is named.
+        let mut warnings = Vec::new();
+        let spline = ApproxSpec {
+            kind: ApproxKind::Spline,
+            knots: 10,
+            extrapolate: false,
+        };
+        fit_or_fallback("K0", &spline, &x, &y, &mut warnings);
+        assert_eq!(
+            warnings,
+            [
+                "K0: spline with 10 parameters asked for through 4 usable points, more \
+                 unknowns than points: fitted as spline with 4 parameters instead",
+                "K0: spline with 4 parameters through 4 points: the curve passes through \
+                 every point and averages none of their noise"
+            ]
+        );
+    }
 }
