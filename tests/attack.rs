@@ -726,3 +726,70 @@ fn a_calibration_worse_than_raw_or_under_determined_is_written_with_a_warning() 
     // Written all the same, and readable.
     ok(&["export", &p(d, "ieee.json"), "--format", "csv-table"]);
 }
+
+#[test]
+fn options_outside_sense_are_refused_with_their_name() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let cal = calibration(d);
+    let log = sample("calibration.csv");
+    let recipe = p(d, "recipe.json");
+    std::fs::write(&recipe, r#"{ "filter_s": 1e9 }"#).unwrap();
+    let out = p(d, "never.json");
+    let cases: Vec<(Vec<&str>, &str)> = vec![
+        (
+            vec!["allan", "--tau0", "1e-300", &log],
+            "--tau0: tau0 must be between 1e-9 s",
+        ),
+        (
+            vec!["allan", "--tau0", "1e300", &log],
+            "--tau0: tau0 must be between 1e-9 s",
+        ),
+        (
+            vec!["evaluate", &cal, &log, "--filter", "inf"],
+            "filter_s (--filter): must be a positive number of seconds, got inf",
+        ),
+        (
+            vec!["evaluate", &cal, &log, "--window", "inf"],
+            "window_s (--window): must be a positive number of seconds, got inf",
+        ),
+        (
+            vec!["evaluate", &cal, &log, "--filter", "1e12"],
+            "filter_s (--filter): 1e12 s is longer than the log",
+        ),
+        (
+            vec!["evaluate", &cal, &log, "--window", "1e9"],
+            "not one whole window fits in it",
+        ),
+        (
+            vec!["report", &cal, &log, "--window", "1e9", "--out", &out],
+            "not one whole window fits in it",
+        ),
+        (
+            vec![
+                "compare", "--train", &log, "--filter", "1e12", "--models", "ieee952",
+            ],
+            "filter_s (--filter): 1e12 s is longer than the log",
+        ),
+        (
+            vec!["calibrate", &log, "--recipe", &recipe, "--out", &out],
+            "filter_s (--filter): 1e9 s is longer than any chamber run",
+        ),
+        (
+            vec!["calibrate", &log, "--smooth", "1e5", "--out", &out],
+            "temp_smoothing_s: 100000 s is longer than the log",
+        ),
+    ];
+    for (args, want) in cases {
+        let err = fails(&args);
+        assert_eq!(err.lines().count(), 1, "{args:?}: {err}");
+        assert!(err.contains(want), "{args:?}: wanted {want}, got {err}");
+        assert!(!Path::new(&out).exists(), "{args:?}");
+    }
+    // A window that fits is named by its own length, not as "10-min".
+    let text = ok(&["evaluate", &cal, &log, "--window", "90"]);
+    assert!(
+        text.contains("max |90-s mean|") && !text.contains("10-min"),
+        "{text}"
+    );
+}

@@ -26,10 +26,8 @@ pub struct Args {
 }
 
 pub fn run(a: Args) -> Result<(), CliError> {
-    if let Some(t) = a.tau0
-        && !(t.is_finite() && t > 0.0)
-    {
-        return Err(format!("--tau0 {t}: give a positive number of seconds").into());
+    if let Some(t) = a.tau0 {
+        allan::check_tau0(t).map_err(|e| format!("--tau0: {e}"))?;
     }
     let read_opts = a.log_args.options()?;
     let input = a.log_args.open(&a.log)?;

@@ -87,7 +87,7 @@ pub struct Args {
 
 impl Args {
     /// The recipe: the file's (or the defaults), overridden by the options given.
-    fn recipe(&self) -> Result<Recipe, String> {
+    fn recipe(&self) -> Result<Recipe, CliError> {
         let mut r = match &self.recipe {
             Some(p) => calibration::read_recipe(p).map_err(|e| e.to_string())?,
             None => Recipe::default(),
@@ -118,7 +118,7 @@ impl Args {
         r.step_h_s = self.step_h.unwrap_or(r.step_h_s);
         r.deadband_tdot = self.deadband_tdot.or(r.deadband_tdot);
         r.deadband_tddot = self.deadband_tddot.or(r.deadband_tddot);
-        r.validate()?;
+        r.validate().map_err(common::with_option)?;
         Ok(r)
     }
 }
@@ -283,7 +283,7 @@ pub fn run(a: Args) -> Result<(), CliError> {
         "In-sample (calibrated and evaluated on {}):",
         model.source().name
     )?;
-    common::print_evaluation(&in_sample)?;
+    common::print_evaluation(&in_sample, merit.window_s)?;
     out!()?;
     out!("Calibration written to {}", a.out.display())?;
     Ok(())

@@ -302,9 +302,36 @@ pub fn ratio(r: f64) -> String {
     }
 }
 
-/// Prints an evaluation as a small table of raw, corrected and ratio.
-pub fn print_evaluation(e: &driftlab::judge::metrics::Evaluation) -> Result<(), CliError> {
+/// A setting the engine refused, named also by the option that sets it on the command line
+/// (`filter_s (--filter): ...`): the value may have come from the option or from a recipe.
+pub fn with_option(e: driftlab::error::Invalid) -> CliError {
+    let option = match e.field.as_str() {
+        "filter_s" => "--filter",
+        "window_s" => "--window",
+        "temp_smoothing_s" => "--smooth",
+        "step_h_s" => "--step-h",
+        "deadband_tdot" => "--deadband-tdot",
+        "deadband_tddot" => "--deadband-tddot",
+        f if f.ends_with(".knots") => "--knots",
+        _ => return CliError::Message(e.to_string()),
+    };
+    CliError::Message(format!("{} ({option}): {}", e.field, e.reason))
+}
+
+/// Refuses figures of merit whose filter or window does not fit in `log`.
+pub fn check_merit(merit: &driftlab::MeritOptions, log: &Log) -> Result<(), CliError> {
+    driftlab::judge::options::check_merit(merit, log).map_err(with_option)
+}
+
+/// Prints an evaluation as a small table of raw, corrected and ratio; the windowed figures are
+/// labelled with the window they were computed over.
+pub fn print_evaluation(
+    e: &driftlab::judge::metrics::Evaluation,
+    window_s: f64,
+) -> Result<(), CliError> {
     let c = &e.comparison;
+    let w = driftlab::judge::options::window_label(window_s);
+    let (mean_label, rms_label) = (format!("max |{w} mean|"), format!("mean {w} RMS"));
     out!(
         "  {:<34} {:>11} {:>11} {:>9}",
         "figure (deg/h)",
@@ -326,13 +353,13 @@ pub fn print_evaluation(e: &driftlab::judge::metrics::Evaluation) -> Result<(), 
             c.std_ratio,
         ),
         (
-            "max |10-min mean|",
+            mean_label.as_str(),
             c.raw.win_mean_max_abs_dph,
             c.corrected.win_mean_max_abs_dph,
             c.win_mean_ratio,
         ),
         (
-            "mean 10-min RMS",
+            rms_label.as_str(),
             c.raw.win_rms_mean_dph,
             c.corrected.win_rms_mean_dph,
             c.win_rms_ratio,

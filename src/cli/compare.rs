@@ -69,15 +69,15 @@ pub fn run(a: Args) -> Result<(), CliError> {
         filter_s: a.filter,
         window_s: a.window,
     };
-    if !(merit.filter_s > 0.0 && merit.window_s > 0.0) {
-        return Err("--filter and --window must be positive".into());
-    }
     let train = a.log_args.read_path(&a.train)?;
     let tests = a
         .test
         .iter()
         .map(|p| a.log_args.read_path(p))
         .collect::<Result<Vec<_>, _>>()?;
+    for log in std::iter::once(&train).chain(&tests) {
+        common::check_merit(&merit, log)?;
+    }
     common::status(&format!("fitting {} models ...", choices.len()));
     let recipe = Recipe {
         filter_s: a.filter,
@@ -85,9 +85,7 @@ pub fn run(a: Args) -> Result<(), CliError> {
         step_h_s: a.step_h,
         ..Recipe::default()
     };
-    recipe
-        .validate()
-        .map_err(|e| format!("--smooth, --step-h: {e}"))?;
+    recipe.validate().map_err(common::with_option)?;
     let reports = compare::compare(&train, &tests, &choices, &recipe, &merit);
     if a.json {
         return common::print_json(&serde_json::json!({
@@ -131,7 +129,7 @@ fn print_tables(reports: &[ModelReport], merit: &MeritOptions) -> Result<(), Cli
             "p2p cor",
             "p2p",
             "std",
-            "10-min",
+            driftlab::judge::options::window_label(merit.window_s),
             "RMS",
             "outside"
         )?;

@@ -42,9 +42,7 @@ pub fn run(a: Args) -> Result<(), CliError> {
         filter_s: a.filter.unwrap_or(default_filter),
         window_s: a.window,
     };
-    if !(opts.filter_s > 0.0 && opts.window_s > 0.0) {
-        return Err("--filter and --window must be positive".into());
-    }
+    common::check_merit(&opts, &log)?;
     let correction = model
         .correct(&log)
         .map_err(|e| format!("{}: {e}", a.calibration.display()))?;
@@ -69,5 +67,5 @@ pub fn run(a: Args) -> Result<(), CliError> {
             "held out: not the calibration log"
         }
     )?;
-    common::print_evaluation(&eval)
+    common::print_evaluation(&eval, opts.window_s)
 }

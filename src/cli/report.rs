@@ -36,14 +36,13 @@ pub fn run(a: Args) -> Result<(), CliError> {
             .unwrap_or(report::default_merit_for(&model).filter_s),
         window_s: a.window,
     };
-    if !(merit.filter_s > 0.0 && merit.window_s > 0.0) {
-        return Err("--filter and --window must be positive".into());
-    }
     let mut logs = Vec::with_capacity(a.logs.len());
     let mut hashes = Vec::with_capacity(a.logs.len());
     for path in &a.logs {
         let input = a.log_args.open(path)?;
-        logs.push((path.clone(), a.log_args.read(&input)?));
+        let log = a.log_args.read(&input)?;
+        common::check_merit(&merit, &log)?;
+        logs.push((path.clone(), log));
         hashes.push(calibration::sha256_input(&input).unwrap_or_default());
     }
     common::status(&format!("writing the report into {}", a.out.display()));

@@ -57,6 +57,8 @@ pub(crate) fn check_drift_bound(
 /// # Errors
 /// What the fit reports (too few samples, a missing channel, no plateaus, ...).
 pub fn fit(log: &Log, choice: &ModelChoice, recipe: &Recipe) -> Result<DriftModel> {
+    recipe.validate()?;
+    recipe.check_against(log)?;
     match choice.spec(log)? {
         None => Ok(DriftModel::Vakhrameev(Box::new(
             vakhrameev::fit_lean(log, recipe)?.calibration,

@@ -632,6 +632,7 @@ pub fn fit(log: &Log, recipe: &Recipe) -> Result<Fit> {
 
 fn check_fittable(log: &Log, recipe: &Recipe) -> Result<()> {
     recipe.validate()?;
+    recipe.check_against(log)?;
     if log.len() < 16 {
         return Err(Error::Fit(format!(
             "{}: {} samples are too few to calibrate",
