@@ -111,7 +111,7 @@ fn print_table(source: &str, d: &AllanDeviation) -> Result<(), CliError> {
     out!(
         "{source}: overlapping Allan deviation of {} samples, tau0 = {} s, {:.1}% intervals",
         d.samples,
-        d.options.tau0_s,
+        common::num(d.options.tau0_s),
         d.options.confidence * 100.0
     )?;
     out!(
@@ -127,8 +127,8 @@ fn print_table(source: &str, d: &AllanDeviation) -> Result<(), CliError> {
     for p in &d.points {
         out!(
             "  {:>12} {:>13.6e} {:>10} {:>13} {:>13} {:>5}",
-            // m·τ0 in binary can print as 0.30000000000000004; nine decimals are plenty.
-            format!("{}", (p.tau_s * 1e9).round() / 1e9),
+            // m·τ0 in binary can print as 0.30000000000000004; nine digits are plenty.
+            driftlab::number::significant(p.tau_s, 9),
             p.adev,
             p.n_terms,
             opt(p.adev_min),

@@ -1,6 +1,6 @@
 //! What `driftlab calibrate` prints about a fit, for each kind of model.
 
-use super::common::CliError;
+use super::common::{CliError, fixed, num};
 use driftlab::models::regression::RegressionCalibration;
 use driftlab::models::vakhrameev::Calibration;
 
@@ -8,11 +8,11 @@ use driftlab::models::vakhrameev::Calibration;
 pub fn vakhrameev_summary(cal: &Calibration, warnings: &[String]) -> Result<(), CliError> {
     let r = &cal.resolved;
     out!(
-        "Log {}: {} samples, {:.2} h, step {} s",
+        "Log {}: {} samples, {} h, step {} s",
         cal.source.name,
         cal.source.samples,
-        cal.source.duration_s / 3600.0,
-        r.dt_s
+        fixed(cal.source.duration_s / 3600.0, 2),
+        num(r.dt_s)
     )?;
     out!(
         "Filter {} samples, T smoothing {} samples, H = {} samples; dead-bands |Tdot| {:.3e} degC/s, |Tddot| {:.3e} degC/s^2",
@@ -35,12 +35,12 @@ pub fn vakhrameev_summary(cal: &Calibration, warnings: &[String]) -> Result<(), 
     )?;
     for p in &cal.plateaus {
         out!(
-            "  {:>10.0} {:>10.0} {:>9.3} {:>11.4} {:>9.4} {:>8}",
-            p.range.start_s,
-            p.range.end_s,
-            p.temp_c,
-            p.omega_dph,
-            p.omega_std_dph,
+            "  {:>10} {:>10} {:>9} {:>11} {:>9} {:>8}",
+            fixed(p.range.start_s, 0),
+            fixed(p.range.end_s, 0),
+            fixed(p.temp_c, 3),
+            fixed(p.omega_dph, 4),
+            fixed(p.omega_std_dph, 4),
             p.samples
         )?;
     }

@@ -293,6 +293,23 @@ pub fn print_json<T: serde::Serialize>(value: &T) -> Result<(), CliError> {
     out!("{text}")
 }
 
+/// `v` with `decimals` decimals for a table, as long as that stays short; beyond 10⁹ (a log's
+/// nonsense, or a number in the wrong unit) with six significant digits and an exponent, never
+/// the hundreds of digits a fixed format writes for 1e300.
+pub fn fixed(v: f64, decimals: usize) -> String {
+    if v.is_finite() && v.abs() < 1e9 {
+        format!("{v:.decimals$}")
+    } else {
+        driftlab::number::readable(v)
+    }
+}
+
+/// A number in running text: at most six significant digits (`0.3`, not
+/// `0.30000000000000004`; `1e-300`, not three hundred digits).
+pub fn num(v: f64) -> String {
+    driftlab::number::readable(v)
+}
+
 /// Formats a ratio for tables ("inf" when the corrected figure is zero).
 pub fn ratio(r: f64) -> String {
     if r.is_finite() {
@@ -366,7 +383,12 @@ pub fn print_evaluation(
         ),
     ];
     for (name, raw, cor, r) in rows {
-        out!("  {name:<34} {raw:>11.4} {cor:>11.4} {:>9}", ratio(r))?;
+        out!(
+            "  {name:<34} {:>11} {:>11} {:>9}",
+            fixed(raw, 4),
+            fixed(cor, 4),
+            ratio(r)
+        )?;
     }
     out!(
         "  {} samples ({} warm-up samples left out), {} windows; {:.1}% outside the calibrated ranges",

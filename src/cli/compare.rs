@@ -102,8 +102,8 @@ fn print_tables(reports: &[ModelReport], merit: &MeritOptions) -> Result<(), Cli
     out!(
         "Figures of the drift filtered over {} s, in deg/h; ratio = raw / corrected (above 1 is \
          better); windows of {} s.",
-        merit.filter_s,
-        merit.window_s
+        common::num(merit.filter_s),
+        common::num(merit.window_s)
     )?;
     for r in reports.iter().filter(|r| r.error.is_some()) {
         out!(
@@ -138,10 +138,10 @@ fn print_tables(reports: &[ModelReport], merit: &MeritOptions) -> Result<(), Cli
                 Some(Outcome::Evaluation(e)) => {
                     let c = &e.comparison;
                     out!(
-                        "  {:<12} {:>9.4} {:>9.4} {:>8} {:>8} {:>10} {:>8} {:>7.1}%",
+                        "  {:<12} {:>9} {:>9} {:>8} {:>8} {:>10} {:>8} {:>7.1}%",
                         r.model,
-                        c.raw.p2p_dph,
-                        c.corrected.p2p_dph,
+                        common::fixed(c.raw.p2p_dph, 4),
+                        common::fixed(c.corrected.p2p_dph, 4),
                         common::ratio(c.p2p_ratio),
                         common::ratio(c.std_ratio),
                         common::ratio(c.win_mean_ratio),

@@ -73,26 +73,31 @@ pub fn run(a: Args) -> Result<(), CliError> {
         out!("    {:>2}  {:<24} {:?}{unit}", c.index, c.name, c.role)?;
     }
     out!(
-        "  {} samples ({} rows read), step {} s ({:.4} Hz), duration {:.2} h",
+        "  {} samples ({} rows read), step {} s ({} Hz), duration {} h",
         log.len(),
         i.rows_read,
-        dt,
-        1.0 / dt,
-        log.duration_s() / 3600.0
+        common::num(dt),
+        common::num(1.0 / dt),
+        common::fixed(log.duration_s() / 3600.0, 2)
     )?;
-    out!("  temperature {tmin:.3} .. {tmax:.3} degC, fastest |Tdot| {rate_max:.3} degC/min")?;
+    out!(
+        "  temperature {} .. {} degC, fastest |Tdot| {} degC/min",
+        common::fixed(tmin, 3),
+        common::fixed(tmax, 3),
+        common::fixed(rate_max, 3)
+    )?;
     out!("  plateaus found ({}):", plateaus.len())?;
     // A week-long log can hold thousands: the first and last ones say enough on a terminal
     // (`--json` lists every one).
     const SHOWN: usize = 10;
     let line = |p: &driftlab::signal::plateau::PlateauStats| {
         out!(
-            "    {:>9.0} .. {:>9.0} s   T {:>8.3} degC   Omega {:>9.4} deg/h   std {:.4}   {} samples",
-            p.range.start_s,
-            p.range.end_s,
-            p.temp_c,
-            p.omega_dph,
-            p.omega_std_dph,
+            "    {:>9} .. {:>9} s   T {:>8} degC   Omega {:>9} deg/h   std {}   {} samples",
+            common::fixed(p.range.start_s, 0),
+            common::fixed(p.range.end_s, 0),
+            common::fixed(p.temp_c, 3),
+            common::fixed(p.omega_dph, 4),
+            common::fixed(p.omega_std_dph, 4),
             p.samples
         )
     };

@@ -59,11 +59,11 @@ pub fn run(a: Args) -> Result<(), CliError> {
     .map_err(|e| e.to_string())?;
     for l in &summary.logs {
         out!(
-            "{} ({}): peak-to-peak of filtered drift {:.4} -> {:.4} deg/h ({})",
+            "{} ({}): peak-to-peak of filtered drift {} -> {} deg/h ({})",
             l.name,
             if l.in_sample { "in-sample" } else { "held out" },
-            l.evaluation.comparison.raw.p2p_dph,
-            l.evaluation.comparison.corrected.p2p_dph,
+            common::fixed(l.evaluation.comparison.raw.p2p_dph, 4),
+            common::fixed(l.evaluation.comparison.corrected.p2p_dph, 4),
             common::ratio(l.evaluation.comparison.p2p_ratio)
         )?;
     }

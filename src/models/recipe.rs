@@ -152,7 +152,10 @@ impl Recipe {
             {
                 return Err(Invalid::new(
                     name,
-                    format!("must be a non-negative number, got {v}"),
+                    format!(
+                        "must be a non-negative number, got {}",
+                        crate::number::readable(v)
+                    ),
                 ));
             }
         }
@@ -179,7 +182,8 @@ impl Recipe {
                             "plateaus.ranges",
                             format!(
                                 "plateau {}:{} must have a start before its end",
-                                r.start_s, r.end_s
+                                crate::number::readable(r.start_s),
+                                crate::number::readable(r.end_s)
                             ),
                         ));
                     }

@@ -316,7 +316,10 @@ impl Calibration {
         if !(r.dt_s.is_finite() && r.dt_s > 0.0) {
             return Err(Invalid::new(
                 "resolved.dt_s",
-                format!("must be a positive step in seconds, got {}", r.dt_s),
+                format!(
+                    "must be a positive step in seconds, got {}",
+                    crate::number::readable(r.dt_s)
+                ),
             ));
         }
         if r.filter_samples == 0 || r.smooth_samples == 0 || r.step_samples == 0 {
