@@ -793,3 +793,23 @@ fn options_outside_sense_are_refused_with_their_name() {
         "{text}"
     );
 }
+
+#[test]
+fn compare_does_not_call_the_training_log_held_out() {
+    let log = sample("calibration.csv");
+    let dir = tempfile::tempdir().unwrap();
+    let copy = p(dir.path(), "copy.csv");
+    std::fs::copy(&log, &copy).unwrap();
+    let held = sample("validation.csv");
+    let json = ok(&[
+        "compare", "--train", &log, "--test", &log, &copy, &held, "--models", "ieee952", "--json",
+    ]);
+    let v: serde_json::Value = serde_json::from_str(&json).unwrap();
+    let flags: Vec<bool> = v["models"][0]["logs"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|j| j["held_out"].as_bool().unwrap())
+        .collect();
+    assert_eq!(flags, [false, false, false, true]);
+}
