@@ -39,6 +39,18 @@ pub fn check_merit(opts: &MeritOptions, log: &Log) -> Result<(), Invalid> {
                 format!("must be a positive number of seconds, got {}", readable(v)),
             ));
         }
+        let dt = log.nominal_dt_s();
+        if v < 0.5 * dt {
+            return Err(Invalid::new(
+                field,
+                format!(
+                    "{} s is shorter than half the log's sampling step ({} s): it holds no \
+                     sample",
+                    readable(v),
+                    readable(dt)
+                ),
+            ));
+        }
         if v > span {
             return Err(Invalid::new(
                 field,

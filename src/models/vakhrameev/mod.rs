@@ -355,6 +355,31 @@ impl Calibration {
                 ),
             ));
         }
+        // The step and the windows were resolved on the calibration log: none can be longer
+        // than that log (a hand-edited step of 9.9e6 s would leave no sample of any log ready).
+        let span = s.duration_s + r.dt_s;
+        for (field, seconds) in [
+            ("resolved.dt_s", r.dt_s),
+            ("resolved.filter_samples", r.filter_samples as f64 * r.dt_s),
+            ("resolved.smooth_samples", r.smooth_samples as f64 * r.dt_s),
+            ("resolved.step_samples", r.step_samples as f64 * r.dt_s),
+        ] {
+            let longer = if field == "resolved.dt_s" {
+                s.duration_s > 0.0 && seconds > s.duration_s
+            } else {
+                s.duration_s > 0.0 && seconds > span * (1.0 + 1e-9)
+            };
+            if longer {
+                return Err(Invalid::new(
+                    field,
+                    format!(
+                        "{} s is longer than the {} s log the calibration was made from",
+                        crate::number::readable(seconds),
+                        crate::number::readable(s.duration_s)
+                    ),
+                ));
+            }
+        }
         for (k, p) in self.plateaus.iter().enumerate() {
             for (name, v) in [
                 ("range.start_s", p.range.start_s),
