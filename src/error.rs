@@ -26,6 +26,9 @@ pub enum Error {
     /// reported.
     #[error("internal: {0} (please report this)")]
     Internal(&'static str),
+    /// The engineer stopped a long fit before it finished.
+    #[error("cancelled")]
+    Cancelled,
     /// An operating-system error while reading or writing a file.
     #[error("{path}: {source}")]
     Io {

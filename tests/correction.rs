@@ -307,7 +307,7 @@ fn the_corrected_rate_alone_is_the_whole_corrections_and_judged_the_same() {
     let judged = metrics::Evaluation::of_rate(
         &log,
         &lean.cor_dph,
-        lean.ready_from,
+        &lean.ready,
         lean.outside_fraction,
         &opts,
     );

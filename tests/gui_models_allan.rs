@@ -78,7 +78,7 @@ fn the_models_page_compares_every_model_in_sample_and_held_out_and_exports_one()
             let Outcome::Evaluation(e) = &j.result else {
                 panic!("{} judged", r.model)
             };
-            let shown = format!("{:.2}×", e.comparison.p2p_ratio);
+            let shown = driftlab::gui::plot_items::ratio(e.comparison.p2p_ratio);
             assert!(h.query_all_by_label(&shown).count() >= 1, "{shown} shown");
         }
     }
@@ -89,13 +89,25 @@ fn the_models_page_compares_every_model_in_sample_and_held_out_and_exports_one()
             .all(|s| s.len() == 2 && s.iter().all(Option::is_some))
     );
 
-    // Export the coil-lag model: the engine reads back the same model.
-    h.get_by_role_and_label(Role::RadioButton, "coil-lag")
-        .click();
-    h.run_ok();
-    dialogs.answer(Some(out.clone()));
-    h.get_by_label("Export model…").click();
-    settle(&mut h);
+    // Nothing is selected for the engineer: nothing can be exported yet.
+    assert!(h.state_mut().models_view().selected.is_none());
+    assert!(
+        egui_kittest::kittest::NodeT::accesskit_node(&h.get_by_label("Export model…"))
+            .is_disabled()
+    );
+    // The row selected is the model exported: ieee952, then coil-lag.
+    let ieee = dir.path().join("ieee952.json");
+    for (name, path) in [("ieee952", &ieee), ("coil-lag", &out)] {
+        h.get_by_role_and_label(Role::Button, name).click();
+        h.run_ok();
+        dialogs.answer(Some(path.clone()));
+        h.get_by_label(&format!("Export {name}…")).click();
+        settle(&mut h);
+        let back =
+            driftlab::files::calibration::load_model(path).expect("the engine reads it back");
+        assert_eq!(back.name(), name, "the selected row is the model written");
+        h.get_by_label_contains(&format!("Saved model {name}: {}", path.display()));
+    }
     assert_eq!(dialogs.asked().last(), Some(&FileKind::Model));
     let back = driftlab::files::calibration::load_model(&out)
         .expect("the engine reads the exported model");
@@ -264,4 +276,36 @@ fn big_log_pages_stay_cheap() {
         );
         assert!(worst < 100.0, "{page:?}: {worst:.1} ms");
     }
+}
+
+#[test]
+fn a_comparison_shows_each_models_progress_and_is_cancelled() {
+    let mut h = harness(Workbench::new_for_test(&sample("calibration.csv")));
+    settle(&mut h);
+    h.key_press_modifiers(Modifiers::COMMAND, Key::Num2);
+    h.run_ok();
+    h.key_press(Key::F5);
+    h.step();
+    h.step();
+    assert!(h.state().busy(), "the comparison runs");
+    // Each model has a row of its own while the comparison runs.
+    for p in Preset::ALL {
+        assert!(
+            h.query_all_by_label(p.name()).next().is_some(),
+            "{} listed with its progress",
+            p.name()
+        );
+    }
+    h.get_all_by_label("Cancel")
+        .next()
+        .expect("a Cancel button while models are fitted")
+        .click();
+    h.step();
+    settle(&mut h);
+    assert!(!h.state().busy(), "the comparison stopped");
+    assert!(
+        h.state().state.models.is_none(),
+        "no table from a cancelled comparison"
+    );
+    h.get_by_label_contains("Comparison cancelled");
 }

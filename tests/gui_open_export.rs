@@ -43,7 +43,7 @@ fn the_sample_log_opens_calibrated_with_its_figures() {
         e.comparison.p2p_ratio
     );
     // The figures on screen are the engine's.
-    h.get_by_label(&format!("{:.2}×", e.comparison.p2p_ratio));
+    h.get_by_label(&driftlab::gui::plot_items::ratio(e.comparison.p2p_ratio));
 }
 
 #[test]
@@ -288,4 +288,176 @@ fn the_import_view_reads_semicolons_and_decimal_commas() {
     assert!(l.path.ends_with("stand.csv"));
     assert_eq!(l.log.omega_dph[3], 0.3);
     assert_eq!(l.log.temp_c[0], 20.5);
+}
+
+/// The sample log copied into a folder of its own as `run7.csv`, open and calibrated, with
+/// every file dialog answered "no system dialog here".
+fn in_a_folder(dialogs: usize) -> (tempfile::TempDir, Harness<'static, Workbench>) {
+    let dir = tempfile::tempdir().unwrap();
+    let log = dir.path().join("run7.csv");
+    std::fs::copy(sample("calibration.csv"), &log).unwrap();
+    let mut wb = Workbench::new_for_test(&log);
+    let script = with_dialogs(&mut wb);
+    for _ in 0..dialogs {
+        script.answer_in_window();
+    }
+    let mut h = harness(wb);
+    settle(&mut h);
+    (dir, h)
+}
+
+#[test]
+fn the_windows_own_dialog_writes_the_calibration_and_the_session_beside_the_log() {
+    let (dir, mut h) = in_a_folder(3);
+    let folder = std::fs::canonicalize(dir.path()).unwrap();
+
+    // Ctrl+E: the dialog opens on the log's folder with a name beside the log; Enter writes.
+    h.key_press_modifiers(Modifiers::COMMAND, Key::E);
+    h.run_ok();
+    let text = h
+        .state_mut()
+        .file_dialog()
+        .expect("the window's own dialog")
+        .text()
+        .to_string();
+    assert_eq!(
+        Path::new(&text),
+        folder.join("run7-calibration.json"),
+        "prefilled beside the log"
+    );
+    h.get_by_label("Export calibration");
+    h.key_press(Key::Enter);
+    settle(&mut h);
+    assert!(h.state_mut().file_dialog().is_none(), "Enter closed it");
+    let cal = folder.join("run7-calibration.json");
+    let read =
+        driftlab::files::calibration::load(&cal).expect("the engine reads the calibration written");
+    assert_eq!(read.source.name, "run7.csv");
+    h.get_by_label_contains(&format!("Calibration written: {}", cal.display()));
+
+    // Ctrl+S: the session, beside the log too.
+    h.key_press_modifiers(Modifiers::COMMAND, Key::S);
+    h.run_ok();
+    h.key_press(Key::Enter);
+    settle(&mut h);
+    let session = folder.join("run7-session.json");
+    let s = driftlab::files::session::load(&session).expect("the session reads back");
+    assert_eq!(
+        std::fs::canonicalize(s.log.unwrap().path).unwrap(),
+        folder.join("run7.csv")
+    );
+    assert!(!h.state().state.dirty(), "saved");
+    h.get_by_label_contains(&format!("Session saved: {}", session.display()));
+
+    // Escape cancels, and the status says nothing was written.
+    h.key_press_modifiers(Modifiers::COMMAND.plus(Modifiers::SHIFT), Key::E);
+    h.run_ok();
+    assert!(h.state_mut().file_dialog().is_some());
+    h.key_press(Key::Escape);
+    settle(&mut h);
+    assert!(h.state_mut().file_dialog().is_none());
+    assert!(!folder.join("run7-corrected.csv").exists());
+    h.get_by_label_contains("Corrected log not exported: no file was chosen, nothing was written");
+}
+
+#[test]
+fn the_windows_own_dialog_completes_a_name_and_opens_the_log_through_the_import_view() {
+    let (dir, mut h) = in_a_folder(1);
+    std::fs::write(dir.path().join("notes.json"), "not a log\n").unwrap();
+    std::fs::create_dir(dir.path().join("older runs")).unwrap();
+    h.key_press_modifiers(Modifiers::COMMAND, Key::O);
+    h.run_ok();
+    let d = h
+        .state_mut()
+        .file_dialog()
+        .expect("the window's own dialog");
+    assert!(
+        d.text().ends_with(std::path::MAIN_SEPARATOR),
+        "opens on a folder"
+    );
+    // The listing: folders and logs; the typed start of a name completes with Tab.
+    h.get_by_label_contains("older runs");
+    assert!(
+        h.query_all_by_label("notes.json").next().is_none(),
+        "logs only"
+    );
+    h.event(eframe::egui::Event::Text("run7.c".into()));
+    h.run_ok();
+    h.run_ok();
+    h.key_press(Key::Tab);
+    h.run_ok();
+    let text = h.state_mut().file_dialog().unwrap().text().to_string();
+    assert_eq!(Path::new(&text).file_name().unwrap(), "run7.csv", "{text}");
+    h.key_press(Key::Enter);
+    h.run_ok();
+    assert!(h.state_mut().file_dialog().is_none());
+    let import = h
+        .state_mut()
+        .import_view()
+        .expect("the import view shows next");
+    assert_eq!(import.path.file_name().unwrap(), "run7.csv");
+}
+
+#[test]
+fn a_log_whose_columns_need_a_look_opens_on_the_import_view_from_the_command_line() {
+    // Two temperature sensors on the gyro: which is the calibration temperature?
+    let mut wb = Workbench::new(
+        Default::default(),
+        None,
+        Box::new(driftlab::gui::ScriptedDialogs::new()),
+    );
+    wb.open_log(sample("laser-gyro.csv"), Default::default(), true);
+    let view = wb.import_view().expect("the import view shows first");
+    assert!(
+        view.concerns()
+            .iter()
+            .any(|c| c.message.contains("temp_housing_c")),
+        "{:?}",
+        view.concerns()
+    );
+    assert!(
+        wb.state.log.is_none(),
+        "nothing is read before the engineer looks"
+    );
+    // A plain log is read at once; the options given are the ones it is read with.
+    let mut wb = Workbench::new(
+        Default::default(),
+        None,
+        Box::new(driftlab::gui::ScriptedDialogs::new()),
+    );
+    let read = driftlab::log::ingest::ReadOptions {
+        temp_col: Some(driftlab::log::ingest::ColumnRef::Name(
+            "temp_chamber_c".into(),
+        )),
+        ..Default::default()
+    };
+    wb.open_log(sample("calibration.csv"), read.clone(), true);
+    if let Some(v) = wb.import_view() {
+        panic!("no look needed, yet: {:?}", v.concerns());
+    }
+    wb.wait_for_jobs();
+    let l = wb.state.log.as_ref().expect("read");
+    assert_eq!(l.read, read);
+    assert_eq!(l.log.temp_c[100], {
+        let plain =
+            driftlab::log::ingest::read_path(&sample("calibration.csv"), &Default::default())
+                .unwrap();
+        plain
+            .extra
+            .iter()
+            .find(|c| c.name == "temp_chamber_c")
+            .unwrap()
+            .values[100]
+    });
+}
+
+#[test]
+fn column_mapping_reopens_the_import_view_on_the_loaded_log() {
+    let mut h = harness(Workbench::new_for_test(&sample("calibration.csv")));
+    settle(&mut h);
+    // The Data section's button (the File menu has the same entry).
+    h.get_by_label("Column mapping…").click();
+    h.run_ok();
+    let view = h.state_mut().import_view().expect("the import view");
+    assert_eq!(view.path.file_name().unwrap(), "calibration.csv");
 }

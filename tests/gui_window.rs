@@ -144,3 +144,36 @@ fn remembered_settings_round_trip_and_keep_ten_recent_files() {
     std::fs::write(&path, "{ not json").unwrap();
     assert_eq!(Settings::load(&path), Settings::default());
 }
+
+#[test]
+fn the_gui_command_takes_the_mapping_options_and_refuses_them_for_a_session() {
+    let bin = env!("CARGO_BIN_EXE_driftlab");
+    // A unit it does not know is refused by name, before any window opens.
+    let out = std::process::Command::new(bin)
+        .args(["gui", "--rate-unit", "furlongs/fortnight"])
+        .env_remove("DISPLAY")
+        .env_remove("WAYLAND_DISPLAY")
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("--rate-unit"), "{err}");
+    // A session keeps its own mapping: options given with one are refused, not dropped.
+    let dir = tempfile::tempdir().unwrap();
+    let session = dir.path().join("s.session.json");
+    std::fs::write(&session, "{}").unwrap();
+    let out = std::process::Command::new(bin)
+        .args(["gui"])
+        .arg(&session)
+        .args(["--temp-col", "temp_c"])
+        .env_remove("DISPLAY")
+        .env_remove("WAYLAND_DISPLAY")
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("--temp-col") && err.contains("session"),
+        "{err}"
+    );
+}

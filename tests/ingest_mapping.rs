@@ -88,11 +88,11 @@ fn unknown_mapping_lists_the_columns() {
 #[test]
 fn unrecognised_names_ask_for_a_mapping() {
     let e = fail(b"a,b,c\n0,1,2\n", &opts());
-    assert!(e.message.contains("rate_col"), "{e}");
+    assert!(e.message.contains("--rate-col"), "{e}");
     let e = fail(b"time,omega,pressure\n0,1,2\n", &opts());
-    assert!(e.message.contains("temp_col"), "{e}");
+    assert!(e.message.contains("--temp-col"), "{e}");
     let e = fail(b"omega,temp\n1,2\n", &opts());
-    assert!(e.message.contains("sample_rate_hz"), "{e}");
+    assert!(e.message.contains("--sample-rate"), "{e}");
 }
 
 #[test]
@@ -108,7 +108,7 @@ fn sample_index_time() {
     close(&log.time_s, &[0.0, 0.1, 0.2, 1.0]);
     assert_eq!(unit_of(&log, ColumnRole::Time), "samples");
     let e = fail(text.as_bytes(), &opts());
-    assert!(e.message.contains("sample_rate_hz"), "{e}");
+    assert!(e.message.contains("--sample-rate"), "{e}");
 
     // A time column declared as a sample index.
     let log = read_with(
@@ -135,7 +135,7 @@ fn no_time_column_with_a_sample_rate() {
     close(&log.omega_dph, &[1.5, 2.5, 3.5]);
     close(&log.temp_c, &[20.0, 21.0, 23.0]);
     let e = fail(b"1.5,20\n2.5,21\n", &opts());
-    assert!(e.message.contains("sample_rate_hz"), "{e}");
+    assert!(e.message.contains("--sample-rate"), "{e}");
 
     // With a header that has no time column.
     let log = read_with("omega,temp\n1,20\n2,20\n", &o);
@@ -149,7 +149,7 @@ fn no_time_column_with_a_sample_rate() {
             ..opts()
         },
     );
-    assert!(e.message.contains("sample_rate_hz"), "{e}");
+    assert!(e.message.contains("--sample-rate"), "{e}");
 }
 
 #[test]
@@ -158,11 +158,12 @@ fn several_temperatures_and_extra_channels() {
                 0,20,1,300,5.5,OK,\n\
                 1,21,2,301,5.6,OK,0.25\n";
     let log = read(text);
-    close(&log.temp_c, &[20.0, 21.0]);
+    // Of two temperature sensors, the one whose name states its unit is the calibration's.
+    close(&log.temp_c, &[300.0 - 273.15, 301.0 - 273.15]);
     close(&log.omega_dph, &[1.0, 2.0]);
-    let t2 = log.channel("T2 [K]").expect("T2 kept");
-    close(&t2.values, &[300.0 - 273.15, 301.0 - 273.15]);
-    assert_eq!(t2.unit, "°C");
+    let t1 = log.channel("T1").expect("T1 kept");
+    close(&t1.values, &[20.0, 21.0]);
+    assert_eq!(t1.unit, "°C");
     let p = log.channel("laser_power [mW]").expect("power kept");
     assert_eq!(p.unit, "mW");
     close(&p.values, &[5.5, 5.6]);
@@ -171,8 +172,8 @@ fn several_temperatures_and_extra_channels() {
     assert_eq!(piezo.values[1], 0.25);
     assert!(log.channel("status").is_none());
     assert_eq!(role_of(&log, "status"), ColumnRole::Ignored);
-    assert_eq!(role_of(&log, "T1"), ColumnRole::Temperature);
-    assert_eq!(role_of(&log, "T2 [K]"), ColumnRole::Extra);
+    assert_eq!(role_of(&log, "T2 [K]"), ColumnRole::Temperature);
+    assert_eq!(role_of(&log, "T1"), ColumnRole::Extra);
     assert_eq!(log.info.columns.len(), 7);
     assert!(log.info.problems.is_empty(), "{:?}", log.info.problems);
     for ch in &log.extra {
@@ -199,10 +200,10 @@ fn skipped_extras_are_not_read_and_the_three_columns_are_the_same() {
     assert_eq!(only.time_s, all.time_s);
     assert_eq!(only.omega_dph, all.omega_dph);
     assert_eq!(only.temp_c, all.temp_c);
-    for name in ["T2 [K]", "laser_power [mW]", "piezo", "status"] {
+    for name in ["T1", "laser_power [mW]", "piezo", "status"] {
         assert_eq!(role_of(&only, name), ColumnRole::Ignored, "{name}");
     }
-    assert_eq!(role_of(&only, "T1"), ColumnRole::Temperature);
+    assert_eq!(role_of(&only, "T2 [K]"), ColumnRole::Temperature);
     // The unreadable extra cell is not read, so not reported either.
     assert!(only.info.problems.is_empty(), "{:?}", only.info.problems);
     assert!(

@@ -256,7 +256,7 @@ fn no_header_semicolons_and_decimal_commas() {
 
 #[test]
 fn extra_channels_trailing_separators_and_no_final_line_end() {
-    let mut text = String::from("time,omega,temp,temp_housing_c,laser_power_mw,\n");
+    let mut text = String::from("time,omega,temp_c,temp_housing_c,laser_power_mw,\n");
     for i in 0..ROWS {
         text += &format!(
             "{},{},{},{},{},\n",

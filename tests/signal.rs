@@ -86,8 +86,9 @@ fn one_pass_derivatives_are_the_three_passes_bit_for_bit() {
         let sm = signal::moving_average_causal(x, smooth);
         let tdot = signal::backward_derivative(&sm, step, dt);
         let mut tddot = signal::backward_derivative(&tdot, step, dt);
-        let ready = (4 * step).min(n);
-        tddot[..ready].fill(0.0);
+        tddot[..(4 * step).min(n)].fill(0.0);
+        // Full history: the smoothing window filled, then 4 steps.
+        let ready = (4 * step + smooth.max(1) - 1).min(n);
         let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
         assert_eq!(
             bits(&d.tdot),

@@ -3,7 +3,6 @@
 
 use super::common::{self, CliError, LogArgs};
 use driftlab::judge::allan::{self, AllanDeviation, AllanOptions, Readout, TauSpacing};
-use driftlab::log::ProblemKind;
 use std::path::PathBuf;
 
 /// Arguments of `allan`.
@@ -46,13 +45,11 @@ pub fn run(a: Args) -> Result<(), CliError> {
             (series.source, series.omega_dph, tau0)
         }
         None => {
-            let log = a.log_args.read(&input)?;
-            if log.info.problems.iter().any(|p| p.kind == ProblemKind::Gap) {
-                note!(
-                    "warning: {}: the log has gaps; the Allan deviation treats the samples as \
-                     evenly spaced",
-                    log.source
-                );
+            // The Allan deviation needs evenly spaced samples: a log with gaps gives its
+            // longest stretch, and says so.
+            let (log, note) = driftlab::log::resample::longest_segment(a.log_args.read(&input)?);
+            if let Some(note) = note {
+                note!("note: {}: {note}", log.source);
             }
             let step = log.nominal_dt_s();
             let tau0 = a.tau0.unwrap_or(step);

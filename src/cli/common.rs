@@ -122,6 +122,10 @@ pub struct LogArgs {
     /// Numbers use a decimal comma (default: sniffed).
     #[arg(long)]
     pub decimal_comma: bool,
+    /// Average the log into bins of S seconds before anything else (for 100 Hz–2 kHz IMU
+    /// logs). Without it, a log written in bursts is reduced to one sample per burst.
+    #[arg(long, value_name = "S")]
+    pub bin: Option<f64>,
 }
 
 impl LogArgs {
@@ -198,7 +202,31 @@ impl LogArgs {
         self.read(&self.open(path)?)
     }
 
+    /// Reads a log as it was recorded, neither binned nor reduced to its bursts (`inspect`,
+    /// which describes the file), unless `--bin` asks for bins.
+    pub fn read_recorded(&self, input: &Input) -> Result<Log, String> {
+        let log = self.read_plain(input, &self.options()?)?;
+        match self.bin {
+            Some(_) => self.resampled(log),
+            None => Ok(log),
+        }
+    }
+
     fn read_with(&self, input: &Input, opts: &ReadOptions) -> Result<Log, String> {
+        let log = self.read_plain(input, opts)?;
+        self.resampled(log)
+    }
+
+    /// The log averaged into bins (--bin) or one sample per burst, before anything else.
+    fn resampled(&self, log: Log) -> Result<Log, String> {
+        let (log, note) = driftlab::log::resample::prepare(log, self.bin)?;
+        if let Some(note) = note {
+            note!("note: {}: {note}", log.source);
+        }
+        Ok(log)
+    }
+
+    fn read_plain(&self, input: &Input, opts: &ReadOptions) -> Result<Log, String> {
         let bar = progress_bar(&format!("reading {}", input.name()));
         let log = input
             .read(opts, &|f| {
@@ -213,15 +241,19 @@ impl LogArgs {
         }
         let log = log?;
         for p in &log.info.problems {
-            let col = p.column.map(|c| format!(":{c}")).unwrap_or_default();
-            note!(
-                "warning: {}:{}{col}: {} ({} time{})",
-                log.source,
-                p.line,
-                p.message,
-                p.count,
-                if p.count == 1 { "" } else { "s" }
-            );
+            // A problem of a whole column has no line.
+            let place = match (p.line, p.column) {
+                (0, Some(c)) => format!(" column {c}"),
+                (0, None) => String::new(),
+                (l, Some(c)) => format!("{l}:{c}"),
+                (l, None) => l.to_string(),
+            };
+            let times = if p.count > 1 {
+                format!(" ({} times)", p.count)
+            } else {
+                String::new()
+            };
+            note!("warning: {}:{place}: {}{times}", log.source, p.message);
         }
         Ok(log)
     }
@@ -310,12 +342,24 @@ pub fn num(v: f64) -> String {
     driftlab::number::readable(v)
 }
 
-/// Formats a ratio for tables ("inf" when the corrected figure is zero).
+/// Formats a ratio raw ÷ corrected for tables: `n/a` when it cannot be computed, and marked
+/// `worse` below 1, where the correction made the figure worse than raw.
 pub fn ratio(r: f64) -> String {
-    if r.is_finite() {
-        format!("{r:.2}x")
+    if !r.is_finite() {
+        "n/a".into()
+    } else if r < 1.0 {
+        format!("{}x worse", fixed(r, 2))
     } else {
-        "inf".into()
+        format!("{}x", fixed(r, 2))
+    }
+}
+
+/// Formats a figure in °/h for tables: `n/a` when it could not be computed.
+pub fn figure(v: f64) -> String {
+    if v.is_finite() {
+        fixed(v, 4)
+    } else {
+        "n/a".into()
     }
 }
 
@@ -350,11 +394,11 @@ pub fn print_evaluation(
     let w = driftlab::judge::options::window_label(window_s);
     let (mean_label, rms_label) = (format!("max |{w} mean|"), format!("mean {w} RMS"));
     out!(
-        "  {:<34} {:>11} {:>11} {:>9}",
+        "  {:<34} {:>11} {:>11} {:>12}",
         "figure (deg/h)",
         "raw",
         "corrected",
-        "ratio"
+        "raw/cor"
     )?;
     let rows = [
         (
@@ -384,10 +428,24 @@ pub fn print_evaluation(
     ];
     for (name, raw, cor, r) in rows {
         out!(
-            "  {name:<34} {:>11} {:>11} {:>9}",
-            fixed(raw, 4),
-            fixed(cor, 4),
+            "  {name:<34} {:>11} {:>11} {:>12}",
+            figure(raw),
+            figure(cor),
             ratio(r)
+        )?;
+    }
+    for (what, why) in [
+        ("peak-to-peak and std", c.raw.filtered_unavailable),
+        ("window figures", c.raw.windows_unavailable),
+    ] {
+        if let Some(why) = why {
+            out!("  {what} n/a: {why}")?;
+        }
+    }
+    if c.worse_than_raw.any() {
+        out!(
+            "  worse than raw: {} (ratio below 1)",
+            c.worse_than_raw.names().join(", ")
         )?;
     }
     out!(

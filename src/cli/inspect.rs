@@ -18,7 +18,18 @@ pub struct Args {
 }
 
 pub fn run(a: Args) -> Result<(), CliError> {
-    let log = a.log_args.read_path(&a.log)?;
+    // The sampling as recorded; the plateaus and rates as the other commands see the log
+    // (a burst log reduced to its bursts' means).
+    let input = a.log_args.open(&a.log)?;
+    let recorded = a.log_args.read_recorded(&input)?;
+    let timing = recorded.timing();
+    let sampling = timing.describe(&recorded.time_s);
+    let reduced = timing.bursts.is_some() && a.log_args.bin.is_none();
+    let log = if reduced {
+        driftlab::log::resample::prepare(recorded, None)?.0
+    } else {
+        recorded
+    };
     let recipe = Recipe::default();
     let prepared = Prepared::new(&log, &recipe);
     let ranges = vakhrameev::plateau_ranges(&log, &prepared, &recipe);
@@ -41,6 +52,7 @@ pub fn run(a: Args) -> Result<(), CliError> {
             "source": log.source,
             "info": log.info,
             "samples": log.len(),
+            "sampling": sampling,
             "step_s": dt,
             "sample_rate_hz": 1.0 / dt,
             "duration_s": log.duration_s(),
@@ -80,6 +92,15 @@ pub fn run(a: Args) -> Result<(), CliError> {
         common::num(1.0 / dt),
         common::fixed(log.duration_s() / 3600.0, 2)
     )?;
+    for line in &sampling {
+        out!("  {line}")?;
+    }
+    if reduced {
+        out!(
+            "  the other commands reduce each burst to its mean time, rate and temperature \
+             (--bin S chooses bins instead)"
+        )?;
+    }
     out!(
         "  temperature {} .. {} degC, fastest |Tdot| {} degC/min",
         common::fixed(tmin, 3),
@@ -118,7 +139,11 @@ pub fn run(a: Args) -> Result<(), CliError> {
     } else {
         out!("  problems:")?;
         for p in &i.problems {
-            out!("    line {}: {} ({}x)", p.line, p.message, p.count)?;
+            if p.line == 0 {
+                out!("    {}", p.message)?;
+            } else {
+                out!("    line {}: {}", p.line, p.message)?;
+            }
         }
     }
     Ok(())

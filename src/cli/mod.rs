@@ -9,6 +9,7 @@ mod apply;
 mod calibrate;
 mod calibrate_print;
 mod compare;
+mod convert;
 mod evaluate;
 mod export;
 mod inspect;
@@ -47,6 +48,9 @@ pub enum Command {
     Simulate(simulate::Args),
     /// Fit several models on one log and compare them on it and on held-out logs.
     Compare(compare::Args),
+    /// Write one gyro of a drone or robot log (PX4 ULog, ArduPilot DataFlash, ROS bag, MCAP)
+    /// as a CSV the other commands read.
+    Convert(convert::Args),
     /// Allan deviation of a log's rate with intervals, and ARW, bias instability and RRW.
     Allan(allan::Args),
     /// Open the workbench (the default when no command is given).
@@ -56,11 +60,15 @@ pub enum Command {
 /// Arguments of `gui`.
 #[derive(clap::Args, Debug, Default)]
 pub struct GuiArgs {
-    /// Log to open (default: sample_logs/calibration.csv when present).
+    /// Log (or saved session .json) to open (default: sample_logs/calibration.csv when
+    /// present). The import view shows first when a column is ambiguous or implausible.
     pub log: Option<std::path::PathBuf>,
     /// Render the loaded, calibrated workbench, save the window as PNG here and exit.
     #[arg(long, value_name = "PNG")]
     pub screenshot: Option<std::path::PathBuf>,
+    /// How to read the log (a session keeps its own mapping).
+    #[command(flatten)]
+    pub log_args: common::LogArgs,
 }
 
 pub use common::CliError;
@@ -78,6 +86,7 @@ pub fn run(command: Command) -> Result<(), CliError> {
         Command::Simulate(a) => simulate::run(a),
         Command::Compare(a) => compare::run(a),
         Command::Allan(a) => allan::run(a),
+        Command::Convert(a) => convert::run(a),
         Command::Gui(a) => gui(a).map_err(CliError::Message),
     };
     result.and_then(|()| common::flush_out())
@@ -85,9 +94,11 @@ pub fn run(command: Command) -> Result<(), CliError> {
 
 #[cfg(feature = "gui")]
 fn gui(a: GuiArgs) -> Result<(), String> {
+    let read = a.log_args.options()?;
     driftlab::gui::run(driftlab::gui::GuiOptions {
         log: a.log,
         screenshot: a.screenshot,
+        read,
     })
 }
 

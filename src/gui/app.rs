@@ -15,7 +15,7 @@ mod screenshot;
 use screenshot::{AutoShot, PendingShot, Shot};
 
 use super::autosave::{Autosave, LeftBehind};
-use super::dialogs::{FileDialogs, FileKind};
+use super::dialogs::FileDialogs;
 use super::export;
 use super::jobs::{JobResult, Jobs, Target};
 use super::plot_items::num;
@@ -92,6 +92,9 @@ pub enum Action {
     CompareModels,
     /// Write the model chosen on the Models page as a calibration file.
     ExportModel,
+    /// Reopen the import view on the loaded log (or the validation log) to change its
+    /// column mapping, units or format.
+    ColumnMapping(Target),
 }
 
 /// The pages of the workbench.
@@ -188,12 +191,20 @@ pub struct Workbench {
     coeffs: CoeffView,
     result: ResultView,
     import: Option<ImportView>,
+    /// The window title last sent.
+    title: Option<String>,
+    /// Height of the coefficient panel's rows other than its three plots, last frame.
+    coeff_overhead: Option<f32>,
+    /// The workbench's own file dialog, open, with what the path is for.
+    file_dialog: Option<(super::file_dialog::FileDialog, files::Purpose)>,
     confirm: Option<Action>,
     error: Option<String>,
     pending_session: Option<(PathBuf, Session)>,
     /// A session's validation log on its way: whether the session showed it.
     restoring_validation: Option<bool>,
     plot_rects: HashMap<String, Rect>,
+    /// Where each panel of the Calibration page was drawn last frame.
+    panel_rects: HashMap<&'static str, Rect>,
     last_request: Option<(Choices, usize, usize)>,
     pending_shot: Option<PendingShot>,
     shot_tx: Sender<Shot>,
@@ -238,11 +249,15 @@ impl Workbench {
             coeffs: CoeffView::default(),
             result: ResultView,
             import: None,
+            file_dialog: None,
+            coeff_overhead: None,
+            title: None,
             confirm: None,
             error: None,
             pending_session: None,
             restoring_validation: None,
             plot_rects: HashMap::new(),
+            panel_rects: HashMap::new(),
             last_request: None,
             pending_shot: None,
             shot_tx,
@@ -340,6 +355,17 @@ impl Workbench {
         self.plot_rects.get(name).copied()
     }
 
+    /// Where a panel of the Calibration page (`controls`, `coefficients`, `central`) was drawn
+    /// last frame.
+    pub fn panel_rect(&self, name: &str) -> Option<Rect> {
+        self.panel_rects.get(name).copied()
+    }
+
+    /// The time range the time plots show, s (as drawn last frame).
+    pub fn visible_time_s(&self) -> Option<(f64, f64)> {
+        self.time.visible_s
+    }
+
     /// Screen x of time `t_s` on the time plots as drawn last frame (tests aim the mouse).
     pub fn time_plot_x(&self, t_s: f64) -> Option<f32> {
         self.time.screen_x(t_s)
@@ -372,6 +398,25 @@ impl Workbench {
     /// Runs an action as if chosen from the menu.
     pub fn act(&mut self, ctx: &egui::Context, action: Action) {
         self.run_action(ctx, action);
+    }
+
+    /// Opens a log as the command line does: read with `read` at once, unless `ask_when_unsure`
+    /// and its columns need a look (no header, two candidates for a role, implausible values,
+    /// no mapping): then the import view shows first.
+    pub fn open_log(&mut self, path: PathBuf, read: ReadOptions, ask_when_unsure: bool) {
+        let view = ImportView::new(path.clone(), Target::Calibration, read.clone());
+        if ask_when_unsure && view.needs_a_look() {
+            self.state.say(
+                Severity::Warning,
+                format!(
+                    "Check the columns of {} before it is read",
+                    file_name(&path)
+                ),
+            );
+            self.import = Some(view);
+        } else {
+            self.start_load(path, read, Target::Calibration);
+        }
     }
 
     /// Starts reading a log (no import view: the options are given).
@@ -425,6 +470,7 @@ impl Workbench {
         }
         let settled = !ctx.input(|i| i.pointer.any_down());
         self.state.history.observe(&self.state.choices, settled);
+        self.state.forget_stale_status();
         self.refit_if_needed();
         if self.auto.is_none() {
             self.autosave.tick(&self.state);
@@ -435,26 +481,51 @@ impl Workbench {
         }
         self.screenshots(&ctx);
         self.remember_window(&ctx);
+        self.window_title(&ctx);
         if self.jobs.busy() {
-            ctx.request_repaint_after(Duration::from_millis(100));
+            // A comparison's progress at four frames a second; the rest at ten.
+            let only_comparing = self.jobs.comparing.is_some()
+                && self.jobs.loading.is_none()
+                && !self.jobs.fitting();
+            ctx.request_repaint_after(Duration::from_millis(if only_comparing {
+                250
+            } else {
+                100
+            }));
         }
     }
 
     fn calibration_page(&mut self, ui: &mut Ui, actions: &mut Vec<Action>) {
+        Panel::top("banner")
+            .resizable(false)
+            .show(ui, |ui| self.banner(ui));
         Panel::bottom("figures")
             .resizable(false)
             .show(ui, |ui| ResultView::figures(ui, &self.state));
-        Panel::left("controls")
-            .default_size(330.0)
-            .size_range(250.0..=520.0)
+        // Side panels keep the width they are given (their contents fill it, whatever they
+        // are): an egui panel otherwise takes its contents' width, so a narrow first frame
+        // (the log still loading) or a wider row (a button appearing) would change it.
+        let r = Panel::left("controls")
+            .default_size(340.0)
+            .size_range(340.0..=520.0)
             .show(ui, |ui| {
-                ScrollArea::vertical().show(ui, |ui| self.controls(ui, actions));
+                ScrollArea::vertical()
+                    .auto_shrink([false, false])
+                    .show(ui, |ui| {
+                        ui.set_min_width(ui.available_width());
+                        self.controls(ui, actions)
+                    });
             });
-        Panel::right("coefficients")
+        self.panel_rects.insert("controls", r.response.rect);
+        let r = Panel::right("coefficients")
             .default_size(470.0)
             .size_range(320.0..=800.0)
-            .show(ui, |ui| self.coefficient_panel(ui, actions));
-        egui::CentralPanel::default().show(ui, |ui| {
+            .show(ui, |ui| {
+                ui.set_min_width(ui.available_width());
+                self.coefficient_panel(ui, actions)
+            });
+        self.panel_rects.insert("coefficients", r.response.rect);
+        let r = egui::CentralPanel::default().show(ui, |ui| {
             if self.state.log.is_none() {
                 self.welcome(ui, actions);
                 return;
@@ -467,6 +538,7 @@ impl Workbench {
             ui.separator();
             self.result.ui(ui, &mut self.state, actions);
         });
+        self.panel_rects.insert("central", r.response.rect);
     }
 
     fn page_tabs(&mut self, ui: &mut Ui, actions: &mut Vec<Action>) {
@@ -486,8 +558,9 @@ impl Workbench {
                 }
             }
             if let Some(h) = &self.jobs.comparing {
+                // No spinner: it redraws the window every frame, and a comparison takes
+                // seconds of both cores (the counts below change as models finish).
                 ui.separator();
-                ui.spinner();
                 ui.label(format!("fitting models… {} of {}", h.done(), h.total));
             }
         });
@@ -532,6 +605,28 @@ impl Workbench {
     /// Where this workbench autosaves, when it does.
     pub fn autosave_path(&self) -> Option<&Path> {
         self.autosave.path()
+    }
+
+    /// The window's title names the log and says when its calibration is ready (scripts
+    /// that drive the window wait for it).
+    fn window_title(&mut self, ctx: &egui::Context) {
+        let title = match &self.state.log {
+            None => "driftlab workbench".to_string(),
+            Some(l) => format!(
+                "{}{} — driftlab workbench{}",
+                file_name(&l.path),
+                if self.state.dirty() { " •" } else { "" },
+                match (&self.state.fit, &self.state.fit_error) {
+                    (_, Some(_)) => " (calibration failed)",
+                    (None, None) => " (calibrating…)",
+                    (Some(_), None) => "",
+                }
+            ),
+        };
+        if self.title.as_deref() != Some(title.as_str()) {
+            ctx.send_viewport_cmd(ViewportCommand::Title(title.clone()));
+            self.title = Some(title);
+        }
     }
 
     fn remember_window(&mut self, ctx: &egui::Context) {
@@ -606,10 +701,13 @@ impl Workbench {
             ui.weak("K0, K1± and K2± appear here once a log is loaded.");
             return;
         }
+        // The three plots share what their control rows leave, as measured last frame (rows
+        // wrap when the panel is narrow, rather than widening it).
+        let top = ui.cursor().top();
         let h = ui.available_height();
-        // Three plots with their control rows (K0: one row, K1/K2: three rows each).
         let row = ui.spacing().interact_size.y + ui.spacing().item_spacing.y;
-        let plot_h = ((h - 11.0 * row - 30.0) / 3.0).max(110.0);
+        let overhead = self.coeff_overhead.unwrap_or(11.0 * row + 30.0);
+        let plot_h = ((h - overhead) / 3.0).max(90.0).floor();
         self.plateaus.k0_plot(ui, &mut self.state, plot_h, actions);
         ui.separator();
         self.coeffs
@@ -617,6 +715,8 @@ impl Workbench {
         ui.separator();
         self.coeffs
             .ui(ui, &mut self.state, Pair::K2, plot_h, actions);
+        let used = ui.cursor().top() - top;
+        self.coeff_overhead = Some((used - 3.0 * plot_h).max(0.0));
     }
 }
 

@@ -8,7 +8,8 @@
 //!   [`view_result`] (the Calibration page), [`view_models`] (the Models page: presets and a
 //!   custom model side by side, their export) and [`view_allan`] (the Allan page);
 //! * [`plot_items`]: plot items drawn from level-of-detail data ([`crate::signal::lod`]);
-//! * [`export`], [`dialogs`], [`settings`].
+//! * [`export`], [`dialogs`] (which file dialog can appear), [`file_dialog`] (the workbench's
+//!   own, where no system dialog can), [`settings`].
 //!
 //! Fitting is a pure function of (log, recipe, knots moved by hand), run by
 //! [`crate::live::Pipeline`] on the worker; a GUI edit changes the recipe and the next frame
@@ -18,6 +19,7 @@ pub mod app;
 pub mod autosave;
 pub mod dialogs;
 pub mod export;
+pub mod file_dialog;
 pub mod jobs;
 pub mod plot_items;
 pub mod settings;
@@ -31,7 +33,7 @@ pub mod view_result;
 pub mod view_time;
 
 pub use app::{Action, Page, Workbench, default_log};
-pub use dialogs::{FileDialogs, FileKind, RfdDialogs, ScriptedDialogs};
+pub use dialogs::{Answer, FileDialogs, FileKind, ScriptedDialogs, SystemDialogs};
 pub use jobs::Target;
 
 use eframe::egui;
@@ -48,6 +50,16 @@ pub struct GuiOptions {
     /// the page named by the environment variable `DRIFTLAB_GUI_PAGE` shown, its work done
     /// first: the Models page compares the models ticked by default).
     pub screenshot: Option<PathBuf>,
+    /// How to read the log (`--time-col`, `--rate-unit`, …): the import view starts from
+    /// these, and the log is read with them when its columns need no look.
+    pub read: crate::log::ingest::ReadOptions,
+}
+
+/// `1280x800` as points, when at least the window's smallest size.
+fn parse_size(s: &str) -> Option<[f32; 2]> {
+    let (w, h) = s.trim().split_once(['x', 'X'])?;
+    let (w, h): (f32, f32) = (w.trim().parse().ok()?, h.trim().parse().ok()?);
+    (w >= 900.0 && h >= 620.0 && w.is_finite() && h.is_finite()).then_some([w, h])
 }
 
 /// Opens the workbench window and runs until it is closed.
@@ -77,6 +89,20 @@ pub fn run(options: GuiOptions) -> Result<(), String> {
     {
         return Err(format!("{}: no such file", l.display()));
     }
+    let read = options.read.clone();
+    if read != crate::log::ingest::ReadOptions::default()
+        && log.as_ref().is_some_and(|p| {
+            p.extension()
+                .is_some_and(|e| e.eq_ignore_ascii_case("json"))
+        })
+    {
+        return Err(
+            "--time-col, --rate-col, --temp-col, --rate-unit, --time-unit, --sample-rate, \
+             --delimiter and --decimal-comma apply to a log: a session keeps the mapping it was \
+             saved with (open it, then File › Column mapping…)"
+                .into(),
+        );
+    }
     // Screenshot mode renders with the engineer's theme but writes no settings back.
     let settings = Settings::default_path()
         .as_deref()
@@ -93,8 +119,18 @@ pub fn run(options: GuiOptions) -> Result<(), String> {
         .with_app_id("driftlab")
         .with_drag_and_drop(true)
         .with_min_inner_size([900.0, 620.0]);
-    viewport = match (&shot, settings.window) {
-        (None, Some(w)) if w.width >= 900.0 && w.height >= 620.0 => viewport
+    // DRIFTLAB_GUI_SIZE=WxH: the window's size (a screenshot at 1280x800, say).
+    let size = match std::env::var("DRIFTLAB_GUI_SIZE") {
+        Ok(s) if !s.trim().is_empty() => Some(parse_size(&s).ok_or_else(|| {
+            format!(
+                "DRIFTLAB_GUI_SIZE={s}: give the window's size as WIDTHxHEIGHT, at least 900x620"
+            )
+        })?),
+        _ => None,
+    };
+    viewport = match (&shot, settings.window, size) {
+        (_, _, Some([w, h])) => viewport.with_inner_size([w, h]),
+        (None, Some(w), None) if w.width >= 900.0 && w.height >= 620.0 => viewport
             .with_inner_size([w.width, w.height])
             .with_position([w.x, w.y])
             .with_maximized(w.maximized),
@@ -113,7 +149,7 @@ pub fn run(options: GuiOptions) -> Result<(), String> {
         "driftlab",
         native,
         Box::new(move |_cc| {
-            let mut wb = Workbench::new(settings, settings_path, Box::new(RfdDialogs));
+            let mut wb = Workbench::new(settings, settings_path, Box::new(SystemDialogs::detect()));
             match log {
                 // `driftlab gui run7.session.json` reopens a saved session.
                 Some(p)
@@ -122,7 +158,7 @@ pub fn run(options: GuiOptions) -> Result<(), String> {
                 {
                     wb.open_session(p)
                 }
-                Some(p) => wb.start_load(p, Default::default(), Target::Calibration),
+                Some(p) => wb.open_log(p, read, shot.is_none()),
                 None => {}
             }
             if let Some(p) = page {

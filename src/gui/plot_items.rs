@@ -404,6 +404,55 @@ pub fn num(v: f64) -> String {
     }
 }
 
+/// True when a tick at `v` sits far enough inside `range` for its label to be drawn whole: a
+/// label centred on a tick at an end of the axis is half outside the plot and is clipped
+/// ("10000" read as "100").
+pub fn label_fits(v: f64, range: &RangeInclusive<f64>, margin: f64) -> bool {
+    let (a, b) = (
+        range.start().min(*range.end()),
+        range.start().max(*range.end()),
+    );
+    let m = (b - a) * margin;
+    v >= a + m && v <= b - m
+}
+
+/// A y-axis label that fits a plot `height` points tall: "name, unit" on one line when it
+/// fits, else on two (a rotated label longer than its plot runs over its neighbours').
+pub fn axis_label(label: &str, height: f32) -> String {
+    // Body text is about 7 points a character.
+    let long = label.chars().count() as f32 * 7.0;
+    if long <= height * 0.95 {
+        label.to_string()
+    } else {
+        label.replacen(", ", "\n", 1)
+    }
+}
+
+/// Share of an x-axis kept clear of labels at each end (half a label's width on a plot a few
+/// hundred points wide).
+pub const X_LABEL_MARGIN: f64 = 0.035;
+
+/// Share of a y-axis kept clear of labels at each end (half a label's height).
+pub const Y_LABEL_MARGIN: f64 = 0.04;
+
+/// [`tick`] for an x-axis: no label where it would be cut at either end.
+pub fn tick_x(mark: egui_plot::GridMark, range: &RangeInclusive<f64>) -> String {
+    if label_fits(mark.value, range, X_LABEL_MARGIN) {
+        tick(mark, range)
+    } else {
+        String::new()
+    }
+}
+
+/// [`tick`] for a y-axis: no label where it would be cut at the top or the bottom.
+pub fn tick_y(mark: egui_plot::GridMark, range: &RangeInclusive<f64>) -> String {
+    if label_fits(mark.value, range, Y_LABEL_MARGIN) {
+        tick(mark, range)
+    } else {
+        String::new()
+    }
+}
+
 /// An axis tick label: as many decimals as the tick step needs, scientific notation for
 /// tiny or huge steps (rates in °C/s² are of order 1e-5).
 pub fn tick(mark: egui_plot::GridMark, _range: &RangeInclusive<f64>) -> String {
@@ -449,12 +498,27 @@ fn nice_steps_n(input: egui_plot::GridInput, labels: f64) -> [f64; 3] {
     [major / 5.0, major, major * 5.0]
 }
 
-/// A ratio as shown in the figures ("4.72×").
+/// A ratio as shown in the figures, to three significant digits ("4.72×", "14.4×", "0.990×"),
+/// so that a ratio coloured as below 1 never reads "1.00×".
 pub fn ratio(r: f64) -> String {
-    if r.is_finite() {
+    if !r.is_finite() {
+        return if r.is_nan() {
+            "n/a".into()
+        } else {
+            "∞".into()
+        };
+    }
+    let a = r.abs();
+    if a >= 100.0 {
+        format!("{r:.0}×")
+    } else if a >= 10.0 {
+        format!("{r:.1}×")
+    } else if a >= 1.0 || a == 0.0 {
         format!("{r:.2}×")
     } else {
-        "∞".into()
+        // Three significant digits below 1: 0.990×, 0.0123×.
+        let decimals = (2.0 - a.log10().floor()) as usize;
+        format!("{r:.decimals$}×")
     }
 }
 

@@ -48,6 +48,9 @@ pub struct Settings {
     pub window: Option<WindowGeometry>,
     /// Folder of the last file opened or saved.
     pub last_dir: Option<PathBuf>,
+    /// Folders files were opened from or saved to, newest first (the workbench's own file
+    /// dialog offers them).
+    pub recent_dirs: Vec<PathBuf>,
 }
 
 const RECENT_MAX: usize = 10;
@@ -87,7 +90,16 @@ impl Settings {
         self.recent.insert(0, path.clone());
         self.recent.truncate(RECENT_MAX);
         if let Some(dir) = path.parent() {
-            self.last_dir = Some(dir.to_path_buf());
+            self.add_recent_dir(dir);
         }
+    }
+
+    /// Puts `dir` first in the recent folders (and makes it the last folder).
+    pub fn add_recent_dir(&mut self, dir: &Path) {
+        let dir = std::path::absolute(dir).unwrap_or_else(|_| dir.to_path_buf());
+        self.recent_dirs.retain(|d| d != &dir);
+        self.recent_dirs.insert(0, dir.clone());
+        self.recent_dirs.truncate(RECENT_MAX);
+        self.last_dir = Some(dir);
     }
 }

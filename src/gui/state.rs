@@ -122,6 +122,8 @@ pub struct AppState {
     pub session_path: Option<PathBuf>,
     /// The last status message.
     pub status: Option<(Severity, String)>,
+    /// The choices a status message was about, when it holds only for them.
+    pub status_choices: Option<Choices>,
     /// What was on screen (kept in sessions).
     pub view: ViewState,
     /// The newest comparison of models (Models view).
@@ -136,6 +138,7 @@ impl AppState {
     /// Shows a status message.
     pub fn say(&mut self, severity: Severity, message: impl Into<String>) {
         self.status = Some((severity, message.into()));
+        self.status_choices = None;
     }
 
     /// The recipe.
@@ -236,10 +239,42 @@ impl AppState {
         self.baseline = None;
     }
 
-    /// Whether the newest fit answers the current choices (or a refit is still on its way).
+    /// Whether the fit shown answers the current choices and logs exactly (else a refit is on
+    /// its way and what is shown is provisional).
     pub fn fit_current(&self) -> bool {
-        self.fit
+        self.fit.as_ref().is_some_and(|f| {
+            let same_log = self
+                .log
+                .as_ref()
+                .is_some_and(|l| Arc::ptr_eq(&l.log, &f.outcome.in_sample.log));
+            let same_validation = match (&self.validation, &f.outcome.held_out) {
+                (Some(v), Some(h)) => Arc::ptr_eq(&v.log, &h.log),
+                (None, None) => true,
+                _ => false,
+            };
+            same_log
+                && same_validation
+                && f.outcome.calibration.recipe == self.choices.recipe
+                && f.knots == self.choices.knots
+        })
+    }
+
+    /// Shows a status message that holds only for the choices as they are: it is cleared once
+    /// they change (the detector's suggestion, after the plateaus are edited by hand).
+    pub fn say_about_choices(&mut self, severity: Severity, message: impl Into<String>) {
+        self.say(severity, message);
+        self.status_choices = Some(self.choices.clone());
+    }
+
+    /// Clears a status message said about choices that have changed since.
+    pub fn forget_stale_status(&mut self) {
+        if self
+            .status_choices
             .as_ref()
-            .is_some_and(|f| f.outcome.calibration.recipe == self.choices.recipe)
+            .is_some_and(|c| *c != self.choices)
+        {
+            self.status = None;
+            self.status_choices = None;
+        }
     }
 }

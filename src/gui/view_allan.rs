@@ -43,9 +43,12 @@ impl AllanPage {
         Panel::right("allan_readouts")
             .default_size(400.0)
             .size_range(320.0..=640.0)
-            .show(ui, |ui| readouts(ui, data.as_deref()));
+            .show(ui, |ui| {
+                ui.set_min_width(ui.available_width());
+                readouts(ui, data.as_deref())
+            });
         egui::CentralPanel::default().show(ui, |ui| {
-            ui.horizontal(|ui| {
+            ui.horizontal_wrapped(|ui| {
                 ui.strong("Allan deviation, raw and corrected")
                     .on_hover_text(
                         "Octave τ, overlapping estimator, 68.3 % confidence intervals (shaded); \
@@ -120,7 +123,7 @@ fn plot(ui: &mut Ui, d: &AllanData) {
         )
         .x_axis_label("τ, s")
         .y_axis_label("σ(τ), °/h")
-        .y_axis_min_width(64.0)
+        .y_axis_min_width(72.0)
         .x_grid_spacer(decades)
         .y_grid_spacer(decades)
         .x_axis_formatter(decade_label)
@@ -213,6 +216,10 @@ fn decades(input: GridInput) -> Vec<GridMark> {
 fn decade_label(mark: GridMark, range: &RangeInclusive<f64>) -> String {
     let span = range.end() - range.start();
     if mark.step_size < 0.5 || (mark.step_size < 1.0 && span > 3.0) {
+        return String::new();
+    }
+    // A label whose tick is at an end of the axis would be cut in half by the plot's edge.
+    if !crate::gui::plot_items::label_fits(mark.value, range, 0.04) {
         return String::new();
     }
     let d = mark.value.floor() as i32;

@@ -31,7 +31,8 @@ fn kind_tip(k: ApproxKind) -> &'static str {
 }
 
 /// Kind, knot count and "reset knots" for one coefficient; returns true when the hand-set
-/// knots are to be forgotten.
+/// knots are to be forgotten. "reset knots" is always there (greyed while no knot is set by
+/// hand), so that the row keeps its width when a drag starts.
 pub fn approx_controls(
     ui: &mut Ui,
     id: &str,
@@ -41,7 +42,7 @@ pub fn approx_controls(
 ) -> bool {
     let r = egui::ComboBox::from_id_salt(("approx_kind", id))
         .selected_text(kind_name(spec.kind))
-        .width(118.0)
+        .width(112.0)
         .show_ui(ui, |ui| {
             for k in ApproxKind::ALL {
                 ui.selectable_value(&mut spec.kind, k, kind_name(k))
@@ -74,13 +75,12 @@ pub fn approx_controls(
         .on_hover_text(format!(
             "Evaluate {label} beyond the range it was fitted on, instead of holding its edge value"
         ));
-    edited
-        && ui
-            .small_button("reset knots")
-            .on_hover_text(format!(
-                "Forget the knots of {label} moved by hand and use the fitted ones"
-            ))
-            .clicked()
+    ui.add_enabled(edited, egui::Button::new("reset knots").small())
+        .on_hover_text(format!(
+            "Forget the knots of {label} moved by hand and use the fitted ones"
+        ))
+        .on_disabled_hover_text(format!("No knot of {label} is set by hand"))
+        .clicked()
 }
 
 /// Which pair a plot shows.
@@ -151,20 +151,18 @@ impl CoeffView {
             ),
         };
         let fit = state.fit.clone();
-        ui.horizontal(|ui| {
+        ui.horizontal_wrapped(|ui| {
             ui.strong(title).on_hover_text(tip);
-            ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
-                if ui
-                    .small_button("PNG")
-                    .on_hover_text("Save this plot as PNG")
-                    .clicked()
-                {
-                    out.push(Action::SavePlotNamed(pair.id().into()));
-                }
-            });
+            if ui
+                .small_button("PNG")
+                .on_hover_text("Save this plot as PNG")
+                .clicked()
+            {
+                out.push(Action::SavePlotNamed(pair.id().into()));
+            }
         });
         for (c, color) in pair.coefs().into_iter().zip([pal.plus, pal.minus]) {
-            ui.horizontal(|ui| {
+            ui.horizontal_wrapped(|ui| {
                 ui.label(RichText::new(c.label()).color(color).strong())
                     .on_hover_text(if matches!(c, Coefficient::K1Plus | Coefficient::K2Plus) {
                         "+ set: thermal acceleration, dT/dt·d²T/dt² > 0"
@@ -203,10 +201,10 @@ impl CoeffView {
             Plot::new(("coeff_plot", pair.id()))
                 .height(height)
                 .x_axis_label(x_label)
-                .y_axis_label(y_label)
+                .y_axis_label(super::plot_items::axis_label(y_label, height))
                 .y_axis_min_width(60.0)
-                .x_axis_formatter(super::plot_items::tick)
-                .y_axis_formatter(super::plot_items::tick)
+                .x_axis_formatter(super::plot_items::tick_x)
+                .y_axis_formatter(super::plot_items::tick_y)
                 .x_grid_spacer(egui_plot::uniform_grid_spacer(
                     super::plot_items::nice_steps,
                 ))

@@ -5,6 +5,7 @@
 use super::jobs::Target;
 use crate::log::ColumnRole;
 use crate::log::ingest::{self, ColumnRef, Preview, RateUnit, ReadOptions, TimeUnit};
+use crate::log::mapping_check::{self, Concern};
 use eframe::egui::{self, Color32, ComboBox, Grid, RichText, ScrollArea, Ui};
 use std::path::PathBuf;
 
@@ -27,6 +28,8 @@ pub struct ImportView {
     pub read: ReadOptions,
     preview: Result<Preview, String>,
     previewed: ReadOptions,
+    /// What to look at before loading (ambiguous or implausible columns).
+    concerns: Vec<Concern>,
 }
 
 const PREVIEW_ROWS: usize = 25;
@@ -35,18 +38,34 @@ impl ImportView {
     /// Opens the view on `path` with starting options.
     pub fn new(path: PathBuf, target: Target, read: ReadOptions) -> ImportView {
         let preview = ingest::preview(&path, &read, PREVIEW_ROWS).map_err(|e| e.to_string());
+        let concerns = preview
+            .as_ref()
+            .map(|p| mapping_check::concerns_for(p, &read))
+            .unwrap_or_default();
         ImportView {
             path,
             target,
             previewed: read.clone(),
             read,
             preview,
+            concerns,
         }
     }
 
     /// The preview as it stands (for tests).
     pub fn preview(&self) -> Result<&Preview, &str> {
         self.preview.as_ref().map_err(String::as_str)
+    }
+
+    /// What to look at before loading: ambiguous or implausible columns.
+    pub fn concerns(&self) -> &[Concern] {
+        &self.concerns
+    }
+
+    /// True when the file should not be read without the engineer seeing the preview: it
+    /// cannot be previewed or mapped, or a column is ambiguous or implausible.
+    pub fn needs_a_look(&self) -> bool {
+        self.preview.is_err() || !self.concerns.is_empty()
     }
 
     /// Shows the view as a modal window; returns the decision once made.
@@ -62,6 +81,11 @@ impl ImportView {
         if self.read != self.previewed {
             self.preview =
                 ingest::preview(&self.path, &self.read, PREVIEW_ROWS).map_err(|e| e.to_string());
+            self.concerns = self
+                .preview
+                .as_ref()
+                .map(|p| mapping_check::concerns_for(p, &self.read))
+                .unwrap_or_default();
             self.previewed = self.read.clone();
         }
         decision
@@ -110,6 +134,16 @@ impl ImportView {
                         ),
                         None => format!("{what}: —"),
                     };
+                    for c in self
+                        .concerns
+                        .iter()
+                        .filter(|c| !c.message.starts_with("The columns cannot"))
+                    {
+                        ui.colored_label(
+                            ui.visuals().warn_fg_color,
+                            format!("Check: {}", c.message),
+                        );
+                    }
                     ui.label(format!(
                         "{} · {} · {}{}",
                         describe(ColumnRole::Time, "time"),
@@ -341,7 +375,7 @@ impl ImportView {
 fn role_color(ui: &Ui, r: ColumnRole) -> Color32 {
     match r {
         ColumnRole::Time => ui.visuals().hyperlink_color,
-        ColumnRole::Rate => Color32::from_rgb(220, 120, 0),
+        ColumnRole::Rate | ColumnRole::OtherAxis => Color32::from_rgb(220, 120, 0),
         ColumnRole::Temperature => Color32::from_rgb(200, 50, 40),
         ColumnRole::Extra => ui.visuals().text_color(),
         ColumnRole::Ignored => ui.visuals().weak_text_color(),
@@ -368,6 +402,7 @@ fn preview_table(ui: &mut Ui, p: &Preview) {
                         let role_name = match role {
                             ColumnRole::Time => "time",
                             ColumnRole::Rate => "rate",
+                            ColumnRole::OtherAxis => "other axis",
                             ColumnRole::Temperature => "temperature",
                             ColumnRole::Extra => "kept",
                             ColumnRole::Ignored => "ignored",

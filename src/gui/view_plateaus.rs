@@ -96,7 +96,8 @@ impl PlateauView {
         ));
         let mut edited: Option<Vec<PlateauRange>> = None;
         let step = (log.nominal_dt_s() * 10.0).max(1e-3);
-        const W: [f32; 8] = [24.0, 66.0, 66.0, 44.0, 54.0, 42.0, 40.0, 22.0];
+        // Column widths: the table fits the controls panel at its narrowest (320).
+        const W: [f32; 7] = [20.0, 56.0, 56.0, 42.0, 50.0, 46.0, 18.0];
         let row_h = ui.spacing().interact_size.y;
         let cell = |ui: &mut Ui, k: usize, text: RichText| {
             ui.add_sized([W[k], row_h], egui::Label::new(text).truncate())
@@ -104,7 +105,10 @@ impl PlateauView {
         ui.horizontal(|ui| {
             ui.spacing_mut().item_spacing.x = 4.0;
             for (k, (h, tip)) in [
-                ("#", "Click to select the plateau in the time plots"),
+                (
+                    "#",
+                    "Click to select the plateau in the time plots; hover it for its samples",
+                ),
                 (
                     "start, s",
                     "Start time, s: drag the number or click and type",
@@ -113,10 +117,9 @@ impl PlateauView {
                 ("T, °C", "Mean temperature on the plateau"),
                 ("Ω, °/h", "Mean gyro output: the K0 point"),
                 (
-                    "spread",
-                    "Max − min temperature on the plateau, °C (large: not stable)",
+                    "ΔT, °C",
+                    "Spread of the temperature on the plateau: max − min, °C (large: not stable)",
                 ),
-                ("n", "Samples in the plateau"),
                 ("", ""),
             ]
             .into_iter()
@@ -136,12 +139,18 @@ impl PlateauView {
                     ui.horizontal(|ui| {
                         ui.spacing_mut().item_spacing.x = 4.0;
                         let sel = time.selected == Some(k);
+                        let samples = stats
+                            .iter()
+                            .find(|s| s.range == r)
+                            .map_or(String::new(), |s| format!("{} samples; ", s.samples));
                         if ui
                             .add_sized(
                                 [W[0], row_h],
                                 egui::Button::selectable(sel, format!("{}", k + 1)),
                             )
-                            .on_hover_text("Select this plateau (Delete removes it)")
+                            .on_hover_text(format!(
+                                "{samples}select this plateau (Delete removes it)"
+                            ))
                             .clicked()
                         {
                             time.selected = if sel { None } else { Some(k) };
@@ -183,17 +192,20 @@ impl PlateauView {
                                         num(s.omega_sem_dph)
                                     ),
                                 );
-                                cell(ui, 5, RichText::new(format!("{:.3}", s.temp_spread_c)));
-                                cell(ui, 6, RichText::new(format!("{}", s.samples)));
+                                cell(ui, 5, RichText::new(format!("{:.3}", s.temp_spread_c)))
+                                    .on_hover_text(format!(
+                                        "{:.3} °C between the coldest and the warmest sample",
+                                        s.temp_spread_c
+                                    ));
                             }
                             None => {
-                                for c in 3..7 {
+                                for c in 3..6 {
                                     cell(ui, c, RichText::new("…").weak());
                                 }
                             }
                         }
                         if ui
-                            .add_sized([W[7], row_h], egui::Button::new("×"))
+                            .add_sized([W[6], row_h], egui::Button::new("×"))
                             .on_hover_text("Delete this plateau")
                             .clicked()
                         {
@@ -219,7 +231,7 @@ impl PlateauView {
         out: &mut Vec<Action>,
     ) {
         let pal = Palette::of(ui);
-        ui.horizontal(|ui| {
+        ui.horizontal_wrapped(|ui| {
             ui.strong("K0(T)")
                 .on_hover_text("Static bias: mean output on each plateau against its temperature");
             let edited = state.choices.knots.get(Coefficient::K0).is_some();
@@ -232,15 +244,13 @@ impl PlateauView {
             if reset {
                 state.choices.knots.set(Coefficient::K0, None);
             }
-            ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
-                if ui
-                    .small_button("PNG")
-                    .on_hover_text("Save the K0 plot as PNG")
-                    .clicked()
-                {
-                    out.push(Action::SavePlotNamed("k0".into()));
-                }
-            });
+            if ui
+                .small_button("PNG")
+                .on_hover_text("Save the K0 plot as PNG")
+                .clicked()
+            {
+                out.push(Action::SavePlotNamed("k0".into()));
+            }
         });
         let fit = state.fit.clone();
         let resp = ui.scope(|ui| {
@@ -249,7 +259,11 @@ impl PlateauView {
                 .x_axis_label("T, °C")
                 .y_axis_label("K0, °/h")
                 .y_axis_min_width(56.0)
-                .y_axis_formatter(super::plot_items::tick)
+                .y_axis_formatter(super::plot_items::tick_y)
+                .x_axis_formatter(super::plot_items::tick_x)
+                .x_grid_spacer(egui_plot::uniform_grid_spacer(
+                    super::plot_items::nice_steps,
+                ))
                 .y_grid_spacer(egui_plot::uniform_grid_spacer(
                     super::plot_items::nice_steps,
                 ))

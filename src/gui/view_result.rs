@@ -7,7 +7,7 @@ use super::plot_items::{BandItem, Palette, ShadeItem, ShadeSpan, TimeScale, num,
 use super::state::AppState;
 use super::view_time::time_link;
 use crate::judge::metrics::Evaluation;
-use eframe::egui::{self, Grid, RichText, Stroke, Ui, Vec2b};
+use eframe::egui::{Grid, RichText, Stroke, Ui, Vec2b};
 use egui_plot::{HLine, Legend, Plot};
 
 /// View state of the result plot.
@@ -22,7 +22,7 @@ impl ResultView {
         if !has_val {
             state.view.show_validation = false;
         }
-        ui.horizontal(|ui| {
+        ui.horizontal_wrapped(|ui| {
             ui.strong("Drift before and after correction")
                 .on_hover_text(
                     "Ω filtered by the recipe's moving average: raw (grey) and corrected (green)",
@@ -46,15 +46,13 @@ impl ResultView {
             {
                 out.push(Action::OpenValidation);
             }
-            ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
-                if ui
-                    .small_button("PNG")
-                    .on_hover_text("Save the result plot as PNG")
-                    .clicked()
-                {
-                    out.push(Action::SavePlotNamed("result".into()));
-                }
-            });
+            if ui
+                .small_button("PNG")
+                .on_hover_text("Save the result plot as PNG")
+                .clicked()
+            {
+                out.push(Action::SavePlotNamed("result".into()));
+            }
         });
         let Some(fit) = state.fit.clone() else {
             ui.weak("No calibration yet.");
@@ -90,7 +88,8 @@ impl ResultView {
             .x_axis_label(format!("time, {}", scale.unit))
             .y_axis_label("drift, °/h")
             .y_axis_min_width(64.0)
-            .y_axis_formatter(super::plot_items::tick)
+            .y_axis_formatter(super::plot_items::tick_y)
+            .x_axis_formatter(super::plot_items::tick_x)
             .x_grid_spacer(egui_plot::uniform_grid_spacer(
                 super::plot_items::nice_steps_x,
             ))
@@ -184,12 +183,17 @@ impl ResultView {
                 .map(|s| s.to_string_lossy().into_owned())
                 .unwrap_or_default()
         };
+        // While a refit is on its way (a knot being dragged on a long log) the figures are those
+        // of the choices a moment ago: shown greyed and marked, never passed off as the
+        // current ones.
+        let exact = state.fit_current();
         ui.horizontal_top(|ui| {
             table(
                 ui,
                 "fig_in",
                 &format!("In-sample · {}", name(&state.log)),
                 &fit.outcome.in_sample.evaluation,
+                exact,
             );
             ui.separator();
             match &fit.outcome.held_out {
@@ -198,6 +202,7 @@ impl ResultView {
                     "fig_out",
                     &format!("Held out · {}", name(&state.validation)),
                     &h.evaluation,
+                    exact,
                 ),
                 None => {
                     ui.vertical(|ui| {
@@ -224,10 +229,25 @@ impl ResultView {
     }
 }
 
-fn table(ui: &mut Ui, id: &str, title: &str, e: &Evaluation) {
+fn table(ui: &mut Ui, id: &str, title: &str, e: &Evaluation, exact: bool) {
     let c = &e.comparison;
     ui.vertical(|ui| {
-        ui.strong(title).on_hover_text(format!(
+        ui.horizontal(|ui| {
+            ui.strong(title);
+            if !exact {
+                ui.label(
+                    RichText::new("provisional")
+                        .italics()
+                        .color(ui.visuals().warn_fg_color),
+                )
+                .on_hover_text(
+                    "These figures are those of the choices a moment ago: the refit for the \
+                     current ones is on its way",
+                );
+            }
+        })
+        .response
+        .on_hover_text(format!(
             "{} samples after {} warm-up samples; {} whole 10-min windows; {:.1}% of samples outside the calibrated ranges",
             c.raw.samples,
             e.warmup_samples,
@@ -263,18 +283,21 @@ fn table(ui: &mut Ui, id: &str, title: &str, e: &Evaluation) {
                     c.win_mean_ratio,
                 ),
             ];
+            let weak = ui.visuals().weak_text_color();
             for (name, tip, raw, cor, r) in rows {
                 ui.label(name).on_hover_text(tip);
                 ui.monospace(num(raw));
-                ui.monospace(num(cor));
+                let cor_text = RichText::new(num(cor)).monospace();
+                ui.label(if exact { cor_text } else { cor_text.italics().color(weak) });
                 let good = r >= 1.0;
-                ui.label(
-                    RichText::new(ratio(r))
-                        .monospace()
-                        .strong()
-                        .color(if good { ui.visuals().text_color() } else { ui.visuals().error_fg_color }),
-                )
-                .on_hover_text("raw ÷ corrected: above 1 is better");
+                let color = match (exact, good) {
+                    (false, _) => weak,
+                    (true, true) => ui.visuals().text_color(),
+                    (true, false) => ui.visuals().error_fg_color,
+                };
+                let text = RichText::new(ratio(r)).monospace().strong().color(color);
+                ui.label(if exact { text } else { text.italics() })
+                    .on_hover_text("raw ÷ corrected: above 1 is better");
                 ui.end_row();
             }
         });

@@ -4,7 +4,7 @@
 //! held (or with "Mark plateau" on) to add one, click one to select it.
 
 use super::app::Action;
-use super::plot_items::{BandItem, Palette, ShadeItem, ShadeSpan, TimeScale, num, tick};
+use super::plot_items::{BandItem, Palette, ShadeItem, ShadeSpan, TimeScale, num};
 use super::state::AppState;
 use crate::signal::plateau::PlateauRange;
 use eframe::egui::{self, CursorIcon, Key, Rect, Stroke, Ui, Vec2b};
@@ -138,14 +138,15 @@ impl TimeView {
                 .allow_scroll(Vec2b::new(true, false))
                 .allow_boxed_zoom(allow_drag)
                 .y_axis_min_width(64.0)
-                .y_axis_formatter(tick)
+                .y_axis_formatter(super::plot_items::tick_y)
+                .x_axis_formatter(super::plot_items::tick_x)
                 .x_grid_spacer(egui_plot::uniform_grid_spacer(
                     super::plot_items::nice_steps_x,
                 ))
                 .y_grid_spacer(egui_plot::uniform_grid_spacer(
                     super::plot_items::nice_steps,
                 ))
-                .y_axis_label(spec.label)
+                .y_axis_label(super::plot_items::axis_label(spec.label, each))
                 .show_axes(Vec2b::new(last, true))
                 .x_axis_label(if last {
                     format!("time, {}", scale.unit)
@@ -162,13 +163,21 @@ impl TimeView {
             let selected = self.selected;
             let resp = ui.scope(|ui| {
                 plot.show(ui, |pui| {
-                    match command {
-                        Some(XCommand::Fit) => pui.set_auto_bounds(Vec2b::new(true, true)),
-                        Some(XCommand::Range(a, b)) => {
-                            pui.set_plot_bounds_x(a / scale.div..=b / scale.div)
+                    // Fitting the axis sets its range outright (auto-bounds would wait for the
+                    // items of a frame drawn with the old range), and this frame's bands are
+                    // reduced over the new range.
+                    let commanded = match command {
+                        Some(XCommand::Fit) => {
+                            pui.set_plot_bounds_x(t_full.0 / scale.div..=t_full.1 / scale.div);
+                            pui.set_auto_bounds(Vec2b::new(false, true));
+                            Some(t_full)
                         }
-                        None => {}
-                    }
+                        Some(XCommand::Range(a, b)) => {
+                            pui.set_plot_bounds_x(a / scale.div..=b / scale.div);
+                            Some((a, b))
+                        }
+                        None => None,
+                    };
                     // Mouse wheel zooms time around the pointer (Ctrl+wheel is egui_plot's own).
                     if pui.response().hovered() {
                         let (wheel, ctrl) = pui
@@ -180,10 +189,12 @@ impl TimeView {
                         }
                     }
                     let b = pui.plot_bounds();
-                    let (x0, x1) = if b.is_valid_x() && b.width() > 0.0 {
-                        (b.min()[0] * scale.div, b.max()[0] * scale.div)
-                    } else {
-                        t_full
+                    let (x0, x1) = match commanded {
+                        Some(r) => r,
+                        None if b.is_valid_x() && b.width() > 0.0 => {
+                            (b.min()[0] * scale.div, b.max()[0] * scale.div)
+                        }
+                        None => t_full,
                     };
                     let cols = (pui.response().rect.width().max(50.0)) as usize;
                     // Shading: regimes, then plateaus.
@@ -243,7 +254,7 @@ impl TimeView {
                                     BandItem::new("Ω filtered", band, scale.div, t_full)
                                         .color(pal.filtered),
                                 );
-                                let pred = &f.outcome.in_sample.corrected.pred_dph;
+                                let pred = &f.lods.pred_filtered;
                                 if pred.len() == log.len() {
                                     let band = crate::signal::lod::reduce(
                                         &log.time_s,
@@ -254,9 +265,14 @@ impl TimeView {
                                         cols,
                                     );
                                     pui.add(
-                                        BandItem::new("model", band, scale.div, t_full)
-                                            .color(pal.model)
-                                            .width(1.2),
+                                        BandItem::new(
+                                            "model, filtered as Ω",
+                                            band,
+                                            scale.div,
+                                            t_full,
+                                        )
+                                        .color(pal.model)
+                                        .width(1.2),
                                     );
                                 }
                             }
@@ -368,7 +384,9 @@ impl TimeView {
         out: &mut Vec<Action>,
         scale: TimeScale,
     ) {
-        ui.horizontal(|ui| {
+        // Wrapped: on a narrow window the buttons take a second row rather than widening the
+        // central panel under the side panels (which clipped the plots).
+        ui.horizontal_wrapped(|ui| {
             ui.strong("Run");
             ui.separator();
             if ui
@@ -410,19 +428,15 @@ impl TimeView {
                 out.push(Action::SavePlot("time_plots".into(), rect));
             }
             let pal = Palette::of(ui);
-            ui.label(egui::RichText::new("+ accel.").color(pal.plus))
+            ui.add(egui::Label::new(egui::RichText::new("+ accel.").color(pal.plus)).extend())
                 .on_hover_text("Shaded orange: thermal acceleration, dT/dt·d²T/dt² > 0 (K1+, K2+)");
-            ui.label(egui::RichText::new("− decel.").color(pal.minus))
+            ui.add(egui::Label::new(egui::RichText::new("− decel.").color(pal.minus)).extend())
                 .on_hover_text("Shaded blue: thermal deceleration, dT/dt·d²T/dt² < 0 (K1−, K2−)");
-            ui.label(egui::RichText::new("plateau").color(pal.plateau))
+            ui.add(egui::Label::new(egui::RichText::new("plateau").color(pal.plateau)).extend())
                 .on_hover_text("Shaded green: the plateaus that define K0(T)");
             if let Some((a, b)) = self.visible_s {
-                ui.weak(format!(
-                    "{} – {} {}",
-                    num(a / scale.div),
-                    num(b / scale.div),
-                    scale.unit
-                ));
+                let text = format!("{} – {} {}", num(a / scale.div), num(b / scale.div), scale.unit);
+                ui.add(egui::Label::new(egui::RichText::new(text).weak()).extend());
             }
             let _ = state;
         });

@@ -69,19 +69,31 @@ pub fn compare(
     let tests: Vec<&Log> = tests.iter().collect();
     choices
         .par_iter()
-        .map(|choice| compare_one(train, &tests, choice, recipe, merit, &mut |_, _| {}))
+        .map(|choice| {
+            compare_one(
+                train,
+                &tests,
+                choice,
+                recipe,
+                merit,
+                &|_| true,
+                &mut |_, _| {},
+            )
+        })
         .collect()
 }
 
 /// One model of [`compare`]: fitted on `train`, judged on `train` then each of `tests`.
-/// `seen(k, correction)` gets each log's correction (log `k`, the training log first) before
-/// it is dropped, for a caller that also draws them.
+/// `progress` is told the share of the fit done (0 to 1) and stops it by returning false (the
+/// report then holds the error "cancelled"); `seen(k, correction)` gets each log's correction
+/// (log `k`, the training log first) before it is dropped, for a caller that also draws them.
 pub fn compare_one(
     train: &Log,
     tests: &[&Log],
     choice: &ModelChoice,
     recipe: &Recipe,
     merit: &MeritOptions,
+    progress: &(dyn Fn(f64) -> bool + Sync),
     seen: &mut dyn FnMut(usize, &Correction),
 ) -> ModelReport {
     let mut report = ModelReport {
@@ -91,7 +103,7 @@ pub fn compare_one(
         fitted: None,
         logs: Vec::new(),
     };
-    match crate::models::fit(train, choice, recipe) {
+    match crate::models::fit_with_progress(train, choice, recipe, progress) {
         Ok(m) => {
             report.logs = std::iter::once((train, false))
                 .chain(tests.iter().map(|t| (*t, !same_samples(train, t))))

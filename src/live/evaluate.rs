@@ -39,9 +39,14 @@ impl Pipeline {
         let prefix = &mut self.prefix;
         let kept = &mut self.merit_filtered;
         let (figures, ()) = rayon::join(
-            || {
-                let (x, skip) = (&corrected.cor_dph, corrected.ready_from);
-                crate::judge::metrics::figures_buffered(x, dt_s, skip, merit, kept)
+            || match corrected.ready.as_slice() {
+                [r] if r.end >= corrected.cor_dph.len() => {
+                    let x = &corrected.cor_dph;
+                    crate::judge::metrics::figures_buffered(x, dt_s, r.start, merit, kept)
+                }
+                ready => {
+                    crate::judge::metrics::figures_over(&corrected.cor_dph, dt_s, ready, merit)
+                }
             },
             || moving_average_centered_into(&corrected.cor_dph, filter, prefix, out),
         );
@@ -62,7 +67,8 @@ impl Pipeline {
         log: &Arc<Log>,
         merit: &MeritOptions,
     ) -> Judged {
-        let dt = log.nominal_dt_s();
+        let timing = log.timing();
+        let dt = timing.nominal_dt_s;
         let steps = cal.steps_for(dt);
         let filter = signal::seconds_to_samples(merit.filter_s, dt).max(1);
         let fresh = match &self.validation {
@@ -71,8 +77,8 @@ impl Pipeline {
         };
         if fresh {
             let (deriv, raw_filtered) = rayon::join(
-                || signal::derivatives(&log.temp_c, steps, dt),
-                || signal::moving_average_centered(&log.omega_dph, filter),
+                || signal::derivatives_in(&log.temp_c, steps, dt, &timing.segments),
+                || signal::moving_average_centered_in(&log.omega_dph, filter, &timing.segments),
             );
             self.validation = Some(ValidationCache {
                 log: ptr(log),
@@ -99,12 +105,12 @@ impl Pipeline {
         self.validation_corrected = Some(corrected.clone());
         if v.raw_key != (corrected.ready_from, *merit) {
             v.raw_figures =
-                crate::judge::metrics::figures(&log.omega_dph, dt, corrected.ready_from, merit);
+                crate::judge::metrics::figures_over(&log.omega_dph, dt, &corrected.ready, merit);
             v.raw_key = (corrected.ready_from, *merit);
         }
         let (cor_figures, cor_filtered) = rayon::join(
-            || crate::judge::metrics::figures(&corrected.cor_dph, dt, corrected.ready_from, merit),
-            || signal::moving_average_centered(&corrected.cor_dph, filter),
+            || crate::judge::metrics::figures_over(&corrected.cor_dph, dt, &corrected.ready, merit),
+            || signal::moving_average_centered_in(&corrected.cor_dph, filter, &timing.segments),
         );
         let evaluation = evaluation(v.raw_figures, cor_figures, &corrected);
         Judged {

@@ -445,10 +445,10 @@ impl Pipeline {
         let raw_figures = match &self.raw_figures {
             Some((k, f)) if *k == raw_key => *f,
             _ => {
-                let f = crate::judge::metrics::figures(
+                let f = crate::judge::metrics::figures_over(
                     &log.omega_dph,
                     prepared.dt_s,
-                    corrected.ready_from,
+                    &corrected.ready,
                     &merit,
                 );
                 self.raw_figures = Some((raw_key, f));
@@ -459,7 +459,11 @@ impl Pipeline {
         let raw_filtered = match &self.raw_filtered {
             Some((k, f)) if *k == (ptr(log), filter) => f.clone(),
             _ => {
-                let f = Arc::new(signal::moving_average_centered(&log.omega_dph, filter));
+                let f = Arc::new(signal::moving_average_centered_in(
+                    &log.omega_dph,
+                    filter,
+                    &prepared.segments,
+                ));
                 self.raw_filtered = Some(((ptr(log), filter), f.clone()));
                 f
             }

@@ -1,7 +1,10 @@
 //! A gyro test log after ingest: synchronous columns already converted to driftlab's units
 //! (time in s, rate in °/h, temperature in °C), plus what the reader noticed on the way.
 
+pub mod formats;
 pub mod ingest;
+pub mod mapping_check;
+pub mod resample;
 
 use serde::{Deserialize, Serialize};
 
@@ -22,8 +25,24 @@ pub struct Log {
     pub temp_c: Vec<f64>,
     /// Every other numeric column, by name, aligned with `time_s`.
     pub extra: Vec<Channel>,
+    /// The name of the gyro axis `omega_dph` holds (`gx`, `x`, ...), empty for a log with one
+    /// rate column that names no axis.
+    pub axis: String,
+    /// The log's other gyro axes (a multi-axis IMU's), each a rate in °/h aligned with
+    /// `time_s`: [`Log::select_axis`] swaps one of them into `omega_dph`, so every stage that
+    /// reads `omega_dph` calibrates any axis without a copy of the columns they share.
+    pub other_axes: Vec<Axis>,
     /// How the file was read and what was wrong with it.
     pub info: LogInfo,
+}
+
+/// One gyro axis of a multi-axis log.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Axis {
+    /// The axis's name: the rate column's name without its unit (`gx` for `gx_dps`).
+    pub name: String,
+    /// Rate, °/h.
+    pub omega_dph: Vec<f64>,
 }
 
 /// A named column kept alongside the calibration columns.
@@ -77,6 +96,8 @@ pub enum ColumnRole {
     Rate,
     /// The calibration temperature.
     Temperature,
+    /// Another gyro axis of a multi-axis unit, kept in `Log::other_axes`.
+    OtherAxis,
     /// Kept by name in `Log::extra`.
     #[default]
     Extra,
@@ -115,9 +136,35 @@ pub enum ProblemKind {
     Gap,
     /// A row with fewer or more fields than the header.
     RaggedRow,
+    /// A column taken for a role holds values that role cannot have (a temperature in
+    /// thousands of counts, a rate beyond any gyro's): the message names the column and the
+    /// option that chooses another.
+    Implausible,
 }
 
 impl Log {
+    /// The names of every gyro axis, `omega_dph`'s first, then the others in file order.
+    pub fn axis_names(&self) -> Vec<String> {
+        std::iter::once(self.axis.clone())
+            .chain(self.other_axes.iter().map(|a| a.name.clone()))
+            .collect()
+    }
+
+    /// Makes `name` the axis `omega_dph` holds, swapping columns (no copy). Returns false when
+    /// the log has no such axis.
+    pub fn select_axis(&mut self, name: &str) -> bool {
+        if self.axis == name {
+            return true;
+        }
+        let Some(k) = self.other_axes.iter().position(|a| a.name == name) else {
+            return false;
+        };
+        let a = &mut self.other_axes[k];
+        std::mem::swap(&mut self.omega_dph, &mut a.omega_dph);
+        std::mem::swap(&mut self.axis, &mut a.name);
+        true
+    }
+
     /// Number of samples.
     pub fn len(&self) -> usize {
         self.time_s.len()
@@ -128,12 +175,18 @@ impl Log {
         self.time_s.is_empty()
     }
 
-    /// Nominal sampling step: the median of the time differences, s.
-    ///
-    /// The median, not the mean, so that a few gaps do not change the step that windows and
-    /// derivative steps given in seconds are converted with.
+    /// Nominal sampling step within the log's segments, s ([`crate::signal::timing::Timing`]):
+    /// robust to gaps (they split segments) and to host time stamps that bunch (the mean step
+    /// within segments, not the median), so windows and derivative steps given in seconds are
+    /// converted with the step the gyro was really sampled at.
     pub fn nominal_dt_s(&self) -> f64 {
         nominal_dt_s(&self.time_s)
+    }
+
+    /// How the log was sampled in real time: its nominal step, its segments between gaps,
+    /// jitter and bursts ([`crate::signal::timing::Timing`]).
+    pub fn timing(&self) -> crate::signal::timing::Timing {
+        crate::signal::timing::Timing::of(&self.time_s)
     }
 
     /// Duration from the first to the last sample, s.
@@ -163,6 +216,8 @@ impl Log {
             omega_dph,
             temp_c,
             extra: Vec::new(),
+            axis: String::new(),
+            other_axes: Vec::new(),
             info: LogInfo {
                 delimiter: ',',
                 rows_read: rows,
@@ -172,23 +227,8 @@ impl Log {
     }
 }
 
-/// Median time step of a time column, s (1.0 for fewer than two samples).
+/// Nominal time step of a time column, s (1.0 for fewer than two samples): see
+/// [`Log::nominal_dt_s`].
 pub fn nominal_dt_s(time_s: &[f64]) -> f64 {
-    if time_s.len() < 2 {
-        return 1.0;
-    }
-    // A strided sample of at most ~10k steps keeps this O(1)-ish on huge logs.
-    let stride = (time_s.len() / 10_000).max(1);
-    let mut steps: Vec<f64> = time_s
-        .windows(2)
-        .step_by(stride)
-        .map(|w| w[1] - w[0])
-        .filter(|d| d.is_finite() && *d > 0.0)
-        .collect();
-    if steps.is_empty() {
-        return 1.0;
-    }
-    let mid = steps.len() / 2;
-    let (_, m, _) = steps.select_nth_unstable_by(mid, |a, b| a.total_cmp(b));
-    *m
+    crate::signal::timing::Timing::of(time_s).nominal_dt_s
 }

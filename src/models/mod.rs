@@ -21,7 +21,7 @@ pub use fitted::{DriftModel, ModelCorrector, Predictor, stream_inputs};
 pub use presets::{ModelChoice, Preset};
 pub use recipe::Recipe;
 
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::judge::metrics::{Evaluation, MeritOptions};
 use crate::log::Log;
 use regression::RegressionCalibration;
@@ -57,19 +57,109 @@ pub(crate) fn check_drift_bound(
 /// # Errors
 /// What the fit reports (too few samples, a missing channel, no plateaus, ...).
 pub fn fit(log: &Log, choice: &ModelChoice, recipe: &Recipe) -> Result<DriftModel> {
+    fit_with_progress(log, choice, recipe, &|_| true)
+}
+
+/// [`fit`], telling `progress` the share done (0 to 1) as it goes: a regression model's
+/// searches report each cost evaluation, the Vakhrameev fit its start and end. When
+/// `progress` returns false the fit stops as soon as it can with [`Error::Cancelled`].
+///
+/// # Errors
+/// As [`fit`], and [`Error::Cancelled`].
+pub fn fit_with_progress(
+    log: &Log,
+    choice: &ModelChoice,
+    recipe: &Recipe,
+    progress: &(dyn Fn(f64) -> bool + Sync),
+) -> Result<DriftModel> {
+    if !progress(0.0) {
+        return Err(Error::Cancelled);
+    }
     recipe.validate()?;
     recipe.check_against(log)?;
+    check_span(log, choice)?;
     match choice.spec(log)? {
-        None => Ok(DriftModel::Vakhrameev(Box::new(
-            vakhrameev::fit_lean(log, recipe)?.calibration,
-        ))),
+        None => {
+            let cal = vakhrameev::fit_lean(log, recipe)?.calibration;
+            progress(1.0);
+            Ok(DriftModel::Vakhrameev(Box::new(cal)))
+        }
         Some(spec) => {
-            let m = regression::fit(log, &spec.with_recipe(recipe))?;
+            let m = regression::fit_with_progress(log, &spec.with_recipe(recipe), progress)?;
             Ok(DriftModel::Regression(Box::new(
                 RegressionCalibration::new(&recipe.gyro_id, log, m),
             )))
         }
     }
+}
+
+/// The smallest temperature span a model of T is fitted over, °C: across less, a line or a
+/// parabola in T is mostly the sensor's resolution and the noise.
+pub const MIN_TEMP_SPAN_C: f64 = 2.0;
+
+/// The smallest |Ṫ| a log must reach for rate terms, °C/min: a log that never ramps faster
+/// carries no K1 or Ṫ coefficient.
+pub const MIN_RAMP_C_PER_MIN: f64 = 0.05;
+
+/// Refuses, before any fit, a log too narrow for `choice`: a temperature span under
+/// [`MIN_TEMP_SPAN_C`], or rate terms on a log that never ramps faster than
+/// [`MIN_RAMP_C_PER_MIN`].
+///
+/// # Errors
+/// [`Error::Fit`] saying what the log spans and what the model needs.
+pub fn check_span(log: &Log, choice: &ModelChoice) -> Result<()> {
+    let (lo, hi) = log
+        .temp_c
+        .iter()
+        .filter(|v| v.is_finite())
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
+            (a.min(v), b.max(v))
+        });
+    if (hi - lo).is_nan() || hi - lo < MIN_TEMP_SPAN_C {
+        let span = if hi >= lo {
+            format!("{:.3} °C ({lo:.3} … {hi:.3} °C)", hi - lo)
+        } else {
+            "nothing (no finite temperature)".to_string()
+        };
+        return Err(Error::Fit(format!(
+            "{}: the temperature spans {span}: too little for model {} (a calibration in T \
+             needs at least {MIN_TEMP_SPAN_C} °C)",
+            log.source,
+            choice.name()
+        )));
+    }
+    let rates = match choice {
+        ModelChoice::Preset(Preset::PolyT | Preset::PwlT | Preset::Sukhanov) => false,
+        ModelChoice::Custom(s) => s.terms.iter().any(regression::Term::is_rate),
+        _ => true,
+    };
+    if rates {
+        // Ṫ over about a minute (or two samples of a slower log) from the raw temperature,
+        // so the sensor's resolution does not count as a rate.
+        let t = &log.time_s;
+        let span = 60.0f64.max(2.5 * log.nominal_dt_s());
+        let mut fastest = 0.0f64;
+        let mut j = 0;
+        for i in 0..log.len() {
+            while j < i && t[i] - t[j] > span {
+                j += 1;
+            }
+            let dt = t[i] - t[j];
+            if dt >= 0.5 * span {
+                fastest = fastest.max(((log.temp_c[i] - log.temp_c[j]) / dt).abs() * 60.0);
+            }
+        }
+        if fastest < MIN_RAMP_C_PER_MIN {
+            return Err(Error::Fit(format!(
+                "{}: the temperature never changes faster than {fastest:.3} °C/min: model {} \
+                 has rate terms, which need ramps of at least {MIN_RAMP_C_PER_MIN} °C/min \
+                 (try poly-t, a model of T alone)",
+                log.source,
+                choice.name()
+            )));
+        }
+    }
+    Ok(())
 }
 
 /// A model fitted on a log and judged on that same log.
@@ -164,6 +254,7 @@ pub fn calibrate(
     merit: &MeritOptions,
 ) -> Result<Calibrated> {
     if choice.is_vakhrameev() {
+        check_span(log, choice)?;
         let vakhrameev::Calibrated {
             calibration,
             deriv,
@@ -171,8 +262,7 @@ pub fn calibrate(
         } = vakhrameev::fit_lean(log, recipe)?;
         let c = calibration.corrected_rate_with(log, &deriv);
         drop(deriv);
-        let in_sample =
-            Evaluation::of_rate(log, &c.cor_dph, c.ready_from, c.outside_fraction, merit);
+        let in_sample = Evaluation::of_rate(log, &c.cor_dph, &c.ready, c.outside_fraction, merit);
         let model = DriftModel::Vakhrameev(Box::new(calibration));
         let mut warnings = warnings;
         warnings.extend(judge_on_own_log(&model, &in_sample));

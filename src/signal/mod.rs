@@ -11,6 +11,7 @@
 
 pub mod lod;
 pub mod plateau;
+pub mod timing;
 
 /// Centred moving average over `window` samples, truncated symmetrically at the ends.
 ///
@@ -109,6 +110,11 @@ impl CausalMean {
         self.next = if self.next + 1 == w { 0 } else { self.next + 1 };
         self.sum / self.filled as f64
     }
+
+    /// The window's length, samples.
+    pub fn window(&self) -> usize {
+        self.buf.len()
+    }
 }
 
 /// The 3-point backward difference `(3x_i − 4x_{i−s} + x_{i−2s}) / (2H)` with step `s` samples
@@ -165,6 +171,17 @@ pub struct Derivatives {
     pub tddot: Vec<f64>,
     /// First sample from which T̈ has full history (`4·step`), so that both rates are real.
     pub ready_from: usize,
+    /// The samples with full history, one range per segment of the log (a segment restarts
+    /// the history, as a streaming corrector restarts after a gap). Fits and figures read
+    /// these samples only.
+    pub ready: Vec<std::ops::Range<usize>>,
+}
+
+impl Derivatives {
+    /// The samples with full history, in order.
+    pub fn ready_samples(&self) -> impl Iterator<Item = usize> + '_ {
+        self.ready.iter().flat_map(|r| r.clone())
+    }
 }
 
 /// Ṫ and T̈ of a temperature column by smoothing then differentiating twice with the backward
@@ -183,11 +200,66 @@ pub fn derivatives(temp_c: &[f64], steps: DerivativeSteps, dt_s: f64) -> Derivat
         tdot.push(td);
         tddot.push(tdd);
     }
+    let ready_from = rates.ready_from().min(n);
     Derivatives {
         tdot,
         tddot,
-        ready_from: rates.ready_from().min(n),
+        ready_from,
+        ready: if ready_from < n {
+            std::iter::once(ready_from..n).collect()
+        } else {
+            Vec::new()
+        },
     }
+}
+
+/// [`derivatives`] of a log made of `segments` (contiguous runs between gaps, covering it in
+/// order): each segment is differentiated on its own, its history starting afresh, so no
+/// rate is taken across a gap; the samples without history are zero as at the log's start.
+/// One segment gives [`derivatives`]'s bits.
+pub fn derivatives_in(
+    temp_c: &[f64],
+    steps: DerivativeSteps,
+    dt_s: f64,
+    segments: &[std::ops::Range<usize>],
+) -> Derivatives {
+    if segments.len() <= 1 {
+        return derivatives(temp_c, steps, dt_s);
+    }
+    let n = temp_c.len();
+    let mut out = Derivatives {
+        tdot: Vec::with_capacity(n),
+        tddot: Vec::with_capacity(n),
+        ready_from: n,
+        ready: Vec::with_capacity(segments.len()),
+    };
+    for r in segments {
+        let d = derivatives(&temp_c[r.clone()], steps, dt_s);
+        out.tdot.extend_from_slice(&d.tdot);
+        out.tddot.extend_from_slice(&d.tddot);
+        out.ready
+            .extend(d.ready.iter().map(|q| q.start + r.start..q.end + r.start));
+    }
+    out.ready_from = out.ready.first().map_or(n, |r| r.start);
+    out
+}
+
+/// [`moving_average_centered`] within each of `segments`: the window is truncated at a
+/// segment's ends as at the log's, so no average reaches across a gap. One segment gives
+/// [`moving_average_centered`]'s bits.
+pub fn moving_average_centered_in(
+    x: &[f64],
+    window: usize,
+    segments: &[std::ops::Range<usize>],
+) -> Vec<f64> {
+    if segments.len() <= 1 {
+        return moving_average_centered(x, window);
+    }
+    let mut out = Vec::with_capacity(x.len());
+    for r in segments {
+        out.extend(moving_average_centered(&x[r.clone()], window));
+    }
+    out
 }
 
 /// The most past samples a streaming corrector keeps of one signal (80 MB of f64): a window,
@@ -299,9 +371,14 @@ impl Rates {
         (tdot, tddot)
     }
 
-    /// The first sample whose T̈ has its full history.
+    /// The first sample whose T̈ has its full history: `4·step` samples after the causal mean
+    /// of T first holds its whole window, so that no rate is taken from a mean over fewer
+    /// samples than the others (which at the start of a segment in the middle of a ramp would
+    /// read as a jump of Ṫ and T̈).
     pub fn ready_from(&self) -> usize {
-        self.step.saturating_mul(4)
+        self.step
+            .saturating_mul(4)
+            .saturating_add(self.mean.window().saturating_sub(1))
     }
 }
 

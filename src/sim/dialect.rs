@@ -246,6 +246,7 @@ impl CsvDialect {
             RateUnit::DegPerHour => "dph",
             RateUnit::DegPerSec => "dps",
             RateUnit::RadPerSec => "rad_s",
+            RateUnit::MilliDegPerSec => "mdps",
         };
         match self.rate_names {
             RateNames::Omega if axes <= 1 => format!("omega_{unit}"),
@@ -270,6 +271,7 @@ impl CsvDialect {
             RateUnit::DegPerHour => 4,
             RateUnit::DegPerSec => 8,
             RateUnit::RadPerSec => 10,
+            RateUnit::MilliDegPerSec => 5,
         }
     }
 }
@@ -279,6 +281,7 @@ fn rate_unit_arg(u: RateUnit) -> &'static str {
         RateUnit::DegPerHour => "dph",
         RateUnit::DegPerSec => "dps",
         RateUnit::RadPerSec => "rad/s",
+        RateUnit::MilliDegPerSec => "mdps",
     }
 }
 

@@ -1,11 +1,12 @@
 //! The engineer's requests, from menus, shortcuts, dropped files and the close button, and the
 //! unsaved-work question some of them ask first.
 
+use super::files::Purpose;
 use super::*;
 
 impl Workbench {
     pub(super) fn shortcuts(&mut self, ctx: &egui::Context, actions: &mut Vec<Action>) {
-        if self.import.is_some() || self.confirm.is_some() {
+        if self.import.is_some() || self.confirm.is_some() || self.file_dialog.is_some() {
             if ctx.input(|i| i.key_pressed(Key::Escape)) {
                 self.confirm = None;
             }
@@ -112,88 +113,51 @@ impl Workbench {
         self.run_confirmed(ctx, action);
     }
 
-    pub(super) fn dir(&self) -> Option<PathBuf> {
-        self.settings.last_dir.clone()
-    }
-
     pub(super) fn run_confirmed(&mut self, ctx: &egui::Context, action: Action) {
         match action {
-            Action::OpenLog => {
-                if let Some(p) = self.dialogs.open(FileKind::Log, self.dir().as_deref()) {
-                    self.open_import(p, Target::Calibration);
-                }
-            }
+            Action::OpenLog => self.ask(ctx, Purpose::OpenLog, ""),
             Action::OpenLogPath(p) => self.open_import(p, Target::Calibration),
             Action::OpenValidation => {
                 if self.state.log.is_none() {
                     self.state
                         .say(Severity::Warning, "Open the calibration log first");
-                } else if let Some(p) = self
-                    .dialogs
-                    .open(FileKind::ValidationLog, self.dir().as_deref())
-                {
-                    self.open_import(p, Target::Validation);
+                } else {
+                    self.ask(ctx, Purpose::OpenValidation, "");
                 }
             }
             Action::CloseValidation => {
                 self.state.validation = None;
                 self.state.view.show_validation = false;
             }
-            Action::OpenSession => {
-                if let Some(p) = self.dialogs.open(FileKind::Session, self.dir().as_deref()) {
-                    self.open_session(p);
-                }
-            }
+            Action::OpenSession => self.ask(ctx, Purpose::OpenSession, ""),
             Action::OpenSessionPath(p) => self.open_session(p),
-            Action::SaveSession => {
-                let _ = self.save_session(false);
-            }
-            Action::SaveSessionAs => {
-                let _ = self.save_session(true);
-            }
-            Action::ExportCalibration => self.export_calibration(),
-            Action::ExportCsv => self.export_csv(),
-            Action::ExportReport => self.export_report(),
+            Action::SaveSession => self.save_session(ctx, false, None),
+            Action::SaveSessionAs => self.save_session(ctx, true, None),
+            Action::ExportCalibration => self.export_calibration(ctx),
+            Action::ExportCsv => self.export_csv(ctx),
+            Action::ExportReport => self.export_report(ctx),
             Action::Screenshot => {
-                let name = export::suggested_name(
-                    self.state.log.as_ref().map(|l| l.path.as_path()),
-                    "workbench.png",
-                );
-                if let Some(p) = self
-                    .dialogs
-                    .save(FileKind::Png, self.dir().as_deref(), &name)
-                {
-                    self.pending_shot = Some(PendingShot {
-                        frames: 2,
-                        path: p,
-                        crop: None,
-                        what: "screenshot".into(),
-                    });
-                }
+                let name = self.name_beside_log("workbench.png");
+                self.ask(ctx, Purpose::Screenshot, &name);
             }
             Action::SavePlot(name, rect) => {
-                let file = export::suggested_name(
-                    self.state.log.as_ref().map(|l| l.path.as_path()),
-                    &format!("{name}.png"),
-                );
-                if rect.is_positive()
-                    && let Some(p) = self
-                        .dialogs
-                        .save(FileKind::Png, self.dir().as_deref(), &file)
-                {
-                    self.pending_shot = Some(PendingShot {
-                        frames: 2,
-                        path: p,
-                        crop: Some(rect),
-                        what: format!("plot {name}"),
-                    });
+                if rect.is_positive() {
+                    let file = self.name_beside_log(&format!("{name}.png"));
+                    self.ask(ctx, Purpose::SavePlot(name, rect), &file);
+                } else {
+                    self.state.say(
+                        Severity::Warning,
+                        format!("Plot {name} not saved: it is not on screen"),
+                    );
                 }
             }
-            Action::SavePlotNamed(name) => {
-                if let Some(r) = self.plot_rects.get(&name).copied() {
-                    self.run_confirmed(ctx, Action::SavePlot(name, r));
-                }
-            }
+            Action::SavePlotNamed(name) => match self.plot_rects.get(&name).copied() {
+                Some(r) => self.run_confirmed(ctx, Action::SavePlot(name, r)),
+                None => self.state.say(
+                    Severity::Warning,
+                    format!("Plot {name} not saved: it is not on screen"),
+                ),
+            },
             Action::PlotRect(name, rect) => {
                 self.plot_rects.insert(name, rect);
             }
@@ -220,7 +184,19 @@ impl Workbench {
             }
             Action::ShowPage(p) => self.page = p,
             Action::CompareModels => self.compare_models(),
-            Action::ExportModel => self.export_model(),
+            Action::ExportModel => self.export_model(ctx),
+            Action::ColumnMapping(target) => {
+                let loaded = match target {
+                    Target::Calibration => self.state.log.as_ref(),
+                    Target::Validation => self.state.validation.as_ref(),
+                };
+                match loaded {
+                    Some(l) => {
+                        self.import = Some(ImportView::new(l.path.clone(), target, l.read.clone()))
+                    }
+                    None => self.state.say(Severity::Warning, "Open a log first"),
+                }
+            }
         }
     }
 
@@ -242,7 +218,7 @@ impl Workbench {
         let n = found.len();
         self.state.set_ranges(found);
         self.time.selected = None;
-        self.state.say(
+        self.state.say_about_choices(
             Severity::Info,
             format!(
                 "The detector suggests {n} plateau{}; edit them in the table or on the time plots",

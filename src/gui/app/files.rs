@@ -1,18 +1,202 @@
 //! What the workbench writes and opens on the engineer's request: calibrations, models,
-//! corrected logs, reports and sessions.
+//! corrected logs, reports, pictures and sessions. Each request asks for a path first (the
+//! system dialog, or the workbench's own where none can appear) and ends with a status line
+//! naming the file written, or saying that nothing was written and why.
 
 use super::*;
+use crate::gui::dialogs::{Answer, FileKind};
+use crate::gui::file_dialog::{self, FileDialog, Mode};
+
+/// What a path is asked for: the work to do once the engineer has chosen it.
+#[derive(Debug, Clone, PartialEq)]
+pub(super) enum Purpose {
+    /// A calibration log to import.
+    OpenLog,
+    /// A validation log to import.
+    OpenValidation,
+    /// A session to open.
+    OpenSession,
+    /// Where to save the session; then the action that waited for it (quit, open another).
+    SaveSession { then: Option<Box<Action>> },
+    /// The calibration file.
+    ExportCalibration,
+    /// The corrected log.
+    ExportCsv,
+    /// The test report's folder.
+    ExportReport,
+    /// The calibration file of this model of the Models page.
+    ExportModel(String),
+    /// The window as PNG.
+    Screenshot,
+    /// One plot as PNG, cropped to this rectangle.
+    SavePlot(String, Rect),
+}
+
+impl Purpose {
+    fn kind(&self) -> FileKind {
+        match self {
+            Purpose::OpenLog => FileKind::Log,
+            Purpose::OpenValidation => FileKind::ValidationLog,
+            Purpose::OpenSession | Purpose::SaveSession { .. } => FileKind::Session,
+            Purpose::ExportCalibration => FileKind::Calibration,
+            Purpose::ExportCsv => FileKind::CorrectedCsv,
+            Purpose::ExportReport => FileKind::Report,
+            Purpose::ExportModel(_) => FileKind::Model,
+            Purpose::Screenshot | Purpose::SavePlot(..) => FileKind::Png,
+        }
+    }
+
+    fn mode(&self) -> Mode {
+        match self {
+            Purpose::OpenLog | Purpose::OpenValidation | Purpose::OpenSession => Mode::Open,
+            _ => Mode::Save,
+        }
+    }
+
+    /// What would have been written or opened, for "nothing was …" lines.
+    fn what(&self) -> String {
+        match self {
+            Purpose::OpenLog => "No log opened".into(),
+            Purpose::OpenValidation => "No validation log opened".into(),
+            Purpose::OpenSession => "No session opened".into(),
+            Purpose::SaveSession { .. } => "Session not saved".into(),
+            Purpose::ExportCalibration => "Calibration not exported".into(),
+            Purpose::ExportCsv => "Corrected log not exported".into(),
+            Purpose::ExportReport => "Report not written".into(),
+            Purpose::ExportModel(m) => format!("Model {m} not exported"),
+            Purpose::Screenshot => "Screenshot not saved".into(),
+            Purpose::SavePlot(name, _) => format!("Plot {name} not saved"),
+        }
+    }
+}
 
 impl Workbench {
-    pub(super) fn export_calibration(&mut self) {
-        let (Some(log), Some(fit)) = (self.state.log.clone(), self.state.fit.clone()) else {
-            self.state
-                .say(Severity::Warning, "Nothing to export yet: no calibration");
+    /// The folder a dialog starts in: a file to write goes beside the log; a file to open is
+    /// looked for where the last one was.
+    fn start_dir(&self, mode: Mode) -> PathBuf {
+        let log_dir = self
+            .state
+            .log
+            .as_ref()
+            .and_then(|l| std::path::absolute(&l.path).ok())
+            .and_then(|p| p.parent().map(Path::to_path_buf));
+        let last = self.settings.last_dir.clone().filter(|d| d.is_dir());
+        let first = match mode {
+            Mode::Save => log_dir.or(last),
+            Mode::Open => last.or(log_dir),
+        };
+        first
+            .or_else(|| std::env::current_dir().ok())
+            .unwrap_or_else(|| PathBuf::from("."))
+    }
+
+    /// Asks for a path for `purpose` (suggesting `name` when writing) and goes on with it.
+    pub(super) fn ask(&mut self, ctx: &egui::Context, purpose: Purpose, name: &str) {
+        let (kind, mode) = (purpose.kind(), purpose.mode());
+        let dir = self.start_dir(mode);
+        let answer = match mode {
+            Mode::Open => self.dialogs.open(kind, Some(&dir)),
+            Mode::Save => self.dialogs.save(kind, Some(&dir), name),
+        };
+        match answer {
+            Answer::Chosen(p) => self.chosen(ctx, purpose, p),
+            Answer::Cancelled => self.not_chosen(purpose),
+            Answer::InWindow => {
+                let mut recent = self.settings.recent_dirs.clone();
+                if !recent.contains(&dir) {
+                    recent.insert(0, dir.clone());
+                }
+                recent.retain(|d| d.is_dir());
+                recent.truncate(8);
+                self.file_dialog = Some((FileDialog::new(mode, kind, &dir, name, recent), purpose));
+            }
+        }
+    }
+
+    /// The workbench's own file dialog, when open.
+    pub(super) fn file_dialog_modal(&mut self, ctx: &egui::Context) {
+        let Some((d, _)) = &mut self.file_dialog else {
             return;
         };
+        match d.show(ctx) {
+            Some(file_dialog::Outcome::Accept(p)) => {
+                if let Some((_, purpose)) = self.file_dialog.take() {
+                    self.chosen(ctx, purpose, p);
+                }
+            }
+            Some(file_dialog::Outcome::Cancel) => {
+                if let Some((_, purpose)) = self.file_dialog.take() {
+                    self.not_chosen(purpose);
+                }
+            }
+            None => {}
+        }
+    }
+
+    /// The workbench's own file dialog while it is open (tests type into it).
+    pub fn file_dialog(&mut self) -> Option<&mut FileDialog> {
+        self.file_dialog.as_mut().map(|(d, _)| d)
+    }
+
+    fn not_chosen(&mut self, purpose: Purpose) {
+        let verb = match purpose.mode() {
+            Mode::Open => "nothing was opened",
+            Mode::Save => "nothing was written",
+        };
+        self.state.say(
+            Severity::Info,
+            format!("{}: no file was chosen, {verb}", purpose.what()),
+        );
+    }
+
+    /// Goes on with the path the engineer chose for `purpose`.
+    fn chosen(&mut self, ctx: &egui::Context, purpose: Purpose, path: PathBuf) {
+        if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+            self.settings.add_recent_dir(dir);
+        }
+        match purpose {
+            Purpose::OpenLog => self.open_import(path, Target::Calibration),
+            Purpose::OpenValidation => self.open_import(path, Target::Validation),
+            Purpose::OpenSession => self.open_session(path),
+            Purpose::SaveSession { then } => {
+                if self.write_session(&path)
+                    && let Some(a) = then
+                {
+                    self.run_confirmed(ctx, *a);
+                }
+            }
+            Purpose::ExportCalibration => self.write_calibration(&path),
+            Purpose::ExportCsv => self.write_csv(path),
+            Purpose::ExportReport => self.write_report(path),
+            Purpose::ExportModel(name) => self.write_model(&name, path),
+            Purpose::Screenshot => {
+                self.pending_shot = Some(PendingShot {
+                    frames: 2,
+                    path,
+                    crop: None,
+                    what: "screenshot".into(),
+                });
+            }
+            Purpose::SavePlot(name, rect) => {
+                self.pending_shot = Some(PendingShot {
+                    frames: 2,
+                    path,
+                    crop: Some(rect),
+                    what: format!("plot {name}"),
+                });
+            }
+        }
+    }
+
+    /// A file name beside the log: `run7.csv` → `run7-<suffix>`.
+    pub(super) fn name_beside_log(&self, suffix: &str) -> String {
+        export::suggested_name(self.state.log.as_ref().map(|l| l.path.as_path()), suffix)
+    }
+
+    /// Waits (a second or two at most) for the refit the current choices need, so that what
+    /// is written is what the figures show.
+    fn settle_fit(&mut self) {
         if !self.state.fit_current() || self.jobs.fitting() {
-            // The newest choices first: wait for the refit on its way (milliseconds on a
-            // sample log, a second or two on ten million samples).
             self.refit_if_needed();
             let deadline = Instant::now() + Duration::from_secs(60);
             while self.jobs.fitting() && Instant::now() < deadline {
@@ -21,81 +205,143 @@ impl Workbench {
                 }
             }
         }
-        let fit = self.state.fit.clone().unwrap_or(fit);
-        let name = export::suggested_name(Some(&log.path), "calibration.json");
-        if let Some(p) = self
-            .dialogs
-            .save(FileKind::Calibration, self.dir().as_deref(), &name)
-        {
-            match export::save_calibration(
-                &p,
-                &fit.outcome.calibration,
-                &log.path,
-                log.sha256.as_deref(),
-            ) {
-                Ok(p) => {
-                    self.settings.last_dir = p.parent().map(Path::to_path_buf);
-                    self.state.say(
-                        Severity::Info,
-                        format!("Calibration written: {}", p.display()),
-                    );
-                }
-                Err(e) => self.fail(format!("Could not write the calibration.\n\n{e}")),
+    }
+
+    pub(super) fn export_calibration(&mut self, ctx: &egui::Context) {
+        if self.state.log.is_some() {
+            self.settle_fit();
+        }
+        if self.state.log.is_none() || self.state.fit.is_none() {
+            self.state.say(
+                Severity::Warning,
+                "Calibration not exported: there is no calibration yet",
+            );
+            return;
+        }
+        let name = self.name_beside_log("calibration.json");
+        self.ask(ctx, Purpose::ExportCalibration, &name);
+    }
+
+    fn write_calibration(&mut self, path: &Path) {
+        self.settle_fit();
+        let (Some(log), Some(fit)) = (self.state.log.clone(), self.state.fit.clone()) else {
+            self.state.say(
+                Severity::Warning,
+                "Calibration not exported: there is no calibration any more",
+            );
+            return;
+        };
+        match export::save_calibration(
+            path,
+            &fit.outcome.calibration,
+            &log.path,
+            log.sha256.as_deref(),
+        ) {
+            Ok(p) => {
+                self.settings.last_dir = p.parent().map(Path::to_path_buf);
+                self.state.say(
+                    Severity::Info,
+                    format!("Calibration written: {}", p.display()),
+                );
+            }
+            Err(e) => {
+                self.state.say(
+                    Severity::Error,
+                    format!("Calibration not exported, nothing was written: {e}"),
+                );
+                self.fail(format!(
+                    "Could not write the calibration. Nothing was written.\n\n{e}"
+                ));
             }
         }
     }
 
-    /// Writes the model chosen on the Models page, asking where.
-    pub(super) fn export_model(&mut self) {
-        let (Some(log), Some(c)) = (self.state.log.clone(), self.state.models.clone()) else {
+    /// Asks where to write the model selected on the Models page.
+    pub(super) fn export_model(&mut self, ctx: &egui::Context) {
+        let Some(c) = self.state.models.clone() else {
             self.state.say(
                 Severity::Warning,
-                "Nothing to export yet: compare the models first",
+                "Model not exported: compare the models first",
             );
             return;
         };
-        let Some(model) = self.models.export.as_ref().and_then(|n| {
-            c.reports
-                .iter()
-                .find(|r| &r.model == n)
-                .and_then(|r| r.fitted.clone())
-        }) else {
-            self.state
-                .say(Severity::Warning, "Choose a fitted model to export");
+        let Some(name) = self.models.selected.clone() else {
+            self.state.say(
+                Severity::Warning,
+                "Model not exported: select a model in the table first",
+            );
+            return;
+        };
+        if !c
+            .reports
+            .iter()
+            .any(|r| r.model == name && r.fitted.is_some())
+        {
+            self.state.say(
+                Severity::Warning,
+                format!("Model {name} not exported: it could not be fitted"),
+            );
+            return;
+        }
+        let file = self.name_beside_log(&format!("{name}.json"));
+        self.ask(ctx, Purpose::ExportModel(name), &file);
+    }
+
+    fn write_model(&mut self, name: &str, path: PathBuf) {
+        let (Some(log), Some(c)) = (self.state.log.clone(), self.state.models.clone()) else {
+            self.state.say(
+                Severity::Warning,
+                format!("Model {name} not exported: no comparison"),
+            );
             return;
         };
         if !Arc::ptr_eq(&log.log, &c.logs[0].log) {
             self.state.say(
                 Severity::Warning,
-                "The log changed since the comparison: compare the models again first",
+                format!(
+                    "Model {name} not exported: the log changed since the comparison; \
+                     compare the models again first"
+                ),
             );
             return;
         }
-        let name = export::suggested_name(Some(&log.path), &format!("{}.json", model.name()));
-        if let Some(p) = self
-            .dialogs
-            .save(FileKind::Model, self.dir().as_deref(), &name)
-        {
-            self.settings.last_dir = p.parent().map(Path::to_path_buf);
-            let what = format!("model {}", model.name());
-            let (log_path, sha) = (log.path.clone(), log.sha256.clone());
-            self.jobs.spawn_export(&what, move || {
-                export::save_model(&p, &model, &log_path, sha.as_deref())
-            });
-        }
-    }
-
-    pub(super) fn export_report(&mut self) {
-        let (Some(log), Some(fit)) = (self.state.log.clone(), self.state.fit.clone()) else {
-            self.state
-                .say(Severity::Warning, "Nothing to report yet: no calibration");
+        let Some(model) = c
+            .reports
+            .iter()
+            .find(|r| r.model == name)
+            .and_then(|r| r.fitted.clone())
+        else {
+            self.state.say(
+                Severity::Warning,
+                format!("Model {name} not exported: it was not fitted"),
+            );
             return;
         };
-        let name = export::suggested_name(Some(&log.path), "report");
-        let Some(dir) = self
-            .dialogs
-            .save(FileKind::Report, self.dir().as_deref(), &name)
-        else {
+        self.settings.last_dir = path.parent().map(Path::to_path_buf);
+        let what = format!("model {}", model.name());
+        self.state
+            .say(Severity::Info, format!("Writing {} …", path.display()));
+        let (log_path, sha) = (log.path.clone(), log.sha256.clone());
+        self.jobs.spawn_export(&what, move || {
+            export::save_model(&path, &model, &log_path, sha.as_deref())
+        });
+    }
+
+    pub(super) fn export_report(&mut self, ctx: &egui::Context) {
+        if self.state.log.is_none() || self.state.fit.is_none() {
+            self.state.say(
+                Severity::Warning,
+                "Report not written: there is no calibration yet",
+            );
+            return;
+        }
+        let name = self.name_beside_log("report");
+        self.ask(ctx, Purpose::ExportReport, &name);
+    }
+
+    fn write_report(&mut self, dir: PathBuf) {
+        self.settle_fit();
+        let (Some(log), Some(fit)) = (self.state.log.clone(), self.state.fit.clone()) else {
             return;
         };
         // A name typed as "x.html" means the folder "x".
@@ -103,12 +349,19 @@ impl Workbench {
         let cal = match export::stamped(&fit.outcome.calibration, &log.path, log.sha256.as_deref())
         {
             Ok(c) => c,
-            Err(e) => return self.fail(format!("Could not write the report.\n\n{e}")),
+            Err(e) => {
+                self.state.say(
+                    Severity::Error,
+                    format!("Report not written, nothing was written: {e}"),
+                );
+                return self.fail(format!("Could not write the report.\n\n{e}"));
+            }
         };
         let mut logs = vec![(log.path.clone(), (*log.log).clone())];
         if let Some(v) = &self.state.validation {
             logs.push((v.path.clone(), (*v.log).clone()));
         }
+        self.settings.last_dir = dir.parent().map(Path::to_path_buf);
         self.state.say(
             Severity::Info,
             format!("Writing the report into {} …", dir.display()),
@@ -117,59 +370,84 @@ impl Workbench {
             .spawn_export("report", move || export::write_report(&dir, &cal, &logs));
     }
 
-    pub(super) fn export_csv(&mut self) {
+    pub(super) fn export_csv(&mut self, ctx: &egui::Context) {
+        if self.state.log.is_none() || self.state.fit.is_none() {
+            self.state.say(
+                Severity::Warning,
+                "Corrected log not exported: there is no calibration yet",
+            );
+            return;
+        }
+        let name = self.name_beside_log("corrected.csv");
+        self.ask(ctx, Purpose::ExportCsv, &name);
+    }
+
+    fn write_csv(&mut self, path: PathBuf) {
+        self.settle_fit();
         let (Some(log), Some(fit)) = (self.state.log.clone(), self.state.fit.clone()) else {
-            self.state
-                .say(Severity::Warning, "Nothing to export yet: no calibration");
             return;
         };
-        let name = export::suggested_name(Some(&log.path), "corrected.csv");
-        if let Some(p) = self
-            .dialogs
-            .save(FileKind::CorrectedCsv, self.dir().as_deref(), &name)
-        {
-            self.state
-                .say(Severity::Info, format!("Writing {} …", p.display()));
-            let l = log.log.clone();
-            self.jobs.spawn_export("corrected log", move || {
-                export::write_corrected_csv(&p, &l, &fit.outcome.in_sample.corrected)
-            });
+        self.settings.last_dir = path.parent().map(Path::to_path_buf);
+        self.state
+            .say(Severity::Info, format!("Writing {} …", path.display()));
+        let l = log.log.clone();
+        self.jobs.spawn_export("corrected log", move || {
+            export::write_corrected_csv(&path, &l, &fit.outcome.in_sample.corrected)
+        });
+    }
+
+    /// Saves the session (asking where the first time, or always with `ask`); `then` runs
+    /// once it is written.
+    pub(super) fn save_session(&mut self, ctx: &egui::Context, ask: bool, then: Option<Action>) {
+        if self.state.log.is_none() {
+            self.state.say(
+                Severity::Warning,
+                "Session not saved: no log is open, nothing was written",
+            );
+            return;
+        }
+        match (&self.state.session_path, ask) {
+            (Some(p), false) => {
+                let p = p.clone();
+                if self.write_session(&p)
+                    && let Some(a) = then
+                {
+                    self.run_confirmed(ctx, a);
+                }
+            }
+            _ => {
+                let name = self.name_beside_log("session.json");
+                self.ask(
+                    ctx,
+                    Purpose::SaveSession {
+                        then: then.map(Box::new),
+                    },
+                    &name,
+                );
+            }
         }
     }
 
-    /// Saves the session; true when written.
-    pub(super) fn save_session(&mut self, ask: bool) -> bool {
-        if self.state.log.is_none() {
-            self.state
-                .say(Severity::Warning, "Nothing to save: no log is open");
-            return false;
-        }
-        let path = match (&self.state.session_path, ask) {
-            (Some(p), false) => Some(p.clone()),
-            _ => {
-                let name = export::suggested_name(
-                    self.state.log.as_ref().map(|l| l.path.as_path()),
-                    "session.json",
-                );
-                self.dialogs
-                    .save(FileKind::Session, self.dir().as_deref(), &name)
-            }
-        };
-        let Some(path) = path else {
-            return false;
-        };
-        match session::save(&path, &self.state.session()) {
+    /// Writes the session file; true when written.
+    fn write_session(&mut self, path: &Path) -> bool {
+        match session::save(path, &self.state.session()) {
             Ok(()) => {
-                self.state.session_path = Some(path.clone());
+                self.state.session_path = Some(path.to_path_buf());
                 self.state.mark_saved();
                 self.autosave.clear();
-                self.settings.add_recent(&path);
+                self.settings.add_recent(path);
                 self.state
                     .say(Severity::Info, format!("Session saved: {}", path.display()));
                 true
             }
             Err(e) => {
-                self.fail(format!("Could not save the session.\n\n{e}"));
+                self.state.say(
+                    Severity::Error,
+                    format!("Session not saved, nothing was written: {e}"),
+                );
+                self.fail(format!(
+                    "Could not save the session. Nothing was written.\n\n{e}"
+                ));
                 false
             }
         }

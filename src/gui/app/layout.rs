@@ -26,6 +26,14 @@ impl Workbench {
                     actions.push(Action::OpenValidation);
                     ui.close();
                 }
+                if ui
+                    .add_enabled(has_log, egui::Button::new("Column mapping…"))
+                    .on_hover_text("Reopen the import view on the loaded log: columns, units, separator, decimal comma")
+                    .clicked()
+                {
+                    actions.push(Action::ColumnMapping(Target::Calibration));
+                    ui.close();
+                }
                 ui.menu_button("Recent", |ui| {
                     if self.settings.recent.is_empty() {
                         ui.weak("No recent files");
@@ -239,29 +247,88 @@ impl Workbench {
                 }
                 ui.separator();
             }
-            if let Some(e) = &self.state.fit_error {
-                ui.colored_label(
-                    ui.visuals().error_fg_color,
-                    format!("Calibration failed: {e}"),
-                );
-            } else if let Some((sev, msg)) = &self.state.status {
+            // One line whatever the message: the status bar never grows.
+            if let Some((sev, msg)) = &self.state.status {
                 let color = match sev {
                     Severity::Info => ui.visuals().text_color(),
                     Severity::Warning => ui.visuals().warn_fg_color,
                     Severity::Error => ui.visuals().error_fg_color,
                 };
-                ui.colored_label(color, msg);
+                ui.add(egui::Label::new(RichText::new(msg).color(color)).truncate())
+                    .on_hover_text(msg.as_str());
             }
         });
     }
 
+    /// One line in a fixed slot above the Calibration page: why the calibration failed, that
+    /// the figures are provisional while a refit is on its way, or what the fit had to work
+    /// around. It never moves what is below it.
+    pub(super) fn banner(&mut self, ui: &mut Ui) {
+        let row_h = ui.spacing().interact_size.y;
+        ui.allocate_ui_with_layout(
+            egui::vec2(ui.available_width(), row_h),
+            Layout::left_to_right(Align::Center),
+            |ui| {
+                ui.set_min_size(egui::vec2(ui.available_width(), row_h));
+                let (color, text, tip) = if let Some(e) = &self.state.fit_error {
+                    (
+                        ui.visuals().error_fg_color,
+                        format!("Calibration failed: {e}"),
+                        format!(
+                            "{e}\n\nThe plots show the last calibration that worked (or the raw \
+                             log); change the choice that caused it, or Ctrl+Z."
+                        ),
+                    )
+                } else if self.state.log.is_some() && self.state.fit.is_none() {
+                    (
+                        ui.visuals().weak_text_color(),
+                        "Calibrating…".to_string(),
+                        "The first calibration of this log is on its way".to_string(),
+                    )
+                } else if self.state.fit.is_some() && !self.state.fit_current() {
+                    (
+                        ui.visuals().warn_fg_color,
+                        "Refitting: the figures shown are provisional (the choices as they were a \
+                         moment ago)"
+                            .to_string(),
+                        "The worker is refitting with the current choices; the figures are \
+                         exact again as soon as it answers"
+                            .to_string(),
+                    )
+                } else if let Some(w) = self.state.fit.as_ref().and_then(|f| {
+                    (!f.outcome.warnings.is_empty()).then(|| f.outcome.warnings.join("\n"))
+                }) {
+                    let n = self
+                        .state
+                        .fit
+                        .as_ref()
+                        .map_or(0, |f| f.outcome.warnings.len());
+                    (
+                        ui.visuals().warn_fg_color,
+                        format!(
+                            "{n} warning{} from the fit: {}",
+                            if n == 1 { "" } else { "s" },
+                            w.lines().next().unwrap_or_default()
+                        ),
+                        w,
+                    )
+                } else if self.state.fit.is_some() {
+                    (
+                        ui.visuals().weak_text_color(),
+                        "Calibrated: the figures below are those of the current choices"
+                            .to_string(),
+                        "Every figure and plot answers the choices as they are now".to_string(),
+                    )
+                } else {
+                    (ui.visuals().weak_text_color(), String::new(), String::new())
+                };
+                ui.add(egui::Label::new(RichText::new(text).color(color)).truncate())
+                    .on_hover_text(tip);
+            },
+        );
+    }
+
     pub(super) fn controls(&mut self, ui: &mut Ui, actions: &mut Vec<Action>) {
-        if let Some(e) = &self.state.fit_error {
-            ui.colored_label(
-                ui.visuals().error_fg_color,
-                format!("Calibration failed: {e}"),
-            );
-        }
         egui::CollapsingHeader::new("Data")
             .default_open(true)
             .show(ui, |ui| {
@@ -281,6 +348,13 @@ impl Workbench {
                             tmax
                         ))
                         .on_hover_text(l.path.display().to_string());
+                        if ui
+                            .small_button("Column mapping…")
+                            .on_hover_text("Reopen the import view on this log: columns, units, separator, decimal comma")
+                            .clicked()
+                        {
+                            actions.push(Action::ColumnMapping(Target::Calibration));
+                        }
                         let problems = &log.info.problems;
                         if !problems.is_empty() {
                             let text: Vec<String> = problems
@@ -307,6 +381,13 @@ impl Workbench {
                             .unwrap_or_default();
                         ui.label(format!("Validation: {name}"))
                             .on_hover_text(v.path.display().to_string());
+                        if ui
+                            .small_button("mapping…")
+                            .on_hover_text("Reopen the import view on the validation log")
+                            .clicked()
+                        {
+                            actions.push(Action::ColumnMapping(Target::Validation));
+                        }
                         if ui
                             .small_button("×")
                             .on_hover_text("Forget the validation log")
@@ -426,6 +507,7 @@ impl Workbench {
 
     pub(super) fn modals(&mut self, ctx: &egui::Context, actions: &mut Vec<Action>) {
         self.recovery_modal(ctx);
+        self.file_dialog_modal(ctx);
         if let Some(view) = &mut self.import {
             match view.show(ctx) {
                 Some(ImportDecision::Load(path, read, target)) => {
@@ -471,9 +553,7 @@ impl Workbench {
             match answer {
                 Some(0) => {
                     self.confirm = None;
-                    if self.save_session(false) {
-                        self.run_confirmed(ctx, action);
-                    }
+                    self.save_session(ctx, false, Some(action));
                 }
                 Some(1) => {
                     self.confirm = None;

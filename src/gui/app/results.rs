@@ -43,6 +43,13 @@ impl Workbench {
                         )
                     }
                 );
+                // The same file read again with another mapping keeps the work on it.
+                let remapped = self.pending_session.is_none()
+                    && self
+                        .state
+                        .log
+                        .as_ref()
+                        .is_some_and(|old| same_file(&old.path, &path));
                 self.state.log = Some(l);
                 self.state.fit = None;
                 self.state.fit_error = None;
@@ -78,6 +85,9 @@ impl Workbench {
                             self.settings.add_recent(&spath);
                         }
                     }
+                    _ if remapped => {
+                        self.time.x_command = Some(XCommand::Fit);
+                    }
                     _ => {
                         // Choices carry over to the new log, except what belonged to the old one.
                         if !self.state.plateaus_auto() {
@@ -91,7 +101,9 @@ impl Workbench {
                         self.settings.add_recent(&path);
                     }
                 }
-                self.state.history.reset(&self.state.choices);
+                if !remapped {
+                    self.state.history.reset(&self.state.choices);
+                }
                 self.state.say(Severity::Info, msg);
             }
             JobResult::Loaded(Target::Validation, l) => {
@@ -147,6 +159,10 @@ impl Workbench {
             }
             JobResult::FitFailed(generation, message) => {
                 if generation == self.jobs.requested {
+                    if self.state.fit.is_none() {
+                        // No calibration to show: the raw log, fitted to the window.
+                        self.time.x_command = Some(XCommand::Fit);
+                    }
                     self.state.fit_error = Some(message.clone());
                     self.state
                         .say(Severity::Error, format!("Calibration failed: {message}"));
@@ -174,6 +190,16 @@ impl Workbench {
                             self.state.models = Some(c);
                             self.state.models_error = None;
                         }
+                        Err(e) if e == crate::gui::jobs::CANCELLED => {
+                            self.state.say(
+                                Severity::Info,
+                                if self.state.models.is_some() {
+                                    "Comparison cancelled: the table shows the comparison before"
+                                } else {
+                                    "Comparison cancelled"
+                                },
+                            );
+                        }
                         Err(e) => {
                             self.state
                                 .say(Severity::Error, format!("Comparison failed: {e}"));
@@ -194,8 +220,10 @@ impl Workbench {
                     }
                 }
                 Err(e) => {
-                    self.state
-                        .say(Severity::Error, format!("Could not save {what}"));
+                    self.state.say(
+                        Severity::Error,
+                        format!("Could not save {what}, nothing was written: {e}"),
+                    );
                     if what == "screenshot" && self.auto.is_some() {
                         self.finish_auto(Err(e));
                     } else {

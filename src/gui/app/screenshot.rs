@@ -42,7 +42,9 @@ impl Workbench {
             Page::Allan => self.state.allan.is_some(),
         };
         if let Some(a) = &mut self.auto {
-            ctx.request_repaint();
+            // Ten frames a second while the work runs (the workers wake the window when they
+            // answer): drawing flat out would take a core from the work being waited for.
+            ctx.request_repaint_after(Duration::from_millis(100));
             let ready = self.state.log.is_some()
                 && self.state.fit.is_some()
                 && !self.jobs.busy()
@@ -50,6 +52,9 @@ impl Workbench {
                 && self.import.is_none()
                 && self.pending_shot.is_none();
             a.settled = if ready { a.settled + 1 } else { 0 };
+            if ready {
+                ctx.request_repaint();
+            }
             if a.settled >= 4 && !a.requested {
                 a.requested = true;
                 self.pending_shot = Some(PendingShot {

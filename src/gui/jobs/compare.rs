@@ -64,15 +64,77 @@ pub struct CompareHandle {
     pub generation: u64,
     /// Models asked for.
     pub total: usize,
+    /// Their names, in table order.
+    pub names: Vec<String>,
     pub(super) done: Arc<AtomicUsize>,
+    /// Per model: where it is (see [`ModelProgress`]).
+    pub(super) models: Arc<Vec<Mutex<ModelProgress>>>,
+    pub(super) cancel: Arc<AtomicBool>,
     /// When it started.
     pub started: Instant,
 }
 
+/// Where one model of a comparison is.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum ModelProgress {
+    /// Not started yet (the cores are busy with others).
+    Waiting,
+    /// Being fitted: the share of its searches done, since when.
+    Fitting(f64, Instant),
+    /// Fitted and judged, in this many seconds.
+    Done(f64),
+    /// Could not be fitted (the reason is in the report).
+    Failed(f64),
+    /// Stopped by Cancel.
+    Cancelled,
+}
+
 impl CompareHandle {
+    pub(super) fn new(generation: u64, names: Vec<String>) -> CompareHandle {
+        CompareHandle {
+            generation,
+            total: names.len(),
+            models: Arc::new(
+                names
+                    .iter()
+                    .map(|_| Mutex::new(ModelProgress::Waiting))
+                    .collect(),
+            ),
+            names,
+            done: Arc::new(AtomicUsize::new(0)),
+            cancel: Arc::new(AtomicBool::new(false)),
+            started: Instant::now(),
+        }
+    }
+
     /// Models fitted and judged so far.
     pub fn done(&self) -> usize {
         self.done.load(Ordering::Relaxed).min(self.total)
+    }
+
+    /// Where model `k` is.
+    pub fn model(&self, k: usize) -> ModelProgress {
+        self.models
+            .get(k)
+            .and_then(|m| m.lock().ok().map(|m| *m))
+            .unwrap_or(ModelProgress::Waiting)
+    }
+
+    fn set(&self, k: usize, p: ModelProgress) {
+        if let Some(Ok(mut m)) = self.models.get(k).map(|m| m.lock()) {
+            *m = p;
+        }
+    }
+
+    /// Stops the comparison: models being fitted stop at their next step, the others do not
+    /// start.
+    pub fn cancel(&self) {
+        self.cancel.store(true, Ordering::Relaxed);
+    }
+
+    /// True once Cancel was pressed.
+    pub fn cancelled(&self) -> bool {
+        self.cancel.load(Ordering::Relaxed)
     }
 }
 
@@ -90,15 +152,34 @@ pub(super) fn run_compare(req: &CompareRequest, h: &CompareHandle, ctx: &SharedC
     let done: Vec<(ModelReport, Vec<Option<ModelSeries>>)> = req
         .choices
         .par_iter()
-        .map(|choice| {
+        .enumerate()
+        .map(|(m, choice)| {
             // Each log's correction is filtered for drawing as the engine judges it, once.
             let mut series: Vec<Option<ModelSeries>> = all.iter().map(|_| None).collect();
+            let t0 = Instant::now();
+            let last_paint = Mutex::new(Instant::now());
+            let progress = |share: f64| {
+                if h.cancelled() {
+                    return false;
+                }
+                h.set(m, ModelProgress::Fitting(share, t0));
+                // Four repaints a second at most: a search reports hundreds of steps, and on a
+                // machine drawing in software each frame costs the fit a share of a core.
+                if let Ok(mut last) = last_paint.lock()
+                    && last.elapsed() > Duration::from_millis(250)
+                {
+                    *last = Instant::now();
+                    repaint(ctx);
+                }
+                true
+            };
             let report = crate::judge::compare::compare_one(
                 &req.train,
                 &tests,
                 choice,
                 &req.recipe,
                 &req.merit,
+                &progress,
                 &mut |k, c| {
                     let f = crate::signal::moving_average_centered(&c.cor_dph, filter(&all[k].0));
                     series[k] = Some(ModelSeries {
@@ -110,6 +191,15 @@ pub(super) fn run_compare(req: &CompareRequest, h: &CompareHandle, ctx: &SharedC
             if report.fitted.is_none() {
                 series.clear();
             }
+            let secs = t0.elapsed().as_secs_f64();
+            h.set(
+                m,
+                match (&report.fitted, h.cancelled()) {
+                    (Some(_), _) => ModelProgress::Done(secs),
+                    (None, true) => ModelProgress::Cancelled,
+                    (None, false) => ModelProgress::Failed(secs),
+                },
+            );
             h.done.fetch_add(1, Ordering::Relaxed);
             repaint(ctx);
             (report, series)

@@ -13,7 +13,11 @@ pub struct FitLods {
     pub tddot: Arc<MinMaxPyramid>,
     /// Regime per sample (1 = +, 2 = −).
     pub regime: Arc<ClassLod>,
-    /// Predicted drift.
+    /// Predicted drift filtered as Ω is for the time plot (the recipe's centred moving
+    /// average): sample by sample the prediction switches between the + and − coefficients
+    /// wherever the sign of d²T/dt² flickers, which drawn unfiltered over filtered Ω chatters.
+    pub pred_filtered: Vec<f64>,
+    /// Its pyramid.
     pub pred: MinMaxPyramid,
     /// Raw Ω filtered as for the figures.
     pub raw_filtered: Arc<MinMaxPyramid>,
@@ -39,6 +43,8 @@ pub struct HeldLods {
 pub struct FitView {
     /// The request number it answers.
     pub generation: u64,
+    /// The knots moved by hand it was fitted with (the recipe is the calibration's own).
+    pub knots: crate::files::session::KnotEdits,
     /// The engine's result.
     pub outcome: Outcome,
     /// Drawing data.
@@ -133,6 +139,7 @@ pub(super) fn fit_worker(rx: Receiver<FitMsg>, tx: Sender<JobResult>, ctx: Share
             let lods = build_lods(&mut cache, &outcome);
             Ok::<_, String>(FitView {
                 generation,
+                knots: request.knots.clone(),
                 outcome,
                 lods,
             })
@@ -160,8 +167,13 @@ pub(super) fn build_lods(cache: &mut LodCache, o: &Outcome) -> FitLods {
     let ([omega_filtered, tdot, tddot], regime) =
         cache.prepared(&o.prepared, &o.in_sample.corrected.regime);
     let raw_filtered = LodCache::series(&mut cache.raw_filtered, &o.in_sample.raw_filtered_dph);
-    let (pred, cor_filtered) = rayon::join(
-        || MinMaxPyramid::new(&o.in_sample.corrected.pred_dph),
+    let filter = o.prepared.filter_samples;
+    let ((pred_filtered, pred), cor_filtered) = rayon::join(
+        || {
+            let f = crate::signal::moving_average_centered(&o.in_sample.corrected.pred_dph, filter);
+            let p = MinMaxPyramid::new(&f);
+            (f, p)
+        },
         || MinMaxPyramid::new(&o.in_sample.cor_filtered_dph),
     );
     let scatter = cache.scatter([
@@ -180,6 +192,7 @@ pub(super) fn build_lods(cache: &mut LodCache, o: &Outcome) -> FitLods {
         tdot,
         tddot,
         regime,
+        pred_filtered,
         pred,
         raw_filtered,
         cor_filtered,

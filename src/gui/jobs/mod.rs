@@ -14,7 +14,9 @@ mod load;
 use allan::run_allan;
 pub use allan::{AllanRequest, AllanView};
 use compare::run_compare;
-pub use compare::{CompareHandle, CompareRequest, Compared, ComparedLog, ModelSeries};
+pub use compare::{
+    CompareHandle, CompareRequest, Compared, ComparedLog, ModelProgress, ModelSeries,
+};
 use fit::fit_worker;
 pub use fit::{FitLods, FitView, HeldLods};
 use load::load_log;
@@ -37,6 +39,9 @@ use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
 use std::sync::mpsc::{self, Receiver, Sender};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
+
+/// The error of a comparison stopped by Cancel.
+pub const CANCELLED: &str = "cancelled";
 
 /// Which slot a log is loaded into.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -245,12 +250,10 @@ impl Jobs {
     pub fn compare(&mut self, request: CompareRequest) -> u64 {
         self.compare_requested += 1;
         let generation = self.compare_requested;
-        let handle = CompareHandle {
+        let handle = CompareHandle::new(
             generation,
-            total: request.choices.len(),
-            done: Arc::new(AtomicUsize::new(0)),
-            started: Instant::now(),
-        };
+            request.choices.iter().map(|c| c.name()).collect(),
+        );
         let (tx, ctx, h) = (self.tx.clone(), self.ctx.clone(), handle.clone());
         let spawned = std::thread::Builder::new()
             .name("driftlab-compare".into())
@@ -258,9 +261,13 @@ impl Jobs {
                 let run = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
                     run_compare(&request, &h, &ctx)
                 }));
-                let result = run.map(Arc::new).map_err(|_| {
-                    "the comparison stopped on an internal error (see the terminal)".to_string()
-                });
+                let result = match run {
+                    Ok(_) if h.cancelled() => Err(CANCELLED.to_string()),
+                    Ok(c) => Ok(Arc::new(c)),
+                    Err(_) => {
+                        Err("the comparison stopped on an internal error (see the terminal)".into())
+                    }
+                };
                 let _ = tx.send(JobResult::Compared(h.generation, result));
                 repaint(&ctx);
             });

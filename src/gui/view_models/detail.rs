@@ -66,18 +66,27 @@ impl ModelsView {
             ui.weak("No model was fitted.");
             return;
         }
-        ui.label("Model to write as a calibration file:");
-        ui.horizontal_wrapped(|ui| {
-            for r in &fitted {
-                ui.radio_value(&mut self.export, Some(r.model.clone()), &r.model)
-                    .on_hover_text(plain(&r.description));
+        // The model exported is the one selected in the table: nothing else is chosen.
+        let chosen = self
+            .selected
+            .as_ref()
+            .filter(|n| fitted.iter().any(|r| &r.model == *n));
+        match chosen {
+            Some(n) => {
+                ui.label(format!(
+                    "Writes the selected model, {n}, as a calibration file."
+                ));
             }
-        });
+            None => {
+                ui.weak("Select a fitted model in the table to export it.");
+            }
+        }
         ui.add_space(4.0);
+        let label = chosen.map_or("Export model…".to_string(), |n| format!("Export {n}…"));
         if ui
-            .add_enabled(self.export.is_some(), egui::Button::new("Export model…"))
+            .add_enabled(chosen.is_some(), egui::Button::new(label))
             .on_hover_text(
-                "Write the chosen model's calibration file (JSON), which `driftlab apply` and \
+                "Write the selected model's calibration file (JSON), which `driftlab apply` and \
                  the gyro's processor read. File › Export calibration keeps writing the \
                  Vakhrameev calibration of the Calibration page.",
             )
@@ -159,11 +168,11 @@ fn regression_detail(ui: &mut Ui, m: &RegressionModel) {
         } else {
             ""
         };
+        let (what, unit) = searched(&s.parameter);
         ui.colored_label(
             ui.visuals().warn_fg_color,
             format!(
-                "{}: the best value, {} s, is an end of the range searched{beyond}",
-                s.parameter,
+                "{what}: the best value, {} {unit}, is an end of the range searched{beyond}",
                 secs(s.best)
             ),
         );
@@ -173,33 +182,39 @@ fn regression_detail(ui: &mut Ui, m: &RegressionModel) {
         "RMS residual of the fit at each value tried; the dashed line marks the value chosen",
     );
     let dark = ui.visuals().dark_mode;
-    // The key above the plot, not inside it: a cost curve may have its minimum anywhere.
-    ui.horizontal_wrapped(|ui| {
-        for (k, s) in m.searches.iter().enumerate() {
-            swatch(ui, model_color(k, dark));
-            ui.label(format!("{}: best {} s", s.parameter, secs(s.best)));
-            ui.add_space(6.0);
-        }
-    });
-    Plot::new("models_cost")
-        .height(190.0)
-        .x_axis_label("value tried, s")
-        .y_axis_label("RMS, °/h")
-        .y_axis_min_width(56.0)
-        .y_axis_formatter(fixed_tick)
-        .x_grid_spacer(egui_plot::uniform_grid_spacer(
-            crate::gui::plot_items::nice_steps,
-        ))
-        .y_grid_spacer(egui_plot::uniform_grid_spacer(
-            crate::gui::plot_items::nice_steps,
-        ))
-        .allow_zoom(false)
-        .allow_drag(false)
-        .allow_scroll(false)
-        .show(ui, |pui| {
-            for (k, s) in m.searches.iter().enumerate() {
-                let color = model_color(k, dark);
-                let pts: Vec<[f64; 2]> = s.x.iter().zip(&s.rmse).map(|(&x, &y)| [x, y]).collect();
+    // One plot a search, each on its own axis with its own unit: a lag in seconds and its
+    // change per °C cannot share an axis.
+    for (k, s) in m.searches.iter().enumerate() {
+        let color = model_color(k, dark);
+        let (what, unit) = searched(&s.parameter);
+        ui.horizontal_wrapped(|ui| {
+            swatch(ui, color);
+            ui.label(format!("{what}: best {} {unit}", secs(s.best)))
+                .on_hover_text(format!("searched as {}", s.parameter));
+        });
+        Plot::new(("models_cost", k))
+            .height(130.0)
+            .x_axis_label(format!("{what}, {unit}"))
+            .y_axis_label("RMS, °/h")
+            .y_axis_min_width(56.0)
+            .y_axis_formatter(fixed_tick)
+            .x_axis_formatter(crate::gui::plot_items::tick_x)
+            .x_grid_spacer(egui_plot::uniform_grid_spacer(
+                crate::gui::plot_items::nice_steps,
+            ))
+            .y_grid_spacer(egui_plot::uniform_grid_spacer(
+                crate::gui::plot_items::nice_steps,
+            ))
+            .allow_zoom(false)
+            .allow_drag(false)
+            .allow_scroll(false)
+            .show(ui, |pui| {
+                let pts: Vec<[f64; 2]> =
+                    s.x.iter()
+                        .zip(&s.rmse)
+                        .filter(|(x, y)| x.is_finite() && y.is_finite())
+                        .map(|(&x, &y)| [x, y])
+                        .collect();
                 pui.line(
                     Line::new(s.parameter.clone(), PlotPoints::from(pts.clone()))
                         .color(color)
@@ -216,13 +231,46 @@ fn regression_detail(ui: &mut Ui, m: &RegressionModel) {
                         .width(1.0)
                         .style(egui_plot::LineStyle::dashed_dense()),
                 );
-            }
-        });
+            });
+    }
+}
+
+/// What a search's parameter is, in words, and its unit (`lag_per_c` is the lag's change per
+/// °C; the others are times).
+fn searched(parameter: &str) -> (String, &'static str) {
+    if parameter.starts_with("lag_per_c") {
+        ("β, the lag's change per °C".into(), "1/°C")
+    } else if let Some(rest) = parameter.strip_prefix("lag_s") {
+        let at = rest
+            .trim()
+            .strip_prefix("at ")
+            .map(|r| format!(" (β = {})", r.replace(" per degC", " /°C")))
+            .unwrap_or_default();
+        (format!("lag τ20{at}"), "s")
+    } else if parameter.starts_with("lambda_s") {
+        ("λ, self-heating".into(), "s")
+    } else if let Some(rest) = parameter.strip_prefix("delay_s") {
+        let at = rest
+            .trim()
+            .strip_prefix("at ")
+            .map(|r| format!(" at {}", r.replace(" degC", " °C")))
+            .unwrap_or_default();
+        (format!("delay τd{at}"), "s")
+    } else {
+        (parameter.to_string(), "")
+    }
 }
 
 /// A tick label with as many decimals as the visible range needs, the same for every label,
 /// never in scientific notation (the cost of a search often changes in its fourth digit only).
 fn fixed_tick(mark: egui_plot::GridMark, range: &std::ops::RangeInclusive<f64>) -> String {
+    if !crate::gui::plot_items::label_fits(
+        mark.value,
+        range,
+        crate::gui::plot_items::Y_LABEL_MARGIN,
+    ) {
+        return String::new();
+    }
     let span = (range.end() - range.start()).abs() / 5.0;
     let decimals = if span > 0.0 && span.is_finite() {
         ((-span.log10().floor()).max(0.0) as usize).min(9)

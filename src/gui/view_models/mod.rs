@@ -24,7 +24,6 @@ use super::jobs::{CompareHandle, Compared};
 use super::state::AppState;
 use crate::gui::plot_items::num;
 use crate::log::Log;
-use crate::models::fitted::DriftModel;
 use crate::models::presets::{ModelChoice, Preset};
 use eframe::egui::{self, Color32, Panel, RichText, ScrollArea, Ui};
 
@@ -34,10 +33,9 @@ pub struct ModelsView {
     pub presets: [bool; Preset::ALL.len()],
     /// The custom model.
     pub custom: CustomBuilder,
-    /// The model whose details are shown (by name).
+    /// The model selected in the table (by name): its details are shown, and it is the one
+    /// Export model… writes. Nothing is selected until the engineer picks a row.
     pub selected: Option<String>,
-    /// The model to export (by name).
-    pub export: Option<String>,
     /// Which log of the comparison the plot shows (0: the calibration log).
     pub log_index: usize,
 }
@@ -48,7 +46,6 @@ impl Default for ModelsView {
             presets: [true; Preset::ALL.len()],
             custom: CustomBuilder::default(),
             selected: None,
-            export: None,
             log_index: 0,
         }
     }
@@ -82,30 +79,15 @@ impl ModelsView {
         Ok(out)
     }
 
-    /// Keeps the selection and the export choice on models of the newest comparison.
+    /// Keeps the selection on a model of the newest comparison; nothing is chosen for the
+    /// engineer.
     pub fn adopt(&mut self, c: &Compared) {
-        let fitted = |n: &Option<String>| {
-            n.as_ref().is_some_and(|n| {
-                c.reports
-                    .iter()
-                    .any(|r| &r.model == n && r.fitted.is_some())
-            })
-        };
-        let first_regression = c
-            .reports
-            .iter()
-            .find(|r| matches!(r.fitted, Some(DriftModel::Regression(_))))
-            .or_else(|| c.reports.iter().find(|r| r.fitted.is_some()))
-            .map(|r| r.model.clone());
         let listed = |n: &Option<String>| {
             n.as_ref()
                 .is_some_and(|n| c.reports.iter().any(|r| &r.model == n))
         };
         if !listed(&self.selected) {
-            self.selected = first_regression.clone();
-        }
-        if !fitted(&self.export) {
-            self.export = first_regression;
+            self.selected = None;
         }
         if self.log_index >= c.logs.len() {
             self.log_index = 0;
@@ -127,21 +109,36 @@ impl ModelsView {
             .show(ui, |ui| {
                 ScrollArea::vertical()
                     .id_salt("models_choose_scroll")
-                    .show(ui, |ui| self.choose(ui, state, running, out));
+                    .auto_shrink([false, false])
+                    .show(ui, |ui| {
+                        ui.set_min_width(ui.available_width());
+                        self.choose(ui, state, running, out)
+                    });
             });
         Panel::right("models_detail")
-            .default_size(440.0)
+            .default_size(380.0)
             .size_range(320.0..=720.0)
             .show(ui, |ui| {
                 ScrollArea::vertical()
                     .id_salt("models_detail_scroll")
-                    .show(ui, |ui| self.detail(ui, state, out));
+                    .auto_shrink([false, false])
+                    .show(ui, |ui| {
+                        ui.set_min_width(ui.available_width());
+                        self.detail(ui, state, out)
+                    });
             });
         egui::CentralPanel::default().show(ui, |ui| {
+            if let Some(h) = running {
+                // While models are fitted: each one's progress, the last table below.
+                ui.add_space(4.0);
+                progress(ui, h);
+                model_progress(ui, h);
+                ui.separator();
+            }
             let Some(c) = state.models.clone() else {
                 ui.add_space(12.0);
                 match running {
-                    Some(h) => progress(ui, h),
+                    Some(_) => {}
                     None => {
                         if let Some(e) = &state.models_error {
                             ui.colored_label(ui.visuals().error_fg_color, e);
@@ -157,17 +154,23 @@ impl ModelsView {
             self.stale_note(ui, state, &c, running);
             // The whole table when it fits in a little over half the height, the plot below.
             let row_h = ui.spacing().interact_size.y + 3.0;
-            let rows = 2 + c
+            // Two header rows, the "outside" note and a message line besides the models' rows.
+            let rows = 5 + c
                 .reports
                 .iter()
                 .map(|r| r.logs.len().max(1) + usize::from(r.error.is_some()))
                 .sum::<usize>();
             let table_h = (rows as f32 * row_h).clamp(120.0, ui.available_height() * 0.55);
+            // On a narrow window the table scrolls sideways, with its scroll bar always shown
+            // so that the columns off to the right are not missed.
             ScrollArea::both()
                 .id_salt("models_table_scroll")
+                .scroll_bar_visibility(egui::scroll_area::ScrollBarVisibility::AlwaysVisible)
                 .max_height(table_h)
                 .auto_shrink([false, true])
                 .show(ui, |ui| self.table(ui, &c));
+            // Wrapped to the page's width, under the table rather than in its scroll area.
+            ui.weak(format!("outside: {}.", table::OUTSIDE));
             ui.separator();
             self.plot(ui, &c);
         });
@@ -218,8 +221,8 @@ impl ModelsView {
                 out.push(Action::CompareModels);
             }
             if let Some(h) = running {
-                ui.spinner();
                 ui.label(format!("{} of {} fitted", h.done(), h.total));
+                cancel_button(ui, h);
             }
         });
         if let Err(e) = &choices {
@@ -268,7 +271,7 @@ impl ModelsView {
         c: &Compared,
         running: Option<&CompareHandle>,
     ) {
-        ui.horizontal(|ui| {
+        ui.horizontal_wrapped(|ui| {
             ui.strong("Figures of the filtered drift, °/h")
                 .on_hover_text(
                     "As `driftlab compare` prints them: ratio = raw ÷ corrected, above 1 is \
@@ -281,9 +284,9 @@ impl ModelsView {
                 c.reports.len(),
                 c.seconds
             ));
-            if let Some(h) = running {
+            if running.is_some() {
                 ui.separator();
-                progress(ui, h);
+                ui.weak("the table below is the comparison before");
             } else {
                 let same_log = state
                     .log
@@ -330,16 +333,70 @@ fn swatch(ui: &mut Ui, color: Color32) {
     ui.painter().rect_filled(rect, 2.0, color);
 }
 
+/// One line: how many models are done, and Cancel.
 fn progress(ui: &mut Ui, h: &CompareHandle) {
     ui.horizontal(|ui| {
-        ui.spinner();
         ui.label(format!(
             "fitting… {} of {} models done ({:.0} s)",
             h.done(),
             h.total,
             h.started.elapsed().as_secs_f64()
         ));
+        cancel_button(ui, h);
     });
+}
+
+fn cancel_button(ui: &mut Ui, h: &CompareHandle) {
+    if h.cancelled() {
+        ui.weak("cancelling…");
+    } else if ui
+        .button("Cancel")
+        .on_hover_text("Stop the comparison: models being fitted stop at their next step")
+        .clicked()
+    {
+        h.cancel();
+    }
+}
+
+/// Each model of a running comparison: waiting, fitting (with the share of its searches
+/// done), done or failed, with its time.
+fn model_progress(ui: &mut Ui, h: &CompareHandle) {
+    use super::jobs::ModelProgress;
+    egui::Grid::new("models_progress")
+        .num_columns(3)
+        .spacing([12.0, 4.0])
+        .show(ui, |ui| {
+            for (k, name) in h.names.iter().enumerate() {
+                ui.monospace(name);
+                match h.model(k) {
+                    ModelProgress::Waiting => {
+                        ui.weak("waiting for a core");
+                        ui.label("");
+                    }
+                    ModelProgress::Fitting(share, since) => {
+                        ui.add(
+                            egui::ProgressBar::new(share as f32)
+                                .desired_width(200.0)
+                                .show_percentage(),
+                        );
+                        ui.weak(format!("{:.1} s", since.elapsed().as_secs_f64()));
+                    }
+                    ModelProgress::Done(s) => {
+                        ui.label("fitted and judged");
+                        ui.weak(format!("{s:.1} s"));
+                    }
+                    ModelProgress::Failed(s) => {
+                        ui.colored_label(ui.visuals().error_fg_color, "not fitted");
+                        ui.weak(format!("{s:.1} s"));
+                    }
+                    ModelProgress::Cancelled => {
+                        ui.weak("cancelled");
+                        ui.label("");
+                    }
+                }
+                ui.end_row();
+            }
+        });
 }
 
 /// The engine's text with Ṫ and T̈ written as dT/dt and d²T/dt² (the workbench's fonts have

@@ -42,7 +42,7 @@ impl ModelsView {
     pub(super) fn plot(&mut self, ui: &mut Ui, c: &Compared) {
         let pal = Palette::of(ui);
         let dark = ui.visuals().dark_mode;
-        ui.horizontal(|ui| {
+        ui.horizontal_wrapped(|ui| {
             ui.strong("Corrected drift of each model").on_hover_text(
                 "Ω filtered as for the figures: raw (grey) and corrected by each fitted model; \
                      click a name in the legend to hide it",
@@ -79,7 +79,8 @@ impl ModelsView {
             .x_axis_label(format!("time, {}", scale.unit))
             .y_axis_label("drift, °/h")
             .y_axis_min_width(64.0)
-            .y_axis_formatter(crate::gui::plot_items::tick)
+            .y_axis_formatter(crate::gui::plot_items::tick_y)
+            .x_axis_formatter(crate::gui::plot_items::tick_x)
             .x_grid_spacer(egui_plot::uniform_grid_spacer(
                 crate::gui::plot_items::nice_steps_x,
             ))

@@ -8,6 +8,11 @@ use crate::gui::plot_items::{num, ratio};
 use crate::judge::compare::Outcome;
 use eframe::egui::{self, Grid, RichText, Ui};
 
+/// What the "outside" column means.
+pub(super) const OUTSIDE: &str = "the share of the log's samples whose inputs (T, dT/dt, d²T/dt², the \
+    channels) lay beyond the ranges the model was fitted on; there the model holds its edge \
+    values instead of extrapolating";
+
 impl ModelsView {
     pub(super) fn table(&mut self, ui: &mut Ui, c: &Compared) {
         let dark = ui.visuals().dark_mode;
@@ -17,22 +22,47 @@ impl ModelsView {
             .num_columns(10)
             .spacing([14.0, 3.0])
             .show(ui, |ui| {
+                // Two header rows: the four ratios are headed "raw ÷ corrected" above their
+                // figure's name.
+                let small = |ui: &mut Ui, s: &str| {
+                    ui.label(RichText::new(s).small().weak());
+                };
+                for _ in 0..4 {
+                    small(ui, "");
+                }
+                for _ in 0..4 {
+                    small(ui, "raw ÷ corrected");
+                }
+                small(ui, "");
+                ui.end_row();
                 for (h, tip) in [
-                    ("model", "Click a model to see what it found (right)"),
+                    (
+                        "model",
+                        "Click a model to see what it found and to export it (right)",
+                    ),
                     (
                         "log",
                         "In-sample: the log it was fitted on; held out: the validation log",
                     ),
                     ("p2p raw", "Peak-to-peak of the raw filtered drift, °/h"),
                     (
-                        "p2p cor",
+                        "p2p cor.",
                         "Peak-to-peak of the corrected filtered drift, °/h",
                     ),
-                    ("p2p", "Peak-to-peak ratio, raw ÷ corrected"),
-                    ("std", "Standard-deviation ratio"),
-                    ("10-min", "Ratio of the largest |10-minute mean|"),
-                    ("RMS", "Ratio of the mean 10-minute RMS"),
-                    ("outside", "Share of samples beyond the fitted input ranges"),
+                    (
+                        "p2p",
+                        "Peak-to-peak, raw ÷ corrected (above 1: the model helps)",
+                    ),
+                    ("std", "Standard deviation, raw ÷ corrected"),
+                    (
+                        "|10-min mean|",
+                        "Largest |mean| over consecutive 10-minute windows, raw ÷ corrected",
+                    ),
+                    (
+                        "10-min RMS",
+                        "Mean RMS within consecutive 10-minute windows, raw ÷ corrected",
+                    ),
+                    ("outside", OUTSIDE),
                 ] {
                     ui.label(RichText::new(h).strong()).on_hover_text(tip);
                 }
@@ -83,10 +113,14 @@ impl ModelsView {
                                     cmp.win_mean_ratio,
                                     cmp.win_rms_ratio,
                                 ] {
+                                    // Coloured by the value itself, shown to three digits:
+                                    // a red ratio never reads 1.00×.
                                     let text = RichText::new(ratio(v)).monospace();
-                                    ui.label(if v >= 1.0 { text } else { text.color(bad) });
+                                    ui.label(if v >= 1.0 { text } else { text.color(bad) })
+                                        .on_hover_text(format!("raw ÷ corrected = {v}"));
                                 }
-                                ui.monospace(format!("{:.1}%", 100.0 * e.outside_fraction));
+                                ui.monospace(format!("{:.1}%", 100.0 * e.outside_fraction))
+                                    .on_hover_text(OUTSIDE);
                             }
                             Outcome::Error(msg) => {
                                 ui.colored_label(bad, "cannot apply").on_hover_text(msg);

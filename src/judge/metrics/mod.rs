@@ -49,6 +49,68 @@ pub struct Figures {
     pub windows: usize,
     /// Samples the figures were computed on.
     pub samples: usize,
+    /// Why peak-to-peak and std could not be computed (they are then NaN, `null` in JSON).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub filtered_unavailable: Option<Unavailable>,
+    /// Why the window figures could not be computed (they are then NaN, `null` in JSON).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub windows_unavailable: Option<Unavailable>,
+}
+
+/// Why a figure of merit could not be computed. A figure that cannot be computed is NaN
+/// (printed `n/a` with this reason, `null` in JSON), never a zero that would read as perfect.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Unavailable {
+    /// No sample is left once the warm-up of every segment is taken out.
+    NothingAfterWarmup,
+    /// No segment is as long as the filter window.
+    ShorterThanFilter,
+    /// No segment holds a whole window.
+    NoWholeWindow,
+}
+
+impl Unavailable {
+    /// The reason in words, for a person.
+    pub fn describe(self) -> &'static str {
+        match self {
+            Unavailable::NothingAfterWarmup => "no sample left after the warm-up",
+            Unavailable::ShorterThanFilter => "no stretch of the log is as long as the filter",
+            Unavailable::NoWholeWindow => "no stretch of the log holds a whole window",
+        }
+    }
+}
+
+impl std::fmt::Display for Unavailable {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.describe())
+    }
+}
+
+impl Figures {
+    /// Marks what could not be computed: NaN figures with their reason instead of zeros.
+    fn mark_unavailable(mut self) -> Figures {
+        if self.samples == 0 {
+            self.mean_dph = f64::NAN;
+            self.filtered_unavailable = Some(Unavailable::NothingAfterWarmup);
+            self.windows_unavailable = Some(Unavailable::NothingAfterWarmup);
+        }
+        if self.filtered_unavailable.is_some() {
+            self.p2p_dph = f64::NAN;
+            self.std_dph = f64::NAN;
+        }
+        if self.windows == 0 {
+            self.windows_unavailable
+                .get_or_insert(Unavailable::NoWholeWindow);
+        }
+        if self.windows_unavailable.is_some() {
+            self.win_mean_max_abs_dph = f64::NAN;
+            self.win_mean_p2p_dph = f64::NAN;
+            self.win_rms_mean_dph = f64::NAN;
+            self.win_rms_max_dph = f64::NAN;
+        }
+        self
+    }
 }
 
 /// Moving-average values per segment of a parallel walk: each segment starts its running sum
@@ -66,6 +128,86 @@ const WINDOW_GROUP: usize = 1 << 16;
 /// those of one sequential walk to the bit.
 pub fn figures(omega_dph: &[f64], dt_s: f64, skip: usize, opts: &MeritOptions) -> Figures {
     figures_kept(omega_dph, dt_s, skip, opts, None)
+}
+
+/// Figures of `omega_dph` over the samples of `ready` (one range per segment of the log, as
+/// [`crate::signal::Derivatives::ready`] gives them): the filter and the windows stay inside
+/// each range, so none reaches across a gap. A log of one segment gives [`figures`]'s bits.
+pub fn figures_over(
+    omega_dph: &[f64],
+    dt_s: f64,
+    ready: &[std::ops::Range<usize>],
+    opts: &MeritOptions,
+) -> Figures {
+    let n = omega_dph.len();
+    match ready {
+        [] => figures(omega_dph, dt_s, n, opts),
+        [r] if r.end >= n => figures(omega_dph, dt_s, r.start, opts),
+        _ => figures_of_ranges(omega_dph, dt_s, ready, opts),
+    }
+}
+
+/// [`figures_over`] for several ranges, written plainly: the filtered values of every range,
+/// then the whole windows of every range, pooled.
+fn figures_of_ranges(
+    omega_dph: &[f64],
+    dt_s: f64,
+    ready: &[std::ops::Range<usize>],
+    opts: &MeritOptions,
+) -> Figures {
+    let n = omega_dph.len();
+    let parts: Vec<&[f64]> = ready
+        .iter()
+        .map(|r| &omega_dph[r.start.min(n)..r.end.min(n)])
+        .filter(|x| !x.is_empty())
+        .collect();
+    let samples: usize = parts.iter().map(|x| x.len()).sum();
+    let window = signal::seconds_to_samples(opts.filter_s, dt_s);
+    let filtered: Vec<f64> = parts
+        .iter()
+        .flat_map(|x| signal::moving_average_valid(x, window))
+        .collect();
+    let (mut p2p, mut std) = (0.0, 0.0);
+    let filtered_unavailable = if filtered.is_empty() {
+        Some(Unavailable::ShorterThanFilter)
+    } else {
+        let (lo, hi) = min_max(&filtered);
+        let m = mean(&filtered);
+        let var = filtered.iter().map(|v| (v - m).powi(2)).sum::<f64>() / filtered.len() as f64;
+        (p2p, std) = (hi - lo, var.sqrt());
+        None
+    };
+    let w = signal::seconds_to_samples(opts.window_s, dt_s).max(1);
+    let (means, rms): (Vec<f64>, Vec<f64>) = parts
+        .iter()
+        .flat_map(|x| x.chunks_exact(w))
+        .map(|c| {
+            (
+                mean(c),
+                (c.iter().map(|v| v * v).sum::<f64>() / c.len() as f64).sqrt(),
+            )
+        })
+        .unzip();
+    let (mlo, mhi) = if means.is_empty() {
+        (0.0, 0.0)
+    } else {
+        min_max(&means)
+    };
+    let total: f64 = parts.iter().flat_map(|x| x.iter()).sum();
+    Figures {
+        p2p_dph: p2p,
+        std_dph: std,
+        mean_dph: total / samples.max(1) as f64,
+        win_mean_max_abs_dph: means.iter().fold(0.0, |a: f64, m| a.max(m.abs())),
+        win_mean_p2p_dph: mhi - mlo,
+        win_rms_mean_dph: if rms.is_empty() { 0.0 } else { mean(&rms) },
+        win_rms_max_dph: rms.iter().fold(0.0, |a: f64, &r| a.max(r)),
+        windows: means.len(),
+        samples,
+        filtered_unavailable,
+        windows_unavailable: None,
+    }
+    .mark_unavailable()
 }
 
 /// [`figures`], the same bits, with the filtered drift kept in `filtered` between its two walks
@@ -93,7 +235,7 @@ fn figures_kept(
     use rayon::prelude::*;
     let x = &omega_dph[skip.min(omega_dph.len())..];
     if x.is_empty() {
-        return Figures::default();
+        return Figures::default().mark_unavailable();
     }
     // Without a buffer to keep it in, the filtered drift is walked twice (min/max/mean, then
     // the variance): on a long log a fresh buffer would cost more than the second walk.
@@ -305,7 +447,10 @@ fn figures_kept(
         win_rms_max_dph: rms.iter().fold(0.0, |a: f64, &r| a.max(r)),
         windows: means.len(),
         samples: x.len(),
+        filtered_unavailable: (len == 0).then_some(Unavailable::ShorterThanFilter),
+        windows_unavailable: None,
     }
+    .mark_unavailable()
 }
 
 /// The smallest and largest of the filtered drift kept by [`figures_buffered`], as the walk
@@ -372,6 +517,41 @@ pub struct Comparison {
     pub win_mean_ratio: f64,
     /// raw ÷ corrected mean window RMS.
     pub win_rms_ratio: f64,
+    /// The figures the correction made worse than raw (ratio below 1), which every face marks.
+    pub worse_than_raw: WorseThanRaw,
+}
+
+/// Which figures a correction made worse than the raw record (raw ÷ corrected below 1).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+pub struct WorseThanRaw {
+    /// Peak-to-peak of the filtered drift.
+    pub p2p: bool,
+    /// Standard deviation of the filtered drift.
+    pub std: bool,
+    /// Largest |window mean|.
+    pub win_mean: bool,
+    /// Mean window RMS.
+    pub win_rms: bool,
+}
+
+impl WorseThanRaw {
+    /// Whether any figure is worse than raw.
+    pub fn any(&self) -> bool {
+        self.p2p || self.std || self.win_mean || self.win_rms
+    }
+
+    /// The names of the figures worse than raw, for messages.
+    pub fn names(&self) -> Vec<&'static str> {
+        [
+            (self.p2p, "peak-to-peak"),
+            (self.std, "std"),
+            (self.win_mean, "largest |window mean|"),
+            (self.win_rms, "mean window RMS"),
+        ]
+        .into_iter()
+        .filter_map(|(w, n)| w.then_some(n))
+        .collect()
+    }
 }
 
 impl Comparison {
@@ -380,26 +560,44 @@ impl Comparison {
         raw_dph: &[f64],
         cor_dph: &[f64],
         dt_s: f64,
-        skip: usize,
+        ready: &[std::ops::Range<usize>],
         opts: &MeritOptions,
     ) -> Comparison {
         let (raw, corrected) = rayon::join(
-            || figures(raw_dph, dt_s, skip, opts),
-            || figures(cor_dph, dt_s, skip, opts),
+            || figures_over(raw_dph, dt_s, ready, opts),
+            || figures_over(cor_dph, dt_s, ready, opts),
         );
         Comparison::from_figures(raw, corrected)
     }
 
     /// The comparison of figures already computed (the workbench keeps the raw ones).
     pub fn from_figures(raw: Figures, corrected: Figures) -> Comparison {
-        let ratio = |a: f64, b: f64| if b > 0.0 { a / b } else { f64::INFINITY };
+        // A ratio needs two finite figures and a corrected one above zero: otherwise it is
+        // NaN (`n/a`), never an infinite improvement.
+        let ratio = |a: f64, b: f64| {
+            if a.is_finite() && b.is_finite() && b > 0.0 {
+                a / b
+            } else {
+                f64::NAN
+            }
+        };
+        let p2p_ratio = ratio(raw.p2p_dph, corrected.p2p_dph);
+        let std_ratio = ratio(raw.std_dph, corrected.std_dph);
+        let win_mean_ratio = ratio(raw.win_mean_max_abs_dph, corrected.win_mean_max_abs_dph);
+        let win_rms_ratio = ratio(raw.win_rms_mean_dph, corrected.win_rms_mean_dph);
         Comparison {
             raw,
             corrected,
-            p2p_ratio: ratio(raw.p2p_dph, corrected.p2p_dph),
-            std_ratio: ratio(raw.std_dph, corrected.std_dph),
-            win_mean_ratio: ratio(raw.win_mean_max_abs_dph, corrected.win_mean_max_abs_dph),
-            win_rms_ratio: ratio(raw.win_rms_mean_dph, corrected.win_rms_mean_dph),
+            p2p_ratio,
+            std_ratio,
+            win_mean_ratio,
+            win_rms_ratio,
+            worse_than_raw: WorseThanRaw {
+                p2p: p2p_ratio < 1.0,
+                std: std_ratio < 1.0,
+                win_mean: win_mean_ratio < 1.0,
+                win_rms: win_rms_ratio < 1.0,
+            },
         }
     }
 }
@@ -537,7 +735,7 @@ pub struct Evaluation {
     pub comparison: Comparison,
     /// Share of samples outside the calibrated T, Ṫ or T̈ ranges (edge values held there).
     pub outside_fraction: f64,
-    /// Leading samples left out (no rate history yet).
+    /// Samples left out at the start of each segment (no rate history yet).
     pub warmup_samples: usize,
 }
 
@@ -558,28 +756,24 @@ impl Evaluation {
         c: &crate::models::vakhrameev::correct::Correction,
         opts: &MeritOptions,
     ) -> Evaluation {
-        Evaluation::of_rate(log, &c.cor_dph, c.ready_from, c.outside_fraction, opts)
+        Evaluation::of_rate(log, &c.cor_dph, &c.ready, c.outside_fraction, opts)
     }
 
-    /// Compares a corrected rate of `log` (figures from sample `ready_from` on) with the raw
-    /// record: [`Evaluation::of_correction`] for a caller that holds the corrected rate alone.
+    /// Compares a corrected rate of `log` (figures over the samples of `ready`, one range per
+    /// segment) with the raw record: [`Evaluation::of_correction`] for a caller that holds the
+    /// corrected rate alone.
     pub fn of_rate(
         log: &crate::log::Log,
         cor_dph: &[f64],
-        ready_from: usize,
+        ready: &[std::ops::Range<usize>],
         outside_fraction: f64,
         opts: &MeritOptions,
     ) -> Evaluation {
+        let used: usize = ready.iter().map(|r| r.len()).sum();
         Evaluation {
-            comparison: Comparison::of(
-                &log.omega_dph,
-                cor_dph,
-                log.nominal_dt_s(),
-                ready_from,
-                opts,
-            ),
+            comparison: Comparison::of(&log.omega_dph, cor_dph, log.nominal_dt_s(), ready, opts),
             outside_fraction,
-            warmup_samples: ready_from,
+            warmup_samples: log.len().saturating_sub(used),
         }
     }
 }

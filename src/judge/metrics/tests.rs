@@ -57,7 +57,7 @@ impl Iterator for MovingAverageValid<'_> {
 fn reference(omega_dph: &[f64], dt_s: f64, skip: usize, opts: &MeritOptions) -> Figures {
     let x = &omega_dph[skip.min(omega_dph.len())..];
     if x.is_empty() {
-        return Figures::default();
+        return Figures::default().mark_unavailable();
     }
     let filtered = signal::moving_average_valid(x, signal::seconds_to_samples(opts.filter_s, dt_s));
     let (p2p, std) = if filtered.is_empty() {
@@ -93,7 +93,12 @@ fn reference(omega_dph: &[f64], dt_s: f64, skip: usize, opts: &MeritOptions) -> 
         win_rms_max_dph: rms.iter().fold(0.0, |a: f64, &r| a.max(r)),
         windows: means.len(),
         samples: x.len(),
+        filtered_unavailable: filtered
+            .is_empty()
+            .then_some(Unavailable::ShorterThanFilter),
+        windows_unavailable: None,
     }
+    .mark_unavailable()
 }
 
 #[test]

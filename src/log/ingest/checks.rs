@@ -8,10 +8,8 @@ use super::columns::{Plan, SLOT_TIME};
 use super::parse::{Tally, note};
 use super::read::Acc;
 use super::sniff::Sniffed;
-use crate::log::{Channel, Log, LogInfo, Problem, ProblemKind, nominal_dt_s};
-
-/// A gap is a time step above this many nominal steps.
-const GAP_FACTOR: f64 = 2.5;
+use crate::log::{Channel, Log, LogInfo, Problem, ProblemKind};
+use crate::signal::timing::{GAP_FACTOR, Timing};
 
 /// Time-order checks, dropped rows, problems, and the `Log`.
 pub(super) fn finish(mut acc: Acc, sn: &Sniffed, plan: &Plan, source: &str) -> Result<Log, Fail> {
@@ -109,26 +107,16 @@ pub(super) fn finish(mut acc: Acc, sn: &Sniffed, plan: &Plan, source: &str) -> R
         });
     }
 
-    // Time order: keep a row only if its time is above every earlier time; note gaps.
+    // Time order: keep a row only if its time is above every earlier time.
     let time_col = col_no(SLOT_TIME);
     let mut drop: Vec<usize> = Vec::new();
     {
         let time = &acc.cols[SLOT_TIME];
-        let dt = nominal_dt_s(time);
-        let (mut back, mut rep, mut gaps): (Option<Tally>, Option<Tally>, Option<Tally>) =
-            (None, None, None);
-        let mut largest = (0.0f64, 0usize);
+        let (mut back, mut rep): (Option<Tally>, Option<Tally>) = (None, None);
         let mut first_back = (0.0, 0.0);
         let mut last = time[0];
         for (i, &t) in time.iter().enumerate().skip(1) {
             if t > last {
-                let step = t - last;
-                if step > GAP_FACTOR * dt {
-                    note(&mut gaps, i);
-                    if step > largest.0 {
-                        largest = (step, i);
-                    }
-                }
                 last = t;
             } else {
                 drop.push(i);
@@ -170,28 +158,50 @@ pub(super) fn finish(mut acc: Acc, sn: &Sniffed, plan: &Plan, source: &str) -> R
                 ),
             });
         }
-        if let Some(t) = gaps {
-            let line = acc.line_of(t.first);
-            problems.push(Problem {
-                line,
-                column: time_col,
-                kind: ProblemKind::Gap,
-                count: t.count,
-                message: format!(
-                    "{} gap{} in time (steps above {GAP_FACTOR} × the nominal {dt} s; first at \
-                     line {line}, largest {} s at line {})",
-                    t.count,
-                    if t.count == 1 { "" } else { "s" },
-                    largest.0,
-                    acc.line_of(largest.1)
-                ),
-            });
-        }
     }
     if !drop.is_empty() {
         for col in &mut acc.cols {
             remove_sorted(col, &drop);
         }
+    }
+    // Gaps: steps the later stamps do not make up (host stamps that bunch are not gaps).
+    let timing = Timing::of(&acc.cols[SLOT_TIME]);
+    if let Some(first) = timing.gaps.first() {
+        // The row of a kept sample, counting the rows dropped before it.
+        let row_of = |kept: usize| {
+            let mut row = kept;
+            for &d in &drop {
+                if d <= row {
+                    row += 1;
+                } else {
+                    break;
+                }
+            }
+            row
+        };
+        let longest = timing
+            .gaps
+            .iter()
+            .max_by(|a, b| a.step_s.total_cmp(&b.step_s))
+            .unwrap_or(first);
+        let line = acc.line_of(row_of(first.at));
+        let n = timing.gaps.len();
+        problems.push(Problem {
+            line,
+            column: time_col,
+            kind: ProblemKind::Gap,
+            count: n,
+            message: format!(
+                "{n} gap{} in time (steps of more than {GAP_FACTOR} × the nominal {} s that the \
+                 later stamps do not make up; first at line {line}, the longest {} s at line \
+                 {}): the log is read as {} segments",
+                if n == 1 { "" } else { "s" },
+                short(timing.nominal_dt_s),
+                short(longest.step_s),
+                acc.line_of(row_of(longest.at)),
+                timing.segments.len()
+            ),
+        });
     }
     problems.sort_by_key(|p| p.line);
 
@@ -204,6 +214,14 @@ pub(super) fn finish(mut acc: Acc, sn: &Sniffed, plan: &Plan, source: &str) -> R
     let time_s = take();
     let omega_dph = take();
     let temp_c = take();
+    let other_axes = plan
+        .axes
+        .iter()
+        .map(|name| crate::log::Axis {
+            name: name.clone(),
+            omega_dph: take(),
+        })
+        .collect();
     let extra = plan
         .extras
         .iter()
@@ -213,12 +231,14 @@ pub(super) fn finish(mut acc: Acc, sn: &Sniffed, plan: &Plan, source: &str) -> R
             values: take(),
         })
         .collect();
-    Ok(Log {
+    let mut log = Log {
         source: source.to_string(),
         time_s,
         omega_dph,
         temp_c,
         extra,
+        axis: plan.axis.clone(),
+        other_axes,
         info: LogInfo {
             delimiter: sn.delim.as_char(),
             decimal_comma: sn.decimal_comma,
@@ -227,7 +247,24 @@ pub(super) fn finish(mut acc: Acc, sn: &Sniffed, plan: &Plan, source: &str) -> R
             rows_read: acc.rows_read,
             problems,
         },
-    })
+    };
+    let doubts = super::plausible::check(&log);
+    log.info.problems.extend(doubts);
+    Ok(log)
+}
+
+/// A duration in seconds to six significant digits, for messages.
+fn short(s: f64) -> String {
+    if s == 0.0 || !s.is_finite() {
+        return s.to_string();
+    }
+    let digits = (5 - s.abs().log10().floor() as i32).max(0) as usize;
+    let t = format!("{s:.digits$}");
+    if t.contains('.') {
+        t.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        t
+    }
 }
 
 fn rows(n: usize) -> String {

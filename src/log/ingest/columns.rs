@@ -6,7 +6,7 @@
 //! Explicit options always win over guessing.
 
 pub(crate) use super::names::rate_unit_of_name;
-use super::names::{Kind, classify, name_parts, raw_unit};
+use super::names::{Kind, axis_name, classify, is_raw_register, name_parts, raw_unit, stated_unit};
 use super::sniff::Sniffed;
 use super::units::{RateUnit, TempUnit, TimeUnit};
 use super::{ColumnRef, Fail, ReadOptions};
@@ -89,7 +89,11 @@ pub(crate) struct Plan {
     pub time: TimeSource,
     /// The 0-based file column of each slot (`None` for a synthesised time).
     pub slot_col: Vec<Option<usize>>,
-    /// Name and unit of each extra slot (slot 3 onwards).
+    /// The name of the gyro axis of the rate column (`gx` for `gx_dps`).
+    pub axis: String,
+    /// The log's other gyro axes: names of the slots after the temperature, one each.
+    pub axes: Vec<String>,
+    /// Name and unit of each extra slot (after the axes).
     pub extras: Vec<(String, String)>,
 }
 
@@ -159,7 +163,7 @@ pub(crate) fn plan(sn: &Sniffed, opts: &ReadOptions) -> Result<Plan, Fail> {
         && !(r.is_finite() && r > 0.0)
     {
         return Err(Fail::file(format!(
-            "sample_rate_hz must be a positive number of hertz, not {r}"
+            "--sample-rate must be a positive number of hertz, not {r}"
         )));
     }
 
@@ -207,13 +211,18 @@ pub(crate) fn plan(sn: &Sniffed, opts: &ReadOptions) -> Result<Plan, Fail> {
         // The strongest name wins; among equals a numeric column, then the leftmost. A text
         // column is taken only when nothing else fits, so its first cell is reported.
         let best = |used: &[bool], want: fn(&Kind) -> bool| -> Option<usize> {
-            let mut best: Option<(usize, (u8, bool))> = None;
+            let mut best: Option<(usize, (u8, bool, bool))> = None;
             for j in 0..ncols {
                 let (k, s) = kinds[j];
                 if used[j] || !want(&k) {
                     continue;
                 }
-                let key = (s, guessable[j]);
+                // A name that states its unit is preferred (`temp_C_est` over `temp_raw`).
+                let has_unit = matches!(
+                    k,
+                    Kind::Time(Some(_)) | Kind::Rate(Some(_)) | Kind::Temp(Some(_))
+                );
+                let key = (s, has_unit, guessable[j]);
                 if best.is_none_or(|(_, bk)| key > bk) {
                     best = Some((j, key));
                 }
@@ -257,37 +266,55 @@ pub(crate) fn plan(sn: &Sniffed, opts: &ReadOptions) -> Result<Plan, Fail> {
             && opts.sample_rate_hz.is_none()
         {
             return Err(at_header(format!(
-                "the file has no header and {ncols} columns: without a time column pass \
-                 sample_rate_hz (then col1 is the rate and col2 the temperature), or map the \
-                 columns with time_col, rate_col and temp_col"
+                "the file has no header and {ncols} columns: without a time column give \
+                 --sample-rate HZ (then col1 is the rate and col2 the temperature), or map the \
+                 columns with --time-col, --rate-col and --temp-col"
             )));
         }
     }
 
     let Some(rate_col) = rate_col else {
         return Err(at_header(format!(
-            "no gyro rate column: none of {} reads as one (omega, rate, gyro, drift, w...); \
-             pass rate_col",
+            "no gyro rate column: none of {} reads as one (omega, rate, gyro, gx, wx, \
+             angular_velocity_x, ...); map it with --rate-col NAME (Column mapping… in the \
+             workbench)",
             names_list()
         )));
     };
     let Some(temp_col) = temp_col else {
         return Err(at_header(format!(
             "no temperature column: none of {} reads as one (temp, temperature, T1...); \
-             pass temp_col",
+             map it with --temp-col NAME (Column mapping… in the workbench)",
             names_list()
         )));
     };
 
     // Units.
     let header_unit = |j: usize| kinds.get(j).map(|k| k.0);
+    // A unit the column's name states, for a column whose name alone does not say its role
+    // (mapped by the engineer).
+    let named_time = |j: usize| {
+        sn.has_header
+            .then(|| stated_unit(&sn.names[j], TimeUnit::from_key))
+            .flatten()
+    };
+    let named_rate = |j: usize| {
+        sn.has_header
+            .then(|| stated_unit(&sn.names[j], RateUnit::from_key))
+            .flatten()
+    };
+    let named_temp = |j: usize| {
+        sn.has_header
+            .then(|| stated_unit(&sn.names[j], TempUnit::from_key))
+            .flatten()
+    };
     let time = match time_col {
         None => match opts.sample_rate_hz {
             Some(rate_hz) => TimeSource::RowIndex { rate_hz },
             None => {
                 return Err(at_header(format!(
-                    "no time column among {}: pass time_col, or sample_rate_hz if the file has \
-                     none",
+                    "no time column among {}: map it with --time-col NAME, or give \
+                     --sample-rate HZ if the file has none",
                     names_list()
                 )));
             }
@@ -299,7 +326,7 @@ pub(crate) fn plan(sn: &Sniffed, opts: &ReadOptions) -> Result<Plan, Fail> {
         TimeSource::Column(j) => Some(opts.time_unit.unwrap_or(match header_unit(j) {
             Some(Kind::Time(Some(u))) => u,
             Some(Kind::Index) => TimeUnit::Samples,
-            _ => TimeUnit::Seconds,
+            _ => named_time(j).unwrap_or(TimeUnit::Seconds),
         })),
     };
     let time_conv = match time_unit {
@@ -308,21 +335,36 @@ pub(crate) fn plan(sn: &Sniffed, opts: &ReadOptions) -> Result<Plan, Fail> {
             Some(r) => Conv::new(1.0, r, 0.0),
             None => {
                 return Err(at_header(format!(
-                    "the time column \"{}\" counts samples: pass sample_rate_hz",
+                    "the time column \"{}\" counts samples: give --sample-rate HZ",
                     sn.names[time_col.unwrap_or(0)]
                 )));
             }
         },
         Some(TimeUnit::Millis) => Conv::new(1.0, 1000.0, 0.0),
+        Some(TimeUnit::Micros) => Conv::new(1.0, 1e6, 0.0),
+        Some(TimeUnit::Nanos) => Conv::new(1.0, 1e9, 0.0),
         Some(u) => Conv::new(u.to_s_factor().unwrap_or(1.0), 1.0, 0.0),
     };
-    let rate_unit = opts.rate_unit.unwrap_or(match header_unit(rate_col) {
-        Some(Kind::Rate(Some(u))) => u,
-        _ => RateUnit::DegPerHour,
-    });
+    let rate_unit_of = |j: usize| {
+        opts.rate_unit.unwrap_or(match header_unit(j) {
+            Some(Kind::Rate(Some(u))) => u,
+            _ => named_rate(j).unwrap_or(RateUnit::DegPerHour),
+        })
+    };
+    let rate_unit = rate_unit_of(rate_col);
     let temp_unit_of = |j: usize| match header_unit(j) {
         Some(Kind::Temp(Some(u))) => u,
-        _ => TempUnit::Celsius,
+        _ => named_temp(j).unwrap_or(TempUnit::Celsius),
+    };
+    // Every other rate column is another gyro axis of the unit, in °/h like the first.
+    let axis_cols: Vec<usize> = if sn.has_header {
+        (0..ncols)
+            .filter(|&j| {
+                !used[j] && guessable[j] && matches!(kinds[j].0, Kind::Rate(_)) && j != rate_col
+            })
+            .collect()
+    } else {
+        Vec::new()
     };
     let celsius = |u: TempUnit| {
         let (m, a) = u.to_celsius();
@@ -333,10 +375,19 @@ pub(crate) fn plan(sn: &Sniffed, opts: &ReadOptions) -> Result<Plan, Fail> {
     let mut columns = Vec::with_capacity(ncols);
     let mut actions = vec![Action::Skip; ncols];
     let mut slot_col = vec![time_col, Some(rate_col), Some(temp_col)];
+    slot_col.extend(axis_cols.iter().map(|&j| Some(j)));
     let mut extras = Vec::new();
     for j in 0..ncols {
         let name = sn.names[j].clone();
-        let (role, unit) = if Some(j) == time_col {
+        let (role, unit) = if let Some(k) = axis_cols.iter().position(|&a| a == j) {
+            let u = rate_unit_of(j);
+            actions[j] = Action::Parse {
+                slot: SLOT_TEMP + 1 + k,
+                required: false,
+                conv: Conv::new(u.to_dph_factor(), 1.0, 0.0),
+            };
+            (ColumnRole::OtherAxis, u.to_string())
+        } else if Some(j) == time_col {
             actions[j] = Action::Parse {
                 slot: SLOT_TIME,
                 required: true,
@@ -363,12 +414,17 @@ pub(crate) fn plan(sn: &Sniffed, opts: &ReadOptions) -> Result<Plan, Fail> {
             let slot = slot_col.len();
             slot_col.push(Some(j));
             let (conv, read_unit, kept_unit) = match header_unit(j) {
+                // A raw register stays in its counts.
+                Some(Kind::Temp(_)) if is_raw_register(&name) => {
+                    (Conv::IDENT, "counts".to_string(), "counts".to_string())
+                }
                 Some(Kind::Temp(u)) => {
                     let u = u.unwrap_or(TempUnit::Celsius);
                     (celsius(u), u.to_string(), TempUnit::Celsius.to_string())
                 }
                 Some(Kind::Rate(Some(u))) => (Conv::IDENT, u.to_string(), u.to_string()),
                 Some(Kind::Time(Some(u))) => (Conv::IDENT, u.to_string(), u.to_string()),
+                Some(Kind::Accel(Some(u))) => (Conv::IDENT, u.to_string(), u.to_string()),
                 _ => {
                     let raw = if sn.has_header {
                         raw_unit(&name)
@@ -407,6 +463,12 @@ pub(crate) fn plan(sn: &Sniffed, opts: &ReadOptions) -> Result<Plan, Fail> {
         nslots,
         time,
         slot_col,
+        axis: if sn.has_header {
+            axis_name(&sn.names[rate_col])
+        } else {
+            String::new()
+        },
+        axes: axis_cols.iter().map(|&j| axis_name(&sn.names[j])).collect(),
         extras,
     })
 }

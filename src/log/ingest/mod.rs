@@ -60,6 +60,7 @@ mod checks;
 mod columns;
 mod names;
 mod parse;
+mod plausible;
 mod read;
 mod series;
 mod sniff;

@@ -13,6 +13,8 @@ pub(super) enum Kind {
     Index,
     Rate(Option<RateUnit>),
     Temp(Option<TempUnit>),
+    /// An accelerometer axis, with the unit its name states (`m/s^2`, `g`, `mg`).
+    Accel(Option<&'static str>),
     Other,
 }
 
@@ -84,12 +86,46 @@ const RATE_WORDS: &[&str] = &[
     "rate",
     "gyro",
     "gyr",
+    "gyroscope",
     "drift",
     "w",
+    "g",
     "ω",
     "angular",
+    "angvel",
     "омега",
     "дрейф",
+];
+/// Words of an accelerometer column (`ax`, `acc_x`, `accel_x_m_s2`, `linear_acceleration_x`).
+const ACCEL_WORDS: &[&str] = &[
+    "a",
+    "acc",
+    "accel",
+    "accelerometer",
+    "acceleration",
+    "linear",
+    "f",
+];
+/// Words of a temperature that is the chamber's, not the gyro's (`temp_chamber_c`,
+/// `ambient_C`, `setpoint`): never the calibration temperature while the gyro's own is there.
+const CHAMBER_WORDS: &[&str] = &[
+    "chamber",
+    "ambient",
+    "air",
+    "setpoint",
+    "set",
+    "sp",
+    "oven",
+    "room",
+    "env",
+    "environment",
+    "target",
+];
+/// Words that mark a raw sensor register rather than a physical value (`temp_raw_int16`):
+/// such a column is taken for a role only when nothing else fits, and is checked.
+const RAW_WORDS: &[&str] = &[
+    "raw", "int", "int16", "uint16", "int32", "counts", "count", "adc", "lsb", "reg", "code",
+    "register", "digits",
 ];
 const TEMP_WORDS: &[&str] = &[
     "temp",
@@ -104,15 +140,51 @@ const TEMP_WORDS: &[&str] = &[
 ];
 
 /// Whether `word` is `kw` followed by nothing, digits, or an axis letter (`gyro2`, `wz`).
+/// The one-letter words `g`, `a` and `f` count only with an axis letter (`gx`, `ay`).
 fn word_is(word: &str, kw: &str) -> bool {
+    let axis_only = matches!(kw, "g" | "a" | "f");
     match word.strip_prefix(kw) {
-        Some("") => true,
+        Some("") => !axis_only,
         Some(rest) => {
-            rest.chars().all(|c| c.is_ascii_digit())
-                || ((kw.len() > 1 || kw == "w") && matches!(rest, "x" | "y" | "z"))
+            (!axis_only && rest.chars().all(|c| c.is_ascii_digit()))
+                || ((kw.len() > 1 || matches!(kw, "w" | "g" | "a" | "f"))
+                    && matches!(rest, "x" | "y" | "z"))
         }
         None => false,
     }
+}
+
+/// Whether a name's words mark a raw register (`temp_raw_int16`).
+pub(crate) fn is_raw_register(name: &str) -> bool {
+    name_parts(name)
+        .words
+        .iter()
+        .any(|w| RAW_WORDS.contains(&w.as_str()))
+}
+
+/// The unit an accelerometer name states in its last words (`m_s2`, `mps2`, `g`, `mg`).
+fn accel_unit(words: &[String], bracket: Option<&str>) -> Option<&'static str> {
+    let key = |k: &str| match k {
+        "ms2" | "mss" | "mps2" | "mpers2" | "mpersec2" => Some("m/s^2"),
+        "g" | "gee" => Some("g"),
+        "mg" | "millig" => Some("mg"),
+        _ => None,
+    };
+    bracket
+        .and_then(key)
+        .or_else(|| (1..words.len()).find_map(|i| key(&unit_key(&words[i..].concat()))))
+}
+
+/// The name of the gyro axis a rate column holds: its words before the unit (`gx` for
+/// `gx_dps`, `gyro_x` for `gyro_x_rad_s`, `rate` for `Rate (deg/s)`).
+pub(crate) fn axis_name(name: &str) -> String {
+    let p = name_parts(name);
+    let words = &p.words;
+    let end = (1..words.len())
+        .find(|&i| RateUnit::from_key(&unit_key(&words[i..].concat())).is_some())
+        .unwrap_or(words.len());
+    let name = words[..end].join("_");
+    if name.is_empty() { p.base } else { name }
 }
 
 fn in_list(word: &str, list: &[&str]) -> bool {
@@ -132,12 +204,17 @@ pub(super) fn classify(name: &str) -> (Kind, u8) {
     };
     let rest = &p.words[1..];
     let bracket = p.unit.as_deref().map(unit_key);
+    // A temperature's unit: in brackets, as its last words, or as a word of its own
+    // (`temp_C_est`).
     let temp_unit = || {
         bracket
             .as_deref()
             .and_then(TempUnit::from_key)
             .or_else(|| suffix_unit(rest, TempUnit::from_key))
+            .or_else(|| rest.iter().find_map(|w| TempUnit::from_key(&unit_key(w))))
     };
+    let raw = p.words.iter().any(|w| RAW_WORDS.contains(&w.as_str()));
+    let chamber = p.words.iter().any(|w| CHAMBER_WORDS.contains(&w.as_str()));
     let time_unit = || {
         bracket
             .as_deref()
@@ -173,7 +250,25 @@ pub(super) fn classify(name: &str) -> (Kind, u8) {
         return (Kind::Temp(temp_unit()), 3);
     }
     if p.words.iter().any(|w| in_list(w, TEMP_WORDS)) {
-        return (Kind::Temp(temp_unit()), 3);
+        // A raw register (`temp_raw_int16`) is a temperature only when nothing better is; the
+        // chamber's only when the gyro's is not there.
+        let strength = if raw {
+            1
+        } else if chamber {
+            2
+        } else {
+            3
+        };
+        return (Kind::Temp(temp_unit()), strength);
+    }
+    if in_list(first, ACCEL_WORDS)
+        && (first.len() > 1 || rest.iter().any(|w| matches!(w.as_str(), "x" | "y" | "z")))
+        && !in_list(first, RATE_WORDS)
+    {
+        let unit = accel_unit(&p.words, bracket.as_deref());
+        if first.len() > 1 || unit.is_some() {
+            return (Kind::Accel(unit), 2);
+        }
     }
     if in_list(first, TIME_WORDS) || (first.starts_with("time") && time_unit().is_some()) {
         let implied = match first.as_str() {
@@ -220,6 +315,18 @@ pub(super) fn classify(name: &str) -> (Kind, u8) {
         }
     }
     (Kind::Other, 0)
+}
+
+/// The unit a column's name states in brackets or as its last words, whatever the rest of
+/// the name says: for a column the engineer mapped by name (`--rate-col gx_dps` is in deg/s
+/// even where `gx` alone would not be read as a rate).
+pub(crate) fn stated_unit<T>(name: &str, from_key: impl Fn(&str) -> Option<T> + Copy) -> Option<T> {
+    let p = name_parts(name);
+    p.unit
+        .as_deref()
+        .map(unit_key)
+        .and_then(|k| from_key(&k))
+        .or_else(|| suffix_unit(&p.words, from_key))
 }
 
 /// The rate unit a header name states (`omega_dph`, `Rate [deg/s]`), for the one-column

@@ -414,7 +414,7 @@ pub(crate) fn sniff(
                 first.no,
                 0,
                 "the file has only one column; driftlab needs a rate and a temperature column \
-                 (and a time column, or sample_rate_hz)"
+                 (and a time column, or --sample-rate HZ)"
                     .to_string(),
             )
         } else {
@@ -532,7 +532,7 @@ pub(crate) fn sniff(
             first.no,
             0,
             "the file has only one column; driftlab needs a rate and a temperature column \
-             (and a time column, or sample_rate_hz)"
+             (and a time column, or --sample-rate HZ)"
                 .to_string(),
         ));
     }

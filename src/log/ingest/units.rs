@@ -20,6 +20,8 @@ pub enum RateUnit {
     DegPerSec,
     /// Radians per second.
     RadPerSec,
+    /// Millidegrees per second, as MEMS gyros' registers are often scaled.
+    MilliDegPerSec,
 }
 
 impl RateUnit {
@@ -30,6 +32,7 @@ impl RateUnit {
             RateUnit::DegPerHour => 1.0,
             RateUnit::DegPerSec => 3600.0,
             RateUnit::RadPerSec => 180.0 / std::f64::consts::PI * 3600.0,
+            RateUnit::MilliDegPerSec => 3.6,
         }
     }
 
@@ -47,6 +50,9 @@ impl RateUnit {
             "rads" | "radsec" | "radpers" | "radpersec" | "radpersecond" | "rps" | "радс" => {
                 RateUnit::RadPerSec
             }
+            "mdps" | "mdegs" | "mdegsec" | "mdegpers" | "millidegs" | "millidegpers" => {
+                RateUnit::MilliDegPerSec
+            }
             _ => return None,
         })
     }
@@ -58,6 +64,7 @@ impl fmt::Display for RateUnit {
             RateUnit::DegPerHour => "deg/h",
             RateUnit::DegPerSec => "deg/s",
             RateUnit::RadPerSec => "rad/s",
+            RateUnit::MilliDegPerSec => "mdeg/s",
         })
     }
 }
@@ -67,7 +74,7 @@ impl FromStr for RateUnit {
     fn from_str(s: &str) -> Result<Self, String> {
         RateUnit::from_key(&unit_key(s)).ok_or_else(|| {
             format!(
-                "unknown rate unit \"{}\": use deg/h (dph), deg/s (dps) or rad/s",
+                "unknown rate unit \"{}\": use deg/h (dph), deg/s (dps), mdeg/s (mdps) or rad/s",
                 s.trim()
             )
         })
@@ -98,6 +105,10 @@ pub enum TimeUnit {
     Seconds,
     /// Milliseconds.
     Millis,
+    /// Microseconds, as embedded loggers stamp samples.
+    Micros,
+    /// Nanoseconds, as ROS and PC clocks do.
+    Nanos,
     /// Minutes.
     Minutes,
     /// Hours.
@@ -113,6 +124,8 @@ impl TimeUnit {
         match self {
             TimeUnit::Seconds => Some(1.0),
             TimeUnit::Millis => Some(0.001),
+            TimeUnit::Micros => Some(1e-6),
+            TimeUnit::Nanos => Some(1e-9),
             TimeUnit::Minutes => Some(60.0),
             TimeUnit::Hours => Some(3600.0),
             TimeUnit::Samples => None,
@@ -126,6 +139,9 @@ impl TimeUnit {
             "ms" | "msec" | "msecs" | "millis" | "millisecond" | "milliseconds" | "мс" => {
                 TimeUnit::Millis
             }
+            "us" | "µs" | "μs" | "usec" | "usecs" | "micros" | "microsecond" | "microseconds"
+            | "мкс" => TimeUnit::Micros,
+            "ns" | "nsec" | "nsecs" | "nanos" | "nanosecond" | "nanoseconds" => TimeUnit::Nanos,
             "min" | "mins" | "minute" | "minutes" | "мин" => TimeUnit::Minutes,
             "h" | "hr" | "hrs" | "hour" | "hours" | "ч" => TimeUnit::Hours,
             "samples" | "sample" | "smp" | "idx" | "index" | "n" | "#" => TimeUnit::Samples,
@@ -139,6 +155,8 @@ impl fmt::Display for TimeUnit {
         f.write_str(match self {
             TimeUnit::Seconds => "s",
             TimeUnit::Millis => "ms",
+            TimeUnit::Micros => "us",
+            TimeUnit::Nanos => "ns",
             TimeUnit::Minutes => "min",
             TimeUnit::Hours => "h",
             TimeUnit::Samples => "samples",
@@ -151,7 +169,7 @@ impl FromStr for TimeUnit {
     fn from_str(s: &str) -> Result<Self, String> {
         TimeUnit::from_key(&unit_key(s)).ok_or_else(|| {
             format!(
-                "unknown time unit \"{}\": use s, ms, min, h or samples",
+                "unknown time unit \"{}\": use s, ms, us, ns, min, h or samples",
                 s.trim()
             )
         })

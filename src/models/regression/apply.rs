@@ -11,6 +11,7 @@ use crate::log::Log;
 use crate::models::vakhrameev::correct::{Corrected, Correction};
 use crate::models::vakhrameev::{Regime, SourceInfo};
 use crate::signal::Rates;
+use crate::signal::timing::GAP_FACTOR;
 
 impl RegressionModel {
     /// Corrects a whole log.
@@ -30,6 +31,7 @@ impl RegressionModel {
             cor_dph: Vec::with_capacity(n),
             regime: Vec::with_capacity(n),
             ready_from: s.ready_from.min(n),
+            ready: s.ready.clone(),
             ..Correction::default()
         };
         let mut ch = vec![0.0; s.channels.len()];
@@ -114,6 +116,10 @@ pub struct RegressionCorrector {
     row: Vec<f64>,
     count: usize,
     t0: f64,
+    /// Time of the last sample, to see a gap.
+    last_time_s: f64,
+    /// The sample at which the current segment started: no delayed read reaches before it.
+    segment_start: usize,
 }
 
 impl RegressionCorrector {
@@ -133,6 +139,8 @@ impl RegressionCorrector {
             row: Vec::new(),
             count: 0,
             t0: 0.0,
+            last_time_s: f64::NAN,
+            segment_start: 0,
             model,
         }
     }
@@ -162,6 +170,19 @@ impl RegressionCorrector {
         if i == 0 {
             self.t0 = time_s;
         }
+        // A step of more than GAP_FACTOR samples is a dropout: T's rates and lag start afresh,
+        // as the batch correction restarts each segment; the gyro stayed on, so the
+        // self-heating clock runs on.
+        if time_s - self.last_time_s > GAP_FACTOR * self.dt_s {
+            self.rates = Rates::new(self.model.steps_for(self.dt_s), self.dt_s);
+            self.lag = Lag::new(
+                self.model.lag_s.unwrap_or(0.0),
+                self.model.lag_per_c,
+                self.dt_s,
+            );
+            self.segment_start = i;
+        }
+        self.last_time_s = time_s;
         // T as the model reads it: through the lag, when there is one.
         let temp_c = if self.model.lag_s.is_some_and(|l| l > 0.0) {
             self.lag.push(temp_c)
@@ -175,7 +196,8 @@ impl RegressionCorrector {
         self.temp2.set(i, temp2_c);
         self.count += 1;
 
-        let f = delayed_index(i, self.model.delay.at(temp_c), self.dt_s);
+        let f =
+            delayed_index(i, self.model.delay.at(temp_c), self.dt_s).max(self.segment_start as f64);
         let temp = self.temp.at(f);
         let mut x = Inputs {
             t_s: time_s - self.t0,

@@ -10,6 +10,8 @@ use crate::error::{Error, Result};
 use crate::log::Log;
 use crate::models::recipe::PlateauChoice;
 use nalgebra::{DMatrix, DVector};
+use rayon::prelude::*;
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 
 /// The normal equations of a least-squares fit, accumulated sample by sample.
 struct Normal {
@@ -266,12 +268,101 @@ fn cost<I: Iterator<Item = usize>>(
     }
 }
 
+/// The most samples a search's cost is computed on: evenly spread, the cost curve's shape
+/// does not need every sample, and a 10⁷-sample log would otherwise take minutes.
+const SEARCH_SAMPLES: usize = 100_000;
+
+/// How far a fit's searches have gone, told to `progress` (the share of the cost evaluations
+/// planned that are done, 0 to 1) after each one; when `progress` returns false the searches
+/// stop and the fit returns [`Error::Cancelled`].
+struct Budget<'p> {
+    planned: usize,
+    done: AtomicUsize,
+    stop: AtomicBool,
+    progress: &'p (dyn Fn(f64) -> bool + Sync),
+}
+
+impl Budget<'_> {
+    /// Counts one evaluation; false once the fit is to stop.
+    fn tick(&self) -> bool {
+        if self.stop.load(Ordering::Relaxed) {
+            return false;
+        }
+        let d = self.done.fetch_add(1, Ordering::Relaxed) + 1;
+        let go = (self.progress)((d as f64 / self.planned.max(1) as f64).min(1.0));
+        if !go {
+            self.stop.store(true, Ordering::Relaxed);
+        }
+        go
+    }
+
+    fn check(&self) -> Result<()> {
+        if self.stop.load(Ordering::Relaxed) {
+            Err(Error::Cancelled)
+        } else {
+            Ok(())
+        }
+    }
+}
+
+/// Cost evaluations of a search over a grid of `points`: the grid, then the golden section's
+/// two starting points and its twenty steps.
+fn evaluations(points: usize) -> usize {
+    points + 22
+}
+
+/// The cost evaluations `spec`'s searches make, for [`Budget`].
+fn planned_evaluations(spec: &RegressionSpec) -> usize {
+    let lag = match spec.lag {
+        LagSpec::Search {
+            with_temperature: true,
+            ..
+        } => 11 * evaluations(25),
+        LagSpec::Search { .. } => evaluations(25),
+        _ => 0,
+    };
+    let delay = match spec.delay {
+        DelaySpec::Search { .. } => evaluations(31),
+        DelaySpec::Bands { bands, .. } => bands * evaluations(31),
+        _ => 0,
+    };
+    let lambda = match spec.lambda {
+        LambdaSpec::Search { .. } if spec.terms.contains(&Term::SelfHeating) => {
+            evaluations(25) * if delay > 0 { 2 } else { 1 }
+        }
+        _ => 0,
+    };
+    lag + delay + lambda + 1
+}
+
 /// Fits a regression model to `log`.
 ///
 /// # Errors
 /// An invalid spec, a channel the log lacks, or too few usable samples for the terms.
 pub fn fit(log: &Log, spec: &RegressionSpec) -> Result<RegressionModel> {
+    fit_with_progress(log, spec, &|_| true)
+}
+
+/// [`fit`], telling `progress` the share of its searches done (0 to 1) as it goes; when
+/// `progress` returns false the fit stops as soon as it can.
+///
+/// # Errors
+/// As [`fit`], and [`Error::Cancelled`] when stopped.
+pub fn fit_with_progress(
+    log: &Log,
+    spec: &RegressionSpec,
+    progress: &(dyn Fn(f64) -> bool + Sync),
+) -> Result<RegressionModel> {
     spec.validate()?;
+    let budget = Budget {
+        planned: planned_evaluations(spec),
+        done: AtomicUsize::new(0),
+        stop: AtomicBool::new(false),
+        progress,
+    };
+    if !(budget.progress)(0.0) {
+        return Err(Error::Cancelled);
+    }
     let needs_temp2 = spec.terms.iter().any(Term::needs_temp2);
     let temp2 = if needs_temp2 {
         let name = spec
@@ -291,21 +382,31 @@ pub fn fit(log: &Log, spec: &RegressionSpec) -> Result<RegressionModel> {
     let s = Signals::of(log, spec, temp2.as_deref(), None)?;
     let p = terms::column_names(&spec.terms).len();
     let n = s.len();
-    if n < s.ready_from + 2 * p + 2 {
+    if s.ready_count() < 2 * p + 2 {
         return Err(Error::Fit(format!(
             "{}: {n} samples are too few for model {} ({p} coefficients)",
             log.source, spec.name
         )));
     }
-    let stride = ((n - s.ready_from) / 200_000).max(1);
+    let stride = s.ready_count().div_ceil(SEARCH_SAMPLES).max(1);
     let stages = stages(spec);
     // The plateaus, when a stage needs them: the engineer's ranges, or found by the detector
     // (with the recipe's options) on T as measured, where the chamber held.
     let plateau: Vec<bool> = if stages.iter().any(|st| st.on_plateaus) {
         let ranges = match &spec.plateaus {
-            PlateauChoice::Auto(opts) => {
-                crate::signal::plateau::detect(&log.time_s, &s.tdot, s.ready_from, opts)
-            }
+            // Within each segment's samples with full history: no plateau spans a gap.
+            PlateauChoice::Auto(opts) => s
+                .ready
+                .iter()
+                .flat_map(|r| {
+                    crate::signal::plateau::detect(
+                        &log.time_s[r.clone()],
+                        &s.tdot[r.clone()],
+                        0,
+                        opts,
+                    )
+                })
+                .collect(),
             PlateauChoice::Manual { ranges } => ranges.clone(),
         };
         if ranges.is_empty() {
@@ -336,27 +437,32 @@ pub fn fit(log: &Log, spec: &RegressionSpec) -> Result<RegressionModel> {
             with_temperature,
         } => {
             let g = search::grid(0.0, max_s, 25, false);
+            // Each curve refills one set of signals in place for every lag it tries.
             let tau_curve = |per_c: f64| {
+                let mut held = Signals::of(log, spec, temp2.as_deref(), None).ok();
                 search::minimize("lag_s", &g, false, |tau| {
-                    let Ok(s) = Signals::of(log, spec, temp2.as_deref(), Some((tau, per_c))) else {
+                    let Some(s) = held.as_mut().filter(|_| budget.tick()) else {
                         return f64::INFINITY;
                     };
-                    let knots = t_knots_of(spec, &s).unwrap_or_default();
+                    s.relag(log, spec, (tau, per_c));
+                    let s = &*s;
+                    let knots = t_knots_of(spec, s).unwrap_or_default();
                     let d = Design {
                         terms: &spec.terms,
                         lambda: lambda0,
                         t_knots: &knots,
                         delay: &Delay::default(),
                     };
-                    cost(&s, &d, &stages, &plateau, |_| {
-                        (s.ready_from..n).step_by(stride)
+                    cost(s, &d, &stages, &plateau, |_| {
+                        s.ready_samples().step_by(stride)
                     })
                 })
             };
             if with_temperature {
-                // One τ search per slope: the slope's own curve is the best cost of each.
+                // One τ search per slope, the slopes side by side on the cores: the slope's
+                // own curve is the best cost of each.
                 let slopes = search::grid(0.0, 0.025, 11, false);
-                let curves: Vec<CostCurve> = slopes.iter().map(|&b| tau_curve(b)).collect();
+                let curves: Vec<CostCurve> = slopes.par_iter().map(|&b| tau_curve(b)).collect();
                 let best_cost =
                     |c: &CostCurve| c.rmse.iter().copied().fold(f64::INFINITY, f64::min);
                 let k = (0..curves.len())
@@ -383,14 +489,14 @@ pub fn fit(log: &Log, spec: &RegressionSpec) -> Result<RegressionModel> {
             }
         }
     };
+    budget.check()?;
     let s = match lag {
         Some(_) => Signals::of(log, spec, temp2.as_deref(), lag)?,
         None => s,
     };
     let t_knots = t_knots_of(spec, &s).map_err(|e| Error::Fit(format!("{}: {e}", log.source)))?;
-    // Searches run on at most 200 000 evenly spread samples: the cost curve's shape does not
-    // need every sample, and a 10⁷-sample log would otherwise take minutes.
-    let sub = || (s.ready_from..n).step_by(stride);
+    // Searches run on at most SEARCH_SAMPLES evenly spread samples.
+    let sub = || s.ready_samples().step_by(stride);
     let has_selfheat = spec.terms.contains(&Term::SelfHeating);
     let mut lambda = lambda0;
     let mut delay = match spec.delay {
@@ -406,6 +512,9 @@ pub fn fit(log: &Log, spec: &RegressionSpec) -> Result<RegressionModel> {
         }
         let g = search::grid(min_s, max_s, 25, true);
         Some(search::minimize("lambda_s", &g, true, |l| {
+            if !budget.tick() {
+                return f64::INFINITY;
+            }
             let d = Design {
                 terms: &spec.terms,
                 lambda: l,
@@ -423,6 +532,9 @@ pub fn fit(log: &Log, spec: &RegressionSpec) -> Result<RegressionModel> {
         DelaySpec::Search { max_s } => {
             let g = search::grid(0.0, max_s, 31, false);
             let c = search::minimize("delay_s", &g, false, |tau| {
+                if !budget.tick() {
+                    return f64::INFINITY;
+                }
                 let d = Delay::constant(tau);
                 let design = Design {
                     terms: &spec.terms,
@@ -436,10 +548,11 @@ pub fn fit(log: &Log, spec: &RegressionSpec) -> Result<RegressionModel> {
             searches.push(c);
         }
         DelaySpec::Bands { bands, max_s } => {
-            let (lo, hi) = s.temp[s.ready_from..]
-                .iter()
+            let (lo, hi) = s
+                .ready_samples()
+                .map(|i| s.temp[i])
                 .filter(|v| v.is_finite())
-                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
                     (a.min(v), b.max(v))
                 });
             let width = (hi - lo) / bands as f64;
@@ -458,6 +571,9 @@ pub fn fit(log: &Log, spec: &RegressionSpec) -> Result<RegressionModel> {
                 let centre = sub().filter(in_band).map(|i| s.temp[i]).sum::<f64>() / count as f64;
                 let c =
                     search::minimize(&format!("delay_s at {centre:.1} degC"), &g, false, |tau| {
+                        if !budget.tick() {
+                            return f64::INFINITY;
+                        }
                         let d = Delay::constant(tau);
                         let design = Design {
                             terms: &spec.terms,
@@ -486,13 +602,14 @@ pub fn fit(log: &Log, spec: &RegressionSpec) -> Result<RegressionModel> {
         searches.push(c);
     }
 
+    budget.check()?;
     let design = Design {
         terms: &spec.terms,
         lambda,
         t_knots: &t_knots,
         delay: &delay,
     };
-    let sol = solve_stages(&s, &design, &stages, &plateau, |_| s.ready_from..n).map_err(
+    let sol = solve_stages(&s, &design, &stages, &plateau, |_| s.ready_samples()).map_err(
         |(used, p)| {
             Error::Fit(format!(
                 "{}: model {} could not be fitted ({used} usable samples for {p} coefficients)",
@@ -530,10 +647,11 @@ fn t_knots_of(spec: &RegressionSpec, s: &Signals) -> std::result::Result<Vec<f64
     }) else {
         return Ok(Vec::new());
     };
-    let (lo, hi) = s.temp[s.ready_from.min(s.temp.len())..]
-        .iter()
+    let (lo, hi) = s
+        .ready_samples()
+        .map(|i| s.temp[i])
         .filter(|v| v.is_finite())
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
             (a.min(v), b.max(v))
         });
     if hi <= lo || hi.is_nan() {
@@ -565,7 +683,7 @@ fn ranges_and_stats(
             r[1] = r[1].max(v);
         }
     };
-    for i in (s.ready_from..s.len()).filter(|&i| used[i]) {
+    for i in s.ready_samples().filter(|&i| used[i]) {
         let x = s.inputs(i, &m.delay, &mut ch);
         let y = s.omega[i];
         let pred = m.predict(&x, &ch, &mut row);

@@ -22,7 +22,7 @@ mod spec;
 pub mod terms;
 
 pub use apply::RegressionCorrector;
-pub use fit::fit;
+pub use fit::{fit, fit_with_progress};
 pub use fitted::{
     Delay, InputRanges, Range, RegressionCalibration, RegressionModel, RegressionStats,
 };

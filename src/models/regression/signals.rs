@@ -36,7 +36,24 @@ pub(crate) struct Signals<'a> {
     pub channels: Vec<&'a [f64]>,
     pub dt_s: f64,
     pub ready_from: usize,
+    /// The samples with full rate history, one range per segment of the log.
+    pub ready: Vec<std::ops::Range<usize>>,
+    /// The first sample of each segment: no delayed read reaches before its segment's start.
+    pub segment_starts: Vec<usize>,
+    /// Lag weights by temperature reading, for [`Signals::relag`].
+    alpha_cache: AlphaCache,
 }
+
+/// Lag weights by the bits of a temperature reading: a direct-mapped table, whose empty slots
+/// hold the weight of 0.0 (whose bits are 0), so that every slot is right for its key.
+#[derive(Default)]
+struct AlphaCache {
+    keys: Vec<u64>,
+    alphas: Vec<f64>,
+}
+
+const ALPHA_CACHE_BITS: u32 = 16;
+const ALPHA_CACHE: usize = 1 << ALPHA_CACHE_BITS;
 
 /// Looks up a channel by name, with a message that lists what the log has.
 fn channel<'a>(log: &'a Log, name: &str) -> Result<&'a [f64]> {
@@ -65,15 +82,22 @@ impl<'a> Signals<'a> {
         temp2: Option<&str>,
         lag: Option<(f64, f64)>,
     ) -> Result<Signals<'a>> {
-        let dt_s = log.nominal_dt_s();
+        let timing = log.timing();
+        let dt_s = timing.nominal_dt_s;
+        let segments = timing.segments;
+        // The lag, like the rates, starts afresh in each segment.
         let temp = match lag {
             Some((tau, per_c)) if tau > 0.0 => {
-                let mut lag = Lag::new(tau, per_c, dt_s);
-                log.temp_c.iter().map(|&t| lag.push(t)).collect()
+                let mut out = Vec::with_capacity(log.temp_c.len());
+                for r in &segments {
+                    let mut lag = Lag::new(tau, per_c, dt_s);
+                    out.extend(log.temp_c[r.clone()].iter().map(|&t| lag.push(t)));
+                }
+                out
             }
             _ => log.temp_c.clone(),
         };
-        let d = signal::derivatives(&temp, steps(spec, dt_s), dt_s);
+        let d = signal::derivatives_in(&temp, steps(spec, dt_s), dt_s, &segments);
         let temp2 = temp2.map(|n| channel(log, n)).transpose()?;
         let channels = terms::channel_names(&spec.terms)
             .iter()
@@ -89,6 +113,9 @@ impl<'a> Signals<'a> {
             channels,
             dt_s,
             ready_from: d.ready_from,
+            ready: d.ready,
+            segment_starts: segments.iter().map(|r| r.start).collect(),
+            alpha_cache: AlphaCache::default(),
         })
     }
 
@@ -96,11 +123,104 @@ impl<'a> Signals<'a> {
         self.time.len()
     }
 
+    /// The samples with full rate history, in order.
+    pub(crate) fn ready_samples(&self) -> impl Iterator<Item = usize> + Clone + '_ {
+        self.ready.iter().flat_map(|r| r.clone())
+    }
+
+    /// How many samples have full rate history.
+    pub(crate) fn ready_count(&self) -> usize {
+        self.ready.iter().map(|r| r.len()).sum()
+    }
+
+    /// The first sample of the segment holding sample `i`.
+    #[inline]
+    fn segment_start(&self, i: usize) -> usize {
+        match self.segment_starts.as_slice() {
+            [] | [_] => 0,
+            starts => starts[starts.partition_point(|&s| s <= i).saturating_sub(1)],
+        }
+    }
+
+    /// The log's segments, from their starts.
+    fn segments(&self) -> Vec<std::ops::Range<usize>> {
+        let n = self.time.len();
+        let mut starts = self.segment_starts.clone();
+        if starts.is_empty() {
+            starts.push(0);
+        }
+        starts
+            .iter()
+            .enumerate()
+            .map(|(k, &a)| a..starts.get(k + 1).copied().unwrap_or(n))
+            .collect()
+    }
+
+    /// The same signals with T read through another lag, computed in place: one pass of the
+    /// lag and the rates over the log, into the buffers already held (a lag search tries
+    /// hundreds of lags on a log of millions of samples). The same bits as
+    /// [`Signals::of`] with that lag.
+    pub(crate) fn relag(&mut self, log: &Log, spec: &RegressionSpec, lag: (f64, f64)) {
+        let (tau, per_c) = lag;
+        let steps = steps(spec, self.dt_s);
+        let dt_s = self.dt_s;
+        let new_lag = || (tau > 0.0).then(|| Lag::new(tau, per_c, dt_s));
+        let segments = self.segments();
+        // A temperature-dependent weight is an exponential per sample; a log's readings
+        // repeat (a sensor's resolution, plateaus, cycles), so weights are kept by reading.
+        let cache = &mut self.alpha_cache;
+        if let Some(l) = new_lag().filter(Lag::varies) {
+            cache.keys.clear();
+            cache.keys.resize(ALPHA_CACHE, 0);
+            cache.alphas.clear();
+            cache.alphas.resize(ALPHA_CACHE, l.alpha_at(0.0));
+        }
+        self.temp.clear();
+        self.tdot.clear();
+        self.tddot.clear();
+        self.ready.clear();
+        // The lag and the rates start afresh in each segment, as in [`Signals::of`].
+        for r in &segments {
+            let mut rates = signal::Rates::new(steps.within(r.len()), dt_s);
+            let mut lag = new_lag();
+            for &t in &log.temp_c[r.clone()] {
+                let y = match lag.as_mut() {
+                    None => t,
+                    Some(l) if l.varies() => {
+                        let bits = t.to_bits();
+                        let k = (bits.wrapping_mul(0x9E37_79B9_7F4A_7C15)
+                            >> (64 - ALPHA_CACHE_BITS)) as usize;
+                        let alpha = if cache.keys[k] == bits {
+                            cache.alphas[k]
+                        } else {
+                            let a = l.alpha_at(t);
+                            cache.keys[k] = bits;
+                            cache.alphas[k] = a;
+                            a
+                        };
+                        l.step(t, alpha)
+                    }
+                    Some(l) => l.push(t),
+                };
+                let (td, tdd) = rates.push(y);
+                self.temp.push(y);
+                self.tdot.push(td);
+                self.tddot.push(tdd);
+            }
+            let from = r.start + rates.ready_from().min(r.len());
+            if from < r.end {
+                self.ready.push(from..r.end);
+            }
+        }
+        self.ready_from = self.ready.first().map_or(log.len(), |r| r.start);
+    }
+
     /// The inputs of sample `i` with the temperature channels read `delay` seconds back
     /// (linear interpolation between samples; before the log's start, its first sample).
     #[inline]
     pub(crate) fn inputs(&self, i: usize, delay: &Delay, channels: &mut [f64]) -> Inputs {
-        let f = delayed_index(i, delay.at(self.temp[i]), self.dt_s);
+        let f =
+            delayed_index(i, delay.at(self.temp[i]), self.dt_s).max(self.segment_start(i) as f64);
         let temp = interp(&self.temp, f);
         for (v, c) in channels.iter_mut().zip(&self.channels) {
             *v = c[i];
@@ -145,11 +265,28 @@ impl Lag {
     /// Steps the lag with input `x`; with a temperature-dependent τ, τ is taken at `x`.
     #[inline]
     pub(crate) fn push(&mut self, x: f64) -> f64 {
-        let alpha = if self.per_c == 0.0 || self.tau_s <= 0.0 {
-            self.alpha
-        } else {
+        let alpha = self.alpha_at(x);
+        self.step(x, alpha)
+    }
+
+    /// True when the step's weight changes with the input (τ depends on temperature).
+    pub(crate) fn varies(&self) -> bool {
+        self.per_c != 0.0 && self.tau_s > 0.0
+    }
+
+    /// The step's weight for input `x`.
+    #[inline]
+    pub(crate) fn alpha_at(&self, x: f64) -> f64 {
+        if self.varies() {
             1.0 - (-self.dt_s / lag_at(self.tau_s, self.per_c, x)).exp()
-        };
+        } else {
+            self.alpha
+        }
+    }
+
+    /// Steps the lag with input `x` and its weight `alpha` (from [`Lag::alpha_at`]).
+    #[inline]
+    pub(crate) fn step(&mut self, x: f64, alpha: f64) -> f64 {
         let y = match self.y {
             Some(y) if y.is_finite() => y + alpha * (x - y),
             _ => x,
@@ -183,5 +320,46 @@ fn interp(x: &[f64], f: f64) -> f64 {
         x[j]
     } else {
         x[j] + (x[j + 1] - x[j]) * w
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::models::regression::Term;
+
+    #[test]
+    fn signals_relagged_in_place_are_those_made_afresh() {
+        // A ramp with a plateau and a sensor's resolution: readings repeat, as in a log.
+        let n = 5000;
+        let time: Vec<f64> = (0..n).map(|i| i as f64).collect();
+        let temp: Vec<f64> = (0..n)
+            .map(|i| {
+                let t = if i < 2000 {
+                    20.0 + 0.01 * i as f64
+                } else {
+                    40.0
+                };
+                (t * 1000.0 + ((i * 7919) % 5) as f64).round() / 1000.0
+            })
+            .collect();
+        let log = Log::from_columns("ramp", time, vec![0.0; n], temp);
+        let spec = RegressionSpec::new("m", vec![Term::One, Term::T, Term::Tdot]);
+        let mut held = Signals::of(&log, &spec, None, None).unwrap();
+        for lag in [
+            (600.0, 0.0125),
+            (0.0, 0.0),
+            (300.0, 0.0),
+            (1800.0, 0.025),
+            (600.0, 0.0125),
+        ] {
+            held.relag(&log, &spec, lag);
+            let fresh = Signals::of(&log, &spec, None, Some(lag)).unwrap();
+            let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(&held.temp), bits(&fresh.temp), "{lag:?}");
+            assert_eq!(bits(&held.tdot), bits(&fresh.tdot), "{lag:?}");
+            assert_eq!(bits(&held.tddot), bits(&fresh.tddot), "{lag:?}");
+            assert_eq!(held.ready_from, fresh.ready_from);
+        }
     }
 }

@@ -9,6 +9,7 @@
 use crate::error::Result;
 use crate::log::Log;
 use crate::models::vakhrameev::{Calibration, Regime};
+use crate::signal::timing::GAP_FACTOR;
 use crate::signal::{self, DerivativeSteps, Derivatives, Rates};
 use rayon::prelude::*;
 
@@ -28,6 +29,9 @@ pub struct Correction {
     pub outside_by_regime: [usize; 3],
     /// First sample with full derivative history (figures of merit start there).
     pub ready_from: usize,
+    /// The samples with full derivative history, one range per segment of the log: the
+    /// figures of merit read these.
+    pub ready: Vec<std::ops::Range<usize>>,
 }
 
 /// A log's predicted drift alone ([`Calibration::predict_log`]).
@@ -49,6 +53,11 @@ pub struct LogPredictor<'a> {
     temps: &'a [f64],
     next: usize,
     outside: usize,
+    /// The log's segments (the rates start afresh at each), and the next one to start.
+    segments: Vec<std::ops::Range<usize>>,
+    segment: usize,
+    steps: DerivativeSteps,
+    dt_s: f64,
 }
 
 impl LogPredictor<'_> {
@@ -67,11 +76,29 @@ impl LogPredictor<'_> {
     pub fn fill(&mut self, out: &mut [f64]) -> usize {
         let end = (self.next + out.len()).min(self.temps.len());
         let n = end - self.next;
-        for (o, &t) in out.iter_mut().zip(&self.temps[self.next..end]) {
-            let (td, tdd) = self.rates.push(t);
-            let (p, regime) = self.cal.predict(t, td, tdd);
-            self.outside += usize::from(self.cal.is_outside(t, td, tdd, regime));
-            *o = p;
+        let mut at = self.next;
+        while at < end {
+            // A segment starting here restarts the rates, as a corrector does after a gap.
+            if let Some(r) = self.segments.get(self.segment)
+                && r.start == at
+            {
+                if self.segment > 0 {
+                    self.rates = Rates::new(self.steps.within(r.len()), self.dt_s);
+                }
+                self.segment += 1;
+            }
+            let stop = self
+                .segments
+                .get(self.segment)
+                .map_or(end, |r| r.start.min(end));
+            let o = &mut out[at - self.next..stop - self.next];
+            for (o, &t) in o.iter_mut().zip(&self.temps[at..stop]) {
+                let (td, tdd) = self.rates.push(t);
+                let (p, regime) = self.cal.predict(t, td, tdd);
+                self.outside += usize::from(self.cal.is_outside(t, td, tdd, regime));
+                *o = p;
+            }
+            at = stop;
         }
         self.next = end;
         n
@@ -97,6 +124,8 @@ pub struct CorrectedRate {
     pub outside_fraction: f64,
     /// First sample with full derivative history (figures of merit start there).
     pub ready_from: usize,
+    /// The samples with full derivative history, one range per segment of the log.
+    pub ready: Vec<std::ops::Range<usize>>,
 }
 
 impl Correction {
@@ -116,8 +145,9 @@ impl Calibration {
 
     /// The smoothed temperature and its rates on `log`, as this calibration computes them.
     pub fn derivatives(&self, log: &Log) -> Derivatives {
-        let dt = log.nominal_dt_s();
-        signal::derivatives(&log.temp_c, self.steps_for(dt), dt)
+        let timing = log.timing();
+        let dt = timing.nominal_dt_s;
+        signal::derivatives_in(&log.temp_c, self.steps_for(dt), dt, &timing.segments)
     }
 
     /// Corrects a whole log.
@@ -173,6 +203,7 @@ impl Calibration {
                 0.0
             },
             ready_from: deriv.ready_from,
+            ready: deriv.ready.clone(),
         }
     }
 
@@ -213,6 +244,7 @@ impl Calibration {
             })
             .reduce(|| [0; 3], |a, b| [a[0] + b[0], a[1] + b[1], a[2] + b[2]]);
         out.ready_from = deriv.ready_from;
+        out.ready.clone_from(&deriv.ready);
         out.update_outside_fraction();
     }
 
@@ -235,13 +267,20 @@ impl Calibration {
     /// while the next is predicted, and hold no column of the prediction.
     pub fn log_predictor<'a>(&'a self, log: &'a Log) -> LogPredictor<'a> {
         let n = log.len();
-        let dt = log.nominal_dt_s();
+        let timing = log.timing();
+        let dt = timing.nominal_dt_s;
+        let steps = self.steps_for(dt);
+        let first = timing.segments.first().map_or(n, |r| r.len());
         LogPredictor {
             cal: self,
-            rates: Rates::new(self.steps_for(dt).within(n), dt),
+            rates: Rates::new(steps.within(first), dt),
             temps: &log.temp_c[..n],
             next: 0,
             outside: 0,
+            segments: timing.segments,
+            segment: 0,
+            steps,
+            dt_s: dt,
         }
     }
 
@@ -299,13 +338,16 @@ pub struct Corrected {
 ///
 /// State: the causal T filter, the last `2s+1` smoothed temperatures and the last `2s+1` values
 /// of Ṫ ([`signal::Rates`]). Per sample: one filter update, two backward differences, one model
-/// evaluation. Samples are assumed to arrive at the fixed step the corrector was made for.
+/// evaluation. Samples are assumed to arrive at the fixed step the corrector was made for; a
+/// step of more than [`GAP_FACTOR`] of them is a dropout, after which the history starts
+/// afresh (the batch correction restarts each segment of a log alike).
 #[derive(Debug, Clone)]
 pub struct StreamCorrector {
     cal: Calibration,
     steps: DerivativeSteps,
     dt_s: f64,
     rates: Rates,
+    last_time_s: f64,
 }
 
 impl StreamCorrector {
@@ -316,16 +358,23 @@ impl StreamCorrector {
             steps,
             dt_s,
             rates: Rates::new(steps, dt_s),
+            last_time_s: f64::NAN,
         }
     }
 
     /// Forgets all history (after a power cycle or a gap in the data).
     pub fn reset(&mut self) {
         self.rates = Rates::new(self.steps, self.dt_s);
+        self.last_time_s = f64::NAN;
     }
 
-    /// Feeds one sample and returns its correction.
+    /// Feeds one sample and returns its correction. A time more than [`GAP_FACTOR`] steps
+    /// after the last sample's is a gap: the history starts afresh from this sample.
     pub fn push(&mut self, time_s: f64, omega_dph: f64, temp_c: f64) -> Corrected {
+        if time_s - self.last_time_s > GAP_FACTOR * self.dt_s {
+            self.rates = Rates::new(self.steps, self.dt_s);
+        }
+        self.last_time_s = time_s;
         let (tdot, tddot) = self.rates.push(temp_c);
         let (pred, regime) = self.cal.predict(temp_c, tdot, tddot);
         Corrected {

@@ -113,20 +113,24 @@ pub struct Prepared {
     pub omega_filtered_dph: Vec<f64>,
     /// Smoothed T, Ṫ and T̈.
     pub deriv: Derivatives,
+    /// The log's contiguous segments: every filter and derivative stays inside one.
+    pub segments: Vec<std::ops::Range<usize>>,
 }
 
 impl Prepared {
-    /// Filters Ω and differentiates T as the recipe says.
+    /// Filters Ω and differentiates T as the recipe says, within each segment of the log.
     pub fn new(log: &Log, recipe: &Recipe) -> Prepared {
-        let dt_s = log.nominal_dt_s();
+        let timing = log.timing();
+        let dt_s = timing.nominal_dt_s;
+        let segments = timing.segments;
         let filter_samples = signal::seconds_to_samples(recipe.filter_s, dt_s);
         let steps = DerivativeSteps {
             smooth: signal::seconds_to_samples(recipe.temp_smoothing_s, dt_s),
             step: signal::seconds_to_samples(recipe.step_h_s, dt_s),
         };
         let (omega_filtered_dph, deriv) = rayon::join(
-            || signal::moving_average_centered(&log.omega_dph, filter_samples),
-            || signal::derivatives(&log.temp_c, steps, dt_s),
+            || signal::moving_average_centered_in(&log.omega_dph, filter_samples, &segments),
+            || signal::derivatives_in(&log.temp_c, steps, dt_s, &segments),
         );
         Prepared {
             dt_s,
@@ -134,6 +138,7 @@ impl Prepared {
             steps: Some(steps),
             omega_filtered_dph,
             deriv,
+            segments,
         }
     }
 }
@@ -459,12 +464,20 @@ pub struct Fit {
 /// The plateau ranges the recipe asks for on this log.
 pub fn plateau_ranges(log: &Log, prepared: &Prepared, recipe: &Recipe) -> Vec<PlateauRange> {
     match &recipe.plateaus {
-        PlateauChoice::Auto(opts) => plateau::detect(
-            &log.time_s,
-            &prepared.deriv.tdot,
-            prepared.deriv.ready_from,
-            opts,
-        ),
+        // Found within each segment's samples with full history: a plateau never spans a gap.
+        PlateauChoice::Auto(opts) => prepared
+            .deriv
+            .ready
+            .iter()
+            .flat_map(|r| {
+                plateau::detect(
+                    &log.time_s[r.clone()],
+                    &prepared.deriv.tdot[r.clone()],
+                    0,
+                    opts,
+                )
+            })
+            .collect(),
         PlateauChoice::Manual { ranges } => ranges.clone(),
     }
 }
@@ -637,10 +650,16 @@ fn auto_deadband(v: &[f64], usable: impl Fn(usize) -> bool) -> f64 {
     *p95 / 5.0
 }
 
+/// Whether sample `i` lies in one of `ready` (ordered, disjoint ranges).
+fn is_ready(ready: &[std::ops::Range<usize>], i: usize) -> bool {
+    let k = ready.partition_point(|r| r.end <= i);
+    ready.get(k).is_some_and(|r| r.contains(&i))
+}
+
 /// Resolves the dead-bands of the recipe on this log.
 pub fn deadbands(prepared: &Prepared, mask: &[bool], recipe: &Recipe) -> (f64, f64) {
     let d = &prepared.deriv;
-    let usable = |i: usize| i >= d.ready_from && !mask[i];
+    let usable = |i: usize| !mask[i] && is_ready(&d.ready, i);
     let db1 = recipe
         .deadband_tdot
         .unwrap_or_else(|| auto_deadband(&d.tdot, usable));

@@ -68,16 +68,24 @@ pub struct SetInputs<'a> {
 #[allow(clippy::needless_range_loop)] // one index walks three parallel columns
 pub fn set_samples(deriv: &Derivatives, mask: &[bool], (db1, db2): (f64, f64)) -> [SetSamples; 2] {
     let n = deriv.tdot.len().min(deriv.tddot.len()).min(mask.len());
-    let from = deriv.ready_from.min(n);
     const SPAN: usize = 1 << 16;
+    // Spans of the samples with full history, each segment's cut into pieces of SPAN.
+    let spans: Vec<(usize, usize)> = deriv
+        .ready
+        .iter()
+        .flat_map(|r| {
+            let end = r.end.min(n);
+            (r.start.min(end)..end)
+                .step_by(SPAN)
+                .map(move |a| (a, (a + SPAN).min(end)))
+        })
+        .collect();
     // [set][k1, k2] index lists of one span of the log.
-    let parts: Vec<[[Vec<u32>; 2]; 2]> = (from..n)
-        .step_by(SPAN)
-        .collect::<Vec<_>>()
+    let parts: Vec<[[Vec<u32>; 2]; 2]> = spans
         .into_par_iter()
-        .map(|a| {
+        .map(|(a, b)| {
             let mut out: [[Vec<u32>; 2]; 2] = Default::default();
-            for i in a..(a + SPAN).min(n) {
+            for i in a..b {
                 let (td, tdd) = (deriv.tdot[i], deriv.tddot[i]);
                 if mask[i] {
                     continue;

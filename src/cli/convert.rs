@@ -1,0 +1,44 @@
+//! `driftlab convert`: one gyro of a drone or robot log (PX4 ULog, ArduPilot DataFlash, ROS 1
+//! bag, MCAP) as a CSV the other commands read with no options.
+
+use super::common::{self, CliError};
+use driftlab::log::formats::{self, TempFrom};
+use std::path::PathBuf;
+
+/// Arguments of `convert`.
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// The log: PX4 ULog, ArduPilot DataFlash .bin, ROS 1 bag or MCAP (told by its bytes).
+    pub log: PathBuf,
+    /// Where to write the CSV (atomically): time_s, gyro_x/y/z_rad_s, temp_c, then
+    /// accel_x/y/z_m_s2 when the gyro has an accelerometer.
+    #[arg(long, short, value_name = "CSV")]
+    pub out: PathBuf,
+    /// The gyro instance (as `inspect` lists them; default: the first whose temperature is
+    /// not all NaN).
+    #[arg(long, value_name = "N")]
+    pub gyro: Option<usize>,
+    /// The temperature to write when the gyro's own is missing: accel (its accelerometer's),
+    /// imu-status (PX4 vehicle_imu_status) or none (temp_c NaN); own is the default.
+    #[arg(long, value_name = "own|accel|imu-status|none")]
+    pub temp_from: Option<TempFrom>,
+}
+
+pub fn run(a: Args) -> Result<(), CliError> {
+    common::refuse_overwriting("--out", &a.out, &[("the log", &a.log)])?;
+    let rec = formats::read_path(&a.log).map_err(|e| e.to_string())?;
+    for p in &rec.problems {
+        note!("{}: {p}", rec.source);
+    }
+    let sel = formats::select(&rec, a.gyro, a.temp_from).map_err(|e| e.to_string())?;
+    note!("{}", sel.note);
+    driftlab::files::atomic::write_with(&a.out, |w| formats::write_csv(&sel, w))
+        .map_err(|e| format!("{}: {e}", a.out.display()))?;
+    note!(
+        "{} samples of {} written to {}",
+        sel.instance.len(),
+        sel.instance.label,
+        a.out.display()
+    );
+    Ok(())
+}

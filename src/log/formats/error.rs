@@ -1,0 +1,108 @@
+//! What can go wrong reading a drone or robot log, and choosing a gyro in it: each error
+//! names the file and, for a malformed file, the byte offset where the reader stopped.
+
+use super::Format;
+use std::path::PathBuf;
+
+/// A log that could not be read.
+#[derive(Debug, thiserror::Error)]
+pub enum FormatError {
+    /// The operating system could not read the file.
+    #[error("{path}: {source}")]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The underlying error.
+        source: std::io::Error,
+    },
+    /// The first bytes are none of the formats' magic bytes.
+    #[error(
+        "{path}: not a PX4 ULog, ArduPilot DataFlash, ROS 1 bag or MCAP file \
+         (it starts with {head})"
+    )]
+    Unrecognised {
+        /// The file.
+        path: PathBuf,
+        /// The first bytes, in hex.
+        head: String,
+    },
+    /// The file is of a known format but broken at `offset`.
+    #[error("{path}: {format} log malformed at byte {offset}: {message}")]
+    Malformed {
+        /// The file.
+        path: PathBuf,
+        /// What the magic bytes said it is.
+        format: Format,
+        /// Byte offset in the file where the broken part starts.
+        offset: u64,
+        /// What is wrong there.
+        message: String,
+    },
+    /// The file is whole but holds no gyro data driftlab can use.
+    #[error("{path}: {format} log without gyro data: {message}")]
+    NoGyro {
+        /// The file.
+        path: PathBuf,
+        /// Its format.
+        format: Format,
+        /// What was looked for and what was found instead.
+        message: String,
+    },
+}
+
+impl FormatError {
+    /// The byte offset of a malformed file's broken part, if that is the error.
+    pub fn offset(&self) -> Option<u64> {
+        match self {
+            FormatError::Malformed { offset, .. } => Some(*offset),
+            _ => None,
+        }
+    }
+}
+
+/// A gyro instance (or its temperature) that cannot be used as asked.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SelectionError {
+    /// `--gyro N` past the last instance.
+    #[error("{source_name}: there is no gyro {asked}; the log has {count}: {listing}")]
+    NoSuchInstance {
+        /// The log.
+        source_name: String,
+        /// The index asked for.
+        asked: usize,
+        /// How many instances there are.
+        count: usize,
+        /// The instances, one `N: label` each.
+        listing: String,
+    },
+    /// The chosen gyro has no temperature of its own (or no instance has one) and no
+    /// replacement was asked for.
+    #[error("{source_name}: {what}; {alternatives}")]
+    NoTemperature {
+        /// The log.
+        source_name: String,
+        /// Which gyro lacks a temperature (or that none has one).
+        what: String,
+        /// The temperatures that could stand in, with the option that picks each, or a
+        /// sentence saying there are none.
+        alternatives: String,
+    },
+}
+
+/// Where in its bytes a reader stopped and why; the public error adds file and format.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct Broken {
+    /// Byte offset in the file.
+    pub offset: u64,
+    /// What is wrong.
+    pub message: String,
+}
+
+impl Broken {
+    pub(crate) fn at(offset: u64, message: impl Into<String>) -> Broken {
+        Broken {
+            offset,
+            message: message.into(),
+        }
+    }
+}

@@ -1,0 +1,257 @@
+//! `sensor_msgs/Imu` and `sensor_msgs/Temperature` decoded from their two wire forms: the
+//! ROS 1 serialization (little-endian, packed, `u32` length before strings) and the CDR of
+//! ROS 2 (a 4-byte encapsulation header, then fields aligned to their size).
+//!
+//! Both messages are small and fixed: a header (stamp, frame_id), then float64s. The
+//! decoders read only those and check every length, so a corrupt message is an error.
+
+use super::recording::RosTime;
+
+/// The fields of `sensor_msgs/Imu` driftlab keeps.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct Imu {
+    pub stamp: RosTime,
+    pub frame_id: String,
+    pub angular_velocity: [f64; 3],
+    pub linear_acceleration: [f64; 3],
+}
+
+/// The fields of `sensor_msgs/Temperature` driftlab keeps.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct Temperature {
+    pub stamp: RosTime,
+    pub frame_id: String,
+    pub celsius: f64,
+}
+
+/// The message types read, by the names ROS 1 and ROS 2 give them.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Kind {
+    Imu,
+    Temperature,
+}
+
+impl Kind {
+    pub(crate) fn of(type_name: &str) -> Option<Kind> {
+        match type_name {
+            "sensor_msgs/Imu" | "sensor_msgs/msg/Imu" => Some(Kind::Imu),
+            "sensor_msgs/Temperature" | "sensor_msgs/msg/Temperature" => Some(Kind::Temperature),
+            _ => None,
+        }
+    }
+}
+
+/// A reader of one message's bytes; `cdr` aligns each field to its size (relative to the
+/// byte after the encapsulation header) and may be big-endian.
+struct Wire<'a> {
+    b: &'a [u8],
+    pos: usize,
+    origin: usize,
+    cdr: bool,
+    big: bool,
+}
+
+impl<'a> Wire<'a> {
+    fn align(&mut self, n: usize) {
+        if self.cdr {
+            let rel = self.pos - self.origin;
+            self.pos += (n - rel % n) % n;
+        }
+    }
+
+    fn take(&mut self, n: usize) -> Result<&'a [u8], String> {
+        self.align(n.min(8));
+        let end = self.pos.checked_add(n).filter(|&e| e <= self.b.len());
+        let Some(end) = end else {
+            return Err(format!(
+                "the message ends at byte {} of {} while a field needs {n} more",
+                self.pos,
+                self.b.len()
+            ));
+        };
+        let s = &self.b[self.pos..end];
+        self.pos = end;
+        Ok(s)
+    }
+
+    fn u32(&mut self) -> Result<u32, String> {
+        let s: [u8; 4] = self.take(4)?.try_into().map_err(|_| "short")?;
+        Ok(if self.big {
+            u32::from_be_bytes(s)
+        } else {
+            u32::from_le_bytes(s)
+        })
+    }
+
+    fn f64(&mut self) -> Result<f64, String> {
+        let s: [u8; 8] = self.take(8)?.try_into().map_err(|_| "short")?;
+        Ok(if self.big {
+            f64::from_be_bytes(s)
+        } else {
+            f64::from_le_bytes(s)
+        })
+    }
+
+    fn string(&mut self) -> Result<String, String> {
+        let n = self.u32()? as usize;
+        if n > self.b.len() - self.pos {
+            return Err(format!(
+                "a string of {n} bytes at byte {} runs past the message's {} bytes",
+                self.pos,
+                self.b.len()
+            ));
+        }
+        let s = &self.b[self.pos..self.pos + n];
+        self.pos += n;
+        // CDR counts the terminating NUL; ROS 1 does not write one.
+        let s = s.strip_suffix(&[0]).unwrap_or(s);
+        Ok(String::from_utf8_lossy(s).into_owned())
+    }
+
+    fn header(&mut self) -> Result<(RosTime, String), String> {
+        if !self.cdr {
+            self.u32()?; // seq
+        }
+        let sec = self.u32()?;
+        let nsec = self.u32()?;
+        // ROS 1 `time` has unsigned seconds, ROS 2 `builtin_interfaces/Time` signed ones.
+        let sec = if self.cdr {
+            i64::from(sec as i32)
+        } else {
+            i64::from(sec)
+        };
+        let frame_id = self.string()?;
+        Ok((RosTime { sec, nsec }, frame_id))
+    }
+
+    fn vec3(&mut self) -> Result<[f64; 3], String> {
+        Ok([self.f64()?, self.f64()?, self.f64()?])
+    }
+
+    fn skip_f64s(&mut self, n: usize) -> Result<(), String> {
+        for _ in 0..n {
+            self.f64()?;
+        }
+        Ok(())
+    }
+}
+
+fn ros1(b: &[u8]) -> Wire<'_> {
+    Wire {
+        b,
+        pos: 0,
+        origin: 0,
+        cdr: false,
+        big: false,
+    }
+}
+
+fn cdr(b: &[u8]) -> Result<Wire<'_>, String> {
+    if b.len() < 4 {
+        return Err("the message is shorter than its CDR encapsulation header".into());
+    }
+    let big = match (b[0], b[1]) {
+        (0, 0) => true,
+        (0, 1) => false,
+        (x, y) => {
+            return Err(format!(
+                "CDR encapsulation {x:02x} {y:02x} is not plain CDR (00 00 or 00 01)"
+            ));
+        }
+    };
+    Ok(Wire {
+        b,
+        pos: 4,
+        origin: 4,
+        cdr: true,
+        big,
+    })
+}
+
+fn imu(mut w: Wire<'_>) -> Result<Imu, String> {
+    let (stamp, frame_id) = w.header()?;
+    w.skip_f64s(4 + 9)?; // orientation, its covariance
+    let angular_velocity = w.vec3()?;
+    w.skip_f64s(9)?;
+    let linear_acceleration = w.vec3()?;
+    w.skip_f64s(9)?;
+    Ok(Imu {
+        stamp,
+        frame_id,
+        angular_velocity,
+        linear_acceleration,
+    })
+}
+
+fn temperature(mut w: Wire<'_>) -> Result<Temperature, String> {
+    let (stamp, frame_id) = w.header()?;
+    let celsius = w.f64()?;
+    w.f64()?; // variance
+    Ok(Temperature {
+        stamp,
+        frame_id,
+        celsius,
+    })
+}
+
+/// `sensor_msgs/Imu` in the ROS 1 serialization.
+pub(crate) fn imu_ros1(b: &[u8]) -> Result<Imu, String> {
+    imu(ros1(b))
+}
+
+/// `sensor_msgs/msg/Imu` in CDR.
+pub(crate) fn imu_cdr(b: &[u8]) -> Result<Imu, String> {
+    imu(cdr(b)?)
+}
+
+/// `sensor_msgs/Temperature` in the ROS 1 serialization.
+pub(crate) fn temperature_ros1(b: &[u8]) -> Result<Temperature, String> {
+    temperature(ros1(b))
+}
+
+/// `sensor_msgs/msg/Temperature` in CDR.
+pub(crate) fn temperature_cdr(b: &[u8]) -> Result<Temperature, String> {
+    temperature(cdr(b)?)
+}
+
+/// Encoders used by the tests to build logs with a temperature topic.
+#[cfg(test)]
+pub(crate) mod encode {
+    /// `sensor_msgs/msg/Temperature` as little-endian CDR.
+    pub(crate) fn temperature_cdr(sec: i32, nsec: u32, frame: &str, celsius: f64) -> Vec<u8> {
+        let mut b = vec![0, 1, 0, 0];
+        b.extend_from_slice(&sec.to_le_bytes());
+        b.extend_from_slice(&nsec.to_le_bytes());
+        b.extend_from_slice(&(frame.len() as u32 + 1).to_le_bytes());
+        b.extend_from_slice(frame.as_bytes());
+        b.push(0);
+        while (b.len() - 4) % 8 != 0 {
+            b.push(0);
+        }
+        b.extend_from_slice(&celsius.to_le_bytes());
+        b.extend_from_slice(&0.0f64.to_le_bytes());
+        b
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn cdr_temperature_round_trips() {
+        let b = encode::temperature_cdr(-3, 5, "/imu", 41.5);
+        let t = temperature_cdr(&b).unwrap();
+        assert_eq!(t.stamp, RosTime { sec: -3, nsec: 5 });
+        assert_eq!(t.frame_id, "/imu");
+        assert_eq!(t.celsius, 41.5);
+        assert!(temperature_cdr(&b[..b.len() - 1]).is_err());
+    }
+
+    #[test]
+    fn a_huge_string_length_is_an_error() {
+        let mut b = vec![0, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0];
+        b.extend_from_slice(&u32::MAX.to_le_bytes());
+        assert!(imu_cdr(&b).is_err());
+    }
+}

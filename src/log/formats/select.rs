@@ -1,0 +1,205 @@
+//! Which gyro a command works on (`--gyro N`) and which temperature it uses (`--temp-from`).
+//!
+//! By default: the first instance whose own temperature is not all NaN, with a note saying
+//! which. A temperature that is not the gyro's own (its accelerometer's, PX4's
+//! `vehicle_imu_status`) is used only when asked for: it may lag the gyro's die by degrees,
+//! so a calibration fitted on it should be a choice, not a fallback. Without one, the choice
+//! is refused with the alternatives named.
+
+use super::error::SelectionError;
+use super::recording::{GyroInstance, ImuRecording, TempFrom, Values};
+
+/// The chosen instance and temperature, with a sentence saying what was chosen.
+#[derive(Debug, Clone)]
+pub struct Selected<'a> {
+    /// The log's source, for messages.
+    pub source: &'a str,
+    /// The chosen gyro.
+    pub instance: &'a GyroInstance,
+    /// Where its temperature comes from.
+    pub temp_from: TempFrom,
+    /// The temperature used, one value per sample.
+    pub temp_c: Values,
+    /// What was chosen and why (for the user, on standard error or in the workbench).
+    pub note: String,
+}
+
+/// One instance as plain float64 columns in driftlab's units for these logs (time s, gyro
+/// rad/s, temperature °C, accelerometer m/s²).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Columns {
+    /// The format's own time stamp, s.
+    pub time_s: Vec<f64>,
+    /// Angular rate x, y, z, rad/s.
+    pub gyro_rad_s: [Vec<f64>; 3],
+    /// The chosen temperature, °C (NaN where absent).
+    pub temp_c: Vec<f64>,
+    /// Acceleration x, y, z, m/s², when the instance has an accelerometer.
+    pub accel_m_s2: Option<[Vec<f64>; 3]>,
+}
+
+impl Selected<'_> {
+    /// The instance as plain columns.
+    pub fn columns(&self) -> Columns {
+        let i = self.instance;
+        Columns {
+            time_s: i.time.all_seconds(),
+            gyro_rad_s: i.gyro.xyz.clone().map(|v| v.to_f64()),
+            temp_c: self.temp_c.to_f64(),
+            accel_m_s2: i.accel.as_ref().map(|a| a.xyz.clone().map(|v| v.to_f64())),
+        }
+    }
+}
+
+fn describe(i: &GyroInstance) -> String {
+    match &i.device {
+        Some(d) => format!("gyro {} ({}, {d})", i.index, i.label),
+        None => format!("gyro {} ({})", i.index, i.label),
+    }
+}
+
+fn range(v: &Values) -> String {
+    match v.range() {
+        Some((a, b)) => format!("{a:.2} .. {b:.2} degC"),
+        None => "n/a: all NaN".into(),
+    }
+}
+
+/// The temperatures that could stand in for `i`'s own, each with its option, as one
+/// sentence.
+fn alternatives(i: &GyroInstance) -> String {
+    let mut alts: Vec<String> = i
+        .alt_temps
+        .iter()
+        .filter(|a| a.values.has_numbers())
+        .map(|a| format!("--temp-from {} ({}, {})", a.from, a.field, range(&a.values)))
+        .collect();
+    if i.temp_c.has_numbers() {
+        alts.insert(0, format!("--temp-from own ({})", range(&i.temp_c)));
+    }
+    if alts.is_empty() {
+        format!("{} has no other temperature", describe(i))
+    } else {
+        format!("{} could use {}", describe(i), alts.join(" or "))
+    }
+}
+
+fn every_alternative(rec: &ImuRecording) -> String {
+    let mut s: Vec<String> = rec.instances.iter().map(alternatives).collect();
+    s.push(
+        "--temp-from none writes temp_c as NaN (enough for noise analysis, not for a \
+         thermal calibration)"
+            .into(),
+    );
+    s.join("; ")
+}
+
+/// The values of `from` for `i`, when the log has them with at least one number.
+fn temperature(i: &GyroInstance, from: TempFrom) -> Option<(Values, String)> {
+    match from {
+        TempFrom::Own => i
+            .temp_c
+            .has_numbers()
+            .then(|| (i.temp_c.clone(), "its own temperature".to_string())),
+        TempFrom::None => Some((
+            Values::F64(vec![f64::NAN; i.len()]),
+            "no temperature (temp_c is NaN)".to_string(),
+        )),
+        other => i
+            .alt_temp(other)
+            .filter(|a| a.values.has_numbers())
+            .map(|a| (a.values.clone(), format!("the temperature of {}", a.field))),
+    }
+}
+
+/// Picks the gyro (`gyro`, default: the first with a temperature of `temp_from`'s kind) and
+/// its temperature (`temp_from`, default: its own).
+///
+/// # Errors
+/// `gyro` past the last instance; no temperature of the asked kind for the gyro (or for any
+/// gyro when none was named), with the alternatives named.
+pub fn select(
+    rec: &ImuRecording,
+    gyro: Option<usize>,
+    temp_from: Option<TempFrom>,
+) -> Result<Selected<'_>, SelectionError> {
+    let from = temp_from.unwrap_or(TempFrom::Own);
+    let listing = || {
+        rec.instances
+            .iter()
+            .map(describe)
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let found = |i: &GyroInstance| temperature(i, from);
+    let (inst, (temp_c, what), how) = match gyro {
+        Some(n) => {
+            let inst = rec
+                .instances
+                .get(n)
+                .ok_or_else(|| SelectionError::NoSuchInstance {
+                    source_name: rec.source.clone(),
+                    asked: n,
+                    count: rec.instances.len(),
+                    listing: listing(),
+                })?;
+            let t = found(inst).ok_or_else(|| SelectionError::NoTemperature {
+                source_name: rec.source.clone(),
+                what: match from {
+                    TempFrom::Own => format!("{} has no temperature of its own", describe(inst)),
+                    f => format!("{} has no {f} temperature", describe(inst)),
+                },
+                alternatives: format!(
+                    "{}; --temp-from none writes temp_c as NaN",
+                    alternatives(inst)
+                ),
+            })?;
+            (inst, t, "as asked".to_string())
+        }
+        None => {
+            let hit = rec.instances.iter().find_map(|i| found(i).map(|t| (i, t)));
+            let (inst, t) = hit.ok_or_else(|| SelectionError::NoTemperature {
+                source_name: rec.source.clone(),
+                what: match from {
+                    TempFrom::Own => "no gyro in the log has a temperature of its own".into(),
+                    f => format!("no gyro in the log has a {f} temperature"),
+                },
+                alternatives: every_alternative(rec),
+            })?;
+            let how = if rec.instances.len() == 1 {
+                "the log's only gyro".to_string()
+            } else if from == TempFrom::None {
+                format!(
+                    "the first of {}; --gyro N picks another",
+                    rec.instances.len()
+                )
+            } else if from == TempFrom::Own {
+                format!(
+                    "the first of {} whose temperature is not all NaN; --gyro N picks another",
+                    rec.instances.len()
+                )
+            } else {
+                format!(
+                    "the first of {} with a {from} temperature; --gyro N picks another",
+                    rec.instances.len()
+                )
+            };
+            (inst, t, how)
+        }
+    };
+    let mut note = format!(
+        "{}: {} chosen ({how}), with {what}",
+        rec.source,
+        describe(inst)
+    );
+    if from != TempFrom::Own && from != TempFrom::None {
+        note.push_str(": not the gyro's own sensor, so it may lag the gyro's temperature");
+    }
+    Ok(Selected {
+        source: &rec.source,
+        instance: inst,
+        temp_from: from,
+        temp_c,
+        note,
+    })
+}

@@ -1,0 +1,110 @@
+//! Whether the columns taken for a role hold what that role means: a temperature in °C
+//! between −100 and +200 (and never below absolute zero), not a raw register counting in
+//! thousands; a rate below 10⁴ °/s. A column that fails is reported with the column, what is
+//! wrong, a better candidate when the file has one, and the option that chooses it. Silent
+//! acceptance of a register as a temperature gives a calibration that means nothing.
+
+use super::names::is_raw_register;
+use crate::log::{ColumnRole, Log, Problem, ProblemKind};
+
+/// The temperatures a thermal chamber reaches, °C.
+const TEMP_RANGE_C: (f64, f64) = (-100.0, 200.0);
+
+/// The fastest rate a gyro on a test stand plausibly reads, °/h (10⁴ °/s).
+const MAX_RATE_DPH: f64 = 1e4 * 3600.0;
+
+/// Range of the finite values, and whether they are all whole numbers.
+fn survey(x: &[f64]) -> Option<(f64, f64, bool)> {
+    let stride = (x.len() / 100_000).max(1);
+    let mut whole = true;
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for (i, &v) in x.iter().enumerate() {
+        if !v.is_finite() {
+            continue;
+        }
+        lo = lo.min(v);
+        hi = hi.max(v);
+        if i % stride == 0 && v.fract() != 0.0 {
+            whole = false;
+        }
+    }
+    (lo <= hi).then_some((lo, hi, whole))
+}
+
+/// Why a temperature column (in °C) is implausible, if it is.
+fn temperature_doubt(name: &str, x: &[f64]) -> Option<String> {
+    let (lo, hi, whole) = survey(x)?;
+    if lo < -273.15 {
+        return Some(format!("reaches {lo} °C, below absolute zero"));
+    }
+    if lo < TEMP_RANGE_C.0 || hi > TEMP_RANGE_C.1 {
+        return Some(format!(
+            "spans {lo} … {hi} °C, outside the {} … {} °C a chamber reaches",
+            TEMP_RANGE_C.0, TEMP_RANGE_C.1
+        ));
+    }
+    if whole && hi - lo >= 1000.0 {
+        return Some(format!(
+            "holds whole numbers over {lo} … {hi}: counts of a sensor register, not °C"
+        ));
+    }
+    if is_raw_register(name) {
+        return Some("is named as a raw register".to_string());
+    }
+    None
+}
+
+/// The problems of the columns `log` took for its rate and temperature.
+pub(super) fn check(log: &Log) -> Vec<Problem> {
+    let mut out = Vec::new();
+    let column = |role: ColumnRole| log.info.columns.iter().find(|c| c.role == role);
+    if let Some(c) = column(ColumnRole::Temperature)
+        && let Some(why) = temperature_doubt(&c.name, &log.temp_c)
+    {
+        let better = log
+            .extra
+            .iter()
+            .find(|x| {
+                let named_temp = log
+                    .info
+                    .columns
+                    .iter()
+                    .any(|ci| ci.name == x.name && ci.unit.contains('C'));
+                named_temp && temperature_doubt(&x.name, &x.values).is_none()
+            })
+            .map(|x| x.name.clone());
+        let advice = match &better {
+            Some(b) => {
+                format!("\"{b}\" looks like the temperature: choose it with --temp-col \"{b}\"")
+            }
+            None => "choose the temperature column with --temp-col NAME".to_string(),
+        };
+        out.push(Problem {
+            line: 0,
+            column: Some(c.index),
+            kind: ProblemKind::Implausible,
+            count: 1,
+            message: format!("the temperature column \"{}\" {why}; {advice}", c.name),
+        });
+    }
+    if let Some(c) = column(ColumnRole::Rate)
+        && let Some((lo, hi, _)) = survey(&log.omega_dph)
+        && lo.abs().max(hi.abs()) > MAX_RATE_DPH
+    {
+        out.push(Problem {
+            line: 0,
+            column: Some(c.index),
+            kind: ProblemKind::Implausible,
+            count: 1,
+            message: format!(
+                "the rate column \"{}\" read as {} reaches {:.3e} °/s, beyond the 10⁴ °/s of any \
+                 gyro on a stand: check its unit (--rate-unit) or choose another column \
+                 (--rate-col)",
+                c.name,
+                c.unit,
+                lo.abs().max(hi.abs()) / 3600.0
+            ),
+        });
+    }
+    out
+}

@@ -1,0 +1,459 @@
+//! How a log was sampled in real time: the nominal step, the contiguous segments between
+//! logger outages, the jitter of host time stamps, and bursts (docs/method.md §5).
+//!
+//! Every window driftlab applies (the Ω filter, the smoothing of T, the derivative step, plateau
+//! durations, warm-up, the 10-minute windows) is a span of real time inside one segment: no
+//! average, derivative or window reaches across a gap. A test stand's log is rarely the clean
+//! uniform series a simulator writes:
+//!
+//! - **Gaps.** A logger restarted for an hour leaves one step of an hour. Taking the samples on
+//!   either side as neighbours would make Ṫ jump by the whole temperature change of that hour.
+//! - **Host time stamps.** A PC that reads a sensor's buffer stamps samples as they arrive:
+//!   bunches 2 ms apart, then a pause of up to half a second. The sensor sampled regularly; only
+//!   the stamps bunch. The median step (2 ms) is then five times too short, and each pause is
+//!   not a gap, since the samples that follow catch up with the clock. A step is a gap only when
+//!   the time it loses is not made up by the steps after it.
+//! - **Bursts.** A logger that wakes up to save power writes, say, 10 s at 50 Hz every two
+//!   minutes: many short segments of one length at one spacing.
+
+use std::ops::Range;
+
+/// A step longer than this many nominal steps ends a segment, unless the steps after it make up
+/// the time it loses (host stamps catching up).
+pub const GAP_FACTOR: f64 = 2.5;
+
+/// Block lengths, in steps, over which the nominal step is estimated: the one whose block
+/// means agree best is used. Host stamps bunch over tens of steps and need long blocks to
+/// average out; a burst of a few hundred samples needs short ones, so that most blocks lie
+/// inside a burst.
+const BLOCKS: [usize; 5] = [16, 64, 256, 1024, 4096];
+
+/// The most samples after a long step searched for the time it lost to be made up.
+const CATCH_UP_MAX: usize = 1 << 14;
+
+/// The fewest samples after a long step searched: enough for the backlog of a host's stall
+/// (half a second at 100 Hz) that follows a shorter wait.
+const CATCH_UP_MIN: usize = 256;
+
+/// A segment shorter than this many samples cannot be bursts' worth of data: bursts are
+/// recognised only among segments of at least this length.
+const MIN_BURST_SAMPLES: usize = 3;
+
+/// A logger outage between two segments.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Gap {
+    /// Index of the first sample after the gap.
+    pub at: usize,
+    /// Time of the last sample before the gap, s.
+    pub from_s: f64,
+    /// Length of the step across the gap, s.
+    pub step_s: f64,
+}
+
+/// How irregular the time stamps are within segments, apart from gaps.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Jitter {
+    /// Shortest step, s.
+    pub min_step_s: f64,
+    /// Longest step that is not a gap, s.
+    pub max_step_s: f64,
+    /// Share of steps more than 10 % away from the nominal step.
+    pub irregular_fraction: f64,
+    /// Largest lag of a stamp behind the line of regular sampling through its segment, s.
+    pub max_lag_s: f64,
+}
+
+/// A log written in bursts: segments of one length at one spacing.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Bursts {
+    /// Number of bursts.
+    pub count: usize,
+    /// Typical (median) length of a burst, s.
+    pub on_s: f64,
+    /// Typical (median) time from the start of one burst to the start of the next, s.
+    pub every_s: f64,
+}
+
+/// The sampling of a log in real time.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Timing {
+    /// The sampling step within segments, s: their mean step (robust to host stamps), or the
+    /// median step when the two agree within 1e-6 (a clean clock, whose median is a step
+    /// actually in the data and free of the rounding of a long sum).
+    pub nominal_dt_s: f64,
+    /// Contiguous runs of samples, in order, covering the log.
+    pub segments: Vec<Range<usize>>,
+    /// The outages between segments, one fewer than the segments.
+    pub gaps: Vec<Gap>,
+    /// Stamps that do not keep the nominal step, when more than 1 % of the steps are off it.
+    pub jitter: Option<Jitter>,
+    /// The log's bursts, when its segments are bursts.
+    pub bursts: Option<Bursts>,
+}
+
+impl Timing {
+    /// The sampling of `time_s` (seconds, strictly increasing as the reader leaves it; steps
+    /// that are not positive and finite are treated as regular).
+    pub fn of(time_s: &[f64]) -> Timing {
+        let n = time_s.len();
+        if n < 2 {
+            return Timing {
+                nominal_dt_s: 1.0,
+                segments: std::iter::once(0..n).collect(),
+                gaps: Vec::new(),
+                jitter: None,
+                bursts: None,
+            };
+        }
+        // A clean clock (every step within 10 % of every other: no gap, no jitter) needs one
+        // pass; most logs are that.
+        let (lo, hi) = time_s
+            .windows(2)
+            .map(|w| w[1] - w[0])
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), d| {
+                (a.min(d), b.max(d))
+            });
+        if lo > 0.0 && hi <= 1.1 * lo {
+            let segments: Vec<_> = std::iter::once(0..n).collect();
+            let nominal_dt_s = refine_step(time_s, &segments, 0.5 * (lo + hi));
+            return Timing {
+                nominal_dt_s,
+                segments,
+                gaps: Vec::new(),
+                jitter: None,
+                bursts: None,
+            };
+        }
+        let rough = rough_step(time_s);
+        let gaps = find_gaps(time_s, rough);
+        let mut segments = Vec::with_capacity(gaps.len() + 1);
+        let mut start = 0;
+        for g in &gaps {
+            segments.push(start..g.at);
+            start = g.at;
+        }
+        segments.push(start..n);
+        let nominal_dt_s = refine_step(time_s, &segments, rough);
+        let jitter = jitter_of(time_s, &segments, nominal_dt_s);
+        let bursts = bursts_of(time_s, &segments);
+        Timing {
+            nominal_dt_s,
+            segments,
+            gaps,
+            jitter,
+            bursts,
+        }
+    }
+
+    /// Whether the log is one contiguous segment.
+    pub fn is_contiguous(&self) -> bool {
+        self.segments.len() <= 1
+    }
+
+    /// The segments shorter than `min_s` seconds of real time (with a nominal step counted
+    /// for the last sample), which a window of that length cannot fit in.
+    pub fn shorter_than(&self, time_s: &[f64], min_s: f64) -> Vec<Range<usize>> {
+        self.segments
+            .iter()
+            .filter(|r| span_s(time_s, r, self.nominal_dt_s) < min_s)
+            .cloned()
+            .collect()
+    }
+}
+
+impl Timing {
+    /// What a person should know of the sampling, one sentence a line: segments and gaps,
+    /// bursts, jitter. Empty for a clean contiguous log.
+    pub fn describe(&self, time_s: &[f64]) -> Vec<String> {
+        let mut out = Vec::new();
+        let ms = |s: f64| {
+            if s < 1.0 {
+                format!("{:.1} ms", s * 1e3)
+            } else {
+                format!("{s:.3} s")
+            }
+        };
+        if let Some(b) = &self.bursts {
+            out.push(format!(
+                "written in bursts: {} bursts of {:.1} s every {:.0} s",
+                b.count, b.on_s, b.every_s
+            ));
+        } else if !self.gaps.is_empty() {
+            let longest = self.gaps.iter().map(|g| g.step_s).fold(0.0, f64::max);
+            out.push(format!(
+                "{} segments between {} gap{} (the first after {:.3} s, the longest {}): \
+                 no window, filter or derivative reaches across a gap",
+                self.segments.len(),
+                self.gaps.len(),
+                if self.gaps.len() == 1 { "" } else { "s" },
+                self.gaps[0].from_s,
+                ms(longest)
+            ));
+        }
+        if let Some(j) = &self.jitter {
+            out.push(format!(
+                "time stamps jitter: steps {} … {} around the nominal {} ({:.0} % of them more \
+                 than 10 % off), stamps up to {} behind regular sampling; the nominal step is \
+                 the mean step within segments",
+                ms(j.min_step_s),
+                ms(j.max_step_s),
+                ms(self.nominal_dt_s),
+                100.0 * j.irregular_fraction,
+                ms(j.max_lag_s)
+            ));
+        }
+        let short = self.shorter_than(time_s, 60.0);
+        if !short.is_empty() && self.bursts.is_none() {
+            out.push(format!(
+                "{} segment{} shorter than a minute",
+                short.len(),
+                if short.len() == 1 { " is" } else { "s are" }
+            ));
+        }
+        out
+    }
+}
+
+/// Real time a segment covers: from its first stamp to one step past its last.
+pub fn span_s(time_s: &[f64], r: &Range<usize>, dt_s: f64) -> f64 {
+    if r.is_empty() {
+        return 0.0;
+    }
+    time_s[r.end - 1] - time_s[r.start] + dt_s
+}
+
+/// The steps of `time_s` that are positive and finite.
+fn step(time_s: &[f64], i: usize) -> Option<f64> {
+    let s = time_s[i] - time_s[i - 1];
+    (s.is_finite() && s > 0.0).then_some(s)
+}
+
+/// A first estimate of the sampling step: over blocks of consecutive steps, the median of
+/// the blocks' mean steps, for the block length whose block means spread least (relative
+/// interquartile range). Bunched host stamps average out within long blocks, a gap spoils only
+/// its own block, and bursts are measured within themselves. Short logs take the median step.
+fn rough_step(time_s: &[f64]) -> f64 {
+    let n = time_s.len();
+    let mut best: Option<(f64, f64)> = None; // (spread, median)
+    for block in BLOCKS {
+        let count = (n - 1) / block;
+        if count < 8 {
+            break;
+        }
+        let mut means: Vec<f64> = (0..count)
+            .map(|b| (time_s[(b + 1) * block] - time_s[b * block]) / block as f64)
+            .filter(|d| d.is_finite() && *d > 0.0)
+            .collect();
+        if means.len() < 8 {
+            continue;
+        }
+        means.sort_unstable_by(f64::total_cmp);
+        let q = |f: f64| means[((means.len() - 1) as f64 * f) as usize];
+        let m = q(0.5);
+        let spread = (q(0.75) - q(0.25)) / m;
+        // A shorter block wins ties: it is the finer measure.
+        if best.is_none_or(|(s, _)| spread < s - 1e-9) {
+            best = Some((spread, m));
+        }
+    }
+    if let Some((_, m)) = best {
+        return m;
+    }
+    let mut v: Vec<f64> = (1..n).filter_map(|i| step(time_s, i)).collect();
+    median(&mut v).unwrap_or(1.0)
+}
+
+fn median(v: &mut [f64]) -> Option<f64> {
+    if v.is_empty() {
+        return None;
+    }
+    let mid = v.len() / 2;
+    let (_, m, _) = v.select_nth_unstable_by(mid, f64::total_cmp);
+    Some(*m)
+}
+
+/// The steps longer than [`GAP_FACTOR`] nominal steps whose lost time the following steps do
+/// not make up. Stamps that keep to the clock stay within a fixed lag of the line
+/// `t_{i−1} + (j − i + 1)·dt` drawn from the sample before the step; host stamps that bunch
+/// come back to within half the step's lost time of it once the backlog is stamped (even
+/// when another pause follows before they do), a gap's never do. The samples searched are a
+/// few times the lost time's worth, at least [`CATCH_UP_MIN`], at most [`CATCH_UP_MAX`].
+fn find_gaps(time_s: &[f64], dt: f64) -> Vec<Gap> {
+    let n = time_s.len();
+    let mut gaps = Vec::new();
+    for i in 1..n {
+        let Some(s) = step(time_s, i) else {
+            continue;
+        };
+        if s <= GAP_FACTOR * dt {
+            continue;
+        }
+        let lost = s - dt;
+        let window = ((4.0 * lost / dt) as usize + 16).clamp(CATCH_UP_MIN, CATCH_UP_MAX);
+        let base = time_s[i - 1];
+        let end = (i + window).min(n);
+        let caught_up =
+            (i + 1..end).any(|j| time_s[j] - (base + (j - i + 1) as f64 * dt) <= 0.5 * lost);
+        // A pause near the end of the log whose backlog is still being stamped faster than the
+        // clock when the log ends is the same jitter, cut short.
+        let catching_up_at_end =
+            end == n && i + 1 < n && (i + 1..n).all(|j| time_s[j] - time_s[j - 1] < dt);
+        if !caught_up && !catching_up_at_end {
+            gaps.push(Gap {
+                at: i,
+                from_s: base,
+                step_s: s,
+            });
+        }
+    }
+    gaps
+}
+
+/// The mean step within segments, or the median step where the two agree within 1e-6.
+fn refine_step(time_s: &[f64], segments: &[Range<usize>], rough: f64) -> f64 {
+    let (mut span, mut steps) = (0.0, 0usize);
+    for r in segments.iter().filter(|r| r.len() >= 2) {
+        span += time_s[r.end - 1] - time_s[r.start];
+        steps += r.len() - 1;
+    }
+    if steps == 0 || span.is_nan() || span <= 0.0 {
+        return rough;
+    }
+    let mean = span / steps as f64;
+    let stride = (time_s.len() / 10_000).max(1);
+    let mut sample: Vec<f64> = segments
+        .iter()
+        .flat_map(|r| (r.start + 1..r.end).step_by(stride))
+        .filter_map(|i| step(time_s, i))
+        .collect();
+    match median(&mut sample) {
+        Some(m) if (m - mean).abs() <= 1e-6 * mean => m,
+        _ => mean,
+    }
+}
+
+fn jitter_of(time_s: &[f64], segments: &[Range<usize>], dt: f64) -> Option<Jitter> {
+    let (mut min_step, mut max_step) = (f64::INFINITY, 0.0f64);
+    let (mut irregular, mut steps) = (0usize, 0usize);
+    let mut max_lag = 0.0f64;
+    for r in segments.iter().filter(|r| r.len() >= 2) {
+        let t0 = time_s[r.start];
+        for i in r.start + 1..r.end {
+            let s = time_s[i] - time_s[i - 1];
+            min_step = min_step.min(s);
+            max_step = max_step.max(s);
+            steps += 1;
+            if (s - dt).abs() > 0.1 * dt {
+                irregular += 1;
+            }
+            max_lag = max_lag.max(time_s[i] - (t0 + (i - r.start) as f64 * dt));
+        }
+    }
+    let fraction = irregular as f64 / steps.max(1) as f64;
+    (steps > 0 && fraction > 0.01).then_some(Jitter {
+        min_step_s: min_step,
+        max_step_s: max_step,
+        irregular_fraction: fraction,
+        max_lag_s: max_lag,
+    })
+}
+
+/// Bursts: at least four segments (besides a possibly cut last one) whose lengths and spacings
+/// agree within 20 % of their medians, covering less than half of the time between their
+/// starts.
+fn bursts_of(time_s: &[f64], segments: &[Range<usize>]) -> Option<Bursts> {
+    // The last burst may be cut short by the end of the run.
+    let body = &segments[..segments.len().saturating_sub(1)];
+    if body.len() < 4 || body.iter().any(|r| r.len() < MIN_BURST_SAMPLES) {
+        return None;
+    }
+    let mut on: Vec<f64> = body
+        .iter()
+        .map(|r| time_s[r.end - 1] - time_s[r.start])
+        .collect();
+    let mut every: Vec<f64> = body
+        .windows(2)
+        .map(|w| time_s[w[1].start] - time_s[w[0].start])
+        .collect();
+    let (on_s, every_s) = (median(&mut on.clone())?, median(&mut every.clone())?);
+    let steady = |v: &mut [f64], m: f64| v.iter().all(|x| (x - m).abs() <= 0.2 * m);
+    let spacing_ok = steady(&mut every, every_s);
+    let length_ok = steady(&mut on, on_s);
+    (spacing_ok && length_ok && on_s > 0.0 && on_s < 0.5 * every_s).then_some(Bursts {
+        count: segments.len(),
+        on_s,
+        every_s,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn regular(n: usize, dt: f64) -> Vec<f64> {
+        (0..n).map(|i| i as f64 * dt).collect()
+    }
+
+    #[test]
+    fn a_clean_log_is_one_segment_at_its_own_step() {
+        let t = regular(5000, 1.0);
+        let tm = Timing::of(&t);
+        assert_eq!(tm.nominal_dt_s, 1.0);
+        assert_eq!(tm.segments, vec![0..5000]);
+        assert!(tm.jitter.is_none() && tm.bursts.is_none());
+    }
+
+    #[test]
+    fn an_outage_splits_the_log() {
+        let mut t = regular(7200, 1.0);
+        for v in &mut t[3600..] {
+            *v += 3600.0;
+        }
+        let tm = Timing::of(&t);
+        assert_eq!(tm.segments, vec![0..3600, 3600..7200]);
+        assert_eq!(tm.gaps[0].step_s, 3601.0);
+        assert_eq!(tm.nominal_dt_s, 1.0);
+    }
+
+    #[test]
+    fn host_stamps_that_catch_up_are_not_gaps() {
+        // True sampling every 10 ms; stamps in bunches 2 ms apart after pauses of up to
+        // 0.5 s, never before the sample was taken.
+        let mut t: Vec<f64> = Vec::new();
+        for i in 0..20_000 {
+            let truth = i as f64 * 0.01;
+            let late = if i % 100 == 50 { 0.5 } else { 0.0 };
+            let prev = t.last().map_or(f64::NEG_INFINITY, |p| p + 0.002);
+            t.push(prev.max(truth + late));
+        }
+        let tm = Timing::of(&t);
+        assert!(
+            tm.gaps.is_empty(),
+            "{} gaps {:?} dt {}",
+            tm.gaps.len(),
+            &tm.gaps[..1.min(tm.gaps.len())],
+            tm.nominal_dt_s
+        );
+        assert!(
+            (tm.nominal_dt_s - 0.01).abs() < 1e-4,
+            "{} {:?}",
+            tm.nominal_dt_s,
+            &tm.gaps[..tm.gaps.len().min(3)]
+        );
+        assert!(tm.jitter.is_some());
+    }
+
+    #[test]
+    fn bursts_are_recognised_with_their_length_and_spacing() {
+        // 10 s at 50 Hz every 120 s, 12 bursts.
+        let t: Vec<f64> = (0..12)
+            .flat_map(|b| (0..500).map(move |i| b as f64 * 120.0 + i as f64 * 0.02))
+            .collect();
+        let tm = Timing::of(&t);
+        assert_eq!(tm.segments.len(), 12);
+        let b = tm.bursts.unwrap();
+        assert_eq!(b.count, 12);
+        assert!((b.on_s - 9.98).abs() < 1e-9 && (b.every_s - 120.0).abs() < 1e-9);
+        assert!((tm.nominal_dt_s - 0.02).abs() < 1e-12);
+    }
+}
