@@ -29,6 +29,102 @@ fn unsaved_work_is_not_lost_silently() {
     assert!(h.state().state.dirty());
 }
 
+/// `driftlab gui X --screenshot OUT.png` when the window cannot show what was asked: the run
+/// ends with the message (which `driftlab gui` prints on standard error, status 1) within a
+/// few frames, and writes no picture. It used to show an error dialog and wait for ever (or,
+/// for a calibration that failed, three minutes).
+#[test]
+fn screenshot_mode_ends_with_the_message_when_the_window_cannot_show_what_was_asked() {
+    use driftlab::gui::settings::Settings;
+    use driftlab::gui::{ScreenshotOutcome, ScriptedDialogs};
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let png = d.join("shot.png");
+    let write = |name: &str, text: &str| {
+        let path = d.join(name);
+        std::fs::write(&path, text).unwrap();
+        path
+    };
+    let newer = write(
+        "newer.session.json",
+        r#"{ "format": "driftlab-session", "version": 99, "session": {} }"#,
+    );
+    let no_log = write(
+        "nolog.session.json",
+        r#"{ "format": "driftlab-session", "version": 1, "session": {} }"#,
+    );
+    let mut bad_cell = std::fs::read_to_string(sample("calibration.csv")).unwrap();
+    bad_cell = bad_cell.replacen("\n0,-0.2554,", "\n0,oops,", 1);
+    let bad_cell = write("bad.csv", &bad_cell);
+    // A log that reads but holds one temperature: no model can be fitted on it.
+    let mut flat = String::from("time_s,omega_dph,temp_c\n");
+    for i in 0..2000 {
+        flat += &format!("{i},{:.3},25.0\n", 0.01 * (i % 7) as f64);
+    }
+    let flat = write("flat.csv", &flat);
+    let missing_log = write(
+        "missing.session.json",
+        &format!(
+            r#"{{ "format": "driftlab-session", "version": 1,
+                 "session": {{ "log": {{ "path": "{}" }} }} }}"#,
+            d.join("gone.csv").display()
+        ),
+    );
+    type Open = Box<dyn Fn(&mut Workbench)>;
+    let cases: Vec<(&str, Open, &str)> = vec![
+        (
+            "a session of an unknown version",
+            Box::new(move |wb| wb.open_session(newer.clone())),
+            "version 99 is not supported",
+        ),
+        (
+            "a session with no log",
+            Box::new(move |wb| wb.open_session(no_log.clone())),
+            "the session names no log",
+        ),
+        (
+            "a session whose log is gone",
+            Box::new(move |wb| wb.open_session(missing_log.clone())),
+            "gone.csv",
+        ),
+        (
+            "a log with a bad cell",
+            Box::new(move |wb| wb.open_log(bad_cell.clone(), Default::default(), false)),
+            "cannot read \"oops\" as a number",
+        ),
+        (
+            "a log no model can be fitted on",
+            Box::new(move |wb| wb.open_log(flat.clone(), Default::default(), false)),
+            "the calibration failed",
+        ),
+    ];
+    for (what, open, want) in cases {
+        let outcome = ScreenshotOutcome::default();
+        let mut wb = Workbench::new(Settings::default(), None, Box::new(ScriptedDialogs::new()));
+        wb.screenshot_mode(png.clone(), outcome.clone());
+        open(&mut wb);
+        let mut h = harness(wb);
+        for _ in 0..40 {
+            if outcome.is_done() {
+                break;
+            }
+            h.state_mut().wait_for_jobs();
+            h.step();
+        }
+        match outcome.take() {
+            Some(Err(e)) => {
+                assert!(e.contains(want), "{what}: wanted {want:?} in {e:?}");
+                assert!(
+                    !e.contains('\n'),
+                    "{what}: one line on standard error: {e:?}"
+                );
+            }
+            other => panic!("{what}: the screenshot run did not end with an error: {other:?}"),
+        }
+        assert!(!png.exists(), "{what}: a picture was written");
+    }
+}
+
 #[test]
 fn a_plot_is_saved_as_png_cropped_from_a_screenshot() {
     let dir = tempfile::tempdir().unwrap();

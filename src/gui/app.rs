@@ -12,6 +12,7 @@ mod layout;
 mod results;
 mod screenshot;
 
+pub use screenshot::ScreenshotOutcome;
 use screenshot::{AutoShot, PendingShot, Shot};
 
 use super::autosave::{Autosave, LeftBehind};
@@ -774,20 +775,4 @@ pub fn default_log() -> Option<PathBuf> {
     }
     let p = Path::new(env!("CARGO_MANIFEST_DIR")).join(rel);
     p.is_file().then_some(p)
-}
-
-/// Starts the workbench in screenshot mode (internal to [`super::run`]).
-pub(super) fn set_auto_screenshot(
-    wb: &mut Workbench,
-    path: PathBuf,
-    result: Arc<Mutex<Option<Result<(), String>>>>,
-) {
-    wb.auto = Some(AutoShot {
-        path,
-        settled: 0,
-        requested: false,
-        compared: false,
-        started: Instant::now(),
-        result,
-    });
 }

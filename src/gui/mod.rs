@@ -32,14 +32,13 @@ pub mod view_plateaus;
 pub mod view_result;
 pub mod view_time;
 
-pub use app::{Action, Page, Workbench, default_log};
+pub use app::{Action, Page, ScreenshotOutcome, Workbench, default_log};
 pub use dialogs::{Answer, FileDialogs, FileKind, ScriptedDialogs, SystemDialogs};
 pub use jobs::Target;
 
 use eframe::egui;
 use settings::Settings;
 use std::path::PathBuf;
-use std::sync::{Arc, Mutex};
 
 /// How the workbench is started.
 #[derive(Debug, Clone, Default)]
@@ -143,13 +142,18 @@ pub fn run(options: GuiOptions) -> Result<(), String> {
         viewport,
         ..Default::default()
     };
-    let outcome: Arc<Mutex<Option<Result<(), String>>>> = Arc::default();
+    let outcome = app::ScreenshotOutcome::default();
     let slot = outcome.clone();
     eframe::run_native(
         "driftlab",
         native,
         Box::new(move |_cc| {
             let mut wb = Workbench::new(settings, settings_path, Box::new(SystemDialogs::detect()));
+            // Screenshot mode first, so that a session or log that fails to open ends the run
+            // with its message instead of waiting on an error dialog.
+            if let Some(s) = shot.clone() {
+                wb.screenshot_mode(s, slot);
+            }
             match log {
                 // `driftlab gui run7.session.json` reopens a saved session.
                 Some(p)
@@ -170,16 +174,13 @@ pub fn run(options: GuiOptions) -> Result<(), String> {
             {
                 wb.models_view().selected = Some(name.trim().to_string());
             }
-            if let Some(s) = shot {
-                app::set_auto_screenshot(&mut wb, s, slot);
-            }
             Ok(Box::new(wb))
         }),
     )
     .map_err(|e| format!("cannot open the workbench window: {e}"))?;
     if options.screenshot.is_some() {
-        let result = outcome.lock().map(|mut r| r.take()).unwrap_or(None);
-        return result
+        return outcome
+            .take()
             .unwrap_or_else(|| Err("the window closed before the screenshot was taken".into()));
     }
     Ok(())

@@ -178,8 +178,9 @@ pub struct Calibrated {
 /// The warnings a model earns on the log it was fitted on: each figure of merit that the
 /// correction makes worse than raw (a calibration that cannot even correct its own log is
 /// wrong: a ramp taken for a plateau, a model that does not suit the test), and for a
-/// regression model more coefficients than samples, or an R² below zero (the fit is worse than
-/// the samples' mean).
+/// regression model more coefficients than samples, an R² below zero (the fit is worse than
+/// the samples' mean), and the column it reads as a second temperature sensor (a guess from
+/// the names, said so that the engineer can tell the chamber's air from a sensor on the gyro).
 pub fn judge_on_own_log(model: &DriftModel, in_sample: &Evaluation) -> Vec<String> {
     let mut out = Vec::new();
     let mut worse = Vec::new();
@@ -221,6 +222,19 @@ pub fn judge_on_own_log(model: &DriftModel, in_sample: &Evaluation) -> Vec<Strin
     }
     if let DriftModel::Regression(r) = model {
         let m = &r.model;
+        if let Some(t2) = &m.temp2 {
+            out.push(format!(
+                "model {}: \"{t2}\" is read as the second temperature sensor (its dT terms are \
+                 the temperature minus \"{t2}\"){}",
+                m.spec.name,
+                if regression::names_chamber_air(t2) {
+                    "; the name says it measures the chamber's air, not a sensor on the gyro, \
+                     so dT is the chamber's lag behind the gyro rather than a gradient inside it"
+                } else {
+                    ""
+                }
+            ));
+        }
         let unknowns = m.coefficients.len();
         if unknowns >= m.stats.n {
             out.push(format!(

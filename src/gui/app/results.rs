@@ -166,6 +166,8 @@ impl Workbench {
                     self.state.fit_error = Some(message.clone());
                     self.state
                         .say(Severity::Error, format!("Calibration failed: {message}"));
+                    // A screenshot of a failed calibration is not what was asked for.
+                    self.finish_auto(Err(format!("the calibration failed: {message}")));
                 }
             }
             JobResult::Compared(generation, result) => {
@@ -239,15 +241,6 @@ impl Workbench {
             self.finish_auto(Err(message));
         } else {
             self.error = Some(message);
-        }
-    }
-
-    pub(super) fn finish_auto(&mut self, result: Result<(), String>) {
-        if let Some(a) = &self.auto
-            && let Ok(mut slot) = a.result.lock()
-            && slot.is_none()
-        {
-            *slot = Some(result);
         }
     }
 

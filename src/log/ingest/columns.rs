@@ -129,6 +129,20 @@ fn find_column(r: &ColumnRef, names: &[String], role: &str) -> Result<usize, Str
         ColumnRef::Name(n) => {
             let want = n.trim();
             let want_base = name_parts(want).base;
+            let exact: Vec<usize> = (0..names.len())
+                .filter(|&j| names[j].trim().to_lowercase() == want.to_lowercase())
+                .collect();
+            if exact.len() > 1 {
+                return Err(format!(
+                    "{} columns are named \"{want}\" ({}): give the {role} column by its number",
+                    exact.len(),
+                    exact
+                        .iter()
+                        .map(|j| (j + 1).to_string())
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ));
+            }
             names
                 .iter()
                 .position(|c| {
