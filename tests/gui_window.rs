@@ -70,39 +70,31 @@ fn screenshot_mode_ends_with_the_message_when_the_window_cannot_show_what_was_as
             d.join("gone.csv").display()
         ),
     );
-    type Open = Box<dyn Fn(&mut Workbench)>;
-    let cases: Vec<(&str, Open, &str)> = vec![
+    let cases = [
         (
             "a session of an unknown version",
-            Box::new(move |wb| wb.open_session(newer.clone())),
+            newer,
             "version 99 is not supported",
         ),
-        (
-            "a session with no log",
-            Box::new(move |wb| wb.open_session(no_log.clone())),
-            "the session names no log",
-        ),
-        (
-            "a session whose log is gone",
-            Box::new(move |wb| wb.open_session(missing_log.clone())),
-            "gone.csv",
-        ),
+        ("a session with no log", no_log, "the session names no log"),
+        ("a session whose log is gone", missing_log, "gone.csv"),
         (
             "a log with a bad cell",
-            Box::new(move |wb| wb.open_log(bad_cell.clone(), Default::default(), false)),
+            bad_cell,
             "cannot read \"oops\" as a number",
         ),
         (
             "a log no model can be fitted on",
-            Box::new(move |wb| wb.open_log(flat.clone(), Default::default(), false)),
-            "the calibration failed",
+            flat,
+            "too little for model vakhrameev",
         ),
     ];
-    for (what, open, want) in cases {
+    for (what, file, want) in cases {
+        // As `driftlab gui FILE --screenshot shot.png` starts its window.
         let outcome = ScreenshotOutcome::default();
         let mut wb = Workbench::new(Settings::default(), None, Box::new(ScriptedDialogs::new()));
-        wb.screenshot_mode(png.clone(), outcome.clone());
-        open(&mut wb);
+        let shot = Some((png.clone(), outcome.clone()));
+        driftlab::gui::start(&mut wb, Some(file), Default::default(), shot);
         let mut h = harness(wb);
         for _ in 0..40 {
             if outcome.is_done() {
@@ -119,7 +111,11 @@ fn screenshot_mode_ends_with_the_message_when_the_window_cannot_show_what_was_as
                     "{what}: one line on standard error: {e:?}"
                 );
             }
-            other => panic!("{what}: the screenshot run did not end with an error: {other:?}"),
+            other => panic!(
+                "{what}: the screenshot run did not end with an error: {other:?} (fit {}, error {:?})",
+                h.state().state.fit.is_some(),
+                h.state().state.fit_error
+            ),
         }
         assert!(!png.exists(), "{what}: a picture was written");
     }

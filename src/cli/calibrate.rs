@@ -238,7 +238,7 @@ pub fn run(a: Args) -> Result<(), CliError> {
         mut model,
         in_sample,
         warnings: fit_warnings,
-    } = fitted.map_err(|e| format!("{}: {e}", a.log.display()))?;
+    } = fitted.map_err(|e| common::about(&log.source, e))?;
     warnings.extend(fit_warnings);
     model.source_mut().name = file_name(&a.log);
     model.source_mut().sha256 = sha256?;

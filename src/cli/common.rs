@@ -259,6 +259,17 @@ impl LogArgs {
     }
 }
 
+/// An engine error about the log `source`, named once: `FILE: why` (the fit's own messages
+/// already start with the file; the others do not).
+pub fn about(source: &str, e: impl std::fmt::Display) -> String {
+    let m = e.to_string();
+    if m.starts_with(&format!("{source}: ")) {
+        m
+    } else {
+        format!("{source}: {m}")
+    }
+}
+
 /// Refuses an output (`option`, at `output`) that is one of the command's `inputs` (each named
 /// by what it is: "the log", "the calibration"), before anything is read or written.
 pub fn refuse_overwriting(

@@ -61,6 +61,33 @@ fn parse_size(s: &str) -> Option<[f32; 2]> {
     (w >= 900.0 && h >= 620.0 && w.is_finite() && h.is_finite()).then_some([w, h])
 }
 
+/// What `driftlab gui [LOG|SESSION] [--screenshot PNG]` opens in a new workbench: screenshot
+/// mode first, when asked (so that a session or log that fails to open ends the run with its
+/// message instead of an error dialog nobody will close), then the session (a `.json` file)
+/// or the log, read with `read` (in screenshot mode without the import view).
+pub fn start(
+    wb: &mut Workbench,
+    log: Option<PathBuf>,
+    read: crate::log::ingest::ReadOptions,
+    shot: Option<(PathBuf, ScreenshotOutcome)>,
+) {
+    let interactive = shot.is_none();
+    if let Some((path, outcome)) = shot {
+        wb.screenshot_mode(path, outcome);
+    }
+    match log {
+        // `driftlab gui run7.session.json` reopens a saved session.
+        Some(p)
+            if p.extension()
+                .is_some_and(|e| e.eq_ignore_ascii_case("json")) =>
+        {
+            wb.open_session(p)
+        }
+        Some(p) => wb.open_log(p, read, interactive),
+        None => {}
+    }
+}
+
 /// Opens the workbench window and runs until it is closed.
 ///
 /// # Errors
@@ -142,29 +169,15 @@ pub fn run(options: GuiOptions) -> Result<(), String> {
         viewport,
         ..Default::default()
     };
-    let outcome = app::ScreenshotOutcome::default();
+    let outcome = ScreenshotOutcome::default();
     let slot = outcome.clone();
     eframe::run_native(
         "driftlab",
         native,
         Box::new(move |_cc| {
             let mut wb = Workbench::new(settings, settings_path, Box::new(SystemDialogs::detect()));
-            // Screenshot mode first, so that a session or log that fails to open ends the run
-            // with its message instead of waiting on an error dialog.
-            if let Some(s) = shot.clone() {
-                wb.screenshot_mode(s, slot);
-            }
-            match log {
-                // `driftlab gui run7.session.json` reopens a saved session.
-                Some(p)
-                    if p.extension()
-                        .is_some_and(|e| e.eq_ignore_ascii_case("json")) =>
-                {
-                    wb.open_session(p)
-                }
-                Some(p) => wb.open_log(p, read, shot.is_none()),
-                None => {}
-            }
+            let shot = shot.map(|s| (s, slot));
+            start(&mut wb, log, read, shot);
             if let Some(p) = page {
                 wb.set_page(p);
             }

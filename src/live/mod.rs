@@ -287,6 +287,13 @@ impl Pipeline {
         let log = &req.log;
         let recipe = &req.recipe;
         recipe.validate()?;
+        // The checks every face's fit makes (`models::fit`): settings that fit in this log,
+        // and a temperature span the model can be fitted over.
+        recipe.check_against(log)?;
+        crate::models::check_span(
+            log,
+            &crate::models::ModelChoice::Preset(crate::models::Preset::Vakhrameev),
+        )?;
         if log.len() < 16 {
             return Err(Error::Fit(format!(
                 "{}: {} samples are too few to calibrate",
