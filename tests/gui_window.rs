@@ -269,3 +269,49 @@ fn the_gui_command_takes_the_mapping_options_and_refuses_them_for_a_session() {
         "{err}"
     );
 }
+
+/// The workbench's fit warns as `driftlab calibrate` does: ten K0 knots through four plateaus
+/// (more unknowns than points) make a calibration worse than raw on its own log, and every
+/// warning the command line gives is in the workbench's list.
+#[test]
+fn the_workbench_gives_the_warnings_calibrate_gives() {
+    use driftlab::models::approx::ApproxKind;
+    let log = sample("calibration.csv");
+    let dir = tempfile::tempdir().unwrap();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_driftlab"))
+        .args([
+            "calibrate",
+            log.to_str().unwrap(),
+            "--k0",
+            "spline",
+            "--knots",
+            "10",
+        ])
+        .arg("--out")
+        .arg(dir.path().join("cal.json"))
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    let cli: Vec<&str> = err
+        .lines()
+        .filter_map(|l| l.strip_prefix("warning: "))
+        .collect();
+    assert!(
+        cli.iter().any(|w| w.contains("worse than raw")) && cli.len() >= 3,
+        "{err}"
+    );
+    let mut wb = Workbench::new_for_test(&log);
+    let k0 = &mut wb.state.recipe_mut().k0;
+    k0.kind = ApproxKind::Spline;
+    k0.knots = 10;
+    wb.wait_for_jobs();
+    let fit = wb.state.fit.as_ref().expect("calibrated");
+    for w in cli {
+        assert!(
+            fit.outcome.warnings.iter().any(|g| g == w),
+            "{w:?} not in {:?}",
+            fit.outcome.warnings
+        );
+    }
+}

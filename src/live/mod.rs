@@ -478,6 +478,8 @@ impl Pipeline {
         let (cor_figures, cor_filtered) =
             self.evaluate_kept(&corrected, prepared.dt_s, &merit, filter);
         let evaluation = evaluation(raw_figures, cor_figures, &corrected);
+        // The warning the command line gives for a calibration worse than raw on its own log.
+        warnings.extend(crate::models::worse_than_raw("vakhrameev", &evaluation));
         let in_sample = Judged {
             log: log.clone(),
             corrected,

@@ -175,17 +175,13 @@ pub struct Calibrated {
     pub warnings: Vec<String>,
 }
 
-/// The warnings a model earns on the log it was fitted on: each figure of merit that the
-/// correction makes worse than raw (a calibration that cannot even correct its own log is
-/// wrong: a ramp taken for a plateau, a model that does not suit the test), and for a
-/// regression model more coefficients than samples, an R² below zero (the fit is worse than
-/// the samples' mean), and the column it reads as a second temperature sensor (a guess from
-/// the names, said so that the engineer can tell the chamber's air from a sensor on the gyro).
-pub fn judge_on_own_log(model: &DriftModel, in_sample: &Evaluation) -> Vec<String> {
-    let mut out = Vec::new();
-    let mut worse = Vec::new();
+/// The warning of a correction (of model `model_name`) that makes a figure of merit of its own
+/// calibration log worse than raw, naming each such figure with both values; `None` when none
+/// is. The workbench's fit gives it as the command line's does.
+pub fn worse_than_raw(model_name: &str, in_sample: &Evaluation) -> Option<String> {
     let c = &in_sample.comparison;
     let n = |v: f64| crate::number::significant(v, 4);
+    let mut worse = Vec::new();
     for (figure, raw, cor) in [
         (
             "peak-to-peak of the filtered drift",
@@ -212,14 +208,26 @@ pub fn judge_on_own_log(model: &DriftModel, in_sample: &Evaluation) -> Vec<Strin
             worse.push(format!("{figure} {} -> {} deg/h", n(raw), n(cor)));
         }
     }
-    if !worse.is_empty() {
-        out.push(format!(
+    (!worse.is_empty()).then(|| {
+        format!(
             "on its own log the correction is worse than raw: {}; check the plateaus and \
-             whether model {} suits this test",
-            worse.join(", "),
-            model.name()
-        ));
-    }
+             whether model {model_name} suits this test",
+            worse.join(", ")
+        )
+    })
+}
+
+/// The warnings a model earns on the log it was fitted on: each figure of merit that the
+/// correction makes worse than raw (a calibration that cannot even correct its own log is
+/// wrong: a ramp taken for a plateau, a model that does not suit the test), and for a
+/// regression model more coefficients than samples, an R² below zero (the fit is worse than
+/// the samples' mean), and the column it reads as a second temperature sensor (a guess from
+/// the names, said so that the engineer can tell the chamber's air from a sensor on the gyro).
+pub fn judge_on_own_log(model: &DriftModel, in_sample: &Evaluation) -> Vec<String> {
+    let mut out: Vec<String> = worse_than_raw(model.name(), in_sample)
+        .into_iter()
+        .collect();
+    let n = |v: f64| crate::number::significant(v, 4);
     if let DriftModel::Regression(r) = model {
         let m = &r.model;
         if let Some(t2) = &m.temp2 {

@@ -57,7 +57,7 @@ fn temperature_doubt(name: &str, x: &[f64]) -> Option<String> {
 /// Columns taken for a role whose name another column of the header also has: which of
 /// two `omega_dph` columns is the gyro's is a guess the engineer must hear about.
 fn duplicate_names(log: &Log) -> Vec<Problem> {
-    let same = |a: &str, b: &str| a.trim().eq_ignore_ascii_case(b.trim());
+    let same = |a: &str, b: &str| a.trim() == b.trim();
     let mut out = Vec::new();
     for (role, what, option) in [
         (ColumnRole::Time, "time", "--time-col"),
