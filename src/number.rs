@@ -38,6 +38,17 @@ pub fn significant(v: f64, digits: usize) -> String {
     }
 }
 
+/// `v` with `decimals` decimals for a table or a label, as long as that stays short (below
+/// 10⁹); beyond, or for a number that is not finite, [`readable`]: never the hundreds of digits
+/// a fixed format writes for 1e300.
+pub fn fixed(v: f64, decimals: usize) -> String {
+    if v.is_finite() && v.abs() < 1e9 {
+        format!("{v:.decimals$}")
+    } else {
+        readable(v)
+    }
+}
+
 /// Drops the trailing zeros of a decimal fraction, and its point when nothing follows it.
 fn trim(s: String) -> String {
     if s.contains('.') {
@@ -50,6 +61,15 @@ fn trim(s: String) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn fixed_decimals_stay_short() {
+        assert_eq!(fixed(1.23456, 2), "1.23");
+        assert_eq!(fixed(-27876.4, 4), "-27876.4000");
+        assert_eq!(fixed(1e300, 3), "1e300");
+        assert_eq!(fixed(-1e300, 0), "-1e300");
+        assert_eq!(fixed(f64::NAN, 1), "NaN");
+    }
 
     #[test]
     fn numbers_read_as_a_person_writes_them() {

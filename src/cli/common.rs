@@ -336,15 +336,10 @@ pub fn print_json<T: serde::Serialize>(value: &T) -> Result<(), CliError> {
     out!("{text}")
 }
 
-/// `v` with `decimals` decimals for a table, as long as that stays short; beyond 10⁹ (a log's
-/// nonsense, or a number in the wrong unit) with six significant digits and an exponent, never
-/// the hundreds of digits a fixed format writes for 1e300.
+/// `v` with `decimals` decimals for a table, as long as that stays short
+/// ([`driftlab::number::fixed`]).
 pub fn fixed(v: f64, decimals: usize) -> String {
-    if v.is_finite() && v.abs() < 1e9 {
-        format!("{v:.decimals$}")
-    } else {
-        driftlab::number::readable(v)
-    }
+    driftlab::number::fixed(v, decimals)
 }
 
 /// A number in running text: at most six significant digits (`0.3`, not

@@ -184,7 +184,7 @@ impl PlateauView {
                         }
                         match stats.iter().find(|s| s.range == r) {
                             Some(s) => {
-                                cell(ui, 3, RichText::new(format!("{:.2}", s.temp_c)));
+                                cell(ui, 3, RichText::new(crate::number::fixed(s.temp_c, 2)));
                                 cell(ui, 4, RichText::new(num(s.omega_dph))).on_hover_text(
                                     format!(
                                         "std {} °/h, standard error {} °/h",
@@ -192,11 +192,15 @@ impl PlateauView {
                                         num(s.omega_sem_dph)
                                     ),
                                 );
-                                cell(ui, 5, RichText::new(format!("{:.3}", s.temp_spread_c)))
-                                    .on_hover_text(format!(
-                                        "{:.3} °C between the coldest and the warmest sample",
-                                        s.temp_spread_c
-                                    ));
+                                cell(
+                                    ui,
+                                    5,
+                                    RichText::new(crate::number::fixed(s.temp_spread_c, 3)),
+                                )
+                                .on_hover_text(format!(
+                                    "{} °C between the coldest and the warmest sample",
+                                    crate::number::fixed(s.temp_spread_c, 3)
+                                ));
                             }
                             None => {
                                 for c in 3..6 {
@@ -332,10 +336,10 @@ impl PlateauView {
             Some(f) => {
                 let s = f.outcome.calibration.k0.stats();
                 ui.weak(format!(
-                    "{} plateaus · RMSE {} °/h · R² {:.4}",
+                    "{} plateaus · RMSE {} °/h · R² {}",
                     s.n,
                     num(s.rmse),
-                    s.r2
+                    crate::number::fixed(s.r2, 4)
                 ))
                 .on_hover_text("Fit statistics of K0 over the plateau points");
             }
@@ -348,5 +352,9 @@ impl PlateauView {
 
 /// Plateau ranges of the time plots' shared view, for other views.
 pub fn fmt_range(r: &PlateauRange) -> String {
-    format!("{:.0}–{:.0} s", r.start_s, r.end_s)
+    format!(
+        "{}–{} s",
+        crate::number::fixed(r.start_s, 0),
+        crate::number::fixed(r.end_s, 0)
+    )
 }

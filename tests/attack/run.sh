@@ -5,7 +5,7 @@
 # in the middle of a write. Every run must end within its time limit, with status 0 or with
 # status 1 and a line `error: ...` (141, quietly, for a closed pipe), never a panic or an
 # abort; no input may change, no `.driftlab-*.tmp` may stay, a calibration it writes must load,
-# and no successful run may print NaN.
+# no successful run may print NaN, and no run may print a number of 25 digits.
 #
 #     tests/attack/run.sh [DRIFTLAB]         # default: target/release/driftlab
 #     ATTACK_QUICK=1 tests/attack/run.sh     # a tenth of the inputs (what `cargo test` runs)
@@ -92,6 +92,13 @@ run() {
     if [ $rc -eq 0 ] && grep -E "$table" out.txt | grep -qwE "NaN|inf|0\.0000"; then
         notes=$((notes + 1))
         echo "note: $what: $(grep -E "$table" out.txt | grep -m1 -wE "NaN|inf|0\.0000")"
+    fi
+    # Numbers for people have at most a few significant digits (1e-300, not three hundred
+    # digits); `export` prints a file's text, which keeps round-trip precision.
+    local long
+    if [ "$1" != export ]; then
+        long=$(grep -hoE '[0-9]{25,}' out.txt err.txt | head -1 | cut -c1-40)
+        [ -n "$long" ] && finding "a number of 25 digits or more printed ($long...): $what"
     fi
     if [ "$(inputs_sum "${existing[@]}")" != "$before" ]; then
         finding "an input changed: $what"

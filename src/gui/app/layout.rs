@@ -203,9 +203,9 @@ impl Workbench {
                 ui.label(RichText::new(format!("{name}{dirty}")).strong())
                     .on_hover_text(format!("{}{}", l.path.display(), if dirty.is_empty() { "" } else { "\nunsaved changes" }));
                 ui.weak(format!(
-                    "{} samples · {:.2} h · step {} s",
+                    "{} samples · {} h · step {} s",
                     l.log.len(),
-                    l.log.duration_s() / 3600.0,
+                    crate::number::fixed(l.log.duration_s() / 3600.0, 2),
                     num(l.log.nominal_dt_s())
                 ));
             }
@@ -341,11 +341,11 @@ impl Workbench {
                             .range_min_max(&log.temp_c, 0, log.len())
                             .unwrap_or((f64::NAN, f64::NAN));
                         ui.label(format!(
-                            "{} samples, {:.2} h, T {:.1} … {:.1} °C",
+                            "{} samples, {} h, T {} … {} °C",
                             log.len(),
-                            log.duration_s() / 3600.0,
-                            tmin,
-                            tmax
+                            crate::number::fixed(log.duration_s() / 3600.0, 2),
+                            crate::number::fixed(tmin, 1),
+                            crate::number::fixed(tmax, 1)
                         ))
                         .on_hover_text(l.path.display().to_string());
                         if ui

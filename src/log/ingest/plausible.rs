@@ -35,17 +35,25 @@ fn survey(x: &[f64]) -> Option<(f64, f64, bool)> {
 fn temperature_doubt(name: &str, x: &[f64]) -> Option<String> {
     let (lo, hi, whole) = survey(x)?;
     if lo < -273.15 {
-        return Some(format!("reaches {lo} °C, below absolute zero"));
+        return Some(format!(
+            "reaches {} °C, below absolute zero",
+            crate::number::readable(lo)
+        ));
     }
     if lo < TEMP_RANGE_C.0 || hi > TEMP_RANGE_C.1 {
         return Some(format!(
-            "spans {lo} … {hi} °C, outside the {} … {} °C a chamber reaches",
-            TEMP_RANGE_C.0, TEMP_RANGE_C.1
+            "spans {} … {} °C, outside the {} … {} °C a chamber reaches",
+            crate::number::readable(lo),
+            crate::number::readable(hi),
+            TEMP_RANGE_C.0,
+            TEMP_RANGE_C.1
         ));
     }
     if whole && hi - lo >= 1000.0 {
         return Some(format!(
-            "holds whole numbers over {lo} … {hi}: counts of a sensor register, not °C"
+            "holds whole numbers over {} … {}: counts of a sensor register, not °C",
+            crate::number::readable(lo),
+            crate::number::readable(hi)
         ));
     }
     if is_raw_register(name) {

@@ -274,7 +274,11 @@ impl Approx {
         stats: FitStats,
     ) -> Result<Approx, String> {
         if !x_min.is_finite() || !x_max.is_finite() || x_min > x_max {
-            return Err(format!("invalid x-range [{x_min}, {x_max}]"));
+            return Err(format!(
+                "invalid x-range [{}, {}]",
+                crate::number::readable(x_min),
+                crate::number::readable(x_max)
+            ));
         }
         let spline = match &curve {
             Curve::Polynomial { coeffs } => {
