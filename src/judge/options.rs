@@ -1,6 +1,7 @@
 //! Whether the options of the figures of merit make sense on a log, checked before they are
-//! computed: a filter or a window longer than the log gives figures of nothing (one window of
-//! one sample still labelled "10-min", a moving average over more than every sample).
+//! computed: a filter longer than the log averages more than every sample, a filter or window
+//! beyond any chamber run (1e9 s, inf) is a typing slip. A window longer than the log leaves
+//! the windowed figures `n/a`, with the reason, as the figures of merit say.
 
 use crate::error::Invalid;
 use crate::judge::metrics::MeritOptions;
@@ -15,7 +16,8 @@ pub fn log_span_s(log: &Log) -> f64 {
     log.duration_s() + log.nominal_dt_s()
 }
 
-/// Checks `opts` on `log`: a filter and a window that are positive seconds and fit in the log.
+/// Checks `opts` on `log`: a filter and a window that are positive seconds no longer than
+/// any chamber run, and a filter that fits in the log.
 ///
 /// # Errors
 /// `filter_s` or `window_s`, with the value and the log's span.
@@ -39,19 +41,19 @@ pub fn check_merit(opts: &MeritOptions, log: &Log) -> Result<(), Invalid> {
                 format!("must be a positive number of seconds, got {}", readable(v)),
             ));
         }
-        let dt = log.nominal_dt_s();
-        if v < 0.5 * dt {
+        if v > crate::models::recipe::MAX_WINDOW_S {
             return Err(Invalid::new(
                 field,
                 format!(
-                    "{} s is shorter than half the log's sampling step ({} s): it holds no \
-                     sample",
+                    "{} s is longer than any chamber run: at most {} s (11.6 days)",
                     readable(v),
-                    readable(dt)
+                    readable(crate::models::recipe::MAX_WINDOW_S)
                 ),
             ));
         }
-        if v > span {
+        // A window longer than the log is not refused: its figures are `n/a`, with the reason
+        // (a short log judged with the default 10-min window is still judged on the rest).
+        if field == "filter_s" && v > span {
             return Err(Invalid::new(
                 field,
                 format!(
@@ -93,12 +95,18 @@ mod tests {
             window_s: 1000.0,
         };
         assert_eq!(check_merit(&ok, &log), Ok(()));
+        // Longer than the log: the windowed figures are n/a, the rest is judged.
+        let long = MeritOptions {
+            filter_s: 100.0,
+            window_s: 1001.0,
+        };
+        assert_eq!(check_merit(&long, &log), Ok(()));
         for (filter_s, window_s, field) in [
             (f64::INFINITY, 600.0, "filter_s"),
             (1e12, 600.0, "filter_s"),
             (0.0, 600.0, "filter_s"),
             (100.0, f64::INFINITY, "window_s"),
-            (100.0, 1001.0, "window_s"),
+            (100.0, 2e6, "window_s"),
             (100.0, f64::NAN, "window_s"),
         ] {
             let e = check_merit(&MeritOptions { filter_s, window_s }, &log).unwrap_err();

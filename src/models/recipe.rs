@@ -200,24 +200,11 @@ impl Recipe {
     /// The setting, with its value and the log's span.
     pub fn check_against(&self, log: &crate::log::Log) -> Result<(), Invalid> {
         let span = crate::judge::options::log_span_s(log);
-        let dt = log.nominal_dt_s();
         for (name, v) in [
             ("filter_s", self.filter_s),
             ("temp_smoothing_s", self.temp_smoothing_s),
             ("step_h_s", self.step_h_s),
         ] {
-            if v < 0.5 * dt {
-                return Err(Invalid::new(
-                    name,
-                    format!(
-                        "{} s is shorter than half the sampling step of the log {} ({} s): it \
-                         holds no sample",
-                        crate::number::readable(v),
-                        log.source,
-                        crate::number::readable(dt)
-                    ),
-                ));
-            }
             if v > span {
                 return Err(Invalid::new(
                     name,
