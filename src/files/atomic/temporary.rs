@@ -122,7 +122,7 @@ fn is_running(pid: u32, entry: &std::fs::DirEntry) -> bool {
         .and_then(|m| m.modified())
         .ok()
         .and_then(|t| t.elapsed().ok());
-    !age.is_some_and(|a| a > std::time::Duration::from_secs(24 * 3600))
+    age.is_none_or(|a| a <= std::time::Duration::from_secs(24 * 3600))
 }
 
 /// Makes this process remove its temporary files when SIGINT, SIGTERM or SIGHUP ends it; the

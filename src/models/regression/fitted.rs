@@ -285,10 +285,13 @@ impl RegressionModel {
             ));
         }
         if let (Some(first), Some(last)) = (self.t_knots.first(), self.t_knots.last())
-            && self
-                .t_knots
-                .windows(2)
-                .any(|w| !(w[1] - w[0] >= 1e-9 * (last - first)) || !(last - first).is_finite())
+            && self.t_knots.windows(2).any(|w| {
+                // Closer than 1e-9 of the span, or not numbers.
+                !matches!(
+                    (w[1] - w[0]).partial_cmp(&(1e-9 * (last - first))),
+                    Some(std::cmp::Ordering::Greater | std::cmp::Ordering::Equal)
+                ) || !(last - first).is_finite()
+            })
         {
             return Err(Invalid::new(
                 "model.t_knots",

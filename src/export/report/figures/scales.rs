@@ -42,7 +42,8 @@ pub(super) fn drawable(axis: &str, range: (f64, f64), log: bool) -> Result<(f64,
             if log { "1e-100 .. 1e100" } else { "±1e100" }
         ));
     }
-    if !(hi > lo) {
+    // Not greater: equal, reversed, or not numbers.
+    if hi.partial_cmp(&lo) != Some(std::cmp::Ordering::Greater) {
         return Err(format!(
             "the {axis} axis has no span ({} .. {})",
             crate::number::readable(lo),
