@@ -8,7 +8,7 @@
 # no successful run may print NaN, and no run may print a number of 25 digits.
 #
 #     tests/attack/run.sh [DRIFTLAB]         # default: target/release/driftlab
-#     ATTACK_QUICK=1 tests/attack/run.sh     # a tenth of the inputs (what `cargo test` runs)
+#     ATTACK_QUICK=1 tests/attack/run.sh     # about a seventh of the runs (what `cargo test` runs)
 #
 # It needs bash, coreutils (timeout, mkfifo, sha256sum), sed and awk, and prints one line per
 # finding, then `N runs, N findings`. Its exit status is the number of findings (capped at 100).
