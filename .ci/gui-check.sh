@@ -125,4 +125,24 @@ wait_for_file "$WORK/logs/run7-session.json" || fail "Ctrl+S, Enter wrote no run
 grep -q '"format": "driftlab-session"' "$WORK/logs/run7-session.json" ||
   fail "run7-session.json is not a session file"
 
-echo "gui-check: ok: with no portal, no D-Bus session and no zenity, Ctrl+E/Enter and Ctrl+S/Enter wrote run7-calibration.json and run7-session.json beside the log"
+# Screenshot mode on what the window cannot show: status 1 and the cause on standard error
+# within seconds, no picture (it used to wait on an error dialog for ever).
+printf '{ "format": "driftlab-session", "version": 99, "session": {} }\n' >"$WORK/newer.session.json"
+{
+  echo "time_s,omega_dph,temp_c"
+  for i in $(seq 0 1999); do echo "$i,0.01,25.0"; done
+} >"$WORK/flat.csv"
+for what in "newer.session.json:version 99 is not supported" \
+  "flat.csv:the calibration failed:"; do
+  file=${what%%:*}
+  want=${what#*:}
+  rc=0
+  env HOME="$WORK/home" DISPLAY=":$DISPLAY_NUM" timeout 60 "$BIN" gui "$WORK/$file" \
+    --screenshot "$WORK/shot.png" >"$WORK/shot.log" 2>&1 || rc=$?
+  [ "$rc" -eq 1 ] || fail "gui $file --screenshot: status $rc (wanted 1): $(cat "$WORK/shot.log")"
+  grep -q "^error: .*$want" "$WORK/shot.log" ||
+    fail "gui $file --screenshot did not say \"$want\": $(cat "$WORK/shot.log")"
+  [ ! -e "$WORK/shot.png" ] || fail "gui $file --screenshot wrote a picture"
+done
+
+echo "gui-check: ok: with no portal, no D-Bus session and no zenity, Ctrl+E/Enter and Ctrl+S/Enter wrote run7-calibration.json and run7-session.json beside the log; --screenshot of a session or log that cannot be shown ended with status 1 and its message"

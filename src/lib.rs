@@ -60,6 +60,7 @@ pub mod judge;
 pub mod live;
 pub mod log;
 pub mod models;
+pub mod number;
 pub mod signal;
 pub mod sim;
 

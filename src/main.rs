@@ -6,14 +6,22 @@ use clap::Parser;
 
 fn main() -> std::process::ExitCode {
     let args = cli::Cli::parse();
+    // Ctrl-C, `kill` or a closed terminal during a write leaves no temporary file behind. A
+    // system that refuses the handlers still runs the command, as before.
+    let _ = driftlab::files::atomic::remove_temporaries_on_signals();
     let result = match args.command {
         Some(command) => cli::run(command),
         None => cli::run(cli::Command::Gui(cli::GuiArgs::default())),
     };
     match result {
         Ok(()) => std::process::ExitCode::SUCCESS,
-        Err(message) => {
-            eprintln!("error: {message}");
+        // The reader of the output is gone; a shell reports 141 for a program a closed pipe
+        // stopped, and says nothing.
+        Err(cli::CliError::ClosedOutput) => std::process::ExitCode::from(141),
+        Err(cli::CliError::Message(message)) => {
+            use std::io::Write;
+            // Standard error full or closed: nothing is left to tell; the status still says it.
+            let _ = writeln!(std::io::stderr(), "error: {message}");
             std::process::ExitCode::FAILURE
         }
     }

@@ -1,11 +1,11 @@
 //! `driftlab allan`: the Allan deviation of a log's rate, with intervals and the gyro
 //! read-outs (ARW, bias instability, RRW).
 
-use super::common::{self, LogArgs};
+use super::common::{self, CliError, LogArgs};
 use super::log_source;
 use driftlab::judge::allan::{self, AllanDeviation, AllanOptions, Readout, TauSpacing, kalibr};
 use driftlab::log::formats::Format;
-use driftlab::log::ingest;
+use driftlab::log::ingest::Input;
 use std::path::PathBuf;
 
 /// Arguments of `allan`.
@@ -38,17 +38,20 @@ pub struct Args {
     pub log_args: LogArgs,
 }
 
-pub fn run(a: Args) -> Result<(), String> {
-    if let Some(t) = a.tau0
-        && !(t.is_finite() && t > 0.0)
-    {
-        return Err(format!("--tau0 {t}: give a positive number of seconds"));
+pub fn run(a: Args) -> Result<(), CliError> {
+    if let Some(t) = a.tau0 {
+        allan::check_tau0(t).map_err(|e| format!("--tau0: {e}"))?;
     }
     let read_opts = a.log_args.options()?;
     if a.rostopic.is_some() && a.kalibr.is_none() && !a.json {
         return Err("--rostopic names the topic of the Kalibr file: give --kalibr OUT.yaml".into());
     }
-    let drone = log_source::read_drone_log(&a.log_args, &a.log, &read_opts, false)?;
+    let input = a.log_args.open(&a.log)?;
+    // A drone or robot log is read from its file; a CSV, a one-column file or a stream once.
+    let drone = match &input {
+        Input::Path(path) => log_source::read_drone_log(&a.log_args, path, &read_opts, false)?,
+        Input::Bytes { .. } => None,
+    };
     // A ROS gyro's topic is its instance's label.
     let ros_topic = drone.as_ref().and_then(|(_, d)| {
         matches!(d.format, Format::RosBag | Format::Mcap)
@@ -58,7 +61,7 @@ pub fn run(a: Args) -> Result<(), String> {
     });
     let series = match drone {
         Some(_) => None,
-        None => ingest::read_rate_series(&a.log, &read_opts).map_err(|e| e.to_string())?,
+        None => input.rate_series(&read_opts).map_err(|e| e.to_string())?,
     };
     // The other axes (gyro °/h, accelerometer m/s²) for Kalibr, which takes the noisiest.
     let mut other_gyro: Vec<(String, Vec<f64>)> = Vec::new();
@@ -81,13 +84,13 @@ pub fn run(a: Args) -> Result<(), String> {
         None => {
             let log = match drone {
                 Some((log, _)) => a.log_args.resampled(log)?,
-                None => a.log_args.read(&a.log)?,
+                None => a.log_args.read(&input)?,
             };
             // The Allan deviation needs evenly spaced samples: a log with gaps gives its
             // longest stretch, and says so.
             let (log, note) = driftlab::log::resample::longest_segment(log);
             if let Some(note) = note {
-                eprintln!("note: {}: {note}", log.source);
+                note!("note: {}: {note}", log.source);
             }
             let step = log.nominal_dt_s();
             let tau0 = a.tau0.unwrap_or(step);
@@ -116,7 +119,7 @@ pub fn run(a: Args) -> Result<(), String> {
         ..AllanOptions::default()
     };
     if a.all_tau && rate.len() > 200_000 {
-        eprintln!(
+        note!(
             "warning: --all-tau on {} samples computes {} deviations of O(N) each; octave τ \
              (the default) takes a fraction of a second",
             rate.len(),
@@ -130,7 +133,7 @@ pub fn run(a: Args) -> Result<(), String> {
             (Some(t), _) | (None, Some(t)) => t.clone(),
             (None, None) => {
                 if a.kalibr.is_some() {
-                    eprintln!(
+                    note!(
                         "note: {source}: rostopic /imu0 in the Kalibr file (give the IMU's with \
                          --rostopic TOPIC)"
                     );
@@ -155,15 +158,14 @@ pub fn run(a: Args) -> Result<(), String> {
             .map_err(|e| format!("{source}: {e}; {} not written", path.display()))?;
         driftlab::files::atomic::write_bytes(path, text.as_bytes())
             .map_err(|e| format!("{}: {e}", path.display()))?;
-        eprintln!("Kalibr noise model written to {}", path.display());
+        note!("Kalibr noise model written to {}", path.display());
     }
     if a.json {
         let mut j = json(&source, &dev);
         j["kalibr"] = serde_json::to_value(&noise).map_err(|e| e.to_string())?;
         return common::print_json(&j);
     }
-    print_table(&source, &dev);
-    Ok(())
+    print_table(&source, &dev)
 }
 
 /// Each named series as borrowed slices.
@@ -215,44 +217,49 @@ fn json(source: &str, d: &AllanDeviation) -> serde_json::Value {
     })
 }
 
-fn print_table(source: &str, d: &AllanDeviation) {
-    println!(
+fn print_table(source: &str, d: &AllanDeviation) -> Result<(), CliError> {
+    out!(
         "{source}: overlapping Allan deviation of {} samples, tau0 = {} s, {:.1}% intervals",
         d.samples,
-        d.options.tau0_s,
+        common::num(d.options.tau0_s),
         d.options.confidence * 100.0
-    );
-    println!(
+    )?;
+    out!(
         "  {:>12} {:>13} {:>10} {:>13} {:>13} {:>5}",
-        "tau (s)", "sigma (deg/h)", "n", "min", "max", "alpha"
-    );
+        "tau (s)",
+        "sigma (deg/h)",
+        "n",
+        "min",
+        "max",
+        "alpha"
+    )?;
     let opt = |v: Option<f64>| v.map_or_else(|| "-".to_string(), |v| format!("{v:.6e}"));
     for p in &d.points {
-        println!(
+        out!(
             "  {:>12} {:>13.6e} {:>10} {:>13} {:>13} {:>5}",
-            // m·τ0 in binary can print as 0.30000000000000004; nine decimals are plenty.
-            format!("{}", (p.tau_s * 1e9).round() / 1e9),
+            // m·τ0 in binary can print as 0.30000000000000004; nine digits are plenty.
+            driftlab::number::significant(p.tau_s, 9),
             p.adev,
             p.n_terms,
             opt(p.adev_min),
             opt(p.adev_max),
             p.alpha
-        );
+        )?;
     }
-    println!("  read-outs:");
+    out!("  read-outs:")?;
     let r = &d.readouts;
-    readout("angle random walk", &r.arw, "no -1/2 region in the curve");
+    readout("angle random walk", &r.arw, "no -1/2 region in the curve")?;
     readout(
         "bias instability",
         &r.bias_instability,
         "the curve shows no minimum it rises from",
-    );
-    readout("rate random walk", &r.rrw, "no +1/2 region in the curve");
+    )?;
+    readout("rate random walk", &r.rrw, "no +1/2 region in the curve")
 }
 
-fn readout(name: &str, r: &Option<Readout>, none: &str) {
+fn readout(name: &str, r: &Option<Readout>, none: &str) -> Result<(), CliError> {
     match r {
-        Some(r) => println!(
+        Some(r) => out!(
             "    {name:<18} {:.6e} {:<14} {}{}",
             r.value,
             r.unit,
@@ -263,6 +270,6 @@ fn readout(name: &str, r: &Option<Readout>, none: &str) {
                 ""
             }
         ),
-        None => println!("    {name:<18} none: {none}"),
+        None => out!("    {name:<18} none: {none}"),
     }
 }

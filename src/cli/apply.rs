@@ -1,6 +1,6 @@
 //! `driftlab apply`: correct a log with a calibration and write the result as CSV.
 
-use super::common::{self, LogArgs};
+use super::common::{self, CliError, LogArgs};
 use driftlab::{files::calibration, files::corrected_csv};
 use std::path::PathBuf;
 
@@ -18,9 +18,14 @@ pub struct Args {
     pub log_args: LogArgs,
 }
 
-pub fn run(a: Args) -> Result<(), String> {
+pub fn run(a: Args) -> Result<(), CliError> {
+    common::refuse_overwriting(
+        "--out",
+        &a.out,
+        &[("the calibration", &a.calibration), ("the log", &a.log)],
+    )?;
     let model = calibration::load_model(&a.calibration).map_err(|e| e.to_string())?;
-    let log = a.log_args.read_for(&a.log, &model)?;
+    let log = a.log_args.read_for(&a.log_args.open(&a.log)?, &model)?;
     // The predicted drift alone, batch by batch as the rows are written: the corrected rate
     // is written as Ω − pred row by row, so no column of it (nor of rates and regimes) is held.
     let mut predictor = model
@@ -38,13 +43,13 @@ pub fn run(a: Args) -> Result<(), String> {
     }
     let outside_fraction = predictor.outside_fraction();
     if outside_fraction > 0.0 {
-        eprintln!(
+        note!(
             "note: {:.1}% of the samples lie outside the calibrated ranges of the model's \
              inputs; edge values were held there",
             outside_fraction * 100.0
         );
     }
-    eprintln!(
+    note!(
         "{} samples corrected, written to {}",
         log.len(),
         a.out.display()

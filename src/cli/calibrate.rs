@@ -1,7 +1,7 @@
 //! `driftlab calibrate`: fit a calibration (any model) to a log and save it.
 
 use super::calibrate_print;
-use super::common::{self, LogArgs};
+use super::common::{self, CliError, LogArgs};
 use driftlab::files::calibration;
 use driftlab::judge::metrics::MeritOptions;
 use driftlab::models::approx::{ApproxKind, ApproxSpec};
@@ -87,7 +87,7 @@ pub struct Args {
 
 impl Args {
     /// The recipe: the file's (or the defaults), overridden by the options given.
-    fn recipe(&self) -> Result<Recipe, String> {
+    fn recipe(&self) -> Result<Recipe, CliError> {
         let mut r = match &self.recipe {
             Some(p) => calibration::read_recipe(p).map_err(|e| e.to_string())?,
             None => Recipe::default(),
@@ -118,7 +118,7 @@ impl Args {
         r.step_h_s = self.step_h.unwrap_or(r.step_h_s);
         r.deadband_tdot = self.deadband_tdot.or(r.deadband_tdot);
         r.deadband_tddot = self.deadband_tddot.or(r.deadband_tddot);
-        r.validate()?;
+        r.validate().map_err(common::with_option)?;
         Ok(r)
     }
 }
@@ -191,7 +191,24 @@ impl Args {
     }
 }
 
-pub fn run(a: Args) -> Result<(), String> {
+pub fn run(a: Args) -> Result<(), CliError> {
+    let mut inputs = vec![("the log", a.log.as_path())];
+    if let Some(r) = &a.recipe {
+        inputs.push(("the recipe", r.as_path()));
+    }
+    common::refuse_overwriting("--out", &a.out, &inputs)?;
+    if let Some(save) = &a.save_recipe {
+        common::refuse_overwriting("--save-recipe", save, &inputs)?;
+        // Both not yet there, or spelt alike: the second write would replace the first.
+        if common::same_output(save, &a.out) {
+            return Err(format!(
+                "--save-recipe {} is also --out: the recipe would replace the calibration; \
+                 give it another file",
+                save.display()
+            )
+            .into());
+        }
+    }
     let recipe = a.recipe()?;
     let choice = a.choice()?;
     let mut warnings = a.check_settings(&recipe, &choice)?;
@@ -201,15 +218,16 @@ pub fn run(a: Args) -> Result<(), String> {
     };
     // Vakhrameev's model reads the three calibration columns only; the others are neither
     // parsed nor held.
+    let input = a.log_args.open(&a.log)?;
     let log = if choice.is_vakhrameev() {
-        a.log_args.read_columns(&a.log)?
+        a.log_args.read_columns(&input)?
     } else {
-        a.log_args.read(&a.log)?
+        a.log_args.read(&input)?
     };
     common::status("fitting ...");
     // The file's hash is taken beside the fit, whose stages are partly sequential.
     let (fitted, sha256) = std::thread::scope(|scope| {
-        let sha = scope.spawn(|| calibration::sha256_file(&a.log).map_err(|e| e.to_string()));
+        let sha = scope.spawn(|| calibration::sha256_input(&input).map_err(|e| e.to_string()));
         let fitted = models::calibrate(&log, &choice, &recipe, &merit);
         let sha256 = sha
             .join()
@@ -220,7 +238,7 @@ pub fn run(a: Args) -> Result<(), String> {
         mut model,
         in_sample,
         warnings: fit_warnings,
-    } = fitted.map_err(|e| format!("{}: {e}", a.log.display()))?;
+    } = fitted.map_err(|e| common::about(&log.source, e))?;
     warnings.extend(fit_warnings);
     model.source_mut().name = file_name(&a.log);
     model.source_mut().sha256 = sha256?;
@@ -252,22 +270,22 @@ pub fn run(a: Args) -> Result<(), String> {
         return common::print_json(&out);
     }
     match &model {
-        DriftModel::Vakhrameev(cal) => calibrate_print::vakhrameev_summary(cal, &warnings),
+        DriftModel::Vakhrameev(cal) => calibrate_print::vakhrameev_summary(cal, &warnings)?,
         DriftModel::Regression(r) => {
-            calibrate_print::regression_summary(r);
+            calibrate_print::regression_summary(r)?;
             for w in &warnings {
-                eprintln!("warning: {w}");
+                note!("warning: {w}");
             }
         }
     }
-    println!();
-    println!(
+    out!()?;
+    out!(
         "In-sample (calibrated and evaluated on {}):",
         model.source().name
-    );
-    common::print_evaluation(&in_sample);
-    println!();
-    println!("Calibration written to {}", a.out.display());
+    )?;
+    common::print_evaluation(&in_sample, merit.window_s)?;
+    out!()?;
+    out!("Calibration written to {}", a.out.display())?;
     Ok(())
 }
 

@@ -1,10 +1,98 @@
-//! Pieces every subcommand shares: how to read a log, progress bars, number formatting.
+//! Pieces every subcommand shares: how to read a log, progress bars, number formatting, and
+//! the writes to standard output and error.
+//!
+//! Nothing here prints with `println!`: it panics when standard output is full or closed
+//! (`driftlab inspect run.csv > /dev/full`, `| head -1`). [`out!`] returns the error instead,
+//! and `main` ends the command with one line and a non-zero status, or quietly when the reader
+//! of a pipe has closed it, as Unix tools do. [`note!`] writes a warning or status line to
+//! standard error, where a failure has nowhere left to be told and is let go.
 
 use driftlab::Log;
-use driftlab::log::ingest::{self, ColumnRef, RateUnit, ReadOptions, TimeUnit};
+use driftlab::log::ingest::{ColumnRef, Input, RateUnit, ReadOptions, TimeUnit};
 use indicatif::{ProgressBar, ProgressStyle};
-use std::io::IsTerminal;
+use std::io::{IsTerminal, Write};
 use std::path::Path;
+
+/// Why a command stopped: a message for standard error, or standard output closed by the
+/// program reading it.
+#[derive(Debug)]
+pub enum CliError {
+    /// Printed by `main` after `error: `, with exit status 1.
+    Message(String),
+    /// The reader of standard output closed it (`| head -1`): the command stops without a
+    /// word, with the status a shell gives a program a closed pipe stopped (141).
+    ClosedOutput,
+}
+
+impl From<String> for CliError {
+    fn from(m: String) -> CliError {
+        CliError::Message(m)
+    }
+}
+
+impl From<&str> for CliError {
+    fn from(m: &str) -> CliError {
+        CliError::Message(m.to_string())
+    }
+}
+
+impl From<driftlab::error::Invalid> for CliError {
+    fn from(e: driftlab::error::Invalid) -> CliError {
+        CliError::Message(e.to_string())
+    }
+}
+
+/// The error of a write to standard output, as the command ends with it.
+pub fn stdout_error(e: std::io::Error) -> CliError {
+    if e.kind() == std::io::ErrorKind::BrokenPipe {
+        CliError::ClosedOutput
+    } else {
+        CliError::Message(format!("standard output: {e}"))
+    }
+}
+
+/// Writes formatted text and a line end to standard output.
+///
+/// # Errors
+/// A full disk or a closed pipe, as [`stdout_error`] names them.
+pub fn write_out(args: std::fmt::Arguments<'_>) -> Result<(), CliError> {
+    let mut o = std::io::stdout().lock();
+    o.write_fmt(args)
+        .and_then(|()| o.write_all(b"\n"))
+        .map_err(stdout_error)
+}
+
+/// Flushes standard output, whose last bytes may still be buffered when a command ends.
+///
+/// # Errors
+/// As [`write_out`].
+pub fn flush_out() -> Result<(), CliError> {
+    std::io::stdout().lock().flush().map_err(stdout_error)
+}
+
+/// Writes to standard error, letting a failure go: there is nowhere left to report it.
+pub fn write_err(args: std::fmt::Arguments<'_>) {
+    let mut e = std::io::stderr().lock();
+    let _ = e.write_fmt(args).and_then(|()| e.write_all(b"\n"));
+}
+
+/// `println!` that returns the error of a full or closed standard output instead of
+/// panicking: `out!("{x}")?`.
+macro_rules! out {
+    () => {
+        $crate::cli::common::write_out(format_args!(""))
+    };
+    ($($arg:tt)*) => {
+        $crate::cli::common::write_out(format_args!($($arg)*))
+    };
+}
+
+/// `eprintln!` that never panics (standard error full or closed is let go).
+macro_rules! note {
+    ($($arg:tt)*) => {
+        $crate::cli::common::write_err(format_args!($($arg)*))
+    };
+}
 
 /// Column mapping and format options, on every command that reads a log.
 #[derive(clap::Args, Debug, Clone, Default)]
@@ -78,46 +166,57 @@ impl LogArgs {
         })
     }
 
+    /// Opens a log given on the command line: `-` is standard input, and a FIFO or a device
+    /// is read once, whole ([`Input`]); a file is read later from its path.
+    pub fn open(&self, path: &Path) -> Result<Input, String> {
+        Input::open(path).map_err(|e| e.to_string())
+    }
+
     /// Reads only the time, rate and temperature columns of a log (for the commands that use
     /// nothing else: the other columns are neither parsed nor held).
-    pub fn read_columns(&self, path: &Path) -> Result<Log, String> {
+    pub fn read_columns(&self, input: &Input) -> Result<Log, String> {
         let opts = ReadOptions {
             skip_extras: true,
             ..self.options()?
         };
-        self.read_with(path, &opts)
+        self.read_with(input, &opts)
     }
 
     /// Reads the columns `model` needs: the calibration columns, and the second temperature
     /// and extra channels when the model reads them.
     pub fn read_for(
         &self,
-        path: &Path,
+        input: &Input,
         model: &driftlab::models::fitted::DriftModel,
     ) -> Result<Log, String> {
         match model.inputs() {
-            (None, channels) if channels.is_empty() => self.read_columns(path),
-            _ => self.read(path),
+            (None, channels) if channels.is_empty() => self.read_columns(input),
+            _ => self.read(input),
         }
     }
 
     /// Reads a log, with a progress bar on an interactive terminal.
-    pub fn read(&self, path: &Path) -> Result<Log, String> {
-        self.read_with(path, &self.options()?)
+    pub fn read(&self, input: &Input) -> Result<Log, String> {
+        self.read_with(input, &self.options()?)
+    }
+
+    /// Opens and reads the log at `path`.
+    pub fn read_path(&self, path: &Path) -> Result<Log, String> {
+        self.read(&self.open(path)?)
     }
 
     /// Reads a log as it was recorded, neither binned nor reduced to its bursts (`inspect`,
     /// which describes the file), unless `--bin` asks for bins.
-    pub fn read_recorded(&self, path: &Path) -> Result<Log, String> {
-        let log = self.read_plain(path, &self.options()?)?;
+    pub fn read_recorded(&self, input: &Input) -> Result<Log, String> {
+        let log = self.read_plain(input, &self.options()?)?;
         match self.bin {
             Some(_) => self.resampled(log),
             None => Ok(log),
         }
     }
 
-    fn read_with(&self, path: &Path, opts: &ReadOptions) -> Result<Log, String> {
-        let log = self.read_plain(path, opts)?;
+    fn read_with(&self, input: &Input, opts: &ReadOptions) -> Result<Log, String> {
+        let log = self.read_plain(input, opts)?;
         self.resampled(log)
     }
 
@@ -125,24 +224,27 @@ impl LogArgs {
     pub fn resampled(&self, log: Log) -> Result<Log, String> {
         let (log, note) = driftlab::log::resample::prepare(log, self.bin)?;
         if let Some(note) = note {
-            eprintln!("note: {}: {note}", log.source);
+            note!("note: {}: {note}", log.source);
         }
         Ok(log)
     }
 
-    fn read_plain(&self, path: &Path, opts: &ReadOptions) -> Result<Log, String> {
-        // A drone or robot log, told by its first bytes.
-        if let Some((log, _)) = super::log_source::read_drone_log(self, path, opts, true)? {
+    fn read_plain(&self, input: &Input, opts: &ReadOptions) -> Result<Log, String> {
+        // A drone or robot log, told by its first bytes (read from its file).
+        if let Input::Path(path) = input
+            && let Some((log, _)) = super::log_source::read_drone_log(self, path, opts, true)?
+        {
             return Ok(log);
         }
-        let bar = progress_bar(&format!("reading {}", path.display()));
-        let log = ingest::read_path_with_progress(path, opts, &|f| {
-            if let Some(b) = &bar {
-                b.set_position((f * 1000.0) as u64);
-            }
-            true
-        })
-        .map_err(|e| e.to_string());
+        let bar = progress_bar(&format!("reading {}", input.name()));
+        let log = input
+            .read(opts, &|f| {
+                if let Some(b) = &bar {
+                    b.set_position((f * 1000.0) as u64);
+                }
+                true
+            })
+            .map_err(|e| e.to_string());
         if let Some(b) = bar {
             b.finish_and_clear();
         }
@@ -160,10 +262,60 @@ impl LogArgs {
             } else {
                 String::new()
             };
-            eprintln!("warning: {}:{place}: {}{times}", log.source, p.message);
+            note!("warning: {}:{place}: {}{times}", log.source, p.message);
         }
         Ok(log)
     }
+}
+
+/// An engine error about the log `source`, named once: `FILE: why` (the fit's own messages
+/// already start with the file; the others do not).
+pub fn about(source: &str, e: impl std::fmt::Display) -> String {
+    let m = e.to_string();
+    if m.starts_with(&format!("{source}: ")) {
+        m
+    } else {
+        format!("{source}: {m}")
+    }
+}
+
+/// Refuses an output (`option`, at `output`) that is one of the command's `inputs` (each named
+/// by what it is: "the log", "the calibration"), before anything is read or written.
+pub fn refuse_overwriting(
+    option: &str,
+    output: &Path,
+    inputs: &[(&str, &Path)],
+) -> Result<(), CliError> {
+    match inputs
+        .iter()
+        .find(|(_, input)| driftlab::files::atomic::is_same_file(output, input))
+    {
+        Some((what, input)) => Err(CliError::Message(format!(
+            "{option} {}: this is {what} the command reads ({}); writing it would destroy it, \
+             so nothing was written: give another file",
+            output.display(),
+            input.display()
+        ))),
+        None => Ok(()),
+    }
+}
+
+/// Whether two outputs are one file: the same existing file, or (not yet there) the same
+/// path once links and `.`/`..` are resolved in their folders.
+pub fn same_output(a: &Path, b: &Path) -> bool {
+    if driftlab::files::atomic::is_same_file(a, b) {
+        return true;
+    }
+    let resolved = |p: &Path| {
+        let dir = match p.parent() {
+            Some(d) if !d.as_os_str().is_empty() => d,
+            _ => Path::new("."),
+        };
+        std::fs::canonicalize(dir)
+            .ok()
+            .map(|d| d.join(p.file_name().unwrap_or_default()))
+    };
+    a == b || matches!((resolved(a), resolved(b)), (Some(x), Some(y)) if x == y)
 }
 
 /// A progress bar counting to 1000, or `None` when stderr is not a terminal (scripts, CI).
@@ -183,15 +335,26 @@ pub fn progress_bar(message: &str) -> Option<ProgressBar> {
 /// A short spinner-free status line on stderr when interactive.
 pub fn status(message: &str) {
     if std::io::stderr().is_terminal() {
-        eprintln!("{message}");
+        note!("{message}");
     }
 }
 
 /// Prints a value as pretty JSON on stdout.
-pub fn print_json<T: serde::Serialize>(value: &T) -> Result<(), String> {
+pub fn print_json<T: serde::Serialize>(value: &T) -> Result<(), CliError> {
     let text = serde_json::to_string_pretty(value).map_err(|e| e.to_string())?;
-    println!("{text}");
-    Ok(())
+    out!("{text}")
+}
+
+/// `v` with `decimals` decimals for a table, as long as that stays short
+/// ([`driftlab::number::fixed`]).
+pub fn fixed(v: f64, decimals: usize) -> String {
+    driftlab::number::fixed(v, decimals)
+}
+
+/// A number in running text: at most six significant digits (`0.3`, not
+/// `0.30000000000000004`; `1e-300`, not three hundred digits).
+pub fn num(v: f64) -> String {
+    driftlab::number::readable(v)
 }
 
 /// Formats a ratio raw ÷ corrected for tables: `n/a` when it cannot be computed, and marked
@@ -200,28 +363,58 @@ pub fn ratio(r: f64) -> String {
     if !r.is_finite() {
         "n/a".into()
     } else if r < 1.0 {
-        format!("{r:.2}x worse")
+        format!("{}x worse", fixed(r, 2))
     } else {
-        format!("{r:.2}x")
+        format!("{}x", fixed(r, 2))
     }
 }
 
 /// Formats a figure in °/h for tables: `n/a` when it could not be computed.
 pub fn figure(v: f64) -> String {
     if v.is_finite() {
-        format!("{v:.4}")
+        fixed(v, 4)
     } else {
         "n/a".into()
     }
 }
 
-/// Prints an evaluation as a small table of raw, corrected and ratio.
-pub fn print_evaluation(e: &driftlab::judge::metrics::Evaluation) {
+/// A setting the engine refused, named also by the option that sets it on the command line
+/// (`filter_s (--filter): ...`): the value may have come from the option or from a recipe.
+pub fn with_option(e: driftlab::error::Invalid) -> CliError {
+    let option = match e.field.as_str() {
+        "filter_s" => "--filter",
+        "window_s" => "--window",
+        "temp_smoothing_s" => "--smooth",
+        "step_h_s" => "--step-h",
+        "deadband_tdot" => "--deadband-tdot",
+        "deadband_tddot" => "--deadband-tddot",
+        f if f.ends_with(".knots") => "--knots",
+        _ => return CliError::Message(e.to_string()),
+    };
+    CliError::Message(format!("{} ({option}): {}", e.field, e.reason))
+}
+
+/// Refuses figures of merit whose filter or window does not fit in `log`.
+pub fn check_merit(merit: &driftlab::MeritOptions, log: &Log) -> Result<(), CliError> {
+    driftlab::judge::options::check_merit(merit, log).map_err(with_option)
+}
+
+/// Prints an evaluation as a small table of raw, corrected and ratio; the windowed figures are
+/// labelled with the window they were computed over.
+pub fn print_evaluation(
+    e: &driftlab::judge::metrics::Evaluation,
+    window_s: f64,
+) -> Result<(), CliError> {
     let c = &e.comparison;
-    println!(
+    let w = driftlab::judge::options::window_label(window_s);
+    let (mean_label, rms_label) = (format!("max |{w} mean|"), format!("mean {w} RMS"));
+    out!(
         "  {:<34} {:>11} {:>11} {:>12}",
-        "figure (deg/h)", "raw", "corrected", "raw/cor"
-    );
+        "figure (deg/h)",
+        "raw",
+        "corrected",
+        "raw/cor"
+    )?;
     let rows = [
         (
             "peak-to-peak of filtered drift",
@@ -236,55 +429,45 @@ pub fn print_evaluation(e: &driftlab::judge::metrics::Evaluation) {
             c.std_ratio,
         ),
         (
-            "max |10-min mean|",
+            mean_label.as_str(),
             c.raw.win_mean_max_abs_dph,
             c.corrected.win_mean_max_abs_dph,
             c.win_mean_ratio,
         ),
         (
-            "mean 10-min RMS",
+            rms_label.as_str(),
             c.raw.win_rms_mean_dph,
             c.corrected.win_rms_mean_dph,
             c.win_rms_ratio,
         ),
     ];
     for (name, raw, cor, r) in rows {
-        println!(
+        out!(
             "  {name:<34} {:>11} {:>11} {:>12}",
             figure(raw),
             figure(cor),
             ratio(r)
-        );
+        )?;
     }
     for (what, why) in [
         ("peak-to-peak and std", c.raw.filtered_unavailable),
         ("window figures", c.raw.windows_unavailable),
     ] {
         if let Some(why) = why {
-            println!("  {what} n/a: {why}");
+            out!("  {what} n/a: {why}")?;
         }
     }
     if c.worse_than_raw.any() {
-        println!(
+        out!(
             "  worse than raw: {} (ratio below 1)",
             c.worse_than_raw.names().join(", ")
-        );
+        )?;
     }
-    println!(
+    out!(
         "  {} samples ({} warm-up samples left out), {} windows; {:.1}% outside the calibrated ranges",
         c.raw.samples,
         e.warmup_samples,
         c.raw.windows,
         e.outside_fraction * 100.0
-    );
-}
-
-/// A number for a person: rounded to six significant digits, printed in its shortest form
-/// (119.985, not 119.98510447761194; 0.02, not 0.020000000000000004).
-pub fn readable(x: f64) -> String {
-    if !x.is_finite() {
-        return "n/a".to_string();
-    }
-    let rounded: f64 = format!("{x:.5e}").parse().unwrap_or(x);
-    format!("{rounded}")
+    )
 }

@@ -1,6 +1,6 @@
 //! `driftlab compare`: several models fitted on one log, judged on it and on held-out logs.
 
-use super::common::{self, LogArgs};
+use super::common::{self, CliError, LogArgs};
 use driftlab::judge::compare::{self, ModelReport, Outcome};
 use driftlab::judge::metrics::MeritOptions;
 use driftlab::models::presets::{CustomOptions, ModelChoice};
@@ -58,7 +58,7 @@ pub struct Args {
     pub log_args: LogArgs,
 }
 
-pub fn run(a: Args) -> Result<(), String> {
+pub fn run(a: Args) -> Result<(), CliError> {
     let how = CustomOptions {
         delay: a.delay.clone(),
         lag: a.lag.clone(),
@@ -69,15 +69,15 @@ pub fn run(a: Args) -> Result<(), String> {
         filter_s: a.filter,
         window_s: a.window,
     };
-    if !(merit.filter_s > 0.0 && merit.window_s > 0.0) {
-        return Err("--filter and --window must be positive".into());
-    }
-    let train = a.log_args.read(&a.train)?;
+    let train = a.log_args.read_path(&a.train)?;
     let tests = a
         .test
         .iter()
-        .map(|p| a.log_args.read(p))
+        .map(|p| a.log_args.read_path(p))
         .collect::<Result<Vec<_>, _>>()?;
+    for log in std::iter::once(&train).chain(&tests) {
+        common::check_merit(&merit, log)?;
+    }
     common::status(&format!("fitting {} models ...", choices.len()));
     let recipe = Recipe {
         filter_s: a.filter,
@@ -85,9 +85,7 @@ pub fn run(a: Args) -> Result<(), String> {
         step_h_s: a.step_h,
         ..Recipe::default()
     };
-    recipe
-        .validate()
-        .map_err(|e| format!("--smooth, --step-h: {e}"))?;
+    recipe.validate().map_err(common::with_option)?;
     let reports = compare::compare(&train, &tests, &choices, &recipe, &merit);
     if a.json {
         return common::print_json(&serde_json::json!({
@@ -97,56 +95,64 @@ pub fn run(a: Args) -> Result<(), String> {
             "models": reports,
         }));
     }
-    print_tables(&reports, &merit);
-    Ok(())
+    print_tables(&reports, &merit)
 }
 
-fn print_tables(reports: &[ModelReport], merit: &MeritOptions) {
-    println!(
+fn print_tables(reports: &[ModelReport], merit: &MeritOptions) -> Result<(), CliError> {
+    out!(
         "Figures of the drift filtered over {} s, in deg/h; ratio = raw / corrected (above 1 is \
          better); windows of {} s.",
-        merit.filter_s, merit.window_s
-    );
+        common::num(merit.filter_s),
+        common::num(merit.window_s)
+    )?;
     for r in reports.iter().filter(|r| r.error.is_some()) {
-        println!(
+        out!(
             "  {}: not fitted: {}",
             r.model,
             r.error.as_deref().unwrap_or("")
-        );
+        )?;
     }
     let Some(first) = reports.iter().find(|r| r.error.is_none()) else {
-        return;
+        return Ok(());
     };
     for (k, j) in first.logs.iter().enumerate() {
-        println!();
-        println!(
+        out!()?;
+        out!(
             "{} ({})",
             j.log,
             if j.held_out { "held out" } else { "in-sample" }
-        );
-        println!(
+        )?;
+        out!(
             "  {:<12} {:>9} {:>9} {:>8} {:>8} {:>10} {:>8} {:>8}",
-            "model", "p2p raw", "p2p cor", "p2p", "std", "10-min", "RMS", "outside"
-        );
+            "model",
+            "p2p raw",
+            "p2p cor",
+            "p2p",
+            "std",
+            driftlab::judge::options::window_label(merit.window_s),
+            "RMS",
+            "outside"
+        )?;
         for r in reports.iter().filter(|r| r.error.is_none()) {
             match r.logs.get(k).map(|j| &j.result) {
                 Some(Outcome::Evaluation(e)) => {
                     let c = &e.comparison;
-                    println!(
-                        "  {:<12} {:>9.4} {:>9.4} {:>8} {:>8} {:>10} {:>8} {:>7.1}%",
+                    out!(
+                        "  {:<12} {:>9} {:>9} {:>8} {:>8} {:>10} {:>8} {:>7.1}%",
                         r.model,
-                        c.raw.p2p_dph,
-                        c.corrected.p2p_dph,
+                        common::fixed(c.raw.p2p_dph, 4),
+                        common::fixed(c.corrected.p2p_dph, 4),
                         common::ratio(c.p2p_ratio),
                         common::ratio(c.std_ratio),
                         common::ratio(c.win_mean_ratio),
                         common::ratio(c.win_rms_ratio),
                         100.0 * e.outside_fraction
-                    );
+                    )?;
                 }
-                Some(Outcome::Error(msg)) => println!("  {:<12} {msg}", r.model),
+                Some(Outcome::Error(msg)) => out!("  {:<12} {msg}", r.model)?,
                 None => {}
             }
         }
     }
+    Ok(())
 }

@@ -1,6 +1,7 @@
 //! `driftlab convert`: one gyro of a drone or robot log (PX4 ULog, ArduPilot DataFlash, ROS 1
 //! bag, MCAP) as a CSV the other commands read with no options.
 
+use super::common::{self, CliError};
 use driftlab::log::formats::{self, TempFrom};
 use std::path::PathBuf;
 
@@ -23,16 +24,17 @@ pub struct Args {
     pub temp_from: Option<TempFrom>,
 }
 
-pub fn run(a: Args) -> Result<(), String> {
+pub fn run(a: Args) -> Result<(), CliError> {
+    common::refuse_overwriting("--out", &a.out, &[("the log", &a.log)])?;
     let rec = formats::read_path(&a.log).map_err(|e| e.to_string())?;
     for p in &rec.problems {
-        eprintln!("{}: {p}", rec.source);
+        note!("{}: {p}", rec.source);
     }
     let sel = formats::select(&rec, a.gyro, a.temp_from).map_err(|e| e.to_string())?;
-    eprintln!("{}", sel.note);
+    note!("{}", sel.note);
     driftlab::files::atomic::write_with(&a.out, |w| formats::write_csv(&sel, w))
         .map_err(|e| format!("{}: {e}", a.out.display()))?;
-    eprintln!(
+    note!(
         "{} samples of {} written to {}",
         sel.instance.len(),
         sel.instance.label,

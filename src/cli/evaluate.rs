@@ -1,6 +1,6 @@
 //! `driftlab evaluate`: figures of merit of a log, raw and corrected.
 
-use super::common::{self, LogArgs};
+use super::common::{self, CliError, LogArgs};
 use driftlab::files::calibration;
 use driftlab::judge::metrics::{Evaluation, MeritOptions};
 use driftlab::models::fitted::DriftModel;
@@ -26,9 +26,14 @@ pub struct Args {
     pub log_args: LogArgs,
 }
 
-pub fn run(a: Args) -> Result<(), String> {
+pub fn run(a: Args) -> Result<(), CliError> {
     let model = calibration::load_model(&a.calibration).map_err(|e| e.to_string())?;
-    let log = a.log_args.read_for(&a.log, &model)?;
+    let input = a.log_args.open(&a.log)?;
+    let log = a.log_args.read_for(&input, &model)?;
+    // The log is the calibration's own when its bytes are (hashed as they were read), or by
+    // name for a calibration that recorded no hash.
+    let hash = calibration::sha256_input(&input).unwrap_or_default();
+    let in_sample = driftlab::export::report::is_source(model.source(), &a.log, &hash);
     let default_filter = match &model {
         DriftModel::Vakhrameev(cal) => cal.recipe.filter_s,
         DriftModel::Regression(_) => MeritOptions::default().filter_s,
@@ -37,35 +42,30 @@ pub fn run(a: Args) -> Result<(), String> {
         filter_s: a.filter.unwrap_or(default_filter),
         window_s: a.window,
     };
-    if !(opts.filter_s > 0.0 && opts.window_s > 0.0) {
-        return Err("--filter and --window must be positive".into());
-    }
+    common::check_merit(&opts, &log)?;
     let correction = model
         .correct(&log)
         .map_err(|e| format!("{}: {e}", a.calibration.display()))?;
     let eval = Evaluation::of_correction(&log, &correction, &opts);
-    let sha = &model.source().sha256;
     if a.json {
         return common::print_json(&serde_json::json!({
             "calibration": a.calibration,
             "log": a.log,
             "model": model.name(),
-            "in_sample": *sha == calibration::sha256_file(&a.log).unwrap_or_default(),
+            "in_sample": in_sample,
             "options": opts,
             "evaluation": eval,
         }));
     }
-    let held_out = *sha != calibration::sha256_file(&a.log).unwrap_or_default();
-    println!(
+    out!(
         "{} on {} ({}):",
         super::calibrate::file_name(&a.calibration),
         super::calibrate::file_name(&a.log),
-        if held_out {
-            "held out: not the calibration log"
-        } else {
+        if in_sample {
             "in-sample: the calibration log"
+        } else {
+            "held out: not the calibration log"
         }
-    );
-    common::print_evaluation(&eval);
-    Ok(())
+    )?;
+    common::print_evaluation(&eval, opts.window_s)
 }

@@ -1,6 +1,7 @@
 //! `driftlab export`: a calibration for a gyro's processor, as a C header or lookup tables, or
 //! for a flight controller, as PX4 or ArduPilot parameters.
 
+use super::common::CliError;
 use driftlab::export::firmware::{self, ExportOptions, Format};
 use driftlab::export::flight::ardupilot::ArduPilotTarget;
 use driftlab::export::flight::px4::{self, Px4Target};
@@ -105,7 +106,10 @@ impl Args {
     }
 }
 
-pub fn run(a: Args) -> Result<(), String> {
+pub fn run(a: Args) -> Result<(), CliError> {
+    if let Some(out) = &a.out {
+        super::common::refuse_overwriting("--out", out, &[("the calibration", &a.calibration)])?;
+    }
     let model = calibration::load_model(&a.calibration).map_err(|e| e.to_string())?;
     let opts = a.options()?;
     let fail = |e: firmware::ExportError| format!("{}: {e}", a.calibration.display());
@@ -123,10 +127,10 @@ pub fn run(a: Args) -> Result<(), String> {
         axes.extend(others.iter().map(|(axis, m)| (*axis, m)));
         let file = firmware::flight_axes(&axes, a.format, &opts).map_err(fail)?;
         for w in &file.warnings {
-            eprintln!("warning: {w}");
+            note!("warning: {w}");
         }
         for note in &file.notes {
-            eprintln!("note: {note}");
+            note!("note: {note}");
         }
         file.text
     } else {
@@ -141,13 +145,13 @@ pub fn run(a: Args) -> Result<(), String> {
             } else {
                 model.gyro_id().to_string()
             };
-            eprintln!("{} of {what} written to {}", a.format, path.display());
+            note!("{} of {what} written to {}", a.format, path.display());
         }
         None => {
             let mut out = std::io::stdout().lock();
             out.write_all(text.as_bytes())
                 .and_then(|()| out.flush())
-                .map_err(|e| format!("standard output: {e}"))?;
+                .map_err(super::common::stdout_error)?;
         }
     }
     Ok(())

@@ -1,8 +1,9 @@
 //! `driftlab inspect`: what driftlab reads in a log.
 
-use super::common::{self, LogArgs};
+use super::common::{self, CliError, LogArgs};
 use super::log_source;
 use driftlab::log::formats::{self, InstanceSummary};
+use driftlab::log::ingest::Input;
 use driftlab::log::read::{self, TempFrom};
 use driftlab::models::recipe::Recipe;
 use driftlab::models::vakhrameev::{self, Prepared};
@@ -27,26 +28,31 @@ struct Drone {
     chosen: usize,
 }
 
-fn print_instances(source: &str, format: formats::Format, instances: &[InstanceSummary]) {
-    println!(
+fn print_instances(
+    source: &str,
+    format: formats::Format,
+    instances: &[InstanceSummary],
+) -> Result<(), CliError> {
+    out!(
         "{source}: {format} log, {} gyro instance(s):",
         instances.len()
-    );
+    )?;
     for s in instances {
-        println!("  {}", s.line());
+        out!("  {}", s.line())?;
         let accel = if s.has_accel {
             ", accel x y z (m/s^2)"
         } else {
             ""
         };
-        println!("      axes: gyro x y z (rad/s){accel}");
+        out!("      axes: gyro x y z (rad/s){accel}")?;
     }
+    Ok(())
 }
 
 /// A drone or robot log: its instances listed, then the chosen gyro as a log (`None` for a
 /// CSV). When no gyro can be chosen as asked, the instances are still listed (what an engineer needs to choose
 /// one) before the error says why.
-fn drone(a: &Args) -> Result<Option<(driftlab::Log, Drone)>, String> {
+fn drone(a: &Args) -> Result<Option<(driftlab::Log, Drone)>, CliError> {
     let opts = a.log_args.options()?;
     let Some(format) = log_source::check(&a.log_args, &a.log, &opts)? else {
         return Ok(None);
@@ -56,7 +62,8 @@ fn drone(a: &Args) -> Result<Option<(driftlab::Log, Drone)>, String> {
             "{}: --temp-from none leaves the log without a temperature: inspect lists every \
              instance's temperatures without it",
             a.log.display()
-        ));
+        )
+        .into());
     }
     let rec = formats::read_path(&a.log).map_err(|e| e.to_string())?;
     let instances = rec.summaries();
@@ -73,18 +80,20 @@ fn drone(a: &Args) -> Result<Option<(driftlab::Log, Drone)>, String> {
                     "why_none": e.to_string(),
                 }))?;
             } else {
-                print_instances(&rec.source, format, &instances);
+                print_instances(&rec.source, format, &instances)?;
                 for p in &rec.problems {
-                    println!("  problem: {p}");
+                    out!("  problem: {p}")?;
                 }
             }
-            return Err(e.to_string());
+            return Err(e.to_string().into());
         }
     };
     drop(rec);
-    let d = any.drone.ok_or("a drone log read as a CSV")?;
+    let d = any
+        .drone
+        .ok_or(CliError::from("a drone log read as a CSV"))?;
     if !a.json {
-        print_instances(&any.log.source, format, &d.instances);
+        print_instances(&any.log.source, format, &d.instances)?;
     }
     log_source::print_notes(&d, &any.log);
     // As recorded, unless --bin asks for bins (as `LogArgs::read_recorded`).
@@ -102,12 +111,17 @@ fn drone(a: &Args) -> Result<Option<(driftlab::Log, Drone)>, String> {
     )))
 }
 
-pub fn run(a: Args) -> Result<(), String> {
+pub fn run(a: Args) -> Result<(), CliError> {
     // The sampling as recorded; the plateaus and rates as the other commands see the log
-    // (a burst log reduced to its bursts' means).
-    let (recorded, drone) = match drone(&a)? {
+    // (a burst log reduced to its bursts' means). A drone or robot log is read from its file.
+    let input = a.log_args.open(&a.log)?;
+    let found = match &input {
+        Input::Path(_) => drone(&a)?,
+        Input::Bytes { .. } => None,
+    };
+    let (recorded, drone) = match found {
         Some((log, d)) => (log, Some(d)),
-        None => (a.log_args.read_recorded(&a.log)?, None),
+        None => (a.log_args.read_recorded(&input)?, None),
     };
     let timing = recorded.timing();
     let sampling = timing.describe(&recorded.time_s);
@@ -141,8 +155,6 @@ pub fn run(a: Args) -> Result<(), String> {
             "source": log.source,
             "info": log.info,
             "samples": log.len(),
-            "axis": log.axis,
-            "other_axes": log.other_axes.iter().map(|x| &x.name).collect::<Vec<_>>(),
             "sampling": sampling,
             "step_s": dt,
             "sample_rate_hz": 1.0 / dt,
@@ -161,13 +173,15 @@ pub fn run(a: Args) -> Result<(), String> {
     }
     let i = &log.info;
     match &drone {
-        Some(d) => println!(
+        Some(d) => out!(
             "{}: gyro {} of the {} log, as read:",
-            log.source, d.chosen, d.format
-        ),
+            log.source,
+            d.chosen,
+            d.format
+        )?,
         None => {
-            println!("{}", log.source);
-            println!(
+            out!("{}", log.source)?;
+            out!(
                 "  format: separator {:?}, decimal {}, {}",
                 i.delimiter,
                 if i.decimal_comma { "comma" } else { "point" },
@@ -176,75 +190,87 @@ pub fn run(a: Args) -> Result<(), String> {
                 } else {
                     "no header"
                 }
-            );
+            )?;
         }
     }
-    println!("  columns:");
+    out!("  columns:")?;
     for c in &i.columns {
         let unit = if c.unit.is_empty() {
             String::new()
         } else {
             format!(" [{}]", c.unit)
         };
-        println!("    {:>2}  {:<24} {:?}{unit}", c.index, c.name, c.role);
+        out!("    {:>2}  {:<24} {:?}{unit}", c.index, c.name, c.role)?;
     }
     if !log.other_axes.is_empty() {
         let others: Vec<&str> = log.other_axes.iter().map(|x| x.name.as_str()).collect();
-        println!(
+        out!(
             "  gyro axes: {} (the rate the commands use), {} (choose one with --rate-col NAME)",
             if log.axis.is_empty() { "?" } else { &log.axis },
             others.join(", ")
-        );
+        )?;
     }
-    println!(
-        "  {recorded_len} samples ({} rows read), step {} s ({} Hz), duration {:.2} h",
+    out!(
+        "  {recorded_len} samples ({} rows read), step {} s ({} Hz), duration {} h",
         i.rows_read,
-        common::readable(recorded_dt),
-        common::readable(1.0 / recorded_dt),
-        log.duration_s() / 3600.0
-    );
+        common::num(recorded_dt),
+        common::num(1.0 / recorded_dt),
+        common::fixed(log.duration_s() / 3600.0, 2)
+    )?;
     for line in &sampling {
-        println!("  {line}");
+        out!("  {line}")?;
     }
     if reduced {
-        println!(
+        out!(
             "  the other commands reduce each burst to its mean time, rate and temperature: \
              {} samples, step {} s (--bin S chooses bins instead); the plateaus below are theirs",
             log.len(),
-            common::readable(dt)
-        );
+            common::num(dt)
+        )?;
     }
-    println!("  temperature {tmin:.3} .. {tmax:.3} degC, fastest |Tdot| {rate_max:.3} degC/min");
-    println!("  plateaus found ({}):", plateaus.len());
+    out!(
+        "  temperature {} .. {} degC, fastest |Tdot| {} degC/min",
+        common::fixed(tmin, 3),
+        common::fixed(tmax, 3),
+        common::fixed(rate_max, 3)
+    )?;
+    out!("  plateaus found ({}):", plateaus.len())?;
     // A week-long log can hold thousands: the first and last ones say enough on a terminal
     // (`--json` lists every one).
     const SHOWN: usize = 10;
     let line = |p: &driftlab::signal::plateau::PlateauStats| {
-        println!(
-            "    {:>9.0} .. {:>9.0} s   T {:>8.3} degC   Omega {:>9.4} deg/h   std {:.4}   {} samples",
-            p.range.start_s, p.range.end_s, p.temp_c, p.omega_dph, p.omega_std_dph, p.samples
-        );
+        out!(
+            "    {:>9} .. {:>9} s   T {:>8} degC   Omega {:>9} deg/h   std {}   {} samples",
+            common::fixed(p.range.start_s, 0),
+            common::fixed(p.range.end_s, 0),
+            common::fixed(p.temp_c, 3),
+            common::fixed(p.omega_dph, 4),
+            common::fixed(p.omega_std_dph, 4),
+            p.samples
+        )
     };
     if plateaus.len() <= 2 * SHOWN {
-        plateaus.iter().for_each(line);
+        plateaus.iter().try_for_each(line)?;
     } else {
-        plateaus[..SHOWN].iter().for_each(line);
-        println!(
+        plateaus[..SHOWN].iter().try_for_each(line)?;
+        out!(
             "    ... {} more (--json lists them all) ...",
             plateaus.len() - 2 * SHOWN
-        );
-        plateaus[plateaus.len() - SHOWN..].iter().for_each(line);
+        )?;
+        plateaus[plateaus.len() - SHOWN..]
+            .iter()
+            .try_for_each(line)?;
     }
     if i.problems.is_empty() {
-        println!("  problems: none");
+        out!("  problems: none")?;
     } else {
-        println!("  problems:");
+        out!("  problems:")?;
         for p in &i.problems {
             let at = if drone.is_some() { "sample" } else { "line" };
             if p.line == 0 {
-                println!("    {}", p.message);
+                out!("    {}", p.message)?;
             } else {
-                println!("    {at} {}: {}", p.line, p.message);
+                out!("    {at} {}: {}", p.line, p.message)?;
             }
         }
     }

@@ -96,11 +96,11 @@ pub fn check(args: &LogArgs, path: &Path, opts: &ReadOptions) -> Result<Option<F
 /// Prints what the format reader and the choice of gyro said, on standard error.
 pub fn print_notes(drone: &DroneLog, log: &Log) {
     for p in &drone.problems {
-        eprintln!("warning: {}: {p}", log.source);
+        note!("warning: {}: {p}", log.source);
     }
-    eprintln!("note: {}", drone.note);
+    note!("note: {}", drone.note);
     for p in &log.info.problems {
-        eprintln!(
+        note!(
             "warning: {}: {} ({} time{})",
             log.source,
             p.message,

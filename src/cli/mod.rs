@@ -1,11 +1,13 @@
 //! The command line: argument parsing and printing over the engine's calls. No calculation
 //! lives here; if the CLI needs a number, the engine computes it.
 
+// First: its `out!` and `note!` macros are for every module below.
+#[macro_use]
+mod common;
 mod allan;
 mod apply;
 mod calibrate;
 mod calibrate_print;
-mod common;
 mod compare;
 mod convert;
 mod evaluate;
@@ -71,9 +73,12 @@ pub struct GuiArgs {
     pub log_args: common::LogArgs,
 }
 
-/// Runs a parsed command line; the error is printed by `main`.
-pub fn run(command: Command) -> Result<(), String> {
-    match command {
+pub use common::CliError;
+
+/// Runs a parsed command line; the error is printed by `main`. Standard output is flushed
+/// before the command counts as done, so that a full disk is never a silent success.
+pub fn run(command: Command) -> Result<(), CliError> {
+    let result = match command {
         Command::Calibrate(a) => calibrate::run(a),
         Command::Apply(a) => apply::run(a),
         Command::Evaluate(a) => evaluate::run(a),
@@ -84,8 +89,9 @@ pub fn run(command: Command) -> Result<(), String> {
         Command::Compare(a) => compare::run(a),
         Command::Allan(a) => allan::run(a),
         Command::Convert(a) => convert::run(a),
-        Command::Gui(a) => gui(a),
-    }
+        Command::Gui(a) => gui(a).map_err(CliError::Message),
+    };
+    result.and_then(|()| common::flush_out())
 }
 
 #[cfg(feature = "gui")]

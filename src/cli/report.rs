@@ -1,6 +1,6 @@
 //! `driftlab report`: the test report of a calibration judged on one or more logs.
 
-use super::common::{self, LogArgs};
+use super::common::{self, CliError, LogArgs};
 use driftlab::export::report::{self, ReportOptions};
 use driftlab::files::calibration;
 use driftlab::judge::metrics::MeritOptions;
@@ -28,7 +28,7 @@ pub struct Args {
     pub log_args: LogArgs,
 }
 
-pub fn run(a: Args) -> Result<(), String> {
+pub fn run(a: Args) -> Result<(), CliError> {
     let model = calibration::load_model(&a.calibration).map_err(|e| e.to_string())?;
     let merit = MeritOptions {
         filter_s: a
@@ -36,12 +36,14 @@ pub fn run(a: Args) -> Result<(), String> {
             .unwrap_or(report::default_merit_for(&model).filter_s),
         window_s: a.window,
     };
-    if !(merit.filter_s > 0.0 && merit.window_s > 0.0) {
-        return Err("--filter and --window must be positive".into());
-    }
     let mut logs = Vec::with_capacity(a.logs.len());
+    let mut hashes = Vec::with_capacity(a.logs.len());
     for path in &a.logs {
-        logs.push((path.clone(), a.log_args.read(path)?));
+        let input = a.log_args.open(path)?;
+        let log = a.log_args.read(&input)?;
+        common::check_merit(&merit, &log)?;
+        logs.push((path.clone(), log));
+        hashes.push(calibration::sha256_input(&input).unwrap_or_default());
     }
     common::status(&format!("writing the report into {}", a.out.display()));
     let summary = report::write_model(
@@ -51,25 +53,26 @@ pub fn run(a: Args) -> Result<(), String> {
         &ReportOptions {
             merit: Some(merit),
             allan: None,
+            sha256: Some(hashes),
         },
     )
     .map_err(|e| e.to_string())?;
     for l in &summary.logs {
-        println!(
-            "{} ({}): peak-to-peak of filtered drift {:.4} -> {:.4} deg/h ({})",
+        out!(
+            "{} ({}): peak-to-peak of filtered drift {} -> {} deg/h ({})",
             l.name,
             if l.in_sample { "in-sample" } else { "held out" },
-            l.evaluation.comparison.raw.p2p_dph,
-            l.evaluation.comparison.corrected.p2p_dph,
+            common::fixed(l.evaluation.comparison.raw.p2p_dph, 4),
+            common::fixed(l.evaluation.comparison.corrected.p2p_dph, 4),
             common::ratio(l.evaluation.comparison.p2p_ratio)
-        );
+        )?;
     }
     for n in &summary.notes {
-        println!("note: {n}");
+        out!("note: {n}")?;
     }
-    println!("wrote {} files:", summary.files.len());
+    out!("wrote {} files:", summary.files.len())?;
     for f in &summary.files {
-        println!("  {}", f.display());
+        out!("  {}", f.display())?;
     }
     Ok(())
 }

@@ -1,5 +1,6 @@
 //! `driftlab simulate`: write a simulated chamber log.
 
+use super::common::CliError;
 use clap::builder::{PossibleValue, PossibleValuesParser};
 use driftlab::log::ingest::{RateUnit, TimeUnit};
 use driftlab::sim::{self, DialectPreset, HostJitter, Logging, RateNames, SimOptions};
@@ -84,11 +85,11 @@ fn profile_parser() -> PossibleValuesParser {
     }))
 }
 
-pub fn run(a: Args) -> Result<(), String> {
+pub fn run(a: Args) -> Result<(), CliError> {
     if a.list {
         for name in sim::profile_names() {
             if let Some(p) = sim::profile(name) {
-                println!("{name:<14} {}", p.description);
+                out!("{name:<14} {}", p.description)?;
             }
         }
         return Ok(());
@@ -147,7 +148,7 @@ pub fn run(a: Args) -> Result<(), String> {
         b.finish_and_clear();
     }
     let rows = rows.map_err(|e| e.to_string())?;
-    eprintln!(
+    note!(
         "{rows} samples ({:.2} h){} written to {}",
         profile.duration_s() / 3600.0,
         if a.noise_only { ", noise only," } else { "" },

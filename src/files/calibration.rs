@@ -15,7 +15,11 @@
 //!
 //! Loading checks the format name and version before anything else, then reads the body with
 //! every unknown field rejected and every approximation validated (finite numbers, ordered
-//! knots), so a hand-edited file fails with a message that says where.
+//! knots), then the model as a whole ([`DriftModel::validate`]: names that match the terms,
+//! sane sizes and spacings, delays and lags that fit the log, coefficients that predict a
+//! drift a gyro could have over their ranges), so a hand-edited file fails with a message
+//! that names the field and says why. Saving runs the same checks and reads the text back
+//! before it writes: a file driftlab writes is a file driftlab reads.
 
 use crate::error::{Error, Result};
 use crate::models::fitted::DriftModel;
@@ -187,20 +191,32 @@ fn check_windows(
     for (name, seconds) in windows {
         if seconds / dt_s > MAX_WINDOW_SAMPLES {
             return Err(format!(
-                "{name} spans {seconds} s, more than {MAX_WINDOW_SAMPLES:e} samples of \
-                 {dt_s} s: no corrector can hold that much history"
+                "{name} spans {} s, more than {MAX_WINDOW_SAMPLES:e} samples of {} s: no \
+                 corrector can hold that much history",
+                crate::number::readable(seconds),
+                crate::number::readable(dt_s)
             ));
         }
     }
     Ok(())
 }
 
-/// A model this build would refuse to read back is not written: the error says why.
-fn check_before_saving(path: &Path, w: (f64, Vec<(&'static str, f64)>)) -> Result<()> {
-    check_windows(w).map_err(|m| Error::File {
+/// The text of `model`'s file, if this build would read it back: the checks loading runs,
+/// on the model and then on the text itself (a number that is not finite is written by JSON as
+/// `null`, which no reader takes). The error says why nothing was written.
+fn checked_text(path: &Path, model: &DriftModel) -> Result<String> {
+    let not_written = |message: String| Error::File {
         path: path.to_path_buf(),
-        message: format!("not written: {m}"),
-    })
+        message: format!("not written: {message}"),
+    };
+    model.validate().map_err(|e| not_written(e.to_string()))?;
+    check_windows(windows(model)).map_err(not_written)?;
+    let text = model_to_json(model);
+    model_from_json(path, &text).map_err(|e| match e {
+        Error::File { message, .. } => not_written(message),
+        other => not_written(other.to_string()),
+    })?;
+    Ok(text)
 }
 
 /// Any model as the JSON text of a calibration file.
@@ -217,11 +233,13 @@ pub fn model_to_json(model: &DriftModel) -> String {
     text.unwrap_or_default() + "\n"
 }
 
-/// Writes any model's calibration file atomically.
+/// Writes any model's calibration file atomically, after the checks loading would run.
+///
+/// # Errors
+/// A model that would not read back (nothing is written then), or the write's error.
 pub fn save_model(path: &Path, model: &DriftModel) -> Result<()> {
-    check_before_saving(path, windows(model))?;
-    crate::files::atomic::write_bytes(path, model_to_json(model).as_bytes())
-        .map_err(|e| Error::io(path, e))
+    let text = checked_text(path, model)?;
+    crate::files::atomic::write_bytes(path, text.as_bytes()).map_err(|e| Error::io(path, e))
 }
 
 /// Reads any model's calibration file.
@@ -229,10 +247,12 @@ pub fn load_model(path: &Path) -> Result<DriftModel> {
     model_from_json(path, &read_text(path)?)
 }
 
-/// Writes a calibration file atomically.
+/// Writes a calibration file atomically, as [`save_model`] does.
+///
+/// # Errors
+/// As [`save_model`].
 pub fn save(path: &Path, cal: &Calibration) -> Result<()> {
-    check_before_saving(path, calibration_windows(cal))?;
-    crate::files::atomic::write_bytes(path, to_json(cal).as_bytes()).map_err(|e| Error::io(path, e))
+    save_model(path, &DriftModel::Vakhrameev(Box::new(cal.clone())))
 }
 
 /// Reads a calibration file.
@@ -268,7 +288,21 @@ pub fn read_recipe(path: &Path) -> Result<Recipe> {
 }
 
 /// SHA-256 of a file's bytes as lowercase hex, read in blocks (logs can be gigabytes).
+///
+/// # Errors
+/// An unreadable file, or one that is not a regular file: a FIFO or a device gives its bytes
+/// once, to whoever read the log from it, and opening it again would wait for a writer that
+/// never comes ([`sha256_input`] hashes the bytes that were read).
 pub fn sha256_file(path: &Path) -> Result<String> {
+    match std::fs::metadata(path) {
+        Ok(m) if !m.is_file() => {
+            return Err(Error::File {
+                path: path.to_path_buf(),
+                message: "not a regular file: its bytes can be read only once".into(),
+            });
+        }
+        _ => {}
+    }
     let mut f = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
     let mut hasher = Sha256::new();
     let mut buf = vec![0u8; 1 << 20];
@@ -279,9 +313,28 @@ pub fn sha256_file(path: &Path) -> Result<String> {
         }
         hasher.update(&buf[..n]);
     }
-    Ok(hasher
+    Ok(hex(hasher))
+}
+
+/// SHA-256 of the bytes a log was read from: the file's, or the stream's as it was read.
+///
+/// # Errors
+/// As [`sha256_file`].
+pub fn sha256_input(input: &crate::log::ingest::Input) -> Result<String> {
+    match input {
+        crate::log::ingest::Input::Path(p) => sha256_file(p),
+        crate::log::ingest::Input::Bytes { bytes, .. } => {
+            let mut hasher = Sha256::new();
+            hasher.update(bytes);
+            Ok(hex(hasher))
+        }
+    }
+}
+
+fn hex(hasher: Sha256) -> String {
+    hasher
         .finalize()
         .iter()
         .map(|b| format!("{b:02x}"))
-        .collect())
+        .collect()
 }

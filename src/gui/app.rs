@@ -15,7 +15,8 @@ mod layout;
 mod results;
 mod screenshot;
 
-use screenshot::{AutoShot, PendingShot, Shots};
+pub use screenshot::ScreenshotOutcome;
+use screenshot::{PendingShot, Shots};
 
 use super::action::{Action, Page, shortcuts};
 use super::autosave::{Autosave, LeftBehind};
@@ -642,20 +643,4 @@ pub fn default_log() -> Option<PathBuf> {
     }
     let p = Path::new(env!("CARGO_MANIFEST_DIR")).join(rel);
     p.is_file().then_some(p)
-}
-
-/// Starts the workbench in screenshot mode (internal to [`super::run`]).
-pub(super) fn set_auto_screenshot(
-    wb: &mut Workbench,
-    path: PathBuf,
-    result: Arc<Mutex<Option<Result<(), String>>>>,
-) {
-    wb.shots.auto = Some(AutoShot {
-        path,
-        settled: 0,
-        requested: false,
-        compared: false,
-        started: Instant::now(),
-        result,
-    });
 }

@@ -87,14 +87,13 @@ pub mod view_time;
 pub mod widgets;
 
 pub use action::{Action, Page};
-pub use app::{Workbench, default_log};
+pub use app::{ScreenshotOutcome, Workbench, default_log};
 pub use dialogs::{Answer, FileDialogs, FileKind, ScriptedDialogs, SystemDialogs};
 pub use jobs::Target;
 
 use eframe::egui;
 use settings::Settings;
 use std::path::PathBuf;
-use std::sync::{Arc, Mutex};
 
 /// How the workbench is started.
 #[derive(Debug, Clone, Default)]
@@ -117,6 +116,33 @@ fn parse_size(s: &str) -> Option<[f32; 2]> {
     let (w, h) = s.trim().split_once(['x', 'X'])?;
     let (w, h): (f32, f32) = (w.trim().parse().ok()?, h.trim().parse().ok()?);
     (w >= 900.0 && h >= 620.0 && w.is_finite() && h.is_finite()).then_some([w, h])
+}
+
+/// What `driftlab gui [LOG|SESSION] [--screenshot PNG]` opens in a new workbench: screenshot
+/// mode first, when asked (so that a session or log that fails to open ends the run with its
+/// message instead of an error dialog nobody will close), then the session (a `.json` file)
+/// or the log, read with `read` (in screenshot mode without the import view).
+pub fn start(
+    wb: &mut Workbench,
+    log: Option<PathBuf>,
+    read: jobs::LoadOptions,
+    shot: Option<(PathBuf, ScreenshotOutcome)>,
+) {
+    let interactive = shot.is_none();
+    if let Some((path, outcome)) = shot {
+        wb.screenshot_mode(path, outcome);
+    }
+    match log {
+        // `driftlab gui run7.session.json` reopens a saved session.
+        Some(p)
+            if p.extension()
+                .is_some_and(|e| e.eq_ignore_ascii_case("json")) =>
+        {
+            wb.open_session(p)
+        }
+        Some(p) => wb.open_log(p, read, interactive),
+        None => {}
+    }
 }
 
 /// Opens the workbench window and runs until it is closed.
@@ -203,24 +229,15 @@ pub fn run(options: GuiOptions) -> Result<(), String> {
         viewport,
         ..Default::default()
     };
-    let outcome: Arc<Mutex<Option<Result<(), String>>>> = Arc::default();
+    let outcome = ScreenshotOutcome::default();
     let slot = outcome.clone();
     eframe::run_native(
         "driftlab",
         native,
         Box::new(move |_cc| {
             let mut wb = Workbench::new(settings, settings_path, Box::new(SystemDialogs::detect()));
-            match log {
-                // `driftlab gui run7.session.json` reopens a saved session.
-                Some(p)
-                    if p.extension()
-                        .is_some_and(|e| e.eq_ignore_ascii_case("json")) =>
-                {
-                    wb.open_session(p)
-                }
-                Some(p) => wb.open_log(p, load, shot.is_none()),
-                None => {}
-            }
+            let shot = shot.map(|s| (s, slot));
+            start(&mut wb, log, load, shot);
             if let Some(p) = page {
                 wb.set_page(p);
             }
@@ -230,16 +247,13 @@ pub fn run(options: GuiOptions) -> Result<(), String> {
             {
                 wb.models_view().selected = Some(name.trim().to_string());
             }
-            if let Some(s) = shot {
-                app::set_auto_screenshot(&mut wb, s, slot);
-            }
             Ok(Box::new(wb))
         }),
     )
     .map_err(|e| format!("cannot open the workbench window: {e}"))?;
     if options.screenshot.is_some() {
-        let result = outcome.lock().map(|mut r| r.take()).unwrap_or(None);
-        return result
+        return outcome
+            .take()
             .unwrap_or_else(|| Err("the window closed before the screenshot was taken".into()));
     }
     Ok(())

@@ -666,7 +666,7 @@ pub fn ratio(r: f64) -> String {
     }
     let a = r.abs();
     if a >= 100.0 {
-        format!("{r:.0}×")
+        format!("{}×", crate::number::fixed(r, 0))
     } else if a >= 10.0 {
         format!("{r:.1}×")
     } else if a >= 1.0 || a == 0.0 {

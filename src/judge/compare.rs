@@ -15,7 +15,8 @@ use serde::Serialize;
 pub struct Judgement {
     /// The log's name.
     pub log: String,
-    /// False for the log the model was fitted on.
+    /// False for the log the model was fitted on, also when it is passed again as a test log
+    /// (the same samples, under any name): figures on it are in-sample.
     pub held_out: bool,
     /// The figures, or why the model could not be applied to this log.
     #[serde(flatten)]
@@ -46,6 +47,15 @@ pub struct ModelReport {
     pub fitted: Option<DriftModel>,
     /// The training log first, then the test logs in order.
     pub logs: Vec<Judgement>,
+}
+
+/// Whether two logs hold the same samples (the same file read twice, or a copy of it).
+fn same_samples(a: &Log, b: &Log) -> bool {
+    let bits = |v: &[f64], w: &[f64]| v.iter().zip(w).all(|(x, y)| x.to_bits() == y.to_bits());
+    a.len() == b.len()
+        && bits(&a.time_s, &b.time_s)
+        && bits(&a.omega_dph, &b.omega_dph)
+        && bits(&a.temp_c, &b.temp_c)
 }
 
 /// Fits every choice on `train` and judges it on `train` and on each of `tests`.
@@ -96,7 +106,7 @@ pub fn compare_one(
     match crate::models::fit_with_progress(train, choice, recipe, progress) {
         Ok(m) => {
             report.logs = std::iter::once((train, false))
-                .chain(tests.iter().map(|t| (*t, true)))
+                .chain(tests.iter().map(|t| (*t, !same_samples(train, t))))
                 .enumerate()
                 .map(|(k, (log, held_out))| Judgement {
                     log: log.source.clone(),

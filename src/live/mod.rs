@@ -287,6 +287,13 @@ impl Pipeline {
         let log = &req.log;
         let recipe = &req.recipe;
         recipe.validate()?;
+        // The checks every face's fit makes (`models::fit`): settings that fit in this log,
+        // and a temperature span the model can be fitted over.
+        recipe.check_against(log)?;
+        crate::models::check_span(
+            log,
+            &crate::models::ModelChoice::Preset(crate::models::Preset::Vakhrameev),
+        )?;
         if log.len() < 16 {
             return Err(Error::Fit(format!(
                 "{}: {} samples are too few to calibrate",
@@ -471,6 +478,8 @@ impl Pipeline {
         let (cor_figures, cor_filtered) =
             self.evaluate_kept(&corrected, prepared.dt_s, &merit, filter);
         let evaluation = evaluation(raw_figures, cor_figures, &corrected);
+        // The warning the command line gives for a calibration worse than raw on its own log.
+        warnings.extend(crate::models::worse_than_raw("vakhrameev", &evaluation));
         let in_sample = Judged {
             log: log.clone(),
             corrected,

@@ -141,6 +141,9 @@ pub enum ProblemKind {
     /// thousands of counts, a rate beyond any gyro's): the message names the column and the
     /// option that chooses another.
     Implausible,
+    /// A column taken for a role shares its name with another column of the header: the
+    /// message names both and the option that takes the other.
+    DuplicateName,
 }
 
 impl Log {

@@ -137,7 +137,7 @@ impl DriftModel {
     pub fn validate(&self) -> std::result::Result<(), Invalid> {
         match self {
             DriftModel::Vakhrameev(c) => c.validate(),
-            DriftModel::Regression(r) => r.model.validate(),
+            DriftModel::Regression(r) => r.validate(),
         }
     }
 }

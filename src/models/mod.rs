@@ -26,6 +26,32 @@ use crate::judge::metrics::{Evaluation, MeritOptions};
 use crate::log::Log;
 use regression::RegressionCalibration;
 
+/// The largest drift a calibration may predict anywhere over the ranges it was fitted on, °/h.
+/// 10⁸ °/h is 28,000 °/s, beyond the measuring range of any gyro: a model that predicts more
+/// (a hand-edited coefficient of 1e308, a range of ±1e308) is a broken file, not a gyro, and
+/// its corrected rates would be noise of its own making or not numbers at all.
+pub const MAX_DRIFT_DPH: f64 = 1e8;
+
+/// Refuses a predicted drift `bound` (an upper bound of |prediction| over the fitted ranges)
+/// that is not finite or beyond [`MAX_DRIFT_DPH`], naming `field`.
+pub(crate) fn check_drift_bound(
+    field: impl Into<String>,
+    bound: f64,
+) -> std::result::Result<(), crate::error::Invalid> {
+    if bound.is_finite() && bound <= MAX_DRIFT_DPH {
+        return Ok(());
+    }
+    Err(crate::error::Invalid::new(
+        field,
+        format!(
+            "predicts a drift of up to {} deg/h over its own range, more than the {} deg/h \
+             any gyro could show: the coefficients or ranges are not a calibration's",
+            crate::number::readable(bound),
+            crate::number::readable(MAX_DRIFT_DPH)
+        ),
+    ))
+}
+
 /// Fits `choice` on `log` with the recipe's settings.
 ///
 /// # Errors
@@ -49,6 +75,8 @@ pub fn fit_with_progress(
     if !progress(0.0) {
         return Err(Error::Cancelled);
     }
+    recipe.validate()?;
+    recipe.check_against(log)?;
     check_span(log, choice)?;
     match choice.spec(log)? {
         None => {
@@ -146,8 +174,98 @@ pub struct Calibrated {
     pub model: DriftModel,
     /// Raw against corrected on the log it was fitted on.
     pub in_sample: Evaluation,
-    /// What the fit had to work around.
+    /// What the fit had to work around, and what a face must show before the model is used:
+    /// a fit with as many unknowns as points or more, a figure of its own log that the
+    /// correction makes worse than raw ([`judge_on_own_log`]).
     pub warnings: Vec<String>,
+}
+
+/// The warning of a correction (of model `model_name`) that makes a figure of merit of its own
+/// calibration log worse than raw, naming each such figure with both values; `None` when none
+/// is. The workbench's fit gives it as the command line's does.
+pub fn worse_than_raw(model_name: &str, in_sample: &Evaluation) -> Option<String> {
+    let c = &in_sample.comparison;
+    let n = |v: f64| crate::number::significant(v, 4);
+    let mut worse = Vec::new();
+    for (figure, raw, cor) in [
+        (
+            "peak-to-peak of the filtered drift",
+            c.raw.p2p_dph,
+            c.corrected.p2p_dph,
+        ),
+        (
+            "std of the filtered drift",
+            c.raw.std_dph,
+            c.corrected.std_dph,
+        ),
+        (
+            "max |10-min mean|",
+            c.raw.win_mean_max_abs_dph,
+            c.corrected.win_mean_max_abs_dph,
+        ),
+        (
+            "mean 10-min RMS",
+            c.raw.win_rms_mean_dph,
+            c.corrected.win_rms_mean_dph,
+        ),
+    ] {
+        if raw.is_finite() && cor.is_finite() && cor > raw {
+            worse.push(format!("{figure} {} -> {} deg/h", n(raw), n(cor)));
+        }
+    }
+    (!worse.is_empty()).then(|| {
+        format!(
+            "on its own log the correction is worse than raw: {}; check the plateaus and \
+             whether model {model_name} suits this test",
+            worse.join(", ")
+        )
+    })
+}
+
+/// The warnings a model earns on the log it was fitted on: each figure of merit that the
+/// correction makes worse than raw (a calibration that cannot even correct its own log is
+/// wrong: a ramp taken for a plateau, a model that does not suit the test), and for a
+/// regression model more coefficients than samples, an R² below zero (the fit is worse than
+/// the samples' mean), and the column it reads as a second temperature sensor (a guess from
+/// the names, said so that the engineer can tell the chamber's air from a sensor on the gyro).
+pub fn judge_on_own_log(model: &DriftModel, in_sample: &Evaluation) -> Vec<String> {
+    let mut out: Vec<String> = worse_than_raw(model.name(), in_sample)
+        .into_iter()
+        .collect();
+    let n = |v: f64| crate::number::significant(v, 4);
+    if let DriftModel::Regression(r) = model {
+        let m = &r.model;
+        if let Some(t2) = &m.temp2 {
+            out.push(format!(
+                "model {}: \"{t2}\" is read as the second temperature sensor (its dT terms are \
+                 the temperature minus \"{t2}\"){}",
+                m.spec.name,
+                if regression::names_chamber_air(t2) {
+                    "; the name says it measures the chamber's air, not a sensor on the gyro, \
+                     so dT is the chamber's lag behind the gyro rather than a gradient inside it"
+                } else {
+                    ""
+                }
+            ));
+        }
+        let unknowns = m.coefficients.len();
+        if unknowns >= m.stats.n {
+            out.push(format!(
+                "model {}: {unknowns} coefficients fitted on {} samples: as many unknowns as \
+                 points or more, so the coefficients are not determined by the data",
+                m.spec.name, m.stats.n
+            ));
+        }
+        if m.stats.r2 < 0.0 {
+            out.push(format!(
+                "model {}: R² {} on the samples it was fitted on: it predicts them worse than \
+                 their mean does",
+                m.spec.name,
+                n(m.stats.r2)
+            ));
+        }
+    }
+    out
 }
 
 /// [`fit`], then the model's figures on its own log. For Vakhrameev's model the figures reuse
@@ -172,18 +290,22 @@ pub fn calibrate(
         let c = calibration.corrected_rate_with(log, &deriv);
         drop(deriv);
         let in_sample = Evaluation::of_rate(log, &c.cor_dph, &c.ready, c.outside_fraction, merit);
+        let model = DriftModel::Vakhrameev(Box::new(calibration));
+        let mut warnings = warnings;
+        warnings.extend(judge_on_own_log(&model, &in_sample));
         return Ok(Calibrated {
-            model: DriftModel::Vakhrameev(Box::new(calibration)),
+            model,
             in_sample,
             warnings,
         });
     }
     let model = fit(log, choice, recipe)?;
     let correction = model.correct(log)?;
+    let in_sample = Evaluation::of_correction(log, &correction, merit);
     Ok(Calibrated {
-        in_sample: Evaluation::of_correction(log, &correction, merit),
+        warnings: judge_on_own_log(&model, &in_sample),
+        in_sample,
         model,
-        warnings: Vec::new(),
     })
 }
 

@@ -110,17 +110,34 @@ impl Default for Recipe {
     }
 }
 
+/// The longest filter, T smoothing or derivative step a recipe may ask for, s: about eleven
+/// and a half days, longer than any chamber run. A window of 10⁹ s is a typing error, and a
+/// fit would average the whole log into one value with it.
+pub const MAX_WINDOW_S: f64 = 1e6;
+
 impl Recipe {
     /// Checks the numbers once, so fitting can trust them; the message names the setting.
     pub fn validate(&self) -> Result<(), Invalid> {
         let positive = |name: &str, v: f64| {
-            if v.is_finite() && v > 0.0 {
-                Ok(())
-            } else {
+            if !(v.is_finite() && v > 0.0) {
                 Err(Invalid::new(
                     name,
-                    format!("must be a positive number of seconds, got {v}"),
+                    format!(
+                        "must be a positive number of seconds, got {}",
+                        crate::number::readable(v)
+                    ),
                 ))
+            } else if v > MAX_WINDOW_S {
+                Err(Invalid::new(
+                    name,
+                    format!(
+                        "{} s is longer than any chamber run: at most {} s (11.6 days)",
+                        crate::number::readable(v),
+                        crate::number::readable(MAX_WINDOW_S)
+                    ),
+                ))
+            } else {
+                Ok(())
             }
         };
         positive("filter_s", self.filter_s)?;
@@ -135,7 +152,10 @@ impl Recipe {
             {
                 return Err(Invalid::new(
                     name,
-                    format!("must be a non-negative number, got {v}"),
+                    format!(
+                        "must be a non-negative number, got {}",
+                        crate::number::readable(v)
+                    ),
                 ));
             }
         }
@@ -162,11 +182,39 @@ impl Recipe {
                             "plateaus.ranges",
                             format!(
                                 "plateau {}:{} must have a start before its end",
-                                r.start_s, r.end_s
+                                crate::number::readable(r.start_s),
+                                crate::number::readable(r.end_s)
                             ),
                         ));
                     }
                 }
+            }
+        }
+        Ok(())
+    }
+
+    /// Checks the recipe's windows against the log it is to be fitted on: a filter, T
+    /// smoothing or derivative step longer than the whole log leaves nothing to fit.
+    ///
+    /// # Errors
+    /// The setting, with its value and the log's span.
+    pub fn check_against(&self, log: &crate::log::Log) -> Result<(), Invalid> {
+        let span = crate::judge::options::log_span_s(log);
+        for (name, v) in [
+            ("filter_s", self.filter_s),
+            ("temp_smoothing_s", self.temp_smoothing_s),
+            ("step_h_s", self.step_h_s),
+        ] {
+            if v > span {
+                return Err(Invalid::new(
+                    name,
+                    format!(
+                        "{} s is longer than the log {} ({} s)",
+                        crate::number::readable(v),
+                        log.source,
+                        crate::number::readable(span)
+                    ),
+                ));
             }
         }
         Ok(())

@@ -182,25 +182,27 @@ impl Timing {
         let mut out = Vec::new();
         let ms = |s: f64| {
             if s < 1.0 {
-                format!("{:.1} ms", s * 1e3)
+                format!("{} ms", crate::number::fixed(s * 1e3, 1))
             } else {
-                format!("{s:.3} s")
+                format!("{} s", crate::number::fixed(s, 3))
             }
         };
         if let Some(b) = &self.bursts {
             out.push(format!(
-                "written in bursts: {} bursts of {:.1} s every {:.0} s",
-                b.count, b.on_s, b.every_s
+                "written in bursts: {} bursts of {} s every {} s",
+                b.count,
+                crate::number::fixed(b.on_s, 1),
+                crate::number::fixed(b.every_s, 0)
             ));
         } else if !self.gaps.is_empty() {
             let longest = self.gaps.iter().map(|g| g.step_s).fold(0.0, f64::max);
             out.push(format!(
-                "{} segments between {} gap{} (the first after {:.3} s, the longest {}): \
+                "{} segments between {} gap{} (the first after {} s, the longest {}): \
                  no window, filter or derivative reaches across a gap",
                 self.segments.len(),
                 self.gaps.len(),
                 if self.gaps.len() == 1 { "" } else { "s" },
-                self.gaps[0].from_s,
+                crate::number::fixed(self.gaps[0].from_s, 3),
                 ms(longest)
             ));
         }

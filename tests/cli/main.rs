@@ -6,6 +6,7 @@
 mod common;
 
 mod allan;
+mod attack;
 mod commands;
 mod kalibr;
 mod real_logs;

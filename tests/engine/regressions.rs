@@ -163,7 +163,7 @@ fn a_calibration_asking_for_an_impossible_window_is_refused() {
         .expect_err("a step of 3e28 s cannot be used");
     let e = e.to_string();
     assert!(
-        e.starts_with("sukhanov.json: spec.step_h_s spans 30888888888888890000000000000 s"),
+        e.starts_with("sukhanov.json: spec.step_h_s spans 3.08889e28 s"),
         "{e}"
     );
     assert!(e.contains("no corrector can hold that much history"), "{e}");
@@ -247,7 +247,7 @@ fn a_calibration_that_could_not_be_read_back_is_not_written() {
     std::fs::write(&path, "old").unwrap();
     let e = calibration::save(&path, &cal).unwrap_err().to_string();
     assert!(
-        e.contains("cal.json: not written: resolved.smooth_samples spans"),
+        e.contains("cal.json: not written: resolved.smooth_samples"),
         "{e}"
     );
     let e = calibration::save_model(&path, &DriftModel::Vakhrameev(Box::new(cal)))

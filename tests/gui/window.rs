@@ -29,6 +29,98 @@ fn unsaved_work_is_not_lost_silently() {
     assert!(h.state().state.dirty());
 }
 
+/// `driftlab gui X --screenshot OUT.png` when the window cannot show what was asked: the run
+/// ends with the message (which `driftlab gui` prints on standard error, status 1) within a
+/// few frames, and writes no picture. It used to show an error dialog and wait for ever (or,
+/// for a calibration that failed, three minutes).
+#[test]
+fn screenshot_mode_ends_with_the_message_when_the_window_cannot_show_what_was_asked() {
+    use driftlab::gui::settings::Settings;
+    use driftlab::gui::{ScreenshotOutcome, ScriptedDialogs};
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let png = d.join("shot.png");
+    let write = |name: &str, text: &str| {
+        let path = d.join(name);
+        std::fs::write(&path, text).unwrap();
+        path
+    };
+    let newer = write(
+        "newer.session.json",
+        r#"{ "format": "driftlab-session", "version": 99, "session": {} }"#,
+    );
+    let no_log = write(
+        "nolog.session.json",
+        r#"{ "format": "driftlab-session", "version": 1, "session": {} }"#,
+    );
+    let mut bad_cell = std::fs::read_to_string(sample("calibration.csv")).unwrap();
+    bad_cell = bad_cell.replacen("\n0,-0.2554,", "\n0,oops,", 1);
+    let bad_cell = write("bad.csv", &bad_cell);
+    // A log that reads but holds one temperature: no model can be fitted on it.
+    let mut flat = String::from("time_s,omega_dph,temp_c\n");
+    for i in 0..2000 {
+        flat += &format!("{i},{:.3},25.0\n", 0.01 * (i % 7) as f64);
+    }
+    let flat = write("flat.csv", &flat);
+    let missing_log = write(
+        "missing.session.json",
+        &format!(
+            r#"{{ "format": "driftlab-session", "version": 1,
+                 "session": {{ "log": {{ "path": "{}" }} }} }}"#,
+            d.join("gone.csv").display()
+        ),
+    );
+    let cases = [
+        (
+            "a session of an unknown version",
+            newer,
+            "version 99 is not supported",
+        ),
+        ("a session with no log", no_log, "the session names no log"),
+        ("a session whose log is gone", missing_log, "gone.csv"),
+        (
+            "a log with a bad cell",
+            bad_cell,
+            "cannot read \"oops\" as a number",
+        ),
+        (
+            "a log no model can be fitted on",
+            flat,
+            "too little for model vakhrameev",
+        ),
+    ];
+    for (what, file, want) in cases {
+        // As `driftlab gui FILE --screenshot shot.png` starts its window.
+        let outcome = ScreenshotOutcome::default();
+        let mut wb = Workbench::new(Settings::default(), None, Box::new(ScriptedDialogs::new()));
+        let shot = Some((png.clone(), outcome.clone()));
+        driftlab::gui::start(&mut wb, Some(file), Default::default(), shot);
+        let mut h = harness(wb);
+        for _ in 0..40 {
+            if outcome.is_done() {
+                break;
+            }
+            h.state_mut().wait_for_jobs();
+            h.step();
+        }
+        match outcome.take() {
+            Some(Err(e)) => {
+                assert!(e.contains(want), "{what}: wanted {want:?} in {e:?}");
+                assert!(
+                    !e.contains('\n'),
+                    "{what}: one line on standard error: {e:?}"
+                );
+            }
+            other => panic!(
+                "{what}: the screenshot run did not end with an error: {other:?} (fit {}, error {:?})",
+                h.state().state.fit.is_some(),
+                h.state().state.fit_error
+            ),
+        }
+        assert!(!png.exists(), "{what}: a picture was written");
+    }
+}
+
 #[test]
 fn a_plot_is_saved_as_png_cropped_from_a_screenshot() {
     let dir = tempfile::tempdir().unwrap();
@@ -176,4 +268,50 @@ fn the_gui_command_takes_the_mapping_options_and_refuses_them_for_a_session() {
         err.contains("--temp-col") && err.contains("session"),
         "{err}"
     );
+}
+
+/// The workbench's fit warns as `driftlab calibrate` does: ten K0 knots through four plateaus
+/// (more unknowns than points) make a calibration worse than raw on its own log, and every
+/// warning the command line gives is in the workbench's list.
+#[test]
+fn the_workbench_gives_the_warnings_calibrate_gives() {
+    use driftlab::models::approx::ApproxKind;
+    let log = sample("calibration.csv");
+    let dir = tempfile::tempdir().unwrap();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_driftlab"))
+        .args([
+            "calibrate",
+            log.to_str().unwrap(),
+            "--k0",
+            "spline",
+            "--knots",
+            "10",
+        ])
+        .arg("--out")
+        .arg(dir.path().join("cal.json"))
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    let cli: Vec<&str> = err
+        .lines()
+        .filter_map(|l| l.strip_prefix("warning: "))
+        .collect();
+    assert!(
+        cli.iter().any(|w| w.contains("worse than raw")) && cli.len() >= 3,
+        "{err}"
+    );
+    let mut wb = Workbench::new_for_test(&log);
+    let k0 = &mut wb.state.recipe_mut().k0;
+    k0.kind = ApproxKind::Spline;
+    k0.knots = 10;
+    wb.wait_for_jobs();
+    let fit = wb.state.fit.as_ref().expect("calibrated");
+    for w in cli {
+        assert!(
+            fit.outcome.warnings.iter().any(|g| g == w),
+            "{w:?} not in {:?}",
+            fit.outcome.warnings
+        );
+    }
 }

@@ -319,8 +319,9 @@ fn every_command_reads_the_ulog_and_dataflash_samples() {
         assert_eq!(json["samples"], samples);
         assert_eq!(json["axis"], "gyro_x");
         assert!(json["instances"].as_array().unwrap().len() >= 2);
-        // calibrate reads it and gets to the fit (which the few hundredths of a degree the
-        // sample spans stop).
+        // calibrate reads it and gets to the checks before a fit, which refuse a 6-s log its
+        // 100-s filter (and, were the filter shorter, the few hundredths of a degree the
+        // sample spans).
         let out = driftlab(&[
             "calibrate",
             &log,
@@ -331,21 +332,29 @@ fn every_command_reads_the_ulog_and_dataflash_samples() {
         ]);
         let err = String::from_utf8_lossy(&out.stderr);
         assert!(err.contains(note), "{err}");
-        assert!(err.contains("too little for model poly-t"), "{err}");
-        // apply, evaluate, compare and report run on it.
+        assert!(
+            err.contains("filter_s: 100 s is longer than the log"),
+            "{err}"
+        );
+        // apply, evaluate, compare and report run on it (evaluate, compare and report with a
+        // filter that fits in its few seconds; the default 100 s is refused by name).
         let applied = tmp.path().join("applied.csv");
         ok(&["apply", &cal, &log, "--out", &applied.display().to_string()]);
         let rows = std::fs::read_to_string(&applied).unwrap().lines().count();
         assert_eq!(rows, samples + 1, "{rel}");
-        ok(&["evaluate", &cal, &log]);
+        let e = fails(&["evaluate", &cal, &log]);
+        assert!(e.contains("filter_s (--filter)"), "{e}");
+        ok(&["evaluate", &cal, &log, "--filter", "0.1"]);
         let sim = tmp.path().join("sim.csv").display().to_string();
         ok(&[
-            "compare", "--train", &sim, "--test", &log, "--models", "poly-t",
+            "compare", "--train", &sim, "--test", &log, "--models", "poly-t", "--filter", "0.1",
         ]);
         ok(&[
             "report",
             &cal,
             &log,
+            "--filter",
+            "0.1",
             "--out",
             &tmp.path().join("report").display().to_string(),
         ]);

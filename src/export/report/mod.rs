@@ -62,6 +62,10 @@ pub struct ReportOptions {
     /// Allan curves already computed, one entry per log in the order of the logs. `None`: the
     /// report asks [`allan_curves`] for each log.
     pub allan: Option<Vec<Option<AllanCurves>>>,
+    /// SHA-256 of each log's bytes, in the order of the logs, when the caller has them: a log
+    /// read from a pipe cannot be opened again to be hashed. `None`: each log is hashed from
+    /// its path.
+    pub sha256: Option<Vec<String>>,
 }
 
 /// One figure of the report.
@@ -224,7 +228,9 @@ pub fn write_regression(
     opts: &ReportOptions,
 ) -> Result<ReportSummary> {
     let merit = opts.merit.unwrap_or_default();
-    let (hashes, in_sample) = start(out_dir, logs, &merit, |p, h| is_source(&cal.source, p, h))?;
+    let (hashes, in_sample) = start(out_dir, logs, opts, &merit, |p, h| {
+        is_source(&cal.source, p, h)
+    })?;
     let m = &cal.model;
     let mut notes = Vec::new();
     let mut files = Vec::new();
@@ -322,7 +328,7 @@ pub fn write(
     opts: &ReportOptions,
 ) -> Result<ReportSummary> {
     let merit = opts.merit.unwrap_or_else(|| default_merit(cal));
-    let (hashes, in_sample) = start(out_dir, logs, &merit, |p, h| is_in_sample(cal, p, h))?;
+    let (hashes, in_sample) = start(out_dir, logs, opts, &merit, |p, h| is_in_sample(cal, p, h))?;
     let mut notes = Vec::new();
     let mut files = Vec::new();
     let taken: Vec<String> = ["k0", "k1", "k2", "report"]
@@ -465,6 +471,7 @@ pub fn write(
 fn start(
     out_dir: &Path,
     logs: &[(PathBuf, Log)],
+    opts: &ReportOptions,
     merit: &MeritOptions,
     is_own: impl Fn(&Path, &str) -> bool,
 ) -> Result<(Vec<String>, Vec<bool>)> {
@@ -475,10 +482,13 @@ fn start(
             "the figures of merit need a positive filter and window",
         )));
     }
-    let hashes: Vec<String> = logs
-        .iter()
-        .map(|(p, _)| calibration::sha256_file(p).unwrap_or_default())
-        .collect();
+    let hashes: Vec<String> = match &opts.sha256 {
+        Some(h) if h.len() == logs.len() => h.clone(),
+        _ => logs
+            .iter()
+            .map(|(p, _)| calibration::sha256_file(p).unwrap_or_default())
+            .collect(),
+    };
     let in_sample = logs
         .iter()
         .zip(&hashes)

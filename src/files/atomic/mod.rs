@@ -1,24 +1,66 @@
 //! Writing files so that a failed write never leaves a half-written file behind: the content
 //! goes to a temporary file in the same folder, is flushed to disk, then renamed over the target.
+//!
+//! What a path names decides how it is written (`target`): a symbolic link is written
+//! through to the file it names, which is replaced atomically and stays linked; a FIFO, a
+//! device or the process's own standard output is written in place as a stream, never
+//! replaced by a regular file. The temporary files are removed on every way out that runs
+//! code, and those of a killed run the next time the same output is written (`temporary`).
 
 #[cfg(target_os = "linux")]
 mod direct;
+mod target;
+mod temporary;
+
+pub use temporary::remove_temporaries_on_signals;
 
 use std::io::Write;
 use std::path::Path;
+use target::Target;
+use temporary::Temporary;
+
+/// Whether writing `output` would write over `input`: the same file (through links, hard links
+/// or another spelling of its path), or the same FIFO or device. A command checks each of
+/// its outputs against each of its inputs with this before it writes, so that
+/// `apply cal.json run.csv --out run.csv` cannot destroy the log it reads.
+pub fn is_same_file(output: &Path, input: &Path) -> bool {
+    let (Ok(o), Ok(i)) = (std::fs::metadata(output), std::fs::metadata(input)) else {
+        // An output not yet there is no input; an input not there is not read.
+        return false;
+    };
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::MetadataExt;
+        o.dev() == i.dev() && o.ino() == i.ino()
+    }
+    #[cfg(not(unix))]
+    {
+        let _ = (o, i);
+        matches!(
+            (std::fs::canonicalize(output), std::fs::canonicalize(input)),
+            (Ok(a), Ok(b)) if a == b
+        )
+    }
+}
 
 /// Writes `path` atomically through `fill`, which gets a buffered writer.
 ///
 /// On any error the previous content of `path` (if any) is left untouched and the temporary file
 /// is removed. A read-only file is not replaced (a rename would go around its protection,
-/// since the folder and not the file decides who may rename), nor is a directory.
+/// since the folder and not the file decides who may rename), nor is a directory. A link is
+/// written through; a FIFO or a device is written as a stream (then an error can leave part
+/// of the content written, as in any stream).
 pub fn write_with<F>(path: &Path, fill: F) -> std::io::Result<()>
 where
     F: FnOnce(&mut dyn Write) -> std::io::Result<()>,
 {
-    let tmp = temporary_for(path)?;
+    let file = match Target::of(path)? {
+        Target::File(file) => file,
+        stream => return write_stream(&stream, fill),
+    };
+    let tmp = temporary_for(&file)?;
     fill_buffered(tmp.as_file(), fill)?;
-    finish(tmp, path)
+    finish(tmp, &file)
 }
 
 /// Writes a big file (tens of MB and more) atomically through `fill`, as [`write_with`] does,
@@ -34,21 +76,37 @@ pub fn write_big_with<F>(path: &Path, fill: F) -> std::io::Result<()>
 where
     F: FnOnce(&mut dyn Write) -> std::io::Result<()>,
 {
-    let tmp = temporary_for(path)?;
+    let file = match Target::of(path)? {
+        Target::File(file) => file,
+        stream => return write_stream(&stream, fill),
+    };
+    let tmp = temporary_for(&file)?;
     #[cfg(target_os = "linux")]
     {
         if direct::enable(tmp.as_file()) {
             direct::fill(tmp.as_file(), fill)?;
-            return finish(tmp, path);
+            return finish(tmp, &file);
         }
     }
     fill_buffered(tmp.as_file(), fill)?;
-    finish(tmp, path)
+    finish(tmp, &file)
+}
+
+/// Writes a FIFO, a device or a standard stream in place, buffered.
+fn write_stream<F>(target: &Target, fill: F) -> std::io::Result<()>
+where
+    F: FnOnce(&mut dyn Write) -> std::io::Result<()>,
+{
+    let file = target::open_stream(target)?;
+    let mut w = std::io::BufWriter::with_capacity(1 << 16, file);
+    fill(&mut w)?;
+    w.flush()
 }
 
 /// The temporary file a write of `path` goes to, in the same folder (so that the final rename
-/// stays within one file system), after the checks that explain a refusal plainly.
-fn temporary_for(path: &Path) -> std::io::Result<tempfile::NamedTempFile> {
+/// stays within one file system), after the checks that explain a refusal plainly. Temporary
+/// files a killed run left for the same output are removed first.
+fn temporary_for(path: &Path) -> std::io::Result<Temporary> {
     if let Ok(m) = std::fs::metadata(path) {
         if m.is_dir() {
             return Err(std::io::Error::new(
@@ -83,10 +141,12 @@ fn temporary_for(path: &Path) -> std::io::Result<tempfile::NamedTempFile> {
             ));
         }
     }
-    let tmp = tempfile::Builder::new()
-        .prefix(".driftlab-")
-        .suffix(".tmp")
-        .tempfile_in(dir)?;
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    temporary::remove_stale(dir, &name);
+    let tmp = Temporary::new_in(dir, &name)?;
     // A temporary file is private (0600); the result should have the permissions a plain
     // write would give: those of the file it replaces, or the usual 0644.
     #[cfg(unix)]
@@ -131,10 +191,9 @@ where
 }
 
 /// Syncs the filled temporary file and renames it over `path`.
-fn finish(tmp: tempfile::NamedTempFile, path: &Path) -> std::io::Result<()> {
+fn finish(tmp: Temporary, path: &Path) -> std::io::Result<()> {
     tmp.as_file().sync_all()?;
-    tmp.persist(path).map_err(|e| e.error)?;
-    Ok(())
+    tmp.persist(path)
 }
 
 /// Bytes written between two background syncs of a file being written.

@@ -212,9 +212,9 @@ impl Workbench {
                 ui.label(RichText::new(format!("{name}{dirty}")).strong())
                     .on_hover_text(format!("{}{}", l.path.display(), if dirty.is_empty() { "" } else { "\nunsaved changes" }));
                 ui.weak(format!(
-                    "{} samples · {:.2} h · step {} s",
+                    "{} samples · {} h · step {} s",
                     l.log.len(),
-                    l.log.duration_s() / 3600.0,
+                    crate::number::fixed(l.log.duration_s() / 3600.0, 2),
                     num(l.log.nominal_dt_s())
                 ));
             }

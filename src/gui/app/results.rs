@@ -163,6 +163,8 @@ impl Workbench {
                     self.state.fit_error = Some(message.clone());
                     self.state
                         .say(Severity::Error, format!("Calibration failed: {message}"));
+                    // A screenshot of a failed calibration is not what was asked for.
+                    self.finish_auto(Err(format!("the calibration failed: {message}")));
                 }
             }
             JobResult::Compared(generation, result) => {
@@ -251,15 +253,6 @@ impl Workbench {
         }
     }
 
-    pub(super) fn finish_auto(&mut self, result: Result<(), String>) {
-        if let Some(a) = &self.shots.auto
-            && let Ok(mut slot) = a.result.lock()
-            && slot.is_none()
-        {
-            *slot = Some(result);
-        }
-    }
-
     /// Asks the worker for the Allan deviations of the log the Allan page shows.
     pub(super) fn request_allan(&mut self, key: (u64, bool)) {
         let Some(fit) = &self.state.fit else {
@@ -324,7 +317,7 @@ impl Workbench {
 fn about_columns(kind: crate::log::ProblemKind) -> bool {
     use crate::log::ProblemKind::*;
     match kind {
-        Implausible => true,
+        Implausible | DuplicateName => true,
         MissingValue | BadExtraValue | TimeBackwards | TimeRepeated | Gap | RaggedRow => false,
     }
 }

@@ -20,7 +20,35 @@ pub(super) struct AutoShot {
     /// The Models page's comparison was sent.
     pub(super) compared: bool,
     pub(super) started: Instant,
-    pub(super) result: Arc<Mutex<Option<Result<(), String>>>>,
+    pub(super) result: ScreenshotOutcome,
+}
+
+/// How a `--screenshot` run ended: `None` while it runs, then the picture written or why the
+/// window could not show what was asked (a session that does not open, a log that cannot be
+/// read, a calibration or comparison that fails). Shared between the window and the caller,
+/// which returns it once the window has closed.
+#[derive(Debug, Clone, Default)]
+pub struct ScreenshotOutcome(Arc<Mutex<Option<Result<(), String>>>>);
+
+impl ScreenshotOutcome {
+    /// The outcome, once there is one (taken: a second call gives `None`).
+    pub fn take(&self) -> Option<Result<(), String>> {
+        self.0.lock().map(|mut r| r.take()).unwrap_or(None)
+    }
+
+    /// True once the run has ended, well or badly.
+    pub fn is_done(&self) -> bool {
+        self.0.lock().is_ok_and(|r| r.is_some())
+    }
+
+    /// Records the first outcome; later ones are let go (the first failure is the cause).
+    fn set(&self, result: Result<(), String>) {
+        if let Ok(mut slot) = self.0.lock()
+            && slot.is_none()
+        {
+            *slot = Some(result);
+        }
+    }
 }
 
 pub(super) type Shot = (Arc<ColorImage>, PathBuf, Option<Rect>, f32, String);
@@ -51,6 +79,35 @@ impl Shots {
 }
 
 impl Workbench {
+    /// Puts the workbench in screenshot mode: once the log is read, calibrated and the page's
+    /// work done, the window is saved as PNG at `path` and closed, and `outcome` says how it
+    /// went. Any failure on the way (one that would show an error dialog) ends the run at
+    /// once with that message, so a script never waits on a dialog nobody will close. Call it
+    /// before opening the log or session, so that their failures are caught too.
+    pub fn screenshot_mode(&mut self, path: PathBuf, outcome: ScreenshotOutcome) {
+        self.shots.auto = Some(AutoShot {
+            path,
+            settled: 0,
+            requested: false,
+            compared: false,
+            started: Instant::now(),
+            result: outcome,
+        });
+    }
+
+    /// How the screenshot run ended, if it is one and has ended (for tests).
+    pub fn screenshot_outcome(&self) -> Option<Result<(), String>> {
+        self.shots.auto.as_ref().and_then(|a| a.result.take())
+    }
+
+    /// Ends a screenshot run with `result` (the first one counts).
+    pub(super) fn finish_auto(&mut self, result: Result<(), String>) {
+        if let Some(a) = &self.shots.auto {
+            // One line on standard error: a dialog's paragraphs joined.
+            a.result.set(result.map_err(|e| e.replace("\n\n", " ")));
+        }
+    }
+
     pub(super) fn screenshots(&mut self, ctx: &egui::Context) {
         let loaded = self.state.log.is_some() && self.state.fit.is_some() && !self.jobs.busy();
         if loaded
@@ -101,12 +158,7 @@ impl Workbench {
                     "timed out waiting for the workbench to load and calibrate".into(),
                 ));
             }
-            if self
-                .shots
-                .auto
-                .as_ref()
-                .is_some_and(|a| a.result.lock().is_ok_and(|r| r.is_some()))
-            {
+            if self.shots.auto.as_ref().is_some_and(|a| a.result.is_done()) {
                 ctx.send_viewport_cmd(ViewportCommand::Close);
             }
         }

@@ -100,12 +100,12 @@ impl CoeffView {
                 }
                 if let Some(f) = &fit {
                     let s = c.approx(&f.outcome.calibration).stats();
-                    ui.weak(format!("n {} · R² {:.3}", s.n, s.r2))
+                    ui.weak(format!("n {} · R² {}", s.n, crate::number::fixed(s.r2, 3)))
                         .on_hover_text(format!(
-                            "{} points fitted; RMSE {} ; R² {:.4}{}",
+                            "{} points fitted; RMSE {} ; R² {}{}",
                             s.n,
                             num(s.rmse),
-                            s.r2,
+                            crate::number::fixed(s.r2, 4),
                             if edited { "; knots set by hand" } else { "" }
                         ));
                 }

@@ -170,7 +170,7 @@ impl ControlsView {
                         }
                         match stats.iter().find(|s| s.range == r) {
                             Some(s) => {
-                                cell(ui, 3, RichText::new(format!("{:.2}", s.temp_c)));
+                                cell(ui, 3, RichText::new(crate::number::fixed(s.temp_c, 2)));
                                 cell(ui, 4, RichText::new(num(s.omega_dph))).on_hover_text(
                                     format!(
                                         "std {} °/h, standard error {} °/h",
@@ -178,11 +178,15 @@ impl ControlsView {
                                         num(s.omega_sem_dph)
                                     ),
                                 );
-                                cell(ui, 5, RichText::new(format!("{:.3}", s.temp_spread_c)))
-                                    .on_hover_text(format!(
-                                        "{:.3} °C between the coldest and the warmest sample",
-                                        s.temp_spread_c
-                                    ));
+                                cell(
+                                    ui,
+                                    5,
+                                    RichText::new(crate::number::fixed(s.temp_spread_c, 3)),
+                                )
+                                .on_hover_text(format!(
+                                    "{} °C between the coldest and the warmest sample",
+                                    crate::number::fixed(s.temp_spread_c, 3)
+                                ));
                             }
                             None => {
                                 for c in 3..6 {

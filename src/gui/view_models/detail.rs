@@ -134,7 +134,7 @@ fn regression_detail(ui: &mut Ui, m: &RegressionModel) {
                 [p] => format!("{} s", secs(p[1])),
                 pts => pts
                     .iter()
-                    .map(|p| format!("{} s at {:.1} °C", secs(p[1]), p[0]))
+                    .map(|p| format!("{} s at {} °C", secs(p[1]), crate::number::fixed(p[0], 1)))
                     .collect::<Vec<_>>()
                     .join("\n"),
             });
@@ -151,10 +151,10 @@ fn regression_detail(ui: &mut Ui, m: &RegressionModel) {
                 "Samples, RMS residual of the raw rate (the gyro's noise is part of it), R²",
             );
             ui.monospace(format!(
-                "{} samples, RMS {} °/h, R² {:.3}",
+                "{} samples, RMS {} °/h, R² {}",
                 m.stats.n,
                 num(m.stats.rmse),
-                m.stats.r2
+                crate::number::fixed(m.stats.r2, 3)
             ));
             ui.end_row();
         });

@@ -105,8 +105,11 @@ pub enum AllanError {
         /// Its value.
         value: f64,
     },
-    /// τ0 not a positive finite number.
-    #[error("tau0 must be a positive number of seconds, got {0}")]
+    /// τ0 outside [`MIN_TAU0_S`] ..= [`MAX_TAU0_S`].
+    #[error(
+        "tau0 must be between 1e-9 s (a gigahertz) and 86400 s (a sample a day), got {}",
+        crate::number::readable(*.0)
+    )]
     BadTau0(f64),
     /// Confidence outside (0, 1).
     #[error("confidence must lie strictly between 0 and 1, got {0}")]
@@ -182,6 +185,24 @@ pub fn averaging_factors(n: usize, spacing: TauSpacing) -> Vec<usize> {
     }
 }
 
+/// The shortest sampling interval taken as a gyro's, s: a gigahertz. Below it, τ rounds to 0 in
+/// every table and the variances divide by τ² that underflows (`--tau0 1e-300` gave NaN).
+pub const MIN_TAU0_S: f64 = 1e-9;
+/// The longest sampling interval taken as a gyro's, s: one sample a day.
+pub const MAX_TAU0_S: f64 = 86_400.0;
+
+/// Checks a sampling interval before anything is computed with it.
+///
+/// # Errors
+/// [`AllanError::BadTau0`] outside [`MIN_TAU0_S`] ..= [`MAX_TAU0_S`] (NaN included).
+pub fn check_tau0(tau0_s: f64) -> Result<(), AllanError> {
+    if (MIN_TAU0_S..=MAX_TAU0_S).contains(&tau0_s) {
+        Ok(())
+    } else {
+        Err(AllanError::BadTau0(tau0_s))
+    }
+}
+
 /// Allan deviation of `rate` at the factors of `opts.spacing`, with intervals and read-outs.
 pub fn allan(rate: &[f64], opts: &AllanOptions) -> Result<AllanDeviation, AllanError> {
     allan_at(rate, opts, &averaging_factors(rate.len(), opts.spacing))
@@ -199,9 +220,7 @@ pub fn allan_at(
     if n < 2 {
         return Err(AllanError::TooShort(n));
     }
-    if !(opts.tau0_s.is_finite() && opts.tau0_s > 0.0) {
-        return Err(AllanError::BadTau0(opts.tau0_s));
-    }
+    check_tau0(opts.tau0_s)?;
     if !(opts.confidence > 0.0 && opts.confidence < 1.0) {
         return Err(AllanError::BadConfidence(opts.confidence));
     }

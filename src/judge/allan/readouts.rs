@@ -86,7 +86,9 @@ impl GyroReadouts {
                 points: k,
                 extrapolated,
                 method: format!(
-                    "-1/2 line fitted on tau {lo} .. {hi} s ({k} points), sigma at tau = 1 s / 60"
+                    "-1/2 line fitted on tau {} .. {} s ({k} points), sigma at tau = 1 s / 60",
+                    crate::number::readable(lo),
+                    crate::number::readable(hi)
                 ),
             }
         });
@@ -103,7 +105,9 @@ impl GyroReadouts {
                 points: k,
                 extrapolated: !(lo <= 3.0 && 3.0 <= hi),
                 method: format!(
-                    "+1/2 line fitted on tau {lo} .. {hi} s ({k} points), sigma at tau = 3 s x 60"
+                    "+1/2 line fitted on tau {} .. {} s ({k} points), sigma at tau = 3 s x 60",
+                    crate::number::readable(lo),
+                    crate::number::readable(hi)
                 ),
             }
         });

@@ -153,8 +153,8 @@ pub(super) fn finish(mut acc: Acc, sn: &Sniffed, plan: &Plan, source: &str) -> R
                 message: format!(
                     "{} dropped: time went backwards (first at line {line}: {} s after {} s)",
                     rows(t.count),
-                    first_back.0,
-                    first_back.1
+                    crate::number::readable(first_back.0),
+                    crate::number::readable(first_back.1)
                 ),
             });
         }
@@ -255,7 +255,10 @@ pub(super) fn finish(mut acc: Acc, sn: &Sniffed, plan: &Plan, source: &str) -> R
 
 /// A duration in seconds to six significant digits, for messages.
 fn short(s: f64) -> String {
-    if s == 0.0 || !s.is_finite() {
+    if s == 0.0 || !s.is_finite() || !(1e-6..1e9).contains(&s.abs()) {
+        return crate::number::readable(s);
+    }
+    if s == 0.0 {
         return s.to_string();
     }
     let digits = (5 - s.abs().log10().floor() as i32).max(0) as usize;

@@ -129,12 +129,31 @@ fn find_column(r: &ColumnRef, names: &[String], role: &str) -> Result<usize, Str
         ColumnRef::Name(n) => {
             let want = n.trim();
             let want_base = name_parts(want).base;
-            names
-                .iter()
-                .position(|c| {
-                    c.trim().eq_ignore_ascii_case(want)
-                        || c.trim().to_lowercase() == want.to_lowercase()
-                })
+            // A name as written, else one that differs only in case; two columns that match
+            // alike are refused, not resolved to the first.
+            let matching = |same: &dyn Fn(&str) -> bool| -> Vec<usize> {
+                (0..names.len())
+                    .filter(|&j| same(names[j].trim()))
+                    .collect()
+            };
+            let mut exact = matching(&|c| c == want);
+            if exact.is_empty() {
+                exact = matching(&|c| c.to_lowercase() == want.to_lowercase());
+            }
+            if exact.len() > 1 {
+                return Err(format!(
+                    "{} columns are named \"{want}\" ({}): give the {role} column by its number",
+                    exact.len(),
+                    exact
+                        .iter()
+                        .map(|j| (j + 1).to_string())
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ));
+            }
+            exact
+                .first()
+                .copied()
                 .or_else(|| {
                     names
                         .iter()

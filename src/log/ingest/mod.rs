@@ -51,8 +51,8 @@
 //!
 //! # Speed
 //!
-//! Files are never held whole in memory: they are read in blocks of a few MB cut at line
-//! ends, parsed in parallel (rayon) and stitched together in order, with exact line numbers.
+//! Files are never held whole in memory (a stream that can be read only once, standard input
+//! or a FIFO, is: see [`Input`]): they are read in blocks of a few MB cut at line ends, parsed in parallel (rayon) and stitched together in order, with exact line numbers.
 //! Plain numeric rows take a fast path (memchr + fast-float); quoted, blank or odd rows a
 //! careful one; a file whose quoted fields span lines is read again sequentially.
 
@@ -67,6 +67,9 @@ mod sniff;
 mod units;
 
 pub use series::{RateSeries, read_rate_series};
+
+use std::io::Read;
+use std::path::PathBuf;
 pub use units::{RateUnit, TimeUnit};
 
 use crate::log::{ColumnInfo, Log};
@@ -291,6 +294,122 @@ pub struct Preview {
     pub mapping_error: Option<String>,
 }
 
+/// A log to read, opened once: a file by its path, read in blocks as often as the reader needs
+/// (to sniff, to read, to read again sequentially), or the bytes of a source that gives them
+/// only once (standard input named `-`, a FIFO, a character device, a socket), read whole
+/// when it is opened. Opening such a source a second time would block until another writer
+/// came, or find nothing; and its hash must be taken of the same bytes the log was read from
+/// ([`Input::bytes`]).
+///
+/// A stream is held in memory while it is read (its size and about as much again for the
+/// columns); a file is not.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Input {
+    /// A regular file (or a path that is not there or is a folder, which the read reports).
+    Path(PathBuf),
+    /// The whole content of a source that can be read once.
+    Bytes {
+        /// How messages name it: the path, or `standard input`.
+        name: String,
+        /// What it gave.
+        bytes: Vec<u8>,
+    },
+}
+
+/// The first bytes of a stream, looked at before the rest is read: a stream that starts with a
+/// NUL byte (`/dev/zero`, random bytes) is binary and is not read on forever.
+const STREAM_HEAD: usize = 64 << 10;
+
+impl Input {
+    /// Opens `path`: `-` is standard input; a FIFO, a device or a socket is read whole now;
+    /// anything else is left to be read from its path.
+    ///
+    /// # Errors
+    /// A stream that cannot be read, naming it.
+    pub fn open(path: &Path) -> Result<Input, IngestError> {
+        if path.as_os_str() == "-" {
+            return Input::read_stream("standard input".into(), std::io::stdin().lock());
+        }
+        let name = path.display().to_string();
+        match std::fs::metadata(path) {
+            Ok(m) if !m.is_file() && !m.is_dir() => {
+                let f = std::fs::File::open(path)
+                    .map_err(|e| Fail::file(format!("cannot open: {e}")).at(&name))?;
+                Input::read_stream(name, f)
+            }
+            _ => Ok(Input::Path(path.to_path_buf())),
+        }
+    }
+
+    fn read_stream(name: String, mut r: impl Read) -> Result<Input, IngestError> {
+        let fail = |e: std::io::Error| Fail::file(format!("cannot read: {e}")).at(&name);
+        let mut bytes = Vec::new();
+        (&mut r)
+            .take(STREAM_HEAD as u64)
+            .read_to_end(&mut bytes)
+            .map_err(fail)?;
+        // A binary head is refused by the reader from what is here already.
+        if memchr::memchr(0, &bytes).is_none() {
+            r.read_to_end(&mut bytes).map_err(fail)?;
+        }
+        Ok(Input::Bytes { name, bytes })
+    }
+
+    /// How messages name the input.
+    pub fn name(&self) -> String {
+        match self {
+            Input::Path(p) => p.display().to_string(),
+            Input::Bytes { name, .. } => name.clone(),
+        }
+    }
+
+    /// The bytes of a stream (`None` for a file, which is read from its path).
+    pub fn bytes(&self) -> Option<&[u8]> {
+        match self {
+            Input::Path(_) => None,
+            Input::Bytes { bytes, .. } => Some(bytes),
+        }
+    }
+
+    /// Reads the log, telling `progress` the fraction done as
+    /// [`read_path_with_progress`] does.
+    ///
+    /// # Errors
+    /// As [`read_path_with_progress`].
+    pub fn read(
+        &self,
+        opts: &ReadOptions,
+        progress: &(dyn Fn(f64) -> bool + Sync),
+    ) -> Result<Log, IngestError> {
+        let name = self.name();
+        let src = match self {
+            Input::Path(p) => read::Src::Path(p),
+            Input::Bytes { bytes, .. } => read::Src::Bytes(bytes),
+        };
+        read::read(src, &name, opts, progress).map_err(|f| f.at(&name))
+    }
+
+    /// Reads the input as a rate series of one column ([`read_rate_series`]).
+    ///
+    /// # Errors
+    /// As [`read_rate_series`].
+    pub fn rate_series(&self, opts: &ReadOptions) -> Result<Option<RateSeries>, IngestError> {
+        let name = self.name();
+        match self {
+            Input::Path(p) => {
+                let f = std::fs::File::open(p).map_err(|e| IngestError {
+                    file: name.clone(),
+                    line: 0,
+                    column: 0,
+                    message: e.to_string(),
+                })?;
+                series::read_rate_series_from(name, f, opts)
+            }
+            Input::Bytes { bytes, .. } => series::read_rate_series_from(name, &bytes[..], opts),
+        }
+    }
+}
+
 /// Reads a log file.
 ///
 /// # Errors
@@ -301,7 +420,7 @@ pub fn read_path(path: &Path, opts: &ReadOptions) -> Result<Log, IngestError> {
 
 /// Reads a log file, telling `progress` the fraction done (0 to 1) every few MB so a GUI
 /// can draw a bar; when `progress` returns false the read stops with the error
-/// `cancelled`.
+/// `cancelled`. A path that can be read only once (`-`, a FIFO) is read once ([`Input`]).
 ///
 /// # Errors
 /// As [`read_path`], plus `cancelled`.
@@ -310,8 +429,7 @@ pub fn read_path_with_progress(
     opts: &ReadOptions,
     progress: &(dyn Fn(f64) -> bool + Sync),
 ) -> Result<Log, IngestError> {
-    let name = path.display().to_string();
-    read::read(read::Src::Path(path), &name, opts, progress).map_err(|f| f.at(&name))
+    Input::open(path)?.read(opts, progress)
 }
 
 /// Reads a log already in memory (a test, a paste, an upload); `source` names it in messages.

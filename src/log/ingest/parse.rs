@@ -479,9 +479,15 @@ impl Parser<'_> {
                             line,
                             j + 1,
                             format!(
-                                "cannot read {} as a number (column \"{}\")",
+                                "cannot read {} as a number (column \"{}\"){}",
                                 show_cell(f),
-                                self.plan.name(j)
+                                self.plan.name(j),
+                                if super::sniff::is_spreadsheet_error(f.trim_ascii()) {
+                                    ": a spreadsheet's error value, exported in place of a \
+                                     number; fix the sheet's formula, or delete the row"
+                                } else {
+                                    ""
+                                }
                             ),
                         )));
                     }

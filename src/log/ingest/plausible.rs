@@ -41,17 +41,25 @@ fn survey(x: &[f64]) -> Option<(f64, f64, bool)> {
 fn temperature_doubt(name: &str, x: &[f64]) -> Option<String> {
     let (lo, hi, whole) = survey(x)?;
     if lo < -273.15 {
-        return Some(format!("reaches {lo} °C, below absolute zero"));
+        return Some(format!(
+            "reaches {} °C, below absolute zero",
+            crate::number::readable(lo)
+        ));
     }
     if lo < TEMP_RANGE_C.0 || hi > TEMP_RANGE_C.1 {
         return Some(format!(
-            "spans {lo} … {hi} °C, outside the {} … {} °C a chamber reaches",
-            TEMP_RANGE_C.0, TEMP_RANGE_C.1
+            "spans {} … {} °C, outside the {} … {} °C a chamber reaches",
+            crate::number::readable(lo),
+            crate::number::readable(hi),
+            TEMP_RANGE_C.0,
+            TEMP_RANGE_C.1
         ));
     }
     if whole && hi - lo >= 1000.0 {
         return Some(format!(
-            "holds whole numbers over {lo} … {hi}: counts of a sensor register, not °C"
+            "holds whole numbers over {} … {}: counts of a sensor register, not °C",
+            crate::number::readable(lo),
+            crate::number::readable(hi)
         ));
     }
     if is_raw_register(name) {
@@ -60,9 +68,55 @@ fn temperature_doubt(name: &str, x: &[f64]) -> Option<String> {
     None
 }
 
+/// Columns taken for a role whose name another column of the header also has: which of
+/// two `omega_dph` columns is the gyro's is a guess the engineer must hear about.
+fn duplicate_names(log: &Log) -> Vec<Problem> {
+    let same = |a: &str, b: &str| a.trim() == b.trim();
+    let mut out = Vec::new();
+    for (role, what, option) in [
+        (ColumnRole::Time, "time", "--time-col"),
+        (ColumnRole::Rate, "rate", "--rate-col"),
+        (ColumnRole::Temperature, "temperature", "--temp-col"),
+    ] {
+        let Some(c) = log.info.columns.iter().find(|c| c.role == role) else {
+            continue;
+        };
+        let others: Vec<usize> = log
+            .info
+            .columns
+            .iter()
+            .filter(|o| o.index != c.index && same(&o.name, &c.name))
+            .map(|o| o.index)
+            .collect();
+        let Some(&other) = others.first() else {
+            continue;
+        };
+        let list = others
+            .iter()
+            .map(usize::to_string)
+            .collect::<Vec<_>>()
+            .join(", ");
+        out.push(Problem {
+            line: 0,
+            column: Some(c.index),
+            kind: ProblemKind::DuplicateName,
+            count: 1,
+            message: format!(
+                "column {} \"{}\" is taken as the {what}, and column{} {list} {} the same \
+                 name; to take another, give its number: {option} {other}",
+                c.index,
+                c.name,
+                if others.len() == 1 { "" } else { "s" },
+                if others.len() == 1 { "has" } else { "have" },
+            ),
+        });
+    }
+    out
+}
+
 /// The problems of the columns `log` took for its rate and temperature.
 pub(super) fn check(log: &Log) -> Vec<Problem> {
-    let mut out = Vec::new();
+    let mut out = duplicate_names(log);
     let column = |role: ColumnRole| log.info.columns.iter().find(|c| c.role == role);
     if let Some(c) = column(ColumnRole::Temperature)
         && let Some(why) = temperature_doubt(&c.name, &log.temp_c)

@@ -39,19 +39,26 @@ pub fn read_rate_series(
     path: &Path,
     opts: &ReadOptions,
 ) -> Result<Option<RateSeries>, IngestError> {
-    let source = path.display().to_string();
+    super::Input::open(path)?.rate_series(opts)
+}
+
+/// [`read_rate_series`] of text already open; `source` names it in messages.
+pub(super) fn read_rate_series_from(
+    source: String,
+    reader: impl std::io::Read,
+    opts: &ReadOptions,
+) -> Result<Option<RateSeries>, IngestError> {
     let fail = |line: usize, message: String| IngestError {
         file: source.clone(),
         line,
         column: if line == 0 { 0 } else { 1 },
         message,
     };
-    let file = std::fs::File::open(path).map_err(|e| fail(0, e.to_string()))?;
     let comma = opts.decimal_comma.unwrap_or(false);
     let mut header: Option<String> = None;
     let mut values = Vec::new();
     let mut buf = Vec::new();
-    let mut reader = BufReader::new(file);
+    let mut reader = BufReader::new(reader);
     let mut line_no = 0;
     loop {
         buf.clear();

@@ -25,6 +25,19 @@ use serde::{Deserialize, Serialize};
 use std::fmt;
 use std::str::FromStr;
 
+/// Most knots a knot curve may have: the most a recipe asks for.
+pub const MAX_KNOTS: usize = 64;
+
+/// Most coefficients a stored polynomial may have (degree 15). Fits make at most three; a
+/// hand-edited file may hold a higher degree (the C export evaluates any), but a polynomial of
+/// a million coefficients is no calibration curve, and evaluating it on every sample took
+/// seconds per thousand samples.
+pub const MAX_POLY_COEFFS: usize = 16;
+
+/// The smallest gap between two knots, as a share of the span of all knots. Knots closer than
+/// this (a hand-edited spacing of 1e-300) give slopes that overflow.
+const MIN_KNOT_GAP: f64 = 1e-9;
+
 /// The family of curve an engineer picks for a coefficient.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
@@ -261,7 +274,11 @@ impl Approx {
         stats: FitStats,
     ) -> Result<Approx, String> {
         if !x_min.is_finite() || !x_max.is_finite() || x_min > x_max {
-            return Err(format!("invalid x-range [{x_min}, {x_max}]"));
+            return Err(format!(
+                "invalid x-range [{}, {}]",
+                crate::number::readable(x_min),
+                crate::number::readable(x_max)
+            ));
         }
         let spline = match &curve {
             Curve::Polynomial { coeffs } => {
@@ -346,6 +363,107 @@ impl Approx {
                 coeffs,
             }
         })
+    }
+
+    /// Checks what a stored approximation can get wrong beyond what [`Approx::new`] checks: a
+    /// knot curve of another form than its kind (a `pwl` drawn as a spline), more than
+    /// [`MAX_POLY_COEFFS`] polynomial coefficients or [`MAX_KNOTS`] knots, knots too close to
+    /// each other, an x-range whose width overflows, statistics that are not numbers.
+    ///
+    /// # Errors
+    /// The reason, for the caller to put after the field's name.
+    pub fn check(&self) -> Result<(), String> {
+        match (&self.curve, self.kind) {
+            // Any kind may hold a polynomial: a knot kind holds a constant when its points were
+            // too few for any curve, and a file may be edited to a higher degree.
+            (Curve::Polynomial { coeffs }, _) => {
+                if coeffs.len() > MAX_POLY_COEFFS {
+                    return Err(format!(
+                        "a polynomial has at most {MAX_POLY_COEFFS} coefficients (degree {}), \
+                         this one has {}",
+                        MAX_POLY_COEFFS - 1,
+                        coeffs.len()
+                    ));
+                }
+            }
+            (Curve::Pwl { .. }, ApproxKind::Pwl)
+            | (Curve::CatmullRom { .. }, ApproxKind::Spline) => {}
+            (curve, kind) => {
+                let form = match curve {
+                    Curve::Polynomial { .. } => "polynomial",
+                    Curve::Pwl { .. } => "pwl",
+                    Curve::CatmullRom { .. } => "catmull_rom",
+                };
+                return Err(format!(
+                    "the curve is of form {form}, which is not how a {kind} approximation is stored"
+                ));
+            }
+        }
+        let (kx, _) = self.knots();
+        if kx.len() > MAX_KNOTS {
+            return Err(format!(
+                "{} knots, more than the {MAX_KNOTS} a knot curve may have",
+                kx.len()
+            ));
+        }
+        if let (Some(first), Some(last)) = (kx.first(), kx.last()) {
+            let span = last - first;
+            let gap = kx
+                .windows(2)
+                .map(|w| w[1] - w[0])
+                .fold(f64::INFINITY, f64::min);
+            if !span.is_finite() {
+                return Err(format!(
+                    "knots from {} to {} span more than a number can hold",
+                    crate::number::readable(*first),
+                    crate::number::readable(*last)
+                ));
+            }
+            if gap < MIN_KNOT_GAP * span {
+                return Err(format!(
+                    "two knots are {} apart, less than {MIN_KNOT_GAP:e} of the {} they span",
+                    crate::number::readable(gap),
+                    crate::number::readable(span)
+                ));
+            }
+        }
+        if !(self.x_max - self.x_min).is_finite() {
+            return Err(format!(
+                "the range {} .. {} is wider than a number can hold",
+                crate::number::readable(self.x_min),
+                crate::number::readable(self.x_max)
+            ));
+        }
+        if !(self.stats.rmse.is_finite() && self.stats.r2.is_finite()) {
+            return Err(format!(
+                "the fit statistics are not numbers (rmse {}, R² {})",
+                crate::number::readable(self.stats.rmse),
+                crate::number::readable(self.stats.r2)
+            ));
+        }
+        Ok(())
+    }
+
+    /// An upper bound of |value| over the fitted range `[x_min, x_max]` (infinite when the
+    /// curve overflows there): `Σ|c_k|·M^k` for a polynomial, with `M` the largest |x|; twice
+    /// the largest knot value (a Catmull-Rom segment overshoots its knots by less than that)
+    /// and the values at the range's ends for a knot curve.
+    pub fn bound(&self) -> f64 {
+        match &self.curve {
+            Curve::Polynomial { coeffs } => {
+                let m = self.x_min.abs().max(self.x_max.abs());
+                coeffs
+                    .iter()
+                    .rev()
+                    .fold(0.0, |acc: f64, c| acc * m + c.abs())
+            }
+            Curve::Pwl { knots_y, .. } | Curve::CatmullRom { knots_y, .. } => {
+                let top = knots_y.iter().fold(0.0f64, |a, y| a.max(y.abs()));
+                (2.0 * top)
+                    .max(self.eval(self.x_min).abs())
+                    .max(self.eval(self.x_max).abs())
+            }
+        }
     }
 
     /// Returns a copy with knot `j` moved to value `y` (the workbench's dragged knot).

@@ -203,13 +203,16 @@ impl RegressionModel {
         row.iter().zip(&self.coefficients).map(|(a, b)| a * b).sum()
     }
 
-    /// Checks a model read from a file: counts agree, numbers are finite, ranges ordered.
+    /// Checks a model read from a file: counts agree, names match the terms, numbers are
+    /// finite, ranges ordered, λ present exactly when a term needs it, and the coefficients
+    /// predict a drift a gyro could have over the ranges the model was fitted on.
     ///
     /// # Errors
     /// A message naming what is inconsistent.
     pub fn validate(&self) -> std::result::Result<(), Invalid> {
         self.spec.validate()?;
-        let p = terms::column_names(&self.spec.terms).len();
+        let columns = terms::column_names(&self.spec.terms);
+        let p = columns.len();
         if self.coefficients.len() != p || self.std_errors.len() != p || self.names.len() != p {
             return Err(Invalid::new(
                 format!("model {}", self.spec.name),
@@ -219,10 +222,48 @@ impl RegressionModel {
                 ),
             ));
         }
+        if self.names != columns {
+            return Err(Invalid::new(
+                "model.names",
+                format!(
+                    "{} do not name the terms' coefficients, which are {}: the table would \
+                     label each coefficient with another term",
+                    self.names.join(", "),
+                    columns.join(", ")
+                ),
+            ));
+        }
         if self.coefficients.iter().any(|c| !c.is_finite()) {
             return Err(Invalid::new(
                 format!("model {}", self.spec.name),
                 "coefficients must be finite",
+            ));
+        }
+        if self.std_errors.iter().any(|c| !c.is_finite()) {
+            return Err(Invalid::new(
+                "model.std_errors",
+                "standard errors must be finite numbers",
+            ));
+        }
+        if !(self.stats.rmse.is_finite() && self.stats.r2.is_finite()) {
+            return Err(Invalid::new(
+                "model.stats",
+                format!(
+                    "the fit statistics are not numbers (rmse {}, R² {})",
+                    crate::number::readable(self.stats.rmse),
+                    crate::number::readable(self.stats.r2)
+                ),
+            ));
+        }
+        let selfheat = self.spec.terms.contains(&Term::SelfHeating);
+        if selfheat != self.lambda_s.is_some() {
+            return Err(Invalid::new(
+                "model.lambda_s",
+                if selfheat {
+                    "is missing, and the selfheat term needs its time constant λ"
+                } else {
+                    "is given, but no selfheat term uses it"
+                },
             ));
         }
         let knots = self
@@ -239,8 +280,22 @@ impl RegressionModel {
             || self.t_knots.windows(2).any(|w| w[0] >= w[1])
         {
             return Err(Invalid::new(
-                format!("model {}", self.spec.name),
-                "pwlT knots must be {knots} finite ascending temperatures",
+                "model.t_knots",
+                format!("pwlT knots must be {knots} finite ascending temperatures"),
+            ));
+        }
+        if let (Some(first), Some(last)) = (self.t_knots.first(), self.t_knots.last())
+            && self.t_knots.windows(2).any(|w| {
+                // Closer than 1e-9 of the span, or not numbers.
+                !matches!(
+                    (w[1] - w[0]).partial_cmp(&(1e-9 * (last - first))),
+                    Some(std::cmp::Ordering::Greater | std::cmp::Ordering::Equal)
+                ) || !(last - first).is_finite()
+            })
+        {
+            return Err(Invalid::new(
+                "model.t_knots",
+                "pwlT knots are closer together than 1e-9 of their span",
             ));
         }
         let ok = |r: &Range| r[0].is_finite() && r[1].is_finite() && r[0] <= r[1];
@@ -258,6 +313,17 @@ impl RegressionModel {
             ));
         }
         let d = &self.delay.points;
+        if d.len() > super::MAX_DELAY_BANDS + 1 {
+            return Err(Invalid::new(
+                "model.delay.points",
+                format!(
+                    "{} points, more than the {} a delay of {} bands has",
+                    d.len(),
+                    super::MAX_DELAY_BANDS + 1,
+                    super::MAX_DELAY_BANDS
+                ),
+            ));
+        }
         if d.iter()
             .any(|p| !(p[0].is_finite() && p[1].is_finite() && p[1] >= 0.0))
             || d.windows(2).any(|w| w[0][0] >= w[1][0])
@@ -290,6 +356,84 @@ impl RegressionModel {
                 format!("model {}", self.spec.name),
                 "dT terms and the second temperature channel go together",
             ));
+        }
+        crate::models::check_drift_bound("model.coefficients", self.drift_bound()?)
+    }
+
+    /// An upper bound of |predicted drift| over the input ranges of the fit: Σ|c_j|·max|row_j|,
+    /// each term at the largest magnitudes its inputs take there.
+    fn drift_bound(&self) -> std::result::Result<f64, Invalid> {
+        let r = &self.ranges;
+        let top = |range: &Option<Range>, input: &str| match range {
+            Some([lo, hi]) => Ok(lo.abs().max(hi.abs())),
+            None => Err(Invalid::new(
+                format!("model.ranges.{input}"),
+                "is missing, and a term reads that input",
+            )),
+        };
+        let mut bound = 0.0;
+        let mut ch = r.channels.iter();
+        let mut k = 0;
+        for term in &self.spec.terms {
+            let size = match term {
+                Term::One | Term::SelfHeating | Term::PwlT { .. } => 1.0,
+                Term::T => top(&r.temp, "temp")?,
+                Term::T2 => top(&r.temp, "temp")?.powi(2),
+                Term::T3 => top(&r.temp, "temp")?.powi(3),
+                Term::Tdot | Term::AbsTdot => top(&r.tdot, "tdot")?,
+                Term::Tddot | Term::SgnTdotTddot => top(&r.tddot, "tddot")?,
+                Term::TTdot => top(&r.temp, "temp")? * top(&r.tdot, "tdot")?,
+                Term::TTddot => top(&r.temp, "temp")? * top(&r.tddot, "tddot")?,
+                Term::Dt => top(&r.dt, "dt")?,
+                Term::Dt2 => top(&r.dt, "dt")?.powi(2),
+                Term::Channel { power, .. } => {
+                    let [lo, hi] = ch.next().copied().unwrap_or([0.0, 0.0]);
+                    lo.abs().max(hi.abs()).powi(i32::from(*power))
+                }
+            };
+            for c in &self.coefficients[k..k + term.width()] {
+                bound += c.abs() * size;
+            }
+            k += term.width();
+        }
+        Ok(bound)
+    }
+}
+
+impl RegressionCalibration {
+    /// [`RegressionModel::validate`], and the model against the log it was fitted on: a delay
+    /// or a lag longer than that whole log cannot have been found on it (a hand-edited 9.9e6 s
+    /// would hold a corrector's history for months).
+    ///
+    /// # Errors
+    /// A message naming the field.
+    pub fn validate(&self) -> std::result::Result<(), Invalid> {
+        self.model.validate()?;
+        let d = self.source.duration_s;
+        if !(d.is_finite() && d >= 0.0) {
+            return Err(Invalid::new(
+                "source.duration_s",
+                format!(
+                    "must be a duration in seconds, got {}",
+                    crate::number::readable(d)
+                ),
+            ));
+        }
+        let m = &self.model;
+        for (field, seconds) in [
+            ("model.delay", m.delay.max_s()),
+            ("model.lag_s", m.lag_s.unwrap_or(0.0)),
+        ] {
+            if seconds > d {
+                return Err(Invalid::new(
+                    field,
+                    format!(
+                        "{} s is longer than the {} s log the model was fitted on",
+                        crate::number::readable(seconds),
+                        crate::number::readable(d)
+                    ),
+                ));
+            }
         }
         Ok(())
     }

@@ -27,7 +27,7 @@ pub use fitted::{
     Delay, InputRanges, Range, RegressionCalibration, RegressionModel, RegressionStats,
 };
 pub use search::CostCurve;
-pub use signals::guess_temp2;
+pub use signals::{guess_temp2, names_chamber_air};
 pub use spec::{
     DELAY_SEARCH_MAX_S, DelaySpec, FitSamples, LAG_REF_C, LAG_SEARCH_MAX_S, LagSpec, LambdaSpec,
     MAX_DELAY_BANDS, RegressionSpec, lag_at,

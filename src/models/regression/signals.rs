@@ -13,15 +13,30 @@ pub(crate) fn steps(spec: &RegressionSpec, dt_s: f64) -> DerivativeSteps {
     }
 }
 
-/// The first extra channel that looks like a second temperature sensor.
+/// The extra channel that looks most like a second temperature sensor on the gyro: among the
+/// columns named or measured as temperatures, one that does not name the chamber's air
+/// ([`names_chamber_air`]) before one that does, then the first in the file. The choice does
+/// not depend on where the chamber's column stands in the file.
 pub fn guess_temp2(log: &Log) -> Option<String> {
-    log.extra
-        .iter()
-        .find(|c| {
-            let n = c.name.to_ascii_lowercase();
-            n.contains("temp") || matches!(c.unit.as_str(), "°C" | "degC" | "C")
-        })
+    let candidates = log.extra.iter().filter(|c| {
+        let n = c.name.to_ascii_lowercase();
+        n.contains("temp") || matches!(c.unit.as_str(), "°C" | "degC" | "C")
+    });
+    candidates
+        .clone()
+        .find(|c| !names_chamber_air(&c.name))
+        .or_else(|| candidates.clone().next())
         .map(|c| c.name.clone())
+}
+
+/// True for a column name that says it measures the chamber's air or the room (`chamber`,
+/// `air`, `ambient`, `room`, `oven`), not a sensor on the gyro: a difference to it is the
+/// chamber's lag, not the gyro's internal gradient.
+pub fn names_chamber_air(name: &str) -> bool {
+    let n = name.to_ascii_lowercase();
+    ["chamber", "air", "ambient", "room", "oven"]
+        .iter()
+        .any(|w| n.contains(w))
 }
 
 /// A log's columns as a model reads them: T's rates computed, channels looked up by name.

@@ -321,7 +321,10 @@ impl Calibration {
         if !(r.dt_s.is_finite() && r.dt_s > 0.0) {
             return Err(Invalid::new(
                 "resolved.dt_s",
-                format!("must be a positive step in seconds, got {}", r.dt_s),
+                format!(
+                    "must be a positive step in seconds, got {}",
+                    crate::number::readable(r.dt_s)
+                ),
             ));
         }
         if r.filter_samples == 0 || r.smooth_samples == 0 || r.step_samples == 0 {
@@ -347,17 +350,82 @@ impl Calibration {
                 ),
             ));
         }
-        for p in &self.plateaus {
-            let v = [
-                p.range.start_s,
-                p.range.end_s,
-                p.temp_c,
-                p.omega_dph,
-                p.omega_std_dph,
-            ];
-            if v.iter().any(|x| !x.is_finite()) {
-                return Err(Invalid::new("plateaus", "statistics must be finite"));
+        let s = &self.source;
+        if !(s.duration_s.is_finite() && s.duration_s >= 0.0) {
+            return Err(Invalid::new(
+                "source.duration_s",
+                format!(
+                    "must be a duration in seconds, got {}",
+                    crate::number::readable(s.duration_s)
+                ),
+            ));
+        }
+        // The step and the windows were resolved on the calibration log: none can be longer
+        // than that log (a hand-edited step of 9.9e6 s would leave no sample of any log ready).
+        let span = s.duration_s + r.dt_s;
+        for (field, seconds) in [
+            ("resolved.dt_s", r.dt_s),
+            ("resolved.filter_samples", r.filter_samples as f64 * r.dt_s),
+            ("resolved.smooth_samples", r.smooth_samples as f64 * r.dt_s),
+            ("resolved.step_samples", r.step_samples as f64 * r.dt_s),
+        ] {
+            let longer = if field == "resolved.dt_s" {
+                s.duration_s > 0.0 && seconds > s.duration_s
+            } else {
+                s.duration_s > 0.0 && seconds > span * (1.0 + 1e-9)
+            };
+            if longer {
+                return Err(Invalid::new(
+                    field,
+                    format!(
+                        "{} s is longer than the {} s log the calibration was made from",
+                        crate::number::readable(seconds),
+                        crate::number::readable(s.duration_s)
+                    ),
+                ));
             }
+        }
+        for (k, p) in self.plateaus.iter().enumerate() {
+            for (name, v) in [
+                ("range.start_s", p.range.start_s),
+                ("range.end_s", p.range.end_s),
+                ("temp_c", p.temp_c),
+                ("omega_dph", p.omega_dph),
+                ("omega_std_dph", p.omega_std_dph),
+                ("omega_sem_dph", p.omega_sem_dph),
+                ("temp_spread_c", p.temp_spread_c),
+            ] {
+                if !v.is_finite() {
+                    return Err(Invalid::new(
+                        format!("plateaus[{k}].{name}"),
+                        format!(
+                            "is {} on the plateau {} .. {} s: the log holds values there too \
+                             large to average (check its rate and temperature columns)",
+                            crate::number::readable(v),
+                            crate::number::readable(p.range.start_s),
+                            crate::number::readable(p.range.end_s)
+                        ),
+                    ));
+                }
+            }
+        }
+        let names = ["k0", "k1_plus", "k1_minus", "k2_plus", "k2_minus"];
+        let approximations = [
+            &self.k0,
+            &self.k1_plus,
+            &self.k1_minus,
+            &self.k2_plus,
+            &self.k2_minus,
+        ];
+        for (k, (name, a)) in names.iter().zip(approximations).enumerate() {
+            a.check().map_err(|reason| Invalid::new(*name, reason))?;
+            // K0 is the drift itself; K1 and K2 are multiplied by the rates they are of.
+            let bound = if k == 0 {
+                a.bound()
+            } else {
+                a.bound() * a.x_min().abs().max(a.x_max().abs())
+            };
+            crate::models::check_drift_bound(*name, bound)?;
         }
         Ok(())
     }
@@ -462,6 +530,14 @@ pub fn fit_or_fallback_weighted(
     warnings: &mut Vec<String>,
 ) -> Approx {
     if let Ok(a) = approx::fit_weighted(spec, x, y, weights) {
+        let n = a.stats().n;
+        if n == spec.params() && n > 1 {
+            warnings.push(format!(
+                "{name}: {} with {n} parameters through {n} points: the curve passes through \
+                 every point and averages none of their noise",
+                spec.kind
+            ));
+        }
         return a;
     }
     let wt = |k: usize| weights.map_or(1.0, |w| w.get(k).copied().unwrap_or(0.0));
@@ -489,13 +565,40 @@ pub fn fit_or_fallback_weighted(
     });
     for fallback in simpler {
         if let Ok(a) = approx::fit(&fallback, &xs, &ys) {
-            warnings.push(format!(
-                "{name}: {got} usable points, fitted as {} with {} parameters instead of {} with {}",
-                fallback.kind,
-                fallback.params(),
-                spec.kind,
-                spec.params()
-            ));
+            let same = fallback.kind == spec.kind && fallback.params() == spec.params();
+            warnings.push(if same {
+                // Not fewer points: the weights made the fit singular.
+                format!(
+                    "{name}: the weighted fit of {} could not be solved; fitted with every one \
+                     of its {got} points weighed alike",
+                    spec.kind
+                )
+            } else if got < spec.params() {
+                format!(
+                    "{name}: {} with {} parameters asked for through {got} usable points, more \
+                     unknowns than points: fitted as {} with {} parameters instead",
+                    spec.kind,
+                    spec.params(),
+                    fallback.kind,
+                    fallback.params()
+                )
+            } else {
+                format!(
+                    "{name}: {} with {} parameters could not be fitted to its {got} usable \
+                     points: fitted as {} with {} parameters instead",
+                    spec.kind,
+                    spec.params(),
+                    fallback.kind,
+                    fallback.params()
+                )
+            });
+            if fallback.params() == got && got > 1 {
+                warnings.push(format!(
+                    "{name}: {} with {got} parameters through {got} points: the curve passes \
+                     through every point and averages none of their noise",
+                    fallback.kind
+                ));
+            }
             return a;
         }
     }
@@ -576,6 +679,7 @@ pub fn fit(log: &Log, recipe: &Recipe) -> Result<Fit> {
 
 fn check_fittable(log: &Log, recipe: &Recipe) -> Result<()> {
     recipe.validate()?;
+    recipe.check_against(log)?;
     if log.len() < 16 {
         return Err(Error::Fit(format!(
             "{}: {} samples are too few to calibrate",
@@ -731,4 +835,46 @@ pub fn fit_lean(log: &Log, recipe: &Recipe) -> Result<Calibrated> {
         deriv: prepared.deriv,
         warnings,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_fallback_says_what_it_fitted_instead_and_why() {
+        // Weights that overflowed (Ṫ² of a wild temperature cell) leave the weighted fit one
+        // point; the same line is fitted to every point weighed alike, and said so (this used
+        // to read "fitted as linear with 2 parameters instead of linear with 2").
+        let (x, y) = ([0.0, 1.0, 2.0, 3.0], [1.0, 3.0, 5.0, 7.0]);
+        let weights = [f64::INFINITY, f64::INFINITY, f64::INFINITY, 1.0];
+        let spec = ApproxSpec::of(ApproxKind::Linear);
+        let mut warnings = Vec::new();
+        let a = fit_or_fallback_weighted("K1+", &spec, &x, &y, Some(&weights), &mut warnings);
+        assert_eq!(a.kind(), ApproxKind::Linear);
+        assert_eq!(
+            warnings,
+            [
+                "K1+: the weighted fit of linear could not be solved; fitted with every one of \
+              its 4 points weighed alike"
+            ]
+        );
+        // Too few points for the curve asked for: the count is named.
+        let mut warnings = Vec::new();
+        let spline = ApproxSpec {
+            kind: ApproxKind::Spline,
+            knots: 10,
+            extrapolate: false,
+        };
+        fit_or_fallback("K0", &spline, &x, &y, &mut warnings);
+        assert_eq!(
+            warnings,
+            [
+                "K0: spline with 10 parameters asked for through 4 usable points, more \
+                 unknowns than points: fitted as spline with 4 parameters instead",
+                "K0: spline with 4 parameters through 4 points: the curve passes through \
+                 every point and averages none of their noise"
+            ]
+        );
+    }
 }

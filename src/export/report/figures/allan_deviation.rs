@@ -2,7 +2,7 @@
 //! over whole decades.
 
 use super::chart::{chart_builder, draw_legend, legend_line};
-use super::scales::{finite_range, log_label};
+use super::scales::{drawable, finite_range, log_label};
 use super::{DESC_PT, FAMILY, LABEL_PT, PALETTE, Plot, de, render};
 use crate::error::Result;
 use plotters::coord::Shift;
@@ -53,6 +53,8 @@ impl Plot for AllanPlot<'_> {
         };
         let xr = decade(xs, 0.0);
         let yr = decade(ys, 0.5);
+        let xr = drawable("τ", xr, true)?;
+        let yr = drawable("Allan deviation", yr, true)?;
         let mut chart = chart_builder(root, self.caption)
             .build_cartesian_2d((xr.0..xr.1).log_scale(), (yr.0..yr.1).log_scale())
             .map_err(de)?;

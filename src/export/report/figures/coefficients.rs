@@ -3,7 +3,7 @@
 //! curve dashed where it is held beyond its fitted range.
 
 use super::chart::{chart_builder, draw_legend, draw_mesh, legend_line};
-use super::scales::{finite_range, padded, union, with_legend_room};
+use super::scales::{drawable, finite_range, padded, union, with_legend_room};
 use super::{BLUE, GREY, Line, MAX_POINTS, Plot, SIZE, VERMILLION, de, render};
 use crate::error::Result;
 use crate::models::approx::Approx;
@@ -96,6 +96,8 @@ impl Plot for K0Plot<'_> {
         );
         let (ya, yb) = ys.unwrap_or((-1.0, 1.0));
         let yr = with_legend_room(ya, yb, 3);
+        let xr = drawable("temperature", xr, false)?;
+        let yr = drawable("K0", yr, false)?;
         let mut chart = chart_builder(root, self.caption)
             .build_cartesian_2d(xr.0..xr.1, yr.0..yr.1)
             .map_err(de)?;
@@ -253,6 +255,8 @@ impl Plot for RatePlot<'_> {
         let entries =
             2 + lods.iter().filter(|l| l.is_some()).count() + usize::from(self.axes.deadband > 0.0);
         let yr = with_legend_room(ya, yb, entries);
+        let xr = drawable(self.axes.x_desc, xr, false)?;
+        let yr = drawable(self.axes.y_desc, yr, false)?;
         let mut chart = chart_builder(root, self.caption)
             .build_cartesian_2d(xr.0..xr.1, yr.0..yr.1)
             .map_err(de)?;

@@ -2,7 +2,7 @@
 //! tried, one panel per search, the chosen value marked.
 
 use super::chart::{draw_legend, legend_line};
-use super::scales::{finite_range, log_label, padded, tick_label, with_legend_room};
+use super::scales::{drawable, finite_range, log_label, padded, tick_label, with_legend_room};
 use super::{BLUE, CAPTION_PT, DESC_PT, FAMILY, LABEL_PT, Plot, VERMILLION, de, render};
 use crate::error::Result;
 use plotters::coord::Shift;
@@ -56,6 +56,8 @@ impl Plot for CostPlot<'_> {
             let ys = finite_range(pts.iter().map(|p| p.1)).unwrap_or((0.0, 1.0));
             let xr = padded(xs.0, xs.1, 0.03);
             let yr = with_legend_room(ys.0, ys.1, 2);
+            let xr = drawable(line.parameter, xr, false)?;
+            let yr = drawable("RMS residual", yr, false)?;
             let mut chart = ChartBuilder::on(panel)
                 .caption(line.parameter, (FAMILY, DESC_PT))
                 .margin(12)

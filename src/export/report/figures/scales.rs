@@ -15,6 +15,44 @@ pub(super) fn padded(lo: f64, hi: f64, frac: f64) -> (f64, f64) {
     (lo - span * frac, hi + span * frac)
 }
 
+/// The largest magnitude a figure's axis may reach. Beyond it the numbers are not a gyro's
+/// (10¹⁰⁰ °/h, °C or s) but a file's nonsense, and the plotting library's search for tick
+/// spacings, which divides the span by ten until the ticks fit, would run without end on an
+/// infinite span (a calibration whose K0 reaches 1e308, its range ±1e308).
+pub(super) const MAX_AXIS: f64 = 1e100;
+
+/// `range` if an axis can be drawn over it: finite bounds within ±[`MAX_AXIS`] and a positive
+/// span (positive bounds within [1/MAX_AXIS, MAX_AXIS] on a logarithmic axis); else the reason,
+/// naming the axis, so that a figure of absurd data is refused before it is drawn.
+pub(super) fn drawable(axis: &str, range: (f64, f64), log: bool) -> Result<(f64, f64), String> {
+    let (lo, hi) = range;
+    let fits = |v: f64| {
+        if log {
+            (1.0 / MAX_AXIS..=MAX_AXIS).contains(&v)
+        } else {
+            v.abs() <= MAX_AXIS
+        }
+    };
+    if !(fits(lo) && fits(hi)) {
+        let worst = if fits(lo) { hi } else { lo };
+        return Err(format!(
+            "the {axis} axis would reach {}, beyond the {} a figure can show: the data hold \
+             numbers no gyro gives (check the calibration and the log)",
+            crate::number::readable(worst),
+            if log { "1e-100 .. 1e100" } else { "±1e100" }
+        ));
+    }
+    // Not greater: equal, reversed, or not numbers.
+    if hi.partial_cmp(&lo) != Some(std::cmp::Ordering::Greater) {
+        return Err(format!(
+            "the {axis} axis has no span ({} .. {})",
+            crate::number::readable(lo),
+            crate::number::readable(hi)
+        ));
+    }
+    Ok(range)
+}
+
 /// `[lo, hi]` of the y data with headroom on top for the legend (about a quarter of the plot).
 pub(super) fn with_legend_room(lo: f64, hi: f64, entries: usize) -> (f64, f64) {
     let (lo, hi) = padded(lo, hi, 0.04);
@@ -141,6 +179,24 @@ mod tests {
         assert_eq!(log_label(200.0), "200");
         assert_eq!(log_label(1.0), "1");
         assert_eq!(log_label(1e7), "1e7");
+    }
+
+    #[test]
+    fn absurd_axes_are_refused_before_drawing() {
+        assert_eq!(drawable("x", (-1.0, 2.0), false), Ok((-1.0, 2.0)));
+        assert_eq!(drawable("x", (1e-3, 1e3), true), Ok((1e-3, 1e3)));
+        for (range, log) in [
+            ((-1e308, 1e308), false),
+            ((f64::NEG_INFINITY, 0.0), false),
+            ((0.0, f64::NAN), false),
+            ((1.0, 1.0), false),
+            ((0.0, 1.0), true),
+            ((1.0, f64::INFINITY), true),
+        ] {
+            assert!(drawable("y", range, log).is_err(), "{range:?}");
+        }
+        // What `padded` makes of a range whose span overflows is refused too.
+        assert!(drawable("y", padded(-1e308, 1e308, 0.05), false).is_err());
     }
 
     #[test]

@@ -3,7 +3,7 @@
 //! envelopes.
 
 use super::chart::{chart_builder, draw_legend, draw_mesh, legend_line};
-use super::scales::{TimeAxis, with_legend_room};
+use super::scales::{TimeAxis, drawable, with_legend_room};
 use super::{COLUMNS, GREEN, GREY, Line, PALETTE, Plot, SIZE, de, render};
 use crate::error::Result;
 use crate::signal::lod::{self, MinMaxPyramid};
@@ -143,7 +143,8 @@ impl Plot for TimePlot<'_> {
         let entries = self.series.len() + usize::from(!self.shaded.is_empty());
         let yr = with_legend_room(lo, hi, entries);
         // Time from the first sample (logs stamped with clock time start far from zero).
-        let xr = (0.0, (t1 - t0) / axis.div);
+        let xr = drawable("time", (0.0, (t1 - t0) / axis.div), false)?;
+        let yr = drawable(self.y_desc, yr, false)?;
         let mut chart = chart_builder(root, self.caption)
             .build_cartesian_2d(xr.0..xr.1, yr.0..yr.1)
             .map_err(de)?;

@@ -1,0 +1,102 @@
+//! Numbers as a person reads them in messages, tables and labels: six significant digits at
+//! most, in plain decimals where that is short and with an exponent where it is not. Rust's
+//! `{}` writes an f64 with every digit it needs to read back (1e-300 becomes "0." and 299 more
+//! digits), which files need and people do not. Files keep their round-trip precision; this is
+//! only for text a person reads.
+
+/// `v` with at most six significant digits: `0.05`, `123.457`, `1e-300`, `3.08889e28`,
+/// `-inf`, `NaN`.
+pub fn readable(v: f64) -> String {
+    significant(v, 6)
+}
+
+/// `v` with at most `digits` significant digits (1 to 17), trailing zeros dropped; plain
+/// decimals from 1e-4 to below 1e7, an exponent beyond.
+pub fn significant(v: f64, digits: usize) -> String {
+    if v.is_nan() {
+        return "NaN".into();
+    }
+    if v.is_infinite() {
+        return if v > 0.0 { "inf" } else { "-inf" }.into();
+    }
+    if v == 0.0 {
+        return "0".into();
+    }
+    let digits = digits.clamp(1, 17);
+    // The exponent after rounding to `digits` (9.9999996 rounds up to 10).
+    let rounded: f64 = format!("{v:.*e}", digits - 1).parse().unwrap_or(v);
+    let exp = rounded.abs().log10().floor() as i32;
+    if (-4..7).contains(&exp) {
+        let decimals = (digits as i32 - 1 - exp).max(0) as usize;
+        trim(format!("{v:.decimals$}"))
+    } else {
+        let s = format!("{v:.*e}", digits - 1);
+        match s.split_once('e') {
+            Some((mantissa, e)) => format!("{}e{e}", trim(mantissa.to_string())),
+            None => s,
+        }
+    }
+}
+
+/// `v` with `decimals` decimals for a table or a label, as long as that stays short (below
+/// 10⁹); beyond, or for a number that is not finite, [`readable`]: never the hundreds of digits
+/// a fixed format writes for 1e300.
+pub fn fixed(v: f64, decimals: usize) -> String {
+    if v.is_finite() && v.abs() < 1e9 {
+        format!("{v:.decimals$}")
+    } else {
+        readable(v)
+    }
+}
+
+/// Drops the trailing zeros of a decimal fraction, and its point when nothing follows it.
+fn trim(s: String) -> String {
+    if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        s
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn fixed_decimals_stay_short() {
+        assert_eq!(fixed(1.23456, 2), "1.23");
+        assert_eq!(fixed(-27876.4, 4), "-27876.4000");
+        assert_eq!(fixed(1e300, 3), "1e300");
+        assert_eq!(fixed(-1e300, 0), "-1e300");
+        assert_eq!(fixed(f64::NAN, 1), "NaN");
+    }
+
+    #[test]
+    fn numbers_read_as_a_person_writes_them() {
+        for (v, text) in [
+            (0.0, "0"),
+            (1.0, "1"),
+            (-2.5, "-2.5"),
+            (0.05, "0.05"),
+            (123.456789, "123.457"),
+            (600.0, "600"),
+            (1e-300, "1e-300"),
+            (1e300, "1e300"),
+            (3.088888888888889e28, "3.08889e28"),
+            (9_999_999.6, "1e7"),
+            (0.000123456789, "0.000123457"),
+            (0.3 + 0.6, "0.9"),
+            (f64::INFINITY, "inf"),
+            (f64::NEG_INFINITY, "-inf"),
+            (f64::NAN, "NaN"),
+        ] {
+            assert_eq!(readable(v), text, "{v:e}");
+        }
+        // Never more than a handful of characters, whatever the magnitude.
+        for e in -320..=308 {
+            let v = 1.234_567_89 * 10f64.powi(e);
+            assert!(readable(v).len() <= 12, "{v:e}: {}", readable(v));
+        }
+        assert_eq!(significant(1.0 / 3.0, 3), "0.333");
+    }
+}
