@@ -294,6 +294,10 @@ impl Workbench {
     /// and its columns need a look (no header, two candidates for a role, implausible values,
     /// no mapping): then the import view shows first.
     pub fn open_log(&mut self, path: PathBuf, options: LoadOptions, ask_when_unsure: bool) {
+        if actions::is_drone_log(&path) {
+            self.start_load(path, options, Target::Calibration);
+            return;
+        }
         let view = ImportView::new(path.clone(), Target::Calibration, options.clone());
         if ask_when_unsure && view.needs_a_look() {
             self.state.say(

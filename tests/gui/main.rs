@@ -5,6 +5,7 @@
 #[path = "../common/mod.rs"]
 mod common;
 
+mod drone_open;
 mod editing;
 mod files;
 mod flight_export;

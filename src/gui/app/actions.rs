@@ -217,6 +217,14 @@ impl Workbench {
                     Target::Validation => self.state.validation.as_ref(),
                 };
                 match loaded {
+                    Some(l) if is_drone_log(&l.path) => self.state.say(
+                        Severity::Info,
+                        format!(
+                            "{} is a drone or robot log: it has no columns to map (its gyro, \
+                             axes and temperature are read as recorded)",
+                            file_name(&l.path)
+                        ),
+                    ),
                     Some(l) => {
                         self.modals.import = Some(
                             ImportView::new(l.path.clone(), target, l.options.clone())
@@ -235,6 +243,12 @@ impl Workbench {
             (Target::Validation, Some(l)) => l.options.clone(),
             _ => LoadOptions::default(),
         };
+        // A drone or robot log (told by its first bytes) has no columns to map: it is read
+        // at once, its first gyro with a temperature, as every command reads it.
+        if is_drone_log(&path) {
+            self.start_load(path, options, target);
+            return;
+        }
         self.modals.import = Some(ImportView::new(path, target, options));
     }
 
@@ -255,4 +269,9 @@ impl Workbench {
             ),
         );
     }
+}
+
+/// Whether `path` is a PX4 ULog, ArduPilot DataFlash, ROS bag or MCAP log (by its first bytes).
+pub(super) fn is_drone_log(path: &std::path::Path) -> bool {
+    crate::log::read::drone_format(path).is_ok_and(|f| f.is_some())
 }

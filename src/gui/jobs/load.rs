@@ -94,10 +94,18 @@ pub(super) fn load_log(h: &LoadHandle, options: LoadOptions) -> JobResult {
     let t = Instant::now();
     let progress = h.progress.clone();
     let cancel = h.cancel.clone();
-    let result = ingest::read_path_with_progress(&h.path, &options.read, &|f| {
-        progress.store(f.to_bits(), Ordering::Relaxed);
-        !cancel.load(Ordering::Relaxed)
-    });
+    // Any log driftlab reads: a CSV, or a drone or robot log told by its first bytes (its
+    // first gyro with a temperature, as every command takes it by default).
+    let result = crate::log::read::read_any_with_progress(
+        &h.path,
+        &options.read,
+        &crate::log::read::FormatChoice::default(),
+        &|f| {
+            progress.store(f.to_bits(), Ordering::Relaxed);
+            !cancel.load(Ordering::Relaxed)
+        },
+    )
+    .map(|any| any.log);
     match result {
         Ok(log) => {
             // Averaged before anything else, as every command does (`--bin`, or bursts).

@@ -29,7 +29,7 @@ use crate::judge::compare::ModelReport;
 use crate::judge::metrics::MeritOptions;
 use crate::live::{Outcome, Pipeline, Request};
 use crate::log::Log;
-use crate::log::ingest::{self, ReadOptions};
+use crate::log::ingest::ReadOptions;
 use crate::models::presets::ModelChoice;
 use crate::models::recipe::Recipe;
 use crate::models::vakhrameev::{PointSet, Prepared};
