@@ -1,6 +1,7 @@
 //! Logs built in tests from known coefficients, with a small deterministic noise source.
 #![allow(dead_code)]
 
+pub mod drone;
 pub mod firmware;
 #[cfg(feature = "gui")]
 pub mod gui;

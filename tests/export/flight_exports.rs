@@ -19,6 +19,7 @@
 use crate::common;
 
 use common::Noise;
+use common::drone::ulog;
 use common::run::{driftlab, fails, ok};
 use driftlab::Log;
 use driftlab::export::firmware::{self, ExportOptions, Format};
@@ -475,39 +476,6 @@ fn models_a_firmware_cannot_evaluate_are_refused_by_name() {
     assert_eq!(axis_index("gz_dps"), Some(2));
     assert_eq!(axis_index("accel_x_m_s2"), Some(0));
     assert_eq!(axis_index("omega"), None);
-}
-
-/// A PX4 ULog of one `sensor_gyro` (with its temperature) and `sensor_accel` of the same
-/// device, at 1 Hz: the thermal-calibration profile's topics.
-fn ulog(time_s: &[f64], gyro_rad_s: &[[f32; 3]], temp_c: &[f32], device_id: u32) -> Vec<u8> {
-    fn message(ty: u8, body: &[u8]) -> Vec<u8> {
-        let mut m = (body.len() as u16).to_le_bytes().to_vec();
-        m.push(ty);
-        m.extend_from_slice(body);
-        m
-    }
-    let mut b = b"ULog\x01\x12\x35".to_vec();
-    b.push(1);
-    b.extend_from_slice(&0u64.to_le_bytes());
-    b.extend(message(b'B', &[0u8; 40]));
-    b.extend(message(
-        b'F',
-        b"sensor_gyro:uint64_t timestamp;uint32_t device_id;float x;float y;float z;\
-          float temperature;",
-    ));
-    let mut a = vec![0u8, 0, 0];
-    a.extend_from_slice(b"sensor_gyro");
-    b.extend(message(b'A', &a));
-    for ((t, g), temp) in time_s.iter().zip(gyro_rad_s).zip(temp_c) {
-        let mut d = vec![0u8, 0];
-        d.extend_from_slice(&((t * 1e6) as u64).to_le_bytes());
-        d.extend_from_slice(&device_id.to_le_bytes());
-        for v in [g[0], g[1], g[2], *temp] {
-            d.extend_from_slice(&v.to_le_bytes());
-        }
-        b.extend(message(b'D', &d));
-    }
-    b
 }
 
 #[test]
