@@ -91,8 +91,10 @@ pub(super) fn log_report(
     // Drift.
     let dt = log.nominal_dt_s();
     let window = signal::seconds_to_samples(merit.filter_s, dt);
-    let raw_f = signal::moving_average_centered(&log.omega_dph, window);
-    let cor_f = signal::moving_average_centered(&correction.cor_dph, window);
+    // Averaged within each segment: no average reaches across a gap (docs/method.md §5).
+    let segments = log.timing().segments;
+    let raw_f = signal::moving_average_centered_in(&log.omega_dph, window, &segments);
+    let cor_f = signal::moving_average_centered_in(&correction.cor_dph, window, &segments);
     let filter_label = format!("raw, {:.0}-s moving average", merit.filter_s);
     let cor_label = format!("corrected, {:.0}-s moving average", merit.filter_s);
     let series = [
