@@ -193,6 +193,9 @@ pub struct Pipeline {
     prefix: Vec<f64>,
     /// Scratch filtered drift of the figures of merit.
     merit_filtered: Vec<f64>,
+    /// The log and signal settings the last run checked (the checks scan the whole log; a
+    /// knot dragged changes neither).
+    checked: Option<PrepKey>,
     /// The per-set samples the pointwise K1/K2 are made from.
     samples: Option<SamplesCache>,
     /// `Ω_f − K0(T)` over the calibration log.
@@ -288,12 +291,21 @@ impl Pipeline {
         let recipe = &req.recipe;
         recipe.validate()?;
         // The checks every face's fit makes (`models::fit`): settings that fit in this log,
-        // and a temperature span the model can be fitted over.
-        recipe.check_against(log)?;
-        crate::models::check_span(
-            log,
-            &crate::models::ModelChoice::Preset(crate::models::Preset::Vakhrameev),
-        )?;
+        // and a temperature span the model can be fitted over; once per log and settings.
+        let checked = PrepKey {
+            log: ptr(log),
+            filter_s: recipe.filter_s,
+            smoothing_s: recipe.temp_smoothing_s,
+            step_h_s: recipe.step_h_s,
+        };
+        if self.checked.as_ref() != Some(&checked) {
+            recipe.check_against(log)?;
+            crate::models::check_span(
+                log,
+                &crate::models::ModelChoice::Preset(crate::models::Preset::Vakhrameev),
+            )?;
+            self.checked = Some(checked);
+        }
         if log.len() < 16 {
             return Err(Error::Fit(format!(
                 "{}: {} samples are too few to calibrate",
