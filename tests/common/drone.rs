@@ -1,4 +1,28 @@
-//! Drone logs made in tests: a PX4 ULog written from known samples.
+//! Drone logs in tests: the real samples of `../shared/data/formats/` and a PX4 ULog written
+//! from known samples.
+
+use std::path::PathBuf;
+
+/// The folder of real drone and robot samples with their reference CSVs; `None` (after saying
+/// so) when it is missing, a failure when `CI` is set.
+pub fn data_dir() -> Option<PathBuf> {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/data/formats");
+    if dir.is_dir() {
+        return Some(dir);
+    }
+    assert!(
+        std::env::var_os("CI").is_none(),
+        "the reference data {} is missing (CI is set, so this fails)",
+        dir.display()
+    );
+    eprintln!("skipping: reference data {} is missing", dir.display());
+    None
+}
+
+/// The PX4 sample.
+pub const ULOG: &str = "px4_ulog/sample_log_small.ulg";
+/// The ArduPilot sample.
+pub const DATAFLASH: &str = "ardupilot_dataflash/backend_log_80k.bin";
 
 /// A PX4 ULog of one `sensor_gyro` (with its temperature) and `sensor_accel` of the same
 /// device, at 1 Hz: the thermal-calibration profile's topics.

@@ -9,28 +9,12 @@
 //! it skips.
 
 use crate::common;
+use common::drone::{DATAFLASH, ULOG, data_dir};
 
 use common::run::{driftlab, fails, ok};
 use driftlab::log::ingest::{self, ReadOptions};
 use driftlab::log::read::{self, FormatChoice, ReadError, TempFrom};
 use std::path::{Path, PathBuf};
-
-fn data_dir() -> Option<PathBuf> {
-    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/data/formats");
-    if dir.is_dir() {
-        return Some(dir);
-    }
-    assert!(
-        std::env::var_os("CI").is_none(),
-        "the reference data {} is missing (CI is set, so this fails)",
-        dir.display()
-    );
-    eprintln!("skipping: reference data {} is missing", dir.display());
-    None
-}
-
-const ULOG: &str = "px4_ulog/sample_log_small.ulg";
-const DATAFLASH: &str = "ardupilot_dataflash/backend_log_80k.bin";
 
 fn path(dir: &Path, rel: &str) -> String {
     dir.join(rel).display().to_string()

@@ -7,28 +7,13 @@
 //! The samples are not copied into the repository (several are GPL): the tests read them by
 //! path. Without them a test fails when `CI` is set and otherwise says it skips.
 
+use crate::common::drone::{DATAFLASH, ULOG, data_dir};
 use driftlab::log::formats::{
     self, DeviceId, Format, FormatError, GyroInstance, ImuRecording, TempFrom, Timestamps, Values,
 };
 use std::collections::HashMap;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
-fn data_dir() -> Option<PathBuf> {
-    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/data/formats");
-    if dir.is_dir() {
-        return Some(dir);
-    }
-    assert!(
-        std::env::var_os("CI").is_none(),
-        "the reference data {} is missing (CI is set, so this fails)",
-        dir.display()
-    );
-    eprintln!("skipping: reference data {} is missing", dir.display());
-    None
-}
-
-const ULOG: &str = "px4_ulog/sample_log_small.ulg";
-const DATAFLASH: &str = "ardupilot_dataflash/backend_log_80k.bin";
 const BAG: &str = "ros1_bag/sparkfun_razor.bag";
 const MCAP: &str = "ros2_mcap/sparkfun_razor_ros2.mcap";
 
