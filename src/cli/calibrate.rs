@@ -1,7 +1,7 @@
 //! `driftlab calibrate`: fit a calibration (any model) to a log and save it.
 
-use super::calibrate_print;
 use super::common::{self, CliError, LogArgs};
+use super::{calibrate_print, calibrate_unit};
 use driftlab::files::calibration;
 use driftlab::judge::metrics::MeritOptions;
 use driftlab::models::approx::{ApproxKind, ApproxSpec};
@@ -78,6 +78,19 @@ pub struct Args {
     /// |T̈| dead-band for the K2 fits, °C/s² (default: automatic).
     #[arg(long, value_name = "DEGC_PER_S2")]
     pub deadband_tddot: Option<f64>,
+    /// The gyro axes to calibrate, comma-separated: axis names (`gx`), rate columns
+    /// (`gx_dps`) or the letter an axis name ends with (`x,y,z`). Default: every gyro axis of
+    /// the log (a unit of several is written as one calibration file), or the one that
+    /// --rate-col names.
+    #[arg(long, value_name = "NAMES", value_delimiter = ',')]
+    pub axes: Vec<String>,
+    /// Another model for one axis of a unit, as AXIS=MODEL (repeatable): `gz=poly-t`.
+    #[arg(long = "axis-model", value_name = "AXIS=MODEL")]
+    pub axis_models: Vec<String>,
+    /// Another recipe for one axis of a unit, as AXIS=FILE (repeatable): its approximations,
+    /// knots and dead-bands (the T settings are the unit's). Options given here still apply.
+    #[arg(long = "axis-recipe", value_name = "AXIS=FILE")]
+    pub axis_recipes: Vec<String>,
     /// Print the summary as JSON.
     #[arg(long)]
     pub json: bool,
@@ -88,10 +101,15 @@ pub struct Args {
 impl Args {
     /// The recipe: the file's (or the defaults), overridden by the options given.
     fn recipe(&self) -> Result<Recipe, CliError> {
-        let mut r = match &self.recipe {
+        let base = match &self.recipe {
             Some(p) => calibration::read_recipe(p).map_err(|e| e.to_string())?,
             None => Recipe::default(),
         };
+        self.recipe_over(base)
+    }
+
+    /// `base` overridden by the options given.
+    pub(super) fn recipe_over(&self, mut r: Recipe) -> Result<Recipe, CliError> {
         if let Some(id) = &self.gyro_id {
             r.gyro_id = id.clone();
         }
@@ -127,7 +145,11 @@ impl Args {
     /// The model asked for by --model, --terms, --delay, --lag and --fit; the options of a
     /// custom model are refused, by name, for any other.
     fn choice(&self) -> Result<ModelChoice, String> {
-        let name = self.model.as_deref().unwrap_or("vakhrameev");
+        self.choice_named(self.model.as_deref().unwrap_or("vakhrameev"))
+    }
+
+    /// The model `name` with the options of a custom model.
+    pub(super) fn choice_named(&self, name: &str) -> Result<ModelChoice, String> {
         if name == "custom" {
             let terms = self
                 .terms
@@ -156,7 +178,11 @@ impl Args {
 
     /// Refuses the options `choice` cannot use, by name; returns a warning for each setting
     /// of the recipe file it will not read.
-    fn check_settings(&self, recipe: &Recipe, choice: &ModelChoice) -> Result<Vec<String>, String> {
+    pub(super) fn check_settings(
+        &self,
+        recipe: &Recipe,
+        choice: &ModelChoice,
+    ) -> Result<Vec<String>, String> {
         let name = choice.name();
         let vakhrameev_only = [
             ("--k0", self.k0.is_some()),
@@ -219,11 +245,16 @@ pub fn run(a: Args) -> Result<(), CliError> {
     // Vakhrameev's model reads the three calibration columns only; the others are neither
     // parsed nor held.
     let input = a.log_args.open(&a.log)?;
-    let log = if choice.is_vakhrameev() {
+    let all_vakhrameev = choice.is_vakhrameev() && calibrate_unit::axis_models_all_vakhrameev(&a)?;
+    let log = if all_vakhrameev {
         a.log_args.read_columns(&input)?
     } else {
         a.log_args.read(&input)?
     };
+    if let Some(axes) = calibrate_unit::axes_to_fit(&a, &log)? {
+        return calibrate_unit::run(&a, log, &input, &axes, (recipe, choice, warnings), &merit);
+    }
+    calibrate_unit::refuse_per_axis_options(&a)?;
     common::status("fitting ...");
     // The file's hash is taken beside the fit, whose stages are partly sequential.
     let (fitted, sha256) = std::thread::scope(|scope| {
@@ -249,16 +280,7 @@ pub fn run(a: Args) -> Result<(), CliError> {
             .map_err(|e| format!("{}: {e}", p.display()))?;
     }
     if a.json {
-        let body = match &model {
-            DriftModel::Vakhrameev(cal) => serde_json::json!({
-                "plateaus": cal.plateaus,
-                "approximations": cal.approximations().iter().map(|(n, ap)| serde_json::json!({
-                    "name": n, "kind": ap.kind(), "x_min": ap.x_min(), "x_max": ap.x_max(), "stats": ap.stats()
-                })).collect::<Vec<_>>(),
-                "resolved": cal.resolved,
-            }),
-            DriftModel::Regression(r) => serde_json::json!({ "model": r.model }),
-        };
+        let body = calibrate_print::model_json(&model);
         let mut out = serde_json::json!({
             "calibration": a.out,
             "in_sample": in_sample,

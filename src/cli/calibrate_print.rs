@@ -1,6 +1,7 @@
 //! What `driftlab calibrate` prints about a fit, for each kind of model.
 
 use super::common::{CliError, fixed, num};
+use driftlab::models::DriftModel;
 use driftlab::models::regression::RegressionCalibration;
 use driftlab::models::vakhrameev::Calibration;
 
@@ -115,4 +116,19 @@ pub fn regression_summary(r: &RegressionCalibration) -> Result<(), CliError> {
         )?;
     }
     Ok(())
+}
+
+/// What `--json` gives of a fitted model beside its figures: a Vakhrameev fit's plateaus,
+/// approximations and resolved settings, or a regression model.
+pub fn model_json(model: &DriftModel) -> serde_json::Value {
+    match model {
+        DriftModel::Vakhrameev(cal) => serde_json::json!({
+            "plateaus": cal.plateaus,
+            "approximations": cal.approximations().iter().map(|(n, ap)| serde_json::json!({
+                "name": n, "kind": ap.kind(), "x_min": ap.x_min(), "x_max": ap.x_max(), "stats": ap.stats()
+            })).collect::<Vec<_>>(),
+            "resolved": cal.resolved,
+        }),
+        DriftModel::Regression(r) => serde_json::json!({ "model": r.model }),
+    }
 }

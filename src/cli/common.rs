@@ -36,6 +36,12 @@ impl From<&str> for CliError {
     }
 }
 
+impl From<driftlab::Error> for CliError {
+    fn from(e: driftlab::Error) -> CliError {
+        CliError::Message(e.to_string())
+    }
+}
+
 impl From<driftlab::error::Invalid> for CliError {
     fn from(e: driftlab::error::Invalid) -> CliError {
         CliError::Message(e.to_string())
@@ -100,9 +106,11 @@ pub struct LogArgs {
     /// Time column: a header name or a 1-based index (default: found by name).
     #[arg(long, value_name = "NAME|N")]
     pub time_col: Option<String>,
-    /// Gyro rate column: a header name or a 1-based index (default: found by name).
+    /// Gyro rate column: a header name or a 1-based index (default: found by name). Repeat it
+    /// for the axes of a multi-axis unit whose names do not say they are rates (`calibrate`
+    /// then fits those axes).
     #[arg(long, value_name = "NAME|N")]
-    pub rate_col: Option<String>,
+    pub rate_col: Vec<String>,
     /// Calibration temperature column: a header name or a 1-based index (default: the first
     /// temperature column).
     #[arg(long, value_name = "NAME|N")]
@@ -144,7 +152,13 @@ impl LogArgs {
         };
         Ok(ReadOptions {
             time_col: col(&self.time_col).map_err(|e| format!("--time-col: {e}"))?,
-            rate_col: col(&self.rate_col).map_err(|e| format!("--rate-col: {e}"))?,
+            rate_col: col(&self.rate_col.first().cloned())
+                .map_err(|e| format!("--rate-col: {e}"))?,
+            axis_cols: self.rate_col[self.rate_col.len().min(1)..]
+                .iter()
+                .map(|v| v.parse::<ColumnRef>())
+                .collect::<Result<_, _>>()
+                .map_err(|e| format!("--rate-col: {e}"))?,
             temp_col: col(&self.temp_col).map_err(|e| format!("--temp-col: {e}"))?,
             rate_unit: self
                 .rate_unit

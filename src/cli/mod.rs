@@ -8,6 +8,7 @@ mod allan;
 mod apply;
 mod calibrate;
 mod calibrate_print;
+mod calibrate_unit;
 mod compare;
 mod convert;
 mod evaluate;
@@ -32,7 +33,7 @@ pub struct Cli {
 pub enum Command {
     /// Fit a calibration to a chamber log and save it as JSON: Vakhrameev's K0, K1±, K2± by
     /// default, or any model of `compare` with --model.
-    Calibrate(calibrate::Args),
+    Calibrate(Box<calibrate::Args>),
     /// Correct a log with a calibration and write time, raw, predicted and corrected rate as CSV.
     Apply(apply::Args),
     /// Figures of merit of a log before and after correction (peak-to-peak, std, 10-min mean/RMS).
@@ -79,7 +80,7 @@ pub use common::CliError;
 /// before the command counts as done, so that a full disk is never a silent success.
 pub fn run(command: Command) -> Result<(), CliError> {
     let result = match command {
-        Command::Calibrate(a) => calibrate::run(a),
+        Command::Calibrate(a) => calibrate::run(*a),
         Command::Apply(a) => apply::run(a),
         Command::Evaluate(a) => evaluate::run(a),
         Command::Export(a) => export::run(a),

@@ -169,6 +169,68 @@ impl Log {
         true
     }
 
+    /// The rate of the axis named `name`, °/h, whichever column holds it now.
+    pub fn axis_rate(&self, name: &str) -> Option<&[f64]> {
+        if self.axis == name {
+            return Some(&self.omega_dph);
+        }
+        self.other_axes
+            .iter()
+            .find(|a| a.name == name)
+            .map(|a| a.omega_dph.as_slice())
+    }
+
+    /// The axis of this log that holds what a calibration's axis `name` (read from column
+    /// `rate_column` on its own log) measured: the axis of that name, or of that column.
+    pub fn matching_axis(&self, name: &str, rate_column: &str) -> Option<String> {
+        let names = self.axis_names();
+        if names.iter().any(|n| n == name) {
+            return Some(name.to_string());
+        }
+        (!rate_column.is_empty())
+            .then(|| self.find_axis(rate_column))
+            .flatten()
+    }
+
+    /// The axis an engineer means by `asked`: an axis's name (`gx`), its rate column's name
+    /// (`gx_dps`), or the one axis whose name ends with it (`x` for `gx`, `gyro_x`).
+    pub fn find_axis(&self, asked: &str) -> Option<String> {
+        let names = self.axis_names();
+        if names.iter().any(|n| n == asked) {
+            return Some(asked.to_string());
+        }
+        let by_column = self
+            .info
+            .columns
+            .iter()
+            .filter(|c| matches!(c.role, ColumnRole::Rate | ColumnRole::OtherAxis))
+            .find(|c| c.name == asked)
+            .map(|c| ingest::names::axis_name(&c.name))
+            .filter(|n| names.contains(n));
+        if by_column.is_some() {
+            return by_column;
+        }
+        let lower = asked.to_ascii_lowercase();
+        let mut ending = names
+            .iter()
+            .filter(|n| !lower.is_empty() && n.to_ascii_lowercase().ends_with(&lower));
+        match (ending.next(), ending.next()) {
+            (Some(n), None) => Some(n.clone()),
+            _ => None,
+        }
+    }
+
+    /// The name of the file's column that `omega_dph` was read from (`gx_dps` for axis `gx`),
+    /// when the reader recorded it.
+    pub fn rate_column(&self) -> Option<String> {
+        self.info
+            .columns
+            .iter()
+            .filter(|c| matches!(c.role, ColumnRole::Rate | ColumnRole::OtherAxis))
+            .find(|c| ingest::names::axis_name(&c.name) == self.axis)
+            .map(|c| c.name.clone())
+    }
+
     /// Number of samples.
     pub fn len(&self) -> usize {
         self.time_s.len()

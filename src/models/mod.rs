@@ -15,11 +15,13 @@ pub mod fitted;
 pub mod presets;
 pub mod recipe;
 pub mod regression;
+pub mod unit;
 pub mod vakhrameev;
 
 pub use fitted::{DriftModel, ModelCorrector, Predictor, stream_inputs};
 pub use presets::{ModelChoice, Preset};
 pub use recipe::Recipe;
+pub use unit::{AxisModel, AxisPlan, CalibratedAxis, UnitCalibration, calibrate_unit};
 
 use crate::error::{Error, Result};
 use crate::judge::metrics::{Evaluation, MeritOptions};

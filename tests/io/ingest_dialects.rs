@@ -342,6 +342,7 @@ fn options_round_trip_through_json() {
     let o = ReadOptions {
         time_col: Some(ColumnRef::Name("t".into())),
         rate_col: Some(ColumnRef::Index(2)),
+        axis_cols: vec![ColumnRef::Name("gy".into()), ColumnRef::Index(4)],
         temp_col: None,
         rate_unit: Some(RateUnit::DegPerSec),
         time_unit: Some(TimeUnit::Samples),

@@ -25,6 +25,7 @@ fn random_options(rng: &mut XorShift) -> ReadOptions {
     ReadOptions {
         time_col: col(rng),
         rate_col: col(rng),
+        axis_cols: col(rng).into_iter().collect(),
         temp_col: col(rng),
         rate_unit: [None, Some(RateUnit::DegPerSec), Some(RateUnit::RadPerSec)]
             [pick(rng, 3) as usize],

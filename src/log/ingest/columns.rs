@@ -215,6 +215,12 @@ pub(crate) fn plan(sn: &Sniffed, opts: &ReadOptions) -> Result<Plan, Fail> {
     let time_x = explicit(&opts.time_col, "time", &mut used)?;
     let rate_x = explicit(&opts.rate_col, "rate", &mut used)?;
     let temp_x = explicit(&opts.temp_col, "temperature", &mut used)?;
+    let mut axis_x = Vec::with_capacity(opts.axis_cols.len());
+    for r in &opts.axis_cols {
+        if let Some(j) = explicit(&Some(r.clone()), "rate", &mut used)? {
+            axis_x.push(j);
+        }
+    }
 
     let names_list = || {
         sn.names
@@ -375,8 +381,10 @@ pub(crate) fn plan(sn: &Sniffed, opts: &ReadOptions) -> Result<Plan, Fail> {
         Some(Kind::Temp(Some(u))) => u,
         _ => named_temp(j).unwrap_or(TempUnit::Celsius),
     };
-    // Every other rate column is another gyro axis of the unit, in °/h like the first.
-    let axis_cols: Vec<usize> = if sn.has_header {
+    // The other axes the engineer named, or every other rate column, in °/h like the first.
+    let axis_cols: Vec<usize> = if !axis_x.is_empty() {
+        axis_x
+    } else if sn.has_header {
         (0..ncols)
             .filter(|&j| {
                 !used[j] && guessable[j] && matches!(kinds[j].0, Kind::Rate(_)) && j != rate_col

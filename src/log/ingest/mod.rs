@@ -58,7 +58,7 @@
 
 mod checks;
 mod columns;
-mod names;
+pub(crate) mod names;
 mod parse;
 mod plausible;
 mod read;
@@ -189,6 +189,11 @@ pub struct ReadOptions {
     /// The gyro rate column, when its name does not say so.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub rate_col: Option<ColumnRef>,
+    /// The other gyro axes of a multi-axis unit, when their names do not say so (the rate
+    /// columns after the first that `--rate-col` names); empty: every other column whose name
+    /// reads as a rate.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub axis_cols: Vec<ColumnRef>,
     /// The calibration temperature, when there are several sensors or the name is unclear.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub temp_col: Option<ColumnRef>,

@@ -13,6 +13,10 @@
 //! `model` tags the body: a reader that does not know a model says so by name instead of
 //! misreading it.
 //!
+//! A unit of several gyro axes (an IMU) is a version-2 file (`unit`): every axis's body as
+//! above under `axes`, with what the axes share (gyro, source log, date, T settings) once. A
+//! single-axis calibration is written as version 1, as it always was.
+//!
 //! Loading checks the format name and version before anything else, then reads the body with
 //! every unknown field rejected and every approximation validated (finite numbers, ordered
 //! knots), then the model as a whole ([`DriftModel::validate`]: names that match the terms,
@@ -33,8 +37,13 @@ use std::path::Path;
 
 /// The format name written into every calibration file.
 pub const FORMAT: &str = "driftlab-calibration";
-/// The newest format version this build writes and reads.
-pub const VERSION: u32 = 1;
+/// The newest format version this build writes and reads: a unit of several axes.
+pub const VERSION: u32 = 2;
+/// The version of a single-axis calibration, which driftlab writes as it always has.
+pub const VERSION_SINGLE_AXIS: u32 = 1;
+
+mod unit;
+pub use unit::{load_unit, save_unit, unit_from_json, unit_to_json};
 
 #[derive(Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -68,7 +77,7 @@ struct Header {
 pub fn to_json(cal: &Calibration) -> String {
     let file = CalFile {
         format: FORMAT.into(),
-        version: VERSION,
+        version: VERSION_SINGLE_AXIS,
         model: "vakhrameev".into(),
         calibration: cal.clone(),
     };
@@ -76,8 +85,8 @@ pub fn to_json(cal: &Calibration) -> String {
     serde_json::to_string_pretty(&file).unwrap_or_default() + "\n"
 }
 
-/// Checks the header and returns the model tag.
-fn header(path: &Path, text: &str) -> Result<String> {
+/// Checks the format name and returns the version (1 or 2).
+fn version(path: &Path, text: &str) -> Result<u32> {
     let err = |message: String| Error::File {
         path: path.to_path_buf(),
         message,
@@ -92,27 +101,41 @@ fn header(path: &Path, text: &str) -> Result<String> {
         None => return Err(err(format!("no \"format\" field: not a {FORMAT} file"))),
     }
     match header.version {
-        Some(v) if v == VERSION as u64 => {}
-        Some(v) if v > VERSION as u64 => {
-            return Err(err(format!(
-                "version {v} is newer than this driftlab reads (version {VERSION}); \
-                 use a newer driftlab"
-            )));
-        }
-        Some(v) => {
-            return Err(err(format!(
-                "version {v} was never written by driftlab (versions start at 1)"
-            )));
-        }
-        None => return Err(err("no \"version\" field".into())),
+        Some(v) if (1..=VERSION as u64).contains(&v) => Ok(v as u32),
+        Some(v) if v > VERSION as u64 => Err(err(format!(
+            "version {v} is newer than this driftlab reads (versions 1 to {VERSION}); use a \
+             newer driftlab"
+        ))),
+        Some(v) => Err(err(format!(
+            "version {v} was never written by driftlab (versions start at 1)"
+        ))),
+        None => Err(err("no \"version\" field".into())),
     }
-    match header.model.as_deref() {
+}
+
+/// Checks the header of a single-axis (version 1) file and returns the model tag.
+fn header(path: &Path, text: &str) -> Result<String> {
+    let err = |message: String| Error::File {
+        path: path.to_path_buf(),
+        message,
+    };
+    if version(path, text)? != VERSION_SINGLE_AXIS {
+        return Err(err(unit::not_single(path, text)));
+    }
+    let header: Header =
+        serde_json::from_str(text).map_err(|e| err(format!("not a calibration file: {e}")))?;
+    model_tag(header.model.as_deref()).map_err(err)
+}
+
+/// The model tag of a body, checked against the models this build knows.
+fn model_tag(model: Option<&str>) -> std::result::Result<String, String> {
+    match model {
         Some(m @ ("vakhrameev" | "regression")) => Ok(m.to_string()),
-        Some(other) => Err(err(format!(
+        Some(other) => Err(format!(
             "model \"{other}\" is not known to this driftlab (it knows vakhrameev and \
              regression)"
-        ))),
-        None => Err(err("no \"model\" field".into())),
+        )),
+        None => Err("no \"model\" field".into()),
     }
 }
 
@@ -225,7 +248,7 @@ pub fn model_to_json(model: &DriftModel) -> String {
         DriftModel::Vakhrameev(c) => return to_json(c),
         DriftModel::Regression(r) => serde_json::to_string_pretty(&RegressionFile {
             format: FORMAT.into(),
-            version: VERSION,
+            version: VERSION_SINGLE_AXIS,
             model: "regression".into(),
             calibration: (**r).clone(),
         }),

@@ -1,0 +1,280 @@
+//! The calibration file of a unit of several gyro axes: version 2.
+//!
+//! ```json
+//! { "format": "driftlab-calibration", "version": 2,
+//!   "gyro_id": "IMU-7", "source": { "name": "imu.csv", ... }, "created": "...",
+//!   "temperature": { "temp_smoothing_s": 60.0, "step_h_s": 30.0, "plateaus": {...} },
+//!   "axes": [
+//!     { "name": "gx", "rate_column": "gx_dps", "model": "vakhrameev",
+//!       "calibration": { "recipe": {...}, "resolved": {...}, "k0": {...}, ... } },
+//!     { "name": "gy", ... } ] }
+//! ```
+//!
+//! Each axis's `calibration` is the body of a version-1 file of its model, less what the axes
+//! share, which the file holds once: the gyro, the source log and the date at the top, and
+//! under `temperature` the T settings of the Vakhrameev axes (they were made from one T, so
+//! they are processed alike). Loading puts the shared fields back into each body, reads it as
+//! a version-1 body is read (unknown fields refused), and checks the unit as a whole
+//! ([`UnitCalibration::validate`]) and every axis as a version-1 file is checked.
+
+use super::{FORMAT, VERSION, check_windows, model_tag, windows};
+use crate::error::{Error, Result};
+use crate::models::fitted::DriftModel;
+use crate::models::unit::{AxisModel, UnitCalibration};
+use serde::{Deserialize, Serialize};
+use serde_json::{Map, Value};
+use std::path::Path;
+
+/// The fields every axis's body has and the file holds once, at the top.
+const SHARED: [&str; 3] = ["gyro_id", "source", "created"];
+/// The recipe's T settings, held once under `temperature`.
+const TEMPERATURE: [&str; 3] = ["temp_smoothing_s", "step_h_s", "plateaus"];
+
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct UnitFile {
+    format: String,
+    version: u32,
+    gyro_id: String,
+    source: Value,
+    created: String,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    temperature: Option<Map<String, Value>>,
+    axes: Vec<AxisEntry>,
+}
+
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct AxisEntry {
+    name: String,
+    #[serde(default)]
+    rate_column: String,
+    model: String,
+    calibration: Map<String, Value>,
+}
+
+/// The message for a version-2 file given where a single-axis calibration is wanted.
+pub(super) fn not_single(path: &Path, text: &str) -> String {
+    let names = unit_from_json(path, text)
+        .map(|u| u.axis_names().join(", "))
+        .unwrap_or_else(|_| "several axes".into());
+    format!("holds a unit of axes {names} (version 2); this takes a single-axis calibration")
+}
+
+/// The unit as the JSON text of its calibration file: version 2 for a unit of named axes,
+/// the version-1 file of its one model otherwise.
+///
+/// # Errors
+/// [`Error::Invalid`] when the axes disagree on what the file holds once (gyro, source log,
+/// T settings).
+pub fn unit_to_json(unit: &UnitCalibration) -> Result<String> {
+    if !unit.is_unit() {
+        return Ok(super::model_to_json(unit.first()?));
+    }
+    let mut shared: Option<Map<String, Value>> = None;
+    let mut temperature: Option<Map<String, Value>> = None;
+    let mut axes = Vec::with_capacity(unit.axes.len());
+    for a in &unit.axes {
+        let invalid = |field: &str, reason: &str| {
+            Error::Invalid(crate::error::Invalid::new(
+                format!("axes[{}].{field}", a.name),
+                reason,
+            ))
+        };
+        let mut body = match serde_json::to_value(body_of(&a.model)) {
+            Ok(Value::Object(m)) => m,
+            _ => return Err(Error::Internal("a calibration body is not a JSON object")),
+        };
+        let mine: Map<String, Value> = SHARED
+            .iter()
+            .filter_map(|k| body.remove(*k).map(|v| (k.to_string(), v)))
+            .collect();
+        match &shared {
+            None => shared = Some(mine),
+            Some(s) => {
+                for k in ["gyro_id", "source"] {
+                    if s.get(k) != mine.get(k) {
+                        return Err(invalid(
+                            k,
+                            "differs from the first axis's: a unit is one gyro, calibrated on \
+                             one log",
+                        ));
+                    }
+                }
+            }
+        }
+        if let DriftModel::Vakhrameev(_) = a.model
+            && let Some(Value::Object(recipe)) = body.get_mut("recipe")
+        {
+            recipe.remove("gyro_id");
+            let mine: Map<String, Value> = TEMPERATURE
+                .iter()
+                .filter_map(|k| recipe.remove(*k).map(|v| (k.to_string(), v)))
+                .collect();
+            match &temperature {
+                None => temperature = Some(mine),
+                Some(t) if *t != mine => {
+                    return Err(invalid(
+                        "recipe",
+                        "its T settings differ from the first axis's: the axes of a unit \
+                         share T, and so how it is processed",
+                    ));
+                }
+                Some(_) => {}
+            }
+        }
+        axes.push(AxisEntry {
+            name: a.name.clone(),
+            rate_column: a.rate_column.clone(),
+            model: a.model.tag().to_string(),
+            calibration: body,
+        });
+    }
+    let mut shared = shared.unwrap_or_default();
+    let mut take_str = |k: &str| match shared.remove(k) {
+        Some(Value::String(s)) => s,
+        _ => String::new(),
+    };
+    let file = UnitFile {
+        format: FORMAT.into(),
+        version: VERSION,
+        gyro_id: take_str("gyro_id"),
+        created: take_str("created"),
+        source: shared.remove("source").unwrap_or(Value::Null),
+        temperature,
+        axes,
+    };
+    serde_json::to_string_pretty(&file)
+        .map(|t| t + "\n")
+        .map_err(|_| Error::Internal("a unit calibration did not serialise"))
+}
+
+/// A model's file body as serde sees it.
+fn body_of(model: &DriftModel) -> Body<'_> {
+    match model {
+        DriftModel::Vakhrameev(c) => Body::Vakhrameev(c),
+        DriftModel::Regression(r) => Body::Regression(r),
+    }
+}
+
+#[derive(Serialize)]
+#[serde(untagged)]
+enum Body<'a> {
+    Vakhrameev(&'a crate::models::vakhrameev::Calibration),
+    Regression(&'a crate::models::regression::RegressionCalibration),
+}
+
+/// Reads a calibration file of either version as a unit (a version-1 file is a unit of its one
+/// unnamed axis); `path` names the file in messages.
+///
+/// # Errors
+/// As [`super::model_from_json`], each axis's message naming it (`axes[gy].calibration...`).
+pub fn unit_from_json(path: &Path, text: &str) -> Result<UnitCalibration> {
+    let err = |message: String| Error::File {
+        path: path.to_path_buf(),
+        message,
+    };
+    if super::version(path, text)? == super::VERSION_SINGLE_AXIS {
+        return super::model_from_json(path, text).map(UnitCalibration::single);
+    }
+    let file: UnitFile = serde_json::from_str(text).map_err(|e| err(e.to_string()))?;
+    let mut axes = Vec::with_capacity(file.axes.len());
+    for entry in file.axes {
+        let at = |field: &str| format!("axes[{}].{field}", entry.name);
+        let tag =
+            model_tag(Some(&entry.model)).map_err(|m| err(format!("{}: {m}", at("model"))))?;
+        let mut body = entry.calibration;
+        for k in SHARED {
+            if body.contains_key(k) {
+                return Err(err(format!(
+                    "{}: the unit gives it once, at the top, not per axis",
+                    at(&format!("calibration.{k}"))
+                )));
+            }
+        }
+        body.insert("gyro_id".into(), Value::String(file.gyro_id.clone()));
+        body.insert("source".into(), file.source.clone());
+        body.insert("created".into(), Value::String(file.created.clone()));
+        let model = if tag == "vakhrameev" {
+            let Some(Value::Object(recipe)) = body.get_mut("recipe") else {
+                return Err(err(format!("{}: missing", at("calibration.recipe"))));
+            };
+            let Some(temperature) = &file.temperature else {
+                return Err(err(format!(
+                    "no \"temperature\" field: axis {} is a vakhrameev calibration, whose T \
+                     settings the unit holds there",
+                    entry.name
+                )));
+            };
+            for k in TEMPERATURE.iter().chain(&["gyro_id"]) {
+                if recipe.contains_key(*k) {
+                    return Err(err(format!(
+                        "{}: the unit gives it once, not per axis",
+                        at(&format!("calibration.recipe.{k}"))
+                    )));
+                }
+            }
+            recipe.insert("gyro_id".into(), Value::String(file.gyro_id.clone()));
+            for (k, v) in temperature {
+                recipe.insert(k.clone(), v.clone());
+            }
+            let c = serde_json::from_value(Value::Object(body))
+                .map_err(|e| err(format!("{}: {e}", at("calibration"))))?;
+            DriftModel::Vakhrameev(Box::new(c))
+        } else {
+            let r = serde_json::from_value(Value::Object(body))
+                .map_err(|e| err(format!("{}: {e}", at("calibration"))))?;
+            DriftModel::Regression(Box::new(r))
+        };
+        check_windows(windows(&model)).map_err(|m| err(format!("axes[{}].{m}", entry.name)))?;
+        axes.push(AxisModel {
+            name: entry.name,
+            rate_column: entry.rate_column,
+            model,
+        });
+    }
+    let unit = UnitCalibration { axes };
+    unit.validate().map_err(|e| err(e.to_string()))?;
+    if !unit.is_unit() {
+        return Err(err(
+            "a version-2 file holds named axes; a calibration of one unnamed axis is a \
+             version-1 file"
+                .into(),
+        ));
+    }
+    Ok(unit)
+}
+
+/// Writes a unit's calibration file atomically, after the checks loading would run (the text
+/// is read back first: a file driftlab writes is a file driftlab reads).
+///
+/// # Errors
+/// A unit that would not read back (nothing is written then), or the write's error.
+pub fn save_unit(path: &Path, unit: &UnitCalibration) -> Result<()> {
+    if !unit.is_unit() {
+        return super::save_model(path, unit.first()?);
+    }
+    let not_written = |message: String| Error::File {
+        path: path.to_path_buf(),
+        message: format!("not written: {message}"),
+    };
+    unit.validate().map_err(|e| not_written(e.to_string()))?;
+    for a in &unit.axes {
+        check_windows(windows(&a.model))
+            .map_err(|m| not_written(format!("axes[{}].{m}", a.name)))?;
+    }
+    let text = unit_to_json(unit).map_err(|e| not_written(e.to_string()))?;
+    unit_from_json(path, &text).map_err(|e| match e {
+        Error::File { message, .. } => not_written(message),
+        other => not_written(other.to_string()),
+    })?;
+    crate::files::atomic::write_bytes(path, text.as_bytes()).map_err(|e| Error::io(path, e))
+}
+
+/// Reads a calibration file of either version as a unit.
+///
+/// # Errors
+/// As [`unit_from_json`], and an unreadable file.
+pub fn load_unit(path: &Path) -> Result<UnitCalibration> {
+    unit_from_json(path, &super::read_text(path)?)
+}

@@ -1,0 +1,293 @@
+//! A unit: every gyro axis of one IMU (a three-axis FOG unit, a MEMS IMU), calibrated from one
+//! log as one calibration.
+//!
+//! The axes share the housing and its temperature, so they share everything a calibration
+//! takes from T: one smoothing, one pair of derivatives, one set of plateaus
+//! ([`vakhrameev::SharedTemperature`]). What an axis answers to that field is its own: its
+//! model, its approximations and knots, its dead-bands, its K0 points (its own Ω averaged over
+//! the shared plateaus). [`calibrate_unit`] reads the log once and differentiates T once for
+//! every Vakhrameev axis; a regression axis is fitted on its own, its signals being the model's.
+//!
+//! A calibration of one axis that names no axis is what driftlab has always written (a
+//! version-1 file, [`UnitCalibration::is_unit`] false); a unit of named axes is written as a
+//! version-2 file (`crate::files::calibration`).
+
+use super::{Calibrated, DriftModel, ModelChoice, Recipe, check_span, judge_on_own_log};
+use crate::error::{Error, Invalid, Result};
+use crate::judge::metrics::{Evaluation, MeritOptions};
+use crate::log::Log;
+use crate::models::vakhrameev;
+
+/// One gyro axis of a unit's calibration.
+#[derive(Debug, Clone, PartialEq)]
+pub struct AxisModel {
+    /// The axis's name (`gx`): the rate column's name without its unit, by default. Empty for
+    /// the one axis of a single-axis calibration.
+    pub name: String,
+    /// The rate column the axis was read from on the calibration log (`gx_dps`), to find it in
+    /// another log of the same stand; empty when not known.
+    pub rate_column: String,
+    /// The axis's fitted model.
+    pub model: DriftModel,
+}
+
+/// The calibration of a whole unit: one model per gyro axis, in the order they were fitted.
+#[derive(Debug, Clone, PartialEq)]
+pub struct UnitCalibration {
+    /// The axes, at least one.
+    pub axes: Vec<AxisModel>,
+}
+
+impl UnitCalibration {
+    /// The single-axis calibration of `model`, as driftlab has always made it.
+    pub fn single(model: DriftModel) -> UnitCalibration {
+        UnitCalibration {
+            axes: vec![AxisModel {
+                name: String::new(),
+                rate_column: String::new(),
+                model,
+            }],
+        }
+    }
+
+    /// Whether this is a unit of named axes (written as a version-2 file) rather than the
+    /// single-axis calibration of one unnamed axis (version 1).
+    pub fn is_unit(&self) -> bool {
+        self.axes.len() > 1 || self.axes.iter().any(|a| !a.name.is_empty())
+    }
+
+    /// The axes' names, in order.
+    pub fn axis_names(&self) -> Vec<&str> {
+        self.axes.iter().map(|a| a.name.as_str()).collect()
+    }
+
+    /// The axis named `name`.
+    pub fn axis(&self, name: &str) -> Option<&AxisModel> {
+        self.axes.iter().find(|a| a.name == name)
+    }
+
+    /// The first axis's model: the model of a single-axis calibration.
+    ///
+    /// # Errors
+    /// [`Error::Internal`] for a unit without axes (never made by driftlab, refused by
+    /// [`UnitCalibration::validate`]).
+    pub fn first(&self) -> Result<&DriftModel> {
+        self.axes
+            .first()
+            .map(|a| &a.model)
+            .ok_or(Error::Internal("a unit calibration without axes"))
+    }
+
+    /// Checks a unit read from a file or about to be written: at least one axis, names unique
+    /// and not empty in a unit of several, each model as [`DriftModel::validate`] checks it
+    /// (its field named with the axis, `axes[gy].k0...`), and the T settings of its
+    /// Vakhrameev axes alike (they were made from one T).
+    ///
+    /// # Errors
+    /// An [`Invalid`] naming the axis and the field.
+    pub fn validate(&self) -> std::result::Result<(), Invalid> {
+        if self.axes.is_empty() {
+            return Err(Invalid::new("axes", "a unit needs at least one axis"));
+        }
+        for (k, a) in self.axes.iter().enumerate() {
+            let field = |f: &str| format!("axes[{}].{f}", label(k, &a.name));
+            if self.axes.len() > 1 && a.name.trim().is_empty() {
+                return Err(Invalid::new(
+                    field("name"),
+                    "every axis of a unit of several needs a name",
+                ));
+            }
+            if self.axes[..k].iter().any(|b| b.name == a.name) {
+                return Err(Invalid::new(
+                    field("name"),
+                    format!("\"{}\" names two axes", a.name),
+                ));
+            }
+            a.model
+                .validate()
+                .map_err(|e| Invalid::new(field(&e.field), e.reason))?;
+        }
+        let recipes: Vec<(&str, &Recipe)> = self
+            .axes
+            .iter()
+            .filter_map(|a| match &a.model {
+                DriftModel::Vakhrameev(c) => Some((a.name.as_str(), &c.recipe)),
+                DriftModel::Regression(_) => None,
+            })
+            .collect();
+        if let Some((first_name, first)) = recipes.first() {
+            for (name, r) in &recipes[1..] {
+                if let Some(setting) = differing_temperature_setting(first, r) {
+                    return Err(Invalid::new(
+                        format!("axes[{name}].recipe.{setting}"),
+                        format!(
+                            "differs from axis {first_name}'s: the axes of a unit share T, and \
+                             so how it is smoothed, differentiated and split into plateaus"
+                        ),
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+/// An axis in a message: its name, or its position when it has none.
+fn label(k: usize, name: &str) -> String {
+    if name.is_empty() {
+        k.to_string()
+    } else {
+        name.to_string()
+    }
+}
+
+/// The first T setting (by its name in a recipe file) that differs between two recipes.
+pub fn differing_temperature_setting(a: &Recipe, b: &Recipe) -> Option<&'static str> {
+    if a.temp_smoothing_s != b.temp_smoothing_s {
+        Some("temp_smoothing_s")
+    } else if a.step_h_s != b.step_h_s {
+        Some("step_h_s")
+    } else if a.plateaus != b.plateaus {
+        Some("plateaus")
+    } else {
+        None
+    }
+}
+
+/// What to fit on one axis of a unit.
+#[derive(Debug, Clone, PartialEq)]
+pub struct AxisPlan {
+    /// The axis, as [`Log::axis_names`] names it.
+    pub name: String,
+    /// The model to fit.
+    pub choice: ModelChoice,
+    /// The settings; its T settings are those of every Vakhrameev axis of the unit.
+    pub recipe: Recipe,
+}
+
+/// One axis fitted and judged on the log it was fitted on.
+#[derive(Debug, Clone)]
+pub struct CalibratedAxis {
+    /// The axis's name.
+    pub name: String,
+    /// The rate column it was read from (empty when the log does not say).
+    pub rate_column: String,
+    /// The model, its in-sample figures and its warnings.
+    pub calibrated: Calibrated,
+}
+
+/// Fits and judges every axis of `plans` on `log`, in their order, reading T once for all the
+/// Vakhrameev axes: each gets the calibration a single-axis [`super::calibrate`] of that axis
+/// makes, bit for bit. `log` ends with the axis it started with in `omega_dph`.
+///
+/// # Errors
+/// [`Error::Fit`] naming an axis the log does not have, two plans for one axis, or no plan;
+/// an [`Invalid`] naming the axis and the setting when the Vakhrameev axes' T settings differ;
+/// what a fit reports, with the axis named.
+pub fn calibrate_unit(
+    log: &mut Log,
+    plans: &[AxisPlan],
+    merit: &MeritOptions,
+) -> Result<Vec<CalibratedAxis>> {
+    check_plans(log, plans)?;
+    let start = log.axis.clone();
+    let result = calibrate_axes(log, plans, merit);
+    log.select_axis(&start);
+    result
+}
+
+fn check_plans(log: &Log, plans: &[AxisPlan]) -> Result<()> {
+    if plans.is_empty() {
+        return Err(Error::Fit(format!("{}: no axis to calibrate", log.source)));
+    }
+    let names = log.axis_names();
+    for (k, p) in plans.iter().enumerate() {
+        if !names.contains(&p.name) {
+            return Err(Error::Fit(format!(
+                "{}: no gyro axis \"{}\" (its axes: {})",
+                log.source,
+                p.name,
+                names.join(", ")
+            )));
+        }
+        if plans[..k].iter().any(|q| q.name == p.name) {
+            return Err(Error::Fit(format!(
+                "{}: axis \"{}\" is asked for twice",
+                log.source, p.name
+            )));
+        }
+    }
+    let vakhrameev: Vec<&AxisPlan> = plans.iter().filter(|p| p.choice.is_vakhrameev()).collect();
+    if let Some(first) = vakhrameev.first() {
+        for p in &vakhrameev[1..] {
+            if let Some(setting) = differing_temperature_setting(&first.recipe, &p.recipe) {
+                return Err(Invalid::new(
+                    format!("axis {}: {setting}", p.name),
+                    format!(
+                        "differs from axis {}'s: the axes of a unit share T, and so how it is \
+                         smoothed, differentiated and split into plateaus",
+                        first.name
+                    ),
+                )
+                .into());
+            }
+        }
+    }
+    Ok(())
+}
+
+fn calibrate_axes(
+    log: &mut Log,
+    plans: &[AxisPlan],
+    merit: &MeritOptions,
+) -> Result<Vec<CalibratedAxis>> {
+    let about = |name: &str, e: Error| match e {
+        Error::Fit(m) => Error::Fit(format!("axis {name}: {m}")),
+        Error::Invalid(i) => {
+            Error::Invalid(Invalid::new(format!("axis {name}: {}", i.field), i.reason))
+        }
+        other => other,
+    };
+    // T's part, once, from the first Vakhrameev axis's recipe (they all agree).
+    let mut shared = match plans.iter().find(|p| p.choice.is_vakhrameev()) {
+        Some(p) => {
+            check_span(log, &p.choice)?;
+            Some(vakhrameev::SharedTemperature::new(log, &p.recipe)?)
+        }
+        None => None,
+    };
+    let mut out = Vec::with_capacity(plans.len());
+    for plan in plans {
+        log.select_axis(&plan.name);
+        // The figures are filtered as the axis's recipe filters Ω.
+        let merit = &MeritOptions {
+            filter_s: plan.recipe.filter_s,
+            ..*merit
+        };
+        let calibrated = match shared.as_mut().filter(|_| plan.choice.is_vakhrameev()) {
+            Some(shared) => {
+                let (calibration, mut warnings) = shared
+                    .fit_axis(log, &plan.recipe)
+                    .map_err(|e| about(&plan.name, e))?;
+                let c = calibration.corrected_rate_with(log, shared.derivatives());
+                let in_sample =
+                    Evaluation::of_rate(log, &c.cor_dph, &c.ready, c.outside_fraction, merit);
+                let model = DriftModel::Vakhrameev(Box::new(calibration));
+                warnings.extend(judge_on_own_log(&model, &in_sample));
+                Calibrated {
+                    model,
+                    in_sample,
+                    warnings,
+                }
+            }
+            None => super::calibrate(log, &plan.choice, &plan.recipe, merit)
+                .map_err(|e| about(&plan.name, e))?,
+        };
+        out.push(CalibratedAxis {
+            name: plan.name.clone(),
+            rate_column: log.rate_column().unwrap_or_default(),
+            calibrated,
+        });
+    }
+    Ok(out)
+}

@@ -1,0 +1,262 @@
+//! The stages before the + and − sets: the plateaus and their statistics (the K0 points), K0
+//! itself, the mask of plateau samples and the dead-bands; and the fallback every
+//! approximation of the model goes through when its points cannot carry the curve asked for.
+//! They read T's derivatives and one axis's Ω, so a multi-axis unit runs the T stages once and
+//! the Ω stages per axis.
+
+use super::Prepared;
+use crate::error::{Error, Result};
+use crate::log::Log;
+use crate::models::approx::{self, Approx, ApproxKind, ApproxSpec};
+use crate::models::recipe::{PlateauChoice, Recipe};
+use crate::signal::plateau::{self, PlateauRange, PlateauStats};
+
+/// The plateau ranges the recipe asks for on this log.
+pub fn plateau_ranges(log: &Log, prepared: &Prepared, recipe: &Recipe) -> Vec<PlateauRange> {
+    match &recipe.plateaus {
+        // Found within each segment's samples with full history: a plateau never spans a gap.
+        PlateauChoice::Auto(opts) => prepared
+            .deriv
+            .ready
+            .iter()
+            .flat_map(|r| {
+                plateau::detect(
+                    &log.time_s[r.clone()],
+                    &prepared.deriv.tdot[r.clone()],
+                    0,
+                    opts,
+                )
+            })
+            .collect(),
+        PlateauChoice::Manual { ranges } => ranges.clone(),
+    }
+}
+
+/// Statistics of each range (ranges without samples are dropped).
+pub fn plateau_stats(log: &Log, ranges: &[PlateauRange]) -> Vec<PlateauStats> {
+    ranges
+        .iter()
+        .filter_map(|r| plateau::stats(&log.time_s, &log.temp_c, &log.omega_dph, *r))
+        .collect()
+}
+
+/// K0(T) through the plateau points, lowering the order when there are too few plateaus.
+pub fn fit_k0(
+    plateaus: &[PlateauStats],
+    spec: &ApproxSpec,
+    warnings: &mut Vec<String>,
+) -> Result<Approx> {
+    if plateaus.is_empty() {
+        return Err(Error::Fit(
+            "no plateaus: K0(T) needs at least one temperature-stabilisation period; mark them \
+             (--plateau START:END) or loosen the detector"
+                .into(),
+        ));
+    }
+    let t: Vec<f64> = plateaus.iter().map(|p| p.temp_c).collect();
+    let w: Vec<f64> = plateaus.iter().map(|p| p.omega_dph).collect();
+    Ok(fit_or_fallback("K0", spec, &t, &w, warnings))
+}
+
+/// Fits `spec`, and when the points cannot support it, the richest simpler curve they can:
+/// fewer knots, then a line, then a constant, then zero (no points: the term is left out).
+pub fn fit_or_fallback(
+    name: &str,
+    spec: &ApproxSpec,
+    x: &[f64],
+    y: &[f64],
+    warnings: &mut Vec<String>,
+) -> Approx {
+    fit_or_fallback_weighted(name, spec, x, y, None, warnings)
+}
+
+/// [`fit_or_fallback`] with point weights.
+pub fn fit_or_fallback_weighted(
+    name: &str,
+    spec: &ApproxSpec,
+    x: &[f64],
+    y: &[f64],
+    weights: Option<&[f64]>,
+    warnings: &mut Vec<String>,
+) -> Approx {
+    if let Ok(a) = approx::fit_weighted(spec, x, y, weights) {
+        let n = a.stats().n;
+        if n == spec.params() && n > 1 {
+            warnings.push(format!(
+                "{name}: {} with {n} parameters through {n} points: the curve passes through \
+                 every point and averages none of their noise",
+                spec.kind
+            ));
+        }
+        return a;
+    }
+    let wt = |k: usize| weights.map_or(1.0, |w| w.get(k).copied().unwrap_or(0.0));
+    let (xs, ys): (Vec<f64>, Vec<f64>) = (0..x.len().min(y.len()))
+        .filter(|&k| x[k].is_finite() && y[k].is_finite() && wt(k) > 0.0)
+        .map(|k| (x[k], y[k]))
+        .unzip();
+    let got = xs.len();
+    if got == 0 {
+        warnings.push(format!(
+            "{name}: no usable points, the term is left out (zero)"
+        ));
+        return Approx::zero(spec.kind);
+    }
+    let mut simpler = Vec::new();
+    if spec.kind.has_knots() {
+        simpler.push(ApproxSpec {
+            knots: got.min(spec.knots),
+            ..*spec
+        });
+    }
+    simpler.push(ApproxSpec {
+        kind: ApproxKind::Linear,
+        ..*spec
+    });
+    for fallback in simpler {
+        if let Ok(a) = approx::fit(&fallback, &xs, &ys) {
+            let same = fallback.kind == spec.kind && fallback.params() == spec.params();
+            warnings.push(if same {
+                // Not fewer points: the weights made the fit singular.
+                format!(
+                    "{name}: the weighted fit of {} could not be solved; fitted with every one \
+                     of its {got} points weighed alike",
+                    spec.kind
+                )
+            } else if got < spec.params() {
+                format!(
+                    "{name}: {} with {} parameters asked for through {got} usable points, more \
+                     unknowns than points: fitted as {} with {} parameters instead",
+                    spec.kind,
+                    spec.params(),
+                    fallback.kind,
+                    fallback.params()
+                )
+            } else {
+                format!(
+                    "{name}: {} with {} parameters could not be fitted to its {got} usable \
+                     points: fitted as {} with {} parameters instead",
+                    spec.kind,
+                    spec.params(),
+                    fallback.kind,
+                    fallback.params()
+                )
+            });
+            if fallback.params() == got && got > 1 {
+                warnings.push(format!(
+                    "{name}: {} with {got} parameters through {got} points: the curve passes \
+                     through every point and averages none of their noise",
+                    fallback.kind
+                ));
+            }
+            return a;
+        }
+    }
+    let mean = ys.iter().sum::<f64>() / got as f64;
+    let lo = xs.iter().copied().fold(f64::INFINITY, f64::min);
+    let hi = xs.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    warnings.push(format!(
+        "{name}: {got} usable point(s), held constant at {mean:.6}"
+    ));
+    let stats = approx::FitStats {
+        n: got,
+        rmse: 0.0,
+        r2: 0.0,
+    };
+    Approx::new(
+        spec.kind,
+        approx::Curve::Polynomial { coeffs: vec![mean] },
+        lo,
+        hi,
+        false,
+        stats,
+    )
+    .unwrap_or_else(|_| Approx::zero(spec.kind))
+}
+
+/// A mask of samples inside any of the plateaus (they carry no K1/K2 information).
+pub fn plateau_mask(time_s: &[f64], ranges: &[PlateauRange]) -> Vec<bool> {
+    let mut mask = vec![false; time_s.len()];
+    for r in ranges {
+        let (lo, hi) = r.index_range(time_s);
+        mask[lo..hi].fill(true);
+    }
+    mask
+}
+
+/// Default dead-band: a fifth of the 95th percentile of |v| over the samples that count.
+fn auto_deadband(v: &[f64], usable: impl Fn(usize) -> bool) -> f64 {
+    let stride = (v.len() / 200_000).max(1);
+    let mut a: Vec<f64> = (0..v.len())
+        .step_by(stride)
+        .filter(|&i| usable(i) && v[i].is_finite())
+        .map(|i| v[i].abs())
+        .collect();
+    if a.is_empty() {
+        return 0.0;
+    }
+    let k = ((a.len() as f64 * 0.95) as usize).min(a.len() - 1);
+    let (_, p95, _) = a.select_nth_unstable_by(k, |x, y| x.total_cmp(y));
+    *p95 / 5.0
+}
+
+/// Whether sample `i` lies in one of `ready` (ordered, disjoint ranges).
+fn is_ready(ready: &[std::ops::Range<usize>], i: usize) -> bool {
+    let k = ready.partition_point(|r| r.end <= i);
+    ready.get(k).is_some_and(|r| r.contains(&i))
+}
+
+/// Resolves the dead-bands of the recipe on this log.
+pub fn deadbands(prepared: &Prepared, mask: &[bool], recipe: &Recipe) -> (f64, f64) {
+    let d = &prepared.deriv;
+    let usable = |i: usize| !mask[i] && is_ready(&d.ready, i);
+    let db1 = recipe
+        .deadband_tdot
+        .unwrap_or_else(|| auto_deadband(&d.tdot, usable));
+    let db2 = recipe
+        .deadband_tddot
+        .unwrap_or_else(|| auto_deadband(&d.tddot, usable));
+    (db1, db2)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_fallback_says_what_it_fitted_instead_and_why() {
+        // Weights that overflowed (Ṫ² of a wild temperature cell) leave the weighted fit one
+        // point; the same line is fitted to every point weighed alike, and said so (this used
+        // to read "fitted as linear with 2 parameters instead of linear with 2").
+        let (x, y) = ([0.0, 1.0, 2.0, 3.0], [1.0, 3.0, 5.0, 7.0]);
+        let weights = [f64::INFINITY, f64::INFINITY, f64::INFINITY, 1.0];
+        let spec = ApproxSpec::of(ApproxKind::Linear);
+        let mut warnings = Vec::new();
+        let a = fit_or_fallback_weighted("K1+", &spec, &x, &y, Some(&weights), &mut warnings);
+        assert_eq!(a.kind(), ApproxKind::Linear);
+        assert_eq!(
+            warnings,
+            [
+                "K1+: the weighted fit of linear could not be solved; fitted with every one of \
+              its 4 points weighed alike"
+            ]
+        );
+        // Too few points for the curve asked for: the count is named.
+        let mut warnings = Vec::new();
+        let spline = ApproxSpec {
+            kind: ApproxKind::Spline,
+            knots: 10,
+            extrapolate: false,
+        };
+        fit_or_fallback("K0", &spline, &x, &y, &mut warnings);
+        assert_eq!(
+            warnings,
+            [
+                "K0: spline with 10 parameters asked for through 4 usable points, more \
+                 unknowns than points: fitted as spline with 4 parameters instead",
+                "K0: spline with 4 parameters through 4 points: the curve passes through \
+                 every point and averages none of their noise"
+            ]
+        );
+    }
+}
