@@ -169,6 +169,14 @@ impl Log {
         true
     }
 
+    /// Puts the axes other than `omega_dph`'s back in the order of `order` (the order of
+    /// [`Log::axis_names`] before some [`Log::select_axis`]), so that a caller that visited
+    /// every axis leaves them listed as it found them.
+    pub fn order_axes_as(&mut self, order: &[String]) {
+        let rank = |name: &str| order.iter().position(|n| n == name).unwrap_or(usize::MAX);
+        self.other_axes.sort_by_key(|a| rank(&a.name));
+    }
+
     /// The rate of the axis named `name`, °/h, whichever column holds it now.
     pub fn axis_rate(&self, name: &str) -> Option<&[f64]> {
         if self.axis == name {

@@ -178,7 +178,7 @@ pub struct CalibratedAxis {
 
 /// Fits and judges every axis of `plans` on `log`, in their order, reading T once for all the
 /// Vakhrameev axes: each gets the calibration a single-axis [`super::calibrate`] of that axis
-/// makes, bit for bit. `log` ends with the axis it started with in `omega_dph`.
+/// makes, bit for bit. `log` ends as it started: the same axis in `omega_dph`, the others in the same order.
 ///
 /// # Errors
 /// [`Error::Fit`] naming an axis the log does not have, two plans for one axis, or no plan;
@@ -190,9 +190,10 @@ pub fn calibrate_unit(
     merit: &MeritOptions,
 ) -> Result<Vec<CalibratedAxis>> {
     check_plans(log, plans)?;
-    let start = log.axis.clone();
+    let order = log.axis_names();
     let result = calibrate_axes(log, plans, merit);
-    log.select_axis(&start);
+    log.select_axis(&order[0]);
+    log.order_axes_as(&order);
     result
 }
 

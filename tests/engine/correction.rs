@@ -74,8 +74,12 @@ fn malformed_calibration_files_are_refused_with_a_reason() {
         .unwrap()
         .calibration;
     let good = calibration::to_json(&cal);
+    let v3 = good.replacen("\"version\": 1", "\"version\": 3", 1);
+    assert!(load_err(&v3).contains("version 3 is newer than this driftlab reads"));
+    // A version-1 body under version 2 is not a unit file: its fields are named.
     let v2 = good.replacen("\"version\": 1", "\"version\": 2", 1);
-    assert!(load_err(&v2).contains("version 2 is newer than this driftlab reads"));
+    let e = load_err(&v2);
+    assert!(e.contains("gyro7.json") && e.contains("axes"), "{e}");
     let v0 = good.replacen("\"version\": 1", "\"version\": 0", 1);
     let e = load_err(&v0);
     assert!(e.contains("never written") && !e.contains("newer"), "{e}");

@@ -22,3 +22,4 @@ mod sim_logging;
 mod sim_output;
 mod sim_physics;
 mod sim_programs;
+mod units;

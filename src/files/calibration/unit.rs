@@ -54,11 +54,18 @@ struct AxisEntry {
 }
 
 /// The message for a version-2 file given where a single-axis calibration is wanted.
+/// A broken one is named as a unit file with what is wrong with it.
 pub(super) fn not_single(path: &Path, text: &str) -> String {
-    let names = unit_from_json(path, text)
-        .map(|u| u.axis_names().join(", "))
-        .unwrap_or_else(|_| "several axes".into());
-    format!("holds a unit of axes {names} (version 2); this takes a single-axis calibration")
+    match unit_from_json(path, text) {
+        Ok(u) => format!(
+            "holds a unit of axes {} (version 2); this takes a single-axis calibration",
+            u.axis_names().join(", ")
+        ),
+        Err(Error::File { message, .. }) => {
+            format!("version 2, the file of a unit of several axes: {message}")
+        }
+        Err(e) => format!("version 2, the file of a unit of several axes: {e}"),
+    }
 }
 
 /// The unit as the JSON text of its calibration file: version 2 for a unit of named axes,
