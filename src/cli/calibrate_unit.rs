@@ -215,7 +215,7 @@ pub fn run(
                 let mut v = serde_json::json!({
                     "name": f.name,
                     "rate_column": f.rate_column,
-                    "model": ax.model.name(),
+                    "model_name": ax.model.name(),
                     "in_sample": f.calibrated.in_sample,
                     "warnings": f.calibrated.warnings,
                 });
