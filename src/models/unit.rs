@@ -14,7 +14,7 @@
 
 use super::{Calibrated, DriftModel, ModelChoice, Recipe, check_span, judge_on_own_log};
 use crate::error::{Error, Invalid, Result};
-use crate::judge::metrics::{Evaluation, MeritOptions};
+use crate::judge::metrics::{Comparison, Evaluation, MeritOptions};
 use crate::log::Log;
 use crate::models::vakhrameev;
 
@@ -271,8 +271,15 @@ fn calibrate_axes(
                     .fit_axis(log, &plan.recipe)
                     .map_err(|e| about(&plan.name, e))?;
                 let c = calibration.corrected_rate_with(log, shared.derivatives());
-                let in_sample =
-                    Evaluation::of_rate(log, &c.cor_dph, &c.ready, c.outside_fraction, merit);
+                // `Evaluation::of_rate`, with the step the shared part found (not found again
+                // from the time stamps for each axis).
+                let used: usize = c.ready.iter().map(|r| r.len()).sum();
+                let dt_s = calibration.resolved.dt_s;
+                let in_sample = Evaluation {
+                    comparison: Comparison::of(&log.omega_dph, &c.cor_dph, dt_s, &c.ready, merit),
+                    outside_fraction: c.outside_fraction,
+                    warmup_samples: log.len().saturating_sub(used),
+                };
                 let model = DriftModel::Vakhrameev(Box::new(calibration));
                 warnings.extend(judge_on_own_log(&model, &in_sample));
                 Calibrated {

@@ -190,8 +190,46 @@ fn fit_lean_prepared(
         k0,
         deadbands,
         samples,
-        mut warnings,
+        warnings,
     } = stage(log, prepared, ranges, recipe)?;
+    let sets = SetsOfSamples {
+        deadbands,
+        samples,
+        key: (recipe.deadband_tdot, recipe.deadband_tddot),
+    };
+    Ok(finish_lean(
+        log,
+        prepared,
+        recipe,
+        (plateaus, k0),
+        &sets,
+        warnings,
+    ))
+}
+
+/// The samples of the + and − sets with the dead-bands that chose them: they depend on T's
+/// derivatives, the plateaus and the dead-band settings only, so the axes of a unit that ask
+/// for the same dead-bands share them.
+#[derive(Debug, Clone)]
+struct SetsOfSamples {
+    /// The dead-bands, resolved.
+    deadbands: (f64, f64),
+    /// The samples of each set.
+    samples: [SetSamples; 2],
+    /// The recipe's dead-band settings they were resolved from.
+    key: (Option<f64>, Option<f64>),
+}
+
+/// The lean fit's end: K1 and K2 of both sets from `Ω_f − K0(T)`, made in place of the filtered
+/// Ω in `prepared`, and the calibration put together.
+fn finish_lean(
+    log: &Log,
+    prepared: &mut Prepared,
+    recipe: &Recipe,
+    (plateaus, k0): (Vec<PlateauStats>, Approx),
+    sets: &SetsOfSamples,
+    mut warnings: Vec<String>,
+) -> (Calibration, Vec<String>) {
     let mut rest = std::mem::take(&mut prepared.omega_filtered_dph);
     into_rest(&mut rest, &log.temp_c, &k0);
     let inputs = SetInputs {
@@ -199,19 +237,19 @@ fn fit_lean_prepared(
         tddot: &prepared.deriv.tddot,
         rest: &rest,
     };
-    let (plus, minus) = fit_sets(&samples, inputs, recipe, false);
-    drop((rest, samples));
+    let (plus, minus) = fit_sets(&sets.samples, inputs, recipe, false);
+    drop(rest);
     warnings.extend(plus.warnings);
     warnings.extend(minus.warnings);
     let calibration = Calibration::assemble(
         log,
         prepared,
         recipe,
-        deadbands,
+        sets.deadbands,
         plateaus,
         [k0, plus.k1, minus.k1, plus.k2, minus.k2],
     );
-    Ok((calibration, warnings))
+    (calibration, warnings)
 }
 
 /// The temperature's part of a calibration, done once for every gyro axis of a unit: T
@@ -227,6 +265,10 @@ pub struct SharedTemperature {
     /// The recipe whose T settings made it, for [`SharedTemperature::fit_axis`] to check that
     /// an axis's recipe asks for the same.
     recipe: Recipe,
+    /// The log's span, s, which every axis's windows must fit in.
+    span_s: f64,
+    /// The sets' samples of the last dead-band settings asked for.
+    sets: Option<SetsOfSamples>,
 }
 
 impl SharedTemperature {
@@ -253,10 +295,13 @@ impl SharedTemperature {
             segments: timing.segments,
         };
         let ranges = plateau_ranges(log, &prepared, recipe);
+        let span_s = log.duration_s() + dt_s;
         Ok(SharedTemperature {
             prepared,
             ranges,
             recipe: recipe.clone(),
+            span_s,
+            sets: None,
         })
     }
 
@@ -296,7 +341,21 @@ impl SharedTemperature {
                 .into());
             }
         }
-        check_fittable(log, recipe)?;
+        // What `fit` checks, on the log `new` has checked: the recipe's own numbers and its
+        // filter against the log's span (its T windows are the shared ones).
+        recipe.validate()?;
+        if recipe.filter_s > self.span_s {
+            return Err(crate::error::Invalid::new(
+                "filter_s",
+                format!(
+                    "{} s is longer than the log {} ({} s)",
+                    crate::number::readable(recipe.filter_s),
+                    log.source,
+                    crate::number::readable(self.span_s)
+                ),
+            )
+            .into());
+        }
         let p = &mut self.prepared;
         p.filter_samples = crate::signal::seconds_to_samples(recipe.filter_s, p.dt_s);
         p.omega_filtered_dph = crate::signal::moving_average_centered_in(
@@ -304,6 +363,25 @@ impl SharedTemperature {
             p.filter_samples,
             &p.segments,
         );
-        fit_lean_prepared(log, p, &self.ranges, recipe)
+        let mut warnings = Vec::new();
+        let plateaus = plateau_stats(log, &self.ranges);
+        let k0 = fit_k0(&plateaus, &recipe.k0, &mut warnings)?;
+        let key = (recipe.deadband_tdot, recipe.deadband_tddot);
+        let sets = match self.sets.take() {
+            Some(sets) if sets.key == key => sets,
+            _ => {
+                let mask = plateau_mask(&log.time_s, &self.ranges);
+                let deadbands = deadbands(p, &mask, recipe);
+                let samples = set_samples(&p.deriv, &mask, deadbands);
+                SetsOfSamples {
+                    deadbands,
+                    samples,
+                    key,
+                }
+            }
+        };
+        let fitted = finish_lean(log, p, recipe, (plateaus, k0), &sets, warnings);
+        self.sets = Some(sets);
+        Ok(fitted)
     }
 }
