@@ -126,7 +126,7 @@ struct Agreement {
 
 /// Compiles the unit's header, runs it on `log` and compares every axis of every sample with
 /// a streaming corrector of that axis alone; `None` without a C compiler.
-fn c_unit_agrees(unit: &UnitCalibration, log: &Log) -> Option<Agreement> {
+fn c_unit_agrees(unit: &UnitCalibration, log: &Log) -> Option<(Agreement, Vec<CSample>)> {
     let header = firmware::export_unit(unit, Format::CHeader, &ExportOptions::default()).unwrap();
     let dir = tempfile::tempdir().unwrap();
     let exe = compile(dir.path(), &header, [DRIVER_C, OTHER_C], &["-lm"])?;
@@ -140,8 +140,8 @@ fn c_unit_agrees(unit: &UnitCalibration, log: &Log) -> Option<Agreement> {
         }
         input.push('\n');
     }
-    let runs = drive(&exe, input);
-    let c = &runs[0];
+    let mut runs = drive(&exe, input);
+    let c = runs.swap_remove(0);
     let n = unit.axes.len();
     assert_eq!(c.len(), n * log.len());
     let mut a = Agreement::default();
@@ -200,7 +200,7 @@ fn c_unit_agrees(unit: &UnitCalibration, log: &Log) -> Option<Agreement> {
         "unit header on {}: {} of {} axis samples bit-identical, max |C - driftlab| {:.3e} deg/h",
         log.source, a.identical, a.compared, a.max_dph
     );
-    Some(a)
+    Some((a, c))
 }
 
 #[test]
@@ -209,12 +209,58 @@ fn unit_header_corrects_every_axis_of_the_validation_run_bit_for_bit() {
     let unit = calibrate_unit(dir.path(), &[]);
     let log = read("imu3-validation.csv");
     assert_eq!(log.axis_names().len(), 3, "{:?}", log.axis_names());
-    let Some(a) = c_unit_agrees(&unit, &log) else {
+    let Some((a, c)) = c_unit_agrees(&unit, &log) else {
         return;
     };
     assert_eq!(a.compared, 3 * log.len());
     assert_eq!(a.identical, a.compared, "{a:?}");
     assert_eq!(a.max_dph, 0.0);
+    // And what `driftlab apply` writes for the unit, column by column (round-trip decimals).
+    let applied = dir.path().join("applied.csv");
+    let val = sample("imu3-validation.csv");
+    let run = driftlab(&[
+        "apply",
+        dir.path().join("unit.json").to_str().unwrap(),
+        val.to_str().unwrap(),
+        "--out",
+        applied.to_str().unwrap(),
+    ]);
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let text = std::fs::read_to_string(&applied).unwrap();
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let cols: Vec<usize> = ["gx", "gy", "gz"]
+        .iter()
+        .map(|ax| {
+            let name = format!("{ax}_cor_dph");
+            header
+                .iter()
+                .position(|h| *h == name)
+                .expect("a cor column")
+        })
+        .collect();
+    let (mut same, mut rows, mut worst) = (0, 0, 0.0f64);
+    for (i, line) in lines.enumerate() {
+        let cells: Vec<&str> = line.split(',').collect();
+        for (k, &col) in cols.iter().enumerate() {
+            let applied: f64 = cells[col].parse().unwrap();
+            let got = c[i * 3 + k].cor;
+            worst = worst.max((got - applied).abs());
+            same += usize::from(got.to_bits() == applied.to_bits());
+        }
+        rows += 1;
+    }
+    println!(
+        "unit header against driftlab apply: {same} of {} axis samples bit-identical, max \
+         difference {worst:.3e} deg/h",
+        3 * rows
+    );
+    assert_eq!(rows, log.len());
+    assert_eq!(same, 3 * rows);
     // The temperature history is held once: one smoothing buffer and one pair of rings.
     let header = firmware::export_unit(&unit, Format::CHeader, &ExportOptions::default()).unwrap();
     assert_eq!(header.matches("double smooth_buf[").count(), 1);
@@ -241,7 +287,7 @@ fn unit_header_restarts_every_axis_after_a_dropout_as_driftlab() {
     let gapped = with_dropout(&with_dropout(&log, 30_000..30_004), 9_000..9_000 + ten_min);
     let timing = gapped.timing();
     assert_eq!(timing.segments.len(), 3, "{:?}", timing.gaps);
-    let Some(a) = c_unit_agrees(&unit, &gapped) else {
+    let Some((a, _)) = c_unit_agrees(&unit, &gapped) else {
         return;
     };
     assert_eq!(a.identical, a.compared, "{a:?}");
@@ -257,7 +303,7 @@ fn unit_header_with_a_regression_axis_keeps_its_own_corrector_and_agrees() {
     let header = firmware::export_unit(&unit, Format::CHeader, &ExportOptions::default()).unwrap();
     assert!(header.contains("driftlab_gz_state gz;"), "{header}");
     let log = read("imu3-validation.csv");
-    let Some(a) = c_unit_agrees(&unit, &log) else {
+    let Some((a, _)) = c_unit_agrees(&unit, &log) else {
         return;
     };
     assert_eq!(a.identical, a.compared, "{a:?}");
@@ -355,6 +401,61 @@ fn unit_tables_hold_each_axis_curves_at_their_grid_points() {
         .to_string();
     assert!(
         e.contains("gx") && e.contains("gz") && e.contains("--axis"),
+        "{e}"
+    );
+}
+
+#[test]
+fn export_command_writes_the_unit_and_one_axis_of_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let unit = calibrate_unit(dir.path(), &[]);
+    let path = dir.path().join("unit.json");
+    let path = path.to_str().unwrap();
+    let run = |args: &[&str]| {
+        let out = driftlab(&[&["export", path][..], args].concat());
+        assert!(
+            out.status.success(),
+            "{args:?}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        String::from_utf8(out.stdout).unwrap()
+    };
+    let opts = ExportOptions::default();
+    assert_eq!(
+        run(&["--format", "c-header"]),
+        firmware::export_unit(&unit, Format::CHeader, &opts).unwrap()
+    );
+    assert_eq!(
+        run(&["--format", "csv-table"]),
+        firmware::export_unit(&unit, Format::CsvTable, &opts).unwrap()
+    );
+    // One axis alone is that axis's single-axis header.
+    let gy = &unit.axis("gy").unwrap().model;
+    assert_eq!(
+        run(&["--format", "c-header", "--axis", "gy"]),
+        firmware::export_model(gy, Format::CHeader, &opts).unwrap()
+    );
+    let out = driftlab(&["export", path, "--format", "c-header", "--axis", "roll"]);
+    assert!(!out.status.success());
+    let e = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        e.contains("no axis roll") && e.contains("gx, gy, gz"),
+        "{e}"
+    );
+}
+
+#[test]
+fn a_regression_axis_reading_a_second_temperature_is_refused_by_name() {
+    // The unit's push takes one temperature: an axis whose model reads a second sensor cannot
+    // be corrected by it, and the refusal says which axis and how to export it.
+    let dir = tempfile::tempdir().unwrap();
+    // Sukhanov's model reads the chamber's temperature as its second sensor.
+    let unit = calibrate_unit(dir.path(), &["--axis-model", "gz=sukhanov"]);
+    let e = firmware::export_unit(&unit, Format::CHeader, &ExportOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("axis gz") && e.contains("temp_chamber_c") && e.contains("--axis gz"),
         "{e}"
     );
 }
