@@ -129,7 +129,13 @@ struct Agreement {
 fn c_unit_agrees(unit: &UnitCalibration, log: &Log) -> Option<(Agreement, Vec<CSample>)> {
     let header = firmware::export_unit(unit, Format::CHeader, &ExportOptions::default()).unwrap();
     let dir = tempfile::tempdir().unwrap();
-    let exe = compile(dir.path(), &header, [DRIVER_C, OTHER_C], &["-lm"])?;
+    // Vakhrameev axes call no libm function: nothing to link unless a regression axis does.
+    let regression = unit
+        .axes
+        .iter()
+        .any(|a| matches!(a.model, DriftModel::Regression(_)));
+    let libs: &[&str] = if regression { &["-lm"] } else { &[] };
+    let exe = compile(dir.path(), &header, [DRIVER_C, OTHER_C], libs)?;
     let rates = rates(unit, log);
     let mut input = String::new();
     for i in 0..log.len() {
@@ -295,15 +301,33 @@ fn unit_header_restarts_every_axis_after_a_dropout_as_driftlab() {
 
 #[test]
 fn unit_header_with_a_regression_axis_keeps_its_own_corrector_and_agrees() {
-    // gz fitted as a regression model: its corrector lives inside the unit's state, the
-    // Vakhrameev axes share T.
+    // gy (T through a lag) and gz fitted as regression models: each one's corrector lives
+    // inside the unit's state, the Vakhrameev axis gx reads the shared T.
     let dir = tempfile::tempdir().unwrap();
-    let unit = calibrate_unit(dir.path(), &["--axis-model", "gz=poly-t"]);
+    let unit = calibrate_unit(
+        dir.path(),
+        &["--axis-model", "gy=coil-lag", "--axis-model", "gz=poly-t"],
+    );
+    let DriftModel::Regression(gy) = &unit.axes[1].model else {
+        panic!("gy is not a regression axis");
+    };
+    assert!(
+        gy.model.lag_s.is_some_and(|l| l > 0.0),
+        "{:?}",
+        gy.model.lag_s
+    );
     assert!(matches!(unit.axes[2].model, DriftModel::Regression(_)));
     let header = firmware::export_unit(&unit, Format::CHeader, &ExportOptions::default()).unwrap();
+    assert!(header.contains("driftlab_gy_state gy;"), "{header}");
     assert!(header.contains("driftlab_gz_state gz;"), "{header}");
     let log = read("imu3-validation.csv");
     let Some((a, _)) = c_unit_agrees(&unit, &log) else {
+        return;
+    };
+    assert_eq!(a.identical, a.compared, "{a:?}");
+    // After a dropout the regression axes restart their own filters, the shared T its history.
+    let gapped = with_dropout(&log, 9_000..12_000);
+    let Some((a, _)) = c_unit_agrees(&unit, &gapped) else {
         return;
     };
     assert_eq!(a.identical, a.compared, "{a:?}");
