@@ -6,13 +6,17 @@ use driftlab::export::firmware::{self, ExportOptions, Format};
 use driftlab::export::flight::ardupilot::ArduPilotTarget;
 use driftlab::export::flight::px4::{self, Px4Target};
 use driftlab::files::calibration;
+use driftlab::models::{DriftModel, UnitCalibration};
 use std::io::Write;
 use std::path::PathBuf;
 
 /// Arguments of `export`.
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// The calibration (JSON) made by `driftlab calibrate`.
+    /// The calibration (JSON) made by `driftlab calibrate`: one axis, or a unit of several
+    /// (c-header: one header correcting every axis in one push; csv-table: one file, the
+    /// axis's name in its first column; px4-params, ardupilot-parm: the unit's three axes as
+    /// the gyro's X, Y, Z).
     pub calibration: PathBuf,
     /// c-header: one self-contained C99 header with the coefficients and the streaming corrector
     /// (init/reset/push), correcting bit for bit as driftlab does; csv-table: K0(T), K1±(Ṫ) and
@@ -53,6 +57,10 @@ pub struct Args {
     /// px4-params, ardupilot-parm: the calibration of the gyro's Z axis.
     #[arg(long, value_name = "CAL_Z")]
     pub z: Option<PathBuf>,
+    /// A unit's calibration: export this axis alone (by its name), as a single-axis
+    /// calibration of it is exported.
+    #[arg(long, value_name = "NAME")]
+    pub axis: Option<String>,
 }
 
 /// A device id as `inspect` prints it: decimal or `0x` hex.
@@ -110,7 +118,18 @@ pub fn run(a: Args) -> Result<(), CliError> {
     if let Some(out) = &a.out {
         super::common::refuse_overwriting("--out", out, &[("the calibration", &a.calibration)])?;
     }
-    let model = calibration::load_model(&a.calibration).map_err(|e| e.to_string())?;
+    let unit = calibration::load_unit(&a.calibration).map_err(|e| e.to_string())?;
+    if unit.is_unit() {
+        return run_unit(&a, &unit);
+    }
+    if a.axis.is_some() {
+        return Err(format!(
+            "--axis: {} is the calibration of a single axis; --axis picks one axis of a unit",
+            a.calibration.display()
+        )
+        .into());
+    }
+    let model = unit.first()?;
     let opts = a.options()?;
     let fail = |e: firmware::ExportError| format!("{}: {e}", a.calibration.display());
     let text = if a.format.is_flight() {
@@ -123,28 +142,94 @@ pub fn run(a: Args) -> Result<(), CliError> {
             }
         }
         let x_axis = if others.is_empty() { "" } else { "x" };
-        let mut axes = vec![(x_axis, &model)];
+        let mut axes = vec![(x_axis, model)];
         axes.extend(others.iter().map(|(axis, m)| (*axis, m)));
         let file = firmware::flight_axes(&axes, a.format, &opts).map_err(fail)?;
-        for w in &file.warnings {
-            note!("warning: {w}");
-        }
-        for note in &file.notes {
-            note!("note: {note}");
-        }
+        note_flight(&file);
         file.text
     } else {
-        firmware::export_model(&model, a.format, &opts).map_err(fail)?
+        firmware::export_model(model, a.format, &opts).map_err(fail)?
     };
+    let what = if model.gyro_id().is_empty() {
+        model.source().name.clone()
+    } else {
+        model.gyro_id().to_string()
+    };
+    write(&a, &text, &what)
+}
+
+/// `export` of a unit: every axis in one file, or the axis `--axis` names alone.
+fn run_unit(a: &Args, unit: &UnitCalibration) -> Result<(), CliError> {
+    for (given, flag) in [(a.y.is_some(), "--y"), (a.z.is_some(), "--z")] {
+        if given {
+            return Err(format!(
+                "{flag}: {} is a unit of axes {}, which gives the gyro's X, Y and Z itself; \
+                 export it without --y and --z",
+                a.calibration.display(),
+                unit.axis_names().join(", ")
+            )
+            .into());
+        }
+    }
+    let opts = a.options()?;
+    let fail = |e: firmware::ExportError| format!("{}: {e}", a.calibration.display());
+    if let Some(name) = &a.axis {
+        let Some(axis) = unit.axis(name) else {
+            return Err(format!(
+                "--axis {name}: {} has no axis {name} (its axes: {})",
+                a.calibration.display(),
+                unit.axis_names().join(", ")
+            )
+            .into());
+        };
+        let text = one_axis(&axis.model, a.format, &opts).map_err(fail)?;
+        return write(a, &text, &format!("axis {name}"));
+    }
+    let text = if a.format.is_flight() {
+        let file = firmware::flight_unit(unit, a.format, &opts).map_err(fail)?;
+        note_flight(&file);
+        file.text
+    } else {
+        firmware::export_unit(unit, a.format, &opts).map_err(fail)?
+    };
+    write(
+        a,
+        &text,
+        &format!("the unit's axes {}", unit.axis_names().join(", ")),
+    )
+}
+
+/// One model as a single-axis calibration of it is exported.
+fn one_axis(
+    model: &DriftModel,
+    format: Format,
+    opts: &ExportOptions,
+) -> Result<String, firmware::ExportError> {
+    if format.is_flight() {
+        let file = firmware::flight(model, format, opts)?;
+        note_flight(&file);
+        Ok(file.text)
+    } else {
+        firmware::export_model(model, format, opts)
+    }
+}
+
+/// A flight file's warnings and notes, on standard error.
+fn note_flight(file: &driftlab::export::flight::FlightFile) {
+    for w in &file.warnings {
+        note!("warning: {w}");
+    }
+    for note in &file.notes {
+        note!("note: {note}");
+    }
+}
+
+/// Writes `text` to `--out` (atomically) or standard output; `what` names what was exported.
+fn write(a: &Args, text: &str, what: &str) -> Result<(), CliError> {
     match &a.out {
         Some(path) => {
             driftlab::files::atomic::write_bytes(path, text.as_bytes())
                 .map_err(|e| format!("{}: {e}", path.display()))?;
-            let what = if model.gyro_id().is_empty() {
-                model.source().name.clone()
-            } else {
-                model.gyro_id().to_string()
-            };
             note!("{} of {what} written to {}", a.format, path.display());
         }
         None => {

@@ -537,18 +537,31 @@ fn a_ulog_calibrated_and_exported_on_the_command_line_loads_into_px4_as_driftlab
     let csv = std::fs::read_to_string(&applied).unwrap();
     let mut lines = csv.lines().filter(|l| !l.starts_with('#'));
     let header: Vec<&str> = lines.next().unwrap().split(',').collect();
-    let pred_col = header.iter().position(|h| *h == "omega_pred_dph").unwrap();
+    // The ULog's three gyro axes make a unit: each axis's predicted drift against PX4's
+    // offset of the axis its name gives (X carries the curve, Y and Z were still).
+    let pred_cols: Vec<(usize, usize)> = header
+        .iter()
+        .enumerate()
+        .filter_map(|(c, h)| {
+            let axis = h.strip_suffix("_pred_dph")?;
+            Some((c, axis_index(axis).unwrap_or(0)))
+        })
+        .collect();
+    assert_eq!(pred_cols.len(), 3, "{header:?}");
     let (lo, hi) = (p["TC_G0_TMIN"], p["TC_G0_TMAX"]);
     let mut worst = 0.0f64;
     let mut n = 0;
     for (i, line) in lines.enumerate() {
-        let pred: f64 = line.split(',').nth(pred_col).unwrap().parse().unwrap();
+        let cells: Vec<&str> = line.split(',').collect();
         let temp = t[i];
         if temp < lo || temp > hi {
             continue;
         }
-        let fw = f64::from(px4_offset(&p, "TC_G0", 0, temp));
-        worst = worst.max((fw - pred / DPH_PER_RAD_S).abs());
+        for &(c, axis) in &pred_cols {
+            let pred: f64 = cells[c].parse().unwrap();
+            let fw = f64::from(px4_offset(&p, "TC_G0", axis, temp));
+            worst = worst.max((fw - pred / DPH_PER_RAD_S).abs());
+        }
         n += 1;
     }
     eprintln!("{n} samples: worst PX4 offset vs driftlab apply {worst:.3e} rad/s");
@@ -628,4 +641,183 @@ fn three_calibrations_on_the_command_line_make_the_three_axes() {
         e.contains("--y applies to --format px4-params or ardupilot-parm"),
         "{e}"
     );
+}
+
+/// A unit calibration file of `axes` (name, model), written where a user keeps it.
+fn unit_file(dir: &std::path::Path, axes: &[(&str, &DriftModel)]) -> String {
+    let unit = models::UnitCalibration {
+        axes: axes
+            .iter()
+            .map(|&(name, model)| models::AxisModel {
+                name: name.to_string(),
+                rate_column: format!("{name}_dps"),
+                model: model.clone(),
+            })
+            .collect(),
+    };
+    let path = dir.join("unit.json");
+    driftlab::files::calibration::save_unit(&path, &unit).unwrap();
+    path.display().to_string()
+}
+
+#[test]
+fn a_unit_of_three_axes_exports_its_axes_as_the_gyro_x_y_z() {
+    let dir = tempfile::tempdir().unwrap();
+    let curves = [
+        Curve([0.012, 2.1e-4, -3.0e-6, 4.0e-8]),
+        Curve([-0.004, -1.3e-4, 2.0e-6, 0.0]),
+        Curve([0.020, 0.6e-4, 1.0e-6, -2.0e-8]),
+    ];
+    let models: Vec<DriftModel> = curves
+        .iter()
+        .enumerate()
+        .map(|(k, &c)| {
+            fit(
+                &log_of(c, DPH_PER_RAD_S, 0.002, 40 + k as u64),
+                &custom("1,T,T^2,T^3"),
+            )
+        })
+        .collect();
+    // In the unit out of order: the letters the names end with put them in X, Y, Z.
+    let path = unit_file(
+        dir.path(),
+        &[("gz", &models[2]), ("gx", &models[0]), ("gy", &models[1])],
+    );
+    let text = ok(&[
+        "export",
+        &path,
+        "--format",
+        "px4-params",
+        "--device-id",
+        "2424842",
+    ]);
+    let p = px4_file(&text);
+    assert_eq!(p["TC_G0_ID"], 2424842.0);
+    let a = ardupilot_file(&ok(&[
+        "export",
+        &path,
+        "--format",
+        "ardupilot-parm",
+        "--imu",
+        "2",
+    ]));
+    let temps = grid(p["TC_G0_TMIN"], p["TC_G0_TMAX"]);
+    let t64: Vec<f64> = temps.iter().map(|&t| f64::from(t)).collect();
+    let (mut worst_px4, mut worst_ap) = (0.0f64, 0.0f64);
+    for (axis, model) in models.iter().enumerate() {
+        let pred = predict(model, &t64);
+        let at_cal = predict(model, &[30.0])[0] / DPH_PER_RAD_S;
+        let name = ["X", "Y", "Z"][axis];
+        for (i, &t) in temps.iter().enumerate() {
+            let want = pred[i] / DPH_PER_RAD_S;
+            worst_px4 = worst_px4.max((f64::from(px4_offset(&p, "TC_G0", axis, t)) - want).abs());
+            let fw = f64::from(ardupilot_correction(&a, 2, "GYR", name, t, 30.0));
+            worst_ap = worst_ap.max((fw - (want - at_cal)).abs());
+        }
+        // Each axis is its own curve: X is not Y's or Z's.
+        let mid = predict(model, &[35.0])[0] / DPH_PER_RAD_S;
+        assert!((mid - curves[axis].0[0]).abs() < 1e-4, "{axis}: {mid}");
+    }
+    eprintln!(
+        "a unit of three axes: worst firmware vs driftlab PX4 {worst_px4:.3e}, ArduPilot \
+         {worst_ap:.3e} rad/s"
+    );
+    assert!(worst_px4 < 1e-8, "PX4 {worst_px4}");
+    assert!(worst_ap < 1e-8, "ArduPilot {worst_ap}");
+    for axis in ["gx", "gy", "gz"] {
+        assert!(text.contains(&format!("# gyro {axis}: model")), "{text}");
+    }
+    // The unit gives the three axes: --y and --z are refused by name.
+    let e = fails(&[
+        "export",
+        &path,
+        "--y",
+        &path,
+        "--format",
+        "px4-params",
+        "--device-id",
+        "1",
+    ]);
+    assert!(e.contains("--y") && e.contains("gz, gx, gy"), "{e}");
+}
+
+#[test]
+fn a_unit_whose_names_give_no_axis_letter_goes_in_order_and_two_axes_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let curves = [
+        Curve([0.012, 2.1e-4, -3.0e-6, 4.0e-8]),
+        Curve([-0.004, -1.3e-4, 2.0e-6, 0.0]),
+        Curve([0.020, 0.6e-4, 1.0e-6, -2.0e-8]),
+    ];
+    let models: Vec<DriftModel> = curves
+        .iter()
+        .enumerate()
+        .map(|(k, &c)| {
+            fit(
+                &log_of(c, DPH_PER_RAD_S, 0.002, 50 + k as u64),
+                &custom("1,T,T^2,T^3"),
+            )
+        })
+        .collect();
+    let unit = models::UnitCalibration {
+        axes: ["fog1", "fog2", "fog3"]
+            .iter()
+            .zip(&models)
+            .map(|(n, m)| models::AxisModel {
+                name: n.to_string(),
+                rate_column: String::new(),
+                model: m.clone(),
+            })
+            .collect(),
+    };
+    let opts = ExportOptions {
+        px4: Px4Target {
+            gyro_device_id: Some(7),
+            accel_device_id: None,
+            slot: 0,
+        },
+        ..ExportOptions::default()
+    };
+    let file = firmware::flight_unit(&unit, Format::Px4Params, &opts).unwrap();
+    assert!(
+        file.notes.iter().any(|n| n.contains("in their order")),
+        "{:?}",
+        file.notes
+    );
+    let p = px4_file(&file.text);
+    let temps = grid(p["TC_G0_TMIN"], p["TC_G0_TMAX"]);
+    let t64: Vec<f64> = temps.iter().map(|&t| f64::from(t)).collect();
+    for (axis, model) in models.iter().enumerate() {
+        let pred = predict(model, &t64);
+        for (i, &t) in temps.iter().enumerate() {
+            let d = f64::from(px4_offset(&p, "TC_G0", axis, t)) - pred[i] / DPH_PER_RAD_S;
+            assert!(d.abs() < 1e-8, "axis {axis} at {t}: {d}");
+        }
+    }
+    // Two axes: refused, naming what the unit has.
+    let path = unit_file(dir.path(), &[("gx", &models[0]), ("gy", &models[1])]);
+    let px4_args = ["--format", "px4-params", "--device-id", "1"];
+    let ardupilot_args = ["--format", "ardupilot-parm", "--imu", "1"];
+    for (format, args) in [("px4-params", px4_args), ("ardupilot-parm", ardupilot_args)] {
+        let e = fails(&[&["export", path.as_str()][..], &args[..]].concat());
+        assert!(
+            e.contains("2 gyro axes (gx, gy)") && e.contains("three axes"),
+            "{format}: {e}"
+        );
+    }
+    // One axis of it alone, as its single-axis export.
+    let single = ok(&[
+        "export",
+        &path,
+        "--axis",
+        "gy",
+        "--format",
+        "px4-params",
+        "--device-id",
+        "1",
+    ]);
+    let q = px4_file(&single);
+    let pred = predict(&models[1], &[35.0])[0] / DPH_PER_RAD_S;
+    let d = f64::from(px4_offset(&q, "TC_G0", 0, 35.0)) - pred;
+    assert!(d.abs() < 1e-8, "{d}");
 }

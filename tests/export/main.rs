@@ -8,5 +8,6 @@ mod common;
 mod firmware_c_header;
 mod firmware_regression;
 mod firmware_tables;
+mod firmware_unit;
 mod flight_exports;
 mod report;

@@ -145,7 +145,7 @@ fn preamble(h: &mut String, cal: &Calibration, model: &str) {
 }
 
 /// The curve type and its evaluator (every model's coefficients are such curves).
-fn curve_evaluator(h: &mut String) {
+pub(super) fn curve_evaluator(h: &mut String) {
     h.push_str(
         r#"
 /* ---- Curves: one coefficient as a function of one variable ---------------------------- */
@@ -274,7 +274,7 @@ pub(super) fn array(
 
 /// One curve as `driftlab_curve NAME`, with its arrays and a comment saying what it is.
 /// `arg` names the argument and its unit (`"T", "degC"`).
-fn curve(
+pub(super) fn curve(
     h: &mut String,
     name: &str,
     title: &str,
@@ -372,9 +372,54 @@ fn curve(
 /// A regression model has a header of its own ([`super::c_regression`]) with its own preamble,
 /// constants and corrector; only the number formatting and the ring limits are shared.
 pub fn vakhrameev(h: &mut String, cal: &Calibration) -> Result<(), ExportError> {
-    let r = &cal.resolved;
-    let u = &cal.units;
-    h.push_str(&format!(
+    let names = ModelNames::single();
+    regimes(h);
+    model_constants(h, cal, &names)?;
+    regime_fn(h);
+    predict_fn(h, &names);
+    beyond_fn(h);
+    is_outside_fn(h, &names);
+    Ok(())
+}
+
+/// What the identifiers of one Vakhrameev model start with: `driftlab` and `DRIFTLAB` for the
+/// model of a single-axis header, `driftlab_gx` and `DRIFTLAB_GX` for axis `gx` of a unit's
+/// header, where every axis has its own curves beside the others'.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub(super) struct ModelNames {
+    /// Prefix of the curves and functions (`driftlab_gx`).
+    pub lower: String,
+    /// Prefix of the macros (`DRIFTLAB_GX`).
+    pub upper: String,
+    /// What the curves' comments and error messages start with (`axis gx: `), empty for a
+    /// single axis.
+    pub title: String,
+}
+
+impl ModelNames {
+    /// The names of a single-axis header.
+    pub fn single() -> ModelNames {
+        ModelNames {
+            lower: "driftlab".into(),
+            upper: "DRIFTLAB".into(),
+            title: String::new(),
+        }
+    }
+
+    /// `text` with the single-axis header's names of this model's curves and functions put
+    /// under this prefix (the identity for [`ModelNames::single`]).
+    fn rename(&self, text: &str, names: &[&str]) -> String {
+        let mut out = text.to_string();
+        for n in names {
+            out = out.replace(&format!("driftlab_{n}"), &format!("{}_{n}", self.lower));
+        }
+        out
+    }
+}
+
+/// The section's title and the regime codes, shared by every Vakhrameev model of a header.
+pub(super) fn regimes(h: &mut String) {
+    h.push_str(
         r#"
 /* ---- The Vakhrameev model: Omega_pred = K0(T) + K1(Tdot)*Tdot + K2(Tddot)*Tddot ---------- */
 
@@ -382,14 +427,33 @@ pub fn vakhrameev(h: &mut String, cal: &Calibration) -> Result<(), ExportError> 
 #define DRIFTLAB_REGIME_STATIC 0 /* Tdot*Tddot = 0: K0 only */
 #define DRIFTLAB_REGIME_PLUS 1   /* Tdot*Tddot > 0, thermal acceleration: K1+, K2+ */
 #define DRIFTLAB_REGIME_MINUS 2  /* Tdot*Tddot < 0, thermal deceleration: K1-, K2- */
-
-/* Dead-bands of the fit, for the record: points with |Tdot| (|Tddot|) below them were left out
- * of the K1 (K2) fits. The correction does not use them. */
-#define DRIFTLAB_DEADBAND_TDOT {db1}   /* {utd} */
-#define DRIFTLAB_DEADBAND_TDDOT {db2} /* {utdd} */
 "#,
-        db1 = number(r.deadband_tdot, "the Tdot dead-band")?,
-        db2 = number(r.deadband_tddot, "the Tddot dead-band")?,
+    );
+}
+
+/// One model's dead-bands and five curves, under `names`.
+pub(super) fn model_constants(
+    h: &mut String,
+    cal: &Calibration,
+    names: &ModelNames,
+) -> Result<(), ExportError> {
+    let r = &cal.resolved;
+    let u = &cal.units;
+    let upper = &names.upper;
+    h.push_str(&format!(
+        r#"
+/* {title_dead}ead-bands of the fit, for the record: points with |Tdot| (|Tddot|) below them were left out
+ * of the K1 (K2) fits. The correction does not use them. */
+#define {upper}_DEADBAND_TDOT {db1}   /* {utd} */
+#define {upper}_DEADBAND_TDDOT {db2} /* {utdd} */
+"#,
+        title_dead = if names.title.is_empty() {
+            "D".to_string()
+        } else {
+            format!("{}d", comment_text(&names.title))
+        },
+        db1 = number(r.deadband_tdot, &format!("{}the Tdot dead-band", names.title))?,
+        db2 = number(r.deadband_tddot, &format!("{}the Tddot dead-band", names.title))?,
         utd = comment_text(&u.tdot),
         utdd = comment_text(&u.tddot),
     ));
@@ -404,30 +468,30 @@ pub fn vakhrameev(h: &mut String, cal: &Calibration) -> Result<(), ExportError> 
         comment_text(&u.k2),
     );
     let curves = [
-        ("driftlab_k0", "K0(T)", (temp.0, &temp.1), &k0u, &cal.k0),
+        ("k0", "K0(T)", (temp.0, &temp.1), &k0u, &cal.k0),
         (
-            "driftlab_k1_plus",
+            "k1_plus",
             "K1+(Tdot)",
             (tdot.0, &tdot.1),
             &k1u,
             &cal.k1_plus,
         ),
         (
-            "driftlab_k1_minus",
+            "k1_minus",
             "K1-(Tdot)",
             (tdot.0, &tdot.1),
             &k1u,
             &cal.k1_minus,
         ),
         (
-            "driftlab_k2_plus",
+            "k2_plus",
             "K2+(Tddot)",
             (tddot.0, &tddot.1),
             &k2u,
             &cal.k2_plus,
         ),
         (
-            "driftlab_k2_minus",
+            "k2_minus",
             "K2-(Tddot)",
             (tddot.0, &tddot.1),
             &k2u,
@@ -435,8 +499,15 @@ pub fn vakhrameev(h: &mut String, cal: &Calibration) -> Result<(), ExportError> 
         ),
     ];
     for (name, title, (arg, arg_unit), unit, a) in curves {
-        curve(h, name, title, (arg, arg_unit.as_str()), unit, a)?;
+        let name = format!("{}_{name}", names.lower);
+        let title = format!("{}{title}", comment_text(&names.title));
+        curve(h, &name, &title, (arg, arg_unit.as_str()), unit, a)?;
     }
+    Ok(())
+}
+
+/// `driftlab_regime`, shared by every Vakhrameev model of a header.
+pub(super) fn regime_fn(h: &mut String) {
     h.push_str(
         r#"
 /* The regime of a sample with these rates. */
@@ -451,7 +522,13 @@ static inline int driftlab_regime(double tdot_c_s, double tddot_c_s2)
     }
     return DRIFTLAB_REGIME_STATIC;
 }
+"#,
+    );
+}
 
+/// One model's `driftlab_predict`, under `names`.
+pub(super) fn predict_fn(h: &mut String, names: &ModelNames) {
+    let text = r#"
 /* Predicted thermal drift, deg/h, of a sample at temperature temp_c with these rates; its regime
  * goes to *regime when regime is not NULL. */
 static inline double driftlab_predict(double temp_c, double tdot_c_s, double tddot_c_s2,
@@ -472,12 +549,25 @@ static inline double driftlab_predict(double temp_c, double tdot_c_s, double tdd
     }
     return pred;
 }
+"#;
+    h.push_str(&names.rename(text, &["predict", "k0", "k1_", "k2_"]));
+}
 
+/// `driftlab_beyond`, shared by every Vakhrameev model of a header.
+pub(super) fn beyond_fn(h: &mut String) {
+    h.push_str(
+        r#"
 static inline int driftlab_beyond(const driftlab_curve *c, double x)
 {
     return x < c->x_min || x > c->x_max;
 }
+"#,
+    );
+}
 
+/// One model's `driftlab_is_outside`, under `names`.
+pub(super) fn is_outside_fn(h: &mut String, names: &ModelNames) {
+    let text = r#"
 /* 1 when a sample lies beyond what the calibration saw: T outside K0's range, or a rate
  * outside the range of a curve its regime uses (the curve's edge value was held there). */
 static inline int driftlab_is_outside(double temp_c, double tdot_c_s, double tddot_c_s2,
@@ -496,9 +586,8 @@ static inline int driftlab_is_outside(double temp_c, double tdot_c_s, double tdd
     }
     return 0;
 }
-"#,
-    );
-    Ok(())
+"#;
+    h.push_str(&names.rename(text, &["is_outside", "k0", "k1_", "k2_"]));
 }
 
 /// The streaming corrector: T smoothing, the backward differences and the state, calling the

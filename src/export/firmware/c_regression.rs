@@ -168,7 +168,7 @@ fn regression_preamble(h: &mut String, cal: &RegressionCalibration) -> Result<()
 }
 
 /// Terms, coefficients, ranges, knots, delay points and lag of the model.
-fn regression_constants(h: &mut String, m: &RegressionModel) -> Result<(), ExportError> {
+pub(super) fn regression_constants(h: &mut String, m: &RegressionModel) -> Result<(), ExportError> {
     let terms = &m.spec.terms;
     let n_ch = m.channel_names().len();
     h.push_str(&format!(

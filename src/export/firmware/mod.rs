@@ -15,16 +15,25 @@
 //! ranges and settings as comments). [`export_model`] picks by the model. The flight
 //! controllers' parameter files ([`Format::Px4Params`], [`Format::ArdupilotParm`]) are written
 //! by [`crate::export::flight`] from the model's static part, through [`flight`].
+//!
+//! A unit of several gyro axes ([`UnitCalibration::is_unit`]) is written by [`export_unit`]:
+//! one header correcting every axis in one push ([`c_unit`]), one table file with an axis
+//! column ([`csv_unit`]), or a flight controller's file with the unit's three axes as the
+//! gyro's X, Y and Z ([`flight_unit`]). A single-axis calibration goes through the functions
+//! above, unchanged.
 
 mod c_corrector;
 pub mod c_header;
 pub mod c_regression;
+pub mod c_unit;
 pub mod csv_table;
+pub mod csv_unit;
 
 use crate::export::flight::ardupilot::{ArduPilotTarget, ardupilot_parm};
 use crate::export::flight::px4::{Px4Target, px4_params};
 use crate::export::flight::{AxisFit, FlightError, FlightFile, ImuFits};
 use crate::models::fitted::DriftModel;
+use crate::models::unit::UnitCalibration;
 use crate::models::vakhrameev::Calibration;
 use std::fmt;
 use std::str::FromStr;
@@ -236,6 +245,103 @@ pub fn export_model(
             Format::Px4Params | Format::ArdupilotParm => Ok(flight(model, format, opts)?.text),
         },
     }
+}
+
+/// Writes a unit's calibration in `format`; a single-axis calibration (not
+/// [`UnitCalibration::is_unit`]) exactly as [`export_model`] writes its model.
+///
+/// # Errors
+/// As the format's writer; see [`c_unit::c_unit_header`], [`csv_unit::csv_unit`] and
+/// [`flight_unit`].
+pub fn export_unit(
+    unit: &UnitCalibration,
+    format: Format,
+    opts: &ExportOptions,
+) -> Result<String, ExportError> {
+    if !unit.is_unit() {
+        let model = unit
+            .first()
+            .map_err(|e| ExportError::Calibration(e.to_string()))?;
+        return export_model(model, format, opts);
+    }
+    match format {
+        Format::CHeader => c_unit::c_unit_header(unit),
+        Format::CsvTable => {
+            check_points(opts.points)?;
+            csv_unit::csv_unit(unit, opts.points)
+        }
+        Format::Px4Params | Format::ArdupilotParm => Ok(flight_unit(unit, format, opts)?.text),
+    }
+}
+
+/// The table's points checked as [`csv_table::csv_table`] checks them, before any axis.
+fn check_points(points: usize) -> Result<(), ExportError> {
+    if points < 2 {
+        Err(ExportError::TooFewPoints(points))
+    } else if points > MAX_TABLE_POINTS {
+        Err(ExportError::TooManyPoints(points))
+    } else {
+        Ok(())
+    }
+}
+
+/// A unit of three gyro axes as a flight controller's parameter file, the axes as the gyro's
+/// X, Y and Z: by the letter their names end with (`gx`, `gyro_y`) when the three names give
+/// x, y and z, else in the unit's order (and a note says so). A single-axis calibration is
+/// written as [`flight`] writes it.
+///
+/// # Errors
+/// A unit without exactly three axes (naming the axes it has); as [`flight_axes`].
+pub fn flight_unit(
+    unit: &UnitCalibration,
+    format: Format,
+    opts: &ExportOptions,
+) -> Result<FlightFile, ExportError> {
+    if !unit.is_unit() {
+        let model = unit
+            .first()
+            .map_err(|e| ExportError::Calibration(e.to_string()))?;
+        return flight(model, format, opts);
+    }
+    let names = unit.axis_names();
+    if names.len() != 3 {
+        return Err(FlightError::Axes(format!(
+            "the unit has {} gyro {} ({}): {format} holds a gyro's X, Y and Z, so it takes a \
+             unit of three axes",
+            names.len(),
+            if names.len() == 1 { "axis" } else { "axes" },
+            names.join(", ")
+        ))
+        .into());
+    }
+    let by_letter: Vec<Option<usize>> = names
+        .iter()
+        .map(|n| crate::export::flight::axis_index(n))
+        .collect();
+    let distinct = (0..3).all(|k| by_letter.contains(&Some(k)));
+    let labels: Vec<String> = if distinct {
+        names.iter().map(|n| n.to_string()).collect()
+    } else {
+        // The letter first: it is the word that places the axis.
+        names
+            .iter()
+            .zip(["x", "y", "z"])
+            .map(|(n, l)| format!("{l} (axis {n})"))
+            .collect()
+    };
+    let axes: Vec<(&str, &DriftModel)> = labels
+        .iter()
+        .zip(&unit.axes)
+        .map(|(l, a)| (l.as_str(), &a.model))
+        .collect();
+    let mut file = flight_axes(&axes, format, opts)?;
+    if !distinct {
+        file.notes.push(format!(
+            "the unit's axes {} do not name x, y and z: written as X, Y, Z in their order",
+            names.join(", ")
+        ));
+    }
+    Ok(file)
 }
 
 /// A text from a calibration file made safe to quote inside a comment of either format: one
