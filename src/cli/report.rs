@@ -97,7 +97,9 @@ fn run_unit(a: &Args, unit: &UnitCalibration) -> Result<(), CliError> {
     let mut hashes = Vec::with_capacity(a.logs.len());
     for path in &a.logs {
         let input = a.log_args.open(path)?;
-        let log = super::evaluate::read_for_unit(&a.log_args, &input, unit)?;
+        // Every column, as for one axis: the temperature figure draws the log's other
+        // temperatures.
+        let log = a.log_args.read(&input)?;
         super::evaluate::unit_axes(&log, unit, &a.calibration)?;
         for ax in &unit.axes {
             common::check_merit(&merit.for_model(&ax.model), &log)

@@ -10,3 +10,4 @@ mod attack;
 mod commands;
 mod kalibr;
 mod real_logs;
+mod unit_judging;
