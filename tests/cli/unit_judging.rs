@@ -231,6 +231,36 @@ fn compare_gives_every_axis_what_it_gives_that_axis_alone() {
     let one = args(&["--axes", "gz"]);
     assert_eq!(one["axes"].as_array().unwrap().len(), 1);
     assert_eq!(one["axes"][0]["models"], axes[2]["models"]);
+    // The text: a table per axis, then each model's corrected peak-to-peak on every axis, a
+    // ratio below 1 marked, and every other figure worse than raw named below.
+    let text = ok(&[
+        "compare", "--train", &train, "--test", &test, "--models", "poly-t",
+    ]);
+    for axis in AXES {
+        assert!(text.contains(&format!("=== Axis {axis} ===")), "{text}");
+    }
+    let summary = text.split("Summary of every axis").nth(1).unwrap();
+    let poly: Vec<&Value> = axes
+        .iter()
+        .map(|a| &a["models"][1]["logs"][1]["evaluation"])
+        .collect();
+    let p2p_worse = poly
+        .iter()
+        .filter(|e| e["comparison"]["p2p_ratio"].as_f64().unwrap() < 1.0)
+        .count();
+    let held_out = summary.split("(held out)").nth(1).unwrap();
+    let row = held_out
+        .lines()
+        .find(|l| l.trim_start().starts_with("poly-t "))
+        .unwrap();
+    assert_eq!(row.matches("x worse").count(), p2p_worse, "{summary}");
+    let named = held_out
+        .lines()
+        .filter(|l| l.contains("poly-t, axis") && l.contains("worse than raw"))
+        .count();
+    let any_worse = poly.iter().filter(|e| worse_count(e) > 0).count();
+    assert!(any_worse > 0);
+    assert_eq!(named, any_worse, "{summary}");
 }
 
 /// The cells of the unit page's summary row of `axis` in the table of `log`.
