@@ -30,6 +30,10 @@ pub struct Args {
     /// ranges they were read from (atomically).
     #[arg(long, value_name = "OUT.yaml")]
     pub kalibr: Option<PathBuf>,
+    /// The gyro axes to analyse, comma-separated (`gx,gz`, or by rate column or ending letter):
+    /// by default every axis of a log of several (a single `--rate-col` analyses that one).
+    #[arg(long, value_name = "LIST", value_delimiter = ',')]
+    pub axes: Vec<String>,
     /// The IMU's ROS topic in the Kalibr file (default: the topic of a ROS bag or MCAP gyro,
     /// else /imu0).
     #[arg(long, value_name = "TOPIC")]
@@ -63,11 +67,10 @@ pub fn run(a: Args) -> Result<(), CliError> {
         Some(_) => None,
         None => input.rate_series(&read_opts).map_err(|e| e.to_string())?,
     };
-    // The other axes (gyro °/h, accelerometer m/s²) for Kalibr, which takes the noisiest.
-    let mut other_gyro: Vec<(String, Vec<f64>)> = Vec::new();
+    // Every gyro axis (°/h; the one in `omega_dph` first) and the accelerometer axes (m/s²)
+    // for Kalibr, which takes the noisiest; the axes analysed, by position among the gyro's.
     let mut accel: Vec<(String, Vec<f64>)> = Vec::new();
-    let mut axis = "rate".to_string();
-    let (source, rate, tau0_s) = match series {
+    let (source, gyro, tau0_s, chosen) = match series {
         Some(series) => {
             let tau0 = a
                 .tau0
@@ -79,7 +82,15 @@ pub fn run(a: Args) -> Result<(), CliError> {
                         series.source
                     )
                 })?;
-            (series.source, series.omega_dph, tau0)
+            if !a.axes.is_empty() {
+                return Err(format!(
+                    "--axes: {} is one column of rate samples, with no axes to choose",
+                    series.source
+                )
+                .into());
+            }
+            let gyro = vec![("rate".to_string(), series.omega_dph)];
+            (series.source, gyro, tau0, None)
         }
         None => {
             let log = match drone {
@@ -94,21 +105,28 @@ pub fn run(a: Args) -> Result<(), CliError> {
             }
             let step = log.nominal_dt_s();
             let tau0 = a.tau0.unwrap_or(step);
-            axis = log.axis.clone();
-            other_gyro = log
-                .other_axes
-                .into_iter()
-                .map(|x| (x.name, x.omega_dph))
-                .collect();
+            let chosen = axes_to_analyse(&a, &log)?;
             accel = log
                 .extra
                 .into_iter()
                 .filter(|c| c.name.starts_with("accel_") && c.name.ends_with("_m_s2"))
                 .map(|c| (c.name, c.values))
                 .collect();
-            (log.source, log.omega_dph, tau0)
+            let mut gyro = vec![(log.axis, log.omega_dph)];
+            gyro.extend(log.other_axes.into_iter().map(|x| (x.name, x.omega_dph)));
+            (log.source, gyro, tau0, chosen)
         }
     };
+    // `None`: one axis, printed as driftlab always has; else every axis asked, in turn.
+    let several = chosen.is_some();
+    let chosen: Vec<usize> = match chosen {
+        Some(names) => names
+            .iter()
+            .filter_map(|n| gyro.iter().position(|(g, _)| g == n))
+            .collect(),
+        None => vec![0],
+    };
+    let samples = gyro.first().map_or(0, |(_, r)| r.len());
     let opts = AllanOptions {
         tau0_s,
         spacing: if a.all_tau {
@@ -118,16 +136,33 @@ pub fn run(a: Args) -> Result<(), CliError> {
         },
         ..AllanOptions::default()
     };
-    if a.all_tau && rate.len() > 200_000 {
+    if a.all_tau && samples > 200_000 {
         note!(
-            "warning: --all-tau on {} samples computes {} deviations of O(N) each; octave τ \
+            "warning: --all-tau on {} samples computes {} deviations of O(N) each{}; octave τ \
              (the default) takes a fraction of a second",
-            rate.len(),
-            rate.len() / 4
+            samples,
+            samples / 4,
+            if chosen.len() > 1 {
+                format!(", for each of {} axes", chosen.len())
+            } else {
+                String::new()
+            }
         );
     }
-    common::status(&format!("computing the Allan deviation of {source}"));
-    let dev = allan::allan(&rate, &opts).map_err(|e| format!("{source}: {e}"))?;
+    let mut devs: Vec<(usize, AllanDeviation)> = Vec::with_capacity(chosen.len());
+    for &k in &chosen {
+        let (name, rate) = &gyro[k];
+        let dev = if several {
+            common::status(&format!(
+                "computing the Allan deviation of {source}, axis {name}"
+            ));
+            allan::allan(rate, &opts).map_err(|e| format!("{source}: axis {name}: {e}"))?
+        } else {
+            common::status(&format!("computing the Allan deviation of {source}"));
+            allan::allan(rate, &opts).map_err(|e| format!("{source}: {e}"))?
+        };
+        devs.push((k, dev));
+    }
     let noise = if a.json || a.kalibr.is_some() {
         let rostopic = match (&a.rostopic, &ros_topic) {
             (Some(t), _) | (None, Some(t)) => t.clone(),
@@ -142,13 +177,7 @@ pub fn run(a: Args) -> Result<(), CliError> {
             }
         };
         Some(kalibr_noise(
-            &source,
-            &axis,
-            &dev,
-            &other_gyro,
-            &accel,
-            tau0_s,
-            &rostopic,
+            &source, &gyro, &devs, &accel, tau0_s, &rostopic,
         )?)
     } else {
         None
@@ -160,12 +189,97 @@ pub fn run(a: Args) -> Result<(), CliError> {
             .map_err(|e| format!("{}: {e}", path.display()))?;
         note!("Kalibr noise model written to {}", path.display());
     }
+    let Some((_, first)) = devs.first() else {
+        return Err("no gyro axis to analyse".into());
+    };
     if a.json {
-        let mut j = json(&source, &dev);
+        // The first axis analysed at the top, as for a log of one axis; every axis under "axes".
+        let mut j = json(&source, first);
+        if several {
+            j["axes"] = devs
+                .iter()
+                .map(|(k, d)| {
+                    let mut v = json(&source, d);
+                    v["name"] = gyro[*k].0.clone().into();
+                    v
+                })
+                .collect::<Vec<_>>()
+                .into();
+        }
         j["kalibr"] = serde_json::to_value(&noise).map_err(|e| e.to_string())?;
         return common::print_json(&j);
     }
-    print_table(&source, &dev)
+    if !several {
+        return print_table(&source, first);
+    }
+    for (k, d) in &devs {
+        out!("=== Axis {} ===", gyro[*k].0)?;
+        print_table(&source, d)?;
+        out!()?;
+    }
+    print_summary(&source, &gyro, &devs)
+}
+
+/// The axes to analyse: those `--axes` names, every axis of a log of several unless one
+/// `--rate-col` names the one, or `None` for a log of one axis (analysed as always).
+fn axes_to_analyse(a: &Args, log: &driftlab::Log) -> Result<Option<Vec<String>>, CliError> {
+    let names = log.axis_names();
+    if !a.axes.is_empty() {
+        let mut out: Vec<String> = Vec::with_capacity(a.axes.len());
+        for asked in &a.axes {
+            let asked = asked.trim();
+            let Some(name) = log.find_axis(asked) else {
+                return Err(format!(
+                    "--axes {asked}: {} has no such gyro axis (its axes: {})",
+                    log.source,
+                    names.join(", ")
+                )
+                .into());
+            };
+            if out.contains(&name) {
+                return Err(format!("--axes: axis {name} is named twice").into());
+            }
+            out.push(name);
+        }
+        return Ok(Some(out));
+    }
+    Ok((names.len() > 1 && a.log_args.rate_col.len() != 1).then_some(names))
+}
+
+/// One line per axis analysed: its three read-outs.
+fn print_summary(
+    source: &str,
+    gyro: &[(String, Vec<f64>)],
+    devs: &[(usize, AllanDeviation)],
+) -> Result<(), CliError> {
+    out!("{source}: read-outs of every axis analysed")?;
+    out!(
+        "  {:<8} {:>32} {:>32} {:>32}",
+        "axis",
+        "angle random walk",
+        "bias instability",
+        "rate random walk"
+    )?;
+    let cell = |r: &Option<Readout>| match r {
+        Some(r) => format!(
+            "{:.4e} {}{}",
+            r.value,
+            r.unit,
+            if r.extrapolated { " (extr.)" } else { "" }
+        ),
+        None => "none".to_string(),
+    };
+    for (k, d) in devs {
+        let r = &d.readouts;
+        out!(
+            "  {:<8} {:>32} {:>32} {:>32}",
+            gyro[*k].0,
+            cell(&r.arw),
+            cell(&r.bias_instability),
+            cell(&r.rrw)
+        )?;
+    }
+    Ok(())
 }
 
 /// Each named series as borrowed slices.
@@ -173,25 +287,31 @@ fn as_refs(v: &[(String, Vec<f64>)]) -> Vec<(&str, &[f64])> {
     v.iter().map(|(n, x)| (n.as_str(), x.as_slice())).collect()
 }
 
-/// Kalibr's values: the gyro axis analysed (its read-outs as printed) with the log's other
-/// gyro axes and its accelerometer axes.
+/// Kalibr's values: the read-outs of every gyro axis of the log (those analysed as printed,
+/// the others on octave τ) with its accelerometer axes.
 fn kalibr_noise(
     source: &str,
-    axis: &str,
-    dev: &AllanDeviation,
-    other_gyro: &[(String, Vec<f64>)],
+    gyro: &[(String, Vec<f64>)],
+    devs: &[(usize, AllanDeviation)],
     accel: &[(String, Vec<f64>)],
     tau0_s: f64,
     rostopic: &str,
 ) -> Result<kalibr::KalibrNoise, String> {
     let fail = |(name, e): (String, allan::AllanError)| format!("{source}: {name}: {e}");
-    let mut gyro = vec![kalibr::AxisReadouts {
-        axis: axis.to_string(),
-        readouts: dev.readouts.clone(),
-    }];
-    gyro.extend(kalibr::axis_readouts(&as_refs(other_gyro), tau0_s).map_err(fail)?);
+    let mut readouts = Vec::with_capacity(gyro.len());
+    for (k, (name, rate)) in gyro.iter().enumerate() {
+        match devs.iter().find(|(i, _)| *i == k) {
+            Some((_, d)) => readouts.push(kalibr::AxisReadouts {
+                axis: name.clone(),
+                readouts: d.readouts.clone(),
+            }),
+            None => readouts.extend(
+                kalibr::axis_readouts(&[(name.as_str(), rate.as_slice())], tau0_s).map_err(fail)?,
+            ),
+        }
+    }
     let accel = kalibr::axis_readouts(&as_refs(accel), tau0_s).map_err(fail)?;
-    Ok(kalibr::kalibr_noise(&gyro, &accel, tau0_s, rostopic))
+    Ok(kalibr::kalibr_noise(&readouts, &accel, tau0_s, rostopic))
 }
 
 /// The one JSON object: columns of the curve, then the read-outs.

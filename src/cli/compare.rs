@@ -51,6 +51,12 @@ pub struct Args {
     /// Length of the consecutive mean/RMS windows, s.
     #[arg(long, value_name = "S", default_value_t = 600.0)]
     pub window: f64,
+    /// The gyro axes to compare models on, comma-separated (`gx,gz`, or by rate column or
+    /// ending letter): by default every axis of a training log of several (a single
+    /// `--rate-col` compares on that one). Each is fitted on its own and judged on the same
+    /// axis of the test logs.
+    #[arg(long, value_name = "LIST", value_delimiter = ',')]
+    pub axes: Vec<String>,
     /// Print the comparison as JSON.
     #[arg(long)]
     pub json: bool,
@@ -69,8 +75,8 @@ pub fn run(a: Args) -> Result<(), CliError> {
         filter_s: a.filter,
         window_s: a.window,
     };
-    let train = a.log_args.read_path(&a.train)?;
-    let tests = a
+    let mut train = a.log_args.read_path(&a.train)?;
+    let mut tests = a
         .test
         .iter()
         .map(|p| a.log_args.read_path(p))
@@ -86,6 +92,15 @@ pub fn run(a: Args) -> Result<(), CliError> {
         ..Recipe::default()
     };
     recipe.validate().map_err(common::with_option)?;
+    if let Some(axes) = axes_to_compare(&a, &train)? {
+        return run_axes(
+            &a,
+            &mut train,
+            &mut tests,
+            &axes,
+            (&choices, &recipe, &merit),
+        );
+    }
     let reports = compare::compare(&train, &tests, &choices, &recipe, &merit);
     if a.json {
         return common::print_json(&serde_json::json!({
@@ -96,6 +111,163 @@ pub fn run(a: Args) -> Result<(), CliError> {
         }));
     }
     print_tables(&reports, &merit)
+}
+
+/// The axes to compare on: those `--axes` names, every axis of a training log of several
+/// unless one `--rate-col` names the one, or `None` for one axis (compared as always).
+fn axes_to_compare(a: &Args, train: &driftlab::Log) -> Result<Option<Vec<String>>, CliError> {
+    let names = train.axis_names();
+    if !a.axes.is_empty() {
+        let mut out: Vec<String> = Vec::with_capacity(a.axes.len());
+        for asked in &a.axes {
+            let asked = asked.trim();
+            let Some(name) = train.find_axis(asked) else {
+                return Err(format!(
+                    "--axes {asked}: {} has no such gyro axis (its axes: {})",
+                    train.source,
+                    names.join(", ")
+                )
+                .into());
+            };
+            if out.contains(&name) {
+                return Err(format!("--axes: axis {name} is named twice").into());
+            }
+            out.push(name);
+        }
+        return Ok(Some(out));
+    }
+    Ok((names.len() > 1 && a.log_args.rate_col.len() != 1).then_some(names))
+}
+
+/// `compare` on several axes: for each, every model fitted on that axis of the training log
+/// and judged on the same axis of every test log (by name, or by the rate column it was read
+/// from), as the single-axis command does on that axis alone; then a summary of every axis.
+fn run_axes(
+    a: &Args,
+    train: &mut driftlab::Log,
+    tests: &mut [driftlab::Log],
+    axes: &[String],
+    (choices, recipe, merit): (&[ModelChoice], &Recipe, &MeritOptions),
+) -> Result<(), CliError> {
+    let mut per_axis: Vec<(String, Vec<ModelReport>)> = Vec::with_capacity(axes.len());
+    for name in axes {
+        if !train.select_axis(name) {
+            return Err(format!("{}: axis {name} vanished from the log", train.source).into());
+        }
+        let column = train.rate_column().unwrap_or_default();
+        for t in tests.iter_mut() {
+            let found = t.matching_axis(name, &column);
+            if !found.as_deref().is_some_and(|f| t.select_axis(f)) {
+                return Err(format!(
+                    "{}: no gyro axis {name} (column {}) to judge axis {name} of {} on (its \
+                     axes: {})",
+                    t.source,
+                    if column.is_empty() { "?" } else { &column },
+                    train.source,
+                    t.axis_names().join(", ")
+                )
+                .into());
+            }
+        }
+        common::status(&format!(
+            "fitting {} models on axis {name} ...",
+            choices.len()
+        ));
+        per_axis.push((
+            name.clone(),
+            compare::compare(train, tests, choices, recipe, merit),
+        ));
+    }
+    if a.json {
+        // The first axis's models at the top, as for a log of one axis; every axis under
+        // "axes".
+        let axes_json: Vec<serde_json::Value> = per_axis
+            .iter()
+            .map(|(name, reports)| serde_json::json!({ "name": name, "models": reports }))
+            .collect();
+        return common::print_json(&serde_json::json!({
+            "train": a.train,
+            "test": a.test,
+            "options": merit,
+            "models": per_axis.first().map(|(_, r)| r),
+            "axes": axes_json,
+        }));
+    }
+    for (name, reports) in &per_axis {
+        out!("=== Axis {name} ===")?;
+        print_tables(reports, merit)?;
+        out!()?;
+    }
+    print_axes_summary(&per_axis)
+}
+
+/// For every log, one line per model: its corrected peak-to-peak on each axis with the ratio
+/// (marked "worse" below 1). No raw column: each model's figures leave out its own warm-up.
+fn print_axes_summary(per_axis: &[(String, Vec<ModelReport>)]) -> Result<(), CliError> {
+    let Some((_, first_axis)) = per_axis.first() else {
+        return Ok(());
+    };
+    let Some(first) = first_axis.iter().find(|r| r.error.is_none()) else {
+        return Ok(());
+    };
+    out!(
+        "Summary of every axis: corrected peak-to-peak of the filtered drift, deg/h, and \
+         raw/cor (raw over the same samples)"
+    )?;
+    for (k, j) in first.logs.iter().enumerate() {
+        out!()?;
+        out!(
+            "{} ({})",
+            j.log,
+            if j.held_out { "held out" } else { "in-sample" }
+        )?;
+        let mut head = format!("  {:<12}", "model");
+        for (name, _) in per_axis {
+            head.push_str(&format!(" {:>20}", name));
+        }
+        out!("{head}")?;
+        for (m, r) in first_axis.iter().enumerate() {
+            let mut line = format!("  {:<12}", r.model);
+            for (_, reports) in per_axis {
+                let cell = match reports.get(m).filter(|q| q.model == r.model) {
+                    Some(r) if r.error.is_some() => "not fitted".to_string(),
+                    Some(r) => match r.logs.get(k).map(|j| &j.result) {
+                        Some(Outcome::Evaluation(e)) => format!(
+                            "{} {}",
+                            common::figure(e.comparison.corrected.p2p_dph),
+                            common::ratio(e.comparison.p2p_ratio)
+                        ),
+                        Some(Outcome::Error(_)) => "not applied".to_string(),
+                        None => "n/a".to_string(),
+                    },
+                    None => "n/a".to_string(),
+                };
+                line.push_str(&format!(" {cell:>20}"));
+            }
+            out!("{line}")?;
+        }
+        // The figures not in the summary that a model made worse than raw.
+        for r in first_axis.iter().filter(|r| r.error.is_none()) {
+            for (name, reports) in per_axis {
+                let worse = reports
+                    .iter()
+                    .find(|q| q.model == r.model)
+                    .and_then(|q| match q.logs.get(k).map(|j| &j.result) {
+                        Some(Outcome::Evaluation(e)) => Some(e.comparison.worse_than_raw),
+                        _ => None,
+                    })
+                    .filter(|w| w.any());
+                if let Some(w) = worse {
+                    out!(
+                        "  {}, axis {name}: worse than raw: {} (ratio below 1)",
+                        r.model,
+                        w.names().join(", ")
+                    )?;
+                }
+            }
+        }
+    }
+    Ok(())
 }
 
 fn print_tables(reports: &[ModelReport], merit: &MeritOptions) -> Result<(), CliError> {

@@ -1,10 +1,13 @@
 //! `driftlab evaluate`: figures of merit of a log, raw and corrected.
 
 use super::common::{self, CliError, LogArgs};
+use driftlab::Log;
 use driftlab::files::calibration;
-use driftlab::judge::metrics::{Evaluation, MeritOptions};
+use driftlab::judge::metrics::{Comparison, Evaluation, MeritOptions};
+use driftlab::log::ingest::Input;
+use driftlab::models::UnitCalibration;
 use driftlab::models::fitted::DriftModel;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// Arguments of `evaluate`.
 #[derive(clap::Args, Debug)]
@@ -27,26 +30,17 @@ pub struct Args {
 }
 
 pub fn run(a: Args) -> Result<(), CliError> {
-    let model = calibration::load_model(&a.calibration).map_err(|e| e.to_string())?;
+    let unit = calibration::load_unit(&a.calibration).map_err(|e| e.to_string())?;
+    if unit.is_unit() {
+        return run_unit(&a, &unit);
+    }
+    let model = unit.first()?;
     let input = a.log_args.open(&a.log)?;
-    let log = a.log_args.read_for(&input, &model)?;
+    let log = a.log_args.read_for(&input, model)?;
     // The log is the calibration's own when its bytes are (hashed as they were read), or by
     // name for a calibration that recorded no hash.
     let hash = calibration::sha256_input(&input).unwrap_or_default();
-    let in_sample = driftlab::export::report::is_source(model.source(), &a.log, &hash);
-    let default_filter = match &model {
-        DriftModel::Vakhrameev(cal) => cal.recipe.filter_s,
-        DriftModel::Regression(_) => MeritOptions::default().filter_s,
-    };
-    let opts = MeritOptions {
-        filter_s: a.filter.unwrap_or(default_filter),
-        window_s: a.window,
-    };
-    common::check_merit(&opts, &log)?;
-    let correction = model
-        .correct(&log)
-        .map_err(|e| format!("{}: {e}", a.calibration.display()))?;
-    let eval = Evaluation::of_correction(&log, &correction, &opts);
+    let (opts, in_sample, eval) = judge(&a, model, &log, &hash)?;
     if a.json {
         return common::print_json(&serde_json::json!({
             "calibration": a.calibration,
@@ -68,4 +62,258 @@ pub fn run(a: Args) -> Result<(), CliError> {
         }
     )?;
     common::print_evaluation(&eval, opts.window_s)
+}
+
+/// The figures of `model` on `log` (whose bytes hash to `hash`): the merit options (the
+/// calibration's filter unless --filter), whether the log is the calibration's own, and the
+/// evaluation.
+fn judge(
+    a: &Args,
+    model: &DriftModel,
+    log: &Log,
+    hash: &str,
+) -> Result<(MeritOptions, bool, Evaluation), CliError> {
+    let in_sample = driftlab::export::report::is_source(model.source(), &a.log, hash);
+    let default_filter = match model {
+        DriftModel::Vakhrameev(cal) => cal.recipe.filter_s,
+        DriftModel::Regression(_) => MeritOptions::default().filter_s,
+    };
+    let opts = MeritOptions {
+        filter_s: a.filter.unwrap_or(default_filter),
+        window_s: a.window,
+    };
+    common::check_merit(&opts, log)?;
+    let correction = model
+        .correct(log)
+        .map_err(|e| format!("{}: {e}", a.calibration.display()))?;
+    Ok((
+        opts,
+        in_sample,
+        Evaluation::of_correction(log, &correction, &opts),
+    ))
+}
+
+/// The log's axis that each axis of `unit` was calibrated on (by name, or by the rate column
+/// it was read from), in the calibration's order; an axis the log lacks is an error naming
+/// both sides.
+pub(super) fn unit_axes(
+    log: &Log,
+    unit: &UnitCalibration,
+    calibration: &Path,
+) -> Result<Vec<String>, CliError> {
+    let mut columns = Vec::with_capacity(unit.axes.len());
+    for ax in &unit.axes {
+        let Some(name) = log.matching_axis(&ax.name, &ax.rate_column) else {
+            return Err(format!(
+                "{}: no gyro axis {} (column {}) for axis {} of {} (the log's axes: {}); map \
+                 the rate columns with --rate-col",
+                log.source,
+                ax.name,
+                if ax.rate_column.is_empty() {
+                    "?"
+                } else {
+                    &ax.rate_column
+                },
+                ax.name,
+                calibration.display(),
+                log.axis_names().join(", ")
+            )
+            .into());
+        };
+        columns.push(name);
+    }
+    Ok(columns)
+}
+
+/// Reads a log for every axis of `unit`: only the rate and temperature columns when no axis's
+/// model reads anything else.
+pub(super) fn read_for_unit(
+    log_args: &LogArgs,
+    input: &Input,
+    unit: &UnitCalibration,
+) -> Result<Log, CliError> {
+    let plain = unit
+        .axes
+        .iter()
+        .all(|ax| matches!(ax.model.inputs(), (None, c) if c.is_empty()));
+    Ok(if plain {
+        log_args.read_columns(input)?
+    } else {
+        log_args.read(input)?
+    })
+}
+
+/// `evaluate` for a unit: each axis of the calibration judged on the log's axis of the same
+/// name (or rate column), as the single-axis command judges that axis alone, then a summary.
+fn run_unit(a: &Args, unit: &UnitCalibration) -> Result<(), CliError> {
+    let input = a.log_args.open(&a.log)?;
+    let mut log = read_for_unit(&a.log_args, &input, unit)?;
+    let hash = calibration::sha256_input(&input).unwrap_or_default();
+    let columns = unit_axes(&log, unit, &a.calibration)?;
+    let mut judged = Vec::with_capacity(unit.axes.len());
+    for (ax, column) in unit.axes.iter().zip(&columns) {
+        if !log.select_axis(column) {
+            return Err(format!("{}: axis {column} vanished from the log", log.source).into());
+        }
+        let (opts, in_sample, eval) =
+            judge(a, &ax.model, &log, &hash).map_err(|e| in_axis(&ax.name, e))?;
+        judged.push(AxisJudged {
+            name: ax.name.clone(),
+            column: column.clone(),
+            model: ax.model.name().to_string(),
+            opts,
+            in_sample,
+            eval,
+        });
+    }
+    if a.json {
+        let axes: Vec<serde_json::Value> = judged
+            .iter()
+            .map(|j| {
+                serde_json::json!({
+                    "name": j.name,
+                    "log_axis": j.column,
+                    "calibration": a.calibration,
+                    "log": a.log,
+                    "model": j.model,
+                    "in_sample": j.in_sample,
+                    "options": j.opts,
+                    "evaluation": j.eval,
+                })
+            })
+            .collect();
+        return common::print_json(&serde_json::json!({
+            "calibration": a.calibration,
+            "log": a.log,
+            "axes": axes,
+        }));
+    }
+    let in_sample = judged.iter().all(|j| j.in_sample);
+    out!(
+        "{} ({} axes: {}) on {} ({}):",
+        super::calibrate::file_name(&a.calibration),
+        unit.axes.len(),
+        unit.axis_names().join(", "),
+        super::calibrate::file_name(&a.log),
+        if in_sample {
+            "in-sample: the calibration log"
+        } else {
+            "held out: not the calibration log"
+        }
+    )?;
+    for j in &judged {
+        out!()?;
+        out!(
+            "=== Axis {}{} — model {}, filter {} s ===",
+            j.name,
+            if j.column == j.name {
+                String::new()
+            } else {
+                format!(" (log axis {})", j.column)
+            },
+            j.model,
+            common::num(j.opts.filter_s)
+        )?;
+        common::print_evaluation(&j.eval, j.opts.window_s)?;
+    }
+    out!()?;
+    let rows: Vec<SummaryRow> = judged
+        .iter()
+        .map(|j| SummaryRow {
+            axis: &j.name,
+            model: &j.model,
+            comparison: &j.eval.comparison,
+        })
+        .collect();
+    print_summary(
+        &format!(
+            "Unit summary on {} (deg/h; raw -> corrected, raw/cor):",
+            super::calibrate::file_name(&a.log)
+        ),
+        &rows,
+        a.window,
+    )
+}
+
+/// An error of one axis, named with it.
+pub(super) fn in_axis(axis: &str, e: CliError) -> CliError {
+    match e {
+        CliError::Message(m) => CliError::Message(format!("axis {axis}: {m}")),
+        closed => closed,
+    }
+}
+
+/// One axis of a unit judged on the log.
+struct AxisJudged {
+    name: String,
+    /// The log's axis it was judged on.
+    column: String,
+    model: String,
+    opts: MeritOptions,
+    in_sample: bool,
+    eval: Evaluation,
+}
+
+/// One line of a unit's summary table.
+pub(super) struct SummaryRow<'a> {
+    pub(super) axis: &'a str,
+    pub(super) model: &'a str,
+    pub(super) comparison: &'a Comparison,
+}
+
+/// The summary of every axis: raw -> corrected and the ratio of the four figures, a ratio
+/// below 1 marked "worse" (as [`common::ratio`] marks it everywhere), and the axes whose
+/// correction made a figure worse than raw named below the table.
+pub(super) fn print_summary(
+    title: &str,
+    rows: &[SummaryRow<'_>],
+    window_s: f64,
+) -> Result<(), CliError> {
+    let w = driftlab::judge::options::window_label(window_s);
+    out!("{title}")?;
+    out!(
+        "  {:<8} {:<12} {:>28} {:>28} {:>28} {:>28}",
+        "axis",
+        "model",
+        "peak-to-peak",
+        "std",
+        format!("max |{w} mean|"),
+        format!("mean {w} RMS")
+    )?;
+    let cell = |raw: f64, cor: f64, r: f64| {
+        format!(
+            "{} -> {} {}",
+            common::figure(raw),
+            common::figure(cor),
+            common::ratio(r)
+        )
+    };
+    for r in rows {
+        let c = r.comparison;
+        out!(
+            "  {:<8} {:<12} {:>28} {:>28} {:>28} {:>28}",
+            r.axis,
+            r.model,
+            cell(c.raw.p2p_dph, c.corrected.p2p_dph, c.p2p_ratio),
+            cell(c.raw.std_dph, c.corrected.std_dph, c.std_ratio),
+            cell(
+                c.raw.win_mean_max_abs_dph,
+                c.corrected.win_mean_max_abs_dph,
+                c.win_mean_ratio
+            ),
+            cell(
+                c.raw.win_rms_mean_dph,
+                c.corrected.win_rms_mean_dph,
+                c.win_rms_ratio
+            )
+        )?;
+    }
+    for r in rows.iter().filter(|r| r.comparison.worse_than_raw.any()) {
+        out!(
+            "  axis {}: worse than raw: {} (ratio below 1)",
+            r.axis,
+            r.comparison.worse_than_raw.names().join(", ")
+        )?;
+    }
+    Ok(())
 }

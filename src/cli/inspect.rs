@@ -2,6 +2,7 @@
 
 use super::common::{self, CliError, LogArgs};
 use super::log_source;
+use driftlab::log::ColumnRole;
 use driftlab::log::formats::{self, InstanceSummary};
 use driftlab::log::ingest::Input;
 use driftlab::log::read::{self, TempFrom};
@@ -150,6 +151,7 @@ pub fn run(a: Args) -> Result<(), CliError> {
         .fold(0.0f64, |a, v| a.max(v.abs()))
         * 60.0;
     let dt = log.nominal_dt_s();
+    let axes = gyro_axes(&log);
     if a.json {
         return common::print_json(&serde_json::json!({
             "source": log.source,
@@ -165,6 +167,7 @@ pub fn run(a: Args) -> Result<(), CliError> {
             "extra_channels": log.extra.iter().map(|c| &c.name).collect::<Vec<_>>(),
             "axis": log.axis,
             "other_axes": log.other_axes.iter().map(|x| &x.name).collect::<Vec<_>>(),
+            "gyro_axes": axes,
             "plateaus": plateaus,
             "format": drone.as_ref().map(|d| d.format),
             "instances": drone.as_ref().map(|d| &d.instances),
@@ -203,11 +206,21 @@ pub fn run(a: Args) -> Result<(), CliError> {
         out!("    {:>2}  {:<24} {:?}{unit}", c.index, c.name, c.role)?;
     }
     if !log.other_axes.is_empty() {
-        let others: Vec<&str> = log.other_axes.iter().map(|x| x.name.as_str()).collect();
+        let listed: Vec<String> = axes.iter().map(GyroAxis::describe).collect();
+        out!("  gyro axes: {}", listed.join(", "))?;
+        let some = axes
+            .iter()
+            .take(2)
+            .map(|x| x.name.as_str())
+            .collect::<Vec<_>>()
+            .join(",");
         out!(
-            "  gyro axes: {} (the rate the commands use), {} (choose one with --rate-col NAME)",
-            if log.axis.is_empty() { "?" } else { &log.axis },
-            others.join(", ")
+            "    calibrate fits every axis into one unit calibration (--axes {some} chooses some, \
+             --rate-col NAME one alone);"
+        )?;
+        out!(
+            "    evaluate, apply and report take every axis of a unit calibration; allan and \
+             compare analyse every axis (--axes chooses)"
         )?;
     }
     out!(
@@ -275,4 +288,49 @@ pub fn run(a: Args) -> Result<(), CliError> {
         }
     }
     Ok(())
+}
+
+/// One gyro axis of a log as `inspect` lists it.
+#[derive(serde::Serialize)]
+struct GyroAxis {
+    /// The axis's name (`gx`): what `--axes` and a unit calibration call it.
+    name: String,
+    /// The column it is read from (`gx_dps`), empty when the reader recorded none.
+    column: String,
+    /// The unit the column was read in (`deg/s`), converted to deg/h; empty when not known.
+    unit: String,
+}
+
+impl GyroAxis {
+    fn describe(&self) -> String {
+        let unit = if self.unit.is_empty() {
+            String::new()
+        } else {
+            format!(" [{}]", self.unit)
+        };
+        if self.column.is_empty() || self.column == self.name {
+            format!("{}{unit}", self.name)
+        } else {
+            format!("{}{unit} (column {})", self.name, self.column)
+        }
+    }
+}
+
+/// Every gyro axis of `log` (the one in `omega_dph` first) with the column and unit it was
+/// read from.
+fn gyro_axes(log: &driftlab::Log) -> Vec<GyroAxis> {
+    log.axis_names()
+        .into_iter()
+        .map(|name| {
+            let column = log.info.columns.iter().find(|c| {
+                matches!(c.role, ColumnRole::Rate | ColumnRole::OtherAxis)
+                    && log.find_axis(&c.name).as_deref() == Some(name.as_str())
+            });
+            GyroAxis {
+                column: column.map(|c| c.name.clone()).unwrap_or_default(),
+                unit: column.map(|c| c.unit.clone()).unwrap_or_default(),
+                name,
+            }
+        })
+        .collect()
 }

@@ -4,6 +4,7 @@ use super::common::{self, CliError, LogArgs};
 use driftlab::export::report::{self, ReportOptions};
 use driftlab::files::calibration;
 use driftlab::judge::metrics::MeritOptions;
+use driftlab::models::UnitCalibration;
 use std::path::PathBuf;
 
 /// Arguments of `report`.
@@ -29,11 +30,15 @@ pub struct Args {
 }
 
 pub fn run(a: Args) -> Result<(), CliError> {
-    let model = calibration::load_model(&a.calibration).map_err(|e| e.to_string())?;
+    let unit = calibration::load_unit(&a.calibration).map_err(|e| e.to_string())?;
+    if unit.is_unit() {
+        return run_unit(&a, &unit);
+    }
+    let model = unit.first()?;
     let merit = MeritOptions {
         filter_s: a
             .filter
-            .unwrap_or(report::default_merit_for(&model).filter_s),
+            .unwrap_or(report::default_merit_for(model).filter_s),
         window_s: a.window,
     };
     let mut logs = Vec::with_capacity(a.logs.len());
@@ -47,7 +52,7 @@ pub fn run(a: Args) -> Result<(), CliError> {
     }
     common::status(&format!("writing the report into {}", a.out.display()));
     let summary = report::write_model(
-        &model,
+        model,
         &logs,
         &a.out,
         &ReportOptions {
@@ -70,9 +75,86 @@ pub fn run(a: Args) -> Result<(), CliError> {
     for n in &summary.notes {
         out!("note: {n}")?;
     }
-    out!("wrote {} files:", summary.files.len())?;
-    for f in &summary.files {
+    print_files(&summary.files)
+}
+
+fn print_files(files: &[PathBuf]) -> Result<(), CliError> {
+    out!("wrote {} files:", files.len())?;
+    for f in files {
         out!("  {}", f.display())?;
     }
     Ok(())
+}
+
+/// `report` for a unit: every axis judged on the logs' matching axes, one page with a summary
+/// of every axis and a section per axis.
+fn run_unit(a: &Args, unit: &UnitCalibration) -> Result<(), CliError> {
+    let merit = report::UnitMerit {
+        filter_s: a.filter,
+        window_s: a.window,
+    };
+    let mut logs = Vec::with_capacity(a.logs.len());
+    let mut hashes = Vec::with_capacity(a.logs.len());
+    for path in &a.logs {
+        let input = a.log_args.open(path)?;
+        // Every column, as for one axis: the temperature figure draws the log's other
+        // temperatures.
+        let log = a.log_args.read(&input)?;
+        super::evaluate::unit_axes(&log, unit, &a.calibration)?;
+        for ax in &unit.axes {
+            common::check_merit(&merit.for_model(&ax.model), &log)
+                .map_err(|e| super::evaluate::in_axis(&ax.name, e))?;
+        }
+        logs.push((path.clone(), log));
+        hashes.push(calibration::sha256_input(&input).unwrap_or_default());
+    }
+    common::status(&format!(
+        "writing the report of {} axes into {}",
+        unit.axes.len(),
+        a.out.display()
+    ));
+    let summary = report::write_unit(unit, &mut logs, &a.out, merit, Some(hashes))
+        .map_err(|e| e.to_string())?;
+    for (k, (path, _)) in logs.iter().enumerate() {
+        let judged = summary.log(k);
+        let Some((_, first)) = judged.first() else {
+            continue;
+        };
+        out!(
+            "{} ({}): peak-to-peak of filtered drift, deg/h:",
+            super::calibrate::file_name(path),
+            if first.in_sample {
+                "in-sample"
+            } else {
+                "held out"
+            }
+        )?;
+        for (axis, l) in &judged {
+            let c = &l.evaluation.comparison;
+            out!(
+                "  axis {axis:<6} {} -> {} ({})",
+                common::figure(c.raw.p2p_dph),
+                common::figure(c.corrected.p2p_dph),
+                common::ratio(c.p2p_ratio)
+            )?;
+            if c.worse_than_raw.any() {
+                out!(
+                    "    worse than raw: {} (ratio below 1)",
+                    c.worse_than_raw.names().join(", ")
+                )?;
+            }
+        }
+    }
+    let mut notes: Vec<&String> = Vec::new();
+    for ax in &summary.axes {
+        for n in &ax.summary.notes {
+            if !notes.contains(&n) {
+                notes.push(n);
+            }
+        }
+    }
+    for n in notes {
+        out!("note: {n}")?;
+    }
+    print_files(&summary.files)
 }

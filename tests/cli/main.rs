@@ -11,3 +11,4 @@ mod commands;
 mod kalibr;
 mod real_logs;
 mod unit_calibrate;
+mod unit_judging;

@@ -324,7 +324,10 @@ fn three_gyro_axes_and_accelerometers_are_found_without_mapping() {
     let sample = Path::new(env!("CARGO_MANIFEST_DIR")).join("sample_logs/imu3-calibration.csv");
     let text = ok(&["inspect", sample.to_str().unwrap()]);
     assert!(
-        text.contains("gyro axes: gx (the rate the commands use), gy, gz"),
+        text.contains(
+            "gyro axes: gx [deg/s] (column gx_dps), gy [deg/s] (column gy_dps), gz [deg/s] \
+             (column gz_dps)"
+        ),
         "{text}"
     );
     let v = json(&["inspect", sample.to_str().unwrap(), "--json"]);

@@ -85,6 +85,28 @@ figcaption { font-size: 9.5pt; color: #333; margin-top: 0.3em; }
 }
 ";
 
+/// The heading levels of a page's sections: a single-axis page's sections are `h2` (a log's
+/// figures of merit `h3`); in a unit's page each axis is an `h2` and its sections one deeper.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Depth {
+    /// A section (Recipe, Figures, ...).
+    pub(super) section: &'static str,
+    /// A part of a section (one log's figures of merit).
+    pub(super) part: &'static str,
+}
+
+/// The sections of a page of one calibration.
+pub(super) const PAGE: Depth = Depth {
+    section: "h2",
+    part: "h3",
+};
+
+/// The sections of one axis in a unit's page.
+pub(super) const AXIS: Depth = Depth {
+    section: "h3",
+    part: "h4",
+};
+
 pub(super) fn row(out: &mut String, key: &str, value: &str) {
     let _ = writeln!(
         out,
@@ -129,12 +151,21 @@ fn inline_svg(f: &Figure) -> Result<String> {
     ))
 }
 
-fn figure_html(out: &mut String, f: &Figure) -> Result<()> {
-    let name = f
-        .png
-        .file_name()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_default();
+/// A figure inline, its caption naming its PNG by its path from `page_dir` (the folder of the
+/// page: the file's name beside it, `gx/k0.png` for an axis of a unit).
+fn figure_html(out: &mut String, f: &Figure, page_dir: &std::path::Path) -> Result<()> {
+    let name = match f.png.strip_prefix(page_dir) {
+        Ok(rel) if !page_dir.as_os_str().is_empty() => rel
+            .components()
+            .map(|c| c.as_os_str().to_string_lossy().into_owned())
+            .collect::<Vec<_>>()
+            .join("/"),
+        _ => f
+            .png
+            .file_name()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_default(),
+    };
     let _ = writeln!(out, "<figure>");
     out.push_str(&inline_svg(f)?);
     let _ = writeln!(
@@ -147,12 +178,12 @@ fn figure_html(out: &mut String, f: &Figure) -> Result<()> {
     Ok(())
 }
 
-fn merit_table(out: &mut String, l: &LogReport) {
+fn merit_table(out: &mut String, l: &LogReport, d: Depth) {
     let e = &l.evaluation;
     let c = &e.comparison;
     let _ = writeln!(
         out,
-        "<h3>{} {}</h3>\n<p>{} samples, {:.2} h, T {:.1} … {:.1} °C; {} warm-up samples left out, \
+        "<{h}>{} {}</{h}>\n<p>{} samples, {:.2} h, T {:.1} … {:.1} °C; {} warm-up samples left out, \
          {} windows of 10 min; {:.1} % of samples outside the calibrated ranges. SHA-256 <code>{}</code></p>",
         escape(&l.name),
         tag(l.in_sample),
@@ -163,7 +194,8 @@ fn merit_table(out: &mut String, l: &LogReport) {
         e.warmup_samples,
         c.raw.windows,
         e.outside_fraction * 100.0,
-        escape(&l.sha256)
+        escape(&l.sha256),
+        h = d.part
     );
     let _ = writeln!(
         out,
@@ -231,12 +263,7 @@ pub fn page(cal: &Calibration, s: &ReportSummary) -> Result<String> {
     } else {
         &cal.gyro_id
     };
-    let _ = writeln!(
-        o,
-        "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n\
-         <title>Thermal drift calibration report: {}</title>\n<style>{CSS}</style>\n</head>\n<body>",
-        escape(gyro)
-    );
+    head(&mut o, gyro, "");
     let _ = writeln!(
         o,
         "<h1>Thermal drift calibration report</h1>\n<p>Gyro <b class=\"gyro-id\">{}</b>, \
@@ -272,14 +299,33 @@ pub fn page(cal: &Calibration, s: &ReportSummary) -> Result<String> {
     );
     o.push_str("</table>\n");
 
-    merit_section(&mut o, s);
+    vakhrameev_body(&mut o, cal, s, PAGE);
+    figures_and_end(&mut o, s)?;
+    Ok(o)
+}
+
+/// The page's head up to `<body>`, with the styles (and `extra_css` after them).
+pub(super) fn head(o: &mut String, gyro: &str, extra_css: &str) {
+    let _ = writeln!(
+        o,
+        "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n\
+         <title>Thermal drift calibration report: {}</title>\n<style>{CSS}{extra_css}</style>\n</head>\n<body>",
+        escape(gyro)
+    );
+}
+
+/// What a Vakhrameev calibration's page holds after its identity: the figures of merit, the
+/// recipe, the plateaus and the coefficients, its sections at depth `d`.
+pub(super) fn vakhrameev_body(o: &mut String, cal: &Calibration, s: &ReportSummary, d: Depth) {
+    let h = d.section;
+    merit_section(o, s, d);
 
     // Recipe.
     let r = &cal.recipe;
     let res = &cal.resolved;
-    o.push_str("<h2>Recipe</h2>\n<table>\n");
+    let _ = write!(o, "<{h}>Recipe</{h}>\n<table>\n");
     row(
-        &mut o,
+        o,
         "Ω filter",
         &format!(
             "{} s centred moving average ({} samples)",
@@ -287,7 +333,7 @@ pub fn page(cal: &Calibration, s: &ReportSummary) -> Result<String> {
         ),
     );
     row(
-        &mut o,
+        o,
         "T smoothing",
         &format!(
             "{} s causal moving average ({} samples)",
@@ -295,7 +341,7 @@ pub fn page(cal: &Calibration, s: &ReportSummary) -> Result<String> {
         ),
     );
     row(
-        &mut o,
+        o,
         "derivative step H",
         &format!(
             "{} s ({} samples at {} s)",
@@ -303,7 +349,7 @@ pub fn page(cal: &Calibration, s: &ReportSummary) -> Result<String> {
         ),
     );
     row(
-        &mut o,
+        o,
         "dead-band |Ṫ|",
         &format!(
             "{:.4e} °C/s ({})",
@@ -316,7 +362,7 @@ pub fn page(cal: &Calibration, s: &ReportSummary) -> Result<String> {
         ),
     );
     row(
-        &mut o,
+        o,
         "dead-band |T̈|",
         &format!(
             "{:.4e} °C/s² ({})",
@@ -329,19 +375,15 @@ pub fn page(cal: &Calibration, s: &ReportSummary) -> Result<String> {
         ),
     );
     row(
-        &mut o,
+        o,
         "plateaus",
         match &r.plateaus {
             PlateauChoice::Auto(_) => "detected automatically",
             PlateauChoice::Manual { .. } => "given by hand",
         },
     );
-    row(
-        &mut o,
-        "weighting",
-        &format!("{:?}", r.weighting).to_lowercase(),
-    );
-    row(&mut o, "refinement passes", &r.refinements.to_string());
+    row(o, "weighting", &format!("{:?}", r.weighting).to_lowercase());
+    row(o, "refinement passes", &r.refinements.to_string());
     o.push_str("</table>\n");
     let recipe_json = serde_json::to_string_pretty(r).unwrap_or_default();
     let _ = writeln!(
@@ -351,8 +393,9 @@ pub fn page(cal: &Calibration, s: &ReportSummary) -> Result<String> {
     );
 
     // Plateaus.
-    o.push_str(
-        "<h2>Plateaus</h2>\n<table>\n<tr><th>#</th><th>start, s</th><th>end, s</th>\
+    let _ = write!(
+        o,
+        "<{h}>Plateaus</{h}>\n<table>\n<tr><th>#</th><th>start, s</th><th>end, s</th>\
          <th>T, °C</th><th>T spread, °C</th><th>Ω mean, °/h</th><th>Ω std, °/h</th><th>samples</th></tr>\n",
     );
     for (k, p) in cal.plateaus.iter().enumerate() {
@@ -375,8 +418,9 @@ pub fn page(cal: &Calibration, s: &ReportSummary) -> Result<String> {
 
     // Coefficients.
     let u = &cal.units;
-    o.push_str(
-        "<h2>Coefficients</h2>\n<table>\n<tr><th>coefficient</th><th>kind</th>\
+    let _ = write!(
+        o,
+        "<{h}>Coefficients</{h}>\n<table>\n<tr><th>coefficient</th><th>kind</th>\
          <th>fitted range</th><th>beyond it</th><th>n</th><th>RMSE</th><th>R²</th><th>curve</th></tr>\n",
     );
     for (name, a) in cal.approximations() {
@@ -408,49 +452,61 @@ pub fn page(cal: &Calibration, s: &ReportSummary) -> Result<String> {
         );
     }
     o.push_str("</table>\n");
-
-    figures_and_end(&mut o, s)?;
-    Ok(o)
 }
 
 /// The figures of merit of every log.
-pub(super) fn merit_section(o: &mut String, s: &ReportSummary) {
+pub(super) fn merit_section(o: &mut String, s: &ReportSummary, d: Depth) {
     let _ = writeln!(
         o,
-        "<h2>Figures of merit</h2>\n<p>Filtered drift: {:.0}-s centred moving average; mean and \
+        "<{h}>Figures of merit</{h}>\n<p>Filtered drift: {:.0}-s centred moving average; mean and \
          RMS over consecutive {:.0}-s windows. Ratio = raw ÷ corrected (above 1: better). \
          <b>In-sample</b>: fitted and judged on the same log, as the papers do; <b>held out</b>: \
          judged on another log of the same gyro, what matters in service.</p>",
-        s.merit.filter_s, s.merit.window_s
+        s.merit.filter_s,
+        s.merit.window_s,
+        h = d.section
     );
     if s.logs.is_empty() {
         o.push_str("<p>No log was given: the calibration alone is reported.</p>\n");
     }
     for l in &s.logs {
-        merit_table(o, l);
+        merit_table(o, l, d);
     }
 }
 
 /// Every figure, the notes, and the end of the page.
 pub(super) fn figures_and_end(o: &mut String, s: &ReportSummary) -> Result<()> {
-    o.push_str("<h2>Figures</h2>\n");
+    let page_dir = s.html.parent().unwrap_or(std::path::Path::new(""));
+    figures_and_notes(o, s, PAGE, page_dir)?;
+    o.push_str("</body>\n</html>\n");
+    Ok(())
+}
+
+/// Every figure of `s` and its notes, at depth `d`, the figures' files named from `page_dir`.
+pub(super) fn figures_and_notes(
+    o: &mut String,
+    s: &ReportSummary,
+    d: Depth,
+    page_dir: &std::path::Path,
+) -> Result<()> {
+    let h = d.section;
+    let _ = writeln!(o, "<{h}>Figures</{h}>");
     for f in &s.figures {
-        figure_html(o, f)?;
+        figure_html(o, f, page_dir)?;
     }
     for l in &s.logs {
         for f in &l.figures {
-            figure_html(o, f)?;
+            figure_html(o, f, page_dir)?;
         }
     }
 
     if !s.notes.is_empty() {
-        o.push_str("<h2>Notes</h2>\n<ul class=\"notes\">\n");
+        let _ = write!(o, "<{h}>Notes</{h}>\n<ul class=\"notes\">\n");
         for n in &s.notes {
             let _ = writeln!(o, "<li>{}</li>", escape(n));
         }
         o.push_str("</ul>\n");
     }
-    o.push_str("</body>\n</html>\n");
     Ok(())
 }
 

@@ -26,6 +26,10 @@ pub mod figures;
 pub mod html;
 mod log_section;
 mod regression_page;
+mod unit;
+mod unit_page;
+
+pub use unit::{AxisReport, UnitMerit, UnitReportSummary, write_unit};
 
 use crate::error::{Error, Result};
 use crate::files::calibration;
@@ -227,6 +231,17 @@ pub fn write_regression(
     out_dir: &Path,
     opts: &ReportOptions,
 ) -> Result<ReportSummary> {
+    build_regression(cal, logs, out_dir, opts)
+        .and_then(|summary| write_page(summary, |s| html::regression_page(cal, s)))
+}
+
+/// The figures and figures of merit of a regression model's report, without its page.
+fn build_regression(
+    cal: &RegressionCalibration,
+    logs: &[(PathBuf, Log)],
+    out_dir: &Path,
+    opts: &ReportOptions,
+) -> Result<ReportSummary> {
     let merit = opts.merit.unwrap_or_default();
     let (hashes, in_sample) = start(out_dir, logs, opts, &merit, |p, h| {
         is_source(&cal.source, p, h)
@@ -304,7 +319,6 @@ pub fn write_regression(
         })?;
         Ok((correction, Vec::new()))
     })
-    .and_then(|summary| write_page(summary, |s| html::regression_page(cal, s)))
 }
 
 /// Writes the HTML page of a finished summary (atomically) and lists it among the files.
@@ -322,6 +336,29 @@ fn write_page(
 /// Writes the report of `cal` judged on `logs` (each with the path it was read from) into
 /// `out_dir`, creating it. Every file is written atomically.
 pub fn write(
+    cal: &Calibration,
+    logs: &[(PathBuf, Log)],
+    out_dir: &Path,
+    opts: &ReportOptions,
+) -> Result<ReportSummary> {
+    build(cal, logs, out_dir, opts).and_then(|summary| write_page(summary, |s| html::page(cal, s)))
+}
+
+/// The figures and figures of merit of any model's report, without its page.
+fn build_model(
+    model: &DriftModel,
+    logs: &[(PathBuf, Log)],
+    out_dir: &Path,
+    opts: &ReportOptions,
+) -> Result<ReportSummary> {
+    match model {
+        DriftModel::Vakhrameev(cal) => build(cal, logs, out_dir, opts),
+        DriftModel::Regression(r) => build_regression(r, logs, out_dir, opts),
+    }
+}
+
+/// The figures and figures of merit of a Vakhrameev calibration's report, without its page.
+fn build(
     cal: &Calibration,
     logs: &[(PathBuf, Log)],
     out_dir: &Path,
@@ -463,7 +500,6 @@ pub fn write(
         };
         Ok((cal.correct(log), plateaus))
     })
-    .and_then(|summary| write_page(summary, |s| html::page(cal, s)))
 }
 
 /// What both writers start with: the folder made, the figures of merit checked, and each

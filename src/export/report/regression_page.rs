@@ -4,7 +4,7 @@
 //! frame (styles, figures of merit, figures) with it.
 
 use super::ReportSummary;
-use super::html::{CSS, escape, figures_and_end, fmt_num, merit_section, row};
+use super::html::{Depth, PAGE, escape, figures_and_end, fmt_num, head, merit_section, row};
 use crate::error::Result;
 use crate::models::regression::{FitSamples, RegressionCalibration};
 use std::fmt::Write as _;
@@ -44,12 +44,7 @@ pub fn regression_page(cal: &RegressionCalibration, s: &ReportSummary) -> Result
         .map(ToString::to_string)
         .collect::<Vec<_>>()
         .join(" + ");
-    let _ = writeln!(
-        o,
-        "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n\
-         <title>Thermal drift calibration report: {}</title>\n<style>{CSS}</style>\n</head>\n<body>",
-        escape(gyro)
-    );
+    head(&mut o, gyro, "");
     let _ = writeln!(
         o,
         "<h1>Thermal drift calibration report</h1>\n<p>Gyro <b class=\"gyro-id\">{}</b>, \
@@ -90,13 +85,41 @@ pub fn regression_page(cal: &RegressionCalibration, s: &ReportSummary) -> Result
     );
     o.push_str("</table>\n");
 
-    merit_section(&mut o, s);
+    regression_body(&mut o, cal, s, PAGE);
+    figures_and_end(&mut o, s)?;
+    Ok(o)
+}
+
+/// The terms written as a sum.
+pub(super) fn formula(cal: &RegressionCalibration) -> String {
+    cal.model
+        .spec
+        .terms
+        .iter()
+        .map(ToString::to_string)
+        .collect::<Vec<_>>()
+        .join(" + ")
+}
+
+/// What a regression model's page holds after its identity: the figures of merit, the model,
+/// its coefficients, input ranges and searches, its sections at depth `d`.
+pub(super) fn regression_body(
+    o: &mut String,
+    cal: &RegressionCalibration,
+    s: &ReportSummary,
+    d: Depth,
+) {
+    let h = d.section;
+    let m = &cal.model;
+    let spec = &m.spec;
+    let formula = formula(cal);
+    merit_section(o, s, d);
 
     // The model.
-    o.push_str("<h2>Model</h2>\n<table>\n");
-    row(&mut o, "terms", &formula);
+    let _ = write!(o, "<{h}>Model</{h}>\n<table>\n");
+    row(o, "terms", &formula);
     row(
-        &mut o,
+        o,
         "fitted on",
         match spec.samples {
             FitSamples::All => "every sample with a full rate history",
@@ -105,7 +128,7 @@ pub fn regression_page(cal: &RegressionCalibration, s: &ReportSummary) -> Result
         },
     );
     row(
-        &mut o,
+        o,
         "fit statistics",
         &format!(
             "{} samples, RMS residual {} °/h, R² {:.4}",
@@ -115,7 +138,7 @@ pub fn regression_page(cal: &RegressionCalibration, s: &ReportSummary) -> Result
         ),
     );
     row(
-        &mut o,
+        o,
         "self-heating constant λ",
         &match m.lambda_s {
             Some(l) => format!("{} s", fmt_num(l)),
@@ -123,7 +146,7 @@ pub fn regression_page(cal: &RegressionCalibration, s: &ReportSummary) -> Result
         },
     );
     row(
-        &mut o,
+        o,
         "delay τd(T)",
         &if m.delay.points.is_empty() {
             "none".to_string()
@@ -138,7 +161,7 @@ pub fn regression_page(cal: &RegressionCalibration, s: &ReportSummary) -> Result
         },
     );
     row(
-        &mut o,
+        o,
         "lag of T",
         &match m.lag_s {
             Some(l) if m.lag_per_c != 0.0 => format!(
@@ -152,7 +175,7 @@ pub fn regression_page(cal: &RegressionCalibration, s: &ReportSummary) -> Result
     );
     if !m.t_knots.is_empty() {
         row(
-            &mut o,
+            o,
             "pwlT knots",
             &(m.t_knots
                 .iter()
@@ -163,10 +186,10 @@ pub fn regression_page(cal: &RegressionCalibration, s: &ReportSummary) -> Result
         );
     }
     if let Some(t2) = &m.temp2 {
-        row(&mut o, "second temperature sensor (dT = T − T2)", t2);
+        row(o, "second temperature sensor (dT = T − T2)", t2);
     }
     row(
-        &mut o,
+        o,
         "T smoothing, derivative step H",
         &format!(
             "{} s causal moving average, H = {} s, at {} s sampling",
@@ -176,8 +199,9 @@ pub fn regression_page(cal: &RegressionCalibration, s: &ReportSummary) -> Result
     o.push_str("</table>\n");
 
     // Coefficients.
-    o.push_str(
-        "<h2>Coefficients</h2>\n<p>Least-squares coefficients, °/h per unit of their term, \
+    let _ = write!(
+        o,
+        "<{h}>Coefficients</{h}>\n<p>Least-squares coefficients, °/h per unit of their term, \
          ± standard error (white-noise assumption: correlated noise makes the real uncertainty \
          larger).</p>\n<table class=\"coefficients\">\n<tr><th>term</th><th>coefficient</th>\
          <th>± standard error</th><th>what it is</th></tr>\n",
@@ -214,8 +238,9 @@ pub fn regression_page(cal: &RegressionCalibration, s: &ReportSummary) -> Result
     o.push_str("</table>\n");
 
     // Input ranges.
-    o.push_str(
-        "<h2>Input ranges</h2>\n<p>The ranges the inputs were fitted on. Outside them T, ΔT and \
+    let _ = write!(
+        o,
+        "<{h}>Input ranges</{h}>\n<p>The ranges the inputs were fitted on. Outside them T, ΔT and \
          the extra channels are held at the edge value (the curves of them are not \
          extrapolated); Ṫ and T̈ are only flagged (terms are linear in them).</p>\n<table>\n\
          <tr><th>input</th><th>min</th><th>max</th><th>beyond it</th></tr>\n",
@@ -244,8 +269,9 @@ pub fn regression_page(cal: &RegressionCalibration, s: &ReportSummary) -> Result
 
     // Searches.
     if !m.searches.is_empty() {
-        o.push_str(
-            "<h2>Searches</h2>\n<table>\n<tr><th>parameter</th><th>values tried</th>\
+        let _ = write!(
+            o,
+            "<{h}>Searches</{h}>\n<table>\n<tr><th>parameter</th><th>values tried</th>\
              <th>chosen</th><th>RMS residual there, °/h</th><th>note</th></tr>\n",
         );
         for c in &m.searches {
@@ -280,7 +306,4 @@ pub fn regression_page(cal: &RegressionCalibration, s: &ReportSummary) -> Result
         "<p>The model's specification as stored in the calibration file:</p>\n<pre>{}</pre>",
         escape(&spec_json)
     );
-
-    figures_and_end(&mut o, s)?;
-    Ok(o)
 }

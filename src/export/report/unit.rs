@@ -1,0 +1,191 @@
+//! The report of a unit: every gyro axis of one calibration judged on the same logs, in one
+//! page with a summary of every axis at the top.
+//!
+//! Each axis is reported as a single-axis calibration of it would be ([`super::write_model`]:
+//! the same figures and figures of merit, computed by the same code on the log's matching axis,
+//! put into `omega_dph` with [`Log::select_axis`]); its figures go into a folder of its own
+//! (`gx/k0.png`, `gx/drift-LOG.png`, ...) beside the page, since every axis has a K0 and a drift
+//! figure of each log.
+
+use super::{LogReport, ReportOptions, ReportSummary, build_model, calibration, unit_page};
+use crate::error::{Error, Invalid, Result};
+use crate::judge::metrics::MeritOptions;
+use crate::log::Log;
+use crate::models::UnitCalibration;
+use std::path::{Path, PathBuf};
+
+/// How a unit's report computes its figures of merit.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct UnitMerit {
+    /// Moving-average window of the filtered drift, s; `None`: each axis's own, as
+    /// [`super::default_merit_for`] gives it (its recipe's filter, 100 s for a regression model).
+    pub filter_s: Option<f64>,
+    /// Length of the consecutive mean/RMS windows, s.
+    pub window_s: f64,
+}
+
+impl UnitMerit {
+    /// The merit options of an axis whose model is `model`.
+    pub fn for_model(&self, model: &crate::models::DriftModel) -> MeritOptions {
+        MeritOptions {
+            filter_s: self
+                .filter_s
+                .unwrap_or(super::default_merit_for(model).filter_s),
+            window_s: self.window_s,
+        }
+    }
+}
+
+/// One axis of a unit's report.
+#[derive(Debug, Clone)]
+pub struct AxisReport {
+    /// The calibration's name of the axis (`gx`).
+    pub name: String,
+    /// The rate column it was calibrated from (`gx_dps`), empty when not known.
+    pub rate_column: String,
+    /// The model's name.
+    pub model: String,
+    /// The axis of each log it was judged on, in the order of the logs.
+    pub log_axes: Vec<String>,
+    /// Its figures and figures of merit, as a single-axis report of it holds them.
+    pub summary: ReportSummary,
+}
+
+/// What [`write_unit`] wrote.
+#[derive(Debug, Clone)]
+pub struct UnitReportSummary {
+    /// The HTML page.
+    pub html: PathBuf,
+    /// Every file written, the page last.
+    pub files: Vec<PathBuf>,
+    /// Every axis, in the calibration's order.
+    pub axes: Vec<AxisReport>,
+}
+
+impl UnitReportSummary {
+    /// The log reports of every axis for log `k`: (axis name, its report of that log).
+    pub fn log(&self, k: usize) -> Vec<(&str, &LogReport)> {
+        self.axes
+            .iter()
+            .filter_map(|a| a.summary.logs.get(k).map(|l| (a.name.as_str(), l)))
+            .collect()
+    }
+}
+
+/// Writes the report of every axis of `unit` judged on `logs` into `out_dir`, creating it:
+/// each axis's figures in a folder named after it, and one `report.html` with a summary table
+/// of every axis on every log, then a section per axis as the single-axis page has it. Each
+/// log's axes are selected in turn (the logs come back with the last axis in `omega_dph`).
+/// `sha256`: each log's hash, when the caller has it (see [`ReportOptions::sha256`]).
+///
+/// # Errors
+/// A log without an axis of the unit (by name, or by the rate column the axis was read from),
+/// a log lacking a channel a model reads, a file that cannot be written.
+pub fn write_unit(
+    unit: &UnitCalibration,
+    logs: &mut [(PathBuf, Log)],
+    out_dir: &Path,
+    merit: UnitMerit,
+    sha256: Option<Vec<String>>,
+) -> Result<UnitReportSummary> {
+    unit.validate()?;
+    let hashes: Vec<String> = match sha256 {
+        Some(h) if h.len() == logs.len() => h,
+        _ => logs
+            .iter()
+            .map(|(p, _)| calibration::sha256_file(p).unwrap_or_default())
+            .collect(),
+    };
+    // Every log's axis of every axis of the unit, before anything is drawn.
+    let mut log_axes: Vec<Vec<String>> = Vec::with_capacity(unit.axes.len());
+    for ax in &unit.axes {
+        let mut found = Vec::with_capacity(logs.len());
+        for (path, log) in logs.iter() {
+            let Some(name) = log.matching_axis(&ax.name, &ax.rate_column) else {
+                return Err(Error::Invalid(Invalid::new(
+                    format!("axes[{}]", ax.name),
+                    format!(
+                        "{} has no gyro axis {} (column {}) (its axes: {})",
+                        path.display(),
+                        ax.name,
+                        if ax.rate_column.is_empty() {
+                            "?"
+                        } else {
+                            &ax.rate_column
+                        },
+                        log.axis_names().join(", ")
+                    ),
+                )));
+            };
+            found.push(name);
+        }
+        log_axes.push(found);
+    }
+    std::fs::create_dir_all(out_dir).map_err(|e| Error::io(out_dir, e))?;
+    let mut taken: Vec<String> = vec!["report".into()];
+    let mut axes = Vec::with_capacity(unit.axes.len());
+    let mut files = Vec::new();
+    for (ax, found) in unit.axes.iter().zip(log_axes) {
+        for ((_, log), name) in logs.iter_mut().zip(&found) {
+            if !log.select_axis(name) {
+                return Err(Error::Internal(
+                    "an axis found in a log could not be selected",
+                ));
+            }
+        }
+        let folder = out_dir.join(folder_name(&ax.name, &mut taken));
+        let opts = ReportOptions {
+            merit: Some(merit.for_model(&ax.model)),
+            allan: None,
+            sha256: Some(hashes.clone()),
+        };
+        let summary = build_model(&ax.model, logs, &folder, &opts).map_err(|e| match e {
+            Error::Fit(msg) => Error::Fit(format!("axis {}: {msg}", ax.name)),
+            other => other,
+        })?;
+        files.extend(summary.files.iter().cloned());
+        axes.push(AxisReport {
+            name: ax.name.clone(),
+            rate_column: ax.rate_column.clone(),
+            model: ax.model.name().to_string(),
+            log_axes: found,
+            summary,
+        });
+    }
+    let mut report = UnitReportSummary {
+        html: out_dir.join("report.html"),
+        files,
+        axes,
+    };
+    let text = unit_page::page(unit, &report, out_dir)?;
+    crate::files::atomic::write_bytes(&report.html, text.as_bytes())
+        .map_err(|e| Error::io(&report.html, e))?;
+    report.files.push(report.html.clone());
+    Ok(report)
+}
+
+/// A file-name-safe folder name for an axis, unique among `taken`.
+fn folder_name(axis: &str, taken: &mut Vec<String>) -> String {
+    let mut stem: String = axis
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '-' || c == '_' {
+                c
+            } else {
+                '_'
+            }
+        })
+        .take(40)
+        .collect();
+    if stem.is_empty() {
+        stem = "axis".into();
+    }
+    let mut candidate = stem.clone();
+    let mut k = 2;
+    while taken.contains(&candidate) {
+        candidate = format!("{stem}-{k}");
+        k += 1;
+    }
+    taken.push(candidate.clone());
+    candidate
+}
