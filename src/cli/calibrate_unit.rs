@@ -171,7 +171,7 @@ pub fn run(
         }
         None => None,
     };
-    common::status(&format!("fitting {} axes ...", plans.len()));
+    common::status(&format!("fitting {} axes ...", plans.len()).replace("1 axes", "1 axis"));
     let (fitted, sha256) = std::thread::scope(|scope| {
         let sha = scope.spawn(|| calibration::sha256_input(input).map_err(|e| e.to_string()));
         let fitted = models::calibrate_unit(&mut log, &plans, merit);
@@ -275,8 +275,11 @@ pub fn run(
     print_unit_summary(&fitted, &unit, &name, merit.window_s)?;
     out!()?;
     out!(
-        "Calibration of {} axes ({}) written to {}",
-        unit.axes.len(),
+        "Calibration of {} ({}) written to {}",
+        match unit.axes.len() {
+            1 => "1 axis".to_string(),
+            n => format!("{n} axes"),
+        },
         unit.axis_names().join(", "),
         a.out.display()
     )?;
