@@ -25,9 +25,10 @@ pub(super) fn valid_len(n: usize, window: usize) -> usize {
     }
 }
 
-/// Values `from..to` of [`signal::moving_average_valid`](crate::signal::moving_average_valid), passed to `f` in order, with the
-/// running sum started afresh at `from` (so values `0..` are those of one sequential walk, bit
-/// for bit).
+/// Values `from..to` of
+/// [`signal::moving_average_valid`](crate::signal::moving_average_valid), passed to `f` in
+/// order, with the running sum started afresh at `from` (so values `0..` are those of one
+/// sequential walk, bit for bit).
 #[inline]
 pub(super) fn moving_average_segment(
     x: &[f64],
