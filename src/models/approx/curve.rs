@@ -4,7 +4,7 @@
 
 use super::evaluator::edge_line;
 use super::knots::Segments;
-use super::{ApproxKind, FitStats, MAX_KNOTS, MAX_POLY_COEFFS, MIN_KNOT_GAP};
+use super::{ApproxKind, CurveError, FitStats, MAX_KNOTS, MAX_POLY_COEFFS, MIN_KNOT_GAP};
 use serde::{Deserialize, Serialize};
 
 /// The fitted curve, as stored in calibration files.
@@ -86,8 +86,8 @@ impl From<Approx> for ApproxRepr {
 }
 
 impl TryFrom<ApproxRepr> for Approx {
-    type Error = String;
-    fn try_from(r: ApproxRepr) -> Result<Self, String> {
+    type Error = CurveError;
+    fn try_from(r: ApproxRepr) -> Result<Self, CurveError> {
         Approx::new(r.kind, r.curve, r.x_min, r.x_max, r.extrapolate, r.stats)
     }
 }
@@ -116,18 +116,14 @@ impl Approx {
         x_max: f64,
         extrapolate: bool,
         stats: FitStats,
-    ) -> Result<Approx, String> {
+    ) -> Result<Approx, CurveError> {
         if !x_min.is_finite() || !x_max.is_finite() || x_min > x_max {
-            return Err(format!(
-                "invalid x-range [{}, {}]",
-                crate::number::readable(x_min),
-                crate::number::readable(x_max)
-            ));
+            return Err(CurveError::XRange { x_min, x_max });
         }
         let spline = match &curve {
             Curve::Polynomial { coeffs } => {
                 if coeffs.is_empty() || coeffs.iter().any(|c| !c.is_finite()) {
-                    return Err("polynomial coefficients must be finite and non-empty".into());
+                    return Err(CurveError::Coefficients);
                 }
                 None
             }
@@ -216,18 +212,13 @@ impl Approx {
     ///
     /// # Errors
     /// The reason, for the caller to put after the field's name.
-    pub fn check(&self) -> Result<(), String> {
+    pub fn check(&self) -> Result<(), CurveError> {
         match (&self.curve, self.kind) {
             // Any kind may hold a polynomial: a knot kind holds a constant when its points were
             // too few for any curve, and a file may be edited to a higher degree.
             (Curve::Polynomial { coeffs }, _) => {
                 if coeffs.len() > MAX_POLY_COEFFS {
-                    return Err(format!(
-                        "a polynomial has at most {MAX_POLY_COEFFS} coefficients (degree {}), \
-                         this one has {}",
-                        MAX_POLY_COEFFS - 1,
-                        coeffs.len()
-                    ));
+                    return Err(CurveError::TooManyCoefficients { got: coeffs.len() });
                 }
             }
             (Curve::Pwl { .. }, ApproxKind::Pwl)
@@ -238,17 +229,12 @@ impl Approx {
                     Curve::Pwl { .. } => "pwl",
                     Curve::CatmullRom { .. } => "catmull_rom",
                 };
-                return Err(format!(
-                    "the curve is of form {form}, which is not how a {kind} approximation is stored"
-                ));
+                return Err(CurveError::FormOfKind { form, kind });
             }
         }
         let (kx, _) = self.knots();
         if kx.len() > MAX_KNOTS {
-            return Err(format!(
-                "{} knots, more than the {MAX_KNOTS} a knot curve may have",
-                kx.len()
-            ));
+            return Err(CurveError::TooManyKnots { got: kx.len() });
         }
         if let (Some(first), Some(last)) = (kx.first(), kx.last()) {
             let span = last - first;
@@ -257,33 +243,26 @@ impl Approx {
                 .map(|w| w[1] - w[0])
                 .fold(f64::INFINITY, f64::min);
             if !span.is_finite() {
-                return Err(format!(
-                    "knots from {} to {} span more than a number can hold",
-                    crate::number::readable(*first),
-                    crate::number::readable(*last)
-                ));
+                return Err(CurveError::KnotSpan {
+                    first: *first,
+                    last: *last,
+                });
             }
             if gap < MIN_KNOT_GAP * span {
-                return Err(format!(
-                    "two knots are {} apart, less than {MIN_KNOT_GAP:e} of the {} they span",
-                    crate::number::readable(gap),
-                    crate::number::readable(span)
-                ));
+                return Err(CurveError::KnotsTooClose { gap, span });
             }
         }
         if !(self.x_max - self.x_min).is_finite() {
-            return Err(format!(
-                "the range {} .. {} is wider than a number can hold",
-                crate::number::readable(self.x_min),
-                crate::number::readable(self.x_max)
-            ));
+            return Err(CurveError::RangeWidth {
+                x_min: self.x_min,
+                x_max: self.x_max,
+            });
         }
         if !(self.stats.rmse.is_finite() && self.stats.r2.is_finite()) {
-            return Err(format!(
-                "the fit statistics are not numbers (rmse {}, R² {})",
-                crate::number::readable(self.stats.rmse),
-                crate::number::readable(self.stats.r2)
-            ));
+            return Err(CurveError::Stats {
+                rmse: self.stats.rmse,
+                r2: self.stats.r2,
+            });
         }
         Ok(())
     }
@@ -384,15 +363,15 @@ fn poly4(curve: &Curve) -> Option<[f64; 4]> {
     }
 }
 
-fn check_knots(xs: &[f64], ys: &[f64]) -> Result<(), String> {
+fn check_knots(xs: &[f64], ys: &[f64]) -> Result<(), CurveError> {
     if xs.len() < 2 || xs.len() != ys.len() {
-        return Err("a knot curve needs at least 2 knots with one value each".into());
+        return Err(CurveError::KnotCount);
     }
     if xs.iter().chain(ys).any(|v| !v.is_finite()) {
-        return Err("knot positions and values must be finite".into());
+        return Err(CurveError::KnotNotFinite);
     }
     if xs.windows(2).any(|w| w[1] <= w[0]) {
-        return Err("knot positions must be strictly increasing".into());
+        return Err(CurveError::KnotOrder);
     }
     Ok(())
 }

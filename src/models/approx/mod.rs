@@ -17,6 +17,7 @@
 //! bases (`knots`) are in modules of their own.
 
 mod curve;
+mod errors;
 mod evaluator;
 mod fit;
 mod knots;
@@ -24,6 +25,7 @@ mod knots;
 mod tests;
 
 pub use curve::{Approx, Curve, SegmentCubics};
+pub use errors::{CurveError, UnknownApproxKind};
 pub use evaluator::Evaluator;
 pub use fit::{
     CHUNK, FitOptions, PointSource, XRange, fit, fit_weighted, fit_with, fit_with_then, x_range,
@@ -88,16 +90,14 @@ impl fmt::Display for ApproxKind {
 }
 
 impl FromStr for ApproxKind {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
+    type Err = UnknownApproxKind;
+    fn from_str(s: &str) -> Result<Self, UnknownApproxKind> {
         match s.trim().to_ascii_lowercase().as_str() {
             "linear" | "line" => Ok(ApproxKind::Linear),
             "parabolic" | "parabola" | "quadratic" => Ok(ApproxKind::Parabolic),
             "pwl" | "piecewise-linear" | "piecewise_linear" => Ok(ApproxKind::Pwl),
             "spline" | "cubic-spline" | "cubic_spline" => Ok(ApproxKind::Spline),
-            other => Err(format!(
-                "unknown approximation \"{other}\": use linear, parabolic, pwl or spline"
-            )),
+            other => Err(UnknownApproxKind(other.to_string())),
         }
     }
 }

@@ -83,3 +83,50 @@ fn an_evaluator_gives_evals_bits() {
         }
     }
 }
+
+#[test]
+fn unusable_parts_are_refused_with_their_reason() {
+    let stats = FitStats::default();
+    let pwl = |knots_x: Vec<f64>| Curve::Pwl {
+        knots_y: vec![0.0; knots_x.len()],
+        knots_x,
+    };
+    let line = Curve::Polynomial {
+        coeffs: vec![1.0, 2.0],
+    };
+    let e = Approx::new(ApproxKind::Linear, line.clone(), 2.0, 1.0, false, stats).unwrap_err();
+    assert_eq!(
+        e,
+        CurveError::XRange {
+            x_min: 2.0,
+            x_max: 1.0
+        }
+    );
+    assert_eq!(e.to_string(), "invalid x-range [2, 1]");
+    let e = Approx::new(ApproxKind::Pwl, pwl(vec![0.0, 0.0]), 0.0, 1.0, false, stats);
+    assert_eq!(
+        e.unwrap_err().to_string(),
+        "knot positions must be strictly increasing"
+    );
+    let a = Approx::new(
+        ApproxKind::Spline,
+        pwl(vec![0.0, 1.0]),
+        0.0,
+        1.0,
+        false,
+        stats,
+    )
+    .unwrap();
+    assert_eq!(
+        String::from(a.check().unwrap_err()),
+        "the curve is of form pwl, which is not how a spline approximation is stored"
+    );
+    let close = pwl(vec![0.0, 1e-12, 1.0]);
+    let a = Approx::new(ApproxKind::Pwl, close, 0.0, 1.0, false, stats).unwrap();
+    assert!(matches!(a.check(), Err(CurveError::KnotsTooClose { .. })));
+    let e = "cubic".parse::<ApproxKind>().unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "unknown approximation \"cubic\": use linear, parabolic, pwl or spline"
+    );
+}
