@@ -66,21 +66,55 @@ pub(super) struct Located {
     pub(super) count: usize,
 }
 
+/// Why a format message or a type it names cannot be used; the reader puts the byte offset of
+/// the message in front.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub(super) enum FormatError {
+    /// A type defined through itself, or nested past 16 levels.
+    #[error("type {0} nests deeper than 16 levels")]
+    TooDeep(String),
+    /// A type that is neither a scalar nor a format defined before.
+    #[error("type {0} is neither a base type nor a defined format")]
+    UnknownType(String),
+    /// A type larger than the 65 535 bytes of a message.
+    #[error("type {0} is larger than a message can be")]
+    TooLarge(String),
+    /// A format message without the `:` after its name.
+    #[error("format \"{0}\" has no ':'")]
+    NoName(String),
+    /// A field that is not `type name`.
+    #[error("field \"{field}\" of format {format} is not \"type name\"")]
+    Field {
+        /// The field as written.
+        field: String,
+        /// The format it is in.
+        format: String,
+    },
+    /// An array type whose length does not read.
+    #[error("array type \"{ty}\" of format {format} is malformed")]
+    Array {
+        /// The type as written.
+        ty: String,
+        /// The format it is in.
+        format: String,
+    },
+}
+
 /// The size of a type of the format language, nested formats included.
 pub(super) fn type_size(
     ty: &str,
     formats: &HashMap<String, Vec<FieldDef>>,
     depth: usize,
-) -> Result<usize, String> {
+) -> Result<usize, FormatError> {
     if let Some(b) = Base::parse(ty) {
         return Ok(b.size());
     }
     if depth > 16 {
-        return Err(format!("type {ty} nests deeper than 16 levels"));
+        return Err(FormatError::TooDeep(ty.to_string()));
     }
     let fields = formats
         .get(ty)
-        .ok_or_else(|| format!("type {ty} is neither a base type nor a defined format"))?;
+        .ok_or_else(|| FormatError::UnknownType(ty.to_string()))?;
     let mut sum = 0usize;
     for f in fields {
         let s = type_size(&f.ty, formats, depth + 1)?;
@@ -88,27 +122,31 @@ pub(super) fn type_size(
             .checked_mul(f.count)
             .and_then(|x| x.checked_add(sum))
             .filter(|&x| x <= usize::from(u16::MAX))
-            .ok_or_else(|| format!("type {ty} is larger than a message can be"))?;
+            .ok_or_else(|| FormatError::TooLarge(ty.to_string()))?;
     }
     Ok(sum)
 }
 
 /// Parses `name:type a;type[3] b;`.
-pub(super) fn parse_format(text: &str) -> Result<(String, Vec<FieldDef>), String> {
+pub(super) fn parse_format(text: &str) -> Result<(String, Vec<FieldDef>), FormatError> {
     let (name, rest) = text
         .split_once(':')
-        .ok_or_else(|| format!("format \"{text}\" has no ':'"))?;
+        .ok_or_else(|| FormatError::NoName(text.to_string()))?;
     let mut fields = Vec::new();
     for part in rest.split(';').filter(|p| !p.is_empty()) {
-        let (ty, fname) = part
-            .split_once(' ')
-            .ok_or_else(|| format!("field \"{part}\" of format {name} is not \"type name\""))?;
+        let (ty, fname) = part.split_once(' ').ok_or_else(|| FormatError::Field {
+            field: part.to_string(),
+            format: name.to_string(),
+        })?;
         let (ty, count) = match ty.split_once('[') {
             Some((t, n)) => {
                 let n = n
                     .strip_suffix(']')
                     .and_then(|n| n.parse::<usize>().ok())
-                    .ok_or_else(|| format!("array type \"{ty}\" of format {name} is malformed"))?;
+                    .ok_or_else(|| FormatError::Array {
+                        ty: ty.to_string(),
+                        format: name.to_string(),
+                    })?;
                 (t, n)
             }
             None => (ty, 1),

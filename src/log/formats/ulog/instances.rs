@@ -9,6 +9,18 @@ use crate::log::formats::recording::{
     median_step, nearest_within,
 };
 
+/// Why a subscription gives no gyro instance: a field it lacks. The reader notes it after the
+/// subscription's name and leaves the instance out.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+enum Missing {
+    /// No integer `timestamp`.
+    #[error("it has no integer timestamp")]
+    Timestamp,
+    /// No float field of that name.
+    #[error("it has no float field {0}")]
+    Float(String),
+}
+
 /// Turns the subscriptions into gyro instances.
 pub(super) fn assemble(subs: Vec<Sub>, problems: &mut Vec<Problem>) -> Vec<GyroInstance> {
     let mut gyros: Vec<&Sub> = subs.iter().filter(|s| s.topic == "sensor_gyro").collect();
@@ -34,11 +46,8 @@ pub(super) fn assemble(subs: Vec<Sub>, problems: &mut Vec<Problem>) -> Vec<GyroI
     out
 }
 
-fn axes(s: &Sub, names: [(&str, usize); 3]) -> Result<Axes, String> {
-    let get = |(n, k): (&str, usize)| {
-        s.values(n, k)
-            .ok_or_else(|| format!("it has no float field {n}"))
-    };
+fn axes(s: &Sub, names: [(&str, usize); 3]) -> Result<Axes, Missing> {
+    let get = |(n, k): (&str, usize)| s.values(n, k).ok_or_else(|| Missing::Float(n.to_string()));
     Ok(Axes {
         xyz: [get(names[0])?, get(names[1])?, get(names[2])?],
     })
@@ -49,11 +58,9 @@ fn gyro_instance(
     accels: &[&Sub],
     statuses: &[&Sub],
     index: usize,
-) -> Result<GyroInstance, String> {
+) -> Result<GyroInstance, Missing> {
     let n = g.count();
-    let time = g
-        .integers("timestamp")
-        .ok_or("it has no integer timestamp")?;
+    let time = g.integers("timestamp").ok_or(Missing::Timestamp)?;
     let sample = g.integers("timestamp_sample");
     let device = g.integers("device_id").and_then(|v| v.first().copied());
     let gyro = axes(g, [("x", 0), ("y", 0), ("z", 0)])?;
@@ -137,11 +144,9 @@ fn gyro_instance(
     })
 }
 
-fn combined_instance(c: &Sub, index: usize) -> Result<GyroInstance, String> {
+fn combined_instance(c: &Sub, index: usize) -> Result<GyroInstance, Missing> {
     let n = c.count();
-    let time = c
-        .integers("timestamp")
-        .ok_or("it has no integer timestamp")?;
+    let time = c.integers("timestamp").ok_or(Missing::Timestamp)?;
     let gyro = axes(c, [("gyro_rad", 0), ("gyro_rad", 1), ("gyro_rad", 2)])?;
     let accel = axes(
         c,

@@ -96,7 +96,8 @@ impl State {
                 b'F' => {
                     let text = std::str::from_utf8(body)
                         .map_err(|_| Broken::at(at, "a format message is not text"))?;
-                    let (name, fields) = parse_format(text).map_err(|m| Broken::at(at, m))?;
+                    let (name, fields) =
+                        parse_format(text).map_err(|e| Broken::at(at, e.to_string()))?;
                     self.formats.insert(name, fields);
                 }
                 b'A' => self.subscribe(body, at)?,
@@ -154,7 +155,8 @@ impl State {
         let mut offset = 0usize;
         let mut need = 0usize;
         for f in fields {
-            let s = type_size(&f.ty, &self.formats, 0).map_err(|m| Broken::at(at, m))?;
+            let s =
+                type_size(&f.ty, &self.formats, 0).map_err(|e| Broken::at(at, e.to_string()))?;
             if !f.name.starts_with("_padding") {
                 need = offset + s * f.count;
             }
