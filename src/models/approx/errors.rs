@@ -65,7 +65,7 @@ pub enum CurveError {
         /// The last knot.
         last: f64,
     },
-    /// Two knots closer than [`MIN_KNOT_GAP`] of the span of all knots.
+    /// Two knots closer than a billionth (`MIN_KNOT_GAP`) of the span of all knots.
     #[error(
         "two knots are {} apart, less than {:e} of the {} they span",
         readable(*.gap),
