@@ -17,6 +17,8 @@
 
 use serde::{Deserialize, Serialize};
 
+use crate::error::Invalid;
+
 use super::profile::GyroParams;
 
 /// How one gyro axis of a multi-axis unit answers the shared thermal field, and its noise.
@@ -93,11 +95,15 @@ impl AxisParams {
 
     /// Checks the name (letters and digits, so that it can be part of a column name) and every
     /// constant, with a sentence naming the axis and the constant.
-    pub fn check(&self) -> Result<(), String> {
+    pub fn check(&self) -> Result<(), Invalid> {
         check_name("axis", &self.name)?;
-        self.gyro(&GyroParams::default())
-            .check()
-            .map_err(|e| format!("axis {}: {}", self.name, e.replacen("gyro.", "", 1)))
+        self.gyro(&GyroParams::default()).check().map_err(|e| {
+            let constant = e.field.strip_prefix("gyro.").unwrap_or(&e.field);
+            Invalid::new(
+                format!("axis {}", self.name),
+                format!("{constant} {}", e.reason),
+            )
+        })
     }
 }
 
@@ -115,10 +121,11 @@ impl AxisParams {
 ///
 /// # Errors
 /// When `n` is not 1, 2 or 3.
-pub fn default_axes(n: usize) -> Result<Vec<AxisParams>, String> {
+pub fn default_axes(n: usize) -> Result<Vec<AxisParams>, Invalid> {
     if !(1..=3).contains(&n) {
-        return Err(format!(
-            "--axes takes 1, 2 or 3 (x, y, z), got {n}; a profile file can list more axes"
+        return Err(Invalid::new(
+            "--axes",
+            format!("takes 1, 2 or 3 (x, y, z), got {n}; a profile file can list more axes"),
         ));
     }
     let x = AxisParams::of_gyro("x", &GyroParams::default());
@@ -186,7 +193,7 @@ impl AccelParams {
     }
 
     /// Checks the name and the constants, with a sentence naming the one that is wrong.
-    pub fn check(&self) -> Result<(), String> {
+    pub fn check(&self) -> Result<(), Invalid> {
         check_name("accelerometer", &self.name)?;
         for (what, v) in [
             ("gravity_g", self.gravity_g),
@@ -195,22 +202,28 @@ impl AccelParams {
             ("scale_tempco_per_c", self.scale_tempco_per_c),
         ] {
             if !v.is_finite() {
-                return Err(format!(
-                    "accelerometer {}: {what} must be a finite number, got {v}",
-                    self.name
+                return Err(Invalid::new(
+                    format!("accelerometer {}", self.name),
+                    format!("{what} must be a finite number, got {v}"),
                 ));
             }
         }
         if !(self.noise_g_per_sqrt_hz.is_finite() && self.noise_g_per_sqrt_hz >= 0.0) {
-            return Err(format!(
-                "accelerometer {}: noise_g_per_sqrt_hz must be zero or positive, got {}",
-                self.name, self.noise_g_per_sqrt_hz
+            return Err(Invalid::new(
+                format!("accelerometer {}", self.name),
+                format!(
+                    "noise_g_per_sqrt_hz must be zero or positive, got {}",
+                    self.noise_g_per_sqrt_hz
+                ),
             ));
         }
         if !(self.resolution_g.is_finite() && self.resolution_g > 0.0) {
-            return Err(format!(
-                "accelerometer {}: resolution_g must be a positive number, got {}",
-                self.name, self.resolution_g
+            return Err(Invalid::new(
+                format!("accelerometer {}", self.name),
+                format!(
+                    "resolution_g must be a positive number, got {}",
+                    self.resolution_g
+                ),
             ));
         }
         Ok(())
@@ -239,10 +252,11 @@ pub fn default_accelerometers() -> Vec<AccelParams> {
     ]
 }
 
-fn check_name(what: &str, name: &str) -> Result<(), String> {
+fn check_name(what: &str, name: &str) -> Result<(), Invalid> {
     if name.is_empty() || !name.chars().all(|c| c.is_ascii_alphanumeric()) {
-        return Err(format!(
-            "{what} name {name:?} must be letters and digits (it becomes part of a column name)"
+        return Err(Invalid::new(
+            format!("{what} name {name:?}"),
+            "must be letters and digits (it becomes part of a column name)",
         ));
     }
     Ok(())
@@ -258,12 +272,17 @@ mod tests {
         let axes = default_axes(3).unwrap();
         assert_eq!(axes[0].gyro(&g), g);
         assert!(axes.iter().all(|a| a.check().is_ok()));
-        assert!(default_axes(4).unwrap_err().contains("--axes"));
+        assert_eq!(default_axes(4).unwrap_err().field, "--axes");
         let bad = AxisParams {
             name: "x y".into(),
             ..axes[0].clone()
         };
-        assert!(bad.check().unwrap_err().contains("letters and digits"));
+        assert!(
+            bad.check()
+                .unwrap_err()
+                .reason
+                .contains("letters and digits")
+        );
         let bad = AxisParams {
             bias_correlation_s: 0.0,
             ..axes[1].clone()
@@ -271,7 +290,8 @@ mod tests {
         assert!(
             bad.check()
                 .unwrap_err()
-                .contains("axis y: bias_correlation_s")
+                .to_string()
+                .starts_with("axis y: bias_correlation_s must be a positive number")
         );
         assert!(default_accelerometers().iter().all(|a| a.check().is_ok()));
     }

@@ -12,6 +12,8 @@ use std::fmt;
 use std::io::Write;
 use std::str::FromStr;
 
+use super::UnknownChoice;
+use crate::error::Invalid;
 use crate::log::ingest::{RateUnit, TimeUnit};
 
 /// Counts per °C of the raw temperature register (`--raw-temp-col`).
@@ -53,18 +55,19 @@ pub enum RateNames {
 }
 
 impl FromStr for RateNames {
-    type Err = String;
-    fn from_str(s: &str) -> Result<RateNames, String> {
+    type Err = UnknownChoice;
+    fn from_str(s: &str) -> Result<RateNames, UnknownChoice> {
         Ok(match s.trim().to_ascii_lowercase().as_str() {
             "omega" => RateNames::Omega,
             "g" => RateNames::G,
             "w" => RateNames::W,
             "gyro" => RateNames::Gyro,
             other => {
-                return Err(format!(
-                    "unknown rate names {other:?}: use omega (omega_dph), g (gx_dps), w (wx_dps) \
-                     or gyro (gyro_x_dps)"
-                ));
+                return Err(UnknownChoice {
+                    what: "rate names",
+                    given: other.to_string(),
+                    known: "omega (omega_dph), g (gx_dps), w (wx_dps) or gyro (gyro_x_dps)",
+                });
             }
         })
     }
@@ -91,15 +94,17 @@ pub enum DialectPreset {
 }
 
 impl FromStr for DialectPreset {
-    type Err = String;
-    fn from_str(s: &str) -> Result<DialectPreset, String> {
+    type Err = UnknownChoice;
+    fn from_str(s: &str) -> Result<DialectPreset, UnknownChoice> {
         match s.trim().to_ascii_lowercase().as_str() {
             "driftlab" => Ok(DialectPreset::Driftlab),
             "stand" => Ok(DialectPreset::Stand),
-            other => Err(format!(
-                "unknown dialect {other:?}: use driftlab (time_s,omega_dph,... in °/h) or \
-                 stand (time_ms;gx_dps;gy_dps;gz_dps;... in deg/s, decimal comma)"
-            )),
+            other => Err(UnknownChoice {
+                what: "dialect",
+                given: other.to_string(),
+                known: "driftlab (time_s,omega_dph,... in °/h) or stand \
+                        (time_ms;gx_dps;gy_dps;gz_dps;... in deg/s, decimal comma)",
+            }),
         }
     }
 }
@@ -174,29 +179,35 @@ impl CsvDialect {
     }
 
     /// Checks that the dialect can be written and read back unambiguously.
-    pub fn check(&self) -> Result<(), String> {
+    pub fn check(&self) -> Result<(), Invalid> {
         if ![',', ';', '\t'].contains(&self.separator) {
-            return Err(format!(
-                "--separator: the simulator writes comma, semicolon or tab, not {:?}",
-                self.separator
+            return Err(Invalid::new(
+                "--separator",
+                format!(
+                    "the simulator writes comma, semicolon or tab, not {:?}",
+                    self.separator
+                ),
             ));
         }
         if self.decimal_comma && self.separator == ',' {
-            return Err(
-                "--decimal-mark comma needs another --separator than the comma (semicolon or tab)"
-                    .into(),
-            );
+            return Err(Invalid::new(
+                "--decimal-mark comma",
+                "needs another --separator than the comma (semicolon or tab)",
+            ));
         }
         if !matches!(self.time_unit, TimeUnit::Seconds | TimeUnit::Millis) {
-            return Err(format!(
-                "--time-unit: the simulator writes time in s or ms, not {}",
-                self.time_unit
+            return Err(Invalid::new(
+                "--time-unit",
+                format!(
+                    "the simulator writes time in s or ms, not {}",
+                    self.time_unit
+                ),
             ));
         }
         if let Some(s) = &self.stand
             && s.contains(['\n', '\r'])
         {
-            return Err("the stand line must be one line".into());
+            return Err(Invalid::new("stand", "the stand line must be one line"));
         }
         Ok(())
     }
@@ -302,25 +313,29 @@ pub fn separator_arg(c: char) -> &'static str {
 }
 
 /// Reads `--separator`: `comma` or `,`, `semicolon` or `;`, `tab`.
-pub fn parse_separator(s: &str) -> Result<char, String> {
+pub fn parse_separator(s: &str) -> Result<char, UnknownChoice> {
     match s.trim() {
         "," | "comma" => Ok(','),
         ";" | "semicolon" => Ok(';'),
         "\t" | "\\t" | "tab" => Ok('\t'),
-        other => Err(format!(
-            "unknown separator {other:?}: use comma, semicolon or tab"
-        )),
+        other => Err(UnknownChoice {
+            what: "separator",
+            given: other.to_string(),
+            known: "comma, semicolon or tab",
+        }),
     }
 }
 
 /// Reads `--decimal-mark`: `point` or `comma`; true for a comma.
-pub fn parse_decimal_mark(s: &str) -> Result<bool, String> {
+pub fn parse_decimal_mark(s: &str) -> Result<bool, UnknownChoice> {
     match s.trim() {
         "point" | "." => Ok(false),
         "comma" | "," => Ok(true),
-        other => Err(format!(
-            "unknown decimal mark {other:?}: use point or comma"
-        )),
+        other => Err(UnknownChoice {
+            what: "decimal mark",
+            given: other.to_string(),
+            known: "point or comma",
+        }),
     }
 }
 
@@ -496,6 +511,6 @@ mod tests {
             separator: ',',
             ..CsvDialect::stand()
         };
-        assert!(bad.check().unwrap_err().contains("--decimal-mark"));
+        assert_eq!(bad.check().unwrap_err().field, "--decimal-mark comma");
     }
 }

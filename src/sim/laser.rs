@@ -52,6 +52,7 @@ use super::noise::{self, GaussMarkov, GyroNoise, Sensor};
 use super::profile::{GyroParams, Profile};
 use super::run::{AxisSample, LaserSample, Sample};
 use super::thermal::{Program, lag_step};
+use crate::error::Invalid;
 
 /// The constants of the simulated ring laser gyro (see the module doc for the equations).
 ///
@@ -213,7 +214,7 @@ impl LaserParams {
     }
 
     /// Checks that every constant is usable, with a sentence naming the one that is not.
-    pub fn check(&self) -> Result<(), String> {
+    pub fn check(&self) -> Result<(), Invalid> {
         let positive = [
             ("housing_tau_s", self.housing_tau_s),
             ("base_tau_s", self.base_tau_s),
@@ -232,7 +233,10 @@ impl LaserParams {
         ];
         for (name, v) in positive {
             if !(v.is_finite() && v > 0.0) {
-                return Err(format!("laser.{name} must be a positive number, got {v}"));
+                return Err(Invalid::new(
+                    format!("laser.{name}"),
+                    format!("must be a positive number, got {v}"),
+                ));
             }
         }
         let finite = [
@@ -264,7 +268,10 @@ impl LaserParams {
         ];
         for (name, v) in finite {
             if !v.is_finite() {
-                return Err(format!("laser.{name} must be a finite number, got {v}"));
+                return Err(Invalid::new(
+                    format!("laser.{name}"),
+                    format!("must be a finite number, got {v}"),
+                ));
             }
         }
         let non_negative = [
@@ -277,14 +284,20 @@ impl LaserParams {
         ];
         for (name, v) in non_negative {
             if !(v.is_finite() && v >= 0.0) {
-                return Err(format!("laser.{name} must be zero or positive, got {v}"));
+                return Err(Invalid::new(
+                    format!("laser.{name}"),
+                    format!("must be zero or positive, got {v}"),
+                ));
             }
         }
         if self.dither_drive_step_arcsec >= self.dither_band_arcsec {
-            return Err(format!(
-                "laser.dither_drive_step_arcsec ({}) must be smaller than dither_band_arcsec ({}), \
-                 or one step of the stabiliser jumps across its band",
-                self.dither_drive_step_arcsec, self.dither_band_arcsec
+            return Err(Invalid::new(
+                "laser.dither_drive_step_arcsec",
+                format!(
+                    "{} must be smaller than dither_band_arcsec ({}), or one step of the \
+                     stabiliser jumps across its band",
+                    self.dither_drive_step_arcsec, self.dither_band_arcsec
+                ),
             ));
         }
         Ok(())
@@ -581,10 +594,9 @@ mod tests {
             dither_drive_step_arcsec: 2.0,
             ..l.clone()
         };
-        assert!(
-            bad.check()
-                .unwrap_err()
-                .contains("dither_drive_step_arcsec")
+        assert_eq!(
+            bad.check().unwrap_err().field,
+            "laser.dither_drive_step_arcsec"
         );
         let bad = LaserParams {
             self_heating_tau_s: 0.0,

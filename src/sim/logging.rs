@@ -11,6 +11,8 @@ use serde::{Deserialize, Serialize};
 use std::fmt;
 use std::str::FromStr;
 
+use crate::error::Invalid;
+
 use super::noise;
 
 /// A sample lies in a window when it is at most this far before its start, and leaves it this
@@ -55,11 +57,14 @@ pub struct Logging {
 
 impl Logging {
     /// Checks every option for a run sampled at `rate_hz`, with a sentence naming the option.
-    pub fn check(&self, rate_hz: f64) -> Result<(), String> {
+    pub fn check(&self, rate_hz: f64) -> Result<(), Invalid> {
         if let Some(r) = self.rate_hz
             && !(r.is_finite() && r > 0.0)
         {
-            return Err(format!("--rate-hz must be a positive number, got {r}"));
+            return Err(Invalid::new(
+                "--rate-hz",
+                format!("must be a positive number, got {r}"),
+            ));
         }
         for g in &self.gaps {
             g.check()?;
@@ -117,15 +122,17 @@ impl Gap {
             && time_s < self.start_s + self.duration_s - WINDOW_TOLERANCE_S
     }
 
-    fn check(&self) -> Result<(), String> {
+    fn check(&self) -> Result<(), Invalid> {
         if !(self.start_s.is_finite() && self.start_s >= 0.0) {
-            return Err(format!(
-                "--gap {self}: the start must be zero or a positive number of seconds"
+            return Err(Invalid::new(
+                format!("--gap {self}"),
+                "the start must be zero or a positive number of seconds",
             ));
         }
         if !(self.duration_s.is_finite() && self.duration_s > 0.0) {
-            return Err(format!(
-                "--gap {self}: the duration must be a positive number of seconds"
+            return Err(Invalid::new(
+                format!("--gap {self}"),
+                "the duration must be a positive number of seconds",
             ));
         }
         Ok(())
@@ -150,24 +157,31 @@ impl Bursts {
         phase < self.on_s - WINDOW_TOLERANCE_S
     }
 
-    fn check(&self) -> Result<(), String> {
+    fn check(&self) -> Result<(), Invalid> {
         if !(self.on_s.is_finite() && self.on_s > 0.0) {
-            return Err(format!(
-                "--bursts {self}: a burst must last a positive number of seconds"
+            return Err(Invalid::new(
+                format!("--bursts {self}"),
+                "a burst must last a positive number of seconds",
             ));
         }
         if !(self.every_s.is_finite() && self.every_s >= self.on_s) {
-            return Err(format!(
-                "--bursts {self}: bursts must start at least as far apart as they last \
-                 (ON_S:EVERY_S with EVERY_S ≥ ON_S)"
+            return Err(Invalid::new(
+                format!("--bursts {self}"),
+                "bursts must start at least as far apart as they last \
+                 (ON_S:EVERY_S with EVERY_S ≥ ON_S)",
             ));
         }
         Ok(())
     }
 }
 
-fn parse_pair(flag: &str, what: &str, s: &str) -> Result<(f64, f64), String> {
-    let bad = || format!("{flag} expects {what} in seconds (e.g. 3600:1800), got {s:?}");
+fn parse_pair(flag: &str, what: &str, s: &str) -> Result<(f64, f64), Invalid> {
+    let bad = || {
+        Invalid::new(
+            flag,
+            format!("expects {what} in seconds (e.g. 3600:1800), got {s:?}"),
+        )
+    };
     let (a, b) = s.split_once(':').ok_or_else(bad)?;
     let a: f64 = a.trim().parse().map_err(|_| bad())?;
     let b: f64 = b.trim().parse().map_err(|_| bad())?;
@@ -175,9 +189,9 @@ fn parse_pair(flag: &str, what: &str, s: &str) -> Result<(f64, f64), String> {
 }
 
 impl FromStr for Gap {
-    type Err = String;
+    type Err = Invalid;
     /// `START_S:DURATION_S`.
-    fn from_str(s: &str) -> Result<Gap, String> {
+    fn from_str(s: &str) -> Result<Gap, Invalid> {
         let (start_s, duration_s) = parse_pair("--gap", "START_S:DURATION_S", s)?;
         let g = Gap {
             start_s,
@@ -195,9 +209,9 @@ impl fmt::Display for Gap {
 }
 
 impl FromStr for Bursts {
-    type Err = String;
+    type Err = Invalid;
     /// `ON_S:EVERY_S`.
-    fn from_str(s: &str) -> Result<Bursts, String> {
+    fn from_str(s: &str) -> Result<Bursts, Invalid> {
         let (on_s, every_s) = parse_pair("--bursts", "ON_S:EVERY_S", s)?;
         let b = Bursts { on_s, every_s };
         b.check()?;
@@ -267,11 +281,12 @@ impl Default for HostJitter {
 
 impl HostJitter {
     /// Checks the constants for a log sampled at `rate_hz`.
-    pub fn check(&self, rate_hz: f64) -> Result<(), String> {
+    pub fn check(&self, rate_hz: f64) -> Result<(), Invalid> {
         let res = self.resolution_s;
         if !(res.is_finite() && res > 0.0) {
-            return Err(format!(
-                "--jitter: the host clock resolution must be positive, got {res}"
+            return Err(Invalid::new(
+                "--jitter",
+                format!("the host clock resolution must be positive, got {res}"),
             ));
         }
         let positive = [
@@ -281,28 +296,41 @@ impl HostJitter {
         ];
         for (name, v) in positive {
             if !(v.is_finite() && v >= res) {
-                return Err(format!(
-                    "--jitter: {name} must be at least the clock resolution ({res} s), got {v}"
+                return Err(Invalid::new(
+                    "--jitter",
+                    format!("{name} must be at least the clock resolution ({res} s), got {v}"),
                 ));
             }
         }
         if !(self.wait_max_s.is_finite() && self.wait_max_s >= self.wait_min_s) {
-            return Err("--jitter: wait_max_s must be at least wait_min_s".into());
+            return Err(Invalid::new(
+                "--jitter",
+                "wait_max_s must be at least wait_min_s",
+            ));
         }
         if !(self.stall_max_s.is_finite() && self.stall_max_s >= self.stall_min_s) {
-            return Err("--jitter: stall_max_s must be at least stall_min_s".into());
+            return Err(Invalid::new(
+                "--jitter",
+                "stall_max_s must be at least stall_min_s",
+            ));
         }
         if !(0.0..=1.0).contains(&self.stall_probability) {
-            return Err(format!(
-                "--jitter: stall_probability must be between 0 and 1, got {}",
-                self.stall_probability
+            return Err(Invalid::new(
+                "--jitter",
+                format!(
+                    "stall_probability must be between 0 and 1, got {}",
+                    self.stall_probability
+                ),
             ));
         }
         if self.per_sample_s * rate_hz >= 1.0 {
-            return Err(format!(
-                "--jitter: a host spending {} s a sample cannot keep up with {rate_hz} Hz \
-                 (it would fall ever further behind); log slower",
-                self.per_sample_s
+            return Err(Invalid::new(
+                "--jitter",
+                format!(
+                    "a host spending {} s a sample cannot keep up with {rate_hz} Hz \
+                     (it would fall ever further behind); log slower",
+                    self.per_sample_s
+                ),
             ));
         }
         Ok(())
@@ -373,20 +401,26 @@ mod tests {
         assert!(b.contains(0.0) && b.contains(9.98) && !b.contains(10.0));
         assert!(!b.contains(119.99) && b.contains(120.0) && b.contains(1209.0));
         assert_eq!(g.to_string(), "3600:1800");
-        assert!("10".parse::<Bursts>().unwrap_err().contains("ON_S:EVERY_S"));
-        assert!(
-            "10:5"
-                .parse::<Bursts>()
-                .unwrap_err()
-                .contains("EVERY_S ≥ ON_S")
-        );
-        assert!("5:-1".parse::<Gap>().unwrap_err().contains("duration"));
+        let e = "10".parse::<Bursts>().unwrap_err();
+        assert_eq!(e.field, "--bursts");
+        assert!(e.reason.contains("ON_S:EVERY_S"));
+        let e = "10:5".parse::<Bursts>().unwrap_err();
+        assert_eq!(e.field, "--bursts 10:5");
+        assert!(e.reason.contains("EVERY_S ≥ ON_S"));
+        let e = "5:-1".parse::<Gap>().unwrap_err();
+        assert_eq!(e.field, "--gap 5:-1");
+        assert!(e.reason.contains("duration"));
     }
 
     #[test]
     fn a_host_too_slow_for_the_rate_is_refused() {
         let j = HostJitter::default();
         assert!(j.check(100.0).is_ok());
-        assert!(j.check(500.0).unwrap_err().contains("cannot keep up"));
+        assert!(
+            j.check(500.0)
+                .unwrap_err()
+                .reason
+                .contains("cannot keep up")
+        );
     }
 }

@@ -100,6 +100,7 @@
 
 mod axes;
 mod dialect;
+mod error;
 mod fog;
 mod laser;
 mod logging;
@@ -109,7 +110,7 @@ mod run;
 mod thermal;
 
 use std::io::Write;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use crate::log::{Channel, ColumnInfo, ColumnRole, Log};
 
@@ -119,6 +120,7 @@ pub use dialect::{
     RAW_TEMP_OFFSET_C, RateNames, STAND_LINE, parse_decimal_mark, parse_separator, raw_temp_counts,
     raw_temp_to_c,
 };
+pub use error::{SimError, UnknownChoice};
 pub use laser::LaserParams;
 pub use logging::{Bursts, Gap, HostJitter, Logging};
 pub use profile::{GyroParams, Profile, Segment, profile, profile_names};
@@ -133,22 +135,6 @@ const MAX_PHYSICS_STEP_S: f64 = 1.0;
 
 /// Scale of the smooth sign used by the heating/cooling asymmetry, °C of weighted gradient.
 const ASYMMETRY_SCALE_C: f64 = 0.5;
-
-/// Why a run could not be simulated or written.
-#[derive(Debug, thiserror::Error)]
-pub enum SimError {
-    /// A profile or an option that cannot be simulated, with the sentence that names it.
-    #[error("{0}")]
-    Invalid(String),
-    /// The log could not be written.
-    #[error("{}: {source}", path.display())]
-    Write {
-        /// The file being written.
-        path: PathBuf,
-        /// What went wrong.
-        source: std::io::Error,
-    },
-}
 
 /// Everything about a written log besides the profile and the seed: what `driftlab simulate`
 /// takes after `--profile` and `--seed` (the unit's axes and accelerometers are in the
@@ -327,7 +313,7 @@ pub fn simulate_logged(
     logging: &Logging,
     progress: &dyn Fn(f64),
 ) -> Result<SimRun, SimError> {
-    let plan = Plan::new(profile, logging).map_err(SimError::Invalid)?;
+    let plan = Plan::new(profile, logging)?;
     Ok(plan.collect(seed, logging, progress))
 }
 
@@ -354,8 +340,8 @@ pub fn write_simulated_csv(
     path: &Path,
     progress: &dyn Fn(f64),
 ) -> Result<usize, SimError> {
-    options.dialect.check().map_err(SimError::Invalid)?;
-    let plan = Plan::new(profile, &options.logging).map_err(SimError::Invalid)?;
+    options.dialect.check()?;
+    let plan = Plan::new(profile, &options.logging)?;
     let shape = plan.shape();
     let command = command_line(
         &profile.name,

@@ -2,6 +2,8 @@
 
 use serde::{Deserialize, Serialize};
 
+use crate::error::Invalid;
+
 use super::axes::{AccelParams, AxisParams, default_accelerometers, default_axes};
 use super::laser::LaserParams;
 use super::noise::MAX_AXES;
@@ -151,7 +153,7 @@ impl GyroParams {
 
     /// Checks that every constant is usable, so that a hand-written profile fails with a
     /// sentence instead of NaN columns.
-    pub fn check(&self) -> Result<(), String> {
+    pub fn check(&self) -> Result<(), Invalid> {
         let positive = [
             ("housing_tau_s", self.housing_tau_s),
             ("coil_inner_radius_m", self.coil_inner_radius_m),
@@ -164,7 +166,10 @@ impl GyroParams {
         ];
         for (name, v) in positive {
             if !(v.is_finite() && v > 0.0) {
-                return Err(format!("gyro.{name} must be a positive number, got {v}"));
+                return Err(Invalid::new(
+                    format!("gyro.{name}"),
+                    format!("must be a positive number, got {v}"),
+                ));
             }
         }
         let finite = [
@@ -181,7 +186,10 @@ impl GyroParams {
         ];
         for (name, v) in finite {
             if !v.is_finite() {
-                return Err(format!("gyro.{name} must be a finite number, got {v}"));
+                return Err(Invalid::new(
+                    format!("gyro.{name}"),
+                    format!("must be a finite number, got {v}"),
+                ));
             }
         }
         let non_negative = [
@@ -192,21 +200,27 @@ impl GyroParams {
         ];
         for (name, v) in non_negative {
             if !(v.is_finite() && v >= 0.0) {
-                return Err(format!("gyro.{name} must be zero or positive, got {v}"));
+                return Err(Invalid::new(
+                    format!("gyro.{name}"),
+                    format!("must be zero or positive, got {v}"),
+                ));
             }
         }
         if !(self.coil_outer_radius_m.is_finite()
             && self.coil_outer_radius_m > self.coil_inner_radius_m)
         {
-            return Err(format!(
-                "gyro.coil_outer_radius_m ({}) must exceed coil_inner_radius_m ({})",
-                self.coil_outer_radius_m, self.coil_inner_radius_m
+            return Err(Invalid::new(
+                "gyro.coil_outer_radius_m",
+                format!(
+                    "{} must exceed coil_inner_radius_m ({})",
+                    self.coil_outer_radius_m, self.coil_inner_radius_m
+                ),
             ));
         }
         if !(2..=1000).contains(&self.coil_layers) {
-            return Err(format!(
-                "gyro.coil_layers must be between 2 and 1000, got {}",
-                self.coil_layers
+            return Err(Invalid::new(
+                "gyro.coil_layers",
+                format!("must be between 2 and 1000, got {}", self.coil_layers),
             ));
         }
         Ok(())
@@ -220,12 +234,15 @@ impl Profile {
     ///
     /// # Errors
     /// When `n` is not 1, 2 or 3, or the profile is a laser gyro's (it has one axis).
-    pub fn with_axes(mut self, n: usize) -> Result<Profile, String> {
+    pub fn with_axes(mut self, n: usize) -> Result<Profile, Invalid> {
         if self.laser.is_some() {
-            return Err(format!(
-                "--axes: profile {} is a ring laser gyro, which has one axis; the multi-axis \
-                 unit is a fibre-optic IMU (any other profile)",
-                self.name
+            return Err(Invalid::new(
+                "--axes",
+                format!(
+                    "profile {} is a ring laser gyro, which has one axis; the multi-axis unit \
+                     is a fibre-optic IMU (any other profile)",
+                    self.name
+                ),
             ));
         }
         let mut axes = default_axes(n)?;
@@ -239,12 +256,15 @@ impl Profile {
     ///
     /// # Errors
     /// When the profile is a laser gyro's.
-    pub fn with_accelerometers(mut self) -> Result<Profile, String> {
+    pub fn with_accelerometers(mut self) -> Result<Profile, Invalid> {
         if self.laser.is_some() {
-            return Err(format!(
-                "--accel: profile {} is a ring laser gyro without accelerometers; they come \
-                 with the fibre-optic unit (any other profile)",
-                self.name
+            return Err(Invalid::new(
+                "--accel",
+                format!(
+                    "profile {} is a ring laser gyro without accelerometers; they come with \
+                     the fibre-optic unit (any other profile)",
+                    self.name
+                ),
             ));
         }
         self.accelerometers = default_accelerometers();
@@ -280,23 +300,26 @@ impl Profile {
 
     /// Checks the program and the gyro, so that callers that build profiles by hand (a GUI
     /// editor, a profile file) can refuse a bad one with a sentence before simulating.
-    pub fn check(&self) -> Result<(), String> {
+    pub fn check(&self) -> Result<(), Invalid> {
         if !(self.sample_rate_hz.is_finite() && self.sample_rate_hz > 0.0) {
-            return Err(format!(
-                "sample_rate_hz must be a positive number, got {}",
-                self.sample_rate_hz
+            return Err(Invalid::new(
+                "sample_rate_hz",
+                format!("must be a positive number, got {}", self.sample_rate_hz),
             ));
         }
         if !self.start_c.is_finite() {
-            return Err(format!("start_c must be finite, got {}", self.start_c));
+            return Err(Invalid::new(
+                "start_c",
+                format!("must be finite, got {}", self.start_c),
+            ));
         }
         for (i, seg) in self.program.iter().enumerate() {
             match *seg {
                 Segment::Hold { duration_s } => {
                     if !(duration_s.is_finite() && duration_s >= 0.0) {
-                        return Err(format!(
-                            "segment {}: hold duration_s must be zero or positive, got {duration_s}",
-                            i + 1
+                        return Err(Invalid::new(
+                            format!("segment {}", i + 1),
+                            format!("hold duration_s must be zero or positive, got {duration_s}"),
                         ));
                     }
                 }
@@ -305,15 +328,15 @@ impl Profile {
                     rate_c_per_min,
                 } => {
                     if !to_c.is_finite() {
-                        return Err(format!(
-                            "segment {}: ramp to_c must be finite, got {to_c}",
-                            i + 1
+                        return Err(Invalid::new(
+                            format!("segment {}", i + 1),
+                            format!("ramp to_c must be finite, got {to_c}"),
                         ));
                     }
                     if !(rate_c_per_min.is_finite() && rate_c_per_min > 0.0) {
-                        return Err(format!(
-                            "segment {}: ramp rate_c_per_min must be positive, got {rate_c_per_min}",
-                            i + 1
+                        return Err(Invalid::new(
+                            format!("segment {}", i + 1),
+                            format!("ramp rate_c_per_min must be positive, got {rate_c_per_min}"),
                         ));
                     }
                 }
@@ -321,33 +344,52 @@ impl Profile {
         }
         let samples = self.duration_s() * self.sample_rate_hz;
         if samples > 1e9 {
-            return Err(format!(
-                "the run would record {samples:.0} samples; more than 10⁹ is refused"
+            return Err(Invalid::new(
+                "sample_rate_hz",
+                format!("the run would record {samples:.0} samples; more than 10⁹ is refused"),
             ));
         }
         self.gyro.check()?;
         if self.laser.is_some() && !(self.axes.is_empty() && self.accelerometers.is_empty()) {
-            return Err(
+            return Err(Invalid::new(
+                if self.axes.is_empty() {
+                    "accelerometers"
+                } else {
+                    "axes"
+                },
                 "a laser-gyro profile has one axis and no accelerometers: axes and \
-                 accelerometers are for the fibre-optic unit"
-                    .into(),
-            );
+                 accelerometers are for the fibre-optic unit",
+            ));
         }
-        if self.axes.len() > MAX_AXES || self.accelerometers.len() > MAX_AXES {
-            return Err(format!("a unit has at most {MAX_AXES} axes"));
+        for (field, n) in [
+            ("axes", self.axes.len()),
+            ("accelerometers", self.accelerometers.len()),
+        ] {
+            if n > MAX_AXES {
+                return Err(Invalid::new(
+                    field,
+                    format!("a unit has at most {MAX_AXES} axes, got {n}"),
+                ));
+            }
         }
         let mut names = std::collections::HashSet::new();
         for a in &self.axes {
             a.check()?;
             if !names.insert(a.name.as_str()) {
-                return Err(format!("two gyro axes are named {:?}", a.name));
+                return Err(Invalid::new(
+                    "axes",
+                    format!("two gyro axes are named {:?}", a.name),
+                ));
             }
         }
         let mut names = std::collections::HashSet::new();
         for a in &self.accelerometers {
             a.check()?;
             if !names.insert(a.name.as_str()) {
-                return Err(format!("two accelerometers are named {:?}", a.name));
+                return Err(Invalid::new(
+                    "accelerometers",
+                    format!("two accelerometers are named {:?}", a.name),
+                ));
             }
         }
         match &self.laser {

@@ -4,6 +4,8 @@
 
 use std::convert::Infallible;
 
+use crate::error::Invalid;
+
 use super::axes::AccelParams;
 use super::dialect::Shape;
 use super::logging::{Logging, Stamper};
@@ -98,7 +100,7 @@ pub(crate) struct Plan {
 
 impl Plan {
     /// Checks `profile` and `logging` and plans the run, with a sentence naming what is wrong.
-    pub(crate) fn new(profile: &Profile, logging: &Logging) -> Result<Plan, String> {
+    pub(crate) fn new(profile: &Profile, logging: &Logging) -> Result<Plan, Invalid> {
         profile.check()?;
         let base = profile.sample_rate_hz;
         let rate = logging.rate_hz.unwrap_or(base);
@@ -114,7 +116,15 @@ impl Plan {
         } else {
             let mut p = profile.clone();
             p.sample_rate_hz = rate;
-            p.check().map_err(|e| format!("--rate-hz {rate}: {e}"))?;
+            p.check().map_err(|e| {
+                // The profile's rate is the logging rate here: the option that set it is named.
+                let reason = if e.field == "sample_rate_hz" {
+                    e.reason
+                } else {
+                    e.to_string()
+                };
+                Invalid::new(format!("--rate-hz {rate}"), reason)
+            })?;
             Plan {
                 profile: p,
                 fine: 1,
@@ -123,9 +133,9 @@ impl Plan {
         };
         let samples = (plan.profile.sample_count() - 1) as f64 * plan.fine as f64 + 1.0;
         if samples > MAX_SAMPLES {
-            return Err(format!(
-                "--rate-hz {rate}: the run would record {samples:.0} samples; more than 10⁹ \
-                 is refused"
+            return Err(Invalid::new(
+                format!("--rate-hz {rate}"),
+                format!("the run would record {samples:.0} samples; more than 10⁹ is refused"),
             ));
         }
         Ok(plan)

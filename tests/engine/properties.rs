@@ -483,7 +483,7 @@ proptest! {
                 false,
                 Default::default(),
             )
-            .map_err(TestCaseError::fail)?;
+            .map_err(|e| TestCaseError::fail(e.to_string()))?;
             let spec = ApproxSpec { kind, knots: m, extrapolate: false };
             recovered(&spec, &xs, |x| truth.eval(x))?;
             let fitted = approx::fit(&spec, &xs, &xs.iter().map(|&x| truth.eval(x)).collect::<Vec<_>>()).unwrap();

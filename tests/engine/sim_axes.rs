@@ -257,19 +257,18 @@ fn a_faster_multi_axis_log_is_the_same_history_on_every_axis() {
 #[test]
 fn the_unit_is_a_fibre_optic_one_and_its_axes_are_checked() {
     let laser = profile("laser-gyro").unwrap();
-    assert!(laser.clone().with_axes(3).unwrap_err().contains("--axes"));
-    assert!(
-        laser
-            .clone()
-            .with_accelerometers()
-            .unwrap_err()
-            .contains("--accel")
+    assert_eq!(laser.clone().with_axes(3).unwrap_err().field, "--axes");
+    assert_eq!(
+        laser.clone().with_accelerometers().unwrap_err().field,
+        "--accel"
     );
     let forced = Profile {
         axes: default_axes(2).unwrap(),
         ..laser
     };
-    assert!(forced.check().unwrap_err().contains("laser"));
+    let e = forced.check().unwrap_err();
+    assert_eq!(e.field, "axes");
+    assert!(e.reason.contains("laser"));
     // One axis is the single gyro again; more than three need a profile file.
     assert!(
         profile("calibration")
@@ -279,10 +278,19 @@ fn the_unit_is_a_fibre_optic_one_and_its_axes_are_checked() {
             .axes
             .is_empty()
     );
-    assert!(profile("calibration").unwrap().with_axes(4).is_err());
+    assert_eq!(
+        profile("calibration")
+            .unwrap()
+            .with_axes(4)
+            .unwrap_err()
+            .field,
+        "--axes"
+    );
     let mut twice = unit("calibration");
     twice.axes[1].name = "x".into();
-    assert!(twice.check().unwrap_err().contains("two gyro axes"));
+    let e = twice.check().unwrap_err();
+    assert_eq!(e.field, "axes");
+    assert!(e.reason.contains("two gyro axes"));
     // A unit written as JSON reads back; a file without axes is a single gyro.
     let p = unit("validation");
     let back: Profile = serde_json::from_str(&serde_json::to_string(&p).unwrap()).unwrap();

@@ -183,5 +183,5 @@ fn profiles_round_trip_through_json_and_old_files_still_load() {
     // A hand-made laser profile with an unusable constant is refused with its name.
     let mut bad = profile("laser-gyro").unwrap();
     bad.laser.as_mut().unwrap().base_tau_s = f64::NAN;
-    assert!(bad.check().unwrap_err().contains("base_tau_s"));
+    assert_eq!(bad.check().unwrap_err().field, "laser.base_tau_s");
 }

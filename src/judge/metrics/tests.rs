@@ -1,7 +1,10 @@
 //! The figures of merit held to plain references: the fused walks against the obvious
 //! two-pass formulas, bit for bit, and closed forms.
 
+use super::figures::{SEGMENT, kept_extremes};
+use super::running::{mean, min_max, moving_average_segment, valid_len};
 use super::*;
+use crate::signal;
 
 /// The values of [`signal::moving_average_valid`], one at a time and with the same arithmetic
 /// (so the same bits), without a buffer.

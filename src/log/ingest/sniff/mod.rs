@@ -1,5 +1,4 @@
-//! Telling a log's dialect (separator, decimal mark, header) from its first lines, and
-//! splitting records into fields.
+//! Telling a log's dialect (separator, decimal mark, header) from its first lines.
 //!
 //! Sniffing looks at a bounded head of the file only, so it costs the same on a 300 MB log
 //! as on a 3 kB one. Each candidate dialect is scored on the lines after the first (the
@@ -7,266 +6,27 @@
 //! (or, in a short ragged file, every one into several), and
 //! the dialect under which most fields read as numbers wins; ties go to the more specific
 //! separator (tab, then `;`, then `,`, then runs of blanks).
+//!
+//! Splitting a record into fields (`fields`) and telling lines apart and reading the head
+//! (`lines`) are in modules of their own: the reader uses them on every line of the file,
+//! long after sniffing is done.
+
+mod fields;
+mod lines;
+#[cfg(test)]
+mod tests;
+
+pub(crate) use fields::{Delim, Unterminated, split_fields};
+pub(crate) use lines::{
+    MAX_LINE_BYTES, is_skippable, is_spreadsheet_error, read_head, strip_cr, wide_encoding,
+};
 
 use super::parse::{Cell, parse_cell};
 use super::{Fail, ReadOptions};
 use memchr::{memchr, memchr_iter};
-use std::borrow::Cow;
-use std::io::{self, Read};
 
-/// The longest line the reader accepts; anything longer is not a text log.
-pub(crate) const MAX_LINE_BYTES: usize = 4 << 20;
-/// The head is read in chunks of this size until it holds enough lines.
-const HEAD_CHUNK: usize = 64 << 10;
 /// Lines of the head used to score dialects and to guess which columns are numeric.
 const SNIFF_LINES: usize = 200;
-
-/// How fields are separated.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(crate) enum Delim {
-    /// One byte between fields (`,`, `;`, tab...).
-    Byte(u8),
-    /// Runs of spaces and tabs (aligned columns); leading blanks are ignored.
-    Whitespace,
-}
-
-impl Delim {
-    /// The option value `b' '` means "runs of blanks", anything else that exact byte.
-    pub(crate) fn from_option(b: u8) -> Delim {
-        if b == b' ' {
-            Delim::Whitespace
-        } else {
-            Delim::Byte(b)
-        }
-    }
-
-    /// The separator as recorded in `LogInfo` (a blank for runs of blanks).
-    pub(crate) fn as_char(self) -> char {
-        match self {
-            Delim::Byte(b) => char::from(b),
-            Delim::Whitespace => ' ',
-        }
-    }
-
-    /// True for a byte that ends an unquoted field.
-    #[inline]
-    pub(crate) fn is_sep(self, b: u8) -> bool {
-        match self {
-            Delim::Byte(d) => b == d,
-            Delim::Whitespace => b == b' ' || b == b'\t',
-        }
-    }
-
-    /// True for a blank that is padding around a field rather than a separator.
-    #[inline]
-    pub(crate) fn is_pad(self, b: u8) -> bool {
-        match self {
-            Delim::Byte(b'\t') => b == b' ',
-            Delim::Byte(_) => b == b' ' || b == b'\t',
-            Delim::Whitespace => false,
-        }
-    }
-}
-
-/// A quoted field was still open at the end of the record: the record continues on the next
-/// line (or the quote is never closed).
-#[derive(Debug)]
-pub(crate) struct Unterminated;
-
-/// Splits one record (without its line end) into fields, removing quotes and padding.
-///
-/// Quotes follow RFC 4180 (`""` inside a quoted field is one quote); text after a closing
-/// quote is kept, as spreadsheets do. On an unterminated quote the fields read so far are
-/// left in `out`, the open one holding the rest of the record.
-pub(crate) fn split_fields<'a>(
-    rec: &'a [u8],
-    delim: Delim,
-    out: &mut Vec<Cow<'a, [u8]>>,
-) -> Result<(), Unterminated> {
-    out.clear();
-    let n = rec.len();
-    let mut p = 0;
-    if delim == Delim::Whitespace {
-        while p < n && delim.is_sep(rec[p]) {
-            p += 1;
-        }
-        if p == n {
-            return Ok(());
-        }
-    }
-    loop {
-        while p < n && delim.is_pad(rec[p]) {
-            p += 1;
-        }
-        if p < n && rec[p] == b'"' {
-            let start = p + 1;
-            let mut seg = start;
-            let mut owned: Option<Vec<u8>> = None;
-            p = start;
-            loop {
-                let Some(i) = memchr(b'"', &rec[p..]) else {
-                    let mut v = owned.unwrap_or_default();
-                    v.extend_from_slice(&rec[seg..]);
-                    out.push(Cow::Owned(v));
-                    return Err(Unterminated);
-                };
-                let q = p + i;
-                if rec.get(q + 1) == Some(&b'"') {
-                    owned
-                        .get_or_insert_with(Vec::new)
-                        .extend_from_slice(&rec[seg..=q]);
-                    p = q + 2;
-                    seg = p;
-                    continue;
-                }
-                let tail_end = find_sep(rec, q + 1, delim);
-                let tail = trim_pad(&rec[q + 1..tail_end], delim);
-                let field = match owned {
-                    None if tail.is_empty() => Cow::Borrowed(&rec[start..q]),
-                    o => {
-                        let mut v = o.unwrap_or_default();
-                        v.extend_from_slice(&rec[seg..q]);
-                        v.extend_from_slice(tail);
-                        Cow::Owned(v)
-                    }
-                };
-                out.push(field);
-                p = tail_end;
-                break;
-            }
-        } else {
-            let end = find_sep(rec, p, delim);
-            out.push(Cow::Borrowed(trim_pad(&rec[p..end], delim)));
-            p = end;
-        }
-        if p >= n {
-            return Ok(());
-        }
-        // At a separator.
-        match delim {
-            Delim::Whitespace => {
-                while p < n && delim.is_sep(rec[p]) {
-                    p += 1;
-                }
-                if p >= n {
-                    return Ok(());
-                }
-            }
-            Delim::Byte(_) => {
-                p += 1;
-                if p >= n {
-                    out.push(Cow::Borrowed(&rec[n..]));
-                    return Ok(());
-                }
-            }
-        }
-    }
-}
-
-/// Index of the first separator at or after `from`, or the record's end.
-#[inline]
-fn find_sep(rec: &[u8], from: usize, delim: Delim) -> usize {
-    let rest = rec.get(from..).unwrap_or(&[]);
-    let off = match delim {
-        Delim::Byte(d) => memchr(d, rest),
-        Delim::Whitespace => rest.iter().position(|&b| b == b' ' || b == b'\t'),
-    };
-    off.map_or(rec.len(), |i| from + i)
-}
-
-/// The field without padding blanks on either side.
-fn trim_pad(f: &[u8], delim: Delim) -> &[u8] {
-    let pad = |b: &u8| *b == b' ' || *b == b'\t' || (delim == Delim::Whitespace && *b == b'\r');
-    let start = f.iter().position(|b| !pad(b)).unwrap_or(f.len());
-    let end = f.iter().rposition(|b| !pad(b)).map_or(start, |i| i + 1);
-    &f[start..end]
-}
-
-/// A line without its `\n` and an optional `\r` before it.
-#[inline]
-pub(crate) fn strip_cr(line: &[u8]) -> &[u8] {
-    match line.last() {
-        Some(b'\r') => &line[..line.len() - 1],
-        _ => line,
-    }
-}
-
-/// True for a line that carries no data: blank, or a `#` comment. A line that starts with a
-/// spreadsheet's error value (`#NUM!`, `#VALUE!`, `#DIV/0!`, `#N/A`, ... in the first column of
-/// an exported sheet) is a data row with a bad cell, not a comment: skipping it would drop the
-/// row without a word.
-#[inline]
-pub(crate) fn is_skippable(line: &[u8]) -> bool {
-    match line.iter().position(|b| !b.is_ascii_whitespace()) {
-        None => true,
-        Some(i) => line[i] == b'#' && !is_spreadsheet_error(&line[i..]),
-    }
-}
-
-/// The error values spreadsheets write in a cell whose formula failed.
-const SPREADSHEET_ERRORS: [&[u8]; 9] = [
-    b"#NUM!", b"#VALUE!", b"#DIV/0!", b"#N/A", b"#REF!", b"#NAME?", b"#NULL!", b"#SPILL!",
-    b"#CALC!",
-];
-
-/// True when `cell` (what follows in the line, from its `#`) starts with a spreadsheet's error
-/// value that ends the cell (at a separator, a blank, a quote or the end of the line).
-pub(crate) fn is_spreadsheet_error(cell: &[u8]) -> bool {
-    SPREADSHEET_ERRORS.iter().any(|e| {
-        cell.len() >= e.len()
-            && cell[..e.len()].eq_ignore_ascii_case(e)
-            && cell
-                .get(e.len())
-                .is_none_or(|b| matches!(b, b',' | b';' | b'\t' | b' ' | b'"' | b'\r'))
-    })
-}
-
-/// The text encoding a head that is not UTF-8 reveals: a byte-order mark of UTF-16 or UTF-32,
-/// or (with no mark) ASCII text with a NUL byte beside every character.
-pub(crate) fn wide_encoding(head: &[u8]) -> Option<&'static str> {
-    if head.starts_with(b"\xFF\xFE\0\0") || head.starts_with(b"\0\0\xFE\xFF") {
-        return Some("UTF-32");
-    }
-    if head.starts_with(b"\xFF\xFE") {
-        return Some("UTF-16 (little-endian)");
-    }
-    if head.starts_with(b"\xFE\xFF") {
-        return Some("UTF-16 (big-endian)");
-    }
-    // No mark: in the first 512 bytes, every other byte NUL and the others printable text.
-    let n = head.len().min(512) & !1;
-    if n < 8 {
-        return None;
-    }
-    let text = |b: u8| b == b'\n' || b == b'\r' || b == b'\t' || (0x20..0x7F).contains(&b);
-    let pairs = head[..n].chunks_exact(2);
-    if pairs.clone().all(|p| p[1] == 0 && text(p[0])) {
-        return Some("UTF-16 (little-endian)");
-    }
-    if pairs.clone().all(|p| p[0] == 0 && text(p[1])) {
-        return Some("UTF-16 (big-endian)");
-    }
-    None
-}
-
-/// Reads the head of a log: whole lines enough to sniff (and preview) it, bounded in size.
-///
-/// Returns the bytes and whether they are the whole file.
-pub(crate) fn read_head(r: &mut dyn Read, min_lines: usize) -> io::Result<(Vec<u8>, bool)> {
-    let mut head = Vec::new();
-    let mut lines = 0usize;
-    loop {
-        let before = head.len();
-        let n = r.take(HEAD_CHUNK as u64).read_to_end(&mut head)?;
-        lines += memchr_iter(b'\n', &head[before..]).count();
-        if n < HEAD_CHUNK {
-            return Ok((head, true));
-        }
-        if head.len() >= MAX_LINE_BYTES || lines >= min_lines {
-            return Ok((head, false));
-        }
-    }
-}
 
 /// A line of the head: its number and where it is.
 #[derive(Clone, Copy, Debug)]
@@ -695,35 +455,4 @@ fn split_wide(header: &str) -> Vec<String> {
         out.push(cur);
     }
     out
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn split(s: &str, d: Delim) -> Vec<String> {
-        let mut out = Vec::new();
-        let _ = split_fields(s.as_bytes(), d, &mut out);
-        out.iter()
-            .map(|f| String::from_utf8_lossy(f).into_owned())
-            .collect()
-    }
-
-    #[test]
-    fn splits_quotes_padding_and_trailing_separators() {
-        assert_eq!(split("a, b ,c", Delim::Byte(b',')), ["a", "b", "c"]);
-        assert_eq!(
-            split("\"1,5\",\"x\"\"y\"", Delim::Byte(b',')),
-            ["1,5", "x\"y"]
-        );
-        assert_eq!(split("1,2,", Delim::Byte(b',')), ["1", "2", ""]);
-        assert_eq!(split("  1  2\t3 ", Delim::Whitespace), ["1", "2", "3"]);
-        assert_eq!(split("", Delim::Whitespace), Vec::<String>::new());
-        let mut out = Vec::new();
-        assert!(split_fields(b"1,\"open", Delim::Byte(b','), &mut out).is_err());
-        assert_eq!(
-            split_wide("Time [s]   Rate [deg/h]\tT"),
-            ["Time [s]", "Rate [deg/h]", "T"]
-        );
-    }
 }

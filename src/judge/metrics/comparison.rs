@@ -1,0 +1,106 @@
+//! Raw against corrected: the figures of both records and the improvement ratios, with the
+//! figures a correction made worse than raw. Apart from the computation because every face
+//! reads these and none needs the walks.
+
+use super::{Figures, MeritOptions, figures_over};
+use serde::{Deserialize, Serialize};
+
+/// Raw against corrected, with the improvement ratios (raw ÷ corrected: above 1 is better).
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct Comparison {
+    /// Figures of the raw record.
+    pub raw: Figures,
+    /// Figures of the corrected record.
+    pub corrected: Figures,
+    /// raw.p2p ÷ corrected.p2p.
+    pub p2p_ratio: f64,
+    /// raw.std ÷ corrected.std.
+    pub std_ratio: f64,
+    /// raw ÷ corrected largest |window mean|.
+    pub win_mean_ratio: f64,
+    /// raw ÷ corrected mean window RMS.
+    pub win_rms_ratio: f64,
+    /// The figures the correction made worse than raw (ratio below 1), which every face marks.
+    pub worse_than_raw: WorseThanRaw,
+}
+
+/// Which figures a correction made worse than the raw record (raw ÷ corrected below 1).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+pub struct WorseThanRaw {
+    /// Peak-to-peak of the filtered drift.
+    pub p2p: bool,
+    /// Standard deviation of the filtered drift.
+    pub std: bool,
+    /// Largest |window mean|.
+    pub win_mean: bool,
+    /// Mean window RMS.
+    pub win_rms: bool,
+}
+
+impl WorseThanRaw {
+    /// Whether any figure is worse than raw.
+    pub fn any(&self) -> bool {
+        self.p2p || self.std || self.win_mean || self.win_rms
+    }
+
+    /// The names of the figures worse than raw, for messages.
+    pub fn names(&self) -> Vec<&'static str> {
+        [
+            (self.p2p, "peak-to-peak"),
+            (self.std, "std"),
+            (self.win_mean, "largest |window mean|"),
+            (self.win_rms, "mean window RMS"),
+        ]
+        .into_iter()
+        .filter_map(|(w, n)| w.then_some(n))
+        .collect()
+    }
+}
+
+impl Comparison {
+    /// Compares a raw and a corrected record of the same log.
+    pub fn of(
+        raw_dph: &[f64],
+        cor_dph: &[f64],
+        dt_s: f64,
+        ready: &[std::ops::Range<usize>],
+        opts: &MeritOptions,
+    ) -> Comparison {
+        let (raw, corrected) = rayon::join(
+            || figures_over(raw_dph, dt_s, ready, opts),
+            || figures_over(cor_dph, dt_s, ready, opts),
+        );
+        Comparison::from_figures(raw, corrected)
+    }
+
+    /// The comparison of figures already computed (the workbench keeps the raw ones).
+    pub fn from_figures(raw: Figures, corrected: Figures) -> Comparison {
+        // A ratio needs two finite figures and a corrected one above zero: otherwise it is
+        // NaN (`n/a`), never an infinite improvement.
+        let ratio = |a: f64, b: f64| {
+            if a.is_finite() && b.is_finite() && b > 0.0 {
+                a / b
+            } else {
+                f64::NAN
+            }
+        };
+        let p2p_ratio = ratio(raw.p2p_dph, corrected.p2p_dph);
+        let std_ratio = ratio(raw.std_dph, corrected.std_dph);
+        let win_mean_ratio = ratio(raw.win_mean_max_abs_dph, corrected.win_mean_max_abs_dph);
+        let win_rms_ratio = ratio(raw.win_rms_mean_dph, corrected.win_rms_mean_dph);
+        Comparison {
+            raw,
+            corrected,
+            p2p_ratio,
+            std_ratio,
+            win_mean_ratio,
+            win_rms_ratio,
+            worse_than_raw: WorseThanRaw {
+                p2p: p2p_ratio < 1.0,
+                std: std_ratio < 1.0,
+                win_mean: win_mean_ratio < 1.0,
+                win_rms: win_rms_ratio < 1.0,
+            },
+        }
+    }
+}
