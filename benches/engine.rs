@@ -105,7 +105,7 @@ struct Live {
 
 impl Live {
     fn new(log: Log) -> Live {
-        let fit = vakhrameev::fit(&log, &Recipe::default()).expect("fit");
+        let fit = vakhrameev::fit(&log, &driftlab::models::CheckedRecipe::default()).expect("fit");
         let ranges: Vec<PlateauRange> = fit.calibration.plateaus.iter().map(|p| p.range).collect();
         let mask = vakhrameev::plateau_mask(&log.time_s, &ranges);
         Live { log, fit, mask }
@@ -256,7 +256,9 @@ fn benches(c: &mut Criterion) {
         g.sample_size(10).measurement_time(Duration::from_secs(5));
         g.throughput(Throughput::Elements(ROWS as u64));
         g.bench_function("fit_1M", |b| {
-            b.iter(|| vakhrameev::fit(black_box(&log), &recipe).expect("fit"))
+            b.iter(|| {
+                vakhrameev::fit(black_box(&log), &recipe.clone().checked().unwrap()).expect("fit")
+            })
         });
         g.bench_function("prepared_new_1M", |b| {
             b.iter(|| vakhrameev::Prepared::new(black_box(&log), &recipe))
@@ -601,7 +603,7 @@ fn stages(path: &Path) {
                 "vakhrameev::fit (whole, with the point sets) (run {})",
                 k + 1
             ),
-            || vakhrameev::fit(&log, &recipe).expect("fit"),
+            || vakhrameev::fit(&log, &recipe.clone().checked().unwrap()).expect("fit"),
         ));
     }
     let fit = fit.expect("at least one fit");
@@ -613,7 +615,7 @@ fn stages(path: &Path) {
                 "vakhrameev::calibrate (lean, as calibrate calls it) (run {})",
                 k + 1
             ),
-            || vakhrameev::fit_lean(&log, &recipe).expect("calibrate"),
+            || vakhrameev::fit_lean(&log, &recipe.clone().checked().unwrap()).expect("calibrate"),
         );
     }
     stage("calfile::sha256_file", || {

@@ -29,9 +29,9 @@
 //! let path = concat!(env!("CARGO_MANIFEST_DIR"), "/sample_logs/calibration.csv");
 //! let log = driftlab::read_path(path.as_ref(), &ReadOptions::default())?;
 //!
-//! // Every choice of the calibration, validated once; then any model fitted the same way.
-//! let recipe = Recipe::default();
-//! recipe.validate()?;
+//! // Every choice of the calibration, checked once and carried checked; then any model
+//! // fitted the same way.
+//! let recipe = Recipe::default().checked()?;
 //! let choice = ModelChoice::Preset(Preset::Vakhrameev);
 //! let model = driftlab::fit(&log, &choice, &recipe)?;
 //!
@@ -73,4 +73,7 @@ pub use judge::metrics::{Comparison, Evaluation, MeritOptions};
 pub use log::Log;
 pub use log::ingest::{ReadOptions, read_path};
 pub use models::vakhrameev::Calibration;
-pub use models::{Calibrated, DriftModel, ModelChoice, Preset, Recipe, calibrate, fit};
+pub use models::{
+    Calibrated, CheckedRecipe, DriftModel, ModelChoice, Preset, Recipe, UnitCalibration, calibrate,
+    calibrate_unit, fit,
+};

@@ -5,7 +5,7 @@ use super::{calibrate_print, calibrate_unit};
 use driftlab::files::calibration;
 use driftlab::judge::metrics::MeritOptions;
 use driftlab::models::approx::{ApproxKind, ApproxSpec};
-use driftlab::models::recipe::{PlateauChoice, Recipe};
+use driftlab::models::recipe::{CheckedRecipe, PlateauChoice, Recipe};
 use driftlab::models::regression::{DelaySpec, FitSamples, LagSpec, RegressionSpec, terms};
 use driftlab::models::{self, DriftModel, ModelChoice, Preset};
 use driftlab::signal::plateau::PlateauRange;
@@ -99,8 +99,8 @@ pub struct Args {
 }
 
 impl Args {
-    /// The recipe: the file's (or the defaults), overridden by the options given.
-    fn recipe(&self) -> Result<Recipe, CliError> {
+    /// The recipe: the file's (or the defaults), overridden by the options given, checked.
+    fn recipe(&self) -> Result<CheckedRecipe, CliError> {
         let base = match &self.recipe {
             Some(p) => calibration::read_recipe(p).map_err(|e| e.to_string())?,
             None => Recipe::default(),
@@ -108,8 +108,8 @@ impl Args {
         self.recipe_over(base)
     }
 
-    /// `base` overridden by the options given.
-    pub(super) fn recipe_over(&self, mut r: Recipe) -> Result<Recipe, CliError> {
+    /// `base` overridden by the options given, checked (the message names the option).
+    pub(super) fn recipe_over(&self, mut r: Recipe) -> Result<CheckedRecipe, CliError> {
         if let Some(id) = &self.gyro_id {
             r.gyro_id = id.clone();
         }
@@ -136,8 +136,7 @@ impl Args {
         r.step_h_s = self.step_h.unwrap_or(r.step_h_s);
         r.deadband_tdot = self.deadband_tdot.or(r.deadband_tdot);
         r.deadband_tddot = self.deadband_tddot.or(r.deadband_tddot);
-        r.validate().map_err(common::with_option)?;
-        Ok(r)
+        r.checked().map_err(common::with_option)
     }
 }
 
@@ -275,7 +274,7 @@ pub fn run(a: Args) -> Result<(), CliError> {
     model.source_mut().sha256 = sha256?;
     calibration::save_model(&a.out, &model).map_err(|e| e.to_string())?;
     if let Some(p) = &a.save_recipe {
-        let text = serde_json::to_string_pretty(&recipe).map_err(|e| e.to_string())? + "\n";
+        let text = serde_json::to_string_pretty(recipe.recipe()).map_err(|e| e.to_string())? + "\n";
         driftlab::files::atomic::write_bytes(p, text.as_bytes())
             .map_err(|e| format!("{}: {e}", p.display()))?;
     }

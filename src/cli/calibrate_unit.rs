@@ -5,11 +5,12 @@
 use super::calibrate::{Args, file_name};
 use super::calibrate_print;
 use super::common::{self, CliError, figure, ratio};
+use driftlab::Log;
 use driftlab::files::calibration;
 use driftlab::judge::metrics::MeritOptions;
 use driftlab::log::ingest::Input;
+use driftlab::models::CheckedRecipe;
 use driftlab::models::{self, AxisModel, AxisPlan, DriftModel, ModelChoice, UnitCalibration};
-use driftlab::{Log, models::Recipe};
 
 /// The axes to calibrate as one unit, or `None` for a single-axis calibration as driftlab has
 /// always made it: a log with one gyro axis, or one axis named by a single `--rate-col`.
@@ -99,7 +100,7 @@ fn plans(
     a: &Args,
     log: &Log,
     axes: &[String],
-    recipe: &Recipe,
+    recipe: &CheckedRecipe,
     choice: &ModelChoice,
 ) -> Result<(Vec<AxisPlan>, Vec<String>), CliError> {
     let mut plans: Vec<AxisPlan> = axes
@@ -125,12 +126,15 @@ fn plans(
         let name = axis_of("--axis-recipe", asked, log, axes)?;
         let base =
             calibration::read_recipe(std::path::Path::new(file)).map_err(|e| e.to_string())?;
-        let mut own = a.recipe_over(base)?;
+        let mut own = a.recipe_over(base)?.into_recipe();
         // The unit's T settings: an axis's recipe keeps its approximations and dead-bands.
         own.temp_smoothing_s = recipe.temp_smoothing_s;
         own.step_h_s = recipe.step_h_s;
         own.plateaus = recipe.plateaus.clone();
         own.gyro_id = recipe.gyro_id.clone();
+        let own = own
+            .checked()
+            .map_err(|e| format!("--axis-recipe {v}: {e}"))?;
         if let Some(p) = plans.iter_mut().find(|p| p.name == name) {
             p.recipe = own;
         }
@@ -151,7 +155,7 @@ pub fn run(
     mut log: Log,
     input: &Input,
     axes: &[String],
-    (recipe, choice, mut warnings): (Recipe, ModelChoice, Vec<String>),
+    (recipe, choice, mut warnings): (CheckedRecipe, ModelChoice, Vec<String>),
     merit: &MeritOptions,
 ) -> Result<(), CliError> {
     let (plans, axis_warnings) = plans(a, &log, axes, &recipe, &choice)?;
@@ -203,7 +207,7 @@ pub fn run(
     }
     calibration::save_unit(&a.out, &unit).map_err(|e| e.to_string())?;
     if let Some((p, r)) = save_recipe {
-        let text = serde_json::to_string_pretty(&r).map_err(|e| e.to_string())? + "\n";
+        let text = serde_json::to_string_pretty(r.recipe()).map_err(|e| e.to_string())? + "\n";
         driftlab::files::atomic::write_bytes(p, text.as_bytes())
             .map_err(|e| format!("{}: {e}", p.display()))?;
     }

@@ -4,7 +4,7 @@ use super::common::{self, CliError, LogArgs};
 use driftlab::judge::compare::{self, ModelReport, Outcome};
 use driftlab::judge::metrics::MeritOptions;
 use driftlab::models::presets::{CustomOptions, ModelChoice};
-use driftlab::models::recipe::Recipe;
+use driftlab::models::recipe::{CheckedRecipe, Recipe};
 use driftlab::models::regression::{DelaySpec, FitSamples, LagSpec};
 use std::path::PathBuf;
 
@@ -90,8 +90,9 @@ pub fn run(a: Args) -> Result<(), CliError> {
         temp_smoothing_s: a.smooth,
         step_h_s: a.step_h,
         ..Recipe::default()
-    };
-    recipe.validate().map_err(common::with_option)?;
+    }
+    .checked()
+    .map_err(common::with_option)?;
     if let Some(axes) = axes_to_compare(&a, &train)? {
         return run_axes(
             &a,
@@ -147,7 +148,7 @@ fn run_axes(
     train: &mut driftlab::Log,
     tests: &mut [driftlab::Log],
     axes: &[String],
-    (choices, recipe, merit): (&[ModelChoice], &Recipe, &MeritOptions),
+    (choices, recipe, merit): (&[ModelChoice], &CheckedRecipe, &MeritOptions),
 ) -> Result<(), CliError> {
     let mut per_axis: Vec<(String, Vec<ModelReport>)> = Vec::with_capacity(axes.len());
     for name in axes {

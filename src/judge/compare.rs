@@ -5,7 +5,7 @@ use crate::judge::metrics::{Evaluation, MeritOptions};
 use crate::log::Log;
 use crate::models::fitted::DriftModel;
 use crate::models::presets::ModelChoice;
-use crate::models::recipe::Recipe;
+use crate::models::recipe::CheckedRecipe;
 use crate::models::vakhrameev::correct::Correction;
 use rayon::prelude::*;
 use serde::Serialize;
@@ -63,7 +63,7 @@ pub fn compare(
     train: &Log,
     tests: &[Log],
     choices: &[ModelChoice],
-    recipe: &Recipe,
+    recipe: &CheckedRecipe,
     merit: &MeritOptions,
 ) -> Vec<ModelReport> {
     let tests: Vec<&Log> = tests.iter().collect();
@@ -91,7 +91,7 @@ pub fn compare_one(
     train: &Log,
     tests: &[&Log],
     choice: &ModelChoice,
-    recipe: &Recipe,
+    recipe: &CheckedRecipe,
     merit: &MeritOptions,
     progress: &(dyn Fn(f64) -> bool + Sync),
     seen: &mut dyn FnMut(usize, &Correction),

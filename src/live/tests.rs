@@ -42,7 +42,7 @@ fn staged_fit_is_the_engines_fit() {
     };
     let mut p = Pipeline::new();
     let out = p.run(&request(&log, recipe.clone())).unwrap();
-    let fit = vakhrameev::fit(&log, &recipe).unwrap();
+    let fit = vakhrameev::fit(&log, &recipe.clone().checked().unwrap()).unwrap();
     same(&out.calibration, &fit.calibration);
     assert_eq!(*out.k1_plus_points, fit.k1_plus_points);
     assert_eq!(*out.k2_minus_points, fit.k2_minus_points);
@@ -70,7 +70,7 @@ fn staged_fit_is_the_engines_fit() {
     assert_eq!(out2.timings.prepare_ms, 0.0);
     assert_eq!(out2.timings.plateaus_ms, 0.0);
     assert!(Arc::ptr_eq(&out.k1_plus_points, &out2.k1_plus_points));
-    let fit2 = vakhrameev::fit(&log, &recipe).unwrap();
+    let fit2 = vakhrameev::fit(&log, &recipe.clone().checked().unwrap()).unwrap();
     same(&out2.calibration, &fit2.calibration);
 }
 
@@ -92,7 +92,7 @@ fn a_k2_kind_change_with_the_kept_first_k1_is_the_engines_fit() {
         recipe.k1_minus.kind = k1_minus;
         let req = request(&log, recipe.clone());
         let out = p.run(&req).unwrap();
-        let fit = vakhrameev::fit(&log, &recipe).unwrap();
+        let fit = vakhrameev::fit(&log, &recipe.clone().checked().unwrap()).unwrap();
         same(&out.calibration, &fit.calibration);
         assert_eq!(*out.k1_plus_points, fit.k1_plus_points);
         assert_eq!(*out.k2_plus_points, fit.k2_plus_points);
@@ -228,7 +228,7 @@ fn knot_edits_follow_with_the_engines_k2_points() {
     let mut p = Pipeline::new();
     let req = request(&log, recipe.clone());
     let out = p.run(&req).unwrap();
-    let fit = vakhrameev::fit(&log, &recipe).unwrap();
+    let fit = vakhrameev::fit(&log, &recipe.clone().checked().unwrap()).unwrap();
     same(&out.calibration, &fit.calibration);
     assert_eq!(*out.k1_minus_points, fit.k1_minus_points);
     assert_eq!(*out.k2_plus_points, fit.k2_plus_points);

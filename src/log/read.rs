@@ -1,6 +1,6 @@
 //! Any log driftlab reads, told by its first bytes: a test-stand CSV through
-//! [`ingest`](super::ingest), or a drone or robot log (PX4 ULog, ArduPilot DataFlash, ROS 1
-//! bag, MCAP) through [`formats`](super::formats), turned into the same [`Log`].
+//! [`super::ingest`], or a drone or robot log (PX4 ULog, ArduPilot DataFlash, ROS 1
+//! bag, MCAP) through [`super::formats`], turned into the same [`Log`].
 //!
 //! A drone log holds several IMUs; one gyro instance becomes the log ([`FormatChoice`]:
 //! `--gyro N`, `--temp-from`, by default the first whose temperature is not all NaN, with a

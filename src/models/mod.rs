@@ -20,7 +20,7 @@ pub mod vakhrameev;
 
 pub use fitted::{DriftModel, ModelCorrector, Predictor, stream_inputs};
 pub use presets::{ModelChoice, Preset};
-pub use recipe::Recipe;
+pub use recipe::{CheckedRecipe, Recipe};
 pub use unit::{AxisModel, AxisPlan, CalibratedAxis, UnitCalibration, calibrate_unit};
 
 use crate::error::{Error, Result};
@@ -58,7 +58,7 @@ pub(crate) fn check_drift_bound(
 ///
 /// # Errors
 /// What the fit reports (too few samples, a missing channel, no plateaus, ...).
-pub fn fit(log: &Log, choice: &ModelChoice, recipe: &Recipe) -> Result<DriftModel> {
+pub fn fit(log: &Log, choice: &ModelChoice, recipe: &CheckedRecipe) -> Result<DriftModel> {
     fit_with_progress(log, choice, recipe, &|_| true)
 }
 
@@ -71,13 +71,12 @@ pub fn fit(log: &Log, choice: &ModelChoice, recipe: &Recipe) -> Result<DriftMode
 pub fn fit_with_progress(
     log: &Log,
     choice: &ModelChoice,
-    recipe: &Recipe,
+    recipe: &CheckedRecipe,
     progress: &(dyn Fn(f64) -> bool + Sync),
 ) -> Result<DriftModel> {
     if !progress(0.0) {
         return Err(Error::Cancelled);
     }
-    recipe.validate()?;
     recipe.check_against(log)?;
     check_span(log, choice)?;
     match choice.spec(log)? {
@@ -279,7 +278,7 @@ pub fn judge_on_own_log(model: &DriftModel, in_sample: &Evaluation) -> Vec<Strin
 pub fn calibrate(
     log: &Log,
     choice: &ModelChoice,
-    recipe: &Recipe,
+    recipe: &CheckedRecipe,
     merit: &MeritOptions,
 ) -> Result<Calibrated> {
     if choice.is_vakhrameev() {

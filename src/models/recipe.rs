@@ -115,7 +115,56 @@ impl Default for Recipe {
 /// fit would average the whole log into one value with it.
 pub const MAX_WINDOW_S: f64 = 1e6;
 
+/// A recipe whose numbers have been checked ([`Recipe::validate`]): what the model layer's fits
+/// take, so that a recipe is checked once, where a face makes it from options or a file, and
+/// every stage after trusts it. Read it as a [`Recipe`] (it dereferences to one); change it by
+/// taking the recipe out ([`CheckedRecipe::into_recipe`]) and checking it again.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CheckedRecipe(Recipe);
+
+impl CheckedRecipe {
+    /// The recipe.
+    pub fn recipe(&self) -> &Recipe {
+        &self.0
+    }
+
+    /// The recipe, to change and check again.
+    pub fn into_recipe(self) -> Recipe {
+        self.0
+    }
+}
+
+impl Default for CheckedRecipe {
+    /// The default recipe, whose numbers pass the checks (a test holds it).
+    fn default() -> Self {
+        CheckedRecipe(Recipe::default())
+    }
+}
+
+impl std::ops::Deref for CheckedRecipe {
+    type Target = Recipe;
+    fn deref(&self) -> &Recipe {
+        &self.0
+    }
+}
+
+impl TryFrom<Recipe> for CheckedRecipe {
+    type Error = Invalid;
+    fn try_from(r: Recipe) -> Result<CheckedRecipe, Invalid> {
+        r.checked()
+    }
+}
+
 impl Recipe {
+    /// The recipe checked ([`Recipe::validate`]) and carried as such.
+    ///
+    /// # Errors
+    /// The first setting that fails, named.
+    pub fn checked(self) -> Result<CheckedRecipe, Invalid> {
+        self.validate()?;
+        Ok(CheckedRecipe(self))
+    }
+
     /// Checks the numbers once, so fitting can trust them; the message names the setting.
     pub fn validate(&self) -> Result<(), Invalid> {
         let positive = |name: &str, v: f64| {

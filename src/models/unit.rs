@@ -12,7 +12,9 @@
 //! version-1 file, [`UnitCalibration::is_unit`] false); a unit of named axes is written as a
 //! version-2 file (`crate::files::calibration`).
 
-use super::{Calibrated, DriftModel, ModelChoice, Recipe, check_span, judge_on_own_log};
+use super::{
+    Calibrated, CheckedRecipe, DriftModel, ModelChoice, Recipe, check_span, judge_on_own_log,
+};
 use crate::error::{Error, Invalid, Result};
 use crate::judge::metrics::{Comparison, Evaluation, MeritOptions};
 use crate::log::Log;
@@ -161,8 +163,8 @@ pub struct AxisPlan {
     pub name: String,
     /// The model to fit.
     pub choice: ModelChoice,
-    /// The settings; its T settings are those of every Vakhrameev axis of the unit.
-    pub recipe: Recipe,
+    /// The settings, checked; its T settings are those of every Vakhrameev axis of the unit.
+    pub recipe: CheckedRecipe,
 }
 
 /// One axis fitted and judged on the log it was fitted on.

@@ -45,7 +45,9 @@ pub fn calibrate(log: &Log, [k0, k1, k2]: [ApproxKind; 3], extrapolate_k1: bool)
             extrapolate,
         };
     }
-    let cal = vakhrameev::fit(log, &r).expect("fit").calibration;
+    let cal = vakhrameev::fit(log, &r.clone().checked().unwrap())
+        .expect("fit")
+        .calibration;
     // The kinds asked for are the curves fitted (no fallback to a simpler curve).
     for (a, kind) in [
         (&cal.k0, k0),

@@ -25,7 +25,7 @@ fn noisy_log() -> driftlab::Log {
 #[test]
 fn streaming_equals_batch() {
     let log = noisy_log();
-    let cal = vakhrameev::fit(&log, &Recipe::default())
+    let cal = vakhrameev::fit(&log, &driftlab::models::CheckedRecipe::default())
         .unwrap()
         .calibration;
     let batch = cal.correct(&log);
@@ -50,7 +50,9 @@ fn calibration_round_trip_predicts_the_same() {
     recipe.k1_plus.kind = driftlab::models::approx::ApproxKind::Spline;
     recipe.k2_minus.kind = driftlab::models::approx::ApproxKind::Pwl;
     recipe.gyro_id = "FOG-0042".into();
-    let cal = vakhrameev::fit(&log, &recipe).unwrap().calibration;
+    let cal = vakhrameev::fit(&log, &recipe.clone().checked().unwrap())
+        .unwrap()
+        .calibration;
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("cal.json");
     calibration::save(&path, &cal).unwrap();
@@ -70,7 +72,7 @@ fn load_err(text: &str) -> String {
 
 #[test]
 fn malformed_calibration_files_are_refused_with_a_reason() {
-    let cal = vakhrameev::fit(&noisy_log(), &Recipe::default())
+    let cal = vakhrameev::fit(&noisy_log(), &driftlab::models::CheckedRecipe::default())
         .unwrap()
         .calibration;
     let good = calibration::to_json(&cal);
@@ -104,7 +106,7 @@ fn malformed_calibration_files_are_refused_with_a_reason() {
 
 #[test]
 fn a_failed_save_leaves_the_old_file() {
-    let cal = vakhrameev::fit(&noisy_log(), &Recipe::default())
+    let cal = vakhrameev::fit(&noisy_log(), &driftlab::models::CheckedRecipe::default())
         .unwrap()
         .calibration;
     let dir = tempfile::tempdir().unwrap();
@@ -141,7 +143,7 @@ fn figures_of_a_ramp_match_closed_form() {
 #[test]
 fn correction_reduces_drift_in_sample_and_held_out() {
     let log = noisy_log();
-    let cal = vakhrameev::fit(&log, &Recipe::default())
+    let cal = vakhrameev::fit(&log, &driftlab::models::CheckedRecipe::default())
         .unwrap()
         .calibration;
     let opts = MeritOptions::default();
@@ -165,7 +167,7 @@ fn correction_reduces_drift_in_sample_and_held_out() {
 #[test]
 fn corrected_csv_reads_back_exactly() {
     let log = noisy_log();
-    let cal = vakhrameev::fit(&log, &Recipe::default())
+    let cal = vakhrameev::fit(&log, &driftlab::models::CheckedRecipe::default())
         .unwrap()
         .calibration;
     let c = cal.correct(&log);
@@ -234,7 +236,7 @@ fn the_lean_prediction_of_apply_is_the_whole_correction_bit_for_bit() {
     // write what the whole correction (which the workbench and `evaluate` use) computes, also
     // with a smoothing window longer than the log.
     let log = noisy_log();
-    let fitted = vakhrameev::fit(&log, &Recipe::default())
+    let fitted = vakhrameev::fit(&log, &driftlab::models::CheckedRecipe::default())
         .unwrap()
         .calibration;
     let mut long_window = fitted.clone();
@@ -266,7 +268,7 @@ fn a_log_written_as_it_is_predicted_is_the_file_written_from_whole_columns() {
         col(&|_, i| one.omega_dph[i]),
         col(&|_, i| one.temp_c[i]),
     );
-    let cal = vakhrameev::fit(&one, &Recipe::default())
+    let cal = vakhrameev::fit(&one, &driftlab::models::CheckedRecipe::default())
         .unwrap()
         .calibration;
     let whole = cal.correct(&log);
@@ -299,7 +301,7 @@ fn the_corrected_rate_alone_is_the_whole_corrections_and_judged_the_same() {
     // `driftlab calibrate` judges its own log by the corrected rate alone, without the
     // predicted drift and regimes of a whole correction.
     let log = noisy_log();
-    let fit = vakhrameev::fit(&log, &Recipe::default()).unwrap();
+    let fit = vakhrameev::fit(&log, &driftlab::models::CheckedRecipe::default()).unwrap();
     let (cal, deriv) = (&fit.calibration, &fit.prepared.deriv);
     let whole = cal.correct_with(&log, deriv);
     let lean = cal.corrected_rate_with(&log, deriv);

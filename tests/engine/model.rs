@@ -31,7 +31,7 @@ fn sharp_recipe() -> Recipe {
 fn plateaus_found_at_the_holds_of_the_program() {
     let program = Program::paper_like();
     let log = log_from(&program, &TRUTH, 0.0, 0.001, 1);
-    let fit = vakhrameev::fit(&log, &Recipe::default()).unwrap();
+    let fit = vakhrameev::fit(&log, &driftlab::models::CheckedRecipe::default()).unwrap();
     let temps: Vec<f64> = fit.calibration.plateaus.iter().map(|p| p.temp_c).collect();
     assert_eq!(temps.len(), 4, "holds at 20, 60, -50, 20: {temps:?}");
     for (got, want) in temps.iter().zip([20.0, 60.0, -50.0, 20.0]) {
@@ -68,7 +68,7 @@ fn k0_recovered_from_plateaus() {
         plateaus: PlateauChoice::Manual { ranges },
         ..sharp_recipe()
     };
-    let fit = vakhrameev::fit(&log, &recipe).unwrap();
+    let fit = vakhrameev::fit(&log, &recipe.clone().checked().unwrap()).unwrap();
     let Curve::Polynomial { coeffs } = fit.calibration.k0.curve() else {
         panic!("parabolic K0")
     };
@@ -80,7 +80,7 @@ fn k0_recovered_from_plateaus() {
 #[test]
 fn k1_recovered_from_synthetic_ramps() {
     let log = log_from(&Program::paper_like(), &TRUTH, 0.0, 0.0, 1);
-    let fit = vakhrameev::fit(&log, &sharp_recipe()).unwrap();
+    let fit = vakhrameev::fit(&log, &(sharp_recipe()).clone().checked().unwrap()).unwrap();
     let cal = &fit.calibration;
     assert!(fit.k1_plus_points.len() > 1000 && fit.k1_minus_points.len() > 1000);
     for (name, a, want) in [
@@ -115,7 +115,7 @@ fn model_with_k2_terms_predicts_its_own_data() {
         k1_minus: ApproxSpec::of(ApproxKind::Parabolic),
         ..sharp_recipe()
     };
-    let fit = vakhrameev::fit(&log, &recipe).unwrap();
+    let fit = vakhrameev::fit(&log, &recipe.clone().checked().unwrap()).unwrap();
     let eval = Evaluation::of(&fit.calibration, &log, &MeritOptions::default());
     let c = eval.comparison;
     assert!(
@@ -160,7 +160,7 @@ fn manual_plateaus_replace_detection() {
         },
         ..sharp_recipe()
     };
-    let fit = vakhrameev::fit(&log, &recipe).unwrap();
+    let fit = vakhrameev::fit(&log, &recipe.clone().checked().unwrap()).unwrap();
     let got: Vec<PlateauRange> = fit.calibration.plateaus.iter().map(|p| p.range).collect();
     assert_eq!(got, ranges);
     // Two plateaus cannot carry a parabola: K0 falls back to a line, with a warning.
@@ -180,7 +180,7 @@ fn a_log_without_plateaus_cannot_define_k0() {
         legs: vec![(40.0, 4000.0, 0.0), (0.0, 4000.0, 0.0)],
     };
     let log = log_from(&program, &TRUTH, 0.0, 0.0, 1);
-    let err = vakhrameev::fit(&log, &Recipe::default()).unwrap_err();
+    let err = vakhrameev::fit(&log, &driftlab::models::CheckedRecipe::default()).unwrap_err();
     assert!(err.to_string().contains("no plateaus"), "{err}");
 }
 
@@ -192,7 +192,7 @@ fn invalid_recipes_are_refused_with_the_setting_named() {
         ..Recipe::default()
     };
     assert!(
-        vakhrameev::fit(&log, &bad)
+        vakhrameev::fit(&log, &bad.clone().checked().unwrap())
             .unwrap_err()
             .to_string()
             .contains("step_h_s")
@@ -206,7 +206,7 @@ fn invalid_recipes_are_refused_with_the_setting_named() {
         ..Recipe::default()
     };
     assert!(
-        vakhrameev::fit(&log, &bad)
+        vakhrameev::fit(&log, &bad.clone().checked().unwrap())
             .unwrap_err()
             .to_string()
             .contains("k1_plus")
@@ -264,7 +264,7 @@ fn pointwise_coefficients_are_the_methods_walk() {
         ..TRUTH
     };
     let log = log_from(&Program::paper_like(), &truth, 0.3, 0.001, 3);
-    let fit = vakhrameev::fit(&log, &Recipe::default()).unwrap();
+    let fit = vakhrameev::fit(&log, &driftlab::models::CheckedRecipe::default()).unwrap();
     let [k1p, k1m, k2p, k2m] = fit.calibration.pointwise(&log);
     for (got, regime, second) in [
         (&k1p, Regime::Plus, false),
@@ -295,8 +295,10 @@ fn streamed_k2_fit_is_the_weighted_fit_of_the_walked_points() {
     };
     let log = log_from(&Program::paper_like(), &truth, 0.3, 0.001, 3);
     let recipe = Recipe::default();
-    let lean = vakhrameev::fit_lean(&log, &recipe).unwrap().calibration;
-    let fit = vakhrameev::fit(&log, &recipe).unwrap();
+    let lean = vakhrameev::fit_lean(&log, &recipe.clone().checked().unwrap())
+        .unwrap()
+        .calibration;
+    let fit = vakhrameev::fit(&log, &recipe.clone().checked().unwrap()).unwrap();
     for (regime, spec, got) in [
         (Regime::Plus, &recipe.k2_plus, &lean.k2_plus),
         (Regime::Minus, &recipe.k2_minus, &lean.k2_minus),
@@ -313,8 +315,8 @@ fn streamed_k2_fit_is_the_weighted_fit_of_the_walked_points() {
 fn lean_calibration_is_the_full_fit() {
     let log = log_from(&Program::paper_like(), &TRUTH, 0.3, 0.001, 5);
     for recipe in [Recipe::default(), sharp_recipe()] {
-        let fit = vakhrameev::fit(&log, &recipe).unwrap();
-        let lean = vakhrameev::fit_lean(&log, &recipe).unwrap();
+        let fit = vakhrameev::fit(&log, &recipe.clone().checked().unwrap()).unwrap();
+        let lean = vakhrameev::fit_lean(&log, &recipe.clone().checked().unwrap()).unwrap();
         let strip = |c: &vakhrameev::Calibration| vakhrameev::Calibration {
             created: String::new(),
             ..c.clone()

@@ -389,7 +389,8 @@ fn streaming_equals_batch_for_every_model() {
     let log = read("laser-gyro.csv");
     let recipe = Recipe::default();
     for choice in every_choice() {
-        let model = driftlab::models::fit(&log, &choice, &recipe).unwrap();
+        let model =
+            driftlab::models::fit(&log, &choice, &recipe.clone().checked().unwrap()).unwrap();
         let batch = model.correct(&log).unwrap();
         let (t2, ch) = fitted::stream_inputs(&model, &log).unwrap();
         let mut stream = model.corrector_for(log.nominal_dt_s()).unwrap();
@@ -416,7 +417,9 @@ fn every_model_reads_back_from_its_calibration_file_and_predicts_the_same() {
     let log = read("laser-gyro.csv");
     let dir = tempfile::tempdir().unwrap();
     for choice in every_choice() {
-        let model = driftlab::models::fit(&log, &choice, &Recipe::default()).unwrap();
+        let model =
+            driftlab::models::fit(&log, &choice, &driftlab::models::CheckedRecipe::default())
+                .unwrap();
         let path = dir.path().join(format!("{}.json", choice.name()));
         calibration::save_model(&path, &model).unwrap();
         let back = calibration::load_model(&path).unwrap();
@@ -434,7 +437,7 @@ fn a_damaged_regression_file_is_refused_with_a_reason() {
     let model = driftlab::models::fit(
         &log,
         &ModelChoice::Preset(Preset::YanCross),
-        &Recipe::default(),
+        &driftlab::models::CheckedRecipe::default(),
     )
     .unwrap();
     let text = calibration::model_to_json(&model);
@@ -536,7 +539,13 @@ fn side_by_side(train: &str, tests: &[&str]) -> Vec<(String, f64)> {
     let train = read(train);
     let tests: Vec<Log> = tests.iter().map(|n| read(n)).collect();
     let choices: Vec<ModelChoice> = Preset::ALL.into_iter().map(ModelChoice::Preset).collect();
-    let reports = compare::compare(&train, &tests, &choices, &Recipe::default(), &merit);
+    let reports = compare::compare(
+        &train,
+        &tests,
+        &choices,
+        &driftlab::models::CheckedRecipe::default(),
+        &merit,
+    );
     let mut lines = Vec::new();
     let mut worse = Vec::new();
     let mut out = Vec::new();

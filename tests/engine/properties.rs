@@ -111,7 +111,7 @@ fn fitted_models() -> &'static Vec<DriftModel> {
         choices
             .iter()
             .map(|c| {
-                driftlab::models::fit(&log, c, &recipe)
+                driftlab::models::fit(&log, c, &recipe.clone().checked().unwrap())
                     .unwrap_or_else(|e| panic!("{}: {e}", c.name()))
             })
             .collect()
@@ -286,7 +286,7 @@ proptest! {
             ..Recipe::default()
         };
         recipe.k1_minus.extrapolate = !k1.extrapolate;
-        let cal = driftlab::models::vakhrameev::fit(&log, &recipe)
+        let cal = driftlab::models::vakhrameev::fit(&log, &recipe.clone().checked().unwrap())
             .map_err(|e| TestCaseError::fail(e.to_string()))?
             .calibration;
         assert_same_predictions(&DriftModel::Vakhrameev(Box::new(cal)), &log)?;
@@ -308,7 +308,7 @@ proptest! {
         for c in &choices {
             // A random program may not excite every term; a fit that fails is not this
             // property's business, a fit that succeeds must round-trip.
-            if let Ok(model) = driftlab::models::fit(&log, c, &recipe) {
+            if let Ok(model) = driftlab::models::fit(&log, c, &recipe.clone().checked().unwrap()) {
                 assert_same_predictions(&model, &log)?;
                 fitted += 1;
             }

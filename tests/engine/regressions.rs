@@ -7,9 +7,9 @@ use crate::common;
 use common::{Program, Truth, log_from};
 use driftlab::Log;
 use driftlab::files::calibration;
+use driftlab::models::CheckedRecipe;
 use driftlab::models::fitted::DriftModel;
 use driftlab::models::presets::{ModelChoice, Preset};
-use driftlab::models::recipe::Recipe;
 use std::path::Path;
 
 const TRUTH: Truth = Truth {
@@ -196,7 +196,8 @@ fn a_log_sampled_every_nanosecond_is_corrected_without_exhausting_memory() {
         ModelChoice::Preset(Preset::Vakhrameev),
         ModelChoice::Preset(Preset::Ieee952),
     ] {
-        let model: DriftModel = driftlab::models::fit(&train, &choice, &Recipe::default()).unwrap();
+        let model: DriftModel =
+            driftlab::models::fit(&train, &choice, &CheckedRecipe::default()).unwrap();
         let c = model.correct(&log).unwrap();
         assert_eq!(c.cor_dph.len(), log.len(), "{}", model.name());
         // Every window is longer than the log: T is the running mean of all of it so far and
@@ -217,7 +218,8 @@ fn a_streaming_corrector_refuses_a_step_it_cannot_keep_history_for() {
         ModelChoice::Preset(Preset::Vakhrameev),
         ModelChoice::Preset(Preset::YanDelayed),
     ] {
-        let model: DriftModel = driftlab::models::fit(&train, &choice, &Recipe::default()).unwrap();
+        let model: DriftModel =
+            driftlab::models::fit(&train, &choice, &CheckedRecipe::default()).unwrap();
         let e = model.corrector_for(1e-9).expect_err("refused").to_string();
         assert!(
             e.contains("samples of 0.000000001 s") && e.contains("streaming corrector keeps"),
@@ -238,7 +240,7 @@ fn a_streaming_corrector_refuses_a_step_it_cannot_keep_history_for() {
 #[test]
 fn a_calibration_that_could_not_be_read_back_is_not_written() {
     let train = log_from(&Program::paper_like(), &TRUTH, 0.05, 0.001, 5);
-    let mut cal = driftlab::models::vakhrameev::fit(&train, &Recipe::default())
+    let mut cal = driftlab::models::vakhrameev::fit(&train, &CheckedRecipe::default())
         .unwrap()
         .calibration;
     cal.resolved.smooth_samples = usize::MAX;

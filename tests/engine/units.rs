@@ -25,7 +25,7 @@ fn plans(log: &Log, choice: &ModelChoice, recipe: &Recipe) -> Vec<AxisPlan> {
         .map(|name| AxisPlan {
             name,
             choice: choice.clone(),
-            recipe: recipe.clone(),
+            recipe: recipe.clone().checked().unwrap(),
         })
         .collect()
 }
@@ -63,7 +63,9 @@ fn every_axis_of_a_unit_is_the_single_axis_calibration_of_that_axis() {
     // One axis with a model of its own and one with other approximations: each still gets
     // what a single-axis calibration of it gets.
     plans[2].choice = ModelChoice::Preset(Preset::PolyT);
-    plans[1].recipe.k1_plus.kind = driftlab::models::approx::ApproxKind::Parabolic;
+    let mut parabolic = plans[1].recipe.clone().into_recipe();
+    parabolic.k1_plus.kind = driftlab::models::approx::ApproxKind::Parabolic;
+    plans[1].recipe = parabolic.checked().unwrap();
     let unit = models::calibrate_unit(&mut log, &plans, &merit).unwrap();
     assert_eq!(
         log.axis_names(),
@@ -163,7 +165,8 @@ fn held_out_every_axis_comes_near_the_simulators_noise_floor() {
     for (k, name) in train.axis_names().iter().enumerate() {
         let (mut tr, mut te) = (train.clone(), test.clone());
         assert!(tr.select_axis(name) && te.select_axis(name));
-        let model = models::fit(&tr, &coil_lag, &Recipe::default()).unwrap();
+        let model =
+            models::fit(&tr, &coil_lag, &driftlab::models::CheckedRecipe::default()).unwrap();
         let e = Evaluation::of_correction(&te, &model.correct(&te).unwrap(), &merit);
         let r = e.comparison.corrected.p2p_dph / floors[k];
         lines.push(format!(
@@ -229,7 +232,9 @@ fn what_cannot_be_a_unit_is_refused_by_name() {
     let good = plans(&log, &vakhrameev, &Recipe::default());
 
     let mut other_t = good.clone();
-    other_t[1].recipe.step_h_s = 20.0;
+    let mut step = other_t[1].recipe.clone().into_recipe();
+    step.step_h_s = 20.0;
+    other_t[1].recipe = step.checked().unwrap();
     let e = models::calibrate_unit(&mut log, &other_t, &merit)
         .unwrap_err()
         .to_string();

@@ -3,9 +3,9 @@
 //! feature, and one delay with a lag and a fixed λ; the csv table lists every coefficient.
 
 use driftlab::export::firmware::{self, ExportOptions, Format};
+use driftlab::models::CheckedRecipe;
 use driftlab::models::fitted::{self, DriftModel};
 use driftlab::models::presets::{ModelChoice, Preset};
-use driftlab::models::recipe::Recipe;
 use driftlab::models::regression::terms::parse_terms;
 use driftlab::models::regression::{DelaySpec, LagSpec, RegressionSpec};
 use driftlab::{Log, files::calibration};
@@ -195,7 +195,8 @@ fn c_header_corrects_as_driftlab_for_every_preset_on_the_laser_gyro() {
     let (cal_log, held_out) = (read("laser-gyro.csv"), read("laser-gyro-2.csv"));
     for p in regression_presets() {
         let model =
-            driftlab::models::fit(&cal_log, &ModelChoice::Preset(p), &Recipe::default()).unwrap();
+            driftlab::models::fit(&cal_log, &ModelChoice::Preset(p), &CheckedRecipe::default())
+                .unwrap();
         let label = format!("{} (laser gyro)", p.name());
         if regression_c_agrees(&label, &model, &[&held_out, &cal_log]).is_none() {
             return;
@@ -208,7 +209,8 @@ fn c_header_corrects_as_driftlab_for_every_preset_on_the_fog() {
     let (cal_log, val_log) = (read("calibration.csv"), read("validation.csv"));
     for p in regression_presets() {
         let model =
-            driftlab::models::fit(&cal_log, &ModelChoice::Preset(p), &Recipe::default()).unwrap();
+            driftlab::models::fit(&cal_log, &ModelChoice::Preset(p), &CheckedRecipe::default())
+                .unwrap();
         let label = format!("{} (FOG)", p.name());
         if regression_c_agrees(&label, &model, &[&val_log, &cal_log]).is_none() {
             return;
@@ -235,8 +237,12 @@ fn c_header_corrects_as_driftlab_for_a_custom_model_with_every_feature() {
         seconds: 300.0,
         per_c: 0.01,
     };
-    let mut model =
-        driftlab::models::fit(&cal_log, &ModelChoice::Custom(spec), &Recipe::default()).unwrap();
+    let mut model = driftlab::models::fit(
+        &cal_log,
+        &ModelChoice::Custom(spec),
+        &CheckedRecipe::default(),
+    )
+    .unwrap();
     if let DriftModel::Regression(r) = &mut model {
         assert!(r.model.delay.points.len() >= 2, "{:?}", r.model.delay);
         assert!(r.model.lambda_s.is_some() && r.model.lag_s == Some(300.0));
@@ -256,7 +262,7 @@ fn regression_csv_table_lists_every_coefficient_exactly() {
     let model = driftlab::models::fit(
         &log,
         &ModelChoice::Preset(Preset::Sukhanov),
-        &Recipe::default(),
+        &CheckedRecipe::default(),
     )
     .unwrap();
     let DriftModel::Regression(r) = &model else {
@@ -329,8 +335,12 @@ fn c_header_corrects_as_driftlab_with_one_delay_a_lag_and_a_fixed_lambda() {
         per_c: 0.0,
     };
     spec.lambda = driftlab::models::regression::LambdaSpec::Fixed { seconds: 1200.0 };
-    let model =
-        driftlab::models::fit(&cal_log, &ModelChoice::Custom(spec), &Recipe::default()).unwrap();
+    let model = driftlab::models::fit(
+        &cal_log,
+        &ModelChoice::Custom(spec),
+        &CheckedRecipe::default(),
+    )
+    .unwrap();
     if let DriftModel::Regression(r) = &model {
         assert_eq!(r.model.delay.points, vec![[0.0, 250.5]]);
         assert_eq!(r.model.lag_s, Some(120.0));
@@ -360,8 +370,12 @@ fn c_header_restarts_after_a_dropout_as_driftlab() {
         seconds: 120.0,
         per_c: 0.01,
     };
-    let model =
-        driftlab::models::fit(&cal_log, &ModelChoice::Custom(spec), &Recipe::default()).unwrap();
+    let model = driftlab::models::fit(
+        &cal_log,
+        &ModelChoice::Custom(spec),
+        &CheckedRecipe::default(),
+    )
+    .unwrap();
     let Some((worst, identical)) = regression_c_agrees("custom with dropouts", &model, &[&gapped])
     else {
         return;

@@ -28,7 +28,7 @@ use driftlab::export::flight::px4::{Px4Target, px4_params};
 use driftlab::export::flight::{AxisFit, ImuFits, axis_index};
 use driftlab::models::approx::ApproxKind;
 use driftlab::models::regression::{RegressionSpec, terms};
-use driftlab::models::{self, DriftModel, ModelChoice, Preset, Recipe};
+use driftlab::models::{self, CheckedRecipe, DriftModel, ModelChoice, Preset};
 use std::collections::HashMap;
 
 const DPH_PER_RAD_S: f64 = 180.0 / std::f64::consts::PI * 3600.0;
@@ -70,7 +70,7 @@ fn custom(terms: &str) -> ModelChoice {
 }
 
 fn fit(log: &Log, choice: &ModelChoice) -> DriftModel {
-    models::fit(log, choice, &Recipe::default()).unwrap()
+    models::fit(log, choice, &CheckedRecipe::default()).unwrap()
 }
 
 /// driftlab's prediction at each temperature, in the model's unit.

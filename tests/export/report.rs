@@ -39,7 +39,7 @@ fn calibration() -> &'static Calibration {
             gyro_id: GYRO.into(),
             ..Recipe::default()
         };
-        let mut cal = vakhrameev::fit(&read(&path), &recipe)
+        let mut cal = vakhrameev::fit(&read(&path), &recipe.clone().checked().unwrap())
             .expect("fits")
             .calibration;
         cal.source.name = "calibration.csv".into();
@@ -467,7 +467,12 @@ fn regression_model(terms: &str, searches: bool) -> DriftModel {
         gyro_id: "RLG-REPORT-3".into(),
         ..Recipe::default()
     };
-    let mut model = driftlab::models::fit(&log, &ModelChoice::Custom(spec), &recipe).unwrap();
+    let mut model = driftlab::models::fit(
+        &log,
+        &ModelChoice::Custom(spec),
+        &recipe.clone().checked().unwrap(),
+    )
+    .unwrap();
     let src = model.source_mut();
     src.name = "laser-gyro.csv".into();
     src.sha256 = calibration::sha256_file(&path).unwrap();

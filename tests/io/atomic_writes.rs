@@ -13,9 +13,9 @@ use common::{Program, Truth, log_from};
 use driftlab::files::calibration;
 use driftlab::files::corrected_csv;
 use driftlab::files::session::{self, Session};
+use driftlab::models::CheckedRecipe;
 use driftlab::models::fitted::DriftModel;
 use driftlab::models::presets::{ModelChoice, Preset};
-use driftlab::models::recipe::Recipe;
 use driftlab::models::vakhrameev::{self, Calibration};
 use driftlab::{Log, files::atomic};
 use std::fs;
@@ -42,7 +42,7 @@ fn log() -> &'static Log {
 fn calibration() -> &'static Calibration {
     static CAL: OnceLock<Calibration> = OnceLock::new();
     CAL.get_or_init(|| {
-        vakhrameev::fit(log(), &Recipe::default())
+        vakhrameev::fit(log(), &CheckedRecipe::default())
             .unwrap()
             .calibration
     })
@@ -52,7 +52,7 @@ fn regression_model() -> &'static DriftModel {
     static MODEL: OnceLock<DriftModel> = OnceLock::new();
     MODEL.get_or_init(|| {
         let choice = ModelChoice::Preset(Preset::Ieee952);
-        driftlab::models::fit(log(), &choice, &Recipe::default()).unwrap()
+        driftlab::models::fit(log(), &choice, &CheckedRecipe::default()).unwrap()
     })
 }
 

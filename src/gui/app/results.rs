@@ -298,13 +298,20 @@ impl Workbench {
             .iter()
             .map(|v| v.log.clone())
             .collect();
+        let recipe = match self.state.recipe().clone().checked() {
+            Ok(r) => r,
+            Err(e) => {
+                self.state.say(Severity::Warning, e.to_string());
+                return;
+            }
+        };
         let n = choices.len();
         let names = crate::gui::view_models::log_names(&log.log, &tests);
         self.jobs.compare(crate::gui::jobs::CompareRequest {
             train: log.log.clone(),
             tests,
             choices,
-            recipe: self.state.recipe().clone(),
+            recipe,
             merit: self.state.merit(),
         });
         self.state

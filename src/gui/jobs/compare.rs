@@ -15,7 +15,7 @@ pub struct CompareRequest {
     pub choices: Vec<ModelChoice>,
     /// The workbench's recipe (the Vakhrameev model's choices; knots moved by hand are not
     /// part of it).
-    pub recipe: Recipe,
+    pub recipe: crate::models::CheckedRecipe,
     /// How the figures are computed.
     pub merit: MeritOptions,
 }

@@ -11,7 +11,7 @@ use super::{
 use crate::error::{Error, Result};
 use crate::log::Log;
 use crate::models::approx::Approx;
-use crate::models::recipe::Recipe;
+use crate::models::recipe::{CheckedRecipe, Recipe};
 use crate::signal::Derivatives;
 use crate::signal::plateau::{PlateauRange, PlateauStats};
 
@@ -35,7 +35,7 @@ pub struct Fit {
 }
 
 /// Calibrates the Vakhrameev model on `log` with `recipe`.
-pub fn fit(log: &Log, recipe: &Recipe) -> Result<Fit> {
+pub fn fit(log: &Log, recipe: &CheckedRecipe) -> Result<Fit> {
     check_fittable(log, recipe)?;
     let prepared = Prepared::new(log, recipe);
     let ranges = plateau_ranges(log, &prepared, recipe);
@@ -43,7 +43,6 @@ pub fn fit(log: &Log, recipe: &Recipe) -> Result<Fit> {
 }
 
 fn check_fittable(log: &Log, recipe: &Recipe) -> Result<()> {
-    recipe.validate()?;
     recipe.check_against(log)?;
     if log.len() < 16 {
         return Err(Error::Fit(format!(
@@ -165,7 +164,7 @@ pub struct Calibrated {
 /// [`fit`] for a caller that wants only the calibration (the command line): the same result,
 /// made holding no more than the log, the filtered Ω (turned into `Ω_f − K0(T)` in place), Ṫ,
 /// T̈ and the sets' sample indices; no points are gathered.
-pub fn fit_lean(log: &Log, recipe: &Recipe) -> Result<Calibrated> {
+pub fn fit_lean(log: &Log, recipe: &CheckedRecipe) -> Result<Calibrated> {
     check_fittable(log, recipe)?;
     let mut prepared = Prepared::new(log, recipe);
     let ranges = plateau_ranges(log, &prepared, recipe);
@@ -277,7 +276,7 @@ impl SharedTemperature {
     /// # Errors
     /// What [`fit`] refuses before any work: an invalid recipe, windows longer than the log,
     /// too few or too many samples.
-    pub fn new(log: &Log, recipe: &Recipe) -> Result<SharedTemperature> {
+    pub fn new(log: &Log, recipe: &CheckedRecipe) -> Result<SharedTemperature> {
         check_fittable(log, recipe)?;
         let timing = log.timing();
         let dt_s = timing.nominal_dt_s;
@@ -299,7 +298,7 @@ impl SharedTemperature {
         Ok(SharedTemperature {
             prepared,
             ranges,
-            recipe: recipe.clone(),
+            recipe: recipe.recipe().clone(),
             span_s,
             sets: None,
         })
@@ -322,7 +321,11 @@ impl SharedTemperature {
     /// [`Error::Invalid`] naming a T setting of `recipe` (`temp_smoothing_s`, `step_h_s`,
     /// `plateaus`) that differs from the shared one: the axes of one log share T, so they share
     /// how it is processed. Otherwise what [`fit`] reports.
-    pub fn fit_axis(&mut self, log: &Log, recipe: &Recipe) -> Result<(Calibration, Vec<String>)> {
+    pub fn fit_axis(
+        &mut self,
+        log: &Log,
+        recipe: &CheckedRecipe,
+    ) -> Result<(Calibration, Vec<String>)> {
         let shared = &self.recipe;
         for (name, same) in [
             (
@@ -341,9 +344,8 @@ impl SharedTemperature {
                 .into());
             }
         }
-        // What `fit` checks, on the log `new` has checked: the recipe's own numbers and its
-        // filter against the log's span (its T windows are the shared ones).
-        recipe.validate()?;
+        // What `fit` checks, on the log `new` has checked: the recipe's filter against the
+        // log's span (its T windows are the shared ones).
         if recipe.filter_s > self.span_s {
             return Err(crate::error::Invalid::new(
                 "filter_s",
