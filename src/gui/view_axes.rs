@@ -68,8 +68,14 @@ fn axis_text(ui: &Ui, axis: &super::state::AxisRef<'_>, selected: bool) -> Layou
     } else {
         v.text_color()
     };
-    let weak = v.weak_text_color();
+    // The labels of the axis shown stand on the selection colour: not greyed there.
+    let weak = if selected {
+        v.text_color()
+    } else {
+        v.weak_text_color()
+    };
     let bad = v.error_fg_color;
+    let provisional = v.weak_text_color();
     let mut job = LayoutJob::default();
     let push = |job: &mut LayoutJob, text: &str, font: &FontId, color: Color32, italics| {
         job.append(
@@ -118,7 +124,7 @@ fn axis_text(ui: &Ui, axis: &super::state::AxisRef<'_>, selected: bool) -> Layou
         ] {
             push(job, name, &font, weak, false);
             let color = match (exact, r >= 1.0) {
-                (false, _) => weak,
+                (false, _) => provisional,
                 (true, true) => normal,
                 (true, false) => bad,
             };

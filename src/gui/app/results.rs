@@ -73,6 +73,8 @@ impl Workbench {
         if let Some(c) = by_name.get(&names[0]) {
             self.state.choices = c.clone();
         }
+        // The first axis's undo starts afresh too (it may be parked below).
+        self.state.history.reset(&self.state.choices);
         self.jobs.set_axes(names.len());
         self.state.unit = Some(crate::gui::state::Unit {
             names,
@@ -367,6 +369,25 @@ impl Workbench {
                         .say(Severity::Error, format!("Calibration failed: {message}"));
                     // A screenshot of a failed calibration is not what was asked for.
                     self.finish_auto(Err(format!("the calibration failed: {message}")));
+                }
+            }
+            JobResult::Compared(generation, Ok(c))
+                if generation == self.jobs.compare_requested()
+                    && self.state.unit.is_some()
+                    && !self.state.log.as_ref().is_some_and(|l| {
+                        c.logs.first().is_some_and(|f| Arc::ptr_eq(&f.log, &l.log))
+                    }) =>
+            {
+                // Another axis's comparison (asked before a switch) waits with that axis.
+                if let Some(u) = &mut self.state.unit
+                    && let Some(p) = u.parked.iter_mut().find(|p| {
+                        p.log.as_ref().is_some_and(|l| {
+                            c.logs.first().is_some_and(|f| Arc::ptr_eq(&f.log, &l.log))
+                        })
+                    })
+                {
+                    p.models = Some(c);
+                    p.models_error = None;
                 }
             }
             JobResult::Compared(generation, result) => {
