@@ -443,3 +443,35 @@ fn a_single_axis_log_shows_no_axis_switch_and_saves_a_version_1_session() {
     assert!(text.contains("\"version\": 1"), "{text}");
     assert!(!text.contains("\"axes\""));
 }
+
+#[test]
+fn a_unit_left_unsaved_is_recovered_with_every_axis() {
+    let dir = tempfile::tempdir().unwrap();
+    let settings = dir.path().join("workbench.json");
+    let mut wb =
+        Workbench::new_for_test_in(&sample("imu3-calibration.csv"), Some(settings.clone()));
+    // gz filtered otherwise, gy shown.
+    assert!(wb.state.switch_axis(2));
+    wb.state.recipe_mut().filter_s = 57.0;
+    assert!(wb.state.switch_axis(1));
+    assert!(wb.state.dirty());
+    wb.autosave_now();
+    drop(wb);
+
+    let mut wb = Workbench::new(
+        driftlab::gui::settings::Settings::default(),
+        Some(settings),
+        Box::new(driftlab::gui::ScriptedDialogs::new()),
+    );
+    wb.restore_autosave();
+    wb.wait_for_jobs();
+    let s = &wb.state;
+    assert_eq!(s.axis_count(), 3, "{:?}", s.status);
+    assert_eq!(s.active_axis(), 1, "the axis shown");
+    let filters: Vec<f64> = (0..3)
+        .map(|k| s.axis(k).unwrap().choices.recipe.filter_s)
+        .collect();
+    assert_eq!(filters, [100.0, 100.0, 57.0]);
+    assert!(s.dirty(), "recovered work is not saved work");
+    assert!(s.all_current(), "every axis calibrated");
+}
