@@ -3,6 +3,7 @@
 //! ```text
 //! cargo bench --no-default-features --bench engine              # criterion, 1M samples
 //! cargo bench --no-default-features --bench engine -- live      # only the live loop
+//! cargo bench --no-default-features --bench engine -- live_unit # the live loop of a unit
 //! DRIFTLAB_STAGES=/tmp/big.csv cargo bench --no-default-features --bench engine
 //! ```
 //!
@@ -464,6 +465,187 @@ fn pipeline_benches(c: &mut Criterion, log: Arc<Log>) {
     g.finish();
 }
 
+/// The live loop of a unit as the workbench runs it: a three-axis log of 1M samples per axis
+/// (the simulator's calibration run at 25 Hz, written as CSV and read back as the workbench
+/// reads it), one view per axis (its rate in `omega_dph`, no other axis) and one warm
+/// `live::Pipeline` per axis. An edit of one axis runs that axis's pipeline alone; the other
+/// two stay resident beside it, as in the workbench. `live_unit/plateau_moved_all_axes_1M`
+/// is what follows the release of a plateau edge: the three axes refitted on the shared
+/// plateaus, one after the other as the worker runs them.
+fn unit_pipeline_benches(c: &mut Criterion) {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let path = dir.path().join("imu3-25hz.csv");
+    let profile = driftlab::sim::profile("calibration")
+        .expect("the calibration profile")
+        .with_axes(3)
+        .expect("three axes");
+    let logging = driftlab::sim::Logging {
+        rate_hz: Some(25.0),
+        ..Default::default()
+    };
+    let run = driftlab::sim::simulate_logged(&profile, 1, &logging, &|_| {}).expect("simulate");
+    run.write_csv(&path).expect("write the unit's log");
+    drop(run);
+    let log = ingest::read_path(&path, &ReadOptions::default()).expect("read the unit's log");
+    let names = log.axis_names();
+    assert_eq!(names.len(), 3, "three gyro axes read: {names:?}");
+    println!(
+        "unit log: {} samples per axis, axes {}",
+        log.len(),
+        names.join(", ")
+    );
+    let views: Vec<Arc<Log>> = names
+        .iter()
+        .map(|n| {
+            let mut v = log.clone();
+            v.select_axis(n);
+            v.other_axes.clear();
+            Arc::new(v)
+        })
+        .collect();
+    drop(log);
+    let request = |k: usize, recipe: &Recipe, knots: KnotEdits| Request {
+        log: views[k].clone(),
+        recipe: recipe.clone(),
+        knots,
+        merit: MeritOptions::default(),
+        validation: None,
+    };
+    let pwl = Recipe {
+        k1_plus: ApproxSpec::of(ApproxKind::Pwl),
+        k2_plus: ApproxSpec::of(ApproxKind::Pwl),
+        ..Recipe::default()
+    };
+    let mut pipes: Vec<Pipeline> = (0..3).map(|_| Pipeline::new()).collect();
+    let mut fitted = Vec::new();
+    for (k, p) in pipes.iter_mut().enumerate() {
+        fitted.push(
+            p.run(&request(k, &pwl, KnotEdits::default()))
+                .expect("pipeline"),
+        );
+    }
+    let edited = 1;
+    let dragged = |c: Coefficient, a: &Approx| {
+        let mut v = a.knots().1.to_vec();
+        let j = v.len() / 2;
+        v[j] += 0.05 * (v[j].abs() + 1.0);
+        let mut k = KnotEdits::default();
+        k.set(c, Some(v));
+        k
+    };
+    // As `live/pipeline_k2p_kind_changed_1M`: from the default recipe, K2+ made parabolic.
+    let base = Recipe::default();
+    let mut other_k2p = base.clone();
+    other_k2p.k2_plus.kind = ApproxKind::Parabolic;
+    // A plateau edge moved by a minute (the plateaus as the detector found them, by hand).
+    let ranges = fitted[edited].ranges.clone();
+    let manual = |shift_s: f64| {
+        let mut r = pwl.clone();
+        let mut ranges = ranges.clone();
+        if let Some(last) = ranges.last_mut() {
+            last.start_s += shift_s;
+        }
+        r.plateaus = driftlab::models::recipe::PlateauChoice::Manual { ranges };
+        r
+    };
+    let (a, b) = (manual(0.0), manual(60.0));
+    let cal = &fitted[edited].calibration;
+    let scenarios: Vec<(&str, [Request; 2])> = vec![
+        (
+            "nothing_changed_1M",
+            [
+                request(edited, &pwl, KnotEdits::default()),
+                request(edited, &pwl, KnotEdits::default()),
+            ],
+        ),
+        (
+            "k2p_knot_dragged_1M",
+            [
+                request(edited, &pwl, KnotEdits::default()),
+                request(edited, &pwl, dragged(Coefficient::K2Plus, &cal.k2_plus)),
+            ],
+        ),
+        (
+            "k1p_knot_dragged_1M",
+            [
+                request(edited, &pwl, KnotEdits::default()),
+                request(edited, &pwl, dragged(Coefficient::K1Plus, &cal.k1_plus)),
+            ],
+        ),
+        (
+            "k2p_kind_changed_1M",
+            [
+                request(edited, &base, KnotEdits::default()),
+                request(edited, &other_k2p, KnotEdits::default()),
+            ],
+        ),
+        (
+            "plateau_moved_1M",
+            [
+                request(edited, &a, KnotEdits::default()),
+                request(edited, &b, KnotEdits::default()),
+            ],
+        ),
+    ];
+    // The outcomes held here would keep buffers the pipelines reuse once they are dropped.
+    drop(fitted);
+    let mut g = c.benchmark_group("live_unit");
+    g.sample_size(20).measurement_time(Duration::from_secs(4));
+    for (name, reqs) in &scenarios {
+        let p = &mut pipes[edited];
+        for r in reqs {
+            p.run(r).expect("pipeline");
+        }
+        let t = p.run(&reqs[0]).expect("pipeline").timings;
+        println!(
+            "live_unit/{name} (axis {}): one run: prepare {:.2} ms, plateaus {:.2}, fit {:.2}, \
+             correct {:.2}, evaluate {:.2}, total {:.2}",
+            names[edited],
+            t.prepare_ms,
+            t.plateaus_ms,
+            t.fit_ms,
+            t.correct_ms,
+            t.evaluate_ms,
+            t.total_ms
+        );
+        let mut flip = 0;
+        g.bench_function(*name, |bench| {
+            bench.iter(|| {
+                flip ^= 1;
+                p.run(&reqs[flip]).expect("pipeline")
+            })
+        });
+    }
+    // The release of a plateau edge: every axis refitted on the shared plateaus.
+    let all: [Vec<Request>; 2] = [
+        (0..3)
+            .map(|k| request(k, &a, KnotEdits::default()))
+            .collect(),
+        (0..3)
+            .map(|k| request(k, &b, KnotEdits::default()))
+            .collect(),
+    ];
+    for state in &all {
+        for (p, r) in pipes.iter_mut().zip(state) {
+            p.run(r).expect("pipeline");
+        }
+    }
+    let mut flip = 0;
+    g.bench_function("plateau_moved_all_axes_1M", |bench| {
+        bench.iter(|| {
+            flip ^= 1;
+            for (p, r) in pipes.iter_mut().zip(&all[flip]) {
+                black_box(p.run(r).expect("pipeline"));
+            }
+        })
+    });
+    g.finish();
+    println!(
+        "resident after the unit benchmarks: {:.0} MB",
+        current_rss_mb()
+    );
+}
+
 // ---- stages of the two commands on a big file ---------------------------------------------
 
 /// Peak resident memory since the last reset, MB (10^6 bytes, as BENCHMARKS.md counts).
@@ -673,6 +855,7 @@ fn main() {
         .measurement_time(Duration::from_secs(4))
         .configure_from_args();
     benches(&mut c);
+    unit_pipeline_benches(&mut c);
     c.final_summary();
 }
 

@@ -9,6 +9,11 @@
 //!                "merit": { "filter_s": 100, "window_s": 600 }, "view": { ... } } }
 //! ```
 //!
+//! The session of a log of several gyro axes (a unit) is version 2: `axes` lists each axis's
+//! own choices (`{ "name": "gy", "recipe": { ... }, "knots": { ... } }`) and `view.axis` the
+//! axis shown; `recipe` and `knots` are then the first axis's. A session of one axis is written
+//! as version 1, as it always was, and version-1 files keep loading.
+//!
 //! Like calibration files, sessions name their format and version, reject unknown fields and
 //! are written atomically. Paths are stored relative to the session file when the log lies
 //! in the same folder or below it, so a folder of logs and sessions can be moved as a whole.
@@ -22,8 +27,11 @@ use std::path::{Path, PathBuf};
 
 /// The format name written into every session file.
 pub const FORMAT: &str = "driftlab-session";
-/// The newest session version this build writes and reads.
-pub const VERSION: u32 = 1;
+/// The newest session version this build writes and reads (2: a unit's axes).
+pub const VERSION: u32 = 2;
+
+/// The version of a session of one gyro axis, written as before units existed.
+pub const VERSION_SINGLE: u32 = 1;
 
 /// A log and how to read it.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
@@ -206,6 +214,21 @@ pub struct ViewState {
     pub time_range_s: Option<[f64; 2]>,
     /// Whether the result plot shows the validation log rather than the calibration log.
     pub show_validation: bool,
+    /// The gyro axis shown, for a unit of several (version 2).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub axis: Option<String>,
+}
+
+/// One gyro axis's own choices in the session of a unit.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct AxisChoices {
+    /// The axis (`gx`), as the log names it.
+    pub name: String,
+    /// Its recipe (the T settings and plateaus are those of every axis).
+    pub recipe: Recipe,
+    /// Its knots moved by hand.
+    pub knots: KnotEdits,
 }
 
 /// A workbench session.
@@ -224,6 +247,17 @@ pub struct Session {
     pub merit: MeritOptions,
     /// What was on screen.
     pub view: ViewState,
+    /// For a unit of several gyro axes, every axis's own choices, in the log's order (empty
+    /// for a log of one axis).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub axes: Vec<AxisChoices>,
+}
+
+impl Session {
+    /// Whether this is the session of a unit of several axes (written as version 2).
+    pub fn is_unit(&self) -> bool {
+        !self.axes.is_empty() || self.view.axis.is_some()
+    }
 }
 
 #[derive(Serialize, Deserialize)]
@@ -276,7 +310,11 @@ impl Session {
 pub fn to_json(session: &Session) -> String {
     let file = SessionFile {
         format: FORMAT.into(),
-        version: VERSION,
+        version: if session.is_unit() {
+            VERSION
+        } else {
+            VERSION_SINGLE
+        },
         session: session.clone(),
     };
     serde_json::to_string_pretty(&file).unwrap_or_default() + "\n"
@@ -297,19 +335,36 @@ pub fn from_json(path: &Path, text: &str) -> Result<Session> {
         None => return Err(err(format!("no \"format\" field: not a {FORMAT} file"))),
     }
     match header.version {
-        Some(v) if v == VERSION as u64 => {}
+        Some(v) if v == VERSION as u64 || v == VERSION_SINGLE as u64 => {}
         Some(v) => {
             return Err(err(format!(
-                "version {v} is not supported by this driftlab (reads version {VERSION})"
+                "version {v} is not supported by this driftlab (reads versions \
+                 {VERSION_SINGLE} and {VERSION})"
             )));
         }
         None => return Err(err("no \"version\" field".into())),
     }
     let file: SessionFile = serde_json::from_str(text).map_err(|e| err(e.to_string()))?;
+    if file.version == VERSION_SINGLE && file.session.is_unit() {
+        return Err(err(
+            "a version-1 session holds one axis: \"axes\" and \"view.axis\" need version 2".into(),
+        ));
+    }
     file.session
         .recipe
         .validate()
         .map_err(|e| err(format!("recipe: {e}")))?;
+    for (k, a) in file.session.axes.iter().enumerate() {
+        if a.name.trim().is_empty() {
+            return Err(err(format!("axes[{k}]: an axis needs a name")));
+        }
+        if file.session.axes[..k].iter().any(|b| b.name == a.name) {
+            return Err(err(format!("axes[{k}]: \"{}\" names two axes", a.name)));
+        }
+        a.recipe
+            .validate()
+            .map_err(|e| err(format!("axes[{}].recipe: {e}", a.name)))?;
+    }
     Ok(file.session)
 }
 

@@ -78,6 +78,10 @@ pub enum Action {
     CompareModels,
     /// Write the model chosen on the Models page as a calibration file.
     ExportModel,
+    /// Show this gyro axis of a unit (its index in the log's order).
+    SelectAxis(usize),
+    /// Show the next (true) or the previous gyro axis of a unit.
+    StepAxis(bool),
     /// Reopen the import view on the loaded log (or the validation log) to change its
     /// column mapping, units or format.
     ColumnMapping(Target),
@@ -204,4 +208,27 @@ pub mod shortcuts {
     pub const PAGE3: KeyboardShortcut = KeyboardShortcut::new(Modifiers::COMMAND, Key::Num3);
     /// Compare the models ticked (Models page).
     pub const COMPARE: KeyboardShortcut = KeyboardShortcut::new(Modifiers::NONE, Key::F5);
+    /// The previous gyro axis of a unit.
+    pub const AXIS_PREV: KeyboardShortcut =
+        KeyboardShortcut::new(Modifiers::NONE, Key::OpenBracket);
+    /// The next gyro axis of a unit.
+    pub const AXIS_NEXT: KeyboardShortcut =
+        KeyboardShortcut::new(Modifiers::NONE, Key::CloseBracket);
+
+    /// Gyro axis `k` (0-based) of a unit: Alt+1 … Alt+9.
+    pub fn axis(k: usize) -> Option<KeyboardShortcut> {
+        const KEYS: [Key; 9] = [
+            Key::Num1,
+            Key::Num2,
+            Key::Num3,
+            Key::Num4,
+            Key::Num5,
+            Key::Num6,
+            Key::Num7,
+            Key::Num8,
+            Key::Num9,
+        ];
+        KEYS.get(k)
+            .map(|&key| KeyboardShortcut::new(Modifiers::ALT, key))
+    }
 }

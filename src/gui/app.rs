@@ -28,6 +28,7 @@ use super::plot_items::num;
 use super::settings::{Settings, ThemeChoice, WindowGeometry};
 use super::state::{AppState, Choices, Severity};
 use super::view_allan::AllanPage;
+use super::view_axes::AxesView;
 use super::view_coeffs::CoeffView;
 use super::view_controls::{ControlsView, PlateauFocus};
 use super::view_figures::FiguresView;
@@ -71,6 +72,7 @@ pub struct Workbench {
 #[derive(Default)]
 struct Views {
     page: Page,
+    axes: AxesView,
     time: TimeView,
     controls: ControlsView,
     coeffs: CoeffView,
@@ -108,6 +110,8 @@ struct Window {
     plot_rects: HashMap<String, Rect>,
     /// Where each panel of the Calibration page was drawn last frame.
     panel_rects: HashMap<&'static str, Rect>,
+    /// A mouse button is held (a drag under way): only the axis shown is refitted.
+    pointer_down: bool,
 }
 
 /// A session being opened: its log is read first, then the rest of it is restored.
@@ -158,6 +162,7 @@ impl Workbench {
                 quitting: false,
                 plot_rects: HashMap::new(),
                 panel_rects: HashMap::new(),
+                pointer_down: false,
             },
             opening: Opening::default(),
             recovery: Recovery { autosave, offered },
@@ -362,6 +367,7 @@ impl Workbench {
             self.run_action(&ctx, a);
         }
         let settled = !ctx.input(|i| i.pointer.any_down());
+        self.window.pointer_down = !settled;
         self.state.history.observe(&self.state.choices, settled);
         self.state.forget_stale_status();
         self.refit_if_needed();
@@ -391,6 +397,12 @@ impl Workbench {
     fn calibration_page(&mut self, ui: &mut Ui, actions: &mut Vec<Action>) {
         if self.state.validation.is_none() {
             self.state.view.show_validation = false;
+        }
+        if self.state.unit.is_some() {
+            let r = Panel::top("axes")
+                .resizable(false)
+                .show(ui, |ui| actions.extend(self.views.axes.ui(ui, &self.state)));
+            self.window.panel_rects.insert("axes", r.response.rect);
         }
         Panel::top("banner")
             .resizable(false)

@@ -136,6 +136,41 @@ pub fn write_corrected_csv(path: &Path, log: &Log, c: &Correction) -> Result<Pat
     Ok(path.to_path_buf())
 }
 
+/// Writes a unit's calibration file (version 2, every axis; the engine's
+/// [`crate::files::calibration::save_unit`]).
+pub fn save_unit(path: &Path, unit: &crate::models::UnitCalibration) -> Result<PathBuf, String> {
+    crate::files::calibration::save_unit(path, unit).map_err(|e| e.to_string())?;
+    Ok(path.to_path_buf())
+}
+
+/// Writes the corrected log of a unit as `driftlab apply` does: `time_s`, then each axis's
+/// raw, predicted and corrected rate in the calibration's order, then `temp_c`; every axis
+/// predicted batch by batch from `log`, the log with every axis.
+pub fn write_unit_csv(
+    path: &Path,
+    log: &Log,
+    unit: &crate::models::UnitCalibration,
+) -> Result<PathBuf, String> {
+    let mut predictors = Vec::with_capacity(unit.axes.len());
+    for ax in &unit.axes {
+        predictors.push(
+            ax.model
+                .predictor(log)
+                .map_err(|e| format!("axis {}: {e}", ax.name))?,
+        );
+    }
+    let mut axes = Vec::with_capacity(unit.axes.len());
+    for (ax, p) in unit.axes.iter().zip(predictors.iter_mut()) {
+        let rate = log
+            .axis_rate(&ax.name)
+            .ok_or_else(|| format!("{}: no gyro axis {}", log.source, ax.name))?;
+        axes.push((ax.name.as_str(), rate, p));
+    }
+    crate::files::corrected_csv::write_unit_streamed(path, log, axes, &|_| {})
+        .map_err(|e| format!("{}: {e}", path.display()))?;
+    Ok(path.to_path_buf())
+}
+
 /// A file name next to the log: `run7.csv` → `run7-<suffix>`.
 pub fn suggested_name(log_path: Option<&Path>, suffix: &str) -> String {
     let stem = log_path

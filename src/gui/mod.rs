@@ -9,7 +9,8 @@
 //!   [`same`]: the identity of a shared value, for their cache keys;
 //! * [`plot_items`]: plot items drawn from level-of-detail data ([`crate::signal::lod`]), and
 //!   the number formats; [`widgets`]: the widgets more than one view draws;
-//! * one module per view: [`view_import`], [`view_time`] (the run over time),
+//! * one module per view: [`view_import`], [`view_axes`] (a unit's axes: the switch and each
+//!   axis's figures), [`view_time`] (the run over time),
 //!   [`view_controls`] (the log, the signal settings and the plateau table), [`view_coeffs`]
 //!   (K0, K1±, K2±), [`view_result`] (the drift before and after), [`view_figures`] (the
 //!   figures of merit), [`view_models`] (the Models page) and [`view_allan`] (the Allan page);
@@ -50,6 +51,7 @@
 //! [`plot_items`]: crate::gui::plot_items
 //! [`widgets`]: crate::gui::widgets
 //! [`view_import`]: crate::gui::view_import
+//! [`view_axes`]: crate::gui::view_axes
 //! [`view_time`]: crate::gui::view_time
 //! [`view_controls`]: crate::gui::view_controls
 //! [`view_coeffs`]: crate::gui::view_coeffs
@@ -77,6 +79,7 @@ pub mod same;
 pub mod settings;
 pub mod state;
 pub mod view_allan;
+pub mod view_axes;
 pub mod view_coeffs;
 pub mod view_controls;
 pub mod view_figures;

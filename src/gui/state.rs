@@ -4,7 +4,7 @@
 
 use super::action::Edit;
 use super::jobs::{AllanView, Compared, FitView, Loaded};
-use crate::files::session::{KnotEdits, LogRef, Session, ViewState};
+use crate::files::session::{AxisChoices, KnotEdits, LogRef, Session, ViewState};
 use crate::judge::metrics::MeritOptions;
 use crate::live::Request;
 use crate::models::recipe::{PlateauChoice, Recipe};
@@ -140,6 +140,132 @@ pub struct AppState {
     pub models_error: Option<String>,
     /// The newest Allan deviations (Allan view).
     pub allan: Option<Arc<AllanView>>,
+    /// The gyro axes of a log of several (none for a log of one axis): the fields above
+    /// hold the axis shown, the others wait here.
+    pub unit: Option<Unit>,
+}
+
+/// What the workbench holds for one gyro axis: its view of the logs, its choices, its fit
+/// and the pages' results. The axis shown has its own in [`AppState`]'s fields (so that every
+/// view reads one axis as it reads a log of one); the others are parked in [`Unit::parked`].
+#[derive(Default)]
+pub struct AxisLive {
+    /// The calibration log's view of this axis.
+    pub log: Option<Loaded>,
+    /// The validation log's view of the axis of the same name, when it has one.
+    pub validation: Option<Loaded>,
+    /// The axis's choices.
+    pub choices: Choices,
+    /// Its newest fit.
+    pub fit: Option<Arc<FitView>>,
+    /// Why its newest refit failed.
+    pub fit_error: Option<String>,
+    /// Its undo and redo.
+    pub history: History,
+    /// Its comparison of models.
+    pub models: Option<Arc<Compared>>,
+    /// Why its comparison failed.
+    pub models_error: Option<String>,
+    /// Its Allan deviations.
+    pub allan: Option<Arc<AllanView>>,
+}
+
+/// The gyro axes of a log of several. They share T, and so what a calibration takes from
+/// it: how T is smoothed and differentiated and the plateaus ([`share_temperature`]); the
+/// rest of the choices is each axis's own.
+#[derive(Default)]
+pub struct Unit {
+    /// The axes' names, in the log's order.
+    pub names: Vec<String>,
+    /// The axis shown.
+    pub active: usize,
+    /// Every axis's state but the shown one's (`parked[active]` is empty: its state is in
+    /// [`AppState`]'s fields).
+    pub parked: Vec<AxisLive>,
+    /// The calibration log with every axis (the corrected CSV of the unit reads it).
+    pub full_log: Option<Arc<crate::log::Log>>,
+}
+
+/// Gives `to` the settings every axis of a unit takes from T (smoothing, step H, plateaus)
+/// as `from` has them; true when anything changed.
+pub fn share_temperature(from: &Recipe, to: &mut Recipe) -> bool {
+    if crate::models::unit::differing_temperature_setting(from, to).is_none() {
+        return false;
+    }
+    to.temp_smoothing_s = from.temp_smoothing_s;
+    to.step_h_s = from.step_h_s;
+    to.plateaus = from.plateaus.clone();
+    true
+}
+
+/// What an axis of the unit holds, read whichever axis is shown.
+pub struct AxisRef<'a> {
+    /// The axis's name.
+    pub name: &'a str,
+    /// The calibration log's view of it.
+    pub log: Option<&'a Loaded>,
+    /// The validation log's view of it.
+    pub validation: Option<&'a Loaded>,
+    /// Its choices.
+    pub choices: &'a Choices,
+    /// Its newest fit.
+    pub fit: Option<&'a Arc<FitView>>,
+    /// Why its newest refit failed.
+    pub fit_error: Option<&'a String>,
+}
+
+impl AxisRef<'_> {
+    /// The refit request of the axis's choices.
+    pub fn request(&self) -> Option<Request> {
+        request(self.log, self.validation, self.choices)
+    }
+
+    /// Whether its fit answers its choices and logs exactly.
+    pub fn fit_current(&self) -> bool {
+        fit_current(self.fit, self.log, self.validation, self.choices)
+    }
+}
+
+fn merit_of(choices: &Choices) -> MeritOptions {
+    MeritOptions {
+        filter_s: choices.recipe.filter_s,
+        ..MeritOptions::default()
+    }
+}
+
+fn request(
+    log: Option<&Loaded>,
+    validation: Option<&Loaded>,
+    choices: &Choices,
+) -> Option<Request> {
+    let log = log?;
+    Some(Request {
+        log: log.log.clone(),
+        recipe: choices.recipe.clone(),
+        knots: choices.knots.clone(),
+        merit: merit_of(choices),
+        validation: validation.map(|v| v.log.clone()),
+    })
+}
+
+fn fit_current(
+    fit: Option<&Arc<FitView>>,
+    log: Option<&Loaded>,
+    validation: Option<&Loaded>,
+    choices: &Choices,
+) -> bool {
+    fit.is_some_and(|f| {
+        let same_log = log.is_some_and(|l| Arc::ptr_eq(&l.log, &f.outcome.in_sample.log));
+        let same_validation = match (validation, &f.outcome.held_out) {
+            (Some(v), Some(h)) => Arc::ptr_eq(&v.log, &h.log),
+            (None, None) => true,
+            _ => false,
+        };
+        same_log
+            && same_validation
+            && f.outcome.calibration.recipe == choices.recipe
+            && f.knots == choices.knots
+    })
 }
 
 impl AppState {
@@ -204,22 +330,12 @@ impl AppState {
 
     /// The refit request for the current choices, when a log is loaded.
     pub fn request(&self) -> Option<Request> {
-        let log = self.log.as_ref()?;
-        Some(Request {
-            log: log.log.clone(),
-            recipe: self.choices.recipe.clone(),
-            knots: self.choices.knots.clone(),
-            merit: self.merit(),
-            validation: self.validation.as_ref().map(|v| v.log.clone()),
-        })
+        request(self.log.as_ref(), self.validation.as_ref(), &self.choices)
     }
 
     /// How the figures of merit are computed: the recipe's filter, 10-minute windows.
     pub fn merit(&self) -> MeritOptions {
-        MeritOptions {
-            filter_s: self.choices.recipe.filter_s,
-            ..MeritOptions::default()
-        }
+        merit_of(&self.choices)
     }
 
     /// The session as it stands.
@@ -231,14 +347,40 @@ impl AppState {
                 bin_s: l.options.bin_s,
             })
         };
-        Session {
+        let mut session = Session {
             log: log_ref(&self.log),
             validation: log_ref(&self.validation),
             recipe: self.choices.recipe.clone(),
             knots: self.choices.knots.clone(),
             merit: self.merit(),
             view: self.view.clone(),
+            axes: Vec::new(),
+        };
+        if let Some(u) = &self.unit {
+            // A unit: every axis's own choices, the first axis's at the top as well.
+            session.axes = (0..u.names.len())
+                .filter_map(|k| self.axis(k))
+                .map(|a| AxisChoices {
+                    name: a.name.to_string(),
+                    recipe: a.choices.recipe.clone(),
+                    knots: a.choices.knots.clone(),
+                })
+                .collect();
+            if let Some(first) = session.axes.first() {
+                session.recipe = first.recipe.clone();
+                session.knots = first.knots.clone();
+                session.merit = merit_of(&Choices {
+                    recipe: first.recipe.clone(),
+                    knots: KnotEdits::default(),
+                });
+            }
+            if session.validation.is_none() {
+                // The shown axis may have no match in the validation log; another may.
+                session.validation = u.parked.iter().find_map(|p| log_ref(&p.validation));
+            }
+            session.view.axis = self.active_axis_name().map(str::to_string);
         }
+        session
     }
 
     /// True when there are choices that are not saved in a session.
@@ -269,21 +411,156 @@ impl AppState {
     /// Whether the fit shown answers the current choices and logs exactly (else a refit is on
     /// its way and what is shown is provisional).
     pub fn fit_current(&self) -> bool {
-        self.fit.as_ref().is_some_and(|f| {
-            let same_log = self
-                .log
-                .as_ref()
-                .is_some_and(|l| Arc::ptr_eq(&l.log, &f.outcome.in_sample.log));
-            let same_validation = match (&self.validation, &f.outcome.held_out) {
-                (Some(v), Some(h)) => Arc::ptr_eq(&v.log, &h.log),
-                (None, None) => true,
-                _ => false,
+        fit_current(
+            self.fit.as_ref(),
+            self.log.as_ref(),
+            self.validation.as_ref(),
+            &self.choices,
+        )
+    }
+
+    /// Whether every axis's fit answers its choices (the one axis of a log of one).
+    pub fn all_current(&self) -> bool {
+        (0..self.axis_count()).all(|k| self.axis(k).is_some_and(|a| a.fit_current()))
+    }
+
+    /// The unit's calibration from every axis's current fit, each stamped with the log's
+    /// name and SHA-256 as files record it; `None` for a log of one axis.
+    ///
+    /// # Errors
+    /// Naming the first axis with no calibration of its current choices.
+    pub fn unit_calibration(&self) -> Option<Result<crate::models::UnitCalibration, String>> {
+        let u = self.unit.as_ref()?;
+        let mut axes = Vec::with_capacity(u.names.len());
+        for k in 0..u.names.len() {
+            let Some(a) = self.axis(k) else {
+                return Some(Err(format!("axis {} is missing", u.names[k])));
             };
-            same_log
-                && same_validation
-                && f.outcome.calibration.recipe == self.choices.recipe
-                && f.knots == self.choices.knots
-        })
+            let (Some(log), Some(fit)) = (a.log, a.fit.filter(|_| a.fit_current())) else {
+                return Some(Err(format!(
+                    "axis {} has no calibration of its current choices{}",
+                    a.name,
+                    a.fit_error.map(|e| format!(" ({e})")).unwrap_or_default()
+                )));
+            };
+            let cal = match super::export::stamped(
+                &fit.outcome.calibration,
+                &log.path,
+                log.sha256.as_deref(),
+            ) {
+                Ok(c) => c,
+                Err(e) => return Some(Err(e)),
+            };
+            axes.push(crate::models::AxisModel {
+                name: a.name.to_string(),
+                rate_column: log.log.rate_column().unwrap_or_default(),
+                model: crate::models::DriftModel::Vakhrameev(Box::new(cal)),
+            });
+        }
+        Some(Ok(crate::models::UnitCalibration { axes }))
+    }
+
+    /// The number of gyro axes calibrated (1 for a log of one axis).
+    pub fn axis_count(&self) -> usize {
+        self.unit.as_ref().map_or(1, |u| u.names.len())
+    }
+
+    /// The axis shown (0 for a log of one axis).
+    pub fn active_axis(&self) -> usize {
+        self.unit.as_ref().map_or(0, |u| u.active)
+    }
+
+    /// The name of the axis shown, for a unit of several axes.
+    pub fn active_axis_name(&self) -> Option<&str> {
+        self.unit
+            .as_ref()
+            .and_then(|u| u.names.get(u.active))
+            .map(String::as_str)
+    }
+
+    /// What axis `k` holds (`None` past the last axis). For a log of one axis, axis 0 is
+    /// the log's own.
+    pub fn axis(&self, k: usize) -> Option<AxisRef<'_>> {
+        let shown = AxisRef {
+            name: self.active_axis_name().unwrap_or_default(),
+            log: self.log.as_ref(),
+            validation: self.validation.as_ref(),
+            choices: &self.choices,
+            fit: self.fit.as_ref(),
+            fit_error: self.fit_error.as_ref(),
+        };
+        match &self.unit {
+            None => (k == 0).then_some(shown),
+            Some(u) if k == u.active => Some(shown),
+            Some(u) => {
+                let p = u.parked.get(k)?;
+                Some(AxisRef {
+                    name: &u.names[k],
+                    log: p.log.as_ref(),
+                    validation: p.validation.as_ref(),
+                    choices: &p.choices,
+                    fit: p.fit.as_ref(),
+                    fit_error: p.fit_error.as_ref(),
+                })
+            }
+        }
+    }
+
+    /// Shows axis `k` of the unit: its state comes out of [`Unit::parked`], the shown axis's
+    /// goes in. Nothing is refitted (each axis keeps its fit). False when there is no such
+    /// axis.
+    pub fn switch_axis(&mut self, k: usize) -> bool {
+        let Some(mut unit) = self.unit.take() else {
+            return k == 0;
+        };
+        let ok = k < unit.parked.len();
+        if ok && k != unit.active {
+            let next = std::mem::take(&mut unit.parked[k]);
+            unit.parked[unit.active] = self.take_live();
+            self.put_live(next);
+            unit.active = k;
+        }
+        self.unit = Some(unit);
+        ok
+    }
+
+    fn take_live(&mut self) -> AxisLive {
+        AxisLive {
+            log: self.log.take(),
+            validation: self.validation.take(),
+            choices: std::mem::take(&mut self.choices),
+            fit: self.fit.take(),
+            fit_error: self.fit_error.take(),
+            history: std::mem::take(&mut self.history),
+            models: self.models.take(),
+            models_error: self.models_error.take(),
+            allan: self.allan.take(),
+        }
+    }
+
+    fn put_live(&mut self, l: AxisLive) {
+        self.log = l.log;
+        self.validation = l.validation;
+        self.choices = l.choices;
+        self.fit = l.fit;
+        self.fit_error = l.fit_error;
+        self.history = l.history;
+        self.models = l.models;
+        self.models_error = l.models_error;
+        self.allan = l.allan;
+    }
+
+    /// Gives every other axis of the unit the T settings of the shown axis (they share T);
+    /// called after each change of choices.
+    pub fn share_temperature(&mut self) {
+        let Some(u) = &mut self.unit else {
+            return;
+        };
+        for (k, p) in u.parked.iter_mut().enumerate() {
+            if k != u.active {
+                share_temperature(&self.choices.recipe, &mut p.choices.recipe);
+            }
+        }
     }
 
     /// Shows a status message that holds only for the choices as they are: it is cleared once

@@ -50,12 +50,15 @@ impl AllanPage {
             });
         egui::CentralPanel::default().show(ui, |ui| {
             ui.horizontal_wrapped(|ui| {
-                ui.strong("Allan deviation, raw and corrected")
-                    .on_hover_text(
-                        "Octave τ, overlapping estimator, 68.3 % confidence intervals (shaded); \
+                ui.strong(match state.active_axis_name() {
+                    Some(axis) => format!("Allan deviation of axis {axis}, raw and corrected"),
+                    None => "Allan deviation, raw and corrected".to_string(),
+                })
+                .on_hover_text(
+                    "Octave τ, overlapping estimator, 68.3 % confidence intervals (shaded); \
                      the corrected rate is the calibration log's (or the validation log's) \
                      rate corrected by the calibration of the Calibration page",
-                    );
+                );
                 ui.separator();
                 ui.radio_value(&mut self.validation, false, "calibration log")
                     .on_hover_text("The log the calibration was fitted on");

@@ -20,8 +20,15 @@ impl FiguresView {
             ui.weak("Figures of merit appear once the log is calibrated.");
             return Vec::new();
         };
+        // A unit's figures name the axis they are of.
+        let axis = state
+            .active_axis_name()
+            .map(|a| format!(" · axis {a}"))
+            .unwrap_or_default();
         let name = |l: &Option<super::jobs::Loaded>| {
-            l.as_ref().map(|l| file_name(&l.path)).unwrap_or_default()
+            l.as_ref()
+                .map(|l| format!("{}{axis}", file_name(&l.path)))
+                .unwrap_or_default()
         };
         // While a refit is on its way (a knot being dragged on a long log) the figures are those
         // of the choices a moment ago: shown greyed and marked, never passed off as the

@@ -12,4 +12,5 @@ mod flight_export;
 mod gaps;
 mod models_allan;
 mod open_export;
+mod units;
 mod window;

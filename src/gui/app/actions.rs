@@ -48,6 +48,23 @@ impl Workbench {
             if self.views.page == Page::Models && i.consume_shortcut(&shortcuts::COMPARE) {
                 actions.push(Action::CompareModels);
             }
+            // The axes of a unit: Alt+1 … Alt+9, and [ and ] outside a text field.
+            for k in 0..self.state.axis_count().min(9) {
+                if self.state.unit.is_some()
+                    && let Some(sc) = shortcuts::axis(k)
+                    && i.consume_shortcut(&sc)
+                {
+                    actions.push(Action::SelectAxis(k));
+                }
+            }
+            if self.state.unit.is_some() && !text_focus {
+                if i.consume_shortcut(&shortcuts::AXIS_PREV) {
+                    actions.push(Action::StepAxis(false));
+                }
+                if i.consume_shortcut(&shortcuts::AXIS_NEXT) {
+                    actions.push(Action::StepAxis(true));
+                }
+            }
             if !text_focus {
                 if i.consume_shortcut(&shortcuts::REDO2) || i.consume_shortcut(&shortcuts::REDO) {
                     actions.push(Action::Redo);
@@ -139,6 +156,11 @@ impl Workbench {
             }
             Action::CloseValidation => {
                 self.state.validation = None;
+                if let Some(u) = &mut self.state.unit {
+                    for p in &mut u.parked {
+                        p.validation = None;
+                    }
+                }
                 self.state.view.show_validation = false;
             }
             Action::OpenSession => self.ask(ctx, Purpose::OpenSession, ""),
@@ -199,6 +221,8 @@ impl Workbench {
             }
             Action::SuggestPlateaus => self.suggest_plateaus(),
             Action::ResetRecipe => {
+                // Of the axis shown (a unit's other axes keep theirs, but for the T settings
+                // and plateaus they share).
                 self.state.choices = Choices::default();
             }
             Action::Quit => {
@@ -210,6 +234,12 @@ impl Workbench {
             }
             Action::ShowPage(p) => self.views.page = p,
             Action::CompareModels => self.compare_models(),
+            Action::SelectAxis(k) => self.select_axis(k),
+            Action::StepAxis(next) => {
+                let n = self.state.axis_count();
+                let k = self.state.active_axis();
+                self.select_axis(if next { (k + 1) % n } else { (k + n - 1) % n });
+            }
             Action::ExportModel => self.export_model(ctx),
             Action::ColumnMapping(target) => {
                 let loaded = match target {

@@ -202,7 +202,7 @@ impl Workbench {
     /// Waits (a second or two at most) for the refit the current choices need, so that what
     /// is written is what the figures show.
     fn settle_fit(&mut self) {
-        if !self.state.fit_current() || self.jobs.fitting() {
+        if !self.state.all_current() || self.jobs.fitting() {
             self.refit_if_needed();
             let deadline = Instant::now() + Duration::from_secs(60);
             while self.jobs.fitting() && Instant::now() < deadline {
@@ -237,17 +237,26 @@ impl Workbench {
             );
             return;
         };
-        match export::save_calibration(
-            path,
-            &fit.outcome.calibration,
-            &log.path,
-            log.sha256.as_deref(),
-        ) {
-            Ok(p) => {
+        // A unit: every axis in one version-2 file; one axis: the file it always was.
+        let written = match self.state.unit_calibration() {
+            Some(unit) => unit.and_then(|u| {
+                export::save_unit(path, &u)
+                    .map(|p| (p, format!(" (axes {})", u.axis_names().join(", "))))
+            }),
+            None => export::save_calibration(
+                path,
+                &fit.outcome.calibration,
+                &log.path,
+                log.sha256.as_deref(),
+            )
+            .map(|p| (p, String::new())),
+        };
+        match written {
+            Ok((p, axes)) => {
                 self.window.settings.last_dir = p.parent().map(Path::to_path_buf);
                 self.state.say(
                     Severity::Info,
-                    format!("Calibration written: {}", p.display()),
+                    format!("Calibration written: {}{axes}", p.display()),
                 );
             }
             Err(e) => {
@@ -316,9 +325,15 @@ impl Workbench {
                 } else {
                     (Severity::Warning, format!("; {}", file.warnings.join("; ")))
                 };
+                // A unit's flight file holds the axis shown: the engine writes one axis.
+                let of_axis = self
+                    .state
+                    .active_axis_name()
+                    .map(|a| format!(" (axis {a} only: the file holds one gyro axis)"))
+                    .unwrap_or_default();
                 self.state.say(
                     severity,
-                    format!("{format} file written: {}{warned}", path.display()),
+                    format!("{format} file written: {}{of_axis}{warned}", path.display()),
                 );
             }
             Err(e) => self.state.say(
@@ -434,9 +449,14 @@ impl Workbench {
             logs.push((v.path.clone(), (*v.log).clone()));
         }
         self.window.settings.last_dir = dir.parent().map(Path::to_path_buf);
+        let of_axis = self
+            .state
+            .active_axis_name()
+            .map(|a| format!(" (axis {a}: the report holds the axis shown)"))
+            .unwrap_or_default();
         self.state.say(
             Severity::Info,
-            format!("Writing the report into {} …", dir.display()),
+            format!("Writing the report into {}{of_axis} …", dir.display()),
         );
         self.jobs
             .spawn_export("report", move || export::write_report(&dir, &cal, &logs));
@@ -462,6 +482,24 @@ impl Workbench {
         self.window.settings.last_dir = path.parent().map(Path::to_path_buf);
         self.state
             .say(Severity::Info, format!("Writing {} …", path.display()));
+        if let Some(unit) = self.state.unit_calibration() {
+            // A unit: every axis side by side, as `driftlab apply` writes it.
+            let full = self.state.unit.as_ref().and_then(|u| u.full_log.clone());
+            let (unit, full) = match (unit, full) {
+                (Ok(u), Some(f)) => (u, f),
+                (Err(e), _) => {
+                    return self.state.say(
+                        Severity::Warning,
+                        format!("Corrected log not exported, nothing was written: {e}"),
+                    );
+                }
+                (_, None) => return,
+            };
+            self.jobs.spawn_export("corrected log", move || {
+                export::write_unit_csv(&path, &full, &unit)
+            });
+            return;
+        }
         let l = log.log.clone();
         self.jobs.spawn_export("corrected log", move || {
             export::write_corrected_csv(&path, &l, &fit.outcome.in_sample.corrected)

@@ -212,10 +212,14 @@ impl Workbench {
                 ui.label(RichText::new(format!("{name}{dirty}")).strong())
                     .on_hover_text(format!("{}{}", l.path.display(), if dirty.is_empty() { "" } else { "\nunsaved changes" }));
                 ui.weak(format!(
-                    "{} samples · {} h · step {} s",
+                    "{} samples · {} h · step {} s{}",
                     l.log.len(),
                     crate::number::fixed(l.log.duration_s() / 3600.0, 2),
-                    num(l.log.nominal_dt_s())
+                    num(l.log.nominal_dt_s()),
+                    match self.state.unit.as_ref() {
+                        Some(u) => format!(" · {} gyro axes", u.names.len()),
+                        None => String::new(),
+                    }
                 ));
             }
             ui.with_layout(Layout::right_to_left(Align::Center), |ui| {
@@ -418,6 +422,10 @@ impl Workbench {
                                 "pages: Calibration / Models / Allan deviation",
                             ),
                             ("F5 (Models page)", "compare the models ticked"),
+                            (
+                                "Alt+1 … Alt+9, [ / ]",
+                                "gyro axis of a unit: that one / the previous, the next",
+                            ),
                             (
                                 "Ctrl+E / Ctrl+Shift+E",
                                 "export the calibration / the corrected log",

@@ -4,17 +4,161 @@
 use super::*;
 
 impl Workbench {
-    /// Sends the refit the current choices need, once.
+    /// Sends the refit the current choices need, once: the shown axis's at once; the other
+    /// axes of a unit (a change of the T settings or plateaus they share) once the pointer is
+    /// released, so that a drag refits only the axis it edits.
     pub(super) fn refit_if_needed(&mut self) {
+        self.state.share_temperature();
+        let active = self.state.active_axis();
         if let Some(req) = self.state.request() {
-            self.jobs.refit(req);
+            self.jobs.refit(active, req);
         }
+        if self.window.pointer_down {
+            return;
+        }
+        for k in (0..self.state.axis_count()).filter(|&k| k != active) {
+            if let Some(req) = self.state.axis(k).and_then(|a| a.request()) {
+                self.jobs.refit(k, req);
+            }
+        }
+    }
+
+    /// Shows axis `k` of the unit (nothing is refitted: each axis keeps its fit).
+    pub(super) fn select_axis(&mut self, k: usize) {
+        if self.state.unit.is_none() || k == self.state.active_axis() {
+            return;
+        }
+        if !self.state.switch_axis(k) {
+            return;
+        }
+        // A plateau selected on one axis is the same plateau on every other (they share
+        // them); the Models page's selection belongs to the comparison of the axis shown.
+        if let Some(c) = self.state.models.clone() {
+            self.views.models.adopt(&c);
+        }
+    }
+
+    /// The unit of a log of several axes just read: its first axis shown (`state.log`), the
+    /// others parked with `choices` (or those of `by_name`, for an axis named there).
+    fn make_unit(
+        &mut self,
+        views: Vec<Loaded>,
+        choices: &Choices,
+        by_name: &std::collections::HashMap<String, Choices>,
+        shown: Option<&str>,
+    ) {
+        let full_log = self.state.log.as_ref().map(|l| l.log.clone());
+        let names: Vec<String> = views.iter().map(|v| v.log.axis.clone()).collect();
+        let parked = views
+            .into_iter()
+            .enumerate()
+            .map(|(k, v)| {
+                if k == 0 {
+                    return crate::gui::state::AxisLive::default();
+                }
+                let choices = by_name
+                    .get(&names[k])
+                    .cloned()
+                    .unwrap_or_else(|| choices.clone());
+                let mut history = crate::gui::state::History::default();
+                history.reset(&choices);
+                crate::gui::state::AxisLive {
+                    log: Some(v),
+                    choices,
+                    history,
+                    ..Default::default()
+                }
+            })
+            .collect();
+        if let Some(c) = by_name.get(&names[0]) {
+            self.state.choices = c.clone();
+        }
+        // The first axis's undo starts afresh too (it may be parked below).
+        self.state.history.reset(&self.state.choices);
+        self.jobs.set_axes(names.len());
+        self.state.unit = Some(crate::gui::state::Unit {
+            names,
+            active: 0,
+            parked,
+            full_log,
+        });
+        if let Some(k) =
+            shown.and_then(|n| self.state.unit.as_ref()?.names.iter().position(|x| x == n))
+        {
+            self.state.switch_axis(k);
+        }
+    }
+
+    /// Gives each axis of the unit its view of the validation log just read: the axis of the
+    /// same name (or rate column); says which axes it lacks.
+    fn validation_for_unit(&mut self, l: Loaded) -> Option<String> {
+        let unit = self.state.unit.as_ref()?;
+        let names = unit.names.clone();
+        let active = unit.active;
+        let mut missing = Vec::new();
+        for (k, name) in names.iter().enumerate() {
+            let column = self
+                .state
+                .axis(k)
+                .and_then(|a| a.log)
+                .and_then(|v| v.log.rate_column())
+                .unwrap_or_default();
+            let view = l.log.matching_axis(name, &column).and_then(|m| {
+                if l.axis_views.is_empty() {
+                    Some(Loaded {
+                        axis_views: Vec::new(),
+                        ..l.clone()
+                    })
+                } else {
+                    l.axis_view(&m).cloned()
+                }
+            });
+            if view.is_none() {
+                missing.push(name.clone());
+            }
+            if k == active {
+                self.state.validation = view;
+            } else if let Some(u) = &mut self.state.unit {
+                u.parked[k].validation = view;
+            }
+        }
+        (!missing.is_empty()).then(|| {
+            format!(
+                "; it has no axis {} (its axes: {}), so {} judged on it",
+                missing.join(", "),
+                l.log.axis_names().join(", "),
+                if missing.len() == 1 {
+                    "that one is not"
+                } else {
+                    "those are not"
+                }
+            )
+        })
     }
 
     pub(super) fn handle(&mut self, r: JobResult) {
         match r {
             JobResult::Loaded(Target::Calibration, l) => {
-                let l = *l;
+                let mut l = *l;
+                let views = std::mem::take(&mut l.axis_views);
+                // The choices of each axis of the unit shown before, when the same file is
+                // read again with another mapping.
+                let old_axes: std::collections::HashMap<String, Choices> = self
+                    .state
+                    .unit
+                    .as_ref()
+                    .map(|u| {
+                        (0..u.names.len())
+                            .filter_map(|k| self.state.axis(k))
+                            .map(|a| (a.name.to_string(), a.choices.clone()))
+                            .collect()
+                    })
+                    .unwrap_or_default();
+                if self.state.unit.is_some() {
+                    // Back to the first axis, then the old unit goes.
+                    self.state.switch_axis(0);
+                    self.state.unit = None;
+                }
                 let path = l.path.clone();
                 let msg = format!(
                     "Read {} samples from {} in {:.2} s{}{}",
@@ -46,6 +190,8 @@ impl Workbench {
                 self.state.fit = None;
                 self.state.fit_error = None;
                 self.views.time.selected = None;
+                let mut by_name = std::collections::HashMap::new();
+                let mut shown_axis = None;
                 match self.opening.session.take() {
                     Some((spath, s))
                         if s.log.as_ref().is_some_and(|r| same_file(&r.path, &path)) =>
@@ -54,6 +200,16 @@ impl Workbench {
                             recipe: s.recipe.clone(),
                             knots: s.knots.clone(),
                         };
+                        for a in &s.axes {
+                            by_name.insert(
+                                a.name.clone(),
+                                Choices {
+                                    recipe: a.recipe.clone(),
+                                    knots: a.knots.clone(),
+                                },
+                            );
+                        }
+                        shown_axis = s.view.axis.clone();
                         self.state.view = s.view.clone();
                         self.views.time.x_command = Some(match s.view.time_range_s {
                             Some([a, b]) => XCommand::Range(a, b),
@@ -82,6 +238,7 @@ impl Workbench {
                         }
                     }
                     _ if remapped => {
+                        by_name = old_axes;
                         self.views.time.x_command = Some(XCommand::Fit);
                     }
                     _ => {
@@ -97,7 +254,17 @@ impl Workbench {
                         self.window.settings.add_recent(&path);
                     }
                 }
-                if !remapped {
+                if views.is_empty() {
+                    self.jobs.set_axes(1);
+                } else {
+                    let choices = self.state.choices.clone();
+                    self.make_unit(views, &choices, &by_name, shown_axis.as_deref());
+                    if self.state.baseline.is_some() && !remapped {
+                        // Saved (or freshly opened) as it now stands, every axis included.
+                        self.state.mark_saved();
+                    }
+                }
+                if !remapped || self.state.unit.is_some() {
                     self.state.history.reset(&self.state.choices);
                 }
                 self.state.say(Severity::Info, msg);
@@ -109,7 +276,14 @@ impl Workbench {
                     l.log.len()
                 );
                 self.look_at_columns(&l, Target::Validation);
-                self.state.validation = Some(*l);
+                let msg = match self.validation_for_unit((*l).clone()) {
+                    Some(missing) => format!("{msg}{missing}"),
+                    None if self.state.unit.is_some() => msg,
+                    None => {
+                        self.state.validation = Some(*l);
+                        msg
+                    }
+                };
                 match self.opening.validation_shown.take() {
                     Some(shown) => {
                         self.state.view.show_validation = shown;
@@ -141,6 +315,25 @@ impl Workbench {
                     format!("Reading {} cancelled", file_name(&path)),
                 );
             }
+            JobResult::Fitted(view) if view.axis != self.state.active_axis() => {
+                let newest = self.jobs.newest(view.axis);
+                let k = view.axis;
+                let log = self
+                    .state
+                    .axis(k)
+                    .and_then(|a| a.log.map(|l| l.log.clone()));
+                if let Some(p) = self.state.unit.as_mut().and_then(|u| u.parked.get_mut(k))
+                    && log.is_some_and(|l| Arc::ptr_eq(&l, &view.outcome.in_sample.log))
+                    && p.fit
+                        .as_ref()
+                        .is_none_or(|f| f.generation < view.generation)
+                {
+                    if view.generation == newest {
+                        p.fit_error = None;
+                    }
+                    p.fit = Some(view);
+                }
+            }
             JobResult::Fitted(view) => {
                 let newer = self
                     .state
@@ -148,14 +341,25 @@ impl Workbench {
                     .as_ref()
                     .is_none_or(|f| f.generation < view.generation);
                 if newer {
-                    if view.generation == self.jobs.requested {
+                    if view.generation == self.jobs.newest(view.axis) {
                         self.state.fit_error = None;
                     }
                     self.state.fit = Some(view);
                 }
             }
-            JobResult::FitFailed(generation, message) => {
-                if generation == self.jobs.requested {
+            JobResult::FitFailed(axis, generation, message) if axis != self.state.active_axis() => {
+                if generation == self.jobs.newest(axis)
+                    && let Some(p) = self
+                        .state
+                        .unit
+                        .as_mut()
+                        .and_then(|u| u.parked.get_mut(axis))
+                {
+                    p.fit_error = Some(message);
+                }
+            }
+            JobResult::FitFailed(axis, generation, message) => {
+                if generation == self.jobs.newest(axis) {
                     if self.state.fit.is_none() {
                         // No calibration to show: the raw log, fitted to the window.
                         self.views.time.x_command = Some(XCommand::Fit);
@@ -165,6 +369,25 @@ impl Workbench {
                         .say(Severity::Error, format!("Calibration failed: {message}"));
                     // A screenshot of a failed calibration is not what was asked for.
                     self.finish_auto(Err(format!("the calibration failed: {message}")));
+                }
+            }
+            JobResult::Compared(generation, Ok(c))
+                if generation == self.jobs.compare_requested()
+                    && self.state.unit.is_some()
+                    && !self.state.log.as_ref().is_some_and(|l| {
+                        c.logs.first().is_some_and(|f| Arc::ptr_eq(&f.log, &l.log))
+                    }) =>
+            {
+                // Another axis's comparison (asked before a switch) waits with that axis.
+                if let Some(u) = &mut self.state.unit
+                    && let Some(p) = u.parked.iter_mut().find(|p| {
+                        p.log.as_ref().is_some_and(|l| {
+                            c.logs.first().is_some_and(|f| Arc::ptr_eq(&f.log, &l.log))
+                        })
+                    })
+                {
+                    p.models = Some(c);
+                    p.models_error = None;
                 }
             }
             JobResult::Compared(generation, result) => {
@@ -208,7 +431,25 @@ impl Workbench {
                 }
             }
             JobResult::Allan(v) => {
-                self.state.allan = Some(v);
+                // Another axis's curves (asked before a switch) wait with that axis.
+                let generation = v.key.0;
+                let mine = self
+                    .state
+                    .fit
+                    .as_ref()
+                    .is_none_or(|f| f.generation == generation);
+                match self.state.unit.as_mut().filter(|_| !mine) {
+                    Some(u) => {
+                        if let Some(p) = u
+                            .parked
+                            .iter_mut()
+                            .find(|p| p.fit.as_ref().is_some_and(|f| f.generation == generation))
+                        {
+                            p.allan = Some(v);
+                        }
+                    }
+                    None => self.state.allan = Some(v),
+                }
             }
             JobResult::Exported(what, result) => match result {
                 Ok(path) => {

@@ -57,6 +57,8 @@ pub struct HeldLods {
 
 /// One refit's result, ready to draw.
 pub struct FitView {
+    /// The gyro axis it fits (0 for a log of one axis).
+    pub axis: usize,
     /// The request number it answers.
     pub generation: u64,
     /// The knots moved by hand it was fitted with (the recipe is the calibration's own).
@@ -171,19 +173,42 @@ impl LodCache {
     }
 }
 
+/// What the worker keeps for one axis between its refits.
+#[derive(Default)]
+struct AxisWork {
+    pipeline: Pipeline,
+    cache: LodCache,
+}
+
+/// The refit worker. Each axis has its own pipeline (its caches stay warm while another axis
+/// is edited); per axis the newest request wins, and of the axes waiting, the one asked for
+/// last goes first (the axis being edited, ahead of those refitted for a shared change).
 pub(super) fn fit_worker(rx: Receiver<FitMsg>, tx: Sender<JobResult>, ctx: SharedCtx) {
-    let mut pipeline = Pipeline::new();
-    let mut cache = LodCache::default();
-    while let Ok(mut msg) = rx.recv() {
-        // Newest request wins: requests queued behind it are stale.
-        while let Ok(newer) = rx.try_recv() {
-            msg = newer;
+    let mut work: Vec<AxisWork> = vec![AxisWork::default()];
+    let mut waiting: Vec<(usize, u64, Box<Request>)> = Vec::new();
+    loop {
+        if waiting.is_empty() {
+            match rx.recv() {
+                Ok(m) => queue(&mut waiting, &mut work, m),
+                Err(_) => break,
+            }
         }
-        let FitMsg::Fit(generation, request) = msg;
+        while let Ok(m) = rx.try_recv() {
+            queue(&mut waiting, &mut work, m);
+        }
+        let Some(next) = (0..waiting.len()).max_by_key(|&i| waiting[i].1) else {
+            continue;
+        };
+        let (axis, generation, request) = waiting.swap_remove(next);
+        if work.len() <= axis {
+            work.resize_with(axis + 1, AxisWork::default);
+        }
+        let AxisWork { pipeline, cache } = &mut work[axis];
         let run = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
             let outcome = pipeline.run(&request).map_err(|e| e.to_string())?;
-            let lods = build_lods(&mut cache, &outcome);
+            let lods = build_lods(cache, &outcome);
             Ok::<_, String>(FitView {
+                axis,
                 generation,
                 knots: request.knots.clone(),
                 outcome,
@@ -192,11 +217,12 @@ pub(super) fn fit_worker(rx: Receiver<FitMsg>, tx: Sender<JobResult>, ctx: Share
         }));
         let result = match run {
             Ok(Ok(view)) => JobResult::Fitted(Arc::new(view)),
-            Ok(Err(message)) => JobResult::FitFailed(generation, message),
+            Ok(Err(message)) => JobResult::FitFailed(axis, generation, message),
             Err(_) => {
                 pipeline.clear();
-                cache = LodCache::default();
+                *cache = LodCache::default();
                 JobResult::FitFailed(
+                    axis,
                     generation,
                     "the fit stopped on an internal error (see the terminal)".into(),
                 )
@@ -206,6 +232,21 @@ pub(super) fn fit_worker(rx: Receiver<FitMsg>, tx: Sender<JobResult>, ctx: Share
             break;
         }
         repaint(&ctx);
+    }
+}
+
+/// Adds a message to the requests waiting: a refit replaces the one of its axis still
+/// waiting; a new count of axes drops what was kept or waiting for axes past it.
+fn queue(waiting: &mut Vec<(usize, u64, Box<Request>)>, work: &mut Vec<AxisWork>, m: FitMsg) {
+    match m {
+        FitMsg::Fit(axis, generation, request) => {
+            waiting.retain(|(a, ..)| *a != axis);
+            waiting.push((axis, generation, request));
+        }
+        FitMsg::Axes(n) => {
+            work.truncate(n.max(1));
+            waiting.retain(|(a, ..)| *a < n.max(1));
+        }
     }
 }
 

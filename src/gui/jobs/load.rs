@@ -41,8 +41,8 @@ pub struct Recorded {
 pub struct LogLods {
     /// Raw Ω.
     pub omega: MinMaxPyramid,
-    /// Raw T.
-    pub temp: MinMaxPyramid,
+    /// Raw T (shared by the views of every axis of a log).
+    pub temp: Arc<MinMaxPyramid>,
 }
 
 /// A log read from a file.
@@ -66,6 +66,18 @@ pub struct Loaded {
     pub sha256: Option<String>,
     /// Seconds the read took.
     pub seconds: f64,
+    /// For a log of several gyro axes, each axis as a log of its own (the same time and
+    /// temperature, the axis's rate in `omega_dph`), in the log's order; empty for a log of
+    /// one axis. The first is this log itself; the others hold no other axis (one copy of
+    /// each rate in memory, not one per view).
+    pub axis_views: Vec<Loaded>,
+}
+
+impl Loaded {
+    /// The view of the axis named `name` (see [`Loaded::axis_views`]).
+    pub fn axis_view(&self, name: &str) -> Option<&Loaded> {
+        self.axis_views.iter().find(|v| v.log.axis == name)
+    }
 }
 
 /// A read in progress.
@@ -117,7 +129,10 @@ pub(super) fn load_log(h: &LoadHandle, options: LoadOptions) -> JobResult {
                 );
                 Arc::new(Recorded {
                     segments: Segments::of(&log),
-                    lods: LogLods { omega, temp },
+                    lods: LogLods {
+                        omega,
+                        temp: Arc::new(temp),
+                    },
                     log: log.clone(),
                 })
             });
@@ -137,6 +152,7 @@ pub(super) fn load_log(h: &LoadHandle, options: LoadOptions) -> JobResult {
                 );
             }
             let path = h.path.clone();
+            let views = other_axis_views(&log, recorded.as_deref());
             let (((omega, temp), segments), sha256) = rayon::join(
                 || {
                     rayon::join(
@@ -151,24 +167,99 @@ pub(super) fn load_log(h: &LoadHandle, options: LoadOptions) -> JobResult {
                 },
                 || crate::files::calibration::sha256_file(&path).ok(),
             );
-            JobResult::Loaded(
-                h.target,
-                Box::new(Loaded {
-                    path: h.path.clone(),
-                    options,
-                    log: Arc::new(log),
-                    lods: Arc::new(LogLods { omega, temp }),
-                    segments: Arc::new(segments),
-                    resampled,
-                    recorded,
-                    sha256,
-                    seconds: t.elapsed().as_secs_f64(),
+            let mut loaded = Loaded {
+                path: h.path.clone(),
+                options,
+                log: Arc::new(log),
+                lods: Arc::new(LogLods {
+                    omega,
+                    temp: Arc::new(temp),
                 }),
-            )
+                segments: Arc::new(segments),
+                resampled,
+                recorded,
+                sha256,
+                seconds: 0.0,
+                axis_views: Vec::new(),
+            };
+            if !views.is_empty() {
+                let first = loaded.clone();
+                loaded.axis_views = std::iter::once(first)
+                    .chain(views.into_iter().map(|(log, omega, recorded)| Loaded {
+                        log: Arc::new(log),
+                        lods: Arc::new(LogLods {
+                            omega,
+                            temp: loaded.lods.temp.clone(),
+                        }),
+                        recorded,
+                        ..loaded.clone()
+                    }))
+                    .collect();
+            }
+            let seconds = t.elapsed().as_secs_f64();
+            loaded.seconds = seconds;
+            for v in &mut loaded.axis_views {
+                v.seconds = seconds;
+            }
+            JobResult::Loaded(h.target, Box::new(loaded))
         }
         Err(_) if h.cancel.load(Ordering::Relaxed) => {
             JobResult::LoadCancelled(h.target, h.path.clone())
         }
         Err(e) => JobResult::LoadFailed(h.target, h.path.clone(), e.to_string()),
+    }
+}
+
+/// Each gyro axis but the first of a log of several, as a log of its own with its rate in
+/// `omega_dph` and no other axis, with the pyramid of its rate (and its bursts as recorded,
+/// when the log is its bursts' means); empty for a log of one axis.
+#[allow(clippy::type_complexity)]
+fn other_axis_views(
+    log: &Log,
+    recorded: Option<&Recorded>,
+) -> Vec<(Log, MinMaxPyramid, Option<Arc<Recorded>>)> {
+    log.other_axes
+        .par_iter()
+        .map(|a| {
+            let view = Log {
+                omega_dph: a.omega_dph.clone(),
+                axis: a.name.clone(),
+                other_axes: Vec::new(),
+                ..log_without_axes(log)
+            };
+            let omega = MinMaxPyramid::new(&view.omega_dph);
+            let recorded = recorded.and_then(|r| {
+                let rate = r.log.axis_rate(&a.name)?;
+                let rlog = Log {
+                    omega_dph: rate.to_vec(),
+                    axis: a.name.clone(),
+                    other_axes: Vec::new(),
+                    ..log_without_axes(&r.log)
+                };
+                Some(Arc::new(Recorded {
+                    lods: LogLods {
+                        omega: MinMaxPyramid::new(&rlog.omega_dph),
+                        temp: r.lods.temp.clone(),
+                    },
+                    segments: r.segments.clone(),
+                    log: rlog,
+                }))
+            });
+            (view, omega, recorded)
+        })
+        .collect()
+}
+
+/// A copy of `log` without its rates (the fields a view of one axis shares with it).
+fn log_without_axes(log: &Log) -> Log {
+    Log {
+        source: log.source.clone(),
+        time_s: log.time_s.clone(),
+        omega_dph: Vec::new(),
+        temp_c: log.temp_c.clone(),
+        extra: log.extra.clone(),
+        axis: String::new(),
+        other_axes: Vec::new(),
+        info: log.info.clone(),
     }
 }

@@ -64,8 +64,8 @@ pub enum JobResult {
     LoadCancelled(Target, PathBuf),
     /// A refit finished.
     Fitted(Arc<FitView>),
-    /// A refit failed.
-    FitFailed(u64, String),
+    /// A refit of an axis (0 for a log of one axis) failed: (axis, request number, message).
+    FitFailed(usize, u64, String),
     /// A long export finished.
     Exported(String, Result<PathBuf, String>),
     /// A comparison of models finished (or stopped on an internal error).
@@ -75,7 +75,10 @@ pub enum JobResult {
 }
 
 enum FitMsg {
-    Fit(u64, Box<Request>),
+    /// Refit axis `.0` (0 for a log of one axis) as request number `.1`.
+    Fit(usize, u64, Box<Request>),
+    /// The log has this many axes: the worker forgets what it kept for any further one.
+    Axes(usize),
 }
 
 type SharedCtx = Arc<Mutex<Option<egui::Context>>>;
@@ -97,10 +100,12 @@ pub struct Jobs {
     ctx: SharedCtx,
     /// The read in progress, if any.
     pub loading: Option<LoadHandle>,
-    /// Number of the newest refit asked for.
+    /// Number of the newest refit asked for, of any axis.
     pub requested: u64,
-    /// Number of the newest refit answered (result or failure).
-    pub answered: u64,
+    /// Per axis, the number of its newest refit asked for.
+    requested_by_axis: Vec<u64>,
+    /// Per axis, the number of its newest refit answered (result or failure).
+    answered_by_axis: Vec<u64>,
     /// Exports running.
     pub exports: usize,
     /// The comparison of models in progress, if any.
@@ -109,8 +114,8 @@ pub struct Jobs {
     compare_requested: u64,
     /// The Allan deviations in progress, if any.
     pub allan: Option<(u64, bool)>,
-    /// What the newest refit was asked for.
-    sent: Option<RefitKey>,
+    /// Per axis, what its newest refit was asked for.
+    sent: Vec<Option<RefitKey>>,
 }
 
 impl Default for Jobs {
@@ -140,12 +145,13 @@ impl Jobs {
             ctx,
             loading: None,
             requested: 0,
-            answered: 0,
+            requested_by_axis: Vec::new(),
+            answered_by_axis: Vec::new(),
             exports: 0,
             comparing: None,
             compare_requested: 0,
             allan: None,
-            sent: None,
+            sent: Vec::new(),
         }
     }
 
@@ -167,38 +173,83 @@ impl Jobs {
             || self.allan.is_some()
     }
 
-    /// True while a refit asked for has not been answered.
+    /// True while a refit asked for has not been answered, of any axis.
     pub fn fitting(&self) -> bool {
-        self.answered < self.requested
+        (0..self.requested_by_axis.len()).any(|k| self.fitting_axis(k))
     }
 
-    /// Asks for the refit `request` describes unless the newest one asked was for the same
-    /// logs, recipe and knots; true when it was asked for.
-    pub fn refit(&mut self, request: Request) -> bool {
+    /// True while a refit of axis `k` asked for has not been answered.
+    pub fn fitting_axis(&self, k: usize) -> bool {
+        self.answered_by_axis.get(k).copied().unwrap_or(0)
+            < self.requested_by_axis.get(k).copied().unwrap_or(0)
+    }
+
+    /// The number of the newest refit of axis `k` asked for (0: none).
+    pub fn newest(&self, k: usize) -> u64 {
+        self.requested_by_axis.get(k).copied().unwrap_or(0)
+    }
+
+    /// The log has `n` gyro axes (1 for a log of one): what is kept for any further axis is
+    /// forgotten, here and on the worker.
+    pub fn set_axes(&mut self, n: usize) {
+        let n = n.max(1);
+        if self.sent.len() > n {
+            self.sent.truncate(n);
+            self.requested_by_axis.truncate(n);
+            self.answered_by_axis.truncate(n);
+        }
+        if let Some(tx) = &self.fit_tx {
+            let _ = tx.send(FitMsg::Axes(n));
+        }
+    }
+
+    /// Asks for the refit of axis `axis` (0 for a log of one axis) that `request` describes,
+    /// unless the newest one asked for that axis was for the same logs, recipe and knots;
+    /// true when it was asked for.
+    pub fn refit(&mut self, axis: usize, request: Request) -> bool {
         let key = RefitKey::of(&request);
-        if self.sent.as_ref() == Some(&key) {
+        if self
+            .sent
+            .get(axis)
+            .is_some_and(|s| s.as_ref() == Some(&key))
+        {
             return false;
         }
-        self.fit(request);
-        self.sent = Some(key);
+        self.fit(axis, request);
+        if self.sent.len() <= axis {
+            self.sent.resize(axis + 1, None);
+        }
+        self.sent[axis] = Some(key);
         true
     }
 
-    /// Asks for a refit; an older one still queued is dropped.
-    pub fn fit(&mut self, request: Request) -> u64 {
+    /// Asks for a refit of axis `axis`; an older one of that axis still queued is dropped.
+    pub fn fit(&mut self, axis: usize, request: Request) -> u64 {
         self.requested += 1;
         let generation = self.requested;
-        let sent = self
-            .fit_tx
-            .as_ref()
-            .is_some_and(|tx| tx.send(FitMsg::Fit(generation, Box::new(request))).is_ok());
+        if self.requested_by_axis.len() <= axis {
+            self.requested_by_axis.resize(axis + 1, 0);
+            self.answered_by_axis.resize(axis + 1, 0);
+        }
+        self.requested_by_axis[axis] = generation;
+        let sent = self.fit_tx.as_ref().is_some_and(|tx| {
+            tx.send(FitMsg::Fit(axis, generation, Box::new(request)))
+                .is_ok()
+        });
         if !sent {
             let _ = self.tx.send(JobResult::FitFailed(
+                axis,
                 generation,
                 "the fitting thread has stopped".into(),
             ));
         }
         generation
+    }
+
+    fn answered(&mut self, axis: usize, generation: u64) {
+        if let Some(a) = self.answered_by_axis.get_mut(axis) {
+            *a = (*a).max(generation);
+        }
     }
 
     /// Starts reading a log (cancelling a read already running).
@@ -332,8 +383,8 @@ impl Jobs {
             JobResult::Loaded(..) | JobResult::LoadFailed(..) | JobResult::LoadCancelled(..) => {
                 self.loading = None;
             }
-            JobResult::Fitted(v) => self.answered = self.answered.max(v.generation),
-            JobResult::FitFailed(g, _) => self.answered = self.answered.max(*g),
+            JobResult::Fitted(v) => self.answered(v.axis, v.generation),
+            JobResult::FitFailed(axis, g, _) => self.answered(*axis, *g),
             JobResult::Exported(..) => self.exports = self.exports.saturating_sub(1),
             JobResult::Compared(g, _) => {
                 if self.comparing.as_ref().is_some_and(|c| c.generation == *g) {

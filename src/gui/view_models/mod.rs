@@ -184,7 +184,10 @@ impl ModelsView {
         running: Option<&CompareHandle>,
         out: &mut Vec<Action>,
     ) {
-        ui.heading("Models");
+        match state.active_axis_name() {
+            Some(axis) => ui.heading(format!("Models · axis {axis}")),
+            None => ui.heading("Models"),
+        };
         ui.label("Fitted on the calibration log, judged on it and on the validation log.");
         ui.add_space(4.0);
         ui.strong("Presets");

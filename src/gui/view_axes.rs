@@ -1,0 +1,139 @@
+//! The gyro axes of a unit, above the Calibration page: one button per axis, with the axis's
+//! figures at a glance (in-sample and, with a validation log, held-out peak-to-peak and std
+//! ratios of raw over corrected, worse than raw marked as the figures panel marks it).
+//! Clicking an axis shows it (Alt+1…9, or [ and ]). Shown only for a log of several axes.
+
+use super::action::{Action, shortcuts};
+use super::plot_items::ratio;
+use super::state::AppState;
+use crate::judge::metrics::Evaluation;
+use eframe::egui::{self, Color32, FontId, RichText, TextFormat, Ui, text::LayoutJob};
+
+/// The axes strip (no state of its own).
+#[derive(Debug, Default)]
+pub struct AxesView;
+
+impl AxesView {
+    /// The strip; nothing for a log of one axis.
+    pub fn ui(&mut self, ui: &mut Ui, state: &AppState) -> Vec<Action> {
+        let mut out = Vec::new();
+        let Some(unit) = &state.unit else {
+            return out;
+        };
+        let ctx = ui.ctx().clone();
+        ui.horizontal_wrapped(|ui| {
+            ui.label(RichText::new("Axis").strong()).on_hover_text(
+                "The unit's gyro axes: each keeps its own approximations, knots and \
+                 dead-bands; the plateaus and the T settings are shared (they come from T)",
+            );
+            for k in 0..unit.names.len() {
+                let Some(axis) = state.axis(k) else {
+                    continue;
+                };
+                let selected = k == unit.active;
+                let job = axis_text(ui, &axis, selected);
+                let keys = shortcuts::axis(k)
+                    .map(|s| format!("{} — ", ctx.format_shortcut(&s)))
+                    .unwrap_or_default();
+                let column = axis
+                    .log
+                    .and_then(|l| l.log.rate_column())
+                    .map(|c| format!(" (column {c})"))
+                    .unwrap_or_default();
+                let r = ui
+                    .add(egui::Button::selectable(selected, job))
+                    .on_hover_text(format!(
+                        "{keys}show axis {}{column} ([ and ]: previous, next)\n\
+                         p2p and std: raw ÷ corrected peak-to-peak and standard deviation of \
+                         the filtered drift, in-sample, then on the validation log; above 1 is \
+                         better, red: worse than raw",
+                        axis.name
+                    ));
+                if r.clicked() {
+                    out.push(Action::SelectAxis(k));
+                }
+            }
+        });
+        out
+    }
+}
+
+/// One axis's button: its name, then its ratios (in-sample, held out).
+fn axis_text(ui: &Ui, axis: &super::state::AxisRef<'_>, selected: bool) -> LayoutJob {
+    let v = ui.visuals();
+    let font = FontId::proportional(13.0);
+    let mono = FontId::monospace(12.5);
+    let normal = if selected {
+        v.strong_text_color()
+    } else {
+        v.text_color()
+    };
+    // The labels of the axis shown stand on the selection colour: not greyed there.
+    let weak = if selected {
+        v.text_color()
+    } else {
+        v.weak_text_color()
+    };
+    let bad = v.error_fg_color;
+    let provisional = v.weak_text_color();
+    let mut job = LayoutJob::default();
+    let push = |job: &mut LayoutJob, text: &str, font: &FontId, color: Color32, italics| {
+        job.append(
+            text,
+            0.0,
+            TextFormat {
+                font_id: font.clone(),
+                color,
+                italics,
+                ..Default::default()
+            },
+        );
+    };
+    push(
+        &mut job,
+        axis.name,
+        &FontId::proportional(15.0),
+        normal,
+        false,
+    );
+    let Some(fit) = axis.fit else {
+        let what = if axis.fit_error.is_some() {
+            "  calibration failed"
+        } else {
+            "  calibrating…"
+        };
+        push(
+            &mut job,
+            what,
+            &font,
+            if axis.fit_error.is_some() { bad } else { weak },
+            false,
+        );
+        return job;
+    };
+    if axis.fit_error.is_some() {
+        push(&mut job, "  failed", &font, bad, false);
+    }
+    // Figures of the choices a moment ago (a refit on its way) are greyed and slanted.
+    let exact = axis.fit_current();
+    let figures = |job: &mut LayoutJob, label: &str, e: &Evaluation| {
+        push(job, label, &font, weak, false);
+        for (name, r) in [
+            ("p2p ", e.comparison.p2p_ratio),
+            ("std ", e.comparison.std_ratio),
+        ] {
+            push(job, name, &font, weak, false);
+            let color = match (exact, r >= 1.0) {
+                (false, _) => provisional,
+                (true, true) => normal,
+                (true, false) => bad,
+            };
+            push(job, &format!("{} ", ratio(r)), &mono, color, !exact);
+        }
+    };
+    figures(&mut job, "  ", &fit.outcome.in_sample.evaluation);
+    if let Some(h) = &fit.outcome.held_out {
+        figures(&mut job, "· held out ", &h.evaluation);
+    }
+    job
+}
