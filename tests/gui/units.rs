@@ -45,7 +45,7 @@ fn engine_unit(h: &Harness<'_, Workbench>) -> Vec<driftlab::models::CalibratedAx
             AxisPlan {
                 name: a.name.to_string(),
                 choice: ModelChoice::Preset(Preset::Vakhrameev),
-                recipe: a.choices.recipe.clone(),
+                recipe: a.choices.recipe.clone().checked().unwrap(),
             }
         })
         .collect();
