@@ -107,6 +107,22 @@ pub fn write_report(
     Ok(summary.html)
 }
 
+/// Writes the test report of every axis of `unit` on `logs` (each holding every axis) into
+/// the folder `dir`, as `driftlab report` writes a unit's; returns the HTML page.
+pub fn write_unit_report(
+    dir: &Path,
+    unit: &crate::models::UnitCalibration,
+    mut logs: Vec<(PathBuf, Log)>,
+) -> Result<PathBuf, String> {
+    let merit = crate::export::report::UnitMerit {
+        filter_s: None,
+        window_s: crate::judge::metrics::MeritOptions::default().window_s,
+    };
+    crate::export::report::write_unit(unit, &mut logs, dir, merit, None)
+        .map(|s| s.html)
+        .map_err(|e| e.to_string())
+}
+
 /// Writes any fitted model's calibration file (the engine's format, atomically), naming its
 /// source log and the log's SHA-256.
 pub fn save_model(

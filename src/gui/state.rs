@@ -424,6 +424,29 @@ impl AppState {
         (0..self.axis_count()).all(|k| self.axis(k).is_some_and(|a| a.fit_current()))
     }
 
+    /// The validation log with every axis of the unit, put back together from each axis's view
+    /// of it (each holds its own rate beside the shared columns): what the unit's report
+    /// judges. `None` for a log of one axis, no validation log, or one lacking an axis.
+    pub fn unit_validation_log(&self) -> Option<(std::path::PathBuf, crate::log::Log)> {
+        let u = self.unit.as_ref()?;
+        let views: Vec<&Loaded> = (0..u.names.len())
+            .map(|k| self.axis(k).and_then(|a| a.validation))
+            .collect::<Option<_>>()?;
+        let first = views.first()?;
+        let mut log = (*first.log).clone();
+        log.other_axes = views[1..]
+            .iter()
+            .map(|v| crate::log::Axis {
+                name: v.log.axis.clone(),
+                omega_dph: v.log.omega_dph.clone(),
+            })
+            .collect();
+        views[1..]
+            .iter()
+            .all(|v| v.log.len() == log.len())
+            .then(|| (first.path.clone(), log))
+    }
+
     /// The unit's calibration from every axis's current fit, each stamped with the log's
     /// name and SHA-256 as files record it; `None` for a log of one axis.
     ///

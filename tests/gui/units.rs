@@ -320,6 +320,40 @@ fn export_writes_the_unit_calibration_the_engine_makes_and_its_corrected_csv() {
         .collect();
     driftlab::files::corrected_csv::write_unit_streamed(&apply, &log, axes, &|_| {}).unwrap();
     assert_eq!(text, std::fs::read_to_string(&apply).unwrap());
+
+    // The flight file: the unit's three axes as the firmware's X, Y and Z, as `driftlab
+    // export` writes them from the unit's file.
+    use driftlab::export::firmware::{ExportOptions, Format, flight_unit};
+    let params = dir.path().join("tcal.parm");
+    dialogs.answer(Some(params.clone()));
+    act(&mut h, Action::ExportFlight(Format::ArdupilotParm));
+    settle(&mut h);
+    let written = std::fs::read_to_string(&params).expect("the ArduPilot file is written");
+    let want = flight_unit(&unit, Format::ArdupilotParm, &ExportOptions::default()).unwrap();
+    let body = |t: &str| {
+        t.lines()
+            .filter(|l| !l.starts_with('#'))
+            .map(str::to_string)
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(body(&written), body(&want.text));
+    for axis in ["X", "Y", "Z"] {
+        assert!(
+            written.contains(&format!("INS_TCAL1_GYR1_{axis}")),
+            "{written}"
+        );
+    }
+
+    // The report: every axis, a summary of all and a section each.
+    let report = dir.path().join("report");
+    dialogs.answer(Some(report.clone()));
+    act(&mut h, Action::ExportReport);
+    settle(&mut h);
+    let html = std::fs::read_to_string(report.join("report.html")).expect("the report is written");
+    assert!(html.contains("Summary of every axis"));
+    for axis in NAMES {
+        assert!(report.join(axis).is_dir(), "axis {axis}'s figures");
+    }
 }
 
 #[test]

@@ -305,17 +305,26 @@ impl Workbench {
             );
             return;
         };
-        let written = export::stamped(&fit.outcome.calibration, &log.path, log.sha256.as_deref())
-            .and_then(|cal| {
-                let model = crate::models::fitted::DriftModel::Vakhrameev(Box::new(cal));
-                let opts = crate::export::firmware::ExportOptions::default();
-                crate::export::firmware::flight(&model, format, &opts).map_err(|e| e.to_string())
-            })
-            .and_then(|file| {
-                crate::files::atomic::write_bytes(path, file.text.as_bytes())
-                    .map(|_| file)
-                    .map_err(|e| format!("{}: {e}", path.display()))
-            });
+        let opts = crate::export::firmware::ExportOptions::default();
+        let unit = self.state.unit_calibration();
+        let is_unit = unit.is_some();
+        let written = match unit {
+            // A unit: its three axes as the firmware's X, Y and Z.
+            Some(unit) => unit.and_then(|u| {
+                crate::export::firmware::flight_unit(&u, format, &opts).map_err(|e| e.to_string())
+            }),
+            None => export::stamped(&fit.outcome.calibration, &log.path, log.sha256.as_deref())
+                .and_then(|cal| {
+                    let model = crate::models::fitted::DriftModel::Vakhrameev(Box::new(cal));
+                    crate::export::firmware::flight(&model, format, &opts)
+                        .map_err(|e| e.to_string())
+                }),
+        }
+        .and_then(|file| {
+            crate::files::atomic::write_bytes(path, file.text.as_bytes())
+                .map(|_| file)
+                .map_err(|e| format!("{}: {e}", path.display()))
+        });
         match written {
             Ok(file) => {
                 self.window.settings.last_dir = path.parent().map(Path::to_path_buf);
@@ -325,12 +334,11 @@ impl Workbench {
                 } else {
                     (Severity::Warning, format!("; {}", file.warnings.join("; ")))
                 };
-                // A unit's flight file holds the axis shown: the engine writes one axis.
-                let of_axis = self
-                    .state
-                    .active_axis_name()
-                    .map(|a| format!(" (axis {a} only: the file holds one gyro axis)"))
-                    .unwrap_or_default();
+                let of_axis = if is_unit {
+                    " (every axis of the unit, as the firmware's X, Y and Z)"
+                } else {
+                    ""
+                };
                 self.state.say(
                     severity,
                     format!("{format} file written: {}{of_axis}{warned}", path.display()),
@@ -444,19 +452,50 @@ impl Workbench {
                 return self.fail(format!("Could not write the report.\n\n{e}"));
             }
         };
+        self.window.settings.last_dir = dir.parent().map(Path::to_path_buf);
+        if let Some(unit) = self.state.unit_calibration() {
+            // A unit: every axis on the calibration log and the validation log, one section
+            // each, as `driftlab report` writes it.
+            let full = self.state.unit.as_ref().and_then(|u| u.full_log.clone());
+            let (unit, full) = match (unit, full) {
+                (Ok(u), Some(f)) => (u, f),
+                (Err(e), _) => {
+                    self.state.say(
+                        Severity::Error,
+                        format!("Report not written, nothing was written: {e}"),
+                    );
+                    return;
+                }
+                (_, None) => return,
+            };
+            let mut logs = vec![(log.path.clone(), (*full).clone())];
+            let validation = self.state.unit_validation_log();
+            let held_out = validation.is_some();
+            logs.extend(validation);
+            self.state.say(
+                Severity::Info,
+                format!(
+                    "Writing the report of every axis into {}{} …",
+                    dir.display(),
+                    if held_out || self.state.validation.is_none() {
+                        ""
+                    } else {
+                        " (without the validation log: it lacks an axis of the unit)"
+                    }
+                ),
+            );
+            self.jobs.spawn_export("report", move || {
+                export::write_unit_report(&dir, &unit, logs)
+            });
+            return;
+        }
         let mut logs = vec![(log.path.clone(), (*log.log).clone())];
         if let Some(v) = &self.state.validation {
             logs.push((v.path.clone(), (*v.log).clone()));
         }
-        self.window.settings.last_dir = dir.parent().map(Path::to_path_buf);
-        let of_axis = self
-            .state
-            .active_axis_name()
-            .map(|a| format!(" (axis {a}: the report holds the axis shown)"))
-            .unwrap_or_default();
         self.state.say(
             Severity::Info,
-            format!("Writing the report into {}{of_axis} …", dir.display()),
+            format!("Writing the report into {} …", dir.display()),
         );
         self.jobs
             .spawn_export("report", move || export::write_report(&dir, &cal, &logs));
