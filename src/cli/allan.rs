@@ -220,30 +220,9 @@ pub fn run(a: Args) -> Result<(), CliError> {
     print_summary(&source, &gyro, &devs)
 }
 
-/// The axes to analyse: those `--axes` names, every axis of a log of several unless one
-/// `--rate-col` names the one, or `None` for a log of one axis (analysed as always).
+/// The axes to analyse ([`common::chosen_axes`]).
 fn axes_to_analyse(a: &Args, log: &driftlab::Log) -> Result<Option<Vec<String>>, CliError> {
-    let names = log.axis_names();
-    if !a.axes.is_empty() {
-        let mut out: Vec<String> = Vec::with_capacity(a.axes.len());
-        for asked in &a.axes {
-            let asked = asked.trim();
-            let Some(name) = log.find_axis(asked) else {
-                return Err(format!(
-                    "--axes {asked}: {} has no such gyro axis (its axes: {})",
-                    log.source,
-                    names.join(", ")
-                )
-                .into());
-            };
-            if out.contains(&name) {
-                return Err(format!("--axes: axis {name} is named twice").into());
-            }
-            out.push(name);
-        }
-        return Ok(Some(out));
-    }
-    Ok((names.len() > 1 && a.log_args.rate_col.len() != 1).then_some(names))
+    common::chosen_axes(&a.axes, &a.log_args, log)
 }
 
 /// One line per axis analysed: its three read-outs.

@@ -86,27 +86,7 @@ fn run_unit(a: &Args, unit: &UnitCalibration) -> Result<(), CliError> {
     } else {
         a.log_args.read(&input)?
     };
-    let mut columns = Vec::with_capacity(unit.axes.len());
-    for ax in &unit.axes {
-        let Some(name) = log.matching_axis(&ax.name, &ax.rate_column) else {
-            return Err(format!(
-                "{}: no gyro axis {} (column {}) for axis {} of {} (the log's axes: {}); map \
-                 the rate columns with --rate-col",
-                log.source,
-                ax.name,
-                if ax.rate_column.is_empty() {
-                    "?"
-                } else {
-                    &ax.rate_column
-                },
-                ax.name,
-                a.calibration.display(),
-                log.axis_names().join(", ")
-            )
-            .into());
-        };
-        columns.push(name);
-    }
+    let columns = super::evaluate::unit_axes(&log, unit, &a.calibration)?;
     let mut predictors = Vec::with_capacity(unit.axes.len());
     for ax in &unit.axes {
         predictors.push(

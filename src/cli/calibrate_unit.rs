@@ -12,37 +12,14 @@ use driftlab::log::ingest::Input;
 use driftlab::models::CheckedRecipe;
 use driftlab::models::{self, AxisModel, AxisPlan, DriftModel, ModelChoice, UnitCalibration};
 
-/// The axes to calibrate as one unit, or `None` for a single-axis calibration as driftlab has
-/// always made it: a log with one gyro axis, or one axis named by a single `--rate-col`.
+/// The axes to calibrate as one unit ([`common::chosen_axes`]), or `None` for a single-axis
+/// calibration as driftlab has always made it: a log with one gyro axis, or one axis named by
+/// a single `--rate-col`.
 ///
 /// # Errors
 /// An `--axes` entry that names no axis of the log.
 pub fn axes_to_fit(a: &Args, log: &Log) -> Result<Option<Vec<String>>, CliError> {
-    let names = log.axis_names();
-    if !a.axes.is_empty() {
-        let mut out: Vec<String> = Vec::with_capacity(a.axes.len());
-        for asked in &a.axes {
-            let asked = asked.trim();
-            let Some(name) = log.find_axis(asked) else {
-                return Err(format!(
-                    "--axes {asked}: {} has no such gyro axis (its axes: {})",
-                    log.source,
-                    names.join(", ")
-                )
-                .into());
-            };
-            if out.contains(&name) {
-                return Err(format!("--axes: axis {name} is named twice").into());
-            }
-            out.push(name);
-        }
-        return Ok(Some(out));
-    }
-    Ok(match a.log_args.rate_col.len() {
-        0 if names.len() > 1 => Some(names),
-        n if n > 1 => Some(names),
-        _ => None,
-    })
+    common::chosen_axes(&a.axes, &a.log_args, log)
 }
 
 /// Refuses `--axis-model` and `--axis-recipe` for a single-axis calibration, by name.

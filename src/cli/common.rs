@@ -485,3 +485,37 @@ pub fn print_evaluation(
         e.outside_fraction * 100.0
     )
 }
+
+/// The gyro axes a command works on: those `--axes` names (axis names, rate columns or the
+/// letter an axis name ends with), else every axis of a log of several unless a single
+/// `--rate-col` names the one, or `None` for one axis (the command works as it always has).
+///
+/// # Errors
+/// An `--axes` entry that names no axis of `log`, or names one twice.
+pub fn chosen_axes(
+    axes: &[String],
+    log_args: &LogArgs,
+    log: &Log,
+) -> Result<Option<Vec<String>>, CliError> {
+    let names = log.axis_names();
+    if !axes.is_empty() {
+        let mut out: Vec<String> = Vec::with_capacity(axes.len());
+        for asked in axes {
+            let asked = asked.trim();
+            let Some(name) = log.find_axis(asked) else {
+                return Err(format!(
+                    "--axes {asked}: {} has no such gyro axis (its axes: {})",
+                    log.source,
+                    names.join(", ")
+                )
+                .into());
+            };
+            if out.contains(&name) {
+                return Err(format!("--axes: axis {name} is named twice").into());
+            }
+            out.push(name);
+        }
+        return Ok(Some(out));
+    }
+    Ok((names.len() > 1 && log_args.rate_col.len() != 1).then_some(names))
+}

@@ -114,30 +114,9 @@ pub fn run(a: Args) -> Result<(), CliError> {
     print_tables(&reports, &merit)
 }
 
-/// The axes to compare on: those `--axes` names, every axis of a training log of several
-/// unless one `--rate-col` names the one, or `None` for one axis (compared as always).
+/// The axes to compare on ([`common::chosen_axes`] of the training log).
 fn axes_to_compare(a: &Args, train: &driftlab::Log) -> Result<Option<Vec<String>>, CliError> {
-    let names = train.axis_names();
-    if !a.axes.is_empty() {
-        let mut out: Vec<String> = Vec::with_capacity(a.axes.len());
-        for asked in &a.axes {
-            let asked = asked.trim();
-            let Some(name) = train.find_axis(asked) else {
-                return Err(format!(
-                    "--axes {asked}: {} has no such gyro axis (its axes: {})",
-                    train.source,
-                    names.join(", ")
-                )
-                .into());
-            };
-            if out.contains(&name) {
-                return Err(format!("--axes: axis {name} is named twice").into());
-            }
-            out.push(name);
-        }
-        return Ok(Some(out));
-    }
-    Ok((names.len() > 1 && a.log_args.rate_col.len() != 1).then_some(names))
+    common::chosen_axes(&a.axes, &a.log_args, train)
 }
 
 /// `compare` on several axes: for each, every model fitted on that axis of the training log

@@ -191,12 +191,8 @@ fn invalid_recipes_are_refused_with_the_setting_named() {
         step_h_s: -1.0,
         ..Recipe::default()
     };
-    assert!(
-        vakhrameev::fit(&log, &bad.clone().checked().unwrap())
-            .unwrap_err()
-            .to_string()
-            .contains("step_h_s")
-    );
+    // Refused where it is checked, before any fit can take it.
+    assert!(bad.checked().unwrap_err().to_string().contains("step_h_s"));
     let bad = Recipe {
         k1_plus: ApproxSpec {
             kind: ApproxKind::Spline,
@@ -205,11 +201,19 @@ fn invalid_recipes_are_refused_with_the_setting_named() {
         },
         ..Recipe::default()
     };
+    assert!(bad.checked().unwrap_err().to_string().contains("k1_plus"));
+    // A checked recipe whose windows do not fit the log is refused by the fit, named.
+    let long = Recipe {
+        step_h_s: 9e5,
+        ..Recipe::default()
+    }
+    .checked()
+    .unwrap();
     assert!(
-        vakhrameev::fit(&log, &bad.clone().checked().unwrap())
+        vakhrameev::fit(&log, &long)
             .unwrap_err()
             .to_string()
-            .contains("k1_plus")
+            .contains("step_h_s")
     );
 }
 
