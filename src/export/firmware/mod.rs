@@ -23,6 +23,7 @@
 //! above, unchanged.
 
 mod c_corrector;
+mod c_curves;
 pub mod c_header;
 pub mod c_regression;
 pub mod c_unit;
