@@ -1,7 +1,7 @@
 //! The gyro axes of a unit, above the Calibration page: one button per axis, with the axis's
 //! figures at a glance (in-sample and, with a validation log, held-out peak-to-peak and std
 //! ratios of raw over corrected, worse than raw marked as the figures panel marks it).
-//! Clicking an axis shows it (Alt+1…9, or [ and ]). Shown only for a log of several axes.
+//! Clicking an axis shows it (Alt+1…9, or `[` and `]`). Shown only for a log of several axes.
 
 use super::action::{Action, shortcuts};
 use super::plot_items::ratio;
