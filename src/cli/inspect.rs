@@ -165,6 +165,12 @@ pub fn run(a: Args) -> Result<(), CliError> {
             "temp_max_c": tmax,
             "max_abs_rate_c_per_min": rate_max,
             "extra_channels": log.extra.iter().map(|c| &c.name).collect::<Vec<_>>(),
+            "accelerometers": log
+                .extra
+                .iter()
+                .filter(|c| driftlab::log::ingest::names_an_accelerometer(&c.name))
+                .map(|c| serde_json::json!({ "name": c.name, "unit": c.unit }))
+                .collect::<Vec<_>>(),
             "axis": log.axis,
             "other_axes": log.other_axes.iter().map(|x| &x.name).collect::<Vec<_>>(),
             "gyro_axes": axes,
@@ -203,7 +209,19 @@ pub fn run(a: Args) -> Result<(), CliError> {
         } else {
             format!(" [{}]", c.unit)
         };
-        out!("    {:>2}  {:<24} {:?}{unit}", c.index, c.name, c.role)?;
+        let accel = if c.role == ColumnRole::Extra
+            && driftlab::log::ingest::names_an_accelerometer(&c.name)
+        {
+            " (accelerometer, kept)"
+        } else {
+            ""
+        };
+        out!(
+            "    {:>2}  {:<24} {:?}{unit}{accel}",
+            c.index,
+            c.name,
+            c.role
+        )?;
     }
     if !log.other_axes.is_empty() {
         let listed: Vec<String> = axes.iter().map(GyroAxis::describe).collect();

@@ -411,11 +411,25 @@ fn inspect_lists_every_gyro_axis_with_its_unit() {
         text.contains("calibrate fits every axis into one unit calibration"),
         "{text}"
     );
-    // The accelerometer columns are listed and kept, in g.
+    // The accelerometer columns are recognised as such, listed and kept, in g; the chamber's
+    // temperature is kept but is no accelerometer.
     for c in ["ax_g", "ay_g", "az_g"] {
         assert!(
-            text.lines().any(|l| l.contains(c) && l.contains("[g]")),
+            text.lines()
+                .any(|l| l.contains(c) && l.contains("[g] (accelerometer, kept)")),
             "{text}"
         );
     }
+    assert!(
+        text.lines()
+            .any(|l| l.contains("temp_chamber_c") && !l.contains("accelerometer")),
+        "{text}"
+    );
+    let accels: Vec<(&str, &str)> = v["accelerometers"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|a| (a["name"].as_str().unwrap(), a["unit"].as_str().unwrap()))
+        .collect();
+    assert_eq!(accels, [("ax_g", "g"), ("ay_g", "g"), ("az_g", "g")]);
 }

@@ -225,6 +225,12 @@ pub struct ReadOptions {
     pub skip_extras: bool,
 }
 
+/// Whether a column's name reads as an accelerometer axis (`ax_g`, `acc_x`, `accel_x_m_s2`,
+/// `linear_acceleration_x`), as `inspect` marks such a kept column.
+pub fn names_an_accelerometer(name: &str) -> bool {
+    names::is_accelerometer(name)
+}
+
 /// Reads a separator as people write it on a command line or in a recipe: `,`, `;`, `\t`
 /// or `tab`, `space` or `whitespace` (runs of blanks), or any single ASCII character.
 ///

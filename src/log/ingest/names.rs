@@ -175,6 +175,12 @@ fn accel_unit(words: &[String], bracket: Option<&str>) -> Option<&'static str> {
         .or_else(|| (1..words.len()).find_map(|i| key(&unit_key(&words[i..].concat()))))
 }
 
+/// Whether a column's name reads as an accelerometer axis (`ax_g`, `acc_x`,
+/// `linear_acceleration_x`): such a column is kept by name beside the gyro's.
+pub(crate) fn is_accelerometer(name: &str) -> bool {
+    matches!(classify(name).0, Kind::Accel(_))
+}
+
 /// The name of the gyro axis a rate column holds: its words before the unit (`gx` for
 /// `gx_dps`, `gyro_x` for `gyro_x_rad_s`, `rate` for `Rate (deg/s)`).
 pub(crate) fn axis_name(name: &str) -> String {
