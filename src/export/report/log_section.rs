@@ -194,6 +194,18 @@ fn unique_stem(path: &Path, taken: &mut Vec<String>) -> String {
         .file_stem()
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_default();
+    safe_unique_name(&raw, 60, "log", taken)
+}
+
+/// `raw` as a file name (ASCII letters, digits, `-` and `_`, others as `_`, at most `max`
+/// characters; `fallback` when nothing is left), made unique among `taken` with `-2`, `-3`…
+/// and added to them.
+pub(super) fn safe_unique_name(
+    raw: &str,
+    max: usize,
+    fallback: &str,
+    taken: &mut Vec<String>,
+) -> String {
     let mut stem: String = raw
         .chars()
         .map(|c| {
@@ -203,10 +215,10 @@ fn unique_stem(path: &Path, taken: &mut Vec<String>) -> String {
                 '_'
             }
         })
-        .take(60)
+        .take(max)
         .collect();
     if stem.is_empty() {
-        stem = "log".into();
+        stem = fallback.into();
     }
     let mut candidate = stem.clone();
     let mut k = 2;

@@ -166,26 +166,5 @@ pub fn write_unit(
 
 /// A file-name-safe folder name for an axis, unique among `taken`.
 fn folder_name(axis: &str, taken: &mut Vec<String>) -> String {
-    let mut stem: String = axis
-        .chars()
-        .map(|c| {
-            if c.is_ascii_alphanumeric() || c == '-' || c == '_' {
-                c
-            } else {
-                '_'
-            }
-        })
-        .take(40)
-        .collect();
-    if stem.is_empty() {
-        stem = "axis".into();
-    }
-    let mut candidate = stem.clone();
-    let mut k = 2;
-    while taken.contains(&candidate) {
-        candidate = format!("{stem}-{k}");
-        k += 1;
-    }
-    taken.push(candidate.clone());
-    candidate
+    super::log_section::safe_unique_name(axis, 40, "axis", taken)
 }
