@@ -189,7 +189,13 @@ fn formats_parse_by_name() {
     for f in Format::ALL {
         assert_eq!(f.to_string().parse::<Format>(), Ok(f));
     }
-    assert!("xml".parse::<Format>().unwrap_err().contains("c-header"));
+    assert!(
+        "xml"
+            .parse::<Format>()
+            .unwrap_err()
+            .to_string()
+            .contains("c-header")
+    );
 }
 
 // ---- The command -----------------------------------------------------------------------

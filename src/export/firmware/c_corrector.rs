@@ -1,8 +1,11 @@
 //! The streaming corrector of a regression calibration's C header: its state, init and reset,
 //! the delayed read of dT/dt, the design row and the push functions, a port of
 //! [`crate::models::regression::RegressionCorrector::push`] operation for operation. Apart from the
-//! header's preamble and constants because it is code for the processor rather than data.
+//! header's preamble and constants because it is code for the processor rather than data. Its
+//! moving average of T is the runtime's (`runtime.c`); its differences read rings indexed by a
+//! sample count that restarts after a dropout, so they are its own.
 
+use super::c_runtime::section_in_state;
 use super::{ExportError, MAX_RING_SAMPLES, number};
 use crate::models::regression::RegressionModel;
 
@@ -17,11 +20,12 @@ pub(super) fn regression_corrector(h: &mut String, m: &RegressionModel) -> Resul
         || smooth > MAX_RING_SAMPLES
         || step > MAX_RING_SAMPLES
     {
-        return Err(ExportError::Calibration(format!(
-            "a smoothing window of {smooth} samples, a derivative step of {step} samples and a \
-             delay of {back_f} samples: more than the {MAX_RING_SAMPLES} samples a ring buffer \
-             is sized for"
-        )));
+        return Err(ExportError::RingTooLong {
+            axis: String::new(),
+            smooth,
+            step,
+            delay: Some(back_f),
+        });
     }
     let back = back_f as usize + 2;
     let two_h = 2.0 * step as f64 * dt;
@@ -203,6 +207,7 @@ static inline int driftlab_check(double *v, const double range[2], int hold)
     } else {
         "    x_dt = 0.0;\n"
     };
+    let smoothing = section_in_state("smoothing");
     h.push_str(&format!(
         r#"
 /* Feeds one sample: time (s), raw rate (deg/h), temperature and second sensor (degC), and the
@@ -236,17 +241,7 @@ static inline double driftlab_push_detail(driftlab_state *st, double time_s, dou
     st->last_time_s = time_s;
     st->has_time = 1;
 {lag}
-    /* Causal moving average of T over the last DRIFTLAB_SMOOTH_SAMPLES samples. */
-    if (st->smooth_filled == DRIFTLAB_SMOOTH_SAMPLES) {{
-        st->smooth_sum -= st->smooth_buf[st->smooth_next];
-    }} else {{
-        st->smooth_filled++;
-    }}
-    st->smooth_sum += temp_c;
-    st->smooth_buf[st->smooth_next] = temp_c;
-    st->smooth_next = st->smooth_next + 1 == DRIFTLAB_SMOOTH_SAMPLES ? 0 : st->smooth_next + 1;
-    ts = st->smooth_sum / (double)st->smooth_filled;
-    st->smoothed[(size_t)(i % sr)] = ts;
+{smoothing}    st->smoothed[(size_t)(i % sr)] = ts;
 
     /* Backward differences (3x_i - 4x_(i-s) + x_(i-2s)) / (2H) of smoothed T, then of Tdot. */
     tdot = i - st->segment_start < 2 * s ? 0.0

@@ -1,12 +1,17 @@
-//! The calibration as one self-contained C99 header: constants, a curve evaluator and the
-//! streaming corrector, all `static const` or `static inline`.
+//! A calibration as one self-contained C99 header: constants, the curve evaluator and the
+//! streaming corrector, all `static const` or `static inline`; one writer, [`c_header`], for a
+//! single axis and for every gyro axis of a unit.
 //!
 //! Why `static inline` and not an implementation block behind a macro: the header can be
 //! included from any number of C files without choosing which one holds the code, nothing has to
 //! be linked, and a compiler drops whatever is unused. The cost is a copy of the (small) tables in
 //! each file that includes it.
 //!
-//! The C repeats driftlab's arithmetic operation for operation, so that it agrees bit for bit:
+//! The code is driftlab's C runtime (`runtime.c`, [`super::c_runtime`]): the curve evaluator,
+//! the regimes and the temperature's history, one source for every header. Around it the writer
+//! puts what is generated for the calibration: the preamble, each axis's constants and model
+//! functions, the state and the push. The C repeats driftlab's arithmetic operation for
+//! operation, so that it agrees bit for bit:
 //!
 //! - [`crate::models::approx::Approx::eval`]: non-finite argument → 0; clamp to the fitted range unless
 //!   the curve extrapolates; polynomials by the same Horner sum (padded with zeros to 4
@@ -17,10 +22,23 @@
 //! - [`crate::models::vakhrameev::correct::StreamCorrector`]: the causal running mean of T, the 3-point backward
 //!   differences with `2H` as one constant, the first `2s` (`4s`) samples without Ṫ (T̈).
 //!
-//! A regression model gets its own header ([`super::c_regression`]): a preamble of the same shape,
-//! its terms as an array of codes evaluated by one `switch`, and a port of
+//! A regression model has its own part ([`super::c_regression`], [`super::c_corrector`]): its
+//! terms as an array of codes evaluated by one `switch`, and a port of
 //! [`crate::models::regression::RegressionCorrector::push`] (lag, smoothing, differences, τd(T), the
 //! delayed read, clamping, the row and the dot product from −0, as `f64::sum` starts).
+//!
+//! One axis or a unit: a single-axis calibration (one unnamed axis, not
+//! [`UnitCalibration::is_unit`]) is written as driftlab has always written it, its names
+//! `driftlab_k0`, `driftlab_push` taking one rate, the temperature's history inside the state. A
+//! unit of named axes gets one state and one push taking the time, the temperature and every
+//! axis's rate. The axes share the housing's temperature, so the header smooths and
+//! differentiates T once for all of its Vakhrameev axes (their T settings are one, as
+//! [`UnitCalibration::validate`] checks); each axis has its own curves, dead-bands,
+//! `driftlab_<axis>_predict` and `driftlab_<axis>_is_outside`. A regression axis keeps its own
+//! corrector inside the same state: the single-axis part with every `driftlab_` / `DRIFTLAB_`
+//! name put under the axis's (`driftlab_gz_`), so it is the same code, operation for operation.
+//! Another kind of axis (an accelerometer's) is one more part in [`axis_part`] and one more
+//! case of the push's loop over the axes, its rate's unit its own; the layout stays as it is.
 //!
 //! One difference of form: driftlab counts samples without bound, the C keeps the ring slot
 //! and a count that stops at `4s`, so a processor running for years never wraps a counter.
@@ -30,37 +48,188 @@
 //! `a*b + c` is not fused into one rounding (GCC: `-ffp-contract=off`, the default with
 //! `-std=c99`; other compilers: the `FP_CONTRACT` pragma the header sets).
 
-pub(super) use super::c_curves::{array, curve, curve_evaluator};
-use super::{ExportError, MAX_RING_SAMPLES, comment_text, number};
+use super::c_corrector::regression_corrector;
+use super::c_regression::{regression_constants, regression_preamble};
+use super::c_runtime::{TemperatureHistory, section, section_in_state};
+use super::c_vakhrameev::{ModelNames, is_outside_fn, model_constants, predict_fn};
+use super::{ExportError, comment_text};
+use crate::models::fitted::DriftModel;
+use crate::models::unit::UnitCalibration;
 use crate::models::vakhrameev::Calibration;
 
-/// The header for `cal`, sampled at the calibration log's step.
-pub fn c_header(cal: &Calibration) -> Result<String, ExportError> {
+/// How a header is laid out, chosen at the edge from the unit.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Layout {
+    /// One unnamed axis: the single-axis header driftlab has always written.
+    Single,
+    /// Named axes: one state and one push for all of them.
+    Unit,
+}
+
+/// One axis of the header: its model and the names of its C identifiers.
+struct Axis<'a> {
+    /// The axis's name in the calibration (`gx`), empty for a single axis.
+    name: &'a str,
+    /// Its identifiers' part (`gx`): the name as a C identifier.
+    ident: String,
+    /// What its identifiers start with (`driftlab_gx`, or `driftlab` for a single axis).
+    names: ModelNames,
+    model: &'a DriftModel,
+}
+
+/// The header for `unit`: a single axis as driftlab has always written it, a unit of named axes
+/// with one push for all of them.
+///
+/// # Errors
+/// A number a processor cannot use; Vakhrameev axes made at different sampling periods or with
+/// different T settings (they cannot share one temperature history); a regression axis of a unit
+/// that reads a second temperature sensor or extra channels (the unit's push takes one
+/// temperature: export that axis alone); a unit that does not hold together.
+pub fn c_header(unit: &UnitCalibration) -> Result<String, ExportError> {
+    let layout = if unit.is_unit() {
+        unit.validate()?;
+        Layout::Unit
+    } else {
+        Layout::Single
+    };
+    let axes = header_axes(unit, layout)?;
+    let history = temperature_history(&axes)?;
+    for a in &axes {
+        if let DriftModel::Regression(r) = a.model {
+            r.model.validate()?;
+            if layout == Layout::Unit {
+                one_temperature(a.name, &r.model)?;
+            }
+        }
+    }
     let mut h = String::new();
-    preamble(&mut h, cal, "vakhrameev");
-    curve_evaluator(&mut h);
-    vakhrameev(&mut h, cal)?;
-    corrector(&mut h, cal)?;
+    match (layout, axes[0].model) {
+        (Layout::Single, DriftModel::Vakhrameev(cal)) => preamble(&mut h, cal, "vakhrameev"),
+        (Layout::Single, DriftModel::Regression(r)) => regression_preamble(&mut h, r)?,
+        (Layout::Unit, _) => unit_preamble(&mut h, unit, &axes, history.is_some()),
+    }
+    if history.is_some() {
+        h.push_str(&section("curves"));
+        h.push_str(&section("regimes"));
+        if layout == Layout::Unit {
+            h.push_str(&section("regime_fn"));
+            h.push_str(&section("beyond_fn"));
+        }
+    }
+    for a in &axes {
+        axis_part(&mut h, a, layout)?;
+    }
+    match (layout, history) {
+        (Layout::Single, Some(t)) => corrector(&mut h, t)?,
+        (Layout::Single, None) => {}
+        (Layout::Unit, history) => unit_corrector(&mut h, &axes, history)?,
+    }
     h.push_str("\n#endif /* DRIFTLAB_CALIBRATION_H */\n");
     Ok(h)
 }
 
-/// A string as a C string literal: printable ASCII as is, `\`, `"` and `?` (trigraphs) escaped,
-/// every other byte in octal; at most 200 bytes of the input.
-pub(super) fn c_string(s: &str) -> String {
-    let mut out = String::from("\"");
-    for &b in s.as_bytes().iter().take(200) {
-        match b {
-            b'\\' | b'"' | b'?' => {
-                out.push('\\');
-                out.push(b as char);
+/// The axes of `unit` with their identifiers: the single-axis names for a single axis, each
+/// axis's own under a unit's.
+fn header_axes(unit: &UnitCalibration, layout: Layout) -> Result<Vec<Axis<'_>>, ExportError> {
+    if unit.axes.is_empty() {
+        return Err(ExportError::NoAxes);
+    }
+    let mut axes: Vec<Axis<'_>> = Vec::with_capacity(unit.axes.len());
+    for (k, a) in unit.axes.iter().enumerate() {
+        let taken: Vec<String> = axes.iter().map(|x| x.ident.clone()).collect();
+        let ident = ident(&a.name, k, &taken);
+        let names = match layout {
+            Layout::Single => ModelNames::single(),
+            Layout::Unit => ModelNames::axis(&a.name, &ident),
+        };
+        axes.push(Axis {
+            name: &a.name,
+            ident,
+            names,
+            model: &a.model,
+        });
+    }
+    Ok(axes)
+}
+
+/// The one temperature history of the Vakhrameev axes, `None` when there are none.
+fn temperature_history(axes: &[Axis<'_>]) -> Result<Option<TemperatureHistory>, ExportError> {
+    let mut shared: Option<(TemperatureHistory, &str)> = None;
+    for a in axes {
+        let DriftModel::Vakhrameev(cal) = a.model else {
+            continue;
+        };
+        let this = TemperatureHistory::of(cal, a.name)?;
+        match shared {
+            None => shared = Some((this, a.name)),
+            Some((first, first_name)) if first != this => {
+                return Err(ExportError::TemperatureHistories {
+                    first: first_name.to_string(),
+                    second: a.name.to_string(),
+                    first_history: (first.dt_s, first.smooth, first.step),
+                    second_history: (this.dt_s, this.smooth, this.step),
+                });
             }
-            0x20..=0x7e => out.push(b as char),
-            _ => out.push_str(&format!("\\{b:03o}")),
+            Some(_) => {}
         }
     }
-    out.push('"');
-    out
+    Ok(shared.map(|(s, _)| s))
+}
+
+/// Refuses a regression axis of a unit that reads more than the unit's one temperature.
+fn one_temperature(
+    axis: &str,
+    m: &crate::models::regression::RegressionModel,
+) -> Result<(), ExportError> {
+    let mut reads: Vec<String> = m
+        .temp2
+        .iter()
+        .map(|t| format!("the second temperature {t}"))
+        .collect();
+    reads.extend(m.channel_names().iter().map(|c| format!("the channel {c}")));
+    if reads.is_empty() {
+        Ok(())
+    } else {
+        Err(ExportError::MoreThanOneTemperature {
+            axis: axis.to_string(),
+            reads,
+        })
+    }
+}
+
+/// One axis's model: a Vakhrameev axis's dead-bands, curves, predict and is_outside under its
+/// names; a regression axis's constants and corrector under its names. A unit's axis starts
+/// with a banner naming it; a single axis's Vakhrameev model keeps the runtime's regime and
+/// range functions beside its own, where its header has always had them.
+fn axis_part(h: &mut String, a: &Axis<'_>, layout: Layout) -> Result<(), ExportError> {
+    if layout == Layout::Unit {
+        h.push_str(&format!(
+            "\n/* ==== Axis {} ({}) {} */\n",
+            comment_text(a.name),
+            a.model.tag(),
+            "=".repeat(60usize.saturating_sub(a.name.len()))
+        ));
+    }
+    match a.model {
+        DriftModel::Vakhrameev(cal) => {
+            model_constants(h, cal, &a.names)?;
+            if layout == Layout::Single {
+                h.push_str(&section("regime_fn"));
+            }
+            predict_fn(h, &a.names);
+            if layout == Layout::Single {
+                h.push_str(&section("beyond_fn"));
+            }
+            is_outside_fn(h, &a.names);
+        }
+        DriftModel::Regression(r) => {
+            let mut part = String::new();
+            regression_constants(&mut part, &r.model)?;
+            regression_corrector(&mut part, &r.model)?;
+            h.push_str(&a.names.rename_all(&part));
+        }
+    }
+    Ok(())
 }
 
 /// The comment block naming gyro, source log and units, the include guard and the includes.
@@ -108,21 +277,8 @@ fn preamble(h: &mut String, cal: &Calibration, model: &str) {
  * files, nothing to link. C99, doubles, no malloc; the only library call is the isfinite macro
  * of <math.h>. The state is one struct of sizeof(driftlab_state) bytes, sized at compile time.
  *
- * This code repeats driftlab's arithmetic operation for operation, so it corrects a log bit for
- * bit as driftlab does where doubles are IEEE-754 binary64 computed at their own precision
- * (FLT_EVAL_METHOD 0: x86-64, AArch64, ARM or RISC-V with a double FPU) and a*b + c is not
- * fused (GCC: -ffp-contract=off, the default with -std=c99; other compilers: the pragma below).
- */
-#ifndef DRIFTLAB_CALIBRATION_H
-#define DRIFTLAB_CALIBRATION_H
-
-#include <math.h>   /* isfinite (a macro: no libm function is called) */
-#include <stddef.h> /* size_t, NULL */
-
-#if defined(__clang__) || !defined(__GNUC__)
-#pragma STDC FP_CONTRACT OFF
-#endif
-
+{bit_for_bit} */
+{guard}
 #define DRIFTLAB_GYRO_ID {gyro_c}
 #define DRIFTLAB_CREATED {created_c}
 "#,
@@ -141,275 +297,40 @@ fn preamble(h: &mut String, cal: &Calibration, model: &str) {
         uk2 = comment_text(&u.k2),
         gyro_c = c_string(&cal.gyro_id),
         created_c = c_string(&cal.created),
+        bit_for_bit = BIT_FOR_BIT_DOC,
+        guard = guard("isfinite (a macro: no libm function is called)"),
     ));
 }
 
-/// The Vakhrameev model (docs/method.md §1): its five curves, dead-bands, and the two functions
-/// every model provides to the corrector, `driftlab_predict` and `driftlab_is_outside`.
-///
-/// A regression model has a header of its own ([`super::c_regression`]) with its own preamble,
-/// constants and corrector; only the number formatting and the ring limits are shared.
-pub fn vakhrameev(h: &mut String, cal: &Calibration) -> Result<(), ExportError> {
-    let names = ModelNames::single();
-    regimes(h);
-    model_constants(h, cal, &names)?;
-    regime_fn(h);
-    predict_fn(h, &names);
-    beyond_fn(h);
-    is_outside_fn(h, &names);
-    Ok(())
+/// What a single-axis header's comment block says its bit-for-bit agreement rests on.
+pub(super) const BIT_FOR_BIT_DOC: &str = concat!(
+    " * This code repeats driftlab's arithmetic operation for operation, so it corrects a log bit for\n",
+    " * bit as driftlab does where doubles are IEEE-754 binary64 computed at their own precision\n",
+    " * (FLT_EVAL_METHOD 0: x86-64, AArch64, ARM or RISC-V with a double FPU) and a*b + c is not\n",
+    " * fused (GCC: -ffp-contract=off, the default with -std=c99; other compilers: the pragma below).\n",
+);
+
+/// The include guard, the includes and the pragma that keeps `a*b + c` unfused, which follow
+/// every header's comment block; `math_doc` says what the header takes from `<math.h>`.
+pub(super) fn guard(math_doc: &str) -> String {
+    format!(
+        "#ifndef DRIFTLAB_CALIBRATION_H\n#define DRIFTLAB_CALIBRATION_H\n\n\
+         #include <math.h>   /* {math_doc} */\n#include <stddef.h> /* size_t, NULL */\n\n\
+         #if defined(__clang__) || !defined(__GNUC__)\n#pragma STDC FP_CONTRACT OFF\n#endif\n"
+    )
 }
 
-/// What the identifiers of one Vakhrameev model start with: `driftlab` and `DRIFTLAB` for the
-/// model of a single-axis header, `driftlab_gx` and `DRIFTLAB_GX` for axis `gx` of a unit's
-/// header, where every axis has its own curves beside the others'.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub(super) struct ModelNames {
-    /// Prefix of the curves and functions (`driftlab_gx`).
-    pub lower: String,
-    /// Prefix of the macros (`DRIFTLAB_GX`).
-    pub upper: String,
-    /// What the curves' comments and error messages start with (`axis gx: `), empty for a
-    /// single axis.
-    pub title: String,
-}
-
-impl ModelNames {
-    /// The names of a single-axis header.
-    pub fn single() -> ModelNames {
-        ModelNames {
-            lower: "driftlab".into(),
-            upper: "DRIFTLAB".into(),
-            title: String::new(),
-        }
-    }
-
-    /// `text` with the single-axis header's names of this model's curves and functions put
-    /// under this prefix (the identity for [`ModelNames::single`]).
-    fn rename(&self, text: &str, names: &[&str]) -> String {
-        let mut out = text.to_string();
-        for n in names {
-            out = out.replace(&format!("driftlab_{n}"), &format!("{}_{n}", self.lower));
-        }
-        out
-    }
-}
-
-/// The section's title and the regime codes, shared by every Vakhrameev model of a header.
-pub(super) fn regimes(h: &mut String) {
+/// The single-axis header's corrector: the temperature's history (the runtime's) inside the
+/// state, calling the model's `driftlab_predict` and `driftlab_is_outside`.
+fn corrector(h: &mut String, t: TemperatureHistory) -> Result<(), ExportError> {
     h.push_str(
-        r#"
-/* ---- The Vakhrameev model: Omega_pred = K0(T) + K1(Tdot)*Tdot + K2(Tddot)*Tddot ---------- */
-
-/* Regimes, from the sign of Tdot*Tddot. */
-#define DRIFTLAB_REGIME_STATIC 0 /* Tdot*Tddot = 0: K0 only */
-#define DRIFTLAB_REGIME_PLUS 1   /* Tdot*Tddot > 0, thermal acceleration: K1+, K2+ */
-#define DRIFTLAB_REGIME_MINUS 2  /* Tdot*Tddot < 0, thermal deceleration: K1-, K2- */
-"#,
+        "\n/* ---- The streaming corrector ----------------------------------------------------------- */\n",
     );
-}
-
-/// One model's dead-bands and five curves, under `names`.
-pub(super) fn model_constants(
-    h: &mut String,
-    cal: &Calibration,
-    names: &ModelNames,
-) -> Result<(), ExportError> {
-    let r = &cal.resolved;
-    let u = &cal.units;
-    let upper = &names.upper;
-    h.push_str(&format!(
-        r#"
-/* {title_dead}ead-bands of the fit, for the record: points with |Tdot| (|Tddot|) below them were left out
- * of the K1 (K2) fits. The correction does not use them. */
-#define {upper}_DEADBAND_TDOT {db1}   /* {utd} */
-#define {upper}_DEADBAND_TDDOT {db2} /* {utdd} */
-"#,
-        title_dead = if names.title.is_empty() {
-            "D".to_string()
-        } else {
-            format!("{}d", comment_text(&names.title))
-        },
-        db1 = number(r.deadband_tdot, &format!("{}the Tdot dead-band", names.title))?,
-        db2 = number(r.deadband_tddot, &format!("{}the Tddot dead-band", names.title))?,
-        utd = comment_text(&u.tdot),
-        utdd = comment_text(&u.tddot),
-    ));
-    let (temp, tdot, tddot) = (
-        ("T", comment_text(&u.temperature)),
-        ("Tdot", comment_text(&u.tdot)),
-        ("Tddot", comment_text(&u.tddot)),
-    );
-    let (k0u, k1u, k2u) = (
-        comment_text(&u.rate),
-        comment_text(&u.k1),
-        comment_text(&u.k2),
-    );
-    let curves = [
-        ("k0", "K0(T)", (temp.0, &temp.1), &k0u, &cal.k0),
-        (
-            "k1_plus",
-            "K1+(Tdot)",
-            (tdot.0, &tdot.1),
-            &k1u,
-            &cal.k1_plus,
-        ),
-        (
-            "k1_minus",
-            "K1-(Tdot)",
-            (tdot.0, &tdot.1),
-            &k1u,
-            &cal.k1_minus,
-        ),
-        (
-            "k2_plus",
-            "K2+(Tddot)",
-            (tddot.0, &tddot.1),
-            &k2u,
-            &cal.k2_plus,
-        ),
-        (
-            "k2_minus",
-            "K2-(Tddot)",
-            (tddot.0, &tddot.1),
-            &k2u,
-            &cal.k2_minus,
-        ),
-    ];
-    for (name, title, (arg, arg_unit), unit, a) in curves {
-        let name = format!("{}_{name}", names.lower);
-        let title = format!("{}{title}", comment_text(&names.title));
-        curve(h, &name, &title, (arg, arg_unit.as_str()), unit, a)?;
-    }
-    Ok(())
-}
-
-/// `driftlab_regime`, shared by every Vakhrameev model of a header.
-pub(super) fn regime_fn(h: &mut String) {
+    t.constants(h, "driftlab_push_at: a longer step is a dropout")?;
+    h.push_str("\n/* Everything the corrector remembers. */\ntypedef struct {\n");
+    h.push_str(&section("temperature_fields"));
     h.push_str(
-        r#"
-/* The regime of a sample with these rates. */
-static inline int driftlab_regime(double tdot_c_s, double tddot_c_s2)
-{
-    double p = tdot_c_s * tddot_c_s2;
-    if (p > 0.0) {
-        return DRIFTLAB_REGIME_PLUS;
-    }
-    if (p < 0.0) {
-        return DRIFTLAB_REGIME_MINUS;
-    }
-    return DRIFTLAB_REGIME_STATIC;
-}
-"#,
-    );
-}
-
-/// One model's `driftlab_predict`, under `names`.
-pub(super) fn predict_fn(h: &mut String, names: &ModelNames) {
-    let text = r#"
-/* Predicted thermal drift, deg/h, of a sample at temperature temp_c with these rates; its regime
- * goes to *regime when regime is not NULL. */
-static inline double driftlab_predict(double temp_c, double tdot_c_s, double tddot_c_s2,
-                                      int *regime)
-{
-    int r = driftlab_regime(tdot_c_s, tddot_c_s2);
-    double k0 = driftlab_curve_eval(&driftlab_k0, temp_c);
-    double pred = k0;
-    if (r == DRIFTLAB_REGIME_PLUS) {
-        pred = k0 + driftlab_curve_eval(&driftlab_k1_plus, tdot_c_s) * tdot_c_s +
-               driftlab_curve_eval(&driftlab_k2_plus, tddot_c_s2) * tddot_c_s2;
-    } else if (r == DRIFTLAB_REGIME_MINUS) {
-        pred = k0 + driftlab_curve_eval(&driftlab_k1_minus, tdot_c_s) * tdot_c_s +
-               driftlab_curve_eval(&driftlab_k2_minus, tddot_c_s2) * tddot_c_s2;
-    }
-    if (regime != NULL) {
-        *regime = r;
-    }
-    return pred;
-}
-"#;
-    h.push_str(&names.rename(text, &["predict", "k0", "k1_", "k2_"]));
-}
-
-/// `driftlab_beyond`, shared by every Vakhrameev model of a header.
-pub(super) fn beyond_fn(h: &mut String) {
-    h.push_str(
-        r#"
-static inline int driftlab_beyond(const driftlab_curve *c, double x)
-{
-    return x < c->x_min || x > c->x_max;
-}
-"#,
-    );
-}
-
-/// One model's `driftlab_is_outside`, under `names`.
-pub(super) fn is_outside_fn(h: &mut String, names: &ModelNames) {
-    let text = r#"
-/* 1 when a sample lies beyond what the calibration saw: T outside K0's range, or a rate
- * outside the range of a curve its regime uses (the curve's edge value was held there). */
-static inline int driftlab_is_outside(double temp_c, double tdot_c_s, double tddot_c_s2,
-                                      int regime)
-{
-    if (driftlab_beyond(&driftlab_k0, temp_c)) {
-        return 1;
-    }
-    if (regime == DRIFTLAB_REGIME_PLUS) {
-        return driftlab_beyond(&driftlab_k1_plus, tdot_c_s) ||
-               driftlab_beyond(&driftlab_k2_plus, tddot_c_s2);
-    }
-    if (regime == DRIFTLAB_REGIME_MINUS) {
-        return driftlab_beyond(&driftlab_k1_minus, tdot_c_s) ||
-               driftlab_beyond(&driftlab_k2_minus, tddot_c_s2);
-    }
-    return 0;
-}
-"#;
-    h.push_str(&names.rename(text, &["is_outside", "k0", "k1_", "k2_"]));
-}
-
-/// The streaming corrector: T smoothing, the backward differences and the state, calling the
-/// model's `driftlab_predict` and `driftlab_is_outside`.
-fn corrector(h: &mut String, cal: &Calibration) -> Result<(), ExportError> {
-    let dt = cal.resolved.dt_s;
-    let steps = cal.steps_for(dt);
-    // As StreamCorrector::new: a window or step of 0 is taken as 1.
-    let (smooth, step) = (steps.smooth.max(1), steps.step.max(1));
-    if smooth > MAX_RING_SAMPLES || step > MAX_RING_SAMPLES {
-        return Err(ExportError::Calibration(format!(
-            "a smoothing window of {smooth} samples and a derivative step of {step} samples: \
-             more than the {MAX_RING_SAMPLES} samples a ring buffer is sized for"
-        )));
-    }
-    let two_h = 2.0 * step as f64 * dt;
-    h.push_str(&format!(
-        r#"
-/* ---- The streaming corrector ----------------------------------------------------------- */
-
-#define DRIFTLAB_DT_S {dt}          /* the sampling period it expects, s */
-#define DRIFTLAB_GAP_FACTOR {gap}    /* driftlab_push_at: a longer step is a dropout */
-#define DRIFTLAB_SMOOTH_SAMPLES {smooth} /* causal moving average of T, samples */
-#define DRIFTLAB_STEP_SAMPLES {step}   /* derivative step s, samples (H = s * DRIFTLAB_DT_S) */
-#define DRIFTLAB_RING_SAMPLES (2 * DRIFTLAB_STEP_SAMPLES + 1)
-#define DRIFTLAB_TWO_H_S {two_h}      /* 2H, s: divisor of the backward differences */
-"#,
-        dt = number(dt, "the sampling period")?,
-        two_h = number(two_h, "2H")?,
-        gap = number(crate::signal::timing::GAP_FACTOR, "the dropout factor")?,
-    ));
-    h.push_str(
-        r#"
-/* Everything the corrector remembers. */
-typedef struct {
-    double smooth_buf[DRIFTLAB_SMOOTH_SAMPLES]; /* the last raw temperatures, degC */
-    double smooth_sum;                          /* their running sum */
-    size_t smooth_next;                         /* slot of the next temperature */
-    size_t smooth_filled;                       /* temperatures in the window */
-    double temp_ring[DRIFTLAB_RING_SAMPLES];    /* smoothed T, degC */
-    double tdot_ring[DRIFTLAB_RING_SAMPLES];    /* Tdot, degC/s */
-    size_t slot;                                /* ring slot of the next sample */
-    size_t history;                             /* samples seen, counted up to 4 * step */
-    double last_time_s;                         /* driftlab_push_at: the last sample's time, s */
+        r#"    double last_time_s;                         /* driftlab_push_at: the last sample's time, s */
     int has_time;                               /* driftlab_push_at: 0 until the first sample */
 } driftlab_state;
 
@@ -426,20 +347,11 @@ typedef struct {
 /* Starts with no history. */
 static inline void driftlab_init(driftlab_state *st)
 {
-    size_t k;
-    for (k = 0; k < DRIFTLAB_SMOOTH_SAMPLES; k++) {
-        st->smooth_buf[k] = 0.0;
-    }
-    for (k = 0; k < DRIFTLAB_RING_SAMPLES; k++) {
-        st->temp_ring[k] = 0.0;
-        st->tdot_ring[k] = 0.0;
-    }
-    st->smooth_sum = 0.0;
-    st->smooth_next = 0;
-    st->smooth_filled = 0;
-    st->slot = 0;
-    st->history = 0;
-    st->last_time_s = 0.0;
+"#,
+    );
+    h.push_str(&section_in_state("temperature_init"));
+    h.push_str(
+        r#"    st->last_time_s = 0.0;
     st->has_time = 0;
 }
 
@@ -454,39 +366,13 @@ static inline void driftlab_reset(driftlab_state *st)
 static inline double driftlab_push_detail(driftlab_state *st, double omega_dph, double temp_c,
                                           driftlab_sample *out)
 {
-    const size_t s = DRIFTLAB_STEP_SAMPLES, len = DRIFTLAB_RING_SAMPLES;
-    const size_t slot = st->slot;
-    const size_t back1 = slot >= s ? slot - s : slot + len - s;
-    const size_t back2 = slot >= 2 * s ? slot - 2 * s : slot + len - 2 * s;
-    double ts, tdot, tddot, pred;
-    int regime;
-
-    /* Causal moving average of T over the last DRIFTLAB_SMOOTH_SAMPLES samples. */
-    if (st->smooth_filled == DRIFTLAB_SMOOTH_SAMPLES) {
-        st->smooth_sum -= st->smooth_buf[st->smooth_next];
-    } else {
-        st->smooth_filled++;
-    }
-    st->smooth_sum += temp_c;
-    st->smooth_buf[st->smooth_next] = temp_c;
-    st->smooth_next = st->smooth_next + 1 == DRIFTLAB_SMOOTH_SAMPLES ? 0 : st->smooth_next + 1;
-    ts = st->smooth_sum / (double)st->smooth_filled;
-
-    /* Backward differences (3x_i - 4x_{i-s} + x_{i-2s}) / (2H) of smoothed T, then of Tdot. */
-    st->temp_ring[slot] = ts;
-    tdot = st->history < 2 * s
-               ? 0.0
-               : (3.0 * ts - 4.0 * st->temp_ring[back1] + st->temp_ring[back2]) / DRIFTLAB_TWO_H_S;
-    st->tdot_ring[slot] = tdot;
-    tddot = st->history < 4 * s
-                ? 0.0
-                : (3.0 * tdot - 4.0 * st->tdot_ring[back1] + st->tdot_ring[back2]) /
-                      DRIFTLAB_TWO_H_S;
-    if (st->history < 4 * s) {
-        st->history++;
-    }
-    st->slot = slot + 1 == len ? 0 : slot + 1;
-
+"#,
+    );
+    h.push_str(&section_in_state("temperature_rings"));
+    h.push_str("    double ts, tdot, tddot, pred;\n    int regime;\n\n");
+    h.push_str(&section_in_state("temperature_push"));
+    h.push_str(
+        r#"
     /* The model takes the raw temperature for K0, and the rates. */
     pred = driftlab_predict(temp_c, tdot, tddot, &regime);
     if (out != NULL) {
@@ -529,4 +415,339 @@ static inline double driftlab_push_at(driftlab_state *st, double time_s, double 
 "#,
     );
     Ok(())
+}
+
+/// The comment block naming every axis, the include guard, the includes and the axis indices.
+fn unit_preamble(h: &mut String, unit: &UnitCalibration, axes: &[Axis<'_>], shared: bool) {
+    let first = axes[0].model;
+    let src = first.source();
+    let sha = if src.sha256.is_empty() {
+        "(not recorded)".to_string()
+    } else {
+        comment_text(&src.sha256)
+    };
+    let mut list = String::new();
+    for (k, a) in axes.iter().enumerate() {
+        let model = match a.model {
+            DriftModel::Vakhrameev(_) => "vakhrameev (the shared T history)".to_string(),
+            DriftModel::Regression(r) => format!(
+                "regression \"{}\" (its own corrector, driftlab_{}_state)",
+                comment_text(&r.model.spec.name),
+                a.ident
+            ),
+        };
+        let gyro = if a.model.gyro_id().is_empty() {
+            String::new()
+        } else {
+            format!(", gyro {}", comment_text(a.model.gyro_id()))
+        };
+        list.push_str(&format!(
+            " *   [{k}] {name}: {model}{gyro}\n",
+            name = comment_text(a.name)
+        ));
+    }
+    let t_doc = if shared {
+        concat!(
+            " * The Vakhrameev axes share the housing's temperature: T is smoothed and differentiated\n",
+            " * once for all of them (a causal moving average, then 3-point backward differences), and\n",
+            " * each axis predicts\n",
+            " *     Omega_pred = K0(T) + K1(Tdot)*Tdot + K2(Tddot)*Tddot\n",
+            " * from its own curves, named by the axis (driftlab_<axis>_k0, ...). A step of more than\n",
+            " * DRIFTLAB_GAP_FACTOR periods in time_s is a dropout: the T history restarts from that\n",
+            " * sample, as driftlab restarts each segment of a log.\n",
+        )
+    } else {
+        ""
+    };
+    let u = match first {
+        DriftModel::Vakhrameev(c) => format!(
+            " * Units: time {}, rate {}, temperature {}.\n",
+            comment_text(&c.units.time),
+            comment_text(&c.units.rate),
+            comment_text(&c.units.temperature)
+        ),
+        DriftModel::Regression(_) => " * Units: time s, rate deg/h, temperature degC.\n".into(),
+    };
+    let created = match first {
+        DriftModel::Vakhrameev(c) => &c.created,
+        DriftModel::Regression(r) => &r.created,
+    };
+    let names: Vec<String> = axes.iter().map(|a| c_string(a.name)).collect();
+    let indices: String = axes
+        .iter()
+        .enumerate()
+        .map(|(k, a)| {
+            format!(
+                "#define DRIFTLAB_AXIS_{} {k}\n",
+                a.ident.to_ascii_uppercase()
+            )
+        })
+        .collect();
+    h.push_str(&format!(
+        r#"/*
+ * Thermal-drift calibration of a unit of {n} gyro axes ({axis_list}), for the unit's processor.
+ * Written by driftlab {version} (`driftlab export --format c-header`); do not edit by hand:
+ * export again from the calibration file instead.
+ *
+ * Axes, in the order of the arrays driftlab_push reads and writes:
+{list} *
+ *   source:    {source} ({samples} samples, {duration} s)
+ *   sha256:    {sha}
+ *   created:   {created}
+ *
+{u} *
+ * Correction, sample by sample, using only past samples, of every axis at once:
+ *     Omega_cor[k] = Omega_raw[k] - Omega_pred[k]
+{t_doc} * A regression axis keeps its own corrector inside the state (the same code as that axis's
+ * own header, its names under the axis's).
+ *
+ * Use: call driftlab_init once, then driftlab_push for every sample with its time, at the
+ * sampling period the calibration was made at; call driftlab_reset after a power cycle.
+ *
+ *     #include "this_header.h"
+ *     static driftlab_state unit;
+ *     double omega_raw_dph[DRIFTLAB_N_AXES], omega_cor_dph[DRIFTLAB_N_AXES];
+ *     driftlab_init(&unit);
+ *     ... every sample:
+ *     driftlab_push(&unit, time_s, omega_raw_dph, temp_c, omega_cor_dph);
+ *
+ * Everything below is static const or static inline: include this header from any number of C
+ * files, nothing to link (but libm for a regression axis with a selfheat term or a
+ * temperature-dependent lag). C99, doubles, no malloc. The state is one struct of
+ * sizeof(driftlab_state) bytes, sized at compile time.
+ *
+ * This code repeats driftlab's arithmetic operation for operation, so it corrects every axis
+ * bit for bit as driftlab does where doubles are IEEE-754 binary64 computed at their own
+ * precision (FLT_EVAL_METHOD 0: x86-64, AArch64, ARM or RISC-V with a double FPU) and a*b + c
+ * is not fused (GCC: -ffp-contract=off, the default with -std=c99; other compilers: the pragma
+ * below).
+ */
+{guard}
+#define DRIFTLAB_CREATED {created_c}
+
+/* The axes: how many, their names, and each one's index in the rate arrays. */
+#define DRIFTLAB_N_AXES {n}
+#define DRIFTLAB_AXIS_NAMES {{ {names} }}
+{indices}"#,
+        n = unit.axes.len(),
+        axis_list = comment_text(&unit.axis_names().join(", ")),
+        version = env!("CARGO_PKG_VERSION"),
+        source = comment_text(&src.name),
+        samples = src.samples,
+        duration = src.duration_s,
+        created = comment_text(created),
+        created_c = c_string(created),
+        names = names.join(", "),
+        guard = guard("isfinite (a macro), and what a regression axis calls"),
+    ));
+}
+
+/// The shared temperature history, the unit's state and its push.
+fn unit_corrector(
+    h: &mut String,
+    axes: &[Axis<'_>],
+    shared: Option<TemperatureHistory>,
+) -> Result<(), ExportError> {
+    h.push_str(
+        "\n/* ---- The unit's streaming corrector --------------------------------------------- */\n",
+    );
+    if let Some(t) = shared {
+        t.constants(h, "a longer step is a dropout")?;
+        h.push_str(&section("temperature"));
+    }
+    // The state.
+    let mut members = String::new();
+    if shared.is_some() {
+        members.push_str(
+            "    driftlab_temperature temperature; /* T's history, shared by the Vakhrameev axes */\n    \
+             double last_time_s;               /* the last sample's time, s */\n    \
+             int has_time;                     /* 0 until the first sample */\n",
+        );
+    }
+    let mut init = String::new();
+    if shared.is_some() {
+        init.push_str(
+            "    driftlab_temperature_init(&st->temperature);\n    st->last_time_s = 0.0;\n    \
+             st->has_time = 0;\n",
+        );
+    }
+    let mut body = String::new();
+    for (k, a) in axes.iter().enumerate() {
+        let id = &a.ident;
+        match a.model {
+            DriftModel::Vakhrameev(_) => body.push_str(&format!(
+                r#"
+    /* Axis {name}: its curves at the shared T and rates. */
+    pred = driftlab_{id}_predict(temp_c, tdot, tddot, &regime);
+    omega_cor_dph[{k}] = omega_dph[{k}] - pred;
+    if (out != NULL) {{
+        out[{k}].omega_cor_dph = omega_dph[{k}] - pred;
+        out[{k}].omega_pred_dph = pred;
+        out[{k}].tdot_c_s = tdot;
+        out[{k}].tddot_c_s2 = tddot;
+        out[{k}].regime = regime;
+        out[{k}].outside = driftlab_{id}_is_outside(temp_c, tdot, tddot, regime);
+    }}
+"#,
+                name = comment_text(a.name),
+            )),
+            DriftModel::Regression(_) => {
+                members.push_str(&format!(
+                    "    driftlab_{id}_state {id};            /* axis {}: its own corrector */\n",
+                    comment_text(a.name)
+                ));
+                init.push_str(&format!("    driftlab_{id}_init(&st->{id});\n"));
+                body.push_str(&format!(
+                    r#"
+    /* Axis {name}: its own corrector (it reads no second sensor and no channel). */
+    {{
+        driftlab_{id}_sample s;
+        omega_cor_dph[{k}] =
+            driftlab_{id}_push_detail(&st->{id}, time_s, omega_dph[{k}], temp_c, 0.0, NULL, &s);
+        if (out != NULL) {{
+            out[{k}].omega_cor_dph = s.omega_cor_dph;
+            out[{k}].omega_pred_dph = s.omega_pred_dph;
+            out[{k}].tdot_c_s = s.tdot_c_s;
+            out[{k}].tddot_c_s2 = s.tddot_c_s2;
+            out[{k}].regime = s.regime;
+            out[{k}].outside = s.outside;
+        }}
+    }}
+"#,
+                    name = comment_text(a.name),
+                ));
+            }
+        }
+    }
+    let shared_push = if shared.is_some() {
+        r#"    double tdot, tddot, pred;
+    int regime;
+
+    /* A step of more than DRIFTLAB_GAP_FACTOR periods is a dropout: T's history starts afresh
+     * from this sample, as driftlab restarts each segment of a log. */
+    if (st->has_time && time_s - st->last_time_s > DRIFTLAB_GAP_FACTOR * DRIFTLAB_DT_S) {
+        driftlab_temperature_init(&st->temperature);
+    }
+    st->last_time_s = time_s;
+    st->has_time = 1;
+    driftlab_temperature_push(&st->temperature, temp_c, &tdot, &tddot);
+"#
+    } else {
+        ""
+    };
+    h.push_str(&format!(
+        r#"
+/* Every axis's corrected sample, in full. */
+typedef struct {{
+    double omega_cor_dph;  /* corrected rate, deg/h */
+    double omega_pred_dph; /* predicted thermal drift, deg/h */
+    double tdot_c_s;       /* Tdot used, degC/s (0 while not yet known) */
+    double tddot_c_s2;     /* Tddot used, degC/s^2 (0 while not yet known) */
+    int regime;            /* DRIFTLAB_REGIME_* */
+    int outside;           /* 1: beyond the axis's calibrated ranges (edge values held) */
+}} driftlab_sample;
+
+/* Everything the unit's corrector remembers. */
+typedef struct {{
+{members}}} driftlab_state;
+
+/* Starts with no history. */
+static inline void driftlab_init(driftlab_state *st)
+{{
+{init}}}
+
+/* Forgets all history (after a power cycle). */
+static inline void driftlab_reset(driftlab_state *st)
+{{
+    driftlab_init(st);
+}}
+
+/* Feeds one sample: its time (s), every axis's rate (deg/h, in the order of DRIFTLAB_AXIS_*)
+ * and the temperature (degC); writes every axis's corrected rate (deg/h) to omega_cor_dph, and
+ * the details to out[0 .. DRIFTLAB_N_AXES - 1] when out is not NULL. */
+static inline void driftlab_push_detail(driftlab_state *st, double time_s,
+                                        const double omega_dph[DRIFTLAB_N_AXES], double temp_c,
+                                        double omega_cor_dph[DRIFTLAB_N_AXES],
+                                        driftlab_sample *out)
+{{
+{shared_push}{body}}}
+
+/* As driftlab_push_detail, without the details. */
+static inline void driftlab_push(driftlab_state *st, double time_s,
+                                 const double omega_dph[DRIFTLAB_N_AXES], double temp_c,
+                                 double omega_cor_dph[DRIFTLAB_N_AXES])
+{{
+    driftlab_push_detail(st, time_s, omega_dph, temp_c, omega_cor_dph, NULL);
+}}
+"#
+    ));
+    Ok(())
+}
+
+/// Identifiers of the header's own that an axis's part must not repeat.
+const RESERVED: [&str; 12] = [
+    "curve",
+    "edge",
+    "regime",
+    "beyond",
+    "state",
+    "sample",
+    "init",
+    "reset",
+    "push",
+    "temperature",
+    "axis",
+    "kind",
+];
+
+/// The name of an axis as the part of a C identifier: ASCII letters and digits in lower case,
+/// anything else `_`; a reserved word or a name already taken gets `_axis<k>` after it.
+fn ident(name: &str, k: usize, taken: &[String]) -> String {
+    let mut s: String = name
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() {
+                c.to_ascii_lowercase()
+            } else {
+                '_'
+            }
+        })
+        .collect();
+    if s.is_empty() || RESERVED.contains(&s.as_str()) || taken.contains(&s) {
+        s = format!("{s}_axis{k}");
+    }
+    s
+}
+
+/// A string as a C string literal: printable ASCII as is, `\`, `"` and `?` (trigraphs) escaped,
+/// every other byte in octal; at most 200 bytes of the input.
+pub(super) fn c_string(s: &str) -> String {
+    let mut out = String::from("\"");
+    for &b in s.as_bytes().iter().take(200) {
+        match b {
+            b'\\' | b'"' | b'?' => {
+                out.push('\\');
+                out.push(b as char);
+            }
+            0x20..=0x7e => out.push(b as char),
+            _ => out.push_str(&format!("\\{b:03o}")),
+        }
+    }
+    out.push('"');
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn axis_names_become_distinct_c_identifiers() {
+        let mut taken = Vec::new();
+        for (k, name) in ["gx", "G-Y", "gx", "state", ""].iter().enumerate() {
+            let id = ident(name, k, &taken);
+            taken.push(id);
+        }
+        assert_eq!(taken, ["gx", "g_y", "gx_axis2", "state_axis3", "_axis4"]);
+    }
 }

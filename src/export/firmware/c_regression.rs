@@ -1,31 +1,11 @@
-//! The C99 header of a regression calibration: its terms as codes, its constants, and a port
-//! of the regression model's streaming corrector (see the module doc of `c_header` for what
-//! bit-for-bit agreement rests on).
+//! A regression model's part of a header: the single-axis header's preamble, and its terms as
+//! codes with its constants; its streaming corrector is [`super::c_corrector`] (see the module
+//! doc of [`super::c_header`] for what bit-for-bit agreement rests on).
 
-use super::c_corrector::regression_corrector;
-use super::c_header::{array, c_string};
+use super::c_curves::array;
+use super::c_header::{BIT_FOR_BIT_DOC, c_string, guard};
 use super::{ExportError, comment_text, number};
 use crate::models::regression::{RegressionCalibration, RegressionModel, Term};
-
-/// The header for a regression calibration: a port of
-/// [`crate::models::regression::RegressionCorrector::push`] that repeats its arithmetic operation for
-/// operation (lag, causal mean, backward differences, τd(T), the delayed read with linear
-/// interpolation, clamping, the design row, the dot product summed from −0 left to right), with
-/// the lag's α computed here as driftlab computes it and printed to round-trip precision.
-///
-/// The only libm function it calls is `exp`, for a `selfheat` term: bit-for-bit agreement then
-/// also needs the C library's `exp` to give what Rust's `f64::exp` gives (on Linux both call the
-/// platform's libm; the tests compile the header and compare).
-pub fn regression(cal: &RegressionCalibration) -> Result<String, ExportError> {
-    let m = &cal.model;
-    m.validate()?;
-    let mut h = String::new();
-    regression_preamble(&mut h, cal)?;
-    regression_constants(&mut h, m)?;
-    regression_corrector(&mut h, m)?;
-    h.push_str("\n#endif /* DRIFTLAB_CALIBRATION_H */\n");
-    Ok(h)
-}
 
 /// C code of a term: its `DRIFTLAB_TERM_*` macro.
 fn term_macro(t: &Term) -> &'static str {
@@ -49,7 +29,14 @@ fn term_macro(t: &Term) -> &'static str {
     }
 }
 
-fn regression_preamble(h: &mut String, cal: &RegressionCalibration) -> Result<(), ExportError> {
+/// The comment block of a single-axis regression header (what the model is, how to call it,
+/// what bit-for-bit agreement rests on; the only libm function it calls is `exp`, for a
+/// `selfheat` term, so agreement there also needs the C library's `exp` to give what Rust's
+/// `f64::exp` gives), the include guard and the includes.
+pub(super) fn regression_preamble(
+    h: &mut String,
+    cal: &RegressionCalibration,
+) -> Result<(), ExportError> {
     let m = &cal.model;
     let src = &cal.source;
     let gyro = if cal.gyro_id.is_empty() {
@@ -133,21 +120,8 @@ fn regression_preamble(h: &mut String, cal: &RegressionCalibration) -> Result<()
  * files, nothing to link but libm. C99, doubles, no malloc. The state is one struct sized at
  * compile time; its sample counter is 64-bit (it does not wrap in any gyro's lifetime).
  *
- * This code repeats driftlab's arithmetic operation for operation, so it corrects a log bit for
- * bit as driftlab does where doubles are IEEE-754 binary64 computed at their own precision
- * (FLT_EVAL_METHOD 0: x86-64, AArch64, ARM or RISC-V with a double FPU) and a*b + c is not
- * fused (GCC: -ffp-contract=off, the default with -std=c99; other compilers: the pragma below).
-{exp_doc} */
-#ifndef DRIFTLAB_CALIBRATION_H
-#define DRIFTLAB_CALIBRATION_H
-
-#include <math.h>   /* isfinite, fabs, NAN, exp */
-#include <stddef.h> /* size_t, NULL */
-
-#if defined(__clang__) || !defined(__GNUC__)
-#pragma STDC FP_CONTRACT OFF
-#endif
-
+{bit_for_bit}{exp_doc} */
+{guard}
 #define DRIFTLAB_GYRO_ID {gyro_c}
 #define DRIFTLAB_CREATED {created_c}
 #define DRIFTLAB_MODEL {name_c}
@@ -163,6 +137,8 @@ fn regression_preamble(h: &mut String, cal: &RegressionCalibration) -> Result<()
         gyro_c = c_string(&cal.gyro_id),
         created_c = c_string(&cal.created),
         name_c = c_string(&m.spec.name),
+        bit_for_bit = BIT_FOR_BIT_DOC,
+        guard = guard("isfinite, fabs, NAN, exp"),
     ));
     Ok(())
 }

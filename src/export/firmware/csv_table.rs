@@ -24,25 +24,133 @@
 //! linear curve, `h²·|c2|/4` for a parabola), and at most `h/4·|jump of the slope|` over a step
 //! holding a knot of a piecewise-linear curve. Beyond the fitted range the table holds the edge
 //! value even where the calibration file says a curve extrapolates (the comments say which).
+//!
+//! A regression model has no curves to tabulate: its table lists the coefficients
+//! ([`regression`]).
+//!
+//! One writer, [`csv_table`], for a single axis and for a unit. A unit's tables are one CSV file
+//! with an `axis` column. Why one file with an axis column rather than a file per axis: a
+//! firmware build step turns the tables into one array (or one flash block) for the unit, and
+//! one file keeps the axes together, of one version, from one export; the rows of an axis are
+//! the table of that axis alone, with the axis's name before each row, so the loader of a
+//! single-axis table reads an axis after filtering on the first column. Every axis's `#`
+//! comments come first, each line starting with `# axis <name>:`, then one header line
+//! `axis,<the single-axis table's columns>`, then every axis's rows in the calibration's order.
+//! A single-axis calibration (one unnamed axis) is its one table, as driftlab has always
+//! written it.
+//!
+//! The axes of a unit must have tables of the same columns (all Vakhrameev, in the same units,
+//! or all regression): a unit mixing the two is refused with the axes named, each then exported
+//! alone. Another kind of axis (an accelerometer's) is one more [`Table`] maker in
+//! [`axis_table`].
 
 use super::{ExportError, MAX_TABLE_POINTS, comment_text, number};
 use crate::models::approx::Approx;
+use crate::models::fitted::DriftModel;
 use crate::models::regression::RegressionCalibration;
+use crate::models::unit::UnitCalibration;
 use crate::models::vakhrameev::Calibration;
 
-/// The tables of `cal` with `points` rows (at least 2, at most [`MAX_TABLE_POINTS`]).
-pub fn csv_table(cal: &Calibration, points: usize) -> Result<String, ExportError> {
+/// The tables of `unit`, `points` rows per Vakhrameev coefficient (at least 2, at most
+/// [`MAX_TABLE_POINTS`]): a single axis's table, or every axis's of a unit in one file.
+///
+/// # Errors
+/// Too few or too many points for a Vakhrameev axis (for any unit); a number a table cannot
+/// hold, named by its axis in a unit; axes of a unit whose tables have different columns.
+pub fn csv_table(unit: &UnitCalibration, points: usize) -> Result<String, ExportError> {
+    if !unit.is_unit() {
+        let axis = unit.axes.first().ok_or(ExportError::NoAxes)?;
+        return Ok(axis_table(&axis.model, points)?.text());
+    }
+    // Checked before any axis, whatever models the axes have.
+    check_points(points)?;
+    unit.validate()?;
+    let mut comments = String::new();
+    let mut first: Option<(Table, &str, &'static str)> = None;
+    let mut rows = String::new();
+    for a in &unit.axes {
+        let table = axis_table(&a.model, points).map_err(|e| ExportError::Axis {
+            axis: a.name.clone(),
+            source: Box::new(e),
+        })?;
+        let axis_comment = comment_text(&a.name).replace(':', ";");
+        for line in table.comments.lines() {
+            let c = line.strip_prefix('#').unwrap_or(line);
+            comments.push_str(&format!("# axis {axis_comment}:{c}\n"));
+        }
+        let axis = cell(&a.name);
+        for line in table.rows.lines() {
+            rows.push_str(&format!("{axis},{line}\n"));
+        }
+        match &first {
+            None => first = Some((table, &a.name, a.model.tag())),
+            Some((t, first_axis, first_model)) if t.columns != table.columns => {
+                return Err(ExportError::TableColumns {
+                    first: first_axis.to_string(),
+                    first_model,
+                    first_columns: t.columns.clone(),
+                    second: a.name.clone(),
+                    second_model: a.model.tag(),
+                    second_columns: table.columns,
+                });
+            }
+            Some(_) => {}
+        }
+    }
+    let Some((table, _, _)) = first else {
+        return Err(ExportError::NoAxes);
+    };
+    Ok(format!(
+        "# driftlab {version} lookup tables of a unit of {n} axes ({names}): the rows of each axis \
+         are its table, as a single-axis export writes it, after its name in the first column\n\
+         {comments}axis,{columns}\n{rows}",
+        version = env!("CARGO_PKG_VERSION"),
+        n = unit.axes.len(),
+        names = comment_text(&unit.axis_names().join(", ")),
+        columns = table.columns,
+    ))
+}
+
+/// One axis's table: its `#` comment lines, its header line and its rows, each line ending in a
+/// line break but the header.
+#[derive(Debug, Clone, PartialEq)]
+struct Table {
+    comments: String,
+    columns: String,
+    rows: String,
+}
+
+impl Table {
+    /// The table as a file of its own.
+    fn text(&self) -> String {
+        format!("{}{}\n{}", self.comments, self.columns, self.rows)
+    }
+}
+
+/// The table of one axis, by its model.
+fn axis_table(model: &DriftModel, points: usize) -> Result<Table, ExportError> {
+    match model {
+        DriftModel::Vakhrameev(cal) => {
+            check_points(points)?;
+            vakhrameev(cal, points)
+        }
+        DriftModel::Regression(r) => regression(r),
+    }
+}
+
+/// The number of rows of a table: at least 2, at most [`MAX_TABLE_POINTS`].
+fn check_points(points: usize) -> Result<(), ExportError> {
     if points < 2 {
-        return Err(ExportError::TooFewPoints(points));
+        Err(ExportError::TooFewPoints(points))
+    } else if points > MAX_TABLE_POINTS {
+        Err(ExportError::TooManyPoints(points))
+    } else {
+        Ok(())
     }
-    if points > MAX_TABLE_POINTS {
-        return Err(ExportError::TooManyPoints(points));
-    }
-    vakhrameev(cal, points)
 }
 
 /// The grid of `points` equally spaced arguments over `[lo, hi]`, the last exactly `hi`.
-pub fn grid(lo: f64, hi: f64, points: usize) -> Vec<f64> {
+fn grid(lo: f64, hi: f64, points: usize) -> Vec<f64> {
     let m = points.max(2);
     (0..m)
         .map(|j| {
@@ -57,7 +165,7 @@ pub fn grid(lo: f64, hi: f64, points: usize) -> Vec<f64> {
 
 /// The Vakhrameev model's five tables side by side. Another model in the calibration file gets
 /// its own function beside this one.
-pub fn vakhrameev(cal: &Calibration, points: usize) -> Result<String, ExportError> {
+fn vakhrameev(cal: &Calibration, points: usize) -> Result<Table, ExportError> {
     let u = &cal.units;
     let r = &cal.resolved;
     let steps = cal.steps_for(r.dt_s);
@@ -115,21 +223,25 @@ pub fn vakhrameev(cal: &Calibration, points: usize) -> Result<String, ExportErro
             ]
         })
         .collect();
-    out.push_str(&header.join(","));
-    out.push('\n');
+    let columns_line = header.join(",");
     let columns = tables
         .iter()
         .map(|(_, _, name, _, a)| column(name, a, points))
         .collect::<Result<Vec<_>, _>>()?;
+    let mut rows = String::new();
     for j in 0..points {
         let row: Vec<&str> = columns
             .iter()
             .flat_map(|c| [c[j].0.as_str(), c[j].1.as_str()])
             .collect();
-        out.push_str(&row.join(","));
-        out.push('\n');
+        rows.push_str(&row.join(","));
+        rows.push('\n');
     }
-    Ok(out)
+    Ok(Table {
+        comments: out,
+        columns: columns_line,
+        rows,
+    })
 }
 
 /// One table: (argument, value) at each grid point, as text.
@@ -152,7 +264,7 @@ fn column(name: &str, a: &Approx, points: usize) -> Result<Vec<(String, String)>
 /// the channels in order and the derivative settings. A regression model's coefficients are
 /// constants, so there is nothing to tabulate over a range: firmware evaluates the terms (the C
 /// header does it for you, bit for bit).
-pub fn regression(cal: &RegressionCalibration) -> Result<String, ExportError> {
+fn regression(cal: &RegressionCalibration) -> Result<Table, ExportError> {
     let m = &cal.model;
     m.validate()?;
     let src = &cal.source;
@@ -263,14 +375,31 @@ pub fn regression(cal: &RegressionCalibration) -> Result<String, ExportError> {
         steps.step.max(1),
         number(m.dt_s, "the sampling period")?
     ));
-    out.push_str("term,coefficient,std_error\n");
+    let mut rows = String::new();
     for ((name, c), se) in m.names.iter().zip(&m.coefficients).zip(&m.std_errors) {
-        out.push_str(&format!(
+        rows.push_str(&format!(
             "{},{},{}\n",
             comment_text(name).replace(',', ";"),
             number(*c, &format!("coefficient {name}"))?,
             number(*se, &format!("standard error of {name}"))?
         ));
     }
-    Ok(out)
+    Ok(Table {
+        comments: out,
+        columns: "term,coefficient,std_error".into(),
+        rows,
+    })
+}
+
+/// An axis name as a CSV cell: as it is, or quoted when it holds a comma, a quote or a line
+/// break.
+fn cell(name: &str) -> String {
+    if name.contains([',', '"', '\n', '\r']) {
+        format!(
+            "\"{}\"",
+            name.replace('"', "\"\"").replace(['\n', '\r'], " ")
+        )
+    } else {
+        name.to_string()
+    }
 }

@@ -2,33 +2,31 @@
 //! coefficients and the streaming corrector ([`c_header`]), or the coefficients tabulated over
 //! their fitted ranges as CSV ([`csv_table`]).
 //!
-//! The header is a port of [`crate::models::vakhrameev::correct::StreamCorrector`] and of
-//! [`crate::models::approx::Approx::eval`] that repeats their arithmetic operation for operation, with
-//! every constant printed to round-trip precision, so on an IEEE-754 machine it corrects a log
-//! bit for bit as driftlab does (the tests compile it and compare). The tables are for
-//! processors that interpolate coefficients instead of evaluating curves.
+//! The header is a port of [`crate::models::vakhrameev::correct::StreamCorrector`], of
+//! [`crate::models::regression::RegressionCorrector`] and of
+//! [`crate::models::approx::Approx::eval`] that repeats their arithmetic operation for
+//! operation, with every constant printed to round-trip precision, so on an IEEE-754 machine it
+//! corrects a log bit for bit as driftlab does (the tests compile it and compare). The code it
+//! runs is one static C source, `runtime.c` ([`c_runtime`]), copied in beside the tables
+//! generated for the calibration. The tables are for processors that interpolate coefficients
+//! instead of evaluating curves.
 //!
-//! Each model a calibration file can hold is written by its own function: the Vakhrameev model
-//! by [`c_header::c_header`] and [`csv_table::vakhrameev`], a regression model by
-//! [`c_regression::regression`] (a port of [`crate::models::regression::RegressionCorrector`], bit for bit
-//! in the same way) and [`csv_table::regression`] (its coefficients with standard errors, the
-//! ranges and settings as comments). [`export_model`] picks by the model. The flight
-//! controllers' parameter files ([`Format::Px4Params`], [`Format::ArdupilotParm`]) are written
-//! by [`crate::export::flight`] from the model's static part, through [`flight`].
-//!
-//! A unit of several gyro axes ([`UnitCalibration::is_unit`]) is written by [`export_unit`]:
-//! one header correcting every axis in one push ([`c_unit`]), one table file with an axis
-//! column ([`csv_unit`]), or a flight controller's file with the unit's three axes as the
-//! gyro's X, Y and Z ([`flight_unit`]). A single-axis calibration goes through the functions
-//! above, unchanged.
+//! Every output has one writer, which takes a unit ([`export_unit`]): the header
+//! ([`c_header::c_header`]), the tables ([`csv_table::csv_table`]) and a flight controller's
+//! file with the unit's three axes as the gyro's X, Y and Z ([`flight_unit`], through
+//! [`crate::export::flight`]). A single-axis calibration is the unit of one unnamed axis
+//! ([`UnitCalibration::single`]); each writer chooses at its edge to write it as driftlab always
+//! has, so its files are what they were. Inside a writer each model has its own part: the
+//! Vakhrameev model's curves ([`c_vakhrameev`]), a regression model's constants and corrector
+//! ([`c_regression`], [`c_corrector`]).
 
 mod c_corrector;
 mod c_curves;
 pub mod c_header;
-pub mod c_regression;
-pub mod c_unit;
+mod c_regression;
+mod c_runtime;
+mod c_vakhrameev;
 pub mod csv_table;
-pub mod csv_unit;
 
 use crate::export::flight::ardupilot::{ArduPilotTarget, ardupilot_parm};
 use crate::export::flight::px4::{Px4Target, px4_params};
@@ -83,17 +81,14 @@ impl fmt::Display for Format {
 }
 
 impl FromStr for Format {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
+    type Err = UnknownFormat;
+    fn from_str(s: &str) -> Result<Self, UnknownFormat> {
         match s.trim().to_ascii_lowercase().as_str() {
             "c-header" | "c_header" | "c" | "h" => Ok(Format::CHeader),
             "csv-table" | "csv_table" | "csv" | "table" => Ok(Format::CsvTable),
             "px4-params" | "px4_params" | "px4" => Ok(Format::Px4Params),
             "ardupilot-parm" | "ardupilot_parm" | "ardupilot" => Ok(Format::ArdupilotParm),
-            other => Err(format!(
-                "unknown export format \"{other}\": use c-header, csv-table, px4-params or \
-                 ardupilot-parm"
-            )),
+            other => Err(UnknownFormat(other.to_string())),
         }
     }
 }
@@ -136,9 +131,80 @@ pub enum ExportError {
     /// More points than [`MAX_TABLE_POINTS`].
     #[error("at most {MAX_TABLE_POINTS} points per coefficient, got {0}")]
     TooManyPoints(usize),
-    /// A number of the calibration cannot be written for a processor.
-    #[error("{0}")]
-    Calibration(String),
+    /// A number of the calibration that is not finite (a validated calibration has none).
+    #[error("{what} is {value}: not a number a processor can use")]
+    NotANumber {
+        /// What the number is (`K0(T): coefficient`).
+        what: String,
+        value: f64,
+    },
+    /// A smoothing window, derivative step or delay that needs a larger ring buffer than
+    /// [`MAX_RING_SAMPLES`].
+    #[error("{}", ring_too_long(axis, *smooth, *step, *delay))]
+    RingTooLong {
+        /// The axis of a unit, empty for a single axis.
+        axis: String,
+        smooth: usize,
+        step: usize,
+        /// A regression model's longest delay, in samples.
+        delay: Option<f64>,
+    },
+    /// Two Vakhrameev axes of a unit whose T is sampled, smoothed or differentiated
+    /// differently: one header keeps one temperature history.
+    #[error(
+        "axes {first} and {second}: sampled every {} s and {} s, T smoothed over {} and {} \
+         samples, differentiated over {} and {}: the axes of a unit share one temperature \
+         history, so these must be one",
+        .first_history.0, .second_history.0, .first_history.1, .second_history.1,
+        .first_history.2, .second_history.2
+    )]
+    TemperatureHistories {
+        first: String,
+        second: String,
+        /// Sampling period (s), smoothing window and derivative step (samples) of each.
+        first_history: (f64, usize, usize),
+        second_history: (f64, usize, usize),
+    },
+    /// A regression axis of a unit that reads more than the unit's one temperature.
+    #[error(
+        "axis {axis}: its regression model reads {}; the unit's header takes one temperature \
+         for all axes: export that axis alone (--axis {axis})",
+        reads.join(", ")
+    )]
+    MoreThanOneTemperature {
+        axis: String,
+        /// What else it reads (`the second temperature temp_chamber_c`).
+        reads: Vec<String>,
+    },
+    /// Axes of a unit whose tables have different columns, which one table file cannot hold.
+    #[error(
+        "axes {first} ({first_model}) and {second} ({second_model}) have tables of different \
+         columns ({first_columns} and {second_columns}): one file cannot hold both; export each \
+         axis alone with --axis"
+    )]
+    TableColumns {
+        first: String,
+        first_model: &'static str,
+        first_columns: String,
+        second: String,
+        second_model: &'static str,
+        second_columns: String,
+    },
+    /// A knot curve read without its segment cubics.
+    #[error("{0}: a knot curve without its segments")]
+    KnotCurveWithoutSegments(String),
+    /// A calibration without axes.
+    #[error("no calibration to export")]
+    NoAxes,
+    /// A flight controller's file asked for in a format that is not one.
+    #[error("{0} is not a flight controller's parameter file")]
+    NotFlight(Format),
+    /// What went wrong with one axis of a unit.
+    #[error("axis {axis}: {source}")]
+    Axis {
+        axis: String,
+        source: Box<ExportError>,
+    },
     /// The calibration does not hold together.
     #[error(transparent)]
     Invalid(#[from] crate::error::Invalid),
@@ -147,19 +213,38 @@ pub enum ExportError {
     Flight(#[from] FlightError),
 }
 
-/// Writes `cal` in `format`.
+/// [`ExportError::RingTooLong`]'s message.
+fn ring_too_long(axis: &str, smooth: usize, step: usize, delay: Option<f64>) -> String {
+    let axis = if axis.is_empty() {
+        String::new()
+    } else {
+        format!("axis {axis}: ")
+    };
+    let what = match delay {
+        None => format!(
+            "a smoothing window of {smooth} samples and a derivative step of {step} samples"
+        ),
+        Some(d) => format!(
+            "a smoothing window of {smooth} samples, a derivative step of {step} samples and a \
+             delay of {d} samples"
+        ),
+    };
+    format!("{axis}{what}: more than the {MAX_RING_SAMPLES} samples a ring buffer is sized for")
+}
+
+/// A name that is not one of the export formats.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("unknown export format \"{0}\": use c-header, csv-table, px4-params or ardupilot-parm")]
+pub struct UnknownFormat(pub String);
+
+/// Writes a single-axis Vakhrameev calibration in `format`, as [`export_unit`] writes the unit
+/// of that one axis.
 pub fn export(
     cal: &Calibration,
     format: Format,
     opts: &ExportOptions,
 ) -> Result<String, ExportError> {
-    match format {
-        Format::CHeader => c_header::c_header(cal),
-        Format::CsvTable => csv_table::csv_table(cal, opts.points),
-        Format::Px4Params | Format::ArdupilotParm => {
-            Ok(flight(&DriftModel::Vakhrameev(Box::new(cal.clone())), format, opts)?.text)
-        }
-    }
+    export_model(&DriftModel::Vakhrameev(Box::new(cal.clone())), format, opts)
 }
 
 /// A one-model calibration as a flight controller's parameter file: the model's axis (a
@@ -190,7 +275,7 @@ pub fn flight_axes(
     opts: &ExportOptions,
 ) -> Result<FlightFile, ExportError> {
     let Some(&(_, model)) = axes.first() else {
-        return Err(ExportError::Calibration("no calibration to export".into()));
+        return Err(ExportError::NoAxes);
     };
     let fits = ImuFits {
         gyro: axes
@@ -219,70 +304,37 @@ pub fn flight_axes(
         }
         Format::ArdupilotParm => ardupilot_parm(&fits, &opts.ardupilot)?,
         other => {
-            return Err(ExportError::Calibration(format!(
-                "{other} is not a flight controller's parameter file"
-            )));
+            return Err(ExportError::NotFlight(other));
         }
     })
 }
 
-/// Writes any model's calibration in `format`: a Vakhrameev calibration as [`export`] does, a
-/// regression model as [`c_regression::regression`] or [`csv_table::regression`] (its coefficients
-/// table: regression coefficients are constants, so there is nothing to tabulate over a range
-/// and `opts.points` is not used).
+/// Writes any model's calibration in `format`, as [`export_unit`] writes the single-axis
+/// calibration of it.
 pub fn export_model(
     model: &DriftModel,
     format: Format,
     opts: &ExportOptions,
 ) -> Result<String, ExportError> {
-    if format.is_flight() {
-        return Ok(flight(model, format, opts)?.text);
-    }
-    match model {
-        DriftModel::Vakhrameev(cal) => export(cal, format, opts),
-        DriftModel::Regression(r) => match format {
-            Format::CHeader => c_regression::regression(r),
-            Format::CsvTable => csv_table::regression(r),
-            Format::Px4Params | Format::ArdupilotParm => Ok(flight(model, format, opts)?.text),
-        },
-    }
+    export_unit(&UnitCalibration::single(model.clone()), format, opts)
 }
 
-/// Writes a unit's calibration in `format`; a single-axis calibration (not
-/// [`UnitCalibration::is_unit`]) exactly as [`export_model`] writes its model.
+/// Writes a calibration in `format`: every output has one writer, which takes a unit; a
+/// single-axis calibration is the unit of one unnamed axis ([`UnitCalibration::single`]), and
+/// each writer chooses at its edge to write it as driftlab always has (see
+/// [`c_header::c_header`], [`csv_table::csv_table`] and [`flight_unit`]).
 ///
 /// # Errors
-/// As the format's writer; see [`c_unit::c_unit_header`], [`csv_unit::csv_unit`] and
-/// [`flight_unit`].
+/// As the format's writer.
 pub fn export_unit(
     unit: &UnitCalibration,
     format: Format,
     opts: &ExportOptions,
 ) -> Result<String, ExportError> {
-    if !unit.is_unit() {
-        let model = unit
-            .first()
-            .map_err(|e| ExportError::Calibration(e.to_string()))?;
-        return export_model(model, format, opts);
-    }
     match format {
-        Format::CHeader => c_unit::c_unit_header(unit),
-        Format::CsvTable => {
-            check_points(opts.points)?;
-            csv_unit::csv_unit(unit, opts.points)
-        }
+        Format::CHeader => c_header::c_header(unit),
+        Format::CsvTable => csv_table::csv_table(unit, opts.points),
         Format::Px4Params | Format::ArdupilotParm => Ok(flight_unit(unit, format, opts)?.text),
-    }
-}
-
-/// The table's points checked as [`csv_table::csv_table`] checks them, before any axis.
-fn check_points(points: usize) -> Result<(), ExportError> {
-    if points < 2 {
-        Err(ExportError::TooFewPoints(points))
-    } else if points > MAX_TABLE_POINTS {
-        Err(ExportError::TooManyPoints(points))
-    } else {
-        Ok(())
     }
 }
 
@@ -299,9 +351,7 @@ pub fn flight_unit(
     opts: &ExportOptions,
 ) -> Result<FlightFile, ExportError> {
     if !unit.is_unit() {
-        let model = unit
-            .first()
-            .map_err(|e| ExportError::Calibration(e.to_string()))?;
+        let model = &unit.axes.first().ok_or(ExportError::NoAxes)?.model;
         return flight(model, format, opts);
     }
     let names = unit.axis_names();
@@ -375,8 +425,9 @@ pub(crate) fn number(v: f64, what: &str) -> Result<String, ExportError> {
     if v.is_finite() {
         Ok(format!("{v:?}"))
     } else {
-        Err(ExportError::Calibration(format!(
-            "{what} is {v}: not a number a processor can use"
-        )))
+        Err(ExportError::NotANumber {
+            what: what.to_string(),
+            value: v,
+        })
     }
 }
