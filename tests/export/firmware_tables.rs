@@ -308,3 +308,10 @@ fn regimes_are_numbered_as_in_the_header() {
     assert_eq!(Regime::Plus as u8, 1);
     assert_eq!(Regime::Minus as u8, 2);
 }
+
+#[test]
+fn an_unknown_format_is_a_typed_error_naming_it() {
+    let e = "xml".parse::<Format>().unwrap_err();
+    assert_eq!(e, firmware::UnknownFormat("xml".to_string()));
+    assert!(e.to_string().contains("\"xml\""), "{e}");
+}

@@ -483,3 +483,42 @@ fn a_regression_axis_reading_a_second_temperature_is_refused_by_name() {
         "{e}"
     );
 }
+
+/// The lines of `text` from the first that starts with `from` to the first after it that starts
+/// with `to`, both included, trimmed of their indentation.
+fn block<'a>(text: &'a str, from: &str, to: &str) -> Vec<&'a str> {
+    let lines: Vec<&str> = text.lines().map(str::trim).collect();
+    let start = lines
+        .iter()
+        .position(|l| l.starts_with(from))
+        .unwrap_or_else(|| panic!("no line {from}"));
+    let len = lines[start..]
+        .iter()
+        .position(|l| l.starts_with(to))
+        .unwrap_or_else(|| panic!("no line {to} after {from}"));
+    lines[start..=start + len].to_vec()
+}
+
+#[test]
+fn one_axis_and_a_unit_run_the_same_curve_evaluator_and_temperature_history() {
+    // One C runtime: the single-axis header keeps T's history inside its state (st->), the
+    // unit's header in a history of its own (t->); the statements are the same.
+    let dir = tempfile::tempdir().unwrap();
+    let unit = calibrate_unit(dir.path(), &[]);
+    let opts = ExportOptions::default();
+    let unit_h = firmware::export_unit(&unit, Format::CHeader, &opts).unwrap();
+    let one_h = firmware::export_model(&unit.axes[0].model, Format::CHeader, &opts).unwrap();
+    let (from, to) = ("/* Causal moving average", "t->slot = slot + 1 == len");
+    let in_state: Vec<String> = block(&unit_h, from, to)
+        .iter()
+        .map(|l| l.replace("t->", "st->"))
+        .collect();
+    let one = block(&one_h, from, &format!("s{to}"));
+    assert!(in_state.len() > 15, "{in_state:?}");
+    assert_eq!(in_state, one);
+    let (from, to) = (
+        "static inline double driftlab_curve_eval",
+        "return ((s[3] * u + s[2]) * u + s[1]) * u + s[0];",
+    );
+    assert_eq!(block(&unit_h, from, to), block(&one_h, from, to));
+}

@@ -52,10 +52,10 @@ use super::c_corrector::regression_corrector;
 use super::c_regression::{regression_constants, regression_preamble};
 use super::c_runtime::{TemperatureHistory, section, section_in_state};
 use super::c_vakhrameev::{ModelNames, is_outside_fn, model_constants, predict_fn};
-use super::{ExportError, comment_text};
+use super::{ExportError, comment_text, sha_text};
 use crate::models::fitted::DriftModel;
 use crate::models::unit::UnitCalibration;
-use crate::models::vakhrameev::Calibration;
+use crate::models::vakhrameev::{Calibration, SourceInfo};
 
 /// How a header is laid out, chosen at the edge from the unit.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -234,12 +234,6 @@ fn axis_part(h: &mut String, a: &Axis<'_>, layout: Layout) -> Result<(), ExportE
 
 /// The comment block naming gyro, source log and units, the include guard and the includes.
 fn preamble(h: &mut String, cal: &Calibration, model: &str) {
-    let src = &cal.source;
-    let sha = if src.sha256.is_empty() {
-        "(not recorded)".to_string()
-    } else {
-        comment_text(&src.sha256)
-    };
     let u = &cal.units;
     h.push_str(&format!(
         r#"/*
@@ -249,10 +243,7 @@ fn preamble(h: &mut String, cal: &Calibration, model: &str) {
  *
  *   model:     {model}
  *   gyro id:   {gyro}
- *   source:    {source} ({samples} samples, {duration} s)
- *   sha256:    {sha}
- *   created:   {created}
- *
+{source_doc} *
  * Units: time {ut}, rate {ur}, temperature {utemp}, Tdot {utd}, Tddot {utdd},
  *        K1 {uk1}, K2 {uk2}.
  *
@@ -284,10 +275,7 @@ fn preamble(h: &mut String, cal: &Calibration, model: &str) {
 "#,
         gyro = comment_text(&cal.gyro_id),
         version = env!("CARGO_PKG_VERSION"),
-        source = comment_text(&src.name),
-        samples = src.samples,
-        duration = src.duration_s,
-        created = comment_text(&cal.created),
+        source_doc = source_doc(&cal.source, &cal.created),
         ut = comment_text(&u.time),
         ur = comment_text(&u.rate),
         utemp = comment_text(&u.temperature),
@@ -300,6 +288,19 @@ fn preamble(h: &mut String, cal: &Calibration, model: &str) {
         bit_for_bit = BIT_FOR_BIT_DOC,
         guard = guard("isfinite (a macro: no libm function is called)"),
     ));
+}
+
+/// The comment lines naming the log a calibration was made from (its name, length and SHA-256)
+/// and when it was made.
+pub(super) fn source_doc(src: &SourceInfo, created: &str) -> String {
+    format!(
+        " *   source:    {} ({} samples, {} s)\n *   sha256:    {}\n *   created:   {}\n",
+        comment_text(&src.name),
+        src.samples,
+        src.duration_s,
+        sha_text(src),
+        comment_text(created)
+    )
 }
 
 /// What a single-axis header's comment block says its bit-for-bit agreement rests on.
@@ -421,11 +422,6 @@ static inline double driftlab_push_at(driftlab_state *st, double time_s, double 
 fn unit_preamble(h: &mut String, unit: &UnitCalibration, axes: &[Axis<'_>], shared: bool) {
     let first = axes[0].model;
     let src = first.source();
-    let sha = if src.sha256.is_empty() {
-        "(not recorded)".to_string()
-    } else {
-        comment_text(&src.sha256)
-    };
     let mut list = String::new();
     for (k, a) in axes.iter().enumerate() {
         let model = match a.model {
@@ -491,10 +487,7 @@ fn unit_preamble(h: &mut String, unit: &UnitCalibration, axes: &[Axis<'_>], shar
  *
  * Axes, in the order of the arrays driftlab_push reads and writes:
 {list} *
- *   source:    {source} ({samples} samples, {duration} s)
- *   sha256:    {sha}
- *   created:   {created}
- *
+{source_doc} *
 {u} *
  * Correction, sample by sample, using only past samples, of every axis at once:
  *     Omega_cor[k] = Omega_raw[k] - Omega_pred[k]
@@ -532,10 +525,7 @@ fn unit_preamble(h: &mut String, unit: &UnitCalibration, axes: &[Axis<'_>], shar
         n = unit.axes.len(),
         axis_list = comment_text(&unit.axis_names().join(", ")),
         version = env!("CARGO_PKG_VERSION"),
-        source = comment_text(&src.name),
-        samples = src.samples,
-        duration = src.duration_s,
-        created = comment_text(created),
+        source_doc = source_doc(src, created),
         created_c = c_string(created),
         names = names.join(", "),
         guard = guard("isfinite (a macro), and what a regression axis calls"),

@@ -3,7 +3,7 @@
 //! doc of [`super::c_header`] for what bit-for-bit agreement rests on).
 
 use super::c_curves::array;
-use super::c_header::{BIT_FOR_BIT_DOC, c_string, guard};
+use super::c_header::{BIT_FOR_BIT_DOC, c_string, guard, source_doc};
 use super::{ExportError, comment_text, number};
 use crate::models::regression::{RegressionCalibration, RegressionModel, Term};
 
@@ -38,16 +38,10 @@ pub(super) fn regression_preamble(
     cal: &RegressionCalibration,
 ) -> Result<(), ExportError> {
     let m = &cal.model;
-    let src = &cal.source;
     let gyro = if cal.gyro_id.is_empty() {
         "(no gyro id)".to_string()
     } else {
         comment_text(&cal.gyro_id)
-    };
-    let sha = if src.sha256.is_empty() {
-        "(not recorded)".to_string()
-    } else {
-        comment_text(&src.sha256)
     };
     let terms: Vec<String> = m.spec.terms.iter().map(ToString::to_string).collect();
     let channels = m.channel_names();
@@ -86,10 +80,7 @@ pub(super) fn regression_preamble(
  *   model:     regression "{name}"
  *   terms:     {terms}
  *   gyro id:   {gyro}
- *   source:    {source} ({samples} samples, {duration} s)
- *   sha256:    {sha}
- *   created:   {created}
- *
+{source_doc} *
  * Units: time s, rate deg/h, temperatures degC, Tdot degC/s, Tddot degC/s^2; each coefficient
  * in deg/h per unit of its term.
  *
@@ -130,10 +121,7 @@ pub(super) fn regression_preamble(
         version = env!("CARGO_PKG_VERSION"),
         name = comment_text(&m.spec.name),
         terms = comment_text(&terms.join(" + ")),
-        source = comment_text(&src.name),
-        samples = src.samples,
-        duration = src.duration_s,
-        created = comment_text(&cal.created),
+        source_doc = source_doc(&cal.source, &cal.created),
         gyro_c = c_string(&cal.gyro_id),
         created_c = c_string(&cal.created),
         name_c = c_string(&m.spec.name),

@@ -85,51 +85,27 @@ pub(super) fn model_constants(
         utd = comment_text(&u.tdot),
         utdd = comment_text(&u.tddot),
     ));
-    let (temp, tdot, tddot) = (
-        ("T", comment_text(&u.temperature)),
-        ("Tdot", comment_text(&u.tdot)),
-        ("Tddot", comment_text(&u.tddot)),
-    );
-    let (k0u, k1u, k2u) = (
-        comment_text(&u.rate),
-        comment_text(&u.k1),
-        comment_text(&u.k2),
-    );
+    // Each curve: its name, title, argument, the argument's unit and its own unit.
+    let (temp, tdot, tddot) = (&u.temperature, &u.tdot, &u.tddot);
     let curves = [
-        ("k0", "K0(T)", (temp.0, &temp.1), &k0u, &cal.k0),
-        (
-            "k1_plus",
-            "K1+(Tdot)",
-            (tdot.0, &tdot.1),
-            &k1u,
-            &cal.k1_plus,
-        ),
-        (
-            "k1_minus",
-            "K1-(Tdot)",
-            (tdot.0, &tdot.1),
-            &k1u,
-            &cal.k1_minus,
-        ),
-        (
-            "k2_plus",
-            "K2+(Tddot)",
-            (tddot.0, &tddot.1),
-            &k2u,
-            &cal.k2_plus,
-        ),
+        ("k0", "K0(T)", "T", temp, &u.rate, &cal.k0),
+        ("k1_plus", "K1+(Tdot)", "Tdot", tdot, &u.k1, &cal.k1_plus),
+        ("k1_minus", "K1-(Tdot)", "Tdot", tdot, &u.k1, &cal.k1_minus),
+        ("k2_plus", "K2+(Tddot)", "Tddot", tddot, &u.k2, &cal.k2_plus),
         (
             "k2_minus",
             "K2-(Tddot)",
-            (tddot.0, &tddot.1),
-            &k2u,
+            "Tddot",
+            tddot,
+            &u.k2,
             &cal.k2_minus,
         ),
     ];
-    for (name, title, (arg, arg_unit), unit, a) in curves {
+    for (name, title, arg, arg_unit, unit, a) in curves {
         let name = format!("{}_{name}", names.lower);
         let title = format!("{}{title}", comment_text(&names.title));
-        curve(h, &name, &title, (arg, arg_unit.as_str()), unit, a)?;
+        let (arg_unit, unit) = (comment_text(arg_unit), comment_text(unit));
+        curve(h, &name, &title, (arg, &arg_unit), &unit, a)?;
     }
     Ok(())
 }

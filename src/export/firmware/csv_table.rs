@@ -44,7 +44,7 @@
 //! alone. Another kind of axis (an accelerometer's) is one more [`Table`] maker in
 //! [`axis_table`].
 
-use super::{ExportError, MAX_TABLE_POINTS, comment_text, number};
+use super::{ExportError, MAX_TABLE_POINTS, comment_text, number, sha_text};
 use crate::models::approx::Approx;
 use crate::models::fitted::DriftModel;
 use crate::models::regression::RegressionCalibration;
@@ -171,11 +171,7 @@ fn vakhrameev(cal: &Calibration, points: usize) -> Result<Table, ExportError> {
     let steps = cal.steps_for(r.dt_s);
     let mut out = String::new();
     let src = &cal.source;
-    let sha = if src.sha256.is_empty() {
-        "(not recorded)".to_string()
-    } else {
-        comment_text(&src.sha256)
-    };
+    let sha = sha_text(src);
     out.push_str(&format!(
         "# driftlab {version} lookup tables (`driftlab export --format csv-table`), model vakhrameev\n\
          # gyro id: {gyro}\n\
@@ -306,11 +302,7 @@ fn regression(cal: &RegressionCalibration) -> Result<Table, ExportError> {
         source = comment_text(&src.name),
         samples = src.samples,
         duration = src.duration_s,
-        sha = if src.sha256.is_empty() {
-            "(not recorded)".to_string()
-        } else {
-            comment_text(&src.sha256)
-        },
+        sha = sha_text(src),
         created = comment_text(&cal.created),
         terms = comment_text(
             &m.spec

@@ -419,6 +419,16 @@ pub(crate) fn comment_text(s: &str) -> String {
     out
 }
 
+/// The SHA-256 of a calibration's log for a comment of either format, or that it was not
+/// recorded.
+fn sha_text(src: &crate::models::vakhrameev::SourceInfo) -> String {
+    if src.sha256.is_empty() {
+        "(not recorded)".to_string()
+    } else {
+        comment_text(&src.sha256)
+    }
+}
+
 /// The shortest decimal that reads back as exactly `v` (Rust's `{:?}`), valid as a C double
 /// literal and in CSV; non-finite numbers are refused (a validated calibration has none).
 pub(crate) fn number(v: f64, what: &str) -> Result<String, ExportError> {
