@@ -116,8 +116,16 @@ fn corrected_csv_of_every_sample_log_and_preset_is_unchanged() {
         .map(|(k, v)| format!("{k}: now {v}, was {:?}", recorded.get(k.as_str())))
         .collect();
     assert_eq!(seen.len(), recorded.len(), "the set of outcomes changed");
-    assert!(changed.is_empty(), "outputs changed:\n{}", changed.join("\n"));
+    assert!(
+        changed.is_empty(),
+        "outputs changed:\n{}",
+        changed.join("\n")
+    );
     // Most pairs fit: the record is not a list of failures.
     let fitted = seen.values().filter(|v| v.len() == 64).count();
-    assert!(fitted > seen.len() / 2, "only {fitted} of {} fitted", seen.len());
+    assert!(
+        fitted > seen.len() / 2,
+        "only {fitted} of {} fitted",
+        seen.len()
+    );
 }
