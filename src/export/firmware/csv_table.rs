@@ -44,7 +44,7 @@
 //! alone. Another kind of axis (an accelerometer's) is one more [`Table`] maker in
 //! [`axis_table`].
 
-use super::{ExportError, MAX_TABLE_POINTS, comment_text, number, sha_text};
+use super::{ExportError, MAX_TABLE_POINTS, TableColumns, comment_text, number, sha_text};
 use crate::models::approx::Approx;
 use crate::models::fitted::DriftModel;
 use crate::models::regression::RegressionCalibration;
@@ -85,14 +85,14 @@ pub fn csv_table(unit: &UnitCalibration, points: usize) -> Result<String, Export
         match &first {
             None => first = Some((table, &a.name, a.model.tag())),
             Some((t, first_axis, first_model)) if t.columns != table.columns => {
-                return Err(ExportError::TableColumns {
+                return Err(ExportError::TableColumns(Box::new(TableColumns {
                     first: first_axis.to_string(),
                     first_model,
                     first_columns: t.columns.clone(),
                     second: a.name.clone(),
                     second_model: a.model.tag(),
                     second_columns: table.columns,
-                });
+                })));
             }
             Some(_) => {}
         }

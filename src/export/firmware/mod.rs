@@ -177,19 +177,8 @@ pub enum ExportError {
         reads: Vec<String>,
     },
     /// Axes of a unit whose tables have different columns, which one table file cannot hold.
-    #[error(
-        "axes {first} ({first_model}) and {second} ({second_model}) have tables of different \
-         columns ({first_columns} and {second_columns}): one file cannot hold both; export each \
-         axis alone with --axis"
-    )]
-    TableColumns {
-        first: String,
-        first_model: &'static str,
-        first_columns: String,
-        second: String,
-        second_model: &'static str,
-        second_columns: String,
-    },
+    #[error("{0}")]
+    TableColumns(Box<TableColumns>),
     /// A knot curve read without its segment cubics.
     #[error("{0}: a knot curve without its segments")]
     KnotCurveWithoutSegments(String),
@@ -211,6 +200,22 @@ pub enum ExportError {
     /// The calibration cannot be written for a flight controller.
     #[error(transparent)]
     Flight(#[from] FlightError),
+}
+
+/// Two axes of a unit whose tables have different columns ([`ExportError::TableColumns`]).
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error(
+    "axes {first} ({first_model}) and {second} ({second_model}) have tables of different \
+     columns ({first_columns} and {second_columns}): one file cannot hold both; export each \
+     axis alone with --axis"
+)]
+pub struct TableColumns {
+    pub first: String,
+    pub first_model: &'static str,
+    pub first_columns: String,
+    pub second: String,
+    pub second_model: &'static str,
+    pub second_columns: String,
 }
 
 /// [`ExportError::RingTooLong`]'s message.
