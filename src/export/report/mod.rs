@@ -17,6 +17,11 @@
 //! its searches for λ, τd and the lag (when it searched), and the page lists its terms with
 //! coefficients ± standard errors instead of the recipe, plateaus and K curves.
 //!
+//! A single-axis calibration is a unit of one axis: [`write_model`] and [`write_unit`] draw
+//! each axis's figures with the same builder and write `report.html` with the same page writer
+//! (`page.rs`), which lays a unit of one unnamed axis out as the single-axis page and a unit of
+//! several with a summary of every axis and a section per axis.
+//!
 //! A log is *in-sample* when it is the calibration's source log (same SHA-256 of the file, or
 //! the same file name when the calibration records no hash) and *held out* otherwise.
 //! Nothing here depends on a user interface: the command line and the workbench call the same
