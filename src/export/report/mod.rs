@@ -287,7 +287,7 @@ fn build(
     std::fs::create_dir_all(out_dir).map_err(|e| Error::io(out_dir, e))?;
     let merit = opts.merit.unwrap_or_else(|| default_merit_for(model));
     for (setting, seconds) in [("filter_s", merit.filter_s), ("window_s", merit.window_s)] {
-        if !(seconds > 0.0) {
+        if seconds.is_nan() || seconds <= 0.0 {
             return Err(Error::Invalid(crate::error::Invalid::new(
                 setting,
                 format!(
