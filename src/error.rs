@@ -29,6 +29,9 @@ pub enum Error {
     /// The engineer stopped a long fit before it finished.
     #[error("cancelled")]
     Cancelled,
+    /// A figure of the report could not be drawn or written; names its file.
+    #[error(transparent)]
+    Figure(#[from] crate::export::report::figures::FigureError),
     /// An operating-system error while reading or writing a file.
     #[error("{path}: {source}")]
     Io {

@@ -4,6 +4,7 @@
 //! `metrics::Evaluation::of` computes, and nothing from outside itself.
 
 use driftlab::Log;
+use driftlab::export::report::figures::{DrawError, FigureError};
 use driftlab::export::report::{self, AllanCurve, ReportOptions, html};
 use driftlab::files::calibration;
 use driftlab::judge::metrics::{Evaluation, MeritOptions};
@@ -640,4 +641,64 @@ fn cli_report_of_a_regression_calibration() {
     assert!(html.contains("<b class=\"model-name\">sukhanov</b>"));
     assert!(html.contains("lambda_s"));
     assert!(out.join("costs.svg").is_file());
+}
+
+#[test]
+fn an_absurd_coefficient_is_a_figure_error_naming_the_file_and_the_axis() {
+    // K0 of 1e308 °/h: no axis can be drawn over it, and the plotting library's search for
+    // tick spacings would not end. The report refuses it with the figure's file and axis.
+    let mut v = serde_json::to_value(calibration()).unwrap();
+    v["k0"]["curve"]["coeffs"] = serde_json::json!([1e308, 0.0, 0.0]);
+    let cal: Calibration = serde_json::from_value(v).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let err = report::write(&cal, &logs()[..1], dir.path(), &ReportOptions::default()).unwrap_err();
+    match &err {
+        driftlab::Error::Figure(FigureError::Drawing {
+            path,
+            source: DrawError::AxisBeyond { axis, value, log },
+        }) => {
+            assert_eq!(path, &dir.path().join("k0.svg"));
+            assert_eq!(axis, "K0");
+            assert!(value.abs() > 1e100 && !log, "{value} {log}");
+        }
+        other => panic!("not a figure error: {other:?}"),
+    }
+    let text = err.to_string();
+    assert!(
+        text.contains("k0.svg") && text.contains("K0 axis"),
+        "{text}"
+    );
+}
+
+#[test]
+fn figures_of_merit_without_a_window_name_the_setting() {
+    let dir = tempfile::tempdir().unwrap();
+    for (merit, setting) in [
+        (
+            MeritOptions {
+                filter_s: 0.0,
+                ..MeritOptions::default()
+            },
+            "filter_s",
+        ),
+        (
+            MeritOptions {
+                window_s: f64::NAN,
+                ..MeritOptions::default()
+            },
+            "window_s",
+        ),
+    ] {
+        let opts = ReportOptions {
+            merit: Some(merit),
+            ..ReportOptions::default()
+        };
+        match report::write(calibration(), &logs()[..1], dir.path(), &opts).unwrap_err() {
+            driftlab::Error::Invalid(e) => {
+                assert_eq!(e.field, setting);
+                assert!(!e.reason.contains("--"), "{e}");
+            }
+            other => panic!("not an invalid setting: {other:?}"),
+        }
+    }
 }

@@ -1,13 +1,13 @@
-//! The report page: one HTML file with everything inline (figures as inline SVG, styles in the
-//! page), so it can be mailed, archived or printed on its own. No scripts, no links out.
+//! The pieces every report page is made of: numbers and text as the page prints them, the
+//! styles, the heading levels, tables of the identity and of the figures of merit, figures
+//! inline. The page (`page.rs`) is one HTML file with everything inline (figures as inline SVG,
+//! styles in the page), so it can be mailed, archived or printed on its own. No scripts, no
+//! links out.
 
-pub use super::regression_page::{fmt_coef, fmt_se, regression_page};
+pub use super::regression_section::{fmt_coef, fmt_se};
 
 use super::{Figure, LogReport, ReportSummary};
 use crate::error::{Error, Result};
-use crate::models::approx::{Approx, Curve};
-use crate::models::recipe::PlateauChoice;
-use crate::models::vakhrameev::Calibration;
 use std::fmt::Write as _;
 
 /// A figure of merit in °/h as the page prints it (4 decimals, as `driftlab evaluate`).
@@ -116,23 +116,11 @@ pub(super) fn row(out: &mut String, key: &str, value: &str) {
     );
 }
 
-fn tag(in_sample: bool) -> &'static str {
+pub(super) fn tag(in_sample: bool) -> &'static str {
     if in_sample {
         "<span class=\"tag in-sample\">in-sample</span>"
     } else {
         "<span class=\"tag held-out\">held out</span>"
-    }
-}
-
-fn curve_text(a: &Approx) -> String {
-    let list = |v: &[f64]| v.iter().map(|&x| fmt_num(x)).collect::<Vec<_>>().join(", ");
-    match a.curve() {
-        Curve::Polynomial { coeffs } => {
-            format!("coefficients (lowest power first): {}", list(coeffs))
-        }
-        Curve::Pwl { knots_x, knots_y } | Curve::CatmullRom { knots_x, knots_y } => {
-            format!("knots x: {}; values: {}", list(knots_x), list(knots_y))
-        }
     }
 }
 
@@ -255,55 +243,6 @@ fn merit_table(out: &mut String, l: &LogReport, d: Depth) {
     out.push_str("</table>\n");
 }
 
-/// The whole page.
-pub fn page(cal: &Calibration, s: &ReportSummary) -> Result<String> {
-    let mut o = String::with_capacity(1 << 20);
-    let gyro = if cal.gyro_id.is_empty() {
-        "(no gyro id)"
-    } else {
-        &cal.gyro_id
-    };
-    head(&mut o, gyro, "");
-    let _ = writeln!(
-        o,
-        "<h1>Thermal drift calibration report</h1>\n<p>Gyro <b class=\"gyro-id\">{}</b>, \
-         Vakhrameev model Ω<sub>pred</sub> = K0(T) + K1±(Ṫ)·Ṫ + K2±(T̈)·T̈, \
-         Ω<sub>cor</sub> = Ω<sub>raw</sub> − Ω<sub>pred</sub> (+ where Ṫ·T̈ &gt; 0, − where Ṫ·T̈ &lt; 0).</p>",
-        escape(gyro)
-    );
-
-    // Identity.
-    o.push_str("<h2>Identity</h2>\n<table>\n");
-    row(&mut o, "gyro id", gyro);
-    row(&mut o, "calibration log", &cal.source.name);
-    row(&mut o, "its SHA-256", &cal.source.sha256);
-    row(
-        &mut o,
-        "its samples, duration",
-        &format!(
-            "{} samples, {:.2} h",
-            cal.source.samples,
-            cal.source.duration_s / 3600.0
-        ),
-    );
-    row(&mut o, "calibration created", &cal.created);
-    row(
-        &mut o,
-        "report written",
-        &humantime::format_rfc3339_seconds(std::time::SystemTime::now()).to_string(),
-    );
-    row(
-        &mut o,
-        "written by",
-        &format!("driftlab {}", env!("CARGO_PKG_VERSION")),
-    );
-    o.push_str("</table>\n");
-
-    vakhrameev_body(&mut o, cal, s, PAGE);
-    figures_and_end(&mut o, s)?;
-    Ok(o)
-}
-
 /// The page's head up to `<body>`, with the styles (and `extra_css` after them).
 pub(super) fn head(o: &mut String, gyro: &str, extra_css: &str) {
     let _ = writeln!(
@@ -312,146 +251,6 @@ pub(super) fn head(o: &mut String, gyro: &str, extra_css: &str) {
          <title>Thermal drift calibration report: {}</title>\n<style>{CSS}{extra_css}</style>\n</head>\n<body>",
         escape(gyro)
     );
-}
-
-/// What a Vakhrameev calibration's page holds after its identity: the figures of merit, the
-/// recipe, the plateaus and the coefficients, its sections at depth `d`.
-pub(super) fn vakhrameev_body(o: &mut String, cal: &Calibration, s: &ReportSummary, d: Depth) {
-    let h = d.section;
-    merit_section(o, s, d);
-
-    // Recipe.
-    let r = &cal.recipe;
-    let res = &cal.resolved;
-    let _ = write!(o, "<{h}>Recipe</{h}>\n<table>\n");
-    row(
-        o,
-        "Ω filter",
-        &format!(
-            "{} s centred moving average ({} samples)",
-            r.filter_s, res.filter_samples
-        ),
-    );
-    row(
-        o,
-        "T smoothing",
-        &format!(
-            "{} s causal moving average ({} samples)",
-            r.temp_smoothing_s, res.smooth_samples
-        ),
-    );
-    row(
-        o,
-        "derivative step H",
-        &format!(
-            "{} s ({} samples at {} s)",
-            r.step_h_s, res.step_samples, res.dt_s
-        ),
-    );
-    row(
-        o,
-        "dead-band |Ṫ|",
-        &format!(
-            "{:.4e} °C/s ({})",
-            res.deadband_tdot,
-            if r.deadband_tdot.is_some() {
-                "set"
-            } else {
-                "automatic"
-            }
-        ),
-    );
-    row(
-        o,
-        "dead-band |T̈|",
-        &format!(
-            "{:.4e} °C/s² ({})",
-            res.deadband_tddot,
-            if r.deadband_tddot.is_some() {
-                "set"
-            } else {
-                "automatic"
-            }
-        ),
-    );
-    row(
-        o,
-        "plateaus",
-        match &r.plateaus {
-            PlateauChoice::Auto(_) => "detected automatically",
-            PlateauChoice::Manual { .. } => "given by hand",
-        },
-    );
-    row(o, "weighting", &format!("{:?}", r.weighting).to_lowercase());
-    row(o, "refinement passes", &r.refinements.to_string());
-    o.push_str("</table>\n");
-    let recipe_json = serde_json::to_string_pretty(r).unwrap_or_default();
-    let _ = writeln!(
-        o,
-        "<p>The recipe as stored in the calibration file:</p>\n<pre>{}</pre>",
-        escape(&recipe_json)
-    );
-
-    // Plateaus.
-    let _ = write!(
-        o,
-        "<{h}>Plateaus</{h}>\n<table>\n<tr><th>#</th><th>start, s</th><th>end, s</th>\
-         <th>T, °C</th><th>T spread, °C</th><th>Ω mean, °/h</th><th>Ω std, °/h</th><th>samples</th></tr>\n",
-    );
-    for (k, p) in cal.plateaus.iter().enumerate() {
-        let _ = writeln!(
-            o,
-            "<tr><td>{}</td><td class=\"num\">{:.0}</td><td class=\"num\">{:.0}</td>\
-             <td class=\"num\">{:.3}</td><td class=\"num\">{:.3}</td><td class=\"num\">{:.4}</td>\
-             <td class=\"num\">{:.4}</td><td class=\"num\">{}</td></tr>",
-            k + 1,
-            p.range.start_s,
-            p.range.end_s,
-            p.temp_c,
-            p.temp_spread_c,
-            p.omega_dph,
-            p.omega_std_dph,
-            p.samples
-        );
-    }
-    o.push_str("</table>\n");
-
-    // Coefficients.
-    let u = &cal.units;
-    let _ = write!(
-        o,
-        "<{h}>Coefficients</{h}>\n<table>\n<tr><th>coefficient</th><th>kind</th>\
-         <th>fitted range</th><th>beyond it</th><th>n</th><th>RMSE</th><th>R²</th><th>curve</th></tr>\n",
-    );
-    for (name, a) in cal.approximations() {
-        let (xu, yu) = match &name[..2] {
-            "K0" => (&u.temperature, &u.rate),
-            "K1" => (&u.tdot, &u.k1),
-            _ => (&u.tddot, &u.k2),
-        };
-        let st = a.stats();
-        let _ = writeln!(
-            o,
-            "<tr><td>{} [{}]</td><td>{}</td><td class=\"num\">{} … {} {}</td><td>{}</td>\
-             <td class=\"num\">{}</td><td class=\"num\">{}</td><td class=\"num\">{:.4}</td><td><small>{}</small></td></tr>",
-            escape(name),
-            escape(yu),
-            a.kind(),
-            fmt_num(a.x_min()),
-            fmt_num(a.x_max()),
-            escape(xu),
-            if a.extrapolates() {
-                "extrapolated"
-            } else {
-                "edge value held"
-            },
-            st.n,
-            fmt_num(st.rmse),
-            st.r2,
-            escape(&curve_text(a))
-        );
-    }
-    o.push_str("</table>\n");
 }
 
 /// The figures of merit of every log.
@@ -472,14 +271,6 @@ pub(super) fn merit_section(o: &mut String, s: &ReportSummary, d: Depth) {
     for l in &s.logs {
         merit_table(o, l, d);
     }
-}
-
-/// Every figure, the notes, and the end of the page.
-pub(super) fn figures_and_end(o: &mut String, s: &ReportSummary) -> Result<()> {
-    let page_dir = s.html.parent().unwrap_or(std::path::Path::new(""));
-    figures_and_notes(o, s, PAGE, page_dir)?;
-    o.push_str("</body>\n</html>\n");
-    Ok(())
 }
 
 /// Every figure of `s` and its notes, at depth `d`, the figures' files named from `page_dir`.

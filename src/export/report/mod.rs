@@ -17,17 +17,25 @@
 //! its searches for λ, τd and the lag (when it searched), and the page lists its terms with
 //! coefficients ± standard errors instead of the recipe, plateaus and K curves.
 //!
+//! A single-axis calibration is a unit of one axis: [`write_model`] and [`write_unit`] draw
+//! each axis's figures with the same builder and write `report.html` with the same page writer
+//! (`page.rs`), which lays a unit of one unnamed axis out as the single-axis page and a unit of
+//! several with a summary of every axis and a section per axis.
+//!
 //! A log is *in-sample* when it is the calibration's source log (same SHA-256 of the file, or
 //! the same file name when the calibration records no hash) and *held out* otherwise.
 //! Nothing here depends on a user interface: the command line and the workbench call the same
 //! function.
 
+mod axis_summary;
 pub mod figures;
 pub mod html;
 mod log_section;
-mod regression_page;
+mod model_figures;
+mod page;
+mod regression_section;
 mod unit;
-mod unit_page;
+mod vakhrameev_section;
 
 pub use unit::{AxisReport, UnitMerit, UnitReportSummary, write_unit};
 
@@ -39,8 +47,9 @@ use crate::models::fitted::DriftModel;
 use crate::models::regression::RegressionCalibration;
 use crate::models::vakhrameev::correct::Correction;
 use crate::models::vakhrameev::{Calibration, SourceInfo};
-use figures::{PlateauPoint, RateAxes, RateSet};
 use log_section::{LogSection, log_report};
+use model_figures::ModelFigures;
+use page::PageAxis;
 use std::path::{Path, PathBuf};
 
 /// One Allan-deviation curve, computed elsewhere (`allan/`).
@@ -203,320 +212,90 @@ fn figure(title: String, caption: String, files: Vec<PathBuf>) -> Figure {
     }
 }
 
-/// Writes the report of any model judged on `logs` into `out_dir`: a Vakhrameev calibration as
-/// [`write()`] does, a regression model as [`write_regression`] does.
+/// Writes the report of any model judged on `logs` (each with the path it was read from) into
+/// `out_dir`, creating it: the model's own figures (a Vakhrameev calibration's `k0`, `k1`,
+/// `k2`; a regression model's `costs`), each log's figures, and `report.html`, the page of a
+/// unit of one axis. Every file is written atomically.
+///
+/// # Errors
+/// Figures of merit without a positive filter or window, a log lacking a channel the model
+/// reads, a figure that cannot be drawn, a file that cannot be written.
 pub fn write_model(
     model: &DriftModel,
     logs: &[(PathBuf, Log)],
     out_dir: &Path,
     opts: &ReportOptions,
 ) -> Result<ReportSummary> {
-    match model {
-        DriftModel::Vakhrameev(cal) => write(cal, logs, out_dir, opts),
-        DriftModel::Regression(r) => write_regression(r, logs, out_dir, opts),
-    }
+    let mut summary = build(model, logs, out_dir, opts)?;
+    let axis = PageAxis {
+        name: "",
+        rate_column: "",
+        model,
+        summary: &summary,
+    };
+    page::write(&[axis], &summary.html)?;
+    summary.files.push(summary.html.clone());
+    Ok(summary)
 }
 
-/// Writes the report of a regression model judged on `logs` into `out_dir`, creating it:
-/// `costs` (the searches for λ, τd and the lag: RMS residual over the values tried, the chosen
-/// one marked; only when the model searched), then per log the temperature program, the drift
-/// and the Allan deviation as for the Vakhrameev model, and `report.html` with the model's
-/// terms, coefficients ± standard errors, λ, τd(T), lag, input ranges and fit statistics.
+/// Writes the report of a regression model judged on `logs` into `out_dir`, as
+/// [`write_model`] does.
 ///
 /// # Errors
-/// A log lacking a channel the model reads, a file that cannot be written.
+/// As [`write_model`].
 pub fn write_regression(
     cal: &RegressionCalibration,
     logs: &[(PathBuf, Log)],
     out_dir: &Path,
     opts: &ReportOptions,
 ) -> Result<ReportSummary> {
-    build_regression(cal, logs, out_dir, opts)
-        .and_then(|summary| write_page(summary, |s| html::regression_page(cal, s)))
+    write_model(
+        &DriftModel::Regression(Box::new(cal.clone())),
+        logs,
+        out_dir,
+        opts,
+    )
 }
 
-/// The figures and figures of merit of a regression model's report, without its page.
-fn build_regression(
-    cal: &RegressionCalibration,
-    logs: &[(PathBuf, Log)],
-    out_dir: &Path,
-    opts: &ReportOptions,
-) -> Result<ReportSummary> {
-    let merit = opts.merit.unwrap_or_default();
-    let (hashes, in_sample) = start(out_dir, logs, opts, &merit, |p, h| {
-        is_source(&cal.source, p, h)
-    })?;
-    let m = &cal.model;
-    let mut notes = Vec::new();
-    let mut files = Vec::new();
-    let taken: Vec<String> = ["costs", "report"].iter().map(|s| s.to_string()).collect();
-    if !logs.is_empty() && !in_sample.contains(&true) {
-        notes.push(format!(
-            "The model's own log ({}) is not among the logs: every log is held out.",
-            cal.source.name
-        ));
-    }
-
-    // The searches.
-    let mut model_figures = Vec::new();
-    let lines: Vec<figures::CostLine> = m
-        .searches
-        .iter()
-        .map(|c| figures::CostLine {
-            parameter: &c.parameter,
-            x: &c.x,
-            rmse: &c.rmse,
-            best: c.best,
-            log_x: c.parameter == "lambda_s",
-        })
-        .collect();
-    if !lines.is_empty() {
-        let f = figures::cost_curves(
-            &out_dir.join("costs"),
-            &format!(
-                "Searches of model {}: RMS residual over the values tried",
-                m.spec.name
-            ),
-            &lines,
-        )?;
-        files.extend(f.iter().cloned());
-        let edge: Vec<&str> = m
-            .searches
-            .iter()
-            .filter(|c| c.at_edge)
-            .map(|c| c.parameter.as_str())
-            .collect();
-        model_figures.push(figure(
-            "Search cost curves".into(),
-            format!(
-                "RMS residual of the least-squares fit at each value tried for the parameters                  the model is not linear in (λ on a logarithmic axis; a delay per temperature                  band for τd(T)); the vertical line marks the value chosen.{}",
-                if edge.is_empty() {
-                    String::new()
-                } else {
-                    format!(
-                        " At the edge of the searched range (the optimum may lie beyond): {}.",
-                        edge.join(", ")
-                    )
-                }
-            ),
-            f,
-        ));
-    }
-
-    let pieces = Pieces {
-        hashes,
-        in_sample,
-        merit,
-        taken,
-        files,
-        notes,
-        figures: model_figures,
-    };
-    finish(out_dir, logs, opts, pieces, |_, path, log| {
-        let correction = m.correct(log).map_err(|e| match e {
-            Error::Fit(msg) => Error::Fit(format!("{}: {msg}", path.display())),
-            other => other,
-        })?;
-        Ok((correction, Vec::new()))
-    })
-}
-
-/// Writes the HTML page of a finished summary (atomically) and lists it among the files.
-fn write_page(
-    mut summary: ReportSummary,
-    page: impl FnOnce(&ReportSummary) -> Result<String>,
-) -> Result<ReportSummary> {
-    let text = page(&summary)?;
-    let path = summary.html.clone();
-    crate::files::atomic::write_bytes(&path, text.as_bytes()).map_err(|e| Error::io(&path, e))?;
-    summary.files.push(path);
-    Ok(summary)
-}
-
-/// Writes the report of `cal` judged on `logs` (each with the path it was read from) into
-/// `out_dir`, creating it. Every file is written atomically.
+/// Writes the report of a Vakhrameev calibration judged on `logs` into `out_dir`, as
+/// [`write_model`] does.
+///
+/// # Errors
+/// As [`write_model`].
 pub fn write(
     cal: &Calibration,
     logs: &[(PathBuf, Log)],
     out_dir: &Path,
     opts: &ReportOptions,
 ) -> Result<ReportSummary> {
-    build(cal, logs, out_dir, opts).and_then(|summary| write_page(summary, |s| html::page(cal, s)))
+    write_model(
+        &DriftModel::Vakhrameev(Box::new(cal.clone())),
+        logs,
+        out_dir,
+        opts,
+    )
 }
 
-/// The figures and figures of merit of any model's report, without its page.
-fn build_model(
+/// The figures and figures of merit of one axis's report, without its page: the folder made,
+/// the model's own figures, then a section for every log.
+fn build(
     model: &DriftModel,
     logs: &[(PathBuf, Log)],
     out_dir: &Path,
     opts: &ReportOptions,
 ) -> Result<ReportSummary> {
-    match model {
-        DriftModel::Vakhrameev(cal) => build(cal, logs, out_dir, opts),
-        DriftModel::Regression(r) => build_regression(r, logs, out_dir, opts),
-    }
-}
-
-/// The figures and figures of merit of a Vakhrameev calibration's report, without its page.
-fn build(
-    cal: &Calibration,
-    logs: &[(PathBuf, Log)],
-    out_dir: &Path,
-    opts: &ReportOptions,
-) -> Result<ReportSummary> {
-    let merit = opts.merit.unwrap_or_else(|| default_merit(cal));
-    let (hashes, in_sample) = start(out_dir, logs, opts, &merit, |p, h| is_in_sample(cal, p, h))?;
-    let mut notes = Vec::new();
-    let mut files = Vec::new();
-    let taken: Vec<String> = ["k0", "k1", "k2", "report"]
-        .iter()
-        .map(|s| s.to_string())
-        .collect();
-
-    // The calibration's figures.
-    let mut cal_figures = Vec::new();
-    let k0_points: Vec<PlateauPoint> = cal
-        .plateaus
-        .iter()
-        .map(|p| PlateauPoint {
-            temp_c: p.temp_c,
-            omega_dph: p.omega_dph,
-            std_dph: p.omega_std_dph,
-        })
-        .collect();
-    let f = figures::k0(
-        &out_dir.join("k0"),
-        "Static bias K0(T) from the temperature plateaus",
-        &cal.k0,
-        &k0_points,
-    )?;
-    files.extend(f.iter().cloned());
-    cal_figures.push(figure(
-        "K0(T)".into(),
-        format!(
-            "Static bias K0 over temperature: the mean rate of each of the {} plateaus (± std of \
-             the raw rate) and the {} fit over {:.1} … {:.1} °C, held at its edge value beyond.",
-            cal.plateaus.len(),
-            cal.k0.kind(),
-            cal.k0.x_min(),
-            cal.k0.x_max()
-        ),
-        f,
-    ));
-
-    let own = in_sample.iter().position(|&b| b);
-    let points = own.map(|i| cal.pointwise(&logs[i].1));
-    let source_note = match own {
-        Some(i) => format!(
-            "Dots: the pointwise values on the calibration log {} (thinned for drawing).",
-            file_name(&logs[i].0)
-        ),
-        None => {
-            notes.push(format!(
-                "The calibration's own log ({}) is not among the logs: the K1 and K2 figures \
-                 show the fitted curves without their points, and every log is held out.",
-                cal.source.name
-            ));
-            "The calibration log was not given, so only the fitted curves are drawn.".into()
-        }
-    };
-    for (k, (name, var, x_desc, y_desc, db, plus, minus)) in [
-        (
-            "K1",
-            "dT/dt",
-            "rate of temperature dT/dt, °C/s",
-            "K1, (°/h)/(°C/s)",
-            cal.resolved.deadband_tdot,
-            &cal.k1_plus,
-            &cal.k1_minus,
-        ),
-        (
-            "K2",
-            "d²T/dt²",
-            "second derivative of temperature d²T/dt², °C/s²",
-            "K2, (°/h)/(°C/s²)",
-            cal.resolved.deadband_tddot,
-            &cal.k2_plus,
-            &cal.k2_minus,
-        ),
-    ]
-    .into_iter()
-    .enumerate()
-    {
-        let pts = points.as_ref();
-        let f = figures::rate_coefficient(
-            &out_dir.join(name.to_lowercase()),
-            &format!("{name}± over {var}: + set (thermal acceleration) and − set (deceleration)"),
-            RateAxes {
-                name,
-                x_desc,
-                y_desc,
-                deadband: db,
-            },
-            [
-                RateSet {
-                    sign: "+",
-                    curve: plus,
-                    points: pts.map(|p| &p[2 * k]),
-                },
-                RateSet {
-                    sign: "−",
-                    curve: minus,
-                    points: pts.map(|p| &p[2 * k + 1]),
-                },
-            ],
-        )?;
-        files.extend(f.iter().cloned());
-        cal_figures.push(figure(
-            format!("{name}±({var})"),
-            format!(
-                "{name}+ and {name}− over {var}: fitted curves (dashed where held at the edge \
-                 value) and the dead-band |{var}| ≤ {:.3e} left out of the fits. {source_note}",
-                db
-            ),
-            f,
-        ));
-    }
-    drop(points);
-
-    let pieces = Pieces {
-        hashes,
-        in_sample,
-        merit,
-        taken,
-        files,
-        notes,
-        figures: cal_figures,
-    };
-    finish(out_dir, logs, opts, pieces, |own, _, log| {
-        // The plateaus are shaded on the calibration's own log only.
-        let plateaus = if own {
-            cal.plateaus
-                .iter()
-                .map(|p| (p.range.start_s, p.range.end_s))
-                .collect()
-        } else {
-            Vec::new()
-        };
-        Ok((cal.correct(log), plateaus))
-    })
-}
-
-/// What both writers start with: the folder made, the figures of merit checked, and each
-/// log's hash with whether it is the model's own log (`is_own(path, sha256)`).
-fn start(
-    out_dir: &Path,
-    logs: &[(PathBuf, Log)],
-    opts: &ReportOptions,
-    merit: &MeritOptions,
-    is_own: impl Fn(&Path, &str) -> bool,
-) -> Result<(Vec<String>, Vec<bool>)> {
     std::fs::create_dir_all(out_dir).map_err(|e| Error::io(out_dir, e))?;
-    if !(merit.filter_s > 0.0 && merit.window_s > 0.0) {
-        return Err(Error::Invalid(crate::error::Invalid::new(
-            "merit",
-            "the figures of merit need a positive filter and window",
-        )));
+    let merit = opts.merit.unwrap_or_else(|| default_merit_for(model));
+    for (setting, seconds) in [("filter_s", merit.filter_s), ("window_s", merit.window_s)] {
+        if seconds.is_nan() || seconds <= 0.0 {
+            return Err(Error::Invalid(crate::error::Invalid::new(
+                setting,
+                format!(
+                    "the figures of merit need a positive number of seconds, got {}",
+                    crate::number::readable(seconds)
+                ),
+            )));
+        }
     }
     let hashes: Vec<String> = match &opts.sha256 {
         Some(h) if h.len() == logs.len() => h.clone(),
@@ -525,47 +304,22 @@ fn start(
             .map(|(p, _)| calibration::sha256_file(p).unwrap_or_default())
             .collect(),
     };
-    let in_sample = logs
+    let in_sample: Vec<bool> = logs
         .iter()
         .zip(&hashes)
-        .map(|((p, _), h)| is_own(p, h))
+        .map(|((p, _), h)| is_source(model.source(), p, h))
         .collect();
-    Ok((hashes, in_sample))
-}
-
-/// What a writer has gathered when its model's own figures are drawn.
-struct Pieces {
-    hashes: Vec<String>,
-    in_sample: Vec<bool>,
-    merit: MeritOptions,
-    taken: Vec<String>,
-    files: Vec<PathBuf>,
-    notes: Vec<String>,
-    figures: Vec<Figure>,
-}
-
-/// What both writers end with: a section for every log, corrected by `correct(own log?, path,
-/// log)`, which also gives the plateaus to shade; the summary the page is written from.
-fn finish(
-    out_dir: &Path,
-    logs: &[(PathBuf, Log)],
-    opts: &ReportOptions,
-    pieces: Pieces,
-    correct: impl Fn(bool, &Path, &Log) -> Result<(Correction, Vec<(f64, f64)>)>,
-) -> Result<ReportSummary> {
-    let Pieces {
-        hashes,
-        in_sample,
-        merit,
+    let ModelFigures {
         mut taken,
         mut files,
         mut notes,
         figures,
-    } = pieces;
+    } = model_figures::draw(model, logs, &in_sample, out_dir)?;
+
     let mut reports = Vec::new();
     let mut any_allan = false;
     for (i, ((path, log), sha)) in logs.iter().zip(&hashes).enumerate() {
-        let (correction, plateaus) = correct(in_sample[i], path, log)?;
+        let (correction, plateaus) = correct(model, in_sample[i], path, log)?;
         let section = LogSection {
             path,
             log,
@@ -593,6 +347,36 @@ fn finish(
         merit,
         notes,
     })
+}
+
+/// The correction of `log` (read from `path`) by `model`, and the plateaus to shade in its
+/// temperature program: a Vakhrameev calibration's, on its own log only.
+fn correct(
+    model: &DriftModel,
+    own: bool,
+    path: &Path,
+    log: &Log,
+) -> Result<(Correction, Vec<(f64, f64)>)> {
+    match model {
+        DriftModel::Vakhrameev(cal) => {
+            let plateaus = if own {
+                cal.plateaus
+                    .iter()
+                    .map(|p| (p.range.start_s, p.range.end_s))
+                    .collect()
+            } else {
+                Vec::new()
+            };
+            Ok((cal.correct(log), plateaus))
+        }
+        DriftModel::Regression(reg) => {
+            let correction = reg.model.correct(log).map_err(|e| match e {
+                Error::Fit(msg) => Error::Fit(format!("{}: {msg}", path.display())),
+                other => other,
+            })?;
+            Ok((correction, Vec::new()))
+        }
+    }
 }
 
 const ALLAN_NOTE: &str = "Allan deviation: not computed in this build (the report's Allan hook \

@@ -7,7 +7,8 @@
 //! (`gx/k0.png`, `gx/drift-LOG.png`, ...) beside the page, since every axis has a K0 and a drift
 //! figure of each log.
 
-use super::{LogReport, ReportOptions, ReportSummary, build_model, calibration, unit_page};
+use super::page::{self, PageAxis};
+use super::{LogReport, ReportOptions, ReportSummary, build, calibration};
 use crate::error::{Error, Invalid, Result};
 use crate::judge::metrics::MeritOptions;
 use crate::log::Log;
@@ -139,7 +140,7 @@ pub fn write_unit(
             allan: None,
             sha256: Some(hashes.clone()),
         };
-        let summary = build_model(&ax.model, logs, &folder, &opts).map_err(|e| match e {
+        let summary = build(&ax.model, logs, &folder, &opts).map_err(|e| match e {
             Error::Fit(msg) => Error::Fit(format!("axis {}: {msg}", ax.name)),
             other => other,
         })?;
@@ -152,16 +153,21 @@ pub fn write_unit(
             summary,
         });
     }
-    let mut report = UnitReportSummary {
-        html: out_dir.join("report.html"),
-        files,
-        axes,
-    };
-    let text = unit_page::page(unit, &report, out_dir)?;
-    crate::files::atomic::write_bytes(&report.html, text.as_bytes())
-        .map_err(|e| Error::io(&report.html, e))?;
-    report.files.push(report.html.clone());
-    Ok(report)
+    let html = out_dir.join("report.html");
+    let page_axes: Vec<PageAxis<'_>> = unit
+        .axes
+        .iter()
+        .zip(&axes)
+        .map(|(ax, rep)| PageAxis {
+            name: &ax.name,
+            rate_column: &ax.rate_column,
+            model: &ax.model,
+            summary: &rep.summary,
+        })
+        .collect();
+    page::write(&page_axes, &html)?;
+    files.push(html.clone());
+    Ok(UnitReportSummary { html, files, axes })
 }
 
 /// A file-name-safe folder name for an axis, unique among `taken`.

@@ -3,8 +3,7 @@
 
 use super::chart::{chart_builder, draw_legend, legend_line};
 use super::scales::{drawable, finite_range, log_label};
-use super::{DESC_PT, FAMILY, LABEL_PT, PALETTE, Plot, de, render};
-use crate::error::Result;
+use super::{DESC_PT, DrawError, FAMILY, FigureError, LABEL_PT, PALETTE, Plot, de, render};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::path::{Path, PathBuf};
@@ -26,10 +25,7 @@ struct AllanPlot<'a> {
 }
 
 impl Plot for AllanPlot<'_> {
-    fn draw<DB: DrawingBackend>(
-        &self,
-        root: &DrawingArea<DB, Shift>,
-    ) -> std::result::Result<(), String> {
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), DrawError> {
         root.fill(&WHITE).map_err(de)?;
         let pts: Vec<Vec<(f64, f64)>> = self
             .lines
@@ -86,6 +82,10 @@ impl Plot for AllanPlot<'_> {
 }
 
 /// Allan deviation curves (already computed), log-log.
-pub fn allan(stem: &Path, caption: &str, lines: &[AllanLine<'_>]) -> Result<Vec<PathBuf>> {
+pub fn allan(
+    stem: &Path,
+    caption: &str,
+    lines: &[AllanLine<'_>],
+) -> Result<Vec<PathBuf>, FigureError> {
     render(stem, &AllanPlot { caption, lines })
 }

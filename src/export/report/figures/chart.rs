@@ -3,7 +3,7 @@
 //! them, so that all figures look alike.
 
 use super::scales::tick_label;
-use super::{CAPTION_PT, DESC_PT, FAMILY, LABEL_PT, LEGEND_PT, de};
+use super::{CAPTION_PT, DESC_PT, DrawError, FAMILY, LABEL_PT, LEGEND_PT, de};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
@@ -18,7 +18,7 @@ pub(super) fn legend_line(
 pub(super) fn draw_legend<'a, DB: DrawingBackend + 'a, X: Ranged, Y: Ranged>(
     chart: &mut ChartContext<'a, DB, Cartesian2d<X, Y>>,
     position: SeriesLabelPosition,
-) -> std::result::Result<(), String> {
+) -> Result<(), DrawError> {
     chart
         .configure_series_labels()
         .position(position)
@@ -56,7 +56,7 @@ pub(super) fn draw_mesh<DB: DrawingBackend>(
     y_desc: &str,
     (x0, x1): (f64, f64),
     (y0, y1): (f64, f64),
-) -> std::result::Result<(), String> {
+) -> Result<(), DrawError> {
     let (xs, ys) = (x1 - x0, y1 - y0);
     let fx = move |v: &f64| tick_label(*v, xs);
     let fy = move |v: &f64| tick_label(*v, ys);

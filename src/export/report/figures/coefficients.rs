@@ -4,8 +4,9 @@
 
 use super::chart::{chart_builder, draw_legend, draw_mesh, legend_line};
 use super::scales::{drawable, finite_range, padded, union, with_legend_room};
-use super::{BLUE, GREY, Line, MAX_POINTS, Plot, SIZE, VERMILLION, de, render};
-use crate::error::Result;
+use super::{
+    BLUE, DrawError, FigureError, GREY, Line, MAX_POINTS, Plot, SIZE, VERMILLION, de, render,
+};
 use crate::models::approx::Approx;
 use crate::models::vakhrameev::PointSet;
 use crate::signal::lod::ScatterLod;
@@ -72,10 +73,7 @@ struct K0Plot<'a> {
 }
 
 impl Plot for K0Plot<'_> {
-    fn draw<DB: DrawingBackend>(
-        &self,
-        root: &DrawingArea<DB, Shift>,
-    ) -> std::result::Result<(), String> {
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), DrawError> {
         root.fill(&WHITE).map_err(de)?;
         let xs = finite_range(
             self.points
@@ -161,7 +159,7 @@ pub fn k0(
     caption: &str,
     k0: &Approx,
     points: &[PlateauPoint],
-) -> Result<Vec<PathBuf>> {
+) -> Result<Vec<PathBuf>, FigureError> {
     render(
         stem,
         &K0Plot {
@@ -204,10 +202,7 @@ struct RatePlot<'a> {
 }
 
 impl Plot for RatePlot<'_> {
-    fn draw<DB: DrawingBackend>(
-        &self,
-        root: &DrawingArea<DB, Shift>,
-    ) -> std::result::Result<(), String> {
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), DrawError> {
         root.fill(&WHITE).map_err(de)?;
         let lods: Vec<Option<ScatterLod>> = self
             .sets
@@ -329,7 +324,7 @@ pub fn rate_coefficient(
     caption: &str,
     axes: RateAxes<'_>,
     sets: [RateSet<'_>; 2],
-) -> Result<Vec<PathBuf>> {
+) -> Result<Vec<PathBuf>, FigureError> {
     render(
         stem,
         &RatePlot {

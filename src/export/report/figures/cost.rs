@@ -3,8 +3,10 @@
 
 use super::chart::{draw_legend, legend_line};
 use super::scales::{drawable, finite_range, log_label, padded, tick_label, with_legend_room};
-use super::{BLUE, CAPTION_PT, DESC_PT, FAMILY, LABEL_PT, Plot, VERMILLION, de, render};
-use crate::error::Result;
+use super::{
+    BLUE, CAPTION_PT, DESC_PT, DrawError, FAMILY, FigureError, LABEL_PT, Plot, VERMILLION, de,
+    render,
+};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::path::{Path, PathBuf};
@@ -30,10 +32,7 @@ struct CostPlot<'a> {
 }
 
 impl Plot for CostPlot<'_> {
-    fn draw<DB: DrawingBackend>(
-        &self,
-        root: &DrawingArea<DB, Shift>,
-    ) -> std::result::Result<(), String> {
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), DrawError> {
         root.fill(&WHITE).map_err(de)?;
         let n = self.lines.len().max(1);
         let cols = n.min(3);
@@ -128,6 +127,10 @@ impl Plot for CostPlot<'_> {
 }
 
 /// The cost curves of a regression model's searches, one panel each, the chosen value marked.
-pub fn cost_curves(stem: &Path, caption: &str, lines: &[CostLine<'_>]) -> Result<Vec<PathBuf>> {
+pub fn cost_curves(
+    stem: &Path,
+    caption: &str,
+    lines: &[CostLine<'_>],
+) -> Result<Vec<PathBuf>, FigureError> {
     render(stem, &CostPlot { caption, lines })
 }

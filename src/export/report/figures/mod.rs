@@ -12,15 +12,16 @@ mod allan_deviation;
 mod chart;
 mod coefficients;
 mod cost;
+mod error;
 mod scales;
 mod time;
 
 pub use allan_deviation::{AllanLine, allan};
 pub use coefficients::{PlateauPoint, RateAxes, RateSet, k0, rate_coefficient};
 pub use cost::{CostLine, cost_curves};
+pub use error::{DrawError, FigureError};
 pub use time::{TimeSeries, drift, temperature_program};
 
-use crate::error::{Error, Result};
 use crate::files::atomic;
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -64,61 +65,72 @@ fn register_font() {
 
 /// A picture that can be drawn on any plotters backend.
 trait Plot {
-    fn draw<DB: DrawingBackend>(
-        &self,
-        root: &DrawingArea<DB, Shift>,
-    ) -> std::result::Result<(), String>;
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), DrawError>;
 }
 
-fn de<E: std::fmt::Display>(e: E) -> String {
-    e.to_string()
+/// The plotting library's error, in its words.
+fn de<E: std::fmt::Display>(e: E) -> DrawError {
+    DrawError::Plotting(e.to_string())
 }
 
 /// Draws `plot` into `STEM.svg` and `STEM.png` (each written atomically); returns both paths.
-fn render(stem: &Path, plot: &impl Plot) -> Result<Vec<PathBuf>> {
+fn render(stem: &Path, plot: &impl Plot) -> Result<Vec<PathBuf>, FigureError> {
     register_font();
-    let fail = |what: &str, message: String| Error::File {
-        path: stem.with_extension(what),
-        message: format!("drawing the figure: {message}"),
-    };
+    let svg_path = stem.with_extension("svg");
+    let png_path = stem.with_extension("png");
     // Plotters is not expected to panic on finite data, but a report must never take the
     // process down: a panic in drawing becomes an error for this figure.
     let drawn = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
         let mut svg = String::new();
         {
             let root = SVGBackend::with_string(&mut svg, SIZE).into_drawing_area();
-            plot.draw(&root).map_err(|e| ("svg", e))?;
-            root.present().map_err(|e| ("svg", de(e)))?;
+            plot.draw(&root).map_err(|e| (&svg_path, e))?;
+            root.present().map_err(|e| (&svg_path, de(e)))?;
         }
         let (w, h) = SIZE;
         let mut rgb = vec![0u8; w as usize * h as usize * 3];
         {
             let root = BitMapBackend::with_buffer(&mut rgb, SIZE).into_drawing_area();
-            plot.draw(&root).map_err(|e| ("png", e))?;
-            root.present().map_err(|e| ("png", de(e)))?;
+            plot.draw(&root).map_err(|e| (&png_path, e))?;
+            root.present().map_err(|e| (&png_path, de(e)))?;
         }
-        Ok::<_, (&str, String)>((svg, rgb))
+        Ok::<_, (&PathBuf, DrawError)>((svg, rgb))
     }));
     let (svg, rgb) = match drawn {
         Ok(Ok(v)) => v,
-        Ok(Err((what, message))) => return Err(fail(what, message)),
-        Err(_) => return Err(fail("png", "the plotting library panicked".into())),
+        Ok(Err((path, source))) => {
+            return Err(FigureError::Drawing {
+                path: path.clone(),
+                source,
+            });
+        }
+        Err(_) => {
+            return Err(FigureError::Drawing {
+                path: png_path,
+                source: DrawError::Panicked,
+            });
+        }
     };
     // The SVG names the family the text was laid out with, then the generic fallback.
     let svg = svg.replace(
         "font-family=\"sans-serif\"",
         "font-family=\"DejaVu Sans, Verdana, sans-serif\"",
     );
-    let png_bytes = encode_png(&rgb, SIZE).map_err(|e| fail("png", e))?;
-    let svg_path = stem.with_extension("svg");
-    let png_path = stem.with_extension("png");
-    atomic::write_bytes(&svg_path, svg.as_bytes()).map_err(|e| Error::io(&svg_path, e))?;
-    atomic::write_bytes(&png_path, &png_bytes).map_err(|e| Error::io(&png_path, e))?;
+    let png_bytes = encode_png(&rgb, SIZE).map_err(|source| FigureError::Png {
+        path: png_path.clone(),
+        source,
+    })?;
+    let io = |path: &PathBuf| {
+        let path = path.clone();
+        move |source| FigureError::Io { path, source }
+    };
+    atomic::write_bytes(&svg_path, svg.as_bytes()).map_err(io(&svg_path))?;
+    atomic::write_bytes(&png_path, &png_bytes).map_err(io(&png_path))?;
     Ok(vec![png_path, svg_path])
 }
 
 /// An 8-bit RGB PNG of `rgb`, marked as 150 dpi (1200 px ≈ 20 cm wide in print).
-fn encode_png(rgb: &[u8], (w, h): (u32, u32)) -> std::result::Result<Vec<u8>, String> {
+fn encode_png(rgb: &[u8], (w, h): (u32, u32)) -> Result<Vec<u8>, png::EncodingError> {
     let mut out = Vec::new();
     {
         let mut enc = png::Encoder::new(&mut out, w, h);
@@ -129,9 +141,9 @@ fn encode_png(rgb: &[u8], (w, h): (u32, u32)) -> std::result::Result<Vec<u8>, St
             yppu: 5906,
             unit: png::Unit::Meter,
         }));
-        let mut writer = enc.write_header().map_err(de)?;
-        writer.write_image_data(rgb).map_err(de)?;
-        writer.finish().map_err(de)?;
+        let mut writer = enc.write_header()?;
+        writer.write_image_data(rgb)?;
+        writer.finish()?;
     }
     Ok(out)
 }

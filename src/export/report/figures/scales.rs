@@ -2,6 +2,8 @@
 //! labels for linear and logarithmic axes, the time axis's unit. Apart because every figure
 //! uses them and they are pure functions, tested without drawing.
 
+use super::DrawError;
+
 /// A finite, non-empty range around `[lo, hi]` with a margin; `[-1, 1]` when nothing is known.
 pub(super) fn padded(lo: f64, hi: f64, frac: f64) -> (f64, f64) {
     if !(lo.is_finite() && hi.is_finite()) || lo > hi {
@@ -24,7 +26,7 @@ pub(super) const MAX_AXIS: f64 = 1e100;
 /// `range` if an axis can be drawn over it: finite bounds within ±[`MAX_AXIS`] and a positive
 /// span (positive bounds within [1/MAX_AXIS, MAX_AXIS] on a logarithmic axis); else the reason,
 /// naming the axis, so that a figure of absurd data is refused before it is drawn.
-pub(super) fn drawable(axis: &str, range: (f64, f64), log: bool) -> Result<(f64, f64), String> {
+pub(super) fn drawable(axis: &str, range: (f64, f64), log: bool) -> Result<(f64, f64), DrawError> {
     let (lo, hi) = range;
     let fits = |v: f64| {
         if log {
@@ -34,21 +36,19 @@ pub(super) fn drawable(axis: &str, range: (f64, f64), log: bool) -> Result<(f64,
         }
     };
     if !(fits(lo) && fits(hi)) {
-        let worst = if fits(lo) { hi } else { lo };
-        return Err(format!(
-            "the {axis} axis would reach {}, beyond the {} a figure can show: the data hold \
-             numbers no gyro gives (check the calibration and the log)",
-            crate::number::readable(worst),
-            if log { "1e-100 .. 1e100" } else { "±1e100" }
-        ));
+        return Err(DrawError::AxisBeyond {
+            axis: axis.to_string(),
+            value: if fits(lo) { hi } else { lo },
+            log,
+        });
     }
     // Not greater: equal, reversed, or not numbers.
     if hi.partial_cmp(&lo) != Some(std::cmp::Ordering::Greater) {
-        return Err(format!(
-            "the {axis} axis has no span ({} .. {})",
-            crate::number::readable(lo),
-            crate::number::readable(hi)
-        ));
+        return Err(DrawError::AxisWithoutSpan {
+            axis: axis.to_string(),
+            lo,
+            hi,
+        });
     }
     Ok(range)
 }

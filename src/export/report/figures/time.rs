@@ -4,8 +4,7 @@
 
 use super::chart::{chart_builder, draw_legend, draw_mesh, legend_line};
 use super::scales::{TimeAxis, drawable, with_legend_room};
-use super::{COLUMNS, GREEN, GREY, Line, PALETTE, Plot, SIZE, de, render};
-use crate::error::Result;
+use super::{COLUMNS, DrawError, FigureError, GREEN, GREY, Line, PALETTE, Plot, SIZE, de, render};
 use crate::signal::lod::{self, MinMaxPyramid};
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -126,10 +125,7 @@ impl<'a> TimePlot<'a> {
 }
 
 impl Plot for TimePlot<'_> {
-    fn draw<DB: DrawingBackend>(
-        &self,
-        root: &DrawingArea<DB, Shift>,
-    ) -> std::result::Result<(), String> {
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), DrawError> {
         root.fill(&WHITE).map_err(de)?;
         let (t0, t1) = self.span;
         let axis = TimeAxis::for_span(t1 - t0);
@@ -221,7 +217,7 @@ pub fn temperature_program(
     time_s: &[f64],
     temps: &[TimeSeries<'_>],
     plateaus_s: &[(f64, f64)],
-) -> Result<Vec<PathBuf>> {
+) -> Result<Vec<PathBuf>, FigureError> {
     render(
         stem,
         &TimePlot::new(
@@ -240,7 +236,7 @@ pub fn drift(
     caption: &str,
     time_s: &[f64],
     series: &[TimeSeries<'_>],
-) -> Result<Vec<PathBuf>> {
+) -> Result<Vec<PathBuf>, FigureError> {
     render(
         stem,
         &TimePlot::new(caption, "gyro rate Ω, °/h", time_s, series, (&[], "")),

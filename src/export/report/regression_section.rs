@@ -1,11 +1,10 @@
-//! The report page of a regression model: its terms with coefficients ± standard errors, λ,
-//! τd(T), lag, input ranges, fit statistics and searches, in place of the Vakhrameev page's
-//! recipe, plateaus and K curves. Apart from that page because it shares only the page's
-//! frame (styles, figures of merit, figures) with it.
+//! What a regression model's part of a report page holds: its terms with coefficients ±
+//! standard errors, λ, τd(T), lag, input ranges, fit statistics and searches, in place of a
+//! Vakhrameev calibration's recipe, plateaus and K curves. Apart from the page because the page
+//! holds it once for a single-axis model and once per regression axis of a unit.
 
 use super::ReportSummary;
-use super::html::{Depth, PAGE, escape, figures_and_end, fmt_num, head, merit_section, row};
-use crate::error::Result;
+use super::html::{Depth, escape, fmt_num, merit_section, row};
 use crate::models::regression::{FitSamples, RegressionCalibration};
 use std::fmt::Write as _;
 
@@ -21,73 +20,11 @@ pub fn fmt_se(v: f64) -> String {
 }
 
 /// The description of a model named `name`: the preset's sentence, or "custom model".
-fn describe(name: &str) -> String {
+pub(super) fn describe(name: &str) -> String {
     match crate::models::presets::Preset::from_name(name) {
         Ok(p) => p.describe().to_string(),
         Err(_) => "custom model, composed term by term".into(),
     }
-}
-
-/// The whole page of a regression model.
-pub fn regression_page(cal: &RegressionCalibration, s: &ReportSummary) -> Result<String> {
-    let m = &cal.model;
-    let spec = &m.spec;
-    let mut o = String::with_capacity(1 << 20);
-    let gyro = if cal.gyro_id.is_empty() {
-        "(no gyro id)"
-    } else {
-        &cal.gyro_id
-    };
-    let formula = spec
-        .terms
-        .iter()
-        .map(ToString::to_string)
-        .collect::<Vec<_>>()
-        .join(" + ");
-    head(&mut o, gyro, "");
-    let _ = writeln!(
-        o,
-        "<h1>Thermal drift calibration report</h1>\n<p>Gyro <b class=\"gyro-id\">{}</b>, \
-         regression model <b class=\"model-name\">{}</b>: {}. \
-         Ω<sub>pred</sub> = Σ coefficient · term over the terms <code>{}</code>, \
-         Ω<sub>cor</sub> = Ω<sub>raw</sub> − Ω<sub>pred</sub>.</p>",
-        escape(gyro),
-        escape(&spec.name),
-        escape(&describe(&spec.name)),
-        escape(&formula)
-    );
-
-    // Identity.
-    o.push_str("<h2>Identity</h2>\n<table>\n");
-    row(&mut o, "gyro id", gyro);
-    row(&mut o, "model", &spec.name);
-    row(&mut o, "calibration log", &cal.source.name);
-    row(&mut o, "its SHA-256", &cal.source.sha256);
-    row(
-        &mut o,
-        "its samples, duration",
-        &format!(
-            "{} samples, {:.2} h",
-            cal.source.samples,
-            cal.source.duration_s / 3600.0
-        ),
-    );
-    row(&mut o, "calibration created", &cal.created);
-    row(
-        &mut o,
-        "report written",
-        &humantime::format_rfc3339_seconds(std::time::SystemTime::now()).to_string(),
-    );
-    row(
-        &mut o,
-        "written by",
-        &format!("driftlab {}", env!("CARGO_PKG_VERSION")),
-    );
-    o.push_str("</table>\n");
-
-    regression_body(&mut o, cal, s, PAGE);
-    figures_and_end(&mut o, s)?;
-    Ok(o)
 }
 
 /// The terms written as a sum.
@@ -101,14 +38,17 @@ pub(super) fn formula(cal: &RegressionCalibration) -> String {
         .join(" + ")
 }
 
+/// The model as its introduction on the page writes it: the sum over its terms.
+pub(super) fn formula_html(cal: &RegressionCalibration) -> String {
+    format!(
+        "Ω<sub>pred</sub> = Σ coefficient · term over the terms <code>{}</code>",
+        escape(&formula(cal))
+    )
+}
+
 /// What a regression model's page holds after its identity: the figures of merit, the model,
 /// its coefficients, input ranges and searches, its sections at depth `d`.
-pub(super) fn regression_body(
-    o: &mut String,
-    cal: &RegressionCalibration,
-    s: &ReportSummary,
-    d: Depth,
-) {
+pub(super) fn body(o: &mut String, cal: &RegressionCalibration, s: &ReportSummary, d: Depth) {
     let h = d.section;
     let m = &cal.model;
     let spec = &m.spec;
