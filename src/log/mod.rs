@@ -57,6 +57,26 @@ pub struct Channel {
     pub values: Vec<f64>,
 }
 
+/// The unit accelerometer channels are kept in when the reader knows them in SI: a drone
+/// log's, and a CSV column whose name says `m_s2` or `[m/s^2]`.
+pub const ACCEL_UNIT_M_S2: &str = "m/s^2";
+
+impl Channel {
+    /// Whether the channel is an accelerometer axis: its name reads as one (`ax_g`, `acc_x`,
+    /// `accel_x_m_s2`, `linear_acceleration_x`), as the CSV reader recognises it. The one
+    /// place that decides, so that every face and writer agrees on which channels are
+    /// accelerometers.
+    pub fn is_accelerometer(&self) -> bool {
+        ingest::names_an_accelerometer(&self.name)
+    }
+
+    /// Whether the channel is an accelerometer axis held in m/s² (what Kalibr's noise model
+    /// and every SI figure read; an axis in g or mg is kept in its own unit and left out).
+    pub fn is_accelerometer_m_s2(&self) -> bool {
+        self.is_accelerometer() && self.unit == ACCEL_UNIT_M_S2
+    }
+}
+
 /// What the reader found: dialect, column mapping with units, and problems.
 #[derive(Debug, Clone, Default, Serialize, Deserialize)]
 pub struct LogInfo {
@@ -85,6 +105,14 @@ pub struct ColumnInfo {
     pub role: ColumnRole,
     /// The unit the column was read in (`deg/h`, `rad/s`, `ms`, `°C`, ...), empty if unknown.
     pub unit: String,
+}
+
+impl ColumnInfo {
+    /// Whether the column is an accelerometer axis, by the rule of
+    /// [`Channel::is_accelerometer`].
+    pub fn is_accelerometer(&self) -> bool {
+        ingest::names_an_accelerometer(&self.name)
+    }
 }
 
 /// The use driftlab makes of a column.

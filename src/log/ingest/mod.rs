@@ -59,6 +59,7 @@
 mod checks;
 mod columns;
 pub(crate) mod names;
+mod option_error;
 mod parse;
 mod plausible;
 mod read;
@@ -66,11 +67,13 @@ mod series;
 mod sniff;
 mod units;
 
+pub use option_error::OptionError;
 pub use series::{RateSeries, read_rate_series};
 
 use std::io::Read;
 use std::path::PathBuf;
 pub use units::{RateUnit, TimeUnit};
+pub(crate) use units::{rate_factor_to_dph, temp_to_celsius};
 
 use crate::log::{ColumnInfo, Log};
 use serde::{Deserialize, Serialize};
@@ -155,12 +158,12 @@ pub enum ColumnRef {
 }
 
 impl FromStr for ColumnRef {
-    type Err = String;
+    type Err = OptionError;
     /// `"3"` is the third column; anything else a name.
-    fn from_str(s: &str) -> Result<Self, String> {
+    fn from_str(s: &str) -> Result<Self, OptionError> {
         let t = s.trim();
         if t.is_empty() {
-            return Err("empty column reference: give a column name or a 1-based number".into());
+            return Err(OptionError::EmptyColumn);
         }
         Ok(match t.parse::<usize>() {
             Ok(i) => ColumnRef::Index(i),
@@ -236,7 +239,7 @@ pub fn names_an_accelerometer(name: &str) -> bool {
 ///
 /// # Errors
 /// Anything else, with a message listing what is accepted.
-pub fn parse_delimiter(s: &str) -> Result<u8, String> {
+pub fn parse_delimiter(s: &str) -> Result<u8, OptionError> {
     match s {
         "\\t" | "\t" => return Ok(b'\t'),
         " " => return Ok(b' '),
@@ -250,10 +253,7 @@ pub fn parse_delimiter(s: &str) -> Result<u8, String> {
         t if t.len() == 1 && t.is_ascii() && !matches!(t, "\"" | "\n" | "\r" | "#") => {
             Ok(t.as_bytes()[0])
         }
-        _ => Err(format!(
-            "unknown delimiter \"{s}\": use a single character such as , or ;, \\t (tab) or \
-             space (runs of blanks)"
-        )),
+        _ => Err(OptionError::Delimiter(s.to_string())),
     }
 }
 
