@@ -1,5 +1,10 @@
 //! A gyro test log after ingest: synchronous columns already converted to driftlab's units
 //! (time in s, rate in °/h, temperature in °C), plus what the reader noticed on the way.
+//!
+//! The readers: [`read::read_any`] reads every format and chooses by the first bytes;
+//! [`ingest`] is the CSV reader, [`formats`] the drone and robot logs' (PX4 ULog, ArduPilot
+//! DataFlash, ROS bag, MCAP). [`mapping_check`] holds the one rule set for what a column may
+//! plausibly hold; [`resample`] averages into bins or bursts.
 
 pub mod formats;
 pub mod ingest;

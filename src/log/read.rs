@@ -1,4 +1,5 @@
-//! Any log driftlab reads, told by its first bytes: a test-stand CSV through
+//! The reader of every format ([`read_any`]; `ingest/read.rs` is the CSV reader's pipeline
+//! only). Any log driftlab reads, told by its first bytes: a test-stand CSV through
 //! [`super::ingest`], or a drone or robot log (PX4 ULog, ArduPilot DataFlash, ROS 1
 //! bag, MCAP) through [`super::formats`], turned into the same [`Log`].
 //!

@@ -1,4 +1,9 @@
-//! Reading test-stand logs into a [`Log`].
+//! The CSV reader: test-stand logs in any CSV dialect into a [`Log`].
+//!
+//! It reads CSV only. The drone and robot logs (PX4 ULog, ArduPilot DataFlash, ROS bag, MCAP)
+//! are read by [`super::formats`], and [`crate::log::read::read_any`] is the reader of every
+//! format: it tells them apart by their first bytes and calls this module for a CSV. The
+//! crate's `driftlab::read_path` is this module's [`read_path`], the CSV reader.
 //!
 //! Thermal-chamber stands write CSV in many dialects: comma, semicolon, tab or aligned
 //! columns; decimal points or (Russian and European stands) decimal commas; with or without
@@ -421,7 +426,8 @@ impl Input {
     }
 }
 
-/// Reads a log file.
+/// Reads a CSV log file (a drone or robot log is read by
+/// [`read_any`](crate::log::read::read_any), which reads every format).
 ///
 /// # Errors
 /// An unreadable file or cell, with file, line and column; see the module documentation.
