@@ -109,7 +109,7 @@ pub fn run(a: Args) -> Result<(), CliError> {
             accel = log
                 .extra
                 .into_iter()
-                .filter(|c| c.name.starts_with("accel_") && c.name.ends_with("_m_s2"))
+                .filter(|c| c.is_accelerometer_m_s2())
                 .map(|c| (c.name, c.values))
                 .collect();
             let mut gyro = vec![(log.axis, log.omega_dph)];

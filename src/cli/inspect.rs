@@ -6,8 +6,9 @@ use driftlab::log::ColumnRole;
 use driftlab::log::formats::{self, InstanceSummary};
 use driftlab::log::ingest::Input;
 use driftlab::log::read::{self, TempFrom};
-use driftlab::models::recipe::Recipe;
-use driftlab::models::vakhrameev::{self, Prepared};
+use driftlab::models::recipe::{PlateauChoice, Recipe};
+use driftlab::signal::plateau::DetectOptions;
+use driftlab::signal::summary::{SummaryOptions, summarise};
 use std::path::PathBuf;
 
 /// Arguments of `inspect`.
@@ -134,22 +135,10 @@ pub fn run(a: Args) -> Result<(), CliError> {
     } else {
         recorded
     };
-    let recipe = Recipe::default();
-    let prepared = Prepared::new(&log, &recipe);
-    let ranges = vakhrameev::plateau_ranges(&log, &prepared, &recipe);
-    let plateaus = vakhrameev::plateau_stats(&log, &ranges);
-    let (tmin, tmax) = log
-        .temp_c
-        .iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
-            (a.min(v), b.max(v))
-        });
-    let rate_max = prepared
-        .deriv
-        .tdot
-        .iter()
-        .fold(0.0f64, |a, v| a.max(v.abs()))
-        * 60.0;
+    let summary = summarise(&log, &summary_options(&Recipe::default()));
+    let (tmin, tmax) = (summary.temp_min_c, summary.temp_max_c);
+    let rate_max = summary.max_abs_rate_c_per_min;
+    let plateaus = summary.plateaus;
     let dt = log.nominal_dt_s();
     let axes = gyro_axes(&log);
     if a.json {
@@ -168,7 +157,7 @@ pub fn run(a: Args) -> Result<(), CliError> {
             "accelerometers": log
                 .extra
                 .iter()
-                .filter(|c| driftlab::log::ingest::names_an_accelerometer(&c.name))
+                .filter(|c| c.is_accelerometer())
                 .map(|c| serde_json::json!({ "name": c.name, "unit": c.unit }))
                 .collect::<Vec<_>>(),
             "axis": log.axis,
@@ -209,9 +198,7 @@ pub fn run(a: Args) -> Result<(), CliError> {
         } else {
             format!(" [{}]", c.unit)
         };
-        let accel = if c.role == ColumnRole::Extra
-            && driftlab::log::ingest::names_an_accelerometer(&c.name)
-        {
+        let accel = if c.role == ColumnRole::Extra && c.is_accelerometer() {
             " (accelerometer, kept)"
         } else {
             ""
@@ -306,6 +293,19 @@ pub fn run(a: Args) -> Result<(), CliError> {
         }
     }
     Ok(())
+}
+
+/// The summary's settings from a recipe: its derivative settings, and its detector (the
+/// default detector when the recipe gives its plateaus by hand).
+fn summary_options(recipe: &Recipe) -> SummaryOptions {
+    SummaryOptions {
+        temp_smoothing_s: recipe.temp_smoothing_s,
+        step_h_s: recipe.step_h_s,
+        plateaus: match &recipe.plateaus {
+            PlateauChoice::Auto(o) => *o,
+            PlateauChoice::Manual { .. } => DetectOptions::default(),
+        },
+    }
 }
 
 /// One gyro axis of a log as `inspect` lists it.

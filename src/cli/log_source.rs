@@ -3,9 +3,9 @@
 
 use super::common::LogArgs;
 use driftlab::Log;
-use driftlab::log::formats::{self, Format};
+use driftlab::log::formats::Format;
 use driftlab::log::ingest::ReadOptions;
-use driftlab::log::read::{self, DroneLog, FormatChoice, TempFrom};
+use driftlab::log::read::{self, DroneLog, FormatChoice, ReadError, TempFrom};
 use std::path::Path;
 
 /// Which gyro of a drone or robot log a command works on.
@@ -32,22 +32,61 @@ impl FormatArgs {
     }
 }
 
-/// The command-line flags of the CSV options set in `opts` (none applies to a drone log).
-fn csv_flags(opts: &ReadOptions) -> Vec<&'static str> {
-    read::csv_options_set(opts)
-        .into_iter()
-        .map(|name| match name {
-            "time_col" => "--time-col",
-            "rate_col" => "--rate-col",
-            "temp_col" => "--temp-col",
-            "rate_unit" => "--rate-unit",
-            "time_unit" => "--time-unit",
-            "sample_rate_hz" => "--sample-rate",
-            "delimiter" => "--delimiter",
-            "decimal_comma" => "--decimal-comma",
-            other => other,
-        })
-        .collect()
+/// The command-line flag of a read setting the engine names (`rate_col` → `--rate-col`): the
+/// settings of [`ReadOptions`] and of [`FormatChoice`]; a setting without a flag keeps its name.
+pub fn flag_of(setting: &'static str) -> &'static str {
+    match setting {
+        "time_col" => "--time-col",
+        "rate_col" => "--rate-col",
+        "temp_col" => "--temp-col",
+        "rate_unit" => "--rate-unit",
+        "time_unit" => "--time-unit",
+        "sample_rate_hz" => "--sample-rate",
+        "delimiter" => "--delimiter",
+        "decimal_comma" => "--decimal-comma",
+        "gyro" => "--gyro",
+        "temp_from" => "--temp-from",
+        other => other,
+    }
+}
+
+/// The engine's refusal of a read in the command line's words: the options it names by their
+/// settings are named by their flags.
+pub fn worded(e: ReadError) -> String {
+    let flags = |settings: &[&'static str]| -> Vec<&'static str> {
+        settings.iter().map(|s| flag_of(s)).collect()
+    };
+    match e {
+        ReadError::ChoiceOnCsv { path, settings } => {
+            let given = flags(&settings);
+            format!(
+                "{path}: {} choose{} a gyro of a drone or robot log (PX4 ULog, ArduPilot \
+                 DataFlash, ROS bag, MCAP); this file is none of them (a CSV's columns are \
+                 chosen with --rate-col, --temp-col)",
+                given.join(" and "),
+                if given.len() == 1 { "s" } else { "" }
+            )
+        }
+        ReadError::CsvOptionsOnDroneLog {
+            path,
+            format,
+            settings,
+        } => {
+            let given = flags(&settings);
+            format!(
+                "{path}: a {format} log has its format's own channels and units: {} do{} not \
+                 apply to it (choose its gyro with --gyro N and --temp-from)",
+                given.join(", "),
+                if given.len() == 1 { "es" } else { "" }
+            )
+        }
+        ReadError::NoTemperature { path } => format!(
+            "{path}: --temp-from none leaves the log without a temperature: only `driftlab \
+             allan` reads such a log (use --temp-from accel or imu-status, see `driftlab \
+             inspect`)"
+        ),
+        other => other.to_string(),
+    }
 }
 
 /// The drone-log format of `path`, refusing the options that do not fit the kind of file:
@@ -56,41 +95,7 @@ fn csv_flags(opts: &ReadOptions) -> Vec<&'static str> {
 /// # Errors
 /// The file cannot be opened, or options that do not apply.
 pub fn check(args: &LogArgs, path: &Path, opts: &ReadOptions) -> Result<Option<Format>, String> {
-    let format = read::drone_format(path).map_err(|e| e.to_string())?;
-    match format {
-        None => {
-            let mut given = Vec::new();
-            if args.format.gyro.is_some() {
-                given.push("--gyro");
-            }
-            if args.format.temp_from.is_some() {
-                given.push("--temp-from");
-            }
-            if !given.is_empty() {
-                return Err(format!(
-                    "{}: {} choose{} a gyro of a drone or robot log (PX4 ULog, ArduPilot \
-                     DataFlash, ROS bag, MCAP); this file is none of them (a CSV's columns are \
-                     chosen with --rate-col, --temp-col)",
-                    path.display(),
-                    given.join(" and "),
-                    if given.len() == 1 { "s" } else { "" }
-                ));
-            }
-        }
-        Some(f) => {
-            let flags = csv_flags(opts);
-            if !flags.is_empty() {
-                return Err(format!(
-                    "{}: a {f} log has its format's own channels and units: {} do{} not apply \
-                     to it (choose its gyro with --gyro N and --temp-from)",
-                    path.display(),
-                    flags.join(", "),
-                    if flags.len() == 1 { "es" } else { "" }
-                ));
-            }
-        }
-    }
-    Ok(format)
+    read::check_options(path, opts, &args.format.choice()).map_err(worded)
 }
 
 /// Prints what the format reader and the choice of gyro said, on standard error.
@@ -122,22 +127,12 @@ pub fn read_drone_log(
     opts: &ReadOptions,
     needs_temperature: bool,
 ) -> Result<Option<(Log, DroneLog)>, String> {
-    if check(args, path, opts)?.is_none() {
+    let Some(any) = read::read_drone_log(path, opts, &args.format.choice(), needs_temperature)
+        .map_err(worded)?
+    else {
         return Ok(None);
-    }
-    if needs_temperature && args.format.temp_from == Some(TempFrom::None) {
-        return Err(format!(
-            "{}: --temp-from none leaves the log without a temperature: only `driftlab allan` \
-             reads such a log (use --temp-from accel or imu-status, see `driftlab inspect`)",
-            path.display()
-        ));
-    }
-    let rec = formats::read_path(path).map_err(|e| e.to_string())?;
-    let any = read::from_recording(&rec, opts.skip_extras, &args.format.choice())
-        .map_err(|e| e.to_string())?;
-    drop(rec);
-    let log = any.log;
+    };
     let drone = any.drone.ok_or("a drone log read as a CSV")?;
-    print_notes(&drone, &log);
-    Ok(Some((log, drone)))
+    print_notes(&drone, &any.log);
+    Ok(Some((any.log, drone)))
 }

@@ -6,11 +6,13 @@
 //! these holds.
 //!
 //! It judges an [`ingest::Preview`](crate::log::ingest::Preview) (the first rows as text and the
-//! roles the reader would give), so the reader itself is unchanged; the reader could report
-//! the same concerns with the file's full statistics.
+//! roles the reader would give). It also holds the one rule set for what a calibration column
+//! may plausibly hold ([`MAX_PLAUSIBLE_RATE_DPH`], [`PLAUSIBLE_TEMP_C`], with units read as the
+//! reader reads them): the reader judges the whole file by the same rules once it is read, so
+//! a preview and a read never disagree on what is plausible.
 
 use crate::log::ColumnRole;
-use crate::log::ingest::Preview;
+use crate::log::ingest::{self, Preview};
 
 /// One thing about a log's columns to look at before reading it.
 #[derive(Debug, Clone, PartialEq)]
@@ -52,12 +54,50 @@ const ENVIRONMENT_WORDS: [&str; 8] = [
     "chamber", "ambient", "air", "oven", "room", "setpoint", "set", "target",
 ];
 
-/// The largest |rate| a motionless gyro plausibly reports, °/h (about 28 °/s: past every
-/// MEMS bias, far past Earth's 15 °/h).
-pub const MAX_PLAUSIBLE_RATE_DPH: f64 = 1e5;
+/// The fastest rate a gyro plausibly reads, °/h: 10⁴ °/s, past the full scale of any MEMS or
+/// optical gyro (the fastest MEMS parts end at a few thousand °/s). A drone log recorded in
+/// flight stays under it; a column read in the wrong unit (millidegrees taken for degrees, °/s
+/// for °/h at a rotation rate) or a column that is no rate at all goes past it. The one limit
+/// for the preview's concerns here and the reader's problems (`ingest/plausible.rs`).
+pub const MAX_PLAUSIBLE_RATE_DPH: f64 = 1e4 * 3600.0;
 
-/// The range of temperatures a thermal chamber reaches, °C.
+/// The range of temperatures a thermal chamber reaches, °C: the one range for the preview's
+/// concerns here and the reader's problems.
 pub const PLAUSIBLE_TEMP_C: (f64, f64) = (-100.0, 200.0);
+
+/// Whether a rate, °/h, is within [`MAX_PLAUSIBLE_RATE_DPH`].
+pub fn is_plausible_rate_dph(rate_dph: f64) -> bool {
+    rate_dph.abs() <= MAX_PLAUSIBLE_RATE_DPH
+}
+
+/// Whether a temperature, °C, is within [`PLAUSIBLE_TEMP_C`].
+pub fn is_plausible_temp_c(temp_c: f64) -> bool {
+    (PLAUSIBLE_TEMP_C.0..=PLAUSIBLE_TEMP_C.1).contains(&temp_c)
+}
+
+/// Whether `unit`, as the reader records a column's unit, is a rate unit (any spelling the
+/// reader understands: `deg/h`, `deg/s`, `mdeg/s`, `rad/s`).
+pub fn is_rate_unit(unit: &str) -> bool {
+    ingest::rate_factor_to_dph(unit).is_some()
+}
+
+/// Whether `unit`, as the reader records a column's unit, is a temperature unit (`°C`, `K`,
+/// `°F`).
+pub fn is_temp_unit(unit: &str) -> bool {
+    ingest::temp_to_celsius(unit).is_some()
+}
+
+/// A value of a rate column read in `unit`, in °/h (no unit: °/h, as the reader takes it).
+fn rate_dph(value: f64, unit: &str) -> f64 {
+    value * ingest::rate_factor_to_dph(unit).unwrap_or(1.0)
+}
+
+/// A value of a temperature column read in `unit`, in °C (no unit: °C, as the reader takes
+/// it).
+fn temp_c(value: f64, unit: &str) -> f64 {
+    let (scale, offset) = ingest::temp_to_celsius(unit).unwrap_or((1.0, 0.0));
+    value * scale + offset
+}
 
 /// The concerns about `p`, none when the reader's mapping can be taken as it is. A mapping
 /// that fails (`p.mapping_error`) is one concern.
@@ -83,8 +123,6 @@ pub fn concerns(p: &Preview) -> Vec<Concern> {
         });
     }
     // Second candidates: kept channels in a temperature or rate unit.
-    let is_temp_unit = |u: &str| matches!(u, "°C" | "K" | "°F");
-    let is_rate_unit = |u: &str| matches!(u, "deg/h" | "deg/s" | "rad/s");
     if let Some(t) = role(ColumnRole::Temperature) {
         for c in p
             .columns
@@ -145,15 +183,10 @@ pub fn concerns(p: &Preview) -> Vec<Concern> {
     }
     if let Some(t) = role(ColumnRole::Temperature) {
         let (lo, hi) = PLAUSIBLE_TEMP_C;
-        let to_c = |x: f64| match t.unit.as_str() {
-            "K" => x - 273.15,
-            "°F" => (x - 32.0) * 5.0 / 9.0,
-            _ => x,
-        };
         if let Some(x) = values(t.index)
             .into_iter()
-            .map(to_c)
-            .find(|&x| !(lo..=hi).contains(&x))
+            .map(|x| temp_c(x, &t.unit))
+            .find(|&x| !is_plausible_temp_c(x))
         {
             out.push(Concern {
                 column: Some(t.index),
@@ -169,22 +202,17 @@ pub fn concerns(p: &Preview) -> Vec<Concern> {
         }
     }
     if let Some(r) = role(ColumnRole::Rate) {
-        let to_dph = match r.unit.as_str() {
-            "deg/s" => 3600.0,
-            "rad/s" => 3600.0 * 180.0 / std::f64::consts::PI,
-            _ => 1.0,
-        };
         let v = values(r.index);
         if let Some(x) = v
             .iter()
-            .map(|x| x * to_dph)
-            .find(|x| x.abs() > MAX_PLAUSIBLE_RATE_DPH)
+            .map(|&x| rate_dph(x, &r.unit))
+            .find(|&x| !is_plausible_rate_dph(x))
         {
             out.push(Concern {
                 column: Some(r.index),
                 message: format!(
-                    "Rate (\"{}\", column {}) reads {x:.3e} °/h, more than a motionless gyro \
-                     shows: is it the rate, and in {}?",
+                    "Rate (\"{}\", column {}) reads {x:.3e} °/h, beyond the 10⁴ °/s of any \
+                     gyro: is it the rate, and in {}?",
                     r.name,
                     r.index,
                     if r.unit.is_empty() { "deg/h" } else { &r.unit }
@@ -271,9 +299,14 @@ mod tests {
         // A counter taken for the rate.
         let c = check("time_s,omega_dph,temp_c\n0,10,20\n1,11,20\n2,12,20\n3,13,20\n4,14,20\n");
         assert!(c.iter().any(|c| c.column == Some(2)), "{c:?}");
-        // A rate in °/s labelled as °/h.
-        let c = check("time_s,omega_dph,temp_c\n0,3e5,20\n1,-3e5,20\n2,3e5,20\n");
+        // Millidegrees per second read as degrees per second: 5e4 mdeg/s (50 °/s) taken for
+        // 5e4 °/s.
+        let c = check("time_s,gx_dps,temp_c\n0,5e4,20\n1,-5e4,20\n2,5e4,20\n");
         assert!(c.iter().any(|c| c.column == Some(2)), "{c:?}");
+        // The same column read in the unit its header names is a plausible rate (50 °/s): the
+        // unit is read as the reader reads it, mdeg/s included.
+        let c = check("time_s,gx_mdps,temp_c\n0,5e4,20\n1,-5e4,20\n2,5e4,20\n");
+        assert!(c.iter().all(|c| c.column != Some(2)), "{c:?}");
     }
 
     #[test]

@@ -1,5 +1,10 @@
 //! A gyro test log after ingest: synchronous columns already converted to driftlab's units
 //! (time in s, rate in °/h, temperature in °C), plus what the reader noticed on the way.
+//!
+//! The readers: [`read::read_any`] reads every format and chooses by the first bytes;
+//! [`ingest`] is the CSV reader, [`formats`] the drone and robot logs' (PX4 ULog, ArduPilot
+//! DataFlash, ROS bag, MCAP). [`mapping_check`] holds the one rule set for what a column may
+//! plausibly hold; [`resample`] averages into bins or bursts.
 
 pub mod formats;
 pub mod ingest;
@@ -57,6 +62,26 @@ pub struct Channel {
     pub values: Vec<f64>,
 }
 
+/// The unit accelerometer channels are kept in when the reader knows them in SI: a drone
+/// log's, and a CSV column whose name says `m_s2` or `[m/s^2]`.
+pub const ACCEL_UNIT_M_S2: &str = "m/s^2";
+
+impl Channel {
+    /// Whether the channel is an accelerometer axis: its name reads as one (`ax_g`, `acc_x`,
+    /// `accel_x_m_s2`, `linear_acceleration_x`), as the CSV reader recognises it. The one
+    /// place that decides, so that every face and writer agrees on which channels are
+    /// accelerometers.
+    pub fn is_accelerometer(&self) -> bool {
+        ingest::names_an_accelerometer(&self.name)
+    }
+
+    /// Whether the channel is an accelerometer axis held in m/s² (what Kalibr's noise model
+    /// and every SI figure read; an axis in g or mg is kept in its own unit and left out).
+    pub fn is_accelerometer_m_s2(&self) -> bool {
+        self.is_accelerometer() && self.unit == ACCEL_UNIT_M_S2
+    }
+}
+
 /// What the reader found: dialect, column mapping with units, and problems.
 #[derive(Debug, Clone, Default, Serialize, Deserialize)]
 pub struct LogInfo {
@@ -85,6 +110,14 @@ pub struct ColumnInfo {
     pub role: ColumnRole,
     /// The unit the column was read in (`deg/h`, `rad/s`, `ms`, `°C`, ...), empty if unknown.
     pub unit: String,
+}
+
+impl ColumnInfo {
+    /// Whether the column is an accelerometer axis, by the rule of
+    /// [`Channel::is_accelerometer`].
+    pub fn is_accelerometer(&self) -> bool {
+        ingest::names_an_accelerometer(&self.name)
+    }
 }
 
 /// The use driftlab makes of a column.

@@ -1,4 +1,5 @@
-//! Any log driftlab reads, told by its first bytes: a test-stand CSV through
+//! The reader of every format ([`read_any`]; `ingest/read.rs` is the CSV reader's pipeline
+//! only). Any log driftlab reads, told by its first bytes: a test-stand CSV through
 //! [`super::ingest`], or a drone or robot log (PX4 ULog, ArduPilot DataFlash, ROS 1
 //! bag, MCAP) through [`super::formats`], turned into the same [`Log`].
 //!
@@ -44,6 +45,18 @@ impl FormatChoice {
     pub fn is_default(&self) -> bool {
         *self == FormatChoice::default()
     }
+
+    /// The settings chosen, by their names (`gyro`, `temp_from`): none applies to a CSV.
+    pub fn settings_set(&self) -> Vec<&'static str> {
+        let mut v = Vec::new();
+        if self.gyro.is_some() {
+            v.push("gyro");
+        }
+        if self.temp_from.is_some() {
+            v.push("temp_from");
+        }
+        v
+    }
 }
 
 /// What a drone or robot log was, beyond the [`Log`] made of one of its gyros.
@@ -82,13 +95,45 @@ pub enum ReadError {
     /// No gyro (or temperature) of the log can be used as asked; the alternatives named.
     #[error(transparent)]
     Selection(#[from] SelectionError),
-    /// Options of one kind of file given for the other.
-    #[error("{path}: {message}")]
-    Options {
+    /// A gyro or temperature chosen (`settings`: `gyro`, `temp_from`) for a file that is no
+    /// drone or robot log.
+    #[error(
+        "{path}: {} choose{} an instance of a drone or robot log (PX4 ULog, ArduPilot \
+         DataFlash, ROS bag, MCAP); this file is none of them (a CSV is read by its columns: \
+         time_col, rate_col, temp_col)",
+        settings.join(" and "),
+        if settings.len() == 1 { "s" } else { "" }
+    )]
+    ChoiceOnCsv {
         /// The file.
         path: String,
-        /// Which options do not apply and why.
-        message: String,
+        /// The settings given, by their names in [`FormatChoice`].
+        settings: Vec<&'static str>,
+    },
+    /// CSV options (`settings`, by their names in [`ReadOptions`]) given for a drone or robot
+    /// log, whose channels and units are its format's own.
+    #[error(
+        "{path}: a {format} log has its format's own channels and units: {} do{} not apply to \
+         it (choose the gyro with gyro and temp_from)",
+        settings.join(", "),
+        if settings.len() == 1 { "es" } else { "" }
+    )]
+    CsvOptionsOnDroneLog {
+        /// The file.
+        path: String,
+        /// Its format.
+        format: Format,
+        /// The CSV options set, by their names in [`ReadOptions`].
+        settings: Vec<&'static str>,
+    },
+    /// `temp_from` none for a reader that needs a temperature (every use but noise analysis).
+    #[error(
+        "{path}: temp_from none leaves the log without a temperature, which only noise \
+         analysis reads (choose temp_from accel or imu-status)"
+    )]
+    NoTemperature {
+        /// The file.
+        path: String,
     },
     /// The chosen gyro has no sample left once the unusable ones are dropped.
     #[error("{path}: {message}")]
@@ -129,6 +174,68 @@ pub fn drone_format(path: &Path) -> Result<Option<Format>, FormatError> {
     formats::sniff_path(path)
 }
 
+/// The drone-log format of the file at `path` (`None` for a CSV), refusing the options that
+/// do not fit its kind: a gyro or temperature choice for a CSV, CSV options for a drone log.
+///
+/// # Errors
+/// The file cannot be opened, or options of one kind of file given for the other.
+pub fn check_options(
+    path: &Path,
+    opts: &ReadOptions,
+    choice: &FormatChoice,
+) -> Result<Option<Format>, ReadError> {
+    let name = || path.display().to_string();
+    let format = drone_format(path)?;
+    match format {
+        None => {
+            let settings = choice.settings_set();
+            if !settings.is_empty() {
+                return Err(ReadError::ChoiceOnCsv {
+                    path: name(),
+                    settings,
+                });
+            }
+        }
+        Some(format) => {
+            let settings = csv_options_set(opts);
+            if !settings.is_empty() {
+                return Err(ReadError::CsvOptionsOnDroneLog {
+                    path: name(),
+                    format,
+                    settings,
+                });
+            }
+        }
+    }
+    Ok(format)
+}
+
+/// Reads `path` when it is a drone or robot log: one gyro as `choice` says, as recorded
+/// ([`from_recording`]); `None` for a CSV, which the caller reads as it reads CSV (with
+/// progress, from a stream). `needs_temperature`: refuse `temp_from` none, which leaves the
+/// log without the temperature every use but noise analysis needs.
+///
+/// # Errors
+/// As [`check_options`], [`ReadError::NoTemperature`], a file that cannot be read, no gyro
+/// as asked.
+pub fn read_drone_log(
+    path: &Path,
+    opts: &ReadOptions,
+    choice: &FormatChoice,
+    needs_temperature: bool,
+) -> Result<Option<AnyLog>, ReadError> {
+    if check_options(path, opts, choice)?.is_none() {
+        return Ok(None);
+    }
+    if needs_temperature && choice.temp_from == Some(TempFrom::None) {
+        return Err(ReadError::NoTemperature {
+            path: path.display().to_string(),
+        });
+    }
+    let rec = formats::read_path(path)?;
+    from_recording(&rec, opts.skip_extras, choice).map(Some)
+}
+
 /// Reads any log driftlab reads: a CSV as [`ingest::read_path`] does (`choice` must then be
 /// the default), a drone or robot log as [`from_recording`] makes it (`opts` must then set
 /// no CSV option; `skip_extras` leaves the accelerometer out).
@@ -155,46 +262,13 @@ pub fn read_any_with_progress(
     choice: &FormatChoice,
     progress: &(dyn Fn(f64) -> bool + Sync),
 ) -> Result<AnyLog, ReadError> {
-    let name = path.display().to_string();
-    match drone_format(path)? {
-        None => {
-            if !choice.is_default() {
-                return Err(ReadError::Options {
-                    path: name,
-                    message: "gyro and temp_from choose an instance of a drone or robot log \
-                              (PX4 ULog, ArduPilot DataFlash, ROS bag, MCAP); this file is \
-                              none of them (a CSV is read by its columns: time_col, rate_col, \
-                              temp_col)"
-                        .into(),
-                });
-            }
-            Ok(AnyLog {
-                log: ingest::read_path_with_progress(path, opts, progress)?,
-                drone: None,
-            })
-        }
-        Some(format) => {
-            refuse_csv_options(&name, format, opts)?;
-            let rec = formats::read_path(path)?;
-            from_recording(&rec, opts.skip_extras, choice)
-        }
+    match read_drone_log(path, opts, choice, false)? {
+        Some(any) => Ok(any),
+        None => Ok(AnyLog {
+            log: ingest::read_path_with_progress(path, opts, progress)?,
+            drone: None,
+        }),
     }
-}
-
-fn refuse_csv_options(name: &str, format: Format, opts: &ReadOptions) -> Result<(), ReadError> {
-    let set = csv_options_set(opts);
-    if set.is_empty() {
-        return Ok(());
-    }
-    Err(ReadError::Options {
-        path: name.to_string(),
-        message: format!(
-            "a {format} log has its format's own channels and units: {} do{} not apply to it \
-             (choose the gyro with gyro and temp_from)",
-            set.join(", "),
-            if set.len() == 1 { "es" } else { "" }
-        ),
-    })
 }
 
 /// The angular rate of a drone log (rad/s) in driftlab's °/h: the factor the CSV reader uses
@@ -212,7 +286,7 @@ pub const GYRO_AXES: [&str; 3] = ["gyro_x", "gyro_y", "gyro_z"];
 pub const ACCEL_CHANNELS: [&str; 3] = ["accel_x_m_s2", "accel_y_m_s2", "accel_z_m_s2"];
 
 /// The unit of [`ACCEL_CHANNELS`].
-pub const ACCEL_UNIT: &str = "m/s^2";
+pub const ACCEL_UNIT: &str = super::ACCEL_UNIT_M_S2;
 
 /// One gyro instance of a recording as a [`Log`]: the instance and temperature `choice`
 /// names (see the module documentation for the mapping), without the accelerometer when

@@ -11,6 +11,7 @@
 
 pub mod lod;
 pub mod plateau;
+pub mod summary;
 pub mod timing;
 
 /// Centred moving average over `window` samples, truncated symmetrically at the ends.

@@ -265,7 +265,7 @@ pub(crate) fn read(data: &[u8]) -> Read {
                     }
                     fmts[usize::from(t)] = Some(f);
                 }
-                Err(msg) => problems.push(Problem::at(pos as u64, msg)),
+                Err(e) => problems.push(Problem::at(pos as u64, e.to_string())),
             }
         } else if let Some(l) = &layouts[usize::from(ty)] {
             let inst = l
@@ -317,7 +317,21 @@ pub(crate) fn read(data: &[u8]) -> Read {
     }
 }
 
-fn parse_fmt(m: &[u8]) -> Result<(u8, Fmt), String> {
+/// A FMT message whose length cannot hold a message header: the messages it describes cannot
+/// be read (the caller places it at the FMT's offset).
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error(
+    "the FMT of {name} gives a length of {length}, shorter than a message header; its messages \
+     cannot be read"
+)]
+struct ShortFmt {
+    /// The message type's name the FMT gives.
+    name: String,
+    /// The length it gives, bytes.
+    length: usize,
+}
+
+fn parse_fmt(m: &[u8]) -> Result<(u8, Fmt), ShortFmt> {
     let t = m[3];
     let length = usize::from(m[4]);
     let name = c_string(&m[5..9]);
@@ -326,10 +340,7 @@ fn parse_fmt(m: &[u8]) -> Result<(u8, Fmt), String> {
     let format = &format[..format_len];
     let labels = c_string(&m[25..89]);
     if length < 3 {
-        return Err(format!(
-            "the FMT of {name} gives a length of {length}, shorter than a message header; \
-             its messages cannot be read"
-        ));
+        return Err(ShortFmt { name, length });
     }
     let labels: Vec<&str> = labels.split(',').collect();
     let mut fields = Vec::new();

@@ -16,8 +16,40 @@ pub(crate) enum Codec {
 /// output grows as it is produced.
 const PREALLOCATE_AT_MOST: usize = 64 << 20;
 
+/// A chunk that does not decompress to the size it declares (the caller places it at the
+/// chunk's offset).
+#[derive(Debug, thiserror::Error)]
+pub(crate) enum DecompressError {
+    /// The codec refused the bytes.
+    #[error("the {codec} chunk does not decompress: {source}")]
+    Corrupt {
+        /// The codec's name.
+        codec: &'static str,
+        /// What the codec said.
+        source: std::io::Error,
+    },
+    /// The bytes decompress to another size than the chunk declares.
+    #[error(
+        "the {codec} chunk decompresses to {got}{} bytes but declares {declared}",
+        more_than(.got, .declared)
+    )]
+    WrongSize {
+        /// The codec's name.
+        codec: &'static str,
+        /// Bytes it gave (read up to one past the declared size).
+        got: usize,
+        /// Bytes the chunk declares.
+        declared: u64,
+    },
+}
+
+/// `+` after a size read up to one past the declared one: there was more.
+fn more_than(got: &usize, declared: &u64) -> &'static str {
+    if *got as u64 > *declared { "+" } else { "" }
+}
+
 /// Decompresses `data` into exactly `size` bytes.
-pub(crate) fn decompress(codec: Codec, data: &[u8], size: u64) -> Result<Vec<u8>, String> {
+pub(crate) fn decompress(codec: Codec, data: &[u8], size: u64) -> Result<Vec<u8>, DecompressError> {
     let cap = usize::try_from(size)
         .unwrap_or(usize::MAX)
         .min(PREALLOCATE_AT_MOST);
@@ -42,13 +74,16 @@ pub(crate) fn decompress(codec: Codec, data: &[u8], size: u64) -> Result<Vec<u8>
         Codec::Zstd => "zstd",
         Codec::None => "uncompressed",
     };
-    res.map_err(|e| format!("the {name} chunk does not decompress: {e}"))?;
+    res.map_err(|source| DecompressError::Corrupt {
+        codec: name,
+        source,
+    })?;
     if out.len() as u64 != size {
-        return Err(format!(
-            "the {name} chunk decompresses to {}{} bytes but declares {size}",
-            out.len(),
-            if out.len() as u64 > size { "+" } else { "" }
-        ));
+        return Err(DecompressError::WrongSize {
+            codec: name,
+            got: out.len(),
+            declared: size,
+        });
     }
     Ok(out)
 }

@@ -105,4 +105,17 @@ impl Broken {
             message: message.into(),
         }
     }
+
+    /// An error found inside a compressed chunk (ROS bag, MCAP), whose offsets count its
+    /// decompressed bytes, placed at the chunk's own offset in the file (the only offset an
+    /// engineer can find in the file) with the offset inside it in the message.
+    pub(crate) fn inside_chunk(self, chunk_at: u64) -> Broken {
+        Broken::at(
+            chunk_at,
+            format!(
+                "in the chunk starting here, at byte {} of its decompressed records: {}",
+                self.offset, self.message
+            ),
+        )
+    }
 }

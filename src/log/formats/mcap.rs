@@ -147,8 +147,9 @@ impl State {
                     self.orphans += 1;
                     return Ok(());
                 };
-                let bad =
-                    |m: String| Broken::at(data_at, format!("a message on {}: {m}", channel.topic));
+                let bad = |m: ros_msgs::MessageError| {
+                    Broken::at(data_at, format!("a message on {}: {m}", channel.topic))
+                };
                 match channel.kind {
                     Some(Kind::Imu) => {
                         let m = ros_msgs::imu_cdr(payload).map_err(bad)?;
@@ -179,7 +180,8 @@ impl State {
                         ));
                     }
                 };
-                let inner = decompress(codec, compressed, size).map_err(|m| Broken::at(at, m))?;
+                let inner = decompress(codec, compressed, size)
+                    .map_err(|e| Broken::at(at, e.to_string()))?;
                 if crc != 0 && crc32fast::hash(&inner) != crc {
                     return Err(Broken::at(
                         at,
@@ -197,15 +199,7 @@ impl State {
     /// The records of a decompressed chunk; errors are placed at the chunk.
     fn chunk(&mut self, inner: &[u8], chunk_at: u64) -> Result<(), Broken> {
         let mut b = Bytes::new(inner, 0);
-        let inside = |e: Broken| {
-            Broken::at(
-                chunk_at,
-                format!(
-                    "in the chunk starting here, at byte {} of its decompressed records: {}",
-                    e.offset, e.message
-                ),
-            )
-        };
+        let inside = |e: Broken| e.inside_chunk(chunk_at);
         while !b.is_empty() {
             let at = b.offset();
             let op = b.u8("a record opcode").map_err(inside)?;

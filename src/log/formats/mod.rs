@@ -48,7 +48,7 @@ pub use csv::{csv_header, write_csv};
 pub use error::{FormatError, SelectionError};
 pub use recording::{
     AltTemperature, AltTemperatureSummary, Axes, DeviceId, GyroInstance, ImuRecording,
-    InstanceSummary, Problem, RosTime, TempFrom, Timestamps, Values,
+    InstanceSummary, Problem, RosTime, TempFrom, Timestamps, UnknownTempFrom, Values,
 };
 pub use select::{Columns, Selected, select};
 

@@ -265,17 +265,20 @@ impl std::fmt::Display for TempFrom {
     }
 }
 
+/// A temperature source (the `temp_from` setting) written as text that names none.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("unknown temperature source \"{0}\": use own, accel, imu-status or none")]
+pub struct UnknownTempFrom(pub String);
+
 impl std::str::FromStr for TempFrom {
-    type Err = String;
-    fn from_str(s: &str) -> Result<TempFrom, String> {
+    type Err = UnknownTempFrom;
+    fn from_str(s: &str) -> Result<TempFrom, UnknownTempFrom> {
         match s.trim().to_ascii_lowercase().as_str() {
             "own" | "gyro" => Ok(TempFrom::Own),
             "accel" | "accelerometer" => Ok(TempFrom::Accel),
             "imu-status" | "imu_status" | "vehicle_imu_status" => Ok(TempFrom::ImuStatus),
             "none" => Ok(TempFrom::None),
-            other => Err(format!(
-                "unknown temperature source \"{other}\": use own, accel, imu-status or none"
-            )),
+            other => Err(UnknownTempFrom(other.to_string())),
         }
     }
 }

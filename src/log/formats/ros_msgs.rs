@@ -7,6 +7,38 @@
 
 use super::recording::RosTime;
 
+/// Why a message's bytes do not decode, with the byte of the message where it stopped (the
+/// caller adds the message's offset in the file).
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub(crate) enum MessageError {
+    /// The bytes end inside a field.
+    #[error("the message ends at byte {at} of {len} while a field needs {needs} more")]
+    Truncated {
+        /// Byte of the message where the field starts.
+        at: usize,
+        /// The message's length.
+        len: usize,
+        /// Bytes the field needs.
+        needs: usize,
+    },
+    /// A string whose length runs past the message.
+    #[error("a string of {bytes} bytes at byte {at} runs past the message's {len} bytes")]
+    StringPastEnd {
+        /// The length the string declares.
+        bytes: usize,
+        /// Byte of the message where the string starts.
+        at: usize,
+        /// The message's length.
+        len: usize,
+    },
+    /// Fewer than the 4 bytes of a CDR encapsulation header.
+    #[error("the message is shorter than its CDR encapsulation header")]
+    NoEncapsulation,
+    /// An encapsulation other than plain CDR, big- or little-endian.
+    #[error("CDR encapsulation {0:02x} {1:02x} is not plain CDR (00 00 or 00 01)")]
+    NotPlainCdr(u8, u8),
+}
+
 /// The fields of `sensor_msgs/Imu` driftlab keeps.
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) struct Imu {
@@ -59,23 +91,32 @@ impl<'a> Wire<'a> {
         }
     }
 
-    fn take(&mut self, n: usize) -> Result<&'a [u8], String> {
+    fn take(&mut self, n: usize) -> Result<&'a [u8], MessageError> {
         self.align(n.min(8));
         let end = self.pos.checked_add(n).filter(|&e| e <= self.b.len());
         let Some(end) = end else {
-            return Err(format!(
-                "the message ends at byte {} of {} while a field needs {n} more",
-                self.pos,
-                self.b.len()
-            ));
+            return Err(MessageError::Truncated {
+                at: self.pos,
+                len: self.b.len(),
+                needs: n,
+            });
         };
         let s = &self.b[self.pos..end];
         self.pos = end;
         Ok(s)
     }
 
-    fn u32(&mut self) -> Result<u32, String> {
-        let s: [u8; 4] = self.take(4)?.try_into().map_err(|_| "short")?;
+    /// `N` bytes as an array.
+    fn array<const N: usize>(&mut self) -> Result<[u8; N], MessageError> {
+        let at = self.pos;
+        let len = self.b.len();
+        self.take(N)?
+            .try_into()
+            .map_err(|_| MessageError::Truncated { at, len, needs: N })
+    }
+
+    fn u32(&mut self) -> Result<u32, MessageError> {
+        let s: [u8; 4] = self.array()?;
         Ok(if self.big {
             u32::from_be_bytes(s)
         } else {
@@ -83,8 +124,8 @@ impl<'a> Wire<'a> {
         })
     }
 
-    fn f64(&mut self) -> Result<f64, String> {
-        let s: [u8; 8] = self.take(8)?.try_into().map_err(|_| "short")?;
+    fn f64(&mut self) -> Result<f64, MessageError> {
+        let s: [u8; 8] = self.array()?;
         Ok(if self.big {
             f64::from_be_bytes(s)
         } else {
@@ -92,14 +133,14 @@ impl<'a> Wire<'a> {
         })
     }
 
-    fn string(&mut self) -> Result<String, String> {
+    fn string(&mut self) -> Result<String, MessageError> {
         let n = self.u32()? as usize;
         if n > self.b.len() - self.pos {
-            return Err(format!(
-                "a string of {n} bytes at byte {} runs past the message's {} bytes",
-                self.pos,
-                self.b.len()
-            ));
+            return Err(MessageError::StringPastEnd {
+                bytes: n,
+                at: self.pos,
+                len: self.b.len(),
+            });
         }
         let s = &self.b[self.pos..self.pos + n];
         self.pos += n;
@@ -108,7 +149,7 @@ impl<'a> Wire<'a> {
         Ok(String::from_utf8_lossy(s).into_owned())
     }
 
-    fn header(&mut self) -> Result<(RosTime, String), String> {
+    fn header(&mut self) -> Result<(RosTime, String), MessageError> {
         if !self.cdr {
             self.u32()?; // seq
         }
@@ -124,11 +165,11 @@ impl<'a> Wire<'a> {
         Ok((RosTime { sec, nsec }, frame_id))
     }
 
-    fn vec3(&mut self) -> Result<[f64; 3], String> {
+    fn vec3(&mut self) -> Result<[f64; 3], MessageError> {
         Ok([self.f64()?, self.f64()?, self.f64()?])
     }
 
-    fn skip_f64s(&mut self, n: usize) -> Result<(), String> {
+    fn skip_f64s(&mut self, n: usize) -> Result<(), MessageError> {
         for _ in 0..n {
             self.f64()?;
         }
@@ -146,18 +187,14 @@ fn ros1(b: &[u8]) -> Wire<'_> {
     }
 }
 
-fn cdr(b: &[u8]) -> Result<Wire<'_>, String> {
+fn cdr(b: &[u8]) -> Result<Wire<'_>, MessageError> {
     if b.len() < 4 {
-        return Err("the message is shorter than its CDR encapsulation header".into());
+        return Err(MessageError::NoEncapsulation);
     }
     let big = match (b[0], b[1]) {
         (0, 0) => true,
         (0, 1) => false,
-        (x, y) => {
-            return Err(format!(
-                "CDR encapsulation {x:02x} {y:02x} is not plain CDR (00 00 or 00 01)"
-            ));
-        }
+        (x, y) => return Err(MessageError::NotPlainCdr(x, y)),
     };
     Ok(Wire {
         b,
@@ -168,7 +205,7 @@ fn cdr(b: &[u8]) -> Result<Wire<'_>, String> {
     })
 }
 
-fn imu(mut w: Wire<'_>) -> Result<Imu, String> {
+fn imu(mut w: Wire<'_>) -> Result<Imu, MessageError> {
     let (stamp, frame_id) = w.header()?;
     w.skip_f64s(4 + 9)?; // orientation, its covariance
     let angular_velocity = w.vec3()?;
@@ -183,7 +220,7 @@ fn imu(mut w: Wire<'_>) -> Result<Imu, String> {
     })
 }
 
-fn temperature(mut w: Wire<'_>) -> Result<Temperature, String> {
+fn temperature(mut w: Wire<'_>) -> Result<Temperature, MessageError> {
     let (stamp, frame_id) = w.header()?;
     let celsius = w.f64()?;
     w.f64()?; // variance
@@ -195,22 +232,22 @@ fn temperature(mut w: Wire<'_>) -> Result<Temperature, String> {
 }
 
 /// `sensor_msgs/Imu` in the ROS 1 serialization.
-pub(crate) fn imu_ros1(b: &[u8]) -> Result<Imu, String> {
+pub(crate) fn imu_ros1(b: &[u8]) -> Result<Imu, MessageError> {
     imu(ros1(b))
 }
 
 /// `sensor_msgs/msg/Imu` in CDR.
-pub(crate) fn imu_cdr(b: &[u8]) -> Result<Imu, String> {
+pub(crate) fn imu_cdr(b: &[u8]) -> Result<Imu, MessageError> {
     imu(cdr(b)?)
 }
 
 /// `sensor_msgs/Temperature` in the ROS 1 serialization.
-pub(crate) fn temperature_ros1(b: &[u8]) -> Result<Temperature, String> {
+pub(crate) fn temperature_ros1(b: &[u8]) -> Result<Temperature, MessageError> {
     temperature(ros1(b))
 }
 
 /// `sensor_msgs/msg/Temperature` in CDR.
-pub(crate) fn temperature_cdr(b: &[u8]) -> Result<Temperature, String> {
+pub(crate) fn temperature_cdr(b: &[u8]) -> Result<Temperature, MessageError> {
     temperature(cdr(b)?)
 }
 

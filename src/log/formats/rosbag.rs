@@ -163,8 +163,8 @@ pub(crate) fn read(data: &[u8]) -> Result<Read, Broken> {
                     }
                 };
                 let size = r.u32_field("size")?;
-                let inner =
-                    decompress(codec, r.data, u64::from(size)).map_err(|m| Broken::at(r.at, m))?;
+                let inner = decompress(codec, r.data, u64::from(size))
+                    .map_err(|e| Broken::at(r.at, e.to_string()))?;
                 state.chunk(&inner, r.at)?;
             }
             OP_CONNECTION => state.connection(&r)?,
@@ -202,15 +202,7 @@ impl State {
     /// The records of a decompressed chunk; offsets are reported as the chunk's own.
     fn chunk(&mut self, inner: &[u8], chunk_at: u64) -> Result<(), Broken> {
         let mut b = Bytes::new(inner, 0);
-        let inside = |e: Broken| {
-            Broken::at(
-                chunk_at,
-                format!(
-                    "in the chunk starting here, at byte {} of its decompressed records: {}",
-                    e.offset, e.message
-                ),
-            )
-        };
+        let inside = |e: Broken| e.inside_chunk(chunk_at);
         while !b.is_empty() {
             let at = b.offset();
             let r = record(&mut b)
@@ -248,7 +240,8 @@ impl State {
             }
         };
         let topic = c.topic.clone();
-        let bad = |m: String| Broken::at(r.data_at, format!("a message on {topic}: {m}"));
+        let bad =
+            |m: ros_msgs::MessageError| Broken::at(r.data_at, format!("a message on {topic}: {m}"));
         match kind {
             Kind::Imu => {
                 let m = ros_msgs::imu_ros1(r.data).map_err(bad)?;

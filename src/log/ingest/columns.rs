@@ -104,8 +104,42 @@ impl Plan {
     }
 }
 
+/// A column named in the options that the header cannot give; the caller places it at the
+/// header line.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+enum NoSuchColumn {
+    /// A column number past the last column.
+    #[error(
+        "{role} column {index} does not exist: columns are numbered from 1 and the file has \
+         {count}: {listing}"
+    )]
+    Number {
+        role: String,
+        index: usize,
+        count: usize,
+        listing: String,
+    },
+    /// A name that several columns have.
+    #[error(
+        "{count} columns are named \"{name}\" ({numbers}): give the {role} column by its number"
+    )]
+    Ambiguous {
+        role: String,
+        name: String,
+        count: usize,
+        numbers: String,
+    },
+    /// A name no column has.
+    #[error("no {role} column named \"{name}\" in the file; its columns are: {listing}")]
+    Name {
+        role: String,
+        name: String,
+        listing: String,
+    },
+}
+
 /// Finds an explicitly named or numbered column.
-fn find_column(r: &ColumnRef, names: &[String], role: &str) -> Result<usize, String> {
+fn find_column(r: &ColumnRef, names: &[String], role: &str) -> Result<usize, NoSuchColumn> {
     let list = || {
         names
             .iter()
@@ -118,12 +152,12 @@ fn find_column(r: &ColumnRef, names: &[String], role: &str) -> Result<usize, Str
             if *i >= 1 && *i <= names.len() {
                 Ok(i - 1)
             } else {
-                Err(format!(
-                    "{role} column {i} does not exist: columns are numbered from 1 and the file \
-                     has {}: {}",
-                    names.len(),
-                    list()
-                ))
+                Err(NoSuchColumn::Number {
+                    role: role.to_string(),
+                    index: *i,
+                    count: names.len(),
+                    listing: list(),
+                })
             }
         }
         ColumnRef::Name(n) => {
@@ -141,15 +175,16 @@ fn find_column(r: &ColumnRef, names: &[String], role: &str) -> Result<usize, Str
                 exact = matching(&|c| c.to_lowercase() == want.to_lowercase());
             }
             if exact.len() > 1 {
-                return Err(format!(
-                    "{} columns are named \"{want}\" ({}): give the {role} column by its number",
-                    exact.len(),
-                    exact
+                return Err(NoSuchColumn::Ambiguous {
+                    role: role.to_string(),
+                    name: want.to_string(),
+                    count: exact.len(),
+                    numbers: exact
                         .iter()
                         .map(|j| (j + 1).to_string())
                         .collect::<Vec<_>>()
-                        .join(", ")
-                ));
+                        .join(", "),
+                });
             }
             exact
                 .first()
@@ -164,11 +199,10 @@ fn find_column(r: &ColumnRef, names: &[String], role: &str) -> Result<usize, Str
                     let i: usize = want.parse().ok()?;
                     (i >= 1 && i <= names.len()).then(|| i - 1)
                 })
-                .ok_or_else(|| {
-                    format!(
-                        "no {role} column named \"{want}\" in the file; its columns are: {}",
-                        list()
-                    )
+                .ok_or_else(|| NoSuchColumn::Name {
+                    role: role.to_string(),
+                    name: want.to_string(),
+                    listing: list(),
                 })
         }
     }
@@ -199,7 +233,8 @@ pub(crate) fn plan(sn: &Sniffed, opts: &ReadOptions) -> Result<Plan, Fail> {
             match r {
                 None => Ok(None),
                 Some(r) => {
-                    let j = find_column(r, &sn.names, role).map_err(at_header)?;
+                    let j =
+                        find_column(r, &sn.names, role).map_err(|e| at_header(e.to_string()))?;
                     if used[j] {
                         return Err(at_header(format!(
                             "column {} (\"{}\") is mapped to two roles",

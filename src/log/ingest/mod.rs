@@ -1,4 +1,9 @@
-//! Reading test-stand logs into a [`Log`].
+//! The CSV reader: test-stand logs in any CSV dialect into a [`Log`].
+//!
+//! It reads CSV only. The drone and robot logs (PX4 ULog, ArduPilot DataFlash, ROS bag, MCAP)
+//! are read by [`super::formats`], and [`crate::log::read::read_any`] is the reader of every
+//! format: it tells them apart by their first bytes and calls this module for a CSV. The
+//! crate's `driftlab::read_path` is this module's [`read_path`], the CSV reader.
 //!
 //! Thermal-chamber stands write CSV in many dialects: comma, semicolon, tab or aligned
 //! columns; decimal points or (Russian and European stands) decimal commas; with or without
@@ -59,6 +64,7 @@
 mod checks;
 mod columns;
 pub(crate) mod names;
+mod option_error;
 mod parse;
 mod plausible;
 mod read;
@@ -66,11 +72,13 @@ mod series;
 mod sniff;
 mod units;
 
+pub use option_error::OptionError;
 pub use series::{RateSeries, read_rate_series};
 
 use std::io::Read;
 use std::path::PathBuf;
 pub use units::{RateUnit, TimeUnit};
+pub(crate) use units::{rate_factor_to_dph, temp_to_celsius};
 
 use crate::log::{ColumnInfo, Log};
 use serde::{Deserialize, Serialize};
@@ -155,12 +163,12 @@ pub enum ColumnRef {
 }
 
 impl FromStr for ColumnRef {
-    type Err = String;
+    type Err = OptionError;
     /// `"3"` is the third column; anything else a name.
-    fn from_str(s: &str) -> Result<Self, String> {
+    fn from_str(s: &str) -> Result<Self, OptionError> {
         let t = s.trim();
         if t.is_empty() {
-            return Err("empty column reference: give a column name or a 1-based number".into());
+            return Err(OptionError::EmptyColumn);
         }
         Ok(match t.parse::<usize>() {
             Ok(i) => ColumnRef::Index(i),
@@ -236,7 +244,7 @@ pub fn names_an_accelerometer(name: &str) -> bool {
 ///
 /// # Errors
 /// Anything else, with a message listing what is accepted.
-pub fn parse_delimiter(s: &str) -> Result<u8, String> {
+pub fn parse_delimiter(s: &str) -> Result<u8, OptionError> {
     match s {
         "\\t" | "\t" => return Ok(b'\t'),
         " " => return Ok(b' '),
@@ -250,10 +258,7 @@ pub fn parse_delimiter(s: &str) -> Result<u8, String> {
         t if t.len() == 1 && t.is_ascii() && !matches!(t, "\"" | "\n" | "\r" | "#") => {
             Ok(t.as_bytes()[0])
         }
-        _ => Err(format!(
-            "unknown delimiter \"{s}\": use a single character such as , or ;, \\t (tab) or \
-             space (runs of blanks)"
-        )),
+        _ => Err(OptionError::Delimiter(s.to_string())),
     }
 }
 
@@ -421,7 +426,8 @@ impl Input {
     }
 }
 
-/// Reads a log file.
+/// Reads a CSV log file (a drone or robot log is read by
+/// [`read_any`](crate::log::read::read_any), which reads every format).
 ///
 /// # Errors
 /// An unreadable file or cell, with file, line and column; see the module documentation.

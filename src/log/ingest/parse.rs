@@ -55,6 +55,22 @@ const POW10: [f64; 23] = [
 /// correctly rounded, so the result is bit-identical to `fast_float2`. Anything else
 /// (exponents, long mantissas, `inf`, `nan`, no digits) gives `None` and the caller falls
 /// back to `fast_float2`.
+/// The decimal digits of `s` from `*i` on appended to the mantissa `m` (wrapping: the caller
+/// refuses more than 19 digits), `*i` left on the first byte that is not a digit. The integer
+/// part and the fraction of [`parse_plain`] are read alike.
+#[inline(always)]
+fn digits_into(s: &[u8], i: &mut usize, mut m: u64) -> u64 {
+    while let Some(&c) = s.get(*i) {
+        let d = c.wrapping_sub(b'0');
+        if d > 9 {
+            break;
+        }
+        m = m.wrapping_mul(10).wrapping_add(u64::from(d));
+        *i += 1;
+    }
+    m
+}
+
 #[inline(always)]
 pub(crate) fn parse_plain(s: &[u8], comma: bool) -> Option<(f64, usize)> {
     let (neg, mut i) = match s.first() {
@@ -62,16 +78,8 @@ pub(crate) fn parse_plain(s: &[u8], comma: bool) -> Option<(f64, usize)> {
         Some(b'+') => (false, 1),
         _ => (false, 0),
     };
-    let mut m: u64 = 0;
     let int_start = i;
-    while let Some(&c) = s.get(i) {
-        let d = c.wrapping_sub(b'0');
-        if d > 9 {
-            break;
-        }
-        m = m.wrapping_mul(10).wrapping_add(u64::from(d));
-        i += 1;
-    }
+    let mut m = digits_into(s, &mut i, 0);
     let mut digits = i - int_start;
     let mut frac = 0;
     if let Some(&c) = s.get(i)
@@ -79,14 +87,7 @@ pub(crate) fn parse_plain(s: &[u8], comma: bool) -> Option<(f64, usize)> {
     {
         i += 1;
         let frac_start = i;
-        while let Some(&c) = s.get(i) {
-            let d = c.wrapping_sub(b'0');
-            if d > 9 {
-                break;
-            }
-            m = m.wrapping_mul(10).wrapping_add(u64::from(d));
-            i += 1;
-        }
+        m = digits_into(s, &mut i, m);
         frac = i - frac_start;
         digits += frac;
     }

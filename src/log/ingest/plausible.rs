@@ -1,17 +1,17 @@
-//! Whether the columns taken for a role hold what that role means: a temperature in °C
-//! between −100 and +200 (and never below absolute zero), not a raw register counting in
-//! thousands; a rate below 10⁴ °/s. A column that fails is reported with the column, what is
+//! Whether the columns taken for a role hold what that role means, over the whole file: a
+//! temperature in the range [`PLAUSIBLE_TEMP_C`] (and never below absolute zero), not a raw
+//! register counting in thousands; a rate within
+//! [`MAX_PLAUSIBLE_RATE_DPH`](crate::log::mapping_check::MAX_PLAUSIBLE_RATE_DPH) (10⁴ °/s). The
+//! limits are the one rule set of [`crate::log::mapping_check`], which judges the first rows
+//! of a preview by the same rules. A column that fails is reported with the column, what is
 //! wrong, a better candidate when the file has one, and the option that chooses it. Silent
 //! acceptance of a register as a temperature gives a calibration that means nothing.
 
 use super::names::is_raw_register;
+use crate::log::mapping_check::{
+    PLAUSIBLE_TEMP_C, is_plausible_rate_dph, is_plausible_temp_c, is_temp_unit,
+};
 use crate::log::{ColumnRole, Log, Problem, ProblemKind};
-
-/// The temperatures a thermal chamber reaches, °C.
-const TEMP_RANGE_C: (f64, f64) = (-100.0, 200.0);
-
-/// The fastest rate a gyro on a test stand plausibly reads, °/h (10⁴ °/s).
-const MAX_RATE_DPH: f64 = 1e4 * 3600.0;
 
 /// Range of the finite values, and whether they are all whole numbers.
 fn survey(x: &[f64]) -> Option<(f64, f64, bool)> {
@@ -46,13 +46,13 @@ fn temperature_doubt(name: &str, x: &[f64]) -> Option<String> {
             crate::number::readable(lo)
         ));
     }
-    if lo < TEMP_RANGE_C.0 || hi > TEMP_RANGE_C.1 {
+    if !(is_plausible_temp_c(lo) && is_plausible_temp_c(hi)) {
         return Some(format!(
             "spans {} … {} °C, outside the {} … {} °C a chamber reaches",
             crate::number::readable(lo),
             crate::number::readable(hi),
-            TEMP_RANGE_C.0,
-            TEMP_RANGE_C.1
+            PLAUSIBLE_TEMP_C.0,
+            PLAUSIBLE_TEMP_C.1
         ));
     }
     if whole && hi - lo >= 1000.0 {
@@ -129,7 +129,7 @@ pub(super) fn check(log: &Log) -> Vec<Problem> {
                     .info
                     .columns
                     .iter()
-                    .any(|ci| ci.name == x.name && ci.unit.contains('C'));
+                    .any(|ci| ci.name == x.name && is_temp_unit(&ci.unit));
                 named_temp && temperature_doubt(&x.name, &x.values).is_none()
             })
             .map(|x| x.name.clone());
@@ -149,7 +149,7 @@ pub(super) fn check(log: &Log) -> Vec<Problem> {
     }
     if let Some(c) = column(ColumnRole::Rate)
         && let Some((lo, hi, _)) = survey(&log.omega_dph)
-        && lo.abs().max(hi.abs()) > MAX_RATE_DPH
+        && !(is_plausible_rate_dph(lo) && is_plausible_rate_dph(hi))
     {
         out.push(Problem {
             line: 0,

@@ -1,4 +1,5 @@
-//! The reading pipeline: head → sniff → plan → blocks parsed in parallel → checks → `Log`.
+//! The CSV reading pipeline: head → sniff → plan → blocks parsed in parallel → checks → `Log`
+//! (not to be confused with `log/read.rs`, which chooses the reader of a file's format).
 //!
 //! Memory stays near the size of the result: the file is read in blocks of
 //! [`BLOCK_BYTES`] cut at the last line end; three batches of blocks are in flight at a time

@@ -3,6 +3,7 @@
 //! Spellings are compared through [`unit_key`], which drops case, blanks and punctuation and
 //! turns every degree sign into `deg`, so that `°/h`, `deg/h`, `Deg_H` and `deg h` are one key.
 
+use super::OptionError;
 use serde::{Deserialize, Serialize};
 use std::fmt;
 use std::str::FromStr;
@@ -70,20 +71,15 @@ impl fmt::Display for RateUnit {
 }
 
 impl FromStr for RateUnit {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
-        RateUnit::from_key(&unit_key(s)).ok_or_else(|| {
-            format!(
-                "unknown rate unit \"{}\": use deg/h (dph), deg/s (dps), mdeg/s (mdps) or rad/s",
-                s.trim()
-            )
-        })
+    type Err = OptionError;
+    fn from_str(s: &str) -> Result<Self, OptionError> {
+        RateUnit::from_key(&unit_key(s)).ok_or_else(|| OptionError::RateUnit(s.trim().into()))
     }
 }
 
 impl TryFrom<String> for RateUnit {
-    type Error = String;
-    fn try_from(s: String) -> Result<Self, String> {
+    type Error = OptionError;
+    fn try_from(s: String) -> Result<Self, OptionError> {
         s.parse()
     }
 }
@@ -165,20 +161,15 @@ impl fmt::Display for TimeUnit {
 }
 
 impl FromStr for TimeUnit {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
-        TimeUnit::from_key(&unit_key(s)).ok_or_else(|| {
-            format!(
-                "unknown time unit \"{}\": use s, ms, us, ns, min, h or samples",
-                s.trim()
-            )
-        })
+    type Err = OptionError;
+    fn from_str(s: &str) -> Result<Self, OptionError> {
+        TimeUnit::from_key(&unit_key(s)).ok_or_else(|| OptionError::TimeUnit(s.trim().into()))
     }
 }
 
 impl TryFrom<String> for TimeUnit {
-    type Error = String;
-    fn try_from(s: String) -> Result<Self, String> {
+    type Error = OptionError;
+    fn try_from(s: String) -> Result<Self, OptionError> {
         s.parse()
     }
 }
@@ -227,6 +218,18 @@ impl fmt::Display for TempUnit {
             TempUnit::Fahrenheit => "°F",
         })
     }
+}
+
+/// The factor to °/h of a rate column whose unit the reader recorded as `unit` (any spelling
+/// [`RateUnit`] reads, `mdeg/s` included), `None` when `unit` is no rate unit.
+pub(crate) fn rate_factor_to_dph(unit: &str) -> Option<f64> {
+    RateUnit::from_key(&unit_key(unit)).map(RateUnit::to_dph_factor)
+}
+
+/// `(scale, offset)` with °C = value · scale + offset for a temperature column whose unit the
+/// reader recorded as `unit`, `None` when `unit` is no temperature unit.
+pub(crate) fn temp_to_celsius(unit: &str) -> Option<(f64, f64)> {
+    TempUnit::from_key(&unit_key(unit)).map(TempUnit::to_celsius)
 }
 
 /// A spelling-independent form of a unit: lower case, no blanks or punctuation, every degree
