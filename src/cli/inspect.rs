@@ -7,7 +7,8 @@ use driftlab::log::formats::{self, InstanceSummary};
 use driftlab::log::ingest::Input;
 use driftlab::log::read::{self, TempFrom};
 use driftlab::models::recipe::Recipe;
-use driftlab::models::vakhrameev::{self, Prepared};
+use driftlab::models::vakhrameev::Prepared;
+use driftlab::signal::plateau;
 use std::path::PathBuf;
 
 /// Arguments of `inspect`.
@@ -136,8 +137,9 @@ pub fn run(a: Args) -> Result<(), CliError> {
     };
     let recipe = Recipe::default();
     let prepared = Prepared::new(&log, &recipe);
-    let ranges = vakhrameev::plateau_ranges(&log, &prepared, &recipe);
-    let plateaus = vakhrameev::plateau_stats(&log, &ranges);
+    let d = &prepared.deriv;
+    let ranges = plateau::ranges(&recipe.plateaus, &log.time_s, &d.tdot, &d.ready);
+    let plateaus = plateau::stats_of(&log.time_s, &log.temp_c, &log.omega_dph, &ranges);
     let (tmin, tmax) = log
         .temp_c
         .iter()

@@ -53,7 +53,7 @@ use crate::models::recipe::{PlateauChoice, Recipe, Weighting};
 use crate::models::vakhrameev::{
     self, Calibration, PointSet, Prepared, Regime, SetInputs, SetSamples,
 };
-use crate::signal::plateau::{PlateauRange, PlateauStats};
+use crate::signal::plateau::{self, PlateauRange, PlateauStats};
 use crate::signal::{self, DerivativeSteps, Derivatives};
 use cache::*;
 use correction::CorrectionBuf;
@@ -306,13 +306,7 @@ impl Pipeline {
             )?;
             self.checked = Some(checked);
         }
-        if log.len() < 16 {
-            return Err(Error::Fit(format!(
-                "{}: {} samples are too few to calibrate",
-                log.source,
-                log.len()
-            )));
-        }
+        vakhrameev::check_sample_count(log)?;
 
         let t = Instant::now();
         let (prepared, reused) = self.prepared(log, recipe);
@@ -329,8 +323,8 @@ impl Pipeline {
             deadband_tddot: recipe.deadband_tddot,
         };
         if self.plateaus.as_ref().is_none_or(|s| s.key != pkey) {
-            let stats = vakhrameev::plateau_stats(log, &ranges);
-            let mask = vakhrameev::plateau_mask(&log.time_s, &ranges);
+            let stats = plateau::stats_of(&log.time_s, &log.temp_c, &log.omega_dph, &ranges);
+            let mask = plateau::mask(&log.time_s, &ranges);
             let deadbands = vakhrameev::deadbands(&prepared, &mask, recipe);
             self.plateaus = Some(PlateauStage {
                 key: pkey.clone(),

@@ -314,7 +314,7 @@ fn build_regression(
     };
     finish(out_dir, logs, opts, pieces, |_, path, log| {
         let correction = m.correct(log).map_err(|e| match e {
-            Error::Fit(msg) => Error::Fit(format!("{}: {msg}", path.display())),
+            Error::Fit(e) => Error::Fit(e.on_file(path)),
             other => other,
         })?;
         Ok((correction, Vec::new()))

@@ -4,16 +4,17 @@
 //! with one temperature processing).
 
 use super::sets::{SetFit, fit_set, into_rest};
-use super::stages::{deadbands, fit_k0, plateau_mask, plateau_ranges, plateau_stats};
+use super::stages::{deadbands, fit_k0};
 use super::{
     Calibration, PointSet, Prepared, Regime, SetInputs, SetSamples, rest_dph, set_samples,
 };
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::log::Log;
 use crate::models::approx::Approx;
 use crate::models::recipe::{CheckedRecipe, Recipe};
+use crate::models::{FitError, MIN_SAMPLES};
 use crate::signal::Derivatives;
-use crate::signal::plateau::{PlateauRange, PlateauStats};
+use crate::signal::plateau::{self, PlateauRange, PlateauStats};
 
 /// A calibration with every intermediate the stages produced.
 #[derive(Debug, Clone)]
@@ -44,20 +45,27 @@ pub fn fit(log: &Log, recipe: &CheckedRecipe) -> Result<Fit> {
 
 fn check_fittable(log: &Log, recipe: &Recipe) -> Result<()> {
     recipe.check_against(log)?;
-    if log.len() < 16 {
-        return Err(Error::Fit(format!(
-            "{}: {} samples are too few to calibrate",
-            log.source,
-            log.len()
-        )));
+    check_sample_count(log)
+}
+
+/// Refuses a log with fewer than [`MIN_SAMPLES`] samples, or more than a calibration's `u32`
+/// sample indices can count.
+pub(crate) fn check_sample_count(log: &Log) -> Result<()> {
+    if log.len() < MIN_SAMPLES {
+        return Err(FitError::TooFewSamples {
+            log: log.source.clone(),
+            count: log.len(),
+            minimum: MIN_SAMPLES,
+        }
+        .into());
     }
     if log.len() > u32::MAX as usize {
-        return Err(Error::Fit(format!(
-            "{}: {} samples are more than the {} one calibration can take",
-            log.source,
-            log.len(),
-            u32::MAX
-        )));
+        return Err(FitError::TooManySamples {
+            log: log.source.clone(),
+            count: log.len(),
+            maximum: u32::MAX as usize,
+        }
+        .into());
     }
     Ok(())
 }
@@ -80,7 +88,7 @@ fn stage(
     let mut warnings = Vec::new();
     let plateaus = plateau_stats(log, ranges);
     let k0 = fit_k0(&plateaus, &recipe.k0, &mut warnings)?;
-    let mask = plateau_mask(&log.time_s, ranges);
+    let mask = plateau::mask(&log.time_s, ranges);
     let deadbands = deadbands(prepared, &mask, recipe);
     let samples = set_samples(&prepared.deriv, &mask, deadbands);
     Ok(Staged {
@@ -372,7 +380,7 @@ impl SharedTemperature {
         let sets = match self.sets.take() {
             Some(sets) if sets.key == key => sets,
             _ => {
-                let mask = plateau_mask(&log.time_s, &self.ranges);
+                let mask = plateau::mask(&log.time_s, &self.ranges);
                 let deadbands = deadbands(p, &mask, recipe);
                 let samples = set_samples(&p.deriv, &mask, deadbands);
                 SetsOfSamples {
@@ -386,4 +394,15 @@ impl SharedTemperature {
         self.sets = Some(sets);
         Ok(fitted)
     }
+}
+
+/// The plateau ranges the recipe asks for on `log`, found from the prepared Ṫ.
+fn plateau_ranges(log: &Log, prepared: &Prepared, recipe: &Recipe) -> Vec<PlateauRange> {
+    let d = &prepared.deriv;
+    plateau::ranges(&recipe.plateaus, &log.time_s, &d.tdot, &d.ready)
+}
+
+/// The K0 points: each plateau's statistics over `log`.
+fn plateau_stats(log: &Log, ranges: &[PlateauRange]) -> Vec<PlateauStats> {
+    plateau::stats_of(&log.time_s, &log.temp_c, &log.omega_dph, ranges)
 }

@@ -2,7 +2,7 @@
 //! (docs/method.md §1), as a pipeline of small stages that the workbench can re-run one at a time:
 //!
 //! 1. [`Prepared::new`]: Ω filtered (centred), T smoothed (causal) and differentiated.
-//! 2. Plateaus ([`plateau_ranges`]) and their statistics give the K0 points.
+//! 2. Plateaus ([`crate::signal::plateau`]: ranges, mask, statistics) give the K0 points.
 //! 3. Pointwise K1, `(Ω − K0(T)) / Ṫ` on the + and − sets, outside plateaus and the Ṫ
 //!    dead-band.
 //! 4. Pointwise K2, `(Ω − K0(T) − K1(Ṫ)·Ṫ) / T̈` with the *fitted* K1, outside the T̈
@@ -12,7 +12,7 @@
 //! change of one approximation refits only that approximation (and K2 after K1).
 //!
 //! This file holds the calibration and the signals it is fitted from; `stages` the stages
-//! before the sets (plateaus, K0, dead-bands); `sets` the + and − sets, their pointwise
+//! between the plateaus and the sets (K0, dead-bands); `sets` the + and − sets, their pointwise
 //! coefficients and the fits over them; `fit` the pipelines that run them, for one axis or for
 //! every axis of a unit with one temperature processing ([`SharedTemperature`]).
 
@@ -21,11 +21,9 @@ mod fit;
 mod sets;
 mod stages;
 
+pub(crate) use fit::check_sample_count;
 pub use fit::{Calibrated, Fit, SharedTemperature, fit, fit_lean, fit_prepared};
-pub use stages::{
-    deadbands, fit_k0, fit_or_fallback, fit_or_fallback_weighted, plateau_mask, plateau_ranges,
-    plateau_stats,
-};
+pub use stages::{deadbands, fit_k0, fit_or_fallback, fit_or_fallback_weighted};
 
 // The sets are the model's inner stage; the workbench's live refit (`crate::live`) reruns them
 // one at a time, nothing outside the crate sees them.

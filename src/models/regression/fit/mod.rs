@@ -23,7 +23,8 @@ use super::{
 };
 use crate::error::{Error, Result};
 use crate::log::Log;
-use crate::models::recipe::PlateauChoice;
+use crate::models::FitError;
+use crate::signal::plateau;
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicBool, AtomicUsize};
 
@@ -65,11 +66,9 @@ pub fn fit_with_progress(
             .temp2
             .clone()
             .or_else(|| guess_temp2(log))
-            .ok_or_else(|| {
-                Error::Fit(format!(
-                    "{}: model {} needs a second temperature channel (dT) and the log has none",
-                    log.source, spec.name
-                ))
+            .ok_or_else(|| FitError::NoSecondTemperature {
+                log: log.source.clone(),
+                model: spec.name.clone(),
             })?;
         Some(name)
     } else {
@@ -79,39 +78,28 @@ pub fn fit_with_progress(
     let p = terms::column_names(&spec.terms).len();
     let n = s.len();
     if s.ready_count() < 2 * p + 2 {
-        return Err(Error::Fit(format!(
-            "{}: {n} samples are too few for model {} ({p} coefficients)",
-            log.source, spec.name
-        )));
+        return Err(FitError::TooFewForModel {
+            log: log.source.clone(),
+            count: n,
+            model: spec.name.clone(),
+            coefficients: p,
+        }
+        .into());
     }
     let stride = s.ready_count().div_ceil(SEARCH_SAMPLES).max(1);
     let stages = stages(spec);
     // The plateaus, when a stage needs them: the engineer's ranges, or found by the detector
     // (with the recipe's options) on T as measured, where the chamber held.
     let plateau: Vec<bool> = if stages.iter().any(|st| st.on_plateaus) {
-        let ranges = match &spec.plateaus {
-            // Within each segment's samples with full history: no plateau spans a gap.
-            PlateauChoice::Auto(opts) => s
-                .ready
-                .iter()
-                .flat_map(|r| {
-                    crate::signal::plateau::detect(
-                        &log.time_s[r.clone()],
-                        &s.tdot[r.clone()],
-                        0,
-                        opts,
-                    )
-                })
-                .collect(),
-            PlateauChoice::Manual { ranges } => ranges.clone(),
-        };
+        let ranges = plateau::ranges(&spec.plateaus, &log.time_s, &s.tdot, &s.ready);
         if ranges.is_empty() {
-            return Err(Error::Fit(format!(
-                "{}: model {} is fitted on plateaus and the log has none",
-                log.source, spec.name
-            )));
+            return Err(FitError::NoPlateaus {
+                log: log.source.clone(),
+                model: spec.name.clone(),
+            }
+            .into());
         }
-        crate::models::vakhrameev::plateau_mask(&log.time_s, &ranges)
+        plateau::mask(&log.time_s, &ranges)
     } else {
         vec![true; n]
     };
@@ -190,7 +178,10 @@ pub fn fit_with_progress(
         Some(_) => Signals::of(log, spec, temp2.as_deref(), lag)?,
         None => s,
     };
-    let t_knots = t_knots_of(spec, &s).map_err(|e| Error::Fit(format!("{}: {e}", log.source)))?;
+    let t_knots = t_knots_of(spec, &s).ok_or_else(|| FitError::FlatTemperature {
+        log: log.source.clone(),
+        model: spec.name.clone(),
+    })?;
     // Searches run on at most SEARCH_SAMPLES evenly spread samples.
     let sub = || s.ready_samples().step_by(stride);
     let has_selfheat = spec.terms.contains(&Term::SelfHeating);
@@ -306,11 +297,11 @@ pub fn fit_with_progress(
         delay: &delay,
     };
     let sol = solve_stages(&s, &design, &stages, &plateau, |_| s.ready_samples()).map_err(
-        |(used, p)| {
-            Error::Fit(format!(
-                "{}: model {} could not be fitted ({used} usable samples for {p} coefficients)",
-                log.source, spec.name
-            ))
+        |(used, coefficients)| FitError::Unsolvable {
+            log: log.source.clone(),
+            model: spec.name.clone(),
+            used,
+            coefficients,
         },
     )?;
     let mut model = RegressionModel {
@@ -335,13 +326,14 @@ pub fn fit_with_progress(
     Ok(model)
 }
 
-/// Knots of a `pwlT` term over the range of T (none when the model has no such term).
-fn t_knots_of(spec: &RegressionSpec, s: &Signals) -> std::result::Result<Vec<f64>, String> {
+/// Knots of a `pwlT` term over the range of T (none when the model has no such term); `None`
+/// when T does not vary, so no knots can be spread over it.
+fn t_knots_of(spec: &RegressionSpec, s: &Signals) -> Option<Vec<f64>> {
     let Some(k) = spec.terms.iter().find_map(|t| match t {
         Term::PwlT { knots } => Some(*knots),
         _ => None,
     }) else {
-        return Ok(Vec::new());
+        return Some(Vec::new());
     };
     let (lo, hi) = s
         .ready_samples()
@@ -351,10 +343,7 @@ fn t_knots_of(spec: &RegressionSpec, s: &Signals) -> std::result::Result<Vec<f64
             (a.min(v), b.max(v))
         });
     if hi <= lo || hi.is_nan() {
-        return Err(format!(
-            "T does not vary, so model {} cannot be fitted over it",
-            spec.name
-        ));
+        return None;
     }
-    Ok(search::grid(lo, hi, k, false))
+    Some(search::grid(lo, hi, k, false))
 }
