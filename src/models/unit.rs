@@ -3,7 +3,7 @@
 //!
 //! The axes share the housing and its temperature, so they share everything a calibration
 //! takes from T: one smoothing, one pair of derivatives, one set of plateaus
-//! ([`vakhrameev::SharedTemperature`]). What an axis answers to that field is its own: its
+//! ([`vakhrameev::Pipeline`]). What an axis answers to that field is its own: its
 //! model, its approximations and knots, its dead-bands, its K0 points (its own Ω averaged over
 //! the shared plateaus). [`calibrate_unit`] reads the log once and differentiates T once for
 //! every Vakhrameev axis; a regression axis is fitted on its own, its signals being the model's.
@@ -260,7 +260,7 @@ fn calibrate_axes(
     let mut shared = match plans.iter().find(|p| p.choice.is_vakhrameev()) {
         Some(p) => {
             check_span(log, &p.choice)?;
-            Some(vakhrameev::SharedTemperature::new(log, &p.recipe)?)
+            Some(vakhrameev::Pipeline::new(log, &p.recipe)?)
         }
         None => None,
     };

@@ -215,22 +215,33 @@ pub fn fit_with_progress(
         lambda = c.best;
         searches.push(c);
     }
+    // Whether sample `i` lies in the band `[lo, hi)` of T (`[lo, hi]` for the last band).
+    let in_band = |i: &usize, (lo, hi, last): (f64, f64, bool)| {
+        let t = s.temp[*i];
+        t >= lo && (t < hi || last)
+    };
+    // The cost of a constant delay τ with λ as found, over the searched samples (those of one
+    // band of T, when one is given; a plateau stage keeps every plateau: a band may hold only
+    // one).
+    let delay_cost = |tau: f64, band: Option<(f64, f64, bool)>| {
+        if !budget.tick() {
+            return f64::INFINITY;
+        }
+        let d = Delay::constant(tau);
+        let design = Design {
+            terms: &spec.terms,
+            lambda,
+            t_knots: &t_knots,
+            delay: &d,
+        };
+        cost(&s, &design, &stages, &plateau, |on_plateaus| {
+            sub().filter(move |i| on_plateaus || band.is_none_or(|b| in_band(i, b)))
+        })
+    };
     match spec.delay {
         DelaySpec::Search { max_s } => {
             let g = search::grid(0.0, max_s, 31, false);
-            let c = search::minimize("delay_s", &g, false, |tau| {
-                if !budget.tick() {
-                    return f64::INFINITY;
-                }
-                let d = Delay::constant(tau);
-                let design = Design {
-                    terms: &spec.terms,
-                    lambda,
-                    t_knots: &t_knots,
-                    delay: &d,
-                };
-                cost(&s, &design, &stages, &plateau, |_| sub())
-            });
+            let c = search::minimize("delay_s", &g, false, |tau| delay_cost(tau, None));
             delay = Delay::constant(c.best);
             searches.push(c);
         }
@@ -246,32 +257,23 @@ pub fn fit_with_progress(
             let g = search::grid(0.0, max_s, 31, false);
             let mut points = Vec::new();
             for b in 0..bands {
-                let (blo, bhi) = (lo + b as f64 * width, lo + (b + 1) as f64 * width);
-                let in_band = |i: &usize| {
-                    let t = s.temp[*i];
-                    t >= blo && (t < bhi || b + 1 == bands)
-                };
-                let count = sub().filter(in_band).count();
+                let band = (
+                    lo + b as f64 * width,
+                    lo + (b + 1) as f64 * width,
+                    b + 1 == bands,
+                );
+                let count = sub().filter(|i| in_band(i, band)).count();
                 if count < 20 * p.max(1) {
                     continue;
                 }
-                let centre = sub().filter(in_band).map(|i| s.temp[i]).sum::<f64>() / count as f64;
+                let centre = sub()
+                    .filter(|i| in_band(i, band))
+                    .map(|i| s.temp[i])
+                    .sum::<f64>()
+                    / count as f64;
                 let c =
                     search::minimize(&format!("delay_s at {centre:.1} degC"), &g, false, |tau| {
-                        if !budget.tick() {
-                            return f64::INFINITY;
-                        }
-                        let d = Delay::constant(tau);
-                        let design = Design {
-                            terms: &spec.terms,
-                            lambda,
-                            t_knots: &t_knots,
-                            delay: &d,
-                        };
-                        // Plateau stages keep every plateau: a band may hold only one.
-                        cost(&s, &design, &stages, &plateau, |on_plateaus| {
-                            sub().filter(move |i| on_plateaus || in_band(i))
-                        })
+                        delay_cost(tau, Some(band))
                     });
                 points.push([centre, c.best]);
                 searches.push(c);
