@@ -246,13 +246,7 @@ pub fn fit_with_progress(
             searches.push(c);
         }
         DelaySpec::Bands { bands, max_s } => {
-            let (lo, hi) = s
-                .ready_samples()
-                .map(|i| s.temp[i])
-                .filter(|v| v.is_finite())
-                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
-                    (a.min(v), b.max(v))
-                });
+            let (lo, hi) = temp_range(&s);
             let width = (hi - lo) / bands as f64;
             let g = search::grid(0.0, max_s, 31, false);
             let mut points = Vec::new();
@@ -337,15 +331,20 @@ fn t_knots_of(spec: &RegressionSpec, s: &Signals) -> Option<Vec<f64>> {
     }) else {
         return Some(Vec::new());
     };
-    let (lo, hi) = s
-        .ready_samples()
-        .map(|i| s.temp[i])
-        .filter(|v| v.is_finite())
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
-            (a.min(v), b.max(v))
-        });
+    let (lo, hi) = temp_range(s);
     if hi <= lo || hi.is_nan() {
         return None;
     }
     Some(search::grid(lo, hi, k, false))
+}
+
+/// The lowest and highest finite T over the samples with full history (∞ and −∞ when there
+/// is none).
+fn temp_range(s: &Signals) -> (f64, f64) {
+    s.ready_samples()
+        .map(|i| s.temp[i])
+        .filter(|v| v.is_finite())
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+            (a.min(v), b.max(v))
+        })
 }
