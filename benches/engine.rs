@@ -108,7 +108,7 @@ impl Live {
     fn new(log: Log) -> Live {
         let fit = vakhrameev::fit(&log, &driftlab::models::CheckedRecipe::default()).expect("fit");
         let ranges: Vec<PlateauRange> = fit.calibration.plateaus.iter().map(|p| p.range).collect();
-        let mask = vakhrameev::plateau_mask(&log.time_s, &ranges);
+        let mask = driftlab::signal::plateau::mask(&log.time_s, &ranges);
         Live { log, fit, mask }
     }
 
@@ -728,15 +728,17 @@ fn stages(path: &Path) {
         vakhrameev::Prepared::new(&log, &recipe)
     });
     let ranges = stage("fit: plateau_ranges", || {
-        vakhrameev::plateau_ranges(&log, &prepared, &recipe)
+        let d = &prepared.deriv;
+        driftlab::signal::plateau::ranges(&recipe.plateaus, &log.time_s, &d.tdot, &d.ready)
     });
     let mut warnings = Vec::new();
     let k0 = stage("fit: plateau_stats + fit_k0", || {
-        let stats = vakhrameev::plateau_stats(&log, &ranges);
+        let stats =
+            driftlab::signal::plateau::stats_of(&log.time_s, &log.temp_c, &log.omega_dph, &ranges);
         vakhrameev::fit_k0(&stats, &recipe.k0, &mut warnings).expect("k0")
     });
     let mask = stage("fit: plateau_mask", || {
-        vakhrameev::plateau_mask(&log.time_s, &ranges)
+        driftlab::signal::plateau::mask(&log.time_s, &ranges)
     });
     let (db1, db2) = stage("fit: deadbands", || {
         vakhrameev::deadbands(&prepared, &mask, &recipe)

@@ -19,9 +19,12 @@ pub enum Error {
     /// A setting, a field of a file or a spec holds a value driftlab cannot use.
     #[error(transparent)]
     Invalid(#[from] Invalid),
-    /// The data cannot support the fit that was asked for.
-    #[error("{0}")]
-    Fit(String),
+    /// The data cannot support the fit that was asked for, or a model cannot be applied.
+    #[error(transparent)]
+    Fit(#[from] crate::models::FitError),
+    /// A model's setting written as text that does not parse.
+    #[error(transparent)]
+    Parse(#[from] crate::models::ParseError),
     /// A stage the engine needed was not there: a defect of driftlab, named so it can be
     /// reported.
     #[error("internal: {0} (please report this)")]

@@ -154,7 +154,10 @@ impl Args {
                 .terms
                 .as_deref()
                 .ok_or("--model custom needs --terms")?;
-            let mut spec = RegressionSpec::new("custom", terms::parse_terms(terms)?);
+            let mut spec = RegressionSpec::new(
+                "custom",
+                terms::parse_terms(terms).map_err(|e| e.to_string())?,
+            );
             spec.delay = self.delay.clone().unwrap_or(DelaySpec::None);
             spec.lag = self.lag.clone().unwrap_or_default();
             spec.samples = self.fit.unwrap_or_default();
@@ -172,7 +175,9 @@ impl Args {
                 "{option} goes with --model custom --terms ..., not with model {name}"
             ));
         }
-        Ok(ModelChoice::Preset(Preset::from_name(name)?))
+        Ok(ModelChoice::Preset(
+            Preset::from_name(name).map_err(|e| e.to_string())?,
+        ))
     }
 
     /// Refuses the options `choice` cannot use, by name; returns a warning for each setting
@@ -268,7 +273,7 @@ pub fn run(a: Args) -> Result<(), CliError> {
         mut model,
         in_sample,
         warnings: fit_warnings,
-    } = fitted.map_err(|e| common::about(&log.source, e))?;
+    } = fitted.map_err(|e| common::fit_failed(&log.source, &e))?;
     warnings.extend(fit_warnings);
     model.source_mut().name = file_name(&a.log);
     model.source_mut().sha256 = sha256?;

@@ -161,7 +161,7 @@ pub fn run(
             .unwrap_or_else(|_| Err("the hashing thread failed".to_string()));
         (fitted, sha256)
     });
-    let fitted = fitted.map_err(|e| common::about(&log.source, e))?;
+    let fitted = fitted.map_err(|e| common::fit_failed(&log.source, &e))?;
     let sha256 = sha256?;
     let name = file_name(&a.log);
     let mut unit = UnitCalibration {

@@ -293,6 +293,20 @@ pub fn about(source: &str, e: impl std::fmt::Display) -> String {
     }
 }
 
+/// A fit's error about the log `source`, in the command line's words: the plateaus the engine
+/// asks to be marked are given with `--plateau`.
+pub fn fit_failed(source: &str, e: &driftlab::Error) -> String {
+    let m = about(source, e);
+    match e {
+        driftlab::Error::Fit(f)
+            if matches!(f.innermost(), driftlab::models::FitError::NoK0Plateaus) =>
+        {
+            format!("{m} (--plateau START:END)")
+        }
+        _ => m,
+    }
+}
+
 /// Refuses an output (`option`, at `output`) that is one of the command's `inputs` (each named
 /// by what it is: "the log", "the calibration"), before anything is read or written.
 pub fn refuse_overwriting(

@@ -18,11 +18,12 @@ pub(super) struct PlateauKey {
     pub(super) deadband_tddot: Option<f64>,
 }
 
+/// The plateau statistics (K0's points), the dead-bands and the sets' samples, kept while the
+/// signals, the plateaus and the dead-band settings stay.
 pub(super) struct PlateauStage {
     pub(super) key: PlateauKey,
     pub(super) stats: Vec<PlateauStats>,
-    pub(super) mask: Arc<Vec<bool>>,
-    pub(super) deadbands: (f64, f64),
+    pub(super) sets: Arc<SetsOfSamples>,
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -70,12 +71,6 @@ pub(super) struct EvalCache {
     pub(super) filter: usize,
     pub(super) figures: Figures,
     pub(super) filtered: Arc<Vec<f64>>,
-}
-
-/// Per-set sample indices, kept while the plateaus (and so the derivatives) stay.
-pub(super) struct SamplesCache {
-    pub(super) plateaus: PlateauKey,
-    pub(super) sets: Arc<[SetSamples; 2]>,
 }
 
 /// `Ω_f − K0(T)`, kept while the filtered Ω and K0 stay.

@@ -1,19 +1,20 @@
 //! The workbench's live refit: a calibration as a pure function of (log, recipe, knots moved by
 //! hand), run in stages with each stage's result kept until its inputs change.
 //!
-//! The stages are those of [`vakhrameev::fit_prepared`], called through
-//! the same public stage functions, so the result is the same calibration (a test holds them
+//! The stages are those of [`vakhrameev::Pipeline`], called through the same stage
+//! functions in the same order, so the result is the same calibration (a test holds them
 //! equal). What this adds is memory between calls:
 //!
 //! * [`Prepared`] (filtered Ω, Ṫ, T̈) is kept while the filter, smoothing and step stay;
-//! * the plateau mask, statistics and dead-bands while the plateaus stay;
+//! * the plateau statistics, dead-bands and the sets' sample indices while the plateaus and
+//!   the dead-band settings stay;
 //! * each set (+ and −) of K1/K2 while its inputs (K0, dead-bands, its two approximations,
 //!   its hand-set knots) stay — changing K1+ refits only the + set;
 //! * each set's first-pass K1 (fitted before any K2) while its samples, K0 and K1 spec stay —
 //!   changing K2's kind refits one K1 less;
 //! * the raw figures of merit and the validation log's derivatives while they stay;
 //! * the plateau ranges while the signals and the plateau choice stay;
-//! * `Ω_f − K0(T)` while K0 stays, and the sets' sample indices while the plateaus stay;
+//! * `Ω_f − K0(T)` while K0 stays;
 //! * each regime's samples with `K0(T)` and `K1(Ṫ)·Ṫ` per sample (`terms.rs`), so that a
 //!   patch of the correction walks only the samples of the set that changed, and a K2 edit
 //!   re-evaluates K2 alone.
@@ -51,9 +52,9 @@ use crate::log::Log;
 use crate::models::approx::{Approx, ApproxSpec};
 use crate::models::recipe::{PlateauChoice, Recipe, Weighting};
 use crate::models::vakhrameev::{
-    self, Calibration, PointSet, Prepared, Regime, SetInputs, SetSamples,
+    self, Calibration, PointSet, Prepared, Regime, SetInputs, SetSamples, SetsOfSamples,
 };
-use crate::signal::plateau::{PlateauRange, PlateauStats};
+use crate::signal::plateau::{self, PlateauRange, PlateauStats};
 use crate::signal::{self, DerivativeSteps, Derivatives};
 use cache::*;
 use correction::CorrectionBuf;
@@ -196,8 +197,6 @@ pub struct Pipeline {
     /// The log and signal settings the last run checked (the checks scan the whole log; a
     /// knot dragged changes neither).
     checked: Option<PrepKey>,
-    /// The per-set samples the pointwise K1/K2 are made from.
-    samples: Option<SamplesCache>,
     /// `Ω_f − K0(T)` over the calibration log.
     rest: Option<RestCache>,
     /// Each regime's samples with `K0(T)` and `K1(Ṫ)·Ṫ` kept, for patching a correction.
@@ -306,13 +305,7 @@ impl Pipeline {
             )?;
             self.checked = Some(checked);
         }
-        if log.len() < 16 {
-            return Err(Error::Fit(format!(
-                "{}: {} samples are too few to calibrate",
-                log.source,
-                log.len()
-            )));
-        }
+        vakhrameev::check_sample_count(log)?;
 
         let t = Instant::now();
         let (prepared, reused) = self.prepared(log, recipe);
@@ -329,14 +322,12 @@ impl Pipeline {
             deadband_tddot: recipe.deadband_tddot,
         };
         if self.plateaus.as_ref().is_none_or(|s| s.key != pkey) {
-            let stats = vakhrameev::plateau_stats(log, &ranges);
-            let mask = vakhrameev::plateau_mask(&log.time_s, &ranges);
-            let deadbands = vakhrameev::deadbands(&prepared, &mask, recipe);
+            let stats = plateau::stats_of(&log.time_s, &log.temp_c, &log.omega_dph, &ranges);
+            let sets = vakhrameev::sets_of_samples(&log.time_s, &prepared, &ranges, recipe);
             self.plateaus = Some(PlateauStage {
                 key: pkey.clone(),
                 stats,
-                mask: Arc::new(mask),
-                deadbands,
+                sets: Arc::new(sets),
             });
             timings.plateaus_ms = ms(t);
         }
@@ -348,8 +339,8 @@ impl Pipeline {
         let k0 = vakhrameev::fit_k0(&stage.stats, &recipe.k0, &mut warnings)?;
         let k0 = with_knots(&k0, req.knots.get(Coefficient::K0));
         let stats = stage.stats.clone();
-        let mask = stage.mask.clone();
-        let deadbands = stage.deadbands;
+        let sets = stage.sets.clone();
+        let deadbands = sets.deadbands;
 
         let t = Instant::now();
         let set_key = |regime: Regime| {
@@ -370,13 +361,14 @@ impl Pipeline {
         let todo: Vec<usize> = (0..2)
             .filter(|&s| self.sets[s].as_ref().is_none_or(|(k, _)| *k != keys[s]))
             .collect();
-        let inputs = if !todo.is_empty() || !req.knots.is_empty() {
-            Some(self.set_inputs(&pkey, &prepared, &mask, deadbands, &k0, &log.temp_c))
+        let rest = if !todo.is_empty() || !req.knots.is_empty() {
+            Some(self.kept_rest(&prepared, &k0, &log.temp_c))
         } else {
             None
         };
-        let fitted: Vec<(usize, SetFit)> = match &inputs {
-            Some((samples, rest)) => {
+        let samples = &sets.samples;
+        let fitted: Vec<(usize, SetFit)> = match &rest {
+            Some(rest) => {
                 let inputs = SetInputs {
                     tdot: &prepared.deriv.tdot,
                     tddot: &prepared.deriv.tddot,
@@ -425,8 +417,8 @@ impl Pipeline {
         }
         let t = Instant::now();
         let edited = |s: usize, regime: Regime| {
-            self.sets[s].as_ref().map(|(_, fit)| match &inputs {
-                Some((samples, rest)) => {
+            self.sets[s].as_ref().map(|(_, fit)| match &rest {
+                Some(rest) => {
                     let inputs = SetInputs {
                         tdot: &prepared.deriv.tdot,
                         tddot: &prepared.deriv.tddot,
@@ -525,28 +517,14 @@ impl Pipeline {
         })
     }
 
-    /// The sets' samples and `Ω_f − K0(T)`, kept while their inputs stay.
-    fn set_inputs(
+    /// `Ω_f − K0(T)`, kept while the filtered Ω and K0 stay.
+    fn kept_rest(
         &mut self,
-        pkey: &PlateauKey,
         prepared: &Arc<Prepared>,
-        mask: &[bool],
-        deadbands: (f64, f64),
         k0: &Approx,
         temp_c: &[f64],
-    ) -> (Arc<[SetSamples; 2]>, Arc<Vec<f64>>) {
-        let samples = match &self.samples {
-            Some(c) if c.plateaus == *pkey => c.sets.clone(),
-            _ => {
-                let sets = Arc::new(vakhrameev::set_samples(&prepared.deriv, mask, deadbands));
-                self.samples = Some(SamplesCache {
-                    plateaus: pkey.clone(),
-                    sets: sets.clone(),
-                });
-                sets
-            }
-        };
-        let rest = match &self.rest {
+    ) -> Arc<Vec<f64>> {
+        match &self.rest {
             Some(c) if c.prepared == ptr(prepared) && c.k0 == *k0 => c.rest.clone(),
             _ => {
                 let rest = Arc::new(vakhrameev::rest_dph(
@@ -561,7 +539,6 @@ impl Pipeline {
                 });
                 rest
             }
-        };
-        (samples, rest)
+        }
     }
 }

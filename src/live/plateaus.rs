@@ -17,7 +17,8 @@ impl Pipeline {
         {
             return ranges.clone();
         }
-        let ranges = vakhrameev::plateau_ranges(log, prepared, recipe);
+        let d = &prepared.deriv;
+        let ranges = plateau::ranges(&recipe.plateaus, &log.time_s, &d.tdot, &d.ready);
         self.ranges = Some((ptr(prepared), recipe.plateaus.clone(), ranges.clone()));
         ranges
     }
@@ -26,9 +27,6 @@ impl Pipeline {
 /// The plateaus the engine's detector finds on a log with the recipe's filters, for
 /// "Suggest plateaus" (whatever the recipe's own plateau choice is).
 pub fn suggest_plateaus(log: &Log, prepared: &Prepared) -> Vec<PlateauRange> {
-    let auto = Recipe {
-        plateaus: crate::models::recipe::PlateauChoice::default(),
-        ..Recipe::default()
-    };
-    vakhrameev::plateau_ranges(log, prepared, &auto)
+    let d = &prepared.deriv;
+    plateau::ranges(&PlateauChoice::default(), &log.time_s, &d.tdot, &d.ready)
 }

@@ -1,8 +1,9 @@
 //! Any fitted drift model — the Vakhrameev calibration or a regression model — behind one
 //! face, so that files, `apply`, `compare` and the workbench treat them alike.
 
-use crate::error::{Error, Invalid, Result};
+use crate::error::{Invalid, Result};
 use crate::log::Log;
+use crate::models::FitError;
 use crate::models::presets::Preset;
 use crate::models::regression::{RegressionCalibration, RegressionCorrector};
 use crate::models::vakhrameev::correct::{
@@ -220,7 +221,7 @@ pub fn stream_inputs(model: &DriftModel, log: &Log) -> Result<(Vec<f64>, Vec<Vec
             .iter()
             .find(|c| c.name == name)
             .map(|c| c.values.clone())
-            .ok_or_else(|| Error::Fit(format!("{}: no channel \"{name}\"", log.source)))
+            .ok_or_else(|| FitError::missing_channel(log, name).into())
     };
     let t2 = match temp2 {
         Some(n) => find(&n)?,

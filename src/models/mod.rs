@@ -11,6 +11,7 @@
 //! them silently.
 
 pub mod approx;
+mod error;
 pub mod fitted;
 pub mod presets;
 pub mod recipe;
@@ -18,6 +19,7 @@ pub mod regression;
 pub mod unit;
 pub mod vakhrameev;
 
+pub use error::{FitError, ParseError};
 pub use fitted::{DriftModel, ModelCorrector, Predictor, stream_inputs};
 pub use presets::{ModelChoice, Preset};
 pub use recipe::{CheckedRecipe, Recipe};
@@ -27,6 +29,11 @@ use crate::error::{Error, Result};
 use crate::judge::metrics::{Evaluation, MeritOptions};
 use crate::log::Log;
 use regression::RegressionCalibration;
+
+/// The fewest samples a log must have to be calibrated (or its pointwise coefficients
+/// gathered): fewer cannot hold a derivative's history and a plateau, and would be a file cut
+/// short rather than a chamber run.
+pub const MIN_SAMPLES: usize = 16;
 
 /// The largest drift a calibration may predict anywhere over the ranges it was fitted on, °/h.
 /// 10⁸ °/h is 28,000 °/s, beyond the measuring range of any gyro: a model that predicts more
@@ -107,7 +114,8 @@ pub const MIN_RAMP_C_PER_MIN: f64 = 0.05;
 /// [`MIN_RAMP_C_PER_MIN`].
 ///
 /// # Errors
-/// [`Error::Fit`] saying what the log spans and what the model needs.
+/// [`FitError::NarrowSpan`] or [`FitError::NoRamps`], saying what the log spans and what the
+/// model needs.
 pub fn check_span(log: &Log, choice: &ModelChoice) -> Result<()> {
     let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
     for &v in log.temp_c.iter().filter(|v| v.is_finite()) {
@@ -119,17 +127,13 @@ pub fn check_span(log: &Log, choice: &ModelChoice) -> Result<()> {
         }
     }
     if (hi - lo).is_nan() || hi - lo < MIN_TEMP_SPAN_C {
-        let span = if hi >= lo {
-            format!("{:.3} °C ({lo:.3} … {hi:.3} °C)", hi - lo)
-        } else {
-            "nothing (no finite temperature)".to_string()
-        };
-        return Err(Error::Fit(format!(
-            "{}: the temperature spans {span}: too little for model {} (a calibration in T \
-             needs at least {MIN_TEMP_SPAN_C} °C)",
-            log.source,
-            choice.name()
-        )));
+        return Err(FitError::NarrowSpan {
+            log: log.source.clone(),
+            model: choice.name().to_string(),
+            span_c: (hi >= lo).then_some((lo, hi)),
+            minimum_c: MIN_TEMP_SPAN_C,
+        }
+        .into());
     }
     let rates = match choice {
         ModelChoice::Preset(Preset::PolyT | Preset::PwlT | Preset::Sukhanov) => false,
@@ -156,13 +160,13 @@ pub fn check_span(log: &Log, choice: &ModelChoice) -> Result<()> {
             }
         }
         if fastest < MIN_RAMP_C_PER_MIN {
-            return Err(Error::Fit(format!(
-                "{}: the temperature never changes faster than {fastest:.3} °C/min: model {} \
-                 has rate terms, which need ramps of at least {MIN_RAMP_C_PER_MIN} °C/min \
-                 (try poly-t, a model of T alone)",
-                log.source,
-                choice.name()
-            )));
+            return Err(FitError::NoRamps {
+                log: log.source.clone(),
+                model: choice.name().to_string(),
+                fastest_c_per_min: fastest,
+                minimum_c_per_min: MIN_RAMP_C_PER_MIN,
+            }
+            .into());
         }
     }
     Ok(())

@@ -1,12 +1,13 @@
 //! The models of the papers by name, so that an engineer finds "Yan 2019 delayed" without
 //! composing it term by term (docs/method.md §1–§3).
 
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::log::Log;
 use crate::models::regression::{
     self, DELAY_SEARCH_MAX_S, DelaySpec, FitSamples, LAG_SEARCH_MAX_S, LagSpec, RegressionSpec,
     Term, terms,
 };
+use crate::models::{FitError, ParseError};
 use serde::{Deserialize, Serialize};
 
 /// A named model.
@@ -100,15 +101,13 @@ impl Preset {
     ///
     /// # Errors
     /// An unknown name, with the list of known ones.
-    pub fn from_name(name: &str) -> std::result::Result<Preset, String> {
+    pub fn from_name(name: &str) -> std::result::Result<Preset, ParseError> {
         Preset::ALL
             .into_iter()
             .find(|p| p.name() == name)
-            .ok_or_else(|| {
-                format!(
-                    "unknown model \"{name}\"; models are {}",
-                    Preset::ALL.map(Preset::name).join(", ")
-                )
+            .ok_or_else(|| ParseError::UnknownModel {
+                name: name.to_string(),
+                known: Preset::ALL.map(Preset::name).to_vec(),
             })
     }
 
@@ -132,13 +131,11 @@ impl Preset {
                 s
             }),
             Preset::Sukhanov => {
-                let temp2 = regression::guess_temp2(log).ok_or_else(|| {
-                    Error::Fit(format!(
-                        "{}: the Sukhanov model needs a second temperature sensor and the log \
-                         has none",
-                        log.source
-                    ))
-                })?;
+                let temp2 =
+                    regression::guess_temp2(log).ok_or_else(|| FitError::NoSecondTemperature {
+                        log: log.source.clone(),
+                        model: self.name().to_string(),
+                    })?;
                 let mut terms = vec![One, SelfHeating, Dt, Dt2];
                 for c in &log.extra {
                     let lower = c.name.to_ascii_lowercase();
@@ -220,7 +217,7 @@ impl ModelChoice {
         presets: &[String],
         customs: &[String],
         how: &CustomOptions,
-    ) -> std::result::Result<Vec<ModelChoice>, String> {
+    ) -> Result<Vec<ModelChoice>> {
         let mut out: Vec<ModelChoice> = if presets.is_empty() && customs.is_empty() {
             Preset::ALL.into_iter().map(ModelChoice::Preset).collect()
         } else {

@@ -7,7 +7,7 @@
 
 use crate::error::Invalid;
 use crate::models::approx::{ApproxKind, ApproxSpec};
-use crate::signal::plateau::{DetectOptions, PlateauRange};
+pub use crate::signal::plateau::PlateauChoice;
 use serde::{Deserialize, Serialize};
 
 /// All settings of a Vakhrameev calibration.
@@ -58,32 +58,6 @@ pub enum Weighting {
     /// Each ratio weighted by its denominator squared: the fit then minimises the error of the
     /// predicted drift itself, K·Ṫ against Ω − K0, which is what the correction is judged on.
     Drift,
-}
-
-/// Where the plateaus come from.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(tag = "mode", rename_all = "snake_case", deny_unknown_fields)]
-pub enum PlateauChoice {
-    /// Found by the detector with these options.
-    Auto(DetectOptions),
-    /// Given by the engineer as time ranges.
-    Manual {
-        /// The ranges, s.
-        ranges: Vec<PlateauRange>,
-    },
-}
-
-impl Default for PlateauChoice {
-    fn default() -> Self {
-        PlateauChoice::Auto(DetectOptions::default())
-    }
-}
-
-impl PlateauChoice {
-    /// Whether this is the detector with its default options.
-    pub fn is_default(&self) -> bool {
-        *self == PlateauChoice::default()
-    }
 }
 
 impl Default for Recipe {

@@ -3,7 +3,7 @@
 //!
 //! The axes share the housing and its temperature, so they share everything a calibration
 //! takes from T: one smoothing, one pair of derivatives, one set of plateaus
-//! ([`vakhrameev::SharedTemperature`]). What an axis answers to that field is its own: its
+//! ([`vakhrameev::Pipeline`]). What an axis answers to that field is its own: its
 //! model, its approximations and knots, its dead-bands, its K0 points (its own Ω averaged over
 //! the shared plateaus). [`calibrate_unit`] reads the log once and differentiates T once for
 //! every Vakhrameev axis; a regression axis is fitted on its own, its signals being the model's.
@@ -12,6 +12,7 @@
 //! version-1 file, [`UnitCalibration::is_unit`] false); a unit of named axes is written as a
 //! version-2 file (`crate::files::calibration`).
 
+use super::FitError;
 use super::{
     Calibrated, CheckedRecipe, DriftModel, ModelChoice, Recipe, check_span, judge_on_own_log,
 };
@@ -183,7 +184,7 @@ pub struct CalibratedAxis {
 /// makes, bit for bit. `log` ends as it started: the same axis in `omega_dph`, the others in the same order.
 ///
 /// # Errors
-/// [`Error::Fit`] naming an axis the log does not have, two plans for one axis, or no plan;
+/// A [`FitError`] naming an axis the log does not have, two plans for one axis, or no plan;
 /// an [`Invalid`] naming the axis and the setting when the Vakhrameev axes' T settings differ;
 /// what a fit reports, with the axis named.
 pub fn calibrate_unit(
@@ -201,23 +202,27 @@ pub fn calibrate_unit(
 
 fn check_plans(log: &Log, plans: &[AxisPlan]) -> Result<()> {
     if plans.is_empty() {
-        return Err(Error::Fit(format!("{}: no axis to calibrate", log.source)));
+        return Err(FitError::NoAxes {
+            log: log.source.clone(),
+        }
+        .into());
     }
     let names = log.axis_names();
     for (k, p) in plans.iter().enumerate() {
         if !names.contains(&p.name) {
-            return Err(Error::Fit(format!(
-                "{}: no gyro axis \"{}\" (its axes: {})",
-                log.source,
-                p.name,
-                names.join(", ")
-            )));
+            return Err(FitError::MissingAxis {
+                log: log.source.clone(),
+                axis: p.name.clone(),
+                available: names,
+            }
+            .into());
         }
         if plans[..k].iter().any(|q| q.name == p.name) {
-            return Err(Error::Fit(format!(
-                "{}: axis \"{}\" is asked for twice",
-                log.source, p.name
-            )));
+            return Err(FitError::AxisTwice {
+                log: log.source.clone(),
+                axis: p.name.clone(),
+            }
+            .into());
         }
     }
     let vakhrameev: Vec<&AxisPlan> = plans.iter().filter(|p| p.choice.is_vakhrameev()).collect();
@@ -245,7 +250,7 @@ fn calibrate_axes(
     merit: &MeritOptions,
 ) -> Result<Vec<CalibratedAxis>> {
     let about = |name: &str, e: Error| match e {
-        Error::Fit(m) => Error::Fit(format!("axis {name}: {m}")),
+        Error::Fit(e) => Error::Fit(e.on_axis(name)),
         Error::Invalid(i) => {
             Error::Invalid(Invalid::new(format!("axis {name}: {}", i.field), i.reason))
         }
@@ -255,7 +260,7 @@ fn calibrate_axes(
     let mut shared = match plans.iter().find(|p| p.choice.is_vakhrameev()) {
         Some(p) => {
             check_span(log, &p.choice)?;
-            Some(vakhrameev::SharedTemperature::new(log, &p.recipe)?)
+            Some(vakhrameev::Pipeline::new(log, &p.recipe)?)
         }
         None => None,
     };

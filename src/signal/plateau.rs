@@ -4,9 +4,14 @@
 //! The detector looks for long stretches where |Ṫ| stays under a threshold and keeps only their
 //! settled tail: after the chamber stops, heat still diffuses into the coil for many minutes and
 //! the rate-driven drift dies away slowly, so the start of a hold is not yet static.
+//!
+//! This is the plateau stage of every model: the ranges a recipe asks for ([`ranges`]), the
+//! mask of the samples they cover ([`mask`]) and the K0 points they give ([`stats_of`]).
+//! Vakhrameev's model and the regressions fitted on plateaus read them from here.
 
 use crate::error::Invalid;
 use serde::{Deserialize, Serialize};
+use std::ops::Range;
 
 /// A plateau as a time range, s (inclusive).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -32,26 +37,109 @@ impl PlateauRange {
     }
 }
 
+/// A plateau written as text (`START:END` in seconds) that is not one.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum PlateauRangeError {
+    /// No `:` between a start and an end.
+    #[error("plateau \"{text}\" must be START:END in seconds")]
+    NotARange {
+        /// The text given.
+        text: String,
+    },
+    /// A start or an end that is not a number.
+    #[error("plateau \"{text}\": \"{value}\" is not a number of seconds")]
+    NotSeconds {
+        /// The text given.
+        text: String,
+        /// The part that is not a number.
+        value: String,
+    },
+    /// A start at or after the end (or not finite).
+    #[error("plateau \"{text}\": the start must come before the end")]
+    Reversed {
+        /// The text given.
+        text: String,
+    },
+}
+
 impl std::str::FromStr for PlateauRange {
-    type Err = String;
-    /// Parses `START:END` in seconds, as given on the command line.
-    fn from_str(s: &str) -> Result<Self, String> {
+    type Err = PlateauRangeError;
+    /// Parses `START:END` in seconds, as a recipe or a face gives it.
+    fn from_str(s: &str) -> Result<Self, PlateauRangeError> {
+        let text = || s.to_string();
         let (a, b) = s
             .split_once(':')
-            .ok_or_else(|| format!("plateau \"{s}\" must be START:END in seconds"))?;
+            .ok_or_else(|| PlateauRangeError::NotARange { text: text() })?;
         let parse = |v: &str| {
             v.trim()
                 .parse::<f64>()
-                .map_err(|_| format!("plateau \"{s}\": \"{v}\" is not a number of seconds"))
+                .map_err(|_| PlateauRangeError::NotSeconds {
+                    text: text(),
+                    value: v.to_string(),
+                })
         };
         let (start_s, end_s) = (parse(a)?, parse(b)?);
         if !(start_s.is_finite() && end_s.is_finite() && start_s < end_s) {
-            return Err(format!(
-                "plateau \"{s}\": the start must come before the end"
-            ));
+            return Err(PlateauRangeError::Reversed { text: text() });
         }
         Ok(PlateauRange { start_s, end_s })
     }
+}
+
+/// Where the plateaus come from.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "mode", rename_all = "snake_case", deny_unknown_fields)]
+pub enum PlateauChoice {
+    /// Found by the detector with these options.
+    Auto(DetectOptions),
+    /// Given by the engineer as time ranges.
+    Manual {
+        /// The ranges, s.
+        ranges: Vec<PlateauRange>,
+    },
+}
+
+impl Default for PlateauChoice {
+    fn default() -> Self {
+        PlateauChoice::Auto(DetectOptions::default())
+    }
+}
+
+impl PlateauChoice {
+    /// Whether this is the detector with its default options.
+    pub fn is_default(&self) -> bool {
+        *self == PlateauChoice::default()
+    }
+}
+
+/// The plateau ranges `choice` asks for on a log sampled at `time_s` whose temperature rate
+/// is `tdot` (°C/s), with full rate history over the `ready` ranges (one per segment).
+/// Detected plateaus are found within each segment's ready samples, so a plateau never spans
+/// a gap; given ranges are taken as they are.
+pub fn ranges(
+    choice: &PlateauChoice,
+    time_s: &[f64],
+    tdot: &[f64],
+    ready: &[Range<usize>],
+) -> Vec<PlateauRange> {
+    match choice {
+        PlateauChoice::Auto(opts) => ready
+            .iter()
+            .flat_map(|r| detect(&time_s[r.clone()], &tdot[r.clone()], 0, opts))
+            .collect(),
+        PlateauChoice::Manual { ranges } => ranges.clone(),
+    }
+}
+
+/// Which samples of a log sampled at `time_s` lie inside any of `ranges` (they carry the K0
+/// points and no rate information).
+pub fn mask(time_s: &[f64], ranges: &[PlateauRange]) -> Vec<bool> {
+    let mut mask = vec![false; time_s.len()];
+    for r in ranges {
+        let (lo, hi) = r.index_range(time_s);
+        mask[lo..hi].fill(true);
+    }
+    mask
 }
 
 /// Settings of the automatic plateau detector.
@@ -167,6 +255,20 @@ pub struct PlateauStats {
     pub temp_spread_c: f64,
     /// Samples in the plateau.
     pub samples: usize,
+}
+
+/// Statistics of each of `ranges` over the given columns, in order; a range without samples
+/// is dropped.
+pub fn stats_of(
+    time_s: &[f64],
+    temp_c: &[f64],
+    omega_dph: &[f64],
+    ranges: &[PlateauRange],
+) -> Vec<PlateauStats> {
+    ranges
+        .iter()
+        .filter_map(|r| stats(time_s, temp_c, omega_dph, *r))
+        .collect()
 }
 
 /// Statistics of `range` over the given columns; `None` when it holds no sample.

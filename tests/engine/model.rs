@@ -229,7 +229,7 @@ fn walk_points(
 ) -> (Vec<f64>, Vec<f64>) {
     let cal = &fit.calibration;
     let ranges: Vec<PlateauRange> = cal.plateaus.iter().map(|p| p.range).collect();
-    let mask = vakhrameev::plateau_mask(&log.time_s, &ranges);
+    let mask = driftlab::signal::plateau::mask(&log.time_s, &ranges);
     let (k1, k2) = match regime {
         Regime::Minus => (&cal.k1_minus, &cal.k2_minus),
         _ => (&cal.k1_plus, &cal.k2_plus),

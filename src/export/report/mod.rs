@@ -371,7 +371,7 @@ fn correct(
         }
         DriftModel::Regression(reg) => {
             let correction = reg.model.correct(log).map_err(|e| match e {
-                Error::Fit(msg) => Error::Fit(format!("{}: {msg}", path.display())),
+                Error::Fit(e) => Error::Fit(e.on_file(path)),
                 other => other,
             })?;
             Ok((correction, Vec::new()))

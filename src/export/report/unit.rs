@@ -141,7 +141,7 @@ pub fn write_unit(
             sha256: Some(hashes.clone()),
         };
         let summary = build(&ax.model, logs, &folder, &opts).map_err(|e| match e {
-            Error::Fit(msg) => Error::Fit(format!("axis {}: {msg}", ax.name)),
+            Error::Fit(e) => Error::Fit(e.on_axis(&ax.name)),
             other => other,
         })?;
         files.extend(summary.files.iter().cloned());

@@ -215,14 +215,7 @@ impl RegressionCorrector {
         }
         self.model.clamp(&mut x, &mut self.channels);
         let pred = self.model.predict(&x, &self.channels, &mut self.row);
-        Corrected {
-            time_s,
-            omega_cor_dph: omega_dph - pred,
-            omega_pred_dph: pred,
-            tdot,
-            tddot,
-            regime: Regime::of(tdot, tddot),
-        }
+        Corrected::of(time_s, omega_dph, pred, tdot, tddot)
     }
 }
 

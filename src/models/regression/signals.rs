@@ -2,8 +2,9 @@
 //! delayed read of the temperature channels, and the extra channels looked up by name.
 
 use super::{Delay, Inputs, RegressionSpec, lag_at, terms};
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::log::Log;
+use crate::models::FitError;
 use crate::signal::{self, DerivativeSteps};
 
 pub(crate) fn steps(spec: &RegressionSpec, dt_s: f64) -> DerivativeSteps {
@@ -76,18 +77,7 @@ fn channel<'a>(log: &'a Log, name: &str) -> Result<&'a [f64]> {
         .iter()
         .find(|c| c.name == name)
         .map(|c| c.values.as_slice())
-        .ok_or_else(|| {
-            let have: Vec<&str> = log.extra.iter().map(|c| c.name.as_str()).collect();
-            Error::Fit(format!(
-                "{}: no channel \"{name}\" (extra channels: {})",
-                log.source,
-                if have.is_empty() {
-                    "none".to_string()
-                } else {
-                    have.join(", ")
-                }
-            ))
-        })
+        .ok_or_else(|| FitError::missing_channel(log, name).into())
 }
 
 impl<'a> Signals<'a> {

@@ -3,6 +3,7 @@
 
 use super::Term;
 use crate::error::Invalid;
+use crate::models::ParseError;
 use crate::models::recipe::{PlateauChoice, Recipe};
 use serde::{Deserialize, Serialize};
 use std::str::FromStr;
@@ -46,11 +47,11 @@ pub enum DelaySpec {
 }
 
 impl FromStr for DelaySpec {
-    type Err = String;
+    type Err = ParseError;
 
     /// `none` (or `0`), a delay in seconds, `auto` (one delay searched up to
     /// [`DELAY_SEARCH_MAX_S`]) or `bands:N` (one per temperature band).
-    fn from_str(s: &str) -> Result<Self, String> {
+    fn from_str(s: &str) -> Result<Self, ParseError> {
         let s = s.trim();
         Ok(match s {
             "none" | "0" => DelaySpec::None,
@@ -63,8 +64,9 @@ impl FromStr for DelaySpec {
                         .parse()
                         .ok()
                         .filter(|b| (1..=MAX_DELAY_BANDS).contains(b))
-                        .ok_or_else(|| {
-                            format!("{s:?}: bands:N needs N from 1 to {MAX_DELAY_BANDS}")
+                        .ok_or_else(|| ParseError::DelayBands {
+                            text: s.to_string(),
+                            maximum: MAX_DELAY_BANDS,
                         })?;
                     DelaySpec::Bands {
                         bands,
@@ -75,8 +77,8 @@ impl FromStr for DelaySpec {
                         .parse()
                         .ok()
                         .filter(|v: &f64| v.is_finite() && *v >= 0.0)
-                        .ok_or_else(|| {
-                            format!("{s:?}: expected none, SECONDS (0 or more), auto or bands:N")
+                        .ok_or_else(|| ParseError::Delay {
+                            text: s.to_string(),
                         })?;
                     DelaySpec::Fixed { seconds }
                 }
@@ -135,12 +137,12 @@ pub enum LagSpec {
 }
 
 impl FromStr for LagSpec {
-    type Err = String;
+    type Err = ParseError;
 
     /// `none` (or `0`), a time constant in seconds, `auto` (searched up to
     /// [`LAG_SEARCH_MAX_S`]) or `auto-t` (searched with a time constant that changes with
     /// temperature).
-    fn from_str(s: &str) -> Result<Self, String> {
+    fn from_str(s: &str) -> Result<Self, ParseError> {
         Ok(match s.trim() {
             "none" | "0" => LagSpec::None,
             "auto" => LagSpec::Search {
@@ -156,8 +158,8 @@ impl FromStr for LagSpec {
                     .parse()
                     .ok()
                     .filter(|x: &f64| x.is_finite() && *x >= 0.0)
-                    .ok_or_else(|| {
-                        format!("{v:?}: expected none, SECONDS (0 or more), auto or auto-t")
+                    .ok_or_else(|| ParseError::Lag {
+                        text: v.to_string(),
                     })?,
                 per_c: 0.0,
             },
@@ -198,15 +200,17 @@ pub enum FitSamples {
 }
 
 impl FromStr for FitSamples {
-    type Err = String;
+    type Err = ParseError;
 
     /// `all`, `plateaus` or `staged`.
-    fn from_str(s: &str) -> Result<Self, String> {
+    fn from_str(s: &str) -> Result<Self, ParseError> {
         match s.trim() {
             "all" => Ok(FitSamples::All),
             "plateaus" => Ok(FitSamples::Plateaus),
             "staged" => Ok(FitSamples::Staged),
-            other => Err(format!("{other:?}: expected all, plateaus or staged")),
+            other => Err(ParseError::FitSamples {
+                text: other.to_string(),
+            }),
         }
     }
 }

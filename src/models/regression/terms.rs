@@ -5,6 +5,7 @@
 //! that a model reads the same on the command line, in the workbench and in the calibration
 //! file.
 
+use crate::models::ParseError;
 use serde::{Deserialize, Serialize};
 use std::fmt;
 use std::str::FromStr;
@@ -159,10 +160,16 @@ impl fmt::Display for Term {
     }
 }
 
-impl FromStr for Term {
-    type Err = String;
+/// The fewest knots a `pwlT:N` term takes.
+const PWL_KNOTS_MIN: usize = 2;
 
-    fn from_str(s: &str) -> Result<Term, String> {
+/// The most knots a `pwlT:N` term takes.
+const PWL_KNOTS_MAX: usize = 64;
+
+impl FromStr for Term {
+    type Err = ParseError;
+
+    fn from_str(s: &str) -> Result<Term, ParseError> {
         let s = s.trim();
         let plain = match s {
             "1" | "bias" => Some(Term::One),
@@ -185,7 +192,9 @@ impl FromStr for Term {
         }
         let channel = |name: &str, power: u8| {
             if name.is_empty() {
-                Err(format!("term \"{s}\" names no channel"))
+                Err(ParseError::TermWithoutChannel {
+                    term: s.to_string(),
+                })
             } else {
                 Ok(Term::Channel {
                     name: name.to_string(),
@@ -201,14 +210,19 @@ impl FromStr for Term {
         }
         if let Some(n) = s.strip_prefix("pwlT:") {
             return match n.parse::<usize>() {
-                Ok(knots) if (2..=64).contains(&knots) => Ok(Term::PwlT { knots }),
-                _ => Err(format!("term \"{s}\": pwlT needs 2 to 64 knots")),
+                Ok(knots) if (PWL_KNOTS_MIN..=PWL_KNOTS_MAX).contains(&knots) => {
+                    Ok(Term::PwlT { knots })
+                }
+                _ => Err(ParseError::PwlKnots {
+                    term: s.to_string(),
+                    minimum: PWL_KNOTS_MIN,
+                    maximum: PWL_KNOTS_MAX,
+                }),
             };
         }
-        Err(format!(
-            "unknown term \"{s}\"; terms are 1, T, T^2, T^3, Tdot, Tddot, T*Tdot, |Tdot|, \
-             T*Tddot, sgn(Tdot)*Tddot, dT, dT^2, selfheat, ch:NAME, ch^2:NAME, pwlT:N"
-        ))
+        Err(ParseError::UnknownTerm {
+            term: s.to_string(),
+        })
     }
 }
 
@@ -229,14 +243,14 @@ impl<'de> Deserialize<'de> for Term {
 ///
 /// # Errors
 /// An unknown or malformed term, or an empty list.
-pub fn parse_terms(s: &str) -> Result<Vec<Term>, String> {
+pub fn parse_terms(s: &str) -> Result<Vec<Term>, ParseError> {
     let terms = s
         .split(',')
         .filter(|p| !p.trim().is_empty())
         .map(str::parse)
-        .collect::<Result<Vec<Term>, String>>()?;
+        .collect::<Result<Vec<Term>, ParseError>>()?;
     if terms.is_empty() {
-        return Err("a model needs at least one term".into());
+        return Err(ParseError::NoTerms);
     }
     Ok(terms)
 }

@@ -334,6 +334,21 @@ pub struct Corrected {
     pub regime: Regime,
 }
 
+impl Corrected {
+    /// The sample at `time_s` with raw rate `omega_dph`, corrected by the drift `pred_dph`
+    /// predicted from its rates `tdot` and `tddot`.
+    pub fn of(time_s: f64, omega_dph: f64, pred_dph: f64, tdot: f64, tddot: f64) -> Corrected {
+        Corrected {
+            time_s,
+            omega_cor_dph: omega_dph - pred_dph,
+            omega_pred_dph: pred_dph,
+            tdot,
+            tddot,
+            regime: Regime::of(tdot, tddot),
+        }
+    }
+}
+
 /// Real-time correction, one sample at a time, using only past samples.
 ///
 /// State: the causal T filter, the last `2s+1` smoothed temperatures and the last `2s+1` values
@@ -376,14 +391,7 @@ impl StreamCorrector {
         }
         self.last_time_s = time_s;
         let (tdot, tddot) = self.rates.push(temp_c);
-        let (pred, regime) = self.cal.predict(temp_c, tdot, tddot);
-        Corrected {
-            time_s,
-            omega_cor_dph: omega_dph - pred,
-            omega_pred_dph: pred,
-            tdot,
-            tddot,
-            regime,
-        }
+        let (pred, _) = self.cal.predict(temp_c, tdot, tddot);
+        Corrected::of(time_s, omega_dph, pred, tdot, tddot)
     }
 }

@@ -1,19 +1,25 @@
-//! The pipelines that run the stages: [`fit`] (every intermediate kept, for the workbench and
-//! the tests), [`fit_lean`] (only the calibration, for the command line), [`fit_prepared`]
-//! (the workbench's refit from signals it keeps) and [`fit_axes`] (every gyro axis of a unit
-//! with one temperature processing).
+//! The one pipeline that runs the stages, in order: prepare (T smoothed and differentiated, Ω
+//! filtered), plateaus (ranges, mask, statistics), dead-bands, K0, the + and − sets, K1 then
+//! K2 per set.
+//!
+//! [`Pipeline`] holds what the T stages made (nothing in them depends on Ω), so the axes of a
+//! unit share them and only their own stages (Ω filtered, plateau means, K0, the sets and their
+//! fits) run per axis; the sets' samples are kept while the dead-band settings stay. [`fit`]
+//! (every intermediate kept, for the workbench and the tests) and [`fit_lean`] (only the
+//! calibration, for the command line) run it once on one axis. The workbench's refit
+//! (`crate::live`) keeps each stage's result between edits and calls the same stages.
 
 use super::sets::{SetFit, fit_set, into_rest};
-use super::stages::{deadbands, fit_k0, plateau_mask, plateau_ranges, plateau_stats};
-use super::{
-    Calibration, PointSet, Prepared, Regime, SetInputs, SetSamples, rest_dph, set_samples,
-};
-use crate::error::{Error, Result};
+use super::stages::{deadbands, fit_k0};
+use super::{Calibration, PointSet, Prepared, Regime, SetInputs, SetSamples, set_samples};
+use crate::error::{Invalid, Result};
 use crate::log::Log;
-use crate::models::approx::Approx;
 use crate::models::recipe::{CheckedRecipe, Recipe};
-use crate::signal::Derivatives;
-use crate::signal::plateau::{PlateauRange, PlateauStats};
+use crate::models::{FitError, MIN_SAMPLES};
+use crate::number::readable;
+use crate::signal::plateau::{self, PlateauRange};
+use crate::signal::timing::Timing;
+use crate::signal::{self, DerivativeSteps, Derivatives};
 
 /// A calibration with every intermediate the stages produced.
 #[derive(Debug, Clone)]
@@ -34,121 +40,6 @@ pub struct Fit {
     pub warnings: Vec<String>,
 }
 
-/// Calibrates the Vakhrameev model on `log` with `recipe`.
-pub fn fit(log: &Log, recipe: &CheckedRecipe) -> Result<Fit> {
-    check_fittable(log, recipe)?;
-    let prepared = Prepared::new(log, recipe);
-    let ranges = plateau_ranges(log, &prepared, recipe);
-    fit_prepared(log, prepared, &ranges, recipe)
-}
-
-fn check_fittable(log: &Log, recipe: &Recipe) -> Result<()> {
-    recipe.check_against(log)?;
-    if log.len() < 16 {
-        return Err(Error::Fit(format!(
-            "{}: {} samples are too few to calibrate",
-            log.source,
-            log.len()
-        )));
-    }
-    if log.len() > u32::MAX as usize {
-        return Err(Error::Fit(format!(
-            "{}: {} samples are more than the {} one calibration can take",
-            log.source,
-            log.len(),
-            u32::MAX
-        )));
-    }
-    Ok(())
-}
-
-/// The stages before the K1/K2 fits: plateau statistics, K0, dead-bands and the sets' samples.
-struct Staged {
-    plateaus: Vec<PlateauStats>,
-    k0: Approx,
-    deadbands: (f64, f64),
-    samples: [SetSamples; 2],
-    warnings: Vec<String>,
-}
-
-fn stage(
-    log: &Log,
-    prepared: &Prepared,
-    ranges: &[PlateauRange],
-    recipe: &Recipe,
-) -> Result<Staged> {
-    let mut warnings = Vec::new();
-    let plateaus = plateau_stats(log, ranges);
-    let k0 = fit_k0(&plateaus, &recipe.k0, &mut warnings)?;
-    let mask = plateau_mask(&log.time_s, ranges);
-    let deadbands = deadbands(prepared, &mask, recipe);
-    let samples = set_samples(&prepared.deriv, &mask, deadbands);
-    Ok(Staged {
-        plateaus,
-        k0,
-        deadbands,
-        samples,
-        warnings,
-    })
-}
-
-/// Both sets fitted, side by side.
-fn fit_sets(
-    samples: &[SetSamples; 2],
-    inputs: SetInputs,
-    recipe: &Recipe,
-    points: bool,
-) -> (SetFit, SetFit) {
-    rayon::join(
-        || fit_set(&samples[0], inputs, Regime::Plus, recipe, points),
-        || fit_set(&samples[1], inputs, Regime::Minus, recipe, points),
-    )
-}
-
-/// Calibrates from already prepared signals and given plateau ranges (the workbench's path: it
-/// keeps `Prepared` while only plateaus or approximations change).
-pub fn fit_prepared(
-    log: &Log,
-    prepared: Prepared,
-    ranges: &[PlateauRange],
-    recipe: &Recipe,
-) -> Result<Fit> {
-    let Staged {
-        plateaus,
-        k0,
-        deadbands,
-        samples,
-        mut warnings,
-    } = stage(log, &prepared, ranges, recipe)?;
-    let rest = rest_dph(&prepared.omega_filtered_dph, &log.temp_c, &k0);
-    let inputs = SetInputs {
-        tdot: &prepared.deriv.tdot,
-        tddot: &prepared.deriv.tddot,
-        rest: &rest,
-    };
-    let (plus, minus) = fit_sets(&samples, inputs, recipe, true);
-    drop(rest);
-    warnings.extend(plus.warnings);
-    warnings.extend(minus.warnings);
-    let calibration = Calibration::assemble(
-        log,
-        &prepared,
-        recipe,
-        deadbands,
-        plateaus,
-        [k0, plus.k1, minus.k1, plus.k2, minus.k2],
-    );
-    Ok(Fit {
-        calibration,
-        prepared,
-        k1_plus_points: plus.k1_points,
-        k1_minus_points: minus.k1_points,
-        k2_plus_points: plus.k2_points,
-        k2_minus_points: minus.k2_points,
-        warnings,
-    })
-}
-
 /// A calibration with the derivatives it computed on its log (what an in-sample evaluation
 /// needs) and no more.
 #[derive(Debug, Clone)]
@@ -161,108 +52,139 @@ pub struct Calibrated {
     pub warnings: Vec<String>,
 }
 
-/// [`fit`] for a caller that wants only the calibration (the command line): the same result,
-/// made holding no more than the log, the filtered Ω (turned into `Ω_f − K0(T)` in place), Ṫ,
-/// T̈ and the sets' sample indices; no points are gathered.
-pub fn fit_lean(log: &Log, recipe: &CheckedRecipe) -> Result<Calibrated> {
-    check_fittable(log, recipe)?;
-    let mut prepared = Prepared::new(log, recipe);
-    let ranges = plateau_ranges(log, &prepared, recipe);
-    let (calibration, warnings) = fit_lean_prepared(log, &mut prepared, &ranges, recipe)?;
-    Ok(Calibrated {
-        calibration,
-        deriv: prepared.deriv,
-        warnings,
+/// Calibrates the Vakhrameev model on `log` with `recipe`, keeping every intermediate.
+///
+/// # Errors
+/// What [`Pipeline::new`] refuses, and no plateaus.
+pub fn fit(log: &Log, recipe: &CheckedRecipe) -> Result<Fit> {
+    let (mut pipeline, omega_filtered_dph) = Pipeline::with_omega(log, recipe)?;
+    let run = pipeline.run(log, recipe, omega_filtered_dph, Keep::Everything)?;
+    let mut prepared = pipeline.prepared;
+    prepared.omega_filtered_dph = run.omega_filtered_dph;
+    let [
+        k1_plus_points,
+        k1_minus_points,
+        k2_plus_points,
+        k2_minus_points,
+    ] = run.points;
+    Ok(Fit {
+        calibration: run.calibration,
+        prepared,
+        k1_plus_points,
+        k1_minus_points,
+        k2_plus_points,
+        k2_minus_points,
+        warnings: run.warnings,
     })
 }
 
-/// The lean fit of the axis in `log.omega_dph` from `prepared`, whose filtered Ω is that
-/// axis's and is used up (turned into `Ω_f − K0(T)` in place, then dropped).
-fn fit_lean_prepared(
-    log: &Log,
-    prepared: &mut Prepared,
-    ranges: &[PlateauRange],
-    recipe: &Recipe,
-) -> Result<(Calibration, Vec<String>)> {
-    let Staged {
-        plateaus,
-        k0,
-        deadbands,
-        samples,
-        warnings,
-    } = stage(log, prepared, ranges, recipe)?;
-    let sets = SetsOfSamples {
-        deadbands,
-        samples,
-        key: (recipe.deadband_tdot, recipe.deadband_tddot),
-    };
-    Ok(finish_lean(
-        log,
-        prepared,
-        recipe,
-        (plateaus, k0),
-        &sets,
-        warnings,
-    ))
+/// [`fit`] for a caller that wants only the calibration (the command line): the same result,
+/// made holding no more than the log, the filtered Ω (turned into `Ω_f − K0(T)` in place), Ṫ,
+/// T̈ and the sets' sample indices; no points are gathered.
+///
+/// # Errors
+/// As [`fit`].
+pub fn fit_lean(log: &Log, recipe: &CheckedRecipe) -> Result<Calibrated> {
+    let (mut pipeline, omega_filtered_dph) = Pipeline::with_omega(log, recipe)?;
+    let run = pipeline.run(log, recipe, omega_filtered_dph, Keep::Calibration)?;
+    Ok(Calibrated {
+        calibration: run.calibration,
+        deriv: pipeline.prepared.deriv,
+        warnings: run.warnings,
+    })
+}
+
+/// Refuses what no fit can be made from: an invalid recipe, windows longer than the log, too
+/// few or too many samples.
+fn check_fittable(log: &Log, recipe: &Recipe) -> Result<()> {
+    recipe.check_against(log)?;
+    check_sample_count(log)
+}
+
+/// Refuses a log with fewer than [`MIN_SAMPLES`] samples, or more than a calibration's `u32`
+/// sample indices can count.
+pub(crate) fn check_sample_count(log: &Log) -> Result<()> {
+    if log.len() < MIN_SAMPLES {
+        return Err(FitError::TooFewSamples {
+            log: log.source.clone(),
+            count: log.len(),
+            minimum: MIN_SAMPLES,
+        }
+        .into());
+    }
+    if log.len() > u32::MAX as usize {
+        return Err(FitError::TooManySamples {
+            log: log.source.clone(),
+            count: log.len(),
+            maximum: u32::MAX as usize,
+        }
+        .into());
+    }
+    Ok(())
+}
+
+/// What a run keeps besides the calibration.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Keep {
+    /// The filtered Ω and the pointwise coefficients (for display and the tests).
+    Everything,
+    /// Nothing: the filtered Ω is turned into `Ω_f − K0(T)` in place and no points are
+    /// gathered.
+    Calibration,
+}
+
+/// What one run of the Ω stages made.
+struct Run {
+    calibration: Calibration,
+    warnings: Vec<String>,
+    /// K1+, K1−, K2+, K2− (empty unless everything is kept).
+    points: [PointSet; 4],
+    /// The filtered Ω (empty unless everything is kept).
+    omega_filtered_dph: Vec<f64>,
 }
 
 /// The samples of the + and − sets with the dead-bands that chose them: they depend on T's
 /// derivatives, the plateaus and the dead-band settings only, so the axes of a unit that ask
-/// for the same dead-bands share them.
+/// for the same dead-bands share them, and the workbench keeps them while those stay.
 #[derive(Debug, Clone)]
-struct SetsOfSamples {
+pub(crate) struct SetsOfSamples {
     /// The dead-bands, resolved.
-    deadbands: (f64, f64),
-    /// The samples of each set.
-    samples: [SetSamples; 2],
+    pub(crate) deadbands: (f64, f64),
+    /// The samples of each set, `[+, −]`.
+    pub(crate) samples: [SetSamples; 2],
     /// The recipe's dead-band settings they were resolved from.
     key: (Option<f64>, Option<f64>),
 }
 
-/// The lean fit's end: K1 and K2 of both sets from `Ω_f − K0(T)`, made in place of the filtered
-/// Ω in `prepared`, and the calibration put together.
-fn finish_lean(
-    log: &Log,
-    prepared: &mut Prepared,
+/// The dead-bands stage and the sets' samples: the plateau mask of `ranges` over `time_s`,
+/// the dead-bands `recipe` resolves to outside it, and the samples of each set beyond them.
+pub(crate) fn sets_of_samples(
+    time_s: &[f64],
+    prepared: &Prepared,
+    ranges: &[PlateauRange],
     recipe: &Recipe,
-    (plateaus, k0): (Vec<PlateauStats>, Approx),
-    sets: &SetsOfSamples,
-    mut warnings: Vec<String>,
-) -> (Calibration, Vec<String>) {
-    let mut rest = std::mem::take(&mut prepared.omega_filtered_dph);
-    into_rest(&mut rest, &log.temp_c, &k0);
-    let inputs = SetInputs {
-        tdot: &prepared.deriv.tdot,
-        tddot: &prepared.deriv.tddot,
-        rest: &rest,
-    };
-    let (plus, minus) = fit_sets(&sets.samples, inputs, recipe, false);
-    drop(rest);
-    warnings.extend(plus.warnings);
-    warnings.extend(minus.warnings);
-    let calibration = Calibration::assemble(
-        log,
-        prepared,
-        recipe,
-        sets.deadbands,
-        plateaus,
-        [k0, plus.k1, minus.k1, plus.k2, minus.k2],
-    );
-    (calibration, warnings)
+) -> SetsOfSamples {
+    let mask = plateau::mask(time_s, ranges);
+    let deadbands = deadbands(prepared, &mask, recipe);
+    let samples = set_samples(&prepared.deriv, &mask, deadbands);
+    SetsOfSamples {
+        deadbands,
+        samples,
+        key: (recipe.deadband_tdot, recipe.deadband_tddot),
+    }
 }
 
-/// The temperature's part of a calibration, done once for every gyro axis of a unit: T
-/// smoothed and differentiated within each segment, and the plateaus found from Ṫ (or given).
-/// Nothing in it depends on Ω, so the axes of one log share it and only their own stages
-/// (Ω filtered, plateau means, K0, the sets and their fits) run per axis.
+/// The Vakhrameev pipeline over one log, holding what its T stages made: T smoothed and
+/// differentiated within each segment, and the plateau ranges found from Ṫ (or given). The
+/// axes of a unit share it; each axis runs its Ω stages through [`Pipeline::fit_axis`].
 #[derive(Debug, Clone)]
-pub struct SharedTemperature {
-    /// The derivatives and segments; its filtered Ω is the axis being fitted, or empty.
+pub struct Pipeline {
+    /// The derivatives and segments; its filtered Ω is empty (each axis filters its own).
     prepared: Prepared,
     /// The plateau ranges every axis's K0 points are taken over.
     ranges: Vec<PlateauRange>,
-    /// The recipe whose T settings made it, for [`SharedTemperature::fit_axis`] to check that
-    /// an axis's recipe asks for the same.
+    /// The recipe whose T settings made it, for [`Pipeline::fit_axis`] to check that an
+    /// axis's recipe asks for the same.
     recipe: Recipe,
     /// The log's span, s, which every axis's windows must fit in.
     span_s: f64,
@@ -270,38 +192,54 @@ pub struct SharedTemperature {
     sets: Option<SetsOfSamples>,
 }
 
-impl SharedTemperature {
-    /// Differentiates T and finds the plateaus as `recipe` says, once for every axis of `log`.
+impl Pipeline {
+    /// Runs the T stages as `recipe` says, once for every axis of `log`.
     ///
     /// # Errors
-    /// What [`fit`] refuses before any work: an invalid recipe, windows longer than the log,
-    /// too few or too many samples.
-    pub fn new(log: &Log, recipe: &CheckedRecipe) -> Result<SharedTemperature> {
+    /// What no fit can be made from: an invalid recipe, windows longer than the log, too few
+    /// or too many samples.
+    pub fn new(log: &Log, recipe: &CheckedRecipe) -> Result<Pipeline> {
+        check_fittable(log, recipe)?;
+        Ok(Pipeline::of_temperature(log, recipe, &log.timing()))
+    }
+
+    /// [`Pipeline::new`] with the axis in `log.omega_dph` filtered beside the T stages, for a
+    /// fit of that axis alone.
+    fn with_omega(log: &Log, recipe: &CheckedRecipe) -> Result<(Pipeline, Vec<f64>)> {
         check_fittable(log, recipe)?;
         let timing = log.timing();
+        let filter_samples = signal::seconds_to_samples(recipe.filter_s, timing.nominal_dt_s);
+        let (mut pipeline, omega_filtered_dph) = rayon::join(
+            || Pipeline::of_temperature(log, recipe, &timing),
+            || signal::moving_average_centered_in(&log.omega_dph, filter_samples, &timing.segments),
+        );
+        pipeline.prepared.filter_samples = filter_samples;
+        Ok((pipeline, omega_filtered_dph))
+    }
+
+    /// The T stages: prepare's T (smoothed, differentiated) and the plateau ranges.
+    fn of_temperature(log: &Log, recipe: &Recipe, timing: &Timing) -> Pipeline {
         let dt_s = timing.nominal_dt_s;
-        let steps = crate::signal::DerivativeSteps {
-            smooth: crate::signal::seconds_to_samples(recipe.temp_smoothing_s, dt_s),
-            step: crate::signal::seconds_to_samples(recipe.step_h_s, dt_s),
+        let steps = DerivativeSteps {
+            smooth: signal::seconds_to_samples(recipe.temp_smoothing_s, dt_s),
+            step: signal::seconds_to_samples(recipe.step_h_s, dt_s),
         };
-        let deriv = crate::signal::derivatives_in(&log.temp_c, steps, dt_s, &timing.segments);
-        let prepared = Prepared {
-            dt_s,
-            filter_samples: 0,
-            steps: Some(steps),
-            omega_filtered_dph: Vec::new(),
-            deriv,
-            segments: timing.segments,
-        };
-        let ranges = plateau_ranges(log, &prepared, recipe);
-        let span_s = log.duration_s() + dt_s;
-        Ok(SharedTemperature {
-            prepared,
+        let deriv = signal::derivatives_in(&log.temp_c, steps, dt_s, &timing.segments);
+        let ranges = plateau::ranges(&recipe.plateaus, &log.time_s, &deriv.tdot, &deriv.ready);
+        Pipeline {
+            prepared: Prepared {
+                dt_s,
+                filter_samples: 0,
+                steps: Some(steps),
+                omega_filtered_dph: Vec::new(),
+                deriv,
+                segments: timing.segments.clone(),
+            },
             ranges,
-            recipe: recipe.recipe().clone(),
-            span_s,
+            recipe: recipe.clone(),
+            span_s: log.duration_s() + dt_s,
             sets: None,
-        })
+        }
     }
 
     /// Ṫ and T̈ of the log, as every axis's calibration computes them.
@@ -318,72 +256,114 @@ impl SharedTemperature {
     /// of that axis alone (the same bits: `tests/` check it), returned with its warnings.
     ///
     /// # Errors
-    /// [`Error::Invalid`] naming a T setting of `recipe` (`temp_smoothing_s`, `step_h_s`,
+    /// [`Invalid`] naming a T setting of `recipe` (`temp_smoothing_s`, `step_h_s`,
     /// `plateaus`) that differs from the shared one: the axes of one log share T, so they share
-    /// how it is processed. Otherwise what [`fit`] reports.
+    /// how it is processed; or `filter_s` longer than the log. Otherwise what [`fit`] reports.
     pub fn fit_axis(
         &mut self,
         log: &Log,
         recipe: &CheckedRecipe,
     ) -> Result<(Calibration, Vec<String>)> {
-        let shared = &self.recipe;
-        for (name, same) in [
-            (
-                "temp_smoothing_s",
-                recipe.temp_smoothing_s == shared.temp_smoothing_s,
-            ),
-            ("step_h_s", recipe.step_h_s == shared.step_h_s),
-            ("plateaus", recipe.plateaus == shared.plateaus),
-        ] {
-            if !same {
-                return Err(crate::error::Invalid::new(
-                    name,
-                    "differs between the axes of one unit: T is shared, and so is how it is \
-                     smoothed, differentiated and split into plateaus",
-                )
-                .into());
-            }
+        if let Some(name) = crate::models::unit::differing_temperature_setting(&self.recipe, recipe)
+        {
+            return Err(Invalid::new(
+                name,
+                "differs between the axes of one unit: T is shared, and so is how it is \
+                 smoothed, differentiated and split into plateaus",
+            )
+            .into());
         }
         // What `fit` checks, on the log `new` has checked: the recipe's filter against the
         // log's span (its T windows are the shared ones).
         if recipe.filter_s > self.span_s {
-            return Err(crate::error::Invalid::new(
+            return Err(Invalid::new(
                 "filter_s",
                 format!(
                     "{} s is longer than the log {} ({} s)",
-                    crate::number::readable(recipe.filter_s),
+                    readable(recipe.filter_s),
                     log.source,
-                    crate::number::readable(self.span_s)
+                    readable(self.span_s)
                 ),
             )
             .into());
         }
         let p = &mut self.prepared;
-        p.filter_samples = crate::signal::seconds_to_samples(recipe.filter_s, p.dt_s);
-        p.omega_filtered_dph = crate::signal::moving_average_centered_in(
-            &log.omega_dph,
-            p.filter_samples,
-            &p.segments,
-        );
+        p.filter_samples = signal::seconds_to_samples(recipe.filter_s, p.dt_s);
+        let omega_filtered_dph =
+            signal::moving_average_centered_in(&log.omega_dph, p.filter_samples, &p.segments);
+        let run = self.run(log, recipe, omega_filtered_dph, Keep::Calibration)?;
+        Ok((run.calibration, run.warnings))
+    }
+
+    /// The Ω stages of the axis in `log.omega_dph`, filtered into `omega_filtered_dph`:
+    /// plateau statistics, K0, the dead-bands and sets' samples (kept while the dead-band
+    /// settings stay), then K1 and K2 of both sets, side by side.
+    fn run(
+        &mut self,
+        log: &Log,
+        recipe: &Recipe,
+        mut omega_filtered_dph: Vec<f64>,
+        keep: Keep,
+    ) -> Result<Run> {
         let mut warnings = Vec::new();
-        let plateaus = plateau_stats(log, &self.ranges);
+        let plateaus = plateau::stats_of(&log.time_s, &log.temp_c, &log.omega_dph, &self.ranges);
         let k0 = fit_k0(&plateaus, &recipe.k0, &mut warnings)?;
-        let key = (recipe.deadband_tdot, recipe.deadband_tddot);
-        let sets = match self.sets.take() {
-            Some(sets) if sets.key == key => sets,
-            _ => {
-                let mask = plateau_mask(&log.time_s, &self.ranges);
-                let deadbands = deadbands(p, &mask, recipe);
-                let samples = set_samples(&p.deriv, &mask, deadbands);
-                SetsOfSamples {
-                    deadbands,
-                    samples,
-                    key,
-                }
+        let sets = self.sets_of_samples(log, recipe);
+        // What K1 and K2 explain, `Ω_f − K0(T)`: in place of the filtered Ω unless that is kept.
+        let rest = match keep {
+            Keep::Everything => {
+                let mut rest = omega_filtered_dph.clone();
+                into_rest(&mut rest, &log.temp_c, &k0);
+                rest
+            }
+            Keep::Calibration => {
+                into_rest(&mut omega_filtered_dph, &log.temp_c, &k0);
+                std::mem::take(&mut omega_filtered_dph)
             }
         };
-        let fitted = finish_lean(log, p, recipe, (plateaus, k0), &sets, warnings);
+        let p = &self.prepared;
+        let inputs = SetInputs {
+            tdot: &p.deriv.tdot,
+            tddot: &p.deriv.tddot,
+            rest: &rest,
+        };
+        let points = keep == Keep::Everything;
+        let (plus, minus): (SetFit, SetFit) = rayon::join(
+            || fit_set(&sets.samples[0], inputs, Regime::Plus, recipe, points),
+            || fit_set(&sets.samples[1], inputs, Regime::Minus, recipe, points),
+        );
+        drop(rest);
+        warnings.extend(plus.warnings);
+        warnings.extend(minus.warnings);
+        let calibration = Calibration::assemble(
+            log,
+            p,
+            recipe,
+            sets.deadbands,
+            plateaus,
+            [k0, plus.k1, minus.k1, plus.k2, minus.k2],
+        );
         self.sets = Some(sets);
-        Ok(fitted)
+        Ok(Run {
+            calibration,
+            warnings,
+            points: [
+                plus.k1_points,
+                minus.k1_points,
+                plus.k2_points,
+                minus.k2_points,
+            ],
+            omega_filtered_dph,
+        })
+    }
+
+    /// The dead-bands and the sets' samples for `recipe`'s dead-band settings: the kept ones
+    /// when they were made for the same settings, or made afresh.
+    fn sets_of_samples(&mut self, log: &Log, recipe: &Recipe) -> SetsOfSamples {
+        let key = (recipe.deadband_tdot, recipe.deadband_tddot);
+        match self.sets.take() {
+            Some(sets) if sets.key == key => sets,
+            _ => sets_of_samples(&log.time_s, &self.prepared, &self.ranges, recipe),
+        }
     }
 }

@@ -2,30 +2,30 @@
 //! (docs/method.md §1), as a pipeline of small stages that the workbench can re-run one at a time:
 //!
 //! 1. [`Prepared::new`]: Ω filtered (centred), T smoothed (causal) and differentiated.
-//! 2. Plateaus ([`plateau_ranges`]) and their statistics give the K0 points.
+//! 2. Plateaus ([`crate::signal::plateau`]: ranges, mask, statistics) give the K0 points.
 //! 3. Pointwise K1, `(Ω − K0(T)) / Ṫ` on the + and − sets, outside plateaus and the Ṫ
 //!    dead-band.
 //! 4. Pointwise K2, `(Ω − K0(T) − K1(Ṫ)·Ṫ) / T̈` with the *fitted* K1, outside the T̈
 //!    dead-band.
 //!
-//! [`fit`] runs them all and returns a [`Calibration`] plus everything the stages made, so that a
-//! change of one approximation refits only that approximation (and K2 after K1).
+//! [`Pipeline`] runs them in that order, the T stages once for every axis of a unit; [`fit`]
+//! runs it on one axis and returns a [`Calibration`] plus everything the stages made, and the
+//! workbench's refit (`crate::live`) keeps each stage's result so that a change of one
+//! approximation refits only that approximation (and K2 after K1).
 //!
 //! This file holds the calibration and the signals it is fitted from; `stages` the stages
-//! before the sets (plateaus, K0, dead-bands); `sets` the + and − sets, their pointwise
-//! coefficients and the fits over them; `fit` the pipelines that run them, for one axis or for
-//! every axis of a unit with one temperature processing ([`SharedTemperature`]).
+//! between the plateaus and the sets (K0, dead-bands); `sets` the + and − sets, their pointwise
+//! coefficients and the fits over them; `fit` the pipeline that runs them, for one axis or for
+//! every axis of a unit with one temperature processing ([`Pipeline`]).
 
 pub mod correct;
 mod fit;
 mod sets;
 mod stages;
 
-pub use fit::{Calibrated, Fit, SharedTemperature, fit, fit_lean, fit_prepared};
-pub use stages::{
-    deadbands, fit_k0, fit_or_fallback, fit_or_fallback_weighted, plateau_mask, plateau_ranges,
-    plateau_stats,
-};
+pub use fit::{Calibrated, Fit, Pipeline, fit, fit_lean};
+pub(crate) use fit::{SetsOfSamples, check_sample_count, sets_of_samples};
+pub use stages::{deadbands, fit_k0, fit_or_fallback, fit_or_fallback_weighted};
 
 // The sets are the model's inner stage; the workbench's live refit (`crate::live`) reruns them
 // one at a time, nothing outside the crate sees them.

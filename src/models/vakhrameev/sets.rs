@@ -4,6 +4,7 @@
 
 use super::*;
 use crate::models::approx::Evaluator;
+use crate::signal::plateau;
 
 /// Pointwise K1 of one sample: `(Ω_f − K0(T) − K2(T̈)·T̈) / Ṫ`, with `rest` = `Ω_f − K0(T)`.
 /// The paper's first pass has no K2 yet (`k2 = None`); refinement passes subtract the K2 term
@@ -527,12 +528,12 @@ impl Calibration {
     /// dead-bands; K1 with the fitted K2 term removed, K2 with the fitted K1), for the report's
     /// and the workbench's scatter plots. Order: K1+, K1−, K2+, K2−.
     pub fn pointwise(&self, log: &Log) -> [PointSet; 4] {
-        if log.len() < 16 {
+        if log.len() < crate::models::MIN_SAMPLES {
             return Default::default();
         }
         let prepared = Prepared::new(log, &self.recipe);
         let ranges: Vec<PlateauRange> = self.plateaus.iter().map(|p| p.range).collect();
-        let mask = plateau_mask(&log.time_s, &ranges);
+        let mask = plateau::mask(&log.time_s, &ranges);
         let db = (self.resolved.deadband_tdot, self.resolved.deadband_tddot);
         let [plus, minus] = set_samples(&prepared.deriv, &mask, db);
         let rest = rest_dph(&prepared.omega_filtered_dph, &log.temp_c, &self.k0);

@@ -1,44 +1,13 @@
-//! The stages before the + and − sets: the plateaus and their statistics (the K0 points), K0
-//! itself, the mask of plateau samples and the dead-bands; and the fallback every
-//! approximation of the model goes through when its points cannot carry the curve asked for.
-//! They read T's derivatives and one axis's Ω, so a multi-axis unit runs the T stages once and
-//! the Ω stages per axis.
+//! The stages between the plateaus (`crate::signal::plateau`) and the + and − sets: K0 through
+//! the plateau points and the dead-bands; and the fallback every approximation of the model
+//! goes through when its points cannot carry the curve asked for.
 
 use super::Prepared;
-use crate::error::{Error, Result};
-use crate::log::Log;
+use crate::error::Result;
+use crate::models::FitError;
 use crate::models::approx::{self, Approx, ApproxKind, ApproxSpec};
-use crate::models::recipe::{PlateauChoice, Recipe};
-use crate::signal::plateau::{self, PlateauRange, PlateauStats};
-
-/// The plateau ranges the recipe asks for on this log.
-pub fn plateau_ranges(log: &Log, prepared: &Prepared, recipe: &Recipe) -> Vec<PlateauRange> {
-    match &recipe.plateaus {
-        // Found within each segment's samples with full history: a plateau never spans a gap.
-        PlateauChoice::Auto(opts) => prepared
-            .deriv
-            .ready
-            .iter()
-            .flat_map(|r| {
-                plateau::detect(
-                    &log.time_s[r.clone()],
-                    &prepared.deriv.tdot[r.clone()],
-                    0,
-                    opts,
-                )
-            })
-            .collect(),
-        PlateauChoice::Manual { ranges } => ranges.clone(),
-    }
-}
-
-/// Statistics of each range (ranges without samples are dropped).
-pub fn plateau_stats(log: &Log, ranges: &[PlateauRange]) -> Vec<PlateauStats> {
-    ranges
-        .iter()
-        .filter_map(|r| plateau::stats(&log.time_s, &log.temp_c, &log.omega_dph, *r))
-        .collect()
-}
+use crate::models::recipe::Recipe;
+use crate::signal::plateau::PlateauStats;
 
 /// K0(T) through the plateau points, lowering the order when there are too few plateaus.
 pub fn fit_k0(
@@ -47,11 +16,7 @@ pub fn fit_k0(
     warnings: &mut Vec<String>,
 ) -> Result<Approx> {
     if plateaus.is_empty() {
-        return Err(Error::Fit(
-            "no plateaus: K0(T) needs at least one temperature-stabilisation period; mark them \
-             (--plateau START:END) or loosen the detector"
-                .into(),
-        ));
+        return Err(FitError::NoK0Plateaus.into());
     }
     let t: Vec<f64> = plateaus.iter().map(|p| p.temp_c).collect();
     let w: Vec<f64> = plateaus.iter().map(|p| p.omega_dph).collect();
@@ -172,16 +137,6 @@ pub fn fit_or_fallback_weighted(
         stats,
     )
     .unwrap_or_else(|_| Approx::zero(spec.kind))
-}
-
-/// A mask of samples inside any of the plateaus (they carry no K1/K2 information).
-pub fn plateau_mask(time_s: &[f64], ranges: &[PlateauRange]) -> Vec<bool> {
-    let mut mask = vec![false; time_s.len()];
-    for r in ranges {
-        let (lo, hi) = r.index_range(time_s);
-        mask[lo..hi].fill(true);
-    }
-    mask
 }
 
 /// Default dead-band: a fifth of the 95th percentile of |v| over the samples that count.

@@ -23,7 +23,8 @@ use super::{
 };
 use crate::error::{Error, Result};
 use crate::log::Log;
-use crate::models::recipe::PlateauChoice;
+use crate::models::FitError;
+use crate::signal::plateau;
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicBool, AtomicUsize};
 
@@ -65,11 +66,9 @@ pub fn fit_with_progress(
             .temp2
             .clone()
             .or_else(|| guess_temp2(log))
-            .ok_or_else(|| {
-                Error::Fit(format!(
-                    "{}: model {} needs a second temperature channel (dT) and the log has none",
-                    log.source, spec.name
-                ))
+            .ok_or_else(|| FitError::NoSecondTemperature {
+                log: log.source.clone(),
+                model: spec.name.clone(),
             })?;
         Some(name)
     } else {
@@ -79,39 +78,28 @@ pub fn fit_with_progress(
     let p = terms::column_names(&spec.terms).len();
     let n = s.len();
     if s.ready_count() < 2 * p + 2 {
-        return Err(Error::Fit(format!(
-            "{}: {n} samples are too few for model {} ({p} coefficients)",
-            log.source, spec.name
-        )));
+        return Err(FitError::TooFewForModel {
+            log: log.source.clone(),
+            count: n,
+            model: spec.name.clone(),
+            coefficients: p,
+        }
+        .into());
     }
     let stride = s.ready_count().div_ceil(SEARCH_SAMPLES).max(1);
     let stages = stages(spec);
     // The plateaus, when a stage needs them: the engineer's ranges, or found by the detector
     // (with the recipe's options) on T as measured, where the chamber held.
     let plateau: Vec<bool> = if stages.iter().any(|st| st.on_plateaus) {
-        let ranges = match &spec.plateaus {
-            // Within each segment's samples with full history: no plateau spans a gap.
-            PlateauChoice::Auto(opts) => s
-                .ready
-                .iter()
-                .flat_map(|r| {
-                    crate::signal::plateau::detect(
-                        &log.time_s[r.clone()],
-                        &s.tdot[r.clone()],
-                        0,
-                        opts,
-                    )
-                })
-                .collect(),
-            PlateauChoice::Manual { ranges } => ranges.clone(),
-        };
+        let ranges = plateau::ranges(&spec.plateaus, &log.time_s, &s.tdot, &s.ready);
         if ranges.is_empty() {
-            return Err(Error::Fit(format!(
-                "{}: model {} is fitted on plateaus and the log has none",
-                log.source, spec.name
-            )));
+            return Err(FitError::NoPlateaus {
+                log: log.source.clone(),
+                model: spec.name.clone(),
+            }
+            .into());
         }
-        crate::models::vakhrameev::plateau_mask(&log.time_s, &ranges)
+        plateau::mask(&log.time_s, &ranges)
     } else {
         vec![true; n]
     };
@@ -190,7 +178,10 @@ pub fn fit_with_progress(
         Some(_) => Signals::of(log, spec, temp2.as_deref(), lag)?,
         None => s,
     };
-    let t_knots = t_knots_of(spec, &s).map_err(|e| Error::Fit(format!("{}: {e}", log.source)))?;
+    let t_knots = t_knots_of(spec, &s).ok_or_else(|| FitError::FlatTemperature {
+        log: log.source.clone(),
+        model: spec.name.clone(),
+    })?;
     // Searches run on at most SEARCH_SAMPLES evenly spread samples.
     let sub = || s.ready_samples().step_by(stride);
     let has_selfheat = spec.terms.contains(&Term::SelfHeating);
@@ -224,63 +215,59 @@ pub fn fit_with_progress(
         lambda = c.best;
         searches.push(c);
     }
+    // Whether sample `i` lies in the band `[lo, hi)` of T (`[lo, hi]` for the last band).
+    let in_band = |i: &usize, (lo, hi, last): (f64, f64, bool)| {
+        let t = s.temp[*i];
+        t >= lo && (t < hi || last)
+    };
+    // The cost of a constant delay τ with λ as found, over the searched samples (those of one
+    // band of T, when one is given; a plateau stage keeps every plateau: a band may hold only
+    // one).
+    let delay_cost = |tau: f64, band: Option<(f64, f64, bool)>| {
+        if !budget.tick() {
+            return f64::INFINITY;
+        }
+        let d = Delay::constant(tau);
+        let design = Design {
+            terms: &spec.terms,
+            lambda,
+            t_knots: &t_knots,
+            delay: &d,
+        };
+        cost(&s, &design, &stages, &plateau, |on_plateaus| {
+            sub().filter(move |i| on_plateaus || band.is_none_or(|b| in_band(i, b)))
+        })
+    };
     match spec.delay {
         DelaySpec::Search { max_s } => {
             let g = search::grid(0.0, max_s, 31, false);
-            let c = search::minimize("delay_s", &g, false, |tau| {
-                if !budget.tick() {
-                    return f64::INFINITY;
-                }
-                let d = Delay::constant(tau);
-                let design = Design {
-                    terms: &spec.terms,
-                    lambda,
-                    t_knots: &t_knots,
-                    delay: &d,
-                };
-                cost(&s, &design, &stages, &plateau, |_| sub())
-            });
+            let c = search::minimize("delay_s", &g, false, |tau| delay_cost(tau, None));
             delay = Delay::constant(c.best);
             searches.push(c);
         }
         DelaySpec::Bands { bands, max_s } => {
-            let (lo, hi) = s
-                .ready_samples()
-                .map(|i| s.temp[i])
-                .filter(|v| v.is_finite())
-                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
-                    (a.min(v), b.max(v))
-                });
+            let (lo, hi) = temp_range(&s);
             let width = (hi - lo) / bands as f64;
             let g = search::grid(0.0, max_s, 31, false);
             let mut points = Vec::new();
             for b in 0..bands {
-                let (blo, bhi) = (lo + b as f64 * width, lo + (b + 1) as f64 * width);
-                let in_band = |i: &usize| {
-                    let t = s.temp[*i];
-                    t >= blo && (t < bhi || b + 1 == bands)
-                };
-                let count = sub().filter(in_band).count();
+                let band = (
+                    lo + b as f64 * width,
+                    lo + (b + 1) as f64 * width,
+                    b + 1 == bands,
+                );
+                let count = sub().filter(|i| in_band(i, band)).count();
                 if count < 20 * p.max(1) {
                     continue;
                 }
-                let centre = sub().filter(in_band).map(|i| s.temp[i]).sum::<f64>() / count as f64;
+                let centre = sub()
+                    .filter(|i| in_band(i, band))
+                    .map(|i| s.temp[i])
+                    .sum::<f64>()
+                    / count as f64;
                 let c =
                     search::minimize(&format!("delay_s at {centre:.1} degC"), &g, false, |tau| {
-                        if !budget.tick() {
-                            return f64::INFINITY;
-                        }
-                        let d = Delay::constant(tau);
-                        let design = Design {
-                            terms: &spec.terms,
-                            lambda,
-                            t_knots: &t_knots,
-                            delay: &d,
-                        };
-                        // Plateau stages keep every plateau: a band may hold only one.
-                        cost(&s, &design, &stages, &plateau, |on_plateaus| {
-                            sub().filter(move |i| on_plateaus || in_band(i))
-                        })
+                        delay_cost(tau, Some(band))
                     });
                 points.push([centre, c.best]);
                 searches.push(c);
@@ -306,11 +293,11 @@ pub fn fit_with_progress(
         delay: &delay,
     };
     let sol = solve_stages(&s, &design, &stages, &plateau, |_| s.ready_samples()).map_err(
-        |(used, p)| {
-            Error::Fit(format!(
-                "{}: model {} could not be fitted ({used} usable samples for {p} coefficients)",
-                log.source, spec.name
-            ))
+        |(used, coefficients)| FitError::Unsolvable {
+            log: log.source.clone(),
+            model: spec.name.clone(),
+            used,
+            coefficients,
         },
     )?;
     let mut model = RegressionModel {
@@ -335,26 +322,29 @@ pub fn fit_with_progress(
     Ok(model)
 }
 
-/// Knots of a `pwlT` term over the range of T (none when the model has no such term).
-fn t_knots_of(spec: &RegressionSpec, s: &Signals) -> std::result::Result<Vec<f64>, String> {
+/// Knots of a `pwlT` term over the range of T (none when the model has no such term); `None`
+/// when T does not vary, so no knots can be spread over it.
+fn t_knots_of(spec: &RegressionSpec, s: &Signals) -> Option<Vec<f64>> {
     let Some(k) = spec.terms.iter().find_map(|t| match t {
         Term::PwlT { knots } => Some(*knots),
         _ => None,
     }) else {
-        return Ok(Vec::new());
+        return Some(Vec::new());
     };
-    let (lo, hi) = s
-        .ready_samples()
+    let (lo, hi) = temp_range(s);
+    if hi <= lo || hi.is_nan() {
+        return None;
+    }
+    Some(search::grid(lo, hi, k, false))
+}
+
+/// The lowest and highest finite T over the samples with full history (∞ and −∞ when there
+/// is none).
+fn temp_range(s: &Signals) -> (f64, f64) {
+    s.ready_samples()
         .map(|i| s.temp[i])
         .filter(|v| v.is_finite())
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
             (a.min(v), b.max(v))
-        });
-    if hi <= lo || hi.is_nan() {
-        return Err(format!(
-            "T does not vary, so model {} cannot be fitted over it",
-            spec.name
-        ));
-    }
-    Ok(search::grid(lo, hi, k, false))
+        })
 }

@@ -1,0 +1,293 @@
+//! Why a fit could not be made: each refusal of the models' stages with what and where (the
+//! log, the model, the axis, the counts), so that a face can word it its own way.
+//!
+//! The messages name settings by their recipe names (`plateaus`), never a face's option.
+
+use std::path::PathBuf;
+
+/// A fit the data cannot support, or a model that cannot be applied to a log.
+#[derive(Debug, thiserror::Error)]
+pub enum FitError {
+    /// Fewer samples than any calibration takes.
+    #[error("{log}: {count} samples are too few to calibrate (at least {minimum} are needed)")]
+    TooFewSamples {
+        /// The log.
+        log: String,
+        /// Samples it has.
+        count: usize,
+        /// Samples a calibration needs ([`super::MIN_SAMPLES`]).
+        minimum: usize,
+    },
+    /// More samples than one calibration can index.
+    #[error("{log}: {count} samples are more than the {maximum} one calibration can take")]
+    TooManySamples {
+        /// The log.
+        log: String,
+        /// Samples it has.
+        count: usize,
+        /// The most a calibration takes.
+        maximum: usize,
+    },
+    /// Fewer usable samples than a regression model needs for its coefficients.
+    #[error("{log}: {count} samples are too few for model {model} ({coefficients} coefficients)")]
+    TooFewForModel {
+        /// The log.
+        log: String,
+        /// Samples it has.
+        count: usize,
+        /// The model.
+        model: String,
+        /// Coefficients the model has.
+        coefficients: usize,
+    },
+    /// The least-squares solve failed: too few usable samples, or columns that do not differ.
+    #[error(
+        "{log}: model {model} could not be fitted ({used} usable samples for {coefficients} \
+         coefficients)"
+    )]
+    Unsolvable {
+        /// The log.
+        log: String,
+        /// The model.
+        model: String,
+        /// Samples the solve could use.
+        used: usize,
+        /// Coefficients it solved for.
+        coefficients: usize,
+    },
+    /// A temperature range too narrow for a model in T.
+    #[error(
+        "{log}: the temperature spans {}: too little for model {model} (a calibration in T \
+         needs at least {minimum_c} °C)",
+        span_text(*.span_c)
+    )]
+    NarrowSpan {
+        /// The log.
+        log: String,
+        /// The model.
+        model: String,
+        /// The lowest and highest finite temperature, °C; `None` when none is finite.
+        span_c: Option<(f64, f64)>,
+        /// The span a model needs, °C ([`super::MIN_TEMP_SPAN_C`]).
+        minimum_c: f64,
+    },
+    /// A model with rate terms on a log that never ramps.
+    #[error(
+        "{log}: the temperature never changes faster than {fastest_c_per_min:.3} °C/min: model \
+         {model} has rate terms, which need ramps of at least {minimum_c_per_min} °C/min (try \
+         poly-t, a model of T alone)"
+    )]
+    NoRamps {
+        /// The log.
+        log: String,
+        /// The model.
+        model: String,
+        /// The fastest |Ṫ| found, °C/min.
+        fastest_c_per_min: f64,
+        /// The |Ṫ| rate terms need, °C/min ([`super::MIN_RAMP_C_PER_MIN`]).
+        minimum_c_per_min: f64,
+    },
+    /// A temperature that does not vary, over which a curve in T cannot be spread.
+    #[error("{log}: T does not vary, so model {model} cannot be fitted over it")]
+    FlatTemperature {
+        /// The log.
+        log: String,
+        /// The model.
+        model: String,
+    },
+    /// No plateau to take K0's points from.
+    #[error(
+        "no plateaus: K0(T) needs at least one temperature-stabilisation period; mark them \
+         (the recipe's plateaus, as ranges) or loosen the detector"
+    )]
+    NoK0Plateaus,
+    /// A model fitted on plateaus, on a log that has none.
+    #[error("{log}: model {model} is fitted on plateaus and the log has none")]
+    NoPlateaus {
+        /// The log.
+        log: String,
+        /// The model.
+        model: String,
+    },
+    /// A channel the model reads is not in the log.
+    #[error(
+        "{log}: no channel \"{channel}\" (extra channels: {})",
+        list(available)
+    )]
+    MissingChannel {
+        /// The log.
+        log: String,
+        /// The channel asked for.
+        channel: String,
+        /// The extra channels the log has.
+        available: Vec<String>,
+    },
+    /// A model with ΔT terms on a log without a second temperature sensor.
+    #[error("{log}: model {model} needs a second temperature sensor (dT) and the log has none")]
+    NoSecondTemperature {
+        /// The log.
+        log: String,
+        /// The model.
+        model: String,
+    },
+    /// A unit calibration asked for no axis.
+    #[error("{log}: no axis to calibrate")]
+    NoAxes {
+        /// The log.
+        log: String,
+    },
+    /// An axis the log does not have.
+    #[error("{log}: no gyro axis \"{axis}\" (its axes: {})", available.join(", "))]
+    MissingAxis {
+        /// The log.
+        log: String,
+        /// The axis asked for.
+        axis: String,
+        /// The log's axes.
+        available: Vec<String>,
+    },
+    /// One axis asked for twice.
+    #[error("{log}: axis \"{axis}\" is asked for twice")]
+    AxisTwice {
+        /// The log.
+        log: String,
+        /// The axis.
+        axis: String,
+    },
+    /// A refusal on one axis of a unit.
+    #[error("axis {axis}: {source}")]
+    OnAxis {
+        /// The axis.
+        axis: String,
+        /// What went wrong there.
+        source: Box<FitError>,
+    },
+    /// A refusal while a model was applied to a log read from a file.
+    #[error("{}: {source}", path.display())]
+    OnFile {
+        /// The file.
+        path: PathBuf,
+        /// What went wrong there.
+        source: Box<FitError>,
+    },
+}
+
+impl FitError {
+    /// The channel `channel` is not among `log`'s extra channels.
+    pub fn missing_channel(log: &crate::log::Log, channel: &str) -> FitError {
+        FitError::MissingChannel {
+            log: log.source.clone(),
+            channel: channel.to_string(),
+            available: log.extra.iter().map(|c| c.name.clone()).collect(),
+        }
+    }
+
+    /// This error, said to have happened on axis `axis` of a unit.
+    pub fn on_axis(self, axis: impl Into<String>) -> FitError {
+        FitError::OnAxis {
+            axis: axis.into(),
+            source: Box::new(self),
+        }
+    }
+
+    /// This error, said to have happened on the log read from `path`.
+    pub fn on_file(self, path: impl Into<PathBuf>) -> FitError {
+        FitError::OnFile {
+            path: path.into(),
+            source: Box::new(self),
+        }
+    }
+
+    /// The error itself, without the axes and files it is said to have happened on.
+    pub fn innermost(&self) -> &FitError {
+        match self {
+            FitError::OnAxis { source, .. } | FitError::OnFile { source, .. } => source.innermost(),
+            other => other,
+        }
+    }
+}
+
+/// A temperature span in a message: its width and ends, or that there is none.
+fn span_text(span_c: Option<(f64, f64)>) -> String {
+    match span_c {
+        Some((lo, hi)) => format!("{:.3} °C ({lo:.3} … {hi:.3} °C)", hi - lo),
+        None => "nothing (no finite temperature)".to_string(),
+    }
+}
+
+/// Names in a message, or "none".
+fn list(names: &[String]) -> String {
+    if names.is_empty() {
+        "none".to_string()
+    } else {
+        names.join(", ")
+    }
+}
+
+/// A model's setting written as text (a model's name, its terms, how its delay or lag is
+/// chosen, which samples it is fitted on) that does not parse.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ParseError {
+    /// A model name that is no preset.
+    #[error("unknown model \"{name}\"; models are {}", known.join(", "))]
+    UnknownModel {
+        /// The name given.
+        name: String,
+        /// The presets' names.
+        known: Vec<&'static str>,
+    },
+    /// A delay that is none of the forms.
+    #[error("{text:?}: expected none, SECONDS (0 or more), auto or bands:N")]
+    Delay {
+        /// The text given.
+        text: String,
+    },
+    /// A banded delay with a number of bands out of range.
+    #[error("{text:?}: bands:N needs N from 1 to {maximum}")]
+    DelayBands {
+        /// The text given.
+        text: String,
+        /// The most bands.
+        maximum: usize,
+    },
+    /// A lag that is none of the forms.
+    #[error("{text:?}: expected none, SECONDS (0 or more), auto or auto-t")]
+    Lag {
+        /// The text given.
+        text: String,
+    },
+    /// Samples to fit on that are none of the choices.
+    #[error("{text:?}: expected all, plateaus or staged")]
+    FitSamples {
+        /// The text given.
+        text: String,
+    },
+    /// A channel term without the channel's name.
+    #[error("term \"{term}\" names no channel")]
+    TermWithoutChannel {
+        /// The term given.
+        term: String,
+    },
+    /// A piecewise-linear term with a number of knots out of range.
+    #[error("term \"{term}\": pwlT needs {minimum} to {maximum} knots")]
+    PwlKnots {
+        /// The term given.
+        term: String,
+        /// The fewest knots.
+        minimum: usize,
+        /// The most knots.
+        maximum: usize,
+    },
+    /// A term that is none of the known ones.
+    #[error(
+        "unknown term \"{term}\"; terms are 1, T, T^2, T^3, Tdot, Tddot, T*Tdot, |Tdot|, \
+         T*Tddot, sgn(Tdot)*Tddot, dT, dT^2, selfheat, ch:NAME, ch^2:NAME, pwlT:N"
+    )]
+    UnknownTerm {
+        /// The term given.
+        term: String,
+    },
+    /// A list of terms with none in it.
+    #[error("a model needs at least one term")]
+    NoTerms,
+}
