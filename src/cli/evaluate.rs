@@ -3,6 +3,7 @@
 use super::common::{self, CliError, LogArgs};
 use driftlab::Log;
 use driftlab::files::calibration;
+use driftlab::files::corrected_csv::{self, WriteError};
 use driftlab::judge::metrics::{Comparison, Evaluation, MeritOptions};
 use driftlab::log::ingest::Input;
 use driftlab::models::UnitCalibration;
@@ -94,35 +95,45 @@ fn judge(
 }
 
 /// The log's axis that each axis of `unit` was calibrated on (by name, or by the rate column
-/// it was read from), in the calibration's order; an axis the log lacks is an error naming
-/// both sides.
+/// it was read from; the log's own axis for a single-axis calibration), in the calibration's
+/// order; an axis the log lacks is an error naming both sides.
 pub(super) fn unit_axes(
     log: &Log,
     unit: &UnitCalibration,
     calibration: &Path,
 ) -> Result<Vec<String>, CliError> {
-    let mut columns = Vec::with_capacity(unit.axes.len());
-    for ax in &unit.axes {
-        let Some(name) = log.matching_axis(&ax.name, &ax.rate_column) else {
-            return Err(format!(
-                "{}: no gyro axis {} (column {}) for axis {} of {} (the log's axes: {}); map \
-                 the rate columns with --rate-col",
-                log.source,
-                ax.name,
-                if ax.rate_column.is_empty() {
-                    "?"
-                } else {
-                    &ax.rate_column
-                },
-                ax.name,
-                calibration.display(),
-                log.axis_names().join(", ")
-            )
-            .into());
-        };
-        columns.push(name);
-    }
-    Ok(columns)
+    corrected_csv::log_axes(log, unit).map_err(|e| match e {
+        WriteError::MissingAxis {
+            log,
+            axis,
+            rate_column,
+            log_axes,
+        } => missing_axis(&log, &axis, &rate_column, &log_axes, calibration),
+        other => other.to_string().into(),
+    })
+}
+
+/// The log `log` lacks the axis `axis` (read from `rate_column` on its own log) of the
+/// calibration file `calibration`.
+pub(super) fn missing_axis(
+    log: &str,
+    axis: &str,
+    rate_column: &str,
+    log_axes: &[String],
+    calibration: &Path,
+) -> CliError {
+    format!(
+        "{log}: no gyro axis {axis} (column {}) for axis {axis} of {} (the log's axes: {}); map \
+         the rate columns with --rate-col",
+        if rate_column.is_empty() {
+            "?"
+        } else {
+            rate_column
+        },
+        calibration.display(),
+        log_axes.join(", ")
+    )
+    .into()
 }
 
 /// Reads a log for every axis of `unit`: only the rate and temperature columns when no axis's
