@@ -9,6 +9,7 @@ mod allan;
 mod attack;
 mod commands;
 mod kalibr;
+mod output_hashes;
 mod real_logs;
 mod unit_calibrate;
 mod unit_judging;

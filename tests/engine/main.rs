@@ -8,7 +8,6 @@ mod common;
 mod allan;
 mod approx;
 mod correction;
-mod live_speed;
 mod lod;
 mod model;
 mod models;

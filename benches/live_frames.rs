@@ -1,4 +1,8 @@
-//! Where a live frame goes on a 1M-sample log (run with `--ignored --nocapture`; timing only).
+//! Where a live frame goes on a 1M-sample log: the workbench's refit after a kind change and
+//! after a knot drag, stage by stage (fit, correct, evaluate), wall and CPU time. Run as
+//!
+//!     cargo bench --no-default-features --bench live_frames
+//!
 //! `DRIFTLAB_LIVE_RUNS` sets the runs per scenario (default 12), `DRIFTLAB_LIVE_ONLY` picks
 //! scenarios by name.
 
@@ -44,9 +48,7 @@ fn fastest(v: Vec<f64>) -> f64 {
     v.into_iter().fold(f64::INFINITY, f64::min)
 }
 
-#[test]
-#[ignore = "timing only"]
-fn live_frame_stages_1m() {
+fn main() {
     let runs: usize = std::env::var("DRIFTLAB_LIVE_RUNS")
         .ok()
         .and_then(|s| s.parse().ok())
