@@ -33,7 +33,7 @@ pub fn run(a: Args) -> Result<(), CliError> {
     )?;
     let unit = calibration::load_unit(&a.calibration).map_err(|e| e.to_string())?;
     let input = a.log_args.open(&a.log)?;
-    let log = super::evaluate::read_for_unit(&a.log_args, &input, &unit)?;
+    let log = a.log_args.read_for(&input, &unit)?;
     let bar = common::progress_bar(&format!("writing {}", a.out.display()));
     let written = corrected_csv::correct_and_write(&a.out, &log, &unit, &|f| {
         if let Some(b) = &bar {

@@ -8,7 +8,6 @@ mod allan;
 mod apply;
 mod calibrate;
 mod calibrate_print;
-mod calibrate_unit;
 mod compare;
 mod convert;
 mod evaluate;
