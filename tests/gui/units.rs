@@ -311,7 +311,11 @@ fn export_writes_the_unit_calibration_the_engine_makes_and_its_corrected_csv() {
     let corrections: Vec<_> = unit
         .axes
         .iter()
-        .map(|a| a.model.correct(&log).unwrap())
+        .map(|a| {
+            let mut axis_log = (*log).clone();
+            assert!(axis_log.select_axis(&a.name), "axis {}", a.name);
+            a.model.correct(&axis_log).unwrap()
+        })
         .collect();
     let bits = |v: f64| if v.is_nan() { u64::MAX } else { v.to_bits() };
     let mut rows = 0;
