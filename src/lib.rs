@@ -65,7 +65,9 @@ pub mod signal;
 pub mod sim;
 
 /// The desktop workbench (feature `gui`): a face over the engine, holding no calculation.
+/// Public for the `driftlab` binary and the workbench's tests only: not the library's API.
 #[cfg(feature = "gui")]
+#[doc(hidden)]
 pub mod gui;
 
 pub use error::{Error, Result};

@@ -1,9 +1,9 @@
 //! `driftlab apply`: correct a log with a calibration and write the result as CSV.
 
 use super::common::{self, CliError, LogArgs};
-use driftlab::models::UnitCalibration;
-use driftlab::{files::calibration, files::corrected_csv};
-use std::path::PathBuf;
+use driftlab::files::calibration;
+use driftlab::files::corrected_csv::{self, WriteError};
+use std::path::{Path, PathBuf};
 
 /// Arguments of `apply`.
 #[derive(clap::Args, Debug)]
@@ -21,6 +21,10 @@ pub struct Args {
     pub log_args: LogArgs,
 }
 
+/// Every axis of the calibration (the one axis of a single-axis calibration, or each axis of
+/// a unit from the log's axis of the same name or rate column) corrected and written side by
+/// side, predicted batch by batch as the rows are written: no column of the prediction, the
+/// corrected rate, rates or regimes is held.
 pub fn run(a: Args) -> Result<(), CliError> {
     common::refuse_overwriting(
         "--out",
@@ -28,33 +32,52 @@ pub fn run(a: Args) -> Result<(), CliError> {
         &[("the calibration", &a.calibration), ("the log", &a.log)],
     )?;
     let unit = calibration::load_unit(&a.calibration).map_err(|e| e.to_string())?;
-    if unit.is_unit() {
-        return run_unit(&a, &unit);
-    }
-    let model = unit.first()?;
-    let log = a.log_args.read_for(&a.log_args.open(&a.log)?, model)?;
-    // The predicted drift alone, batch by batch as the rows are written: the corrected rate
-    // is written as Ω − pred row by row, so no column of it (nor of rates and regimes) is held.
-    let mut predictor = model
-        .predictor(&log)
-        .map_err(|e| format!("{}: {e}", a.calibration.display()))?;
+    let input = a.log_args.open(&a.log)?;
+    let log = a.log_args.read_for(&input, &unit)?;
     let bar = common::progress_bar(&format!("writing {}", a.out.display()));
-    corrected_csv::write_streamed(&a.out, &log, &mut predictor, &|f| {
+    let written = corrected_csv::correct_and_write(&a.out, &log, &unit, &|f| {
         if let Some(b) = &bar {
             b.set_position((f * 1000.0) as u64);
         }
-    })
-    .map_err(|e| format!("{}: {e}", a.out.display()))?;
+    });
     if let Some(b) = bar {
         b.finish_and_clear();
     }
-    note_outside("", predictor.outside_fraction());
-    note!(
-        "{} samples corrected, written to {}",
-        log.len(),
-        a.out.display()
-    );
+    let outside = written.map_err(|e| in_words(e, &a.calibration))?;
+    for (ax, fraction) in unit.axes.iter().zip(outside) {
+        note_outside(&ax.name, fraction);
+    }
+    if unit.is_unit() {
+        note!(
+            "{} samples of {} axes ({}) corrected, written to {}",
+            log.len(),
+            unit.axes.len(),
+            unit.axis_names().join(", "),
+            a.out.display()
+        );
+    } else {
+        note!(
+            "{} samples corrected, written to {}",
+            log.len(),
+            a.out.display()
+        );
+    }
     Ok(())
+}
+
+/// The command line's words for why the log was not corrected: a missing axis with the flag
+/// that maps the rate columns, a model's error with the calibration file.
+fn in_words(e: WriteError, calibration: &Path) -> CliError {
+    match e {
+        WriteError::MissingAxis {
+            log,
+            axis,
+            rate_column,
+            log_axes,
+        } => super::evaluate::missing_axis(&log, &axis, &rate_column, &log_axes, calibration),
+        WriteError::Predict { .. } => format!("{}: {e}", calibration.display()).into(),
+        WriteError::Io { .. } => e.to_string().into(),
+    }
 }
 
 /// Says what share of the samples (of `axis`, when named) lay outside the calibrated ranges.
@@ -71,56 +94,4 @@ fn note_outside(axis: &str, outside_fraction: f64) {
             outside_fraction * 100.0
         );
     }
-}
-
-/// `apply` for a unit: every axis corrected from the log's axis of the same name (or rate
-/// column), written side by side.
-fn run_unit(a: &Args, unit: &UnitCalibration) -> Result<(), CliError> {
-    let input = a.log_args.open(&a.log)?;
-    let plain = unit
-        .axes
-        .iter()
-        .all(|ax| matches!(ax.model.inputs(), (None, c) if c.is_empty()));
-    let log = if plain {
-        a.log_args.read_columns(&input)?
-    } else {
-        a.log_args.read(&input)?
-    };
-    let columns = super::evaluate::unit_axes(&log, unit, &a.calibration)?;
-    let mut predictors = Vec::with_capacity(unit.axes.len());
-    for ax in &unit.axes {
-        predictors.push(
-            ax.model
-                .predictor(&log)
-                .map_err(|e| format!("{}: axis {}: {e}", a.calibration.display(), ax.name))?,
-        );
-    }
-    let mut axes = Vec::with_capacity(unit.axes.len());
-    for ((ax, column), p) in unit.axes.iter().zip(&columns).zip(predictors.iter_mut()) {
-        let rate = log
-            .axis_rate(column)
-            .ok_or("an axis found in the log has no rate")?;
-        axes.push((ax.name.as_str(), rate, p));
-    }
-    let bar = common::progress_bar(&format!("writing {}", a.out.display()));
-    corrected_csv::write_unit_streamed(&a.out, &log, axes, &|f| {
-        if let Some(b) = &bar {
-            b.set_position((f * 1000.0) as u64);
-        }
-    })
-    .map_err(|e| format!("{}: {e}", a.out.display()))?;
-    if let Some(b) = bar {
-        b.finish_and_clear();
-    }
-    for (ax, p) in unit.axes.iter().zip(&predictors) {
-        note_outside(&ax.name, p.outside_fraction());
-    }
-    note!(
-        "{} samples of {} axes ({}) corrected, written to {}",
-        log.len(),
-        unit.axes.len(),
-        unit.axis_names().join(", "),
-        a.out.display()
-    );
-    Ok(())
 }

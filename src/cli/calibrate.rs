@@ -1,13 +1,19 @@
-//! `driftlab calibrate`: fit a calibration (any model) to a log and save it.
+//! `driftlab calibrate`: fit a calibration (any model) to a log and save it: the log's one
+//! gyro axis, or every axis of a unit (those `--axes` or a repeated `--rate-col` choose)
+//! fitted with one read and one temperature processing into one file
+//! ([`models::calibrate_unit`]).
 
+use super::calibrate_print;
 use super::common::{self, CliError, LogArgs};
-use super::{calibrate_print, calibrate_unit};
+use driftlab::Log;
 use driftlab::files::calibration;
 use driftlab::judge::metrics::MeritOptions;
 use driftlab::models::approx::{ApproxKind, ApproxSpec};
 use driftlab::models::recipe::{CheckedRecipe, PlateauChoice, Recipe};
 use driftlab::models::regression::{DelaySpec, FitSamples, LagSpec, RegressionSpec, terms};
-use driftlab::models::{self, DriftModel, ModelChoice, Preset};
+use driftlab::models::{
+    self, AxisModel, AxisPlan, DriftModel, ModelChoice, Preset, UnitCalibration,
+};
 use driftlab::signal::plateau::PlateauRange;
 use std::path::{Path, PathBuf};
 
@@ -221,6 +227,9 @@ impl Args {
     }
 }
 
+/// One path for every calibration: the axes to fit (the log's one axis, or one a single
+/// --rate-col names, is a unit of one unnamed axis, written as a version-1 file), fitted,
+/// stamped with the log's name and SHA-256, saved, and printed.
 pub fn run(a: Args) -> Result<(), CliError> {
     let mut inputs = vec![("the log", a.log.as_path())];
     if let Some(r) = &a.recipe {
@@ -249,70 +258,110 @@ pub fn run(a: Args) -> Result<(), CliError> {
     // Vakhrameev's model reads the three calibration columns only; the others are neither
     // parsed nor held.
     let input = a.log_args.open(&a.log)?;
-    let all_vakhrameev = choice.is_vakhrameev() && calibrate_unit::axis_models_all_vakhrameev(&a)?;
-    let log = if all_vakhrameev {
+    let all_vakhrameev = choice.is_vakhrameev() && a.axis_models_all_vakhrameev()?;
+    let mut log = if all_vakhrameev {
         a.log_args.read_columns(&input)?
     } else {
         a.log_args.read(&input)?
     };
-    if let Some(axes) = calibrate_unit::axes_to_fit(&a, &log)? {
-        return calibrate_unit::run(&a, log, &input, &axes, (recipe, choice, warnings), &merit);
-    }
-    calibrate_unit::refuse_per_axis_options(&a)?;
-    common::status("fitting ...");
+    // The axes of a unit, each with its plan; `None`: the log's one axis.
+    let plans = match common::chosen_axes(&a.axes, &a.log_args, &log)? {
+        Some(axes) => {
+            let (plans, axis_warnings) = a.plans(&log, &axes, &recipe, &choice)?;
+            warnings.extend(axis_warnings);
+            Some(plans)
+        }
+        None => {
+            a.refuse_per_axis_options()?;
+            None
+        }
+    };
+    let saved_recipe = match &plans {
+        Some(plans) => a.recipe_to_save(plans)?,
+        None => recipe.clone(),
+    };
+    common::status(&match &plans {
+        Some(p) => format!("fitting {} axes ...", p.len()).replace("1 axes", "1 axis"),
+        None => "fitting ...".to_string(),
+    });
     // The file's hash is taken beside the fit, whose stages are partly sequential.
     let (fitted, sha256) = std::thread::scope(|scope| {
         let sha = scope.spawn(|| calibration::sha256_input(&input).map_err(|e| e.to_string()));
-        let fitted = models::calibrate(&log, &choice, &recipe, &merit);
+        let fitted = match &plans {
+            Some(plans) => models::calibrate_unit(&mut log, plans, &merit),
+            None => models::calibrate(&log, &choice, &recipe, &merit).map(|calibrated| {
+                vec![models::CalibratedAxis {
+                    name: String::new(),
+                    rate_column: String::new(),
+                    calibrated,
+                }]
+            }),
+        };
         let sha256 = sha
             .join()
             .unwrap_or_else(|_| Err("the hashing thread failed".to_string()));
         (fitted, sha256)
     });
-    let models::Calibrated {
-        mut model,
-        in_sample,
-        warnings: fit_warnings,
-    } = fitted.map_err(|e| common::fit_failed(&log.source, &e))?;
-    warnings.extend(fit_warnings);
-    model.source_mut().name = file_name(&a.log);
-    model.source_mut().sha256 = sha256?;
-    calibration::save_model(&a.out, &model).map_err(|e| e.to_string())?;
+    let fitted = fitted.map_err(|e| common::fit_failed(&log.source, &e))?;
+    let unit = stamped(&fitted, &file_name(&a.log), &sha256?);
+    calibration::save_unit(&a.out, &unit).map_err(|e| e.to_string())?;
     if let Some(p) = &a.save_recipe {
-        let text = serde_json::to_string_pretty(recipe.recipe()).map_err(|e| e.to_string())? + "\n";
+        let text =
+            serde_json::to_string_pretty(saved_recipe.recipe()).map_err(|e| e.to_string())? + "\n";
         driftlab::files::atomic::write_bytes(p, text.as_bytes())
             .map_err(|e| format!("{}: {e}", p.display()))?;
     }
-    if a.json {
-        let body = calibrate_print::model_json(&model);
-        let mut out = serde_json::json!({
-            "calibration": a.out,
-            "in_sample": in_sample,
-            "warnings": warnings,
-        });
-        if let (Some(out), serde_json::Value::Object(body)) = (out.as_object_mut(), body) {
-            out.extend(body);
-        }
-        return common::print_json(&out);
+    let printed = calibrate_print::Printed {
+        out: &a.out,
+        fitted: &fitted,
+        unit: &unit,
+        warnings: &warnings,
+        window_s: merit.window_s,
+    };
+    match (unit.is_unit(), a.json) {
+        (false, true) => printed.single_json(),
+        (false, false) => printed.single_text(),
+        (true, true) => printed.unit_json(),
+        (true, false) => printed.unit_text(),
     }
-    match &model {
-        DriftModel::Vakhrameev(cal) => calibrate_print::vakhrameev_summary(cal, &warnings)?,
-        DriftModel::Regression(r) => {
-            calibrate_print::regression_summary(r)?;
-            for w in &warnings {
-                note!("warning: {w}");
+}
+
+/// The calibration file's unit: every axis's model with the log's name and SHA-256, and one
+/// date (the axes are fitted within a second or two of each other).
+fn stamped(fitted: &[models::CalibratedAxis], log_name: &str, sha256: &str) -> UnitCalibration {
+    let created = fitted
+        .first()
+        .map(|f| created_of(&f.calibrated.model))
+        .unwrap_or_default();
+    let axes = fitted
+        .iter()
+        .map(|f| {
+            let mut model = f.calibrated.model.clone();
+            model.source_mut().name = log_name.to_string();
+            model.source_mut().sha256 = sha256.to_string();
+            set_created(&mut model, &created);
+            AxisModel {
+                name: f.name.clone(),
+                rate_column: f.rate_column.clone(),
+                model,
             }
-        }
+        })
+        .collect();
+    UnitCalibration { axes }
+}
+
+fn created_of(model: &DriftModel) -> String {
+    match model {
+        DriftModel::Vakhrameev(c) => c.created.clone(),
+        DriftModel::Regression(r) => r.created.clone(),
     }
-    out!()?;
-    out!(
-        "In-sample (calibrated and evaluated on {}):",
-        model.source().name
-    )?;
-    common::print_evaluation(&in_sample, merit.window_s)?;
-    out!()?;
-    out!("Calibration written to {}", a.out.display())?;
-    Ok(())
+}
+
+fn set_created(model: &mut DriftModel, created: &str) {
+    match model {
+        DriftModel::Vakhrameev(c) => c.created = created.to_string(),
+        DriftModel::Regression(r) => r.created = created.to_string(),
+    }
 }
 
 /// The file name of a path, for messages and the calibration's source.
@@ -320,4 +369,128 @@ pub fn file_name(p: &Path) -> String {
     p.file_name()
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_else(|| p.display().to_string())
+}
+
+/// The per-axis options of a unit: `--axis-model`, `--axis-recipe`.
+impl Args {
+    /// Refuses `--axis-model` and `--axis-recipe` for a single-axis calibration, by name.
+    fn refuse_per_axis_options(&self) -> Result<(), CliError> {
+        for (option, given) in [
+            ("--axis-model", !self.axis_models.is_empty()),
+            ("--axis-recipe", !self.axis_recipes.is_empty()),
+        ] {
+            if given {
+                return Err(format!(
+                    "{option}: this calibrates one axis (the log has one, or --rate-col names \
+                     one); give --model or --recipe, or calibrate several axes with --axes"
+                )
+                .into());
+            }
+        }
+        Ok(())
+    }
+
+    /// Whether every `--axis-model` is Vakhrameev's (the log's other columns are then not
+    /// read).
+    fn axis_models_all_vakhrameev(&self) -> Result<bool, CliError> {
+        for v in &self.axis_models {
+            let (_, model) = pair("--axis-model", v)?;
+            if self.choice_named(model)? != ModelChoice::Preset(Preset::Vakhrameev) {
+                return Ok(false);
+            }
+        }
+        Ok(true)
+    }
+
+    /// The plans of every axis: the command's model and recipe, or an axis's own; and a
+    /// warning for each setting an axis's model will not read.
+    fn plans(
+        &self,
+        log: &Log,
+        axes: &[String],
+        recipe: &CheckedRecipe,
+        choice: &ModelChoice,
+    ) -> Result<(Vec<AxisPlan>, Vec<String>), CliError> {
+        let mut plans: Vec<AxisPlan> = axes
+            .iter()
+            .map(|name| AxisPlan {
+                name: name.clone(),
+                choice: choice.clone(),
+                recipe: recipe.clone(),
+            })
+            .collect();
+        for v in &self.axis_models {
+            let (asked, model) = pair("--axis-model", v)?;
+            let name = axis_of("--axis-model", asked, log, axes)?;
+            let choice = self
+                .choice_named(model)
+                .map_err(|e| format!("--axis-model {v}: {e}"))?;
+            if let Some(p) = plans.iter_mut().find(|p| p.name == name) {
+                p.choice = choice;
+            }
+        }
+        for v in &self.axis_recipes {
+            let (asked, file) = pair("--axis-recipe", v)?;
+            let name = axis_of("--axis-recipe", asked, log, axes)?;
+            let base = calibration::read_recipe(Path::new(file)).map_err(|e| e.to_string())?;
+            let mut own = self.recipe_over(base)?.into_recipe();
+            // The unit's T settings: an axis's recipe keeps its approximations and dead-bands.
+            own.temp_smoothing_s = recipe.temp_smoothing_s;
+            own.step_h_s = recipe.step_h_s;
+            own.plateaus = recipe.plateaus.clone();
+            own.gyro_id = recipe.gyro_id.clone();
+            let own = own
+                .checked()
+                .map_err(|e| format!("--axis-recipe {v}: {e}"))?;
+            if let Some(p) = plans.iter_mut().find(|p| p.name == name) {
+                p.recipe = own;
+            }
+        }
+        let mut warnings = Vec::new();
+        for p in &plans {
+            let w = self
+                .check_settings(&p.recipe, &p.choice)
+                .map_err(|e| format!("axis {}: {e}", p.name))?;
+            warnings.extend(w.into_iter().map(|w| format!("axis {}: {w}", p.name)));
+        }
+        Ok((plans, warnings))
+    }
+
+    /// The recipe `--save-recipe` writes for a unit: the one every axis shares.
+    fn recipe_to_save(&self, plans: &[AxisPlan]) -> Result<CheckedRecipe, CliError> {
+        let first = &plans[0].recipe;
+        if let Some(p) = &self.save_recipe
+            && plans.iter().any(|q| q.recipe != *first)
+        {
+            return Err(format!(
+                "--save-recipe {}: the axes have recipes of their own; the calibration file \
+                 holds each axis's recipe",
+                p.display()
+            )
+            .into());
+        }
+        Ok(first.clone())
+    }
+}
+
+/// `AXIS=VALUE` split, or a message naming `option`.
+fn pair<'a>(option: &str, v: &'a str) -> Result<(&'a str, &'a str), CliError> {
+    match v.split_once('=') {
+        Some((axis, value)) if !axis.trim().is_empty() && !value.trim().is_empty() => {
+            Ok((axis.trim(), value.trim()))
+        }
+        _ => Err(format!("{option} \"{v}\": give AXIS=VALUE, e.g. gz=poly-t").into()),
+    }
+}
+
+/// The axis of `axes` an `AXIS=…` option means.
+fn axis_of(option: &str, asked: &str, log: &Log, axes: &[String]) -> Result<String, CliError> {
+    match log.find_axis(asked) {
+        Some(name) if axes.contains(&name) => Ok(name),
+        _ => Err(format!(
+            "{option} {asked}=…: not an axis being calibrated (axes: {})",
+            axes.join(", ")
+        )
+        .into()),
+    }
 }

@@ -1,9 +1,11 @@
-//! What `driftlab calibrate` prints about a fit, for each kind of model.
+//! What `driftlab calibrate` prints about a fit, for each kind of model: one axis as it
+//! always was, or each axis of a unit and a summary of them.
 
-use super::common::{CliError, fixed, num};
-use driftlab::models::DriftModel;
+use super::common::{self, CliError, fixed, num};
 use driftlab::models::regression::RegressionCalibration;
 use driftlab::models::vakhrameev::Calibration;
+use driftlab::models::{CalibratedAxis, DriftModel, UnitCalibration};
+use std::path::Path;
 
 /// What a Vakhrameev fit found: sampling, windows, plateaus and the five approximations.
 pub fn vakhrameev_summary(cal: &Calibration, warnings: &[String]) -> Result<(), CliError> {
@@ -130,5 +132,182 @@ pub fn model_json(model: &DriftModel) -> serde_json::Value {
             "resolved": cal.resolved,
         }),
         DriftModel::Regression(r) => serde_json::json!({ "model": r.model }),
+    }
+}
+
+/// What a model's fit found, and the warnings about it.
+fn model_summary(model: &DriftModel, warnings: &[String]) -> Result<(), CliError> {
+    match model {
+        DriftModel::Vakhrameev(cal) => vakhrameev_summary(cal, warnings),
+        DriftModel::Regression(r) => {
+            regression_summary(r)?;
+            for w in warnings {
+                note!("warning: {w}");
+            }
+            Ok(())
+        }
+    }
+}
+
+/// A calibration made and saved: what is printed about it.
+pub struct Printed<'a> {
+    /// The calibration file written.
+    pub out: &'a Path,
+    /// Every axis fitted, with its in-sample figures and warnings.
+    pub fitted: &'a [CalibratedAxis],
+    /// The calibration as saved (stamped with its log).
+    pub unit: &'a UnitCalibration,
+    /// The command's warnings (settings not used), beside each fit's own.
+    pub warnings: &'a [String],
+    /// The length of the consecutive mean/RMS windows, s.
+    pub window_s: f64,
+}
+
+impl Printed<'_> {
+    /// A single-axis calibration as JSON: the file, the in-sample figures, the warnings and
+    /// the model.
+    pub fn single_json(&self) -> Result<(), CliError> {
+        let (f, model) = (&self.fitted[0], &self.unit.axes[0].model);
+        let mut warnings = self.warnings.to_vec();
+        warnings.extend(f.calibrated.warnings.iter().cloned());
+        let mut out = serde_json::json!({
+            "calibration": self.out,
+            "in_sample": f.calibrated.in_sample,
+            "warnings": warnings,
+        });
+        if let (Some(out), serde_json::Value::Object(body)) =
+            (out.as_object_mut(), model_json(model))
+        {
+            out.extend(body);
+        }
+        common::print_json(&out)
+    }
+
+    /// A single-axis calibration as text: the fit, the in-sample figures, the file.
+    pub fn single_text(&self) -> Result<(), CliError> {
+        let (f, model) = (&self.fitted[0], &self.unit.axes[0].model);
+        let mut warnings = self.warnings.to_vec();
+        warnings.extend(f.calibrated.warnings.iter().cloned());
+        model_summary(model, &warnings)?;
+        out!()?;
+        out!(
+            "In-sample (calibrated and evaluated on {}):",
+            model.source().name
+        )?;
+        common::print_evaluation(&f.calibrated.in_sample, self.window_s)?;
+        out!()?;
+        out!("Calibration written to {}", self.out.display())?;
+        Ok(())
+    }
+
+    /// A unit as JSON: the file, the warnings, and each axis with its model and figures.
+    pub fn unit_json(&self) -> Result<(), CliError> {
+        let axes: Vec<serde_json::Value> = self
+            .fitted
+            .iter()
+            .zip(&self.unit.axes)
+            .map(|(f, ax)| {
+                let mut v = serde_json::json!({
+                    "name": f.name,
+                    "rate_column": f.rate_column,
+                    "model_name": ax.model.name(),
+                    "in_sample": f.calibrated.in_sample,
+                    "warnings": f.calibrated.warnings,
+                });
+                if let (Some(o), serde_json::Value::Object(body)) =
+                    (v.as_object_mut(), model_json(&ax.model))
+                {
+                    o.extend(body);
+                }
+                v
+            })
+            .collect();
+        common::print_json(&serde_json::json!({
+            "calibration": self.out,
+            "warnings": self.warnings,
+            "axes": axes,
+        }))
+    }
+
+    /// A unit as text: each axis's fit and in-sample figures, a summary, the file.
+    pub fn unit_text(&self) -> Result<(), CliError> {
+        for w in self.warnings {
+            note!("warning: {w}");
+        }
+        let name = self
+            .unit
+            .axes
+            .first()
+            .map(|a| a.model.source().name.clone())
+            .unwrap_or_default();
+        for (f, ax) in self.fitted.iter().zip(&self.unit.axes) {
+            out!(
+                "=== Axis {}{} — model {} ===",
+                f.name,
+                if f.rate_column.is_empty() || f.rate_column == f.name {
+                    String::new()
+                } else {
+                    format!(" (column {})", f.rate_column)
+                },
+                ax.model.name()
+            )?;
+            let axis_warnings: Vec<String> = f
+                .calibrated
+                .warnings
+                .iter()
+                .map(|w| format!("axis {}: {w}", f.name))
+                .collect();
+            model_summary(&ax.model, &axis_warnings)?;
+            out!()?;
+            out!(
+                "In-sample, axis {} (calibrated and evaluated on {name}):",
+                f.name
+            )?;
+            common::print_evaluation(&f.calibrated.in_sample, self.window_s)?;
+            out!()?;
+        }
+        self.unit_summary(&name)?;
+        out!()?;
+        out!(
+            "Calibration of {} ({}) written to {}",
+            match self.unit.axes.len() {
+                1 => "1 axis".to_string(),
+                n => format!("{n} axes"),
+            },
+            self.unit.axis_names().join(", "),
+            self.out.display()
+        )?;
+        Ok(())
+    }
+
+    /// One line per axis: the in-sample figures, raw against corrected.
+    fn unit_summary(&self, log_name: &str) -> Result<(), CliError> {
+        let w = driftlab::judge::options::window_label(self.window_s);
+        out!("Unit summary, in-sample on {log_name} (deg/h; raw -> corrected, raw/cor):")?;
+        out!(
+            "  {:<8} {:<12} {:>30} {:>30} {:>30}",
+            "axis",
+            "model",
+            "peak-to-peak",
+            "std",
+            format!("max |{w} mean|")
+        )?;
+        for (f, ax) in self.fitted.iter().zip(&self.unit.axes) {
+            let c = &f.calibrated.in_sample.comparison;
+            let cell = common::raw_to_corrected;
+            out!(
+                "  {:<8} {:<12} {:>30} {:>30} {:>30}",
+                f.name,
+                ax.model.name(),
+                cell(c.raw.p2p_dph, c.corrected.p2p_dph, c.p2p_ratio),
+                cell(c.raw.std_dph, c.corrected.std_dph, c.std_ratio),
+                cell(
+                    c.raw.win_mean_max_abs_dph,
+                    c.corrected.win_mean_max_abs_dph,
+                    c.win_mean_ratio
+                )
+            )?;
+        }
+        Ok(())
     }
 }

@@ -196,16 +196,21 @@ impl LogArgs {
         self.read_with(input, &opts)
     }
 
-    /// Reads the columns `model` needs: the calibration columns, and the second temperature
-    /// and extra channels when the model reads them.
+    /// Reads the columns every axis of `unit` needs: only the rate and temperature columns
+    /// when no axis's model reads anything else (the others are neither parsed nor held).
     pub fn read_for(
         &self,
         input: &Input,
-        model: &driftlab::models::fitted::DriftModel,
+        unit: &driftlab::models::UnitCalibration,
     ) -> Result<Log, String> {
-        match model.inputs() {
-            (None, channels) if channels.is_empty() => self.read_columns(input),
-            _ => self.read(input),
+        let plain = unit
+            .axes
+            .iter()
+            .all(|ax| matches!(ax.model.inputs(), (None, c) if c.is_empty()));
+        if plain {
+            self.read_columns(input)
+        } else {
+            self.read(input)
         }
     }
 
@@ -404,6 +409,16 @@ pub fn figure(v: f64) -> String {
     } else {
         "n/a".into()
     }
+}
+
+/// A table's cell for one figure of a summary: `raw -> corrected ratio`.
+pub fn raw_to_corrected(raw: f64, corrected: f64, ratio_raw_cor: f64) -> String {
+    format!(
+        "{} -> {} {}",
+        figure(raw),
+        figure(corrected),
+        ratio(ratio_raw_cor)
+    )
 }
 
 /// A setting the engine refused, named also by the option that sets it on the command line

@@ -3,8 +3,8 @@
 use super::common::{self, CliError, LogArgs};
 use driftlab::Log;
 use driftlab::files::calibration;
+use driftlab::files::corrected_csv::{self, WriteError};
 use driftlab::judge::metrics::{Comparison, Evaluation, MeritOptions};
-use driftlab::log::ingest::Input;
 use driftlab::models::UnitCalibration;
 use driftlab::models::fitted::DriftModel;
 use std::path::{Path, PathBuf};
@@ -29,39 +29,73 @@ pub struct Args {
     pub log_args: LogArgs,
 }
 
+/// Every axis of the calibration judged on the log's axis it was calibrated on (the log's
+/// own axis for a single-axis calibration), then printed: one axis as it always was, a unit
+/// axis by axis with a summary.
 pub fn run(a: Args) -> Result<(), CliError> {
     let unit = calibration::load_unit(&a.calibration).map_err(|e| e.to_string())?;
-    if unit.is_unit() {
-        return run_unit(&a, &unit);
-    }
-    let model = unit.first()?;
     let input = a.log_args.open(&a.log)?;
-    let log = a.log_args.read_for(&input, model)?;
+    let mut log = a.log_args.read_for(&input, &unit)?;
     // The log is the calibration's own when its bytes are (hashed as they were read), or by
     // name for a calibration that recorded no hash.
     let hash = calibration::sha256_input(&input).unwrap_or_default();
-    let (opts, in_sample, eval) = judge(&a, model, &log, &hash)?;
+    let columns = unit_axes(&log, &unit, &a.calibration)?;
+    let mut judged = Vec::with_capacity(unit.axes.len());
+    for (ax, column) in unit.axes.iter().zip(&columns) {
+        if !log.select_axis(column) {
+            return Err(format!("{}: axis {column} vanished from the log", log.source).into());
+        }
+        let (opts, in_sample, eval) = judge(&a, &ax.model, &log, &hash).map_err(|e| {
+            if unit.is_unit() {
+                in_axis(&ax.name, e)
+            } else {
+                e
+            }
+        })?;
+        judged.push(AxisJudged {
+            name: ax.name.clone(),
+            column: column.clone(),
+            model: ax.model.name().to_string(),
+            opts,
+            in_sample,
+            eval,
+        });
+    }
+    if unit.is_unit() {
+        print_unit(&a, &unit, &judged)
+    } else {
+        print_single(&a, &judged[0])
+    }
+}
+
+/// The figures of a single-axis calibration.
+fn print_single(a: &Args, j: &AxisJudged) -> Result<(), CliError> {
     if a.json {
         return common::print_json(&serde_json::json!({
             "calibration": a.calibration,
             "log": a.log,
-            "model": model.name(),
-            "in_sample": in_sample,
-            "options": opts,
-            "evaluation": eval,
+            "model": j.model,
+            "in_sample": j.in_sample,
+            "options": j.opts,
+            "evaluation": j.eval,
         }));
     }
     out!(
         "{} on {} ({}):",
         super::calibrate::file_name(&a.calibration),
         super::calibrate::file_name(&a.log),
-        if in_sample {
-            "in-sample: the calibration log"
-        } else {
-            "held out: not the calibration log"
-        }
+        sample_label(j.in_sample)
     )?;
-    common::print_evaluation(&eval, opts.window_s)
+    common::print_evaluation(&j.eval, j.opts.window_s)
+}
+
+/// Whether the log judged on is the calibration's own, in words.
+fn sample_label(in_sample: bool) -> &'static str {
+    if in_sample {
+        "in-sample: the calibration log"
+    } else {
+        "held out: not the calibration log"
+    }
 }
 
 /// The figures of `model` on `log` (whose bytes hash to `hash`): the merit options (the
@@ -94,78 +128,49 @@ fn judge(
 }
 
 /// The log's axis that each axis of `unit` was calibrated on (by name, or by the rate column
-/// it was read from), in the calibration's order; an axis the log lacks is an error naming
-/// both sides.
+/// it was read from; the log's own axis for a single-axis calibration), in the calibration's
+/// order; an axis the log lacks is an error naming both sides.
 pub(super) fn unit_axes(
     log: &Log,
     unit: &UnitCalibration,
     calibration: &Path,
 ) -> Result<Vec<String>, CliError> {
-    let mut columns = Vec::with_capacity(unit.axes.len());
-    for ax in &unit.axes {
-        let Some(name) = log.matching_axis(&ax.name, &ax.rate_column) else {
-            return Err(format!(
-                "{}: no gyro axis {} (column {}) for axis {} of {} (the log's axes: {}); map \
-                 the rate columns with --rate-col",
-                log.source,
-                ax.name,
-                if ax.rate_column.is_empty() {
-                    "?"
-                } else {
-                    &ax.rate_column
-                },
-                ax.name,
-                calibration.display(),
-                log.axis_names().join(", ")
-            )
-            .into());
-        };
-        columns.push(name);
-    }
-    Ok(columns)
-}
-
-/// Reads a log for every axis of `unit`: only the rate and temperature columns when no axis's
-/// model reads anything else.
-pub(super) fn read_for_unit(
-    log_args: &LogArgs,
-    input: &Input,
-    unit: &UnitCalibration,
-) -> Result<Log, CliError> {
-    let plain = unit
-        .axes
-        .iter()
-        .all(|ax| matches!(ax.model.inputs(), (None, c) if c.is_empty()));
-    Ok(if plain {
-        log_args.read_columns(input)?
-    } else {
-        log_args.read(input)?
+    corrected_csv::log_axes(log, unit).map_err(|e| match e {
+        WriteError::MissingAxis {
+            log,
+            axis,
+            rate_column,
+            log_axes,
+        } => missing_axis(&log, &axis, &rate_column, &log_axes, calibration),
+        other => other.to_string().into(),
     })
 }
 
-/// `evaluate` for a unit: each axis of the calibration judged on the log's axis of the same
-/// name (or rate column), as the single-axis command judges that axis alone, then a summary.
-fn run_unit(a: &Args, unit: &UnitCalibration) -> Result<(), CliError> {
-    let input = a.log_args.open(&a.log)?;
-    let mut log = read_for_unit(&a.log_args, &input, unit)?;
-    let hash = calibration::sha256_input(&input).unwrap_or_default();
-    let columns = unit_axes(&log, unit, &a.calibration)?;
-    let mut judged = Vec::with_capacity(unit.axes.len());
-    for (ax, column) in unit.axes.iter().zip(&columns) {
-        if !log.select_axis(column) {
-            return Err(format!("{}: axis {column} vanished from the log", log.source).into());
-        }
-        let (opts, in_sample, eval) =
-            judge(a, &ax.model, &log, &hash).map_err(|e| in_axis(&ax.name, e))?;
-        judged.push(AxisJudged {
-            name: ax.name.clone(),
-            column: column.clone(),
-            model: ax.model.name().to_string(),
-            opts,
-            in_sample,
-            eval,
-        });
-    }
+/// The log `log` lacks the axis `axis` (read from `rate_column` on its own log) of the
+/// calibration file `calibration`.
+pub(super) fn missing_axis(
+    log: &str,
+    axis: &str,
+    rate_column: &str,
+    log_axes: &[String],
+    calibration: &Path,
+) -> CliError {
+    format!(
+        "{log}: no gyro axis {axis} (column {}) for axis {axis} of {} (the log's axes: {}); map \
+         the rate columns with --rate-col",
+        if rate_column.is_empty() {
+            "?"
+        } else {
+            rate_column
+        },
+        calibration.display(),
+        log_axes.join(", ")
+    )
+    .into()
+}
+
+/// The figures of a unit: each axis as the single-axis command gives them, then a summary.
+fn print_unit(a: &Args, unit: &UnitCalibration, judged: &[AxisJudged]) -> Result<(), CliError> {
     if a.json {
         let axes: Vec<serde_json::Value> = judged
             .iter()
@@ -195,13 +200,9 @@ fn run_unit(a: &Args, unit: &UnitCalibration) -> Result<(), CliError> {
         unit.axes.len(),
         unit.axis_names().join(", "),
         super::calibrate::file_name(&a.log),
-        if in_sample {
-            "in-sample: the calibration log"
-        } else {
-            "held out: not the calibration log"
-        }
+        sample_label(in_sample)
     )?;
-    for j in &judged {
+    for j in judged {
         out!()?;
         out!(
             "=== Axis {}{} — model {}, filter {} s ===",
@@ -280,14 +281,7 @@ pub(super) fn print_summary(
         format!("max |{w} mean|"),
         format!("mean {w} RMS")
     )?;
-    let cell = |raw: f64, cor: f64, r: f64| {
-        format!(
-            "{} -> {} {}",
-            common::figure(raw),
-            common::figure(cor),
-            common::ratio(r)
-        )
-    };
+    let cell = common::raw_to_corrected;
     for r in rows {
         let c = r.comparison;
         out!(

@@ -8,7 +8,6 @@ mod allan;
 mod apply;
 mod calibrate;
 mod calibrate_print;
-mod calibrate_unit;
 mod compare;
 mod convert;
 mod evaluate;
@@ -105,6 +104,18 @@ fn gui(a: GuiArgs) -> Result<(), String> {
         );
     }
     let read = a.log_args.options()?;
+    let session = a.log.as_ref().is_some_and(|p| {
+        p.extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("json"))
+    });
+    if session && (read != driftlab::ReadOptions::default() || a.log_args.bin.is_some()) {
+        return Err(
+            "--time-col, --rate-col, --temp-col, --rate-unit, --time-unit, --sample-rate, \
+             --delimiter, --decimal-comma and --bin apply to a log: a session keeps the mapping \
+             it was saved with (open it, then File › Column mapping…)"
+                .into(),
+        );
+    }
     driftlab::gui::run(driftlab::gui::GuiOptions {
         log: a.log,
         screenshot: a.screenshot,

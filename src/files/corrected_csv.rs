@@ -1,7 +1,8 @@
 //! The corrected log as CSV: `time_s,omega_raw_dph,omega_pred_dph,omega_cor_dph,temp_c`, the
 //! output of `driftlab apply` and of the workbench's export. A unit of several axes writes
 //! `time_s`, then `<axis>_raw_dph,<axis>_pred_dph,<axis>_cor_dph` for each axis in the
-//! calibration's order, then `temp_c` ([`write_unit_streamed`]).
+//! calibration's order, then `temp_c`. [`correct_and_write`] is the one way a face corrects
+//! and writes a log, for one axis or a unit.
 //!
 //! Numbers are written in their shortest form that reads back to the same f64 (zmij), so a
 //! corrected log loses nothing. Three stages overlap, each a batch apart: the prediction of
@@ -9,6 +10,7 @@
 //! parallel, and the writing in order ([`crate::files::atomic::write_big_with`]).
 
 use crate::log::Log;
+use crate::models::UnitCalibration;
 use crate::models::fitted::Predictor;
 use rayon::prelude::*;
 use std::path::Path;
@@ -34,28 +36,6 @@ pub fn write(
     write_rows(path, log, HEADER, &[&log.omega_dph], n, source, progress)
 }
 
-/// Writes the corrected log atomically as `predictor` predicts it, batch after batch: the
-/// prediction of one batch overlaps the formatting of the one before, and no column of it is
-/// held. The predictor should start at the log's first sample; the corrected rate is
-/// `Ω − pred`.
-pub fn write_streamed(
-    path: &Path,
-    log: &Log,
-    predictor: &mut Predictor<'_>,
-    progress: &dyn Fn(f64),
-) -> std::io::Result<()> {
-    let source = Source::Stream(vec![predictor]);
-    write_rows(
-        path,
-        log,
-        HEADER,
-        &[&log.omega_dph],
-        log.len(),
-        source,
-        progress,
-    )
-}
-
 /// The header of a unit's corrected log.
 pub fn unit_header(axes: &[&str]) -> String {
     let mut h = String::from("time_s");
@@ -66,28 +46,126 @@ pub fn unit_header(axes: &[&str]) -> String {
     h
 }
 
-/// Writes the corrected log of a unit atomically: for each axis, its name, its rate (°/h,
-/// aligned with the log) and its predictor, which should start at the log's first sample.
+/// Why a log could not be corrected and written.
+#[derive(Debug, thiserror::Error)]
+pub enum WriteError {
+    /// The log has no axis for an axis of the calibration.
+    #[error("{log}: no gyro axis {axis} (its axes: {})", log_axes.join(", "))]
+    MissingAxis {
+        /// The log's source.
+        log: String,
+        /// The calibration's axis.
+        axis: String,
+        /// The rate column that axis was read from on its own log (empty when not known).
+        rate_column: String,
+        /// The log's axes.
+        log_axes: Vec<String>,
+    },
+    /// An axis's model cannot predict this log (a channel it reads is missing, say).
+    #[error("{}{source}", axis_prefix(axis))]
+    Predict {
+        /// The calibration's axis, empty for the one axis of a single-axis calibration.
+        axis: String,
+        /// What the model said.
+        source: crate::Error,
+    },
+    /// The file could not be written.
+    #[error("{}: {source}", path.display())]
+    Io {
+        /// The file.
+        path: std::path::PathBuf,
+        /// The operating system's error.
+        source: std::io::Error,
+    },
+}
+
+/// `axis gx: ` before a message about a named axis; nothing for an unnamed one.
+fn axis_prefix(axis: &str) -> String {
+    if axis.is_empty() {
+        String::new()
+    } else {
+        format!("axis {axis}: ")
+    }
+}
+
+/// The log's axis each axis of `unit` corrects, in the unit's order: the axis the log's rate
+/// column holds for the one unnamed axis of a single-axis calibration (whatever that axis is
+/// called); for a named axis, the log's axis of that name, or of the rate column it was read
+/// from on its own log.
 ///
 /// # Errors
-/// An axis whose rate is not as long as the log, or the write's error.
-pub fn write_unit_streamed(
+/// [`WriteError::MissingAxis`] for the first axis of `unit` the log does not have.
+pub fn log_axes(log: &Log, unit: &UnitCalibration) -> Result<Vec<String>, WriteError> {
+    if !unit.is_unit() {
+        return Ok(vec![log.axis.clone()]);
+    }
+    unit.axes
+        .iter()
+        .map(|ax| {
+            log.matching_axis(&ax.name, &ax.rate_column)
+                .ok_or_else(|| WriteError::MissingAxis {
+                    log: log.source.clone(),
+                    axis: ax.name.clone(),
+                    rate_column: ax.rate_column.clone(),
+                    log_axes: log.axis_names(),
+                })
+        })
+        .collect()
+}
+
+/// Corrects `log` with every axis of `unit` and writes it atomically: a single-axis
+/// calibration (one unnamed axis) as [`HEADER`], a unit of named axes as [`unit_header`] in
+/// the calibration's order. Each axis reads the log's axis [`log_axes`] finds and is
+/// predicted batch by batch as the rows are written (its corrected rate being `Ω − pred`), so
+/// no column of the prediction is held. `progress` gets the fraction written. Returns, per
+/// axis of `unit`, the share of samples outside the calibrated ranges of its model's inputs.
+///
+/// # Errors
+/// An axis the log lacks, a model that cannot predict the log, the write's error.
+pub fn correct_and_write(
     path: &Path,
     log: &Log,
-    axes: Vec<(&str, &[f64], &mut Predictor<'_>)>,
+    unit: &UnitCalibration,
     progress: &dyn Fn(f64),
-) -> std::io::Result<()> {
-    if let Some((name, ..)) = axes.iter().find(|(_, rate, _)| rate.len() != log.len()) {
-        return Err(std::io::Error::other(format!(
-            "axis {name} does not have a rate for every sample of the log"
-        )));
+) -> Result<Vec<f64>, WriteError> {
+    let columns = log_axes(log, unit)?;
+    let mut rates = Vec::with_capacity(columns.len());
+    for (ax, column) in unit.axes.iter().zip(&columns) {
+        let rate = log
+            .axis_rate(column)
+            .filter(|r| r.len() == log.len())
+            .ok_or_else(|| WriteError::MissingAxis {
+                log: log.source.clone(),
+                axis: ax.name.clone(),
+                rate_column: ax.rate_column.clone(),
+                log_axes: log.axis_names(),
+            })?;
+        rates.push(rate);
     }
-    let names: Vec<&str> = axes.iter().map(|(n, ..)| *n).collect();
-    let rates: Vec<&[f64]> = axes.iter().map(|(_, r, _)| *r).collect();
-    let predictors = axes.into_iter().map(|(_, _, p)| p).collect();
-    let header = unit_header(&names);
-    let source = Source::Stream(predictors);
-    write_rows(path, log, &header, &rates, log.len(), source, progress)
+    let mut predictors = Vec::with_capacity(unit.axes.len());
+    for ax in &unit.axes {
+        predictors.push(
+            ax.model
+                .predictor(log)
+                .map_err(|source| WriteError::Predict {
+                    axis: ax.name.clone(),
+                    source,
+                })?,
+        );
+    }
+    let header = if unit.is_unit() {
+        unit_header(&unit.axis_names())
+    } else {
+        HEADER.to_string()
+    };
+    let source = Source::Stream(predictors.iter_mut().collect());
+    write_rows(path, log, &header, &rates, log.len(), source, progress).map_err(|source| {
+        WriteError::Io {
+            path: path.to_path_buf(),
+            source,
+        }
+    })?;
+    Ok(predictors.iter().map(|p| p.outside_fraction()).collect())
 }
 
 /// Where the predicted (and perhaps corrected) rates come from.

@@ -175,6 +175,7 @@ impl Workbench {
     ///
     /// # Panics
     /// When the log cannot be read or calibrated (a test should fail then).
+    #[doc(hidden)]
     pub fn new_for_test(log: &Path) -> Workbench {
         Workbench::new_for_test_in(log, None)
     }

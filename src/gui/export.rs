@@ -2,7 +2,6 @@
 //! window screenshot), the calibration file, the corrected log and the session. Every file is
 //! written atomically; every failure comes back as a message naming the file.
 
-use crate::live::Correction;
 use crate::log::Log;
 use crate::models::vakhrameev::Calibration;
 use eframe::egui::{ColorImage, Rect};
@@ -145,13 +144,6 @@ pub fn save_model(
     Ok(path.to_path_buf())
 }
 
-/// Writes the corrected log with the engine's writer (the columns of `driftlab apply`).
-pub fn write_corrected_csv(path: &Path, log: &Log, c: &Correction) -> Result<PathBuf, String> {
-    crate::files::corrected_csv::write(path, log, &c.pred_dph, &c.cor_dph, &|_| {})
-        .map_err(|e| format!("{}: {e}", path.display()))?;
-    Ok(path.to_path_buf())
-}
-
 /// Writes a unit's calibration file (version 2, every axis; the engine's
 /// [`crate::files::calibration::save_unit`]).
 pub fn save_unit(path: &Path, unit: &crate::models::UnitCalibration) -> Result<PathBuf, String> {
@@ -159,31 +151,16 @@ pub fn save_unit(path: &Path, unit: &crate::models::UnitCalibration) -> Result<P
     Ok(path.to_path_buf())
 }
 
-/// Writes the corrected log of a unit as `driftlab apply` does: `time_s`, then each axis's
-/// raw, predicted and corrected rate in the calibration's order, then `temp_c`; every axis
-/// predicted batch by batch from `log`, the log with every axis.
-pub fn write_unit_csv(
+/// Writes the corrected log as `driftlab apply` does, with the engine's one writer: the one
+/// axis of a single-axis calibration as `omega_*` columns, or every axis of a unit side by
+/// side in the calibration's order, each predicted batch by batch from `log`.
+pub fn write_corrected_csv(
     path: &Path,
     log: &Log,
     unit: &crate::models::UnitCalibration,
 ) -> Result<PathBuf, String> {
-    let mut predictors = Vec::with_capacity(unit.axes.len());
-    for ax in &unit.axes {
-        predictors.push(
-            ax.model
-                .predictor(log)
-                .map_err(|e| format!("axis {}: {e}", ax.name))?,
-        );
-    }
-    let mut axes = Vec::with_capacity(unit.axes.len());
-    for (ax, p) in unit.axes.iter().zip(predictors.iter_mut()) {
-        let rate = log
-            .axis_rate(&ax.name)
-            .ok_or_else(|| format!("{}: no gyro axis {}", log.source, ax.name))?;
-        axes.push((ax.name.as_str(), rate, p));
-    }
-    crate::files::corrected_csv::write_unit_streamed(path, log, axes, &|_| {})
-        .map_err(|e| format!("{}: {e}", path.display()))?;
+    crate::files::corrected_csv::correct_and_write(path, log, unit, &|_| {})
+        .map_err(|e| e.to_string())?;
     Ok(path.to_path_buf())
 }
 

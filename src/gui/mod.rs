@@ -107,10 +107,10 @@ pub struct GuiOptions {
     /// the page named by the environment variable `DRIFTLAB_GUI_PAGE` shown, its work done
     /// first: the Models page compares the models ticked by default).
     pub screenshot: Option<PathBuf>,
-    /// How to read the log (`--time-col`, `--rate-unit`, …): the import view starts from
-    /// these, and the log is read with them when its columns need no look.
+    /// How to read the log (columns, units, dialect): the import view starts from these, and
+    /// the log is read with them when its columns need no look. A session keeps its own.
     pub read: crate::log::ingest::ReadOptions,
-    /// Average the log into bins of this many seconds once read (`--bin`).
+    /// Average the log into bins of this many seconds once read (a session keeps its own).
     pub bin_s: Option<f64>,
 }
 
@@ -166,7 +166,7 @@ pub fn run(options: GuiOptions) -> Result<(), String> {
     if shot.is_some() && log.is_none() {
         // (no log, no sample next to us: nothing to render)
         return Err(
-            "--screenshot needs a log (none given, and no sample_logs/calibration.csv found)"
+            "a screenshot needs a log (none given, and no sample_logs/calibration.csv found)"
                 .into(),
         );
     }
@@ -179,19 +179,6 @@ pub fn run(options: GuiOptions) -> Result<(), String> {
         read: options.read.clone(),
         bin_s: options.bin_s,
     };
-    if load != jobs::LoadOptions::default()
-        && log.as_ref().is_some_and(|p| {
-            p.extension()
-                .is_some_and(|e| e.eq_ignore_ascii_case("json"))
-        })
-    {
-        return Err(
-            "--time-col, --rate-col, --temp-col, --rate-unit, --time-unit, --sample-rate, \
-             --delimiter, --decimal-comma and --bin apply to a log: a session keeps the mapping \
-             it was saved with (open it, then File › Column mapping…)"
-                .into(),
-        );
-    }
     // Screenshot mode renders with the engineer's theme but writes no settings back.
     let settings = Settings::default_path()
         .as_deref()

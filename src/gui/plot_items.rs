@@ -241,6 +241,34 @@ impl BandItem {
     }
 }
 
+/// The parts of [`PlotItem`] every item drawn here shares: a colour, bounds and a base held
+/// as fields, and no geometry for the plot to hover.
+macro_rules! drawn_item_fields {
+    () => {
+        fn initialize(&mut self, _x_range: RangeInclusive<f64>) {}
+
+        fn color(&self) -> Color32 {
+            self.color
+        }
+
+        fn geometry(&self) -> PlotGeometry<'_> {
+            PlotGeometry::None
+        }
+
+        fn bounds(&self) -> PlotBounds {
+            self.bounds
+        }
+
+        fn base(&self) -> &PlotItemBase {
+            &self.base
+        }
+
+        fn base_mut(&mut self) -> &mut PlotItemBase {
+            &mut self.base
+        }
+    };
+}
+
 impl PlotItem for BandItem {
     fn shapes(&self, _ui: &Ui, transform: &PlotTransform, shapes: &mut Vec<Shape>) {
         let stroke = Stroke::new(self.width, self.color);
@@ -284,27 +312,7 @@ impl PlotItem for BandItem {
         }
     }
 
-    fn initialize(&mut self, _x_range: RangeInclusive<f64>) {}
-
-    fn color(&self) -> Color32 {
-        self.color
-    }
-
-    fn geometry(&self) -> PlotGeometry<'_> {
-        PlotGeometry::None
-    }
-
-    fn bounds(&self) -> PlotBounds {
-        self.bounds
-    }
-
-    fn base(&self) -> &PlotItemBase {
-        &self.base
-    }
-
-    fn base_mut(&mut self) -> &mut PlotItemBase {
-        &mut self.base
-    }
+    drawn_item_fields!();
 }
 
 impl BandItem {
@@ -384,27 +392,7 @@ impl PlotItem for CloudItem {
         }
     }
 
-    fn initialize(&mut self, _x_range: RangeInclusive<f64>) {}
-
-    fn color(&self) -> Color32 {
-        self.color
-    }
-
-    fn geometry(&self) -> PlotGeometry<'_> {
-        PlotGeometry::None
-    }
-
-    fn bounds(&self) -> PlotBounds {
-        self.bounds
-    }
-
-    fn base(&self) -> &PlotItemBase {
-        &self.base
-    }
-
-    fn base_mut(&mut self) -> &mut PlotItemBase {
-        &mut self.base
-    }
+    drawn_item_fields!();
 }
 
 /// One shaded span of x (full plot height).
@@ -590,6 +578,27 @@ pub const X_LABEL_MARGIN: f64 = 0.035;
 
 /// Share of a y-axis kept clear of labels at each end (half a label's height).
 pub const Y_LABEL_MARGIN: f64 = 0.04;
+
+/// A time plot's axes as every page draws them: the value and time ticks, and grid lines at
+/// round steps.
+pub fn with_time_axes(plot: egui_plot::Plot<'_>) -> egui_plot::Plot<'_> {
+    plot.y_axis_min_width(64.0)
+        .y_axis_formatter(tick_y)
+        .x_axis_formatter(tick_x)
+        .x_grid_spacer(egui_plot::uniform_grid_spacer(nice_steps_x))
+        .y_grid_spacer(egui_plot::uniform_grid_spacer(nice_steps))
+}
+
+/// The span of the log's time (s) a time plot shows, its x axis being in seconds over `div`:
+/// `full` before the plot has bounds.
+pub fn shown_span(pui: &egui_plot::PlotUi<'_>, div: f64, full: (f64, f64)) -> (f64, f64) {
+    let b = pui.plot_bounds();
+    if b.is_valid_x() && b.width() > 0.0 {
+        (b.min()[0] * div, b.max()[0] * div)
+    } else {
+        full
+    }
+}
 
 /// [`tick`] for an x-axis: no label where it would be cut at either end.
 pub fn tick_x(mark: egui_plot::GridMark, range: &RangeInclusive<f64>) -> String {

@@ -19,7 +19,8 @@ pub struct ImportView {
     pub target: Target,
     /// The options being edited.
     pub read: ReadOptions,
-    /// Bins of this many seconds the log is averaged into after the read (`--bin`).
+    /// Bins of this many seconds the log is averaged into after the read ("Average into bins
+    /// of").
     pub bin_s: Option<f64>,
     /// What the reader said when it last read this file (problems it worked around, columns
     /// that do not hold what their role means, how the log was averaged), shown first while
@@ -446,7 +447,7 @@ impl ImportView {
         self.bin_control(ui);
     }
 
-    /// `--bin`: average the log into bins of a few seconds once it is read.
+    /// Average the log into bins of a few seconds once it is read.
     fn bin_control(&mut self, ui: &mut Ui) {
         ui.horizontal(|ui| {
             let mut binned = self.bin_s.is_some();
@@ -454,7 +455,7 @@ impl ImportView {
                 .checkbox(&mut binned, "Average into bins of")
                 .on_hover_text(
                     "Average the log into bins of this many seconds once it is read, before \
-                     anything else (--bin): the usual first step with 100 Hz–2 kHz IMU logs, \
+                     anything else: the usual first step with 100 Hz–2 kHz IMU logs, \
                      whose thermal drift lives at minutes",
                 )
                 .changed()

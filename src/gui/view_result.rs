@@ -101,16 +101,8 @@ impl ResultView {
             .height(ui.available_height().max(80.0))
             .legend(Legend::default().position(egui_plot::Corner::LeftTop))
             .x_axis_label(format!("time, {}", scale.unit))
-            .y_axis_label("drift, °/h")
-            .y_axis_min_width(64.0)
-            .y_axis_formatter(super::plot_items::tick_y)
-            .x_axis_formatter(super::plot_items::tick_x)
-            .x_grid_spacer(egui_plot::uniform_grid_spacer(
-                super::plot_items::nice_steps_x,
-            ))
-            .y_grid_spacer(egui_plot::uniform_grid_spacer(
-                super::plot_items::nice_steps,
-            ))
+            .y_axis_label("drift, °/h");
+        plot = super::plot_items::with_time_axes(plot)
             .allow_zoom(Vec2b::new(true, false))
             .allow_drag(Vec2b::new(true, false))
             .allow_scroll(Vec2b::new(true, false));
@@ -121,12 +113,7 @@ impl ResultView {
         }
         let resp = ui.scope(|ui| {
             plot.show(ui, |pui| {
-                let b = pui.plot_bounds();
-                let (x0, x1) = if b.is_valid_x() && b.width() > 0.0 {
-                    (b.min()[0] * scale.div, b.max()[0] * scale.div)
-                } else {
-                    t_full
-                };
+                let (x0, x1) = super::plot_items::shown_span(pui, scale.div, t_full);
                 let cols = pui.response().rect.width().max(50.0) as usize;
                 let spans = regime
                     .runs(&log.time_s, x0, x1, cols / 2)

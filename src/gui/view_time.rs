@@ -145,16 +145,8 @@ impl TimeView {
                 .allow_zoom(Vec2b::new(true, false))
                 .allow_drag(Vec2b::new(allow_drag, false))
                 .allow_scroll(Vec2b::new(true, false))
-                .allow_boxed_zoom(allow_drag)
-                .y_axis_min_width(64.0)
-                .y_axis_formatter(super::plot_items::tick_y)
-                .x_axis_formatter(super::plot_items::tick_x)
-                .x_grid_spacer(egui_plot::uniform_grid_spacer(
-                    super::plot_items::nice_steps_x,
-                ))
-                .y_grid_spacer(egui_plot::uniform_grid_spacer(
-                    super::plot_items::nice_steps,
-                ))
+                .allow_boxed_zoom(allow_drag);
+            let plot = super::plot_items::with_time_axes(plot)
                 .y_axis_label(super::plot_items::axis_label(spec.label, each))
                 .show_axes(Vec2b::new(last, true))
                 .x_axis_label(if last {

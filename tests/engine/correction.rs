@@ -283,14 +283,14 @@ fn a_log_written_as_it_is_predicted_is_the_file_written_from_whole_columns() {
     )
     .unwrap();
     let model = driftlab::models::fitted::DriftModel::Vakhrameev(Box::new(cal));
-    let mut predictor = model.predictor(&log).unwrap();
+    let unit = driftlab::models::UnitCalibration::single(model);
     let fractions = std::sync::Mutex::new(Vec::new());
-    driftlab::files::corrected_csv::write_streamed(&streamed, &log, &mut predictor, &|f| {
+    let outside = driftlab::files::corrected_csv::correct_and_write(&streamed, &log, &unit, &|f| {
         fractions.lock().unwrap().push(f)
     })
     .unwrap();
     assert!(std::fs::read(&from_columns).unwrap() == std::fs::read(&streamed).unwrap());
-    assert_eq!(predictor.outside_fraction(), whole.outside_fraction);
+    assert_eq!(outside, [whole.outside_fraction]);
     let fractions = fractions.into_inner().unwrap();
     assert!(fractions.len() >= 3, "{fractions:?}");
     assert_eq!(fractions.last(), Some(&1.0));

@@ -2,20 +2,16 @@
 //! log it came from, so that a calibration found on a test-stand PC years later can still be
 //! read and checked against its source.
 //!
-//! ```json
-//! { "format": "driftlab-calibration", "version": 1, "model": "vakhrameev",
-//!   "calibration": { "gyro_id": ..., "source": {...}, "recipe": {...}, "k0": {...}, ... } }
-//! { "format": "driftlab-calibration", "version": 1, "model": "regression",
-//!   "calibration": { "gyro_id": ..., "source": {...}, "model": { "spec": {...},
-//!                    "coefficients": [...], "ranges": {...}, ... } } }
-//! ```
+//! One writer and one loader, over a unit ([`save_unit`], [`load_unit`]): which version a
+//! unit is written as is a choice of serialization made here. A unit of one unnamed axis (a
+//! single-axis calibration) is a version-1 file (`version1`: one model's body, tagged with
+//! the model), byte for byte as driftlab has always written it; a unit of named axes (an IMU)
+//! is a version-2 file (`version2`: every axis's body under `axes`, with what the axes share
+//! written once). The single-model calls ([`save_model`], [`load_model`], [`save`], [`load`])
+//! are that one path for a unit of one.
 //!
-//! `model` tags the body: a reader that does not know a model says so by name instead of
+//! `model` tags each body: a reader that does not know a model says so by name instead of
 //! misreading it.
-//!
-//! A unit of several gyro axes (an IMU) is a version-2 file (`unit`): every axis's body as
-//! above under `axes`, with what the axes share (gyro, source log, date, T settings) once. A
-//! single-axis calibration is written as version 1, as it always was.
 //!
 //! Loading checks the format name and version before anything else, then reads the body with
 //! every unknown field rejected and every approximation validated (finite numbers, ordered
@@ -28,9 +24,9 @@
 use crate::error::{Error, Result};
 use crate::models::fitted::DriftModel;
 use crate::models::recipe::Recipe;
-use crate::models::regression::RegressionCalibration;
+use crate::models::unit::UnitCalibration;
 use crate::models::vakhrameev::Calibration;
-use serde::{Deserialize, Serialize};
+use serde::Deserialize;
 use sha2::{Digest, Sha256};
 use std::io::Read;
 use std::path::Path;
@@ -42,27 +38,8 @@ pub const VERSION: u32 = 2;
 /// The version of a single-axis calibration, which driftlab writes as it always has.
 pub const VERSION_SINGLE_AXIS: u32 = 1;
 
-mod unit;
-pub use unit::{load_unit, save_unit, unit_from_json, unit_to_json};
-
-#[derive(Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-struct CalFile {
-    format: String,
-    version: u32,
-    model: String,
-    calibration: Calibration,
-}
-
-/// A file whose body is a regression model.
-#[derive(Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-struct RegressionFile {
-    format: String,
-    version: u32,
-    model: String,
-    calibration: RegressionCalibration,
-}
+mod version1;
+mod version2;
 
 /// Only the header, read first so that a file of another kind or version is named as such
 /// instead of failing on its first unexpected field.
@@ -75,14 +52,7 @@ struct Header {
 
 /// The calibration as the JSON text of a calibration file.
 pub fn to_json(cal: &Calibration) -> String {
-    let file = CalFile {
-        format: FORMAT.into(),
-        version: VERSION_SINGLE_AXIS,
-        model: "vakhrameev".into(),
-        calibration: cal.clone(),
-    };
-    // Serialising plain data with string keys cannot fail.
-    serde_json::to_string_pretty(&file).unwrap_or_default() + "\n"
+    version1::to_json(&DriftModel::Vakhrameev(Box::new(cal.clone())))
 }
 
 /// Checks the format name and returns the version (1 or 2).
@@ -113,20 +83,6 @@ fn version(path: &Path, text: &str) -> Result<u32> {
     }
 }
 
-/// Checks the header of a single-axis (version 1) file and returns the model tag.
-fn header(path: &Path, text: &str) -> Result<String> {
-    let err = |message: String| Error::File {
-        path: path.to_path_buf(),
-        message,
-    };
-    if version(path, text)? != VERSION_SINGLE_AXIS {
-        return Err(err(unit::not_single(path, text)));
-    }
-    let header: Header =
-        serde_json::from_str(text).map_err(|e| err(format!("not a calibration file: {e}")))?;
-    model_tag(header.model.as_deref()).map_err(err)
-}
-
 /// The model tag of a body, checked against the models this build knows.
 fn model_tag(model: Option<&str>) -> std::result::Result<String, String> {
     match model {
@@ -153,22 +109,43 @@ pub fn from_json(path: &Path, text: &str) -> Result<Calibration> {
     }
 }
 
-/// Reads any model from JSON text; `path` names the file in messages.
+/// Reads any model from JSON text (a version-1 file: a unit of one unnamed axis); `path`
+/// names the file in messages.
 pub fn model_from_json(path: &Path, text: &str) -> Result<DriftModel> {
-    let err = |message: String| Error::File {
-        path: path.to_path_buf(),
-        message,
-    };
-    let model = if header(path, text)? == "regression" {
-        let file: RegressionFile = serde_json::from_str(text).map_err(|e| err(e.to_string()))?;
-        DriftModel::Regression(Box::new(file.calibration))
+    if version(path, text)? != VERSION_SINGLE_AXIS {
+        return Err(Error::File {
+            path: path.to_path_buf(),
+            message: version2::not_single(path, text),
+        });
+    }
+    version1::from_json(path, text)
+}
+
+/// The unit as the JSON text of its calibration file: version 2 for a unit of named axes,
+/// the version-1 file of its one model otherwise.
+///
+/// # Errors
+/// [`Error::Invalid`] when the axes disagree on what the file holds once (gyro, source log,
+/// T settings).
+pub fn unit_to_json(unit: &UnitCalibration) -> Result<String> {
+    if unit.is_unit() {
+        version2::to_json(unit)
     } else {
-        let file: CalFile = serde_json::from_str(text).map_err(|e| err(e.to_string()))?;
-        DriftModel::Vakhrameev(Box::new(file.calibration))
-    };
-    model.validate().map_err(|e| err(e.to_string()))?;
-    check_windows(windows(&model)).map_err(err)?;
-    Ok(model)
+        Ok(version1::to_json(unit.first()?))
+    }
+}
+
+/// Reads a calibration file of either version as a unit (a version-1 file is a unit of its one
+/// unnamed axis); `path` names the file in messages.
+///
+/// # Errors
+/// As [`model_from_json`], each axis's message naming it (`axes[gy].calibration...`).
+pub fn unit_from_json(path: &Path, text: &str) -> Result<UnitCalibration> {
+    if version(path, text)? == VERSION_SINGLE_AXIS {
+        version1::from_json(path, text).map(UnitCalibration::single)
+    } else {
+        version2::from_json(path, text)
+    }
 }
 
 /// The longest window (T smoothing, derivative step, delay, lag) a calibration file may ask
@@ -224,45 +201,68 @@ fn check_windows(
     Ok(())
 }
 
-/// The text of `model`'s file, if this build would read it back: the checks loading runs,
-/// on the model and then on the text itself (a number that is not finite is written by JSON as
+/// The checks loading runs on what a file holds: each model (and, for a unit of named axes,
+/// the unit as a whole, each axis named) and the history its corrector would hold.
+fn check(unit: &UnitCalibration) -> std::result::Result<(), String> {
+    if !unit.is_unit() {
+        let model = unit.first().map_err(|e| e.to_string())?;
+        model.validate().map_err(|e| e.to_string())?;
+        return check_windows(windows(model));
+    }
+    unit.validate().map_err(|e| e.to_string())?;
+    for a in &unit.axes {
+        check_windows(windows(&a.model)).map_err(|m| format!("axes[{}].{m}", a.name))?;
+    }
+    Ok(())
+}
+
+/// The text of `unit`'s file, if this build would read it back: the checks loading runs, on
+/// the unit and then on the text itself (a number that is not finite is written by JSON as
 /// `null`, which no reader takes). The error says why nothing was written.
-fn checked_text(path: &Path, model: &DriftModel) -> Result<String> {
+fn checked_text(path: &Path, unit: &UnitCalibration) -> Result<String> {
     let not_written = |message: String| Error::File {
         path: path.to_path_buf(),
         message: format!("not written: {message}"),
     };
-    model.validate().map_err(|e| not_written(e.to_string()))?;
-    check_windows(windows(model)).map_err(not_written)?;
-    let text = model_to_json(model);
-    model_from_json(path, &text).map_err(|e| match e {
+    check(unit).map_err(not_written)?;
+    let text = unit_to_json(unit).map_err(|e| not_written(e.to_string()))?;
+    unit_from_json(path, &text).map_err(|e| match e {
         Error::File { message, .. } => not_written(message),
         other => not_written(other.to_string()),
     })?;
     Ok(text)
 }
 
-/// Any model as the JSON text of a calibration file.
-pub fn model_to_json(model: &DriftModel) -> String {
-    let text = match model {
-        DriftModel::Vakhrameev(c) => return to_json(c),
-        DriftModel::Regression(r) => serde_json::to_string_pretty(&RegressionFile {
-            format: FORMAT.into(),
-            version: VERSION_SINGLE_AXIS,
-            model: "regression".into(),
-            calibration: (**r).clone(),
-        }),
-    };
-    text.unwrap_or_default() + "\n"
+/// Writes a calibration file atomically, after the checks loading would run (the text is
+/// read back first: a file driftlab writes is a file driftlab reads): version 1 for a unit of
+/// one unnamed axis, version 2 for a unit of named axes.
+///
+/// # Errors
+/// A unit that would not read back (nothing is written then), or the write's error.
+pub fn save_unit(path: &Path, unit: &UnitCalibration) -> Result<()> {
+    let text = checked_text(path, unit)?;
+    crate::files::atomic::write_bytes(path, text.as_bytes()).map_err(|e| Error::io(path, e))
 }
 
-/// Writes any model's calibration file atomically, after the checks loading would run.
+/// Reads a calibration file of either version as a unit.
+///
+/// # Errors
+/// As [`unit_from_json`], and an unreadable file.
+pub fn load_unit(path: &Path) -> Result<UnitCalibration> {
+    unit_from_json(path, &read_text(path)?)
+}
+
+/// Any model as the JSON text of a calibration file (version 1).
+pub fn model_to_json(model: &DriftModel) -> String {
+    version1::to_json(model)
+}
+
+/// Writes any model's calibration file ([`save_unit`] for a unit of one unnamed axis).
 ///
 /// # Errors
 /// A model that would not read back (nothing is written then), or the write's error.
 pub fn save_model(path: &Path, model: &DriftModel) -> Result<()> {
-    let text = checked_text(path, model)?;
-    crate::files::atomic::write_bytes(path, text.as_bytes()).map_err(|e| Error::io(path, e))
+    save_unit(path, &UnitCalibration::single(model.clone()))
 }
 
 /// Reads any model's calibration file.

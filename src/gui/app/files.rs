@@ -535,13 +535,16 @@ impl Workbench {
                 (_, None) => return,
             };
             self.jobs.spawn_export("corrected log", move || {
-                export::write_unit_csv(&path, &full, &unit)
+                export::write_corrected_csv(&path, &full, &unit)
             });
             return;
         }
         let l = log.log.clone();
         self.jobs.spawn_export("corrected log", move || {
-            export::write_corrected_csv(&path, &l, &fit.outcome.in_sample.corrected)
+            let model =
+                crate::models::DriftModel::Vakhrameev(Box::new(fit.outcome.calibration.clone()));
+            let single = crate::models::UnitCalibration::single(model);
+            export::write_corrected_csv(&path, &l, &single)
         });
     }
 

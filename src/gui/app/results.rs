@@ -412,7 +412,7 @@ impl Workbench {
                             self.state.models = Some(c);
                             self.state.models_error = None;
                         }
-                        Err(e) if e == crate::gui::jobs::CANCELLED => {
+                        Err(crate::Error::Cancelled) => {
                             self.state.say(
                                 Severity::Info,
                                 if self.state.models.is_some() {
@@ -425,7 +425,7 @@ impl Workbench {
                         Err(e) => {
                             self.state
                                 .say(Severity::Error, format!("Comparison failed: {e}"));
-                            self.state.models_error = Some(e);
+                            self.state.models_error = Some(e.to_string());
                         }
                     }
                 }

@@ -1,6 +1,6 @@
 //! Reading a log off the UI thread, with progress and cancel, and the first views of it:
-//! the read, then the averaging `--bin` asks for (or one sample per burst for a log written
-//! in bursts), then the pyramids the plots draw from.
+//! the read, then the averaging into bins the import view asks for (or one sample per burst
+//! for a log written in bursts), then the pyramids the plots draw from.
 
 use super::*;
 use crate::gui::plot_items::Segments;
@@ -12,8 +12,8 @@ use crate::log::resample::{self, Resampling};
 pub struct LoadOptions {
     /// How the reader parses the file (columns, units, dialect).
     pub read: ReadOptions,
-    /// Average into bins of this many seconds after the read (`--bin`); `None`: a log written
-    /// in bursts is reduced to one sample per burst, any other log is used as recorded.
+    /// Average into bins of this many seconds after the read; `None`: a log written in bursts
+    /// is reduced to one sample per burst, any other log is used as recorded.
     pub bin_s: Option<f64>,
 }
 
@@ -120,7 +120,7 @@ pub(super) fn load_log(h: &LoadHandle, options: LoadOptions) -> JobResult {
     .map(|any| any.log);
     match result {
         Ok(log) => {
-            // Averaged before anything else, as every command does (`--bin`, or bursts).
+            // Averaged before anything else, as every command does (bins, or bursts).
             let how = resample::choose(&log, options.bin_s);
             let recorded = (how == Resampling::BurstMeans).then(|| {
                 let (omega, temp) = rayon::join(

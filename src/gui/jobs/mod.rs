@@ -42,9 +42,6 @@ use std::sync::mpsc::{self, Receiver, Sender};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
-/// The error of a comparison stopped by Cancel.
-pub const CANCELLED: &str = "cancelled";
-
 /// Which slot a log is loaded into.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Target {
@@ -68,8 +65,9 @@ pub enum JobResult {
     FitFailed(usize, u64, String),
     /// A long export finished.
     Exported(String, Result<PathBuf, String>),
-    /// A comparison of models finished (or stopped on an internal error).
-    Compared(u64, Result<Arc<Compared>, String>),
+    /// A comparison of models finished, or stopped: by Cancel ([`crate::Error::Cancelled`]) or
+    /// on a defect.
+    Compared(u64, Result<Arc<Compared>, crate::Error>),
     /// Allan deviations finished.
     Allan(Arc<AllanView>),
 }
@@ -330,21 +328,23 @@ impl Jobs {
                     run_compare(&request, &h, &ctx)
                 }));
                 let result = match run {
-                    Ok(_) if h.cancelled() => Err(CANCELLED.to_string()),
+                    Ok(_) if h.cancelled() => Err(crate::Error::Cancelled),
                     Ok(c) => Ok(Arc::new(c)),
-                    Err(_) => {
-                        Err("the comparison stopped on an internal error (see the terminal)".into())
-                    }
+                    Err(_) => Err(crate::Error::Internal(
+                        "the comparison stopped on a defect (the terminal shows where)",
+                    )),
                 };
                 let _ = tx.send(JobResult::Compared(h.generation, result));
                 repaint(&ctx);
             });
         match spawned {
             Ok(_) => self.comparing = Some(handle),
-            Err(e) => {
+            Err(_) => {
                 let _ = self.tx.send(JobResult::Compared(
                     generation,
-                    Err(format!("cannot start a thread: {e}")),
+                    Err(crate::Error::Internal(
+                        "no thread could be started for the comparison",
+                    )),
                 ));
             }
         }

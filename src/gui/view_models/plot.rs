@@ -69,7 +69,7 @@ impl ModelsView {
         let scale = TimeScale::for_duration(log.duration_s());
         let t_full = (log.time_s[0], log.time_s[n - 1]);
         let li = self.log_index;
-        Plot::new("models_drift")
+        let plot = Plot::new("models_drift")
             .height(ui.available_height().max(120.0))
             .legend(
                 Legend::default()
@@ -77,26 +77,13 @@ impl ModelsView {
                     .follow_insertion_order(true),
             )
             .x_axis_label(format!("time, {}", scale.unit))
-            .y_axis_label("drift, °/h")
-            .y_axis_min_width(64.0)
-            .y_axis_formatter(crate::gui::plot_items::tick_y)
-            .x_axis_formatter(crate::gui::plot_items::tick_x)
-            .x_grid_spacer(egui_plot::uniform_grid_spacer(
-                crate::gui::plot_items::nice_steps_x,
-            ))
-            .y_grid_spacer(egui_plot::uniform_grid_spacer(
-                crate::gui::plot_items::nice_steps,
-            ))
+            .y_axis_label("drift, °/h");
+        crate::gui::plot_items::with_time_axes(plot)
             .allow_zoom(Vec2b::new(true, false))
             .allow_drag(Vec2b::new(true, false))
             .allow_scroll(Vec2b::new(true, false))
             .show(ui, |pui| {
-                let b = pui.plot_bounds();
-                let (x0, x1) = if b.is_valid_x() && b.width() > 0.0 {
-                    (b.min()[0] * scale.div, b.max()[0] * scale.div)
-                } else {
-                    t_full
-                };
+                let (x0, x1) = crate::gui::plot_items::shown_span(pui, scale.div, t_full);
                 let cols = pui.response().rect.width().max(50.0) as usize;
                 let raw = cl.segments.reduce(
                     &log.time_s,

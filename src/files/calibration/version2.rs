@@ -1,4 +1,4 @@
-//! The calibration file of a unit of several gyro axes: version 2.
+//! The version-2 file: a unit of named gyro axes.
 //!
 //! ```json
 //! { "format": "driftlab-calibration", "version": 2,
@@ -56,7 +56,7 @@ struct AxisEntry {
 /// The message for a version-2 file given where a single-axis calibration is wanted.
 /// A broken one is named as a unit file with what is wrong with it.
 pub(super) fn not_single(path: &Path, text: &str) -> String {
-    match unit_from_json(path, text) {
+    match from_json(path, text) {
         Ok(u) => format!(
             "holds a unit of axes {} (version 2); this takes a single-axis calibration",
             u.axis_names().join(", ")
@@ -68,16 +68,12 @@ pub(super) fn not_single(path: &Path, text: &str) -> String {
     }
 }
 
-/// The unit as the JSON text of its calibration file: version 2 for a unit of named axes,
-/// the version-1 file of its one model otherwise.
+/// A unit of named axes as the text of a version-2 file.
 ///
 /// # Errors
 /// [`Error::Invalid`] when the axes disagree on what the file holds once (gyro, source log,
 /// T settings).
-pub fn unit_to_json(unit: &UnitCalibration) -> Result<String> {
-    if !unit.is_unit() {
-        return Ok(super::model_to_json(unit.first()?));
-    }
+pub(super) fn to_json(unit: &UnitCalibration) -> Result<String> {
     let mut shared: Option<Map<String, Value>> = None;
     let mut temperature: Option<Map<String, Value>> = None;
     let mut axes = Vec::with_capacity(unit.axes.len());
@@ -171,19 +167,17 @@ enum Body<'a> {
     Regression(&'a crate::models::regression::RegressionCalibration),
 }
 
-/// Reads a calibration file of either version as a unit (a version-1 file is a unit of its one
-/// unnamed axis); `path` names the file in messages.
+/// Reads a version-2 file (its format and version already checked); `path` names the file in
+/// messages.
 ///
 /// # Errors
-/// As [`super::model_from_json`], each axis's message naming it (`axes[gy].calibration...`).
-pub fn unit_from_json(path: &Path, text: &str) -> Result<UnitCalibration> {
+/// As a version-1 body is refused, each axis's message naming it
+/// (`axes[gy].calibration...`); a file of one unnamed axis (a version-1 file's content).
+pub(super) fn from_json(path: &Path, text: &str) -> Result<UnitCalibration> {
     let err = |message: String| Error::File {
         path: path.to_path_buf(),
         message,
     };
-    if super::version(path, text)? == super::VERSION_SINGLE_AXIS {
-        return super::model_from_json(path, text).map(UnitCalibration::single);
-    }
     let file: UnitFile = serde_json::from_str(text).map_err(|e| err(e.to_string()))?;
     let mut axes = Vec::with_capacity(file.axes.len());
     for entry in file.axes {
@@ -250,38 +244,4 @@ pub fn unit_from_json(path: &Path, text: &str) -> Result<UnitCalibration> {
         ));
     }
     Ok(unit)
-}
-
-/// Writes a unit's calibration file atomically, after the checks loading would run (the text
-/// is read back first: a file driftlab writes is a file driftlab reads).
-///
-/// # Errors
-/// A unit that would not read back (nothing is written then), or the write's error.
-pub fn save_unit(path: &Path, unit: &UnitCalibration) -> Result<()> {
-    if !unit.is_unit() {
-        return super::save_model(path, unit.first()?);
-    }
-    let not_written = |message: String| Error::File {
-        path: path.to_path_buf(),
-        message: format!("not written: {message}"),
-    };
-    unit.validate().map_err(|e| not_written(e.to_string()))?;
-    for a in &unit.axes {
-        check_windows(windows(&a.model))
-            .map_err(|m| not_written(format!("axes[{}].{m}", a.name)))?;
-    }
-    let text = unit_to_json(unit).map_err(|e| not_written(e.to_string()))?;
-    unit_from_json(path, &text).map_err(|e| match e {
-        Error::File { message, .. } => not_written(message),
-        other => not_written(other.to_string()),
-    })?;
-    crate::files::atomic::write_bytes(path, text.as_bytes()).map_err(|e| Error::io(path, e))
-}
-
-/// Reads a calibration file of either version as a unit.
-///
-/// # Errors
-/// As [`unit_from_json`], and an unreadable file.
-pub fn load_unit(path: &Path) -> Result<UnitCalibration> {
-    unit_from_json(path, &super::read_text(path)?)
 }
