@@ -294,18 +294,14 @@ impl Printed<'_> {
         )?;
         for (f, ax) in self.fitted.iter().zip(&self.unit.axes) {
             let c = &f.calibrated.in_sample.comparison;
-            let cell = common::raw_to_corrected;
+            let [p2p, std, win_mean] = common::comparison_cells(c);
             out!(
                 "  {:<8} {:<12} {:>30} {:>30} {:>30}",
                 f.name,
                 ax.model.name(),
-                cell(c.raw.p2p_dph, c.corrected.p2p_dph, c.p2p_ratio),
-                cell(c.raw.std_dph, c.corrected.std_dph, c.std_ratio),
-                cell(
-                    c.raw.win_mean_max_abs_dph,
-                    c.corrected.win_mean_max_abs_dph,
-                    c.win_mean_ratio
-                )
+                p2p,
+                std,
+                win_mean
             )?;
         }
         Ok(())

@@ -421,6 +421,21 @@ pub fn raw_to_corrected(raw: f64, corrected: f64, ratio_raw_cor: f64) -> String 
     )
 }
 
+/// The cells of the figures a summary shows for raw against corrected, as
+/// [`raw_to_corrected`] writes each: peak-to-peak, standard deviation and the largest
+/// |window mean|.
+pub fn comparison_cells(c: &driftlab::Comparison) -> [String; 3] {
+    [
+        raw_to_corrected(c.raw.p2p_dph, c.corrected.p2p_dph, c.p2p_ratio),
+        raw_to_corrected(c.raw.std_dph, c.corrected.std_dph, c.std_ratio),
+        raw_to_corrected(
+            c.raw.win_mean_max_abs_dph,
+            c.corrected.win_mean_max_abs_dph,
+            c.win_mean_ratio,
+        ),
+    ]
+}
+
 /// A setting the engine refused, named also by the option that sets it on the command line
 /// (`filter_s (--filter): ...`): the value may have come from the option or from a recipe.
 pub fn with_option(e: driftlab::error::Invalid) -> CliError {

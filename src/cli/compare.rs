@@ -183,6 +183,17 @@ fn run_axes(
 
 /// For every log, one line per model: its corrected peak-to-peak on each axis with the ratio
 /// (marked "worse" below 1). No raw column: each model's figures leave out its own warm-up.
+/// The heading of one log's table: its name, and whether the models were fitted on it.
+fn print_log_heading(j: &compare::Judgement) -> Result<(), CliError> {
+    out!()?;
+    out!(
+        "{} ({})",
+        j.log,
+        if j.held_out { "held out" } else { "in-sample" }
+    )?;
+    Ok(())
+}
+
 fn print_axes_summary(per_axis: &[(String, Vec<ModelReport>)]) -> Result<(), CliError> {
     let Some((_, first_axis)) = per_axis.first() else {
         return Ok(());
@@ -195,12 +206,7 @@ fn print_axes_summary(per_axis: &[(String, Vec<ModelReport>)]) -> Result<(), Cli
          raw/cor (raw over the same samples)"
     )?;
     for (k, j) in first.logs.iter().enumerate() {
-        out!()?;
-        out!(
-            "{} ({})",
-            j.log,
-            if j.held_out { "held out" } else { "in-sample" }
-        )?;
+        print_log_heading(j)?;
         let mut head = format!("  {:<12}", "model");
         for (name, _) in per_axis {
             head.push_str(&format!(" {:>20}", name));
@@ -268,12 +274,7 @@ fn print_tables(reports: &[ModelReport], merit: &MeritOptions) -> Result<(), Cli
         return Ok(());
     };
     for (k, j) in first.logs.iter().enumerate() {
-        out!()?;
-        out!(
-            "{} ({})",
-            j.log,
-            if j.held_out { "held out" } else { "in-sample" }
-        )?;
+        print_log_heading(j)?;
         out!(
             "  {:<12} {:>9} {:>9} {:>8} {:>8} {:>10} {:>8} {:>8}",
             "model",

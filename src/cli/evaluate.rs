@@ -68,17 +68,23 @@ pub fn run(a: Args) -> Result<(), CliError> {
     }
 }
 
+/// One axis's judgement as JSON: the files, the model, its in-sample figures, the options and
+/// the evaluation on the log.
+fn judged_json(a: &Args, j: &AxisJudged) -> serde_json::Value {
+    serde_json::json!({
+        "calibration": a.calibration,
+        "log": a.log,
+        "model": j.model,
+        "in_sample": j.in_sample,
+        "options": j.opts,
+        "evaluation": j.eval,
+    })
+}
+
 /// The figures of a single-axis calibration.
 fn print_single(a: &Args, j: &AxisJudged) -> Result<(), CliError> {
     if a.json {
-        return common::print_json(&serde_json::json!({
-            "calibration": a.calibration,
-            "log": a.log,
-            "model": j.model,
-            "in_sample": j.in_sample,
-            "options": j.opts,
-            "evaluation": j.eval,
-        }));
+        return common::print_json(&judged_json(a, j));
     }
     out!(
         "{} on {} ({}):",
@@ -175,16 +181,16 @@ fn print_unit(a: &Args, unit: &UnitCalibration, judged: &[AxisJudged]) -> Result
         let axes: Vec<serde_json::Value> = judged
             .iter()
             .map(|j| {
-                serde_json::json!({
+                let mut axis = serde_json::json!({
                     "name": j.name,
                     "log_axis": j.column,
-                    "calibration": a.calibration,
-                    "log": a.log,
-                    "model": j.model,
-                    "in_sample": j.in_sample,
-                    "options": j.opts,
-                    "evaluation": j.eval,
-                })
+                });
+                if let (Some(axis), serde_json::Value::Object(rest)) =
+                    (axis.as_object_mut(), judged_json(a, j))
+                {
+                    axis.extend(rest);
+                }
+                axis
             })
             .collect();
         return common::print_json(&serde_json::json!({
@@ -281,21 +287,17 @@ pub(super) fn print_summary(
         format!("max |{w} mean|"),
         format!("mean {w} RMS")
     )?;
-    let cell = common::raw_to_corrected;
     for r in rows {
         let c = r.comparison;
+        let [p2p, std, win_mean] = common::comparison_cells(c);
         out!(
             "  {:<8} {:<12} {:>28} {:>28} {:>28} {:>28}",
             r.axis,
             r.model,
-            cell(c.raw.p2p_dph, c.corrected.p2p_dph, c.p2p_ratio),
-            cell(c.raw.std_dph, c.corrected.std_dph, c.std_ratio),
-            cell(
-                c.raw.win_mean_max_abs_dph,
-                c.corrected.win_mean_max_abs_dph,
-                c.win_mean_ratio
-            ),
-            cell(
+            p2p,
+            std,
+            win_mean,
+            common::raw_to_corrected(
                 c.raw.win_rms_mean_dph,
                 c.corrected.win_rms_mean_dph,
                 c.win_rms_ratio

@@ -41,15 +41,7 @@ pub fn run(a: Args) -> Result<(), CliError> {
             .unwrap_or(report::default_merit_for(model).filter_s),
         window_s: a.window,
     };
-    let mut logs = Vec::with_capacity(a.logs.len());
-    let mut hashes = Vec::with_capacity(a.logs.len());
-    for path in &a.logs {
-        let input = a.log_args.open(path)?;
-        let log = a.log_args.read(&input)?;
-        common::check_merit(&merit, &log)?;
-        logs.push((path.clone(), log));
-        hashes.push(calibration::sha256_input(&input).unwrap_or_default());
-    }
+    let (logs, hashes) = read_logs(&a, |log| common::check_merit(&merit, log))?;
     common::status(&format!("writing the report into {}", a.out.display()));
     let summary = report::write_model(
         model,
@@ -78,6 +70,27 @@ pub fn run(a: Args) -> Result<(), CliError> {
     print_files(&summary.files)
 }
 
+/// The report's logs, each with the path it was read from.
+type LogsRead = Vec<(PathBuf, driftlab::Log)>;
+
+/// Reads every log of the report (every column: the temperature figure draws the log's other
+/// temperatures), each checked by `check`, with the SHA-256 of each file as read.
+fn read_logs(
+    a: &Args,
+    check: impl Fn(&driftlab::Log) -> Result<(), CliError>,
+) -> Result<(LogsRead, Vec<String>), CliError> {
+    let mut logs = Vec::with_capacity(a.logs.len());
+    let mut hashes = Vec::with_capacity(a.logs.len());
+    for path in &a.logs {
+        let input = a.log_args.open(path)?;
+        let log = a.log_args.read(&input)?;
+        check(&log)?;
+        logs.push((path.clone(), log));
+        hashes.push(calibration::sha256_input(&input).unwrap_or_default());
+    }
+    Ok((logs, hashes))
+}
+
 fn print_files(files: &[PathBuf]) -> Result<(), CliError> {
     out!("wrote {} files:", files.len())?;
     for f in files {
@@ -93,21 +106,14 @@ fn run_unit(a: &Args, unit: &UnitCalibration) -> Result<(), CliError> {
         filter_s: a.filter,
         window_s: a.window,
     };
-    let mut logs = Vec::with_capacity(a.logs.len());
-    let mut hashes = Vec::with_capacity(a.logs.len());
-    for path in &a.logs {
-        let input = a.log_args.open(path)?;
-        // Every column, as for one axis: the temperature figure draws the log's other
-        // temperatures.
-        let log = a.log_args.read(&input)?;
-        super::evaluate::unit_axes(&log, unit, &a.calibration)?;
+    let (mut logs, hashes) = read_logs(a, |log| {
+        super::evaluate::unit_axes(log, unit, &a.calibration)?;
         for ax in &unit.axes {
-            common::check_merit(&merit.for_model(&ax.model), &log)
+            common::check_merit(&merit.for_model(&ax.model), log)
                 .map_err(|e| super::evaluate::in_axis(&ax.name, e))?;
         }
-        logs.push((path.clone(), log));
-        hashes.push(calibration::sha256_input(&input).unwrap_or_default());
-    }
+        Ok(())
+    })?;
     common::status(&format!(
         "writing the report of {} axes into {}",
         unit.axes.len(),

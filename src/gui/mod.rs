@@ -6,7 +6,7 @@
 //!   it without importing the window;
 //! * [`state`]: the application data in one plain struct (logs, choices, newest fit, undo);
 //! * [`jobs`]: reading logs, refitting (newest request wins) and exports on worker threads;
-//!   [`same`]: the identity of a shared value, for their cache keys;
+//!   [`crate::live::Same`]: the identity of a shared value, for their cache keys;
 //! * [`plot_items`]: plot items drawn from level-of-detail data ([`crate::signal::lod`]), and
 //!   the number formats; [`widgets`]: the widgets more than one view draws;
 //! * one module per view: [`view_import`], [`view_axes`] (a unit's axes: the switch and each
@@ -47,7 +47,6 @@
 //! [`Page`]: crate::gui::action::Page
 //! [`state`]: crate::gui::state
 //! [`jobs`]: crate::gui::jobs
-//! [`same`]: crate::gui::same
 //! [`plot_items`]: crate::gui::plot_items
 //! [`widgets`]: crate::gui::widgets
 //! [`view_import`]: crate::gui::view_import
@@ -75,7 +74,6 @@ pub mod export;
 pub mod file_dialog;
 pub mod jobs;
 pub mod plot_items;
-pub mod same;
 pub mod settings;
 pub mod state;
 pub mod view_allan;

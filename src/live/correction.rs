@@ -61,8 +61,8 @@ impl Pipeline {
         prepared: &Arc<Prepared>,
     ) -> Arc<Correction> {
         let key = CorrectionKey {
-            log: ptr(log),
-            prepared: ptr(prepared),
+            log: Same::of(log),
+            prepared: Same::of(prepared),
             k0: cal.k0.clone(),
             sets: [
                 (cal.k1_plus.clone(), cal.k2_plus.clone()),

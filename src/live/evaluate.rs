@@ -72,7 +72,7 @@ impl Pipeline {
         let steps = cal.steps_for(dt);
         let filter = signal::seconds_to_samples(merit.filter_s, dt).max(1);
         let fresh = match &self.validation {
-            Some(v) => v.log != ptr(log) || v.steps != steps || v.filter != filter,
+            Some(v) => v.log != Same::of(log) || v.steps != steps || v.filter != filter,
             None => true,
         };
         if fresh {
@@ -81,7 +81,7 @@ impl Pipeline {
                 || signal::moving_average_centered_in(&log.omega_dph, filter, &timing.segments),
             );
             self.validation = Some(ValidationCache {
-                log: ptr(log),
+                log: Same::of(log),
                 steps,
                 deriv: Arc::new(deriv),
                 filter,

@@ -38,12 +38,14 @@ mod cache;
 mod correction;
 mod evaluate;
 mod plateaus;
+mod same;
 mod sets;
 mod terms;
 #[cfg(test)]
 mod tests;
 
 pub use plateaus::suggest_plateaus;
+pub use same::Same;
 
 use crate::error::Error;
 use crate::files::session::{Coefficient, KnotEdits};
@@ -209,33 +211,6 @@ fn ms(t: Instant) -> f64 {
     t.elapsed().as_secs_f64() * 1e3
 }
 
-/// The identity of a shared value in a cache key. The key holds the value: were it a bare
-/// address, a new log (or set of signals) allocated where an old one was freed would pass for
-/// the old one, and a stage would be kept that was made from other data.
-pub(super) struct Same<T>(Arc<T>);
-
-impl<T> Clone for Same<T> {
-    fn clone(&self) -> Self {
-        Same(self.0.clone())
-    }
-}
-
-impl<T> PartialEq for Same<T> {
-    fn eq(&self, other: &Self) -> bool {
-        Arc::ptr_eq(&self.0, &other.0)
-    }
-}
-
-impl<T> std::fmt::Debug for Same<T> {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "Same({:p})", Arc::as_ptr(&self.0))
-    }
-}
-
-fn ptr<T>(a: &Arc<T>) -> Same<T> {
-    Same(a.clone())
-}
-
 /// `approx` with its knot values replaced by `values`, when the counts agree.
 pub fn with_knots(approx: &Approx, values: Option<&Vec<f64>>) -> Approx {
     let Some(values) = values else {
@@ -264,7 +239,7 @@ impl Pipeline {
     /// The filtered and differentiated signals for the recipe, kept between runs.
     pub fn prepared(&mut self, log: &Arc<Log>, recipe: &Recipe) -> (Arc<Prepared>, bool) {
         let key = PrepKey {
-            log: ptr(log),
+            log: Same::of(log),
             filter_s: recipe.filter_s,
             smoothing_s: recipe.temp_smoothing_s,
             step_h_s: recipe.step_h_s,
@@ -292,7 +267,7 @@ impl Pipeline {
         // The checks every face's fit makes (`models::fit`): settings that fit in this log,
         // and a temperature span the model can be fitted over; once per log and settings.
         let checked = PrepKey {
-            log: ptr(log),
+            log: Same::of(log),
             filter_s: recipe.filter_s,
             smoothing_s: recipe.temp_smoothing_s,
             step_h_s: recipe.step_h_s,
@@ -316,7 +291,7 @@ impl Pipeline {
         let t = Instant::now();
         let ranges = self.plateau_ranges(log, &prepared, recipe);
         let pkey = PlateauKey {
-            prepared: ptr(&prepared),
+            prepared: Same::of(&prepared),
             ranges: ranges.clone(),
             deadband_tdot: recipe.deadband_tdot,
             deadband_tddot: recipe.deadband_tddot,
@@ -452,7 +427,7 @@ impl Pipeline {
 
         let t = Instant::now();
         let merit = req.merit;
-        let raw_key = (ptr(log), corrected.ready_from, merit);
+        let raw_key = (Same::of(log), corrected.ready_from, merit);
         let raw_figures = match &self.raw_figures {
             Some((k, f)) if *k == raw_key => *f,
             _ => {
@@ -468,14 +443,14 @@ impl Pipeline {
         };
         let filter = signal::seconds_to_samples(merit.filter_s, prepared.dt_s).max(1);
         let raw_filtered = match &self.raw_filtered {
-            Some((k, f)) if *k == (ptr(log), filter) => f.clone(),
+            Some((k, f)) if *k == (Same::of(log), filter) => f.clone(),
             _ => {
                 let f = Arc::new(signal::moving_average_centered_in(
                     &log.omega_dph,
                     filter,
                     &prepared.segments,
                 ));
-                self.raw_filtered = Some(((ptr(log), filter), f.clone()));
+                self.raw_filtered = Some(((Same::of(log), filter), f.clone()));
                 f
             }
         };
@@ -525,7 +500,7 @@ impl Pipeline {
         temp_c: &[f64],
     ) -> Arc<Vec<f64>> {
         match &self.rest {
-            Some(c) if c.prepared == ptr(prepared) && c.k0 == *k0 => c.rest.clone(),
+            Some(c) if c.prepared == Same::of(prepared) && c.k0 == *k0 => c.rest.clone(),
             _ => {
                 let rest = Arc::new(vakhrameev::rest_dph(
                     &prepared.omega_filtered_dph,
@@ -533,7 +508,7 @@ impl Pipeline {
                     k0,
                 ));
                 self.rest = Some(RestCache {
-                    prepared: ptr(prepared),
+                    prepared: Same::of(prepared),
                     k0: k0.clone(),
                     rest: rest.clone(),
                 });

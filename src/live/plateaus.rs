@@ -12,14 +12,14 @@ impl Pipeline {
         recipe: &Recipe,
     ) -> Vec<PlateauRange> {
         if let Some((p, choice, ranges)) = &self.ranges
-            && *p == ptr(prepared)
+            && *p == Same::of(prepared)
             && *choice == recipe.plateaus
         {
             return ranges.clone();
         }
         let d = &prepared.deriv;
         let ranges = plateau::ranges(&recipe.plateaus, &log.time_s, &d.tdot, &d.ready);
-        self.ranges = Some((ptr(prepared), recipe.plateaus.clone(), ranges.clone()));
+        self.ranges = Some((Same::of(prepared), recipe.plateaus.clone(), ranges.clone()));
         ranges
     }
 }

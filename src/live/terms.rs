@@ -52,7 +52,7 @@ impl Terms {
     /// Made ready for `n` samples of a log and its derivatives: each regime's samples found
     /// afresh (and every kept term forgotten) when they are other than last time.
     fn ready_for(&mut self, log: &Arc<Log>, prepared: &Arc<Prepared>, n: usize) {
-        let of = (ptr(log), ptr(prepared));
+        let of = (Same::of(log), Same::of(prepared));
         if self.of.as_ref() == Some(&of) && self.n == n && !self.sets[0].bounds.is_empty() {
             return;
         }

@@ -29,25 +29,25 @@ use super::profile::GyroParams;
 pub struct AxisParams {
     /// Axis name (`x`, `y`, `z`): the column names are made of it (`omega_x_dph`, `gx_dps`).
     pub name: String,
-    /// Static zero bias K0 at 20 °C, °/h.
+    /// As [`GyroParams::bias_20c_dph`].
     pub bias_20c_dph: f64,
-    /// Linear coefficient of K0 around 20 °C, °/h per °C.
+    /// As [`GyroParams::bias_slope_dph_per_c`].
     pub bias_slope_dph_per_c: f64,
-    /// Quadratic coefficient of K0 around 20 °C, °/h per °C².
+    /// As [`GyroParams::bias_curvature_dph_per_c2`].
     pub bias_curvature_dph_per_c2: f64,
-    /// Shupe coefficient, °/h per (°C/s) of fibre-weighted difference of heating rates.
+    /// As [`GyroParams::shupe_dph_per_c_per_s`].
     pub shupe_dph_per_c_per_s: f64,
-    /// Thermal-stress coefficient, °/h per °C of fibre-weighted radial gradient at 20 °C.
+    /// As [`GyroParams::stress_dph_per_c`].
     pub stress_dph_per_c: f64,
-    /// Relative asymmetry of the transient drift between heating and cooling.
+    /// As [`GyroParams::heating_asymmetry`].
     pub heating_asymmetry: f64,
-    /// Angle random walk, °/√h.
+    /// As [`GyroParams::arw_deg_per_sqrt_h`].
     pub arw_deg_per_sqrt_h: f64,
-    /// Standard deviation of the Gauss-Markov bias, °/h.
+    /// As [`GyroParams::bias_instability_dph`].
     pub bias_instability_dph: f64,
-    /// Correlation time of the Gauss-Markov bias, s.
+    /// As [`GyroParams::bias_correlation_s`].
     pub bias_correlation_s: f64,
-    /// Rate random walk, °/h per √h.
+    /// As [`GyroParams::rrw_dph_per_sqrt_h`].
     pub rrw_dph_per_sqrt_h: f64,
 }
 

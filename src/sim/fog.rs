@@ -8,7 +8,7 @@ use super::noise::{self, GyroNoise, NoiseParts, Sensor};
 use super::profile::{GyroParams, Profile};
 use super::run::{AccelSample, AxisSample, Sample};
 use super::thermal::{self, Coil, Program};
-use super::{ASYMMETRY_SCALE_C, MAX_PHYSICS_STEP_S};
+use super::{ASYMMETRY_SCALE_C, Steps};
 
 /// The thermal state of the unit: the housing and the winding it drives.
 #[derive(Debug, Clone)]
@@ -78,11 +78,13 @@ pub(crate) fn run<E>(
     let p = &profile.gyro;
     let axes = profile.unit_axes();
     let accels = &profile.accelerometers;
-    let dt = 1.0 / profile.sample_rate_hz;
-    let n = profile.sample_count();
-    let subs = ((dt / MAX_PHYSICS_STEP_S).ceil() as usize).max(1);
-    let h = dt / subs as f64;
-    let h_fine = dt / fine as f64;
+    let Steps {
+        dt,
+        n,
+        subs,
+        h,
+        h_fine,
+    } = Steps::of(profile, fine);
 
     let program = Program::new(profile);
     let mut state = State {

@@ -47,7 +47,7 @@ use serde::{Deserialize, Serialize};
 
 use rand_chacha::ChaCha8Rng;
 
-use super::MAX_PHYSICS_STEP_S;
+use super::Steps;
 use super::noise::{self, GaussMarkov, GyroNoise, Sensor};
 use super::profile::{GyroParams, Profile};
 use super::run::{AxisSample, LaserSample, Sample};
@@ -451,11 +451,13 @@ pub(crate) fn run<E>(
     sink: &mut dyn FnMut(&Sample) -> Result<(), E>,
 ) -> Result<(), E> {
     let p = &profile.gyro;
-    let dt = 1.0 / profile.sample_rate_hz;
-    let n = profile.sample_count();
-    let subs = ((dt / MAX_PHYSICS_STEP_S).ceil() as usize).max(1);
-    let h = dt / subs as f64;
-    let h_fine = dt / fine as f64;
+    let Steps {
+        dt,
+        n,
+        subs,
+        h,
+        h_fine,
+    } = Steps::of(profile, fine);
 
     let program = Program::new(profile);
     let mut gyro_noise = GyroNoise::new(p, dt, seed);

@@ -133,6 +133,31 @@ use run::Plan;
 /// or finer, so the thermal state does not depend on the sampling rate.
 const MAX_PHYSICS_STEP_S: f64 = 1.0;
 
+/// The time steps of a run: the sample interval `dt` and the count `n` of samples, the
+/// physics' `subs` sub-steps of `h` per sample (none longer than [`MAX_PHYSICS_STEP_S`]), and
+/// the `h_fine` steps of the fine sensor model (`fine` per sample).
+struct Steps {
+    dt: f64,
+    n: usize,
+    subs: usize,
+    h: f64,
+    h_fine: f64,
+}
+
+impl Steps {
+    fn of(profile: &Profile, fine: usize) -> Steps {
+        let dt = 1.0 / profile.sample_rate_hz;
+        let subs = ((dt / MAX_PHYSICS_STEP_S).ceil() as usize).max(1);
+        Steps {
+            dt,
+            n: profile.sample_count(),
+            subs,
+            h: dt / subs as f64,
+            h_fine: dt / fine as f64,
+        }
+    }
+}
+
 /// Scale of the smooth sign used by the heating/cooling asymmetry, °C of weighted gradient.
 const ASYMMETRY_SCALE_C: f64 = 0.5;
 

@@ -54,13 +54,7 @@ pub fn write_with<F>(path: &Path, fill: F) -> std::io::Result<()>
 where
     F: FnOnce(&mut dyn Write) -> std::io::Result<()>,
 {
-    let file = match Target::of(path)? {
-        Target::File(file) => file,
-        stream => return write_stream(&stream, fill),
-    };
-    let tmp = temporary_for(&file)?;
-    fill_buffered(tmp.as_file(), fill)?;
-    finish(tmp, &file)
+    write_atomically(path, false, fill)
 }
 
 /// Writes a big file (tens of MB and more) atomically through `fill`, as [`write_with`] does,
@@ -76,6 +70,16 @@ pub fn write_big_with<F>(path: &Path, fill: F) -> std::io::Result<()>
 where
     F: FnOnce(&mut dyn Write) -> std::io::Result<()>,
 {
+    write_atomically(path, true, fill)
+}
+
+/// The one atomic write behind [`write_with`] and [`write_big_with`]: a stream target is
+/// written in place; a file through a temporary beside it, past the page cache when `direct`
+/// is asked and the file system takes it, then renamed over the destination.
+fn write_atomically<F>(path: &Path, direct: bool, fill: F) -> std::io::Result<()>
+where
+    F: FnOnce(&mut dyn Write) -> std::io::Result<()>,
+{
     let file = match Target::of(path)? {
         Target::File(file) => file,
         stream => return write_stream(&stream, fill),
@@ -83,11 +87,13 @@ where
     let tmp = temporary_for(&file)?;
     #[cfg(target_os = "linux")]
     {
-        if direct::enable(tmp.as_file()) {
+        if direct && direct::enable(tmp.as_file()) {
             direct::fill(tmp.as_file(), fill)?;
             return finish(tmp, &file);
         }
     }
+    #[cfg(not(target_os = "linux"))]
+    let _ = direct;
     fill_buffered(tmp.as_file(), fill)?;
     finish(tmp, &file)
 }

@@ -23,10 +23,10 @@ use load::load_log;
 pub use load::{LoadHandle, LoadOptions, Loaded, LogLods, Recorded};
 
 use super::plot_items::Segments;
-use super::same::Same;
 use crate::judge::allan::{AllanDeviation, AllanOptions};
 use crate::judge::compare::ModelReport;
 use crate::judge::metrics::MeritOptions;
+use crate::live::Same;
 use crate::live::{Outcome, Pipeline, Request};
 use crate::log::Log;
 use crate::log::ingest::ReadOptions;

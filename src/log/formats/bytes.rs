@@ -11,6 +11,23 @@ pub(crate) struct Bytes<'a> {
     base: u64,
 }
 
+/// Runs `each` over the records of a decompressed chunk (ROS bag, MCAP) until its bytes are
+/// used up; `each` reads one record from the cursor it is handed, at the offset it is given.
+/// An error inside is placed at the chunk's offset in the file, with its offset among the
+/// decompressed bytes in the message ([`Broken::inside_chunk`]).
+pub(crate) fn each_record_of_chunk<'a>(
+    inner: &'a [u8],
+    chunk_at: u64,
+    mut each: impl FnMut(&mut Bytes<'a>, u64) -> Result<(), Broken>,
+) -> Result<(), Broken> {
+    let mut b = Bytes::new(inner, 0);
+    while !b.is_empty() {
+        let at = b.offset();
+        each(&mut b, at).map_err(|e| e.inside_chunk(chunk_at))?;
+    }
+    Ok(())
+}
+
 impl<'a> Bytes<'a> {
     pub(crate) fn new(data: &'a [u8], base: u64) -> Bytes<'a> {
         Bytes { data, pos: 0, base }

@@ -11,7 +11,7 @@
 //! 6173593962729701385 bytes failed") on a sample with four mutated bytes: it allocates
 //! what a corrupt length field says before checking it against the file.
 
-use super::bytes::Bytes;
+use super::bytes::{Bytes, each_record_of_chunk};
 use super::decompress::{Codec, decompress};
 use super::error::Broken;
 use super::recording::Problem;
@@ -198,20 +198,14 @@ impl State {
 
     /// The records of a decompressed chunk; errors are placed at the chunk.
     fn chunk(&mut self, inner: &[u8], chunk_at: u64) -> Result<(), Broken> {
-        let mut b = Bytes::new(inner, 0);
-        let inside = |e: Broken| e.inside_chunk(chunk_at);
-        while !b.is_empty() {
-            let at = b.offset();
-            let op = b.u8("a record opcode").map_err(inside)?;
-            let len = b.len_u64("a record").map_err(inside)?;
-            let content = Bytes::new(b.take(len, "a record").map_err(inside)?, at + 9);
+        each_record_of_chunk(inner, chunk_at, |b, at| {
+            let op = b.u8("a record opcode")?;
+            let len = b.len_u64("a record")?;
+            let content = Bytes::new(b.take(len, "a record")?, at + 9);
             match op {
-                OP_SCHEMA | OP_CHANNEL | OP_MESSAGE => {
-                    self.record(op, content, at).map_err(inside)?;
-                }
-                _ => {}
+                OP_SCHEMA | OP_CHANNEL | OP_MESSAGE => self.record(op, content, at),
+                _ => Ok(()),
             }
-        }
-        Ok(())
+        })
     }
 }

@@ -11,7 +11,7 @@
 //! Why not a crate: `rosbag` 0.6.3 panics on a bag cut short (it slices the file to the index
 //! position its header names: 188 of 200 cuts of the sample), and loops on a mutated sample.
 
-use super::bytes::Bytes;
+use super::bytes::{Bytes, each_record_of_chunk};
 use super::decompress::{Codec, decompress};
 use super::error::Broken;
 use super::recording::Problem;
@@ -201,20 +201,15 @@ impl State {
 
     /// The records of a decompressed chunk; offsets are reported as the chunk's own.
     fn chunk(&mut self, inner: &[u8], chunk_at: u64) -> Result<(), Broken> {
-        let mut b = Bytes::new(inner, 0);
-        let inside = |e: Broken| e.inside_chunk(chunk_at);
-        while !b.is_empty() {
-            let at = b.offset();
-            let r = record(&mut b)
-                .map_err(inside)?
-                .ok_or_else(|| inside(Broken::at(at, "a record runs past the chunk's end")))?;
-            match r.op().map_err(inside)? {
-                OP_CONNECTION => self.connection(&r).map_err(inside)?,
-                OP_MESSAGE => self.message(&r).map_err(inside)?,
-                _ => {}
+        each_record_of_chunk(inner, chunk_at, |b, at| {
+            let r =
+                record(b)?.ok_or_else(|| Broken::at(at, "a record runs past the chunk's end"))?;
+            match r.op()? {
+                OP_CONNECTION => self.connection(&r),
+                OP_MESSAGE => self.message(&r),
+                _ => Ok(()),
             }
-        }
-        Ok(())
+        })
     }
 
     fn message(&mut self, r: &Record<'_>) -> Result<(), Broken> {

@@ -324,15 +324,7 @@ impl Parser<'_> {
         let last = acts.len().checked_sub(1)?;
         let mut p = pos;
         for (j, act) in acts.iter().enumerate() {
-            if WS {
-                while p < n && (data[p] == b' ' || data[p] == b'\t') {
-                    p += 1;
-                }
-            } else {
-                while p < n && data[p] == b' ' {
-                    p += 1;
-                }
-            }
+            p = skip_blanks::<WS>(data, p);
             let &b = data.get(p)?;
             if b == b'#' {
                 return None;
@@ -388,15 +380,7 @@ impl Parser<'_> {
                 }
             }
             let field_end = p;
-            if WS {
-                while p < n && (data[p] == b' ' || data[p] == b'\t') {
-                    p += 1;
-                }
-            } else {
-                while p < n && data[p] == b' ' {
-                    p += 1;
-                }
-            }
+            p = skip_blanks::<WS>(data, p);
             // At a separator, a line end, or the end of the block.
             let Some(&b) = data.get(p) else {
                 return (j == last).then_some(n);
@@ -516,6 +500,16 @@ impl Parser<'_> {
         chunk.push(vals, line);
         Ok(())
     }
+}
+
+/// The first position at or after `p` that is not padding: spaces, and tabs too when the
+/// columns are separated by whitespace (`WS`), where a tab is padding rather than a separator.
+#[inline(always)]
+fn skip_blanks<const WS: bool>(data: &[u8], mut p: usize) -> usize {
+    while p < data.len() && (data[p] == b' ' || (WS && data[p] == b'\t')) {
+        p += 1;
+    }
+    p
 }
 
 #[cfg(test)]

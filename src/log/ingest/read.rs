@@ -291,12 +291,19 @@ fn read_blocks(
     if !progress(0.0) {
         return Err(cancelled());
     }
-    match fast(&src, &sn, &parser, &mut acc, progress, total, block_bytes) {
+    let pass = Pass {
+        src: &src,
+        sn: &sn,
+        parser: &parser,
+        progress,
+        total,
+    };
+    match fast(&pass, &mut acc, block_bytes) {
         Ok(()) => {}
         Err(Flow::Fail(f)) => return Err(f),
         Err(Flow::General) => {
             acc = Acc::new(plan.nslots, reserve);
-            general(&src, &sn, &parser, &mut acc, progress, total)?;
+            general(&pass, &mut acc)?;
         }
     }
     let log = finish(acc, &sn, &plan, source)?;
@@ -305,17 +312,28 @@ fn read_blocks(
     Ok(log)
 }
 
+/// What a pass over the data rows reads and reports to: the source, what sniffing found, the
+/// parser, and the progress callback with the file's size in bytes. The fast and the general
+/// reader take the same pass.
+#[derive(Clone, Copy)]
+struct Pass<'a> {
+    src: &'a Src<'a>,
+    sn: &'a Sniffed,
+    parser: &'a Parser<'a>,
+    progress: &'a (dyn Fn(f64) -> bool + Sync),
+    total: u64,
+}
+
 /// The parallel block pipeline: while one batch of blocks is parsed, the previous one is
 /// stitched onto the output and the next one read.
-fn fast(
-    src: &Src<'_>,
-    sn: &Sniffed,
-    parser: &Parser<'_>,
-    acc: &mut Acc,
-    progress: &(dyn Fn(f64) -> bool + Sync),
-    total: u64,
-    block_bytes: usize,
-) -> Result<(), Flow> {
+fn fast(pass: &Pass<'_>, acc: &mut Acc, block_bytes: usize) -> Result<(), Flow> {
+    let Pass {
+        src,
+        sn,
+        parser,
+        progress,
+        total,
+    } = *pass;
     let mut blocks = Blocks {
         r: src.open_at(sn.data_start)?,
         size: block_bytes.max(1),
@@ -392,14 +410,14 @@ fn fraction(done: u64, total: u64) -> f64 {
 }
 
 /// The sequential reader for files whose quoted fields span lines.
-fn general(
-    src: &Src<'_>,
-    sn: &Sniffed,
-    parser: &Parser<'_>,
-    acc: &mut Acc,
-    progress: &(dyn Fn(f64) -> bool + Sync),
-    total: u64,
-) -> Result<(), Fail> {
+fn general(pass: &Pass<'_>, acc: &mut Acc) -> Result<(), Fail> {
+    let Pass {
+        src,
+        sn,
+        parser,
+        progress,
+        total,
+    } = *pass;
     let mut rdr = BufReader::with_capacity(1 << 20, src.open_at(sn.data_start)?);
     let nslots = parser.plan.nslots;
     let mut chunk = Chunk::new(nslots, 0);

@@ -1,10 +1,9 @@
-//! The identity of a shared value, for the workbench's cache keys (the refit last sent, the
-//! drawing data kept between refits).
+//! The identity of a shared value, for cache keys: the live refit's stages, and the
+//! workbench's (the refit last sent, the drawing data kept between refits).
 //!
 //! The key holds the value: were it a bare address, a new log (or set of signals) allocated
-//! where an old one was freed would pass for the old one, and a refit would be skipped, or a
-//! picture kept, that belonged to other data. The engine's live loop keys its stages the same
-//! way.
+//! where an old one was freed would pass for the old one, and a stage would be kept, a refit
+//! skipped or a picture kept, that was made from other data.
 
 use std::sync::Arc;
 
