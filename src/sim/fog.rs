@@ -78,13 +78,10 @@ pub(crate) fn run<E>(
     let p = &profile.gyro;
     let axes = profile.unit_axes();
     let accels = &profile.accelerometers;
-    let Steps {
-        dt,
-        n,
-        subs,
-        h,
-        h_fine,
-    } = Steps::of(profile, fine);
+    let steps = Steps::of(profile, fine);
+    let (dt, n, subs) = (steps.dt, steps.n, steps.subs);
+    let (h, h_fine) = (steps.h, steps.h_fine);
+    let (sqrt_fine, report_every) = (steps.sqrt_fine, steps.report_every);
 
     let program = Program::new(profile);
     let mut state = State {
@@ -126,9 +123,7 @@ pub(crate) fn run<E>(
         accel: vec![AccelSample::default(); accels.len()],
         ..Sample::default()
     };
-    let sqrt_fine = (fine as f64).sqrt();
 
-    let report_every = (n / 200).max(1);
     progress(0.0);
     for i in 0..n {
         let t = i as f64 * dt;

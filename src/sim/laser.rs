@@ -451,13 +451,10 @@ pub(crate) fn run<E>(
     sink: &mut dyn FnMut(&Sample) -> Result<(), E>,
 ) -> Result<(), E> {
     let p = &profile.gyro;
-    let Steps {
-        dt,
-        n,
-        subs,
-        h,
-        h_fine,
-    } = Steps::of(profile, fine);
+    let steps = Steps::of(profile, fine);
+    let (dt, n, subs) = (steps.dt, steps.n, steps.subs);
+    let (h, h_fine) = (steps.h, steps.h_fine);
+    let (sqrt_fine, report_every) = (steps.sqrt_fine, steps.report_every);
 
     let program = Program::new(profile);
     let mut gyro_noise = GyroNoise::new(p, dt, seed);
@@ -525,8 +522,6 @@ pub(crate) fn run<E>(
         };
     };
 
-    let sqrt_fine = (fine as f64).sqrt();
-    let report_every = (n / 200).max(1);
     progress(0.0);
     for i in 0..n {
         let t = i as f64 * dt;

@@ -135,25 +135,31 @@ const MAX_PHYSICS_STEP_S: f64 = 1.0;
 
 /// The time steps of a run: the sample interval `dt` and the count `n` of samples, the
 /// physics' `subs` sub-steps of `h` per sample (none longer than [`MAX_PHYSICS_STEP_S`]), and
-/// the `h_fine` steps of the fine sensor model (`fine` per sample).
+/// the `h_fine` steps of the fine sensor model (`fine` per sample, whose white noise is
+/// scaled by `sqrt_fine`), and how many samples pass between two progress reports.
 struct Steps {
     dt: f64,
     n: usize,
     subs: usize,
     h: f64,
     h_fine: f64,
+    sqrt_fine: f64,
+    report_every: usize,
 }
 
 impl Steps {
     fn of(profile: &Profile, fine: usize) -> Steps {
         let dt = 1.0 / profile.sample_rate_hz;
         let subs = ((dt / MAX_PHYSICS_STEP_S).ceil() as usize).max(1);
+        let n = profile.sample_count();
         Steps {
             dt,
-            n: profile.sample_count(),
+            n,
             subs,
             h: dt / subs as f64,
             h_fine: dt / fine as f64,
+            sqrt_fine: (fine as f64).sqrt(),
+            report_every: (n / 200).max(1),
         }
     }
 }

@@ -324,18 +324,18 @@ struct Pass<'a> {
     total: u64,
 }
 
+impl Pass<'_> {
+    /// Reports `done_bytes` of the file read; false when the reader is asked to stop.
+    fn goes_on(&self, done_bytes: u64) -> bool {
+        (self.progress)(fraction(done_bytes, self.total))
+    }
+}
+
 /// The parallel block pipeline: while one batch of blocks is parsed, the previous one is
 /// stitched onto the output and the next one read.
 fn fast(pass: &Pass<'_>, acc: &mut Acc, block_bytes: usize) -> Result<(), Flow> {
-    let Pass {
-        src,
-        sn,
-        parser,
-        progress,
-        total,
-    } = *pass;
     let mut blocks = Blocks {
-        r: src.open_at(sn.data_start)?,
+        r: pass.src.open_at(pass.sn.data_start)?,
         size: block_bytes.max(1),
         carry: Vec::new(),
         eof: false,
@@ -345,9 +345,9 @@ fn fast(pass: &Pass<'_>, acc: &mut Acc, block_bytes: usize) -> Result<(), Flow> 
     let spare_cols: Mutex<Vec<Vec<f64>>> = Mutex::new(Vec::new());
     let spare = || spare_cols.lock().ok().and_then(|mut v| v.pop());
     let per_batch = (2 * rayon::current_num_threads()).max(2);
-    let capacity = |len: usize| (len as f64 / sn.avg_line_len * 1.1) as usize + 16;
-    let mut line = sn.data_first_line;
-    let mut done_bytes = sn.data_start as u64;
+    let capacity = |len: usize| (len as f64 / pass.sn.avg_line_len * 1.1) as usize + 16;
+    let mut line = pass.sn.data_first_line;
+    let mut done_bytes = pass.sn.data_start as u64;
     let mut pending: Option<(Vec<Item>, Vec<Option<Chunk>>)> = None;
     let mut batch = blocks.batch(per_batch).map_err(io_fail)?;
     while !batch.is_empty() || pending.is_some() {
@@ -368,7 +368,7 @@ fn fast(pass: &Pass<'_>, acc: &mut Acc, block_bytes: usize) -> Result<(), Flow> 
                             None => {}
                         }
                         let lines = chunk.lines;
-                        let cols = acc.absorb(chunk, line, parser.plan.time);
+                        let cols = acc.absorb(chunk, line, pass.parser.plan.time);
                         if let Ok(mut s) = spare_cols.lock() {
                             s.extend(cols);
                         }
@@ -383,7 +383,9 @@ fn fast(pass: &Pass<'_>, acc: &mut Acc, block_bytes: usize) -> Result<(), Flow> 
                 batch
                     .par_iter()
                     .map(|item| match item {
-                        Item::Data(d) => Some(parser.parse_block(d, capacity(d.len()), &spare)),
+                        Item::Data(d) => {
+                            Some(pass.parser.parse_block(d, capacity(d.len()), &spare))
+                        }
                         Item::TooLong => None,
                     })
                     .collect::<Vec<_>>()
@@ -394,7 +396,7 @@ fn fast(pass: &Pass<'_>, acc: &mut Acc, block_bytes: usize) -> Result<(), Flow> 
             pending = Some((std::mem::take(&mut batch), chunks));
         }
         batch = next;
-        if !progress(fraction(done_bytes, total)) {
+        if !pass.goes_on(done_bytes) {
             return Err(cancelled().into());
         }
     }
@@ -412,11 +414,7 @@ fn fraction(done: u64, total: u64) -> f64 {
 /// The sequential reader for files whose quoted fields span lines.
 fn general(pass: &Pass<'_>, acc: &mut Acc) -> Result<(), Fail> {
     let Pass {
-        src,
-        sn,
-        parser,
-        progress,
-        total,
+        src, sn, parser, ..
     } = *pass;
     let mut rdr = BufReader::with_capacity(1 << 20, src.open_at(sn.data_start)?);
     let nslots = parser.plan.nslots;
@@ -478,7 +476,7 @@ fn general(pass: &Pass<'_>, acc: &mut Acc) -> Result<(), Fail> {
         }
         if done_bytes >= next_report {
             next_report = done_bytes + BLOCK_BYTES as u64;
-            if !progress(fraction(done_bytes, total)) {
+            if !pass.goes_on(done_bytes) {
                 return Err(cancelled());
             }
         }
