@@ -2,7 +2,9 @@
 //! window means and RMS, walked in parallel over fixed segments so that the result does not
 //! depend on the number of threads. Apart from the types because this is where the time goes.
 
-use super::running::{mean, min_max, moving_average_segments, over_segment_pairs, valid_len};
+use super::running::{
+    fold_segment_pairs, mean, min_max, moving_average_segments, over_segment_pairs, valid_len,
+};
 use super::{Figures, MeritOptions, Unavailable};
 use crate::signal;
 
@@ -36,24 +38,20 @@ pub fn figures_over(
     match ready {
         [] => figures(omega_dph, dt_s, n, opts),
         [r] if r.end >= n => figures(omega_dph, dt_s, r.start, opts),
-        _ => figures_of_ranges(omega_dph, dt_s, ready, opts),
+        _ => {
+            let parts: Vec<&[f64]> = ready
+                .iter()
+                .map(|r| &omega_dph[r.start.min(n)..r.end.min(n)])
+                .filter(|x| !x.is_empty())
+                .collect();
+            figures_of_parts(&parts, dt_s, opts)
+        }
     }
 }
 
-/// [`figures_over`] for several ranges, written plainly: the filtered values of every range,
-/// then the whole windows of every range, pooled.
-fn figures_of_ranges(
-    omega_dph: &[f64],
-    dt_s: f64,
-    ready: &[std::ops::Range<usize>],
-    opts: &MeritOptions,
-) -> Figures {
-    let n = omega_dph.len();
-    let parts: Vec<&[f64]> = ready
-        .iter()
-        .map(|r| &omega_dph[r.start.min(n)..r.end.min(n)])
-        .filter(|x| !x.is_empty())
-        .collect();
+/// [`figures_over`] for several ranges (`parts`, each a range's samples), written plainly: the
+/// filtered values of every range, then the whole windows of every range, pooled.
+fn figures_of_parts(parts: &[&[f64]], dt_s: f64, opts: &MeritOptions) -> Figures {
     let samples: usize = parts.iter().map(|x| x.len()).sum();
     let window = signal::seconds_to_samples(opts.filter_s, dt_s);
     let filtered: Vec<f64> = parts
@@ -149,18 +147,7 @@ fn figures_kept(
         };
         let mut keep = keep;
         let parts: Vec<(f64, f64, f64)> = match keep.as_deref_mut() {
-            None => over_segment_pairs(segments, |ka, kb| {
-                let (mut a, mut b) = (acc0, acc0);
-                moving_average_segments(
-                    x,
-                    window,
-                    seg(ka),
-                    kb.map(seg),
-                    |v| step(&mut a, v),
-                    |v| step(&mut b, v),
-                );
-                (a, b)
-            }),
+            None => fold_segment_pairs(x, window, segments, seg, acc0, step),
             Some(buf) => {
                 if buf.len() != len {
                     buf.clear();
@@ -212,18 +199,9 @@ fn figures_kept(
         }
         let m = sum / len as f64;
         let squares: Vec<f64> = match keep {
-            None => over_segment_pairs(segments, |ka, kb| {
-                let (mut a, mut b) = (zero, zero);
-                moving_average_segments(
-                    x,
-                    window,
-                    seg(ka),
-                    kb.map(seg),
-                    |v| a += (v - m).powi(2),
-                    |v| b += (v - m).powi(2),
-                );
-                (a, b)
-            }),
+            None => {
+                fold_segment_pairs(x, window, segments, seg, zero, |a, v| *a += (v - m).powi(2))
+            }
             Some(buf) => {
                 // The kept values, summed per segment in order as the walk above sums them,
                 // two segments side by side.

@@ -80,6 +80,32 @@ pub(super) fn over_segment_pairs<T: Send>(
     out
 }
 
+/// Folds the moving average of `x` (over `window` samples) segment by segment, two segments
+/// side by side ([`over_segment_pairs`], [`moving_average_segments`]): each segment's values,
+/// in order, into its own accumulator started at `init` by `step`. `seg(k)` is segment `k`'s
+/// range of samples. Returns one accumulator per segment, in order.
+pub(super) fn fold_segment_pairs<T: Copy + Send + Sync>(
+    x: &[f64],
+    window: usize,
+    segments: usize,
+    seg: impl Fn(usize) -> (usize, usize) + Sync,
+    init: T,
+    step: impl Fn(&mut T, f64) + Sync,
+) -> Vec<T> {
+    over_segment_pairs(segments, |ka, kb| {
+        let (mut a, mut b) = (init, init);
+        moving_average_segments(
+            x,
+            window,
+            seg(ka),
+            kb.map(&seg),
+            |v| step(&mut a, v),
+            |v| step(&mut b, v),
+        );
+        (a, b)
+    })
+}
+
 /// [`moving_average_segment`] over segment `a` and, when given, segment `b`, in lockstep: each
 /// segment's values are computed and passed on exactly as a walk of its own would (so the same
 /// bits), but the two running sums are independent chains that the processor overlaps. A walk
