@@ -140,7 +140,7 @@ pub(super) fn load_log(h: &LoadHandle, options: LoadOptions) -> JobResult {
                 Ok(r) => r,
                 Err(e) => return JobResult::LoadFailed(h.target, h.path.clone(), e.to_string()),
             };
-            if log.len() < driftlab::models::MIN_SAMPLES {
+            if log.len() < crate::models::MIN_SAMPLES {
                 return JobResult::LoadFailed(
                     h.target,
                     h.path.clone(),
