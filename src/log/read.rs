@@ -562,16 +562,19 @@ mod tests {
 
     #[test]
     fn only_whole_setting_names_are_reworded() {
-        let words = [("temp_col", "--temp-col"), ("gyro N", "--gyro N")];
+        let words = [
+            ("temp_col", "Temperature column"),
+            ("gyro N", "The gyro control"),
+        ];
         assert_eq!(
             reworded("choose it with temp_col \"temp_col_2\"", &words),
-            "choose it with --temp-col \"temp_col_2\""
+            "choose it with Temperature column \"temp_col_2\""
         );
         assert_eq!(
             reworded("gyro 1 is the first of 2; gyro N picks another", &words),
-            "gyro 1 is the first of 2; --gyro N picks another"
+            "gyro 1 is the first of 2; The gyro control picks another"
         );
         assert_eq!(reworded("my_temp_col °C", &words), "my_temp_col °C");
-        assert_eq!(reworded("temp_col", &words), "--temp-col");
+        assert_eq!(reworded("temp_col", &words), "Temperature column");
     }
 }
