@@ -36,15 +36,17 @@ impl From<&str> for CliError {
     }
 }
 
+/// The engine's refusal in the command line's words: the read settings it names are named by
+/// their flags ([`super::log_source::in_flags`]).
 impl From<driftlab::Error> for CliError {
     fn from(e: driftlab::Error) -> CliError {
-        CliError::Message(e.to_string())
+        CliError::Message(super::log_source::in_flags(&e.to_string()))
     }
 }
 
 impl From<driftlab::error::Invalid> for CliError {
     fn from(e: driftlab::error::Invalid) -> CliError {
-        CliError::Message(e.to_string())
+        CliError::Message(super::log_source::in_flags(&e.to_string()))
     }
 }
 
@@ -241,7 +243,8 @@ impl LogArgs {
 
     /// The log averaged into bins (--bin) or one sample per burst, before anything else.
     pub fn resampled(&self, log: Log) -> Result<Log, String> {
-        let (log, note) = driftlab::log::resample::prepare(log, self.bin)?;
+        let (log, note) = driftlab::log::resample::prepare(log, self.bin)
+            .map_err(|e| super::log_source::in_flags(&e.to_string()))?;
         if let Some(note) = note {
             note!("note: {}: {note}", log.source);
         }
@@ -263,11 +266,12 @@ impl LogArgs {
                 }
                 true
             })
-            .map_err(|e| e.to_string());
+            .map_err(|e| super::log_source::in_flags(&e.to_string()));
         if let Some(b) = bar {
             b.finish_and_clear();
         }
-        let log = log?;
+        let mut log = log?;
+        super::log_source::problems_in_flags(&mut log);
         for p in &log.info.problems {
             // A problem of a whole column has no line.
             let place = match (p.line, p.column) {

@@ -2,6 +2,7 @@
 //! bag, MCAP) as a CSV the other commands read with no options.
 
 use super::common::{self, CliError};
+use super::log_source::in_flags;
 use driftlab::log::formats::{self, TempFrom};
 use std::path::PathBuf;
 
@@ -28,10 +29,10 @@ pub fn run(a: Args) -> Result<(), CliError> {
     common::refuse_overwriting("--out", &a.out, &[("the log", &a.log)])?;
     let rec = formats::read_path(&a.log).map_err(|e| e.to_string())?;
     for p in &rec.problems {
-        note!("{}: {p}", rec.source);
+        note!("{}: {}", rec.source, in_flags(&p.to_string()));
     }
-    let sel = formats::select(&rec, a.gyro, a.temp_from).map_err(|e| e.to_string())?;
-    note!("{}", sel.note);
+    let sel = formats::select(&rec, a.gyro, a.temp_from).map_err(|e| in_flags(&e.to_string()))?;
+    note!("{}", in_flags(&sel.note));
     driftlab::files::atomic::write_with(&a.out, |w| formats::write_csv(&sel, w))
         .map_err(|e| format!("{}: {e}", a.out.display()))?;
     note!(

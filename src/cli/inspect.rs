@@ -40,7 +40,7 @@ fn print_instances(
         instances.len()
     )?;
     for s in instances {
-        out!("  {}", s.line())?;
+        out!("  {}", log_source::in_flags(&s.line()))?;
         let accel = if s.has_accel {
             ", accel x y z (m/s^2)"
         } else {
@@ -69,7 +69,7 @@ fn drone(a: &Args) -> Result<Option<(driftlab::Log, Drone)>, CliError> {
     }
     let rec = formats::read_path(&a.log).map_err(|e| e.to_string())?;
     let instances = rec.summaries();
-    let any = match read::from_recording(&rec, false, &a.log_args.format.choice()) {
+    let mut any = match read::from_recording(&rec, false, &a.log_args.format.choice()) {
         Ok(any) => any,
         Err(e) => {
             if a.json {
@@ -79,7 +79,7 @@ fn drone(a: &Args) -> Result<Option<(driftlab::Log, Drone)>, CliError> {
                     "instances": instances,
                     "problems": rec.problems,
                     "chosen": null,
-                    "why_none": e.to_string(),
+                    "why_none": log_source::in_flags(&e.to_string()),
                 }))?;
             } else {
                 print_instances(&rec.source, format, &instances)?;
@@ -87,7 +87,7 @@ fn drone(a: &Args) -> Result<Option<(driftlab::Log, Drone)>, CliError> {
                     out!("  problem: {p}")?;
                 }
             }
-            return Err(e.to_string().into());
+            return Err(log_source::in_flags(&e.to_string()).into());
         }
     };
     drop(rec);
@@ -97,6 +97,7 @@ fn drone(a: &Args) -> Result<Option<(driftlab::Log, Drone)>, CliError> {
     if !a.json {
         print_instances(&any.log.source, format, &d.instances)?;
     }
+    log_source::problems_in_flags(&mut any.log);
     log_source::print_notes(&d, &any.log);
     // As recorded, unless --bin asks for bins (as `LogArgs::read_recorded`).
     let log = match a.log_args.bin {

@@ -50,6 +50,38 @@ pub fn flag_of(setting: &'static str) -> &'static str {
     }
 }
 
+/// The settings a reader's message may name, each with its flag: as [`flag_of`], and the
+/// bin length of `--bin`. `gyro` is named with its value's placeholder (`gyro N`), because
+/// the word alone is also the reader's word for a gyro; the separator's name is an everyday
+/// word too, and the reader does not name it as a setting.
+const SETTING_FLAGS: [(&str, &str); 10] = [
+    ("time_col", "--time-col"),
+    ("rate_col", "--rate-col"),
+    ("temp_col", "--temp-col"),
+    ("rate_unit", "--rate-unit"),
+    ("time_unit", "--time-unit"),
+    ("sample_rate_hz", "--sample-rate"),
+    ("decimal_comma", "--decimal-comma"),
+    ("temp_from", "--temp-from"),
+    ("gyro N", "--gyro N"),
+    ("bin_s", "--bin"),
+];
+
+/// A message of the reader (an error, a problem it worked around, a note on the gyro it
+/// chose) in the command line's words: the settings it names are named by their flags
+/// (`temp_col "temp_C"` → `--temp-col "temp_C"`).
+pub fn in_flags(message: &str) -> String {
+    read::reworded(message, &SETTING_FLAGS)
+}
+
+/// The problems the reader worked around in `log`, in the command line's words, as every
+/// command prints them (`inspect` both as text and as JSON).
+pub fn problems_in_flags(log: &mut Log) {
+    for p in &mut log.info.problems {
+        p.message = in_flags(&p.message);
+    }
+}
+
 /// The engine's refusal of a read in the command line's words: the options it names by their
 /// settings are named by their flags.
 pub fn worded(e: ReadError) -> String {
@@ -85,7 +117,7 @@ pub fn worded(e: ReadError) -> String {
              allan` reads such a log (use --temp-from accel or imu-status, see `driftlab \
              inspect`)"
         ),
-        other => other.to_string(),
+        other => in_flags(&other.to_string()),
     }
 }
 
@@ -101,9 +133,9 @@ pub fn check(args: &LogArgs, path: &Path, opts: &ReadOptions) -> Result<Option<F
 /// Prints what the format reader and the choice of gyro said, on standard error.
 pub fn print_notes(drone: &DroneLog, log: &Log) {
     for p in &drone.problems {
-        note!("warning: {}: {p}", log.source);
+        note!("warning: {}: {}", log.source, in_flags(&p.to_string()));
     }
-    note!("note: {}", drone.note);
+    note!("note: {}", in_flags(&drone.note));
     for p in &log.info.problems {
         note!(
             "warning: {}: {} ({} time{})",
@@ -127,12 +159,13 @@ pub fn read_drone_log(
     opts: &ReadOptions,
     needs_temperature: bool,
 ) -> Result<Option<(Log, DroneLog)>, String> {
-    let Some(any) = read::read_drone_log(path, opts, &args.format.choice(), needs_temperature)
+    let Some(mut any) = read::read_drone_log(path, opts, &args.format.choice(), needs_temperature)
         .map_err(worded)?
     else {
         return Ok(None);
     };
     let drone = any.drone.ok_or("a drone log read as a CSV")?;
+    problems_in_flags(&mut any.log);
     print_notes(&drone, &any.log);
     Ok(Some((any.log, drone)))
 }

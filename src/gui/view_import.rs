@@ -40,6 +40,24 @@ pub struct ImportView {
 
 const PREVIEW_ROWS: usize = 25;
 
+/// The read settings a reader's message may name, each with the label of its control in this
+/// view (the column roles are one row of controls, "Time", "Rate", "Temperature").
+const SETTING_LABELS: [(&str, &str); 7] = [
+    ("time_col", "Time column"),
+    ("rate_col", "Rate column"),
+    ("temp_col", "Temperature column"),
+    ("rate_unit", "Rate unit"),
+    ("time_unit", "Time unit"),
+    ("sample_rate_hz", "Sample rate"),
+    ("bin_s", "Average into bins of"),
+];
+
+/// A message of the reader in the window's words: the settings it names are named by the
+/// labels of this view's controls (`temp_col "temp_C"` → `Temperature column "temp_C"`).
+pub fn in_labels(message: &str) -> String {
+    crate::log::read::reworded(message, &SETTING_LABELS)
+}
+
 /// One thing the reader said about a file it read.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ReadWarning {
@@ -54,7 +72,8 @@ impl ImportView {
     /// Opens the view on `path` with starting options.
     pub fn new(path: PathBuf, target: Target, options: LoadOptions) -> ImportView {
         let LoadOptions { read, bin_s } = options;
-        let preview = ingest::preview(&path, &read, PREVIEW_ROWS).map_err(|e| e.to_string());
+        let preview =
+            ingest::preview(&path, &read, PREVIEW_ROWS).map_err(|e| in_labels(&e.to_string()));
         let concerns = preview
             .as_ref()
             .map(|p| mapping_check::concerns_for(p, &read))
@@ -133,8 +152,8 @@ impl ImportView {
             decision = Some(Action::CloseImport);
         }
         if self.read != self.previewed {
-            self.preview =
-                ingest::preview(&self.path, &self.read, PREVIEW_ROWS).map_err(|e| e.to_string());
+            self.preview = ingest::preview(&self.path, &self.read, PREVIEW_ROWS)
+                .map_err(|e| in_labels(&e.to_string()));
             self.concerns = self
                 .preview
                 .as_ref()

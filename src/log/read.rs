@@ -59,6 +59,36 @@ impl FormatChoice {
     }
 }
 
+/// A message of the reader in a face's words: the reader names the settings of
+/// [`ReadOptions`] and [`FormatChoice`] as the code does (`temp_col "temp_C"`, `gyro N`), and
+/// each face words them as its own controls are named (a flag, a label). `words` pairs a
+/// setting's name with the face's word; only whole names are replaced, so `temp_col` inside
+/// `temp_col_2` or `gyro` in `gyro 1` stay as they are.
+pub fn reworded(message: &str, words: &[(&str, &str)]) -> String {
+    let part_of_name = |c: char| c.is_alphanumeric() || c == '_';
+    let mut out = String::with_capacity(message.len());
+    let mut before: Option<char> = None;
+    let mut rest = message;
+    'scan: while let Some(c) = rest.chars().next() {
+        if !before.is_some_and(part_of_name) {
+            for &(setting, word) in words {
+                if let Some(after) = rest.strip_prefix(setting)
+                    && !after.chars().next().is_some_and(part_of_name)
+                {
+                    out.push_str(word);
+                    before = setting.chars().last();
+                    rest = after;
+                    continue 'scan;
+                }
+            }
+        }
+        out.push(c);
+        before = Some(c);
+        rest = &rest[c.len_utf8()..];
+    }
+    out
+}
+
 /// What a drone or robot log was, beyond the [`Log`] made of one of its gyros.
 #[derive(Debug, Clone)]
 pub struct DroneLog {
@@ -523,5 +553,28 @@ fn gaps(time_s: &[f64], rows: &[usize], problems: &mut Vec<Problem>) {
                 largest.1 + 1
             ),
         });
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::reworded;
+
+    #[test]
+    fn only_whole_setting_names_are_reworded() {
+        let words = [
+            ("temp_col", "Temperature column"),
+            ("gyro N", "The gyro control"),
+        ];
+        assert_eq!(
+            reworded("choose it with temp_col \"temp_col_2\"", &words),
+            "choose it with Temperature column \"temp_col_2\""
+        );
+        assert_eq!(
+            reworded("gyro 1 is the first of 2; gyro N picks another", &words),
+            "gyro 1 is the first of 2; The gyro control picks another"
+        );
+        assert_eq!(reworded("my_temp_col °C", &words), "my_temp_col °C");
+        assert_eq!(reworded("temp_col", &words), "Temperature column");
     }
 }

@@ -38,7 +38,7 @@ pub fn resample(log: Log, how: Resampling) -> Result<(Log, Option<String>), Inva
         Resampling::Bins(bin_s) => {
             if !(bin_s.is_finite() && bin_s > 0.0) {
                 return Err(Invalid::new(
-                    "--bin",
+                    "bin_s",
                     format!("{bin_s}: a bin is a positive number of seconds"),
                 ));
             }

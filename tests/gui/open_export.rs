@@ -522,7 +522,7 @@ fn a_register_read_as_the_temperature_reopens_the_import_view_naming_the_better_
         .text
         .clone();
     assert!(
-        doubt.contains("\"temp_raw_int16\"") && doubt.contains("--temp-col \"temp_C_est\""),
+        doubt.contains("\"temp_raw_int16\"") && doubt.contains("Temperature column \"temp_C_est\""),
         "{doubt}"
     );
     // On screen, first.

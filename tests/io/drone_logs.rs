@@ -216,7 +216,7 @@ fn choices_that_do_not_fit_are_refused_with_the_alternatives_named() {
     )
     .unwrap_err();
     assert!(matches!(e, ReadError::Selection(_)), "{e}");
-    assert!(e.to_string().contains("--temp-from none"), "{e}");
+    assert!(e.to_string().contains("temp_from none"), "{e}");
     // Past the last instance: the instances are listed.
     let e = read::read_any(
         &ulog,

@@ -525,7 +525,7 @@ fn selection_defaults_to_the_first_gyro_with_a_temperature_and_names_alternative
     let e = formats::select(&rec, Some(3), None).unwrap_err();
     let text = e.to_string();
     assert!(text.contains("no temperature of its own"), "{text}");
-    assert!(text.contains("--temp-from none"), "{text}");
+    assert!(text.contains("temp_from none"), "{text}");
     // The accelerometer's temperature only when asked.
     let s = formats::select(&rec, Some(1), Some(TempFrom::Accel)).unwrap();
     assert_eq!(
@@ -534,7 +534,7 @@ fn selection_defaults_to_the_first_gyro_with_a_temperature_and_names_alternative
     );
     assert!(s.note.contains("sensor_accel[1].temperature"), "{}", s.note);
     let e = formats::select(&rec, Some(0), Some(TempFrom::ImuStatus)).unwrap_err();
-    assert!(e.to_string().contains("--temp-from accel"), "{e}");
+    assert!(e.to_string().contains("temp_from accel"), "{e}");
     let e = formats::select(&rec, Some(9), None).unwrap_err();
     assert!(e.to_string().contains("no gyro 9"), "{e}");
     // A ROS log without a Temperature topic: refused unless none is asked for.

@@ -88,11 +88,11 @@ fn unknown_mapping_lists_the_columns() {
 #[test]
 fn unrecognised_names_ask_for_a_mapping() {
     let e = fail(b"a,b,c\n0,1,2\n", &opts());
-    assert!(e.message.contains("--rate-col"), "{e}");
+    assert!(e.message.contains("rate_col"), "{e}");
     let e = fail(b"time,omega,pressure\n0,1,2\n", &opts());
-    assert!(e.message.contains("--temp-col"), "{e}");
+    assert!(e.message.contains("temp_col"), "{e}");
     let e = fail(b"omega,temp\n1,2\n", &opts());
-    assert!(e.message.contains("--sample-rate"), "{e}");
+    assert!(e.message.contains("sample_rate_hz"), "{e}");
 }
 
 #[test]
@@ -108,7 +108,7 @@ fn sample_index_time() {
     close(&log.time_s, &[0.0, 0.1, 0.2, 1.0]);
     assert_eq!(unit_of(&log, ColumnRole::Time), "samples");
     let e = fail(text.as_bytes(), &opts());
-    assert!(e.message.contains("--sample-rate"), "{e}");
+    assert!(e.message.contains("sample_rate_hz"), "{e}");
 
     // A time column declared as a sample index.
     let log = read_with(
@@ -135,7 +135,7 @@ fn no_time_column_with_a_sample_rate() {
     close(&log.omega_dph, &[1.5, 2.5, 3.5]);
     close(&log.temp_c, &[20.0, 21.0, 23.0]);
     let e = fail(b"1.5,20\n2.5,21\n", &opts());
-    assert!(e.message.contains("--sample-rate"), "{e}");
+    assert!(e.message.contains("sample_rate_hz"), "{e}");
 
     // With a header that has no time column.
     let log = read_with("omega,temp\n1,20\n2,20\n", &o);
@@ -149,7 +149,7 @@ fn no_time_column_with_a_sample_rate() {
             ..opts()
         },
     );
-    assert!(e.message.contains("--sample-rate"), "{e}");
+    assert!(e.message.contains("sample_rate_hz"), "{e}");
 }
 
 #[test]

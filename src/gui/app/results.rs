@@ -294,6 +294,7 @@ impl Workbench {
                 self.state.say(Severity::Info, msg);
             }
             JobResult::LoadFailed(_, path, message) => {
+                let message = crate::gui::view_import::in_labels(&message);
                 self.opening.session = None;
                 self.opening.validation_shown = None;
                 self.state.say(
@@ -592,7 +593,10 @@ pub(super) fn read_warnings(l: &Loaded) -> Vec<ReadWarning> {
             };
             ReadWarning {
                 about_columns: about_columns(p.kind),
-                text: format!("{at}{}{times}", p.message),
+                text: format!(
+                    "{at}{}{times}",
+                    crate::gui::view_import::in_labels(&p.message)
+                ),
             }
         })
         .collect();

@@ -74,7 +74,14 @@ impl ControlsView {
                         if !problems.is_empty() {
                             let text: Vec<String> = problems
                                 .iter()
-                                .map(|p| format!("line {}: {} ({}×)", p.line, p.message, p.count))
+                                .map(|p| {
+                                    format!(
+                                        "line {}: {} ({}×)",
+                                        p.line,
+                                        super::view_import::in_labels(&p.message),
+                                        p.count
+                                    )
+                                })
                                 .collect();
                             ui.colored_label(
                                 ui.visuals().warn_fg_color,

@@ -348,7 +348,7 @@ pub struct InstanceSummary {
 /// One alternative temperature in a summary.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct AltTemperatureSummary {
-    /// `--temp-from` word that picks it.
+    /// The `temp_from` word that picks it.
     pub from: TempFrom,
     /// The field it comes from.
     pub field: String,
@@ -383,7 +383,7 @@ impl InstanceSummary {
         for a in &self.alt_temps {
             match a.range_c {
                 Some((lo, hi)) => s.push_str(&format!(
-                    "; --temp-from {}: {} {lo:.2} .. {hi:.2} degC",
+                    "; temp_from {}: {} {lo:.2} .. {hi:.2} degC",
                     a.from, a.field
                 )),
                 None => s.push_str(&format!("; {} is all NaN", a.field)),

@@ -72,10 +72,10 @@ fn alternatives(i: &GyroInstance) -> String {
         .alt_temps
         .iter()
         .filter(|a| a.values.has_numbers())
-        .map(|a| format!("--temp-from {} ({}, {})", a.from, a.field, range(&a.values)))
+        .map(|a| format!("temp_from {} ({}, {})", a.from, a.field, range(&a.values)))
         .collect();
     if i.temp_c.has_numbers() {
-        alts.insert(0, format!("--temp-from own ({})", range(&i.temp_c)));
+        alts.insert(0, format!("temp_from own ({})", range(&i.temp_c)));
     }
     if alts.is_empty() {
         format!("{} has no other temperature", describe(i))
@@ -87,7 +87,7 @@ fn alternatives(i: &GyroInstance) -> String {
 fn every_alternative(rec: &ImuRecording) -> String {
     let mut s: Vec<String> = rec.instances.iter().map(alternatives).collect();
     s.push(
-        "--temp-from none writes temp_c as NaN (enough for noise analysis, not for a \
+        "temp_from none writes temp_c as NaN (enough for noise analysis, not for a \
          thermal calibration)"
             .into(),
     );
@@ -150,7 +150,7 @@ pub fn select(
                     f => format!("{} has no {f} temperature", describe(inst)),
                 },
                 alternatives: format!(
-                    "{}; --temp-from none writes temp_c as NaN",
+                    "{}; temp_from none writes temp_c as NaN",
                     alternatives(inst)
                 ),
             })?;
@@ -169,18 +169,15 @@ pub fn select(
             let how = if rec.instances.len() == 1 {
                 "the log's only gyro".to_string()
             } else if from == TempFrom::None {
-                format!(
-                    "the first of {}; --gyro N picks another",
-                    rec.instances.len()
-                )
+                format!("the first of {}; gyro N picks another", rec.instances.len())
             } else if from == TempFrom::Own {
                 format!(
-                    "the first of {} whose temperature is not all NaN; --gyro N picks another",
+                    "the first of {} whose temperature is not all NaN; gyro N picks another",
                     rec.instances.len()
                 )
             } else {
                 format!(
-                    "the first of {} with a {from} temperature; --gyro N picks another",
+                    "the first of {} with a {from} temperature; gyro N picks another",
                     rec.instances.len()
                 )
             };

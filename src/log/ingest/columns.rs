@@ -216,7 +216,7 @@ pub(crate) fn plan(sn: &Sniffed, opts: &ReadOptions) -> Result<Plan, Fail> {
         && !(r.is_finite() && r > 0.0)
     {
         return Err(Fail::file(format!(
-            "--sample-rate must be a positive number of hertz, not {r}"
+            "sample_rate_hz must be a positive number of hertz, not {r}"
         )));
     }
 
@@ -327,8 +327,8 @@ pub(crate) fn plan(sn: &Sniffed, opts: &ReadOptions) -> Result<Plan, Fail> {
         {
             return Err(at_header(format!(
                 "the file has no header and {ncols} columns: without a time column give \
-                 --sample-rate HZ (then col1 is the rate and col2 the temperature), or map the \
-                 columns with --time-col, --rate-col and --temp-col"
+                 sample_rate_hz HZ (then col1 is the rate and col2 the temperature), or map the \
+                 columns with time_col, rate_col and temp_col"
             )));
         }
     }
@@ -336,7 +336,7 @@ pub(crate) fn plan(sn: &Sniffed, opts: &ReadOptions) -> Result<Plan, Fail> {
     let Some(rate_col) = rate_col else {
         return Err(at_header(format!(
             "no gyro rate column: none of {} reads as one (omega, rate, gyro, gx, wx, \
-             angular_velocity_x, ...); map it with --rate-col NAME (Column mapping… in the \
+             angular_velocity_x, ...); map it with rate_col NAME (Column mapping… in the \
              workbench)",
             names_list()
         )));
@@ -344,7 +344,7 @@ pub(crate) fn plan(sn: &Sniffed, opts: &ReadOptions) -> Result<Plan, Fail> {
     let Some(temp_col) = temp_col else {
         return Err(at_header(format!(
             "no temperature column: none of {} reads as one (temp, temperature, T1...); \
-             map it with --temp-col NAME (Column mapping… in the workbench)",
+             map it with temp_col NAME (Column mapping… in the workbench)",
             names_list()
         )));
     };
@@ -373,8 +373,8 @@ pub(crate) fn plan(sn: &Sniffed, opts: &ReadOptions) -> Result<Plan, Fail> {
             Some(rate_hz) => TimeSource::RowIndex { rate_hz },
             None => {
                 return Err(at_header(format!(
-                    "no time column among {}: map it with --time-col NAME, or give \
-                     --sample-rate HZ if the file has none",
+                    "no time column among {}: map it with time_col NAME, or give \
+                     sample_rate_hz HZ if the file has none",
                     names_list()
                 )));
             }
@@ -395,7 +395,7 @@ pub(crate) fn plan(sn: &Sniffed, opts: &ReadOptions) -> Result<Plan, Fail> {
             Some(r) => Conv::new(1.0, r, 0.0),
             None => {
                 return Err(at_header(format!(
-                    "the time column \"{}\" counts samples: give --sample-rate HZ",
+                    "the time column \"{}\" counts samples: give sample_rate_hz HZ",
                     sn.names[time_col.unwrap_or(0)]
                 )));
             }

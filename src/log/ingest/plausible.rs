@@ -73,10 +73,10 @@ fn temperature_doubt(name: &str, x: &[f64]) -> Option<String> {
 fn duplicate_names(log: &Log) -> Vec<Problem> {
     let same = |a: &str, b: &str| a.trim() == b.trim();
     let mut out = Vec::new();
-    for (role, what, option) in [
-        (ColumnRole::Time, "time", "--time-col"),
-        (ColumnRole::Rate, "rate", "--rate-col"),
-        (ColumnRole::Temperature, "temperature", "--temp-col"),
+    for (role, what, setting) in [
+        (ColumnRole::Time, "time", "time_col"),
+        (ColumnRole::Rate, "rate", "rate_col"),
+        (ColumnRole::Temperature, "temperature", "temp_col"),
     ] {
         let Some(c) = log.info.columns.iter().find(|c| c.role == role) else {
             continue;
@@ -103,7 +103,7 @@ fn duplicate_names(log: &Log) -> Vec<Problem> {
             count: 1,
             message: format!(
                 "column {} \"{}\" is taken as the {what}, and column{} {list} {} the same \
-                 name; to take another, give its number: {option} {other}",
+                 name; to take another, give its number: {setting} {other}",
                 c.index,
                 c.name,
                 if others.len() == 1 { "" } else { "s" },
@@ -135,9 +135,9 @@ pub(super) fn check(log: &Log) -> Vec<Problem> {
             .map(|x| x.name.clone());
         let advice = match &better {
             Some(b) => {
-                format!("\"{b}\" looks like the temperature: choose it with --temp-col \"{b}\"")
+                format!("\"{b}\" looks like the temperature: choose it with temp_col \"{b}\"")
             }
-            None => "choose the temperature column with --temp-col NAME".to_string(),
+            None => "choose the temperature column with temp_col NAME".to_string(),
         };
         out.push(Problem {
             line: 0,
@@ -158,8 +158,8 @@ pub(super) fn check(log: &Log) -> Vec<Problem> {
             count: 1,
             message: format!(
                 "the rate column \"{}\" read as {} reaches {:.3e} °/s, beyond the 10⁴ °/s of any \
-                 gyro on a stand: check its unit (--rate-unit) or choose another column \
-                 (--rate-col)",
+                 gyro on a stand: check its unit (rate_unit) or choose another column \
+                 (rate_col)",
                 c.name,
                 c.unit,
                 lo.abs().max(hi.abs()) / 3600.0

@@ -87,7 +87,7 @@ fn imu_status_temperature_is_offered_and_used_only_when_asked() {
         ])
     );
     let e = select(&rec, None, None).unwrap_err().to_string();
-    assert!(e.contains("--temp-from imu-status"), "{e}");
+    assert!(e.contains("temp_from imu-status"), "{e}");
     let s = select(&rec, None, Some(TempFrom::ImuStatus)).unwrap();
     assert_eq!(s.temp_c, alt.values);
     assert!(s.note.contains("may lag"), "{}", s.note);

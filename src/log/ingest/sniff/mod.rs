@@ -234,7 +234,7 @@ pub(crate) fn sniff(
                 first.no,
                 0,
                 "the file has only one column; driftlab needs a rate and a temperature column \
-                 (and a time column, or --sample-rate HZ)"
+                 (and a time column, or sample_rate_hz HZ)"
                     .to_string(),
             )
         } else {
@@ -352,7 +352,7 @@ pub(crate) fn sniff(
             first.no,
             0,
             "the file has only one column; driftlab needs a rate and a temperature column \
-             (and a time column, or --sample-rate HZ)"
+             (and a time column, or sample_rate_hz HZ)"
                 .to_string(),
         ));
     }
