@@ -198,7 +198,7 @@ fn ulog_matches_pyulog() {
         "gyro 0  sensor_gyro multi_id 0  device_id 2424842 (0x25000A)",
         "6 samples at 1.000 Hz",
         "temperature 40.03 .. 40.36 degC",
-        "--temp-from accel: sensor_accel[0].temperature",
+        "temp_from accel: sensor_accel[0].temperature",
     ] {
         assert!(line.contains(part), "{line}");
     }
