@@ -131,7 +131,7 @@ pub fn run(a: Args) -> Result<(), CliError> {
     }
     let model = unit.first()?;
     let opts = a.options()?;
-    let fail = |e: firmware::ExportError| format!("{}: {e}", a.calibration.display());
+    let fail = |e: firmware::ExportError| export_failed(&a.calibration, &e);
     let text = if a.format.is_flight() {
         // The other axes' calibrations, each read (and refused) by its own path.
         let mut others = Vec::new();
@@ -158,6 +158,26 @@ pub fn run(a: Args) -> Result<(), CliError> {
     write(&a, &text, &what)
 }
 
+/// An export's refusal about `calibration`, with the option that gets around it.
+fn export_failed(calibration: &std::path::Path, e: &firmware::ExportError) -> String {
+    use driftlab::export::flight::FlightError;
+    use firmware::ExportError;
+    let hint = match e {
+        ExportError::MoreThanOneTemperature { axis, .. } => format!(" (--axis {axis})"),
+        ExportError::TableColumns(_) => " (--axis NAME)".to_string(),
+        ExportError::Flight(f) => match f.innermost() {
+            FlightError::K0NotPolynomial { .. } => {
+                " (--k0 parabolic, --model poly-t, or --model custom --terms 1,T,T^2,T^3)"
+                    .to_string()
+            }
+            FlightError::NoGyroDeviceId => " (--device-id N)".to_string(),
+            _ => String::new(),
+        },
+        _ => String::new(),
+    };
+    format!("{}: {e}{hint}", calibration.display())
+}
+
 /// `export` of a unit: every axis in one file, or the axis `--axis` names alone.
 fn run_unit(a: &Args, unit: &UnitCalibration) -> Result<(), CliError> {
     for (given, flag) in [(a.y.is_some(), "--y"), (a.z.is_some(), "--z")] {
@@ -172,7 +192,7 @@ fn run_unit(a: &Args, unit: &UnitCalibration) -> Result<(), CliError> {
         }
     }
     let opts = a.options()?;
-    let fail = |e: firmware::ExportError| format!("{}: {e}", a.calibration.display());
+    let fail = |e: firmware::ExportError| export_failed(&a.calibration, &e);
     if let Some(name) = &a.axis {
         let Some(axis) = unit.axis(name) else {
             return Err(format!(

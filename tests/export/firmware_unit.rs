@@ -424,7 +424,7 @@ fn unit_tables_hold_each_axis_curves_at_their_grid_points() {
         .unwrap_err()
         .to_string();
     assert!(
-        e.contains("gx") && e.contains("gz") && e.contains("--axis"),
+        e.contains("gx") && e.contains("gz") && e.contains("export each axis alone"),
         "{e}"
     );
 }
@@ -479,7 +479,9 @@ fn a_regression_axis_reading_a_second_temperature_is_refused_by_name() {
         .unwrap_err()
         .to_string();
     assert!(
-        e.contains("axis gz") && e.contains("temp_chamber_c") && e.contains("--axis gz"),
+        e.contains("axis gz")
+            && e.contains("temp_chamber_c")
+            && e.contains("export that axis alone"),
         "{e}"
     );
 }

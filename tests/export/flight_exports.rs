@@ -449,7 +449,8 @@ fn models_a_firmware_cannot_evaluate_are_refused_by_name() {
             .unwrap_err()
             .to_string();
         assert!(
-            e.contains("model vakhrameev: K0 is a spline curve") && e.contains("--k0 parabolic"),
+            e.contains("model vakhrameev: K0 is a spline curve")
+                && e.contains("a parabolic (or linear) K0"),
             "{e}"
         );
     }

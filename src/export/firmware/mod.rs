@@ -168,7 +168,7 @@ pub enum ExportError {
     /// A regression axis of a unit that reads more than the unit's one temperature.
     #[error(
         "axis {axis}: its regression model reads {}; the unit's header takes one temperature \
-         for all axes: export that axis alone (--axis {axis})",
+         for all axes: export that axis alone",
         reads.join(", ")
     )]
     MoreThanOneTemperature {
@@ -207,7 +207,7 @@ pub enum ExportError {
 #[error(
     "axes {first} ({first_model}) and {second} ({second_model}) have tables of different \
      columns ({first_columns} and {second_columns}): one file cannot hold both; export each \
-     axis alone with --axis"
+     axis alone"
 )]
 pub struct TableColumns {
     pub first: String,

@@ -62,12 +62,51 @@ pub struct FlightFile {
     pub warnings: Vec<String>,
 }
 
+impl FlightError {
+    /// The refusal itself, under the axes it was found on.
+    pub fn innermost(&self) -> &FlightError {
+        match self {
+            FlightError::OnAxis { source, .. } => source.innermost(),
+            other => other,
+        }
+    }
+}
+
 /// Why a calibration cannot be written for a flight controller.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum FlightError {
     /// The model's static part is not a polynomial in T the firmware evaluates.
     #[error("{0}")]
     NotPolynomial(String),
+    /// Vakhrameev's K0 is a curve of knots (piecewise-linear, spline) rather than a polynomial
+    /// in T; a parabolic or linear K0, or a polynomial model, would do.
+    #[error(
+        "model {model}: K0 is a {kind} curve; PX4 and ArduPilot evaluate a polynomial in T of \
+         degree 3 at most: calibrate with a parabolic (or linear) K0, or with the poly-t model \
+         or a custom model of 1,T,T^2,T^3"
+    )]
+    K0NotPolynomial {
+        /// The model's name.
+        model: String,
+        /// The kind of K0's curve.
+        kind: String,
+    },
+    /// A refusal about one axis of a sensor.
+    #[error("{sensor} axis {axis}: {source}")]
+    OnAxis {
+        /// The sensor (`gyro`, `accelerometer`).
+        sensor: String,
+        /// The axis: X, Y or Z.
+        axis: &'static str,
+        /// What is wrong with the axis's model.
+        source: Box<FlightError>,
+    },
+    /// PX4 finds a gyro by its device id, which neither the export nor the calibration gives.
+    #[error(
+        "PX4 finds the gyro by its device_id (TC_G0_ID): give the export the gyro's device id, \
+         or make it the calibration's gyro id (driftlab inspect LOG lists each gyro's)"
+    )]
+    NoGyroDeviceId,
     /// The axes cannot be put in X, Y, Z order.
     #[error("{0}")]
     Axes(String),
@@ -179,12 +218,10 @@ pub(crate) fn axes3(
                 ["X", "Y", "Z"][k]
             )));
         }
-        let p = static_polynomial(fit.model).map_err(|e| {
-            FlightError::NotPolynomial(format!(
-                "{} axis {}: {e}",
-                sensor.name(),
-                ["X", "Y", "Z"][k]
-            ))
+        let p = static_polynomial(fit.model).map_err(|e| FlightError::OnAxis {
+            sensor: sensor.name().to_string(),
+            axis: ["X", "Y", "Z"][k],
+            source: Box::new(e),
         })?;
         for w in &p.warnings {
             warnings.push(format!("{} {}: {w}", sensor.name(), ["X", "Y", "Z"][k]));

@@ -75,13 +75,10 @@ pub fn static_polynomial(model: &DriftModel) -> Result<TempPolynomial, FlightErr
         DriftModel::Vakhrameev(cal) => {
             let k0 = &cal.k0;
             let Curve::Polynomial { coeffs } = k0.curve() else {
-                return Err(FlightError::NotPolynomial(format!(
-                    "model {}: K0 is a {} curve; PX4 and ArduPilot evaluate a polynomial in T \
-                     of degree 3 at most: calibrate with --k0 parabolic (or linear), or with \
-                     --model poly-t or a custom model of 1,T,T^2,T^3",
-                    model.name(),
-                    k0.kind()
-                )));
+                return Err(FlightError::K0NotPolynomial {
+                    model: model.name().to_string(),
+                    kind: k0.kind().to_string(),
+                });
             };
             if coeffs.len() > MAX_ORDER + 1 {
                 return Err(FlightError::NotPolynomial(format!(

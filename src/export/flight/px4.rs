@@ -133,13 +133,7 @@ pub fn px4_params(fits: &ImuFits<'_>, target: &Px4Target) -> Result<FlightFile, 
         sensor_params(&format!("TC_A{n}"), id, a, false, &mut lines)?;
     }
     if let Some(g) = &gyro {
-        let id = target.gyro_device_id.ok_or_else(|| {
-            FlightError::Missing(
-                "PX4 finds the gyro by its device_id (TC_G0_ID): give it with --device-id, or \
-                 make it the calibration's gyro id (driftlab inspect LOG lists each gyro's)"
-                    .into(),
-            )
-        })?;
+        let id = target.gyro_device_id.ok_or(FlightError::NoGyroDeviceId)?;
         if id > i32::MAX as u32 {
             notes.push(format!(
                 "device_id {id} is above 2^31: TC_G{n}_ID holds it as the int32 {} (PX4 \
