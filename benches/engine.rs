@@ -25,6 +25,9 @@
 //! the evaluation and the correction, default 3). No timing here is an assertion: these are
 //! measurements.
 
+#[path = "common/live_scenarios.rs"]
+mod live_scenarios;
+
 use criterion::{Criterion, Throughput};
 use driftlab::Log;
 use driftlab::files::session::{Coefficient, KnotEdits};
@@ -377,68 +380,7 @@ fn benches(c: &mut Criterion) {
 /// every stage whose inputs did not change is kept from the run before, as in the GUI. Each
 /// iteration toggles between two states so that every run has something to redo.
 fn pipeline_benches(c: &mut Criterion, log: Arc<Log>) {
-    let request = |recipe: Recipe, knots: KnotEdits| Request {
-        log: log.clone(),
-        recipe,
-        knots,
-        merit: MeritOptions::default(),
-        validation: None,
-    };
-    let base = Recipe::default();
-    let mut other_k2p = base.clone();
-    other_k2p.k2_plus.kind = ApproxKind::Parabolic;
-    // Knot curves for the drags: K2+ (then only the correction follows) and K1+ (then K2+ is
-    // refitted on what the edited K1+ leaves, as the paper's K2 step asks).
-    let mut pwl = base.clone();
-    pwl.k1_plus = ApproxSpec::of(ApproxKind::Pwl);
-    pwl.k2_plus = ApproxSpec::of(ApproxKind::Pwl);
-    let fitted = Pipeline::new()
-        .run(&request(pwl.clone(), KnotEdits::default()))
-        .expect("pipeline");
-    let dragged = |c: Coefficient, a: &Approx| {
-        let mut v = a.knots().1.to_vec();
-        let j = v.len() / 2;
-        v[j] += 0.05 * (v[j].abs() + 1.0);
-        let mut k = KnotEdits::default();
-        k.set(c, Some(v));
-        k
-    };
-    let scenarios: Vec<(&str, [Request; 2])> = vec![
-        (
-            "pipeline_nothing_changed_1M",
-            [
-                request(base.clone(), KnotEdits::default()),
-                request(base.clone(), KnotEdits::default()),
-            ],
-        ),
-        (
-            "pipeline_k2p_kind_changed_1M",
-            [
-                request(base.clone(), KnotEdits::default()),
-                request(other_k2p, KnotEdits::default()),
-            ],
-        ),
-        (
-            "pipeline_k2p_knot_dragged_1M",
-            [
-                request(pwl.clone(), KnotEdits::default()),
-                request(
-                    pwl.clone(),
-                    dragged(Coefficient::K2Plus, &fitted.calibration.k2_plus),
-                ),
-            ],
-        ),
-        (
-            "pipeline_k1p_knot_dragged_1M",
-            [
-                request(pwl.clone(), KnotEdits::default()),
-                request(
-                    pwl,
-                    dragged(Coefficient::K1Plus, &fitted.calibration.k1_plus),
-                ),
-            ],
-        ),
-    ];
+    let scenarios = live_scenarios::scenarios(&log);
     let mut g = c.benchmark_group("live");
     g.sample_size(20).measurement_time(Duration::from_secs(4));
     for (name, reqs) in &scenarios {
@@ -455,7 +397,7 @@ fn pipeline_benches(c: &mut Criterion, log: Arc<Log>) {
              evaluate {:.2}, total {:.2}",
             t.prepare_ms, t.plateaus_ms, t.fit_ms, t.correct_ms, t.evaluate_ms, t.total_ms
         );
-        g.bench_function(*name, |b| {
+        g.bench_function(format!("pipeline_{name}_1M"), |b| {
             b.iter(|| {
                 flip ^= 1;
                 p.run(&reqs[flip]).expect("pipeline")

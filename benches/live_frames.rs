@@ -6,12 +6,11 @@
 //! `DRIFTLAB_LIVE_RUNS` sets the runs per scenario (default 12), `DRIFTLAB_LIVE_ONLY` picks
 //! scenarios by name.
 
-use driftlab::files::session::{Coefficient, KnotEdits};
-use driftlab::judge::metrics::MeritOptions;
-use driftlab::live::{Pipeline, Request, Timings};
+#[path = "common/live_scenarios.rs"]
+mod live_scenarios;
+
+use driftlab::live::{Pipeline, Timings};
 use driftlab::log::Log;
-use driftlab::models::approx::{ApproxKind, ApproxSpec};
-use driftlab::models::recipe::Recipe;
 use std::sync::Arc;
 
 fn tiled_log(rows: usize) -> Log {
@@ -55,57 +54,7 @@ fn main() {
         .unwrap_or(12);
     let only = std::env::var("DRIFTLAB_LIVE_ONLY").unwrap_or_default();
     let log = Arc::new(tiled_log(1_000_000));
-    let request = |recipe: Recipe, knots: KnotEdits| Request {
-        log: log.clone(),
-        recipe,
-        knots,
-        merit: MeritOptions::default(),
-        validation: None,
-    };
-    let base = Recipe::default();
-    let mut other = base.clone();
-    other.k2_plus.kind = ApproxKind::Parabolic;
-    let mut pwl = base.clone();
-    pwl.k1_plus = ApproxSpec::of(ApproxKind::Pwl);
-    pwl.k2_plus = ApproxSpec::of(ApproxKind::Pwl);
-    let fitted = Pipeline::new()
-        .run(&request(pwl.clone(), KnotEdits::default()))
-        .expect("pipeline");
-    let dragged = |c: Coefficient| {
-        let a = match c {
-            Coefficient::K1Plus => &fitted.calibration.k1_plus,
-            _ => &fitted.calibration.k2_plus,
-        };
-        let mut v = a.knots().1.to_vec();
-        let j = v.len() / 2;
-        v[j] += 0.05 * (v[j].abs() + 1.0);
-        let mut k = KnotEdits::default();
-        k.set(c, Some(v));
-        k
-    };
-    let scenarios = [
-        (
-            "k2p_kind_changed",
-            [
-                request(base.clone(), KnotEdits::default()),
-                request(other, KnotEdits::default()),
-            ],
-        ),
-        (
-            "k2p_knot_dragged",
-            [
-                request(pwl.clone(), KnotEdits::default()),
-                request(pwl.clone(), dragged(Coefficient::K2Plus)),
-            ],
-        ),
-        (
-            "k1p_knot_dragged",
-            [
-                request(pwl.clone(), KnotEdits::default()),
-                request(pwl, dragged(Coefficient::K1Plus)),
-            ],
-        ),
-    ];
+    let scenarios = live_scenarios::scenarios(&log);
     for (name, reqs) in &scenarios {
         if !name.contains(only.as_str()) {
             continue;

@@ -1,0 +1,77 @@
+//! The workbench's live-loop scenarios on one log, shared by the criterion benches
+//! (`benches/engine.rs`) and the stage-by-stage timing (`benches/live_frames.rs`): each a pair
+//! of requests that differ by one edit the engineer makes, so that a run toggling between
+//! them always has that edit to redo.
+
+use driftlab::files::session::{Coefficient, KnotEdits};
+use driftlab::judge::metrics::MeritOptions;
+use driftlab::live::{Pipeline, Request};
+use driftlab::log::Log;
+use driftlab::models::approx::{ApproxKind, ApproxSpec};
+use driftlab::models::recipe::Recipe;
+use std::sync::Arc;
+
+/// The scenarios by name: nothing changed, K2+'s kind changed, a K2+ knot dragged (only the
+/// correction follows) and a K1+ knot dragged (K2+ is refitted on what the edited K1+ leaves,
+/// as the paper's K2 step asks).
+pub fn scenarios(log: &Arc<Log>) -> Vec<(&'static str, [Request; 2])> {
+    let request = |recipe: Recipe, knots: KnotEdits| Request {
+        log: log.clone(),
+        recipe,
+        knots,
+        merit: MeritOptions::default(),
+        validation: None,
+    };
+    let base = Recipe::default();
+    let mut other_k2p = base.clone();
+    other_k2p.k2_plus.kind = ApproxKind::Parabolic;
+    let mut pwl = base.clone();
+    pwl.k1_plus = ApproxSpec::of(ApproxKind::Pwl);
+    pwl.k2_plus = ApproxSpec::of(ApproxKind::Pwl);
+    let fitted = Pipeline::new()
+        .run(&request(pwl.clone(), KnotEdits::default()))
+        .expect("pipeline");
+    // The middle knot of the coefficient's fitted curve, moved up by 5 % (and a little more).
+    let dragged = |c: Coefficient| {
+        let a = match c {
+            Coefficient::K1Plus => &fitted.calibration.k1_plus,
+            _ => &fitted.calibration.k2_plus,
+        };
+        let mut v = a.knots().1.to_vec();
+        let j = v.len() / 2;
+        v[j] += 0.05 * (v[j].abs() + 1.0);
+        let mut k = KnotEdits::default();
+        k.set(c, Some(v));
+        k
+    };
+    vec![
+        (
+            "nothing_changed",
+            [
+                request(base.clone(), KnotEdits::default()),
+                request(base.clone(), KnotEdits::default()),
+            ],
+        ),
+        (
+            "k2p_kind_changed",
+            [
+                request(base.clone(), KnotEdits::default()),
+                request(other_k2p, KnotEdits::default()),
+            ],
+        ),
+        (
+            "k2p_knot_dragged",
+            [
+                request(pwl.clone(), KnotEdits::default()),
+                request(pwl.clone(), dragged(Coefficient::K2Plus)),
+            ],
+        ),
+        (
+            "k1p_knot_dragged",
+            [
+                request(pwl.clone(), KnotEdits::default()),
+                request(pwl, dragged(Coefficient::K1Plus)),
+            ],
+        ),
+    ]
+}
