@@ -27,13 +27,15 @@
 
 #[path = "common/live_scenarios.rs"]
 mod live_scenarios;
+#[path = "common/tiled_log.rs"]
+mod tiled_log;
+use tiled_log::tiled_log;
 
 use criterion::{Criterion, Throughput};
 use driftlab::Log;
 use driftlab::files::session::{Coefficient, KnotEdits};
 use driftlab::judge::metrics::{Evaluation, MeritOptions};
 use driftlab::live::{Pipeline, Request};
-use driftlab::log::Channel;
 use driftlab::log::ingest::{self, ReadOptions};
 use driftlab::models::approx::{self, Approx, ApproxKind, ApproxSpec};
 use driftlab::models::recipe::Recipe;
@@ -49,25 +51,6 @@ use std::time::{Duration, Instant};
 
 /// Samples of the benchmark log.
 const ROWS: usize = 1_000_000;
-
-/// The simulator's calibration run tiled to `rows` samples, time continuing.
-fn tiled_log(rows: usize) -> Log {
-    let profile = driftlab::sim::profile("calibration").expect("calibration profile");
-    let run = driftlab::sim::simulate(&profile, 1);
-    let n = run.len();
-    let period = run.time_s[n - 1] - run.time_s[0] + (run.time_s[1] - run.time_s[0]);
-    let tile = |col: &[f64]| -> Vec<f64> { (0..rows).map(|r| col[r % n]).collect() };
-    let time_s = (0..rows)
-        .map(|r| run.time_s[r % n] + (r / n) as f64 * period)
-        .collect();
-    let mut log = Log::from_columns("tiled", time_s, tile(&run.omega_dph), tile(&run.temp_c));
-    log.extra.push(Channel {
-        name: "temp_chamber_c".into(),
-        unit: "°C".into(),
-        values: tile(&run.chamber_c),
-    });
-    log
-}
 
 /// Writes a log as `SimRun::write_csv` does (rate to 0.0001, temperatures to 0.001).
 fn write_csv(log: &Log, path: &Path) {

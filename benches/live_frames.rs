@@ -8,22 +8,12 @@
 
 #[path = "common/live_scenarios.rs"]
 mod live_scenarios;
+#[path = "common/tiled_log.rs"]
+mod tiled_log;
+use tiled_log::tiled_log;
 
 use driftlab::live::{Pipeline, Timings};
-use driftlab::log::Log;
 use std::sync::Arc;
-
-fn tiled_log(rows: usize) -> Log {
-    let profile = driftlab::sim::profile("calibration").expect("calibration profile");
-    let run = driftlab::sim::simulate(&profile, 1);
-    let n = run.len();
-    let period = run.time_s[n - 1] - run.time_s[0] + (run.time_s[1] - run.time_s[0]);
-    let tile = |col: &[f64]| -> Vec<f64> { (0..rows).map(|r| col[r % n]).collect() };
-    let time_s = (0..rows)
-        .map(|r| run.time_s[r % n] + (r / n) as f64 * period)
-        .collect();
-    Log::from_columns("tiled", time_s, tile(&run.omega_dph), tile(&run.temp_c))
-}
 
 fn median(mut v: Vec<f64>) -> f64 {
     v.sort_by(f64::total_cmp);
