@@ -183,11 +183,7 @@ fn figures_kept(
                         (a, kb.map(|_| b))
                     })
                     .collect();
-                pairs
-                    .into_iter()
-                    .flat_map(|(a, b)| [Some(a), b])
-                    .flatten()
-                    .collect()
+                in_segment_order(pairs)
             }
         };
         let (mut lo, mut hi, sum) = parts
@@ -224,11 +220,7 @@ fn figures_kept(
                         (a, (!ob.is_empty()).then_some(b))
                     })
                     .collect();
-                pairs
-                    .into_iter()
-                    .flat_map(|(a, b)| [Some(a), b])
-                    .flatten()
-                    .collect()
+                in_segment_order(pairs)
             }
         };
         let var = squares.into_iter().reduce(|a, b| a + b).unwrap_or(0.0) / len as f64;
@@ -371,4 +363,14 @@ pub(super) fn kept_extremes(filtered: &[f64]) -> (f64, f64) {
         })
         .reduce(|a, b| (a.0.min(b.0), a.1.max(b.1)))
         .unwrap_or((0.0, 0.0))
+}
+
+/// The per-segment results of walks done two segments side by side, back in segment order
+/// (the second of the last pair is absent when the segments are odd in number).
+fn in_segment_order<T>(pairs: Vec<(T, Option<T>)>) -> Vec<T> {
+    pairs
+        .into_iter()
+        .flat_map(|(a, b)| [Some(a), b])
+        .flatten()
+        .collect()
 }
