@@ -213,7 +213,7 @@ impl Args {
         if !self.plateaus.is_empty() && !choice.uses_plateaus() {
             return Err(format!("--plateau: {no_plateaus}"));
         }
-        Ok(models::settings_unused_by(recipe, choice)
+        let mut told: Vec<String> = models::settings_unused_by(recipe, choice)
             .into_iter()
             .map(|field| {
                 let why = if field == "plateaus" {
@@ -223,7 +223,16 @@ impl Args {
                 };
                 format!("the recipe's {field} is not used: {why}")
             })
-            .collect())
+            .collect();
+        if let Some(n) = self.knots
+            && !recipe.specs().iter().any(|(_, s)| s.kind.has_knots())
+        {
+            told.push(format!(
+                "--knots {n} is not used: none of K0, K1 and K2 is a pwl or spline curve \
+                 (choose one with --k0, --k1 or --k2)"
+            ));
+        }
+        Ok(told)
     }
 }
 
@@ -264,6 +273,12 @@ pub fn run(a: Args) -> Result<(), CliError> {
     } else {
         a.log_args.read(&input)?
     };
+    warnings.extend(
+        recipe
+            .one_sample_windows(log.nominal_dt_s(), &log.source)
+            .iter()
+            .map(common::in_option_words),
+    );
     // The axes of a unit, each with its plan; `None`: the log's one axis.
     let plans = match common::chosen_axes(&a.axes, &a.log_args, &log)? {
         Some(axes) => {

@@ -305,7 +305,13 @@ pub fn about(source: &str, e: impl std::fmt::Display) -> String {
 /// A fit's error about the log `source`, in the command line's words: the plateaus the engine
 /// asks to be marked are given with `--plateau`.
 pub fn fit_failed(source: &str, e: &driftlab::Error) -> String {
-    let m = about(source, e);
+    let m = match e {
+        driftlab::Error::Invalid(i) => match with_option(i.clone()) {
+            CliError::Message(m) => about(source, m),
+            CliError::ClosedOutput => about(source, e),
+        },
+        _ => about(source, e),
+    };
     match e {
         driftlab::Error::Fit(f)
             if matches!(f.innermost(), driftlab::models::FitError::NoK0Plateaus) =>
@@ -443,6 +449,11 @@ pub fn comparison_cells(c: &driftlab::Comparison) -> [String; 3] {
 /// A setting the engine refused, named also by the option that sets it on the command line
 /// (`filter_s (--filter): ...`): the value may have come from the option or from a recipe.
 pub fn with_option(e: driftlab::error::Invalid) -> CliError {
+    CliError::Message(in_option_words(&e))
+}
+
+/// [`with_option`]'s words, for a warning about a setting that was taken.
+pub fn in_option_words(e: &driftlab::error::Invalid) -> String {
     let option = match e.field.as_str() {
         "filter_s" => "--filter",
         "window_s" => "--window",
@@ -451,14 +462,18 @@ pub fn with_option(e: driftlab::error::Invalid) -> CliError {
         "deadband_tdot" => "--deadband-tdot",
         "deadband_tddot" => "--deadband-tddot",
         f if f.ends_with(".knots") => "--knots",
-        _ => return CliError::Message(e.to_string()),
+        _ => return super::log_source::in_flags(&e.to_string()),
     };
-    CliError::Message(format!("{} ({option}): {}", e.field, e.reason))
+    format!("{} ({option}): {}", e.field, e.reason)
 }
 
 /// Refuses figures of merit whose filter or window does not fit in `log`.
 pub fn check_merit(merit: &driftlab::MeritOptions, log: &Log) -> Result<(), CliError> {
-    driftlab::judge::options::check_merit(merit, log).map_err(with_option)
+    driftlab::judge::options::check_merit(merit, log).map_err(with_option)?;
+    if let Some(n) = driftlab::judge::options::merit_notes(merit, log) {
+        note!("warning: {}", in_option_words(&n));
+    }
+    Ok(())
 }
 
 /// Prints an evaluation as a small table of raw, corrected and ratio; the windowed figures are

@@ -10,10 +10,15 @@ use crate::number::readable;
 
 /// The time a log covers: its first to its last sample, and the last sample's own step.
 pub fn log_span_s(log: &Log) -> f64 {
+    span_with_step(log, log.nominal_dt_s())
+}
+
+/// [`log_span_s`] with the log's nominal step already found (finding it walks the log).
+pub fn span_with_step(log: &Log, dt_s: f64) -> f64 {
     if log.is_empty() {
         return 0.0;
     }
-    log.duration_s() + log.nominal_dt_s()
+    log.duration_s() + dt_s
 }
 
 /// Checks `opts` on `log`: a filter and a window that are positive seconds no longer than
@@ -22,7 +27,8 @@ pub fn log_span_s(log: &Log) -> f64 {
 /// # Errors
 /// `filter_s` or `window_s`, with the value and the log's span.
 pub fn check_merit(opts: &MeritOptions, log: &Log) -> Result<(), Invalid> {
-    let span = log_span_s(log);
+    let dt = log.nominal_dt_s();
+    let span = span_with_step(log, dt);
     for (field, v, why) in [
         (
             "filter_s",
@@ -51,6 +57,23 @@ pub fn check_merit(opts: &MeritOptions, log: &Log) -> Result<(), Invalid> {
                 ),
             ));
         }
+        if v < crate::models::recipe::MIN_WINDOW_S {
+            return Err(crate::models::recipe::too_short(field, v));
+        }
+        // A window shorter than a sample would be one sample labelled with a length it does
+        // not have; a filter that short is simply none, and is told (`one_sample`).
+        if field == "window_s" && dt.is_finite() && dt > 0.0 && v < 0.5 * dt {
+            return Err(Invalid::new(
+                field,
+                format!(
+                    "{} s is shorter than half the sampling interval of {} ({} s): it holds \
+                     no sample",
+                    readable(v),
+                    log.source,
+                    readable(dt)
+                ),
+            ));
+        }
         // A window longer than the log is not refused: its figures are `n/a`, with the reason
         // (a short log judged with the default 10-min window is still judged on the rest).
         if field == "filter_s" && v > span {
@@ -66,6 +89,29 @@ pub fn check_merit(opts: &MeritOptions, log: &Log) -> Result<(), Invalid> {
         }
     }
     Ok(())
+}
+
+/// A window of `v` seconds, named `field`, that is shorter than half the sampling interval
+/// `dt_s` of the log `log_name`: it rounds to no sample, and is taken as one. `None` when it
+/// holds a sample.
+pub fn one_sample(field: &str, v: f64, dt_s: f64, log_name: &str) -> Option<Invalid> {
+    (dt_s.is_finite() && dt_s > 0.0 && v < 0.5 * dt_s).then(|| {
+        Invalid::new(
+            field,
+            format!(
+                "{} s is shorter than half the sampling interval of {log_name} ({} s): one \
+                 sample is used",
+                readable(v),
+                readable(dt_s)
+            ),
+        )
+    })
+}
+
+/// The figures' filter when it is shorter than half a sample of `log`: taken as one sample
+/// (no filter), which the engineer should hear.
+pub fn merit_notes(opts: &MeritOptions, log: &Log) -> Option<Invalid> {
+    one_sample("filter_s", opts.filter_s, log.nominal_dt_s(), &log.source)
 }
 
 /// How a window of `seconds` is named in a table's labels: `10-min`, `90-s`.

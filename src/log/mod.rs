@@ -177,6 +177,9 @@ pub enum ProblemKind {
     /// A column taken for a role shares its name with another column of the header: the
     /// message names both and the option that takes the other.
     DuplicateName,
+    /// A rate column read in a unit its own name contradicts (an explicit rate unit wins):
+    /// the message names both.
+    UnitMismatch,
 }
 
 impl Log {

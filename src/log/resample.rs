@@ -10,6 +10,7 @@
 
 use super::{Channel, Log, Problem, ProblemKind};
 use crate::error::Invalid;
+use crate::number::readable;
 use crate::signal::timing::Timing;
 use rayon::prelude::*;
 
@@ -36,17 +37,13 @@ pub fn resample(log: Log, how: Resampling) -> Result<(Log, Option<String>), Inva
     match how {
         Resampling::None => Ok((log, None)),
         Resampling::Bins(bin_s) => {
-            if !(bin_s.is_finite() && bin_s > 0.0) {
-                return Err(Invalid::new(
-                    "bin_s",
-                    format!("{bin_s}: a bin is a positive number of seconds"),
-                ));
-            }
+            check_bin(&log, bin_s)?;
             let groups = bins(&log.time_s, bin_s);
             let out = average(&log, &groups);
             let note = format!(
-                "averaged into {} bins of {bin_s} s ({} samples before)",
+                "averaged into {} bins of {} s ({} samples before)",
                 out.len(),
+                readable(bin_s),
                 log.len()
             );
             Ok((out, Some(note)))
@@ -67,6 +64,32 @@ pub fn resample(log: Log, how: Resampling) -> Result<(Log, Option<String>), Inva
             Ok((out, Some(note)))
         }
     }
+}
+
+/// Refuses a bin that is not a positive number of seconds, or one at least as long as the log:
+/// that would average the whole log into one sample, which nothing after can use (every
+/// command refuses the same value, `apply` as `evaluate`).
+fn check_bin(log: &Log, bin_s: f64) -> Result<(), Invalid> {
+    if !(bin_s.is_finite() && bin_s > 0.0) {
+        return Err(Invalid::new(
+            "bin_s",
+            format!("{}: a bin is a positive number of seconds", readable(bin_s)),
+        ));
+    }
+    let span = crate::judge::options::log_span_s(log);
+    if log.len() > 1 && bin_s >= span {
+        return Err(Invalid::new(
+            "bin_s",
+            format!(
+                "{} s is not shorter than the log {} ({} s): it would average the whole log \
+                 into one sample",
+                readable(bin_s),
+                log.source,
+                readable(span)
+            ),
+        ));
+    }
+    Ok(())
 }
 
 /// The resampling a command applies unless told otherwise: `--bin S` when given, else one

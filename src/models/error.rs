@@ -290,4 +290,10 @@ pub enum ParseError {
     /// A list of terms with none in it.
     #[error("a model needs at least one term")]
     NoTerms,
+    /// A term given twice: the two equal columns cannot be told apart.
+    #[error("term \"{term}\" is given twice: two equal terms cannot be told apart by a fit")]
+    RepeatedTerm {
+        /// The term given twice.
+        term: String,
+    },
 }

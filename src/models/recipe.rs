@@ -89,6 +89,10 @@ impl Default for Recipe {
 /// fit would average the whole log into one value with it.
 pub const MAX_WINDOW_S: f64 = 1e6;
 
+/// The shortest filter, T smoothing, derivative step or window a setting may hold, s: no gyro
+/// log is sampled faster than 1 MHz, so a shorter one (1e-300 s) is a typing slip.
+pub const MIN_WINDOW_S: f64 = 1e-6;
+
 /// A recipe whose numbers have been checked ([`Recipe::validate`]): what the model layer's fits
 /// take, so that a recipe is checked once, where a face makes it from options or a file, and
 /// every stage after trusts it. Read it as a [`Recipe`] (it dereferences to one); change it by
@@ -150,6 +154,8 @@ impl Recipe {
                         crate::number::readable(v)
                     ),
                 ))
+            } else if v < MIN_WINDOW_S {
+                Err(too_short(name, v))
             } else if v > MAX_WINDOW_S {
                 Err(Invalid::new(
                     name,
@@ -188,8 +194,10 @@ impl Recipe {
                 format!("must be at most 20, got {}", self.refinements),
             ));
         }
+        // Checked on every curve, with knots or not: a number no curve could take is a slip
+        // wherever it stands.
         for (name, spec) in self.specs() {
-            if spec.kind.has_knots() && !(2..=64).contains(&spec.knots) {
+            if !(2..=64).contains(&spec.knots) {
                 return Err(Invalid::new(
                     format!("{name}.knots"),
                     format!("must be between 2 and 64, got {}", spec.knots),
@@ -243,6 +251,21 @@ impl Recipe {
         Ok(())
     }
 
+    /// The filter, T smoothing and derivative step that are shorter than half of `dt_s`, the
+    /// sampling interval of the log they are used on: each is taken as one sample, which the
+    /// engineer should hear (a burst log's means 300 s apart take the default 100-s filter
+    /// as none).
+    pub fn one_sample_windows(&self, dt_s: f64, log_name: &str) -> Vec<Invalid> {
+        [
+            ("filter_s", self.filter_s),
+            ("temp_smoothing_s", self.temp_smoothing_s),
+            ("step_h_s", self.step_h_s),
+        ]
+        .into_iter()
+        .filter_map(|(name, v)| crate::judge::options::one_sample(name, v, dt_s, log_name))
+        .collect()
+    }
+
     /// The five approximation choices with their names.
     pub fn specs(&self) -> [(&'static str, ApproxSpec); 5] {
         [
@@ -253,4 +276,16 @@ impl Recipe {
             ("k2_minus", self.k2_minus),
         ]
     }
+}
+
+/// The refusal of a window shorter than [`MIN_WINDOW_S`], named `field`.
+pub(crate) fn too_short(field: &str, v: f64) -> Invalid {
+    Invalid::new(
+        field,
+        format!(
+            "{} s is shorter than any sampling interval: at least {} s",
+            crate::number::readable(v),
+            crate::number::readable(MIN_WINDOW_S)
+        ),
+    )
 }

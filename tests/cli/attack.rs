@@ -802,7 +802,7 @@ fn options_outside_sense_are_refused_with_their_name() {
         ),
         (
             vec!["calibrate", &log, "--smooth", "1e5", "--out", &out],
-            "temp_smoothing_s: 100000 s is longer than the log",
+            "temp_smoothing_s (--smooth): 100000 s is longer than the log",
         ),
     ];
     for (args, want) in cases {

@@ -11,5 +11,6 @@ mod commands;
 mod kalibr;
 mod output_hashes;
 mod real_logs;
+mod silent_options;
 mod unit_calibrate;
 mod unit_judging;

@@ -692,3 +692,37 @@ fn laser_gyro_models_side_by_side_on_its_two_runs() {
         assert!(r <= 1.5, "{profile}: {r:.2}× the noise floor");
     }
 }
+
+#[test]
+fn a_term_given_twice_is_refused_by_the_parser_the_spec_and_the_file() {
+    // `T,T,T,T` would make four equal columns: the fit cannot tell their coefficients apart.
+    let err = regression::terms::parse_terms("1,T,T^2,T")
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("\"T\" is given twice"), "{err}");
+    // Spelled another way, the same term.
+    let err = regression::terms::parse_terms("T2,T^2")
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("given twice"), "{err}");
+    // A spec built by hand (the workbench's model builder) is checked as well.
+    let t = regression::terms::parse_terms("T").unwrap();
+    let spec = RegressionSpec::new("twice", [t.clone(), t].concat());
+    let log = read("validation.csv");
+    let err = regression::fit(&log, &spec).unwrap_err().to_string();
+    assert!(err.contains("the term T is given twice"), "{err}");
+    // And a calibration file edited to repeat a term.
+    let model = driftlab::models::fit(
+        &log,
+        &ModelChoice::Preset(Preset::PolyT),
+        &driftlab::models::CheckedRecipe::default(),
+    )
+    .unwrap();
+    let text = calibration::model_to_json(&model);
+    let bad = text.replacen("\"T^2\"", "\"T\"", 1);
+    assert_ne!(bad, text, "poly-t's file names T^2");
+    let err = calibration::model_from_json(Path::new("cal.json"), &bad)
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("given twice"), "{err}");
+}

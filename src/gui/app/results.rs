@@ -566,7 +566,7 @@ impl Workbench {
 fn about_columns(kind: crate::log::ProblemKind) -> bool {
     use crate::log::ProblemKind::*;
     match kind {
-        Implausible | DuplicateName => true,
+        Implausible | DuplicateName | UnitMismatch => true,
         MissingValue | BadExtraValue | TimeBackwards | TimeRepeated | Gap | RaggedRow => false,
     }
 }

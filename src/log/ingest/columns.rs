@@ -400,6 +400,16 @@ pub(crate) fn plan(sn: &Sniffed, opts: &ReadOptions) -> Result<Plan, Fail> {
                 )));
             }
         },
+        // A rate given for a time column that counts seconds would be silently unused.
+        Some(u) if opts.sample_rate_hz.is_some() => {
+            return Err(at_header(format!(
+                "sample_rate_hz is for a time column that counts samples or a log without \
+                 time, and the time column \"{}\" is in {}: leave it out, or map the time \
+                 column as samples (time_unit samples)",
+                sn.names[time_col.unwrap_or(0)],
+                u
+            )));
+        }
         Some(TimeUnit::Millis) => Conv::new(1.0, 1000.0, 0.0),
         Some(TimeUnit::Micros) => Conv::new(1.0, 1e6, 0.0),
         Some(TimeUnit::Nanos) => Conv::new(1.0, 1e9, 0.0),

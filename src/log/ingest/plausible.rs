@@ -7,7 +7,8 @@
 //! wrong, a better candidate when the file has one, and the option that chooses it. Silent
 //! acceptance of a register as a temperature gives a calibration that means nothing.
 
-use super::names::is_raw_register;
+use super::names::{is_raw_register, stated_unit};
+use super::units::RateUnit;
 use crate::log::mapping_check::{
     PLAUSIBLE_TEMP_C, is_plausible_rate_dph, is_plausible_temp_c, is_temp_unit,
 };
@@ -114,9 +115,47 @@ fn duplicate_names(log: &Log) -> Vec<Problem> {
     out
 }
 
+/// Rate columns read in a unit their own name contradicts (`omega_dph` read as rad/s, a
+/// factor of 206 265): an explicit unit wins, as asked, and the engineer hears of both.
+fn contradicted_units(log: &Log) -> Vec<Problem> {
+    log.info
+        .columns
+        .iter()
+        .filter(|c| matches!(c.role, ColumnRole::Rate | ColumnRole::OtherAxis))
+        .filter_map(|c| {
+            let named = stated_unit(&c.name, RateUnit::from_key)?;
+            let read: RateUnit = c.unit.parse().ok()?;
+            (named != read).then(|| Problem {
+                line: 0,
+                column: Some(c.index),
+                kind: ProblemKind::UnitMismatch,
+                count: 1,
+                message: format!(
+                    "the rate column \"{}\" is read in {read} (rate_unit), but its name says \
+                     {named}: the rates differ by a factor of {}; check rate_unit",
+                    c.name,
+                    crate::number::readable(ratio(named, read))
+                ),
+            })
+        })
+        .collect()
+}
+
+/// How many times larger a rate reads in `a` than in `b` (≥ 1).
+fn ratio(a: RateUnit, b: RateUnit) -> f64 {
+    let (x, y) = (a.to_dph_factor(), b.to_dph_factor());
+    let r = x / y;
+    if r >= 1.0 {
+        r.round()
+    } else {
+        (1.0 / r).round()
+    }
+}
+
 /// The problems of the columns `log` took for its rate and temperature.
 pub(super) fn check(log: &Log) -> Vec<Problem> {
     let mut out = duplicate_names(log);
+    out.extend(contradicted_units(log));
     let column = |role: ColumnRole| log.info.columns.iter().find(|c| c.role == role);
     if let Some(c) = column(ColumnRole::Temperature)
         && let Some(why) = temperature_doubt(&c.name, &log.temp_c)

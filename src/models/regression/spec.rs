@@ -295,6 +295,14 @@ impl RegressionSpec {
         if self.terms.is_empty() {
             return Err(Invalid::new(format!("model {}", self.name), "no terms"));
         }
+        if let Some(term) = super::terms::repeated(&self.terms) {
+            // Two equal columns of the design: their coefficients cannot be told apart, and
+            // each would get a share of one effect with a standard error that means nothing.
+            return Err(Invalid::new(
+                format!("model {}", self.name),
+                format!("the term {term} is given twice"),
+            ));
+        }
         let pos = |v: f64| v.is_finite() && v > 0.0;
         if !pos(self.smoothing_s) || !pos(self.step_h_s) {
             return Err(Invalid::new(

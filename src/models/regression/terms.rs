@@ -252,7 +252,18 @@ pub fn parse_terms(s: &str) -> Result<Vec<Term>, ParseError> {
     if terms.is_empty() {
         return Err(ParseError::NoTerms);
     }
+    if let Some(term) = repeated(&terms) {
+        return Err(ParseError::RepeatedTerm {
+            term: term.to_string(),
+        });
+    }
     Ok(terms)
+}
+
+/// The first term that stands twice in `terms`, if any: a model cannot fit two equal columns.
+pub fn repeated(terms: &[Term]) -> Option<&Term> {
+    let mut seen = std::collections::HashSet::new();
+    terms.iter().find(|t| !seen.insert(*t))
 }
 
 /// The inputs of one sample, after delay and before or after clamping to the calibrated ranges.

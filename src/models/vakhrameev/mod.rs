@@ -340,6 +340,44 @@ impl Calibration {
                 "windows and step must be at least one sample",
             ));
         }
+        // The windows in samples were resolved from the recipe's seconds at this step: a step
+        // edited by hand (1e-300 s) no longer makes them, and would correct another log with
+        // derivatives taken over windows nobody chose.
+        for (field, samples, setting, seconds) in [
+            (
+                "resolved.filter_samples",
+                r.filter_samples,
+                "filter_s",
+                self.recipe.filter_s,
+            ),
+            (
+                "resolved.smooth_samples",
+                r.smooth_samples,
+                "temp_smoothing_s",
+                self.recipe.temp_smoothing_s,
+            ),
+            (
+                "resolved.step_samples",
+                r.step_samples,
+                "step_h_s",
+                self.recipe.step_h_s,
+            ),
+        ] {
+            let expected = signal::seconds_to_samples(seconds, r.dt_s);
+            if samples != expected {
+                return Err(Invalid::new(
+                    field,
+                    format!(
+                        "{samples} samples of resolved.dt_s = {} s do not make the recipe's \
+                         {setting} of {} s ({} samples would): the step or the windows were \
+                         edited",
+                        crate::number::readable(r.dt_s),
+                        crate::number::readable(seconds),
+                        crate::number::readable((seconds / r.dt_s).round().max(1.0))
+                    ),
+                ));
+            }
+        }
         let usable = |d: f64| d.is_finite() && d >= 0.0;
         if !usable(r.deadband_tdot) || !usable(r.deadband_tddot) {
             return Err(Invalid::new(

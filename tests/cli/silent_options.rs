@@ -1,0 +1,206 @@
+//! Options at their edges: each is honoured, refused with its name, or told about, never
+//! dropped or quietly turned into something else (a window of 1e-300 s labelled as such but
+//! one sample long, a unit that multiplies the rates by 206 265 without a word).
+
+use std::path::Path;
+
+use crate::common;
+use common::run::{driftlab, fails, ok};
+
+fn sample(name: &str) -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("sample_logs")
+        .join(name)
+        .display()
+        .to_string()
+}
+
+fn p(dir: &Path, name: &str) -> String {
+    dir.join(name).display().to_string()
+}
+
+#[test]
+fn an_option_that_would_be_silent_nonsense_is_refused_by_name() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let (log, held) = (sample("calibration.csv"), sample("validation.csv"));
+    let cal = p(d, "cal.json");
+    ok(&["calibrate", &log, "--out", &cal]);
+    let out = p(d, "never.out");
+    let cases: Vec<(Vec<&str>, &str)> = vec![
+        // A window of no sample would be one sample labelled "1e-300-s".
+        (
+            vec!["evaluate", &cal, &held, "--window", "1e-300"],
+            "window_s (--window): 1e-300 s is shorter than any sampling interval",
+        ),
+        (
+            vec!["evaluate", &cal, &held, "--window", "0.4"],
+            "window_s (--window): 0.4 s is shorter than half the sampling interval",
+        ),
+        // Shorter than any log's sampling interval: a slip, where it used to become a sample.
+        (
+            vec!["calibrate", &log, "--step-h", "1e-300", "--out", &out],
+            "step_h_s (--step-h): 1e-300 s is shorter than any sampling interval: at least \
+             1e-6 s",
+        ),
+        (
+            vec!["evaluate", &cal, &held, "--filter", "1e-300"],
+            "filter_s (--filter): 1e-300 s is shorter than any sampling interval",
+        ),
+        // Four equal columns: their coefficients cannot be told apart.
+        (
+            vec![
+                "calibrate",
+                &log,
+                "--model",
+                "custom",
+                "--terms",
+                "T,T,T,T",
+                "--out",
+                &out,
+            ],
+            "term \"T\" is given twice",
+        ),
+        // A rate for a log that has its own clock.
+        (
+            vec!["calibrate", &log, "--sample-rate", "10", "--out", &out],
+            "--sample-rate is for a time column that counts samples or a log without time, \
+             and the time column \"time_s\" is in s",
+        ),
+        // A number of knots no curve could take, whether a curve has knots or not.
+        (
+            vec!["calibrate", &log, "--knots", "0", "--out", &out],
+            "k0.knots (--knots): must be between 2 and 64, got 0",
+        ),
+        // One bin over the whole log: apply refuses it as evaluate does.
+        (
+            vec!["apply", &cal, &held, "--bin", "1e20", "--out", &out],
+            "--bin: 1e20 s is not shorter than the log",
+        ),
+        (
+            vec!["evaluate", &cal, &held, "--bin", "1e20"],
+            "--bin: 1e20 s is not shorter than the log",
+        ),
+    ];
+    for (args, want) in cases {
+        let err = fails(&args);
+        assert_eq!(err.lines().count(), 1, "{args:?}: {err}");
+        assert!(err.contains(want), "{args:?}: wanted {want}, got {err}");
+        assert!(!Path::new(&out).exists(), "{args:?}");
+    }
+    // A window of whole samples is still taken and named by its length.
+    let text = ok(&["evaluate", &cal, &held, "--window", "2"]);
+    assert!(text.contains("max |2-s mean|"), "{text}");
+}
+
+#[test]
+fn a_window_shorter_than_a_sample_is_taken_as_one_and_told() {
+    // A burst log's means 300 s apart take the default 100-s filter as none: that is a
+    // sensible reading, and the engineer hears of it.
+    let dir = tempfile::tempdir().unwrap();
+    let out = p(dir.path(), "cal.json");
+    let log = sample("calibration.csv");
+    let run = driftlab(&["calibrate", &log, "--smooth", "0.2", "--out", &out]);
+    assert!(run.status.success());
+    let err = String::from_utf8(run.stderr).unwrap();
+    assert!(
+        err.contains(
+            "temp_smoothing_s (--smooth): 0.2 s is shorter than half the sampling interval of"
+        ) && err.contains("(1 s): one sample is used"),
+        "{err}"
+    );
+    let run = driftlab(&["evaluate", &out, &log, "--filter", "0.4"]);
+    assert!(run.status.success());
+    let err = String::from_utf8(run.stderr).unwrap();
+    assert!(
+        err.contains("filter_s (--filter): 0.4 s is shorter than half the sampling interval"),
+        "{err}"
+    );
+}
+
+#[test]
+fn a_rate_unit_the_column_name_contradicts_is_told_with_both() {
+    let dir = tempfile::tempdir().unwrap();
+    let cal = p(dir.path(), "cal.json");
+    ok(&["calibrate", &sample("calibration.csv"), "--out", &cal]);
+    let held = sample("validation.csv");
+    // Honoured (the engineer may know better than the header), and told.
+    let run = driftlab(&["evaluate", &cal, &held, "--rate-unit", "rad/s"]);
+    assert!(run.status.success());
+    let err = String::from_utf8(run.stderr).unwrap();
+    assert!(
+        err.contains(
+            "the rate column \"omega_dph\" is read in rad/s (--rate-unit), but its name says \
+             deg/h: the rates differ by a factor of 206265"
+        ),
+        "{err}"
+    );
+    // The unit the name states, given explicitly, says nothing.
+    let run = driftlab(&["evaluate", &cal, &held, "--rate-unit", "deg/h"]);
+    assert!(run.status.success());
+    let err = String::from_utf8(run.stderr).unwrap();
+    assert!(!err.contains("its name says"), "{err}");
+}
+
+#[test]
+fn knots_that_no_curve_uses_are_told() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = p(dir.path(), "cal.json");
+    let run = driftlab(&[
+        "calibrate",
+        &sample("calibration.csv"),
+        "--knots",
+        "7",
+        "--out",
+        &out,
+    ]);
+    assert!(run.status.success());
+    let err = String::from_utf8(run.stderr).unwrap();
+    assert!(
+        err.contains("--knots 7 is not used: none of K0, K1 and K2 is a pwl or spline curve"),
+        "{err}"
+    );
+    // With a curve that has knots, the option is taken and nothing is said.
+    let run = driftlab(&[
+        "calibrate",
+        &sample("calibration.csv"),
+        "--k1",
+        "pwl",
+        "--knots",
+        "3",
+        "--out",
+        &out,
+    ]);
+    assert!(run.status.success());
+    let err = String::from_utf8(run.stderr).unwrap();
+    assert!(!err.contains("--knots 3 is not used"), "{err}");
+    let text = std::fs::read_to_string(&out).unwrap();
+    assert!(text.contains("\"knots\": 3"), "{text}");
+}
+
+#[test]
+fn a_calibration_whose_step_no_longer_makes_its_windows_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let cal = p(dir.path(), "cal.json");
+    ok(&["calibrate", &sample("calibration.csv"), "--out", &cal]);
+    let mut v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&cal).unwrap()).unwrap();
+    *v.pointer_mut("/calibration/resolved/dt_s")
+        .expect("the file has calibration.resolved.dt_s") = serde_json::json!(1e-300);
+    let edited = p(dir.path(), "edited.json");
+    std::fs::write(&edited, serde_json::to_string_pretty(&v).unwrap()).unwrap();
+    let err = fails(&[
+        "apply",
+        &edited,
+        &sample("validation.csv"),
+        "--out",
+        &p(dir.path(), "o.csv"),
+    ]);
+    assert!(
+        err.contains(
+            "resolved.filter_samples: 100 samples of resolved.dt_s = 1e-300 s do not \
+                      make the recipe's filter_s of 100 s"
+        ),
+        "{err}"
+    );
+}
