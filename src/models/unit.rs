@@ -21,6 +21,11 @@ use crate::judge::metrics::{Comparison, Evaluation, MeritOptions};
 use crate::log::Log;
 use crate::models::vakhrameev;
 
+/// The most axes a unit may have: four IMUs of three gyro and three accelerometer axes each
+/// are 24, and a hand-edited file of 1,000 axes would hold a thousand corrected columns in
+/// memory on `apply`.
+pub const MAX_UNIT_AXES: usize = 64;
+
 /// One gyro axis of a unit's calibration.
 #[derive(Debug, Clone, PartialEq)]
 pub struct AxisModel {
@@ -91,6 +96,16 @@ impl UnitCalibration {
     pub fn validate(&self) -> std::result::Result<(), Invalid> {
         if self.axes.is_empty() {
             return Err(Invalid::new("axes", "a unit needs at least one axis"));
+        }
+        if self.axes.len() > MAX_UNIT_AXES {
+            return Err(Invalid::new(
+                "axes",
+                format!(
+                    "{} axes: a unit has at most {MAX_UNIT_AXES} (each corrected axis holds \
+                     columns the length of the log)",
+                    self.axes.len()
+                ),
+            ));
         }
         for (k, a) in self.axes.iter().enumerate() {
             let field = |f: &str| format!("axes[{}].{f}", label(k, &a.name));
@@ -205,6 +220,17 @@ fn check_plans(log: &Log, plans: &[AxisPlan]) -> Result<()> {
         return Err(FitError::NoAxes {
             log: log.source.clone(),
         }
+        .into());
+    }
+    if plans.len() > MAX_UNIT_AXES {
+        return Err(Invalid::new(
+            "axes",
+            format!(
+                "{} axes asked of {}: a unit has at most {MAX_UNIT_AXES}",
+                plans.len(),
+                log.source
+            ),
+        )
         .into());
     }
     let names = log.axis_names();

@@ -1080,3 +1080,41 @@ fn the_attack_script_finds_nothing() {
         "{report}"
     );
 }
+
+#[test]
+fn a_calibration_made_to_exhaust_memory_is_refused_before_it_is_held() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let log = sample("imu3-calibration.csv");
+    let unit = p(d, "unit.json");
+    ok(&["calibrate", &log, "--out", &unit]);
+    // A unit of 1,000 axes, copies of its first.
+    let mut v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&unit).unwrap()).unwrap();
+    let axes = v["axes"].as_array().expect("a unit file has axes").clone();
+    let many: Vec<serde_json::Value> = (0..1000)
+        .map(|k| {
+            let mut a = axes[0].clone();
+            a["name"] = serde_json::json!(format!("g{k}"));
+            a
+        })
+        .collect();
+    v["axes"] = serde_json::Value::Array(many);
+    let big = p(d, "big.json");
+    std::fs::write(&big, serde_json::to_string(&v).unwrap()).unwrap();
+    let err = fails(&["apply", &big, &log, "--out", &p(d, "o.csv")]);
+    assert!(
+        err.contains("axes: 1000 axes: a unit has at most 64"),
+        "{err}"
+    );
+    // A file far larger than any calibration is not read whole.
+    let huge = p(d, "huge.json");
+    let f = std::fs::File::create(&huge).unwrap();
+    f.set_len(17 << 20).unwrap();
+    let err = fails(&["apply", &huge, &log, "--out", &p(d, "o.csv")]);
+    assert!(
+        err.contains("larger than 16 MiB, which no calibration or recipe is"),
+        "{err}"
+    );
+    assert!(!d.join("o.csv").exists());
+}

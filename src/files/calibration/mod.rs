@@ -283,8 +283,27 @@ pub fn load(path: &Path) -> Result<Calibration> {
     from_json(path, &read_text(path)?)
 }
 
+/// The largest calibration or recipe file read, bytes. A unit of
+/// [`MAX_UNIT_AXES`](crate::models::unit::MAX_UNIT_AXES) axes with 64-knot curves takes well
+/// under a megabyte; a larger file is another kind of file, or made to exhaust memory.
+pub const MAX_FILE_BYTES: u64 = 16 << 20;
+
 fn read_text(path: &Path) -> Result<String> {
-    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    use std::io::Read;
+    let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
+    let mut bytes = Vec::new();
+    file.take(MAX_FILE_BYTES + 1)
+        .read_to_end(&mut bytes)
+        .map_err(|e| Error::io(path, e))?;
+    if bytes.len() as u64 > MAX_FILE_BYTES {
+        return Err(Error::File {
+            path: path.to_path_buf(),
+            message: format!(
+                "larger than {} MiB, which no calibration or recipe is: is it a log?",
+                MAX_FILE_BYTES >> 20
+            ),
+        });
+    }
     String::from_utf8(bytes).map_err(|e| Error::File {
         path: path.to_path_buf(),
         message: format!("not UTF-8 text: {e}"),
