@@ -18,6 +18,7 @@ mod temporary;
 
 pub use batch::Batch;
 pub use temporary::remove_temporaries_on_signals;
+pub(crate) use temporary::{names_file, random};
 
 use std::io::Write;
 use std::path::{Path, PathBuf};

@@ -180,8 +180,10 @@ fn named(dir: &Path, name: &str) -> io::Result<(File, PathBuf)> {
     Err(last.unwrap_or_else(|| io::ErrorKind::AlreadyExists.into()))
 }
 
-/// Whether `path` still names the open `file` (the same inode on the same device).
-fn names_file(path: &Path, file: &File) -> bool {
+/// Whether `path` still names the open `file` (the same inode on the same device): a file
+/// locked through a descriptor is the one a name stands for only if this holds once the
+/// lock is taken.
+pub(crate) fn names_file(path: &Path, file: &File) -> bool {
     let (Ok(a), Ok(b)) = (std::fs::symlink_metadata(path), file.metadata()) else {
         return false;
     };
@@ -204,9 +206,9 @@ fn fresh_name(name: &str) -> String {
     format!("{START}{}.{:016x}.tmp", short(name), random())
 }
 
-/// 64 bits that differ from call to call and from process to process: the standard
-/// library's per-process random hash keys, over a counter.
-fn random() -> u64 {
+/// 64 bits that differ from call to call and from process to process, for unique names:
+/// the standard library's per-process random hash keys, over a counter.
+pub(crate) fn random() -> u64 {
     use std::hash::{BuildHasher, Hasher};
     use std::sync::atomic::{AtomicU64, Ordering};
     static COUNTER: AtomicU64 = AtomicU64::new(0);
