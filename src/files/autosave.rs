@@ -126,7 +126,7 @@ impl Instance {
                 let _ = std::fs::remove_file(&path);
             }
         }
-        found.sort_by(|a, b| b.modified.cmp(&a.modified));
+        found.sort_by_key(|l| std::cmp::Reverse(l.modified));
         found
     }
 }
