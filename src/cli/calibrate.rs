@@ -6,6 +6,7 @@
 use super::calibrate_print;
 use super::common::{self, CliError, LogArgs};
 use driftlab::Log;
+use driftlab::files::atomic::Batch;
 use driftlab::files::calibration;
 use driftlab::judge::metrics::MeritOptions;
 use driftlab::models::approx::{ApproxKind, ApproxSpec};
@@ -319,13 +320,18 @@ pub fn run(a: Args) -> Result<(), CliError> {
     });
     let fitted = fitted.map_err(|e| common::fit_failed(&log.source, &e))?;
     let unit = stamped(&fitted, &file_name(&a.log), &sha256?);
-    calibration::save_unit(&a.out, &unit).map_err(|e| e.to_string())?;
+    // Both files are written before either is put in place: a recipe that cannot be
+    // written leaves the old calibration as it was.
+    let mut outputs = Batch::new();
+    calibration::stage_unit(&mut outputs, &a.out, &unit).map_err(|e| e.to_string())?;
     if let Some(p) = &a.save_recipe {
         let text =
             serde_json::to_string_pretty(saved_recipe.recipe()).map_err(|e| e.to_string())? + "\n";
-        driftlab::files::atomic::write_bytes(p, text.as_bytes())
-            .map_err(|e| format!("{}: {e}", p.display()))?;
+        outputs
+            .stage_bytes(p, text.as_bytes())
+            .map_err(|e| e.to_string())?;
     }
+    outputs.commit().map_err(|e| e.to_string())?;
     let printed = calibrate_print::Printed {
         out: &a.out,
         fitted: &fitted,

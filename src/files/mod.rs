@@ -1,8 +1,9 @@
 //! driftlab's own files: calibrations (`calibration`), workbench sessions (`session`), the
-//! corrected log `apply` writes (`corrected_csv`), and the atomic writes they all go through
-//! (`atomic`).
+//! corrected log `apply` writes (`corrected_csv`), the atomic writes they all go through
+//! (`atomic`), and which workbench's autosave is whose (`autosave`).
 
 pub mod atomic;
+pub mod autosave;
 pub mod calibration;
 pub mod corrected_csv;
 pub mod session;

@@ -128,8 +128,9 @@ struct Opening {
 /// Unsaved work written to disk every few seconds, and work left behind offered back.
 struct Recovery {
     autosave: Autosave,
-    /// Work an earlier workbench left behind, offered back until answered.
-    offered: Option<LeftBehind>,
+    /// Work earlier workbenches left behind, newest first, offered back one at a time
+    /// until answered.
+    offered: Vec<LeftBehind>,
 }
 
 impl Workbench {
@@ -140,7 +141,7 @@ impl Workbench {
         settings_path: Option<PathBuf>,
         dialogs: Box<dyn FileDialogs>,
     ) -> Workbench {
-        let autosave = Autosave::new(settings_path.as_deref().map(Autosave::path_beside));
+        let autosave = Autosave::beside(settings_path.as_deref());
         let offered = autosave.left_behind();
         Workbench {
             state: AppState::default(),
@@ -495,15 +496,20 @@ impl Workbench {
 
     /// Opens the autosaved work (see [`Workbench::recovery`]).
     pub fn restore_autosave(&mut self) {
-        if let Some(left) = self.recovery.offered.take() {
-            self.opening.autosaved = true;
-            self.open_session(left.path);
+        if self.recovery.offered.is_empty() {
+            return;
         }
+        let left = self.recovery.offered.remove(0);
+        // The others are let go: the next workbench to start offers them.
+        self.recovery.offered.clear();
+        self.opening.autosaved = true;
+        self.open_session(left.path.clone());
+        self.recovery.autosave.adopt(left);
     }
 
     /// Work left behind by an earlier workbench, while it is being offered back.
     pub fn recovery(&self) -> Option<&LeftBehind> {
-        self.recovery.offered.as_ref()
+        self.recovery.offered.first()
     }
 
     /// Writes the autosave file now and waits for it (tests).

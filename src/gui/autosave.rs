@@ -1,9 +1,12 @@
 //! Autosave: while there is unsaved work the workbench writes the session beside its settings
 //! every few seconds, and removes the file when the work is saved or discarded or the window
-//! closes cleanly. A file still there at the next start means the workbench did not close
-//! cleanly (a crash, a killed process, a power cut), and the work in it is offered back.
+//! closes cleanly. Each running workbench has its own file, locked while it runs
+//! ([`crate::files::autosave`]): a file still there whose lock is free means its workbench
+//! did not close cleanly (a crash, a killed process, a power cut), and the next workbench to
+//! start offers the work in it back. A second workbench never touches the first one's file.
 
 use super::state::AppState;
+use crate::files::autosave::{self, Instance};
 use crate::files::session;
 use std::path::{Path, PathBuf};
 use std::sync::mpsc::{self, Receiver};
@@ -12,9 +15,13 @@ use std::time::{Duration, Instant, SystemTime};
 /// How often unsaved work is written.
 pub const INTERVAL: Duration = Duration::from_secs(15);
 
-/// The autosave file of one workbench.
+/// The autosave of one workbench.
 pub struct Autosave {
-    path: Option<PathBuf>,
+    /// This workbench's file and lock; none when autosave is off.
+    instance: Option<Instance>,
+    /// Work of an ended workbench restored here: its file stays (claimed) until this
+    /// workbench's own autosave holds the work, or the work is saved or discarded.
+    adopted: Vec<autosave::LeftBehind>,
     last_check: Option<Instant>,
     /// The session last written (its JSON), to skip writing the same work again.
     written: Option<String>,
@@ -33,36 +40,68 @@ pub struct LeftBehind {
     pub modified: Option<SystemTime>,
     /// The log it was working on.
     pub log: Option<PathBuf>,
+    /// Its lock, held while it is offered, so no other workbench offers it too.
+    claim: autosave::LeftBehind,
 }
 
 impl Autosave {
-    /// Autosave to `path`; `None` turns it off (tests, screenshots).
-    pub fn new(path: Option<PathBuf>) -> Autosave {
-        Autosave {
-            path,
+    /// Autosave in the folder of the settings file `settings`; `None` turns it off (tests,
+    /// screenshots). A folder where it cannot start turns it off too, and says why once.
+    pub fn beside(settings: Option<&Path>) -> Autosave {
+        let mut a = Autosave {
+            instance: None,
+            adopted: Vec::new(),
             last_check: None,
             written: None,
             writing: None,
             error: None,
+        };
+        let dir = settings.map(|s| match s.parent() {
+            Some(p) if !p.as_os_str().is_empty() => p,
+            _ => Path::new("."),
+        });
+        if let Some(dir) = dir {
+            match Instance::start(dir) {
+                Ok(i) => a.instance = Some(i),
+                Err(e) => a.error = Some(format!("autosave is off: {e}")),
+            }
         }
+        a
     }
 
-    /// The autosave file beside a settings file.
-    pub fn path_beside(settings: &Path) -> PathBuf {
-        settings.with_file_name("autosave.session.json")
+    /// The work earlier workbenches left behind, newest first: those whose files read as
+    /// a session that names a log.
+    pub fn left_behind(&self) -> Vec<LeftBehind> {
+        let Some(instance) = &self.instance else {
+            return Vec::new();
+        };
+        instance
+            .left_behind()
+            .into_iter()
+            .filter_map(|claim| {
+                let s = session::load(claim.session_path()).ok()?;
+                let log = s.log.map(|l| l.path)?;
+                Some(LeftBehind {
+                    path: claim.session_path().to_path_buf(),
+                    modified: claim.modified(),
+                    log: Some(log),
+                    claim,
+                })
+            })
+            .collect()
     }
 
-    /// The work an earlier workbench left behind, when its file is there and reads as a
-    /// session that names a log.
-    pub fn left_behind(&self) -> Option<LeftBehind> {
-        let path = self.path.as_ref()?;
-        let s = session::load(path).ok()?;
-        let log = s.log.map(|l| l.path)?;
-        Some(LeftBehind {
-            path: path.clone(),
-            modified: std::fs::metadata(path).and_then(|m| m.modified()).ok(),
-            log: Some(log),
-        })
+    /// The work `left` is being restored here: its file goes once this workbench's own
+    /// autosave holds the work, or the work is saved or discarded.
+    pub fn adopt(&mut self, left: LeftBehind) {
+        self.adopted.push(left.claim);
+    }
+
+    /// The work `left` is discarded: its file is removed.
+    pub fn discard(&mut self, left: LeftBehind) {
+        if let Err(e) = left.claim.remove() {
+            self.error = Some(format!("{}: {e}", left.path.display()));
+        }
     }
 
     /// Called every frame: every [`INTERVAL`], writes the session when there is unsaved work
@@ -78,12 +117,12 @@ impl Autosave {
 
     /// Writes (or removes) the autosave file now, in the background.
     pub fn save_now(&mut self, state: &AppState) {
-        let Some(path) = self.path.clone() else {
+        let Some(path) = self.path().map(Path::to_path_buf) else {
             return;
         };
         if let Some(rx) = &self.writing {
             match rx.try_recv() {
-                Ok(r) => self.error = r.err(),
+                Ok(r) => self.written_back(r),
                 Err(mpsc::TryRecvError::Empty) => return,
                 Err(mpsc::TryRecvError::Disconnected) => {}
             }
@@ -122,21 +161,41 @@ impl Autosave {
         if let Some(rx) = self.writing.take()
             && let Ok(r) = rx.recv_timeout(Duration::from_secs(10))
         {
-            self.error = r.err();
+            self.written_back(r);
         }
     }
 
-    /// Removes the file: the work was saved, discarded, or the window closed cleanly.
+    /// A write's answer: its error, or the restored work now held by this workbench's own
+    /// autosave (the file it came from is no longer needed).
+    fn written_back(&mut self, result: Result<(), String>) {
+        match result {
+            Ok(()) => self.drop_adopted(),
+            Err(e) => self.error = Some(e),
+        }
+    }
+
+    /// Removes the files of restored work.
+    fn drop_adopted(&mut self) {
+        for left in std::mem::take(&mut self.adopted) {
+            if let Err(e) = left.remove() {
+                self.error = Some(format!("{}: {e}", left.session_path().display()));
+            }
+        }
+    }
+
+    /// Removes the file, and those of restored work: the work was saved, discarded, or the
+    /// window closed cleanly.
     pub fn clear(&mut self) {
         self.flush();
         self.written = None;
-        if let Some(p) = &self.path {
+        if let Some(p) = self.path() {
             let _ = std::fs::remove_file(p);
         }
+        self.drop_adopted();
     }
 
-    /// The autosave file, when autosave is on.
+    /// This workbench's autosave file, when autosave is on.
     pub fn path(&self) -> Option<&Path> {
-        self.path.as_deref()
+        self.instance.as_ref().map(Instance::session_path)
     }
 }

@@ -331,12 +331,15 @@ done
 
 # ---- Signals during a write ---------------------------------------------------------------------
 echo "the old log" >o/sig.csv
+odir=$(cd o && pwd -P)
 for sig in TERM INT HUP KILL; do
     runs=$((runs + 1))
     "$bin" simulate --rate-hz 50 --out o/sig.csv >/dev/null 2>&1 &
     pid=$!
     for _ in $(seq 1 3000); do
         compgen -G 'o/.driftlab-sig.csv.*.tmp' >/dev/null && break
+        # On Linux the temporary has no name while it is written (O_TMPFILE): /proc shows it.
+        ls -l "/proc/$pid/fd" 2>/dev/null | grep -qF "$odir/#" && break
         sleep 0.01
     done
     kill -"$sig" "$pid" 2>/dev/null

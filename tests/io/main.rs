@@ -1,4 +1,4 @@
-//! Files in and out: test-stand CSV, drone and robot logs, odd and broken files, atomic writes, the session file.
+//! Files in and out: test-stand CSV, drone and robot logs, odd and broken files, atomic writes, files written together, killed writes, autosaves, the session file.
 //!
 //! One test binary for the area (it links the crate once); a module per file.
 
@@ -6,6 +6,7 @@
 mod common;
 
 mod atomic_writes;
+mod autosave_instances;
 mod drone_logs;
 mod formats;
 mod ingest_dialects;
@@ -13,5 +14,7 @@ mod ingest_errors;
 mod ingest_files;
 mod ingest_fuzz;
 mod ingest_mapping;
+mod killed_writes;
 mod odd_logs;
 mod session;
+mod written_together;

@@ -1,21 +1,27 @@
 //! Writing files so that a failed write never leaves a half-written file behind: the content
-//! goes to a temporary file in the same folder, is flushed to disk, then renamed over the target.
+//! goes to a temporary file in the same folder, is flushed to disk, then renamed over the
+//! target, and the folder is synced so that the rename itself survives a power cut.
 //!
 //! What a path names decides how it is written (`target`): a symbolic link is written
 //! through to the file it names, which is replaced atomically and stays linked; a FIFO, a
 //! device or the process's own standard output is written in place as a stream, never
-//! replaced by a regular file. The temporary files are removed on every way out that runs
-//! code, and those of a killed run the next time the same output is written (`temporary`).
+//! replaced by a regular file. On Linux a temporary has no name until it is complete, so a
+//! killed run leaves none; elsewhere its writer's lock tells a live temporary from an
+//! abandoned one (`temporary`). Several files that belong together are written first and
+//! put in place only once all of them are written (`batch`).
 
+mod batch;
 #[cfg(target_os = "linux")]
 mod direct;
 mod target;
 mod temporary;
 
+pub use batch::Batch;
 pub use temporary::remove_temporaries_on_signals;
+pub(crate) use temporary::{names_file, random};
 
 use std::io::Write;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use target::Target;
 use temporary::Temporary;
 
@@ -74,28 +80,97 @@ where
 }
 
 /// The one atomic write behind [`write_with`] and [`write_big_with`]: a stream target is
-/// written in place; a file through a temporary beside it, past the page cache when `direct`
-/// is asked and the file system takes it, then renamed over the destination.
+/// written in place; a file staged beside it, then put in place.
 fn write_atomically<F>(path: &Path, direct: bool, fill: F) -> std::io::Result<()>
 where
     F: FnOnce(&mut dyn Write) -> std::io::Result<()>,
 {
-    let file = match Target::of(path)? {
-        Target::File(file) => file,
-        stream => return write_stream(&stream, fill),
-    };
-    let tmp = temporary_for(&file)?;
-    #[cfg(target_os = "linux")]
+    match Target::of(path)? {
+        Target::File(file) => Staged::write(&file, direct, fill)?.commit(),
+        stream => write_stream(&stream, fill),
+    }
+}
+
+/// A file written in full to its temporary and synced, not yet in place.
+struct Staged {
+    tmp: Temporary,
+    /// The file it replaces (links resolved).
+    dest: PathBuf,
+}
+
+impl Staged {
+    /// Writes the temporary for the file `dest` through `fill`, past the page cache when
+    /// `direct` is asked and the file system takes it, and syncs it.
+    fn write<F>(dest: &Path, direct: bool, fill: F) -> std::io::Result<Staged>
+    where
+        F: FnOnce(&mut dyn Write) -> std::io::Result<()>,
     {
-        if direct && direct::enable(tmp.as_file()) {
-            direct::fill(tmp.as_file(), fill)?;
-            return finish(tmp, &file);
+        let tmp = temporary_for(dest)?;
+        #[cfg(target_os = "linux")]
+        let written = if direct && direct::enable(tmp.as_file()) {
+            direct::fill(tmp.as_file(), fill)
+        } else {
+            fill_buffered(tmp.as_file(), fill)
+        };
+        #[cfg(not(target_os = "linux"))]
+        let written = {
+            let _ = direct;
+            fill_buffered(tmp.as_file(), fill)
+        };
+        written?;
+        tmp.as_file().sync_all()?;
+        Ok(Staged {
+            tmp,
+            dest: dest.to_path_buf(),
+        })
+    }
+
+    /// Puts the file in place and syncs its folder.
+    fn commit(self) -> std::io::Result<()> {
+        let dir = folder_of(&self.dest).to_path_buf();
+        self.put_in_place()?;
+        sync_folder(&dir)
+    }
+
+    /// Puts the file in place (its folder still to sync).
+    fn put_in_place(self) -> std::io::Result<()> {
+        self.tmp.persist(&self.dest)
+    }
+}
+
+/// The folder a file is in (`.` for a bare name).
+fn folder_of(path: &Path) -> &Path {
+    match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    }
+}
+
+/// Syncs a folder, so that the names just made or replaced in it are on disk: a rename is
+/// a change to the folder, which syncing the file does not cover. A file system that cannot
+/// sync a folder (`EINVAL`) is taken as having nothing to sync.
+fn sync_folder(dir: &Path) -> std::io::Result<()> {
+    #[cfg(unix)]
+    {
+        let synced = std::fs::File::open(dir).and_then(|d| d.sync_all());
+        match synced {
+            Err(e) if e.kind() != std::io::ErrorKind::InvalidInput => Err(std::io::Error::new(
+                e.kind(),
+                format!(
+                    "written, but the folder {} could not be synced to disk: {e}",
+                    dir.display()
+                ),
+            )),
+            _ => Ok(()),
         }
     }
-    #[cfg(not(target_os = "linux"))]
-    let _ = direct;
-    fill_buffered(tmp.as_file(), fill)?;
-    finish(tmp, &file)
+    // Elsewhere a folder cannot be opened as a file; the rename is as durable as the
+    // system makes it.
+    #[cfg(not(unix))]
+    {
+        let _ = dir;
+        Ok(())
+    }
 }
 
 /// Writes a FIFO, a device or a standard stream in place, buffered.
@@ -111,7 +186,7 @@ where
 
 /// The temporary file a write of `path` goes to, in the same folder (so that the final rename
 /// stays within one file system), after the checks that explain a refusal plainly. Temporary
-/// files a killed run left for the same output are removed first.
+/// files that killed runs left in the folder are removed first.
 fn temporary_for(path: &Path) -> std::io::Result<Temporary> {
     if let Ok(m) = std::fs::metadata(path) {
         if m.is_dir() {
@@ -127,10 +202,7 @@ fn temporary_for(path: &Path) -> std::io::Result<Temporary> {
             ));
         }
     }
-    let dir = match path.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p,
-        _ => Path::new("."),
-    };
+    let dir = folder_of(path);
     // Said plainly, rather than as the temporary file's name that could not be created.
     match std::fs::metadata(dir) {
         Ok(m) if m.is_dir() => {}
@@ -151,7 +223,7 @@ fn temporary_for(path: &Path) -> std::io::Result<Temporary> {
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_default();
-    temporary::remove_stale(dir, &name);
+    temporary::remove_stale(dir);
     let tmp = Temporary::new_in(dir, &name)?;
     // A temporary file is private (0600); the result should have the permissions a plain
     // write would give: those of the file it replaces, or the usual 0644.
@@ -194,12 +266,6 @@ where
         fill(&mut w)?;
         w.flush()
     })
-}
-
-/// Syncs the filled temporary file and renames it over `path`.
-fn finish(tmp: Temporary, path: &Path) -> std::io::Result<()> {
-    tmp.as_file().sync_all()?;
-    tmp.persist(path)
 }
 
 /// Bytes written between two background syncs of a file being written.

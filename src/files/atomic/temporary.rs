@@ -1,78 +1,221 @@
 //! The temporary files atomic writes go through, and how none of them is left behind.
 //!
+//! * On Linux a temporary has no name while it is written (`O_TMPFILE` in the output's
+//!   folder): a process killed outright (`kill -9`, a power cut) leaves nothing, since the
+//!   kernel frees a file that no folder names. It gets a name only once it is complete and
+//!   synced: `linkat` makes it the output when there is none yet; otherwise it is linked to a
+//!   fresh name beside the output and renamed over it.
+//! * Where the file system has no unnamed files (or elsewhere than Linux), the temporary is a
+//!   named file, `.driftlab-NAME.XXXXXXXXXXXXXXXX.tmp` beside the output.
+//! * Every named temporary (the fallback's, and the instant an unnamed one spends under a name
+//!   before its rename) is held under an advisory lock (`flock`) by the process writing it,
+//!   taken before the name can be seen. The kernel drops the lock when the process ends,
+//!   however it ends, so a temporary whose lock can be taken belongs to nobody: every write
+//!   into a folder removes those ([`remove_stale`]). Ownership does not depend on process
+//!   ids, which another PID namespace (a container) or a reused id would make wrong.
 //! * On an error, and on a panic, the temporary file is removed as it is dropped.
 //! * On SIGINT, SIGTERM or SIGHUP (Ctrl-C, `kill`, a closed terminal), a process that called
-//!   [`remove_temporaries_on_signals`] removes every temporary file it has open, then ends as
-//!   the signal would have ended it.
-//! * A process killed outright (`kill -9`, a power cut) runs no code at all. Its temporary
-//!   files carry their output's name and the process id (`.driftlab-NAME.PID.XXXXXX.tmp`,
-//!   beside the output), so the next write of the same output removes those of processes that
-//!   are gone ([`remove_stale`]).
+//!   [`remove_temporaries_on_signals`] removes every named temporary file it has, then ends
+//!   as the signal would have ended it.
 
+use std::fs::File;
+use std::io;
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 
-/// The temporary files this process has open, for the signal handler to remove.
+/// The named temporary files this process has, for the signal handler to remove and for
+/// the sweep to leave alone (a lock this process holds does not keep the process itself
+/// out where the file system emulates `flock` with byte-range locks, as NFS does).
 static LIVE: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
 
 /// Bytes of the output's name kept in a temporary file's name (a name is at most 255 bytes).
 const NAME_BYTES: usize = 96;
 
-/// A temporary file registered for removal on a signal, removed when dropped.
+/// Names tried before giving up on finding a free one (each is 64 random bits).
+const ATTEMPTS: usize = 16;
+
+/// A temporary file for one output, removed when dropped unless persisted.
 pub(super) struct Temporary {
-    file: Option<tempfile::NamedTempFile>,
-    path: PathBuf,
+    file: File,
+    /// The folder it is in (the output's).
+    dir: PathBuf,
+    /// The output's name, for the names the temporary takes.
+    name: String,
+    /// Its name while it has one: always for the fallback, never for an unnamed file.
+    path: Option<PathBuf>,
 }
 
 impl Temporary {
-    /// A new temporary file in `dir` for the output named `name`.
-    pub(super) fn new_in(dir: &Path, name: &str) -> std::io::Result<Temporary> {
-        let file = tempfile::Builder::new()
-            .prefix(&prefix(name, std::process::id()))
-            .suffix(".tmp")
-            .tempfile_in(dir)?;
-        let path = file.path().to_path_buf();
-        if let Ok(mut live) = LIVE.lock() {
-            live.push(path.clone());
+    /// A new temporary file in `dir` for the output named `name`: unnamed where the file
+    /// system allows it, else named and locked.
+    pub(super) fn new_in(dir: &Path, name: &str) -> io::Result<Temporary> {
+        #[cfg(target_os = "linux")]
+        if let Some(file) = unnamed::open(dir)? {
+            // Locked now, so that the name it takes for an instant later is owned from the
+            // start. Where locks are not offered it goes unlocked: the sweep, which cannot
+            // lock it either, then leaves it alone.
+            let _ = file.try_lock();
+            return Ok(Temporary {
+                file,
+                dir: dir.to_path_buf(),
+                name: name.to_string(),
+                path: None,
+            });
         }
+        let (file, path) = named(dir, name)?;
         Ok(Temporary {
-            file: Some(file),
-            path,
+            file,
+            dir: dir.to_path_buf(),
+            name: name.to_string(),
+            path: Some(path),
         })
     }
 
     /// The open file.
-    pub(super) fn as_file(&self) -> &std::fs::File {
-        // Present until `persist` takes it.
-        self.file
-            .as_ref()
-            .map(tempfile::NamedTempFile::as_file)
-            .expect("a temporary file not yet persisted")
+    pub(super) fn as_file(&self) -> &File {
+        &self.file
     }
 
-    /// Renames the file to `path`.
-    pub(super) fn persist(mut self, path: &Path) -> std::io::Result<()> {
-        match self.file.take() {
-            // Not renamed: the file handed back is removed as it drops.
-            Some(f) => f.persist(path).map(|_| ()).map_err(|e| e.error),
-            None => Ok(()),
+    /// Makes the file `dest` (in the same folder), replacing what was there.
+    pub(super) fn persist(mut self, dest: &Path) -> io::Result<()> {
+        if self.path.is_none() {
+            #[cfg(target_os = "linux")]
+            {
+                if unnamed::link(&self.file, dest)? {
+                    return Ok(());
+                }
+                // `dest` is there: a name beside it first, then a rename over it.
+                let path = self.link_beside()?;
+                self.set_path(Some(path));
+            }
         }
+        let Some(path) = self.path.clone() else {
+            return Ok(());
+        };
+        std::fs::rename(&path, dest)?;
+        // Renamed: nothing left to remove under the old name.
+        self.set_path(None);
+        Ok(())
+    }
+
+    /// Gives the unnamed file a fresh temporary name in its folder.
+    #[cfg(target_os = "linux")]
+    fn link_beside(&self) -> io::Result<PathBuf> {
+        let mut last = None;
+        for _ in 0..ATTEMPTS {
+            let path = self.dir.join(fresh_name(&self.name));
+            match unnamed::link(&self.file, &path) {
+                Ok(true) => return Ok(path),
+                Ok(false) => last = Some(io::Error::from(io::ErrorKind::AlreadyExists)),
+                Err(e) => return Err(e),
+            }
+        }
+        Err(last.unwrap_or_else(|| io::ErrorKind::AlreadyExists.into()))
+    }
+
+    /// Records the file's current name (registered for the signal handler), or none.
+    fn set_path(&mut self, path: Option<PathBuf>) {
+        if let Ok(mut live) = LIVE.lock() {
+            if let Some(old) = &self.path {
+                live.retain(|p| p != old);
+            }
+            if let Some(new) = &path {
+                live.push(new.clone());
+            }
+        }
+        self.path = path;
     }
 }
 
 impl Drop for Temporary {
     fn drop(&mut self) {
-        // The NamedTempFile (if still here) removes the file as it drops.
-        drop(self.file.take());
-        if let Ok(mut live) = LIVE.lock() {
-            live.retain(|p| *p != self.path);
+        // An unnamed file is freed by the kernel as its descriptor closes.
+        if let Some(p) = self.path.clone() {
+            let _ = std::fs::remove_file(&p);
+            self.set_path(None);
         }
     }
 }
 
-/// The start of the temporary files' names for the output `name` written by process `pid`.
-fn prefix(name: &str, pid: u32) -> String {
-    format!(".driftlab-{}.{pid}.", short(name))
+/// A new named temporary for the output `name` in `dir`, created and then locked. Between
+/// the two a sweep could take the unlocked file for an abandoned one and remove it: the
+/// name is checked to still be this file once the lock is held, and another is taken if not.
+fn named(dir: &Path, name: &str) -> io::Result<(File, PathBuf)> {
+    let mut last = None;
+    for _ in 0..ATTEMPTS {
+        let path = dir.join(fresh_name(name));
+        let mut options = std::fs::OpenOptions::new();
+        options.write(true).create_new(true);
+        #[cfg(unix)]
+        {
+            use std::os::unix::fs::OpenOptionsExt;
+            options.mode(0o600);
+        }
+        let file = match options.open(&path) {
+            Ok(f) => f,
+            Err(e) if e.kind() == io::ErrorKind::AlreadyExists => {
+                last = Some(e);
+                continue;
+            }
+            Err(e) => return Err(e),
+        };
+        if let Ok(mut live) = LIVE.lock() {
+            live.push(path.clone());
+        }
+        let owned = match file.try_lock() {
+            Ok(()) => names_file(&path, &file),
+            // Taken by a sweep that will remove it: leave it to the sweep.
+            Err(std::fs::TryLockError::WouldBlock) => false,
+            // No locks here: the sweep cannot lock it either, and leaves it alone.
+            Err(std::fs::TryLockError::Error(_)) => true,
+        };
+        if owned {
+            return Ok((file, path));
+        }
+        if let Ok(mut live) = LIVE.lock() {
+            live.retain(|p| *p != path);
+        }
+        last = Some(io::Error::other("a new temporary file was removed"));
+    }
+    Err(last.unwrap_or_else(|| io::ErrorKind::AlreadyExists.into()))
+}
+
+/// Whether `path` still names the open `file` (the same inode on the same device): a file
+/// locked through a descriptor is the one a name stands for only if this holds once the
+/// lock is taken.
+pub(crate) fn names_file(path: &Path, file: &File) -> bool {
+    let (Ok(a), Ok(b)) = (std::fs::symlink_metadata(path), file.metadata()) else {
+        return false;
+    };
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::MetadataExt;
+        a.dev() == b.dev() && a.ino() == b.ino()
+    }
+    #[cfg(not(unix))]
+    {
+        a.is_file() && b.is_file() && a.len() == b.len()
+    }
+}
+
+/// The start of every temporary file's name.
+const START: &str = ".driftlab-";
+
+/// A new temporary name for the output `name`: `.driftlab-NAME.XXXXXXXXXXXXXXXX.tmp`.
+fn fresh_name(name: &str) -> String {
+    format!("{START}{}.{:016x}.tmp", short(name), random())
+}
+
+/// 64 bits that differ from call to call and from process to process, for unique names:
+/// the standard library's per-process random hash keys, over a counter.
+pub(crate) fn random() -> u64 {
+    use std::hash::{BuildHasher, Hasher};
+    use std::sync::atomic::{AtomicU64, Ordering};
+    static COUNTER: AtomicU64 = AtomicU64::new(0);
+    let mut h = std::collections::hash_map::RandomState::new().build_hasher();
+    h.write_u64(COUNTER.fetch_add(1, Ordering::Relaxed));
+    h.write_u32(std::process::id());
+    h.finish()
 }
 
 /// The first [`NAME_BYTES`] bytes of `name`, cut at a character boundary.
@@ -84,45 +227,92 @@ fn short(name: &str) -> &str {
     &name[..end]
 }
 
-/// Removes the temporary files left in `dir` for the output `name` by processes that no
-/// longer run (killed while writing it). Files of a running process, this one included, are
-/// left alone: it may be writing the same output right now.
-pub(super) fn remove_stale(dir: &Path, name: &str) {
-    let start = format!(".driftlab-{}.", short(name));
+/// Removes the temporary files in `dir` that no process holds: left by a run killed while
+/// writing. A temporary that a live process is writing is locked by it and left alone, as
+/// is one this process has, and one that cannot be opened or locked at all.
+pub(super) fn remove_stale(dir: &Path) {
     let Ok(entries) = std::fs::read_dir(dir) else {
         return;
     };
     for entry in entries.flatten() {
         let file = entry.file_name();
         let Some(file) = file.to_str() else { continue };
-        let Some(rest) = file
-            .strip_prefix(&start)
-            .and_then(|r| r.strip_suffix(".tmp"))
-        else {
+        if !(file.starts_with(START) && file.ends_with(".tmp")) {
+            continue;
+        }
+        let path = entry.path();
+        let mine = LIVE.lock().map(|l| l.contains(&path)).unwrap_or(true);
+        if mine {
+            continue;
+        }
+        let Some(handle) = open_to_lock(&path) else {
             continue;
         };
-        // `PID.XXXXXX`: a longer name that merely starts like this one has no PID here.
-        let Some(pid) = rest.split('.').next().and_then(|p| p.parse::<u32>().ok()) else {
-            continue;
-        };
-        if rest.split('.').count() == 2 && pid != std::process::id() && !is_running(pid, &entry) {
-            let _ = std::fs::remove_file(entry.path());
+        // Locked: no process has it. Removed only if the name still names what was locked.
+        if handle.try_lock().is_ok() && names_file(&path, &handle) {
+            let _ = std::fs::remove_file(&path);
         }
     }
 }
 
-/// Whether process `pid` (whose temporary file `entry` is) may still be writing.
-fn is_running(pid: u32, entry: &std::fs::DirEntry) -> bool {
-    if cfg!(target_os = "linux") {
-        return Path::new("/proc").join(pid.to_string()).exists();
+/// Opens a regular file to lock it, without following a link or waiting on a FIFO.
+fn open_to_lock(path: &Path) -> Option<File> {
+    if !std::fs::symlink_metadata(path).ok()?.is_file() {
+        return None;
     }
-    // Without /proc, a file untouched for a day is taken as abandoned.
-    let age = entry
-        .metadata()
-        .and_then(|m| m.modified())
-        .ok()
-        .and_then(|t| t.elapsed().ok());
-    age.is_none_or(|a| a <= std::time::Duration::from_secs(24 * 3600))
+    #[cfg(target_os = "linux")]
+    {
+        use rustix::fs::{CWD, Mode, OFlags, openat};
+        let flags = OFlags::RDONLY | OFlags::NOFOLLOW | OFlags::NONBLOCK | OFlags::CLOEXEC;
+        openat(CWD, path, flags, Mode::empty()).ok().map(File::from)
+    }
+    #[cfg(not(target_os = "linux"))]
+    {
+        File::open(path).ok()
+    }
+}
+
+/// Unnamed temporary files (`O_TMPFILE`) and how they get a name (`linkat`).
+#[cfg(target_os = "linux")]
+mod unnamed {
+    use rustix::fs::{AtFlags, CWD, Mode, OFlags, linkat, openat};
+    use rustix::io::Errno;
+    use std::fs::File;
+    use std::io;
+    use std::os::fd::AsRawFd;
+    use std::path::Path;
+
+    /// An unnamed file in `dir`, or `None` where the file system or kernel has none
+    /// (`EOPNOTSUPP`; `EISDIR` or `EINVAL` from a kernel older than `O_TMPFILE`) or where it
+    /// could not be named later (no `/proc`).
+    pub(super) fn open(dir: &Path) -> io::Result<Option<File>> {
+        if !proc_fd_available() {
+            return Ok(None);
+        }
+        let flags = OFlags::TMPFILE | OFlags::WRONLY | OFlags::CLOEXEC;
+        match openat(CWD, dir, flags, Mode::from_raw_mode(0o600)) {
+            Ok(fd) => Ok(Some(File::from(fd))),
+            Err(Errno::OPNOTSUPP | Errno::ISDIR | Errno::INVAL) => Ok(None),
+            Err(e) => Err(e.into()),
+        }
+    }
+
+    /// Names the unnamed `file` `path`: true when done, false when `path` is already there.
+    pub(super) fn link(file: &File, path: &Path) -> io::Result<bool> {
+        let fd = format!("/proc/self/fd/{}", file.as_raw_fd());
+        match linkat(CWD, fd.as_str(), CWD, path, AtFlags::SYMLINK_FOLLOW) {
+            Ok(()) => Ok(true),
+            Err(Errno::EXIST) => Ok(false),
+            Err(e) => Err(e.into()),
+        }
+    }
+
+    /// Whether this process's descriptors can be named through `/proc/self/fd`, as `linkat`
+    /// needs to name an unnamed file without privileges.
+    fn proc_fd_available() -> bool {
+        static AVAILABLE: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
+        *AVAILABLE.get_or_init(|| Path::new("/proc/self/fd").is_dir())
+    }
 }
 
 /// Makes this process remove its temporary files when SIGINT, SIGTERM or SIGHUP ends it; the
@@ -168,32 +358,69 @@ pub fn remove_temporaries_on_signals() -> std::io::Result<()> {
 mod tests {
     use super::*;
 
-    #[test]
-    fn stale_temporaries_of_gone_processes_are_removed_and_others_kept() {
-        let dir = tempfile::tempdir().unwrap();
-        let d = dir.path();
-        // A PID above the kernel's maximum (4194304) never runs.
-        let gone = d.join(format!("{}abcdef.tmp", prefix("cal.json", 9_999_999)));
-        let mine = d.join(format!(
-            "{}abcdef.tmp",
-            prefix("cal.json", std::process::id())
-        ));
-        let other_output = d.join(format!("{}abcdef.tmp", prefix("other.json", 9_999_999)));
-        let longer_name = d.join(format!("{}abcdef.tmp", prefix("cal.json.bak", 9_999_999)));
-        for f in [&gone, &mine, &other_output, &longer_name] {
-            std::fs::write(f, "x").unwrap();
-        }
-        remove_stale(d, "cal.json");
-        if cfg!(target_os = "linux") {
-            assert!(!gone.exists());
-        }
-        assert!(mine.exists() && other_output.exists() && longer_name.exists());
+    /// A temporary left as a killed process leaves it: a file under a temporary's name,
+    /// locked or not by a handle that stands for its writer.
+    fn left(dir: &Path, name: &str) -> PathBuf {
+        let p = dir.join(fresh_name(name));
+        std::fs::write(&p, "x").unwrap();
+        p
     }
 
     #[test]
-    fn names_are_cut_at_a_character_boundary() {
+    fn only_temporaries_nobody_holds_are_removed() {
+        let dir = tempfile::tempdir().unwrap();
+        let d = dir.path();
+        // Its writer is gone: nothing holds its lock.
+        let abandoned = left(d, "cal.json");
+        // Its writer is alive: a handle (an open file description of its own, as another
+        // process's would be) holds the lock.
+        let held = left(d, "cal.json");
+        let writer = File::open(&held).unwrap();
+        writer.try_lock().unwrap();
+        // Of another output: removed as well, since ownership is the lock's alone.
+        let other = left(d, "other.csv");
+        // Not a temporary's name.
+        let plain = d.join("cal.json");
+        std::fs::write(&plain, "keep").unwrap();
+        remove_stale(d);
+        assert!(!abandoned.exists() && !other.exists());
+        assert!(held.exists() && plain.exists());
+        // The writer dies: its lock goes with it, and so does the file at the next sweep.
+        drop(writer);
+        remove_stale(d);
+        assert!(!held.exists() && plain.exists());
+    }
+
+    #[test]
+    fn a_named_temporary_is_locked_from_the_start_and_survives_a_sweep() {
+        let dir = tempfile::tempdir().unwrap();
+        let (file, path) = named(dir.path(), "big.csv").unwrap();
+        // Another open of it (another process, for flock) cannot take the lock.
+        let other = File::open(&path).unwrap();
+        assert!(matches!(
+            other.try_lock(),
+            Err(std::fs::TryLockError::WouldBlock)
+        ));
+        // This process's own temporaries are skipped even before the lock is tried.
+        remove_stale(dir.path());
+        assert!(path.exists());
+        // Forgotten by this process as a killed one would be (the lock still held here):
+        // another process's sweep still cannot take it.
+        if let Ok(mut live) = LIVE.lock() {
+            live.retain(|p| *p != path);
+        }
+        remove_stale(dir.path());
+        assert!(path.exists());
+        drop(file);
+        remove_stale(dir.path());
+        assert!(!path.exists());
+    }
+
+    #[test]
+    fn names_are_cut_at_a_character_boundary_and_differ() {
         let long = "ж".repeat(100);
         assert!(short(&long).len() <= NAME_BYTES);
         assert!(long.starts_with(short(&long)));
+        assert_ne!(fresh_name("a"), fresh_name("a"));
     }
 }

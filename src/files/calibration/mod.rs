@@ -244,6 +244,20 @@ pub fn save_unit(path: &Path, unit: &UnitCalibration) -> Result<()> {
     crate::files::atomic::write_bytes(path, text.as_bytes()).map_err(|e| Error::io(path, e))
 }
 
+/// Stages `unit`'s calibration file in `batch`, after the checks [`save_unit`] runs: it is
+/// put in place with the batch's other files, or not at all.
+///
+/// # Errors
+/// As [`save_unit`]; nothing is in place yet either way.
+pub fn stage_unit(
+    batch: &mut crate::files::atomic::Batch,
+    path: &Path,
+    unit: &UnitCalibration,
+) -> Result<()> {
+    let text = checked_text(path, unit)?;
+    batch.stage_bytes(path, text.as_bytes())
+}
+
 /// Reads a calibration file of either version as a unit.
 ///
 /// # Errors

@@ -463,7 +463,7 @@ impl Workbench {
 
     /// Offers back the work an earlier workbench left unsaved.
     pub(super) fn recovery_modal(&mut self, ctx: &egui::Context) {
-        let Some(left) = self.recovery.offered.clone() else {
+        let Some(left) = self.recovery.offered.first().cloned() else {
             return;
         };
         if self.shots.auto.is_some() || self.modals.import.is_some() {
@@ -503,8 +503,9 @@ impl Workbench {
         match answer {
             Some(true) => self.restore_autosave(),
             Some(false) => {
-                self.recovery.offered = None;
-                self.recovery.autosave.clear();
+                // That one is removed; the next left behind, if any, is offered next.
+                let left = self.recovery.offered.remove(0);
+                self.recovery.autosave.discard(left);
             }
             None => {}
         }
