@@ -5,4 +5,5 @@
 pub mod atomic;
 pub mod calibration;
 pub mod corrected_csv;
+pub mod csv_cells;
 pub mod session;
