@@ -407,7 +407,9 @@ fn regression(cal: &RegressionCalibration) -> Result<Table, ExportError> {
     }
     Ok(Table {
         comments: out,
-        columns: ["term", "coefficient", "std_error"].map(String::from).into(),
+        columns: ["term", "coefficient", "std_error"]
+            .map(String::from)
+            .into(),
         rows,
         text_columns: 1,
     })

