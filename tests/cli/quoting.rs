@@ -124,3 +124,66 @@ fn the_lookup_tables_of_crafted_axes_read_back_with_their_names() {
         names.iter().map(|n| (shown(n), 5)).collect();
     assert_eq!(per_axis, expected);
 }
+
+/// What a crafted name would make a terminal do: clear the screen, set the window's title.
+const TRAP: &str = "\u{1b}[2J\u{1b}]0;pwned\u{7}";
+
+/// Asserts that `bytes` hold nothing a terminal would obey: no ESC, BEL, other C0 control but
+/// line breaks and tabs, DEL, C1 control (CSI U+009B among them) or bidirectional override.
+fn printable(what: &str, bytes: &[u8]) {
+    let text = String::from_utf8_lossy(bytes);
+    let bad: Vec<char> = text
+        .chars()
+        .filter(|&c| {
+            (c.is_control() && c != '\n' && c != '\t') || ('\u{202a}'..='\u{202e}').contains(&c)
+        })
+        .collect();
+    assert!(bad.is_empty(), "{what}: {bad:?} in {text:?}");
+}
+
+#[test]
+fn nothing_a_terminal_would_obey_reaches_it_from_a_name() {
+    let dir = tempfile::tempdir().unwrap();
+    // A log whose file name and rate column carry the escape sequences.
+    let log = dir.path().join(format!("log{TRAP}.csv"));
+    let mut text = format!("time_s,omega{TRAP}_dph,temp_c\n");
+    for i in 0..600 {
+        let t = i as f64;
+        text.push_str(&format!("{t},{},{}\n", (t / 50.0).sin(), 20.0 + t * 0.01));
+    }
+    std::fs::write(&log, text).unwrap();
+    let log = log.display().to_string();
+    let inspect = driftlab(&["inspect", &log]);
+    assert!(inspect.status.success());
+    printable("inspect", &inspect.stdout);
+    printable("inspect", &inspect.stderr);
+    let shown = String::from_utf8_lossy(&inspect.stdout);
+    assert!(
+        shown.contains("omega\\u{1b}[2J\\u{1b}]0;pwned\\u{7}_dph"),
+        "{shown}"
+    );
+    // An error naming the file.
+    let missing = dir.path().join(format!("missing{TRAP}\u{9b}2J.csv"));
+    let e = driftlab(&["inspect", &missing.display().to_string()]);
+    assert!(!e.status.success());
+    printable("an error", &e.stderr);
+    assert!(String::from_utf8_lossy(&e.stderr).contains("\\u{1b}"));
+    // Axis names and a gyro id of a calibration, through the commands that print them.
+    let unit = unit_named(dir.path(), &[TRAP, "gy\u{202e}x", "gz\r\u{9b}2J"]);
+    let mut json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&unit).unwrap()).unwrap();
+    json["gyro_id"] = serde_json::Value::from(format!("id{TRAP}"));
+    std::fs::write(&unit, json.to_string()).unwrap();
+    let val = sample("imu3-validation.csv");
+    let out = dir.path().join("cor.csv").display().to_string();
+    for args in [
+        vec!["evaluate", &unit, &val],
+        vec!["apply", &unit, &val, "--out", &out],
+        vec!["export", &unit, "--format", "px4-params"],
+        vec!["export", &unit, "--format", "nonsense"],
+    ] {
+        let run = driftlab(&args);
+        printable(&format!("{args:?}"), &run.stdout);
+        printable(&format!("{args:?}"), &run.stderr);
+    }
+}
