@@ -92,7 +92,7 @@ pub fn write_err(args: std::fmt::Arguments<'_>) {
 /// A text that came from a file (a column name, a ROS topic, a gyro id, a file name) as a
 /// terminal is to show it: every character a terminal would obey rather than print (C0 and
 /// C1 controls, ESC and DEL among them, line breaks and tabs too) and every bidirectional
-/// override that would reorder what follows, written as its visible escape (`\u{1b}`). What
+/// override that would reorder what follows, written as its visible escape (`\u001b`). What
 /// a command prints goes through [`terminal_text`] whatever it holds; a name printed within a
 /// line goes through this too, so that its line breaks cannot start a line of their own.
 pub fn shown(s: &str) -> std::borrow::Cow<'_, str> {
@@ -128,7 +128,9 @@ fn escaped(s: &str, keep_lines: bool) -> std::borrow::Cow<'_, str> {
     let mut out = String::with_capacity(s.len() + 16);
     for c in s.chars() {
         if escape(c) {
-            out.push_str(&c.escape_unicode().to_string());
+            // Four hex digits (every such character is below U+10000): the escape JSON has,
+            // so a string of `--json` output stays valid and reads back as it was.
+            out.push_str(&format!("\\u{:04x}", u32::from(c)));
         } else {
             out.push(c);
         }

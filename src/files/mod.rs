@@ -1,6 +1,6 @@
 //! driftlab's own files: calibrations (`calibration`), workbench sessions (`session`), the
-//! corrected log `apply` writes (`corrected_csv`), and the atomic writes they all go through
-//! (`atomic`).
+//! corrected log `apply` writes (`corrected_csv`), the one way a CSV record with names is
+//! written (`csv_cells`), and the atomic writes they all go through (`atomic`).
 
 pub mod atomic;
 pub mod calibration;

@@ -146,7 +146,10 @@ fn nothing_a_terminal_would_obey_reaches_it_from_a_name() {
     let dir = tempfile::tempdir().unwrap();
     // A log whose file name and rate column carry the escape sequences.
     let log = dir.path().join(format!("log{TRAP}.csv"));
-    let mut text = format!("time_s,omega{TRAP}_dph,temp_c\n");
+    // The column also with a C1 control (CSI) and a right-to-left override, which JSON
+    // writes as they are.
+    let column = format!("omega{TRAP}\u{9b}\u{202e}_dph");
+    let mut text = format!("time_s,{column},temp_c\n");
     for i in 0..600 {
         let t = i as f64;
         text.push_str(&format!("{t},{},{}\n", (t / 50.0).sin(), 20.0 + t * 0.01));
@@ -159,15 +162,21 @@ fn nothing_a_terminal_would_obey_reaches_it_from_a_name() {
     printable("inspect", &inspect.stderr);
     let shown = String::from_utf8_lossy(&inspect.stdout);
     assert!(
-        shown.contains("omega\\u{1b}[2J\\u{1b}]0;pwned\\u{7}_dph"),
+        shown.contains("omega\\u001b[2J\\u001b]0;pwned\\u0007\\u009b\\u202e_dph"),
         "{shown}"
     );
+    // As JSON: valid, every such character escaped, the name read back as it is.
+    let json = driftlab(&["inspect", &log, "--json"]);
+    assert!(json.status.success());
+    printable("inspect --json", &json.stdout);
+    let json: serde_json::Value = serde_json::from_slice(&json.stdout).unwrap();
+    assert_eq!(json["info"]["columns"][1]["name"], column.as_str());
     // An error naming the file.
     let missing = dir.path().join(format!("missing{TRAP}\u{9b}2J.csv"));
     let e = driftlab(&["inspect", &missing.display().to_string()]);
     assert!(!e.status.success());
     printable("an error", &e.stderr);
-    assert!(String::from_utf8_lossy(&e.stderr).contains("\\u{1b}"));
+    assert!(String::from_utf8_lossy(&e.stderr).contains("\\u001b"));
     // Axis names and a gyro id of a calibration, through the commands that print them.
     let unit = unit_named(dir.path(), &[TRAP, "gy\u{202e}x", "gz\r\u{9b}2J"]);
     let mut json: serde_json::Value =
