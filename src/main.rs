@@ -19,9 +19,9 @@ fn main() -> std::process::ExitCode {
         // stopped, and says nothing.
         Err(cli::CliError::ClosedOutput) => std::process::ExitCode::from(141),
         Err(cli::CliError::Message(message)) => {
-            use std::io::Write;
             // Standard error full or closed: nothing is left to tell; the status still says it.
-            let _ = writeln!(std::io::stderr(), "error: {message}");
+            // Nothing in the message a terminal would obey reaches it (cli::write_err).
+            cli::write_err(format_args!("error: {message}"));
             std::process::ExitCode::FAILURE
         }
     }

@@ -59,13 +59,14 @@ pub fn stdout_error(e: std::io::Error) -> CliError {
     }
 }
 
-/// Writes formatted text and a line end to standard output.
+/// Writes formatted text and a line end to standard output, as [`terminal_text`] shows it.
 ///
 /// # Errors
 /// A full disk or a closed pipe, as [`stdout_error`] names them.
 pub fn write_out(args: std::fmt::Arguments<'_>) -> Result<(), CliError> {
+    let text = std::fmt::format(args);
     let mut o = std::io::stdout().lock();
-    o.write_fmt(args)
+    o.write_all(terminal_text(&text).as_bytes())
         .and_then(|()| o.write_all(b"\n"))
         .map_err(stdout_error)
 }
@@ -78,10 +79,63 @@ pub fn flush_out() -> Result<(), CliError> {
     std::io::stdout().lock().flush().map_err(stdout_error)
 }
 
-/// Writes to standard error, letting a failure go: there is nowhere left to report it.
+/// Writes to standard error, as [`terminal_text`] shows it, letting a failure go: there is
+/// nowhere left to report it.
 pub fn write_err(args: std::fmt::Arguments<'_>) {
+    let text = std::fmt::format(args);
     let mut e = std::io::stderr().lock();
-    let _ = e.write_fmt(args).and_then(|()| e.write_all(b"\n"));
+    let _ = e
+        .write_all(terminal_text(&text).as_bytes())
+        .and_then(|()| e.write_all(b"\n"));
+}
+
+/// A text that came from a file (a column name, a ROS topic, a gyro id, a file name) as a
+/// terminal is to show it: every character a terminal would obey rather than print (C0 and
+/// C1 controls, ESC and DEL among them, line breaks and tabs too) and every bidirectional
+/// override that would reorder what follows, written as its visible escape (`\u001b`). What
+/// a command prints goes through [`terminal_text`] whatever it holds; a name printed within a
+/// line goes through this too, so that its line breaks cannot start a line of their own.
+pub fn shown(s: &str) -> std::borrow::Cow<'_, str> {
+    escaped(s, false)
+}
+
+/// A whole text a command prints, as [`shown`] but with its own line breaks and tabs kept:
+/// what reaches standard output or error by [`out!`], [`note!`] or `main`'s error line.
+pub fn terminal_text(s: &str) -> std::borrow::Cow<'_, str> {
+    escaped(s, true)
+}
+
+/// Whether a terminal would obey `c` (or reorder the text after it) instead of printing it.
+fn unprintable(c: char) -> bool {
+    c.is_control()
+        || matches!(
+            c,
+            '\u{061c}'
+                | '\u{200e}'
+                | '\u{200f}'
+                | '\u{202a}'..='\u{202e}'
+                | '\u{2066}'..='\u{2069}'
+                | '\u{2028}'
+                | '\u{2029}'
+        )
+}
+
+fn escaped(s: &str, keep_lines: bool) -> std::borrow::Cow<'_, str> {
+    let escape = |c: char| unprintable(c) && !(keep_lines && matches!(c, '\n' | '\t'));
+    if !s.chars().any(escape) {
+        return std::borrow::Cow::Borrowed(s);
+    }
+    let mut out = String::with_capacity(s.len() + 16);
+    for c in s.chars() {
+        if escape(c) {
+            // Four hex digits (every such character is below U+10000): the escape JSON has,
+            // so a string of `--json` output stays valid and reads back as it was.
+            out.push_str(&format!("\\u{:04x}", u32::from(c)));
+        } else {
+            out.push(c);
+        }
+    }
+    std::borrow::Cow::Owned(out)
 }
 
 /// `println!` that returns the error of a full or closed standard output instead of
@@ -371,7 +425,7 @@ pub fn progress_bar(message: &str) -> Option<ProgressBar> {
         ProgressStyle::with_template("{msg} [{bar:40}] {percent}%")
             .unwrap_or_else(|_| ProgressStyle::default_bar()),
     );
-    bar.set_message(message.to_string());
+    bar.set_message(shown(message).into_owned());
     Some(bar)
 }
 

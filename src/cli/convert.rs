@@ -38,7 +38,7 @@ pub fn run(a: Args) -> Result<(), CliError> {
     note!(
         "{} samples of {} written to {}",
         sel.instance.len(),
-        sel.instance.label,
+        common::shown(&sel.instance.label),
         a.out.display()
     );
     Ok(())

@@ -7,7 +7,7 @@ use driftlab::export::flight::ardupilot::ArduPilotTarget;
 use driftlab::export::flight::px4::{self, Px4Target};
 use driftlab::files::calibration;
 use driftlab::models::{DriftModel, UnitCalibration};
-use std::io::Write;
+use std::io::{IsTerminal, Write};
 use std::path::PathBuf;
 
 /// Arguments of `export`.
@@ -254,6 +254,13 @@ fn write(a: &Args, text: &str, what: &str) -> Result<(), CliError> {
         }
         None => {
             let mut out = std::io::stdout().lock();
+            // On a terminal, nothing in a name the file holds that it would obey; through a
+            // pipe or into a file, the file as it is.
+            let text = if out.is_terminal() {
+                super::common::terminal_text(text)
+            } else {
+                std::borrow::Cow::Borrowed(text)
+            };
             out.write_all(text.as_bytes())
                 .and_then(|()| out.flush())
                 .map_err(super::common::stdout_error)?;

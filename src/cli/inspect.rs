@@ -36,11 +36,12 @@ fn print_instances(
     instances: &[InstanceSummary],
 ) -> Result<(), CliError> {
     out!(
-        "{source}: {format} log, {} gyro instance(s):",
+        "{}: {format} log, {} gyro instance(s):",
+        common::shown(source),
         instances.len()
     )?;
     for s in instances {
-        out!("  {}", log_source::in_flags(&s.line()))?;
+        out!("  {}", common::shown(&log_source::in_flags(&s.line())))?;
         let accel = if s.has_accel {
             ", accel x y z (m/s^2)"
         } else {
@@ -174,12 +175,12 @@ pub fn run(a: Args) -> Result<(), CliError> {
     match &drone {
         Some(d) => out!(
             "{}: gyro {} of the {} log, as read:",
-            log.source,
+            common::shown(&log.source),
             d.chosen,
             d.format
         )?,
         None => {
-            out!("{}", log.source)?;
+            out!("{}", common::shown(&log.source))?;
             out!(
                 "  format: separator {:?}, decimal {}, {}",
                 i.delimiter,
@@ -207,7 +208,7 @@ pub fn run(a: Args) -> Result<(), CliError> {
         out!(
             "    {:>2}  {:<24} {:?}{unit}{accel}",
             c.index,
-            c.name,
+            common::shown(&c.name),
             c.role
         )?;
     }

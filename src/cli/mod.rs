@@ -73,7 +73,7 @@ pub struct GuiArgs {
     pub log_args: common::LogArgs,
 }
 
-pub use common::CliError;
+pub use common::{CliError, write_err};
 
 /// Runs a parsed command line; the error is printed by `main`. Standard output is flushed
 /// before the command counts as done, so that a full disk is never a silent success.

@@ -4,6 +4,10 @@
 //! calibration's order, then `temp_c`. [`correct_and_write`] is the one way a face corrects
 //! and writes a log, for one axis or a unit.
 //!
+//! The header goes through the `csv` crate as every record with names does
+//! ([`crate::files::csv_cells`]); the rows are numbers alone, which never need quoting, and are
+//! formatted here directly.
+//!
 //! Numbers are written in their shortest form that reads back to the same f64 (zmij), so a
 //! corrected log loses nothing. Three stages overlap, each a batch apart: the prediction of
 //! `apply` (sequential, its rates being one causal pass), the formatting of blocks of rows in
@@ -36,13 +40,17 @@ pub fn write(
     write_rows(path, log, HEADER, &[&log.omega_dph], n, source, progress)
 }
 
-/// The header of a unit's corrected log.
+/// The header line of a unit's corrected log, without its line break, written as every CSV
+/// record with text is ([`crate::files::csv_cells`]): an axis name with a comma, a quote or a
+/// line break quoted, one a spreadsheet would take for a formula neutralised.
 pub fn unit_header(axes: &[&str]) -> String {
-    let mut h = String::from("time_s");
+    let mut cells = vec!["time_s".to_string()];
     for a in axes {
-        h.push_str(&format!(",{a}_raw_dph,{a}_pred_dph,{a}_cor_dph"));
+        cells.extend(["raw", "pred", "cor"].map(|k| format!("{a}_{k}_dph")));
     }
-    h.push_str(",temp_c");
+    cells.push("temp_c".to_string());
+    let mut h = crate::files::csv_cells::text_record(&cells);
+    h.pop();
     h
 }
 

@@ -126,7 +126,8 @@ fn kalibr_gets_the_noise_the_imu_was_made_with_from_its_noisiest_axis() {
         );
     }
     assert_eq!(y["update_rate"], "20.0");
-    assert_eq!(y["rostopic"], "/imu0");
+    // Every string scalar of the file is double-quoted.
+    assert_eq!(y["rostopic"], "\"/imu0\"");
     assert_eq!(json["kalibr"]["update_rate_hz"], 20.0);
 }
 
@@ -185,4 +186,53 @@ fn a_ros_bag_gives_kalibr_its_topic() {
         assert_eq!(json["kalibr"]["rostopic"], topic, "{rel}");
         assert!(json["kalibr"]["accelerometer"].is_object(), "{rel}");
     }
+}
+
+#[test]
+fn a_crafted_file_name_and_topic_stay_inside_their_comment_and_string() {
+    let dir = tempfile::tempdir().unwrap();
+    // A carriage return and a line feed in the log's name, as if to set a key of the file.
+    let log = dir
+        .path()
+        .join("imu\r\naccelerometer_noise_density: 1.0e+9\r\n\u{1b}[2J\u{85}x.csv");
+    std::fs::write(&log, imu_csv(7200.0, (2e-4, 2e-5), (2e-3, 2e-4), [1.0; 3])).unwrap();
+    let out_path = dir.path().join("imu.yaml");
+    let topic = "/imu\nupdate_rate: 1\r\"\\";
+    ok(&[
+        "allan",
+        &log.display().to_string(),
+        "--kalibr",
+        &out_path.display().to_string(),
+        "--rostopic",
+        topic,
+    ]);
+    let text = std::fs::read_to_string(&out_path).unwrap();
+    let starting = |key: &str| text.lines().filter(|l| l.starts_with(key)).count();
+    assert_eq!(starting("accelerometer_noise_density:"), 1, "{text}");
+    assert_eq!(starting("update_rate:"), 1, "{text}");
+    assert!(!text.contains(['\r', '\u{1b}', '\u{85}']), "{text:?}");
+    // An independent YAML reader (libyaml's) reads the values the IMU was made with and the
+    // topic as it was given.
+    let yaml: serde_norway::Value = serde_norway::from_str(&text).unwrap();
+    let density = yaml["accelerometer_noise_density"].as_f64().unwrap();
+    assert!((density / 2e-3 - 1.0).abs() < 0.2, "{density}");
+    assert_eq!(yaml["rostopic"].as_str(), Some(topic));
+    assert_eq!(yaml["update_rate"].as_f64(), Some(20.0));
+    let keys: Vec<&str> = yaml
+        .as_mapping()
+        .unwrap()
+        .keys()
+        .map(|k| k.as_str().unwrap())
+        .collect();
+    assert_eq!(
+        keys,
+        [
+            "accelerometer_noise_density",
+            "accelerometer_random_walk",
+            "gyroscope_noise_density",
+            "gyroscope_random_walk",
+            "rostopic",
+            "update_rate"
+        ]
+    );
 }

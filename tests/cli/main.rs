@@ -10,6 +10,7 @@ mod attack;
 mod commands;
 mod kalibr;
 mod output_hashes;
+mod quoting;
 mod real_logs;
 mod silent_options;
 mod unit_calibrate;

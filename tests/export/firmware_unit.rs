@@ -318,8 +318,14 @@ fn unit_header_with_a_regression_axis_keeps_its_own_corrector_and_agrees() {
     );
     assert!(matches!(unit.axes[2].model, DriftModel::Regression(_)));
     let header = firmware::export_unit(&unit, Format::CHeader, &ExportOptions::default()).unwrap();
-    assert!(header.contains("driftlab_gy_state gy;"), "{header}");
-    assert!(header.contains("driftlab_gz_state gz;"), "{header}");
+    assert!(
+        header.contains("driftlab_gy_state driftlab_gy;"),
+        "{header}"
+    );
+    assert!(
+        header.contains("driftlab_gz_state driftlab_gz;"),
+        "{header}"
+    );
     let log = read("imu3-validation.csv");
     let Some((a, _)) = c_unit_agrees(&unit, &log) else {
         return;
@@ -523,4 +529,71 @@ fn one_axis_and_a_unit_run_the_same_curve_evaluator_and_temperature_history() {
         "return ((s[3] * u + s[2]) * u + s[1]) * u + s[0];",
     );
     assert_eq!(block(&unit_h, from, to), block(&one_h, from, to));
+}
+
+#[test]
+fn unit_header_compiles_and_agrees_with_axes_named_like_its_own_identifiers() {
+    // Axes named as the header's own identifiers and macros, as a column (`k0_dph`), with
+    // characters C does not take in a name, and names equal once made into identifiers;
+    // every third axis a regression model (its corrector renamed under the axis).
+    let dir = tempfile::tempdir().unwrap();
+    let base = calibrate_unit(dir.path(), &["--axis-model", "gz=poly-t"]);
+    let names = [
+        "names",
+        "k0",
+        "k1_plus",
+        "k1_minus",
+        "k2_plus",
+        "k2_minus",
+        "k0_dph",
+        "state",
+        "temperature",
+        "axis1",
+        "gx",
+        "GX",
+        "g x",
+        "1st axis",
+        "ω-x",
+        "*/ int x; /*",
+        "quote \" and \\ backslash ??/",
+        "line\nbreak",
+        "",
+    ];
+    let mut unit = base.clone();
+    unit.axes = names
+        .iter()
+        .enumerate()
+        .map(|(k, n)| {
+            let mut a = base.axes[k % 3].clone();
+            a.name = if n.is_empty() {
+                "#".to_string()
+            } else {
+                n.to_string()
+            };
+            a
+        })
+        .collect();
+    let header = firmware::export_unit(&unit, Format::CHeader, &ExportOptions::default()).unwrap();
+    // The names only in comments and strings: every axis's index macro, and the names array
+    // holding each name as it is.
+    assert_eq!(
+        header.matches("#define DRIFTLAB_AXIS_").count(),
+        names.len() + 1
+    );
+    assert!(header.contains("#define DRIFTLAB_AXIS_NAMES { \"names\", \"k0\", "));
+    assert!(header.contains("\"quote \\\" and \\\\ backslash \\?\\?/\""));
+    assert!(header.contains("\"line\\012break\""));
+    assert!(
+        header.contains("driftlab_gx_predict("),
+        "an ordinary name keeps its part"
+    );
+    // Compiled strictly and run on a stretch of the validation run: every axis bit for bit
+    // as driftlab's corrector of its model.
+    let log = read("imu3-validation.csv");
+    let log = with_dropout(&log, 6_000..log.len());
+    let Some((a, _)) = c_unit_agrees(&unit, &log) else {
+        return;
+    };
+    assert_eq!(a.compared, names.len() * log.len());
+    assert_eq!(a.identical, a.compared, "{a:?}");
 }

@@ -49,6 +49,7 @@
 //! `-std=c99`; other compilers: the `FP_CONTRACT` pragma the header sets).
 
 use super::c_corrector::regression_corrector;
+use super::c_names;
 use super::c_regression::{regression_constants, regression_preamble};
 use super::c_runtime::{TemperatureHistory, section, section_in_state};
 use super::c_vakhrameev::{ModelNames, is_outside_fn, model_constants, predict_fn};
@@ -92,7 +93,26 @@ pub fn c_header(unit: &UnitCalibration) -> Result<String, ExportError> {
     } else {
         Layout::Single
     };
-    let axes = header_axes(unit, layout)?;
+    // Written first with every axis's identifiers under a placeholder, which gives the
+    // identifiers the header has of its own: each name's part is then one that makes none of
+    // them (c_names).
+    let placeholders: Vec<String> = (0..unit.axes.len()).map(c_names::fallback).collect();
+    let probe = write_header(unit, layout, &placeholders)?;
+    if layout == Layout::Single {
+        return Ok(probe);
+    }
+    let parts = c_names::axis_idents(&probe, &unit.axis_names());
+    write_header(unit, layout, &parts)
+}
+
+/// The header of `unit` laid out as `layout`, each axis's identifiers under its part in
+/// `parts` (a unit's; a single axis has the single-axis names).
+fn write_header(
+    unit: &UnitCalibration,
+    layout: Layout,
+    parts: &[String],
+) -> Result<String, ExportError> {
+    let axes = header_axes(unit, layout, parts)?;
     let history = temperature_history(&axes)?;
     for a in &axes {
         if let DriftModel::Regression(r) = a.model {
@@ -129,27 +149,29 @@ pub fn c_header(unit: &UnitCalibration) -> Result<String, ExportError> {
 }
 
 /// The axes of `unit` with their identifiers: the single-axis names for a single axis, each
-/// axis's own under a unit's.
-fn header_axes(unit: &UnitCalibration, layout: Layout) -> Result<Vec<Axis<'_>>, ExportError> {
+/// axis's own under a unit's, its part from `parts`.
+fn header_axes<'a>(
+    unit: &'a UnitCalibration,
+    layout: Layout,
+    parts: &[String],
+) -> Result<Vec<Axis<'a>>, ExportError> {
     if unit.axes.is_empty() {
         return Err(ExportError::NoAxes);
     }
-    let mut axes: Vec<Axis<'_>> = Vec::with_capacity(unit.axes.len());
-    for (k, a) in unit.axes.iter().enumerate() {
-        let taken: Vec<String> = axes.iter().map(|x| x.ident.clone()).collect();
-        let ident = ident(&a.name, k, &taken);
-        let names = match layout {
-            Layout::Single => ModelNames::single(),
-            Layout::Unit => ModelNames::axis(&a.name, &ident),
-        };
-        axes.push(Axis {
+    Ok(unit
+        .axes
+        .iter()
+        .zip(parts)
+        .map(|(a, ident)| Axis {
             name: &a.name,
-            ident,
-            names,
+            ident: ident.clone(),
+            names: match layout {
+                Layout::Single => ModelNames::single(),
+                Layout::Unit => ModelNames::axis(&a.name, ident),
+            },
             model: &a.model,
-        });
-    }
-    Ok(axes)
+        })
+        .collect())
 }
 
 /// The one temperature history of the Vakhrameev axes, `None` when there are none.
@@ -583,17 +605,17 @@ fn unit_corrector(
             )),
             DriftModel::Regression(_) => {
                 members.push_str(&format!(
-                    "    driftlab_{id}_state {id};            /* axis {}: its own corrector */\n",
+                    "    driftlab_{id}_state driftlab_{id};   /* axis {}: its own corrector */\n",
                     comment_text(a.name)
                 ));
-                init.push_str(&format!("    driftlab_{id}_init(&st->{id});\n"));
+                init.push_str(&format!("    driftlab_{id}_init(&st->driftlab_{id});\n"));
                 body.push_str(&format!(
                     r#"
     /* Axis {name}: its own corrector (it reads no second sensor and no channel). */
     {{
         driftlab_{id}_sample s;
         omega_cor_dph[{k}] =
-            driftlab_{id}_push_detail(&st->{id}, time_s, omega_dph[{k}], temp_c, 0.0, NULL, &s);
+            driftlab_{id}_push_detail(&st->driftlab_{id}, time_s, omega_dph[{k}], temp_c, 0.0, NULL, &s);
         if (out != NULL) {{
             out[{k}].omega_cor_dph = s.omega_cor_dph;
             out[{k}].omega_pred_dph = s.omega_pred_dph;
@@ -674,41 +696,6 @@ static inline void driftlab_push(driftlab_state *st, double time_s,
     Ok(())
 }
 
-/// Identifiers of the header's own that an axis's part must not repeat.
-const RESERVED: [&str; 12] = [
-    "curve",
-    "edge",
-    "regime",
-    "beyond",
-    "state",
-    "sample",
-    "init",
-    "reset",
-    "push",
-    "temperature",
-    "axis",
-    "kind",
-];
-
-/// The name of an axis as the part of a C identifier: ASCII letters and digits in lower case,
-/// anything else `_`; a reserved word or a name already taken gets `_axis<k>` after it.
-fn ident(name: &str, k: usize, taken: &[String]) -> String {
-    let mut s: String = name
-        .chars()
-        .map(|c| {
-            if c.is_ascii_alphanumeric() {
-                c.to_ascii_lowercase()
-            } else {
-                '_'
-            }
-        })
-        .collect();
-    if s.is_empty() || RESERVED.contains(&s.as_str()) || taken.contains(&s) {
-        s = format!("{s}_axis{k}");
-    }
-    s
-}
-
 /// A string as a C string literal: printable ASCII as is, `\`, `"` and `?` (trigraphs) escaped,
 /// every other byte in octal; at most 200 bytes of the input.
 pub(super) fn c_string(s: &str) -> String {
@@ -725,19 +712,4 @@ pub(super) fn c_string(s: &str) -> String {
     }
     out.push('"');
     out
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn axis_names_become_distinct_c_identifiers() {
-        let mut taken = Vec::new();
-        for (k, name) in ["gx", "G-Y", "gx", "state", ""].iter().enumerate() {
-            let id = ident(name, k, &taken);
-            taken.push(id);
-        }
-        assert_eq!(taken, ["gx", "g_y", "gx_axis2", "state_axis3", "_axis4"]);
-    }
 }

@@ -4,6 +4,7 @@
 //! `driftlab_beyond` are the runtime's (`runtime.c`), one for every Vakhrameev axis of a header.
 
 use super::c_curves::curve;
+use super::c_names::rename_identifiers;
 use super::{ExportError, comment_text, number};
 use crate::models::vakhrameev::Calibration;
 
@@ -43,19 +44,30 @@ impl ModelNames {
 
     /// `text` with every `driftlab_` and `DRIFTLAB_` name put under this prefix (the identity
     /// for [`ModelNames::single`]): a regression axis's constants and corrector in a unit.
+    /// One pass over the identifiers ([`rename_identifiers`]): never inside a string literal,
+    /// never twice.
     pub fn rename_all(&self, text: &str) -> String {
-        text.replace("driftlab_", &format!("{}_", self.lower))
-            .replace("DRIFTLAB_", &format!("{}_", self.upper))
+        rename_identifiers(text, |id, _| {
+            if let Some(rest) = id.strip_prefix("driftlab_") {
+                Some(format!("{}_{rest}", self.lower))
+            } else {
+                id.strip_prefix("DRIFTLAB_")
+                    .map(|rest| format!("{}_{rest}", self.upper))
+            }
+        })
     }
 
-    /// `text` with the single-axis header's names of this model's curves and functions put
-    /// under this prefix (the identity for [`ModelNames::single`]).
+    /// `text` with the single-axis header's names of this model's curves and functions
+    /// (`driftlab_` followed by one of `names`) put under this prefix (the identity for
+    /// [`ModelNames::single`]), in one pass over the identifiers.
     fn rename(&self, text: &str, names: &[&str]) -> String {
-        let mut out = text.to_string();
-        for n in names {
-            out = out.replace(&format!("driftlab_{n}"), &format!("{}_{n}", self.lower));
-        }
-        out
+        rename_identifiers(text, |id, _| {
+            let rest = id.strip_prefix("driftlab_")?;
+            names
+                .iter()
+                .any(|n| rest.starts_with(n))
+                .then(|| format!("{}_{rest}", self.lower))
+        })
     }
 }
 

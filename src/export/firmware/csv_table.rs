@@ -28,6 +28,10 @@
 //! A regression model has no curves to tabulate: its table lists the coefficients
 //! ([`regression`]).
 //!
+//! Every record goes through the `csv` crate ([`crate::files::csv_cells`]): an axis or term
+//! name with a comma, a quote, a line break or a `#` is quoted, one that a spreadsheet would
+//! take for a formula is neutralised; numbers are written as they are.
+//!
 //! One writer, [`csv_table`], for a single axis and for a unit. A unit's tables are one CSV file
 //! with an `axis` column. Why one file with an axis column rather than a file per axis: a
 //! firmware build step turns the tables into one array (or one flash block) for the unit, and
@@ -45,6 +49,7 @@
 //! [`axis_table`].
 
 use super::{ExportError, MAX_TABLE_POINTS, TableColumns, comment_text, number, sha_text};
+use crate::files::csv_cells::{Cell, push_record, text_record};
 use crate::models::approx::Approx;
 use crate::models::fitted::DriftModel;
 use crate::models::regression::RegressionCalibration;
@@ -67,7 +72,7 @@ pub fn csv_table(unit: &UnitCalibration, points: usize) -> Result<String, Export
     unit.validate()?;
     let mut comments = String::new();
     let mut first: Option<(Table, &str, &'static str)> = None;
-    let mut rows = String::new();
+    let mut rows = Vec::new();
     for a in &unit.axes {
         let table = axis_table(&a.model, points).map_err(|e| ExportError::Axis {
             axis: a.name.clone(),
@@ -78,9 +83,10 @@ pub fn csv_table(unit: &UnitCalibration, points: usize) -> Result<String, Export
             let c = line.strip_prefix('#').unwrap_or(line);
             comments.push_str(&format!("# axis {axis_comment}:{c}\n"));
         }
-        let axis = cell(&a.name);
-        for line in table.rows.lines() {
-            rows.push_str(&format!("{axis},{line}\n"));
+        for row in &table.rows {
+            let mut cells = vec![Cell::Text(&a.name)];
+            cells.extend(table.cells(row));
+            push_record(&mut rows, &cells);
         }
         match &first {
             None => first = Some((table, &a.name, a.model.tag())),
@@ -88,10 +94,10 @@ pub fn csv_table(unit: &UnitCalibration, points: usize) -> Result<String, Export
                 return Err(ExportError::TableColumns(Box::new(TableColumns {
                     first: first_axis.to_string(),
                     first_model,
-                    first_columns: t.columns.clone(),
+                    first_columns: t.columns.join(","),
                     second: a.name.clone(),
                     second_model: a.model.tag(),
-                    second_columns: table.columns,
+                    second_columns: table.columns.join(","),
                 })));
             }
             Some(_) => {}
@@ -100,30 +106,55 @@ pub fn csv_table(unit: &UnitCalibration, points: usize) -> Result<String, Export
     let Some((table, _, _)) = first else {
         return Err(ExportError::NoAxes);
     };
+    let mut header = vec!["axis".to_string()];
+    header.extend(table.columns.iter().cloned());
     Ok(format!(
         "# driftlab {version} lookup tables of a unit of {n} axes ({names}): the rows of each axis \
          are its table, as a single-axis export writes it, after its name in the first column\n\
-         {comments}axis,{columns}\n{rows}",
+         {comments}{header}{rows}",
         version = env!("CARGO_PKG_VERSION"),
         n = unit.axes.len(),
         names = comment_text(&unit.axis_names().join(", ")),
-        columns = table.columns,
+        header = text_record(&header),
+        rows = String::from_utf8_lossy(&rows),
     ))
 }
 
-/// One axis's table: its `#` comment lines, its header line and its rows, each line ending in a
-/// line break but the header.
+/// One axis's table: its `#` comment lines (each ending in a line break), the names of its
+/// columns and its rows, each cell as text: the first `text_columns` cells of a row are names,
+/// the others numbers.
 #[derive(Debug, Clone, PartialEq)]
 struct Table {
     comments: String,
-    columns: String,
-    rows: String,
+    columns: Vec<String>,
+    rows: Vec<Vec<String>>,
+    text_columns: usize,
 }
 
 impl Table {
-    /// The table as a file of its own.
+    /// Row `row`'s cells, names as text and numbers as numbers.
+    fn cells<'a>(&self, row: &'a [String]) -> impl Iterator<Item = Cell<'a>> {
+        let text = self.text_columns;
+        row.iter().enumerate().map(move |(k, c)| {
+            if k < text {
+                Cell::Text(c)
+            } else {
+                Cell::Number(c)
+            }
+        })
+    }
+}
+
+impl Table {
+    /// The table as a file of its own: the header and every row written by the `csv` crate.
     fn text(&self) -> String {
-        format!("{}{}\n{}", self.comments, self.columns, self.rows)
+        let mut out = self.comments.clone().into_bytes();
+        out.extend_from_slice(text_record(&self.columns).as_bytes());
+        for row in &self.rows {
+            let cells: Vec<Cell<'_>> = self.cells(row).collect();
+            push_record(&mut out, &cells);
+        }
+        String::from_utf8_lossy(&out).into_owned()
     }
 }
 
@@ -214,29 +245,28 @@ fn vakhrameev(cal: &Calibration, points: usize) -> Result<Table, ExportError> {
         .iter()
         .flat_map(|(arg, arg_unit, name, unit, _)| {
             [
-                format!("{arg} [{}]", comment_text(arg_unit).replace(',', ";")),
-                format!("{name} [{}]", comment_text(unit).replace(',', ";")),
+                format!("{arg} [{}]", comment_text(arg_unit)),
+                format!("{name} [{}]", comment_text(unit)),
             ]
         })
         .collect();
-    let columns_line = header.join(",");
     let columns = tables
         .iter()
         .map(|(_, _, name, _, a)| column(name, a, points))
         .collect::<Result<Vec<_>, _>>()?;
-    let mut rows = String::new();
-    for j in 0..points {
-        let row: Vec<&str> = columns
-            .iter()
-            .flat_map(|c| [c[j].0.as_str(), c[j].1.as_str()])
-            .collect();
-        rows.push_str(&row.join(","));
-        rows.push('\n');
-    }
+    let rows = (0..points)
+        .map(|j| {
+            columns
+                .iter()
+                .flat_map(|c| [c[j].0.clone(), c[j].1.clone()])
+                .collect()
+        })
+        .collect();
     Ok(Table {
         comments: out,
-        columns: columns_line,
+        columns: header,
         rows,
+        text_columns: 0,
     })
 }
 
@@ -367,31 +397,20 @@ fn regression(cal: &RegressionCalibration) -> Result<Table, ExportError> {
         steps.step.max(1),
         number(m.dt_s, "the sampling period")?
     ));
-    let mut rows = String::new();
+    let mut rows = Vec::new();
     for ((name, c), se) in m.names.iter().zip(&m.coefficients).zip(&m.std_errors) {
-        rows.push_str(&format!(
-            "{},{},{}\n",
-            comment_text(name).replace(',', ";"),
+        rows.push(vec![
+            comment_text(name),
             number(*c, &format!("coefficient {name}"))?,
-            number(*se, &format!("standard error of {name}"))?
-        ));
+            number(*se, &format!("standard error of {name}"))?,
+        ]);
     }
     Ok(Table {
         comments: out,
-        columns: "term,coefficient,std_error".into(),
+        columns: ["term", "coefficient", "std_error"]
+            .map(String::from)
+            .into(),
         rows,
+        text_columns: 1,
     })
-}
-
-/// An axis name as a CSV cell: as it is, or quoted when it holds a comma, a quote or a line
-/// break.
-fn cell(name: &str) -> String {
-    if name.contains([',', '"', '\n', '\r']) {
-        format!(
-            "\"{}\"",
-            name.replace('"', "\"\"").replace(['\n', '\r'], " ")
-        )
-    } else {
-        name.to_string()
-    }
 }

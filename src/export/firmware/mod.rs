@@ -23,6 +23,7 @@
 mod c_corrector;
 mod c_curves;
 pub mod c_header;
+mod c_names;
 mod c_regression;
 mod c_runtime;
 mod c_vakhrameev;

@@ -279,7 +279,7 @@ pub fn imu_yaml(noise: &KalibrNoise, source: &str) -> Result<String, KalibrError
     }
     let mut out = format!(
         "# IMU noise model for Kalibr, from the Allan deviation of {} (driftlab {})\n",
-        source.replace('\n', " "),
+        yaml_comment(source),
         env!("CARGO_PKG_VERSION")
     );
     if noise.accelerometer.is_none() {
@@ -293,7 +293,7 @@ pub fn imu_yaml(noise: &KalibrNoise, source: &str) -> Result<String, KalibrError
             out.push_str(&format!(
                 "# {what}: {} axis, {} line fitted on tau {} .. {} s ({} points), read at tau = {} \
                  s{}\n",
-                v.axis,
+                yaml_comment(&v.axis),
                 if v.read_at_tau_s == 1.0 {
                     "-1/2"
                 } else {
@@ -312,7 +312,7 @@ pub fn imu_yaml(noise: &KalibrNoise, source: &str) -> Result<String, KalibrError
                 }
             ));
             if let Some(n) = &e.note {
-                out.push_str(&format!("#   {n}\n"));
+                out.push_str(&format!("#   {}\n", yaml_comment(n)));
             }
             out.push_str(&format!("{}: {:e}  # {}\n", e.key, v.value, v.unit));
         }
@@ -349,14 +349,74 @@ pub fn imu_yaml(noise: &KalibrNoise, source: &str) -> Result<String, KalibrError
     Ok(out)
 }
 
-/// A topic as a YAML plain scalar when it is one, else double-quoted.
+/// A string as a YAML double-quoted scalar: `\` and `"` escaped, and every character YAML
+/// does not allow as it is, or reads as a line break, by its escape (`\r`, `\x1B`, `\N`,
+/// `\L`, `\P`, `\uFEFF`): the value cannot end early or start a new line, whatever the
+/// text. Every string value of the file is written so, so none is read as a number, a boolean
+/// or null either (a topic named `true`).
 fn yaml_string(s: &str) -> String {
-    let plain = !s.is_empty()
-        && s.chars()
-            .all(|c| c.is_ascii_alphanumeric() || matches!(c, '/' | '_' | '-' | '.'));
-    if plain {
-        s.to_string()
-    } else {
-        format!("\"{}\"", s.replace('\\', "\\\\").replace('"', "\\\""))
+    let mut out = String::with_capacity(s.len() + 2);
+    out.push('"');
+    for c in s.chars() {
+        match c {
+            '\\' => out.push_str("\\\\"),
+            '"' => out.push_str("\\\""),
+            c => push_yaml_char(&mut out, c),
+        }
+    }
+    out.push('"');
+    out
+}
+
+/// A text for a comment of the file: every character that YAML reads as a line break or does
+/// not allow as it is written as its escape, so the comment stays one line and nothing after it
+/// becomes a key (a log named `x\r\naccelerometer_noise_density: 1.0e+9`).
+fn yaml_comment(s: &str) -> String {
+    let mut out = String::with_capacity(s.len());
+    for c in s.chars() {
+        push_yaml_char(&mut out, c);
+    }
+    out
+}
+
+/// `c` as it is when YAML prints it as it is on one line, else its double-quoted escape.
+fn push_yaml_char(out: &mut String, c: char) {
+    match c {
+        '\0' => out.push_str("\\0"),
+        '\x07' => out.push_str("\\a"),
+        '\x08' => out.push_str("\\b"),
+        '\t' => out.push_str("\\t"),
+        '\n' => out.push_str("\\n"),
+        '\x0b' => out.push_str("\\v"),
+        '\x0c' => out.push_str("\\f"),
+        '\r' => out.push_str("\\r"),
+        '\x1b' => out.push_str("\\e"),
+        '\u{85}' => out.push_str("\\N"),
+        '\u{2028}' => out.push_str("\\L"),
+        '\u{2029}' => out.push_str("\\P"),
+        c if (c as u32) < 0x20 || ('\u{7f}'..='\u{9f}').contains(&c) => {
+            out.push_str(&format!("\\x{:02X}", c as u32));
+        }
+        '\u{feff}' | '\u{fffe}' | '\u{ffff}' => {
+            out.push_str(&format!("\\u{:04X}", c as u32));
+        }
+        c => out.push(c),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn strings_are_double_quoted_with_every_break_escaped() {
+        assert_eq!(yaml_string("/imu0"), "\"/imu0\"");
+        assert_eq!(yaml_string("true"), "\"true\"");
+        assert_eq!(
+            yaml_string("a\"b\\c\r\nd\u{1b}[2J\u{85}\u{2028}\u{9b}"),
+            "\"a\\\"b\\\\c\\r\\nd\\e[2J\\N\\L\\x9B\""
+        );
+        assert_eq!(yaml_comment("run 3.csv"), "run 3.csv");
+        assert_eq!(yaml_comment("x\r\ny: 1"), "x\\r\\ny: 1");
     }
 }

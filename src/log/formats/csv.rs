@@ -3,18 +3,28 @@
 //!
 //! Every value is written in the shortest text that reads back to the same number in its
 //! own precision: a float32 as a float32 (so parsing the cell as f32 gives the stored bits),
-//! a float64 as a float64. A missing value is `nan`.
+//! a float64 as a float64. A missing value is `nan`. The rows are numbers alone, which never
+//! need quoting, formatted here directly; the header goes through the `csv` crate.
 
 use super::recording::Values;
 use super::select::Selected;
 use std::io::Write;
 
-/// The header `write_csv` writes for `selected`.
+/// The header `write_csv` writes for `selected`, without its line break: fixed names, written
+/// as every CSV record with text is ([`crate::files::csv_cells`]).
 pub fn csv_header(selected: &Selected<'_>) -> String {
-    let mut h = String::from("time_s,gyro_x_rad_s,gyro_y_rad_s,gyro_z_rad_s,temp_c");
+    let mut cells = vec![
+        "time_s",
+        "gyro_x_rad_s",
+        "gyro_y_rad_s",
+        "gyro_z_rad_s",
+        "temp_c",
+    ];
     if selected.instance.accel.is_some() {
-        h.push_str(",accel_x_m_s2,accel_y_m_s2,accel_z_m_s2");
+        cells.extend(["accel_x_m_s2", "accel_y_m_s2", "accel_z_m_s2"]);
     }
+    let mut h = crate::files::csv_cells::text_record(&cells);
+    h.pop();
     h
 }
 

@@ -1,0 +1,198 @@
+//! Names from files reach every output quoted by what writes it: the corrected CSV of `apply`
+//! and the lookup tables of `export` read back by the `csv` crate's reader with every name as
+//! it was (formula-like ones neutralised), the C header compiled with axes named like its own
+//! identifiers, and nothing a terminal would obey printed by the command line.
+
+use crate::common;
+
+use common::run::{driftlab, ok};
+use std::path::{Path, PathBuf};
+
+fn sample(name: &str) -> String {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("sample_logs")
+        .join(name)
+        .display()
+        .to_string()
+}
+
+/// A unit calibration of the three-axis sample with its axes renamed `names` (axis k reads
+/// the sample's axis k % 3), written to `dir/unit.json`.
+fn unit_named(dir: &Path, names: &[&str]) -> String {
+    let out = dir.join("unit.json").display().to_string();
+    ok(&["calibrate", &sample("imu3-calibration.csv"), "--out", &out]);
+    let mut json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+    let axes = json["axes"].as_array().unwrap().clone();
+    json["axes"] = names
+        .iter()
+        .enumerate()
+        .map(|(k, n)| {
+            let mut a = axes[k % 3].clone();
+            a["name"] = serde_json::Value::from(*n);
+            a
+        })
+        .collect();
+    std::fs::write(&out, serde_json::to_string_pretty(&json).unwrap()).unwrap();
+    out
+}
+
+/// Names a spreadsheet or a CSV reader would trip on.
+const CRAFTED: [&str; 4] = [
+    "=HYPERLINK(\"http://x\",\"y\")",
+    "a,b \"c\"",
+    "two\nlines",
+    "-gx",
+];
+
+/// A name as a spreadsheet is to see it: a formula-like one after a single quote.
+fn shown(name: &str) -> String {
+    if name.starts_with(['=', '+', '-', '@', '\t', '\r']) {
+        format!("'{name}")
+    } else {
+        name.to_string()
+    }
+}
+
+#[test]
+fn apply_writes_crafted_axis_names_quoted_and_formulas_neutralised() {
+    let dir = tempfile::tempdir().unwrap();
+    let unit = unit_named(dir.path(), &CRAFTED);
+    let out = dir.path().join("cor.csv");
+    ok(&[
+        "apply",
+        &unit,
+        &sample("imu3-validation.csv"),
+        "--out",
+        &out.display().to_string(),
+    ]);
+    let mut reader = csv::ReaderBuilder::new().from_path(&out).unwrap();
+    let header: Vec<String> = reader.headers().unwrap().iter().map(String::from).collect();
+    let mut expected = vec!["time_s".to_string()];
+    for n in CRAFTED {
+        for k in ["raw", "pred", "cor"] {
+            expected.push(shown(&format!("{n}_{k}_dph")));
+        }
+    }
+    expected.push("temp_c".into());
+    assert_eq!(header, expected);
+    // Every row: numbers, negative ones as they are (no quote before them).
+    let mut rows = 0;
+    let mut negative = 0;
+    for r in reader.records() {
+        let r = r.unwrap();
+        assert_eq!(r.len(), expected.len());
+        for cell in &r {
+            let v: f64 = cell.parse().unwrap_or_else(|_| panic!("{cell:?}"));
+            negative += usize::from(v < 0.0 && cell.starts_with('-'));
+        }
+        rows += 1;
+    }
+    let log_rows = std::fs::read_to_string(sample("imu3-validation.csv"))
+        .unwrap()
+        .lines()
+        .filter(|l| !l.starts_with('#'))
+        .count()
+        - 1;
+    assert_eq!(rows, log_rows);
+    assert!(negative > 0);
+}
+
+#[test]
+fn the_lookup_tables_of_crafted_axes_read_back_with_their_names() {
+    let dir = tempfile::tempdir().unwrap();
+    let names = ["#gx", "a,b \"c\"", "+1", "two\nlines"];
+    let unit = unit_named(dir.path(), &names);
+    let text = ok(&["export", &unit, "--format", "csv-table", "--points", "5"]);
+    // The `#` lines are comments; a name holding `#` is quoted so no row starts as one.
+    let mut reader = csv::ReaderBuilder::new()
+        .comment(Some(b'#'))
+        .from_reader(text.as_bytes());
+    let header = reader.headers().unwrap().clone();
+    assert_eq!(&header[0], "axis");
+    assert_eq!(header.len(), 11);
+    let mut per_axis = std::collections::BTreeMap::<String, usize>::new();
+    for r in reader.records() {
+        let r = r.unwrap();
+        assert_eq!(r.len(), 11);
+        for cell in r.iter().skip(1) {
+            cell.parse::<f64>().unwrap();
+        }
+        *per_axis.entry(r[0].to_string()).or_default() += 1;
+    }
+    let expected: std::collections::BTreeMap<String, usize> =
+        names.iter().map(|n| (shown(n), 5)).collect();
+    assert_eq!(per_axis, expected);
+}
+
+/// What a crafted name would make a terminal do: clear the screen, set the window's title.
+const TRAP: &str = "\u{1b}[2J\u{1b}]0;pwned\u{7}";
+
+/// Asserts that `bytes` hold nothing a terminal would obey: no ESC, BEL, other C0 control but
+/// line breaks and tabs, DEL, C1 control (CSI U+009B among them) or bidirectional override.
+fn printable(what: &str, bytes: &[u8]) {
+    let text = String::from_utf8_lossy(bytes);
+    let bad: Vec<char> = text
+        .chars()
+        .filter(|&c| {
+            (c.is_control() && c != '\n' && c != '\t') || ('\u{202a}'..='\u{202e}').contains(&c)
+        })
+        .collect();
+    assert!(bad.is_empty(), "{what}: {bad:?} in {text:?}");
+}
+
+#[test]
+fn nothing_a_terminal_would_obey_reaches_it_from_a_name() {
+    let dir = tempfile::tempdir().unwrap();
+    // A log whose file name and rate column carry the escape sequences.
+    let log = dir.path().join(format!("log{TRAP}.csv"));
+    // The column also with a C1 control (CSI) and a right-to-left override, which JSON
+    // writes as they are.
+    let column = format!("omega{TRAP}\u{9b}\u{202e}_dph");
+    let mut text = format!("time_s,{column},temp_c\n");
+    for i in 0..600 {
+        let t = i as f64;
+        text.push_str(&format!("{t},{},{}\n", (t / 50.0).sin(), 20.0 + t * 0.01));
+    }
+    std::fs::write(&log, text).unwrap();
+    let log = log.display().to_string();
+    let inspect = driftlab(&["inspect", &log]);
+    assert!(inspect.status.success());
+    printable("inspect", &inspect.stdout);
+    printable("inspect", &inspect.stderr);
+    let shown = String::from_utf8_lossy(&inspect.stdout);
+    assert!(
+        shown.contains("omega\\u001b[2J\\u001b]0;pwned\\u0007\\u009b\\u202e_dph"),
+        "{shown}"
+    );
+    // As JSON: valid, every such character escaped, the name read back as it is.
+    let json = driftlab(&["inspect", &log, "--json"]);
+    assert!(json.status.success());
+    printable("inspect --json", &json.stdout);
+    let json: serde_json::Value = serde_json::from_slice(&json.stdout).unwrap();
+    assert_eq!(json["info"]["columns"][1]["name"], column.as_str());
+    // An error naming the file.
+    let missing = dir.path().join(format!("missing{TRAP}\u{9b}2J.csv"));
+    let e = driftlab(&["inspect", &missing.display().to_string()]);
+    assert!(!e.status.success());
+    printable("an error", &e.stderr);
+    assert!(String::from_utf8_lossy(&e.stderr).contains("\\u001b"));
+    // Axis names and a gyro id of a calibration, through the commands that print them.
+    let unit = unit_named(dir.path(), &[TRAP, "gy\u{202e}x", "gz\r\u{9b}2J"]);
+    let mut json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&unit).unwrap()).unwrap();
+    json["gyro_id"] = serde_json::Value::from(format!("id{TRAP}"));
+    std::fs::write(&unit, json.to_string()).unwrap();
+    let val = sample("imu3-validation.csv");
+    let out = dir.path().join("cor.csv").display().to_string();
+    for args in [
+        vec!["evaluate", &unit, &val],
+        vec!["apply", &unit, &val, "--out", &out],
+        vec!["export", &unit, "--format", "px4-params"],
+        vec!["export", &unit, "--format", "nonsense"],
+    ] {
+        let run = driftlab(&args);
+        printable(&format!("{args:?}"), &run.stdout);
+        printable(&format!("{args:?}"), &run.stderr);
+    }
+}
