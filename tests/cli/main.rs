@@ -11,5 +11,7 @@ mod commands;
 mod kalibr;
 mod output_hashes;
 mod real_logs;
+mod report_escaping;
+mod report_folder;
 mod unit_calibrate;
 mod unit_judging;

@@ -50,7 +50,6 @@ pub(super) fn moved(path: &Path, from: &Path, to: &Path) -> PathBuf {
     }
 }
 
-
 /// Writes a report through `write` into a fresh staging folder beside `dest`, then puts that
 /// folder in `dest`'s place (see the module's documentation); what `write` returned comes back
 /// with its paths moved to `dest`, and so do the paths an error names.

@@ -125,7 +125,9 @@ pub fn write_unit(
         }
         log_axes.push(found);
     }
-    folder::replace(out_dir, |dir| write_axes(unit, logs, dir, merit, &hashes, log_axes))
+    folder::replace(out_dir, |dir| {
+        write_axes(unit, logs, dir, merit, &hashes, log_axes)
+    })
 }
 
 /// Writes every axis's figures into a folder of its own in `out_dir`, then the page.
