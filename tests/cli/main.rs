@@ -12,6 +12,8 @@ mod kalibr;
 mod output_hashes;
 mod quoting;
 mod real_logs;
+mod report_escaping;
+mod report_folder;
 mod silent_options;
 mod unit_calibrate;
 mod unit_judging;

@@ -3,10 +3,11 @@
 //! than raw marked. Apart from the page because it is the one table that reads every axis at
 //! once (a lot's table of units would be its sibling).
 
-use super::html::{escape, fmt_dph, fmt_ratio, tag};
+use super::LogReport;
+use super::html::{fmt_dph, fmt_ratio, tag};
 use super::page::PageAxis;
 use crate::judge::metrics::Comparison;
-use std::fmt::Write as _;
+use maud::{Markup, html};
 
 /// A figure in °/h, `n/a` when it could not be computed.
 fn dph(v: f64) -> String {
@@ -18,89 +19,101 @@ fn dph(v: f64) -> String {
 }
 
 /// A ratio cell: `n/a` when it cannot be computed, marked worse below 1.
-fn ratio_cell(r: f64) -> String {
-    if !r.is_finite() {
-        "<td class=\"num\">n/a</td>".into()
-    } else if r < 1.0 {
-        format!("<td class=\"num worse\">{} worse</td>", fmt_ratio(r))
-    } else {
-        format!("<td class=\"num\">{}</td>", fmt_ratio(r))
+fn ratio_cell(r: f64) -> Markup {
+    html! {
+        @if !r.is_finite() {
+            td class="num" { "n/a" }
+        } @else if r < 1.0 {
+            td class="num worse" { (fmt_ratio(r)) " worse" }
+        } @else {
+            td class="num" { (fmt_ratio(r)) }
+        }
     }
 }
 
 /// The summary of every axis: for each log, a line per axis with the four figures raw,
 /// corrected and their ratio.
-pub(super) fn summary(o: &mut String, axes: &[PageAxis<'_>]) {
+pub(super) fn summary(axes: &[PageAxis<'_>]) -> Markup {
     let Some(first) = axes.first() else {
-        return;
+        return html! {};
     };
-    let _ = writeln!(
-        o,
-        "<h2>Summary of every axis</h2>\n<p>Each axis judged as a single-axis calibration of it \
-         would be (its section below has the details): filtered drift over the axis's filter \
-         ({}), mean and RMS over consecutive windows of {:.0} s. Ratio = raw ÷ corrected \
-         (above 1: better; below 1 the correction made the figure worse than raw, marked \
-         <b>worse</b>).</p>",
-        axes.iter()
-            .map(|a| format!("{} {:.0} s", escape(a.name), a.summary.merit.filter_s))
-            .collect::<Vec<_>>()
-            .join(", "),
-        first.summary.merit.window_s
-    );
-    if first.summary.logs.is_empty() {
-        o.push_str("<p>No log was given: the calibration alone is reported.</p>\n");
-    }
-    for (k, l) in first.summary.logs.iter().enumerate() {
-        let _ = writeln!(o, "<h3>{} {}</h3>", escape(&l.name), tag(l.in_sample));
-        let _ = writeln!(
-            o,
-            "<table class=\"unit-summary\" data-log=\"{}\">\n<tr><th rowspan=\"2\">axis</th>\
-             <th rowspan=\"2\">model</th><th colspan=\"3\">peak-to-peak of filtered drift, °/h</th>\
-             <th colspan=\"3\">std of filtered drift, °/h</th><th colspan=\"3\">max |window mean|, °/h</th>\
-             <th colspan=\"3\">mean window RMS, °/h</th><th rowspan=\"2\">outside the calibrated ranges</th></tr>\n<tr>{}</tr>",
-            escape(&l.name),
-            "<th>raw</th><th>corrected</th><th>ratio</th>".repeat(4)
-        );
-        for a in axes {
-            let Some(l) = a.summary.logs.get(k) else {
-                continue;
-            };
-            let c: &Comparison = &l.evaluation.comparison;
-            let _ = write!(
-                o,
-                "<tr data-axis=\"{}\"><td>{}</td><td>{}</td>",
-                escape(a.name),
-                escape(a.name),
-                escape(a.model.name())
-            );
-            for (raw, cor, ratio) in [
-                (c.raw.p2p_dph, c.corrected.p2p_dph, c.p2p_ratio),
-                (c.raw.std_dph, c.corrected.std_dph, c.std_ratio),
-                (
-                    c.raw.win_mean_max_abs_dph,
-                    c.corrected.win_mean_max_abs_dph,
-                    c.win_mean_ratio,
-                ),
-                (
-                    c.raw.win_rms_mean_dph,
-                    c.corrected.win_rms_mean_dph,
-                    c.win_rms_ratio,
-                ),
-            ] {
-                let _ = write!(
-                    o,
-                    "<td class=\"num\">{}</td><td class=\"num\">{}</td>{}",
-                    dph(raw),
-                    dph(cor),
-                    ratio_cell(ratio)
-                );
-            }
-            let _ = writeln!(
-                o,
-                "<td class=\"num\">{:.1} %</td></tr>",
-                l.evaluation.outside_fraction * 100.0
-            );
+    let filters = axes
+        .iter()
+        .map(|a| format!("{} {:.0} s", a.name, a.summary.merit.filter_s))
+        .collect::<Vec<_>>()
+        .join(", ");
+    html! {
+        h2 { "Summary of every axis" } "\n"
+        p {
+            "Each axis judged as a single-axis calibration of it would be (its section below has \
+             the details): filtered drift over the axis's filter (" (filters) "), mean and RMS \
+             over consecutive windows of " (format!("{:.0}", first.summary.merit.window_s))
+            " s. Ratio = raw ÷ corrected (above 1: better; below 1 the correction made the \
+             figure worse than raw, marked " b { "worse" } ")."
         }
-        o.push_str("</table>\n");
+        "\n"
+        @if first.summary.logs.is_empty() {
+            p { "No log was given: the calibration alone is reported." } "\n"
+        }
+        @for (k, l) in first.summary.logs.iter().enumerate() {
+            h3 { (l.name) " " (tag(l.in_sample)) } "\n"
+            table class="unit-summary" data-log=(l.name) {
+                "\n"
+                tr {
+                    th rowspan="2" { "axis" }
+                    th rowspan="2" { "model" }
+                    th colspan="3" { "peak-to-peak of filtered drift, °/h" }
+                    th colspan="3" { "std of filtered drift, °/h" }
+                    th colspan="3" { "max |window mean|, °/h" }
+                    th colspan="3" { "mean window RMS, °/h" }
+                    th rowspan="2" { "outside the calibrated ranges" }
+                }
+                "\n"
+                tr {
+                    @for _ in 0..4 {
+                        th { "raw" } th { "corrected" } th { "ratio" }
+                    }
+                }
+                "\n"
+                @for a in axes {
+                    @if let Some(l) = a.summary.logs.get(k) {
+                        (axis_row(a, l))
+                    }
+                }
+            }
+            "\n"
+        }
+    }
+}
+
+/// The row of axis `a` in the table of its log `l`.
+fn axis_row(a: &PageAxis<'_>, l: &LogReport) -> Markup {
+    let c: &Comparison = &l.evaluation.comparison;
+    let cells = [
+        (c.raw.p2p_dph, c.corrected.p2p_dph, c.p2p_ratio),
+        (c.raw.std_dph, c.corrected.std_dph, c.std_ratio),
+        (
+            c.raw.win_mean_max_abs_dph,
+            c.corrected.win_mean_max_abs_dph,
+            c.win_mean_ratio,
+        ),
+        (
+            c.raw.win_rms_mean_dph,
+            c.corrected.win_rms_mean_dph,
+            c.win_rms_ratio,
+        ),
+    ];
+    html! {
+        tr data-axis=(a.name) {
+            td { (a.name) }
+            td { (a.model.name()) }
+            @for (raw, cor, ratio) in cells {
+                td class="num" { (dph(raw)) }
+                td class="num" { (dph(cor)) }
+                (ratio_cell(ratio))
+            }
+            td class="num" { (format!("{:.1}", l.evaluation.outside_fraction * 100.0)) " %" }
+        }
+        "\n"
     }
 }

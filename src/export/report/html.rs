@@ -3,12 +3,16 @@
 //! inline. The page (`page.rs`) is one HTML file with everything inline (figures as inline SVG,
 //! styles in the page), so it can be mailed, archived or printed on its own. No scripts, no
 //! links out.
+//!
+//! Every piece is a maud template: a value put into one is text, escaped by the template,
+//! whatever a log's file name, an axis, a gyro id or a recipe holds. Markup enters only as
+//! `PreEscaped`, and only for what driftlab itself wrote: the styles and the figures' SVG.
 
 pub use super::regression_section::{fmt_coef, fmt_se};
 
 use super::{Figure, LogReport, ReportSummary};
 use crate::error::{Error, Result};
-use std::fmt::Write as _;
+use maud::{DOCTYPE, Markup, PreEscaped, html};
 
 /// A figure of merit in °/h as the page prints it (4 decimals, as `driftlab evaluate`).
 pub fn fmt_dph(v: f64) -> String {
@@ -41,22 +45,6 @@ pub fn fmt_num(v: f64) -> String {
     format!("{v:.decimals$}")
 }
 
-/// Escapes text for HTML content and attribute values.
-pub fn escape(s: &str) -> String {
-    let mut out = String::with_capacity(s.len());
-    for c in s.chars() {
-        match c {
-            '&' => out.push_str("&amp;"),
-            '<' => out.push_str("&lt;"),
-            '>' => out.push_str("&gt;"),
-            '"' => out.push_str("&quot;"),
-            '\'' => out.push_str("&#39;"),
-            c => out.push(c),
-        }
-    }
-    out
-}
-
 pub(super) const CSS: &str = "
 body { font-family: 'DejaVu Sans', Verdana, sans-serif; font-size: 10.5pt; color: #111;
        max-width: 1100px; margin: 2em auto; padding: 0 1em; line-height: 1.4; }
@@ -85,63 +73,86 @@ figcaption { font-size: 9.5pt; color: #333; margin-top: 0.3em; }
 }
 ";
 
+/// A heading level of the page. The page's sections sit one level deeper in a unit's page
+/// than in a single-axis page, and the template names its tags statically: [`heading`] picks
+/// the tag.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum Level {
+    H2,
+    H3,
+    H4,
+}
+
+/// `content` as a heading of `level`, its line ended.
+pub(super) fn heading(level: Level, content: Markup) -> Markup {
+    match level {
+        Level::H2 => html! { h2 { (content) } "\n" },
+        Level::H3 => html! { h3 { (content) } "\n" },
+        Level::H4 => html! { h4 { (content) } "\n" },
+    }
+}
+
 /// The heading levels of a page's sections: a single-axis page's sections are `h2` (a log's
 /// figures of merit `h3`); in a unit's page each axis is an `h2` and its sections one deeper.
 #[derive(Debug, Clone, Copy)]
 pub(super) struct Depth {
     /// A section (Recipe, Figures, ...).
-    pub(super) section: &'static str,
+    pub(super) section: Level,
     /// A part of a section (one log's figures of merit).
-    pub(super) part: &'static str,
+    pub(super) part: Level,
 }
 
 /// The sections of a page of one calibration.
 pub(super) const PAGE: Depth = Depth {
-    section: "h2",
-    part: "h3",
+    section: Level::H2,
+    part: Level::H3,
 };
 
 /// The sections of one axis in a unit's page.
 pub(super) const AXIS: Depth = Depth {
-    section: "h3",
-    part: "h4",
+    section: Level::H3,
+    part: Level::H4,
 };
 
-pub(super) fn row(out: &mut String, key: &str, value: &str) {
-    let _ = writeln!(
-        out,
-        "<tr><th>{}</th><td>{}</td></tr>",
-        escape(key),
-        escape(value)
-    );
+/// A row of a two-column table: a name and its value, both text.
+pub(super) fn row(key: &str, value: &str) -> Markup {
+    html! { tr { th { (key) } td { (value) } } "\n" }
 }
 
-pub(super) fn tag(in_sample: bool) -> &'static str {
-    if in_sample {
-        "<span class=\"tag in-sample\">in-sample</span>"
-    } else {
-        "<span class=\"tag held-out\">held out</span>"
+/// The label of a log judged in-sample or held out.
+pub(super) fn tag(in_sample: bool) -> Markup {
+    html! {
+        @if in_sample {
+            span class="tag in-sample" { "in-sample" }
+        } @else {
+            span class="tag held-out" { "held out" }
+        }
     }
 }
 
-/// The SVG of a figure, ready to sit inside the page (the file as written, which has no XML
-/// declaration and no external references).
-fn inline_svg(f: &Figure) -> Result<String> {
+/// The corrected rate, as every introduction writes it.
+pub(super) fn corrected() -> Markup {
+    html! { "Ω" sub { "cor" } " = Ω" sub { "raw" } " − Ω" sub { "pred" } }
+}
+
+/// The SVG of a figure, ready to sit inside the page: the file as written (which has no XML
+/// declaration and no external references; plotters escapes every text it draws), its root
+/// given the figure's title as its label. The file is driftlab's own drawing, so it goes in
+/// as markup; the title goes through the template's escaping.
+fn inline_svg(f: &Figure) -> Result<Markup> {
     let text = std::fs::read_to_string(&f.svg).map_err(|e| Error::io(&f.svg, e))?;
     let start = text.find("<svg").unwrap_or(0);
-    Ok(text[start..].replacen(
+    let label = html! { (f.title) }.into_string();
+    Ok(PreEscaped(text[start..].replacen(
         "<svg ",
-        &format!(
-            "<svg role=\"img\" aria-label=\"{}\" preserveAspectRatio=\"xMidYMid meet\" ",
-            escape(&f.title)
-        ),
+        &format!("<svg role=\"img\" aria-label=\"{label}\" preserveAspectRatio=\"xMidYMid meet\" "),
         1,
-    ))
+    )))
 }
 
 /// A figure inline, its caption naming its PNG by its path from `page_dir` (the folder of the
 /// page: the file's name beside it, `gx/k0.png` for an axis of a unit).
-fn figure_html(out: &mut String, f: &Figure, page_dir: &std::path::Path) -> Result<()> {
+fn figure_html(f: &Figure, page_dir: &std::path::Path) -> Result<Markup> {
     let name = match f.png.strip_prefix(page_dir) {
         Ok(rel) if !page_dir.as_os_str().is_empty() => rel
             .components()
@@ -154,44 +165,22 @@ fn figure_html(out: &mut String, f: &Figure, page_dir: &std::path::Path) -> Resu
             .map(|s| s.to_string_lossy().into_owned())
             .unwrap_or_default(),
     };
-    let _ = writeln!(out, "<figure>");
-    out.push_str(&inline_svg(f)?);
-    let _ = writeln!(
-        out,
-        "<figcaption><b>{}.</b> {} <i>(also {} and .svg beside this page)</i></figcaption></figure>",
-        escape(&f.title),
-        escape(&f.caption),
-        escape(&name)
-    );
-    Ok(())
+    let svg = inline_svg(f)?;
+    Ok(html! {
+        figure {
+            "\n" (svg)
+            figcaption {
+                b { (f.title) "." } " " (f.caption) " "
+                i { "(also " (name) " and .svg beside this page)" }
+            }
+        }
+        "\n"
+    })
 }
 
-fn merit_table(out: &mut String, l: &LogReport, d: Depth) {
+fn merit_table(l: &LogReport, d: Depth) -> Markup {
     let e = &l.evaluation;
     let c = &e.comparison;
-    let _ = writeln!(
-        out,
-        "<{h}>{} {}</{h}>\n<p>{} samples, {:.2} h, T {:.1} … {:.1} °C; {} warm-up samples left out, \
-         {} windows of 10 min; {:.1} % of samples outside the calibrated ranges. SHA-256 <code>{}</code></p>",
-        escape(&l.name),
-        tag(l.in_sample),
-        l.samples,
-        l.duration_s / 3600.0,
-        l.temp_range_c.0,
-        l.temp_range_c.1,
-        e.warmup_samples,
-        c.raw.windows,
-        e.outside_fraction * 100.0,
-        escape(&l.sha256),
-        h = d.part
-    );
-    let _ = writeln!(
-        out,
-        "<table class=\"merit\" data-log=\"{}\" data-set=\"{}\">\n<tr><th>figure, °/h</th>\
-         <th>raw</th><th>corrected</th><th>ratio</th></tr>",
-        escape(&l.name),
-        if l.in_sample { "in-sample" } else { "held-out" }
-    );
     let rows = [
         (
             "peak-to-peak of filtered drift",
@@ -231,74 +220,101 @@ fn merit_table(out: &mut String, l: &LogReport, d: Depth) {
         ),
         ("mean", c.raw.mean_dph, c.corrected.mean_dph, None),
     ];
-    for (name, raw, cor, ratio) in rows {
-        let _ = writeln!(
-            out,
-            "<tr><td>{name}</td><td class=\"num\">{}</td><td class=\"num\">{}</td><td class=\"num\">{}</td></tr>",
-            fmt_dph(raw),
-            fmt_dph(cor),
-            ratio.map(fmt_ratio).unwrap_or_default()
-        );
+    html! {
+        (heading(d.part, html! { (l.name) " " (tag(l.in_sample)) }))
+        p {
+            (l.samples) " samples, " (format!("{:.2}", l.duration_s / 3600.0)) " h, T "
+            (format!("{:.1}", l.temp_range_c.0)) " … " (format!("{:.1}", l.temp_range_c.1))
+            " °C; " (e.warmup_samples) " warm-up samples left out, " (c.raw.windows)
+            " windows of 10 min; " (format!("{:.1}", e.outside_fraction * 100.0))
+            " % of samples outside the calibrated ranges. SHA-256 " code { (l.sha256) }
+        }
+        "\n"
+        table class="merit" data-log=(l.name)
+            data-set=(if l.in_sample { "in-sample" } else { "held-out" }) {
+            "\n"
+            tr { th { "figure, °/h" } th { "raw" } th { "corrected" } th { "ratio" } }
+            "\n"
+            @for (name, raw, cor, ratio) in rows {
+                tr {
+                    td { (name) }
+                    td class="num" { (fmt_dph(raw)) }
+                    td class="num" { (fmt_dph(cor)) }
+                    td class="num" { (ratio.map(fmt_ratio).unwrap_or_default()) }
+                }
+                "\n"
+            }
+        }
+        "\n"
     }
-    out.push_str("</table>\n");
 }
 
-/// The page's head up to `<body>`, with the styles (and `extra_css` after them).
-pub(super) fn head(o: &mut String, gyro: &str, extra_css: &str) {
-    let _ = writeln!(
-        o,
-        "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n\
-         <title>Thermal drift calibration report: {}</title>\n<style>{CSS}{extra_css}</style>\n</head>\n<body>",
-        escape(gyro)
-    );
+/// The whole page: its head up to `<body>`, with the styles (and `extra_css` after them),
+/// then `body`.
+pub(super) fn document(gyro: &str, extra_css: &str, body: Markup) -> Markup {
+    html! {
+        (DOCTYPE) "\n"
+        html lang="en" {
+            "\n"
+            head {
+                "\n" meta charset="utf-8"; "\n"
+                title { "Thermal drift calibration report: " (gyro) } "\n"
+                style { (PreEscaped(CSS)) (PreEscaped(extra_css)) } "\n"
+            }
+            "\n"
+            body { "\n" (body) }
+            "\n"
+        }
+        "\n"
+    }
 }
 
 /// The figures of merit of every log.
-pub(super) fn merit_section(o: &mut String, s: &ReportSummary, d: Depth) {
-    let _ = writeln!(
-        o,
-        "<{h}>Figures of merit</{h}>\n<p>Filtered drift: {:.0}-s centred moving average; mean and \
-         RMS over consecutive {:.0}-s windows. Ratio = raw ÷ corrected (above 1: better). \
-         <b>In-sample</b>: fitted and judged on the same log, as the papers do; <b>held out</b>: \
-         judged on another log of the same gyro, what matters in service.</p>",
-        s.merit.filter_s,
-        s.merit.window_s,
-        h = d.section
-    );
-    if s.logs.is_empty() {
-        o.push_str("<p>No log was given: the calibration alone is reported.</p>\n");
-    }
-    for l in &s.logs {
-        merit_table(o, l, d);
+pub(super) fn merit_section(s: &ReportSummary, d: Depth) -> Markup {
+    html! {
+        (heading(d.section, html! { "Figures of merit" }))
+        p {
+            "Filtered drift: " (format!("{:.0}", s.merit.filter_s))
+            "-s centred moving average; mean and RMS over consecutive "
+            (format!("{:.0}", s.merit.window_s))
+            "-s windows. Ratio = raw ÷ corrected (above 1: better). "
+            b { "In-sample" } ": fitted and judged on the same log, as the papers do; "
+            b { "held out" } ": judged on another log of the same gyro, what matters in service."
+        }
+        "\n"
+        @if s.logs.is_empty() {
+            p { "No log was given: the calibration alone is reported." } "\n"
+        }
+        @for l in &s.logs {
+            (merit_table(l, d))
+        }
     }
 }
 
 /// Every figure of `s` and its notes, at depth `d`, the figures' files named from `page_dir`.
 pub(super) fn figures_and_notes(
-    o: &mut String,
     s: &ReportSummary,
     d: Depth,
     page_dir: &std::path::Path,
-) -> Result<()> {
-    let h = d.section;
-    let _ = writeln!(o, "<{h}>Figures</{h}>");
-    for f in &s.figures {
-        figure_html(o, f, page_dir)?;
-    }
-    for l in &s.logs {
-        for f in &l.figures {
-            figure_html(o, f, page_dir)?;
+) -> Result<Markup> {
+    let figures = s
+        .figures
+        .iter()
+        .chain(s.logs.iter().flat_map(|l| &l.figures))
+        .map(|f| figure_html(f, page_dir))
+        .collect::<Result<Vec<Markup>>>()?;
+    Ok(html! {
+        (heading(d.section, html! { "Figures" }))
+        @for f in &figures { (f) }
+        @if !s.notes.is_empty() {
+            (heading(d.section, html! { "Notes" }))
+            ul class="notes" {
+                "\n"
+                @for n in &s.notes { li { (n) } "\n" }
+            }
+            "\n"
         }
-    }
-
-    if !s.notes.is_empty() {
-        let _ = write!(o, "<{h}>Notes</{h}>\n<ul class=\"notes\">\n");
-        for n in &s.notes {
-            let _ = writeln!(o, "<li>{}</li>", escape(n));
-        }
-        o.push_str("</ul>\n");
-    }
-    Ok(())
+    })
 }
 
 #[cfg(test)]
@@ -316,10 +332,10 @@ mod tests {
     }
 
     #[test]
-    fn text_is_escaped() {
+    fn a_row_escapes_both_cells() {
         assert_eq!(
-            escape("<a href=\"x\">&'"),
-            "&lt;a href=&quot;x&quot;&gt;&amp;&#39;"
+            row("<a href=\"x\">", "&'").into_string(),
+            "<tr><th>&lt;a href=&quot;x&quot;&gt;</th><td>&amp;'</td></tr>\n"
         );
     }
 }

@@ -29,6 +29,7 @@
 
 mod axis_summary;
 pub mod figures;
+mod folder;
 pub mod html;
 mod log_section;
 mod model_figures;
@@ -37,6 +38,7 @@ mod regression_section;
 mod unit;
 mod vakhrameev_section;
 
+pub use folder::MARKER;
 pub use unit::{AxisReport, UnitMerit, UnitReportSummary, write_unit};
 
 use crate::error::{Error, Result};
@@ -47,6 +49,7 @@ use crate::models::fitted::DriftModel;
 use crate::models::regression::RegressionCalibration;
 use crate::models::vakhrameev::correct::Correction;
 use crate::models::vakhrameev::{Calibration, SourceInfo};
+use folder::{Relocate, moved};
 use log_section::{LogSection, log_report};
 use model_figures::ModelFigures;
 use page::PageAxis;
@@ -122,7 +125,7 @@ pub struct LogReport {
 pub struct ReportSummary {
     /// The HTML page.
     pub html: PathBuf,
-    /// Every file written, the page last.
+    /// Every file written, the page last (the folder's [`MARKER`] aside).
     pub files: Vec<PathBuf>,
     /// The calibration's figures (K0, K1±, K2±).
     pub figures: Vec<Figure>,
@@ -132,6 +135,27 @@ pub struct ReportSummary {
     pub merit: MeritOptions,
     /// Things the reader should know (no in-sample log given, no Allan curves, ...).
     pub notes: Vec<String>,
+}
+
+impl Relocate for Figure {
+    fn relocate(&mut self, from: &Path, to: &Path) {
+        self.png = moved(&self.png, from, to);
+        self.svg = moved(&self.svg, from, to);
+    }
+}
+
+impl Relocate for ReportSummary {
+    /// The report's own files; the logs' paths are where they were read from.
+    fn relocate(&mut self, from: &Path, to: &Path) {
+        self.html = moved(&self.html, from, to);
+        for f in &mut self.files {
+            *f = moved(f, from, to);
+        }
+        let log_figures = self.logs.iter_mut().flat_map(|l| &mut l.figures);
+        for f in self.figures.iter_mut().chain(log_figures) {
+            f.relocate(from, to);
+        }
+    }
 }
 
 /// Allan deviation of `log`'s raw rate and of its `correction`, for the
@@ -213,29 +237,34 @@ fn figure(title: String, caption: String, files: Vec<PathBuf>) -> Figure {
 }
 
 /// Writes the report of any model judged on `logs` (each with the path it was read from) into
-/// `out_dir`, creating it: the model's own figures (a Vakhrameev calibration's `k0`, `k1`,
-/// `k2`; a regression model's `costs`), each log's figures, and `report.html`, the page of a
-/// unit of one axis. Every file is written atomically.
+/// the folder `out_dir`: the model's own figures (a Vakhrameev calibration's `k0`, `k1`, `k2`;
+/// a regression model's `costs`), each log's figures, and `report.html`, the page of a unit of
+/// one axis. The report is written beside `out_dir` and then put in its place whole
+/// (`folder.rs`): a failure leaves `out_dir` as it was, and a report replacing an earlier one
+/// leaves none of the earlier one's files. `out_dir` must be new, empty or a report.
 ///
 /// # Errors
 /// Figures of merit without a positive filter or window, a log lacking a channel the model
-/// reads, a figure that cannot be drawn, a file that cannot be written.
+/// reads, a figure that cannot be drawn, a file that cannot be written, an `out_dir` that is
+/// a file or a folder holding other things than a report.
 pub fn write_model(
     model: &DriftModel,
     logs: &[(PathBuf, Log)],
     out_dir: &Path,
     opts: &ReportOptions,
 ) -> Result<ReportSummary> {
-    let mut summary = build(model, logs, out_dir, opts)?;
-    let axis = PageAxis {
-        name: "",
-        rate_column: "",
-        model,
-        summary: &summary,
-    };
-    page::write(&[axis], &summary.html)?;
-    summary.files.push(summary.html.clone());
-    Ok(summary)
+    folder::replace(out_dir, |dir| {
+        let mut summary = build(model, logs, dir, opts)?;
+        let axis = PageAxis {
+            name: "",
+            rate_column: "",
+            model,
+            summary: &summary,
+        };
+        page::write(&[axis], &summary.html)?;
+        summary.files.push(summary.html.clone());
+        Ok(summary)
+    })
 }
 
 /// Writes the report of a regression model judged on `logs` into `out_dir`, as
@@ -276,8 +305,9 @@ pub fn write(
     )
 }
 
-/// The figures and figures of merit of one axis's report, without its page: the folder made,
-/// the model's own figures, then a section for every log.
+/// The figures and figures of merit of one axis's report, without its page: the folder made
+/// (an axis's, inside a unit's staging folder), the model's own figures, then a section for
+/// every log.
 fn build(
     model: &DriftModel,
     logs: &[(PathBuf, Log)],

@@ -14,11 +14,11 @@
 
 use super::ReportSummary;
 use super::axis_summary::summary;
-use super::html::{AXIS, Depth, PAGE, escape, figures_and_notes, head, row};
+use super::html::{AXIS, Depth, PAGE, corrected, document, figures_and_notes, row};
 use super::{regression_section, vakhrameev_section};
 use crate::error::{Error, Result};
 use crate::models::DriftModel;
-use std::fmt::Write as _;
+use maud::{Markup, html};
 use std::path::Path;
 
 /// One axis of a page: as the unit's calibration names it, its model, and what its report drew
@@ -39,9 +39,6 @@ const UNIT_CSS: &str = "
 td.worse { color: #a00000; font-weight: bold; }
 h2.axis { border-bottom: 2px solid #333; }
 ";
-
-/// The corrected rate, as every introduction writes it.
-const CORRECTED: &str = "Ω<sub>cor</sub> = Ω<sub>raw</sub> − Ω<sub>pred</sub>";
 
 /// How a page lays out its axes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -93,122 +90,117 @@ fn page(axes: &[PageAxis<'_>], page_dir: &Path) -> Result<String> {
     } else {
         first.model.gyro_id()
     };
-    let mut o = String::with_capacity(1 << 20);
-    match layout {
-        Layout::Single => {
-            head(&mut o, gyro, "");
-            single_intro(&mut o, first.model, gyro);
-        }
-        Layout::Unit => {
-            head(&mut o, gyro, UNIT_CSS);
-            unit_intro(&mut o, axes, gyro);
-        }
-    }
-    identity(&mut o, axes, layout, gyro);
-    if layout == Layout::Unit {
-        summary(&mut o, axes);
-    }
     let depth = layout.depth();
-    for axis in axes {
-        if layout == Layout::Unit {
-            axis_heading(&mut o, axis);
+    let figures = axes
+        .iter()
+        .map(|a| figures_and_notes(a.summary, depth, page_dir))
+        .collect::<Result<Vec<Markup>>>()?;
+    let body = html! {
+        @match layout {
+            Layout::Single => (single_intro(first.model, gyro)),
+            Layout::Unit => (unit_intro(axes, gyro)),
         }
-        match axis.model {
-            DriftModel::Vakhrameev(cal) => {
-                vakhrameev_section::body(&mut o, cal, axis.summary, depth)
-            }
-            DriftModel::Regression(reg) => {
-                regression_section::body(&mut o, reg, axis.summary, depth)
-            }
+        (identity(axes, layout, gyro))
+        @if layout == Layout::Unit {
+            (summary(axes))
         }
-        figures_and_notes(&mut o, axis.summary, depth, page_dir)?;
-    }
-    o.push_str("</body>\n</html>\n");
-    Ok(o)
+        @for (axis, figures) in axes.iter().zip(&figures) {
+            @if layout == Layout::Unit {
+                (axis_heading(axis))
+            }
+            @match axis.model {
+                DriftModel::Vakhrameev(cal) => {
+                    (vakhrameev_section::body(cal, axis.summary, depth))
+                }
+                DriftModel::Regression(reg) => {
+                    (regression_section::body(reg, axis.summary, depth))
+                }
+            }
+            (figures)
+        }
+    };
+    let extra_css = match layout {
+        Layout::Single => "",
+        Layout::Unit => UNIT_CSS,
+    };
+    Ok(document(gyro, extra_css, body).into_string())
 }
 
 /// The title and the model of a single-axis calibration.
-fn single_intro(o: &mut String, model: &DriftModel, gyro: &str) {
-    let _ = write!(
-        o,
-        "<h1>Thermal drift calibration report</h1>\n<p>Gyro <b class=\"gyro-id\">{}</b>, ",
-        escape(gyro)
-    );
-    let _ = match model {
-        DriftModel::Vakhrameev(_) => writeln!(
-            o,
-            "Vakhrameev model {}, {CORRECTED} (+ where Ṫ·T̈ &gt; 0, − where Ṫ·T̈ &lt; 0).</p>",
-            vakhrameev_section::FORMULA
-        ),
-        DriftModel::Regression(reg) => writeln!(
-            o,
-            "regression model <b class=\"model-name\">{}</b>: {}. {}, {CORRECTED}.</p>",
-            escape(&reg.model.spec.name),
-            escape(&regression_section::describe(&reg.model.spec.name)),
-            regression_section::formula_html(reg)
-        ),
-    };
+fn single_intro(model: &DriftModel, gyro: &str) -> Markup {
+    html! {
+        h1 { "Thermal drift calibration report" } "\n"
+        p {
+            "Gyro " b class="gyro-id" { (gyro) } ", "
+            @match model {
+                DriftModel::Vakhrameev(_) => {
+                    "Vakhrameev model " (vakhrameev_section::formula()) ", " (corrected())
+                    " (+ where Ṫ·T̈ > 0, − where Ṫ·T̈ < 0)."
+                }
+                DriftModel::Regression(reg) => {
+                    "regression model " b class="model-name" { (reg.model.spec.name) } ": "
+                    (regression_section::describe(&reg.model.spec.name)) ". "
+                    (regression_section::formula_html(reg)) ", " (corrected()) "."
+                }
+            }
+        }
+        "\n"
+    }
 }
 
 /// The title of a unit, naming every axis and its model.
-fn unit_intro(o: &mut String, axes: &[PageAxis<'_>], gyro: &str) {
+fn unit_intro(axes: &[PageAxis<'_>], gyro: &str) -> Markup {
     let names: Vec<&str> = axes.iter().map(|a| a.name).collect();
     let models: Vec<String> = axes
         .iter()
-        .map(|a| format!("{} {}", escape(a.name), escape(a.model.name())))
+        .map(|a| format!("{} {}", a.name, a.model.name()))
         .collect();
-    let _ = writeln!(
-        o,
-        "<h1>Thermal drift calibration report</h1>\n<p>Unit <b class=\"gyro-id\">{}</b> of {} \
-         gyro axes ({}), each calibrated with its own model ({}) from the unit's one \
-         temperature; {CORRECTED} on each axis.</p>",
-        escape(gyro),
-        axes.len(),
-        escape(&names.join(", ")),
-        models.join(", ")
-    );
+    html! {
+        h1 { "Thermal drift calibration report" } "\n"
+        p {
+            "Unit " b class="gyro-id" { (gyro) } " of " (axes.len()) " gyro axes ("
+            (names.join(", ")) "), each calibrated with its own model (" (models.join(", "))
+            ") from the unit's one temperature; " (corrected()) " on each axis."
+        }
+        "\n"
+    }
 }
 
 /// The identity of the calibration: the gyro, its axes or its model, the log it was fitted
 /// on, when it was made and when and by what the report was written.
-fn identity(o: &mut String, axes: &[PageAxis<'_>], layout: Layout, gyro: &str) {
+fn identity(axes: &[PageAxis<'_>], layout: Layout, gyro: &str) -> Markup {
     let Some(first) = axes.first() else {
-        return;
+        return html! {};
     };
-    o.push_str("<h2>Identity</h2>\n<table>\n");
-    row(o, "gyro id", gyro);
-    match (layout, first.model) {
-        (Layout::Unit, _) => {
-            let names: Vec<&str> = axes.iter().map(|a| a.name).collect();
-            row(o, "axes", &names.join(", "));
-        }
-        (Layout::Single, DriftModel::Regression(reg)) => row(o, "model", &reg.model.spec.name),
-        (Layout::Single, DriftModel::Vakhrameev(_)) => {}
-    }
     let source = first.model.source();
-    row(o, "calibration log", &source.name);
-    row(o, "its SHA-256", &source.sha256);
-    row(
-        o,
-        "its samples, duration",
-        &format!(
-            "{} samples, {:.2} h",
-            source.samples,
-            source.duration_s / 3600.0
-        ),
-    );
-    row(o, "calibration created", created(first.model));
-    row(
-        o,
-        "report written",
-        &humantime::format_rfc3339_seconds(std::time::SystemTime::now()).to_string(),
-    );
-    row(
-        o,
-        "written by",
-        &format!("driftlab {}", env!("CARGO_PKG_VERSION")),
-    );
-    o.push_str("</table>\n");
+    let names: Vec<&str> = axes.iter().map(|a| a.name).collect();
+    html! {
+        h2 { "Identity" } "\n"
+        table {
+            "\n"
+            (row("gyro id", gyro))
+            @match (layout, first.model) {
+                (Layout::Unit, _) => (row("axes", &names.join(", "))),
+                (Layout::Single, DriftModel::Regression(reg)) => {
+                    (row("model", &reg.model.spec.name))
+                }
+                (Layout::Single, DriftModel::Vakhrameev(_)) => {}
+            }
+            (row("calibration log", &source.name))
+            (row("its SHA-256", &source.sha256))
+            (row(
+                "its samples, duration",
+                &format!("{} samples, {:.2} h", source.samples, source.duration_s / 3600.0),
+            ))
+            (row("calibration created", created(first.model)))
+            (row(
+                "report written",
+                &humantime::format_rfc3339_seconds(std::time::SystemTime::now()).to_string(),
+            ))
+            (row("written by", &format!("driftlab {}", env!("CARGO_PKG_VERSION"))))
+        }
+        "\n"
+    }
 }
 
 /// When the calibration of `model` was made.
@@ -220,32 +212,25 @@ fn created(model: &DriftModel) -> &str {
 }
 
 /// The heading of an axis's section in a unit's page and its model in one sentence.
-fn axis_heading(o: &mut String, axis: &PageAxis<'_>) {
-    let _ = writeln!(
-        o,
-        "<h2 class=\"axis\" id=\"axis-{}\">Axis {}</h2>",
-        escape(axis.name),
-        escape(axis.name)
-    );
-    let column = if axis.rate_column.is_empty() {
-        String::new()
-    } else {
-        format!(
-            ", calibrated from column <code>{}</code>",
-            escape(axis.rate_column)
-        )
+fn axis_heading(axis: &PageAxis<'_>) -> Markup {
+    let column = html! {
+        @if !axis.rate_column.is_empty() {
+            ", calibrated from column " code { (axis.rate_column) }
+        }
     };
-    let _ = match axis.model {
-        DriftModel::Vakhrameev(_) => writeln!(
-            o,
-            "<p>Vakhrameev model {}{column}.</p>",
-            vakhrameev_section::FORMULA
-        ),
-        DriftModel::Regression(reg) => writeln!(
-            o,
-            "<p>Regression model <b class=\"model-name\">{}</b>: {}{column}.</p>",
-            escape(&reg.model.spec.name),
-            regression_section::formula_html(reg)
-        ),
-    };
+    html! {
+        h2 class="axis" id={ "axis-" (axis.name) } { "Axis " (axis.name) } "\n"
+        p {
+            @match axis.model {
+                DriftModel::Vakhrameev(_) => {
+                    "Vakhrameev model " (vakhrameev_section::formula()) (column) "."
+                }
+                DriftModel::Regression(reg) => {
+                    "Regression model " b class="model-name" { (reg.model.spec.name) } ": "
+                    (regression_section::formula_html(reg)) (column) "."
+                }
+            }
+        }
+        "\n"
+    }
 }

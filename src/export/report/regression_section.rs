@@ -4,9 +4,9 @@
 //! holds it once for a single-axis model and once per regression axis of a unit.
 
 use super::ReportSummary;
-use super::html::{Depth, escape, fmt_num, merit_section, row};
+use super::html::{Depth, fmt_num, heading, merit_section, row};
 use crate::models::regression::{FitSamples, RegressionCalibration};
-use std::fmt::Write as _;
+use maud::{Markup, html};
 
 /// A coefficient of a regression model as the page prints it: seven significant digits in
 /// mantissa-exponent form (coefficients of T³ and of T̈ differ by many orders of magnitude).
@@ -39,115 +39,151 @@ pub(super) fn formula(cal: &RegressionCalibration) -> String {
 }
 
 /// The model as its introduction on the page writes it: the sum over its terms.
-pub(super) fn formula_html(cal: &RegressionCalibration) -> String {
-    format!(
-        "Ω<sub>pred</sub> = Σ coefficient · term over the terms <code>{}</code>",
-        escape(&formula(cal))
-    )
+pub(super) fn formula_html(cal: &RegressionCalibration) -> Markup {
+    html! {
+        "Ω" sub { "pred" } " = Σ coefficient · term over the terms " code { (formula(cal)) }
+    }
 }
 
 /// What a regression model's page holds after its identity: the figures of merit, the model,
 /// its coefficients, input ranges and searches, its sections at depth `d`.
-pub(super) fn body(o: &mut String, cal: &RegressionCalibration, s: &ReportSummary, d: Depth) {
-    let h = d.section;
+pub(super) fn body(cal: &RegressionCalibration, s: &ReportSummary, d: Depth) -> Markup {
+    let spec_json = serde_json::to_string_pretty(&cal.model.spec).unwrap_or_default();
+    html! {
+        (merit_section(s, d))
+        (heading(d.section, html! { "Model" }))
+        table { "\n" (model_rows(cal)) }
+        "\n"
+        (heading(d.section, html! { "Coefficients" }))
+        p {
+            "Least-squares coefficients, °/h per unit of their term, ± standard error \
+             (white-noise assumption: correlated noise makes the real uncertainty larger)."
+        }
+        "\n"
+        table class="coefficients" {
+            "\n"
+            tr { th { "term" } th { "coefficient" } th { "± standard error" } th { "what it is" } }
+            "\n"
+            (coefficient_rows(cal))
+        }
+        "\n"
+        (heading(d.section, html! { "Input ranges" }))
+        p {
+            "The ranges the inputs were fitted on. Outside them T, ΔT and the extra channels \
+             are held at the edge value (the curves of them are not extrapolated); Ṫ and T̈ are \
+             only flagged (terms are linear in them)."
+        }
+        "\n"
+        table {
+            "\n"
+            tr { th { "input" } th { "min" } th { "max" } th { "beyond it" } }
+            "\n"
+            (range_rows(cal))
+        }
+        "\n"
+        @if !cal.model.searches.is_empty() {
+            (heading(d.section, html! { "Searches" }))
+            table {
+                "\n"
+                tr {
+                    th { "parameter" } th { "values tried" } th { "chosen" }
+                    th { "RMS residual there, °/h" } th { "note" }
+                }
+                "\n"
+                (search_rows(cal))
+            }
+            "\n"
+        }
+        p { "The model's specification as stored in the calibration file:" } "\n"
+        pre { (spec_json) } "\n"
+    }
+}
+
+/// The rows of the model's table: its terms, what it was fitted on, its statistics, λ, τd(T),
+/// the lag, the knots and the T settings.
+fn model_rows(cal: &RegressionCalibration) -> Markup {
     let m = &cal.model;
     let spec = &m.spec;
-    let formula = formula(cal);
-    merit_section(o, s, d);
-
-    // The model.
-    let _ = write!(o, "<{h}>Model</{h}>\n<table>\n");
-    row(o, "terms", &formula);
-    row(
-        o,
-        "fitted on",
-        match spec.samples {
-            FitSamples::All => "every sample with a full rate history",
-            FitSamples::Plateaus => "the temperature plateaus only",
-            FitSamples::Staged => "static terms on the plateaus, then rate terms on every sample",
-        },
-    );
-    row(
-        o,
-        "fit statistics",
-        &format!(
-            "{} samples, RMS residual {} °/h, R² {:.4}",
-            m.stats.n,
-            fmt_num(m.stats.rmse),
-            m.stats.r2
+    let delay = if m.delay.points.is_empty() {
+        "none".to_string()
+    } else {
+        m.delay
+            .points
+            .iter()
+            .map(|p| format!("{} s at {} °C", fmt_num(p[1]), fmt_num(p[0])))
+            .collect::<Vec<_>>()
+            .join("; ")
+            + " (piecewise-linear in T, held at the end values)"
+    };
+    let lag = match m.lag_s {
+        Some(l) if m.lag_per_c != 0.0 => format!(
+            "first-order, τ = {} s at 20 °C, τ/(1 + {}·(T − 20 °C)) elsewhere",
+            fmt_num(l),
+            fmt_num(m.lag_per_c)
         ),
-    );
-    row(
-        o,
-        "self-heating constant λ",
-        &match m.lambda_s {
-            Some(l) => format!("{} s", fmt_num(l)),
-            None => "— (no selfheat term)".into(),
-        },
-    );
-    row(
-        o,
-        "delay τd(T)",
-        &if m.delay.points.is_empty() {
-            "none".to_string()
-        } else {
-            m.delay
-                .points
-                .iter()
-                .map(|p| format!("{} s at {} °C", fmt_num(p[1]), fmt_num(p[0])))
-                .collect::<Vec<_>>()
-                .join("; ")
-                + " (piecewise-linear in T, held at the end values)"
-        },
-    );
-    row(
-        o,
-        "lag of T",
-        &match m.lag_s {
-            Some(l) if m.lag_per_c != 0.0 => format!(
-                "first-order, τ = {} s at 20 °C, τ/(1 + {}·(T − 20 °C)) elsewhere",
-                fmt_num(l),
-                fmt_num(m.lag_per_c)
+        Some(l) => format!("first-order, τ = {} s", fmt_num(l)),
+        None => "none (T as measured)".into(),
+    };
+    html! {
+        (row("terms", &formula(cal)))
+        (row(
+            "fitted on",
+            match spec.samples {
+                FitSamples::All => "every sample with a full rate history",
+                FitSamples::Plateaus => "the temperature plateaus only",
+                FitSamples::Staged => {
+                    "static terms on the plateaus, then rate terms on every sample"
+                }
+            },
+        ))
+        (row(
+            "fit statistics",
+            &format!(
+                "{} samples, RMS residual {} °/h, R² {:.4}",
+                m.stats.n,
+                fmt_num(m.stats.rmse),
+                m.stats.r2
             ),
-            Some(l) => format!("first-order, τ = {} s", fmt_num(l)),
-            None => "none (T as measured)".into(),
-        },
-    );
-    if !m.t_knots.is_empty() {
-        row(
-            o,
-            "pwlT knots",
-            &(m.t_knots
-                .iter()
-                .map(|&k| fmt_num(k))
-                .collect::<Vec<_>>()
-                .join(", ")
-                + " °C"),
-        );
+        ))
+        (row(
+            "self-heating constant λ",
+            &match m.lambda_s {
+                Some(l) => format!("{} s", fmt_num(l)),
+                None => "— (no selfheat term)".into(),
+            },
+        ))
+        (row("delay τd(T)", &delay))
+        (row("lag of T", &lag))
+        @if !m.t_knots.is_empty() {
+            (row(
+                "pwlT knots",
+                &(m.t_knots
+                    .iter()
+                    .map(|&k| fmt_num(k))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+                    + " °C"),
+            ))
+        }
+        @if let Some(t2) = &m.temp2 {
+            (row("second temperature sensor (dT = T − T2)", t2))
+        }
+        (row(
+            "T smoothing, derivative step H",
+            &format!(
+                "{} s causal moving average, H = {} s, at {} s sampling",
+                spec.smoothing_s, spec.step_h_s, m.dt_s
+            ),
+        ))
     }
-    if let Some(t2) = &m.temp2 {
-        row(o, "second temperature sensor (dT = T − T2)", t2);
-    }
-    row(
-        o,
-        "T smoothing, derivative step H",
-        &format!(
-            "{} s causal moving average, H = {} s, at {} s sampling",
-            spec.smoothing_s, spec.step_h_s, m.dt_s
-        ),
-    );
-    o.push_str("</table>\n");
+}
 
-    // Coefficients.
-    let _ = write!(
-        o,
-        "<{h}>Coefficients</{h}>\n<p>Least-squares coefficients, °/h per unit of their term, \
-         ± standard error (white-noise assumption: correlated noise makes the real uncertainty \
-         larger).</p>\n<table class=\"coefficients\">\n<tr><th>term</th><th>coefficient</th>\
-         <th>± standard error</th><th>what it is</th></tr>\n",
-    );
+/// A row per coefficient: its column's name, value ± standard error, and what its term is.
+fn coefficient_rows(cal: &RegressionCalibration) -> Markup {
+    let m = &cal.model;
+    let mut rows = Vec::new();
     let mut col = 0;
-    for t in &spec.terms {
+    for t in &m.spec.terms {
         for k in 0..t.width() {
             let (Some(name), Some(c), Some(se)) = (
                 m.names.get(col),
@@ -164,86 +200,77 @@ pub(super) fn body(o: &mut String, cal: &RegressionCalibration, s: &ReportSummar
                 ),
                 _ => t.describe(),
             };
-            let _ = writeln!(
-                o,
-                "<tr><td><code>{}</code></td><td class=\"num\">{}</td><td class=\"num\">± {}</td><td>{}</td></tr>",
-                escape(name),
-                fmt_coef(*c),
-                fmt_se(*se),
-                escape(&what)
-            );
+            rows.push((name, *c, *se, what));
             col += 1;
         }
     }
-    o.push_str("</table>\n");
+    html! {
+        @for (name, c, se, what) in &rows {
+            tr {
+                td { code { (name) } }
+                td class="num" { (fmt_coef(*c)) }
+                td class="num" { "± " (fmt_se(*se)) }
+                td { (what) }
+            }
+            "\n"
+        }
+    }
+}
 
-    // Input ranges.
-    let _ = write!(
-        o,
-        "<{h}>Input ranges</{h}>\n<p>The ranges the inputs were fitted on. Outside them T, ΔT and \
-         the extra channels are held at the edge value (the curves of them are not \
-         extrapolated); Ṫ and T̈ are only flagged (terms are linear in them).</p>\n<table>\n\
-         <tr><th>input</th><th>min</th><th>max</th><th>beyond it</th></tr>\n",
-    );
+/// A row per input with a fitted range: T, Ṫ, T̈, ΔT and each extra channel.
+fn range_rows(cal: &RegressionCalibration) -> Markup {
+    let m = &cal.model;
     let r = &m.ranges;
-    let mut range_row = |name: &str, range: Option<[f64; 2]>, hold: bool| {
-        if let Some([lo, hi]) = range {
-            let _ = writeln!(
-                o,
-                "<tr><td>{}</td><td class=\"num\">{}</td><td class=\"num\">{}</td><td>{}</td></tr>",
-                escape(name),
-                fmt_num(lo),
-                fmt_num(hi),
-                if hold { "edge value held" } else { "flagged" }
-            );
-        }
-    };
-    range_row("T, °C", r.temp, true);
-    range_row("Ṫ, °C/s", r.tdot, false);
-    range_row("T̈, °C/s²", r.tddot, false);
-    range_row("ΔT = T − T2, °C", r.dt, true);
-    for (name, c) in m.channel_names().iter().zip(&r.channels) {
-        range_row(name, Some(*c), true);
-    }
-    o.push_str("</table>\n");
-
-    // Searches.
-    if !m.searches.is_empty() {
-        let _ = write!(
-            o,
-            "<{h}>Searches</{h}>\n<table>\n<tr><th>parameter</th><th>values tried</th>\
-             <th>chosen</th><th>RMS residual there, °/h</th><th>note</th></tr>\n",
-        );
-        for c in &m.searches {
-            let at =
-                c.x.iter()
-                    .position(|&x| x == c.best)
-                    .and_then(|k| c.rmse.get(k))
-                    .map(|&v| fmt_num(v))
-                    .unwrap_or_default();
-            let _ = writeln!(
-                o,
-                "<tr><td>{}</td><td class=\"num\">{} ({} … {} s)</td><td class=\"num\">{} s</td>\
-                 <td class=\"num\">{}</td><td>{}</td></tr>",
-                escape(&c.parameter),
-                c.x.len(),
-                c.x.first().map(|&v| fmt_num(v)).unwrap_or_default(),
-                c.x.last().map(|&v| fmt_num(v)).unwrap_or_default(),
-                fmt_num(c.best),
-                at,
-                if c.at_edge {
-                    "at the edge of the searched range"
-                } else {
-                    ""
-                }
-            );
-        }
-        o.push_str("</table>\n");
-    }
-    let spec_json = serde_json::to_string_pretty(spec).unwrap_or_default();
-    let _ = writeln!(
-        o,
-        "<p>The model's specification as stored in the calibration file:</p>\n<pre>{}</pre>",
-        escape(&spec_json)
+    let channels = m.channel_names();
+    let fixed = [
+        ("T, °C", r.temp, true),
+        ("Ṫ, °C/s", r.tdot, false),
+        ("T̈, °C/s²", r.tddot, false),
+        ("ΔT = T − T2, °C", r.dt, true),
+    ];
+    let rows = fixed.into_iter().chain(
+        channels
+            .iter()
+            .zip(&r.channels)
+            .map(|(name, c)| (name.as_str(), Some(*c), true)),
     );
+    html! {
+        @for (name, range, hold) in rows {
+            @if let Some([lo, hi]) = range {
+                tr {
+                    td { (name) }
+                    td class="num" { (fmt_num(lo)) }
+                    td class="num" { (fmt_num(hi)) }
+                    td { (if hold { "edge value held" } else { "flagged" }) }
+                }
+                "\n"
+            }
+        }
+    }
+}
+
+/// A row per search: the parameter, the values tried, the one chosen and its residual.
+fn search_rows(cal: &RegressionCalibration) -> Markup {
+    html! {
+        @for c in &cal.model.searches {
+            tr {
+                td { (c.parameter) }
+                td class="num" {
+                    (c.x.len()) " ("
+                    (c.x.first().map(|&v| fmt_num(v)).unwrap_or_default()) " … "
+                    (c.x.last().map(|&v| fmt_num(v)).unwrap_or_default()) " s)"
+                }
+                td class="num" { (fmt_num(c.best)) " s" }
+                td class="num" {
+                    (c.x.iter()
+                        .position(|&x| x == c.best)
+                        .and_then(|k| c.rmse.get(k))
+                        .map(|&v| fmt_num(v))
+                        .unwrap_or_default())
+                }
+                td { (if c.at_edge { "at the edge of the searched range" } else { "" }) }
+            }
+            "\n"
+        }
+    }
 }

@@ -7,6 +7,7 @@
 //! (`gx/k0.png`, `gx/drift-LOG.png`, ...) beside the page, since every axis has a K0 and a drift
 //! figure of each log.
 
+use super::folder::{self, Relocate, moved};
 use super::page::{self, PageAxis};
 use super::{LogReport, ReportOptions, ReportSummary, build, calibration};
 use crate::error::{Error, Invalid, Result};
@@ -57,7 +58,7 @@ pub struct AxisReport {
 pub struct UnitReportSummary {
     /// The HTML page.
     pub html: PathBuf,
-    /// Every file written, the page last.
+    /// Every file written, the page last (the folder's [`super::MARKER`] aside).
     pub files: Vec<PathBuf>,
     /// Every axis, in the calibration's order.
     pub axes: Vec<AxisReport>,
@@ -73,15 +74,17 @@ impl UnitReportSummary {
     }
 }
 
-/// Writes the report of every axis of `unit` judged on `logs` into `out_dir`, creating it:
-/// each axis's figures in a folder named after it, and one `report.html` with a summary table
-/// of every axis on every log, then a section per axis as the single-axis page has it. Each
+/// Writes the report of every axis of `unit` judged on `logs` into the folder `out_dir`: each
+/// axis's figures in a folder named after it, and one `report.html` with a summary table of
+/// every axis on every log, then a section per axis as the single-axis page has it. The folder
+/// is replaced whole, as [`super::write_model`] replaces it. Each
 /// log's axes are selected in turn (the logs come back with the last axis in `omega_dph`).
 /// `sha256`: each log's hash, when the caller has it (see [`ReportOptions::sha256`]).
 ///
 /// # Errors
 /// A log without an axis of the unit (by name, or by the rate column the axis was read from),
-/// a log lacking a channel a model reads, a file that cannot be written.
+/// a log lacking a channel a model reads, a file that cannot be written, an `out_dir` that is
+/// a file or a folder holding other things than a report.
 pub fn write_unit(
     unit: &UnitCalibration,
     logs: &mut [(PathBuf, Log)],
@@ -122,7 +125,20 @@ pub fn write_unit(
         }
         log_axes.push(found);
     }
-    std::fs::create_dir_all(out_dir).map_err(|e| Error::io(out_dir, e))?;
+    folder::replace(out_dir, |dir| {
+        write_axes(unit, logs, dir, merit, &hashes, log_axes)
+    })
+}
+
+/// Writes every axis's figures into a folder of its own in `out_dir`, then the page.
+fn write_axes(
+    unit: &UnitCalibration,
+    logs: &mut [(PathBuf, Log)],
+    out_dir: &Path,
+    merit: UnitMerit,
+    hashes: &[String],
+    log_axes: Vec<Vec<String>>,
+) -> Result<UnitReportSummary> {
     let mut taken: Vec<String> = vec!["report".into()];
     let mut axes = Vec::with_capacity(unit.axes.len());
     let mut files = Vec::new();
@@ -138,7 +154,7 @@ pub fn write_unit(
         let opts = ReportOptions {
             merit: Some(merit.for_model(&ax.model)),
             allan: None,
-            sha256: Some(hashes.clone()),
+            sha256: Some(hashes.to_vec()),
         };
         let summary = build(&ax.model, logs, &folder, &opts).map_err(|e| match e {
             Error::Fit(e) => Error::Fit(e.on_axis(&ax.name)),
@@ -168,6 +184,18 @@ pub fn write_unit(
     page::write(&page_axes, &html)?;
     files.push(html.clone());
     Ok(UnitReportSummary { html, files, axes })
+}
+
+impl Relocate for UnitReportSummary {
+    fn relocate(&mut self, from: &Path, to: &Path) {
+        self.html = moved(&self.html, from, to);
+        for f in &mut self.files {
+            *f = moved(f, from, to);
+        }
+        for a in &mut self.axes {
+            a.summary.relocate(from, to);
+        }
+    }
 }
 
 /// A file-name-safe folder name for an axis, unique among `taken`.

@@ -1,0 +1,392 @@
+//! The report's folder, replaced as a whole.
+//!
+//! A report is many files (figures of every axis and log, and the page that shows them), and a
+//! reader must never find a folder that mixes two calibrations' figures, or a page showing
+//! figures another run replaced. So a report is written into a fresh staging folder beside its
+//! destination (same parent, so the same file system), and only when every file is written
+//! and synced is it put in the destination's place in one step: on Linux `renameat2` with
+//! `RENAME_EXCHANGE` swaps the two folders atomically (a plain rename that refuses to replace
+//! when the destination is new); elsewhere the old folder is renamed aside, the new one renamed
+//! in, and the old one removed. Then the old tree is removed and the parent folder synced.
+//! Any failure before the swap removes the staging folder and leaves the destination exactly as
+//! it was.
+//!
+//! Replacing a folder removes what was in it, so only a folder that is driftlab's own is
+//! replaced: a new one, an empty one, or a report (it holds the [`MARKER`] file every report
+//! now writes, or, written before the marker, a `report.html` titled as a driftlab report).
+//! Any other folder is refused with a message naming it: a user's folder is never emptied.
+//!
+//! A run killed while staging leaves its staging folder behind; the staging folder is locked
+//! (`flock` on Linux) for as long as its run lives, so the next report written beside it
+//! removes the folders whose lock no run holds (a lock, unlike a process id, tells the truth
+//! across PID namespaces and machines sharing the folder).
+
+use crate::error::{Error, Result};
+use std::io::{self, Read};
+use std::path::{Path, PathBuf};
+
+/// The file that marks a folder as a driftlab report, which a later report may replace.
+pub const MARKER: &str = ".driftlab-report";
+
+/// What a report's staging folders are named after the destination's name: hidden, and
+/// recognisable by the sweep of abandoned ones.
+const STAGING_TAG: &str = ".driftlab-staging-";
+
+/// The title every report page has carried (for the reports written before the marker).
+const LEGACY_TITLE: &str = "<title>Thermal drift calibration report";
+
+/// What holds paths into the staging folder, to be moved to the destination once it is there.
+pub(super) trait Relocate {
+    /// Every path under `from` made the same path under `to`.
+    fn relocate(&mut self, from: &Path, to: &Path);
+}
+
+/// `path` under `from` as the same path under `to`; any other path as it is.
+pub(super) fn moved(path: &Path, from: &Path, to: &Path) -> PathBuf {
+    match path.strip_prefix(from) {
+        Ok(rest) if rest.as_os_str().is_empty() => to.to_path_buf(),
+        Ok(rest) => to.join(rest),
+        Err(_) => path.to_path_buf(),
+    }
+}
+
+/// Writes a report through `write` into a fresh staging folder beside `dest`, then puts that
+/// folder in `dest`'s place (see the module's documentation); what `write` returned comes back
+/// with its paths moved to `dest`, and so do the paths an error names.
+///
+/// # Errors
+/// `dest` that is a file, or a folder that is neither empty nor a report; a parent folder that
+/// cannot be made; whatever `write` fails with; a swap that the file system refuses.
+pub(super) fn replace<T: Relocate>(
+    dest: &Path,
+    write: impl FnOnce(&Path) -> Result<T>,
+) -> Result<T> {
+    let target = resolve(dest)?;
+    let parent = parent_of(&target);
+    std::fs::create_dir_all(&parent).map_err(|e| Error::io(&parent, e))?;
+    let existing = check_destination(&target)?;
+    let name = target
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    sweep_abandoned(&parent, &name);
+    let staging = Staging::create(&parent, &name)?;
+    let staged = staging.path.clone();
+    let mut written = write(&staged).map_err(|e| relocated(e, &staged, dest))?;
+    seal(&staged, existing.as_ref()).map_err(|e| relocated(e, &staged, dest))?;
+    staging.swap_into(&target, existing.is_some())?;
+    sync_folder(&parent);
+    written.relocate(&staged, dest);
+    Ok(written)
+}
+
+/// The folder `dest` names: a symbolic link to a folder is followed (the folder is replaced,
+/// the link kept); a path ending in `.` or `..` is made absolute, so that it has a name and a
+/// parent.
+fn resolve(dest: &Path) -> Result<PathBuf> {
+    let link = std::fs::symlink_metadata(dest).is_ok_and(|m| m.file_type().is_symlink());
+    let target = if link || dest.file_name().is_none() {
+        std::fs::canonicalize(dest).map_err(|e| Error::io(dest, e))?
+    } else {
+        dest.to_path_buf()
+    };
+    if target.file_name().is_none() {
+        return Err(Error::io(
+            dest,
+            io::Error::new(
+                io::ErrorKind::InvalidInput,
+                "a report needs a folder of its own, not the root of the file system",
+            ),
+        ));
+    }
+    Ok(target)
+}
+
+/// The folder `target` sits in (`.` for a bare name).
+fn parent_of(target: &Path) -> PathBuf {
+    match target.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+        _ => PathBuf::from("."),
+    }
+}
+
+/// What is at the destination before the report is written: nothing (`None`), or a folder
+/// that may be replaced (its metadata, whose permissions the new folder takes).
+///
+/// # Errors
+/// A file at the destination; a folder that holds other things than a report.
+fn check_destination(target: &Path) -> Result<Option<std::fs::Metadata>> {
+    let meta = match std::fs::metadata(target) {
+        Ok(m) => m,
+        Err(e) if e.kind() == io::ErrorKind::NotFound => return Ok(None),
+        Err(e) => return Err(Error::io(target, e)),
+    };
+    if !meta.is_dir() {
+        return Err(Error::io(
+            target,
+            io::Error::new(
+                io::ErrorKind::AlreadyExists,
+                "is a file, not a folder: a report is a folder of figures and report.html",
+            ),
+        ));
+    }
+    let empty = std::fs::read_dir(target)
+        .map_err(|e| Error::io(target, e))?
+        .next()
+        .is_none();
+    if empty || is_report(target) {
+        return Ok(Some(meta));
+    }
+    Err(Error::io(
+        target,
+        io::Error::new(
+            io::ErrorKind::AlreadyExists,
+            format!(
+                "holds files that are not a driftlab report (no {MARKER} file, no report.html \
+                 of a report): a report replaces its folder whole, so it is not written here; \
+                 give a new or empty folder"
+            ),
+        ),
+    ))
+}
+
+/// Whether `dir` holds a report: the marker, or (a report written before the marker) a
+/// `report.html` titled as a driftlab report page.
+fn is_report(dir: &Path) -> bool {
+    if dir.join(MARKER).is_file() {
+        return true;
+    }
+    let Ok(file) = std::fs::File::open(dir.join("report.html")) else {
+        return false;
+    };
+    let mut head = Vec::with_capacity(8192);
+    if file.take(8192).read_to_end(&mut head).is_err() {
+        return false;
+    }
+    String::from_utf8_lossy(&head).contains(LEGACY_TITLE)
+}
+
+/// `e` with the staging folder in the paths it names replaced by the destination, the folder
+/// the reader knows.
+fn relocated(e: Error, from: &Path, to: &Path) -> Error {
+    use super::figures::FigureError;
+    match e {
+        Error::Io { path, source } => Error::Io {
+            path: moved(&path, from, to),
+            source,
+        },
+        Error::Figure(f) => Error::Figure(match f {
+            FigureError::Drawing { path, source } => FigureError::Drawing {
+                path: moved(&path, from, to),
+                source,
+            },
+            FigureError::Png { path, source } => FigureError::Png {
+                path: moved(&path, from, to),
+                source,
+            },
+            FigureError::Io { path, source } => FigureError::Io {
+                path: moved(&path, from, to),
+                source,
+            },
+        }),
+        other => other,
+    }
+}
+
+/// Makes the staged report ready to be swapped in: the marker written, the folder given the
+/// permissions of the one it replaces, and every folder of it synced, so that what the swap
+/// puts in place is on disk.
+fn seal(staged: &Path, existing: Option<&std::fs::Metadata>) -> Result<()> {
+    let marker = staged.join(MARKER);
+    crate::files::atomic::write_bytes(
+        &marker,
+        format!(
+            "A driftlab {} test report: this folder is replaced whole by the next report \
+             written into it.\n",
+            env!("CARGO_PKG_VERSION")
+        )
+        .as_bytes(),
+    )
+    .map_err(|e| Error::io(&marker, e))?;
+    if let Some(meta) = existing {
+        std::fs::set_permissions(staged, meta.permissions()).map_err(|e| Error::io(staged, e))?;
+    }
+    sync_tree(staged).map_err(|e| Error::io(staged, e))
+}
+
+/// Syncs `dir` and every folder below it (their entries; the files are synced as written).
+fn sync_tree(dir: &Path) -> io::Result<()> {
+    for entry in std::fs::read_dir(dir)? {
+        let entry = entry?;
+        if entry.file_type()?.is_dir() {
+            sync_tree(&entry.path())?;
+        }
+    }
+    sync_folder(dir);
+    Ok(())
+}
+
+/// Syncs the entries of `dir` after a rename in it, as far as the system allows (a failure
+/// here loses nothing already renamed, so it is not an error of the report).
+fn sync_folder(dir: &Path) {
+    #[cfg(unix)]
+    if let Ok(f) = std::fs::File::open(dir) {
+        let _ = f.sync_all();
+    }
+    #[cfg(not(unix))]
+    let _ = dir;
+}
+
+/// A staging folder: removed when dropped, unless it was renamed into place. After a swap it
+/// holds the old report, which the drop removes.
+struct Staging {
+    path: PathBuf,
+    /// The folder opened and locked for as long as this run lives (Linux), so that the sweep
+    /// of another run leaves it alone.
+    #[cfg(target_os = "linux")]
+    _lock: Option<std::fs::File>,
+    armed: bool,
+}
+
+impl Staging {
+    /// A new, empty folder beside the destination named `name`, named after it.
+    fn create(parent: &Path, name: &str) -> Result<Staging> {
+        use std::sync::atomic::{AtomicU64, Ordering};
+        static COUNT: AtomicU64 = AtomicU64::new(0);
+        let nanos = std::time::SystemTime::now()
+            .duration_since(std::time::UNIX_EPOCH)
+            .map(|d| d.subsec_nanos())
+            .unwrap_or(0);
+        let mut last = None;
+        for _ in 0..100 {
+            let n = COUNT.fetch_add(1, Ordering::Relaxed);
+            let path = parent.join(format!(
+                ".{name}{STAGING_TAG}{}-{nanos:08x}-{n}",
+                std::process::id()
+            ));
+            match std::fs::create_dir(&path) {
+                Ok(()) => {
+                    return Ok(Staging {
+                        #[cfg(target_os = "linux")]
+                        _lock: lock(&path),
+                        path,
+                        armed: true,
+                    });
+                }
+                Err(e) if e.kind() == io::ErrorKind::AlreadyExists => last = Some(e),
+                Err(e) => return Err(Error::io(&path, e)),
+            }
+        }
+        Err(Error::io(
+            parent,
+            last.unwrap_or_else(|| io::Error::other("no free name for a staging folder")),
+        ))
+    }
+
+    /// Puts the staged folder in `target`'s place (swapping it with the folder there when
+    /// `replace`), then removes the old folder.
+    fn swap_into(mut self, target: &Path, replace: bool) -> Result<()> {
+        if !replace {
+            rename_new(&self.path, target).map_err(|e| Error::io(target, e))?;
+            self.armed = false;
+            return Ok(());
+        }
+        #[cfg(target_os = "linux")]
+        if exchange(&self.path, target).map_err(|e| Error::io(target, e))? {
+            // The old report is now at the staging path: dropping `self` removes it.
+            return Ok(());
+        }
+        let aside = aside_name(&self.path);
+        std::fs::rename(target, &aside).map_err(|e| Error::io(target, e))?;
+        if let Err(e) = std::fs::rename(&self.path, target) {
+            // The old folder back in place; the staging folder is removed on drop.
+            let _ = std::fs::rename(&aside, target);
+            return Err(Error::io(target, e));
+        }
+        self.armed = false;
+        let _ = std::fs::remove_dir_all(&aside);
+        Ok(())
+    }
+}
+
+impl Drop for Staging {
+    fn drop(&mut self) {
+        if self.armed {
+            let _ = std::fs::remove_dir_all(&self.path);
+        }
+    }
+}
+
+/// Where the old folder waits while the new one is renamed in, where folders cannot be
+/// swapped: beside the staging folder, named after it (so the sweep knows it too).
+fn aside_name(staging: &Path) -> PathBuf {
+    let mut name = staging.as_os_str().to_owned();
+    name.push("-old");
+    PathBuf::from(name)
+}
+
+/// Renames `from` to `target`, which is not there (on Linux a rename that refuses to replace,
+/// so a folder made there meanwhile is not replaced; elsewhere the system's rename, which
+/// does not replace a folder that holds anything).
+fn rename_new(from: &Path, target: &Path) -> io::Result<()> {
+    #[cfg(target_os = "linux")]
+    {
+        use rustix::fs::{CWD, RenameFlags, renameat_with};
+        match renameat_with(CWD, from, CWD, target, RenameFlags::NOREPLACE) {
+            Ok(()) => return Ok(()),
+            Err(e) if e == rustix::io::Errno::INVAL || e == rustix::io::Errno::NOSYS => {}
+            Err(e) => return Err(e.into()),
+        }
+    }
+    std::fs::rename(from, target)
+}
+
+/// Swaps the folders `a` and `b` in one step; `Ok(false)` when the file system cannot.
+#[cfg(target_os = "linux")]
+fn exchange(a: &Path, b: &Path) -> io::Result<bool> {
+    use rustix::fs::{CWD, RenameFlags, renameat_with};
+    match renameat_with(CWD, a, CWD, b, RenameFlags::EXCHANGE) {
+        Ok(()) => Ok(true),
+        Err(e) if e == rustix::io::Errno::INVAL || e == rustix::io::Errno::NOSYS => Ok(false),
+        Err(e) => Err(e.into()),
+    }
+}
+
+/// `dir` opened and locked exclusively, without waiting; `None` when another run holds the
+/// lock, or the folder cannot be opened or locked.
+#[cfg(target_os = "linux")]
+fn lock(dir: &Path) -> Option<std::fs::File> {
+    use rustix::fs::{FlockOperation, flock};
+    let file = std::fs::File::open(dir).ok()?;
+    flock(&file, FlockOperation::NonBlockingLockExclusive).ok()?;
+    Some(file)
+}
+
+/// Removes the staging folders of reports named `name` in `parent` that a killed run left:
+/// those whose lock no living run holds. Best effort: a folder that cannot be judged or
+/// removed stays. Only on Linux, where staging folders are locked.
+fn sweep_abandoned(parent: &Path, name: &str) {
+    #[cfg(target_os = "linux")]
+    {
+        let prefix = format!(".{name}{STAGING_TAG}");
+        let Ok(entries) = std::fs::read_dir(parent) else {
+            return;
+        };
+        for entry in entries.flatten() {
+            let file_name = entry.file_name();
+            let Some(n) = file_name.to_str() else {
+                continue;
+            };
+            if !n.starts_with(&prefix) || !entry.file_type().is_ok_and(|t| t.is_dir()) {
+                continue;
+            }
+            let path = entry.path();
+            // Held while it is removed, so no run or other sweep takes it meanwhile.
+            if let Some(_held) = lock(&path) {
+                let _ = std::fs::remove_dir_all(&path);
+            }
+        }
+    }
+    #[cfg(not(target_os = "linux"))]
+    let _ = (parent, name);
+}
