@@ -204,3 +204,26 @@ fn a_calibration_whose_step_no_longer_makes_its_windows_is_refused() {
         "{err}"
     );
 }
+
+#[test]
+fn the_report_names_its_windows_by_the_window_asked_for() {
+    let dir = tempfile::tempdir().unwrap();
+    let cal = p(dir.path(), "cal.json");
+    ok(&["calibrate", &sample("calibration.csv"), "--out", &cal]);
+    let out = dir.path().join("report");
+    ok(&[
+        "report",
+        &cal,
+        &sample("validation.csv"),
+        "--window",
+        "90",
+        "--out",
+        &out.display().to_string(),
+    ]);
+    let page = std::fs::read_to_string(out.join("report.html")).unwrap();
+    assert!(
+        page.contains("max |90-s mean|") && page.contains("windows of 90-s"),
+        "the page names its windows"
+    );
+    assert!(!page.contains("10-min") && !page.contains("10 min"));
+}

@@ -178,9 +178,17 @@ fn figure_html(f: &Figure, page_dir: &std::path::Path) -> Result<Markup> {
     })
 }
 
-fn merit_table(l: &LogReport, d: Depth) -> Markup {
+fn merit_table(l: &LogReport, d: Depth, window_s: f64) -> Markup {
     let e = &l.evaluation;
     let c = &e.comparison;
+    // The windowed figures named by the window they were computed over, as the CLI's tables.
+    let w = crate::judge::options::window_label(window_s);
+    let (mean_max, mean_p2p, rms_mean, rms_max) = (
+        format!("max |{w} mean|"),
+        format!("peak-to-peak of {w} means"),
+        format!("mean {w} RMS"),
+        format!("max {w} RMS"),
+    );
     let rows = [
         (
             "peak-to-peak of filtered drift",
@@ -195,25 +203,25 @@ fn merit_table(l: &LogReport, d: Depth) -> Markup {
             Some(c.std_ratio),
         ),
         (
-            "max |10-min mean|",
+            mean_max.as_str(),
             c.raw.win_mean_max_abs_dph,
             c.corrected.win_mean_max_abs_dph,
             Some(c.win_mean_ratio),
         ),
         (
-            "peak-to-peak of 10-min means",
+            mean_p2p.as_str(),
             c.raw.win_mean_p2p_dph,
             c.corrected.win_mean_p2p_dph,
             None,
         ),
         (
-            "mean 10-min RMS",
+            rms_mean.as_str(),
             c.raw.win_rms_mean_dph,
             c.corrected.win_rms_mean_dph,
             Some(c.win_rms_ratio),
         ),
         (
-            "max 10-min RMS",
+            rms_max.as_str(),
             c.raw.win_rms_max_dph,
             c.corrected.win_rms_max_dph,
             None,
@@ -226,7 +234,7 @@ fn merit_table(l: &LogReport, d: Depth) -> Markup {
             (l.samples) " samples, " (format!("{:.2}", l.duration_s / 3600.0)) " h, T "
             (format!("{:.1}", l.temp_range_c.0)) " … " (format!("{:.1}", l.temp_range_c.1))
             " °C; " (e.warmup_samples) " warm-up samples left out, " (c.raw.windows)
-            " windows of 10 min; " (format!("{:.1}", e.outside_fraction * 100.0))
+            " windows of " (w) "; " (format!("{:.1}", e.outside_fraction * 100.0))
             " % of samples outside the calibrated ranges. SHA-256 " code { (l.sha256) }
         }
         "\n"
@@ -286,7 +294,7 @@ pub(super) fn merit_section(s: &ReportSummary, d: Depth) -> Markup {
             p { "No log was given: the calibration alone is reported." } "\n"
         }
         @for l in &s.logs {
-            (merit_table(l, d))
+            (merit_table(l, d, s.merit.window_s))
         }
     }
 }
