@@ -81,6 +81,10 @@ impl std::fmt::Display for Format {
     }
 }
 
+/// The most problems a recording lists: a crafted file can have a bad format message every
+/// 89 bytes, and a list of a million is read by nobody.
+pub const PROBLEMS_AT_MOST: usize = 50;
+
 /// The longest magic: the bytes [`sniff`] needs to decide.
 pub const SNIFF_BYTES: usize = 13;
 
@@ -197,6 +201,11 @@ pub fn read_bytes(source: &str, bytes: &[u8]) -> Result<ImuRecording, FormatErro
     }
     for (k, inst) in instances.iter_mut().enumerate() {
         inst.index = k;
+    }
+    if problems.len() > PROBLEMS_AT_MOST {
+        let more = problems.len() - PROBLEMS_AT_MOST;
+        problems.truncate(PROBLEMS_AT_MOST);
+        problems.push(Problem::note(format!("and {more} more problems not listed")));
     }
     Ok(ImuRecording {
         format,
