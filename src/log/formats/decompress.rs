@@ -176,7 +176,10 @@ mod tests {
         let e = decompress(Codec::Zstd, b"junk", 3 << 30, &mut budget).unwrap_err();
         assert!(e.to_string().contains("256 MiB"), "{e}");
         let data = vec![7u8; 1000];
-        assert_eq!(decompress(Codec::None, &data, 1000, &mut budget).unwrap(), data);
+        assert_eq!(
+            decompress(Codec::None, &data, 1000, &mut budget).unwrap(),
+            data
+        );
     }
 
     #[test]
@@ -184,7 +187,10 @@ mod tests {
         let big = zstd::bulk::compress(&vec![0u8; 1 << 20], 3).unwrap();
         let mut budget = Budget::for_file(big.len());
         let e = decompress(Codec::Zstd, &big, 1000, &mut budget).unwrap_err();
-        assert_eq!(e.to_string(), "the zstd chunk decompresses to 1001+ bytes but declares 1000");
+        assert_eq!(
+            e.to_string(),
+            "the zstd chunk decompresses to 1001+ bytes but declares 1000"
+        );
     }
 
     #[test]
@@ -196,6 +202,9 @@ mod tests {
         let data = vec![1u8; 1500];
         assert!(decompress(Codec::None, &data, 1500, &mut budget).is_ok());
         let e = decompress(Codec::None, &data, 1500, &mut budget).unwrap_err();
-        assert!(matches!(e, DecompressError::OverBudget { total: 2000 }), "{e}");
+        assert!(
+            matches!(e, DecompressError::OverBudget { total: 2000 }),
+            "{e}"
+        );
     }
 }

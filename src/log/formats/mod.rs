@@ -205,7 +205,9 @@ pub fn read_bytes(source: &str, bytes: &[u8]) -> Result<ImuRecording, FormatErro
     if problems.len() > PROBLEMS_AT_MOST {
         let more = problems.len() - PROBLEMS_AT_MOST;
         problems.truncate(PROBLEMS_AT_MOST);
-        problems.push(Problem::note(format!("and {more} more problems not listed")));
+        problems.push(Problem::note(format!(
+            "and {more} more problems not listed"
+        )));
     }
     Ok(ImuRecording {
         format,

@@ -201,7 +201,9 @@ impl Sizes {
 
 /// Parses `name:type a;type[3] b;`.
 pub(super) fn parse_format(text: &str) -> Result<(String, Vec<FieldDef>), FormatError> {
-    let (name, rest) = text.split_once(':').ok_or_else(|| FormatError::NoName(q(text)))?;
+    let (name, rest) = text
+        .split_once(':')
+        .ok_or_else(|| FormatError::NoName(q(text)))?;
     let mut fields = Vec::new();
     for part in rest.split(';').filter(|p| !p.is_empty()) {
         let (ty, fname) = part.split_once(' ').ok_or_else(|| FormatError::Field {

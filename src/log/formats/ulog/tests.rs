@@ -163,7 +163,9 @@ fn sizes_that_overflow_or_pass_a_message_are_errors() {
 #[test]
 fn a_long_name_in_a_format_error_is_quoted_short() {
     let field = "x".repeat(100_000);
-    let e = parse_format(&format!("a:{field};")).unwrap_err().to_string();
+    let e = parse_format(&format!("a:{field};"))
+        .unwrap_err()
+        .to_string();
     assert!(e.len() < 300, "{} bytes", e.len());
     assert!(e.contains("(100000 bytes)"), "{e}");
 }
