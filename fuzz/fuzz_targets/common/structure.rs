@@ -67,7 +67,11 @@ pub fn check(kind: Kind, data: &[u8]) {
 
 fn check_error(e: &FormatError) {
     let m = e.to_string();
-    assert!(m.len() <= MESSAGE_AT_MOST, "an error of {} bytes: {m:.300}", m.len());
+    assert!(
+        m.len() <= MESSAGE_AT_MOST,
+        "an error of {} bytes: {m:.300}",
+        m.len()
+    );
 }
 
 fn check_recording(rec: &ImuRecording) {
@@ -75,7 +79,11 @@ fn check_recording(rec: &ImuRecording) {
     assert!(rec.problems.len() <= formats::PROBLEMS_AT_MOST + 1);
     for p in &rec.problems {
         let m = p.to_string();
-        assert!(m.len() <= MESSAGE_AT_MOST, "a problem of {} bytes: {m:.300}", m.len());
+        assert!(
+            m.len() <= MESSAGE_AT_MOST,
+            "a problem of {} bytes: {m:.300}",
+            m.len()
+        );
     }
     for (k, i) in rec.instances.iter().enumerate() {
         assert_eq!(i.index, k);
@@ -104,7 +112,11 @@ fn check_recording(rec: &ImuRecording) {
             }
             Err(e) => {
                 let m = e.to_string();
-                assert!(m.len() <= 8 * MESSAGE_AT_MOST, "{} bytes: {m:.300}", m.len());
+                assert!(
+                    m.len() <= 8 * MESSAGE_AT_MOST,
+                    "{} bytes: {m:.300}",
+                    m.len()
+                );
             }
         }
     }
@@ -151,7 +163,9 @@ struct Spans {
 }
 
 fn u16_at(b: &[u8], at: usize) -> Option<usize> {
-    Some(usize::from(u16::from_le_bytes(b.get(at..at + 2)?.try_into().ok()?)))
+    Some(usize::from(u16::from_le_bytes(
+        b.get(at..at + 2)?.try_into().ok()?,
+    )))
 }
 
 fn u32_at(b: &[u8], at: usize) -> Option<usize> {
@@ -173,10 +187,19 @@ fn walk_ulog(b: &[u8], s: &mut Spans) {
         match b[pos + 2] {
             b'F' => s.formats.push(pos..end),
             b'A' if size >= 3 => {
-                s.ints.push(Int { at: pos + 3, width: 1 });
-                s.ints.push(Int { at: pos + 4, width: 2 });
+                s.ints.push(Int {
+                    at: pos + 3,
+                    width: 1,
+                });
+                s.ints.push(Int {
+                    at: pos + 4,
+                    width: 2,
+                });
             }
-            b'D' | b'R' if size >= 2 => s.ints.push(Int { at: pos + 3, width: 2 }),
+            b'D' | b'R' if size >= 2 => s.ints.push(Int {
+                at: pos + 3,
+                width: 2,
+            }),
             b'B' if size >= 40 => {
                 for k in 0..3 {
                     s.ints.push(Int {
@@ -209,14 +232,26 @@ fn walk_dataflash(b: &[u8], s: &mut Spans) {
         }
         if ty == 0x80 {
             lengths[usize::from(b[pos + 3])] = usize::from(b[pos + 4]);
-            s.ints.push(Int { at: pos + 3, width: 1 });
-            s.ints.push(Int { at: pos + 4, width: 1 });
+            s.ints.push(Int {
+                at: pos + 3,
+                width: 1,
+            });
+            s.ints.push(Int {
+                at: pos + 4,
+                width: 1,
+            });
             // The format characters: mutated one at a time as 1-byte fields.
             for k in 0..16 {
-                s.ints.push(Int { at: pos + 9 + k, width: 1 });
+                s.ints.push(Int {
+                    at: pos + 9 + k,
+                    width: 1,
+                });
             }
         } else if len > 4 {
-            s.ints.push(Int { at: pos + 3, width: 1 });
+            s.ints.push(Int {
+                at: pos + 3,
+                width: 1,
+            });
         }
         s.records.push(pos..pos + len);
         pos += len;
@@ -236,7 +271,10 @@ fn walk_bag(b: &[u8], from: usize, to: usize, s: &mut Spans, depth: usize) {
             break;
         }
         s.ints.push(Int { at: pos, width: 4 });
-        s.ints.push(Int { at: h + hlen, width: 4 });
+        s.ints.push(Int {
+            at: h + hlen,
+            width: 4,
+        });
         let mut f = h;
         let mut none = false;
         while let Some(n) = u32_at(b, f) {
@@ -275,22 +313,43 @@ fn walk_mcap(b: &[u8], from: usize, to: usize, s: &mut Spans, depth: usize) {
         let Some(end) = c.checked_add(len).filter(|&e| e <= to) else {
             break;
         };
-        s.ints.push(Int { at: pos + 1, width: 8 });
+        s.ints.push(Int {
+            at: pos + 1,
+            width: 8,
+        });
         match op {
             0x03 => {
                 s.ints.push(Int { at: c, width: 2 });
-                s.ints.push(Int { at: c + 2, width: 4 });
+                s.ints.push(Int {
+                    at: c + 2,
+                    width: 4,
+                });
             }
             0x04 => {
                 s.ints.push(Int { at: c, width: 2 });
-                s.ints.push(Int { at: c + 2, width: 2 });
-                s.ints.push(Int { at: c + 4, width: 4 });
+                s.ints.push(Int {
+                    at: c + 2,
+                    width: 2,
+                });
+                s.ints.push(Int {
+                    at: c + 4,
+                    width: 4,
+                });
             }
             0x05 => s.ints.push(Int { at: c, width: 2 }),
             0x06 if len >= 32 => {
-                s.ints.push(Int { at: c + 16, width: 8 });
-                s.ints.push(Int { at: c + 24, width: 4 });
-                s.ints.push(Int { at: c + 28, width: 4 });
+                s.ints.push(Int {
+                    at: c + 16,
+                    width: 8,
+                });
+                s.ints.push(Int {
+                    at: c + 24,
+                    width: 4,
+                });
+                s.ints.push(Int {
+                    at: c + 28,
+                    width: 4,
+                });
                 if let Some(n) = u32_at(b, c + 28) {
                     let r = c + 32 + n;
                     if r + 8 <= end {
@@ -387,7 +446,9 @@ fn mutate_format(rng: &mut Rng, b: &[u8], r: Range<usize>) -> Option<Vec<u8>> {
         1 if !fields.is_empty() => {
             let k = rng.below(fields.len());
             let (_, fname) = fields[k].split_once(' ')?;
-            let types = ["uint8_t", "uint64_t", "float", "double", "char", name, "nope"];
+            let types = [
+                "uint8_t", "uint64_t", "float", "double", "char", name, "nope",
+            ];
             let ty = rng.pick(&types)?;
             fields[k] = format!("{ty} {fname}");
         }

@@ -32,9 +32,9 @@
 //! checked arithmetic against the bytes that exist, nothing is allocated for a declared size
 //! before its bytes exist, ULog formats are walked once each (at most 16 deep, at most a
 //! message large) and their padding is not stored, chunks decompress as a stream within a
-//! per-chunk cap and a per-file budget ([`decompress`]), topics and channels are found in hash
+//! per-chunk cap and a per-file budget (`decompress.rs`), topics and channels are found in hash
 //! maps, a ROS message's `frame_id` is not kept per message, and names and lists in messages
-//! are cut to a readable length ([`error::quoted`], [`error::listed`], [`PROBLEMS_AT_MOST`]).
+//! are cut to a readable length (`error::quoted`, `error::listed`, [`PROBLEMS_AT_MOST`]).
 //! `tests/attack/readers.rs` holds a file for each way this once failed.
 //!
 //! Each format has its own reader here, not a crate's: every crate tried failed on the
