@@ -6,6 +6,8 @@ set -euo pipefail
 cd "$(dirname "$0")"
 root=..
 mkdir -p corpus/read_log corpus/calibration_file corpus/session_file
+# The binary-log targets: from the sample logs of ../../shared/data/formats, read by path.
+python3 seed_formats.py
 python3 - <<'PY'
 import glob
 d = 'corpus/read_log'

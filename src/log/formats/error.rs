@@ -119,3 +119,55 @@ impl Broken {
         )
     }
 }
+
+/// The most characters of a name read from a file (topic, frame_id, format, field) a message
+/// quotes: enough to recognise it, too few to flood a terminal with a crafted megabyte.
+pub(crate) const QUOTE_AT_MOST: usize = 80;
+
+/// `name` as a message quotes it: whole up to [`QUOTE_AT_MOST`] characters, else its start,
+/// `...` and its length in bytes.
+pub(crate) fn quoted(name: &str) -> std::borrow::Cow<'_, str> {
+    match name.char_indices().nth(QUOTE_AT_MOST) {
+        None => std::borrow::Cow::Borrowed(name),
+        Some((cut, _)) => {
+            std::borrow::Cow::Owned(format!("{}... ({} bytes)", &name[..cut], name.len()))
+        }
+    }
+}
+
+/// The most items a message lists before it says how many more there are.
+pub(crate) const LIST_AT_MOST: usize = 8;
+
+/// The first [`LIST_AT_MOST`] of `items` joined by `sep`, then `and N more` when there are
+/// more: a message about a log of 20 000 topics stays one readable line.
+pub(crate) fn listed(items: impl ExactSizeIterator<Item = String>, sep: &str) -> String {
+    let total = items.len();
+    let mut s: Vec<String> = items.take(LIST_AT_MOST).collect();
+    if total > LIST_AT_MOST {
+        s.push(format!("and {} more", total - LIST_AT_MOST));
+    }
+    s.join(sep)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_long_name_is_quoted_by_its_start_and_length() {
+        assert_eq!(quoted("/imu"), "/imu");
+        let long = "é".repeat(1000);
+        let q = quoted(&long);
+        assert!(q.starts_with(&"é".repeat(QUOTE_AT_MOST)), "{q}");
+        assert!(q.ends_with("... (2000 bytes)"), "{q}");
+        assert_eq!(q.chars().count(), QUOTE_AT_MOST + "... (2000 bytes)".len());
+    }
+
+    #[test]
+    fn a_long_list_names_its_first_items_and_counts_the_rest() {
+        let few = listed((0..3).map(|i| i.to_string()), ", ");
+        assert_eq!(few, "0, 1, 2");
+        let many = listed((0..20_000).map(|i| i.to_string()), ", ");
+        assert_eq!(many, "0, 1, 2, 3, 4, 5, 6, 7, and 19992 more");
+    }
+}

@@ -12,12 +12,12 @@
 //! what a corrupt length field says before checking it against the file.
 
 use super::bytes::{Bytes, each_record_of_chunk};
-use super::decompress::{Codec, decompress};
-use super::error::Broken;
+use super::decompress::{Budget, Codec, decompress};
+use super::error::{Broken, LIST_AT_MOST, quoted};
 use super::recording::Problem;
 use super::ros_msgs::{self, Kind};
-use super::ros_topics::Topics;
-use std::collections::HashMap;
+use super::ros_topics::{Slot, Topics};
+use std::collections::{HashMap, HashSet};
 
 /// The first (and last) 8 bytes of an MCAP file.
 pub(crate) const MAGIC: &[u8; 8] = b"\x89MCAP0\r\n";
@@ -40,20 +40,18 @@ fn string(b: &mut Bytes<'_>, what: &str) -> Result<String, Broken> {
     Ok(String::from_utf8_lossy(b.take(n, what)?).into_owned())
 }
 
-/// A channel and what its messages are.
-struct Channel {
-    topic: String,
-    kind: Option<Kind>,
-}
-
-#[derive(Default)]
 struct State {
     /// Schema id → message type, for the types read.
     schemas: HashMap<u16, Option<Kind>>,
-    channels: HashMap<u16, Channel>,
+    /// Channel id → the slot of its topic, `None` for a type not read.
+    channels: HashMap<u16, Option<Slot>>,
     topics: Topics,
     orphans: usize,
+    /// Topics of Imu or Temperature channels in another encoding than CDR, each once, in
+    /// order of first sight (a channel redefined 200 000 times is one topic).
     not_cdr: Vec<String>,
+    not_cdr_seen: HashSet<String>,
+    budget: Budget,
 }
 
 /// Reads an MCAP file held in memory.
@@ -62,7 +60,15 @@ pub(crate) fn read(data: &[u8]) -> Result<Read, Broken> {
         return Err(Broken::at(0, "the file does not start with the MCAP magic"));
     }
     let mut b = Bytes::new(&data[MAGIC.len()..], MAGIC.len() as u64);
-    let mut state = State::default();
+    let mut state = State {
+        schemas: HashMap::new(),
+        channels: HashMap::new(),
+        topics: Topics::default(),
+        orphans: 0,
+        not_cdr: Vec::new(),
+        not_cdr_seen: HashSet::new(),
+        budget: Budget::for_file(data.len()),
+    };
     let mut problems = Vec::new();
     let mut ended = false;
     while !b.is_empty() {
@@ -102,10 +108,18 @@ pub(crate) fn read(data: &[u8]) -> Result<Read, Broken> {
             state.orphans
         )));
     }
-    for t in &state.not_cdr {
+    for t in state.not_cdr.iter().take(LIST_AT_MOST) {
         problems.push(Problem::note(format!(
-            "channel {t} carries Imu or Temperature messages in an encoding other than cdr; \
-             skipped"
+            "channel {} carries Imu or Temperature messages in an encoding other than cdr; \
+             skipped",
+            quoted(t)
+        )));
+    }
+    if state.not_cdr.len() > LIST_AT_MOST {
+        problems.push(Problem::note(format!(
+            "and {} more channels carry Imu or Temperature messages in an encoding other than \
+             cdr; skipped",
+            state.not_cdr.len() - LIST_AT_MOST
         )));
     }
     Ok(Read {
@@ -129,12 +143,16 @@ impl State {
                 let encoding = string(&mut c, "a channel's message encoding")?;
                 let kind = self.schemas.get(&schema).copied().flatten();
                 let kind = if kind.is_some() && encoding != "cdr" {
-                    self.not_cdr.push(topic.clone());
+                    if !self.not_cdr_seen.contains(&topic) {
+                        self.not_cdr_seen.insert(topic.clone());
+                        self.not_cdr.push(topic.clone());
+                    }
                     None
                 } else {
                     kind
                 };
-                self.channels.insert(id, Channel { topic, kind });
+                let slot = kind.map(|k| self.topics.slot(k, &topic));
+                self.channels.insert(id, slot);
             }
             OP_MESSAGE => {
                 let data_at = at;
@@ -143,23 +161,29 @@ impl State {
                 let log_time = c.u64("a message's log time")?;
                 c.skip(8, "a message's publish time")?;
                 let payload = c.take(c.remaining(), "")?;
-                let Some(channel) = self.channels.get(&ch) else {
+                let Some(&channel) = self.channels.get(&ch) else {
                     self.orphans += 1;
                     return Ok(());
                 };
-                let bad = |m: ros_msgs::MessageError| {
-                    Broken::at(data_at, format!("a message on {}: {m}", channel.topic))
+                let Some(slot) = channel else {
+                    return Ok(());
                 };
-                match channel.kind {
-                    Some(Kind::Imu) => {
-                        let m = ros_msgs::imu_cdr(payload).map_err(bad)?;
-                        self.topics.push_imu(&channel.topic, log_time, m);
+                let topics = &mut self.topics;
+                let bad = |m: ros_msgs::MessageError, topics: &Topics| {
+                    Broken::at(
+                        data_at,
+                        format!("a message on {}: {m}", quoted(topics.name(slot))),
+                    )
+                };
+                match slot.kind() {
+                    Kind::Imu => {
+                        let m = ros_msgs::imu_cdr(payload).map_err(|e| bad(e, topics))?;
+                        topics.push_imu(slot, log_time, &m);
                     }
-                    Some(Kind::Temperature) => {
-                        let m = ros_msgs::temperature_cdr(payload).map_err(bad)?;
-                        self.topics.push_temperature(&channel.topic, log_time, m);
+                    Kind::Temperature => {
+                        let m = ros_msgs::temperature_cdr(payload).map_err(|e| bad(e, topics))?;
+                        topics.push_temperature(slot, log_time, &m);
                     }
-                    None => {}
                 }
             }
             OP_CHUNK => {
@@ -176,11 +200,14 @@ impl State {
                     other => {
                         return Err(Broken::at(
                             at,
-                            format!("a chunk is compressed with {other:?}, not zstd or lz4"),
+                            format!(
+                                "a chunk is compressed with \"{}\", not zstd or lz4",
+                                quoted(other)
+                            ),
                         ));
                     }
                 };
-                let inner = decompress(codec, compressed, size)
+                let inner = decompress(codec, compressed, size, &mut self.budget)
                     .map_err(|e| Broken::at(at, e.to_string()))?;
                 if crc != 0 && crc32fast::hash(&inner) != crc {
                     return Err(Broken::at(

@@ -28,6 +28,15 @@
 //! byte offset; a file cut inside its last message keeps every whole message and says so in
 //! [`ImuRecording::problems`].
 //!
+//! Crafted input is bounded by construction: every size and offset read from a file is
+//! checked arithmetic against the bytes that exist, nothing is allocated for a declared size
+//! before its bytes exist, ULog formats are walked once each (at most 16 deep, at most a
+//! message large) and their padding is not stored, chunks decompress as a stream within a
+//! per-chunk cap and a per-file budget (`decompress.rs`), topics and channels are found in hash
+//! maps, a ROS message's `frame_id` is not kept per message, and names and lists in messages
+//! are cut to a readable length (`error::quoted`, `error::listed`, [`PROBLEMS_AT_MOST`]).
+//! `tests/attack/readers.rs` holds a file for each way this once failed.
+//!
 //! Each format has its own reader here, not a crate's: every crate tried failed on the
 //! samples' mutated or cut copies (see each reader's documentation).
 
@@ -80,6 +89,10 @@ impl std::fmt::Display for Format {
         })
     }
 }
+
+/// The most problems a recording lists: a crafted file can have a bad format message every
+/// 89 bytes, and a list of a million is read by nobody.
+pub const PROBLEMS_AT_MOST: usize = 50;
 
 /// The longest magic: the bytes [`sniff`] needs to decide.
 pub const SNIFF_BYTES: usize = 13;
@@ -197,6 +210,13 @@ pub fn read_bytes(source: &str, bytes: &[u8]) -> Result<ImuRecording, FormatErro
     }
     for (k, inst) in instances.iter_mut().enumerate() {
         inst.index = k;
+    }
+    if problems.len() > PROBLEMS_AT_MOST {
+        let more = problems.len() - PROBLEMS_AT_MOST;
+        problems.truncate(PROBLEMS_AT_MOST);
+        problems.push(Problem::note(format!(
+            "and {more} more problems not listed"
+        )));
     }
     Ok(ImuRecording {
         format,

@@ -6,6 +6,7 @@
 //! are computed from the integer only when asked, the way the formats' own tools do it.
 
 use super::Format;
+use super::error::quoted;
 use serde::Serialize;
 
 /// One log read whole: every gyro instance found, and what was wrong with the file.
@@ -85,7 +86,7 @@ impl std::fmt::Display for DeviceId {
             DeviceId::Ulog { device_id } => write!(f, "device_id {device_id} (0x{device_id:X})"),
             DeviceId::DataFlash { instance } => write!(f, "I={instance}"),
             // The topic is the instance's label already.
-            DeviceId::Ros { frame_id, .. } => write!(f, "frame_id {frame_id}"),
+            DeviceId::Ros { frame_id, .. } => write!(f, "frame_id {}", quoted(frame_id)),
         }
     }
 }
@@ -361,7 +362,7 @@ impl InstanceSummary {
     /// temperature range; alternatives`, with `n/a` and the reason where a figure cannot be
     /// given.
     pub fn line(&self) -> String {
-        let mut s = format!("gyro {}  {}", self.index, self.label);
+        let mut s = format!("gyro {}  {}", self.index, quoted(&self.label));
         if let Some(d) = &self.device {
             s.push_str(&format!("  {d}"));
         }
@@ -464,24 +465,47 @@ pub(crate) fn nearest_within(
     candidates: &[i128],
     tolerance: i128,
 ) -> Vec<Option<usize>> {
-    let mut order: Vec<usize> = (0..candidates.len()).collect();
-    order.sort_by_key(|&i| candidates[i]);
-    times
-        .iter()
-        .map(|&t| {
-            let j = order.partition_point(|&i| candidates[i] < t);
-            let mut best: Option<(usize, i128)> = None;
-            for k in [j.wrapping_sub(1), j] {
-                if let Some(&i) = order.get(k) {
-                    let d = (candidates[i] - t).abs();
-                    if d <= tolerance && best.is_none_or(|(_, bd)| d < bd) {
-                        best = Some((i, d));
+    Sorted::new(candidates.to_vec()).nearest_within(times, tolerance)
+}
+
+/// Candidate stamps with their order, sorted once for every gyro matched against them.
+pub(crate) struct Sorted {
+    candidates: Vec<i128>,
+    order: Vec<usize>,
+}
+
+impl Sorted {
+    pub(crate) fn new(candidates: Vec<i128>) -> Sorted {
+        let mut order: Vec<usize> = (0..candidates.len()).collect();
+        order.sort_by_key(|&i| candidates[i]);
+        Sorted { candidates, order }
+    }
+
+    /// The candidates, in their own order.
+    pub(crate) fn candidates(&self) -> &[i128] {
+        &self.candidates
+    }
+
+    /// As [`nearest_within`].
+    pub(crate) fn nearest_within(&self, times: &[i128], tolerance: i128) -> Vec<Option<usize>> {
+        let (candidates, order) = (&self.candidates, &self.order);
+        times
+            .iter()
+            .map(|&t| {
+                let j = order.partition_point(|&i| candidates[i] < t);
+                let mut best: Option<(usize, i128)> = None;
+                for k in [j.wrapping_sub(1), j] {
+                    if let Some(&i) = order.get(k) {
+                        let d = (candidates[i] - t).abs();
+                        if d <= tolerance && best.is_none_or(|(_, bd)| d < bd) {
+                            best = Some((i, d));
+                        }
                     }
                 }
-            }
-            best.map(|(i, _)| i)
-        })
-        .collect()
+                best.map(|(i, _)| i)
+            })
+            .collect()
+    }
 }
 
 /// The median positive step of sorted stamps, or `None`.

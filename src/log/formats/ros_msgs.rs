@@ -3,9 +3,13 @@
 //! ROS 2 (a 4-byte encapsulation header, then fields aligned to their size).
 //!
 //! Both messages are small and fixed: a header (stamp, frame_id), then float64s. The
-//! decoders read only those and check every length, so a corrupt message is an error.
+//! decoders read only those and check every length, so a corrupt message is an error. The
+//! `frame_id` is borrowed from the message's bytes: the topics keep the few they need, not
+//! one per message (a megabyte `frame_id` on every message would otherwise be kept as many
+//! times).
 
 use super::recording::RosTime;
+use std::borrow::Cow;
 
 /// Why a message's bytes do not decode, with the byte of the message where it stopped (the
 /// caller adds the message's offset in the file).
@@ -39,25 +43,25 @@ pub(crate) enum MessageError {
     NotPlainCdr(u8, u8),
 }
 
-/// The fields of `sensor_msgs/Imu` driftlab keeps.
+/// The fields of `sensor_msgs/Imu` driftlab reads.
 #[derive(Debug, Clone, PartialEq)]
-pub(crate) struct Imu {
+pub(crate) struct Imu<'a> {
     pub stamp: RosTime,
-    pub frame_id: String,
+    pub frame_id: Cow<'a, str>,
     pub angular_velocity: [f64; 3],
     pub linear_acceleration: [f64; 3],
 }
 
-/// The fields of `sensor_msgs/Temperature` driftlab keeps.
+/// The fields of `sensor_msgs/Temperature` driftlab reads.
 #[derive(Debug, Clone, PartialEq)]
-pub(crate) struct Temperature {
+pub(crate) struct Temperature<'a> {
     pub stamp: RosTime,
-    pub frame_id: String,
+    pub frame_id: Cow<'a, str>,
     pub celsius: f64,
 }
 
 /// The message types read, by the names ROS 1 and ROS 2 give them.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub(crate) enum Kind {
     Imu,
     Temperature,
@@ -133,7 +137,7 @@ impl<'a> Wire<'a> {
         })
     }
 
-    fn string(&mut self) -> Result<String, MessageError> {
+    fn string(&mut self) -> Result<Cow<'a, str>, MessageError> {
         let n = self.u32()? as usize;
         if n > self.b.len() - self.pos {
             return Err(MessageError::StringPastEnd {
@@ -146,10 +150,10 @@ impl<'a> Wire<'a> {
         self.pos += n;
         // CDR counts the terminating NUL; ROS 1 does not write one.
         let s = s.strip_suffix(&[0]).unwrap_or(s);
-        Ok(String::from_utf8_lossy(s).into_owned())
+        Ok(String::from_utf8_lossy(s))
     }
 
-    fn header(&mut self) -> Result<(RosTime, String), MessageError> {
+    fn header(&mut self) -> Result<(RosTime, Cow<'a, str>), MessageError> {
         if !self.cdr {
             self.u32()?; // seq
         }
@@ -205,7 +209,7 @@ fn cdr(b: &[u8]) -> Result<Wire<'_>, MessageError> {
     })
 }
 
-fn imu(mut w: Wire<'_>) -> Result<Imu, MessageError> {
+fn imu(mut w: Wire<'_>) -> Result<Imu<'_>, MessageError> {
     let (stamp, frame_id) = w.header()?;
     w.skip_f64s(4 + 9)?; // orientation, its covariance
     let angular_velocity = w.vec3()?;
@@ -220,7 +224,7 @@ fn imu(mut w: Wire<'_>) -> Result<Imu, MessageError> {
     })
 }
 
-fn temperature(mut w: Wire<'_>) -> Result<Temperature, MessageError> {
+fn temperature(mut w: Wire<'_>) -> Result<Temperature<'_>, MessageError> {
     let (stamp, frame_id) = w.header()?;
     let celsius = w.f64()?;
     w.f64()?; // variance
@@ -232,22 +236,22 @@ fn temperature(mut w: Wire<'_>) -> Result<Temperature, MessageError> {
 }
 
 /// `sensor_msgs/Imu` in the ROS 1 serialization.
-pub(crate) fn imu_ros1(b: &[u8]) -> Result<Imu, MessageError> {
+pub(crate) fn imu_ros1(b: &[u8]) -> Result<Imu<'_>, MessageError> {
     imu(ros1(b))
 }
 
 /// `sensor_msgs/msg/Imu` in CDR.
-pub(crate) fn imu_cdr(b: &[u8]) -> Result<Imu, MessageError> {
+pub(crate) fn imu_cdr(b: &[u8]) -> Result<Imu<'_>, MessageError> {
     imu(cdr(b)?)
 }
 
 /// `sensor_msgs/Temperature` in the ROS 1 serialization.
-pub(crate) fn temperature_ros1(b: &[u8]) -> Result<Temperature, MessageError> {
+pub(crate) fn temperature_ros1(b: &[u8]) -> Result<Temperature<'_>, MessageError> {
     temperature(ros1(b))
 }
 
 /// `sensor_msgs/msg/Temperature` in CDR.
-pub(crate) fn temperature_cdr(b: &[u8]) -> Result<Temperature, MessageError> {
+pub(crate) fn temperature_cdr(b: &[u8]) -> Result<Temperature<'_>, MessageError> {
     temperature(cdr(b)?)
 }
 

@@ -1,62 +1,220 @@
 //! Gyro instances from the decoded messages of a ROS 1 bag or an MCAP file: one instance per
 //! `sensor_msgs/Imu` topic, its temperature from a `sensor_msgs/Temperature` topic of the
 //! same frame.
+//!
+//! Bounded by construction: a topic is found by its name in a hash map once, when the
+//! connection or channel naming it is read (a bag of 100 000 topics, or an MCAP redefining a
+//! channel before each of 200 000 messages, costs one lookup each, not a walk over every
+//! topic), and a message is filed by the slot its connection holds. Of the `frame_id`s only
+//! the two that matter are kept per topic (that of its first message in log-time order, and
+//! the first that differs from it), not one string per message.
 
+use super::error::{LIST_AT_MOST, quoted};
 use super::recording::{
     Axes, DeviceId, GyroInstance, Problem, RosTime, Timestamps, Values, median_step, nearest_within,
 };
-use super::ros_msgs::{Imu, Temperature};
+use super::ros_msgs::{Imu, Kind, Temperature};
+use std::collections::HashMap;
 
-/// The messages of a log, topic by topic in order of first appearance, each with its log
-/// (bag) time in ns.
-#[derive(Default)]
-pub(crate) struct Topics {
-    pub imu: Vec<(String, Vec<(u64, Imu)>)>,
-    pub temperature: Vec<(String, Vec<(u64, Temperature)>)>,
+/// An Imu message as kept: all of it but its `frame_id`.
+struct ImuSample {
+    stamp: RosTime,
+    angular_velocity: [f64; 3],
+    linear_acceleration: [f64; 3],
 }
 
-fn push<T>(list: &mut Vec<(String, Vec<(u64, T)>)>, topic: &str, t: u64, m: T) {
-    match list.iter_mut().find(|(n, _)| n == topic) {
-        Some((_, v)) => v.push((t, m)),
-        None => list.push((topic.to_string(), vec![(t, m)])),
+/// A Temperature message as kept.
+struct TempSample {
+    stamp: RosTime,
+    celsius: f64,
+}
+
+/// A message's place in its topic's log-time order: log time, then arrival (the order a
+/// stable sort by log time gives).
+type Key = (u64, usize);
+
+/// The `frame_id`s of a topic's messages as far as they are used: the first in log-time
+/// order, and the first after it (in that order) that differs from it. Kept as messages
+/// arrive, whatever their order.
+#[derive(Default)]
+struct Frames {
+    first: Option<(Key, String)>,
+    other: Option<(Key, String)>,
+}
+
+impl Frames {
+    fn see(&mut self, key: Key, frame: &str) {
+        match &self.first {
+            None => self.first = Some((key, frame.to_string())),
+            Some((k, _)) if key < *k => {
+                // The new message comes first; the first different from it is the old first
+                // (earlier than every other old message) when its frame differs, else the
+                // old "other" still.
+                let old = self.first.replace((key, frame.to_string()));
+                if let Some(old) = old
+                    && old.1 != frame
+                {
+                    self.other = Some(old);
+                }
+            }
+            Some((_, f)) => {
+                if f != frame && self.other.as_ref().is_none_or(|(k, _)| key < *k) {
+                    self.other = Some((key, frame.to_string()));
+                }
+            }
+        }
     }
+
+    fn first(&self) -> &str {
+        self.first.as_ref().map_or("", |(_, f)| f)
+    }
+}
+
+/// The messages of one topic, with their log (bag) time in ns.
+struct Topic<T> {
+    name: String,
+    msgs: Vec<(u64, T)>,
+    frames: Frames,
+}
+
+impl<T> Topic<T> {
+    fn new(name: &str) -> Topic<T> {
+        Topic {
+            name: name.to_string(),
+            msgs: Vec::new(),
+            frames: Frames::default(),
+        }
+    }
+
+    fn push(&mut self, t: u64, frame: &str, m: T) {
+        self.frames.see((t, self.msgs.len()), frame);
+        self.msgs.push((t, m));
+    }
+}
+
+/// Where a connection's (channel's) messages are filed: its topic's slot.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct Slot {
+    kind: Kind,
+    index: usize,
+}
+
+impl Slot {
+    /// The message type filed there.
+    pub(crate) fn kind(self) -> Kind {
+        self.kind
+    }
+}
+
+/// The messages of a log, topic by topic.
+#[derive(Default)]
+pub(crate) struct Topics {
+    imu: Vec<Topic<ImuSample>>,
+    temperature: Vec<Topic<TempSample>>,
+    imu_by_name: HashMap<String, usize>,
+    temperature_by_name: HashMap<String, usize>,
+    /// Slots of `imu` and `temperature` in order of their first message: the instances'
+    /// order.
+    imu_order: Vec<usize>,
+    temperature_order: Vec<usize>,
 }
 
 impl Topics {
-    pub(crate) fn push_imu(&mut self, topic: &str, log_time_ns: u64, m: Imu) {
-        push(&mut self.imu, topic, log_time_ns, m);
+    /// The slot of `topic` for messages of `kind`, made on first sight.
+    pub(crate) fn slot(&mut self, kind: Kind, topic: &str) -> Slot {
+        let (by_name, len) = match kind {
+            Kind::Imu => (&mut self.imu_by_name, self.imu.len()),
+            Kind::Temperature => (&mut self.temperature_by_name, self.temperature.len()),
+        };
+        if let Some(&index) = by_name.get(topic) {
+            return Slot { kind, index };
+        }
+        by_name.insert(topic.to_string(), len);
+        match kind {
+            Kind::Imu => self.imu.push(Topic::new(topic)),
+            Kind::Temperature => self.temperature.push(Topic::new(topic)),
+        }
+        Slot { kind, index: len }
     }
 
-    pub(crate) fn push_temperature(&mut self, topic: &str, log_time_ns: u64, m: Temperature) {
-        push(&mut self.temperature, topic, log_time_ns, m);
+    /// The topic of `slot`.
+    pub(crate) fn name(&self, slot: Slot) -> &str {
+        match slot.kind {
+            Kind::Imu => &self.imu[slot.index].name,
+            Kind::Temperature => &self.temperature[slot.index].name,
+        }
     }
 
-    /// One instance per Imu topic, messages in log-time order (as rosbags and the mcap
-    /// reader give them).
+    /// Files an Imu message under `slot` (of kind Imu).
+    pub(crate) fn push_imu(&mut self, slot: Slot, log_time_ns: u64, m: &Imu<'_>) {
+        debug_assert_eq!(slot.kind, Kind::Imu);
+        let topic = &mut self.imu[slot.index];
+        if topic.msgs.is_empty() {
+            self.imu_order.push(slot.index);
+        }
+        let sample = ImuSample {
+            stamp: m.stamp,
+            angular_velocity: m.angular_velocity,
+            linear_acceleration: m.linear_acceleration,
+        };
+        topic.push(log_time_ns, &m.frame_id, sample);
+    }
+
+    /// Files a Temperature message under `slot` (of kind Temperature).
+    pub(crate) fn push_temperature(&mut self, slot: Slot, log_time_ns: u64, m: &Temperature<'_>) {
+        debug_assert_eq!(slot.kind, Kind::Temperature);
+        let topic = &mut self.temperature[slot.index];
+        if topic.msgs.is_empty() {
+            self.temperature_order.push(slot.index);
+        }
+        let sample = TempSample {
+            stamp: m.stamp,
+            celsius: m.celsius,
+        };
+        topic.push(log_time_ns, &m.frame_id, sample);
+    }
+
+    /// One instance per Imu topic, in order of its first message, messages in log-time
+    /// order (as rosbags and the mcap reader give them).
     pub(crate) fn into_instances(mut self, problems: &mut Vec<Problem>) -> Vec<GyroInstance> {
-        for (_, v) in &mut self.imu {
-            v.sort_by_key(|(t, _)| *t);
+        for t in &mut self.imu {
+            t.msgs.sort_by_key(|(t, _)| *t);
         }
-        for (_, v) in &mut self.temperature {
-            v.sort_by_key(|(t, _)| *t);
+        for t in &mut self.temperature {
+            t.msgs.sort_by_key(|(t, _)| *t);
         }
-        let single = self.imu.len() == 1 && self.temperature.len() == 1;
-        let mut used = vec![false; self.temperature.len()];
+        let temps: Vec<&Topic<TempSample>> = self
+            .temperature_order
+            .iter()
+            .map(|&k| &self.temperature[k])
+            .collect();
+        let single = self.imu_order.len() == 1 && temps.len() == 1;
+        // The first Temperature topic of each frame, as a walk in order would find it.
+        let mut by_frame: HashMap<&str, usize> = HashMap::new();
+        for (k, t) in temps.iter().enumerate() {
+            by_frame.entry(t.frames.first()).or_insert(k);
+        }
+        let mut used = vec![false; temps.len()];
         let mut out = Vec::new();
-        for (topic, msgs) in &self.imu {
-            let frame = msgs
-                .first()
-                .map(|(_, m)| m.frame_id.clone())
-                .unwrap_or_default();
-            if let Some((_, m)) = msgs.iter().find(|(_, m)| m.frame_id != frame) {
+        for &slot in &self.imu_order {
+            let Topic {
+                name: topic,
+                msgs,
+                frames,
+            } = &self.imu[slot];
+            let frame = frames.first().to_string();
+            if let Some((_, other)) = &frames.other {
                 problems.push(Problem::note(format!(
-                    "{topic}: frame_id changes from \"{frame}\" to \"{}\" within the topic",
-                    m.frame_id
+                    "{}: frame_id changes from \"{}\" to \"{}\" within the topic",
+                    quoted(topic),
+                    quoted(&frame),
+                    quoted(other)
                 )));
             }
             let stamps: Vec<RosTime> = msgs.iter().map(|(_, m)| m.stamp).collect();
-            let column =
-                |f: &dyn Fn(&Imu) -> f64| Values::F64(msgs.iter().map(|(_, m)| f(m)).collect());
+            let column = |f: &dyn Fn(&ImuSample) -> f64| {
+                Values::F64(msgs.iter().map(|(_, m)| f(m)).collect())
+            };
             let gyro = Axes {
                 xyz: [
                     column(&|m| m.angular_velocity[0]),
@@ -73,32 +231,34 @@ impl Topics {
             };
             // Its temperature: a Temperature topic on the same frame, else the only one of a
             // log with one IMU and one temperature.
-            let matched = self
-                .temperature
-                .iter()
-                .position(|(_, t)| t.first().is_some_and(|(_, m)| m.frame_id == frame))
+            let matched = by_frame
+                .get(frame.as_str())
+                .copied()
                 .or(single.then_some(0));
             let temp_c = match matched {
                 Some(k) => {
                     used[k] = true;
-                    let (ttopic, t) = &self.temperature[k];
-                    let tf = t.first().map(|(_, m)| m.frame_id.as_str()).unwrap_or("");
+                    let t = temps[k];
+                    let tf = t.frames.first();
                     if tf != frame {
                         problems.push(Problem::note(format!(
-                            "{topic}: temperature taken from {ttopic}, the log's only \
-                             Temperature topic, although its frame_id \"{tf}\" is not the \
-                             IMU's \"{frame}\""
+                            "{}: temperature taken from {}, the log's only Temperature \
+                             topic, although its frame_id \"{}\" is not the IMU's \"{}\"",
+                            quoted(topic),
+                            quoted(&t.name),
+                            quoted(tf),
+                            quoted(&frame)
                         )));
                     }
                     let g: Vec<i128> = stamps.iter().map(|s| s.nanos()).collect();
-                    let tk: Vec<i128> = t.iter().map(|(_, m)| m.stamp.nanos()).collect();
+                    let tk: Vec<i128> = t.msgs.iter().map(|(_, m)| m.stamp.nanos()).collect();
                     let tol = median_step(&tk)
                         .unwrap_or(0)
                         .max(median_step(&g).unwrap_or(0));
                     let pick = nearest_within(&g, &tk, tol);
                     Values::F64(
                         pick.iter()
-                            .map(|p| p.map_or(f64::NAN, |i| t[i].1.celsius))
+                            .map(|p| p.map_or(f64::NAN, |i| t.msgs[i].1.celsius))
                             .collect(),
                     )
                 }
@@ -120,14 +280,24 @@ impl Topics {
                 alt_temps: Vec::new(),
             });
         }
-        for (k, (topic, t)) in self.temperature.iter().enumerate() {
-            if !used[k] {
-                let f = t.first().map(|(_, m)| m.frame_id.as_str()).unwrap_or("");
-                problems.push(Problem::note(format!(
-                    "Temperature topic {topic} (frame_id \"{f}\") matches no Imu topic's frame; \
-                     not used"
-                )));
-            }
+        let unused: Vec<&Topic<TempSample>> = temps
+            .iter()
+            .zip(&used)
+            .filter(|(_, u)| !**u)
+            .map(|(t, _)| *t)
+            .collect();
+        for t in unused.iter().take(LIST_AT_MOST) {
+            problems.push(Problem::note(format!(
+                "Temperature topic {} (frame_id \"{}\") matches no Imu topic's frame; not used",
+                quoted(&t.name),
+                quoted(t.frames.first())
+            )));
+        }
+        if unused.len() > LIST_AT_MOST {
+            problems.push(Problem::note(format!(
+                "and {} more Temperature topics match no Imu topic's frame; not used",
+                unused.len() - LIST_AT_MOST
+            )));
         }
         out
     }
@@ -137,7 +307,7 @@ impl Topics {
 mod tests {
     use super::*;
 
-    fn imu(sec: i64, frame: &str, w: f64) -> Imu {
+    fn imu(sec: i64, frame: &str, w: f64) -> Imu<'_> {
         Imu {
             stamp: RosTime { sec, nsec: 0 },
             frame_id: frame.into(),
@@ -146,7 +316,7 @@ mod tests {
         }
     }
 
-    fn temp(sec: i64, frame: &str, c: f64) -> Temperature {
+    fn temp(sec: i64, frame: &str, c: f64) -> Temperature<'_> {
         Temperature {
             stamp: RosTime { sec, nsec: 0 },
             frame_id: frame.into(),
@@ -157,22 +327,25 @@ mod tests {
     #[test]
     fn a_temperature_topic_of_the_same_frame_is_the_gyros_own() {
         let mut t = Topics::default();
+        // Slots made in another order than the first messages: the instances follow the
+        // messages.
+        let other = t.slot(Kind::Imu, "/other/imu");
+        let data = t.slot(Kind::Imu, "/imu/data");
+        let board = t.slot(Kind::Temperature, "/board/temperature");
+        let own = t.slot(Kind::Temperature, "/imu/temperature");
         for s in 0..6 {
-            t.push_imu("/imu/data", s as u64, imu(s, "imu_link", s as f64));
-            t.push_imu("/other/imu", s as u64, imu(s, "other", 0.0));
+            t.push_imu(data, s as u64, &imu(s, "imu_link", s as f64));
+            t.push_imu(other, s as u64, &imu(s, "other", 0.0));
         }
         // Half as often as the gyro, on its frame; another frame's topic is not used.
         for s in [0, 2, 4] {
-            t.push_temperature(
-                "/imu/temperature",
-                s as u64,
-                temp(s, "imu_link", 30.0 + s as f64),
-            );
-            t.push_temperature("/board/temperature", s as u64, temp(s, "board", 99.0));
+            t.push_temperature(own, s as u64, &temp(s, "imu_link", 30.0 + s as f64));
+            t.push_temperature(board, s as u64, &temp(s, "board", 99.0));
         }
         let mut problems = Vec::new();
         let inst = t.into_instances(&mut problems);
         assert_eq!(inst.len(), 2);
+        assert_eq!(inst[0].label, "/imu/data");
         // The nearest temperature beside each gyro sample (ties go to the earlier one).
         assert_eq!(
             inst[0].temp_c,
@@ -185,5 +358,40 @@ mod tests {
                 .any(|p| p.message.contains("/board/temperature")),
             "{problems:?}"
         );
+    }
+
+    /// The frames a sort by log time, then a walk, would find: the first message's, and the
+    /// first after it that differs.
+    fn by_sorting(msgs: &[(u64, &str)]) -> (String, Option<String>) {
+        let mut v: Vec<(u64, &str)> = msgs.to_vec();
+        v.sort_by_key(|m| m.0);
+        let first = v[0].1.to_string();
+        let other = v.iter().find(|m| m.1 != first).map(|m| m.1.to_string());
+        (first, other)
+    }
+
+    #[test]
+    fn the_frames_kept_are_those_a_sort_then_a_walk_would_find() {
+        let names = ["a", "b", "c"];
+        // Every sequence of 5 messages over 3 log times and 3 frames.
+        for code in 0..9usize.pow(5) {
+            let mut c = code;
+            let msgs: Vec<(u64, &str)> = (0..5)
+                .map(|_| {
+                    let m = ((c % 3) as u64, names[(c / 3) % 3]);
+                    c /= 9;
+                    m
+                })
+                .collect();
+            let mut f = Frames::default();
+            for (i, (t, name)) in msgs.iter().enumerate() {
+                f.see((*t, i), name);
+            }
+            let got = (
+                f.first().to_string(),
+                f.other.as_ref().map(|(_, s)| s.clone()),
+            );
+            assert_eq!(got, by_sorting(&msgs), "{msgs:?}");
+        }
     }
 }

@@ -12,11 +12,11 @@
 //! position its header names: 188 of 200 cuts of the sample), and loops on a mutated sample.
 
 use super::bytes::{Bytes, each_record_of_chunk};
-use super::decompress::{Codec, decompress};
-use super::error::Broken;
+use super::decompress::{Budget, Codec, decompress};
+use super::error::{Broken, quoted};
 use super::recording::Problem;
 use super::ros_msgs::{self, Kind};
-use super::ros_topics::Topics;
+use super::ros_topics::{Slot, Topics};
 use std::collections::HashMap;
 
 /// The first 13 bytes of a bag of format 2.0.
@@ -95,14 +95,14 @@ fn record<'a>(b: &mut Bytes<'a>) -> Result<Option<Record<'a>>, Broken> {
 }
 
 /// A connection: its topic and what it carries.
-struct Connection {
-    topic: String,
+struct Connection<'a> {
+    topic: std::borrow::Cow<'a, str>,
     kind: Option<Kind>,
 }
 
-fn connection(r: &Record<'_>) -> Result<(u32, Connection), Broken> {
+fn connection<'a>(r: &Record<'a>) -> Result<(u32, Connection<'a>), Broken> {
     let id = r.u32_field("conn")?;
-    let topic = String::from_utf8_lossy(r.field("topic").unwrap_or_default()).into_owned();
+    let topic = String::from_utf8_lossy(r.field("topic").unwrap_or_default());
     // The type is in the connection header, the record's data.
     let mut d = Bytes::new(r.data, r.data_at);
     let mut ty = None;
@@ -110,7 +110,7 @@ fn connection(r: &Record<'_>) -> Result<(u32, Connection), Broken> {
         let n = d.len_u32("a connection header field")?;
         let f = d.take(n, "a connection header field")?;
         if let Some(v) = f.strip_prefix(b"type=") {
-            ty = Some(String::from_utf8_lossy(v).into_owned());
+            ty = Some(String::from_utf8_lossy(v));
         }
     }
     Ok((
@@ -134,7 +134,12 @@ pub(crate) fn read(data: &[u8]) -> Result<Read, Broken> {
         return Err(Broken::at(0, "the bag does not start with #ROSBAG V2.0"));
     }
     let mut b = Bytes::new(&data[MAGIC.len()..], MAGIC.len() as u64);
-    let mut state = State::default();
+    let mut state = State {
+        connections: HashMap::new(),
+        topics: Topics::default(),
+        orphans: 0,
+        budget: Budget::for_file(data.len()),
+    };
     let mut problems = Vec::new();
     while !b.is_empty() {
         let at = b.offset();
@@ -155,15 +160,18 @@ pub(crate) fn read(data: &[u8]) -> Result<Read, Broken> {
                     other => {
                         return Err(Broken::at(
                             r.at,
-                            format!(
-                                "a chunk has compression {:?}, not none, bz2 or lz4",
-                                other.map(String::from_utf8_lossy)
-                            ),
+                            match other {
+                                Some(c) => format!(
+                                    "a chunk has compression \"{}\", not none, bz2 or lz4",
+                                    quoted(&String::from_utf8_lossy(c))
+                                ),
+                                None => "a chunk has no compression field".to_string(),
+                            },
                         ));
                     }
                 };
                 let size = r.u32_field("size")?;
-                let inner = decompress(codec, r.data, u64::from(size))
+                let inner = decompress(codec, r.data, u64::from(size), &mut state.budget)
                     .map_err(|e| Broken::at(r.at, e.to_string()))?;
                 state.chunk(&inner, r.at)?;
             }
@@ -185,17 +193,19 @@ pub(crate) fn read(data: &[u8]) -> Result<Read, Broken> {
     })
 }
 
-#[derive(Default)]
 struct State {
-    connections: HashMap<u32, Connection>,
+    /// Connection id → the slot of its topic, `None` for a type not read.
+    connections: HashMap<u32, Option<Slot>>,
     topics: Topics,
     orphans: usize,
+    budget: Budget,
 }
 
 impl State {
     fn connection(&mut self, r: &Record<'_>) -> Result<(), Broken> {
         let (id, c) = connection(r)?;
-        self.connections.insert(id, c);
+        let slot = c.kind.map(|k| self.topics.slot(k, &c.topic));
+        self.connections.insert(id, slot);
         Ok(())
     }
 
@@ -214,11 +224,11 @@ impl State {
 
     fn message(&mut self, r: &Record<'_>) -> Result<(), Broken> {
         let id = r.u32_field("conn")?;
-        let Some(c) = self.connections.get(&id) else {
+        let Some(&c) = self.connections.get(&id) else {
             self.orphans += 1;
             return Ok(());
         };
-        let Some(kind) = c.kind else {
+        let Some(slot) = c else {
             return Ok(());
         };
         let time = match r.field("time") {
@@ -234,17 +244,21 @@ impl State {
                 ));
             }
         };
-        let topic = c.topic.clone();
-        let bad =
-            |m: ros_msgs::MessageError| Broken::at(r.data_at, format!("a message on {topic}: {m}"));
-        match kind {
+        let topics = &mut self.topics;
+        let bad = |m: ros_msgs::MessageError, topics: &Topics| {
+            Broken::at(
+                r.data_at,
+                format!("a message on {}: {m}", quoted(topics.name(slot))),
+            )
+        };
+        match slot.kind() {
             Kind::Imu => {
-                let m = ros_msgs::imu_ros1(r.data).map_err(bad)?;
-                self.topics.push_imu(&c.topic, time, m);
+                let m = ros_msgs::imu_ros1(r.data).map_err(|e| bad(e, topics))?;
+                topics.push_imu(slot, time, &m);
             }
             Kind::Temperature => {
-                let m = ros_msgs::temperature_ros1(r.data).map_err(bad)?;
-                self.topics.push_temperature(&c.topic, time, m);
+                let m = ros_msgs::temperature_ros1(r.data).map_err(|e| bad(e, topics))?;
+                topics.push_temperature(slot, time, &m);
             }
         }
         Ok(())

@@ -6,7 +6,7 @@
 //! so a calibration fitted on it should be a choice, not a fallback. Without one, the choice
 //! is refused with the alternatives named.
 
-use super::error::SelectionError;
+use super::error::{SelectionError, listed, quoted};
 use super::recording::{GyroInstance, ImuRecording, TempFrom, Values};
 
 /// The chosen instance and temperature, with a sentence saying what was chosen.
@@ -51,10 +51,11 @@ impl Selected<'_> {
     }
 }
 
+/// `gyro N (label, device)`, names quoted to a readable length.
 fn describe(i: &GyroInstance) -> String {
     match &i.device {
-        Some(d) => format!("gyro {} ({}, {d})", i.index, i.label),
-        None => format!("gyro {} ({})", i.index, i.label),
+        Some(d) => format!("gyro {} ({}, {d})", i.index, quoted(&i.label)),
+        None => format!("gyro {} ({})", i.index, quoted(&i.label)),
     }
 }
 
@@ -84,14 +85,14 @@ fn alternatives(i: &GyroInstance) -> String {
     }
 }
 
+/// What every gyro could use instead, the first few named (a log of 20 000 topics gives
+/// one readable line).
 fn every_alternative(rec: &ImuRecording) -> String {
-    let mut s: Vec<String> = rec.instances.iter().map(alternatives).collect();
-    s.push(
-        "temp_from none writes temp_c as NaN (enough for noise analysis, not for a \
-         thermal calibration)"
-            .into(),
-    );
-    s.join("; ")
+    format!(
+        "{}; temp_from none writes temp_c as NaN (enough for noise analysis, not for a \
+         thermal calibration)",
+        listed(rec.instances.iter().map(alternatives), "; ")
+    )
 }
 
 /// The values of `from` for `i`, when the log has them with at least one number.
@@ -124,13 +125,7 @@ pub fn select(
     temp_from: Option<TempFrom>,
 ) -> Result<Selected<'_>, SelectionError> {
     let from = temp_from.unwrap_or(TempFrom::Own);
-    let listing = || {
-        rec.instances
-            .iter()
-            .map(describe)
-            .collect::<Vec<_>>()
-            .join(", ")
-    };
+    let listing = || listed(rec.instances.iter().map(describe), ", ");
     let found = |i: &GyroInstance| temperature(i, from);
     let (inst, (temp_c, what), how) = match gyro {
         Some(n) => {

@@ -5,9 +5,10 @@
 
 use super::subscription::Sub;
 use crate::log::formats::recording::{
-    AltTemperature, Axes, DeviceId, GyroInstance, Problem, TempFrom, Timestamps, Values,
-    median_step, nearest_within,
+    AltTemperature, Axes, DeviceId, GyroInstance, Problem, Sorted, TempFrom, Timestamps, Values,
+    median_step,
 };
+use std::cell::OnceCell;
 
 /// Why a subscription gives no gyro instance: a field it lacks. The reader notes it after the
 /// subscription's name and leaves the instance out.
@@ -21,14 +22,22 @@ enum Missing {
     Float(String),
 }
 
+/// An accelerometer's or status's stamps, sorted once for every gyro matched against them.
+type Keys = OnceCell<Option<Sorted>>;
+
 /// Turns the subscriptions into gyro instances.
 pub(super) fn assemble(subs: Vec<Sub>, problems: &mut Vec<Problem>) -> Vec<GyroInstance> {
     let mut gyros: Vec<&Sub> = subs.iter().filter(|s| s.topic == "sensor_gyro").collect();
     gyros.sort_by_key(|s| s.multi_id);
-    let accels: Vec<&Sub> = subs.iter().filter(|s| s.topic == "sensor_accel").collect();
-    let statuses: Vec<&Sub> = subs
+    let accels: Vec<(&Sub, Keys)> = subs
+        .iter()
+        .filter(|s| s.topic == "sensor_accel")
+        .map(|s| (s, Keys::new()))
+        .collect();
+    let statuses: Vec<(&Sub, Keys)> = subs
         .iter()
         .filter(|s| s.topic == "vehicle_imu_status")
+        .map(|s| (s, Keys::new()))
         .collect();
     let mut out = Vec::new();
     for g in gyros {
@@ -53,16 +62,27 @@ fn axes(s: &Sub, names: [(&str, usize); 3]) -> Result<Axes, Missing> {
     })
 }
 
+/// The x, y, z of `s` at the rows `pick` names, when it has all three as floats.
+fn axes_at(s: &Sub, pick: &[Option<usize>]) -> Option<Axes> {
+    Some(Axes {
+        xyz: [
+            s.values_at("x", 0, pick)?,
+            s.values_at("y", 0, pick)?,
+            s.values_at("z", 0, pick)?,
+        ],
+    })
+}
+
 fn gyro_instance(
     g: &Sub,
-    accels: &[&Sub],
-    statuses: &[&Sub],
+    accels: &[(&Sub, Keys)],
+    statuses: &[(&Sub, Keys)],
     index: usize,
 ) -> Result<GyroInstance, Missing> {
     let n = g.count();
     let time = g.integers("timestamp").ok_or(Missing::Timestamp)?;
     let sample = g.integers("timestamp_sample");
-    let device = g.integers("device_id").and_then(|v| v.first().copied());
+    let device = g.first_integer("device_id");
     let gyro = axes(g, [("x", 0), ("y", 0), ("z", 0)])?;
     let temp_c = g
         .values("temperature", 0)
@@ -70,14 +90,12 @@ fn gyro_instance(
     // The accelerometer of the same chip: same device_id, else the same multi_id.
     let accel_sub = accels
         .iter()
-        .find(|a| {
-            device.is_some() && a.integers("device_id").and_then(|v| v.first().copied()) == device
-        })
-        .or_else(|| accels.iter().find(|a| a.multi_id == g.multi_id));
-    let key = |s: &Sub| -> Option<Vec<i128>> {
+        .find(|(a, _)| device.is_some() && a.first_integer("device_id") == device)
+        .or_else(|| accels.iter().find(|(a, _)| a.multi_id == g.multi_id));
+    let key = |s: &Sub| -> Option<Sorted> {
         s.integers("timestamp_sample")
             .or_else(|| s.integers("timestamp"))
-            .map(|v| v.into_iter().map(i128::from).collect())
+            .map(|v| Sorted::new(v.into_iter().map(i128::from).collect()))
     };
     let gyro_key: Vec<i128> = sample
         .clone()
@@ -88,44 +106,45 @@ fn gyro_instance(
     let step = median_step(&gyro_key).unwrap_or(0);
     let mut accel = None;
     let mut alt_temps = Vec::new();
-    if let Some(a) = accel_sub
-        && let Some(akey) = key(a)
-        && let Ok(ax) = axes(a, [("x", 0), ("y", 0), ("z", 0)])
+    if let Some((a, keys)) = accel_sub
+        && let Some(akey) = keys.get_or_init(|| key(a))
+        && ["x", "y", "z"].iter().all(|f| a.is_float(f, 0))
     {
-        let pick = nearest_within(&gyro_key, &akey, step / 2);
-        accel = Some(Axes {
-            xyz: ax.xyz.map(|v| pick_values(&v, &pick)),
-        });
-        if let Some(t) = a.values("temperature", 0) {
+        let pick = akey.nearest_within(&gyro_key, step / 2);
+        accel = axes_at(a, &pick);
+        if let Some(t) = a.values_at("temperature", 0, &pick) {
             alt_temps.push(AltTemperature {
                 from: TempFrom::Accel,
                 field: format!("sensor_accel[{}].temperature", a.multi_id),
-                values: pick_values(&t, &pick),
+                values: t,
             });
         }
     }
     // vehicle_imu_status of this gyro (newer firmware logs its temperatures).
-    if let Some(st) = statuses.iter().find(|s| {
-        device.is_some()
-            && s.integers("gyro_device_id")
-                .and_then(|v| v.first().copied())
-                == device
-    }) {
+    if let Some((st, keys)) = statuses
+        .iter()
+        .find(|(s, _)| device.is_some() && s.first_integer("gyro_device_id") == device)
+    {
         let field = ["temperature_gyro", "temperature_accel"]
             .into_iter()
-            .find_map(|f| st.values(f, 0).map(|v| (f, v)));
-        if let Some((f, v)) = field
-            && let Some(skey) = st.integers("timestamp")
+            .find(|f| st.is_float(f, 0));
+        let skey = keys.get_or_init(|| {
+            st.integers("timestamp")
+                .map(|v| Sorted::new(v.into_iter().map(i128::from).collect()))
+        });
+        if let Some(f) = field
+            && let Some(skey) = skey
         {
-            let skey: Vec<i128> = skey.into_iter().map(i128::from).collect();
             let gtime: Vec<i128> = time.iter().map(|&t| i128::from(t)).collect();
-            let tol = median_step(&skey).unwrap_or(0).max(step);
-            let pick = nearest_within(&gtime, &skey, tol);
-            alt_temps.push(AltTemperature {
-                from: TempFrom::ImuStatus,
-                field: format!("vehicle_imu_status[{}].{f}", st.multi_id),
-                values: pick_values(&v, &pick),
-            });
+            let tol = median_step(skey.candidates()).unwrap_or(0).max(step);
+            let pick = skey.nearest_within(&gtime, tol);
+            if let Some(values) = st.values_at(f, 0, &pick) {
+                alt_temps.push(AltTemperature {
+                    from: TempFrom::ImuStatus,
+                    field: format!("vehicle_imu_status[{}].{f}", st.multi_id),
+                    values,
+                });
+            }
         }
     }
     Ok(GyroInstance {
@@ -172,12 +191,4 @@ fn combined_instance(c: &Sub, index: usize) -> Result<GyroInstance, Missing> {
         accel,
         alt_temps: Vec::new(),
     })
-}
-
-/// The values at `pick` (NaN where nothing was near).
-fn pick_values(v: &Values, pick: &[Option<usize>]) -> Values {
-    match v {
-        Values::F32(x) => Values::F32(pick.iter().map(|p| p.map_or(f32::NAN, |i| x[i])).collect()),
-        Values::F64(x) => Values::F64(pick.iter().map(|p| p.map_or(f64::NAN, |i| x[i])).collect()),
-    }
 }

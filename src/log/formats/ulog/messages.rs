@@ -3,16 +3,25 @@
 //! which only chains the sections, because this is where every byte offset is checked.
 
 use super::WANTED;
-use super::format::{Base, FieldDef, Located, parse_format, type_size};
-use super::subscription::Sub;
+use super::format::{Base, FieldDef, FormatError, Located, MAX_SIZE, Sizes, parse_format};
+use super::subscription::{Layout, Sub};
 use crate::log::formats::bytes::{Bytes, le_u16};
 use crate::log::formats::error::Broken;
 use crate::log::formats::recording::Problem;
 use std::collections::HashMap;
+use std::rc::Rc;
 
-#[derive(Default)]
+/// The most subscriptions of the wanted topics a log may make: PX4 subscribes each at most
+/// once per instance (`multi_id` is one byte), so a real log makes a few dozen. Past it the
+/// log is refused, rather than matching every gyro against every accelerometer of it.
+pub(super) const MAX_SUBSCRIPTIONS: usize = 4096;
+
 pub(super) struct State {
     formats: HashMap<String, Vec<FieldDef>>,
+    /// The sizes of the formats' types, each worked out once.
+    sizes: Sizes,
+    /// The layout of each wanted topic subscribed, worked out once.
+    layouts: HashMap<&'static str, Rc<Layout>>,
     pub(super) subs: Vec<Sub>,
     /// msg_id → index in `subs` (wanted topics only).
     by_id: HashMap<u16, usize>,
@@ -33,6 +42,24 @@ pub(super) enum Stop {
 }
 
 impl State {
+    /// The state of a walk over a file of `file_len` bytes.
+    pub(super) fn new(file_len: usize) -> State {
+        State {
+            formats: HashMap::new(),
+            sizes: Sizes::for_file(file_len),
+            layouts: HashMap::new(),
+            subs: Vec::new(),
+            by_id: HashMap::new(),
+            others: Default::default(),
+            dropouts: 0,
+            dropout_ms: 0,
+            first_dropout_at: 0,
+            unknown_ids: 0,
+            first_unknown_id_at: 0,
+            resume_at: 0,
+        }
+    }
+
     /// Reads messages from `pos` up to `end`.
     pub(super) fn messages(
         &mut self,
@@ -98,6 +125,12 @@ impl State {
                         .map_err(|_| Broken::at(at, "a format message is not text"))?;
                     let (name, fields) =
                         parse_format(text).map_err(|e| Broken::at(at, e.to_string()))?;
+                    // A redefinition (never in a real log) invalidates every size and layout
+                    // worked out: they may depend on it.
+                    if self.formats.get(&name).is_some_and(|old| *old != fields) {
+                        self.sizes.forget();
+                        self.layouts.clear();
+                    }
                     self.formats.insert(name, fields);
                 }
                 b'A' => self.subscribe(body, at)?,
@@ -145,20 +178,66 @@ impl State {
             self.others.insert(msg_id);
             return Ok(());
         };
+        let layout = match self.layouts.get(topic) {
+            Some(l) => Rc::clone(l),
+            None => {
+                let l = Rc::new(self.layout(topic, at)?);
+                self.layouts.insert(topic, Rc::clone(&l));
+                l
+            }
+        };
+        let sub = Sub {
+            topic,
+            multi_id,
+            layout,
+            rows: Vec::new(),
+        };
+        // The same msg_id subscribed again before any sample: the new subscription replaces
+        // the old, so that a file of subscriptions alone cannot pile them up.
+        if let Some(&k) = self.by_id.get(&msg_id)
+            && self.subs[k].rows.is_empty()
+        {
+            self.subs[k] = sub;
+            return Ok(());
+        }
+        if self.subs.len() >= MAX_SUBSCRIPTIONS {
+            return Err(Broken::at(
+                at,
+                format!(
+                    "more than {MAX_SUBSCRIPTIONS} subscriptions of the topics driftlab reads \
+                     (a real log makes a few dozen): the file is corrupt or crafted"
+                ),
+            ));
+        }
+        self.by_id.insert(msg_id, self.subs.len());
+        self.subs.push(sub);
+        Ok(())
+    }
+
+    /// Where the fields of `topic` lie in its payload, with checked sizes.
+    fn layout(&mut self, topic: &'static str, at: u64) -> Result<Layout, Broken> {
         let fields = self.formats.get(topic).ok_or_else(|| {
             Broken::at(
                 at,
                 format!("topic {topic} is subscribed but its format was never defined"),
             )
         })?;
+        let too_large = || Broken::at(at, FormatError::TooLarge(topic.to_string()).to_string());
         let mut located = HashMap::new();
         let mut offset = 0usize;
         let mut need = 0usize;
         for f in fields {
-            let s =
-                type_size(&f.ty, &self.formats, 0).map_err(|e| Broken::at(at, e.to_string()))?;
+            let s = self
+                .sizes
+                .size(&f.ty, &self.formats)
+                .map_err(|e| Broken::at(at, e.to_string()))?;
+            let end = s
+                .checked_mul(f.count)
+                .and_then(|n| n.checked_add(offset))
+                .filter(|&e| e <= MAX_SIZE)
+                .ok_or_else(too_large)?;
             if !f.name.starts_with("_padding") {
-                need = offset + s * f.count;
+                need = end;
             }
             located.insert(
                 f.name.clone(),
@@ -168,22 +247,15 @@ impl State {
                     count: f.count,
                 },
             );
-            offset += s * f.count;
+            offset = end;
         }
-        let size = offset;
-        if size == 0 {
+        if offset == 0 {
             return Err(Broken::at(at, format!("topic {topic} has an empty format")));
         }
-        self.by_id.insert(msg_id, self.subs.len());
-        self.subs.push(Sub {
-            topic,
-            multi_id,
-            size,
-            need,
+        Ok(Layout {
             fields: located,
-            rows: Vec::new(),
-        });
-        Ok(())
+            need,
+        })
     }
 
     fn data(&mut self, body: &[u8], at: u64) -> Result<(), Broken> {
@@ -202,20 +274,18 @@ impl State {
         };
         let sub = &mut self.subs[k];
         let payload = &body[2..];
-        if payload.len() < sub.need {
+        let need = sub.layout.need;
+        if payload.len() < need {
             return Err(Broken::at(
                 at,
                 format!(
-                    "a {} sample has {} bytes but its format needs {}",
+                    "a {} sample has {} bytes but its format needs {need}",
                     sub.label(),
                     payload.len(),
-                    sub.need
                 ),
             ));
         }
-        let n = payload.len().min(sub.size);
-        sub.rows.extend_from_slice(&payload[..n]);
-        sub.rows.resize(sub.rows.len() + sub.size - n, 0);
+        sub.rows.extend_from_slice(&payload[..need]);
         Ok(())
     }
 }

@@ -53,7 +53,7 @@ pub(crate) fn read(data: &[u8]) -> Result<Read, Broken> {
         return Err(Broken::at(0, "the ULog magic bytes are wrong"));
     }
     head.skip(9, "the ULog header")?;
-    let mut state = State::default();
+    let mut state = State::new(data.len());
     let mut problems = Vec::new();
     // Segments: the main data, then each appended-data section the flag bits point to.
     let mut pos = 16usize;

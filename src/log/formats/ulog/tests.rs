@@ -1,7 +1,7 @@
 //! Unit tests of the ULog reader: the format language and a small log written here byte by
 //! byte.
 
-use super::format::{parse_format, type_size};
+use super::format::{FormatError, Sizes, parse_format};
 use super::*;
 use std::collections::HashMap;
 
@@ -14,9 +14,12 @@ fn formats_parse_with_arrays_and_nesting() {
     let mut formats = HashMap::new();
     formats.insert("b".to_string(), parse_format("b:uint16_t v;").unwrap().1);
     formats.insert(name, f);
-    assert_eq!(type_size("a", &formats, 0), Ok(8 + 12 + 4));
-    assert!(type_size("c", &formats, 0).is_err());
+    let mut sizes = Sizes::for_file(0);
+    assert_eq!(sizes.size("a", &formats), Ok(8 + 12 + 4));
+    assert!(sizes.size("c", &formats).is_err());
 }
+
+use super::format::FieldDef;
 
 fn message(ty: u8, body: &[u8]) -> Vec<u8> {
     let mut m = (body.len() as u16).to_le_bytes().to_vec();
@@ -98,5 +101,71 @@ fn imu_status_temperature_is_offered_and_used_only_when_asked() {
 fn self_nesting_is_an_error_not_a_stack_overflow() {
     let mut formats = HashMap::new();
     formats.insert("a".to_string(), parse_format("a:a x;").unwrap().1);
-    assert!(type_size("a", &formats, 0).is_err());
+    let e = Sizes::for_file(0).size("a", &formats).unwrap_err();
+    assert_eq!(e, FormatError::TooDeep("a".into()));
+}
+
+/// Formats `n0` .. `n{levels-1}`, each of four fields of the next, the last empty.
+fn nested(levels: usize) -> HashMap<String, Vec<FieldDef>> {
+    let mut formats = HashMap::new();
+    for k in 0..levels {
+        let text = if k + 1 == levels {
+            format!("n{k}:")
+        } else {
+            let j = k + 1;
+            format!("n{k}:n{j} a;n{j} b;n{j} c;n{j} d;")
+        };
+        let (name, fields) = parse_format(&text).unwrap();
+        formats.insert(name, fields);
+    }
+    formats
+}
+
+#[test]
+fn nested_formats_are_walked_once_each_and_no_deeper_than_16_levels() {
+    // 4^16 walks without remembering sizes; 16 levels of 4 fields with it.
+    let formats = nested(17);
+    let mut sizes = Sizes::for_file(0);
+    assert_eq!(sizes.size("n0", &formats), Ok(0));
+    // Reached at another depth, a size already worked out still obeys the depth limit.
+    let mut deeper = formats.clone();
+    deeper.insert("top".into(), parse_format("top:n0 x;").unwrap().1);
+    assert_eq!(
+        sizes.size("top", &deeper),
+        Err(FormatError::TooDeep("n0".into()))
+    );
+    // The same answer as a walk that never saw n0 alone.
+    assert!(matches!(
+        Sizes::for_file(0).size("top", &deeper),
+        Err(FormatError::TooDeep(_))
+    ));
+}
+
+#[test]
+fn sizes_that_overflow_or_pass_a_message_are_errors() {
+    let mut formats = HashMap::new();
+    for text in [
+        "big:uint8_t[1099511627776] _padding0;",
+        "wrap:uint64_t[2305843009213693952] a;uint64_t b;",
+        "sum:uint8_t[40000] a;uint8_t[40000] b;",
+    ] {
+        let (name, fields) = parse_format(text).unwrap();
+        formats.insert(name, fields);
+    }
+    for t in ["big", "wrap", "sum"] {
+        assert_eq!(
+            Sizes::for_file(0).size(t, &formats),
+            Err(FormatError::TooLarge(t.into()))
+        );
+    }
+}
+
+#[test]
+fn a_long_name_in_a_format_error_is_quoted_short() {
+    let field = "x".repeat(100_000);
+    let e = parse_format(&format!("a:{field};"))
+        .unwrap_err()
+        .to_string();
+    assert!(e.len() < 300, "{} bytes", e.len());
+    assert!(e.contains("(100000 bytes)"), "{e}");
 }
