@@ -9,19 +9,7 @@ use std::path::Path;
 use std::process::{Command, Output, Stdio};
 
 use crate::common;
-use common::run::{driftlab, fails, ok};
-
-fn sample(name: &str) -> String {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("sample_logs")
-        .join(name)
-        .display()
-        .to_string()
-}
-
-fn p(dir: &Path, name: &str) -> String {
-    dir.join(name).display().to_string()
-}
+use common::run::{driftlab, fails, ok, p, sample};
 
 /// `driftlab ARGS` with standard output sent to `stdout`.
 fn with_stdout(args: &[&str], stdout: impl Into<Stdio>) -> Output {

@@ -5,19 +5,7 @@ use serde_json::Value;
 use std::path::{Path, PathBuf};
 
 use crate::common;
-use common::run::{fails, ok};
-
-fn sample(name: &str) -> String {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("sample_logs")
-        .join(name)
-        .display()
-        .to_string()
-}
-
-fn p(dir: &Path, name: &str) -> String {
-    dir.join(name).display().to_string()
-}
+use common::run::{fails, ok, p, sample};
 
 fn evaluate(cal: &str, log: &str) -> Value {
     serde_json::from_str(&ok(&["evaluate", cal, log, "--json"])).unwrap()

@@ -5,16 +5,8 @@
 
 use crate::common;
 
-use common::run::{driftlab, ok};
-use std::path::{Path, PathBuf};
-
-fn sample(name: &str) -> String {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("sample_logs")
-        .join(name)
-        .display()
-        .to_string()
-}
+use common::run::{driftlab, ok, sample};
+use std::path::Path;
 
 /// A unit calibration of the three-axis sample with its axes renamed `names` (axis k reads
 /// the sample's axis k % 3), written to `dir/unit.json`.

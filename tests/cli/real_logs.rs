@@ -8,11 +8,7 @@ use serde_json::Value;
 use std::path::{Path, PathBuf};
 
 use crate::common;
-use common::run::{driftlab, fails, ok};
-
-fn p(dir: &Path, name: &str) -> String {
-    dir.join(name).display().to_string()
-}
+use common::run::{driftlab, fails, ok, p};
 
 /// `driftlab simulate --profile PROFILE --seed SEED ARGS --out DIR/NAME`.
 fn simulate(dir: &Path, name: &str, profile: &str, seed: &str, args: &[&str]) -> String {

@@ -3,17 +3,9 @@
 //! leaves none of the earlier report's files; a folder that is not a report is refused, not
 //! emptied.
 
-use crate::common::run::{fails, ok};
+use crate::common::run::{fails, ok, sample};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
-
-fn sample(name: &str) -> String {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("sample_logs")
-        .join(name)
-        .display()
-        .to_string()
-}
 
 fn s(p: &Path) -> String {
     p.display().to_string()

@@ -5,19 +5,7 @@
 use std::path::Path;
 
 use crate::common;
-use common::run::{driftlab, fails, ok};
-
-fn sample(name: &str) -> String {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("sample_logs")
-        .join(name)
-        .display()
-        .to_string()
-}
-
-fn p(dir: &Path, name: &str) -> String {
-    dir.join(name).display().to_string()
-}
+use common::run::{driftlab, fails, ok, p, sample};
 
 #[test]
 fn an_option_that_would_be_silent_nonsense_is_refused_by_name() {

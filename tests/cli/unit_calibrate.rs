@@ -2,22 +2,8 @@
 //! decimal comma), with no mapping: one calibration file for the unit, and every axis's
 //! corrected rate the very text a single-axis calibration of that column writes.
 
-use std::path::Path;
-
 use crate::common;
-use common::run::{fails, ok};
-
-fn sample(name: &str) -> String {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("sample_logs")
-        .join(name)
-        .display()
-        .to_string()
-}
-
-fn p(dir: &Path, name: &str) -> String {
-    dir.join(name).display().to_string()
-}
+use common::run::{fails, ok, p, sample};
 
 /// The cells of a CSV by column name.
 fn columns(path: &str) -> (Vec<String>, Vec<Vec<String>>) {

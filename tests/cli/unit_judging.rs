@@ -5,21 +5,13 @@
 //! single-axis path, which has its own tests against known coefficients.
 
 use serde_json::Value;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::sync::OnceLock;
 
 use crate::common;
-use common::run::{fails, ok};
+use common::run::{fails, ok, sample};
 
 const AXES: [&str; 3] = ["gx", "gy", "gz"];
-
-fn sample(name: &str) -> String {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("sample_logs")
-        .join(name)
-        .display()
-        .to_string()
-}
 
 fn json(args: &[&str]) -> Value {
     serde_json::from_str(&ok(args)).unwrap_or_else(|e| panic!("driftlab {args:?}: {e}"))

@@ -27,3 +27,17 @@ pub fn fails(args: &[&str]) -> String {
     assert!(!out.status.success(), "driftlab {args:?} should fail");
     String::from_utf8(out.stderr).unwrap()
 }
+
+/// The path of a bundled sample log, as text for an argument.
+pub fn sample(name: &str) -> String {
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("sample_logs")
+        .join(name)
+        .display()
+        .to_string()
+}
+
+/// The path of `name` in `dir`, as text for an argument.
+pub fn p(dir: &std::path::Path, name: &str) -> String {
+    dir.join(name).display().to_string()
+}
