@@ -105,6 +105,9 @@ pub fn run(a: Args) -> Result<(), CliError> {
             }
             let step = log.nominal_dt_s();
             let tau0 = a.tau0.unwrap_or(step);
+            if let Some(told) = allan::tau0_against_step(tau0, step, &log.source) {
+                note!("warning: {}", told.replacen("tau0", "--tau0", 1));
+            }
             let chosen = axes_to_analyse(&a, &log)?;
             accel = log
                 .extra

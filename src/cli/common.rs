@@ -83,10 +83,27 @@ pub fn flush_out() -> Result<(), CliError> {
 /// nowhere left to report it.
 pub fn write_err(args: std::fmt::Arguments<'_>) {
     let text = std::fmt::format(args);
+    let text = cut_to_read(&text);
     let mut e = std::io::stderr().lock();
     let _ = e
         .write_all(terminal_text(&text).as_bytes())
         .and_then(|()| e.write_all(b"\n"));
+}
+
+/// The most characters of a message or warning shown: one quoting a 5,000-character column
+/// name, or listing thousands, is cut, and says how long it was.
+const MAX_MESSAGE_CHARS: usize = 2000;
+
+/// `text` cut to [`MAX_MESSAGE_CHARS`], with its full length said, when longer.
+fn cut_to_read(text: &str) -> std::borrow::Cow<'_, str> {
+    match text.char_indices().nth(MAX_MESSAGE_CHARS) {
+        None => std::borrow::Cow::Borrowed(text),
+        Some((end, _)) => std::borrow::Cow::Owned(format!(
+            "{} … (cut here: {} characters in all)",
+            &text[..end],
+            text.chars().count()
+        )),
+    }
 }
 
 /// A text that came from a file (a column name, a ROS topic, a gyro id, a file name) as a
@@ -515,6 +532,7 @@ pub fn in_option_words(e: &driftlab::error::Invalid) -> String {
         "step_h_s" => "--step-h",
         "deadband_tdot" => "--deadband-tdot",
         "deadband_tddot" => "--deadband-tddot",
+        "gyro_id" => "--gyro-id",
         f if f.ends_with(".knots") => "--knots",
         _ => return super::log_source::in_flags(&e.to_string()),
     };

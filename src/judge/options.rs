@@ -62,12 +62,12 @@ pub fn check_merit(opts: &MeritOptions, log: &Log) -> Result<(), Invalid> {
         }
         // A window shorter than a sample would be one sample labelled with a length it does
         // not have; a filter that short is simply none, and is told (`one_sample`).
-        if field == "window_s" && dt.is_finite() && dt > 0.0 && v < 0.5 * dt {
+        if field == "window_s" && shorter_than_a_sample(v, dt) {
             return Err(Invalid::new(
                 field,
                 format!(
-                    "{} s is shorter than half the sampling interval of {} ({} s): it holds \
-                     no sample",
+                    "{} s is shorter than the sampling interval of {} ({} s): a window of \
+                     one sample would be labelled with a length it does not have",
                     readable(v),
                     log.source,
                     readable(dt)
@@ -91,24 +91,30 @@ pub fn check_merit(opts: &MeritOptions, log: &Log) -> Result<(), Invalid> {
     Ok(())
 }
 
-/// A window of `v` seconds, named `field`, that is shorter than half the sampling interval
-/// `dt_s` of the log `log_name`: it rounds to no sample, and is taken as one. `None` when it
-/// holds a sample.
+/// Whether `v` seconds is shorter than one sampling interval `dt_s` (with 1 % to spare for a
+/// jittered clock, whose nominal step is a little off its true one).
+fn shorter_than_a_sample(v: f64, dt_s: f64) -> bool {
+    dt_s.is_finite() && dt_s > 0.0 && v < 0.99 * dt_s
+}
+
+/// A window of `v` seconds, named `field`, that is shorter than the sampling interval `dt_s`
+/// of the log `log_name`: it is taken as one sample, longer than asked. `None` when it is not.
 pub fn one_sample(field: &str, v: f64, dt_s: f64, log_name: &str) -> Option<Invalid> {
-    (dt_s.is_finite() && dt_s > 0.0 && v < 0.5 * dt_s).then(|| {
+    shorter_than_a_sample(v, dt_s).then(|| {
         Invalid::new(
             field,
             format!(
-                "{} s is shorter than half the sampling interval of {log_name} ({} s): one \
-                 sample is used",
+                "{} s is shorter than the sampling interval of {log_name} ({} s): one sample \
+                 ({} s) is used",
                 readable(v),
+                readable(dt_s),
                 readable(dt_s)
             ),
         )
     })
 }
 
-/// The figures' filter when it is shorter than half a sample of `log`: taken as one sample
+/// The figures' filter when it is shorter than a sample of `log`: taken as one sample
 /// (no filter), which the engineer should hear.
 pub fn merit_notes(opts: &MeritOptions, log: &Log) -> Option<Invalid> {
     one_sample("filter_s", opts.filter_s, log.nominal_dt_s(), &log.source)

@@ -89,6 +89,9 @@ impl Default for Recipe {
 /// fit would average the whole log into one value with it.
 pub const MAX_WINDOW_S: f64 = 1e6;
 
+/// The longest gyro identifier (serial number) a recipe may hold, characters.
+pub const MAX_GYRO_ID_CHARS: usize = 200;
+
 /// The shortest filter, T smoothing, derivative step or window a setting may hold, s: no gyro
 /// log is sampled faster than 1 MHz, so a shorter one (1e-300 s) is a typing slip.
 pub const MIN_WINDOW_S: f64 = 1e-6;
@@ -169,6 +172,30 @@ impl Recipe {
                 Ok(())
             }
         };
+        // A serial number is copied into every output and printed on the terminal: no
+        // character in it may steer a terminal, start a line or reorder text.
+        if let Some(c) = self
+            .gyro_id
+            .chars()
+            .find(|&c| crate::log::ingest::names::is_hidden_control(c))
+        {
+            return Err(Invalid::new(
+                "gyro_id",
+                format!(
+                    "holds the control character U+{:04X}: a serial number is printable text",
+                    c as u32
+                ),
+            ));
+        }
+        if self.gyro_id.chars().count() > MAX_GYRO_ID_CHARS {
+            return Err(Invalid::new(
+                "gyro_id",
+                format!(
+                    "is {} characters long: a serial number has at most {MAX_GYRO_ID_CHARS}",
+                    self.gyro_id.chars().count()
+                ),
+            ));
+        }
         positive("filter_s", self.filter_s)?;
         positive("temp_smoothing_s", self.temp_smoothing_s)?;
         positive("step_h_s", self.step_h_s)?;
@@ -251,8 +278,8 @@ impl Recipe {
         Ok(())
     }
 
-    /// The filter, T smoothing and derivative step that are shorter than half of `dt_s`, the
-    /// sampling interval of the log they are used on: each is taken as one sample, which the
+    /// The filter, T smoothing and derivative step that are shorter than `dt_s`, the sampling
+    /// interval of the log they are used on: each is taken as one sample, which the
     /// engineer should hear (a burst log's means 300 s apart take the default 100-s filter
     /// as none).
     pub fn one_sample_windows(&self, dt_s: f64, log_name: &str) -> Vec<Invalid> {

@@ -115,6 +115,20 @@ impl UnitCalibration {
                     "every axis of a unit of several needs a name",
                 ));
             }
+            if let Some(c) = a
+                .name
+                .chars()
+                .find(|&c| crate::log::ingest::names::is_hidden_control(c))
+            {
+                return Err(Invalid::new(
+                    "axes.name",
+                    format!(
+                        "axis {k}'s name holds the control character U+{:04X}: a name is \
+                         printable text",
+                        c as u32
+                    ),
+                ));
+            }
             if self.axes[..k].iter().any(|b| b.name == a.name) {
                 return Err(Invalid::new(
                     field("name"),

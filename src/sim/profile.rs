@@ -349,6 +349,16 @@ impl Profile {
                 format!("the run would record {samples:.0} samples; more than 10⁹ is refused"),
             ));
         }
+        if self.sample_count() < 2 {
+            return Err(Invalid::new(
+                "sample_rate_hz",
+                format!(
+                    "{} Hz records one sample over the {} s program: a log needs at least two",
+                    crate::number::readable(self.sample_rate_hz),
+                    crate::number::readable(self.duration_s())
+                ),
+            ));
+        }
         self.gyro.check()?;
         if self.laser.is_some() && !(self.axes.is_empty() && self.accelerometers.is_empty()) {
             return Err(Invalid::new(

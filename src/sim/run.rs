@@ -123,7 +123,10 @@ impl Plan {
                 } else {
                     e.to_string()
                 };
-                Invalid::new(format!("--rate-hz {rate}"), reason)
+                Invalid::new(
+                    format!("--rate-hz {}", crate::number::readable(rate)),
+                    reason,
+                )
             })?;
             Plan {
                 profile: p,
@@ -134,7 +137,7 @@ impl Plan {
         let samples = (plan.profile.sample_count() - 1) as f64 * plan.fine as f64 + 1.0;
         if samples > MAX_SAMPLES {
             return Err(Invalid::new(
-                format!("--rate-hz {rate}"),
+                format!("--rate-hz {}", crate::number::readable(rate)),
                 format!("the run would record {samples:.0} samples; more than 10⁹ is refused"),
             ));
         }

@@ -22,8 +22,8 @@ fn an_option_that_would_be_silent_nonsense_is_refused_by_name() {
             "window_s (--window): 1e-300 s is shorter than any sampling interval",
         ),
         (
-            vec!["evaluate", &cal, &held, "--window", "0.4"],
-            "window_s (--window): 0.4 s is shorter than half the sampling interval",
+            vec!["evaluate", &cal, &held, "--window", "0.5"],
+            "window_s (--window): 0.5 s is shorter than the sampling interval",
         ),
         // Shorter than any log's sampling interval: a slip, where it used to become a sample.
         (
@@ -69,6 +69,23 @@ fn an_option_that_would_be_silent_nonsense_is_refused_by_name() {
             vec!["evaluate", &cal, &held, "--bin", "1e20"],
             "--bin: 1e20 s is not shorter than the log",
         ),
+        // A serial number that would start a line of its own on the terminal and in files.
+        (
+            vec![
+                "calibrate",
+                &log,
+                "--gyro-id",
+                "SN1\n[OK] all checks passed",
+                "--out",
+                &out,
+            ],
+            "gyro_id (--gyro-id): holds the control character U+000A",
+        ),
+        // A rate that records one sample.
+        (
+            vec!["simulate", "--rate-hz", "1e-300", "--out", &out],
+            "--rate-hz 1e-300: 1e-300 Hz records one sample over the 40200 s program",
+        ),
     ];
     for (args, want) in cases {
         let err = fails(&args);
@@ -92,16 +109,15 @@ fn a_window_shorter_than_a_sample_is_taken_as_one_and_told() {
     assert!(run.status.success());
     let err = String::from_utf8(run.stderr).unwrap();
     assert!(
-        err.contains(
-            "temp_smoothing_s (--smooth): 0.2 s is shorter than half the sampling interval of"
-        ) && err.contains("(1 s): one sample is used"),
+        err.contains("temp_smoothing_s (--smooth): 0.2 s is shorter than the sampling interval of")
+            && err.contains("(1 s): one sample (1 s) is used"),
         "{err}"
     );
     let run = driftlab(&["evaluate", &out, &log, "--filter", "0.4"]);
     assert!(run.status.success());
     let err = String::from_utf8(run.stderr).unwrap();
     assert!(
-        err.contains("filter_s (--filter): 0.4 s is shorter than half the sampling interval"),
+        err.contains("filter_s (--filter): 0.4 s is shorter than the sampling interval"),
         "{err}"
     );
 }
@@ -214,4 +230,86 @@ fn the_report_names_its_windows_by_the_window_asked_for() {
         "the page names its windows"
     );
     assert!(!page.contains("10-min") && !page.contains("10 min"));
+}
+
+#[test]
+fn a_step_or_tau0_that_the_log_does_not_have_is_told() {
+    let dir = tempfile::tempdir().unwrap();
+    let log = sample("calibration.csv");
+    // H of half a sample is one sample, twice as long as asked.
+    let run = driftlab(&[
+        "calibrate",
+        &log,
+        "--step-h",
+        "0.5",
+        "--out",
+        &p(dir.path(), "cal.json"),
+    ]);
+    assert!(run.status.success());
+    let err = String::from_utf8(run.stderr).unwrap();
+    assert!(
+        err.contains("step_h_s (--step-h): 0.5 s is shorter than the sampling interval"),
+        "{err}"
+    );
+    // A tau0 a billion times shorter than the time stamps' step scales every read-out.
+    let run = driftlab(&["allan", &sample("validation.csv"), "--tau0", "1e-9"]);
+    assert!(run.status.success());
+    let err = String::from_utf8(run.stderr).unwrap();
+    assert!(
+        err.contains("--tau0 1e-9 s is not the step of")
+            && err.contains("(1 s): every τ and read-out is scaled by 1e-9"),
+        "{err}"
+    );
+    // The step the log has, given, says nothing.
+    let run = driftlab(&["allan", &sample("validation.csv"), "--tau0", "1"]);
+    let err = String::from_utf8(run.stderr).unwrap();
+    assert!(!err.contains("is not the step"), "{err}");
+}
+
+#[test]
+fn a_message_quoting_a_huge_name_is_cut_and_says_its_length() {
+    let dir = tempfile::tempdir().unwrap();
+    let long = "A".repeat(5000);
+    let csv = format!("{long},{long}B\n1,2\n2,3\n");
+    let path = p(dir.path(), "long.csv");
+    std::fs::write(&path, csv).unwrap();
+    let err = fails(&["calibrate", &path, "--out", &p(dir.path(), "x.json")]);
+    assert!(err.chars().count() < 2200, "{} characters", err.len());
+    assert!(err.contains("… (cut here: "), "{err}");
+}
+
+#[test]
+fn control_characters_in_a_column_name_do_not_reach_an_axis_name() {
+    let dir = tempfile::tempdir().unwrap();
+    // The three-axis sample with its first gyro column renamed to steer a terminal: its
+    // axis name goes into the unit's file and into apply's header.
+    let text = std::fs::read_to_string(sample("imu3-calibration.csv")).unwrap();
+    let renamed = text.replacen(";gx_dps;", ";g\u{1b}x\u{7}\u{202e}_dps;", 1);
+    assert_ne!(renamed, text);
+    let log = p(dir.path(), "esc.csv");
+    std::fs::write(&log, renamed).unwrap();
+    let cols = ["--rate-col", "2", "--rate-col", "3", "--rate-col", "4"];
+    let cal = p(dir.path(), "cal.json");
+    ok(&[&["calibrate", &log, "--out", &cal][..], &cols].concat());
+    let out = p(dir.path(), "out.csv");
+    ok(&[&["apply", &cal, &log, "--out", &out][..], &cols].concat());
+    let header = std::fs::read_to_string(&out).unwrap();
+    let header = header.lines().next().unwrap();
+    let first = header.split(',').nth(1).unwrap();
+    assert_eq!(first, "gx_raw_dph", "{header}");
+    // The unit's file names the axis gx; the column it reads keeps its own name, to be found
+    // again in the log.
+    let unit: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&cal).unwrap()).unwrap();
+    assert_eq!(unit["axes"][0]["name"], "gx");
+    for file in [&out] {
+        let bytes = std::fs::read(file).unwrap();
+        let text = String::from_utf8(bytes).unwrap();
+        assert!(
+            !text
+                .chars()
+                .any(|c| c.is_control() && c != '\n' || ('\u{202a}'..='\u{202e}').contains(&c)),
+            "{file} holds a control character"
+        );
+    }
 }

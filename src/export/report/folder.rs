@@ -69,7 +69,7 @@ pub(super) fn replace<T: Relocate>(
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_default();
-    sweep_abandoned(&parent, &name);
+    sweep_abandoned(&parent);
     let staging = Staging::create(&parent, &name)?;
     let staged = staging.path.clone();
     let mut written = write(&staged).map_err(|e| relocated(e, &staged, dest))?;
@@ -362,13 +362,12 @@ fn lock(dir: &Path) -> Option<std::fs::File> {
     Some(file)
 }
 
-/// Removes the staging folders of reports named `name` in `parent` that a killed run left:
-/// those whose lock no living run holds. Best effort: a folder that cannot be judged or
+/// Removes the staging folders that killed runs left in `parent`, whatever report they were
+/// for: those whose lock no living run holds. Best effort: a folder that cannot be judged or
 /// removed stays. Only on Linux, where staging folders are locked.
-fn sweep_abandoned(parent: &Path, name: &str) {
+fn sweep_abandoned(parent: &Path) {
     #[cfg(target_os = "linux")]
     {
-        let prefix = format!(".{name}{STAGING_TAG}");
         let Ok(entries) = std::fs::read_dir(parent) else {
             return;
         };
@@ -377,7 +376,8 @@ fn sweep_abandoned(parent: &Path, name: &str) {
             let Some(n) = file_name.to_str() else {
                 continue;
             };
-            if !n.starts_with(&prefix) || !entry.file_type().is_ok_and(|t| t.is_dir()) {
+            let staging = n.starts_with('.') && n.contains(STAGING_TAG);
+            if !staging || !entry.file_type().is_ok_and(|t| t.is_dir()) {
                 continue;
             }
             let path = entry.path();
@@ -388,5 +388,5 @@ fn sweep_abandoned(parent: &Path, name: &str) {
         }
     }
     #[cfg(not(target_os = "linux"))]
-    let _ = (parent, name);
+    let _ = parent;
 }

@@ -203,6 +203,23 @@ pub fn check_tau0(tau0_s: f64) -> Result<(), AllanError> {
     }
 }
 
+/// What to tell of a τ0 given by hand (`tau0_s`) that differs by more than 1 % from the step
+/// the log's own time stamps give (`step_s`): every τ, and so every read-out (ARW, bias
+/// instability, RRW), scales with it, and Kalibr's file would carry the scaled values.
+/// `None` when they agree.
+pub fn tau0_against_step(tau0_s: f64, step_s: f64, log_name: &str) -> Option<String> {
+    let agree = step_s.is_finite() && step_s > 0.0 && ((tau0_s / step_s) - 1.0).abs() <= 0.01;
+    (!agree && step_s.is_finite() && step_s > 0.0).then(|| {
+        format!(
+            "tau0 {} s is not the step of {log_name}'s time stamps ({} s): every τ and read-out \
+             is scaled by {}; it is used as given",
+            crate::number::readable(tau0_s),
+            crate::number::readable(step_s),
+            crate::number::readable(tau0_s / step_s)
+        )
+    })
+}
+
 /// Allan deviation of `rate` at the factors of `opts.spacing`, with intervals and read-outs.
 pub fn allan(rate: &[f64], opts: &AllanOptions) -> Result<AllanDeviation, AllanError> {
     allan_at(rate, opts, &averaging_factors(rate.len(), opts.spacing))

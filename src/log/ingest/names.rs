@@ -184,13 +184,28 @@ pub(crate) fn is_accelerometer(name: &str) -> bool {
 /// The name of the gyro axis a rate column holds: its words before the unit (`gx` for
 /// `gx_dps`, `gyro_x` for `gyro_x_rad_s`, `rate` for `Rate (deg/s)`).
 pub(crate) fn axis_name(name: &str) -> String {
-    let p = name_parts(name);
+    // An axis's name goes into every output (CSV headers, tables, the report, folder names):
+    // nothing in it may steer a terminal or reorder text.
+    let printable: String = name.chars().filter(|&c| !is_hidden_control(c)).collect();
+    let p = name_parts(&printable);
     let words = &p.words;
     let end = (1..words.len())
         .find(|&i| RateUnit::from_key(&unit_key(&words[i..].concat())).is_some())
         .unwrap_or(words.len());
     let name = words[..end].join("_");
-    if name.is_empty() { p.base } else { name }
+    let name = if name.is_empty() { p.base } else { name };
+    if name.is_empty() {
+        "axis".to_string()
+    } else {
+        name
+    }
+}
+
+/// A control character (C0, DEL, C1) or a bidirectional override or isolate: characters that
+/// steer a terminal or reorder the text around them instead of being shown.
+pub(crate) fn is_hidden_control(c: char) -> bool {
+    c.is_control()
+        || matches!(c, '\u{200e}' | '\u{200f}' | '\u{202a}'..='\u{202e}' | '\u{2066}'..='\u{2069}')
 }
 
 fn in_list(word: &str, list: &[&str]) -> bool {
