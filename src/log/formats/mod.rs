@@ -170,7 +170,7 @@ pub fn read_bytes(source: &str, bytes: &[u8]) -> Result<ImuRecording, FormatErro
             (
                 r.instances,
                 r.problems,
-                "a sensor_gyro or sensor_combined topic",
+                "sensor_gyro or sensor_combined topic",
             )
         }
         Format::DataFlash => {
@@ -180,12 +180,12 @@ pub fn read_bytes(source: &str, bytes: &[u8]) -> Result<ImuRecording, FormatErro
         Format::RosBag => {
             let mut r = rosbag::read(bytes).map_err(malformed)?;
             let i = r.topics.into_instances(&mut r.problems);
-            (i, r.problems, "a sensor_msgs/Imu topic")
+            (i, r.problems, "sensor_msgs/Imu topic")
         }
         Format::Mcap => {
             let mut r = mcap::read(bytes).map_err(malformed)?;
             let i = r.topics.into_instances(&mut r.problems);
-            (i, r.problems, "a sensor_msgs/msg/Imu channel in CDR")
+            (i, r.problems, "sensor_msgs/msg/Imu channel in CDR")
         }
     };
     if instances.iter().all(GyroInstance::is_empty) {
