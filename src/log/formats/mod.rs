@@ -174,7 +174,7 @@ pub fn read_bytes(source: &str, bytes: &[u8]) -> Result<ImuRecording, FormatErro
             )
         }
         Format::DataFlash => {
-            let r = dataflash::read(bytes);
+            let r = dataflash::read(bytes).map_err(malformed)?;
             (r.instances, r.problems, "IMU messages")
         }
         Format::RosBag => {
