@@ -47,7 +47,7 @@ struct Fmt {
     name: String,
     length: usize,
     /// Field offsets within the message (after the 3-byte header), `None` when the format
-    /// string is unreadable or does not fit the length.
+    /// string has an unknown type or not one label per field.
     fields: Option<Vec<(String, u8, usize)>>,
 }
 
@@ -265,8 +265,8 @@ pub(crate) fn read(data: &[u8]) -> Result<Read, Broken> {
                         problems.push(Problem::at(
                             pos as u64,
                             format!(
-                                "the FMT of {} has a format its length does not fit; its \
-                                 messages are skipped",
+                                "the FMT of {} has a field type this reader does not know, or \
+                                 not one label per field; its messages are skipped",
                                 f.name
                             ),
                         ));
