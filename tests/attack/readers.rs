@@ -275,6 +275,72 @@ fn a_bz2_chunk_expanding_to_4_gb_is_refused_by_its_size() {
     );
 }
 
+/// An lz4 chunk record (frame format, as `roslz4` writes it) holding `records`.
+fn bag_lz4_chunk(records: &[u8]) -> Vec<u8> {
+    use std::io::Write;
+    let mut e = lz4_flex::frame::FrameEncoder::new(Vec::new());
+    e.write_all(records).unwrap();
+    let z = e.finish().unwrap();
+    let size = u32::try_from(records.len()).unwrap();
+    bag_record(
+        &[
+            bag_field("op", &[0x05]),
+            bag_field("compression", b"lz4"),
+            bag_field("size", &size.to_le_bytes()),
+        ],
+        &z,
+    )
+}
+
+#[test]
+fn lz4_chunks_of_millions_of_messages_on_a_second_topic_are_refused_within_the_limit() {
+    // A gyro of 50 samples, then ten 150 MB chunks of one Imu message repeated on /other
+    // (4.2 million in all, each chunk under the per-chunk cap, the whole about 200 times the
+    // file, under the bomb limit): every sample of /other used to be kept, 1.7 GB.
+    let mut records = bag_connection(0, "/imu/data");
+    for k in 0..50 {
+        records.extend(bag_message(0, k + 1, &imu_ros1(k + 1, b"imu", 0.01)));
+    }
+    let one = bag_message(5, 1, &imu_ros1(1, b"o", 0.0));
+    let mut inner = bag_connection(5, "/other");
+    while inner.len() + one.len() <= 150_000_000 {
+        inner.extend_from_slice(&one);
+    }
+    let per_chunk = (inner.len() - bag_connection(5, "/other").len()) / one.len();
+    let chunk = bag_lz4_chunk(&inner);
+    for _ in 0..10 {
+        records.extend_from_slice(&chunk);
+    }
+    assert!(per_chunk * 10 > 4_000_000, "{per_chunk} a chunk");
+    let file = bag(&records);
+    assert!(file.len() < 10_000_000, "{} bytes", file.len());
+    let dir = tempfile::tempdir().unwrap();
+    let log = crafted(dir.path(), "lz4_repeat.bag", &file);
+    let ran = driftlab_within(dir.path(), LIMIT_MIB, &["inspect", &log]);
+    ran.fails_with("lz4_repeat.bag: ROS 1 bag log malformed at byte ", 400);
+    ran.fails_with(
+        "the messages kept reach 256 MiB (the most a log may hold, about 3728270 Imu messages \
+         over all topics) at a message on /other",
+        400,
+    );
+    // Its first chunk alone (1 million messages) reads, each topic whole.
+    let first = bag(&records[..records.len() - 9 * chunk.len()]);
+    let log = crafted(dir.path(), "lz4_one.bag", &first);
+    let ran = driftlab_within(dir.path(), LIMIT_MIB, &["inspect", &log]);
+    assert!(
+        ran.stdout
+            .contains(&format!("/other  frame_id o  {per_chunk} samples")),
+        "{}\n{}",
+        ran.stdout,
+        ran.stderr
+    );
+    assert!(
+        ran.stdout.contains("/imu/data  frame_id imu  50 samples"),
+        "{}",
+        ran.stdout
+    );
+}
+
 // ---------------------------------------------------------------- MCAP
 
 fn mcap_record(op: u8, content: &[u8]) -> Vec<u8> {
@@ -412,4 +478,80 @@ fn megabyte_frame_ids_are_neither_kept_per_message_nor_quoted_whole() {
     let ran = driftlab_within(dir.path(), 512, &["inspect", &log]);
     // No temperature: refused, the frame_id quoted by its start and length.
     ran.fails_with("(1048576 bytes)", 1000);
+}
+
+// ---------------------------------------------------------------- DataFlash
+
+/// A DataFlash message `A3 95 type payload`.
+fn df_message(ty: u8, payload: &[u8]) -> Vec<u8> {
+    let mut m = vec![0xA3, 0x95, ty];
+    m.extend_from_slice(payload);
+    m
+}
+
+/// The FMT of type `ty`: its length, name, format and labels in their fixed widths.
+fn df_fmt(ty: u8, length: u8, name: &str, format: &str, labels: &str) -> Vec<u8> {
+    let fixed = |s: &str, n: usize| {
+        let mut v = s.as_bytes().to_vec();
+        v.resize(n, 0);
+        v
+    };
+    let mut p = vec![ty, length];
+    p.extend(fixed(name, 4));
+    p.extend(fixed(format, 16));
+    p.extend(fixed(labels, 64));
+    df_message(0x80, &p)
+}
+
+/// A DataFlash log of 50 IMU messages (54 bytes each) whose FMT gives `imu_length`.
+fn dataflash(imu_length: u8) -> Vec<u8> {
+    let mut b = df_fmt(0x80, 89, "FMT", "BBnNZ", "Type,Length,Name,Format,Columns");
+    b.extend(df_fmt(
+        163,
+        imu_length,
+        "IMU",
+        "QBffffffIIfBBHH",
+        "TimeUS,I,GyrX,GyrY,GyrZ,AccX,AccY,AccZ,EG,EA,T,GH,AH,GHz,AHz",
+    ));
+    for k in 0..50u64 {
+        let mut p = (1_000_000 * (k + 1)).to_le_bytes().to_vec();
+        p.push(0);
+        for v in [0.01f32, 0.0, 0.0, 0.0, 0.0, -9.8] {
+            p.extend_from_slice(&v.to_le_bytes());
+        }
+        p.extend_from_slice(&[0; 8]);
+        p.extend_from_slice(&(20.0 + 0.05 * k as f32).to_le_bytes());
+        p.extend_from_slice(&[1, 1, 0xE8, 0x03, 0xE8, 0x03]);
+        b.extend(df_message(163, &p));
+    }
+    b
+}
+
+#[test]
+fn a_dataflash_fmt_longer_than_its_format_is_malformed_not_a_fifth_of_the_samples() {
+    let dir = tempfile::tempdir().unwrap();
+    // The same log with the right length converts whole: 50 rows and a header.
+    let log = crafted(dir.path(), "imu_len_right.bin", &dataflash(54));
+    let csv = dir.path().join("right.csv").display().to_string();
+    driftlab_within(dir.path(), LIMIT_MIB, &["convert", &log, "-o", &csv]).succeeds();
+    let text = std::fs::read_to_string(&csv).unwrap();
+    assert_eq!(
+        text.lines().filter(|l| !l.starts_with('#')).count(),
+        51,
+        "{text}"
+    );
+    // 255 bytes for a 54-byte message: each would swallow the next four.
+    let log = crafted(dir.path(), "imu_len_big.bin", &dataflash(255));
+    let csv = dir.path().join("big.csv").display().to_string();
+    let ran = driftlab_within(dir.path(), LIMIT_MIB, &["convert", &log, "-o", &csv]);
+    ran.fails_with(
+        "imu_len_big.bin: ArduPilot DataFlash log malformed at byte 89: the FMT of message \
+         type IMU (163) gives a length of 255 bytes, but its format \"QBffffffIIfBBHH\" \
+         makes 54",
+        400,
+    );
+    // And shorter than its format: refused the same way.
+    let log = crafted(dir.path(), "imu_len_small.bin", &dataflash(40));
+    let ran = driftlab_within(dir.path(), LIMIT_MIB, &["convert", &log, "-o", &csv]);
+    ran.fails_with("gives a length of 40 bytes, but its format", 400);
 }

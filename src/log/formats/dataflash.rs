@@ -13,6 +13,7 @@
 //! vector of enums (slow on a 100 MB log); none of it gives byte offsets.
 
 use super::bytes::{c_string, le_f32, le_f64, le_u16, le_u32, le_u64};
+use super::error::{Broken, quoted};
 use super::recording::{Axes, DeviceId, GyroInstance, Problem, Timestamps, Values};
 
 /// The first bytes of every DataFlash message; a log starts with an `FMT` message.
@@ -46,7 +47,7 @@ struct Fmt {
     name: String,
     length: usize,
     /// Field offsets within the message (after the 3-byte header), `None` when the format
-    /// string is unreadable or does not fit the length.
+    /// string has an unknown type or not one label per field.
     fields: Option<Vec<(String, u8, usize)>>,
 }
 
@@ -203,7 +204,12 @@ struct Rows {
 }
 
 /// Reads a DataFlash log held in memory.
-pub(crate) fn read(data: &[u8]) -> Read {
+///
+/// # Errors
+/// A FMT whose length is not 3 + the size its format string gives: every message of its
+/// type would be sized wrongly, swallowing the messages after it (a 255-byte IMU over 54-byte
+/// ones keeps one in five), so the log is malformed, not read in part.
+pub(crate) fn read(data: &[u8]) -> Result<Read, Broken> {
     let mut fmts: Vec<Option<Fmt>> = vec![None; 256];
     let mut layouts: Vec<Option<ImuLayout>> = vec![None; 256];
     let mut rows: std::collections::BTreeMap<u8, Rows> = Default::default();
@@ -251,21 +257,22 @@ pub(crate) fn read(data: &[u8]) -> Read {
         let m = &data[pos..pos + length];
         if ty == FMT_TYPE {
             match parse_fmt(m) {
+                Err(FmtError::Length(e)) => return Err(Broken::at(pos as u64, e.to_string())),
+                Err(FmtError::Short(e)) => problems.push(Problem::at(pos as u64, e.to_string())),
                 Ok((t, f)) => {
                     layouts[usize::from(t)] = imu_layout(&f);
                     if f.fields.is_none() {
                         problems.push(Problem::at(
                             pos as u64,
                             format!(
-                                "the FMT of {} has a format its length does not fit; its \
-                                 messages are skipped",
+                                "the FMT of {} has a field type this reader does not know, or \
+                                 not one label per field; its messages are skipped",
                                 f.name
                             ),
                         ));
                     }
                     fmts[usize::from(t)] = Some(f);
                 }
-                Err(e) => problems.push(Problem::at(pos as u64, e.to_string())),
             }
         } else if let Some(l) = &layouts[usize::from(ty)] {
             let inst = l
@@ -311,10 +318,10 @@ pub(crate) fn read(data: &[u8]) -> Read {
             alt_temps: Vec::new(),
         })
         .collect();
-    Read {
+    Ok(Read {
         instances,
         problems,
-    }
+    })
 }
 
 /// A FMT message whose length cannot hold a message header: the messages it describes cannot
@@ -331,7 +338,30 @@ struct ShortFmt {
     length: usize,
 }
 
-fn parse_fmt(m: &[u8]) -> Result<(u8, Fmt), ShortFmt> {
+/// A FMT whose length is not what its format string gives: the messages of its type cannot
+/// be told apart from those after them.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error(
+    "the FMT of message type {name} ({ty}) gives a length of {length} bytes, but its format \
+     \"{format}\" makes {expected} (3 + its fields): its messages cannot be framed"
+)]
+struct LengthFmt {
+    name: String,
+    ty: u8,
+    length: usize,
+    format: String,
+    expected: usize,
+}
+
+/// Why a FMT cannot be used.
+enum FmtError {
+    /// Shorter than a header: reported, its messages skipped.
+    Short(ShortFmt),
+    /// A length its format does not give: the log is malformed.
+    Length(LengthFmt),
+}
+
+fn parse_fmt(m: &[u8]) -> Result<(u8, Fmt), FmtError> {
     let t = m[3];
     let length = usize::from(m[4]);
     let name = c_string(&m[5..9]);
@@ -339,8 +369,23 @@ fn parse_fmt(m: &[u8]) -> Result<(u8, Fmt), ShortFmt> {
     let format_len = format.iter().position(|&c| c == 0).unwrap_or(16);
     let format = &format[..format_len];
     let labels = c_string(&m[25..89]);
+    // The size the format gives, when every character is a known type.
+    let expected = format
+        .iter()
+        .try_fold(3usize, |n, &c| Some(n + field_size(c)?));
+    if let Some(expected) = expected
+        && expected != length
+    {
+        return Err(FmtError::Length(LengthFmt {
+            name: quoted(&name).into_owned(),
+            ty: t,
+            length,
+            format: quoted(&String::from_utf8_lossy(format)).into_owned(),
+            expected,
+        }));
+    }
     if length < 3 {
-        return Err(ShortFmt { name, length });
+        return Err(FmtError::Short(ShortFmt { name, length }));
     }
     let labels: Vec<&str> = labels.split(',').collect();
     let mut fields = Vec::new();

@@ -178,11 +178,15 @@ impl State {
                 match slot.kind() {
                     Kind::Imu => {
                         let m = ros_msgs::imu_cdr(payload).map_err(|e| bad(e, topics))?;
-                        topics.push_imu(slot, log_time, &m);
+                        topics
+                            .push_imu(slot, log_time, &m)
+                            .map_err(|e| Broken::at(data_at, e.to_string()))?;
                     }
                     Kind::Temperature => {
                         let m = ros_msgs::temperature_cdr(payload).map_err(|e| bad(e, topics))?;
-                        topics.push_temperature(slot, log_time, &m);
+                        topics
+                            .push_temperature(slot, log_time, &m)
+                            .map_err(|e| Broken::at(data_at, e.to_string()))?;
                     }
                 }
             }

@@ -32,8 +32,11 @@
 //! checked arithmetic against the bytes that exist, nothing is allocated for a declared size
 //! before its bytes exist, ULog formats are walked once each (at most 16 deep, at most a
 //! message large) and their padding is not stored, chunks decompress as a stream within a
-//! per-chunk cap and a per-file budget (`decompress.rs`), topics and channels are found in hash
-//! maps, a ROS message's `frame_id` is not kept per message, and names and lists in messages
+//! per-chunk cap and a per-file budget (`decompress.rs`), the messages a ROS log keeps stay
+//! within 256 MiB over all its topics (`ros_topics.rs`: decompressed chunks can hold far more
+//! than the file), topics and channels are found in hash maps, a ROS message's `frame_id` is
+//! not kept per message, a DataFlash FMT whose length is not its format's is refused (it would
+//! frame every message of its type wrongly), and names and lists in messages
 //! are cut to a readable length (`error::quoted`, `error::listed`, [`PROBLEMS_AT_MOST`]).
 //! `tests/attack/readers.rs` holds a file for each way this once failed.
 //!
@@ -174,7 +177,7 @@ pub fn read_bytes(source: &str, bytes: &[u8]) -> Result<ImuRecording, FormatErro
             )
         }
         Format::DataFlash => {
-            let r = dataflash::read(bytes);
+            let r = dataflash::read(bytes).map_err(malformed)?;
             (r.instances, r.problems, "IMU messages")
         }
         Format::RosBag => {

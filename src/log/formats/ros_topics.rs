@@ -8,6 +8,12 @@
 //! topic), and a message is filed by the slot its connection holds. Of the `frame_id`s only
 //! the two that matter are kept per topic (that of its first message in log-time order, and
 //! the first that differs from it), not one string per message.
+//!
+//! The messages kept are bounded too: a compressed chunk may expand a thousand-fold, so a
+//! small file can hold tens of millions of messages (a 18 MB bag of lz4 chunks holds 11
+//! million Imu messages). Every topic is kept (`inspect` lists each one), so the bound is on
+//! all of them together: [`KEPT_BYTES_AT_MOST`] of messages as stored, their vectors grown
+//! within it, and a log holding more is refused with the topic where it ran out.
 
 use super::error::{LIST_AT_MOST, quoted};
 use super::recording::{
@@ -15,6 +21,26 @@ use super::recording::{
 };
 use super::ros_msgs::{Imu, Kind, Temperature};
 use std::collections::HashMap;
+
+/// The memory the messages of a ROS log may take as kept while reading: 256 MiB, about 3.7
+/// million Imu messages (72 bytes each) over all topics, e.g. an hour of one IMU at 1 kHz.
+/// Turning them into instances takes about as much again; with one decompressed chunk
+/// (at most 256 MiB) a read stays within about 1 GiB.
+pub(crate) const KEPT_BYTES_AT_MOST: usize = 256 << 20;
+
+/// A log holding more messages than [`KEPT_BYTES_AT_MOST`] allows (the caller places it at
+/// the message's offset and names the file).
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error(
+    "the messages kept reach {mib} MiB (the most a log may hold, about {imu} Imu messages over \
+     all topics) at a message on {topic} ({kept} messages kept); refused"
+)]
+pub(crate) struct TooManyMessages {
+    mib: usize,
+    imu: usize,
+    topic: String,
+    kept: usize,
+}
 
 /// An Imu message as kept: all of it but its `frame_id`.
 struct ImuSample {
@@ -86,9 +112,23 @@ impl<T> Topic<T> {
         }
     }
 
-    fn push(&mut self, t: u64, frame: &str, m: T) {
+    /// Keeps `m`, its vector grown (doubling) only within what `kept` (bytes allocated for
+    /// every topic's messages) leaves of [`KEPT_BYTES_AT_MOST`]; `false` when full.
+    fn push(&mut self, t: u64, frame: &str, m: T, kept: &mut usize) -> bool {
+        if self.msgs.len() == self.msgs.capacity() {
+            let each = std::mem::size_of::<(u64, T)>();
+            let left = KEPT_BYTES_AT_MOST.saturating_sub(*kept) / each;
+            let grow = self.msgs.capacity().max(16).min(left);
+            if grow == 0 {
+                return false;
+            }
+            let before = self.msgs.capacity();
+            self.msgs.reserve_exact(grow);
+            *kept += (self.msgs.capacity() - before) * each;
+        }
         self.frames.see((t, self.msgs.len()), frame);
         self.msgs.push((t, m));
+        true
     }
 }
 
@@ -117,6 +157,10 @@ pub(crate) struct Topics {
     /// order.
     imu_order: Vec<usize>,
     temperature_order: Vec<usize>,
+    /// Bytes allocated for the messages of every topic.
+    kept_bytes: usize,
+    /// Messages kept in every topic.
+    kept: usize,
 }
 
 impl Topics {
@@ -145,8 +189,26 @@ impl Topics {
         }
     }
 
+    /// The error for a message on `slot` that does not fit.
+    fn full(&self, slot: Slot) -> TooManyMessages {
+        TooManyMessages {
+            mib: KEPT_BYTES_AT_MOST >> 20,
+            imu: KEPT_BYTES_AT_MOST / std::mem::size_of::<(u64, ImuSample)>(),
+            topic: quoted(self.name(slot)).into_owned(),
+            kept: self.kept,
+        }
+    }
+
     /// Files an Imu message under `slot` (of kind Imu).
-    pub(crate) fn push_imu(&mut self, slot: Slot, log_time_ns: u64, m: &Imu<'_>) {
+    ///
+    /// # Errors
+    /// The messages kept would pass [`KEPT_BYTES_AT_MOST`].
+    pub(crate) fn push_imu(
+        &mut self,
+        slot: Slot,
+        log_time_ns: u64,
+        m: &Imu<'_>,
+    ) -> Result<(), TooManyMessages> {
         debug_assert_eq!(slot.kind, Kind::Imu);
         let topic = &mut self.imu[slot.index];
         if topic.msgs.is_empty() {
@@ -157,11 +219,23 @@ impl Topics {
             angular_velocity: m.angular_velocity,
             linear_acceleration: m.linear_acceleration,
         };
-        topic.push(log_time_ns, &m.frame_id, sample);
+        if !topic.push(log_time_ns, &m.frame_id, sample, &mut self.kept_bytes) {
+            return Err(self.full(slot));
+        }
+        self.kept += 1;
+        Ok(())
     }
 
     /// Files a Temperature message under `slot` (of kind Temperature).
-    pub(crate) fn push_temperature(&mut self, slot: Slot, log_time_ns: u64, m: &Temperature<'_>) {
+    ///
+    /// # Errors
+    /// As [`Topics::push_imu`].
+    pub(crate) fn push_temperature(
+        &mut self,
+        slot: Slot,
+        log_time_ns: u64,
+        m: &Temperature<'_>,
+    ) -> Result<(), TooManyMessages> {
         debug_assert_eq!(slot.kind, Kind::Temperature);
         let topic = &mut self.temperature[slot.index];
         if topic.msgs.is_empty() {
@@ -171,7 +245,11 @@ impl Topics {
             stamp: m.stamp,
             celsius: m.celsius,
         };
-        topic.push(log_time_ns, &m.frame_id, sample);
+        if !topic.push(log_time_ns, &m.frame_id, sample, &mut self.kept_bytes) {
+            return Err(self.full(slot));
+        }
+        self.kept += 1;
+        Ok(())
     }
 
     /// One instance per Imu topic, in order of its first message, messages in log-time
@@ -334,13 +412,16 @@ mod tests {
         let board = t.slot(Kind::Temperature, "/board/temperature");
         let own = t.slot(Kind::Temperature, "/imu/temperature");
         for s in 0..6 {
-            t.push_imu(data, s as u64, &imu(s, "imu_link", s as f64));
-            t.push_imu(other, s as u64, &imu(s, "other", 0.0));
+            t.push_imu(data, s as u64, &imu(s, "imu_link", s as f64))
+                .unwrap();
+            t.push_imu(other, s as u64, &imu(s, "other", 0.0)).unwrap();
         }
         // Half as often as the gyro, on its frame; another frame's topic is not used.
         for s in [0, 2, 4] {
-            t.push_temperature(own, s as u64, &temp(s, "imu_link", 30.0 + s as f64));
-            t.push_temperature(board, s as u64, &temp(s, "board", 99.0));
+            t.push_temperature(own, s as u64, &temp(s, "imu_link", 30.0 + s as f64))
+                .unwrap();
+            t.push_temperature(board, s as u64, &temp(s, "board", 99.0))
+                .unwrap();
         }
         let mut problems = Vec::new();
         let inst = t.into_instances(&mut problems);

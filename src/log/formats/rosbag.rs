@@ -254,11 +254,15 @@ impl State {
         match slot.kind() {
             Kind::Imu => {
                 let m = ros_msgs::imu_ros1(r.data).map_err(|e| bad(e, topics))?;
-                topics.push_imu(slot, time, &m);
+                topics
+                    .push_imu(slot, time, &m)
+                    .map_err(|e| Broken::at(r.at, e.to_string()))?;
             }
             Kind::Temperature => {
                 let m = ros_msgs::temperature_ros1(r.data).map_err(|e| bad(e, topics))?;
-                topics.push_temperature(slot, time, &m);
+                topics
+                    .push_temperature(slot, time, &m)
+                    .map_err(|e| Broken::at(r.at, e.to_string()))?;
             }
         }
         Ok(())
