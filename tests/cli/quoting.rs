@@ -5,7 +5,7 @@
 
 use crate::common;
 
-use common::run::{driftlab, ok, sample};
+use common::run::{driftlab, fails, ok, sample};
 use std::path::Path;
 
 /// A unit calibration of the three-axis sample with its axes renamed `names` (axis k reads
@@ -33,7 +33,7 @@ fn unit_named(dir: &Path, names: &[&str]) -> String {
 const CRAFTED: [&str; 4] = [
     "=HYPERLINK(\"http://x\",\"y\")",
     "a,b \"c\"",
-    "two\nlines",
+    "two lines",
     "-gx",
 ];
 
@@ -93,7 +93,7 @@ fn apply_writes_crafted_axis_names_quoted_and_formulas_neutralised() {
 #[test]
 fn the_lookup_tables_of_crafted_axes_read_back_with_their_names() {
     let dir = tempfile::tempdir().unwrap();
-    let names = ["#gx", "a,b \"c\"", "+1", "two\nlines"];
+    let names = ["#gx", "a,b \"c\"", "+1", "two lines"];
     let unit = unit_named(dir.path(), &names);
     let text = ok(&["export", &unit, "--format", "csv-table", "--points", "5"]);
     // The `#` lines are comments; a name holding `#` is quoted so no row starts as one.
@@ -187,4 +187,24 @@ fn nothing_a_terminal_would_obey_reaches_it_from_a_name() {
         printable(&format!("{args:?}"), &run.stdout);
         printable(&format!("{args:?}"), &run.stderr);
     }
+}
+
+#[test]
+fn an_axis_name_with_a_line_break_is_refused_on_load() {
+    // A line break (or any control character) in a name would start a line of its own on the
+    // terminal and in every text output: a unit file holding one is refused, naming the axis.
+    let dir = tempfile::tempdir().unwrap();
+    let unit = unit_named(dir.path(), &["gx", "two\nlines", "gz"]);
+    let err = fails(&[
+        "apply",
+        &unit,
+        &sample("imu3-validation.csv"),
+        "--out",
+        &dir.path().join("cor.csv").display().to_string(),
+    ]);
+    assert!(
+        err.contains("axes.name: axis 1's name holds the control character U+000A"),
+        "{err}"
+    );
+    assert!(!dir.path().join("cor.csv").exists());
 }

@@ -243,7 +243,8 @@ fn a_staging_folder_a_killed_run_left_is_removed_and_a_live_one_kept() {
     std::fs::create_dir(&live).unwrap();
     let held = std::fs::File::open(&live).unwrap();
     rustix::fs::flock(&held, rustix::fs::FlockOperation::NonBlockingLockExclusive).unwrap();
-    // Another report's staging folder is not this one's to judge.
+    // Another report's abandoned staging folder beside it is swept too: a killed run's
+    // folder does not wait for its own destination to be written again.
     let other = dir.path().join(".other.driftlab-staging-4444-0-0");
     std::fs::create_dir(&other).unwrap();
 
@@ -256,6 +257,9 @@ fn a_staging_folder_a_killed_run_left_is_removed_and_a_live_one_kept() {
     ]);
     assert!(!dead.exists(), "the abandoned staging folder stays");
     assert!(live.is_dir(), "a live run's staging folder was removed");
-    assert!(other.is_dir());
+    assert!(
+        !other.exists(),
+        "another report's abandoned staging folder stays"
+    );
     drop(held);
 }

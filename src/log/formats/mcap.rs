@@ -63,7 +63,7 @@ pub(crate) fn read(data: &[u8]) -> Result<Read, Broken> {
     let mut state = State {
         schemas: HashMap::new(),
         channels: HashMap::new(),
-        topics: Topics::default(),
+        topics: Topics::for_file(data.len()),
         orphans: 0,
         not_cdr: Vec::new(),
         not_cdr_seen: HashSet::new(),

@@ -22,11 +22,18 @@ use super::recording::{
 use super::ros_msgs::{Imu, Kind, Temperature};
 use std::collections::HashMap;
 
-/// The memory the messages of a ROS log may take as kept while reading: 256 MiB, about 3.7
-/// million Imu messages (72 bytes each) over all topics, e.g. an hour of one IMU at 1 kHz.
+/// The memory the messages of a small ROS log may take as kept while reading: 256 MiB, about
+/// 3.7 million Imu messages (72 bytes each) over all topics, e.g. an hour of one IMU at 1 kHz.
+/// A larger file may keep [`KEPT_PER_FILE_BYTE`] times its size ([`Topics::for_file`]).
 /// Turning them into instances takes about as much again; with one decompressed chunk
-/// (at most 256 MiB) a read stays within about 1 GiB.
+/// (at most 256 MiB) a read of a small file stays within about 1 GiB.
 pub(crate) const KEPT_BYTES_AT_MOST: usize = 256 << 20;
+
+/// How many bytes of messages a log may keep per byte of its file, past
+/// [`KEPT_BYTES_AT_MOST`]: an honest bag or MCAP of a 10-hour 1 kHz IMU, lz4- or
+/// zstd-compressed, keeps a few times its size; a small file of chunks that expand a
+/// hundred-fold into messages of a topic nobody asked for is refused instead of held.
+pub(crate) const KEPT_PER_FILE_BYTE: usize = 8;
 
 /// A log holding more messages than [`KEPT_BYTES_AT_MOST`] allows (the caller places it at
 /// the message's offset and names the file).
@@ -113,11 +120,11 @@ impl<T> Topic<T> {
     }
 
     /// Keeps `m`, its vector grown (doubling) only within what `kept` (bytes allocated for
-    /// every topic's messages) leaves of [`KEPT_BYTES_AT_MOST`]; `false` when full.
-    fn push(&mut self, t: u64, frame: &str, m: T, kept: &mut usize) -> bool {
+    /// every topic's messages) leaves of `limit`; `false` when full.
+    fn push(&mut self, t: u64, frame: &str, m: T, kept: &mut usize, limit: usize) -> bool {
         if self.msgs.len() == self.msgs.capacity() {
             let each = std::mem::size_of::<(u64, T)>();
-            let left = KEPT_BYTES_AT_MOST.saturating_sub(*kept) / each;
+            let left = limit.saturating_sub(*kept) / each;
             let grow = self.msgs.capacity().max(16).min(left);
             if grow == 0 {
                 return false;
@@ -161,9 +168,20 @@ pub(crate) struct Topics {
     kept_bytes: usize,
     /// Messages kept in every topic.
     kept: usize,
+    /// The most bytes of messages kept ([`Topics::for_file`]).
+    limit: usize,
 }
 
 impl Topics {
+    /// The topics of a file of `file_len` bytes: the messages kept may take
+    /// [`KEPT_BYTES_AT_MOST`], or [`KEPT_PER_FILE_BYTE`] times the file's size if that is more.
+    pub(crate) fn for_file(file_len: usize) -> Topics {
+        Topics {
+            limit: KEPT_BYTES_AT_MOST.max(file_len.saturating_mul(KEPT_PER_FILE_BYTE)),
+            ..Topics::default()
+        }
+    }
+
     /// The slot of `topic` for messages of `kind`, made on first sight.
     pub(crate) fn slot(&mut self, kind: Kind, topic: &str) -> Slot {
         let (by_name, len) = match kind {
@@ -192,8 +210,8 @@ impl Topics {
     /// The error for a message on `slot` that does not fit.
     fn full(&self, slot: Slot) -> TooManyMessages {
         TooManyMessages {
-            mib: KEPT_BYTES_AT_MOST >> 20,
-            imu: KEPT_BYTES_AT_MOST / std::mem::size_of::<(u64, ImuSample)>(),
+            mib: self.limit >> 20,
+            imu: self.limit / std::mem::size_of::<(u64, ImuSample)>(),
             topic: quoted(self.name(slot)).into_owned(),
             kept: self.kept,
         }
@@ -219,7 +237,13 @@ impl Topics {
             angular_velocity: m.angular_velocity,
             linear_acceleration: m.linear_acceleration,
         };
-        if !topic.push(log_time_ns, &m.frame_id, sample, &mut self.kept_bytes) {
+        if !topic.push(
+            log_time_ns,
+            &m.frame_id,
+            sample,
+            &mut self.kept_bytes,
+            self.limit,
+        ) {
             return Err(self.full(slot));
         }
         self.kept += 1;
@@ -245,7 +269,13 @@ impl Topics {
             stamp: m.stamp,
             celsius: m.celsius,
         };
-        if !topic.push(log_time_ns, &m.frame_id, sample, &mut self.kept_bytes) {
+        if !topic.push(
+            log_time_ns,
+            &m.frame_id,
+            sample,
+            &mut self.kept_bytes,
+            self.limit,
+        ) {
             return Err(self.full(slot));
         }
         self.kept += 1;
@@ -404,7 +434,7 @@ mod tests {
 
     #[test]
     fn a_temperature_topic_of_the_same_frame_is_the_gyros_own() {
-        let mut t = Topics::default();
+        let mut t = Topics::for_file(0);
         // Slots made in another order than the first messages: the instances follow the
         // messages.
         let other = t.slot(Kind::Imu, "/other/imu");

@@ -136,7 +136,7 @@ pub(crate) fn read(data: &[u8]) -> Result<Read, Broken> {
     let mut b = Bytes::new(&data[MAGIC.len()..], MAGIC.len() as u64);
     let mut state = State {
         connections: HashMap::new(),
-        topics: Topics::default(),
+        topics: Topics::for_file(data.len()),
         orphans: 0,
         budget: Budget::for_file(data.len()),
     };
