@@ -164,12 +164,41 @@ pub(crate) struct Topics {
     /// order.
     imu_order: Vec<usize>,
     temperature_order: Vec<usize>,
+    /// What the messages of every topic take, and may take.
+    room: Room,
+}
+
+/// The room the messages of every topic take together, and the most they may take.
+#[derive(Default)]
+struct Room {
     /// Bytes allocated for the messages of every topic.
-    kept_bytes: usize,
+    bytes: usize,
     /// Messages kept in every topic.
-    kept: usize,
+    messages: usize,
     /// The most bytes of messages kept ([`Topics::for_file`]).
     limit: usize,
+}
+
+impl Room {
+    /// Files message `m` of log time `t` in `topics[index]`, noting the topic's first message
+    /// in `order`; `false` when it does not fit.
+    fn file<T>(
+        &mut self,
+        topics: &mut [Topic<T>],
+        order: &mut Vec<usize>,
+        index: usize,
+        t: u64,
+        frame: &str,
+        m: T,
+    ) -> bool {
+        let topic = &mut topics[index];
+        if topic.msgs.is_empty() {
+            order.push(index);
+        }
+        let filed = topic.push(t, frame, m, &mut self.bytes, self.limit);
+        self.messages += usize::from(filed);
+        filed
+    }
 }
 
 impl Topics {
@@ -177,7 +206,10 @@ impl Topics {
     /// [`KEPT_BYTES_AT_MOST`], or [`KEPT_PER_FILE_BYTE`] times the file's size if that is more.
     pub(crate) fn for_file(file_len: usize) -> Topics {
         Topics {
-            limit: KEPT_BYTES_AT_MOST.max(file_len.saturating_mul(KEPT_PER_FILE_BYTE)),
+            room: Room {
+                limit: KEPT_BYTES_AT_MOST.max(file_len.saturating_mul(KEPT_PER_FILE_BYTE)),
+                ..Room::default()
+            },
             ..Topics::default()
         }
     }
@@ -210,10 +242,10 @@ impl Topics {
     /// The error for a message on `slot` that does not fit.
     fn full(&self, slot: Slot) -> TooManyMessages {
         TooManyMessages {
-            mib: self.limit >> 20,
-            imu: self.limit / std::mem::size_of::<(u64, ImuSample)>(),
+            mib: self.room.limit >> 20,
+            imu: self.room.limit / std::mem::size_of::<(u64, ImuSample)>(),
             topic: quoted(self.name(slot)).into_owned(),
-            kept: self.kept,
+            kept: self.room.messages,
         }
     }
 
@@ -228,26 +260,16 @@ impl Topics {
         m: &Imu<'_>,
     ) -> Result<(), TooManyMessages> {
         debug_assert_eq!(slot.kind, Kind::Imu);
-        let topic = &mut self.imu[slot.index];
-        if topic.msgs.is_empty() {
-            self.imu_order.push(slot.index);
-        }
         let sample = ImuSample {
             stamp: m.stamp,
             angular_velocity: m.angular_velocity,
             linear_acceleration: m.linear_acceleration,
         };
-        if !topic.push(
-            log_time_ns,
-            &m.frame_id,
-            sample,
-            &mut self.kept_bytes,
-            self.limit,
-        ) {
-            return Err(self.full(slot));
-        }
-        self.kept += 1;
-        Ok(())
+        let (topics, order) = (&mut self.imu, &mut self.imu_order);
+        let filed = self
+            .room
+            .file(topics, order, slot.index, log_time_ns, &m.frame_id, sample);
+        filed.then_some(()).ok_or_else(|| self.full(slot))
     }
 
     /// Files a Temperature message under `slot` (of kind Temperature).
@@ -261,25 +283,15 @@ impl Topics {
         m: &Temperature<'_>,
     ) -> Result<(), TooManyMessages> {
         debug_assert_eq!(slot.kind, Kind::Temperature);
-        let topic = &mut self.temperature[slot.index];
-        if topic.msgs.is_empty() {
-            self.temperature_order.push(slot.index);
-        }
         let sample = TempSample {
             stamp: m.stamp,
             celsius: m.celsius,
         };
-        if !topic.push(
-            log_time_ns,
-            &m.frame_id,
-            sample,
-            &mut self.kept_bytes,
-            self.limit,
-        ) {
-            return Err(self.full(slot));
-        }
-        self.kept += 1;
-        Ok(())
+        let (topics, order) = (&mut self.temperature, &mut self.temperature_order);
+        let filed = self
+            .room
+            .file(topics, order, slot.index, log_time_ns, &m.frame_id, sample);
+        filed.then_some(()).ok_or_else(|| self.full(slot))
     }
 
     /// One instance per Imu topic, in order of its first message, messages in log-time
