@@ -293,10 +293,6 @@ fn a_full_disk() {
     }
 }
 
-fn driftlab() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_driftlab"))
-}
-
 fn sample(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("sample_logs")
@@ -322,18 +318,12 @@ fn the_command_line_keeps_the_old_file_when_a_write_is_cut_short() {
     let tmp = tempfile::tempdir().unwrap();
     let log = sample("calibration.csv");
     let cal = tmp.path().join("cal.json");
-    let ok = driftlab()
-        .arg("calibrate")
-        .arg(&log)
-        .arg("--out")
-        .arg(&cal)
-        .output()
-        .unwrap();
-    assert!(
-        ok.status.success(),
-        "{}",
-        String::from_utf8_lossy(&ok.stderr)
-    );
+    common::run::ok(&[
+        "calibrate",
+        &log.display().to_string(),
+        "--out",
+        &cal.display().to_string(),
+    ]);
     let good_cal = fs::read(&cal).unwrap();
     assert!(good_cal.len() > 1024, "the calibration outgrows the limit");
 

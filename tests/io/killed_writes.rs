@@ -77,17 +77,8 @@ fn a_run_killed_at_any_moment_leaves_the_old_output_and_no_temporary() {
     let whole_dir = base.join("whole");
     fs::create_dir(&whole_dir).unwrap();
     let whole_path = whole_dir.join("big.csv");
-    let ok = driftlab()
-        .args(BIG_RUN)
-        .arg("--out")
-        .arg(&whole_path)
-        .output()
-        .unwrap();
-    assert!(
-        ok.status.success(),
-        "{}",
-        String::from_utf8_lossy(&ok.stderr)
-    );
+    let out = whole_path.display().to_string();
+    common::run::ok(&[&BIG_RUN[..], &["--out", &out]].concat());
     let whole = fs::read(&whole_path).unwrap();
     let len = whole.len() as u64;
     assert!(len > 32 << 20, "a big file: {len} bytes");
