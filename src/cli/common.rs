@@ -541,8 +541,7 @@ pub fn in_option_words(e: &driftlab::error::Invalid) -> String {
 
 /// Refuses figures of merit whose filter or window does not fit in `log`.
 pub fn check_merit(merit: &driftlab::MeritOptions, log: &Log) -> Result<(), CliError> {
-    driftlab::judge::options::check_merit(merit, log).map_err(with_option)?;
-    if let Some(n) = driftlab::judge::options::merit_notes(merit, log) {
+    if let Some(n) = driftlab::judge::options::check_merit(merit, log).map_err(with_option)? {
         note!("warning: {}", in_option_words(&n));
     }
     Ok(())

@@ -22,11 +22,13 @@ pub fn span_with_step(log: &Log, dt_s: f64) -> f64 {
 }
 
 /// Checks `opts` on `log`: a filter and a window that are positive seconds no longer than
-/// any chamber run, and a filter that fits in the log.
+/// any chamber run, a filter that fits in the log and a window of at least one sample. Gives
+/// what to tell: a filter shorter than a sample, taken as one ([`one_sample`]); the log's
+/// step is found once for both.
 ///
 /// # Errors
 /// `filter_s` or `window_s`, with the value and the log's span.
-pub fn check_merit(opts: &MeritOptions, log: &Log) -> Result<(), Invalid> {
+pub fn check_merit(opts: &MeritOptions, log: &Log) -> Result<Option<Invalid>, Invalid> {
     let dt = log.nominal_dt_s();
     let span = span_with_step(log, dt);
     for (field, v, why) in [
@@ -88,7 +90,8 @@ pub fn check_merit(opts: &MeritOptions, log: &Log) -> Result<(), Invalid> {
             ));
         }
     }
-    Ok(())
+    // A filter that short is none, taken as one sample: said, not refused.
+    Ok(one_sample("filter_s", opts.filter_s, dt, &log.source))
 }
 
 /// Whether `v` seconds is shorter than one sampling interval `dt_s` (with 1 % to spare for a
@@ -112,12 +115,6 @@ pub fn one_sample(field: &str, v: f64, dt_s: f64, log_name: &str) -> Option<Inva
             ),
         )
     })
-}
-
-/// The figures' filter when it is shorter than a sample of `log`: taken as one sample
-/// (no filter), which the engineer should hear.
-pub fn merit_notes(opts: &MeritOptions, log: &Log) -> Option<Invalid> {
-    one_sample("filter_s", opts.filter_s, log.nominal_dt_s(), &log.source)
 }
 
 /// How a window of `seconds` is named in a table's labels: `10-min`, `90-s`.
@@ -146,13 +143,13 @@ mod tests {
             filter_s: 100.0,
             window_s: 1000.0,
         };
-        assert_eq!(check_merit(&ok, &log), Ok(()));
+        assert_eq!(check_merit(&ok, &log), Ok(None));
         // Longer than the log: the windowed figures are n/a, the rest is judged.
         let long = MeritOptions {
             filter_s: 100.0,
             window_s: 1001.0,
         };
-        assert_eq!(check_merit(&long, &log), Ok(()));
+        assert_eq!(check_merit(&long, &log), Ok(None));
         for (filter_s, window_s, field) in [
             (f64::INFINITY, 600.0, "filter_s"),
             (1e12, 600.0, "filter_s"),
