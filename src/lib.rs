@@ -63,6 +63,7 @@ pub mod models;
 pub mod number;
 pub mod signal;
 pub mod sim;
+pub mod text;
 
 /// The desktop workbench (feature `gui`): a face over the engine, holding no calculation.
 /// Public for the `driftlab` binary and the workbench's tests only: not the library's API.

@@ -122,23 +122,9 @@ pub fn terminal_text(s: &str) -> std::borrow::Cow<'_, str> {
     escaped(s, true)
 }
 
-/// Whether a terminal would obey `c` (or reorder the text after it) instead of printing it.
-fn unprintable(c: char) -> bool {
-    c.is_control()
-        || matches!(
-            c,
-            '\u{061c}'
-                | '\u{200e}'
-                | '\u{200f}'
-                | '\u{202a}'..='\u{202e}'
-                | '\u{2066}'..='\u{2069}'
-                | '\u{2028}'
-                | '\u{2029}'
-        )
-}
-
 fn escaped(s: &str, keep_lines: bool) -> std::borrow::Cow<'_, str> {
-    let escape = |c: char| unprintable(c) && !(keep_lines && matches!(c, '\n' | '\t'));
+    let escape =
+        |c: char| driftlab::text::is_unprintable(c) && !(keep_lines && matches!(c, '\n' | '\t'));
     if !s.chars().any(escape) {
         return std::borrow::Cow::Borrowed(s);
     }

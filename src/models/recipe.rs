@@ -177,7 +177,7 @@ impl Recipe {
         if let Some(c) = self
             .gyro_id
             .chars()
-            .find(|&c| crate::log::ingest::names::is_hidden_control(c))
+            .find(|&c| crate::text::is_unprintable(c))
         {
             return Err(Invalid::new(
                 "gyro_id",

@@ -115,11 +115,7 @@ impl UnitCalibration {
                     "every axis of a unit of several needs a name",
                 ));
             }
-            if let Some(c) = a
-                .name
-                .chars()
-                .find(|&c| crate::log::ingest::names::is_hidden_control(c))
-            {
+            if let Some(c) = a.name.chars().find(|&c| crate::text::is_unprintable(c)) {
                 return Err(Invalid::new(
                     "axes.name",
                     format!(

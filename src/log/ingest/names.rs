@@ -186,7 +186,10 @@ pub(crate) fn is_accelerometer(name: &str) -> bool {
 pub(crate) fn axis_name(name: &str) -> String {
     // An axis's name goes into every output (CSV headers, tables, the report, folder names):
     // nothing in it may steer a terminal or reorder text.
-    let printable: String = name.chars().filter(|&c| !is_hidden_control(c)).collect();
+    let printable: String = name
+        .chars()
+        .filter(|&c| !crate::text::is_unprintable(c))
+        .collect();
     let p = name_parts(&printable);
     let words = &p.words;
     let end = (1..words.len())
@@ -199,13 +202,6 @@ pub(crate) fn axis_name(name: &str) -> String {
     } else {
         name
     }
-}
-
-/// A control character (C0, DEL, C1) or a bidirectional override or isolate: characters that
-/// steer a terminal or reorder the text around them instead of being shown.
-pub(crate) fn is_hidden_control(c: char) -> bool {
-    c.is_control()
-        || matches!(c, '\u{200e}' | '\u{200f}' | '\u{202a}'..='\u{202e}' | '\u{2066}'..='\u{2069}')
 }
 
 fn in_list(word: &str, list: &[&str]) -> bool {
