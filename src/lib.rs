@@ -77,6 +77,6 @@ pub use log::Log;
 pub use log::ingest::{ReadOptions, read_path};
 pub use models::vakhrameev::Calibration;
 pub use models::{
-    Calibrated, CheckedRecipe, DriftModel, ModelChoice, Preset, Recipe, UnitCalibration, calibrate,
-    calibrate_unit, fit,
+    AxisPlan, Calibrated, CheckedRecipe, DriftModel, ModelChoice, Preset, Recipe, UnitCalibration,
+    calibrate, fit,
 };

@@ -1,7 +1,7 @@
 //! `driftlab calibrate`: fit a calibration (any model) to a log and save it: the log's one
 //! gyro axis, or every axis of a unit (those `--axes` or a repeated `--rate-col` choose)
 //! fitted with one read and one temperature processing into one file
-//! ([`models::calibrate_unit`]).
+//! ([`models::calibrate`]).
 
 use super::calibrate_print;
 use super::common::{self, CliError, LogArgs};
@@ -280,39 +280,28 @@ pub fn run(a: Args) -> Result<(), CliError> {
             .iter()
             .map(common::in_option_words),
     );
-    // The axes of a unit, each with its plan; `None`: the log's one axis.
-    let plans = match common::chosen_axes(&a.axes, &a.log_args, &log)? {
+    // The axes of a unit, each with its plan; a log of one axis is a unit of one unnamed axis.
+    let (plans, saved_recipe) = match common::chosen_axes(&a.axes, &a.log_args, &log)? {
         Some(axes) => {
             let (plans, axis_warnings) = a.plans(&log, &axes, &recipe, &choice)?;
             warnings.extend(axis_warnings);
-            Some(plans)
+            let saved = a.recipe_to_save(&plans)?;
+            (plans, saved)
         }
         None => {
             a.refuse_per_axis_options()?;
-            None
+            (vec![AxisPlan::unnamed(choice, recipe.clone())], recipe)
         }
     };
-    let saved_recipe = match &plans {
-        Some(plans) => a.recipe_to_save(plans)?,
-        None => recipe.clone(),
-    };
-    common::status(&match &plans {
-        Some(p) => format!("fitting {} axes ...", p.len()).replace("1 axes", "1 axis"),
-        None => "fitting ...".to_string(),
+    common::status(&match plans.as_slice() {
+        [one] if one.name.is_empty() => "fitting ...".to_string(),
+        [_] => "fitting 1 axis ...".to_string(),
+        p => format!("fitting {} axes ...", p.len()),
     });
     // The file's hash is taken beside the fit, whose stages are partly sequential.
     let (fitted, sha256) = std::thread::scope(|scope| {
         let sha = scope.spawn(|| calibration::sha256_input(&input).map_err(|e| e.to_string()));
-        let fitted = match &plans {
-            Some(plans) => models::calibrate_unit(&mut log, plans, &merit),
-            None => models::calibrate(&log, &choice, &recipe, &merit).map(|calibrated| {
-                vec![models::CalibratedAxis {
-                    name: String::new(),
-                    rate_column: String::new(),
-                    calibrated,
-                }]
-            }),
-        };
+        let fitted = models::calibrate(&mut log, &plans, &merit);
         let sha256 = sha
             .join()
             .unwrap_or_else(|_| Err("the hashing thread failed".to_string()));

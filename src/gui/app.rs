@@ -198,16 +198,16 @@ impl Workbench {
         );
         wb.wait_for_jobs();
         assert!(
-            wb.state.log.is_some(),
+            wb.state.shown.log.is_some(),
             "the test log could not be read: {:?}",
             wb.state.status
         );
         wb.refit_if_needed();
         wb.wait_for_jobs();
         assert!(
-            wb.state.fit.is_some(),
+            wb.state.shown.fit.is_some(),
             "the test log could not be calibrated: {:?}",
-            wb.state.fit_error
+            wb.state.shown.fit_error
         );
         wb
     }
@@ -351,7 +351,7 @@ impl Workbench {
             }
             Page::Allan => {
                 if let Some(key) = self.views.allan.wanted(&self.state)
-                    && self.state.allan.as_ref().is_none_or(|a| a.key != key)
+                    && self.state.shown.allan.as_ref().is_none_or(|a| a.key != key)
                     && self.jobs.allan != Some(key)
                 {
                     self.request_allan(key);
@@ -370,7 +370,10 @@ impl Workbench {
         }
         let settled = !ctx.input(|i| i.pointer.any_down());
         self.window.pointer_down = !settled;
-        self.state.history.observe(&self.state.choices, settled);
+        self.state
+            .shown
+            .history
+            .observe(&self.state.shown.choices, settled);
         self.state.forget_stale_status();
         self.refit_if_needed();
         if self.shots.auto.is_none() {
@@ -397,7 +400,7 @@ impl Workbench {
     }
 
     fn calibration_page(&mut self, ui: &mut Ui, actions: &mut Vec<Action>) {
-        if self.state.validation.is_none() {
+        if self.state.shown.validation.is_none() {
             self.state.view.show_validation = false;
         }
         if self.state.unit.is_some() {
@@ -442,7 +445,7 @@ impl Workbench {
             .panel_rects
             .insert("coefficients", r.response.rect);
         let r = egui::CentralPanel::default().show(ui, |ui| {
-            if self.state.log.is_none() {
+            if self.state.shown.log.is_none() {
                 self.welcome(ui, actions);
                 return;
             }
@@ -532,13 +535,13 @@ impl Workbench {
     /// The window's title names the log and says when its calibration is ready (scripts
     /// that drive the window wait for it).
     fn window_title(&mut self, ctx: &egui::Context) {
-        let title = match &self.state.log {
+        let title = match &self.state.shown.log {
             None => "driftlab workbench".to_string(),
             Some(l) => format!(
                 "{}{} — driftlab workbench{}",
                 file_name(&l.path),
                 if self.state.dirty() { " •" } else { "" },
-                match (&self.state.fit, &self.state.fit_error) {
+                match (&self.state.shown.fit, &self.state.shown.fit_error) {
                     (_, Some(_)) => " (calibration failed)",
                     (None, None) => " (calibrating…)",
                     (Some(_), None) => "",

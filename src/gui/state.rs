@@ -112,18 +112,9 @@ pub enum Severity {
 /// The application data.
 #[derive(Default)]
 pub struct AppState {
-    /// The calibration log.
-    pub log: Option<Loaded>,
-    /// The held-out validation log.
-    pub validation: Option<Loaded>,
-    /// Every choice.
-    pub choices: Choices,
-    /// The newest fit result (may lag the choices by a refit).
-    pub fit: Option<Arc<FitView>>,
-    /// Why the newest refit failed, if it did.
-    pub fit_error: Option<String>,
-    /// Undo and redo.
-    pub history: History,
+    /// The axis shown: its logs, choices, fit and pages' results (the one axis of a log of
+    /// one; for a unit, the others are parked in [`Unit::parked`]).
+    pub shown: AxisLive,
     /// The session as last opened or saved, to tell unsaved work.
     pub baseline: Option<Session>,
     /// Where the session was last saved or opened from.
@@ -134,20 +125,14 @@ pub struct AppState {
     pub status_choices: Option<Choices>,
     /// What was on screen (kept in sessions).
     pub view: ViewState,
-    /// The newest comparison of models (Models view).
-    pub models: Option<Arc<Compared>>,
-    /// Why the newest comparison failed, if it did.
-    pub models_error: Option<String>,
-    /// The newest Allan deviations (Allan view).
-    pub allan: Option<Arc<AllanView>>,
     /// The gyro axes of a log of several (none for a log of one axis): the fields above
     /// hold the axis shown, the others wait here.
     pub unit: Option<Unit>,
 }
 
 /// What the workbench holds for one gyro axis: its view of the logs, its choices, its fit
-/// and the pages' results. The axis shown has its own in [`AppState`]'s fields (so that every
-/// view reads one axis as it reads a log of one); the others are parked in [`Unit::parked`].
+/// and the pages' results. The axis shown is [`AppState::shown`] (so that every view reads one
+/// axis of a unit as it reads a log of one); the others are parked in [`Unit::parked`].
 #[derive(Default)]
 pub struct AxisLive {
     /// The calibration log's view of this axis.
@@ -179,8 +164,8 @@ pub struct Unit {
     pub names: Vec<String>,
     /// The axis shown.
     pub active: usize,
-    /// Every axis's state but the shown one's (`parked[active]` is empty: its state is in
-    /// [`AppState`]'s fields).
+    /// Every axis's state but the shown one's (`parked[active]` is empty: its state is
+    /// [`AppState::shown`]).
     pub parked: Vec<AxisLive>,
     /// The calibration log with every axis (the corrected CSV of the unit reads it).
     pub full_log: Option<Arc<crate::log::Log>>,
@@ -277,20 +262,21 @@ impl AppState {
 
     /// The recipe.
     pub fn recipe(&self) -> &Recipe {
-        &self.choices.recipe
+        &self.shown.choices.recipe
     }
 
     /// The recipe, to change it.
     pub fn recipe_mut(&mut self) -> &mut Recipe {
-        &mut self.choices.recipe
+        &mut self.shown.choices.recipe
     }
 
     /// The plateau ranges in effect: the recipe's own, or those the detector found in the
     /// newest fit.
     pub fn ranges(&self) -> Vec<PlateauRange> {
-        match &self.choices.recipe.plateaus {
+        match &self.shown.choices.recipe.plateaus {
             PlateauChoice::Manual { ranges } => ranges.clone(),
             PlateauChoice::Auto(_) => self
+                .shown
                 .fit
                 .as_ref()
                 .map(|f| f.outcome.ranges.clone())
@@ -300,19 +286,19 @@ impl AppState {
 
     /// True while the plateaus come from the detector.
     pub fn plateaus_auto(&self) -> bool {
-        matches!(self.choices.recipe.plateaus, PlateauChoice::Auto(_))
+        matches!(self.shown.choices.recipe.plateaus, PlateauChoice::Auto(_))
     }
 
     /// Sets the plateaus by hand (sorted by start; empty and reversed ranges dropped).
     pub fn set_ranges(&mut self, ranges: Vec<PlateauRange>) {
-        self.choices.recipe.plateaus = PlateauChoice::Manual {
+        self.shown.choices.recipe.plateaus = PlateauChoice::Manual {
             ranges: sorted_ranges(ranges),
         };
     }
 
     /// Makes the change a view asked for.
     pub fn apply(&mut self, edit: Edit) {
-        let choices = &mut self.choices;
+        let choices = &mut self.shown.choices;
         match edit {
             Edit::Recipe(recipe) => choices.recipe = *recipe,
             Edit::Approx(c, spec) => {
@@ -330,12 +316,16 @@ impl AppState {
 
     /// The refit request for the current choices, when a log is loaded.
     pub fn request(&self) -> Option<Request> {
-        request(self.log.as_ref(), self.validation.as_ref(), &self.choices)
+        request(
+            self.shown.log.as_ref(),
+            self.shown.validation.as_ref(),
+            &self.shown.choices,
+        )
     }
 
     /// How the figures of merit are computed: the recipe's filter, 10-minute windows.
     pub fn merit(&self) -> MeritOptions {
-        merit_of(&self.choices)
+        merit_of(&self.shown.choices)
     }
 
     /// The session as it stands.
@@ -348,10 +338,10 @@ impl AppState {
             })
         };
         let mut session = Session {
-            log: log_ref(&self.log),
-            validation: log_ref(&self.validation),
-            recipe: self.choices.recipe.clone(),
-            knots: self.choices.knots.clone(),
+            log: log_ref(&self.shown.log),
+            validation: log_ref(&self.shown.validation),
+            recipe: self.shown.choices.recipe.clone(),
+            knots: self.shown.choices.knots.clone(),
             merit: self.merit(),
             view: self.view.clone(),
             axes: Vec::new(),
@@ -385,7 +375,7 @@ impl AppState {
 
     /// True when there are choices that are not saved in a session.
     pub fn dirty(&self) -> bool {
-        if self.log.is_none() {
+        if self.shown.log.is_none() {
             return false;
         }
         let strip = |s: Session| Session {
@@ -412,10 +402,10 @@ impl AppState {
     /// its way and what is shown is provisional).
     pub fn fit_current(&self) -> bool {
         fit_current(
-            self.fit.as_ref(),
-            self.log.as_ref(),
-            self.validation.as_ref(),
-            &self.choices,
+            self.shown.fit.as_ref(),
+            self.shown.log.as_ref(),
+            self.shown.validation.as_ref(),
+            &self.shown.choices,
         )
     }
 
@@ -506,11 +496,11 @@ impl AppState {
     pub fn axis(&self, k: usize) -> Option<AxisRef<'_>> {
         let shown = AxisRef {
             name: self.active_axis_name().unwrap_or_default(),
-            log: self.log.as_ref(),
-            validation: self.validation.as_ref(),
-            choices: &self.choices,
-            fit: self.fit.as_ref(),
-            fit_error: self.fit_error.as_ref(),
+            log: self.shown.log.as_ref(),
+            validation: self.shown.validation.as_ref(),
+            choices: &self.shown.choices,
+            fit: self.shown.fit.as_ref(),
+            fit_error: self.shown.fit_error.as_ref(),
         };
         match &self.unit {
             None => (k == 0).then_some(shown),
@@ -539,38 +529,11 @@ impl AppState {
         let ok = k < unit.parked.len();
         if ok && k != unit.active {
             let next = std::mem::take(&mut unit.parked[k]);
-            unit.parked[unit.active] = self.take_live();
-            self.put_live(next);
+            unit.parked[unit.active] = std::mem::replace(&mut self.shown, next);
             unit.active = k;
         }
         self.unit = Some(unit);
         ok
-    }
-
-    fn take_live(&mut self) -> AxisLive {
-        AxisLive {
-            log: self.log.take(),
-            validation: self.validation.take(),
-            choices: std::mem::take(&mut self.choices),
-            fit: self.fit.take(),
-            fit_error: self.fit_error.take(),
-            history: std::mem::take(&mut self.history),
-            models: self.models.take(),
-            models_error: self.models_error.take(),
-            allan: self.allan.take(),
-        }
-    }
-
-    fn put_live(&mut self, l: AxisLive) {
-        self.log = l.log;
-        self.validation = l.validation;
-        self.choices = l.choices;
-        self.fit = l.fit;
-        self.fit_error = l.fit_error;
-        self.history = l.history;
-        self.models = l.models;
-        self.models_error = l.models_error;
-        self.allan = l.allan;
     }
 
     /// Gives every other axis of the unit the T settings of the shown axis (they share T);
@@ -581,7 +544,7 @@ impl AppState {
         };
         for (k, p) in u.parked.iter_mut().enumerate() {
             if k != u.active {
-                share_temperature(&self.choices.recipe, &mut p.choices.recipe);
+                share_temperature(&self.shown.choices.recipe, &mut p.choices.recipe);
             }
         }
     }
@@ -590,7 +553,7 @@ impl AppState {
     /// they change (the detector's suggestion, after the plateaus are edited by hand).
     pub fn say_about_choices(&mut self, severity: Severity, message: impl Into<String>) {
         self.say(severity, message);
-        self.status_choices = Some(self.choices.clone());
+        self.status_choices = Some(self.shown.choices.clone());
     }
 
     /// Clears a status message said about choices that have changed since.
@@ -598,7 +561,7 @@ impl AppState {
         if self
             .status_choices
             .as_ref()
-            .is_some_and(|c| *c != self.choices)
+            .is_some_and(|c| *c != self.shown.choices)
         {
             self.status = None;
             self.status_choices = None;

@@ -26,7 +26,7 @@ impl AllanPage {
     /// What the page needs computed now: `(fit generation, validation)`, when a calibration
     /// exists for the log chosen.
     pub fn wanted(&mut self, state: &AppState) -> Option<(u64, bool)> {
-        let fit = state.fit.as_ref()?;
+        let fit = state.shown.fit.as_ref()?;
         if fit.outcome.held_out.is_none() {
             self.validation = false;
         }
@@ -37,10 +37,11 @@ impl AllanPage {
     pub fn ui(&mut self, ui: &mut Ui, state: &AppState, running: bool) -> Vec<Action> {
         let mut out = Vec::new();
         let has_val = state
+            .shown
             .fit
             .as_ref()
             .is_some_and(|f| f.outcome.held_out.is_some());
-        let data = state.allan.clone();
+        let data = state.shown.allan.clone();
         Panel::right("allan_readouts")
             .default_size(400.0)
             .size_range(320.0..=640.0)
@@ -69,7 +70,7 @@ impl AllanPage {
                 if !has_val
                     && ui
                         .add_enabled(
-                            state.log.is_some(),
+                            state.shown.log.is_some(),
                             egui::Button::new("Open validation log…"),
                         )
                         .clicked()
@@ -80,7 +81,7 @@ impl AllanPage {
                     ui.spinner().on_hover_text("Computing on a worker thread");
                 }
             });
-            match (&state.fit, &data) {
+            match (&state.shown.fit, &data) {
                 (None, _) => {
                     ui.weak("The Allan deviations appear once the log is calibrated.");
                 }

@@ -16,7 +16,7 @@ pub struct FiguresView;
 impl FiguresView {
     /// The figures of merit, always visible.
     pub fn ui(&mut self, ui: &mut Ui, state: &AppState) -> Vec<Action> {
-        let Some(fit) = state.fit.as_ref() else {
+        let Some(fit) = state.shown.fit.as_ref() else {
             ui.weak("Figures of merit appear once the log is calibrated.");
             return Vec::new();
         };
@@ -38,7 +38,7 @@ impl FiguresView {
             table(
                 ui,
                 "fig_in",
-                &format!("In-sample · {}", name(&state.log)),
+                &format!("In-sample · {}", name(&state.shown.log)),
                 &fit.outcome.in_sample.evaluation,
                 exact,
             );
@@ -47,7 +47,7 @@ impl FiguresView {
                 Some(h) => table(
                     ui,
                     "fig_out",
-                    &format!("Held out · {}", name(&state.validation)),
+                    &format!("Held out · {}", name(&state.shown.validation)),
                     &h.evaluation,
                     exact,
                 ),

@@ -17,7 +17,7 @@ impl ResultView {
     pub fn ui(&mut self, ui: &mut Ui, state: &AppState) -> Vec<Action> {
         let mut out = Vec::new();
         let pal = Palette::of(ui);
-        let has_val = state.validation.is_some();
+        let has_val = state.shown.validation.is_some();
         let mut show_validation = state.view.show_validation && has_val;
         ui.horizontal_wrapped(|ui| {
             ui.strong("Drift before and after correction")
@@ -54,8 +54,8 @@ impl ResultView {
         if show_validation != state.view.show_validation {
             out.push(Action::ShowValidation(show_validation));
         }
-        let Some(fit) = state.fit.clone() else {
-            ui.weak(if state.fit_error.is_some() {
+        let Some(fit) = state.shown.fit.clone() else {
+            ui.weak(if state.shown.fit_error.is_some() {
                 "No calibration: it failed (its message is in the status bar)."
             } else {
                 "No calibration yet."

@@ -73,7 +73,7 @@ impl TimeView {
     /// Draws the plots (the whole height given) and handles plateau editing.
     pub fn ui(&mut self, ui: &mut Ui, state: &AppState) -> Vec<Action> {
         let mut out = Vec::new();
-        let Some(loaded) = state.log.clone() else {
+        let Some(loaded) = state.shown.log.clone() else {
             ui.centered_and_justified(|ui| {
                 ui.label("Open a chamber log (File › Open log…, Ctrl+O, or drop a file here).");
             });
@@ -83,7 +83,7 @@ impl TimeView {
         let scale = TimeScale::for_duration(log.duration_s());
         self.div = scale.div;
         let pal = Palette::of(ui);
-        let fit = state.fit.clone();
+        let fit = state.shown.fit.clone();
 
         self.toolbar(ui, &mut out, scale);
         let deleted = self.handle_keys(ui, state);
@@ -551,10 +551,11 @@ impl TimeView {
         });
         let p = pos?;
         let div = state
+            .shown
             .log
             .as_ref()
             .map_or(1.0, |l| TimeScale::for_duration(l.log.duration_s()).div);
-        let (t_lo, t_hi) = state.log.as_ref().map_or((0.0, 1.0), |l| {
+        let (t_lo, t_hi) = state.shown.log.as_ref().map_or((0.0, 1.0), |l| {
             (l.log.time_s[0], l.log.time_s[l.log.len() - 1])
         });
         let over = self

@@ -23,10 +23,10 @@ pub use error::{FitError, ParseError};
 pub use fitted::{DriftModel, ModelCorrector, Predictor, stream_inputs};
 pub use presets::{ModelChoice, Preset};
 pub use recipe::{CheckedRecipe, Recipe};
-pub use unit::{AxisModel, AxisPlan, CalibratedAxis, UnitCalibration, calibrate_unit};
+pub use unit::{AxisModel, AxisPlan, CalibratedAxis, UnitCalibration, calibrate};
 
 use crate::error::{Error, Result};
-use crate::judge::metrics::{Evaluation, MeritOptions};
+use crate::judge::metrics::Evaluation;
 use crate::log::Log;
 use regression::RegressionCalibration;
 
@@ -271,47 +271,6 @@ pub fn judge_on_own_log(model: &DriftModel, in_sample: &Evaluation) -> Vec<Strin
         }
     }
     out
-}
-
-/// [`fit`], then the model's figures on its own log. For Vakhrameev's model the figures reuse
-/// the fit's derivatives and hold only the corrected rate, which on a 10⁷-sample log saves
-/// hundreds of MB over a whole correction (the same bits: `tests/` check it).
-///
-/// # Errors
-/// What the fit or the correction reports.
-pub fn calibrate(
-    log: &Log,
-    choice: &ModelChoice,
-    recipe: &CheckedRecipe,
-    merit: &MeritOptions,
-) -> Result<Calibrated> {
-    if choice.is_vakhrameev() {
-        check_span(log, choice)?;
-        let vakhrameev::Calibrated {
-            calibration,
-            deriv,
-            warnings,
-        } = vakhrameev::fit_lean(log, recipe)?;
-        let c = calibration.corrected_rate_with(log, &deriv);
-        drop(deriv);
-        let in_sample = Evaluation::of_rate(log, &c.cor_dph, &c.ready, c.outside_fraction, merit);
-        let model = DriftModel::Vakhrameev(Box::new(calibration));
-        let mut warnings = warnings;
-        warnings.extend(judge_on_own_log(&model, &in_sample));
-        return Ok(Calibrated {
-            model,
-            in_sample,
-            warnings,
-        });
-    }
-    let model = fit(log, choice, recipe)?;
-    let correction = model.correct(log)?;
-    let in_sample = Evaluation::of_correction(log, &correction, merit);
-    Ok(Calibrated {
-        warnings: judge_on_own_log(&model, &in_sample),
-        in_sample,
-        model,
-    })
 }
 
 /// The recipe's settings that `choice` does not read, by their names in a recipe file, among

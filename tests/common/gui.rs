@@ -33,6 +33,6 @@ pub fn with_dialogs(wb: &mut Workbench) -> ScriptedDialogs {
 }
 
 pub fn p2p_corrected(h: &Harness<'_, Workbench>) -> f64 {
-    let f = h.state().state.fit.as_ref().expect("calibrated");
+    let f = h.state().state.shown.fit.as_ref().expect("calibrated");
     f.outcome.in_sample.evaluation.comparison.corrected.p2p_dph
 }

@@ -66,7 +66,7 @@ fn every_axis_of_a_unit_is_the_single_axis_calibration_of_that_axis() {
     let mut parabolic = plans[1].recipe.clone().into_recipe();
     parabolic.k1_plus.kind = driftlab::models::approx::ApproxKind::Parabolic;
     plans[1].recipe = parabolic.checked().unwrap();
-    let unit = models::calibrate_unit(&mut log, &plans, &merit).unwrap();
+    let unit = models::calibrate(&mut log, &plans, &merit).unwrap();
     assert_eq!(
         log.axis_names(),
         ["gx", "gy", "gz"],
@@ -78,11 +78,29 @@ fn every_axis_of_a_unit_is_the_single_axis_calibration_of_that_axis() {
         assert_eq!(got.rate_column, format!("{}_dps", plan.name));
         let mut alone = log.clone();
         assert!(alone.select_axis(&plan.name));
-        let want = models::calibrate(&alone, &plan.choice, &plan.recipe, &merit).unwrap();
+        let one = AxisPlan::unnamed(plan.choice.clone(), plan.recipe.clone());
+        let mut want = models::calibrate(&mut alone, &[one], &merit).unwrap();
+        let want = want.remove(0).calibrated;
         let created = "2026-12-02T00:00:00Z";
         assert_eq!(
             dated(&got.calibrated.model, created),
             dated(&want.model, created),
+            "axis {}",
+            plan.name
+        );
+        // The model is what the plain fit makes of that axis, and its figures those of the
+        // whole correction of it.
+        let plain = models::fit(&alone, &plan.choice, &plan.recipe).unwrap();
+        assert_eq!(
+            dated(&got.calibrated.model, created),
+            dated(&plain, created),
+            "axis {}",
+            plan.name
+        );
+        let corrected = plain.correct(&alone).unwrap();
+        assert_eq!(
+            got.calibrated.in_sample,
+            Evaluation::of_correction(&alone, &corrected, &merit),
             "axis {}",
             plan.name
         );
@@ -130,7 +148,7 @@ fn held_out_every_axis_comes_near_the_simulators_noise_floor() {
     let mut train = read("imu3-calibration.csv");
     let vakhrameev = ModelChoice::Preset(Preset::Vakhrameev);
     let plans = plans(&train, &vakhrameev, &Recipe::default());
-    let unit = models::calibrate_unit(&mut train, &plans, &merit).unwrap();
+    let unit = models::calibrate(&mut train, &plans, &merit).unwrap();
     let mut test = read("imu3-validation.csv");
     // The sample log's own header says how it was made.
     let floors = noise_floors("validation", 2, &merit);
@@ -190,7 +208,7 @@ fn a_unit_file_holds_every_axis_once_and_reads_back() {
     let vakhrameev = ModelChoice::Preset(Preset::Vakhrameev);
     let mut plans = plans(&log, &vakhrameev, &Recipe::default());
     plans[2].choice = ModelChoice::Preset(Preset::PolyT);
-    let unit = unit_of(&models::calibrate_unit(&mut log, &plans, &merit).unwrap());
+    let unit = unit_of(&models::calibrate(&mut log, &plans, &merit).unwrap());
     let text = calibration::unit_to_json(&unit).unwrap();
     let v: serde_json::Value = serde_json::from_str(&text).unwrap();
     assert_eq!(v["version"], 2);
@@ -235,28 +253,35 @@ fn what_cannot_be_a_unit_is_refused_by_name() {
     let mut step = other_t[1].recipe.clone().into_recipe();
     step.step_h_s = 20.0;
     other_t[1].recipe = step.checked().unwrap();
-    let e = models::calibrate_unit(&mut log, &other_t, &merit)
+    let e = models::calibrate(&mut log, &other_t, &merit)
         .unwrap_err()
         .to_string();
     assert!(e.contains("axis gy") && e.contains("step_h_s"), "{e}");
 
     let mut missing = good.clone();
     missing[0].name = "gq".into();
-    let e = models::calibrate_unit(&mut log, &missing, &merit)
+    let e = models::calibrate(&mut log, &missing, &merit)
         .unwrap_err()
         .to_string();
     assert!(e.contains("gq") && e.contains("gx, gy, gz"), "{e}");
 
     let mut twice = good.clone();
     twice[1].name = "gx".into();
-    let e = models::calibrate_unit(&mut log, &twice, &merit)
+    let e = models::calibrate(&mut log, &twice, &merit)
         .unwrap_err()
         .to_string();
     assert!(e.contains("twice"), "{e}");
 
+    let mut unnamed = good.clone();
+    unnamed[2].name = String::new();
+    let e = models::calibrate(&mut log, &unnamed, &merit)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("without a name") && e.contains("3 axes"), "{e}");
+
     // Files: a shared field repeated inside an axis, two axes of one name, a wrong model tag,
     // a broken approximation.
-    let unit = unit_of(&models::calibrate_unit(&mut log, &good[..2], &merit).unwrap());
+    let unit = unit_of(&models::calibrate(&mut log, &good[..2], &merit).unwrap());
     let text = calibration::unit_to_json(&unit).unwrap();
     let load = |t: &str| {
         calibration::unit_from_json(Path::new("u.json"), t)

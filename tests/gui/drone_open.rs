@@ -30,7 +30,13 @@ fn a_px4_ulog_opens_calibrates_and_is_judged_like_its_csv() {
     assert!(wb.import_view().is_none(), "no columns to map in a ULog");
     let mut h = harness(wb);
     settle(&mut h);
-    let loaded = h.state().state.log.as_ref().expect("the ULog is read");
+    let loaded = h
+        .state()
+        .state
+        .shown
+        .log
+        .as_ref()
+        .expect("the ULog is read");
     assert_eq!(loaded.log.len(), csv.len());
     assert_eq!(loaded.log.axis, "gyro_x");
     // The gyro's float32 values, in °/h, and the temperature as stored.

@@ -24,6 +24,7 @@ fn plateaus_are_edited_by_mouse_and_undone_by_keyboard() {
     let log_end = *h
         .state()
         .state
+        .shown
         .log
         .as_ref()
         .unwrap()
@@ -129,6 +130,7 @@ fn a_spline_knot_is_dragged_and_the_figures_follow() {
     let fitted = h
         .state()
         .state
+        .shown
         .fit
         .as_ref()
         .unwrap()
@@ -145,6 +147,7 @@ fn a_spline_knot_is_dragged_and_the_figures_follow() {
     settle(&mut h);
     let s = &h.state().state;
     let edited = s
+        .shown
         .choices
         .knots
         .get(Coefficient::K1Plus)
@@ -156,13 +159,13 @@ fn a_spline_knot_is_dragged_and_the_figures_follow() {
         edited[2]
     );
     assert_eq!(edited[0], fitted.knots().1[0], "the other knots stay");
-    let cal = &s.fit.as_ref().unwrap().outcome.calibration;
+    let cal = &s.shown.fit.as_ref().unwrap().outcome.calibration;
     assert_eq!(cal.k1_plus.knots().1, &edited[..]);
     assert_ne!(p2p_corrected(&h), before);
     // "reset knots" goes back to the fitted curve.
     reset_knots(&h).click();
     settle(&mut h);
-    assert!(h.state().state.choices.knots.is_empty());
+    assert!(h.state().state.shown.choices.knots.is_empty());
     assert_eq!(p2p_corrected(&h), before);
 }
 
@@ -264,6 +267,7 @@ fn a_knot_drag_keeps_the_panels_and_the_plots_in_place() {
         assert!(
             h.state()
                 .state
+                .shown
                 .choices
                 .knots
                 .get(Coefficient::K1Plus)
@@ -285,7 +289,7 @@ fn a_knot_drag_keeps_the_panels_and_the_plots_in_place() {
         // "reset knots" goes back to the fitted knots; nothing moves either.
         reset_knots(&h).click();
         settle(&mut h);
-        assert!(h.state().state.choices.knots.is_empty());
+        assert!(h.state().state.shown.choices.knots.is_empty());
         let (panels3, plots3) = rects(&h);
         assert_eq!(panels3, panels2);
         assert_eq!(plots3, plots2);
@@ -332,7 +336,7 @@ fn figures_after_a_knot_drag_are_those_of_a_fresh_calibration() {
         // change after that frame's figures are drawn).
         h.step();
         if h.state().state.fit_current() {
-            let shown = h.state().state.fit.as_ref().unwrap();
+            let shown = h.state().state.shown.fit.as_ref().unwrap();
             let f = fresh(h.state());
             assert_eq!(
                 shown.outcome.in_sample.evaluation, f.in_sample.evaluation,
@@ -354,17 +358,18 @@ fn figures_after_a_knot_drag_are_those_of_a_fresh_calibration() {
     assert!(h.query_by_label("provisional").is_none());
     let edited = wb
         .state
+        .shown
         .choices
         .knots
         .get(Coefficient::K1Plus)
         .expect("moved by hand");
-    let shown = wb.state.fit.as_ref().unwrap();
+    let shown = wb.state.shown.fit.as_ref().unwrap();
     assert_eq!(shown.outcome.calibration.k1_plus.knots().1, &edited[..]);
     // A fresh calibration with the same knots gives the same figures…
     let f = fresh(wb);
     assert_eq!(shown.outcome.in_sample.evaluation, f.in_sample.evaluation);
     // …and so does the engine's batch correction of that calibration.
-    let log = &wb.state.log.as_ref().unwrap().log;
+    let log = &wb.state.shown.log.as_ref().unwrap().log;
     let c = shown
         .outcome
         .calibration

@@ -42,8 +42,8 @@ fn unsaved_work_survives_a_crash_and_a_clean_close_leaves_nothing() {
     );
     wb.restore_autosave();
     wb.wait_for_jobs();
-    assert!(wb.state.log.is_some(), "{:?}", wb.state.status);
-    assert_eq!(wb.state.choices.recipe.filter_s, 57.0);
+    assert!(wb.state.shown.log.is_some(), "{:?}", wb.state.status);
+    assert_eq!(wb.state.shown.choices.recipe.filter_s, 57.0);
     assert!(wb.state.dirty(), "recovered work is not saved work");
     assert!(wb.state.session_path.is_none());
 

@@ -37,9 +37,9 @@ fn ardupilot_parameters_from_the_menu_are_the_engines() {
     export_from_menu(&mut h, "Export ArduPilot parameters");
     let text = std::fs::read_to_string(&out).expect("written");
     let wb = h.state();
-    let log = wb.state.log.as_ref().unwrap();
+    let log = wb.state.shown.log.as_ref().unwrap();
     let cal = driftlab::gui::export::stamped(
-        &wb.state.fit.as_ref().unwrap().outcome.calibration,
+        &wb.state.shown.fit.as_ref().unwrap().outcome.calibration,
         &log.path,
         log.sha256.as_deref(),
     )

@@ -84,8 +84,12 @@ fn a_failed_calibration_leaves_the_time_axis_on_the_data() {
     settle(&mut h);
     settle(&mut h);
     let s = &h.state().state;
-    assert!(s.fit.is_none());
-    let error = s.fit_error.as_deref().expect("no plateau to fit K0 on");
+    assert!(s.shown.fit.is_none());
+    let error = s
+        .shown
+        .fit_error
+        .as_deref()
+        .expect("no plateau to fit K0 on");
     assert!(
         h.query_all_by_label_contains("Calibration failed")
             .next()
@@ -136,7 +140,7 @@ fn the_import_views_bins_are_the_read() {
     h.run_ok();
     h.get_by_label("Load").click();
     settle(&mut h);
-    let l = h.state().state.log.as_ref().unwrap();
+    let l = h.state().state.shown.log.as_ref().unwrap();
     assert!(l.path.ends_with("fast.csv"));
     assert_eq!(l.options.bin_s, Some(10.0));
     // 1200 s in 10-s bins, each the mean of its 100 samples.
@@ -176,7 +180,7 @@ fn the_corrected_drift_is_drawn_where_the_rates_have_their_history() {
     std::fs::write(&path, kept.join("\n") + "\n").unwrap();
     let mut h = harness(Workbench::new_for_test(&path));
     settle(&mut h);
-    let f = h.state().state.fit.clone().expect("calibrated");
+    let f = h.state().state.shown.fit.clone().expect("calibrated");
     let judged = &f.outcome.in_sample;
     let n = judged.log.len();
     let ready = &judged.corrected.ready;

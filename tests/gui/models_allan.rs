@@ -24,7 +24,7 @@ fn compare_on_models_page(h: &mut Harness<'_, Workbench>) {
     h.get_by_role_and_label(Role::Button, "Compare").click();
     h.run_ok();
     assert!(
-        h.state().busy() || h.state().state.models.is_some(),
+        h.state().busy() || h.state().state.shown.models.is_some(),
         "the comparison runs in the background"
     );
     settle(h);
@@ -42,7 +42,7 @@ fn the_models_page_compares_every_model_in_sample_and_held_out_and_exports_one()
         Target::Validation,
     );
     wb.wait_for_jobs();
-    assert!(wb.state.validation.is_some());
+    assert!(wb.state.shown.validation.is_some());
     let mut h = harness(wb);
     settle(&mut h);
     // The custom model from the builder: T, Tdot and a bias.
@@ -54,7 +54,7 @@ fn the_models_page_compares_every_model_in_sample_and_held_out_and_exports_one()
     h.run_ok();
     compare_on_models_page(&mut h);
 
-    let c = h.state().state.models.clone().expect("compared");
+    let c = h.state().state.shown.models.clone().expect("compared");
     let mut expected: Vec<String> = Preset::ALL.iter().map(|p| p.name().to_string()).collect();
     expected.push("custom".into());
     let names: Vec<String> = c.reports.iter().map(|r| r.model.clone()).collect();
@@ -148,7 +148,7 @@ fn a_model_that_cannot_be_fitted_shows_why() {
     let mut h = harness(Workbench::new_for_test(&path));
     settle(&mut h);
     compare_on_models_page(&mut h);
-    let c = h.state().state.models.clone().expect("compared");
+    let c = h.state().state.shown.models.clone().expect("compared");
     let sukhanov = c.reports.iter().find(|r| r.model == "sukhanov").unwrap();
     let why = sukhanov.error.clone().expect("not fitted");
     assert!(why.contains("second temperature sensor"), "{why}");
@@ -213,6 +213,7 @@ fn the_allan_page_shows_raw_and_corrected_deviations_and_read_outs() {
     let a = h
         .state()
         .state
+        .shown
         .allan
         .clone()
         .expect("computed in the background");
@@ -252,8 +253,8 @@ fn big_log_pages_stay_cheap() {
     compare_on_models_page(&mut h);
     eprintln!(
         "{} samples: compared {} models in {:.2?}",
-        h.state().state.log.as_ref().unwrap().log.len(),
-        h.state().state.models.as_ref().unwrap().reports.len(),
+        h.state().state.shown.log.as_ref().unwrap().log.len(),
+        h.state().state.shown.models.as_ref().unwrap().reports.len(),
         t.elapsed()
     );
     for (page, key) in [(Page::Models, Key::Num2), (Page::Allan, Key::Num3)] {
@@ -304,7 +305,7 @@ fn a_comparison_shows_each_models_progress_and_is_cancelled() {
     settle(&mut h);
     assert!(!h.state().busy(), "the comparison stopped");
     assert!(
-        h.state().state.models.is_none(),
+        h.state().state.shown.models.is_none(),
         "no table from a cancelled comparison"
     );
     h.get_by_label_contains("Comparison cancelled");

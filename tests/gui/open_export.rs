@@ -31,6 +31,7 @@ fn the_sample_log_opens_calibrated_with_its_figures() {
     let e = &h
         .state()
         .state
+        .shown
         .fit
         .as_ref()
         .unwrap()
@@ -57,7 +58,7 @@ fn suggest_plateaus_fills_the_table_from_the_detector() {
         panic!("suggested plateaus are editable ranges");
     };
     assert_eq!(ranges.len(), 4);
-    assert_eq!(*ranges, s.fit.as_ref().unwrap().outcome.ranges);
+    assert_eq!(*ranges, s.shown.fit.as_ref().unwrap().outcome.ranges);
     h.get_by_label_contains("4 plateaus set by hand");
 }
 
@@ -78,7 +79,7 @@ fn changing_an_approximation_changes_the_figures() {
         h.state().state.recipe().k1_plus.kind,
         driftlab::models::approx::ApproxKind::Spline
     );
-    let fit = h.state().state.fit.clone().unwrap();
+    let fit = h.state().state.shown.fit.clone().unwrap();
     assert_eq!(
         fit.outcome.calibration.k1_plus.kind(),
         driftlab::models::approx::ApproxKind::Spline
@@ -106,6 +107,7 @@ fn export_writes_a_calibration_the_engine_loads() {
     let fitted = h
         .state()
         .state
+        .shown
         .fit
         .as_ref()
         .unwrap()
@@ -128,6 +130,7 @@ fn export_writes_a_calibration_the_engine_loads() {
         c.cor_dph,
         h.state()
             .state
+            .shown
             .fit
             .as_ref()
             .unwrap()
@@ -155,7 +158,7 @@ fn export_corrected_log_from_the_menu() {
     );
     assert_eq!(
         lines.count(),
-        h.state().state.log.as_ref().unwrap().log.len()
+        h.state().state.shown.log.as_ref().unwrap().log.len()
     );
 }
 
@@ -181,7 +184,7 @@ fn a_saved_session_reopens_as_it_was_left() {
     h.run_ok();
     h.get_by_label("Load").click();
     settle(&mut h);
-    assert!(h.state().state.validation.is_some());
+    assert!(h.state().state.shown.validation.is_some());
     h.get_by_label_contains("Held out · validation.csv");
     h.state_mut().state.view.show_validation = false;
     assert!(h.state().state.dirty());
@@ -189,7 +192,7 @@ fn a_saved_session_reopens_as_it_was_left() {
     h.key_press_modifiers(Modifiers::COMMAND, Key::S);
     settle(&mut h);
     assert!(!h.state().state.dirty(), "saved");
-    let choices = h.state().state.choices.clone();
+    let choices = h.state().state.shown.choices.clone();
 
     // A fresh workbench on another log opens the session.
     let mut other = harness(Workbench::new_for_test(&sample("validation.csv")));
@@ -198,11 +201,19 @@ fn a_saved_session_reopens_as_it_was_left() {
     other.state_mut().act(&ctx, Action::OpenSessionPath(path));
     settle(&mut other);
     let s = &other.state().state;
-    assert_eq!(s.choices, choices);
-    assert!(s.log.as_ref().unwrap().path.ends_with("calibration.csv"));
+    assert_eq!(s.shown.choices, choices);
+    assert!(
+        s.shown
+            .log
+            .as_ref()
+            .unwrap()
+            .path
+            .ends_with("calibration.csv")
+    );
     assert!(!s.dirty(), "a reopened session has nothing unsaved");
     assert!(
-        s.validation
+        s.shown
+            .validation
             .as_ref()
             .unwrap()
             .path
@@ -212,7 +223,7 @@ fn a_saved_session_reopens_as_it_was_left() {
         !s.view.show_validation,
         "the result plot shows what it showed"
     );
-    let fit = s.fit.as_ref().unwrap();
+    let fit = s.shown.fit.as_ref().unwrap();
     assert_eq!(fit.outcome.calibration.recipe.filter_s, 150.0);
     assert!(fit.outcome.held_out.is_some());
 }
@@ -234,7 +245,7 @@ fn a_bad_file_leaves_the_work_as_it_was() {
     settle(&mut h);
     h.get_by_label("Suggest plateaus").click();
     settle(&mut h);
-    let choices = h.state().state.choices.clone();
+    let choices = h.state().state.shown.choices.clone();
     let ctx = h.ctx.clone();
     h.state_mut().act(&ctx, Action::OpenLogPath(bad.clone()));
     h.run_ok();
@@ -248,9 +259,16 @@ fn a_bad_file_leaves_the_work_as_it_was() {
     settle(&mut h);
     h.get_by_label_contains("bad.csv:122:2");
     let s = &h.state().state;
-    assert!(s.log.as_ref().unwrap().path.ends_with("calibration.csv"));
-    assert_eq!(s.choices, choices);
-    assert!(s.fit.is_some());
+    assert!(
+        s.shown
+            .log
+            .as_ref()
+            .unwrap()
+            .path
+            .ends_with("calibration.csv")
+    );
+    assert_eq!(s.shown.choices, choices);
+    assert!(s.shown.fit.is_some());
     h.get_by_label("OK").click();
     h.run_ok();
     assert!(h.query_by_label_contains("bad.csv:122:2").is_none());
@@ -284,7 +302,7 @@ fn the_import_view_reads_semicolons_and_decimal_commas() {
     }
     h.get_by_label("Load").click();
     settle(&mut h);
-    let l = h.state().state.log.as_ref().unwrap();
+    let l = h.state().state.shown.log.as_ref().unwrap();
     assert!(l.path.ends_with("stand.csv"));
     assert_eq!(l.log.omega_dph[3], 0.3);
     assert_eq!(l.log.temp_c[0], 20.5);
@@ -416,7 +434,7 @@ fn a_log_whose_columns_need_a_look_opens_on_the_import_view_from_the_command_lin
         view.concerns()
     );
     assert!(
-        wb.state.log.is_none(),
+        wb.state.shown.log.is_none(),
         "nothing is read before the engineer looks"
     );
     // A plain log is read at once; the options given are the ones it is read with.
@@ -440,7 +458,7 @@ fn a_log_whose_columns_need_a_look_opens_on_the_import_view_from_the_command_lin
         panic!("no look needed, yet: {:?}", v.concerns());
     }
     wb.wait_for_jobs();
-    let l = wb.state.log.as_ref().expect("read");
+    let l = wb.state.shown.log.as_ref().expect("read");
     assert_eq!(l.options.read, read);
     assert_eq!(l.log.temp_c[100], {
         let plain =
@@ -507,7 +525,7 @@ fn a_register_read_as_the_temperature_reopens_the_import_view_naming_the_better_
     h.get_by_label("Load").click();
     settle(&mut h);
     assert!(
-        h.state().state.log.is_some(),
+        h.state().state.shown.log.is_some(),
         "the log is read as asked, and shown"
     );
     let view = h
@@ -536,6 +554,6 @@ fn a_register_read_as_the_temperature_reopens_the_import_view_naming_the_better_
     h.get_by_label("Load").click();
     settle(&mut h);
     assert!(h.state_mut().import_view().is_none());
-    let l = h.state().state.log.as_ref().unwrap();
+    let l = h.state().state.shown.log.as_ref().unwrap();
     assert!((l.log.temp_c[0] - 20.0).abs() < 1e-9, "{}", l.log.temp_c[0]);
 }

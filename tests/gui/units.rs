@@ -1,7 +1,7 @@
 //! A unit of several gyro axes in the workbench: every axis calibrated on opening, an axis
 //! switch (buttons and Alt+1…9, [ and ]) that keeps each axis's own choices, plateaus shared,
 //! and files that hold every axis: the unit calibration (equal to the engine's
-//! `calibrate_unit`), the unit's corrected CSV (equal to what `driftlab apply` writes) and the
+//! `models::calibrate`), the unit's corrected CSV (equal to what `driftlab apply` writes) and the
 //! session.
 
 use driftlab::files::session::Coefficient;
@@ -49,7 +49,7 @@ fn engine_unit(h: &Harness<'_, Workbench>) -> Vec<driftlab::models::CalibratedAx
             }
         })
         .collect();
-    driftlab::models::calibrate_unit(&mut log, &plans, &MeritOptions::default())
+    driftlab::models::calibrate(&mut log, &plans, &MeritOptions::default())
         .expect("the engine calibrates the unit")
 }
 
@@ -92,7 +92,7 @@ fn a_unit_opens_with_every_axis_calibrated_and_the_switch_is_instant() {
     h.run_ok();
     let s = &h.state().state;
     assert_eq!(s.active_axis(), 1);
-    assert_eq!(s.log.as_ref().unwrap().log.axis, "gy");
+    assert_eq!(s.shown.log.as_ref().unwrap().log.axis, "gy");
     assert!(
         !h.state().busy(),
         "switching axes refits nothing: each axis keeps its fit"
@@ -123,12 +123,13 @@ fn a_unit_opens_with_every_axis_calibrated_and_the_switch_is_instant() {
     let allan = h
         .state()
         .state
+        .shown
         .allan
         .clone()
         .expect("the Allan curves of gy");
     assert_eq!(
         allan.key.0,
-        h.state().state.fit.as_ref().unwrap().generation,
+        h.state().state.shown.fit.as_ref().unwrap().generation,
         "of the axis shown"
     );
 }
@@ -155,7 +156,7 @@ fn each_axis_keeps_its_own_choices_and_the_plateaus_are_shared() {
     act(&mut h, Action::Edit(Edit::Approx(Coefficient::K0, k0)));
     settle(&mut h);
     let knots: Vec<f64> = {
-        let f = h.state().state.fit.as_ref().unwrap();
+        let f = h.state().state.shown.fit.as_ref().unwrap();
         f.outcome
             .calibration
             .k0
@@ -190,7 +191,7 @@ fn each_axis_keeps_its_own_choices_and_the_plateaus_are_shared() {
     // Undo steps back through gz's own history only.
     h.key_press_modifiers(Modifiers::COMMAND, Key::Z);
     h.run_ok();
-    assert!(h.state().state.choices.knots.is_empty());
+    assert!(h.state().state.shown.choices.knots.is_empty());
     assert_eq!(
         h.state().state.axis(1).unwrap().choices.recipe.k1_plus.kind,
         ApproxKind::Spline
@@ -429,7 +430,7 @@ fn a_unit_session_keeps_every_axis_and_a_validation_log_judges_each() {
     );
     settle(&mut h);
     let knots: Vec<f64> = {
-        let f = h.state().state.fit.as_ref().unwrap();
+        let f = h.state().state.shown.fit.as_ref().unwrap();
         f.outcome
             .calibration
             .k2_plus

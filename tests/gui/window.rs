@@ -15,7 +15,7 @@ fn unsaved_work_is_not_lost_silently() {
     settle(&mut h);
     h.get_by_label("Suggest plateaus").click();
     settle(&mut h);
-    let choices = h.state().state.choices.clone();
+    let choices = h.state().state.shown.choices.clone();
     let ctx = h.ctx.clone();
     h.state_mut()
         .act(&ctx, Action::OpenLogPath(sample("validation.csv")));
@@ -25,7 +25,7 @@ fn unsaved_work_is_not_lost_silently() {
     h.run_ok();
     assert!(h.query_by_label("Unsaved work").is_none());
     assert!(h.state_mut().import_view().is_none());
-    assert_eq!(h.state().state.choices, choices);
+    assert_eq!(h.state().state.shown.choices, choices);
     assert!(h.state().state.dirty());
 }
 
@@ -113,8 +113,8 @@ fn screenshot_mode_ends_with_the_message_when_the_window_cannot_show_what_was_as
             }
             other => panic!(
                 "{what}: the screenshot run did not end with an error: {other:?} (fit {}, error {:?})",
-                h.state().state.fit.is_some(),
-                h.state().state.fit_error
+                h.state().state.shown.fit.is_some(),
+                h.state().state.shown.fit_error
             ),
         }
         assert!(!png.exists(), "{what}: a picture was written");
@@ -306,7 +306,7 @@ fn the_workbench_gives_the_warnings_calibrate_gives() {
     k0.kind = ApproxKind::Spline;
     k0.knots = 10;
     wb.wait_for_jobs();
-    let fit = wb.state.fit.as_ref().expect("calibrated");
+    let fit = wb.state.shown.fit.as_ref().expect("calibrated");
     for w in cli {
         assert!(
             fit.outcome.warnings.iter().any(|g| g == w),

@@ -147,7 +147,7 @@ impl Workbench {
             }
             Action::CloseImport => self.modals.import = None,
             Action::OpenValidation => {
-                if self.state.log.is_none() {
+                if self.state.shown.log.is_none() {
                     self.state
                         .say(Severity::Warning, "Open the calibration log first");
                 } else {
@@ -155,7 +155,7 @@ impl Workbench {
                 }
             }
             Action::CloseValidation => {
-                self.state.validation = None;
+                self.state.shown.validation = None;
                 if let Some(u) = &mut self.state.unit {
                     for p in &mut u.parked {
                         p.validation = None;
@@ -210,12 +210,12 @@ impl Workbench {
             }
             Action::ShowValidation(shown) => self.state.view.show_validation = shown,
             Action::Undo => {
-                if !self.state.history.undo(&mut self.state.choices) {
+                if !self.state.shown.history.undo(&mut self.state.shown.choices) {
                     self.state.say(Severity::Info, "Nothing to undo");
                 }
             }
             Action::Redo => {
-                if !self.state.history.redo(&mut self.state.choices) {
+                if !self.state.shown.history.redo(&mut self.state.shown.choices) {
                     self.state.say(Severity::Info, "Nothing to redo");
                 }
             }
@@ -223,7 +223,7 @@ impl Workbench {
             Action::ResetRecipe => {
                 // Of the axis shown (a unit's other axes keep theirs, but for the T settings
                 // and plateaus they share).
-                self.state.choices = Choices::default();
+                self.state.shown.choices = Choices::default();
             }
             Action::Quit => {
                 self.close_cleanly();
@@ -243,8 +243,8 @@ impl Workbench {
             Action::ExportModel => self.export_model(ctx),
             Action::ColumnMapping(target) => {
                 let loaded = match target {
-                    Target::Calibration => self.state.log.as_ref(),
-                    Target::Validation => self.state.validation.as_ref(),
+                    Target::Calibration => self.state.shown.log.as_ref(),
+                    Target::Validation => self.state.shown.validation.as_ref(),
                 };
                 match loaded {
                     Some(l) if is_drone_log(&l.path) => self.state.say(
@@ -268,7 +268,7 @@ impl Workbench {
     }
 
     pub(super) fn open_import(&mut self, path: PathBuf, target: Target) {
-        let options = match (target, &self.state.log) {
+        let options = match (target, &self.state.shown.log) {
             // A second log of the same stand is likely written and averaged alike.
             (Target::Validation, Some(l)) => l.options.clone(),
             _ => LoadOptions::default(),
@@ -283,7 +283,8 @@ impl Workbench {
     }
 
     pub(super) fn suggest_plateaus(&mut self) {
-        let (Some(log), Some(fit)) = (self.state.log.clone(), self.state.fit.clone()) else {
+        let (Some(log), Some(fit)) = (self.state.shown.log.clone(), self.state.shown.fit.clone())
+        else {
             self.state.say(Severity::Warning, "Open a log first");
             return;
         };

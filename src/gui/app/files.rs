@@ -80,6 +80,7 @@ impl Workbench {
     fn start_dir(&self, mode: Mode) -> PathBuf {
         let log_dir = self
             .state
+            .shown
             .log
             .as_ref()
             .and_then(|l| std::path::absolute(&l.path).ok())
@@ -196,7 +197,10 @@ impl Workbench {
 
     /// A file name beside the log: `run7.csv` → `run7-<suffix>`.
     pub(super) fn name_beside_log(&self, suffix: &str) -> String {
-        export::suggested_name(self.state.log.as_ref().map(|l| l.path.as_path()), suffix)
+        export::suggested_name(
+            self.state.shown.log.as_ref().map(|l| l.path.as_path()),
+            suffix,
+        )
     }
 
     /// Waits (a second or two at most) for the refit the current choices need, so that what
@@ -214,10 +218,10 @@ impl Workbench {
     }
 
     pub(super) fn export_calibration(&mut self, ctx: &egui::Context) {
-        if self.state.log.is_some() {
+        if self.state.shown.log.is_some() {
             self.settle_fit();
         }
-        if self.state.log.is_none() || self.state.fit.is_none() {
+        if self.state.shown.log.is_none() || self.state.shown.fit.is_none() {
             self.state.say(
                 Severity::Warning,
                 "Calibration not exported: there is no calibration yet",
@@ -230,7 +234,8 @@ impl Workbench {
 
     fn write_calibration(&mut self, path: &Path) {
         self.settle_fit();
-        let (Some(log), Some(fit)) = (self.state.log.clone(), self.state.fit.clone()) else {
+        let (Some(log), Some(fit)) = (self.state.shown.log.clone(), self.state.shown.fit.clone())
+        else {
             self.state.say(
                 Severity::Warning,
                 "Calibration not exported: there is no calibration any more",
@@ -276,10 +281,10 @@ impl Workbench {
         ctx: &egui::Context,
         format: crate::export::firmware::Format,
     ) {
-        if self.state.log.is_some() {
+        if self.state.shown.log.is_some() {
             self.settle_fit();
         }
-        if self.state.log.is_none() || self.state.fit.is_none() {
+        if self.state.shown.log.is_none() || self.state.shown.fit.is_none() {
             self.state.say(
                 Severity::Warning,
                 format!("{format} file not exported: there is no calibration yet"),
@@ -298,7 +303,8 @@ impl Workbench {
     /// (the engine's [`crate::export::firmware::flight`]), atomically.
     fn write_flight(&mut self, format: crate::export::firmware::Format, path: &Path) {
         self.settle_fit();
-        let (Some(log), Some(fit)) = (self.state.log.clone(), self.state.fit.clone()) else {
+        let (Some(log), Some(fit)) = (self.state.shown.log.clone(), self.state.shown.fit.clone())
+        else {
             self.state.say(
                 Severity::Warning,
                 format!("{format} file not exported: there is no calibration any more"),
@@ -353,7 +359,7 @@ impl Workbench {
 
     /// Asks where to write the model selected on the Models page.
     pub(super) fn export_model(&mut self, ctx: &egui::Context) {
-        let Some(c) = self.state.models.clone() else {
+        let Some(c) = self.state.shown.models.clone() else {
             self.state.say(
                 Severity::Warning,
                 "Model not exported: compare the models first",
@@ -383,7 +389,10 @@ impl Workbench {
     }
 
     fn write_model(&mut self, name: &str, path: PathBuf) {
-        let (Some(log), Some(c)) = (self.state.log.clone(), self.state.models.clone()) else {
+        let (Some(log), Some(c)) = (
+            self.state.shown.log.clone(),
+            self.state.shown.models.clone(),
+        ) else {
             self.state.say(
                 Severity::Warning,
                 format!("Model {name} not exported: no comparison"),
@@ -423,7 +432,7 @@ impl Workbench {
     }
 
     pub(super) fn export_report(&mut self, ctx: &egui::Context) {
-        if self.state.log.is_none() || self.state.fit.is_none() {
+        if self.state.shown.log.is_none() || self.state.shown.fit.is_none() {
             self.state.say(
                 Severity::Warning,
                 "Report not written: there is no calibration yet",
@@ -436,7 +445,8 @@ impl Workbench {
 
     fn write_report(&mut self, dir: PathBuf) {
         self.settle_fit();
-        let (Some(log), Some(fit)) = (self.state.log.clone(), self.state.fit.clone()) else {
+        let (Some(log), Some(fit)) = (self.state.shown.log.clone(), self.state.shown.fit.clone())
+        else {
             return;
         };
         // A name typed as "x.html" means the folder "x".
@@ -477,7 +487,7 @@ impl Workbench {
                 format!(
                     "Writing the report of every axis into {}{} …",
                     dir.display(),
-                    if held_out || self.state.validation.is_none() {
+                    if held_out || self.state.shown.validation.is_none() {
                         ""
                     } else {
                         " (without the validation log: it lacks an axis of the unit)"
@@ -490,7 +500,7 @@ impl Workbench {
             return;
         }
         let mut logs = vec![(log.path.clone(), (*log.log).clone())];
-        if let Some(v) = &self.state.validation {
+        if let Some(v) = &self.state.shown.validation {
             logs.push((v.path.clone(), (*v.log).clone()));
         }
         self.state.say(
@@ -502,7 +512,7 @@ impl Workbench {
     }
 
     pub(super) fn export_csv(&mut self, ctx: &egui::Context) {
-        if self.state.log.is_none() || self.state.fit.is_none() {
+        if self.state.shown.log.is_none() || self.state.shown.fit.is_none() {
             self.state.say(
                 Severity::Warning,
                 "Corrected log not exported: there is no calibration yet",
@@ -515,7 +525,8 @@ impl Workbench {
 
     fn write_csv(&mut self, path: PathBuf) {
         self.settle_fit();
-        let (Some(log), Some(fit)) = (self.state.log.clone(), self.state.fit.clone()) else {
+        let (Some(log), Some(fit)) = (self.state.shown.log.clone(), self.state.shown.fit.clone())
+        else {
             return;
         };
         self.window.settings.last_dir = path.parent().map(Path::to_path_buf);
@@ -551,7 +562,7 @@ impl Workbench {
     /// Saves the session (asking where the first time, or always with `ask`); `then` runs
     /// once it is written.
     pub(super) fn save_session(&mut self, ctx: &egui::Context, ask: bool, then: Option<Action>) {
-        if self.state.log.is_none() {
+        if self.state.shown.log.is_none() {
             self.state.say(
                 Severity::Warning,
                 "Session not saved: no log is open, nothing was written",

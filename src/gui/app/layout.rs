@@ -8,8 +8,8 @@ impl Workbench {
         let sc = |s: &KeyboardShortcut| ctx.format_shortcut(s);
         egui::MenuBar::new().ui(ui, |ui| {
             ui.menu_button("File", |ui| {
-                let has_log = self.state.log.is_some();
-                let has_fit = self.state.fit.is_some();
+                let has_log = self.state.shown.log.is_some();
+                let has_fit = self.state.shown.fit.is_some();
                 if ui
                     .add(egui::Button::new("Open log…").shortcut_text(sc(&shortcuts::OPEN)))
                     .on_hover_text("Open a chamber log: preview, fix the mapping, then read it")
@@ -103,7 +103,7 @@ impl Workbench {
                 }
                 let has_models = self
                     .state
-                    .models
+                    .shown.models
                     .as_ref()
                     .is_some_and(|c| c.reports.iter().any(|r| r.fitted.is_some()));
                 if ui
@@ -138,7 +138,7 @@ impl Workbench {
             });
             ui.menu_button("Edit", |ui| {
                 if ui
-                    .add_enabled(self.state.history.can_undo(), egui::Button::new("Undo").shortcut_text(sc(&shortcuts::UNDO)))
+                    .add_enabled(self.state.shown.history.can_undo(), egui::Button::new("Undo").shortcut_text(sc(&shortcuts::UNDO)))
                     .on_hover_text("Undo the last change of plateaus, filters or approximations")
                     .clicked()
                 {
@@ -146,7 +146,7 @@ impl Workbench {
                     ui.close();
                 }
                 if ui
-                    .add_enabled(self.state.history.can_redo(), egui::Button::new("Redo").shortcut_text(sc(&shortcuts::REDO)))
+                    .add_enabled(self.state.shown.history.can_redo(), egui::Button::new("Redo").shortcut_text(sc(&shortcuts::REDO)))
                     .on_hover_text("Redo the change undone last (Ctrl+Y or Ctrl+Shift+Z)")
                     .clicked()
                 {
@@ -155,7 +155,7 @@ impl Workbench {
                 }
                 ui.separator();
                 if ui
-                    .add_enabled(self.state.fit.is_some(), egui::Button::new("Suggest plateaus"))
+                    .add_enabled(self.state.shown.fit.is_some(), egui::Button::new("Suggest plateaus"))
                     .on_hover_text("Fill the plateau table from the engine's detector")
                     .clicked()
                 {
@@ -206,7 +206,7 @@ impl Workbench {
                 }
             });
             ui.separator();
-            if let Some(l) = &self.state.log {
+            if let Some(l) = &self.state.shown.log {
                 let name = l.path.file_name().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
                 let dirty = if self.state.dirty() { " •" } else { "" };
                 ui.label(RichText::new(format!("{name}{dirty}")).strong())
@@ -283,7 +283,7 @@ impl Workbench {
             Layout::left_to_right(Align::Center),
             |ui| {
                 ui.set_min_size(egui::vec2(ui.available_width(), row_h));
-                let (color, text, tip) = if let Some(e) = &self.state.fit_error {
+                let (color, text, tip) = if let Some(e) = &self.state.shown.fit_error {
                     (
                         ui.visuals().error_fg_color,
                         format!("Calibration failed: {e}"),
@@ -292,13 +292,13 @@ impl Workbench {
                              log); change the choice that caused it, or Ctrl+Z."
                         ),
                     )
-                } else if self.state.log.is_some() && self.state.fit.is_none() {
+                } else if self.state.shown.log.is_some() && self.state.shown.fit.is_none() {
                     (
                         ui.visuals().weak_text_color(),
                         "Calibrating…".to_string(),
                         "The first calibration of this log is on its way".to_string(),
                     )
-                } else if self.state.fit.is_some() && !self.state.fit_current() {
+                } else if self.state.shown.fit.is_some() && !self.state.fit_current() {
                     (
                         ui.visuals().warn_fg_color,
                         "Refitting: the figures shown are provisional (the choices as they were a \
@@ -308,11 +308,12 @@ impl Workbench {
                          exact again as soon as it answers"
                             .to_string(),
                     )
-                } else if let Some(w) = self.state.fit.as_ref().and_then(|f| {
+                } else if let Some(w) = self.state.shown.fit.as_ref().and_then(|f| {
                     (!f.outcome.warnings.is_empty()).then(|| f.outcome.warnings.join("\n"))
                 }) {
                     let n = self
                         .state
+                        .shown
                         .fit
                         .as_ref()
                         .map_or(0, |f| f.outcome.warnings.len());
@@ -325,7 +326,7 @@ impl Workbench {
                         ),
                         w,
                     )
-                } else if self.state.fit.is_some() {
+                } else if self.state.shown.fit.is_some() {
                     (
                         ui.visuals().weak_text_color(),
                         "Calibrated: the figures below are those of the current choices"

@@ -33,12 +33,12 @@ impl Workbench {
         }
         // A plateau selected on one axis is the same plateau on every other (they share
         // them); the Models page's selection belongs to the comparison of the axis shown.
-        if let Some(c) = self.state.models.clone() {
+        if let Some(c) = self.state.shown.models.clone() {
             self.views.models.adopt(&c);
         }
     }
 
-    /// The unit of a log of several axes just read: its first axis shown (`state.log`), the
+    /// The unit of a log of several axes just read: its first axis shown (`state.shown.log`), the
     /// others parked with `choices` (or those of `by_name`, for an axis named there).
     fn make_unit(
         &mut self,
@@ -47,7 +47,7 @@ impl Workbench {
         by_name: &std::collections::HashMap<String, Choices>,
         shown: Option<&str>,
     ) {
-        let full_log = self.state.log.as_ref().map(|l| l.log.clone());
+        let full_log = self.state.shown.log.as_ref().map(|l| l.log.clone());
         let names: Vec<String> = views.iter().map(|v| v.log.axis.clone()).collect();
         let parked = views
             .into_iter()
@@ -71,10 +71,10 @@ impl Workbench {
             })
             .collect();
         if let Some(c) = by_name.get(&names[0]) {
-            self.state.choices = c.clone();
+            self.state.shown.choices = c.clone();
         }
         // The first axis's undo starts afresh too (it may be parked below).
-        self.state.history.reset(&self.state.choices);
+        self.state.shown.history.reset(&self.state.shown.choices);
         self.jobs.set_axes(names.len());
         self.state.unit = Some(crate::gui::state::Unit {
             names,
@@ -117,7 +117,7 @@ impl Workbench {
                 missing.push(name.clone());
             }
             if k == active {
-                self.state.validation = view;
+                self.state.shown.validation = view;
             } else if let Some(u) = &mut self.state.unit {
                 u.parked[k].validation = view;
             }
@@ -183,12 +183,13 @@ impl Workbench {
                 let remapped = self.opening.session.is_none()
                     && self
                         .state
+                        .shown
                         .log
                         .as_ref()
                         .is_some_and(|old| same_file(&old.path, &path));
-                self.state.log = Some(l);
-                self.state.fit = None;
-                self.state.fit_error = None;
+                self.state.shown.log = Some(l);
+                self.state.shown.fit = None;
+                self.state.shown.fit_error = None;
                 self.views.time.selected = None;
                 let mut by_name = std::collections::HashMap::new();
                 let mut shown_axis = None;
@@ -196,7 +197,7 @@ impl Workbench {
                     Some((spath, s))
                         if s.log.as_ref().is_some_and(|r| same_file(&r.path, &path)) =>
                     {
-                        self.state.choices = Choices {
+                        self.state.shown.choices = Choices {
                             recipe: s.recipe.clone(),
                             knots: s.knots.clone(),
                         };
@@ -215,7 +216,7 @@ impl Workbench {
                             Some([a, b]) => XCommand::Range(a, b),
                             None => XCommand::Fit,
                         });
-                        self.state.validation = None;
+                        self.state.shown.validation = None;
                         if self.opening.autosaved {
                             // Autosaved work is not saved work: no session file, still dirty.
                             self.opening.autosaved = false;
@@ -247,7 +248,7 @@ impl Workbench {
                             self.state.recipe_mut().plateaus =
                                 crate::models::recipe::PlateauChoice::default();
                         }
-                        self.state.choices.knots = Default::default();
+                        self.state.shown.choices.knots = Default::default();
                         self.state.session_path = None;
                         self.state.mark_saved();
                         self.views.time.x_command = Some(XCommand::Fit);
@@ -257,7 +258,7 @@ impl Workbench {
                 if views.is_empty() {
                     self.jobs.set_axes(1);
                 } else {
-                    let choices = self.state.choices.clone();
+                    let choices = self.state.shown.choices.clone();
                     self.make_unit(views, &choices, &by_name, shown_axis.as_deref());
                     if self.state.baseline.is_some() && !remapped {
                         // Saved (or freshly opened) as it now stands, every axis included.
@@ -265,7 +266,7 @@ impl Workbench {
                     }
                 }
                 if !remapped || self.state.unit.is_some() {
-                    self.state.history.reset(&self.state.choices);
+                    self.state.shown.history.reset(&self.state.shown.choices);
                 }
                 self.state.say(Severity::Info, msg);
             }
@@ -280,7 +281,7 @@ impl Workbench {
                     Some(missing) => format!("{msg}{missing}"),
                     None if self.state.unit.is_some() => msg,
                     None => {
-                        self.state.validation = Some(*l);
+                        self.state.shown.validation = Some(*l);
                         msg
                     }
                 };
@@ -338,14 +339,15 @@ impl Workbench {
             JobResult::Fitted(view) => {
                 let newer = self
                     .state
+                    .shown
                     .fit
                     .as_ref()
                     .is_none_or(|f| f.generation < view.generation);
                 if newer {
                     if view.generation == self.jobs.newest(view.axis) {
-                        self.state.fit_error = None;
+                        self.state.shown.fit_error = None;
                     }
-                    self.state.fit = Some(view);
+                    self.state.shown.fit = Some(view);
                 }
             }
             JobResult::FitFailed(axis, generation, message) if axis != self.state.active_axis() => {
@@ -361,11 +363,11 @@ impl Workbench {
             }
             JobResult::FitFailed(axis, generation, message) => {
                 if generation == self.jobs.newest(axis) {
-                    if self.state.fit.is_none() {
+                    if self.state.shown.fit.is_none() {
                         // No calibration to show: the raw log, fitted to the window.
                         self.views.time.x_command = Some(XCommand::Fit);
                     }
-                    self.state.fit_error = Some(message.clone());
+                    self.state.shown.fit_error = Some(message.clone());
                     self.state
                         .say(Severity::Error, format!("Calibration failed: {message}"));
                     // A screenshot of a failed calibration is not what was asked for.
@@ -375,7 +377,7 @@ impl Workbench {
             JobResult::Compared(generation, Ok(c))
                 if generation == self.jobs.compare_requested()
                     && self.state.unit.is_some()
-                    && !self.state.log.as_ref().is_some_and(|l| {
+                    && !self.state.shown.log.as_ref().is_some_and(|l| {
                         c.logs.first().is_some_and(|f| Arc::ptr_eq(&f.log, &l.log))
                     }) =>
             {
@@ -410,13 +412,13 @@ impl Workbench {
                                 ),
                             );
                             self.views.models.adopt(&c);
-                            self.state.models = Some(c);
-                            self.state.models_error = None;
+                            self.state.shown.models = Some(c);
+                            self.state.shown.models_error = None;
                         }
                         Err(crate::Error::Cancelled) => {
                             self.state.say(
                                 Severity::Info,
-                                if self.state.models.is_some() {
+                                if self.state.shown.models.is_some() {
                                     "Comparison cancelled: the table shows the comparison before"
                                 } else {
                                     "Comparison cancelled"
@@ -426,7 +428,7 @@ impl Workbench {
                         Err(e) => {
                             self.state
                                 .say(Severity::Error, format!("Comparison failed: {e}"));
-                            self.state.models_error = Some(e.to_string());
+                            self.state.shown.models_error = Some(e.to_string());
                         }
                     }
                 }
@@ -436,6 +438,7 @@ impl Workbench {
                 let generation = v.key.0;
                 let mine = self
                     .state
+                    .shown
                     .fit
                     .as_ref()
                     .is_none_or(|f| f.generation == generation);
@@ -449,7 +452,7 @@ impl Workbench {
                             p.allan = Some(v);
                         }
                     }
-                    None => self.state.allan = Some(v),
+                    None => self.state.shown.allan = Some(v),
                 }
             }
             JobResult::Exported(what, result) => match result {
@@ -497,7 +500,7 @@ impl Workbench {
 
     /// Asks the worker for the Allan deviations of the log the Allan page shows.
     pub(super) fn request_allan(&mut self, key: (u64, bool)) {
-        let Some(fit) = &self.state.fit else {
+        let Some(fit) = &self.state.shown.fit else {
             return;
         };
         let judged = if key.1 {
@@ -516,7 +519,7 @@ impl Workbench {
 
     /// Sends the comparison of the models ticked on the Models page to a worker.
     pub(super) fn compare_models(&mut self) {
-        let Some(log) = &self.state.log else {
+        let Some(log) = &self.state.shown.log else {
             self.state.say(Severity::Warning, "Open a log first");
             return;
         };
@@ -536,6 +539,7 @@ impl Workbench {
         };
         let tests: Vec<Arc<crate::log::Log>> = self
             .state
+            .shown
             .validation
             .iter()
             .map(|v| v.log.clone())

@@ -109,7 +109,8 @@ impl Workbench {
     }
 
     pub(super) fn screenshots(&mut self, ctx: &egui::Context) {
-        let loaded = self.state.log.is_some() && self.state.fit.is_some() && !self.jobs.busy();
+        let loaded =
+            self.state.shown.log.is_some() && self.state.shown.fit.is_some() && !self.jobs.busy();
         if loaded
             && self.views.page == Page::Models
             && self.shots.auto.as_ref().is_some_and(|a| !a.compared)
@@ -123,9 +124,10 @@ impl Workbench {
             Page::Calibration => true,
             Page::Models => {
                 self.shots.auto.as_ref().is_some_and(|a| a.compared)
-                    && (self.state.models.is_some() || self.state.models_error.is_some())
+                    && (self.state.shown.models.is_some()
+                        || self.state.shown.models_error.is_some())
             }
-            Page::Allan => self.state.allan.is_some(),
+            Page::Allan => self.state.shown.allan.is_some(),
         };
         if let Some(a) = &mut self.shots.auto {
             // Ten frames a second while the work runs (the workers wake the window when they
@@ -133,8 +135,8 @@ impl Workbench {
             ctx.request_repaint_after(Duration::from_millis(100));
             // A calibration that fails is shown as the engineer sees it, its message and the
             // log's plots.
-            let ready = self.state.log.is_some()
-                && (self.state.fit.is_some() || self.state.fit_error.is_some())
+            let ready = self.state.shown.log.is_some()
+                && (self.state.shown.fit.is_some() || self.state.shown.fit_error.is_some())
                 && !self.jobs.busy()
                 && page_done
                 && self.modals.import.is_none()

@@ -17,10 +17,10 @@ impl CoeffView {
         ui.horizontal_wrapped(|ui| {
             ui.strong("K0(T)")
                 .on_hover_text("Static bias: mean output on each plateau against its temperature");
-            let edited = state.choices.knots.get(Coefficient::K0).is_some();
-            let mut spec = state.choices.recipe.k0;
+            let edited = state.shown.choices.knots.get(Coefficient::K0).is_some();
+            let mut spec = state.shown.choices.recipe.k0;
             let reset = approx_controls(ui, "k0", "K0", &mut spec, edited);
-            if spec != state.choices.recipe.k0 {
+            if spec != state.shown.choices.recipe.k0 {
                 out.push(Action::Edit(Edit::Approx(Coefficient::K0, spec)));
             }
             if reset {
@@ -34,7 +34,7 @@ impl CoeffView {
                 out.push(Action::SavePlotNamed("k0".into()));
             }
         });
-        let fit = state.fit.clone();
+        let fit = state.shown.fit.clone();
         let resp = ui.scope(|ui| {
             Plot::new("k0_plot")
                 .height(height)
@@ -121,7 +121,7 @@ impl CoeffView {
                 ))
                 .on_hover_text("Fit statistics of K0 over the plateau points");
             }
-            None if state.fit_error.is_some() => {
+            None if state.shown.fit_error.is_some() => {
                 ui.weak("No fit: the calibration failed (its message is in the status bar).");
             }
             None => {

@@ -29,7 +29,7 @@ impl CoeffView {
     /// The panel: K0, K1 and K2, sharing the height their control rows leave.
     pub fn ui(&mut self, ui: &mut Ui, state: &AppState) -> Vec<Action> {
         let mut out = Vec::new();
-        if state.log.is_none() {
+        if state.shown.log.is_none() {
             ui.weak("K0, K1± and K2± appear here once a log is loaded.");
             return out;
         }
@@ -58,9 +58,11 @@ impl CoeffView {
             Coefficient::K0 => return None,
         };
         let tf = self.transforms[slot]?;
-        let f = state.fit.as_ref()?;
-        let a =
-            crate::live::with_knots(c.approx(&f.outcome.calibration), state.choices.knots.get(c));
+        let f = state.shown.fit.as_ref()?;
+        let a = crate::live::with_knots(
+            c.approx(&f.outcome.calibration),
+            state.shown.choices.knots.get(c),
+        );
         let (kx, ky) = a.knots();
         Some(tf.position_from_point(&egui_plot::PlotPoint::new(*kx.get(j)?, *ky.get(j)?)))
     }

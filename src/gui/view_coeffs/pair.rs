@@ -70,7 +70,7 @@ impl CoeffView {
                 "Pointwise K2 = what K0 and the fitted K1 leave, over d²T/dt², on the + and − sets",
             ),
         };
-        let fit = state.fit.clone();
+        let fit = state.shown.fit.clone();
         ui.horizontal_wrapped(|ui| {
             ui.strong(title).on_hover_text(tip);
             if ui
@@ -89,10 +89,10 @@ impl CoeffView {
                     } else {
                         "− set: thermal deceleration, dT/dt·d²T/dt² < 0"
                     });
-                let edited = state.choices.knots.get(c).is_some();
-                let mut spec = *c.spec(&state.choices.recipe);
+                let edited = state.shown.choices.knots.get(c).is_some();
+                let mut spec = *c.spec(&state.shown.choices.recipe);
                 let reset = approx_controls(ui, c.key(), c.label(), &mut spec, edited);
-                if spec != *c.spec(&state.choices.recipe) {
+                if spec != *c.spec(&state.shown.choices.recipe) {
                     out.push(Action::Edit(Edit::Approx(c, spec)));
                 }
                 if reset {
@@ -114,7 +114,7 @@ impl CoeffView {
 
         // The knots as this frame's drag leaves them (the edit is carried out at the end of
         // the frame).
-        let mut knots = state.choices.knots.clone();
+        let mut knots = state.shown.choices.knots.clone();
         if let Some((c, values)) = self.edit_knots(ui, state, slot, pair) {
             knots.set(c, Some(values.clone()));
             out.push(Action::Edit(Edit::Knots(c, Some(values))));
@@ -245,12 +245,12 @@ impl CoeffView {
         tf: &PlotTransform,
         p: egui::Pos2,
     ) -> Option<(Coefficient, usize)> {
-        let f = state.fit.as_ref()?;
+        let f = state.shown.fit.as_ref()?;
         let mut best: Option<(f32, Coefficient, usize)> = None;
         for c in pair.coefs() {
             let a = crate::live::with_knots(
                 c.approx(&f.outcome.calibration),
-                state.choices.knots.get(c),
+                state.shown.choices.knots.get(c),
             );
             let (kx, ky) = a.knots();
             for (j, (&x, &y)) in kx.iter().zip(ky).enumerate() {
@@ -293,11 +293,11 @@ impl CoeffView {
             return None;
         }
         let mut edited = None;
-        if let (Some(p), Some(f)) = (pos, state.fit.clone()) {
+        if let (Some(p), Some(f)) = (pos, state.shown.fit.clone()) {
             let y = tf.value_from_position(p).y;
             let a = crate::live::with_knots(
                 c.approx(&f.outcome.calibration),
-                state.choices.knots.get(c),
+                state.shown.choices.knots.get(c),
             );
             let mut values = a.knots().1.to_vec();
             if j < values.len() && y.is_finite() {

@@ -34,7 +34,7 @@ impl ControlsView {
         egui::CollapsingHeader::new("Data")
             .default_open(true)
             .show(ui, |ui| {
-                match &state.log {
+                match &state.shown.log {
                     Some(l) => {
                         let log = &l.log;
                         let (tmin, tmax) = l
@@ -94,7 +94,7 @@ impl ControlsView {
                         ui.weak("No log.");
                     }
                 }
-                ui.horizontal(|ui| match &state.validation {
+                ui.horizontal(|ui| match &state.shown.validation {
                     Some(v) => {
                         let name = v
                             .path
@@ -121,7 +121,7 @@ impl ControlsView {
                     None => {
                         if ui
                             .add_enabled(
-                                state.log.is_some(),
+                                state.shown.log.is_some(),
                                 egui::Button::new("Open validation log…"),
                             )
                             .on_hover_text(
@@ -134,7 +134,11 @@ impl ControlsView {
                     }
                 });
             });
-        let dt = state.log.as_ref().map_or(1.0, |l| l.log.nominal_dt_s());
+        let dt = state
+            .shown
+            .log
+            .as_ref()
+            .map_or(1.0, |l| l.log.nominal_dt_s());
         // A window shorter than the log's step (100 s on a log of one sample per 2-min burst)
         // is left as the recipe has it: the engine takes one sample, and the recipe is not
         // changed (nor the work marked unsaved) by opening a log.
@@ -158,7 +162,7 @@ impl ControlsView {
                 ui.weak(samples(r.step_h_s));
                 ui.end_row();
             });
-            let resolved = state.fit.as_ref().map(|f| f.outcome.calibration.resolved);
+            let resolved = state.shown.fit.as_ref().map(|f| f.outcome.calibration.resolved);
             for (name, tip, is_tdot) in [
                 ("K1 dead-band |dT/dt|", "Points with |dT/dt| below this are left out of the K1 fits, °C/s", true),
                 ("K2 dead-band |d²T/dt²|", "Points with |d²T/dt²| below this are left out of the K2 fits, °C/s²", false),

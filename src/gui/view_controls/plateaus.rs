@@ -17,7 +17,7 @@ impl ControlsView {
         focus: PlateauFocus,
         out: &mut Vec<Action>,
     ) {
-        let Some(loaded) = state.log.clone() else {
+        let Some(loaded) = state.shown.log.clone() else {
             ui.weak("No log loaded.");
             return;
         };
@@ -66,6 +66,7 @@ impl ControlsView {
         });
         let ranges = state.ranges();
         let stats = state
+            .shown
             .fit
             .as_ref()
             .map(|f| f.outcome.calibration.plateaus.clone())

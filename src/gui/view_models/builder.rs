@@ -138,6 +138,7 @@ impl ModelsView {
                 .on_hover_text("The model's name in the table and in its calibration file");
             });
             let channels: Vec<String> = state
+                .shown
                 .log
                 .as_ref()
                 .map(|l| l.log.extra.iter().map(|c| c.name.clone()).collect())

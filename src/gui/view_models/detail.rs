@@ -14,7 +14,7 @@ use egui_plot::{Line, Plot, PlotPoints, Points, VLine};
 
 impl ModelsView {
     pub(super) fn detail(&mut self, ui: &mut Ui, state: &AppState, out: &mut Vec<Action>) {
-        let Some(c) = state.models.clone() else {
+        let Some(c) = state.shown.models.clone() else {
             ui.heading("Model");
             ui.weak("What each model found appears here after a comparison.");
             return;

@@ -135,12 +135,12 @@ impl ModelsView {
                 model_progress(ui, h);
                 ui.separator();
             }
-            let Some(c) = state.models.clone() else {
+            let Some(c) = state.shown.models.clone() else {
                 ui.add_space(12.0);
                 match running {
                     Some(_) => {}
                     None => {
-                        if let Some(e) = &state.models_error {
+                        if let Some(e) = &state.shown.models_error {
                             ui.colored_label(ui.visuals().error_fg_color, e);
                         }
                         ui.weak(
@@ -207,7 +207,7 @@ impl ModelsView {
         self.builder(ui, state);
         ui.separator();
         let choices = self.choices();
-        let can = state.log.is_some() && choices.is_ok() && running.is_none();
+        let can = state.shown.log.is_some() && choices.is_ok() && running.is_none();
         ui.horizontal(|ui| {
             let n = choices.as_ref().map_or(0, Vec::len);
             if ui
@@ -237,11 +237,11 @@ impl ModelsView {
                 .and_then(|l| l.path.file_name())
                 .map(|s| s.to_string_lossy().into_owned())
         };
-        match name(&state.log) {
+        match name(&state.shown.log) {
             Some(n) => ui.weak(format!("Fitted on: {n}")),
             None => ui.weak("Open a log first."),
         };
-        match name(&state.validation) {
+        match name(&state.shown.validation) {
             Some(n) => {
                 ui.weak(format!("Held out: {n}"));
             }
@@ -249,7 +249,10 @@ impl ModelsView {
                 ui.horizontal(|ui| {
                     ui.weak("Held out: none");
                     if ui
-                        .add_enabled(state.log.is_some(), egui::Button::new("Open…").small())
+                        .add_enabled(
+                            state.shown.log.is_some(),
+                            egui::Button::new("Open…").small(),
+                        )
                         .on_hover_text(
                             "Open a validation log: a second log of the same gyro to judge the \
                              models held out",
@@ -293,11 +296,12 @@ impl ModelsView {
                 ui.weak("the table below is the comparison before");
             } else {
                 let same_log = state
+                    .shown
                     .log
                     .as_ref()
                     .is_some_and(|l| std::sync::Arc::ptr_eq(&l.log, &c.logs[0].log));
                 let held: Vec<_> = c.logs.iter().skip(1).map(|l| &l.log).collect();
-                let same_held = match &state.validation {
+                let same_held = match &state.shown.validation {
                     Some(v) => held.len() == 1 && std::sync::Arc::ptr_eq(held[0], &v.log),
                     None => held.is_empty(),
                 };
@@ -316,7 +320,7 @@ impl ModelsView {
                     ui.colored_label(ui.visuals().warn_fg_color, text);
                 }
             }
-            if let Some(e) = &state.models_error {
+            if let Some(e) = &state.shown.models_error {
                 ui.colored_label(ui.visuals().error_fg_color, e);
             }
         });

@@ -203,9 +203,9 @@ impl Pipeline {
         Ok(Pipeline::of_temperature(log, recipe, &log.timing()))
     }
 
-    /// [`Pipeline::new`] with the axis in `log.omega_dph` filtered beside the T stages, for a
-    /// fit of that axis alone.
-    fn with_omega(log: &Log, recipe: &CheckedRecipe) -> Result<(Pipeline, Vec<f64>)> {
+    /// [`Pipeline::new`] with the axis in `log.omega_dph` filtered beside the T stages, as
+    /// `recipe` filters it: for that axis's [`Pipeline::fit_axis`], or a fit of it alone.
+    pub(crate) fn with_omega(log: &Log, recipe: &CheckedRecipe) -> Result<(Pipeline, Vec<f64>)> {
         check_fittable(log, recipe)?;
         let timing = log.timing();
         let filter_samples = signal::seconds_to_samples(recipe.filter_s, timing.nominal_dt_s);
@@ -254,6 +254,8 @@ impl Pipeline {
 
     /// Fits the axis in `log.omega_dph` with `recipe`, the same calibration [`fit_lean`] makes
     /// of that axis alone (the same bits: `tests/` check it), returned with its warnings.
+    /// `omega_filtered_dph` is the axis's Ω already filtered as `recipe` says (by
+    /// [`Pipeline::with_omega`]), or none to filter it here.
     ///
     /// # Errors
     /// [`Invalid`] naming a T setting of `recipe` (`temp_smoothing_s`, `step_h_s`,
@@ -263,6 +265,7 @@ impl Pipeline {
         &mut self,
         log: &Log,
         recipe: &CheckedRecipe,
+        omega_filtered_dph: Option<Vec<f64>>,
     ) -> Result<(Calibration, Vec<String>)> {
         if let Some(name) = crate::models::unit::differing_temperature_setting(&self.recipe, recipe)
         {
@@ -289,8 +292,9 @@ impl Pipeline {
         }
         let p = &mut self.prepared;
         p.filter_samples = signal::seconds_to_samples(recipe.filter_s, p.dt_s);
-        let omega_filtered_dph =
-            signal::moving_average_centered_in(&log.omega_dph, p.filter_samples, &p.segments);
+        let omega_filtered_dph = omega_filtered_dph.unwrap_or_else(|| {
+            signal::moving_average_centered_in(&log.omega_dph, p.filter_samples, &p.segments)
+        });
         let run = self.run(log, recipe, omega_filtered_dph, Keep::Calibration)?;
         Ok((run.calibration, run.warnings))
     }
