@@ -14,11 +14,16 @@
 //! axis shown; `recipe` and `knots` are then the first axis's. A session of one axis is written
 //! as version 1, as it always was, and version-1 files keep loading.
 //!
+//! `merit` says how the workbench judged the calibration: its filter is the recipe's (a
+//! session whose `merit.filter_s` differs is refused), its window is the session's own
+//! (10 minutes when `merit` is absent). Knots set by hand are checked as a calibration's
+//! values are: finite, plausible, as many as their approximation has.
+//!
 //! Like calibration files, sessions name their format and version, reject unknown fields and
 //! are written atomically. Paths are stored relative to the session file when the log lies
 //! in the same folder or below it, so a folder of logs and sessions can be moved as a whole.
 
-use crate::error::{Error, Result};
+use crate::error::{Error, Invalid, Result};
 use crate::judge::metrics::MeritOptions;
 use crate::log::ingest::ReadOptions;
 use crate::models::recipe::Recipe;
@@ -170,6 +175,54 @@ impl KnotEdits {
     /// True when no knot was moved by hand.
     pub fn is_empty(&self) -> bool {
         Coefficient::ALL.iter().all(|&c| self.get(c).is_none())
+    }
+
+    /// Refuses knot values no calibration could hold: a list for an approximation without
+    /// knots or of another count, a value that is not finite or beyond the largest rate a
+    /// gyro log may plausibly hold.
+    ///
+    /// # Errors
+    /// [`Invalid`] naming the coefficient (`k0`) and the value.
+    pub fn check(&self, recipe: &Recipe) -> std::result::Result<(), Invalid> {
+        use crate::log::mapping_check::MAX_PLAUSIBLE_RATE_DPH;
+        use crate::number::readable;
+        for c in Coefficient::ALL {
+            let Some(values) = self.get(c) else {
+                continue;
+            };
+            let spec = c.spec(recipe);
+            if !spec.kind.has_knots() || values.len() != spec.knots {
+                return Err(Invalid::new(
+                    c.key(),
+                    format!(
+                        "{} values set by hand, but recipe.{} {}",
+                        values.len(),
+                        c.key(),
+                        if spec.kind.has_knots() {
+                            format!("has {} knots", spec.knots)
+                        } else {
+                            "has no knots".to_string()
+                        }
+                    ),
+                ));
+            }
+            if let Some((j, v)) = values
+                .iter()
+                .enumerate()
+                .find(|(_, v)| !(v.is_finite() && v.abs() <= MAX_PLAUSIBLE_RATE_DPH))
+            {
+                return Err(Invalid::new(
+                    format!("{}[{j}]", c.key()),
+                    format!(
+                        "{}: a knot value is a finite number of at most {} in magnitude (10⁴ \
+                         °/s, the largest rate a gyro log may plausibly hold)",
+                        readable(*v),
+                        readable(MAX_PLAUSIBLE_RATE_DPH)
+                    ),
+                ));
+            }
+        }
+        Ok(())
     }
 
     /// Drops the edits that no longer fit the recipe (another kind or knot count).
@@ -344,7 +397,7 @@ pub fn from_json(path: &Path, text: &str) -> Result<Session> {
         }
         None => return Err(err("no \"version\" field".into())),
     }
-    let file: SessionFile = serde_json::from_str(text).map_err(|e| err(e.to_string()))?;
+    let mut file: SessionFile = serde_json::from_str(text).map_err(|e| err(e.to_string()))?;
     if file.version == VERSION_SINGLE && file.session.is_unit() {
         return Err(err(
             "a version-1 session holds one axis: \"axes\" and \"view.axis\" need version 2".into(),
@@ -364,8 +417,64 @@ pub fn from_json(path: &Path, text: &str) -> Result<Session> {
         a.recipe
             .validate()
             .map_err(|e| err(format!("axes[{}].recipe: {e}", a.name)))?;
+        a.knots
+            .check(&a.recipe)
+            .map_err(|e| err(format!("axes[{}].knots.{e}", a.name)))?;
+    }
+    let session = &mut file.session;
+    session
+        .knots
+        .check(&session.recipe)
+        .map_err(|e| err(format!("knots.{e}")))?;
+    if merit_given(text) {
+        check_merit(&session.merit, &session.recipe).map_err(|e| err(format!("merit.{e}")))?;
+    } else {
+        session.merit = MeritOptions {
+            filter_s: session.recipe.filter_s,
+            ..MeritOptions::default()
+        };
     }
     Ok(file.session)
+}
+
+/// Whether the session text gives `merit` (else the workbench's own are taken).
+fn merit_given(text: &str) -> bool {
+    serde_json::from_str::<serde_json::Value>(text)
+        .ok()
+        .and_then(|v| v.get("session")?.get("merit").cloned())
+        .is_some()
+}
+
+/// Refuses a session's figures of merit that the workbench would not use as written: a filter
+/// other than the recipe's (the workbench filters the figures as the recipe filters Ω), a
+/// window that is not a number of seconds between 1 µs and 11.6 days.
+fn check_merit(merit: &MeritOptions, recipe: &Recipe) -> std::result::Result<(), Invalid> {
+    use crate::models::recipe::{MAX_WINDOW_S, MIN_WINDOW_S};
+    use crate::number::readable;
+    if merit.filter_s != recipe.filter_s {
+        return Err(Invalid::new(
+            "filter_s",
+            format!(
+                "{} s differs from the recipe's filter_s ({} s): the workbench filters the \
+                 figures of merit as the recipe filters Ω; remove it or write the recipe's",
+                readable(merit.filter_s),
+                readable(recipe.filter_s)
+            ),
+        ));
+    }
+    let w = merit.window_s;
+    if !(w.is_finite() && (MIN_WINDOW_S..=MAX_WINDOW_S).contains(&w)) {
+        return Err(Invalid::new(
+            "window_s",
+            format!(
+                "{} s: a window of the figures of merit is between {} s and {} s",
+                readable(w),
+                readable(MIN_WINDOW_S),
+                readable(MAX_WINDOW_S)
+            ),
+        ));
+    }
+    Ok(())
 }
 
 /// Writes a session file atomically, with log paths relative to its folder where possible.

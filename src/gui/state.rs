@@ -125,6 +125,9 @@ pub struct AppState {
     pub status_choices: Option<Choices>,
     /// What was on screen (kept in sessions).
     pub view: ViewState,
+    /// The windows of the figures of merit, s, as the session opened gives them (`None`:
+    /// 10 minutes); the filter is always the recipe's.
+    pub merit_window_s: Option<f64>,
     /// The gyro axes of a log of several (none for a log of one axis): the fields above
     /// hold the axis shown, the others wait here.
     pub unit: Option<Unit>,
@@ -197,12 +200,14 @@ pub struct AxisRef<'a> {
     pub fit: Option<&'a Arc<FitView>>,
     /// Why its newest refit failed.
     pub fit_error: Option<&'a String>,
+    /// The windows of its figures of merit, s (`None`: 10 minutes).
+    pub window_s: Option<f64>,
 }
 
 impl AxisRef<'_> {
     /// The refit request of the axis's choices.
     pub fn request(&self) -> Option<Request> {
-        request(self.log, self.validation, self.choices)
+        request(self.log, self.validation, self.choices, self.window_s)
     }
 
     /// Whether its fit answers its choices and logs exactly.
@@ -211,10 +216,11 @@ impl AxisRef<'_> {
     }
 }
 
-fn merit_of(choices: &Choices) -> MeritOptions {
+fn merit_of(choices: &Choices, window_s: Option<f64>) -> MeritOptions {
+    let d = MeritOptions::default();
     MeritOptions {
         filter_s: choices.recipe.filter_s,
-        ..MeritOptions::default()
+        window_s: window_s.unwrap_or(d.window_s),
     }
 }
 
@@ -222,13 +228,14 @@ fn request(
     log: Option<&Loaded>,
     validation: Option<&Loaded>,
     choices: &Choices,
+    window_s: Option<f64>,
 ) -> Option<Request> {
     let log = log?;
     Some(Request {
         log: log.log.clone(),
         recipe: choices.recipe.clone(),
         knots: choices.knots.clone(),
-        merit: merit_of(choices),
+        merit: merit_of(choices, window_s),
         validation: validation.map(|v| v.log.clone()),
     })
 }
@@ -320,12 +327,13 @@ impl AppState {
             self.shown.log.as_ref(),
             self.shown.validation.as_ref(),
             &self.shown.choices,
+            self.merit_window_s,
         )
     }
 
     /// How the figures of merit are computed: the recipe's filter, 10-minute windows.
     pub fn merit(&self) -> MeritOptions {
-        merit_of(&self.shown.choices)
+        merit_of(&self.shown.choices, self.merit_window_s)
     }
 
     /// The session as it stands.
@@ -359,10 +367,13 @@ impl AppState {
             if let Some(first) = session.axes.first() {
                 session.recipe = first.recipe.clone();
                 session.knots = first.knots.clone();
-                session.merit = merit_of(&Choices {
-                    recipe: first.recipe.clone(),
-                    knots: KnotEdits::default(),
-                });
+                session.merit = merit_of(
+                    &Choices {
+                        recipe: first.recipe.clone(),
+                        knots: KnotEdits::default(),
+                    },
+                    self.merit_window_s,
+                );
             }
             if session.validation.is_none() {
                 // The shown axis may have no match in the validation log; another may.
@@ -501,6 +512,7 @@ impl AppState {
             choices: &self.shown.choices,
             fit: self.shown.fit.as_ref(),
             fit_error: self.shown.fit_error.as_ref(),
+            window_s: self.merit_window_s,
         };
         match &self.unit {
             None => (k == 0).then_some(shown),
@@ -514,6 +526,7 @@ impl AppState {
                     choices: &p.choices,
                     fit: p.fit.as_ref(),
                     fit_error: p.fit_error.as_ref(),
+                    window_s: self.merit_window_s,
                 })
             }
         }

@@ -34,6 +34,7 @@ impl FiguresView {
         // of the choices a moment ago: shown greyed and marked, never passed off as the
         // current ones.
         let exact = state.fit_current();
+        let window = crate::judge::options::window_label(state.merit().window_s);
         ui.horizontal_top(|ui| {
             table(
                 ui,
@@ -41,6 +42,7 @@ impl FiguresView {
                 &format!("In-sample · {}", name(&state.shown.log)),
                 &fit.outcome.in_sample.evaluation,
                 exact,
+                &window,
             );
             ui.separator();
             match &fit.outcome.held_out {
@@ -50,6 +52,7 @@ impl FiguresView {
                     &format!("Held out · {}", name(&state.shown.validation)),
                     &h.evaluation,
                     exact,
+                    &window,
                 ),
                 None => {
                     ui.vertical(|ui| {
@@ -77,7 +80,8 @@ impl FiguresView {
     }
 }
 
-fn table(ui: &mut Ui, id: &str, title: &str, e: &Evaluation, exact: bool) {
+/// `window`: the label of the figures' windows (`10-min`).
+fn table(ui: &mut Ui, id: &str, title: &str, e: &Evaluation, exact: bool, window: &str) {
     let c = &e.comparison;
     ui.vertical(|ui| {
         ui.horizontal(|ui| {
@@ -96,12 +100,14 @@ fn table(ui: &mut Ui, id: &str, title: &str, e: &Evaluation, exact: bool) {
         })
         .response
         .on_hover_text(format!(
-            "{} samples after {} warm-up samples; {} whole 10-min windows; {:.1}% of samples outside the calibrated ranges",
+            "{} samples after {} warm-up samples; {} whole {window} windows; {:.1}% of samples outside the calibrated ranges",
             c.raw.samples,
             e.warmup_samples,
             c.raw.windows,
             e.outside_fraction * 100.0
         ));
+        let rms_label = format!("{window} RMS");
+        let mean_label = format!("max |{window} mean|");
         Grid::new(id).striped(true).spacing([14.0, 2.0]).show(ui, |ui| {
             for h in ["°/h", "raw", "corrected", "ratio"] {
                 ui.label(RichText::new(h).strong());
@@ -117,15 +123,15 @@ fn table(ui: &mut Ui, id: &str, title: &str, e: &Evaluation, exact: bool) {
                 ),
                 ("std", "Standard deviation of the filtered drift", c.raw.std_dph, c.corrected.std_dph, c.std_ratio),
                 (
-                    "10-min RMS",
-                    "Mean over consecutive 10-minute windows of the RMS within each window",
+                    &rms_label,
+                    "Mean over the consecutive windows of the RMS within each window",
                     c.raw.win_rms_mean_dph,
                     c.corrected.win_rms_mean_dph,
                     c.win_rms_ratio,
                 ),
                 (
-                    "max |10-min mean|",
-                    "Largest |mean| over the consecutive 10-minute windows",
+                    &mean_label,
+                    "Largest |mean| over the consecutive windows",
                     c.raw.win_mean_max_abs_dph,
                     c.corrected.win_mean_max_abs_dph,
                     c.win_mean_ratio,

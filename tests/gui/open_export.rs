@@ -557,3 +557,50 @@ fn a_register_read_as_the_temperature_reopens_the_import_view_naming_the_better_
     let l = h.state().state.shown.log.as_ref().unwrap();
     assert!((l.log.temp_c[0] - 20.0).abs() < 1e-9, "{}", l.log.temp_c[0]);
 }
+
+#[test]
+fn a_sessions_windows_of_the_figures_of_merit_are_the_ones_shown() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("w.session.json");
+    let recipe = driftlab::models::Recipe::default();
+    let s = driftlab::files::session::Session {
+        log: Some(driftlab::files::session::LogRef {
+            path: sample("calibration.csv"),
+            ..Default::default()
+        }),
+        merit: driftlab::judge::metrics::MeritOptions {
+            filter_s: recipe.filter_s,
+            window_s: 900.0,
+        },
+        recipe,
+        ..Default::default()
+    };
+    driftlab::files::session::save(&path, &s).unwrap();
+    let mut h = harness(Workbench::new_for_test(&sample("validation.csv")));
+    settle(&mut h);
+    let ctx = h.ctx.clone();
+    h.state_mut().act(&ctx, Action::OpenSessionPath(path));
+    settle(&mut h);
+    h.get_by_label("15-min RMS");
+    let st = &h.state().state;
+    assert_eq!(st.merit().window_s, 900.0);
+    let fit = st.shown.fit.as_ref().unwrap();
+    let shown = fit.outcome.in_sample.evaluation.comparison.raw.windows;
+    // What the engine counts over 900-s windows of the same correction, not over 600-s ones.
+    let log = &st.shown.log.as_ref().unwrap().log;
+    let c = fit.outcome.calibration.correct(log);
+    let of = |window_s| {
+        let merit = driftlab::judge::metrics::MeritOptions {
+            filter_s: fit.outcome.calibration.recipe.filter_s,
+            window_s,
+        };
+        driftlab::Evaluation::of_correction(log, &c, &merit)
+            .comparison
+            .raw
+            .windows
+    };
+    assert_eq!(shown, of(900.0));
+    assert_ne!(shown, of(600.0));
+    // Saved again, the window stays.
+    assert_eq!(st.session().merit.window_s, 900.0);
+}

@@ -65,7 +65,11 @@ fn a_session(log: PathBuf) -> Session {
             k1_plus: Some(vec![30.0, 35.0, 40.0, 45.0, 50.0]),
             ..KnotEdits::default()
         },
-        merit: Default::default(),
+        // The workbench judges with the recipe's filter; 15-minute windows.
+        merit: driftlab::judge::metrics::MeritOptions {
+            filter_s: 120.0,
+            window_s: 900.0,
+        },
         view: ViewState {
             time_range_s: Some([1000.0, 20000.0]),
             show_validation: true,
@@ -197,6 +201,45 @@ fn malformed_sessions_are_refused_with_a_reason() {
     assert!(refused(&bad_filter).contains("filter_s"));
     let truncated = &good[..good.len() / 2];
     assert!(refused(truncated).contains("bad.json"));
+}
+
+#[test]
+fn a_sessions_figures_of_merit_and_knots_are_checked() {
+    let good = session::to_json(&a_session(sample("calibration.csv")));
+    let loaded = session::from_json(Path::new("s.json"), &good).unwrap();
+    assert_eq!(loaded.merit.window_s, 900.0, "the session's window is kept");
+    let edited = |edit: &dyn Fn(&mut serde_json::Value)| {
+        let mut v: serde_json::Value = serde_json::from_str(&good).unwrap();
+        edit(&mut v["session"]);
+        v.to_string()
+    };
+    // A filter of the figures other than the recipe's: not what the workbench does.
+    let e = refused(&edited(&|s| s["merit"]["filter_s"] = 50.0.into()));
+    assert!(
+        e.contains("merit.filter_s") && e.contains("recipe's filter_s (120 s)"),
+        "{e}"
+    );
+    for w in [1e-300, 1e300, 0.0, -5.0] {
+        let e = refused(&edited(&|s| s["merit"]["window_s"] = w.into()));
+        assert!(e.contains("merit.window_s"), "{w}: {e}");
+    }
+    // No merit at all: the recipe's filter and 10-minute windows.
+    let none = edited(&|s| {
+        s.as_object_mut().unwrap().remove("merit");
+    });
+    let none = session::from_json(Path::new("s.json"), &none).unwrap();
+    assert_eq!((none.merit.filter_s, none.merit.window_s), (120.0, 600.0));
+    // Knots set by hand: finite and plausible, as many as the curve has.
+    let e = refused(&edited(&|s| s["knots"]["k1_plus"][0] = 1e308.into()));
+    assert!(e.contains("knots.k1_plus[0]") && e.contains("1e308"), "{e}");
+    let e = refused(&edited(&|s| {
+        s["knots"]["k1_plus"].as_array_mut().unwrap().pop();
+    }));
+    assert!(e.contains("knots.k1_plus") && e.contains("4 values"), "{e}");
+    let e = refused(&edited(&|s| {
+        s["knots"]["k0"] = serde_json::json!([1.0, 2.0])
+    }));
+    assert!(e.contains("knots.k0") && e.contains("2 values"), "{e}");
 }
 
 #[test]

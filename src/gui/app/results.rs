@@ -212,6 +212,7 @@ impl Workbench {
                         }
                         shown_axis = s.view.axis.clone();
                         self.state.view = s.view.clone();
+                        self.state.merit_window_s = Some(s.merit.window_s);
                         self.views.time.x_command = Some(match s.view.time_range_s {
                             Some([a, b]) => XCommand::Range(a, b),
                             None => XCommand::Fit,

@@ -59,6 +59,8 @@ pub struct Compared {
     pub logs: Vec<ComparedLog>,
     /// Seconds the comparison took.
     pub seconds: f64,
+    /// The windows of its figures of merit, s.
+    pub window_s: f64,
 }
 
 /// A comparison in progress.
@@ -240,5 +242,6 @@ pub(super) fn run_compare(req: &CompareRequest, h: &CompareHandle, ctx: &SharedC
         series,
         logs,
         seconds: t.elapsed().as_secs_f64(),
+        window_s: req.merit.window_s,
     }
 }

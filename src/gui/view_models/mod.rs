@@ -282,8 +282,8 @@ impl ModelsView {
             ui.strong("Figures of the filtered drift, °/h")
                 .on_hover_text(
                     "As `driftlab compare` prints them: ratio = raw ÷ corrected, above 1 is \
-                     better; 10-min mean: largest |mean| over consecutive 10-minute windows; \
-                     RMS: mean RMS within those windows; outside: share of samples beyond the \
+                     better; window mean: largest |mean| over consecutive windows (10 minutes \
+                     unless the session gives others); RMS: mean RMS within those windows; outside: share of samples beyond the \
                      ranges the model was fitted on",
                 );
             ui.weak(format!(

@@ -17,6 +17,9 @@ impl ModelsView {
     pub(super) fn table(&mut self, ui: &mut Ui, c: &Compared) {
         let dark = ui.visuals().dark_mode;
         let bad = ui.visuals().error_fg_color;
+        let window = crate::judge::options::window_label(c.window_s);
+        let mean_label = format!("|{window} mean|");
+        let rms_label = format!("{window} RMS");
         Grid::new("models_table")
             .striped(true)
             .num_columns(10)
@@ -55,12 +58,12 @@ impl ModelsView {
                     ),
                     ("std", "Standard deviation, raw ÷ corrected"),
                     (
-                        "|10-min mean|",
-                        "Largest |mean| over consecutive 10-minute windows, raw ÷ corrected",
+                        &mean_label,
+                        "Largest |mean| over the consecutive windows, raw ÷ corrected",
                     ),
                     (
-                        "10-min RMS",
-                        "Mean RMS within consecutive 10-minute windows, raw ÷ corrected",
+                        &rms_label,
+                        "Mean RMS within the consecutive windows, raw ÷ corrected",
                     ),
                     ("outside", OUTSIDE),
                 ] {
