@@ -27,7 +27,7 @@ pub struct Args {
 
 pub fn run(a: Args) -> Result<(), CliError> {
     common::refuse_overwriting("--out", &a.out, &[("the log", &a.log)])?;
-    let rec = formats::read_path(&a.log).map_err(|e| e.to_string())?;
+    let rec = formats::read_path(&a.log).map_err(|e| in_flags(&e.to_string()))?;
     for p in &rec.problems {
         note!("{}: {}", rec.source, in_flags(&p.to_string()));
     }

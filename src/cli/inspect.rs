@@ -68,7 +68,7 @@ fn drone(a: &Args) -> Result<Option<(driftlab::Log, Drone)>, CliError> {
         )
         .into());
     }
-    let rec = formats::read_path(&a.log).map_err(|e| e.to_string())?;
+    let rec = formats::read_path(&a.log).map_err(|e| log_source::in_flags(&e.to_string()))?;
     let instances = rec.summaries();
     let mut any = match read::from_recording(&rec, false, &a.log_args.format.choice()) {
         Ok(any) => any,
@@ -85,7 +85,7 @@ fn drone(a: &Args) -> Result<Option<(driftlab::Log, Drone)>, CliError> {
             } else {
                 print_instances(&rec.source, format, &instances)?;
                 for p in &rec.problems {
-                    out!("  problem: {p}")?;
+                    out!("  problem: {}", log_source::in_flags(&p.to_string()))?;
                 }
             }
             return Err(log_source::in_flags(&e.to_string()).into());

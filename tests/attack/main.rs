@@ -7,3 +7,4 @@
 
 mod limits;
 mod readers;
+mod ros_limits;

@@ -2,6 +2,7 @@
 //! names the file and, for a malformed file, the byte offset where the reader stopped.
 
 use super::Format;
+use super::ros_topics::{KEPT_BYTES_AT_MOST, KEPT_PER_FILE_BYTE};
 use std::path::PathBuf;
 
 /// A log that could not be read.
@@ -38,6 +39,37 @@ pub enum FormatError {
         /// What is wrong there.
         message: String,
     },
+    /// A ROS 1 bag or MCAP file that is not broken but holds more Imu and Temperature
+    /// messages than the reader keeps (`ros_topics.rs`): told apart from [`Malformed`]
+    /// so that an honest long recording is not called corrupt.
+    ///
+    /// [`Malformed`]: FormatError::Malformed
+    #[error(
+        "{path}: {format} log not malformed, but larger than driftlab keeps: its Imu and \
+         Temperature messages reach {limit_mib} MiB at byte {offset}, at a message on {topic} \
+         (the most kept is {floor_mib} MiB, or {per_byte} times the file's size when that is \
+         more); kept by then: {kept}; every Imu and Temperature topic is kept while reading \
+         (gyro N chooses among them only afterwards), so no setting reads less: cut the log to \
+         the topics or the time span needed (e.g. {}) and read that",
+        cutting_tool(*.format),
+        floor_mib = KEPT_BYTES_AT_MOST >> 20,
+        per_byte = KEPT_PER_FILE_BYTE
+    )]
+    TooLargeToKeep {
+        /// The file.
+        path: PathBuf,
+        /// Its format.
+        format: Format,
+        /// Byte offset of the record (or the chunk holding it) where the messages ran out of
+        /// room.
+        offset: u64,
+        /// The most the file's messages may take, MiB.
+        limit_mib: usize,
+        /// The topic of the message that did not fit, quoted.
+        topic: String,
+        /// What was kept, topic by topic, largest first: name, messages, bytes.
+        kept: String,
+    },
     /// The file is whole but holds no gyro data driftlab can use.
     #[error("{path}: {format} log without gyro data: {message}")]
     NoGyro {
@@ -57,6 +89,17 @@ impl FormatError {
             FormatError::Malformed { offset, .. } => Some(*offset),
             _ => None,
         }
+    }
+}
+
+/// The tool that cuts a log of `format` to some of its topics or a time span: what a user
+/// can do about a log too large to keep, as no setting reads fewer topics (`gyro` chooses
+/// among them once every one is read).
+fn cutting_tool(format: Format) -> &'static str {
+    match format {
+        Format::RosBag => "rosbag filter",
+        Format::Mcap => "mcap filter",
+        Format::Ulog | Format::DataFlash => "the format's own tools",
     }
 }
 
@@ -96,6 +139,21 @@ pub(crate) struct Broken {
     pub offset: u64,
     /// What is wrong.
     pub message: String,
+    /// Set when nothing is wrong with the file but it holds more messages than are kept
+    /// ([`FormatError::TooLargeToKeep`]); `message` then says the same for a reader of this
+    /// struct alone.
+    pub too_large: Option<Box<TooLarge>>,
+}
+
+/// What a ROS log had kept when its messages reached the most the reader keeps.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub(crate) struct TooLarge {
+    /// The most the messages may take, MiB.
+    pub limit_mib: usize,
+    /// The topic of the message that did not fit, quoted.
+    pub topic: String,
+    /// The topics kept, largest first, as [`listed`] gives them: `name (N messages, size)`.
+    pub kept: String,
 }
 
 impl Broken {
@@ -103,6 +161,19 @@ impl Broken {
         Broken {
             offset,
             message: message.into(),
+            too_large: None,
+        }
+    }
+
+    /// A stop at `offset` because the messages kept reached their limit.
+    pub(crate) fn too_large(offset: u64, t: TooLarge) -> Broken {
+        Broken {
+            offset,
+            message: format!(
+                "the messages kept reach {} MiB at a message on {}",
+                t.limit_mib, t.topic
+            ),
+            too_large: Some(Box::new(t)),
         }
     }
 
@@ -110,13 +181,36 @@ impl Broken {
     /// decompressed bytes, placed at the chunk's own offset in the file (the only offset an
     /// engineer can find in the file) with the offset inside it in the message.
     pub(crate) fn inside_chunk(self, chunk_at: u64) -> Broken {
-        Broken::at(
-            chunk_at,
-            format!(
-                "in the chunk starting here, at byte {} of its decompressed records: {}",
-                self.offset, self.message
-            ),
-        )
+        Broken {
+            too_large: self.too_large,
+            ..Broken::at(
+                chunk_at,
+                format!(
+                    "in the chunk starting here, at byte {} of its decompressed records: {}",
+                    self.offset, self.message
+                ),
+            )
+        }
+    }
+
+    /// The public error for this stop in `path`, a file of `format`.
+    pub(crate) fn into_error(self, path: PathBuf, format: Format) -> FormatError {
+        match self.too_large {
+            Some(t) => FormatError::TooLargeToKeep {
+                path,
+                format,
+                offset: self.offset,
+                limit_mib: t.limit_mib,
+                topic: t.topic,
+                kept: t.kept,
+            },
+            None => FormatError::Malformed {
+                path,
+                format,
+                offset: self.offset,
+                message: self.message,
+            },
+        }
     }
 }
 

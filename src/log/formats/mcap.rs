@@ -155,11 +155,12 @@ impl State {
                 self.channels.insert(id, slot);
             }
             OP_MESSAGE => {
-                let data_at = at;
                 let ch = c.u16("a message's channel id")?;
                 c.skip(4, "a message's sequence")?;
                 let log_time = c.u64("a message's log time")?;
                 c.skip(8, "a message's publish time")?;
+                // Where the message's own bytes start: the place its errors count from.
+                let data_at = c.offset();
                 let payload = c.take(c.remaining(), "")?;
                 let Some(&channel) = self.channels.get(&ch) else {
                     self.orphans += 1;
@@ -168,11 +169,17 @@ impl State {
                 let Some(slot) = channel else {
                     return Ok(());
                 };
+                // The message's place on its topic, for errors: its count from 1 in file
+                // order.
+                let n = self.topics.count(slot) + 1;
                 let topics = &mut self.topics;
                 let bad = |m: ros_msgs::MessageError, topics: &Topics| {
                     Broken::at(
                         data_at,
-                        format!("a message on {}: {m}", quoted(topics.name(slot))),
+                        format!(
+                            "message {n} on {} (counted from 1 in file order): {m}",
+                            quoted(topics.name(slot))
+                        ),
                     )
                 };
                 match slot.kind() {
@@ -180,13 +187,13 @@ impl State {
                         let m = ros_msgs::imu_cdr(payload).map_err(|e| bad(e, topics))?;
                         topics
                             .push_imu(slot, log_time, &m)
-                            .map_err(|e| Broken::at(data_at, e.to_string()))?;
+                            .map_err(|e| Broken::too_large(at, e))?;
                     }
                     Kind::Temperature => {
                         let m = ros_msgs::temperature_cdr(payload).map_err(|e| bad(e, topics))?;
                         topics
                             .push_temperature(slot, log_time, &m)
-                            .map_err(|e| Broken::at(data_at, e.to_string()))?;
+                            .map_err(|e| Broken::too_large(at, e))?;
                     }
                 }
             }

@@ -26,15 +26,16 @@
 //!
 //! Bad input never panics: a malformed file is a [`FormatError`] naming the file and the
 //! byte offset; a file cut inside its last message keeps every whole message and says so in
-//! [`ImuRecording::problems`].
+//! [`ImuRecording::problems`]; a ROS log holding more messages than are kept is
+//! [`FormatError::TooLargeToKeep`], not malformed, with what each topic held.
 //!
 //! Crafted input is bounded by construction: every size and offset read from a file is
 //! checked arithmetic against the bytes that exist, nothing is allocated for a declared size
 //! before its bytes exist, ULog formats are walked once each (at most 16 deep, at most a
 //! message large) and their padding is not stored, chunks decompress as a stream within a
 //! per-chunk cap and a per-file budget (`decompress.rs`), the messages a ROS log keeps stay
-//! within 256 MiB over all its topics (`ros_topics.rs`: decompressed chunks can hold far more
-//! than the file), topics and channels are found in hash maps, a ROS message's `frame_id` is
+//! within 256 MiB (or 8 times the file's size) over all its topics (`ros_topics.rs`:
+//! decompressed chunks can hold far more than the file), topics and channels are found in hash maps, a ROS message's `frame_id` is
 //! not kept per message, a DataFlash FMT whose length is not its format's is refused (it would
 //! frame every message of its type wrongly), and names and lists in messages
 //! are cut to a readable length (`error::quoted`, `error::listed`, [`PROBLEMS_AT_MOST`]).
@@ -161,34 +162,30 @@ pub fn read_bytes(source: &str, bytes: &[u8]) -> Result<ImuRecording, FormatErro
             head: bytes::hex_head(bytes),
         });
     };
-    let malformed = |b: Broken| FormatError::Malformed {
-        path: PathBuf::from(source),
-        format,
-        offset: b.offset,
-        message: b.message,
-    };
-    let (instances, mut problems, wanted) = match format {
+    let malformed = |b: Broken| b.into_error(PathBuf::from(source), format);
+    let (instances, mut problems, untied_temps, wanted) = match format {
         Format::Ulog => {
             let r = ulog::read(bytes).map_err(malformed)?;
             (
                 r.instances,
                 r.problems,
+                Vec::new(),
                 "sensor_gyro or sensor_combined topic",
             )
         }
         Format::DataFlash => {
             let r = dataflash::read(bytes).map_err(malformed)?;
-            (r.instances, r.problems, "IMU messages")
+            (r.instances, r.problems, Vec::new(), "IMU messages")
         }
         Format::RosBag => {
             let mut r = rosbag::read(bytes).map_err(malformed)?;
-            let i = r.topics.into_instances(&mut r.problems);
-            (i, r.problems, "sensor_msgs/Imu topic")
+            let (i, untied) = r.topics.into_instances(&mut r.problems);
+            (i, r.problems, untied, "sensor_msgs/Imu topic")
         }
         Format::Mcap => {
             let mut r = mcap::read(bytes).map_err(malformed)?;
-            let i = r.topics.into_instances(&mut r.problems);
-            (i, r.problems, "sensor_msgs/msg/Imu channel in CDR")
+            let (i, untied) = r.topics.into_instances(&mut r.problems);
+            (i, r.problems, untied, "sensor_msgs/msg/Imu channel in CDR")
         }
     };
     if instances.iter().all(GyroInstance::is_empty) {
@@ -226,5 +223,6 @@ pub fn read_bytes(source: &str, bytes: &[u8]) -> Result<ImuRecording, FormatErro
         source: source.to_string(),
         instances,
         problems,
+        untied_temps,
     })
 }

@@ -21,6 +21,11 @@ pub struct ImuRecording {
     pub instances: Vec<GyroInstance>,
     /// Things that were wrong but did not stop the read (a cut last message, dropouts...).
     pub problems: Vec<Problem>,
+    /// Temperatures the log holds but takes as no gyro's (a ROS log's Temperature topics on
+    /// a frame of no Imu topic, or second on one), each as `name (frame_id "f")`, quoted:
+    /// named when a gyro is refused for want of a temperature, so the refusal does not say
+    /// the log has none. Empty for the other formats, whose temperatures belong to a device.
+    pub untied_temps: Vec<String>,
 }
 
 /// Something the reader noticed and worked around.

@@ -35,6 +35,21 @@ pub(crate) enum MessageError {
         /// The message's length.
         len: usize,
     },
+    /// A header stamp whose nanoseconds are a second or more: no time (ROS normalises a
+    /// stamp so that they are below 10⁹), so it is refused rather than carried into the
+    /// seconds.
+    #[error(
+        "its header.stamp has {nsec} nanoseconds (at byte {at} of the message, with {sec} \
+         s), not below 1000000000: not a time"
+    )]
+    StampNanos {
+        /// Byte of the message where the nanoseconds are.
+        at: usize,
+        /// The stamp's seconds.
+        sec: i64,
+        /// The nanoseconds read.
+        nsec: u32,
+    },
     /// Fewer than the 4 bytes of a CDR encapsulation header.
     #[error("the message is shorter than its CDR encapsulation header")]
     NoEncapsulation,
@@ -42,6 +57,9 @@ pub(crate) enum MessageError {
     #[error("CDR encapsulation {0:02x} {1:02x} is not plain CDR (00 00 or 00 01)")]
     NotPlainCdr(u8, u8),
 }
+
+/// Nanoseconds in a second: a stamp's nanoseconds are below it.
+pub(crate) const NANOS_PER_SECOND: u32 = 1_000_000_000;
 
 /// The fields of `sensor_msgs/Imu` driftlab reads.
 #[derive(Debug, Clone, PartialEq)]
@@ -158,6 +176,8 @@ impl<'a> Wire<'a> {
             self.u32()?; // seq
         }
         let sec = self.u32()?;
+        self.align(4);
+        let nsec_at = self.pos;
         let nsec = self.u32()?;
         // ROS 1 `time` has unsigned seconds, ROS 2 `builtin_interfaces/Time` signed ones.
         let sec = if self.cdr {
@@ -165,6 +185,13 @@ impl<'a> Wire<'a> {
         } else {
             i64::from(sec)
         };
+        if nsec >= NANOS_PER_SECOND {
+            return Err(MessageError::StampNanos {
+                at: nsec_at,
+                sec,
+                nsec,
+            });
+        }
         let frame_id = self.string()?;
         Ok((RosTime { sec, nsec }, frame_id))
     }
@@ -287,6 +314,21 @@ mod tests {
         assert_eq!(t.frame_id, "/imu");
         assert_eq!(t.celsius, 41.5);
         assert!(temperature_cdr(&b[..b.len() - 1]).is_err());
+    }
+
+    #[test]
+    fn a_stamp_of_a_second_of_nanoseconds_is_an_error_not_a_time() {
+        let b = encode::temperature_cdr(7, 999_999_999, "/imu", 41.5);
+        assert!(temperature_cdr(&b).is_ok());
+        let b = encode::temperature_cdr(7, 1_000_000_000, "/imu", 41.5);
+        assert_eq!(
+            temperature_cdr(&b).unwrap_err(),
+            MessageError::StampNanos {
+                at: 8,
+                sec: 7,
+                nsec: 1_000_000_000
+            }
+        );
     }
 
     #[test]

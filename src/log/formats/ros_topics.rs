@@ -13,9 +13,10 @@
 //! small file can hold tens of millions of messages (a 18 MB bag of lz4 chunks holds 11
 //! million Imu messages). Every topic is kept (`inspect` lists each one), so the bound is on
 //! all of them together: [`KEPT_BYTES_AT_MOST`] of messages as stored, their vectors grown
-//! within it, and a log holding more is refused with the topic where it ran out.
+//! within it, and a log holding more is refused ([`TooLarge`], which the public error tells
+//! apart from a malformed file) with what each topic held when it ran out.
 
-use super::error::{LIST_AT_MOST, quoted};
+use super::error::{LIST_AT_MOST, TooLarge, listed, quoted};
 use super::recording::{
     Axes, DeviceId, GyroInstance, Problem, RosTime, Timestamps, Values, median_step, nearest_within,
 };
@@ -35,18 +36,16 @@ pub(crate) const KEPT_BYTES_AT_MOST: usize = 256 << 20;
 /// hundred-fold into messages of a topic nobody asked for is refused instead of held.
 pub(crate) const KEPT_PER_FILE_BYTE: usize = 8;
 
-/// A log holding more messages than [`KEPT_BYTES_AT_MOST`] allows (the caller places it at
-/// the message's offset and names the file).
-#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
-#[error(
-    "the messages kept reach {mib} MiB (the most a log may hold, about {imu} Imu messages over \
-     all topics) at a message on {topic} ({kept} messages kept); refused"
-)]
-pub(crate) struct TooManyMessages {
-    mib: usize,
-    imu: usize,
-    topic: String,
-    kept: usize,
+/// `bytes` as a message gives a size: in MiB or KiB with one decimal, or in bytes below one
+/// KiB.
+fn size(bytes: usize) -> String {
+    if bytes >= 1 << 20 {
+        format!("{:.1} MiB", bytes as f64 / f64::from(1u32 << 20))
+    } else if bytes >= 1 << 10 {
+        format!("{:.1} KiB", bytes as f64 / 1024.0)
+    } else {
+        format!("{bytes} bytes")
+    }
 }
 
 /// An Imu message as kept: all of it but its `frame_id`.
@@ -239,26 +238,57 @@ impl Topics {
         }
     }
 
-    /// The error for a message on `slot` that does not fit.
-    fn full(&self, slot: Slot) -> TooManyMessages {
-        TooManyMessages {
-            mib: self.room.limit >> 20,
-            imu: self.room.limit / std::mem::size_of::<(u64, ImuSample)>(),
+    /// How many messages of `slot`'s topic are kept: the next one's place among them, in
+    /// file order, from 0.
+    pub(crate) fn count(&self, slot: Slot) -> usize {
+        match slot.kind {
+            Kind::Imu => self.imu[slot.index].msgs.len(),
+            Kind::Temperature => self.temperature[slot.index].msgs.len(),
+        }
+    }
+
+    /// The error for a message on `slot` that does not fit: what every topic holds, the
+    /// largest (in bytes allocated for it, which is what the limit counts) first.
+    fn full(&self, slot: Slot) -> TooLarge {
+        fn held<T>(t: &Topic<T>) -> (&str, usize, usize) {
+            let bytes = t.msgs.capacity() * std::mem::size_of::<(u64, T)>();
+            (&t.name, t.msgs.len(), bytes)
+        }
+        let mut kept: Vec<(&str, usize, usize)> = self
+            .imu
+            .iter()
+            .map(held)
+            .chain(self.temperature.iter().map(held))
+            .filter(|&(_, n, _)| n > 0)
+            .collect();
+        kept.sort_by_key(|&(_, _, bytes)| std::cmp::Reverse(bytes));
+        let topics = kept.len();
+        let each = kept.into_iter().map(|(name, n, bytes)| {
+            let s = if n == 1 { "" } else { "s" };
+            format!("{} ({n} message{s}, {})", quoted(name), size(bytes))
+        });
+        TooLarge {
+            limit_mib: self.room.limit >> 20,
             topic: quoted(self.name(slot)).into_owned(),
-            kept: self.room.messages,
+            kept: format!(
+                "{} messages on {topics} topic{}: {}",
+                self.room.messages,
+                if topics == 1 { "" } else { "s" },
+                listed(each, ", ")
+            ),
         }
     }
 
     /// Files an Imu message under `slot` (of kind Imu).
     ///
     /// # Errors
-    /// The messages kept would pass [`KEPT_BYTES_AT_MOST`].
+    /// The messages kept would pass their limit ([`Topics::for_file`]).
     pub(crate) fn push_imu(
         &mut self,
         slot: Slot,
         log_time_ns: u64,
         m: &Imu<'_>,
-    ) -> Result<(), TooManyMessages> {
+    ) -> Result<(), TooLarge> {
         debug_assert_eq!(slot.kind, Kind::Imu);
         let sample = ImuSample {
             stamp: m.stamp,
@@ -281,7 +311,7 @@ impl Topics {
         slot: Slot,
         log_time_ns: u64,
         m: &Temperature<'_>,
-    ) -> Result<(), TooManyMessages> {
+    ) -> Result<(), TooLarge> {
         debug_assert_eq!(slot.kind, Kind::Temperature);
         let sample = TempSample {
             stamp: m.stamp,
@@ -295,8 +325,18 @@ impl Topics {
     }
 
     /// One instance per Imu topic, in order of its first message, messages in log-time
-    /// order (as rosbags and the mcap reader give them).
-    pub(crate) fn into_instances(mut self, problems: &mut Vec<Problem>) -> Vec<GyroInstance> {
+    /// order (as rosbags and the mcap reader give them); and the Temperature topics taken as
+    /// no gyro's temperature, each as `name (frame_id "f")`, for the message refusing a gyro
+    /// without one.
+    ///
+    /// A gyro's temperature is the first Temperature topic (by first message) on its
+    /// frame_id, else the log's only one when the log has one Imu topic. When that leaves a
+    /// choice unmade (several topics on the frame) or undone (several topics, none on the
+    /// frame), a problem names every candidate: no setting picks a Temperature topic.
+    pub(crate) fn into_instances(
+        mut self,
+        problems: &mut Vec<Problem>,
+    ) -> (Vec<GyroInstance>, Vec<String>) {
         for t in &mut self.imu {
             t.msgs.sort_by_key(|(t, _)| *t);
         }
@@ -309,12 +349,23 @@ impl Topics {
             .map(|&k| &self.temperature[k])
             .collect();
         let single = self.imu_order.len() == 1 && temps.len() == 1;
-        // The first Temperature topic of each frame, as a walk in order would find it.
-        let mut by_frame: HashMap<&str, usize> = HashMap::new();
+        // The Temperature topics of each frame in order of their first message: the first is
+        // the frame's, as a walk in order would find it.
+        let mut by_frame: HashMap<&str, Vec<usize>> = HashMap::new();
         for (k, t) in temps.iter().enumerate() {
-            by_frame.entry(t.frames.first()).or_insert(k);
+            by_frame.entry(t.frames.first()).or_default().push(k);
         }
+        let named = |k: &usize| {
+            let t = temps[*k];
+            format!(
+                "{} (frame_id \"{}\")",
+                quoted(&t.name),
+                quoted(t.frames.first())
+            )
+        };
         let mut used = vec![false; temps.len()];
+        // Imu topics left without a temperature although the log has Temperature topics.
+        let mut without: Vec<String> = Vec::new();
         let mut out = Vec::new();
         for &slot in &self.imu_order {
             let Topic {
@@ -351,10 +402,31 @@ impl Topics {
             };
             // Its temperature: a Temperature topic on the same frame, else the only one of a
             // log with one IMU and one temperature.
-            let matched = by_frame
-                .get(frame.as_str())
-                .copied()
-                .or(single.then_some(0));
+            let on_frame = by_frame.get(frame.as_str());
+            if let Some(ks) = on_frame.filter(|ks| ks.len() > 1) {
+                problems.push(Problem::note(format!(
+                    "{}: {} Temperature topics are on its frame_id \"{}\": {}; its temperature \
+                     is the first in the file, {} (temp_from own), and no setting picks \
+                     another: to use another, cut the others out of the log (e.g. rosbag \
+                     filter or mcap filter)",
+                    quoted(topic),
+                    ks.len(),
+                    quoted(&frame),
+                    listed(
+                        ks.iter().map(|k| quoted(&temps[*k].name).into_owned()),
+                        ", "
+                    ),
+                    quoted(&temps[ks[0]].name)
+                )));
+            }
+            let matched = on_frame.map(|ks| ks[0]).or(single.then_some(0));
+            if matched.is_none() && !temps.is_empty() {
+                without.push(format!(
+                    "{} (frame_id \"{}\")",
+                    quoted(topic),
+                    quoted(&frame)
+                ));
+            }
             let temp_c = match matched {
                 Some(k) => {
                     used[k] = true;
@@ -400,26 +472,54 @@ impl Topics {
                 alt_temps: Vec::new(),
             });
         }
-        let unused: Vec<&Topic<TempSample>> = temps
-            .iter()
-            .zip(&used)
-            .filter(|(_, u)| !**u)
-            .map(|(t, _)| *t)
-            .collect();
-        for t in unused.iter().take(LIST_AT_MOST) {
+        let unused: Vec<usize> = (0..temps.len()).filter(|&k| !used[k]).collect();
+        if !without.is_empty() {
+            // Every Temperature topic could have been theirs, had it been the only one or on
+            // their frame.
+            let many = without.len() > 1;
             problems.push(Problem::note(format!(
-                "Temperature topic {} (frame_id \"{}\") matches no Imu topic's frame; not used",
-                quoted(&t.name),
-                quoted(t.frames.first())
+                "Imu topic{} {} ha{} no Temperature topic on {} frame_id, and the log's {} \
+                 Temperature topic{} on other frames: {}; none is taken as {} temperature \
+                 (a log's only Temperature topic stands in for its only Imu topic), and no \
+                 setting picks one (temp_from takes own, accel, imu-status or none): to use \
+                 one, cut the log to the gyro's topic and that Temperature topic (e.g. rosbag \
+                 filter or mcap filter)",
+                if many { "s" } else { "" },
+                listed(without.into_iter(), ", "),
+                if many { "ve" } else { "s" },
+                if many { "their" } else { "its" },
+                temps.len(),
+                if temps.len() == 1 { " is" } else { "s are" },
+                listed((0..temps.len()).map(|k| named(&k)), ", "),
+                if many { "their" } else { "its" },
             )));
+        } else {
+            // Those on a frame of no Imu topic (the others, a frame's second or third, are in
+            // the note on that frame's gyro).
+            let imu_frames: std::collections::HashSet<&str> = self
+                .imu_order
+                .iter()
+                .map(|&k| self.imu[k].frames.first())
+                .collect();
+            let alone: Vec<&usize> = unused
+                .iter()
+                .filter(|k| !imu_frames.contains(temps[**k].frames.first()))
+                .collect();
+            for k in alone.iter().take(LIST_AT_MOST) {
+                problems.push(Problem::note(format!(
+                    "Temperature topic {} matches no Imu topic's frame; not used",
+                    named(k)
+                )));
+            }
+            if alone.len() > LIST_AT_MOST {
+                problems.push(Problem::note(format!(
+                    "and {} more Temperature topics match no Imu topic's frame; not used",
+                    alone.len() - LIST_AT_MOST
+                )));
+            }
         }
-        if unused.len() > LIST_AT_MOST {
-            problems.push(Problem::note(format!(
-                "and {} more Temperature topics match no Imu topic's frame; not used",
-                unused.len() - LIST_AT_MOST
-            )));
-        }
-        out
+        let untied = unused.iter().map(named).collect();
+        (out, untied)
     }
 }
 
@@ -466,7 +566,7 @@ mod tests {
                 .unwrap();
         }
         let mut problems = Vec::new();
-        let inst = t.into_instances(&mut problems);
+        let (inst, _) = t.into_instances(&mut problems);
         assert_eq!(inst.len(), 2);
         assert_eq!(inst[0].label, "/imu/data");
         // The nearest temperature beside each gyro sample (ties go to the earlier one).
@@ -480,6 +580,41 @@ mod tests {
                 .iter()
                 .any(|p| p.message.contains("/board/temperature")),
             "{problems:?}"
+        );
+    }
+
+    #[test]
+    fn a_full_log_lists_its_largest_topics_first_and_counts_the_rest() {
+        let mut t = Topics::for_file(0);
+        // Room for 200 Temperature messages (32 bytes each) in all.
+        t.room.limit = 200 * 32;
+        let small: Vec<Slot> = (0..9)
+            .map(|k| t.slot(Kind::Temperature, &format!("/t{k}")))
+            .collect();
+        for &s in &small {
+            t.push_temperature(s, 0, &temp(0, "f", 1.0)).unwrap();
+        }
+        let big = t.slot(Kind::Temperature, &"/big/".repeat(40));
+        // Nine topics of one message hold 16 each (144 messages' room): 56 left.
+        let mut n = 0;
+        let e = loop {
+            match t.push_temperature(big, n, &temp(0, "f", 1.0)) {
+                Ok(()) => n += 1,
+                Err(e) => break e,
+            }
+        };
+        assert_eq!(n, 56);
+        assert_eq!(e.limit_mib, 0);
+        assert_eq!(e.topic, quoted(&"/big/".repeat(40)));
+        assert_eq!(
+            e.kept,
+            format!(
+                "65 messages on 10 topics: {} (56 messages, 1.8 KiB), /t0 (1 message, 512 \
+                 bytes), /t1 (1 message, 512 bytes), /t2 (1 message, 512 bytes), /t3 (1 \
+                 message, 512 bytes), /t4 (1 message, 512 bytes), /t5 (1 message, 512 bytes), \
+                 /t6 (1 message, 512 bytes), and 2 more",
+                quoted(&"/big/".repeat(40))
+            )
         );
     }
 

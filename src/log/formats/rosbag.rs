@@ -231,11 +231,24 @@ impl State {
         let Some(slot) = c else {
             return Ok(());
         };
+        // The message's place on its topic, for errors: its count from 1 in file order.
+        let n = self.topics.count(slot) + 1;
         let time = match r.field("time") {
             Some(v) if v.len() == 8 => {
-                let sec = u64::from(u32::from_le_bytes([v[0], v[1], v[2], v[3]]));
-                let nsec = u64::from(u32::from_le_bytes([v[4], v[5], v[6], v[7]]));
-                sec * 1_000_000_000 + nsec
+                let sec = u32::from_le_bytes([v[0], v[1], v[2], v[3]]);
+                let nsec = u32::from_le_bytes([v[4], v[5], v[6], v[7]]);
+                if nsec >= ros_msgs::NANOS_PER_SECOND {
+                    return Err(Broken::at(
+                        r.at,
+                        format!(
+                            "message {n} on {} (counted from 1 in file order): its record's \
+                             time has {nsec} nanoseconds (with {sec} s), not below \
+                             1000000000: not a time",
+                            quoted(self.topics.name(slot))
+                        ),
+                    ));
+                }
+                u64::from(sec) * 1_000_000_000 + u64::from(nsec)
             }
             _ => {
                 return Err(Broken::at(
@@ -248,7 +261,10 @@ impl State {
         let bad = |m: ros_msgs::MessageError, topics: &Topics| {
             Broken::at(
                 r.data_at,
-                format!("a message on {}: {m}", quoted(topics.name(slot))),
+                format!(
+                    "message {n} on {} (counted from 1 in file order): {m}",
+                    quoted(topics.name(slot))
+                ),
             )
         };
         match slot.kind() {
@@ -256,13 +272,13 @@ impl State {
                 let m = ros_msgs::imu_ros1(r.data).map_err(|e| bad(e, topics))?;
                 topics
                     .push_imu(slot, time, &m)
-                    .map_err(|e| Broken::at(r.at, e.to_string()))?;
+                    .map_err(|e| Broken::too_large(r.at, e))?;
             }
             Kind::Temperature => {
                 let m = ros_msgs::temperature_ros1(r.data).map_err(|e| bad(e, topics))?;
                 topics
                     .push_temperature(slot, time, &m)
-                    .map_err(|e| Broken::at(r.at, e.to_string()))?;
+                    .map_err(|e| Broken::too_large(r.at, e))?;
             }
         }
         Ok(())

@@ -85,13 +85,34 @@ fn alternatives(i: &GyroInstance) -> String {
     }
 }
 
+/// The temperatures of the log no gyro takes (a ROS log's Temperature topics off every
+/// gyro's frame), and why no setting picks one, as a clause ending in `; `; empty when there
+/// are none. Without it a gyro refused for want of a temperature would read as if the log had
+/// none.
+fn untied(rec: &ImuRecording) -> String {
+    let n = rec.untied_temps.len();
+    if n == 0 {
+        return String::new();
+    }
+    format!(
+        "the log's Temperature topic{} {} {} taken as no gyro's temperature (a ROS gyro's own \
+         is the Temperature topic on its frame_id, or a log's only one beside its only Imu \
+         topic), and no setting picks one: to use one, cut the log to the gyro's topic and \
+         that Temperature topic (e.g. rosbag filter or mcap filter); ",
+        if n == 1 { "" } else { "s" },
+        listed(rec.untied_temps.iter().cloned(), ", "),
+        if n == 1 { "is" } else { "are" }
+    )
+}
+
 /// What every gyro could use instead, the first few named (a log of 20 000 topics gives
 /// one readable line).
 fn every_alternative(rec: &ImuRecording) -> String {
     format!(
-        "{}; temp_from none writes temp_c as NaN (enough for noise analysis, not for a \
+        "{}; {}temp_from none writes temp_c as NaN (enough for noise analysis, not for a \
          thermal calibration)",
-        listed(rec.instances.iter().map(alternatives), "; ")
+        listed(rec.instances.iter().map(alternatives), "; "),
+        untied(rec)
     )
 }
 
@@ -145,8 +166,13 @@ pub fn select(
                     f => format!("{} has no {f} temperature", describe(inst)),
                 },
                 alternatives: format!(
-                    "{}; temp_from none writes temp_c as NaN",
-                    alternatives(inst)
+                    "{}; {}temp_from none writes temp_c as NaN",
+                    alternatives(inst),
+                    if from == TempFrom::Own {
+                        untied(rec)
+                    } else {
+                        String::new()
+                    }
                 ),
             })?;
             (inst, t, "as asked".to_string())
