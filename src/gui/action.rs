@@ -12,6 +12,15 @@ use crate::signal::plateau::PlateauRange;
 use eframe::egui::{Key, KeyboardShortcut, Modifiers, Rect};
 use std::path::PathBuf;
 
+/// One of the logs open in the workbench.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum OpenLog {
+    /// The log the calibration is fitted on.
+    Calibration,
+    /// The held-out log it is judged on.
+    Validation,
+}
+
 /// Something the engineer asked for, from a menu, a shortcut, a button or a view.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Action {
@@ -39,8 +48,9 @@ pub enum Action {
     ExportCalibration,
     /// Write the calibration as a flight controller's parameter file (PX4, ArduPilot).
     ExportFlight(crate::export::firmware::Format),
-    /// Write the corrected log.
-    ExportCsv,
+    /// Write the corrected log of the calibration or the validation log (`None`: the one
+    /// the drift plot shows).
+    ExportCsv(Option<OpenLog>),
     /// Write the test report (figures and an HTML page) into a folder.
     ExportReport,
     /// Save the window as PNG.

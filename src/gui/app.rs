@@ -18,7 +18,7 @@ mod screenshot;
 pub use screenshot::ScreenshotOutcome;
 use screenshot::{PendingShot, Shots};
 
-use super::action::{Action, Page, shortcuts};
+use super::action::{Action, OpenLog, Page, shortcuts};
 use super::autosave::{Autosave, LeftBehind};
 use super::dialogs::FileDialogs;
 use super::export;

@@ -164,11 +164,29 @@ pub fn write_corrected_csv(
     Ok(path.to_path_buf())
 }
 
-/// A file name next to the log: `run7.csv` → `run7-<suffix>`.
+/// A file name next to the log: `run7.csv` → `run7-<suffix>`; never a word twice
+/// (`calibration.csv` → `calibration.json`, not `calibration-calibration.json`), and never
+/// the log's own name.
 pub fn suggested_name(log_path: Option<&Path>, suffix: &str) -> String {
     let stem = log_path
         .and_then(|p| p.file_stem())
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_else(|| "driftlab".into());
-    format!("{stem}-{suffix}")
+    let (word, ext) = match suffix.split_once('.') {
+        Some((w, e)) => (w, Some(e)),
+        None => (suffix, None),
+    };
+    let with_ext = |base: &str| match ext {
+        Some(e) => format!("{base}.{e}"),
+        None => base.to_string(),
+    };
+    let repeats = stem == word || stem.ends_with(&format!("-{word}"));
+    let own = log_path
+        .and_then(|p| p.file_name())
+        .map(|n| n.to_string_lossy().into_owned());
+    match repeats {
+        true if own.as_deref() != Some(with_ext(&stem).as_str()) => with_ext(&stem),
+        true => with_ext(&format!("{stem}-new")),
+        false => format!("{stem}-{suffix}"),
+    }
 }

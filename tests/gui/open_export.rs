@@ -148,7 +148,8 @@ fn export_corrected_log_from_the_menu() {
     let mut h = answering(&out);
     h.get_by_label("File").click();
     h.run_ok();
-    h.get_by_label_contains("Export corrected log").click();
+    h.get_by_label_contains("Export corrected calibration log")
+        .click();
     settle(&mut h);
     let text = std::fs::read_to_string(&out).expect("written");
     let mut lines = text.lines();
@@ -603,4 +604,65 @@ fn a_sessions_windows_of_the_figures_of_merit_are_the_ones_shown() {
     assert_ne!(shown, of(600.0));
     // Saved again, the window stays.
     assert_eq!(st.session().merit.window_s, 900.0);
+}
+
+#[test]
+fn the_corrected_validation_log_is_exported_from_the_window() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("held-out.csv");
+    let mut wb = Workbench::new_for_test(&sample("calibration.csv"));
+    let dialogs = with_dialogs(&mut wb);
+    let mut h = harness(wb);
+    settle(&mut h);
+    dialogs.answer(Some(sample("validation.csv")));
+    h.get_all_by_label("Open validation log…")
+        .next()
+        .unwrap()
+        .click();
+    h.run_ok();
+    h.get_by_label("Load").click();
+    settle(&mut h);
+    assert!(
+        h.state().state.view.show_validation,
+        "the drift plot shows it"
+    );
+    // Ctrl+Shift+E writes the log the drift plot shows, named after it.
+    dialogs.answer(Some(out.clone()));
+    h.key_press_modifiers(Modifiers::COMMAND.plus(Modifiers::SHIFT), Key::E);
+    settle(&mut h);
+    let asked = dialogs.suggested();
+    assert_eq!(asked.last().unwrap().1, "validation-corrected.csv");
+    let written = std::fs::read(&out).expect("written");
+    // What the engine's writer makes of the validation log with the calibration shown.
+    let st = &h.state().state;
+    let cal = st.shown.fit.as_ref().unwrap().outcome.calibration.clone();
+    let validation = &st.shown.validation.as_ref().unwrap().log;
+    let want = dir.path().join("want.csv");
+    let unit = driftlab::UnitCalibration::single(driftlab::DriftModel::Vakhrameev(Box::new(cal)));
+    driftlab::files::corrected_csv::correct_and_write(&want, validation, &unit, &|_| {}).unwrap();
+    assert_eq!(written, std::fs::read(&want).unwrap());
+    assert_eq!(
+        String::from_utf8_lossy(&written).lines().count(),
+        validation.len() + 1
+    );
+    // From the menu, the calibration log's, named after it (no word twice).
+    dialogs.answer(Some(dir.path().join("cal.csv")));
+    h.get_by_label("File").click();
+    h.run_ok();
+    h.get_by_label("Export corrected calibration log…").click();
+    settle(&mut h);
+    assert_eq!(
+        dialogs.suggested().last().unwrap().1,
+        "calibration-corrected.csv"
+    );
+    let text = std::fs::read_to_string(dir.path().join("cal.csv")).unwrap();
+    assert_eq!(
+        text.lines().count(),
+        h.state().state.shown.log.as_ref().unwrap().log.len() + 1
+    );
+    // The calibration file beside calibration.csv is not `calibration-calibration.json`.
+    dialogs.answer(None);
+    h.key_press_modifiers(Modifiers::COMMAND, Key::E);
+    settle(&mut h);
+    assert_eq!(dialogs.suggested().last().unwrap().1, "calibration.json");
 }

@@ -32,7 +32,7 @@ impl Workbench {
                 actions.push(Action::SaveSession);
             }
             if i.consume_shortcut(&shortcuts::EXPORT_CSV) {
-                actions.push(Action::ExportCsv);
+                actions.push(Action::ExportCsv(None));
             }
             if i.consume_shortcut(&shortcuts::EXPORT) {
                 actions.push(Action::ExportCalibration);
@@ -169,7 +169,7 @@ impl Workbench {
             Action::SaveSessionAs => self.save_session(ctx, true, None),
             Action::ExportCalibration => self.export_calibration(ctx),
             Action::ExportFlight(format) => self.export_flight(ctx, format),
-            Action::ExportCsv => self.export_csv(ctx),
+            Action::ExportCsv(which) => self.export_csv(ctx, which),
             Action::ExportReport => self.export_report(ctx),
             Action::Screenshot => {
                 let name = self.name_beside_log("workbench.png");

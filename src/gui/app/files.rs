@@ -22,8 +22,8 @@ pub(super) enum Purpose {
     ExportCalibration,
     /// The calibration as a flight controller's parameter file.
     ExportFlight(crate::export::firmware::Format),
-    /// The corrected log.
-    ExportCsv,
+    /// The corrected log of one of the open logs.
+    ExportCsv(OpenLog),
     /// The test report's folder.
     ExportReport,
     /// The calibration file of this model of the Models page.
@@ -42,7 +42,7 @@ impl Purpose {
             Purpose::OpenSession | Purpose::SaveSession { .. } => FileKind::Session,
             Purpose::ExportCalibration => FileKind::Calibration,
             Purpose::ExportFlight(_) => FileKind::FlightParams,
-            Purpose::ExportCsv => FileKind::CorrectedCsv,
+            Purpose::ExportCsv(_) => FileKind::CorrectedCsv,
             Purpose::ExportReport => FileKind::Report,
             Purpose::ExportModel(_) => FileKind::Model,
             Purpose::Screenshot | Purpose::SavePlot(..) => FileKind::Png,
@@ -65,7 +65,7 @@ impl Purpose {
             Purpose::SaveSession { .. } => "Session not saved".into(),
             Purpose::ExportCalibration => "Calibration not exported".into(),
             Purpose::ExportFlight(f) => format!("{f} file not exported"),
-            Purpose::ExportCsv => "Corrected log not exported".into(),
+            Purpose::ExportCsv(_) => "Corrected log not exported".into(),
             Purpose::ExportReport => "Report not written".into(),
             Purpose::ExportModel(m) => format!("Model {m} not exported"),
             Purpose::Screenshot => "Screenshot not saved".into(),
@@ -173,7 +173,7 @@ impl Workbench {
             }
             Purpose::ExportCalibration => self.write_calibration(&path),
             Purpose::ExportFlight(format) => self.write_flight(format, &path),
-            Purpose::ExportCsv => self.write_csv(path),
+            Purpose::ExportCsv(which) => self.write_csv(path, which),
             Purpose::ExportReport => self.write_report(path),
             Purpose::ExportModel(name) => self.write_model(&name, path),
             Purpose::Screenshot => {
@@ -476,7 +476,13 @@ impl Workbench {
                     );
                     return;
                 }
-                (_, None) => return,
+                (_, None) => {
+                    return self.state.say(
+                        Severity::Warning,
+                        "Corrected log not exported, nothing was written: the validation log \
+                         lacks an axis of the unit",
+                    );
+                }
             };
             let mut logs = vec![(log.path.clone(), (*full).clone())];
             let validation = self.state.unit_validation_log();
@@ -511,7 +517,9 @@ impl Workbench {
             .spawn_export("report", move || export::write_report(&dir, &cal, &logs));
     }
 
-    pub(super) fn export_csv(&mut self, ctx: &egui::Context) {
+    /// Asks where to write the corrected log of `which` log (`None`: the one the drift plot
+    /// shows), named after that log.
+    pub(super) fn export_csv(&mut self, ctx: &egui::Context, which: Option<OpenLog>) {
         if self.state.shown.log.is_none() || self.state.shown.fit.is_none() {
             self.state.say(
                 Severity::Warning,
@@ -519,14 +527,36 @@ impl Workbench {
             );
             return;
         }
-        let name = self.name_beside_log("corrected.csv");
-        self.ask(ctx, Purpose::ExportCsv, &name);
+        let has_validation = self.state.shown.validation.is_some();
+        let which = which.unwrap_or(if self.state.view.show_validation && has_validation {
+            OpenLog::Validation
+        } else {
+            OpenLog::Calibration
+        });
+        let source = match which {
+            OpenLog::Calibration => self.state.shown.log.as_ref(),
+            OpenLog::Validation => self.state.shown.validation.as_ref(),
+        };
+        let Some(source) = source else {
+            self.state.say(
+                Severity::Warning,
+                "Corrected validation log not exported: no validation log is open",
+            );
+            return;
+        };
+        let name = export::suggested_name(Some(&source.path), "corrected.csv");
+        self.ask(ctx, Purpose::ExportCsv(which), &name);
     }
 
-    fn write_csv(&mut self, path: PathBuf) {
+    /// Writes the corrected log of `which` log to `path`: every axis of a unit side by side,
+    /// as `driftlab apply` writes it.
+    fn write_csv(&mut self, path: PathBuf, which: OpenLog) {
         self.settle_fit();
-        let (Some(log), Some(fit)) = (self.state.shown.log.clone(), self.state.shown.fit.clone())
-        else {
+        let log = match which {
+            OpenLog::Calibration => self.state.shown.log.clone(),
+            OpenLog::Validation => self.state.shown.validation.clone(),
+        };
+        let (Some(log), Some(fit)) = (log, self.state.shown.fit.clone()) else {
             return;
         };
         self.window.settings.last_dir = path.parent().map(Path::to_path_buf);
@@ -534,7 +564,13 @@ impl Workbench {
             .say(Severity::Info, format!("Writing {} …", path.display()));
         if let Some(unit) = self.state.unit_calibration() {
             // A unit: every axis side by side, as `driftlab apply` writes it.
-            let full = self.state.unit.as_ref().and_then(|u| u.full_log.clone());
+            let full = match which {
+                OpenLog::Calibration => self.state.unit.as_ref().and_then(|u| u.full_log.clone()),
+                OpenLog::Validation => self
+                    .state
+                    .unit_validation_log()
+                    .map(|(_, log)| std::sync::Arc::new(log)),
+            };
             let (unit, full) = match (unit, full) {
                 (Ok(u), Some(f)) => (u, f),
                 (Err(e), _) => {

@@ -93,13 +93,29 @@ impl Workbench {
                         ui.close();
                     }
                 }
-                if ui
-                    .add_enabled(has_fit, egui::Button::new("Export corrected log…").shortcut_text(sc(&shortcuts::EXPORT_CSV)))
-                    .on_hover_text("Write time, raw, predicted and corrected rate and temperature as CSV")
-                    .clicked()
-                {
-                    actions.push(Action::ExportCsv);
-                    ui.close();
+                // Either log corrected; the shortcut writes the one the drift plot shows.
+                let has_validation = self.state.shown.validation.is_some();
+                let showing = if self.state.view.show_validation && has_validation {
+                    OpenLog::Validation
+                } else {
+                    OpenLog::Calibration
+                };
+                for (which, label, enabled) in [
+                    (OpenLog::Calibration, "Export corrected calibration log…", has_fit),
+                    (OpenLog::Validation, "Export corrected validation log…", has_fit && has_validation),
+                ] {
+                    let mut button = egui::Button::new(label);
+                    if which == showing {
+                        button = button.shortcut_text(sc(&shortcuts::EXPORT_CSV));
+                    }
+                    if ui
+                        .add_enabled(enabled, button)
+                        .on_hover_text("Write time, raw, predicted and corrected rate and temperature as CSV, as `driftlab apply` writes it")
+                        .clicked()
+                    {
+                        actions.push(Action::ExportCsv(Some(which)));
+                        ui.close();
+                    }
                 }
                 let has_models = self
                     .state
