@@ -68,6 +68,14 @@ pub struct GuiArgs {
     /// failed, with its message), save the window as PNG here and exit.
     #[arg(long, value_name = "PNG")]
     pub screenshot: Option<std::path::PathBuf>,
+    /// A validation log to open beside the log (held out: the calibration is judged on it),
+    /// read as the log is.
+    #[arg(long, value_name = "LOG")]
+    pub validation: Option<std::path::PathBuf>,
+    /// The window's size in points, WIDTHxHEIGHT (at least 900x620), for a screenshot at a
+    /// known size too.
+    #[arg(long, value_name = "WxH")]
+    pub window_size: Option<String>,
     /// How to read the log (a session keeps its own mapping).
     #[command(flatten)]
     pub log_args: common::LogArgs,
@@ -116,11 +124,30 @@ fn gui(a: GuiArgs) -> Result<(), String> {
                 .into(),
         );
     }
+    if session && a.validation.is_some() {
+        return Err(
+            "--validation opens a log beside a log: a session keeps its own validation log \
+             (open it, then File › Open validation log…)"
+                .into(),
+        );
+    }
+    let window_size = match &a.window_size {
+        Some(s) => Some(driftlab::gui::parse_size(s).ok_or_else(|| {
+            format!(
+                "--window-size {}: give the window's size as WIDTHxHEIGHT, from 900x620 to \
+                 16384x16384",
+                common::shown(s)
+            )
+        })?),
+        None => None,
+    };
     driftlab::gui::run(driftlab::gui::GuiOptions {
         log: a.log,
         screenshot: a.screenshot,
         read,
         bin_s: a.log_args.bin,
+        validation: a.validation,
+        window_size,
     })
 }
 

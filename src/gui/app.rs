@@ -123,6 +123,9 @@ struct Opening {
     validation_shown: Option<bool>,
     /// The session being opened is autosaved work: it stays unsaved, with no session file.
     autosaved: bool,
+    /// A validation log asked for at start (`driftlab gui LOG --validation VAL`), read once
+    /// the calibration log is.
+    validation: Option<(PathBuf, LoadOptions)>,
 }
 
 /// Unsaved work written to disk every few seconds, and work left behind offered back.
@@ -318,6 +321,12 @@ impl Workbench {
         } else {
             self.start_load(path, options, Target::Calibration);
         }
+    }
+
+    /// Reads `path` as the validation log, with `options`, once the calibration log being
+    /// opened is read (`driftlab gui LOG --validation VAL`).
+    pub fn open_validation_after(&mut self, path: PathBuf, options: LoadOptions) {
+        self.opening.validation = Some((path, options));
     }
 
     /// Starts reading a log (no import view: the options are given).

@@ -110,13 +110,19 @@ pub struct GuiOptions {
     pub read: crate::log::ingest::ReadOptions,
     /// Average the log into bins of this many seconds once read (a session keeps its own).
     pub bin_s: Option<f64>,
+    /// A validation log to open beside the log, read as the log is.
+    pub validation: Option<PathBuf>,
+    /// The window's inner size, points (at least 900×620).
+    pub window_size: Option<[f32; 2]>,
 }
 
-/// `1280x800` as points, when at least the window's smallest size.
-fn parse_size(s: &str) -> Option<[f32; 2]> {
+/// `1280x800` as points, when at least the window's smallest size and at most 16384 points
+/// a side (no screen is larger).
+pub fn parse_size(s: &str) -> Option<[f32; 2]> {
     let (w, h) = s.trim().split_once(['x', 'X'])?;
     let (w, h): (f32, f32) = (w.trim().parse().ok()?, h.trim().parse().ok()?);
-    (w >= 900.0 && h >= 620.0 && w.is_finite() && h.is_finite()).then_some([w, h])
+    let fits = |v: f32, min: f32| (min..=16384.0).contains(&v);
+    (fits(w, 900.0) && fits(h, 620.0)).then_some([w, h])
 }
 
 /// What `driftlab gui [LOG|SESSION] [--screenshot PNG]` opens in a new workbench: screenshot
@@ -168,10 +174,10 @@ pub fn run(options: GuiOptions) -> Result<(), String> {
                 .into(),
         );
     }
-    if let Some(l) = &log
-        && !l.is_file()
-    {
-        return Err(format!("{}: no such file", l.display()));
+    for l in log.iter().chain(&options.validation) {
+        if !l.is_file() {
+            return Err(format!("{}: no such file", l.display()));
+        }
     }
     let load = jobs::LoadOptions {
         read: options.read.clone(),
@@ -202,6 +208,7 @@ pub fn run(options: GuiOptions) -> Result<(), String> {
         })?),
         _ => None,
     };
+    let size = options.window_size.or(size);
     viewport = match (&shot, settings.window, size) {
         (_, _, Some([w, h])) => viewport.with_inner_size([w, h]),
         (None, Some(w), None) if w.width >= 900.0 && w.height >= 620.0 => viewport
@@ -219,13 +226,17 @@ pub fn run(options: GuiOptions) -> Result<(), String> {
     };
     let outcome = ScreenshotOutcome::default();
     let slot = outcome.clone();
+    let validation = options.validation.clone();
     eframe::run_native(
         "driftlab",
         native,
         Box::new(move |_cc| {
             let mut wb = Workbench::new(settings, settings_path, Box::new(SystemDialogs::detect()));
             let shot = shot.map(|s| (s, slot));
-            start(&mut wb, log, load, shot);
+            start(&mut wb, log, load.clone(), shot);
+            if let Some(v) = validation {
+                wb.open_validation_after(v, load);
+            }
             if let Some(p) = page {
                 wb.set_page(p);
             }

@@ -270,6 +270,86 @@ fn the_gui_command_takes_the_mapping_options_and_refuses_them_for_a_session() {
     );
 }
 
+/// `--window-size` and `--validation` are checked before any window opens; a validation log
+/// given with `gui LOG` is opened beside it (the held-out figures are those of that log).
+#[test]
+fn the_gui_command_takes_a_window_size_and_a_validation_log() {
+    let bin = env!("CARGO_BIN_EXE_driftlab");
+    let refused = |args: &[&str]| {
+        let out = std::process::Command::new(bin)
+            .arg("gui")
+            .args(args)
+            .env_remove("DISPLAY")
+            .env_remove("WAYLAND_DISPLAY")
+            .output()
+            .unwrap();
+        assert!(!out.status.success(), "{args:?}");
+        String::from_utf8_lossy(&out.stderr).into_owned()
+    };
+    for size in [
+        "100x100",
+        "1280",
+        "wide",
+        "1e9x1e9",
+        "1280x720x1",
+        "nanxnan",
+    ] {
+        let e = refused(&["--window-size", size]);
+        assert!(
+            e.contains("--window-size") && e.contains("900x620"),
+            "{size}: {e}"
+        );
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let session = dir.path().join("s.session.json");
+    std::fs::write(&session, "{}").unwrap();
+    let e = refused(&[
+        session.to_str().unwrap(),
+        "--validation",
+        sample("validation.csv").to_str().unwrap(),
+    ]);
+    assert!(e.contains("--validation") && e.contains("session"), "{e}");
+    let missing = dir.path().join("gone.csv");
+    let e = refused(&[
+        sample("calibration.csv").to_str().unwrap(),
+        "--validation",
+        missing.to_str().unwrap(),
+    ]);
+    assert!(e.contains("gone.csv") && e.contains("no such file"), "{e}");
+
+    // As `driftlab gui LOG --validation VAL` starts its window.
+    use driftlab::gui::dialogs::ScriptedDialogs;
+    use driftlab::gui::settings::Settings;
+    let mut wb = Workbench::new(Settings::default(), None, Box::new(ScriptedDialogs::new()));
+    driftlab::gui::start(
+        &mut wb,
+        Some(sample("calibration.csv")),
+        Default::default(),
+        None,
+    );
+    wb.open_validation_after(sample("validation.csv"), Default::default());
+    let mut h = harness(wb);
+    settle(&mut h);
+    let st = &h.state().state;
+    let v = st
+        .shown
+        .validation
+        .as_ref()
+        .expect("the validation log is open");
+    assert!(v.path.ends_with("validation.csv"));
+    let held = st
+        .shown
+        .fit
+        .as_ref()
+        .unwrap()
+        .outcome
+        .held_out
+        .as_ref()
+        .unwrap();
+    assert!(std::sync::Arc::ptr_eq(&held.log, &v.log));
+    assert!(st.view.show_validation);
+}
+
 /// The workbench's fit warns as `driftlab calibrate` does: ten K0 knots through four plateaus
 /// (more unknowns than points) make a calibration worse than raw on its own log, and every
 /// warning the command line gives is in the workbench's list.

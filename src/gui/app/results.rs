@@ -270,6 +270,9 @@ impl Workbench {
                     self.state.shown.history.reset(&self.state.shown.choices);
                 }
                 self.state.say(Severity::Info, msg);
+                if let Some((path, options)) = self.opening.validation.take() {
+                    self.start_load(path, options, Target::Validation);
+                }
             }
             JobResult::Loaded(Target::Validation, l) => {
                 let msg = format!(
@@ -299,6 +302,7 @@ impl Workbench {
                 let message = crate::gui::view_import::in_labels(&message);
                 self.opening.session = None;
                 self.opening.validation_shown = None;
+                self.opening.validation = None;
                 self.state.say(
                     Severity::Error,
                     format!("Could not read {}", file_name(&path)),
