@@ -82,6 +82,11 @@ pub struct Segments {
 }
 
 impl Segments {
+    /// Whether the time `t_s` lies within a segment (first to last sample, inclusive).
+    pub fn holds(&self, t_s: f64) -> bool {
+        self.spans.iter().any(|&(a, b)| (a..=b).contains(&t_s))
+    }
+
     /// The segments of `log` ([`Log::timing`]).
     pub fn of(log: &Log) -> Segments {
         Segments::from_ranges(&log.time_s, &log.timing().segments)

@@ -2,7 +2,7 @@
 //! time axis of the run) or on the held-out validation log.
 
 use super::action::Action;
-use super::plot_items::{BandItem, Palette, ShadeItem, ShadeSpan, TimeScale};
+use super::plot_items::{BandItem, Palette, ShadeItem, ShadeSpan, TimeScale, num};
 use super::state::AppState;
 use super::widgets::{save_plot_entry, time_link};
 use eframe::egui::{Stroke, Ui, Vec2b};
@@ -102,10 +102,40 @@ impl ResultView {
             .legend(Legend::default().position(egui_plot::Corner::LeftTop))
             .x_axis_label(format!("time, {}", scale.unit))
             .y_axis_label("drift, °/h");
+        // The values at the cursor: the nearest sample's filtered drift, raw and corrected
+        // (the corrected one named as warm-up before the rates have their history).
+        let hover = {
+            let time_s: &[f64] = &log.time_s;
+            let raw: &[f64] = &judged.raw_filtered_dph;
+            let cor: &[f64] = cor_p.0;
+            move |x: f64| -> Option<String> {
+                let i = crate::signal::lod::nearest_index(time_s, x * scale.div)?;
+                let t = time_s[i];
+                let cor_text = if ready.holds(t) {
+                    format!("{} °/h", num(cor[i]))
+                } else {
+                    "— (warm-up: the rates' history is not full yet)".to_string()
+                };
+                Some(format!(
+                    "t = {} {} ({} s)\nraw drift = {} °/h\ncorrected = {cor_text}",
+                    num(t / scale.div),
+                    scale.unit,
+                    num(t),
+                    num(raw[i]),
+                ))
+            }
+        };
         plot = super::plot_items::with_time_axes(plot)
             .allow_zoom(Vec2b::new(true, false))
             .allow_drag(Vec2b::new(true, false))
-            .allow_scroll(Vec2b::new(true, false));
+            .allow_scroll(Vec2b::new(true, false))
+            .label_formatter(move |pos: &egui_plot::HoverPosition<'_>| {
+                let x = match pos {
+                    egui_plot::HoverPosition::NearDataPoint { position, .. }
+                    | egui_plot::HoverPosition::Elsewhere { position } => position.x,
+                };
+                hover(x)
+            });
         if !show_val {
             plot = plot
                 .link_axis(time_link(), Vec2b::new(true, false))
