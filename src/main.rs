@@ -2,10 +2,8 @@
 
 mod cli;
 
-use clap::Parser;
-
 fn main() -> std::process::ExitCode {
-    let args = cli::Cli::parse();
+    let args = cli::parse();
     // Ctrl-C, `kill` or a closed terminal during a write leaves no temporary file behind. A
     // system that refuses the handlers still runs the command, as before.
     let _ = driftlab::files::atomic::remove_temporaries_on_signals();

@@ -43,6 +43,11 @@ pub struct Args {
 }
 
 pub fn run(a: Args) -> Result<(), CliError> {
+    if let Some(k) = &a.kalibr {
+        let mut reads = common::Reads::default();
+        reads.add("the log", &a.log);
+        common::refuse_outputs(&[("--kalibr", k)], &reads)?;
+    }
     if let Some(t) = a.tau0 {
         allan::check_tau0(t).map_err(|e| format!("--tau0: {e}"))?;
     }

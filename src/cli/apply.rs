@@ -26,14 +26,15 @@ pub struct Args {
 /// side, predicted batch by batch as the rows are written: no column of the prediction, the
 /// corrected rate, rates or regimes is held.
 pub fn run(a: Args) -> Result<(), CliError> {
-    common::refuse_overwriting(
-        "--out",
-        &a.out,
-        &[("the calibration", &a.calibration), ("the log", &a.log)],
-    )?;
+    let mut reads = common::Reads::default();
+    reads
+        .add("the calibration", &a.calibration)
+        .add("the log", &a.log);
+    common::refuse_outputs(&[("--out", &a.out)], &reads)?;
     let unit = calibration::load_unit(&a.calibration).map_err(|e| e.to_string())?;
     let input = a.log_args.open(&a.log)?;
     let log = a.log_args.read_for(&input, &unit)?;
+    common::refuse_guessed_axis(&unit, &a.log_args, (&a.log, &log), &a.calibration)?;
     let bar = common::progress_bar(&format!("writing {}", a.out.display()));
     let written = corrected_csv::correct_and_write(&a.out, &log, &unit, &|f| {
         if let Some(b) = &bar {

@@ -241,23 +241,23 @@ impl Args {
 /// --rate-col names, is a unit of one unnamed axis, written as a version-1 file), fitted,
 /// stamped with the log's name and SHA-256, saved, and printed.
 pub fn run(a: Args) -> Result<(), CliError> {
-    let mut inputs = vec![("the log", a.log.as_path())];
+    let mut reads = common::Reads::default();
+    reads.add("the log", &a.log);
     if let Some(r) = &a.recipe {
-        inputs.push(("the recipe", r.as_path()));
+        reads.add("the recipe", r);
     }
-    common::refuse_overwriting("--out", &a.out, &inputs)?;
+    for v in &a.axis_recipes {
+        let (axis, file) = pair("--axis-recipe", v)?;
+        reads.add(
+            format!("the recipe of axis {axis} (--axis-recipe)"),
+            Path::new(file),
+        );
+    }
+    let mut outputs = vec![("--out", a.out.as_path())];
     if let Some(save) = &a.save_recipe {
-        common::refuse_overwriting("--save-recipe", save, &inputs)?;
-        // Both not yet there, or spelt alike: the second write would replace the first.
-        if common::same_output(save, &a.out) {
-            return Err(format!(
-                "--save-recipe {} is also --out: the recipe would replace the calibration; \
-                 give it another file",
-                save.display()
-            )
-            .into());
-        }
+        outputs.push(("--save-recipe", save.as_path()));
     }
+    common::refuse_outputs(&outputs, &reads)?;
     let recipe = a.recipe()?;
     let choice = a.choice()?;
     let mut warnings = a.check_settings(&recipe, &choice)?;
@@ -429,9 +429,11 @@ impl Args {
                 recipe: recipe.clone(),
             })
             .collect();
+        let mut given = Given::default();
         for v in &self.axis_models {
             let (asked, model) = pair("--axis-model", v)?;
             let name = axis_of("--axis-model", asked, log, axes)?;
+            given.once("--axis-model", &name, v)?;
             let choice = self
                 .choice_named(model)
                 .map_err(|e| format!("--axis-model {v}: {e}"))?;
@@ -442,6 +444,7 @@ impl Args {
         for v in &self.axis_recipes {
             let (asked, file) = pair("--axis-recipe", v)?;
             let name = axis_of("--axis-recipe", asked, log, axes)?;
+            given.once("--axis-recipe", &name, v)?;
             let base = calibration::read_recipe(Path::new(file)).map_err(|e| e.to_string())?;
             let mut own = self.recipe_over(base)?.into_recipe();
             // The unit's T settings: an axis's recipe keeps its approximations and dead-bands.
@@ -480,6 +483,28 @@ impl Args {
             .into());
         }
         Ok(first.clone())
+    }
+}
+
+/// The axes a per-axis option has given a value to, each with the value as given, so that
+/// the same axis given twice (`gx=poly-t` and `x=ieee952`) is refused rather than the last
+/// taken, as `--axes gx,gx` is.
+#[derive(Default)]
+struct Given<'a> {
+    seen: Vec<(&'static str, String, &'a str)>,
+}
+
+impl<'a> Given<'a> {
+    /// Records `option` `value` for axis `name`, or refuses it naming both values.
+    fn once(&mut self, option: &'static str, name: &str, value: &'a str) -> Result<(), CliError> {
+        if let Some((_, _, first)) = self.seen.iter().find(|(o, n, _)| *o == option && n == name) {
+            return Err(format!(
+                "{option} {first} and {option} {value} both give axis {name}: give it once"
+            )
+            .into());
+        }
+        self.seen.push((option, name.to_string(), value));
+        Ok(())
     }
 }
 

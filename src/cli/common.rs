@@ -6,12 +6,18 @@
 //! and `main` ends the command with one line and a non-zero status, or quietly when the reader
 //! of a pipe has closed it, as Unix tools do. [`note!`] writes a warning or status line to
 //! standard error, where a failure has nowhere left to be told and is let go.
+//!
+//! Every [`out!`], [`note!`] and error is one line, and is printed as [`shown`] shows a name:
+//! a line break or a tab inside it (a file name, a column name, a calibration's source name,
+//! an engine message quoting one) is written as its escape, so no name can start a line of
+//! its own that reads as driftlab's (`error: calibration REJECTED`). Several lines are several
+//! calls; only [`print_json`] and a file written to standard output keep their line breaks.
 
 use driftlab::Log;
 use driftlab::log::ingest::{ColumnRef, Input, RateUnit, ReadOptions, TimeUnit};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::{IsTerminal, Write};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// Why a command stopped: a message for standard error, or standard output closed by the
 /// program reading it.
@@ -59,14 +65,27 @@ pub fn stdout_error(e: std::io::Error) -> CliError {
     }
 }
 
-/// Writes formatted text and a line end to standard output, as [`terminal_text`] shows it.
+/// Writes formatted text as one line to standard output, as [`shown`] shows it (a line break
+/// or tab inside it escaped), and a line end.
 ///
 /// # Errors
 /// A full disk or a closed pipe, as [`stdout_error`] names them.
 pub fn write_out(args: std::fmt::Arguments<'_>) -> Result<(), CliError> {
-    let text = std::fmt::format(args);
+    write_stdout(&shown(&std::fmt::format(args)))
+}
+
+/// Writes a text of several lines of its own (pretty JSON, whose strings hold no raw line
+/// break) to standard output, as [`terminal_text`] shows it, and a line end.
+///
+/// # Errors
+/// As [`write_out`].
+fn write_out_lines(text: &str) -> Result<(), CliError> {
+    write_stdout(&terminal_text(text))
+}
+
+fn write_stdout(text: &str) -> Result<(), CliError> {
     let mut o = std::io::stdout().lock();
-    o.write_all(terminal_text(&text).as_bytes())
+    o.write_all(text.as_bytes())
         .and_then(|()| o.write_all(b"\n"))
         .map_err(stdout_error)
 }
@@ -79,14 +98,14 @@ pub fn flush_out() -> Result<(), CliError> {
     std::io::stdout().lock().flush().map_err(stdout_error)
 }
 
-/// Writes to standard error, as [`terminal_text`] shows it, letting a failure go: there is
-/// nowhere left to report it.
+/// Writes one line to standard error, as [`shown`] shows it (a line break or tab inside it
+/// escaped), letting a failure go: there is nowhere left to report it.
 pub fn write_err(args: std::fmt::Arguments<'_>) {
     let text = std::fmt::format(args);
     let text = cut_to_read(&text);
     let mut e = std::io::stderr().lock();
     let _ = e
-        .write_all(terminal_text(&text).as_bytes())
+        .write_all(shown(&text).as_bytes())
         .and_then(|()| e.write_all(b"\n"));
 }
 
@@ -109,15 +128,16 @@ fn cut_to_read(text: &str) -> std::borrow::Cow<'_, str> {
 /// A text that came from a file (a column name, a ROS topic, a gyro id, a file name) as a
 /// terminal is to show it: every character a terminal would obey rather than print (C0 and
 /// C1 controls, ESC and DEL among them, line breaks and tabs too) and every bidirectional
-/// override that would reorder what follows, written as its visible escape (`\u001b`). What
-/// a command prints goes through [`terminal_text`] whatever it holds; a name printed within a
-/// line goes through this too, so that its line breaks cannot start a line of their own.
+/// override that would reorder what follows, written as its visible escape (`\u001b`). Every
+/// line a command prints goes through this whole ([`write_out`], [`write_err`]), so that a
+/// name's line breaks cannot start a line of their own.
 pub fn shown(s: &str) -> std::borrow::Cow<'_, str> {
     escaped(s, false)
 }
 
-/// A whole text a command prints, as [`shown`] but with its own line breaks and tabs kept:
-/// what reaches standard output or error by [`out!`], [`note!`] or `main`'s error line.
+/// A whole text of several lines a command prints, as [`shown`] but with its own line breaks
+/// and tabs kept: pretty JSON (whose strings escape their own), a file written to standard
+/// output.
 pub fn terminal_text(s: &str) -> std::borrow::Cow<'_, str> {
     escaped(s, true)
 }
@@ -379,30 +399,126 @@ pub fn fit_failed(source: &str, e: &driftlab::Error) -> String {
     }
 }
 
-/// Refuses an output (`option`, at `output`) that is one of the command's `inputs` (each named
-/// by what it is: "the log", "the calibration"), before anything is read or written.
-pub fn refuse_overwriting(
-    option: &str,
-    output: &Path,
-    inputs: &[(&str, &Path)],
-) -> Result<(), CliError> {
-    match inputs
-        .iter()
-        .find(|(_, input)| driftlab::files::atomic::is_same_file(output, input))
-    {
+/// Every file a command reads, each with what it is in words ("the log", "the recipe of axis
+/// gx (--axis-recipe)"): what none of its outputs may be. Each command gives the whole list
+/// (its logs, calibrations, recipes, the files of other options) to [`refuse_outputs`] or
+/// [`refuse_folder_over`] before it reads or writes anything.
+#[derive(Debug, Default)]
+pub struct Reads<'a> {
+    files: Vec<(String, &'a Path)>,
+}
+
+impl<'a> Reads<'a> {
+    /// The file at `path`, read as `what`. Standard input (`-`) is no file and is left out.
+    pub fn add(&mut self, what: impl Into<String>, path: &'a Path) -> &mut Self {
+        if path != Path::new("-") {
+            self.files.push((what.into(), path));
+        }
+        self
+    }
+
+    /// The files read at `paths`, each as `what`.
+    pub fn add_all(&mut self, what: &str, paths: &'a [PathBuf]) -> &mut Self {
+        for p in paths {
+            self.add(what, p);
+        }
+        self
+    }
+}
+
+/// Refuses, before anything is read or written, an output (each with the option that gives
+/// it) that is `-`, that is one of the files the command `reads` (the same file by any path:
+/// a link, a hard link, `./`), or that is another of the outputs.
+///
+/// `-` is standard input where a log is read; as an output it would make a file named `-`,
+/// so it is refused by every command whose output is a file (`export`, which writes to
+/// standard output, takes `-` as it before this is asked).
+///
+/// # Errors
+/// The first output refused, named with its option, and what it would destroy.
+pub fn refuse_outputs(outputs: &[(&str, &Path)], reads: &Reads<'_>) -> Result<(), CliError> {
+    for (k, (option, output)) in outputs.iter().enumerate() {
+        if *output == Path::new("-") {
+            return Err(dash_refused(option, "a file"));
+        }
+        if let Some((what, input)) = reads
+            .files
+            .iter()
+            .find(|(_, input)| driftlab::files::atomic::is_same_file(output, input))
+        {
+            return Err(CliError::Message(format!(
+                "{option} {}: this is {what} the command reads ({}); writing it would destroy \
+                 it, so nothing was written: give another file",
+                output.display(),
+                input.display()
+            )));
+        }
+        if let Some((first, _)) = outputs[..k]
+            .iter()
+            .find(|(_, earlier)| same_output(earlier, output))
+        {
+            return Err(CliError::Message(format!(
+                "{option} {} is also {first}: one would replace the other, so nothing was \
+                 written: give it another file",
+                output.display()
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// Refuses, before anything is read or written, a folder the command replaces whole (the
+/// report's `--out`) that is `-`, or that holds one of the files the command `reads`
+/// (replacing the folder would delete it).
+///
+/// # Errors
+/// The first file read inside the folder, named with what it is.
+pub fn refuse_folder_over(option: &str, folder: &Path, reads: &Reads<'_>) -> Result<(), CliError> {
+    if folder == Path::new("-") {
+        return Err(dash_refused(option, "a folder"));
+    }
+    // A folder not yet there holds nothing.
+    let Ok(root) = std::fs::canonicalize(folder) else {
+        return Ok(());
+    };
+    match reads.files.iter().find(|(_, input)| lies_in(input, &root)) {
         Some((what, input)) => Err(CliError::Message(format!(
-            "{option} {}: this is {what} the command reads ({}); writing it would destroy it, \
-             so nothing was written: give another file",
-            output.display(),
+            "{option} {}: holds {what} the command reads ({}); the folder is replaced whole, \
+             which would delete it, so nothing was written: move it out of the folder or give \
+             another folder",
+            folder.display(),
             input.display()
         ))),
         None => Ok(()),
     }
 }
 
+/// Whether `path` lies in the folder `root` (resolved): the file itself (a link followed), or
+/// its name in its folder (a link inside `root` to a file elsewhere is removed with `root`).
+fn lies_in(path: &Path, root: &Path) -> bool {
+    let whole = std::fs::canonicalize(path).ok();
+    let named = path.file_name().and_then(|name| {
+        let dir = match path.parent() {
+            Some(d) if !d.as_os_str().is_empty() => d,
+            _ => Path::new("."),
+        };
+        std::fs::canonicalize(dir).ok().map(|d| d.join(name))
+    });
+    [whole, named].iter().flatten().any(|p| p.starts_with(root))
+}
+
+/// `-` given as an output (`kind`: "a file", "a folder") of a command that cannot write to
+/// standard output.
+fn dash_refused(option: &str, kind: &str) -> CliError {
+    CliError::Message(format!(
+        "{option} -: `-` stands for standard input or output, and this command writes {kind}, \
+         not to standard output: give its name (./- for one named -)"
+    ))
+}
+
 /// Whether two outputs are one file: the same existing file, or (not yet there) the same
 /// path once links and `.`/`..` are resolved in their folders.
-pub fn same_output(a: &Path, b: &Path) -> bool {
+fn same_output(a: &Path, b: &Path) -> bool {
     if driftlab::files::atomic::is_same_file(a, b) {
         return true;
     }
@@ -442,7 +558,7 @@ pub fn status(message: &str) {
 /// Prints a value as pretty JSON on stdout.
 pub fn print_json<T: serde::Serialize>(value: &T) -> Result<(), CliError> {
     let text = serde_json::to_string_pretty(value).map_err(|e| e.to_string())?;
-    out!("{text}")
+    write_out_lines(&text)
 }
 
 /// `v` with `decimals` decimals for a table, as long as that stays short
@@ -638,4 +754,53 @@ pub fn chosen_axes(
         return Ok(Some(out));
     }
     Ok((names.len() > 1 && log_args.rate_col.len() != 1).then_some(names))
+}
+
+/// Refuses a calibration of one unnamed axis on a log of several gyro axes, unless a single
+/// `--rate-col` names the axis it is for. Such a file does not record the column it was
+/// fitted on (`calibrate LOG --rate-col gy_dps` writes one as `calibrate` of a one-axis log
+/// does), so taking the log's first axis would correct gx with gy's coefficients, with
+/// nothing said; the command cannot know, so it asks. A drone or robot log (read from
+/// `path`), whose columns `--rate-col` does not choose, has its gyro's X axis corrected, as
+/// `export` writes a single calibration for X, and a note says so and how to choose another.
+///
+/// # Errors
+/// The calibration, the log and its axes named, with the option that chooses.
+pub fn refuse_guessed_axis(
+    unit: &driftlab::models::UnitCalibration,
+    log_args: &LogArgs,
+    (path, log): (&Path, &Log),
+    calibration: &Path,
+) -> Result<(), CliError> {
+    let axes = log.axis_names();
+    if unit.is_unit() || axes.len() < 2 || log_args.rate_col.len() == 1 {
+        return Ok(());
+    }
+    let column = log.rate_column().unwrap_or_else(|| log.axis.clone());
+    let drone = path != Path::new("-")
+        && super::log_source::check(log_args, path, &log_args.options()?)?.is_some();
+    if drone {
+        note!(
+            "note: {}: a calibration of one axis, on {} of {} gyro axes ({}): it corrects {} \
+             (column {column}), the gyro's X axis, as export writes a single calibration; to \
+             correct another, `driftlab convert` the log and name the axis's column with \
+             --rate-col",
+            calibration.display(),
+            log.source,
+            axes.len(),
+            axes.join(", "),
+            log.axis
+        );
+        return Ok(());
+    }
+    Err(format!(
+        "{}: a calibration of one axis, which does not record the column it was fitted on, and \
+         {} has {} gyro axes ({}): name the column of the axis it corrects with --rate-col \
+         (e.g. --rate-col {column})",
+        calibration.display(),
+        log.source,
+        axes.len(),
+        axes.join(", ")
+    )
+    .into())
 }

@@ -26,7 +26,9 @@ pub struct Args {
 }
 
 pub fn run(a: Args) -> Result<(), CliError> {
-    common::refuse_overwriting("--out", &a.out, &[("the log", &a.log)])?;
+    let mut reads = common::Reads::default();
+    reads.add("the log", &a.log);
+    common::refuse_outputs(&[("--out", &a.out)], &reads)?;
     let rec = formats::read_path(&a.log).map_err(|e| in_flags(&e.to_string()))?;
     for p in &rec.problems {
         note!("{}: {}", rec.source, in_flags(&p.to_string()));
@@ -38,7 +40,7 @@ pub fn run(a: Args) -> Result<(), CliError> {
     note!(
         "{} samples of {} written to {}",
         sel.instance.len(),
-        common::shown(&sel.instance.label),
+        sel.instance.label,
         a.out.display()
     );
     Ok(())

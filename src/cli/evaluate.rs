@@ -36,6 +36,7 @@ pub fn run(a: Args) -> Result<(), CliError> {
     let unit = calibration::load_unit(&a.calibration).map_err(|e| e.to_string())?;
     let input = a.log_args.open(&a.log)?;
     let mut log = a.log_args.read_for(&input, &unit)?;
+    common::refuse_guessed_axis(&unit, &a.log_args, (&a.log, &log), &a.calibration)?;
     // The log is the calibration's own when its bytes are (hashed as they were read), or by
     // name for a calibration that recorded no hash.
     let hash = calibration::sha256_input(&input).unwrap_or_default();

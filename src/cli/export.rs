@@ -8,7 +8,7 @@ use driftlab::export::flight::px4::{self, Px4Target};
 use driftlab::files::calibration;
 use driftlab::models::{DriftModel, UnitCalibration};
 use std::io::{IsTerminal, Write};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// Arguments of `export`.
 #[derive(clap::Args, Debug)]
@@ -32,7 +32,7 @@ pub struct Args {
         verbatim_doc_comment
     )]
     pub format: Format,
-    /// Where to write (atomically); standard output when not given.
+    /// Where to write (atomically); standard output when not given, or given as `-`.
     #[arg(long, short, value_name = "FILE")]
     pub out: Option<PathBuf>,
     /// Rows of each table, end points included (csv-table of a Vakhrameev calibration only).
@@ -114,9 +114,21 @@ impl Args {
     }
 }
 
-pub fn run(a: Args) -> Result<(), CliError> {
+pub fn run(mut a: Args) -> Result<(), CliError> {
+    // `-` is standard output, as it is standard input where a log is read.
+    if a.out.as_deref() == Some(Path::new("-")) {
+        a.out = None;
+    }
     if let Some(out) = &a.out {
-        super::common::refuse_overwriting("--out", out, &[("the calibration", &a.calibration)])?;
+        let mut reads = super::common::Reads::default();
+        reads.add("the calibration", &a.calibration);
+        if let Some(y) = &a.y {
+            reads.add("the calibration of the Y axis (--y)", y);
+        }
+        if let Some(z) = &a.z {
+            reads.add("the calibration of the Z axis (--z)", z);
+        }
+        super::common::refuse_outputs(&[("--out", out)], &reads)?;
     }
     let unit = calibration::load_unit(&a.calibration).map_err(|e| e.to_string())?;
     if unit.is_unit() {

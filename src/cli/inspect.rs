@@ -37,11 +37,11 @@ fn print_instances(
 ) -> Result<(), CliError> {
     out!(
         "{}: {format} log, {} gyro instance(s):",
-        common::shown(source),
+        source,
         instances.len()
     )?;
     for s in instances {
-        out!("  {}", common::shown(&log_source::in_flags(&s.line())))?;
+        out!("  {}", log_source::in_flags(&s.line()))?;
         let accel = if s.has_accel {
             ", accel x y z (m/s^2)"
         } else {
@@ -175,12 +175,12 @@ pub fn run(a: Args) -> Result<(), CliError> {
     match &drone {
         Some(d) => out!(
             "{}: gyro {} of the {} log, as read:",
-            common::shown(&log.source),
+            log.source,
             d.chosen,
             d.format
         )?,
         None => {
-            out!("{}", common::shown(&log.source))?;
+            out!("{}", log.source)?;
             out!(
                 "  format: separator {:?}, decimal {}, {}",
                 i.delimiter,
@@ -208,7 +208,7 @@ pub fn run(a: Args) -> Result<(), CliError> {
         out!(
             "    {:>2}  {:<24} {:?}{unit}{accel}",
             c.index,
-            common::shown(&c.name),
+            c.name,
             c.role
         )?;
     }

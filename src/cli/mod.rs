@@ -83,6 +83,38 @@ pub struct GuiArgs {
 
 pub use common::{CliError, write_err};
 
+/// The command line parsed, as `Cli::parse` does, except that clap's refusal of an argument
+/// holding a line break or another character a terminal would obey (a file name a glob gave
+/// too many of) shows that argument escaped, so it cannot forge a line of its own.
+pub fn parse() -> Cli {
+    let e = match Cli::try_parse() {
+        Ok(cli) => return cli,
+        Err(e) => e,
+    };
+    // Each argument, and the value of an `--option=value` (clap quotes the value alone).
+    let crafted: Vec<String> = std::env::args_os()
+        .skip(1)
+        .map(|a| a.to_string_lossy().into_owned())
+        .filter(|a| common::shown(a) != a.as_str())
+        .flat_map(|a| {
+            let value = a
+                .strip_prefix("--")
+                .and_then(|o| o.split_once('='))
+                .map(|(_, v)| v.to_string());
+            std::iter::once(a).chain(value)
+        })
+        .collect();
+    if crafted.is_empty() || !e.use_stderr() {
+        e.exit();
+    }
+    let mut text = e.render().to_string();
+    for arg in &crafted {
+        text = text.replace(arg.as_str(), &common::shown(arg));
+    }
+    let _ = std::io::Write::write_all(&mut std::io::stderr(), text.as_bytes());
+    std::process::exit(e.exit_code());
+}
+
 /// Runs a parsed command line; the error is printed by `main`. Standard output is flushed
 /// before the command counts as done, so that a full disk is never a silent success.
 pub fn run(command: Command) -> Result<(), CliError> {

@@ -5,7 +5,7 @@ use driftlab::export::report::{self, ReportOptions};
 use driftlab::files::calibration;
 use driftlab::judge::metrics::MeritOptions;
 use driftlab::models::UnitCalibration;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// Arguments of `report`.
 #[derive(clap::Args, Debug)]
@@ -30,6 +30,11 @@ pub struct Args {
 }
 
 pub fn run(a: Args) -> Result<(), CliError> {
+    let mut reads = common::Reads::default();
+    reads
+        .add("the calibration", &a.calibration)
+        .add_all("a log", &a.logs);
+    common::refuse_folder_over("--out", &a.out, &reads)?;
     let unit = calibration::load_unit(&a.calibration).map_err(|e| e.to_string())?;
     if unit.is_unit() {
         return run_unit(&a, &unit);
@@ -41,7 +46,10 @@ pub fn run(a: Args) -> Result<(), CliError> {
             .unwrap_or(report::default_merit_for(model).filter_s),
         window_s: a.window,
     };
-    let (logs, hashes) = read_logs(&a, |log| common::check_merit(&merit, log))?;
+    let (logs, hashes) = read_logs(&a, |path, log| {
+        common::refuse_guessed_axis(&unit, &a.log_args, (path, log), &a.calibration)?;
+        common::check_merit(&merit, log)
+    })?;
     common::status(&format!("writing the report into {}", a.out.display()));
     let summary = report::write_model(
         model,
@@ -77,14 +85,14 @@ type LogsRead = Vec<(PathBuf, driftlab::Log)>;
 /// temperatures), each checked by `check`, with the SHA-256 of each file as read.
 fn read_logs(
     a: &Args,
-    check: impl Fn(&driftlab::Log) -> Result<(), CliError>,
+    check: impl Fn(&Path, &driftlab::Log) -> Result<(), CliError>,
 ) -> Result<(LogsRead, Vec<String>), CliError> {
     let mut logs = Vec::with_capacity(a.logs.len());
     let mut hashes = Vec::with_capacity(a.logs.len());
     for path in &a.logs {
         let input = a.log_args.open(path)?;
         let log = a.log_args.read(&input)?;
-        check(&log)?;
+        check(path, &log)?;
         logs.push((path.clone(), log));
         hashes.push(calibration::sha256_input(&input).unwrap_or_default());
     }
@@ -106,7 +114,7 @@ fn run_unit(a: &Args, unit: &UnitCalibration) -> Result<(), CliError> {
         filter_s: a.filter,
         window_s: a.window,
     };
-    let (mut logs, hashes) = read_logs(a, |log| {
+    let (mut logs, hashes) = read_logs(a, |_, log| {
         super::evaluate::unit_axes(log, unit, &a.calibration)?;
         for ax in &unit.axes {
             common::check_merit(&merit.for_model(&ax.model), log)

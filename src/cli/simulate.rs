@@ -104,6 +104,7 @@ pub fn run(a: Args) -> Result<(), CliError> {
     let Some(out) = a.out else {
         return Err("--out is required".into());
     };
+    super::common::refuse_outputs(&[("--out", &out)], &super::common::Reads::default())?;
     if let Some(n) = a.axes {
         profile = profile.with_axes(n)?;
     }

@@ -7,13 +7,17 @@ mod common;
 
 mod allan;
 mod attack;
+mod axis_choice;
 mod commands;
+mod forged_lines;
 mod kalibr;
 mod output_hashes;
+mod overwrite_inputs;
 mod quoting;
 mod real_logs;
 mod report_escaping;
 mod report_folder;
+mod report_folder_files;
 mod silent_options;
 mod unit_calibrate;
 mod unit_judging;

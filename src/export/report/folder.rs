@@ -13,8 +13,15 @@
 //!
 //! Replacing a folder removes what was in it, so only a folder that is driftlab's own is
 //! replaced: a new one, an empty one, or a report (it holds the [`MARKER`] file every report
-//! now writes, or, written before the marker, a `report.html` titled as a driftlab report).
-//! Any other folder is refused with a message naming it: a user's folder is never emptied.
+//! now writes, or, written before the marker, a `report.html` titled as a driftlab report)
+//! that holds nothing but the report's own files. The marker lists every file and folder the
+//! report wrote; a report whose marker lists none (written before the list) may hold its page,
+//! figures (PNG, SVG) and its axes' folders of figures. Any other folder, or a report beside
+//! which the user has put a file of theirs (a log, a calibration, notes), is refused with a
+//! message naming the folder and the first such file: a user's file is never deleted.
+//!
+//! Reports racing to create one new folder: the first renames its folder in, and each of the
+//! others finds a report there and replaces it as it would any report.
 //!
 //! A run killed while staging leaves its staging folder behind; the staging folder is locked
 //! (`flock` on Linux) for as long as its run lives, so the next report written beside it
@@ -34,6 +41,13 @@ const STAGING_TAG: &str = ".driftlab-staging-";
 
 /// The title every report page has carried (for the reports written before the marker).
 const LEGACY_TITLE: &str = "<title>Thermal drift calibration report";
+
+/// The marker's line after which it lists the report's files, one a line, by their path in
+/// the folder with `/` between names, a folder's ending in `/`.
+const FILES_HEADING: &str = "files:";
+
+/// The most bytes of a marker read: a report's list is some hundred names.
+const MARKER_MAX_BYTES: u64 = 1 << 20;
 
 /// What holds paths into the staging folder, to be moved to the destination once it is there.
 pub(super) trait Relocate {
@@ -114,7 +128,8 @@ fn parent_of(target: &Path) -> PathBuf {
 /// that may be replaced (its metadata, whose permissions the new folder takes).
 ///
 /// # Errors
-/// A file at the destination; a folder that holds other things than a report.
+/// A file at the destination; a folder that is not a report, or a report that holds a file
+/// it did not write.
 fn check_destination(target: &Path) -> Result<Option<std::fs::Metadata>> {
     let meta = match std::fs::metadata(target) {
         Ok(m) => m,
@@ -134,36 +149,136 @@ fn check_destination(target: &Path) -> Result<Option<std::fs::Metadata>> {
         .map_err(|e| Error::io(target, e))?
         .next()
         .is_none();
-    if empty || is_report(target) {
+    if empty {
         return Ok(Some(meta));
     }
-    Err(Error::io(
-        target,
-        io::Error::new(
-            io::ErrorKind::AlreadyExists,
-            format!(
-                "holds files that are not a driftlab report (no {MARKER} file, no report.html \
-                 of a report): a report replaces its folder whole, so it is not written here; \
-                 give a new or empty folder"
-            ),
-        ),
-    ))
+    let refused =
+        |why: String| Error::io(target, io::Error::new(io::ErrorKind::AlreadyExists, why));
+    let Some(written) = report_files(target) else {
+        return Err(refused(format!(
+            "holds files that are not a driftlab report (no {MARKER} file, no report.html \
+             of a report): a report replaces its folder whole, so it is not written here; \
+             give a new or empty folder"
+        )));
+    };
+    match first_foreign(target, &written).map_err(|e| Error::io(target, e))? {
+        None => Ok(Some(meta)),
+        Some(foreign) => Err(refused(format!(
+            "holds {foreign}, which the report there did not write: a report replaces its \
+             folder whole, which would delete it, so the report is not written here; move \
+             {foreign} out of the folder, or give a new or empty folder"
+        ))),
+    }
 }
 
-/// Whether `dir` holds a report: the marker, or (a report written before the marker) a
-/// `report.html` titled as a driftlab report page.
-fn is_report(dir: &Path) -> bool {
-    if dir.join(MARKER).is_file() {
-        return true;
+/// What a report folder's report wrote, as far as its folder tells.
+enum Written {
+    /// The paths its marker lists (a folder's ending in `/`).
+    Listed(std::collections::HashSet<String>),
+    /// A report whose marker lists nothing (written before the list), or with no marker (written
+    /// before the marker): its page, its figures and its axes' folders of figures.
+    Kinds,
+}
+
+impl Written {
+    /// Whether the report wrote the entry at `path` in its folder (`/` between names, a
+    /// folder's ending in `/`), `depth` folders down.
+    fn wrote(&self, path: &str, depth: usize) -> bool {
+        match self {
+            Written::Listed(paths) => paths.contains(path),
+            Written::Kinds => match path.strip_suffix('/') {
+                Some(_) => depth == 0,
+                None => {
+                    let name = path.rsplit('/').next().unwrap_or(path);
+                    name == "report.html" || name.ends_with(".png") || name.ends_with(".svg")
+                }
+            },
+        }
     }
-    let Ok(file) = std::fs::File::open(dir.join("report.html")) else {
-        return false;
-    };
+}
+
+/// What the report in `dir` wrote: the list of its marker, its kinds of file for a marker
+/// without a list, or for a `report.html` titled as a driftlab report page (written before
+/// the marker); `None` when `dir` holds no report.
+fn report_files(dir: &Path) -> Option<Written> {
+    let marker = dir.join(MARKER);
+    if marker.is_file() {
+        let mut text = String::new();
+        if std::fs::File::open(&marker)
+            .and_then(|f| f.take(MARKER_MAX_BYTES).read_to_string(&mut text))
+            .is_err()
+        {
+            return Some(Written::Kinds);
+        }
+        let mut lines = text.lines();
+        if !lines.any(|l| l == FILES_HEADING) {
+            return Some(Written::Kinds);
+        }
+        return Some(Written::Listed(lines.map(str::to_string).collect()));
+    }
+    let file = std::fs::File::open(dir.join("report.html")).ok()?;
     let mut head = Vec::with_capacity(8192);
-    if file.take(8192).read_to_end(&mut head).is_err() {
-        return false;
+    file.take(8192).read_to_end(&mut head).ok()?;
+    String::from_utf8_lossy(&head)
+        .contains(LEGACY_TITLE)
+        .then_some(Written::Kinds)
+}
+
+/// The first entry of the report folder `dir` (by name, folder by folder) that its report did
+/// not write, by its path in the folder; `None` when every one is the report's. A folder the
+/// report did not write is named, not entered; links are not followed.
+fn first_foreign(dir: &Path, written: &Written) -> io::Result<Option<String>> {
+    fn walk(
+        dir: &Path,
+        prefix: &str,
+        depth: usize,
+        written: &Written,
+    ) -> io::Result<Option<String>> {
+        let mut entries: Vec<std::fs::DirEntry> =
+            std::fs::read_dir(dir)?.collect::<io::Result<_>>()?;
+        entries.sort_by_key(|e| e.file_name());
+        for entry in entries {
+            let name = entry.file_name();
+            let shown = name.to_string_lossy();
+            if depth == 0 && name == MARKER {
+                continue;
+            }
+            let is_dir = entry.file_type()?.is_dir();
+            let path = format!("{prefix}{shown}{}", if is_dir { "/" } else { "" });
+            // A name that is not UTF-8 is none the report wrote (its names are ASCII).
+            if name.to_str().is_none() || !written.wrote(&path, depth) {
+                return Ok(Some(path));
+            }
+            if is_dir && let Some(found) = walk(&entry.path(), &path, depth + 1, written)? {
+                return Ok(Some(found));
+            }
+        }
+        Ok(None)
     }
-    String::from_utf8_lossy(&head).contains(LEGACY_TITLE)
+    walk(dir, "", 0, written)
+}
+
+/// Every entry of the staged report `dir`, by its path in the folder (`/` between names, a
+/// folder's ending in `/`), sorted: what its marker lists.
+fn staged_files(dir: &Path) -> io::Result<Vec<String>> {
+    fn walk(dir: &Path, prefix: &str, out: &mut Vec<String>) -> io::Result<()> {
+        for entry in std::fs::read_dir(dir)? {
+            let entry = entry?;
+            let name = entry.file_name().to_string_lossy().into_owned();
+            if entry.file_type()?.is_dir() {
+                let path = format!("{prefix}{name}/");
+                out.push(path.clone());
+                walk(&entry.path(), &path, out)?;
+            } else {
+                out.push(format!("{prefix}{name}"));
+            }
+        }
+        Ok(())
+    }
+    let mut out = Vec::new();
+    walk(dir, "", &mut out)?;
+    out.sort();
+    Ok(out)
 }
 
 /// `e` with the staging folder in the paths it names replaced by the destination, the folder
@@ -198,16 +313,19 @@ fn relocated(e: Error, from: &Path, to: &Path) -> Error {
 /// puts in place is on disk.
 fn seal(staged: &Path, existing: Option<&std::fs::Metadata>) -> Result<()> {
     let marker = staged.join(MARKER);
-    crate::files::atomic::write_bytes(
-        &marker,
-        format!(
-            "A driftlab {} test report: this folder is replaced whole by the next report \
-             written into it.\n",
-            env!("CARGO_PKG_VERSION")
-        )
-        .as_bytes(),
-    )
-    .map_err(|e| Error::io(&marker, e))?;
+    let files = staged_files(staged).map_err(|e| Error::io(staged, e))?;
+    let mut text = format!(
+        "A driftlab {} test report: this folder is replaced whole by the next report written \
+         into it, as long as it holds only the files below, which this report wrote.\n\
+         {FILES_HEADING}\n",
+        env!("CARGO_PKG_VERSION")
+    );
+    for f in files {
+        text.push_str(&f);
+        text.push('\n');
+    }
+    crate::files::atomic::write_bytes(&marker, text.as_bytes())
+        .map_err(|e| Error::io(&marker, e))?;
     if let Some(meta) = existing {
         std::fs::set_permissions(staged, meta.permissions()).map_err(|e| Error::io(staged, e))?;
     }
@@ -287,9 +405,20 @@ impl Staging {
     /// `replace`), then removes the old folder.
     fn swap_into(mut self, target: &Path, replace: bool) -> Result<()> {
         if !replace {
-            rename_new(&self.path, target).map_err(|e| Error::io(target, e))?;
-            self.armed = false;
-            return Ok(());
+            match rename_new(&self.path, target) {
+                Ok(()) => {
+                    self.armed = false;
+                    return Ok(());
+                }
+                // Another report made the folder meanwhile (runs racing into one new folder):
+                // it is replaced as any report is, once it is found to be one.
+                Err(e) if taken(&e) => {
+                    if check_destination(target)?.is_none() {
+                        return Err(Error::io(target, e));
+                    }
+                }
+                Err(e) => return Err(Error::io(target, e)),
+            }
         }
         #[cfg(target_os = "linux")]
         if exchange(&self.path, target).map_err(|e| Error::io(target, e))? {
@@ -339,6 +468,14 @@ fn rename_new(from: &Path, target: &Path) -> io::Result<()> {
         }
     }
     std::fs::rename(from, target)
+}
+
+/// Whether a rename failed because something is now at its destination.
+fn taken(e: &io::Error) -> bool {
+    matches!(
+        e.kind(),
+        io::ErrorKind::AlreadyExists | io::ErrorKind::DirectoryNotEmpty
+    )
 }
 
 /// Swaps the folders `a` and `b` in one step; `Ok(false)` when the file system cannot.
