@@ -246,6 +246,8 @@ fn print_unit(a: &Args, unit: &UnitCalibration, judged: &[AxisJudged]) -> Result
 /// An error of one axis, named with it.
 pub(super) fn in_axis(axis: &str, e: CliError) -> CliError {
     match e {
+        // The one axis of a single-axis calibration has no name to give.
+        CliError::Message(m) if axis.is_empty() => CliError::Message(m),
         CliError::Message(m) => CliError::Message(format!("axis {axis}: {m}")),
         closed => closed,
     }

@@ -1,10 +1,8 @@
 //! `driftlab report`: the test report of a calibration judged on one or more logs.
 
 use super::common::{self, CliError, LogArgs};
-use driftlab::export::report::{self, ReportOptions};
+use driftlab::export::report;
 use driftlab::files::calibration;
-use driftlab::judge::metrics::MeritOptions;
-use driftlab::models::UnitCalibration;
 use std::path::{Path, PathBuf};
 
 /// Arguments of `report`.
@@ -36,33 +34,49 @@ pub fn run(a: Args) -> Result<(), CliError> {
         .add_all("a log", &a.logs);
     common::refuse_folder_over("--out", &a.out, &reads)?;
     let unit = calibration::load_unit(&a.calibration).map_err(|e| e.to_string())?;
-    if unit.is_unit() {
-        return run_unit(&a, &unit);
-    }
-    let model = unit.first()?;
-    let merit = MeritOptions {
-        filter_s: a
-            .filter
-            .unwrap_or(report::default_merit_for(model).filter_s),
+    let merit = report::UnitMerit {
+        filter_s: a.filter,
         window_s: a.window,
     };
-    let (logs, hashes) = read_logs(&a, |path, log| {
+    let (mut logs, hashes) = read_logs(&a, |path, log| {
         common::refuse_guessed_axis(&unit, &a.log_args, (path, log), &a.calibration)?;
-        common::check_merit(&merit, log)
+        super::evaluate::unit_axes(log, &unit, &a.calibration)?;
+        for ax in &unit.axes {
+            common::check_merit(&merit.for_model(&ax.model), log)
+                .map_err(|e| super::evaluate::in_axis(&ax.name, e))?;
+        }
+        Ok(())
     })?;
-    common::status(&format!("writing the report into {}", a.out.display()));
-    let summary = report::write_model(
-        model,
-        &logs,
-        &a.out,
-        &ReportOptions {
-            merit: Some(merit),
-            allan: None,
-            sha256: Some(hashes),
-        },
-    )
-    .map_err(|e| e.to_string())?;
-    for l in &summary.logs {
+    common::status(&match unit.axes.len() {
+        1 => format!("writing the report into {}", a.out.display()),
+        n => format!("writing the report of {n} axes into {}", a.out.display()),
+    });
+    // One writer for every calibration, a single axis being a unit of one; the lines printed
+    // are those of a unit of named axes, or the one line per log of a single axis.
+    let summary = report::write_unit(&unit, &mut logs, &a.out, merit, Some(hashes))
+        .map_err(|e| e.to_string())?;
+    if unit.is_unit() {
+        print_axes(&logs, &summary)?;
+    } else {
+        print_single(&summary)?;
+    }
+    let mut notes: Vec<&String> = Vec::new();
+    for ax in &summary.axes {
+        for n in &ax.summary.notes {
+            if !notes.contains(&n) {
+                notes.push(n);
+            }
+        }
+    }
+    for n in notes {
+        out!("note: {n}")?;
+    }
+    print_files(&summary.files)
+}
+
+/// The figures of the one axis of a single-axis calibration, a line per log.
+fn print_single(summary: &report::UnitReportSummary) -> Result<(), CliError> {
+    for l in summary.axes.iter().flat_map(|a| &a.summary.logs) {
         out!(
             "{} ({}): peak-to-peak of filtered drift {} -> {} deg/h ({})",
             l.name,
@@ -72,10 +86,7 @@ pub fn run(a: Args) -> Result<(), CliError> {
             common::ratio(l.evaluation.comparison.p2p_ratio)
         )?;
     }
-    for n in &summary.notes {
-        out!("note: {n}")?;
-    }
-    print_files(&summary.files)
+    Ok(())
 }
 
 /// The report's logs, each with the path it was read from.
@@ -107,28 +118,8 @@ fn print_files(files: &[PathBuf]) -> Result<(), CliError> {
     Ok(())
 }
 
-/// `report` for a unit: every axis judged on the logs' matching axes, one page with a summary
-/// of every axis and a section per axis.
-fn run_unit(a: &Args, unit: &UnitCalibration) -> Result<(), CliError> {
-    let merit = report::UnitMerit {
-        filter_s: a.filter,
-        window_s: a.window,
-    };
-    let (mut logs, hashes) = read_logs(a, |_, log| {
-        super::evaluate::unit_axes(log, unit, &a.calibration)?;
-        for ax in &unit.axes {
-            common::check_merit(&merit.for_model(&ax.model), log)
-                .map_err(|e| super::evaluate::in_axis(&ax.name, e))?;
-        }
-        Ok(())
-    })?;
-    common::status(&format!(
-        "writing the report of {} axes into {}",
-        unit.axes.len(),
-        a.out.display()
-    ));
-    let summary = report::write_unit(unit, &mut logs, &a.out, merit, Some(hashes))
-        .map_err(|e| e.to_string())?;
+/// The figures of every axis of a unit, a block per log.
+fn print_axes(logs: &LogsRead, summary: &report::UnitReportSummary) -> Result<(), CliError> {
     for (k, (path, _)) in logs.iter().enumerate() {
         let judged = summary.log(k);
         let Some((_, first)) = judged.first() else {
@@ -159,16 +150,5 @@ fn run_unit(a: &Args, unit: &UnitCalibration) -> Result<(), CliError> {
             }
         }
     }
-    let mut notes: Vec<&String> = Vec::new();
-    for ax in &summary.axes {
-        for n in &ax.summary.notes {
-            if !notes.contains(&n) {
-                notes.push(n);
-            }
-        }
-    }
-    for n in notes {
-        out!("note: {n}")?;
-    }
-    print_files(&summary.files)
+    Ok(())
 }

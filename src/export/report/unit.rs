@@ -75,8 +75,9 @@ impl UnitReportSummary {
 }
 
 /// Writes the report of every axis of `unit` judged on `logs` into the folder `out_dir`: each
-/// axis's figures in a folder named after it, and one `report.html` with a summary table of
-/// every axis on every log, then a section per axis as the single-axis page has it. The folder
+/// axis's figures in a folder named after it (beside the page for the one axis of a
+/// calibration that names none), and one `report.html` with a summary table of every axis on
+/// every log, then a section per axis as the single-axis page has it. The folder
 /// is replaced whole, as [`super::write_model`] replaces it. Each
 /// log's axes are selected in turn (the logs come back with the last axis in `omega_dph`).
 /// `sha256`: each log's hash, when the caller has it (see [`ReportOptions::sha256`]).
@@ -100,30 +101,34 @@ pub fn write_unit(
             .map(|(p, _)| calibration::sha256_file(p).unwrap_or_default())
             .collect(),
     };
-    // Every log's axis of every axis of the unit, before anything is drawn.
-    let mut log_axes: Vec<Vec<String>> = Vec::with_capacity(unit.axes.len());
-    for ax in &unit.axes {
-        let mut found = Vec::with_capacity(logs.len());
-        for (path, log) in logs.iter() {
-            let Some(name) = log.matching_axis(&ax.name, &ax.rate_column) else {
-                return Err(Error::Invalid(Invalid::new(
-                    format!("axes[{}]", ax.name),
-                    format!(
-                        "{} has no gyro axis {} (column {}) (its axes: {})",
-                        path.display(),
-                        ax.name,
-                        if ax.rate_column.is_empty() {
-                            "?"
-                        } else {
-                            &ax.rate_column
-                        },
-                        log.axis_names().join(", ")
-                    ),
-                )));
-            };
-            found.push(name);
+    // Every log's axis of every axis of the unit, before anything is drawn: the rule that
+    // `apply` follows (`corrected_csv::log_axes`).
+    let mut log_axes: Vec<Vec<String>> = vec![Vec::with_capacity(logs.len()); unit.axes.len()];
+    for (path, log) in logs.iter() {
+        let found = crate::files::corrected_csv::log_axes(log, unit).map_err(|e| match e {
+            crate::files::corrected_csv::WriteError::MissingAxis {
+                axis,
+                rate_column,
+                log_axes,
+                ..
+            } => Error::Invalid(Invalid::new(
+                format!("axes[{axis}]"),
+                format!(
+                    "{} has no gyro axis {axis} (column {}) (its axes: {})",
+                    path.display(),
+                    if rate_column.is_empty() {
+                        "?"
+                    } else {
+                        &rate_column
+                    },
+                    log_axes.join(", ")
+                ),
+            )),
+            other => Error::Invalid(Invalid::new("axes", other.to_string())),
+        })?;
+        for (axis, name) in log_axes.iter_mut().zip(found) {
+            axis.push(name);
         }
-        log_axes.push(found);
     }
     folder::replace(out_dir, |dir| {
         write_axes(unit, logs, dir, merit, &hashes, log_axes)
@@ -150,7 +155,13 @@ fn write_axes(
                 ));
             }
         }
-        let folder = out_dir.join(folder_name(&ax.name, &mut taken));
+        // The one axis of a calibration that names none is the page's own: its figures lie
+        // beside the page, as they always have.
+        let folder = if ax.name.is_empty() {
+            out_dir.to_path_buf()
+        } else {
+            out_dir.join(folder_name(&ax.name, &mut taken))
+        };
         let opts = ReportOptions {
             merit: Some(merit.for_model(&ax.model)),
             allan: None,
