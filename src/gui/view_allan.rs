@@ -275,21 +275,24 @@ fn readouts(ui: &mut Ui, d: Option<&AllanData>) {
             ui.label(RichText::new("raw").strong());
             ui.label(RichText::new("corrected").strong());
             ui.end_row();
-            for (k, (name, unit, tip)) in [
+            for (k, (name, unit, tip, missing)) in [
                 (
                     "ARW",
                     "°/√h",
                     "Angle random walk: σ at τ = 1 s on the −1/2 line, ÷ 60",
+                    "— no −1/2 slope",
                 ),
                 (
                     "bias instability",
                     "°/h",
                     "Minimum of the curve ÷ 0.664, when the curve rises again after it",
+                    "— no minimum",
                 ),
                 (
                     "RRW",
                     "°/h/√h",
                     "Rate random walk: 60 × σ at τ = 3 s on the +1/2 line",
+                    "— no +1/2 slope",
                 ),
             ]
             .into_iter()
@@ -304,7 +307,10 @@ fn readouts(ui: &mut Ui, d: Option<&AllanData>) {
                                 .on_hover_text(&ro.method);
                         }
                         None => {
-                            ui.weak("—").on_hover_text("The curve shows no such region");
+                            ui.weak(missing).on_hover_text(
+                                "The curve shows no such region over the τ it covers: the \
+                                 figure cannot be read off it (a longer log may show it)",
+                            );
                         }
                     }
                 }

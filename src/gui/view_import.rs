@@ -300,15 +300,11 @@ impl ImportView {
             ui.label("Separator");
             ComboBox::from_id_salt("imp_sep")
                 .selected_text(match self.read.delimiter {
-                    None => format!("auto ({detected})"),
+                    None => auto_label(&detected),
                     Some(d) => sep_name(d),
                 })
                 .show_ui(ui, |ui| {
-                    ui.selectable_value(
-                        &mut self.read.delimiter,
-                        None,
-                        format!("auto ({detected})"),
-                    );
+                    ui.selectable_value(&mut self.read.delimiter, None, auto_label(&detected));
                     for d in [b',', b';', b'\t', b' '] {
                         ui.selectable_value(&mut self.read.delimiter, Some(d), sep_name(d));
                     }
@@ -321,12 +317,12 @@ impl ImportView {
                 .unwrap_or("");
             ComboBox::from_id_salt("imp_dec")
                 .selected_text(match self.read.decimal_comma {
-                    None => format!("auto ({dc})"),
+                    None => auto_label(&dc),
                     Some(true) => "comma (1,5)".into(),
                     Some(false) => "point (1.5)".into(),
                 })
                 .show_ui(ui, |ui| {
-                    ui.selectable_value(&mut self.read.decimal_comma, None, format!("auto ({dc})"));
+                    ui.selectable_value(&mut self.read.decimal_comma, None, auto_label(&dc));
                     ui.selectable_value(&mut self.read.decimal_comma, Some(false), "point (1.5)");
                     ui.selectable_value(&mut self.read.decimal_comma, Some(true), "comma (1,5)");
                 })
@@ -338,12 +334,12 @@ impl ImportView {
                 .unwrap_or("");
             ComboBox::from_id_salt("imp_head")
                 .selected_text(match self.read.has_header {
-                    None => format!("auto ({hh})"),
+                    None => auto_label(&hh),
                     Some(true) => "yes".into(),
                     Some(false) => "no".into(),
                 })
                 .show_ui(ui, |ui| {
-                    ui.selectable_value(&mut self.read.has_header, None, format!("auto ({hh})"));
+                    ui.selectable_value(&mut self.read.has_header, None, auto_label(&hh));
                     ui.selectable_value(&mut self.read.has_header, Some(true), "yes");
                     ui.selectable_value(&mut self.read.has_header, Some(false), "no");
                 })
@@ -385,7 +381,7 @@ impl ImportView {
             ] {
                 ui.label(label);
                 let shown = match slot {
-                    None => format!("auto ({})", found(role)),
+                    None => auto_label(&found(role)),
                     Some(ColumnRef::Index(i)) => format!(
                         "{i}: {}",
                         names.get(i.wrapping_sub(1)).cloned().unwrap_or_default()
@@ -395,7 +391,7 @@ impl ImportView {
                 ComboBox::from_id_salt(id)
                     .selected_text(shown)
                     .show_ui(ui, |ui| {
-                        ui.selectable_value(slot, None, format!("auto ({})", found(role)));
+                        ui.selectable_value(slot, None, auto_label(&found(role)));
                         for (i, n) in names.iter().enumerate() {
                             ui.selectable_value(
                                 slot,
@@ -418,11 +414,11 @@ impl ImportView {
             let ru = unit_of(ColumnRole::Rate);
             ComboBox::from_id_salt("imp_ru")
                 .selected_text(match self.read.rate_unit {
-                    None => format!("auto ({ru})"),
+                    None => auto_label(&ru),
                     Some(u) => u.to_string(),
                 })
                 .show_ui(ui, |ui| {
-                    ui.selectable_value(&mut self.read.rate_unit, None, format!("auto ({ru})"));
+                    ui.selectable_value(&mut self.read.rate_unit, None, auto_label(&ru));
                     for u in [RateUnit::DegPerHour, RateUnit::DegPerSec, RateUnit::RadPerSec] {
                         ui.selectable_value(&mut self.read.rate_unit, Some(u), u.to_string());
                     }
@@ -433,11 +429,11 @@ impl ImportView {
             let tu = unit_of(ColumnRole::Time);
             ComboBox::from_id_salt("imp_tu")
                 .selected_text(match self.read.time_unit {
-                    None => format!("auto ({tu})"),
+                    None => auto_label(&tu),
                     Some(u) => u.to_string(),
                 })
                 .show_ui(ui, |ui| {
-                    ui.selectable_value(&mut self.read.time_unit, None, format!("auto ({tu})"));
+                    ui.selectable_value(&mut self.read.time_unit, None, auto_label(&tu));
                     for u in [
                         TimeUnit::Seconds,
                         TimeUnit::Millis,
@@ -560,4 +556,13 @@ fn preview_table(ui: &mut Ui, p: &Preview) {
                     }
                 });
         });
+}
+
+/// "auto" with what the reader found (`auto (deg/s)`), or alone when it found nothing to name.
+fn auto_label(found: &str) -> String {
+    if found.trim().is_empty() {
+        "auto".to_string()
+    } else {
+        format!("auto ({found})")
+    }
 }

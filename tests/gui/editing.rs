@@ -398,3 +398,36 @@ fn the_detectors_suggestion_is_forgotten_once_the_plateaus_are_edited() {
     assert_eq!(h.state().state.ranges().len(), 3);
     assert!(h.query_by_label_contains("The detector suggests").is_none());
 }
+
+/// A dead-band set by hand reads as the automatic one does (`8.190e-7`, not `0.000000819`),
+/// and a number typed in scientific form is taken.
+#[test]
+fn a_manual_deadband_reads_in_the_form_of_the_automatic_one() {
+    let mut h = harness(Workbench::new_for_test(&sample("calibration.csv")));
+    settle(&mut h);
+    h.state_mut().state.recipe_mut().deadband_tddot = Some(8.19e-7);
+    settle(&mut h);
+    let shown = |text: &str| {
+        h.query_all(egui_kittest::kittest::By::new().value(text))
+            .count()
+    };
+    assert_eq!(
+        shown("8.190e-7"),
+        1,
+        "the dead-band as the automatic one reads"
+    );
+    assert_eq!(shown("0.000000819"), 0);
+    assert_eq!(
+        h.state()
+            .state
+            .shown
+            .fit
+            .as_ref()
+            .unwrap()
+            .outcome
+            .calibration
+            .resolved
+            .deadband_tddot,
+        8.19e-7
+    );
+}

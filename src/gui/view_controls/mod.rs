@@ -183,8 +183,16 @@ impl ControlsView {
                     match slot {
                         Some(v) => {
                             let speed = (v.abs() * 0.01).max(1e-9);
-                            ui.add(egui::DragValue::new(v).range(0.0..=f64::MAX).speed(speed).max_decimals(10))
-                                .on_hover_text(tip);
+                            // Shown as the automatic one is (`8.19e-7`, not `0.000000819`);
+                            // typed in any form a number is written.
+                            ui.add(
+                                egui::DragValue::new(v)
+                                    .range(0.0..=f64::MAX)
+                                    .speed(speed)
+                                    .custom_formatter(|n, _| num(n))
+                                    .custom_parser(|t| t.trim().parse::<f64>().ok().filter(|x| x.is_finite())),
+                            )
+                            .on_hover_text(tip);
                         }
                         None => {
                             ui.weak(used.map(num).unwrap_or_default());
