@@ -317,12 +317,12 @@ impl ImportView {
                 .unwrap_or("");
             ComboBox::from_id_salt("imp_dec")
                 .selected_text(match self.read.decimal_comma {
-                    None => auto_label(&dc),
+                    None => auto_label(dc),
                     Some(true) => "comma (1,5)".into(),
                     Some(false) => "point (1.5)".into(),
                 })
                 .show_ui(ui, |ui| {
-                    ui.selectable_value(&mut self.read.decimal_comma, None, auto_label(&dc));
+                    ui.selectable_value(&mut self.read.decimal_comma, None, auto_label(dc));
                     ui.selectable_value(&mut self.read.decimal_comma, Some(false), "point (1.5)");
                     ui.selectable_value(&mut self.read.decimal_comma, Some(true), "comma (1,5)");
                 })
@@ -334,12 +334,12 @@ impl ImportView {
                 .unwrap_or("");
             ComboBox::from_id_salt("imp_head")
                 .selected_text(match self.read.has_header {
-                    None => auto_label(&hh),
+                    None => auto_label(hh),
                     Some(true) => "yes".into(),
                     Some(false) => "no".into(),
                 })
                 .show_ui(ui, |ui| {
-                    ui.selectable_value(&mut self.read.has_header, None, auto_label(&hh));
+                    ui.selectable_value(&mut self.read.has_header, None, auto_label(hh));
                     ui.selectable_value(&mut self.read.has_header, Some(true), "yes");
                     ui.selectable_value(&mut self.read.has_header, Some(false), "no");
                 })
