@@ -136,11 +136,91 @@ impl DriftModel {
     /// # Errors
     /// A message naming what is inconsistent.
     pub fn validate(&self) -> std::result::Result<(), Invalid> {
+        let created = match self {
+            DriftModel::Vakhrameev(c) => &c.created,
+            DriftModel::Regression(r) => &r.created,
+        };
+        check_identity(self.gyro_id(), created)?;
         match self {
             DriftModel::Vakhrameev(c) => c.validate(),
             DriftModel::Regression(r) => r.validate(),
         }
     }
+}
+
+/// Checks the gyro's serial number and the date a calibration holds, which every output
+/// copies and the terminal shows: printable text (the rule of
+/// [`is_unprintable`](crate::text::is_unprintable), as for a recipe's `gyro_id`), the serial
+/// number at most [`MAX_GYRO_ID_CHARS`](crate::models::recipe::MAX_GYRO_ID_CHARS) long.
+///
+/// # Errors
+/// An [`Invalid`] naming `gyro_id` or `created`.
+pub fn check_identity(gyro_id: &str, created: &str) -> std::result::Result<(), Invalid> {
+    use crate::models::recipe::MAX_GYRO_ID_CHARS;
+    for (field, text, what) in [
+        ("gyro_id", gyro_id, "a serial number"),
+        ("created", created, "a date"),
+    ] {
+        if let Some(c) = text.chars().find(|&c| crate::text::is_unprintable(c)) {
+            return Err(Invalid::new(
+                field,
+                format!(
+                    "holds the control character U+{:04X}: {what} is printable text",
+                    c as u32
+                ),
+            ));
+        }
+    }
+    let chars = gyro_id.chars().count();
+    if chars > MAX_GYRO_ID_CHARS {
+        return Err(Invalid::new(
+            "gyro_id",
+            format!("is {chars} characters long: a serial number has at most {MAX_GYRO_ID_CHARS}"),
+        ));
+    }
+    Ok(())
+}
+
+/// Checks the statistics of a fit stored under `field` (`k0.stats`, `model.stats`), beyond
+/// being numbers: R² is one less a ratio of sums of squares, so at most 1; an RMS residual
+/// is a root, never negative; and they are over at least one point, unless `none_fitted`
+/// (a term with no point to fit is left out as zero, over none).
+///
+/// # Errors
+/// An [`Invalid`] naming the statistic (`k0.stats.r2`).
+pub fn check_stats(
+    field: &str,
+    n: usize,
+    rmse: f64,
+    r2: f64,
+    none_fitted: bool,
+) -> std::result::Result<(), Invalid> {
+    let readable = crate::number::readable;
+    if !(r2.is_finite() && r2 <= 1.0) {
+        return Err(Invalid::new(
+            format!("{field}.r2"),
+            format!(
+                "is {}: R² is 1 less a ratio of sums of squares, never above 1",
+                readable(r2)
+            ),
+        ));
+    }
+    if !(rmse.is_finite() && rmse >= 0.0) {
+        return Err(Invalid::new(
+            format!("{field}.rmse"),
+            format!(
+                "is {}: an RMS residual is the root of a mean square, never negative",
+                readable(rmse)
+            ),
+        ));
+    }
+    if n == 0 && !none_fitted {
+        return Err(Invalid::new(
+            format!("{field}.n"),
+            "is 0: a fitted curve was fitted to at least one point",
+        ));
+    }
+    Ok(())
 }
 
 /// A log's predicted drift handed out in order, a batch at a time ([`DriftModel::predictor`]).

@@ -161,6 +161,46 @@ impl UnitCalibration {
     }
 }
 
+impl UnitCalibration {
+    /// Checks that no axis's rate column is another axis's: the column an axis was read from
+    /// names an axis (as the log reader names it: `gy` for `gy_dps`),
+    /// and when that is another axis of the unit, the names or the columns were swapped, and
+    /// `apply`, which finds an axis by its name first, would correct one axis's column with
+    /// another's coefficients.
+    ///
+    /// Run on every unit file read (a unit made in memory, as by a test of names, may pair
+    /// them as it likes until it is written).
+    ///
+    /// # Errors
+    /// An [`Invalid`] naming the axis's `rate_column` and the other axis's name.
+    pub fn check_rate_columns(&self) -> std::result::Result<(), Invalid> {
+        for (k, a) in self.axes.iter().enumerate() {
+            if a.rate_column.is_empty() {
+                continue;
+            }
+            let of_column = crate::log::ingest::names::axis_name(&a.rate_column);
+            if of_column == a.name {
+                continue;
+            }
+            if let Some(other) = self.axes.iter().find(|b| b.name == of_column) {
+                return Err(Invalid::new(
+                    format!("axes[{}].rate_column", label(k, &a.name)),
+                    format!(
+                        "\"{col}\" is the column of axis {other} (another axis of the unit), \
+                         not of axis {name}: the names or the columns were swapped, and \
+                         apply, which finds an axis by its name, would correct axis {name} \
+                         with the coefficients fitted on \"{col}\"",
+                        col = a.rate_column.escape_debug(),
+                        other = other.name,
+                        name = a.name,
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
 /// An axis in a message: its name, or its position when it has none.
 fn label(k: usize, name: &str) -> String {
     if name.is_empty() {

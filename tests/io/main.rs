@@ -1,4 +1,4 @@
-//! Files in and out: test-stand CSV, drone and robot logs, odd and broken files, atomic writes, files written together, killed writes, autosaves, the session file.
+//! Files in and out: test-stand CSV, drone and robot logs, odd and broken files, atomic writes, files written together, killed writes, autosaves, the session file, hand-edited calibration files.
 //!
 //! One test binary for the area (it links the crate once); a module per file.
 
@@ -9,6 +9,7 @@ mod atomic_writes;
 mod autosave_instances;
 mod drone_logs;
 mod formats;
+mod hand_edited_calibrations;
 mod ingest_dialects;
 mod ingest_errors;
 mod ingest_files;

@@ -318,11 +318,21 @@ fn read_text(path: &Path) -> Result<String> {
             ),
         });
     }
-    String::from_utf8(bytes).map_err(|e| Error::File {
+    let mut text = String::from_utf8(bytes).map_err(|e| Error::File {
         path: path.to_path_buf(),
         message: format!("not UTF-8 text: {e}"),
-    })
+    })?;
+    // Some Windows editors save UTF-8 with a byte-order mark, which JSON does not allow (RFC
+    // 8259 §8.1) but which says nothing but "UTF-8": read the text after it (line and column
+    // in messages are then those an editor shows, which hides the mark).
+    if text.starts_with(BOM) {
+        text.drain(..BOM.len_utf8());
+    }
+    Ok(text)
 }
+
+/// The byte-order mark a text file may start with.
+const BOM: char = '\u{feff}';
 
 /// Reads a recipe file, or the recipe inside a Vakhrameev calibration file. The two are told
 /// apart by the file's `format` field (a recipe has none), not by searching its text.

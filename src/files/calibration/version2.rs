@@ -179,6 +179,9 @@ pub(super) fn from_json(path: &Path, text: &str) -> Result<UnitCalibration> {
         message,
     };
     let file: UnitFile = serde_json::from_str(text).map_err(|e| err(e.to_string()))?;
+    // Held once at the top, so named there (each axis's body is checked again with them).
+    crate::models::fitted::check_identity(&file.gyro_id, &file.created)
+        .map_err(|e| err(e.to_string()))?;
     let mut axes = Vec::with_capacity(file.axes.len());
     for entry in file.axes {
         let at = |field: &str| format!("axes[{}].{field}", entry.name);
@@ -236,6 +239,7 @@ pub(super) fn from_json(path: &Path, text: &str) -> Result<UnitCalibration> {
     }
     let unit = UnitCalibration { axes };
     unit.validate().map_err(|e| err(e.to_string()))?;
+    unit.check_rate_columns().map_err(|e| err(e.to_string()))?;
     if !unit.is_unit() {
         return Err(err(
             "a version-2 file holds named axes; a calibration of one unnamed axis is a \

@@ -1,7 +1,7 @@
 //! A fitted regression model: coefficients, the non-linear parameters found, the input ranges
 //! it holds its inputs to, and how it predicts one sample.
 
-use super::{CostCurve, Inputs, RegressionSpec, Term, terms};
+use super::{CostCurve, Inputs, LagSpec, LambdaSpec, RegressionSpec, Term, terms};
 use crate::error::Invalid;
 use crate::models::vakhrameev::SourceInfo;
 use crate::signal::DerivativeSteps;
@@ -204,8 +204,9 @@ impl RegressionModel {
     }
 
     /// Checks a model read from a file: counts agree, names match the terms, numbers are
-    /// finite, ranges ordered, λ present exactly when a term needs it, and the coefficients
-    /// predict a drift a gyro could have over the ranges the model was fitted on.
+    /// finite, ranges ordered, λ present exactly when a term needs it, the fit's statistics
+    /// what a fit makes, and the coefficients predict a drift a gyro could have over the
+    /// ranges the model was fitted on.
     ///
     /// # Errors
     /// A message naming what is inconsistent.
@@ -357,7 +358,153 @@ impl RegressionModel {
                 "dT terms and the second temperature channel go together",
             ));
         }
+        self.check_facts()?;
         crate::models::check_drift_bound("model.coefficients", self.drift_bound()?)
+    }
+
+    /// What the fit measured, as only a fit can have: a standard error is a root of a
+    /// variance, an RMS residual a root of a mean square, R² one less a ratio of sums of
+    /// squares, over at least one sample.
+    fn check_facts(&self) -> std::result::Result<(), Invalid> {
+        if let Some((k, e)) = self.std_errors.iter().enumerate().find(|(_, e)| **e < 0.0) {
+            return Err(Invalid::new(
+                format!("model.std_errors[{k}]"),
+                format!(
+                    "is {}: a standard error is the root of a variance, never negative",
+                    crate::number::readable(*e)
+                ),
+            ));
+        }
+        crate::models::fitted::check_stats(
+            "model.stats",
+            self.stats.n,
+            self.stats.rmse,
+            self.stats.r2,
+            false,
+        )
+    }
+
+    /// The lag against the spec that chose it: a spec with a lag gives every model fitted
+    /// with it one (the coefficients were fitted on T read through it, and without it they
+    /// correct another signal); a fixed lag is the spec's own seconds and slope; a searched
+    /// one lies in the range searched, its slope in [`LAG_SLOPE_SEARCH_MAX`]'s when the search
+    /// was with temperature and 0 otherwise.
+    ///
+    /// [`LAG_SLOPE_SEARCH_MAX`]: super::LAG_SLOPE_SEARCH_MAX
+    fn check_lag_against_spec(&self) -> std::result::Result<(), Invalid> {
+        let readable = crate::number::readable;
+        let (lag_s, per_c) = (self.lag_s, self.lag_per_c);
+        let slope = |allowed: &str| {
+            Invalid::new(
+                "model.lag_per_c",
+                format!(
+                    "is {} per °C, and {allowed} (model.spec.lag)",
+                    readable(per_c)
+                ),
+            )
+        };
+        match (&self.spec.lag, lag_s) {
+            (LagSpec::None, None) => {
+                if per_c != 0.0 {
+                    return Err(slope("the spec has no lag for it to change"));
+                }
+            }
+            (LagSpec::None, Some(l)) => {
+                return Err(Invalid::new(
+                    "model.lag_s",
+                    format!(
+                        "is {} s, but the spec has no lag (model.spec.lag): the coefficients \
+                         were fitted on T as measured",
+                        readable(l)
+                    ),
+                ));
+            }
+            (_, None) => {
+                return Err(Invalid::new(
+                    "model.lag_s",
+                    "is missing, and the spec has a lag (model.spec.lag): the coefficients \
+                     were fitted on T read through it",
+                ));
+            }
+            (LagSpec::Fixed { seconds, per_c: p }, Some(l)) => {
+                if l != *seconds {
+                    return Err(Invalid::new(
+                        "model.lag_s",
+                        format!(
+                            "is {} s, but the spec fixes the lag at {} s (model.spec.lag)",
+                            readable(l),
+                            readable(*seconds)
+                        ),
+                    ));
+                }
+                if per_c != *p {
+                    return Err(slope(&format!("the spec fixes it at {}", readable(*p))));
+                }
+            }
+            (
+                LagSpec::Search {
+                    max_s,
+                    with_temperature,
+                },
+                Some(l),
+            ) => {
+                if l > max_s * (1.0 + 1e-9) {
+                    return Err(Invalid::new(
+                        "model.lag_s",
+                        format!(
+                            "is {} s, outside the 0 .. {} s the spec searched (model.spec.lag)",
+                            readable(l),
+                            readable(*max_s)
+                        ),
+                    ));
+                }
+                let top = super::LAG_SLOPE_SEARCH_MAX;
+                if *with_temperature && !(0.0..=top).contains(&per_c) {
+                    return Err(slope(&format!(
+                        "the search with temperature tries 0 .. {} only",
+                        readable(top)
+                    )));
+                }
+                if !*with_temperature && per_c != 0.0 {
+                    return Err(slope("the spec searched a lag that does not change with T"));
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// λ against the spec that chose it: the spec's own seconds, or within the range
+    /// searched (whose ends [`RegressionSpec::validate`] keeps normal and below
+    /// [`MAX_TIME_CONSTANT_S`](super::MAX_TIME_CONSTANT_S)).
+    fn check_lambda_against_spec(&self) -> std::result::Result<(), Invalid> {
+        let Some(l) = self.lambda_s else {
+            return Ok(());
+        };
+        let readable = crate::number::readable;
+        let (lo, hi, what) = match self.spec.lambda {
+            LambdaSpec::Fixed { seconds } => (seconds, seconds, "fixes λ at"),
+            LambdaSpec::Search { min_s, max_s } => (
+                min_s * (1.0 - 1e-9),
+                max_s * (1.0 + 1e-9),
+                "searched λ over",
+            ),
+        };
+        if !(lo..=hi).contains(&l) {
+            let range = match self.spec.lambda {
+                LambdaSpec::Fixed { seconds } => format!("{} s", readable(seconds)),
+                LambdaSpec::Search { min_s, max_s } => {
+                    format!("{} .. {} s", readable(min_s), readable(max_s))
+                }
+            };
+            return Err(Invalid::new(
+                "model.lambda_s",
+                format!(
+                    "is {} s, but the spec {what} {range} (model.spec.lambda)",
+                    readable(l)
+                ),
+            ));
+        }
+        Ok(())
     }
 
     /// An upper bound of |predicted drift| over the input ranges of the fit: Σ|c_j|·max|row_j|,
@@ -401,28 +548,23 @@ impl RegressionModel {
 }
 
 impl RegressionCalibration {
-    /// [`RegressionModel::validate`], and the model against the log it was fitted on: a delay
-    /// or a lag longer than that whole log cannot have been found on it (a hand-edited 9.9e6 s
-    /// would hold a corrector's history for months).
+    /// [`RegressionModel::validate`], and the model against the log it was fitted on: a delay,
+    /// a lag or a sampling step longer than that whole log cannot have been found on it (a
+    /// hand-edited 9.9e6 s would hold a corrector's history for months), nor a lag longer at
+    /// an end of the fitted temperatures; the lag and λ against the spec that chose them; what
+    /// the file says of the log itself ([`SourceInfo::validate`]).
     ///
     /// # Errors
     /// A message naming the field.
     pub fn validate(&self) -> std::result::Result<(), Invalid> {
         self.model.validate()?;
+        self.source.validate()?;
         let d = self.source.duration_s;
-        if !(d.is_finite() && d >= 0.0) {
-            return Err(Invalid::new(
-                "source.duration_s",
-                format!(
-                    "must be a duration in seconds, got {}",
-                    crate::number::readable(d)
-                ),
-            ));
-        }
         let m = &self.model;
         for (field, seconds) in [
             ("model.delay", m.delay.max_s()),
             ("model.lag_s", m.lag_s.unwrap_or(0.0)),
+            ("model.dt_s", m.dt_s),
         ] {
             if seconds > d {
                 return Err(Invalid::new(
@@ -431,6 +573,61 @@ impl RegressionCalibration {
                         "{} s is longer than the {} s log the model was fitted on",
                         crate::number::readable(seconds),
                         crate::number::readable(d)
+                    ),
+                ));
+            }
+        }
+        // After the lengths: a lag longer than the log is named as such, whatever the spec.
+        self.model.check_lag_against_spec()?;
+        self.model.check_lambda_against_spec()?;
+        if self.model.stats.n > self.source.samples {
+            return Err(Invalid::new(
+                "model.stats.n",
+                format!(
+                    "is {}, more samples than the {} of the log the model was fitted on \
+                     (source.samples)",
+                    self.model.stats.n, self.source.samples
+                ),
+            ));
+        }
+        self.check_lag_over_range()
+    }
+
+    /// The lag over the temperatures the model was fitted on ([`lag_at`](super::lag_at) at
+    /// the ends of `ranges.temp`; it is monotonic in T between them): positive where the lag
+    /// at 20 °C is, and no longer than the log, which could not have shown a longer one.
+    fn check_lag_over_range(&self) -> std::result::Result<(), Invalid> {
+        let m = &self.model;
+        let (Some(tau), Some([lo, hi])) = (m.lag_s, m.ranges.temp) else {
+            return Ok(());
+        };
+        if tau <= 0.0 {
+            return Ok(());
+        }
+        let readable = crate::number::readable;
+        let d = self.source.duration_s;
+        for t in [lo, hi] {
+            let at = super::lag_at(tau, m.lag_per_c, t);
+            let wrong = if !(at.is_finite() && at > 0.0) {
+                Some("no lag at all".to_string())
+            } else if at > d {
+                Some(format!(
+                    "longer than the {} s log it was fitted on",
+                    readable(d)
+                ))
+            } else {
+                None
+            };
+            if let Some(wrong) = wrong {
+                return Err(Invalid::new(
+                    "model.lag_per_c",
+                    format!(
+                        "{} per °C makes the lag of {} s at 20 °C {} s at {} °C, an end of \
+                         the fitted range (model.ranges.temp): {wrong}",
+                        readable(m.lag_per_c),
+                        readable(tau),
+                        readable(at),
+                        readable(t)
                     ),
                 ));
             }

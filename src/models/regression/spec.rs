@@ -19,6 +19,15 @@ pub const LAG_SEARCH_MAX_S: f64 = 3600.0;
 /// Most temperature bands a banded delay search may use: each band needs ramps of its own.
 pub const MAX_DELAY_BANDS: usize = 20;
 
+/// Steepest rise per °C of the lag's diffusivity ([`lag_at`]) a search with temperature tries:
+/// 2.5 %/°C, which takes a coil from about five times slower at −12 °C to twice as fast at
+/// 60 °C, past what Yan 2019 measured (863 s down to 309 s over the chamber's range).
+pub const LAG_SLOPE_SEARCH_MAX: f64 = 0.025;
+
+/// Longest time constant (λ, the lag of T) a model may hold, s: a constant longer than any
+/// chamber run could not have been found on one ([`crate::models::recipe::MAX_WINDOW_S`]).
+pub const MAX_TIME_CONSTANT_S: f64 = crate::models::recipe::MAX_WINDOW_S;
+
 /// How the delay τd of the temperature channels is chosen when fitting.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
@@ -342,6 +351,49 @@ impl RegressionSpec {
                 return Err(Invalid::new(
                     format!("model {}", self.name),
                     "λ must be positive seconds",
+                ));
+            }
+        }
+        self.check_time_constants()
+    }
+
+    /// The lag's and λ's seconds within what a chamber run could show: at most
+    /// [`MAX_TIME_CONSTANT_S`], and λ, which divides time in the `selfheat` term, no smaller
+    /// than the smallest normal number (a subnormal one makes `exp(−t/λ)` a step).
+    fn check_time_constants(&self) -> std::result::Result<(), Invalid> {
+        let mut times = Vec::new();
+        match self.lag {
+            LagSpec::None => {}
+            LagSpec::Fixed { seconds, .. } => times.push(("spec.lag.seconds", seconds, false)),
+            LagSpec::Search { max_s, .. } => times.push(("spec.lag.max_s", max_s, false)),
+        }
+        match self.lambda {
+            LambdaSpec::Fixed { seconds } => times.push(("spec.lambda.seconds", seconds, true)),
+            LambdaSpec::Search { min_s, max_s } => {
+                times.push(("spec.lambda.min_s", min_s, true));
+                times.push(("spec.lambda.max_s", max_s, true));
+            }
+        }
+        for (field, seconds, divides) in times {
+            if seconds > MAX_TIME_CONSTANT_S {
+                return Err(Invalid::new(
+                    format!("model.{field}"),
+                    format!(
+                        "{} s is longer than any chamber run (at most {} s, 11.6 days): no \
+                         log could show such a time constant",
+                        crate::number::readable(seconds),
+                        crate::number::readable(MAX_TIME_CONSTANT_S)
+                    ),
+                ));
+            }
+            if divides && seconds < f64::MIN_POSITIVE {
+                return Err(Invalid::new(
+                    format!("model.{field}"),
+                    format!(
+                        "{} s is too small for a time constant: it is below the smallest \
+                         normal number, and time divided by it is not a number",
+                        crate::number::readable(seconds)
+                    ),
                 ));
             }
         }

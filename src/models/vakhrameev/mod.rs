@@ -191,6 +191,38 @@ pub struct Units {
     pub k2: String,
 }
 
+impl Units {
+    /// Checks that a file's units are the ones this driftlab works in, naming the first that
+    /// is not (`units.rate`), with what it holds and what is expected.
+    ///
+    /// # Errors
+    /// An [`Invalid`] naming the unit.
+    pub fn validate(&self) -> std::result::Result<(), Invalid> {
+        let want = Units::default();
+        for (name, got, expected) in [
+            ("time", &self.time, &want.time),
+            ("rate", &self.rate, &want.rate),
+            ("temperature", &self.temperature, &want.temperature),
+            ("tdot", &self.tdot, &want.tdot),
+            ("tddot", &self.tddot, &want.tddot),
+            ("k1", &self.k1, &want.k1),
+            ("k2", &self.k2, &want.k2),
+        ] {
+            if got != expected {
+                return Err(Invalid::new(
+                    format!("units.{name}"),
+                    format!(
+                        "is \"{}\"; driftlab's calibrations are in \"{expected}\", and it \
+                         does not convert them",
+                        got.escape_debug()
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
 impl Default for Units {
     fn default() -> Self {
         Units {
@@ -229,6 +261,52 @@ impl SourceInfo {
             samples: log.len(),
             duration_s: log.duration_s(),
         }
+    }
+
+    /// Checks what a calibration file says of the log it was fitted on: a log that lasted
+    /// (no calibration is fitted on a single instant), at least the two samples that make a
+    /// duration, and a SHA-256 that is printable text.
+    ///
+    /// # Errors
+    /// An [`Invalid`] naming the field (`source.duration_s`).
+    pub fn validate(&self) -> std::result::Result<(), Invalid> {
+        let d = self.duration_s;
+        if !(d.is_finite() && d > 0.0) {
+            return Err(Invalid::new(
+                "source.duration_s",
+                format!(
+                    "must be a duration in seconds, got {}: a calibration is fitted on a log \
+                     that lasts",
+                    crate::number::readable(d)
+                ),
+            ));
+        }
+        if self.samples < 2 {
+            return Err(Invalid::new(
+                "source.samples",
+                format!(
+                    "is {}, and a log of {} s has at least two",
+                    self.samples,
+                    crate::number::readable(d)
+                ),
+            ));
+        }
+        // Its digits are not checked (a file whose hash was damaged still corrects; the report
+        // then finds no log with that hash), but it is printed as it stands.
+        if let Some(c) = self
+            .sha256
+            .chars()
+            .find(|&c| crate::text::is_unprintable(c))
+        {
+            return Err(Invalid::new(
+                "source.sha256",
+                format!(
+                    "holds the control character U+{:04X}: a hash is printable text",
+                    c as u32
+                ),
+            ));
+        }
+        Ok(())
     }
 }
 
@@ -385,26 +463,9 @@ impl Calibration {
                 "dead-bands must be finite and non-negative",
             ));
         }
-        if self.units != Units::default() {
-            return Err(Invalid::new(
-                "units",
-                format!(
-                    "{:?} differ from the ones this driftlab works in ({:?})",
-                    self.units,
-                    Units::default()
-                ),
-            ));
-        }
+        self.units.validate()?;
         let s = &self.source;
-        if !(s.duration_s.is_finite() && s.duration_s >= 0.0) {
-            return Err(Invalid::new(
-                "source.duration_s",
-                format!(
-                    "must be a duration in seconds, got {}",
-                    crate::number::readable(s.duration_s)
-                ),
-            ));
-        }
+        s.validate()?;
         // The step and the windows were resolved on the calibration log: none can be longer
         // than that log (a hand-edited step of 9.9e6 s would leave no sample of any log ready).
         let span = s.duration_s + r.dt_s;
@@ -454,25 +515,174 @@ impl Calibration {
                 }
             }
         }
-        let names = ["k0", "k1_plus", "k1_minus", "k2_plus", "k2_minus"];
-        let approximations = [
-            &self.k0,
-            &self.k1_plus,
-            &self.k1_minus,
-            &self.k2_plus,
-            &self.k2_minus,
-        ];
-        for (k, (name, a)) in names.iter().zip(approximations).enumerate() {
-            a.check().map_err(|reason| Invalid::new(*name, reason))?;
+        for (k, (name, a)) in self.fields().into_iter().enumerate() {
+            a.check().map_err(|reason| Invalid::new(name, reason))?;
             // K0 is the drift itself; K1 and K2 are multiplied by the rates they are of.
             let bound = if k == 0 {
                 a.bound()
             } else {
                 a.bound() * a.x_min().abs().max(a.x_max().abs())
             };
-            crate::models::check_drift_bound(*name, bound)?;
+            crate::models::check_drift_bound(name, bound)?;
+        }
+        self.check_plateau_facts()?;
+        self.check_fit_facts()
+    }
+
+    /// What each plateau's statistics are by how they are made
+    /// ([`crate::signal::plateau::stats`]): a range that starts before it ends, spreads and
+    /// deviations that are not negative, a standard error that is the deviation over √n, at
+    /// least one sample and no more than the log had. The plateaus lie in the log: found by
+    /// the detector, they span no more than its duration; given by hand, each is within one
+    /// of the recipe's ranges.
+    fn check_plateau_facts(&self) -> std::result::Result<(), Invalid> {
+        let readable = crate::number::readable;
+        let s = &self.source;
+        for (k, p) in self.plateaus.iter().enumerate() {
+            let field = |name: &str| format!("plateaus[{k}].{name}");
+            let r = p.range;
+            if r.start_s >= r.end_s {
+                return Err(Invalid::new(
+                    field("range"),
+                    format!(
+                        "starts at {} s and ends at {} s: a plateau starts before it ends",
+                        readable(r.start_s),
+                        readable(r.end_s)
+                    ),
+                ));
+            }
+            for (name, v) in [
+                ("omega_std_dph", p.omega_std_dph),
+                ("omega_sem_dph", p.omega_sem_dph),
+                ("temp_spread_c", p.temp_spread_c),
+            ] {
+                if v < 0.0 {
+                    return Err(Invalid::new(
+                        field(name),
+                        format!(
+                            "is {}: a deviation or a spread is never negative",
+                            readable(v)
+                        ),
+                    ));
+                }
+            }
+            if p.samples == 0 || p.samples > s.samples {
+                return Err(Invalid::new(
+                    field("samples"),
+                    format!(
+                        "is {}: a plateau holds at least one sample and at most the {} of the \
+                         log (source.samples)",
+                        p.samples, s.samples
+                    ),
+                ));
+            }
+            let sem = p.omega_std_dph / (p.samples as f64).sqrt();
+            if (p.omega_sem_dph - sem).abs() > 1e-9 * sem.max(f64::MIN_POSITIVE) {
+                return Err(Invalid::new(
+                    field("omega_sem_dph"),
+                    format!(
+                        "is {}, and the standard error of a mean of {} samples whose \
+                         deviation is {} is {}",
+                        readable(p.omega_sem_dph),
+                        p.samples,
+                        readable(p.omega_std_dph),
+                        readable(sem)
+                    ),
+                ));
+            }
+        }
+        match &self.recipe.plateaus {
+            crate::models::recipe::PlateauChoice::Auto(_) => {
+                // The detector's ranges are time stamps of the log, which may lie anywhere:
+                // only their span is known to be within its duration.
+                let by = |f: fn(&PlateauStats) -> f64| {
+                    move |a: &(usize, &PlateauStats), b: &(usize, &PlateauStats)| {
+                        f(a.1).total_cmp(&f(b.1))
+                    }
+                };
+                let all = self.plateaus.iter().enumerate();
+                let (Some((i, first)), Some((j, last))) = (
+                    all.clone().min_by(by(|p| p.range.start_s)),
+                    all.max_by(by(|p| p.range.end_s)),
+                ) else {
+                    return Ok(());
+                };
+                let span = last.range.end_s - first.range.start_s;
+                if span > s.duration_s * (1.0 + 1e-9) + self.resolved.dt_s {
+                    return Err(Invalid::new(
+                        format!("plateaus[{j}].range.end_s"),
+                        format!(
+                            "is {} s, {} s after plateaus[{i}].range.start_s, more than the \
+                             {} s log they were found in lasted (source.duration_s)",
+                            readable(last.range.end_s),
+                            readable(span),
+                            readable(s.duration_s)
+                        ),
+                    ));
+                }
+            }
+            crate::models::recipe::PlateauChoice::Manual { ranges } => {
+                for (k, p) in self.plateaus.iter().enumerate() {
+                    let r = p.range;
+                    if !ranges
+                        .iter()
+                        .any(|m| m.start_s <= r.start_s && r.end_s <= m.end_s)
+                    {
+                        return Err(Invalid::new(
+                            format!("plateaus[{k}].range"),
+                            format!(
+                                "{} .. {} s is within none of the plateaus the recipe gives \
+                                 (recipe.plateaus.ranges)",
+                                readable(r.start_s),
+                                readable(r.end_s)
+                            ),
+                        ));
+                    }
+                }
+            }
         }
         Ok(())
+    }
+
+    /// The statistics of each approximation ([`crate::models::fitted::check_stats`]), over no
+    /// more points than there were: K0's are the plateaus, K1's and K2's the log's samples. A
+    /// curve over no point is the zero a term with nothing to fit is left out as.
+    fn check_fit_facts(&self) -> std::result::Result<(), Invalid> {
+        for (k, (name, a)) in self.fields().into_iter().enumerate() {
+            let st = a.stats();
+            let zero = match a.curve() {
+                approx::Curve::Polynomial { coeffs } => coeffs.iter().all(|c| *c == 0.0),
+                _ => false,
+            };
+            let field = format!("{name}.stats");
+            crate::models::fitted::check_stats(&field, st.n, st.rmse, st.r2, zero)?;
+            let (most, of, field_of) = if k == 0 {
+                (self.plateaus.len(), "plateaus", "plateaus")
+            } else {
+                (self.source.samples, "samples of the log", "source.samples")
+            };
+            if st.n > most {
+                return Err(Invalid::new(
+                    format!("{field}.n"),
+                    format!(
+                        "is {}, more points than the {most} {of} it was fitted to ({field_of})",
+                        st.n
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// The five approximations with the names of their fields in a calibration file.
+    fn fields(&self) -> [(&'static str, &Approx); 5] {
+        [
+            ("k0", &self.k0),
+            ("k1_plus", &self.k1_plus),
+            ("k1_minus", &self.k1_minus),
+            ("k2_plus", &self.k2_plus),
+            ("k2_minus", &self.k2_minus),
+        ]
     }
 
     /// The five approximations with their names, for listing.

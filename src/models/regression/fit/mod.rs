@@ -145,7 +145,7 @@ pub fn fit_with_progress(
             if with_temperature {
                 // One τ search per slope, the slopes side by side on the cores: the slope's
                 // own curve is the best cost of each.
-                let slopes = search::grid(0.0, 0.025, 11, false);
+                let slopes = search::grid(0.0, super::LAG_SLOPE_SEARCH_MAX, 11, false);
                 let curves: Vec<CostCurve> = slopes.par_iter().map(|&b| tau_curve(b)).collect();
                 let best_cost =
                     |c: &CostCurve| c.rmse.iter().copied().fold(f64::INFINITY, f64::min);

@@ -1,0 +1,575 @@
+//! Calibration files edited by hand, one field at a time: each starts as a calibration the code
+//! fitted and wrote itself, is edited where a person might slip (a stored fact no fit can make,
+//! a lag or λ its spec never chose, an axis renamed against its column, a control character, a
+//! byte-order mark, another unit), and is loaded. What cannot be a calibration is refused with
+//! the field named by its path in the file, as every load error names it; the untouched file
+//! loads, so each refusal is the edit's.
+
+use driftlab::Log;
+use driftlab::files::calibration;
+use driftlab::judge::metrics::MeritOptions;
+use driftlab::log::ingest::{self, ReadOptions};
+use driftlab::models::fitted::DriftModel;
+use driftlab::models::presets::{ModelChoice, Preset};
+use driftlab::models::recipe::{PlateauChoice, Recipe};
+use driftlab::models::regression::terms::parse_terms;
+use driftlab::models::regression::{LagSpec, RegressionSpec};
+use driftlab::models::{self, AxisModel, AxisPlan, CheckedRecipe, UnitCalibration};
+use driftlab::signal::plateau::PlateauRange;
+use serde_json::{Value, json};
+use std::path::{Path, PathBuf};
+
+fn read(name: &str) -> Log {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("sample_logs")
+        .join(name);
+    ingest::read_path(&path, &ReadOptions::default()).expect("sample log reads")
+}
+
+/// `model` written by the code's own writer into `dir`, after checking that it loads.
+fn saved(dir: &Path, name: &str, model: &DriftModel) -> PathBuf {
+    let path = dir.join(name);
+    calibration::save_model(&path, model).expect("a fitted model is written");
+    calibration::load_unit(&path).expect("the file as written loads");
+    path
+}
+
+fn fitted(log: &Log, choice: ModelChoice, recipe: &Recipe) -> DriftModel {
+    models::fit(log, &choice, &recipe.clone().checked().unwrap()).expect("fit")
+}
+
+/// A copy of the calibration file `from` as `name`, with `edit` applied to its JSON.
+fn edited(from: &Path, name: &str, edit: impl FnOnce(&mut Value)) -> PathBuf {
+    let mut v: Value = serde_json::from_str(&std::fs::read_to_string(from).unwrap()).unwrap();
+    edit(&mut v);
+    let path = from.with_file_name(name);
+    std::fs::write(&path, serde_json::to_string_pretty(&v).unwrap()).unwrap();
+    path
+}
+
+/// Loading `path` fails with a message that starts with the file and the field, and says
+/// `why`.
+fn refused(path: &Path, field: &str, why: &str) {
+    let e = calibration::load_unit(path)
+        .err()
+        .unwrap_or_else(|| panic!("{}: loaded, and {field} should be refused", path.display()))
+        .to_string();
+    let head = format!("{}: {field}: ", path.display());
+    assert!(
+        e.starts_with(&head) && e.contains(why),
+        "wanted {head}...{why}..., got {e}"
+    );
+}
+
+/// The calibration body of a version-1 file.
+fn body(v: &mut Value) -> &mut Value {
+    &mut v["calibration"]
+}
+
+#[test]
+fn a_regression_model_lag_is_the_one_its_spec_chose() {
+    let dir = tempfile::tempdir().unwrap();
+    let log = read("calibration.csv");
+    let coil = saved(
+        dir.path(),
+        "coil.json",
+        &fitted(
+            &log,
+            ModelChoice::Preset(Preset::CoilLag),
+            &Recipe::default(),
+        ),
+    );
+    // The lag's slope out of the 0 .. 0.025 per °C a search with temperature tries: negative,
+    // or so steep that the lag vanishes above 20 °C.
+    for (k, slope) in [-1.0, -1e308, 1e308].into_iter().enumerate() {
+        let file = edited(&coil, &format!("slope{k}.json"), |v| {
+            body(v)["model"]["lag_per_c"] = json!(slope)
+        });
+        refused(
+            &file,
+            "model.lag_per_c",
+            "the search with temperature tries 0 .. 0.025",
+        );
+    }
+    // No lag, where the spec has one: the coefficients were fitted on T through it.
+    let file = edited(&coil, "nolag.json", |v| {
+        body(v)["model"]["lag_s"] = Value::Null
+    });
+    refused(&file, "model.lag_s", "is missing, and the spec has a lag");
+    // A lag past the searched 0 .. 3600 s, yet shorter than the log.
+    let file = edited(&coil, "longlag.json", |v| {
+        body(v)["model"]["lag_s"] = json!(5000.0)
+    });
+    refused(
+        &file,
+        "model.lag_s",
+        "outside the 0 .. 3600 s the spec searched",
+    );
+    // A lag where the spec has none.
+    let poly = saved(
+        dir.path(),
+        "poly.json",
+        &fitted(&log, ModelChoice::Preset(Preset::PolyT), &Recipe::default()),
+    );
+    let file = edited(&poly, "lag.json", |v| {
+        body(v)["model"]["lag_s"] = json!(60.0)
+    });
+    refused(&file, "model.lag_s", "the spec has no lag");
+    let file = edited(&poly, "slope.json", |v| {
+        body(v)["model"]["lag_per_c"] = json!(0.01)
+    });
+    refused(
+        &file,
+        "model.lag_per_c",
+        "the spec has no lag for it to change",
+    );
+}
+
+/// A custom model of T read through a lag fixed at `seconds`, written by the code.
+fn fixed_lag(dir: &Path, log: &Log, seconds: f64) -> PathBuf {
+    let mut spec = RegressionSpec::new("custom", parse_terms("1,T,Tdot").unwrap());
+    spec.lag = LagSpec::Fixed {
+        seconds,
+        per_c: 0.0,
+    };
+    let model = fitted(log, ModelChoice::Custom(spec), &Recipe::default());
+    saved(dir, &format!("fixed{seconds}.json"), &model)
+}
+
+/// A copy of `from` with the slope of its fixed lag set to `per_c` in the spec and the model
+/// alike, as a fit with that slope has it.
+fn sloped(from: &Path, name: &str, per_c: f64) -> PathBuf {
+    edited(from, name, |v| {
+        body(v)["model"]["spec"]["lag"]["per_c"] = json!(per_c);
+        body(v)["model"]["lag_per_c"] = json!(per_c);
+    })
+}
+
+#[test]
+fn a_fixed_lag_stays_positive_and_within_the_log_over_the_fitted_temperatures() {
+    let dir = tempfile::tempdir().unwrap();
+    let log = read("calibration.csv");
+    let slow = fixed_lag(dir.path(), &log, 9000.0);
+    let v: Value = serde_json::from_str(&std::fs::read_to_string(&slow).unwrap()).unwrap();
+    let temp = &v["calibration"]["model"]["ranges"]["temp"];
+    let (lo, hi) = (temp[0].as_f64().unwrap(), temp[1].as_f64().unwrap());
+    assert!(lo < -12.0 && hi > 20.0, "T was fitted over {lo} .. {hi} °C");
+    // 0.025 per °C: below −12 °C the diffusivity is at its floor of a fifth, and the lag of
+    // 9000 s at 20 °C is 45000 s there, longer than the 40200-s log.
+    let cold = sloped(&slow, "cold.json", 0.025);
+    refused(&cold, "model.lag_per_c", "longer than the 40200 s log");
+    // 0.01 per °C keeps it within the log (at most 9000/0.3 = 30000 s at −50 °C): it loads.
+    let fine = sloped(&slow, "fine.json", 0.01);
+    calibration::load_unit(&fine).expect("a lag within the log over the fitted range loads");
+    // 1e308 per °C: 5 × 3000 s at the cold end, and no lag at all at the warm end.
+    let quick = fixed_lag(dir.path(), &log, 3000.0);
+    let warm = sloped(&quick, "warm.json", 1e308);
+    refused(&warm, "model.lag_per_c", "no lag at all");
+    // The model's slope alone edited: the spec fixed another.
+    let file = edited(&quick, "other.json", |v| {
+        body(v)["model"]["lag_per_c"] = json!(0.01)
+    });
+    refused(&file, "model.lag_per_c", "the spec fixes it at 0");
+}
+
+#[test]
+fn a_self_heating_time_constant_is_within_its_spec_and_the_log() {
+    let dir = tempfile::tempdir().unwrap();
+    let log = read("laser-gyro.csv");
+    let suk = saved(
+        dir.path(),
+        "sukhanov.json",
+        &fitted(
+            &log,
+            ModelChoice::Preset(Preset::Sukhanov),
+            &Recipe::default(),
+        ),
+    );
+    for (k, lambda) in [1e308, 5e-324, 30.0, 1e5].into_iter().enumerate() {
+        let file = edited(&suk, &format!("lambda{k}.json"), |v| {
+            body(v)["model"]["lambda_s"] = json!(lambda)
+        });
+        refused(
+            &file,
+            "model.lambda_s",
+            "but the spec searched λ over 60 .. 21600 s",
+        );
+    }
+    let file = edited(&suk, "max.json", |v| {
+        body(v)["model"]["spec"]["lambda"]["max_s"] = json!(1e308)
+    });
+    refused(
+        &file,
+        "model.spec.lambda.max_s",
+        "longer than any chamber run",
+    );
+    let file = edited(&suk, "min.json", |v| {
+        body(v)["model"]["spec"]["lambda"]["min_s"] = json!(5e-324)
+    });
+    refused(
+        &file,
+        "model.spec.lambda.min_s",
+        "below the smallest normal number",
+    );
+    // The sampling step, against the log it was found on.
+    let file = edited(&suk, "dt.json", |v| body(v)["model"]["dt_s"] = json!(1e308));
+    refused(&file, "model.dt_s", "is longer than the");
+}
+
+#[test]
+fn the_statistics_a_regression_fit_stored_are_what_a_fit_makes() {
+    let dir = tempfile::tempdir().unwrap();
+    let log = read("calibration.csv");
+    let poly = saved(
+        dir.path(),
+        "poly.json",
+        &fitted(&log, ModelChoice::Preset(Preset::PolyT), &Recipe::default()),
+    );
+    let cases: [(&str, Value, &str, &str); 5] = [
+        (
+            "/model/stats/r2",
+            json!(1.5),
+            "model.stats.r2",
+            "never above 1",
+        ),
+        (
+            "/model/stats/rmse",
+            json!(-1.0),
+            "model.stats.rmse",
+            "never negative",
+        ),
+        (
+            "/model/stats/n",
+            json!(0),
+            "model.stats.n",
+            "at least one point",
+        ),
+        (
+            "/model/stats/n",
+            json!(40202),
+            "model.stats.n",
+            "more samples than the 40201",
+        ),
+        (
+            "/model/std_errors/1",
+            json!(-0.5),
+            "model.std_errors[1]",
+            "never negative",
+        ),
+    ];
+    for (k, (pointer, value, field, why)) in cases.into_iter().enumerate() {
+        let file = edited(&poly, &format!("stat{k}.json"), |v| {
+            *body(v).pointer_mut(pointer).unwrap() = value
+        });
+        refused(&file, field, why);
+    }
+}
+
+#[test]
+fn every_stored_fact_of_a_vakhrameev_calibration_is_checked() {
+    let dir = tempfile::tempdir().unwrap();
+    let log = read("calibration.csv");
+    let model = fitted(
+        &log,
+        ModelChoice::Preset(Preset::Vakhrameev),
+        &Recipe::default(),
+    );
+    let DriftModel::Vakhrameev(c) = &model else {
+        panic!("not a Vakhrameev calibration");
+    };
+    let (plateaus, samples) = (c.plateaus.len(), c.source.samples);
+    assert!(
+        plateaus >= 2 && c.k1_plus.stats().n > 0,
+        "a fit with points"
+    );
+    let cal = saved(dir.path(), "cal.json", &model);
+    let cases: Vec<(&str, Value, String, &str)> = vec![
+        (
+            "/k0/stats/r2",
+            json!(12345.0),
+            "k0.stats.r2".into(),
+            "never above 1",
+        ),
+        (
+            "/k2_minus/stats/r2",
+            json!(1.0001),
+            "k2_minus.stats.r2".into(),
+            "never above 1",
+        ),
+        (
+            "/k0/stats/rmse",
+            json!(-1.0),
+            "k0.stats.rmse".into(),
+            "never negative",
+        ),
+        (
+            "/k1_plus/stats/n",
+            json!(0),
+            "k1_plus.stats.n".into(),
+            "at least one point",
+        ),
+        (
+            "/k0/stats/n",
+            json!(plateaus + 1),
+            "k0.stats.n".into(),
+            "more points than the",
+        ),
+        (
+            "/k1_minus/stats/n",
+            json!(samples + 1),
+            "k1_minus.stats.n".into(),
+            "samples of the log it was fitted to (source.samples)",
+        ),
+        (
+            "/plateaus/0/omega_std_dph",
+            json!(-1.0),
+            "plateaus[0].omega_std_dph".into(),
+            "never negative",
+        ),
+        (
+            "/plateaus/1/omega_sem_dph",
+            json!(-1.0),
+            "plateaus[1].omega_sem_dph".into(),
+            "never negative",
+        ),
+        (
+            "/plateaus/1/omega_sem_dph",
+            json!(1.0),
+            "plateaus[1].omega_sem_dph".into(),
+            "the standard error of a mean of",
+        ),
+        (
+            "/plateaus/0/temp_spread_c",
+            json!(-0.5),
+            "plateaus[0].temp_spread_c".into(),
+            "never negative",
+        ),
+        (
+            "/plateaus/0/samples",
+            json!(0),
+            "plateaus[0].samples".into(),
+            "at least one sample",
+        ),
+        (
+            "/plateaus/0/samples",
+            json!(samples + 1),
+            "plateaus[0].samples".into(),
+            "at least one sample",
+        ),
+        (
+            "/plateaus/1/range",
+            json!({"start_s": 20000.0, "end_s": 100.0}),
+            "plateaus[1].range".into(),
+            "a plateau starts before it ends",
+        ),
+        (
+            "/plateaus/1/range",
+            json!({"start_s": 30000.0, "end_s": 99000.0}),
+            "plateaus[1].range.end_s".into(),
+            "more than the 40200 s log they were found in lasted",
+        ),
+        (
+            "/source/samples",
+            json!(0),
+            "source.samples".into(),
+            "has at least two",
+        ),
+        (
+            "/source/duration_s",
+            json!(0.0),
+            "source.duration_s".into(),
+            "a calibration is fitted on a log that lasts",
+        ),
+        (
+            "/source/duration_s",
+            json!(-5.0),
+            "source.duration_s".into(),
+            "a calibration is fitted on a log that lasts",
+        ),
+    ];
+    for (k, (pointer, value, field, why)) in cases.into_iter().enumerate() {
+        let file = edited(&cal, &format!("fact{k}.json"), |v| {
+            *body(v).pointer_mut(pointer).unwrap() = value
+        });
+        refused(&file, &field, why);
+    }
+}
+
+#[test]
+fn a_manual_plateau_stays_within_the_ranges_its_recipe_gives() {
+    let dir = tempfile::tempdir().unwrap();
+    let log = read("calibration.csv");
+    let recipe = Recipe {
+        plateaus: PlateauChoice::Manual {
+            ranges: [(4000.0, 7000.0), (14500.0, 16800.0), (28500.0, 30600.0)]
+                .into_iter()
+                .map(|(start_s, end_s)| PlateauRange { start_s, end_s })
+                .collect(),
+        },
+        ..Recipe::default()
+    };
+    let cal = saved(
+        dir.path(),
+        "manual.json",
+        &fitted(&log, ModelChoice::Preset(Preset::Vakhrameev), &recipe),
+    );
+    let file = edited(&cal, "moved.json", |v| {
+        body(v)["plateaus"][1]["range"] = json!({"start_s": 14000.0, "end_s": 16800.0})
+    });
+    refused(
+        &file,
+        "plateaus[1].range",
+        "within none of the plateaus the recipe gives",
+    );
+}
+
+/// The unit of `imu3-calibration.csv`, every axis Vakhrameev's, written by the code.
+fn unit_file(dir: &Path) -> PathBuf {
+    let mut log = read("imu3-calibration.csv");
+    let plans: Vec<AxisPlan> = log
+        .axis_names()
+        .into_iter()
+        .map(|name| AxisPlan {
+            name,
+            choice: ModelChoice::Preset(Preset::Vakhrameev),
+            recipe: CheckedRecipe::default(),
+        })
+        .collect();
+    let fitted = models::calibrate(&mut log, &plans, &MeritOptions::default()).unwrap();
+    let unit = UnitCalibration {
+        axes: fitted
+            .into_iter()
+            .map(|f| AxisModel {
+                name: f.name,
+                rate_column: f.rate_column,
+                model: f.calibrated.model,
+            })
+            .collect(),
+    };
+    let path = dir.join("unit.json");
+    calibration::save_unit(&path, &unit).unwrap();
+    calibration::load_unit(&path).expect("the unit as written loads");
+    path
+}
+
+#[test]
+fn a_unit_axis_named_as_another_axis_of_its_column_is_refused_naming_both() {
+    let dir = tempfile::tempdir().unwrap();
+    let unit = unit_file(dir.path());
+    let v: Value = serde_json::from_str(&std::fs::read_to_string(&unit).unwrap()).unwrap();
+    assert_eq!(v["axes"][0]["rate_column"], "gx_dps");
+    assert_eq!(v["axes"][1]["rate_column"], "gy_dps");
+    // gx and gy swapped by hand: apply would correct gy with the coefficients of gx_dps.
+    let swapped = edited(&unit, "swapped.json", |v| {
+        v["axes"][0]["name"] = json!("gy");
+        v["axes"][1]["name"] = json!("gx");
+    });
+    refused(
+        &swapped,
+        "axes[gy].rate_column",
+        "\"gx_dps\" is the column of axis gx (another axis of the unit), not of axis gy",
+    );
+    // An axis given a name of its own: its column names no other axis, and it loads.
+    let renamed = edited(&unit, "renamed.json", |v| {
+        v["axes"][0]["name"] = json!("roll")
+    });
+    let loaded = calibration::load_unit(&renamed).expect("a renamed axis loads");
+    assert_eq!(loaded.axis_names(), ["roll", "gy", "gz"]);
+    // The facts of an axis are named with the axis.
+    let fact = edited(&unit, "fact.json", |v| {
+        v["axes"][2]["calibration"]["k0"]["stats"]["r2"] = json!(2.0)
+    });
+    refused(&fact, "axes[gz].k0.stats.r2", "never above 1");
+}
+
+#[test]
+fn a_serial_number_or_date_with_control_characters_is_refused_in_every_version() {
+    let dir = tempfile::tempdir().unwrap();
+    let log = read("calibration.csv");
+    let vak = saved(
+        dir.path(),
+        "vak.json",
+        &fitted(
+            &log,
+            ModelChoice::Preset(Preset::Vakhrameev),
+            &Recipe::default(),
+        ),
+    );
+    let poly = saved(
+        dir.path(),
+        "poly.json",
+        &fitted(&log, ModelChoice::Preset(Preset::PolyT), &Recipe::default()),
+    );
+    let forged = "SN1\u{1b}]0;pwned\u{7}\u{1b}[2J";
+    for (k, file) in [&vak, &poly].into_iter().enumerate() {
+        let id = edited(file, &format!("id{k}.json"), |v| {
+            body(v)["gyro_id"] = json!(forged)
+        });
+        refused(&id, "gyro_id", "holds the control character U+001B");
+        let date = edited(file, &format!("date{k}.json"), |v| {
+            body(v)["created"] = json!("2026-12-04T00:00:00Z\u{202e}")
+        });
+        refused(&date, "created", "holds the control character U+202E");
+    }
+    let long = edited(&poly, "long.json", |v| {
+        body(v)["gyro_id"] = json!("x".repeat(201))
+    });
+    refused(&long, "gyro_id", "is 201 characters long");
+    let unit = unit_file(dir.path());
+    let id = edited(&unit, "unit-id.json", |v| v["gyro_id"] = json!(forged));
+    refused(&id, "gyro_id", "holds the control character U+001B");
+}
+
+#[test]
+fn a_calibration_saved_with_a_byte_order_mark_reads_as_without() {
+    let dir = tempfile::tempdir().unwrap();
+    let log = read("calibration.csv");
+    let cal = saved(
+        dir.path(),
+        "cal.json",
+        &fitted(
+            &log,
+            ModelChoice::Preset(Preset::Vakhrameev),
+            &Recipe::default(),
+        ),
+    );
+    let text = std::fs::read(&cal).unwrap();
+    let bom = dir.path().join("bom.json");
+    std::fs::write(&bom, [b"\xef\xbb\xbf".as_slice(), &text].concat()).unwrap();
+    let plain = calibration::load_unit(&cal).unwrap();
+    assert_eq!(calibration::load_unit(&bom).unwrap(), plain);
+    assert_eq!(
+        calibration::read_recipe(&bom).unwrap(),
+        calibration::read_recipe(&cal).unwrap()
+    );
+    // Only a leading mark: one inside the text is still not JSON, said with its position.
+    let inner = dir.path().join("inner.json");
+    std::fs::write(&inner, [b" \xef\xbb\xbf".as_slice(), &text].concat()).unwrap();
+    let e = calibration::load_unit(&inner).unwrap_err().to_string();
+    assert!(e.contains("line 1 column 2"), "{e}");
+}
+
+#[test]
+fn units_another_driftlab_would_not_read_are_named_in_words() {
+    let dir = tempfile::tempdir().unwrap();
+    let log = read("calibration.csv");
+    let cal = saved(
+        dir.path(),
+        "cal.json",
+        &fitted(
+            &log,
+            ModelChoice::Preset(Preset::Vakhrameev),
+            &Recipe::default(),
+        ),
+    );
+    let file = edited(&cal, "rad.json", |v| {
+        body(v)["units"]["rate"] = json!("rad/s")
+    });
+    refused(
+        &file,
+        "units.rate",
+        "is \"rad/s\"; driftlab's calibrations are in \"deg/h\", and it does not convert them",
+    );
+    let e = calibration::load_unit(&file).unwrap_err().to_string();
+    assert!(!e.contains("Units {"), "{e}");
+}
