@@ -8,7 +8,7 @@ use driftlab::log::ingest::Input;
 use driftlab::log::read::{self, TempFrom};
 use driftlab::models::recipe::{PlateauChoice, Recipe};
 use driftlab::signal::plateau::DetectOptions;
-use driftlab::signal::summary::{SummaryOptions, summarise};
+use driftlab::signal::summary::{SummaryOptions, describe_step, summarise};
 use std::path::PathBuf;
 
 /// Arguments of `inspect`.
@@ -141,7 +141,7 @@ pub fn run(a: Args) -> Result<(), CliError> {
     let (tmin, tmax) = (summary.temp_min_c, summary.temp_max_c);
     let rate_max = summary.max_abs_rate_c_per_min;
     let plateaus = summary.plateaus;
-    let dt = log.nominal_dt_s();
+    let dt = summary.step_s;
     let axes = gyro_axes(&log);
     if a.json {
         return common::print_json(&serde_json::json!({
@@ -150,7 +150,7 @@ pub fn run(a: Args) -> Result<(), CliError> {
             "samples": log.len(),
             "sampling": sampling,
             "step_s": dt,
-            "sample_rate_hz": 1.0 / dt,
+            "sample_rate_hz": dt.map(|d| 1.0 / d),
             "duration_s": log.duration_s(),
             "temp_min_c": tmin,
             "temp_max_c": tmax,
@@ -231,10 +231,9 @@ pub fn run(a: Args) -> Result<(), CliError> {
         )?;
     }
     out!(
-        "  {recorded_len} samples ({} rows read), step {} s ({} Hz), duration {} h",
+        "  {recorded_len} samples ({} rows read), {}, duration {} h",
         i.rows_read,
-        common::num(recorded_dt),
-        common::num(1.0 / recorded_dt),
+        describe_step(recorded_len, recorded_dt),
         common::fixed(log.duration_s() / 3600.0, 2)
     )?;
     for line in &sampling {
@@ -245,14 +244,17 @@ pub fn run(a: Args) -> Result<(), CliError> {
             "  the other commands reduce each burst to its mean time, rate and temperature: \
              {} samples, step {} s (--bin S chooses bins instead); the plateaus below are theirs",
             log.len(),
-            common::num(dt)
+            common::num(log.nominal_dt_s())
         )?;
     }
     out!(
-        "  temperature {} .. {} degC, fastest |Tdot| {} degC/min",
+        "  temperature {} .. {} degC, fastest |Tdot| {}",
         common::fixed(tmin, 3),
         common::fixed(tmax, 3),
-        common::fixed(rate_max, 3)
+        rate_max.map_or("not computed (see problems)".to_string(), |r| format!(
+            "{} degC/min",
+            common::fixed(r, 3)
+        ))
     )?;
     out!("  plateaus found ({}):", plateaus.len())?;
     // A week-long log can hold thousands: the first and last ones say enough on a terminal
@@ -281,10 +283,13 @@ pub fn run(a: Args) -> Result<(), CliError> {
             .iter()
             .try_for_each(line)?;
     }
-    if i.problems.is_empty() {
+    if i.problems.is_empty() && summary.problems.is_empty() {
         out!("  problems: none")?;
     } else {
         out!("  problems:")?;
+        for p in &summary.problems {
+            out!("    {p}")?;
+        }
         for p in &i.problems {
             let at = if drone.is_some() { "sample" } else { "line" };
             if p.line == 0 {

@@ -158,11 +158,13 @@ pub struct Problem {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum ProblemKind {
-    /// Blank or NaN cells in a used column: the row was dropped.
+    /// Blank, NaN or infinite cells in a used column: the row was dropped.
     MissingValue,
     /// Unreadable cells in an extra column: kept as NaN, the row was kept.
     BadExtraValue,
-    /// Time went backwards: the row was dropped.
+    /// Time went backwards, or a stamp stands alone at an end of the log past a gap far
+    /// longer than the rest of it (a stray stamp, 1e300 s after the others): the row was
+    /// dropped.
     TimeBackwards,
     /// Time repeated: the row was dropped.
     TimeRepeated,

@@ -412,7 +412,7 @@ pub fn from_recording(
             });
         }
     }
-    let rows: Vec<usize> = (0..n).filter(|&i| keep[i]).collect();
+    let mut rows: Vec<usize> = (0..n).filter(|&i| keep[i]).collect();
     if rows.is_empty() {
         return Err(ReadError::NoSamples {
             path: rec.source.clone(),
@@ -423,10 +423,11 @@ pub fn from_recording(
             ),
         });
     }
+    let mut time_s: Vec<f64> = rows.iter().map(|&i| time_all[i]).collect();
+    drop_stray_ends(&mut time_s, &mut rows, &mut problems);
     let pick = |v: &formats::Values, scale: f64| -> Vec<f64> {
         rows.iter().map(|&i| v.get(i) * scale).collect()
     };
-    let time_s: Vec<f64> = rows.iter().map(|&i| time_all[i]).collect();
     gaps(&time_s, &rows, &mut problems);
     problems.sort_by_key(|p| p.line);
 
@@ -513,6 +514,42 @@ fn samples(n: usize) -> String {
         "1 sample".into()
     } else {
         format!("{n} samples")
+    }
+}
+
+/// Drops a sample alone at an end of the log past a gap longer than the rest of it (a stray
+/// stamp, [`Timing::stray_end`](crate::signal::timing::Timing::stray_end)), as the CSV reader
+/// does, with a problem naming its sample; `rows` maps each kept sample to its place in the
+/// instance and loses the dropped ones too.
+fn drop_stray_ends(time_s: &mut Vec<f64>, rows: &mut Vec<usize>, problems: &mut Vec<Problem>) {
+    use crate::signal::timing::{End, STRAY_FACTOR, Timing};
+    while let Some((end, rest)) = Timing::of(time_s).stray_end(time_s) {
+        let last = time_s.len() - 1;
+        let (k, step) = match end {
+            End::First => (0, time_s[1] - time_s[0]),
+            End::Last => (last, time_s[last] - time_s[last - 1]),
+        };
+        problems.push(Problem {
+            line: rows[k] + 1,
+            column: None,
+            kind: ProblemKind::TimeBackwards,
+            count: 1,
+            message: format!(
+                "1 sample dropped: its time {} s stands alone {} s {} the rest of the log, \
+                 more than {STRAY_FACTOR} times the {} s the rest spans: a stray time stamp \
+                 (sample {})",
+                crate::number::readable(time_s[k]),
+                crate::number::readable(step),
+                match end {
+                    End::First => "before",
+                    End::Last => "after",
+                },
+                crate::number::readable(rest),
+                rows[k] + 1
+            ),
+        });
+        time_s.remove(k);
+        rows.remove(k);
     }
 }
 

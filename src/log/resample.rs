@@ -66,9 +66,18 @@ pub fn resample(log: Log, how: Resampling) -> Result<(Log, Option<String>), Inva
     }
 }
 
-/// Refuses a bin that is not a positive number of seconds, or one at least as long as the log:
-/// that would average the whole log into one sample, which nothing after can use (every
-/// command refuses the same value, `apply` as `evaluate`).
+/// The most bins a log may be cut into: beyond 2⁵³ the bin index `⌊(t − t₀)/bin_s⌋` is no
+/// longer an exact integer in f64, and past the largest f64 it is infinite, so that every
+/// later sample would fall into one bin of its own making.
+const MAX_BINS: f64 = 9_007_199_254_740_992.0;
+
+/// Refuses a bin that is not a positive number of seconds, one shorter than the
+/// [`MIN_WINDOW_S`](crate::models::recipe::MIN_WINDOW_S) floor every window keeps (1e-305 s
+/// overflows the bin index and drops most of the log into one bin), one shorter than the
+/// log's sampling step (every sample a bin of its own: nothing averaged), one that cuts the
+/// log into more bins than can be counted exactly, or one at least as long as the log: that
+/// would average the whole log into one sample, which nothing after can use (every command
+/// refuses the same value, `apply` as `evaluate`, and a session's `bin_s` as the option).
 fn check_bin(log: &Log, bin_s: f64) -> Result<(), Invalid> {
     if !(bin_s.is_finite() && bin_s > 0.0) {
         return Err(Invalid::new(
@@ -76,10 +85,16 @@ fn check_bin(log: &Log, bin_s: f64) -> Result<(), Invalid> {
             format!("{}: a bin is a positive number of seconds", readable(bin_s)),
         ));
     }
+    if bin_s < crate::models::recipe::MIN_WINDOW_S {
+        return Err(crate::models::recipe::too_short("bin_s", bin_s));
+    }
+    if log.len() < 2 {
+        return Ok(());
+    }
     // The first to the last stamp, read off the ends: no walk over a log of 10⁸ samples
     // that is about to be walked by the binning itself.
     let span = log.duration_s();
-    if log.len() > 1 && bin_s >= span {
+    if bin_s >= span {
         return Err(Invalid::new(
             "bin_s",
             format!(
@@ -90,6 +105,36 @@ fn check_bin(log: &Log, bin_s: f64) -> Result<(), Invalid> {
                 readable(span)
             ),
         ));
+    }
+    if span / bin_s > MAX_BINS {
+        return Err(Invalid::new(
+            "bin_s",
+            format!(
+                "{} s cuts the log {} ({} s) into more bins than can be counted exactly \
+                 (2^53)",
+                readable(bin_s),
+                log.source,
+                readable(span)
+            ),
+        ));
+    }
+    // The nominal step is at most the mean step over the whole log (gaps only lengthen the
+    // latter): a bin at least that long needs no walk to be judged.
+    let mean_step = span / (log.len() - 1) as f64;
+    if bin_s < mean_step {
+        let step = log.nominal_dt_s();
+        if bin_s < step {
+            return Err(Invalid::new(
+                "bin_s",
+                format!(
+                    "{} s is shorter than the step of the log {} ({} s): every sample would \
+                     be a bin of its own, and nothing would be averaged",
+                    readable(bin_s),
+                    log.source,
+                    readable(step)
+                ),
+            ));
+        }
     }
     Ok(())
 }

@@ -142,9 +142,11 @@ pub fn check_span(log: &Log, choice: &ModelChoice) -> Result<()> {
     };
     if rates {
         // Ṫ over about a minute (or two samples of a slower log) from the raw temperature,
-        // so the sensor's resolution does not count as a rate.
+        // so the sensor's resolution does not count as a rate; over the whole log when it is
+        // shorter, so that a 40-ns log is not said never to change (its windows longer than
+        // it are the reason it cannot be fitted, and the check of windows says so).
         let t = &log.time_s;
-        let span = 60.0f64.max(2.5 * log.nominal_dt_s());
+        let span = 60.0f64.max(2.5 * log.nominal_dt_s()).min(log.duration_s());
         let mut fastest = 0.0f64;
         let mut j = 0;
         for i in 0..log.len() {
@@ -232,12 +234,25 @@ pub fn worse_than_raw(model_name: &str, in_sample: &Evaluation) -> Option<String
 /// wrong: a ramp taken for a plateau, a model that does not suit the test), and for a
 /// regression model more coefficients than samples, an R² below zero (the fit is worse than
 /// the samples' mean), and the column it reads as a second temperature sensor (a guess from
-/// the names, said so that the engineer can tell the chamber's air from a sensor on the gyro).
+/// the names, said so that the engineer can tell the chamber's air from a sensor on the gyro);
+/// for a Vakhrameev model on plateaus given by hand, each one over which the temperature
+/// moves far faster than the detector allows ([`unsteady`](crate::signal::plateau::unsteady)).
 pub fn judge_on_own_log(model: &DriftModel, in_sample: &Evaluation) -> Vec<String> {
     let mut out: Vec<String> = worse_than_raw(model.name(), in_sample)
         .into_iter()
         .collect();
     let n = |v: f64| crate::number::significant(v, 4);
+    if let DriftModel::Vakhrameev(c) = model
+        && let recipe::PlateauChoice::Manual { .. } = c.recipe.plateaus
+    {
+        // Ranges given by hand are held to the tolerance of the detector they replace.
+        let limit = crate::signal::plateau::DetectOptions::default().max_rate_c_per_min;
+        out.extend(
+            c.plateaus
+                .iter()
+                .filter_map(|p| crate::signal::plateau::unsteady(p, limit)),
+        );
+    }
     if let DriftModel::Regression(r) = model {
         let m = &r.model;
         if let Some(t2) = &m.temp2 {

@@ -8,6 +8,7 @@
 use crate::error::Invalid;
 use crate::models::approx::{ApproxKind, ApproxSpec};
 pub use crate::signal::plateau::PlateauChoice;
+use crate::signal::plateau::PlateauRange;
 use serde::{Deserialize, Serialize};
 
 /// All settings of a Vakhrameev calibration.
@@ -238,14 +239,11 @@ impl Recipe {
                     if !(r.start_s.is_finite() && r.end_s.is_finite() && r.start_s < r.end_s) {
                         return Err(Invalid::new(
                             "plateaus.ranges",
-                            format!(
-                                "plateau {}:{} must have a start before its end",
-                                crate::number::readable(r.start_s),
-                                crate::number::readable(r.end_s)
-                            ),
+                            format!("plateau {} must have a start before its end", show_range(r)),
                         ));
                     }
                 }
+                check_disjoint(ranges)?;
             }
         }
         Ok(())
@@ -315,4 +313,62 @@ pub(crate) fn too_short(field: &str, v: f64) -> Invalid {
             crate::number::readable(MIN_WINDOW_S)
         ),
     )
+}
+
+/// A plateau range as the command line and a recipe write it, `START:END` in seconds.
+fn show_range(r: &PlateauRange) -> String {
+    format!(
+        "{}:{}",
+        crate::number::readable(r.start_s),
+        crate::number::readable(r.end_s)
+    )
+}
+
+/// Refuses two manual plateaus that share a sample: the same range given twice would count
+/// as two K0 points of one hold (a parabola through three temperatures reported as a fit of
+/// four, its warning of a curve through every point lost), and ranges that overlap average
+/// the samples they share twice. The ranges are inclusive, so touching ones share the sample
+/// at their common end. Both are named, in the order given.
+fn check_disjoint(ranges: &[PlateauRange]) -> Result<(), Invalid> {
+    let mut order: Vec<usize> = (0..ranges.len()).collect();
+    order.sort_by(|&a, &b| {
+        ranges[a]
+            .start_s
+            .total_cmp(&ranges[b].start_s)
+            .then(a.cmp(&b))
+    });
+    // Sorted by start, a range overlaps an earlier one exactly when it starts at or before
+    // the latest end so far: that range is the one to name beside it.
+    let mut reach: Option<usize> = None;
+    for &k in &order {
+        if let Some(j) = reach
+            && ranges[k].start_s <= ranges[j].end_s
+        {
+            let (first, second) = (j.min(k), j.max(k));
+            let (a, b) = (&ranges[first], &ranges[second]);
+            let reason = if a == b {
+                format!(
+                    "plateau {} is given twice (numbers {} and {}): one hold would count as \
+                     two K0 points; give each hold once",
+                    show_range(a),
+                    first + 1,
+                    second + 1
+                )
+            } else {
+                format!(
+                    "plateaus {} (number {}) and {} (number {}) overlap: the samples they \
+                     share would count in two K0 points; give each hold once, as one range",
+                    show_range(a),
+                    first + 1,
+                    show_range(b),
+                    second + 1
+                )
+            };
+            return Err(Invalid::new("plateaus.ranges", reason));
+        }
+        if reach.is_none_or(|j| ranges[k].end_s > ranges[j].end_s) {
+            reach = Some(k);
+        }
+    }
+    Ok(())
 }

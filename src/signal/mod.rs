@@ -152,6 +152,16 @@ pub struct DerivativeSteps {
 }
 
 impl DerivativeSteps {
+    /// The first sample whose T̈ has its full history (see [`Rates::ready_from`]), worked out
+    /// without building the rings: a window of 10¹³ samples asked of a picosecond log is a
+    /// number here, not an allocation.
+    pub fn ready_from(self) -> usize {
+        self.step
+            .max(1)
+            .saturating_mul(4)
+            .saturating_add(self.smooth.max(1).saturating_sub(1))
+    }
+
     /// The same steps for a series of `n` samples, with no buffer longer than the series: a
     /// window longer than it never fills (its length gives the same means), and a step whose
     /// `2s` reaches past it gives no rate anywhere (any such step gives the same zeros).
@@ -377,9 +387,11 @@ impl Rates {
     /// samples than the others (which at the start of a segment in the middle of a ramp would
     /// read as a jump of Ṫ and T̈).
     pub fn ready_from(&self) -> usize {
-        self.step
-            .saturating_mul(4)
-            .saturating_add(self.mean.window().saturating_sub(1))
+        DerivativeSteps {
+            smooth: self.mean.window(),
+            step: self.step,
+        }
+        .ready_from()
     }
 }
 

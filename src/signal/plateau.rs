@@ -307,3 +307,39 @@ pub fn stats(
         samples: n,
     })
 }
+
+/// How many times the detector's tolerance a plateau's mean temperature rate may reach before
+/// it is told: a hold the detector would take never moves faster than its limit, so twice that
+/// on average is a ramp, not noise.
+pub const UNSTEADY_FACTOR: f64 = 2.0;
+
+/// The temperature spread under which a plateau is never told, °C: a sensor's noise and
+/// quantisation over a short range (0.001 °C steps, a few hundredths of noise).
+pub const UNSTEADY_FLOOR_C: f64 = 0.1;
+
+/// The warning for a plateau over which T moves far more than a plateau the detector finds
+/// could: its spread, over its length, is more than [`UNSTEADY_FACTOR`] times the detector's
+/// `max_rate_c_per_min` (and above [`UNSTEADY_FLOOR_C`]). Its K0 point then mixes the bias
+/// at several temperatures with the rate-driven drift of a ramp (a range given by hand
+/// across a 40 °C ramp). `None` for a steady plateau.
+pub fn unsteady(stats: &PlateauStats, max_rate_c_per_min: f64) -> Option<String> {
+    let length_s = stats.range.end_s - stats.range.start_s;
+    let spread = stats.temp_spread_c;
+    if !(spread.is_finite() && length_s > 0.0) || spread <= UNSTEADY_FLOOR_C {
+        return None;
+    }
+    let mean_rate = spread / length_s * 60.0;
+    (mean_rate > UNSTEADY_FACTOR * max_rate_c_per_min).then(|| {
+        format!(
+            "plateau {}:{} s: the temperature spreads {} °C over it ({} °C/min on average), \
+             more than {UNSTEADY_FACTOR} times the {} °C/min a plateau the detector finds stays \
+             under: it is not a temperature hold, and its K0 point mixes the bias at several \
+             temperatures with the drift of a ramp; check the range",
+            crate::number::readable(stats.range.start_s),
+            crate::number::readable(stats.range.end_s),
+            crate::number::significant(spread, 3),
+            crate::number::significant(mean_rate, 3),
+            crate::number::readable(max_rate_c_per_min)
+        )
+    })
+}

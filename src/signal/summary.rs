@@ -29,10 +29,32 @@ pub struct LogSummary {
     pub temp_min_c: f64,
     /// The highest temperature, °C (NaN samples skipped; −∞ for a log without one).
     pub temp_max_c: f64,
-    /// The largest |Ṫ| of the smoothed temperature, °C/min.
-    pub max_abs_rate_c_per_min: f64,
+    /// The largest |Ṫ| of the smoothed temperature over the samples with full history (those
+    /// a fit reads), °C/min; `None` when no sample has the
+    /// history the T smoothing and the derivative step need (a log shorter than they are:
+    /// every rate would be the 0 that stands for "not known yet"), and `problems` says so.
+    pub max_abs_rate_c_per_min: Option<f64>,
+    /// The sampling step the rates were taken at, s; `None` for a log of fewer than two
+    /// samples, which has no step.
+    pub step_s: Option<f64>,
     /// The plateaus found, with their statistics (ranges without samples left out).
     pub plateaus: Vec<PlateauStats>,
+    /// What the summary could not find, and why: one sentence each.
+    pub problems: Vec<String>,
+}
+
+/// The sampling step of a log of `samples` samples whose nominal step is `dt_s`, as a person
+/// reads it: "step 1 s (1 Hz)", or "no step (one sample)" where no two samples make one.
+pub fn describe_step(samples: usize, dt_s: f64) -> String {
+    match samples {
+        0 => "no step (no sample)".to_string(),
+        1 => "no step (one sample)".to_string(),
+        _ => format!(
+            "step {} s ({} Hz)",
+            crate::number::readable(dt_s),
+            crate::number::readable(1.0 / dt_s)
+        ),
+    }
 }
 
 /// The summary of `log` with the given derivative and detector settings.
@@ -67,11 +89,70 @@ pub fn summarise(log: &Log, opts: &SummaryOptions) -> LogSummary {
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
             (a.min(v), b.max(v))
         });
-    let max_abs_rate_c_per_min = deriv.tdot.iter().fold(0.0f64, |a, v| a.max(v.abs())) * 60.0;
+    let mut problems = Vec::new();
+    let step_s = (log.len() >= 2).then_some(dt_s);
+    if log.len() < 2 {
+        problems.push(format!(
+            "{}: no step, no temperature rate and no plateau; a log needs at least two samples",
+            if log.is_empty() {
+                "no sample"
+            } else {
+                "one sample"
+            }
+        ));
+    }
+    let max_abs_rate_c_per_min = if deriv.ready.is_empty() {
+        if log.len() >= 2 {
+            problems.push(no_rate(log, &timing, steps, dt_s, opts));
+        }
+        None
+    } else {
+        // Over the samples with full history only: before the causal mean of T holds its
+        // whole window, its lag is shorter and the rate jumps (a ramp read 25 % fast).
+        Some(
+            deriv
+                .ready_samples()
+                .fold(0.0f64, |a, i| a.max(deriv.tdot[i].abs()))
+                * 60.0,
+        )
+    };
     LogSummary {
         temp_min_c,
         temp_max_c,
         max_abs_rate_c_per_min,
+        step_s,
         plateaus,
+        problems,
     }
+}
+
+/// Why no sample of a log of two samples or more has a rate: its longest segment is shorter
+/// than the history the T smoothing and the derivative step need before the first rate.
+fn no_rate(
+    log: &Log,
+    timing: &super::timing::Timing,
+    steps: DerivativeSteps,
+    dt_s: f64,
+    opts: &SummaryOptions,
+) -> String {
+    let longest = timing
+        .segments
+        .iter()
+        .map(|r| super::timing::span_s(&log.time_s, r, dt_s))
+        .fold(0.0f64, f64::max);
+    let needed = steps.ready_from() as f64 * dt_s;
+    let n = crate::number::readable;
+    format!(
+        "no temperature rate: the log's {} ({} s) is shorter than the {} s of history the T \
+         smoothing ({} s) and the derivative step (H = {} s) need before the first rate",
+        if timing.segments.len() > 1 {
+            "longest segment"
+        } else {
+            "whole length"
+        },
+        n(longest),
+        n(needed),
+        n(opts.temp_smoothing_s),
+        n(opts.step_h_s)
+    )
 }

@@ -175,6 +175,52 @@ impl Timing {
     }
 }
 
+/// How many times longer than the body of a log the gap before (or after) a lone sample at
+/// its end must be for that sample to be a stray stamp ([`Timing::stray_end`]).
+pub const STRAY_FACTOR: f64 = 100.0;
+
+/// An end of a log.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum End {
+    /// The first sample.
+    First,
+    /// The last sample.
+    Last,
+}
+
+impl Timing {
+    /// The end of the log whose sample stands alone past a gap more than [`STRAY_FACTOR`]
+    /// times longer than the body of the log (the first end when both do), with the span of
+    /// that body, s; `None` when neither does. The body runs from the first segment of two
+    /// samples or more to the last one, so that stray stamps side by side (1e299 s, then
+    /// 1e300 s) or at both ends do not vouch for each other.
+    ///
+    /// Such a sample is a stray time stamp (a row stamped 1e300 s, or 0 before a clock that
+    /// counts from 1970): no window, filter or derivative fits in a segment of one sample, so
+    /// it adds nothing to any analysis but its stamp, and that stamp alone would make the
+    /// log's duration, the time axis of every figure and the duration a calibration stores.
+    /// A reader drops it and says so with its line. A lone sample after an outage of a few
+    /// times the run is an outage, and is kept.
+    pub fn stray_end(&self, time_s: &[f64]) -> Option<(End, f64)> {
+        if self.segments.len() < 2 {
+            return None;
+        }
+        let body_first = self.segments.iter().find(|r| r.len() >= 2)?;
+        let body_last = self.segments.iter().rev().find(|r| r.len() >= 2)?;
+        let body_s = time_s[body_last.end - 1] - time_s[body_first.start];
+        let too_far = |step_s: f64| step_s > STRAY_FACTOR * body_s;
+        if self.segments[0].len() == 1 && self.gaps.first().is_some_and(|g| too_far(g.step_s)) {
+            return Some((End::First, body_s));
+        }
+        if self.segments[self.segments.len() - 1].len() == 1
+            && self.gaps.last().is_some_and(|g| too_far(g.step_s))
+        {
+            return Some((End::Last, body_s));
+        }
+        None
+    }
+}
+
 impl Timing {
     /// What a person should know of the sampling, one sentence a line: segments and gaps,
     /// bursts, jitter. Empty for a clean contiguous log.

@@ -78,6 +78,50 @@ impl Logging {
         Ok(())
     }
 
+    /// Refuses a gap that starts after `last_sample_s`, the time of the program's last
+    /// sample: it would leave nothing out, and the engineer who gave it meant some outage
+    /// (a start in minutes or hours typed as seconds, or a program shorter than thought).
+    pub(crate) fn check_within(&self, last_sample_s: f64) -> Result<(), Invalid> {
+        if let Some(g) = self
+            .gaps
+            .iter()
+            .find(|g| g.start_s - WINDOW_TOLERANCE_S > last_sample_s)
+        {
+            return Err(Invalid::new(
+                format!("--gap {}", g.shown()),
+                format!(
+                    "starts after the program's last sample ({} s): it would leave no sample \
+                     out",
+                    crate::number::readable(last_sample_s)
+                ),
+            ));
+        }
+        Ok(())
+    }
+
+    /// The options that leave samples out (`--gap`, `--bursts`), as flags, for a message.
+    pub(crate) fn leaving_out(&self) -> String {
+        let pair = |a: f64, b: f64| {
+            format!(
+                "{}:{}",
+                crate::number::readable(a),
+                crate::number::readable(b)
+            )
+        };
+        let mut out: Vec<String> = self
+            .gaps
+            .iter()
+            .map(|g| format!("--gap {}", g.shown()))
+            .collect();
+        if let Some(b) = &self.bursts {
+            out.push(format!("--bursts {}", pair(b.on_s, b.every_s)));
+        }
+        if out.is_empty() {
+            return "logging".to_string();
+        }
+        out.join(" ")
+    }
+
     /// Whether the logger records the sample taken at `time_s`: inside a burst (when logging
     /// in bursts) and outside every gap.
     pub fn records(&self, time_s: f64) -> bool {
@@ -116,6 +160,16 @@ pub struct Gap {
 }
 
 impl Gap {
+    /// `START:DURATION` with six significant digits at most, for a message (the CSV's first
+    /// line writes every digit, through `Display`).
+    fn shown(&self) -> String {
+        format!(
+            "{}:{}",
+            crate::number::readable(self.start_s),
+            crate::number::readable(self.duration_s)
+        )
+    }
+
     /// Whether the sample at `time_s` falls in the outage.
     pub fn contains(&self, time_s: f64) -> bool {
         time_s >= self.start_s - WINDOW_TOLERANCE_S

@@ -345,7 +345,9 @@ pub fn simulate_logged(
     progress: &dyn Fn(f64),
 ) -> Result<SimRun, SimError> {
     let plan = Plan::new(profile, logging)?;
-    Ok(plan.collect(seed, logging, progress))
+    let run = plan.collect(seed, logging, progress);
+    plan.check_recorded(logging, run.len())?;
+    Ok(run)
 }
 
 /// The run of `profile` with seed `seed` with every deterministic drift term zero: the gyro
@@ -383,6 +385,7 @@ pub fn write_simulated_csv(
         &options.dialect,
     );
     let mut rows = 0;
+    let mut too_few = false;
     let fill = |w: &mut dyn Write| {
         let mut writer = Writer::new(&options.dialect);
         writer.head(w, &shape, &command)?;
@@ -405,13 +408,23 @@ pub fn write_simulated_csv(
             };
             writer.row(w, &row, &shape)
         };
-        plan.drive(seed, &options.logging, progress, &mut sink)
+        plan.drive(seed, &options.logging, progress, &mut sink)?;
+        // Checked before the file is put in place: a log of fewer than two samples is not
+        // written at all (the error below says why).
+        if rows < 2 {
+            too_few = true;
+            return Err(std::io::Error::other("too few samples recorded"));
+        }
+        Ok(())
     };
     let written = if plan.samples() > 1_000_000 {
         crate::files::atomic::write_big_with(path, fill)
     } else {
         crate::files::atomic::write_with(path, fill)
     };
+    if too_few {
+        plan.check_recorded(&options.logging, rows)?;
+    }
     written.map_err(|source| SimError::Write {
         path: path.to_path_buf(),
         source,

@@ -141,7 +141,27 @@ impl Plan {
                 format!("the run would record {samples:.0} samples; more than 10⁹ is refused"),
             ));
         }
+        logging.check_within((plan.samples() - 1) as f64 / plan.rate_hz)?;
         Ok(plan)
+    }
+
+    /// Refuses a run whose logger recorded fewer than two of its samples: bursts shorter than
+    /// a sampling step, or gaps over the whole program, leave a log no command can read (one
+    /// sample has no step), as a rate too slow for two samples is refused before the run.
+    pub(crate) fn check_recorded(&self, logging: &Logging, recorded: usize) -> Result<(), Invalid> {
+        if recorded >= 2 {
+            return Ok(());
+        }
+        Err(Invalid::new(
+            logging.leaving_out(),
+            format!(
+                "the logger would record {recorded} of the run's {} samples ({} s at {} Hz): \
+                 a log needs at least two",
+                self.samples(),
+                crate::number::readable(self.profile.duration_s()),
+                crate::number::readable(self.rate_hz)
+            ),
+        ))
     }
 
     /// Samples the run takes before the logger leaves any out.

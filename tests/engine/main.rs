@@ -8,6 +8,7 @@ mod common;
 mod allan;
 mod approx;
 mod correction;
+mod crafted_settings;
 mod lod;
 mod model;
 mod models;

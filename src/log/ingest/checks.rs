@@ -9,7 +9,7 @@ use super::parse::{Tally, note};
 use super::read::Acc;
 use super::sniff::Sniffed;
 use crate::log::{Channel, Log, LogInfo, Problem, ProblemKind};
-use crate::signal::timing::{GAP_FACTOR, Timing};
+use crate::signal::timing::{End, GAP_FACTOR, STRAY_FACTOR, Timing};
 
 /// Time-order checks, dropped rows, problems, and the `Log`.
 pub(super) fn finish(mut acc: Acc, sn: &Sniffed, plan: &Plan, source: &str) -> Result<Log, Fail> {
@@ -38,6 +38,7 @@ pub(super) fn finish(mut acc: Acc, sn: &Sniffed, plan: &Plan, source: &str) -> R
         let first = acc
             .missing
             .iter()
+            .chain(&acc.infinite)
             .flatten()
             .map(|t| t.first)
             .min()
@@ -46,8 +47,8 @@ pub(super) fn finish(mut acc: Acc, sn: &Sniffed, plan: &Plan, source: &str) -> R
             first,
             0,
             format!(
-                "none of the {} data rows can be used: each has a blank or NaN value in the \
-                 time, rate or temperature column",
+                "none of the {} data rows can be used: each has a blank, NaN or infinite value \
+                 in the time, rate or temperature column",
                 acc.rows_read
             ),
         ));
@@ -63,6 +64,23 @@ pub(super) fn finish(mut acc: Acc, sn: &Sniffed, plan: &Plan, source: &str) -> R
                 count: t.count,
                 message: format!(
                     "{} dropped: blank or NaN in column \"{}\" (first at line {})",
+                    rows(t.count),
+                    col_name(slot),
+                    t.first
+                ),
+            });
+        }
+    }
+    for (slot, t) in acc.infinite.iter().enumerate() {
+        if let Some(t) = t {
+            problems.push(Problem {
+                line: t.first,
+                column: col_no(slot),
+                kind: ProblemKind::MissingValue,
+                count: t.count,
+                message: format!(
+                    "{} dropped: an infinite value in column \"{}\", which no reading can \
+                     be (first at line {})",
                     rows(t.count),
                     col_name(slot),
                     t.first
@@ -102,6 +120,26 @@ pub(super) fn finish(mut acc: Acc, sn: &Sniffed, plan: &Plan, source: &str) -> R
                 } else {
                     format!("{} rows have", t.count)
                 },
+                t.first
+            ),
+        });
+    }
+
+    if let Some(t) = acc.long {
+        problems.push(Problem {
+            line: t.first,
+            column: None,
+            kind: ProblemKind::RaggedRow,
+            count: t.count,
+            message: format!(
+                "{} more fields than the file's {} columns; the extra cells are not read \
+                 (first at line {})",
+                if t.count == 1 {
+                    "1 row has".to_string()
+                } else {
+                    format!("{} rows have", t.count)
+                },
+                plan.columns.len(),
                 t.first
             ),
         });
@@ -165,20 +203,51 @@ pub(super) fn finish(mut acc: Acc, sn: &Sniffed, plan: &Plan, source: &str) -> R
         }
     }
     // Gaps: steps the later stamps do not make up (host stamps that bunch are not gaps).
-    let timing = Timing::of(&acc.cols[SLOT_TIME]);
+    let mut timing = Timing::of(&acc.cols[SLOT_TIME]);
+    // A sample alone at an end past a gap far longer than the rest of the log is a stray stamp:
+    // dropped with its line, so that it makes neither the log's duration nor a segment.
+    while let Some((end, rest)) = timing.stray_end(&acc.cols[SLOT_TIME]) {
+        let time = &acc.cols[SLOT_TIME];
+        let last = time.len() - 1;
+        let kept = match end {
+            End::First => 0,
+            End::Last => last,
+        };
+        let stamp = time[kept];
+        let step = match end {
+            End::First => time[1] - stamp,
+            End::Last => stamp - time[last - 1],
+        };
+        let row = row_of(&drop, kept);
+        let line = acc.line_of(row);
+        problems.push(Problem {
+            line,
+            column: time_col,
+            kind: ProblemKind::TimeBackwards,
+            count: 1,
+            message: format!(
+                "1 row dropped: its time {} s stands alone {} s {} the rest of the log, more \
+                 than {STRAY_FACTOR} times the {} s the rest spans: a stray time stamp (line \
+                 {line})",
+                crate::number::readable(stamp),
+                short(step),
+                match end {
+                    End::First => "before",
+                    End::Last => "after",
+                },
+                short(rest)
+            ),
+        });
+        for col in &mut acc.cols {
+            col.remove(kept);
+        }
+        let at = drop.partition_point(|&d| d < row);
+        drop.insert(at, row);
+        timing = Timing::of(&acc.cols[SLOT_TIME]);
+    }
     if let Some(first) = timing.gaps.first() {
         // The row of a kept sample, counting the rows dropped before it.
-        let row_of = |kept: usize| {
-            let mut row = kept;
-            for &d in &drop {
-                if d <= row {
-                    row += 1;
-                } else {
-                    break;
-                }
-            }
-            row
-        };
+        let row_of = |kept: usize| row_of(&drop, kept);
         let longest = timing
             .gaps
             .iter()
@@ -268,6 +337,20 @@ fn short(s: f64) -> String {
     } else {
         t
     }
+}
+
+/// The row (before any was dropped) of the sample kept at `kept`, with `drop` the sorted rows
+/// dropped.
+fn row_of(drop: &[usize], kept: usize) -> usize {
+    let mut row = kept;
+    for &d in drop {
+        if d <= row {
+            row += 1;
+        } else {
+            break;
+        }
+    }
+    row
 }
 
 fn rows(n: usize) -> String {

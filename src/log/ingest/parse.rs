@@ -16,8 +16,10 @@ use std::borrow::Cow;
 pub(crate) enum Cell {
     /// A finite number.
     Num(f64),
-    /// Blank, NaN, infinite, or a "no value" word (`NA`, `null`...).
+    /// Blank, NaN, or a "no value" word (`NA`, `null`...).
     Missing,
+    /// A number too large for any reading: `inf`, `-Infinity`, `1e400`.
+    Infinite,
     /// Anything else.
     Bad,
 }
@@ -35,7 +37,8 @@ pub(crate) fn parse_cell(raw: &[u8], decimal_comma: bool) -> Cell {
     };
     match v {
         Some(v) if v.is_finite() => Cell::Num(v),
-        Some(_) => Cell::Missing,
+        Some(v) if v.is_nan() => Cell::Missing,
+        Some(_) => Cell::Infinite,
         None if is_missing_word(s) => Cell::Missing,
         None => Cell::Bad,
     }
@@ -188,8 +191,13 @@ pub(crate) struct Chunk {
     pub rows_read: usize,
     /// Rows dropped for a missing value, by the slot of the first missing cell.
     pub missing: Vec<Option<Tally>>,
+    /// Rows dropped for an infinite value, by the slot of the first such cell (when it comes
+    /// before any missing one).
+    pub infinite: Vec<Option<Tally>>,
     /// Rows too short for some extra column (filled with NaN).
     pub ragged: Option<Tally>,
+    /// Rows with more fields than the file has columns (the extra cells are not read).
+    pub long: Option<Tally>,
     /// Unreadable cells in extra columns (kept as NaN), by slot.
     pub bad_extra: Vec<Option<Tally>>,
     /// Set when parsing stopped before the end.
@@ -206,7 +214,9 @@ impl Chunk {
             lines: 0,
             rows_read: 0,
             missing: vec![None; nslots],
+            infinite: vec![None; nslots],
             ragged: None,
+            long: None,
             bad_extra: vec![None; nslots],
             stop: None,
         }
@@ -400,8 +410,14 @@ impl Parser<'_> {
                 return None;
             }
             if j == last {
-                // Trailing fields are not read.
-                return Some(memchr(b'\n', &data[p..]).map_or(n, |i| p + i + 1));
+                // Trailing fields are not read, but a row with more of them than the file has
+                // columns is counted: the careful path does it.
+                let eol = memchr(b'\n', &data[p..]).map_or(n, |i| p + i);
+                let expected = self.plan.columns.len().saturating_sub(acts.len());
+                if fields_from::<WS>(&data[p..eol], d) > expected {
+                    return None;
+                }
+                return Some((eol + 1).min(n));
             }
             if !WS {
                 p += 1;
@@ -422,7 +438,7 @@ impl Parser<'_> {
             vals[0] = chunk.rows_read as f64;
         }
         chunk.rows_read += 1;
-        let mut first_missing: Option<usize> = None;
+        let mut first_missing: Option<(usize, bool)> = None;
         let mut short = false;
         for (j, act) in self.plan.actions.iter().enumerate() {
             let Action::Parse {
@@ -453,9 +469,9 @@ impl Parser<'_> {
                 }
                 Some(f) => match parse_cell(f, self.decimal_comma) {
                     Cell::Num(v) => conv.apply(v),
-                    Cell::Missing => {
+                    c @ (Cell::Missing | Cell::Infinite) => {
                         if required && first_missing.is_none() {
-                            first_missing = Some(slot);
+                            first_missing = Some((slot, c == Cell::Infinite));
                         }
                         f64::NAN
                     }
@@ -488,8 +504,13 @@ impl Parser<'_> {
                 *s = v;
             }
         }
-        if let Some(slot) = first_missing {
-            if let Some(t) = chunk.missing.get_mut(slot) {
+        if let Some((slot, infinite)) = first_missing {
+            let tallies = if infinite {
+                &mut chunk.infinite
+            } else {
+                &mut chunk.missing
+            };
+            if let Some(t) = tallies.get_mut(slot) {
                 note(t, line);
             }
             return Ok(());
@@ -497,8 +518,26 @@ impl Parser<'_> {
         if short {
             note(&mut chunk.ragged, line);
         }
+        if fields.len() > self.plan.columns.len() {
+            note(&mut chunk.long, line);
+        }
         chunk.push(vals, line);
         Ok(())
+    }
+}
+
+/// How many fields `rest` holds, `rest` being the end of a quote-free line from the separator
+/// after a field on (a byte separator `d` at its start), or from the first byte of the next
+/// field (blanks separating): the fields [`split_fields`] would find there.
+#[inline]
+fn fields_from<const WS: bool>(rest: &[u8], d: u8) -> usize {
+    let rest = rest.strip_suffix(b"\r").unwrap_or(rest);
+    if WS {
+        rest.split(|&b| b == b' ' || b == b'\t')
+            .filter(|f| !f.is_empty())
+            .count()
+    } else {
+        memchr::memchr_iter(d, rest).count()
     }
 }
 
@@ -523,7 +562,8 @@ mod tests {
         assert_eq!(parse_cell(b"1,5", false), Cell::Bad);
         assert_eq!(parse_cell(b"NaN", false), Cell::Missing);
         assert_eq!(parse_cell(b"N/A", false), Cell::Missing);
-        assert_eq!(parse_cell(b"-inf", false), Cell::Missing);
+        assert_eq!(parse_cell(b"-inf", false), Cell::Infinite);
+        assert_eq!(parse_cell(b"1e400", false), Cell::Infinite);
         assert_eq!(parse_cell(b"", false), Cell::Missing);
         assert_eq!(parse_cell(b"1.2.3", false), Cell::Bad);
         assert_eq!(show_cell(b"1.2.3"), "\"1.2.3\"");

@@ -88,7 +88,9 @@ pub(super) struct Acc {
     jumps: Vec<(usize, usize)>,
     pub(super) rows_read: usize,
     pub(super) missing: Vec<Option<Tally>>,
+    pub(super) infinite: Vec<Option<Tally>>,
     pub(super) ragged: Option<Tally>,
+    pub(super) long: Option<Tally>,
     pub(super) bad_extra: Vec<Option<Tally>>,
 }
 
@@ -99,7 +101,9 @@ impl Acc {
             jumps: Vec::new(),
             rows_read: 0,
             missing: vec![None; nslots],
+            infinite: vec![None; nslots],
             ragged: None,
+            long: None,
             bad_extra: vec![None; nslots],
         }
     }
@@ -142,7 +146,11 @@ impl Acc {
         for (d, s) in self.bad_extra.iter_mut().zip(c.bad_extra) {
             merge(d, s);
         }
+        for (d, s) in self.infinite.iter_mut().zip(c.infinite) {
+            merge(d, s);
+        }
         merge(&mut self.ragged, c.ragged);
+        merge(&mut self.long, c.long);
         let mut cols = c.cols;
         for col in &mut cols {
             col.clear();

@@ -109,6 +109,16 @@ pub(super) fn read_rate_series_from(
                     "missing value: a rate series without time must be unbroken".into(),
                 ));
             }
+            Cell::Infinite => {
+                return Err(fail(
+                    line_no,
+                    format!(
+                        "{} is infinite: no gyro reads that, and a rate series without time \
+                         must be unbroken",
+                        super::parse::show_cell(cell)
+                    ),
+                ));
+            }
             Cell::Bad => {
                 return Err(fail(
                     line_no,

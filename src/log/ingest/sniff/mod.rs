@@ -362,7 +362,7 @@ pub(crate) fn sniff(
         for (j, f) in fs.iter().enumerate().take(ncols) {
             match parse_cell(f, decimal_comma) {
                 Cell::Num(_) => stats[j].numbers += 1,
-                Cell::Missing => stats[j].missing += 1,
+                Cell::Missing | Cell::Infinite => stats[j].missing += 1,
                 Cell::Bad => stats[j].bad += 1,
             }
         }
