@@ -55,37 +55,31 @@ pub(super) fn finish(mut acc: Acc, sn: &Sniffed, plan: &Plan, source: &str) -> R
     }
 
     let mut problems = Vec::new();
-    for (slot, t) in acc.missing.iter().enumerate() {
-        if let Some(t) = t {
-            problems.push(Problem {
-                line: t.first,
-                column: col_no(slot),
-                kind: ProblemKind::MissingValue,
-                count: t.count,
-                message: format!(
-                    "{} dropped: blank or NaN in column \"{}\" (first at line {})",
-                    rows(t.count),
-                    col_name(slot),
-                    t.first
-                ),
-            });
-        }
-    }
-    for (slot, t) in acc.infinite.iter().enumerate() {
-        if let Some(t) = t {
-            problems.push(Problem {
-                line: t.first,
-                column: col_no(slot),
-                kind: ProblemKind::MissingValue,
-                count: t.count,
-                message: format!(
-                    "{} dropped: an infinite value in column \"{}\", which no reading can \
-                     be (first at line {})",
-                    rows(t.count),
-                    col_name(slot),
-                    t.first
-                ),
-            });
+    // Rows dropped for a blank or NaN cell, then for an infinite one, per column.
+    let dropped = [
+        (&acc.missing, "blank or NaN", ""),
+        (
+            &acc.infinite,
+            "an infinite value",
+            ", which no reading can be",
+        ),
+    ];
+    for (tallies, why, tail) in dropped {
+        for (slot, t) in tallies.iter().enumerate() {
+            if let Some(t) = t {
+                problems.push(Problem {
+                    line: t.first,
+                    column: col_no(slot),
+                    kind: ProblemKind::MissingValue,
+                    count: t.count,
+                    message: format!(
+                        "{} dropped: {why} in column \"{}\"{tail} (first at line {})",
+                        rows(t.count),
+                        col_name(slot),
+                        t.first
+                    ),
+                });
+            }
         }
     }
     for (slot, t) in acc.bad_extra.iter().enumerate() {
