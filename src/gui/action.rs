@@ -70,6 +70,8 @@ pub enum Action {
     AddPlateau(PlateauRange),
     /// Show the result on the validation log (true) or on the calibration log.
     ShowValidation(bool),
+    /// Tell the engineer why what they asked was not done (a range typed backwards).
+    Warn(String),
     /// Undo the last change of choices.
     Undo,
     /// Redo.

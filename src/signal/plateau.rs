@@ -317,6 +317,40 @@ pub const UNSTEADY_FACTOR: f64 = 2.0;
 /// quantisation over a short range (0.001 °C steps, a few hundredths of noise).
 pub const UNSTEADY_FLOOR_C: f64 = 0.1;
 
+/// Where a plateau lies outside what the detector (with `opts`) would have kept, each in a
+/// few words for a table's mark: T moving on average faster than the detector's rate (its
+/// spread over its length, a lower bound of the fastest |Ṫ| on it; spreads under
+/// [`UNSTEADY_FLOOR_C`], a sensor's noise, aside), or a plateau shorter than the settled part
+/// of the shortest quiet stretch the detector accepts. Empty for a plateau it could have
+/// found. (The fit's warning, [`unsteady`], asks for [`UNSTEADY_FACTOR`] times the rate.)
+pub fn outside_detector(stats: &PlateauStats, opts: &DetectOptions) -> Vec<String> {
+    let n = |v: f64| crate::number::significant(v, 3);
+    let mut out = Vec::new();
+    let length_s = stats.range.end_s - stats.range.start_s;
+    let spread = stats.temp_spread_c;
+    if length_s > 0.0 && spread.is_finite() && spread > UNSTEADY_FLOOR_C {
+        let rate = spread / length_s * 60.0;
+        if rate > opts.max_rate_c_per_min {
+            out.push(format!(
+                "T moves {} °C over it, {} °C/min on average: the detector holds a plateau \
+                 under {} °C/min",
+                n(spread),
+                n(rate),
+                n(opts.max_rate_c_per_min)
+            ));
+        }
+    }
+    let shortest_s = opts.min_duration_s * opts.settled_fraction;
+    if length_s < shortest_s {
+        out.push(format!(
+            "it lasts {} s: a plateau the detector keeps lasts at least {} s",
+            n(length_s),
+            n(shortest_s)
+        ));
+    }
+    out
+}
+
 /// The warning for a plateau over which T moves far more than a plateau the detector finds
 /// could: its spread, over its length, is more than [`UNSTEADY_FACTOR`] times the detector's
 /// `max_rate_c_per_min` (and above [`UNSTEADY_FLOOR_C`]). Its K0 point then mixes the bias

@@ -136,3 +136,39 @@ fn seconds_become_whole_samples() {
     assert_eq!(signal::seconds_to_samples(0.2, 1.0), 1);
     assert_eq!(signal::seconds_to_samples(f64::NAN, 1.0), 1);
 }
+
+/// A plateau is marked outside the detector's limits when T moves on average faster than the
+/// detector's rate, or when it is shorter than the settled half of its shortest stretch; a
+/// steady plateau of the detector's length is not.
+#[test]
+fn a_plateau_outside_the_detectors_limits_says_why() {
+    use driftlab::signal::plateau::{DetectOptions, PlateauRange, PlateauStats, outside_detector};
+    let plateau = |start_s: f64, end_s: f64, spread: f64| PlateauStats {
+        range: PlateauRange { start_s, end_s },
+        temp_c: 20.0,
+        omega_dph: 0.0,
+        omega_std_dph: 0.01,
+        omega_sem_dph: 0.001,
+        temp_spread_c: spread,
+        samples: (end_s - start_s) as usize,
+    };
+    let opts = DetectOptions::default();
+    // 0.016 °C over 30 min: a hold.
+    assert!(outside_detector(&plateau(0.0, 1800.0, 0.016), &opts).is_empty());
+    // 1 °C over 10 min: 0.1 °C/min, twice the detector's 0.05.
+    let ramp = outside_detector(&plateau(0.0, 600.0, 1.0), &opts);
+    assert_eq!(ramp.len(), 1, "{ramp:?}");
+    assert!(
+        ramp[0].contains("0.1 °C/min") && ramp[0].contains("0.05"),
+        "{ramp:?}"
+    );
+    // 5 min: shorter than the 600 s (half of 1200 s) a detected plateau lasts at least.
+    let short = outside_detector(&plateau(0.0, 300.0, 0.01), &opts);
+    assert_eq!(short.len(), 1, "{short:?}");
+    assert!(
+        short[0].contains("300 s") && short[0].contains("600 s"),
+        "{short:?}"
+    );
+    // Both at once.
+    assert_eq!(outside_detector(&plateau(0.0, 300.0, 1.0), &opts).len(), 2);
+}

@@ -431,3 +431,38 @@ fn a_manual_deadband_reads_in_the_form_of_the_automatic_one() {
         8.19e-7
     );
 }
+
+/// A plateau set by hand across a ramp is marked in the table (! before its number) and a
+/// detected one is not.
+#[test]
+fn a_plateau_outside_the_detectors_limits_is_marked_in_the_table() {
+    use driftlab::signal::plateau::PlateauRange;
+    let mut h = harness(Workbench::new_for_test(&sample("calibration.csv")));
+    settle(&mut h);
+    h.get_by_label("Suggest plateaus").click();
+    settle(&mut h);
+    let marked = |h: &Harness<'_, Workbench>| {
+        (1..=h.state().state.ranges().len())
+            .filter(|k| h.query_by_label(&format!("!{k}")).is_some())
+            .count()
+    };
+    assert_eq!(marked(&h), 0, "detected plateaus are within limits");
+    let mut ranges = h.state().state.ranges();
+    // On the 20 → 60 °C ramp of the sample log, between two detected plateaus.
+    ranges.push(PlateauRange {
+        start_s: 8000.0,
+        end_s: 9000.0,
+    });
+    h.state_mut().state.set_ranges(ranges);
+    settle(&mut h);
+    let n = h.state().state.ranges().len();
+    let k = h
+        .state()
+        .state
+        .ranges()
+        .iter()
+        .position(|r| r.start_s == 8000.0)
+        .unwrap();
+    h.get_by_label(&format!("!{}", k + 1));
+    assert_eq!(marked(&h), 1, "one of {n}");
+}

@@ -209,6 +209,7 @@ impl Workbench {
                     .position(|x| (x.start_s - r.start_s).abs() < 1e-9);
             }
             Action::ShowValidation(shown) => self.state.view.show_validation = shown,
+            Action::Warn(message) => self.state.say(Severity::Warning, message),
             Action::Undo => {
                 if !self.state.shown.history.undo(&mut self.state.shown.choices) {
                     self.state.say(Severity::Info, "Nothing to undo");

@@ -82,6 +82,11 @@ impl ControlsView {
             }
         ));
         let mut edited: Option<Vec<PlateauRange>> = None;
+        // Hand-set plateaus are held to the limits of the detector they replace.
+        let detector = match &state.recipe().plateaus {
+            crate::models::recipe::PlateauChoice::Auto(opts) => *opts,
+            crate::models::recipe::PlateauChoice::Manual { .. } => Default::default(),
+        };
         let step = (log.nominal_dt_s() * 10.0).max(1e-3);
         // Column widths: the table fits the controls panel at its narrowest (320).
         const W: [f32; 7] = [20.0, 56.0, 56.0, 42.0, 50.0, 46.0, 18.0];
@@ -126,17 +131,31 @@ impl ControlsView {
                     ui.horizontal(|ui| {
                         ui.spacing_mut().item_spacing.x = 4.0;
                         let sel = focus.selected == Some(k);
-                        let samples = stats
-                            .iter()
-                            .find(|s| s.range == r)
-                            .map_or(String::new(), |s| format!("{} samples; ", s.samples));
-                        if ui
-                            .add_sized(
-                                [W[0], row_h],
-                                egui::Button::selectable(sel, format!("{}", k + 1)),
+                        let found = stats.iter().find(|s| s.range == r);
+                        // What keeps it from being a plateau the detector would have found.
+                        let outside = found.map_or(Vec::new(), |s| {
+                            crate::signal::plateau::outside_detector(s, &detector)
+                        });
+                        let samples = found.map_or(String::new(), |s| {
+                            format!(
+                                "{} samples, {} s; ",
+                                s.samples,
+                                num(s.range.end_s - s.range.start_s)
                             )
+                        });
+                        let warn = ui.visuals().warn_fg_color;
+                        let (label, why) = if outside.is_empty() {
+                            (RichText::new(format!("{}", k + 1)), String::new())
+                        } else {
+                            (
+                                RichText::new(format!("!{}", k + 1)).color(warn),
+                                format!("Outside the detector's limits: {}.\n", outside.join("; ")),
+                            )
+                        };
+                        if ui
+                            .add_sized([W[0], row_h], egui::Button::selectable(sel, label))
                             .on_hover_text(format!(
-                                "{samples}select this plateau (Delete removes it)"
+                                "{why}{samples}select this plateau (Delete removes it)"
                             ))
                             .clicked()
                         {
@@ -161,6 +180,15 @@ impl ControlsView {
                                     .update_while_editing(false),
                             )
                             .on_hover_text("End, s: drag, or click and type a time");
+                        if (ca.changed() || cb.changed()) && b <= a {
+                            out.push(Action::Warn(format!(
+                                "Plateau {} not changed: it would end ({} s) before it starts ({} \
+                                 s); type a start before the end",
+                                k + 1,
+                                num(b),
+                                num(a)
+                            )));
+                        }
                         if (ca.changed() || cb.changed()) && b > a {
                             let mut all = ranges.clone();
                             all[k] = PlateauRange {
@@ -179,14 +207,26 @@ impl ControlsView {
                                         num(s.omega_sem_dph)
                                     ),
                                 );
+                                let spread =
+                                    RichText::new(crate::number::fixed(s.temp_spread_c, 3));
+                                let length_s = s.range.end_s - s.range.start_s;
                                 cell(
                                     ui,
                                     5,
-                                    RichText::new(crate::number::fixed(s.temp_spread_c, 3)),
+                                    if outside.is_empty() {
+                                        spread
+                                    } else {
+                                        spread.color(warn)
+                                    },
                                 )
                                 .on_hover_text(format!(
-                                    "{} °C between the coldest and the warmest sample",
-                                    crate::number::fixed(s.temp_spread_c, 3)
+                                    "{} °C between the coldest and the warmest sample, {} °C/min \
+                                     over its {} s; std of Ω {} °/h over {} samples",
+                                    crate::number::fixed(s.temp_spread_c, 3),
+                                    num(s.temp_spread_c / length_s * 60.0),
+                                    num(length_s),
+                                    num(s.omega_std_dph),
+                                    s.samples
                                 ));
                             }
                             None => {
