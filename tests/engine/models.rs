@@ -726,3 +726,32 @@ fn a_term_given_twice_is_refused_by_the_parser_the_spec_and_the_file() {
         .to_string();
     assert!(err.contains("given twice"), "{err}");
 }
+
+/// A fixed lag's slope per °C lies in the range the search tries (0 to 0.025): -1 or 1e300
+/// per °C made `apply` predict hundreds of °/h from a hand-edited file.
+#[test]
+fn a_fixed_lags_slope_outside_the_searched_range_is_refused() {
+    use driftlab::models::regression::{LAG_SLOPE_SEARCH_MAX, LagSpec, RegressionSpec, terms};
+    let mut spec = RegressionSpec::new("custom", terms::parse_terms("1,T").unwrap());
+    for (per_c, ok) in [
+        (0.0, true),
+        (0.01, true),
+        (LAG_SLOPE_SEARCH_MAX, true),
+        (-1.0, false),
+        (-1e-6, false),
+        (0.026, false),
+        (1e300, false),
+    ] {
+        spec.lag = LagSpec::Fixed {
+            seconds: 300.0,
+            per_c,
+        };
+        match spec.validate() {
+            Ok(()) => assert!(ok, "{per_c} accepted"),
+            Err(e) => {
+                assert!(!ok, "{per_c}: {e}");
+                assert!(e.to_string().contains("per_c"), "{e}");
+            }
+        }
+    }
+}

@@ -334,6 +334,21 @@ impl RegressionSpec {
         }
         match self.lag {
             LagSpec::None => {}
+            LagSpec::Fixed { per_c, .. }
+                if !(0.0..=super::LAG_SLOPE_SEARCH_MAX).contains(&per_c) =>
+            {
+                // As the search's slope: beyond it, `lag_at` leaves the range where it means
+                // a lag (a slope of -1 or 1e300 per °C predicted hundreds of °/h).
+                return Err(Invalid::new(
+                    format!("model {}", self.name),
+                    format!(
+                        "the lag's per_c is {} per °C: a fixed lag's slope lies from 0 to {} per \
+                         °C, the range the search tries",
+                        crate::number::readable(per_c),
+                        super::LAG_SLOPE_SEARCH_MAX
+                    ),
+                ));
+            }
             LagSpec::Fixed { seconds, per_c }
                 if seconds.is_finite() && seconds >= 0.0 && per_c.is_finite() => {}
             LagSpec::Search { max_s, .. } if pos(max_s) => {}
