@@ -143,22 +143,7 @@ pub fn terminal_text(s: &str) -> std::borrow::Cow<'_, str> {
 }
 
 fn escaped(s: &str, keep_lines: bool) -> std::borrow::Cow<'_, str> {
-    let escape =
-        |c: char| driftlab::text::is_unprintable(c) && !(keep_lines && matches!(c, '\n' | '\t'));
-    if !s.chars().any(escape) {
-        return std::borrow::Cow::Borrowed(s);
-    }
-    let mut out = String::with_capacity(s.len() + 16);
-    for c in s.chars() {
-        if escape(c) {
-            // Four hex digits (every such character is below U+10000): the escape JSON has,
-            // so a string of `--json` output stays valid and reads back as it was.
-            out.push_str(&format!("\\u{:04x}", u32::from(c)));
-        } else {
-            out.push(c);
-        }
-    }
-    std::borrow::Cow::Owned(out)
+    driftlab::text::escaped(s, keep_lines)
 }
 
 /// `println!` that returns the error of a full or closed standard output instead of

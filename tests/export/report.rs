@@ -702,3 +702,24 @@ fn figures_of_merit_without_a_window_name_the_setting() {
         }
     }
 }
+
+/// A calibration's source name and a log's file name holding a right-to-left override, a line
+/// separator or an escape reach the page as their `\uXXXX` escapes, never as characters that
+/// would reorder or forge the text around them.
+#[test]
+fn names_that_would_reorder_the_page_are_escaped() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut cal = calibration().clone();
+    cal.source.name = "run\u{202e}vsc.exe\u{2028}\u{1b}[2J.csv".into();
+    let crafted = dir.path().join("held\u{202e}out.csv");
+    std::fs::copy(sample("validation.csv"), &crafted).unwrap();
+    let logs = vec![(crafted.clone(), read(&crafted))];
+    let out = dir.path().join("report");
+    report::write(&cal, &logs, &out, &ReportOptions::default()).unwrap();
+    let html = std::fs::read_to_string(out.join("report.html")).unwrap();
+    for c in ['\u{202e}', '\u{2028}', '\u{1b}'] {
+        assert!(!html.contains(c), "{:?} reached the page", c);
+    }
+    assert!(html.contains("run\\u202evsc.exe\\u2028\\u001b[2J.csv"));
+    assert!(html.contains("held\\u202eout.csv"));
+}

@@ -43,7 +43,9 @@ pub(super) fn log_report(
         allan,
     } = section;
     let mut drew_allan = false;
-    let name = file_name(path);
+    // As the page shows it: a character that would reorder or forge the text around the
+    // name written as its escape.
+    let name = crate::text::escaped(&file_name(path), false).into_owned();
     let stem = unique_stem(path, taken);
     let label = if in_sample { "in-sample" } else { "held out" };
     let evaluation = Evaluation::of_correction(log, &correction, merit);

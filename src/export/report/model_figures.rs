@@ -94,7 +94,7 @@ fn vakhrameev(
             notes.push(format!(
                 "The calibration's own log ({}) is not among the logs: the K1 and K2 figures \
                  show the fitted curves without their points, and every log is held out.",
-                cal.source.name
+                crate::text::escaped(&cal.source.name, false)
             ));
             "The calibration log was not given, so only the fitted curves are drawn.".into()
         }
@@ -180,7 +180,7 @@ fn regression(
     if !logs.is_empty() && !in_sample.contains(&true) {
         notes.push(format!(
             "The model's own log ({}) is not among the logs: every log is held out.",
-            cal.source.name
+            crate::text::escaped(&cal.source.name, false)
         ));
     }
 

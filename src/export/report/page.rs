@@ -186,7 +186,7 @@ fn identity(axes: &[PageAxis<'_>], layout: Layout, gyro: &str) -> Markup {
                 }
                 (Layout::Single, DriftModel::Vakhrameev(_)) => {}
             }
-            (row("calibration log", &source.name))
+            (row("calibration log", &crate::text::escaped(&source.name, false)))
             (row("its SHA-256", &source.sha256))
             (row(
                 "its samples, duration",
