@@ -109,11 +109,7 @@ pub(super) fn finish(mut acc: Acc, sn: &Sniffed, plan: &Plan, source: &str) -> R
             message: format!(
                 "{} fewer fields than the header; the missing extra columns are NaN (first at \
                  line {})",
-                if t.count == 1 {
-                    "1 row has".to_string()
-                } else {
-                    format!("{} rows have", t.count)
-                },
+                rows_have(t.count),
                 t.first
             ),
         });
@@ -128,11 +124,7 @@ pub(super) fn finish(mut acc: Acc, sn: &Sniffed, plan: &Plan, source: &str) -> R
             message: format!(
                 "{} more fields than the file's {} columns; the extra cells are not read \
                  (first at line {})",
-                if t.count == 1 {
-                    "1 row has".to_string()
-                } else {
-                    format!("{} rows have", t.count)
-                },
+                rows_have(t.count),
                 plan.columns.len(),
                 t.first
             ),
@@ -368,4 +360,13 @@ fn remove_sorted(v: &mut Vec<f64>, drop: &[usize]) {
         w += 1;
     }
     v.truncate(w);
+}
+
+/// "1 row has" or "N rows have", to start a message about rows.
+fn rows_have(count: usize) -> String {
+    if count == 1 {
+        "1 row has".to_string()
+    } else {
+        format!("{count} rows have")
+    }
 }
