@@ -161,10 +161,11 @@ fn a_fixed_lag_stays_positive_and_within_the_log_over_the_fitted_temperatures() 
     // 0.01 per °C keeps it within the log (at most 9000/0.3 = 30000 s at −50 °C): it loads.
     let fine = sloped(&slow, "fine.json", 0.01);
     calibration::load_unit(&fine).expect("a lag within the log over the fitted range loads");
-    // 1e308 per °C: 5 × 3000 s at the cold end, and no lag at all at the warm end.
+    // 1e308 per °C (5 × 3000 s at the cold end, no lag at all at the warm end): beyond the
+    // slopes the search tries, which a fixed lag's is held to.
     let quick = fixed_lag(dir.path(), &log, 3000.0);
     let warm = sloped(&quick, "warm.json", 1e308);
-    refused(&warm, "model.lag_per_c", "no lag at all");
+    refused(&warm, "model custom", "per_c is 1e308 per °C");
     // The model's slope alone edited: the spec fixed another.
     let file = edited(&quick, "other.json", |v| {
         body(v)["model"]["lag_per_c"] = json!(0.01)
