@@ -175,8 +175,15 @@ pub fn run(options: GuiOptions) -> Result<(), String> {
         );
     }
     for l in log.iter().chain(&options.validation) {
-        if !l.is_file() {
+        if !l.exists() {
             return Err(format!("{}: no such file", l.display()));
+        }
+        if !l.is_file() {
+            // A folder, a device (/dev/zero), a socket: nothing a log is read from.
+            return Err(format!(
+                "{}: not a file (a folder or a device)",
+                l.display()
+            ));
         }
     }
     let load = jobs::LoadOptions {

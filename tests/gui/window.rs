@@ -316,6 +316,10 @@ fn the_gui_command_takes_a_window_size_and_a_validation_log() {
         missing.to_str().unwrap(),
     ]);
     assert!(e.contains("gone.csv") && e.contains("no such file"), "{e}");
+    for not_a_file in ["/dev/zero", dir.path().to_str().unwrap()] {
+        let e = refused(&[not_a_file]);
+        assert!(e.contains("not a file"), "{not_a_file}: {e}");
+    }
 
     // As `driftlab gui LOG --validation VAL` starts its window.
     use driftlab::gui::dialogs::ScriptedDialogs;
