@@ -13,7 +13,7 @@
 //! `Calibration::correct`, and the workbench's live loop (requirement 4: well under 16 ms), in
 //! two forms: at engine level (refit one approximation with `approx::fit_weighted`, correct the
 //! log again with `correct_with` and the derivatives already known), and as the GUI runs it,
-//! `live::Pipeline::run` after one change (an approximation's kind, a knot dragged by hand),
+//! `refit::Pipeline::run` after one change (an approximation's kind, a knot dragged by hand),
 //! with everything the change leaves alone kept from the run before.
 //!
 //! With `DRIFTLAB_STAGES=FILE` the benchmark instead times, once each, the stages that
@@ -35,12 +35,12 @@ use criterion::{Criterion, Throughput};
 use driftlab::Log;
 use driftlab::files::session::{Coefficient, KnotEdits};
 use driftlab::judge::metrics::{Evaluation, MeritOptions};
-use driftlab::live::{Pipeline, Request};
 use driftlab::log::ingest::{self, ReadOptions};
 use driftlab::models::approx::{self, Approx, ApproxKind, ApproxSpec};
 use driftlab::models::recipe::Recipe;
 use driftlab::models::vakhrameev::correct::Correction;
 use driftlab::models::vakhrameev::{self, Calibration, Fit, PointSet, Regime};
+use driftlab::refit::{Pipeline, Request};
 use driftlab::signal::plateau::PlateauRange;
 use std::fmt::Write as _;
 use std::hint::black_box;
@@ -359,7 +359,7 @@ fn benches(c: &mut Criterion) {
     drop(dir);
 }
 
-/// The workbench's own live loop, `live::Pipeline::run`, after one change the engineer makes:
+/// The workbench's own live loop, `refit::Pipeline::run`, after one change the engineer makes:
 /// every stage whose inputs did not change is kept from the run before, as in the GUI. Each
 /// iteration toggles between two states so that every run has something to redo.
 fn pipeline_benches(c: &mut Criterion, log: Arc<Log>) {
@@ -393,7 +393,7 @@ fn pipeline_benches(c: &mut Criterion, log: Arc<Log>) {
 /// The live loop of a unit as the workbench runs it: a three-axis log of 1M samples per axis
 /// (the simulator's calibration run at 25 Hz, written as CSV and read back as the workbench
 /// reads it), one view per axis (its rate in `omega_dph`, no other axis) and one warm
-/// `live::Pipeline` per axis. An edit of one axis runs that axis's pipeline alone; the other
+/// `refit::Pipeline` per axis. An edit of one axis runs that axis's pipeline alone; the other
 /// two stay resident beside it, as in the workbench. `live_unit/plateau_moved_all_axes_1M`
 /// is what follows the release of a plateau edge: the three axes refitted on the shared
 /// plateaus, one after the other as the worker runs them.

@@ -12,7 +12,7 @@ mod live_scenarios;
 mod tiled_log;
 use tiled_log::tiled_log;
 
-use driftlab::live::{Pipeline, Timings};
+use driftlab::refit::{Pipeline, Timings};
 use std::sync::Arc;
 
 fn median(mut v: Vec<f64>) -> f64 {

@@ -17,7 +17,7 @@
 //! | [`judge`] | figures of merit, Allan deviation, models compared on held-out logs |
 //! | [`files`] | calibration and session files, the corrected log, atomic writes |
 //! | [`export`] | the C header and tables for firmware, the test report |
-//! | [`live`] | the workbench's incremental refit, one stage at a time |
+//! | [`refit`] | the workbench's refit after an edit: the one pipeline with its stages kept |
 //! | [`sim`] | the thermal-chamber simulator behind the sample logs and the tests |
 //!
 //! From a log to corrected figures:
@@ -57,10 +57,10 @@ pub mod error;
 pub mod export;
 pub mod files;
 pub mod judge;
-pub mod live;
 pub mod log;
 pub mod models;
 pub mod number;
+pub mod refit;
 pub mod signal;
 pub mod sim;
 pub mod text;
@@ -75,7 +75,6 @@ pub use error::{Error, Result};
 pub use judge::metrics::{Comparison, Evaluation, MeritOptions};
 pub use log::Log;
 pub use log::ingest::{ReadOptions, read_path};
-pub use models::vakhrameev::Calibration;
 pub use models::{
     AxisPlan, Calibrated, CheckedRecipe, DriftModel, ModelChoice, Preset, Recipe, UnitCalibration,
     calibrate, fit,

@@ -5,10 +5,10 @@
 
 use driftlab::files::session::{Coefficient, KnotEdits};
 use driftlab::judge::metrics::MeritOptions;
-use driftlab::live::{Pipeline, Request};
 use driftlab::log::Log;
 use driftlab::models::approx::{ApproxKind, ApproxSpec};
 use driftlab::models::recipe::Recipe;
+use driftlab::refit::{Pipeline, Request};
 use std::sync::Arc;
 
 /// The scenarios by name: nothing changed, K2+'s kind changed, a K2+ knot dragged (only the

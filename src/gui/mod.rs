@@ -6,7 +6,7 @@
 //!   it without importing the window;
 //! * [`state`]: the application data in one plain struct (logs, choices, newest fit, undo);
 //! * [`jobs`]: reading logs, refitting (newest request wins) and exports on worker threads;
-//!   [`crate::live::Same`]: the identity of a shared value, for their cache keys;
+//!   [`crate::refit::Same`]: the identity of a shared value, for their cache keys;
 //! * [`plot_items`]: plot items drawn from level-of-detail data ([`crate::signal::lod`]), and
 //!   the number formats; [`widgets`]: the widgets more than one view draws;
 //! * one module per view: [`view_import`], [`view_axes`] (a unit's axes: the switch and each
@@ -38,7 +38,7 @@
 //! and show themselves over the window through `ui.ctx()`.
 //!
 //! Fitting is a pure function of (log, recipe, knots moved by hand), run by
-//! [`crate::live::Pipeline`] on the worker; a GUI edit changes the recipe and the next frame
+//! [`crate::refit::Pipeline`] on the worker; a GUI edit changes the recipe and the next frame
 //! sends the refit.
 //!
 //! [`action`]: crate::gui::action

@@ -327,7 +327,7 @@ fn figures_after_a_knot_drag_are_those_of_a_fresh_calibration() {
     let p = h.state().knot_screen_pos(Coefficient::K1Plus, 3).unwrap();
     let fresh = |wb: &Workbench| {
         let req = wb.state.request().unwrap();
-        driftlab::live::Pipeline::new().run(&req).unwrap()
+        driftlab::refit::Pipeline::new().run(&req).unwrap()
     };
     let mut provisional_seen = 0;
     drag_knot_live(&mut h, p, 40.0, |h| {

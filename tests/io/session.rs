@@ -3,10 +3,10 @@
 //! message that says where.
 
 use driftlab::files::session::{self, Coefficient, KnotEdits, LogRef, Session, ViewState};
-use driftlab::live::{Pipeline, Request};
 use driftlab::log::ingest::{ColumnRef, ReadOptions};
 use driftlab::models::approx::{ApproxKind, ApproxSpec};
 use driftlab::models::recipe::{PlateauChoice, Recipe};
+use driftlab::refit::{Pipeline, Request};
 use driftlab::signal::plateau::PlateauRange;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;

@@ -289,7 +289,7 @@ impl Workbench {
             self.state.say(Severity::Warning, "Open a log first");
             return;
         };
-        let found = crate::live::suggest_plateaus(&log.log, &fit.outcome.prepared);
+        let found = crate::refit::suggest_plateaus(&log.log, &fit.outcome.prepared);
         let n = found.len();
         self.state.set_ranges(found);
         self.views.time.selected = None;

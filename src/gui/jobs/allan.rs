@@ -10,7 +10,7 @@ pub struct AllanRequest {
     /// The log.
     pub log: Arc<Log>,
     /// Its correction.
-    pub corrected: Arc<crate::live::Correction>,
+    pub corrected: Arc<crate::refit::Correction>,
 }
 
 /// The Allan deviations of one log, raw and corrected.

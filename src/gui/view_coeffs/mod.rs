@@ -59,7 +59,7 @@ impl CoeffView {
         };
         let tf = self.transforms[slot]?;
         let f = state.shown.fit.as_ref()?;
-        let a = crate::live::with_knots(
+        let a = crate::models::vakhrameev::knots::with_knots(
             c.approx(&f.outcome.calibration),
             state.shown.choices.knots.get(c),
         );

@@ -183,7 +183,10 @@ impl CoeffView {
                         );
                     }
                     for (c, color) in pair.coefs().into_iter().zip([pal.plus, pal.minus]) {
-                        let a = crate::live::with_knots(c.approx(cal), knots.get(c));
+                        let a = crate::models::vakhrameev::knots::with_knots(
+                            c.approx(cal),
+                            knots.get(c),
+                        );
                         let (lo, hi) = (a.x_min(), a.x_max());
                         if hi > lo {
                             let curve: Vec<[f64; 2]> = (0..=200)
@@ -248,7 +251,7 @@ impl CoeffView {
         let f = state.shown.fit.as_ref()?;
         let mut best: Option<(f32, Coefficient, usize)> = None;
         for c in pair.coefs() {
-            let a = crate::live::with_knots(
+            let a = crate::models::vakhrameev::knots::with_knots(
                 c.approx(&f.outcome.calibration),
                 state.shown.choices.knots.get(c),
             );
@@ -295,7 +298,7 @@ impl CoeffView {
         let mut edited = None;
         if let (Some(p), Some(f)) = (pos, state.shown.fit.clone()) {
             let y = tf.value_from_position(p).y;
-            let a = crate::live::with_knots(
+            let a = crate::models::vakhrameev::knots::with_knots(
                 c.approx(&f.outcome.calibration),
                 state.shown.choices.knots.get(c),
             );

@@ -3,15 +3,16 @@
 //! K2 per set.
 //!
 //! [`Pipeline`] holds what the T stages made (nothing in them depends on Ω), so the axes of a
-//! unit share them and only their own stages (Ω filtered, plateau means, K0, the sets and their
-//! fits) run per axis; the sets' samples are kept while the dead-band settings stay. [`fit`]
-//! (every intermediate kept, for the workbench and the tests) and [`fit_lean`] (only the
-//! calibration, for the command line) run it once on one axis. The workbench's refit
-//! (`crate::live`) keeps each stage's result between edits and calls the same stages.
+//! unit share them; each axis runs the Ω stages (`staged.rs`) with the pipeline's batch
+//! memory, which keeps the sets' samples while the dead-band settings stay. [`fit`] (every
+//! intermediate kept, for the workbench and the tests) and [`fit_lean`] (only the calibration,
+//! for the command line) run it once on one axis. The workbench's refit (`crate::refit`) runs
+//! the same Ω stages with a memory kept between edits.
 
-use super::sets::{SetFit, fit_set, into_rest};
-use super::stages::{deadbands, fit_k0};
-use super::{Calibration, PointSet, Prepared, Regime, SetInputs, SetSamples, set_samples};
+use super::knots::KnotEdits;
+use super::staged::{StageInputs, StageMemory, Staged};
+use super::stages::deadbands;
+use super::{Calibration, PointSet, Prepared, SetSamples, set_samples};
 use crate::error::{Invalid, Result};
 use crate::log::Log;
 use crate::models::recipe::{CheckedRecipe, Recipe};
@@ -20,6 +21,8 @@ use crate::number::readable;
 use crate::signal::plateau::{self, PlateauRange};
 use crate::signal::timing::Timing;
 use crate::signal::{self, DerivativeSteps, Derivatives};
+use std::borrow::Cow;
+use std::sync::Arc;
 
 /// A calibration with every intermediate the stages produced.
 #[derive(Debug, Clone)]
@@ -58,23 +61,23 @@ pub struct Calibrated {
 /// What [`Pipeline::new`] refuses, and no plateaus.
 pub fn fit(log: &Log, recipe: &CheckedRecipe) -> Result<Fit> {
     let (mut pipeline, omega_filtered_dph) = Pipeline::with_omega(log, recipe)?;
-    let run = pipeline.run(log, recipe, omega_filtered_dph, Keep::Everything)?;
+    let staged = pipeline.stages(log, recipe, Cow::Borrowed(&omega_filtered_dph), true)?;
     let mut prepared = pipeline.prepared;
-    prepared.omega_filtered_dph = run.omega_filtered_dph;
+    prepared.omega_filtered_dph = omega_filtered_dph;
     let [
         k1_plus_points,
         k1_minus_points,
         k2_plus_points,
         k2_minus_points,
-    ] = run.points;
+    ] = staged.points.map(Arc::unwrap_or_clone);
     Ok(Fit {
-        calibration: run.calibration,
+        calibration: staged.calibration,
         prepared,
         k1_plus_points,
         k1_minus_points,
         k2_plus_points,
         k2_minus_points,
-        warnings: run.warnings,
+        warnings: staged.warnings,
     })
 }
 
@@ -86,11 +89,11 @@ pub fn fit(log: &Log, recipe: &CheckedRecipe) -> Result<Fit> {
 /// As [`fit`].
 pub fn fit_lean(log: &Log, recipe: &CheckedRecipe) -> Result<Calibrated> {
     let (mut pipeline, omega_filtered_dph) = Pipeline::with_omega(log, recipe)?;
-    let run = pipeline.run(log, recipe, omega_filtered_dph, Keep::Calibration)?;
+    let staged = pipeline.stages(log, recipe, Cow::Owned(omega_filtered_dph), false)?;
     Ok(Calibrated {
-        calibration: run.calibration,
+        calibration: staged.calibration,
         deriv: pipeline.prepared.deriv,
-        warnings: run.warnings,
+        warnings: staged.warnings,
     })
 }
 
@@ -123,26 +126,6 @@ pub(crate) fn check_sample_count(log: &Log) -> Result<()> {
     Ok(())
 }
 
-/// What a run keeps besides the calibration.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Keep {
-    /// The filtered Ω and the pointwise coefficients (for display and the tests).
-    Everything,
-    /// Nothing: the filtered Ω is turned into `Ω_f − K0(T)` in place and no points are
-    /// gathered.
-    Calibration,
-}
-
-/// What one run of the Ω stages made.
-struct Run {
-    calibration: Calibration,
-    warnings: Vec<String>,
-    /// K1+, K1−, K2+, K2− (empty unless everything is kept).
-    points: [PointSet; 4],
-    /// The filtered Ω (empty unless everything is kept).
-    omega_filtered_dph: Vec<f64>,
-}
-
 /// The samples of the + and − sets with the dead-bands that chose them: they depend on T's
 /// derivatives, the plateaus and the dead-band settings only, so the axes of a unit that ask
 /// for the same dead-bands share them, and the workbench keeps them while those stay.
@@ -152,8 +135,6 @@ pub(crate) struct SetsOfSamples {
     pub(crate) deadbands: (f64, f64),
     /// The samples of each set, `[+, −]`.
     pub(crate) samples: [SetSamples; 2],
-    /// The recipe's dead-band settings they were resolved from.
-    key: (Option<f64>, Option<f64>),
 }
 
 /// The dead-bands stage and the sets' samples: the plateau mask of `ranges` over `time_s`,
@@ -167,11 +148,7 @@ pub(crate) fn sets_of_samples(
     let mask = plateau::mask(time_s, ranges);
     let deadbands = deadbands(prepared, &mask, recipe);
     let samples = set_samples(&prepared.deriv, &mask, deadbands);
-    SetsOfSamples {
-        deadbands,
-        samples,
-        key: (recipe.deadband_tdot, recipe.deadband_tddot),
-    }
+    SetsOfSamples { deadbands, samples }
 }
 
 /// The Vakhrameev pipeline over one log, holding what its T stages made: T smoothed and
@@ -188,8 +165,8 @@ pub struct Pipeline {
     recipe: Recipe,
     /// The log's span, s, which every axis's windows must fit in.
     span_s: f64,
-    /// The sets' samples of the last dead-band settings asked for.
-    sets: Option<SetsOfSamples>,
+    /// The Ω stages' memory: the sets' samples of the last dead-band settings asked for.
+    memory: StageMemory<()>,
 }
 
 impl Pipeline {
@@ -238,7 +215,7 @@ impl Pipeline {
             ranges,
             recipe: recipe.clone(),
             span_s: log.duration_s() + dt_s,
-            sets: None,
+            memory: StageMemory::batch(),
         }
     }
 
@@ -295,79 +272,28 @@ impl Pipeline {
         let omega_filtered_dph = omega_filtered_dph.unwrap_or_else(|| {
             signal::moving_average_centered_in(&log.omega_dph, p.filter_samples, &p.segments)
         });
-        let run = self.run(log, recipe, omega_filtered_dph, Keep::Calibration)?;
-        Ok((run.calibration, run.warnings))
+        let staged = self.stages(log, recipe, Cow::Owned(omega_filtered_dph), false)?;
+        Ok((staged.calibration, staged.warnings))
     }
 
-    /// The Ω stages of the axis in `log.omega_dph`, filtered into `omega_filtered_dph`:
-    /// plateau statistics, K0, the dead-bands and sets' samples (kept while the dead-band
-    /// settings stay), then K1 and K2 of both sets, side by side.
-    fn run(
+    /// The Ω stages of the axis in `log.omega_dph`, filtered into `omega_filtered_dph`, run
+    /// with the pipeline's batch memory; the points gathered when `points` is true.
+    fn stages(
         &mut self,
         log: &Log,
         recipe: &Recipe,
-        mut omega_filtered_dph: Vec<f64>,
-        keep: Keep,
-    ) -> Result<Run> {
-        let mut warnings = Vec::new();
-        let plateaus = plateau::stats_of(&log.time_s, &log.temp_c, &log.omega_dph, &self.ranges);
-        let k0 = fit_k0(&plateaus, &recipe.k0, &mut warnings)?;
-        let sets = self.sets_of_samples(log, recipe);
-        // What K1 and K2 explain, `Ω_f − K0(T)`: in place of the filtered Ω unless that is kept.
-        let rest = match keep {
-            Keep::Everything => {
-                let mut rest = omega_filtered_dph.clone();
-                into_rest(&mut rest, &log.temp_c, &k0);
-                rest
-            }
-            Keep::Calibration => {
-                into_rest(&mut omega_filtered_dph, &log.temp_c, &k0);
-                std::mem::take(&mut omega_filtered_dph)
-            }
-        };
-        let p = &self.prepared;
-        let inputs = SetInputs {
-            tdot: &p.deriv.tdot,
-            tddot: &p.deriv.tddot,
-            rest: &rest,
-        };
-        let points = keep == Keep::Everything;
-        let (plus, minus): (SetFit, SetFit) = rayon::join(
-            || fit_set(&sets.samples[0], inputs, Regime::Plus, recipe, points),
-            || fit_set(&sets.samples[1], inputs, Regime::Minus, recipe, points),
-        );
-        drop(rest);
-        warnings.extend(plus.warnings);
-        warnings.extend(minus.warnings);
-        let calibration = Calibration::assemble(
+        omega_filtered_dph: Cow<'_, [f64]>,
+        points: bool,
+    ) -> Result<Staged> {
+        self.memory.run(StageInputs {
             log,
-            p,
-            recipe,
-            sets.deadbands,
-            plateaus,
-            [k0, plus.k1, minus.k1, plus.k2, minus.k2],
-        );
-        self.sets = Some(sets);
-        Ok(Run {
-            calibration,
-            warnings,
-            points: [
-                plus.k1_points,
-                minus.k1_points,
-                plus.k2_points,
-                minus.k2_points,
-            ],
+            signals: (),
+            prepared: &self.prepared,
             omega_filtered_dph,
+            ranges: &self.ranges,
+            recipe,
+            knots: &KnotEdits::default(),
+            points,
         })
-    }
-
-    /// The dead-bands and the sets' samples for `recipe`'s dead-band settings: the kept ones
-    /// when they were made for the same settings, or made afresh.
-    fn sets_of_samples(&mut self, log: &Log, recipe: &Recipe) -> SetsOfSamples {
-        let key = (recipe.deadband_tdot, recipe.deadband_tddot);
-        match self.sets.take() {
-            Some(sets) if sets.key == key => sets,
-            _ => sets_of_samples(&log.time_s, &self.prepared, &self.ranges, recipe),
-        }
     }
 }

@@ -10,7 +10,7 @@
 //!
 //! [`Pipeline`] runs them in that order, the T stages once for every axis of a unit; [`fit`]
 //! runs it on one axis and returns a [`Calibration`] plus everything the stages made, and the
-//! workbench's refit (`crate::live`) keeps each stage's result so that a change of one
+//! workbench's refit (`crate::refit`) keeps each stage's result so that a change of one
 //! approximation refits only that approximation (and K2 after K1).
 //!
 //! This file holds the calibration and the signals it is fitted from; `stages` the stages
@@ -20,19 +20,19 @@
 
 pub mod correct;
 mod fit;
+pub mod knots;
 mod sets;
+mod staged;
 mod stages;
 
 pub use fit::{Calibrated, Fit, Pipeline, fit, fit_lean};
 pub(crate) use fit::{SetsOfSamples, check_sample_count, sets_of_samples};
+pub use staged::{StageInputs, StageMemory, Staged};
 pub use stages::{deadbands, fit_k0, fit_or_fallback, fit_or_fallback_weighted};
 
-// The sets are the model's inner stage; the workbench's live refit (`crate::live`) reruns them
-// one at a time, nothing outside the crate sees them.
-pub(crate) use sets::{
-    SetInputs, SetSamples, first_k1, fit_k2_gathered, fit_set_from, k2_points_of, rest_dph,
-    set_samples,
-};
+// The sets are the model's inner stage; the staged pipeline (`staged.rs`) runs them, and
+// nothing outside the crate sees them.
+pub(crate) use sets::{SetInputs, SetSamples, set_samples};
 
 use crate::error::Invalid;
 use crate::log::Log;

@@ -389,7 +389,7 @@ fn fit_k2_from<S: PointSource>(
 
 /// The K1 of a set's first pass (fitted on the ratios alone, before any K2): it depends on
 /// the samples, K0 and K1's own spec only, so the workbench keeps it while K2 changes and hands
-/// it to [`fit_set_from`]. Its warnings are not kept, as [`fit_set`] keeps only the last pass's.
+/// it to [`fit_set_from`]. Its warnings are not kept, as that keeps only the last pass's.
 pub fn first_k1(
     samples: &SetSamples,
     inputs: SetInputs,
@@ -415,19 +415,10 @@ pub fn first_k1(
 /// term removed and then K2 with the new K1. The fits stream over the set's samples; the
 /// statistics are computed for the last pass only (the earlier ones serve only their curves), and
 /// the points of the last pass are gathered only when `points` is true (for display).
-pub fn fit_set(
-    samples: &SetSamples,
-    inputs: SetInputs,
-    regime: Regime,
-    recipe: &Recipe,
-    points: bool,
-) -> SetFit {
-    fit_set_from(samples, inputs, regime, recipe, points, None)
-}
-
-/// [`fit_set`], with the first pass's K1 given when it is known ([`first_k1`] of the same
-/// samples, inputs and recipe; used only when a refinement pass follows, since the last pass
-/// alone computes statistics and warnings). When the points are asked for, the last pass
+///
+/// The first pass's K1 is given when it is known ([`first_k1`] of the same samples, inputs and
+/// recipe; used only when a refinement pass follows, since the last pass alone computes
+/// statistics and warnings). When the points are asked for, the last pass
 /// gathers them first and fits on them: the same curves, with K2 (K1) evaluated
 /// once per point instead of three times.
 pub fn fit_set_from(

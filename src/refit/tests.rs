@@ -1,7 +1,7 @@
 //! The live loop held to the batch path: fits, corrections, figures and display series.
 
 use super::*;
-use crate::models::approx::{self, Approx, ApproxKind};
+use crate::models::approx::{self, Approx, ApproxKind, ApproxSpec};
 
 fn sample_log() -> Arc<Log> {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("sample_logs/calibration.csv");

@@ -1,29 +1,28 @@
 //! The workbench's live refit: a calibration as a pure function of (log, recipe, knots moved by
 //! hand), run in stages with each stage's result kept until its inputs change.
 //!
-//! The stages are those of [`vakhrameev::Pipeline`], called through the same stage
-//! functions in the same order, so the result is the same calibration (a test holds them
-//! equal). What this adds is memory between calls:
+//! The fit is the one Vakhrameev pipeline: the T stages as [`vakhrameev::Pipeline`] runs them,
+//! then the Ω stages through [`StageMemory::run`], the very function a batch fit calls, here
+//! with a memory kept between runs (a batch fit starts from an empty one). So the result is the
+//! batch fit's calibration, bit for bit (a test holds them equal). What this module adds is the
+//! memory around the fit and what the window shows of it:
 //!
 //! * [`Prepared`] (filtered Ω, Ṫ, T̈) is kept while the filter, smoothing and step stay;
-//! * the plateau statistics, dead-bands and the sets' sample indices while the plateaus and
-//!   the dead-band settings stay;
-//! * each set (+ and −) of K1/K2 while its inputs (K0, dead-bands, its two approximations,
-//!   its hand-set knots) stay — changing K1+ refits only the + set;
-//! * each set's first-pass K1 (fitted before any K2) while its samples, K0 and K1 spec stay —
-//!   changing K2's kind refits one K1 less;
-//! * the raw figures of merit and the validation log's derivatives while they stay;
 //! * the plateau ranges while the signals and the plateau choice stay;
-//! * `Ω_f − K0(T)` while K0 stays;
+//! * in the stage memory: the plateau statistics, dead-bands and the sets' sample indices
+//!   while the plateaus and the dead-band settings stay; `Ω_f − K0(T)` while K0 stays; each set
+//!   (+ and −) of K1/K2 while its inputs (K0, dead-bands, its two approximations) stay, so
+//!   changing K1+ refits only the + set; each set's first-pass K1 while only its K2 changes;
+//! * the raw figures of merit and the validation log's derivatives while they stay;
 //! * each regime's samples with `K0(T)` and `K1(Ṫ)·Ṫ` per sample (`terms.rs`), so that a
 //!   patch of the correction walks only the samples of the set that changed, and a K2 edit
 //!   re-evaluates K2 alone.
 //!
-//! The files: this one holds the pipeline and its stages in order; `cache.rs` what is kept and
-//! under which key; `correction.rs` the kept corrections and their buffers; `terms.rs` the
-//! patch over one regime's samples; `sets.rs` each set's fit with hand-set knots; `evaluate.rs`
-//! the figures of merit and the validation log; `average.rs` the display series' centred
-//! moving average; `plateaus.rs` the plateau ranges and "Suggest plateaus".
+//! The files: this one holds the run in order; `cache.rs` what is kept and under which key;
+//! `correction.rs` the kept corrections and their buffers; `terms.rs` the patch over one
+//! regime's samples; `evaluate.rs` the figures of merit and the validation log; `average.rs`
+//! the display series' centred moving average; `plateaus.rs` the plateau ranges and "Suggest
+//! plateaus".
 //!
 //! Knots set by hand ([`KnotEdits`]) replace the fitted knot values of their approximation;
 //! a hand-edited K1 is followed by a fresh K2 fit on what it leaves (unless K2's knots are
@@ -39,7 +38,6 @@ mod correction;
 mod evaluate;
 mod plateaus;
 mod same;
-mod sets;
 mod terms;
 #[cfg(test)]
 mod tests;
@@ -51,18 +49,18 @@ use crate::error::Error;
 use crate::files::session::{Coefficient, KnotEdits};
 use crate::judge::metrics::{Comparison, Evaluation, Figures, MeritOptions};
 use crate::log::Log;
-use crate::models::approx::{Approx, ApproxSpec};
-use crate::models::recipe::{PlateauChoice, Recipe, Weighting};
+use crate::models::approx::Approx;
+use crate::models::recipe::{PlateauChoice, Recipe};
 use crate::models::vakhrameev::{
-    self, Calibration, PointSet, Prepared, Regime, SetInputs, SetSamples, SetsOfSamples,
+    self, Calibration, PointSet, Prepared, Regime, StageInputs, StageMemory,
 };
-use crate::signal::plateau::{self, PlateauRange, PlateauStats};
+use crate::signal::plateau::{self, PlateauRange};
 use crate::signal::{self, DerivativeSteps, Derivatives};
 use cache::*;
 use correction::CorrectionBuf;
 use evaluate::evaluation;
 use rayon::prelude::*;
-use sets::{apply_knot_edits, fit_set};
+use std::borrow::Cow;
 use std::sync::Arc;
 use std::time::Instant;
 use terms::Terms;
@@ -174,10 +172,9 @@ type RawFiguresKey = (Same<Log>, usize, MeritOptions);
 #[derive(Default)]
 pub struct Pipeline {
     prepared: Option<(PrepKey, Arc<Prepared>)>,
-    plateaus: Option<PlateauStage>,
-    sets: [Option<(SetKey, SetFit)>; 2],
-    /// Each set's first-pass K1, kept while only its K2 changes.
-    first_k1: [Option<(FirstKey, Approx)>; 2],
+    /// The Ω stages (plateau statistics, the sets' samples, `Ω_f − K0(T)`, each set's fit and
+    /// first-pass K1), kept while their inputs stay.
+    stages: StageMemory<Same<Prepared>>,
     raw_figures: Option<(RawFiguresKey, Figures)>,
     raw_filtered: Option<(RawFilteredKey, Arc<Vec<f64>>)>,
     validation: Option<ValidationCache>,
@@ -199,8 +196,6 @@ pub struct Pipeline {
     /// The log and signal settings the last run checked (the checks scan the whole log; a
     /// knot dragged changes neither).
     checked: Option<PrepKey>,
-    /// `Ω_f − K0(T)` over the calibration log.
-    rest: Option<RestCache>,
     /// Each regime's samples with `K0(T)` and `K1(Ṫ)·Ṫ` kept, for patching a correction.
     terms: Terms,
     /// The plateau ranges of the last run, with the signals and plateau choice they came from.
@@ -209,20 +204,6 @@ pub struct Pipeline {
 
 fn ms(t: Instant) -> f64 {
     t.elapsed().as_secs_f64() * 1e3
-}
-
-/// `approx` with its knot values replaced by `values`, when the counts agree.
-pub fn with_knots(approx: &Approx, values: Option<&Vec<f64>>) -> Approx {
-    let Some(values) = values else {
-        return approx.clone();
-    };
-    if approx.knots().1.len() != values.len() {
-        return approx.clone();
-    }
-    values
-        .iter()
-        .enumerate()
-        .fold(approx.clone(), |a, (j, &y)| a.with_knot_value(j, y))
 }
 
 impl Pipeline {
@@ -288,138 +269,27 @@ impl Pipeline {
             timings.prepare_ms = ms(t);
         }
 
-        let t = Instant::now();
         let ranges = self.plateau_ranges(log, &prepared, recipe);
-        let pkey = PlateauKey {
-            prepared: Same::of(&prepared),
-            ranges: ranges.clone(),
-            deadband_tdot: recipe.deadband_tdot,
-            deadband_tddot: recipe.deadband_tddot,
-        };
-        if self.plateaus.as_ref().is_none_or(|s| s.key != pkey) {
-            let stats = plateau::stats_of(&log.time_s, &log.temp_c, &log.omega_dph, &ranges);
-            let sets = vakhrameev::sets_of_samples(&log.time_s, &prepared, &ranges, recipe);
-            self.plateaus = Some(PlateauStage {
-                key: pkey.clone(),
-                stats,
-                sets: Arc::new(sets),
-            });
-            timings.plateaus_ms = ms(t);
-        }
-        let stage = self
-            .plateaus
-            .as_ref()
-            .ok_or(Error::Internal("the plateau stage is missing"))?;
-        let mut warnings = Vec::new();
-        let k0 = vakhrameev::fit_k0(&stage.stats, &recipe.k0, &mut warnings)?;
-        let k0 = with_knots(&k0, req.knots.get(Coefficient::K0));
-        let stats = stage.stats.clone();
-        let sets = stage.sets.clone();
-        let deadbands = sets.deadbands;
-
-        let t = Instant::now();
-        let set_key = |regime: Regime| {
-            let (c1, c2) = match regime {
-                Regime::Minus => (Coefficient::K1Minus, Coefficient::K2Minus),
-                _ => (Coefficient::K1Plus, Coefficient::K2Plus),
-            };
-            SetKey {
-                plateaus: pkey.clone(),
-                k0: k0.clone(),
-                spec1: *c1.spec(recipe),
-                spec2: *c2.spec(recipe),
-                weighting: recipe.weighting,
-                refinements: recipe.refinements,
-            }
-        };
-        let keys = [set_key(Regime::Plus), set_key(Regime::Minus)];
-        let todo: Vec<usize> = (0..2)
-            .filter(|&s| self.sets[s].as_ref().is_none_or(|(k, _)| *k != keys[s]))
-            .collect();
-        let rest = if !todo.is_empty() || !req.knots.is_empty() {
-            Some(self.kept_rest(&prepared, &k0, &log.temp_c))
-        } else {
-            None
-        };
-        let samples = &sets.samples;
-        let fitted: Vec<(usize, SetFit)> = match &rest {
-            Some(rest) => {
-                let inputs = SetInputs {
-                    tdot: &prepared.deriv.tdot,
-                    tddot: &prepared.deriv.tddot,
-                    rest,
-                };
-                let first_keys = [0, 1].map(|s| FirstKey {
-                    plateaus: pkey.clone(),
-                    k0: k0.clone(),
-                    spec1: keys[s].spec1,
-                    weighting: recipe.weighting,
-                });
-                let kept = [0, 1].map(|s| {
-                    self.first_k1[s]
-                        .as_ref()
-                        .filter(|(k, _)| *k == first_keys[s])
-                        .map(|(_, a)| a.clone())
-                });
-                let fitted: Vec<(usize, SetFit, Option<Approx>)> = todo
-                    .par_iter()
-                    .map(|&s| {
-                        let regime = if s == 0 { Regime::Plus } else { Regime::Minus };
-                        // The first pass's K1 only serves when a refinement follows it.
-                        let first = (recipe.refinements > 0).then(|| {
-                            kept[s].clone().unwrap_or_else(|| {
-                                vakhrameev::first_k1(&samples[s], inputs, regime, recipe)
-                            })
-                        });
-                        let fit = fit_set(&samples[s], inputs, regime, recipe, first.as_ref());
-                        (s, fit, first)
-                    })
-                    .collect();
-                for (s, _, first) in &fitted {
-                    if let Some(a) = first {
-                        self.first_k1[*s] = Some((first_keys[*s].clone(), a.clone()));
-                    }
-                }
-                fitted.into_iter().map(|(s, f, _)| (s, f)).collect()
-            }
-            None => Vec::new(),
-        };
-        for (s, fit) in fitted {
-            self.sets[s] = Some((keys[s].clone(), fit));
-        }
-        if !todo.is_empty() {
-            timings.fit_ms = ms(t);
-        }
-        let t = Instant::now();
-        let edited = |s: usize, regime: Regime| {
-            self.sets[s].as_ref().map(|(_, fit)| match &rest {
-                Some(rest) => {
-                    let inputs = SetInputs {
-                        tdot: &prepared.deriv.tdot,
-                        tddot: &prepared.deriv.tddot,
-                        rest,
-                    };
-                    apply_knot_edits(fit, &samples[s], inputs, regime, recipe, &req.knots)
-                }
-                None => fit.clone(),
-            })
-        };
-        let plus = edited(0, Regime::Plus).ok_or(Error::Internal("the + set is missing"))?;
-        let minus = edited(1, Regime::Minus).ok_or(Error::Internal("the − set is missing"))?;
-        if !req.knots.is_empty() {
-            timings.fit_ms += ms(t);
-        }
-        warnings.extend(plus.warnings.iter().cloned());
-        warnings.extend(minus.warnings.iter().cloned());
-
-        let calibration = Calibration::assemble(
+        let staged = self.stages.run(StageInputs {
             log,
-            &prepared,
+            signals: Same::of(&prepared),
+            prepared: &prepared,
+            omega_filtered_dph: Cow::Borrowed(&prepared.omega_filtered_dph),
+            ranges: &ranges,
             recipe,
-            deadbands,
-            stats,
-            [k0, plus.k1, minus.k1, plus.k2, minus.k2],
-        );
+            knots: &req.knots,
+            points: true,
+        })?;
+        timings.plateaus_ms = staged.plateaus_ms;
+        timings.fit_ms = staged.fit_ms;
+        let calibration = staged.calibration;
+        let mut warnings = staged.warnings;
+        let [
+            k1_plus_points,
+            k1_minus_points,
+            k2_plus_points,
+            k2_minus_points,
+        ] = staged.points;
 
         let t = Instant::now();
         let corrected = self.correct_kept(&calibration, log, &prepared);
@@ -481,39 +351,14 @@ impl Pipeline {
             calibration,
             prepared,
             ranges,
-            k1_plus_points: plus.p1,
-            k1_minus_points: minus.p1,
-            k2_plus_points: plus.p2,
-            k2_minus_points: minus.p2,
+            k1_plus_points,
+            k1_minus_points,
+            k2_plus_points,
+            k2_minus_points,
             warnings,
             in_sample,
             held_out,
             timings,
         })
-    }
-
-    /// `Ω_f − K0(T)`, kept while the filtered Ω and K0 stay.
-    fn kept_rest(
-        &mut self,
-        prepared: &Arc<Prepared>,
-        k0: &Approx,
-        temp_c: &[f64],
-    ) -> Arc<Vec<f64>> {
-        match &self.rest {
-            Some(c) if c.prepared == Same::of(prepared) && c.k0 == *k0 => c.rest.clone(),
-            _ => {
-                let rest = Arc::new(vakhrameev::rest_dph(
-                    &prepared.omega_filtered_dph,
-                    temp_c,
-                    k0,
-                ));
-                self.rest = Some(RestCache {
-                    prepared: Same::of(prepared),
-                    k0: k0.clone(),
-                    rest: rest.clone(),
-                });
-                rest
-            }
-        }
     }
 }

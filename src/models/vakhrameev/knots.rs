@@ -1,0 +1,226 @@
+//! Knots moved by hand: the knot values of a piecewise-linear or spline coefficient that the
+//! engineer set in the workbench, replacing the fitted ones. They are an input of the staged
+//! pipeline (`staged.rs`), which applies them after each set's fit, and the session stores
+//! them.
+
+use super::Calibration;
+use crate::error::Invalid;
+use crate::models::approx::{Approx, ApproxSpec};
+use crate::models::recipe::Recipe;
+use serde::{Deserialize, Serialize};
+
+/// Knot values set by hand, per coefficient: the whole list of knot values of a
+/// piecewise-linear or spline approximation, replacing the fitted values. A list applies only
+/// while the approximation has that many knots.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct KnotEdits {
+    /// K0(T) knot values, °/h.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub k0: Option<Vec<f64>>,
+    /// K1+(Ṫ) knot values.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub k1_plus: Option<Vec<f64>>,
+    /// K1−(Ṫ) knot values.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub k1_minus: Option<Vec<f64>>,
+    /// K2+(T̈) knot values.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub k2_plus: Option<Vec<f64>>,
+    /// K2−(T̈) knot values.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub k2_minus: Option<Vec<f64>>,
+}
+
+/// Which coefficient a knot edit is for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Coefficient {
+    /// K0(T).
+    K0,
+    /// K1+(Ṫ).
+    K1Plus,
+    /// K1−(Ṫ).
+    K1Minus,
+    /// K2+(T̈).
+    K2Plus,
+    /// K2−(T̈).
+    K2Minus,
+}
+
+impl Coefficient {
+    /// All five, in the order the calibration lists them.
+    pub const ALL: [Coefficient; 5] = [
+        Coefficient::K0,
+        Coefficient::K1Plus,
+        Coefficient::K1Minus,
+        Coefficient::K2Plus,
+        Coefficient::K2Minus,
+    ];
+
+    /// The name used in recipes and calibration files (`k1_plus`).
+    pub fn key(self) -> &'static str {
+        match self {
+            Coefficient::K0 => "k0",
+            Coefficient::K1Plus => "k1_plus",
+            Coefficient::K1Minus => "k1_minus",
+            Coefficient::K2Plus => "k2_plus",
+            Coefficient::K2Minus => "k2_minus",
+        }
+    }
+
+    /// The name people read (`K1+`).
+    pub fn label(self) -> &'static str {
+        match self {
+            Coefficient::K0 => "K0",
+            Coefficient::K1Plus => "K1+",
+            Coefficient::K1Minus => "K1−",
+            Coefficient::K2Plus => "K2+",
+            Coefficient::K2Minus => "K2−",
+        }
+    }
+
+    /// The recipe's choice for this coefficient.
+    pub fn spec(self, recipe: &Recipe) -> &ApproxSpec {
+        match self {
+            Coefficient::K0 => &recipe.k0,
+            Coefficient::K1Plus => &recipe.k1_plus,
+            Coefficient::K1Minus => &recipe.k1_minus,
+            Coefficient::K2Plus => &recipe.k2_plus,
+            Coefficient::K2Minus => &recipe.k2_minus,
+        }
+    }
+
+    /// The recipe's choice for this coefficient, to change it.
+    pub fn spec_mut(self, recipe: &mut Recipe) -> &mut ApproxSpec {
+        match self {
+            Coefficient::K0 => &mut recipe.k0,
+            Coefficient::K1Plus => &mut recipe.k1_plus,
+            Coefficient::K1Minus => &mut recipe.k1_minus,
+            Coefficient::K2Plus => &mut recipe.k2_plus,
+            Coefficient::K2Minus => &mut recipe.k2_minus,
+        }
+    }
+
+    /// The fitted approximation of this coefficient in a calibration.
+    pub fn approx(self, cal: &Calibration) -> &Approx {
+        match self {
+            Coefficient::K0 => &cal.k0,
+            Coefficient::K1Plus => &cal.k1_plus,
+            Coefficient::K1Minus => &cal.k1_minus,
+            Coefficient::K2Plus => &cal.k2_plus,
+            Coefficient::K2Minus => &cal.k2_minus,
+        }
+    }
+}
+
+impl KnotEdits {
+    /// The hand-set knot values of one coefficient.
+    pub fn get(&self, c: Coefficient) -> Option<&Vec<f64>> {
+        self.slot(c).as_ref()
+    }
+
+    /// Sets (or clears, with `None`) the hand-set knot values of one coefficient.
+    pub fn set(&mut self, c: Coefficient, values: Option<Vec<f64>>) {
+        *self.slot_mut(c) = values;
+    }
+
+    /// True when no knot was moved by hand.
+    pub fn is_empty(&self) -> bool {
+        Coefficient::ALL.iter().all(|&c| self.get(c).is_none())
+    }
+
+    /// Refuses knot values no calibration could hold: a list for an approximation without
+    /// knots or of another count, a value that is not finite or beyond the largest rate a
+    /// gyro log may plausibly hold.
+    ///
+    /// # Errors
+    /// [`Invalid`] naming the coefficient (`k0`) and the value.
+    pub fn check(&self, recipe: &Recipe) -> std::result::Result<(), Invalid> {
+        use crate::log::mapping_check::MAX_PLAUSIBLE_RATE_DPH;
+        use crate::number::readable;
+        for c in Coefficient::ALL {
+            let Some(values) = self.get(c) else {
+                continue;
+            };
+            let spec = c.spec(recipe);
+            if !spec.kind.has_knots() || values.len() != spec.knots {
+                return Err(Invalid::new(
+                    c.key(),
+                    format!(
+                        "{} values set by hand, but recipe.{} {}",
+                        values.len(),
+                        c.key(),
+                        if spec.kind.has_knots() {
+                            format!("has {} knots", spec.knots)
+                        } else {
+                            "has no knots".to_string()
+                        }
+                    ),
+                ));
+            }
+            if let Some((j, v)) = values
+                .iter()
+                .enumerate()
+                .find(|(_, v)| !(v.is_finite() && v.abs() <= MAX_PLAUSIBLE_RATE_DPH))
+            {
+                return Err(Invalid::new(
+                    format!("{}[{j}]", c.key()),
+                    format!(
+                        "{}: a knot value is a finite number of at most {} in magnitude (10⁴ \
+                         °/s, the largest rate a gyro log may plausibly hold)",
+                        readable(*v),
+                        readable(MAX_PLAUSIBLE_RATE_DPH)
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// Drops the edits that no longer fit the recipe (another kind or knot count).
+    pub fn retain_matching(&mut self, recipe: &Recipe) {
+        for c in Coefficient::ALL {
+            let spec = *c.spec(recipe);
+            if let Some(v) = self.get(c)
+                && !(spec.kind.has_knots() && v.len() == spec.knots)
+            {
+                self.set(c, None);
+            }
+        }
+    }
+
+    fn slot(&self, c: Coefficient) -> &Option<Vec<f64>> {
+        match c {
+            Coefficient::K0 => &self.k0,
+            Coefficient::K1Plus => &self.k1_plus,
+            Coefficient::K1Minus => &self.k1_minus,
+            Coefficient::K2Plus => &self.k2_plus,
+            Coefficient::K2Minus => &self.k2_minus,
+        }
+    }
+
+    fn slot_mut(&mut self, c: Coefficient) -> &mut Option<Vec<f64>> {
+        match c {
+            Coefficient::K0 => &mut self.k0,
+            Coefficient::K1Plus => &mut self.k1_plus,
+            Coefficient::K1Minus => &mut self.k1_minus,
+            Coefficient::K2Plus => &mut self.k2_plus,
+            Coefficient::K2Minus => &mut self.k2_minus,
+        }
+    }
+}
+
+/// `approx` with its knot values replaced by `values`, when the counts agree.
+pub fn with_knots(approx: &Approx, values: Option<&Vec<f64>>) -> Approx {
+    let Some(values) = values else {
+        return approx.clone();
+    };
+    if approx.knots().1.len() != values.len() {
+        return approx.clone();
+    }
+    values
+        .iter()
+        .enumerate()
+        .fold(approx.clone(), |a, (j, &y)| a.with_knot_value(j, y))
+}

@@ -1,0 +1,401 @@
+//! The Ω stages of the one Vakhrameev pipeline, after the T stages: plateau statistics, K0
+//! (with its hand-set knots), the dead-bands and the sets' samples, `Ω_f − K0(T)`, then K1 and
+//! K2 of the + and − sets side by side (with their hand-set knots), and the calibration.
+//!
+//! Each stage's result can be kept in a [`StageMemory`] under the key of what it was made from,
+//! and is reused while that stays. A batch fit ([`super::Pipeline`]) runs the stages with a
+//! memory that keeps nothing Ω made ([`StageMemory::batch`]): each axis of a unit brings its
+//! own Ω, and only the sets' samples, which depend on T alone, are shared between the axes. The
+//! workbench holds a memory that keeps everything ([`StageMemory::kept`]) between edits, so an
+//! edit of K1+ refits only the + set. Both call [`StageMemory::run`]: a refit is the batch fit
+//! with a warm memory, and there is no second pipeline to drift from this one.
+
+use super::knots::{Coefficient, KnotEdits, with_knots};
+use super::sets::{first_k1, fit_k2_gathered, fit_set_from, into_rest, k2_points_of};
+use super::stages::fit_k0;
+use super::{Calibration, PointSet, Prepared, Regime, SetInputs, SetSamples, SetsOfSamples};
+use crate::error::{Error, Result};
+use crate::log::Log;
+use crate::models::approx::{Approx, ApproxSpec};
+use crate::models::recipe::{Recipe, Weighting};
+use crate::signal::plateau::{self, PlateauRange, PlateauStats};
+use rayon::prelude::*;
+use std::borrow::Cow;
+use std::sync::Arc;
+use std::time::Instant;
+
+/// What the sets' samples were made from: the T signals (named by the caller's `S`), the
+/// plateau ranges and the dead-band settings.
+#[derive(Debug, Clone, PartialEq)]
+struct PlateauKey<S> {
+    signals: S,
+    ranges: Vec<PlateauRange>,
+    deadband_tdot: Option<f64>,
+    deadband_tddot: Option<f64>,
+}
+
+/// What the plateau statistics were made from: the signals (Ω among them) and the ranges.
+type StatsKey<S> = (S, Vec<PlateauRange>);
+
+/// What one set's fit depends on.
+#[derive(Debug, Clone, PartialEq)]
+struct SetKey<S> {
+    plateaus: PlateauKey<S>,
+    k0: Approx,
+    spec1: ApproxSpec,
+    spec2: ApproxSpec,
+    weighting: Weighting,
+    refinements: usize,
+}
+
+/// What the first pass's K1 of a set depends on (not K2: it is fitted before any K2), so it is
+/// kept while only the set's K2 changes.
+#[derive(Debug, Clone, PartialEq)]
+struct FirstKey<S> {
+    plateaus: PlateauKey<S>,
+    k0: Approx,
+    spec1: ApproxSpec,
+    weighting: Weighting,
+}
+
+/// K1 and K2 of one set, with the points of its last pass (shared with the display).
+#[derive(Debug, Clone)]
+struct FittedSet {
+    k1: Approx,
+    k2: Approx,
+    p1: Arc<PointSet>,
+    p2: Arc<PointSet>,
+    warnings: Vec<String>,
+}
+
+/// What the Ω stages keep between runs, each result under the key of what made it. `S` names
+/// the T signals the stages were made from, as the caller tells them apart: `()` for a batch
+/// pipeline, which has one set of T signals, an identity of the kept signals for the
+/// workbench.
+#[derive(Debug, Clone)]
+pub struct StageMemory<S> {
+    /// Whether the stages that read Ω (plateau statistics, `Ω_f − K0(T)`, the sets' fits) are
+    /// kept: not in a batch fit, whose axes share `S` but not Ω.
+    keep_omega: bool,
+    sets: Option<(PlateauKey<S>, Arc<SetsOfSamples>)>,
+    stats: Option<(StatsKey<S>, Vec<PlateauStats>)>,
+    rest: Option<(S, Approx, Arc<Vec<f64>>)>,
+    first_k1: [Option<(FirstKey<S>, Approx)>; 2],
+    fits: [Option<(SetKey<S>, FittedSet)>; 2],
+}
+
+/// What one run of the Ω stages reads.
+pub struct StageInputs<'a, S> {
+    /// Time, T and the axis's raw Ω (`omega_dph`).
+    pub log: &'a Log,
+    /// The identity of the T signals in `prepared` (see [`StageMemory`]).
+    pub signals: S,
+    /// T's derivatives, segments and the filter length the calibration records.
+    pub prepared: &'a Prepared,
+    /// The axis's Ω filtered as the recipe says: owned, it becomes `Ω_f − K0(T)` in place
+    /// when nothing is kept.
+    pub omega_filtered_dph: Cow<'a, [f64]>,
+    /// The plateau ranges K0's points are taken over.
+    pub ranges: &'a [PlateauRange],
+    /// Every choice.
+    pub recipe: &'a Recipe,
+    /// Knot values set by hand (none for a batch fit).
+    pub knots: &'a KnotEdits,
+    /// Whether the pointwise K1± and K2± points are gathered (for display).
+    pub points: bool,
+}
+
+/// What one run of the Ω stages made.
+#[derive(Debug, Clone)]
+pub struct Staged {
+    /// The calibration, hand-set knots applied.
+    pub calibration: Calibration,
+    /// What the fits had to work around.
+    pub warnings: Vec<String>,
+    /// The pointwise K1+, K1−, K2+, K2− of the last pass (empty unless asked for).
+    pub points: [Arc<PointSet>; 4],
+    /// Milliseconds spent on the plateau statistics and the sets' samples (0 when kept).
+    pub plateaus_ms: f64,
+    /// Milliseconds spent on K1 and K2 (0 when every set was kept and no knot was set).
+    pub fit_ms: f64,
+}
+
+impl<S> StageMemory<S> {
+    /// A memory for a batch fit: only the sets' samples (T's alone) are kept, so the axes of a
+    /// unit share them while their dead-band settings agree.
+    pub fn batch() -> StageMemory<S> {
+        StageMemory {
+            keep_omega: false,
+            ..StageMemory::kept()
+        }
+    }
+
+    /// A memory that keeps every stage, for a refit after each edit.
+    pub fn kept() -> StageMemory<S> {
+        StageMemory {
+            keep_omega: true,
+            sets: None,
+            stats: None,
+            rest: None,
+            first_k1: [None, None],
+            fits: [None, None],
+        }
+    }
+}
+
+impl<S> Default for StageMemory<S> {
+    /// [`StageMemory::kept`].
+    fn default() -> Self {
+        StageMemory::kept()
+    }
+}
+
+impl<S: Clone + PartialEq + Send + Sync> StageMemory<S> {
+    /// Runs every Ω stage whose inputs changed since what this memory keeps.
+    ///
+    /// # Errors
+    /// What K0's fit refuses (no plateaus).
+    pub fn run(&mut self, i: StageInputs<'_, S>) -> Result<Staged> {
+        let StageInputs {
+            log,
+            signals,
+            prepared,
+            omega_filtered_dph,
+            ranges,
+            recipe,
+            knots,
+            points,
+        } = i;
+        let keep = self.keep_omega;
+
+        let t = Instant::now();
+        let mut plateaus_ms = 0.0;
+        let stats_key = (signals.clone(), ranges.to_vec());
+        let stats = match &self.stats {
+            Some((k, stats)) if keep && *k == stats_key => stats.clone(),
+            _ => {
+                let stats = plateau::stats_of(&log.time_s, &log.temp_c, &log.omega_dph, ranges);
+                if keep {
+                    self.stats = Some((stats_key, stats.clone()));
+                }
+                plateaus_ms = ms(t);
+                stats
+            }
+        };
+        let pkey = PlateauKey {
+            signals: signals.clone(),
+            ranges: ranges.to_vec(),
+            deadband_tdot: recipe.deadband_tdot,
+            deadband_tddot: recipe.deadband_tddot,
+        };
+        let sets = match &self.sets {
+            Some((k, sets)) if *k == pkey => sets.clone(),
+            _ => {
+                let sets = Arc::new(super::sets_of_samples(
+                    &log.time_s,
+                    prepared,
+                    ranges,
+                    recipe,
+                ));
+                self.sets = Some((pkey.clone(), sets.clone()));
+                plateaus_ms = ms(t);
+                sets
+            }
+        };
+
+        let mut warnings = Vec::new();
+        let k0 = fit_k0(&stats, &recipe.k0, &mut warnings)?;
+        let k0 = with_knots(&k0, knots.get(Coefficient::K0));
+
+        let t = Instant::now();
+        let keys = [Regime::Plus, Regime::Minus].map(|regime| {
+            let (c1, c2, _) = set_names(regime);
+            SetKey {
+                plateaus: pkey.clone(),
+                k0: k0.clone(),
+                spec1: *c1.spec(recipe),
+                spec2: *c2.spec(recipe),
+                weighting: recipe.weighting,
+                refinements: recipe.refinements,
+            }
+        });
+        let todo: Vec<usize> = (0..2)
+            .filter(|&s| !keep || self.fits[s].as_ref().is_none_or(|(k, _)| *k != keys[s]))
+            .collect();
+        let rest = (!todo.is_empty() || !knots.is_empty())
+            .then(|| self.rest(&signals, &k0, omega_filtered_dph, &log.temp_c));
+        let samples = &sets.samples;
+        let mut now: [Option<FittedSet>; 2] = [None, None];
+        if let Some(rest) = &rest
+            && !todo.is_empty()
+        {
+            let inputs = SetInputs {
+                tdot: &prepared.deriv.tdot,
+                tddot: &prepared.deriv.tddot,
+                rest,
+            };
+            let first_keys = [0, 1].map(|s| FirstKey {
+                plateaus: pkey.clone(),
+                k0: k0.clone(),
+                spec1: keys[s].spec1,
+                weighting: recipe.weighting,
+            });
+            let kept = [0, 1].map(|s| {
+                self.first_k1[s]
+                    .as_ref()
+                    .filter(|(k, _)| keep && *k == first_keys[s])
+                    .map(|(_, a)| a.clone())
+            });
+            let fitted: Vec<(usize, FittedSet, Option<Approx>)> = todo
+                .par_iter()
+                .map(|&s| {
+                    let regime = regime_of(s);
+                    // The first pass's K1, kept for the next edit; it serves only when a
+                    // refinement follows it (a batch fit makes it inside the set's fit).
+                    let first = (keep && recipe.refinements > 0).then(|| {
+                        kept[s]
+                            .clone()
+                            .unwrap_or_else(|| first_k1(&samples[s], inputs, regime, recipe))
+                    });
+                    let f =
+                        fit_set_from(&samples[s], inputs, regime, recipe, points, first.as_ref());
+                    let fit = FittedSet {
+                        k1: f.k1,
+                        k2: f.k2,
+                        p1: Arc::new(f.k1_points),
+                        p2: Arc::new(f.k2_points),
+                        warnings: f.warnings,
+                    };
+                    (s, fit, first)
+                })
+                .collect();
+            for (s, fit, first) in fitted {
+                if keep {
+                    if let Some(a) = first {
+                        self.first_k1[s] = Some((first_keys[s].clone(), a));
+                    }
+                    self.fits[s] = Some((keys[s].clone(), fit.clone()));
+                }
+                now[s] = Some(fit);
+            }
+        }
+        let mut set = |s: usize| -> Result<FittedSet> {
+            let fit = match now[s].take() {
+                Some(fit) => fit,
+                None => self.fits[s]
+                    .as_ref()
+                    .map(|(_, fit)| fit.clone())
+                    .ok_or(Error::Internal("a set's fit is missing"))?,
+            };
+            Ok(match &rest {
+                Some(rest) if !knots.is_empty() => {
+                    let inputs = SetInputs {
+                        tdot: &prepared.deriv.tdot,
+                        tddot: &prepared.deriv.tddot,
+                        rest,
+                    };
+                    apply_knot_edits(&fit, &samples[s], inputs, regime_of(s), recipe, knots)
+                }
+                _ => fit,
+            })
+        };
+        let (plus, minus) = (set(0)?, set(1)?);
+        drop(rest);
+        let fit_ms = if todo.is_empty() && knots.is_empty() {
+            0.0
+        } else {
+            ms(t)
+        };
+        warnings.extend(plus.warnings);
+        warnings.extend(minus.warnings);
+        let calibration = Calibration::assemble(
+            log,
+            prepared,
+            recipe,
+            sets.deadbands,
+            stats,
+            [k0, plus.k1, minus.k1, plus.k2, minus.k2],
+        );
+        Ok(Staged {
+            calibration,
+            warnings,
+            points: [plus.p1, minus.p1, plus.p2, minus.p2],
+            plateaus_ms,
+            fit_ms,
+        })
+    }
+
+    /// `Ω_f − K0(T)`: the kept one while the signals and K0 stay, or made afresh (in place of
+    /// an owned filtered Ω).
+    fn rest(
+        &mut self,
+        signals: &S,
+        k0: &Approx,
+        omega_filtered_dph: Cow<'_, [f64]>,
+        temp_c: &[f64],
+    ) -> Arc<Vec<f64>> {
+        if let Some((s, k, rest)) = &self.rest
+            && self.keep_omega
+            && s == signals
+            && k == k0
+        {
+            return rest.clone();
+        }
+        let mut rest = omega_filtered_dph.into_owned();
+        into_rest(&mut rest, temp_c, k0);
+        let rest = Arc::new(rest);
+        if self.keep_omega {
+            self.rest = Some((signals.clone(), k0.clone(), rest.clone()));
+        }
+        rest
+    }
+}
+
+fn ms(t: Instant) -> f64 {
+    t.elapsed().as_secs_f64() * 1e3
+}
+
+/// The regime of set `s` (`0`: +, `1`: −).
+fn regime_of(s: usize) -> Regime {
+    if s == 0 { Regime::Plus } else { Regime::Minus }
+}
+
+/// The coefficients of a set's K1 and K2, and the set's sign as warnings write it.
+fn set_names(regime: Regime) -> (Coefficient, Coefficient, &'static str) {
+    match regime {
+        Regime::Minus => (Coefficient::K1Minus, Coefficient::K2Minus, "-"),
+        _ => (Coefficient::K1Plus, Coefficient::K2Plus, "+"),
+    }
+}
+
+/// The hand-set knots applied to a fitted set: a hand-set K1 is followed by a K2 fitted on
+/// what it leaves (unless K2's knots are set by hand too), as the paper's K2 step asks, then
+/// K2's hand-set knots.
+fn apply_knot_edits(
+    fit: &FittedSet,
+    samples: &SetSamples,
+    inputs: SetInputs,
+    regime: Regime,
+    recipe: &Recipe,
+    knots: &KnotEdits,
+) -> FittedSet {
+    let (c1, c2, sign) = set_names(regime);
+    let mut out = fit.clone();
+    let edit1 = knots.get(c1).filter(|v| v.len() == fit.k1.knots().1.len());
+    if edit1.is_some() {
+        out.k1 = with_knots(&fit.k1, edit1);
+        if knots.get(c2).is_none() {
+            let mut w = Vec::new();
+            // The points are gathered for display anyway; the fit reads them rather than
+            // evaluating the edited K1 again in each of its passes.
+            let p2 = k2_points_of(samples, inputs, &out.k1);
+            out.k2 = fit_k2_gathered(samples, &p2, regime, recipe, &mut w);
+            out.p2 = Arc::new(p2);
+            out.warnings
+                .retain(|m| !m.starts_with(&format!("K2{sign}")));
+            out.warnings.extend(w);
+        }
+    }
+    out.k2 = with_knots(&out.k2, knots.get(c2));
+    out
+}
