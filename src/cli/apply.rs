@@ -1,7 +1,6 @@
 //! `driftlab apply`: correct a log with a calibration and write the result as CSV.
 
 use super::common::{self, CliError, LogArgs};
-use driftlab::files::calibration;
 use driftlab::files::corrected_csv::{self, WriteError};
 use std::path::{Path, PathBuf};
 
@@ -26,12 +25,9 @@ pub struct Args {
 /// side, predicted batch by batch as the rows are written: no column of the prediction, the
 /// corrected rate, rates or regimes is held.
 pub fn run(a: Args) -> Result<(), CliError> {
-    let mut reads = common::Reads::default();
-    reads
-        .add("the calibration", &a.calibration)
-        .add("the log", &a.log);
-    common::refuse_outputs(&[("--out", &a.out)], &reads)?;
-    let unit = calibration::load_unit(&a.calibration).map_err(|e| e.to_string())?;
+    let mut reads = common::Reads::of("the calibration", &a.calibration);
+    common::refuse_outputs(&[("--out", &a.out)], reads.add("the log", &a.log))?;
+    let unit = common::load_calibration(&a.calibration)?;
     let input = a.log_args.open(&a.log)?;
     let log = a.log_args.read_for(&input, &unit)?;
     common::refuse_guessed_axis(&unit, &a.log_args, (&a.log, &log), &a.calibration)?;

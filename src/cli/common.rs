@@ -394,6 +394,13 @@ pub struct Reads<'a> {
 }
 
 impl<'a> Reads<'a> {
+    /// A list that starts with the file at `path`, read as `what` (a command's calibration).
+    pub fn of(what: impl Into<String>, path: &'a Path) -> Reads<'a> {
+        let mut reads = Reads::default();
+        reads.add(what, path);
+        reads
+    }
+
     /// The file at `path`, read as `what`. Standard input (`-`) is no file and is left out.
     pub fn add(&mut self, what: impl Into<String>, path: &'a Path) -> &mut Self {
         if path != Path::new("-") {
@@ -409,6 +416,14 @@ impl<'a> Reads<'a> {
         }
         self
     }
+}
+
+/// The calibration file at `path`, of one axis or a unit, in the words its loader gives.
+///
+/// # Errors
+/// What the loader refuses (an unreadable, malformed or hand-edited file), naming the file.
+pub fn load_calibration(path: &Path) -> Result<driftlab::UnitCalibration, CliError> {
+    Ok(driftlab::files::calibration::load_unit(path).map_err(|e| e.to_string())?)
 }
 
 /// Refuses, before anything is read or written, an output (each with the option that gives

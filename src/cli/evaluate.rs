@@ -33,7 +33,7 @@ pub struct Args {
 /// own axis for a single-axis calibration), then printed: one axis as it always was, a unit
 /// axis by axis with a summary.
 pub fn run(a: Args) -> Result<(), CliError> {
-    let unit = calibration::load_unit(&a.calibration).map_err(|e| e.to_string())?;
+    let unit = common::load_calibration(&a.calibration)?;
     let input = a.log_args.open(&a.log)?;
     let mut log = a.log_args.read_for(&input, &unit)?;
     common::refuse_guessed_axis(&unit, &a.log_args, (&a.log, &log), &a.calibration)?;

@@ -120,8 +120,7 @@ pub fn run(mut a: Args) -> Result<(), CliError> {
         a.out = None;
     }
     if let Some(out) = &a.out {
-        let mut reads = super::common::Reads::default();
-        reads.add("the calibration", &a.calibration);
+        let mut reads = super::common::Reads::of("the calibration", &a.calibration);
         if let Some(y) = &a.y {
             reads.add("the calibration of the Y axis (--y)", y);
         }
@@ -130,7 +129,7 @@ pub fn run(mut a: Args) -> Result<(), CliError> {
         }
         super::common::refuse_outputs(&[("--out", out)], &reads)?;
     }
-    let unit = calibration::load_unit(&a.calibration).map_err(|e| e.to_string())?;
+    let unit = super::common::load_calibration(&a.calibration)?;
     if unit.is_unit() {
         return run_unit(&a, &unit);
     }

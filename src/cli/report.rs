@@ -28,12 +28,9 @@ pub struct Args {
 }
 
 pub fn run(a: Args) -> Result<(), CliError> {
-    let mut reads = common::Reads::default();
-    reads
-        .add("the calibration", &a.calibration)
-        .add_all("a log", &a.logs);
-    common::refuse_folder_over("--out", &a.out, &reads)?;
-    let unit = calibration::load_unit(&a.calibration).map_err(|e| e.to_string())?;
+    let mut reads = common::Reads::of("the calibration", &a.calibration);
+    common::refuse_folder_over("--out", &a.out, reads.add_all("a log", &a.logs))?;
+    let unit = common::load_calibration(&a.calibration)?;
     let merit = report::UnitMerit {
         filter_s: a.filter,
         window_s: a.window,
