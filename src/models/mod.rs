@@ -236,14 +236,15 @@ pub fn worse_than_raw(model_name: &str, in_sample: &Evaluation) -> Option<String
 /// the samples' mean), and the column it reads as a second temperature sensor (a guess from
 /// the names, said so that the engineer can tell the chamber's air from a sensor on the gyro);
 /// for a Vakhrameev model on plateaus given by hand, each one over which the temperature
-/// moves far faster than the detector allows ([`unsteady`](crate::signal::plateau::unsteady)).
+/// moves far faster than the detector allows ([`unsteady`](crate::signal::plateau::unsteady))
+/// and each that holds no sample or one ([`too_few_samples`](crate::signal::plateau::too_few_samples)).
 pub fn judge_on_own_log(model: &DriftModel, in_sample: &Evaluation) -> Vec<String> {
     let mut out: Vec<String> = worse_than_raw(model.name(), in_sample)
         .into_iter()
         .collect();
     let n = |v: f64| crate::number::significant(v, 4);
     if let DriftModel::Vakhrameev(c) = model
-        && let recipe::PlateauChoice::Manual { .. } = c.recipe.plateaus
+        && let recipe::PlateauChoice::Manual { ranges } = &c.recipe.plateaus
     {
         // Ranges given by hand are held to the tolerance of the detector they replace.
         let limit = crate::signal::plateau::DetectOptions::default().max_rate_c_per_min;
@@ -252,6 +253,7 @@ pub fn judge_on_own_log(model: &DriftModel, in_sample: &Evaluation) -> Vec<Strin
                 .iter()
                 .filter_map(|p| crate::signal::plateau::unsteady(p, limit)),
         );
+        out.extend(crate::signal::plateau::too_few_samples(ranges, &c.plateaus));
     }
     if let DriftModel::Regression(r) = model {
         let m = &r.model;

@@ -308,6 +308,36 @@ pub fn stats(
     })
 }
 
+/// The plateaus given by hand (`ranges`) that give K0 no point or a point without a spread, each
+/// in words: a range that holds no sample of the log (over a gap, or past its end) is left out
+/// of the fit, and one that holds a single sample makes its bias one reading, whose noise
+/// nothing measures (its standard error, written as 0, is unknown). `stats` are the
+/// statistics the fit kept (a range without samples has none).
+pub fn too_few_samples(ranges: &[PlateauRange], stats: &[PlateauStats]) -> Vec<String> {
+    let shown = |r: &PlateauRange| {
+        format!(
+            "{}:{} s",
+            crate::number::readable(r.start_s),
+            crate::number::readable(r.end_s)
+        )
+    };
+    ranges
+        .iter()
+        .filter_map(|r| match stats.iter().find(|s| s.range == *r) {
+            None => Some(format!(
+                "plateau {} holds no sample of the log: it gives K0 no point and is left out",
+                shown(r)
+            )),
+            Some(s) if s.samples < 2 => Some(format!(
+                "plateau {} holds one sample: its bias is a single reading, whose noise nothing \
+                 measures; widen it",
+                shown(r)
+            )),
+            Some(_) => None,
+        })
+        .collect()
+}
+
 /// How many times the detector's tolerance a plateau's mean temperature rate may reach before
 /// it is told: a hold the detector would take never moves faster than its limit, so twice that
 /// on average is a ramp, not noise.

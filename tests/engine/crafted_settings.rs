@@ -232,6 +232,63 @@ fn a_manual_plateau_across_a_ramp_is_told_in_the_fit_warnings() {
 }
 
 #[test]
+fn a_manual_plateau_of_no_sample_or_one_is_told_in_the_fit_warnings() {
+    let truth = Truth {
+        k0: [0.2, 0.004, -6e-5],
+        k1_plus: 40.0,
+        k1_minus: 25.0,
+        k2_plus: 0.0,
+        k2_minus: 0.0,
+    };
+    let log = log_from(&Program::paper_like(), &truth, 0.01, 0.001, 3);
+    // Two samples inside the first hold, well before its end (3600 s), and the step between.
+    let k = log.time_s.iter().position(|&t| t >= 3510.0).unwrap();
+    let (t, dt) = (log.time_s[k], log.time_s[k + 1] - log.time_s[k]);
+    let one = range(t - dt / 4.0, t + dt / 4.0);
+    let none = range(t + dt * 2.0 / 5.0, t + dt * 3.0 / 5.0);
+    let ranges = vec![
+        range(1000.0, 3500.0),
+        one,
+        none,
+        range(7000.0, 11900.0),
+        range(21000.0, 24000.0),
+    ];
+    let plan = AxisPlan::unnamed(
+        ModelChoice::Preset(Preset::Vakhrameev),
+        manual(ranges.clone()).checked().unwrap(),
+    );
+    let mut fitted = log.clone();
+    let mut axes = models::calibrate(&mut fitted, &[plan], &MeritOptions::default()).unwrap();
+    let warnings = axes.remove(0).calibrated.warnings;
+    let about = |r: PlateauRange| {
+        let at = format!(
+            "plateau {}:{} s",
+            driftlab::number::readable(r.start_s),
+            driftlab::number::readable(r.end_s)
+        );
+        warnings
+            .iter()
+            .filter(|w| w.starts_with(&at))
+            .cloned()
+            .collect::<Vec<_>>()
+    };
+    let w = about(one);
+    assert!(
+        w.len() == 1 && w[0].contains("holds one sample"),
+        "{warnings:?}"
+    );
+    let w = about(none);
+    assert!(
+        w.len() == 1 && w[0].contains("holds no sample"),
+        "{warnings:?}"
+    );
+    // The others hold thousands and are not told.
+    for r in [ranges[0], ranges[3], ranges[4]] {
+        assert!(about(r).is_empty(), "{warnings:?}");
+    }
+}
+
+#[test]
 fn a_simulated_log_left_with_fewer_than_two_samples_is_refused() {
     let p = profile("calibration").unwrap();
     let run = |logging: Logging| simulate_logged(&p, 1, &logging, &|_| {});

@@ -666,3 +666,81 @@ fn the_corrected_validation_log_is_exported_from_the_window() {
     settle(&mut h);
     assert_eq!(dialogs.suggested().last().unwrap().1, "calibration.json");
 }
+
+/// Opens `validation` as the validation log of the workbench on `calibration`, settled.
+fn with_validation(calibration: &str, validation: &Path) -> Harness<'static, Workbench> {
+    let mut wb = Workbench::new_for_test(&sample(calibration));
+    let dialogs = with_dialogs(&mut wb);
+    let mut h = harness(wb);
+    settle(&mut h);
+    dialogs.answer(Some(validation.to_path_buf()));
+    h.get_all_by_label("Open validation log…")
+        .next()
+        .unwrap()
+        .click();
+    h.run_ok();
+    h.get_by_label("Load").click();
+    settle(&mut h);
+    h
+}
+
+#[test]
+fn a_one_axis_calibration_is_judged_only_on_the_same_axis_of_a_log_of_several() {
+    // calibration.csv's axis is omega (column omega_dph); imu3-validation.csv holds gx, gy, gz: none of
+    // them is the calibrated gyro, so none is judged on (it used to take gx, unsaid).
+    let h = with_validation("calibration.csv", &sample("imu3-validation.csv"));
+    let st = &h.state().state;
+    assert!(st.shown.validation.is_none());
+    let (_, message) = st.status.clone().unwrap();
+    assert!(
+        message.contains("3 gyro axes (gx, gy, gz)")
+            && message.contains("none is the calibrated axis omega (column omega_dph)"),
+        "{message}"
+    );
+
+    // The axis of the calibration log's name is found among several: a log of gx, gy and
+    // omega_dph made from imu3-validation.csv's gy, judged on that column.
+    let dir = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string(sample("validation.csv")).unwrap();
+    let mut out = String::new();
+    for (k, line) in text.lines().enumerate() {
+        if line.starts_with('#') {
+            out.push_str(line);
+        } else if k > 0 && line.starts_with("time_s") {
+            out.push_str("time_s,gx_dph,omega_dph,gz_dph,temp_c,temp_chamber_c");
+        } else {
+            let cells: Vec<&str> = line.split(',').collect();
+            let doubled = |x: &str| (x.parse::<f64>().unwrap() * 2.0).to_string();
+            out.push_str(&format!(
+                "{},{},{},{},{},{}",
+                cells[0],
+                doubled(cells[1]),
+                cells[1],
+                doubled(cells[1]),
+                cells[2],
+                cells[3]
+            ));
+        }
+        out.push('\n');
+    }
+    let three = dir.path().join("three.csv");
+    std::fs::write(&three, out).unwrap();
+    let h = with_validation("calibration.csv", &three);
+    let st = &h.state().state;
+    let judged = st.shown.validation.as_ref().expect("judged on omega_dph");
+    assert_eq!(judged.log.axis, "omega");
+    let plain = driftlab::read_path(&sample("validation.csv"), &Default::default()).unwrap();
+    assert_eq!(judged.log.omega_dph, plain.omega_dph);
+}
+
+#[test]
+fn the_calibration_log_is_not_opened_as_its_own_validation_log() {
+    let h = with_validation("calibration.csv", &sample("calibration.csv"));
+    let st = &h.state().state;
+    assert!(st.shown.validation.is_none(), "in-sample shown as held out");
+    let (_, message) = st.status.clone().unwrap();
+    assert!(
+        message.contains("is the calibration log itself"),
+        "{message}"
+    );
+}

@@ -89,6 +89,39 @@ impl Workbench {
         }
     }
 
+    /// The view of the validation log `l` that a calibration of the one axis of the calibration
+    /// log is judged on: `l` itself when it has one gyro axis, else its axis of the same name
+    /// or rate column, as a unit's axes are matched. A log of several axes none of which is the
+    /// calibrated one is not judged on (judging gy's calibration on gx would say nothing): the
+    /// message says why and how to choose.
+    fn validation_for_one_axis(&self, l: &Loaded) -> Result<Loaded, String> {
+        if l.axis_views.is_empty() {
+            return Ok(l.clone());
+        }
+        let calibrated = self.state.shown.log.as_ref().map(|c| {
+            let column = c.log.rate_column().unwrap_or_default();
+            (c.log.axis.clone(), column)
+        });
+        let (axis, column) = calibrated.unwrap_or_default();
+        l.log
+            .matching_axis(&axis, &column)
+            .and_then(|m| l.axis_view(&m).cloned())
+            .ok_or_else(|| {
+                format!(
+                    "; it has {} gyro axes ({}) and none is the calibrated axis {axis}{}, so \
+                     nothing is judged on it: choose its rate column in Open validation log's \
+                     import view",
+                    l.axis_views.len(),
+                    l.log.axis_names().join(", "),
+                    if column.is_empty() || column == axis {
+                        String::new()
+                    } else {
+                        format!(" (column {column})")
+                    }
+                )
+            })
+    }
+
     /// Gives each axis of the unit its view of the validation log just read: the axis of the
     /// same name (or rate column); says which axes it lacks.
     fn validation_for_unit(&mut self, l: Loaded) -> Option<String> {
@@ -274,6 +307,25 @@ impl Workbench {
                     self.start_load(path, options, Target::Validation);
                 }
             }
+            JobResult::Loaded(Target::Validation, l)
+                if self
+                    .state
+                    .shown
+                    .log
+                    .as_ref()
+                    .is_some_and(|c| crate::files::atomic::is_same_file(&l.path, &c.path)) =>
+            {
+                // Figures judged on the calibration's own log would be shown as held out.
+                self.opening.validation_shown = None;
+                self.state.say(
+                    Severity::Warning,
+                    format!(
+                        "{} is the calibration log itself: figures judged on it are not held \
+                         out, so it is not opened as the validation log; open another run",
+                        file_name(&l.path)
+                    ),
+                );
+            }
             JobResult::Loaded(Target::Validation, l) => {
                 let msg = format!(
                     "Validation log {} ({} samples)",
@@ -284,10 +336,13 @@ impl Workbench {
                 let msg = match self.validation_for_unit((*l).clone()) {
                     Some(missing) => format!("{msg}{missing}"),
                     None if self.state.unit.is_some() => msg,
-                    None => {
-                        self.state.shown.validation = Some(*l);
-                        msg
-                    }
+                    None => match self.validation_for_one_axis(&l) {
+                        Ok(view) => {
+                            self.state.shown.validation = Some(view);
+                            msg
+                        }
+                        Err(why) => format!("{msg}{why}"),
+                    },
                 };
                 match self.opening.validation_shown.take() {
                     Some(shown) => {

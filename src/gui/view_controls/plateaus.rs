@@ -201,11 +201,15 @@ impl ControlsView {
                             Some(s) => {
                                 cell(ui, 3, RichText::new(crate::number::fixed(s.temp_c, 2)));
                                 cell(ui, 4, RichText::new(num(s.omega_dph))).on_hover_text(
-                                    format!(
-                                        "std {} °/h, standard error {} °/h",
-                                        num(s.omega_std_dph),
-                                        num(s.omega_sem_dph)
-                                    ),
+                                    if s.samples < 2 {
+                                        "one sample: its spread is unknown".to_string()
+                                    } else {
+                                        format!(
+                                            "std {} °/h, standard error {} °/h",
+                                            num(s.omega_std_dph),
+                                            num(s.omega_sem_dph)
+                                        )
+                                    },
                                 );
                                 let spread =
                                     RichText::new(crate::number::fixed(s.temp_spread_c, 3));
