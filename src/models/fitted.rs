@@ -171,6 +171,19 @@ pub fn check_identity(gyro_id: &str, created: &str) -> std::result::Result<(), I
             ));
         }
     }
+    if !is_date_time(created) {
+        return Err(Invalid::new(
+            "created",
+            format!(
+                "{} is not a date and time; a calibration records when it was made as RFC 3339 \
+                 (2026-12-04T11:07:31Z, or with an offset: 2026-12-04T12:07:31+01:00)",
+                match created.char_indices().nth(40) {
+                    Some((end, _)) => format!("\"{}…\"", &created[..end]),
+                    None => format!("\"{created}\""),
+                }
+            ),
+        ));
+    }
     let chars = gyro_id.chars().count();
     if chars > MAX_GYRO_ID_CHARS {
         return Err(Invalid::new(
@@ -179,6 +192,27 @@ pub fn check_identity(gyro_id: &str, created: &str) -> std::result::Result<(), I
         ));
     }
     Ok(())
+}
+
+/// Whether `text` is an RFC 3339 date and time (`2026-12-04T11:07:31Z`, fractional seconds,
+/// a space for the `T`, no zone or a `±HH:MM` offset), as `created` is written.
+fn is_date_time(text: &str) -> bool {
+    let local = match text.len().checked_sub(6).map(|i| text.split_at(i)) {
+        Some((head, zone))
+            if text.is_char_boundary(text.len() - 6)
+                && zone.len() == 6
+                && matches!(zone.as_bytes()[0], b'+' | b'-')
+                && zone.as_bytes()[3] == b':'
+                && zone[1..3]
+                    .bytes()
+                    .chain(zone[4..].bytes())
+                    .all(|b| b.is_ascii_digit()) =>
+        {
+            head
+        }
+        _ => text,
+    };
+    humantime::parse_rfc3339_weak(local).is_ok()
 }
 
 /// Checks the statistics of a fit stored under `field` (`k0.stats`, `model.stats`), beyond

@@ -479,6 +479,28 @@ fn a_unit_session_keeps_every_axis_and_a_validation_log_judges_each() {
         );
     }
     assert!(!s.dirty(), "a reopened session has nothing unsaved");
+
+    // The same session whose gz is named gq: the log has no gq, and its choices are said to be
+    // left unused rather than dropped unsaid.
+    let renamed = dir.path().join("renamed.session.json");
+    let text = text.replace("\"name\": \"gz\"", "\"name\": \"gq\"");
+    assert!(text.contains("\"gq\""), "the session names its axes");
+    std::fs::write(&renamed, text).unwrap();
+    let mut third = harness(Workbench::new_for_test(&sample("calibration.csv")));
+    settle(&mut third);
+    let ctx = third.ctx.clone();
+    third
+        .state_mut()
+        .act(&ctx, Action::OpenSessionPath(renamed));
+    settle(&mut third);
+    let s = &third.state().state;
+    assert_eq!(s.axis_count(), 3);
+    let (_, said) = s.status.clone().unwrap();
+    assert!(
+        said.contains("the choices kept for axis gq are not used")
+            && said.contains("its axes: gx, gy, gz"),
+        "{said}"
+    );
 }
 
 #[test]

@@ -511,6 +511,33 @@ fn a_serial_number_or_date_with_control_characters_is_refused_in_every_version()
             body(v)["created"] = json!("2026-12-04T00:00:00Z\u{202e}")
         });
         refused(&date, "created", "holds the control character U+202E");
+        for (j, text) in [
+            "yesterday",
+            "2026-13-04T00:00:00Z",
+            "",
+            "2026-12-04T25:00:00Z",
+        ]
+        .into_iter()
+        .enumerate()
+        {
+            let date = edited(file, &format!("when{k}-{j}.json"), |v| {
+                body(v)["created"] = json!(text)
+            });
+            refused(&date, "created", "is not a date and time");
+        }
+        for text in [
+            "2026-12-04T11:07:31Z",
+            "2026-12-04 11:07:31.25",
+            "2026-12-04T12:07:31+01:00",
+        ] {
+            let date = edited(file, &format!("dated{k}.json"), |v| {
+                body(v)["created"] = json!(text)
+            });
+            assert!(
+                driftlab::files::calibration::load_unit(&date).is_ok(),
+                "{text} is a date"
+            );
+        }
     }
     let long = edited(&poly, "long.json", |v| {
         body(v)["gyro_id"] = json!("x".repeat(201))

@@ -302,7 +302,30 @@ impl Workbench {
                 if !remapped || self.state.unit.is_some() {
                     self.state.shown.history.reset(&self.state.shown.choices);
                 }
-                self.state.say(Severity::Info, msg);
+                // Choices kept for axes this log lacks are not applied to any: said, so that
+                // the engineer knows the session's work on them is not on screen.
+                let axes = match &self.state.unit {
+                    Some(u) => u.names.clone(),
+                    None => (self.state.shown.log.as_ref())
+                        .map(|l| l.log.axis_names())
+                        .unwrap_or_default(),
+                };
+                let mut lost: Vec<&String> = by_name.keys().filter(|n| !axes.contains(n)).collect();
+                lost.sort();
+                if lost.is_empty() {
+                    self.state.say(Severity::Info, msg);
+                } else {
+                    let lost: Vec<&str> = lost.iter().map(|n| n.as_str()).collect();
+                    self.state.say(
+                        Severity::Warning,
+                        format!(
+                            "{msg}; the choices kept for axis {} are not used: this log has no \
+                             such axis (its axes: {})",
+                            lost.join(", "),
+                            axes.join(", ")
+                        ),
+                    );
+                }
                 if let Some((path, options)) = self.opening.validation.take() {
                     self.start_load(path, options, Target::Validation);
                 }
@@ -344,6 +367,7 @@ impl Workbench {
                         Err(why) => format!("{msg}{why}"),
                     },
                 };
+                let with_session = self.opening.validation_shown.is_some();
                 match self.opening.validation_shown.take() {
                     Some(shown) => {
                         self.state.view.show_validation = shown;
@@ -351,7 +375,14 @@ impl Workbench {
                     }
                     None => self.state.view.show_validation = true,
                 }
-                self.state.say(Severity::Info, msg);
+                match &self.state.status {
+                    // A warning from opening the session stays in sight.
+                    Some((Severity::Warning, earlier)) if with_session => {
+                        let both = format!("{earlier}. {msg}");
+                        self.state.say(Severity::Warning, both);
+                    }
+                    _ => self.state.say(Severity::Info, msg),
+                }
             }
             JobResult::LoadFailed(_, path, message) => {
                 let message = crate::gui::view_import::in_labels(&message);
