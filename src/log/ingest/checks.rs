@@ -14,7 +14,7 @@ use crate::signal::timing::{End, GAP_FACTOR, STRAY_FACTOR, Timing};
 /// Time-order checks, dropped rows, problems, and the `Log`.
 pub(super) fn finish(mut acc: Acc, sn: &Sniffed, plan: &Plan, source: &str) -> Result<Log, Fail> {
     let n = acc.cols.first().map_or(0, Vec::len);
-    if acc.rows_read == 0 {
+    if acc.noticed.rows_read == 0 {
         return Err(if sn.has_header {
             Fail::new(
                 sn.header_line,
@@ -36,9 +36,10 @@ pub(super) fn finish(mut acc: Acc, sn: &Sniffed, plan: &Plan, source: &str) -> R
     };
     if n == 0 {
         let first = acc
+            .noticed
             .missing
             .iter()
-            .chain(&acc.infinite)
+            .chain(&acc.noticed.infinite)
             .flatten()
             .map(|t| t.first)
             .min()
@@ -49,7 +50,7 @@ pub(super) fn finish(mut acc: Acc, sn: &Sniffed, plan: &Plan, source: &str) -> R
             format!(
                 "none of the {} data rows can be used: each has a blank, NaN or infinite value \
                  in the time, rate or temperature column",
-                acc.rows_read
+                acc.noticed.rows_read
             ),
         ));
     }
@@ -57,9 +58,9 @@ pub(super) fn finish(mut acc: Acc, sn: &Sniffed, plan: &Plan, source: &str) -> R
     let mut problems = Vec::new();
     // Rows dropped for a blank or NaN cell, then for an infinite one, per column.
     let dropped = [
-        (&acc.missing, "blank or NaN", ""),
+        (&acc.noticed.missing, "blank or NaN", ""),
         (
-            &acc.infinite,
+            &acc.noticed.infinite,
             "an infinite value",
             ", which no reading can be",
         ),
@@ -82,7 +83,7 @@ pub(super) fn finish(mut acc: Acc, sn: &Sniffed, plan: &Plan, source: &str) -> R
             }
         }
     }
-    for (slot, t) in acc.bad_extra.iter().enumerate() {
+    for (slot, t) in acc.noticed.bad_extra.iter().enumerate() {
         if let Some(t) = t {
             problems.push(Problem {
                 line: t.first,
@@ -100,7 +101,7 @@ pub(super) fn finish(mut acc: Acc, sn: &Sniffed, plan: &Plan, source: &str) -> R
             });
         }
     }
-    if let Some(t) = acc.ragged {
+    if let Some(t) = acc.noticed.ragged {
         problems.push(Problem {
             line: t.first,
             column: None,
@@ -115,7 +116,7 @@ pub(super) fn finish(mut acc: Acc, sn: &Sniffed, plan: &Plan, source: &str) -> R
         });
     }
 
-    if let Some(t) = acc.long {
+    if let Some(t) = acc.noticed.long {
         problems.push(Problem {
             line: t.first,
             column: None,
@@ -299,7 +300,7 @@ pub(super) fn finish(mut acc: Acc, sn: &Sniffed, plan: &Plan, source: &str) -> R
             decimal_comma: sn.decimal_comma,
             has_header: sn.has_header,
             columns: plan.columns.clone(),
-            rows_read: acc.rows_read,
+            rows_read: acc.noticed.rows_read,
             problems,
         },
     };
