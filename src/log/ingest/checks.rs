@@ -102,34 +102,19 @@ pub(super) fn finish(mut acc: Acc, sn: &Sniffed, plan: &Plan, source: &str) -> R
         }
     }
     if let Some(t) = acc.noticed.ragged {
-        problems.push(Problem {
-            line: t.first,
-            column: None,
-            kind: ProblemKind::RaggedRow,
-            count: t.count,
-            message: format!(
-                "{} fewer fields than the header; the missing extra columns are NaN (first at \
-                 line {})",
-                rows_have(t.count),
-                t.first
-            ),
-        });
+        problems.push(rows_off_the_header(
+            t,
+            "fewer fields than the header; the missing extra columns are NaN",
+        ));
     }
-
     if let Some(t) = acc.noticed.long {
-        problems.push(Problem {
-            line: t.first,
-            column: None,
-            kind: ProblemKind::RaggedRow,
-            count: t.count,
-            message: format!(
-                "{} more fields than the file's {} columns; the extra cells are not read \
-                 (first at line {})",
-                rows_have(t.count),
-                plan.columns.len(),
-                t.first
+        problems.push(rows_off_the_header(
+            t,
+            &format!(
+                "more fields than the file's {} columns; the extra cells are not read",
+                plan.columns.len()
             ),
-        });
+        ));
     }
 
     // Time order: keep a row only if its time is above every earlier time.
@@ -361,6 +346,19 @@ fn remove_sorted(v: &mut Vec<f64>, drop: &[usize]) {
         w += 1;
     }
     v.truncate(w);
+}
+
+/// The problem of the rows tallied by `t` whose number of fields is not the header's: `what`
+/// they have ("fewer fields than ..."), worded alike for rows too short and too long so
+/// that the two read as one kind ([`ProblemKind::RaggedRow`]).
+fn rows_off_the_header(t: Tally, what: &str) -> Problem {
+    Problem {
+        line: t.first,
+        column: None,
+        kind: ProblemKind::RaggedRow,
+        count: t.count,
+        message: format!("{} {what} (first at line {})", rows_have(t.count), t.first),
+    }
 }
 
 /// "1 row has" or "N rows have", to start a message about rows.
