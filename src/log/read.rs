@@ -25,7 +25,7 @@
 use super::formats::{self, Format, FormatError, ImuRecording, InstanceSummary, SelectionError};
 use super::ingest::{self, IngestError, ReadOptions};
 use super::{Axis, Channel, ColumnInfo, ColumnRole, Log, LogInfo, Problem, ProblemKind};
-use crate::signal::timing::GAP_FACTOR;
+use crate::signal::timing::{GAP_FACTOR, Timing, stray_stamps};
 use std::path::Path;
 
 pub use super::formats::TempFrom;
@@ -369,8 +369,26 @@ pub fn from_recording(
             });
         }
     }
-    // Time order, as the CSV reader checks it.
     let time_all = inst.time.all_seconds();
+    // Stray stamps in the middle, before time order, by the CSV reader's rule.
+    {
+        let usable: Vec<usize> = (0..n).filter(|&i| keep[i]).collect();
+        let time: Vec<f64> = usable.iter().map(|&i| time_all[i]).collect();
+        if let Some(s) = stray_stamps(&time) {
+            let first = usable[s.runs[0].start] + 1;
+            problems.push(Problem {
+                line: first,
+                column: None,
+                kind: ProblemKind::TimeBackwards,
+                count: s.count(),
+                message: s.message(&time, "sample", &format!("sample {first}")),
+            });
+            for j in s.runs.into_iter().flatten() {
+                keep[usable[j]] = false;
+            }
+        }
+    }
+    // Time order, as the CSV reader checks it.
     let mut rep = (0, 0);
     let mut back = (0, 0);
     let mut last = f64::NEG_INFINITY;
@@ -517,39 +535,31 @@ fn samples(n: usize) -> String {
     }
 }
 
-/// Drops a sample alone at an end of the log past a gap longer than the rest of it (a stray
-/// stamp, [`Timing::stray_end`](crate::signal::timing::Timing::stray_end)), as the CSV reader
-/// does, with a problem naming its sample; `rows` maps each kept sample to its place in the
-/// instance and loses the dropped ones too.
+/// Drops a sample or two alone at an end of the log past a gap far longer than the rest of
+/// it (stray stamps, [`Timing::stray_end`]), as the CSV reader does, with a problem naming
+/// their samples; `rows` maps each kept sample to its place in the instance and loses the
+/// dropped ones too.
 fn drop_stray_ends(time_s: &mut Vec<f64>, rows: &mut Vec<usize>, problems: &mut Vec<Problem>) {
-    use crate::signal::timing::{End, STRAY_FACTOR, Timing};
-    while let Some((end, rest)) = Timing::of(time_s).stray_end(time_s) {
-        let last = time_s.len() - 1;
-        let (k, step) = match end {
-            End::First => (0, time_s[1] - time_s[0]),
-            End::Last => (last, time_s[last] - time_s[last - 1]),
-        };
+    while let Some(end) = Timing::of(time_s).stray_end(time_s) {
+        let k = end.range(time_s.len());
+        let samples: Vec<String> = rows[k.clone()]
+            .iter()
+            .map(|r| (r + 1).to_string())
+            .collect();
+        let place = format!(
+            "sample{} {}",
+            if samples.len() == 1 { "" } else { "s" },
+            samples.join(" and ")
+        );
         problems.push(Problem {
-            line: rows[k] + 1,
+            line: rows[k.start] + 1,
             column: None,
             kind: ProblemKind::TimeBackwards,
-            count: 1,
-            message: format!(
-                "1 sample dropped: its time {} s stands alone {} s {} the rest of the log, \
-                 more than {STRAY_FACTOR} times the {} s the rest spans: a stray time stamp \
-                 (sample {})",
-                crate::number::readable(time_s[k]),
-                crate::number::readable(step),
-                match end {
-                    End::First => "before",
-                    End::Last => "after",
-                },
-                crate::number::readable(rest),
-                rows[k] + 1
-            ),
+            count: k.len(),
+            message: end.message(time_s, "sample", &place, &crate::number::readable),
         });
-        time_s.remove(k);
-        rows.remove(k);
+        time_s.drain(k.clone());
+        rows.drain(k);
     }
 }
 

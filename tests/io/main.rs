@@ -19,4 +19,5 @@ mod ingest_mapping;
 mod killed_writes;
 mod odd_logs;
 mod session;
+mod stray_stamps;
 mod written_together;

@@ -9,12 +9,12 @@ use super::parse::{Tally, note};
 use super::read::Acc;
 use super::sniff::Sniffed;
 use crate::log::{Channel, Log, LogInfo, Problem, ProblemKind};
-use crate::signal::timing::{End, GAP_FACTOR, STRAY_FACTOR, Timing};
+use crate::signal::timing::{GAP_FACTOR, Timing, stray_stamps};
 
 /// Time-order checks, dropped rows, problems, and the `Log`.
 pub(super) fn finish(mut acc: Acc, sn: &Sniffed, plan: &Plan, source: &str) -> Result<Log, Fail> {
     let n = acc.cols.first().map_or(0, Vec::len);
-    if acc.rows_read == 0 {
+    if acc.noticed.rows_read == 0 {
         return Err(if sn.has_header {
             Fail::new(
                 sn.header_line,
@@ -36,9 +36,10 @@ pub(super) fn finish(mut acc: Acc, sn: &Sniffed, plan: &Plan, source: &str) -> R
     };
     if n == 0 {
         let first = acc
+            .noticed
             .missing
             .iter()
-            .chain(&acc.infinite)
+            .chain(&acc.noticed.infinite)
             .flatten()
             .map(|t| t.first)
             .min()
@@ -49,7 +50,7 @@ pub(super) fn finish(mut acc: Acc, sn: &Sniffed, plan: &Plan, source: &str) -> R
             format!(
                 "none of the {} data rows can be used: each has a blank, NaN or infinite value \
                  in the time, rate or temperature column",
-                acc.rows_read
+                acc.noticed.rows_read
             ),
         ));
     }
@@ -57,9 +58,9 @@ pub(super) fn finish(mut acc: Acc, sn: &Sniffed, plan: &Plan, source: &str) -> R
     let mut problems = Vec::new();
     // Rows dropped for a blank or NaN cell, then for an infinite one, per column.
     let dropped = [
-        (&acc.missing, "blank or NaN", ""),
+        (&acc.noticed.missing, "blank or NaN", ""),
         (
-            &acc.infinite,
+            &acc.noticed.infinite,
             "an infinite value",
             ", which no reading can be",
         ),
@@ -82,7 +83,7 @@ pub(super) fn finish(mut acc: Acc, sn: &Sniffed, plan: &Plan, source: &str) -> R
             }
         }
     }
-    for (slot, t) in acc.bad_extra.iter().enumerate() {
+    for (slot, t) in acc.noticed.bad_extra.iter().enumerate() {
         if let Some(t) = t {
             problems.push(Problem {
                 line: t.first,
@@ -100,47 +101,53 @@ pub(super) fn finish(mut acc: Acc, sn: &Sniffed, plan: &Plan, source: &str) -> R
             });
         }
     }
-    if let Some(t) = acc.ragged {
-        problems.push(Problem {
-            line: t.first,
-            column: None,
-            kind: ProblemKind::RaggedRow,
-            count: t.count,
-            message: format!(
-                "{} fewer fields than the header; the missing extra columns are NaN (first at \
-                 line {})",
-                rows_have(t.count),
-                t.first
+    if let Some(t) = acc.noticed.ragged {
+        problems.push(rows_off_the_header(
+            t,
+            "fewer fields than the header; the missing extra columns are NaN",
+        ));
+    }
+    if let Some(t) = acc.noticed.long {
+        problems.push(rows_off_the_header(
+            t,
+            &format!(
+                "more fields than the file's {} columns; the extra cells are not read",
+                plan.columns.len()
             ),
-        });
+        ));
     }
 
-    if let Some(t) = acc.long {
-        problems.push(Problem {
-            line: t.first,
-            column: None,
-            kind: ProblemKind::RaggedRow,
-            count: t.count,
-            message: format!(
-                "{} more fields than the file's {} columns; the extra cells are not read \
-                 (first at line {})",
-                rows_have(t.count),
-                plan.columns.len(),
-                t.first
-            ),
-        });
-    }
-
-    // Time order: keep a row only if its time is above every earlier time.
     let time_col = col_no(SLOT_TIME);
+    // Stray stamps in the middle of the log (a clock glitch on a row or two between rows that
+    // keep time): dropped before time order is looked at, which would otherwise keep a stamp
+    // far ahead and drop every row after it.
+    let strays: Vec<usize> = match stray_stamps(&acc.cols[SLOT_TIME]) {
+        Some(s) => {
+            let line = acc.line_of(s.runs[0].start);
+            problems.push(Problem {
+                line,
+                column: time_col,
+                kind: ProblemKind::TimeBackwards,
+                count: s.count(),
+                message: s.message(&acc.cols[SLOT_TIME], "row", &format!("line {line}")),
+            });
+            s.runs.into_iter().flatten().collect()
+        }
+        None => Vec::new(),
+    };
+    // Time order: keep a row only if its time is above every earlier time.
     let mut drop: Vec<usize> = Vec::new();
     {
         let time = &acc.cols[SLOT_TIME];
         let (mut back, mut rep): (Option<Tally>, Option<Tally>) = (None, None);
         let mut first_back = (0.0, 0.0);
+        // The first row is never a stray in the middle.
         let mut last = time[0];
+        let mut next_stray = strays.iter().copied().peekable();
         for (i, &t) in time.iter().enumerate().skip(1) {
-            if t > last {
+            if next_stray.next_if_eq(&i).is_some() {
+                drop.push(i);
+            } else if t > last {
                 last = t;
             } else {
                 drop.push(i);
@@ -190,45 +197,33 @@ pub(super) fn finish(mut acc: Acc, sn: &Sniffed, plan: &Plan, source: &str) -> R
     }
     // Gaps: steps the later stamps do not make up (host stamps that bunch are not gaps).
     let mut timing = Timing::of(&acc.cols[SLOT_TIME]);
-    // A sample alone at an end past a gap far longer than the rest of the log is a stray stamp:
-    // dropped with its line, so that it makes neither the log's duration nor a segment.
-    while let Some((end, rest)) = timing.stray_end(&acc.cols[SLOT_TIME]) {
-        let time = &acc.cols[SLOT_TIME];
-        let last = time.len() - 1;
-        let kept = match end {
-            End::First => 0,
-            End::Last => last,
+    // A sample or two alone at an end past a gap far longer than the rest of the log are stray
+    // stamps: dropped with their lines, so that they make neither the log's duration nor a
+    // segment.
+    while let Some(end) = timing.stray_end(&acc.cols[SLOT_TIME]) {
+        let kept = end.range(acc.cols[SLOT_TIME].len());
+        let gone: Vec<usize> = kept.clone().map(|k| row_of(&drop, k)).collect();
+        let lines: Vec<String> = gone.iter().map(|&r| acc.line_of(r).to_string()).collect();
+        let line = acc.line_of(gone[0]);
+        let place = if lines.len() == 1 {
+            format!("line {line}")
+        } else {
+            format!("lines {}", lines.join(" and "))
         };
-        let stamp = time[kept];
-        let step = match end {
-            End::First => time[1] - stamp,
-            End::Last => stamp - time[last - 1],
-        };
-        let row = row_of(&drop, kept);
-        let line = acc.line_of(row);
         problems.push(Problem {
             line,
             column: time_col,
             kind: ProblemKind::TimeBackwards,
-            count: 1,
-            message: format!(
-                "1 row dropped: its time {} s stands alone {} s {} the rest of the log, more \
-                 than {STRAY_FACTOR} times the {} s the rest spans: a stray time stamp (line \
-                 {line})",
-                crate::number::readable(stamp),
-                short(step),
-                match end {
-                    End::First => "before",
-                    End::Last => "after",
-                },
-                short(rest)
-            ),
+            count: gone.len(),
+            message: end.message(&acc.cols[SLOT_TIME], "row", &place, &short),
         });
         for col in &mut acc.cols {
-            col.remove(kept);
+            col.drain(kept.clone());
         }
-        let at = drop.partition_point(|&d| d < row);
-        drop.insert(at, row);
+        for row in gone {
+            let at = drop.partition_point(|&d| d < row);
+            drop.insert(at, row);
+        }
         timing = Timing::of(&acc.cols[SLOT_TIME]);
     }
     if let Some(first) = timing.gaps.first() {
@@ -299,7 +294,7 @@ pub(super) fn finish(mut acc: Acc, sn: &Sniffed, plan: &Plan, source: &str) -> R
             decimal_comma: sn.decimal_comma,
             has_header: sn.has_header,
             columns: plan.columns.clone(),
-            rows_read: acc.rows_read,
+            rows_read: acc.noticed.rows_read,
             problems,
         },
     };
@@ -360,6 +355,19 @@ fn remove_sorted(v: &mut Vec<f64>, drop: &[usize]) {
         w += 1;
     }
     v.truncate(w);
+}
+
+/// The problem of the rows tallied by `t` whose number of fields is not the header's: `what`
+/// they have ("fewer fields than ..."), worded alike for rows too short and too long so
+/// that the two read as one kind ([`ProblemKind::RaggedRow`]).
+fn rows_off_the_header(t: Tally, what: &str) -> Problem {
+    Problem {
+        line: t.first,
+        column: None,
+        kind: ProblemKind::RaggedRow,
+        count: t.count,
+        message: format!("{} {what} (first at line {})", rows_have(t.count), t.first),
+    }
 }
 
 /// "1 row has" or "N rows have", to start a message about rows.

@@ -175,18 +175,12 @@ pub(crate) enum Stop {
     NeedsGeneral,
 }
 
-/// What a block (or the whole file, on the sequential path) parsed into.
+/// What the reader noticed and worked around while reading rows: one type for a block's
+/// tallies and for the whole file's, so that a block's are added to the file's in one place
+/// ([`Noticed::absorb`]) and a new kind of tally cannot be counted in one and forgotten in the
+/// other.
 #[derive(Debug)]
-pub(crate) struct Chunk {
-    /// One vector per slot (time, rate, temperature, extras...).
-    pub cols: Vec<Vec<f64>>,
-    /// `(row, line)` wherever a row's line is not the previous row's line + 1.
-    pub jumps: Vec<(usize, usize)>,
-    /// Rows kept.
-    pub rows: usize,
-    last_line: usize,
-    /// Lines processed.
-    pub lines: usize,
+pub(crate) struct Noticed {
     /// Data rows seen, kept or not.
     pub rows_read: usize,
     /// Rows dropped for a missing value, by the slot of the first missing cell.
@@ -200,6 +194,66 @@ pub(crate) struct Chunk {
     pub long: Option<Tally>,
     /// Unreadable cells in extra columns (kept as NaN), by slot.
     pub bad_extra: Vec<Option<Tally>>,
+}
+
+impl Noticed {
+    pub(crate) fn new(nslots: usize) -> Noticed {
+        Noticed {
+            rows_read: 0,
+            missing: vec![None; nslots],
+            infinite: vec![None; nslots],
+            ragged: None,
+            long: None,
+            bad_extra: vec![None; nslots],
+        }
+    }
+
+    /// Adds what a later part of the file noticed, its lines relative to `base`: counts add
+    /// up, and a first occurrence stays the earliest one (this part's only where there was
+    /// none before).
+    pub(crate) fn absorb(&mut self, later: Noticed, base: usize) {
+        self.rows_read += later.rows_read;
+        let merge = |dst: &mut Option<Tally>, src: Option<Tally>| {
+            if let Some(t) = src {
+                match dst {
+                    Some(d) => d.count += t.count,
+                    None => {
+                        *dst = Some(Tally {
+                            first: t.first + base,
+                            count: t.count,
+                        })
+                    }
+                }
+            }
+        };
+        for (d, s) in self.missing.iter_mut().zip(later.missing) {
+            merge(d, s);
+        }
+        for (d, s) in self.bad_extra.iter_mut().zip(later.bad_extra) {
+            merge(d, s);
+        }
+        for (d, s) in self.infinite.iter_mut().zip(later.infinite) {
+            merge(d, s);
+        }
+        merge(&mut self.ragged, later.ragged);
+        merge(&mut self.long, later.long);
+    }
+}
+
+/// What a block (or the whole file, on the sequential path) parsed into.
+#[derive(Debug)]
+pub(crate) struct Chunk {
+    /// One vector per slot (time, rate, temperature, extras...).
+    pub cols: Vec<Vec<f64>>,
+    /// `(row, line)` wherever a row's line is not the previous row's line + 1.
+    pub jumps: Vec<(usize, usize)>,
+    /// Rows kept.
+    pub rows: usize,
+    last_line: usize,
+    /// Lines processed.
+    pub lines: usize,
+    /// Rows read, dropped and worked around, lines relative to the block.
+    pub noticed: Noticed,
     /// Set when parsing stopped before the end.
     pub stop: Option<Stop>,
 }
@@ -212,12 +266,7 @@ impl Chunk {
             rows: 0,
             last_line: 0,
             lines: 0,
-            rows_read: 0,
-            missing: vec![None; nslots],
-            infinite: vec![None; nslots],
-            ragged: None,
-            long: None,
-            bad_extra: vec![None; nslots],
+            noticed: Noticed::new(nslots),
             stop: None,
         }
     }
@@ -279,10 +328,10 @@ impl Parser<'_> {
         let mut rel = 0;
         while pos < data.len() {
             if row_index {
-                vals[0] = chunk.rows_read as f64;
+                vals[0] = chunk.noticed.rows_read as f64;
             }
             if !quoted && let Some(next) = self.fast_row::<WS, DC>(data, pos, d, &mut vals) {
-                chunk.rows_read += 1;
+                chunk.noticed.rows_read += 1;
                 chunk.push(&vals, rel);
                 pos = next;
                 rel += 1;
@@ -294,7 +343,7 @@ impl Parser<'_> {
                 && memchr(b'"', line).is_none()
                 && let Some(next) = self.fast_row::<WS, DC>(data, pos, d, &mut vals)
             {
-                chunk.rows_read += 1;
+                chunk.noticed.rows_read += 1;
                 chunk.push(&vals, rel);
                 pos = next;
                 rel += 1;
@@ -435,9 +484,9 @@ impl Parser<'_> {
         vals: &mut [f64],
     ) -> Result<(), Stop> {
         if matches!(self.plan.time, TimeSource::RowIndex { .. }) {
-            vals[0] = chunk.rows_read as f64;
+            vals[0] = chunk.noticed.rows_read as f64;
         }
-        chunk.rows_read += 1;
+        chunk.noticed.rows_read += 1;
         let mut first_missing: Option<(usize, bool)> = None;
         let mut short = false;
         for (j, act) in self.plan.actions.iter().enumerate() {
@@ -493,7 +542,7 @@ impl Parser<'_> {
                         )));
                     }
                     Cell::Bad => {
-                        if let Some(t) = chunk.bad_extra.get_mut(slot) {
+                        if let Some(t) = chunk.noticed.bad_extra.get_mut(slot) {
                             note(t, line);
                         }
                         f64::NAN
@@ -506,9 +555,9 @@ impl Parser<'_> {
         }
         if let Some((slot, infinite)) = first_missing {
             let tallies = if infinite {
-                &mut chunk.infinite
+                &mut chunk.noticed.infinite
             } else {
-                &mut chunk.missing
+                &mut chunk.noticed.missing
             };
             if let Some(t) = tallies.get_mut(slot) {
                 note(t, line);
@@ -516,10 +565,10 @@ impl Parser<'_> {
             return Ok(());
         }
         if short {
-            note(&mut chunk.ragged, line);
+            note(&mut chunk.noticed.ragged, line);
         }
         if fields.len() > self.plan.columns.len() {
-            note(&mut chunk.long, line);
+            note(&mut chunk.noticed.long, line);
         }
         chunk.push(vals, line);
         Ok(())

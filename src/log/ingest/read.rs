@@ -9,7 +9,7 @@
 
 use super::checks::finish;
 use super::columns::{SLOT_TIME, TimeSource, plan};
-use super::parse::{Chunk, Parser, Stop, Tally};
+use super::parse::{Chunk, Noticed, Parser, Stop};
 use super::sniff::{
     MAX_LINE_BYTES, Sniffed, Unterminated, is_skippable, read_head, sniff, split_fields, strip_cr,
 };
@@ -86,12 +86,8 @@ impl From<Fail> for Flow {
 pub(super) struct Acc {
     pub(super) cols: Vec<Vec<f64>>,
     jumps: Vec<(usize, usize)>,
-    pub(super) rows_read: usize,
-    pub(super) missing: Vec<Option<Tally>>,
-    pub(super) infinite: Vec<Option<Tally>>,
-    pub(super) ragged: Option<Tally>,
-    pub(super) long: Option<Tally>,
-    pub(super) bad_extra: Vec<Option<Tally>>,
+    /// Lines in the file's numbering.
+    pub(super) noticed: Noticed,
 }
 
 impl Acc {
@@ -99,12 +95,7 @@ impl Acc {
         Acc {
             cols: (0..nslots).map(|_| Vec::with_capacity(reserve)).collect(),
             jumps: Vec::new(),
-            rows_read: 0,
-            missing: vec![None; nslots],
-            infinite: vec![None; nslots],
-            ragged: None,
-            long: None,
-            bad_extra: vec![None; nslots],
+            noticed: Noticed::new(nslots),
         }
     }
 
@@ -112,7 +103,7 @@ impl Acc {
     /// column vectors for reuse.
     fn absorb(&mut self, c: Chunk, base: usize, time: TimeSource) -> Vec<Vec<f64>> {
         let rows_before = self.cols.first().map_or(0, Vec::len);
-        let read_before = self.rows_read as f64;
+        let read_before = self.noticed.rows_read as f64;
         self.jumps
             .extend(c.jumps.iter().map(|&(r, l)| (r + rows_before, l + base)));
         for (s, col) in c.cols.iter().enumerate() {
@@ -126,31 +117,7 @@ impl Acc {
                 _ => dst.extend_from_slice(col),
             }
         }
-        self.rows_read += c.rows_read;
-        let merge = |dst: &mut Option<Tally>, src: Option<Tally>| {
-            if let Some(t) = src {
-                match dst {
-                    Some(d) => d.count += t.count,
-                    None => {
-                        *dst = Some(Tally {
-                            first: t.first + base,
-                            count: t.count,
-                        })
-                    }
-                }
-            }
-        };
-        for (d, s) in self.missing.iter_mut().zip(c.missing) {
-            merge(d, s);
-        }
-        for (d, s) in self.bad_extra.iter_mut().zip(c.bad_extra) {
-            merge(d, s);
-        }
-        for (d, s) in self.infinite.iter_mut().zip(c.infinite) {
-            merge(d, s);
-        }
-        merge(&mut self.ragged, c.ragged);
-        merge(&mut self.long, c.long);
+        self.noticed.absorb(c.noticed, base);
         let mut cols = c.cols;
         for col in &mut cols {
             col.clear();

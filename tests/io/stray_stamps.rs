@@ -1,0 +1,273 @@
+//! Stray time stamps in the middle of a log: a clock glitch stamps a row (or two side by side)
+//! 1e6 s, 1e300 s or 0 between rows that keep time. Both readers (CSV, and a drone log's) must
+//! drop exactly the glitched rows and say so with their line, and nothing else: the log reads as
+//! the clean file does, with its duration, and a genuine gap stays a gap.
+//!
+//! The truth each read is held to is the clean file's read (the same rows without the glitch),
+//! never a value taken from the reader's own output.
+
+use driftlab::log::ProblemKind;
+
+use crate::common;
+use crate::crafted_rows::{problems as kinds, stray as strays};
+use common::ingest::*;
+
+/// Rows at 1 Hz from 100 s on, each with its own rate and temperature, so that a log that
+/// lost or kept the wrong row cannot equal another.
+fn rows(n: usize) -> Vec<String> {
+    (0..n)
+        .map(|i| {
+            format!(
+                "{},{},{}",
+                100 + i,
+                0.001 * (i % 97) as f64,
+                20.0 + 0.01 * i as f64
+            )
+        })
+        .collect()
+}
+
+fn text(rows: &[String]) -> String {
+    let mut s = String::from("time_s,omega_dph,temp_c\n");
+    for r in rows {
+        s += r;
+        s.push('\n');
+    }
+    s
+}
+
+/// The file line of row `i` (0-based) of [`text`]: the header is line 1.
+fn line_of_row(i: usize) -> usize {
+    i + 2
+}
+
+/// The columns, duration and timing of `got` are those of `want`.
+fn same_log(got: &driftlab::Log, want: &driftlab::Log, what: &str) {
+    assert_eq!(got.time_s, want.time_s, "{what}: {:?}", got.info.problems);
+    assert_eq!(got.omega_dph, want.omega_dph, "{what}");
+    assert_eq!(got.temp_c, want.temp_c, "{what}");
+    assert_eq!(got.duration_s(), want.duration_s(), "{what}");
+    assert_eq!(got.timing(), want.timing(), "{what}");
+}
+
+#[test]
+fn stray_rows_slipped_in_read_as_the_clean_log() {
+    let clean_rows = rows(3000);
+    let clean = read(&text(&clean_rows));
+    assert!(clean.info.problems.is_empty(), "{:?}", clean.info.problems);
+    // Glitched rows slipped in after row 1500: the rows around them keep the 1-s step.
+    for glitch in [
+        &["1000000"][..],
+        &["1e300"],
+        &["0"],
+        &["-1e300"],
+        &["1000000", "1000001"],
+        &["1000000", "0"],
+        &["0", "1"],
+    ] {
+        let mut r = clean_rows.clone();
+        for (k, t) in glitch.iter().enumerate() {
+            r.insert(1501 + k, format!("{t},0.5,99"));
+        }
+        let log = read(&text(&r));
+        same_log(&log, &clean, &format!("{glitch:?}"));
+        assert_eq!(log.info.rows_read, 3000 + glitch.len());
+        let s = strays(&log);
+        assert_eq!(s.len(), 1, "{glitch:?}: {:?}", log.info.problems);
+        assert_eq!(
+            (s[0].line, s[0].count, s[0].column),
+            (line_of_row(1501), glitch.len(), Some(1)),
+            "{glitch:?}: {}",
+            s[0].message
+        );
+        assert!(
+            s[0].message
+                .contains(&format!("(line {})", line_of_row(1501))),
+            "{}",
+            s[0].message
+        );
+        // Nothing else to tell: no time going backwards, no gap.
+        assert_eq!(log.info.problems.len(), 1, "{:?}", log.info.problems);
+    }
+}
+
+#[test]
+fn a_glitched_stamp_drops_its_row_and_no_other() {
+    let clean_rows = rows(3000);
+    // The stamps of rows 1500 (and 1501) garbled: the log is the clean one without those rows.
+    for glitch in [
+        &["1000000"][..],
+        &["0"],
+        &["1e300"],
+        &["1000000", "1000001"],
+    ] {
+        let mut r = clean_rows.clone();
+        let mut without = clean_rows.clone();
+        for (k, t) in glitch.iter().enumerate() {
+            let cells = r[1500 + k].split_once(',').unwrap().1.to_string();
+            r[1500 + k] = format!("{t},{cells}");
+        }
+        without.drain(1500..1500 + glitch.len());
+        let log = read(&text(&r));
+        let want = read(&text(&without));
+        same_log(&log, &want, &format!("{glitch:?}"));
+        assert_eq!(log.duration_s(), 2999.0, "{glitch:?}");
+        let s = strays(&log);
+        assert_eq!(s.len(), 1, "{glitch:?}: {:?}", log.info.problems);
+        assert_eq!((s[0].line, s[0].count), (line_of_row(1500), glitch.len()));
+        // Whatever else is told is what the clean file without those rows tells (two rows
+        // missing at 1 Hz are a hole of 3 s, which is a gap).
+        let others = |l: &driftlab::Log| -> Vec<ProblemKind> {
+            l.info
+                .problems
+                .iter()
+                .filter(|p| !p.message.contains("stray time stamp"))
+                .map(|p| p.kind)
+                .collect()
+        };
+        assert_eq!(others(&log), others(&want), "{glitch:?}");
+    }
+}
+
+#[test]
+fn strays_in_several_places_are_told_once_with_the_first_line() {
+    let clean_rows = rows(3000);
+    let clean = read(&text(&clean_rows));
+    let mut r = clean_rows.clone();
+    // From the end, so that the earlier places keep their index.
+    for at in [2500, 1000, 200] {
+        r.insert(at, "1e9,0.5,99".to_string());
+    }
+    let log = read(&text(&r));
+    same_log(&log, &clean, "three strays");
+    let s = strays(&log);
+    assert_eq!(s.len(), 1, "{:?}", log.info.problems);
+    assert_eq!((s[0].line, s[0].count), (line_of_row(200), 3));
+    assert!(s[0].message.contains("in 3 places"), "{}", s[0].message);
+}
+
+#[test]
+fn a_genuine_gap_stays_a_gap() {
+    // An hour's pause of the chamber: time goes on from the later value.
+    let mut r = rows(3000);
+    for (i, row) in r.iter_mut().enumerate().skip(1500) {
+        let cells = row.split_once(',').unwrap().1.to_string();
+        *row = format!("{},{cells}", 100 + i + 3600);
+    }
+    let log = read(&text(&r));
+    assert_eq!(log.len(), 3000);
+    assert!(strays(&log).is_empty(), "{:?}", log.info.problems);
+    let gaps = kinds(&log, ProblemKind::Gap);
+    assert_eq!(gaps.len(), 1, "{:?}", log.info.problems);
+    assert_eq!(gaps[0].line, line_of_row(1500));
+    assert_eq!(log.timing().segments, vec![0..1500, 1500..3000]);
+
+    // A lone sample between two outages is data between two gaps, not a stray stamp.
+    let mut r = rows(3000);
+    for (i, row) in r.iter_mut().enumerate().skip(1500) {
+        let late = if i == 1500 { 3600 } else { 7200 };
+        let cells = row.split_once(',').unwrap().1.to_string();
+        *row = format!("{},{cells}", 100 + i + late);
+    }
+    let log = read(&text(&r));
+    assert_eq!(log.len(), 3000);
+    assert!(strays(&log).is_empty(), "{:?}", log.info.problems);
+    assert_eq!(log.timing().gaps.len(), 2);
+}
+
+#[test]
+fn time_that_is_set_back_is_not_a_stray_stamp() {
+    // The clock set back 50 s for good (not a glitch: the rows after the step keep the new
+    // time): the rows up to the old time are dropped as going backwards, as before.
+    let mut r = rows(3000);
+    for (i, row) in r.iter_mut().enumerate().skip(1500) {
+        let cells = row.split_once(',').unwrap().1.to_string();
+        *row = format!("{},{cells}", 100 + i - 50);
+    }
+    let log = read(&text(&r));
+    assert!(strays(&log).is_empty(), "{:?}", log.info.problems);
+    let back = kinds(&log, ProblemKind::TimeBackwards);
+    let rep = kinds(&log, ProblemKind::TimeRepeated);
+    assert_eq!((back.len(), rep.len()), (1, 1), "{:?}", log.info.problems);
+    assert_eq!(back[0].count + rep[0].count, 50);
+}
+
+#[test]
+fn two_stray_rows_at_an_end_are_dropped_with_their_lines() {
+    // 1000 rows (999 s), then two rows a step apart 1e9 s on: more than a hundred times the
+    // log, a segment of two samples that no window fits in.
+    let clean_rows = rows(1000);
+    let clean = read(&text(&clean_rows));
+    let mut r = clean_rows.clone();
+    r.push("1000000000,0.5,99".into());
+    r.push("1000000001,0.5,99".into());
+    let log = read(&text(&r));
+    same_log(&log, &clean, "two at the end");
+    let s = strays(&log);
+    assert_eq!(s.len(), 1, "{:?}", log.info.problems);
+    assert_eq!((s[0].line, s[0].count), (line_of_row(1000), 2));
+    assert!(
+        s[0].message.contains(&format!(
+            "(lines {} and {})",
+            line_of_row(1000),
+            line_of_row(1001)
+        )),
+        "{}",
+        s[0].message
+    );
+    assert!(kinds(&log, ProblemKind::Gap).is_empty());
+    // At the start too.
+    let mut r = clean_rows.clone();
+    r.insert(0, "-1000000001,0.5,99".into());
+    r.insert(1, "-1000000000,0.5,99".into());
+    let log = read(&text(&r));
+    same_log(&log, &clean, "two at the start");
+    assert_eq!(strays(&log)[0].line, line_of_row(0));
+    // An outage of a few times the log, then two rows: kept, and the gap told.
+    let mut r = clean_rows.clone();
+    r.push("50000,0.5,99".into());
+    r.push("50001,0.5,99".into());
+    let log = read(&text(&r));
+    assert_eq!(log.len(), 1002);
+    assert!(strays(&log).is_empty(), "{:?}", log.info.problems);
+    assert_eq!(kinds(&log, ProblemKind::Gap).len(), 1);
+}
+
+/// A PX4 ULog at 1 Hz with these stamps.
+fn ulog_log(time_s: &[f64]) -> driftlab::Log {
+    let gyro: Vec<[f32; 3]> = (0..time_s.len())
+        .map(|i| [0.001 * (i % 97) as f32, 0.0, 0.0])
+        .collect();
+    let temp: Vec<f32> = (0..time_s.len()).map(|i| 20.0 + i as f32 * 0.01).collect();
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("log.ulg");
+    std::fs::write(&path, common::drone::ulog(time_s, &gyro, &temp, 1)).unwrap();
+    driftlab::log::read::read_any(&path, &opts(), &Default::default())
+        .unwrap()
+        .log
+}
+
+#[test]
+fn a_drone_log_drops_a_stray_stamp_by_the_same_rule() {
+    let clean_t: Vec<f64> = (0..1200).map(|i| 100.0 + f64::from(i)).collect();
+    for glitch in [&[1e6][..], &[0.0], &[1e6, 1e6 + 1.0]] {
+        let mut t = clean_t.clone();
+        for (k, &g) in glitch.iter().enumerate() {
+            t[600 + k] = g;
+        }
+        let mut without = clean_t.clone();
+        without.drain(600..600 + glitch.len());
+        let log = ulog_log(&t);
+        assert_eq!(log.time_s, without, "{glitch:?}: {:?}", log.info.problems);
+        assert_eq!(log.duration_s(), 1199.0);
+        let s = strays(&log);
+        assert_eq!(s.len(), 1, "{glitch:?}: {:?}", log.info.problems);
+        // Sample 601 is the 600th of the instance, counted from 0.
+        assert_eq!((s[0].line, s[0].count), (601, glitch.len()));
+        assert!(s[0].message.contains("(sample 601)"), "{}", s[0].message);
+        // The rows kept are the clean log's rows without the glitched ones, rate and all.
+        let mut rate = ulog_log(&clean_t).omega_dph;
+        rate.drain(600..600 + glitch.len());
+        assert_eq!(log.omega_dph, rate);
+    }
+}
