@@ -11,7 +11,7 @@
 //!
 //! | module | stage |
 //! |---|---|
-//! | [`log`] | a test log and its readers ([`log::ingest`] for CSV) |
+//! | [`log`] | a test log and its readers ([`read_path`] for any format, [`log::ingest`] the CSV reader, [`log::formats`] the drone and robot logs) |
 //! | [`signal`] | moving averages, derivatives, plateaus, the plot pyramid |
 //! | [`models`] | every model: the shared face, presets, recipe, Vakhrameev's, the regressions, the curve approximations |
 //! | [`judge`] | figures of merit, Allan deviation, models compared on held-out logs |
@@ -74,7 +74,8 @@ pub mod gui;
 pub use error::{Error, Result};
 pub use judge::metrics::{Comparison, Evaluation, MeritOptions};
 pub use log::Log;
-pub use log::ingest::{ReadOptions, read_path};
+pub use log::ingest::ReadOptions;
+pub use log::read::read_path;
 pub use models::{
     AxisPlan, Calibrated, CheckedRecipe, DriftModel, ModelChoice, Preset, Recipe, UnitCalibration,
     calibrate, fit,

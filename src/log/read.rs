@@ -266,6 +266,17 @@ pub fn read_drone_log(
     from_recording(&rec, opts.skip_extras, choice).map(Some)
 }
 
+/// Reads the log at `path`, whatever its format, as every face does by default: a CSV as
+/// [`ingest::read_path`] reads it, a drone or robot log's first gyro with a temperature (as
+/// [`read_any`] chooses with the default [`FormatChoice`]). The library's front door,
+/// `driftlab::read_path`.
+///
+/// # Errors
+/// As [`read_any`].
+pub fn read_path(path: &Path, opts: &ReadOptions) -> Result<Log, ReadError> {
+    Ok(read_any(path, opts, &FormatChoice::default())?.log)
+}
+
 /// Reads any log driftlab reads: a CSV as [`ingest::read_path`] does (`choice` must then be
 /// the default), a drone or robot log as [`from_recording`] makes it (`opts` must then set
 /// no CSV option; `skip_extras` leaves the accelerometer out).

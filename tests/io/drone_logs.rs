@@ -397,3 +397,27 @@ fn the_command_line_refuses_what_does_not_fit_by_name() {
     let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(json["samples"], 1297);
 }
+
+#[test]
+fn the_librarys_front_door_reads_every_format() {
+    let Some(dir) = data_dir() else { return };
+    // `driftlab::read_path` is the reader of any log, as the faces read one by default: the
+    // ULog and the DataFlash log as `read_any` reads them with the default choice, checked
+    // against the independent readers' tables through it.
+    for rel in [ULOG, DATAFLASH] {
+        let front = driftlab::read_path(&dir.join(rel), &ReadOptions::default())
+            .unwrap_or_else(|e| panic!("{rel}: {e}"));
+        let any =
+            read::read_any(&dir.join(rel), &ReadOptions::default(), &Default::default()).unwrap();
+        assert_eq!(front.time_s, any.log.time_s, "{rel}");
+        assert_eq!(front.omega_dph, any.log.omega_dph, "{rel}");
+        assert_eq!(front.temp_c, any.log.temp_c, "{rel}");
+        assert!(!front.is_empty(), "{rel}: no sample");
+    }
+    // A CSV reads as the CSV reader reads it.
+    let csv = Path::new(env!("CARGO_MANIFEST_DIR")).join("sample_logs/calibration.csv");
+    let front = driftlab::read_path(&csv, &ReadOptions::default()).unwrap();
+    let plain = ingest::read_path(&csv, &ReadOptions::default()).unwrap();
+    assert_eq!(front.omega_dph, plain.omega_dph);
+    assert_eq!(front.time_s, plain.time_s);
+}

@@ -3,7 +3,8 @@
 //! It reads CSV only. The drone and robot logs (PX4 ULog, ArduPilot DataFlash, ROS bag, MCAP)
 //! are read by [`super::formats`], and [`crate::log::read::read_any`] is the reader of every
 //! format: it tells them apart by their first bytes and calls this module for a CSV. The
-//! crate's `driftlab::read_path` is this module's [`read_path`], the CSV reader.
+//! crate's `driftlab::read_path` is its front door; this module's [`read_path`] reads CSV
+//! only.
 //!
 //! Thermal-chamber stands write CSV in many dialects: comma, semicolon, tab or aligned
 //! columns; decimal points or (Russian and European stands) decimal commas; with or without
