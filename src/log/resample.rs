@@ -121,15 +121,22 @@ fn check_bin(log: &Log, bin_s: f64) -> Result<(), Invalid> {
     // The nominal step is at most the mean step over the whole log (gaps only lengthen the
     // latter): a bin at least that long needs no walk to be judged.
     let mean_step = span / (log.len() - 1) as f64;
-    if bin_s < mean_step {
+    if bin_s <= mean_step {
         let step = log.nominal_dt_s();
-        if bin_s < step {
+        // A bin of one step holds one sample (none or two where the clock jitters): nothing
+        // is averaged, and the log only loses its own stamps for the bins' centres.
+        if bin_s <= step {
             return Err(Invalid::new(
                 "bin_s",
                 format!(
-                    "{} s is shorter than the step of the log {} ({} s): every sample would \
-                     be a bin of its own, and nothing would be averaged",
+                    "{} s is {} the step of the log {} ({} s): every sample would be a bin of \
+                     its own, and nothing would be averaged; a bin of several steps averages",
                     readable(bin_s),
+                    if bin_s < step {
+                        "shorter than"
+                    } else {
+                        "the same as"
+                    },
                     log.source,
                     readable(step)
                 ),

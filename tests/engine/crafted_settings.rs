@@ -44,13 +44,19 @@ fn a_bin_below_the_microsecond_floor_is_refused_not_overflowed() {
 }
 
 #[test]
-fn a_bin_shorter_than_the_step_is_refused_with_the_step() {
+fn a_bin_no_longer_than_the_step_is_refused_with_the_step() {
     let log = regular(1000, 1.0);
     let why = bin_error(&log, 0.5);
     assert!(why.contains("step of the log run.csv (1 s)"), "{why}");
-    // As long as the step: each sample its own bin, as asked; twice as long: pairs.
-    let (same, _) = resample(log.clone(), Resampling::Bins(1.0)).unwrap();
-    assert_eq!(same.len(), 1000);
+    // As long as the step: each sample would be its own bin, nothing averaged: refused too;
+    // a little longer, or twice as long: pairs.
+    let why = bin_error(&log, 1.0);
+    assert!(
+        why.contains("the same as the step of the log run.csv (1 s)"),
+        "{why}"
+    );
+    let (few, _) = resample(log.clone(), Resampling::Bins(1.5)).unwrap();
+    assert!(few.len() < 1000, "{} bins", few.len());
     let (pairs, _) = resample(log, Resampling::Bins(2.0)).unwrap();
     assert_eq!(pairs.len(), 500);
     assert_eq!(pairs.time_s[1], 2.5);
