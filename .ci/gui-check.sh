@@ -145,4 +145,13 @@ for what in "newer.session.json:version 99 is not supported" \
   [ ! -e "$WORK/shot.png" ] || fail "gui $file --screenshot wrote a picture"
 done
 
-echo "gui-check: ok: with no portal, no D-Bus session and no zenity, Ctrl+E/Enter and Ctrl+S/Enter wrote run7-calibration.json and run7-session.json beside the log; --screenshot of a session or log that cannot be shown ended with status 1 and its message"
+# A window larger than the 1600x1000 screen is said, not passed over (the picture is of the
+# window the screen allowed).
+rc=0
+env HOME="$WORK/home" DISPLAY=":$DISPLAY_NUM" timeout 60 "$BIN" gui "$WORK/logs/run7.csv" \
+  --window-size 2400x1500 --screenshot "$WORK/big.png" >"$WORK/big.log" 2>&1 || rc=$?
+[ "$rc" -eq 0 ] || fail "gui --window-size 2400x1500 --screenshot: status $rc: $(cat "$WORK/big.log")"
+grep -q "^warning: The window is .*smaller than the 2400×1500 asked for" "$WORK/big.log" ||
+  fail "a window larger than the screen was not said: $(cat "$WORK/big.log")"
+
+echo "gui-check: ok: with no portal, no D-Bus session and no zenity, Ctrl+E/Enter and Ctrl+S/Enter wrote run7-calibration.json and run7-session.json beside the log; --screenshot of a session or log that cannot be shown ended with status 1 and its message; a window larger than the screen was said"

@@ -112,6 +112,8 @@ struct Window {
     panel_rects: HashMap<&'static str, Rect>,
     /// A mouse button is held (a drag under way): only the axis shown is refitted.
     pointer_down: bool,
+    /// The size asked for on the command line, until the window is seen to have it or not.
+    asked_size: Option<[f32; 2]>,
 }
 
 /// A session being opened: its log is read first, then the rest of it is restored.
@@ -167,6 +169,7 @@ impl Workbench {
                 plot_rects: HashMap::new(),
                 panel_rects: HashMap::new(),
                 pointer_down: false,
+                asked_size: None,
             },
             opening: Opening::default(),
             recovery: Recovery { autosave, offered },
@@ -329,6 +332,43 @@ impl Workbench {
         self.opening.validation = Some((path, options));
     }
 
+    /// Remembers the window size asked for, so that a window the screen cannot hold (and a
+    /// screenshot of another size than asked) is said rather than passed over.
+    pub fn ask_window_size(&mut self, size: [f32; 2]) {
+        self.window.asked_size = Some(size);
+    }
+
+    /// Once the window has settled (a few frames in), says when it is smaller than the size
+    /// asked for: the screen or the window system made it so.
+    fn check_window_size(&mut self, ctx: &egui::Context) {
+        let Some([w, h]) = self.window.asked_size else {
+            return;
+        };
+        if ctx.cumulative_frame_nr() < 3 {
+            return;
+        }
+        self.window.asked_size = None;
+        let (inner, monitor) = ctx.input(|i| (i.viewport().inner_rect, i.viewport().monitor_size));
+        let Some(inner) = inner else {
+            return;
+        };
+        if inner.width() + 1.0 >= w && inner.height() + 1.0 >= h {
+            return;
+        }
+        let screen = monitor
+            .map(|m| format!(": the screen is {:.0}×{:.0}", m.x, m.y))
+            .unwrap_or_default();
+        let message = format!(
+            "The window is {:.0}×{:.0}, smaller than the {w:.0}×{h:.0} asked for{screen}",
+            inner.width(),
+            inner.height()
+        );
+        if self.shots.auto.is_some() {
+            eprintln!("warning: {message}");
+        }
+        self.state.say(Severity::Warning, message);
+    }
+
     /// Starts reading a log (no import view: the options are given).
     pub fn start_load(&mut self, path: PathBuf, options: LoadOptions, target: Target) {
         self.state
@@ -340,6 +380,7 @@ impl Workbench {
     pub fn ui(&mut self, ui: &mut Ui) {
         let ctx = ui.ctx().clone();
         self.jobs.set_context(&ctx);
+        self.check_window_size(&ctx);
         self.apply_theme(&ctx);
         while let Some(r) = self.jobs.next(Duration::ZERO) {
             self.handle(r);

@@ -244,6 +244,9 @@ pub fn run(options: GuiOptions) -> Result<(), String> {
             if let Some(v) = validation {
                 wb.open_validation_after(v, load);
             }
+            if let Some(s) = size {
+                wb.ask_window_size(s);
+            }
             if let Some(p) = page {
                 wb.set_page(p);
             }
