@@ -437,3 +437,50 @@ fn a_big_write_keeps_every_byte_at_every_length() {
         }
     }
 }
+
+#[test]
+fn a_batch_whose_commit_fails_half_way_puts_back_what_it_had_replaced() {
+    // Two files in two folders: the second folder is removed after both are staged, so the
+    // second rename fails once the first file is in place.
+    let dir = tempfile::tempdir().unwrap();
+    let (first, other) = (dir.path().join("cal.json"), dir.path().join("more"));
+    fs::create_dir(&other).unwrap();
+    let fresh = dir.path().join("fresh.json");
+    fs::write(&first, "old calibration").unwrap();
+    let mut batch = atomic::Batch::new();
+    batch.stage_bytes(&first, b"new calibration").unwrap();
+    batch
+        .stage_bytes(&fresh, b"a file that was not there")
+        .unwrap();
+    batch
+        .stage_bytes(&other.join("recipe.json"), b"new recipe")
+        .unwrap();
+    fs::remove_dir_all(&other).unwrap();
+    let e = batch
+        .commit()
+        .expect_err("the recipe's folder is gone")
+        .to_string();
+    assert!(e.contains("recipe.json"), "{e}");
+    assert!(e.contains("were put back as they were"), "{e}");
+    // As before the commit: the old calibration, no new file, no link or temporary left.
+    assert_eq!(fs::read_to_string(&first).unwrap(), "old calibration");
+    assert!(!fresh.exists(), "the file the batch added is gone again");
+    let left: Vec<_> = fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    assert_eq!(left, ["cal.json"], "{left:?}");
+
+    // A commit that succeeds leaves no link to the old content either.
+    let mut batch = atomic::Batch::new();
+    batch.stage_bytes(&first, b"newer calibration").unwrap();
+    batch.stage_bytes(&fresh, b"added").unwrap();
+    batch.commit().unwrap();
+    assert_eq!(fs::read_to_string(&first).unwrap(), "newer calibration");
+    let mut left: Vec<_> = fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    left.sort();
+    assert_eq!(left, ["cal.json", "fresh.json"], "{left:?}");
+}

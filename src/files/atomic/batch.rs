@@ -7,8 +7,11 @@
 //! in place yet, and a batch dropped without [`Batch::commit`] (an error, a panic) leaves
 //! every destination untouched and no temporary (on Linux the temporaries have no name at
 //! all until the commit). The commit then only renames, in the order staged, and syncs each
-//! folder once. A rename is the one step left that can fail (a folder whose permissions
-//! changed in the meantime); the error then says which files were already in place.
+//! folder once. A rename is the one step left that can fail (a folder removed or whose
+//! permissions changed in the meantime): the files already put in place are then put back as
+//! they were (the old content of each was kept under a hard link, `.driftlab-NAME.X.undo`
+//! beside it, for the length of the commit; a file that did not exist is removed again), so a
+//! failed commit leaves no half of a batch, and the error says so.
 //!
 //! A FIFO, a device or the standard output cannot be taken back once written: what a batch
 //! writes there is held in memory and written at the commit, before any file is put in
@@ -78,17 +81,27 @@ impl Batch {
             write_stream(stream, |w| w.write_all(bytes)).map_err(|e| Error::io(path, e))?;
         }
         let mut folders: Vec<PathBuf> = Vec::new();
-        let mut placed: Vec<PathBuf> = Vec::new();
+        let mut placed: Vec<Placed> = Vec::new();
         for staged in self.files {
             let dest = staged.dest.clone();
+            let old = keep_old(&dest);
             if let Err(e) = staged.put_in_place() {
-                return Err(Error::io(&dest, with_placed(e, &placed)));
+                if let Some(old) = &old {
+                    let _ = std::fs::remove_file(old);
+                }
+                let left = undo(&placed);
+                return Err(Error::io(&dest, with_placed(e, &placed, &left)));
             }
             let folder = folder_of(&dest).to_path_buf();
             if !folders.contains(&folder) {
                 folders.push(folder);
             }
-            placed.push(dest);
+            placed.push(Placed { dest, old });
+        }
+        for p in &placed {
+            if let Some(old) = &p.old {
+                let _ = std::fs::remove_file(old);
+            }
         }
         for folder in &folders {
             sync_folder(folder).map_err(|e| Error::io(folder, e))?;
@@ -137,14 +150,67 @@ impl Batch {
     }
 }
 
-/// `e`, saying which files of the batch were already in place when it happened.
-fn with_placed(e: std::io::Error, placed: &[PathBuf]) -> std::io::Error {
+/// A file of a batch put in place, with its old content kept until the commit is done.
+struct Placed {
+    dest: PathBuf,
+    /// A hard link to what `dest` held before; `None` when it held nothing (or no link
+    /// could be made).
+    old: Option<PathBuf>,
+}
+
+/// A hard link beside `dest` to its present content, so that a commit that fails after
+/// `dest` was replaced can put it back; `None` when `dest` is not an existing file or the
+/// folder takes no link.
+fn keep_old(dest: &Path) -> Option<PathBuf> {
+    if !dest.symlink_metadata().is_ok_and(|m| m.is_file()) {
+        return None;
+    }
+    let name = dest.file_name()?.to_string_lossy();
+    let link = folder_of(dest).join(format!(
+        ".driftlab-{name}.{:016x}.undo",
+        super::temporary::random()
+    ));
+    std::fs::hard_link(dest, &link).ok().map(|()| link)
+}
+
+/// Puts back the files of `placed`, newest first: the old content over each, or no file
+/// where there was none. Returns the files that could not be put back.
+fn undo(placed: &[Placed]) -> Vec<PathBuf> {
+    let mut left = Vec::new();
+    for p in placed.iter().rev() {
+        let back = match &p.old {
+            Some(old) => std::fs::rename(old, &p.dest),
+            None => std::fs::remove_file(&p.dest),
+        };
+        if back.is_err() {
+            left.push(p.dest.clone());
+        }
+    }
+    left
+}
+
+/// `e`, saying what became of the files of the batch already in place when it happened:
+/// put back as they were, or (`left`) not.
+fn with_placed(e: std::io::Error, placed: &[Placed], left: &[PathBuf]) -> std::io::Error {
     if placed.is_empty() {
         return e;
     }
-    let names: Vec<String> = placed.iter().map(|p| p.display().to_string()).collect();
-    std::io::Error::new(
-        e.kind(),
-        format!("{e} (already written before it: {})", names.join(", ")),
-    )
+    let names = |paths: &mut dyn Iterator<Item = &PathBuf>| {
+        paths
+            .map(|p| p.display().to_string())
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let what = if left.is_empty() {
+        format!(
+            "the files written before it were put back as they were: {}",
+            names(&mut placed.iter().map(|p| &p.dest))
+        )
+    } else {
+        format!(
+            "already written before it, and could not be put back: {}",
+            names(&mut left.iter())
+        )
+    };
+    std::io::Error::new(e.kind(), format!("{e} ({what})"))
 }

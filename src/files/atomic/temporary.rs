@@ -237,6 +237,10 @@ pub(super) fn remove_stale(dir: &Path) {
     for entry in entries.flatten() {
         let file = entry.file_name();
         let Some(file) = file.to_str() else { continue };
+        if file.starts_with(START) && file.ends_with(".undo") {
+            remove_stale_undo(&entry.path());
+            continue;
+        }
         if !(file.starts_with(START) && file.ends_with(".tmp")) {
             continue;
         }
@@ -253,6 +257,27 @@ pub(super) fn remove_stale(dir: &Path) {
             let _ = std::fs::remove_file(&path);
         }
     }
+}
+
+/// Removes `path`, a batch's link to a file's old content (`batch.rs`), when its commit is long
+/// over: a commit keeps it for milliseconds, so one whose link was made (its status changed)
+/// a minute ago or more was left by a run killed while committing.
+fn remove_stale_undo(path: &Path) {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::MetadataExt;
+        let Ok(meta) = std::fs::symlink_metadata(path) else {
+            return;
+        };
+        let now = std::time::SystemTime::now()
+            .duration_since(std::time::UNIX_EPOCH)
+            .map_or(0, |d| d.as_secs() as i64);
+        if meta.is_file() && now - meta.ctime() >= 60 {
+            let _ = std::fs::remove_file(path);
+        }
+    }
+    #[cfg(not(unix))]
+    let _ = path;
 }
 
 /// Opens a regular file to lock it, without following a link or waiting on a FIFO.
