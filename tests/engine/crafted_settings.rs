@@ -196,9 +196,9 @@ fn a_plateau_is_unsteady_when_t_moves_twice_as_fast_as_the_detector_allows() {
     assert!(plateau::unsteady(&stats(0.0, 10.0, 0.09), 0.05).is_none());
 }
 
-#[test]
-fn a_manual_plateau_across_a_ramp_is_told_in_the_fit_warnings() {
-    // The program holds 20 °C until 3600 s, ramps to 60 °C by 6600 s, holds until 12000 s.
+/// The paper's chamber program, simulated: it holds 20 °C until 3600 s, ramps to 60 °C by
+/// 6600 s, holds until 12000 s.
+fn paper_like_log() -> Log {
     let truth = Truth {
         k0: [0.2, 0.004, -6e-5],
         k1_plus: 40.0,
@@ -206,16 +206,24 @@ fn a_manual_plateau_across_a_ramp_is_told_in_the_fit_warnings() {
         k2_plus: 0.0,
         k2_minus: 0.0,
     };
-    let log = log_from(&Program::paper_like(), &truth, 0.01, 0.001, 3);
-    let fit = |ranges: Vec<PlateauRange>| {
-        let plan = AxisPlan::unnamed(
-            ModelChoice::Preset(Preset::Vakhrameev),
-            manual(ranges).checked().unwrap(),
-        );
-        let mut log = log.clone();
-        let mut axes = models::calibrate(&mut log, &[plan], &MeritOptions::default()).unwrap();
-        axes.remove(0).calibrated.warnings
-    };
+    log_from(&Program::paper_like(), &truth, 0.01, 0.001, 3)
+}
+
+/// The warnings of a Vakhrameev fit of `log` on the plateaus `ranges` given by hand.
+fn manual_fit_warnings(log: &Log, ranges: Vec<PlateauRange>) -> Vec<String> {
+    let plan = AxisPlan::unnamed(
+        ModelChoice::Preset(Preset::Vakhrameev),
+        manual(ranges).checked().unwrap(),
+    );
+    let mut log = log.clone();
+    let mut axes = models::calibrate(&mut log, &[plan], &MeritOptions::default()).unwrap();
+    axes.remove(0).calibrated.warnings
+}
+
+#[test]
+fn a_manual_plateau_across_a_ramp_is_told_in_the_fit_warnings() {
+    let log = paper_like_log();
+    let fit = |ranges: Vec<PlateauRange>| manual_fit_warnings(&log, ranges);
     let told = |w: &[String]| {
         w.iter()
             .filter(|w| w.contains("not a temperature hold"))
@@ -239,14 +247,7 @@ fn a_manual_plateau_across_a_ramp_is_told_in_the_fit_warnings() {
 
 #[test]
 fn a_manual_plateau_of_no_sample_or_one_is_told_in_the_fit_warnings() {
-    let truth = Truth {
-        k0: [0.2, 0.004, -6e-5],
-        k1_plus: 40.0,
-        k1_minus: 25.0,
-        k2_plus: 0.0,
-        k2_minus: 0.0,
-    };
-    let log = log_from(&Program::paper_like(), &truth, 0.01, 0.001, 3);
+    let log = paper_like_log();
     // Two samples inside the first hold, well before its end (3600 s), and the step between.
     let k = log.time_s.iter().position(|&t| t >= 3510.0).unwrap();
     let (t, dt) = (log.time_s[k], log.time_s[k + 1] - log.time_s[k]);
@@ -259,13 +260,7 @@ fn a_manual_plateau_of_no_sample_or_one_is_told_in_the_fit_warnings() {
         range(7000.0, 11900.0),
         range(21000.0, 24000.0),
     ];
-    let plan = AxisPlan::unnamed(
-        ModelChoice::Preset(Preset::Vakhrameev),
-        manual(ranges.clone()).checked().unwrap(),
-    );
-    let mut fitted = log.clone();
-    let mut axes = models::calibrate(&mut fitted, &[plan], &MeritOptions::default()).unwrap();
-    let warnings = axes.remove(0).calibrated.warnings;
+    let warnings = manual_fit_warnings(&log, ranges.clone());
     let about = |r: PlateauRange| {
         let at = format!(
             "plateau {}:{} s",

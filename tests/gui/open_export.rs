@@ -2,7 +2,7 @@
 //! plateaus, change an approximation and see the figures change, export files the engine
 //! reads back, save and reopen a session, survive a bad file, import semicolons.
 
-use driftlab::gui::{Action, Workbench};
+use driftlab::gui::{Action, ScriptedDialogs, Workbench};
 use driftlab::models::recipe::PlateauChoice;
 use eframe::egui::{Key, Modifiers};
 use egui_kittest::Harness;
@@ -176,15 +176,7 @@ fn a_saved_session_reopens_as_it_was_left() {
     h.state_mut().state.recipe_mut().filter_s = 150.0;
     settle(&mut h);
     // A held-out log, through the import view.
-    dialogs.answer(Some(sample("validation.csv")));
-    // (the button in the Data panel; the result plot's header has one too)
-    h.get_all_by_label("Open validation log…")
-        .next()
-        .unwrap()
-        .click();
-    h.run_ok();
-    h.get_by_label("Load").click();
-    settle(&mut h);
+    open_validation(&mut h, &dialogs, &sample("validation.csv"));
     assert!(h.state().state.shown.validation.is_some());
     h.get_by_label_contains("Held out · validation.csv");
     h.state_mut().state.view.show_validation = false;
@@ -614,14 +606,7 @@ fn the_corrected_validation_log_is_exported_from_the_window() {
     let dialogs = with_dialogs(&mut wb);
     let mut h = harness(wb);
     settle(&mut h);
-    dialogs.answer(Some(sample("validation.csv")));
-    h.get_all_by_label("Open validation log…")
-        .next()
-        .unwrap()
-        .click();
-    h.run_ok();
-    h.get_by_label("Load").click();
-    settle(&mut h);
+    open_validation(&mut h, &dialogs, &sample("validation.csv"));
     assert!(
         h.state().state.view.show_validation,
         "the drift plot shows it"
@@ -673,15 +658,21 @@ fn with_validation(calibration: &str, validation: &Path) -> Harness<'static, Wor
     let dialogs = with_dialogs(&mut wb);
     let mut h = harness(wb);
     settle(&mut h);
-    dialogs.answer(Some(validation.to_path_buf()));
+    open_validation(&mut h, &dialogs, validation);
+    h
+}
+
+/// Opens `path` as the validation log through the dialog and the import view, as an engineer
+/// does (the button in the Data panel; the result plot's header has one too), settled.
+fn open_validation(h: &mut Harness<'static, Workbench>, dialogs: &ScriptedDialogs, path: &Path) {
+    dialogs.answer(Some(path.to_path_buf()));
     h.get_all_by_label("Open validation log…")
         .next()
         .unwrap()
         .click();
     h.run_ok();
     h.get_by_label("Load").click();
-    settle(&mut h);
-    h
+    settle(h);
 }
 
 #[test]
