@@ -43,6 +43,7 @@ pub fn run(a: Args) -> Result<(), CliError> {
     let outside = written.map_err(|e| in_words(e, &a.calibration))?;
     for (ax, fraction) in unit.axes.iter().zip(outside) {
         note_outside(&ax.name, fraction);
+        note_warm_up(&ax.name, ax.model.warm_up_samples(&log), log.len());
     }
     if unit.is_unit() {
         note!(
@@ -78,6 +79,31 @@ fn in_words(e: WriteError, calibration: &Path) -> CliError {
 }
 
 /// Says what share of the samples (of `axis`, when named) lay outside the calibrated ranges.
+/// Warns when most of the log (or all of it) is corrected before T's history is full: a log
+/// shorter than the calibration's smoothing and derivative windows gets its static part
+/// alone, which the engineer should hear rather than read as a full correction.
+fn note_warm_up(axis: &str, warming: usize, samples: usize) {
+    if samples == 0 || warming * 2 <= samples {
+        return;
+    }
+    let of = if axis.is_empty() {
+        String::new()
+    } else {
+        format!(" of axis {axis}")
+    };
+    let share = if warming >= samples {
+        "every sample".to_string() + &of + " lies"
+    } else {
+        format!("{warming} of the {samples} samples{of} lie")
+    };
+    note!(
+        "warning: {share} before the temperature history the calibration's rates need \
+         (its smoothing and derivative windows, after the start and each gap): their Ṫ and T̈ \
+         are no reading, so they are corrected by the static part of the model alone; a longer \
+         log corrects fully"
+    );
+}
+
 fn note_outside(axis: &str, outside_fraction: f64) {
     if outside_fraction > 0.0 {
         let of = if axis.is_empty() {

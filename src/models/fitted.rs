@@ -21,6 +21,28 @@ pub enum DriftModel {
 }
 
 impl DriftModel {
+    /// How many samples of `log` are corrected before the rates of T the model reads have
+    /// their full history: the first [`DerivativeSteps::ready_from`] samples of each segment
+    /// (the rates restart after every gap), or every sample of a segment shorter than that.
+    /// Their Ṫ and T̈ are no reading (a segment too short carries none), so their correction
+    /// is the static part alone. 0 for a model that reads no rate.
+    ///
+    /// [`DerivativeSteps::ready_from`]: crate::signal::DerivativeSteps::ready_from
+    pub fn warm_up_samples(&self, log: &Log) -> usize {
+        let timing = log.timing();
+        let steps = match self {
+            DriftModel::Vakhrameev(c) => c.steps_for(timing.nominal_dt_s),
+            DriftModel::Regression(r) => {
+                if !r.model.spec.terms.iter().any(|t| t.is_rate()) {
+                    return 0;
+                }
+                r.model.steps_for(timing.nominal_dt_s)
+            }
+        };
+        let need = steps.ready_from();
+        timing.segments.iter().map(|s| s.len().min(need)).sum()
+    }
+
     /// The model's name (`vakhrameev`, a preset's name, or the custom model's).
     pub fn name(&self) -> &str {
         match self {

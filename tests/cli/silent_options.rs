@@ -310,3 +310,47 @@ fn control_characters_in_a_column_name_do_not_reach_an_axis_name() {
         "{out} holds a control character"
     );
 }
+
+#[test]
+fn a_log_shorter_than_the_calibrations_windows_is_corrected_with_a_warning() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let cal = p(d, "cal.json");
+    ok(&["calibrate", &sample("calibration.csv"), "--out", &cal]);
+    // The first three rows of the held-out run: far shorter than the 60-s smoothing and the
+    // 30-s derivative step.
+    let text = std::fs::read_to_string(sample("validation.csv")).unwrap();
+    let short: Vec<&str> = text
+        .lines()
+        .filter(|l| !l.starts_with('#'))
+        .take(4)
+        .collect();
+    let log = p(d, "short.csv");
+    std::fs::write(&log, short.join("\n") + "\n").unwrap();
+    let out = p(d, "short-corrected.csv");
+    let run = driftlab(&["apply", &cal, &log, "--out", &out]);
+    assert!(run.status.success());
+    let said = String::from_utf8_lossy(&run.stderr);
+    assert!(
+        said.contains("warning: every sample lies before the temperature history"),
+        "{said}"
+    );
+    // Its correction is the static part alone: the model's K0 at each row's temperature.
+    let model = driftlab::files::calibration::load_unit(Path::new(&cal)).unwrap();
+    let driftlab::models::DriftModel::Vakhrameev(c) = &model.axes[0].model else {
+        panic!("the default model is Vakhrameev's")
+    };
+    let written = std::fs::read_to_string(&out).unwrap();
+    for (row, line) in written.lines().skip(1).zip(short.iter().skip(1)) {
+        let pred: f64 = row.split(',').nth(2).unwrap().parse().unwrap();
+        let temp: f64 = line.split(',').nth(2).unwrap().parse().unwrap();
+        assert!((pred - c.k0.eval(temp)).abs() < 1e-12, "{row}");
+    }
+    // A whole run: no such warning.
+    let run = driftlab(&["apply", &cal, &sample("validation.csv"), "--out", &out]);
+    let said = String::from_utf8_lossy(&run.stderr);
+    assert!(
+        run.status.success() && !said.contains("temperature history"),
+        "{said}"
+    );
+}
