@@ -353,6 +353,13 @@ impl StrayStamps {
         let (before, after) = (stamp(first.start.wrapping_sub(1)), stamp(first.end));
         let n = self.count();
         let step = crate::number::readable(self.step_s);
+        // The samples that vouch for the time base: both neighbours, or at an end of the log
+        // the ones on its one side.
+        let (sides, stamps_around) = match (before.is_empty(), after.is_empty()) {
+            (true, _) => ("after", format!("from {after} s on")),
+            (_, true) => ("before", format!("up to {before} s")),
+            _ => ("before and after", format!("{before} s and {after} s")),
+        };
         if self.runs.len() == 1 {
             let stamps: Vec<String> = first.clone().map(stamp).collect();
             let (subject, them, what) = if n == 1 {
@@ -361,9 +368,8 @@ impl StrayStamps {
                 ("their times", "them", "stray time stamps")
             };
             format!(
-                "{} dropped: {subject} {} s {} far out of line with the {noun}s before and after \
-                 {them} ({before} s and {after} s), which keep to the log's step of {step} s: \
-                 {what} ({place})",
+                "{} dropped: {subject} {} s {} far out of line with the {noun}s {sides} {them} \
+                 ({stamps_around}), which keep to the log's step of {step} s: {what} ({place})",
                 counted(n, noun),
                 stamps.join(" s and "),
                 if n == 1 { "stands" } else { "stand" }
@@ -371,8 +377,8 @@ impl StrayStamps {
         } else {
             format!(
                 "{n} {noun}s dropped, in {} places: their times stand far out of line with the \
-                 {noun}s before and after them, which keep to the log's step of {step} s: stray \
-                 time stamps (first at {place}: {} s between {before} s and {after} s)",
+                 {noun}s around them, which keep to the log's step of {step} s: stray time \
+                 stamps (first at {place}: {} s, the {noun}s {sides} it {stamps_around})",
                 self.runs.len(),
                 stamp(first.start)
             )
@@ -390,7 +396,9 @@ fn stamp_text(t: f64) -> String {
 /// order): runs of at most [`MAX_STRAY_RUN`] samples, each stamp of which lies more than
 /// [`GAP_FACTOR`] steps before the sample before the run or after the sample after it, while
 /// those two samples keep the log's step between them (positive, and at most [`GAP_FACTOR`]
-/// steps for each step they span). `None` when there is none.
+/// steps for each step they span). At an end, where one side is missing, the two steps on the
+/// other side vouch: a run at the start far ahead of them, a run at the end far behind them.
+/// `None` when there is none.
 ///
 /// A clock glitch stamps one row (or two) 1e6 s, 1e300 s or 0 in the middle of a run whose
 /// other rows keep time. Read as it is, a stamp far ahead makes every later row "go
@@ -417,8 +425,23 @@ pub fn stray_stamps(time_s: &[f64]) -> Option<StrayStamps> {
                 .iter()
                 .all(|&t| t < before - far || t > after + far)
     };
+    // Samples `a` and `b` keep the step between them.
+    let keeps_step = |a: usize, b: usize| {
+        let span = time_s[b] - time_s[a];
+        span > 0.0 && span <= GAP_FACTOR * (b - a) as f64 * dt
+    };
     let mut runs = Vec::new();
+    // At the start, with only the samples after to vouch: a stamp or two ahead of the two
+    // steps that follow (time would go backwards after them, and every later row be dropped
+    // until the clock caught up). A first stamp far BEHIND the rest is a gap before the log,
+    // told by `Timing::stray_end`.
     let mut i = 1;
+    if let Some(k) = (1..=MAX_STRAY_RUN).find(|&k| {
+        k + 2 < n && keeps_step(k, k + 2) && time_s[..k].iter().all(|&t| t > time_s[k] + far)
+    }) {
+        runs.push(0..k);
+        i = k + 1;
+    }
     while i + 1 < n {
         match (1..=MAX_STRAY_RUN).find(|&k| i + k < n && is_run(i, k)) {
             Some(k) => {
@@ -429,6 +452,16 @@ pub fn stray_stamps(time_s: &[f64]) -> Option<StrayStamps> {
             }
             None => i += 1,
         }
+    }
+    // At the end, likewise: a stamp or two far behind the two steps before them.
+    let done = runs.last().map_or(0, |r| r.end);
+    if let Some(k) = (1..=MAX_STRAY_RUN).find(|&k| {
+        n >= k + 3
+            && n - k - 3 >= done
+            && keeps_step(n - k - 3, n - k - 1)
+            && time_s[n - k..].iter().all(|&t| t < time_s[n - k - 1] - far)
+    }) {
+        runs.push(n - k..n);
     }
     (!runs.is_empty()).then_some(StrayStamps { runs, step_s: dt })
 }
@@ -761,11 +794,19 @@ mod tests {
         }
         g[100] = 1e6;
         assert_eq!(stray_stamps(&g), None);
-        // NaN and a first or last sample (no neighbour on one side) are left alone.
+        // NaN is left alone; a first sample far ahead of the steps after it, and a last one
+        // far behind the steps before it, are vouched against by their one side.
         let mut g = t.clone();
         g[10] = f64::NAN;
+        assert_eq!(stray_stamps(&g), None);
         g[0] = 1e6;
         g[999] = -1e6;
+        assert_eq!(stray_stamps(&g).expect("found").runs, vec![0..1, 999..1000]);
+        // A first sample far BEHIND the rest is a gap before the log (`stray_end`'s), and a
+        // last one far ahead a gap after it: not these.
+        let mut g = t.clone();
+        g[0] = -1e6;
+        g[999] = 1e6;
         assert_eq!(stray_stamps(&g), None);
     }
 

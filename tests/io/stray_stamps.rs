@@ -271,3 +271,50 @@ fn a_drone_log_drops_a_stray_stamp_by_the_same_rule() {
         assert_eq!(log.omega_dph, rate);
     }
 }
+
+#[test]
+fn a_stray_stamp_ahead_at_the_start_or_behind_at_the_end_reads_as_the_clean_log() {
+    // With one neighbour only, the rows on the other side vouch: a first row stamped far
+    // ahead made every later row "go backwards" (the whole log dropped); a last row stamped
+    // far behind was only told as time going backwards.
+    let clean_rows = rows(3000);
+    let clean = read(&text(&clean_rows));
+    for glitch in [&["1000000"][..], &["1e300"], &["1000000", "1000001"]] {
+        let mut r = clean_rows.clone();
+        for (k, t) in glitch.iter().enumerate() {
+            r.insert(k, format!("{t},0.5,99"));
+        }
+        let log = read(&text(&r));
+        same_log(&log, &clean, &format!("start {glitch:?}"));
+        let s = strays(&log);
+        assert_eq!(s.len(), 1, "{glitch:?}: {:?}", log.info.problems);
+        assert_eq!((s[0].line, s[0].count), (line_of_row(0), glitch.len()));
+        assert!(
+            s[0].message.contains("the rows after") && s[0].message.contains("from 100 s on"),
+            "{}",
+            s[0].message
+        );
+    }
+    for glitch in [&["0"][..], &["-1e300"], &["5", "6"]] {
+        let mut r = clean_rows.clone();
+        for t in glitch {
+            r.push(format!("{t},0.5,99"));
+        }
+        let log = read(&text(&r));
+        same_log(&log, &clean, &format!("end {glitch:?}"));
+        let s = strays(&log);
+        assert_eq!(s.len(), 1, "{glitch:?}: {:?}", log.info.problems);
+        assert_eq!((s[0].line, s[0].count), (line_of_row(3000), glitch.len()));
+        assert!(
+            s[0].message.contains("the rows before") && s[0].message.contains("up to 3099 s"),
+            "{}",
+            s[0].message
+        );
+    }
+    // A clock set back at the end for good (a run of rows of its own) is no stray: told as
+    // time going backwards, as before.
+    let mut r = clean_rows.clone();
+    r.extend((0..5).map(|i| format!("{i},0.5,99")));
+    let log = read(&text(&r));
+    assert!(strays(&log).is_empty(), "{:?}", log.info.problems);
+}

@@ -141,10 +141,15 @@ pub(super) fn finish(mut acc: Acc, sn: &Sniffed, plan: &Plan, source: &str) -> R
         let time = &acc.cols[SLOT_TIME];
         let (mut back, mut rep): (Option<Tally>, Option<Tally>) = (None, None);
         let mut first_back = (0.0, 0.0);
-        // The first row is never a stray in the middle.
-        let mut last = time[0];
-        let mut next_stray = strays.iter().copied().peekable();
-        for (i, &t) in time.iter().enumerate().skip(1) {
+        // The first row that is no stray stamp (a stamp far ahead at the start is one) is the
+        // first kept.
+        let first = (0..time.len())
+            .find(|i| strays.binary_search(i).is_err())
+            .unwrap_or(0);
+        drop.extend(0..first);
+        let mut last = time[first];
+        let mut next_stray = strays.iter().copied().filter(|&i| i > first).peekable();
+        for (i, &t) in time.iter().enumerate().skip(first + 1) {
             if next_stray.next_if_eq(&i).is_some() {
                 drop.push(i);
             } else if t > last {
