@@ -480,6 +480,30 @@ fn megabyte_frame_ids_are_neither_kept_per_message_nor_quoted_whole() {
     ran.fails_with("(1048576 bytes)", 1000);
 }
 
+#[test]
+fn huge_frame_ids_on_several_topics_are_kept_short() {
+    // Four topics, each one Imu message in a zstd chunk of its own with a 96-MiB frame_id: a
+    // topic kept its frame whole, 384 MiB for the four beside the chunk being read (a 1.9-KB
+    // bag of bz2 chunks took 1.96 GB this way and aborted under a limit).
+    let frame = vec![b'f'; 96 << 20];
+    let mut file = Vec::new();
+    for k in 0..4u16 {
+        let mut inner = mcap_schema(1, "sensor_msgs/msg/Imu");
+        inner.extend(mcap_channel(k + 1, 1, &format!("/imu{k}")));
+        inner.extend(mcap_message(k + 1, u64::from(k), &imu_cdr(1, &frame, 0.5)));
+        file.extend(mcap_chunk(
+            "zstd",
+            inner.len() as u64,
+            &zstd::bulk::compress(&inner, 1).unwrap(),
+        ));
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let log = crafted(dir.path(), "bigframes.mcap", &mcap(&file));
+    let ran = driftlab_within(dir.path(), 448, &["inspect", &log]);
+    // No temperature: refused, the frame_id named by its start, length and hash.
+    ran.fails_with("(100663296 bytes", 1000);
+}
+
 // ---------------------------------------------------------------- DataFlash
 
 /// A DataFlash message `A3 95 type payload`.

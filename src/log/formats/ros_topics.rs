@@ -74,8 +74,34 @@ struct Frames {
     other: Option<(Key, String)>,
 }
 
+/// The most bytes of a `frame_id` kept as they are: real ones are a few words (`imu_link`).
+const FRAME_ID_KEPT_BYTES: usize = 256;
+
+/// A `frame_id` as a topic keeps it: as it is when short, else its first bytes with its
+/// length and a hash of the whole, so that two topics' frames still compare equal when they
+/// are, and a crafted log's 250-MB `frame_id` costs a topic a few hundred bytes, not a copy.
+fn kept_frame(frame: &str) -> std::borrow::Cow<'_, str> {
+    if frame.len() <= FRAME_ID_KEPT_BYTES {
+        return std::borrow::Cow::Borrowed(frame);
+    }
+    use std::hash::{Hash, Hasher};
+    let mut h = std::collections::hash_map::DefaultHasher::new();
+    frame.hash(&mut h);
+    let mut cut = 24;
+    while !frame.is_char_boundary(cut) {
+        cut -= 1;
+    }
+    std::borrow::Cow::Owned(format!(
+        "{}… ({} bytes, {:016x})",
+        &frame[..cut],
+        frame.len(),
+        h.finish()
+    ))
+}
+
 impl Frames {
     fn see(&mut self, key: Key, frame: &str) {
+        let frame = &*kept_frame(frame);
         match &self.first {
             None => self.first = Some((key, frame.to_string())),
             Some((k, _)) if key < *k => {
