@@ -472,6 +472,25 @@ fn models_a_firmware_cannot_evaluate_are_refused_by_name() {
         "{:?}",
         f.notes
     );
+    // 0 is PX4's "no device": a slot with it matches no sensor, whether the id is given or
+    // is the calibration's gyro id.
+    let mut no_device = poly.clone();
+    if let DriftModel::Regression(r) = &mut no_device {
+        r.gyro_id = "0".into();
+    }
+    let zero = ExportOptions {
+        px4: Px4Target {
+            gyro_device_id: Some(0),
+            ..Px4Target::default()
+        },
+        ..ExportOptions::default()
+    };
+    for (model, opts) in [(&poly, &zero), (&no_device, &ExportOptions::default())] {
+        let e = firmware::flight(model, Format::Px4Params, opts)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("device_id 0 is PX4's \"no device\""), "{e}");
+    }
     // Axis names.
     assert_eq!(axis_index("gyro_y"), Some(1));
     assert_eq!(axis_index("gz_dps"), Some(2));

@@ -41,6 +41,19 @@ pub fn parse_device_id(s: &str) -> Option<u32> {
     }
 }
 
+/// Refuses the device id 0, PX4's "no device": a slot whose `param` is 0 matches no sensor,
+/// so the calibration written there would never be applied, with nothing said by the firmware.
+fn refuse_no_device(id: u32, sensor: &str, param: &str) -> Result<(), FlightError> {
+    if id == 0 {
+        return Err(FlightError::Missing(format!(
+            "device_id 0 is PX4's \"no device\": {param} 0 matches no {sensor}, so the \
+             calibration would never be applied; give the {sensor}'s device_id (driftlab inspect \
+             LOG lists each sensor's)"
+        )));
+    }
+    Ok(())
+}
+
 /// The most slots PX4 reads (`GYRO_COUNT_MAX`, `ACCEL_COUNT_MAX`).
 pub const SLOTS: usize = 4;
 
@@ -116,6 +129,7 @@ pub fn px4_params(fits: &ImuFits<'_>, target: &Px4Target) -> Result<FlightFile, 
                         .into(),
                 )
             })?;
+        refuse_no_device(id, "accelerometer", &format!("TC_A{n}_ID"))?;
         if target.accel_device_id.is_none() {
             notes.push(format!(
                 "TC_A{n}_ID is the gyro's device_id {id}: give the accelerometer's if the IMU \
@@ -134,6 +148,7 @@ pub fn px4_params(fits: &ImuFits<'_>, target: &Px4Target) -> Result<FlightFile, 
     }
     if let Some(g) = &gyro {
         let id = target.gyro_device_id.ok_or(FlightError::NoGyroDeviceId)?;
+        refuse_no_device(id, "gyro", &format!("TC_G{n}_ID"))?;
         if id > i32::MAX as u32 {
             notes.push(format!(
                 "device_id {id} is above 2^31: TC_G{n}_ID holds it as the int32 {} (PX4 \
