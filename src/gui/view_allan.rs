@@ -248,9 +248,7 @@ fn readouts(ui: &mut Ui, d: Option<&AllanData>) {
         ui.weak("ARW, bias instability and RRW, raw and corrected, appear here.");
         return;
     };
-    let name = std::path::Path::new(&d.source)
-        .file_name()
-        .map_or(d.source.clone(), |s| s.to_string_lossy().into_owned());
+    let name = crate::gui::widgets::file_name(std::path::Path::new(&d.source));
     ui.weak(format!(
         "{name}: samples from {} on (the correction's warm-up left out of both curves); \
          computed in {:.0} ms",

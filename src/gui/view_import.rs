@@ -165,11 +165,7 @@ impl ImportView {
     }
 
     fn contents(&mut self, ui: &mut Ui) -> Option<Action> {
-        let name = self
-            .path
-            .file_name()
-            .map(|s| s.to_string_lossy().into_owned())
-            .unwrap_or_default();
+        let name = crate::gui::widgets::file_name(&self.path);
         ui.heading(match self.target {
             Target::Calibration => format!("Import {name}"),
             Target::Validation => format!("Import {name} as the validation log"),

@@ -97,9 +97,14 @@ pub fn save_plot_entry(ui: &mut Ui) -> bool {
     chosen
 }
 
-/// A file's name for short messages and headings (the full path goes in tooltips).
+/// A file's name for short messages, headings and the title bar (the full path goes in
+/// tooltips), with line breaks, controls and bidi overrides written as `\uXXXX` by the one
+/// rule the terminal and the report use ([`crate::text::escaped`]): a name cannot split a
+/// heading over lines or reorder the text around it.
 pub fn file_name(p: &Path) -> String {
-    p.file_name()
+    let name = p
+        .file_name()
         .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_else(|| p.display().to_string())
+        .unwrap_or_else(|| p.display().to_string());
+    crate::text::escaped(&name, false).into_owned()
 }

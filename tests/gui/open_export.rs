@@ -735,3 +735,19 @@ fn the_calibration_log_is_not_opened_as_its_own_validation_log() {
         "{message}"
     );
 }
+
+#[test]
+fn a_file_name_with_line_breaks_and_bidi_overrides_is_shown_escaped() {
+    // A name that would split a heading over lines, or reorder the text around it.
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("run\nx\u{202e}.csv");
+    std::fs::copy(sample("calibration.csv"), &path).unwrap();
+    let mut h = harness(Workbench::new_for_test(&path));
+    settle(&mut h);
+    h.get_by_label_contains("In-sample · run\\u000ax\\u202e.csv");
+    let raw: Vec<String> = h
+        .query_all_by_label_contains("run\nx")
+        .map(|n| format!("{n:?}").chars().take(300).collect())
+        .collect();
+    assert!(raw.is_empty(), "the raw name is shown: {raw:?}");
+}

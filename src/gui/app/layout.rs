@@ -39,7 +39,7 @@ impl Workbench {
                         ui.weak("No recent files");
                     }
                     for p in self.window.settings.recent.clone() {
-                        let label = p.file_name().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+                        let label = crate::gui::widgets::file_name(&p);
                         if ui.button(label).on_hover_text(p.display().to_string()).clicked() {
                             actions.push(if is_json(&p) {
                                 Action::OpenSessionPath(p)
@@ -223,7 +223,7 @@ impl Workbench {
             });
             ui.separator();
             if let Some(l) = &self.state.shown.log {
-                let name = l.path.file_name().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+                let name = crate::gui::widgets::file_name(&l.path);
                 let dirty = if self.state.dirty() { " •" } else { "" };
                 ui.label(RichText::new(format!("{name}{dirty}")).strong())
                     .on_hover_text(format!("{}{}", l.path.display(), if dirty.is_empty() { "" } else { "\nunsaved changes" }));

@@ -426,11 +426,7 @@ fn short(s: &str, n: usize) -> String {
 
 /// The logs of a comparison by file name, for messages.
 pub fn log_names(train: &Log, tests: &[std::sync::Arc<Log>]) -> String {
-    let name = |l: &Log| {
-        std::path::Path::new(&l.source)
-            .file_name()
-            .map_or(l.source.clone(), |s| s.to_string_lossy().into_owned())
-    };
+    let name = |l: &Log| crate::gui::widgets::file_name(std::path::Path::new(&l.source));
     let mut s = name(train);
     for t in tests {
         s.push_str(" (held out: ");
