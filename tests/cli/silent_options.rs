@@ -123,7 +123,7 @@ fn a_window_shorter_than_a_sample_is_taken_as_one_and_told() {
 }
 
 #[test]
-fn a_rate_unit_the_column_name_contradicts_is_told_with_both() {
+fn a_rate_or_time_unit_the_column_name_contradicts_is_told_with_both() {
     let dir = tempfile::tempdir().unwrap();
     let cal = p(dir.path(), "cal.json");
     ok(&["calibrate", &sample("calibration.csv"), "--out", &cal]);
@@ -142,6 +142,19 @@ fn a_rate_unit_the_column_name_contradicts_is_told_with_both() {
     // The unit the name states, given explicitly, says nothing.
     let run = driftlab(&["evaluate", &cal, &held, "--rate-unit", "deg/h"]);
     assert!(run.status.success());
+    let err = String::from_utf8(run.stderr).unwrap();
+    assert!(!err.contains("its name says"), "{err}");
+    // The time column alike: `time_s` read as ms makes every duration 1000 times shorter.
+    let run = driftlab(&["inspect", &held, "--time-unit", "ms"]);
+    let err = String::from_utf8(run.stderr).unwrap();
+    assert!(
+        err.contains(
+            "the time column \"time_s\" is read in ms (--time-unit), but its name says s: the \
+             times differ by a factor of 1000"
+        ),
+        "{err}"
+    );
+    let run = driftlab(&["inspect", &held, "--time-unit", "s"]);
     let err = String::from_utf8(run.stderr).unwrap();
     assert!(!err.contains("its name says"), "{err}");
 }

@@ -8,7 +8,7 @@
 //! acceptance of a register as a temperature gives a calibration that means nothing.
 
 use super::names::{is_raw_register, stated_unit};
-use super::units::RateUnit;
+use super::units::{RateUnit, TimeUnit};
 use crate::log::mapping_check::{
     PLAUSIBLE_TEMP_C, is_plausible_rate_dph, is_plausible_temp_c, is_temp_unit,
 };
@@ -141,6 +141,39 @@ fn contradicted_units(log: &Log) -> Vec<Problem> {
         .collect()
 }
 
+/// A time column read in a unit its own name contradicts (`time_s` read as ms, every duration
+/// 1000 times shorter): as for the rates, the explicit unit wins and both are said.
+fn contradicted_time_unit(log: &Log) -> Option<Problem> {
+    let c = log
+        .info
+        .columns
+        .iter()
+        .find(|c| c.role == ColumnRole::Time)?;
+    let named = stated_unit(&c.name, TimeUnit::from_key)?;
+    let read: TimeUnit = c.unit.parse().ok()?;
+    if named == read {
+        return None;
+    }
+    let factor = match (named.to_s_factor(), read.to_s_factor()) {
+        (Some(a), Some(b)) => format!(
+            ": the times differ by a factor of {}",
+            crate::number::readable((a / b).max(b / a).round())
+        ),
+        _ => String::new(),
+    };
+    Some(Problem {
+        line: 0,
+        column: Some(c.index),
+        kind: ProblemKind::UnitMismatch,
+        count: 1,
+        message: format!(
+            "the time column \"{}\" is read in {read} (time_unit), but its name says \
+             {named}{factor}; check time_unit",
+            c.name
+        ),
+    })
+}
+
 /// How many times larger a rate reads in `a` than in `b` (≥ 1).
 fn ratio(a: RateUnit, b: RateUnit) -> f64 {
     let (x, y) = (a.to_dph_factor(), b.to_dph_factor());
@@ -156,6 +189,7 @@ fn ratio(a: RateUnit, b: RateUnit) -> f64 {
 pub(super) fn check(log: &Log) -> Vec<Problem> {
     let mut out = duplicate_names(log);
     out.extend(contradicted_units(log));
+    out.extend(contradicted_time_unit(log));
     let column = |role: ColumnRole| log.info.columns.iter().find(|c| c.role == role);
     if let Some(c) = column(ColumnRole::Temperature)
         && let Some(why) = temperature_doubt(&c.name, &log.temp_c)
