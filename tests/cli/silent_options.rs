@@ -367,3 +367,31 @@ fn a_log_shorter_than_the_calibrations_windows_is_corrected_with_a_warning() {
         "{said}"
     );
 }
+
+#[test]
+fn a_temperature_column_taken_as_the_rate_is_told() {
+    // `--rate-col temp_c` calibrated the temperature as a drift in °/h without a word.
+    let run = driftlab(&[
+        "inspect",
+        &sample("calibration.csv"),
+        "--rate-col",
+        "temp_c",
+    ]);
+    let err = String::from_utf8(run.stderr).unwrap();
+    assert!(
+        err.contains(
+            "\"temp_c\" is taken as a gyro rate (--rate-col), but its name says it holds a \
+             temperature"
+        ),
+        "{err}"
+    );
+    // The rate column the header names says nothing.
+    let run = driftlab(&[
+        "inspect",
+        &sample("calibration.csv"),
+        "--rate-col",
+        "omega_dph",
+    ]);
+    let err = String::from_utf8(run.stderr).unwrap();
+    assert!(!err.contains("taken as a gyro rate"), "{err}");
+}

@@ -174,6 +174,37 @@ fn contradicted_time_unit(log: &Log) -> Option<Problem> {
     })
 }
 
+/// A column taken as a gyro rate whose name says it holds something else (a temperature, a
+/// time, an accelerometer axis): mapped by hand to the wrong column, its values would be
+/// calibrated as a drift in °/h. Taken as asked, and said.
+fn misnamed_rates(log: &Log) -> Vec<Problem> {
+    use super::names::{Kind, classify};
+    log.info
+        .columns
+        .iter()
+        .filter(|c| matches!(c.role, ColumnRole::Rate | ColumnRole::OtherAxis))
+        .filter_map(|c| {
+            let what = match classify(&c.name).0 {
+                Kind::Temp(_) => "a temperature",
+                Kind::Time(_) | Kind::Index => "a time",
+                Kind::Accel(_) => "an accelerometer axis",
+                _ => return None,
+            };
+            Some(Problem {
+                line: 0,
+                column: Some(c.index),
+                kind: ProblemKind::Implausible,
+                count: 1,
+                message: format!(
+                    "\"{}\" is taken as a gyro rate (rate_col), but its name says it holds \
+                     {what}: its values would be calibrated as a drift in °/h; check rate_col",
+                    c.name
+                ),
+            })
+        })
+        .collect()
+}
+
 /// How many times larger a rate reads in `a` than in `b` (≥ 1).
 fn ratio(a: RateUnit, b: RateUnit) -> f64 {
     let (x, y) = (a.to_dph_factor(), b.to_dph_factor());
@@ -190,6 +221,7 @@ pub(super) fn check(log: &Log) -> Vec<Problem> {
     let mut out = duplicate_names(log);
     out.extend(contradicted_units(log));
     out.extend(contradicted_time_unit(log));
+    out.extend(misnamed_rates(log));
     let column = |role: ColumnRole| log.info.columns.iter().find(|c| c.role == role);
     if let Some(c) = column(ColumnRole::Temperature)
         && let Some(why) = temperature_doubt(&c.name, &log.temp_c)
