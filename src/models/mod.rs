@@ -248,12 +248,23 @@ pub fn judge_on_own_log(model: &DriftModel, in_sample: &Evaluation) -> Vec<Strin
     {
         // Ranges given by hand are held to the tolerance of the detector they replace.
         let limit = crate::signal::plateau::DetectOptions::default().max_rate_c_per_min;
-        out.extend(
-            c.plateaus
-                .iter()
-                .filter_map(|p| crate::signal::plateau::unsteady(p, limit)),
-        );
-        out.extend(crate::signal::plateau::too_few_samples(ranges, &c.plateaus));
+        let mut told: Vec<String> = c
+            .plateaus
+            .iter()
+            .filter_map(|p| crate::signal::plateau::unsteady(p, limit))
+            .collect();
+        told.extend(crate::signal::plateau::too_few_samples(ranges, &c.plateaus));
+        // A few name the plateaus; the rest are counted, not listed line by line.
+        const LISTED: usize = 8;
+        if told.len() > LISTED {
+            let more = told.len() - LISTED;
+            told.truncate(LISTED);
+            told.push(format!(
+                "and {more} more plateaus given by hand are told likewise (the first {LISTED} \
+                 above)"
+            ));
+        }
+        out.extend(told);
     }
     if let DriftModel::Regression(r) = model {
         let m = &r.model;

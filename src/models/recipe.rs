@@ -235,6 +235,16 @@ impl Recipe {
         match &self.plateaus {
             PlateauChoice::Auto(o) => o.validate()?,
             PlateauChoice::Manual { ranges } => {
+                if ranges.len() > MAX_MANUAL_PLATEAUS {
+                    return Err(Invalid::new(
+                        "plateaus.ranges",
+                        format!(
+                            "{} plateaus: a chamber program holds tens, and a calibration of \
+                             more than {MAX_MANUAL_PLATEAUS} could not be saved and read back",
+                            ranges.len()
+                        ),
+                    ));
+                }
                 for r in ranges {
                     if !(r.start_s.is_finite() && r.end_s.is_finite() && r.start_s < r.end_s) {
                         return Err(Invalid::new(
@@ -316,6 +326,11 @@ pub(crate) fn too_short(field: &str, v: f64) -> Invalid {
 }
 
 /// A plateau range as the command line and a recipe write it, `START:END` in seconds.
+/// The most plateaus a recipe may give by hand: a chamber program holds tens; each is a point
+/// of K0 and a line of the calibration file, whose size is bounded (16 MiB) so that every
+/// calibration written can be read back.
+pub const MAX_MANUAL_PLATEAUS: usize = 4096;
+
 fn show_range(r: &PlateauRange) -> String {
     format!(
         "{}:{}",

@@ -483,3 +483,37 @@ fn a_picosecond_log_is_refused_for_its_filter_not_for_never_ramping() {
         "{e}"
     );
 }
+
+#[test]
+fn plateaus_given_by_hand_are_bounded_and_their_warnings_counted() {
+    // More plateaus than a calibration file can hold: refused at the recipe check.
+    let many: Vec<PlateauRange> = (0..=driftlab::models::recipe::MAX_MANUAL_PLATEAUS)
+        .map(|k| range(k as f64 * 10.0, k as f64 * 10.0 + 5.0))
+        .collect();
+    let e = manual(many).checked().unwrap_err().to_string();
+    assert!(e.contains("4097 plateaus"), "{e}");
+    // Twenty that hold no sample of the log: eight named, the rest counted in one line.
+    let log = paper_like_log();
+    let dt = log.time_s[1] - log.time_s[0];
+    let mut ranges = vec![
+        range(1000.0, 3500.0),
+        range(7000.0, 11900.0),
+        range(21000.0, 24000.0),
+    ];
+    for k in 0..20 {
+        let t = log.time_s[20000 + 10 * k];
+        ranges.push(range(t + dt * 0.4, t + dt * 0.6));
+    }
+    let warnings = manual_fit_warnings(&log, ranges);
+    let named = warnings
+        .iter()
+        .filter(|w| w.contains("holds no sample"))
+        .count();
+    assert_eq!(named, 8, "{warnings:?}");
+    assert!(
+        warnings
+            .iter()
+            .any(|w| w.starts_with("and 12 more plateaus given by hand are told likewise")),
+        "{warnings:?}"
+    );
+}
