@@ -200,17 +200,31 @@ impl Recipe {
         positive("filter_s", self.filter_s)?;
         positive("temp_smoothing_s", self.temp_smoothing_s)?;
         positive("step_h_s", self.step_h_s)?;
-        for (name, v) in [
-            ("deadband_tdot", self.deadband_tdot),
-            ("deadband_tddot", self.deadband_tddot),
+        // A dead-band wider than any chamber's rates leaves both sets empty: K1± and K2± come
+        // out as zeros over nothing, and the figures' axes reach the dead-band.
+        for (name, v, most, unit) in [
+            (
+                "deadband_tdot",
+                self.deadband_tdot,
+                MAX_DEADBAND_TDOT,
+                "°C/s",
+            ),
+            (
+                "deadband_tddot",
+                self.deadband_tddot,
+                MAX_DEADBAND_TDDOT,
+                "°C/s²",
+            ),
         ] {
             if let Some(v) = v
-                && !(v.is_finite() && v >= 0.0)
+                && !(v.is_finite() && (0.0..=most).contains(&v))
             {
                 return Err(Invalid::new(
                     name,
                     format!(
-                        "must be a non-negative number, got {}",
+                        "must be a number from 0 to {} {unit} (no thermal chamber moves \
+                         faster), got {}",
+                        crate::number::readable(most),
                         crate::number::readable(v)
                     ),
                 ));
@@ -326,6 +340,13 @@ pub(crate) fn too_short(field: &str, v: f64) -> Invalid {
 }
 
 /// A plateau range as the command line and a recipe write it, `START:END` in seconds.
+/// The widest dead-band on Ṫ, °C/s: 1 °C/s is 60 °C a minute, beyond any thermal chamber, so a
+/// wider one leaves the K1 sets empty.
+pub const MAX_DEADBAND_TDOT: f64 = 1.0;
+
+/// The widest dead-band on T̈, °C/s².
+pub const MAX_DEADBAND_TDDOT: f64 = 1.0;
+
 /// The most plateaus a recipe may give by hand: a chamber program holds tens; each is a point
 /// of K0 and a line of the calibration file, whose size is bounded (16 MiB) so that every
 /// calibration written can be read back.

@@ -517,3 +517,33 @@ fn plateaus_given_by_hand_are_bounded_and_their_warnings_counted() {
         "{warnings:?}"
     );
 }
+
+#[test]
+fn a_dead_band_wider_than_any_chamber_moves_is_refused() {
+    // 1e300 °C/s left both sets empty: K1± zero over nothing, a calibration written all the
+    // same, and a report whose axes could not be drawn.
+    for (tdot, tddot, field) in [
+        (Some(1e300), None, "deadband_tdot"),
+        (Some(1.5), None, "deadband_tdot"),
+        (None, Some(1e50), "deadband_tddot"),
+    ] {
+        let recipe = Recipe {
+            deadband_tdot: tdot,
+            deadband_tddot: tddot,
+            ..Recipe::default()
+        };
+        let e = recipe.checked().unwrap_err();
+        assert!(e.to_string().contains(field), "{e}");
+        assert!(
+            e.to_string().contains("no thermal chamber moves faster"),
+            "{e}"
+        );
+    }
+    // Wide, but within what a chamber does: taken.
+    let recipe = Recipe {
+        deadband_tdot: Some(0.5),
+        deadband_tddot: Some(0.0),
+        ..Recipe::default()
+    };
+    assert!(recipe.checked().is_ok());
+}
