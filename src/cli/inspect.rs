@@ -155,6 +155,9 @@ pub fn run(a: Args) -> Result<(), CliError> {
             "temp_min_c": tmin,
             "temp_max_c": tmax,
             "max_abs_rate_c_per_min": rate_max,
+            // What the summary could not find, and why (the reason beside each null above);
+            // the reading's own problems are `info.problems`.
+            "problems": summary.problems,
             "extra_channels": log.extra.iter().map(|c| &c.name).collect::<Vec<_>>(),
             "accelerometers": log
                 .extra

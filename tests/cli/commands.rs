@@ -163,6 +163,20 @@ fn inspect_reports_columns_plateaus_and_sampling() {
     }
     assert!((v["temp_min_c"].as_f64().unwrap() + 50.0).abs() < 0.01);
     assert_eq!(v["extra_channels"][0], "temp_chamber_c");
+    assert_eq!(v["problems"], serde_json::json!([]));
+    // A null says why, as the text does: read in ms, the log is 40 s long, shorter than the
+    // T history a rate needs.
+    let v: Value = serde_json::from_str(&ok(&[
+        "inspect",
+        &sample("calibration.csv"),
+        "--json",
+        "--time-unit",
+        "ms",
+    ]))
+    .unwrap();
+    assert!(v["max_abs_rate_c_per_min"].is_null());
+    let why = v["problems"][0].as_str().unwrap_or_default();
+    assert!(why.starts_with("no temperature rate"), "{v}");
     let text = ok(&["inspect", &sample("validation.csv")]);
     assert!(
         text.contains("plateaus found (4)"),
