@@ -109,6 +109,63 @@ impl Segments {
         self.spans.windows(2).map(|w| (w[0].1, w[1].0))
     }
 
+    /// These spans each with its start moved `lead_s` later (a span shorter than that is
+    /// dropped): the samples where a centred filter of `lead_s` reaches no sample before its
+    /// span's start, so that neither a truncated window nor a transient just after a
+    /// segment's rates fill is drawn as if it were settled.
+    pub fn settled(&self, lead_s: f64) -> Segments {
+        let lead = if lead_s.is_finite() { lead_s.max(0.0) } else { 0.0 };
+        Segments {
+            spans: self
+                .spans
+                .iter()
+                .filter(|&&(a, b)| a + lead <= b)
+                .map(|&(a, b)| (a + lead, b))
+                .collect(),
+        }
+    }
+
+    /// The parts of these spans that `other` does not cover, each ending where the next
+    /// span of `other` starts (so that a faded warm-up joins the settled curve after it):
+    /// a log's segments less its settled stretches are its warm-ups.
+    pub fn minus(&self, other: &Segments) -> Segments {
+        let mut spans = Vec::new();
+        for &(a, b) in &self.spans {
+            let mut from = a;
+            for &(c, d) in other.spans.iter().filter(|&&(c, d)| d >= a && c <= b) {
+                if c > from {
+                    spans.push((from, c.min(b)));
+                }
+                from = from.max(d);
+            }
+            if from < b {
+                spans.push((from, b));
+            }
+        }
+        Segments { spans }
+    }
+
+    /// The spans, s (first and last sample time of each).
+    pub fn spans(&self) -> &[(f64, f64)] {
+        &self.spans
+    }
+
+    /// The least and largest of `values` (sampled at `time_s`) over the samples within these
+    /// spans, non-finite values skipped: the y-range a plot's automatic scale should cover.
+    /// A reference for tests and checks (it reads every sample, not per frame).
+    pub fn value_range(&self, time_s: &[f64], values: &[f64]) -> Option<(f64, f64)> {
+        let mut r: Option<(f64, f64)> = None;
+        for &(a, b) in &self.spans {
+            let (i, j) = lod::index_range(time_s, a, b);
+            for (&t, &v) in time_s[i..j].iter().zip(&values[i..j.min(values.len())]) {
+                if t >= a && t <= b && v.is_finite() {
+                    r = Some(r.map_or((v, v), |(lo, hi)| (lo.min(v), hi.max(v))));
+                }
+            }
+        }
+        r
+    }
+
     /// Number of segments.
     pub fn len(&self) -> usize {
         self.spans.len()
@@ -139,7 +196,15 @@ impl Segments {
             .filter(|&(a, b)| b >= t0 && a <= t1)
             .collect();
         let columns = columns.max(1);
-        if visible.len() <= 1 && self.spans.len() <= 1 || visible.len() > columns {
+        // One span covering the whole series (a log without gaps) needs no clipping; one that
+        // starts later (the samples whose rates have their history) must be clipped to, or
+        // the samples before it (no reading) would be drawn too.
+        let whole = match (self.spans.as_slice(), time_s.first(), time_s.last()) {
+            ([(a, b)], Some(&f), Some(&l)) => *a <= f && *b >= l,
+            ([], ..) => return Vec::new(),
+            _ => false,
+        };
+        if whole || visible.len() > columns {
             return vec![lod::reduce(time_s, values, pyramid, t0, t1, columns)];
         }
         let span = (t1 - t0).max(f64::MIN_POSITIVE);
@@ -190,6 +255,7 @@ pub struct BandItem {
     color: Color32,
     width: f32,
     bounds: PlotBounds,
+    faded: bool,
 }
 
 impl BandItem {
@@ -219,6 +285,7 @@ impl BandItem {
             color: Color32::GRAY,
             width: 1.5,
             bounds,
+            faded: false,
         }
     }
 
@@ -231,6 +298,12 @@ impl BandItem {
     /// Line width (and the least thickness of the band), points.
     pub fn width(mut self, width: f32) -> Self {
         self.width = width;
+        self
+    }
+
+    /// Draws it faded (a warm-up: shown, but not a settled reading). Call after `color`.
+    pub fn faded(mut self) -> Self {
+        self.faded = true;
         self
     }
 
@@ -276,7 +349,12 @@ macro_rules! drawn_item_fields {
 
 impl PlotItem for BandItem {
     fn shapes(&self, _ui: &Ui, transform: &PlotTransform, shapes: &mut Vec<Shape>) {
-        let stroke = Stroke::new(self.width, self.color);
+        let color = if self.faded {
+            self.color.gamma_multiply(WARMUP_ALPHA)
+        } else {
+            self.color
+        };
+        let stroke = Stroke::new(self.width, color);
         let flush_line = |run: &mut Vec<Pos2>, shapes: &mut Vec<Shape>| {
             match run.len() {
                 0 => {}
@@ -284,7 +362,7 @@ impl PlotItem for BandItem {
                 1 => shapes.push(Shape::circle_filled(
                     run[0],
                     self.width.max(1.5),
-                    self.color,
+                    color,
                 )),
                 _ => shapes.push(Shape::line(std::mem::take(run), stroke)),
             }
@@ -298,10 +376,10 @@ impl PlotItem for BandItem {
                     let (x, r) = (run[0].x, run[0].y);
                     shapes.push(Shape::line_segment(
                         [Pos2::new(x, r.min), Pos2::new(x, r.max)],
-                        Stroke::new(self.width.max(1.5), self.color),
+                        Stroke::new(self.width.max(1.5), color),
                     ));
                 }
-                _ => shapes.push(BandShape::filled(std::mem::take(run), self.color).into()),
+                _ => shapes.push(BandShape::filled(std::mem::take(run), color).into()),
             }
             run.clear();
         };
@@ -350,6 +428,33 @@ impl BandItem {
         }
     }
 }
+
+/// A series drawn in two parts: over `settled` in full colour, setting the plot's
+/// automatic y-range, and over `warmup` faded, leaving the y-range alone (a segment's first
+/// samples, before its filter and rate histories are full, swing far wider than the run and
+/// would otherwise set every drift plot's scale).
+#[allow(clippy::too_many_arguments)]
+pub fn settled_and_warmup(
+    name: &str,
+    time_s: &[f64],
+    values: &[f64],
+    pyramid: &MinMaxPyramid,
+    (settled, warmup): (&Segments, &Segments),
+    (t0, t1, columns): (f64, f64, usize),
+    (x_div, x_full): (f64, (f64, f64)),
+) -> [BandItem; 2] {
+    let main = settled.reduce(time_s, values, pyramid, t0, t1, columns);
+    let warm = warmup.reduce(time_s, values, pyramid, t0, t1, columns);
+    [
+        BandItem::segmented(name, main, x_div, x_full),
+        BandItem::segmented(name, warm, x_div, x_full)
+            .faded()
+            .no_y_bounds(),
+    ]
+}
+
+/// How much of its colour a warm-up keeps (see [`settled_and_warmup`]).
+pub const WARMUP_ALPHA: f32 = 0.3;
 
 /// Decimated scatter points drawn as small squares in one mesh.
 pub struct CloudItem {
