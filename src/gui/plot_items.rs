@@ -114,7 +114,11 @@ impl Segments {
     /// span's start, so that neither a truncated window nor a transient just after a
     /// segment's rates fill is drawn as if it were settled.
     pub fn settled(&self, lead_s: f64) -> Segments {
-        let lead = if lead_s.is_finite() { lead_s.max(0.0) } else { 0.0 };
+        let lead = if lead_s.is_finite() {
+            lead_s.max(0.0)
+        } else {
+            0.0
+        };
         Segments {
             spans: self
                 .spans
@@ -359,11 +363,7 @@ impl PlotItem for BandItem {
             match run.len() {
                 0 => {}
                 // A lone sample between gaps: a dot, or it would not show at all.
-                1 => shapes.push(Shape::circle_filled(
-                    run[0],
-                    self.width.max(1.5),
-                    color,
-                )),
+                1 => shapes.push(Shape::circle_filled(run[0], self.width.max(1.5), color)),
                 _ => shapes.push(Shape::line(std::mem::take(run), stroke)),
             }
             run.clear();
@@ -499,6 +499,107 @@ impl PlotItem for CloudItem {
         }
         if !mesh.is_empty() {
             shapes.push(Shape::mesh(mesh));
+        }
+    }
+
+    drawn_item_fields!();
+}
+
+/// The view a point cloud's plot is scaled to, `[x0, x1, y0, y1]`: in y the bulk of every
+/// cloud (its 1st to 99th percentile, or Tukey's far-out fences where tighter) widened by a
+/// tenth of that span each side, and in any case the
+/// fitted curves' y (`curves_y`); in x every point and the dead-band `±deadband`. K1 and K2
+/// are quotients by a rate near the dead-band's edge, where a few points reach a thousand
+/// times the bulk: scaled to them the bulk and the curves are a flat line. With `all`, every
+/// point instead. Cheap per frame: the percentiles are read from the clouds' sorted y, built
+/// once per fit (cached with the clouds).
+pub fn cloud_scale(
+    clouds: &[&lod::ScatterLod],
+    curves_y: Option<(f64, f64)>,
+    deadband: f64,
+    all: bool,
+) -> Option<[f64; 4]> {
+    let mut x = (f64::INFINITY, f64::NEG_INFINITY);
+    let mut y = (f64::INFINITY, f64::NEG_INFINITY);
+    for c in clouds.iter().filter(|c| !c.is_empty()) {
+        let b = c.bounds();
+        x = (x.0.min(b[0]), x.1.max(b[1]));
+        let (lo, hi) = if all {
+            (b[2], b[3])
+        } else {
+            let q = |p: f64| c.quantile_y(p).unwrap_or(f64::NAN);
+            let (p1, q1, q3, p99) = (q(0.01), q(0.25), q(0.75), q(0.99));
+            if !(p1.is_finite() && p99.is_finite()) {
+                continue;
+            }
+            // The tighter of the 1st–99th percentile and Tukey's far-out fences (quartiles ∓
+            // 3 interquartile ranges): the points beside the dead-band can be several
+            // percent of a K2 cloud, more than a percentile alone leaves out.
+            let iqr = q3 - q1;
+            (p1.max(q1 - 3.0 * iqr), p99.min(q3 + 3.0 * iqr))
+        };
+        y = (y.0.min(lo), y.1.max(hi));
+    }
+    if !all && y.1 >= y.0 {
+        let pad = 0.1 * (y.1 - y.0).max(1e-12 * y.1.abs().max(y.0.abs()).max(1e-300));
+        y = (y.0 - pad, y.1 + pad);
+    }
+    if let Some((lo, hi)) = curves_y.filter(|r| r.0.is_finite() && r.1.is_finite()) {
+        y = (y.0.min(lo), y.1.max(hi));
+    }
+    if deadband.is_finite() && deadband > 0.0 && x.1 >= x.0 {
+        x = (x.0.min(-deadband), x.1.max(deadband));
+    }
+    (x.1 >= x.0 && y.1 >= y.0).then_some([x.0, x.1, y.0, y.1])
+}
+
+/// Marks at a plot's top or bottom edge for points beyond its y-range (x in plot units,
+/// and whether above): small triangles pointing out of the plot, so the engineer sees where
+/// the scale leaves points out. No effect on bounds.
+pub struct EdgeMarksItem {
+    base: PlotItemBase,
+    marks: Vec<(f64, bool)>,
+    color: Color32,
+    bounds: PlotBounds,
+}
+
+impl EdgeMarksItem {
+    /// The marks, in `color`.
+    pub fn new(name: &str, marks: Vec<(f64, bool)>, color: Color32) -> EdgeMarksItem {
+        EdgeMarksItem {
+            base: PlotItemBase::new(name.to_string()),
+            marks,
+            color,
+            bounds: PlotBounds::NOTHING,
+        }
+    }
+}
+
+impl PlotItem for EdgeMarksItem {
+    fn shapes(&self, _ui: &Ui, transform: &PlotTransform, shapes: &mut Vec<Shape>) {
+        let frame = *transform.frame();
+        let h = 4.0;
+        for &(x, above) in &self.marks {
+            let px = transform.position_from_point_x(x);
+            if px < frame.left() || px > frame.right() {
+                continue;
+            }
+            let pts = if above {
+                let y = frame.top() + 1.0;
+                vec![
+                    Pos2::new(px, y),
+                    Pos2::new(px + h, y + 1.6 * h),
+                    Pos2::new(px - h, y + 1.6 * h),
+                ]
+            } else {
+                let y = frame.bottom() - 1.0;
+                vec![
+                    Pos2::new(px, y),
+                    Pos2::new(px - h, y - 1.6 * h),
+                    Pos2::new(px + h, y - 1.6 * h),
+                ]
+            };
+            shapes.push(Shape::convex_polygon(pts, self.color, Stroke::NONE));
         }
     }
 

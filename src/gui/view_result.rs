@@ -110,7 +110,11 @@ impl ResultView {
         let settled = ready.settled(lead_s);
         let raw_warm = segments.minus(&settled);
         let cor_warm = ready.minus(&settled);
-        let id = if show_val { RESULT_VAL_ID } else { RESULT_CAL_ID };
+        let id = if show_val {
+            RESULT_VAL_ID
+        } else {
+            RESULT_CAL_ID
+        };
         let mut plot = Plot::new(id)
             .id(eframe::egui::Id::unique(id))
             .height(ui.available_height().max(80.0))

@@ -288,8 +288,7 @@ impl TimeView {
                             } else {
                                 raw
                             });
-                            if let (Some(f), Some((settled, of_log, of_rates))) = (&fit, &warmup)
-                            {
+                            if let (Some(f), Some((settled, of_log, of_rates))) = (&fit, &warmup) {
                                 let p = &f.outcome.prepared;
                                 for item in settled_and_warmup(
                                     "Ω filtered",
