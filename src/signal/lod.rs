@@ -618,7 +618,7 @@ impl ScatterLod {
     pub fn beyond(&self, view: [f64; 4], width_px: f32, cell_px: f32) -> Vec<(f64, bool)> {
         let [x0, x1, y0, y1] = view;
         let mut out = Vec::new();
-        if self.is_empty() || !(x1 > x0) {
+        if self.is_empty() || x1.partial_cmp(&x0) != Some(std::cmp::Ordering::Greater) {
             return out;
         }
         let level = if self.len() <= 200_000 {

@@ -61,7 +61,7 @@ fn a_single_stretch_starting_late_is_clipped_to() {
         .map(|i| if i < 50 { 100.0 } else { (i % 7) as f64 * 0.1 })
         .collect();
     let pyramid = MinMaxPyramid::new(&values);
-    let ready = Segments::from_ranges(&time, &[100..1000]);
+    let ready = Segments::from_ranges(&time, std::slice::from_ref(&(100..1000)));
     for columns in [50, 5000] {
         let bands = ready.reduce(&time, &values, &pyramid, 0.0, 999.0, columns);
         let (lo, hi) = range_of(bands.iter().flat_map(|b| b.lo.iter().chain(&b.hi).copied()));
