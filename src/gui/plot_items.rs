@@ -109,6 +109,67 @@ impl Segments {
         self.spans.windows(2).map(|w| (w[0].1, w[1].0))
     }
 
+    /// These spans each with its start moved `lead_s` later (a span shorter than that is
+    /// dropped): the samples where a centred filter of `lead_s` reaches no sample before its
+    /// span's start, so that neither a truncated window nor a transient just after a
+    /// segment's rates fill is drawn as if it were settled.
+    pub fn settled(&self, lead_s: f64) -> Segments {
+        let lead = if lead_s.is_finite() {
+            lead_s.max(0.0)
+        } else {
+            0.0
+        };
+        Segments {
+            spans: self
+                .spans
+                .iter()
+                .filter(|&&(a, b)| a + lead <= b)
+                .map(|&(a, b)| (a + lead, b))
+                .collect(),
+        }
+    }
+
+    /// The parts of these spans that `other` does not cover, each ending where the next
+    /// span of `other` starts (so that a faded warm-up joins the settled curve after it):
+    /// a log's segments less its settled stretches are its warm-ups.
+    pub fn minus(&self, other: &Segments) -> Segments {
+        let mut spans = Vec::new();
+        for &(a, b) in &self.spans {
+            let mut from = a;
+            for &(c, d) in other.spans.iter().filter(|&&(c, d)| d >= a && c <= b) {
+                if c > from {
+                    spans.push((from, c.min(b)));
+                }
+                from = from.max(d);
+            }
+            if from < b {
+                spans.push((from, b));
+            }
+        }
+        Segments { spans }
+    }
+
+    /// The spans, s (first and last sample time of each).
+    pub fn spans(&self) -> &[(f64, f64)] {
+        &self.spans
+    }
+
+    /// The least and largest of `values` (sampled at `time_s`) over the samples within these
+    /// spans, non-finite values skipped: the y-range a plot's automatic scale should cover.
+    /// A reference for tests and checks (it reads every sample, not per frame).
+    pub fn value_range(&self, time_s: &[f64], values: &[f64]) -> Option<(f64, f64)> {
+        let mut r: Option<(f64, f64)> = None;
+        for &(a, b) in &self.spans {
+            let (i, j) = lod::index_range(time_s, a, b);
+            for (&t, &v) in time_s[i..j].iter().zip(&values[i..j.min(values.len())]) {
+                if t >= a && t <= b && v.is_finite() {
+                    r = Some(r.map_or((v, v), |(lo, hi)| (lo.min(v), hi.max(v))));
+                }
+            }
+        }
+        r
+    }
+
     /// Number of segments.
     pub fn len(&self) -> usize {
         self.spans.len()
@@ -139,7 +200,15 @@ impl Segments {
             .filter(|&(a, b)| b >= t0 && a <= t1)
             .collect();
         let columns = columns.max(1);
-        if visible.len() <= 1 && self.spans.len() <= 1 || visible.len() > columns {
+        // One span covering the whole series (a log without gaps) needs no clipping; one that
+        // starts later (the samples whose rates have their history) must be clipped to, or
+        // the samples before it (no reading) would be drawn too.
+        let whole = match (self.spans.as_slice(), time_s.first(), time_s.last()) {
+            ([(a, b)], Some(&f), Some(&l)) => *a <= f && *b >= l,
+            ([], ..) => return Vec::new(),
+            _ => false,
+        };
+        if whole || visible.len() > columns {
             return vec![lod::reduce(time_s, values, pyramid, t0, t1, columns)];
         }
         let span = (t1 - t0).max(f64::MIN_POSITIVE);
@@ -190,6 +259,7 @@ pub struct BandItem {
     color: Color32,
     width: f32,
     bounds: PlotBounds,
+    faded: bool,
 }
 
 impl BandItem {
@@ -219,6 +289,7 @@ impl BandItem {
             color: Color32::GRAY,
             width: 1.5,
             bounds,
+            faded: false,
         }
     }
 
@@ -231,6 +302,12 @@ impl BandItem {
     /// Line width (and the least thickness of the band), points.
     pub fn width(mut self, width: f32) -> Self {
         self.width = width;
+        self
+    }
+
+    /// Draws it faded (a warm-up: shown, but not a settled reading). Call after `color`.
+    pub fn faded(mut self) -> Self {
+        self.faded = true;
         self
     }
 
@@ -276,16 +353,17 @@ macro_rules! drawn_item_fields {
 
 impl PlotItem for BandItem {
     fn shapes(&self, _ui: &Ui, transform: &PlotTransform, shapes: &mut Vec<Shape>) {
-        let stroke = Stroke::new(self.width, self.color);
+        let color = if self.faded {
+            self.color.gamma_multiply(WARMUP_ALPHA)
+        } else {
+            self.color
+        };
+        let stroke = Stroke::new(self.width, color);
         let flush_line = |run: &mut Vec<Pos2>, shapes: &mut Vec<Shape>| {
             match run.len() {
                 0 => {}
                 // A lone sample between gaps: a dot, or it would not show at all.
-                1 => shapes.push(Shape::circle_filled(
-                    run[0],
-                    self.width.max(1.5),
-                    self.color,
-                )),
+                1 => shapes.push(Shape::circle_filled(run[0], self.width.max(1.5), color)),
                 _ => shapes.push(Shape::line(std::mem::take(run), stroke)),
             }
             run.clear();
@@ -298,10 +376,10 @@ impl PlotItem for BandItem {
                     let (x, r) = (run[0].x, run[0].y);
                     shapes.push(Shape::line_segment(
                         [Pos2::new(x, r.min), Pos2::new(x, r.max)],
-                        Stroke::new(self.width.max(1.5), self.color),
+                        Stroke::new(self.width.max(1.5), color),
                     ));
                 }
-                _ => shapes.push(BandShape::filled(std::mem::take(run), self.color).into()),
+                _ => shapes.push(BandShape::filled(std::mem::take(run), color).into()),
             }
             run.clear();
         };
@@ -351,6 +429,33 @@ impl BandItem {
     }
 }
 
+/// A series drawn in two parts: over `settled` in full colour, setting the plot's
+/// automatic y-range, and over `warmup` faded, leaving the y-range alone (a segment's first
+/// samples, before its filter and rate histories are full, swing far wider than the run and
+/// would otherwise set every drift plot's scale).
+#[allow(clippy::too_many_arguments)]
+pub fn settled_and_warmup(
+    name: &str,
+    time_s: &[f64],
+    values: &[f64],
+    pyramid: &MinMaxPyramid,
+    (settled, warmup): (&Segments, &Segments),
+    (t0, t1, columns): (f64, f64, usize),
+    (x_div, x_full): (f64, (f64, f64)),
+) -> [BandItem; 2] {
+    let main = settled.reduce(time_s, values, pyramid, t0, t1, columns);
+    let warm = warmup.reduce(time_s, values, pyramid, t0, t1, columns);
+    [
+        BandItem::segmented(name, main, x_div, x_full),
+        BandItem::segmented(name, warm, x_div, x_full)
+            .faded()
+            .no_y_bounds(),
+    ]
+}
+
+/// How much of its colour a warm-up keeps (see [`settled_and_warmup`]).
+pub const WARMUP_ALPHA: f32 = 0.3;
+
 /// Decimated scatter points drawn as small squares in one mesh.
 pub struct CloudItem {
     base: PlotItemBase,
@@ -394,6 +499,107 @@ impl PlotItem for CloudItem {
         }
         if !mesh.is_empty() {
             shapes.push(Shape::mesh(mesh));
+        }
+    }
+
+    drawn_item_fields!();
+}
+
+/// The view a point cloud's plot is scaled to, `[x0, x1, y0, y1]`: in y the bulk of every
+/// cloud (its 1st to 99th percentile, or Tukey's far-out fences where tighter) widened by a
+/// tenth of that span each side, and in any case the
+/// fitted curves' y (`curves_y`); in x every point and the dead-band `±deadband`. K1 and K2
+/// are quotients by a rate near the dead-band's edge, where a few points reach a thousand
+/// times the bulk: scaled to them the bulk and the curves are a flat line. With `all`, every
+/// point instead. Cheap per frame: the percentiles are read from the clouds' sorted y, built
+/// once per fit (cached with the clouds).
+pub fn cloud_scale(
+    clouds: &[&lod::ScatterLod],
+    curves_y: Option<(f64, f64)>,
+    deadband: f64,
+    all: bool,
+) -> Option<[f64; 4]> {
+    let mut x = (f64::INFINITY, f64::NEG_INFINITY);
+    let mut y = (f64::INFINITY, f64::NEG_INFINITY);
+    for c in clouds.iter().filter(|c| !c.is_empty()) {
+        let b = c.bounds();
+        x = (x.0.min(b[0]), x.1.max(b[1]));
+        let (lo, hi) = if all {
+            (b[2], b[3])
+        } else {
+            let q = |p: f64| c.quantile_y(p).unwrap_or(f64::NAN);
+            let (p1, q1, q3, p99) = (q(0.01), q(0.25), q(0.75), q(0.99));
+            if !(p1.is_finite() && p99.is_finite()) {
+                continue;
+            }
+            // The tighter of the 1st–99th percentile and Tukey's far-out fences (quartiles ∓
+            // 3 interquartile ranges): the points beside the dead-band can be several
+            // percent of a K2 cloud, more than a percentile alone leaves out.
+            let iqr = q3 - q1;
+            (p1.max(q1 - 3.0 * iqr), p99.min(q3 + 3.0 * iqr))
+        };
+        y = (y.0.min(lo), y.1.max(hi));
+    }
+    if !all && y.1 >= y.0 {
+        let pad = 0.1 * (y.1 - y.0).max(1e-12 * y.1.abs().max(y.0.abs()).max(1e-300));
+        y = (y.0 - pad, y.1 + pad);
+    }
+    if let Some((lo, hi)) = curves_y.filter(|r| r.0.is_finite() && r.1.is_finite()) {
+        y = (y.0.min(lo), y.1.max(hi));
+    }
+    if deadband.is_finite() && deadband > 0.0 && x.1 >= x.0 {
+        x = (x.0.min(-deadband), x.1.max(deadband));
+    }
+    (x.1 >= x.0 && y.1 >= y.0).then_some([x.0, x.1, y.0, y.1])
+}
+
+/// Marks at a plot's top or bottom edge for points beyond its y-range (x in plot units,
+/// and whether above): small triangles pointing out of the plot, so the engineer sees where
+/// the scale leaves points out. No effect on bounds.
+pub struct EdgeMarksItem {
+    base: PlotItemBase,
+    marks: Vec<(f64, bool)>,
+    color: Color32,
+    bounds: PlotBounds,
+}
+
+impl EdgeMarksItem {
+    /// The marks, in `color`.
+    pub fn new(name: &str, marks: Vec<(f64, bool)>, color: Color32) -> EdgeMarksItem {
+        EdgeMarksItem {
+            base: PlotItemBase::new(name.to_string()),
+            marks,
+            color,
+            bounds: PlotBounds::NOTHING,
+        }
+    }
+}
+
+impl PlotItem for EdgeMarksItem {
+    fn shapes(&self, _ui: &Ui, transform: &PlotTransform, shapes: &mut Vec<Shape>) {
+        let frame = *transform.frame();
+        let h = 4.0;
+        for &(x, above) in &self.marks {
+            let px = transform.position_from_point_x(x);
+            if px < frame.left() || px > frame.right() {
+                continue;
+            }
+            let pts = if above {
+                let y = frame.top() + 1.0;
+                vec![
+                    Pos2::new(px, y),
+                    Pos2::new(px + h, y + 1.6 * h),
+                    Pos2::new(px - h, y + 1.6 * h),
+                ]
+            } else {
+                let y = frame.bottom() - 1.0;
+                vec![
+                    Pos2::new(px, y),
+                    Pos2::new(px - h, y - 1.6 * h),
+                    Pos2::new(px + h, y - 1.6 * h),
+                ]
+            };
+            shapes.push(Shape::convex_polygon(pts, self.color, Stroke::NONE));
         }
     }
 

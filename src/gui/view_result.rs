@@ -2,11 +2,17 @@
 //! time axis of the run) or on the held-out validation log.
 
 use super::action::Action;
-use super::plot_items::{BandItem, Palette, ShadeItem, ShadeSpan, TimeScale, num};
+use super::plot_items::{Palette, ShadeItem, ShadeSpan, TimeScale, num, settled_and_warmup};
 use super::state::AppState;
 use super::widgets::{save_plot_entry, time_link};
 use eframe::egui::{Stroke, Ui, Vec2b};
 use egui_plot::{HLine, Legend, Plot};
+
+/// The result plot's id on the calibration log (fixed, so that its bounds can be read back
+/// from egui_plot's memory by tests).
+pub const RESULT_CAL_ID: &str = "result_cal";
+/// The result plot's id on the validation log.
+pub const RESULT_VAL_ID: &str = "result_val";
 
 /// View state of the result plot.
 #[derive(Default)]
@@ -97,7 +103,20 @@ impl ResultView {
             (true, Some(l)) => (&l.segments, &l.ready),
             _ => (&fit.lods.segments, &fit.lods.ready),
         };
-        let mut plot = Plot::new(if show_val { "result_val" } else { "result_cal" })
+        // The warm-up of each segment: until its rates have their history and then one
+        // filter window more (the centred filter's window is truncated before that), drawn
+        // faded and kept out of the y-range (its swing would set the plot's scale).
+        let lead_s = fit.outcome.prepared.filter_samples as f64 * fit.outcome.prepared.dt_s;
+        let settled = ready.settled(lead_s);
+        let raw_warm = segments.minus(&settled);
+        let cor_warm = ready.minus(&settled);
+        let id = if show_val {
+            RESULT_VAL_ID
+        } else {
+            RESULT_CAL_ID
+        };
+        let mut plot = Plot::new(id)
+            .id(eframe::egui::Id::unique(id))
             .height(ui.available_height().max(80.0))
             .legend(Legend::default().position(egui_plot::Corner::LeftTop))
             .x_axis_label(format!("time, {}", scale.unit))
@@ -108,11 +127,17 @@ impl ResultView {
             let time_s: &[f64] = &log.time_s;
             let raw: &[f64] = &judged.raw_filtered_dph;
             let cor: &[f64] = cor_p.0;
+            let settled = settled.clone();
             move |x: f64| -> Option<String> {
                 let i = crate::signal::lod::nearest_index(time_s, x * scale.div)?;
                 let t = time_s[i];
-                let cor_text = if ready.holds(t) {
+                let cor_text = if settled.holds(t) {
                     format!("{} °/h", num(cor[i]))
+                } else if ready.holds(t) {
+                    format!(
+                        "{} °/h (warm-up, faded: the filter's window is not full yet)",
+                        num(cor[i])
+                    )
                 } else {
                     "— (warm-up: the rates' history is not full yet)".to_string()
                 };
@@ -162,19 +187,30 @@ impl ResultView {
                         .width(1.0)
                         .allow_hover(false),
                 );
-                let raw =
-                    segments.reduce(&log.time_s, &judged.raw_filtered_dph, raw_p, x0, x1, cols);
-                pui.add(
-                    BandItem::segmented("raw", raw, scale.div, t_full)
-                        .color(pal.raw)
-                        .width(1.6),
-                );
-                let cor = ready.reduce(&log.time_s, cor_p.0, cor_p.1, x0, x1, cols);
-                pui.add(
-                    BandItem::segmented("corrected", cor, scale.div, t_full)
-                        .color(pal.corrected)
-                        .width(1.8),
-                );
+                let cols = (x0, x1, cols);
+                let x = (scale.div, t_full);
+                for item in settled_and_warmup(
+                    "raw",
+                    &log.time_s,
+                    &judged.raw_filtered_dph,
+                    raw_p,
+                    (&settled, &raw_warm),
+                    cols,
+                    x,
+                ) {
+                    pui.add(item.color(pal.raw).width(1.6));
+                }
+                for item in settled_and_warmup(
+                    "corrected",
+                    &log.time_s,
+                    cor_p.0,
+                    cor_p.1,
+                    (&settled, &cor_warm),
+                    cols,
+                    x,
+                ) {
+                    pui.add(item.color(pal.corrected).width(1.8));
+                }
             })
         });
         resp.inner.response.context_menu(|ui| {

@@ -4,7 +4,9 @@
 //! held (or with "Mark plateau" on) to add one, click one to select it.
 
 use super::action::{Action, Edit};
-use super::plot_items::{BandItem, Palette, ShadeItem, ShadeSpan, TimeScale, num};
+use super::plot_items::{
+    BandItem, Palette, ShadeItem, ShadeSpan, TimeScale, num, settled_and_warmup,
+};
 use super::state::{AppState, sorted_ranges};
 use super::widgets::{save_plot_entry, time_link};
 use crate::signal::lod::MinMaxPyramid;
@@ -136,9 +138,21 @@ impl TimeView {
             _ => None,
         };
 
+        // Each segment's warm-up (until its rates have their history, then one Ω filter
+        // window more) is drawn faded and kept out of the y-ranges: its transients (a
+        // truncated filter window, d²T/dt² of a log that starts mid-ramp) would otherwise set
+        // the plots' scales. Without a calibration nothing marks it.
+        let warmup = fit.as_ref().map(|f| {
+            let p = &f.outcome.prepared;
+            let settled = f.lods.ready.settled(p.filter_samples as f64 * p.dt_s);
+            let of_log = loaded.segments.minus(&settled);
+            let of_rates = f.lods.ready.minus(&settled);
+            (settled, of_log, of_rates)
+        });
         for (k, spec) in specs.iter().enumerate() {
             let last = k + 1 == n;
             let plot = Plot::new(spec.id)
+                .id(egui::Id::unique(spec.id))
                 .link_axis(time_link(), Vec2b::new(true, false))
                 .link_cursor(time_link(), Vec2b::new(true, false))
                 .height(if last { each + x_axis_h } else { each })
@@ -274,37 +288,32 @@ impl TimeView {
                             } else {
                                 raw
                             });
-                            if let Some(f) = &fit {
+                            if let (Some(f), Some((settled, of_log, of_rates))) = (&fit, &warmup) {
                                 let p = &f.outcome.prepared;
-                                pui.add(
-                                    BandItem::segmented(
-                                        "Ω filtered",
-                                        seg(&p.omega_filtered_dph, &f.lods.omega_filtered),
-                                        scale.div,
-                                        t_full,
-                                    )
-                                    .color(pal.filtered),
-                                );
+                                for item in settled_and_warmup(
+                                    "Ω filtered",
+                                    &log.time_s,
+                                    &p.omega_filtered_dph,
+                                    &f.lods.omega_filtered,
+                                    (settled, of_log),
+                                    (x0, x1, cols),
+                                    (scale.div, t_full),
+                                ) {
+                                    pui.add(item.color(pal.filtered));
+                                }
                                 let pred = &f.lods.pred_filtered;
                                 if pred.len() == log.len() {
-                                    let band = f.lods.ready.reduce(
+                                    for item in settled_and_warmup(
+                                        "model, filtered as Ω",
                                         &log.time_s,
                                         pred,
                                         &f.lods.pred,
-                                        x0,
-                                        x1,
-                                        cols,
-                                    );
-                                    pui.add(
-                                        BandItem::segmented(
-                                            "model, filtered as Ω",
-                                            band,
-                                            scale.div,
-                                            t_full,
-                                        )
-                                        .color(pal.model)
-                                        .width(1.2),
-                                    );
+                                        (settled, of_rates),
+                                        (x0, x1, cols),
+                                        (scale.div, t_full),
+                                    ) {
+                                        pui.add(item.color(pal.model).width(1.2));
+                                    }
                                 }
                             }
                         }
@@ -330,15 +339,29 @@ impl TimeView {
                                     .no_y_bounds(),
                                 );
                             }
-                            pui.add(
-                                BandItem::segmented(
+                            if let Some((settled, of_log, _)) = &warmup {
+                                for item in settled_and_warmup(
                                     "T",
-                                    seg(&log.temp_c, &loaded.lods.temp),
-                                    scale.div,
-                                    t_full,
-                                )
-                                .color(pal.temp),
-                            );
+                                    &log.time_s,
+                                    &log.temp_c,
+                                    &loaded.lods.temp,
+                                    (settled, of_log),
+                                    (x0, x1, cols),
+                                    (scale.div, t_full),
+                                ) {
+                                    pui.add(item.color(pal.temp));
+                                }
+                            } else {
+                                pui.add(
+                                    BandItem::segmented(
+                                        "T",
+                                        seg(&log.temp_c, &loaded.lods.temp),
+                                        scale.div,
+                                        t_full,
+                                    )
+                                    .color(pal.temp),
+                                );
+                            }
                         }
                         _ => {
                             if let Some(f) = &fit {
@@ -356,14 +379,22 @@ impl TimeView {
                                         f.outcome.calibration.resolved.deadband_tddot,
                                     )
                                 };
-                                if v.len() == log.len() {
+                                if v.len() == log.len()
+                                    && let Some((settled, _, of_rates)) = &warmup
+                                {
                                     // Only where the rates have their history: a segment's
                                     // first samples hold no reading (zero), not a rate.
-                                    let band = f.lods.ready.reduce(&log.time_s, v, p, x0, x1, cols);
-                                    pui.add(
-                                        BandItem::segmented(spec.label, band, scale.div, t_full)
-                                            .color(pal.filtered),
-                                    );
+                                    for item in settled_and_warmup(
+                                        spec.label,
+                                        &log.time_s,
+                                        v,
+                                        p,
+                                        (settled, of_rates),
+                                        (x0, x1, cols),
+                                        (scale.div, t_full),
+                                    ) {
+                                        pui.add(item.color(pal.filtered));
+                                    }
                                 }
                                 for y in [db, -db] {
                                     pui.hline(

@@ -496,6 +496,9 @@ pub struct ScatterLod {
     bounds: [f64; 4],
     /// Robust y-range: the 0.5th and 99.5th percentiles of y (the bulk, without outliers).
     robust_y: [f64; 2],
+    /// Every finite point's y, sorted: how many lie beyond a y-range is two binary searches
+    /// (a plot asks each frame; counting a million points would cost a frame).
+    sorted_y: Vec<f64>,
     levels: Vec<ScatterLevel>,
     /// All finite points, sorted by x.
     all: ScatterLevel,
@@ -534,6 +537,8 @@ impl ScatterLod {
             let hi = *ys.select_nth_unstable_by(k_hi, f64::total_cmp).1;
             [lo, hi]
         };
+        let mut sorted_y: Vec<f64> = pts.iter().map(|p| p.1).collect();
+        sorted_y.sort_unstable_by(f64::total_cmp);
         let span = |lo: f64, hi: f64| if hi > lo { hi - lo } else { 1.0 };
         let (sx, sy) = (span(bounds[0], bounds[1]), span(bounds[2], bounds[3]));
         let mut levels = Vec::new();
@@ -563,6 +568,7 @@ impl ScatterLod {
         ScatterLod {
             bounds,
             robust_y,
+            sorted_y,
             levels,
             all,
         }
@@ -586,6 +592,56 @@ impl ScatterLod {
     /// The 0.5th and 99.5th percentiles of y: a view of the bulk without far outliers.
     pub fn robust_y(&self) -> [f64; 2] {
         self.robust_y
+    }
+
+    /// The `q`-quantile of y (0 ≤ q ≤ 1, nearest rank), from every finite point.
+    pub fn quantile_y(&self, q: f64) -> Option<f64> {
+        let n = self.sorted_y.len();
+        if n == 0 {
+            return None;
+        }
+        let k = ((q.clamp(0.0, 1.0) * (n - 1) as f64).round() as usize).min(n - 1);
+        Some(self.sorted_y[k])
+    }
+
+    /// How many points lie below `lo` and above `hi` in y.
+    pub fn count_beyond_y(&self, lo: f64, hi: f64) -> (usize, usize) {
+        let below = self.sorted_y.partition_point(|&v| v < lo);
+        let above = self.sorted_y.len() - self.sorted_y.partition_point(|&v| v <= hi);
+        (below, above)
+    }
+
+    /// The points of the view's x-range `[x0, x1]` that lie below `y0` or above `y1`, as
+    /// their x and whether above, at most one a side per `cell_px` pixels of x (so a million
+    /// outliers are a few hundred marks): drawn at the plot's edge, they say where the scale
+    /// leaves points out. Read from the finest stored grid (every point when they are few).
+    pub fn beyond(&self, view: [f64; 4], width_px: f32, cell_px: f32) -> Vec<(f64, bool)> {
+        let [x0, x1, y0, y1] = view;
+        let mut out = Vec::new();
+        if self.is_empty() || x1.partial_cmp(&x0) != Some(std::cmp::Ordering::Greater) {
+            return out;
+        }
+        let level = if self.len() <= 200_000 {
+            &self.all
+        } else {
+            self.levels.last().unwrap_or(&self.all)
+        };
+        let a = level.x.partition_point(|&v| v < x0);
+        let b = level.x.partition_point(|&v| v <= x1).max(a);
+        let cell = (x1 - x0) * cell_px.max(1.0) as f64 / width_px.max(1.0) as f64;
+        let (mut last_lo, mut last_hi) = (i64::MIN, i64::MIN);
+        for i in a..b {
+            let (x, y) = (level.x[i], level.y[i]);
+            let c = ((x - x0) / cell).floor() as i64;
+            if y < y0 && c != last_lo {
+                last_lo = c;
+                out.push((x, false));
+            } else if y > y1 && c != last_hi {
+                last_hi = c;
+                out.push((x, true));
+            }
+        }
+        out
     }
 
     /// Points to draw for the view `[x0, x1] × [y0, y1]` shown on `width_px × height_px`:

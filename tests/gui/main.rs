@@ -13,4 +13,5 @@ mod gaps;
 mod models_allan;
 mod open_export;
 mod units;
+mod warmup;
 mod window;

@@ -21,6 +21,8 @@ pub struct CoeffView {
     transforms: [Option<PlotTransform>; 2],
     /// Whether the pointer was over each plot last frame (not covered by a window).
     hovered: [bool; 2],
+    /// "all points" of the K1 and K2 plots: scaled to every point rather than the bulk.
+    all_points: [bool; 2],
     /// Height of the panel's rows other than its three plots, last frame.
     overhead: Option<f32>,
 }

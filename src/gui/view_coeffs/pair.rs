@@ -6,7 +6,9 @@
 use super::CoeffView;
 use crate::files::session::Coefficient;
 use crate::gui::action::{Action, Edit};
-use crate::gui::plot_items::{CloudItem, Palette, ShadeItem, ShadeSpan, num};
+use crate::gui::plot_items::{
+    CloudItem, EdgeMarksItem, Palette, ShadeItem, ShadeSpan, cloud_scale, num,
+};
 use crate::gui::state::AppState;
 use crate::gui::widgets::{approx_controls, save_plot_entry};
 use eframe::egui::{self, Color32, CursorIcon, RichText, Stroke, Ui};
@@ -71,6 +73,44 @@ impl CoeffView {
             ),
         };
         let fit = state.shown.fit.clone();
+        // The view the plot is scaled to (the bulk of the points, the curves and the
+        // dead-band; every point with "all points") and how many points it leaves out,
+        // read from the clouds' sorted y (built once per fit): cheap every frame.
+        let scaled = fit.as_ref().and_then(|f| {
+            let cal = &f.outcome.calibration;
+            let db = match pair {
+                Pair::K1 => cal.resolved.deadband_tdot,
+                Pair::K2 => cal.resolved.deadband_tddot,
+            };
+            let i = pair.scatter_index();
+            let clouds = [&*f.lods.scatter[i], &*f.lods.scatter[i + 1]];
+            let curves_y = pair
+                .coefs()
+                .into_iter()
+                .filter_map(|c| {
+                    let a = crate::models::vakhrameev::knots::with_knots(
+                        c.approx(cal),
+                        state.shown.choices.knots.get(c),
+                    );
+                    curve_points(&a)
+                })
+                .flatten()
+                .map(|p| p[1])
+                .filter(|v| v.is_finite())
+                .fold(None, |r: Option<(f64, f64)>, v| {
+                    Some(r.map_or((v, v), |(lo, hi)| (lo.min(v), hi.max(v))))
+                });
+            let scale = cloud_scale(&clouds, curves_y, db, self.all_points[slot])?;
+            let beyond: usize = clouds
+                .iter()
+                .map(|c| {
+                    let (lo, hi) = c.count_beyond_y(scale[2], scale[3]);
+                    lo + hi
+                })
+                .sum();
+            Some((scale, beyond))
+        });
+        let mut rescale = false;
         ui.horizontal_wrapped(|ui| {
             ui.strong(title).on_hover_text(tip);
             if ui
@@ -79,6 +119,23 @@ impl CoeffView {
                 .clicked()
             {
                 out.push(Action::SavePlotNamed(pair.id().into()));
+            }
+            rescale = ui
+                .toggle_value(&mut self.all_points[slot], "all points")
+                .on_hover_text(
+                    "Scale the plot to every point. Off: to the bulk of the points (its 1st to 99th \
+                     percentile or quartiles ∓ 3 IQR, widened a little), the fitted curves and the dead-band, the \
+                     points beyond drawn as ▲/▼ marks at the plot's edge. Double-click the plot \
+                     to go back to its scale after zooming.",
+                )
+                .changed();
+            if let Some((_, n)) = scaled
+                && n > 0
+            {
+                ui.weak(format!("{n} points beyond the scale")).on_hover_text(
+                    "Drawn as ▲/▼ marks at the plot's top and bottom edge. Tick \"all points\" or \
+                     zoom out (Ctrl+wheel) to see them.",
+                );
             }
         });
         for (c, color) in pair.coefs().into_iter().zip([pal.plus, pal.minus]) {
@@ -154,8 +211,14 @@ impl CoeffView {
                             edge: Stroke::new(1.0, Palette::shade(pal.deadband, 0.8)),
                         }],
                     ));
+                    if rescale {
+                        pui.set_auto_bounds(true);
+                    }
                     let rect = pui.response().rect;
                     let b = pui.plot_bounds();
+                    let Some((scale, _)) = scaled else {
+                        return;
+                    };
                     for (k, (c, color)) in pair
                         .coefs()
                         .into_iter()
@@ -166,35 +229,30 @@ impl CoeffView {
                         if lod.is_empty() {
                             continue;
                         }
-                        let lb = lod.bounds();
-                        let ry = lod.robust_y();
-                        let pad = 0.1 * (ry[1] - ry[0]).abs().max(1e-12);
                         let view = if b.is_valid() && b.width() > 0.0 && b.height() > 0.0 {
                             [b.min()[0], b.max()[0], b.min()[1], b.max()[1]]
                         } else {
-                            [lb[0], lb[1], ry[0] - pad, ry[1] + pad]
+                            scale
                         };
                         let pts = lod.visible(view, [rect.width(), rect.height()], 2.5, 4000);
                         let bounds =
-                            PlotBounds::from_min_max([lb[0], ry[0] - pad], [lb[1], ry[1] + pad]);
+                            PlotBounds::from_min_max([scale[0], scale[2]], [scale[1], scale[3]]);
                         pui.add(
                             CloudItem::new(&format!("{} points", c.label()), pts, bounds)
                                 .color(Palette::shade(color, 0.55)),
                         );
+                        pui.add(EdgeMarksItem::new(
+                            &format!("{} points beyond the scale", c.label()),
+                            lod.beyond(view, rect.width(), 3.0),
+                            Palette::shade(color, 0.9),
+                        ));
                     }
                     for (c, color) in pair.coefs().into_iter().zip([pal.plus, pal.minus]) {
                         let a = crate::models::vakhrameev::knots::with_knots(
                             c.approx(cal),
                             knots.get(c),
                         );
-                        let (lo, hi) = (a.x_min(), a.x_max());
-                        if hi > lo {
-                            let curve: Vec<[f64; 2]> = (0..=200)
-                                .map(|j| {
-                                    let x = lo + (hi - lo) * j as f64 / 200.0;
-                                    [x, a.eval(x)]
-                                })
-                                .collect();
+                        if let Some(curve) = curve_points(&a) {
                             pui.line(
                                 Line::new(format!("{} fit", c.label()), PlotPoints::new(curve))
                                     .color(darker(color))
@@ -313,6 +371,19 @@ impl CoeffView {
         }
         edited
     }
+}
+
+/// The fitted curve over its x-range, 201 points (none for a curve without a range).
+fn curve_points(a: &crate::models::approx::Approx) -> Option<Vec<[f64; 2]>> {
+    let (lo, hi) = (a.x_min(), a.x_max());
+    (hi > lo).then(|| {
+        (0..=200)
+            .map(|j| {
+                let x = lo + (hi - lo) * j as f64 / 200.0;
+                [x, a.eval(x)]
+            })
+            .collect()
+    })
 }
 
 fn darker(c: Color32) -> Color32 {
