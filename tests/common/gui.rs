@@ -32,6 +32,17 @@ pub fn with_dialogs(wb: &mut Workbench) -> ScriptedDialogs {
     d
 }
 
+/// The refit outcome of the axis shown (the workbench has calibrated).
+pub fn outcome<'h>(h: &'h Harness<'_, Workbench>) -> &'h driftlab::refit::Outcome {
+    &h.state()
+        .state
+        .shown
+        .fit
+        .as_ref()
+        .expect("calibrated")
+        .outcome
+}
+
 pub fn p2p_corrected(h: &Harness<'_, Workbench>) -> f64 {
     let f = h.state().state.shown.fit.as_ref().expect("calibrated");
     f.outcome.in_sample.evaluation.comparison.corrected.p2p_dph

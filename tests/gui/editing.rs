@@ -127,17 +127,7 @@ fn a_spline_knot_is_dragged_and_the_figures_follow() {
         extrapolate: false,
     };
     settle(&mut h);
-    let fitted = h
-        .state()
-        .state
-        .shown
-        .fit
-        .as_ref()
-        .unwrap()
-        .outcome
-        .calibration
-        .k1_plus
-        .clone();
+    let fitted = outcome(&h).calibration.k1_plus.clone();
     let before = p2p_corrected(&h);
     let p = h
         .state()

@@ -28,16 +28,7 @@ fn the_sample_log_opens_calibrated_with_its_figures() {
     settle(&mut h);
     h.get_by_label("peak-to-peak");
     h.get_by_label_contains("4 plateaus found by the detector");
-    let e = &h
-        .state()
-        .state
-        .shown
-        .fit
-        .as_ref()
-        .unwrap()
-        .outcome
-        .in_sample
-        .evaluation;
+    let e = &outcome(&h).in_sample.evaluation;
     assert!(
         e.comparison.p2p_ratio > 3.0,
         "in-sample ratio {}",
@@ -104,16 +95,7 @@ fn export_writes_a_calibration_the_engine_loads() {
     h.key_press_modifiers(Modifiers::COMMAND, Key::E);
     settle(&mut h);
     let cal = driftlab::files::calibration::load(&out).expect("the engine reads the exported file");
-    let fitted = h
-        .state()
-        .state
-        .shown
-        .fit
-        .as_ref()
-        .unwrap()
-        .outcome
-        .calibration
-        .clone();
+    let fitted = outcome(&h).calibration.clone();
     assert_eq!(cal.k0, fitted.k0);
     assert_eq!(cal.k1_plus, fitted.k1_plus);
     assert_eq!(cal.k2_minus, fitted.k2_minus);

@@ -132,17 +132,7 @@ fn drift_plot_on(name: &str, spike: bool) {
             f.lods.cor_filtered_dph.clone(),
         )
     };
-    let log = h
-        .state()
-        .state
-        .shown
-        .fit
-        .as_ref()
-        .unwrap()
-        .outcome
-        .in_sample
-        .log
-        .clone();
+    let log = outcome(&h).in_sample.log.clone();
     let t = &log.time_s;
     let (r0, r1) = settled.value_range(t, &raw).unwrap();
     let (c0, c1) = settled.value_range(t, &cor).unwrap();
