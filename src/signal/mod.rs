@@ -11,6 +11,7 @@
 
 pub mod lod;
 pub mod plateau;
+mod stray;
 pub mod summary;
 pub mod timing;
 
