@@ -73,6 +73,7 @@ pub mod dialogs;
 pub mod export;
 pub mod file_dialog;
 pub mod jobs;
+pub mod plot_axes;
 pub mod plot_items;
 pub mod settings;
 pub mod state;
