@@ -246,12 +246,10 @@ impl Log {
             return Some(asked.to_string());
         }
         let by_column = self
-            .info
-            .columns
-            .iter()
-            .filter(|c| matches!(c.role, ColumnRole::Rate | ColumnRole::OtherAxis))
-            .find(|c| c.name == asked)
-            .map(|c| ingest::names::axis_name(&c.name))
+            .axis_columns()
+            .into_iter()
+            .find(|(_, column)| column == asked)
+            .map(|(axis, _)| axis)
             .filter(|n| names.contains(n));
         if by_column.is_some() {
             return by_column;
@@ -269,12 +267,26 @@ impl Log {
     /// The name of the file's column that `omega_dph` was read from (`gx_dps` for axis `gx`),
     /// when the reader recorded it.
     pub fn rate_column(&self) -> Option<String> {
-        self.info
+        self.axis_columns()
+            .into_iter()
+            .find(|(axis, _)| *axis == self.axis)
+            .map(|(_, column)| column)
+    }
+
+    /// Each gyro axis's name with the name of the file's column it was read from, as the
+    /// reader named them ([`ingest::names::axis_names`]: two columns never share an axis).
+    fn axis_columns(&self) -> Vec<(String, String)> {
+        let columns: Vec<(usize, &str)> = self
+            .info
             .columns
             .iter()
             .filter(|c| matches!(c.role, ColumnRole::Rate | ColumnRole::OtherAxis))
-            .find(|c| ingest::names::axis_name(&c.name) == self.axis)
-            .map(|c| c.name.clone())
+            .map(|c| (c.index, c.name.as_str()))
+            .collect();
+        ingest::names::axis_names(&columns)
+            .into_iter()
+            .zip(columns.iter().map(|(_, n)| n.to_string()))
+            .collect()
     }
 
     /// Number of samples.

@@ -7,6 +7,7 @@ mod common;
 
 mod atomic_writes;
 mod autosave_instances;
+mod axis_names;
 mod crafted_rows;
 mod drone_logs;
 mod formats;

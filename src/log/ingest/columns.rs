@@ -6,7 +6,9 @@
 //! Explicit options always win over guessing.
 
 pub(crate) use super::names::rate_unit_of_name;
-use super::names::{Kind, axis_name, classify, is_raw_register, name_parts, raw_unit, stated_unit};
+use super::names::{
+    Kind, axis_names, classify, is_raw_register, name_parts, raw_unit, stated_unit,
+};
 use super::sniff::Sniffed;
 use super::units::{RateUnit, TempUnit, TimeUnit};
 use super::{ColumnRef, Fail, ReadOptions};
@@ -529,6 +531,11 @@ pub(crate) fn plan(sn: &Sniffed, opts: &ReadOptions) -> Result<Plan, Fail> {
         .map_or(0, |i| i + 1);
     actions.truncate(last);
     let nslots = slot_col.len();
+    let rate_columns: Vec<(usize, &str)> = std::iter::once(rate_col)
+        .chain(axis_cols.iter().copied())
+        .map(|j| (j + 1, sn.names[j].as_str()))
+        .collect();
+    let names = axis_names(&rate_columns);
     Ok(Plan {
         columns,
         actions,
@@ -536,11 +543,11 @@ pub(crate) fn plan(sn: &Sniffed, opts: &ReadOptions) -> Result<Plan, Fail> {
         time,
         slot_col,
         axis: if sn.has_header {
-            axis_name(&sn.names[rate_col])
+            names[0].clone()
         } else {
             String::new()
         },
-        axes: axis_cols.iter().map(|&j| axis_name(&sn.names[j])).collect(),
+        axes: names[1..].to_vec(),
         extras,
     })
 }

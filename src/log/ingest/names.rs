@@ -204,6 +204,48 @@ pub(crate) fn axis_name(name: &str) -> String {
     }
 }
 
+/// The names of the gyro axes read from the rate columns `columns` (each its 1-based index in
+/// the file and its name), one each and all different: the [`axis_name`] of each column, but
+/// where two columns come out as one axis (`gx_dph` and `gx_mdps`, or two columns both named
+/// `omega_dph`), each of those is named by its whole column name, and where even those are
+/// equal, by that and its column number (`omega_dph_col3`). Every axis is then analysed,
+/// calibrated and found by a name that is its own, never as another column's namesake; the
+/// rule depends on the set of columns alone, so any reader of the same columns names them
+/// alike.
+pub(crate) fn axis_names(columns: &[(usize, &str)]) -> Vec<String> {
+    let bases: Vec<String> = columns.iter().map(|(_, n)| axis_name(n)).collect();
+    let count = |list: &[String], s: &String| list.iter().filter(|b| *b == s).count();
+    let whole: Vec<String> = columns
+        .iter()
+        .zip(&bases)
+        .map(|((_, n), base)| {
+            let printable: String = n
+                .chars()
+                .filter(|&c| !crate::text::is_unprintable(c))
+                .collect();
+            let printable = printable.trim().to_string();
+            if printable.is_empty() {
+                base.clone()
+            } else {
+                printable
+            }
+        })
+        .collect();
+    columns
+        .iter()
+        .enumerate()
+        .map(|(k, (index, _))| {
+            if count(&bases, &bases[k]) == 1 {
+                bases[k].clone()
+            } else if count(&whole, &whole[k]) == 1 && count(&bases, &whole[k]) == 0 {
+                whole[k].clone()
+            } else {
+                format!("{}_col{index}", bases[k])
+            }
+        })
+        .collect()
+}
+
 fn in_list(word: &str, list: &[&str]) -> bool {
     list.iter().any(|kw| word_is(word, kw))
 }
