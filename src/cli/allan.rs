@@ -75,6 +75,7 @@ pub fn run(a: Args) -> Result<(), CliError> {
     // Every gyro axis (°/h; the one in `omega_dph` first) and the accelerometer axes (m/s²)
     // for Kalibr, which takes the noisiest; the axes analysed, by position among the gyro's.
     let mut accel: Vec<(String, Vec<f64>)> = Vec::new();
+    let mut recorded_step_s = None;
     let (source, gyro, tau0_s, chosen) = match series {
         Some(series) => {
             let tau0 = a
@@ -98,10 +99,14 @@ pub fn run(a: Args) -> Result<(), CliError> {
             (series.source, gyro, tau0, None)
         }
         None => {
-            let log = match drone {
-                Some((log, _)) => a.log_args.resampled(log)?,
-                None => a.log_args.read(&input)?,
+            let recorded = match drone {
+                Some((log, _)) => log,
+                None => a.log_args.read_unresampled(&input)?,
             };
+            // Kalibr discretises the noise densities at the rate of the IMU's messages, the
+            // log's as recorded, not the rate of its bins.
+            recorded_step_s = Some(recorded.nominal_dt_s());
+            let log = a.log_args.resampled(recorded)?;
             // The Allan deviation needs evenly spaced samples: a log with gaps gives its
             // longest stretch, and says so.
             let (log, note) = driftlab::log::resample::longest_segment(log);
@@ -184,15 +189,27 @@ pub fn run(a: Args) -> Result<(), CliError> {
                 "/imu0".to_string()
             }
         };
-        Some(kalibr_noise(
-            &source, &gyro, &devs, &accel, tau0_s, &rostopic,
-        )?)
+        let mut noise = kalibr_noise(&source, &gyro, &devs, &accel, tau0_s, &rostopic)?;
+        if a.log_args.bin.is_some()
+            && let Some(step) = recorded_step_s
+        {
+            noise.update_rate_hz = kalibr::update_rate_hz(step);
+        }
+        Some(noise)
     } else {
         None
     };
     if let (Some(path), Some(noise)) = (&a.kalibr, &noise) {
-        let text = kalibr::imu_yaml(noise, &source)
-            .map_err(|e| format!("{source}: {e}; {} not written", path.display()))?;
+        let text = kalibr::imu_yaml(noise, &source).map_err(|e| {
+            let binned = match a.log_args.bin {
+                Some(bin) => format!(
+                    " (--bin {} averaged the log's white noise away below {0} s: analyse the                      log as recorded)",
+                    driftlab::number::readable(bin)
+                ),
+                None => String::new(),
+            };
+            format!("{source}: {e}{binned}; {} not written", path.display())
+        })?;
         driftlab::files::atomic::write_bytes(path, text.as_bytes())
             .map_err(|e| format!("{}: {e}", path.display()))?;
         note!("Kalibr noise model written to {}", path.display());

@@ -298,6 +298,12 @@ impl LogArgs {
         }
     }
 
+    /// Reads a log as it was recorded, before [`LogArgs::resampled`] bins it (for a command
+    /// that needs the recorded rate as well as the binned log).
+    pub fn read_unresampled(&self, input: &Input) -> Result<Log, String> {
+        self.read_plain(input, &self.options()?)
+    }
+
     fn read_with(&self, input: &Input, opts: &ReadOptions) -> Result<Log, String> {
         let log = self.read_plain(input, opts)?;
         self.resampled(log)

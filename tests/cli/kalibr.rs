@@ -236,3 +236,61 @@ fn a_crafted_file_name_and_topic_stay_inside_their_comment_and_string() {
         ]
     );
 }
+
+/// Binned at 1 s, a log still shows its white noise where it dominates beyond a second:
+/// Kalibr's noise density is read there, and its `update_rate` is the IMU's (the rate of
+/// its messages, which Kalibr discretises at), not the bins'.
+#[test]
+fn a_binned_log_gives_kalibr_the_recorded_rate() {
+    let dir = tempfile::tempdir().unwrap();
+    let log = dir.path().join("imu.csv");
+    let (gyro, accel) = ((2e-4, 2e-5), (2e-3, 2e-4));
+    std::fs::write(&log, imu_csv(7200.0, gyro, accel, [1.0, 1.5, 0.8])).unwrap();
+    let out_path = dir.path().join("imu.yaml");
+    ok(&[
+        "allan",
+        &log.display().to_string(),
+        "--bin",
+        "1",
+        "--kalibr",
+        &out_path.display().to_string(),
+    ]);
+    let y = yaml(&std::fs::read_to_string(&out_path).unwrap());
+    assert_eq!(y["update_rate"], "20.0");
+    let v = y["gyroscope_noise_density"].parse::<f64>().unwrap();
+    assert!((v / (1.5 * gyro.0) - 1.0).abs() < 0.15, "{v}");
+}
+
+/// A log whose rate random walk outgrows its white noise well below the bin: after 1-s bins
+/// the noise identification finds a random walk at every τ, and two neighbouring octaves that
+/// happen to fall on a −1/2 line are not an angle random walk (it was read from them,
+/// extrapolated to τ = 1 s, two orders of magnitude too large).
+#[test]
+fn a_random_walk_binned_at_1_s_gives_no_noise_density() {
+    let dir = tempfile::tempdir().unwrap();
+    let log = dir.path().join("walk.csv");
+    // White noise and random walk cross at √3·N/K ≈ 17 ms, below the 50-ms step.
+    let (gyro, accel) = ((2e-4, 2e-2), (2e-3, 2e-1));
+    std::fs::write(&log, imu_csv(1200.0, gyro, accel, [1.0; 3])).unwrap();
+    let log = log.display().to_string();
+    let out_path = dir.path().join("imu.yaml");
+    let e = fails(&[
+        "allan",
+        &log,
+        "--bin",
+        "1",
+        "--kalibr",
+        &out_path.display().to_string(),
+    ]);
+    assert!(
+        e.contains("gyroscope_noise_density") && e.contains("--bin 1"),
+        "{e}"
+    );
+    assert!(!out_path.exists());
+    let json: serde_json::Value =
+        serde_json::from_str(&ok(&["allan", &log, "--bin", "1", "--json"])).unwrap();
+    assert!(json["readouts"]["arw"].is_null(), "{}", json["readouts"]);
+    // The curve itself: a random walk at every τ.
+    let alphas = json["alpha"].as_array().unwrap();
+    assert!(alphas.iter().all(|a| a == -2), "{alphas:?}");
+}

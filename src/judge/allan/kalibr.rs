@@ -235,11 +235,16 @@ pub fn kalibr_noise(
     KalibrNoise {
         gyroscope: sensor_pair(Sensor::Gyroscope, gyro),
         accelerometer: (!accel.is_empty()).then(|| sensor_pair(Sensor::Accelerometer, accel)),
-        // 1/τ0 of a median step read from float stamps is 19.99999999992724 Hz: a
-        // millionth of a hertz is finer than any IMU's rate is known.
-        update_rate_hz: (1e6 / tau0_s).round() / 1e6,
+        update_rate_hz: update_rate_hz(tau0_s),
         rostopic: rostopic.to_string(),
     }
+}
+
+/// Kalibr's `update_rate` for samples `step_s` apart, Hz. 1/τ0 of a median step read from
+/// float stamps is 19.99999999992724 Hz: a millionth of a hertz is finer than any IMU's rate
+/// is known.
+pub fn update_rate_hz(step_s: f64) -> f64 {
+    (1e6 / step_s).round() / 1e6
 }
 
 /// Why an `imu.yaml` cannot be written.

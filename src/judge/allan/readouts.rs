@@ -4,7 +4,7 @@
 
 use serde::Serialize;
 
-use super::AllanPoint;
+use super::{AllanPoint, NoiseIdSource};
 
 /// σ_min / B for flicker rate noise (IEEE Std 952, √(2·ln2/π)): the Allan deviation floor of
 /// a bias instability B, so B = σ_min / 0.664.
@@ -125,11 +125,18 @@ fn fit_region(p: &[&AllanPoint], slope: f64) -> Option<(f64, f64, f64, usize)> {
     if p.len() < 2 {
         return None;
     }
+    // The power-law noise a line of this slope stands for (Stable32's α of frequency data):
+    // white rate noise, α = 0, for −1/2; a rate random walk, α = −2, for +1/2.
+    let alpha = if slope < 0.0 { 0 } else { -2 };
+    let other_noise = |q: &AllanPoint| q.alpha != alpha && q.alpha_source != NoiseIdSource::Assumed;
     let seg_ok: Vec<bool> = p
         .windows(2)
         .map(|w| {
             let s = (w[1].adev / w[0].adev).ln() / (w[1].tau_s / w[0].tau_s).ln();
-            (s - slope).abs() <= SLOPE_TOLERANCE
+            // Two neighbours can lie on a line of the slope by chance (a random walk's
+            // octave scatter at long τ): a segment both of whose ends the noise
+            // identification gives to another noise is not read as this one.
+            (s - slope).abs() <= SLOPE_TOLERANCE && !(other_noise(w[0]) && other_noise(w[1]))
         })
         .collect();
     // Longest run of good segments; on a tie the first (shorter τ) one.
@@ -188,4 +195,76 @@ fn bias_instability(p: &[&AllanPoint]) -> Option<Readout> {
             pmin.tau_s
         ),
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Octave points τ = 1 … 256 s of σ(τ), each with the noise the identification found.
+    fn curve(sigma: impl Fn(f64) -> f64, alpha: impl Fn(f64) -> i32) -> Vec<AllanPoint> {
+        (0..9)
+            .map(|k| {
+                let tau = f64::from(1u32 << k);
+                AllanPoint {
+                    m: 1 << k,
+                    tau_s: tau,
+                    adev: sigma(tau),
+                    n_terms: 10_000 >> k,
+                    alpha: alpha(tau),
+                    alpha_source: NoiseIdSource::Lag1Acf,
+                    edf: None,
+                    adev_min: None,
+                    adev_max: None,
+                }
+            })
+            .collect()
+    }
+
+    #[test]
+    fn white_noise_gives_its_angle_random_walk() {
+        // σ = N/√τ with N = 0.6 (°/h)·√s: ARW = N/60 = 0.01 °/√h.
+        let points = curve(|t| 0.6 / t.sqrt(), |_| 0);
+        let arw = GyroReadouts::of(&points).arw.expect("an ARW");
+        assert!((arw.value - 0.01).abs() < 1e-12, "{arw:?}");
+        assert_eq!((arw.points, arw.extrapolated), (9, false));
+    }
+
+    #[test]
+    fn a_region_ends_where_the_noise_changes_by_one_point() {
+        // White noise to 64 s, identified as such up to 32 s, a random walk beyond: the
+        // segment 32–64 s still belongs to the −1/2 line (one end is white noise).
+        let points = curve(
+            |t| {
+                if t <= 64.0 {
+                    0.6 / t.sqrt()
+                } else {
+                    0.6 / 64f64.sqrt() * (t / 64.0)
+                }
+            },
+            |t| if t <= 32.0 { 0 } else { -2 },
+        );
+        let arw = GyroReadouts::of(&points).arw.expect("an ARW");
+        assert_eq!(arw.region_tau_s, [1.0, 64.0]);
+    }
+
+    #[test]
+    fn two_octaves_of_a_random_walk_on_a_falling_line_are_no_angle_random_walk() {
+        // A rate random walk at every τ (σ = K·√(τ/3)), whose last octave happens to fall
+        // as 1/√τ, as the scatter of the longest τ can: no white noise is there to read.
+        let rw = |t: f64| 2.0 * (t / 3.0).sqrt();
+        let points = curve(
+            |t| {
+                if t < 256.0 {
+                    rw(t)
+                } else {
+                    rw(128.0) / 2f64.sqrt()
+                }
+            },
+            |_| -2,
+        );
+        let r = GyroReadouts::of(&points);
+        assert!(r.arw.is_none(), "{:?}", r.arw);
+        assert!(r.rrw.is_some());
+    }
 }
