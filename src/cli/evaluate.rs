@@ -114,7 +114,11 @@ fn judge(
     log: &Log,
     hash: &str,
 ) -> Result<(MeritOptions, bool, Evaluation), CliError> {
-    let in_sample = driftlab::export::report::is_source(model.source(), &a.log, hash);
+    let name = a.log.file_name().map_or_else(
+        || a.log.display().to_string(),
+        |n| n.to_string_lossy().into_owned(),
+    );
+    let in_sample = model.source().is_run_of(log, &name, hash);
     let default_filter = match model {
         DriftModel::Vakhrameev(cal) => cal.recipe.filter_s,
         DriftModel::Regression(_) => MeritOptions::default().filter_s,

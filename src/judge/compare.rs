@@ -49,15 +49,6 @@ pub struct ModelReport {
     pub logs: Vec<Judgement>,
 }
 
-/// Whether two logs hold the same samples (the same file read twice, or a copy of it).
-fn same_samples(a: &Log, b: &Log) -> bool {
-    let bits = |v: &[f64], w: &[f64]| v.iter().zip(w).all(|(x, y)| x.to_bits() == y.to_bits());
-    a.len() == b.len()
-        && bits(&a.time_s, &b.time_s)
-        && bits(&a.omega_dph, &b.omega_dph)
-        && bits(&a.temp_c, &b.temp_c)
-}
-
 /// Fits every choice on `train` and judges it on `train` and on each of `tests`.
 pub fn compare(
     train: &Log,
@@ -106,7 +97,7 @@ pub fn compare_one(
     match crate::models::fit_with_progress(train, choice, recipe, progress) {
         Ok(m) => {
             report.logs = std::iter::once((train, false))
-                .chain(tests.iter().map(|t| (*t, !same_samples(train, t))))
+                .chain(tests.iter().map(|t| (*t, !train.same_run(t))))
                 .enumerate()
                 .map(|(k, (log, held_out))| Judgement {
                     log: log.source.clone(),

@@ -42,6 +42,9 @@ pub struct Log {
     pub info: LogInfo,
 }
 
+/// Samples a run's fingerprint reads ([`Log::run_fingerprint`]).
+pub const FINGERPRINT_SAMPLES: usize = 4096;
+
 /// One gyro axis of a multi-axis log.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Axis {
@@ -287,6 +290,35 @@ impl Log {
             .into_iter()
             .zip(columns.iter().map(|(_, n)| n.to_string()))
             .collect()
+    }
+
+    /// The run's fingerprint: SHA-256 (hex) of the number of samples and of the time and
+    /// temperature, bit for bit, at up to [`FINGERPRINT_SAMPLES`] evenly spaced samples. Two
+    /// reads of one run give the same, whatever the file's bytes (line endings, comments,
+    /// separators, another format); two chamber runs never do, since their noise differs at
+    /// every sample. A few samples apart are still the same run, as they should be: figures
+    /// judged on them are in-sample. Spaced samples keep it cheap enough for every fit.
+    pub fn run_fingerprint(&self) -> String {
+        use sha2::{Digest, Sha256};
+        let n = self.len().min(self.temp_c.len());
+        let mut hasher = Sha256::new();
+        hasher.update((n as u64).to_le_bytes());
+        let m = n.min(FINGERPRINT_SAMPLES);
+        for k in 0..m {
+            let i = if m < 2 { 0 } else { k * (n - 1) / (m - 1) };
+            hasher.update(self.time_s[i].to_bits().to_le_bytes());
+            hasher.update(self.temp_c[i].to_bits().to_le_bytes());
+        }
+        hasher
+            .finalize()
+            .iter()
+            .map(|b| format!("{b:02x}"))
+            .collect()
+    }
+
+    /// Whether `other` holds the same run as this log ([`Log::run_fingerprint`]).
+    pub fn same_run(&self, other: &Log) -> bool {
+        self.run_fingerprint() == other.run_fingerprint()
     }
 
     /// Number of samples.

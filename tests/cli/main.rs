@@ -10,6 +10,7 @@ mod attack;
 mod axis_choice;
 mod commands;
 mod forged_lines;
+mod in_sample;
 mod kalibr;
 mod output_hashes;
 mod overwrite_inputs;

@@ -716,6 +716,20 @@ fn the_calibration_log_is_not_opened_as_its_own_validation_log() {
         message.contains("is the calibration log itself"),
         "{message}"
     );
+    // Nor is a copy of it with other bytes (CRLF line endings, no comment line) under
+    // another name: it holds the same run.
+    let dir = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string(sample("calibration.csv")).unwrap();
+    let copy: String = text
+        .lines()
+        .filter(|l| !l.starts_with('#'))
+        .map(|l| format!("{l}\r\n"))
+        .collect();
+    let path = dir.path().join("rerun.csv");
+    std::fs::write(&path, copy).unwrap();
+    let h = with_validation("calibration.csv", &path);
+    let st = &h.state().state;
+    assert!(st.shown.validation.is_none(), "a copy shown as held out");
 }
 
 #[test]

@@ -22,8 +22,11 @@
 //! (`page.rs`), which lays a unit of one unnamed axis out as the single-axis page and a unit of
 //! several with a summary of every axis and a section per axis.
 //!
-//! A log is *in-sample* when it is the calibration's source log (same SHA-256 of the file, or
-//! the same file name when the calibration records no hash) and *held out* otherwise.
+//! A log is *in-sample* when it is the calibration's own run ([`SourceInfo::is_run_of`]: the
+//! same file's SHA-256, the same samples under other bytes, or, for a calibration that records
+//! neither, the same file name) and *held out* otherwise.
+//!
+//! [`SourceInfo::is_run_of`]: crate::models::vakhrameev::SourceInfo::is_run_of
 //! Nothing here depends on a user interface: the command line and the workbench call the same
 //! function.
 
@@ -47,8 +50,8 @@ use crate::judge::metrics::{Evaluation, MeritOptions};
 use crate::log::Log;
 use crate::models::fitted::DriftModel;
 use crate::models::regression::RegressionCalibration;
+use crate::models::vakhrameev::Calibration;
 use crate::models::vakhrameev::correct::Correction;
-use crate::models::vakhrameev::{Calibration, SourceInfo};
 use folder::{Relocate, moved};
 use log_section::{LogSection, log_report};
 use model_figures::ModelFigures;
@@ -180,21 +183,6 @@ pub fn allan_curves(log: &Log, correction: &Correction) -> Option<AllanCurves> {
     let raw = curve("raw", &log.omega_dph[skip.min(log.omega_dph.len())..])?;
     let cor = curve("corrected", &correction.cor_dph[skip..])?;
     Some(vec![raw, cor])
-}
-
-/// Whether `path` holds the calibration's own log: the file's SHA-256 equals the recorded one,
-/// or, for a calibration that records no hash, the file name matches.
-pub fn is_in_sample(cal: &Calibration, path: &Path, sha256: &str) -> bool {
-    is_source(&cal.source, path, sha256)
-}
-
-/// Whether `path` is the log `source` describes (see [`is_in_sample`]).
-pub fn is_source(source: &SourceInfo, path: &Path, sha256: &str) -> bool {
-    if source.sha256.is_empty() {
-        file_name(path) == source.name
-    } else {
-        !sha256.is_empty() && sha256.eq_ignore_ascii_case(&source.sha256)
-    }
 }
 
 /// The merit options a report of any model uses by default: a Vakhrameev calibration's own Ω
@@ -337,7 +325,7 @@ fn build(
     let in_sample: Vec<bool> = logs
         .iter()
         .zip(&hashes)
-        .map(|((p, _), h)| is_source(model.source(), p, h))
+        .map(|((p, log), h)| model.source().is_run_of(log, &file_name(p), h))
         .collect();
     let ModelFigures {
         mut taken,

@@ -331,12 +331,9 @@ impl Workbench {
                 }
             }
             JobResult::Loaded(Target::Validation, l)
-                if self
-                    .state
-                    .shown
-                    .log
-                    .as_ref()
-                    .is_some_and(|c| crate::files::atomic::is_same_file(&l.path, &c.path)) =>
+                if self.state.shown.log.as_ref().is_some_and(|c| {
+                    crate::files::atomic::is_same_file(&l.path, &c.path) || l.log.same_run(&c.log)
+                }) =>
             {
                 // Figures judged on the calibration's own log would be shown as held out.
                 self.opening.validation_shown = None;

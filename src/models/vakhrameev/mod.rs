@@ -249,6 +249,11 @@ pub struct SourceInfo {
     pub samples: usize,
     /// Duration, s.
     pub duration_s: f64,
+    /// The run's fingerprint ([`Log::run_fingerprint`]): what tells the calibration's own
+    /// run from another when its file's bytes differ (line endings, a comment, a separator);
+    /// empty in files written before it was recorded.
+    #[serde(default, skip_serializing_if = "String::is_empty")]
+    pub run: String,
 }
 
 impl SourceInfo {
@@ -260,7 +265,22 @@ impl SourceInfo {
             sha256: String::new(),
             samples: log.len(),
             duration_s: log.duration_s(),
+            run: log.run_fingerprint(),
         }
+    }
+
+    /// Whether `log`, read from a file whose bytes hash to `file_sha256` and named
+    /// `file_name`, is the run this calibration was fitted on: the same file (its SHA-256),
+    /// or the same samples under other bytes or another name (the run's fingerprint). Only a
+    /// file recorded with neither is known by its name alone. Every face asks this one rule
+    /// before it calls figures in-sample or held out.
+    pub fn is_run_of(&self, log: &Log, file_name: &str, file_sha256: &str) -> bool {
+        let same_file = !self.sha256.is_empty()
+            && !file_sha256.is_empty()
+            && file_sha256.eq_ignore_ascii_case(&self.sha256);
+        let same_run = !self.run.is_empty() && self.run == log.run_fingerprint();
+        let by_name = self.sha256.is_empty() && self.run.is_empty() && file_name == self.name;
+        same_file || same_run || by_name
     }
 
     /// Checks what a calibration file says of the log it was fitted on: a log that lasted
@@ -291,20 +311,18 @@ impl SourceInfo {
                 ),
             ));
         }
-        // Its digits are not checked (a file whose hash was damaged still corrects; the report
-        // then finds no log with that hash), but it is printed as it stands.
-        if let Some(c) = self
-            .sha256
-            .chars()
-            .find(|&c| crate::text::is_unprintable(c))
-        {
-            return Err(Invalid::new(
-                "source.sha256",
-                format!(
-                    "holds the control character U+{:04X}: a hash is printable text",
-                    c as u32
-                ),
-            ));
+        // Their digits are not checked (a file whose hash was damaged still corrects; the
+        // report then finds no log with that hash), but they are printed as they stand.
+        for (field, text) in [("source.sha256", &self.sha256), ("source.run", &self.run)] {
+            if let Some(c) = text.chars().find(|&c| crate::text::is_unprintable(c)) {
+                return Err(Invalid::new(
+                    field,
+                    format!(
+                        "holds the control character U+{:04X}: a hash is printable text",
+                        c as u32
+                    ),
+                ));
+            }
         }
         Ok(())
     }
