@@ -386,6 +386,14 @@ pub fn fit_failed(source: &str, e: &driftlab::Error) -> String {
         {
             format!("{m} (--plateau START:END)")
         }
+        driftlab::Error::Fit(f)
+            if matches!(
+                f.innermost(),
+                driftlab::models::FitError::NoRateHistory { .. }
+            ) =>
+        {
+            format!("{m} (--smooth, --step-h)")
+        }
         _ => m,
     }
 }

@@ -29,11 +29,14 @@ pub enum FitError {
         maximum: usize,
     },
     /// Fewer usable samples than a regression model needs for its coefficients.
-    #[error("{log}: {count} samples are too few for model {model} ({coefficients} coefficients)")]
+    #[error(
+        "{log}: {count} samples with their full history are too few for model {model} \
+         ({coefficients} coefficients)"
+    )]
     TooFewForModel {
         /// The log.
         log: String,
-        /// Samples it has.
+        /// Samples it has past the warm-up of their rates of T.
         count: usize,
         /// The model.
         model: String,
@@ -86,6 +89,38 @@ pub enum FitError {
         fastest_c_per_min: f64,
         /// The |Ṫ| rate terms need, °C/min ([`super::MIN_RAMP_C_PER_MIN`]).
         minimum_c_per_min: f64,
+    },
+    /// A rate column that holds one value throughout: a gyro disconnected (zeros) or stuck.
+    #[error(
+        "{log}: the rate{} never changes (every sample reads {} °/h): a gyro that is \
+         disconnected or stuck has no drift to calibrate; check the rate column",
+        if axis.is_empty() { String::new() } else { format!(" of axis {axis}") },
+        crate::number::readable(*value_dph)
+    )]
+    FrozenRate {
+        /// The log.
+        log: String,
+        /// The axis, empty for a log of one.
+        axis: String,
+        /// The one value, °/h.
+        value_dph: f64,
+    },
+    /// A log none of whose segments (the stretches between its gaps) lasts long enough for
+    /// a temperature rate: T's smoothing and derivative steps restart after every gap.
+    #[error(
+        "{log}: no stretch of the log is long enough for a temperature rate: Ṫ and T̈ need {} s \
+         of samples without a gap (the T smoothing and four derivative steps), and the longest \
+         stretch lasts {} s; shorten temp_smoothing_s and step_h_s, or record without the gaps",
+        crate::number::readable(*needed_s),
+        crate::number::readable(*longest_s)
+    )]
+    NoRateHistory {
+        /// The log.
+        log: String,
+        /// The history a rate needs, s.
+        needed_s: f64,
+        /// The longest stretch without a gap, s.
+        longest_s: f64,
     },
     /// A temperature that does not vary, over which a curve in T cannot be spread.
     #[error("{log}: T does not vary, so model {model} cannot be fitted over it")]

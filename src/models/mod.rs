@@ -109,14 +109,27 @@ pub const MIN_TEMP_SPAN_C: f64 = 2.0;
 /// carries no K1 or Ṫ coefficient.
 pub const MIN_RAMP_C_PER_MIN: f64 = 0.05;
 
-/// Refuses, before any fit, a log too narrow for `choice`: a temperature span under
-/// [`MIN_TEMP_SPAN_C`], or rate terms on a log that never ramps faster than
-/// [`MIN_RAMP_C_PER_MIN`].
+/// Refuses, before any fit, a log too narrow for `choice`: a rate that holds one value
+/// throughout, a temperature span under [`MIN_TEMP_SPAN_C`], or rate terms on a log that
+/// never ramps faster than [`MIN_RAMP_C_PER_MIN`].
 ///
 /// # Errors
 /// [`FitError::NarrowSpan`] or [`FitError::NoRamps`], saying what the log spans and what the
 /// model needs.
 pub fn check_span(log: &Log, choice: &ModelChoice) -> Result<()> {
+    let mut finite = log.omega_dph.iter().filter(|v| v.is_finite());
+    if let Some(first) = finite.next()
+        && finite.all(|v| v.to_bits() == first.to_bits())
+    {
+        // Any real gyro's output moves by its noise from one sample to the next; one value
+        // throughout is a wire, not a gyro, and every figure fitted to it is rounding.
+        return Err(FitError::FrozenRate {
+            log: log.source.clone(),
+            axis: log.axis.clone(),
+            value_dph: *first,
+        }
+        .into());
+    }
     let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
     for &v in log.temp_c.iter().filter(|v| v.is_finite()) {
         if v < lo {
@@ -142,22 +155,30 @@ pub fn check_span(log: &Log, choice: &ModelChoice) -> Result<()> {
     };
     if rates {
         // Ṫ over about a minute (or two samples of a slower log) from the raw temperature,
-        // so the sensor's resolution does not count as a rate; over the whole log when it is
-        // shorter, so that a 40-ns log is not said never to change (its windows longer than
-        // it are the reason it cannot be fitted, and the check of windows says so).
+        // so the sensor's resolution does not count as a rate; within each stretch between
+        // gaps (no rate is taken across one), over the whole stretch when it is shorter, so
+        // that a 40-ns log or one of 3-s bursts is not said never to change (its windows
+        // longer than a stretch are the reason it cannot be fitted, and the fit says so).
         let t = &log.time_s;
-        let span = 60.0f64.max(2.5 * log.nominal_dt_s()).min(log.duration_s());
+        let timing = log.timing();
+        let dt_s = timing.nominal_dt_s;
         let mut fastest = 0.0f64;
-        let mut j = 0;
-        for i in 0..log.len() {
-            while j < i && t[i] - t[j] > span {
-                j += 1;
+        'segments: for r in &timing.segments {
+            if r.len() < 2 {
+                continue;
             }
-            let dt = t[i] - t[j];
-            if dt >= 0.5 * span {
-                fastest = fastest.max(((log.temp_c[i] - log.temp_c[j]) / dt).abs() * 60.0);
-                if fastest >= MIN_RAMP_C_PER_MIN {
-                    break;
+            let span = 60.0f64.max(2.5 * dt_s).min(t[r.end - 1] - t[r.start]);
+            let mut j = r.start;
+            for i in r.clone() {
+                while j < i && t[i] - t[j] > span {
+                    j += 1;
+                }
+                let dt = t[i] - t[j];
+                if dt > 0.0 && dt >= 0.5 * span {
+                    fastest = fastest.max(((log.temp_c[i] - log.temp_c[j]) / dt).abs() * 60.0);
+                    if fastest >= MIN_RAMP_C_PER_MIN {
+                        break 'segments;
+                    }
                 }
             }
         }

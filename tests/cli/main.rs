@@ -9,6 +9,7 @@ mod allan;
 mod attack;
 mod axis_choice;
 mod commands;
+mod degenerate_logs;
 mod forged_lines;
 mod in_sample;
 mod kalibr;

@@ -105,6 +105,13 @@ pub enum AllanError {
         /// Its value.
         value: f64,
     },
+    /// Every sample the same value: no noise to analyse, and every σ would be 0.
+    #[error(
+        "every rate sample reads {}: a series that never changes has no noise to analyse (a \
+         sensor disconnected or stuck)",
+        crate::number::readable(*.0)
+    )]
+    Constant(f64),
     /// τ0 outside [`MIN_TAU0_S`] ..= [`MAX_TAU0_S`].
     #[error(
         "tau0 must be between 1e-9 s (a gigahertz) and 86400 s (a sample a day), got {}",
@@ -243,6 +250,9 @@ pub fn allan_at(
     }
     if let Some((index, &value)) = rate.iter().enumerate().find(|(_, v)| !v.is_finite()) {
         return Err(AllanError::NotFinite { index, value });
+    }
+    if rate.iter().all(|v| v.to_bits() == rate[0].to_bits()) {
+        return Err(AllanError::Constant(rate[0]));
     }
     let mut ms = factors.to_vec();
     ms.sort_unstable();

@@ -57,6 +57,11 @@ impl WorseThanRaw {
     }
 }
 
+/// The smallest corrected figure, as a fraction of the raw one, that a ratio is taken over:
+/// no correction of a gyro removes all but a billionth of its drift, so a smaller one is the
+/// rounding of a correction that predicted the raw record itself (a stuck rate column).
+pub const RATIO_FLOOR: f64 = 1e-9;
+
 impl Comparison {
     /// Compares a raw and a corrected record of the same log.
     pub fn of(
@@ -75,10 +80,12 @@ impl Comparison {
 
     /// The comparison of figures already computed (the workbench keeps the raw ones).
     pub fn from_figures(raw: Figures, corrected: Figures) -> Comparison {
-        // A ratio needs two finite figures and a corrected one above zero: otherwise it is
-        // NaN (`n/a`), never an infinite improvement.
+        // A ratio needs two finite figures and a corrected one above zero and above the
+        // rounding of the raw one (a corrected figure a billionth of the raw is what is left
+        // of subtracting a number from itself): otherwise it is NaN (`n/a`), never an
+        // infinite improvement.
         let ratio = |a: f64, b: f64| {
-            if a.is_finite() && b.is_finite() && b > 0.0 {
+            if a.is_finite() && b.is_finite() && b > 0.0 && b > a.abs() * RATIO_FLOOR {
                 a / b
             } else {
                 f64::NAN

@@ -167,6 +167,9 @@ impl<S: Clone + PartialEq + Send + Sync> StageMemory<S> {
             points,
         } = i;
         let keep = self.keep_omega;
+        if prepared.deriv.ready.iter().all(|r| r.is_empty()) {
+            return Err(no_rate_history(log, prepared));
+        }
 
         let t = Instant::now();
         let mut plateaus_ms = 0.0;
@@ -398,4 +401,24 @@ fn apply_knot_edits(
     }
     out.k2 = with_knots(&out.k2, knots.get(c2));
     out
+}
+
+/// Why no sample has its rates of T: every segment is shorter than the history Ṫ and T̈ need.
+/// Without it the fit would store K1 and K2 of no points and dead-bands of 0, numbers that
+/// stand for nothing computed.
+fn no_rate_history(log: &Log, prepared: &Prepared) -> Error {
+    let dt = prepared.dt_s;
+    let needed = prepared.steps.map_or(0, |s| s.ready_from());
+    let longest = prepared
+        .segments
+        .iter()
+        .filter(|r| !r.is_empty())
+        .map(|r| log.time_s[r.end - 1] - log.time_s[r.start] + dt)
+        .fold(0.0, f64::max);
+    crate::models::FitError::NoRateHistory {
+        log: log.source.clone(),
+        needed_s: needed as f64 * dt,
+        longest_s: longest,
+    }
+    .into()
 }

@@ -77,10 +77,27 @@ pub fn fit_with_progress(
     let s = Signals::of(log, spec, temp2.as_deref(), None)?;
     let p = terms::column_names(&spec.terms).len();
     let n = s.len();
+    if s.ready_count() == 0 && n > 0 {
+        // Every sample is in a stretch shorter than the history the rates of T need.
+        let needed = super::signals::steps(spec, s.dt_s).ready_from();
+        let starts = s.segment_starts.iter().copied().chain(std::iter::once(n));
+        let longest = starts
+            .clone()
+            .zip(starts.skip(1))
+            .filter(|(a, b)| b > a)
+            .map(|(a, b)| s.time[b - 1] - s.time[a] + s.dt_s)
+            .fold(0.0, f64::max);
+        return Err(FitError::NoRateHistory {
+            log: log.source.clone(),
+            needed_s: needed as f64 * s.dt_s,
+            longest_s: longest,
+        }
+        .into());
+    }
     if s.ready_count() < 2 * p + 2 {
         return Err(FitError::TooFewForModel {
             log: log.source.clone(),
-            count: n,
+            count: s.ready_count(),
             model: spec.name.clone(),
             coefficients: p,
         }

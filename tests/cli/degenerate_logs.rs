@@ -1,0 +1,151 @@
+//! Logs from which no calibration can be made get the true reason, never a calibration of
+//! numbers standing for nothing: a rate column stuck at one value (a disconnected gyro), and a
+//! log none of whose stretches between gaps lasts as long as the rates of T need.
+
+use crate::common::run::{fails, ok, p, sample};
+
+/// The sample calibration log with every data row passed through `row` (`None` drops it).
+fn rewritten(dir: &std::path::Path, name: &str, row: impl Fn(&str) -> Option<String>) -> String {
+    let text = std::fs::read_to_string(sample("calibration.csv")).unwrap();
+    let out: String = text
+        .lines()
+        .filter_map(|l| {
+            if l.starts_with('#') || l.starts_with("time") {
+                Some(format!("{l}\n"))
+            } else {
+                row(l).map(|r| format!("{r}\n"))
+            }
+        })
+        .collect();
+    std::fs::write(dir.join(name), out).unwrap();
+    p(dir, name)
+}
+
+/// The row with its rate (the second cell) replaced by `rate`.
+fn with_rate(line: &str, rate: &str) -> String {
+    let mut cells: Vec<&str> = line.split(',').collect();
+    cells[1] = rate;
+    cells.join(",")
+}
+
+#[test]
+fn a_rate_stuck_at_one_value_is_refused_by_every_command() {
+    let dir = tempfile::tempdir().unwrap();
+    for value in ["0", "0.5"] {
+        let log = rewritten(dir.path(), "stuck.csv", |l| Some(with_rate(l, value)));
+        let out = p(dir.path(), "stuck.json");
+        let e = fails(&["calibrate", &log, "-o", &out]);
+        assert!(
+            e.contains("never changes") && e.contains(&format!("reads {value} °/h")),
+            "{e}"
+        );
+        assert!(!std::path::Path::new(&out).exists());
+        let e = fails(&["calibrate", &log, "--model", "poly-t", "-o", &out]);
+        assert!(e.contains("never changes"), "{e}");
+        let e = fails(&["allan", &log]);
+        assert!(e.contains("never changes"), "{e}");
+    }
+}
+
+#[test]
+fn a_ratio_is_never_taken_over_a_corrected_figure_at_the_rounding_of_the_raw() {
+    // A stuck log judged by a calibration that predicts it exactly leaves rounding alone:
+    // the figures are n/a, not improvements of 1e15.
+    use driftlab::judge::metrics::Comparison;
+    use driftlab::judge::metrics::Figures;
+    let raw = Figures {
+        p2p_dph: 0.5,
+        std_dph: 0.1,
+        win_mean_max_abs_dph: 0.5,
+        win_rms_mean_dph: 0.5,
+        ..Figures::default()
+    };
+    let rounding = Figures {
+        p2p_dph: 1e-16,
+        std_dph: 2e-17,
+        win_mean_max_abs_dph: 5.5e-16,
+        win_rms_mean_dph: 2.8e-16,
+        ..Figures::default()
+    };
+    let c = Comparison::from_figures(raw, rounding);
+    assert!(c.p2p_ratio.is_nan() && c.win_mean_ratio.is_nan(), "{c:?}");
+    let real = Figures {
+        p2p_dph: 0.05,
+        std_dph: 0.01,
+        win_mean_max_abs_dph: 0.05,
+        win_rms_mean_dph: 0.05,
+        ..Figures::default()
+    };
+    let c = Comparison::from_figures(raw, real);
+    assert!((c.p2p_ratio - 10.0).abs() < 1e-12, "{c:?}");
+}
+
+#[test]
+fn a_log_whose_stretches_are_all_shorter_than_the_rates_history_is_refused_with_why() {
+    let dir = tempfile::tempdir().unwrap();
+    // A logger that drops out for 10 s every 170 s: stretches of 160 s, where Ṫ and T̈ need
+    // 60 s of smoothing and four 30-s steps (179 samples at 1 s).
+    let log = rewritten(dir.path(), "chopped.csv", |l| {
+        let t: f64 = l.split(',').next().unwrap().parse().unwrap();
+        (t % 170.0 < 160.0).then(|| l.to_string())
+    });
+    let out = p(dir.path(), "chopped.json");
+    for extra in [
+        &["--plateau", "3708:7237", "--plateau", "14301:16837"][..],
+        &[][..],
+        &["--model", "poly-t"][..],
+    ] {
+        let mut args = vec!["calibrate", log.as_str(), "-o", out.as_str()];
+        args.extend_from_slice(extra);
+        let e = fails(&args);
+        assert!(
+            e.contains("need 179 s") && e.contains("longest stretch lasts 160 s"),
+            "{extra:?}: {e}"
+        );
+        assert!(!std::path::Path::new(&out).exists());
+    }
+    // Shorter windows fit in the stretches: then it calibrates.
+    ok(&[
+        "calibrate",
+        &log,
+        "--smooth",
+        "20",
+        "--step-h",
+        "10",
+        "--plateau",
+        "3708:7237",
+        "--plateau",
+        "14301:16837",
+        "-o",
+        &out,
+    ]);
+}
+
+#[test]
+fn a_fast_ramp_in_short_stretches_is_not_said_never_to_change() {
+    // 1 kHz, two 3-s stretches a long gap apart, T swinging by 10 °C within each: the rate
+    // of T is there (thousands of °C/min), only the 60-s smoothing does not fit.
+    let dir = tempfile::tempdir().unwrap();
+    let mut text = String::from("time_s,omega_dph,temp_c\n");
+    for base in [0.0, 1e6] {
+        for i in 0..3000 {
+            let x = f64::from(i);
+            text.push_str(&format!(
+                "{:.3},{},{}\n",
+                base + x * 0.001,
+                (x / 50.0).sin(),
+                20.0 + 10.0 * (x / 300.0).sin()
+            ));
+        }
+    }
+    let log = dir.path().join("fast.csv");
+    std::fs::write(&log, text).unwrap();
+    let e = fails(&[
+        "calibrate",
+        &log.display().to_string(),
+        "-o",
+        &p(dir.path(), "f.json"),
+    ]);
+    assert!(!e.contains("never changes faster"), "{e}");
+    assert!(e.contains("longest stretch lasts 3 s"), "{e}");
+}
