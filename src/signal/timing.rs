@@ -13,8 +13,10 @@
 //!   the stamps bunch. The median step (2 ms) is then five times too short, and each pause is
 //!   not a gap, since the samples that follow catch up with the clock. A step is a gap only when
 //!   the time it loses is not made up by the steps after it.
-//! - **Bursts.** A logger that wakes up to save power writes, say, 10 s at 50 Hz every two
-//!   minutes: many short segments of one length at one spacing.
+//! - **Bursts.** A logger that wakes up to save power writes, say, 10 s at 50 Hz (or at 1 Hz)
+//!   every two minutes: many short segments of one length at one spacing. Its stamps are runs
+//!   at a short step between pauses, as a host's that reads a regular sampler in batches are;
+//!   how long the pauses last in real time tells the two apart (`runs_of`).
 
 use std::ops::Range;
 
@@ -246,14 +248,38 @@ fn step(time_s: &[f64], i: usize) -> Option<f64> {
     (s.is_finite() && s > 0.0).then_some(s)
 }
 
-/// A first estimate of the sampling step: over blocks of consecutive steps, the median of
-/// the blocks' mean steps, for the block length whose block means spread least (relative
-/// interquartile range). Bunched host stamps average out within long blocks, a gap spoils only
-/// its own block, and bursts are measured within themselves. Short logs take the median step.
+/// A first estimate of the sampling step: the step within bursts for a log written in bursts,
+/// the mean step over blocks that span several of a host's batches for a host that reads a
+/// regular sampler in batches ([`runs_of`] tells the two apart), else [`block_step`] over any
+/// block length. Short logs take the median step.
 pub(super) fn rough_step(time_s: &[f64]) -> f64 {
+    let block = block_step(time_s, 1);
+    match (runs_of(time_s), block) {
+        // The blocks straddle the pauses: each block mean is a burst and a pause averaged.
+        (Some(Runs::Bursts { step }), Some(b)) if b > RUN_AGREE * step => step,
+        (Some(Runs::Batches { step, run_steps }), Some(b)) if b <= RUN_AGREE * step => {
+            // The blocks lie inside the batches, at the host's pace: average over blocks that
+            // hold at least four batches, else over the whole log.
+            let min_block = (4.0 * run_steps).ceil() as usize;
+            block_step(time_s, min_block).unwrap_or_else(|| mean_step(time_s).unwrap_or(b))
+        }
+        (_, Some(b)) => b,
+        (_, None) => {
+            let mut v: Vec<f64> = (1..time_s.len()).filter_map(|i| step(time_s, i)).collect();
+            median(&mut v).unwrap_or(1.0)
+        }
+    }
+}
+
+/// Over blocks of consecutive steps, at least `min_block` long, the median of the blocks' mean
+/// steps, for the block length whose block means spread least (relative interquartile range).
+/// Bunched host stamps average out within long blocks, a gap spoils only its own block, and
+/// bursts longer than a block are measured within themselves. `None` when no block length
+/// gives eight blocks.
+fn block_step(time_s: &[f64], min_block: usize) -> Option<f64> {
     let n = time_s.len();
     let mut best: Option<(f64, f64)> = None; // (spread, median)
-    for block in BLOCKS {
+    for block in BLOCKS.into_iter().filter(|&b| b >= min_block) {
         let count = (n - 1) / block;
         if count < 8 {
             break;
@@ -274,11 +300,138 @@ pub(super) fn rough_step(time_s: &[f64]) -> f64 {
             best = Some((spread, m));
         }
     }
-    if let Some((_, m)) = best {
-        return m;
+    best.map(|(_, m)| m)
+}
+
+/// The mean step from the first sample to the last, when it is positive and finite.
+fn mean_step(time_s: &[f64]) -> Option<f64> {
+    let n = time_s.len();
+    let m = (time_s[n - 1] - time_s[0]) / (n - 1) as f64;
+    (m.is_finite() && m > 0.0).then_some(m)
+}
+
+/// The shortest pause between runs of samples, s, that is read as a logger asleep between
+/// bursts rather than a host between two reads of a sensor's buffer ([`runs_of`]).
+const MIN_BURST_PAUSE_S: f64 = 2.0;
+
+/// Two estimates of the step within this factor of each other agree: the blocks measure the
+/// step within the runs ([`rough_step`]).
+const RUN_AGREE: f64 = 1.1;
+
+/// The most steps [`runs_of`] looks at.
+const RUNS_SAMPLE: usize = 1 << 14;
+
+/// The length, in steps, of each stretch of consecutive steps [`runs_of`] looks at in a longer
+/// log.
+const RUNS_CHUNK: usize = 256;
+
+/// Stamps that come in runs at a short step with pauses between them, read ([`runs_of`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Runs {
+    /// A logger's bursts: the step within the runs is the time base, the pauses are gaps.
+    Bursts {
+        /// The step within the runs, s.
+        step: f64,
+    },
+    /// A host's reads of a regular sampler: the mean step is the time base, the pauses are
+    /// jitter.
+    Batches {
+        /// The host's step within a batch, s.
+        step: f64,
+        /// The steps from the start of one batch to the start of the next, on average.
+        run_steps: f64,
+    },
+}
+
+/// How to read stamps that come in runs at a short step separated by pauses, or `None` when
+/// they do not, or when neither reading below fits most of them.
+///
+/// Such stamps are one of two things:
+///
+/// - **Bursts.** A logger that sleeps to save power wakes, samples for a while at its own step
+///   and sleeps again: 10 samples at 1 Hz every 120 s. The step within the runs is the time
+///   base and the pauses are gaps. A burst shorter than [`block_step`]'s blocks (16 steps and
+///   longer) leaves no block inside a burst: every block mean averages a burst with a pause,
+///   and the blocks give the mean step over the log (12 s), at which every pause looks made
+///   up by the runs after it and the log reads as a regular one with jitter.
+/// - **A host reading a regular sampler in batches.** The host reads the sensor's buffer,
+///   stamps the samples a few ms apart as it reads them, and waits for the next read; the
+///   samples were taken regularly through the wait. The mean step is the time base and the
+///   pauses are jitter: 100 Hz samples stamped in batches of 10 every 0.1 s are a 100 Hz log.
+///   When the batches are longer than a block (100 samples read once a second), the blocks
+///   lie inside them and give the host's pace (0.1 ms) as the step.
+///
+/// The stamps alone cannot tell them apart: 10 stamps 1 ms apart every 0.12 s are the bursts
+/// above a thousand times faster. What tells them apart is how long the pauses last in real
+/// time. A host must read a sensor's buffer before it overflows, so it reads every few ms to
+/// about a second (the longest stall of a host driftlab expects, in docs/cli.md and the
+/// simulator's `--jitter`, is half a second); a logger that sleeps to save power sleeps for
+/// tens of seconds to minutes, long against the burst, or waking costs more than sleeping
+/// saves. So, over the log's steps (every step of a log of up to [`RUNS_SAMPLE`] steps, else
+/// stretches of [`RUNS_CHUNK`] consecutive steps spread evenly over it, which hold whole runs
+/// and pauses in their proportions whatever their period), with `s` the median step and the
+/// pauses the steps longer than [`GAP_FACTOR`]·`s`:
+///
+/// - the steps of runs must be at least twice as many as the pauses (runs of three samples
+///   or more, so that `s` is a step within the runs), else `None`;
+/// - **bursts** when three pauses in four last [`MIN_BURST_PAUSE_S`] or longer and nine steps
+///   of runs in ten keep `s` within 10 % (a sampler's clock): the step is `s`;
+/// - **a host's batches** when three pauses in four are shorter than [`MIN_BURST_PAUSE_S`]
+///   and the pauses hold more than half of the time (the host stamps faster than the sampler
+///   samples; a logger that drops samples loses less than that): the step is the mean step.
+///
+/// [`rough_step`] takes the reading only where [`block_step`] measured the other thing (the
+/// mean step for bursts, the step within the runs for batches), so that every log the blocks
+/// read right keeps its step to the bit. A log written in bursts then has a gap at every
+/// pause, its bursts are its segments, and [`bursts_of`] names them: `inspect` says "written
+/// in bursts: 336 bursts of 9.0 s every 120 s" (a burst's length from its first stamp to its
+/// last) and reads the step within them (1 s). A host's batches have no gap: `inspect` says
+/// "time stamps jitter: steps 2.0 ms … 82.0 ms around the nominal 10.0 ms".
+fn runs_of(time_s: &[f64]) -> Option<Runs> {
+    let steps = time_s.len().checked_sub(1)?;
+    let sample: Vec<f64> = if steps <= RUNS_SAMPLE {
+        (1..=steps).filter_map(|i| step(time_s, i)).collect()
+    } else {
+        let chunks = RUNS_SAMPLE / RUNS_CHUNK;
+        (0..chunks)
+            .flat_map(|c| {
+                let start = 1 + c * (steps - RUNS_CHUNK) / (chunks - 1);
+                start..start + RUNS_CHUNK
+            })
+            .filter_map(|i| step(time_s, i))
+            .collect()
+    };
+    let s = median(&mut sample.clone())?;
+    let (mut in_runs, mut regular, mut pauses, mut long_pauses) = (0usize, 0usize, 0usize, 0);
+    let (mut paused_s, mut total_s) = (0.0, 0.0);
+    for &d in &sample {
+        total_s += d;
+        if d > GAP_FACTOR * s {
+            pauses += 1;
+            paused_s += d;
+            if d >= MIN_BURST_PAUSE_S {
+                long_pauses += 1;
+            }
+        } else {
+            in_runs += 1;
+            if (d - s).abs() <= 0.1 * s {
+                regular += 1;
+            }
+        }
     }
-    let mut v: Vec<f64> = (1..n).filter_map(|i| step(time_s, i)).collect();
-    median(&mut v).unwrap_or(1.0)
+    if pauses == 0 || in_runs < 2 * pauses {
+        return None;
+    }
+    if 4 * long_pauses >= 3 * pauses && 10 * regular >= 9 * in_runs {
+        Some(Runs::Bursts { step: s })
+    } else if 4 * (pauses - long_pauses) >= 3 * pauses && paused_s > 0.5 * total_s {
+        Some(Runs::Batches {
+            step: s,
+            run_steps: sample.len() as f64 / pauses as f64,
+        })
+    } else {
+        None
+    }
 }
 
 fn median(v: &mut [f64]) -> Option<f64> {

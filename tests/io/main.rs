@@ -21,4 +21,5 @@ mod killed_writes;
 mod odd_logs;
 mod session;
 mod stray_stamps;
+mod time_bases;
 mod written_together;
