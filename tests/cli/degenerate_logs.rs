@@ -149,3 +149,44 @@ fn a_fast_ramp_in_short_stretches_is_not_said_never_to_change() {
     assert!(!e.contains("never changes faster"), "{e}");
     assert!(e.contains("longest stretch lasts 3 s"), "{e}");
 }
+
+#[test]
+fn a_log_slower_than_the_window_gets_no_window_figures_and_sample_rates_are_bounded() {
+    let dir = tempfile::tempdir().unwrap();
+    // One sample in 1000 s: the windows of 10 min would each be one sample. The figures are n/a with the reason, as `evaluate` refuses the window.
+    let mut text = String::from("time_s,omega_dph,temp_c\n");
+    for i in 0..500 {
+        let t = f64::from(i) * 1000.0;
+        let temp = 20.0 + 30.0 * (t / 40_000.0).sin();
+        text.push_str(&format!(
+            "{t},{},{temp}\n",
+            0.3 + 0.01 * temp + (t / 3e3).sin()
+        ));
+    }
+    let log = dir.path().join("slow.csv");
+    std::fs::write(&log, text).unwrap();
+    let log = log.display().to_string();
+    let out = p(dir.path(), "slow.json");
+    let printed = ok(&["calibrate", &log, "--model", "poly-t", "-o", &out, "--json"]);
+    let json: serde_json::Value = serde_json::from_str(&printed).unwrap();
+    let raw = json
+        .pointer("/in_sample/comparison/raw")
+        .unwrap_or_else(|| panic!("{json}"));
+    assert_eq!(raw["windows"], 0, "{raw}");
+    assert!(raw["win_mean_max_abs_dph"].is_null(), "{raw}");
+    assert_eq!(
+        raw["windows_unavailable"], "window_shorter_than_sample",
+        "{raw}"
+    );
+    let e = fails(&[
+        "calibrate",
+        &log,
+        "--time-unit",
+        "samples",
+        "--sample-rate",
+        "1e-300",
+        "-o",
+        &out,
+    ]);
+    assert!(e.contains("--sample-rate must be between"), "{e}");
+}

@@ -96,7 +96,7 @@ fn figures_of_parts(parts: &[&[f64]], dt_s: f64, opts: &MeritOptions) -> Figures
         windows: means.len(),
         samples,
         filtered_unavailable,
-        windows_unavailable: None,
+        windows_unavailable: window_shorter_than_a_sample(opts, dt_s),
     }
     .mark_unavailable()
 }
@@ -311,7 +311,7 @@ fn figures_kept(
         windows: means.len(),
         samples: x.len(),
         filtered_unavailable: (len == 0).then_some(Unavailable::ShorterThanFilter),
-        windows_unavailable: None,
+        windows_unavailable: window_shorter_than_a_sample(opts, dt_s),
     }
     .mark_unavailable()
 }
@@ -373,4 +373,12 @@ fn in_segment_order<T>(pairs: Vec<(T, Option<T>)>) -> Vec<T> {
         .flat_map(|(a, b)| [Some(a), b])
         .flatten()
         .collect()
+}
+
+/// A window shorter than a sample holds one sample and would be labelled with a length it
+/// does not have (`max |10-min mean|` over samples 1000 s apart): its figures are n/a, by the
+/// rule that refuses such a window where it is asked for ([`crate::judge::options::one_sample`]).
+fn window_shorter_than_a_sample(opts: &MeritOptions, dt_s: f64) -> Option<Unavailable> {
+    crate::judge::options::one_sample("window_s", opts.window_s, dt_s, "")
+        .map(|_| Unavailable::WindowShorterThanSample)
 }

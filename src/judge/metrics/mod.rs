@@ -78,6 +78,8 @@ pub enum Unavailable {
     ShorterThanFilter,
     /// No segment holds a whole window.
     NoWholeWindow,
+    /// The window is shorter than the sampling interval: each would be one sample.
+    WindowShorterThanSample,
 }
 
 impl Unavailable {
@@ -87,6 +89,10 @@ impl Unavailable {
             Unavailable::NothingAfterWarmup => "no sample left after the warm-up",
             Unavailable::ShorterThanFilter => "no stretch of the log is as long as the filter",
             Unavailable::NoWholeWindow => "no stretch of the log holds a whole window",
+            Unavailable::WindowShorterThanSample => {
+                "the window is shorter than the sampling interval: each would be one sample, \
+                 labelled with a length it does not have"
+            }
         }
     }
 }
@@ -114,6 +120,7 @@ impl Figures {
                 .get_or_insert(Unavailable::NoWholeWindow);
         }
         if self.windows_unavailable.is_some() {
+            self.windows = 0;
             self.win_mean_max_abs_dph = f64::NAN;
             self.win_mean_p2p_dph = f64::NAN;
             self.win_rms_mean_dph = f64::NAN;

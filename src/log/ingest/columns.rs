@@ -214,11 +214,17 @@ fn find_column(r: &ColumnRef, names: &[String], role: &str) -> Result<usize, NoS
 pub(crate) fn plan(sn: &Sniffed, opts: &ReadOptions) -> Result<Plan, Fail> {
     let ncols = sn.names.len();
     let at_header = |message: String| Fail::new(sn.header_line, 0, message);
+    // The rates a sampling interval may have anywhere in driftlab (`allan`'s τ0: a gigahertz
+    // to a sample a day); beyond them a step of 1e300 s reached every time written out.
     if let Some(r) = opts.sample_rate_hz
-        && !(r.is_finite() && r > 0.0)
+        && !(r.is_finite()
+            && (1.0 / crate::judge::allan::MAX_TAU0_S..=1.0 / crate::judge::allan::MIN_TAU0_S)
+                .contains(&r))
     {
         return Err(Fail::file(format!(
-            "sample_rate_hz must be a positive number of hertz, not {r}"
+            "sample_rate_hz must be between 1.16e-5 Hz (a sample a day) and 1e9 Hz (a \
+             gigahertz), not {}",
+            crate::number::readable(r)
         )));
     }
 
