@@ -94,8 +94,10 @@ pub struct Args {
     /// Another model for one axis of a unit, as AXIS=MODEL (repeatable): `gz=poly-t`.
     #[arg(long = "axis-model", value_name = "AXIS=MODEL")]
     pub axis_models: Vec<String>,
-    /// Another recipe for one axis of a unit, as AXIS=FILE (repeatable): its approximations,
-    /// knots and dead-bands (the T settings are the unit's). Options given here still apply.
+    /// Another recipe for one axis of a unit, as AXIS=FILE (repeatable): its Ω filter,
+    /// approximations, knots, dead-bands, weighting and refinements; the T smoothing,
+    /// derivative step, plateaus and gyro id are the unit's (said when the file sets others).
+    /// Options given here still apply.
     #[arg(long = "axis-recipe", value_name = "AXIS=FILE")]
     pub axis_recipes: Vec<String>,
     /// Print the summary as JSON.
@@ -441,17 +443,21 @@ impl Args {
                 p.choice = choice;
             }
         }
+        let mut axis_notes = Vec::new();
         for v in &self.axis_recipes {
             let (asked, file) = pair("--axis-recipe", v)?;
             let name = axis_of("--axis-recipe", asked, log, axes)?;
             given.once("--axis-recipe", &name, v)?;
             let base = calibration::read_recipe(Path::new(file)).map_err(|e| e.to_string())?;
-            let mut own = self.recipe_over(base)?.into_recipe();
-            // The unit's T settings: an axis's recipe keeps its approximations and dead-bands.
-            own.temp_smoothing_s = recipe.temp_smoothing_s;
-            own.step_h_s = recipe.step_h_s;
-            own.plateaus = recipe.plateaus.clone();
-            own.gyro_id = recipe.gyro_id.clone();
+            let (own, dropped) = self.recipe_over(base)?.into_recipe().as_axis_of(recipe);
+            if !dropped.is_empty() {
+                axis_notes.push(format!(
+                    "axis {name}: --axis-recipe {file} sets {}, which the axes of a unit share: \
+                     the unit's are used (give them to the unit: --smooth, --step-h, --plateau, \
+                     --gyro-id, or its --recipe)",
+                    dropped.join(", ")
+                ));
+            }
             let own = own
                 .checked()
                 .map_err(|e| format!("--axis-recipe {v}: {e}"))?;
@@ -459,7 +465,7 @@ impl Args {
                 p.recipe = own;
             }
         }
-        let mut warnings = Vec::new();
+        let mut warnings = axis_notes;
         for p in &plans {
             let w = self
                 .check_settings(&p.recipe, &p.choice)

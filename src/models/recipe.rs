@@ -138,6 +138,38 @@ impl TryFrom<Recipe> for CheckedRecipe {
 }
 
 impl Recipe {
+    /// This recipe as one axis's of a unit whose recipe is `unit`: the axes share the log's
+    /// temperature stages (T smoothing, derivative step, plateaus) and the unit's gyro id, so
+    /// those are the unit's; the rest (Ω filter, approximations, knots, dead-bands,
+    /// weighting, refinements) stays this recipe's. Returns the names of the fields this
+    /// recipe set otherwise, with the value it set, for the face to say they were not used.
+    pub fn as_axis_of(mut self, unit: &Recipe) -> (Recipe, Vec<String>) {
+        let mut dropped = Vec::new();
+        if self.temp_smoothing_s != unit.temp_smoothing_s {
+            dropped.push(format!(
+                "temp_smoothing_s {}",
+                crate::number::readable(self.temp_smoothing_s)
+            ));
+        }
+        if self.step_h_s != unit.step_h_s {
+            dropped.push(format!(
+                "step_h_s {}",
+                crate::number::readable(self.step_h_s)
+            ));
+        }
+        if self.plateaus != unit.plateaus {
+            dropped.push("plateaus".to_string());
+        }
+        if self.gyro_id != unit.gyro_id {
+            dropped.push(format!("gyro_id {:?}", self.gyro_id));
+        }
+        self.temp_smoothing_s = unit.temp_smoothing_s;
+        self.step_h_s = unit.step_h_s;
+        self.plateaus = unit.plateaus.clone();
+        self.gyro_id = unit.gyro_id.clone();
+        (self, dropped)
+    }
+
     /// The recipe checked ([`Recipe::validate`]) and carried as such.
     ///
     /// # Errors

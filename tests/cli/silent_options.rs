@@ -395,3 +395,60 @@ fn a_temperature_column_taken_as_the_rate_is_told() {
     let err = String::from_utf8(run.stderr).unwrap();
     assert!(!err.contains("taken as a gyro rate"), "{err}");
 }
+
+/// An axis's recipe in a unit keeps its own Ω filter, approximations and dead-bands; the
+/// temperature stages and the gyro id are the unit's, and a recipe that sets them otherwise
+/// is told so, field by field, rather than dropped without a word.
+#[test]
+fn an_axis_recipe_says_which_of_its_settings_the_unit_overrides() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let unit = sample("imu3-calibration.csv");
+    let recipe = p(d, "gy.json");
+    ok(&[
+        "calibrate",
+        &unit,
+        "--rate-col",
+        "gy_dps",
+        "-o",
+        &p(d, "y.json"),
+        "--save-recipe",
+        &recipe,
+        "--smooth",
+        "200",
+        "--filter",
+        "500",
+        "--gyro-id",
+        "GY-7",
+        "--k0",
+        "linear",
+    ]);
+    let out = driftlab(&[
+        "calibrate",
+        &unit,
+        "--axis-recipe",
+        &format!("gy={recipe}"),
+        "-o",
+        &p(d, "unit.json"),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("axis gy: --axis-recipe")
+            && stderr.contains("temp_smoothing_s 200")
+            && stderr.contains("gyro_id \"GY-7\"")
+            && !stderr.contains("filter_s"),
+        "{stderr}"
+    );
+    let cal: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(d.join("unit.json")).unwrap()).unwrap();
+    let axes = cal["axes"].as_array().unwrap();
+    let gy = axes.iter().find(|a| a["name"] == "gy").expect("axis gy");
+    assert_eq!(gy["calibration"]["recipe"]["filter_s"], 500.0);
+    assert_eq!(gy["calibration"]["recipe"]["k0"]["kind"], "linear");
+    assert_eq!(cal["temperature"]["temp_smoothing_s"], 60.0);
+}
