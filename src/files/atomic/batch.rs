@@ -11,14 +11,17 @@
 //! permissions changed in the meantime): the files already put in place are then put back as
 //! they were (the old content of each was kept under a hard link, `.driftlab-NAME.X.undo`
 //! beside it, for the length of the commit; a file that did not exist is removed again), so a
-//! failed commit leaves no half of a batch, and the error says so.
+//! failed commit leaves no half of a batch, and the error says so. On Linux the renames, the
+//! putting back and the removal of the links run in a child process that a `kill -9` of the
+//! writer does not stop (`commit.rs`): a run killed at any moment leaves the batch all old
+//! or all new, and no link or temporary.
 //!
 //! A FIFO, a device or the standard output cannot be taken back once written: what a batch
 //! writes there is held in memory and written at the commit, before any file is put in
 //! place.
 
 use super::target::Target;
-use super::{Staged, folder_of, sync_folder, write_stream};
+use super::{Staged, commit, folder_of, sync_folder, write_stream};
 use crate::error::{Error, Result};
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -76,31 +79,24 @@ impl Batch {
     /// # Errors
     /// The first write or rename that fails, naming its file (and the files already in
     /// place by then); a folder that cannot be synced.
-    pub fn commit(self) -> Result<()> {
+    pub fn commit(mut self) -> Result<()> {
         for (path, stream, bytes) in &self.streams {
             write_stream(stream, |w| w.write_all(bytes)).map_err(|e| Error::io(path, e))?;
         }
+        if let Err(f) = commit::put_in_place(&mut self.files) {
+            let dest = |i: usize| &self.files[i].dest;
+            let placed: Vec<&PathBuf> = (0..f.index).map(dest).collect();
+            let left: Vec<&PathBuf> = f.left.iter().map(|&i| dest(i)).collect();
+            return Err(Error::io(
+                dest(f.index),
+                with_placed(f.error, &placed, &left),
+            ));
+        }
         let mut folders: Vec<PathBuf> = Vec::new();
-        let mut placed: Vec<Placed> = Vec::new();
-        for staged in self.files {
-            let dest = staged.dest.clone();
-            let old = keep_old(&dest);
-            if let Err(e) = staged.put_in_place() {
-                if let Some(old) = &old {
-                    let _ = std::fs::remove_file(old);
-                }
-                let left = undo(&placed);
-                return Err(Error::io(&dest, with_placed(e, &placed, &left)));
-            }
-            let folder = folder_of(&dest).to_path_buf();
+        for staged in &self.files {
+            let folder = folder_of(&staged.dest).to_path_buf();
             if !folders.contains(&folder) {
                 folders.push(folder);
-            }
-            placed.push(Placed { dest, old });
-        }
-        for p in &placed {
-            if let Some(old) = &p.old {
-                let _ = std::fs::remove_file(old);
             }
         }
         for folder in &folders {
@@ -150,53 +146,15 @@ impl Batch {
     }
 }
 
-/// A file of a batch put in place, with its old content kept until the commit is done.
-struct Placed {
-    dest: PathBuf,
-    /// A hard link to what `dest` held before; `None` when it held nothing (or no link
-    /// could be made).
-    old: Option<PathBuf>,
-}
-
-/// A hard link beside `dest` to its present content, so that a commit that fails after
-/// `dest` was replaced can put it back; `None` when `dest` is not an existing file or the
-/// folder takes no link.
-fn keep_old(dest: &Path) -> Option<PathBuf> {
-    if !dest.symlink_metadata().is_ok_and(|m| m.is_file()) {
-        return None;
-    }
-    let name = dest.file_name()?.to_string_lossy();
-    let link = folder_of(dest).join(format!(
-        ".driftlab-{name}.{:016x}.undo",
-        super::temporary::random()
-    ));
-    std::fs::hard_link(dest, &link).ok().map(|()| link)
-}
-
-/// Puts back the files of `placed`, newest first: the old content over each, or no file
-/// where there was none. Returns the files that could not be put back.
-fn undo(placed: &[Placed]) -> Vec<PathBuf> {
-    let mut left = Vec::new();
-    for p in placed.iter().rev() {
-        let back = match &p.old {
-            Some(old) => std::fs::rename(old, &p.dest),
-            None => std::fs::remove_file(&p.dest),
-        };
-        if back.is_err() {
-            left.push(p.dest.clone());
-        }
-    }
-    left
-}
-
 /// `e`, saying what became of the files of the batch already in place when it happened:
 /// put back as they were, or (`left`) not.
-fn with_placed(e: std::io::Error, placed: &[Placed], left: &[PathBuf]) -> std::io::Error {
-    if placed.is_empty() {
+fn with_placed(e: std::io::Error, placed: &[&PathBuf], left: &[&PathBuf]) -> std::io::Error {
+    if placed.is_empty() && left.is_empty() {
         return e;
     }
-    let names = |paths: &mut dyn Iterator<Item = &PathBuf>| {
+    let names = |paths: &[&PathBuf]| {
         paths
+            .iter()
             .map(|p| p.display().to_string())
             .collect::<Vec<_>>()
             .join(", ")
@@ -204,12 +162,12 @@ fn with_placed(e: std::io::Error, placed: &[Placed], left: &[PathBuf]) -> std::i
     let what = if left.is_empty() {
         format!(
             "the files written before it were put back as they were: {}",
-            names(&mut placed.iter().map(|p| &p.dest))
+            names(placed)
         )
     } else {
         format!(
             "already written before it, and could not be put back: {}",
-            names(&mut left.iter())
+            names(left)
         )
     };
     std::io::Error::new(e.kind(), format!("{e} ({what})"))

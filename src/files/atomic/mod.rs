@@ -8,9 +8,13 @@
 //! replaced by a regular file. On Linux a temporary has no name until it is complete, so a
 //! killed run leaves none; elsewhere its writer's lock tells a live temporary from an
 //! abandoned one (`temporary`). Several files that belong together are written first and
-//! put in place only once all of them are written (`batch`).
+//! put in place only once all of them are written (`batch`). Putting files in place takes
+//! more than one system call at times (an unnamed file over an existing output, a batch): on
+//! Linux those run in a child process, which a `kill -9` of the writer does not stop
+//! (`commit`).
 
 mod batch;
+mod commit;
 #[cfg(target_os = "linux")]
 mod direct;
 mod target;
@@ -126,15 +130,10 @@ impl Staged {
     }
 
     /// Puts the file in place and syncs its folder.
-    fn commit(self) -> std::io::Result<()> {
+    fn commit(mut self) -> std::io::Result<()> {
         let dir = folder_of(&self.dest).to_path_buf();
-        self.put_in_place()?;
+        commit::put_in_place(std::slice::from_mut(&mut self)).map_err(|f| f.error)?;
         sync_folder(&dir)
-    }
-
-    /// Puts the file in place (its folder still to sync).
-    fn put_in_place(self) -> std::io::Result<()> {
-        self.tmp.persist(&self.dest)
     }
 }
 

@@ -4,15 +4,20 @@
 //!   folder): a process killed outright (`kill -9`, a power cut) leaves nothing, since the
 //!   kernel frees a file that no folder names. It gets a name only once it is complete and
 //!   synced: `linkat` makes it the output when there is none yet; otherwise it is linked to a
-//!   fresh name beside the output and renamed over it.
+//!   fresh name beside the output and renamed over it. Linux has no call that puts an
+//!   unnamed file over an existing name in one step, so those two calls run in a child
+//!   process that a kill of the writer does not stop (`commit.rs`): a `kill -9` at any moment
+//!   leaves the old output or the new one, and not the name beside it.
 //! * Where the file system has no unnamed files (or elsewhere than Linux), the temporary is a
 //!   named file, `.driftlab-NAME.XXXXXXXXXXXXXXXX.tmp` beside the output.
-//! * Every named temporary (the fallback's, and the instant an unnamed one spends under a name
-//!   before its rename) is held under an advisory lock (`flock`) by the process writing it,
-//!   taken before the name can be seen. The kernel drops the lock when the process ends,
-//!   however it ends, so a temporary whose lock can be taken belongs to nobody: every write
-//!   into a folder removes those ([`remove_stale`]). Ownership does not depend on process
-//!   ids, which another PID namespace (a container) or a reused id would make wrong.
+//! * Every named temporary (the fallback's, and the microseconds an unnamed one spends under
+//!   a name before its rename) is held under an advisory lock (`flock`) by the process
+//!   writing it, taken before the name can be seen. The kernel drops the lock when the
+//!   process ends, however it ends, so a temporary whose lock can be taken belongs to nobody:
+//!   every write into a folder removes those ([`remove_stale`]). The child that commits
+//!   shares the lock (the same open file) for as long as it lives, the few microseconds of
+//!   its link and rename, and no longer. Ownership does not depend on process ids, which
+//!   another PID namespace (a container) or a reused id would make wrong.
 //! * On an error, and on a panic, the temporary file is removed as it is dropped.
 //! * On SIGINT, SIGTERM or SIGHUP (Ctrl-C, `kill`, a closed terminal), a process that called
 //!   [`remove_temporaries_on_signals`] removes every named temporary file it has, then ends
@@ -32,16 +37,20 @@ static LIVE: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
 const NAME_BYTES: usize = 96;
 
 /// Names tried before giving up on finding a free one (each is 64 random bits).
-const ATTEMPTS: usize = 16;
+pub(super) const ATTEMPTS: usize = 16;
 
-/// A temporary file for one output, removed when dropped unless persisted.
+/// A temporary file for one output, removed when dropped unless put in place.
 pub(super) struct Temporary {
     file: File,
     /// The folder it is in (the output's).
     dir: PathBuf,
     /// The output's name, for the names the temporary takes.
     name: String,
-    /// Its name while it has one: always for the fallback, never for an unnamed file.
+    /// Whether it is an unnamed file (`O_TMPFILE`).
+    #[cfg(target_os = "linux")]
+    unnamed: bool,
+    /// Its name while it has one: always for the fallback; for an unnamed file, the name it
+    /// takes beside the output while it is being put in place.
     path: Option<PathBuf>,
 }
 
@@ -59,6 +68,7 @@ impl Temporary {
                 file,
                 dir: dir.to_path_buf(),
                 name: name.to_string(),
+                unnamed: true,
                 path: None,
             });
         }
@@ -67,6 +77,8 @@ impl Temporary {
             file,
             dir: dir.to_path_buf(),
             name: name.to_string(),
+            #[cfg(target_os = "linux")]
+            unnamed: false,
             path: Some(path),
         })
     }
@@ -76,41 +88,33 @@ impl Temporary {
         &self.file
     }
 
-    /// Makes the file `dest` (in the same folder), replacing what was there.
-    pub(super) fn persist(mut self, dest: &Path) -> io::Result<()> {
-        if self.path.is_none() {
-            #[cfg(target_os = "linux")]
-            {
-                if unnamed::link(&self.file, dest)? {
-                    return Ok(());
-                }
-                // `dest` is there: a name beside it first, then a rename over it.
-                let path = self.link_beside()?;
-                self.set_path(Some(path));
-            }
-        }
-        let Some(path) = self.path.clone() else {
-            return Ok(());
-        };
-        std::fs::rename(&path, dest)?;
-        // Renamed: nothing left to remove under the old name.
-        self.set_path(None);
-        Ok(())
+    /// Whether it is an unnamed file.
+    #[cfg(target_os = "linux")]
+    pub(super) fn is_unnamed(&self) -> bool {
+        self.unnamed
     }
 
-    /// Gives the unnamed file a fresh temporary name in its folder.
+    /// Its name: the named temporary's, or the one an unnamed file was last given beside the
+    /// output ([`Temporary::name_beside`]).
+    pub(super) fn path(&self) -> Option<&Path> {
+        self.path.as_deref()
+    }
+
+    /// A fresh name beside the output for the unnamed file to take on its way over the
+    /// output, not yet linked: the commit links it and renames it (`commit.rs`). It is
+    /// registered as this process's from now on, so that a sweep by another thread leaves it
+    /// alone. The signal handler may remove it on SIGTERM while the commit runs: the rename
+    /// then fails, and the commit puts back whatever it had put in place.
     #[cfg(target_os = "linux")]
-    fn link_beside(&self) -> io::Result<PathBuf> {
-        let mut last = None;
-        for _ in 0..ATTEMPTS {
-            let path = self.dir.join(fresh_name(&self.name));
-            match unnamed::link(&self.file, &path) {
-                Ok(true) => return Ok(path),
-                Ok(false) => last = Some(io::Error::from(io::ErrorKind::AlreadyExists)),
-                Err(e) => return Err(e),
-            }
-        }
-        Err(last.unwrap_or_else(|| io::ErrorKind::AlreadyExists.into()))
+    pub(super) fn name_beside(&mut self) -> PathBuf {
+        let path = self.dir.join(fresh_name(&self.name));
+        self.set_path(Some(path.clone()));
+        path
+    }
+
+    /// Its content is in place: no name of its own is left to remove.
+    pub(super) fn placed(&mut self) {
+        self.set_path(None);
     }
 
     /// Records the file's current name (registered for the signal handler), or none.
@@ -129,7 +133,9 @@ impl Temporary {
 
 impl Drop for Temporary {
     fn drop(&mut self) {
-        // An unnamed file is freed by the kernel as its descriptor closes.
+        // An unnamed file is freed by the kernel as its descriptor closes. A name it took
+        // beside the output is gone by now (renamed, or removed by a commit that failed):
+        // removed again should it not be.
         if let Some(p) = self.path.clone() {
             let _ = std::fs::remove_file(&p);
             self.set_path(None);
@@ -206,6 +212,16 @@ fn fresh_name(name: &str) -> String {
     format!("{START}{}.{:016x}.tmp", short(name), random())
 }
 
+/// A new name beside `dest` for a link to its old content while a batch is put in place:
+/// `.driftlab-NAME.XXXXXXXXXXXXXXXX.undo` (`commit.rs`).
+pub(super) fn undo_name(dest: &Path) -> PathBuf {
+    let name = dest
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    dest.with_file_name(format!("{START}{}.{:016x}.undo", short(&name), random()))
+}
+
 /// 64 bits that differ from call to call and from process to process, for unique names:
 /// the standard library's per-process random hash keys, over a counter.
 pub(crate) fn random() -> u64 {
@@ -259,9 +275,11 @@ pub(super) fn remove_stale(dir: &Path) {
     }
 }
 
-/// Removes `path`, a batch's link to a file's old content (`batch.rs`), when its commit is long
-/// over: a commit keeps it for milliseconds, so one whose link was made (its status changed)
-/// a minute ago or more was left by a run killed while committing.
+/// Removes `path`, a batch's link to a file's old content (`commit.rs`), when its commit is long
+/// over: a commit keeps it for milliseconds, and finishes even when its writer is killed, so
+/// one whose link was made (its status changed) a minute ago or more was left by a commit
+/// killed with its writer (a kill of the whole process group) or run where no child process
+/// could be made.
 fn remove_stale_undo(path: &Path) {
     #[cfg(unix)]
     {
@@ -297,14 +315,13 @@ fn open_to_lock(path: &Path) -> Option<File> {
     }
 }
 
-/// Unnamed temporary files (`O_TMPFILE`) and how they get a name (`linkat`).
+/// Unnamed temporary files (`O_TMPFILE`); the commit names them (`linkat`, `commit.rs`).
 #[cfg(target_os = "linux")]
 mod unnamed {
-    use rustix::fs::{AtFlags, CWD, Mode, OFlags, linkat, openat};
+    use rustix::fs::{CWD, Mode, OFlags, openat};
     use rustix::io::Errno;
     use std::fs::File;
     use std::io;
-    use std::os::fd::AsRawFd;
     use std::path::Path;
 
     /// An unnamed file in `dir`, or `None` where the file system or kernel has none
@@ -318,16 +335,6 @@ mod unnamed {
         match openat(CWD, dir, flags, Mode::from_raw_mode(0o600)) {
             Ok(fd) => Ok(Some(File::from(fd))),
             Err(Errno::OPNOTSUPP | Errno::ISDIR | Errno::INVAL) => Ok(None),
-            Err(e) => Err(e.into()),
-        }
-    }
-
-    /// Names the unnamed `file` `path`: true when done, false when `path` is already there.
-    pub(super) fn link(file: &File, path: &Path) -> io::Result<bool> {
-        let fd = format!("/proc/self/fd/{}", file.as_raw_fd());
-        match linkat(CWD, fd.as_str(), CWD, path, AtFlags::SYMLINK_FOLLOW) {
-            Ok(()) => Ok(true),
-            Err(Errno::EXIST) => Ok(false),
             Err(e) => Err(e.into()),
         }
     }
