@@ -394,6 +394,14 @@ pub fn fit_failed(source: &str, e: &driftlab::Error) -> String {
         {
             format!("{m} (--smooth, --step-h)")
         }
+        driftlab::Error::Fit(f)
+            if matches!(
+                f.innermost(),
+                driftlab::models::FitError::DelayBeyondLog { .. }
+            ) =>
+        {
+            format!("{m} (--delay)")
+        }
         _ => m,
     }
 }

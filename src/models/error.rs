@@ -90,6 +90,24 @@ pub enum FitError {
         /// The |Ṫ| rate terms need, °C/min ([`super::MIN_RAMP_C_PER_MIN`]).
         minimum_c_per_min: f64,
     },
+    /// A fixed delay over half the log: the delayed temperature is the log's first reading
+    /// for most of it.
+    #[error(
+        "{log}: model {model}: a delay of {} s is more than half of the {} s log, which would \
+         read its first temperature for most of its samples; a delay is at most half the log",
+        crate::number::readable(*delay_s),
+        crate::number::readable(*duration_s)
+    )]
+    DelayBeyondLog {
+        /// The log.
+        log: String,
+        /// The model.
+        model: String,
+        /// The delay asked for, s.
+        delay_s: f64,
+        /// The log's duration, s.
+        duration_s: f64,
+    },
     /// A rate column that holds one value throughout: a gyro disconnected (zeros) or stuck.
     #[error(
         "{log}: the rate{} never changes (every sample reads {} °/h): a gyro that is \

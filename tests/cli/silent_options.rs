@@ -452,3 +452,49 @@ fn an_axis_recipe_says_which_of_its_settings_the_unit_overrides() {
     assert_eq!(gy["calibration"]["recipe"]["k0"]["kind"], "linear");
     assert_eq!(cal["temperature"]["temp_smoothing_s"], 60.0);
 }
+
+/// A delay over half the log would read the log's first temperature for most of it: every
+/// command that fits refuses it by name, where `compare` printed figures and `calibrate`
+/// printed coefficients with standard errors before refusing to save them.
+#[test]
+fn a_delay_over_half_the_log_is_refused_before_any_fit() {
+    let dir = tempfile::tempdir().unwrap();
+    let log = sample("calibration.csv");
+    for delay in ["1e9", "40000", "20101"] {
+        let e = fails(&[
+            "calibrate",
+            &log,
+            "--model",
+            "custom",
+            "--terms",
+            "1,T,T^2",
+            "--delay",
+            delay,
+            "-o",
+            &p(dir.path(), "d.json"),
+        ]);
+        assert!(
+            e.contains("more than half of the 40200 s log") && e.contains("(--delay)"),
+            "{delay}: {e}"
+        );
+        let json: serde_json::Value = serde_json::from_str(&ok(&[
+            "compare", "--train", &log, "--custom", "1,T,T^2", "--delay", delay, "--json",
+        ]))
+        .unwrap();
+        let error = json["models"][0]["error"].as_str().unwrap_or_default();
+        assert!(error.contains("more than half"), "{delay}: {json}");
+    }
+    // Half the log is still a delay.
+    ok(&[
+        "calibrate",
+        &log,
+        "--model",
+        "custom",
+        "--terms",
+        "1,T,T^2",
+        "--delay",
+        "600",
+        "-o",
+        &p(dir.path(), "d.json"),
+    ]);
+}

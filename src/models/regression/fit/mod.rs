@@ -51,6 +51,20 @@ pub fn fit_with_progress(
     progress: &(dyn Fn(f64) -> bool + Sync),
 ) -> Result<RegressionModel> {
     spec.validate()?;
+    // A delay over half the log reads the log's first temperature for most of it: the
+    // delayed T is then nearly constant, its terms nearly collinear with the constant, and
+    // coefficients with standard errors would be printed for what the log cannot show.
+    if let super::DelaySpec::Fixed { seconds } = spec.delay
+        && seconds > 0.5 * log.duration_s()
+    {
+        return Err(FitError::DelayBeyondLog {
+            log: log.source.clone(),
+            model: spec.name.clone(),
+            delay_s: seconds,
+            duration_s: log.duration_s(),
+        }
+        .into());
+    }
     let budget = Budget {
         planned: planned_evaluations(spec),
         done: AtomicUsize::new(0),
