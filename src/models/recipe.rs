@@ -329,7 +329,7 @@ impl Recipe {
                 ));
             }
         }
-        Ok(())
+        check_history(self.temp_smoothing_s, self.step_h_s, log)
     }
 
     /// The filter, T smoothing and derivative step that are shorter than `dt_s`, the sampling
@@ -357,6 +357,43 @@ impl Recipe {
             ("k2_minus", self.k2_minus),
         ]
     }
+}
+
+/// Refuses a T smoothing and derivative step whose history (the smoothing and four steps,
+/// before a sample has both rates of T) is more than half of `log`: most of its samples would
+/// be warm-up, corrected by K0(T) alone, and judged on the few left (a 30000-s smoothing on a
+/// 40200-s log left a quarter, all beyond the calibrated ranges). Every model that reads
+/// rates of T takes it with the same words; the field named is the larger part.
+///
+/// # Errors
+/// An [`Invalid`] naming `temp_smoothing_s` or `step_h_s`.
+pub fn check_history(
+    temp_smoothing_s: f64,
+    step_h_s: f64,
+    log: &crate::log::Log,
+) -> Result<(), Invalid> {
+    let span = crate::judge::options::log_span_s(log);
+    let history = temp_smoothing_s + 4.0 * step_h_s;
+    if history > 0.5 * span {
+        let (field, v) = if temp_smoothing_s >= 4.0 * step_h_s {
+            ("temp_smoothing_s", temp_smoothing_s)
+        } else {
+            ("step_h_s", step_h_s)
+        };
+        return Err(Invalid::new(
+            field,
+            format!(
+                "{} s makes the rates of T need {} s of history (the T smoothing and four \
+                 derivative steps), more than half of the log {} ({} s): most of it would be \
+                 warm-up",
+                crate::number::readable(v),
+                crate::number::readable(history),
+                log.source,
+                crate::number::readable(span)
+            ),
+        ));
+    }
+    Ok(())
 }
 
 /// The refusal of a window shorter than [`MIN_WINDOW_S`], named `field`.

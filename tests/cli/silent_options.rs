@@ -498,3 +498,41 @@ fn a_delay_over_half_the_log_is_refused_before_any_fit() {
         &p(dir.path(), "d.json"),
     ]);
 }
+
+/// A T smoothing or derivative step whose history is most of the log is refused by name, as
+/// a filter longer than the log is (a 30000-s smoothing wrote a calibration judged on a
+/// quarter of the log, all of it beyond the calibrated ranges; a 20000-s step said there
+/// were no plateaus).
+#[test]
+fn rates_whose_history_is_most_of_the_log_are_refused_by_name() {
+    let dir = tempfile::tempdir().unwrap();
+    let log = sample("calibration.csv");
+    let out = p(dir.path(), "w.json");
+    for (flag, value, field) in [
+        ("--smooth", "30000", "temp_smoothing_s (--smooth)"),
+        ("--step-h", "20000", "step_h_s (--step-h)"),
+        ("--step-h", "5100", "step_h_s (--step-h)"),
+    ] {
+        let e = fails(&["calibrate", &log, flag, value, "-o", &out]);
+        assert!(
+            e.contains(field) && e.contains("more than half of the log"),
+            "{flag} {value}: {e}"
+        );
+        // Every model is fitted on the samples past the rates' warm-up.
+        for model in ["ieee952", "poly-t"] {
+            let e = fails(&["calibrate", &log, "--model", model, flag, value, "-o", &out]);
+            assert!(e.contains(field), "{model} {flag} {value}: {e}");
+        }
+        assert!(!Path::new(&out).exists());
+    }
+    ok(&[
+        "calibrate",
+        &log,
+        "--smooth",
+        "600",
+        "--step-h",
+        "300",
+        "-o",
+        &out,
+    ]);
+}

@@ -65,6 +65,9 @@ pub fn fit_with_progress(
         }
         .into());
     }
+    // Every model is fitted and judged on the samples past the rates' warm-up (the same
+    // samples for every model, so that their figures compare).
+    crate::models::recipe::check_history(spec.smoothing_s, spec.step_h_s, log)?;
     let budget = Budget {
         planned: planned_evaluations(spec),
         done: AtomicUsize::new(0),
