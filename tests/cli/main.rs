@@ -20,6 +20,7 @@ mod real_logs;
 mod report_escaping;
 mod report_folder;
 mod report_folder_files;
+mod report_signals;
 mod silent_options;
 mod unit_calibrate;
 mod unit_judging;

@@ -393,7 +393,19 @@ fn figures_that_cannot_be_computed_are_na_with_a_reason() {
     }
     std::fs::write(&path, text).unwrap();
     let cal = p(dir.path(), "c.json");
-    ok(&["calibrate", &path, "--model", "poly-t", "--out", &cal]);
+    // Rates of T over 20-s smoothing and 10-s steps: a minute of history, under half the log.
+    ok(&[
+        "calibrate",
+        &path,
+        "--model",
+        "poly-t",
+        "--smooth",
+        "20",
+        "--step-h",
+        "10",
+        "--out",
+        &cal,
+    ]);
     let text = ok(&["evaluate", &cal, &path]);
     assert!(text.contains("n/a"), "{text}");
     assert!(text.contains("whole window"), "{text}");
@@ -410,7 +422,12 @@ fn a_log_too_narrow_for_a_model_is_refused_before_the_fit() {
     let path = p(dir.path(), "flat.csv");
     let mut text = String::from("time_s,omega_dph,temp_c\n");
     for i in 0..4000 {
-        text.push_str(&format!("{i},0.1,{}\n", 25.0 + (i % 3) as f64 * 0.01));
+        // The rate moves (a gyro's does); the temperature spans 0.02 °C.
+        text.push_str(&format!(
+            "{i},{},{}\n",
+            0.1 + (i % 5) as f64 * 0.01,
+            25.0 + (i % 3) as f64 * 0.01
+        ));
     }
     std::fs::write(&path, text).unwrap();
     let cal = p(dir.path(), "c.json");

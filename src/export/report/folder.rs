@@ -384,6 +384,9 @@ impl Staging {
             ));
             match std::fs::create_dir(&path) {
                 Ok(()) => {
+                    // Ctrl-C or a `kill` while the report is written takes its half-written
+                    // folder with it, as it takes a temporary file.
+                    crate::files::atomic::remove_folder_on_signals(&path);
                     return Ok(Staging {
                         #[cfg(target_os = "linux")]
                         _lock: lock(&path),
@@ -404,6 +407,9 @@ impl Staging {
     /// Puts the staged folder in `target`'s place (swapping it with the folder there when
     /// `replace`), then removes the old folder.
     fn swap_into(mut self, target: &Path, replace: bool) -> Result<()> {
+        // From here the folder is being put in place: a signal must not remove it half-way
+        // through a swap (a killed swap leaves it to the next run's sweep).
+        crate::files::atomic::forget_folder(&self.path);
         if !replace {
             match rename_new(&self.path, target) {
                 Ok(()) => {
@@ -440,6 +446,7 @@ impl Staging {
 
 impl Drop for Staging {
     fn drop(&mut self) {
+        crate::files::atomic::forget_folder(&self.path);
         if self.armed {
             let _ = std::fs::remove_dir_all(&self.path);
         }

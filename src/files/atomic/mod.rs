@@ -21,7 +21,7 @@ mod target;
 mod temporary;
 
 pub use batch::Batch;
-pub use temporary::remove_temporaries_on_signals;
+pub use temporary::{forget_folder, remove_folder_on_signals, remove_temporaries_on_signals};
 pub(crate) use temporary::{names_file, random};
 
 use std::io::Write;

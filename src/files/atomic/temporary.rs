@@ -33,6 +33,25 @@ use std::sync::Mutex;
 /// out where the file system emulates `flock` with byte-range locks, as NFS does).
 static LIVE: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
 
+/// The folders this process is filling before it puts them in place (a report's staging
+/// folder), for the signal handler to remove with what they hold.
+static LIVE_FOLDERS: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
+/// Marks `folder` as one this process is filling: a SIGINT, SIGTERM or SIGHUP removes it
+/// with everything in it (see [`remove_temporaries_on_signals`]) until [`forget_folder`].
+pub fn remove_folder_on_signals(folder: &Path) {
+    if let Ok(mut live) = LIVE_FOLDERS.lock() {
+        live.push(folder.to_path_buf());
+    }
+}
+
+/// Ends [`remove_folder_on_signals`] for `folder`: it is being put in place, or is gone.
+pub fn forget_folder(folder: &Path) {
+    if let Ok(mut live) = LIVE_FOLDERS.lock() {
+        live.retain(|p| p != folder);
+    }
+}
+
 /// Bytes of the output's name kept in a temporary file's name (a name is at most 255 bytes).
 const NAME_BYTES: usize = 96;
 
@@ -371,6 +390,10 @@ pub fn remove_temporaries_on_signals() -> std::io::Result<()> {
                 let live = LIVE.lock().unwrap_or_else(|e| e.into_inner());
                 for p in live.iter() {
                     let _ = std::fs::remove_file(p);
+                }
+                let folders = LIVE_FOLDERS.lock().unwrap_or_else(|e| e.into_inner());
+                for p in folders.iter() {
+                    let _ = std::fs::remove_dir_all(p);
                 }
                 let _ = signal_hook::low_level::emulate_default_handler(signal);
                 // The default action of these three ends the process; should it not have:
