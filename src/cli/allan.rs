@@ -271,8 +271,8 @@ pub fn run(a: Args) -> Result<(), CliError> {
 }
 
 /// What a log read without a temperature did with it, for a note: no column, a column of no
-/// number, or rows whose temperature is blank or NaN (analysed all the same); `None` when every
-/// row has one.
+/// number, or rows whose temperature is blank, NaN or unreadable (analysed all the same);
+/// `None` when every row has one.
 fn temperature_unused(log: &driftlab::Log) -> Option<String> {
     let column = log
         .info
@@ -298,8 +298,8 @@ fn temperature_unused(log: &driftlab::Log) -> Option<String> {
     }
     let first = log.temp_c.iter().position(|t| t.is_nan()).unwrap_or(0);
     Some(format!(
-        "the temperature column {} is blank or NaN on {blank} rows (the first at {} s): the \
-         Allan deviation needs no temperature, so their rate is analysed with the others",
+        "the temperature column {} is blank, NaN or no number on {blank} rows (the first at {} \
+         s): the Allan deviation needs no temperature, so their rate is analysed with the others",
         column.name,
         common::num(log.time_s.get(first).copied().unwrap_or(f64::NAN))
     ))
