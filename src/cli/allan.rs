@@ -5,7 +5,7 @@ use super::common::{self, CliError, LogArgs};
 use super::log_source;
 use driftlab::judge::allan::{self, AllanDeviation, AllanOptions, Readout, TauSpacing, kalibr};
 use driftlab::log::formats::Format;
-use driftlab::log::ingest::Input;
+use driftlab::log::ingest::{ExtraColumns, Input, Needs};
 use std::path::PathBuf;
 
 /// Arguments of `allan`.
@@ -75,6 +75,8 @@ pub fn run(a: Args) -> Result<(), CliError> {
     // Every gyro axis (°/h; the one in `omega_dph` first) and the accelerometer axes (m/s²)
     // for Kalibr, which takes the noisiest; the axes analysed, by position among the gyro's.
     let mut accel: Vec<(String, Vec<f64>)> = Vec::new();
+    // Accelerometer axes whose unit their names do not say: Kalibr's file says so.
+    let mut accel_unknown: Vec<String> = Vec::new();
     let mut recorded_step_s = None;
     let (source, gyro, tau0_s, chosen) = match series {
         Some(series) => {
@@ -101,7 +103,22 @@ pub fn run(a: Args) -> Result<(), CliError> {
         None => {
             let recorded = match drone {
                 Some((log, _)) => log,
-                None => a.log_args.read_unresampled(&input)?,
+                None => {
+                    // The rate alone, whatever the temperature column holds, and the
+                    // accelerometers where Kalibr's values are asked for: no other column.
+                    let needs = Needs {
+                        temperature: false,
+                        extras: Some(ExtraColumns {
+                            accelerometers: a.json || a.kalibr.is_some(),
+                            ..ExtraColumns::default()
+                        }),
+                    };
+                    let log = a.log_args.read_unresampled(&input, &needs)?;
+                    if let Some(told) = temperature_unused(&log) {
+                        note!("note: {}: {told}", log.source);
+                    }
+                    log
+                }
             };
             // Kalibr discretises the noise densities at the rate of the IMU's messages, the
             // log's as recorded, not the rate of its bins.
@@ -119,12 +136,12 @@ pub fn run(a: Args) -> Result<(), CliError> {
                 note!("warning: {}", told.replacen("tau0", "--tau0", 1));
             }
             let chosen = axes_to_analyse(&a, &log)?;
-            accel = log
-                .extra
-                .into_iter()
-                .filter(|c| c.is_accelerometer_m_s2())
-                .map(|c| (c.name, c.values))
-                .collect();
+            for c in log.extra.into_iter().filter(|c| c.is_accelerometer()) {
+                match c.accelerometer_to_m_s2() {
+                    Some(f) => accel.push((c.name, c.values.into_iter().map(|v| v * f).collect())),
+                    None => accel_unknown.push(c.name),
+                }
+            }
             let mut gyro = vec![(log.axis, log.omega_dph)];
             gyro.extend(log.other_axes.into_iter().map(|x| (x.name, x.omega_dph)));
             (log.source, gyro, tau0, chosen)
@@ -190,6 +207,14 @@ pub fn run(a: Args) -> Result<(), CliError> {
             }
         };
         let mut noise = kalibr_noise(&source, &gyro, &devs, &accel, tau0_s, &rostopic)?;
+        if !accel_unknown.is_empty() {
+            note!(
+                "warning: {source}: the accelerometer columns {} do not say their unit (m/s^2, g \
+                 or mg in the name, as acc_x_g): Kalibr's accelerometer pair is left out",
+                accel_unknown.join(", ")
+            );
+        }
+        noise.accelerometers_without_unit = accel_unknown;
         if a.log_args.bin.is_some()
             && let Some(step) = recorded_step_s
         {
@@ -243,6 +268,41 @@ pub fn run(a: Args) -> Result<(), CliError> {
         out!()?;
     }
     print_summary(&source, &gyro, &devs)
+}
+
+/// What a log read without a temperature did with it, for a note: no column, a column of no
+/// number, or rows whose temperature is blank, NaN or unreadable (analysed all the same);
+/// `None` when every row has one.
+fn temperature_unused(log: &driftlab::Log) -> Option<String> {
+    let column = log
+        .info
+        .columns
+        .iter()
+        .find(|c| c.role == driftlab::log::ColumnRole::Temperature);
+    let Some(column) = column else {
+        return Some(
+            "no temperature column: the Allan deviation reads the rate alone, and needs none"
+                .into(),
+        );
+    };
+    let blank = log.temp_c.iter().filter(|t| t.is_nan()).count();
+    if blank == 0 {
+        return None;
+    }
+    if blank == log.temp_c.len() {
+        return Some(format!(
+            "the temperature column {} holds no number: the Allan deviation reads the rate \
+             alone, and needs none",
+            column.name
+        ));
+    }
+    let first = log.temp_c.iter().position(|t| t.is_nan()).unwrap_or(0);
+    Some(format!(
+        "the temperature column {} is blank, NaN or no number on {blank} rows (the first at {} \
+         s): the Allan deviation needs no temperature, so their rate is analysed with the others",
+        column.name,
+        common::num(log.time_s.get(first).copied().unwrap_or(f64::NAN))
+    ))
 }
 
 /// The axes to analyse ([`common::chosen_axes`]).

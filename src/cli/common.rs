@@ -14,7 +14,7 @@
 //! calls; only [`print_json`] and a file written to standard output keep their line breaks.
 
 use driftlab::Log;
-use driftlab::log::ingest::{ColumnRef, Input, RateUnit, ReadOptions, TimeUnit};
+use driftlab::log::ingest::{ColumnRef, Input, Needs, RateUnit, ReadOptions, TimeUnit};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
@@ -283,29 +283,32 @@ impl LogArgs {
         self.read_with(input, &self.options()?)
     }
 
-    /// Opens and reads the log at `path`.
-    pub fn read_path(&self, path: &Path) -> Result<Log, String> {
-        self.read(&self.open(path)?)
+    /// Reads what a command `needs` of a log: the extra columns it uses (the others are
+    /// neither parsed nor held), and whether it must have a temperature.
+    pub fn read_needing(&self, input: &Input, needs: &Needs) -> Result<Log, String> {
+        let log = self.read_plain(input, &self.options()?, needs)?;
+        self.resampled(log)
     }
 
     /// Reads a log as it was recorded, neither binned nor reduced to its bursts (`inspect`,
     /// which describes the file), unless `--bin` asks for bins.
     pub fn read_recorded(&self, input: &Input) -> Result<Log, String> {
-        let log = self.read_plain(input, &self.options()?)?;
+        let log = self.read_plain(input, &self.options()?, &Needs::default())?;
         match self.bin {
             Some(_) => self.resampled(log),
             None => Ok(log),
         }
     }
 
-    /// Reads a log as it was recorded, before [`LogArgs::resampled`] bins it (for a command
-    /// that needs the recorded rate as well as the binned log).
-    pub fn read_unresampled(&self, input: &Input) -> Result<Log, String> {
-        self.read_plain(input, &self.options()?)
+    /// Reads what a command `needs` of a log as it was recorded, before
+    /// [`LogArgs::resampled`] bins it (for a command that needs the recorded rate as well as
+    /// the binned log).
+    pub fn read_unresampled(&self, input: &Input, needs: &Needs) -> Result<Log, String> {
+        self.read_plain(input, &self.options()?, needs)
     }
 
     fn read_with(&self, input: &Input, opts: &ReadOptions) -> Result<Log, String> {
-        let log = self.read_plain(input, opts)?;
+        let log = self.read_plain(input, opts, &Needs::default())?;
         self.resampled(log)
     }
 
@@ -319,26 +322,40 @@ impl LogArgs {
         Ok(log)
     }
 
-    fn read_plain(&self, input: &Input, opts: &ReadOptions) -> Result<Log, String> {
+    fn read_plain(&self, input: &Input, opts: &ReadOptions, needs: &Needs) -> Result<Log, String> {
         // A drone or robot log, told by its first bytes (read from its file).
         if let Input::Path(path) = input
-            && let Some((log, _)) = super::log_source::read_drone_log(self, path, opts, true)?
+            && let Some((log, _)) =
+                super::log_source::read_drone_log(self, path, opts, needs.temperature)?
         {
             return Ok(log);
         }
-        let bar = progress_bar(&format!("reading {}", input.name()));
-        let log = input
-            .read(opts, &|f| {
-                if let Some(b) = &bar {
-                    b.set_position((f * 1000.0) as u64);
-                }
-                true
-            })
-            .map_err(|e| super::log_source::in_flags(&e.to_string()));
-        if let Some(b) = bar {
-            b.finish_and_clear();
+        let read = |needs: &Needs| {
+            let bar = progress_bar(&format!("reading {}", input.name()));
+            let log = input
+                .read_needing(opts, needs, &|f| {
+                    if let Some(b) = &bar {
+                        b.set_position((f * 1000.0) as u64);
+                    }
+                    true
+                })
+                .map_err(|e| super::log_source::in_flags(&e.to_string()));
+            if let Some(b) = bar {
+                b.finish_and_clear();
+            }
+            log
+        };
+        let mut log = read(needs)?;
+        // A channel asked for by name that the log does not hold: read again with every
+        // column, so that the message that says so lists every channel the log has.
+        if let Some(kept) = &needs.extras
+            && kept.names.iter().any(|n| log.channel(n).is_none())
+        {
+            log = read(&Needs {
+                extras: None,
+                ..needs.clone()
+            })?;
         }
-        let mut log = log?;
         super::log_source::problems_in_flags(&mut log);
         for p in &log.info.problems {
             // A problem of a whole column has no line.
@@ -438,6 +455,42 @@ impl<'a> Reads<'a> {
         }
         self
     }
+}
+
+/// Refuses, before anything is read, a stream given for two of a command's `logs`: standard
+/// input (`-`) twice, or one FIFO or device by two paths. A stream gives its bytes once: the
+/// second read of standard input found nothing ("the file is empty"), and the second open of a
+/// FIFO waited for a writer for ever.
+///
+/// # Errors
+/// The stream named, and how to give it twice: as a file.
+pub fn refuse_stream_twice(logs: &[&Path]) -> Result<(), CliError> {
+    let dash = Path::new("-");
+    if logs.iter().filter(|p| **p == dash).count() > 1 {
+        return Err(CliError::Message(
+            "standard input (`-`) can be given for one log only: it is read once, whole; save \
+             it to a file to give it twice"
+                .into(),
+        ));
+    }
+    let stream = |p: &Path| std::fs::metadata(p).is_ok_and(|m| !m.is_file() && !m.is_dir());
+    for (k, log) in logs.iter().enumerate() {
+        if *log == dash || !stream(log) {
+            continue;
+        }
+        if let Some(first) = logs[..k]
+            .iter()
+            .find(|p| driftlab::files::atomic::is_same_file(log, p))
+        {
+            return Err(CliError::Message(format!(
+                "{} is given for two logs (as {}): a FIFO or a device can be read once; save \
+                 what it gives to a file to give it twice",
+                log.display(),
+                first.display()
+            )));
+        }
+    }
+    Ok(())
 }
 
 /// The calibration file at `path`, of one axis or a unit, in the words its loader gives.

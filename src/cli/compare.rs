@@ -3,10 +3,11 @@
 use super::common::{self, CliError, LogArgs};
 use driftlab::judge::compare::{self, ModelReport, Outcome};
 use driftlab::judge::metrics::MeritOptions;
-use driftlab::models::presets::{CustomOptions, ModelChoice};
+use driftlab::log::ingest::{ExtraColumns, Needs};
+use driftlab::models::presets::{CustomOptions, ModelChoice, Preset};
 use driftlab::models::recipe::{CheckedRecipe, Recipe};
-use driftlab::models::regression::{DelaySpec, FitSamples, LagSpec};
-use std::path::PathBuf;
+use driftlab::models::regression::{DelaySpec, FitSamples, LagSpec, Term, terms};
+use std::path::{Path, PathBuf};
 
 /// Arguments of `compare`.
 #[derive(clap::Args, Debug)]
@@ -75,12 +76,23 @@ pub fn run(a: Args) -> Result<(), CliError> {
         filter_s: a.filter,
         window_s: a.window,
     };
-    let mut train = a.log_args.read_path(&a.train)?;
-    let mut tests = a
-        .test
-        .iter()
-        .map(|p| a.log_args.read_path(p))
-        .collect::<Result<Vec<_>, _>>()?;
+    let logs: Vec<&Path> = std::iter::once(&a.train)
+        .chain(&a.test)
+        .map(PathBuf::as_path)
+        .collect();
+    common::refuse_stream_twice(&logs)?;
+    // The columns the models read: a preset reads none but T (Sukhanov's every one), a custom
+    // model the channels it names.
+    let needs = Needs {
+        extras: extras_read(&choices),
+        ..Needs::default()
+    };
+    let read = |p: &PathBuf| {
+        let input = a.log_args.open(p)?;
+        a.log_args.read_needing(&input, &needs)
+    };
+    let mut train = read(&a.train)?;
+    let mut tests = a.test.iter().map(read).collect::<Result<Vec<_>, _>>()?;
     for log in std::iter::once(&train).chain(&tests) {
         common::check_merit(&merit, log)?;
     }
@@ -112,6 +124,32 @@ pub fn run(a: Args) -> Result<(), CliError> {
         }));
     }
     print_tables(&reports, &merit)
+}
+
+/// The extra columns `choices` read: the channels each model's terms name, and the other
+/// temperatures where a term reads a second sensor (a custom model's `dT`, guessed among them);
+/// `None`, every one, for Sukhanov's model, which makes a term of each extra channel, and for
+/// any model whose terms cannot be told before a log is read.
+fn extras_read(choices: &[ModelChoice]) -> Option<ExtraColumns> {
+    let mut kept = ExtraColumns::default();
+    // A preset's terms on a log of no column: Sukhanov's, which reads the log's every channel,
+    // has none to give.
+    let no_log = driftlab::Log::default();
+    for choice in choices {
+        if choice.is_vakhrameev() {
+            continue;
+        }
+        if *choice == ModelChoice::Preset(Preset::Sukhanov) {
+            return None;
+        }
+        let Ok(Some(spec)) = choice.spec(&no_log) else {
+            return None;
+        };
+        kept.names.extend(terms::channel_names(&spec.terms));
+        kept.names.extend(spec.temp2.clone());
+        kept.temperatures |= spec.terms.iter().any(Term::needs_temp2);
+    }
+    Some(kept)
 }
 
 /// The axes to compare on ([`common::chosen_axes`] of the training log).

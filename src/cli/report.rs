@@ -3,6 +3,7 @@
 use super::common::{self, CliError, LogArgs};
 use driftlab::export::report;
 use driftlab::files::calibration;
+use driftlab::log::ingest::{ExtraColumns, Needs};
 use std::path::{Path, PathBuf};
 
 /// Arguments of `report`.
@@ -30,12 +31,14 @@ pub struct Args {
 pub fn run(a: Args) -> Result<(), CliError> {
     let mut reads = common::Reads::of("the calibration", &a.calibration);
     common::refuse_folder_over("--out", &a.out, reads.add_all("a log", &a.logs))?;
+    let logs: Vec<&Path> = a.logs.iter().map(PathBuf::as_path).collect();
+    common::refuse_stream_twice(&logs)?;
     let unit = common::load_calibration(&a.calibration)?;
     let merit = report::UnitMerit {
         filter_s: a.filter,
         window_s: a.window,
     };
-    let (mut logs, hashes) = read_logs(&a, |path, log| {
+    let (mut logs, hashes) = read_logs(&a, &unit, |path, log| {
         common::refuse_guessed_axis(&unit, &a.log_args, (path, log), &a.calibration)?;
         super::evaluate::unit_axes(log, &unit, &a.calibration)?;
         for ax in &unit.axes {
@@ -89,17 +92,32 @@ fn print_single(summary: &report::UnitReportSummary) -> Result<(), CliError> {
 /// The report's logs, each with the path it was read from.
 type LogsRead = Vec<(PathBuf, driftlab::Log)>;
 
-/// Reads every log of the report (every column: the temperature figure draws the log's other
-/// temperatures), each checked by `check`, with the SHA-256 of each file as read.
+/// Reads every log of the report, each checked by `check`, with the SHA-256 of each file as
+/// read: the columns `unit`'s models read, and the log's other temperatures, which the
+/// temperature figure draws; no other column is parsed or held.
 fn read_logs(
     a: &Args,
+    unit: &driftlab::UnitCalibration,
     check: impl Fn(&Path, &driftlab::Log) -> Result<(), CliError>,
 ) -> Result<(LogsRead, Vec<String>), CliError> {
+    let mut kept = ExtraColumns {
+        temperatures: true,
+        ..ExtraColumns::default()
+    };
+    for ax in &unit.axes {
+        let (temp2, channels) = ax.model.inputs();
+        kept.names.extend(temp2);
+        kept.names.extend(channels);
+    }
+    let needs = Needs {
+        extras: Some(kept),
+        ..Needs::default()
+    };
     let mut logs = Vec::with_capacity(a.logs.len());
     let mut hashes = Vec::with_capacity(a.logs.len());
     for path in &a.logs {
         let input = a.log_args.open(path)?;
-        let log = a.log_args.read(&input)?;
+        let log = a.log_args.read_needing(&input, &needs)?;
         check(path, &log)?;
         logs.push((path.clone(), log));
         hashes.push(calibration::sha256_input(&input).unwrap_or_default());

@@ -83,6 +83,23 @@ impl Channel {
     pub fn is_accelerometer_m_s2(&self) -> bool {
         self.is_accelerometer() && self.unit == ACCEL_UNIT_M_S2
     }
+
+    /// The factor that takes an accelerometer axis from the unit it is kept in to m/s² (what
+    /// Kalibr's noise model and every SI figure read): 1 for m/s², the standard gravity
+    /// 9.80665 m/s² for g (ISO 80000-3, the CGPM's of 1901), a thousandth of it for mg. `None`
+    /// for a channel that is no accelerometer, or one whose name says no unit.
+    pub fn accelerometer_to_m_s2(&self) -> Option<f64> {
+        const STANDARD_GRAVITY_M_S2: f64 = 9.80665;
+        if !self.is_accelerometer() {
+            return None;
+        }
+        match self.unit.as_str() {
+            ACCEL_UNIT_M_S2 => Some(1.0),
+            "g" => Some(STANDARD_GRAVITY_M_S2),
+            "mg" => Some(STANDARD_GRAVITY_M_S2 / 1000.0),
+            _ => None,
+        }
+    }
 }
 
 /// What the reader found: dialect, column mapping with units, and problems.

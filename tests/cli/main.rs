@@ -6,6 +6,7 @@
 mod common;
 
 mod allan;
+mod allan_inputs;
 mod attack;
 mod axis_choice;
 mod commands;
@@ -16,6 +17,7 @@ mod kalibr;
 mod output_hashes;
 mod overwrite_inputs;
 mod quoting;
+mod reading;
 mod real_logs;
 mod report_escaping;
 mod report_folder;

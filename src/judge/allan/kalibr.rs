@@ -9,6 +9,11 @@
 //! | `accelerometer_noise_density` | velocity random walk | m/s²/√Hz |
 //! | `accelerometer_random_walk` | acceleration random walk | m/s³/√Hz |
 //!
+//! The accelerometer axes come in m/s²: a log's axes in g or mg are taken there with the
+//! standard gravity ([`crate::log::Channel::accelerometer_to_m_s2`]), and axes whose unit the
+//! log does not say are left out and named in the file
+//! ([`KalibrNoise::accelerometers_without_unit`]).
+//!
 //! Kalibr takes one number per sensor for all three axes: each is the largest over the axes
 //! the log holds (the noisiest axis, the cautious choice), and the file says which axis and
 //! which τ range it was read from. A value the curve does not show (no −1/2 or +1/2 region)
@@ -64,8 +69,13 @@ pub struct KalibrSensor {
 pub struct KalibrNoise {
     /// The gyro's pair.
     pub gyroscope: KalibrSensor,
-    /// The accelerometer's pair, when the log has accelerometer axes.
+    /// The accelerometer's pair, when the log has accelerometer axes in a unit it says (g
+    /// and mg converted to m/s² with the standard gravity).
     pub accelerometer: Option<KalibrSensor>,
+    /// The log's accelerometer axes whose unit their names do not say (`acc_x`), left out of
+    /// the pair: the file names them rather than saying the log has no accelerometer.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub accelerometers_without_unit: Vec<String>,
     /// The sampling rate, Hz (1/τ0, to a millionth of a hertz).
     pub update_rate_hz: f64,
     /// The IMU's ROS topic.
@@ -225,7 +235,8 @@ fn sensor_pair(sensor: Sensor, axes: &[AxisReadouts]) -> KalibrSensor {
 }
 
 /// Kalibr's values from the read-outs of the gyro axes (°/h) and of the accelerometer axes
-/// (m/s², none when the log has no accelerometer).
+/// (m/s², none when the log has no accelerometer in a unit it says: the caller lists those it
+/// has in [`KalibrNoise::accelerometers_without_unit`]).
 pub fn kalibr_noise(
     gyro: &[AxisReadouts],
     accel: &[AxisReadouts],
@@ -235,6 +246,7 @@ pub fn kalibr_noise(
     KalibrNoise {
         gyroscope: sensor_pair(Sensor::Gyroscope, gyro),
         accelerometer: (!accel.is_empty()).then(|| sensor_pair(Sensor::Accelerometer, accel)),
+        accelerometers_without_unit: Vec::new(),
         update_rate_hz: update_rate_hz(tau0_s),
         rostopic: rostopic.to_string(),
     }
@@ -288,10 +300,20 @@ pub fn imu_yaml(noise: &KalibrNoise, source: &str) -> Result<String, KalibrError
         env!("CARGO_PKG_VERSION")
     );
     if noise.accelerometer.is_none() {
-        out.push_str(
-            "# the log has no accelerometer: add accelerometer_noise_density and \
-             accelerometer_random_walk before giving this file to Kalibr\n",
-        );
+        if noise.accelerometers_without_unit.is_empty() {
+            out.push_str(
+                "# the log has no accelerometer: add accelerometer_noise_density and \
+                 accelerometer_random_walk before giving this file to Kalibr\n",
+            );
+        } else {
+            out.push_str(&format!(
+                "# the accelerometer columns {} do not say their unit (m/s^2, g or mg in the \
+                 name, as acc_x_g), so their noise is not read: name the unit and run again, or \
+                 add accelerometer_noise_density and accelerometer_random_walk before giving \
+                 this file to Kalibr\n",
+                yaml_comment(&noise.accelerometers_without_unit.join(", "))
+            ));
+        }
     }
     let line = |out: &mut String, e: &KalibrEntry, what: &str| {
         if let Some(v) = &e.value {

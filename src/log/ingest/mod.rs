@@ -58,7 +58,9 @@
 //! # Speed
 //!
 //! Files are never held whole in memory (a stream that can be read only once, standard input
-//! or a FIFO, is: see [`Input`]): they are read in blocks of a few MB cut at line ends, parsed in parallel (rayon) and stitched together in order, with exact line numbers.
+//! or a FIFO, is, up to [`MAX_STREAM_BYTES`]: see [`Input`]): they are read in blocks of a few
+//! MB cut at line ends, parsed in parallel (rayon) and stitched together in order, with exact
+//! line numbers. Only the columns the caller uses are parsed and held ([`Needs`]).
 //! Plain numeric rows take a fast path (memchr + fast-float); quoted, blank or odd rows a
 //! careful one; a file whose quoted fields span lines is read again sequentially.
 
@@ -234,6 +236,60 @@ pub struct ReadOptions {
     pub skip_extras: bool,
 }
 
+/// What a caller uses of a log besides its time and rate, so that a read parses and holds no
+/// more: which extra columns, and whether the temperature. A choice of the caller, not of the
+/// file (recipes do not store it), beside the [`ReadOptions`] that say how to read the file.
+///
+/// The default is every column, and a temperature on every row, as [`Input::read`] reads.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Needs {
+    /// Whether the log must have a calibration temperature, as every fit and judgement does.
+    /// Without it (`false`: the noise analysis of `driftlab allan`, which reads the rate alone),
+    /// a log with no temperature column is read with NaN for one, and a blank or NaN (or
+    /// unreadable) temperature cell is NaN in a row that is kept, where it would drop the row.
+    pub temperature: bool,
+    /// The extra columns kept: `None`, every one (unless [`ReadOptions::skip_extras`] leaves
+    /// them all out); else only those [`ExtraColumns`] names, the others neither parsed nor
+    /// held (listed as ignored, as `skip_extras` lists them).
+    pub extras: Option<ExtraColumns>,
+}
+
+impl Default for Needs {
+    fn default() -> Needs {
+        Needs {
+            temperature: true,
+            extras: None,
+        }
+    }
+}
+
+/// The extra columns a caller keeps when it uses only some of a log's ([`Needs::extras`]).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct ExtraColumns {
+    /// Columns by their header name: the channels a model reads, its second temperature.
+    pub names: Vec<String>,
+    /// Every accelerometer axis ([`names_an_accelerometer`]): Kalibr's noise model reads them.
+    pub accelerometers: bool,
+    /// Every other temperature: a column whose name says `temp` or that is kept in °C (or in
+    /// `degC`, `C`), the columns the report's temperature figure draws and among which a model
+    /// guesses its second sensor.
+    pub temperatures: bool,
+}
+
+impl ExtraColumns {
+    /// Whether the extra column `name`, kept in `unit`, is one of these.
+    pub fn keeps(&self, name: &str, unit: &str) -> bool {
+        let u = unit.to_lowercase();
+        self.names.iter().any(|n| n == name)
+            || (self.accelerometers && names_an_accelerometer(name))
+            || (self.temperatures
+                && (name.to_lowercase().contains("temp")
+                    || u.contains("°c")
+                    || u == "degc"
+                    || u == "c"))
+    }
+}
+
 /// Whether a column's name reads as an accelerometer axis (`ax_g`, `acc_x`, `accel_x_m_s2`,
 /// `linear_acceleration_x`), as `inspect` marks such a kept column.
 pub fn names_an_accelerometer(name: &str) -> bool {
@@ -319,7 +375,7 @@ pub struct Preview {
 /// ([`Input::bytes`]).
 ///
 /// A stream is held in memory while it is read (its size and about as much again for the
-/// columns); a file is not.
+/// columns), and is read up to [`MAX_STREAM_BYTES`]; a file is not held.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum Input {
     /// A regular file (or a path that is not there or is a folder, which the read reports).
@@ -336,6 +392,24 @@ pub enum Input {
 /// The first bytes of a stream, looked at before the rest is read: a stream that starts with a
 /// NUL byte (`/dev/zero`, random bytes) is binary and is not read on forever.
 const STREAM_HEAD: usize = 64 << 10;
+
+/// The most a stream (standard input, a FIFO, a device) may give: 1 GiB. A stream that gives
+/// more is refused at that point, with the bound and how to read a larger log: as a file.
+///
+/// Why this bound: a file is neither held nor memory-mapped. The reader takes it in blocks of
+/// 4 MiB cut at line ends, a few blocks in flight at a time, and keeps only the columns it
+/// parses, 8 bytes a value: whatever the file's size, its read holds its used columns and a few
+/// MB of text. A stream cannot be opened again (to sniff, to read, to read again sequentially),
+/// so its text is held whole, on top of those same columns. A row's text is about as long as
+/// its columns are wide (the bundled `0,-0.2554,20.000,20.000` is 24 bytes, its four values
+/// 32; 30 bytes a row of three columns in the benchmarks' 10-million-row log), so a stream's
+/// read holds about its own size more than a file read of the same log keeps. The bound is
+/// what a file read of the longest everyday logs keeps: 1 GiB of text is about 36 million rows
+/// of time, rate and temperature (10 hours at 1 kHz), whose three columns take 0.8 GiB; a
+/// stream up to that size costs at most about twice its file read, and a longer log is read as
+/// a file, at the cost of its columns alone. Without a bound, an endless stream
+/// (`yes 1,0.1,20 | driftlab inspect -`) was read until an allocation failed, at 2.1 GB.
+pub const MAX_STREAM_BYTES: u64 = 1 << 30;
 
 impl Input {
     /// Opens `path`: `-` is standard input; a FIFO, a device or a socket is read whole now;
@@ -358,16 +432,57 @@ impl Input {
         }
     }
 
-    fn read_stream(name: String, mut r: impl Read) -> Result<Input, IngestError> {
+    fn read_stream(name: String, r: impl Read) -> Result<Input, IngestError> {
+        Input::read_stream_within(name, r, MAX_STREAM_BYTES)
+    }
+
+    /// [`Input::read_stream`] with a bound of `limit` bytes.
+    fn read_stream_within(
+        name: String,
+        mut r: impl Read,
+        limit: u64,
+    ) -> Result<Input, IngestError> {
         let fail = |e: std::io::Error| Fail::file(format!("cannot read: {e}")).at(&name);
         let mut bytes = Vec::new();
         (&mut r)
-            .take(STREAM_HEAD as u64)
+            .take(STREAM_HEAD.min(limit as usize) as u64)
             .read_to_end(&mut bytes)
             .map_err(fail)?;
         // A binary head is refused by the reader from what is here already.
-        if memchr::memchr(0, &bytes).is_none() {
-            r.read_to_end(&mut bytes).map_err(fail)?;
+        if memchr::memchr(0, &bytes).is_some() {
+            return Ok(Input::Bytes { name, bytes });
+        }
+        let limit = usize::try_from(limit).unwrap_or(usize::MAX);
+        let mut block = vec![0u8; 1 << 16];
+        loop {
+            let n = match r.read(&mut block) {
+                Ok(0) => break,
+                Ok(n) => n,
+                Err(e) if e.kind() == std::io::ErrorKind::Interrupted => continue,
+                Err(e) => return Err(fail(e)),
+            };
+            if n > limit - bytes.len() {
+                return Err(Fail::file(format!(
+                    "more than {}: a log from standard input, a pipe or a device is held in \
+                     memory whole while it is read, and at most {0} of it is read; give a \
+                     larger log as a file (save the stream to one), which is read in blocks and \
+                     never held whole",
+                    size_in_words(limit)
+                ))
+                .at(&name));
+            }
+            if bytes.capacity() - bytes.len() < n {
+                // Grown by half at a time, never past the bound: an allocation of twice the
+                // bound (a Vec's doubling) is not made for a stream the bound refuses.
+                let to = (bytes.capacity() + bytes.capacity() / 2)
+                    .max(bytes.len() + n)
+                    .max(1 << 20)
+                    .min(limit);
+                bytes
+                    .try_reserve_exact(to - bytes.len())
+                    .map_err(|e| Fail::file(format!("cannot hold the stream: {e}")).at(&name))?;
+            }
+            bytes.extend_from_slice(&block[..n]);
         }
         Ok(Input::Bytes { name, bytes })
     }
@@ -398,12 +513,27 @@ impl Input {
         opts: &ReadOptions,
         progress: &(dyn Fn(f64) -> bool + Sync),
     ) -> Result<Log, IngestError> {
+        self.read_needing(opts, &Needs::default(), progress)
+    }
+
+    /// Reads what the caller `needs` of the log (the extra columns it uses, whether it must
+    /// have a temperature): the other columns are neither parsed nor held. As [`Input::read`]
+    /// otherwise.
+    ///
+    /// # Errors
+    /// As [`read_path_with_progress`].
+    pub fn read_needing(
+        &self,
+        opts: &ReadOptions,
+        needs: &Needs,
+        progress: &(dyn Fn(f64) -> bool + Sync),
+    ) -> Result<Log, IngestError> {
         let name = self.name();
         let src = match self {
             Input::Path(p) => read::Src::Path(p),
             Input::Bytes { bytes, .. } => read::Src::Bytes(bytes),
         };
-        read::read(src, &name, opts, progress).map_err(|f| f.at(&name))
+        read::read(src, &name, opts, needs, progress).map_err(|f| f.at(&name))
     }
 
     /// Reads the input as a rate series of one column ([`read_rate_series`]).
@@ -455,7 +585,14 @@ pub fn read_path_with_progress(
 /// # Errors
 /// As [`read_path`].
 pub fn read_bytes(source: &str, bytes: &[u8], opts: &ReadOptions) -> Result<Log, IngestError> {
-    read::read(read::Src::Bytes(bytes), source, opts, &|_| true).map_err(|f| f.at(source))
+    read::read(
+        read::Src::Bytes(bytes),
+        source,
+        opts,
+        &Needs::default(),
+        &|_| true,
+    )
+    .map_err(|f| f.at(source))
 }
 
 /// Sniffs a log file and shows what a read would do, reading only its first lines.
@@ -479,4 +616,51 @@ pub fn preview_bytes(
     max_rows: usize,
 ) -> Result<Preview, IngestError> {
     read::preview(read::Src::Bytes(bytes), opts, max_rows).map_err(|f| f.at(source))
+}
+
+/// A size in bytes as a person says it: `1 GiB`, `64 KiB`, `100 bytes`.
+fn size_in_words(bytes: usize) -> String {
+    match bytes {
+        b if b >= 1 << 30 && b % (1 << 30) == 0 => format!("{} GiB", b >> 30),
+        b if b >= 1 << 20 && b % (1 << 20) == 0 => format!("{} MiB", b >> 20),
+        b if b >= 1 << 10 && b % (1 << 10) == 0 => format!("{} KiB", b >> 10),
+        b => format!("{b} bytes"),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_stream_is_read_up_to_its_bound_and_refused_past_it() {
+        let log = "time_s,omega_dph,temp_c\n0,0.1,20\n1,0.2,20\n";
+        let n = log.len() as u64;
+        // At the bound, read whole; a byte more, refused with the bound.
+        let at = Input::read_stream_within("s".into(), log.as_bytes(), n).unwrap();
+        assert_eq!(at.bytes(), Some(log.as_bytes()));
+        let past = Input::read_stream_within("s".into(), log.as_bytes(), n - 1).unwrap_err();
+        assert!(
+            past.message.contains(&format!("more than {} bytes", n - 1))
+                && past.message.contains("as a file"),
+            "{past}"
+        );
+        // Past a head, and in the reads of a reader that gives a few bytes at a time.
+        let long = log.repeat(5000);
+        struct Trickle<'a>(&'a [u8]);
+        impl Read for Trickle<'_> {
+            fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+                let n = buf.len().min(7).min(self.0.len());
+                buf[..n].copy_from_slice(&self.0[..n]);
+                self.0 = &self.0[n..];
+                Ok(n)
+            }
+        }
+        let trickle = Trickle(long.as_bytes());
+        let read = Input::read_stream_within("s".into(), trickle, long.len() as u64).unwrap();
+        assert_eq!(read.bytes(), Some(long.as_bytes()));
+        let e = Input::read_stream_within("s".into(), long.as_bytes(), 80 << 10).unwrap_err();
+        assert!(e.to_string().starts_with("s: more than 80 KiB"), "{e}");
+        assert_eq!(size_in_words(MAX_STREAM_BYTES as usize), "1 GiB");
+    }
 }

@@ -5,11 +5,113 @@
 //! parsed in parallel: line numbers inside a [`Chunk`] are relative to the block's first
 //! line, and the reader adds the block's offset when it stitches chunks together in order.
 
-use super::Fail;
-use super::columns::{Action, Plan, TimeSource};
-use super::sniff::{Delim, Unterminated, is_skippable, split_fields, strip_cr};
+use super::columns::{Action, Plan, SLOT_TEMP, SLOT_TIME, TimeSource, plan};
+use super::sniff::{ColStats, Delim, Sniffed, Unterminated, is_skippable, split_fields, strip_cr};
+use super::{ColumnRef, ExtraColumns, Fail, Needs, ReadOptions};
+use crate::log::ColumnRole;
 use memchr::{memchr, memchr2};
 use std::borrow::Cow;
+
+/// The plan a read parses by: the roles [`plan`] gives the columns, narrowed to what the caller
+/// `needs`, so that the columns it does not use are neither parsed nor held.
+///
+/// Without a temperature ([`Needs::temperature`] false), the temperature cell is not required
+/// (a blank or NaN one is NaN in a row that is kept), and a log with no temperature column is
+/// read with NaN for one; with [`Needs::extras`], the extra columns not named there are skipped.
+pub(crate) fn plan_for(sn: &Sniffed, opts: &ReadOptions, needs: &Needs) -> Result<Plan, Fail> {
+    let mut plan = match plan(sn, opts) {
+        Ok(p) => p,
+        // A temperature named by the option is the engineer's: its absence is told.
+        Err(e) if !needs.temperature && opts.temp_col.is_none() => {
+            without_temperature(sn, opts).ok_or(e)?
+        }
+        Err(e) => return Err(e),
+    };
+    if !needs.temperature {
+        for action in &mut plan.actions {
+            if let Action::Parse {
+                slot: SLOT_TEMP,
+                required,
+                ..
+            } = action
+            {
+                *required = false;
+            }
+        }
+    }
+    if let Some(kept) = &needs.extras {
+        keep_only(&mut plan, kept);
+    }
+    Ok(plan)
+}
+
+/// The plan of a log that has no temperature column, for a caller that needs none: the plan of
+/// the same columns with a stand-in temperature column after the last, mapped to the
+/// temperature, then taken out again. The temperature's slot is then read from no column, and
+/// holds NaN ([`Parser::blank_row`]). `None` when the columns cannot be mapped even so (the
+/// reason was not the temperature).
+fn without_temperature(sn: &Sniffed, opts: &ReadOptions) -> Option<Plan> {
+    let n = sn.names.len();
+    let mut with = sn.clone();
+    with.names.push("temperature".into());
+    with.named.push(false);
+    with.stats.push(ColStats::default());
+    let opts = ReadOptions {
+        temp_col: Some(ColumnRef::Index(n + 1)),
+        ..opts.clone()
+    };
+    let mut plan = plan(&with, &opts).ok()?;
+    plan.columns.truncate(n);
+    plan.actions.truncate(n);
+    while matches!(plan.actions.last(), Some(Action::Skip)) {
+        plan.actions.pop();
+    }
+    *plan.slot_col.get_mut(SLOT_TEMP)? = None;
+    Some(plan)
+}
+
+/// Skips the extra columns of `plan` that `kept` does not name, as `skip_extras` skips every
+/// one: their actions become [`Action::Skip`], their columns are listed as ignored, and the
+/// slots of the kept ones close up after the gyro axes'.
+fn keep_only(plan: &mut Plan, kept: &ExtraColumns) {
+    let first = SLOT_TEMP + 1 + plan.axes.len();
+    if plan.slot_col.len() != first + plan.extras.len() {
+        // Not the layout `plan` makes: every column is kept rather than a wrong one read.
+        return;
+    }
+    let mut new_slot: Vec<Option<usize>> = (0..first).map(Some).collect();
+    let mut slot_col = plan.slot_col[..first].to_vec();
+    let mut extras = Vec::new();
+    for (k, (name, unit)) in std::mem::take(&mut plan.extras).into_iter().enumerate() {
+        if kept.keeps(&name, &unit) {
+            new_slot.push(Some(slot_col.len()));
+            slot_col.push(plan.slot_col[first + k]);
+            extras.push((name, unit));
+        } else {
+            new_slot.push(None);
+        }
+    }
+    for (j, action) in plan.actions.iter_mut().enumerate() {
+        if let Action::Parse { slot, .. } = action {
+            match new_slot.get(*slot).copied().flatten() {
+                Some(s) => *slot = s,
+                None => {
+                    *action = Action::Skip;
+                    if let Some(c) = plan.columns.get_mut(j) {
+                        c.role = ColumnRole::Ignored;
+                        c.unit.clear();
+                    }
+                }
+            }
+        }
+    }
+    while matches!(plan.actions.last(), Some(Action::Skip)) {
+        plan.actions.pop();
+    }
+    plan.nslots = slot_col.len();
+    plan.slot_col = slot_col;
+    plan.extras = extras;
+}
 
 /// How one cell reads.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -292,6 +394,18 @@ pub(crate) struct Parser<'a> {
 }
 
 impl Parser<'_> {
+    /// The values a row starts from: NaN in a slot no column of the file fills (the
+    /// temperature of a log read without one), which no row overwrites; 0 elsewhere, each
+    /// overwritten by its cell (a time from the row index by its row).
+    pub(crate) fn blank_row(&self) -> Vec<f64> {
+        (0..self.plan.nslots)
+            .map(|slot| match self.plan.slot_col.get(slot) {
+                Some(None) if slot != SLOT_TIME => f64::NAN,
+                _ => 0.0,
+            })
+            .collect()
+    }
+
     /// Parses a block of whole lines; line numbers in the result are relative to its start.
     /// `spare` hands out recycled column vectors (so fresh pages are not faulted in again
     /// for every block).
@@ -322,7 +436,7 @@ impl Parser<'_> {
         // Quotes anywhere in the block: every line with one takes the careful path.
         let quoted = memchr(b'"', data).is_some();
         let row_index = matches!(self.plan.time, TimeSource::RowIndex { .. });
-        let mut vals = vec![0.0; self.plan.nslots];
+        let mut vals = self.blank_row();
         let mut fields: Vec<Cow<'_, [u8]>> = Vec::new();
         let mut pos = 0;
         let mut rel = 0;

@@ -9,11 +9,11 @@
 
 use super::checks::finish;
 use super::columns::{SLOT_TIME, TimeSource, plan};
-use super::parse::{Chunk, Noticed, Parser, Stop};
+use super::parse::{Chunk, Noticed, Parser, Stop, plan_for};
 use super::sniff::{
     MAX_LINE_BYTES, Sniffed, Unterminated, is_skippable, read_head, sniff, split_fields, strip_cr,
 };
-use super::{Fail, Preview, ReadOptions};
+use super::{Fail, Needs, Preview, ReadOptions};
 use crate::log::Log;
 use memchr::memrchr;
 use rayon::prelude::*;
@@ -230,21 +230,22 @@ fn cancelled() -> Fail {
     Fail::file("cancelled")
 }
 
-/// Reads a whole log.
+/// Reads a whole log, or what the caller `needs` of it.
 pub(crate) fn read(
     src: Src<'_>,
     source: &str,
     opts: &ReadOptions,
+    needs: &Needs,
     progress: &(dyn Fn(f64) -> bool + Sync),
 ) -> Result<Log, Fail> {
-    read_blocks(src, source, opts, progress, BLOCK_BYTES)
+    read_blocks(src, source, (opts, needs), progress, BLOCK_BYTES)
 }
 
 /// [`read`] with a given block size (tests use tiny blocks to cross many boundaries).
 fn read_blocks(
     src: Src<'_>,
     source: &str,
-    opts: &ReadOptions,
+    (opts, needs): (&ReadOptions, &Needs),
     progress: &(dyn Fn(f64) -> bool + Sync),
     block_bytes: usize,
 ) -> Result<Log, Fail> {
@@ -252,7 +253,7 @@ fn read_blocks(
     let (head, eof) = read_head(&mut *src.open_at(0)?, HEAD_LINES).map_err(io_fail)?;
     let sn = sniff(&head, eof, opts, 0)?;
     drop(head);
-    let plan = plan(&sn, opts)?;
+    let plan = plan_for(&sn, opts, needs)?;
     let parser = Parser {
         plan: &plan,
         delim: sn.delim,
@@ -394,7 +395,7 @@ fn general(pass: &Pass<'_>, acc: &mut Acc) -> Result<(), Fail> {
     let mut rdr = BufReader::with_capacity(1 << 20, src.open_at(sn.data_start)?);
     let nslots = parser.plan.nslots;
     let mut chunk = Chunk::new(nslots, 0);
-    let mut vals = vec![0.0; nslots];
+    let mut vals = parser.blank_row();
     let mut rec: Vec<u8> = Vec::new();
     let mut line = sn.data_first_line;
     let mut done_bytes = sn.data_start as u64;
@@ -500,7 +501,7 @@ mod tests {
         read_blocks(
             Src::Bytes(text.as_bytes()),
             "t",
-            &ReadOptions::default(),
+            (&ReadOptions::default(), &Needs::default()),
             &|_| true,
             block,
         )
