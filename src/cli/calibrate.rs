@@ -280,6 +280,7 @@ pub fn run(a: Args) -> Result<(), CliError> {
         recipe
             .one_sample_windows(log.nominal_dt_s(), &log.source)
             .iter()
+            .chain(&recipe.plateaus_beyond(&log))
             .map(common::in_option_words),
     );
     // The axes of a unit, each with its plan; a log of one axis is a unit of one unnamed axis.

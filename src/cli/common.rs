@@ -710,6 +710,7 @@ pub fn in_option_words(e: &driftlab::error::Invalid) -> String {
         "deadband_tdot" => "--deadband-tdot",
         "deadband_tddot" => "--deadband-tddot",
         "gyro_id" => "--gyro-id",
+        "plateaus" => "--plateau",
         f if f.ends_with(".knots") => "--knots",
         _ => return super::log_source::in_flags(&e.to_string()),
     };

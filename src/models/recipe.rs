@@ -347,6 +347,42 @@ impl Recipe {
         .collect()
     }
 
+    /// The plateaus given by hand that reach past either end of `log` (a typing slip, a
+    /// time in ms, a range saved from a longer run): each is taken only over the samples it
+    /// covers, and its length as typed would hide how fast T moves over what it covers, so
+    /// the engineer hears of each, named with the log's span.
+    pub fn plateaus_beyond(&self, log: &crate::log::Log) -> Vec<Invalid> {
+        let (Some(&first), Some(&last)) = (log.time_s.first(), log.time_s.last()) else {
+            return Vec::new();
+        };
+        let PlateauChoice::Manual { ranges } = &self.plateaus else {
+            return Vec::new();
+        };
+        let slack = log.nominal_dt_s();
+        let r = crate::number::readable;
+        ranges
+            .iter()
+            .filter(|p| p.start_s < first - slack || p.end_s > last + slack)
+            .filter(|p| p.end_s >= first && p.start_s <= last)
+            .take(8)
+            .map(|p| {
+                Invalid::new(
+                    "plateaus",
+                    format!(
+                        "plateau {}:{} s reaches past the log {} ({} .. {} s): it is taken                          over {} .. {} s; check the range",
+                        r(p.start_s),
+                        r(p.end_s),
+                        log.source,
+                        r(first),
+                        r(last),
+                        r(p.start_s.max(first)),
+                        r(p.end_s.min(last))
+                    ),
+                )
+            })
+            .collect()
+    }
+
     /// The five approximation choices with their names.
     pub fn specs(&self) -> [(&'static str, ApproxSpec); 5] {
         [

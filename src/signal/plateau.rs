@@ -54,7 +54,7 @@ pub enum PlateauRangeError {
         /// The part that is not a number.
         value: String,
     },
-    /// A start at or after the end (or not finite).
+    /// A start at or after the end.
     #[error("plateau \"{text}\": the start must come before the end")]
     Reversed {
         /// The text given.
@@ -70,16 +70,19 @@ impl std::str::FromStr for PlateauRange {
         let (a, b) = s
             .split_once(':')
             .ok_or_else(|| PlateauRangeError::NotARange { text: text() })?;
+        // `inf` and `nan` parse as floats, and are no number of seconds either.
         let parse = |v: &str| {
             v.trim()
                 .parse::<f64>()
-                .map_err(|_| PlateauRangeError::NotSeconds {
+                .ok()
+                .filter(|x| x.is_finite())
+                .ok_or_else(|| PlateauRangeError::NotSeconds {
                     text: text(),
                     value: v.to_string(),
                 })
         };
         let (start_s, end_s) = (parse(a)?, parse(b)?);
-        if !(start_s.is_finite() && end_s.is_finite() && start_s < end_s) {
+        if start_s >= end_s {
             return Err(PlateauRangeError::Reversed { text: text() });
         }
         Ok(PlateauRange { start_s, end_s })

@@ -536,3 +536,38 @@ fn rates_whose_history_is_most_of_the_log_are_refused_by_name() {
         &out,
     ]);
 }
+
+/// A plateau typed with a bound that is no number of seconds is refused for that reason, and
+/// one that reaches past the log is taken over what it covers, and said so.
+#[test]
+fn a_plateau_past_the_log_or_of_no_number_is_told_as_such() {
+    let dir = tempfile::tempdir().unwrap();
+    let log = sample("calibration.csv");
+    let out = p(dir.path(), "c.json");
+    for bad in ["3708:inf", "nan:7237", "3708:-inf"] {
+        let e = fails(&["calibrate", &log, "--plateau", bad, "-o", &out]);
+        assert!(e.contains("is not a number of seconds"), "{bad}: {e}");
+    }
+    let run = driftlab(&[
+        "calibrate",
+        &log,
+        "--plateau",
+        "3708:7237",
+        "--plateau",
+        "38592:1e300",
+        "-o",
+        &out,
+    ]);
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert!(
+        stderr.contains("plateau 38592:1e300 s reaches past the log")
+            && stderr.contains("taken over 38592 .. 40200 s")
+            && stderr.contains("(--plateau)"),
+        "{stderr}"
+    );
+}

@@ -789,3 +789,47 @@ fn garbage_inside_a_dataflash_log_is_skipped_and_reported() {
     assert_eq!(p.offset, Some(first_imu as u64));
     assert!(p.message.starts_with("37 byte(s)"), "{}", p.message);
 }
+
+/// An ArduPilot DataFlash log whose IMU messages give an instance over 255 (a two-byte `I`
+/// field): those messages name no IMU and are skipped and told, never folded onto instance 0.
+#[test]
+fn a_dataflash_instance_over_a_byte_is_skipped_and_told() {
+    fn fmt(ty: u8, length: u8, name: &str, form: &str, labels: &str) -> Vec<u8> {
+        let mut b = vec![0xA3, 0x95, 0x80, ty, length];
+        let field = |s: &str, n: usize| {
+            let mut v = s.as_bytes().to_vec();
+            v.resize(n, 0);
+            v
+        };
+        b.extend(field(name, 4));
+        b.extend(field(form, 16));
+        b.extend(field(labels, 64));
+        b
+    }
+    let mut b = fmt(0x80, 89, "FMT", "BBnNZ", "Type,Length,Name,Format,Columns");
+    b.extend(fmt(
+        0x82,
+        3 + 8 + 2 + 4 * 7,
+        "IMU",
+        "QHfffffff",
+        "TimeUS,I,GyrX,GyrY,GyrZ,AccX,AccY,AccZ,T",
+    ));
+    for k in 0..400u64 {
+        for (inst, w) in [(0u16, 0.001f32), (256, 0.5)] {
+            b.extend([0xA3, 0x95, 0x82]);
+            b.extend((100_000_000 + k * 1_000_000).to_le_bytes());
+            b.extend(inst.to_le_bytes());
+            for v in [w, w, w, 0.0, 0.0, 9.8, 25.0] {
+                b.extend(v.to_le_bytes());
+            }
+        }
+    }
+    let rec = formats::read_bytes("wide.bin", &b).unwrap();
+    assert_eq!(rec.instances.len(), 1, "{:?}", rec.instances);
+    let p = rec
+        .problems
+        .iter()
+        .find(|p| p.message.contains("instance number over 255"))
+        .expect("the skipped messages are told");
+    assert!(p.message.starts_with("400 IMU messages"), "{}", p.message);
+}

@@ -214,6 +214,8 @@ pub(crate) fn read(data: &[u8]) -> Result<Read, Broken> {
     let mut layouts: Vec<Option<ImuLayout>> = vec![None; 256];
     let mut rows: std::collections::BTreeMap<u8, Rows> = Default::default();
     let mut problems = Vec::new();
+    // IMU messages whose instance is over a byte: how many, and where the first was.
+    let mut wide_instances: (usize, Option<usize>) = (0, None);
     let mut skipped = Skipped::default();
     let mut pos = 0usize;
     while pos < data.len() {
@@ -275,10 +277,18 @@ pub(crate) fn read(data: &[u8]) -> Result<Read, Broken> {
                 }
             }
         } else if let Some(l) = &layouts[usize::from(ty)] {
-            let inst = l
+            // An instance number is a byte in every ArduPilot log; a wider field that holds
+            // more names no IMU, and folding it onto a byte would merge it into another's.
+            let Ok(inst) = l
                 .instance
                 .and_then(|f| integer(m, f))
-                .map_or(l.default_instance, |i| i as u8);
+                .map_or(Ok(l.default_instance), u8::try_from)
+            else {
+                wide_instances.0 += 1;
+                wide_instances.1.get_or_insert(pos);
+                pos += length;
+                continue;
+            };
             let r = rows.entry(inst).or_default();
             let t = integer(m, (l.time.0, l.time.1)).unwrap_or(0);
             r.time
@@ -297,6 +307,15 @@ pub(crate) fn read(data: &[u8]) -> Result<Read, Broken> {
     }
     if let Some(p) = skipped.problem() {
         problems.push(p);
+    }
+    if let (n, Some(at)) = wide_instances {
+        problems.push(Problem::at(
+            at as u64,
+            format!(
+                "{n} IMU messages give an instance number over 255, which no IMU has; they are \
+                 skipped"
+            ),
+        ));
     }
     let instances = rows
         .into_iter()
