@@ -228,7 +228,8 @@ pub fn run(a: Args) -> Result<(), CliError> {
         let text = kalibr::imu_yaml(noise, &source).map_err(|e| {
             let binned = match a.log_args.bin {
                 Some(bin) => format!(
-                    " (--bin {} averaged the log's white noise away below {0} s: analyse the                      log as recorded)",
+                    " (--bin {} averaged the log's white noise away below {0} s: analyse the \
+                     log as recorded)",
                     driftlab::number::readable(bin)
                 ),
                 None => String::new(),

@@ -419,6 +419,14 @@ pub fn fit_failed(source: &str, e: &driftlab::Error) -> String {
         {
             format!("{m} (--delay)")
         }
+        driftlab::Error::Fit(f)
+            if matches!(
+                f.innermost(),
+                driftlab::models::FitError::FrozenRate { axis, .. } if !axis.is_empty()
+            ) =>
+        {
+            format!("{m} (calibrate the other axes: --axes)")
+        }
         _ => m,
     }
 }

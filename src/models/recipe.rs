@@ -369,7 +369,8 @@ impl Recipe {
                 Invalid::new(
                     "plateaus",
                     format!(
-                        "plateau {}:{} s reaches past the log {} ({} .. {} s): it is taken                          over {} .. {} s; check the range",
+                        "plateau {}:{} s reaches past the log {} ({} .. {} s): it is taken \
+                         over {} .. {} s; check the range",
                         r(p.start_s),
                         r(p.end_s),
                         log.source,

@@ -394,10 +394,11 @@ fn bad_input_is_an_error_not_a_panic() {
     let d = allan::allan(&[1.0, 2.0], &o).unwrap();
     assert_eq!(d.points.len(), 1);
     assert!(rel(d.points[0].adev, 0.5f64.sqrt()) < 1e-12);
-    // A constant series: σ = 0, nothing read off, no panic.
-    let d = allan::allan(&[3.0; 1000], &o).unwrap();
-    assert!(d.points.iter().all(|p| p.adev == 0.0));
-    assert!(d.readouts.arw.is_none() && d.readouts.bias_instability.is_none());
+    // A constant series has no noise to analyse (a sensor stuck): refused, not σ = 0.
+    assert!(matches!(
+        allan::allan(&[3.0; 1000], &o),
+        Err(AllanError::Constant(v)) if v == 3.0
+    ));
 }
 
 #[test]

@@ -506,7 +506,9 @@ fn a_ulog_calibrated_and_exported_on_the_command_line_loads_into_px4_as_driftlab
     let g: Vec<[f32; 3]> = log
         .omega_dph
         .iter()
-        .map(|&w| [w as f32, 0.0, 0.0])
+        // Y and Z drift by other multiples of the same curve (an axis stuck at one value is
+        // refused as a dead gyro).
+        .map(|&w| [w as f32, (-0.5 * w) as f32, (0.25 * w) as f32])
         .collect();
     let t: Vec<f32> = log.temp_c.iter().map(|&v| v as f32).collect();
     // device_id above 2^31: TC_G0_ID holds the negative int32 of the same bits.
@@ -558,7 +560,7 @@ fn a_ulog_calibrated_and_exported_on_the_command_line_loads_into_px4_as_driftlab
     let mut lines = csv.lines().filter(|l| !l.starts_with('#'));
     let header: Vec<&str> = lines.next().unwrap().split(',').collect();
     // The ULog's three gyro axes make a unit: each axis's predicted drift against PX4's
-    // offset of the axis its name gives (X carries the curve, Y and Z were still).
+    // offset of the axis its name gives.
     let pred_cols: Vec<(usize, usize)> = header
         .iter()
         .enumerate()
