@@ -12,6 +12,7 @@ mod crafted_rows;
 mod drone_logs;
 mod formats;
 mod hand_edited_calibrations;
+mod header_units;
 mod ingest_dialects;
 mod ingest_errors;
 mod ingest_files;

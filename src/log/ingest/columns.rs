@@ -6,8 +6,10 @@
 //! Explicit options always win over guessing.
 
 pub(crate) use super::names::rate_unit_of_name;
+use super::names::unit_words::{Quantity, StatedRate, unread_unit};
 use super::names::{
-    Kind, axis_names, classify, is_raw_register, name_parts, raw_unit, stated_unit,
+    Kind, axis_names, classify, is_raw_register, name_parts, raw_unit, stated_rate, stated_time,
+    stated_unit,
 };
 use super::sniff::Sniffed;
 use super::units::{RateUnit, TempUnit, TimeUnit};
@@ -361,15 +363,21 @@ pub(crate) fn plan(sn: &Sniffed, opts: &ReadOptions) -> Result<Plan, Fail> {
     let header_unit = |j: usize| kinds.get(j).map(|k| k.0);
     // A unit the column's name states, for a column whose name alone does not say its role
     // (mapped by the engineer).
-    let named_time = |j: usize| {
-        sn.has_header
-            .then(|| stated_unit(&sn.names[j], TimeUnit::from_key))
+    let named_time = |j: usize| sn.has_header.then(|| stated_time(&sn.names[j])).flatten();
+    let named_rate = |j: usize| sn.has_header.then(|| stated_rate(&sn.names[j])).flatten();
+    // A unit the column's name states that the reader does not read (`Rate [furlongs/s]`,
+    // `time [10 ms]`, `time_ds`): never taken for the default, the read stops with what to
+    // give. A lone word where a unit goes (`Rate [rpm]`) is read in the default and warned of
+    // (`plausible.rs`).
+    let unread = |j: usize, q: Quantity| -> Result<(), Fail> {
+        match sn
+            .has_header
+            .then(|| unread_unit(&sn.names[j], q))
             .flatten()
-    };
-    let named_rate = |j: usize| {
-        sn.has_header
-            .then(|| stated_unit(&sn.names[j], RateUnit::from_key))
-            .flatten()
+        {
+            Some(u) if u.refuses() => Err(at_header(u.refusal(q, &sn.names[j]))),
+            _ => Ok(()),
+        }
     };
     let named_temp = |j: usize| {
         sn.has_header
@@ -391,11 +399,18 @@ pub(crate) fn plan(sn: &Sniffed, opts: &ReadOptions) -> Result<Plan, Fail> {
     };
     let time_unit = match time {
         TimeSource::RowIndex { .. } => None,
-        TimeSource::Column(j) => Some(opts.time_unit.unwrap_or(match header_unit(j) {
-            Some(Kind::Time(Some(u))) => u,
-            Some(Kind::Index) => TimeUnit::Samples,
-            _ => named_time(j).unwrap_or(TimeUnit::Seconds),
-        })),
+        TimeSource::Column(j) => Some(match (opts.time_unit, header_unit(j)) {
+            (Some(u), _) => u,
+            (None, Some(Kind::Time(Some(u)))) => u,
+            (None, Some(Kind::Index)) => TimeUnit::Samples,
+            (None, _) => match named_time(j) {
+                Some(u) => u,
+                None => {
+                    unread(j, Quantity::Time)?;
+                    TimeUnit::Seconds
+                }
+            },
+        }),
     };
     let time_conv = match time_unit {
         None => Conv::IDENT,
@@ -421,15 +436,26 @@ pub(crate) fn plan(sn: &Sniffed, opts: &ReadOptions) -> Result<Plan, Fail> {
         Some(TimeUnit::Millis) => Conv::new(1.0, 1000.0, 0.0),
         Some(TimeUnit::Micros) => Conv::new(1.0, 1e6, 0.0),
         Some(TimeUnit::Nanos) => Conv::new(1.0, 1e9, 0.0),
+        Some(TimeUnit::Centis) => Conv::new(1.0, 100.0, 0.0),
+        Some(TimeUnit::Decis) => Conv::new(1.0, 10.0, 0.0),
         Some(u) => Conv::new(u.to_s_factor().unwrap_or(1.0), 1.0, 0.0),
     };
-    let rate_unit_of = |j: usize| {
-        opts.rate_unit.unwrap_or(match header_unit(j) {
-            Some(Kind::Rate(Some(u))) => u,
-            _ => named_rate(j).unwrap_or(RateUnit::DegPerHour),
-        })
+    let rate_unit_of = |j: usize| -> Result<StatedRate, Fail> {
+        if let Some(u) = opts.rate_unit {
+            return Ok(u.into());
+        }
+        if let Some(Kind::Rate(Some(u))) = header_unit(j) {
+            return Ok(u);
+        }
+        match named_rate(j) {
+            Some(u) => Ok(u),
+            None => {
+                unread(j, Quantity::Rate)?;
+                Ok(RateUnit::DegPerHour.into())
+            }
+        }
     };
-    let rate_unit = rate_unit_of(rate_col);
+    let rate_unit = rate_unit_of(rate_col)?;
     let temp_unit_of = |j: usize| match header_unit(j) {
         Some(Kind::Temp(Some(u))) => u,
         _ => named_temp(j).unwrap_or(TempUnit::Celsius),
@@ -460,7 +486,7 @@ pub(crate) fn plan(sn: &Sniffed, opts: &ReadOptions) -> Result<Plan, Fail> {
     for j in 0..ncols {
         let name = sn.names[j].clone();
         let (role, unit) = if let Some(k) = axis_cols.iter().position(|&a| a == j) {
-            let u = rate_unit_of(j);
+            let u = rate_unit_of(j)?;
             actions[j] = Action::Parse {
                 slot: SLOT_TEMP + 1 + k,
                 required: false,

@@ -3,7 +3,10 @@
 //! short word lists, and the role and unit they give, ranked by strength. Apart from the plan
 //! because it reads one name at a time, knowing nothing of the options or the other columns.
 
+pub(super) mod unit_words;
+
 use super::units::{RateUnit, TempUnit, TimeUnit, unit_key};
+use unit_words::{StatedRate, Words, rate_in_slot, rate_in_words, time_in_slot, time_in_words};
 
 /// What a header name says about a column.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -11,7 +14,9 @@ pub(super) enum Kind {
     Time(Option<TimeUnit>),
     /// A sample counter.
     Index,
-    Rate(Option<RateUnit>),
+    /// A gyro rate, with the unit its name states (`deg/s`, or `mrad/s`, which only a header
+    /// states).
+    Rate(Option<StatedRate>),
     Temp(Option<TempUnit>),
     /// An accelerometer axis, with the unit its name states (`m/s^2`, `g`, `mg`).
     Accel(Option<&'static str>),
@@ -24,9 +29,9 @@ pub(super) struct NameParts {
     /// Base name, lower case, without the unit.
     pub(super) base: String,
     /// Words of the base name.
-    words: Vec<String>,
+    pub(super) words: Vec<String>,
     /// The unit as written in brackets or after a comma, if any.
-    unit: Option<String>,
+    pub(super) unit: Option<String>,
 }
 
 pub(super) fn name_parts(name: &str) -> NameParts {
@@ -154,6 +159,21 @@ fn word_is(word: &str, kw: &str) -> bool {
     }
 }
 
+/// Whether `word` (lower case) is one of the words that give a column its role (`omega`,
+/// `gyro2`, `time`, `temp`, `sample`): in brackets, a note on the column, not its unit.
+pub(super) fn is_role_word(word: &str) -> bool {
+    [
+        RATE_WORDS,
+        TIME_WORDS,
+        TEMP_WORDS,
+        INDEX_WORDS,
+        ACCEL_WORDS,
+        CHAMBER_WORDS,
+    ]
+    .iter()
+    .any(|list| in_list(word, list))
+}
+
 /// Whether a name's words mark a raw register (`temp_raw_int16`).
 pub(crate) fn is_raw_register(name: &str) -> bool {
     name_parts(name)
@@ -181,8 +201,9 @@ pub(crate) fn is_accelerometer(name: &str) -> bool {
     matches!(classify(name).0, Kind::Accel(_))
 }
 
-/// The name of the gyro axis a rate column holds: its words before the unit (`gx` for
-/// `gx_dps`, `gyro_x` for `gyro_x_rad_s`, `rate` for `Rate (deg/s)`).
+/// The name of the gyro axis a rate column holds: its words without the unit (`gx` for
+/// `gx_dps`, `gyro_x` for `gyro_x_rad_s`, `rate` for `Rate (deg/s)`, `w_x` for `w_rad_s_x`,
+/// `gyro_x_avg` for `gyro_x_dps_avg`).
 pub(crate) fn axis_name(name: &str) -> String {
     // An axis's name goes into every output (CSV headers, tables, the report, folder names):
     // nothing in it may steer a terminal or reorder text.
@@ -192,10 +213,10 @@ pub(crate) fn axis_name(name: &str) -> String {
         .collect();
     let p = name_parts(&printable);
     let words = &p.words;
-    let end = (1..words.len())
-        .find(|&i| RateUnit::from_key(&unit_key(&words[i..].concat())).is_some())
-        .unwrap_or(words.len());
-    let name = words[..end].join("_");
+    let name = match rate_in_words(words, 1) {
+        Words::Unit { at, end, .. } => [&words[..at], &words[end..]].concat().join("_"),
+        _ => words.join("_"),
+    };
     let name = if name.is_empty() { p.base } else { name };
     if name.is_empty() {
         "axis".to_string()
@@ -274,26 +295,18 @@ pub(super) fn classify(name: &str) -> (Kind, u8) {
     };
     let raw = p.words.iter().any(|w| RAW_WORDS.contains(&w.as_str()));
     let chamber = p.words.iter().any(|w| CHAMBER_WORDS.contains(&w.as_str()));
-    let time_unit = || {
-        bracket
-            .as_deref()
-            .and_then(TimeUnit::from_key)
-            .or_else(|| suffix_unit(rest, TimeUnit::from_key))
-    };
+    let time_unit = || time_of(&p, 1);
     let rate_unit = || {
-        bracket
-            .as_deref()
-            .and_then(RateUnit::from_key)
-            .or_else(|| suffix_unit(rest, RateUnit::from_key))
-            .or_else(|| {
-                // A unit glued to the word: omegadph.
-                RATE_WORDS.iter().find_map(|kw| {
-                    first
-                        .strip_prefix(kw)
-                        .filter(|r| !r.is_empty())
-                        .and_then(|r| RateUnit::from_key(&unit_key(r)))
-                })
+        rate_of(&p, 1).or_else(|| {
+            // A unit glued to the word: omegadph.
+            RATE_WORDS.iter().find_map(|kw| {
+                first
+                    .strip_prefix(kw)
+                    .filter(|r| !r.is_empty())
+                    .and_then(|r| RateUnit::from_key(&unit_key(r)))
+                    .map(StatedRate::from)
             })
+        })
     };
 
     // "t" alone is time unless a temperature unit says otherwise; "t1", "T2" are sensors.
@@ -347,11 +360,11 @@ pub(super) fn classify(name: &str) -> (Kind, u8) {
         return (Kind::Index, 1);
     }
     if rest.is_empty() {
-        if let Some(u) = TimeUnit::from_key(first).filter(|u| *u != TimeUnit::Samples) {
+        if let Some(u) = TimeUnit::from_key(first).filter(|&u| names_a_time_alone(u)) {
             return (Kind::Time(Some(u)), 2);
         }
         if let Some(u) = RateUnit::from_key(first) {
-            return (Kind::Rate(Some(u)), 2);
+            return (Kind::Rate(Some(u.into())), 2);
         }
     }
     if rest.iter().any(|w| in_list(w, RATE_WORDS)) {
@@ -363,22 +376,66 @@ pub(super) fn classify(name: &str) -> (Kind, u8) {
     // Only the unit speaks.
     if let Some(b) = bracket.as_deref() {
         let raw = p.unit.as_deref().unwrap_or("");
-        if let Some(u) = RateUnit::from_key(b).filter(|_| raw.contains('/') || b.len() > 2) {
+        if let Some(u) = StatedRate::from_text(raw).filter(|_| raw.contains('/') || b.len() > 2) {
             return (Kind::Rate(Some(u)), 2);
         }
         if let Some(u) = TempUnit::from_key(b) {
             return (Kind::Temp(Some(u)), 2);
         }
-        if let Some(u) = TimeUnit::from_key(b).filter(|u| *u != TimeUnit::Samples) {
+        if let Some(u) = TimeUnit::from_key(b).filter(|&u| names_a_time_alone(u)) {
             return (Kind::Time(Some(u)), 1);
         }
     }
     (Kind::Other, 0)
 }
 
+/// Whether a time unit alone names a column's role (a column `ms` or `x [min]` is a time, one
+/// named `d`, `cs`, `ds` or `days` need not be, nor a sample count).
+fn names_a_time_alone(u: TimeUnit) -> bool {
+    !matches!(
+        u,
+        TimeUnit::Samples | TimeUnit::Days | TimeUnit::Centis | TimeUnit::Decis
+    )
+}
+
+/// The rate unit the name `p` states: where a unit is written alone (`Rate [mrad/s]`), else
+/// among its words from `from` on (`omega_dps_raw`, `w_rad_s_x`; see [`rate_in_words`]).
+fn rate_of(p: &NameParts, from: usize) -> Option<StatedRate> {
+    p.unit
+        .as_deref()
+        .and_then(rate_in_slot)
+        .or_else(|| match rate_in_words(&p.words, from) {
+            Words::Unit { unit, .. } => Some(unit),
+            _ => None,
+        })
+}
+
+/// The time unit the name `p` states: where a unit is written alone (`time [d]`), else among
+/// its words from `from` on (`time_ms`, `time_ms_since_boot`; see [`time_in_words`]).
+fn time_of(p: &NameParts, from: usize) -> Option<TimeUnit> {
+    p.unit
+        .as_deref()
+        .and_then(time_in_slot)
+        .or_else(|| match time_in_words(&p.words, from) {
+            Words::Unit { unit, .. } => Some(unit),
+            _ => None,
+        })
+}
+
+/// The rate unit a column's name states, whatever the rest of the name says: for a column the
+/// engineer mapped by name (`--rate-col gx_dps` is in deg/s even where `gx` alone would not be
+/// read as a rate).
+pub(crate) fn stated_rate(name: &str) -> Option<StatedRate> {
+    rate_of(&name_parts(name), 0)
+}
+
+/// The time unit a column's name states, whatever the rest of the name says.
+pub(crate) fn stated_time(name: &str) -> Option<TimeUnit> {
+    time_of(&name_parts(name), 0)
+}
+
 /// The unit a column's name states in brackets or as its last words, whatever the rest of
-/// the name says: for a column the engineer mapped by name (`--rate-col gx_dps` is in deg/s
-/// even where `gx` alone would not be read as a rate).
+/// the name says: for a column the engineer mapped by name (`temp [K]`).
 pub(crate) fn stated_unit<T>(name: &str, from_key: impl Fn(&str) -> Option<T> + Copy) -> Option<T> {
     let p = name_parts(name);
     p.unit
@@ -392,7 +449,7 @@ pub(crate) fn stated_unit<T>(name: &str, from_key: impl Fn(&str) -> Option<T> + 
 /// reader, which has no other columns to rank it against.
 pub(crate) fn rate_unit_of_name(name: &str) -> Option<RateUnit> {
     match classify(name).0 {
-        Kind::Rate(u) => u,
+        Kind::Rate(u) => u.and_then(StatedRate::option),
         _ => None,
     }
 }
@@ -419,10 +476,17 @@ mod tests {
         assert_eq!(k("timestamp"), Kind::Time(None));
         assert_eq!(k("time_s"), Kind::Time(Some(TimeUnit::Seconds)));
         assert_eq!(k("omega"), Kind::Rate(None));
-        assert_eq!(k("omega_dph"), Kind::Rate(Some(RateUnit::DegPerHour)));
-        assert_eq!(k("gyro_x_rad_s"), Kind::Rate(Some(RateUnit::RadPerSec)));
-        assert_eq!(k("Rate (deg/s)"), Kind::Rate(Some(RateUnit::DegPerSec)));
-        assert_eq!(k("rate_dps"), Kind::Rate(Some(RateUnit::DegPerSec)));
+        let rate = |u: RateUnit| Kind::Rate(Some(u.into()));
+        assert_eq!(k("omega_dph"), rate(RateUnit::DegPerHour));
+        assert_eq!(k("gyro_x_rad_s"), rate(RateUnit::RadPerSec));
+        assert_eq!(k("Rate (deg/s)"), rate(RateUnit::DegPerSec));
+        assert_eq!(k("rate_dps"), rate(RateUnit::DegPerSec));
+        assert_eq!(k("omega_dps_raw"), rate(RateUnit::DegPerSec));
+        assert_eq!(k("w_rad_s_x"), rate(RateUnit::RadPerSec));
+        assert_eq!(k("time [d]"), Kind::Time(Some(TimeUnit::Days)));
+        assert_eq!(k("time_cs"), Kind::Time(Some(TimeUnit::Centis)));
+        assert_eq!(k("time_ds"), Kind::Time(None));
+        assert_eq!(k("days"), Kind::Other);
         assert_eq!(k("w"), Kind::Rate(None));
         assert_eq!(k("drift"), Kind::Rate(None));
         assert_eq!(k("temp"), Kind::Temp(None));

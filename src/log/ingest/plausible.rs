@@ -7,7 +7,8 @@
 //! wrong, a better candidate when the file has one, and the option that chooses it. Silent
 //! acceptance of a register as a temperature gives a calibration that means nothing.
 
-use super::names::{is_raw_register, stated_unit};
+use super::names::unit_words::{Quantity, StatedRate, unread_unit};
+use super::names::{is_raw_register, stated_rate, stated_time};
 use super::units::{RateUnit, TimeUnit};
 use crate::log::mapping_check::{
     PLAUSIBLE_TEMP_C, is_plausible_rate_dph, is_plausible_temp_c, is_temp_unit,
@@ -123,8 +124,8 @@ fn contradicted_units(log: &Log) -> Vec<Problem> {
         .iter()
         .filter(|c| matches!(c.role, ColumnRole::Rate | ColumnRole::OtherAxis))
         .filter_map(|c| {
-            let named = stated_unit(&c.name, RateUnit::from_key)?;
-            let read: RateUnit = c.unit.parse().ok()?;
+            let named = stated_rate(&c.name)?;
+            let read = StatedRate::from_text(&c.unit)?;
             (named != read).then(|| Problem {
                 line: 0,
                 column: Some(c.index),
@@ -149,7 +150,7 @@ fn contradicted_time_unit(log: &Log) -> Option<Problem> {
         .columns
         .iter()
         .find(|c| c.role == ColumnRole::Time)?;
-    let named = stated_unit(&c.name, TimeUnit::from_key)?;
+    let named = stated_time(&c.name)?;
     let read: TimeUnit = c.unit.parse().ok()?;
     if named == read {
         return None;
@@ -205,8 +206,42 @@ fn misnamed_rates(log: &Log) -> Vec<Problem> {
         .collect()
 }
 
+/// Columns read in the default unit (°/h, s) whose name has a word where a unit goes that the
+/// reader does not read (`Rate [rpm]`, `time [fortnights]`): a unit or a note, the reader
+/// cannot tell which, so the engineer hears of it. A name that states a unit the reader does
+/// not read more plainly (`Rate [furlongs/fortnight]`, `time [10 ms]`) stops the read unless
+/// the unit is given: read in the default, it was given so, and is not warned of.
+fn unread_units(log: &Log) -> Vec<Problem> {
+    if !log.info.has_header {
+        return Vec::new();
+    }
+    let default_rate = RateUnit::DegPerHour.to_string();
+    let default_time = TimeUnit::Seconds.to_string();
+    log.info
+        .columns
+        .iter()
+        .filter_map(|c| {
+            let q = match c.role {
+                ColumnRole::Rate | ColumnRole::OtherAxis if c.unit == default_rate => {
+                    Quantity::Rate
+                }
+                ColumnRole::Time if c.unit == default_time => Quantity::Time,
+                _ => return None,
+            };
+            let u = unread_unit(&c.name, q).filter(|u| !u.refuses())?;
+            Some(Problem {
+                line: 0,
+                column: Some(c.index),
+                kind: ProblemKind::UnitMismatch,
+                count: 1,
+                message: u.warning(q, &c.name),
+            })
+        })
+        .collect()
+}
+
 /// How many times larger a rate reads in `a` than in `b` (≥ 1).
-fn ratio(a: RateUnit, b: RateUnit) -> f64 {
+fn ratio(a: StatedRate, b: StatedRate) -> f64 {
     let (x, y) = (a.to_dph_factor(), b.to_dph_factor());
     let r = x / y;
     if r >= 1.0 {
@@ -221,6 +256,7 @@ pub(super) fn check(log: &Log) -> Vec<Problem> {
     let mut out = duplicate_names(log);
     out.extend(contradicted_units(log));
     out.extend(contradicted_time_unit(log));
+    out.extend(unread_units(log));
     out.extend(misnamed_rates(log));
     let column = |role: ColumnRole| log.info.columns.iter().find(|c| c.role == role);
     if let Some(c) = column(ColumnRole::Temperature)

@@ -4,6 +4,7 @@
 //! turns every degree sign into `deg`, so that `°/h`, `deg/h`, `Deg_H` and `deg h` are one key.
 
 use super::OptionError;
+use super::names::unit_words::StatedRate;
 use serde::{Deserialize, Serialize};
 use std::fmt;
 use std::str::FromStr;
@@ -109,6 +110,16 @@ pub enum TimeUnit {
     Minutes,
     /// Hours.
     Hours,
+    /// Days (`d`, `days`): a run of weeks, stamped in days. `d` is read only where a unit is
+    /// written alone (`time [d]`, `Time, d`, the `time_unit` setting): as the last word of a
+    /// name (`time_d`) it may be a delta as well, and the reader asks (see
+    /// [`super::names::unit_words`]).
+    Days,
+    /// Centiseconds (`cs`), as some loggers count in hundredths of a second.
+    Centis,
+    /// Deciseconds (`ds`). Read where a unit is written alone (`time [ds]`) or spelt out
+    /// (`deciseconds`): `time_ds` may be a downsampled time as well, and the reader asks.
+    Decis,
     /// A sample index; seconds = index / sample rate.
     Samples,
 }
@@ -124,6 +135,9 @@ impl TimeUnit {
             TimeUnit::Nanos => Some(1e-9),
             TimeUnit::Minutes => Some(60.0),
             TimeUnit::Hours => Some(3600.0),
+            TimeUnit::Days => Some(86_400.0),
+            TimeUnit::Centis => Some(0.01),
+            TimeUnit::Decis => Some(0.1),
             TimeUnit::Samples => None,
         }
     }
@@ -140,6 +154,9 @@ impl TimeUnit {
             "ns" | "nsec" | "nsecs" | "nanos" | "nanosecond" | "nanoseconds" => TimeUnit::Nanos,
             "min" | "mins" | "minute" | "minutes" | "мин" => TimeUnit::Minutes,
             "h" | "hr" | "hrs" | "hour" | "hours" | "ч" => TimeUnit::Hours,
+            "d" | "day" | "days" | "сут" => TimeUnit::Days,
+            "cs" | "csec" | "csecs" | "centisecond" | "centiseconds" => TimeUnit::Centis,
+            "ds" | "dsec" | "dsecs" | "decisecond" | "deciseconds" => TimeUnit::Decis,
             "samples" | "sample" | "smp" | "idx" | "index" | "n" | "#" => TimeUnit::Samples,
             _ => return None,
         })
@@ -155,6 +172,9 @@ impl fmt::Display for TimeUnit {
             TimeUnit::Nanos => "ns",
             TimeUnit::Minutes => "min",
             TimeUnit::Hours => "h",
+            TimeUnit::Days => "d",
+            TimeUnit::Centis => "cs",
+            TimeUnit::Decis => "ds",
             TimeUnit::Samples => "samples",
         })
     }
@@ -221,9 +241,10 @@ impl fmt::Display for TempUnit {
 }
 
 /// The factor to °/h of a rate column whose unit the reader recorded as `unit` (any spelling
-/// [`RateUnit`] reads, `mdeg/s` included), `None` when `unit` is no rate unit.
+/// [`RateUnit`] reads, `mdeg/s` included, and the units only a header states, `mrad/s`,
+/// `deg/min`: see [`StatedRate`]), `None` when `unit` is no rate unit.
 pub(crate) fn rate_factor_to_dph(unit: &str) -> Option<f64> {
-    RateUnit::from_key(&unit_key(unit)).map(RateUnit::to_dph_factor)
+    StatedRate::from_text(unit).map(StatedRate::to_dph_factor)
 }
 
 /// `(scale, offset)` with °C = value · scale + offset for a temperature column whose unit the
