@@ -167,8 +167,9 @@ pub(super) fn missing_axis(
     calibration: &Path,
 ) -> CliError {
     format!(
-        "{log}: no gyro axis {axis} (column {}) for axis {axis} of {} (the log's axes: {}); map \
-         the rate columns with --rate-col",
+        "{log}: no gyro axis {axis} (column {}) for axis {axis} of {} (the log's axes: {}); a \
+         unit's axes are found in a log by their names or their rate columns' names, so the log \
+         must name its rate columns as the calibration's log did (rename them in its header)",
         if rate_column.is_empty() {
             "?"
         } else {

@@ -141,6 +141,7 @@ pub fn run(mut a: Args) -> Result<(), CliError> {
         .into());
     }
     let model = unit.first()?;
+    refuse_points(&a, &unit)?;
     let opts = a.options()?;
     let fail = |e: firmware::ExportError| export_failed(&a.calibration, &e);
     let text = if a.format.is_flight() {
@@ -167,6 +168,33 @@ pub fn run(mut a: Args) -> Result<(), CliError> {
         model.gyro_id().to_string()
     };
     write(&a, &text, &what)
+}
+
+/// Refuses `--points` for a calibration with a regression model: its csv-table is its terms
+/// and coefficients, with no curve sampled at points, so the option would change nothing.
+fn refuse_points(a: &Args, unit: &UnitCalibration) -> Result<(), CliError> {
+    if a.points.is_none() {
+        return Ok(());
+    }
+    match unit
+        .axes
+        .iter()
+        .find(|x| !matches!(x.model, driftlab::models::fitted::DriftModel::Vakhrameev(_)))
+    {
+        Some(x) => Err(format!(
+            "--points sets the rows of a Vakhrameev calibration's K0/K1/K2 tables; {}{} holds \
+             model {}, whose table is its coefficients",
+            a.calibration.display(),
+            if x.name.is_empty() {
+                String::new()
+            } else {
+                format!(" (axis {})", x.name)
+            },
+            x.model.name()
+        )
+        .into()),
+        None => Ok(()),
+    }
 }
 
 /// An export's refusal about `calibration`, with the option that gets around it.
@@ -202,6 +230,7 @@ fn run_unit(a: &Args, unit: &UnitCalibration) -> Result<(), CliError> {
             .into());
         }
     }
+    refuse_points(a, unit)?;
     let opts = a.options()?;
     let fail = |e: firmware::ExportError| export_failed(&a.calibration, &e);
     if let Some(name) = &a.axis {

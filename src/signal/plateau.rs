@@ -178,6 +178,20 @@ impl DetectOptions {
         if !(self.max_rate_c_per_min.is_finite() && self.max_rate_c_per_min > 0.0) {
             return bad("max_rate_c_per_min", "must be positive");
         }
+        if self.max_rate_c_per_min > MAX_HOLD_RATE_C_PER_MIN {
+            return bad(
+                "max_rate_c_per_min",
+                "is at most 0.5 °C/min (ten times the default): beyond it a chamber's ramps, \
+                 about 1 °C/min, pass for temperature holds",
+            );
+        }
+        if self.bridge_s > MAX_BRIDGE_S {
+            return bad(
+                "bridge_s",
+                "is at most 3600 s: an excursion of more than an hour is a ramp between two \
+                 holds, not a glitch inside one",
+            );
+        }
         if !(self.min_duration_s.is_finite() && self.min_duration_s >= 0.0) {
             return bad("min_duration_s", "must be non-negative");
         }
@@ -190,6 +204,12 @@ impl DetectOptions {
         Ok(())
     }
 }
+
+/// The loosest |Ṫ| a plateau may be detected under, °C/min ([`DetectOptions::validate`]).
+pub const MAX_HOLD_RATE_C_PER_MIN: f64 = 0.5;
+
+/// The longest excursion the detector may bridge inside a plateau, s.
+pub const MAX_BRIDGE_S: f64 = 3600.0;
 
 /// Finds plateaus from the temperature rate `tdot` (°C/s) sampled at `time_s`.
 ///

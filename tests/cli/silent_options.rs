@@ -571,3 +571,55 @@ fn a_plateau_past_the_log_or_of_no_number_is_told_as_such() {
         "{stderr}"
     );
 }
+
+/// A recipe whose detector would take ramps for holds (a tolerance of 1e6 °C/min, a bridge of
+/// 1e9 s: one "plateau" over 70 °C of ramps) is refused by the setting's name.
+#[test]
+fn a_detector_loosened_past_a_hold_is_refused_by_name() {
+    let dir = tempfile::tempdir().unwrap();
+    let log = sample("calibration.csv");
+    let recipe = p(dir.path(), "r.json");
+    ok(&[
+        "calibrate",
+        &log,
+        "-o",
+        &p(dir.path(), "c.json"),
+        "--save-recipe",
+        &recipe,
+    ]);
+    let text = std::fs::read_to_string(&recipe).unwrap();
+    for (field, value) in [("max_rate_c_per_min", "1e6"), ("bridge_s", "1e9")] {
+        let mut json: serde_json::Value = serde_json::from_str(&text).unwrap();
+        json["plateaus"][field] = serde_json::from_str(value).unwrap();
+        let edited = p(dir.path(), "edited.json");
+        std::fs::write(&edited, json.to_string()).unwrap();
+        let e = fails(&[
+            "calibrate",
+            &log,
+            "--recipe",
+            &edited,
+            "-o",
+            &p(dir.path(), "x.json"),
+        ]);
+        assert!(e.contains(&format!("plateaus.{field}")), "{field}: {e}");
+    }
+}
+
+/// `--points` rows a Vakhrameev calibration's tables; a regression model's table is its
+/// coefficients, so the option is refused for it rather than ignored.
+#[test]
+fn points_for_a_regression_table_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let cal = p(dir.path(), "poly.json");
+    ok(&[
+        "calibrate",
+        &sample("calibration.csv"),
+        "--model",
+        "poly-t",
+        "-o",
+        &cal,
+    ]);
+    let e = fails(&["export", &cal, "--format", "csv-table", "--points", "7"]);
+    assert!(e.contains("--points") && e.contains("poly-t"), "{e}");
+    ok(&["export", &cal, "--format", "csv-table"]);
+}

@@ -425,3 +425,36 @@ fn inspect_lists_every_gyro_axis_with_its_unit() {
         .collect();
     assert_eq!(accels, [("ax_g", "g"), ("ay_g", "g"), ("az_g", "g")]);
 }
+
+/// A unit calibration on a log that names its axes otherwise is refused with the one remedy
+/// that works (its columns named as the calibration's log named them), not an option that
+/// does not map them.
+#[test]
+fn a_unit_on_a_log_with_other_axis_names_is_refused_with_the_remedy_that_works() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let cal = crate::common::run::p(d, "unit.json");
+    crate::common::run::ok(&[
+        "calibrate",
+        &crate::common::run::sample("imu3-calibration.csv"),
+        "-o",
+        &cal,
+    ]);
+    let text = std::fs::read_to_string(crate::common::run::sample("imu3-validation.csv")).unwrap();
+    let renamed = text.replacen("gx_dps;gy_dps;gz_dps", "wx_dps;wy_dps;wz_dps", 1);
+    assert_ne!(renamed, text);
+    let log = d.join("renamed.csv");
+    std::fs::write(&log, renamed).unwrap();
+    let out = crate::common::run::p(d, "out.csv");
+    for args in [
+        vec!["apply", &cal, log.to_str().unwrap(), "-o", &out],
+        vec!["evaluate", &cal, log.to_str().unwrap()],
+    ] {
+        let e = crate::common::run::fails(&args);
+        assert!(
+            e.contains("no gyro axis gx") && e.contains("rename them in its header"),
+            "{e}"
+        );
+        assert!(!e.contains("--rate-col"), "{e}");
+    }
+}
