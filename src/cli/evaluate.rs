@@ -128,6 +128,7 @@ fn judge(
         window_s: a.window,
     };
     common::check_merit(&opts, log)?;
+    driftlab::models::check_rate_moves(log).map_err(|e| common::fit_failed(&log.source, &e))?;
     let correction = model
         .correct(log)
         .map_err(|e| format!("{}: {e}", a.calibration.display()))?;

@@ -102,7 +102,8 @@ pub fn compare_one(
                 .map(|(k, (log, held_out))| Judgement {
                     log: log.source.clone(),
                     held_out,
-                    result: match m.correct(log) {
+                    result: match crate::models::check_rate_moves(log).and_then(|()| m.correct(log))
+                    {
                         Ok(c) => {
                             seen(k, &c);
                             Outcome::Evaluation(Evaluation::of_correction(log, &c, merit))

@@ -117,19 +117,7 @@ pub const MIN_RAMP_C_PER_MIN: f64 = 0.05;
 /// [`FitError::NarrowSpan`] or [`FitError::NoRamps`], saying what the log spans and what the
 /// model needs.
 pub fn check_span(log: &Log, choice: &ModelChoice) -> Result<()> {
-    let mut finite = log.omega_dph.iter().filter(|v| v.is_finite());
-    if let Some(first) = finite.next()
-        && finite.all(|v| v.to_bits() == first.to_bits())
-    {
-        // Any real gyro's output moves by its noise from one sample to the next; one value
-        // throughout is a wire, not a gyro, and every figure fitted to it is rounding.
-        return Err(FitError::FrozenRate {
-            log: log.source.clone(),
-            axis: log.axis.clone(),
-            value_dph: *first,
-        }
-        .into());
-    }
+    check_rate_moves(log)?;
     let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
     for &v in log.temp_c.iter().filter(|v| v.is_finite()) {
         if v < lo {
@@ -191,6 +179,28 @@ pub fn check_span(log: &Log, choice: &ModelChoice) -> Result<()> {
             }
             .into());
         }
+    }
+    Ok(())
+}
+
+/// Refuses a log whose rate holds one value throughout (of its finite samples): any real
+/// gyro's output moves by its noise from one sample to the next; one value is a wire, not a
+/// gyro, and every figure fitted to it, or judged on it, is rounding. Every fit asks it
+/// ([`check_span`]), and so does every judgement of a model on a log.
+///
+/// # Errors
+/// [`FitError::FrozenRate`], naming the axis and the value.
+pub fn check_rate_moves(log: &Log) -> Result<()> {
+    let mut finite = log.omega_dph.iter().filter(|v| v.is_finite());
+    if let Some(first) = finite.next()
+        && finite.all(|v| v.to_bits() == first.to_bits())
+    {
+        return Err(FitError::FrozenRate {
+            log: log.source.clone(),
+            axis: log.axis.clone(),
+            value_dph: *first,
+        }
+        .into());
     }
     Ok(())
 }

@@ -48,6 +48,37 @@ fn a_rate_stuck_at_one_value_is_refused_by_every_command() {
 }
 
 #[test]
+fn a_stuck_log_is_refused_as_a_log_to_judge_on_too() {
+    let dir = tempfile::tempdir().unwrap();
+    let cal = p(dir.path(), "cal.json");
+    ok(&["calibrate", &sample("calibration.csv"), "-o", &cal]);
+    let log = rewritten(dir.path(), "stuck.csv", |l| Some(with_rate(l, "0")));
+    let e = fails(&["evaluate", &cal, &log]);
+    assert!(e.contains("never changes"), "{e}");
+    let e = fails(&["report", &cal, &log, "--out", &p(dir.path(), "rep")]);
+    assert!(e.contains("never changes"), "{e}");
+    let json: serde_json::Value = serde_json::from_str(&ok(&[
+        "compare",
+        "--train",
+        &sample("calibration.csv"),
+        "--test",
+        &log,
+        "--models",
+        "poly-t",
+        "--json",
+    ]))
+    .unwrap();
+    let judged = &json["models"][0]["logs"][1];
+    assert!(
+        judged["error"]
+            .as_str()
+            .unwrap_or_default()
+            .contains("never changes"),
+        "{judged}"
+    );
+}
+
+#[test]
 fn a_ratio_is_never_taken_over_a_corrected_figure_at_the_rounding_of_the_raw() {
     // A stuck log judged by a calibration that predicts it exactly leaves rounding alone:
     // the figures are n/a, not improvements of 1e15.

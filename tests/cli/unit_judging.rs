@@ -141,7 +141,7 @@ fn evaluate_names_an_axis_the_log_lacks() {
     let c = calibrations();
     let e = fails(&["evaluate", &c.unit, &sample("validation.csv")]);
     assert!(
-        e.contains("no gyro axis gx") && e.contains("--rate-col"),
+        e.contains("no gyro axis gx") && e.contains("rename them in its header"),
         "{e}"
     );
 }
