@@ -397,37 +397,23 @@ pub fn fit_failed(source: &str, e: &driftlab::Error) -> String {
         },
         _ => about(source, e),
     };
-    match e {
-        driftlab::Error::Fit(f)
-            if matches!(f.innermost(), driftlab::models::FitError::NoK0Plateaus) =>
-        {
-            format!("{m} (--plateau START:END)")
-        }
-        driftlab::Error::Fit(f)
-            if matches!(
-                f.innermost(),
-                driftlab::models::FitError::NoRateHistory { .. }
-            ) =>
-        {
-            format!("{m} (--smooth, --step-h)")
-        }
-        driftlab::Error::Fit(f)
-            if matches!(
-                f.innermost(),
-                driftlab::models::FitError::DelayBeyondLog { .. }
-            ) =>
-        {
-            format!("{m} (--delay)")
-        }
-        driftlab::Error::Fit(f)
-            if matches!(
-                f.innermost(),
-                driftlab::models::FitError::FrozenRate { axis, .. } if !axis.is_empty()
-            ) =>
-        {
-            format!("{m} (calibrate the other axes: --axes)")
-        }
-        _ => m,
+    use driftlab::models::FitError;
+    // The options that get around a fit's refusal, named after the engine's words.
+    let options = match e {
+        driftlab::Error::Fit(f) => match f.innermost() {
+            FitError::NoK0Plateaus => Some("--plateau START:END"),
+            FitError::NoRateHistory { .. } => Some("--smooth, --step-h"),
+            FitError::DelayBeyondLog { .. } => Some("--delay"),
+            FitError::FrozenRate { axis, .. } if !axis.is_empty() => {
+                Some("calibrate the other axes: --axes")
+            }
+            _ => None,
+        },
+        _ => None,
+    };
+    match options {
+        Some(o) => format!("{m} ({o})"),
+        None => m,
     }
 }
 
