@@ -7,11 +7,9 @@
 //! IMU log is simulated with (as `kalibr.rs` checks them for accelerometers in m/s²).
 
 use serde_json::Value;
-use std::fmt::Write as _;
 use std::path::Path;
 
 use crate::common;
-use common::Noise;
 use common::run::{driftlab, ok, p, sample};
 
 /// The bundled calibration log with each data row (0-based `k` of `n`, its fields) rewritten
@@ -119,51 +117,12 @@ fn allan_reads_the_rate_whatever_the_temperature_column_holds() {
     }
 }
 
-const RATE_HZ: f64 = 20.0;
-/// m/s² in one g: the standard gravity (ISO 80000-3, the CGPM's 1901 value).
-const G_M_S2: f64 = 9.80665;
+use crate::common::imu::G_M_S2;
 
-/// An IMU simulated for two hours at 20 Hz: three gyro axes (rad/s, white noise of density
-/// `gyro.0` and a bias random walk of `gyro.1`) and three accelerometer axes (`accel`, in
-/// m/s²) written divided by `unit` (m/s² in it: 1, or [`G_M_S2`] for g) under the names
-/// `pattern` gives with `{}` the axis (`accel_{}_g`), as `tests/cli/kalibr.rs` builds its log.
-/// Axis y is 1.5 times noisier.
+/// An IMU simulated for two hours at 20 Hz (`tests/common/imu.rs`), its accelerometer axes
+/// written in `unit` under the names `pattern` gives; axis y is 1.5 times noisier.
 fn imu_csv(gyro: (f64, f64), accel: (f64, f64), pattern: &str, unit: f64) -> String {
-    let n = (7200.0 * RATE_HZ) as usize;
-    let dt = 1.0 / RATE_HZ;
-    let scale = [1.0, 1.5, 0.8];
-    let factor = 1.0 / unit;
-    let name = |axis: &str| pattern.replace("{}", axis);
-    let mut noise = Noise::new(17);
-    let mut bias = [0.0f64; 6];
-    let mut text = format!(
-        "time_s,gyro_x_rad_s,gyro_y_rad_s,gyro_z_rad_s,temp_c,{},{},{}\n",
-        name("x"),
-        name("y"),
-        name("z")
-    );
-    for i in 0..n {
-        let mut v = [0.0f64; 6];
-        for k in 0..6 {
-            let (density, walk) = if k < 3 { gyro } else { accel };
-            let s = scale[k % 3];
-            bias[k] += s * walk * dt.sqrt() * noise.normal();
-            v[k] = s * density * RATE_HZ.sqrt() * noise.normal() + bias[k];
-        }
-        writeln!(
-            text,
-            "{},{},{},{},25.0,{},{},{}",
-            i as f64 * dt,
-            v[0],
-            v[1],
-            v[2],
-            v[3] * factor,
-            v[4] * factor,
-            (v[5] - G_M_S2) * factor
-        )
-        .unwrap();
-    }
-    text
+    crate::common::imu::imu_csv(7200.0, gyro, accel, [1.0, 1.5, 0.8], pattern, unit)
 }
 
 /// The numbers of `key: value` lines of a YAML file.

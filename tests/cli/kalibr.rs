@@ -5,46 +5,14 @@
 
 use crate::common;
 
-use common::Noise;
 use common::run::{driftlab, fails, ok};
 use std::collections::HashMap;
-use std::fmt::Write as _;
 use std::path::PathBuf;
 
-const RATE_HZ: f64 = 20.0;
-
-/// Two hours at 20 Hz of three gyro axes (rad/s) and three accelerometer axes (m/s²), each
-/// axis `(N, K)` scaled by its factor, as `driftlab convert` writes a log.
+/// `seconds` of three gyro axes (rad/s) and three accelerometer axes (m/s²) at 20 Hz, each
+/// axis `(N, K)` scaled by its factor (`tests/common/imu.rs`).
 fn imu_csv(seconds: f64, gyro: (f64, f64), accel: (f64, f64), scale: [f64; 3]) -> String {
-    let n = (seconds * RATE_HZ) as usize;
-    let dt = 1.0 / RATE_HZ;
-    let mut noise = Noise::new(17);
-    let mut bias = [0.0f64; 6];
-    let mut text = String::from(
-        "time_s,gyro_x_rad_s,gyro_y_rad_s,gyro_z_rad_s,temp_c,accel_x_m_s2,accel_y_m_s2,accel_z_m_s2\n",
-    );
-    for i in 0..n {
-        let mut v = [0.0f64; 6];
-        for k in 0..6 {
-            let (density, walk) = if k < 3 { gyro } else { accel };
-            let s = scale[k % 3];
-            bias[k] += s * walk * dt.sqrt() * noise.normal();
-            v[k] = s * density * RATE_HZ.sqrt() * noise.normal() + bias[k];
-        }
-        writeln!(
-            text,
-            "{},{},{},{},25.0,{},{},{}",
-            i as f64 * dt,
-            v[0],
-            v[1],
-            v[2],
-            v[3],
-            v[4],
-            v[5] - 9.81
-        )
-        .unwrap();
-    }
-    text
+    crate::common::imu::imu_csv(seconds, gyro, accel, scale, "accel_{}_m_s2", 1.0)
 }
 
 /// `key: value  # comment` lines of a YAML file as numbers or text.

@@ -5,6 +5,7 @@ pub mod drone;
 pub mod firmware;
 #[cfg(feature = "gui")]
 pub mod gui;
+pub mod imu;
 pub mod ingest;
 pub mod run;
 pub mod sim;

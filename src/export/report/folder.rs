@@ -384,12 +384,30 @@ impl Staging {
             ));
             match std::fs::create_dir(&path) {
                 Ok(()) => {
+                    // Between its making and its lock, another run's sweep may take the new
+                    // folder for an abandoned one (it is not locked yet): locked by the sweep
+                    // or already gone, it is left to the sweep and another name is taken.
+                    #[cfg(target_os = "linux")]
+                    let held = match try_lock(&path) {
+                        Ok(file) => Some(file),
+                        Err(e)
+                            if matches!(
+                                e.kind(),
+                                io::ErrorKind::WouldBlock | io::ErrorKind::NotFound
+                            ) =>
+                        {
+                            last = Some(e);
+                            continue;
+                        }
+                        // No locks on this file system: the sweep cannot lock it either.
+                        Err(_) => None,
+                    };
                     // Ctrl-C or a `kill` while the report is written takes its half-written
                     // folder with it, as it takes a temporary file.
                     crate::files::atomic::remove_folder_on_signals(&path);
                     return Ok(Staging {
                         #[cfg(target_os = "linux")]
-                        _lock: lock(&path),
+                        _lock: held,
                         path,
                         armed: true,
                     });
@@ -500,10 +518,17 @@ fn exchange(a: &Path, b: &Path) -> io::Result<bool> {
 /// lock, or the folder cannot be opened or locked.
 #[cfg(target_os = "linux")]
 fn lock(dir: &Path) -> Option<std::fs::File> {
+    try_lock(dir).ok()
+}
+
+/// [`lock`], saying why not: the folder is gone (`NotFound`), another holds it
+/// (`WouldBlock`), or the file system has no locks.
+#[cfg(target_os = "linux")]
+fn try_lock(dir: &Path) -> io::Result<std::fs::File> {
     use rustix::fs::{FlockOperation, flock};
-    let file = std::fs::File::open(dir).ok()?;
-    flock(&file, FlockOperation::NonBlockingLockExclusive).ok()?;
-    Some(file)
+    let file = std::fs::File::open(dir)?;
+    flock(&file, FlockOperation::NonBlockingLockExclusive)?;
+    Ok(file)
 }
 
 /// Removes the staging folders that killed runs left in `parent`, whatever report they were
