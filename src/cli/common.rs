@@ -271,11 +271,53 @@ impl LogArgs {
             .axes
             .iter()
             .all(|ax| matches!(ax.model.inputs(), (None, c) if c.is_empty()));
-        if plain {
-            self.read_columns(input)
+        let log = if plain {
+            self.read_columns(input)?
         } else {
-            self.read(input)
+            self.read(input)?
+        };
+        if unit.is_unit() {
+            self.refuse_rate_cols_beside(unit, &log)?;
         }
+        Ok(log)
+    }
+
+    /// Refuses a `--rate-col` that names no axis of `unit` in `log`: a unit's axes are found
+    /// by their names, so such a column would be read as a rate that nothing corrects, and
+    /// the column it was (a temperature) taken from the roles the unit reads.
+    fn refuse_rate_cols_beside(
+        &self,
+        unit: &driftlab::models::UnitCalibration,
+        log: &Log,
+    ) -> Result<(), String> {
+        let unit_axes: Vec<String> = unit
+            .axes
+            .iter()
+            .filter_map(|ax| log.matching_axis(&ax.name, &ax.rate_column))
+            .collect();
+        for given in &self.rate_col {
+            let column = match given.parse::<usize>() {
+                Ok(k) => log
+                    .info
+                    .columns
+                    .iter()
+                    .find(|c| c.index == k)
+                    .map(|c| c.name.clone())
+                    .unwrap_or_else(|| given.clone()),
+                Err(_) => given.clone(),
+            };
+            let axis = log.find_axis(&column);
+            if !axis.as_ref().is_some_and(|a| unit_axes.contains(a)) {
+                return Err(format!(
+                    "--rate-col {given}: the calibration is a unit of axes {}, found in the log \
+                     by their names or their rate columns' names; column \"{}\" is none of them \
+                     (leave --rate-col out, or give the columns of the unit's axes)",
+                    unit.axis_names().join(", "),
+                    column.escape_debug()
+                ));
+            }
+        }
+        Ok(())
     }
 
     /// Reads a log, with a progress bar on an interactive terminal.

@@ -150,7 +150,8 @@ pub fn run(a: Args) -> Result<(), CliError> {
     }
     let rows = rows.map_err(|e| e.to_string())?;
     note!(
-        "{rows} samples ({:.2} h){} written to {}",
+        // The program's length: gaps may cut the log's own start or end.
+        "{rows} samples of the {:.2}-h program{} written to {}",
         profile.duration_s() / 3600.0,
         if a.noise_only { ", noise only," } else { "" },
         out.display()

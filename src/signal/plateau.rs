@@ -195,8 +195,12 @@ impl DetectOptions {
         if !(self.min_duration_s.is_finite() && self.min_duration_s >= 0.0) {
             return bad("min_duration_s", "must be non-negative");
         }
-        if !(self.settled_fraction > 0.0 && self.settled_fraction <= 1.0) {
-            return bad("settled_fraction", "must be in (0, 1]");
+        if !(self.settled_fraction >= MIN_SETTLED_FRACTION && self.settled_fraction <= 1.0) {
+            // Less keeps a sample or two of each hold: K0 through single readings.
+            return bad(
+                "settled_fraction",
+                "must be from 0.05 to 1: the share of each quiet stretch kept as its plateau",
+            );
         }
         if !(self.bridge_s.is_finite() && self.bridge_s >= 0.0) {
             return bad("bridge_s", "must be non-negative");
@@ -204,6 +208,10 @@ impl DetectOptions {
         Ok(())
     }
 }
+
+/// The smallest share of a quiet stretch kept as its plateau ([`DetectOptions::validate`]):
+/// a 20-minute stretch keeps a minute.
+pub const MIN_SETTLED_FRACTION: f64 = 0.05;
 
 /// The loosest |Ṫ| a plateau may be detected under, °C/min ([`DetectOptions::validate`]).
 pub const MAX_HOLD_RATE_C_PER_MIN: f64 = 0.5;

@@ -103,7 +103,7 @@ pub fn summarise(log: &Log, opts: &SummaryOptions) -> LogSummary {
     }
     let max_abs_rate_c_per_min = if deriv.ready.is_empty() {
         if log.len() >= 2 {
-            problems.push(no_rate(log, &timing, steps, dt_s, opts));
+            problems.push(no_rate(&timing, steps, dt_s, opts));
         }
         None
     } else {
@@ -129,29 +129,27 @@ pub fn summarise(log: &Log, opts: &SummaryOptions) -> LogSummary {
 /// Why no sample of a log of two samples or more has a rate: its longest segment is shorter
 /// than the history the T smoothing and the derivative step need before the first rate.
 fn no_rate(
-    log: &Log,
     timing: &super::timing::Timing,
     steps: DerivativeSteps,
     dt_s: f64,
     opts: &SummaryOptions,
 ) -> String {
-    let longest = timing
-        .segments
-        .iter()
-        .map(|r| super::timing::span_s(&log.time_s, r, dt_s))
-        .fold(0.0f64, f64::max);
-    let needed = steps.ready_from() as f64 * dt_s;
+    // Counted in samples, which is what the history is made of: in seconds a sparse log's
+    // span and the history can round to the same number (4 samples an hour apart, 5 needed).
+    let longest = timing.segments.iter().map(|r| r.len()).max().unwrap_or(0);
+    let needed = steps.ready_from() + 1;
     let n = crate::number::readable;
     format!(
-        "no temperature rate: the log's {} ({} s) is shorter than the {} s of history the T \
-         smoothing ({} s) and the derivative step (H = {} s) need before the first rate",
+        "no temperature rate: the log's {} holds {longest} samples, fewer than the {needed} \
+         samples ({} s at {} s a sample) of history the T smoothing ({} s) and the derivative \
+         step (H = {} s) need before the first rate",
         if timing.segments.len() > 1 {
             "longest segment"
         } else {
             "whole length"
         },
-        n(longest),
-        n(needed),
+        n(needed as f64 * dt_s),
+        n(dt_s),
         n(opts.temp_smoothing_s),
         n(opts.step_h_s)
     )

@@ -221,3 +221,47 @@ fn a_log_slower_than_the_window_gets_no_window_figures_and_sample_rates_are_boun
     ]);
     assert!(e.contains("--sample-rate must be between"), "{e}");
 }
+
+#[test]
+fn a_rate_stuck_for_part_of_the_log_is_told_by_every_reader() {
+    let dir = tempfile::tempdir().unwrap();
+    // The gyro reads exactly 0 from 20000 s on: half the run carries no drift.
+    let log = rewritten(dir.path(), "half.csv", |l| {
+        let t: f64 = l.split(',').next().unwrap().parse().unwrap();
+        Some(if t >= 20000.0 {
+            with_rate(l, "0")
+        } else {
+            l.to_string()
+        })
+    });
+    let told = "holds one value, 0 °/h, for 20201 samples from 20000 s to 40200 s";
+    let inspect = ok(&["inspect", &log]);
+    assert!(inspect.contains(told), "{inspect}");
+    let json: serde_json::Value = serde_json::from_str(&ok(&["inspect", &log, "--json"])).unwrap();
+    assert!(json.to_string().contains(told), "{json}");
+    let run = crate::common::run::driftlab(&["calibrate", &log, "-o", &p(dir.path(), "h.json")]);
+    assert!(String::from_utf8_lossy(&run.stderr).contains(told));
+    // The sample logs and a quiet stretch of a real gyro are not told.
+    let clean = ok(&["inspect", &sample("calibration.csv")]);
+    assert!(!clean.contains("holds one value"), "{clean}");
+}
+
+#[test]
+fn a_unit_calibration_refuses_a_rate_column_that_is_none_of_its_axes() {
+    let dir = tempfile::tempdir().unwrap();
+    let cal = p(dir.path(), "unit.json");
+    ok(&["calibrate", &sample("imu3-calibration.csv"), "-o", &cal]);
+    let held = sample("imu3-validation.csv");
+    let out = p(dir.path(), "out.csv");
+    // temp_c as a rate would move the temperature the unit reads to the chamber's air.
+    let e = fails(&["apply", &cal, &held, "-o", &out, "--rate-col", "temp_c"]);
+    assert!(
+        e.contains("--rate-col temp_c") && e.contains("none of them"),
+        "{e}"
+    );
+    assert!(!std::path::Path::new(&out).exists());
+    let e = fails(&["evaluate", &cal, &held, "--rate-col", "temp_c"]);
+    assert!(e.contains("none of them"), "{e}");
+    // A column of one of its axes is what the unit reads anyway.
+    ok(&["apply", &cal, &held, "-o", &out, "--rate-col", "gy_dps"]);
+}

@@ -623,3 +623,33 @@ fn points_for_a_regression_table_are_refused() {
     assert!(e.contains("--points") && e.contains("poly-t"), "{e}");
     ok(&["export", &cal, "--format", "csv-table"]);
 }
+
+/// A detector that keeps a sliver of each hold (settled_fraction 1e-12: one sample a
+/// plateau, K0 through four single readings) is refused by the setting's name.
+#[test]
+fn a_detector_keeping_a_sliver_of_each_hold_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let log = sample("calibration.csv");
+    let recipe = p(dir.path(), "r.json");
+    ok(&[
+        "calibrate",
+        &log,
+        "-o",
+        &p(dir.path(), "c.json"),
+        "--save-recipe",
+        &recipe,
+    ]);
+    let mut json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&recipe).unwrap()).unwrap();
+    json["plateaus"]["settled_fraction"] = serde_json::json!(1e-12);
+    std::fs::write(&recipe, json.to_string()).unwrap();
+    let e = fails(&[
+        "calibrate",
+        &log,
+        "--recipe",
+        &recipe,
+        "-o",
+        &p(dir.path(), "x.json"),
+    ]);
+    assert!(e.contains("plateaus.settled_fraction"), "{e}");
+}

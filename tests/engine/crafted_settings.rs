@@ -443,7 +443,7 @@ fn a_log_shorter_than_the_derivative_history_has_no_rate_and_says_why() {
     assert_eq!(s.max_abs_rate_c_per_min, None);
     assert_eq!(s.problems.len(), 1);
     assert!(
-        s.problems[0].contains("whole length (40.001 s) is shorter than the 179.999 s"),
+        s.problems[0].contains("whole length holds 40001 samples, fewer than the 180000 samples"),
         "{:?}",
         s.problems
     );

@@ -252,8 +252,78 @@ fn ratio(a: StatedRate, b: StatedRate) -> f64 {
 }
 
 /// The problems of the columns `log` took for its rate and temperature.
+/// The shortest stretch of one repeated rate value told as a gyro stuck, in samples and as a
+/// share of the log: a real gyro's output moves by its noise from one sample to the next, so a
+/// value held this long is a wire or a logger repeating its last reading.
+const STUCK_SAMPLES: usize = 600;
+const STUCK_SHARE: f64 = 0.05;
+
+/// Each gyro axis whose rate holds one value over a long stretch (a gyro disconnected or stuck
+/// part of the way): its samples there carry no drift, and a calibration or a judgement over
+/// them would read one as if they did.
+fn stuck_rates(log: &Log) -> Vec<Problem> {
+    let mut axes: Vec<(&str, &[f64])> = vec![(log.axis.as_str(), &log.omega_dph)];
+    axes.extend(
+        log.other_axes
+            .iter()
+            .map(|a| (a.name.as_str(), a.omega_dph.as_slice())),
+    );
+    let n = log.len();
+    let least = STUCK_SAMPLES.max((STUCK_SHARE * n as f64).ceil() as usize);
+    let mut out = Vec::new();
+    for (axis, rate) in axes {
+        // The longest run of one finite value, bit for bit.
+        let (mut best, mut start) = ((0usize, 0usize), 0usize);
+        for i in 1..=rate.len() {
+            let ends = i == rate.len()
+                || !rate[i].is_finite()
+                || rate[i].to_bits() != rate[start].to_bits();
+            if ends {
+                if rate[start].is_finite() && i - start > best.1 - best.0 {
+                    best = (start, i);
+                }
+                start = i;
+            }
+        }
+        let (a, b) = best;
+        if b - a < least || b > log.time_s.len() {
+            continue;
+        }
+        let r = crate::number::readable;
+        let column = log
+            .axis_columns()
+            .into_iter()
+            .find(|(name, _)| name == axis)
+            .and_then(|(_, col)| log.info.columns.iter().find(|c| c.name == col))
+            .map(|c| c.index);
+        out.push(Problem {
+            line: 0,
+            column,
+            kind: ProblemKind::Implausible,
+            count: 1,
+            message: format!(
+                "the rate{} holds one value, {} °/h, for {} samples from {} s to {} s ({:.0} % \
+                 of the log): a gyro stuck or disconnected there reads no drift; cut that \
+                 stretch out or check the logger",
+                if axis.is_empty() {
+                    String::new()
+                } else {
+                    format!(" of axis {axis}")
+                },
+                r(rate[a]),
+                b - a,
+                r(log.time_s[a]),
+                r(log.time_s[b - 1]),
+                100.0 * (b - a) as f64 / n as f64
+            ),
+        });
+    }
+    out
+}
+
 pub(super) fn check(log: &Log) -> Vec<Problem> {
     let mut out = duplicate_names(log);
+    out.extend(stuck_rates(log));
     out.extend(contradicted_units(log));
     out.extend(contradicted_time_unit(log));
     out.extend(unread_units(log));
