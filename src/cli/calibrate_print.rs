@@ -61,15 +61,22 @@ pub fn vakhrameev_summary(cal: &Calibration, warnings: &[String]) -> Result<(), 
     )?;
     for (name, ap) in cal.approximations() {
         let s = ap.stats();
+        // Through no point or one, a curve has no residual to measure and no spread to
+        // explain: its rmse and R² are n/a, not the zeros the file holds for them.
+        let (rmse, r2) = if s.n < 2 {
+            ("n/a".to_string(), "n/a".to_string())
+        } else {
+            (format!("{:.4e}", s.rmse), format!("{:.3}", s.r2))
+        };
         out!(
-            "  {:<11} {:<10} {:>12.4e} {:>12.4e} {:>8} {:>11.4e} {:>7.3}",
+            "  {:<11} {:<10} {:>12.4e} {:>12.4e} {:>8} {:>11} {:>7}",
             name,
             ap.kind().to_string(),
             ap.x_min(),
             ap.x_max(),
             s.n,
-            s.rmse,
-            s.r2
+            rmse,
+            r2
         )?;
     }
     for w in warnings {
