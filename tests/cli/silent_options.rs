@@ -572,10 +572,9 @@ fn a_plateau_past_the_log_or_of_no_number_is_told_as_such() {
     );
 }
 
-/// A recipe whose detector would take ramps for holds (a tolerance of 1e6 °C/min, a bridge of
-/// 1e9 s: one "plateau" over 70 °C of ramps) is refused by the setting's name.
-#[test]
-fn a_detector_loosened_past_a_hold_is_refused_by_name() {
+/// The error of `calibrate` on the sample log with the recipe it saves, its plateau detector's
+/// `field` set to `value`.
+fn refusal_of_detector(field: &str, value: serde_json::Value) -> String {
     let dir = tempfile::tempdir().unwrap();
     let log = sample("calibration.csv");
     let recipe = p(dir.path(), "r.json");
@@ -587,20 +586,32 @@ fn a_detector_loosened_past_a_hold_is_refused_by_name() {
         "--save-recipe",
         &recipe,
     ]);
-    let text = std::fs::read_to_string(&recipe).unwrap();
-    for (field, value) in [("max_rate_c_per_min", "1e6"), ("bridge_s", "1e9")] {
-        let mut json: serde_json::Value = serde_json::from_str(&text).unwrap();
-        json["plateaus"][field] = serde_json::from_str(value).unwrap();
-        let edited = p(dir.path(), "edited.json");
-        std::fs::write(&edited, json.to_string()).unwrap();
-        let e = fails(&[
-            "calibrate",
-            &log,
-            "--recipe",
-            &edited,
-            "-o",
-            &p(dir.path(), "x.json"),
-        ]);
+    let mut json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&recipe).unwrap()).unwrap();
+    json["plateaus"][field] = value;
+    std::fs::write(&recipe, json.to_string()).unwrap();
+    fails(&[
+        "calibrate",
+        &log,
+        "--recipe",
+        &recipe,
+        "-o",
+        &p(dir.path(), "x.json"),
+    ])
+}
+
+/// A recipe whose detector would take ramps for holds (a tolerance of 1e6 °C/min, a bridge of
+/// 1e9 s: one "plateau" over 70 °C of ramps), or keep a sliver of each hold (settled_fraction
+/// 1e-12: one sample a plateau, K0 through four single readings), is refused by the setting's
+/// name.
+#[test]
+fn a_detector_that_takes_ramps_or_slivers_for_holds_is_refused_by_name() {
+    for (field, value) in [
+        ("max_rate_c_per_min", 1e6),
+        ("bridge_s", 1e9),
+        ("settled_fraction", 1e-12),
+    ] {
+        let e = refusal_of_detector(field, serde_json::json!(value));
         assert!(e.contains(&format!("plateaus.{field}")), "{field}: {e}");
     }
 }
@@ -622,34 +633,4 @@ fn points_for_a_regression_table_are_refused() {
     let e = fails(&["export", &cal, "--format", "csv-table", "--points", "7"]);
     assert!(e.contains("--points") && e.contains("poly-t"), "{e}");
     ok(&["export", &cal, "--format", "csv-table"]);
-}
-
-/// A detector that keeps a sliver of each hold (settled_fraction 1e-12: one sample a
-/// plateau, K0 through four single readings) is refused by the setting's name.
-#[test]
-fn a_detector_keeping_a_sliver_of_each_hold_is_refused() {
-    let dir = tempfile::tempdir().unwrap();
-    let log = sample("calibration.csv");
-    let recipe = p(dir.path(), "r.json");
-    ok(&[
-        "calibrate",
-        &log,
-        "-o",
-        &p(dir.path(), "c.json"),
-        "--save-recipe",
-        &recipe,
-    ]);
-    let mut json: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(&recipe).unwrap()).unwrap();
-    json["plateaus"]["settled_fraction"] = serde_json::json!(1e-12);
-    std::fs::write(&recipe, json.to_string()).unwrap();
-    let e = fails(&[
-        "calibrate",
-        &log,
-        "--recipe",
-        &recipe,
-        "-o",
-        &p(dir.path(), "x.json"),
-    ]);
-    assert!(e.contains("plateaus.settled_fraction"), "{e}");
 }
