@@ -186,13 +186,20 @@ pub fn check_span(log: &Log, choice: &ModelChoice) -> Result<()> {
 /// Refuses a log whose rate holds one value throughout (of its finite samples): any real
 /// gyro's output moves by its noise from one sample to the next; one value is a wire, not a
 /// gyro, and every figure fitted to it, or judged on it, is rounding. Every fit asks it
-/// ([`check_span`]), and so does every judgement of a model on a log.
+/// ([`check_span`]), and so do `evaluate` and `compare` of a model on a log (a report, of
+/// several logs, draws each; the reader tells a rate held at one value).
 ///
 /// # Errors
 /// [`FitError::FrozenRate`], naming the axis and the value.
 pub fn check_rate_moves(log: &Log) -> Result<()> {
     let mut finite = log.omega_dph.iter().filter(|v| v.is_finite());
     if let Some(first) = finite.next()
+        && log
+            .omega_dph
+            .iter()
+            .filter(|v| v.is_finite())
+            .nth(1)
+            .is_some()
         && finite.all(|v| v.to_bits() == first.to_bits())
     {
         return Err(FitError::FrozenRate {

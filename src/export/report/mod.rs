@@ -375,7 +375,6 @@ fn correct(
     path: &Path,
     log: &Log,
 ) -> Result<(Correction, Vec<(f64, f64)>)> {
-    crate::models::check_rate_moves(log)?;
     match model {
         DriftModel::Vakhrameev(cal) => {
             let plateaus = if own {
