@@ -295,6 +295,21 @@ impl LogArgs {
             .iter()
             .filter_map(|ax| log.matching_axis(&ax.name, &ax.rate_column))
             .collect();
+        let missing: Vec<&str> = unit
+            .axes
+            .iter()
+            .filter(|ax| log.matching_axis(&ax.name, &ax.rate_column).is_none())
+            .map(|ax| ax.name.as_str())
+            .collect();
+        if !self.rate_col.is_empty() && !missing.is_empty() {
+            return Err(format!(
+                "--rate-col: the calibration is a unit of axes {}, and with the columns given \
+                 the log has none for axis {}: give the columns of every axis of the unit, or \
+                 leave --rate-col out",
+                unit.axis_names().join(", "),
+                missing.join(", ")
+            ));
+        }
         for given in &self.rate_col {
             let column = match given.parse::<usize>() {
                 Ok(k) => log

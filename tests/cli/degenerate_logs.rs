@@ -270,3 +270,70 @@ fn a_unit_calibration_refuses_a_rate_column_that_is_none_of_its_axes() {
     // A column of one of its axes is what the unit reads anyway.
     ok(&["apply", &cal, &held, "-o", &out, "--rate-col", "gy_dps"]);
 }
+
+/// The row with its temperature (the third cell) replaced by `temp`.
+fn with_temperature(line: &str, temp: &str) -> String {
+    let mut cells: Vec<&str> = line.split(',').collect();
+    cells[2] = temp;
+    cells.join(",")
+}
+
+#[test]
+fn a_temperature_stuck_while_the_chamber_moves_is_told() {
+    let dir = tempfile::tempdir().unwrap();
+    // The gyro's sensor reads 25 °C from 10000 s to 30000 s, through the chamber's ramps.
+    let log = rewritten(dir.path(), "tstuck.csv", |l| {
+        let t: f64 = l.split(',').next().unwrap().parse().unwrap();
+        Some(if (10000.0..30000.0).contains(&t) {
+            with_temperature(l, "25.000")
+        } else {
+            l.to_string()
+        })
+    });
+    let inspect = ok(&["inspect", &log]);
+    assert!(
+        inspect.contains("the temperature holds one value, 25 °C, for 20000 samples")
+            && inspect.contains("\"temp_chamber_c\" moves by"),
+        "{inspect}"
+    );
+    // A plateau read by a coarse sensor (one value while the chamber holds too) is not told.
+    let clean = ok(&["inspect", &sample("calibration.csv")]);
+    assert!(!clean.contains("holds one value"), "{clean}");
+}
+
+#[test]
+fn a_gyro_rate_taken_as_the_temperature_is_told() {
+    let e = crate::common::run::driftlab(&[
+        "inspect",
+        &sample("imu3-calibration.csv"),
+        "--temp-col",
+        "gx_dps",
+    ]);
+    let stderr = String::from_utf8_lossy(&e.stderr);
+    assert!(
+        stderr.contains("\"gx_dps\" is taken as the temperature (--temp-col)"),
+        "{stderr}"
+    );
+}
+
+#[test]
+fn a_unit_refuses_rate_columns_that_leave_out_some_of_its_axes() {
+    let dir = tempfile::tempdir().unwrap();
+    let cal = p(dir.path(), "unit.json");
+    ok(&["calibrate", &sample("imu3-calibration.csv"), "-o", &cal]);
+    let e = fails(&[
+        "apply",
+        &cal,
+        &sample("imu3-validation.csv"),
+        "-o",
+        &p(dir.path(), "o.csv"),
+        "--rate-col",
+        "gx_dps",
+        "--rate-col",
+        "gz_dps",
+    ]);
+    assert!(
+        e.contains("the log has none for axis gy") && e.contains("every axis of the unit"),
+        "{e}"
+    );
+}

@@ -206,6 +206,28 @@ fn misnamed_rates(log: &Log) -> Vec<Problem> {
         .collect()
 }
 
+/// The temperature column whose name says it holds a gyro rate (`--temp-col gx_dps`): its
+/// rates would be read as °C, and the drift modelled against them.
+fn misnamed_temperature(log: &Log) -> Option<Problem> {
+    use super::names::{Kind, classify};
+    let c = log
+        .info
+        .columns
+        .iter()
+        .find(|c| c.role == ColumnRole::Temperature)?;
+    matches!(classify(&c.name).0, Kind::Rate(_)).then(|| Problem {
+        line: 0,
+        column: Some(c.index),
+        kind: ProblemKind::Implausible,
+        count: 1,
+        message: format!(
+            "\"{}\" is taken as the temperature (temp_col), but its name says it holds a gyro \
+             rate: the drift would be modelled against a rate read as °C; check temp_col",
+            c.name
+        ),
+    })
+}
+
 /// Columns read in the default unit (°/h, s) whose name has a word where a unit goes that the
 /// reader does not read (`Rate [rpm]`, `time [fortnights]`): a unit or a note, the reader
 /// cannot tell which, so the engineer hears of it. A name that states a unit the reader does
@@ -272,20 +294,7 @@ fn stuck_rates(log: &Log) -> Vec<Problem> {
     let least = STUCK_SAMPLES.max((STUCK_SHARE * n as f64).ceil() as usize);
     let mut out = Vec::new();
     for (axis, rate) in axes {
-        // The longest run of one finite value, bit for bit.
-        let (mut best, mut start) = ((0usize, 0usize), 0usize);
-        for i in 1..=rate.len() {
-            let ends = i == rate.len()
-                || !rate[i].is_finite()
-                || rate[i].to_bits() != rate[start].to_bits();
-            if ends {
-                if rate[start].is_finite() && i - start > best.1 - best.0 {
-                    best = (start, i);
-                }
-                start = i;
-            }
-        }
-        let (a, b) = best;
+        let (a, b) = longest_run(rate);
         if b - a < least || b > log.time_s.len() {
             continue;
         }
@@ -321,13 +330,84 @@ fn stuck_rates(log: &Log) -> Vec<Problem> {
     out
 }
 
+/// The longest run of one finite value in `x`, bit for bit, as a range of indices.
+fn longest_run(x: &[f64]) -> (usize, usize) {
+    let (mut best, mut start) = ((0usize, 0usize), 0usize);
+    for i in 1..=x.len() {
+        let ends = i == x.len() || !x[i].is_finite() || x[i].to_bits() != x[start].to_bits();
+        if ends {
+            if x[start].is_finite() && i - start > best.1 - best.0 {
+                best = (start, i);
+            }
+            start = i;
+        }
+    }
+    best
+}
+
+/// The temperature held at one value over a long stretch while another temperature of the log
+/// (the chamber's) moves by more than [`STUCK_TEMP_MOVE_C`] there: a sensor stuck, whose one
+/// reading the fit would take for a plateau. A hold where both stay still is a plateau, and a
+/// coarse sensor may read one value through it: not told.
+const STUCK_TEMP_MOVE_C: f64 = 2.0;
+
+fn stuck_temperature(log: &Log) -> Option<Problem> {
+    let n = log.len();
+    let least = STUCK_SAMPLES.max((STUCK_SHARE * n as f64).ceil() as usize);
+    let (a, b) = longest_run(&log.temp_c);
+    if b - a < least || b > n {
+        return None;
+    }
+    let (other, moved) = log
+        .extra
+        .iter()
+        .filter(|x| x.name.to_lowercase().contains("temp") && x.values.len() == n)
+        .map(|x| {
+            let v = x.values[a..b].iter().filter(|v| v.is_finite());
+            let lo = v.clone().fold(f64::INFINITY, |m, &v| m.min(v));
+            let hi = v.fold(f64::NEG_INFINITY, |m, &v| m.max(v));
+            (x.name.as_str(), hi - lo)
+        })
+        .filter(|(_, moved)| moved.is_finite())
+        .max_by(|p, q| p.1.total_cmp(&q.1))?;
+    if moved <= STUCK_TEMP_MOVE_C {
+        return None;
+    }
+    let r = crate::number::readable;
+    let column = log
+        .info
+        .columns
+        .iter()
+        .find(|c| c.role == ColumnRole::Temperature)
+        .map(|c| c.index);
+    Some(Problem {
+        line: 0,
+        column,
+        kind: ProblemKind::Implausible,
+        count: 1,
+        message: format!(
+            "the temperature holds one value, {} °C, for {} samples from {} s to {} s, while \
+             \"{}\" moves by {} °C there: a sensor stuck, whose one reading would be taken for \
+             a plateau; cut that stretch out or choose another temperature (temp_col)",
+            r(log.temp_c[a]),
+            b - a,
+            r(log.time_s[a]),
+            r(log.time_s[b - 1]),
+            other,
+            crate::number::significant(moved, 3)
+        ),
+    })
+}
+
 pub(super) fn check(log: &Log) -> Vec<Problem> {
     let mut out = duplicate_names(log);
     out.extend(stuck_rates(log));
+    out.extend(stuck_temperature(log));
     out.extend(contradicted_units(log));
     out.extend(contradicted_time_unit(log));
     out.extend(unread_units(log));
     out.extend(misnamed_rates(log));
+    out.extend(misnamed_temperature(log));
     let column = |role: ColumnRole| log.info.columns.iter().find(|c| c.role == role);
     if let Some(c) = column(ColumnRole::Temperature)
         && let Some(why) = temperature_doubt(&c.name, &log.temp_c)
