@@ -92,9 +92,9 @@ pub fn worded(e: ReadError) -> String {
         ReadError::ChoiceOnCsv { path, settings } => {
             let given = flags(&settings);
             format!(
-                "{path}: {} choose{} a gyro of a drone or robot log (PX4 ULog, ArduPilot \
-                 DataFlash, ROS bag, MCAP); this file is none of them (a CSV's columns are \
-                 chosen with --rate-col, --temp-col)",
+                "{path}: {} choose{} what is read from a drone or robot log (its gyro, its \
+                 temperature source) (PX4 ULog, ArduPilot DataFlash, ROS bag, MCAP); this file \
+                 is none of them (a CSV's columns are chosen with --rate-col, --temp-col)",
                 given.join(" and "),
                 if given.len() == 1 { "s" } else { "" }
             )
