@@ -192,14 +192,10 @@ pub fn check_span(log: &Log, choice: &ModelChoice) -> Result<()> {
 /// # Errors
 /// [`FitError::FrozenRate`], naming the axis and the value.
 pub fn check_rate_moves(log: &Log) -> Result<()> {
-    let mut finite = log.omega_dph.iter().filter(|v| v.is_finite());
+    let mut finite = log.omega_dph.iter().filter(|v| v.is_finite()).peekable();
+    // One sample is no stretch at all: it takes two to hold a value.
     if let Some(first) = finite.next()
-        && log
-            .omega_dph
-            .iter()
-            .filter(|v| v.is_finite())
-            .nth(1)
-            .is_some()
+        && finite.peek().is_some()
         && finite.all(|v| v.to_bits() == first.to_bits())
     {
         return Err(FitError::FrozenRate {
