@@ -43,7 +43,7 @@ pub fn vakhrameev_summary(cal: &Calibration, warnings: &[String]) -> Result<(), 
             fixed(p.range.end_s, 0),
             fixed(p.temp_c, 3),
             fixed(p.omega_dph, 4),
-            fixed(p.omega_std_dph, 4),
+            p.omega_std_dph.map_or("n/a".to_string(), |s| fixed(s, 4)),
             p.samples
         )?;
     }

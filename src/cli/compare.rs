@@ -116,14 +116,34 @@ pub fn run(a: Args) -> Result<(), CliError> {
     }
     let reports = compare::compare(&train, &tests, &choices, &recipe, &merit);
     if a.json {
-        return common::print_json(&serde_json::json!({
+        common::print_json(&serde_json::json!({
             "train": a.train,
             "test": a.test,
             "options": merit,
             "models": reports,
-        }));
+        }))?;
+    } else {
+        print_tables(&reports, &merit)?;
     }
-    print_tables(&reports, &merit)
+    refuse_none_fitted(&a.train, [&reports[..]])
+}
+
+/// A comparison in which no model could be fitted is a failure, not a table of reasons: the
+/// reasons are printed (in the table or the JSON), then the command exits with an error, so
+/// that a script does not take an empty comparison for a result.
+fn refuse_none_fitted<'r>(
+    train: &Path,
+    per_axis: impl IntoIterator<Item = &'r [ModelReport]>,
+) -> Result<(), CliError> {
+    let mut reports = per_axis.into_iter().flatten().peekable();
+    if reports.peek().is_some() && reports.all(|r| r.error.is_some()) {
+        return Err(format!(
+            "{}: no model could be fitted (each one's reason is above)",
+            train.display()
+        )
+        .into());
+    }
+    Ok(())
 }
 
 /// The extra columns `choices` read: the channels each model's terms name, and the other
@@ -203,20 +223,22 @@ fn run_axes(
             .iter()
             .map(|(name, reports)| serde_json::json!({ "name": name, "models": reports }))
             .collect();
-        return common::print_json(&serde_json::json!({
+        common::print_json(&serde_json::json!({
             "train": a.train,
             "test": a.test,
             "options": merit,
             "models": per_axis.first().map(|(_, r)| r),
             "axes": axes_json,
-        }));
+        }))?;
+    } else {
+        for (name, reports) in &per_axis {
+            out!("=== Axis {name} ===")?;
+            print_tables(reports, merit)?;
+            out!()?;
+        }
+        print_axes_summary(&per_axis)?;
     }
-    for (name, reports) in &per_axis {
-        out!("=== Axis {name} ===")?;
-        print_tables(reports, merit)?;
-        out!()?;
-    }
-    print_axes_summary(&per_axis)
+    refuse_none_fitted(&a.train, per_axis.iter().map(|(_, r)| &r[..]))
 }
 
 /// For every log, one line per model: its corrected peak-to-peak on each axis with the ratio

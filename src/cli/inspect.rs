@@ -270,7 +270,8 @@ pub fn run(a: Args) -> Result<(), CliError> {
             common::fixed(p.range.end_s, 0),
             common::fixed(p.temp_c, 3),
             common::fixed(p.omega_dph, 4),
-            common::fixed(p.omega_std_dph, 4),
+            p.omega_std_dph
+                .map_or("n/a".to_string(), |s| common::fixed(s, 4)),
             p.samples
         )
     };

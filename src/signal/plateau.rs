@@ -270,7 +270,7 @@ pub fn detect(
 
 /// What a plateau says about the gyro: the K0 point and how trustworthy it is.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(deny_unknown_fields, from = "PlateauStatsFile")]
 pub struct PlateauStats {
     /// The time range.
     pub range: PlateauRange,
@@ -278,14 +278,52 @@ pub struct PlateauStats {
     pub temp_c: f64,
     /// Mean output, °/h: the K0 point.
     pub omega_dph: f64,
-    /// Standard deviation of the raw output on the plateau, °/h.
-    pub omega_std_dph: f64,
-    /// Standard error of the mean output, °/h (std/√n: white noise assumed).
-    pub omega_sem_dph: f64,
+    /// Standard deviation of the raw output on the plateau, °/h; `None` (`null` in a file)
+    /// for a plateau of one sample, whose spread nothing measures.
+    pub omega_std_dph: Option<f64>,
+    /// Standard error of the mean output, °/h (std/√n: white noise assumed); `None` with the
+    /// deviation.
+    pub omega_sem_dph: Option<f64>,
     /// Max − min temperature on the plateau, °C: a large value means it was not stable.
     pub temp_spread_c: f64,
     /// Samples in the plateau.
     pub samples: usize,
+}
+
+/// [`PlateauStats`] as a file holds them. Files written before the deviation of a one-sample
+/// plateau was `null` hold 0 there (and as its standard error): read as `null`, which is what
+/// that 0 meant; any other value is left for the calibration's check to refuse.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct PlateauStatsFile {
+    range: PlateauRange,
+    temp_c: f64,
+    omega_dph: f64,
+    omega_std_dph: Option<f64>,
+    omega_sem_dph: Option<f64>,
+    temp_spread_c: f64,
+    samples: usize,
+}
+
+impl From<PlateauStatsFile> for PlateauStats {
+    fn from(f: PlateauStatsFile) -> PlateauStats {
+        let unmeasured = |v: Option<f64>| {
+            if f.samples == 1 && v == Some(0.0) {
+                None
+            } else {
+                v
+            }
+        };
+        PlateauStats {
+            range: f.range,
+            temp_c: f.temp_c,
+            omega_dph: f.omega_dph,
+            omega_std_dph: unmeasured(f.omega_std_dph),
+            omega_sem_dph: unmeasured(f.omega_sem_dph),
+            temp_spread_c: f.temp_spread_c,
+            samples: f.samples,
+        }
+    }
 }
 
 /// Statistics of each of `ranges` over the given columns, in order; a range without samples
@@ -318,11 +356,7 @@ pub fn stats(
     let w = &omega_dph[lo..hi];
     let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
     let (mt, mw) = (mean(t), mean(w));
-    let var = if n > 1 {
-        w.iter().map(|v| (v - mw).powi(2)).sum::<f64>() / (n - 1) as f64
-    } else {
-        0.0
-    };
+    let var = (n > 1).then(|| w.iter().map(|v| (v - mw).powi(2)).sum::<f64>() / (n - 1) as f64);
     let (tmin, tmax) = t
         .iter()
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
@@ -332,8 +366,8 @@ pub fn stats(
         range,
         temp_c: mt,
         omega_dph: mw,
-        omega_std_dph: var.sqrt(),
-        omega_sem_dph: (var / n as f64).sqrt(),
+        omega_std_dph: var.map(f64::sqrt),
+        omega_sem_dph: var.map(|v| (v / n as f64).sqrt()),
         temp_spread_c: tmax - tmin,
         samples: n,
     })

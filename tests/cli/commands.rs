@@ -1,11 +1,11 @@
 //! The command line end to end, as a user runs it: simulate, calibrate, apply, evaluate,
 //! inspect, on the bundled sample logs and on fresh simulated runs.
 
-use serde_json::Value;
+use serde_json::{Value, json};
 use std::path::{Path, PathBuf};
 
 use crate::common;
-use common::run::{fails, ok, p, sample};
+use common::run::{driftlab, fails, ok, p, sample};
 
 fn evaluate(cal: &str, log: &str) -> Value {
     serde_json::from_str(&ok(&["evaluate", cal, log, "--json"])).unwrap()
@@ -462,4 +462,88 @@ fn an_option_a_model_cannot_use_is_refused_by_name() {
     assert!(run.status.success());
     let err = String::from_utf8_lossy(&run.stderr);
     assert!(err.contains("k1_plus") && err.contains("not used"), "{err}");
+}
+
+#[test]
+fn compare_fails_when_no_model_can_be_fitted_and_says_why_for_each() {
+    // A run with no plateau: every model fitted on plateaus fails; the comparison is empty.
+    let dir = tempfile::tempdir().unwrap();
+    let log = p(dir.path(), "no-plateaus.csv");
+    ok(&["simulate", "--profile", "no-plateaus", "--out", &log]);
+    for json in [false, true] {
+        let mut args = vec![
+            "compare",
+            "--train",
+            &log,
+            "--models",
+            "vakhrameev,yan-cross",
+        ];
+        if json {
+            args.push("--json");
+        }
+        let run = driftlab(&args);
+        let (out, err) = (
+            String::from_utf8_lossy(&run.stdout),
+            String::from_utf8_lossy(&run.stderr),
+        );
+        assert!(
+            !run.status.success(),
+            "json {json}: exit 0 with no model\n{out}"
+        );
+        assert!(err.contains("no model could be fitted"), "{err}");
+        // Each model's own reason is still given, in the table or the JSON.
+        assert_eq!(out.matches("no plateaus").count(), 1, "{out}");
+        assert!(
+            out.contains("yan-cross") && out.contains("has none"),
+            "{out}"
+        );
+    }
+    // One model that fits is a comparison: exit 0.
+    ok(&["compare", "--train", &log, "--models", "vakhrameev,poly-t"]);
+}
+
+#[test]
+fn a_one_sample_plateau_has_no_deviation_in_the_file_or_the_table() {
+    let dir = tempfile::tempdir().unwrap();
+    let cal = p(dir.path(), "one.json");
+    let log = sample("calibration.csv");
+    let plateaus = ["1000:3500", "3600.5:3601.4", "7000:11900", "21000:24000"];
+    let mut args = vec!["calibrate", &log, "--out", &cal];
+    for r in &plateaus {
+        args.extend(["--plateau", r]);
+    }
+    let table = ok(&args);
+    let row = table
+        .lines()
+        .find(|l| l.trim_end().ends_with(" 1") && l.contains("3601"))
+        .unwrap_or_else(|| panic!("{table}"));
+    assert!(row.contains("n/a"), "{row}");
+    // `null` in the file, where 0 would claim a noiseless reading.
+    let mut v: Value = serde_json::from_str(&std::fs::read_to_string(&cal).unwrap()).unwrap();
+    let one = &v["calibration"]["plateaus"][1];
+    assert_eq!(one["samples"], 1, "{one}");
+    assert!(
+        one["omega_std_dph"].is_null() && one["omega_sem_dph"].is_null(),
+        "{one}"
+    );
+    let other = &v["calibration"]["plateaus"][0];
+    assert!(other["omega_std_dph"].as_f64().unwrap() > 0.0, "{other}");
+    let applied = p(dir.path(), "applied.csv");
+    ok(&["apply", &cal, &log, "--out", &applied]);
+    // A file written before held 0 there: it loads, and means the same.
+    let edited = p(dir.path(), "edited.json");
+    for (value, loads) in [(json!(0.0), true), (json!(0.5), false)] {
+        v["calibration"]["plateaus"][1]["omega_std_dph"] = value.clone();
+        v["calibration"]["plateaus"][1]["omega_sem_dph"] = value.clone();
+        std::fs::write(&edited, serde_json::to_string_pretty(&v).unwrap()).unwrap();
+        let run = driftlab(&["apply", &edited, &log, "--out", &applied]);
+        let err = String::from_utf8_lossy(&run.stderr);
+        assert_eq!(run.status.success(), loads, "{value}: {err}");
+        if !loads {
+            assert!(
+                err.contains("plateaus[1].omega_std_dph: is 0.5 on a plateau of 1 sample"),
+                "{err}"
+            );
+        }
+    }
 }

@@ -477,10 +477,12 @@ fn a_delay_over_half_the_log_is_refused_before_any_fit() {
             e.contains("more than half of the 40200 s log") && e.contains("(--delay)"),
             "{delay}: {e}"
         );
-        let json: serde_json::Value = serde_json::from_str(&ok(&[
+        // The one model compared cannot be fitted: its reason in the JSON, and a failure.
+        let run = driftlab(&[
             "compare", "--train", &log, "--custom", "1,T,T^2", "--delay", delay, "--json",
-        ]))
-        .unwrap();
+        ]);
+        assert!(!run.status.success(), "{delay}");
+        let json: serde_json::Value = serde_json::from_slice(&run.stdout).unwrap();
         let error = json["models"][0]["error"].as_str().unwrap_or_default();
         assert!(error.contains("more than half"), "{delay}: {json}");
     }

@@ -176,8 +176,8 @@ fn stats(start_s: f64, end_s: f64, spread_c: f64) -> PlateauStats {
         range: range(start_s, end_s),
         temp_c: 20.0,
         omega_dph: 0.0,
-        omega_std_dph: 0.1,
-        omega_sem_dph: 0.01,
+        omega_std_dph: Some(0.1),
+        omega_sem_dph: Some(0.01),
         temp_spread_c: spread_c,
         samples: 100,
     }

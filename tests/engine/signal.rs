@@ -147,8 +147,8 @@ fn a_plateau_outside_the_detectors_limits_says_why() {
         range: PlateauRange { start_s, end_s },
         temp_c: 20.0,
         omega_dph: 0.0,
-        omega_std_dph: 0.01,
-        omega_sem_dph: 0.001,
+        omega_std_dph: Some(0.01),
+        omega_sem_dph: Some(0.001),
         temp_spread_c: spread,
         samples: (end_s - start_s) as usize,
     };

@@ -53,7 +53,7 @@ pub(super) fn body(cal: &Calibration, s: &ReportSummary, d: Depth) -> Markup {
                     td class="num" { (format!("{:.3}", p.temp_c)) }
                     td class="num" { (format!("{:.3}", p.temp_spread_c)) }
                     td class="num" { (format!("{:.4}", p.omega_dph)) }
-                    td class="num" { (format!("{:.4}", p.omega_std_dph)) }
+                    td class="num" { (p.omega_std_dph.map_or("n/a".to_string(), |s| format!("{s:.4}"))) }
                     td class="num" { (p.samples) }
                 }
                 "\n"

@@ -59,13 +59,18 @@ impl CoeffView {
                         .iter()
                         .map(|p| [p.temp_c, p.omega_dph])
                         .collect();
-                    for p in &cal.plateaus {
+                    // A plateau of one sample has no spread to draw.
+                    for (p, std) in cal
+                        .plateaus
+                        .iter()
+                        .filter_map(|p| Some((p, p.omega_std_dph?)))
+                    {
                         pui.line(
                             Line::new(
                                 "±1 std",
                                 PlotPoints::new(vec![
-                                    [p.temp_c, p.omega_dph - p.omega_std_dph],
-                                    [p.temp_c, p.omega_dph + p.omega_std_dph],
+                                    [p.temp_c, p.omega_dph - std],
+                                    [p.temp_c, p.omega_dph + std],
                                 ]),
                             )
                             .color(Palette::shade(pal.plateau, 0.6))

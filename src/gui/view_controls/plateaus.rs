@@ -200,17 +200,17 @@ impl ControlsView {
                         match stats.iter().find(|s| s.range == r) {
                             Some(s) => {
                                 cell(ui, 3, RichText::new(crate::number::fixed(s.temp_c, 2)));
-                                cell(ui, 4, RichText::new(num(s.omega_dph))).on_hover_text(
-                                    if s.samples < 2 {
-                                        "one sample: its spread is unknown".to_string()
-                                    } else {
-                                        format!(
-                                            "std {} °/h, standard error {} °/h",
-                                            num(s.omega_std_dph),
-                                            num(s.omega_sem_dph)
-                                        )
-                                    },
-                                );
+                                cell(ui, 4, RichText::new(num(s.omega_dph))).on_hover_text(match (
+                                    s.omega_std_dph,
+                                    s.omega_sem_dph,
+                                ) {
+                                    (Some(std), Some(sem)) => format!(
+                                        "std {} °/h, standard error {} °/h",
+                                        num(std),
+                                        num(sem)
+                                    ),
+                                    _ => "one sample: its spread is unknown".to_string(),
+                                });
                                 let spread =
                                     RichText::new(crate::number::fixed(s.temp_spread_c, 3));
                                 let length_s = s.range.end_s - s.range.start_s;
@@ -229,7 +229,7 @@ impl ControlsView {
                                     crate::number::fixed(s.temp_spread_c, 3),
                                     num(s.temp_spread_c / length_s * 60.0),
                                     num(length_s),
-                                    num(s.omega_std_dph),
+                                    s.omega_std_dph.map_or("n/a".to_string(), num),
                                     s.samples
                                 ));
                             }

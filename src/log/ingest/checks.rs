@@ -231,7 +231,12 @@ pub(super) fn finish(mut acc: Acc, sn: &Sniffed, plan: &Plan, source: &str) -> R
         }
         timing = Timing::of(&acc.cols[SLOT_TIME]);
     }
-    if let Some(first) = timing.gaps.first() {
+    // A log written in bursts has a pause between every two bursts: that is how it was
+    // written, told by the timing's description ("written in bursts: …") and reduced to the
+    // bursts' means by the commands, not a problem. A real outage among the bursts breaks
+    // their regular spacing, so the log no longer reads as bursts and its gaps are told.
+    let first_gap = timing.gaps.first().filter(|_| timing.bursts.is_none());
+    if let Some(first) = first_gap {
         // The row of a kept sample, counting the rows dropped before it.
         let row_of = |kept: usize| row_of(&drop, kept);
         let longest = timing

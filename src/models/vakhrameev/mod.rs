@@ -511,15 +511,15 @@ impl Calibration {
         }
         for (k, p) in self.plateaus.iter().enumerate() {
             for (name, v) in [
-                ("range.start_s", p.range.start_s),
-                ("range.end_s", p.range.end_s),
-                ("temp_c", p.temp_c),
-                ("omega_dph", p.omega_dph),
+                ("range.start_s", Some(p.range.start_s)),
+                ("range.end_s", Some(p.range.end_s)),
+                ("temp_c", Some(p.temp_c)),
+                ("omega_dph", Some(p.omega_dph)),
                 ("omega_std_dph", p.omega_std_dph),
                 ("omega_sem_dph", p.omega_sem_dph),
-                ("temp_spread_c", p.temp_spread_c),
+                ("temp_spread_c", Some(p.temp_spread_c)),
             ] {
-                if !v.is_finite() {
+                if let Some(v) = v.filter(|v| !v.is_finite()) {
                     return Err(Invalid::new(
                         format!("plateaus[{k}].{name}"),
                         format!(
@@ -572,9 +572,9 @@ impl Calibration {
             for (name, v) in [
                 ("omega_std_dph", p.omega_std_dph),
                 ("omega_sem_dph", p.omega_sem_dph),
-                ("temp_spread_c", p.temp_spread_c),
+                ("temp_spread_c", Some(p.temp_spread_c)),
             ] {
-                if v < 0.0 {
+                if let Some(v) = v.filter(|v| *v < 0.0) {
                     return Err(Invalid::new(
                         field(name),
                         format!(
@@ -594,19 +594,40 @@ impl Calibration {
                     ),
                 ));
             }
-            let sem = p.omega_std_dph / (p.samples as f64).sqrt();
-            if (p.omega_sem_dph - sem).abs() > 1e-9 * sem.max(f64::MIN_POSITIVE) {
-                return Err(Invalid::new(
-                    field("omega_sem_dph"),
-                    format!(
-                        "is {}, and the standard error of a mean of {} samples whose \
-                         deviation is {} is {}",
-                        readable(p.omega_sem_dph),
-                        p.samples,
-                        readable(p.omega_std_dph),
-                        readable(sem)
-                    ),
-                ));
+            // A deviation is measured from two samples on, and the standard error with it.
+            let measured = p.samples > 1;
+            for (name, v) in [
+                ("omega_std_dph", p.omega_std_dph),
+                ("omega_sem_dph", p.omega_sem_dph),
+            ] {
+                if v.is_some() != measured {
+                    return Err(Invalid::new(
+                        field(name),
+                        format!(
+                            "is {} on a plateau of {} sample{}: a deviation is measured from \
+                             two samples on (null below)",
+                            v.map_or("null".to_string(), readable),
+                            p.samples,
+                            if p.samples == 1 { "" } else { "s" }
+                        ),
+                    ));
+                }
+            }
+            if let (Some(std), Some(got)) = (p.omega_std_dph, p.omega_sem_dph) {
+                let sem = std / (p.samples as f64).sqrt();
+                if (got - sem).abs() > 1e-9 * sem.max(f64::MIN_POSITIVE) {
+                    return Err(Invalid::new(
+                        field("omega_sem_dph"),
+                        format!(
+                            "is {}, and the standard error of a mean of {} samples whose \
+                             deviation is {} is {}",
+                            readable(got),
+                            p.samples,
+                            readable(std),
+                            readable(sem)
+                        ),
+                    ));
+                }
             }
         }
         match &self.recipe.plateaus {

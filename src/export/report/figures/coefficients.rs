@@ -62,8 +62,8 @@ pub struct PlateauPoint {
     pub temp_c: f64,
     /// Mean rate, °/h.
     pub omega_dph: f64,
-    /// Standard deviation of the raw rate on the plateau, °/h.
-    pub std_dph: f64,
+    /// Standard deviation of the raw rate on the plateau, °/h; `None` for one sample (no bar).
+    pub std_dph: Option<f64>,
 }
 
 struct K0Plot<'a> {
@@ -86,11 +86,10 @@ impl Plot for K0Plot<'_> {
         let (inside, outside) = curve_points(self.k0, xr.0, xr.1);
         let ys = union(
             finite_range(inside.iter().chain(outside.iter().flatten()).map(|p| p.1)),
-            finite_range(
-                self.points
-                    .iter()
-                    .flat_map(|p| [p.omega_dph - p.std_dph, p.omega_dph + p.std_dph]),
-            ),
+            finite_range(self.points.iter().flat_map(|p| {
+                let std = p.std_dph.unwrap_or(0.0);
+                [p.omega_dph - std, p.omega_dph + std]
+            })),
         );
         let (ya, yb) = ys.unwrap_or((-1.0, 1.0));
         let yr = with_legend_room(ya, yb, 3);
@@ -130,14 +129,12 @@ impl Plot for K0Plot<'_> {
             .filter(|p| p.temp_c.is_finite() && p.omega_dph.is_finite())
             .collect();
         chart
-            .draw_series(pts.iter().filter(|p| p.std_dph.is_finite()).map(|p| {
-                PathElement::new(
-                    vec![
-                        (p.temp_c, p.omega_dph - p.std_dph),
-                        (p.temp_c, p.omega_dph + p.std_dph),
-                    ],
+            .draw_series(pts.iter().filter_map(|p| {
+                let std = p.std_dph.filter(|s| s.is_finite())?;
+                Some(PathElement::new(
+                    vec![(p.temp_c, p.omega_dph - std), (p.temp_c, p.omega_dph + std)],
                     VERMILLION.stroke_width(2),
-                )
+                ))
             }))
             .map_err(de)?;
         chart
