@@ -768,9 +768,19 @@ pub fn in_option_words(e: &driftlab::error::Invalid) -> String {
     format!("{} ({option}): {}", e.field, e.reason)
 }
 
-/// Refuses figures of merit whose filter or window does not fit in `log`.
-pub fn check_merit(merit: &driftlab::MeritOptions, log: &Log) -> Result<(), CliError> {
-    if let Some(n) = driftlab::judge::options::check_merit(merit, log).map_err(with_option)? {
+/// Refuses figures of merit whose filter or window does not fit in `log`, and a window the
+/// engineer asked for (`window_asked`) that is shorter than its step; the default's window
+/// figures are then n/a, with the reason.
+pub fn check_merit(
+    merit: &driftlab::MeritOptions,
+    window_asked: bool,
+    log: &Log,
+) -> Result<(), CliError> {
+    let told = driftlab::judge::options::check_merit(merit, log).map_err(with_option)?;
+    if window_asked {
+        driftlab::judge::options::check_window_asked(merit.window_s, log).map_err(with_option)?;
+    }
+    if let Some(n) = told {
         note!("warning: {}", in_option_words(&n));
     }
     Ok(())
@@ -826,13 +836,8 @@ pub fn print_evaluation(
             ratio(r)
         )?;
     }
-    for (what, why) in [
-        ("peak-to-peak and std", c.raw.filtered_unavailable),
-        ("window figures", c.raw.windows_unavailable),
-    ] {
-        if let Some(why) = why {
-            out!("  {what} n/a: {why}")?;
-        }
+    for (what, why) in c.unavailable() {
+        out!("  {what} n/a: {why}")?;
     }
     if c.worse_than_raw.any() {
         out!(

@@ -27,19 +27,21 @@ pub struct Args {
     #[arg(long, value_name = "TERMS")]
     pub custom: Vec<String>,
     /// Delay of the temperature channels in custom models: none, SECONDS, auto (one delay
-    /// searched up to 1800 s) or bands:N (one per temperature band).
-    #[arg(long, value_name = "DELAY", default_value = "none")]
-    pub delay: DelaySpec,
+    /// searched up to 1800 s) or bands:N (one per temperature band); default none. Only with
+    /// --custom.
+    #[arg(long, value_name = "DELAY")]
+    pub delay: Option<DelaySpec>,
     /// First-order lag of T in custom models (an estimate of the temperature inside the
     /// gyro): none, SECONDS, auto (searched up to 3600 s) or auto-t (searched with a time
-    /// constant that changes with temperature).
-    #[arg(long, value_name = "LAG", default_value = "none")]
-    pub lag: LagSpec,
+    /// constant that changes with temperature); default none. Only with --custom.
+    #[arg(long, value_name = "LAG")]
+    pub lag: Option<LagSpec>,
     /// Samples custom models are fitted on: all (every sample with a rate history), plateaus
     /// (the temperature plateaus only: static models) or staged (static terms on the
-    /// plateaus, then rate terms on what they leave, as Vakhrameev calibrates).
-    #[arg(long, value_name = "SAMPLES", default_value = "all")]
-    pub fit: FitSamples,
+    /// plateaus, then rate terms on what they leave, as Vakhrameev calibrates); default all.
+    /// Only with --custom.
+    #[arg(long, value_name = "SAMPLES")]
+    pub fit: Option<FitSamples>,
     /// Causal smoothing of T before differentiating, s (every model).
     #[arg(long, value_name = "S", default_value_t = 60.0)]
     pub smooth: f64,
@@ -49,9 +51,10 @@ pub struct Args {
     /// Moving-average window of the filtered drift, s.
     #[arg(long, value_name = "S", default_value_t = 100.0)]
     pub filter: f64,
-    /// Length of the consecutive mean/RMS windows, s.
-    #[arg(long, value_name = "S", default_value_t = 600.0)]
-    pub window: f64,
+    /// Length of the consecutive mean/RMS windows, s (default 600). One asked for that is
+    /// shorter than a log's step is refused; the default's figures are then n/a, with why.
+    #[arg(long, value_name = "S")]
+    pub window: Option<f64>,
     /// The gyro axes to compare models on, comma-separated (`gx,gz`, or by rate column or
     /// ending letter): by default every axis of a training log of several (a single
     /// `--rate-col` compares on that one). Each is fitted on its own and judged on the same
@@ -66,15 +69,16 @@ pub struct Args {
 }
 
 pub fn run(a: Args) -> Result<(), CliError> {
+    refuse_custom_options_without_custom(&a)?;
     let how = CustomOptions {
-        delay: a.delay.clone(),
-        lag: a.lag.clone(),
-        samples: a.fit,
+        delay: a.delay.clone().unwrap_or_default(),
+        lag: a.lag.clone().unwrap_or_default(),
+        samples: a.fit.unwrap_or_default(),
     };
     let choices = ModelChoice::list(&a.models, &a.custom, &how)?;
     let merit = MeritOptions {
         filter_s: a.filter,
-        window_s: a.window,
+        window_s: a.window.unwrap_or(MeritOptions::default().window_s),
     };
     let logs: Vec<&Path> = std::iter::once(&a.train)
         .chain(&a.test)
@@ -94,7 +98,7 @@ pub fn run(a: Args) -> Result<(), CliError> {
     let mut train = read(&a.train)?;
     let mut tests = a.test.iter().map(read).collect::<Result<Vec<_>, _>>()?;
     for log in std::iter::once(&train).chain(&tests) {
-        common::check_merit(&merit, log)?;
+        common::check_merit(&merit, a.window.is_some(), log)?;
     }
     common::status(&format!("fitting {} models ...", choices.len()));
     let recipe = Recipe {
@@ -126,6 +130,25 @@ pub fn run(a: Args) -> Result<(), CliError> {
         print_tables(&reports, &merit)?;
     }
     refuse_none_fitted(&a.train, [&reports[..]])
+}
+
+/// `--delay`, `--lag` and `--fit` shape the custom models alone: given without `--custom`
+/// they would be dropped (every preset has its own), so they are refused by name, as
+/// `calibrate` refuses them with a preset.
+fn refuse_custom_options_without_custom(a: &Args) -> Result<(), CliError> {
+    let custom_only = [
+        ("--delay", a.delay.is_some()),
+        ("--lag", a.lag.is_some()),
+        ("--fit", a.fit.is_some()),
+    ];
+    match custom_only.iter().find(|(_, given)| *given) {
+        Some((option, _)) if a.custom.is_empty() => Err(format!(
+            "{option} shapes the custom models (--custom TERMS), and none is compared: the \
+             presets each have their own"
+        )
+        .into()),
+        _ => Ok(()),
+    }
 }
 
 /// A comparison in which no model could be fitted is a failure, not a table of reasons: the

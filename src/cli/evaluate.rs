@@ -19,9 +19,10 @@ pub struct Args {
     /// Moving-average window of the filtered drift, s (default: the calibration's filter).
     #[arg(long, value_name = "S")]
     pub filter: Option<f64>,
-    /// Length of the consecutive mean/RMS windows, s.
-    #[arg(long, value_name = "S", default_value_t = 600.0)]
-    pub window: f64,
+    /// Length of the consecutive mean/RMS windows, s (default 600). One asked for that is
+    /// shorter than a log's step is refused; the default's figures are then n/a, with why.
+    #[arg(long, value_name = "S")]
+    pub window: Option<f64>,
     /// Print the figures as JSON.
     #[arg(long)]
     pub json: bool,
@@ -125,9 +126,9 @@ fn judge(
     };
     let opts = MeritOptions {
         filter_s: a.filter.unwrap_or(default_filter),
-        window_s: a.window,
+        window_s: a.window.unwrap_or(MeritOptions::default().window_s),
     };
-    common::check_merit(&opts, log)?;
+    common::check_merit(&opts, a.window.is_some(), log)?;
     driftlab::models::check_rate_moves(log).map_err(|e| common::fit_failed(&log.source, &e))?;
     let correction = model
         .correct(log)
@@ -245,7 +246,7 @@ fn print_unit(a: &Args, unit: &UnitCalibration, judged: &[AxisJudged]) -> Result
             super::calibrate::file_name(&a.log)
         ),
         &rows,
-        a.window,
+        a.window.unwrap_or(MeritOptions::default().window_s),
     )
 }
 

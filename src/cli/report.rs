@@ -21,9 +21,10 @@ pub struct Args {
     /// filter; 100 s for a regression model).
     #[arg(long, value_name = "S")]
     pub filter: Option<f64>,
-    /// Length of the consecutive mean/RMS windows, s.
-    #[arg(long, value_name = "S", default_value_t = 600.0)]
-    pub window: f64,
+    /// Length of the consecutive mean/RMS windows, s (default 600). One asked for that is
+    /// shorter than a log's step is refused; the default's figures are then n/a, with why.
+    #[arg(long, value_name = "S")]
+    pub window: Option<f64>,
     #[command(flatten)]
     pub log_args: LogArgs,
 }
@@ -36,13 +37,15 @@ pub fn run(a: Args) -> Result<(), CliError> {
     let unit = common::load_calibration(&a.calibration)?;
     let merit = report::UnitMerit {
         filter_s: a.filter,
-        window_s: a.window,
+        window_s: a
+            .window
+            .unwrap_or(driftlab::MeritOptions::default().window_s),
     };
     let (mut logs, hashes) = read_logs(&a, &unit, |path, log| {
         common::refuse_guessed_axis(&unit, &a.log_args, (path, log), &a.calibration)?;
         super::evaluate::unit_axes(log, &unit, &a.calibration)?;
         for ax in &unit.axes {
-            common::check_merit(&merit.for_model(&ax.model), log)
+            common::check_merit(&merit.for_model(&ax.model), a.window.is_some(), log)
                 .map_err(|e| super::evaluate::in_axis(&ax.name, e))?;
         }
         Ok(())

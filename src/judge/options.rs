@@ -22,7 +22,7 @@ pub fn span_with_step(log: &Log, dt_s: f64) -> f64 {
 }
 
 /// Checks `opts` on `log`: a filter and a window that are positive seconds no longer than
-/// any chamber run, a filter that fits in the log and a window of at least one sample. Gives
+/// any chamber run, and a filter that fits in the log. Gives
 /// what to tell: a filter shorter than a sample, taken as one ([`one_sample`]); the log's
 /// step is found once for both.
 ///
@@ -62,20 +62,10 @@ pub fn check_merit(opts: &MeritOptions, log: &Log) -> Result<Option<Invalid>, In
         if v < crate::models::recipe::MIN_WINDOW_S {
             return Err(crate::models::recipe::too_short(field, v));
         }
-        // A window shorter than a sample would be one sample labelled with a length it does
-        // not have; a filter that short is simply none, and is told (`one_sample`).
-        if field == "window_s" && shorter_than_a_sample(v, dt) {
-            return Err(Invalid::new(
-                field,
-                format!(
-                    "{} s is shorter than the sampling interval of {} ({} s): a window of \
-                     one sample would be labelled with a length it does not have",
-                    readable(v),
-                    log.source,
-                    readable(dt)
-                ),
-            ));
-        }
+        // A window shorter than a sample is not refused here either: its figures are `n/a`,
+        // with the reason ([`crate::judge::metrics::Unavailable::WindowShorterThanSample`]),
+        // so that a slow held-out log judged with the default window keeps its other
+        // figures. A window the engineer asked for is refused ([`check_window_asked`]).
         // A window longer than the log is not refused: its figures are `n/a`, with the reason
         // (a short log judged with the default 10-min window is still judged on the rest).
         if field == "filter_s" && v > span {
@@ -92,6 +82,29 @@ pub fn check_merit(opts: &MeritOptions, log: &Log) -> Result<Option<Invalid>, In
     }
     // A filter that short is none, taken as one sample: said, not refused.
     Ok(one_sample("filter_s", opts.filter_s, dt, &log.source))
+}
+
+/// Refuses a window the engineer asked for (not a default) that is shorter than the sampling
+/// interval of `log`: it would be one sample labelled with a length it does not have, and
+/// the figures asked for could not be given.
+///
+/// # Errors
+/// `window_s`, with the value and the log's step.
+pub fn check_window_asked(window_s: f64, log: &Log) -> Result<(), Invalid> {
+    let dt = log.nominal_dt_s();
+    if shorter_than_a_sample(window_s, dt) {
+        return Err(Invalid::new(
+            "window_s",
+            format!(
+                "{} s is shorter than the sampling interval of {} ({} s): a window of one \
+                 sample would be labelled with a length it does not have",
+                readable(window_s),
+                log.source,
+                readable(dt)
+            ),
+        ));
+    }
+    Ok(())
 }
 
 /// Whether `v` seconds is shorter than one sampling interval `dt_s` (with 1 % to spare for a

@@ -636,3 +636,64 @@ fn points_for_a_regression_table_are_refused() {
     assert!(e.contains("--points") && e.contains("poly-t"), "{e}");
     ok(&["export", &cal, "--format", "csv-table"]);
 }
+
+/// `--delay`, `--lag` and `--fit` shape custom models alone: `compare` without `--custom`
+/// refused them by name (it printed the presets' comparison, byte for byte the one without).
+#[test]
+fn compare_refuses_custom_model_options_when_no_custom_model_is_compared() {
+    let log = sample("calibration.csv");
+    for (option, value) in [("--delay", "600"), ("--lag", "10"), ("--fit", "plateaus")] {
+        let e = fails(&[
+            "compare", "--train", &log, "--models", "poly-t", option, value,
+        ]);
+        assert!(
+            e.contains(&format!(
+                "{option} shapes the custom models (--custom TERMS)"
+            )),
+            "{option}: {e}"
+        );
+    }
+    // With a custom model they are its settings.
+    ok(&[
+        "compare", "--train", &log, "--models", "poly-t", "--custom", "1,T,T^2", "--fit",
+        "plateaus",
+    ]);
+}
+
+/// A held-out log sampled more slowly than the default 600-s window keeps its other figures:
+/// the window figures are n/a with the reason, in every command that judges, as `calibrate`
+/// gives them (`evaluate`, `report` and `compare` refused the log for a window never asked).
+#[test]
+fn a_log_slower_than_the_window_has_window_figures_na_with_the_reason() {
+    let dir = tempfile::tempdir().unwrap();
+    let (cal, slow) = (p(dir.path(), "cal.json"), p(dir.path(), "slow.csv"));
+    ok(&["calibrate", &sample("calibration.csv"), "--out", &cal]);
+    ok(&[
+        "simulate",
+        "--profile",
+        "validation",
+        "--rate-hz",
+        "0.001",
+        "--out",
+        &slow,
+    ]);
+    let reason = "window figures n/a: the window is shorter than the sampling interval";
+    let out = ok(&["evaluate", &cal, &slow]);
+    assert!(out.contains(reason), "{out}");
+    let row = out.lines().find(|l| l.contains("peak-to-peak")).unwrap();
+    assert!(!row.contains("n/a"), "{row}");
+    let report = p(dir.path(), "report");
+    ok(&["report", &cal, &slow, "--out", &report]);
+    let html = std::fs::read_to_string(Path::new(&report).join("report.html")).unwrap();
+    assert!(html.contains(reason), "the report says why");
+    let out = ok(&[
+        "compare",
+        "--train",
+        &sample("calibration.csv"),
+        "--test",
+        &slow,
+        "--models",
+        "poly-t",
+    ]);
+    assert!(out.contains("n/a"), "{out}");
+}

@@ -254,6 +254,10 @@ fn merit_table(l: &LogReport, d: Depth, window_s: f64) -> Markup {
             }
         }
         "\n"
+        @for (what, why) in c.unavailable() {
+            p class="na" { (what) " n/a: " (why) }
+            "\n"
+        }
     }
 }
 

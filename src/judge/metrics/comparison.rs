@@ -2,7 +2,7 @@
 //! figures a correction made worse than raw. Apart from the computation because every face
 //! reads these and none needs the walks.
 
-use super::{Figures, MeritOptions, figures_over};
+use super::{Figures, MeritOptions, Unavailable, figures_over};
 use serde::{Deserialize, Serialize};
 
 /// Raw against corrected, with the improvement ratios (raw ÷ corrected: above 1 is better).
@@ -22,6 +22,10 @@ pub struct Comparison {
     pub win_rms_ratio: f64,
     /// The figures the correction made worse than raw (ratio below 1), which every face marks.
     pub worse_than_raw: WorseThanRaw,
+    /// Why a ratio of two figures that were computed is not taken (it is then NaN, `null` in
+    /// JSON); a ratio of a figure that could not be computed has that figure's reason.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub ratios_unavailable: Option<Unavailable>,
 }
 
 /// Which figures a correction made worse than the raw record (raw ÷ corrected below 1).
@@ -95,6 +99,22 @@ impl Comparison {
         let std_ratio = ratio(raw.std_dph, corrected.std_dph);
         let win_mean_ratio = ratio(raw.win_mean_max_abs_dph, corrected.win_mean_max_abs_dph);
         let win_rms_ratio = ratio(raw.win_rms_mean_dph, corrected.win_rms_mean_dph);
+        let at_rounding = [
+            (raw.p2p_dph, corrected.p2p_dph, p2p_ratio),
+            (raw.std_dph, corrected.std_dph, std_ratio),
+            (
+                raw.win_mean_max_abs_dph,
+                corrected.win_mean_max_abs_dph,
+                win_mean_ratio,
+            ),
+            (
+                raw.win_rms_mean_dph,
+                corrected.win_rms_mean_dph,
+                win_rms_ratio,
+            ),
+        ]
+        .iter()
+        .any(|(a, b, r)| a.is_finite() && b.is_finite() && r.is_nan());
         Comparison {
             raw,
             corrected,
@@ -108,6 +128,30 @@ impl Comparison {
                 win_mean: win_mean_ratio < 1.0,
                 win_rms: win_rms_ratio < 1.0,
             },
+            ratios_unavailable: at_rounding.then_some(Unavailable::CorrectedAtRounding),
         }
+    }
+
+    /// What is `n/a` and why, for every face to print under its table: the filtered figures,
+    /// the window figures (the raw record's reason, or the corrected one's), and the ratios.
+    pub fn unavailable(&self) -> Vec<(&'static str, Unavailable)> {
+        [
+            (
+                "peak-to-peak and std",
+                self.raw
+                    .filtered_unavailable
+                    .or(self.corrected.filtered_unavailable),
+            ),
+            (
+                "window figures",
+                self.raw
+                    .windows_unavailable
+                    .or(self.corrected.windows_unavailable),
+            ),
+            ("ratios", self.ratios_unavailable),
+        ]
+        .into_iter()
+        .filter_map(|(what, why)| Some((what, why?)))
+        .collect()
     }
 }

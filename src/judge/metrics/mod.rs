@@ -80,6 +80,9 @@ pub enum Unavailable {
     NoWholeWindow,
     /// The window is shorter than the sampling interval: each would be one sample.
     WindowShorterThanSample,
+    /// A ratio over a corrected figure of zero, or of the rounding of the raw one
+    /// (`RATIO_FLOOR`, a billionth).
+    CorrectedAtRounding,
 }
 
 impl Unavailable {
@@ -92,6 +95,11 @@ impl Unavailable {
             Unavailable::WindowShorterThanSample => {
                 "the window is shorter than the sampling interval: each would be one sample, \
                  labelled with a length it does not have"
+            }
+            Unavailable::CorrectedAtRounding => {
+                "the corrected figure is zero, or below a billionth of the raw one: what is left \
+                 of a correction that reproduces the record to its rounding, over which a ratio \
+                 would be any number"
             }
         }
     }

@@ -265,3 +265,28 @@ fn unbuffered_moving_average_is_the_signal_one() {
         }
     }
 }
+
+#[test]
+fn a_ratio_over_a_corrected_figure_of_zero_is_na_with_its_reason() {
+    // A correction that reproduces the record: the corrected figures are zero, and a ratio
+    // over them would be any number.
+    let raw: Vec<f64> = (0..4000).map(|i| (i as f64 * 0.01).sin()).collect();
+    let opts = MeritOptions {
+        filter_s: 10.0,
+        window_s: 600.0,
+    };
+    let ready = [0..raw.len()];
+    let c = Comparison::of(&raw, &vec![0.0; raw.len()], 1.0, &ready, &opts);
+    assert!(c.raw.p2p_dph > 1.0 && c.corrected.p2p_dph == 0.0);
+    assert!(c.p2p_ratio.is_nan() && c.std_ratio.is_nan());
+    assert_eq!(c.ratios_unavailable, Some(Unavailable::CorrectedAtRounding));
+    assert_eq!(
+        c.unavailable(),
+        vec![("ratios", Unavailable::CorrectedAtRounding)]
+    );
+    // A correction that leaves some drift has its ratios and no reason.
+    let half: Vec<f64> = raw.iter().map(|v| 0.5 * v).collect();
+    let c = Comparison::of(&raw, &half, 1.0, &ready, &opts);
+    assert!((c.p2p_ratio - 2.0).abs() < 1e-12, "{}", c.p2p_ratio);
+    assert!(c.unavailable().is_empty());
+}
