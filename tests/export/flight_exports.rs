@@ -663,6 +663,26 @@ fn three_calibrations_on_the_command_line_make_the_three_axes() {
         e.contains("--y applies to --format px4-params or ardupilot-parm"),
         "{e}"
     );
+    // One axis's calibration given for another (the same file, or a copy) is refused: it
+    // would write X's drift as Z's.
+    let copy = dir.path().join("copy_of_x.json");
+    std::fs::copy(&paths[0], &copy).unwrap();
+    for format in ["px4-params", "ardupilot-parm"] {
+        for (y, z, pair) in [
+            (&paths[0], &paths[2], "axes X and Y"),
+            (&paths[1], &copy.display().to_string(), "axes X and Z"),
+        ] {
+            let mut args = vec!["export", &paths[0], "--y", y, "--z", z, "--format", format];
+            if format == "px4-params" {
+                args.extend(["--device-id", "2424842"]);
+            }
+            let e = fails(&args);
+            assert!(
+                e.contains(&format!("{pair} are given the same calibration")),
+                "{format}: {e}"
+            );
+        }
+    }
 }
 
 /// A unit calibration file of `axes` (name, model), written where a user keeps it.

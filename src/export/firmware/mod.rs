@@ -283,6 +283,20 @@ pub fn flight_axes(
     let Some(&(_, model)) = axes.first() else {
         return Err(ExportError::NoAxes);
     };
+    // One calibration given for two axes (`--y x.json`, or a copy of it) would write one
+    // axis's drift as another's: every axis of a gyro drifts its own way.
+    for (i, &(a, first)) in axes.iter().enumerate() {
+        if let Some(&(b, _)) = axes[i + 1..].iter().find(|&&(_, m)| m == first) {
+            return Err(ExportError::Flight(
+                crate::export::flight::FlightError::Axes(format!(
+                    "axes {} and {} are given the same calibration (every coefficient equal): \
+                     each axis of a gyro drifts its own way; give each axis its own calibration",
+                    a.to_uppercase(),
+                    b.to_uppercase()
+                )),
+            ));
+        }
+    }
     let fits = ImuFits {
         gyro: axes
             .iter()

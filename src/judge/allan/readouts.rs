@@ -192,7 +192,7 @@ fn bias_instability(p: &[&AllanPoint]) -> Option<Readout> {
         extrapolated: false,
         method: format!(
             "minimum of the curve at tau = {} s, divided by 0.664",
-            pmin.tau_s
+            crate::number::readable(pmin.tau_s)
         ),
     })
 }
@@ -228,6 +228,22 @@ mod tests {
         let arw = GyroReadouts::of(&points).arw.expect("an ARW");
         assert!((arw.value - 0.01).abs() < 1e-12, "{arw:?}");
         assert_eq!((arw.points, arw.extrapolated), (9, false));
+    }
+
+    #[test]
+    fn the_bias_instability_names_its_tau_as_a_person_reads_it() {
+        // A minimum at a τ that floating point left a hair off 64 s (a jittered clock's τ0
+        // times m): the method says "64 s", not every digit of the double.
+        let mut points = curve(|t| 0.1 * (1.0 + (t / 64.0).ln().powi(2)), |_| 0);
+        for p in &mut points {
+            p.tau_s *= 1.000_000_000_003_7;
+        }
+        let bi = bias_instability(&points.iter().collect::<Vec<_>>()).expect("a minimum");
+        assert!(bi.read_at_tau_s != 64.0);
+        assert_eq!(
+            bi.method,
+            "minimum of the curve at tau = 64 s, divided by 0.664"
+        );
     }
 
     #[test]
