@@ -332,6 +332,17 @@ impl LogArgs {
                 ));
             }
         }
+        // A unit corrects every axis it has: fewer columns than its axes would pick some
+        // of them, and the others would still be corrected from the log's own columns.
+        if !self.rate_col.is_empty() && self.rate_col.len() < unit.axes.len() {
+            return Err(format!(
+                "--rate-col {}: the calibration is a unit of {} axes ({}), and corrects every \
+                 one: give one --rate-col for each of its axes, or leave --rate-col out",
+                self.rate_col.join(", --rate-col "),
+                unit.axes.len(),
+                unit.axis_names().join(", ")
+            ));
+        }
         Ok(())
     }
 
@@ -866,6 +877,16 @@ pub fn chosen_axes(
     log: &Log,
 ) -> Result<Option<Vec<String>>, CliError> {
     let names = log.axis_names();
+    // A single --rate-col chooses the one axis as --axes does: given both, one would be
+    // dropped.
+    if let ([asked, ..], [column]) = (axes, &log_args.rate_col[..]) {
+        return Err(format!(
+            "--axes {asked} and --rate-col {column} both choose the axis to work on: give one \
+             of them (--rate-col names the column of one axis, --axes picks axes of a log of \
+             several)"
+        )
+        .into());
+    }
     if !axes.is_empty() {
         let mut out: Vec<String> = Vec::with_capacity(axes.len());
         for asked in axes {

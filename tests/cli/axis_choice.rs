@@ -4,7 +4,7 @@
 //! corrects exactly that column; on a drone log, whose columns are the format's, it corrects
 //! the gyro's X axis and says so.
 
-use crate::common::run::{driftlab, ok, p, sample};
+use crate::common::run::{driftlab, fails, ok, p, sample};
 use std::path::Path;
 
 /// Asserts that `driftlab ARGS` fails with status 1 and one line holding every one of
@@ -201,4 +201,44 @@ fn a_calibration_of_one_axis_on_a_drone_log_corrects_its_x_axis_and_says_so() {
         rows += 1;
     }
     assert_eq!(rows, n as usize);
+}
+
+#[test]
+fn axes_and_a_single_rate_column_both_choosing_the_axis_are_refused() {
+    // `--axes gx --rate-col gy_dps` calibrated gx and dropped --rate-col without a word.
+    let dir = tempfile::tempdir().unwrap();
+    let cal = p(dir.path(), "both.json");
+    let log = sample("imu3-calibration.csv");
+    let words = [
+        "--axes gx and --rate-col gy_dps both choose the axis",
+        "give one of them",
+    ];
+    refused(
+        &[
+            "calibrate",
+            &log,
+            "--axes",
+            "gx",
+            "--rate-col",
+            "gy_dps",
+            "-o",
+            &cal,
+        ],
+        &words,
+        &cal,
+    );
+    let e = fails(&["allan", &log, "--axes", "gx", "--rate-col", "gy_dps"]);
+    assert!(words.iter().all(|w| e.contains(w)), "{e}");
+    let e = fails(&[
+        "compare",
+        "--train",
+        &log,
+        "--axes",
+        "gx",
+        "--rate-col",
+        "gy_dps",
+        "--models",
+        "poly-t",
+    ]);
+    assert!(words.iter().all(|w| e.contains(w)), "{e}");
 }

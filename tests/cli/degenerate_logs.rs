@@ -267,8 +267,33 @@ fn a_unit_calibration_refuses_a_rate_column_that_is_none_of_its_axes() {
     assert!(!std::path::Path::new(&out).exists());
     let e = fails(&["evaluate", &cal, &held, "--rate-col", "temp_c"]);
     assert!(e.contains("none of them"), "{e}");
-    // A column of one of its axes is what the unit reads anyway.
-    ok(&["apply", &cal, &held, "-o", &out, "--rate-col", "gy_dps"]);
+    // A column of one of its axes alone would pick that axis, and the unit corrects every
+    // axis it has (the option was dropped without a word): refused, for all of them or none.
+    for args in [
+        vec!["apply", &cal, &held, "-o", &out, "--rate-col", "gy_dps"],
+        vec!["evaluate", &cal, &held, "--rate-col", "gy_dps"],
+    ] {
+        let e = fails(&args);
+        assert!(
+            e.contains("--rate-col gy_dps: the calibration is a unit of 3 axes (gx, gy, gz)")
+                && e.contains("give one --rate-col for each of its axes"),
+            "{e}"
+        );
+    }
+    assert!(!std::path::Path::new(&out).exists());
+    ok(&[
+        "apply",
+        &cal,
+        &held,
+        "-o",
+        &out,
+        "--rate-col",
+        "gx_dps",
+        "--rate-col",
+        "gy_dps",
+        "--rate-col",
+        "gz_dps",
+    ]);
 }
 
 /// The row with its temperature (the third cell) replaced by `temp`.
