@@ -5,6 +5,7 @@ use driftlab::Log;
 use driftlab::files::calibration;
 use driftlab::files::corrected_csv::{self, WriteError};
 use driftlab::judge::metrics::{Comparison, Evaluation, MeritOptions};
+use driftlab::log::run_sketch::Shared;
 use driftlab::models::UnitCalibration;
 use driftlab::models::fitted::DriftModel;
 use std::path::{Path, PathBuf};
@@ -47,6 +48,7 @@ pub fn run(a: Args) -> Result<(), CliError> {
         if !log.select_axis(column) {
             return Err(format!("{}: axis {column} vanished from the log", log.source).into());
         }
+        let share = ax.model.source().shared_with(&log);
         let (opts, in_sample, eval) = judge(&a, &ax.model, &log, &hash).map_err(|e| {
             if unit.is_unit() {
                 in_axis(&ax.name, e)
@@ -60,6 +62,7 @@ pub fn run(a: Args) -> Result<(), CliError> {
             model: ax.model.name().to_string(),
             opts,
             in_sample,
+            share,
             eval,
         });
     }
@@ -78,6 +81,7 @@ fn judged_json(a: &Args, j: &AxisJudged) -> serde_json::Value {
         "log": a.log,
         "model": j.model,
         "in_sample": j.in_sample,
+        "in_sample_share": j.share.filter(|_| j.in_sample).map(|s| s.share_of_log),
         "options": j.opts,
         "evaluation": j.eval,
     })
@@ -92,17 +96,31 @@ fn print_single(a: &Args, j: &AxisJudged) -> Result<(), CliError> {
         "{} on {} ({}):",
         super::calibrate::file_name(&a.calibration),
         super::calibrate::file_name(&a.log),
-        sample_label(j.in_sample)
+        sample_label(j.in_sample, j.share)
     )?;
     common::print_evaluation(&j.eval, j.opts.window_s)
 }
 
-/// Whether the log judged on is the calibration's own, in words.
-fn sample_label(in_sample: bool) -> &'static str {
-    if in_sample {
-        "in-sample: the calibration log"
-    } else {
-        "held out: not the calibration log"
+/// Whether the log judged on is the calibration's own, in words: with how much of it is the
+/// calibration log's, or how much of the calibration log it is, when its samples' sketch
+/// (`share`) tells that it is not all of it.
+fn sample_label(in_sample: bool, share: Option<Shared>) -> String {
+    let percent = |x: f64| common::fixed(100.0 * x, 0);
+    match (in_sample, share) {
+        (false, Some(s)) if s.partly().is_some() => format!(
+            "held out, though about {} % of its samples are the calibration log's",
+            percent(s.share_of_log)
+        ),
+        (false, _) => "held out: not the calibration log".into(),
+        (true, Some(s)) if s.share_of_log < 0.995 => format!(
+            "in-sample: about {} % of its samples are the calibration log's",
+            percent(s.share_of_log)
+        ),
+        (true, Some(s)) if s.found < s.of * 99 / 100 => format!(
+            "in-sample: a part of the calibration log, about {} % of it",
+            percent(s.found as f64 / s.of as f64)
+        ),
+        (true, _) => "in-sample: the calibration log".into(),
     }
 }
 
@@ -208,13 +226,14 @@ fn print_unit(a: &Args, unit: &UnitCalibration, judged: &[AxisJudged]) -> Result
         }));
     }
     let in_sample = judged.iter().all(|j| j.in_sample);
+    let share = judged.iter().find_map(|j| j.share);
     out!(
         "{} ({} axes: {}) on {} ({}):",
         super::calibrate::file_name(&a.calibration),
         unit.axes.len(),
         unit.axis_names().join(", "),
         super::calibrate::file_name(&a.log),
-        sample_label(in_sample)
+        sample_label(in_sample, share)
     )?;
     for j in judged {
         out!()?;
@@ -268,6 +287,8 @@ struct AxisJudged {
     model: String,
     opts: MeritOptions,
     in_sample: bool,
+    /// How much of the log is the calibration log's, when its samples' sketch tells.
+    share: Option<Shared>,
     eval: Evaluation,
 }
 

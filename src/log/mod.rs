@@ -11,6 +11,7 @@ pub mod ingest;
 pub mod mapping_check;
 pub mod read;
 pub mod resample;
+pub mod run_sketch;
 
 use serde::{Deserialize, Serialize};
 
@@ -333,9 +334,12 @@ impl Log {
             .collect()
     }
 
-    /// Whether `other` holds the same run as this log ([`Log::run_fingerprint`]).
+    /// Whether `other` holds samples of this log's run, enough for figures judged on it to
+    /// be in-sample ([`run_sketch`]): the whole run under other bytes, or a part of it.
     pub fn same_run(&self, other: &Log) -> bool {
-        self.run_fingerprint() == other.run_fingerprint()
+        run_sketch::RunSketch::of(self)
+            .shared_with(other, self.len())
+            .in_sample()
     }
 
     /// Number of samples.

@@ -1,6 +1,7 @@
 //! One rule for in-sample: `evaluate`, `report` and `compare` call figures in-sample when the
 //! log holds the calibration's own run, whatever its bytes (line endings, a comment removed, a
-//! new name), and held out only on another run.
+//! new name), or a part of it, and held out only on another run, even one that shares its
+//! time and temperature columns.
 
 use crate::common::run::{ok, p, sample};
 
@@ -94,17 +95,123 @@ fn a_copy_of_the_calibration_log_with_other_bytes_is_in_sample() {
 }
 
 #[test]
-fn an_old_calibration_without_the_run_fingerprint_is_judged_by_its_file_hash() {
+fn an_old_calibration_without_the_samples_sketch_is_judged_by_its_file_hash() {
     let dir = tempfile::tempdir().unwrap();
     let cal = p(dir.path(), "cal.json");
     ok(&["calibrate", &sample("calibration.csv"), "-o", &cal]);
     let mut json: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&cal).unwrap()).unwrap();
     let source = json.pointer_mut("/calibration/source").expect("a source");
-    assert!(source["run"].is_string(), "{source}");
-    source.as_object_mut().unwrap().remove("run");
+    assert!(source["samples_sketch"].is_string(), "{source}");
+    source.as_object_mut().unwrap().remove("samples_sketch");
     let old = p(dir.path(), "old.json");
     std::fs::write(&old, serde_json::to_string_pretty(&json).unwrap()).unwrap();
     assert!(evaluate_in_sample(&old, &sample("calibration.csv")));
     assert!(!evaluate_in_sample(&old, &sample("validation.csv")));
+}
+
+/// The calibration log's data rows (after its comment and header), and its header line.
+fn rows_of(path: &str) -> (String, Vec<String>) {
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut lines = text.lines().filter(|l| !l.starts_with('#'));
+    let header = lines.next().unwrap().to_string();
+    (header, lines.map(String::from).collect())
+}
+
+fn evaluate_label(cal: &str, log: &str) -> String {
+    ok(&["evaluate", cal, log])
+        .lines()
+        .next()
+        .unwrap()
+        .to_string()
+}
+
+#[test]
+fn a_part_of_the_run_is_in_sample_and_another_gyro_on_its_columns_is_held_out() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let cal = p(d, "cal.json");
+    let log = sample("calibration.csv");
+    ok(&["calibrate", &log, "-o", &cal]);
+    let (header, rows) = rows_of(&log);
+    let write = |name: &str, rows: &[String]| {
+        let path = p(d, name);
+        std::fs::write(&path, format!("{header}\n{}\n", rows.join("\n"))).unwrap();
+        path
+    };
+    // Less its first row, and its first three quarters (30,000 of 40,201 rows).
+    let trimmed = write("trimmed.csv", &rows[1..]);
+    let first = write("first.csv", &rows[..30_000]);
+    // Another run's rate beside this run's time and temperature columns.
+    let other_run = p(d, "other.csv");
+    ok(&["simulate", "--seed", "2", "--out", &other_run]);
+    let (_, other_rows) = rows_of(&other_run);
+    let mixed: Vec<String> = rows
+        .iter()
+        .zip(&other_rows)
+        .map(|(mine, theirs)| {
+            let mut cells: Vec<&str> = mine.split(',').collect();
+            cells[1] = theirs.split(',').nth(1).unwrap();
+            cells.join(",")
+        })
+        .collect();
+    let gyro_b = write("gyro_b.csv", &mixed);
+    // Three quarters this run, a quarter the other's rate; and the other way round.
+    let most: Vec<String> = rows[..30_000]
+        .iter()
+        .chain(&mixed[30_000..])
+        .cloned()
+        .collect();
+    let most = write("most.csv", &most);
+    let some: Vec<String> = rows[..10_000]
+        .iter()
+        .chain(&mixed[10_000..])
+        .cloned()
+        .collect();
+    let some = write("some.csv", &some);
+
+    assert!(evaluate_in_sample(&cal, &trimmed), "less a row: held out");
+    let label = evaluate_label(&cal, &trimmed);
+    assert!(
+        label.contains("(in-sample: the calibration log)"),
+        "{label}"
+    );
+    assert!(evaluate_in_sample(&cal, &first));
+    let label = evaluate_label(&cal, &first);
+    assert!(
+        label.contains("in-sample: a part of the calibration log, about"),
+        "{label}"
+    );
+    assert!(evaluate_in_sample(&cal, &most));
+    let json: serde_json::Value =
+        serde_json::from_str(&ok(&["evaluate", &cal, &most, "--json"])).unwrap();
+    let share = json["in_sample_share"].as_f64().expect("a share");
+    assert!(
+        (0.6..0.9).contains(&share),
+        "three quarters of the samples: {share}"
+    );
+    // A quarter: held out, and said to be partly the calibration's.
+    assert!(!evaluate_in_sample(&cal, &some));
+    let label = evaluate_label(&cal, &some);
+    assert!(
+        label.contains("(held out, though about") && label.contains("calibration log's"),
+        "{label}"
+    );
+    assert!(
+        !evaluate_in_sample(&cal, &gyro_b),
+        "another gyro: in-sample"
+    );
+
+    let json: serde_json::Value = serde_json::from_str(&ok(&[
+        "compare", "--train", &log, "--test", &trimmed, &first, &gyro_b, "--models", "poly-t",
+        "--json",
+    ]))
+    .unwrap();
+    let held: Vec<bool> = json["models"][0]["logs"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|l| l["held_out"].as_bool().unwrap())
+        .collect();
+    assert_eq!(held, [false, false, false, true]);
 }

@@ -50,8 +50,15 @@ struct AxisEntry {
     #[serde(default)]
     rate_column: String,
     model: String,
+    /// The sketch of this axis's samples (`source.samples_sketch` of its version-1 body):
+    /// the axes share the source log, but each has its own rate, so its own sketch.
+    #[serde(default, skip_serializing_if = "String::is_empty")]
+    samples_sketch: String,
     calibration: Map<String, Value>,
 }
+
+/// The key of an axis's own sketch in its body's `source`.
+const SKETCH: &str = "samples_sketch";
 
 /// The message for a version-2 file given where a single-axis calibration is wanted.
 /// A broken one is named as a unit file with what is wrong with it.
@@ -88,10 +95,17 @@ pub(super) fn to_json(unit: &UnitCalibration) -> Result<String> {
             Ok(Value::Object(m)) => m,
             _ => return Err(Error::Internal("a calibration body is not a JSON object")),
         };
-        let mine: Map<String, Value> = SHARED
+        let mut mine: Map<String, Value> = SHARED
             .iter()
             .filter_map(|k| body.remove(*k).map(|v| (k.to_string(), v)))
             .collect();
+        let samples_sketch = match mine.get_mut("source") {
+            Some(Value::Object(source)) => match source.remove(SKETCH) {
+                Some(Value::String(s)) => s,
+                _ => String::new(),
+            },
+            _ => String::new(),
+        };
         match &shared {
             None => shared = Some(mine),
             Some(s) => {
@@ -130,6 +144,7 @@ pub(super) fn to_json(unit: &UnitCalibration) -> Result<String> {
             name: a.name.clone(),
             rate_column: a.rate_column.clone(),
             model: a.model.tag().to_string(),
+            samples_sketch,
             calibration: body,
         });
     }
@@ -197,7 +212,18 @@ pub(super) fn from_json(path: &Path, text: &str) -> Result<UnitCalibration> {
             }
         }
         body.insert("gyro_id".into(), Value::String(file.gyro_id.clone()));
-        body.insert("source".into(), file.source.clone());
+        let mut source = file.source.clone();
+        if let Value::Object(s) = &mut source {
+            if s.contains_key(SKETCH) {
+                return Err(err(format!(
+                    "source.{SKETCH}: each axis has its own, beside its name, not at the top"
+                )));
+            }
+            if !entry.samples_sketch.is_empty() {
+                s.insert(SKETCH.into(), Value::String(entry.samples_sketch.clone()));
+            }
+        }
+        body.insert("source".into(), source);
         body.insert("created".into(), Value::String(file.created.clone()));
         let model = if tag == "vakhrameev" {
             let Some(Value::Object(recipe)) = body.get_mut("recipe") else {

@@ -275,7 +275,7 @@ fn a_ratio_over_a_corrected_figure_of_zero_is_na_with_its_reason() {
         filter_s: 10.0,
         window_s: 600.0,
     };
-    let ready = [0..raw.len()];
+    let ready: Vec<std::ops::Range<usize>> = std::iter::once(0..raw.len()).collect();
     let c = Comparison::of(&raw, &vec![0.0; raw.len()], 1.0, &ready, &opts);
     assert!(c.raw.p2p_dph > 1.0 && c.corrected.p2p_dph == 0.0);
     assert!(c.p2p_ratio.is_nan() && c.std_ratio.is_nan());

@@ -36,6 +36,7 @@ pub(crate) use sets::{SetInputs, SetSamples, set_samples};
 
 use crate::error::Invalid;
 use crate::log::Log;
+use crate::log::run_sketch::{RunSketch, Shared};
 use crate::models::approx::{self, Approx, ApproxSpec, FitOptions, PointSource, XRange};
 use crate::models::recipe::{Recipe, Weighting};
 use crate::signal::plateau::{PlateauRange, PlateauStats};
@@ -249,11 +250,16 @@ pub struct SourceInfo {
     pub samples: usize,
     /// Duration, s.
     pub duration_s: f64,
-    /// The run's fingerprint ([`Log::run_fingerprint`]): what tells the calibration's own
-    /// run from another when its file's bytes differ (line endings, a comment, a separator);
-    /// empty in files written before it was recorded.
+    /// The run's fingerprint ([`Log::run_fingerprint`]), as files written before
+    /// `samples_sketch` hold it (it tells the whole run under other bytes, not a part of it);
+    /// empty in newer files and in files older than it.
     #[serde(default, skip_serializing_if = "String::is_empty")]
     pub run: String,
+    /// A sketch of the run's samples ([`RunSketch`], hexadecimal): what tells the
+    /// calibration's own samples from another run's, in any file and in any part of the run;
+    /// empty in files written before it was recorded.
+    #[serde(default, skip_serializing_if = "String::is_empty")]
+    pub samples_sketch: String,
 }
 
 impl SourceInfo {
@@ -265,21 +271,36 @@ impl SourceInfo {
             sha256: String::new(),
             samples: log.len(),
             duration_s: log.duration_s(),
-            run: log.run_fingerprint(),
+            run: String::new(),
+            samples_sketch: RunSketch::of(log).to_hex(),
         }
     }
 
+    /// How much of `log` is this calibration's run, by its samples' sketch; `None` for a
+    /// file written before sketches were kept.
+    pub fn shared_with(&self, log: &Log) -> Option<Shared> {
+        let sketch = RunSketch::from_hex(&self.samples_sketch).filter(|s| !s.is_empty())?;
+        Some(sketch.shared_with(log, self.samples))
+    }
+
     /// Whether `log`, read from a file whose bytes hash to `file_sha256` and named
-    /// `file_name`, is the run this calibration was fitted on: the same file (its SHA-256),
-    /// or the same samples under other bytes or another name (the run's fingerprint). Only a
-    /// file recorded with neither is known by its name alone. Every face asks this one rule
-    /// before it calls figures in-sample or held out.
+    /// `file_name`, holds the run this calibration was fitted on: the same file (its
+    /// SHA-256), or samples of the run under other bytes or another name, the whole run or a
+    /// part of it (the samples' sketch; in older files, the whole run's fingerprint). Only a
+    /// file recorded with none of them is known by its name alone. Every face asks this one
+    /// rule before it calls figures in-sample or held out.
     pub fn is_run_of(&self, log: &Log, file_name: &str, file_sha256: &str) -> bool {
         let same_file = !self.sha256.is_empty()
             && !file_sha256.is_empty()
             && file_sha256.eq_ignore_ascii_case(&self.sha256);
-        let same_run = !self.run.is_empty() && self.run == log.run_fingerprint();
-        let by_name = self.sha256.is_empty() && self.run.is_empty() && file_name == self.name;
+        let same_run = match self.shared_with(log) {
+            Some(shared) => shared.in_sample(),
+            None => !self.run.is_empty() && self.run == log.run_fingerprint(),
+        };
+        let by_name = self.sha256.is_empty()
+            && self.run.is_empty()
+            && self.samples_sketch.is_empty()
+            && file_name == self.name;
         same_file || same_run || by_name
     }
 
@@ -313,6 +334,16 @@ impl SourceInfo {
         }
         // Their digits are not checked (a file whose hash was damaged still corrects; the
         // report then finds no log with that hash), but they are printed as they stand.
+        if !self.samples_sketch.is_empty() && RunSketch::from_hex(&self.samples_sketch).is_none() {
+            return Err(Invalid::new(
+                "source.samples_sketch",
+                format!(
+                    "is not a sketch of a run's samples (at most {} ascending hashes of 16 \
+                     hexadecimal digits each)",
+                    crate::log::run_sketch::SKETCH_LEN
+                ),
+            ));
+        }
         for (field, text) in [("source.sha256", &self.sha256), ("source.run", &self.run)] {
             if let Some(c) = text.chars().find(|&c| crate::text::is_unprintable(c)) {
                 return Err(Invalid::new(
