@@ -14,7 +14,8 @@
 //!   mdeg, rad, mrad, µrad (`urad`), arcsec or arcmin, the time s, min or h. Written with a
 //!   slash or `per` there, nothing else can be meant.
 //! * **The same as words of a name** (`omega_mrad_s`, `gyro_arcsec_s`, `omega_deg_per_min`):
-//!   an angle word and a time word, or one word glued (`mrads`, `urads`). Except an angle per
+//!   an angle word and a time word, or one word glued (`mrads`, `urads`, `radianspersecond`),
+//!   an angle glued to `p` and a time as in `dps` (`radps`, `degps`, `mradps`, `degph`, `dpm`). Except an angle per
 //!   minute without `per` (`omega_deg_min`): `min` ends many names as a minimum, so that name
 //!   may be deg/min or the least of a rate in degrees, and the reader asks.
 //! * **A unit anywhere after the first word** (`omega_dps_raw`, `gyro_x_dps_avg`,
@@ -33,9 +34,12 @@
 //!   `time_unit samples` and `sample_rate_hz`); anything with a slash, `per`, `^` or a degree
 //!   sign that is not a unit above (`[furlongs/fortnight]`); a count of a rate unit
 //!   (`[10 deg/h]`); a unit of another quantity (`Rate [°C]`, `time [deg/s]`); a count of a
-//!   register (`[LSB]`, `[counts]`, `[ticks]`).
-//! * **Not read, warned**: one other word in brackets (`Rate [rpm]`, `time [fortnights]`),
-//!   which may be a unit or a note; a word that is plainly a note (an axis letter, a sensor
+//!   register (`[LSB]`, `[counts]`, `[ticks]`); an angle the reader has no factor for glued
+//!   to `p` and a time, as a word of the name or alone (`omega_rpm`, `Rate [rpm]`,
+//!   `omega_udps`, `gyro_revps`: revolutions, micro-degrees).
+//! * **Not read, warned**: one other word in brackets (`Rate [arb]`, `time [fortnights]`),
+//!   or a short word of a rate's name shaped as a unit (`omega_kph`, `gyro_fps`), which may be
+//!   a unit or a note; a word that is plainly a note (an axis letter, a sensor
 //!   number, `filtered`, `UTC`) is neither.
 //!
 //! The rate words are `rate_words.rs`, the time words `time_words.rs`, and what is refused or

@@ -116,9 +116,21 @@ impl From<RateUnit> for StatedRate {
     }
 }
 
-/// Glued words of a rate unit per second beyond [`RateUnit`]'s keys (`mrads`, `urads`), read as
-/// words of a name too: nothing else is spelt so.
+/// Glued words of a rate unit beyond [`RateUnit`]'s keys, read as words of a name too: nothing
+/// else is spelt so. A small angle glued to `s` per second (`mrads`, `urads`: not `rads` or
+/// `degs`, which [`RateUnit`] reads, nor `arcsecs`, arc seconds), or any angle glued to `p` and
+/// a time, the `p` of `dps` and `dph` (`radps`, `degps`, `mradps`, `degph`, `dpm`).
 fn glued(key: &str) -> Option<StatedRate> {
+    if let Some((angle, per)) = split_per(key) {
+        let angle = match angle {
+            "d" => Some(Angle::Deg),
+            "md" => Some(Angle::MilliDeg),
+            a => Angle::from_key(a),
+        };
+        if let Some(angle) = angle {
+            return Some(StatedRate { angle, per });
+        }
+    }
     let angle = key
         .strip_suffix("sec")
         .or_else(|| key.strip_suffix("ps"))
@@ -129,6 +141,78 @@ fn glued(key: &str) -> Option<StatedRate> {
         angle,
         per: Per::Sec,
     })
+}
+
+/// A key split at its last `p` into the letters before it and the time after (`radps` → `rad`,
+/// a second; `rpm` → `r`, a minute), when a time follows that `p`: the shape of `dps`, `dph`.
+fn split_per(key: &str) -> Option<(&str, Per)> {
+    let i = key.rfind('p')?;
+    let per = match &key[i + 1..] {
+        "s" | "sec" => Per::Sec,
+        "m" | "min" => Per::Min,
+        "h" | "hr" => Per::Hour,
+        _ => return None,
+    };
+    let before = &key[..i];
+    (!before.is_empty() && before.chars().all(char::is_alphabetic)).then_some((before, per))
+}
+
+/// Angle words the reader has no factor for, or that may be two angles: `r` (a revolution in
+/// `rpm`, a radian in `rps`), revolutions, micro- and kilo-degrees.
+const UNREAD_ANGLES: &[&str] = &[
+    "r",
+    "rev",
+    "revs",
+    "revolution",
+    "revolutions",
+    "rot",
+    "turn",
+    "turns",
+    "cycle",
+    "cycles",
+    "ud",
+    "µd",
+    "μd",
+    "udeg",
+    "µdeg",
+    "μdeg",
+    "microdeg",
+    "nd",
+    "ndeg",
+    "kd",
+    "kdeg",
+    "krad",
+    "nrad",
+    "cd",
+    "cdeg",
+];
+
+/// How a word of a rate column's name that looks like a rate unit the reader does not read
+/// reads: a rate unit's shape (`rpm`, `udps`, `revps`: an angle glued to `p` and a time, the
+/// shape of `dps`), or only a short word so ending (`fps`, `kph`), which may be a unit or a
+/// note. `None` for a unit the reader reads, or a word of another shape.
+pub(super) fn unknown_rate_word(word: &str) -> Option<RateWord> {
+    let key = unit_key(word);
+    if StatedRate::from_words(&[word.to_string()]).is_some() {
+        return None;
+    }
+    let (angle, _) = split_per(&key)?;
+    if UNREAD_ANGLES.contains(&angle) {
+        Some(RateWord::Unit)
+    } else if angle.chars().count() <= 2 {
+        Some(RateWord::Maybe)
+    } else {
+        None
+    }
+}
+
+/// What [`unknown_rate_word`] found.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum RateWord {
+    /// A rate unit's shape with an angle the reader does not read (`rpm`, `udps`).
+    Unit,
+    /// A short word shaped as a unit (`fps`, `kph`): a unit, or a note.
+    Maybe,
 }
 
 impl StatedRate {
@@ -189,6 +273,13 @@ impl StatedRate {
             && let Some(r) = glued(&key)
         {
             return Some(r);
+        }
+        // One word with `per` inside it (`radianspersecond`, `degpermin`).
+        if let [word] = words
+            && let Some((a, p)) = unit_key(word).split_once("per")
+            && let (Some(angle), Some(per)) = (Angle::from_key(a), Per::from_key(p))
+        {
+            return Some(StatedRate { angle, per });
         }
         let (angle, per) = match words {
             [a, p] => (a, p),
@@ -303,6 +394,14 @@ mod tests {
         assert_eq!(unit("omega_deg_per_min").as_deref(), Some("deg/min"));
         assert_eq!(unit("gx_raw_dph").as_deref(), Some("deg/h"));
         assert_eq!(unit("gyro_x"), None);
+        assert_eq!(unit("gyro_x_radps").as_deref(), Some("rad/s"));
+        assert_eq!(unit("omega_degps").as_deref(), Some("deg/s"));
+        assert_eq!(unit("omega_dpm").as_deref(), Some("deg/min"));
+        assert_eq!(unit("omega_mradps").as_deref(), Some("mrad/s"));
+        assert_eq!(unit("gyro_radianspersecond").as_deref(), Some("rad/s"));
+        assert_eq!(unit("omega_rpm"), None);
+        assert_eq!(unit("omega_udps"), None);
+        assert_eq!(unit("gyro_temps"), None);
         assert!(matches!(
             rate_in_words(&words("omega_deg_min"), 1),
             Words::Either { .. }

@@ -3,6 +3,7 @@
 //! that names the column and the setting that gives its unit.
 
 use super::super::is_role_word;
+use super::rate_words::{RateWord, unknown_rate_word};
 use super::{StatedRate, time_in_slot, time_in_words};
 use super::{Words, count_of, counted, rate_in_slot, rate_in_words, shaped, slot_words};
 use crate::log::ingest::units::{TempUnit, TimeUnit, unit_key};
@@ -202,6 +203,10 @@ fn unread_slot(text: &str, q: Quantity) -> Option<Unread> {
         return unread(Why::Unknown);
     }
     match words.as_slice() {
+        // A rate unit's shape whose angle the reader does not read (`rpm`, `udps`).
+        [w] if q == Quantity::Rate && unknown_rate_word(w) == Some(RateWord::Unit) => {
+            unread(Why::Unknown)
+        }
         [w] if !is_note(w) => unread(Why::Word),
         _ => None,
     }
@@ -237,6 +242,24 @@ pub(crate) fn unread_unit(name: &str, q: Quantity) -> Option<Unread> {
     };
     if let Some((text, why)) = words {
         return Some(Unread { text, why });
+    }
+    // A word shaped as a rate unit the reader does not read (`omega_rpm`, `omega_udps`:
+    // refused as `Rate [rev/s]` is; `omega_kph`: warned of as `Rate [kph]` is).
+    if q == Quantity::Rate
+        && let Some((w, kind)) = p
+            .words
+            .iter()
+            .skip(1)
+            .filter(|w| !is_note(w))
+            .find_map(|w| unknown_rate_word(w).map(|k| (w, k)))
+    {
+        return Some(Unread {
+            text: w.clone(),
+            why: match kind {
+                RateWord::Unit => Why::Unknown,
+                RateWord::Maybe => Why::Word,
+            },
+        });
     }
     // Counts as words of the name (`gx_lsb`, `time_ticks`).
     p.words
@@ -348,7 +371,15 @@ mod tests {
             u("Rate [furlongs/fortnight]", Quantity::Rate),
             Some(("furlongs/fortnight".into(), true))
         );
-        assert_eq!(u("Rate [rpm]", Quantity::Rate), Some(("rpm".into(), false)));
+        assert_eq!(u("Rate [arb]", Quantity::Rate), Some(("arb".into(), false)));
+        // A rate unit's shape with an angle the reader has no factor for: refused, alone or
+        // as a word of the name; a short word so shaped: warned of.
+        assert_eq!(u("Rate [rpm]", Quantity::Rate), Some(("rpm".into(), true)));
+        assert_eq!(u("omega_rpm", Quantity::Rate), Some(("rpm".into(), true)));
+        assert_eq!(u("omega_udps", Quantity::Rate), Some(("udps".into(), true)));
+        assert_eq!(u("omega_kph", Quantity::Rate), Some(("kph".into(), false)));
+        assert_eq!(u("gyro_gps", Quantity::Rate), None);
+        assert_eq!(u("gyro_x_radps", Quantity::Rate), None);
         assert_eq!(
             u("time [10 ms]", Quantity::Time),
             Some(("10 ms".into(), true))
