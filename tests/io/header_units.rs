@@ -186,6 +186,15 @@ fn rate_units_a_header_states_give_the_true_drift() {
         ("w_rad_s_x", rad_per_s(), "rad/s"),
         ("gyro_rad_s_z", rad_per_s(), "rad/s"),
         ("Rate (deg/s, filtered)", DEG_PER_S, "deg/s"),
+        // An angle glued to `p` and a time, as in `dps`; one word with `per` inside it.
+        ("gyro_x_radps", rad_per_s(), "rad/s"),
+        ("omega_degps", DEG_PER_S, "deg/s"),
+        ("omega_mradps", mrad_per_s(), "mrad/s"),
+        ("omega_degph", DPH, "deg/h"),
+        ("omega_dpm", DEG_PER_MIN, "deg/min"),
+        ("Rate [radps]", rad_per_s(), "rad/s"),
+        ("gyro_radianspersecond", rad_per_s(), "rad/s"),
+        ("omega_degpermin", DEG_PER_MIN, "deg/min"),
     ];
     let mut failures = Vec::new();
     for (name, factor, unit) in cases {
@@ -414,6 +423,36 @@ fn unknown_units_in_a_unit_slot_are_refused() {
             "rate_unit",
             &[],
         ),
+        // An angle the reader has no factor for glued to `p` and a time, as a word of the
+        // name or alone: revolutions per minute, micro-degrees per second.
+        (
+            log_text("time_s", SECOND, "omega_rpm", 1.0),
+            "omega_rpm",
+            "rpm",
+            "rate_unit",
+            &[],
+        ),
+        (
+            log_text("time_s", SECOND, "Rate [rpm]", 1.0),
+            "Rate [rpm]",
+            "rpm",
+            "rate_unit",
+            &[],
+        ),
+        (
+            log_text("time_s", SECOND, "omega_udps", 1.0),
+            "omega_udps",
+            "udps",
+            "rate_unit",
+            &[],
+        ),
+        (
+            log_text("time_s", SECOND, "gyro_revps_x", 1.0),
+            "gyro_revps_x",
+            "revps",
+            "rate_unit",
+            &[],
+        ),
         (
             log_text("time_s", SECOND, "gyro_dps_x_rad_s_filtered", DEG_PER_S),
             "gyro_dps_x_rad_s_filtered",
@@ -499,7 +538,9 @@ fn an_explicit_unit_still_wins() {
 #[test]
 fn a_word_where_a_unit_goes_is_warned_of() {
     for (time, rate, column, word, setting) in [
-        ("time_s", "Rate [rpm]", "Rate [rpm]", "rpm", "rate_unit"),
+        ("time_s", "Rate [arb]", "Rate [arb]", "arb", "rate_unit"),
+        // A short word of a rate's name shaped as a unit, as `dps` is.
+        ("time_s", "omega_kph", "omega_kph", "kph", "rate_unit"),
         (
             "time [fortnights]",
             "omega_dph",
@@ -575,14 +616,14 @@ fn the_front_door_and_the_command_line_say_the_same() {
         "{err}"
     );
 
-    let odd = tmp.path().join("rpm.csv");
-    std::fs::write(&odd, log_text("time_s", SECOND, "Rate [rpm]", DPH)).unwrap();
+    let odd = tmp.path().join("arb.csv");
+    std::fs::write(&odd, log_text("time_s", SECOND, "Rate [arb]", DPH)).unwrap();
     let out = run(&["inspect"], &odd);
     assert!(out.status.success());
     let text =
         String::from_utf8_lossy(&out.stdout).to_string() + &String::from_utf8_lossy(&out.stderr);
     assert!(
-        text.contains("rpm") && text.contains("--rate-unit") && !text.contains("problems: none"),
+        text.contains("arb") && text.contains("--rate-unit") && !text.contains("problems: none"),
         "{text}"
     );
     let out = run(&["inspect", "--json"], &odd);
@@ -592,7 +633,7 @@ fn the_front_door_and_the_command_line_say_the_same() {
     assert!(
         problems.iter().any(|p| {
             let m = p["message"].as_str().unwrap_or("");
-            m.contains("\"Rate [rpm]\"") && m.contains("--rate-unit")
+            m.contains("\"Rate [arb]\"") && m.contains("--rate-unit")
         }),
         "{problems:?}"
     );

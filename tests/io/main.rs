@@ -23,4 +23,5 @@ mod odd_logs;
 mod session;
 mod stray_stamps;
 mod time_bases;
+mod time_scale;
 mod written_together;

@@ -8,6 +8,7 @@ use super::columns::{Plan, SLOT_TIME};
 use super::parse::{Tally, note};
 use super::read::Acc;
 use super::sniff::Sniffed;
+use super::time_scale::{self, TimeColumn};
 use crate::log::{Channel, Log, LogInfo, Problem, ProblemKind};
 use crate::signal::timing::{GAP_FACTOR, Timing, stray_stamps};
 
@@ -230,6 +231,22 @@ pub(super) fn finish(mut acc: Acc, sn: &Sniffed, plan: &Plan, source: &str) -> R
             drop.insert(at, row);
         }
         timing = Timing::of(&acc.cols[SLOT_TIME]);
+    }
+    // A time column whose step or span no log has (1e-300 s, past the largest number) is
+    // refused; one longer than any chamber run is told, with the unit its numbers fit.
+    if let (Some(j), Some((unit, from))) = (plan.slot_col[SLOT_TIME], plan.time_read) {
+        let col = TimeColumn {
+            name: plan.name(j),
+            index: j + 1,
+            unit,
+            from,
+        };
+        let time = &acc.cols[SLOT_TIME];
+        let line_of = |k: usize| acc.line_of(row_of(&drop, k));
+        if let Some(fail) = time_scale::unreadable(&col, time, timing.nominal_dt_s, line_of) {
+            return Err(fail);
+        }
+        problems.extend(time_scale::implausible(&col, time, timing.nominal_dt_s));
     }
     // A log written in bursts has a pause between every two bursts: that is how it was
     // written, told by the timing's description ("written in bursts: …") and reduced to the

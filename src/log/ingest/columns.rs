@@ -76,6 +76,18 @@ pub(crate) enum TimeSource {
     RowIndex { rate_hz: f64 },
 }
 
+/// Where the time column's unit came from, for the messages that doubt it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum UnitFrom {
+    /// The `time_unit` setting.
+    Setting,
+    /// The column's name (`time_ms`, `Time [s]`, `sample`).
+    Name,
+    /// Nothing: the name states no unit (or the file has no header), and seconds are the
+    /// default.
+    Default,
+}
+
 /// Slots 0, 1 and 2 are time, rate and temperature; extras follow.
 pub(crate) const SLOT_TIME: usize = 0;
 pub(crate) const SLOT_RATE: usize = 1;
@@ -91,6 +103,9 @@ pub(crate) struct Plan {
     /// Number of value slots.
     pub nslots: usize,
     pub time: TimeSource,
+    /// The unit the time column is read in and where that unit came from (`None` for a
+    /// synthesised time).
+    pub time_read: Option<(TimeUnit, UnitFrom)>,
     /// The 0-based file column of each slot (`None` for a synthesised time).
     pub slot_col: Vec<Option<usize>>,
     /// The name of the gyro axis of the rate column (`gx` for `gx_dps`).
@@ -397,21 +412,22 @@ pub(crate) fn plan(sn: &Sniffed, opts: &ReadOptions) -> Result<Plan, Fail> {
         },
         Some(j) => TimeSource::Column(j),
     };
-    let time_unit = match time {
+    let time_read = match time {
         TimeSource::RowIndex { .. } => None,
         TimeSource::Column(j) => Some(match (opts.time_unit, header_unit(j)) {
-            (Some(u), _) => u,
-            (None, Some(Kind::Time(Some(u)))) => u,
-            (None, Some(Kind::Index)) => TimeUnit::Samples,
+            (Some(u), _) => (u, UnitFrom::Setting),
+            (None, Some(Kind::Time(Some(u)))) => (u, UnitFrom::Name),
+            (None, Some(Kind::Index)) => (TimeUnit::Samples, UnitFrom::Name),
             (None, _) => match named_time(j) {
-                Some(u) => u,
+                Some(u) => (u, UnitFrom::Name),
                 None => {
                     unread(j, Quantity::Time)?;
-                    TimeUnit::Seconds
+                    (TimeUnit::Seconds, UnitFrom::Default)
                 }
             },
         }),
     };
+    let time_unit = time_read.map(|(u, _)| u);
     let time_conv = match time_unit {
         None => Conv::IDENT,
         Some(TimeUnit::Samples) => match opts.sample_rate_hz {
@@ -573,6 +589,7 @@ pub(crate) fn plan(sn: &Sniffed, opts: &ReadOptions) -> Result<Plan, Fail> {
         actions,
         nslots,
         time,
+        time_read,
         slot_col,
         axis: if sn.has_header {
             names[0].clone()

@@ -51,6 +51,9 @@
 //!   `MissingValue`, with the first line and the count;
 //! * a time equal to or below an earlier one drops the row (`TimeRepeated`,
 //!   `TimeBackwards`); a step above 2.5 × the median step is a `Gap` (rows kept);
+//! * a time column whose step is shorter than a gigahertz's or whose span is past the largest
+//!   number stops the read; one that spans longer than any chamber run, or steps by more than a
+//!   day, is `Implausible`, with the unit its numbers fit (`time_scale.rs`);
 //! * in an extra column, blanks are NaN silently; unreadable cells are NaN and reported
 //!   (`BadExtraValue`, naming the column), and a row too short for an extra column is a
 //!   `RaggedRow`. A column that is mostly text is `Ignored`. Extra trailing fields are fine.
@@ -73,6 +76,7 @@ mod plausible;
 mod read;
 mod series;
 mod sniff;
+mod time_scale;
 mod units;
 
 pub use option_error::OptionError;

@@ -1,0 +1,396 @@
+//! A unit a column's name states that the reader does not read: what it is (unknown, of another
+//! quantity, counts, ticks, a word that may be a unit or a note), and the refusal or the warning
+//! that names the column and the setting that gives its unit.
+
+use super::super::is_role_word;
+use super::rate_words::{RateWord, unknown_rate_word};
+use super::{StatedRate, time_in_slot, time_in_words};
+use super::{Words, count_of, counted, rate_in_slot, rate_in_words, shaped, slot_words};
+use crate::log::ingest::units::{TempUnit, TimeUnit, unit_key};
+
+/// Which quantity a column holds, for what its unit may be.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Quantity {
+    Rate,
+    Time,
+}
+
+impl Quantity {
+    fn what(self) -> &'static str {
+        match self {
+            Quantity::Rate => "rate",
+            Quantity::Time => "time",
+        }
+    }
+
+    fn setting(self) -> &'static str {
+        match self {
+            Quantity::Rate => "rate_unit",
+            Quantity::Time => "time_unit",
+        }
+    }
+
+    fn default_unit(self) -> &'static str {
+        match self {
+            Quantity::Rate => "deg/h",
+            Quantity::Time => "s",
+        }
+    }
+
+    /// The units the setting takes, for a message.
+    fn choices(self) -> &'static str {
+        match self {
+            Quantity::Rate => "deg/h, deg/s, mdeg/s or rad/s",
+            Quantity::Time => "s, ms, us, ns, min, h, d, cs, ds, or samples with sample_rate_hz",
+        }
+    }
+}
+
+/// A unit a column's name states that the reader does not read.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct Unread {
+    /// The unit as the name writes it.
+    pub(crate) text: String,
+    why: Why,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+enum Why {
+    /// Where a unit is written alone, a unit the reader does not know.
+    Unknown,
+    /// A unit of another quantity (`°C` for a rate): what it is.
+    Other(&'static str),
+    /// Counts of a register or a clock (`LSB`, `counts`, `ticks`).
+    Counts,
+    /// A count of a time unit: ticks of that many seconds.
+    Ticks(f64),
+    /// Words that may be a unit or mean something else: what they may be.
+    Either(String),
+    /// One other word where a unit is written alone: a unit, or a note.
+    Word,
+}
+
+/// Words of a register's or a clock's counts where a unit goes: the reader has no factor for
+/// them.
+const COUNT_WORDS: &[&str] = &[
+    "lsb", "lsbs", "count", "counts", "cnt", "cnts", "adc", "digit", "digits", "tick", "ticks",
+    "int16", "uint16", "int32", "uint32", "code", "codes",
+];
+
+/// Words that note what a column is rather than its unit (`Rate (x)`, `omega (filtered)`,
+/// `time (UTC)`), besides the role words of [`is_role_word`].
+const NOTE_WORDS: &[&str] = &[
+    "x",
+    "y",
+    "z",
+    "roll",
+    "pitch",
+    "yaw",
+    "axis",
+    "raw",
+    "filtered",
+    "filt",
+    "unfiltered",
+    "avg",
+    "average",
+    "mean",
+    "median",
+    "smoothed",
+    "smooth",
+    "lpf",
+    "hpf",
+    "corrected",
+    "corr",
+    "comp",
+    "compensated",
+    "cal",
+    "calibrated",
+    "uncal",
+    "uncalibrated",
+    "est",
+    "estimated",
+    "meas",
+    "measured",
+    "ref",
+    "reference",
+    "bias",
+    "total",
+    "sensor",
+    "imu",
+    "mems",
+    "fog",
+    "rlg",
+    "body",
+    "frame",
+    "utc",
+    "gps",
+    "unix",
+    "epoch",
+    "local",
+    "boot",
+    "mono",
+    "monotonic",
+    "rel",
+    "relative",
+    "abs",
+    "absolute",
+    "since",
+    "start",
+    "sys",
+    "system",
+    "host",
+    "device",
+    "tai",
+    "tow",
+    "iso",
+];
+
+/// Whether `word` (lower case) notes what a column is rather than naming its unit.
+fn is_note(word: &str) -> bool {
+    let w = word.trim_start_matches('#');
+    w.is_empty()
+        || w.chars().all(|c| c.is_ascii_digit())
+        // A sensor or axis number: `imu1`, `g2`.
+        || (w.chars().any(|c| c.is_ascii_digit()) && w.chars().any(char::is_alphabetic))
+        || NOTE_WORDS.contains(&w)
+        || is_role_word(w)
+}
+
+/// What `text`, written where a unit is written alone in the name of a `q` column, says when
+/// it is not a unit the reader reads as one: `None` for a note (`x`, `filtered`, `UTC`).
+fn unread_slot(text: &str, q: Quantity) -> Option<Unread> {
+    let t = text.trim();
+    let key = unit_key(t);
+    let unread = |why| {
+        Some(Unread {
+            text: t.to_string(),
+            why,
+        })
+    };
+    if key.is_empty() {
+        return None;
+    }
+    // A number first: a count of a unit (`10 ms`, `0.1 s`, `100us`).
+    if counted(t) && t.contains(char::is_alphabetic) {
+        let ticks = count_of(t)
+            .filter(|_| q == Quantity::Time)
+            .and_then(|(n, u)| {
+                TimeUnit::from_key(&unit_key(u))
+                    .and_then(TimeUnit::to_s_factor)
+                    .map(|f| n * f)
+            });
+        return match ticks {
+            Some(s) => unread(Why::Ticks(s)),
+            None => unread(Why::Unknown),
+        };
+    }
+    let other = match q {
+        Quantity::Rate if TimeUnit::from_key(&key).is_some_and(|u| u != TimeUnit::Samples) => {
+            Some("a time unit")
+        }
+        Quantity::Time if StatedRate::from_text(t).is_some() => Some("a rate unit"),
+        _ if TempUnit::from_key(&key).is_some() => Some("a temperature unit"),
+        _ => None,
+    };
+    if let Some(what) = other {
+        return unread(Why::Other(what));
+    }
+    let words = slot_words(t);
+    if words.iter().any(|w| COUNT_WORDS.contains(&w.as_str())) {
+        return unread(Why::Counts);
+    }
+    if shaped(t) {
+        return unread(Why::Unknown);
+    }
+    match words.as_slice() {
+        // A rate unit's shape whose angle the reader does not read (`rpm`, `udps`).
+        [w] if q == Quantity::Rate && unknown_rate_word(w) == Some(RateWord::Unit) => {
+            unread(Why::Unknown)
+        }
+        [w] if !is_note(w) => unread(Why::Word),
+        _ => None,
+    }
+}
+
+/// The unit a `q` column's name states that the reader does not read, if any: what it wrote
+/// where a unit is written alone, else its words (`time_ds`, `time_100us`, `omega_deg_min`,
+/// `gx_lsb`). `None` when the name states a unit the reader reads, or none.
+pub(crate) fn unread_unit(name: &str, q: Quantity) -> Option<Unread> {
+    let p = super::super::name_parts(name);
+    if let Some(text) = p.unit.as_deref() {
+        let read = match q {
+            Quantity::Rate => rate_in_slot(text).is_some(),
+            Quantity::Time => time_in_slot(text).is_some(),
+        };
+        if read {
+            return None;
+        }
+        if let Some(u) = unread_slot(text, q) {
+            return Some(u);
+        }
+    }
+    let words = match q {
+        Quantity::Rate => match rate_in_words(&p.words, 1) {
+            Words::Either { words, may_be } => Some((words, Why::Either(may_be))),
+            _ => None,
+        },
+        Quantity::Time => match time_in_words(&p.words, 1) {
+            Words::Either { words, may_be } => Some((words, Why::Either(may_be))),
+            Words::Ticks { words, seconds } => Some((words, Why::Ticks(seconds))),
+            _ => None,
+        },
+    };
+    if let Some((text, why)) = words {
+        return Some(Unread { text, why });
+    }
+    // A word shaped as a rate unit the reader does not read (`omega_rpm`, `omega_udps`:
+    // refused as `Rate [rev/s]` is; `omega_kph`: warned of as `Rate [kph]` is).
+    if q == Quantity::Rate
+        && let Some((w, kind)) = p
+            .words
+            .iter()
+            .skip(1)
+            .filter(|w| !is_note(w))
+            .find_map(|w| unknown_rate_word(w).map(|k| (w, k)))
+    {
+        return Some(Unread {
+            text: w.clone(),
+            why: match kind {
+                RateWord::Unit => Why::Unknown,
+                RateWord::Maybe => Why::Word,
+            },
+        });
+    }
+    // Counts as words of the name (`gx_lsb`, `time_ticks`).
+    p.words
+        .iter()
+        .skip(1)
+        .find(|w| COUNT_WORDS.contains(&w.as_str()))
+        .map(|w| Unread {
+            text: w.clone(),
+            why: Why::Counts,
+        })
+}
+
+impl Unread {
+    /// Whether the reader refuses the column without an explicit unit (all but a lone word,
+    /// which may be a note: that is read in the default unit and warned of).
+    pub(crate) fn refuses(&self) -> bool {
+        self.why != Why::Word
+    }
+
+    /// What the name states, in a sentence's middle: `states its unit as "10 ms", a count of
+    /// ticks of 0.01 s, ...`.
+    fn stated(&self) -> String {
+        let t = &self.text;
+        match &self.why {
+            Why::Unknown => format!("states its unit as \"{t}\", which driftlab does not read"),
+            Why::Other(what) => format!("states its unit as \"{t}\", {what}"),
+            Why::Counts => format!(
+                "states its unit as \"{t}\", counts of a register or a clock, which have no \
+                 factor driftlab knows"
+            ),
+            Why::Ticks(s) => format!(
+                "states its unit as \"{t}\", a count of ticks of {} s, which driftlab does not \
+                 read as a unit",
+                crate::number::readable(*s)
+            ),
+            Why::Either(may_be) => format!("has \"{t}\" for its unit, which may be {may_be}"),
+            Why::Word => format!(
+                "has \"{t}\" where a unit is written, which driftlab does not read as a unit"
+            ),
+        }
+    }
+
+    /// What to do: the setting that gives the unit, and for ticks the sample rate that reads
+    /// them.
+    fn advice(&self, q: Quantity) -> String {
+        let setting = q.setting();
+        let mut out = format!("give its unit with {setting} ({})", q.choices());
+        if let Why::Ticks(s) = self.why {
+            out = format!(
+                "if each count is {} s, give time_unit samples and sample_rate_hz {}; else {out}",
+                crate::number::readable(s),
+                crate::number::readable(1.0 / s)
+            );
+        }
+        if q == Quantity::Rate {
+            out.push_str(
+                " or in the header, which may also state mrad/s, urad/s, deg/min or arcsec/s \
+                 (omega [mrad/s])",
+            );
+        }
+        out
+    }
+
+    /// Why the read of the `q` column `column` stops: the column, what its name states, and
+    /// the setting that reads it.
+    pub(crate) fn refusal(&self, q: Quantity, column: &str) -> String {
+        let off = match self.why {
+            Why::Ticks(s) => format!(
+                "would be off by a factor of {}",
+                crate::number::readable(s.max(1.0 / s))
+            ),
+            Why::Either(_) => "may be off by any factor".to_string(),
+            _ => "would be off by a factor driftlab cannot know".to_string(),
+        };
+        format!(
+            "the {} column \"{column}\" {}: read in {}, the default, its values {off}; {}",
+            q.what(),
+            self.stated(),
+            q.default_unit(),
+            self.advice(q)
+        )
+    }
+
+    /// The warning for the `q` column `column`, read in the default unit all the same.
+    pub(crate) fn warning(&self, q: Quantity, column: &str) -> String {
+        format!(
+            "the {} column \"{column}\" is read in {}, the default, but its name {}: if its \
+             values are in another unit, {}",
+            q.what(),
+            q.default_unit(),
+            self.stated(),
+            self.advice(q)
+        )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn slots_read_refused_or_warned() {
+        let u = |s: &str, q| unread_unit(s, q).map(|u| (u.text.clone(), u.refuses()));
+        assert_eq!(u("Rate [mrad/s]", Quantity::Rate), None);
+        assert_eq!(u("Rate (x)", Quantity::Rate), None);
+        assert_eq!(u("omega (imu1)", Quantity::Rate), None);
+        assert_eq!(u("time (UTC)", Quantity::Time), None);
+        assert_eq!(
+            u("Rate [furlongs/fortnight]", Quantity::Rate),
+            Some(("furlongs/fortnight".into(), true))
+        );
+        assert_eq!(u("Rate [arb]", Quantity::Rate), Some(("arb".into(), false)));
+        // A rate unit's shape with an angle the reader has no factor for: refused, alone or
+        // as a word of the name; a short word so shaped: warned of.
+        assert_eq!(u("Rate [rpm]", Quantity::Rate), Some(("rpm".into(), true)));
+        assert_eq!(u("omega_rpm", Quantity::Rate), Some(("rpm".into(), true)));
+        assert_eq!(u("omega_udps", Quantity::Rate), Some(("udps".into(), true)));
+        assert_eq!(u("omega_kph", Quantity::Rate), Some(("kph".into(), false)));
+        assert_eq!(u("gyro_gps", Quantity::Rate), None);
+        assert_eq!(u("gyro_x_radps", Quantity::Rate), None);
+        assert_eq!(
+            u("time [10 ms]", Quantity::Time),
+            Some(("10 ms".into(), true))
+        );
+        assert_eq!(u("Rate [°C]", Quantity::Rate), Some(("°C".into(), true)));
+        assert_eq!(
+            u("time [deg/s]", Quantity::Time),
+            Some(("deg/s".into(), true))
+        );
+        assert_eq!(u("time_ds", Quantity::Time), Some(("ds".into(), true)));
+        assert_eq!(u("gx_lsb", Quantity::Rate), Some(("lsb".into(), true)));
+        assert_eq!(u("gx_raw", Quantity::Rate), None);
+    }
+}
