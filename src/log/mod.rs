@@ -11,6 +11,7 @@ pub mod ingest;
 pub mod mapping_check;
 pub mod read;
 pub mod resample;
+pub(crate) mod temp_glitch;
 
 use serde::{Deserialize, Serialize};
 

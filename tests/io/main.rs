@@ -22,5 +22,6 @@ mod killed_writes;
 mod odd_logs;
 mod session;
 mod stray_stamps;
+mod temperature_faults;
 mod time_bases;
 mod written_together;
