@@ -392,6 +392,38 @@ fn one_sample_thermometer_glitches_are_told_and_left_out_of_the_fit() {
 }
 
 #[test]
+fn the_only_rate_column_taken_as_the_temperature_is_the_reason_given() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = p(dir.path(), "never.json");
+    for (flag, given) in [
+        ("--temp-col", "omega_dph"),
+        ("--temp-col", "2"),
+        ("--time-col", "omega_dph"),
+    ] {
+        let what = if flag == "--temp-col" {
+            "temperature"
+        } else {
+            "time"
+        };
+        for command in ["calibrate", "inspect"] {
+            let log = sample("calibration.csv");
+            let mut args = vec![command, &log, flag, given];
+            if command == "calibrate" {
+                args.extend(["-o", &out]);
+            }
+            let e = fails(&args);
+            assert!(
+                e.contains(&format!(
+                    "column 2 \"omega_dph\", is taken as the {what} by {flag}"
+                )) && e.contains(&format!("check {flag}"))
+                    && !e.contains("none of"),
+                "{command} {flag} {given}: {e}"
+            );
+        }
+    }
+}
+
+#[test]
 fn a_gyro_rate_taken_as_the_temperature_is_told() {
     let e = crate::common::run::driftlab(&[
         "inspect",
