@@ -12,6 +12,7 @@ pub mod mapping_check;
 pub mod read;
 pub mod resample;
 pub mod run_sketch;
+pub(crate) mod temp_glitch;
 
 use serde::{Deserialize, Serialize};
 

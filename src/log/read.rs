@@ -454,6 +454,9 @@ pub fn from_recording(
     }
     let mut time_s: Vec<f64> = rows.iter().map(|&i| time_all[i]).collect();
     drop_stray_ends(&mut time_s, &mut rows, &mut problems);
+    if !keep_nan_temp {
+        drop_temperature_glitches(&sel.temp_c, &mut time_s, &mut rows, &mut problems);
+    }
     let pick = |v: &formats::Values, scale: f64| -> Vec<f64> {
         rows.iter().map(|&i| v.get(i) * scale).collect()
     };
@@ -572,6 +575,37 @@ fn drop_stray_ends(time_s: &mut Vec<f64>, rows: &mut Vec<usize>, problems: &mut 
         time_s.drain(k.clone());
         rows.drain(k);
     }
+}
+
+/// Drops the samples whose temperature is a one-sample glitch (a bad read, by the CSV
+/// reader's rule, [`super::temp_glitch`]), with a problem naming the first; `rows` maps each
+/// kept sample to its place in the instance and loses the dropped ones too.
+fn drop_temperature_glitches(
+    temp_c: &formats::Values,
+    time_s: &mut Vec<f64>,
+    rows: &mut Vec<usize>,
+    problems: &mut Vec<Problem>,
+) {
+    let temp: Vec<f64> = rows.iter().map(|&i| temp_c.get(i)).collect();
+    let Some(g) = super::temp_glitch::find(time_s, &temp) else {
+        return;
+    };
+    let first = rows[g.samples[0]] + 1;
+    problems.push(Problem {
+        line: first,
+        column: None,
+        kind: ProblemKind::Implausible,
+        count: g.count,
+        message: g.message(&format!("sample {first}"), true),
+    });
+    let mut glitch = vec![false; rows.len()];
+    for &k in &g.samples {
+        glitch[k] = true;
+    }
+    let mut k = 0..;
+    time_s.retain(|_| k.next().is_some_and(|k| !glitch[k]));
+    let mut k = 0..;
+    rows.retain(|_| k.next().is_some_and(|k| !glitch[k]));
 }
 
 /// Steps above [`GAP_FACTOR`] × the nominal step, as the CSV reader reports them; `rows`

@@ -315,15 +315,137 @@ fn a_temperature_stuck_while_the_chamber_moves_is_told() {
             l.to_string()
         })
     });
+    let told = "the temperature holds one value, 25 °C, for 20000 samples from 10000 s to 29999 s";
     let inspect = ok(&["inspect", &log]);
     assert!(
-        inspect.contains("the temperature holds one value, 25 °C, for 20000 samples")
-            && inspect.contains("\"temp_chamber_c\" moves by"),
-        "{inspect}"
+        inspect.matches(told).count() == 1 && inspect.contains("\"temp_chamber_c\" moves by"),
+        "listed once under problems:\n{inspect}"
     );
+    // calibrate and evaluate tell it too, once each, and no plateau of the fit lies in the
+    // stuck stretch: its one value is not taken for the gyro's temperature.
+    let cal = p(dir.path(), "t.json");
+    let run = crate::common::run::driftlab(&["calibrate", &log, "-o", &cal]);
+    let (out, err) = (
+        String::from_utf8_lossy(&run.stdout),
+        String::from_utf8_lossy(&run.stderr),
+    );
+    assert_eq!(err.matches(told).count(), 1, "{err}");
+    let plateaus: Vec<(f64, f64)> = out
+        .lines()
+        .skip_while(|l| !l.starts_with("Plateaus (K0 points)"))
+        .skip(2)
+        .map_while(|l| {
+            let mut cells = l.split_whitespace().map(|c| c.parse::<f64>());
+            Some((cells.next()?.ok()?, cells.next()?.ok()?))
+        })
+        .collect();
+    assert!(!plateaus.is_empty(), "{out}");
+    for (start, end) in plateaus {
+        assert!(
+            end < 10000.0 || start > 29999.0,
+            "plateau {start}..{end} s in the stuck stretch:\n{out}"
+        );
+    }
+    let eval = crate::common::run::driftlab(&["evaluate", &cal, &log]);
+    let err = String::from_utf8_lossy(&eval.stderr);
+    assert_eq!(err.matches(told).count(), 1, "{err}");
     // A plateau read by a coarse sensor (one value while the chamber holds too) is not told.
     let clean = ok(&["inspect", &sample("calibration.csv")]);
     assert!(!clean.contains("holds one value"), "{clean}");
+}
+
+#[test]
+fn one_sample_thermometer_glitches_are_told_and_left_out_of_the_fit() {
+    let dir = tempfile::tempdir().unwrap();
+    // A bad register read (127.996 °C) every 2000 s, at 1000 s, 3000 s, ...: 20 rows.
+    let glitched = |l: &str| {
+        let t: f64 = l.split(',').next().unwrap().parse().unwrap();
+        t % 2000.0 == 1000.0
+    };
+    let log = rewritten(dir.path(), "g.csv", |l| {
+        Some(if glitched(l) {
+            with_temperature(l, "127.996")
+        } else {
+            l.to_string()
+        })
+    });
+    // The same log with those rows left out, by hand: what the fit must see.
+    let cut = rewritten(dir.path(), "cut.csv", |l| {
+        (!glitched(l)).then(|| l.to_string())
+    });
+    // The line of the first glitch in the file (1-based), counted here.
+    let text = std::fs::read_to_string(&log).unwrap();
+    let first = 1 + text
+        .lines()
+        .position(|l| l.split(',').nth(2) == Some("127.996"))
+        .unwrap();
+    let inspect = crate::common::run::driftlab(&["inspect", &log]);
+    let (out, err) = (
+        String::from_utf8_lossy(&inspect.stdout),
+        String::from_utf8_lossy(&inspect.stderr),
+    );
+    for words in [
+        "the temperature jumps by".to_string(),
+        "for one sample and back, 20 times".to_string(),
+        format!("first at line {first}"),
+        "read as missing".to_string(),
+    ] {
+        assert!(
+            out.contains(&words) && err.contains(&words),
+            "{words:?}:\n{out}\n{err}"
+        );
+    }
+    assert!(!out.contains("problems: none"), "{out}");
+    // calibrate tells it, and fits what the log without those rows gives: the same held-out
+    // figures on the validation run.
+    let (g, c) = (p(dir.path(), "g.json"), p(dir.path(), "c.json"));
+    let run = crate::common::run::driftlab(&["calibrate", &log, "-o", &g]);
+    assert!(run.status.success());
+    let err = String::from_utf8_lossy(&run.stderr);
+    assert!(err.contains("the temperature jumps by"), "{err}");
+    ok(&["calibrate", &cut, "-o", &c]);
+    let figures = |cal: &str| {
+        ok(&["evaluate", cal, &sample("validation.csv")])
+            .lines()
+            .filter(|l| l.contains("drift") || l.contains("RMS"))
+            .map(str::to_string)
+            .collect::<Vec<_>>()
+    };
+    let (fg, fc) = (figures(&g), figures(&c));
+    assert!(!fg.is_empty());
+    assert_eq!(fg, fc);
+}
+
+#[test]
+fn the_only_rate_column_taken_as_the_temperature_is_the_reason_given() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = p(dir.path(), "never.json");
+    for (flag, given) in [
+        ("--temp-col", "omega_dph"),
+        ("--temp-col", "2"),
+        ("--time-col", "omega_dph"),
+    ] {
+        let what = if flag == "--temp-col" {
+            "temperature"
+        } else {
+            "time"
+        };
+        for command in ["calibrate", "inspect"] {
+            let log = sample("calibration.csv");
+            let mut args = vec![command, &log, flag, given];
+            if command == "calibrate" {
+                args.extend(["-o", &out]);
+            }
+            let e = fails(&args);
+            assert!(
+                e.contains(&format!(
+                    "column 2 \"omega_dph\", is taken as the {what} by {flag}"
+                )) && e.contains(&format!("check {flag}"))
+                    && !e.contains("none of"),
+                "{command} {flag} {given}: {e}"
+            );
+        }
+    }
 }
 
 #[test]

@@ -22,6 +22,7 @@ mod killed_writes;
 mod odd_logs;
 mod session;
 mod stray_stamps;
+mod temperature_faults;
 mod time_bases;
 mod time_scale;
 mod written_together;

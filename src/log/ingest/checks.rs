@@ -4,8 +4,9 @@
 //! output, whatever path (fast or sequential) read the file.
 
 use super::Fail;
-use super::columns::{Plan, SLOT_TIME};
+use super::columns::{Action, Plan, SLOT_TEMP, SLOT_TIME};
 use super::parse::{Tally, note};
+use super::plausible::stuck_temperature;
 use super::read::Acc;
 use super::sniff::Sniffed;
 use super::time_scale::{self, TimeColumn};
@@ -201,6 +202,10 @@ pub(super) fn finish(mut acc: Acc, sn: &Sniffed, plan: &Plan, source: &str) -> R
             remove_sorted(col, &drop);
         }
     }
+    // Temperatures that are no reading of the chamber: a bad read standing alone, a sensor
+    // stuck at one value while the chamber moves. Read as missing, as a blank cell is, before
+    // the gaps are looked at (the rows dropped leave the holes the gaps then tell).
+    unread_temperatures(&mut acc, plan, &mut drop, &mut problems);
     // Gaps: steps the later stamps do not make up (host stamps that bunch are not gaps).
     let mut timing = Timing::of(&acc.cols[SLOT_TIME]);
     // A sample or two alone at an end past a gap far longer than the rest of the log are stray
@@ -328,6 +333,93 @@ pub(super) fn finish(mut acc: Acc, sn: &Sniffed, plan: &Plan, source: &str) -> R
     let doubts = super::plausible::check(&log);
     log.info.problems.extend(doubts);
     Ok(log)
+}
+
+/// Reads as missing the temperatures of `acc`'s kept rows that are no reading of the chamber
+/// (`drop` the sorted rows dropped so far, which gains those it drops): one-sample glitches
+/// ([`temp_glitch`](crate::log::temp_glitch)), then a stretch held at one value while another
+/// temperature of the log moves ([`stuck_temperature`]). The rule of a blank temperature cell
+/// is followed: its row is dropped when the temperature is required, else its temperature is
+/// NaN. Each is told, with its first line and what was done.
+///
+/// A stuck stretch is dropped rather than kept as a plateau: its one value is not the
+/// temperature of the gyro there (the chamber moved by more than a sensor's error), so a K0
+/// point from it would be a drift at a temperature the gyro never had, and its Ṫ of 0 would
+/// put a still chamber into the rate terms; a test engineer wants those samples out of the
+/// fit and out of a judgement, and told, not a calibration that quietly averages them in.
+fn unread_temperatures(
+    acc: &mut Acc,
+    plan: &Plan,
+    drop: &mut Vec<usize>,
+    problems: &mut Vec<Problem>,
+) {
+    let required = plan.actions.iter().any(|a| {
+        matches!(
+            a,
+            Action::Parse {
+                slot: SLOT_TEMP,
+                required: true,
+                ..
+            }
+        )
+    });
+    let column = plan
+        .slot_col
+        .get(SLOT_TEMP)
+        .copied()
+        .flatten()
+        .map(|c| c + 1);
+    // Drops (or makes NaN) the kept samples `gone` (increasing).
+    let unread = |acc: &mut Acc, drop: &mut Vec<usize>, gone: &[usize]| {
+        if required {
+            let rows: Vec<usize> = gone.iter().map(|&k| row_of(drop, k)).collect();
+            for col in &mut acc.cols {
+                remove_sorted(col, gone);
+            }
+            drop.extend(rows);
+            drop.sort_unstable();
+        } else {
+            for &k in gone {
+                acc.cols[SLOT_TEMP][k] = f64::NAN;
+            }
+        }
+    };
+    if let Some(g) = crate::log::temp_glitch::find(&acc.cols[SLOT_TIME], &acc.cols[SLOT_TEMP]) {
+        let line = acc.line_of(row_of(drop, g.samples[0]));
+        problems.push(Problem {
+            line,
+            column,
+            kind: ProblemKind::Implausible,
+            count: g.count,
+            message: g.message(&format!("line {line}"), required),
+        });
+        unread(acc, drop, &g.samples);
+    }
+    let first_extra = SLOT_TEMP + 1 + plan.axes.len();
+    let extras: Vec<(&str, &[f64])> = plan
+        .extras
+        .iter()
+        .enumerate()
+        .filter_map(|(k, (name, _))| {
+            Some((name.as_str(), acc.cols.get(first_extra + k)?.as_slice()))
+        })
+        .collect();
+    if let Some(stuck) = stuck_temperature(&acc.cols[SLOT_TEMP], &extras) {
+        let (a, b) = stuck.range;
+        let lines = (
+            acc.line_of(row_of(drop, a)),
+            acc.line_of(row_of(drop, b - 1)),
+        );
+        problems.push(Problem {
+            line: lines.0,
+            column,
+            kind: ProblemKind::Implausible,
+            count: 1,
+            message: stuck.message(&acc.cols[SLOT_TIME], lines, required),
+        });
+        let gone: Vec<usize> = (a..b).collect();
+        unread(acc, drop, &gone);
+    }
 }
 
 /// A duration in seconds to six significant digits, for messages.

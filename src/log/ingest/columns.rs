@@ -359,6 +359,26 @@ pub(crate) fn plan(sn: &Sniffed, opts: &ReadOptions) -> Result<Plan, Fail> {
     }
 
     let Some(rate_col) = rate_col else {
+        // The rate column taken by another option (`temp_col omega_dph` on a log of one rate
+        // column): the column is there and reads as a rate, so that option is the reason.
+        let taken = [
+            (time_x, "time", "time_col"),
+            (temp_x, "temperature", "temp_col"),
+        ]
+        .into_iter()
+        .find_map(|(x, what, setting)| {
+            let j = x.filter(|&j| matches!(kinds[j].0, Kind::Rate(_)))?;
+            Some((j, what, setting))
+        });
+        if let Some((j, what, setting)) = taken {
+            return Err(at_header(format!(
+                "no gyro rate column left: the only column that reads as one, column {} \
+                 \"{}\", is taken as the {what} by {setting}, and its name says it holds a gyro \
+                 rate; check {setting} (or map the rate with rate_col NAME)",
+                j + 1,
+                sn.names[j]
+            )));
+        }
         return Err(at_header(format!(
             "no gyro rate column: none of {} reads as one (omega, rate, gyro, gx, wx, \
              angular_velocity_x, ...); map it with rate_col NAME (Column mapping… in the \

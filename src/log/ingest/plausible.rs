@@ -351,58 +351,82 @@ fn longest_run(x: &[f64]) -> (usize, usize) {
 /// coarse sensor may read one value through it: not told.
 const STUCK_TEMP_MOVE_C: f64 = 2.0;
 
-fn stuck_temperature(log: &Log) -> Option<Problem> {
-    let n = log.len();
+/// A stretch where the temperature holds one value while another temperature moves.
+pub(super) struct StuckTemperature {
+    /// The samples, as a range of indices.
+    pub range: (usize, usize),
+    /// The one value, °C.
+    pub value: f64,
+    /// The temperature that moves there, and by how much, °C.
+    pub other: String,
+    pub moved_c: f64,
+}
+
+impl StuckTemperature {
+    /// The problem's words, with the time of the samples `time_s`, the file `lines` of the
+    /// first and last sample of the stretch, and what was done (`dropped`: its rows dropped,
+    /// else its temperature NaN).
+    pub fn message(&self, time_s: &[f64], lines: (usize, usize), dropped: bool) -> String {
+        let r = crate::number::readable;
+        let (a, b) = self.range;
+        let done = if dropped {
+            "its temperature there is read as missing and those rows dropped, as a blank \
+             temperature is, so that it is taken neither for a plateau nor for the gyro's \
+             temperature"
+        } else {
+            "its temperature there is read as missing (not a number)"
+        };
+        format!(
+            "the temperature holds one value, {} °C, for {} samples from {} s to {} s (lines \
+             {} to {}), while \"{}\" moves by {} °C there: a sensor stuck, not a plateau; \
+             {done} (cut that stretch out, or choose another temperature with temp_col)",
+            r(self.value),
+            b - a,
+            r(time_s[a]),
+            r(time_s[b - 1]),
+            lines.0,
+            lines.1,
+            self.other,
+            crate::number::significant(self.moved_c, 3)
+        )
+    }
+}
+
+/// The longest stretch of `temp_c` held at one value, if it is long enough to be told and
+/// one of the `extras` named as a temperature (`temp` in its name) moves by more than
+/// [`STUCK_TEMP_MOVE_C`] over it.
+pub(super) fn stuck_temperature(
+    temp_c: &[f64],
+    extras: &[(&str, &[f64])],
+) -> Option<StuckTemperature> {
+    let n = temp_c.len();
     let least = STUCK_SAMPLES.max((STUCK_SHARE * n as f64).ceil() as usize);
-    let (a, b) = longest_run(&log.temp_c);
+    let (a, b) = longest_run(temp_c);
     if b - a < least || b > n {
         return None;
     }
-    let (other, moved) = log
-        .extra
+    let (other, moved) = extras
         .iter()
-        .filter(|x| x.name.to_lowercase().contains("temp") && x.values.len() == n)
-        .map(|x| {
-            let v = x.values[a..b].iter().filter(|v| v.is_finite());
+        .filter(|(name, values)| name.to_lowercase().contains("temp") && values.len() == n)
+        .map(|(name, values)| {
+            let v = values[a..b].iter().filter(|v| v.is_finite());
             let lo = v.clone().fold(f64::INFINITY, |m, &v| m.min(v));
             let hi = v.fold(f64::NEG_INFINITY, |m, &v| m.max(v));
-            (x.name.as_str(), hi - lo)
+            (*name, hi - lo)
         })
         .filter(|(_, moved)| moved.is_finite())
         .max_by(|p, q| p.1.total_cmp(&q.1))?;
-    if moved <= STUCK_TEMP_MOVE_C {
-        return None;
-    }
-    let r = crate::number::readable;
-    let column = log
-        .info
-        .columns
-        .iter()
-        .find(|c| c.role == ColumnRole::Temperature)
-        .map(|c| c.index);
-    Some(Problem {
-        line: 0,
-        column,
-        kind: ProblemKind::Implausible,
-        count: 1,
-        message: format!(
-            "the temperature holds one value, {} °C, for {} samples from {} s to {} s, while \
-             \"{}\" moves by {} °C there: a sensor stuck, whose one reading would be taken for \
-             a plateau; cut that stretch out or choose another temperature (temp_col)",
-            r(log.temp_c[a]),
-            b - a,
-            r(log.time_s[a]),
-            r(log.time_s[b - 1]),
-            other,
-            crate::number::significant(moved, 3)
-        ),
+    (moved > STUCK_TEMP_MOVE_C).then(|| StuckTemperature {
+        range: (a, b),
+        value: temp_c[a],
+        other: other.to_string(),
+        moved_c: moved,
     })
 }
 
 pub(super) fn check(log: &Log) -> Vec<Problem> {
     let mut out = duplicate_names(log);
     out.extend(stuck_rates(log));
-    out.extend(stuck_temperature(log));
     out.extend(contradicted_units(log));
     out.extend(contradicted_time_unit(log));
     out.extend(unread_units(log));

@@ -13,8 +13,8 @@ use super::parse::{Chunk, Noticed, Parser, Stop, plan_for};
 use super::sniff::{
     MAX_LINE_BYTES, Sniffed, Unterminated, is_skippable, read_head, sniff, split_fields, strip_cr,
 };
-use super::{Fail, Needs, Preview, ReadOptions};
-use crate::log::Log;
+use super::{ExtraColumns, Fail, Needs, Preview, ReadOptions};
+use crate::log::{ColumnRole, Log, ProblemKind};
 use memchr::memrchr;
 use rayon::prelude::*;
 use std::borrow::Cow;
@@ -253,6 +253,8 @@ fn read_blocks(
     let (head, eof) = read_head(&mut *src.open_at(0)?, HEAD_LINES).map_err(io_fail)?;
     let sn = sniff(&head, eof, opts, 0)?;
     drop(head);
+    let (checked, trim) = with_other_temperatures(opts, needs);
+    let (opts, needs) = (&checked.0, &checked.1);
     let plan = plan_for(&sn, opts, needs)?;
     let parser = Parser {
         plan: &plan,
@@ -282,10 +284,74 @@ fn read_blocks(
             general(&pass, &mut acc)?;
         }
     }
-    let log = finish(acc, &sn, &plan, source)?;
+    let mut log = finish(acc, &sn, &plan, source)?;
+    if let Some(kept) = &trim {
+        keep_only_asked(&mut log, kept);
+    }
     // The answer no longer matters: the work is done.
     let _ = progress(1.0);
     Ok(log)
+}
+
+/// The options and needs a read is planned with, and the extra columns to keep of what it
+/// reads (`None`: all). A caller that keeps only some extra columns (or none,
+/// [`ReadOptions::skip_extras`]) still has the log's other temperatures read: the checks tell
+/// a temperature stuck at one value by another that moves ([`super::plausible`]), and a
+/// calibration must hear of it as `inspect` does. They are let go once the checks are done.
+fn with_other_temperatures(
+    opts: &ReadOptions,
+    needs: &Needs,
+) -> ((ReadOptions, Needs), Option<ExtraColumns>) {
+    let asked = if opts.skip_extras {
+        Some(ExtraColumns::default())
+    } else {
+        needs.extras.clone()
+    };
+    match asked {
+        Some(asked) if !asked.temperatures => {
+            let read = Needs {
+                extras: Some(ExtraColumns {
+                    temperatures: true,
+                    ..asked.clone()
+                }),
+                ..needs.clone()
+            };
+            let opts = ReadOptions {
+                skip_extras: false,
+                ..opts.clone()
+            };
+            ((opts, read), Some(asked))
+        }
+        _ => ((opts.clone(), needs.clone()), None),
+    }
+}
+
+/// Lets go of the extra columns of `log` that `kept` does not name, as if they had not been
+/// read: listed as ignored, and no problem of their cells told.
+fn keep_only_asked(log: &mut Log, kept: &ExtraColumns) {
+    // The extra columns are listed in the order of `log.extra`.
+    let gone: Vec<usize> = log
+        .info
+        .columns
+        .iter()
+        .filter(|c| c.role == ColumnRole::Extra)
+        .zip(&log.extra)
+        .filter(|(_, x)| !kept.keeps(&x.name, &x.unit))
+        .map(|(c, _)| c.index)
+        .collect();
+    if gone.is_empty() {
+        return;
+    }
+    log.extra.retain(|x| kept.keeps(&x.name, &x.unit));
+    for c in &mut log.info.columns {
+        if gone.contains(&c.index) {
+            c.role = ColumnRole::Ignored;
+            c.unit.clear();
+        }
+    }
+    log.info.problems.retain(|p| {
+        !(p.kind == ProblemKind::BadExtraValue && p.column.is_some_and(|k| gone.contains(&k)))
+    });
 }
 
 /// What a pass over the data rows reads and reports to: the source, what sniffing found, the

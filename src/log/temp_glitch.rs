@@ -1,0 +1,245 @@
+//! One-sample glitches of the temperature: a bad read of the sensor's register (127.996 °C,
+//! 0x7FFF/256; −128 °C; 0 °C; the 85 °C a 1-wire sensor reads at power-up) between two samples
+//! that agree with each other. The one rule both readers (CSV and drone logs) find them by.
+//!
+//! A chamber moves a gyro's temperature by well under [`FASTEST_CHAMBER_C_PER_S`] (1 °C/s is
+//! 60 °C a minute, beyond any thermal chamber; the same bound as the widest dead-band on Ṫ a
+//! recipe takes), so a sample that stands away from both its neighbours by more than that rate
+//! allows over one step, and by at least [`GLITCH_LEAST_C`], is no temperature the chamber
+//! made. Left in, each one cuts a plateau in two and puts a step of ~100 °C/s into Ṫ, which the
+//! rate terms are then fitted through. Its temperature is read as missing, as a blank cell is:
+//! the row is dropped when the reader needs a temperature, else its temperature is NaN.
+//!
+//! Real steps do not fire it: a ramp, however fast, goes one way (no sample stands away from
+//! both neighbours on the same side), and a MEMS sensor's noise and quantum (1/256 … 1 °C,
+//! a flicker of one step and back) are far below [`GLITCH_LEAST_C`]; a column noisier than
+//! that (raw counts taken for a temperature) must stand out by [`GLITCH_NOISE_FACTOR`] times
+//! its typical step.
+
+/// The fastest a chamber moves a gyro's temperature, °C/s: 60 °C a minute, beyond any thermal
+/// chamber (`models::recipe::MAX_DEADBAND_TDOT` is the same bound, for the dead-band on Ṫ).
+pub const FASTEST_CHAMBER_C_PER_S: f64 = 1.0;
+
+/// The least jump, °C, told as a glitch however fast the log is sampled: ten times the coarsest
+/// quantum of a MEMS temperature (1 °C) and far above its noise, so that the flicker of a noisy
+/// or coarse sensor sampled at a kilohertz is never one.
+pub const GLITCH_LEAST_C: f64 = 10.0;
+
+/// How many times the series' typical step (the median of |ΔT| between samples) a glitch
+/// stands out by at least: a column noisier than any °C sensor (raw counts, read as a
+/// temperature and told as such elsewhere) jumps by more than [`GLITCH_LEAST_C`] from sample to
+/// sample, and none of those jumps is a bad read.
+pub const GLITCH_NOISE_FACTOR: f64 = 10.0;
+
+/// The longest run of samples told as one glitch: a bad read or two in a row (a fast-sampled
+/// sensor repeats its bad register for a sample or two). A longer stretch away from both sides
+/// is a stretch of the log, not a read.
+pub const GLITCH_MOST_SAMPLES: usize = 3;
+
+/// The glitches of a temperature series.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct Glitches {
+    /// Indices of the samples read as glitches, increasing.
+    pub samples: Vec<usize>,
+    /// How many glitches (runs of one to [`GLITCH_MOST_SAMPLES`] samples).
+    pub count: usize,
+    /// The longest run, in samples.
+    pub longest: usize,
+    /// The smallest and largest jump, °C (how far a glitch stands from its neighbours'
+    /// mean).
+    pub jump_c: (f64, f64),
+}
+
+impl Glitches {
+    /// The problem's words: how many, how large, where the first is (`place`, "line 1003" or
+    /// "sample 1003"), and what was done with them (`dropped`: the rows dropped, else their
+    /// temperature is NaN).
+    pub fn message(&self, place: &str, dropped: bool) -> String {
+        let size = |v: f64| crate::number::significant(v, 3);
+        let (lo, hi) = self.jump_c;
+        let by = if hi - lo <= 0.1 * hi {
+            format!("~{}", size(0.5 * (lo + hi)))
+        } else {
+            format!("{} to {}", size(lo), size(hi))
+        };
+        let (n, s) = (self.count, if self.count == 1 { "" } else { "s" });
+        let for_how_long = if self.longest == 1 {
+            "for one sample".to_string()
+        } else {
+            format!("for at most {} samples", self.longest)
+        };
+        let rows = self.samples.len();
+        let done = if dropped {
+            format!(
+                "{} read as missing and {} dropped, as a blank temperature is",
+                if rows == 1 {
+                    "its temperature is".to_string()
+                } else {
+                    format!("the temperature of those {rows} samples is")
+                },
+                if rows == 1 { "its row" } else { "their rows" }
+            )
+        } else {
+            "their temperature is read as missing (not a number)".to_string()
+        };
+        format!(
+            "the temperature jumps by {by} °C {for_how_long} and back, {n} time{s} (first at \
+             {place}): a bad read of the sensor, not the chamber, which moves the temperature \
+             by less than {FASTEST_CHAMBER_C_PER_S} °C/s; {done}"
+        )
+    }
+}
+
+/// The glitches of `temp_c` sampled at `time_s` (same length), `None` when there is none.
+/// NaN samples are no glitch and no neighbour: a run next to one is not judged.
+pub(crate) fn find(time_s: &[f64], temp_c: &[f64]) -> Option<Glitches> {
+    let n = temp_c.len().min(time_s.len());
+    let noise = GLITCH_NOISE_FACTOR * typical_step(&temp_c[..n]);
+    let mut samples = Vec::new();
+    let (mut count, mut longest) = (0usize, 0usize);
+    let (mut lo, mut hi) = (f64::INFINITY, 0.0f64);
+    // `a` the sample before a possible run, which starts at a + 1.
+    let mut a = 0usize;
+    while a + 2 < n {
+        match run_after(time_s, temp_c, a, noise) {
+            Some((k, jump)) => {
+                samples.extend(a + 1..=a + k);
+                count += 1;
+                longest = longest.max(k);
+                lo = lo.min(jump);
+                hi = hi.max(jump);
+                // The sample after the run is good: it is the next run's "before".
+                a += k + 1;
+            }
+            None => a += 1,
+        }
+    }
+    (count > 0).then_some(Glitches {
+        samples,
+        count,
+        longest,
+        jump_c: (lo, hi),
+    })
+}
+
+/// The shortest run of one to [`GLITCH_MOST_SAMPLES`] samples after sample `a` that stands
+/// away from both `a` and the sample after it, on one side, by more than a chamber moves over
+/// the longer of the two steps (and by [`GLITCH_LEAST_C`], and by `noise`), while those two
+/// samples agree with each other as closely: its length, and how far its farthest sample stands from the mean of
+/// the two.
+/// The median of |ΔT| between neighbouring finite samples, 0 for fewer than two.
+fn typical_step(temp_c: &[f64]) -> f64 {
+    let mut d: Vec<f64> = temp_c
+        .windows(2)
+        .map(|w| (w[1] - w[0]).abs())
+        .filter(|d| d.is_finite())
+        .collect();
+    if d.is_empty() {
+        return 0.0;
+    }
+    let mid = d.len() / 2;
+    *d.select_nth_unstable_by(mid, f64::total_cmp).1
+}
+
+fn run_after(time_s: &[f64], temp_c: &[f64], a: usize, noise: f64) -> Option<(usize, f64)> {
+    let before = temp_c[a];
+    if !before.is_finite() {
+        return None;
+    }
+    for k in 1..=GLITCH_MOST_SAMPLES {
+        let b = a + k + 1;
+        if b >= temp_c.len() {
+            return None;
+        }
+        let after = temp_c[b];
+        let run = &temp_c[a + 1..b];
+        if !after.is_finite() || run.iter().any(|v| !v.is_finite()) {
+            return None;
+        }
+        let step = (time_s[a + 1] - time_s[a]).max(time_s[b] - time_s[b - 1]);
+        let least = GLITCH_LEAST_C
+            .max(FASTEST_CHAMBER_C_PER_S * step)
+            .max(noise);
+        if !least.is_finite() || (after - before).abs() > least {
+            continue;
+        }
+        let above = run.iter().all(|&v| v - before.max(after) > least);
+        let below = run.iter().all(|&v| before.min(after) - v > least);
+        if above || below {
+            let mid = 0.5 * (before + after);
+            let jump = run.iter().fold(0.0f64, |m, &v| m.max((v - mid).abs()));
+            return Some((k, jump));
+        }
+    }
+    None
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn ramp(n: usize, rate_c_s: f64) -> (Vec<f64>, Vec<f64>) {
+        let t: Vec<f64> = (0..n).map(|i| i as f64).collect();
+        let temp = t.iter().map(|&t| 20.0 + rate_c_s * t).collect();
+        (t, temp)
+    }
+
+    #[test]
+    fn a_bad_read_between_two_agreeing_samples_is_a_glitch() {
+        let (t, mut temp) = ramp(100, 0.01);
+        temp[10] = 127.996;
+        temp[50] = -128.0;
+        temp[70] = 127.996;
+        temp[71] = 127.996;
+        let g = find(&t, &temp).expect("glitches");
+        assert_eq!(g.samples, vec![10, 50, 70, 71]);
+        assert_eq!(g.count, 3);
+        assert_eq!(g.longest, 2);
+        // -128 stands 148.5 °C below the neighbours' mean (20.5 °C).
+        assert!((g.jump_c.1 - 148.5).abs() < 1e-9, "{:?}", g.jump_c);
+    }
+
+    #[test]
+    fn a_fast_ramp_a_step_and_a_flicker_are_no_glitch() {
+        // A ramp at the fastest a chamber can go, then a step of 30 °C that stays.
+        let (t, mut temp) = ramp(200, FASTEST_CHAMBER_C_PER_S);
+        for v in &mut temp[100..] {
+            *v += 30.0;
+        }
+        assert_eq!(find(&t, &temp), None);
+        // A sensor of 1 °C quantum flickering one step and back at a kilohertz.
+        let t: Vec<f64> = (0..1000).map(|i| i as f64 * 1e-3).collect();
+        let temp: Vec<f64> = (0..1000).map(|i| 40.0 + (i % 2) as f64).collect();
+        assert_eq!(find(&t, &temp), None);
+        // A stretch of four samples away is not a read.
+        let (t, mut temp) = ramp(50, 0.0);
+        for v in &mut temp[10..14] {
+            *v = 127.996;
+        }
+        assert_eq!(find(&t, &temp), None);
+    }
+
+    #[test]
+    fn a_column_noisier_than_any_sensor_has_no_glitch() {
+        // Raw counts with a noise of ±20 between samples: a jump of 60 counts is noise.
+        let t: Vec<f64> = (0..100).map(|i| i as f64).collect();
+        let mut counts: Vec<f64> = (0..100)
+            .map(|i| 4000.0 + [0.0, 20.0, -20.0][i % 3])
+            .collect();
+        counts[50] = 4060.0;
+        assert_eq!(find(&t, &counts), None);
+        counts[50] = 32767.0;
+        assert_eq!(find(&t, &counts).map(|g| g.samples), Some(vec![50]));
+    }
+
+    #[test]
+    fn a_slow_log_allows_what_a_chamber_moves_in_its_step() {
+        // One sample a minute: 40 °C away and back is within what 60 s allow.
+        let t: Vec<f64> = (0..10).map(|i| 60.0 * i as f64).collect();
+        let mut temp = vec![20.0; 10];
+        temp[5] = 60.0;
+        assert_eq!(find(&t, &temp), None);
+        temp[5] = 127.996;
+        assert_eq!(find(&t, &temp).map(|g| g.samples), Some(vec![5]));
+    }
+}

@@ -1,0 +1,311 @@
+//! Temperatures that are no reading of the chamber, told with their line and read as missing:
+//! one-sample glitches of the sensor (a bad register read, 127.996 °C between two samples near
+//! 25 °C), and a sensor stuck at one value while the chamber's temperature moves. Neither fires
+//! on a real temperature: a fast ramp, a step that stays, a quantised MEMS sensor's flicker at a
+//! kilohertz, every simulated profile, the real drone logs.
+
+use crate::common;
+use common::drone::{DATAFLASH, ULOG, data_dir, ulog};
+use driftlab::Log;
+use driftlab::log::ingest::{Input, Needs, ReadOptions, read_bytes, read_path};
+use driftlab::log::read::{self, FormatChoice};
+use driftlab::log::{ColumnRole, Problem, ProblemKind};
+
+/// Lines before the first data row of the logs written here: one header line.
+const HEADER_LINES: usize = 1;
+
+fn temp_of(i: usize) -> f64 {
+    // 25 °C, rising by 0.01 °C a second: a slow chamber ramp.
+    25.0 + 0.01 * i as f64
+}
+
+/// A 1 Hz log of `n` rows whose temperature is `temp(i)`, and a chamber column beside it.
+fn csv(n: usize, temp: impl Fn(usize) -> f64, chamber: impl Fn(usize) -> f64) -> String {
+    let mut s = String::from("time_s,omega_dph,temp_c,temp_chamber_c\n");
+    for i in 0..n {
+        s.push_str(&format!(
+            "{i},{:.4},{:.3},{:.3}\n",
+            0.01 * (i % 7) as f64,
+            temp(i),
+            chamber(i)
+        ));
+    }
+    s
+}
+
+fn told<'a>(log: &'a Log, words: &str) -> Vec<&'a Problem> {
+    log.info
+        .problems
+        .iter()
+        .filter(|p| p.message.contains(words))
+        .collect()
+}
+
+#[test]
+fn a_bad_read_of_the_thermometer_is_told_and_read_as_missing() {
+    let n = 3000;
+    let glitches = [500usize, 1500, 2500];
+    let bad = 127.996;
+    let text = csv(
+        n,
+        |i| {
+            if glitches.contains(&i) {
+                bad
+            } else {
+                temp_of(i)
+            }
+        },
+        temp_of,
+    );
+    let log = read_bytes("g.csv", text.as_bytes(), &ReadOptions::default()).unwrap();
+    // The glitched rows are dropped, as rows with a blank temperature are; no other row is.
+    assert_eq!(log.len(), n - glitches.len());
+    for g in glitches {
+        assert!(!log.time_s.contains(&(g as f64)), "row {g} kept");
+    }
+    assert!(log.temp_c.iter().all(|&t| t < 60.0));
+    let p = told(&log, "the temperature jumps by");
+    assert_eq!(p.len(), 1, "{:?}", log.info.problems);
+    let p = p[0];
+    let first_line = HEADER_LINES + glitches[0] + 1;
+    assert_eq!(p.line, first_line);
+    assert_eq!(p.column, Some(3));
+    assert_eq!(p.kind, ProblemKind::Implausible);
+    assert_eq!(p.count, glitches.len());
+    // Each glitch stands from its neighbours' mean by 127.996 − T(i): 97.996, 87.996, 77.996.
+    let jumps: Vec<f64> = glitches.iter().map(|&g| bad - temp_of(g)).collect();
+    let (lo, hi) = (jumps[2], jumps[0]);
+    for words in [
+        format!("by {lo:.0} to {hi:.0} °C for one sample and back, 3 times"),
+        format!("first at line {first_line}"),
+        "read as missing".to_string(),
+    ] {
+        assert!(p.message.contains(&words), "{words:?} not in {}", p.message);
+    }
+
+    // A reader that needs no temperature (the noise analysis) keeps the rows, with the
+    // glitches' temperature NaN, as it keeps a blank temperature cell.
+    let input = Input::Bytes {
+        name: "g.csv".into(),
+        bytes: text.into_bytes(),
+    };
+    let needs = Needs {
+        temperature: false,
+        extras: None,
+    };
+    let log = input
+        .read_needing(&ReadOptions::default(), &needs, &|_| true)
+        .unwrap();
+    assert_eq!(log.len(), n);
+    for (i, t) in log.temp_c.iter().enumerate() {
+        assert_eq!(t.is_nan(), glitches.contains(&i), "row {i}: {t}");
+    }
+    assert!(told(&log, "read as missing (not a number)").len() == 1);
+}
+
+#[test]
+fn two_bad_reads_in_a_row_are_one_glitch() {
+    let n = 1000;
+    let text = csv(
+        n,
+        |i| {
+            if i == 400 || i == 401 {
+                -128.0
+            } else {
+                temp_of(i)
+            }
+        },
+        temp_of,
+    );
+    let log = read_bytes("g.csv", text.as_bytes(), &ReadOptions::default()).unwrap();
+    assert_eq!(log.len(), n - 2);
+    let p = told(&log, "the temperature jumps by");
+    assert_eq!(p.len(), 1, "{:?}", log.info.problems);
+    assert_eq!(p[0].count, 1);
+    assert_eq!(p[0].line, HEADER_LINES + 400 + 1);
+    assert!(
+        p[0].message.contains("for at most 2 samples"),
+        "{}",
+        p[0].message
+    );
+}
+
+#[test]
+fn real_steps_and_a_quantised_flicker_are_no_glitch() {
+    let none = |name: &str, text: &str, rows: usize| {
+        let log = read_bytes(name, text.as_bytes(), &ReadOptions::default()).unwrap();
+        assert!(
+            told(&log, "jumps by").is_empty() && told(&log, "holds one value").is_empty(),
+            "{name}: {:?}",
+            log.info.problems
+        );
+        assert_eq!(log.len(), rows, "{name}");
+    };
+    // A ramp at 1 °C/s, 60 °C a minute, past any chamber: 20 → 80 °C and back.
+    let ramp = |i: usize| {
+        let k = (i % 120) as f64;
+        20.0 + if k <= 60.0 { k } else { 120.0 - k }
+    };
+    none("ramp.csv", &csv(600, ramp, ramp), 600);
+    // A thermal-shock transfer: 20 °C, then 60 °C from one sample on, then back after 300 s.
+    let shock = |i: usize| if (300..600).contains(&i) { 60.0 } else { 20.0 };
+    none("shock.csv", &csv(900, shock, shock), 900);
+    // A MEMS sensor at 1 kHz: 1/8 °C quantum, noise of 0.5 °C (σ), and a 1 °C-quantum sensor
+    // flickering by one step on every other sample.
+    let mut noise = common::Noise::new(7);
+    let mut mems = String::from("time_s,gx_dps,temp_c,temp_coarse_c\n");
+    for i in 0..20_000 {
+        let t = 45.0 + 0.5 * noise.normal();
+        mems.push_str(&format!(
+            "{:.3},{:.5},{},{}\n",
+            i as f64 * 1e-3,
+            0.001 * noise.normal(),
+            (t * 8.0).round() / 8.0,
+            45 + (i % 2)
+        ));
+    }
+    none("mems.csv", &mems, 20_000);
+    let coarse = ReadOptions {
+        temp_col: Some(driftlab::log::ingest::ColumnRef::Name(
+            "temp_coarse_c".into(),
+        )),
+        ..ReadOptions::default()
+    };
+    let log = read_bytes("mems.csv", mems.as_bytes(), &coarse).unwrap();
+    assert!(told(&log, "jumps by").is_empty(), "{:?}", log.info.problems);
+}
+
+#[test]
+fn no_simulated_profile_has_a_glitch_or_a_stuck_temperature() {
+    let dir = tempfile::tempdir().unwrap();
+    for name in driftlab::sim::profile_names() {
+        let profile = driftlab::sim::profile(name).unwrap();
+        let run = driftlab::sim::simulate(&profile, 1);
+        let path = dir.path().join(format!("{name}.csv"));
+        run.write_csv(&path).unwrap();
+        let log = read_path(&path, &ReadOptions::default()).unwrap();
+        assert!(
+            told(&log, "jumps by").is_empty() && told(&log, "holds one value").is_empty(),
+            "{name}: {:?}",
+            log.info.problems
+        );
+        assert_eq!(log.len(), run.len(), "{name}");
+    }
+}
+
+#[test]
+fn no_real_drone_log_has_a_glitch() {
+    let Some(dir) = data_dir() else { return };
+    for (rel, gyros) in [(ULOG, 3), (DATAFLASH, 2)] {
+        for k in 0..gyros {
+            let any = read::read_any(
+                &dir.join(rel),
+                &ReadOptions::default(),
+                &FormatChoice {
+                    gyro: Some(k),
+                    temp_from: None,
+                },
+            )
+            .unwrap();
+            assert!(
+                told(&any.log, "jumps by").is_empty(),
+                "{rel} gyro {k}: {:?}",
+                any.log.info.problems
+            );
+        }
+    }
+    for csv in ["sparkfun_razor.gyro.csv", "backend_log_80k.gyro.csv"] {
+        let Some(path) = std::fs::read_dir(&dir)
+            .unwrap()
+            .flatten()
+            .map(|d| d.path().join(csv))
+            .find(|p| p.is_file())
+        else {
+            continue;
+        };
+        if let Ok(log) = read_path(&path, &ReadOptions::default()) {
+            assert!(told(&log, "jumps by").is_empty(), "{csv}");
+        }
+    }
+}
+
+#[test]
+fn a_glitch_in_a_drone_log_is_dropped_by_the_same_rule() {
+    // A PX4 ULog at 1 Hz whose gyro temperature reads 127.996 °C at sample 201 (1-based).
+    let n = 400;
+    let time: Vec<f64> = (0..n).map(|i| i as f64).collect();
+    let gyro = vec![[0.001f32, -0.002, 0.003]; n];
+    let temp: Vec<f32> = (0..n)
+        .map(|i| if i == 200 { 127.996 } else { temp_of(i) as f32 })
+        .collect();
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("g.ulg");
+    std::fs::write(&path, ulog(&time, &gyro, &temp, 7)).unwrap();
+    let any = read::read_any(&path, &ReadOptions::default(), &FormatChoice::default()).unwrap();
+    assert_eq!(any.log.len(), n - 1);
+    assert!(!any.log.time_s.contains(&200.0));
+    let p = told(&any.log, "the temperature jumps by");
+    assert_eq!(p.len(), 1, "{:?}", any.log.info.problems);
+    assert!(
+        p[0].message.contains("first at sample 201"),
+        "{}",
+        p[0].message
+    );
+}
+
+#[test]
+fn a_stuck_temperature_is_told_and_dropped_even_when_the_other_columns_are_not_kept() {
+    // The sensor reads 25 °C from row 1000 to row 2999 while the chamber ramps by 0.05 °C/s
+    // (from −25 °C to 175 °C, through 25 °C at row 1000).
+    let n = 4000;
+    let stuck = 1000..3000;
+    let chamber = |i: usize| 25.0 + 0.05 * (i as f64 - 1000.0);
+    let text = csv(
+        n,
+        |i| if stuck.contains(&i) { 25.0 } else { chamber(i) },
+        chamber,
+    );
+    for skip_extras in [false, true] {
+        let opts = ReadOptions {
+            skip_extras,
+            ..ReadOptions::default()
+        };
+        let log = read_bytes("s.csv", text.as_bytes(), &opts).unwrap();
+        let p = told(&log, "the temperature holds one value, 25 °C");
+        assert_eq!(p.len(), 1, "skip {skip_extras}: {:?}", log.info.problems);
+        let (first, last) = (HEADER_LINES + stuck.start + 1, HEADER_LINES + stuck.end);
+        assert_eq!(p[0].line, first);
+        assert!(
+            p[0].message.contains(&format!(
+                "for {} samples from {} s to {} s (lines {first} to {last})",
+                stuck.len(),
+                stuck.start,
+                stuck.end - 1
+            )) && p[0].message.contains("\"temp_chamber_c\" moves by 100 °C"),
+            "{}",
+            p[0].message
+        );
+        // The stretch is read as missing: no sample of it is left to be taken for a plateau.
+        assert_eq!(log.len(), n - stuck.len());
+        assert!(
+            log.time_s
+                .iter()
+                .all(|&t| !(stuck.start as f64..stuck.end as f64).contains(&t))
+        );
+        // A reader that keeps no other column lets the chamber's go once it is checked.
+        let chamber_role = log
+            .info
+            .columns
+            .iter()
+            .find(|c| c.name == "temp_chamber_c")
+            .unwrap()
+            .role;
+        if skip_extras {
+            assert!(log.extra.is_empty());
+            assert_eq!(chamber_role, ColumnRole::Ignored);
+        } else {
+            assert_eq!(log.extra.len(), 1);
+            assert_eq!(chamber_role, ColumnRole::Extra);
+        }
+    }
+}
