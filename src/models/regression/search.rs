@@ -92,6 +92,9 @@ pub fn minimize(
             pts.push((x, f));
         }
     }
+    // A value the cost refused (a lag the log could not show, an exhausted budget) was not
+    // tried: the curve, which files hold, has the values that were.
+    pts.retain(|p| p.1.is_finite());
     pts.sort_by(|a, b| a.0.total_cmp(&b.0));
     CostCurve {
         parameter: parameter.to_string(),

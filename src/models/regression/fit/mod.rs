@@ -155,10 +155,14 @@ pub fn fit_with_progress(
             with_temperature,
         } => {
             let g = search::grid(0.0, max_s, 25, false);
+            let possible = possible_lag(log);
             // Each curve refills one set of signals in place for every lag it tries.
             let tau_curve = |per_c: f64| {
                 let mut held = Signals::of(log, spec, temp2.as_deref(), None).ok();
                 search::minimize("lag_s", &g, false, |tau| {
+                    if !possible(tau, per_c) {
+                        return f64::INFINITY;
+                    }
                     let Some(s) = held.as_mut().filter(|_| budget.tick()) else {
                         return f64::INFINITY;
                     };
@@ -381,4 +385,50 @@ fn temp_range(s: &Signals) -> (f64, f64) {
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
             (a.min(v), b.max(v))
         })
+}
+
+/// Whether a lag of `tau` s at 20 °C changing by `per_c` per °C is one the log could show,
+/// as a loaded model is checked ([`super::fitted`]'s lag over the fitted range): positive and
+/// no longer than the log at every temperature it holds. The search tries no other, so that
+/// every model it fits is one its own file reads back (a lag of 3600 s at 20 °C and 0.025
+/// per °C is 18,000 s at −38 °C, over an 8000-s log). No lag at all is always possible.
+fn possible_lag(log: &Log) -> impl Fn(f64, f64) -> bool {
+    let (lo, hi) = log
+        .temp_c
+        .iter()
+        .filter(|t| t.is_finite())
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &t| (a.min(t), b.max(t)));
+    let duration = log.duration_s();
+    move |tau, per_c| {
+        tau <= 0.0
+            || [lo, hi].iter().filter(|t| t.is_finite()).all(|&t| {
+                let at = super::lag_at(tau, per_c, t);
+                at.is_finite() && at > 0.0 && at <= duration
+            })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_lag_the_log_cannot_show_is_not_tried() {
+        // 8000 s from −40 to +60 °C.
+        let n = 8000;
+        let log = Log::from_columns(
+            "run.csv",
+            (0..n).map(|i| i as f64).collect(),
+            vec![0.0; n],
+            (0..n).map(|i| -40.0 + 100.0 * i as f64 / n as f64).collect(),
+        );
+        let possible = possible_lag(&log);
+        assert!(possible(0.0, 0.0) && possible(0.0, 0.1));
+        assert!(possible(3600.0, 0.0) && !possible(9000.0, 0.0));
+        // 3600 s at 20 °C and 0.025 per °C is 3600 / (1 − 1.5) → held at 0.2: 18,000 s at
+        // −40 °C, longer than the log; the file's check refuses it, so the search must not
+        // find it.
+        assert!(!possible(3600.0, 0.025));
+        assert!(possible(1000.0, 0.0125));
+    }
 }
