@@ -55,6 +55,10 @@ pub fn run(a: Args) -> Result<(), CliError> {
     if a.rostopic.is_some() && a.kalibr.is_none() && !a.json {
         return Err("--rostopic names the topic of the Kalibr file: give --kalibr OUT.yaml".into());
     }
+    if let Some(t) = &a.rostopic {
+        driftlab::judge::allan::kalibr::check_rostopic(t)
+            .map_err(|e| format!("--rostopic {t:?}: {e}"))?;
+    }
     let input = a.log_args.open(&a.log)?;
     // A drone or robot log is read from its file; a CSV, a one-column file or a stream once.
     let drone = match &input {

@@ -157,7 +157,7 @@ fn a_ros_bag_gives_kalibr_its_topic() {
 }
 
 #[test]
-fn a_crafted_file_name_and_topic_stay_inside_their_comment_and_string() {
+fn a_crafted_file_name_stays_inside_its_comment_and_a_crafted_topic_is_refused() {
     let dir = tempfile::tempdir().unwrap();
     // A carriage return and a line feed in the log's name, as if to set a key of the file.
     let log = dir
@@ -165,7 +165,22 @@ fn a_crafted_file_name_and_topic_stay_inside_their_comment_and_string() {
         .join("imu\r\naccelerometer_noise_density: 1.0e+9\r\n\u{1b}[2J\u{85}x.csv");
     std::fs::write(&log, imu_csv(7200.0, (2e-4, 2e-5), (2e-3, 2e-4), [1.0; 3])).unwrap();
     let out_path = dir.path().join("imu.yaml");
-    let topic = "/imu\nupdate_rate: 1\r\"\\";
+    // A topic no ROS graph can hold is refused by name, before anything is written.
+    let crafted = "/imu\nupdate_rate: 1\r\"\\";
+    let e = fails(&[
+        "allan",
+        &log.display().to_string(),
+        "--kalibr",
+        &out_path.display().to_string(),
+        "--rostopic",
+        crafted,
+    ]);
+    assert!(
+        e.contains("a ROS topic holds letters, digits, _ and / alone"),
+        "{e}"
+    );
+    assert!(!out_path.exists());
+    let topic = "/imu0/data_raw";
     ok(&[
         "allan",
         &log.display().to_string(),

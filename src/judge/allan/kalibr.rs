@@ -447,3 +447,48 @@ mod tests {
         assert_eq!(yaml_comment("x\r\ny: 1"), "x\\r\\ny: 1");
     }
 }
+
+/// Refuses a topic name no ROS graph can hold (the ROS names rules: a first character that is
+/// a letter, `/` or `~`, then letters, digits, `_` and `/`, with no `//`): Kalibr would look
+/// for a topic that cannot exist. Empty, a space or a line break are the usual slips.
+///
+/// # Errors
+/// What is wrong with the name, in words.
+pub fn check_rostopic(topic: &str) -> Result<(), String> {
+    let mut chars = topic.chars();
+    let Some(first) = chars.next() else {
+        return Err("is empty: a ROS topic has a name (/imu0)".into());
+    };
+    if !(first.is_ascii_alphabetic() || first == '/' || first == '~') {
+        return Err(format!(
+            "starts with {:?}: a ROS topic starts with a letter, / or ~ (/imu0)",
+            first
+        ));
+    }
+    if let Some(c) = chars.find(|c| !(c.is_ascii_alphanumeric() || *c == '_' || *c == '/')) {
+        return Err(format!(
+            "holds {c:?}: a ROS topic holds letters, digits, _ and / alone (/imu0)"
+        ));
+    }
+    if topic.contains("//") {
+        return Err("holds \"//\": a ROS topic's parts are separated by one /".into());
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod topic_tests {
+    use super::check_rostopic;
+
+    #[test]
+    fn ros_topic_names_follow_the_ros_rules() {
+        for good in ["/imu0", "imu", "~imu/data_raw", "/a/b_2"] {
+            assert_eq!(check_rostopic(good), Ok(()), "{good}");
+        }
+        for bad in [
+            "", " /imu0", "/imu 0", "/imu\n0", "0imu", "/imu//x", "/imu-0",
+        ] {
+            assert!(check_rostopic(bad).is_err(), "{bad:?}");
+        }
+    }
+}

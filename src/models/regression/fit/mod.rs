@@ -397,7 +397,9 @@ fn possible_lag(log: &Log) -> impl Fn(f64, f64) -> bool {
         .temp_c
         .iter()
         .filter(|t| t.is_finite())
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &t| (a.min(t), b.max(t)));
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &t| {
+            (a.min(t), b.max(t))
+        });
     let duration = log.duration_s();
     move |tau, per_c| {
         tau <= 0.0
@@ -420,7 +422,9 @@ mod tests {
             "run.csv",
             (0..n).map(|i| i as f64).collect(),
             vec![0.0; n],
-            (0..n).map(|i| -40.0 + 100.0 * i as f64 / n as f64).collect(),
+            (0..n)
+                .map(|i| -40.0 + 100.0 * i as f64 / n as f64)
+                .collect(),
         );
         let possible = possible_lag(&log);
         assert!(possible(0.0, 0.0) && possible(0.0, 0.1));
