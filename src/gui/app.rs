@@ -112,6 +112,8 @@ struct Window {
     panel_rects: HashMap<&'static str, Rect>,
     /// A mouse button is held (a drag under way): only the axis shown is refitted.
     pointer_down: bool,
+    /// The window is short: the page is laid out compact (see [`COMPACT_BELOW_H`]).
+    compact: bool,
     /// The size asked for on the command line, until the window is seen to have it or not.
     asked_size: Option<[f32; 2]>,
 }
@@ -176,6 +178,7 @@ impl Workbench {
                 plot_rects: HashMap::new(),
                 panel_rects: HashMap::new(),
                 pointer_down: false,
+                compact: false,
                 asked_size: None,
             },
             opening: Opening::default(),
@@ -412,6 +415,7 @@ impl Workbench {
         // bar and the figures move into the controls panel.
         let compact = ctx.content_rect().height() < COMPACT_BELOW_H;
         let banner_below = compact && self.views.page == Page::Calibration;
+        self.window.compact = compact;
         Panel::top("menu").show(ui, |ui| self.menu_bar(ui, &mut actions));
         Panel::bottom("status").show(ui, |ui| self.status_bar(ui, banner_below));
         match self.views.page {
@@ -480,10 +484,10 @@ impl Workbench {
         if self.state.shown.validation.is_none() {
             self.state.view.show_validation = false;
         }
-        if self.state.unit.is_some() {
-            let r = Panel::top("axes")
-                .resizable(false)
-                .show(ui, |ui| actions.extend(self.views.axes.ui(ui, &self.state)));
+        if self.state.unit.is_some() && !compact {
+            let r = Panel::top("axes").resizable(false).show(ui, |ui| {
+                actions.extend(self.views.axes.ui(ui, &self.state, false))
+            });
             self.window.panel_rects.insert("axes", r.response.rect);
         }
         if !compact {

@@ -224,6 +224,14 @@ impl Workbench {
             ui.separator();
             self.page_tabs(ui, actions);
             ui.separator();
+            // A short window: a unit's axes in the menu bar (the strip's row goes to the plots).
+            if self.window.compact
+                && self.views.page == Page::Calibration
+                && self.state.unit.is_some()
+            {
+                actions.extend(self.views.axes.ui(ui, &self.state, true));
+                ui.separator();
+            }
             if let Some(l) = &self.state.shown.log {
                 let name = crate::gui::widgets::file_name(&l.path);
                 let dirty = if self.state.dirty() { " •" } else { "" };
