@@ -13,6 +13,7 @@ mod gaps;
 mod layout;
 mod models_allan;
 mod open_export;
+mod plateau_table;
 mod units;
 mod warmup;
 mod window;

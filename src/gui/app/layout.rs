@@ -235,9 +235,7 @@ impl Workbench {
             if let Some(l) = &self.state.shown.log {
                 let name = crate::gui::widgets::file_name(&l.path);
                 let dirty = if self.state.dirty() { " •" } else { "" };
-                ui.label(RichText::new(format!("{name}{dirty}")).strong())
-                    .on_hover_text(format!("{}{}", l.path.display(), if dirty.is_empty() { "" } else { "\nunsaved changes" }));
-                ui.weak(format!(
+                let details = format!(
                     "{} samples · {} h · step {} s{}",
                     l.log.len(),
                     crate::number::fixed(l.log.duration_s() / 3600.0, 2),
@@ -246,7 +244,13 @@ impl Workbench {
                         Some(u) => format!(" · {} gyro axes", u.names.len()),
                         None => String::new(),
                     }
-                ));
+                );
+                ui.label(RichText::new(format!("{name}{dirty}")).strong())
+                    .on_hover_text(format!("{}{}\n{details}", l.path.display(), if dirty.is_empty() { "" } else { "\nunsaved changes" }));
+                // A short window's menu bar holds the axes of a unit: the details on hover.
+                if !(self.window.compact && self.state.unit.is_some()) {
+                    ui.weak(details);
+                }
             }
             ui.with_layout(Layout::right_to_left(Align::Center), |ui| {
                 let dark = ui.visuals().dark_mode;
