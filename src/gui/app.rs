@@ -503,9 +503,8 @@ impl Workbench {
         // (the log still loading) or a wider row (a button appearing) would change it. A
         // narrow window starts them narrower, so that the plots between keep some width.
         let width = ui.ctx().content_rect().width();
-        let narrow = width < 1200.0;
         let r = Panel::left("controls")
-            .default_size(if narrow { 290.0 } else { 340.0 })
+            .default_size((width * 0.28).clamp(300.0, 450.0))
             .size_range(290.0..=520.0)
             .show(ui, |ui| {
                 if compact {

@@ -125,7 +125,10 @@ fn table(ui: &mut Ui, id: &str, title: &str, e: &Evaluation, exact: bool, window
         ));
         let rms_label = format!("{window} RMS");
         let mean_label = format!("max |{window} mean|");
-        Grid::new(id).striped(true).spacing([14.0, 2.0]).show(ui, |ui| {
+        Grid::new(id)
+            .striped(true)
+            // (stacked in a narrow panel, its rows tight: the columns closer too)
+            .spacing([if ui.spacing().item_spacing.y <= 2.0 { 8.0 } else { 14.0 }, 2.0]).show(ui, |ui| {
             for h in ["°/h", "raw", "corrected", "ratio"] {
                 ui.label(RichText::new(h).strong());
             }

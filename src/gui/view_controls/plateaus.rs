@@ -91,7 +91,8 @@ impl ControlsView {
         let step = (log.nominal_dt_s() * 10.0).max(1e-3);
         // Fixed column widths (a typed 28111.5 fits its cell, so the × buttons line up); the
         // table scrolls sideways in a narrow panel.
-        const W: [f32; 10] = [24.0, 66.0, 66.0, 46.0, 56.0, 48.0, 56.0, 52.0, 46.0, 20.0];
+        // The delete button comes second, so that it stays in reach when the table scrolls.
+        const W: [f32; 10] = [22.0, 18.0, 56.0, 56.0, 38.0, 48.0, 38.0, 40.0, 40.0, 36.0];
         let row_h = ui.spacing().interact_size.y;
         let cell = |ui: &mut Ui, k: usize, text: RichText| {
             ui.add_sized([W[k], row_h], egui::Label::new(text).truncate())
@@ -102,13 +103,14 @@ impl ControlsView {
             .auto_shrink([false, true])
             .show(ui, |ui| {
                 ui.horizontal(|ui| {
-                    ui.spacing_mut().item_spacing.x = 4.0;
+                    ui.spacing_mut().item_spacing.x = 3.0;
                     for (k, (h, tip)) in [
                         (
                             "#",
                             "Click to select the plateau in the time plots; ! marks one outside \
                              the detector's limits (hover it for why)",
                         ),
+                        ("", ""),
                         ("start, s", "Start time, s: drag the number or click and type"),
                         ("end, s", "End time, s"),
                         ("T, °C", "Mean temperature on the plateau"),
@@ -124,7 +126,6 @@ impl ControlsView {
                         ),
                         ("std, °/h", "Standard deviation of the raw Ω on the plateau"),
                         ("n", "Samples on the plateau"),
-                        ("", ""),
                     ]
                     .into_iter()
                     .enumerate()
@@ -142,7 +143,7 @@ impl ControlsView {
                         for k in rows {
                             let r = ranges[k];
                             ui.horizontal(|ui| {
-                                ui.spacing_mut().item_spacing.x = 4.0;
+                                ui.spacing_mut().item_spacing.x = 3.0;
                                 self.plateau_row(
                                     ui,
                                     (k, r, &ranges),
@@ -215,10 +216,20 @@ impl ControlsView {
         {
             out.push(Action::SelectPlateau(if sel { None } else { Some(k) }));
         }
+        if ui
+            .add_sized([w[1], row_h], egui::Button::new("×"))
+            .on_hover_text("Delete this plateau")
+            .clicked()
+        {
+            let mut all = ranges.to_vec();
+            all.remove(k);
+            *edited = Some(all);
+            out.push(Action::SelectPlateau(None));
+        }
         let (mut a, mut b) = (r.start_s, r.end_s);
         let ca = ui
             .add_sized(
-                [w[1], row_h],
+                [w[2], row_h],
                 egui::DragValue::new(&mut a)
                     .speed(step)
                     .max_decimals(1)
@@ -227,7 +238,7 @@ impl ControlsView {
             .on_hover_text("Start, s: drag, or click and type a time");
         let cb = ui
             .add_sized(
-                [w[2], row_h],
+                [w[3], row_h],
                 egui::DragValue::new(&mut b)
                     .speed(step)
                     .max_decimals(1)
@@ -251,8 +262,8 @@ impl ControlsView {
         match found {
             Some(s) => {
                 let marked = |t: RichText| if outside.is_empty() { t } else { t.color(warn) };
-                cell(ui, 3, RichText::new(crate::number::fixed(s.temp_c, 2)));
-                cell(ui, 4, RichText::new(num(s.omega_dph))).on_hover_text(match s.omega_sem_dph {
+                cell(ui, 4, RichText::new(crate::number::fixed(s.temp_c, 2)));
+                cell(ui, 5, RichText::new(num(s.omega_dph))).on_hover_text(match s.omega_sem_dph {
                     Some(sem) => format!("standard error of the mean {} °/h", num(sem)),
                     None => "one sample: its spread is unknown".to_string(),
                 });
@@ -264,13 +275,13 @@ impl ControlsView {
                 );
                 cell(
                     ui,
-                    5,
+                    6,
                     marked(RichText::new(crate::number::fixed(s.temp_spread_c, 3))),
                 )
                 .on_hover_text(&quality);
                 cell(
                     ui,
-                    6,
+                    7,
                     marked(RichText::new(
                         s.mean_rate_c_per_min().map_or("n/a".to_string(), num),
                     )),
@@ -278,7 +289,7 @@ impl ControlsView {
                 .on_hover_text(&quality);
                 cell(
                     ui,
-                    7,
+                    8,
                     RichText::new(s.omega_std_dph.map_or("n/a".to_string(), num)),
                 )
                 .on_hover_text(if s.omega_std_dph.is_some() {
@@ -286,23 +297,13 @@ impl ControlsView {
                 } else {
                     "n/a: one sample has no spread"
                 });
-                cell(ui, 8, RichText::new(s.samples.to_string()));
+                cell(ui, 9, RichText::new(s.samples.to_string()));
             }
             None => {
-                for c in 3..9 {
+                for c in 4..10 {
                     cell(ui, c, RichText::new("…").weak());
                 }
             }
-        }
-        if ui
-            .add_sized([w[9], row_h], egui::Button::new("×"))
-            .on_hover_text("Delete this plateau")
-            .clicked()
-        {
-            let mut all = ranges.to_vec();
-            all.remove(k);
-            *edited = Some(all);
-            out.push(Action::SelectPlateau(None));
         }
     }
 }
