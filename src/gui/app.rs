@@ -504,7 +504,7 @@ impl Workbench {
         // narrow window starts them narrower, so that the plots between keep some width.
         let width = ui.ctx().content_rect().width();
         let r = Panel::left("controls")
-            .default_size((width * 0.28).clamp(300.0, 450.0))
+            .default_size((width * 0.29).clamp(300.0, 470.0))
             .size_range(290.0..=520.0)
             .show(ui, |ui| {
                 if compact {

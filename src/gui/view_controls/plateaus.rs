@@ -283,7 +283,7 @@ impl ControlsView {
                     ui,
                     7,
                     marked(RichText::new(
-                        s.mean_rate_c_per_min().map_or("n/a".to_string(), num),
+                        s.mean_rate_c_per_min().map_or("n/a".to_string(), rate_text),
                     )),
                 )
                 .on_hover_text(&quality);
@@ -344,4 +344,13 @@ fn typed_range(
         range,
         (!beyond.is_empty()).then(|| format!("Plateau {}: {}", k + 1, beyond.join("; "))),
     ))
+}
+
+/// A rate of T for a narrow cell: two significant digits (`2.7e-4`, `0.052`, `1.3`).
+fn rate_text(v: f64) -> String {
+    if v != 0.0 && v.abs() < 0.01 {
+        format!("{v:.1e}")
+    } else {
+        crate::number::significant(v, 2)
+    }
 }
