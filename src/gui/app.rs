@@ -112,6 +112,8 @@ struct Window {
     panel_rects: HashMap<&'static str, Rect>,
     /// A mouse button is held (a drag under way): only the axis shown is refitted.
     pointer_down: bool,
+    /// The window is short: the page is laid out compact (see [`COMPACT_BELOW_H`]).
+    compact: bool,
     /// The size asked for on the command line, until the window is seen to have it or not.
     asked_size: Option<[f32; 2]>,
 }
@@ -137,6 +139,13 @@ struct Recovery {
     /// until answered.
     offered: Vec<LeftBehind>,
 }
+
+/// A window shorter than this, points, is laid out compact (see [`Workbench::ui`]).
+const COMPACT_BELOW_H: f32 = 860.0;
+/// The height each time plot keeps when the window allows it, points.
+const TIME_PLOT_H: f32 = 122.0;
+/// The drift plot's least height, points (with its time axis).
+const DRIFT_PLOT_H: f32 = 100.0;
 
 impl Workbench {
     /// A workbench with these remembered settings (saved back to `settings_path` on exit)
@@ -169,6 +178,7 @@ impl Workbench {
                 plot_rects: HashMap::new(),
                 panel_rects: HashMap::new(),
                 pointer_down: false,
+                compact: false,
                 asked_size: None,
             },
             opening: Opening::default(),
@@ -256,6 +266,16 @@ impl Workbench {
     /// `result`) was drawn last frame.
     pub fn plot_rect(&self, name: &str) -> Option<Rect> {
         self.window.plot_rects.get(name).copied()
+    }
+
+    /// Where the frame of a plot (the rectangle inside its axes) was drawn last frame: the
+    /// time plots' and the drift plot's (`result`), for tests that check the linked plots
+    /// put one time at one x.
+    pub fn plot_frame(&self, name: &str) -> Option<Rect> {
+        self.window
+            .plot_rects
+            .get(&format!("{name}.frame"))
+            .copied()
     }
 
     /// Where a panel of the Calibration page (`controls`, `coefficients`, `central`) was drawn
@@ -390,11 +410,16 @@ impl Workbench {
         self.files_dropped(&ctx, &mut actions);
         self.close_requested(&ctx);
 
+        // A short window (1280×720, 1024×640) gives the plots every row it can: the page tabs
+        // sit in the menu bar always; on the Calibration page the banner shares the status
+        // bar and the figures move into the controls panel.
+        let compact = ctx.content_rect().height() < COMPACT_BELOW_H;
+        let banner_below = compact && self.views.page == Page::Calibration;
+        self.window.compact = compact;
         Panel::top("menu").show(ui, |ui| self.menu_bar(ui, &mut actions));
-        Panel::top("pages").show(ui, |ui| self.page_tabs(ui, &mut actions));
-        Panel::bottom("status").show(ui, |ui| self.status_bar(ui));
+        Panel::bottom("status").show(ui, |ui| self.status_bar(ui, banner_below));
         match self.views.page {
-            Page::Calibration => self.calibration_page(ui, &mut actions),
+            Page::Calibration => self.calibration_page(ui, &mut actions, compact),
             Page::Models => {
                 let running = self.jobs.comparing.clone();
                 actions.extend(self.views.models.ui(ui, &self.state, running.as_ref()));
@@ -412,6 +437,11 @@ impl Workbench {
         }
         for (name, rect) in &self.views.time.rects {
             self.window.plot_rects.insert((*name).to_string(), *rect);
+        }
+        for (name, frame) in &self.views.time.frames {
+            self.window
+                .plot_rects
+                .insert(format!("{name}.frame"), *frame);
         }
 
         self.modals(ui, &mut actions);
@@ -449,29 +479,40 @@ impl Workbench {
         }
     }
 
-    fn calibration_page(&mut self, ui: &mut Ui, actions: &mut Vec<Action>) {
+    /// The Calibration page; `compact`: a short window (see [`COMPACT_BELOW_H`]).
+    fn calibration_page(&mut self, ui: &mut Ui, actions: &mut Vec<Action>, compact: bool) {
         if self.state.shown.validation.is_none() {
             self.state.view.show_validation = false;
         }
-        if self.state.unit.is_some() {
-            let r = Panel::top("axes")
-                .resizable(false)
-                .show(ui, |ui| actions.extend(self.views.axes.ui(ui, &self.state)));
+        if self.state.unit.is_some() && !compact {
+            let r = Panel::top("axes").resizable(false).show(ui, |ui| {
+                actions.extend(self.views.axes.ui(ui, &self.state, false))
+            });
             self.window.panel_rects.insert("axes", r.response.rect);
         }
-        Panel::top("banner")
-            .resizable(false)
-            .show(ui, |ui| self.banner(ui));
-        Panel::bottom("figures").resizable(false).show(ui, |ui| {
-            actions.extend(self.views.figures.ui(ui, &self.state))
-        });
+        if !compact {
+            Panel::top("banner")
+                .resizable(false)
+                .show(ui, |ui| self.banner(ui));
+            Panel::bottom("figures").resizable(false).show(ui, |ui| {
+                actions.extend(self.views.figures.ui(ui, &self.state, false))
+            });
+        }
         // Side panels keep the width they are given (their contents fill it, whatever they
         // are): an egui panel otherwise takes its contents' width, so a narrow first frame
-        // (the log still loading) or a wider row (a button appearing) would change it.
+        // (the log still loading) or a wider row (a button appearing) would change it. A
+        // narrow window starts them narrower, so that the plots between keep some width.
+        let width = ui.ctx().content_rect().width();
         let r = Panel::left("controls")
-            .default_size(340.0)
-            .size_range(340.0..=520.0)
+            .default_size((width * 0.29).clamp(300.0, 470.0))
+            .size_range(290.0..=520.0)
             .show(ui, |ui| {
+                if compact {
+                    // The figures stay whole at the panel's foot; the controls scroll above.
+                    Panel::bottom("figures").resizable(false).show(ui, |ui| {
+                        actions.extend(self.views.figures.ui(ui, &self.state, true))
+                    });
+                }
                 ScrollArea::vertical()
                     .auto_shrink([false, false])
                     .show(ui, |ui| {
@@ -485,8 +526,8 @@ impl Workbench {
             });
         self.window.panel_rects.insert("controls", r.response.rect);
         let r = Panel::right("coefficients")
-            .default_size(470.0)
-            .size_range(320.0..=800.0)
+            .default_size((width * 0.27).clamp(300.0, 470.0))
+            .size_range(300.0..=800.0)
             .show(ui, |ui| {
                 ui.set_min_width(ui.available_width());
                 actions.extend(self.views.coeffs.ui(ui, &self.state));
@@ -499,14 +540,33 @@ impl Workbench {
                 self.welcome(ui, actions);
                 return;
             }
+            // The time plots take two thirds, and at least what keeps each of them
+            // TIME_PLOT_H tall; the drift plot what is left, never less than DRIFT_PLOT_H
+            // (the time plots give way first: on a window that short they are shorter).
             let h = ui.available_height();
-            let time_h = (h * 0.66).max(240.0);
+            // (compact: no separator line, the drift plot's frame is one)
+            let sep = if compact {
+                ui.spacing().item_spacing.y
+            } else {
+                2.0 * ui.spacing().item_spacing.y + 6.0
+            };
+            self.views.time.compact = compact;
+            let header = if compact {
+                0.0
+            } else {
+                ui.spacing().interact_size.y + ui.spacing().item_spacing.y
+            };
+            let want = (h * 0.66).max(self.views.time.height_for(ui, TIME_PLOT_H));
+            let time_h = want.min(h - sep - header - DRIFT_PLOT_H).max(0.0);
             ui.allocate_ui(egui::vec2(ui.available_width(), time_h), |ui| {
+                ui.set_min_height(time_h);
                 actions.extend(self.views.time.ui(ui, &self.state));
             });
             self.state.view.time_range_s = self.views.time.visible_s.map(|(a, b)| [a, b]);
-            ui.separator();
-            actions.extend(self.views.result.ui(ui, &self.state));
+            if !compact {
+                ui.separator();
+            }
+            actions.extend(self.views.result.ui(ui, &self.state, compact));
         });
         self.window.panel_rects.insert("central", r.response.rect);
     }

@@ -101,10 +101,13 @@ pub const X_LABEL_MARGIN: f64 = 0.035;
 /// Share of a y-axis kept clear of labels at each end (half a label's height).
 pub const Y_LABEL_MARGIN: f64 = 0.04;
 
+/// The narrowest y-axis of a time plot, points.
+pub const TIME_Y_AXIS_MIN_WIDTH: f32 = 64.0;
+
 /// A time plot's axes as every page draws them: the value and time ticks, and grid lines at
 /// round steps.
 pub fn with_time_axes(plot: egui_plot::Plot<'_>) -> egui_plot::Plot<'_> {
-    plot.y_axis_min_width(64.0)
+    plot.y_axis_min_width(TIME_Y_AXIS_MIN_WIDTH)
         .y_axis_formatter(tick_y)
         .x_axis_formatter(tick_x)
         .x_grid_spacer(egui_plot::uniform_grid_spacer(nice_steps_x))

@@ -14,15 +14,17 @@ use eframe::egui::{self, Color32, FontId, RichText, TextFormat, Ui, text::Layout
 pub struct AxesView;
 
 impl AxesView {
-    /// The strip; nothing for a log of one axis.
-    pub fn ui(&mut self, ui: &mut Ui, state: &AppState) -> Vec<Action> {
+    /// The strip; nothing for a log of one axis. `compact` (a short window, the strip in the
+    /// menu bar): each axis's name and peak-to-peak ratios only, the rest on hover.
+    pub fn ui(&mut self, ui: &mut Ui, state: &AppState, compact: bool) -> Vec<Action> {
         let mut out = Vec::new();
         let Some(unit) = &state.unit else {
             return out;
         };
         let ctx = ui.ctx().clone();
         ui.horizontal_wrapped(|ui| {
-            ui.label(RichText::new("Axis").strong()).on_hover_text(
+            let axis_label = if compact { "Axis:" } else { "Axis" };
+            ui.label(RichText::new(axis_label).strong()).on_hover_text(
                 "The unit's gyro axes: each keeps its own approximations, knots and \
                  dead-bands; the plateaus and the T settings are shared (they come from T)",
             );
@@ -31,7 +33,7 @@ impl AxesView {
                     continue;
                 };
                 let selected = k == unit.active;
-                let job = axis_text(ui, &axis, selected);
+                let job = axis_text(ui, &axis, selected, compact);
                 let keys = shortcuts::axis(k)
                     .map(|s| format!("{} — ", ctx.format_shortcut(&s)))
                     .unwrap_or_default();
@@ -58,8 +60,14 @@ impl AxesView {
     }
 }
 
-/// One axis's button: its name, then its ratios (in-sample, held out).
-fn axis_text(ui: &Ui, axis: &super::state::AxisRef<'_>, selected: bool) -> LayoutJob {
+/// One axis's button: its name, then its ratios (in-sample, held out); `compact`: the
+/// peak-to-peak ratios only.
+fn axis_text(
+    ui: &Ui,
+    axis: &super::state::AxisRef<'_>,
+    selected: bool,
+    compact: bool,
+) -> LayoutJob {
     let v = ui.visuals();
     let font = FontId::proportional(13.0);
     let mono = FontId::monospace(12.5);
@@ -118,10 +126,12 @@ fn axis_text(ui: &Ui, axis: &super::state::AxisRef<'_>, selected: bool) -> Layou
     let exact = axis.fit_current();
     let figures = |job: &mut LayoutJob, label: &str, e: &Evaluation| {
         push(job, label, &font, weak, false);
-        for (name, r) in [
+        let all = [
             ("p2p ", e.comparison.p2p_ratio),
             ("std ", e.comparison.std_ratio),
-        ] {
+        ];
+        for (name, r) in &all[..if compact { 1 } else { 2 }] {
+            let r = *r;
             push(job, name, &font, weak, false);
             let color = match (exact, r >= 1.0) {
                 (false, _) => provisional,
@@ -133,7 +143,11 @@ fn axis_text(ui: &Ui, axis: &super::state::AxisRef<'_>, selected: bool) -> Layou
     };
     figures(&mut job, "  ", &fit.outcome.in_sample.evaluation);
     if let Some(h) = &fit.outcome.held_out {
-        figures(&mut job, "· held out ", &h.evaluation);
+        figures(
+            &mut job,
+            if compact { "· " } else { "· held out " },
+            &h.evaluation,
+        );
     }
     job
 }

@@ -14,8 +14,9 @@ use eframe::egui::{Grid, RichText, Ui};
 pub struct FiguresView;
 
 impl FiguresView {
-    /// The figures of merit, always visible.
-    pub fn ui(&mut self, ui: &mut Ui, state: &AppState) -> Vec<Action> {
+    /// The figures of merit, always visible: the in-sample and held-out tables side by side,
+    /// or (`stacked`, in the controls panel of a short window) one above the other.
+    pub fn ui(&mut self, ui: &mut Ui, state: &AppState, stacked: bool) -> Vec<Action> {
         let Some(fit) = state.shown.fit.as_ref() else {
             ui.weak("Figures of merit appear once the log is calibrated.");
             return Vec::new();
@@ -35,7 +36,7 @@ impl FiguresView {
         // current ones.
         let exact = state.fit_current();
         let window = crate::judge::options::window_label(state.merit().window_s);
-        ui.horizontal_top(|ui| {
+        let body = |ui: &mut Ui| {
             table(
                 ui,
                 "fig_in",
@@ -62,7 +63,8 @@ impl FiguresView {
                 }
             }
             ui.separator();
-            ui.vertical(|ui| {
+            // Stacked, the refit time takes one line and the warnings are left to the banner.
+            let refit = |ui: &mut Ui| {
                 let t = fit.outcome.timings;
                 ui.strong("Refit");
                 ui.label(format!("{:.1} ms", t.total_ms)).on_hover_text(format!(
@@ -70,12 +72,27 @@ impl FiguresView {
                      correct {:.1} ms, figures {:.1} ms, validation {:.1} ms (0: reused)",
                     t.prepare_ms, t.plateaus_ms, t.fit_ms, t.correct_ms, t.evaluate_ms, t.validation_ms
                 ));
-                for w in fit.outcome.warnings.iter().take(3) {
-                    ui.colored_label(ui.visuals().warn_fg_color, format!("! {w}"))
-                        .on_hover_text(w.as_str());
-                }
-            });
-        });
+            };
+            if stacked {
+                ui.horizontal(refit);
+            } else {
+                ui.vertical(|ui| {
+                    refit(ui);
+                    for w in fit.outcome.warnings.iter().take(3) {
+                        ui.colored_label(ui.visuals().warn_fg_color, format!("! {w}"))
+                            .on_hover_text(w.as_str());
+                    }
+                });
+            }
+        };
+        if stacked {
+            // Rows as tall as their text: the controls above keep the rest of the panel.
+            ui.spacing_mut().interact_size.y = 14.0;
+            ui.spacing_mut().item_spacing.y = 2.0;
+            ui.vertical(body);
+        } else {
+            ui.horizontal_top(body);
+        }
         Vec::new()
     }
 }
@@ -108,7 +125,10 @@ fn table(ui: &mut Ui, id: &str, title: &str, e: &Evaluation, exact: bool, window
         ));
         let rms_label = format!("{window} RMS");
         let mean_label = format!("max |{window} mean|");
-        Grid::new(id).striped(true).spacing([14.0, 2.0]).show(ui, |ui| {
+        Grid::new(id)
+            .striped(true)
+            // (stacked in a narrow panel, its rows tight: the columns closer too)
+            .spacing([if ui.spacing().item_spacing.y <= 2.0 { 8.0 } else { 14.0 }, 2.0]).show(ui, |ui| {
             for h in ["°/h", "raw", "corrected", "ratio"] {
                 ui.label(RichText::new(h).strong());
             }

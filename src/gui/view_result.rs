@@ -5,7 +5,7 @@ use super::action::Action;
 use super::plot_items::{Palette, ShadeItem, ShadeSpan, TimeScale, num, settled_and_warmup};
 use super::state::AppState;
 use super::widgets::{save_plot_entry, time_link};
-use eframe::egui::{Stroke, Ui, Vec2b};
+use eframe::egui::{self, Stroke, Ui, Vec2b};
 use egui_plot::{HLine, Legend, Plot};
 
 /// The result plot's id on the calibration log (fixed, so that its bounds can be read back
@@ -19,60 +19,63 @@ pub const RESULT_VAL_ID: &str = "result_val";
 pub struct ResultView;
 
 impl ResultView {
-    /// The result plot with its header.
-    pub fn ui(&mut self, ui: &mut Ui, state: &AppState) -> Vec<Action> {
+    /// The result plot with its header: above it, or (`compact`, a short window) drawn over
+    /// its top right corner so that the plot keeps the row.
+    pub fn ui(&mut self, ui: &mut Ui, state: &AppState, compact: bool) -> Vec<Action> {
         let mut out = Vec::new();
-        let pal = Palette::of(ui);
         let has_val = state.shown.validation.is_some();
         let mut show_validation = state.view.show_validation && has_val;
-        ui.horizontal_wrapped(|ui| {
-            ui.strong("Drift before and after correction")
-                .on_hover_text(
-                    "Ω filtered by the recipe's moving average: raw (grey) and corrected (green)",
-                );
-            ui.separator();
-            ui.radio_value(&mut show_validation, false, "calibration log")
-                .on_hover_text("In-sample: the log the calibration was fitted on");
-            ui.add_enabled_ui(has_val, |ui| {
-                ui.radio_value(&mut show_validation, true, "validation log")
-                    .on_hover_text(
-                        "Held out: a second log of the same gyro, corrected with this calibration",
-                    );
+        let overlay = compact && state.shown.fit.is_some();
+        if !overlay {
+            ui.horizontal_wrapped(|ui| header(ui, false, has_val, &mut show_validation, &mut out));
+        }
+        let plot = self.plot(ui, state, show_validation, &mut out);
+        if overlay && let Some(frame) = plot {
+            // Over the top right corner of the plot's frame, on the plot's background (the
+            // legend is at the top left).
+            let area = egui::Area::new(egui::Id::unique("result_header_overlay"))
+                .order(egui::Order::Middle)
+                .pivot(egui::Align2::RIGHT_TOP)
+                .fixed_pos(frame.right_top() + egui::vec2(-4.0, 4.0))
+                .constrain_to(frame);
+            area.show(ui.ctx(), |ui| {
+                egui::Frame::popup(ui.style())
+                    .inner_margin(4.0)
+                    .show(ui, |ui| {
+                        ui.horizontal(|ui| {
+                            header(ui, true, has_val, &mut show_validation, &mut out)
+                        });
+                    });
             });
-            if !has_val
-                && ui
-                    .button("Open validation log…")
-                    .on_hover_text(
-                        "Load a second log of the same gyro to judge the calibration held out",
-                    )
-                    .clicked()
-            {
-                out.push(Action::OpenValidation);
-            }
-            if ui
-                .small_button("PNG")
-                .on_hover_text("Save the result plot as PNG")
-                .clicked()
-            {
-                out.push(Action::SavePlotNamed("result".into()));
-            }
-        });
+        }
         if show_validation != state.view.show_validation {
             out.push(Action::ShowValidation(show_validation));
         }
+        out
+    }
+
+    /// The plot; its frame (inside the axes) once drawn.
+    fn plot(
+        &mut self,
+        ui: &mut Ui,
+        state: &AppState,
+        show_validation: bool,
+        out: &mut Vec<Action>,
+    ) -> Option<egui::Rect> {
+        let pal = Palette::of(ui);
         let Some(fit) = state.shown.fit.clone() else {
             ui.weak(if state.shown.fit_error.is_some() {
                 "No calibration: it failed (its message is in the status bar)."
             } else {
                 "No calibration yet."
             });
-            return out;
+            return None;
         };
         let show_val = show_validation && fit.outcome.held_out.is_some();
         let (judged, raw_p, cor_p, regime) = if show_val {
             let (Some(h), Some(l)) = (fit.outcome.held_out.as_ref(), fit.lods.held_out.as_ref())
             else {
-                return out;
+                return None;
             };
             (
                 h,
@@ -93,7 +96,7 @@ impl ResultView {
             || cor_p.0.len() != log.len()
             || judged.raw_filtered_dph.len() != log.len()
         {
-            return out;
+            return None;
         }
         let scale = TimeScale::for_duration(log.duration_s());
         let t_full = (log.time_s[0], log.time_s[log.len() - 1]);
@@ -115,6 +118,7 @@ impl ResultView {
         } else {
             RESULT_CAL_ID
         };
+        let axis_w = super::widgets::linked_y_axis_width(ui.ctx(), &state.shown.log.as_ref()?.path);
         let mut plot = Plot::new(id)
             .id(eframe::egui::Id::unique(id))
             .height(ui.available_height().max(80.0))
@@ -154,6 +158,7 @@ impl ResultView {
             .allow_zoom(Vec2b::new(true, false))
             .allow_drag(Vec2b::new(true, false))
             .allow_scroll(Vec2b::new(true, false))
+            .y_axis_min_width(axis_w)
             .label_formatter(move |pos: &egui_plot::HoverPosition<'_>| {
                 let x = match pos {
                     egui_plot::HoverPosition::NearDataPoint { position, .. }
@@ -218,7 +223,53 @@ impl ResultView {
                 out.push(Action::SavePlotNamed("result".into()));
             }
         });
+        let frame = *resp.inner.transform.frame();
+        if let Some(l) = &state.shown.log {
+            super::widgets::note_linked_y_axis_width(ui.ctx(), &l.path, resp.response.rect, frame);
+        }
         out.push(Action::PlotRect("result".into(), resp.response.rect));
-        out
+        out.push(Action::PlotRect("result.frame".into(), frame));
+        Some(frame)
+    }
+}
+
+/// The result plot's title, which log it shows, and its PNG button.
+/// `short`: the title in one word (drawn over the plot).
+fn header(
+    ui: &mut Ui,
+    short: bool,
+    has_val: bool,
+    show_validation: &mut bool,
+    out: &mut Vec<Action>,
+) {
+    ui.strong(if short {
+        "Drift"
+    } else {
+        "Drift before and after correction"
+    })
+    .on_hover_text("Ω filtered by the recipe's moving average: raw (grey) and corrected (green)");
+    ui.separator();
+    ui.radio_value(show_validation, false, "calibration log")
+        .on_hover_text("In-sample: the log the calibration was fitted on");
+    ui.add_enabled_ui(has_val, |ui| {
+        ui.radio_value(show_validation, true, "validation log")
+            .on_hover_text(
+                "Held out: a second log of the same gyro, corrected with this calibration",
+            );
+    });
+    if !has_val
+        && ui
+            .button("Open validation log…")
+            .on_hover_text("Load a second log of the same gyro to judge the calibration held out")
+            .clicked()
+    {
+        out.push(Action::OpenValidation);
+    }
+    if ui
+        .small_button("PNG")
+        .on_hover_text("Save the result plot as PNG")
+        .clicked()
+    {
+        out.push(Action::SavePlotNamed("result".into()));
     }
 }

@@ -14,6 +14,9 @@ use crate::signal::plateau::PlateauRange;
 use eframe::egui::{self, CursorIcon, Key, Rect, Stroke, Ui, Vec2b};
 use egui_plot::{HLine, HoverPosition, LineStyle, Plot, PlotTransform};
 
+/// The shortest a time plot is drawn, points (below it, the window is too small to read it).
+pub const MIN_PLOT_H: f32 = 60.0;
+
 /// A pending change of the shared time axis.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum XCommand {
@@ -52,6 +55,13 @@ pub struct TimeView {
     pub visible_s: Option<(f64, f64)>,
     /// Screen rectangle of each plot (for saving one as PNG).
     pub rects: Vec<(&'static str, Rect)>,
+    /// Each plot's frame (the rectangle inside its axes), as drawn last frame.
+    pub frames: Vec<(&'static str, Rect)>,
+    /// A short window: the last plot's time axis has its ticks but no title (the drift plot
+    /// below, linked in time, gives it), so that each plot keeps more of its height.
+    pub compact: bool,
+    /// The toolbar's height as drawn last frame (it wraps on a narrow panel), points.
+    toolbar_h: Option<f32>,
     div: f64,
     /// Which plot the pointer was over last frame (egui's hit test: not when a window or a
     /// dialog covers it).
@@ -72,6 +82,21 @@ impl TimeView {
         Some(tf.position_from_point_x(t_s / self.div))
     }
 
+    /// The height the toolbar and the plots take with each plot `each` points tall (the
+    /// toolbar as drawn last frame, one row before the first).
+    pub fn height_for(&self, ui: &Ui, each: f32) -> f32 {
+        let spacing = ui.spacing().item_spacing.y;
+        let toolbar = self
+            .toolbar_h
+            .unwrap_or(ui.spacing().interact_size.y + spacing);
+        toolbar + 4.0 * each + 3.0 * spacing + self.x_axis_h()
+    }
+
+    /// The height the last plot's time axis adds to it, points.
+    fn x_axis_h(&self) -> f32 {
+        if self.compact { 16.0 } else { 22.0 }
+    }
+
     /// Draws the plots (the whole height given) and handles plateau editing.
     pub fn ui(&mut self, ui: &mut Ui, state: &AppState) -> Vec<Action> {
         let mut out = Vec::new();
@@ -87,7 +112,9 @@ impl TimeView {
         let pal = Palette::of(ui);
         let fit = state.shown.fit.clone();
 
+        let top = ui.cursor().top();
         self.toolbar(ui, &mut out, scale);
+        self.toolbar_h = Some(ui.cursor().top() - top);
         let deleted = self.handle_keys(ui, state);
         let dragged = self.edit_plateaus(ui, state, log.nominal_dt_s());
         // The plateaus as this frame's edit leaves them (the edit itself is carried out at
@@ -124,15 +151,17 @@ impl TimeView {
         ];
         let n = specs.len();
         let spacing = ui.spacing().item_spacing.y;
-        let x_axis_h = 22.0;
-        let each =
-            ((ui.available_height() - spacing * (n as f32 - 1.0) - x_axis_h) / n as f32).max(60.0);
+        let x_axis_h = self.x_axis_h();
+        let each = ((ui.available_height() - spacing * (n as f32 - 1.0) - x_axis_h) / n as f32)
+            .max(MIN_PLOT_H);
+        let axis_w = super::widgets::linked_y_axis_width(ui.ctx(), &loaded.path);
         let hover_text = hover_formatter(&loaded, fit.as_deref(), scale);
         let allow_drag = self.drag.is_none();
         let command = self.x_command.take();
         let mut transforms = Vec::with_capacity(n);
         let mut hovered = None;
         self.rects.clear();
+        self.frames.clear();
         let new_range = match self.drag {
             Some(Drag::New { index: Some(k), .. }) => Some(k),
             _ => None,
@@ -161,9 +190,10 @@ impl TimeView {
                 .allow_scroll(Vec2b::new(true, false))
                 .allow_boxed_zoom(allow_drag);
             let plot = super::plot_items::with_time_axes(plot)
+                .y_axis_min_width(axis_w)
                 .y_axis_label(super::plot_items::axis_label(spec.label, each))
                 .show_axes(Vec2b::new(last, true))
-                .x_axis_label(if last {
+                .x_axis_label(if last && !self.compact {
                     format!("time, {}", scale.unit)
                 } else {
                     String::new()
@@ -424,6 +454,13 @@ impl TimeView {
                 }
             });
             self.rects.push((spec.id, resp.response.rect));
+            self.frames.push((spec.id, *plot_resp.transform.frame()));
+            super::widgets::note_linked_y_axis_width(
+                ui.ctx(),
+                &loaded.path,
+                resp.response.rect,
+                *plot_resp.transform.frame(),
+            );
             if plot_resp.response.hovered() {
                 hovered = Some(k);
             }
@@ -459,9 +496,9 @@ impl TimeView {
     fn toolbar(&mut self, ui: &mut Ui, out: &mut Vec<Action>, scale: TimeScale) {
         // Wrapped: on a narrow window the buttons take a second row rather than widening the
         // central panel under the side panels (which clipped the plots).
+        // Short labels, so that it keeps one row at 1280 points wide.
         ui.horizontal_wrapped(|ui| {
-            ui.strong("Run");
-            ui.separator();
+            ui.spacing_mut().item_spacing.x = 6.0;
             if ui
                 .button("Whole log")
                 .on_hover_text("Show the whole log on the time axis (Home)")
@@ -469,16 +506,16 @@ impl TimeView {
             {
                 self.x_command = Some(XCommand::Fit);
             }
-            if ui.button(" + ").on_hover_text("Zoom in on time (+ or mouse wheel)").clicked() {
+            if ui.button("+").on_hover_text("Zoom in on time (+ or mouse wheel)").clicked() {
                 self.zoom(0.5);
             }
-            if ui.button(" − ").on_hover_text("Zoom out on time (− or mouse wheel)").clicked() {
+            if ui.button("−").on_hover_text("Zoom out on time (− or mouse wheel)").clicked() {
                 self.zoom(2.0);
             }
-            if ui.button(" « ").on_hover_text("Move back in time (←, or drag the plot)").clicked() {
+            if ui.button("«").on_hover_text("Move back in time (←, or drag the plot)").clicked() {
                 self.pan(-0.25);
             }
-            if ui.button(" » ").on_hover_text("Move forward in time (→, or drag the plot)").clicked() {
+            if ui.button("»").on_hover_text("Move forward in time (→, or drag the plot)").clicked() {
                 self.pan(0.25);
             }
             ui.separator();
@@ -488,7 +525,7 @@ impl TimeView {
                  selected plateau.",
             );
             if ui
-                .button("Save plots PNG")
+                .button("PNG")
                 .on_hover_text("Save the stacked time plots as one PNG picture (right-click a plot to save it alone)")
                 .clicked()
             {
@@ -507,7 +544,11 @@ impl TimeView {
                 .on_hover_text("Shaded blue: thermal deceleration, dT/dt·d²T/dt² < 0 (K1−, K2−)");
             ui.add(egui::Label::new(egui::RichText::new("plateau").color(pal.plateau)).extend())
                 .on_hover_text("Shaded green: the plateaus that define K0(T)");
-            if let Some((a, b)) = self.visible_s {
+            // The range shown, where the row has room for it (the time axis says it too).
+            let row_left = ui.max_rect().right() - ui.min_rect().right();
+            if let Some((a, b)) = self.visible_s
+                && row_left > 130.0
+            {
                 let text = format!("{} – {} {}", num(a / scale.div), num(b / scale.div), scale.unit);
                 ui.add(egui::Label::new(egui::RichText::new(text).weak()).extend());
             }

@@ -108,3 +108,35 @@ pub fn file_name(p: &Path) -> String {
         .unwrap_or_else(|| p.display().to_string());
     crate::text::escaped(&name, false).into_owned()
 }
+
+/// The y-axis width, points, that the plots linked in time (the four time plots and the
+/// drift plot on the calibration log) all take, so that one time sits at one x in each: the
+/// widest any of them needed so far for `log`'s plots (tick labels such as `-2.5e-5`, a
+/// label on two lines), at least the time axes' own minimum. It grows within a frame or two
+/// to the widest and never shrinks while the same log is shown.
+pub fn linked_y_axis_width(ctx: &egui::Context, log: &Path) -> f32 {
+    ctx.data(|d| d.get_temp::<f32>(linked_y_axis_id(log)))
+        .unwrap_or(0.0)
+        .max(super::plot_axes::TIME_Y_AXIS_MIN_WIDTH)
+}
+
+/// Tells [`linked_y_axis_width`] the y-axis width a linked plot took this frame (its frame's
+/// left edge less its rectangle's).
+pub fn note_linked_y_axis_width(
+    ctx: &egui::Context,
+    log: &Path,
+    plot: egui::Rect,
+    frame: egui::Rect,
+) {
+    let w = (frame.left() - plot.left()).ceil();
+    if w.is_finite() && w > 0.0 {
+        ctx.data_mut(|d| {
+            let slot = d.get_temp_mut_or_insert_with(linked_y_axis_id(log), || 0.0f32);
+            *slot = slot.max(w);
+        });
+    }
+}
+
+fn linked_y_axis_id(log: &Path) -> egui::Id {
+    egui::Id::unique(("linked_y_axis_width", log))
+}

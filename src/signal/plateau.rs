@@ -290,6 +290,18 @@ pub struct PlateauStats {
     pub samples: usize,
 }
 
+impl PlateauStats {
+    /// How fast T moves over the plateau on average, °C/min: its spread over its length (a
+    /// lower bound of the fastest |Ṫ| on it); `None` for a plateau of no length or no
+    /// finite spread. What [`outside_detector`] and [`unsteady`] hold against the detector's
+    /// rate, and what a face shows beside the spread.
+    pub fn mean_rate_c_per_min(&self) -> Option<f64> {
+        let length_s = self.range.end_s - self.range.start_s;
+        (length_s > 0.0 && self.temp_spread_c.is_finite())
+            .then(|| self.temp_spread_c / length_s * 60.0)
+    }
+}
+
 /// [`PlateauStats`] as a file holds them. Files written before the deviation of a one-sample
 /// plateau was `null` hold 0 there (and as its standard error): read as `null`, which is what
 /// that 0 meant; any other value is left for the calibration's check to refuse.
@@ -423,17 +435,17 @@ pub fn outside_detector(stats: &PlateauStats, opts: &DetectOptions) -> Vec<Strin
     let mut out = Vec::new();
     let length_s = stats.range.end_s - stats.range.start_s;
     let spread = stats.temp_spread_c;
-    if length_s > 0.0 && spread.is_finite() && spread > UNSTEADY_FLOOR_C {
-        let rate = spread / length_s * 60.0;
-        if rate > opts.max_rate_c_per_min {
-            out.push(format!(
-                "T moves {} °C over it, {} °C/min on average: the detector holds a plateau \
-                 under {} °C/min",
-                n(spread),
-                n(rate),
-                n(opts.max_rate_c_per_min)
-            ));
-        }
+    if let Some(rate) = stats.mean_rate_c_per_min()
+        && spread > UNSTEADY_FLOOR_C
+        && rate > opts.max_rate_c_per_min
+    {
+        out.push(format!(
+            "T moves {} °C over it, {} °C/min on average: the detector holds a plateau \
+             under {} °C/min",
+            n(spread),
+            n(rate),
+            n(opts.max_rate_c_per_min)
+        ));
     }
     let shortest_s = opts.min_duration_s * opts.settled_fraction;
     if length_s < shortest_s {
@@ -452,12 +464,11 @@ pub fn outside_detector(stats: &PlateauStats, opts: &DetectOptions) -> Vec<Strin
 /// at several temperatures with the rate-driven drift of a ramp (a range given by hand
 /// across a 40 °C ramp). `None` for a steady plateau.
 pub fn unsteady(stats: &PlateauStats, max_rate_c_per_min: f64) -> Option<String> {
-    let length_s = stats.range.end_s - stats.range.start_s;
     let spread = stats.temp_spread_c;
-    if !(spread.is_finite() && length_s > 0.0) || spread <= UNSTEADY_FLOOR_C {
+    let mean_rate = stats.mean_rate_c_per_min()?;
+    if spread <= UNSTEADY_FLOOR_C {
         return None;
     }
-    let mean_rate = spread / length_s * 60.0;
     (mean_rate > UNSTEADY_FACTOR * max_rate_c_per_min).then(|| {
         format!(
             "plateau {}:{} s: the temperature spreads {} °C over it ({} °C/min on average), \

@@ -222,12 +222,20 @@ impl Workbench {
                 }
             });
             ui.separator();
+            self.page_tabs(ui, actions);
+            ui.separator();
+            // A short window: a unit's axes in the menu bar (the strip's row goes to the plots).
+            if self.window.compact
+                && self.views.page == Page::Calibration
+                && self.state.unit.is_some()
+            {
+                actions.extend(self.views.axes.ui(ui, &self.state, true));
+                ui.separator();
+            }
             if let Some(l) = &self.state.shown.log {
                 let name = crate::gui::widgets::file_name(&l.path);
                 let dirty = if self.state.dirty() { " •" } else { "" };
-                ui.label(RichText::new(format!("{name}{dirty}")).strong())
-                    .on_hover_text(format!("{}{}", l.path.display(), if dirty.is_empty() { "" } else { "\nunsaved changes" }));
-                ui.weak(format!(
+                let details = format!(
                     "{} samples · {} h · step {} s{}",
                     l.log.len(),
                     crate::number::fixed(l.log.duration_s() / 3600.0, 2),
@@ -236,7 +244,13 @@ impl Workbench {
                         Some(u) => format!(" · {} gyro axes", u.names.len()),
                         None => String::new(),
                     }
-                ));
+                );
+                ui.label(RichText::new(format!("{name}{dirty}")).strong())
+                    .on_hover_text(format!("{}{}\n{details}", l.path.display(), if dirty.is_empty() { "" } else { "\nunsaved changes" }));
+                // A short window's menu bar holds the axes of a unit: the details on hover.
+                if !(self.window.compact && self.state.unit.is_some()) {
+                    ui.weak(details);
+                }
             }
             ui.with_layout(Layout::right_to_left(Align::Center), |ui| {
                 let dark = ui.visuals().dark_mode;
@@ -254,7 +268,7 @@ impl Workbench {
         });
     }
 
-    pub(super) fn status_bar(&mut self, ui: &mut Ui) {
+    pub(super) fn status_bar(&mut self, ui: &mut Ui, banner: bool) {
         ui.horizontal(|ui| {
             if let Some(h) = self.jobs.loading.clone() {
                 let name = h
@@ -276,20 +290,41 @@ impl Workbench {
                 }
                 ui.separator();
             }
-            // One line whatever the message: the status bar never grows.
-            if let Some((sev, msg)) = &self.state.status {
-                let color = match sev {
-                    Severity::Info => ui.visuals().text_color(),
-                    Severity::Warning => ui.visuals().warn_fg_color,
-                    Severity::Error => ui.visuals().error_fg_color,
-                };
-                ui.add(egui::Label::new(RichText::new(msg).color(color)).truncate())
-                    .on_hover_text(msg.as_str());
+            // One line whatever the message: the status bar never grows. With the banner
+            // beside it (a short window), the message takes at most half the row.
+            let row_h = ui.spacing().interact_size.y;
+            let width = if banner {
+                0.5 * ui.available_width()
+            } else {
+                ui.available_width()
+            };
+            ui.allocate_ui_with_layout(
+                egui::vec2(width, row_h),
+                Layout::left_to_right(Align::Center),
+                |ui| {
+                    if banner {
+                        ui.set_min_size(egui::vec2(width, row_h));
+                    }
+                    if let Some((sev, msg)) = &self.state.status {
+                        let color = match sev {
+                            Severity::Info => ui.visuals().text_color(),
+                            Severity::Warning => ui.visuals().warn_fg_color,
+                            Severity::Error => ui.visuals().error_fg_color,
+                        };
+                        ui.add(egui::Label::new(RichText::new(msg).color(color)).truncate())
+                            .on_hover_text(msg.as_str());
+                    }
+                },
+            );
+            if banner {
+                ui.separator();
+                self.banner(ui);
             }
         });
     }
 
-    /// One line in a fixed slot above the Calibration page: why the calibration failed, that
+    /// One line in a fixed slot above the Calibration page (beside the status line on a
+    /// short window): why the calibration failed, that
     /// the figures are provisional while a refit is on its way, or what the fit had to work
     /// around. It never moves what is below it.
     pub(super) fn banner(&mut self, ui: &mut Ui) {

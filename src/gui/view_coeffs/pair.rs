@@ -132,7 +132,14 @@ impl CoeffView {
             if let Some((_, n)) = scaled
                 && n > 0
             {
-                ui.weak(format!("{n} points beyond the scale")).on_hover_text(
+                // One piece of text: moved whole to the next row, never broken inside.
+                ui.add(
+                    egui::Label::new(
+                        RichText::new(format!("{n} points beyond the scale")).weak(),
+                    )
+                    .extend(),
+                )
+                .on_hover_text(
                     "Drawn as ▲/▼ marks at the plot's top and bottom edge. Tick \"all points\" or \
                      zoom out (Ctrl+wheel) to see them.",
                 );
@@ -157,14 +164,20 @@ impl CoeffView {
                 }
                 if let Some(f) = &fit {
                     let s = c.approx(&f.outcome.calibration).stats();
-                    ui.weak(format!("n {} · R² {}", s.n, crate::number::fixed(s.r2, 3)))
-                        .on_hover_text(format!(
-                            "{} points fitted; RMSE {} ; R² {}{}",
-                            s.n,
-                            num(s.rmse),
-                            crate::number::fixed(s.r2, 4),
-                            if edited { "; knots set by hand" } else { "" }
-                        ));
+                    // R² only (n on hover), never broken across rows beside a selector.
+                    ui.add(
+                        egui::Label::new(
+                            RichText::new(format!("R² {}", crate::number::fixed(s.r2, 3))).weak(),
+                        )
+                        .extend(),
+                    )
+                    .on_hover_text(format!(
+                        "{} points fitted; RMSE {} ; R² {}{}",
+                        s.n,
+                        num(s.rmse),
+                        crate::number::fixed(s.r2, 4),
+                        if edited { "; knots set by hand" } else { "" }
+                    ));
                 }
             });
         }

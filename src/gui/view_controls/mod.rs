@@ -20,9 +20,14 @@ pub struct PlateauFocus {
     pub selected: Option<usize>,
 }
 
-/// The panel (it keeps no state of its own: what it shows is the recipe).
+/// The panel: what it shows is the recipe; its own state is what it last said about a range
+/// typed into the plateau table.
 #[derive(Debug, Default)]
-pub struct ControlsView;
+pub struct ControlsView {
+    /// Why the last range typed into the plateau table was not taken as typed (the engine's
+    /// words), shown under the table until the next edit of it.
+    pub plateau_note: Option<String>,
+}
 
 impl ControlsView {
     /// The panel; `focus` is what the time plots show and select.

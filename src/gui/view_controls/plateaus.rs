@@ -5,7 +5,7 @@ use super::{ControlsView, PlateauFocus};
 use crate::gui::action::{Action, Edit};
 use crate::gui::plot_items::num;
 use crate::gui::state::AppState;
-use crate::signal::plateau::PlateauRange;
+use crate::signal::plateau::{DetectOptions, PlateauRange, PlateauStats};
 use eframe::egui::{self, RichText, Ui};
 
 impl ControlsView {
@@ -82,178 +82,275 @@ impl ControlsView {
             }
         ));
         let mut edited: Option<Vec<PlateauRange>> = None;
+
         // Hand-set plateaus are held to the limits of the detector they replace.
         let detector = match &state.recipe().plateaus {
             crate::models::recipe::PlateauChoice::Auto(opts) => *opts,
             crate::models::recipe::PlateauChoice::Manual { .. } => Default::default(),
         };
         let step = (log.nominal_dt_s() * 10.0).max(1e-3);
-        // Column widths: the table fits the controls panel at its narrowest (320).
-        const W: [f32; 7] = [20.0, 56.0, 56.0, 42.0, 50.0, 46.0, 18.0];
+        // Fixed column widths (a typed 28111.5 fits its cell, so the × buttons line up); the
+        // table scrolls sideways in a narrow panel.
+        // The delete button comes second, so that it stays in reach when the table scrolls.
+        const W: [f32; 10] = [22.0, 18.0, 56.0, 56.0, 38.0, 48.0, 38.0, 40.0, 40.0, 36.0];
         let row_h = ui.spacing().interact_size.y;
         let cell = |ui: &mut Ui, k: usize, text: RichText| {
             ui.add_sized([W[k], row_h], egui::Label::new(text).truncate())
         };
-        ui.horizontal(|ui| {
-            ui.spacing_mut().item_spacing.x = 4.0;
-            for (k, (h, tip)) in [
-                (
-                    "#",
-                    "Click to select the plateau in the time plots; hover it for its samples",
-                ),
-                (
-                    "start, s",
-                    "Start time, s: drag the number or click and type",
-                ),
-                ("end, s", "End time, s"),
-                ("T, °C", "Mean temperature on the plateau"),
-                ("Ω, °/h", "Mean gyro output: the K0 point"),
-                (
-                    "ΔT, °C",
-                    "Spread of the temperature on the plateau: max − min, °C (large: not stable)",
-                ),
-                ("", ""),
-            ]
-            .into_iter()
-            .enumerate()
-            {
-                cell(ui, k, RichText::new(h).strong()).on_hover_text(tip);
-            }
-        });
-        // Only the visible rows are laid out: a tiled ten-million-sample log has hundreds.
-        egui::ScrollArea::vertical()
-            .id_salt("plateau_table")
-            .max_height(8.0 * (row_h + ui.spacing().item_spacing.y))
+        let (first_s, last_s) = (log.time_s[0], log.time_s[log.len() - 1]);
+        egui::ScrollArea::horizontal()
+            .id_salt("plateau_table_x")
             .auto_shrink([false, true])
-            .show_rows(ui, row_h, ranges.len(), |ui, rows| {
-                for k in rows {
-                    let r = ranges[k];
-                    ui.horizontal(|ui| {
-                        ui.spacing_mut().item_spacing.x = 4.0;
-                        let sel = focus.selected == Some(k);
-                        let found = stats.iter().find(|s| s.range == r);
-                        // What keeps it from being a plateau the detector would have found.
-                        let outside = found.map_or(Vec::new(), |s| {
-                            crate::signal::plateau::outside_detector(s, &detector)
-                        });
-                        let samples = found.map_or(String::new(), |s| {
-                            format!(
-                                "{} samples, {} s; ",
-                                s.samples,
-                                num(s.range.end_s - s.range.start_s)
-                            )
-                        });
-                        let warn = ui.visuals().warn_fg_color;
-                        let (label, why) = if outside.is_empty() {
-                            (RichText::new(format!("{}", k + 1)), String::new())
-                        } else {
-                            (
-                                RichText::new(format!("!{}", k + 1)).color(warn),
-                                format!("Outside the detector's limits: {}.\n", outside.join("; ")),
-                            )
-                        };
-                        if ui
-                            .add_sized([W[0], row_h], egui::Button::selectable(sel, label))
-                            .on_hover_text(format!(
-                                "{why}{samples}select this plateau (Delete removes it)"
-                            ))
-                            .clicked()
-                        {
-                            out.push(Action::SelectPlateau(if sel { None } else { Some(k) }));
-                        }
-                        let (mut a, mut b) = (r.start_s, r.end_s);
-                        let ca = ui
-                            .add_sized(
-                                [W[1], row_h],
-                                egui::DragValue::new(&mut a)
-                                    .speed(step)
-                                    .max_decimals(1)
-                                    .update_while_editing(false),
-                            )
-                            .on_hover_text("Start, s: drag, or click and type a time");
-                        let cb = ui
-                            .add_sized(
-                                [W[2], row_h],
-                                egui::DragValue::new(&mut b)
-                                    .speed(step)
-                                    .max_decimals(1)
-                                    .update_while_editing(false),
-                            )
-                            .on_hover_text("End, s: drag, or click and type a time");
-                        if (ca.changed() || cb.changed()) && b <= a {
-                            out.push(Action::Warn(format!(
-                                "Plateau {} not changed: it would end ({} s) before it starts ({} \
-                                 s); type a start before the end",
-                                k + 1,
-                                num(b),
-                                num(a)
-                            )));
-                        }
-                        if (ca.changed() || cb.changed()) && b > a {
-                            let mut all = ranges.clone();
-                            all[k] = PlateauRange {
-                                start_s: a,
-                                end_s: b,
-                            };
-                            edited = Some(all);
-                        }
-                        match stats.iter().find(|s| s.range == r) {
-                            Some(s) => {
-                                cell(ui, 3, RichText::new(crate::number::fixed(s.temp_c, 2)));
-                                cell(ui, 4, RichText::new(num(s.omega_dph))).on_hover_text(match (
-                                    s.omega_std_dph,
-                                    s.omega_sem_dph,
-                                ) {
-                                    (Some(std), Some(sem)) => format!(
-                                        "std {} °/h, standard error {} °/h",
-                                        num(std),
-                                        num(sem)
-                                    ),
-                                    _ => "one sample: its spread is unknown".to_string(),
-                                });
-                                let spread =
-                                    RichText::new(crate::number::fixed(s.temp_spread_c, 3));
-                                let length_s = s.range.end_s - s.range.start_s;
-                                cell(
+            .show(ui, |ui| {
+                ui.horizontal(|ui| {
+                    ui.spacing_mut().item_spacing.x = 3.0;
+                    for (k, (h, tip)) in [
+                        (
+                            "#",
+                            "Click to select the plateau in the time plots; ! marks one outside \
+                             the detector's limits (hover it for why)",
+                        ),
+                        ("", ""),
+                        ("start, s", "Start time, s: drag the number or click and type"),
+                        ("end, s", "End time, s"),
+                        ("T, °C", "Mean temperature on the plateau"),
+                        ("Ω, °/h", "Mean gyro output: the K0 point"),
+                        (
+                            "ΔT, °C",
+                            "Spread of the temperature on the plateau: max − min, °C (large: not stable)",
+                        ),
+                        (
+                            "°C/min",
+                            "How fast T moves over the plateau on average: ΔT over its length (the \
+                             detector holds a plateau under its max rate)",
+                        ),
+                        ("std, °/h", "Standard deviation of the raw Ω on the plateau"),
+                        ("n", "Samples on the plateau"),
+                    ]
+                    .into_iter()
+                    .enumerate()
+                    {
+                        cell(ui, k, RichText::new(h).strong()).on_hover_text(tip);
+                    }
+                });
+                // Only the visible rows are laid out: a tiled ten-million-sample log has
+                // hundreds.
+                egui::ScrollArea::vertical()
+                    .id_salt("plateau_table")
+                    .max_height(8.0 * (row_h + ui.spacing().item_spacing.y))
+                    .auto_shrink([false, true])
+                    .show_rows(ui, row_h, ranges.len(), |ui, rows| {
+                        for k in rows {
+                            let r = ranges[k];
+                            ui.horizontal(|ui| {
+                                ui.spacing_mut().item_spacing.x = 3.0;
+                                self.plateau_row(
                                     ui,
-                                    5,
-                                    if outside.is_empty() {
-                                        spread
-                                    } else {
-                                        spread.color(warn)
-                                    },
-                                )
-                                .on_hover_text(format!(
-                                    "{} °C between the coldest and the warmest sample, {} °C/min \
-                                     over its {} s; std of Ω {} °/h over {} samples",
-                                    crate::number::fixed(s.temp_spread_c, 3),
-                                    num(s.temp_spread_c / length_s * 60.0),
-                                    num(length_s),
-                                    s.omega_std_dph.map_or("n/a".to_string(), num),
-                                    s.samples
-                                ));
-                            }
-                            None => {
-                                for c in 3..6 {
-                                    cell(ui, c, RichText::new("…").weak());
-                                }
-                            }
-                        }
-                        if ui
-                            .add_sized([W[6], row_h], egui::Button::new("×"))
-                            .on_hover_text("Delete this plateau")
-                            .clicked()
-                        {
-                            let mut all = ranges.clone();
-                            all.remove(k);
-                            edited = Some(all);
-                            out.push(Action::SelectPlateau(None));
+                                    (k, r, &ranges),
+                                    (&stats, &detector),
+                                    (focus, step, (first_s, last_s), log),
+                                    (&W, row_h),
+                                    (out, &mut edited),
+                                );
+                            });
                         }
                     });
-                }
             });
+        if let Some(note) = &self.plateau_note {
+            ui.horizontal(|ui| {
+                ui.add(
+                    egui::Label::new(RichText::new(note).color(ui.visuals().warn_fg_color)).wrap(),
+                );
+            });
+            if ui
+                .small_button("OK")
+                .on_hover_text("Hide this note")
+                .clicked()
+            {
+                self.plateau_note = None;
+            }
+        }
         if let Some(r) = edited {
             out.push(Action::Edit(Edit::Plateaus(r)));
         }
+    }
+
+    /// One row of the plateau table: `k`, its range and every range; the fit's statistics and
+    /// the detector's limits; what is focused, the drag step, the log's span and the log;
+    /// the column widths and the row height; the actions and the table's edit.
+    #[allow(clippy::type_complexity)]
+    fn plateau_row(
+        &mut self,
+        ui: &mut Ui,
+        (k, r, ranges): (usize, PlateauRange, &[PlateauRange]),
+        (stats, detector): (&[PlateauStats], &DetectOptions),
+        (focus, step, (first_s, last_s), log): (PlateauFocus, f64, (f64, f64), &crate::log::Log),
+        (w, row_h): (&[f32; 10], f32),
+        (out, edited): (&mut Vec<Action>, &mut Option<Vec<PlateauRange>>),
+    ) {
+        let cell = |ui: &mut Ui, c: usize, text: RichText| {
+            ui.add_sized([w[c], row_h], egui::Label::new(text).truncate())
+        };
+        let sel = focus.selected == Some(k);
+        let found = stats.iter().find(|s| s.range == r);
+        // What keeps it from being a plateau the detector would have found (the engine's
+        // words).
+        let outside = found.map_or(Vec::new(), |s| {
+            crate::signal::plateau::outside_detector(s, detector)
+        });
+        let warn = ui.visuals().warn_fg_color;
+        let why = if outside.is_empty() {
+            String::new()
+        } else {
+            format!("Outside the detector's limits: {}.\n", outside.join("; "))
+        };
+        let label = if outside.is_empty() {
+            RichText::new(format!("{}", k + 1))
+        } else {
+            RichText::new(format!("!{}", k + 1)).color(warn).strong()
+        };
+        if ui
+            .add_sized([w[0], row_h], egui::Button::selectable(sel, label))
+            .on_hover_text(format!("{why}Select this plateau (Delete removes it)"))
+            .clicked()
+        {
+            out.push(Action::SelectPlateau(if sel { None } else { Some(k) }));
+        }
+        if ui
+            .add_sized([w[1], row_h], egui::Button::new("×"))
+            .on_hover_text("Delete this plateau")
+            .clicked()
+        {
+            let mut all = ranges.to_vec();
+            all.remove(k);
+            *edited = Some(all);
+            out.push(Action::SelectPlateau(None));
+        }
+        let (mut a, mut b) = (r.start_s, r.end_s);
+        let ca = ui
+            .add_sized(
+                [w[2], row_h],
+                egui::DragValue::new(&mut a)
+                    .speed(step)
+                    .max_decimals(1)
+                    .update_while_editing(false),
+            )
+            .on_hover_text("Start, s: drag, or click and type a time");
+        let cb = ui
+            .add_sized(
+                [w[3], row_h],
+                egui::DragValue::new(&mut b)
+                    .speed(step)
+                    .max_decimals(1)
+                    .update_while_editing(false),
+            )
+            .on_hover_text("End, s: drag, or click and type a time");
+        if ca.changed() || cb.changed() {
+            match typed_range(k, a, b, (first_s, last_s), log) {
+                Ok((range, note)) => {
+                    let mut all = ranges.to_vec();
+                    all[k] = range;
+                    *edited = Some(all);
+                    self.plateau_note = note;
+                }
+                Err(why) => {
+                    out.push(Action::Warn(why.clone()));
+                    self.plateau_note = Some(why);
+                }
+            }
+        }
+        match found {
+            Some(s) => {
+                let marked = |t: RichText| if outside.is_empty() { t } else { t.color(warn) };
+                cell(ui, 4, RichText::new(crate::number::fixed(s.temp_c, 2)));
+                cell(ui, 5, RichText::new(num(s.omega_dph))).on_hover_text(match s.omega_sem_dph {
+                    Some(sem) => format!("standard error of the mean {} °/h", num(sem)),
+                    None => "one sample: its spread is unknown".to_string(),
+                });
+                let length_s = s.range.end_s - s.range.start_s;
+                let quality = format!(
+                    "{why}{} °C between the coldest and the warmest sample over its {} s",
+                    crate::number::fixed(s.temp_spread_c, 3),
+                    num(length_s),
+                );
+                cell(
+                    ui,
+                    6,
+                    marked(RichText::new(crate::number::fixed(s.temp_spread_c, 3))),
+                )
+                .on_hover_text(&quality);
+                cell(
+                    ui,
+                    7,
+                    marked(RichText::new(
+                        s.mean_rate_c_per_min().map_or("n/a".to_string(), rate_text),
+                    )),
+                )
+                .on_hover_text(&quality);
+                cell(
+                    ui,
+                    8,
+                    RichText::new(s.omega_std_dph.map_or("n/a".to_string(), num)),
+                )
+                .on_hover_text(if s.omega_std_dph.is_some() {
+                    "Standard deviation of the raw Ω on the plateau, °/h"
+                } else {
+                    "n/a: one sample has no spread"
+                });
+                cell(ui, 9, RichText::new(s.samples.to_string()));
+            }
+            None => {
+                for c in 4..10 {
+                    cell(ui, c, RichText::new("…").weak());
+                }
+            }
+        }
+    }
+}
+
+/// Plateau `k` typed as `a`..`b` s on a log spanning `span` s: the range to take, with what
+/// to tell about it (it reaches past the log), or why it is not taken (it ends before it
+/// starts, or holds no sample of the log), each in the engine's words.
+fn typed_range(
+    k: usize,
+    a: f64,
+    b: f64,
+    span: (f64, f64),
+    log: &crate::log::Log,
+) -> Result<(PlateauRange, Option<String>), String> {
+    let not_changed = |why: String| format!("Plateau {} not changed: {why}", k + 1);
+    let text = format!(
+        "{}:{}",
+        crate::number::readable(a),
+        crate::number::readable(b)
+    );
+    let range: PlateauRange = text.parse().map_err(|e| not_changed(format!("{e}")))?;
+    if range.end_s < span.0 || range.start_s > span.1 {
+        let words = crate::signal::plateau::too_few_samples(&[range], &[]);
+        return Err(not_changed(words.join("; ")));
+    }
+    let recipe = crate::models::recipe::Recipe {
+        plateaus: crate::models::recipe::PlateauChoice::Manual {
+            ranges: vec![range],
+        },
+        ..Default::default()
+    };
+    let beyond: Vec<String> = recipe
+        .plateaus_beyond(log)
+        .into_iter()
+        .map(|i| i.to_string())
+        .collect();
+    Ok((
+        range,
+        (!beyond.is_empty()).then(|| format!("Plateau {}: {}", k + 1, beyond.join("; "))),
+    ))
+}
+
+/// A rate of T for a narrow cell: two significant digits (`2.7e-4`, `0.052`, `1.3`).
+fn rate_text(v: f64) -> String {
+    if v != 0.0 && v.abs() < 0.01 {
+        format!("{v:.1e}")
+    } else {
+        crate::number::significant(v, 2)
     }
 }

@@ -107,12 +107,17 @@ impl ModelsView {
             .default_size(300.0)
             .size_range(260.0..=460.0)
             .show(ui, |ui| {
+                // Compare stays at the panel's foot whatever the window's height; the choices
+                // scroll above it.
+                Panel::bottom("models_compare")
+                    .resizable(false)
+                    .show(ui, |ui| self.compare_row(ui, state, running, &mut out));
                 ScrollArea::vertical()
                     .id_salt("models_choose_scroll")
                     .auto_shrink([false, false])
                     .show(ui, |ui| {
                         ui.set_min_width(ui.available_width());
-                        self.choose(ui, state, running, &mut out)
+                        self.choose(ui, state)
                     });
             });
         Panel::right("models_detail")
@@ -177,13 +182,7 @@ impl ModelsView {
         out
     }
 
-    fn choose(
-        &mut self,
-        ui: &mut Ui,
-        state: &AppState,
-        running: Option<&CompareHandle>,
-        out: &mut Vec<Action>,
-    ) {
+    fn choose(&mut self, ui: &mut Ui, state: &AppState) {
         match state.active_axis_name() {
             Some(axis) => ui.heading(format!("Models · axis {axis}")),
             None => ui.heading("Models"),
@@ -206,6 +205,22 @@ impl ModelsView {
         ui.separator();
         self.builder(ui, state);
         ui.separator();
+        ui.weak(format!(
+            "The Vakhrameev model uses the recipe of the Calibration page (knots moved by hand \
+             are not part of it); the figures filter the drift over {} s.",
+            num(state.recipe().filter_s)
+        ));
+    }
+
+    /// Compare (with the progress while it runs), what it fits on and holds out.
+    fn compare_row(
+        &mut self,
+        ui: &mut Ui,
+        state: &AppState,
+        running: Option<&CompareHandle>,
+        out: &mut Vec<Action>,
+    ) {
+        ui.add_space(4.0);
         let choices = self.choices();
         let can = state.shown.log.is_some() && choices.is_ok() && running.is_none();
         ui.horizontal(|ui| {
@@ -264,11 +279,6 @@ impl ModelsView {
                 });
             }
         }
-        ui.weak(format!(
-            "The Vakhrameev model uses the recipe of the Calibration page (knots moved by hand \
-             are not part of it); the figures filter the drift over {} s.",
-            num(state.recipe().filter_s)
-        ));
     }
 
     fn stale_note(
