@@ -81,7 +81,10 @@ fn judged_json(a: &Args, j: &AxisJudged) -> serde_json::Value {
         "log": a.log,
         "model": j.model,
         "in_sample": j.in_sample,
-        "in_sample_share": j.share.filter(|_| j.in_sample).map(|s| s.share_of_log),
+        "in_sample_share": j
+            .share
+            .filter(|s| j.in_sample && s.in_sample())
+            .map(|s| s.share_of_log),
         "options": j.opts,
         "evaluation": j.eval,
     })
@@ -112,6 +115,8 @@ fn sample_label(in_sample: bool, share: Option<Shared>) -> String {
             percent(s.share_of_log)
         ),
         (false, _) => "held out: not the calibration log".into(),
+        // In-sample by its file (its samples binned, say): the sketch has nothing to add.
+        (true, Some(s)) if !s.in_sample() => "in-sample: the calibration log".into(),
         (true, Some(s)) if s.share_of_log < 0.995 => format!(
             "in-sample: about {} % of its samples are the calibration log's",
             percent(s.share_of_log)
@@ -225,20 +230,28 @@ fn print_unit(a: &Args, unit: &UnitCalibration, judged: &[AxisJudged]) -> Result
             "axes": axes,
         }));
     }
-    let in_sample = judged.iter().all(|j| j.in_sample);
-    let share = judged.iter().find_map(|j| j.share);
+    // Each axis is judged on its own samples: one label for the unit when they agree, else
+    // one beside each axis.
+    let labels: Vec<String> = judged
+        .iter()
+        .map(|j| sample_label(j.in_sample, j.share))
+        .collect();
+    let one_label = labels.windows(2).all(|w| w[0] == w[1]);
     out!(
-        "{} ({} axes: {}) on {} ({}):",
+        "{} ({} axes: {}) on {}{}:",
         super::calibrate::file_name(&a.calibration),
         unit.axes.len(),
         unit.axis_names().join(", "),
         super::calibrate::file_name(&a.log),
-        sample_label(in_sample, share)
+        match labels.first() {
+            Some(l) if one_label => format!(" ({l})"),
+            _ => " (in-sample on some axes, held out on others)".to_string(),
+        }
     )?;
-    for j in judged {
+    for (j, label) in judged.iter().zip(&labels) {
         out!()?;
         out!(
-            "=== Axis {}{} — model {}, filter {} s ===",
+            "=== Axis {}{} — model {}, filter {} s{} ===",
             j.name,
             if j.column == j.name {
                 String::new()
@@ -246,7 +259,12 @@ fn print_unit(a: &Args, unit: &UnitCalibration, judged: &[AxisJudged]) -> Result
                 format!(" (log axis {})", j.column)
             },
             j.model,
-            common::num(j.opts.filter_s)
+            common::num(j.opts.filter_s),
+            if one_label {
+                String::new()
+            } else {
+                format!("; {label}")
+            }
         )?;
         common::print_evaluation(&j.eval, j.opts.window_s)?;
     }

@@ -6,7 +6,7 @@
 //! the calibration log less its first row, or its first 30,000 rows, read as "held out",
 //! and another gyro's rate beside the same time and temperature read as "in-sample". The
 //! sketch is a bottom-k sample of the run (Broder, "On the resemblance and containment of
-//! documents", 1997): every sample's time, temperature and rate are hashed, and the
+//! documents", 1997): every sample's temperature and rate are hashed, and the
 //! [`SKETCH_LEN`] smallest hashes kept. A log holding a share `s` of the run's samples
 //! holds about `s·SKETCH_LEN` of them, whatever part of the run it holds and in whatever
 //! file; another run holds none, since its noise differs at every sample.
@@ -130,14 +130,16 @@ impl RunSketch {
     }
 }
 
-/// Each sample's hash: its time, temperature and rate, each with its last 20 bits of
-/// mantissa rounded off, so that a column read through another unit (°/s × 3600) or
-/// written back with fewer digits than a double holds is still the same sample.
+/// Each sample's hash: its temperature and rate, each with its last 20 bits of mantissa
+/// rounded off, so that a column read through another unit (°/s × 3600) or written back with
+/// fewer digits than a double holds is still the same sample. Not its time: the same samples
+/// stamped from the epoch, or in another time unit, are the same run; two runs never agree
+/// in both the temperature and the rate's noise at one sample, let alone at many.
 fn sample_hashes(log: &Log) -> impl Iterator<Item = u64> + '_ {
-    let n = log.len().min(log.temp_c.len()).min(log.omega_dph.len());
+    let n = log.temp_c.len().min(log.omega_dph.len());
     (0..n).map(move |i| {
         let mut h = 0x05ee_d0fd_21f7_u64;
-        for v in [log.time_s[i], log.temp_c[i], log.omega_dph[i]] {
+        for v in [log.temp_c[i], log.omega_dph[i]] {
             h = mix(h ^ rounded_bits(v));
         }
         h
@@ -229,6 +231,17 @@ mod tests {
             some.partly().is_some_and(|s| (0.02..0.25).contains(&s)),
             "{some:?}"
         );
+    }
+
+    #[test]
+    fn the_same_samples_stamped_otherwise_are_the_same_run() {
+        let cal = run(5_000, 5);
+        let sketch = RunSketch::of(&cal);
+        let mut epoch = cal.clone();
+        for t in &mut epoch.time_s {
+            *t += 1.7e9;
+        }
+        assert_eq!(sketch.shared_with(&epoch, cal.len()).found, SKETCH_LEN);
     }
 
     #[test]

@@ -12,7 +12,7 @@
 //!
 //! Real steps do not fire it: a ramp, however fast, goes one way (no sample stands away from
 //! both neighbours on the same side), and a MEMS sensor's noise and quantum (1/256 … 1 °C,
-//! a flicker of one step and back) are far below [`GLITCH_LEAST_C`]; a column noisier than
+//! a flicker of one step and back) are well below [`GLITCH_LEAST_C`]; a column noisier than
 //! that (raw counts taken for a temperature) must stand out by [`GLITCH_NOISE_FACTOR`] times
 //! its typical step.
 
@@ -20,10 +20,12 @@
 /// chamber (`models::recipe::MAX_DEADBAND_TDOT` is the same bound, for the dead-band on Ṫ).
 pub const FASTEST_CHAMBER_C_PER_S: f64 = 1.0;
 
-/// The least jump, °C, told as a glitch however fast the log is sampled: ten times the coarsest
-/// quantum of a MEMS temperature (1 °C) and far above its noise, so that the flicker of a noisy
-/// or coarse sensor sampled at a kilohertz is never one.
-pub const GLITCH_LEAST_C: f64 = 10.0;
+/// The least jump, °C, told as a glitch however fast the log is sampled: four times the coarsest
+/// quantum of a MEMS temperature (1 °C) and eight times the noise of a noisy one (0.5 °C), so
+/// that the flicker of a noisy or coarse sensor sampled at a kilohertz for hours is never one
+/// (a 4 °C step and back of a 0.5 °C noise is an 8σ event), while a bad read of a few degrees,
+/// which cuts a plateau as a large one does, is (a 9.9 °C one went unseen at 10 °C).
+pub const GLITCH_LEAST_C: f64 = 4.0;
 
 /// How many times the series' typical step (the median of |ΔT| between samples) a glitch
 /// stands out by at least: a column noisier than any °C sensor (raw counts, read as a

@@ -215,3 +215,71 @@ fn a_part_of_the_run_is_in_sample_and_another_gyro_on_its_columns_is_held_out() 
         .collect();
     assert_eq!(held, [false, false, false, true]);
 }
+
+#[test]
+fn the_calibration_log_binned_or_restamped_is_in_sample_with_no_share_of_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let cal = p(dir.path(), "cal.json");
+    let log = sample("calibration.csv");
+    ok(&["calibrate", &log, "-o", &cal]);
+    // The same file binned: in-sample by its bytes; its binned samples share nothing with the
+    // run's, and no "about 0 %" is said.
+    let label = ok(&["evaluate", &cal, &log, "--bin", "10"]);
+    let first = label.lines().next().unwrap();
+    assert!(
+        first.contains("(in-sample: the calibration log)"),
+        "{first}"
+    );
+    // Stamped from the epoch: the same samples.
+    let (header, rows) = rows_of(&log);
+    let epoch: Vec<String> = rows
+        .iter()
+        .map(|r| {
+            let (t, rest) = r.split_once(',').unwrap();
+            format!("{},{rest}", 1.7e9 + t.parse::<f64>().unwrap())
+        })
+        .collect();
+    let path = p(dir.path(), "epoch.csv");
+    std::fs::write(&path, format!("{header}\n{}\n", epoch.join("\n"))).unwrap();
+    assert!(evaluate_in_sample(&cal, &path));
+}
+
+#[test]
+fn a_unit_judged_on_a_log_of_its_own_and_other_axes_labels_each_axis() {
+    let dir = tempfile::tempdir().unwrap();
+    let cal = p(dir.path(), "unit.json");
+    let log = sample("imu3-calibration.csv");
+    ok(&["calibrate", &log, "-o", &cal]);
+    // gz replaced by the held-out run's gz: gx and gy are the calibration's own samples (the
+    // file is a European spreadsheet's: `;` between cells, decimal commas).
+    let (header, rows) = rows_of(&log);
+    let (_, other) = rows_of(&sample("imu3-validation.csv"));
+    let z = header.split(';').position(|c| c == "gz_dps").expect("gz_dps");
+    let mixed: Vec<String> = rows
+        .iter()
+        .zip(&other)
+        .map(|(mine, theirs)| {
+            let mut cells: Vec<&str> = mine.split(';').collect();
+            cells[z] = theirs.split(';').nth(z).unwrap();
+            cells.join(";")
+        })
+        .collect();
+    let path = p(dir.path(), "mixed.csv");
+    std::fs::write(&path, format!("{header}\n{}\n", mixed.join("\n"))).unwrap();
+    let text = ok(&["evaluate", &cal, &path]);
+    let line = |axis: &str| {
+        text.lines()
+            .find(|l| l.starts_with(&format!("=== Axis {axis} ")))
+            .unwrap_or_else(|| panic!("{text}"))
+            .to_string()
+    };
+    assert!(
+        text.lines()
+            .next()
+            .is_some_and(|l| l.contains("in-sample on some axes, held out on others")),
+        "{text}"
+    );
+    assert!(line("gx").contains("in-sample"), "{text}");
+    assert!(line("gy").contains("in-sample"), "{text}");
+    assert!(line("gz").contains("held out"), "{text}");
+}

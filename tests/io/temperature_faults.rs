@@ -309,3 +309,22 @@ fn a_stuck_temperature_is_told_and_dropped_even_when_the_other_columns_are_not_k
         }
     }
 }
+
+#[test]
+fn a_bad_read_of_a_few_degrees_is_a_glitch_too() {
+    // Bad reads 5 °C above a clean sensor's slow ramp: each cuts a plateau as a large one does
+    // (they went unseen below 10 °C).
+    let n = 3000;
+    let glitches = [700usize, 1700];
+    let text = csv(
+        n,
+        |i| temp_of(i) + if glitches.contains(&i) { 5.0 } else { 0.0 },
+        temp_of,
+    );
+    let log = read_bytes("g.csv", text.as_bytes(), &ReadOptions::default()).unwrap();
+    assert_eq!(log.len(), n - glitches.len());
+    let p = told(&log, "the temperature jumps by");
+    assert_eq!(p.len(), 1, "{:?}", log.info.problems);
+    assert_eq!(p[0].line, HEADER_LINES + 700 + 1);
+    assert!(p[0].message.contains("~5 °C"), "{}", p[0].message);
+}

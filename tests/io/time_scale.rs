@@ -192,3 +192,15 @@ fn stamps_at_the_ends_of_the_double_range_are_refused_at_their_line() {
         "{all}"
     );
 }
+
+#[test]
+fn a_long_run_in_a_stated_unit_is_not_doubted_but_one_past_a_year_is() {
+    // A static run of 15 days at a minute a sample, its time in s as its name says: a real
+    // Allan run, not a unit slip (it was told to use ms).
+    let two_weeks = stamped(21_600, |i| 60.0 * i as f64);
+    assert_eq!(time_doubt(&read(&two_weeks, &ReadOptions::default())), None);
+    // The calibration log in ms under `time_s`: 465 days in the unit its name states.
+    let ms = rewritten("time_s", 1e3, 0.0);
+    let told = time_doubt(&read(&ms, &ReadOptions::default())).expect("doubted");
+    assert!(told.contains("time_unit ms"), "{told}");
+}

@@ -19,6 +19,10 @@ use crate::judge::allan::{MAX_TAU0_S, MIN_TAU0_S};
 use crate::log::{Problem, ProblemKind};
 use crate::models::recipe::MAX_WINDOW_S;
 
+/// The longest span, s, of a time in a unit its name or a setting states that is not told: a
+/// year (a time in ms under `time_s` makes an 11-hour run 465 days long).
+const STATED_UNIT_LONGEST_S: f64 = 365.25 * 86_400.0;
+
 /// The time column as it was read, for the messages.
 pub(super) struct TimeColumn<'a> {
     pub(super) name: &'a str,
@@ -118,18 +122,22 @@ pub(super) fn implausible(col: &TimeColumn, time_s: &[f64], step_s: f64) -> Opti
         return None;
     }
     let span = time_s[n - 1] - time_s[0];
-    let (long_span, long_step) = (span > MAX_WINDOW_S, step_s > MAX_TAU0_S);
+    // A long run in a unit the name or a setting states is real (a static Allan run of two
+    // weeks at a minute a sample): only a span past a year tells of a wrong unit there, while
+    // a time whose unit was taken by default is told past any chamber run.
+    let longest = match col.from {
+        UnitFrom::Default => MAX_WINDOW_S,
+        UnitFrom::Name | UnitFrom::Setting => STATED_UNIT_LONGEST_S,
+    };
+    let (long_span, long_step) = (span > longest, step_s > MAX_TAU0_S);
     let what = match (long_span, long_step) {
         (false, false) => return None,
-        (true, false) => format!(
-            "longer than any chamber run ({} at most)",
-            lasting(MAX_WINDOW_S)
-        ),
+        (true, false) => format!("longer than any chamber run ({} at most)", lasting(longest)),
         (false, true) => "a step longer than a day, slower than any gyro is sampled".to_string(),
         (true, true) => format!(
             "longer than any chamber run ({} at most), at a step longer than a day, slower \
              than any gyro is sampled",
-            lasting(MAX_WINDOW_S)
+            lasting(longest)
         ),
     };
     let advice = match fitting_unit(col.unit, step_s, span) {
