@@ -289,7 +289,32 @@ fn print_axes_summary(per_axis: &[(String, Vec<ModelReport>)]) -> Result<(), Cli
          raw/cor (raw over the same samples)"
     )?;
     for (k, j) in first.logs.iter().enumerate() {
-        print_log_heading(j)?;
+        // Each axis judged the log by its own samples: one word when they agree, else which.
+        let held: Vec<(&str, bool)> = per_axis
+            .iter()
+            .filter_map(|(name, reports)| {
+                let r = reports.iter().find(|r| r.error.is_none())?;
+                Some((name.as_str(), r.logs.get(k)?.held_out))
+            })
+            .collect();
+        if held.iter().all(|&(_, h)| h == j.held_out) {
+            print_log_heading(j)?;
+        } else {
+            let on = |want: bool| {
+                held.iter()
+                    .filter(|&&(_, h)| h == want)
+                    .map(|&(n, _)| n)
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            };
+            out!()?;
+            out!(
+                "{} (in-sample on {}; held out on {})",
+                j.log,
+                on(false),
+                on(true)
+            )?;
+        }
         let mut head = format!("  {:<12}", "model");
         for (name, _) in per_axis {
             head.push_str(&format!(" {:>20}", name));

@@ -6,8 +6,8 @@
 //! the calibration log less its first row, or its first 30,000 rows, read as "held out",
 //! and another gyro's rate beside the same time and temperature read as "in-sample". The
 //! sketch is a bottom-k sample of the run (Broder, "On the resemblance and containment of
-//! documents", 1997): every sample's temperature and rate are hashed, and the
-//! [`SKETCH_LEN`] smallest hashes kept. A log holding a share `s` of the run's samples
+//! documents", 1997): every run of eight consecutive samples' temperatures and rates is
+//! hashed, and the [`SKETCH_LEN`] smallest hashes kept. A log holding a share `s` of the run's samples
 //! holds about `s·SKETCH_LEN` of them, whatever part of the run it holds and in whatever
 //! file; another run holds none, since its noise differs at every sample.
 
@@ -100,7 +100,9 @@ impl RunSketch {
         let share_of_log = if of == 0 || log.is_empty() {
             0.0
         } else {
-            (found as f64 / of as f64 * run_samples as f64 / log.len() as f64).min(1.0)
+            // Runs of samples, each log's: one fewer than RUN_OF fewer than its samples.
+            let runs = |samples: usize| samples.saturating_sub(RUN_OF - 1).max(1) as f64;
+            (found as f64 / of as f64 * runs(run_samples) / runs(log.len())).min(1.0)
         };
         Shared {
             found,
@@ -130,19 +132,34 @@ impl RunSketch {
     }
 }
 
-/// Each sample's hash: its temperature and rate, each with its last 20 bits of mantissa
+/// Samples whose values one hash covers: a run of consecutive samples, not one. A log written
+/// with few digits (a rate in 0.1 °/h, a temperature in 0.1 °C) repeats each sample's pair of
+/// values many times over, and another run of the same gyro holds the same pairs (two thirds
+/// of one were found in another); eight in a row agreeing by chance is as unlikely as the
+/// noise of two runs agreeing for eight samples.
+const RUN_OF: usize = 8;
+
+/// The hash of each run of [`RUN_OF`] consecutive samples (one per sample from the
+/// [`RUN_OF`]-th on): their temperatures and rates, each with its last 20 bits of mantissa
 /// rounded off, so that a column read through another unit (°/s × 3600) or written back with
-/// fewer digits than a double holds is still the same sample. Not its time: the same samples
-/// stamped from the epoch, or in another time unit, are the same run; two runs never agree
-/// in both the temperature and the rate's noise at one sample, let alone at many.
+/// fewer digits than a double holds is still the same sample. Not their time: the same
+/// samples stamped from the epoch, or in another time unit, are the same run.
 fn sample_hashes(log: &Log) -> impl Iterator<Item = u64> + '_ {
     let n = log.temp_c.len().min(log.omega_dph.len());
-    (0..n).map(move |i| {
+    let one = move |i: usize| {
         let mut h = 0x05ee_d0fd_21f7_u64;
         for v in [log.temp_c[i], log.omega_dph[i]] {
             h = mix(h ^ rounded_bits(v));
         }
         h
+    };
+    let mut last = [0u64; RUN_OF];
+    (0..n).filter_map(move |i| {
+        last[i % RUN_OF] = one(i);
+        (i + 1 >= RUN_OF).then(|| {
+            // The run's samples in their order, oldest first.
+            (0..RUN_OF).fold(0x0dd_ba11_u64, |h, k| mix(h ^ last[(i + 1 + k) % RUN_OF]))
+        })
     })
 }
 
@@ -231,6 +248,27 @@ mod tests {
             some.partly().is_some_and(|s| (0.02..0.25).contains(&s)),
             "{some:?}"
         );
+    }
+
+    #[test]
+    fn two_runs_written_with_few_digits_are_not_one() {
+        // Rates of ±1 °/h noise written in 0.1 °/h, on a temperature written in whole °C:
+        // the same pairs of values recur in both runs (a pair in twenty), eight in a row do
+        // not.
+        let coarse = |seed| {
+            let mut log = run(40_000, seed);
+            for w in &mut log.omega_dph {
+                *w = (*w * 100.0).round() / 10.0;
+            }
+            log
+        };
+        let (a, b) = (coarse(6), coarse(7));
+        let shared = RunSketch::of(&a).shared_with(&b, a.len());
+        assert!(
+            !shared.in_sample() && shared.partly().is_none(),
+            "{shared:?}"
+        );
+        assert!(RunSketch::of(&a).shared_with(&a, a.len()).in_sample());
     }
 
     #[test]

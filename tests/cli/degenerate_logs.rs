@@ -446,6 +446,16 @@ fn the_only_rate_column_taken_as_the_temperature_is_the_reason_given() {
             );
         }
     }
+    // The time column taken as the rate: that is the reason, not a log without time.
+    for given in ["time_s", "1"] {
+        let e = fails(&["inspect", &sample("calibration.csv"), "--rate-col", given]);
+        assert!(
+            e.contains("column 1 \"time_s\", is taken as the gyro rate by --rate-col")
+                && e.contains("check --rate-col")
+                && !e.contains("no time column among"),
+            "--rate-col {given}: {e}"
+        );
+    }
 }
 
 #[test]

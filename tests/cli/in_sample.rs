@@ -254,7 +254,10 @@ fn a_unit_judged_on_a_log_of_its_own_and_other_axes_labels_each_axis() {
     // file is a European spreadsheet's: `;` between cells, decimal commas).
     let (header, rows) = rows_of(&log);
     let (_, other) = rows_of(&sample("imu3-validation.csv"));
-    let z = header.split(';').position(|c| c == "gz_dps").expect("gz_dps");
+    let z = header
+        .split(';')
+        .position(|c| c == "gz_dps")
+        .expect("gz_dps");
     let mixed: Vec<String> = rows
         .iter()
         .zip(&other)
@@ -282,4 +285,12 @@ fn a_unit_judged_on_a_log_of_its_own_and_other_axes_labels_each_axis() {
     assert!(line("gx").contains("in-sample"), "{text}");
     assert!(line("gy").contains("in-sample"), "{text}");
     assert!(line("gz").contains("held out"), "{text}");
+    // compare's summary of every axis says the same of the log.
+    let text = ok(&[
+        "compare", "--train", &log, "--test", &path, "--models", "poly-t",
+    ]);
+    assert!(
+        text.contains("mixed.csv (in-sample on gx, gy; held out on gz)"),
+        "{text}"
+    );
 }

@@ -423,6 +423,26 @@ pub(crate) fn plan(sn: &Sniffed, opts: &ReadOptions) -> Result<Plan, Fail> {
         None => match opts.sample_rate_hz {
             Some(rate_hz) => TimeSource::RowIndex { rate_hz },
             None => {
+                // The time column taken by another option (`rate_col time_s`): that option
+                // is the reason, as for a rate column taken by `temp_col`.
+                let taken = [
+                    (Some(rate_col), "gyro rate", "rate_col"),
+                    (Some(temp_col), "temperature", "temp_col"),
+                ]
+                .into_iter()
+                .find(|(x, _, _)| {
+                    x.is_some_and(|j| matches!(kinds.get(j).map(|k| k.0), Some(Kind::Time(_))))
+                });
+                if let Some((Some(j), what, setting)) = taken {
+                    return Err(at_header(format!(
+                        "no time column left: the only column that reads as one, column {} \
+                         \"{}\", is taken as the {what} by {setting}, and its name says it \
+                         holds time; check {setting} (or give sample_rate_hz HZ if the file \
+                         has no time)",
+                        j + 1,
+                        sn.names[j]
+                    )));
+                }
                 return Err(at_header(format!(
                     "no time column among {}: map it with time_col NAME, or give \
                      sample_rate_hz HZ if the file has none",
