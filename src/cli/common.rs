@@ -13,6 +13,9 @@
 //! its own that reads as driftlab's (`error: calibration REJECTED`). Several lines are several
 //! calls; only [`print_json`] and a file written to standard output keep their line breaks.
 
+pub use super::figures::{
+    check_merit, comparison_cells, figure, fixed, num, print_evaluation, ratio, raw_to_corrected,
+};
 use driftlab::Log;
 use driftlab::log::ingest::{ColumnRef, Input, Needs, RateUnit, ReadOptions, TimeUnit};
 use indicatif::{ProgressBar, ProgressStyle};
@@ -698,64 +701,6 @@ pub fn print_json<T: serde::Serialize>(value: &T) -> Result<(), CliError> {
     write_out_lines(&text)
 }
 
-/// `v` with `decimals` decimals for a table, as long as that stays short
-/// ([`driftlab::number::fixed`]).
-pub fn fixed(v: f64, decimals: usize) -> String {
-    driftlab::number::fixed(v, decimals)
-}
-
-/// A number in running text: at most six significant digits (`0.3`, not
-/// `0.30000000000000004`; `1e-300`, not three hundred digits).
-pub fn num(v: f64) -> String {
-    driftlab::number::readable(v)
-}
-
-/// Formats a ratio raw ÷ corrected for tables: `n/a` when it cannot be computed, and marked
-/// `worse` below 1, where the correction made the figure worse than raw.
-pub fn ratio(r: f64) -> String {
-    if !r.is_finite() {
-        "n/a".into()
-    } else if r < 1.0 {
-        format!("{}x worse", fixed(r, 2))
-    } else {
-        format!("{}x", fixed(r, 2))
-    }
-}
-
-/// Formats a figure in °/h for tables: `n/a` when it could not be computed.
-pub fn figure(v: f64) -> String {
-    if v.is_finite() {
-        fixed(v, 4)
-    } else {
-        "n/a".into()
-    }
-}
-
-/// A table's cell for one figure of a summary: `raw -> corrected ratio`.
-pub fn raw_to_corrected(raw: f64, corrected: f64, ratio_raw_cor: f64) -> String {
-    format!(
-        "{} -> {} {}",
-        figure(raw),
-        figure(corrected),
-        ratio(ratio_raw_cor)
-    )
-}
-
-/// The cells of the figures a summary shows for raw against corrected, as
-/// [`raw_to_corrected`] writes each: peak-to-peak, standard deviation and the largest
-/// |window mean|.
-pub fn comparison_cells(c: &driftlab::Comparison) -> [String; 3] {
-    [
-        raw_to_corrected(c.raw.p2p_dph, c.corrected.p2p_dph, c.p2p_ratio),
-        raw_to_corrected(c.raw.std_dph, c.corrected.std_dph, c.std_ratio),
-        raw_to_corrected(
-            c.raw.win_mean_max_abs_dph,
-            c.corrected.win_mean_max_abs_dph,
-            c.win_mean_ratio,
-        ),
-    ]
-}
-
 /// A setting the engine refused, named also by the option that sets it on the command line
 /// (`filter_s (--filter): ...`): the value may have come from the option or from a recipe.
 pub fn with_option(e: driftlab::error::Invalid) -> CliError {
@@ -777,92 +722,6 @@ pub fn in_option_words(e: &driftlab::error::Invalid) -> String {
         _ => return super::log_source::in_flags(&e.to_string()),
     };
     format!("{} ({option}): {}", e.field, e.reason)
-}
-
-/// Refuses figures of merit whose filter or window does not fit in `log`, and a window the
-/// engineer asked for (`window_asked`) that is shorter than its step; the default's window
-/// figures are then n/a, with the reason.
-pub fn check_merit(
-    merit: &driftlab::MeritOptions,
-    window_asked: bool,
-    log: &Log,
-) -> Result<(), CliError> {
-    let told = driftlab::judge::options::check_merit(merit, log).map_err(with_option)?;
-    if window_asked {
-        driftlab::judge::options::check_window_asked(merit.window_s, log).map_err(with_option)?;
-    }
-    if let Some(n) = told {
-        note!("warning: {}", in_option_words(&n));
-    }
-    Ok(())
-}
-
-/// Prints an evaluation as a small table of raw, corrected and ratio; the windowed figures are
-/// labelled with the window they were computed over.
-pub fn print_evaluation(
-    e: &driftlab::judge::metrics::Evaluation,
-    window_s: f64,
-) -> Result<(), CliError> {
-    let c = &e.comparison;
-    let w = driftlab::judge::options::window_label(window_s);
-    let (mean_label, rms_label) = (format!("max |{w} mean|"), format!("mean {w} RMS"));
-    out!(
-        "  {:<34} {:>11} {:>11} {:>12}",
-        "figure (deg/h)",
-        "raw",
-        "corrected",
-        "raw/cor"
-    )?;
-    let rows = [
-        (
-            "peak-to-peak of filtered drift",
-            c.raw.p2p_dph,
-            c.corrected.p2p_dph,
-            c.p2p_ratio,
-        ),
-        (
-            "std of filtered drift",
-            c.raw.std_dph,
-            c.corrected.std_dph,
-            c.std_ratio,
-        ),
-        (
-            mean_label.as_str(),
-            c.raw.win_mean_max_abs_dph,
-            c.corrected.win_mean_max_abs_dph,
-            c.win_mean_ratio,
-        ),
-        (
-            rms_label.as_str(),
-            c.raw.win_rms_mean_dph,
-            c.corrected.win_rms_mean_dph,
-            c.win_rms_ratio,
-        ),
-    ];
-    for (name, raw, cor, r) in rows {
-        out!(
-            "  {name:<34} {:>11} {:>11} {:>12}",
-            figure(raw),
-            figure(cor),
-            ratio(r)
-        )?;
-    }
-    for (what, why) in c.unavailable() {
-        out!("  {what} n/a: {why}")?;
-    }
-    if c.worse_than_raw.any() {
-        out!(
-            "  worse than raw: {} (ratio below 1)",
-            c.worse_than_raw.names().join(", ")
-        )?;
-    }
-    out!(
-        "  {} samples ({} warm-up samples left out), {} windows; {:.1}% outside the calibrated ranges",
-        c.raw.samples,
-        e.warmup_samples,
-        c.raw.windows,
-        e.outside_fraction * 100.0
-    )
 }
 
 /// The gyro axes a command works on: those `--axes` names (axis names, rate columns or the

@@ -12,6 +12,7 @@ mod compare;
 mod convert;
 mod evaluate;
 mod export;
+mod figures;
 mod inspect;
 mod log_source;
 mod report;

@@ -22,11 +22,13 @@ pub mod correct;
 mod fit;
 pub mod knots;
 mod sets;
+mod source;
 mod staged;
 mod stages;
 
 pub use fit::{Calibrated, Fit, Pipeline, fit, fit_lean};
 pub(crate) use fit::{SetsOfSamples, check_sample_count, sets_of_samples};
+pub use source::SourceInfo;
 pub use staged::{StageInputs, StageMemory, Staged};
 pub use stages::{deadbands, fit_k0, fit_or_fallback, fit_or_fallback_weighted};
 
@@ -36,7 +38,6 @@ pub(crate) use sets::{SetInputs, SetSamples, set_samples};
 
 use crate::error::Invalid;
 use crate::log::Log;
-use crate::log::run_sketch::{RunSketch, Shared};
 use crate::models::approx::{self, Approx, ApproxSpec, FitOptions, PointSource, XRange};
 use crate::models::recipe::{Recipe, Weighting};
 use crate::signal::plateau::{PlateauRange, PlateauStats};
@@ -235,127 +236,6 @@ impl Default for Units {
             k1: "(deg/h)/(degC/s)".into(),
             k2: "(deg/h)/(degC/s^2)".into(),
         }
-    }
-}
-
-/// Identity of the log a calibration was made from.
-#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct SourceInfo {
-    /// File name (or label) of the log.
-    pub name: String,
-    /// SHA-256 of the file's bytes, hex; empty when not made from a file.
-    pub sha256: String,
-    /// Samples used.
-    pub samples: usize,
-    /// Duration, s.
-    pub duration_s: f64,
-    /// The run's fingerprint ([`Log::run_fingerprint`]), as files written before
-    /// `samples_sketch` hold it (it tells the whole run under other bytes, not a part of it);
-    /// empty in newer files and in files older than it.
-    #[serde(default, skip_serializing_if = "String::is_empty")]
-    pub run: String,
-    /// A sketch of the run's samples ([`RunSketch`], hexadecimal): what tells the
-    /// calibration's own samples from another run's, in any file and in any part of the run;
-    /// empty in files written before it was recorded.
-    #[serde(default, skip_serializing_if = "String::is_empty")]
-    pub samples_sketch: String,
-}
-
-impl SourceInfo {
-    /// The identity of `log` as far as the log itself knows it (the file's SHA-256 is filled
-    /// in by whoever reads the file).
-    pub fn of(log: &Log) -> SourceInfo {
-        SourceInfo {
-            name: log.source.clone(),
-            sha256: String::new(),
-            samples: log.len(),
-            duration_s: log.duration_s(),
-            run: String::new(),
-            samples_sketch: RunSketch::of(log).to_hex(),
-        }
-    }
-
-    /// How much of `log` is this calibration's run, by its samples' sketch; `None` for a
-    /// file written before sketches were kept.
-    pub fn shared_with(&self, log: &Log) -> Option<Shared> {
-        let sketch = RunSketch::from_hex(&self.samples_sketch).filter(|s| !s.is_empty())?;
-        Some(sketch.shared_with(log, self.samples))
-    }
-
-    /// Whether `log`, read from a file whose bytes hash to `file_sha256` and named
-    /// `file_name`, holds the run this calibration was fitted on: the same file (its
-    /// SHA-256), or samples of the run under other bytes or another name, the whole run or a
-    /// part of it (the samples' sketch; in older files, the whole run's fingerprint). Only a
-    /// file recorded with none of them is known by its name alone. Every face asks this one
-    /// rule before it calls figures in-sample or held out.
-    pub fn is_run_of(&self, log: &Log, file_name: &str, file_sha256: &str) -> bool {
-        let same_file = !self.sha256.is_empty()
-            && !file_sha256.is_empty()
-            && file_sha256.eq_ignore_ascii_case(&self.sha256);
-        let same_run = match self.shared_with(log) {
-            Some(shared) => shared.in_sample(),
-            None => !self.run.is_empty() && self.run == log.run_fingerprint(),
-        };
-        let by_name = self.sha256.is_empty()
-            && self.run.is_empty()
-            && self.samples_sketch.is_empty()
-            && file_name == self.name;
-        same_file || same_run || by_name
-    }
-
-    /// Checks what a calibration file says of the log it was fitted on: a log that lasted
-    /// (no calibration is fitted on a single instant), at least the two samples that make a
-    /// duration, and a SHA-256 that is printable text.
-    ///
-    /// # Errors
-    /// An [`Invalid`] naming the field (`source.duration_s`).
-    pub fn validate(&self) -> std::result::Result<(), Invalid> {
-        let d = self.duration_s;
-        if !(d.is_finite() && d > 0.0) {
-            return Err(Invalid::new(
-                "source.duration_s",
-                format!(
-                    "must be a duration in seconds, got {}: a calibration is fitted on a log \
-                     that lasts",
-                    crate::number::readable(d)
-                ),
-            ));
-        }
-        if self.samples < 2 {
-            return Err(Invalid::new(
-                "source.samples",
-                format!(
-                    "is {}, and a log of {} s has at least two",
-                    self.samples,
-                    crate::number::readable(d)
-                ),
-            ));
-        }
-        // Their digits are not checked (a file whose hash was damaged still corrects; the
-        // report then finds no log with that hash), but they are printed as they stand.
-        if !self.samples_sketch.is_empty() && RunSketch::from_hex(&self.samples_sketch).is_none() {
-            return Err(Invalid::new(
-                "source.samples_sketch",
-                format!(
-                    "is not a sketch of a run's samples (at most {} ascending hashes of 16 \
-                     hexadecimal digits each)",
-                    crate::log::run_sketch::SKETCH_LEN
-                ),
-            ));
-        }
-        for (field, text) in [("source.sha256", &self.sha256), ("source.run", &self.run)] {
-            if let Some(c) = text.chars().find(|&c| crate::text::is_unprintable(c)) {
-                return Err(Invalid::new(
-                    field,
-                    format!(
-                        "holds the control character U+{:04X}: a hash is printable text",
-                        c as u32
-                    ),
-                ));
-            }
-        }
-        Ok(())
     }
 }
 
