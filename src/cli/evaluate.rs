@@ -117,14 +117,15 @@ fn sample_label(in_sample: bool, share: Option<Shared>) -> String {
         (false, _) => "held out: not the calibration log".into(),
         // In-sample by its file (its samples binned, say): the sketch has nothing to add.
         (true, Some(s)) if !s.in_sample() => "in-sample: the calibration log".into(),
-        // The sketch estimates from 128 hashes: within a few % of all is all.
+        // Found among the log's own values, a part of the run is all the run's (exactly), a
+        // mixture is estimated on about 128 of them: within a few % of all is all.
         (true, Some(s)) if s.share_of_log < 0.95 => format!(
             "in-sample: about {} % of its samples are the calibration log's",
             percent(s.share_of_log)
         ),
-        (true, Some(s)) if s.found < s.of * 95 / 100 => format!(
+        (true, Some(s)) if s.share_of_run() < 0.95 => format!(
             "in-sample: a part of the calibration log, about {} % of it",
-            percent(s.found as f64 / s.of as f64)
+            percent(s.share_of_run())
         ),
         (true, _) => "in-sample: the calibration log".into(),
     }

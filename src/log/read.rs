@@ -456,6 +456,7 @@ pub fn from_recording(
     drop_stray_ends(&mut time_s, &mut rows, &mut problems);
     if !keep_nan_temp {
         drop_temperature_glitches(&sel.temp_c, &mut time_s, &mut rows, &mut problems);
+        tell_temperature_excursions(&sel.temp_c, &time_s, &rows, &mut problems);
     }
     let pick = |v: &formats::Values, scale: f64| -> Vec<f64> {
         rows.iter().map(|&i| v.get(i) * scale).collect()
@@ -606,6 +607,29 @@ fn drop_temperature_glitches(
     time_s.retain(|_| k.next().is_some_and(|k| !glitch[k]));
     let mut k = 0..;
     rows.retain(|_| k.next().is_some_and(|k| !glitch[k]));
+}
+
+/// Tells the temperature's excursions that no chamber makes and that are no glitch
+/// ([`super::temp_glitch::excursions`]), with a problem naming the first; the samples are
+/// kept.
+fn tell_temperature_excursions(
+    temp_c: &formats::Values,
+    time_s: &[f64],
+    rows: &[usize],
+    problems: &mut Vec<Problem>,
+) {
+    let temp: Vec<f64> = rows.iter().map(|&i| temp_c.get(i)).collect();
+    let Some(j) = super::temp_glitch::excursions(time_s, &temp) else {
+        return;
+    };
+    let first = rows[j.first] + 1;
+    problems.push(Problem {
+        line: first,
+        column: None,
+        kind: ProblemKind::Implausible,
+        count: j.count,
+        message: j.message(&format!("sample {first}")),
+    });
 }
 
 /// Steps above [`GAP_FACTOR`] × the nominal step, as the CSV reader reports them; `rows`

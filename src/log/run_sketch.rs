@@ -6,12 +6,26 @@
 //! the calibration log less its first row, or its first 30,000 rows, read as "held out",
 //! and another gyro's rate beside the same time and temperature read as "in-sample". The
 //! sketch is a bottom-k sample of the run (Broder, "On the resemblance and containment of
-//! documents", 1997): every run of eight consecutive samples' temperatures and rates is
-//! hashed, and the [`SKETCH_LEN`] smallest hashes kept. A log holding a share `s` of the run's samples
-//! holds about `s·SKETCH_LEN` of them, whatever part of the run it holds and in whatever
-//! file; another run holds none, since its noise differs at every sample.
+//! documents", 1997): values of the run are hashed, and the [`SKETCH_LEN`] smallest distinct
+//! hashes kept. Every value of the run whose hash is at most the sketch's largest is in the
+//! sketch, so among a log's values hashed that low, the share found in the sketch is the
+//! share of the log's values that are the run's: all of them for any part of the run, in
+//! any file; none for another run, since its noise differs at every sample.
+//!
+//! Two sketches, for two ways a copy of a run differs from it:
+//! - **Runs of eight** consecutive samples: a log written with few digits (a rate in
+//!   0.1 °/h, a temperature in 0.1 °C) repeats each sample's pair of values many times, and
+//!   another run of the same gyro holds the same pairs (two thirds of one were found in
+//!   another); eight in a row agreeing by chance is as unlikely as the noise of two runs
+//!   agreeing for eight samples. But a copy that dropped rows (thinned to every other row,
+//!   rows without a temperature left out) keeps none of the runs.
+//! - **Single samples**, kept beside the runs when the run's values rarely repeat: a thinned
+//!   copy keeps its samples. How often a value recurs by chance is measured on the run
+//!   itself (its odd samples' values among its even samples', as a second run of the same
+//!   program would meet them), and only what a log shares beyond that chance counts.
 
 use super::Log;
+use std::collections::HashSet;
 
 /// Hashes a sketch keeps: a log holding 3 % of a run's samples is found in it (about four
 /// of them), and the sketch is 2 KiB of hexadecimal in a calibration file.
@@ -22,10 +36,40 @@ pub const SKETCH_LEN: usize = 128;
 /// digits, the same time stamp).
 const MIN_FOUND: usize = 2;
 
-/// The smallest hashes of a run's samples, ascending.
-#[derive(Debug, Clone, Default, PartialEq, Eq)]
+/// The share of a log's samples that makes its figures in-sample: most of them. A log that
+/// shares less with the run (two simulated runs of one seed share their first hour) is held
+/// out, and the faces say how much it shares ([`Shared::partly`]).
+const IN_SAMPLE_SHARE: f64 = 0.5;
+
+/// The chance that a value recurs, past which single samples tell nothing of a log: a log
+/// written with so few digits that another run of the program meets half of its values.
+/// Below it, a log sharing the run's values in excess of chance by [`IN_SAMPLE_SHARE`] is
+/// at least a quarter of the way from chance to all, many standard errors of a 128-value
+/// sketch away from another run.
+const MAX_CHANCE: f64 = 0.5;
+
+/// Values looked at to measure the chance of a recurring value: enough for a share known to
+/// a few tenths of a percent, few enough that a million-sample log is sketched in
+/// milliseconds.
+const CHANCE_VALUES: usize = 1 << 16;
+
+/// Samples whose values one hash of the runs sketch covers (see the module's doc).
+const RUN_OF: usize = 8;
+
+/// The smallest hashes of a run's runs of samples, and of its single samples when they
+/// tell runs apart; each ascending.
+#[derive(Debug, Clone, Default, PartialEq)]
 pub struct RunSketch {
+    runs: Vec<u64>,
+    singles: Option<Singles>,
+}
+
+/// The single samples' sketch and how often the run's values recur by chance.
+#[derive(Debug, Clone, PartialEq)]
+struct Singles {
     hashes: Vec<u64>,
+    /// The share of the run's odd samples whose values its even samples hold (0 to 1).
+    chance: f64,
 }
 
 /// How much of a log is a run's samples.
@@ -38,11 +82,6 @@ pub struct Shared {
     /// The share of the log's samples that are the run's, estimated (0 to 1).
     pub share_of_log: f64,
 }
-
-/// The share of a log's samples that makes its figures in-sample: most of them. A log that
-/// shares less with the run (two simulated runs of one seed share their first hour) is held
-/// out, and the faces say how much it shares ([`Shared::partly`]).
-const IN_SAMPLE_SHARE: f64 = 0.5;
 
 impl Shared {
     /// Whether the log holds the run's samples at all (beyond two other runs' chance
@@ -61,106 +100,196 @@ impl Shared {
     pub fn partly(&self) -> Option<f64> {
         (self.found_any() && !self.in_sample()).then_some(self.share_of_log)
     }
+
+    /// The share of the run's samples the log holds, estimated (0 to 1).
+    pub fn share_of_run(&self) -> f64 {
+        if self.of == 0 {
+            0.0
+        } else {
+            self.found as f64 / self.of as f64
+        }
+    }
 }
 
 impl RunSketch {
     /// The sketch of `log`'s samples as they are (its selected axis's rate).
     pub fn of(log: &Log) -> RunSketch {
-        let mut heap = std::collections::BinaryHeap::with_capacity(SKETCH_LEN + 1);
-        for h in sample_hashes(log) {
-            if heap.len() < SKETCH_LEN {
-                heap.push(h);
-            } else if heap.peek().is_some_and(|&top| h < top) {
-                heap.pop();
-                heap.push(h);
-            }
-        }
-        let mut hashes = heap.into_vec();
-        hashes.sort_unstable();
-        hashes.dedup();
-        RunSketch { hashes }
+        let runs = smallest(run_hashes(log));
+        let chance = chance_of_recurring(log);
+        let singles = (chance <= MAX_CHANCE).then(|| Singles {
+            hashes: smallest(single_hashes(log)),
+            chance,
+        });
+        RunSketch { runs, singles }
     }
 
     /// Whether the sketch holds nothing (a file written before sketches were kept).
     pub fn is_empty(&self) -> bool {
-        self.hashes.is_empty()
+        self.runs.is_empty()
     }
 
-    /// How much of `log` is the run's samples; `run_samples` is the run's sample count.
-    pub fn shared_with(&self, log: &Log, run_samples: usize) -> Shared {
-        let mut found = vec![false; self.hashes.len()];
-        for h in sample_hashes(log) {
-            if let Ok(k) = self.hashes.binary_search(&h) {
-                found[k] = true;
+    /// How much of `log` is the run's samples: by its runs of samples, or by its single
+    /// samples when they say most of it is the run's (a thinned copy, a copy less the rows
+    /// its reader left out).
+    pub fn shared_with(&self, log: &Log) -> Shared {
+        let by_runs = containment(&self.runs, run_hashes(log), 0.0);
+        let by_singles = self
+            .singles
+            .as_ref()
+            .map(|s| containment(&s.hashes, single_hashes(log), s.chance))
+            .filter(Shared::in_sample);
+        match by_singles {
+            Some(s) if s.share_of_log > by_runs.share_of_log || !by_runs.found_any() => s,
+            _ => by_runs,
+        }
+    }
+
+    /// The sketch as calibration files hold it: each hash of the runs in 16 hexadecimal
+    /// digits, joined; then, when single samples are sketched, `+`, the chance of a
+    /// recurring value, `+` and their hashes.
+    pub fn to_text(&self) -> String {
+        let hex =
+            |hashes: &[u64]| -> String { hashes.iter().map(|h| format!("{h:016x}")).collect() };
+        match &self.singles {
+            None => hex(&self.runs),
+            Some(s) => format!("{}+{:.6}+{}", hex(&self.runs), s.chance, hex(&s.hashes)),
+        }
+    }
+
+    /// A sketch from [`RunSketch::to_text`]'s text; `None` when it is not that.
+    pub fn from_text(text: &str) -> Option<RunSketch> {
+        let mut parts = text.split('+');
+        let runs = hashes_from_hex(parts.next()?)?;
+        let singles = match (parts.next(), parts.next(), parts.next()) {
+            (None, _, _) => None,
+            (Some(chance), Some(hashes), None) => {
+                let chance: f64 = chance.parse().ok()?;
+                let hashes = hashes_from_hex(hashes)?;
+                if !(0.0..=MAX_CHANCE).contains(&chance) || hashes.is_empty() {
+                    return None;
+                }
+                Some(Singles { hashes, chance })
             }
-        }
-        let found = found.iter().filter(|&&f| f).count();
-        let of = self.hashes.len();
-        // `found/of` of the run's samples are in the log; as a share of the log's own.
-        let share_of_log = if of == 0 || log.is_empty() {
-            0.0
-        } else {
-            // Runs of samples, each log's: one fewer than RUN_OF fewer than its samples.
-            let runs = |samples: usize| samples.saturating_sub(RUN_OF - 1).max(1) as f64;
-            (found as f64 / of as f64 * runs(run_samples) / runs(log.len())).min(1.0)
+            _ => return None,
         };
-        Shared {
-            found,
-            of,
-            share_of_log,
-        }
-    }
-
-    /// The sketch as calibration files hold it: each hash in 16 hexadecimal digits, joined.
-    pub fn to_hex(&self) -> String {
-        self.hashes.iter().map(|h| format!("{h:016x}")).collect()
-    }
-
-    /// A sketch from [`RunSketch::to_hex`]'s text; `None` when it is not that.
-    pub fn from_hex(text: &str) -> Option<RunSketch> {
-        if !text.len().is_multiple_of(16) || !text.is_ascii() || text.len() > 16 * SKETCH_LEN {
-            return None;
-        }
-        let hashes: Option<Vec<u64>> = (0..text.len() / 16)
-            .map(|k| u64::from_str_radix(&text[16 * k..16 * k + 16], 16).ok())
-            .collect();
-        let hashes = hashes?;
-        hashes
-            .windows(2)
-            .all(|w| w[0] < w[1])
-            .then_some(RunSketch { hashes })
+        Some(RunSketch { runs, singles })
     }
 }
 
-/// Samples whose values one hash covers: a run of consecutive samples, not one. A log written
-/// with few digits (a rate in 0.1 °/h, a temperature in 0.1 °C) repeats each sample's pair of
-/// values many times over, and another run of the same gyro holds the same pairs (two thirds
-/// of one were found in another); eight in a row agreeing by chance is as unlikely as the
-/// noise of two runs agreeing for eight samples.
-const RUN_OF: usize = 8;
+/// Ascending hashes of at most [`SKETCH_LEN`] digits groups; `None` when `text` is not that.
+fn hashes_from_hex(text: &str) -> Option<Vec<u64>> {
+    if !text.len().is_multiple_of(16) || !text.is_ascii() || text.len() > 16 * SKETCH_LEN {
+        return None;
+    }
+    let hashes: Option<Vec<u64>> = (0..text.len() / 16)
+        .map(|k| u64::from_str_radix(&text[16 * k..16 * k + 16], 16).ok())
+        .collect();
+    let hashes = hashes?;
+    hashes.windows(2).all(|w| w[0] < w[1]).then_some(hashes)
+}
 
-/// The hash of each run of [`RUN_OF`] consecutive samples (one per sample from the
-/// [`RUN_OF`]-th on): their temperatures and rates, each with its last 20 bits of mantissa
-/// rounded off, so that a column read through another unit (°/s × 3600) or written back with
-/// fewer digits than a double holds is still the same sample. Not their time: the same
-/// samples stamped from the epoch, or in another time unit, are the same run.
-fn sample_hashes(log: &Log) -> impl Iterator<Item = u64> + '_ {
+/// The [`SKETCH_LEN`] smallest distinct values of `hashes`, ascending.
+fn smallest(hashes: impl Iterator<Item = u64>) -> Vec<u64> {
+    let mut heap = std::collections::BinaryHeap::with_capacity(SKETCH_LEN + 1);
+    for h in hashes {
+        let full = heap.len() >= SKETCH_LEN;
+        if full && heap.peek().is_some_and(|&top| h >= top) {
+            continue;
+        }
+        // A value already kept (a stuck stretch repeats one) would crowd out another.
+        if heap.iter().any(|&k| k == h) {
+            continue;
+        }
+        heap.push(h);
+        if heap.len() > SKETCH_LEN {
+            heap.pop();
+        }
+    }
+    heap.into_sorted_vec()
+}
+
+/// How much of a log's values are a sketch's run's: among the log's distinct hashes no
+/// larger than the sketch's largest (every run value hashed that low is in the sketch), the
+/// share found in it; what `chance` alone would find is taken off and the rest scaled to 0
+/// to 1.
+fn containment(sketch: &[u64], log: impl Iterator<Item = u64>, chance: f64) -> Shared {
+    let Some(&top) = sketch.last() else {
+        return Shared {
+            found: 0,
+            of: 0,
+            share_of_log: 0.0,
+        };
+    };
+    let low: HashSet<u64> = log.filter(|&h| h <= top).collect();
+    let found = low
+        .iter()
+        .filter(|h| sketch.binary_search(h).is_ok())
+        .count();
+    let share = if low.is_empty() {
+        0.0
+    } else {
+        found as f64 / low.len() as f64
+    };
+    Shared {
+        found,
+        of: sketch.len(),
+        share_of_log: ((share - chance) / (1.0 - chance)).clamp(0.0, 1.0),
+    }
+}
+
+/// The hash of each sample's values: its temperature and rate, each with its last 20 bits
+/// of mantissa rounded off, so that a column read through another unit (°/s × 3600) or
+/// written back with fewer digits than a double holds is still the same sample. Not its
+/// time: the same samples stamped from the epoch, or in another time unit, are the same run.
+fn single_hashes(log: &Log) -> impl Iterator<Item = u64> + '_ {
     let n = log.temp_c.len().min(log.omega_dph.len());
-    let one = move |i: usize| {
+    (0..n).map(move |i| {
         let mut h = 0x05ee_d0fd_21f7_u64;
         for v in [log.temp_c[i], log.omega_dph[i]] {
             h = mix(h ^ rounded_bits(v));
         }
         h
-    };
+    })
+}
+
+/// The hash of each run of [`RUN_OF`] consecutive samples (one per sample from the
+/// [`RUN_OF`]-th on): their single hashes in their order.
+fn run_hashes(log: &Log) -> impl Iterator<Item = u64> + '_ {
     let mut last = [0u64; RUN_OF];
-    (0..n).filter_map(move |i| {
-        last[i % RUN_OF] = one(i);
+    single_hashes(log).enumerate().filter_map(move |(i, one)| {
+        last[i % RUN_OF] = one;
         (i + 1 >= RUN_OF).then(|| {
             // The run's samples in their order, oldest first.
             (0..RUN_OF).fold(0x0dd_ba11_u64, |h, k| mix(h ^ last[(i + 1 + k) % RUN_OF]))
         })
     })
+}
+
+/// How often the run's values recur by chance: the share of its odd samples' distinct
+/// values that its even samples hold, as another run of the same program would meet them.
+/// Only values hashed below a bound are looked at (at most about [`CHANCE_VALUES`] of them):
+/// a value is in or out whatever sample holds it, so the share is the same.
+fn chance_of_recurring(log: &Log) -> f64 {
+    let n = log.temp_c.len().min(log.omega_dph.len());
+    let bound = match n / (2 * CHANCE_VALUES) {
+        0 => u64::MAX,
+        k => u64::MAX / (k as u64 + 1),
+    };
+    let mut even = HashSet::new();
+    let mut odd = HashSet::new();
+    for (i, h) in single_hashes(log).enumerate() {
+        if h <= bound {
+            if i % 2 == 0 {
+                even.insert(h);
+            } else {
+                odd.insert(h);
+            }
+        }
+    }
+    if odd.is_empty() {
+        return 1.0;
+    }
+    odd.iter().filter(|h| even.contains(h)).count() as f64 / odd.len() as f64
 }
 
 /// The bits of `v` rounded to 32 bits of mantissa (about 9.6 significant digits); one value
@@ -222,27 +351,27 @@ mod tests {
     fn a_part_of_the_run_is_found_in_proportion_and_another_run_is_not() {
         let cal = run(40_000, 1);
         let sketch = RunSketch::of(&cal);
-        assert_eq!(sketch.hashes.len(), SKETCH_LEN);
-        let whole = sketch.shared_with(&cal, cal.len());
+        assert_eq!(sketch.runs.len(), SKETCH_LEN);
+        let whole = sketch.shared_with(&cal);
         assert_eq!((whole.found, whole.share_of_log), (SKETCH_LEN, 1.0));
         // Less its first sample: still all of it, in-sample.
-        let trimmed = sketch.shared_with(&part(&cal, 1..40_000), cal.len());
+        let trimmed = sketch.shared_with(&part(&cal, 1..40_000));
         assert!(
             trimmed.in_sample() && trimmed.share_of_log > 0.95,
             "{trimmed:?}"
         );
         // Three quarters: about 96 of the 128, all of the part's samples the run's.
-        let most = sketch.shared_with(&part(&cal, 0..30_000), cal.len());
+        let most = sketch.shared_with(&part(&cal, 0..30_000));
         assert!((70..=120).contains(&most.found), "{most:?}");
         assert!(most.in_sample() && most.share_of_log > 0.9, "{most:?}");
         // Another run on the same time and temperature: none of it.
-        let other = sketch.shared_with(&run(40_000, 2), cal.len());
+        let other = sketch.shared_with(&run(40_000, 2));
         assert!(!other.in_sample() && other.found == 0, "{other:?}");
         assert_eq!(other.partly(), None);
         // A tenth of the run beside nine tenths of another: held out, partly the run's.
         let mut mixed = run(40_000, 2);
         mixed.omega_dph[..4_000].copy_from_slice(&cal.omega_dph[..4_000]);
-        let some = sketch.shared_with(&mixed, cal.len());
+        let some = sketch.shared_with(&mixed);
         assert!(!some.in_sample(), "{some:?}");
         assert!(
             some.partly().is_some_and(|s| (0.02..0.25).contains(&s)),
@@ -263,12 +392,12 @@ mod tests {
             log
         };
         let (a, b) = (coarse(6), coarse(7));
-        let shared = RunSketch::of(&a).shared_with(&b, a.len());
+        let shared = RunSketch::of(&a).shared_with(&b);
         assert!(
             !shared.in_sample() && shared.partly().is_none(),
             "{shared:?}"
         );
-        assert!(RunSketch::of(&a).shared_with(&a, a.len()).in_sample());
+        assert!(RunSketch::of(&a).shared_with(&a).in_sample());
     }
 
     #[test]
@@ -279,7 +408,7 @@ mod tests {
         for t in &mut epoch.time_s {
             *t += 1.7e9;
         }
-        assert_eq!(sketch.shared_with(&epoch, cal.len()).found, SKETCH_LEN);
+        assert_eq!(sketch.shared_with(&epoch).found, SKETCH_LEN);
     }
 
     #[test]
@@ -291,22 +420,145 @@ mod tests {
         for w in &mut converted.omega_dph {
             *w = *w / 3600.0 * 3600.0;
         }
-        let shared = sketch.shared_with(&converted, cal.len());
+        let shared = sketch.shared_with(&converted);
         assert!(shared.found >= SKETCH_LEN - 2, "{shared:?}");
     }
 
     #[test]
     fn the_file_text_reads_back_and_nothing_else_does() {
         let sketch = RunSketch::of(&run(1_000, 4));
-        let text = sketch.to_hex();
-        assert_eq!(text.len(), 16 * SKETCH_LEN);
-        assert_eq!(RunSketch::from_hex(&text), Some(sketch));
+        let text = sketch.to_text();
+        // The runs', then the chance and the single samples'.
+        assert_eq!(
+            text.len(),
+            16 * SKETCH_LEN + 1 + "0.000000".len() + 1 + 16 * SKETCH_LEN
+        );
+        assert_eq!(RunSketch::from_text(&text), Some(sketch));
         for bad in [
             "abc",
             "zzzzzzzzzzzzzzzz",
             "00000000000000020000000000000001",
         ] {
-            assert_eq!(RunSketch::from_hex(bad), None, "{bad}");
+            assert_eq!(RunSketch::from_text(bad), None, "{bad}");
+        }
+    }
+
+    /// `log` less the rows `keep` says no to.
+    fn kept(log: &Log, keep: impl Fn(usize) -> bool) -> Log {
+        let pick = |v: &[f64]| -> Vec<f64> {
+            v.iter()
+                .enumerate()
+                .filter(|(i, _)| keep(*i))
+                .map(|(_, x)| *x)
+                .collect()
+        };
+        Log::from_columns(
+            "kept.csv",
+            pick(&log.time_s),
+            pick(&log.omega_dph),
+            pick(&log.temp_c),
+        )
+    }
+
+    /// `log` with its rate written with `digits` decimals, its temperature with 3.
+    fn written(mut log: Log, digits: i32) -> Log {
+        let round = |x: f64, d: i32| (x * 10f64.powi(d)).round() / 10f64.powi(d);
+        for w in &mut log.omega_dph {
+            *w = round(*w, digits);
+        }
+        for t in &mut log.temp_c {
+            *t = round(*t, 3);
+        }
+        log
+    }
+
+    #[test]
+    fn a_copy_less_some_rows_is_the_run_and_all_its_samples_are() {
+        let cal = run(40_000, 8);
+        let sketch = RunSketch::of(&cal);
+        // Thinned to every other row (a 10 Hz log kept at 5 Hz): no run of eight survives,
+        // every sample does.
+        let thinned = sketch.shared_with(&kept(&cal, |i| i % 2 == 0));
+        assert!(thinned.in_sample(), "{thinned:?}");
+        assert_eq!(thinned.share_of_log, 1.0);
+        assert!(
+            (0.35..0.65).contains(&thinned.share_of_run()),
+            "{thinned:?}"
+        );
+        // One row in eight left out (its temperature was blank), and one in fifty.
+        for every in [8, 50] {
+            let holed = sketch.shared_with(&kept(&cal, |i| i % every != 3));
+            assert!(holed.in_sample(), "{every}: {holed:?}");
+            assert_eq!(holed.share_of_log, 1.0, "{every}");
+        }
+        // The first half, untouched: all of its samples are the run's, exactly; it is about
+        // half of the run.
+        let half = sketch.shared_with(&part(&cal, 0..20_000));
+        assert_eq!(half.share_of_log, 1.0);
+        assert!((0.35..0.65).contains(&half.share_of_run()), "{half:?}");
+        // Another run thinned the same way is still another run.
+        let other = sketch.shared_with(&kept(&run(40_000, 9), |i| i % 2 == 0));
+        assert!(!other.in_sample() && other.partly().is_none(), "{other:?}");
+    }
+
+    #[test]
+    fn values_that_recur_count_only_beyond_their_chance() {
+        // A rate of ±0.1 °/h noise written with four decimals, a temperature with three:
+        // another run of the program meets some of the run's values by chance, and the run
+        // measures how many.
+        let (a, b) = (written(run(40_000, 10), 4), written(run(40_000, 11), 4));
+        let sketch = RunSketch::of(&a);
+        let chance = sketch.singles.as_ref().map(|s| s.chance);
+        assert!(
+            chance.is_some_and(|c| c > 0.01 && c < MAX_CHANCE),
+            "{chance:?}"
+        );
+        let other = sketch.shared_with(&b);
+        assert!(!other.in_sample() && other.partly().is_none(), "{other:?}");
+        let thinned = sketch.shared_with(&kept(&a, |i| i % 2 == 1));
+        assert!(thinned.in_sample(), "{thinned:?}");
+        // Written with one decimal, most values recur: single samples tell nothing and are
+        // not sketched; runs of eight still tell the run from another.
+        let (c, d) = (written(run(40_000, 12), 1), written(run(40_000, 13), 1));
+        let coarse = RunSketch::of(&c);
+        assert_eq!(coarse.singles, None);
+        assert!(coarse.shared_with(&c).in_sample());
+        assert!(!coarse.shared_with(&d).in_sample());
+    }
+
+    #[test]
+    fn a_stuck_stretch_is_one_value_of_the_sketch() {
+        let mut cal = run(10_000, 14);
+        for i in 2_000..6_000 {
+            cal.omega_dph[i] = 0.5;
+            cal.temp_c[i] = 22.0;
+        }
+        let sketch = RunSketch::of(&cal);
+        assert_eq!(sketch.runs.len(), SKETCH_LEN);
+        assert!(sketch.runs.windows(2).all(|w| w[0] < w[1]));
+    }
+
+    #[test]
+    fn the_text_with_single_samples_reads_back_and_nothing_else_does() {
+        let sketch = RunSketch::of(&run(2_000, 15));
+        assert!(sketch.singles.is_some());
+        let text = sketch.to_text();
+        assert_eq!(RunSketch::from_text(&text), Some(sketch));
+        let runs = &text[..16 * SKETCH_LEN];
+        let singles = &text[text.rfind('+').unwrap_or(0) + 1..];
+        for bad in [
+            format!("{runs}+0.7+{singles}"),
+            format!("{runs}+x+{singles}"),
+            format!("{runs}+0.1+"),
+            format!("{runs}+0.1+{singles}+0.1"),
+            format!("{runs}+0.1"),
+        ] {
+            assert_eq!(
+                RunSketch::from_text(&bad),
+                None,
+                "{}",
+                &bad[bad.len() - 40..]
+            );
         }
     }
 }

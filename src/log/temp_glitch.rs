@@ -129,6 +129,81 @@ pub(crate) fn find(time_s: &[f64], temp_c: &[f64]) -> Option<Glitches> {
 /// the longer of the two steps (and by [`GLITCH_LEAST_C`], and by `noise`), while those two
 /// samples agree with each other as closely: its length, and how far its farthest sample stands from the mean of
 /// the two.
+/// The longest a temperature stands away and comes back, s, told as a bad read that is no
+/// glitch: a thermal-shock transfer (a step that stays, real when the column is the chamber's
+/// air) dwells for many minutes in each zone, a sensor's bad reads last seconds.
+pub const EXCURSION_MOST_S: f64 = 60.0;
+
+/// Stretches of the temperature that no chamber makes and that are no glitch: a jump away
+/// and a jump back within [`EXCURSION_MOST_S`], each faster than a chamber moves, around
+/// more samples than [`GLITCH_MOST_SAMPLES`] (five seconds of a sensor reading 5 °C high).
+/// They are told, not dropped: the jumps are sure, which samples are wrong is not.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct Excursions {
+    /// Index of the first sample away.
+    pub first: usize,
+    /// How many excursions.
+    pub count: usize,
+    /// The largest jump, °C.
+    pub largest_c: f64,
+    /// The longest excursion, s.
+    pub longest_s: f64,
+}
+
+impl Excursions {
+    /// The problem's words, the first excursion at `place` ("line 1003").
+    pub fn message(&self, place: &str) -> String {
+        let (n, s) = (self.count, if self.count == 1 { "" } else { "s" });
+        format!(
+            "the temperature jumps away by up to {} °C and back within {} s, {n} time{s} \
+             (first at {place}), each jump faster than a chamber moves it \
+             ({FASTEST_CHAMBER_C_PER_S} °C/s): a sensor's bad reads lasting longer than a \
+             glitch; the samples are kept, check them",
+            crate::number::significant(self.largest_c, 3),
+            crate::number::significant(self.longest_s, 3),
+        )
+    }
+}
+
+/// The excursions of `temp_c` sampled at `time_s`, `None` when there is none: a step between
+/// two finite neighbours by more than a chamber moves in it (and by [`GLITCH_LEAST_C`] and
+/// [`GLITCH_NOISE_FACTOR`] typical steps, as a glitch stands out), followed within
+/// [`EXCURSION_MOST_S`] by such a step the other way.
+pub(crate) fn excursions(time_s: &[f64], temp_c: &[f64]) -> Option<Excursions> {
+    let n = temp_c.len().min(time_s.len());
+    let noise = GLITCH_NOISE_FACTOR * typical_step(&temp_c[..n]);
+    // The jumps: the sample after each, and its signed size.
+    let jumps: Vec<(usize, f64)> = (1..n)
+        .filter_map(|i| {
+            let (d, dt) = (temp_c[i] - temp_c[i - 1], time_s[i] - time_s[i - 1]);
+            let least = GLITCH_LEAST_C.max(FASTEST_CHAMBER_C_PER_S * dt).max(noise);
+            (d.is_finite() && least.is_finite() && d.abs() > least).then_some((i, d))
+        })
+        .collect();
+    let mut found: Option<Excursions> = None;
+    let mut k = 0;
+    while k + 1 < jumps.len() {
+        let ((away, up), (back, down)) = (jumps[k], jumps[k + 1]);
+        let lasted = time_s[back] - time_s[away - 1];
+        let within = lasted <= EXCURSION_MOST_S; // false for a NaN time
+        if up.signum() == down.signum() || !within {
+            k += 1;
+            continue;
+        }
+        let e = found.get_or_insert(Excursions {
+            first: away,
+            count: 0,
+            largest_c: 0.0,
+            longest_s: 0.0,
+        });
+        e.count += 1;
+        e.largest_c = e.largest_c.max(up.abs()).max(down.abs());
+        e.longest_s = e.longest_s.max(lasted);
+        k += 2;
+    }
+    found
+}
+
 /// The median of |ΔT| between neighbouring finite samples, 0 for fewer than two.
 fn typical_step(temp_c: &[f64]) -> f64 {
     let mut d: Vec<f64> = temp_c
@@ -243,5 +318,36 @@ mod tests {
         assert_eq!(find(&t, &temp), None);
         temp[5] = 127.996;
         assert_eq!(find(&t, &temp).map(|g| g.samples), Some(vec![5]));
+    }
+
+    #[test]
+    fn a_bad_read_longer_than_a_glitch_is_an_excursion_and_a_shock_is_not() {
+        // Five seconds of a sensor reading 5 °C high at 1 Hz: too long for a glitch.
+        let (t, mut temp) = ramp(300, 0.01);
+        for v in &mut temp[40..45] {
+            *v += 5.0;
+        }
+        assert_eq!(find(&t, &temp), None);
+        let e = excursions(&t, &temp).expect("an excursion");
+        assert_eq!((e.first, e.count), (40, 1));
+        // Away from 20.39 to 25.40, back from 25.44 to 20.45: 5.01 and 4.99 °C in 1 s.
+        assert!((e.largest_c - 5.01).abs() < 1e-9, "{e:?}");
+        assert_eq!(e.longest_s, 6.0);
+        // A thermal-shock transfer dwelling two minutes in the hot zone; the fastest ramp a
+        // chamber makes; a 1 °C-quantum flicker at a kilohertz; 40 °C in a minute and back.
+        let mut shock = vec![20.0; 300];
+        for v in &mut shock[100..220] {
+            *v = 60.0;
+        }
+        assert_eq!(excursions(&t, &shock), None);
+        let (t, temp) = ramp(200, FASTEST_CHAMBER_C_PER_S);
+        assert_eq!(excursions(&t, &temp), None);
+        let t: Vec<f64> = (0..1000).map(|i| i as f64 * 1e-3).collect();
+        let temp: Vec<f64> = (0..1000).map(|i| 40.0 + (i % 2) as f64).collect();
+        assert_eq!(excursions(&t, &temp), None);
+        let t: Vec<f64> = (0..10).map(|i| 60.0 * i as f64).collect();
+        let mut temp = vec![20.0; 10];
+        temp[5] = 60.0;
+        assert_eq!(excursions(&t, &temp), None);
     }
 }

@@ -294,3 +294,67 @@ fn a_unit_judged_on_a_log_of_its_own_and_other_axes_labels_each_axis() {
         "{text}"
     );
 }
+
+/// The calibration log less some rows: a copy thinned to every other row (a 1 Hz logger
+/// kept at 0.5 Hz), and one whose reader left out the rows with a blank temperature (one in
+/// eight). No run of eight consecutive samples survives the first, few the second; every
+/// sample does, and each is all the calibration log's.
+#[test]
+fn a_copy_less_some_rows_is_in_sample() {
+    let dir = tempfile::tempdir().unwrap();
+    let cal = p(dir.path(), "cal.json");
+    ok(&["calibrate", &sample("calibration.csv"), "-o", &cal]);
+    let text = std::fs::read_to_string(sample("calibration.csv")).unwrap();
+    let rows: Vec<&str> = text.lines().filter(|l| !l.starts_with('#')).collect();
+    let thinned: String = rows
+        .iter()
+        .enumerate()
+        .filter(|(i, _)| *i == 0 || i % 2 == 1)
+        .map(|(_, l)| format!("{l}\n"))
+        .collect();
+    let blanked: String = rows
+        .iter()
+        .enumerate()
+        .map(|(i, l)| {
+            if i > 0 && i % 8 == 5 {
+                // time, rate, temperature (blank), chamber
+                let cells: Vec<&str> = l.split(',').collect();
+                format!("{},{},,{}\n", cells[0], cells[1], cells[3])
+            } else {
+                format!("{l}\n")
+            }
+        })
+        .collect();
+    for (name, body, label) in [
+        (
+            "thinned.csv",
+            thinned,
+            "a part of the calibration log, about",
+        ),
+        (
+            "blanked.csv",
+            blanked,
+            "in-sample: a part of the calibration log",
+        ),
+    ] {
+        std::fs::write(dir.path().join(name), body).unwrap();
+        let log = p(dir.path(), name);
+        let json: serde_json::Value =
+            serde_json::from_str(&ok(&["evaluate", &cal, &log, "--json"])).unwrap();
+        assert_eq!(json["in_sample"], true, "{name}");
+        assert_eq!(json["in_sample_share"], 1.0, "{name}");
+        let words = ok(&["evaluate", &cal, &log]);
+        assert!(words.contains(label), "{name}: {}", &words[..200]);
+    }
+    // Another run, thinned the same way, is still held out.
+    let other = std::fs::read_to_string(sample("validation.csv")).unwrap();
+    let other: String = other
+        .lines()
+        .filter(|l| !l.starts_with('#'))
+        .enumerate()
+        .filter(|(i, _)| *i == 0 || i % 2 == 1)
+        .map(|(_, l)| format!("{l}\n"))
+        .collect();
+    std::fs::write(dir.path().join("other.csv"), other).unwrap();
+    assert!(!evaluate_in_sample(&cal, &p(dir.path(), "other.csv")));
+}

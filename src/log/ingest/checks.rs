@@ -395,6 +395,18 @@ fn unread_temperatures(
         });
         unread(acc, drop, &g.samples);
     }
+    let excursions =
+        crate::log::temp_glitch::excursions(&acc.cols[SLOT_TIME], &acc.cols[SLOT_TEMP]);
+    if let Some(j) = excursions {
+        let line = acc.line_of(row_of(drop, j.first));
+        problems.push(Problem {
+            line,
+            column,
+            kind: ProblemKind::Implausible,
+            count: j.count,
+            message: j.message(&format!("line {line}")),
+        });
+    }
     let first_extra = SLOT_TEMP + 1 + plan.axes.len();
     let extras: Vec<(&str, &[f64])> = plan
         .extras

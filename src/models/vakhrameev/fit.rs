@@ -211,6 +211,7 @@ impl Pipeline {
                 omega_filtered_dph: Vec::new(),
                 deriv,
                 segments: timing.segments.clone(),
+                source: std::sync::OnceLock::new(),
             },
             ranges,
             recipe: recipe.clone(),

@@ -124,6 +124,10 @@ pub struct Prepared {
     pub deriv: Derivatives,
     /// The log's contiguous segments: every filter and derivative stays inside one.
     pub segments: Vec<std::ops::Range<usize>>,
+    /// The log's identity as a calibration records it ([`SourceInfo::of`]), made by the first
+    /// calibration assembled on these signals and kept: its sketch of a million samples takes
+    /// some 25 ms, more than a live refit's whole budget.
+    pub source: std::sync::OnceLock<SourceInfo>,
 }
 
 impl Prepared {
@@ -148,6 +152,7 @@ impl Prepared {
             omega_filtered_dph,
             deriv,
             segments,
+            source: std::sync::OnceLock::new(),
         }
     }
 }
@@ -306,7 +311,7 @@ impl Calibration {
             .unwrap_or(DerivativeSteps { smooth: 1, step: 1 });
         Calibration {
             gyro_id: recipe.gyro_id.clone(),
-            source: SourceInfo::of(log),
+            source: prepared.source.get_or_init(|| SourceInfo::of(log)).clone(),
             created: now_rfc3339(),
             recipe: recipe.clone(),
             resolved: Resolved {

@@ -40,15 +40,15 @@ impl SourceInfo {
             samples: log.len(),
             duration_s: log.duration_s(),
             run: String::new(),
-            samples_sketch: RunSketch::of(log).to_hex(),
+            samples_sketch: RunSketch::of(log).to_text(),
         }
     }
 
     /// How much of `log` is this calibration's run, by its samples' sketch; `None` for a
     /// file written before sketches were kept.
     pub fn shared_with(&self, log: &Log) -> Option<Shared> {
-        let sketch = RunSketch::from_hex(&self.samples_sketch).filter(|s| !s.is_empty())?;
-        Some(sketch.shared_with(log, self.samples))
+        let sketch = RunSketch::from_text(&self.samples_sketch).filter(|s| !s.is_empty())?;
+        Some(sketch.shared_with(log))
     }
 
     /// Whether `log`, read from a file whose bytes hash to `file_sha256` and named
@@ -102,12 +102,13 @@ impl SourceInfo {
         }
         // Their digits are not checked (a file whose hash was damaged still corrects; the
         // report then finds no log with that hash), but they are printed as they stand.
-        if !self.samples_sketch.is_empty() && RunSketch::from_hex(&self.samples_sketch).is_none() {
+        if !self.samples_sketch.is_empty() && RunSketch::from_text(&self.samples_sketch).is_none() {
             return Err(Invalid::new(
                 "source.samples_sketch",
                 format!(
                     "is not a sketch of a run's samples (at most {} ascending hashes of 16 \
-                     hexadecimal digits each)",
+                     hexadecimal digits each, then optionally `+`, a share from 0 to 0.5, `+` \
+                     and as many more)",
                     crate::log::run_sketch::SKETCH_LEN
                 ),
             ));
