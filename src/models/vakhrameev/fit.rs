@@ -270,6 +270,8 @@ impl Pipeline {
         }
         let p = &mut self.prepared;
         p.filter_samples = signal::seconds_to_samples(recipe.filter_s, p.dt_s);
+        // Another axis is other samples: the identity kept is the last axis's.
+        p.source = std::sync::OnceLock::new();
         let omega_filtered_dph = omega_filtered_dph.unwrap_or_else(|| {
             signal::moving_average_centered_in(&log.omega_dph, p.filter_samples, &p.segments)
         });
