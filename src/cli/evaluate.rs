@@ -85,6 +85,16 @@ fn judged_json(a: &Args, j: &AxisJudged) -> serde_json::Value {
             .share
             .filter(|s| j.in_sample && s.in_sample())
             .map(|s| s.share_of_log),
+        // What the samples' sketch found, whatever the label: the share of the log that is
+        // the calibration log's (held-out logs that share some too), and the share of the
+        // calibration log it holds; null when it found none, or the file keeps no sketch.
+        "shared": j
+            .share
+            .filter(|s| s.in_sample() || s.partly().is_some())
+            .map(|s| serde_json::json!({
+                "share_of_log": s.share_of_log,
+                "share_of_calibration_log": s.share_of_run(),
+            })),
         "options": j.opts,
         "evaluation": j.eval,
     })

@@ -339,7 +339,7 @@ impl Log {
     /// be in-sample ([`run_sketch`]): the whole run under other bytes, or a part of it.
     pub fn same_run(&self, other: &Log) -> bool {
         run_sketch::RunSketch::of(self)
-            .shared_with(other)
+            .shared_with(other, self.len())
             .in_sample()
     }
 

@@ -343,6 +343,17 @@ fn a_copy_less_some_rows_is_in_sample() {
             serde_json::from_str(&ok(&["evaluate", &cal, &log, "--json"])).unwrap();
         assert_eq!(json["in_sample"], true, "{name}");
         assert_eq!(json["in_sample_share"], 1.0, "{name}");
+        // The share of the calibration log it holds: its samples counted, as every one of
+        // them is the calibration log's (the file records the calibration log's count).
+        let rows_kept = std::fs::read_to_string(dir.path().join(name))
+            .unwrap()
+            .lines()
+            .filter(|l| !l.contains(",,"))
+            .count()
+            - 1;
+        let want = rows_kept as f64 / (rows.len() - 1) as f64;
+        let got = json["shared"]["share_of_calibration_log"].as_f64().unwrap();
+        assert!((got - want).abs() < 1e-3, "{name}: {got} against {want}");
         let words = ok(&["evaluate", &cal, &log]);
         assert!(words.contains(label), "{name}: {}", &words[..200]);
     }
@@ -357,4 +368,16 @@ fn a_copy_less_some_rows_is_in_sample() {
         .collect();
     std::fs::write(dir.path().join("other.csv"), other).unwrap();
     assert!(!evaluate_in_sample(&cal, &p(dir.path(), "other.csv")));
+    // The validation log repeats the calibration run's first hour: held out, its share told
+    // in JSON as in words.
+    let json: serde_json::Value = serde_json::from_str(&ok(&[
+        "evaluate",
+        &cal,
+        &sample("validation.csv"),
+        "--json",
+    ]))
+    .unwrap();
+    assert_eq!(json["in_sample"], false);
+    let share = json["shared"]["share_of_log"].as_f64().unwrap();
+    assert!((0.03..0.15).contains(&share), "{share}");
 }

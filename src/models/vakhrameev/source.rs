@@ -48,7 +48,7 @@ impl SourceInfo {
     /// file written before sketches were kept.
     pub fn shared_with(&self, log: &Log) -> Option<Shared> {
         let sketch = RunSketch::from_text(&self.samples_sketch).filter(|s| !s.is_empty())?;
-        Some(sketch.shared_with(log))
+        Some(sketch.shared_with(log, self.samples))
     }
 
     /// Whether `log`, read from a file whose bytes hash to `file_sha256` and named
@@ -107,8 +107,9 @@ impl SourceInfo {
                 "source.samples_sketch",
                 format!(
                     "is not a sketch of a run's samples (at most {} ascending hashes of 16 \
-                     hexadecimal digits each, then optionally `+`, a share from 0 to 0.5, `+` \
-                     and as many more)",
+                     hexadecimal digits each, then optionally `+`, the chance of a recurring \
+                     value per bin of temperature as `T0:WIDTH:` and a byte a bin, `+` and \
+                     as many hashes more)",
                     crate::log::run_sketch::SKETCH_LEN
                 ),
             ));
