@@ -164,6 +164,22 @@ fn gui(a: GuiArgs) -> Result<(), String> {
                 .into(),
         );
     }
+    // The screenshot is written over nothing the workbench opens (nor a file named `-`), as
+    // every other output is.
+    if let Some(shot) = &a.screenshot {
+        let mut reads = common::Reads::default();
+        if let Some(log) = &a.log {
+            reads.add(if session { "the session" } else { "the log" }, log);
+        }
+        if let Some(v) = &a.validation {
+            reads.add("the validation log", v);
+        }
+        if let Err(common::CliError::Message(m)) =
+            common::refuse_outputs(&[("--screenshot", shot)], &reads)
+        {
+            return Err(m);
+        }
+    }
     let window_size = match &a.window_size {
         Some(s) => Some(driftlab::gui::parse_size(s).ok_or_else(|| {
             format!(

@@ -235,3 +235,34 @@ fn a_dash_output_is_standard_output_for_export_and_refused_elsewhere() {
     assert_eq!(dash.stdout, plain.stdout);
     assert!(!d.join("-").exists());
 }
+
+#[cfg(feature = "gui")]
+/// The workbench's `--screenshot` is an output as every other: never the log it opens, its
+/// validation log, nor a file named `-`. Refused before any window opens, so no display is
+/// needed.
+#[test]
+fn the_workbench_screenshot_is_never_the_log_it_opens() {
+    let dir = tempfile::tempdir().unwrap();
+    let (log, val) = (p(dir.path(), "run.csv"), p(dir.path(), "val.csv"));
+    std::fs::copy(sample("calibration.csv"), &log).unwrap();
+    std::fs::copy(sample("validation.csv"), &val).unwrap();
+    let link = p(dir.path(), "link.png");
+    std::os::unix::fs::symlink(&log, &link).unwrap();
+    let before = bytes(&[&log, &val]);
+    for (out, words) in [
+        (&log, "this is the log the command reads"),
+        (&link, "this is the log the command reads"),
+        (&val, "this is the validation log the command reads"),
+    ] {
+        let args = ["gui", &log, "--validation", &val, "--screenshot", out];
+        refused(&args, &driftlab(&args), &["--screenshot", words]);
+    }
+    let args = ["gui", &log, "--screenshot", "-"];
+    refused(
+        &args,
+        &driftlab(&args),
+        &["--screenshot -", "writes a file"],
+    );
+    assert_eq!(bytes(&[&log, &val]), before);
+    assert!(!dir.path().join("-").exists());
+}

@@ -722,4 +722,20 @@ fn names_that_would_reorder_the_page_are_escaped() {
     }
     assert!(html.contains("run\\u202evsc.exe\\u2028\\u001b[2J.csv"));
     assert!(html.contains("held\\u202eout.csv"));
+
+    // The calibration's own log under such a name: in-sample, its name in the captions of
+    // the figures that draw its points.
+    let own = dir.path().join("cal\u{1b}[2J\u{202e}.csv");
+    std::fs::copy(sample("calibration.csv"), &own).unwrap();
+    let logs = vec![(own.clone(), read(&own))];
+    let out = dir.path().join("report-own");
+    report::write(calibration(), &logs, &out, &ReportOptions::default()).unwrap();
+    let html = std::fs::read_to_string(out.join("report.html")).unwrap();
+    assert!(
+        html.contains("pointwise values on the calibration log cal\\u001b[2J\\u202e.csv"),
+        "the caption names the log escaped"
+    );
+    for c in ['\u{202e}', '\u{1b}'] {
+        assert!(!html.contains(c), "{:?} reached the page", c);
+    }
 }

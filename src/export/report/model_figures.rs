@@ -88,7 +88,7 @@ fn vakhrameev(
     let source_note = match own {
         Some(i) => format!(
             "Dots: the pointwise values on the calibration log {} (thinned for drawing).",
-            file_name(&logs[i].0)
+            crate::text::escaped(&file_name(&logs[i].0), false)
         ),
         None => {
             notes.push(format!(

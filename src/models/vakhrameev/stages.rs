@@ -20,7 +20,76 @@ pub fn fit_k0(
     }
     let t: Vec<f64> = plateaus.iter().map(|p| p.temp_c).collect();
     let w: Vec<f64> = plateaus.iter().map(|p| p.omega_dph).collect();
+    let temps = distinct_temperatures(&t);
+    if temps.len() < spec.params() && temps.len() < plateaus.len() {
+        // Two plateaus at one set point are one temperature twice: a parabola through them
+        // and a third takes its curvature from their hundredths of a degree, and bulges where
+        // no plateau was (7.5 °/h between plateaus of 0.03 and 0.15).
+        let simpler = simpler_for(spec, temps.len());
+        let (kind, params) = match &simpler {
+            Some(s) => (s.kind.to_string(), s.params()),
+            None => ("a constant".to_string(), 1),
+        };
+        warnings.push(format!(
+            "K0: {} with {} parameters asked for through {} plateaus at only {} temperatures \
+             ({} °C): between them the curve is not known; fitted as {} with {} parameters \
+             instead. Hold a plateau at another temperature to fit it",
+            spec.kind,
+            spec.params(),
+            plateaus.len(),
+            temps.len(),
+            temps
+                .iter()
+                .map(|t| crate::number::significant(*t, 3))
+                .collect::<Vec<_>>()
+                .join(", "),
+            kind,
+            params
+        ));
+        return Ok(match simpler {
+            Some(simpler) => fit_or_fallback("K0", &simpler, &t, &w, warnings),
+            None => constant(spec, &t, &w),
+        });
+    }
     Ok(fit_or_fallback("K0", spec, &t, &w, warnings))
+}
+
+/// How far apart two plateaus' temperatures must be to be two temperatures of K0(T), °C:
+/// plateaus held at one set point differ by hundredths of a degree (the chamber's control),
+/// set points by degrees.
+pub const DISTINCT_PLATEAU_C: f64 = 1.0;
+
+/// The plateaus' temperatures, ascending, those within [`DISTINCT_PLATEAU_C`] of the one
+/// before taken as one (their first).
+fn distinct_temperatures(t: &[f64]) -> Vec<f64> {
+    let mut sorted: Vec<f64> = t.iter().copied().filter(|t| t.is_finite()).collect();
+    sorted.sort_by(f64::total_cmp);
+    let mut out: Vec<f64> = Vec::new();
+    for t in sorted {
+        if out.last().is_none_or(|&last| t - last > DISTINCT_PLATEAU_C) {
+            out.push(t);
+        }
+    }
+    out
+}
+
+/// The richest curve of `spec`'s family that `temps` distinct temperatures determine: as many
+/// knots, else a line through two; `None` for one, which determines a constant.
+fn simpler_for(spec: &ApproxSpec, temps: usize) -> Option<ApproxSpec> {
+    if temps < 2 {
+        return None;
+    }
+    Some(if spec.kind.has_knots() {
+        ApproxSpec {
+            knots: temps,
+            ..*spec
+        }
+    } else {
+        ApproxSpec {
+            kind: ApproxKind::Linear,
+            ..*spec
+        }
+    })
 }
 
 /// Fits `spec`, and when the points cannot support it, the richest simpler curve they can:
@@ -117,12 +186,30 @@ pub fn fit_or_fallback_weighted(
             return a;
         }
     }
+    let a = constant(spec, &xs, &ys);
+    warnings.push(format!(
+        "{name}: {got} usable point(s), held constant at {:.6}",
+        a.eval(xs[0])
+    ));
+    a
+}
+
+/// The mean of the finite `ys` over the range of their `xs`, held constant, as `spec`'s kind
+/// (zero when no point is finite).
+fn constant(spec: &ApproxSpec, xs: &[f64], ys: &[f64]) -> Approx {
+    let (xs, ys): (Vec<f64>, Vec<f64>) = xs
+        .iter()
+        .zip(ys)
+        .filter(|(x, y)| x.is_finite() && y.is_finite())
+        .map(|(x, y)| (*x, *y))
+        .unzip();
+    if xs.is_empty() {
+        return Approx::zero(spec.kind);
+    }
+    let got = xs.len();
     let mean = ys.iter().sum::<f64>() / got as f64;
     let lo = xs.iter().copied().fold(f64::INFINITY, f64::min);
     let hi = xs.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-    warnings.push(format!(
-        "{name}: {got} usable point(s), held constant at {mean:.6}"
-    ));
     let stats = approx::FitStats {
         n: got,
         rmse: 0.0,
