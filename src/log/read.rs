@@ -591,13 +591,12 @@ fn drop_temperature_glitches(
     let Some(g) = super::temp_glitch::find(time_s, &temp) else {
         return;
     };
-    let first = rows[g.samples[0]] + 1;
     problems.push(Problem {
-        line: first,
+        line: rows[g.samples[0]] + 1,
         column: None,
         kind: ProblemKind::Implausible,
         count: g.count,
-        message: g.message(&format!("sample {first}"), true),
+        message: g.message("sample", |k| rows[k] + 1, true),
     });
     let mut glitch = vec![false; rows.len()];
     for &k in &g.samples {

@@ -104,6 +104,85 @@ fn a_bad_read_of_the_thermometer_is_told_and_read_as_missing() {
 }
 
 #[test]
+fn a_bad_read_at_the_logs_first_or_last_samples_is_told_and_read_as_missing() {
+    // The 85 °C a 1-wire sensor reads at power-up as the first sample; 127.996 °C (0x7FFF/256)
+    // as the last two.
+    let n = 3000;
+    let bad = |i: usize| match i {
+        0 => Some(85.0),
+        i if i + 2 >= n => Some(127.996),
+        _ => None,
+    };
+    let text = csv(n, |i| bad(i).unwrap_or_else(|| temp_of(i)), temp_of);
+    let log = read_bytes("e.csv", text.as_bytes(), &ReadOptions::default()).unwrap();
+    assert_eq!(log.len(), n - 3);
+    assert_eq!(log.time_s.first(), Some(&1.0));
+    assert_eq!(log.time_s.last(), Some(&((n - 3) as f64)));
+    assert!(log.temp_c.iter().all(|&t| t < 60.0));
+    let p = told(&log, "the temperature jumps by");
+    assert_eq!(p.len(), 1, "{:?}", log.info.problems);
+    let (first, last) = (HEADER_LINES + 1, HEADER_LINES + n);
+    assert_eq!((p[0].line, p[0].column), (first, Some(3)));
+    assert_eq!((p[0].kind, p[0].count), (ProblemKind::Implausible, 2));
+    for words in [
+        format!(
+            "at the log's start (line {first}) and at its end (lines {} to {last})",
+            last - 1
+        ),
+        "read as missing".to_string(),
+    ] {
+        assert!(
+            p[0].message.contains(&words),
+            "{words:?} not in {}",
+            p[0].message
+        );
+    }
+
+    // The same in a drone log: its first sample reads 85 °C.
+    let time: Vec<f64> = (0..400).map(|i| i as f64).collect();
+    let gyro = vec![[0.001f32, -0.002, 0.003]; 400];
+    let temp: Vec<f32> = (0..400)
+        .map(|i| if i == 0 { 85.0 } else { temp_of(i) as f32 })
+        .collect();
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("e.ulg");
+    std::fs::write(&path, ulog(&time, &gyro, &temp, 7)).unwrap();
+    let any = read::read_any(&path, &ReadOptions::default(), &FormatChoice::default()).unwrap();
+    assert_eq!(any.log.len(), 399);
+    let p = told(&any.log, "the temperature jumps by");
+    assert_eq!(p.len(), 1, "{:?}", any.log.info.problems);
+    assert!(
+        p[0].message.contains("at the log's start (sample 1)"),
+        "{}",
+        p[0].message
+    );
+}
+
+#[test]
+fn a_log_starting_and_ending_on_a_fast_ramp_has_no_glitch() {
+    // 1 °C/s from the first sample to the last, 60 °C a minute (the fastest a chamber goes),
+    // and 3 °C/s; at 1 Hz and at 10 Hz.
+    for (rate, hz) in [(1.0, 1.0), (-1.0, 1.0), (3.0, 1.0), (1.0, 10.0)] {
+        let mut text = String::from("time_s,omega_dph,temp_c\n");
+        for i in 0..200 {
+            let t = i as f64 / hz;
+            text.push_str(&format!(
+                "{t},{:.4},{:.3}\n",
+                0.01 * (i % 7) as f64,
+                20.0 + rate * t
+            ));
+        }
+        let log = read_bytes("r.csv", text.as_bytes(), &ReadOptions::default()).unwrap();
+        assert!(
+            told(&log, "jumps").is_empty(),
+            "{rate} °C/s at {hz} Hz: {:?}",
+            log.info.problems
+        );
+        assert_eq!(log.len(), 200);
+    }
+}
+
+#[test]
 fn two_bad_reads_in_a_row_are_one_glitch() {
     let n = 1000;
     let text = csv(

@@ -385,13 +385,13 @@ fn unread_temperatures(
         }
     };
     if let Some(g) = crate::log::temp_glitch::find(&acc.cols[SLOT_TIME], &acc.cols[SLOT_TEMP]) {
-        let line = acc.line_of(row_of(drop, g.samples[0]));
+        let line_of = |k: usize| acc.line_of(row_of(drop, k));
         problems.push(Problem {
-            line,
+            line: line_of(g.samples[0]),
             column,
             kind: ProblemKind::Implausible,
             count: g.count,
-            message: g.message(&format!("line {line}"), required),
+            message: g.message("line", line_of, required),
         });
         unread(acc, drop, &g.samples);
     }
