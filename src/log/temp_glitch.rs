@@ -342,8 +342,10 @@ pub(crate) fn excursions(time_s: &[f64], temp_c: &[f64]) -> Option<Excursions> {
     found
 }
 
-/// The median of |ΔT| between neighbouring finite samples, 0 for fewer than two.
-fn typical_step(temp_c: &[f64]) -> f64 {
+/// The median of |ΔT| between neighbouring finite samples, 0 for fewer than two: how far a
+/// column moves from sample to sample by its noise, which a glitch or a fast stretch
+/// ([`super::temp_rate`]) must stand out from.
+pub(crate) fn typical_step(temp_c: &[f64]) -> f64 {
     let mut d: Vec<f64> = temp_c
         .windows(2)
         .map(|w| (w[1] - w[0]).abs())

@@ -2,7 +2,9 @@
 //! one-sample glitches of the sensor (a bad register read, 127.996 °C between two samples near
 //! 25 °C), and a sensor stuck at one value while the chamber's temperature moves. Neither fires
 //! on a real temperature: a fast ramp, a step that stays, a quantised MEMS sensor's flicker at a
-//! kilohertz, every simulated profile, the real drone logs.
+//! kilohertz, every simulated profile, the real drone logs. A temperature moving faster than
+//! any chamber moves a gyro's over a stretch is told by one rule in both readers (the time
+//! column's unit is tested in `time_scale.rs`); no sample log, profile or drone log fires it.
 
 use crate::common;
 use common::drone::{DATAFLASH, ULOG, data_dir, ulog};
@@ -264,12 +266,70 @@ fn no_simulated_profile_has_a_glitch_or_a_stuck_temperature() {
         run.write_csv(&path).unwrap();
         let log = read_path(&path, &ReadOptions::default()).unwrap();
         assert!(
-            told(&log, "jumps").is_empty() && told(&log, "holds one value").is_empty(),
+            told(&log, "jumps").is_empty()
+                && told(&log, "holds one value").is_empty()
+                && told(&log, FASTER).is_empty(),
             "{name}: {:?}",
             log.info.problems
         );
         assert_eq!(log.len(), run.len(), "{name}");
     }
+}
+
+/// The words of the problem of a temperature moving faster than any chamber moves a gyro's.
+const FASTER: &str = "faster than any chamber moves a gyro's temperature";
+
+#[test]
+fn no_bundled_sample_log_has_a_glitch_or_moves_faster_than_a_chamber() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("sample_logs");
+    let mut logs = 0;
+    for entry in std::fs::read_dir(dir).unwrap().flatten() {
+        let path = entry.path();
+        if path.extension().is_none_or(|e| e != "csv") {
+            continue;
+        }
+        let log = read_path(&path, &ReadOptions::default()).unwrap();
+        assert!(
+            told(&log, "jumps").is_empty() && told(&log, FASTER).is_empty(),
+            "{}: {:?}",
+            path.display(),
+            log.info.problems
+        );
+        logs += 1;
+    }
+    assert!(logs >= 10, "{logs} sample logs");
+}
+
+#[test]
+fn a_drone_log_whose_temperature_moves_faster_than_a_chamber_is_told_by_the_same_rule() {
+    // A PX4 ULog at 1 Hz, its temperature held at 25 °C, then from sample 201 (1-based) a
+    // ramp at 1 °C/s for 100 s: no chamber's, though each step (1 °C) is no glitch.
+    let n = 600;
+    let time: Vec<f64> = (0..n).map(|i| i as f64).collect();
+    let gyro = vec![[0.001f32, -0.002, 0.003]; n];
+    let temp: Vec<f32> = (0..n)
+        .map(|i| 25.0 + (i as f32 - 200.0).clamp(0.0, 100.0))
+        .collect();
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("f.ulg");
+    std::fs::write(&path, ulog(&time, &gyro, &temp, 7)).unwrap();
+    let any = read::read_any(&path, &ReadOptions::default(), &FormatChoice::default()).unwrap();
+    assert_eq!(any.log.len(), n, "the samples are kept");
+    let p = told(&any.log, FASTER);
+    assert_eq!(p.len(), 1, "{:?}", any.log.info.problems);
+    assert!(told(&any.log, "jumps").is_empty());
+    assert_eq!(p[0].count, 1);
+    // The first block past the ramp's start: blocks of five samples, measured from their
+    // middles.
+    assert!((199..=206).contains(&p[0].line), "{:?}", p[0]);
+    assert!(
+        p[0].message.contains("up to 1 °C/s (60 °C/min)")
+            && p[0]
+                .message
+                .contains(&format!("first at sample {}", p[0].line)),
+        "{}",
+        p[0].message
+    );
 }
 
 #[test]
@@ -287,7 +347,7 @@ fn no_real_drone_log_has_a_glitch() {
             )
             .unwrap();
             assert!(
-                told(&any.log, "jumps").is_empty(),
+                told(&any.log, "jumps").is_empty() && told(&any.log, FASTER).is_empty(),
                 "{rel} gyro {k}: {:?}",
                 any.log.info.problems
             );
@@ -303,7 +363,10 @@ fn no_real_drone_log_has_a_glitch() {
             continue;
         };
         if let Ok(log) = read_path(&path, &ReadOptions::default()) {
-            assert!(told(&log, "jumps").is_empty(), "{csv}");
+            assert!(
+                told(&log, "jumps").is_empty() && told(&log, FASTER).is_empty(),
+                "{csv}"
+            );
         }
     }
 }
