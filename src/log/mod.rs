@@ -13,6 +13,7 @@ pub mod read;
 pub mod resample;
 pub mod run_sketch;
 pub(crate) mod temp_glitch;
+pub(crate) mod temp_rate;
 
 use serde::{Deserialize, Serialize};
 

@@ -457,6 +457,7 @@ pub fn from_recording(
     if !keep_nan_temp {
         drop_temperature_glitches(&sel.temp_c, &mut time_s, &mut rows, &mut problems);
         tell_temperature_excursions(&sel.temp_c, &time_s, &rows, &mut problems);
+        tell_fast_temperature(&sel.temp_c, &time_s, &rows, &mut problems);
     }
     let pick = |v: &formats::Values, scale: f64| -> Vec<f64> {
         rows.iter().map(|&i| v.get(i) * scale).collect()
@@ -591,13 +592,12 @@ fn drop_temperature_glitches(
     let Some(g) = super::temp_glitch::find(time_s, &temp) else {
         return;
     };
-    let first = rows[g.samples[0]] + 1;
     problems.push(Problem {
-        line: first,
+        line: rows[g.samples[0]] + 1,
         column: None,
         kind: ProblemKind::Implausible,
         count: g.count,
-        message: g.message(&format!("sample {first}"), true),
+        message: g.message("sample", |k| rows[k] + 1, true),
     });
     let mut glitch = vec![false; rows.len()];
     for &k in &g.samples {
@@ -629,6 +629,33 @@ fn tell_temperature_excursions(
         kind: ProblemKind::Implausible,
         count: j.count,
         message: j.message(&format!("sample {first}")),
+    });
+}
+
+/// Tells the stretches where the temperature moves faster than any chamber moves a gyro's
+/// ([`super::temp_rate`], the CSV reader's rule), with a problem naming the first; the samples
+/// are kept. A format's time stamps state their unit, so no other unit is offered: the stamps
+/// or the temperature chosen are to be checked.
+fn tell_fast_temperature(
+    temp_c: &formats::Values,
+    time_s: &[f64],
+    rows: &[usize],
+    problems: &mut Vec<Problem>,
+) {
+    let temp: Vec<f64> = rows.iter().map(|&i| temp_c.get(i)).collect();
+    let Some(f) = super::temp_rate::find(time_s, &temp) else {
+        return;
+    };
+    let first = rows[f.first] + 1;
+    problems.push(Problem {
+        line: first,
+        column: None,
+        kind: ProblemKind::Implausible,
+        count: f.count,
+        message: f.message(
+            &format!("sample {first}"),
+            "check the log's time stamps and the temperature it is read from (temp_from)",
+        ),
     });
 }
 

@@ -15,6 +15,17 @@
 //! a flicker of one step and back) are well below [`GLITCH_LEAST_C`]; a column noisier than
 //! that (raw counts taken for a temperature) must stand out by [`GLITCH_NOISE_FACTOR`] times
 //! its typical step.
+//!
+//! At the log's first or last samples there is no neighbour on the far side, yet that is where
+//! the commonest bad reads are: the 85 °C of a 1-wire sensor at power-up is a log's first
+//! sample, a register read as the logger stops its last. There a run of one to
+//! [`GLITCH_MOST_SAMPLES`] samples is a glitch when the [`EDGE_WITNESSES`] samples after it
+//! (before it, at the end) continue each other on a straight line and the run stands away from
+//! that line, on one side, by the same bounds as a glitch inside the log stands away from its
+//! two neighbours. The line, not the nearest sample, is the reference, so that a log starting
+//! (or ending) on a ramp, however fast, is never one: its first samples continue the line. A
+//! step that stays, taken at the very first sample (a thermal-shock transfer as the log
+//! starts), cannot be told from a bad read there; it costs the one sample before it.
 
 /// The fastest a chamber moves a gyro's temperature, °C/s: 60 °C a minute, beyond any thermal
 /// chamber (`models::recipe::MAX_DEADBAND_TDOT` is the same bound, for the dead-band on Ṫ).
@@ -38,13 +49,23 @@ pub const GLITCH_NOISE_FACTOR: f64 = 10.0;
 /// is a stretch of the log, not a read.
 pub const GLITCH_MOST_SAMPLES: usize = 3;
 
+/// How many samples next to a run at a log's edge must continue each other for the run to be
+/// judged: three, so that they make a line (two points make any) and one of them being a bad
+/// read itself shows as a disagreement, not as a reference.
+pub const EDGE_WITNESSES: usize = 3;
+
 /// The glitches of a temperature series.
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) struct Glitches {
     /// Indices of the samples read as glitches, increasing.
     pub samples: Vec<usize>,
-    /// How many glitches (runs of one to [`GLITCH_MOST_SAMPLES`] samples).
+    /// How many glitches (runs of one to [`GLITCH_MOST_SAMPLES`] samples), those at the
+    /// edges included.
     pub count: usize,
+    /// Samples of the glitch at the log's start (the first of `samples`), 0 for none.
+    pub start: usize,
+    /// Samples of the glitch at the log's end (the last of `samples`), 0 for none.
+    pub end: usize,
     /// The longest run, in samples.
     pub longest: usize,
     /// The smallest and largest jump, °C (how far a glitch stands from its neighbours'
@@ -53,10 +74,11 @@ pub(crate) struct Glitches {
 }
 
 impl Glitches {
-    /// The problem's words: how many, how large, where the first is (`place`, "line 1003" or
-    /// "sample 1003"), and what was done with them (`dropped`: the rows dropped, else their
-    /// temperature is NaN).
-    pub fn message(&self, place: &str, dropped: bool) -> String {
+    /// The problem's words: how many, how large, where the first inside the log is and where
+    /// those at its edges are (`what` "line" or "sample", `number` the line or sample number
+    /// of a sample's index), and what was done with them (`dropped`: the rows dropped, else
+    /// their temperature is NaN).
+    pub fn message(&self, what: &str, number: impl Fn(usize) -> usize, dropped: bool) -> String {
         let size = |v: f64| crate::number::significant(v, 3);
         let (lo, hi) = self.jump_c;
         let by = if hi - lo <= 0.1 * hi {
@@ -64,11 +86,49 @@ impl Glitches {
         } else {
             format!("{} to {}", size(lo), size(hi))
         };
-        let (n, s) = (self.count, if self.count == 1 { "" } else { "s" });
         let for_how_long = if self.longest == 1 {
             "for one sample".to_string()
         } else {
             format!("for at most {} samples", self.longest)
+        };
+        // Where: inside the log ("and back", as many times as it did), at its start, at its
+        // end.
+        let places = |first: usize, len: usize| {
+            let (a, b) = (number(first), number(first + len - 1));
+            if len == 1 {
+                format!("{what} {a}")
+            } else {
+                format!("{what}s {a} to {b}")
+            }
+        };
+        let edges = usize::from(self.start > 0) + usize::from(self.end > 0);
+        let inside = self.count - edges;
+        let mut wheres = Vec::new();
+        if inside > 0 {
+            let s = if inside == 1 { "" } else { "s" };
+            let first = self.samples.get(self.start).map_or(0, |&k| number(k));
+            wheres.push(format!(
+                "and back, {inside} time{s} (first at {what} {first})"
+            ));
+        }
+        if self.start > 0 {
+            let first = self.samples.first().copied().unwrap_or(0);
+            wheres.push(format!(
+                "at the log's start ({})",
+                places(first, self.start)
+            ));
+        }
+        if self.end > 0 {
+            let first = self.samples[self.samples.len().saturating_sub(self.end)];
+            let which = if self.start > 0 { "its" } else { "the log's" };
+            wheres.push(format!("at {which} end ({})", places(first, self.end)));
+        }
+        let wheres = match wheres.len() {
+            0 | 1 => wheres.concat(),
+            _ => {
+                let last = wheres.pop().unwrap_or_default();
+                format!("{} and {last}", wheres.join(", "))
+            }
         };
         let rows = self.samples.len();
         let done = if dropped {
@@ -85,50 +145,128 @@ impl Glitches {
             "their temperature is read as missing (not a number)".to_string()
         };
         format!(
-            "the temperature jumps by {by} °C {for_how_long} and back, {n} time{s} (first at \
-             {place}): a bad read of the sensor, not the chamber, which moves the temperature \
-             by less than {FASTEST_CHAMBER_C_PER_S} °C/s; {done}"
+            "the temperature jumps by {by} °C {for_how_long} {wheres}: a bad read of the \
+             sensor, not the chamber, which moves the temperature by less than \
+             {FASTEST_CHAMBER_C_PER_S} °C/s; {done}"
         )
     }
 }
 
-/// The glitches of `temp_c` sampled at `time_s` (same length), `None` when there is none.
+/// The glitches of `temp_c` sampled at `time_s` (same length), `None` when there is none:
+/// runs standing away from two agreeing neighbours inside the log, and runs standing away
+/// from the line of the samples next to them at its first and last samples.
 /// NaN samples are no glitch and no neighbour: a run next to one is not judged.
 pub(crate) fn find(time_s: &[f64], temp_c: &[f64]) -> Option<Glitches> {
     let n = temp_c.len().min(time_s.len());
     let noise = GLITCH_NOISE_FACTOR * typical_step(&temp_c[..n]);
-    let mut samples = Vec::new();
+    let (time_s, temp_c) = (&time_s[..n], &temp_c[..n]);
+    let start = edge_run(time_s, temp_c, Edge::Start, noise);
+    // The run at the end is judged only by witnesses that are not the start's run.
+    let start_len = start.map_or(0, |(k, _)| k);
+    let end = edge_run(time_s, temp_c, Edge::End, noise)
+        .filter(|&(k, _)| start_len + k + EDGE_WITNESSES <= n);
+    let end_len = end.map_or(0, |(k, _)| k);
+    let mut samples: Vec<usize> = (0..start_len).collect();
     let (mut count, mut longest) = (0usize, 0usize);
     let (mut lo, mut hi) = (f64::INFINITY, 0.0f64);
-    // `a` the sample before a possible run, which starts at a + 1.
-    let mut a = 0usize;
-    while a + 2 < n {
-        match run_after(time_s, temp_c, a, noise) {
+    let mut note = |k: usize, jump: f64| {
+        count += 1;
+        longest = longest.max(k);
+        lo = lo.min(jump);
+        hi = hi.max(jump);
+    };
+    if let Some((k, jump)) = start {
+        note(k, jump);
+    }
+    // Inside the log, between the edges' runs: `a` the sample before a possible run, which
+    // starts at a + 1; the first is the first sample after the start's run.
+    let inner = n - end_len;
+    let mut a = start_len;
+    while a + 2 < inner {
+        match run_after(&time_s[..inner], &temp_c[..inner], a, noise) {
             Some((k, jump)) => {
                 samples.extend(a + 1..=a + k);
-                count += 1;
-                longest = longest.max(k);
-                lo = lo.min(jump);
-                hi = hi.max(jump);
+                note(k, jump);
                 // The sample after the run is good: it is the next run's "before".
                 a += k + 1;
             }
             None => a += 1,
         }
     }
+    if let Some((k, jump)) = end {
+        samples.extend(n - k..n);
+        note(k, jump);
+    }
     (count > 0).then_some(Glitches {
         samples,
         count,
+        start: start_len,
+        end: end_len,
         longest,
         jump_c: (lo, hi),
     })
 }
 
-/// The shortest run of one to [`GLITCH_MOST_SAMPLES`] samples after sample `a` that stands
-/// away from both `a` and the sample after it, on one side, by more than a chamber moves over
-/// the longer of the two steps (and by [`GLITCH_LEAST_C`], and by `noise`), while those two
-/// samples agree with each other as closely: its length, and how far its farthest sample stands from the mean of
-/// the two.
+/// An end of a log.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Edge {
+    Start,
+    End,
+}
+
+/// The shortest run of one to [`GLITCH_MOST_SAMPLES`] samples at the `edge` of the series that
+/// stands away, on one side, from the straight line through the [`EDGE_WITNESSES`] samples next
+/// to it by more than a chamber moves from the run's sample to the nearest witness (and by
+/// [`GLITCH_LEAST_C`], and by `noise`), while the witnesses continue each other as closely
+/// (each step, and the middle one off the line of the outer two, within the same bounds): its
+/// length, and how far its farthest sample stands from the line.
+fn edge_run(time_s: &[f64], temp_c: &[f64], edge: Edge, noise: f64) -> Option<(usize, f64)> {
+    let n = temp_c.len().min(time_s.len());
+    // The j-th sample counted from the edge inward, and its distance in time from the edge's
+    // first sample (increasing inward whichever end).
+    let at = |j: usize| match edge {
+        Edge::Start => j,
+        Edge::End => n - 1 - j,
+    };
+    let v = |j: usize| temp_c[at(j)];
+    let t = |j: usize| (time_s[at(j)] - time_s[at(0)]).abs();
+    let least = |dt: f64| GLITCH_LEAST_C.max(FASTEST_CHAMBER_C_PER_S * dt).max(noise);
+    for k in 1..=GLITCH_MOST_SAMPLES {
+        if k + EDGE_WITNESSES > n {
+            return None;
+        }
+        if (0..k + EDGE_WITNESSES).any(|j| !v(j).is_finite() || !t(j).is_finite()) {
+            return None;
+        }
+        let w = k..k + EDGE_WITNESSES;
+        let (w0, w2) = (k, k + EDGE_WITNESSES - 1);
+        let span = t(w2) - t(w0);
+        if span <= 0.0 {
+            return None;
+        }
+        let slope = (v(w2) - v(w0)) / span;
+        let line = |j: usize| v(w0) + slope * (t(j) - t(w0));
+        // The witnesses continue each other: every step within what a chamber moves in it,
+        // and each off the line of the outer two by no more.
+        let agree = w.clone().skip(1).all(|j| {
+            let step = t(j) - t(j - 1);
+            step > 0.0 && (v(j) - v(j - 1)).abs() <= least(step)
+        }) && w.clone().all(|j| (v(j) - line(j)).abs() <= least(span));
+        if !agree {
+            continue;
+        }
+        let off = |j: usize| v(j) - line(j);
+        let stands = |j: usize| least(t(w0) - t(j));
+        let above = (0..k).all(|j| off(j) > stands(j));
+        let below = (0..k).all(|j| -off(j) > stands(j));
+        if above || below {
+            let jump = (0..k).fold(0.0f64, |m, j| m.max(off(j).abs()));
+            return Some((k, jump));
+        }
+    }
+    None
+}
+
 /// The longest a temperature stands away and comes back, s, told as a bad read that is no
 /// glitch: a thermal-shock transfer (a step that stays, real when the column is the chamber's
 /// air) dwells for many minutes in each zone, a sensor's bad reads last seconds.
@@ -204,8 +342,10 @@ pub(crate) fn excursions(time_s: &[f64], temp_c: &[f64]) -> Option<Excursions> {
     found
 }
 
-/// The median of |ΔT| between neighbouring finite samples, 0 for fewer than two.
-fn typical_step(temp_c: &[f64]) -> f64 {
+/// The median of |ΔT| between neighbouring finite samples, 0 for fewer than two: how far a
+/// column moves from sample to sample by its noise, which a glitch or a fast stretch
+/// ([`super::temp_rate`]) must stand out from.
+pub(crate) fn typical_step(temp_c: &[f64]) -> f64 {
     let mut d: Vec<f64> = temp_c
         .windows(2)
         .map(|w| (w[1] - w[0]).abs())
@@ -218,6 +358,11 @@ fn typical_step(temp_c: &[f64]) -> f64 {
     *d.select_nth_unstable_by(mid, f64::total_cmp).1
 }
 
+/// The shortest run of one to [`GLITCH_MOST_SAMPLES`] samples after sample `a` that stands
+/// away from both `a` and the sample after it, on one side, by more than a chamber moves over
+/// the longer of the two steps (and by [`GLITCH_LEAST_C`], and by `noise`), while those two
+/// samples agree with each other as closely: its length, and how far its farthest sample
+/// stands from the mean of the two.
 fn run_after(time_s: &[f64], temp_c: &[f64], a: usize, noise: f64) -> Option<(usize, f64)> {
     let before = temp_c[a];
     if !before.is_finite() {
@@ -274,6 +419,87 @@ mod tests {
         assert_eq!(g.longest, 2);
         // -128 stands 148.5 °C below the neighbours' mean (20.5 °C).
         assert!((g.jump_c.1 - 148.5).abs() < 1e-9, "{:?}", g.jump_c);
+    }
+
+    #[test]
+    fn a_bad_read_at_the_logs_first_or_last_samples_is_a_glitch() {
+        // The 85 °C of a 1-wire sensor at power-up, then two register reads as it stops.
+        let (t, mut temp) = ramp(100, 0.01);
+        temp[0] = 85.0;
+        temp[98] = 127.996;
+        temp[99] = 127.996;
+        let g = find(&t, &temp).expect("glitches");
+        assert_eq!(g.samples, vec![0, 98, 99]);
+        assert_eq!((g.count, g.start, g.end, g.longest), (2, 1, 2, 2));
+        // 85 °C against the line's 20 °C; 127.996 against 20.98 and 20.99.
+        assert!((g.jump_c.0 - 65.0).abs() < 1e-9, "{:?}", g.jump_c);
+        assert!(
+            (g.jump_c.1 - (127.996 - 20.98)).abs() < 1e-9,
+            "{:?}",
+            g.jump_c
+        );
+        let words = g.message("line", |k| k + 2, true);
+        assert!(
+            words.contains("for at most 2 samples at the log's start (line 2) and at its end (lines 100 to 101)"),
+            "{words}"
+        );
+        // With one inside as well, and below the line: −128 °C.
+        temp[50] = 127.996;
+        temp[0] = -128.0;
+        let g = find(&t, &temp).expect("glitches");
+        assert_eq!(g.samples, vec![0, 50, 98, 99]);
+        assert_eq!(g.count, 3);
+        let words = g.message("sample", |k| k + 1, false);
+        assert!(
+            words.contains(
+                "and back, 1 time (first at sample 51), at the log's start (sample 1) and at \
+                 its end (samples 99 to 100)"
+            ),
+            "{words}"
+        );
+        // Three at the start, a few degrees away: a glitch still; four are a stretch.
+        let (t, mut temp) = ramp(100, 0.01);
+        for v in &mut temp[..3] {
+            *v += 5.0;
+        }
+        assert_eq!(find(&t, &temp).map(|g| g.samples), Some(vec![0, 1, 2]));
+        temp[3] += 5.0;
+        assert_eq!(find(&t, &temp), None);
+    }
+
+    #[test]
+    fn a_log_starting_or_ending_on_a_ramp_has_no_glitch_there() {
+        // Ramps at the fastest a chamber goes and three times faster, sampled at 1 Hz, at
+        // 100 Hz and once a minute: the first and last samples continue the line.
+        for step_s in [1.0, 0.01, 60.0] {
+            for rate in [FASTEST_CHAMBER_C_PER_S, 3.0, -3.0] {
+                let t: Vec<f64> = (0..200).map(|i| i as f64 * step_s).collect();
+                let temp: Vec<f64> = t.iter().map(|&t| 20.0 + rate * t).collect();
+                assert_eq!(find(&t, &temp), None, "{rate} °C/s every {step_s} s");
+            }
+        }
+        // A ramp that starts as the log does, after a still first sample: 1 °C/s at 1 Hz.
+        let t: Vec<f64> = (0..50).map(|i| i as f64).collect();
+        let temp: Vec<f64> = t.iter().map(|&t| 20.0 + (t - 1.0).max(0.0)).collect();
+        assert_eq!(find(&t, &temp), None);
+        // A quantised sensor flickering at a kilohertz, and one sampled once a minute whose
+        // first sample is 40 °C off (within what a minute allows).
+        let t: Vec<f64> = (0..1000).map(|i| i as f64 * 1e-3).collect();
+        let temp: Vec<f64> = (0..1000).map(|i| 40.0 + ((i / 2) % 2) as f64).collect();
+        assert_eq!(find(&t, &temp), None);
+        let t: Vec<f64> = (0..10).map(|i| 60.0 * i as f64).collect();
+        let mut temp = vec![20.0; 10];
+        temp[0] = 60.0;
+        assert_eq!(find(&t, &temp), None);
+        // Witnesses that disagree (a bad read among them) judge nothing at the edge; the one
+        // inside is found by its own neighbours.
+        let (t, mut temp) = ramp(100, 0.01);
+        temp[0] = 85.0;
+        temp[2] = 127.996;
+        assert_eq!(
+            find(&t, &temp).map(|g| (g.samples, g.start)),
+            Some((vec![2], 0))
+        );
     }
 
     #[test]

@@ -2,7 +2,9 @@
 //! one-sample glitches of the sensor (a bad register read, 127.996 °C between two samples near
 //! 25 °C), and a sensor stuck at one value while the chamber's temperature moves. Neither fires
 //! on a real temperature: a fast ramp, a step that stays, a quantised MEMS sensor's flicker at a
-//! kilohertz, every simulated profile, the real drone logs.
+//! kilohertz, every simulated profile, the real drone logs. A temperature moving faster than
+//! any chamber moves a gyro's over a stretch is told by one rule in both readers (the time
+//! column's unit is tested in `time_scale.rs`); no sample log, profile or drone log fires it.
 
 use crate::common;
 use common::drone::{DATAFLASH, ULOG, data_dir, ulog};
@@ -104,6 +106,85 @@ fn a_bad_read_of_the_thermometer_is_told_and_read_as_missing() {
 }
 
 #[test]
+fn a_bad_read_at_the_logs_first_or_last_samples_is_told_and_read_as_missing() {
+    // The 85 °C a 1-wire sensor reads at power-up as the first sample; 127.996 °C (0x7FFF/256)
+    // as the last two.
+    let n = 3000;
+    let bad = |i: usize| match i {
+        0 => Some(85.0),
+        i if i + 2 >= n => Some(127.996),
+        _ => None,
+    };
+    let text = csv(n, |i| bad(i).unwrap_or_else(|| temp_of(i)), temp_of);
+    let log = read_bytes("e.csv", text.as_bytes(), &ReadOptions::default()).unwrap();
+    assert_eq!(log.len(), n - 3);
+    assert_eq!(log.time_s.first(), Some(&1.0));
+    assert_eq!(log.time_s.last(), Some(&((n - 3) as f64)));
+    assert!(log.temp_c.iter().all(|&t| t < 60.0));
+    let p = told(&log, "the temperature jumps by");
+    assert_eq!(p.len(), 1, "{:?}", log.info.problems);
+    let (first, last) = (HEADER_LINES + 1, HEADER_LINES + n);
+    assert_eq!((p[0].line, p[0].column), (first, Some(3)));
+    assert_eq!((p[0].kind, p[0].count), (ProblemKind::Implausible, 2));
+    for words in [
+        format!(
+            "at the log's start (line {first}) and at its end (lines {} to {last})",
+            last - 1
+        ),
+        "read as missing".to_string(),
+    ] {
+        assert!(
+            p[0].message.contains(&words),
+            "{words:?} not in {}",
+            p[0].message
+        );
+    }
+
+    // The same in a drone log: its first sample reads 85 °C.
+    let time: Vec<f64> = (0..400).map(|i| i as f64).collect();
+    let gyro = vec![[0.001f32, -0.002, 0.003]; 400];
+    let temp: Vec<f32> = (0..400)
+        .map(|i| if i == 0 { 85.0 } else { temp_of(i) as f32 })
+        .collect();
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("e.ulg");
+    std::fs::write(&path, ulog(&time, &gyro, &temp, 7)).unwrap();
+    let any = read::read_any(&path, &ReadOptions::default(), &FormatChoice::default()).unwrap();
+    assert_eq!(any.log.len(), 399);
+    let p = told(&any.log, "the temperature jumps by");
+    assert_eq!(p.len(), 1, "{:?}", any.log.info.problems);
+    assert!(
+        p[0].message.contains("at the log's start (sample 1)"),
+        "{}",
+        p[0].message
+    );
+}
+
+#[test]
+fn a_log_starting_and_ending_on_a_fast_ramp_has_no_glitch() {
+    // 1 °C/s from the first sample to the last, 60 °C a minute (the fastest a chamber goes),
+    // and 3 °C/s; at 1 Hz and at 10 Hz.
+    for (rate, hz) in [(1.0, 1.0), (-1.0, 1.0), (3.0, 1.0), (1.0, 10.0)] {
+        let mut text = String::from("time_s,omega_dph,temp_c\n");
+        for i in 0..200 {
+            let t = i as f64 / hz;
+            text.push_str(&format!(
+                "{t},{:.4},{:.3}\n",
+                0.01 * (i % 7) as f64,
+                20.0 + rate * t
+            ));
+        }
+        let log = read_bytes("r.csv", text.as_bytes(), &ReadOptions::default()).unwrap();
+        assert!(
+            told(&log, "jumps").is_empty(),
+            "{rate} °C/s at {hz} Hz: {:?}",
+            log.info.problems
+        );
+        assert_eq!(log.len(), 200);
+    }
+}
+
+#[test]
 fn two_bad_reads_in_a_row_are_one_glitch() {
     let n = 1000;
     let text = csv(
@@ -185,12 +266,70 @@ fn no_simulated_profile_has_a_glitch_or_a_stuck_temperature() {
         run.write_csv(&path).unwrap();
         let log = read_path(&path, &ReadOptions::default()).unwrap();
         assert!(
-            told(&log, "jumps").is_empty() && told(&log, "holds one value").is_empty(),
+            told(&log, "jumps").is_empty()
+                && told(&log, "holds one value").is_empty()
+                && told(&log, FASTER).is_empty(),
             "{name}: {:?}",
             log.info.problems
         );
         assert_eq!(log.len(), run.len(), "{name}");
     }
+}
+
+/// The words of the problem of a temperature moving faster than any chamber moves a gyro's.
+const FASTER: &str = "faster than any chamber moves a gyro's temperature";
+
+#[test]
+fn no_bundled_sample_log_has_a_glitch_or_moves_faster_than_a_chamber() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("sample_logs");
+    let mut logs = 0;
+    for entry in std::fs::read_dir(dir).unwrap().flatten() {
+        let path = entry.path();
+        if path.extension().is_none_or(|e| e != "csv") {
+            continue;
+        }
+        let log = read_path(&path, &ReadOptions::default()).unwrap();
+        assert!(
+            told(&log, "jumps").is_empty() && told(&log, FASTER).is_empty(),
+            "{}: {:?}",
+            path.display(),
+            log.info.problems
+        );
+        logs += 1;
+    }
+    assert!(logs >= 10, "{logs} sample logs");
+}
+
+#[test]
+fn a_drone_log_whose_temperature_moves_faster_than_a_chamber_is_told_by_the_same_rule() {
+    // A PX4 ULog at 1 Hz, its temperature held at 25 °C, then from sample 201 (1-based) a
+    // ramp at 1 °C/s for 100 s: no chamber's, though each step (1 °C) is no glitch.
+    let n = 600;
+    let time: Vec<f64> = (0..n).map(|i| i as f64).collect();
+    let gyro = vec![[0.001f32, -0.002, 0.003]; n];
+    let temp: Vec<f32> = (0..n)
+        .map(|i| 25.0 + (i as f32 - 200.0).clamp(0.0, 100.0))
+        .collect();
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("f.ulg");
+    std::fs::write(&path, ulog(&time, &gyro, &temp, 7)).unwrap();
+    let any = read::read_any(&path, &ReadOptions::default(), &FormatChoice::default()).unwrap();
+    assert_eq!(any.log.len(), n, "the samples are kept");
+    let p = told(&any.log, FASTER);
+    assert_eq!(p.len(), 1, "{:?}", any.log.info.problems);
+    assert!(told(&any.log, "jumps").is_empty());
+    assert_eq!(p[0].count, 1);
+    // The first block past the ramp's start: blocks of five samples, measured from their
+    // middles.
+    assert!((199..=206).contains(&p[0].line), "{:?}", p[0]);
+    assert!(
+        p[0].message.contains("up to 1 °C/s (60 °C/min)")
+            && p[0]
+                .message
+                .contains(&format!("first at sample {}", p[0].line)),
+        "{}",
+        p[0].message
+    );
 }
 
 #[test]
@@ -208,7 +347,7 @@ fn no_real_drone_log_has_a_glitch() {
             )
             .unwrap();
             assert!(
-                told(&any.log, "jumps").is_empty(),
+                told(&any.log, "jumps").is_empty() && told(&any.log, FASTER).is_empty(),
                 "{rel} gyro {k}: {:?}",
                 any.log.info.problems
             );
@@ -224,7 +363,10 @@ fn no_real_drone_log_has_a_glitch() {
             continue;
         };
         if let Ok(log) = read_path(&path, &ReadOptions::default()) {
-            assert!(told(&log, "jumps").is_empty(), "{csv}");
+            assert!(
+                told(&log, "jumps").is_empty() && told(&log, FASTER).is_empty(),
+                "{csv}"
+            );
         }
     }
 }

@@ -204,3 +204,110 @@ fn a_long_run_in_a_stated_unit_is_not_doubted_but_one_past_a_year_is() {
     let told = time_doubt(&read(&ms, &ReadOptions::default())).expect("doubted");
     assert!(told.contains("time_unit ms"), "{told}");
 }
+
+/// The problem that tells a temperature moving faster than any chamber moves a gyro's.
+fn too_fast(log: &Log) -> Option<&driftlab::log::Problem> {
+    log.info.problems.iter().find(|p| {
+        p.message
+            .contains("faster than any chamber moves a gyro's temperature")
+    })
+}
+
+#[test]
+fn a_time_in_minutes_read_as_seconds_is_told_by_the_temperatures_rate() {
+    // The calibration log (1 °C/min ramps, 11.2 h at 1 s) with its time in minutes under a
+    // name that states no unit, as chamber controllers write it: read as s, the run lasts
+    // 11 minutes and the ramps go at 1 °C/s.
+    let text = rewritten("time", 1.0 / 60.0, 0.0);
+    let log = read(&text, &ReadOptions::default());
+    let told = too_fast(&log).unwrap_or_else(|| panic!("{:?}", log.info.problems));
+    assert_eq!(
+        (told.kind, told.column),
+        (ProblemKind::Implausible, Some(3))
+    );
+    // The truth: the first row whose temperature, in the seconds it was written in, moves by
+    // more than 0.5 °C in the next minute (30 °C/min read in minutes as seconds).
+    let rows = calibration_rows();
+    let temp: Vec<f64> = rows.iter().map(|r| r[2].parse().unwrap()).collect();
+    let first = (0..temp.len() - 60)
+        .find(|&i| (temp[i + 60] - temp[i]).abs() > 0.5)
+        .unwrap();
+    let line = first + 2; // the header, and lines counted from 1
+    assert!(
+        told.line.abs_diff(line) <= 300,
+        "told at line {}, the ramp passes 30 °C/min at line {line}",
+        told.line
+    );
+    for want in [
+        format!("first at line {}", told.line),
+        "the time column \"time\", read in s (the default".to_string(),
+        "may count minutes: in minutes the run lasts 11.2 h at steps of 1 s".to_string(),
+        "time_unit min".to_string(),
+    ] {
+        assert!(
+            told.message.contains(&want),
+            "{want:?} not in: {}",
+            told.message
+        );
+    }
+    // Read in minutes, it is the calibration log again, and nothing is told.
+    let o = ReadOptions {
+        time_unit: Some(TimeUnit::Minutes),
+        ..ReadOptions::default()
+    };
+    let log = read(&text, &o);
+    assert_eq!(too_fast(&log), None, "{:?}", log.info.problems);
+    let last: f64 = rows[rows.len() - 1][0].parse().unwrap();
+    let span = log.time_s[log.len() - 1] - log.time_s[0];
+    assert!(
+        (span - last).abs() < 1e-6 * last,
+        "span {span} s, not {last} s"
+    );
+
+    // The command line lists it among the problems, and calibrate warns of it.
+    let dir = tempfile::tempdir().unwrap();
+    let path = p(dir.path(), "minutes.csv");
+    std::fs::write(&path, &text).unwrap();
+    let out = driftlab(&["inspect", &path]);
+    let said = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        !said.contains("problems: none") && said.contains("--time-unit min"),
+        "{said}"
+    );
+    let out = driftlab(&["calibrate", &path, "-o", &p(dir.path(), "c.json")]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("warning:") && err.contains("--time-unit min"),
+        "{err}"
+    );
+}
+
+#[test]
+fn a_temperature_faster_than_a_chamber_in_a_stated_unit_or_out_of_order_is_told() {
+    // Minutes under `time_s`: the name states seconds, so no other unit is offered, but the
+    // rate is told and the unit is to be checked.
+    let log = read(
+        &rewritten("time_s", 1.0 / 60.0, 0.0),
+        &ReadOptions::default(),
+    );
+    let told = too_fast(&log).unwrap_or_else(|| panic!("{:?}", log.info.problems));
+    assert!(
+        told.message
+            .contains("read in s (as its name says): check its unit (time_unit)")
+            && !told.message.contains("time_unit min"),
+        "{}",
+        told.message
+    );
+    // The calibration log's blocks of 1000 rows in reverse order, stamped anew 1 s apart:
+    // the temperature steps at every joint that is not on a plateau.
+    let rows = calibration_rows();
+    let mut text = "time_s,omega_dph,temp_c,temp_chamber_c\n".to_string();
+    for (i, row) in rows.chunks(1000).rev().flatten().enumerate() {
+        text.push_str(&format!("{i},{}\n", row[1..].join(",")));
+    }
+    let log = read(&text, &ReadOptions::default());
+    let told = too_fast(&log).unwrap_or_else(|| panic!("{:?}", log.info.problems));
+    assert!(told.count >= 3, "{told:?}");
+    assert!(told.message.contains("the rows' order"), "{}", told.message);
+    assert_eq!(log.len(), rows.len(), "the samples are kept");
+}

@@ -239,19 +239,43 @@ pub(super) fn finish(mut acc: Acc, sn: &Sniffed, plan: &Plan, source: &str) -> R
     }
     // A time column whose step or span no log has (1e-300 s, past the largest number) is
     // refused; one longer than any chamber run is told, with the unit its numbers fit.
-    if let (Some(j), Some((unit, from))) = (plan.slot_col[SLOT_TIME], plan.time_read) {
-        let col = TimeColumn {
+    let time_col_read = match (plan.slot_col[SLOT_TIME], plan.time_read) {
+        (Some(j), Some((unit, from))) => Some(TimeColumn {
             name: plan.name(j),
             index: j + 1,
             unit,
             from,
-        };
+        }),
+        _ => None,
+    };
+    if let Some(col) = &time_col_read {
         let time = &acc.cols[SLOT_TIME];
         let line_of = |k: usize| acc.line_of(row_of(&drop, k));
-        if let Some(fail) = time_scale::unreadable(&col, time, timing.nominal_dt_s, line_of) {
+        if let Some(fail) = time_scale::unreadable(col, time, timing.nominal_dt_s, line_of) {
             return Err(fail);
         }
-        problems.extend(time_scale::implausible(&col, time, timing.nominal_dt_s));
+        problems.extend(time_scale::implausible(col, time, timing.nominal_dt_s));
+    }
+    // A temperature moving faster than any chamber moves a gyro's over a stretch: a time in
+    // another unit than it was read in (minutes read as seconds), rows out of order, or
+    // another column than the gyro's temperature. Told, with the unit that would make it a
+    // chamber's when the time's unit was taken by default; the samples are kept.
+    let fast = crate::log::temp_rate::find(&acc.cols[SLOT_TIME], &acc.cols[SLOT_TEMP]);
+    if let Some(fast) = fast {
+        let line = acc.line_of(row_of(&drop, fast.first));
+        let advice = time_scale::fast_temperature_advice(
+            time_col_read.as_ref(),
+            &acc.cols[SLOT_TIME],
+            timing.nominal_dt_s,
+            fast.fastest_c_per_s,
+        );
+        problems.push(Problem {
+            line,
+            column: col_no(SLOT_TEMP),
+            kind: ProblemKind::Implausible,
+            count: fast.count,
+            message: fast.message(&format!("line {line}"), &advice),
+        });
     }
     // A log written in bursts has a pause between every two bursts: that is how it was
     // written, told by the timing's description ("written in bursts: …") and reduced to the
@@ -385,13 +409,13 @@ fn unread_temperatures(
         }
     };
     if let Some(g) = crate::log::temp_glitch::find(&acc.cols[SLOT_TIME], &acc.cols[SLOT_TEMP]) {
-        let line = acc.line_of(row_of(drop, g.samples[0]));
+        let line_of = |k: usize| acc.line_of(row_of(drop, k));
         problems.push(Problem {
-            line,
+            line: line_of(g.samples[0]),
             column,
             kind: ProblemKind::Implausible,
             count: g.count,
-            message: g.message(&format!("line {line}"), required),
+            message: g.message("line", line_of, required),
         });
         unread(acc, drop, &g.samples);
     }

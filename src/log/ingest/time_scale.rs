@@ -16,6 +16,7 @@ use super::Fail;
 use super::columns::UnitFrom;
 use super::units::TimeUnit;
 use crate::judge::allan::{MAX_TAU0_S, MIN_TAU0_S};
+use crate::log::temp_rate::FASTEST_SUSTAINED_C_PER_S;
 use crate::log::{Problem, ProblemKind};
 use crate::models::recipe::MAX_WINDOW_S;
 
@@ -166,6 +167,77 @@ pub(super) fn implausible(col: &TimeColumn, time_s: &[f64], step_s: f64) -> Opti
     })
 }
 
+/// What the user is to check of a log whose temperature moves faster than any chamber moves a
+/// gyro's, at up to `fastest_c_per_s` (`col` the time column as read, `None` when the sample
+/// rate gives the time; `time_s` its stamps as kept, at a nominal step of `step_s`). A time
+/// column whose unit was taken by default is named with the unit in which its numbers make the
+/// rate a chamber's and the log a chamber run (a chamber controller's minutes read as
+/// seconds); else the unit as stated, the rows' order and the temperature column are to be
+/// checked. The unit is not taken: rows out of order give the same rates.
+pub(super) fn fast_temperature_advice(
+    col: Option<&TimeColumn>,
+    time_s: &[f64],
+    step_s: f64,
+    fastest_c_per_s: f64,
+) -> String {
+    let rest = "the rows' order and that the temperature column is the gyro's, temp_col";
+    let Some(col) = col.filter(|c| c.unit != TimeUnit::Samples) else {
+        return format!("check the sample rate (sample_rate_hz), {rest}");
+    };
+    let span = match (time_s.first(), time_s.last()) {
+        (Some(a), Some(b)) => b - a,
+        _ => 0.0,
+    };
+    let slower = (col.from == UnitFrom::Default)
+        .then(|| slower_unit(col.unit, fastest_c_per_s, step_s, span))
+        .flatten();
+    match slower {
+        Some((u, k)) => {
+            let units = spelt(u);
+            format!(
+                "{}, may count {units}: in {units} the run lasts {} at steps of {} and the \
+             temperature moves at up to {} °C/min; if so, give time_unit {u} (else check \
+             {rest})",
+                col.read_as(),
+                lasting(span * k),
+                lasting(step_s * k),
+                crate::number::significant(60.0 * fastest_c_per_s / k, 3),
+            )
+        }
+        None => format!("{}: check its unit (time_unit), {rest}", col.read_as()),
+    }
+}
+
+/// The unit slower than `read` (its factor to `read`, above 1) nearest it in which a
+/// temperature moving at up to `fastest_c_per_s` moves as a chamber moves a gyro's
+/// ([`FASTEST_SUSTAINED_C_PER_S`]) and the step of `step_s` and span of `span_s` make a chamber
+/// run, as [`fitting_unit`] judges them.
+fn slower_unit(
+    read: TimeUnit,
+    fastest_c_per_s: f64,
+    step_s: f64,
+    span_s: f64,
+) -> Option<(TimeUnit, f64)> {
+    let per_read = read.to_s_factor()?;
+    [
+        TimeUnit::Centis,
+        TimeUnit::Decis,
+        TimeUnit::Seconds,
+        TimeUnit::Minutes,
+        TimeUnit::Hours,
+        TimeUnit::Days,
+    ]
+    .into_iter()
+    .filter_map(|u| Some((u, u.to_s_factor()? / per_read)))
+    .filter(|&(_, k)| {
+        k > 1.0
+            && fastest_c_per_s / k <= FASTEST_SUSTAINED_C_PER_S
+            && (MIN_TAU0_S..=MAX_TAU0_S).contains(&(step_s * k))
+            && span_s * k <= MAX_WINDOW_S
+    })
+    .min_by(|a, b| a.1.total_cmp(&b.1))
+}
+
 /// The unit, other than `read`, in which the numbers read as a step of `step_s` and a span of
 /// `span_s` make a chamber run (a step within [`MIN_TAU0_S`] … [`MAX_TAU0_S`], a span within
 /// [`MAX_WINDOW_S`]), the one nearest `read`; with the step and span, s, it gives.
@@ -249,5 +321,19 @@ mod tests {
         assert_eq!(lasting(1000.0), "1000 s");
         assert_eq!(lasting(4.02e4), "11.2 h");
         assert_eq!(lasting(4.02e13), "1.27e6 years");
+    }
+
+    #[test]
+    fn minutes_read_as_seconds_are_named_by_the_rate_they_make() {
+        // An 11-hour run at 1 s with its time in minutes read as s: 1 °C/min ramps at 1 °C/s.
+        let (step, span) = (1.0 / 60.0, 40_200.0 / 60.0);
+        assert_eq!(
+            slower_unit(TimeUnit::Seconds, 1.0, step, span),
+            Some((TimeUnit::Minutes, 60.0))
+        );
+        // 60 °C/s is a chamber's in hours only, but 670 h is no chamber run.
+        assert_eq!(slower_unit(TimeUnit::Seconds, 60.0, step, span), None);
+        // A 1-Hz log read so spans 28 days in minutes: no unit makes it a run.
+        assert_eq!(slower_unit(TimeUnit::Seconds, 1.0, 1.0, 40_200.0), None);
     }
 }
