@@ -9,7 +9,6 @@
 //! for the command line) run it once on one axis. The workbench's refit (`crate::refit`) runs
 //! the same Ω stages with a memory kept between edits.
 
-use super::knots::KnotEdits;
 use super::staged::{StageInputs, StageMemory, Staged};
 use super::stages::deadbands;
 use super::{Calibration, PointSet, Prepared, SetSamples, set_samples};
@@ -292,7 +291,6 @@ impl Pipeline {
             omega_filtered_dph,
             ranges: &self.ranges,
             recipe,
-            knots: &KnotEdits::default(),
             points,
         })
     }

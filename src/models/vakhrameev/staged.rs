@@ -97,10 +97,8 @@ pub struct StageInputs<'a, S> {
     pub omega_filtered_dph: Cow<'a, [f64]>,
     /// The plateau ranges K0's points are taken over.
     pub ranges: &'a [PlateauRange],
-    /// Every choice.
+    /// Every choice, the knots placed and set by hand among them.
     pub recipe: &'a Recipe,
-    /// Knot values set by hand (none for a batch fit).
-    pub knots: &'a KnotEdits,
     /// Whether the pointwise K1± and K2± points are gathered (for display).
     pub points: bool,
 }
@@ -163,9 +161,10 @@ impl<S: Clone + PartialEq + Send + Sync> StageMemory<S> {
             omega_filtered_dph,
             ranges,
             recipe,
-            knots,
             points,
         } = i;
+        // The hand-set values of every coefficient, put in after the fits.
+        let knots = &KnotEdits::of(recipe);
         let keep = self.keep_omega;
         if prepared.deriv.ready.iter().all(|r| r.is_empty()) {
             return Err(no_rate_history(log, prepared));
@@ -216,8 +215,10 @@ impl<S: Clone + PartialEq + Send + Sync> StageMemory<S> {
             SetKey {
                 plateaus: pkey.clone(),
                 k0: k0.clone(),
-                spec1: *c1.spec(recipe),
-                spec2: *c2.spec(recipe),
+                // Hand-set values are put in after the set's fit (`apply_knot_edits`): a knot
+                // dragged up or down refits no set.
+                spec1: c1.spec(recipe).fitted_part(),
+                spec2: c2.spec(recipe).fitted_part(),
                 weighting: recipe.weighting,
                 refinements: recipe.refinements,
             }
@@ -240,7 +241,7 @@ impl<S: Clone + PartialEq + Send + Sync> StageMemory<S> {
             let first_keys = [0, 1].map(|s| FirstKey {
                 plateaus: pkey.clone(),
                 k0: k0.clone(),
-                spec1: keys[s].spec1,
+                spec1: keys[s].spec1.clone(),
                 weighting: recipe.weighting,
             });
             let kept = [0, 1].map(|s| {

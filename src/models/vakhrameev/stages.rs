@@ -69,14 +69,20 @@ pub fn fit_or_fallback_weighted(
     }
     let mut simpler = Vec::new();
     if spec.kind.has_knots() {
+        // Fewer knots than placed by hand cannot stand where they were placed: spread evenly.
+        let knots = got.min(spec.knots);
         simpler.push(ApproxSpec {
-            knots: got.min(spec.knots),
-            ..*spec
+            knots,
+            at: spec.at.clone().filter(|_| knots == spec.knots),
+            values: None,
+            ..spec.clone()
         });
     }
     simpler.push(ApproxSpec {
         kind: ApproxKind::Linear,
-        ..*spec
+        at: None,
+        values: None,
+        ..spec.clone()
     });
     for fallback in simpler {
         if let Ok(a) = approx::fit(&fallback, &xs, &ys) {
