@@ -127,12 +127,14 @@ impl Args {
                 ranges: self.plateaus.clone(),
             };
         }
+        // By the engine's rules: another kind keeps the recipe's hand-placed knots while it has
+        // knots, another count spreads them evenly again.
         let set = |spec: &mut ApproxSpec, kind: Option<ApproxKind>| {
             if let Some(k) = kind {
-                spec.kind = k;
+                *spec = spec.with_kind(k);
             }
             if let Some(n) = self.knots {
-                spec.knots = n;
+                *spec = spec.with_knot_count(n);
             }
         };
         set(&mut r.k0, self.k0);

@@ -251,9 +251,7 @@ fn fit_current(
             (None, None) => true,
             _ => false,
         };
-        same_log
-            && same_validation
-            && f.outcome.calibration.recipe == choices.recipe
+        same_log && same_validation && f.outcome.calibration.recipe == choices.recipe
     })
 }
 

@@ -99,7 +99,10 @@ pub fn approx_controls(ui: &mut Ui, id: &str, label: &str, spec: &mut ApproxSpec
             "Evaluate {label} beyond the range it was fitted on, instead of holding its edge value"
         ));
     asks.reset = ui
-        .add_enabled(before.hand_knots(), egui::Button::new("reset knots").small())
+        .add_enabled(
+            before.hand_knots(),
+            egui::Button::new("reset knots").small(),
+        )
         .on_hover_text(format!(
             "Forget the knots of {label} placed or set by hand: equally spaced, fitted knots again"
         ))

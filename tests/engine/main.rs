@@ -9,6 +9,7 @@ mod allan;
 mod approx;
 mod correction;
 mod crafted_settings;
+mod knot_placement;
 mod lod;
 mod model;
 mod models;

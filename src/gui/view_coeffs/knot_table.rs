@@ -38,7 +38,12 @@ fn parse(text: &str) -> Option<f64> {
 
 impl CoeffView {
     /// The open knot table, as a window over the page.
-    pub(super) fn knot_table(&mut self, ctx: &egui::Context, state: &AppState, out: &mut Vec<Action>) {
+    pub(super) fn knot_table(
+        &mut self,
+        ctx: &egui::Context,
+        state: &AppState,
+        out: &mut Vec<Action>,
+    ) {
         let Some(mut t) = self.table.take() else {
             return;
         };
@@ -162,7 +167,10 @@ impl CoeffView {
                         .on_hover_text("Equally spaced, fitted knots again")
                         .clicked()
                     {
-                        out.push(Action::Edit(Edit::Approx(c, ApproxSpec::without_hand_knots(&spec))));
+                        out.push(Action::Edit(Edit::Approx(
+                            c,
+                            ApproxSpec::without_hand_knots(&spec),
+                        )));
                     }
                 });
             });

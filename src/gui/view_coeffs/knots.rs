@@ -53,7 +53,13 @@ pub(super) fn shown(
 
 /// Draws the knots of `a` (none for a curve without knots): circles where fitted, squares
 /// where placed by hand, diamonds where their values are set by hand.
-pub(super) fn draw_knots(pui: &mut PlotUi<'_>, name: &str, a: &Approx, spec: &ApproxSpec, color: Color32) {
+pub(super) fn draw_knots(
+    pui: &mut PlotUi<'_>,
+    name: &str,
+    a: &Approx,
+    spec: &ApproxSpec,
+    color: Color32,
+) {
     let (kx, ky) = a.knots();
     if kx.is_empty() {
         return;
@@ -146,8 +152,14 @@ impl CoeffView {
             }
             let at = tf.value_from_position(p);
             let edit = match d.sideways {
-                Some(true) => Some(KnotEdit::Drag { index: d.j, x: at.x }),
-                Some(false) => Some(KnotEdit::Value { index: d.j, y: at.y }),
+                Some(true) => Some(KnotEdit::Drag {
+                    index: d.j,
+                    x: at.x,
+                }),
+                Some(false) => Some(KnotEdit::Value {
+                    index: d.j,
+                    y: at.y,
+                }),
                 None => None,
             };
             // A drag pushed past what the engine takes (a value beyond any rate) stays where
@@ -191,7 +203,9 @@ impl CoeffView {
             if let Some((c, a)) = nearest_curve(state, coefs, &tf, p, at.x) {
                 match c_spec(state, c).edit_knot(&a, KnotEdit::Insert { x: at.x }) {
                     Ok(spec) => out.push(Action::Edit(Edit::Approx(c, spec))),
-                    Err(e) => out.push(Action::Warn(format!("No knot added to {}: {e}", c.label()))),
+                    Err(e) => {
+                        out.push(Action::Warn(format!("No knot added to {}: {e}", c.label())))
+                    }
                 }
             } else {
                 out.push(Action::Warn(
@@ -211,9 +225,7 @@ impl CoeffView {
                     Some(false) => Some(CursorIcon::ResizeVertical),
                     None => Some(CursorIcon::Move),
                 },
-                None => self
-                    .knot_at(state, coefs, &tf, p)
-                    .map(|_| CursorIcon::Move),
+                None => self.knot_at(state, coefs, &tf, p).map(|_| CursorIcon::Move),
             };
             if let Some(icon) = icon {
                 ui.ctx().set_cursor_icon(icon);
@@ -237,8 +249,8 @@ impl CoeffView {
             return;
         };
         let spec = c_spec(state, c);
-        let removed = shown(state, c, None)
-            .map(|a| spec.edit_knot(&a, KnotEdit::Remove { index: j }));
+        let removed =
+            shown(state, c, None).map(|a| spec.edit_knot(&a, KnotEdit::Remove { index: j }));
         let r = ui.add_enabled(
             matches!(removed, Some(Ok(_))),
             egui::Button::new(format!("Remove knot {} of {}", j + 1, c.label())),

@@ -86,7 +86,9 @@ impl CoeffView {
             let curves_y = pair
                 .coefs()
                 .into_iter()
-                .filter_map(|c| curve_points(&c.spec(&state.shown.choices.recipe).preview(c.approx(cal))))
+                .filter_map(|c| {
+                    curve_points(&c.spec(&state.shown.choices.recipe).preview(c.approx(cal)))
+                })
                 .flatten()
                 .map(|p| p[1])
                 .filter(|v| v.is_finite())
@@ -173,7 +175,11 @@ impl CoeffView {
                         s.n,
                         num(s.rmse),
                         crate::number::fixed(s.r2, 4),
-                        if edited { "; knots placed or set by hand" } else { "" }
+                        if edited {
+                            "; knots placed or set by hand"
+                        } else {
+                            ""
+                        }
                     ));
                 }
             });

@@ -448,7 +448,18 @@ fn fit_knots<S: PointSource>(kind: ApproxKind, knots_x: &[f64], src: &S) -> (Vec
     let aty = DVector::from_vec(acc.aty);
     let lambda = 1e-9 * ata.trace() / m as f64;
     for j in 1..m.saturating_sub(1) {
-        let d = [(j - 1, 1.0), (j, -2.0), (j + 1, 1.0)];
+        // The second difference over the knots' positions, scaled to (1, −2, 1) for equal
+        // gaps (and exactly that for the equally spaced knots of a fit, whose gaps differ by
+        // rounding only): a knot with no point near it continues its neighbours' straight
+        // line in x, wherever it was placed.
+        let (h1, h2) = (knots_x[j] - knots_x[j - 1], knots_x[j + 1] - knots_x[j]);
+        let hbar = 0.5 * (h1 + h2);
+        let (a, c) = if (h1 - h2).abs() <= 1e-9 * hbar {
+            (1.0, 1.0)
+        } else {
+            (hbar / h1, hbar / h2)
+        };
+        let d = [(j - 1, a), (j, -(a + c)), (j + 1, c)];
         for &(a, wa) in &d {
             for &(b, wb) in &d {
                 ata[(a, b)] += lambda * wa * wb;

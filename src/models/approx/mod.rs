@@ -39,7 +39,7 @@ pub use fit::{
 };
 pub use knot_edit::{KnotEdit, KnotEditError};
 pub use knots::{knot_positions, knot_weights};
-pub use placement::KnotsError;
+pub use placement::{KnotsError, check_positions};
 
 use serde::{Deserialize, Serialize};
 use std::fmt;

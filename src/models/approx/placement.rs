@@ -15,6 +15,8 @@ pub enum KnotsError {
     NoKnots {
         /// The kind of the curve.
         kind: ApproxKind,
+        /// The list given: `at` or `values`.
+        list: &'static str,
     },
     /// Fewer than two positions: a knot curve needs a segment.
     #[error("{got} knot position given: a knot curve needs at least 2")]
@@ -23,7 +25,10 @@ pub enum KnotsError {
         got: usize,
     },
     /// More positions than a knot curve may have.
-    #[error("{got} knot positions, more than the {} a knot curve may have", MAX_KNOTS)]
+    #[error(
+        "{got} knot positions, more than the {} a knot curve may have",
+        MAX_KNOTS
+    )]
     TooMany {
         /// Positions given.
         got: usize,
@@ -157,7 +162,11 @@ impl ApproxSpec {
             return Ok(());
         }
         if !self.kind.has_knots() {
-            return Err(KnotsError::NoKnots { kind: self.kind });
+            let list = if self.at.is_some() { "at" } else { "values" };
+            return Err(KnotsError::NoKnots {
+                kind: self.kind,
+                list,
+            });
         }
         if let Some(at) = &self.at {
             if at.len() != self.knots {
@@ -175,8 +184,7 @@ impl ApproxSpec {
                     knots: self.knots,
                 });
             }
-            if let Some((index, &value)) = values.iter().enumerate().find(|(_, v)| !v.is_finite())
-            {
+            if let Some((index, &value)) = values.iter().enumerate().find(|(_, v)| !v.is_finite()) {
                 return Err(KnotsError::ValueNotFinite { index, value });
             }
         }
@@ -190,7 +198,12 @@ impl ApproxSpec {
         if !self.kind.has_knots() {
             return String::new();
         }
-        let list = |v: &[f64]| v.iter().map(|&x| readable(x)).collect::<Vec<_>>().join(", ");
+        let list = |v: &[f64]| {
+            v.iter()
+                .map(|&x| readable(x))
+                .collect::<Vec<_>>()
+                .join(", ")
+        };
         let mut t = match &self.at {
             Some(at) => format!("{} knots placed by hand at {}", self.knots, list(at)),
             None => format!("{} knots, equally spaced", self.knots),
@@ -203,11 +216,10 @@ impl ApproxSpec {
 }
 
 impl KnotsError {
-    /// The list of the spec the reason is about: `at` (positions) or `values`; `kind` for
-    /// hand knots on a curve without knots.
+    /// The list of the spec the reason is about: `at` (positions) or `values`.
     pub fn field(&self) -> &'static str {
         match self {
-            KnotsError::NoKnots { .. } => "kind",
+            KnotsError::NoKnots { list, .. } => list,
             KnotsError::ValueCount { .. } | KnotsError::ValueNotFinite { .. } => "values",
             _ => "at",
         }

@@ -208,6 +208,7 @@ mod tests {
             kind: ApproxKind::Spline,
             knots: 10,
             extrapolate: false,
+            ..ApproxSpec::default()
         };
         fit_or_fallback("K0", &spline, &x, &y, &mut warnings);
         assert_eq!(
