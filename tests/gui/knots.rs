@@ -416,3 +416,36 @@ fn each_axis_of_a_unit_keeps_its_own_hand_knots_and_the_unit_file_holds_them() {
     };
     assert_eq!(gy.k1_plus.knots().0, &gy_at[..]);
 }
+
+#[test]
+fn the_models_page_fits_and_shows_the_hand_placed_knots() {
+    use driftlab::gui::action::Page;
+    use eframe::egui::accesskit::Role;
+    let mut h = spline_k1(None);
+    let p = h.state().knot_screen_pos(Coefficient::K1Plus, 3).unwrap();
+    drag(&mut h, p, p - egui::vec2(20.0, 0.0));
+    let at = k1p(&h).at.expect("placed by hand");
+    h.key_press_modifiers(Modifiers::COMMAND, Key::Num2);
+    h.run_ok();
+    assert_eq!(h.state().page(), Page::Models);
+    h.get_by_role_and_label(Role::Button, "Compare").click();
+    h.run_ok();
+    settle(&mut h);
+    let c = h.state().state.shown.models.clone().expect("compared");
+    let report = c
+        .reports
+        .iter()
+        .find(|r| r.model == "vakhrameev")
+        .expect("the Vakhrameev model is compared");
+    let Some(DriftModel::Vakhrameev(cal)) = &report.fitted else {
+        panic!("fitted: {:?}", report.error)
+    };
+    assert_eq!(
+        cal.k1_plus.knots().0,
+        &at[..],
+        "fitted with the knots placed"
+    );
+    h.get_by_role_and_label(Role::Button, "vakhrameev").click();
+    h.run_ok();
+    h.get_by_label_contains("5 knots placed by hand at");
+}
