@@ -321,6 +321,10 @@ fn the_exported_calibration_holds_the_knots_and_calibrate_recipe_reproduces_it()
         strip(&out),
         "bit for bit but the time written"
     );
+    assert!(
+        printed.contains("K1+ 6 knots placed by hand at") && printed.contains("values set by hand"),
+        "{printed}"
+    );
 }
 
 #[test]
@@ -415,6 +419,33 @@ fn each_axis_of_a_unit_keeps_its_own_hand_knots_and_the_unit_file_holds_them() {
         unreachable!()
     };
     assert_eq!(gy.k1_plus.knots().0, &gy_at[..]);
+
+    // The command line, each axis's recipe taken from the unit's file, makes the same file.
+    let again = dir.path().join("again.json");
+    let u = out.display().to_string();
+    let [gx, gy, gz] = ["gx", "gy", "gz"].map(|n| format!("{n}={u}"));
+    common::run::ok(&[
+        "calibrate",
+        &common::run::sample("imu3-calibration.csv"),
+        "--axis-recipe",
+        &gx,
+        "--axis-recipe",
+        &gy,
+        "--axis-recipe",
+        &gz,
+        "--out",
+        &again.display().to_string(),
+    ]);
+    let strip = |path: &std::path::Path| {
+        let mut v: Value = serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+        v["created"] = Value::Null;
+        v
+    };
+    assert_eq!(
+        strip(&again),
+        strip(&out),
+        "bit for bit but the time written"
+    );
 }
 
 #[test]
