@@ -303,7 +303,7 @@ fn the_exported_calibration_holds_the_knots_and_calibrate_recipe_reproduces_it()
 
     // The command line, given the file as its recipe, makes the same calibration.
     let again = dir.path().join("again.json");
-    common::run::ok(&[
+    let printed = common::run::ok(&[
         "calibrate",
         &common::run::sample("calibration.csv"),
         "--recipe",
