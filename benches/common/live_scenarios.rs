@@ -60,7 +60,18 @@ pub fn scenarios(log: &Arc<Log>) -> Vec<(&'static str, [Request; 2])> {
         c.spec_mut(&mut r).at = Some(at);
         r
     };
+    // The same set refitted with evenly spaced knots, one more of them: what any refit of a
+    // pwl set costs, to set a knot moved sideways against.
+    let mut six = pwl.clone();
+    six.k1_plus.knots = 6;
     vec![
+        (
+            "k1p_knot_count_changed",
+            [
+                request(pwl.clone(), KnotEdits::default()),
+                request(six, KnotEdits::default()),
+            ],
+        ),
         (
             "k2p_knot_moved",
             [

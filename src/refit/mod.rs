@@ -199,6 +199,9 @@ pub struct Pipeline {
     terms: Terms,
     /// The plateau ranges of the last run, with the signals and plateau choice they came from.
     ranges: Option<(Same<Prepared>, PlateauChoice, Vec<PlateauRange>)>,
+    /// The log as calibrations record it (its samples' sketch reads every sample), kept while
+    /// the log stays.
+    source: Option<(Same<Log>, vakhrameev::SourceInfo)>,
 }
 
 fn ms(t: Instant) -> f64 {
@@ -269,6 +272,9 @@ impl Pipeline {
         }
 
         let ranges = self.plateau_ranges(log, &prepared, recipe);
+        if self.source.as_ref().is_none_or(|(l, _)| !l.is(log)) {
+            self.source = Some((Same::of(log), vakhrameev::SourceInfo::of(log)));
+        }
         let staged = self.stages.run(StageInputs {
             log,
             signals: Same::of(&prepared),
@@ -277,6 +283,7 @@ impl Pipeline {
             ranges: &ranges,
             recipe,
             points: true,
+            source: self.source.as_ref().map(|(_, s)| s),
         })?;
         timings.plateaus_ms = staged.plateaus_ms;
         timings.fit_ms = staged.fit_ms;

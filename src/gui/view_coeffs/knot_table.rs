@@ -18,6 +18,9 @@ pub(super) struct KnotTable {
     c: Coefficient,
     new_x: String,
     note: Option<String>,
+    /// Where the pointer was when the table opened: it opens beside it, over the plots rather
+    /// than over the controls.
+    near: Option<egui::Pos2>,
 }
 
 impl KnotTable {
@@ -27,6 +30,7 @@ impl KnotTable {
             c,
             new_x: String::new(),
             note: None,
+            near: None,
         }
     }
 }
@@ -50,8 +54,13 @@ impl CoeffView {
         let c = t.c;
         let spec = c.spec(&state.shown.choices.recipe).clone();
         let mut open = true;
+        let near = *t.near.get_or_insert_with(|| {
+            ctx.input(|i| i.pointer.latest_pos())
+                .unwrap_or(ctx.content_rect().right_top())
+        });
         egui::Window::new(format!("Knots of {}", c.label()))
             .id(egui::Id::unique("knot_table"))
+            .default_pos(near - egui::vec2(320.0, 0.0))
             .open(&mut open)
             .resizable(false)
             .collapsible(false)

@@ -292,6 +292,7 @@ impl Pipeline {
             ranges: &self.ranges,
             recipe,
             points,
+            source: None,
         })
     }
 }

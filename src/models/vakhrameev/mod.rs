@@ -291,10 +291,10 @@ impl Calibration {
         (pred, regime)
     }
 
-    /// Puts a calibration together from what the stages fitted on `log`:
-    /// `[k0, k1_plus, k1_minus, k2_plus, k2_minus]`.
+    /// Puts a calibration together from what the stages fitted on the log recorded as `source`
+    /// ([`SourceInfo::of`] the log): `[k0, k1_plus, k1_minus, k2_plus, k2_minus]`.
     pub fn assemble(
-        log: &Log,
+        source: SourceInfo,
         prepared: &Prepared,
         recipe: &Recipe,
         (db1, db2): (f64, f64),
@@ -306,7 +306,7 @@ impl Calibration {
             .unwrap_or(DerivativeSteps { smooth: 1, step: 1 });
         Calibration {
             gyro_id: recipe.gyro_id.clone(),
-            source: SourceInfo::of(log),
+            source,
             created: now_rfc3339(),
             recipe: recipe.clone(),
             resolved: Resolved {
