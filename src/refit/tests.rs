@@ -330,3 +330,48 @@ fn a_new_log_of_the_same_length_is_never_taken_for_the_one_before() {
         assert_eq!(kept.in_sample.evaluation, fresh.in_sample.evaluation);
     }
 }
+
+#[test]
+fn knots_placed_by_hand_refit_as_the_batch_fit_does() {
+    // K1+ placed by hand (K2+ follows it), K2− placed and set by hand: the kept pipeline,
+    // moving them one edit after another, gives the batch fit's calibration each time.
+    let log = sample_log();
+    let base = Recipe {
+        k1_plus: ApproxSpec::of(ApproxKind::Pwl),
+        k2_minus: ApproxSpec {
+            knots: 4,
+            ..ApproxSpec::of(ApproxKind::Spline)
+        },
+        ..Recipe::default()
+    };
+    let mut p = Pipeline::new();
+    let out = p.run(&request(&log, base.clone())).unwrap();
+    let mut at1 = out.calibration.k1_plus.knots().0.to_vec();
+    let mut at2 = out.calibration.k2_minus.knots().0.to_vec();
+    let mut recipe = base.clone();
+    let mut last = out.calibration.clone();
+    for step in 0..4 {
+        at1[2] += 0.1 * (at1[3] - at1[2]);
+        recipe.k1_plus.at = Some(at1.clone());
+        if step >= 1 {
+            at2[1] -= 0.1 * (at2[1] - at2[0]);
+            recipe.k2_minus.at = Some(at2.clone());
+        }
+        if step == 2 {
+            let v = last.k2_minus.knots().1.iter().map(|v| 1.1 * v).collect();
+            recipe.k2_minus.values = Some(v);
+        }
+        let req = request(&log, recipe.clone());
+        let out = p.run(&req).unwrap();
+        let fit = vakhrameev::fit(&log, &recipe.clone().checked().unwrap()).unwrap();
+        same(&out.calibration, &fit.calibration);
+        assert_eq!(out.calibration.k1_plus.knots().0, &at1[..]);
+        assert_eq!(out.warnings, fit.warnings);
+        judged_afresh(&log, &req, &out);
+        last = out.calibration;
+    }
+    // And back to the fitted knots: the calibration of the recipe without them.
+    let out = p.run(&request(&log, base.clone())).unwrap();
+    let fit = vakhrameev::fit(&log, &base.checked().unwrap()).unwrap();
+    same(&out.calibration, &fit.calibration);
+}
