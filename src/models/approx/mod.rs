@@ -128,8 +128,9 @@ pub struct ApproxSpec {
     pub extrapolate: bool,
     /// Knot positions placed by hand, in the unit of the coefficient's argument, strictly
     /// increasing, one per knot (`None`: equally spaced over the points' x-range). The fit
-    /// places its knots there; positions beyond the points are allowed (the curve is defined
-    /// over the knots' span and holds its end values beyond them).
+    /// places its knots there (the Vakhrameev model refits K1 and K2 at them after their set's
+    /// passes); positions beyond the points are allowed (the curve is defined over the knots'
+    /// span and holds its end values beyond them).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub at: Option<Vec<f64>>,
     /// Knot values set by hand, one per knot, replacing the fitted values after the fit (the
