@@ -151,7 +151,7 @@ fn bad_positions_are_refused_with_their_reason() {
     let e = refused(vec![0.0, 0.7, 0.5, 1.0], 4);
     assert_eq!(
         e.to_string(),
-        "knot 2 at 0.5 does not come after knot 1 at 0.7: positions must be strictly increasing"
+        "at[2] = 0.5 does not come after at[1] = 0.7: positions must be strictly increasing"
     );
     assert!(matches!(
         refused(vec![0.0, f64::NAN, 1.0], 3),
@@ -208,7 +208,7 @@ fn bad_positions_are_refused_with_their_reason() {
     };
     let e = recipe.validate().unwrap_err().to_string();
     assert!(
-        e.starts_with("k2_minus.at: knot 1 at -1e-5 does not come after knot 0 at 0"),
+        e.starts_with("k2_minus.at: at[1] = -1e-5 does not come after at[0] = 0"),
         "{e}"
     );
 }
@@ -367,7 +367,7 @@ fn typed_positions_values_insertions_and_removals_keep_to_their_rules() {
         .unwrap_err();
     assert_eq!(
         e.to_string(),
-        "knot 1 goes strictly between its neighbours, 0 and 2; 2.5 is not"
+        "knot 2 goes strictly between its neighbours, 0 and 2; 2.5 is not"
     );
     let s = spec
         .edit_knot(&a, KnotEdit::Place { index: 1, x: 0.5 })

@@ -244,7 +244,7 @@ fn a_position_typed_in_the_knot_table_is_taken_or_refused_with_the_reason() {
     field(&h, at[3]).set_value_accesskit(at[1]);
     settle(&mut h);
     assert_eq!(k1p(&h).at.unwrap(), at);
-    h.get_all_by_label_contains("K1+ not changed: knot 3 goes strictly between its neighbours")
+    h.get_all_by_label_contains("K1+ not changed: knot 4 goes strictly between its neighbours")
         .next()
         .expect("the reason is shown");
     // A value typed: set by hand.

@@ -52,7 +52,8 @@ pub enum KnotEdit {
     },
 }
 
-/// Why a knot edit was not made.
+/// Why a knot edit was not made. The message numbers knots from 1, as the window shows them
+/// (the fields hold the index from 0).
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum KnotEditError {
     /// The curve has no knots.
@@ -74,7 +75,7 @@ pub enum KnotEditError {
         knots: usize,
     },
     /// No knot of that index.
-    #[error("there is no knot {index}: the curve has {count}")]
+    #[error("there is no knot {}: the curve has {count}", .index + 1)]
     NoSuchKnot {
         /// The index asked for.
         index: usize,
@@ -86,7 +87,8 @@ pub enum KnotEditError {
     NotFinite(f64),
     /// A typed position outside the knot's neighbours.
     #[error(
-        "knot {index} goes strictly between its neighbours, {} and {}; {} is not",
+        "knot {} goes strictly between its neighbours, {} and {}; {} is not",
+        .index + 1,
         readable(*.lo),
         readable(*.hi),
         readable(*.x)
@@ -102,7 +104,7 @@ pub enum KnotEditError {
         hi: f64,
     },
     /// A knot added where one already is.
-    #[error("knot {index} is already at {}", readable(*.x))]
+    #[error("knot {} is already at {}", .index + 1, readable(*.x))]
     AtKnot {
         /// The knot there.
         index: usize,

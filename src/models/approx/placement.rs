@@ -7,7 +7,8 @@ use super::{ApproxKind, ApproxSpec, MAX_KNOTS, MIN_KNOT_GAP};
 use crate::number::readable;
 
 /// Why knot positions or values given by hand cannot be used. The message is the reason alone,
-/// for the caller to put after the field's name (`k1_plus.at`).
+/// for the caller to put after the field's name (`k1_plus.at`); it names a knot as the list
+/// holds it (`at[2]`, counted from 0 as in the file).
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum KnotsError {
     /// Positions or values given for a curve without knots.
@@ -50,7 +51,7 @@ pub enum KnotsError {
         knots: usize,
     },
     /// A position that is not a finite number.
-    #[error("position {} of knot {index} is not a finite number", readable(*.value))]
+    #[error("at[{index}] = {} is not a finite number", readable(*.value))]
     PositionNotFinite {
         /// The knot (0-based).
         index: usize,
@@ -58,7 +59,7 @@ pub enum KnotsError {
         value: f64,
     },
     /// A value that is not a finite number.
-    #[error("value {} of knot {index} is not a finite number", readable(*.value))]
+    #[error("values[{index}] = {} is not a finite number", readable(*.value))]
     ValueNotFinite {
         /// The knot (0-based).
         index: usize,
@@ -67,7 +68,7 @@ pub enum KnotsError {
     },
     /// A position at or before the one before it.
     #[error(
-        "knot {index} at {} does not come after knot {} at {}: positions must be strictly \
+        "at[{index}] = {} does not come after at[{}] = {}: positions must be strictly \
          increasing",
         readable(*.value),
         .index - 1,
@@ -95,7 +96,7 @@ pub enum KnotsError {
     },
     /// Two positions closer than [`MIN_KNOT_GAP`] of the span of all.
     #[error(
-        "knots {} and {} are {} apart, less than {:e} of the {} all knots span",
+        "at[{}] and at[{}] are {} apart, less than {:e} of the {} all knots span",
         .index - 1,
         .index,
         readable(*.gap),
