@@ -1,5 +1,6 @@
 //! The workbench's application data, in one plain struct: the logs, every choice (the recipe,
-//! knots placed and set by hand among them), the newest fit result, the undo history and what was last saved.
+//! the knots placed and set by hand among them), the newest fit result, the undo history and
+//! what was last saved.
 //! Views read it and change the choices; the app turns changed choices into refit requests.
 
 use super::action::Edit;

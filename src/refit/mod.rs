@@ -1,5 +1,6 @@
 //! The workbench's live refit: a calibration as a pure function of (log, recipe), the knots
-//! placed and set by hand among the recipe's choices, run in stages with each stage's result kept until its inputs change.
+//! placed and set by hand among the recipe's choices, run in stages with each stage's result
+//! kept until its inputs change.
 //!
 //! The fit is the one Vakhrameev pipeline: the T stages as [`vakhrameev::Pipeline`] runs them,
 //! then the Ω stages through [`StageMemory::run`], the very function a batch fit calls, here

@@ -257,7 +257,10 @@ impl CoeffView {
         );
         let r = match &removed {
             Some(Err(e)) => r.on_disabled_hover_text(e.to_string()),
-            _ => r.on_hover_text("The other knots stay where they are; the values are fitted again unless set by hand"),
+            _ => r.on_hover_text(
+                "The other knots stay where they are; the values are fitted again unless set \
+                 by hand",
+            ),
         };
         if r.clicked()
             && let Some(Ok(spec)) = removed
