@@ -429,12 +429,15 @@ fn unit_pipeline_benches(c: &mut Criterion) {
         })
         .collect();
     drop(log);
-    let request = |k: usize, recipe: &Recipe, knots: KnotEdits| Request {
-        log: views[k].clone(),
-        recipe: recipe.clone(),
-        knots,
-        merit: MeritOptions::default(),
-        validation: None,
+    let request = |k: usize, recipe: &Recipe, knots: KnotEdits| {
+        let mut recipe = recipe.clone();
+        knots.fold_into(&mut recipe);
+        Request {
+            log: views[k].clone(),
+            recipe,
+            merit: MeritOptions::default(),
+            validation: None,
+        }
     };
     let pwl = Recipe {
         k1_plus: ApproxSpec::of(ApproxKind::Pwl),

@@ -11,16 +11,19 @@ use driftlab::models::recipe::Recipe;
 use driftlab::refit::{Pipeline, Request};
 use std::sync::Arc;
 
-/// The scenarios by name: nothing changed, K2+'s kind changed, a K2+ knot dragged (only the
-/// correction follows) and a K1+ knot dragged (K2+ is refitted on what the edited K1+ leaves,
-/// as the paper's K2 step asks).
+/// The scenarios by name: nothing changed, K2+'s kind changed, a K2+ knot dragged up (only
+/// the correction follows), a K1+ knot dragged up (K2+ is refitted on what the edited K1+
+/// leaves, as the paper's K2 step asks), and a K2+ or K1+ knot dragged sideways (its set is
+/// refitted with the knot at its new position).
 pub fn scenarios(log: &Arc<Log>) -> Vec<(&'static str, [Request; 2])> {
-    let request = |recipe: Recipe, knots: KnotEdits| Request {
-        log: log.clone(),
-        recipe,
-        knots,
-        merit: MeritOptions::default(),
-        validation: None,
+    let request = |mut recipe: Recipe, knots: KnotEdits| {
+        knots.fold_into(&mut recipe);
+        Request {
+            log: log.clone(),
+            recipe,
+            merit: MeritOptions::default(),
+            validation: None,
+        }
     };
     let base = Recipe::default();
     let mut other_k2p = base.clone();
@@ -44,7 +47,45 @@ pub fn scenarios(log: &Arc<Log>) -> Vec<(&'static str, [Request; 2])> {
         k.set(c, Some(v));
         k
     };
+    // The middle knot of the coefficient's fitted curve moved sideways by a fifth of its gap.
+    let moved = |c: Coefficient| {
+        let a = match c {
+            Coefficient::K1Plus => &fitted.calibration.k1_plus,
+            _ => &fitted.calibration.k2_plus,
+        };
+        let mut r = pwl.clone();
+        let mut at = a.knots().0.to_vec();
+        let j = at.len() / 2;
+        at[j] += 0.2 * (at[j + 1] - at[j]);
+        c.spec_mut(&mut r).at = Some(at);
+        r
+    };
+    // The same set refitted with evenly spaced knots, one more of them: what any refit of a
+    // pwl set costs, to set a knot moved sideways against.
+    let mut six = pwl.clone();
+    six.k1_plus.knots = 6;
     vec![
+        (
+            "k1p_knot_count_changed",
+            [
+                request(pwl.clone(), KnotEdits::default()),
+                request(six, KnotEdits::default()),
+            ],
+        ),
+        (
+            "k2p_knot_moved",
+            [
+                request(pwl.clone(), KnotEdits::default()),
+                request(moved(Coefficient::K2Plus), KnotEdits::default()),
+            ],
+        ),
+        (
+            "k1p_knot_moved",
+            [
+                request(pwl.clone(), KnotEdits::default()),
+                request(moved(Coefficient::K1Plus), KnotEdits::default()),
+            ],
+        ),
         (
             "nothing_changed",
             [

@@ -94,7 +94,8 @@ pub struct Args {
     /// Another model for one axis of a unit, as AXIS=MODEL (repeatable): `gz=poly-t`.
     #[arg(long = "axis-model", value_name = "AXIS=MODEL")]
     pub axis_models: Vec<String>,
-    /// Another recipe for one axis of a unit, as AXIS=FILE (repeatable): its Ω filter,
+    /// Another recipe for one axis of a unit, as AXIS=FILE (repeatable; FILE a recipe, a
+    /// calibration, or a unit's calibration whose axis of that name gives it): its Ω filter,
     /// approximations, knots, dead-bands, weighting and refinements; the T smoothing,
     /// derivative step, plateaus and gyro id are the unit's (said when the file sets others).
     /// Options given here still apply.
@@ -127,12 +128,14 @@ impl Args {
                 ranges: self.plateaus.clone(),
             };
         }
+        // By the engine's rules: another kind keeps the recipe's hand-placed knots while it has
+        // knots, another count spreads them evenly again.
         let set = |spec: &mut ApproxSpec, kind: Option<ApproxKind>| {
             if let Some(k) = kind {
-                spec.kind = k;
+                *spec = spec.with_kind(k);
             }
             if let Some(n) = self.knots {
-                spec.knots = n;
+                *spec = spec.with_knot_count(n);
             }
         };
         set(&mut r.k0, self.k0);
@@ -449,7 +452,8 @@ impl Args {
             let (asked, file) = pair("--axis-recipe", v)?;
             let name = axis_of("--axis-recipe", asked, log, axes)?;
             given.once("--axis-recipe", &name, v)?;
-            let base = calibration::read_recipe(Path::new(file)).map_err(|e| e.to_string())?;
+            let base =
+                calibration::read_axis_recipe(Path::new(file), &name).map_err(|e| e.to_string())?;
             let (own, dropped) = self.recipe_over(base)?.into_recipe().as_axis_of(recipe);
             if !dropped.is_empty() {
                 axis_notes.push(format!(

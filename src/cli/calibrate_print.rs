@@ -79,6 +79,13 @@ pub fn vakhrameev_summary(cal: &Calibration, warnings: &[String]) -> Result<(), 
             r2
         )?;
     }
+    // Knots placed or set by hand, in the engine's words (none: nothing more is printed).
+    for c in driftlab::models::vakhrameev::knots::Coefficient::ALL {
+        let spec = c.spec(&cal.recipe);
+        if spec.hand_knots() {
+            out!("  {} {}", c.label(), spec.knots_text())?;
+        }
+    }
     for w in warnings {
         note!("warning: {w}");
     }

@@ -5,13 +5,13 @@
 //! ```json
 //! { "format": "driftlab-session", "version": 1,
 //!   "session": { "log": { "path": "run7.csv", "read": { "delimiter": ";" } },
-//!                "validation": null, "recipe": { ... }, "knots": { "k1_plus": [...] },
+//!                "validation": null, "recipe": { ... },
 //!                "merit": { "filter_s": 100, "window_s": 600 }, "view": { ... } } }
 //! ```
 //!
 //! The session of a log of several gyro axes (a unit) is version 2: `axes` lists each axis's
-//! own choices (`{ "name": "gy", "recipe": { ... }, "knots": { ... } }`) and `view.axis` the
-//! axis shown; `recipe` and `knots` are then the first axis's. A session of one axis is written
+//! own choices (`{ "name": "gy", "recipe": { ... } }`) and `view.axis` the
+//! axis shown; `recipe` is then the first axis's. A session of one axis is written
 //! as version 1, as it always was, and version-1 files keep loading.
 //!
 //! `merit` says how the workbench judged the calibration: its filter is the recipe's (a
@@ -75,9 +75,12 @@ pub struct ViewState {
 pub struct AxisChoices {
     /// The axis (`gx`), as the log names it.
     pub name: String,
-    /// Its recipe (the T settings and plateaus are those of every axis).
+    /// Its recipe (the T settings and plateaus are those of every axis), with its knots placed
+    /// and set by hand.
     pub recipe: Recipe,
-    /// Its knots moved by hand.
+    /// Its knot values set by hand, as sessions wrote them before the recipe held them: read
+    /// into the recipe on loading ([`from_json`]), never written.
+    #[serde(skip_serializing_if = "KnotEdits::is_empty")]
     pub knots: KnotEdits,
 }
 
@@ -89,9 +92,11 @@ pub struct Session {
     pub log: Option<LogRef>,
     /// A second log, held out to judge the calibration.
     pub validation: Option<LogRef>,
-    /// Every choice of the calibration.
+    /// Every choice of the calibration, the knots placed and set by hand among them.
     pub recipe: Recipe,
-    /// Knots moved by hand.
+    /// Knot values set by hand, as sessions wrote them before the recipe held them: read into
+    /// the recipe on loading ([`from_json`]), never written.
+    #[serde(skip_serializing_if = "KnotEdits::is_empty")]
     pub knots: KnotEdits,
     /// How the figures of merit are computed.
     pub merit: MeritOptions,
@@ -223,6 +228,13 @@ pub fn from_json(path: &Path, text: &str) -> Result<Session> {
         .knots
         .check(&session.recipe)
         .map_err(|e| err(format!("knots.{e}")))?;
+    // Values set by hand that an older session kept beside its recipe belong to the recipe.
+    let knots = std::mem::take(&mut session.knots);
+    knots.fold_into(&mut session.recipe);
+    for a in &mut session.axes {
+        let knots = std::mem::take(&mut a.knots);
+        knots.fold_into(&mut a.recipe);
+    }
     if merit_given(text) {
         check_merit(&session.merit, &session.recipe).map_err(|e| err(format!("merit.{e}")))?;
     } else {

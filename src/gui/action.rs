@@ -105,10 +105,12 @@ pub enum Edit {
     /// The recipe as the Calibration page's controls left it (filters, step H, dead-bands,
     /// gyro id, weighting, refinements).
     Recipe(Box<Recipe>),
-    /// A coefficient's approximation (kind, knot count, extrapolation); knots moved by hand
-    /// that no longer fit it are forgotten.
+    /// A coefficient's approximation (kind, knot count, extrapolation, the knots placed and set
+    /// by hand, as the engine's knot edits make them); hand-set lists that no longer fit it
+    /// are forgotten ([`ApproxSpec::consistent`]).
     Approx(Coefficient, ApproxSpec),
-    /// A coefficient's knot values set by hand (`None`: the fitted ones again).
+    /// A coefficient's knot values set by hand (`None`: the fitted ones again), its positions
+    /// kept.
     Knots(Coefficient, Option<Vec<f64>>),
     /// The plateaus, set by hand (sorted; empty and reversed ones dropped).
     Plateaus(Vec<PlateauRange>),

@@ -294,13 +294,23 @@ impl Workbench {
         self.views.time.screen_x(t_s)
     }
 
-    /// Where knot `j` of a K1/K2 coefficient is on screen (tests aim the mouse).
+    /// Where knot `j` of a coefficient is on screen (tests aim the mouse).
     pub fn knot_screen_pos(
         &self,
         c: crate::files::session::Coefficient,
         j: usize,
     ) -> Option<egui::Pos2> {
         self.views.coeffs.knot_pos(&self.state, c, j)
+    }
+
+    /// Where the point `(x, y)` of a coefficient's plot is on screen (tests aim the mouse).
+    pub fn coeff_plot_pos(
+        &self,
+        c: crate::files::session::Coefficient,
+        x: f64,
+        y: f64,
+    ) -> Option<egui::Pos2> {
+        self.views.coeffs.plot_pos(c, x, y)
     }
 
     /// The page shown.

@@ -1,11 +1,13 @@
-//! The workbench's application data, in one plain struct: the logs, every choice (the recipe
-//! and knots moved by hand), the newest fit result, the undo history and what was last saved.
+//! The workbench's application data, in one plain struct: the logs, every choice (the recipe,
+//! the knots placed and set by hand among them), the newest fit result, the undo history and
+//! what was last saved.
 //! Views read it and change the choices; the app turns changed choices into refit requests.
 
 use super::action::Edit;
 use super::jobs::{AllanView, Compared, FitView, Loaded};
 use crate::files::session::{AxisChoices, KnotEdits, LogRef, Session, ViewState};
 use crate::judge::metrics::MeritOptions;
+use crate::models::approx::ApproxSpec;
 use crate::models::recipe::{PlateauChoice, Recipe};
 use crate::refit::Request;
 use crate::signal::plateau::PlateauRange;
@@ -15,10 +17,8 @@ use std::sync::Arc;
 /// Everything the engineer chose: what undo and redo step through.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct Choices {
-    /// The recipe.
+    /// The recipe, with the knots placed and set by hand.
     pub recipe: Recipe,
-    /// Knots moved by hand.
-    pub knots: KnotEdits,
 }
 
 /// Undo and redo of choices. Changes are committed once they settle (no mouse button held),
@@ -234,7 +234,6 @@ fn request(
     Some(Request {
         log: log.log.clone(),
         recipe: choices.recipe.clone(),
-        knots: choices.knots.clone(),
         merit: merit_of(choices, window_s),
         validation: validation.map(|v| v.log.clone()),
     })
@@ -253,10 +252,7 @@ fn fit_current(
             (None, None) => true,
             _ => false,
         };
-        same_log
-            && same_validation
-            && f.outcome.calibration.recipe == choices.recipe
-            && f.knots == choices.knots
+        same_log && same_validation && f.outcome.calibration.recipe == choices.recipe
     })
 }
 
@@ -308,11 +304,15 @@ impl AppState {
         let choices = &mut self.shown.choices;
         match edit {
             Edit::Recipe(recipe) => choices.recipe = *recipe,
-            Edit::Approx(c, spec) => {
-                *c.spec_mut(&mut choices.recipe) = spec;
-                choices.knots.retain_matching(&choices.recipe);
+            Edit::Approx(c, spec) => *c.spec_mut(&mut choices.recipe) = spec.consistent(),
+            Edit::Knots(c, values) => {
+                let spec = c.spec_mut(&mut choices.recipe);
+                *spec = ApproxSpec {
+                    values,
+                    ..spec.clone()
+                }
+                .consistent();
             }
-            Edit::Knots(c, values) => choices.knots.set(c, values),
             Edit::Plateaus(ranges) => self.set_ranges(ranges),
             Edit::PlateausDragged(ranges) => {
                 choices.recipe.plateaus = PlateauChoice::Manual { ranges };
@@ -349,7 +349,7 @@ impl AppState {
             log: log_ref(&self.shown.log),
             validation: log_ref(&self.shown.validation),
             recipe: self.shown.choices.recipe.clone(),
-            knots: self.shown.choices.knots.clone(),
+            knots: KnotEdits::default(),
             merit: self.merit(),
             view: self.view.clone(),
             axes: Vec::new(),
@@ -361,16 +361,14 @@ impl AppState {
                 .map(|a| AxisChoices {
                     name: a.name.to_string(),
                     recipe: a.choices.recipe.clone(),
-                    knots: a.choices.knots.clone(),
+                    knots: KnotEdits::default(),
                 })
                 .collect();
             if let Some(first) = session.axes.first() {
                 session.recipe = first.recipe.clone();
-                session.knots = first.knots.clone();
                 session.merit = merit_of(
                     &Choices {
                         recipe: first.recipe.clone(),
-                        knots: KnotEdits::default(),
                     },
                     self.merit_window_s,
                 );

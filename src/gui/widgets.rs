@@ -26,33 +26,41 @@ fn kind_tip(k: ApproxKind) -> &'static str {
     match k {
         ApproxKind::Linear => "c0 + c1·x",
         ApproxKind::Parabolic => "c0 + c1·x + c2·x²",
-        ApproxKind::Pwl => "straight segments between equally spaced knots",
-        ApproxKind::Spline => "Catmull-Rom cubic spline through equally spaced knots",
+        ApproxKind::Pwl => "straight segments between knots (equally spaced unless placed by hand)",
+        ApproxKind::Spline => {
+            "Catmull-Rom cubic spline through knots (equally spaced unless placed by hand)"
+        }
     }
 }
 
-/// Kind, knot count and "reset knots" for one coefficient; returns true when the hand-set
-/// knots are to be forgotten. "reset knots" is always there (greyed while no knot is set by
-/// hand), so that the row keeps its width when a drag starts.
-pub fn approx_controls(
-    ui: &mut Ui,
-    id: &str,
-    label: &str,
-    spec: &mut ApproxSpec,
-    edited: bool,
-) -> bool {
+/// What the engineer asked of an approximation's controls beside changing the spec.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct ApproxAsks {
+    /// Forget the knots placed and set by hand ("reset knots").
+    pub reset: bool,
+    /// Open the knot table ("knots…").
+    pub table: bool,
+}
+
+/// Kind, knot count, "knots…" and "reset knots" for one coefficient. A new kind or knot count
+/// is made by the engine's rules ([`ApproxSpec::with_kind`], [`ApproxSpec::with_knot_count`]:
+/// a new count spreads the knots evenly again). "reset knots" is always there (greyed while no
+/// knot is placed or set by hand), so that the row keeps its width when a drag starts.
+pub fn approx_controls(ui: &mut Ui, id: &str, label: &str, spec: &mut ApproxSpec) -> ApproxAsks {
+    let before = spec.clone();
+    let mut kind = spec.kind;
     let r = egui::ComboBox::from_id_salt(("approx_kind", id))
-        .selected_text(kind_name(spec.kind))
+        .selected_text(kind_name(kind))
         .width(112.0)
         .show_ui(ui, |ui| {
             for k in ApproxKind::ALL {
-                ui.selectable_value(&mut spec.kind, k, kind_name(k))
+                ui.selectable_value(&mut kind, k, kind_name(k))
                     .on_hover_text(kind_tip(k));
             }
         })
         .response;
     let text = format!("{label} approximation");
-    let value = kind_name(spec.kind).to_string();
+    let value = kind_name(kind).to_string();
     r.widget_info(|| {
         let mut info = WidgetInfo::labeled(egui::accesskit::Role::ComboBox, true, &text);
         info.current_text_value = Some(value.clone());
@@ -61,27 +69,46 @@ pub fn approx_controls(
     r.on_hover_text(format!(
         "Approximation of {label}: linear, parabolic, piecewise-linear or spline"
     ));
+    if kind != spec.kind {
+        *spec = spec.with_kind(kind);
+    }
+    let mut asks = ApproxAsks::default();
     if spec.kind.has_knots() {
+        let mut n = spec.knots;
         ui.add(
-            egui::DragValue::new(&mut spec.knots)
+            egui::DragValue::new(&mut n)
                 .range(2..=24)
                 .suffix(" knots")
                 .speed(0.05),
         )
         .on_hover_text(format!(
-            "Number of equally spaced knots of {label} (2 to 24)"
+            "Number of knots of {label} (2 to 24), equally spaced. A new count forgets the knots \
+             placed by hand: to keep them, add a knot with Ctrl+click on the plot, or remove one \
+             from its right-click menu"
         ));
+        if n != spec.knots {
+            *spec = spec.with_knot_count(n);
+        }
+        asks.table = ui
+            .small_button("knots…")
+            .on_hover_text(format!("Type the positions and values of {label}'s knots"))
+            .clicked();
     }
     ui.checkbox(&mut spec.extrapolate, "extrap.")
         .on_hover_text(format!(
             "Evaluate {label} beyond the range it was fitted on, instead of holding its edge value"
         ));
-    ui.add_enabled(edited, egui::Button::new("reset knots").small())
+    asks.reset = ui
+        .add_enabled(
+            before.hand_knots(),
+            egui::Button::new("reset knots").small(),
+        )
         .on_hover_text(format!(
-            "Forget the knots of {label} moved by hand and use the fitted ones"
+            "Forget the knots of {label} placed or set by hand: equally spaced, fitted knots again"
         ))
-        .on_disabled_hover_text(format!("No knot of {label} is set by hand"))
-        .clicked()
+        .on_disabled_hover_text(format!("No knot of {label} is placed or set by hand"))
+        .clicked();
+    asks
 }
 
 /// The "Save this plot as PNG…" entry of a plot's context menu; true when chosen (the menu

@@ -277,6 +277,7 @@ impl Recipe {
                     format!("must be between 2 and 64, got {}", spec.knots),
                 ));
             }
+            check_hand_knots(name, spec)?;
         }
         match &self.plateaus {
             PlateauChoice::Auto(o) => o.validate()?,
@@ -385,15 +386,59 @@ impl Recipe {
     }
 
     /// The five approximation choices with their names.
-    pub fn specs(&self) -> [(&'static str, ApproxSpec); 5] {
+    pub fn specs(&self) -> [(&'static str, &ApproxSpec); 5] {
         [
-            ("k0", self.k0),
-            ("k1_plus", self.k1_plus),
-            ("k1_minus", self.k1_minus),
-            ("k2_plus", self.k2_plus),
-            ("k2_minus", self.k2_minus),
+            ("k0", &self.k0),
+            ("k1_plus", &self.k1_plus),
+            ("k1_minus", &self.k1_minus),
+            ("k2_plus", &self.k2_plus),
+            ("k2_minus", &self.k2_minus),
         ]
     }
+
+    /// This recipe without any knot placed or set by hand (each curve's knots fitted and
+    /// equally spaced again): what carries over to another log, whose rates the hand-placed
+    /// knots were not made for.
+    pub fn without_hand_knots(mut self) -> Recipe {
+        for spec in [
+            &mut self.k0,
+            &mut self.k1_plus,
+            &mut self.k1_minus,
+            &mut self.k2_plus,
+            &mut self.k2_minus,
+        ] {
+            *spec = spec.without_hand_knots();
+        }
+        self
+    }
+}
+
+/// Refuses knots placed or set by hand that no curve can take ([`ApproxSpec::check_knots`]:
+/// the field named `k1_plus.at` or `k1_plus.values`), and hand-set values beyond the largest
+/// rate a gyro log may plausibly hold (`k1_plus.values[2]`), as the workbench's sessions
+/// always refused them.
+fn check_hand_knots(name: &str, spec: &ApproxSpec) -> Result<(), Invalid> {
+    use crate::log::mapping_check::MAX_PLAUSIBLE_RATE_DPH;
+    use crate::number::readable;
+    spec.check_knots()
+        .map_err(|e| Invalid::new(format!("{name}.{}", e.field()), e.to_string()))?;
+    if let Some((j, v)) = spec
+        .values
+        .iter()
+        .flatten()
+        .enumerate()
+        .find(|(_, v)| v.abs() > MAX_PLAUSIBLE_RATE_DPH)
+    {
+        return Err(Invalid::new(
+            format!("{name}.values[{j}]"),
+            format!(
+                "{}: a knot value is a finite number of at most {} in magnitude (10⁴ °/s, the                  largest rate a gyro log may plausibly hold)",
+                readable(*v),
+                readable(MAX_PLAUSIBLE_RATE_DPH)
+            ),
+        ));
+    }
+    Ok(())
 }
 
 /// Refuses a T smoothing and derivative step whose history (the smoothing and four steps,

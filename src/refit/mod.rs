@@ -1,5 +1,6 @@
-//! The workbench's live refit: a calibration as a pure function of (log, recipe, knots moved by
-//! hand), run in stages with each stage's result kept until its inputs change.
+//! The workbench's live refit: a calibration as a pure function of (log, recipe), the knots
+//! placed and set by hand among the recipe's choices, run in stages with each stage's result
+//! kept until its inputs change.
 //!
 //! The fit is the one Vakhrameev pipeline: the T stages as [`vakhrameev::Pipeline`] runs them,
 //! then the Ω stages through [`StageMemory::run`], the very function a batch fit calls, here
@@ -24,9 +25,10 @@
 //! the display series' centred moving average; `plateaus.rs` the plateau ranges and "Suggest
 //! plateaus".
 //!
-//! Knots set by hand ([`KnotEdits`]) replace the fitted knot values of their approximation;
-//! a hand-edited K1 is followed by a fresh K2 fit on what it leaves (unless K2's knots are
-//! set by hand too), as the paper's K2 step asks.
+//! Knot values set by hand (`ApproxSpec::values`) replace the fitted knot values of their
+//! approximation; a hand-edited K1 is followed by a fresh K2 fit on what it leaves (unless K2's
+//! knots are set by hand too), as the paper's K2 step asks. Knots placed by hand
+//! (`ApproxSpec::at`) are where the set's fit puts them: moving one refits its set.
 //!
 //! The correction is made from the kept derivatives ([`Calibration::correct_into`], or a patch
 //! of the samples of the sets that changed); it equals
@@ -46,7 +48,7 @@ pub use plateaus::suggest_plateaus;
 pub use same::Same;
 
 use crate::error::Error;
-use crate::files::session::{Coefficient, KnotEdits};
+use crate::files::session::Coefficient;
 use crate::judge::metrics::{Comparison, Evaluation, Figures, MeritOptions};
 use crate::log::Log;
 use crate::models::approx::Approx;
@@ -70,10 +72,8 @@ use terms::Terms;
 pub struct Request {
     /// The calibration log.
     pub log: Arc<Log>,
-    /// Every choice.
+    /// Every choice, the knots placed and set by hand among them.
     pub recipe: Recipe,
-    /// Knots moved by hand.
-    pub knots: KnotEdits,
     /// How the figures of merit are computed.
     pub merit: MeritOptions,
     /// A held-out log to judge the calibration on.
@@ -200,6 +200,9 @@ pub struct Pipeline {
     terms: Terms,
     /// The plateau ranges of the last run, with the signals and plateau choice they came from.
     ranges: Option<(Same<Prepared>, PlateauChoice, Vec<PlateauRange>)>,
+    /// The log as calibrations record it (its samples' sketch reads every sample), kept while
+    /// the log stays.
+    source: Option<(Same<Log>, vakhrameev::SourceInfo)>,
 }
 
 fn ms(t: Instant) -> f64 {
@@ -270,6 +273,9 @@ impl Pipeline {
         }
 
         let ranges = self.plateau_ranges(log, &prepared, recipe);
+        if self.source.as_ref().is_none_or(|(l, _)| !l.is(log)) {
+            self.source = Some((Same::of(log), vakhrameev::SourceInfo::of(log)));
+        }
         let staged = self.stages.run(StageInputs {
             log,
             signals: Same::of(&prepared),
@@ -277,8 +283,8 @@ impl Pipeline {
             omega_filtered_dph: Cow::Borrowed(&prepared.omega_filtered_dph),
             ranges: &ranges,
             recipe,
-            knots: &req.knots,
             points: true,
+            source: self.source.as_ref().map(|(_, s)| s),
         })?;
         timings.plateaus_ms = staged.plateaus_ms;
         timings.fit_ms = staged.fit_ms;

@@ -16,7 +16,6 @@ fn request(log: &Arc<Log>, recipe: Recipe) -> Request {
             ..MeritOptions::default()
         },
         recipe,
-        knots: KnotEdits::default(),
         validation: None,
     }
 }
@@ -37,6 +36,7 @@ fn staged_fit_is_the_engines_fit() {
             kind: ApproxKind::Spline,
             knots: 6,
             extrapolate: false,
+            ..Default::default()
         },
         ..Recipe::default()
     };
@@ -110,6 +110,7 @@ fn hand_set_knots_replace_the_fitted_ones_and_k2_follows() {
             kind: ApproxKind::Pwl,
             knots: 4,
             extrapolate: false,
+            ..Default::default()
         },
         ..Recipe::default()
     };
@@ -118,15 +119,18 @@ fn hand_set_knots_replace_the_fitted_ones_and_k2_follows() {
     let mut values = out.calibration.k1_plus.knots().1.to_vec();
     values[1] += 50.0;
     let mut req = request(&log, recipe);
-    req.knots.k1_plus = Some(values.clone());
+    req.recipe.k1_plus.values = Some(values.clone());
     let out2 = p.run(&req).unwrap();
     assert_eq!(out2.calibration.k1_plus.knots().1, &values[..]);
     assert_ne!(out2.calibration.k2_plus, out.calibration.k2_plus);
     assert_eq!(out2.calibration.k1_minus, out.calibration.k1_minus);
-    // A list of the wrong length is ignored.
-    req.knots.k1_plus = Some(vec![1.0; 3]);
-    let out3 = p.run(&req).unwrap();
-    assert_eq!(out3.calibration.k1_plus, out.calibration.k1_plus);
+    // A list of the wrong length is refused, naming the field.
+    req.recipe.k1_plus.values = Some(vec![1.0; 3]);
+    let e = p.run(&req).unwrap_err().to_string();
+    assert!(
+        e.contains("k1_plus.values") && e.contains("3 knot values"),
+        "{e}"
+    );
 }
 
 /// The correction, figures and display series of `out` are the engine's, made afresh.
@@ -172,11 +176,11 @@ fn reused_buffers_give_a_fresh_correction() {
         let mut r = request(&log, base.clone());
         let mut v = k1p.clone();
         v[1] += 10.0 * j as f64;
-        r.knots.k1_plus = Some(v);
+        r.recipe.k1_plus.values = Some(v);
         if j % 2 == 1 {
             let mut v = k2m.clone();
             v[0] -= 3.0 * j as f64;
-            r.knots.k2_minus = Some(v);
+            r.recipe.k2_minus.values = Some(v);
         }
         reqs.push(r);
     }
@@ -235,7 +239,7 @@ fn knot_edits_follow_with_the_engines_k2_points() {
     let mut values = out.calibration.k1_minus.knots().1.to_vec();
     values[2] -= 20.0;
     let mut req = request(&log, recipe.clone());
-    req.knots.k1_minus = Some(values);
+    req.recipe.k1_minus.values = Some(values);
     let out2 = p.run(&req).unwrap();
     judged_afresh(&log, &req, &out2);
     // The K2− points of the edited calibration, as the engine computes them for any
@@ -276,11 +280,11 @@ fn a_patch_over_one_regimes_samples_is_a_whole_correction() {
     };
     let cal = &out.calibration;
     let mut k1p = first.clone();
-    k1p.knots.k1_plus = dragged(&cal.k1_plus, 2, 30.0);
+    k1p.recipe.k1_plus.values = dragged(&cal.k1_plus, 2, 30.0);
     let mut k2p = k1p.clone();
-    k2p.knots.k2_plus = dragged(&cal.k2_plus, 1, -4.0);
+    k2p.recipe.k2_plus.values = dragged(&cal.k2_plus, 1, -4.0);
     let mut k1m = k2p.clone();
-    k1m.knots.k1_minus = dragged(&cal.k1_minus, 3, 12.0);
+    k1m.recipe.k1_minus.values = dragged(&cal.k1_minus, 3, 12.0);
     let mut kind = first.clone();
     kind.recipe.k2_plus.kind = ApproxKind::Parabolic;
     kind.recipe.k2_plus.extrapolate = true;
@@ -325,4 +329,49 @@ fn a_new_log_of_the_same_length_is_never_taken_for_the_one_before() {
         );
         assert_eq!(kept.in_sample.evaluation, fresh.in_sample.evaluation);
     }
+}
+
+#[test]
+fn knots_placed_by_hand_refit_as_the_batch_fit_does() {
+    // K1+ placed by hand (K2+ follows it), K2− placed and set by hand: the kept pipeline,
+    // moving them one edit after another, gives the batch fit's calibration each time.
+    let log = sample_log();
+    let base = Recipe {
+        k1_plus: ApproxSpec::of(ApproxKind::Pwl),
+        k2_minus: ApproxSpec {
+            knots: 4,
+            ..ApproxSpec::of(ApproxKind::Spline)
+        },
+        ..Recipe::default()
+    };
+    let mut p = Pipeline::new();
+    let out = p.run(&request(&log, base.clone())).unwrap();
+    let mut at1 = out.calibration.k1_plus.knots().0.to_vec();
+    let mut at2 = out.calibration.k2_minus.knots().0.to_vec();
+    let mut recipe = base.clone();
+    let mut last = out.calibration.clone();
+    for step in 0..4 {
+        at1[2] += 0.1 * (at1[3] - at1[2]);
+        recipe.k1_plus.at = Some(at1.clone());
+        if step >= 1 {
+            at2[1] -= 0.1 * (at2[1] - at2[0]);
+            recipe.k2_minus.at = Some(at2.clone());
+        }
+        if step == 2 {
+            let v = last.k2_minus.knots().1.iter().map(|v| 1.1 * v).collect();
+            recipe.k2_minus.values = Some(v);
+        }
+        let req = request(&log, recipe.clone());
+        let out = p.run(&req).unwrap();
+        let fit = vakhrameev::fit(&log, &recipe.clone().checked().unwrap()).unwrap();
+        same(&out.calibration, &fit.calibration);
+        assert_eq!(out.calibration.k1_plus.knots().0, &at1[..]);
+        assert_eq!(out.warnings, fit.warnings);
+        judged_afresh(&log, &req, &out);
+        last = out.calibration;
+    }
+    // And back to the fitted knots: the calibration of the recipe without them.
+    let out = p.run(&request(&log, base.clone())).unwrap();
+    let fit = vakhrameev::fit(&log, &base.checked().unwrap()).unwrap();
+    same(&out.calibration, &fit.calibration);
 }

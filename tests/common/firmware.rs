@@ -32,6 +32,7 @@ pub fn calibrate(log: &Log, [k0, k1, k2]: [ApproxKind; 3], extrapolate_k1: bool)
         kind: k0,
         knots: 3,
         extrapolate: false,
+        ..Default::default()
     };
     for (spec, kind, extrapolate) in [
         (&mut r.k1_plus, k1, extrapolate_k1),
@@ -43,6 +44,7 @@ pub fn calibrate(log: &Log, [k0, k1, k2]: [ApproxKind; 3], extrapolate_k1: bool)
             kind,
             knots: 6,
             extrapolate,
+            ..Default::default()
         };
     }
     let cal = vakhrameev::fit(log, &r.clone().checked().unwrap())

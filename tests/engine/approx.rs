@@ -62,6 +62,7 @@ fn pwl_recovered_from_data_of_its_own_knots() {
             kind: ApproxKind::Pwl,
             knots: 4,
             extrapolate: false,
+            ..Default::default()
         },
         &xs,
         &ys,
@@ -129,6 +130,7 @@ fn spline_recovered_from_data_of_its_own_knots() {
             kind: ApproxKind::Spline,
             knots: 6,
             extrapolate: false,
+            ..Default::default()
         },
         &xs,
         &ys,
@@ -183,6 +185,7 @@ fn an_empty_knot_interval_is_bridged_not_singular() {
                 kind,
                 knots: 7,
                 extrapolate: false,
+                ..Default::default()
             },
             &xs,
             &ys,
@@ -209,7 +212,8 @@ fn too_few_points_is_an_error_not_a_panic() {
             &ApproxSpec {
                 kind: ApproxKind::Spline,
                 knots: 1,
-                extrapolate: false
+                extrapolate: false,
+                ..Default::default()
             },
             &[1.0; 5],
             &[1.0; 5]

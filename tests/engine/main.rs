@@ -10,6 +10,7 @@ mod approx;
 mod correction;
 mod crafted_settings;
 mod k0_temperatures;
+mod knot_placement;
 mod lod;
 mod model;
 mod models;

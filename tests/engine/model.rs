@@ -198,6 +198,7 @@ fn invalid_recipes_are_refused_with_the_setting_named() {
             kind: ApproxKind::Spline,
             knots: 1,
             extrapolate: false,
+            ..Default::default()
         },
         ..Recipe::default()
     };

@@ -249,6 +249,7 @@ fn approx_spec() -> impl Strategy<Value = ApproxSpec> {
             kind,
             knots,
             extrapolate,
+            ..Default::default()
         })
 }
 
@@ -279,9 +280,9 @@ proptest! {
             gyro_id: format!("FOG-{seed}"),
             plateaus: PlateauChoice::Manual { ranges: plateaus },
             k0: ApproxSpec { knots: k0.knots.min(3), ..k0 },
-            k1_plus: k1,
-            k1_minus: k1,
-            k2_plus: k2,
+            k1_plus: k1.clone(),
+            k1_minus: k1.clone(),
+            k2_plus: k2.clone(),
             k2_minus: k2,
             ..Recipe::default()
         };
@@ -491,7 +492,7 @@ proptest! {
                 Default::default(),
             )
             .map_err(|e| TestCaseError::fail(e.to_string()))?;
-            let spec = ApproxSpec { kind, knots: m, extrapolate: false };
+            let spec = ApproxSpec { kind, knots: m, extrapolate: false, ..Default::default() };
             recovered(&spec, &xs, |x| truth.eval(x))?;
             let fitted = approx::fit(&spec, &xs, &xs.iter().map(|&x| truth.eval(x)).collect::<Vec<_>>()).unwrap();
             let (_, fy) = fitted.knots();

@@ -11,3 +11,4 @@ mod firmware_tables;
 mod firmware_unit;
 mod flight_exports;
 mod report;
+mod report_knots;

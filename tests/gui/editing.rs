@@ -125,6 +125,7 @@ fn a_spline_knot_is_dragged_and_the_figures_follow() {
         kind: driftlab::models::approx::ApproxKind::Spline,
         knots: 5,
         extrapolate: false,
+        ..Default::default()
     };
     settle(&mut h);
     let fitted = outcome(&h).calibration.k1_plus.clone();
@@ -139,8 +140,10 @@ fn a_spline_knot_is_dragged_and_the_figures_follow() {
     let edited = s
         .shown
         .choices
-        .knots
-        .get(Coefficient::K1Plus)
+        .recipe
+        .k1_plus
+        .values
+        .as_ref()
         .expect("knot values set by hand");
     assert!(
         edited[2] > fitted.knots().1[2],
@@ -155,7 +158,7 @@ fn a_spline_knot_is_dragged_and_the_figures_follow() {
     // "reset knots" goes back to the fitted curve.
     reset_knots(&h).click();
     settle(&mut h);
-    assert!(h.state().state.shown.choices.knots.is_empty());
+    assert!(!h.state().state.shown.choices.recipe.k1_plus.hand_knots());
     assert_eq!(p2p_corrected(&h), before);
 }
 
@@ -175,6 +178,7 @@ fn spline_harness(size: egui::Vec2) -> Harness<'static, Workbench> {
         kind: driftlab::models::approx::ApproxKind::Spline,
         knots: 5,
         extrapolate: false,
+        ..Default::default()
     };
     let mut h = Harness::builder()
         .with_size(size)
@@ -259,8 +263,10 @@ fn a_knot_drag_keeps_the_panels_and_the_plots_in_place() {
                 .state
                 .shown
                 .choices
-                .knots
-                .get(Coefficient::K1Plus)
+                .recipe
+                .k1_plus
+                .values
+                .as_ref()
                 .is_some()
         );
         let (panels2, plots2) = rects(&h);
@@ -279,7 +285,7 @@ fn a_knot_drag_keeps_the_panels_and_the_plots_in_place() {
         // "reset knots" goes back to the fitted knots; nothing moves either.
         reset_knots(&h).click();
         settle(&mut h);
-        assert!(h.state().state.shown.choices.knots.is_empty());
+        assert!(!h.state().state.shown.choices.recipe.k1_plus.hand_knots());
         let (panels3, plots3) = rects(&h);
         assert_eq!(panels3, panels2);
         assert_eq!(plots3, plots2);
@@ -350,8 +356,10 @@ fn figures_after_a_knot_drag_are_those_of_a_fresh_calibration() {
         .state
         .shown
         .choices
-        .knots
-        .get(Coefficient::K1Plus)
+        .recipe
+        .k1_plus
+        .values
+        .as_ref()
         .expect("moved by hand");
     let shown = wb.state.shown.fit.as_ref().unwrap();
     assert_eq!(shown.outcome.calibration.k1_plus.knots().1, &edited[..]);

@@ -10,6 +10,7 @@ mod editing;
 mod files;
 mod flight_export;
 mod gaps;
+mod knots;
 mod layout;
 mod models_allan;
 mod open_export;

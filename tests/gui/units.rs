@@ -139,7 +139,7 @@ fn each_axis_keeps_its_own_choices_and_the_plateaus_are_shared() {
     let mut h = unit_harness();
     // gy: K1+ as a spline; gz: K0's knots set by hand.
     act(&mut h, Action::SelectAxis(1));
-    let mut spec = h.state().state.recipe().k1_plus;
+    let mut spec = h.state().state.recipe().k1_plus.clone();
     spec.kind = ApproxKind::Spline;
     spec.knots = 4;
     act(
@@ -150,7 +150,7 @@ fn each_axis_keeps_its_own_choices_and_the_plateaus_are_shared() {
     assert!(h.state().state.fit_current());
     let gx_fit = h.state().state.axis(0).unwrap().fit.unwrap().clone();
     act(&mut h, Action::SelectAxis(2));
-    let mut k0 = h.state().state.recipe().k0;
+    let mut k0 = h.state().state.recipe().k0.clone();
     k0.kind = ApproxKind::Pwl;
     k0.knots = 3;
     act(&mut h, Action::Edit(Edit::Approx(Coefficient::K0, k0)));
@@ -180,9 +180,9 @@ fn each_axis_keeps_its_own_choices_and_the_plateaus_are_shared() {
     let gz = s.axis(2).unwrap();
     assert_eq!(gy.choices.recipe.k1_plus.kind, ApproxKind::Spline);
     assert_eq!(gz.choices.recipe.k1_plus.kind, ApproxKind::Linear);
-    assert_eq!(gz.choices.knots.get(Coefficient::K0), Some(&knots));
-    assert!(gy.choices.knots.is_empty());
-    assert!(s.axis(0).unwrap().choices.knots.is_empty());
+    assert_eq!(gz.choices.recipe.k0.values.as_ref(), Some(&knots));
+    assert!(!gy.choices.recipe.k0.hand_knots());
+    assert!(!s.axis(0).unwrap().choices.recipe.k0.hand_knots());
     assert_eq!(
         gz.fit.unwrap().outcome.calibration.k0.knots().1,
         knots.as_slice(),
@@ -191,7 +191,7 @@ fn each_axis_keeps_its_own_choices_and_the_plateaus_are_shared() {
     // Undo steps back through gz's own history only.
     h.key_press_modifiers(Modifiers::COMMAND, Key::Z);
     h.run_ok();
-    assert!(h.state().state.shown.choices.knots.is_empty());
+    assert!(!h.state().state.shown.choices.recipe.k0.hand_knots());
     assert_eq!(
         h.state().state.axis(1).unwrap().choices.recipe.k1_plus.kind,
         ApproxKind::Spline
@@ -233,7 +233,7 @@ fn each_axis_keeps_its_own_choices_and_the_plateaus_are_shared() {
         "the shared plateaus leave each axis's own choices"
     );
     assert_eq!(
-        s.axis(2).unwrap().choices.knots.get(Coefficient::K0),
+        s.axis(2).unwrap().choices.recipe.k0.values.as_ref(),
         Some(&knots)
     );
 }
@@ -245,7 +245,7 @@ fn export_writes_the_unit_calibration_the_engine_makes_and_its_corrected_csv() {
     let dialogs = with_dialogs(h.state_mut());
     // Each axis its own approximations.
     act(&mut h, Action::SelectAxis(1));
-    let mut spec = h.state().state.recipe().k1_minus;
+    let mut spec = h.state().state.recipe().k1_minus.clone();
     spec.kind = ApproxKind::Spline;
     spec.knots = 4;
     act(
@@ -253,7 +253,7 @@ fn export_writes_the_unit_calibration_the_engine_makes_and_its_corrected_csv() {
         Action::Edit(Edit::Approx(Coefficient::K1Minus, spec)),
     );
     act(&mut h, Action::SelectAxis(2));
-    let mut spec = h.state().state.recipe().k0;
+    let mut spec = h.state().state.recipe().k0.clone();
     spec.kind = ApproxKind::Parabolic;
     act(&mut h, Action::Edit(Edit::Approx(Coefficient::K0, spec)));
     settle(&mut h);
@@ -421,7 +421,7 @@ fn a_unit_session_keeps_every_axis_and_a_validation_log_judges_each() {
     );
 
     act(&mut h, Action::SelectAxis(2));
-    let mut spec = h.state().state.recipe().k2_plus;
+    let mut spec = h.state().state.recipe().k2_plus.clone();
     spec.kind = ApproxKind::Pwl;
     spec.knots = 3;
     act(

@@ -43,6 +43,8 @@ fn a_session(log: PathBuf) -> Session {
         kind: ApproxKind::Spline,
         knots: 5,
         extrapolate: false,
+        values: Some(vec![30.0, 35.0, 40.0, 45.0, 50.0]),
+        ..Default::default()
     };
     Session {
         log: Some(LogRef {
@@ -61,10 +63,7 @@ fn a_session(log: PathBuf) -> Session {
             bin_s: Some(2.0),
         }),
         recipe,
-        knots: KnotEdits {
-            k1_plus: Some(vec![30.0, 35.0, 40.0, 45.0, 50.0]),
-            ..KnotEdits::default()
-        },
+        knots: KnotEdits::default(),
         // The workbench judges with the recipe's filter; 15-minute windows.
         merit: driftlab::judge::metrics::MeritOptions {
             filter_s: 120.0,
@@ -158,7 +157,6 @@ fn a_reopened_session_gives_the_same_calibration() {
         p.run(&Request {
             log,
             recipe: s.recipe.clone(),
-            knots: s.knots.clone(),
             merit: s.merit,
             validation: None,
         })
@@ -230,16 +228,70 @@ fn a_sessions_figures_of_merit_and_knots_are_checked() {
     let none = session::from_json(Path::new("s.json"), &none).unwrap();
     assert_eq!((none.merit.filter_s, none.merit.window_s), (120.0, 600.0));
     // Knots set by hand: finite and plausible, as many as the curve has.
-    let e = refused(&edited(&|s| s["knots"]["k1_plus"][0] = 1e308.into()));
+    let e = refused(&edited(&|s| {
+        s["recipe"]["k1_plus"]["values"][0] = 1e308.into()
+    }));
+    assert!(
+        e.contains("k1_plus.values[0]") && e.contains("1e308"),
+        "{e}"
+    );
+    let e = refused(&edited(&|s| {
+        s["recipe"]["k1_plus"]["values"]
+            .as_array_mut()
+            .unwrap()
+            .pop();
+    }));
+    assert!(
+        e.contains("k1_plus.values") && e.contains("4 knot values given for 5 knots"),
+        "{e}"
+    );
+    let e = refused(&edited(&|s| {
+        s["recipe"]["k0"]["values"] = serde_json::json!([1.0, 2.0])
+    }));
+    assert!(
+        e.contains("k0.values") && e.contains("parabolic curve has no knots"),
+        "{e}"
+    );
+    // Knots placed by hand: strictly increasing, one per knot.
+    let e = refused(&edited(&|s| {
+        s["recipe"]["k1_plus"]["at"] = serde_json::json!([-1.0, -0.5, 0.0, 0.0, 1.0])
+    }));
+    assert!(
+        e.contains("k1_plus.at") && e.contains("strictly increasing"),
+        "{e}"
+    );
+    let e = refused(&edited(&|s| {
+        s["recipe"]["k1_plus"]["at"] = serde_json::json!([-1.0, 1.0])
+    }));
+    assert!(
+        e.contains("k1_plus.at") && e.contains("2 knot positions given for 5"),
+        "{e}"
+    );
+
+    // A session written before the recipe held the values kept them beside it, in `knots`:
+    // they are checked as they always were, and read into the recipe.
+    let old = edited(&|s| {
+        let values = s["recipe"]["k1_plus"]
+            .as_object_mut()
+            .unwrap()
+            .remove("values")
+            .unwrap();
+        s["knots"] = serde_json::json!({ "k1_plus": values });
+    });
+    let loaded = session::from_json(Path::new("s.json"), &old).unwrap();
+    assert_eq!(
+        loaded.recipe.k1_plus.values,
+        Some(vec![30.0, 35.0, 40.0, 45.0, 50.0])
+    );
+    assert!(loaded.knots.is_empty());
+    assert!(!session::to_json(&loaded).contains("\"knots\": {"));
+    let mut bad: serde_json::Value = serde_json::from_str(&old).unwrap();
+    bad["session"]["knots"]["k1_plus"][0] = 1e308.into();
+    let e = refused(&bad.to_string());
     assert!(e.contains("knots.k1_plus[0]") && e.contains("1e308"), "{e}");
-    let e = refused(&edited(&|s| {
-        s["knots"]["k1_plus"].as_array_mut().unwrap().pop();
-    }));
-    assert!(e.contains("knots.k1_plus") && e.contains("4 values"), "{e}");
-    let e = refused(&edited(&|s| {
-        s["knots"]["k0"] = serde_json::json!([1.0, 2.0])
-    }));
-    assert!(e.contains("knots.k0") && e.contains("2 values"), "{e}");
+    bad["session"]["knots"]["k1_plus"] = serde_json::json!([1.0, 2.0]);
+    let e = refused(&bad.to_string());
+    assert!(e.contains("knots.k1_plus") && e.contains("2 values"), "{e}");
 }
 
 #[test]
@@ -249,6 +301,7 @@ fn knot_edits_are_dropped_when_the_curve_changes() {
             kind: ApproxKind::Pwl,
             knots: 4,
             extrapolate: false,
+            ..Default::default()
         },
         ..Recipe::default()
     };

@@ -128,7 +128,22 @@ fn recipe_rows(cal: &Calibration) -> Markup {
         ))
         (row("weighting", &format!("{:?}", r.weighting).to_lowercase()))
         (row("refinement passes", &r.refinements.to_string()))
+        @for (name, spec) in knot_rows(cal) {
+            (row(&format!("knots of {name}"), &spec))
+        }
     }
+}
+
+/// The knots of each knot curve of the recipe, as the engine words them (`5 knots, equally
+/// spaced`, or where they were placed by hand and the values set by hand): the page says
+/// what the engineer chose, not only what the fit made of it.
+fn knot_rows(cal: &Calibration) -> Vec<(&'static str, String)> {
+    crate::models::vakhrameev::knots::Coefficient::ALL
+        .iter()
+        .map(|c| (c.label(), c.spec(&cal.recipe)))
+        .filter(|(_, spec)| spec.kind.has_knots())
+        .map(|(name, spec)| (name, spec.knots_text()))
+        .collect()
 }
 
 /// The row of coefficient `name` (`K0`, `K1+`, ...), fitted as `a`.

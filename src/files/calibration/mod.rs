@@ -353,6 +353,40 @@ pub fn read_recipe(path: &Path) -> Result<Recipe> {
     serde_json::from_str(&text).map_err(err)
 }
 
+/// The recipe of axis `axis` for a calibration of a unit: the recipe of that axis when `path`
+/// is the version-2 file of a unit (its knots placed and set by hand among its choices, so that
+/// the workbench's unit file reproduces each axis), else [`read_recipe`] of the file.
+///
+/// # Errors
+/// As [`read_recipe`]; a unit file without that axis, or whose axis is no Vakhrameev
+/// calibration, names the axes it holds.
+pub fn read_axis_recipe(path: &Path, axis: &str) -> Result<Recipe> {
+    let text = read_text(path)?;
+    let is_unit = serde_json::from_str::<serde_json::Value>(&text)
+        .ok()
+        .and_then(|v| v.get("version")?.as_u64())
+        .is_some_and(|v| v != VERSION_SINGLE_AXIS as u64);
+    if !is_unit {
+        return read_recipe(path);
+    }
+    let unit = unit_from_json(path, &text)?;
+    match unit.axes.iter().find(|a| a.name == axis).map(|a| &a.model) {
+        Some(DriftModel::Vakhrameev(c)) => Ok(c.recipe.clone()),
+        found => Err(Error::File {
+            path: path.to_path_buf(),
+            message: format!(
+                "{} (the file holds axes {})",
+                if found.is_some() {
+                    format!("axis {axis} is not a Vakhrameev calibration, which has no recipe")
+                } else {
+                    format!("holds no axis {axis}")
+                },
+                unit.axis_names().join(", ")
+            ),
+        }),
+    }
+}
+
 /// SHA-256 of a file's bytes as lowercase hex, read in blocks (logs can be gigabytes).
 ///
 /// # Errors

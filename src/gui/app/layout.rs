@@ -499,7 +499,11 @@ impl Workbench {
                             ),
                             (
                                 "drag a knot",
-                                "set a spline or piecewise-linear knot by hand",
+                                "sideways: move it (refitted there); up or down: set its value",
+                            ),
+                            (
+                                "Ctrl+click / right-click a knot",
+                                "add a knot to the nearest curve / remove it, or type the knots",
                             ),
                             ("right-click a plot", "save that plot as PNG"),
                             ("Esc", "cancel reading a log, close dialogs"),

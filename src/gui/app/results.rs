@@ -232,14 +232,12 @@ impl Workbench {
                     {
                         self.state.shown.choices = Choices {
                             recipe: s.recipe.clone(),
-                            knots: s.knots.clone(),
                         };
                         for a in &s.axes {
                             by_name.insert(
                                 a.name.clone(),
                                 Choices {
                                     recipe: a.recipe.clone(),
-                                    knots: a.knots.clone(),
                                 },
                             );
                         }
@@ -282,7 +280,8 @@ impl Workbench {
                             self.state.recipe_mut().plateaus =
                                 crate::models::recipe::PlateauChoice::default();
                         }
-                        self.state.shown.choices.knots = Default::default();
+                        let recipe = std::mem::take(&mut self.state.shown.choices.recipe);
+                        self.state.shown.choices.recipe = recipe.without_hand_knots();
                         self.state.session_path = None;
                         self.state.mark_saved();
                         self.views.time.x_command = Some(XCommand::Fit);

@@ -13,8 +13,8 @@ pub struct CompareRequest {
     pub tests: Vec<Arc<Log>>,
     /// The models.
     pub choices: Vec<ModelChoice>,
-    /// The workbench's recipe (the Vakhrameev model's choices; knots moved by hand are not
-    /// part of it).
+    /// The workbench's recipe (the Vakhrameev model's choices, its knots placed and set by hand
+    /// among them).
     pub recipe: crate::models::CheckedRecipe,
     /// How the figures are computed.
     pub merit: MeritOptions,

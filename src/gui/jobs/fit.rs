@@ -61,8 +61,6 @@ pub struct FitView {
     pub axis: usize,
     /// The request number it answers.
     pub generation: u64,
-    /// The knots moved by hand it was fitted with (the recipe is the calibration's own).
-    pub knots: crate::files::session::KnotEdits,
     /// The engine's result.
     pub outcome: Outcome,
     /// Drawing data.
@@ -76,7 +74,6 @@ pub(super) struct RefitKey {
     log: Same<Log>,
     validation: Option<Same<Log>>,
     recipe: Recipe,
-    knots: crate::files::session::KnotEdits,
 }
 
 impl RefitKey {
@@ -85,7 +82,6 @@ impl RefitKey {
             log: Same::of(&r.log),
             validation: r.validation.as_ref().map(Same::of),
             recipe: r.recipe.clone(),
-            knots: r.knots.clone(),
         }
     }
 }
@@ -210,7 +206,6 @@ pub(super) fn fit_worker(rx: Receiver<FitMsg>, tx: Sender<JobResult>, ctx: Share
             Ok::<_, String>(FitView {
                 axis,
                 generation,
-                knots: request.knots.clone(),
                 outcome,
                 lods,
             })

@@ -1,12 +1,14 @@
 //! K0(T): the plateau points (mean output against mean temperature, ±1 std) with the fitted
-//! curve, held flat beyond the plateaus, and its approximation controls.
+//! curve, held flat beyond the plateaus, its approximation controls, and its knots placed by
+//! hand as on the K1 and K2 plots (`knots.rs`).
 
-use super::CoeffView;
+use super::knots::{draw_knots, shown};
+use super::{CoeffView, K0_SLOT};
 use crate::files::session::Coefficient;
 use crate::gui::action::{Action, Edit};
 use crate::gui::plot_items::{Palette, num};
 use crate::gui::state::AppState;
-use crate::gui::widgets::approx_controls;
+use crate::gui::widgets::{approx_controls, save_plot_entry};
 use eframe::egui::Ui;
 use egui_plot::{Line, LineStyle, MarkerShape, Plot, PlotPoints, Points};
 
@@ -17,14 +19,20 @@ impl CoeffView {
         ui.horizontal_wrapped(|ui| {
             ui.strong("K0(T)")
                 .on_hover_text("Static bias: mean output on each plateau against its temperature");
-            let edited = state.shown.choices.knots.get(Coefficient::K0).is_some();
-            let mut spec = state.shown.choices.recipe.k0;
-            let reset = approx_controls(ui, "k0", "K0", &mut spec, edited);
-            if spec != state.shown.choices.recipe.k0 {
+            let now = &state.shown.choices.recipe.k0;
+            let mut spec = now.clone();
+            let asks = approx_controls(ui, "k0", "K0", &mut spec);
+            if spec != *now {
                 out.push(Action::Edit(Edit::Approx(Coefficient::K0, spec)));
             }
-            if reset {
-                out.push(Action::Edit(Edit::Knots(Coefficient::K0, None)));
+            if asks.reset {
+                out.push(Action::Edit(Edit::Approx(
+                    Coefficient::K0,
+                    now.without_hand_knots(),
+                )));
+            }
+            if asks.table {
+                self.open_knot_table(Coefficient::K0);
             }
             if ui
                 .small_button("PNG")
@@ -35,8 +43,13 @@ impl CoeffView {
             }
         });
         let fit = state.shown.fit.clone();
+        let coefs = [Coefficient::K0];
+        let pending = self.drag_knot(ui, state, K0_SLOT, &coefs, out);
+        let dragging = self.drag.is_some();
         let resp = ui.scope(|ui| {
             Plot::new("k0_plot")
+                .allow_drag(!dragging)
+                .allow_boxed_zoom(!dragging)
                 .height(height)
                 .x_axis_label("T, °C")
                 .y_axis_label("K0, °/h")
@@ -78,7 +91,10 @@ impl CoeffView {
                             .allow_hover(false),
                         );
                     }
-                    let k0 = &cal.k0;
+                    let Some(k0) = shown(state, Coefficient::K0, pending.as_ref()) else {
+                        return;
+                    };
+                    let k0 = &k0;
                     let (lo, hi) = (k0.x_min(), k0.x_max());
                     let pad = ((hi - lo) * 0.15).max(2.0);
                     let curve = |a: f64, b: f64| -> Vec<[f64; 2]> {
@@ -112,7 +128,22 @@ impl CoeffView {
                             .filled(true)
                             .color(pal.plateau),
                     );
+                    let spec = match &pending {
+                        Some((_, spec)) => spec,
+                        None => &state.shown.choices.recipe.k0,
+                    };
+                    draw_knots(pui, "K0", k0, spec, pal.curve);
                 })
+        });
+        let response = &resp.inner.response;
+        self.transforms[K0_SLOT] = Some(resp.inner.transform);
+        self.hovered[K0_SLOT] = response.hovered();
+        self.knot_clicks(ui, state, K0_SLOT, &coefs, response, out);
+        response.context_menu(|ui| {
+            self.knot_menu(ui, state, &coefs, out);
+            if save_plot_entry(ui) {
+                out.push(Action::SavePlotNamed("k0".into()));
+            }
         });
         out.push(Action::PlotRect("k0".into(), resp.response.rect));
         match fit {

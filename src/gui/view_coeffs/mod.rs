@@ -1,8 +1,14 @@
 //! The Calibration page's right-hand panel: the three coefficient plots stacked, `k0`
 //! (K0(T) over the plateau points) and `pair` (K1± against dT/dt, K2± against d²T/dt²), each
-//! with its approximation controls; knots are dragged by hand on the K1 and K2 plots.
+//! with its approximation controls. The knots of a pwl or spline coefficient are placed by hand
+//! on any of the three plots (`knots`: dragged sideways or up and down, added with Ctrl+click,
+//! removed from the right-click menu) and typed in a small table (`knot_table`); every such
+//! change is made by the engine (`ApproxSpec::edit_knot`), the panel only turns the pointer
+//! and the keys into it.
 
 mod k0;
+mod knot_table;
+mod knots;
 mod pair;
 
 use super::action::Action;
@@ -10,19 +16,30 @@ use super::state::AppState;
 use crate::files::session::Coefficient;
 use eframe::egui::{self, Ui};
 use egui_plot::PlotTransform;
+use knot_table::KnotTable;
+use knots::KnotDrag;
 use pair::Pair;
+
+/// The plots' slots in the view's per-plot state: K1, K2, K0.
+const K1_SLOT: usize = 0;
+const K2_SLOT: usize = 1;
+const K0_SLOT: usize = 2;
 
 /// View state of the coefficient plots.
 #[derive(Default)]
 pub struct CoeffView {
-    /// The knot being dragged (coefficient, index).
-    drag: Option<(Coefficient, usize)>,
-    /// How the K1 and K2 plots were drawn last frame.
-    transforms: [Option<PlotTransform>; 2],
+    /// The knot being dragged.
+    drag: Option<KnotDrag>,
+    /// How the K1, K2 and K0 plots were drawn last frame.
+    transforms: [Option<PlotTransform>; 3],
     /// Whether the pointer was over each plot last frame (not covered by a window).
-    hovered: [bool; 2],
+    hovered: [bool; 3],
     /// "all points" of the K1 and K2 plots: scaled to every point rather than the bulk.
     all_points: [bool; 2],
+    /// The knot the plot's menu was opened on (right-click), while the menu is open.
+    menu_knot: Option<(Coefficient, usize)>,
+    /// The knot table open, when one is.
+    table: Option<KnotTable>,
     /// Height of the panel's rows other than its three plots, last frame.
     overhead: Option<f32>,
 }
@@ -49,23 +66,35 @@ impl CoeffView {
         self.pair(ui, state, Pair::K2, plot_h, &mut out);
         let used = ui.cursor().top() - top;
         self.overhead = Some((used - 3.0 * plot_h).max(0.0));
+        self.knot_table(ui.ctx(), state, &mut out);
         out
     }
 
     /// Where knot `j` of `c` is on screen (as drawn last frame).
     pub fn knot_pos(&self, state: &AppState, c: Coefficient, j: usize) -> Option<egui::Pos2> {
-        let slot = match c {
-            Coefficient::K1Plus | Coefficient::K1Minus => 0,
-            Coefficient::K2Plus | Coefficient::K2Minus => 1,
-            Coefficient::K0 => return None,
-        };
-        let tf = self.transforms[slot]?;
-        let f = state.shown.fit.as_ref()?;
-        let a = crate::models::vakhrameev::knots::with_knots(
-            c.approx(&f.outcome.calibration),
-            state.shown.choices.knots.get(c),
-        );
+        let tf = self.transforms[slot_of(c)]?;
+        let a = knots::shown(state, c, None)?;
         let (kx, ky) = a.knots();
         Some(tf.position_from_point(&egui_plot::PlotPoint::new(*kx.get(j)?, *ky.get(j)?)))
+    }
+
+    /// Where the point `(x, y)` of `c`'s plot is on screen (as drawn last frame).
+    pub fn plot_pos(&self, c: Coefficient, x: f64, y: f64) -> Option<egui::Pos2> {
+        let tf = self.transforms[slot_of(c)]?;
+        Some(tf.position_from_point(&egui_plot::PlotPoint::new(x, y)))
+    }
+
+    /// Opens the knot table of `c` (as its "knots…" button does).
+    pub fn open_knot_table(&mut self, c: Coefficient) {
+        self.table = Some(KnotTable::of(c));
+    }
+}
+
+/// The plot a coefficient is drawn on.
+fn slot_of(c: Coefficient) -> usize {
+    match c {
+        Coefficient::K1Plus | Coefficient::K1Minus => K1_SLOT,
+        Coefficient::K2Plus | Coefficient::K2Minus => K2_SLOT,
+        Coefficient::K0 => K0_SLOT,
     }
 }

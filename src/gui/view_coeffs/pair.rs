@@ -1,9 +1,10 @@
 //! K1± and K2±: the pointwise coefficients against dT/dt and d²T/dt² (+ and − in two colours,
 //! thinned for drawing), the excluded dead-band shaded, the fitted curves, the approximation
-//! of each of the four with its statistics, and spline/piecewise-linear knots that can be
-//! dragged by hand.
+//! of each of the four with its statistics, and spline/piecewise-linear knots placed by hand
+//! (`knots.rs`).
 
-use super::CoeffView;
+use super::knots::{draw_knots, shown};
+use super::{CoeffView, K1_SLOT, K2_SLOT};
 use crate::files::session::Coefficient;
 use crate::gui::action::{Action, Edit};
 use crate::gui::plot_items::{
@@ -11,8 +12,8 @@ use crate::gui::plot_items::{
 };
 use crate::gui::state::AppState;
 use crate::gui::widgets::{approx_controls, save_plot_entry};
-use eframe::egui::{self, Color32, CursorIcon, RichText, Stroke, Ui};
-use egui_plot::{Line, MarkerShape, Plot, PlotBounds, PlotPoints, PlotTransform, Points};
+use eframe::egui::{self, Color32, RichText, Stroke, Ui};
+use egui_plot::{Line, Plot, PlotBounds, PlotPoints};
 
 /// Which pair a plot shows.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -44,8 +45,6 @@ impl Pair {
     }
 }
 
-const KNOT_GRAB_PX: f32 = 9.0;
-
 impl CoeffView {
     /// One pair's controls and plot.
     pub(super) fn pair(
@@ -57,7 +56,7 @@ impl CoeffView {
         out: &mut Vec<Action>,
     ) {
         let pal = Palette::of(ui);
-        let slot = if pair == Pair::K1 { 0 } else { 1 };
+        let slot = if pair == Pair::K1 { K1_SLOT } else { K2_SLOT };
         let (title, x_label, y_label, tip) = match pair {
             Pair::K1 => (
                 "K1±(dT/dt)",
@@ -88,11 +87,7 @@ impl CoeffView {
                 .coefs()
                 .into_iter()
                 .filter_map(|c| {
-                    let a = crate::models::vakhrameev::knots::with_knots(
-                        c.approx(cal),
-                        state.shown.choices.knots.get(c),
-                    );
-                    curve_points(&a)
+                    curve_points(&c.spec(&state.shown.choices.recipe).preview(c.approx(cal)))
                 })
                 .flatten()
                 .map(|p| p[1])
@@ -153,14 +148,18 @@ impl CoeffView {
                     } else {
                         "− set: thermal deceleration, dT/dt·d²T/dt² < 0"
                     });
-                let edited = state.shown.choices.knots.get(c).is_some();
-                let mut spec = *c.spec(&state.shown.choices.recipe);
-                let reset = approx_controls(ui, c.key(), c.label(), &mut spec, edited);
-                if spec != *c.spec(&state.shown.choices.recipe) {
+                let now = c.spec(&state.shown.choices.recipe);
+                let edited = now.hand_knots();
+                let mut spec = now.clone();
+                let asks = approx_controls(ui, c.key(), c.label(), &mut spec);
+                if spec != *now {
                     out.push(Action::Edit(Edit::Approx(c, spec)));
                 }
-                if reset {
-                    out.push(Action::Edit(Edit::Knots(c, None)));
+                if asks.reset {
+                    out.push(Action::Edit(Edit::Approx(c, now.without_hand_knots())));
+                }
+                if asks.table {
+                    self.open_knot_table(c);
                 }
                 if let Some(f) = &fit {
                     let s = c.approx(&f.outcome.calibration).stats();
@@ -176,7 +175,11 @@ impl CoeffView {
                         s.n,
                         num(s.rmse),
                         crate::number::fixed(s.r2, 4),
-                        if edited { "; knots set by hand" } else { "" }
+                        if edited {
+                            "; knots placed or set by hand"
+                        } else {
+                            ""
+                        }
                     ));
                 }
             });
@@ -184,11 +187,7 @@ impl CoeffView {
 
         // The knots as this frame's drag leaves them (the edit is carried out at the end of
         // the frame).
-        let mut knots = state.shown.choices.knots.clone();
-        if let Some((c, values)) = self.edit_knots(ui, state, slot, pair) {
-            knots.set(c, Some(values.clone()));
-            out.push(Action::Edit(Edit::Knots(c, Some(values))));
-        }
+        let pending = self.drag_knot(ui, state, slot, &pair.coefs(), out);
         let dragging = self.drag.is_some();
         let resp = ui.scope(|ui| {
             Plot::new(("coeff_plot", pair.id()))
@@ -261,10 +260,9 @@ impl CoeffView {
                         ));
                     }
                     for (c, color) in pair.coefs().into_iter().zip([pal.plus, pal.minus]) {
-                        let a = crate::models::vakhrameev::knots::with_knots(
-                            c.approx(cal),
-                            knots.get(c),
-                        );
+                        let Some(a) = shown(state, c, pending.as_ref()) else {
+                            continue;
+                        };
                         if let Some(curve) = curve_points(&a) {
                             pui.line(
                                 Line::new(format!("{} fit", c.label()), PlotPoints::new(curve))
@@ -272,117 +270,25 @@ impl CoeffView {
                                     .width(2.5),
                             );
                         }
-                        let (kx, ky) = a.knots();
-                        if !kx.is_empty() {
-                            let edited = knots.get(c).is_some();
-                            let pts: Vec<[f64; 2]> =
-                                kx.iter().zip(ky).map(|(&x, &y)| [x, y]).collect();
-                            pui.points(
-                                Points::new(format!("{} knots", c.label()), PlotPoints::new(pts))
-                                    .shape(if edited {
-                                        MarkerShape::Diamond
-                                    } else {
-                                        MarkerShape::Circle
-                                    })
-                                    .radius(5.5)
-                                    .filled(true)
-                                    .color(darker(color)),
-                            );
-                        }
+                        let spec = match &pending {
+                            Some((p, spec)) if *p == c => spec,
+                            _ => c.spec(&state.shown.choices.recipe),
+                        };
+                        draw_knots(pui, c.label(), &a, spec, darker(color));
                     }
                 })
         });
         let tf = resp.inner.transform;
         self.transforms[slot] = Some(tf);
         self.hovered[slot] = resp.inner.response.hovered();
+        self.knot_clicks(ui, state, slot, &pair.coefs(), &resp.inner.response, out);
         resp.inner.response.context_menu(|ui| {
+            self.knot_menu(ui, state, &pair.coefs(), out);
             if save_plot_entry(ui) {
                 out.push(Action::SavePlotNamed(pair.id().into()));
             }
         });
         out.push(Action::PlotRect(pair.id().into(), resp.response.rect));
-        if let Some(p) = ui.input(|i| i.pointer.hover_pos())
-            && tf.frame().contains(p)
-            && (self.drag.is_some() || self.knot_at(state, pair, &tf, p).is_some())
-        {
-            ui.ctx().set_cursor_icon(CursorIcon::ResizeVertical);
-        }
-        if dragging {
-            ui.ctx().request_repaint();
-        }
-    }
-
-    fn knot_at(
-        &self,
-        state: &AppState,
-        pair: Pair,
-        tf: &PlotTransform,
-        p: egui::Pos2,
-    ) -> Option<(Coefficient, usize)> {
-        let f = state.shown.fit.as_ref()?;
-        let mut best: Option<(f32, Coefficient, usize)> = None;
-        for c in pair.coefs() {
-            let a = crate::models::vakhrameev::knots::with_knots(
-                c.approx(&f.outcome.calibration),
-                state.shown.choices.knots.get(c),
-            );
-            let (kx, ky) = a.knots();
-            for (j, (&x, &y)) in kx.iter().zip(ky).enumerate() {
-                let q = tf.position_from_point(&egui_plot::PlotPoint::new(x, y));
-                let d = q.distance(p);
-                if d <= KNOT_GRAB_PX && best.is_none_or(|b| d < b.0) {
-                    best = Some((d, c, j));
-                }
-            }
-        }
-        best.map(|(_, c, j)| (c, j))
-    }
-
-    /// Starts, follows and ends a knot drag: the coefficient's knot values as it leaves them.
-    fn edit_knots(
-        &mut self,
-        ui: &Ui,
-        state: &AppState,
-        slot: usize,
-        pair: Pair,
-    ) -> Option<(Coefficient, Vec<f64>)> {
-        let tf = self.transforms[slot]?;
-        let (pressed, down, pos) = ui.input(|i| {
-            (
-                i.pointer.primary_pressed(),
-                i.pointer.primary_down(),
-                i.pointer.interact_pos(),
-            )
-        });
-        if pressed
-            && self.drag.is_none()
-            && self.hovered[slot]
-            && let Some(p) = pos
-            && tf.frame().contains(p)
-        {
-            self.drag = self.knot_at(state, pair, &tf, p);
-        }
-        let (c, j) = self.drag?;
-        if !pair.coefs().contains(&c) {
-            return None;
-        }
-        let mut edited = None;
-        if let (Some(p), Some(f)) = (pos, state.shown.fit.clone()) {
-            let y = tf.value_from_position(p).y;
-            let a = crate::models::vakhrameev::knots::with_knots(
-                c.approx(&f.outcome.calibration),
-                state.shown.choices.knots.get(c),
-            );
-            let mut values = a.knots().1.to_vec();
-            if j < values.len() && y.is_finite() {
-                values[j] = y;
-                edited = Some((c, values));
-            }
-        }
-        if !down {
-            self.drag = None;
-        }
-        edited
     }
 }
 

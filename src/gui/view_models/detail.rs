@@ -55,6 +55,7 @@ impl ModelsView {
                              samples; the Calibration page shows and edits them.",
                             cal.source.samples
                         ));
+                        vakhrameev_detail(ui, cal);
                     }
                     (None, None) => {}
                 }
@@ -95,6 +96,29 @@ impl ModelsView {
             out.push(Action::ExportModel);
         }
     }
+}
+
+/// Each coefficient's curve and its knots, placed and set by hand or fitted, as the recipe
+/// says (the engine's words, [`crate::models::approx::ApproxSpec::knots_text`]).
+fn vakhrameev_detail(ui: &mut Ui, cal: &crate::models::vakhrameev::Calibration) {
+    use crate::files::session::Coefficient;
+    Grid::new("vakhrameev_detail")
+        .num_columns(3)
+        .spacing([10.0, 2.0])
+        .show(ui, |ui| {
+            for c in Coefficient::ALL {
+                let spec = c.spec(&cal.recipe);
+                ui.label(RichText::new(c.label()).strong());
+                ui.label(spec.kind.to_string());
+                let text = spec.knots_text();
+                if spec.hand_knots() {
+                    ui.label(RichText::new(text).strong());
+                } else {
+                    ui.weak(text);
+                }
+                ui.end_row();
+            }
+        });
 }
 
 /// Coefficients with standard errors, the non-linear parameters found and the cost curves

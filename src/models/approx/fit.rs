@@ -131,6 +131,9 @@ impl PointSource for Slices<'_> {
 }
 
 /// Fits `spec` to the points `(xs[k], ys[k])` by least squares. Non-finite points are skipped.
+/// A knot curve has its knots at `spec.at` when placed by hand, else equally spaced over the
+/// points' x-range; its fitted range is the knots' span either way. Hand-set values
+/// (`spec.values`) are not read: the caller puts them in (see [`ApproxSpec::values`]).
 pub fn fit(spec: &ApproxSpec, xs: &[f64], ys: &[f64]) -> Result<Approx, FitError> {
     fit_weighted(spec, xs, ys, None)
 }
@@ -194,6 +197,9 @@ fn fit_curve<S: PointSource>(
         }
         _ => spec.params(),
     };
+    // Hand-placed positions are checked here too: a spec may reach a fit without a recipe's
+    // checks (a library caller), and the segment search needs them strictly increasing.
+    spec.fitted_part().check_knots()?;
     let range = match opts.known {
         Some(r) if r.n >= needed => r,
         _ => x_range(src),
@@ -210,7 +216,11 @@ fn fit_curve<S: PointSource>(
     let (curve, sums) = match spec.kind {
         ApproxKind::Linear | ApproxKind::Parabolic => fit_polynomial(spec.params(), src, lo, hi),
         ApproxKind::Pwl | ApproxKind::Spline => {
-            let knots_x = knot_positions(lo, hi, spec.knots);
+            // Placed by hand, or spread evenly over the points.
+            let knots_x = match &spec.at {
+                Some(at) => at.clone(),
+                None => knot_positions(lo, hi, spec.knots),
+            };
             let (knots_y, sums) = fit_knots(spec.kind, &knots_x, src);
             let curve = if spec.kind == ApproxKind::Pwl {
                 Curve::Pwl { knots_x, knots_y }
@@ -438,7 +448,18 @@ fn fit_knots<S: PointSource>(kind: ApproxKind, knots_x: &[f64], src: &S) -> (Vec
     let aty = DVector::from_vec(acc.aty);
     let lambda = 1e-9 * ata.trace() / m as f64;
     for j in 1..m.saturating_sub(1) {
-        let d = [(j - 1, 1.0), (j, -2.0), (j + 1, 1.0)];
+        // The second difference over the knots' positions, scaled to (1, −2, 1) for equal
+        // gaps (and exactly that for the equally spaced knots of a fit, whose gaps differ by
+        // rounding only): a knot with no point near it continues its neighbours' straight
+        // line in x, wherever it was placed.
+        let (h1, h2) = (knots_x[j] - knots_x[j - 1], knots_x[j + 1] - knots_x[j]);
+        let hbar = 0.5 * (h1 + h2);
+        let (a, c) = if (h1 - h2).abs() <= 1e-9 * hbar {
+            (1.0, 1.0)
+        } else {
+            (hbar / h1, hbar / h2)
+        };
+        let d = [(j - 1, a), (j, -(a + c)), (j + 1, c)];
         for &(a, wa) in &d {
             for &(b, wb) in &d {
                 ata[(a, b)] += lambda * wa * wb;

@@ -152,7 +152,7 @@ impl Segments {
                 last
             }
         } else {
-            k.partition_point(|&v| v <= x).saturating_sub(1).min(last)
+            at_or_below(k, x).saturating_sub(1).min(last)
         };
         let u = ((x - k[i]) / (k[i + 1] - k[i])).clamp(0.0, 1.0);
         let c = &self.coeffs[i];
@@ -196,6 +196,20 @@ pub(super) fn build_spline(curve: &Curve) -> Spline<f64, f64> {
     }
 }
 
+/// How many of the (increasing) knots are at or below `x`: `knots.partition_point(|&k| k <=
+/// x)`, counted without branches for the few knots a curve has. A binary search over knots
+/// placed by hand mispredicts a branch or two per sample, which made a correction and each
+/// pass of a fit over a million samples three times slower than the equally spaced knots'
+/// arithmetic lookup.
+#[inline]
+fn at_or_below(knots: &[f64], x: f64) -> usize {
+    if knots.len() <= 32 {
+        knots.iter().map(|&k| usize::from(k <= x)).sum()
+    } else {
+        knots.partition_point(|&k| k <= x)
+    }
+}
+
 /// Equally spaced knot positions over `[lo, hi]` (a degenerate range is widened a little so the
 /// knots stay strictly increasing).
 pub fn knot_positions(lo: f64, hi: f64, m: usize) -> Vec<f64> {
@@ -219,7 +233,7 @@ pub fn knot_positions(lo: f64, hi: f64, m: usize) -> Vec<f64> {
 pub fn knot_weights(kind: ApproxKind, knots_x: &[f64], x: f64) -> (usize, [f64; 4]) {
     let n = knots_x.len();
     // Segment i: knots_x[i] <= x < knots_x[i+1] (the last segment includes its right end).
-    let i = match knots_x.partition_point(|&k| k <= x) {
+    let i = match at_or_below(knots_x, x) {
         0 => 0,
         p => (p - 1).min(n - 2),
     };

@@ -12,15 +12,22 @@
 //! unless told to extrapolate: a calibration must not invent coefficients for rates the test
 //! never reached.
 //!
+//! Knots are spread evenly over the points' x-range unless the engineer placed them
+//! (`ApproxSpec::at`); their values are the least-squares fit unless set by hand
+//! (`ApproxSpec::values`, which the model puts in place of the fitted ones after the fit).
+//!
 //! This module holds the choices (kind, knots, extrapolation) and what a fit reports; the
-//! fitted curve (`curve`), its fast evaluator (`evaluator`), the fit (`fit`) and the knot
-//! bases (`knots`) are in modules of their own.
+//! fitted curve (`curve`), its fast evaluator (`evaluator`), the fit (`fit`), the knot
+//! bases (`knots`), the checks of knots placed by hand (`placement`) and the edits of one
+//! knot the workbench makes (`knot_edit`) are in modules of their own.
 
 mod curve;
 mod errors;
 mod evaluator;
 mod fit;
+mod knot_edit;
 mod knots;
+mod placement;
 #[cfg(test)]
 mod tests;
 
@@ -30,7 +37,9 @@ pub use evaluator::Evaluator;
 pub use fit::{
     CHUNK, FitOptions, PointSource, XRange, fit, fit_weighted, fit_with, fit_with_then, x_range,
 };
+pub use knot_edit::{KnotEdit, KnotEditError};
 pub use knots::{knot_positions, knot_weights};
+pub use placement::{KnotsError, check_positions};
 
 use serde::{Deserialize, Serialize};
 use std::fmt;
@@ -47,7 +56,7 @@ pub const MAX_POLY_COEFFS: usize = 16;
 
 /// The smallest gap between two knots, as a share of the span of all knots. Knots closer than
 /// this (a hand-edited spacing of 1e-300) give slopes that overflow.
-const MIN_KNOT_GAP: f64 = 1e-9;
+pub const MIN_KNOT_GAP: f64 = 1e-9;
 
 /// The family of curve an engineer picks for a coefficient.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -57,9 +66,9 @@ pub enum ApproxKind {
     Linear,
     /// `c0 + c1·x + c2·x²` (the paper's choice for K0).
     Parabolic,
-    /// Straight segments between equally spaced knots.
+    /// Straight segments between knots (equally spaced unless placed by hand).
     Pwl,
-    /// Catmull-Rom cubic spline through values at equally spaced knots.
+    /// Catmull-Rom cubic spline through values at knots (equally spaced unless placed by hand).
     Spline,
 }
 
@@ -103,7 +112,12 @@ impl FromStr for ApproxKind {
 }
 
 /// What the engineer chose for one coefficient.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+///
+/// `at` and `values` are the knots placed and set by hand in the workbench: they belong to the
+/// recipe (not to the session alone) so that the same recipe gives the same calibration from
+/// the command line. Both are absent unless given, and then not written, so that a recipe or
+/// calibration file without them reads and writes as before.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct ApproxSpec {
     /// The curve family.
@@ -112,6 +126,18 @@ pub struct ApproxSpec {
     pub knots: usize,
     /// Evaluate the curve beyond the fitted x-range instead of holding the edge value.
     pub extrapolate: bool,
+    /// Knot positions placed by hand, in the unit of the coefficient's argument, strictly
+    /// increasing, one per knot (`None`: equally spaced over the points' x-range). The fit
+    /// places its knots there (the Vakhrameev model refits K1 and K2 at them after their set's
+    /// passes); positions beyond the points are allowed (the curve is defined over the knots'
+    /// span and holds its end values beyond them).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub at: Option<Vec<f64>>,
+    /// Knot values set by hand, one per knot, replacing the fitted values after the fit (the
+    /// Vakhrameev model then refits K2 on what a hand-set K1 leaves). `None`: the fitted ones.
+    /// The curve fit itself ([`fit`]) reads neither this nor any other hand value.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub values: Option<Vec<f64>>,
 }
 
 impl Default for ApproxSpec {
@@ -120,6 +146,8 @@ impl Default for ApproxSpec {
             kind: ApproxKind::Linear,
             knots: 5,
             extrapolate: false,
+            at: None,
+            values: None,
         }
     }
 }
@@ -140,6 +168,70 @@ impl ApproxSpec {
             ApproxKind::Parabolic => 3,
             ApproxKind::Pwl | ApproxKind::Spline => self.knots,
         }
+    }
+
+    /// Whether any knot is placed or set by hand.
+    pub fn hand_knots(&self) -> bool {
+        self.at.is_some() || self.values.is_some()
+    }
+
+    /// What the curve fit reads of this spec: everything but the hand-set values, which are put
+    /// in after the fit. A memory of fits keys on this, so that a knot dragged up or down does
+    /// not refit the curve under it.
+    pub fn fitted_part(&self) -> ApproxSpec {
+        ApproxSpec {
+            values: None,
+            ..self.clone()
+        }
+    }
+
+    /// This spec of another kind: the knots placed and set by hand are kept while the new kind
+    /// has knots too (a piecewise-linear curve turned spline keeps them), dropped otherwise.
+    pub fn with_kind(&self, kind: ApproxKind) -> ApproxSpec {
+        ApproxSpec {
+            kind,
+            ..self.clone()
+        }
+        .consistent()
+    }
+
+    /// This spec with `n` knots: a new count drops the knots placed and set by hand (equally
+    /// spaced fitted knots again); adding or removing one knot that keeps the others is
+    /// [`KnotEdit::Insert`] and [`KnotEdit::Remove`].
+    pub fn with_knot_count(&self, n: usize) -> ApproxSpec {
+        if n == self.knots {
+            return self.clone();
+        }
+        ApproxSpec {
+            knots: n,
+            at: None,
+            values: None,
+            ..self.clone()
+        }
+    }
+
+    /// This spec without knots placed or set by hand ("reset knots").
+    pub fn without_hand_knots(&self) -> ApproxSpec {
+        ApproxSpec {
+            at: None,
+            values: None,
+            ..self.clone()
+        }
+    }
+
+    /// This spec with the hand-set positions or values dropped that no longer fit it: any on a
+    /// kind without knots, and lists of another length than its knot count. What a face calls
+    /// after changing a spec field by field, as the workbench's controls do.
+    pub fn consistent(mut self) -> ApproxSpec {
+        let (has_knots, n) = (self.kind.has_knots(), self.knots);
+        let fits = |v: &Option<Vec<f64>>| v.as_ref().is_none_or(|v| has_knots && v.len() == n);
+        if !fits(&self.at) {
+            self.at = None;
+        }
+        if !fits(&self.values) {
+            self.values = None;
+        }
+        self
     }
 }
 
@@ -170,4 +262,7 @@ pub enum FitError {
     /// A knot curve with fewer than two knots.
     #[error("{0} needs at least 2 knots")]
     TooFewKnots(ApproxKind),
+    /// Knot positions given by hand that no curve can take.
+    #[error(transparent)]
+    Knots(#[from] KnotsError),
 }

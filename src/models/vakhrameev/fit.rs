@@ -9,7 +9,6 @@
 //! for the command line) run it once on one axis. The workbench's refit (`crate::refit`) runs
 //! the same Ω stages with a memory kept between edits.
 
-use super::knots::KnotEdits;
 use super::staged::{StageInputs, StageMemory, Staged};
 use super::stages::deadbands;
 use super::{Calibration, PointSet, Prepared, SetSamples, set_samples};
@@ -211,7 +210,6 @@ impl Pipeline {
                 omega_filtered_dph: Vec::new(),
                 deriv,
                 segments: timing.segments.clone(),
-                source: std::sync::OnceLock::new(),
             },
             ranges,
             recipe: recipe.clone(),
@@ -270,8 +268,6 @@ impl Pipeline {
         }
         let p = &mut self.prepared;
         p.filter_samples = signal::seconds_to_samples(recipe.filter_s, p.dt_s);
-        // Another axis is other samples: the identity kept is the last axis's.
-        p.source = std::sync::OnceLock::new();
         let omega_filtered_dph = omega_filtered_dph.unwrap_or_else(|| {
             signal::moving_average_centered_in(&log.omega_dph, p.filter_samples, &p.segments)
         });
@@ -295,8 +291,8 @@ impl Pipeline {
             omega_filtered_dph,
             ranges: &self.ranges,
             recipe,
-            knots: &KnotEdits::default(),
             points,
+            source: None,
         })
     }
 }

@@ -1,7 +1,9 @@
-//! Knots moved by hand: the knot values of a piecewise-linear or spline coefficient that the
-//! engineer set in the workbench, replacing the fitted ones. They are an input of the staged
-//! pipeline (`staged.rs`), which applies them after each set's fit, and the session stores
-//! them.
+//! Knot values set by hand: the knot values of a piecewise-linear or spline coefficient that the
+//! engineer set in the workbench, replacing the fitted ones. The recipe holds them
+//! (`ApproxSpec::values`, beside the positions placed by hand, `ApproxSpec::at`); the staged
+//! pipeline (`staged.rs`) reads them as a [`KnotEdits`] and applies them after each set's fit.
+//! Sessions written before the recipe held them kept them beside it (`knots`); a session read
+//! moves them into its recipe ([`KnotEdits::fold_into`]).
 
 use super::Calibration;
 use crate::error::Invalid;
@@ -115,6 +117,27 @@ impl Coefficient {
 }
 
 impl KnotEdits {
+    /// The hand-set knot values of every coefficient of `recipe`.
+    pub fn of(recipe: &Recipe) -> KnotEdits {
+        let mut k = KnotEdits::default();
+        for c in Coefficient::ALL {
+            k.set(c, c.spec(recipe).values.clone());
+        }
+        k
+    }
+
+    /// Moves these values into `recipe` (a session written before the recipe held them):
+    /// each list becomes its coefficient's `values`, unless the recipe sets that coefficient's
+    /// values itself.
+    pub fn fold_into(self, recipe: &mut Recipe) {
+        for c in Coefficient::ALL {
+            let spec = c.spec_mut(recipe);
+            if spec.values.is_none() {
+                spec.values = self.get(c).cloned();
+            }
+        }
+    }
+
     /// The hand-set knot values of one coefficient.
     pub fn get(&self, c: Coefficient) -> Option<&Vec<f64>> {
         self.slot(c).as_ref()
@@ -181,7 +204,7 @@ impl KnotEdits {
     /// Drops the edits that no longer fit the recipe (another kind or knot count).
     pub fn retain_matching(&mut self, recipe: &Recipe) {
         for c in Coefficient::ALL {
-            let spec = *c.spec(recipe);
+            let spec = c.spec(recipe);
             if let Some(v) = self.get(c)
                 && !(spec.kind.has_knots() && v.len() == spec.knots)
             {

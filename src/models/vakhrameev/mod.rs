@@ -124,10 +124,6 @@ pub struct Prepared {
     pub deriv: Derivatives,
     /// The log's contiguous segments: every filter and derivative stays inside one.
     pub segments: Vec<std::ops::Range<usize>>,
-    /// The log's identity as a calibration records it ([`SourceInfo::of`]), made by the first
-    /// calibration assembled on these signals and kept: its sketch of a million samples takes
-    /// some 25 ms, more than a live refit's whole budget.
-    pub source: std::sync::OnceLock<SourceInfo>,
 }
 
 impl Prepared {
@@ -152,7 +148,6 @@ impl Prepared {
             omega_filtered_dph,
             deriv,
             segments,
-            source: std::sync::OnceLock::new(),
         }
     }
 }
@@ -296,10 +291,10 @@ impl Calibration {
         (pred, regime)
     }
 
-    /// Puts a calibration together from what the stages fitted on `log`:
-    /// `[k0, k1_plus, k1_minus, k2_plus, k2_minus]`.
+    /// Puts a calibration together from what the stages fitted on the log recorded as `source`
+    /// ([`SourceInfo::of`] the log): `[k0, k1_plus, k1_minus, k2_plus, k2_minus]`.
     pub fn assemble(
-        log: &Log,
+        source: SourceInfo,
         prepared: &Prepared,
         recipe: &Recipe,
         (db1, db2): (f64, f64),
@@ -311,7 +306,7 @@ impl Calibration {
             .unwrap_or(DerivativeSteps { smooth: 1, step: 1 });
         Calibration {
             gyro_id: recipe.gyro_id.clone(),
-            source: prepared.source.get_or_init(|| SourceInfo::of(log)).clone(),
+            source,
             created: now_rfc3339(),
             recipe: recipe.clone(),
             resolved: Resolved {

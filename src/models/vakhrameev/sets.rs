@@ -371,6 +371,28 @@ pub fn fit_k2_gathered(
     fit_k2_from(samples, &src, regime, recipe, warnings)
 }
 
+/// K1 of a set refitted on the points of its last pass ([`k1_points_of`] with the K2 that pass
+/// took out), with statistics: how a K1 whose knots were placed by hand is fitted, after the
+/// set's passes (see `staged.rs`).
+pub fn fit_k1_gathered(
+    samples: &SetSamples,
+    points: &PointSet,
+    regime: Regime,
+    recipe: &Recipe,
+    warnings: &mut Vec<String>,
+) -> Approx {
+    let (spec1, _, sign) = set_specs(regime, recipe);
+    let src = Gathered {
+        p: points,
+        drift: recipe.weighting == Weighting::Drift,
+    };
+    let opts = FitOptions {
+        known: samples.k1_range,
+        stats: true,
+    };
+    fit_or_fallback_source(&format!("K1{sign}"), spec1, &src, opts, warnings)
+}
+
 /// The K2 fit of both: over the set's K2 samples, with statistics.
 fn fit_k2_from<S: PointSource>(
     samples: &SetSamples,

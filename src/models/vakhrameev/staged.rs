@@ -1,6 +1,7 @@
 //! The Ω stages of the one Vakhrameev pipeline, after the T stages: plateau statistics, K0
-//! (with its hand-set knots), the dead-bands and the sets' samples, `Ω_f − K0(T)`, then K1 and
-//! K2 of the + and − sets side by side (with their hand-set knots), and the calibration.
+//! (fitted at its hand-placed knots, with its hand-set values), the dead-bands and the sets'
+//! samples, `Ω_f − K0(T)`, then K1 and K2 of the + and − sets side by side (their knots placed
+//! and set by hand applied after each set's passes), and the calibration.
 //!
 //! Each stage's result can be kept in a [`StageMemory`] under the key of what it was made from,
 //! and is reused while that stays. A batch fit ([`super::Pipeline`]) runs the stages with a
@@ -10,10 +11,14 @@
 //! edit of K1+ refits only the + set. Both call [`StageMemory::run`]: a refit is the batch fit
 //! with a warm memory, and there is no second pipeline to drift from this one.
 
-use super::knots::{Coefficient, KnotEdits, with_knots};
-use super::sets::{first_k1, fit_k2_gathered, fit_set_from, into_rest, k2_points_of};
+use super::knots::{Coefficient, with_knots};
+use super::sets::{
+    first_k1, fit_k1_gathered, fit_k2_gathered, fit_set_from, into_rest, k2_points_of,
+};
 use super::stages::fit_k0;
-use super::{Calibration, PointSet, Prepared, Regime, SetInputs, SetSamples, SetsOfSamples};
+use super::{
+    Calibration, PointSet, Prepared, Regime, SetInputs, SetSamples, SetsOfSamples, SourceInfo,
+};
 use crate::error::{Error, Result};
 use crate::log::Log;
 use crate::models::approx::{Approx, ApproxSpec};
@@ -97,12 +102,14 @@ pub struct StageInputs<'a, S> {
     pub omega_filtered_dph: Cow<'a, [f64]>,
     /// The plateau ranges K0's points are taken over.
     pub ranges: &'a [PlateauRange],
-    /// Every choice.
+    /// Every choice, the knots placed and set by hand among them.
     pub recipe: &'a Recipe,
-    /// Knot values set by hand (none for a batch fit).
-    pub knots: &'a KnotEdits,
     /// Whether the pointwise K1± and K2± points are gathered (for display).
     pub points: bool,
+    /// The log as the calibration records it, when the caller keeps it: its sketch reads every
+    /// sample (17 ms of a 1M-sample log), which a refit after a knot drag cannot afford
+    /// each time. `None`: made from `log`.
+    pub source: Option<&'a SourceInfo>,
 }
 
 /// What one run of the Ω stages made.
@@ -163,8 +170,8 @@ impl<S: Clone + PartialEq + Send + Sync> StageMemory<S> {
             omega_filtered_dph,
             ranges,
             recipe,
-            knots,
             points,
+            source,
         } = i;
         let keep = self.keep_omega;
         if prepared.deriv.ready.iter().all(|r| r.is_empty()) {
@@ -208,24 +215,48 @@ impl<S: Clone + PartialEq + Send + Sync> StageMemory<S> {
 
         let mut warnings = Vec::new();
         let k0 = fit_k0(&stats, &recipe.k0, &mut warnings)?;
-        let k0 = with_knots(&k0, knots.get(Coefficient::K0));
+        let k0 = with_knots(&k0, recipe.k0.values.as_ref());
 
         let t = Instant::now();
+        // The sets are fitted with their knots equally spaced and fitted; the knots placed and
+        // set by hand are put in after (`apply_hand_knots`), so that a knot dragged, sideways
+        // or up and down, refits no set's passes.
+        let hand = [Regime::Plus, Regime::Minus].map(|regime| {
+            let (c1, c2, _) = set_names(regime);
+            c1.spec(recipe).hand_knots() || c2.spec(recipe).hand_knots()
+        });
+        let even = if hand.contains(&true) {
+            Cow::Owned(Recipe {
+                k1_plus: recipe.k1_plus.without_hand_knots(),
+                k1_minus: recipe.k1_minus.without_hand_knots(),
+                k2_plus: recipe.k2_plus.without_hand_knots(),
+                k2_minus: recipe.k2_minus.without_hand_knots(),
+                ..recipe.clone()
+            })
+        } else {
+            Cow::Borrowed(recipe)
+        };
+        let even: &Recipe = &even;
         let keys = [Regime::Plus, Regime::Minus].map(|regime| {
             let (c1, c2, _) = set_names(regime);
             SetKey {
                 plateaus: pkey.clone(),
                 k0: k0.clone(),
-                spec1: *c1.spec(recipe),
-                spec2: *c2.spec(recipe),
+                spec1: c1.spec(even).clone(),
+                spec2: c2.spec(even).clone(),
                 weighting: recipe.weighting,
                 refinements: recipe.refinements,
             }
         });
+        // A batch fit gathers a set's points when the knots placed by hand are fitted on them.
+        let placed = [Regime::Plus, Regime::Minus].map(|regime| {
+            let (c1, c2, _) = set_names(regime);
+            c1.spec(recipe).at.is_some() || c2.spec(recipe).at.is_some()
+        });
         let todo: Vec<usize> = (0..2)
             .filter(|&s| !keep || self.fits[s].as_ref().is_none_or(|(k, _)| *k != keys[s]))
             .collect();
-        let rest = (!todo.is_empty() || !knots.is_empty())
+        let rest = (!todo.is_empty() || hand.contains(&true))
             .then(|| self.rest(&signals, &k0, omega_filtered_dph, &log.temp_c));
         let samples = &sets.samples;
         let mut now: [Option<FittedSet>; 2] = [None, None];
@@ -240,7 +271,7 @@ impl<S: Clone + PartialEq + Send + Sync> StageMemory<S> {
             let first_keys = [0, 1].map(|s| FirstKey {
                 plateaus: pkey.clone(),
                 k0: k0.clone(),
-                spec1: keys[s].spec1,
+                spec1: keys[s].spec1.clone(),
                 weighting: recipe.weighting,
             });
             let kept = [0, 1].map(|s| {
@@ -258,10 +289,10 @@ impl<S: Clone + PartialEq + Send + Sync> StageMemory<S> {
                     let first = (keep && recipe.refinements > 0).then(|| {
                         kept[s]
                             .clone()
-                            .unwrap_or_else(|| first_k1(&samples[s], inputs, regime, recipe))
+                            .unwrap_or_else(|| first_k1(&samples[s], inputs, regime, even))
                     });
-                    let f =
-                        fit_set_from(&samples[s], inputs, regime, recipe, points, first.as_ref());
+                    let gather = points || placed[s];
+                    let f = fit_set_from(&samples[s], inputs, regime, even, gather, first.as_ref());
                     let fit = FittedSet {
                         k1: f.k1,
                         k2: f.k2,
@@ -291,20 +322,20 @@ impl<S: Clone + PartialEq + Send + Sync> StageMemory<S> {
                     .ok_or(Error::Internal("a set's fit is missing"))?,
             };
             Ok(match &rest {
-                Some(rest) if !knots.is_empty() => {
+                Some(rest) if hand[s] => {
                     let inputs = SetInputs {
                         tdot: &prepared.deriv.tdot,
                         tddot: &prepared.deriv.tddot,
                         rest,
                     };
-                    apply_knot_edits(&fit, &samples[s], inputs, regime_of(s), recipe, knots)
+                    apply_hand_knots(&fit, &samples[s], inputs, regime_of(s), recipe)
                 }
                 _ => fit,
             })
         };
         let (plus, minus) = (set(0)?, set(1)?);
         drop(rest);
-        let fit_ms = if todo.is_empty() && knots.is_empty() {
+        let fit_ms = if todo.is_empty() && !hand.contains(&true) {
             0.0
         } else {
             ms(t)
@@ -312,7 +343,7 @@ impl<S: Clone + PartialEq + Send + Sync> StageMemory<S> {
         warnings.extend(plus.warnings);
         warnings.extend(minus.warnings);
         let calibration = Calibration::assemble(
-            log,
+            source.cloned().unwrap_or_else(|| SourceInfo::of(log)),
             prepared,
             recipe,
             sets.deadbands,
@@ -371,35 +402,59 @@ fn set_names(regime: Regime) -> (Coefficient, Coefficient, &'static str) {
     }
 }
 
-/// The hand-set knots applied to a fitted set: a hand-set K1 is followed by a K2 fitted on
-/// what it leaves (unless K2's knots are set by hand too), as the paper's K2 step asks, then
-/// K2's hand-set knots.
-fn apply_knot_edits(
+/// The knots placed and set by hand applied to a set fitted with equally spaced, fitted knots
+/// (its passes, refinements and all):
+///
+/// - a K1 whose knots are placed by hand is refitted at them on the points its last pass was
+///   fitted on (the ratios with that pass's K2 taken out);
+/// - a K1 whose values are set by hand takes them;
+/// - a K1 changed either way is followed by a K2 fitted on what it leaves (unless K2's values
+///   are set by hand), as the paper's K2 step asks; a K2 whose knots are placed by hand is
+///   refitted at them on the points of the set's last pass (or on what the new K1 leaves);
+/// - a K2 whose values are set by hand takes them.
+///
+/// So a knot dragged sideways costs one or two fits over the gathered points of one set, not
+/// the set's passes again; the batch fit does the same, so the two stay equal bit for bit.
+fn apply_hand_knots(
     fit: &FittedSet,
     samples: &SetSamples,
     inputs: SetInputs,
     regime: Regime,
     recipe: &Recipe,
-    knots: &KnotEdits,
 ) -> FittedSet {
     let (c1, c2, sign) = set_names(regime);
+    let (spec1, spec2) = (c1.spec(recipe), c2.spec(recipe));
     let mut out = fit.clone();
-    let edit1 = knots.get(c1).filter(|v| v.len() == fit.k1.knots().1.len());
-    if edit1.is_some() {
-        out.k1 = with_knots(&fit.k1, edit1);
-        if knots.get(c2).is_none() {
-            let mut w = Vec::new();
-            // The points are gathered for display anyway; the fit reads them rather than
-            // evaluating the edited K1 again in each of its passes.
-            let p2 = k2_points_of(samples, inputs, &out.k1);
-            out.k2 = fit_k2_gathered(samples, &p2, regime, recipe, &mut w);
-            out.p2 = Arc::new(p2);
-            out.warnings
-                .retain(|m| !m.starts_with(&format!("K2{sign}")));
-            out.warnings.extend(w);
-        }
+    let mut k1_changed = false;
+    if spec1.at.is_some() {
+        let mut w = Vec::new();
+        out.k1 = fit_k1_gathered(samples, &fit.p1, regime, recipe, &mut w);
+        out.warnings
+            .retain(|m| !m.starts_with(&format!("K1{sign}")));
+        out.warnings.extend(w);
+        k1_changed = true;
     }
-    out.k2 = with_knots(&out.k2, knots.get(c2));
+    let values1 = spec1
+        .values
+        .as_ref()
+        .filter(|v| v.len() == out.k1.knots().1.len());
+    if values1.is_some() {
+        out.k1 = with_knots(&out.k1, values1);
+        k1_changed = true;
+    }
+    if spec2.at.is_some() || (k1_changed && spec2.values.is_none()) {
+        // The points are gathered for display anyway; the fit reads them rather than
+        // evaluating K1 again in each of its passes.
+        if k1_changed {
+            out.p2 = Arc::new(k2_points_of(samples, inputs, &out.k1));
+        }
+        let mut w = Vec::new();
+        out.k2 = fit_k2_gathered(samples, &out.p2, regime, recipe, &mut w);
+        out.warnings
+            .retain(|m| !m.starts_with(&format!("K2{sign}")));
+        out.warnings.extend(w);
+    }
+    out.k2 = with_knots(&out.k2, spec2.values.as_ref());
     out
 }
 

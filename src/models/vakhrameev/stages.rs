@@ -80,14 +80,19 @@ fn simpler_for(spec: &ApproxSpec, temps: usize) -> Option<ApproxSpec> {
         return None;
     }
     Some(if spec.kind.has_knots() {
+        // Evenly spread again: knots placed by hand were placed for another count.
         ApproxSpec {
             knots: temps,
-            ..*spec
+            at: None,
+            values: None,
+            ..spec.clone()
         }
     } else {
         ApproxSpec {
             kind: ApproxKind::Linear,
-            ..*spec
+            at: None,
+            values: None,
+            ..spec.clone()
         }
     })
 }
@@ -138,14 +143,20 @@ pub fn fit_or_fallback_weighted(
     }
     let mut simpler = Vec::new();
     if spec.kind.has_knots() {
+        // Fewer knots than placed by hand cannot stand where they were placed: spread evenly.
+        let knots = got.min(spec.knots);
         simpler.push(ApproxSpec {
-            knots: got.min(spec.knots),
-            ..*spec
+            knots,
+            at: spec.at.clone().filter(|_| knots == spec.knots),
+            values: None,
+            ..spec.clone()
         });
     }
     simpler.push(ApproxSpec {
         kind: ApproxKind::Linear,
-        ..*spec
+        at: None,
+        values: None,
+        ..spec.clone()
     });
     for fallback in simpler {
         if let Ok(a) = approx::fit(&fallback, &xs, &ys) {
@@ -289,6 +300,7 @@ mod tests {
             kind: ApproxKind::Spline,
             knots: 10,
             extrapolate: false,
+            ..ApproxSpec::default()
         };
         fit_or_fallback("K0", &spline, &x, &y, &mut warnings);
         assert_eq!(
