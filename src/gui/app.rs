@@ -12,6 +12,7 @@
 mod actions;
 mod files;
 mod layout;
+mod opened;
 mod results;
 mod screenshot;
 
@@ -80,6 +81,7 @@ struct Views {
     figures: FiguresView,
     models: ModelsView,
     allan: AllanPage,
+    opened: super::view_opened::OpenedView,
 }
 
 /// What shows over the page: the import view, the file dialogs, the unsaved-work question,
@@ -243,6 +245,7 @@ impl Workbench {
                 self.handle(r);
             }
             self.refit_if_needed();
+            self.verify_if_needed();
             if !self.jobs.busy() || Instant::now() > deadline {
                 break;
             }
@@ -456,6 +459,7 @@ impl Workbench {
             .observe(&self.state.shown.choices, settled);
         self.state.forget_stale_status();
         self.refit_if_needed();
+        self.verify_if_needed();
         if self.shots.auto.is_none() {
             self.recovery.autosave.tick(&self.state);
             if let Some(e) = self.recovery.autosave.error.take() {
@@ -497,6 +501,11 @@ impl Workbench {
             Panel::bottom("figures").resizable(false).show(ui, |ui| {
                 actions.extend(self.views.figures.ui(ui, &self.state, false))
             });
+            if self.state.opened.is_some() {
+                Panel::bottom("opened").resizable(false).show(ui, |ui| {
+                    actions.extend(self.views.opened.ui(ui, &self.state))
+                });
+            }
         }
         // Side panels keep the width they are given (their contents fill it, whatever they
         // are): an egui panel otherwise takes its contents' width, so a narrow first frame
@@ -512,6 +521,11 @@ impl Workbench {
                     Panel::bottom("figures").resizable(false).show(ui, |ui| {
                         actions.extend(self.views.figures.ui(ui, &self.state, true))
                     });
+                    if self.state.opened.is_some() {
+                        Panel::bottom("opened").resizable(false).show(ui, |ui| {
+                            actions.extend(self.views.opened.ui(ui, &self.state))
+                        });
+                    }
                 }
                 ScrollArea::vertical()
                     .auto_shrink([false, false])

@@ -6,24 +6,28 @@
 use crate::models::fitted::DriftModel;
 use crate::number::readable;
 
-/// One line of a summary: what it is about (`K0(T)`, `windows`) and what it says.
+/// One line of a summary: what it is about (`K0(T)`, `windows`), what it says, and what
+/// more there is to it for one who asks (the range an approximation was fitted over).
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct SummaryLine {
     /// What the line is about.
     pub what: String,
     /// What it says.
     pub text: String,
+    /// More, for one who asks.
+    pub detail: Option<String>,
 }
 
 fn line(what: &str, text: String) -> SummaryLine {
     SummaryLine {
         what: what.to_string(),
         text,
+        detail: None,
     }
 }
 
 /// The summary of `model`: for a Vakhrameev calibration each approximation's kind (with its
-/// knots, for a knot curve) and the range it was fitted over, the filter, T smoothing and
+/// knots, for a knot curve; the range it was fitted over as detail), the filter, T smoothing and
 /// step H, the plateaus, and the source; for a regression model its name and terms, its
 /// windows and the source.
 pub fn summary(model: &DriftModel) -> Vec<SummaryLine> {
@@ -37,14 +41,19 @@ pub fn summary(model: &DriftModel) -> Vec<SummaryLine> {
                 } else {
                     ap.kind().to_string()
                 };
-                out.push(line(
-                    name,
-                    format!(
-                        "{kind} over {} … {}",
+                out.push(SummaryLine {
+                    detail: Some(format!(
+                        "fitted over {} … {}{}",
                         readable(round4(ap.x_min())),
-                        readable(round4(ap.x_max()))
-                    ),
-                ));
+                        readable(round4(ap.x_max())),
+                        if ap.extrapolates() {
+                            ", extrapolated beyond"
+                        } else {
+                            ", held at its ends beyond"
+                        }
+                    )),
+                    ..line(name, kind)
+                });
             }
             let r = &c.recipe;
             out.push(line(

@@ -3,13 +3,15 @@
 //! egui for a repaint so the UI shows them at once.
 //!
 //! One file a job: `load` (a log, with progress and cancel), `fit` (the live refit and its
-//! plot levels of detail), `compare` (the Models page) and `allan` (the Allan page); this
+//! plot levels of detail), `compare` (the Models page), `allan` (the Allan page) and `opened`
+//! (a calibration opened to compare: its file read and its judging on the open logs); this
 //! file holds the workers' handle and the channel their results come back through.
 
 mod allan;
 mod compare;
 mod fit;
 mod load;
+mod opened;
 
 use allan::run_allan;
 pub use allan::{AllanRequest, AllanView};
@@ -21,6 +23,10 @@ pub use fit::{FitLods, FitView, HeldLods};
 use fit::{RefitKey, fit_worker};
 use load::load_log;
 pub use load::{LoadHandle, LoadOptions, Loaded, LogLods, Recorded};
+pub use opened::{
+    AxisVerdict, JudgedAxis, LogInput, Verified, VerifiedLog, VerifyKey, VerifyRequest,
+};
+use opened::{read_calibration, run_verify};
 
 use super::plot_items::Segments;
 use crate::judge::allan::{AllanDeviation, AllanOptions};
@@ -70,6 +76,11 @@ pub enum JobResult {
     Compared(u64, Result<Arc<Compared>, crate::Error>),
     /// Allan deviations finished.
     Allan(Arc<AllanView>),
+    /// A calibration file opened to compare was read, or could not be (the loader's message,
+    /// naming the file, line and column).
+    CalibrationRead(PathBuf, Result<Arc<crate::models::UnitCalibration>, String>),
+    /// The opened calibration was judged on the open logs.
+    Verified(Arc<Verified>),
 }
 
 enum FitMsg {
@@ -114,6 +125,14 @@ pub struct Jobs {
     pub allan: Option<(u64, bool)>,
     /// Per axis, what its newest refit was asked for.
     sent: Vec<Option<RefitKey>>,
+    /// Calibration files being read.
+    pub reading_calibration: usize,
+    /// The number of the newest judging of the opened calibration asked for.
+    pub verify_requested: u64,
+    /// The judging of the opened calibration running, if any (its number).
+    pub verifying: Option<u64>,
+    /// What the newest judging was asked for.
+    verify_sent: Option<VerifyKey>,
 }
 
 impl Default for Jobs {
@@ -150,6 +169,10 @@ impl Jobs {
             compare_requested: 0,
             allan: None,
             sent: Vec::new(),
+            reading_calibration: 0,
+            verify_requested: 0,
+            verifying: None,
+            verify_sent: None,
         }
     }
 
@@ -169,6 +192,8 @@ impl Jobs {
             || self.exports > 0
             || self.comparing.is_some()
             || self.allan.is_some()
+            || self.reading_calibration > 0
+            || self.verifying.is_some()
     }
 
     /// True while a refit asked for has not been answered, of any axis.
@@ -372,6 +397,72 @@ impl Jobs {
         }
     }
 
+    /// Reads the calibration file at `path` on a thread, for [`JobResult::CalibrationRead`].
+    pub fn read_calibration(&mut self, path: PathBuf) {
+        let (tx, ctx) = (self.tx.clone(), self.ctx.clone());
+        self.reading_calibration += 1;
+        let spawned = std::thread::Builder::new()
+            .name("driftlab-calibration".into())
+            .spawn({
+                let path = path.clone();
+                move || {
+                    let read = read_calibration(&path);
+                    let _ = tx.send(JobResult::CalibrationRead(path, read));
+                    repaint(&ctx);
+                }
+            });
+        if let Err(e) = spawned {
+            let _ = self.tx.send(JobResult::CalibrationRead(
+                path,
+                Err(format!("cannot start a thread: {e}")),
+            ));
+        }
+    }
+
+    /// Asks for the opened calibration to be judged as `request` says, unless the newest
+    /// judging asked for was for the same inputs; true when it was asked for. A judging still
+    /// running finishes, and its answer is dropped as stale.
+    pub fn verify(&mut self, request: VerifyRequest) -> bool {
+        let key = VerifyKey::of(&request);
+        if self.verify_sent.as_ref() == Some(&key) {
+            return false;
+        }
+        self.verify_requested += 1;
+        let generation = self.verify_requested;
+        self.verify_sent = Some(key.clone());
+        let (tx, ctx) = (self.tx.clone(), self.ctx.clone());
+        let spawned = std::thread::Builder::new()
+            .name("driftlab-verify".into())
+            .spawn(move || {
+                let run =
+                    std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| run_verify(&request)));
+                // A defect in one judging leaves the opened calibration unjudged, and says so,
+                // rather than the window gone.
+                let failed = run.is_err().then(|| {
+                    "the judging stopped on an internal error (the terminal shows where)"
+                        .to_string()
+                });
+                let _ = tx.send(JobResult::Verified(Arc::new(Verified {
+                    generation,
+                    key,
+                    logs: run.unwrap_or_default(),
+                    failed,
+                })));
+                repaint(&ctx);
+            });
+        match spawned {
+            Ok(_) => self.verifying = Some(generation),
+            Err(_) => self.verify_sent = None,
+        }
+        true
+    }
+
+    /// Forgets what the opened calibration was last judged for (it was closed): the same
+    /// inputs again are judged again.
+    pub fn forget_verify(&mut self) {
+        self.verify_sent = None;
+    }
+
     /// The next result, waiting at most `wait`.
     pub fn next(&mut self, wait: Duration) -> Option<JobResult> {
         let r = if wait.is_zero() {
@@ -394,6 +485,14 @@ impl Jobs {
             JobResult::Allan(v) => {
                 if self.allan == Some(v.key) {
                     self.allan = None;
+                }
+            }
+            JobResult::CalibrationRead(..) => {
+                self.reading_calibration = self.reading_calibration.saturating_sub(1);
+            }
+            JobResult::Verified(v) => {
+                if self.verifying == Some(v.generation) {
+                    self.verifying = None;
                 }
             }
         }
