@@ -503,7 +503,7 @@ impl Workbench {
             });
             if self.state.opened.is_some() {
                 Panel::bottom("opened").resizable(false).show(ui, |ui| {
-                    actions.extend(self.views.opened.ui(ui, &self.state))
+                    actions.extend(self.views.opened.ui(ui, &self.state, false))
                 });
             }
         }
@@ -523,7 +523,7 @@ impl Workbench {
                     });
                     if self.state.opened.is_some() {
                         Panel::bottom("opened").resizable(false).show(ui, |ui| {
-                            actions.extend(self.views.opened.ui(ui, &self.state))
+                            actions.extend(self.views.opened.ui(ui, &self.state, true))
                         });
                     }
                 }
@@ -774,7 +774,7 @@ impl eframe::App for Workbench {
     }
 }
 
-fn is_json(p: &Path) -> bool {
+pub(crate) fn is_json(p: &Path) -> bool {
     p.extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("json"))
 }

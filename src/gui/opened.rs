@@ -200,7 +200,7 @@ pub fn column(state: &AppState, which: OpenLog) -> Option<Column<'_>> {
         .iter()
         .any(|v| matches!(v, AxisVerdict::Unplaced(_)));
     Some(Column::Not(if unplaced {
-        format!("no axis placed on {shown}: choose below")
+        format!("no axis placed on {shown}: choose its axis under Opened calibration")
     } else if opened.unit.is_unit() {
         format!("no axis of it is {shown}")
     } else {

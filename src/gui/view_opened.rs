@@ -16,8 +16,9 @@ use eframe::egui::{self, RichText, Ui};
 pub struct OpenedView;
 
 impl OpenedView {
-    /// The strip; nothing with no calibration opened.
-    pub fn ui(&mut self, ui: &mut Ui, state: &AppState) -> Vec<Action> {
+    /// The strip; nothing with no calibration opened. `narrow`: in the controls panel of a
+    /// short window, where the recipe folds under a heading.
+    pub fn ui(&mut self, ui: &mut Ui, state: &AppState, narrow: bool) -> Vec<Action> {
         let mut out = Vec::new();
         let Some(o) = state.opened.as_ref() else {
             return out;
@@ -45,13 +46,23 @@ impl OpenedView {
                 out.push(Action::CloseCalibration);
             }
         });
-        recipe(ui, o, state);
+        if narrow {
+            egui::CollapsingHeader::new("Its recipe")
+                .id_salt("opened_recipe")
+                .default_open(false)
+                .show(ui, |ui| recipe(ui, o, state));
+        } else {
+            recipe(ui, o, state);
+        }
         if let Some(v) = &o.verified {
             if let Some(why) = &v.failed {
                 ui.colored_label(ui.visuals().error_fg_color, why);
             }
             for l in &v.logs {
-                judged_on(ui, o, l);
+                // One axis on a log of one: the figures' tables say it all.
+                if o.unit.is_unit() || l.log_axes.len() > 1 {
+                    judged_on(ui, o, l);
+                }
                 out.extend(placements(ui, o, l));
             }
         }
@@ -76,13 +87,14 @@ fn recipe(ui: &mut Ui, o: &Opened, state: &AppState) {
     ui.horizontal_wrapped(|ui| {
         ui.spacing_mut().item_spacing.x = 4.0;
         if !name.is_empty() {
-            ui.label(RichText::new(format!("axis {name}:")).small().strong());
+            ui.label(RichText::new(format!("axis {name}:")).strong());
         }
         for (k, l) in lines.iter().enumerate() {
             if k > 0 {
-                ui.label(RichText::new("·").small().weak());
+                ui.weak("·");
             }
-            let r = ui.label(RichText::new(format!("{} {}", l.what, l.text)).small());
+            ui.weak(format!("{}:", l.what));
+            let r = ui.label(&l.text);
             if let Some(d) = &l.detail {
                 r.on_hover_text(d.as_str());
             }
@@ -113,11 +125,14 @@ fn judged_on(ui: &mut Ui, o: &Opened, l: &VerifiedLog) {
             OpenLog::Validation => "validation log",
         };
         let head = if one_label {
-            format!("On the {which} {} ({}):", l.name, judged[0].1.label)
+            format!("On {} ({}):", l.name, judged[0].1.label)
         } else {
-            format!("On the {which} {}:", l.name)
+            format!("On {}:", l.name)
         };
-        ui.label(RichText::new(head).small());
+        ui.label(head).on_hover_text(format!(
+            "The {which}; peak-to-peak of the filtered drift, raw ÷ corrected by the opened \
+             calibration, per axis"
+        ));
         for (k, j) in &judged {
             let name = o.unit.axes.get(*k).map_or("", |a| a.name.as_str());
             let c = &j.evaluation.comparison;
@@ -143,10 +158,10 @@ fn judged_on(ui: &mut Ui, o: &Opened, l: &VerifiedLog) {
             if let Some(t) = &j.told {
                 tip.push_str(&format!("; {t}"));
             }
-            ui.label(RichText::new(text).small().monospace().color(color))
+            ui.label(RichText::new(text).color(color))
                 .on_hover_text(tip);
             if !one_label {
-                ui.label(RichText::new(format!("({})", j.label)).small().weak());
+                ui.weak(format!("({})", j.label));
             }
         }
     });
@@ -161,7 +176,7 @@ fn placements(ui: &mut Ui, o: &Opened, l: &VerifiedLog) -> Vec<Action> {
             AxisVerdict::Unplaced(why) => (Some(why.as_str()), None),
             AxisVerdict::Judged(j) if j.by_hand => (None, Some(j.log_axis.clone())),
             AxisVerdict::Failed { why, log_axis } => {
-                ui.colored_label(ui.visuals().error_fg_color, RichText::new(why).small());
+                ui.colored_label(ui.visuals().error_fg_color, why);
                 if !o.chosen.contains_key(&(l.which, k)) {
                     continue;
                 }
@@ -171,7 +186,7 @@ fn placements(ui: &mut Ui, o: &Opened, l: &VerifiedLog) -> Vec<Action> {
         };
         ui.horizontal_wrapped(|ui| {
             if let Some(why) = why {
-                ui.colored_label(ui.visuals().warn_fg_color, RichText::new(why).small());
+                ui.colored_label(ui.visuals().warn_fg_color, why);
             }
             let name = o.unit.axes.get(k).map_or("", |a| a.name.as_str());
             let label = if name.is_empty() {
@@ -179,7 +194,7 @@ fn placements(ui: &mut Ui, o: &Opened, l: &VerifiedLog) -> Vec<Action> {
             } else {
                 format!("Axis {name} in {}:", l.name)
             };
-            ui.label(RichText::new(label).small());
+            ui.label(label);
             let mut pick = chosen.clone();
             egui::ComboBox::from_id_salt(("opened_axis", l.which, k))
                 .selected_text(pick.clone().unwrap_or_else(|| "choose…".into()))

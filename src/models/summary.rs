@@ -27,32 +27,42 @@ fn line(what: &str, text: String) -> SummaryLine {
 }
 
 /// The summary of `model`: for a Vakhrameev calibration each approximation's kind (with its
-/// knots, for a knot curve; the range it was fitted over as detail), the filter, T smoothing and
+/// knots, for a knot curve; K1± and K2± a line a pair; the ranges they were fitted over as
+/// detail), the filter, T smoothing and
 /// step H, the plateaus, and the source; for a regression model its name and terms, its
 /// windows and the source.
 pub fn summary(model: &DriftModel) -> Vec<SummaryLine> {
     let mut out = Vec::new();
     match model {
         DriftModel::Vakhrameev(c) => {
-            for (name, ap) in c.approximations() {
-                let knots = ap.knots().0.len();
-                let kind = if knots > 0 {
-                    format!("{}, {knots} knots", ap.kind())
+            // K1± and K2± as one line each when their two curves are of one kind (the usual
+            // case), each with what it was fitted over for one who asks.
+            let lines = [
+                ("K0(T)", vec![("K0", &c.k0)]),
+                (
+                    "K1±(dT/dt)",
+                    vec![("K1+", &c.k1_plus), ("K1−", &c.k1_minus)],
+                ),
+                (
+                    "K2±(d²T/dt²)",
+                    vec![("K2+", &c.k2_plus), ("K2−", &c.k2_minus)],
+                ),
+            ];
+            for (name, curves) in lines {
+                let kinds: Vec<String> = curves.iter().map(|(_, ap)| kind(ap)).collect();
+                let text = if kinds.windows(2).all(|w| w[0] == w[1]) {
+                    kinds[0].clone()
                 } else {
-                    ap.kind().to_string()
+                    kinds.join(" / ")
                 };
+                let detail = curves
+                    .iter()
+                    .map(|(n, ap)| format!("{n}: {}", fitted_over(ap)))
+                    .collect::<Vec<_>>()
+                    .join("\n");
                 out.push(SummaryLine {
-                    detail: Some(format!(
-                        "fitted over {} … {}{}",
-                        readable(round4(ap.x_min())),
-                        readable(round4(ap.x_max())),
-                        if ap.extrapolates() {
-                            ", extrapolated beyond"
-                        } else {
-                            ", held at its ends beyond"
-                        }
-                    )),
-                    ..line(name, kind)
+                    detail: Some(detail),
+                    ..line(name, text)
                 });
             }
             let r = &c.recipe;
@@ -67,7 +77,7 @@ pub fn summary(model: &DriftModel) -> Vec<SummaryLine> {
             ));
             out.push(line(
                 "plateaus",
-                format!("{} (K0 points)", c.plateaus.len()),
+                format!("{}, the K0 points", c.plateaus.len()),
             ));
         }
         DriftModel::Regression(r) => {
@@ -102,6 +112,29 @@ pub fn summary(model: &DriftModel) -> Vec<SummaryLine> {
     }
     out.push(line("made", made));
     out
+}
+
+/// An approximation's kind, with its knots for a knot curve: `spline, 6 knots`.
+fn kind(ap: &crate::models::approx::Approx) -> String {
+    match ap.knots().0.len() {
+        0 => ap.kind().to_string(),
+        n => format!("{}, {n} knots", ap.kind()),
+    }
+}
+
+/// The range an approximation was fitted over, and what it does beyond.
+fn fitted_over(ap: &crate::models::approx::Approx) -> String {
+    format!(
+        "{}, fitted over {} … {}, {} beyond",
+        kind(ap),
+        readable(round4(ap.x_min())),
+        readable(round4(ap.x_max())),
+        if ap.extrapolates() {
+            "extrapolated"
+        } else {
+            "held at its ends"
+        }
+    )
 }
 
 /// `v` to four significant digits, for a range read at a glance.
