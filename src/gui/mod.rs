@@ -13,7 +13,9 @@
 //!   axis's figures), [`view_time`] (the run over time),
 //!   [`view_controls`] (the log, the signal settings and the plateau table), [`view_coeffs`]
 //!   (K0, K1±, K2±), [`view_result`] (the drift before and after), [`view_figures`] (the
-//!   figures of merit), [`view_models`] (the Models page) and [`view_allan`] (the Allan page);
+//!   figures of merit), [`view_models`] (the Models page), [`view_allan`] (the Allan page) and
+//!   [`view_opened`] (a calibration opened beside the current fit, to compare: what it holds
+//!   and is judged on is [`opened`]);
 //! * [`export`], [`dialogs`] (which file dialog can appear), [`file_dialog`] (the workbench's
 //!   own, where no system dialog can), [`settings`], [`autosave`];
 //! * [`app`]: the window, on top — menus, shortcuts, layout, job results, unsaved-work
@@ -58,6 +60,8 @@
 //! [`view_figures`]: crate::gui::view_figures
 //! [`view_models`]: crate::gui::view_models
 //! [`view_allan`]: crate::gui::view_allan
+//! [`view_opened`]: crate::gui::view_opened
+//! [`opened`]: crate::gui::opened
 //! [`export`]: crate::gui::export
 //! [`dialogs`]: crate::gui::dialogs
 //! [`file_dialog`]: crate::gui::file_dialog

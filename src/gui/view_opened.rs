@@ -194,16 +194,25 @@ fn placements(ui: &mut Ui, o: &Opened, l: &VerifiedLog) -> Vec<Action> {
             } else {
                 format!("Axis {name} in {}:", l.name)
             };
-            ui.label(label);
+            ui.label(&label);
             let mut pick = chosen.clone();
-            egui::ComboBox::from_id_salt(("opened_axis", l.which, k))
-                .selected_text(pick.clone().unwrap_or_else(|| "choose…".into()))
+            let shown = pick.clone().unwrap_or_else(|| "choose…".into());
+            let r = egui::ComboBox::from_id_salt(("opened_axis", l.which, k))
+                .selected_text(shown.as_str())
                 .show_ui(ui, |ui| {
                     for a in &l.log_axes {
                         ui.selectable_value(&mut pick, Some(a.clone()), a);
                     }
                     ui.selectable_value(&mut pick, None, "none");
-                });
+                })
+                .response;
+            let name = label.trim_end_matches(':').to_string();
+            r.widget_info(|| {
+                let mut info =
+                    egui::WidgetInfo::labeled(egui::accesskit::Role::ComboBox, true, &name);
+                info.current_text_value = Some(shown.clone());
+                info
+            });
             if pick != chosen {
                 out.push(Action::ChooseOpenedAxis(l.which, k, pick));
             }

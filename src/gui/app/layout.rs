@@ -485,6 +485,10 @@ impl Workbench {
                         for (k, what) in [
                             ("Ctrl+O", "open a log (preview and mapping first)"),
                             ("Ctrl+Shift+O", "open a session"),
+                            (
+                                "Ctrl+Alt+O",
+                                "open a calibration beside the current fit, to compare",
+                            ),
                             ("Ctrl+S", "save the session"),
                             (
                                 "Ctrl+1 / Ctrl+2 / Ctrl+3",
