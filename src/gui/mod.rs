@@ -156,7 +156,8 @@ pub fn split_files(files: &[PathBuf]) -> Result<StartFiles, String> {
     let mut out = StartFiles::default();
     if files.len() > 2 {
         return Err(format!(
-            "{} files given ({}): the workbench opens a log (or a session) and, beside it, a              calibration to compare",
+            "{} files given ({}): the workbench opens a log (or a session) and, beside it, a \
+             calibration to compare",
             files.len(),
             names(files)
         ));
@@ -175,7 +176,8 @@ pub fn split_files(files: &[PathBuf]) -> Result<StartFiles, String> {
         };
         if let Some(first) = slot.replace(f.clone()) {
             return Err(format!(
-                "two {what} given ({}): the workbench opens one log (or session), and one                  calibration beside it to compare{}",
+                "two {what} given ({}): the workbench opens one log (or session), and one \
+                 calibration beside it to compare{}",
                 names(&[first, f.clone()]),
                 if calibration {
                     ""

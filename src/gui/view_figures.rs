@@ -165,6 +165,9 @@ fn table(
         // Stacked in a narrow panel with the opened calibration's two columns beside, the
         // figures are named short (their full names on hover).
         let narrow = ui.spacing().item_spacing.y <= 2.0 && beside.is_some();
+        // Narrower still (a 1024-point window): the ratios leave their columns for the
+        // corrected figures' hover, so that both calibrations' figures stay whole.
+        let ratios = beside.is_none() || ui.available_width() >= RATIOS_MIN_W;
         let rms_label = format!("{window} RMS");
         let mean_label = if narrow {
             format!("|{window} mean|")
@@ -175,7 +178,9 @@ fn table(
             .striped(true)
             // (stacked in a narrow panel, its rows tight: the columns closer too)
             .spacing([if ui.spacing().item_spacing.y <= 2.0 { 8.0 } else { 14.0 }, 2.0]).show(ui, |ui| {
-            let heads: &[&str] = if beside.is_some() {
+            let heads: &[&str] = if beside.is_some() && !ratios {
+                &["°/h", "raw", "current", "opened"]
+            } else if beside.is_some() {
                 &["°/h", "raw", "current", "ratio", "opened", "ratio"]
             } else {
                 &["°/h", "raw", "corrected", "ratio"]
@@ -192,7 +197,8 @@ fn table(
                     && let Some(b) = &beside
                 {
                     r.on_hover_text(format!(
-                        "Corrected by the opened calibration {}, judged with the same filter and                          windows as the current fit",
+                        "Corrected by the opened calibration {}, judged with the same filter and \
+                         windows as the current fit",
                         b.name
                     ));
                 }
@@ -220,7 +226,15 @@ fn table(
                 ui.label(name).on_hover_text(tip);
                 ui.monospace(num(raw));
                 let cor_text = RichText::new(num(cor)).monospace();
-                ui.label(if exact { cor_text } else { cor_text.italics().color(weak) });
+                let shown = ui.label(if exact { cor_text } else { cor_text.italics().color(weak) });
+                if !ratios {
+                    shown.on_hover_text(format!("raw ÷ corrected: {}", ratio(r)));
+                    if let Some(b) = &beside {
+                        opened_cells(ui, b, opened_eval.map(|o| pick(&o.comparison)), raw, false);
+                    }
+                    ui.end_row();
+                    continue;
+                }
                 let good = r >= 1.0;
                 let color = match (exact, good) {
                     (false, _) => weak,
@@ -231,7 +245,7 @@ fn table(
                 ui.label(if exact { text } else { text.italics() })
                     .on_hover_text("raw ÷ corrected: above 1 is better");
                 if let Some(b) = &beside {
-                    opened_cells(ui, b, opened_eval.map(|o| pick(&o.comparison)), raw);
+                    opened_cells(ui, b, opened_eval.map(|o| pick(&o.comparison)), raw, true);
                 }
                 ui.end_row();
             }
@@ -250,23 +264,40 @@ fn table(
     });
 }
 
-/// The opened calibration's cells of one figure: its corrected value and its ratio (`None`:
-/// not judged on this log), greyed while a judging is on its way. `raw`: the current fit's
-/// raw figure, to tell when the opened calibration's raw differs (its warm-up leaves out
-/// other samples).
-fn opened_cells(ui: &mut Ui, b: &Beside<'_>, figure: Option<(f64, f64, f64)>, raw: f64) {
+/// The width below which a table with an opened calibration drops its ratio columns, points.
+const RATIOS_MIN_W: f32 = 330.0;
+
+/// The opened calibration's cells of one figure: its corrected value and (`with_ratio`) its
+/// ratio (`figure` `None`: not judged on this log), greyed while a judging is on its way.
+/// `raw`: the current fit's raw figure, to tell when the opened calibration's raw differs (its
+/// warm-up leaves out other samples). Without its column, the ratio is on the value's hover.
+fn opened_cells(
+    ui: &mut Ui,
+    b: &Beside<'_>,
+    figure: Option<(f64, f64, f64)>,
+    raw: f64,
+    with_ratio: bool,
+) {
     let weak = ui.visuals().weak_text_color();
     let Some((own_raw, cor, r)) = figure else {
-        ui.label(RichText::new("—").color(weak));
-        ui.label(RichText::new("—").color(weak));
+        for _ in 0..(1 + usize::from(with_ratio)) {
+            ui.label(RichText::new("—").color(weak));
+        }
         return;
     };
     let cor_text = RichText::new(num(cor)).monospace();
-    ui.label(if b.exact {
+    let shown = ui.label(if b.exact {
         cor_text
     } else {
         cor_text.italics().color(weak)
     });
+    if !with_ratio {
+        shown.on_hover_text(format!(
+            "raw ÷ corrected by the opened calibration: {}",
+            ratio(r)
+        ));
+        return;
+    }
     let color = match (b.exact, r >= 1.0) {
         (false, _) => weak,
         (true, true) => ui.visuals().text_color(),
@@ -278,7 +309,8 @@ fn opened_cells(ui: &mut Ui, b: &Beside<'_>, figure: Option<(f64, f64, f64)>, ra
         (own_raw - raw).abs() <= 1e-9 * raw.abs().max(1e-12) || (own_raw.is_nan() && raw.is_nan());
     if !same_raw {
         tip.push_str(&format!(
-            "; raw over its own samples is {} °/h (its warm-up leaves out other samples              than the current fit's)",
+            "; raw over its own samples is {} °/h (its warm-up leaves out other samples \
+             than the current fit's)",
             num(own_raw)
         ));
     }

@@ -52,7 +52,7 @@ fn a_calibration_and_a_log_are_told_apart_in_either_order() {
         })
     );
     assert_eq!(
-        split_files(&[log.clone()]),
+        split_files(std::slice::from_ref(&log)),
         Ok(StartFiles {
             log: Some(log.clone()),
             calibration: None,
@@ -63,7 +63,9 @@ fn a_calibration_and_a_log_are_told_apart_in_either_order() {
     let broken = dir.path().join("broken.json");
     std::fs::write(&broken, "{ oops").unwrap();
     assert_eq!(
-        split_files(&[broken.clone()]).unwrap().calibration,
+        split_files(std::slice::from_ref(&broken))
+            .unwrap()
+            .calibration,
         Some(broken)
     );
 
