@@ -9,6 +9,7 @@ use super::jobs::{AxisVerdict, VerifiedLog};
 use super::opened::{self, Column, Opened};
 use super::plot_items::{Palette, ratio};
 use super::state::AppState;
+use crate::number::readable;
 use eframe::egui::{self, RichText, Ui};
 
 /// The strip (no state of its own).
@@ -37,6 +38,26 @@ impl OpenedView {
                 ui.weak("· open a log to judge it on");
             } else if !opened::current(state) {
                 ui.weak("· judging…");
+            }
+            // Judged with the workbench's filter, as the current fit is: said when it is not the
+            // one the calibration was made with (`evaluate` without --filter takes that one).
+            let filter = state.merit().filter_s;
+            let own: Vec<f64> = o
+                .unit
+                .axes
+                .iter()
+                .map(|a| crate::judge::verify::merit_options(&a.model, None, None).filter_s)
+                .filter(|f| *f != filter)
+                .collect();
+            if let Some(f) = own.first() {
+                ui.weak(format!("· judged with a {} s filter", readable(filter)))
+                    .on_hover_text(format!(
+                        "Both calibrations are judged with the workbench's Ω filter, {} s; the \
+                         opened one was made with {} s, which `driftlab evaluate` takes unless \
+                         --filter is given",
+                        readable(filter),
+                        readable(*f)
+                    ));
             }
             if ui
                 .small_button("Close")

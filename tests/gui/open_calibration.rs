@@ -165,6 +165,8 @@ fn an_opened_calibration_shows_the_figures_evaluate_prints() {
     h.get_by_label(&ratio(opened.p2p_ratio));
     // Its recipe, readable: K0 a spline of 4 knots.
     h.get_by_label("spline, 4 knots");
+    // Judged with the filter it was made with: nothing to say about it.
+    assert!(h.query_by_label_contains("judged with a").is_none());
     // Its corrected drift on the drift plot, on the calibration log and on the validation log.
     let s = &h.state().state;
     let fit = s.shown.fit.as_ref().unwrap();
@@ -201,6 +203,8 @@ fn the_opened_calibration_follows_the_workbench_filter() {
     let j = judged(&h, OpenLog::Calibration, 0);
     assert_eq!(j.options.filter_s, 300.0);
     assert_eq!(json(&j.evaluation), cli["evaluation"]);
+    // Said, since `evaluate` without --filter would take the calibration's own 100 s.
+    h.get_by_label("· judged with a 300 s filter");
 }
 
 #[test]
