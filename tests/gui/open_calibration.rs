@@ -196,7 +196,12 @@ fn the_opened_calibration_follows_the_workbench_filter() {
     settle(&mut h);
     act(&mut h, Action::OpenCalibrationPath(cal.clone()));
     settle(&mut h);
-    h.state_mut().state.recipe_mut().filter_s = 300.0;
+    // A filter typed digit by digit: each asks for a judging while the one before runs; the
+    // last one asked for is the one kept.
+    for f in [3.0, 30.0, 300.0] {
+        h.state_mut().state.recipe_mut().filter_s = f;
+        h.step();
+    }
     settle(&mut h);
     assert!(opened::current(&h.state().state));
     let cli = evaluate_json(&cal, &sample("calibration.csv"), &["--filter", "300"]);

@@ -133,6 +133,8 @@ pub struct Jobs {
     pub verifying: Option<u64>,
     /// What the newest judging was asked for.
     verify_sent: Option<VerifyKey>,
+    /// The newest judging asked for while another ran, with its number.
+    verify_waiting: Option<(u64, Box<VerifyRequest>)>,
 }
 
 impl Default for Jobs {
@@ -173,6 +175,7 @@ impl Jobs {
             verify_requested: 0,
             verifying: None,
             verify_sent: None,
+            verify_waiting: None,
         }
     }
 
@@ -420,8 +423,10 @@ impl Jobs {
     }
 
     /// Asks for the opened calibration to be judged as `request` says, unless the newest
-    /// judging asked for was for the same inputs; true when it was asked for. A judging still
-    /// running finishes, and its answer is dropped as stale.
+    /// judging asked for was for the same inputs; true when it was asked for. One judging runs
+    /// at a time: asked while one runs, the request waits, replacing any older one waiting
+    /// (a filter dragged asks for one per frame), and the answer of the running one is
+    /// dropped as stale.
     pub fn verify(&mut self, request: VerifyRequest) -> bool {
         let key = VerifyKey::of(&request);
         if self.verify_sent.as_ref() == Some(&key) {
@@ -429,7 +434,17 @@ impl Jobs {
         }
         self.verify_requested += 1;
         let generation = self.verify_requested;
-        self.verify_sent = Some(key.clone());
+        self.verify_sent = Some(key);
+        if self.verifying.is_some() {
+            self.verify_waiting = Some((generation, Box::new(request)));
+        } else {
+            self.start_verify(generation, request);
+        }
+        true
+    }
+
+    fn start_verify(&mut self, generation: u64, request: VerifyRequest) {
+        let key = VerifyKey::of(&request);
         let (tx, ctx) = (self.tx.clone(), self.ctx.clone());
         let spawned = std::thread::Builder::new()
             .name("driftlab-verify".into())
@@ -454,13 +469,13 @@ impl Jobs {
             Ok(_) => self.verifying = Some(generation),
             Err(_) => self.verify_sent = None,
         }
-        true
     }
 
-    /// Forgets what the opened calibration was last judged for (it was closed): the same
-    /// inputs again are judged again.
+    /// Forgets what the opened calibration was last judged for, and drops a judging waiting
+    /// (it was closed): the same inputs again are judged again.
     pub fn forget_verify(&mut self) {
         self.verify_sent = None;
+        self.verify_waiting = None;
     }
 
     /// The next result, waiting at most `wait`.
@@ -493,6 +508,9 @@ impl Jobs {
             JobResult::Verified(v) => {
                 if self.verifying == Some(v.generation) {
                     self.verifying = None;
+                    if let Some((generation, request)) = self.verify_waiting.take() {
+                        self.start_verify(generation, *request);
+                    }
                 }
             }
         }
