@@ -26,7 +26,6 @@ pub use load::{LoadHandle, LoadOptions, Loaded, LogLods, Recorded};
 pub use opened::{
     AxisVerdict, JudgedAxis, LogInput, Verified, VerifiedLog, VerifyKey, VerifyRequest,
 };
-use opened::{read_calibration, run_verify};
 
 use super::plot_items::Segments;
 use crate::judge::allan::{AllanDeviation, AllanOptions};
@@ -398,84 +397,6 @@ impl Jobs {
         if spawned.is_ok() {
             self.allan = Some(key);
         }
-    }
-
-    /// Reads the calibration file at `path` on a thread, for [`JobResult::CalibrationRead`].
-    pub fn read_calibration(&mut self, path: PathBuf) {
-        let (tx, ctx) = (self.tx.clone(), self.ctx.clone());
-        self.reading_calibration += 1;
-        let spawned = std::thread::Builder::new()
-            .name("driftlab-calibration".into())
-            .spawn({
-                let path = path.clone();
-                move || {
-                    let read = read_calibration(&path);
-                    let _ = tx.send(JobResult::CalibrationRead(path, read));
-                    repaint(&ctx);
-                }
-            });
-        if let Err(e) = spawned {
-            let _ = self.tx.send(JobResult::CalibrationRead(
-                path,
-                Err(format!("cannot start a thread: {e}")),
-            ));
-        }
-    }
-
-    /// Asks for the opened calibration to be judged as `request` says, unless the newest
-    /// judging asked for was for the same inputs; true when it was asked for. One judging runs
-    /// at a time: asked while one runs, the request waits, replacing any older one waiting
-    /// (a filter dragged asks for one per frame), and the answer of the running one is
-    /// dropped as stale.
-    pub fn verify(&mut self, request: VerifyRequest) -> bool {
-        let key = VerifyKey::of(&request);
-        if self.verify_sent.as_ref() == Some(&key) {
-            return false;
-        }
-        self.verify_requested += 1;
-        let generation = self.verify_requested;
-        self.verify_sent = Some(key);
-        if self.verifying.is_some() {
-            self.verify_waiting = Some((generation, Box::new(request)));
-        } else {
-            self.start_verify(generation, request);
-        }
-        true
-    }
-
-    fn start_verify(&mut self, generation: u64, request: VerifyRequest) {
-        let key = VerifyKey::of(&request);
-        let (tx, ctx) = (self.tx.clone(), self.ctx.clone());
-        let spawned = std::thread::Builder::new()
-            .name("driftlab-verify".into())
-            .spawn(move || {
-                let run =
-                    std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| run_verify(&request)));
-                // A defect in one judging leaves the opened calibration unjudged, and says so,
-                // rather than the window gone.
-                let failed = run.is_err().then(|| {
-                    "the judging stopped on an internal error (the terminal shows where)"
-                        .to_string()
-                });
-                let _ = tx.send(JobResult::Verified(Arc::new(Verified {
-                    generation,
-                    key,
-                    logs: run.unwrap_or_default(),
-                    failed,
-                })));
-                repaint(&ctx);
-            });
-        match spawned {
-            Ok(_) => self.verifying = Some(generation),
-            Err(_) => self.verify_sent = None,
-        }
-    }
-
-    /// Forgets what the opened calibration was last judged for, and drops a judging waiting
-    /// (it was closed): the same inputs again are judged again.
-    pub fn forget_verify(&mut self) {
-        self.verify_sent = None;
-        self.verify_waiting = None;
     }
 
     /// The next result, waiting at most `wait`.
