@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Screenshots of the workbench at the sizes it must hold, for docs/workbench.md: the bundled
-# calibration log with its validation run held out, at 1600x1000, 1280x720 and 1024x640, in a
-# real X server (Xvfb, started here when no DISPLAY is set) through the workbench's own
-# `--screenshot`.
+# calibration log with its validation run held out, at 1600x1000, 1280x720 and 1024x640, and
+# at 1600x1000 with a calibration opened beside the fit (one made on the validation run, "last
+# week's"), in a real X server (Xvfb, started here when no DISPLAY is set) through the
+# workbench's own `--screenshot`.
 #
 #   bash scripts/workbench-shots.sh [path/to/driftlab] [out-folder]
 #
@@ -34,3 +35,14 @@ for size in 1600x1000 1280x720 1024x640; do
     echo "$OUT/$page-$size.png"
   done
 done
+
+# A calibration opened to compare: one fitted on the validation run with K0 a spline of three
+# knots, as a calibration from another day would differ from the current fit.
+CAL_DIR=$(mktemp -d)
+trap '[ -n "$X_PID" ] && kill "$X_PID" 2>/dev/null || true; rm -rf "$CAL_DIR"' EXIT
+"$BIN" calibrate sample_logs/validation.csv --k0 spline --knots 3 \
+  --out "$CAL_DIR/last-week.json" >/dev/null
+"$BIN" gui sample_logs/calibration.csv "$CAL_DIR/last-week.json" \
+  --validation sample_logs/validation.csv --window-size 1600x1000 \
+  --screenshot "$OUT/opened-calibration-1600x1000.png"
+echo "$OUT/opened-calibration-1600x1000.png"

@@ -5,6 +5,7 @@ use driftlab::Log;
 use driftlab::files::calibration;
 use driftlab::files::corrected_csv::{self, WriteError};
 use driftlab::judge::metrics::{Comparison, Evaluation, MeritOptions};
+use driftlab::judge::verify;
 use driftlab::log::run_sketch::Shared;
 use driftlab::models::UnitCalibration;
 use driftlab::models::fitted::DriftModel;
@@ -48,8 +49,7 @@ pub fn run(a: Args) -> Result<(), CliError> {
         if !log.select_axis(column) {
             return Err(format!("{}: axis {column} vanished from the log", log.source).into());
         }
-        let share = ax.model.source().shared_with(&log);
-        let (opts, in_sample, eval) = judge(&a, &ax.model, &log, &hash).map_err(|e| {
+        let judged_axis = judge(&a, &ax.model, &log, &hash).map_err(|e| {
             if unit.is_unit() {
                 in_axis(&ax.name, e)
             } else {
@@ -60,10 +60,10 @@ pub fn run(a: Args) -> Result<(), CliError> {
             name: ax.name.clone(),
             column: column.clone(),
             model: ax.model.name().to_string(),
-            opts,
-            in_sample,
-            share,
-            eval,
+            opts: judged_axis.options,
+            in_sample: judged_axis.in_sample,
+            share: judged_axis.share,
+            eval: judged_axis.evaluation,
         });
     }
     if unit.is_unit() {
@@ -109,70 +109,32 @@ fn print_single(a: &Args, j: &AxisJudged) -> Result<(), CliError> {
         "{} on {} ({}):",
         super::calibrate::file_name(&a.calibration),
         super::calibrate::file_name(&a.log),
-        sample_label(j.in_sample, j.share)
+        verify::sample_label(j.in_sample, j.share)
     )?;
     common::print_evaluation(&j.eval, j.opts.window_s)
 }
 
-/// Whether the log judged on is the calibration's own, in words: with how much of it is the
-/// calibration log's, or how much of the calibration log it is, when its samples' sketch
-/// (`share`) tells that it is not all of it.
-fn sample_label(in_sample: bool, share: Option<Shared>) -> String {
-    let percent = |x: f64| common::fixed(100.0 * x, 0);
-    match (in_sample, share) {
-        (false, Some(s)) if s.partly().is_some() => format!(
-            "held out, though about {} % of its samples are the calibration log's",
-            percent(s.share_of_log)
-        ),
-        (false, _) => "held out: not the calibration log".into(),
-        // In-sample by its file (its samples binned, say): the sketch has nothing to add.
-        (true, Some(s)) if !s.in_sample() => "in-sample: the calibration log".into(),
-        // Found among the log's own values, a part of the run is all the run's (exactly), a
-        // mixture is estimated on about 128 of them: within a few % of all is all.
-        (true, Some(s)) if s.share_of_log < 0.95 => format!(
-            "in-sample: about {} % of its samples are the calibration log's",
-            percent(s.share_of_log)
-        ),
-        (true, Some(s)) if s.share_of_run() < 0.95 => format!(
-            "in-sample: a part of the calibration log, about {} % of it",
-            percent(s.share_of_run())
-        ),
-        (true, _) => "in-sample: the calibration log".into(),
-    }
-}
-
-/// The figures of `model` on `log` (whose bytes hash to `hash`): the merit options (the
-/// calibration's filter unless --filter), whether the log is the calibration's own, and the
-/// evaluation.
-fn judge(
-    a: &Args,
-    model: &DriftModel,
-    log: &Log,
-    hash: &str,
-) -> Result<(MeritOptions, bool, Evaluation), CliError> {
+/// The figures of `model` on `log` (whose bytes hash to `hash`), as the engine judges a saved
+/// calibration ([`verify::judge`]): the merit options (the calibration's filter unless
+/// --filter), whether the log is the calibration's own, and the evaluation.
+fn judge(a: &Args, model: &DriftModel, log: &Log, hash: &str) -> Result<verify::Judged, CliError> {
     let name = a.log.file_name().map_or_else(
         || a.log.display().to_string(),
         |n| n.to_string_lossy().into_owned(),
     );
-    let in_sample = model.source().is_run_of(log, &name, hash);
-    let default_filter = match model {
-        DriftModel::Vakhrameev(cal) => cal.recipe.filter_s,
-        DriftModel::Regression(_) => MeritOptions::default().filter_s,
-    };
-    let opts = MeritOptions {
-        filter_s: a.filter.unwrap_or(default_filter),
-        window_s: a.window.unwrap_or(MeritOptions::default().window_s),
-    };
+    let opts = verify::merit_options(model, a.filter, a.window);
+    // Checked here first (the engine checks again) so that its warning is printed before
+    // anything the judging refuses.
     common::check_merit(&opts, a.window.is_some(), log)?;
-    driftlab::models::check_rate_moves(log).map_err(|e| common::fit_failed(&log.source, &e))?;
-    let correction = model
-        .correct(log)
-        .map_err(|e| format!("{}: {e}", a.calibration.display()))?;
-    Ok((
-        opts,
-        in_sample,
-        Evaluation::of_correction(log, &correction, &opts),
-    ))
+    let file = verify::LogFile {
+        name: &name,
+        sha256: hash,
+    };
+    verify::judge(model, log, file, opts, a.window.is_some()).map_err(|e| match e {
+        verify::JudgeError::Options(i) => common::with_option(i),
+        verify::JudgeError::FrozenRate(e) => common::fit_failed(&log.source, &e).into(),
+        verify::JudgeError::Correct(e) => format!("{}: {e}", a.calibration.display()).into(),
+    })
 }
 
 /// The log's axis that each axis of `unit` was calibrated on (by name, or by the rate column
@@ -246,7 +208,7 @@ fn print_unit(a: &Args, unit: &UnitCalibration, judged: &[AxisJudged]) -> Result
     // one beside each axis.
     let labels: Vec<String> = judged
         .iter()
-        .map(|j| sample_label(j.in_sample, j.share))
+        .map(|j| verify::sample_label(j.in_sample, j.share))
         .collect();
     let one_label = labels.windows(2).all(|w| w[0] == w[1]);
     out!(

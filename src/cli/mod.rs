@@ -63,8 +63,10 @@ pub enum Command {
 #[derive(clap::Args, Debug, Default)]
 pub struct GuiArgs {
     /// Log (or saved session .json) to open (default: sample_logs/calibration.csv when
-    /// present). The import view shows first when a column is ambiguous or implausible.
-    pub log: Option<std::path::PathBuf>,
+    /// present), and a calibration .json to open beside its fit to compare, in either order.
+    /// The import view shows first when a column is ambiguous or implausible.
+    #[arg(value_name = "LOG|SESSION|CALIBRATION")]
+    pub files: Vec<std::path::PathBuf>,
     /// Render the workbench once the log is loaded and calibrated (or the calibration has
     /// failed, with its message), save the window as PNG here and exit.
     #[arg(long, value_name = "PNG")]
@@ -145,7 +147,8 @@ fn gui(a: GuiArgs) -> Result<(), String> {
         );
     }
     let read = a.log_args.options()?;
-    let session = a.log.as_ref().is_some_and(|p| {
+    let driftlab::gui::StartFiles { log, calibration } = driftlab::gui::split_files(&a.files)?;
+    let session = log.as_ref().is_some_and(|p| {
         p.extension()
             .is_some_and(|e| e.eq_ignore_ascii_case("json"))
     });
@@ -168,8 +171,11 @@ fn gui(a: GuiArgs) -> Result<(), String> {
     // every other output is.
     if let Some(shot) = &a.screenshot {
         let mut reads = common::Reads::default();
-        if let Some(log) = &a.log {
+        if let Some(log) = &log {
             reads.add(if session { "the session" } else { "the log" }, log);
+        }
+        if let Some(cal) = &calibration {
+            reads.add("the calibration", cal);
         }
         if let Some(v) = &a.validation {
             reads.add("the validation log", v);
@@ -191,7 +197,8 @@ fn gui(a: GuiArgs) -> Result<(), String> {
         None => None,
     };
     driftlab::gui::run(driftlab::gui::GuiOptions {
-        log: a.log,
+        log,
+        calibration,
         screenshot: a.screenshot,
         read,
         bin_s: a.log_args.bin,

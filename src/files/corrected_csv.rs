@@ -107,16 +107,17 @@ pub fn log_axes(log: &Log, unit: &UnitCalibration) -> Result<Vec<String>, WriteE
     if !unit.is_unit() {
         return Ok(vec![log.axis.clone()]);
     }
+    // The engine's one rule for where a unit's axes are in a log.
     unit.axes
         .iter()
-        .map(|ax| {
-            log.matching_axis(&ax.name, &ax.rate_column)
-                .ok_or_else(|| WriteError::MissingAxis {
-                    log: log.source.clone(),
-                    axis: ax.name.clone(),
-                    rate_column: ax.rate_column.clone(),
-                    log_axes: log.axis_names(),
-                })
+        .zip(crate::judge::verify::find_axes(unit, log))
+        .map(|(ax, found)| {
+            found.ok_or_else(|| WriteError::MissingAxis {
+                log: log.source.clone(),
+                axis: ax.name.clone(),
+                rate_column: ax.rate_column.clone(),
+                log_axes: log.axis_names(),
+            })
         })
         .collect()
 }

@@ -13,7 +13,7 @@ use eframe::egui::{Key, KeyboardShortcut, Modifiers, Rect};
 use std::path::PathBuf;
 
 /// One of the logs open in the workbench.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub enum OpenLog {
     /// The log the calibration is fitted on.
     Calibration,
@@ -36,6 +36,15 @@ pub enum Action {
     OpenValidation,
     /// Forget the validation log.
     CloseValidation,
+    /// Pick a calibration file to open beside the current fit.
+    OpenCalibration,
+    /// Open this calibration file beside the current fit.
+    OpenCalibrationPath(PathBuf),
+    /// Put the opened calibration away.
+    CloseCalibration,
+    /// Judge axis `.1` (its index) of the opened calibration on this axis of log `.0` (`None`:
+    /// on none), where the files do not say which it corrects.
+    ChooseOpenedAxis(OpenLog, usize, Option<String>),
     /// Pick a session to open.
     OpenSession,
     /// Open this session.
@@ -190,6 +199,9 @@ pub mod shortcuts {
 
     /// Open a log.
     pub const OPEN: KeyboardShortcut = KeyboardShortcut::new(Modifiers::COMMAND, Key::O);
+    /// Open a calibration beside the current fit.
+    pub const OPEN_CALIBRATION: KeyboardShortcut =
+        KeyboardShortcut::new(Modifiers::COMMAND.plus(Modifiers::ALT), Key::O);
     /// Open a session.
     pub const OPEN_SESSION: KeyboardShortcut =
         KeyboardShortcut::new(Modifiers::COMMAND.plus(Modifiers::SHIFT), Key::O);

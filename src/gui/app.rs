@@ -12,6 +12,7 @@
 mod actions;
 mod files;
 mod layout;
+mod opened;
 mod results;
 mod screenshot;
 
@@ -80,6 +81,7 @@ struct Views {
     figures: FiguresView,
     models: ModelsView,
     allan: AllanPage,
+    opened: super::view_opened::OpenedView,
 }
 
 /// What shows over the page: the import view, the file dialogs, the unsaved-work question,
@@ -243,6 +245,7 @@ impl Workbench {
                 self.handle(r);
             }
             self.refit_if_needed();
+            self.verify_if_needed();
             if !self.jobs.busy() || Instant::now() > deadline {
                 break;
             }
@@ -466,6 +469,7 @@ impl Workbench {
             .observe(&self.state.shown.choices, settled);
         self.state.forget_stale_status();
         self.refit_if_needed();
+        self.verify_if_needed();
         if self.shots.auto.is_none() {
             self.recovery.autosave.tick(&self.state);
             if let Some(e) = self.recovery.autosave.error.take() {
@@ -507,6 +511,11 @@ impl Workbench {
             Panel::bottom("figures").resizable(false).show(ui, |ui| {
                 actions.extend(self.views.figures.ui(ui, &self.state, false))
             });
+            if self.state.opened.is_some() {
+                Panel::bottom("opened").resizable(false).show(ui, |ui| {
+                    actions.extend(self.views.opened.ui(ui, &self.state, false))
+                });
+            }
         }
         // Side panels keep the width they are given (their contents fill it, whatever they
         // are): an egui panel otherwise takes its contents' width, so a narrow first frame
@@ -522,6 +531,11 @@ impl Workbench {
                     Panel::bottom("figures").resizable(false).show(ui, |ui| {
                         actions.extend(self.views.figures.ui(ui, &self.state, true))
                     });
+                    if self.state.opened.is_some() {
+                        Panel::bottom("opened").resizable(false).show(ui, |ui| {
+                            actions.extend(self.views.opened.ui(ui, &self.state, true))
+                        });
+                    }
                 }
                 ScrollArea::vertical()
                     .auto_shrink([false, false])
@@ -770,7 +784,7 @@ impl eframe::App for Workbench {
     }
 }
 
-fn is_json(p: &Path) -> bool {
+pub(crate) fn is_json(p: &Path) -> bool {
     p.extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("json"))
 }

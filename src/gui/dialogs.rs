@@ -26,6 +26,8 @@ pub enum FileKind {
     Calibration,
     /// A calibration file of a model chosen in the Models view (JSON).
     Model,
+    /// A calibration file to open beside the current fit (JSON).
+    OpenCalibration,
     /// A flight controller's parameter file (PX4 `.params`, ArduPilot `.parm`).
     FlightParams,
     /// The corrected log (CSV).
@@ -45,6 +47,7 @@ impl FileKind {
             FileKind::Session => "Workbench session",
             FileKind::Calibration => "Export calibration",
             FileKind::Model => "Export model",
+            FileKind::OpenCalibration => "Open calibration to compare",
             FileKind::FlightParams => "Export flight-controller parameters",
             FileKind::CorrectedCsv => "Export corrected log",
             FileKind::Png => "Save picture",
@@ -59,7 +62,9 @@ impl FileKind {
                 ("Logs", &["csv", "txt", "dat", "tsv", "log"])
             }
             FileKind::Session => ("driftlab session", &["json"]),
-            FileKind::Calibration | FileKind::Model => ("Calibration", &["json"]),
+            FileKind::Calibration | FileKind::Model | FileKind::OpenCalibration => {
+                ("Calibration", &["json"])
+            }
             FileKind::CorrectedCsv => ("CSV", &["csv"]),
             FileKind::FlightParams => ("Parameters", &["params", "parm"]),
             FileKind::Png => ("PNG image", &["png"]),
@@ -85,7 +90,10 @@ impl FileKind {
     /// The extension a saved file gets when its name has none.
     pub fn default_extension(self) -> Option<&'static str> {
         match self {
-            FileKind::Session | FileKind::Calibration | FileKind::Model => Some("json"),
+            FileKind::Session
+            | FileKind::Calibration
+            | FileKind::Model
+            | FileKind::OpenCalibration => Some("json"),
             FileKind::CorrectedCsv => Some("csv"),
             FileKind::Png => Some("png"),
             FileKind::Log | FileKind::ValidationLog | FileKind::Report => None,

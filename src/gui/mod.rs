@@ -13,7 +13,9 @@
 //!   axis's figures), [`view_time`] (the run over time),
 //!   [`view_controls`] (the log, the signal settings and the plateau table), [`view_coeffs`]
 //!   (K0, K1±, K2±), [`view_result`] (the drift before and after), [`view_figures`] (the
-//!   figures of merit), [`view_models`] (the Models page) and [`view_allan`] (the Allan page);
+//!   figures of merit), [`view_models`] (the Models page), [`view_allan`] (the Allan page) and
+//!   [`view_opened`] (a calibration opened beside the current fit, to compare: what it holds
+//!   and is judged on is [`opened`]);
 //! * [`export`], [`dialogs`] (which file dialog can appear), [`file_dialog`] (the workbench's
 //!   own, where no system dialog can), [`settings`], [`autosave`];
 //! * [`app`]: the window, on top — menus, shortcuts, layout, job results, unsaved-work
@@ -58,6 +60,8 @@
 //! [`view_figures`]: crate::gui::view_figures
 //! [`view_models`]: crate::gui::view_models
 //! [`view_allan`]: crate::gui::view_allan
+//! [`view_opened`]: crate::gui::view_opened
+//! [`opened`]: crate::gui::opened
 //! [`export`]: crate::gui::export
 //! [`dialogs`]: crate::gui::dialogs
 //! [`file_dialog`]: crate::gui::file_dialog
@@ -73,6 +77,7 @@ pub mod dialogs;
 pub mod export;
 pub mod file_dialog;
 pub mod jobs;
+pub mod opened;
 pub mod plot_axes;
 pub mod plot_items;
 pub mod settings;
@@ -84,6 +89,7 @@ pub mod view_controls;
 pub mod view_figures;
 pub mod view_import;
 pub mod view_models;
+pub mod view_opened;
 pub mod view_result;
 pub mod view_time;
 pub mod widgets;
@@ -102,6 +108,8 @@ use std::path::PathBuf;
 pub struct GuiOptions {
     /// Log to open at start (default: the bundled calibration sample log when present).
     pub log: Option<PathBuf>,
+    /// A calibration file to open beside the fit of the log, to compare.
+    pub calibration: Option<PathBuf>,
     /// Render the loaded, calibrated workbench, save the window as PNG here, and exit (with
     /// the page named by the environment variable `DRIFTLAB_GUI_PAGE` shown, its work done
     /// first: the Models page compares the models ticked by default).
@@ -124,6 +132,71 @@ pub fn parse_size(s: &str) -> Option<[f32; 2]> {
     let (w, h): (f32, f32) = (w.trim().parse().ok()?, h.trim().parse().ok()?);
     let fits = |v: f32, min: f32| (min..=16384.0).contains(&v);
     (fits(w, 900.0) && fits(h, 620.0)).then_some([w, h])
+}
+
+/// The files `driftlab gui FILE [FILE]` was given, told apart by what they are: a log or a
+/// session (what the workbench works on), and a calibration to open beside its fit.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct StartFiles {
+    /// The log or session (a `.json` that says it is one).
+    pub log: Option<PathBuf>,
+    /// The calibration (a `.json` that says it is one, or says nothing readable and is not
+    /// named as a session: its loader then says where it is not a calibration).
+    pub calibration: Option<PathBuf>,
+}
+
+/// Tells the files given to `driftlab gui` apart, in either order: at most one log or session
+/// and at most one calibration ([`crate::files::kind`] reads what a `.json` says it is).
+///
+/// # Errors
+/// More than two files, two logs (or sessions, or a log and a session), or two calibrations,
+/// named.
+pub fn split_files(files: &[PathBuf]) -> Result<StartFiles, String> {
+    use crate::files::kind::{JsonKind, json_kind, named_as_session};
+    let mut out = StartFiles::default();
+    if files.len() > 2 {
+        return Err(format!(
+            "{} files given ({}): the workbench opens a log (or a session) and, beside it, a \
+             calibration to compare",
+            files.len(),
+            names(files)
+        ));
+    }
+    for f in files {
+        let calibration = app::is_json(f)
+            && match json_kind(f) {
+                JsonKind::Calibration => true,
+                JsonKind::Session => false,
+                JsonKind::Other(_) | JsonKind::Unknown => !named_as_session(f),
+            };
+        let (slot, what) = if calibration {
+            (&mut out.calibration, "calibrations")
+        } else {
+            (&mut out.log, "logs or sessions")
+        };
+        if let Some(first) = slot.replace(f.clone()) {
+            return Err(format!(
+                "two {what} given ({}): the workbench opens one log (or session), and one \
+                 calibration beside it to compare{}",
+                names(&[first, f.clone()]),
+                if calibration {
+                    ""
+                } else {
+                    "; a second log is opened with --validation LOG"
+                }
+            ));
+        }
+    }
+    Ok(out)
+}
+
+/// File names for a message, joined.
+fn names(files: &[PathBuf]) -> String {
+    files
+        .iter()
+        .map(|f| f.display().to_string())
+        .collect::<Vec<_>>()
+        .join(" and ")
 }
 
 /// What `driftlab gui [LOG|SESSION] [--screenshot PNG]` opens in a new workbench: screenshot
@@ -175,7 +248,11 @@ pub fn run(options: GuiOptions) -> Result<(), String> {
                 .into(),
         );
     }
-    for l in log.iter().chain(&options.validation) {
+    for l in log
+        .iter()
+        .chain(&options.validation)
+        .chain(&options.calibration)
+    {
         if !l.exists() {
             return Err(format!("{}: no such file", l.display()));
         }
@@ -235,6 +312,7 @@ pub fn run(options: GuiOptions) -> Result<(), String> {
     let outcome = ScreenshotOutcome::default();
     let slot = outcome.clone();
     let validation = options.validation.clone();
+    let calibration = options.calibration.clone();
     eframe::run_native(
         "driftlab",
         native,
@@ -244,6 +322,9 @@ pub fn run(options: GuiOptions) -> Result<(), String> {
             start(&mut wb, log, load.clone(), shot);
             if let Some(v) = validation {
                 wb.open_validation_after(v, load);
+            }
+            if let Some(c) = calibration {
+                wb.open_calibration(c);
             }
             if let Some(s) = size {
                 wb.ask_window_size(s);

@@ -35,6 +35,8 @@ pub struct Palette {
     pub deadband: Color32,
     /// Fitted curves.
     pub curve: Color32,
+    /// A calibration opened beside the current fit (its corrected drift, its figures).
+    pub opened: Color32,
 }
 
 impl Palette {
@@ -52,6 +54,7 @@ impl Palette {
                 plateau: Color32::from_rgb(110, 220, 130),
                 deadband: Color32::from_gray(90),
                 curve: Color32::from_rgb(240, 240, 240),
+                opened: Color32::from_rgb(215, 130, 255),
             }
         } else {
             Palette {
@@ -65,6 +68,7 @@ impl Palette {
                 plateau: Color32::from_rgb(40, 170, 70),
                 deadband: Color32::from_gray(170),
                 curve: Color32::from_rgb(20, 20, 20),
+                opened: Color32::from_rgb(150, 50, 200),
             }
         }
     }

@@ -131,6 +131,11 @@ pub struct AppState {
     /// The gyro axes of a log of several (none for a log of one axis): the fields above
     /// hold the axis shown, the others wait here.
     pub unit: Option<Unit>,
+    /// The validation log as read, every axis (each axis above holds its own view of it):
+    /// an opened calibration may be judged on any of them.
+    pub validation_file: Option<Loaded>,
+    /// A calibration opened beside the current fit, to compare ([`super::opened`]).
+    pub opened: Option<super::opened::Opened>,
 }
 
 /// What the workbench holds for one gyro axis: its view of the logs, its choices, its fit

@@ -1,8 +1,10 @@
 //! The figures of merit below the Calibration page: peak-to-peak, standard deviation and the
 //! 10-minute figures of the filtered drift, raw and corrected, with the reduction ratios,
-//! in-sample and held out, and the last refit's time and warnings.
+//! in-sample and held out, and the last refit's time and warnings. With a calibration opened
+//! to compare, each table has its figures in two more columns beside the current fit's.
 
-use super::action::Action;
+use super::action::{Action, OpenLog};
+use super::opened::{self, Column};
 use super::plot_items::{num, ratio};
 use super::state::AppState;
 use super::widgets::file_name;
@@ -36,6 +38,15 @@ impl FiguresView {
         // current ones.
         let exact = state.fit_current();
         let window = crate::judge::options::window_label(state.merit().window_s);
+        let opened_exact = opened::current(state);
+        let opened_name = state.opened.as_ref().map(|o| o.name()).unwrap_or_default();
+        let beside = |which| {
+            opened::column(state, which).map(|column| Beside {
+                column,
+                exact: opened_exact,
+                name: &opened_name,
+            })
+        };
         let body = |ui: &mut Ui| {
             table(
                 ui,
@@ -44,6 +55,7 @@ impl FiguresView {
                 &fit.outcome.in_sample.evaluation,
                 exact,
                 &window,
+                beside(OpenLog::Calibration),
             );
             ui.separator();
             match &fit.outcome.held_out {
@@ -54,6 +66,7 @@ impl FiguresView {
                     &h.evaluation,
                     exact,
                     &window,
+                    beside(OpenLog::Validation),
                 ),
                 None => {
                     ui.vertical(|ui| {
@@ -97,9 +110,35 @@ impl FiguresView {
     }
 }
 
-/// `window`: the label of the figures' windows (`10-min`).
-fn table(ui: &mut Ui, id: &str, title: &str, e: &Evaluation, exact: bool, window: &str) {
+/// A calibration opened to compare, as a table shows it beside the current fit.
+struct Beside<'a> {
+    /// Its figures on the table's log, or why there are none.
+    column: Column<'a>,
+    /// Whether they answer the logs and options shown (else a judging is on its way).
+    exact: bool,
+    /// Its file's name.
+    name: &'a str,
+}
+
+/// `window`: the label of the figures' windows (`10-min`); `beside`: a calibration opened to
+/// compare, whose figures take two more columns.
+fn table(
+    ui: &mut Ui,
+    id: &str,
+    title: &str,
+    e: &Evaluation,
+    exact: bool,
+    window: &str,
+    beside: Option<Beside<'_>>,
+) {
     let c = &e.comparison;
+    let opened_eval = match &beside {
+        Some(Beside {
+            column: Column::Judged { judged, .. },
+            ..
+        }) => Some(&judged.evaluation),
+        _ => None,
+    };
     ui.vertical(|ui| {
         ui.horizontal(|ui| {
             ui.strong(title);
@@ -123,46 +162,79 @@ fn table(ui: &mut Ui, id: &str, title: &str, e: &Evaluation, exact: bool, window
             c.raw.windows,
             e.outside_fraction * 100.0
         ));
+        // Stacked in a narrow panel with the opened calibration's two columns beside, the
+        // figures are named short (their full names on hover).
+        let narrow = ui.spacing().item_spacing.y <= 2.0 && beside.is_some();
+        // Narrower still (a 1024-point window): the ratios leave their columns for the
+        // corrected figures' hover, so that both calibrations' figures stay whole.
+        let ratios = beside.is_none() || ui.available_width() >= RATIOS_MIN_W;
         let rms_label = format!("{window} RMS");
-        let mean_label = format!("max |{window} mean|");
+        let mean_label = if narrow {
+            format!("|{window} mean|")
+        } else {
+            format!("max |{window} mean|")
+        };
         Grid::new(id)
             .striped(true)
             // (stacked in a narrow panel, its rows tight: the columns closer too)
             .spacing([if ui.spacing().item_spacing.y <= 2.0 { 8.0 } else { 14.0 }, 2.0]).show(ui, |ui| {
-            for h in ["°/h", "raw", "corrected", "ratio"] {
-                ui.label(RichText::new(h).strong());
+            let heads: &[&str] = if beside.is_some() && !ratios {
+                &["°/h", "raw", "current", "opened"]
+            } else if beside.is_some() {
+                &["°/h", "raw", "current", "ratio", "opened", "ratio"]
+            } else {
+                &["°/h", "raw", "corrected", "ratio"]
+            };
+            let opened_color = super::plot_items::Palette::of(ui).opened;
+            for h in heads {
+                let text = RichText::new(*h).strong();
+                let r = if *h == "opened" {
+                    ui.label(text.color(opened_color))
+                } else {
+                    ui.label(text)
+                };
+                if *h == "opened"
+                    && let Some(b) = &beside
+                {
+                    r.on_hover_text(format!(
+                        "Corrected by the opened calibration {}, judged with the same filter and \
+                         windows as the current fit",
+                        b.name
+                    ));
+                }
             }
             ui.end_row();
-            let rows = [
-                (
-                    "peak-to-peak",
-                    "Peak-to-peak of the filtered drift",
-                    c.raw.p2p_dph,
-                    c.corrected.p2p_dph,
-                    c.p2p_ratio,
-                ),
-                ("std", "Standard deviation of the filtered drift", c.raw.std_dph, c.corrected.std_dph, c.std_ratio),
-                (
-                    &rms_label,
-                    "Mean over the consecutive windows of the RMS within each window",
-                    c.raw.win_rms_mean_dph,
-                    c.corrected.win_rms_mean_dph,
-                    c.win_rms_ratio,
-                ),
-                (
-                    &mean_label,
-                    "Largest |mean| over the consecutive windows",
-                    c.raw.win_mean_max_abs_dph,
-                    c.corrected.win_mean_max_abs_dph,
-                    c.win_mean_ratio,
-                ),
+            // Each figure of a comparison: raw, corrected and their ratio.
+            type Pick = fn(&crate::judge::metrics::Comparison) -> (f64, f64, f64);
+            let rows: [(&str, &str, Pick); 4] = [
+                (if narrow { "p-p" } else { "peak-to-peak" }, "Peak-to-peak of the filtered drift", |c| {
+                    (c.raw.p2p_dph, c.corrected.p2p_dph, c.p2p_ratio)
+                }),
+                ("std", "Standard deviation of the filtered drift", |c| {
+                    (c.raw.std_dph, c.corrected.std_dph, c.std_ratio)
+                }),
+                (&rms_label, "Mean over the consecutive windows of the RMS within each window", |c| {
+                    (c.raw.win_rms_mean_dph, c.corrected.win_rms_mean_dph, c.win_rms_ratio)
+                }),
+                (&mean_label, "Largest |mean| over the consecutive windows", |c| {
+                    (c.raw.win_mean_max_abs_dph, c.corrected.win_mean_max_abs_dph, c.win_mean_ratio)
+                }),
             ];
             let weak = ui.visuals().weak_text_color();
-            for (name, tip, raw, cor, r) in rows {
+            for (name, tip, pick) in rows {
+                let (raw, cor, r) = pick(c);
                 ui.label(name).on_hover_text(tip);
                 ui.monospace(num(raw));
                 let cor_text = RichText::new(num(cor)).monospace();
-                ui.label(if exact { cor_text } else { cor_text.italics().color(weak) });
+                let shown = ui.label(if exact { cor_text } else { cor_text.italics().color(weak) });
+                if !ratios {
+                    shown.on_hover_text(format!("raw ÷ corrected: {}", ratio(r)));
+                    if let Some(b) = &beside {
+                        opened_cells(ui, b, opened_eval.map(|o| pick(&o.comparison)), raw, false);
+                    }
+                    ui.end_row();
+                    continue;
+                }
                 let good = r >= 1.0;
                 let color = match (exact, good) {
                     (false, _) => weak,
@@ -172,8 +244,76 @@ fn table(ui: &mut Ui, id: &str, title: &str, e: &Evaluation, exact: bool, window
                 let text = RichText::new(ratio(r)).monospace().strong().color(color);
                 ui.label(if exact { text } else { text.italics() })
                     .on_hover_text("raw ÷ corrected: above 1 is better");
+                if let Some(b) = &beside {
+                    opened_cells(ui, b, opened_eval.map(|o| pick(&o.comparison)), raw, true);
+                }
                 ui.end_row();
             }
         });
+        if let Some(b) = &beside {
+            let text = match &b.column {
+                Column::Judged { judged, .. } => format!("opened {}: {}", b.name, judged.label),
+                Column::Not(why) => format!("opened {}: {why}", b.name),
+            };
+            ui.label(RichText::new(text).small().color(super::plot_items::Palette::of(ui).opened))
+                .on_hover_text(
+                    "In-sample or held out, as `driftlab evaluate` says it of the opened \
+                     calibration on this log",
+                );
+        }
     });
+}
+
+/// The width below which a table with an opened calibration drops its ratio columns, points.
+const RATIOS_MIN_W: f32 = 330.0;
+
+/// The opened calibration's cells of one figure: its corrected value and (`with_ratio`) its
+/// ratio (`figure` `None`: not judged on this log), greyed while a judging is on its way.
+/// `raw`: the current fit's raw figure, to tell when the opened calibration's raw differs (its
+/// warm-up leaves out other samples). Without its column, the ratio is on the value's hover.
+fn opened_cells(
+    ui: &mut Ui,
+    b: &Beside<'_>,
+    figure: Option<(f64, f64, f64)>,
+    raw: f64,
+    with_ratio: bool,
+) {
+    let weak = ui.visuals().weak_text_color();
+    let Some((own_raw, cor, r)) = figure else {
+        for _ in 0..(1 + usize::from(with_ratio)) {
+            ui.label(RichText::new("—").color(weak));
+        }
+        return;
+    };
+    let cor_text = RichText::new(num(cor)).monospace();
+    let shown = ui.label(if b.exact {
+        cor_text
+    } else {
+        cor_text.italics().color(weak)
+    });
+    if !with_ratio {
+        shown.on_hover_text(format!(
+            "raw ÷ corrected by the opened calibration: {}",
+            ratio(r)
+        ));
+        return;
+    }
+    let color = match (b.exact, r >= 1.0) {
+        (false, _) => weak,
+        (true, true) => ui.visuals().text_color(),
+        (true, false) => ui.visuals().error_fg_color,
+    };
+    let text = RichText::new(ratio(r)).monospace().strong().color(color);
+    let mut tip = "raw ÷ corrected by the opened calibration: above 1 is better".to_string();
+    let same_raw =
+        (own_raw - raw).abs() <= 1e-9 * raw.abs().max(1e-12) || (own_raw.is_nan() && raw.is_nan());
+    if !same_raw {
+        tip.push_str(&format!(
+            "; raw over its own samples is {} °/h (its warm-up leaves out other samples \
+             than the current fit's)",
+            num(own_raw)
+        ));
+    }
+    ui.label(if b.exact { text } else { text.italics() })
+        .on_hover_text(tip);
 }

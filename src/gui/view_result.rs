@@ -1,5 +1,6 @@
 //! The result, live: raw and corrected drift over time, on the calibration log (sharing the
-//! time axis of the run) or on the held-out validation log.
+//! time axis of the run) or on the held-out validation log; with a calibration opened to
+//! compare, its corrected drift as a third line.
 
 use super::action::Action;
 use super::plot_items::{Palette, ShadeItem, ShadeSpan, TimeScale, num, settled_and_warmup};
@@ -118,6 +119,19 @@ impl ResultView {
         } else {
             RESULT_CAL_ID
         };
+        // A calibration opened to compare, when it was judged on the log and axis shown.
+        let opened = super::opened::drift_line(state, &log)
+            .filter(|o| o.cor_filtered_dph.len() == log.len())
+            .map(|o| {
+                let settled = o.ready.settled(o.filter_lead_s);
+                let warm = o.ready.minus(&settled);
+                (o, settled, warm)
+            });
+        let opened_name = state
+            .opened
+            .as_ref()
+            .map(|o| format!("opened {}", o.name()))
+            .unwrap_or_default();
         let axis_w = super::widgets::linked_y_axis_width(ui.ctx(), &state.shown.log.as_ref()?.path);
         let mut plot = Plot::new(id)
             .id(eframe::egui::Id::unique(id))
@@ -132,6 +146,13 @@ impl ResultView {
             let raw: &[f64] = &judged.raw_filtered_dph;
             let cor: &[f64] = cor_p.0;
             let settled = settled.clone();
+            let opened = opened.as_ref().map(|(o, settled, _)| {
+                (
+                    o.cor_filtered_dph.as_slice(),
+                    o.ready.clone(),
+                    settled.clone(),
+                )
+            });
             move |x: f64| -> Option<String> {
                 let i = crate::signal::lod::nearest_index(time_s, x * scale.div)?;
                 let t = time_s[i];
@@ -145,8 +166,18 @@ impl ResultView {
                 } else {
                     "— (warm-up: the rates' history is not full yet)".to_string()
                 };
+                let opened_text = match &opened {
+                    Some((o, _, settled)) if settled.holds(t) => {
+                        format!("\nopened = {} °/h", num(o[i]))
+                    }
+                    Some((o, ready, _)) if ready.holds(t) => {
+                        format!("\nopened = {} °/h (warm-up, faded)", num(o[i]))
+                    }
+                    Some(_) => "\nopened = — (warm-up)".to_string(),
+                    None => String::new(),
+                };
                 Some(format!(
-                    "t = {} {} ({} s)\nraw drift = {} °/h\ncorrected = {cor_text}",
+                    "t = {} {} ({} s)\nraw drift = {} °/h\ncorrected = {cor_text}{opened_text}",
                     num(t / scale.div),
                     scale.unit,
                     num(t),
@@ -216,6 +247,19 @@ impl ResultView {
                 ) {
                     pui.add(item.color(pal.corrected).width(1.8));
                 }
+                if let Some((o, settled, warm)) = &opened {
+                    for item in settled_and_warmup(
+                        &opened_name,
+                        &log.time_s,
+                        &o.cor_filtered_dph,
+                        &o.cor_filtered,
+                        (settled, warm),
+                        cols,
+                        x,
+                    ) {
+                        pui.add(item.color(pal.opened).width(1.6));
+                    }
+                }
             })
         });
         resp.inner.response.context_menu(|ui| {
@@ -247,7 +291,10 @@ fn header(
     } else {
         "Drift before and after correction"
     })
-    .on_hover_text("Ω filtered by the recipe's moving average: raw (grey) and corrected (green)");
+    .on_hover_text(
+        "Ω filtered by the recipe's moving average: raw (grey) and corrected (green); a \
+         calibration opened to compare draws its corrected drift too (purple)",
+    );
     ui.separator();
     ui.radio_value(show_validation, false, "calibration log")
         .on_hover_text("In-sample: the log the calibration was fitted on");

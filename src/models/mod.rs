@@ -1,7 +1,8 @@
 //! The models: a fitted model's shared face (`fitted`), the named presets and model choices
 //! (`presets`), the recipe of signal settings every model reads (`recipe`), Vakhrameev's
 //! K0/K1±/K2± model (`vakhrameev`), the regression models of the other papers (`regression`),
-//! and the curve approximations they are built from (`approx`).
+//! the curve approximations they are built from (`approx`), and a fitted model in a few
+//! lines a person reads (`summary`).
 //!
 //! Every model is fitted the same way, [`fit`] (or [`calibrate`], which also judges the model
 //! on the log it was fitted on), from a [`ModelChoice`] and a [`Recipe`]. The recipe's signal
@@ -16,6 +17,7 @@ pub mod fitted;
 pub mod presets;
 pub mod recipe;
 pub mod regression;
+pub mod summary;
 pub mod unit;
 pub mod vakhrameev;
 

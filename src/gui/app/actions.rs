@@ -22,6 +22,9 @@ impl Workbench {
             if i.consume_shortcut(&shortcuts::OPEN_SESSION) {
                 actions.push(Action::OpenSession);
             }
+            if i.consume_shortcut(&shortcuts::OPEN_CALIBRATION) {
+                actions.push(Action::OpenCalibration);
+            }
             if i.consume_shortcut(&shortcuts::OPEN) {
                 actions.push(Action::OpenLog);
             }
@@ -83,8 +86,9 @@ impl Workbench {
         let (hovered, dropped) =
             ctx.input(|i| (!i.raw.hovered_files.is_empty(), i.raw.dropped_files.clone()));
         if let Some(path) = dropped.first().map(|f| f.path().to_path_buf()) {
+            // A `.json` is opened as what it says it is: a calibration or a session.
             actions.push(if is_json(&path) {
-                Action::OpenSessionPath(path)
+                super::opened::json_action(path)
             } else {
                 Action::OpenLogPath(path)
             });
@@ -99,7 +103,7 @@ impl Workbench {
             painter.text(
                 r.center(),
                 egui::Align2::CENTER_CENTER,
-                "Drop a log to import it (or a session .json to open it)",
+                "Drop a log to import it (a calibration .json to compare, a session .json to reopen)",
                 egui::FontId::proportional(22.0),
                 Color32::WHITE,
             );
@@ -156,6 +160,7 @@ impl Workbench {
             }
             Action::CloseValidation => {
                 self.state.shown.validation = None;
+                self.state.validation_file = None;
                 if let Some(u) = &mut self.state.unit {
                     for p in &mut u.parked {
                         p.validation = None;
@@ -163,6 +168,10 @@ impl Workbench {
                 }
                 self.state.view.show_validation = false;
             }
+            Action::OpenCalibration => self.ask(ctx, Purpose::OpenCalibration, ""),
+            Action::OpenCalibrationPath(p) => self.open_calibration(p),
+            Action::CloseCalibration => self.close_calibration(),
+            Action::ChooseOpenedAxis(which, k, axis) => self.choose_opened_axis(which, k, axis),
             Action::OpenSession => self.ask(ctx, Purpose::OpenSession, ""),
             Action::OpenSessionPath(p) => self.open_session(p),
             Action::SaveSession => self.save_session(ctx, false, None),

@@ -14,6 +14,8 @@ pub(super) enum Purpose {
     OpenLog,
     /// A validation log to import.
     OpenValidation,
+    /// A calibration to open beside the current fit.
+    OpenCalibration,
     /// A session to open.
     OpenSession,
     /// Where to save the session; then the action that waited for it (quit, open another).
@@ -39,6 +41,7 @@ impl Purpose {
         match self {
             Purpose::OpenLog => FileKind::Log,
             Purpose::OpenValidation => FileKind::ValidationLog,
+            Purpose::OpenCalibration => FileKind::OpenCalibration,
             Purpose::OpenSession | Purpose::SaveSession { .. } => FileKind::Session,
             Purpose::ExportCalibration => FileKind::Calibration,
             Purpose::ExportFlight(_) => FileKind::FlightParams,
@@ -51,7 +54,10 @@ impl Purpose {
 
     fn mode(&self) -> Mode {
         match self {
-            Purpose::OpenLog | Purpose::OpenValidation | Purpose::OpenSession => Mode::Open,
+            Purpose::OpenLog
+            | Purpose::OpenValidation
+            | Purpose::OpenCalibration
+            | Purpose::OpenSession => Mode::Open,
             _ => Mode::Save,
         }
     }
@@ -61,6 +67,7 @@ impl Purpose {
         match self {
             Purpose::OpenLog => "No log opened".into(),
             Purpose::OpenValidation => "No validation log opened".into(),
+            Purpose::OpenCalibration => "No calibration opened".into(),
             Purpose::OpenSession => "No session opened".into(),
             Purpose::SaveSession { .. } => "Session not saved".into(),
             Purpose::ExportCalibration => "Calibration not exported".into(),
@@ -163,6 +170,7 @@ impl Workbench {
         match purpose {
             Purpose::OpenLog => self.open_import(path, Target::Calibration),
             Purpose::OpenValidation => self.open_import(path, Target::Validation),
+            Purpose::OpenCalibration => self.open_calibration(path),
             Purpose::OpenSession => self.open_session(path),
             Purpose::SaveSession { then } => {
                 if self.write_session(&path)

@@ -34,6 +34,23 @@ impl Workbench {
                     actions.push(Action::ColumnMapping(Target::Calibration));
                     ui.close();
                 }
+                if ui
+                    .add(egui::Button::new("Open calibration…").shortcut_text(sc(&shortcuts::OPEN_CALIBRATION)))
+                    .on_hover_text("Open a calibration file (JSON) beside the current fit: its figures and corrected drift on the open logs, to compare")
+                    .clicked()
+                {
+                    actions.push(Action::OpenCalibration);
+                    ui.close();
+                }
+                if self.state.opened.is_some()
+                    && ui
+                        .button("Close opened calibration")
+                        .on_hover_text("Put the opened calibration away (the current fit stays)")
+                        .clicked()
+                {
+                    actions.push(Action::CloseCalibration);
+                    ui.close();
+                }
                 ui.menu_button("Recent", |ui| {
                     if self.window.settings.recent.is_empty() {
                         ui.weak("No recent files");
@@ -42,7 +59,7 @@ impl Workbench {
                         let label = crate::gui::widgets::file_name(&p);
                         if ui.button(label).on_hover_text(p.display().to_string()).clicked() {
                             actions.push(if is_json(&p) {
-                                Action::OpenSessionPath(p)
+                                super::opened::json_action(p)
                             } else {
                                 Action::OpenLogPath(p)
                             });
@@ -468,6 +485,10 @@ impl Workbench {
                         for (k, what) in [
                             ("Ctrl+O", "open a log (preview and mapping first)"),
                             ("Ctrl+Shift+O", "open a session"),
+                            (
+                                "Ctrl+Alt+O",
+                                "open a calibration beside the current fit, to compare",
+                            ),
                             ("Ctrl+S", "save the session"),
                             (
                                 "Ctrl+1 / Ctrl+2 / Ctrl+3",

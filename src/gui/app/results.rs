@@ -346,6 +346,8 @@ impl Workbench {
                 );
             }
             JobResult::Loaded(Target::Validation, l) => {
+                // Every axis of it, for a calibration opened to compare.
+                self.state.validation_file = Some((*l).clone());
                 let msg = format!(
                     "Validation log {} ({} samples)",
                     file_name(&l.path),
@@ -542,6 +544,8 @@ impl Workbench {
                     None => self.state.shown.allan = Some(v),
                 }
             }
+            JobResult::CalibrationRead(path, read) => self.calibration_read(path, read),
+            JobResult::Verified(v) => self.verified(v),
             JobResult::Exported(what, result) => match result {
                 Ok(path) => {
                     self.state

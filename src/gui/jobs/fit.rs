@@ -248,7 +248,11 @@ fn queue(waiting: &mut Vec<(usize, u64, Box<Request>)>, work: &mut Vec<AxisWork>
 /// `x` with the centred moving average of `window` samples taken within each of `ranges`
 /// alone (a window is truncated at a range's ends); samples outside every range are left as
 /// they are (they are not drawn). Same length as `x`.
-fn filtered_within(x: &[f64], window: usize, ranges: &[std::ops::Range<usize>]) -> Vec<f64> {
+pub(super) fn filtered_within(
+    x: &[f64],
+    window: usize,
+    ranges: &[std::ops::Range<usize>],
+) -> Vec<f64> {
     let mut out = x.to_vec();
     for r in ranges.iter().filter(|r| r.end <= x.len()) {
         out[r.clone()].copy_from_slice(&crate::signal::moving_average_centered(

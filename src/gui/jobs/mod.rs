@@ -3,13 +3,15 @@
 //! egui for a repaint so the UI shows them at once.
 //!
 //! One file a job: `load` (a log, with progress and cancel), `fit` (the live refit and its
-//! plot levels of detail), `compare` (the Models page) and `allan` (the Allan page); this
+//! plot levels of detail), `compare` (the Models page), `allan` (the Allan page) and `opened`
+//! (a calibration opened to compare: its file read and its judging on the open logs); this
 //! file holds the workers' handle and the channel their results come back through.
 
 mod allan;
 mod compare;
 mod fit;
 mod load;
+mod opened;
 
 use allan::run_allan;
 pub use allan::{AllanRequest, AllanView};
@@ -21,6 +23,9 @@ pub use fit::{FitLods, FitView, HeldLods};
 use fit::{RefitKey, fit_worker};
 use load::load_log;
 pub use load::{LoadHandle, LoadOptions, Loaded, LogLods, Recorded};
+pub use opened::{
+    AxisVerdict, JudgedAxis, LogInput, Verified, VerifiedLog, VerifyKey, VerifyRequest,
+};
 
 use super::plot_items::Segments;
 use crate::judge::allan::{AllanDeviation, AllanOptions};
@@ -70,6 +75,11 @@ pub enum JobResult {
     Compared(u64, Result<Arc<Compared>, crate::Error>),
     /// Allan deviations finished.
     Allan(Arc<AllanView>),
+    /// A calibration file opened to compare was read, or could not be (the loader's message,
+    /// naming the file, line and column).
+    CalibrationRead(PathBuf, Result<Arc<crate::models::UnitCalibration>, String>),
+    /// The opened calibration was judged on the open logs.
+    Verified(Arc<Verified>),
 }
 
 enum FitMsg {
@@ -114,6 +124,16 @@ pub struct Jobs {
     pub allan: Option<(u64, bool)>,
     /// Per axis, what its newest refit was asked for.
     sent: Vec<Option<RefitKey>>,
+    /// Calibration files being read.
+    pub reading_calibration: usize,
+    /// The number of the newest judging of the opened calibration asked for.
+    pub verify_requested: u64,
+    /// The judging of the opened calibration running, if any (its number).
+    pub verifying: Option<u64>,
+    /// What the newest judging was asked for.
+    verify_sent: Option<VerifyKey>,
+    /// The newest judging asked for while another ran, with its number.
+    verify_waiting: Option<(u64, Box<VerifyRequest>)>,
 }
 
 impl Default for Jobs {
@@ -150,6 +170,11 @@ impl Jobs {
             compare_requested: 0,
             allan: None,
             sent: Vec::new(),
+            reading_calibration: 0,
+            verify_requested: 0,
+            verifying: None,
+            verify_sent: None,
+            verify_waiting: None,
         }
     }
 
@@ -169,6 +194,8 @@ impl Jobs {
             || self.exports > 0
             || self.comparing.is_some()
             || self.allan.is_some()
+            || self.reading_calibration > 0
+            || self.verifying.is_some()
     }
 
     /// True while a refit asked for has not been answered, of any axis.
@@ -394,6 +421,17 @@ impl Jobs {
             JobResult::Allan(v) => {
                 if self.allan == Some(v.key) {
                     self.allan = None;
+                }
+            }
+            JobResult::CalibrationRead(..) => {
+                self.reading_calibration = self.reading_calibration.saturating_sub(1);
+            }
+            JobResult::Verified(v) => {
+                if self.verifying == Some(v.generation) {
+                    self.verifying = None;
+                    if let Some((generation, request)) = self.verify_waiting.take() {
+                        self.start_verify(generation, *request);
+                    }
                 }
             }
         }

@@ -1,0 +1,177 @@
+//! A saved calibration judged on a log: which of the log's axes each axis of the calibration
+//! corrects, the figures of merit there, and whether the log is the calibration's own run
+//! (in-sample) or held out, in words. `driftlab evaluate` prints it and the workbench's opened
+//! calibration draws it; both call these functions, so a figure the window shows is the figure
+//! the command line prints for the same files and options.
+
+use crate::error::{Error, Invalid};
+use crate::judge::metrics::{Evaluation, MeritOptions};
+use crate::log::Log;
+use crate::log::run_sketch::Shared;
+use crate::models::UnitCalibration;
+use crate::models::fitted::DriftModel;
+use crate::models::vakhrameev::correct::Correction;
+
+/// The file a log was read from, as the in-sample rule knows it: its name (the calibration
+/// records its log's name) and the SHA-256 of its bytes (empty when not known).
+#[derive(Debug, Clone, Copy)]
+pub struct LogFile<'a> {
+    /// The file's name, without its folder.
+    pub name: &'a str,
+    /// SHA-256 of the file's bytes, hex; empty when not known.
+    pub sha256: &'a str,
+}
+
+/// The options of the figures of `model`: the filter and window asked for, else the model's
+/// own filter (a Vakhrameev calibration's recipe; the default for a regression model) and the
+/// default window. A calibration is judged with the filter it was made with unless another is
+/// asked, so that its figures are those it was made to reach.
+pub fn merit_options(
+    model: &DriftModel,
+    filter_s: Option<f64>,
+    window_s: Option<f64>,
+) -> MeritOptions {
+    let default = MeritOptions::default();
+    let own_filter = match model {
+        DriftModel::Vakhrameev(cal) => cal.recipe.filter_s,
+        DriftModel::Regression(_) => default.filter_s,
+    };
+    MeritOptions {
+        filter_s: filter_s.unwrap_or(own_filter),
+        window_s: window_s.unwrap_or(default.window_s),
+    }
+}
+
+/// One model judged on one axis of a log.
+#[derive(Debug, Clone)]
+pub struct Judged {
+    /// The options the figures were computed with.
+    pub options: MeritOptions,
+    /// Whether the log holds the run the model was fitted on
+    /// ([`crate::models::vakhrameev::SourceInfo::is_run_of`]).
+    pub in_sample: bool,
+    /// How much of the log is the calibration log's, when the calibration's sketch of its
+    /// samples tells (files written before sketches were kept do not).
+    pub share: Option<Shared>,
+    /// What the check of the options tells without refusing them (a filter shorter than a
+    /// sample, taken as one).
+    pub told: Option<Invalid>,
+    /// Raw against corrected.
+    pub evaluation: Evaluation,
+    /// The correction itself (the window draws it).
+    pub correction: Correction,
+}
+
+impl Judged {
+    /// Whether the log is the calibration's own, in words ([`sample_label`]).
+    pub fn sample_label(&self) -> String {
+        sample_label(self.in_sample, self.share)
+    }
+}
+
+/// Why a model could not be judged on a log.
+#[derive(Debug, thiserror::Error)]
+pub enum JudgeError {
+    /// The options of the figures do not fit the log (a filter longer than the log, a window
+    /// asked for that is shorter than its step).
+    #[error("{0}")]
+    Options(Invalid),
+    /// The log's rate never moves: a frozen or saturated gyro, nothing to judge.
+    #[error("{0}")]
+    FrozenRate(Error),
+    /// The model cannot correct the log (a channel a regression model reads is missing).
+    #[error("{0}")]
+    Correct(Error),
+}
+
+/// Judges `model` on `log` (whose `omega_dph` holds the axis it corrects), read from `file`,
+/// with the figures' `options`; `window_asked`: the window was asked for, so one shorter than
+/// the log's step is refused rather than giving `n/a` figures.
+///
+/// # Errors
+/// [`JudgeError`]: options that do not fit the log, a rate that never moves, a log the model
+/// cannot correct.
+pub fn judge(
+    model: &DriftModel,
+    log: &Log,
+    file: LogFile<'_>,
+    options: MeritOptions,
+    window_asked: bool,
+) -> Result<Judged, JudgeError> {
+    let source = model.source();
+    let in_sample = source.is_run_of(log, file.name, file.sha256);
+    let share = source.shared_with(log);
+    let told = crate::judge::options::check_merit(&options, log).map_err(JudgeError::Options)?;
+    if window_asked {
+        crate::judge::options::check_window_asked(options.window_s, log)
+            .map_err(JudgeError::Options)?;
+    }
+    crate::models::check_rate_moves(log).map_err(JudgeError::FrozenRate)?;
+    let correction = model.correct(log).map_err(JudgeError::Correct)?;
+    let evaluation = Evaluation::of_correction(log, &correction, &options);
+    Ok(Judged {
+        options,
+        in_sample,
+        share,
+        told,
+        evaluation,
+        correction,
+    })
+}
+
+/// Whether the log judged on is the calibration's own, in words: with how much of it is the
+/// calibration log's, or how much of the calibration log it is, when its samples' sketch
+/// (`share`) tells that it is not all of it.
+pub fn sample_label(in_sample: bool, share: Option<Shared>) -> String {
+    let percent = |x: f64| crate::number::fixed(100.0 * x, 0);
+    match (in_sample, share) {
+        (false, Some(s)) if s.partly().is_some() => format!(
+            "held out, though about {} % of its samples are the calibration log's",
+            percent(s.share_of_log)
+        ),
+        (false, _) => "held out: not the calibration log".into(),
+        // In-sample by its file (its samples binned, say): the sketch has nothing to add.
+        (true, Some(s)) if !s.in_sample() => "in-sample: the calibration log".into(),
+        // The sketch estimates from 128 hashes: within a few % of all is all.
+        (true, Some(s)) if s.share_of_log < 0.95 => format!(
+            "in-sample: about {} % of its samples are the calibration log's",
+            percent(s.share_of_log)
+        ),
+        (true, Some(s)) if s.share_of_run() < 0.95 => format!(
+            "in-sample: a part of the calibration log, about {} % of it",
+            percent(s.share_of_run())
+        ),
+        (true, _) => "in-sample: the calibration log".into(),
+    }
+}
+
+/// The log's axis each axis of `unit` corrects, in the unit's order, where the files tell:
+/// for a named axis, the log's axis of that name, or of the rate column it was read from on
+/// its own log ([`Log::matching_axis`]); for the one unnamed axis of a single-axis
+/// calibration, the log's axis when the log has only one. `None` where they do not: an axis
+/// the log lacks, or a single-axis calibration (which records no column) on a log of several
+/// axes. A face asks the engineer then, or refuses, and never guesses.
+pub fn find_axes(unit: &UnitCalibration, log: &Log) -> Vec<Option<String>> {
+    if !unit.is_unit() {
+        let one = log.other_axes.is_empty();
+        return vec![one.then(|| log.axis.clone())];
+    }
+    unit.axes
+        .iter()
+        .map(|ax| log.matching_axis(&ax.name, &ax.rate_column))
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_label_says_held_out_and_in_sample() {
+        assert_eq!(
+            sample_label(false, None),
+            "held out: not the calibration log"
+        );
+        assert_eq!(sample_label(true, None), "in-sample: the calibration log");
+    }
+}
