@@ -26,3 +26,4 @@ mod report_signals;
 mod silent_options;
 mod unit_calibrate;
 mod unit_judging;
+mod windows;

@@ -678,7 +678,7 @@ fn a_log_slower_than_the_window_has_window_figures_na_with_the_reason() {
         "--out",
         &slow,
     ]);
-    let reason = "window figures n/a: the window is shorter than the sampling interval";
+    let reason = "window figures n/a: the window holds one sample at the sampling interval";
     let out = ok(&["evaluate", &cal, &slow]);
     assert!(out.contains(reason), "{out}");
     let row = out.lines().find(|l| l.contains("peak-to-peak")).unwrap();
