@@ -130,7 +130,10 @@ fn write_white_and_walk(path: &Path, n: usize, seed: u64) {
     let mut walk = 0.0;
     let mut s = String::from("time_s,omega_dph\n");
     for i in 0..n {
-        let (w, r): (f64, f64) = (StandardNormal.sample(&mut rng), StandardNormal.sample(&mut rng));
+        let (w, r): (f64, f64) = (
+            StandardNormal.sample(&mut rng),
+            StandardNormal.sample(&mut rng),
+        );
         walk += 0.002 * r;
         s.push_str(&format!("{i},{}\n", 0.5 * w + walk));
     }

@@ -36,7 +36,10 @@ fn calibrated(dir: &std::path::Path) -> String {
 /// The raw figures' sample and window counts of `evaluate --json`.
 fn counts(v: &Value) -> (u64, u64) {
     let raw = &v["evaluation"]["comparison"]["raw"];
-    (raw["samples"].as_u64().unwrap(), raw["windows"].as_u64().unwrap())
+    (
+        raw["samples"].as_u64().unwrap(),
+        raw["windows"].as_u64().unwrap(),
+    )
 }
 
 #[test]
@@ -80,7 +83,11 @@ fn a_window_taken_is_computed_over_the_length_it_is_labelled_with() {
     let dir = tempfile::tempdir().unwrap();
     let cal = calibrated(dir.path());
     let log = sample("validation.csv");
-    for (w, label) in [("2", "max |2-s mean|"), ("3", "max |3-s mean|"), ("90", "max |90-s mean|")] {
+    for (w, label) in [
+        ("2", "max |2-s mean|"),
+        ("3", "max |3-s mean|"),
+        ("90", "max |90-s mean|"),
+    ] {
         let text = ok(&["evaluate", &cal, &log, "--window", w]);
         assert!(text.contains(label), "{w}: {text}");
         let v: Value =
@@ -112,7 +119,11 @@ fn the_default_window_on_a_log_whose_step_does_not_make_it_is_told_or_na() {
     // 602 s, given, is whole: taken, labelled, nothing told.
     let run = driftlab(&["evaluate", &cal, &seven, "--window", "602"]);
     assert!(run.status.success());
-    assert!(String::from_utf8(run.stdout).unwrap().contains("max |602-s mean|"));
+    assert!(
+        String::from_utf8(run.stdout)
+            .unwrap()
+            .contains("max |602-s mean|")
+    );
     assert!(!String::from_utf8(run.stderr).unwrap().contains("window_s"));
     // A sample every 500 s: 600 s rounds to one sample, so the window figures are n/a with
     // the reason, not the samples themselves labelled 10 min.

@@ -140,7 +140,10 @@ fn one_axis_header_and_table_name_the_axis_and_are_its_single_axis_files_otherwi
         &[("gx", &models[0]), ("gy", &models[1]), ("gz", &models[2])],
     );
     let opts = ExportOptions::default();
-    for (format, flag) in [(Format::CHeader, "c-header"), (Format::CsvTable, "csv-table")] {
+    for (format, flag) in [
+        (Format::CHeader, "c-header"),
+        (Format::CsvTable, "csv-table"),
+    ] {
         let alone = ok(&["export", &path, "--format", flag, "--axis", "gy"]);
         let single = firmware::export_model(&models[1], format, &opts).unwrap();
         let naming: Vec<&str> = alone
@@ -156,7 +159,10 @@ fn one_axis_header_and_table_name_the_axis_and_are_its_single_axis_files_otherwi
             .collect();
         assert_eq!(rest, single.lines().collect::<Vec<_>>(), "{flag}");
         if format == Format::CHeader {
-            assert!(alone.contains("\n#define DRIFTLAB_AXIS \"gy\"\n"), "{alone}");
+            assert!(
+                alone.contains("\n#define DRIFTLAB_AXIS \"gy\"\n"),
+                "{alone}"
+            );
         }
     }
 }

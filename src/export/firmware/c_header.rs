@@ -111,7 +111,10 @@ pub fn c_header(unit: &UnitCalibration) -> Result<String, ExportError> {
 ///
 /// # Errors
 /// As [`c_header`] for the single-axis calibration of `model`.
-pub(super) fn c_header_of_axis(model: &DriftModel, of: &AxisOfUnit<'_>) -> Result<String, ExportError> {
+pub(super) fn c_header_of_axis(
+    model: &DriftModel,
+    of: &AxisOfUnit<'_>,
+) -> Result<String, ExportError> {
     let single = UnitCalibration::single(model.clone());
     write_header(&single, Layout::Single, &[c_names::fallback(0)], Some(of))
 }

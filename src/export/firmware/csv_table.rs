@@ -49,7 +49,9 @@
 //! alone. Another kind of axis (an accelerometer's) is one more [`Table`] maker in
 //! [`axis_table`].
 
-use super::{AxisOfUnit, ExportError, MAX_TABLE_POINTS, TableColumns, comment_text, number, sha_text};
+use super::{
+    AxisOfUnit, ExportError, MAX_TABLE_POINTS, TableColumns, comment_text, number, sha_text,
+};
 use crate::files::csv_cells::{Cell, push_record, text_record};
 use crate::models::approx::Approx;
 use crate::models::fitted::DriftModel;

@@ -447,9 +447,10 @@ fn flight_places(names: &[&str]) -> (Vec<String>, bool) {
         .iter()
         .map(|n| crate::export::flight::axis_index(n))
         .collect();
-    let distinct = by_letter.iter().enumerate().all(|(i, k)| {
-        k.is_some() && !by_letter[..i].contains(k)
-    });
+    let distinct = by_letter
+        .iter()
+        .enumerate()
+        .all(|(i, k)| k.is_some() && !by_letter[..i].contains(k));
     if distinct || names.len() != 3 {
         (names.iter().map(|n| n.to_string()).collect(), false)
     } else {
