@@ -7,6 +7,7 @@ mod common;
 
 mod allan;
 mod allan_inputs;
+mod allan_temperature;
 mod attack;
 mod axis_choice;
 mod commands;

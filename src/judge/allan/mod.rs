@@ -44,12 +44,14 @@ mod edf;
 pub mod kalibr;
 mod noise_id;
 mod readouts;
+pub mod temperature;
 
 pub use chi2::{chi2_quantile, confidence_interval};
 pub use edf::edf_greenhall;
 pub use noise_id::identify_noise;
 use noise_id::identify_noise_from_phase;
 pub use readouts::{BIAS_INSTABILITY_FACTOR, GyroReadouts, Readout, SLOPE_TOLERANCE};
+pub use temperature::{STEADY_SPAN_C, TemperatureMotion};
 
 use rayon::prelude::*;
 use serde::Serialize;
