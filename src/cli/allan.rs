@@ -30,6 +30,11 @@ pub struct Args {
     /// ranges they were read from (atomically).
     #[arg(long, value_name = "OUT.yaml")]
     pub kalibr: Option<PathBuf>,
+    /// --kalibr: write the random walks even though the log's temperature moves by more than
+    /// a stable lab holds (2 °C), which makes its long-τ slopes the thermal drift's as much as
+    /// the sensor's; the file then says so. Without it such a file is refused.
+    #[arg(long)]
+    pub allow_moving_temperature: bool,
     /// The gyro axes to analyse, comma-separated (`gx,gz`, or by rate column or ending letter):
     /// by default every axis of a log of several (a single `--rate-col` analyses that one).
     #[arg(long, value_name = "LIST", value_delimiter = ',')]
@@ -52,6 +57,13 @@ pub fn run(a: Args) -> Result<(), CliError> {
         allan::check_tau0(t).map_err(|e| format!("--tau0: {e}"))?;
     }
     let read_opts = a.log_args.options()?;
+    if a.allow_moving_temperature && a.kalibr.is_none() {
+        return Err(
+            "--allow-moving-temperature lets --kalibr write the random walks of a log whose \
+             temperature moves: give --kalibr OUT.yaml"
+                .into(),
+        );
+    }
     if a.rostopic.is_some() && a.kalibr.is_none() && !a.json {
         return Err("--rostopic names the topic of the Kalibr file: give --kalibr OUT.yaml".into());
     }
@@ -82,6 +94,8 @@ pub fn run(a: Args) -> Result<(), CliError> {
     // Accelerometer axes whose unit their names do not say: Kalibr's file says so.
     let mut accel_unknown: Vec<String> = Vec::new();
     let mut recorded_step_s = None;
+    // What the temperature of the analysed samples did (a log of one column has none).
+    let mut temperature = None;
     let (source, gyro, tau0_s, chosen) = match series {
         Some(series) => {
             let tau0 = a
@@ -133,6 +147,10 @@ pub fn run(a: Args) -> Result<(), CliError> {
             let (log, note) = driftlab::log::resample::longest_segment(log);
             if let Some(note) = note {
                 note!("note: {}: {note}", log.source);
+            }
+            temperature = allan::TemperatureMotion::of(&log.temp_c);
+            if let Some(m) = temperature.filter(|m| m.moves) {
+                note!("warning: {}: {}", log.source, m.describe());
             }
             let step = log.nominal_dt_s();
             let tau0 = a.tau0.unwrap_or(step);
@@ -219,6 +237,7 @@ pub fn run(a: Args) -> Result<(), CliError> {
             );
         }
         noise.accelerometers_without_unit = accel_unknown;
+        noise.temperature_moves = temperature.filter(|m| m.moves);
         if a.log_args.bin.is_some()
             && let Some(step) = recorded_step_s
         {
@@ -229,16 +248,25 @@ pub fn run(a: Args) -> Result<(), CliError> {
         None
     };
     if let (Some(path), Some(noise)) = (&a.kalibr, &noise) {
-        let text = kalibr::imu_yaml(noise, &source).map_err(|e| {
-            let binned = match a.log_args.bin {
-                Some(bin) => format!(
+        let moving = if a.allow_moving_temperature {
+            kalibr::MovingTemperature::Write
+        } else {
+            kalibr::MovingTemperature::Refuse
+        };
+        let text = kalibr::imu_yaml(noise, &source, moving).map_err(|e| {
+            let hint = match (&e, a.log_args.bin) {
+                (kalibr::KalibrError::TemperatureMoves { .. }, _) => {
+                    " (--allow-moving-temperature writes the file all the same, saying so in it)"
+                        .to_string()
+                }
+                (_, Some(bin)) => format!(
                     " (--bin {} averaged the log's white noise away below {0} s: analyse the \
                      log as recorded)",
                     driftlab::number::readable(bin)
                 ),
-                None => String::new(),
+                (_, None) => String::new(),
             };
-            format!("{source}: {e}{binned}; {} not written", path.display())
+            format!("{source}: {e}{hint}; {} not written", path.display())
         })?;
         driftlab::files::atomic::write_bytes(path, text.as_bytes())
             .map_err(|e| format!("{}: {e}", path.display()))?;
@@ -250,6 +278,13 @@ pub fn run(a: Args) -> Result<(), CliError> {
     if a.json {
         // The first axis analysed at the top, as for a log of one axis; every axis under "axes".
         let mut j = json(&source, first);
+        // Where the log has a temperature: what it did, and the warning when it moves.
+        if let Some(m) = &temperature {
+            j["temperature"] = serde_json::to_value(m).map_err(|e| e.to_string())?;
+            if m.moves {
+                j["temperature"]["warning"] = m.describe().into();
+            }
+        }
         if several {
             j["axes"] = devs
                 .iter()

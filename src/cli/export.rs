@@ -6,7 +6,7 @@ use driftlab::export::firmware::{self, ExportOptions, Format};
 use driftlab::export::flight::ardupilot::ArduPilotTarget;
 use driftlab::export::flight::px4::{self, Px4Target};
 use driftlab::files::calibration;
-use driftlab::models::{DriftModel, UnitCalibration};
+use driftlab::models::UnitCalibration;
 use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
 
@@ -57,8 +57,9 @@ pub struct Args {
     /// px4-params, ardupilot-parm: the calibration of the gyro's Z axis.
     #[arg(long, value_name = "CAL_Z")]
     pub z: Option<PathBuf>,
-    /// A unit's calibration: export this axis alone (by its name), as a single-axis
-    /// calibration of it is exported.
+    /// A unit's calibration: export this axis alone (by its name). A flight controller's file
+    /// writes it where the whole unit's file does (gy as Y), the other axes at zero; the C
+    /// header and the table are its single-axis ones, naming the axis.
     #[arg(long, value_name = "NAME")]
     pub axis: Option<String>,
 }
@@ -201,6 +202,13 @@ fn refuse_points(a: &Args, unit: &UnitCalibration) -> Result<(), CliError> {
 fn export_failed(calibration: &std::path::Path, e: &firmware::ExportError) -> String {
     use driftlab::export::flight::FlightError;
     use firmware::ExportError;
+    if let ExportError::NoSuchAxis { name, axes } = e {
+        return format!(
+            "--axis {name}: {} has no axis {name} (its axes: {})",
+            calibration.display(),
+            axes.join(", ")
+        );
+    }
     let hint = match e {
         ExportError::MoreThanOneTemperature { axis, .. } => format!(" (--axis {axis})"),
         ExportError::TableColumns(_) => " (--axis NAME)".to_string(),
@@ -233,45 +241,20 @@ fn run_unit(a: &Args, unit: &UnitCalibration) -> Result<(), CliError> {
     refuse_points(a, unit)?;
     let opts = a.options()?;
     let fail = |e: firmware::ExportError| export_failed(&a.calibration, &e);
-    if let Some(name) = &a.axis {
-        let Some(axis) = unit.axis(name) else {
-            return Err(format!(
-                "--axis {name}: {} has no axis {name} (its axes: {})",
-                a.calibration.display(),
-                unit.axis_names().join(", ")
-            )
-            .into());
-        };
-        let text = one_axis(&axis.model, a.format, &opts).map_err(fail)?;
-        return write(a, &text, &format!("axis {name}"));
-    }
-    let text = if a.format.is_flight() {
-        let file = firmware::flight_unit(unit, a.format, &opts).map_err(fail)?;
-        note_flight(&file);
-        file.text
-    } else {
-        firmware::export_unit(unit, a.format, &opts).map_err(fail)?
+    let text = match (&a.axis, a.format.is_flight()) {
+        (pick, true) => {
+            let file = firmware::flight_of(unit, pick.as_deref(), a.format, &opts).map_err(fail)?;
+            note_flight(&file);
+            file.text
+        }
+        (Some(name), false) => firmware::export_axis(unit, name, a.format, &opts).map_err(fail)?,
+        (None, false) => firmware::export_unit(unit, a.format, &opts).map_err(fail)?,
     };
-    write(
-        a,
-        &text,
-        &format!("the unit's axes {}", unit.axis_names().join(", ")),
-    )
-}
-
-/// One model as a single-axis calibration of it is exported.
-fn one_axis(
-    model: &DriftModel,
-    format: Format,
-    opts: &ExportOptions,
-) -> Result<String, firmware::ExportError> {
-    if format.is_flight() {
-        let file = firmware::flight(model, format, opts)?;
-        note_flight(&file);
-        Ok(file.text)
-    } else {
-        firmware::export_model(model, format, opts)
-    }
+    let what = match &a.axis {
+        Some(name) => format!("axis {name}"),
+        None => format!("the unit's axes {}", unit.axis_names().join(", ")),
+    };
+    write(a, &text, &what)
 }
 
 /// A flight file's warnings and notes, on standard error.

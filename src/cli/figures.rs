@@ -65,19 +65,23 @@ pub fn comparison_cells(c: &driftlab::Comparison) -> [String; 3] {
 }
 
 /// Refuses figures of merit whose filter or window does not fit in `log`, and a window the
-/// engineer asked for (`window_asked`) that is shorter than its step; the default's window
-/// figures are then n/a, with the reason.
+/// engineer asked for (`window_asked`) that is not a whole number of at least two samples of
+/// it; the default's window figures are then n/a (one sample), with the reason, or told (a
+/// length the step does not make).
 pub fn check_merit(
     merit: &driftlab::MeritOptions,
     window_asked: bool,
     log: &Log,
 ) -> Result<(), CliError> {
     let told = driftlab::judge::options::check_merit(merit, log).map_err(with_option)?;
-    if window_asked {
+    let not_whole = if window_asked {
         driftlab::judge::options::check_window_asked(merit.window_s, log).map_err(with_option)?;
-    }
-    if let Some(n) = told {
-        note!("warning: {}", in_option_words(&n));
+        None
+    } else {
+        driftlab::judge::options::default_window_not_whole(merit.window_s, log)
+    };
+    for n in told.iter().chain(&not_whole) {
+        note!("warning: {}", in_option_words(n));
     }
     Ok(())
 }

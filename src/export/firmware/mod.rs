@@ -33,7 +33,7 @@ use crate::export::flight::ardupilot::{ArduPilotTarget, ardupilot_parm};
 use crate::export::flight::px4::{Px4Target, px4_params};
 use crate::export::flight::{AxisFit, FlightError, FlightFile, ImuFits};
 use crate::models::fitted::DriftModel;
-use crate::models::unit::UnitCalibration;
+use crate::models::unit::{AxisModel, UnitCalibration};
 use crate::models::vakhrameev::Calibration;
 use std::fmt;
 use std::str::FromStr;
@@ -189,6 +189,17 @@ pub enum ExportError {
     /// A flight controller's file asked for in a format that is not one.
     #[error("{0} is not a flight controller's parameter file")]
     NotFlight(Format),
+    /// An axis asked for by name that the unit does not have.
+    #[error("no axis {name} (the unit's axes: {})", axes.join(", "))]
+    NoSuchAxis {
+        /// The name asked for.
+        name: String,
+        /// The unit's axes.
+        axes: Vec<String>,
+    },
+    /// One axis asked for from a calibration of a single axis, which is not a unit.
+    #[error("a calibration of a single axis has no axes to pick from: export it whole")]
+    NotAUnit,
     /// What went wrong with one axis of a unit.
     #[error("axis {axis}: {source}")]
     Axis {
@@ -370,12 +381,35 @@ pub fn flight_unit(
     format: Format,
     opts: &ExportOptions,
 ) -> Result<FlightFile, ExportError> {
+    flight_of(unit, None, format, opts)
+}
+
+/// The flight file of a unit, or of the one axis `pick` names alone: the one writer behind
+/// [`flight_unit`] and [`export_axis`]. Every axis's place (X, Y or Z) is the one the whole
+/// unit's file gives it ([`flight_places`]), so an axis written alone lands in the parameters
+/// the unit's file writes it in, the others at zero (and a note says so).
+///
+/// # Errors
+/// `pick` names no axis of the unit ([`ExportError::NoSuchAxis`]) or is given for a
+/// single-axis calibration ([`ExportError::NotAUnit`]); the whole of a unit without exactly
+/// three axes; as [`flight_axes`].
+pub fn flight_of(
+    unit: &UnitCalibration,
+    pick: Option<&str>,
+    format: Format,
+    opts: &ExportOptions,
+) -> Result<FlightFile, ExportError> {
     if !unit.is_unit() {
+        if pick.is_some() {
+            return Err(ExportError::NotAUnit);
+        }
         let model = &unit.axes.first().ok_or(ExportError::NoAxes)?.model;
         return flight(model, format, opts);
     }
     let names = unit.axis_names();
-    if names.len() != 3 {
+    if let Some(name) = pick {
+        picked(unit, name)?;
+    } else if names.len() != 3 {
         return Err(FlightError::Axes(format!(
             "the unit has {} gyro {} ({}): {format} holds a gyro's X, Y and Z, so it takes a \
              unit of three axes",
@@ -385,34 +419,117 @@ pub fn flight_unit(
         ))
         .into());
     }
-    let by_letter: Vec<Option<usize>> = names
-        .iter()
-        .map(|n| crate::export::flight::axis_index(n))
-        .collect();
-    let distinct = (0..3).all(|k| by_letter.contains(&Some(k)));
-    let labels: Vec<String> = if distinct {
-        names.iter().map(|n| n.to_string()).collect()
-    } else {
-        // The letter first: it is the word that places the axis.
-        names
-            .iter()
-            .zip(["x", "y", "z"])
-            .map(|(n, l)| format!("{l} (axis {n})"))
-            .collect()
-    };
+    let (labels, in_order) = flight_places(&names);
     let axes: Vec<(&str, &DriftModel)> = labels
         .iter()
         .zip(&unit.axes)
+        .filter(|(_, a)| pick.is_none_or(|p| a.name == p))
         .map(|(l, a)| (l.as_str(), &a.model))
         .collect();
     let mut file = flight_axes(&axes, format, opts)?;
-    if !distinct {
+    if in_order {
         file.notes.push(format!(
             "the unit's axes {} do not name x, y and z: written as X, Y, Z in their order",
             names.join(", ")
         ));
     }
     Ok(file)
+}
+
+/// The label each axis of a unit named `names` is written under in a flight file, whose x, y
+/// or z places it ([`crate::export::flight::axis_index`]), and whether the places are the
+/// unit's order: its names when they give each axis a letter of its own; for three axes whose
+/// names do not, `x (axis a)`, `y (axis b)`, `z (axis c)` in the unit's order; else the names
+/// as they are (one axis of such a unit, written alone, goes where its name places it, or into
+/// X with a note when it names no letter).
+fn flight_places(names: &[&str]) -> (Vec<String>, bool) {
+    let by_letter: Vec<Option<usize>> = names
+        .iter()
+        .map(|n| crate::export::flight::axis_index(n))
+        .collect();
+    let distinct = by_letter
+        .iter()
+        .enumerate()
+        .all(|(i, k)| k.is_some() && !by_letter[..i].contains(k));
+    if distinct || names.len() != 3 {
+        (names.iter().map(|n| n.to_string()).collect(), false)
+    } else {
+        // The letter first: it is the word that places the axis.
+        let labels = names
+            .iter()
+            .zip(["x", "y", "z"])
+            .map(|(n, l)| format!("{l} (axis {n})"))
+            .collect();
+        (labels, true)
+    }
+}
+
+/// The axis `name` of `unit`, or the refusal naming the axes it has.
+fn picked<'a>(unit: &'a UnitCalibration, name: &str) -> Result<&'a AxisModel, ExportError> {
+    unit.axis(name).ok_or_else(|| ExportError::NoSuchAxis {
+        name: name.to_string(),
+        axes: unit.axis_names().iter().map(|n| n.to_string()).collect(),
+    })
+}
+
+/// One axis of a unit written alone in `format`, under its own name: a flight controller's
+/// file places it as the whole unit's file does ([`flight_of`]), the other axes at zero; the
+/// C header and the table are the single-axis ones of its model (one rate per push, no `axis`
+/// column), their comments naming the axis (and the header's `DRIFTLAB_AXIS`).
+///
+/// # Errors
+/// `name` is no axis of the unit, or `unit` is a single-axis calibration; as the format's
+/// writer.
+pub fn export_axis(
+    unit: &UnitCalibration,
+    name: &str,
+    format: Format,
+    opts: &ExportOptions,
+) -> Result<String, ExportError> {
+    if !unit.is_unit() {
+        return Err(ExportError::NotAUnit);
+    }
+    let axis = picked(unit, name)?;
+    let of = AxisOfUnit {
+        name: &axis.name,
+        rate_column: &axis.rate_column,
+        unit_axes: unit.axis_names(),
+    };
+    match format {
+        Format::CHeader => c_header::c_header_of_axis(&axis.model, &of),
+        Format::CsvTable => csv_table::csv_table_of_axis(&axis.model, &of, opts.points),
+        Format::Px4Params | Format::ArdupilotParm => {
+            Ok(flight_of(unit, Some(name), format, opts)?.text)
+        }
+    }
+}
+
+/// One axis of a unit exported alone, as the single-axis files name it.
+pub(crate) struct AxisOfUnit<'a> {
+    /// The axis's name (`gy`).
+    pub name: &'a str,
+    /// The rate column it was calibrated from, empty when not known.
+    pub rate_column: &'a str,
+    /// Every axis of its unit, in order.
+    pub unit_axes: Vec<&'a str>,
+}
+
+impl AxisOfUnit<'_> {
+    /// One line of printable ASCII (no comment delimiters) naming the axis: `gy (rate column
+    /// gy_dps), one of the unit's axes gx, gy, gz, exported alone`.
+    pub(crate) fn describe(&self) -> String {
+        let column = if self.rate_column.is_empty() {
+            String::new()
+        } else {
+            format!(" (rate column {})", comment_text(self.rate_column))
+        };
+        let axes: Vec<String> = self.unit_axes.iter().map(|n| comment_text(n)).collect();
+        format!(
+            "{}{column}, one of the unit's axes {}, exported alone",
+            comment_text(self.name),
+            axes.join(", ")
+        )
+    }
 }
 
 /// A text from a calibration file made safe to quote inside a comment of either format: one

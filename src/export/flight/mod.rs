@@ -19,7 +19,8 @@
 //! ([`polynomial::static_polynomial`]): a regression over `1, T, T², T³` (`poly-t` or a custom
 //! model), or Vakhrameev's K0 when it is a line or a parabola, its rate terms left out with a
 //! warning. A calibration of several axes is a list of [`AxisFit`]s, put in X, Y, Z order by
-//! their names; a single axis without a name goes into X, and the file says so.
+//! their names (one axis of them alone goes where its name puts it, the others at zero); a
+//! single axis without a name goes into X, and the file says so.
 
 pub mod ardupilot;
 pub mod numbers;
@@ -242,7 +243,10 @@ pub(crate) fn axes3(
         .filter(|&k| polys[k].is_none())
         .map(|k| ["X", "Y", "Z"][k])
         .collect();
-    if !missing.is_empty() && fits.len() > 1 {
+    // A single axis its name places (one axis of a unit written alone) is said too: the file
+    // corrects that axis only. A single axis written as X has said so above.
+    let placed_by_name = fits.len() == 1 && axis_index(fits[0].axis).is_some();
+    if !missing.is_empty() && (fits.len() > 1 || placed_by_name) {
         notes.push(format!(
             "no {} model for axis {}: its coefficients are written as zero",
             sensor.name(),

@@ -18,8 +18,14 @@
 //! the log holds (the noisiest axis, the cautious choice), and the file says which axis and
 //! which τ range it was read from. A value the curve does not show (no −1/2 or +1/2 region)
 //! is no number: [`imu_yaml`] refuses to write a file without it, naming why.
+//!
+//! A random walk read off a log whose temperature moves ([`super::temperature`]) is the
+//! thermal drift's slope as much as the sensor's: [`imu_yaml`] refuses it too, unless asked
+//! to write it ([`MovingTemperature::Write`]), and then the file says so above the values.
 
-use super::{AllanError, AllanOptions, GyroReadouts, Readout, TauSpacing, allan};
+use super::{
+    AllanError, AllanOptions, GyroReadouts, Readout, TauSpacing, TemperatureMotion, allan,
+};
 use serde::Serialize;
 
 /// rad/s in one °/h.
@@ -76,6 +82,11 @@ pub struct KalibrNoise {
     /// the pair: the file names them rather than saying the log has no accelerometer.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub accelerometers_without_unit: Vec<String>,
+    /// The temperature of the analysed samples, when it moves
+    /// ([`TemperatureMotion::moves`]): the random walks are then the thermal drift's as much
+    /// as the sensor's.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub temperature_moves: Option<TemperatureMotion>,
     /// The sampling rate, Hz (1/τ0, to a millionth of a hertz).
     pub update_rate_hz: f64,
     /// The IMU's ROS topic.
@@ -247,6 +258,7 @@ pub fn kalibr_noise(
         gyroscope: sensor_pair(Sensor::Gyroscope, gyro),
         accelerometer: (!accel.is_empty()).then(|| sensor_pair(Sensor::Accelerometer, accel)),
         accelerometers_without_unit: Vec::new(),
+        temperature_moves: None,
         update_rate_hz: update_rate_hz(tau0_s),
         rostopic: rostopic.to_string(),
     }
@@ -259,12 +271,60 @@ pub fn update_rate_hz(step_s: f64) -> f64 {
     (1e6 / step_s).round() / 1e6
 }
 
+/// Whether [`imu_yaml`] writes a random walk read off a log whose temperature moves.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum MovingTemperature {
+    /// Refuse it ([`KalibrError::TemperatureMoves`]): the default.
+    Refuse,
+    /// Write it, the file saying above the values that the temperature moved.
+    Write,
+}
+
 /// Why an `imu.yaml` cannot be written.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum KalibrError {
     /// Values the curves do not show.
     #[error("Kalibr needs {0}")]
     Missing(String),
+    /// Random walks read off a log whose temperature moves.
+    #[error(
+        "the temperature moves by {} °C ({} … {} °C), more than the {} °C a stable lab holds: \
+         {} would be read off +½ lines that hold the thermal drift, not the sensor's random \
+         walk alone; record the noise at a steady temperature",
+        crate::number::readable(motion.span_c),
+        crate::number::readable(motion.min_c),
+        crate::number::readable(motion.max_c),
+        crate::number::readable(motion.steady_span_c),
+        walks
+            .iter()
+            .map(|(k, r)| format!(
+                "{k} (τ {} … {} s)",
+                crate::number::readable(r[0]),
+                crate::number::readable(r[1])
+            ))
+            .collect::<Vec<_>>()
+            .join(" and ")
+    )]
+    TemperatureMoves {
+        /// What the temperature did.
+        motion: TemperatureMotion,
+        /// Each random walk's key and the τ range of its line, s.
+        walks: Vec<(String, [f64; 2])>,
+    },
+}
+
+/// The random walks of `noise` with the τ range of their lines, for a refusal.
+fn random_walks(noise: &KalibrNoise) -> Vec<(String, [f64; 2])> {
+    noise
+        .entries()
+        .into_iter()
+        .filter(|e| e.key.ends_with("_random_walk"))
+        .filter_map(|e| {
+            e.value
+                .as_ref()
+                .map(|v| (e.key.to_string(), v.region_tau_s))
+        })
+        .collect()
 }
 
 impl KalibrNoise {
@@ -280,11 +340,17 @@ impl KalibrNoise {
 }
 
 /// `noise` as Kalibr's `imu.yaml`, each value with a comment naming the axis and the τ range
-/// it was read from.
+/// it was read from; random walks read off a log whose temperature moves only with
+/// [`MovingTemperature::Write`], the file then saying so.
 ///
 /// # Errors
-/// A value no axis's curve shows (the file would be no noise model), named with why.
-pub fn imu_yaml(noise: &KalibrNoise, source: &str) -> Result<String, KalibrError> {
+/// A value no axis's curve shows (the file would be no noise model), named with why; with
+/// [`MovingTemperature::Refuse`], random walks read off a log whose temperature moves.
+pub fn imu_yaml(
+    noise: &KalibrNoise,
+    source: &str,
+    moving: MovingTemperature,
+) -> Result<String, KalibrError> {
     let missing: Vec<String> = noise
         .entries()
         .iter()
@@ -294,11 +360,42 @@ pub fn imu_yaml(noise: &KalibrNoise, source: &str) -> Result<String, KalibrError
     if !missing.is_empty() {
         return Err(KalibrError::Missing(missing.join("; ")));
     }
+    if let Some(motion) = noise.temperature_moves
+        && moving == MovingTemperature::Refuse
+    {
+        return Err(KalibrError::TemperatureMoves {
+            motion,
+            walks: random_walks(noise),
+        });
+    }
     let mut out = format!(
         "# IMU noise model for Kalibr, from the Allan deviation of {} (driftlab {})\n",
         yaml_comment(source),
         env!("CARGO_PKG_VERSION")
     );
+    if let Some(m) = &noise.temperature_moves {
+        let walks: Vec<String> = random_walks(noise)
+            .into_iter()
+            .map(|(k, r)| {
+                format!(
+                    "{k} on tau {} .. {} s",
+                    crate::number::readable(r[0]),
+                    crate::number::readable(r[1])
+                )
+            })
+            .collect();
+        out.push_str(&format!(
+            "# WARNING: the temperature of the log moves by {} degC ({} .. {} degC), more than \
+             the {} degC a stable lab holds: the random walks below ({}) are read off +1/2 \
+             lines that hold the thermal drift, not the sensor's random walk alone; written as \
+             asked\n",
+            crate::number::readable(m.span_c),
+            crate::number::readable(m.min_c),
+            crate::number::readable(m.max_c),
+            crate::number::readable(m.steady_span_c),
+            walks.join(" and ")
+        ));
+    }
     if noise.accelerometer.is_none() {
         if noise.accelerometers_without_unit.is_empty() {
             out.push_str(

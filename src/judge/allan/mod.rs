@@ -44,12 +44,14 @@ mod edf;
 pub mod kalibr;
 mod noise_id;
 mod readouts;
+pub mod temperature;
 
 pub use chi2::{chi2_quantile, confidence_interval};
 pub use edf::edf_greenhall;
 pub use noise_id::identify_noise;
 use noise_id::identify_noise_from_phase;
 pub use readouts::{BIAS_INSTABILITY_FACTOR, GyroReadouts, Readout, SLOPE_TOLERANCE};
+pub use temperature::{STEADY_SPAN_C, TemperatureMotion};
 
 use rayon::prelude::*;
 use serde::Serialize;
@@ -211,18 +213,33 @@ pub fn check_tau0(tau0_s: f64) -> Result<(), AllanError> {
 }
 
 /// What to tell of a τ0 given by hand (`tau0_s`) that differs by more than 1 % from the step
-/// the log's own time stamps give (`step_s`): every τ, and so every read-out (ARW, bias
-/// instability, RRW), scales with it, and Kalibr's file would carry the scaled values.
-/// `None` when they agree.
+/// the log's own time stamps give (`step_s`), `k = tau0_s / step_s` times it; `None` when they
+/// agree.
+///
+/// σ of the m-sample average does not depend on τ0 (the phase and τ = m·τ0 both carry it, and
+/// σ²(τ) = Σ(Δ²x)²/(2τ²n) cancels it), so only the τ axis moves, by k. A read-out is σ read on
+/// a line of the log-log curve, so it moves as that line's slope says: the angle random walk
+/// (σ·√τ on the −½ line) by √k, the bias instability (the flat minimum) not at all, the rate
+/// random walk (σ·√(3/τ) on the +½ line) by 1/√k; Kalibr's noise density and random walk
+/// follow them, and its `update_rate` (1/τ0) moves by 1/k.
 pub fn tau0_against_step(tau0_s: f64, step_s: f64, log_name: &str) -> Option<String> {
     let agree = step_s.is_finite() && step_s > 0.0 && ((tau0_s / step_s) - 1.0).abs() <= 0.01;
     (!agree && step_s.is_finite() && step_s > 0.0).then(|| {
+        let k = tau0_s / step_s;
+        let r = crate::number::readable;
         format!(
-            "tau0 {} s is not the step of {log_name}'s time stamps ({} s): every τ and read-out \
-             is scaled by {}; it is used as given",
-            crate::number::readable(tau0_s),
-            crate::number::readable(step_s),
-            crate::number::readable(tau0_s / step_s)
+            "tau0 {} s is not the step of {log_name}'s time stamps ({} s): it scales every τ by \
+             {}, the angle random walk (and Kalibr's noise density) by {} (√{}), the rate random \
+             walk (and Kalibr's random walk) by {} (1/√{}) and Kalibr's update_rate by {}, and \
+             leaves the bias instability as it is; it is used as given",
+            r(tau0_s),
+            r(step_s),
+            r(k),
+            r(k.sqrt()),
+            r(k),
+            r(1.0 / k.sqrt()),
+            r(k),
+            r(1.0 / k)
         )
     })
 }

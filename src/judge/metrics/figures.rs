@@ -375,10 +375,11 @@ fn in_segment_order<T>(pairs: Vec<(T, Option<T>)>) -> Vec<T> {
         .collect()
 }
 
-/// A window shorter than a sample holds one sample and would be labelled with a length it
-/// does not have (`max |10-min mean|` over samples 1000 s apart): its figures are n/a, by the
-/// rule that refuses such a window where it is asked for ([`crate::judge::options::one_sample`]).
+/// A window of one sample (shorter than a sample, or under one and a half) is that sample,
+/// and would be labelled with a length it does not have (`max |10-min mean|` over samples
+/// 1000 s apart): its figures are n/a, by the rule that refuses such a window where it is asked
+/// for ([`crate::judge::options::window_of_one_sample`]).
 fn window_shorter_than_a_sample(opts: &MeritOptions, dt_s: f64) -> Option<Unavailable> {
-    crate::judge::options::one_sample("window_s", opts.window_s, dt_s, "")
-        .map(|_| Unavailable::WindowShorterThanSample)
+    crate::judge::options::window_of_one_sample(opts.window_s, dt_s)
+        .then_some(Unavailable::WindowShorterThanSample)
 }

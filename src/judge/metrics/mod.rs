@@ -78,7 +78,9 @@ pub enum Unavailable {
     ShorterThanFilter,
     /// No segment holds a whole window.
     NoWholeWindow,
-    /// The window is shorter than the sampling interval: each would be one sample.
+    /// The window holds one sample at the log's sampling interval (shorter than it, or
+    /// under one and a half): each would be that sample. (Named as it was when only a window
+    /// shorter than a sample counted, which the JSON keeps: `window_shorter_than_sample`.)
     WindowShorterThanSample,
     /// A ratio over a corrected figure of zero, or of the rounding of the raw one
     /// (`RATIO_FLOOR`, a billionth).
@@ -93,8 +95,8 @@ impl Unavailable {
             Unavailable::ShorterThanFilter => "no stretch of the log is as long as the filter",
             Unavailable::NoWholeWindow => "no stretch of the log holds a whole window",
             Unavailable::WindowShorterThanSample => {
-                "the window is shorter than the sampling interval: each would be one sample, \
-                 labelled with a length it does not have"
+                "the window holds one sample at the sampling interval: each would be that \
+                 sample, labelled with a length it does not have"
             }
             Unavailable::CorrectedAtRounding => {
                 "the corrected figure is zero, or below a billionth of the raw one: what is left \
