@@ -301,6 +301,44 @@ fn no_bundled_sample_log_has_a_glitch_or_moves_faster_than_a_chamber() {
 }
 
 #[test]
+fn a_register_taken_for_the_temperature_is_doubted_as_one_not_told_as_fast() {
+    // A raw register (T = counts / 340 + 36.53 °C) moving 5.7 counts a second, chosen by hand:
+    // its numbers are no °C, which is what is said, not a rate of 340 °C/min.
+    let mut text = String::from("time_s,omega_dph,temp_raw_int16,temp_c_est\n");
+    for i in 0..600 {
+        let t_c = 20.0 + 10.0 * i as f64 / 600.0;
+        let counts = ((t_c - 36.53) * 340.0).round();
+        text.push_str(&format!(
+            "{i},{},{counts},{t_c:.3}\n",
+            0.01 * (i % 5) as f64
+        ));
+    }
+    let o = ReadOptions {
+        temp_col: Some(driftlab::log::ingest::ColumnRef::Name(
+            "temp_raw_int16".into(),
+        )),
+        ..ReadOptions::default()
+    };
+    let log = read_bytes("r.csv", text.as_bytes(), &o).unwrap();
+    assert!(told(&log, FASTER).is_empty(), "{:?}", log.info.problems);
+    assert_eq!(
+        told(&log, "\"temp_raw_int16\"").len(),
+        1,
+        "{:?}",
+        log.info.problems
+    );
+    // The same rate of 5.7 °C/s in a column of °C (20 to 77 °C in 10 s, held 100 s, then back
+    // at once, five times): told.
+    let mut text = String::from("time_s,omega_dph,temp_c\n");
+    for i in 0..600 {
+        let t_c = 20.0 + 5.7 * (i % 110).min(10) as f64;
+        text.push_str(&format!("{i},{},{t_c:.3}\n", 0.01 * (i % 5) as f64));
+    }
+    let log = read_bytes("c.csv", text.as_bytes(), &ReadOptions::default()).unwrap();
+    assert_eq!(told(&log, FASTER).len(), 1, "{:?}", log.info.problems);
+}
+
+#[test]
 fn a_drone_log_whose_temperature_moves_faster_than_a_chamber_is_told_by_the_same_rule() {
     // A PX4 ULog at 1 Hz, its temperature held at 25 °C, then from sample 201 (1-based) a
     // ramp at 1 °C/s for 100 s: no chamber's, though each step (1 °C) is no glitch.

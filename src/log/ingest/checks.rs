@@ -259,24 +259,26 @@ pub(super) fn finish(mut acc: Acc, sn: &Sniffed, plan: &Plan, source: &str) -> R
     // A temperature moving faster than any chamber moves a gyro's over a stretch: a time in
     // another unit than it was read in (minutes read as seconds), rows out of order, or
     // another column than the gyro's temperature. Told, with the unit that would make it a
-    // chamber's when the time's unit was taken by default; the samples are kept.
-    let fast = crate::log::temp_rate::find(&acc.cols[SLOT_TIME], &acc.cols[SLOT_TEMP]);
-    if let Some(fast) = fast {
-        let line = acc.line_of(row_of(&drop, fast.first));
-        let advice = time_scale::fast_temperature_advice(
-            time_col_read.as_ref(),
-            &acc.cols[SLOT_TIME],
-            timing.nominal_dt_s,
-            fast.fastest_c_per_s,
-        );
-        problems.push(Problem {
-            line,
-            column: col_no(SLOT_TEMP),
-            kind: ProblemKind::Implausible,
-            count: fast.count,
-            message: fast.message(&format!("line {line}"), &advice),
+    // chamber's when the time's unit was taken by default; the samples are kept. Told once
+    // the log is made, unless the column is doubted as a temperature at all (a raw register
+    // counting in thousands): its numbers are no °C, so neither is their rate.
+    let fast =
+        crate::log::temp_rate::find(&acc.cols[SLOT_TIME], &acc.cols[SLOT_TEMP]).map(|fast| {
+            let line = acc.line_of(row_of(&drop, fast.first));
+            let advice = time_scale::fast_temperature_advice(
+                time_col_read.as_ref(),
+                &acc.cols[SLOT_TIME],
+                timing.nominal_dt_s,
+                fast.fastest_c_per_s,
+            );
+            Problem {
+                line,
+                column: col_no(SLOT_TEMP),
+                kind: ProblemKind::Implausible,
+                count: fast.count,
+                message: fast.message(&format!("line {line}"), &advice),
+            }
         });
-    }
     // A log written in bursts has a pause between every two bursts: that is how it was
     // written, told by the timing's description ("written in bursts: …") and reduced to the
     // bursts' means by the commands, not a problem. A real outage among the bursts breaks
@@ -355,6 +357,10 @@ pub(super) fn finish(mut acc: Acc, sn: &Sniffed, plan: &Plan, source: &str) -> R
         },
     };
     let doubts = super::plausible::check(&log);
+    if let Some(p) = fast.filter(|_| !super::plausible::temperature_doubted(&log)) {
+        let at = log.info.problems.partition_point(|q| q.line <= p.line);
+        log.info.problems.insert(at, p);
+    }
     log.info.problems.extend(doubts);
     Ok(log)
 }

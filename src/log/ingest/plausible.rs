@@ -424,6 +424,17 @@ pub(super) fn stuck_temperature(
     })
 }
 
+/// Whether the temperature column of `log` holds no °C at all (below absolute zero, outside
+/// what a chamber reaches, a register counting in thousands), as [`check`] tells it: a rate
+/// of its numbers is then no rate of a temperature.
+pub(super) fn temperature_doubted(log: &Log) -> bool {
+    log.info
+        .columns
+        .iter()
+        .find(|c| c.role == ColumnRole::Temperature)
+        .is_some_and(|c| temperature_doubt(&c.name, &log.temp_c).is_some())
+}
+
 pub(super) fn check(log: &Log) -> Vec<Problem> {
     let mut out = duplicate_names(log);
     out.extend(stuck_rates(log));
