@@ -117,7 +117,9 @@ fn figures_are_the_unfused_ones() {
         .map(|i| (i as f64 * 0.013).sin() * 30.0 - 4.0 + (i % 11) as f64 * 1e-2)
         .collect();
     for skip in [0, 3, 4990, 5000] {
-        for (filter_s, window_s) in [(100.0, 600.0), (0.0, 600.0), (1.0, 1.0), (5e4, 1e5)] {
+        // A filter of one sample, and the shortest window (two samples: one of a single
+        // sample is n/a, `window_of_one_sample`).
+        for (filter_s, window_s) in [(100.0, 600.0), (0.0, 600.0), (1.0, 2.0), (5e4, 1e5)] {
             let opts = MeritOptions { filter_s, window_s };
             let want = reference(&x, 1.0, skip, &opts);
             let got = figures(&x, 1.0, skip, &opts);
