@@ -99,14 +99,15 @@ fn with_validation() -> Workbench {
     wb
 }
 
-/// A calibration made by `driftlab calibrate` on the sample log with K0 a spline of 4 knots
+/// A calibration made by `driftlab calibrate` on the sample log with K0 a spline of 3 knots
+/// (one a temperature of its plateaus)
 /// (so that its figures are not the current fit's), in `dir`.
 fn spline_calibration(dir: &Path) -> PathBuf {
     let cal = dir.join("lastweek.json");
     calibrate(
         &sample("calibration.csv"),
         &cal,
-        &["--k0", "spline", "--knots", "4"],
+        &["--k0", "spline", "--knots", "3"],
     );
     cal
 }
@@ -163,8 +164,8 @@ fn an_opened_calibration_shows_the_figures_evaluate_prints() {
     assert_eq!(h.get_all_by_label("current").count(), 2);
     h.get_by_label(&num(opened.corrected.p2p_dph));
     h.get_by_label(&ratio(opened.p2p_ratio));
-    // Its recipe, readable: K0 a spline of 4 knots.
-    h.get_by_label("spline, 4 knots");
+    // Its recipe, readable: K0 a spline of 3 knots.
+    h.get_by_label("spline, 3 knots");
     // Judged with the filter it was made with: nothing to say about it.
     assert!(h.query_by_label_contains("judged with a").is_none());
     // Its corrected drift on the drift plot, on the calibration log and on the validation log.
