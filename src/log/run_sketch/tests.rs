@@ -1,0 +1,287 @@
+//! The sketch against runs made here: parts, copies, other runs, thinned and coarse ones.
+use super::*;
+
+/// A run of `n` samples at 1 Hz whose rate is noise drawn from `seed`.
+fn run(n: usize, seed: u64) -> Log {
+    let mut s = seed;
+    let omega: Vec<f64> = (0..n)
+        .map(|_| {
+            s = mix(s);
+            ((s >> 11) as f64 / (1u64 << 53) as f64 - 0.5).mul_add(0.2, 0.01)
+        })
+        .collect();
+    Log::from_columns(
+        "run.csv",
+        (0..n).map(|i| i as f64).collect(),
+        omega,
+        (0..n).map(|i| 20.0 + (i / 600) as f64).collect(),
+    )
+}
+
+fn part(log: &Log, range: std::ops::Range<usize>) -> Log {
+    Log::from_columns(
+        "part.csv",
+        log.time_s[range.clone()].to_vec(),
+        log.omega_dph[range.clone()].to_vec(),
+        log.temp_c[range].to_vec(),
+    )
+}
+
+#[test]
+fn a_part_of_the_run_is_found_in_proportion_and_another_run_is_not() {
+    let cal = run(40_000, 1);
+    let sketch = RunSketch::of(&cal);
+    assert_eq!(sketch.runs.len(), SKETCH_LEN);
+    let whole = sketch.shared_with(&cal, 40_000);
+    assert_eq!((whole.found, whole.share_of_log), (SKETCH_LEN, 1.0));
+    // Less its first sample: still all of it, in-sample.
+    let trimmed = sketch.shared_with(&part(&cal, 1..40_000), 40_000);
+    assert!(
+        trimmed.in_sample() && trimmed.share_of_log > 0.95,
+        "{trimmed:?}"
+    );
+    // Three quarters: about 96 of the 128, all of the part's samples the run's.
+    let most = sketch.shared_with(&part(&cal, 0..30_000), 40_000);
+    assert!((70..=120).contains(&most.found), "{most:?}");
+    assert!(most.in_sample() && most.share_of_log > 0.9, "{most:?}");
+    // Another run on the same time and temperature: none of it.
+    let other = sketch.shared_with(&run(40_000, 2), 40_000);
+    assert!(!other.in_sample() && other.found == 0, "{other:?}");
+    assert_eq!(other.partly(), None);
+    // A tenth of the run beside nine tenths of another: held out, partly the run's.
+    let mut mixed = run(40_000, 2);
+    mixed.omega_dph[..4_000].copy_from_slice(&cal.omega_dph[..4_000]);
+    let some = sketch.shared_with(&mixed, 40_000);
+    assert!(!some.in_sample(), "{some:?}");
+    assert!(
+        some.partly().is_some_and(|s| (0.02..0.25).contains(&s)),
+        "{some:?}"
+    );
+}
+
+#[test]
+fn two_runs_written_with_few_digits_are_not_one() {
+    // Rates of ±1 °/h noise written in 0.1 °/h, on a temperature written in whole °C:
+    // the same pairs of values recur in both runs (a pair in twenty), eight in a row do
+    // not.
+    let coarse = |seed| {
+        let mut log = run(40_000, seed);
+        for w in &mut log.omega_dph {
+            *w = (*w * 100.0).round() / 10.0;
+        }
+        log
+    };
+    let (a, b) = (coarse(6), coarse(7));
+    let shared = RunSketch::of(&a).shared_with(&b, 40_000);
+    assert!(
+        !shared.in_sample() && shared.partly().is_none(),
+        "{shared:?}"
+    );
+    assert!(RunSketch::of(&a).shared_with(&a, 40_000).in_sample());
+}
+
+#[test]
+fn the_same_samples_stamped_otherwise_are_the_same_run() {
+    let cal = run(5_000, 5);
+    let sketch = RunSketch::of(&cal);
+    let mut epoch = cal.clone();
+    for t in &mut epoch.time_s {
+        *t += 1.7e9;
+    }
+    assert_eq!(sketch.shared_with(&epoch, 5_000).found, SKETCH_LEN);
+}
+
+#[test]
+fn the_same_samples_through_another_unit_are_the_same_run() {
+    let cal = run(5_000, 3);
+    let sketch = RunSketch::of(&cal);
+    // The rate read in °/s and converted back: a few ulps off.
+    let mut converted = cal.clone();
+    for w in &mut converted.omega_dph {
+        *w = *w / 3600.0 * 3600.0;
+    }
+    let shared = sketch.shared_with(&converted, 5_000);
+    assert!(shared.found >= SKETCH_LEN - 2, "{shared:?}");
+}
+
+#[test]
+fn the_file_text_reads_back_and_nothing_else_does() {
+    let sketch = RunSketch::of(&run(1_000, 4));
+    let text = sketch.to_text();
+    // The runs', then the chance by temperature and the single samples'.
+    let parts: Vec<&str> = text.split('+').collect();
+    assert_eq!(parts.len(), 3, "{text}");
+    assert_eq!(
+        (parts[0].len(), parts[2].len()),
+        (16 * SKETCH_LEN, 16 * SKETCH_LEN)
+    );
+    // 1 000 samples between 20 and 21 °C: two bins of a degree, from 20 °C.
+    assert!(
+        parts[1].starts_with("20:1:") && parts[1].len() == 5 + 4,
+        "{}",
+        parts[1]
+    );
+    assert_eq!(RunSketch::from_text(&text), Some(sketch));
+    for bad in [
+        "abc",
+        "zzzzzzzzzzzzzzzz",
+        "00000000000000020000000000000001",
+    ] {
+        assert_eq!(RunSketch::from_text(bad), None, "{bad}");
+    }
+}
+
+/// `log` less the rows `keep` says no to.
+fn kept(log: &Log, keep: impl Fn(usize) -> bool) -> Log {
+    let pick = |v: &[f64]| -> Vec<f64> {
+        v.iter()
+            .enumerate()
+            .filter(|(i, _)| keep(*i))
+            .map(|(_, x)| *x)
+            .collect()
+    };
+    Log::from_columns(
+        "kept.csv",
+        pick(&log.time_s),
+        pick(&log.omega_dph),
+        pick(&log.temp_c),
+    )
+}
+
+/// `log` with its rate written with `digits` decimals, its temperature with 3.
+fn written(mut log: Log, digits: i32) -> Log {
+    let round = |x: f64, d: i32| (x * 10f64.powi(d)).round() / 10f64.powi(d);
+    for w in &mut log.omega_dph {
+        *w = round(*w, digits);
+    }
+    for t in &mut log.temp_c {
+        *t = round(*t, 3);
+    }
+    log
+}
+
+#[test]
+fn a_copy_less_some_rows_is_the_run_and_all_its_samples_are() {
+    let cal = run(40_000, 8);
+    let sketch = RunSketch::of(&cal);
+    // Thinned to every other row (a 10 Hz log kept at 5 Hz): no run of eight survives,
+    // every sample does.
+    let thinned = sketch.shared_with(&kept(&cal, |i| i % 2 == 0), 40_000);
+    assert!(thinned.in_sample(), "{thinned:?}");
+    assert_eq!(thinned.share_of_log, 1.0);
+    assert!(
+        (0.35..0.65).contains(&thinned.share_of_run()),
+        "{thinned:?}"
+    );
+    // One row in eight left out (its temperature was blank), and one in fifty.
+    for every in [8, 50] {
+        let holed = sketch.shared_with(&kept(&cal, |i| i % every != 3), 40_000);
+        assert!(holed.in_sample(), "{every}: {holed:?}");
+        assert_eq!(holed.share_of_log, 1.0, "{every}");
+    }
+    // The first half, untouched: all of its samples are the run's, exactly; it is about
+    // half of the run.
+    let half = sketch.shared_with(&part(&cal, 0..20_000), 40_000);
+    assert_eq!(half.share_of_log, 1.0);
+    assert!((0.35..0.65).contains(&half.share_of_run()), "{half:?}");
+    // Another run thinned the same way is still another run.
+    let other = sketch.shared_with(&kept(&run(40_000, 9), |i| i % 2 == 0), 40_000);
+    assert!(!other.in_sample() && other.partly().is_none(), "{other:?}");
+}
+
+#[test]
+fn values_that_recur_count_only_beyond_their_chance() {
+    // A rate of ±0.1 °/h noise written with four decimals, a temperature with three:
+    // another run of the program meets some of the run's values by chance, and the run
+    // measures how many.
+    let (a, b) = (written(run(40_000, 10), 4), written(run(40_000, 11), 4));
+    let sketch = RunSketch::of(&a);
+    let chance = sketch.singles.as_ref().map(|s| s.chance.chance.clone());
+    assert!(
+        chance
+            .as_ref()
+            .is_some_and(|c| c.iter().any(|&c| c > 2 && c < 128)),
+        "{chance:?}"
+    );
+    let other = sketch.shared_with(&b, 40_000);
+    assert!(!other.in_sample() && other.partly().is_none(), "{other:?}");
+    let thinned = sketch.shared_with(&kept(&a, |i| i % 2 == 1), 40_000);
+    assert!(thinned.in_sample(), "{thinned:?}");
+    // Written with one decimal, most values recur: single samples tell nothing and are
+    // not sketched; runs of eight still tell the run from another.
+    let (c, d) = (written(run(40_000, 12), 1), written(run(40_000, 13), 1));
+    let coarse = RunSketch::of(&c);
+    assert_eq!(coarse.singles, None);
+    assert!(coarse.shared_with(&c, 40_000).in_sample());
+    assert!(!coarse.shared_with(&d, 40_000).in_sample());
+}
+
+#[test]
+fn a_stuck_stretch_is_one_value_of_the_sketch() {
+    let mut cal = run(10_000, 14);
+    for i in 2_000..6_000 {
+        cal.omega_dph[i] = 0.5;
+        cal.temp_c[i] = 22.0;
+    }
+    let sketch = RunSketch::of(&cal);
+    assert_eq!(sketch.runs.len(), SKETCH_LEN);
+    assert!(sketch.runs.windows(2).all(|w| w[0] < w[1]));
+}
+
+#[test]
+fn the_text_with_single_samples_reads_back_and_nothing_else_does() {
+    let sketch = RunSketch::of(&run(2_000, 15));
+    assert!(sketch.singles.is_some());
+    let text = sketch.to_text();
+    assert_eq!(RunSketch::from_text(&text), Some(sketch));
+    let runs = &text[..16 * SKETCH_LEN];
+    let singles = &text[text.rfind('+').unwrap_or(0) + 1..];
+    for bad in [
+        format!("{runs}+0.7+{singles}"),
+        format!("{runs}+x+{singles}"),
+        format!("{runs}+0.1+"),
+        format!("{runs}+0.1+{singles}+0.1"),
+        format!("{runs}+0.1"),
+        format!("{runs}+20:0:00+{singles}"),
+        format!("{runs}+20.5:1:00+{singles}"),
+        format!("{runs}+20:1:0+{singles}"),
+        format!("{runs}+20:1:+{singles}"),
+        format!("{runs}+20:1:00:00+{singles}"),
+    ] {
+        assert_eq!(
+            RunSketch::from_text(&bad),
+            None,
+            "{}",
+            &bad[bad.len() - 40..]
+        );
+    }
+}
+
+#[test]
+fn a_hold_of_another_run_is_not_the_run_however_its_values_recur() {
+    // Two hours held at 20.000 °C, then a ramp; the rate written with four decimals. On
+    // the hold half the values recur by chance, on the ramp none: a part of another run
+    // held at 20 °C meets the run's values by the hold's chance, not the whole run's.
+    let held = |seed| {
+        let mut log = written(run(30_000, seed), 4);
+        for (i, t) in log.temp_c.iter_mut().enumerate() {
+            *t = if i < 7_200 {
+                20.0
+            } else {
+                20.0 + 0.001 * (i - 7_200) as f64
+            };
+        }
+        log
+    };
+    let cal = held(16);
+    let sketch = RunSketch::of(&cal);
+    for (seed, len) in [(17, 1_500), (18, 6_000), (19, 7_000), (20, 3_000)] {
+        let other = part(&held(seed), 0..len);
+        let shared = sketch.shared_with(&other, cal.len());
+        assert!(!shared.in_sample(), "seed {seed}, {len}: {shared:?}");
+    }
+    // The run thinned is still the run, by its ramp's samples.
+    let thinned = sketch.shared_with(&kept(&cal, |i| i % 2 == 0), cal.len());
+    assert!(thinned.in_sample(), "{thinned:?}");
+    assert!((thinned.share_of_run() - 0.5).abs() < 1e-3, "{thinned:?}");
+}
