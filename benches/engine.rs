@@ -387,6 +387,33 @@ fn pipeline_benches(c: &mut Criterion, log: Arc<Log>) {
             })
         });
     }
+    // What a plateau edge drag computes each frame until its release: the plateaus'
+    // statistics and K0 (`refit::preview_plateaus`), the last plateau's start moved by a minute
+    // and back.
+    let recipe = Recipe::default();
+    let ranges = Pipeline::new()
+        .run(&Request {
+            log: log.clone(),
+            recipe: recipe.clone(),
+            merit: MeritOptions::default(),
+            validation: None,
+        })
+        .expect("pipeline")
+        .ranges;
+    let moved: [Vec<PlateauRange>; 2] = [0.0, 60.0].map(|shift_s| {
+        let mut r = ranges.clone();
+        if let Some(last) = r.last_mut() {
+            last.start_s += shift_s;
+        }
+        r
+    });
+    let mut flip = 0;
+    g.bench_function("plateau_edge_dragged_1M", |b| {
+        b.iter(|| {
+            flip ^= 1;
+            driftlab::refit::preview_plateaus(&log, &moved[flip], &recipe).expect("preview")
+        })
+    });
     g.finish();
 }
 
@@ -394,9 +421,10 @@ fn pipeline_benches(c: &mut Criterion, log: Arc<Log>) {
 /// (the simulator's calibration run at 25 Hz, written as CSV and read back as the workbench
 /// reads it), one view per axis (its rate in `omega_dph`, no other axis) and one warm
 /// `refit::Pipeline` per axis. An edit of one axis runs that axis's pipeline alone; the other
-/// two stay resident beside it, as in the workbench. `live_unit/plateau_moved_all_axes_1M`
+/// two stay resident beside it, as in the workbench. `live/plateau_edge_released_unit3_1M`
 /// is what follows the release of a plateau edge: the three axes refitted on the shared
-/// plateaus, one after the other as the worker runs them.
+/// plateaus side by side, as the worker runs them (`live_unit/plateau_moved_all_axes_1M`:
+/// one after the other).
 fn unit_pipeline_benches(c: &mut Criterion) {
     let dir = tempfile::tempdir().expect("temp dir");
     let path = dir.path().join("imu3-25hz.csv");
@@ -565,6 +593,23 @@ fn unit_pipeline_benches(c: &mut Criterion) {
             for (p, r) in pipes.iter_mut().zip(&all[flip]) {
                 black_box(p.run(r).expect("pipeline"));
             }
+        })
+    });
+    g.finish();
+    // The release as the workbench's worker runs it: the three axes side by side.
+    let mut g = c.benchmark_group("live");
+    g.sample_size(20).measurement_time(Duration::from_secs(4));
+    let mut flip = 0;
+    g.bench_function("plateau_edge_released_unit3_1M", |bench| {
+        bench.iter(|| {
+            flip ^= 1;
+            use rayon::prelude::*;
+            pipes
+                .par_iter_mut()
+                .zip(&all[flip])
+                .map(|(p, r)| black_box(p.run(r).map(|_| ())))
+                .collect::<Result<Vec<()>, _>>()
+                .expect("pipeline")
         })
     });
     g.finish();

@@ -19,10 +19,14 @@ pub fn num(v: f64) -> String {
 }
 
 /// Formats a ratio raw ÷ corrected for tables: `n/a` when it cannot be computed, and marked
-/// `worse` below 1, where the correction made the figure worse than raw.
+/// `worse` below 1, where the correction made the figure worse than raw (in significant digits
+/// below 0.01, which two decimals would show as 0.00).
 pub fn ratio(r: f64) -> String {
     if !r.is_finite() {
         "n/a".into()
+    } else if r < 0.01 {
+        // Two decimals would read 0.00: the ratio in significant digits (2.7e-10x worse).
+        format!("{}x worse", num(r))
     } else if r < 1.0 {
         format!("{}x worse", fixed(r, 2))
     } else {
@@ -152,4 +156,23 @@ pub fn print_evaluation(
         c.raw.windows,
         e.outside_fraction * 100.0
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::ratio;
+
+    #[test]
+    fn a_ratio_far_below_one_is_not_shown_as_zero() {
+        assert_eq!(ratio(2.5), "2.50x");
+        assert_eq!(ratio(0.5), "0.50x worse");
+        // 3.7e9 times worse than raw.
+        let r = 1.0 / 3.7e9;
+        assert_eq!(
+            ratio(r),
+            format!("{}x worse", driftlab::number::readable(r))
+        );
+        assert!(!ratio(r).starts_with("0.00"));
+        assert_eq!(ratio(f64::NAN), "n/a");
+    }
 }

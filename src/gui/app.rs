@@ -19,7 +19,7 @@ mod screenshot;
 pub use screenshot::ScreenshotOutcome;
 use screenshot::{PendingShot, Shots};
 
-use super::action::{Action, OpenLog, Page, shortcuts};
+use super::action::{Action, Edit, OpenLog, Page, shortcuts};
 use super::autosave::{Autosave, LeftBehind};
 use super::dialogs::FileDialogs;
 use super::export;
@@ -114,6 +114,9 @@ struct Window {
     panel_rects: HashMap<&'static str, Rect>,
     /// A mouse button is held (a drag under way): only the axis shown is refitted.
     pointer_down: bool,
+    /// A plateau edge is being dragged (the last edit was one of its moves): the plateaus and
+    /// K0 are previewed, and the axes refitted on release.
+    plateau_drag: bool,
     /// The window is short: the page is laid out compact (see [`COMPACT_BELOW_H`]).
     compact: bool,
     /// The size asked for on the command line, until the window is seen to have it or not.
@@ -180,6 +183,7 @@ impl Workbench {
                 plot_rects: HashMap::new(),
                 panel_rects: HashMap::new(),
                 pointer_down: false,
+                plateau_drag: false,
                 compact: false,
                 asked_size: None,
             },

@@ -4,13 +4,13 @@
 //! Views read it and change the choices; the app turns changed choices into refit requests.
 
 use super::action::Edit;
-use super::jobs::{AllanView, Compared, FitView, Loaded};
+use super::jobs::{AllanView, Compared, FitView, Loaded, PreviewView};
 use crate::files::session::{AxisChoices, KnotEdits, LogRef, Session, ViewState};
 use crate::judge::metrics::MeritOptions;
 use crate::models::approx::ApproxSpec;
 use crate::models::recipe::{PlateauChoice, Recipe};
 use crate::refit::Request;
-use crate::signal::plateau::PlateauRange;
+use crate::signal::plateau::{PlateauRange, PlateauStats};
 use std::path::PathBuf;
 use std::sync::Arc;
 
@@ -153,6 +153,9 @@ pub struct AxisLive {
     pub fit: Option<Arc<FitView>>,
     /// Why its newest refit failed.
     pub fit_error: Option<String>,
+    /// The plateaus and K0 of a plateau edge drag, newer than `fit` (until the refit that
+    /// follows the release arrives).
+    pub preview: Option<Arc<PreviewView>>,
     /// Its undo and redo.
     pub history: History,
     /// Its comparison of models.
@@ -289,6 +292,15 @@ impl AppState {
                 .as_ref()
                 .map(|f| f.outcome.ranges.clone())
                 .unwrap_or_default(),
+        }
+    }
+
+    /// The plateaus' statistics shown: a drag's preview while it is newer than the fit.
+    pub fn plateau_stats(&self) -> Vec<PlateauStats> {
+        match (&self.shown.preview, &self.shown.fit) {
+            (Some(p), _) => p.preview.plateaus.clone(),
+            (None, Some(f)) => f.outcome.calibration.plateaus.clone(),
+            (None, None) => Vec::new(),
         }
     }
 

@@ -488,7 +488,7 @@ pub fn from_recording(
             }
         }
     }
-    let log = Log {
+    let mut log = Log {
         source: rec.source.clone(),
         time_s,
         omega_dph: pick(gx, to_dph),
@@ -514,6 +514,13 @@ pub fn from_recording(
             problems,
         },
     };
+    let doubts = super::ingest::plausibility_problems(&log);
+    log.info
+        .problems
+        .extend(doubts.into_iter().map(|p| Problem {
+            message: in_flight_log_terms(&p.message),
+            ..p
+        }));
     Ok(AnyLog {
         log,
         drone: Some(DroneLog {
@@ -523,6 +530,31 @@ pub fn from_recording(
             note: sel.note.clone(),
             problems: rec.problems.clone(),
         }),
+    })
+}
+
+/// A doubt of the CSV checks about a log made of a flight log's gyro, with the remedies a
+/// flight log has: its columns are the format's own, so where the CSV reader would say to
+/// choose another column or unit, another gyro (`gyro`) or temperature (`temp_from`) is what
+/// can be chosen.
+fn in_flight_log_terms(message: &str) -> String {
+    [
+        (
+            "choose the temperature column with temp_col NAME",
+            "choose another of the log's temperatures with temp_from (inspect lists them)",
+        ),
+        (
+            "check its unit (rate_unit) or choose another column (rate_col)",
+            "check the gyro chosen (gyro N; inspect lists them)",
+        ),
+        (
+            "or choose another temperature with temp_col",
+            "or choose another temperature with temp_from",
+        ),
+    ]
+    .iter()
+    .fold(message.to_string(), |m, (csv, flight)| {
+        m.replace(csv, flight)
     })
 }
 

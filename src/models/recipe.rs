@@ -432,7 +432,8 @@ fn check_hand_knots(name: &str, spec: &ApproxSpec) -> Result<(), Invalid> {
         return Err(Invalid::new(
             format!("{name}.values[{j}]"),
             format!(
-                "{}: a knot value is a finite number of at most {} in magnitude (10⁴ °/s, the                  largest rate a gyro log may plausibly hold)",
+                "{}: a knot value is a finite number of at most {} in magnitude (10⁴ °/s, the \
+                 largest rate a gyro log may plausibly hold)",
                 readable(*v),
                 readable(MAX_PLAUSIBLE_RATE_DPH)
             ),

@@ -386,6 +386,9 @@ fn calibrate_axes(
     let mut out = Vec::with_capacity(plans.len());
     for (k, plan) in plans.iter().enumerate() {
         select(log, &plan.name);
+        // Each axis's own rate (the span check above read the first axis's): a stuck axis is
+        // refused here as `evaluate` refuses it, not written into the unit.
+        crate::models::check_rate_moves(log)?;
         // The figures are filtered as the axis's recipe filters Ω.
         let merit = &MeritOptions {
             filter_s: plan.recipe.filter_s,

@@ -20,7 +20,8 @@
 //!   re-evaluates K2 alone.
 //!
 //! The files: this one holds the run in order; `cache.rs` what is kept and under which key;
-//! `correction.rs` the kept corrections and their buffers; `terms.rs` the patch over one
+//! `correction.rs` the kept corrections and their buffers; `preview.rs` what a plateau edge
+//! drag shows before its release; `terms.rs` the patch over one
 //! regime's samples; `evaluate.rs` the figures of merit and the validation log; `average.rs`
 //! the display series' centred moving average; `plateaus.rs` the plateau ranges and "Suggest
 //! plateaus".
@@ -39,12 +40,14 @@ mod cache;
 mod correction;
 mod evaluate;
 mod plateaus;
+mod preview;
 mod same;
 mod terms;
 #[cfg(test)]
 mod tests;
 
 pub use plateaus::suggest_plateaus;
+pub use preview::{PlateauPreview, preview_plateaus};
 pub use same::Same;
 
 use crate::error::Error;

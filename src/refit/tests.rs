@@ -375,3 +375,52 @@ fn knots_placed_by_hand_refit_as_the_batch_fit_does() {
     let fit = vakhrameev::fit(&log, &base.checked().unwrap()).unwrap();
     same(&out.calibration, &fit.calibration);
 }
+
+#[test]
+fn a_plateau_preview_is_the_refits_k0_and_plateaus() {
+    // A pwl K0 with a knot value set by hand: the preview applies it as the fit does.
+    let log = sample_log();
+    let auto = Pipeline::new()
+        .run(&request(&log, Recipe::default()))
+        .unwrap()
+        .ranges;
+    for (kind, values) in [
+        (ApproxKind::Parabolic, None),
+        (ApproxKind::Pwl, Some(vec![0.5, 0.25, 0.0])),
+    ] {
+        let mut ranges = auto.clone();
+        ranges[1].start_s -= 600.0;
+        let mut recipe = Recipe {
+            plateaus: PlateauChoice::Manual {
+                ranges: ranges.clone(),
+            },
+            ..Recipe::default()
+        };
+        recipe.k0 = ApproxSpec {
+            kind,
+            knots: 3,
+            values,
+            ..ApproxSpec::default()
+        };
+        let preview = preview_plateaus(&log, &ranges, &recipe).unwrap();
+        let out = Pipeline::new().run(&request(&log, recipe)).unwrap();
+        assert_eq!(preview.k0, out.calibration.k0, "{kind}");
+        assert_eq!(preview.plateaus, out.calibration.plateaus, "{kind}");
+        // The moved plateau's statistics are of its new range: its first sample is 600 s
+        // earlier than the detector's.
+        let moved = &preview.plateaus[1];
+        assert_eq!(moved.range, ranges[1]);
+        let inside = log
+            .time_s
+            .iter()
+            .filter(|&&t| ranges[1].contains(t))
+            .count();
+        assert_eq!(moved.samples, inside);
+    }
+    // No sample in any range: the fit's own error, not a K0 of nothing.
+    let none = [PlateauRange {
+        start_s: -10.0,
+        end_s: -5.0,
+    }];
+    assert!(preview_plateaus(&log, &none, &Recipe::default()).is_err());
+}

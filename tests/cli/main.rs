@@ -9,6 +9,7 @@ mod allan;
 mod allan_inputs;
 mod allan_temperature;
 mod attack;
+mod attack15;
 mod axis_choice;
 mod commands;
 mod degenerate_logs;

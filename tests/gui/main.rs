@@ -17,6 +17,7 @@ mod open_calibration;
 mod open_calibration_start;
 mod open_calibration_units;
 mod open_export;
+mod plateau_drag;
 mod plateau_table;
 mod units;
 mod warmup;

@@ -3,7 +3,7 @@
 //! writers because every model's report judges its logs the same way.
 
 use super::figures::{self, AllanLine, TimeSeries};
-use super::{AllanCurves, LogReport, allan_curves, figure, file_name};
+use super::{AllanCurves, LogReport, allan_curves, figure};
 use crate::error::Result;
 use crate::judge::metrics::{Evaluation, MeritOptions};
 use crate::log::Log;
@@ -14,6 +14,9 @@ use std::path::{Path, PathBuf};
 /// One log to judge, with its correction.
 pub(super) struct LogSection<'a> {
     pub(super) path: &'a Path,
+    /// The log's name as the page shows it: its file name, with as many of its folders as
+    /// tell it apart from another log of the same file name ([`super::names_apart`]).
+    pub(super) name: &'a str,
     pub(super) log: &'a Log,
     pub(super) sha: &'a str,
     pub(super) in_sample: bool,
@@ -35,6 +38,7 @@ pub(super) fn log_report(
 ) -> Result<(LogReport, bool)> {
     let LogSection {
         path,
+        name,
         log,
         sha,
         in_sample,
@@ -45,7 +49,7 @@ pub(super) fn log_report(
     let mut drew_allan = false;
     // As the page shows it: a character that would reorder or forge the text around the
     // name written as its escape.
-    let name = crate::text::escaped(&file_name(path), false).into_owned();
+    let name = crate::text::escaped(name, false).into_owned();
     let stem = unique_stem(path, taken);
     let label = if in_sample { "in-sample" } else { "held out" };
     let evaluation = Evaluation::of_correction(log, &correction, merit);

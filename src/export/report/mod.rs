@@ -202,6 +202,51 @@ pub fn default_merit(cal: &Calibration) -> MeritOptions {
     }
 }
 
+/// The logs' names as a page shows them: each its file name, and where two share one, with
+/// as many of their folders as tell them apart (`d1/run.csv`, `d2/run.csv`); two paths to
+/// one name all the way up keep their whole paths.
+pub(super) fn names_apart(paths: &[&Path]) -> Vec<String> {
+    let parts: Vec<Vec<String>> = paths
+        .iter()
+        .map(|p| {
+            p.components()
+                .rev()
+                .map(|c| c.as_os_str().to_string_lossy().into_owned())
+                .collect()
+        })
+        .collect();
+    let name = |k: usize, depth: usize| {
+        let mut c: Vec<&str> = parts[k].iter().take(depth).map(String::as_str).collect();
+        c.reverse();
+        c.join("/")
+    };
+    let mut depth = vec![1usize; paths.len()];
+    loop {
+        let names: Vec<String> = (0..paths.len()).map(|k| name(k, depth[k])).collect();
+        let mut grew = false;
+        for k in 0..paths.len() {
+            let clash = (0..paths.len()).any(|j| j != k && names[j] == names[k]);
+            if clash && depth[k] < parts[k].len() {
+                depth[k] += 1;
+                grew = true;
+            }
+        }
+        if !grew {
+            return names
+                .into_iter()
+                .zip(paths)
+                .map(|(n, p)| {
+                    if n.is_empty() {
+                        p.display().to_string()
+                    } else {
+                        n
+                    }
+                })
+                .collect();
+        }
+    }
+}
+
 fn file_name(p: &Path) -> String {
     p.file_name()
         .map(|s| s.to_string_lossy().into_owned())
@@ -336,10 +381,12 @@ fn build(
 
     let mut reports = Vec::new();
     let mut any_allan = false;
+    let names = names_apart(&logs.iter().map(|(p, _)| p.as_path()).collect::<Vec<_>>());
     for (i, ((path, log), sha)) in logs.iter().zip(&hashes).enumerate() {
         let (correction, plateaus) = correct(model, in_sample[i], path, log)?;
         let section = LogSection {
             path,
+            name: &names[i],
             log,
             sha,
             in_sample: in_sample[i],
@@ -399,3 +446,28 @@ fn correct(
 
 const ALLAN_NOTE: &str = "Allan deviation: not computed in this build (the report's Allan hook \
                           returned no curves).";
+
+#[cfg(test)]
+mod names_apart_tests {
+    use super::names_apart;
+    use std::path::Path;
+
+    #[test]
+    fn logs_of_one_file_name_are_told_apart_by_their_folders() {
+        let p = |s: &'static str| Path::new(s);
+        assert_eq!(
+            names_apart(&[p("/a/d1/run.csv"), p("/a/d2/run.csv"), p("/a/cal.csv")]),
+            ["d1/run.csv", "d2/run.csv", "cal.csv"]
+        );
+        // Apart only higher up.
+        assert_eq!(
+            names_apart(&[p("x/same/run.csv"), p("y/same/run.csv")]),
+            ["x/same/run.csv", "y/same/run.csv"]
+        );
+        // One file given twice keeps its path: nothing tells the two apart.
+        assert_eq!(
+            names_apart(&[p("d/run.csv"), p("d/run.csv")]),
+            ["d/run.csv", "d/run.csv"]
+        );
+    }
+}

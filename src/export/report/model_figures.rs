@@ -216,7 +216,9 @@ fn regression(
         model_figures.push(figure(
             "Search cost curves".into(),
             format!(
-                "RMS residual of the least-squares fit at each value tried for the parameters                  the model is not linear in (λ on a logarithmic axis; a delay per temperature                  band for τd(T)); the vertical line marks the value chosen.{}",
+                "RMS residual of the least-squares fit at each value tried for the parameters \
+                 the model is not linear in (λ on a logarithmic axis; a delay per temperature \
+                 band for τd(T)); the vertical line marks the value chosen.{}",
                 if edge.is_empty() {
                     String::new()
                 } else {

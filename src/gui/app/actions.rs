@@ -205,7 +205,10 @@ impl Workbench {
             Action::PlotRect(name, rect) => {
                 self.window.plot_rects.insert(name, rect);
             }
-            Action::Edit(edit) => self.state.apply(edit),
+            Action::Edit(edit) => {
+                self.window.plateau_drag = matches!(edit, Edit::PlateausDragged(_));
+                self.state.apply(edit)
+            }
             Action::SelectPlateau(k) => self.views.time.selected = k,
             Action::AddPlateau(r) => {
                 let mut all = self.state.ranges();

@@ -10,6 +10,15 @@ impl Workbench {
     pub(super) fn refit_if_needed(&mut self) {
         self.state.share_temperature();
         let active = self.state.active_axis();
+        if self.window.pointer_down && self.window.plateau_drag {
+            // While an edge moves: its plateaus and K0 alone; every axis is refitted on release.
+            if let Some(l) = &self.state.shown.log {
+                let ranges = self.state.ranges();
+                self.jobs
+                    .preview(active, &l.log, &ranges, &self.state.shown.choices.recipe);
+            }
+            return;
+        }
         if let Some(req) = self.state.request() {
             self.jobs.refit(active, req);
         }
@@ -425,7 +434,25 @@ impl Workbench {
                     p.fit = Some(view);
                 }
             }
+            JobResult::Previewed(p) => {
+                let newer = |g: Option<u64>| g.is_none_or(|g| g < p.generation);
+                if p.axis == self.state.active_axis()
+                    && newer(self.state.shown.fit.as_ref().map(|f| f.generation))
+                    && newer(self.state.shown.preview.as_ref().map(|q| q.generation))
+                {
+                    self.state.shown.preview = Some(p);
+                }
+            }
             JobResult::Fitted(view) => {
+                if self
+                    .state
+                    .shown
+                    .preview
+                    .as_ref()
+                    .is_some_and(|p| p.generation < view.generation)
+                {
+                    self.state.shown.preview = None;
+                }
                 let newer = self
                     .state
                     .shown

@@ -177,70 +177,116 @@ struct AxisWork {
 }
 
 /// The refit worker. Each axis has its own pipeline (its caches stay warm while another axis
-/// is edited); per axis the newest request wins, and of the axes waiting, the one asked for
-/// last goes first (the axis being edited, ahead of those refitted for a shared change).
+/// is edited); per axis the newest request wins. Previews of a plateau drag go first (they read
+/// the plateaus' samples alone); the refits waiting then run side by side, one thread per axis,
+/// as after the release of a plateau edge, which all the axes of a unit share.
 pub(super) fn fit_worker(rx: Receiver<FitMsg>, tx: Sender<JobResult>, ctx: SharedCtx) {
     let mut work: Vec<AxisWork> = vec![AxisWork::default()];
     let mut waiting: Vec<(usize, u64, Box<Request>)> = Vec::new();
+    let mut previews: Vec<(usize, u64, Box<PreviewAsk>)> = Vec::new();
     loop {
-        if waiting.is_empty() {
+        if waiting.is_empty() && previews.is_empty() {
             match rx.recv() {
-                Ok(m) => queue(&mut waiting, &mut work, m),
+                Ok(m) => queue(&mut waiting, &mut previews, &mut work, m),
                 Err(_) => break,
             }
         }
         while let Ok(m) = rx.try_recv() {
-            queue(&mut waiting, &mut work, m);
+            queue(&mut waiting, &mut previews, &mut work, m);
         }
-        let Some(next) = (0..waiting.len()).max_by_key(|&i| waiting[i].1) else {
-            continue;
-        };
-        let (axis, generation, request) = waiting.swap_remove(next);
-        if work.len() <= axis {
-            work.resize_with(axis + 1, AxisWork::default);
-        }
-        let AxisWork { pipeline, cache } = &mut work[axis];
-        let run = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-            let outcome = pipeline.run(&request).map_err(|e| e.to_string())?;
-            let lods = build_lods(cache, &outcome);
-            Ok::<_, String>(FitView {
-                axis,
-                generation,
-                outcome,
-                lods,
-            })
-        }));
-        let result = match run {
-            Ok(Ok(view)) => JobResult::Fitted(Arc::new(view)),
-            Ok(Err(message)) => JobResult::FitFailed(axis, generation, message),
-            Err(_) => {
-                pipeline.clear();
-                *cache = LodCache::default();
-                JobResult::FitFailed(
+        for (axis, generation, ask) in previews.drain(..) {
+            let result = match crate::refit::preview_plateaus(&ask.log, &ask.ranges, &ask.recipe) {
+                Ok(preview) => JobResult::Previewed(Arc::new(PreviewView {
                     axis,
                     generation,
-                    "the fit stopped on an internal error (see the terminal)".into(),
-                )
+                    preview,
+                })),
+                // What the release's refit will say; the last fit stays shown meanwhile.
+                Err(_) => continue,
+            };
+            if tx.send(result).is_err() {
+                return;
             }
-        };
-        if tx.send(result).is_err() {
+            repaint(&ctx);
+        }
+        if waiting.is_empty() {
+            continue;
+        }
+        let batch = std::mem::take(&mut waiting);
+        if let Some(top) = batch.iter().map(|w| w.0).max()
+            && work.len() <= top
+        {
+            work.resize_with(top + 1, AxisWork::default);
+        }
+        let stopped = work
+            .par_iter_mut()
+            .enumerate()
+            .filter_map(|(axis, w)| {
+                let (_, generation, request) = batch.iter().find(|b| b.0 == axis)?;
+                let result = refit_axis(w, axis, *generation, request);
+                let sent = tx.send(result).is_ok();
+                repaint(&ctx);
+                Some(sent)
+            })
+            .collect::<Vec<bool>>()
+            .contains(&false);
+        if stopped {
             break;
         }
-        repaint(&ctx);
+    }
+}
+
+/// One axis refitted, with its drawing data; a panic in the fit becomes a failure (the axis's
+/// caches are dropped).
+fn refit_axis(w: &mut AxisWork, axis: usize, generation: u64, request: &Request) -> JobResult {
+    let AxisWork { pipeline, cache } = w;
+    let run = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+        let outcome = pipeline.run(request).map_err(|e| e.to_string())?;
+        let lods = build_lods(cache, &outcome);
+        Ok::<_, String>(FitView {
+            axis,
+            generation,
+            outcome,
+            lods,
+        })
+    }));
+    match run {
+        Ok(Ok(view)) => JobResult::Fitted(Arc::new(view)),
+        Ok(Err(message)) => JobResult::FitFailed(axis, generation, message),
+        Err(_) => {
+            pipeline.clear();
+            *cache = LodCache::default();
+            JobResult::FitFailed(
+                axis,
+                generation,
+                "the fit stopped on an internal error (see the terminal)".into(),
+            )
+        }
     }
 }
 
 /// Adds a message to the requests waiting: a refit replaces the one of its axis still
-/// waiting; a new count of axes drops what was kept or waiting for axes past it.
-fn queue(waiting: &mut Vec<(usize, u64, Box<Request>)>, work: &mut Vec<AxisWork>, m: FitMsg) {
+/// waiting, a preview the preview of its axis; a new count of axes drops what was kept or
+/// waiting for axes past it.
+fn queue(
+    waiting: &mut Vec<(usize, u64, Box<Request>)>,
+    previews: &mut Vec<(usize, u64, Box<PreviewAsk>)>,
+    work: &mut Vec<AxisWork>,
+    m: FitMsg,
+) {
     match m {
         FitMsg::Fit(axis, generation, request) => {
             waiting.retain(|(a, ..)| *a != axis);
             waiting.push((axis, generation, request));
         }
+        FitMsg::Preview(axis, generation, ask) => {
+            previews.retain(|(a, ..)| *a != axis);
+            previews.push((axis, generation, ask));
+        }
         FitMsg::Axes(n) => {
             work.truncate(n.max(1));
             waiting.retain(|(a, ..)| *a < n.max(1));
+            previews.retain(|(a, ..)| *a < n.max(1));
         }
     }
 }

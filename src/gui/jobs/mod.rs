@@ -80,11 +80,42 @@ pub enum JobResult {
     CalibrationRead(PathBuf, Result<Arc<crate::models::UnitCalibration>, String>),
     /// The opened calibration was judged on the open logs.
     Verified(Arc<Verified>),
+    /// The plateaus and K0 of a plateau edge drag in progress.
+    Previewed(Arc<PreviewView>),
+}
+
+/// The plateaus and K0 of a plateau edge drag in progress, for the axis it was asked for.
+#[derive(Debug)]
+pub struct PreviewView {
+    /// The gyro axis (0 for a log of one axis).
+    pub axis: usize,
+    /// The request number it answers (refits and previews are numbered alike, so the newer of
+    /// a preview and a fit is the one to show).
+    pub generation: u64,
+    /// The engine's preview.
+    pub preview: crate::refit::PlateauPreview,
+}
+
+/// What a preview was asked for: the axis, the log by identity, the ranges and K0's spec.
+type PreviewKey = (
+    usize,
+    Same<Log>,
+    Vec<crate::signal::plateau::PlateauRange>,
+    crate::models::approx::ApproxSpec,
+);
+
+/// What a plateau edge drag shows is asked for with.
+pub(super) struct PreviewAsk {
+    log: Arc<Log>,
+    ranges: Vec<crate::signal::plateau::PlateauRange>,
+    recipe: Recipe,
 }
 
 enum FitMsg {
     /// Refit axis `.0` (0 for a log of one axis) as request number `.1`.
     Fit(usize, u64, Box<Request>),
+    /// The plateaus and K0 of a drag in progress on axis `.0`, as request number `.1`.
+    Preview(usize, u64, Box<PreviewAsk>),
     /// The log has this many axes: the worker forgets what it kept for any further one.
     Axes(usize),
 }
@@ -124,6 +155,8 @@ pub struct Jobs {
     pub allan: Option<(u64, bool)>,
     /// Per axis, what its newest refit was asked for.
     sent: Vec<Option<RefitKey>>,
+    /// What the newest preview was asked for (axis, log, ranges, K0's spec).
+    preview_sent: Option<PreviewKey>,
     /// Calibration files being read.
     pub reading_calibration: usize,
     /// The number of the newest judging of the opened calibration asked for.
@@ -170,6 +203,7 @@ impl Jobs {
             compare_requested: 0,
             allan: None,
             sent: Vec::new(),
+            preview_sent: None,
             reading_calibration: 0,
             verify_requested: 0,
             verifying: None,
@@ -248,9 +282,39 @@ impl Jobs {
         true
     }
 
+    /// Asks for the plateaus and K0 of a plateau edge drag on axis `axis` (not a refit: K1,
+    /// K2 and the correction follow the release), unless the newest asked for was the same;
+    /// true when it was asked for.
+    pub fn preview(
+        &mut self,
+        axis: usize,
+        log: &Arc<Log>,
+        ranges: &[crate::signal::plateau::PlateauRange],
+        recipe: &Recipe,
+    ) -> bool {
+        let key = (axis, Same::of(log), ranges.to_vec(), recipe.k0.clone());
+        if self.preview_sent.as_ref() == Some(&key) {
+            return false;
+        }
+        self.requested += 1;
+        let ask = PreviewAsk {
+            log: log.clone(),
+            ranges: ranges.to_vec(),
+            recipe: recipe.clone(),
+        };
+        let sent = self.fit_tx.as_ref().is_some_and(|tx| {
+            tx.send(FitMsg::Preview(axis, self.requested, Box::new(ask)))
+                .is_ok()
+        });
+        self.preview_sent = Some(key);
+        sent
+    }
+
     /// Asks for a refit of axis `axis`; an older one of that axis still queued is dropped.
     pub fn fit(&mut self, axis: usize, request: Request) -> u64 {
         self.requested += 1;
+        // A drag to the same place after this refit is previewed again.
+        self.preview_sent = None;
         let generation = self.requested;
         if self.requested_by_axis.len() <= axis {
             self.requested_by_axis.resize(axis + 1, 0);
@@ -412,6 +476,7 @@ impl Jobs {
             }
             JobResult::Fitted(v) => self.answered(v.axis, v.generation),
             JobResult::FitFailed(axis, g, _) => self.answered(*axis, *g),
+            JobResult::Previewed(_) => {}
             JobResult::Exported(..) => self.exports = self.exports.saturating_sub(1),
             JobResult::Compared(g, _) => {
                 if self.comparing.as_ref().is_some_and(|c| c.generation == *g) {

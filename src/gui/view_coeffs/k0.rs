@@ -63,21 +63,15 @@ impl CoeffView {
                     crate::gui::plot_items::nice_steps,
                 ))
                 .show(ui, |pui| {
-                    let Some(f) = &fit else {
+                    if fit.is_none() {
                         return;
-                    };
-                    let cal = &f.outcome.calibration;
-                    let pts: Vec<[f64; 2]> = cal
-                        .plateaus
-                        .iter()
-                        .map(|p| [p.temp_c, p.omega_dph])
-                        .collect();
+                    }
+                    // A plateau edge being dragged: its plateaus and K0 as they will be.
+                    let plateaus = state.plateau_stats();
+                    let pts: Vec<[f64; 2]> =
+                        plateaus.iter().map(|p| [p.temp_c, p.omega_dph]).collect();
                     // A plateau of one sample has no spread to draw.
-                    for (p, std) in cal
-                        .plateaus
-                        .iter()
-                        .filter_map(|p| Some((p, p.omega_std_dph?)))
-                    {
+                    for (p, std) in plateaus.iter().filter_map(|p| Some((p, p.omega_std_dph?))) {
                         pui.line(
                             Line::new(
                                 "±1 std",
@@ -91,7 +85,10 @@ impl CoeffView {
                             .allow_hover(false),
                         );
                     }
-                    let Some(k0) = shown(state, Coefficient::K0, pending.as_ref()) else {
+                    let previewed = state.shown.preview.as_ref().map(|p| p.preview.k0.clone());
+                    let Some(k0) =
+                        previewed.or_else(|| shown(state, Coefficient::K0, pending.as_ref()))
+                    else {
                         return;
                     };
                     let k0 = &k0;
@@ -147,6 +144,14 @@ impl CoeffView {
         });
         out.push(Action::PlotRect("k0".into(), resp.response.rect));
         match fit {
+            Some(_) if state.shown.preview.is_some() => {
+                ui.weak("Plateaus and K0 as the edge leaves them; K1, K2 and the drift follow its release")
+                    .on_hover_text(
+                        "While a plateau edge is dragged only its plateaus and K0 are recomputed \
+                         (they read the plateaus' samples alone); every axis is refitted when the \
+                         mouse button is released",
+                    );
+            }
             Some(f) => {
                 let s = f.outcome.calibration.k0.stats();
                 ui.weak(format!(

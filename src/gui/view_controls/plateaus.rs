@@ -65,12 +65,7 @@ impl ControlsView {
             }
         });
         let ranges = state.ranges();
-        let stats = state
-            .shown
-            .fit
-            .as_ref()
-            .map(|f| f.outcome.calibration.plateaus.clone())
-            .unwrap_or_default();
+        let stats = state.plateau_stats();
         ui.weak(format!(
             "{} plateau{} {}",
             ranges.len(),

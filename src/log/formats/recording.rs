@@ -376,8 +376,14 @@ impl InstanceSummary {
             Some(r) => s.push_str(&format!(" at {r:.3} Hz")),
             None => s.push_str(" at n/a Hz (fewer than two distinct stamps)"),
         }
-        if let Some((a, b)) = self.time_range_s {
-            s.push_str(&format!(" over {:.3} s", b - a));
+        match self.time_range_s {
+            Some((a, b)) if b >= a => s.push_str(&format!(" over {:.3} s", b - a)),
+            // A clock that wrapped or was reset: its span is no duration (the reader keeps the
+            // samples in time order and tells the rest).
+            Some(_) => {
+                s.push_str(" over n/a s (its last stamp is before its first: the clock went back)")
+            }
+            None => {}
         }
         match self.temp_range_c {
             Some((a, b)) => s.push_str(&format!(", temperature {a:.2} .. {b:.2} degC")),
@@ -551,6 +557,29 @@ mod tests {
         };
         assert_eq!(t.seconds(), 1352907614.798384);
         assert_eq!(t.nanos(), 1352907614798383951);
+    }
+
+    #[test]
+    fn a_clock_that_went_back_gives_no_duration() {
+        let s = |range| InstanceSummary {
+            index: 0,
+            label: "IMU".into(),
+            device: None,
+            samples: 4000,
+            rate_hz: Some(1.0),
+            time_range_s: Some(range),
+            temp_range_c: None,
+            has_accel: true,
+            alt_temps: Vec::new(),
+        };
+        assert!(s((1.0, 4000.0)).line().contains("over 3999.000 s"));
+        // A 64-bit TimeUS that wrapped: its last stamp is before its first.
+        let wrapped = s((1.8446744073709552e13, 4000.0)).line();
+        assert!(
+            wrapped.contains("over n/a s (its last stamp is before its first"),
+            "{wrapped}"
+        );
+        assert!(!wrapped.contains("-1844"), "{wrapped}");
     }
 
     #[test]

@@ -183,6 +183,23 @@ pub(super) fn finish(mut acc: Acc, sn: &Sniffed, plan: &Plan, source: &str) -> R
         }
         if let Some(t) = back {
             let line = acc.line_of(t.first);
+            // Most rows before the one kept: the log is written newest row first (or shuffled),
+            // and dropping them would leave a sliver of it to calibrate, judge or correct.
+            if t.count * 2 > time.len() {
+                return Err(Fail::new(
+                    line,
+                    time_col.unwrap_or(0),
+                    format!(
+                        "{} of the {} rows go back in time (first at line {line}: {} s after {} s): \
+                         the rows are not in time order (newest first?); sort the log by its \
+                         time column",
+                        t.count,
+                        time.len(),
+                        crate::number::readable(first_back.0),
+                        crate::number::readable(first_back.1)
+                    ),
+                ));
+            }
             problems.push(Problem {
                 line,
                 column: time_col,

@@ -435,7 +435,11 @@ pub(super) fn temperature_doubted(log: &Log) -> bool {
         .is_some_and(|c| temperature_doubt(&c.name, &log.temp_c).is_some())
 }
 
-pub(super) fn check(log: &Log) -> Vec<Problem> {
+/// The doubts about a log read (stuck rates, temperatures no chamber reaches, rates beyond any
+/// gyro, units its names contradict), whoever read it: the CSV reader and the flight-log
+/// readers alike, so that a drone log with a dead axis or a temperature in kelvin is told as
+/// the same samples in a CSV are.
+pub(crate) fn check(log: &Log) -> Vec<Problem> {
     let mut out = duplicate_names(log);
     out.extend(stuck_rates(log));
     out.extend(contradicted_units(log));

@@ -29,7 +29,7 @@ mod stages;
 pub use fit::{Calibrated, Fit, Pipeline, fit, fit_lean};
 pub(crate) use fit::{SetsOfSamples, check_sample_count, sets_of_samples};
 pub use source::SourceInfo;
-pub use staged::{StageInputs, StageMemory, Staged};
+pub use staged::{StageInputs, StageMemory, Staged, k0_of};
 pub use stages::{deadbands, fit_k0, fit_or_fallback, fit_or_fallback_weighted};
 
 // The sets are the model's inner stage; the staged pipeline (`staged.rs`) runs them, and
@@ -452,7 +452,7 @@ impl Calibration {
             } else {
                 a.bound() * a.x_min().abs().max(a.x_max().abs())
             };
-            crate::models::check_drift_bound(name, bound)?;
+            crate::models::check_drift_bound(name, bound.max(beyond_range_bound(k, a)))?;
         }
         self.check_plateau_facts()?;
         self.check_fit_facts()
@@ -645,4 +645,42 @@ impl Calibration {
             ("K2-(Tddot)", &self.k2_minus),
         ]
     }
+}
+
+/// How far a chamber takes each argument of the five approximations (K0: T, °C; K1±: Ṫ, °C/s;
+/// K2±: T̈, °C/s²): the temperatures a log may hold; 30 °C/min, the fastest stress-screening
+/// chamber (as [`crate::log::temp_rate`] holds a log to); that rate reversed within ten
+/// seconds. An extrapolating curve is evaluated out there, so its drift is bounded there.
+const CHAMBER_REACH: [(f64, f64); 5] = [
+    crate::log::mapping_check::PLAUSIBLE_TEMP_C,
+    (-0.5, 0.5),
+    (-0.5, 0.5),
+    (-0.1, 0.1),
+    (-0.1, 0.1),
+];
+
+/// The largest drift the `k`-th approximation (in [`Calibration::fields`]' order) predicts
+/// beyond its fitted range, out to the chamber's reach, when it extrapolates (0 when it holds
+/// its edge values, which [`Approx::bound`] covers). Sampled at 1025 points and the range's
+/// ends: the curves past their ranges are straight or of degree two, so this is their bound to
+/// well within the factor [`crate::models::MAX_DRIFT_DPH`] leaves; a hand-edited K1 of slope
+/// 1e13 over ±1e-6 °C/s predicted 5e9 °/h at the first sample past it.
+fn beyond_range_bound(k: usize, a: &Approx) -> f64 {
+    if !a.extrapolates() {
+        return 0.0;
+    }
+    let (lo, hi) = CHAMBER_REACH[k];
+    let (lo, hi) = (lo.min(a.x_min()), hi.max(a.x_max()));
+    let drift = |x: f64| {
+        let v = a.eval(x);
+        if k == 0 { v.abs() } else { (v * x).abs() }
+    };
+    (0..=1024)
+        .map(|j| lo + (hi - lo) * j as f64 / 1024.0)
+        .chain([a.x_min(), a.x_max()])
+        .map(drift)
+        .fold(
+            0.0,
+            |m: f64, d| if d.is_nan() { f64::INFINITY } else { m.max(d) },
+        )
 }

@@ -214,8 +214,7 @@ impl<S: Clone + PartialEq + Send + Sync> StageMemory<S> {
         };
 
         let mut warnings = Vec::new();
-        let k0 = fit_k0(&stats, &recipe.k0, &mut warnings)?;
-        let k0 = with_knots(&k0, recipe.k0.values.as_ref());
+        let k0 = k0_of(&stats, recipe, &mut warnings)?;
 
         let t = Instant::now();
         // The sets are fitted with their knots equally spaced and fitted; the knots placed and
@@ -383,6 +382,21 @@ impl<S: Clone + PartialEq + Send + Sync> StageMemory<S> {
         }
         rest
     }
+}
+
+/// K0 through the plateaus' points as the recipe asks, its knot values set by hand put in:
+/// the K0 of a fit, and of the workbench's preview while a plateau edge is dragged
+/// ([`crate::refit::preview_plateaus`]), which must not differ from it.
+///
+/// # Errors
+/// No plateaus.
+pub fn k0_of(
+    stats: &[PlateauStats],
+    recipe: &Recipe,
+    warnings: &mut Vec<String>,
+) -> Result<Approx> {
+    let k0 = fit_k0(stats, &recipe.k0, warnings)?;
+    Ok(with_knots(&k0, recipe.k0.values.as_ref()))
 }
 
 fn ms(t: Instant) -> f64 {

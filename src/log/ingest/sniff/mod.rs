@@ -248,6 +248,10 @@ pub(crate) fn sniff(
         });
     };
 
+    if opts.decimal_comma == Some(true) {
+        decimal_comma_fits(&score_lines, delim, first.no)?;
+    }
+
     // Header.
     let _ = split_fields(text(&first), delim, &mut fields);
     let kinds0: Vec<Cell> = fields
@@ -455,4 +459,46 @@ fn split_wide(header: &str) -> Vec<String> {
         out.push(cur);
     }
     out
+}
+
+/// Refuses `decimal_comma` asked for on a file that cannot be written so: one whose columns
+/// are separated by commas, or whose numbers hold decimal points and no comma (the option
+/// would be neither used nor refused, and the format shown would be one no file has).
+fn decimal_comma_fits(lines: &[&[u8]], delim: Delim, line_no: usize) -> Result<(), Fail> {
+    if delim == Delim::Byte(b',') {
+        return Err(Fail::new(
+            line_no,
+            0,
+            "decimal_comma: the columns are separated by commas, so a comma cannot also be \
+             the decimal mark; leave decimal_comma out, or give the delimiter"
+                .to_string(),
+        ));
+    }
+    let mut fields = Vec::new();
+    let mut point: Option<String> = None;
+    for l in lines {
+        let _ = split_fields(l, delim, &mut fields);
+        for f in &fields {
+            if memchr::memchr(b',', f).is_some() {
+                return Ok(());
+            }
+            if point.is_none()
+                && memchr::memchr(b'.', f).is_some()
+                && matches!(parse_cell(f, false), Cell::Num(_))
+            {
+                point = Some(crate::log::ingest::parse::show_cell(f));
+            }
+        }
+    }
+    match point {
+        Some(cell) => Err(Fail::new(
+            line_no,
+            0,
+            format!(
+                "decimal_comma: the numbers are written with decimal points ({cell}) and no \
+                 comma; leave decimal_comma out"
+            ),
+        )),
+        None => Ok(()),
+    }
 }
