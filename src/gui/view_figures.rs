@@ -250,6 +250,14 @@ fn table(
                 ui.end_row();
             }
         });
+        // Each n/a with its reason, in the engine's words, as the command line prints them.
+        for (what, why) in c.unavailable() {
+            ui.label(
+                RichText::new(format!("{what}: n/a ({})", why.describe()))
+                    .small()
+                    .color(ui.visuals().weak_text_color()),
+            );
+        }
         if let Some(b) = &beside {
             let text = match &b.column {
                 Column::Judged { judged, .. } => format!("opened {}: {}", b.name, judged.label),

@@ -7,6 +7,7 @@ mod common;
 
 mod drone_open;
 mod editing;
+mod figures;
 mod files;
 mod flight_export;
 mod gaps;

@@ -74,6 +74,8 @@ pub(super) struct RefitKey {
     log: Same<Log>,
     validation: Option<Same<Log>>,
     recipe: Recipe,
+    /// The figures' filter and windows: a session's windows change the figures alone.
+    merit: MeritOptions,
 }
 
 impl RefitKey {
@@ -82,6 +84,7 @@ impl RefitKey {
             log: Same::of(&r.log),
             validation: r.validation.as_ref().map(Same::of),
             recipe: r.recipe.clone(),
+            merit: r.merit,
         }
     }
 }
