@@ -10,6 +10,7 @@ mod editing;
 mod files;
 mod flight_export;
 mod gaps;
+mod k0_default;
 mod knots;
 mod layout;
 mod models_allan;
