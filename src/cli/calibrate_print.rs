@@ -83,7 +83,7 @@ pub fn vakhrameev_summary(cal: &Calibration, warnings: &[String]) -> Result<(), 
     for c in driftlab::models::vakhrameev::knots::Coefficient::ALL {
         let spec = c.spec(&cal.recipe);
         if spec.hand_knots() {
-            out!("  {} {}", c.label(), spec.knots_text())?;
+            out!("  {} {}", c.label(), c.knots_text(spec))?;
         }
     }
     for w in warnings {

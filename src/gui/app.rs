@@ -6,11 +6,12 @@
 //! The rest of the window, one file a concern: `layout` (menus, status bar, the panels of
 //! the Calibration page and modals), `actions` (carrying out what the engineer asks for,
 //! and the unsaved-work question), `results` (what the worker is asked and what its answers
-//! change), `files` (what is written and opened) and `screenshot` (PNG of the window, and
-//! the `--screenshot` mode).
+//! change), `k0_default` (K0's kind chosen once from a fresh log's plateaus), `files` (what is
+//! written and opened) and `screenshot` (PNG of the window, and the `--screenshot` mode).
 
 mod actions;
 mod files;
+mod k0_default;
 mod layout;
 mod opened;
 mod results;
@@ -135,6 +136,8 @@ struct Opening {
     /// A validation log asked for at start (`driftlab gui LOG --validation VAL`), read once
     /// the calibration log is.
     validation: Option<(PathBuf, LoadOptions)>,
+    /// Whether K0 is still the window's to choose from a log's plateaus.
+    k0: k0_default::K0Default,
 }
 
 /// Unsaved work written to disk every few seconds, and work left behind offered back.
@@ -467,6 +470,7 @@ impl Workbench {
         }
         let settled = !ctx.input(|i| i.pointer.any_down());
         self.window.pointer_down = !settled;
+        self.k0_watch();
         self.state
             .shown
             .history

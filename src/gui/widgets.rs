@@ -82,9 +82,17 @@ pub fn approx_controls(ui: &mut Ui, id: &str, label: &str, spec: &mut ApproxSpec
                 .speed(0.05),
         )
         .on_hover_text(format!(
-            "Number of knots of {label} (2 to 24), equally spaced. A new count forgets the knots \
-             placed by hand: to keep them, add a knot with Ctrl+click on the plot, or remove one \
-             from its right-click menu"
+            "{} A new count forgets the knots placed by hand: to keep them, add a knot with \
+             Ctrl+click on the plot, or remove one from its right-click menu",
+            if id == "k0" {
+                // The engine places K0's knots (`vakhrameev::knots_at_temperatures`).
+                format!(
+                    "Most knots of {label} (2 to 24): one at each plateau temperature, or as \
+                     many as asked picked evenly among them."
+                )
+            } else {
+                format!("Number of knots of {label} (2 to 24), equally spaced.")
+            }
         ));
         if n != spec.knots {
             *spec = spec.with_knot_count(n);

@@ -32,7 +32,9 @@ pub struct Recipe {
     pub deadband_tddot: Option<f64>,
     /// How the plateaus that define K0(T) are chosen.
     pub plateaus: PlateauChoice,
-    /// Approximation of K0 over T.
+    /// Approximation of K0 over T. A pwl or spline K0's knot count is a maximum: its knots
+    /// not placed by hand go to the plateaus' distinct temperatures
+    /// (`vakhrameev::knots_at_temperatures`).
     pub k0: ApproxSpec,
     /// Approximation of K1+ over Ṫ (thermal acceleration, Ṫ·T̈ > 0).
     pub k1_plus: ApproxSpec,

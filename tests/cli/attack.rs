@@ -662,23 +662,21 @@ fn calibrate_writes_only_what_it_can_read_back() {
 fn a_calibration_worse_than_raw_or_under_determined_is_written_with_a_warning() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
-    // Ten K0 knots through the calibration log's four plateaus, at three temperatures: fitted
-    // with the three knots they determine, and said.
+    // The papers' parabola for K0 through three plateaus at two temperatures: fitted as the
+    // line they determine, and said. (Ten knots of a spline K0 through the calibration log's
+    // three set points are no longer under-determined: a knot curve's count is K0's maximum,
+    // its knots at the set points; tests/engine/k0_knots.rs.)
     let out = driftlab(&[
         "calibrate",
-        &sample("calibration.csv"),
-        "--k0",
-        "spline",
-        "--knots",
-        "10",
+        &sample("yan-steps-low.csv"),
         "--out",
-        &p(d, "spline.json"),
+        &p(d, "parabola.json"),
     ]);
     assert!(out.status.success());
     let err = String::from_utf8_lossy(&out.stderr);
-    let want = "warning: K0: spline with 10 parameters asked for through 4 plateaus at only 3 \
-                temperatures (-50, 20, 60 °C): between them the curve is not known; fitted as \
-                spline with 3 parameters instead";
+    let want = "warning: K0: parabolic with 3 parameters asked for through 3 plateaus at only 2 \
+                temperatures (-45, -25 °C): between them the curve is not known; fitted as \
+                linear with 2 parameters instead";
     assert!(err.contains(want), "{want}\nnot in\n{err}");
     // One plateau and one ramp fitted with IEEE 952's model: 0.90 -> about 200 deg/h. The
     // warning quotes the figures the in-sample evaluation holds, and every one that is worse.

@@ -11,6 +11,7 @@ mod figures;
 mod files;
 mod flight_export;
 mod gaps;
+mod k0_default;
 mod knots;
 mod layout;
 mod models_allan;

@@ -100,8 +100,8 @@ fn with_validation() -> Workbench {
 }
 
 /// A calibration made by `driftlab calibrate` on the sample log with K0 a spline of 3 knots
-/// (one a temperature of its plateaus)
-/// (so that its figures are not the current fit's), in `dir`.
+/// (at the three temperatures of its plateaus), so that its figures are not the current fit's,
+/// in `dir`.
 fn spline_calibration(dir: &Path) -> PathBuf {
     let cal = dir.join("lastweek.json");
     calibrate(

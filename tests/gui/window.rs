@@ -354,23 +354,16 @@ fn the_gui_command_takes_a_window_size_and_a_validation_log() {
     assert!(st.view.show_validation);
 }
 
-/// The workbench's fit warns as `driftlab calibrate` does: ten K0 knots through four plateaus
-/// at three temperatures (more unknowns than set points, fitted with three knots), and every
-/// warning the command line gives is in the workbench's list.
+/// The workbench's fit warns as `driftlab calibrate` does: the papers' parabola for K0 through
+/// three plateaus at two set points (fitted as the line they determine; the workbench opens
+/// such a log on the line itself, so the engineer picks the parabola), and every warning the
+/// command line gives is in the workbench's list.
 #[test]
 fn the_workbench_gives_the_warnings_calibrate_gives() {
-    use driftlab::models::approx::ApproxKind;
-    let log = sample("calibration.csv");
+    let log = sample("yan-steps-low.csv");
     let dir = tempfile::tempdir().unwrap();
     let out = std::process::Command::new(env!("CARGO_BIN_EXE_driftlab"))
-        .args([
-            "calibrate",
-            log.to_str().unwrap(),
-            "--k0",
-            "spline",
-            "--knots",
-            "10",
-        ])
+        .args(["calibrate", log.to_str().unwrap()])
         .arg("--out")
         .arg(dir.path().join("cal.json"))
         .output()
@@ -382,13 +375,11 @@ fn the_workbench_gives_the_warnings_calibrate_gives() {
         .filter_map(|l| l.strip_prefix("warning: "))
         .collect();
     assert!(
-        cli.iter().any(|w| w.contains("at only 3 temperatures")),
+        cli.iter().any(|w| w.contains("at only 2 temperatures")),
         "{err}"
     );
     let mut wb = Workbench::new_for_test(&log);
-    let k0 = &mut wb.state.recipe_mut().k0;
-    k0.kind = ApproxKind::Spline;
-    k0.knots = 10;
+    wb.state.recipe_mut().k0 = driftlab::models::recipe::Recipe::default().k0;
     wb.wait_for_jobs();
     let fit = wb.state.shown.fit.as_ref().expect("calibrated");
     for w in cli {

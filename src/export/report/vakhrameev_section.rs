@@ -140,9 +140,9 @@ fn recipe_rows(cal: &Calibration) -> Markup {
 fn knot_rows(cal: &Calibration) -> Vec<(&'static str, String)> {
     crate::models::vakhrameev::knots::Coefficient::ALL
         .iter()
-        .map(|c| (c.label(), c.spec(&cal.recipe)))
+        .map(|&c| (c, c.spec(&cal.recipe)))
         .filter(|(_, spec)| spec.kind.has_knots())
-        .map(|(name, spec)| (name, spec.knots_text()))
+        .map(|(c, spec)| (c.label(), c.knots_text(spec)))
         .collect()
 }
 

@@ -258,6 +258,7 @@ impl Workbench {
                             None => XCommand::Fit,
                         });
                         self.state.shown.validation = None;
+                        self.k0_from_session();
                         if self.opening.autosaved {
                             // Autosaved work is not saved work: no session file, still dirty.
                             self.opening.autosaved = false;
@@ -295,6 +296,7 @@ impl Workbench {
                         self.state.mark_saved();
                         self.views.time.x_command = Some(XCommand::Fit);
                         self.window.settings.add_recent(&path);
+                        self.k0_on_fresh_log();
                     }
                 }
                 if views.is_empty() {
@@ -464,6 +466,7 @@ impl Workbench {
                         self.state.shown.fit_error = None;
                     }
                     self.state.shown.fit = Some(view);
+                    self.k0_from_first_fit();
                 }
             }
             JobResult::FitFailed(axis, generation, message) if axis != self.state.active_axis() => {

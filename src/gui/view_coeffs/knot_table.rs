@@ -74,7 +74,7 @@ impl CoeffView {
                     ));
                     return;
                 };
-                ui.label(RichText::new(spec.knots_text()).weak());
+                ui.label(RichText::new(c.knots_text(&spec)).weak());
                 let (xs, ys) = a.knots();
                 let span = (xs[xs.len() - 1] - xs[0]).abs();
                 let yspan = ys.iter().fold(0.0f64, |m, y| m.max(y.abs()));

@@ -99,7 +99,7 @@ impl ModelsView {
 }
 
 /// Each coefficient's curve and its knots, placed and set by hand or fitted, as the recipe
-/// says (the engine's words, [`crate::models::approx::ApproxSpec::knots_text`]).
+/// says (the engine's words, [`crate::models::vakhrameev::knots::Coefficient::knots_text`]).
 fn vakhrameev_detail(ui: &mut Ui, cal: &crate::models::vakhrameev::Calibration) {
     use crate::files::session::Coefficient;
     Grid::new("vakhrameev_detail")
@@ -110,7 +110,7 @@ fn vakhrameev_detail(ui: &mut Ui, cal: &crate::models::vakhrameev::Calibration) 
                 let spec = c.spec(&cal.recipe);
                 ui.label(RichText::new(c.label()).strong());
                 ui.label(spec.kind.to_string());
-                let text = spec.knots_text();
+                let text = c.knots_text(spec);
                 if spec.hand_knots() {
                     ui.label(RichText::new(text).strong());
                 } else {

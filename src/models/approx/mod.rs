@@ -122,12 +122,16 @@ impl FromStr for ApproxKind {
 pub struct ApproxSpec {
     /// The curve family.
     pub kind: ApproxKind,
-    /// Number of knots for `pwl` and `spline` (at least 2); ignored otherwise.
+    /// Number of knots for `pwl` and `spline` (at least 2); ignored otherwise. For the
+    /// Vakhrameev model's K0 a maximum: its knots go to the plateaus' distinct temperatures,
+    /// never more than there are (`vakhrameev::knots_at_temperatures`), since K0 is measured
+    /// nowhere else.
     pub knots: usize,
     /// Evaluate the curve beyond the fitted x-range instead of holding the edge value.
     pub extrapolate: bool,
     /// Knot positions placed by hand, in the unit of the coefficient's argument, strictly
-    /// increasing, one per knot (`None`: equally spaced over the points' x-range). The fit
+    /// increasing, one per knot (`None`: equally spaced over the points' x-range; for K0, at
+    /// the plateaus' temperatures). The fit
     /// places its knots there (the Vakhrameev model refits K1 and K2 at them after their set's
     /// passes); positions beyond the points are allowed (the curve is defined over the knots'
     /// span and holds its end values beyond them).

@@ -104,6 +104,26 @@ impl Coefficient {
         }
     }
 
+    /// How a face describes the knots of `spec`, this coefficient's, in one line
+    /// ([`ApproxSpec::knots_text`]): K0's knots not placed by hand are not equally spaced but
+    /// at the plateaus' temperatures, their count a maximum
+    /// ([`super::knots_at_temperatures`]): `at most 5 knots, at the plateaus' temperatures`.
+    pub fn knots_text(self, spec: &ApproxSpec) -> String {
+        let text = spec.knots_text();
+        if self != Coefficient::K0 || !spec.kind.has_knots() || spec.at.is_some() {
+            return text;
+        }
+        let even = format!("{} knots, equally spaced", spec.knots);
+        text.replacen(
+            &even,
+            &format!(
+                "at most {} knots, at the plateaus' temperatures",
+                spec.knots
+            ),
+            1,
+        )
+    }
+
     /// The fitted approximation of this coefficient in a calibration.
     pub fn approx(self, cal: &Calibration) -> &Approx {
         match self {

@@ -14,12 +14,14 @@
 //! approximation refits only that approximation (and K2 after K1).
 //!
 //! This file holds the calibration and the signals it is fitted from; `stages` the stages
-//! between the plateaus and the sets (K0, dead-bands); `sets` the + and − sets, their pointwise
-//! coefficients and the fits over them; `fit` the pipeline that runs them, for one axis or for
+//! between the plateaus and the sets (K0, dead-bands); `k0_plateaus` what the plateaus'
+//! temperatures determine of K0 (where its knots go, which kind they support); `sets` the +
+//! and − sets, their pointwise coefficients and the fits over them; `fit` the pipeline that runs them, for one axis or for
 //! every axis of a unit with one temperature processing ([`Pipeline`]).
 
 pub mod correct;
 mod fit;
+mod k0_plateaus;
 pub mod knots;
 mod sets;
 mod source;
@@ -28,6 +30,9 @@ mod stages;
 
 pub use fit::{Calibrated, Fit, Pipeline, fit, fit_lean};
 pub(crate) use fit::{SetsOfSamples, check_sample_count, sets_of_samples};
+pub use k0_plateaus::{
+    DISTINCT_PLATEAU_C, K0Support, k0_supported, knots_at_temperatures, plateau_temperatures,
+};
 pub use source::SourceInfo;
 pub use staged::{StageInputs, StageMemory, Staged, k0_of};
 pub use stages::{deadbands, fit_k0, fit_or_fallback, fit_or_fallback_weighted};

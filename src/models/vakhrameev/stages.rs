@@ -3,6 +3,7 @@
 //! goes through when its points cannot carry the curve asked for.
 
 use super::Prepared;
+use super::k0_plateaus::{distinct_temperatures, knots_at_temperatures, simpler_for};
 use crate::error::Result;
 use crate::models::FitError;
 use crate::models::approx::{self, Approx, ApproxKind, ApproxSpec};
@@ -10,6 +11,13 @@ use crate::models::recipe::Recipe;
 use crate::signal::plateau::PlateauStats;
 
 /// K0(T) through the plateau points, lowering the order when there are too few plateaus.
+///
+/// A pwl or spline K0 whose knots were not placed by hand has them at the plateaus'
+/// distinct temperatures ([`knots_at_temperatures`]: the recipe's knot count is a maximum),
+/// so the curve passes through what was measured instead of bending where no plateau was.
+/// No K0 is warned of for passing through every plateau point: each point is already the
+/// mean of a plateau's samples, and a curve through the set points' means is what K0 is (the
+/// papers' parabola through three plateaus; the knots at the plateaus' temperatures).
 pub fn fit_k0(
     plateaus: &[PlateauStats],
     spec: &ApproxSpec,
@@ -21,7 +29,8 @@ pub fn fit_k0(
     let t: Vec<f64> = plateaus.iter().map(|p| p.temp_c).collect();
     let w: Vec<f64> = plateaus.iter().map(|p| p.omega_dph).collect();
     let temps = distinct_temperatures(&t);
-    if temps.len() < spec.params() && temps.len() < plateaus.len() {
+    let placed = knots_at_temperatures(spec, &temps);
+    if temps.len() < placed.params() && temps.len() < plateaus.len() {
         // Two plateaus at one set point are one temperature twice: a parabola through them
         // and a third takes its curvature from their hundredths of a degree, and bulges where
         // no plateau was (7.5 °/h between plateaus of 0.03 and 0.15).
@@ -47,54 +56,19 @@ pub fn fit_k0(
             params
         ));
         return Ok(match simpler {
-            Some(simpler) => fit_or_fallback("K0", &simpler, &t, &w, warnings),
+            Some(simpler) => {
+                fit_k0_points(&knots_at_temperatures(&simpler, &temps), &t, &w, warnings)
+            }
             None => constant(spec, &t, &w),
         });
     }
-    Ok(fit_or_fallback("K0", spec, &t, &w, warnings))
+    Ok(fit_k0_points(&placed, &t, &w, warnings))
 }
 
-/// How far apart two plateaus' temperatures must be to be two temperatures of K0(T), °C:
-/// plateaus held at one set point differ by hundredths of a degree (the chamber's control),
-/// set points by degrees.
-pub const DISTINCT_PLATEAU_C: f64 = 1.0;
-
-/// The plateaus' temperatures, ascending, those within [`DISTINCT_PLATEAU_C`] of the one
-/// before taken as one (their first).
-fn distinct_temperatures(t: &[f64]) -> Vec<f64> {
-    let mut sorted: Vec<f64> = t.iter().copied().filter(|t| t.is_finite()).collect();
-    sorted.sort_by(f64::total_cmp);
-    let mut out: Vec<f64> = Vec::new();
-    for t in sorted {
-        if out.last().is_none_or(|&last| t - last > DISTINCT_PLATEAU_C) {
-            out.push(t);
-        }
-    }
-    out
-}
-
-/// The richest curve of `spec`'s family that `temps` distinct temperatures determine: as many
-/// knots, else a line through two; `None` for one, which determines a constant.
-fn simpler_for(spec: &ApproxSpec, temps: usize) -> Option<ApproxSpec> {
-    if temps < 2 {
-        return None;
-    }
-    Some(if spec.kind.has_knots() {
-        // Evenly spread again: knots placed by hand were placed for another count.
-        ApproxSpec {
-            knots: temps,
-            at: None,
-            values: None,
-            ..spec.clone()
-        }
-    } else {
-        ApproxSpec {
-            kind: ApproxKind::Linear,
-            at: None,
-            values: None,
-            ..spec.clone()
-        }
-    })
+/// [`fit_or_fallback`] of K0 through its plateau points, without the warning of a curve
+/// through every point (see [`fit_k0`]).
+fn fit_k0_points(spec: &ApproxSpec, t: &[f64], w: &[f64], warnings: &mut Vec<String>) -> Approx {
+    fit_or_fallback_as("K0", spec, t, w, None, false, warnings)
 }
 
 /// Fits `spec`, and when the points cannot support it, the richest simpler curve they can:
@@ -118,9 +92,23 @@ pub fn fit_or_fallback_weighted(
     weights: Option<&[f64]>,
     warnings: &mut Vec<String>,
 ) -> Approx {
+    fit_or_fallback_as(name, spec, x, y, weights, true, warnings)
+}
+
+/// [`fit_or_fallback_weighted`], warning of a curve through every point (as many parameters
+/// as points) when `through_every_point` says to.
+fn fit_or_fallback_as(
+    name: &str,
+    spec: &ApproxSpec,
+    x: &[f64],
+    y: &[f64],
+    weights: Option<&[f64]>,
+    through_every_point: bool,
+    warnings: &mut Vec<String>,
+) -> Approx {
     if let Ok(a) = approx::fit_weighted(spec, x, y, weights) {
         let n = a.stats().n;
-        if n == spec.params() && n > 1 {
+        if through_every_point && n == spec.params() && n > 1 {
             warnings.push(format!(
                 "{name}: {} with {n} parameters through {n} points: the curve passes through \
                  every point and averages none of their noise",
@@ -187,7 +175,7 @@ pub fn fit_or_fallback_weighted(
                     fallback.params()
                 )
             });
-            if fallback.params() == got && got > 1 {
+            if through_every_point && fallback.params() == got && got > 1 {
                 warnings.push(format!(
                     "{name}: {} with {got} parameters through {got} points: the curve passes \
                      through every point and averages none of their noise",
