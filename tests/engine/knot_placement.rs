@@ -430,13 +430,26 @@ fn typed_positions_values_insertions_and_removals_keep_to_their_rules() {
         ApproxSpec::of(ApproxKind::Linear).edit_knot(&a, KnotEdit::Insert { x: 1.0 }),
         Err(KnotEditError::NoKnots { .. })
     ));
+    // Fitted with fewer knots than asked (the count is a maximum): the five shown are edited,
+    // and the count becomes theirs.
+    let adopted = ApproxSpec {
+        knots: 7,
+        ..spec.clone()
+    }
+    .edit_knot(&a, KnotEdit::Insert { x: 1.5 })
+    .unwrap();
+    assert_eq!(adopted.knots, 6);
+    assert_eq!(adopted.at.as_ref().map(Vec::len), Some(6));
+    // A curve of another kind (a fallback line) has no knots to edit.
+    let line = approx::fit(
+        &ApproxSpec::of(ApproxKind::Linear),
+        &[0.0, 1.0, 2.0],
+        &[0.0, 1.0, 2.0],
+    )
+    .unwrap();
     assert!(matches!(
-        ApproxSpec {
-            knots: 7,
-            ..spec.clone()
-        }
-        .edit_knot(&a, KnotEdit::Insert { x: 1.5 }),
-        Err(KnotEditError::NotAsFitted { shown: 5, knots: 7 })
+        spec.edit_knot(&line, KnotEdit::Insert { x: 1.5 }),
+        Err(KnotEditError::NotAsFitted { knots: 5, .. })
     ));
     assert!(matches!(
         spec.edit_knot(

@@ -62,8 +62,8 @@ pub enum KnotEditError {
         /// Its kind.
         kind: ApproxKind,
     },
-    /// The curve shown was not fitted with the spec's knots (too few points for them, so the
-    /// fit fell back to a simpler curve).
+    /// The curve shown is of another kind than the spec's (too few points for it, so the fit
+    /// fell back to a simpler curve).
     #[error(
         "the curve was fitted with {shown} knots where {knots} were asked (too few points for \
          them): lower the knot count before placing knots"
@@ -134,12 +134,25 @@ impl ApproxSpec {
             return Err(KnotEditError::NoKnots { kind: self.kind });
         }
         let (xs, ys) = shown.knots();
-        if xs.len() != self.knots || !shown.kind().has_knots() {
+        if shown.kind() != self.kind {
             return Err(KnotEditError::NotAsFitted {
                 shown: xs.len(),
                 knots: self.knots,
             });
         }
+        // Fitted with fewer knots than asked (a K0 has one per plateau temperature at most;
+        // the count is a maximum): the knots edited are those shown, and the count becomes
+        // theirs, so that what is dragged is what the engineer sees.
+        let base = if xs.len() == self.knots {
+            self.clone()
+        } else {
+            ApproxSpec {
+                knots: xs.len(),
+                at: None,
+                values: None,
+                ..self.clone()
+            }
+        };
         let n = xs.len();
         let knot = |index: usize| {
             if index < n {
@@ -155,7 +168,7 @@ impl ApproxSpec {
                 Err(KnotEditError::NotFinite(v))
             }
         };
-        let mut out = self.clone();
+        let mut out = base;
         match edit {
             KnotEdit::Drag { index, x } => {
                 let j = knot(index)?;
