@@ -31,7 +31,7 @@ fn part(log: &Log, range: std::ops::Range<usize>) -> Log {
 fn a_part_of_the_run_is_found_in_proportion_and_another_run_is_not() {
     let cal = run(40_000, 1);
     let sketch = RunSketch::of(&cal);
-    assert_eq!(sketch.runs.len(), SKETCH_LEN);
+    assert_eq!(sketch.runs.as_ref().map(|p| p.hashes.len()), Some(SKETCH_LEN));
     let whole = sketch.shared_with(&cal, 40_000);
     assert_eq!((whole.found, whole.share_of_log), (SKETCH_LEN, 1.0));
     // Less its first sample: still all of it, in-sample.
@@ -108,26 +108,87 @@ fn the_same_samples_through_another_unit_are_the_same_run() {
 fn the_file_text_reads_back_and_nothing_else_does() {
     let sketch = RunSketch::of(&run(1_000, 4));
     let text = sketch.to_text();
-    // The runs', then the chance by temperature and the single samples'.
-    let parts: Vec<&str> = text.split('+').collect();
-    assert_eq!(parts.len(), 3, "{text}");
-    assert_eq!(
-        (parts[0].len(), parts[2].len()),
-        (16 * SKETCH_LEN, 16 * SKETCH_LEN)
-    );
-    // 1 000 samples between 20 and 21 °C: two bins of a degree, from 20 °C.
-    assert!(
-        parts[1].starts_with("20:1:") && parts[1].len() == 5 + 4,
-        "{}",
-        parts[1]
-    );
+    // Version 2: the steps (the temperature's whole degrees; the rate's none, its noise of
+    // full precision), then the runs' part and the single samples'.
+    let fields: Vec<&str> = text.split(';').collect();
+    assert_eq!(fields.len(), 5, "{text}");
+    assert_eq!(fields[..3], ["2", "1", "-"], "{text}");
+    for part in &fields[3..] {
+        let f: Vec<&str> = part.split(':').collect();
+        // 1 000 samples between 20 and 21 °C: two bins of a degree, from 20 °C.
+        assert_eq!((f[0], f[1], f[2].len()), ("20", "1", 4), "{part}");
+        assert_eq!(f[3], "1.0000", "{part}");
+        assert_eq!(f[4].len(), 16 * SKETCH_LEN, "{part}");
+    }
     assert_eq!(RunSketch::from_text(&text), Some(sketch));
+    let runs = fields[3];
     for bad in [
-        "abc",
-        "zzzzzzzzzzzzzzzz",
-        "00000000000000020000000000000001",
+        "abc".to_string(),
+        "zzzzzzzzzzzzzzzz".to_string(),
+        "00000000000000020000000000000001".to_string(),
+        format!("3;1;-;{runs};"),
+        format!("2;0;-;{runs};"),
+        format!("2;x;-;{runs};"),
+        format!("2;1;-;{runs}"),
+        format!("2;1;-;{runs};;"),
+        format!("2;1;-;20:1:00:0.5:{};", &runs[runs.len() - 32..]),
+        format!("2;1;-;20:1:00:1:;"),
+        format!("2;1;-;20:1:00:{};", &runs[runs.len() - 32..]),
     ] {
-        assert_eq!(RunSketch::from_text(bad), None, "{bad}");
+        assert_eq!(RunSketch::from_text(&bad), None, "{bad}");
+    }
+    // Nothing tells anywhere: an empty sketch, read back as such.
+    let empty = RunSketch::from_text("2;0.1;2;;").expect("a sketch");
+    assert!(empty.is_empty());
+}
+
+/// A version-1 text (exact values, runs not corrected for chance) is read and written as it
+/// was, and judges by its own hashing.
+#[test]
+fn a_version_1_text_reads_back_and_judges_as_it_did() {
+    let cal = run(2_000, 15);
+    // Version 1's text of this run: the runs' hashes, `+`, the chance, `+`, the singles'.
+    let exact = Quanta::default();
+    let singles = single_hashes(&cal, exact);
+    let runs = smallest(run_hashes(&singles).into_iter().flatten());
+    let all: Vec<Option<u64>> = singles.iter().copied().map(Some).collect();
+    let part = part_of(&cal, &all, &like_a_twin(&cal, exact)).expect("singles tell");
+    let text = format!(
+        "{}+{}+{}",
+        hex(&runs),
+        part.chance.as_ref().expect("a chance").to_text(),
+        hex(&part.hashes)
+    );
+    let sketch = RunSketch::from_text(&text).expect("version 1 reads");
+    assert!(sketch.version1 && !sketch.is_empty());
+    assert_eq!(sketch.to_text(), text);
+    assert!(RunSketch::from_text(&hex(&runs)).is_some_and(|s| s.singles.is_none()));
+    let whole = sketch.shared_with(&cal, 2_000);
+    assert!(whole.in_sample() && whole.share_of_log == 1.0, "{whole:?}");
+    let other = sketch.shared_with(&run(2_000, 16), 2_000);
+    assert!(!other.in_sample() && other.partly().is_none(), "{other:?}");
+    let thinned = sketch.shared_with(&kept(&cal, |i| i % 2 == 0), 2_000);
+    assert!(thinned.in_sample(), "{thinned:?}");
+    let singles = &text[text.rfind('+').unwrap_or(0) + 1..];
+    let runs = hex(&runs);
+    for bad in [
+        format!("{runs}+0.7+{singles}"),
+        format!("{runs}+x+{singles}"),
+        format!("{runs}+0.1+"),
+        format!("{runs}+0.1+{singles}+0.1"),
+        format!("{runs}+0.1"),
+        format!("{runs}+20:0:00+{singles}"),
+        format!("{runs}+20.5:1:00+{singles}"),
+        format!("{runs}+20:1:0+{singles}"),
+        format!("{runs}+20:1:+{singles}"),
+        format!("{runs}+20:1:00:00+{singles}"),
+    ] {
+        assert_eq!(
+            RunSketch::from_text(&bad),
+            None,
+            "{}",
+            &bad[bad.len() - 40..]
+        );
     }
 }
 
@@ -196,7 +257,7 @@ fn values_that_recur_count_only_beyond_their_chance() {
     // measures how many.
     let (a, b) = (written(run(40_000, 10), 4), written(run(40_000, 11), 4));
     let sketch = RunSketch::of(&a);
-    let chance = sketch.singles.as_ref().map(|s| s.chance.chance.clone());
+    let chance = sketch.singles.as_ref().and_then(|s| s.chance.as_ref()).map(|c| c.chance.clone());
     assert!(
         chance
             .as_ref()
@@ -224,37 +285,8 @@ fn a_stuck_stretch_is_one_value_of_the_sketch() {
         cal.temp_c[i] = 22.0;
     }
     let sketch = RunSketch::of(&cal);
-    assert_eq!(sketch.runs.len(), SKETCH_LEN);
-    assert!(sketch.runs.windows(2).all(|w| w[0] < w[1]));
-}
-
-#[test]
-fn the_text_with_single_samples_reads_back_and_nothing_else_does() {
-    let sketch = RunSketch::of(&run(2_000, 15));
-    assert!(sketch.singles.is_some());
-    let text = sketch.to_text();
-    assert_eq!(RunSketch::from_text(&text), Some(sketch));
-    let runs = &text[..16 * SKETCH_LEN];
-    let singles = &text[text.rfind('+').unwrap_or(0) + 1..];
-    for bad in [
-        format!("{runs}+0.7+{singles}"),
-        format!("{runs}+x+{singles}"),
-        format!("{runs}+0.1+"),
-        format!("{runs}+0.1+{singles}+0.1"),
-        format!("{runs}+0.1"),
-        format!("{runs}+20:0:00+{singles}"),
-        format!("{runs}+20.5:1:00+{singles}"),
-        format!("{runs}+20:1:0+{singles}"),
-        format!("{runs}+20:1:+{singles}"),
-        format!("{runs}+20:1:00:00+{singles}"),
-    ] {
-        assert_eq!(
-            RunSketch::from_text(&bad),
-            None,
-            "{}",
-            &bad[bad.len() - 40..]
-        );
-    }
+    assert_eq!(sketch.runs.as_ref().map(|p| p.hashes.len()), Some(SKETCH_LEN));
+    assert!(sketch.runs.as_ref().is_some_and(|p| p.hashes.windows(2).all(|w| w[0] < w[1])));
 }
 
 #[test]
