@@ -88,6 +88,10 @@ const CHANCE_VALUES: usize = 1 << 16;
 /// whole range (−60 … +150 °C), wider beyond it.
 const MAX_BINS: usize = 256;
 
+/// Samples a bin of temperature must hold for its chance to be measured: fewer (the edge of
+/// a ramp) tell too little of how often values recur there, and are not looked at.
+const MIN_BIN_SAMPLES: usize = 64;
+
 /// A log's values below the sketch's largest hash that single samples must see before they
 /// judge it: fewer (a short log, or one held where values recur) leave it to the runs.
 const MIN_SEEN: usize = 8;
@@ -268,9 +272,7 @@ impl Shared {
         if (counted - sketched).abs() <= 3.0 * error + 1.0 / self.of as f64 {
             counted
         } else {
-            (self.share_of_log * self.log_samples as f64
-                / self.repeats
-                / self.run_samples as f64)
+            (self.share_of_log * self.log_samples as f64 / self.repeats / self.run_samples as f64)
                 .min(1.0)
         }
     }
@@ -495,8 +497,7 @@ fn hashes_from_hex(text: &str) -> Option<Vec<u64>> {
 /// [`SKETCH_LEN`] smallest at the temperatures where they rarely recur, with the chance per
 /// temperature and the samples per hash; `None` when no temperature tells.
 fn part_of(log: &Log, hashes: &[Option<u64>], twin: &[bool]) -> Option<Part> {
-    let chance =
-        chance_by_temperature(log, hashes, twin).filter(ChanceByTemperature::tells_any)?;
+    let chance = chance_by_temperature(log, hashes, twin).filter(ChanceByTemperature::tells_any)?;
     let telling = |i: usize| chance.at(log.temp_c[i]).is_some_and(|c| c <= MAX_CHANCE);
     let told = || {
         hashes
@@ -587,7 +588,7 @@ fn measure(
     // be beyond that count by [`SIGNIFICANT`] standard errors.
     let seen = low.len() as f64;
     let p0 = chance_distinct / seen;
-    let beyond_chance = found >= MIN_FOUND.min(part.hashes.len())
+    let beyond_chance = found >= MIN_FOUND
         && found as f64 - seen * p0 > SIGNIFICANT * (seen * p0 * (1.0 - p0)).sqrt()
         && beyond > 0.0;
     let repeats = if found == 0 {
@@ -778,7 +779,7 @@ fn chance_by_temperature(
     }
     let chance = (0..bins)
         .map(|b| {
-            if odd[b] == 0 || all[b] == 0 {
+            if odd[b] == 0 || all[b] < MIN_BIN_SAMPLES {
                 return u8::MAX;
             }
             let half = met[b] as f64 / odd[b] as f64;
