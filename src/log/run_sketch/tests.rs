@@ -135,7 +135,7 @@ fn the_file_text_reads_back_and_nothing_else_does() {
         format!("2;1;-;{runs}"),
         format!("2;1;-;{runs};;"),
         format!("2;1;-;20:1:00:0.5:{};", &runs[runs.len() - 32..]),
-        format!("2;1;-;20:1:00:1:;"),
+        "2;1;-;20:1:00:1:;".to_string(),
         format!("2;1;-;20:1:00:{};", &runs[runs.len() - 32..]),
     ] {
         assert_eq!(RunSketch::from_text(&bad), None, "{bad}");
