@@ -8,28 +8,51 @@
 //! sketch is a bottom-k sample of the run (Broder, "On the resemblance and containment of
 //! documents", 1997): values of the run are hashed, and the [`SKETCH_LEN`] smallest distinct
 //! hashes kept. Every value of the run whose hash is at most the sketch's largest is in the
-//! sketch, so among a log's values hashed that low, the share found in the sketch is the
-//! share of the log's values that are the run's: all of them for any part of the run, in
-//! any file; none for another run, since its noise differs at every sample.
+//! sketch, so among a log's samples hashed that low, the share found in the sketch is the
+//! share of the log's samples that are the run's: all of them for any part of the run, in
+//! any file; none for another run, since its noise differs at every sample. The share is of
+//! samples, not of distinct values: a log that repeats another run twice after the
+//! calibration run is a third the run's.
+//!
+//! **Values are hashed at the run's own resolution.** The sketch records the step the run's
+//! temperatures and rates are written with (the smallest step between its distinct values,
+//! when every value is a multiple of it: 0.001 °C and 0.0001 °/h for a log written with
+//! three and four decimals), and every log's values are rounded to the nearest multiple of
+//! those steps before they are hashed. A copy converted to another unit and back, or stored
+//! as float32 rad/s as PX4, ArduPilot and ROS store a rate, or written with 9 significant
+//! digits, is the same numbers at that resolution, and is found whole. A copy whose every
+//! value is moved by a step or more (an offset of one LSB, 0.001 °C added) holds other numbers
+//! at that resolution and is not found: the sketch cannot tell such an edit from another
+//! run, whose values differ by a step or more too. A run whose values are multiples of no
+//! step (float32 samples of a drone log) is hashed as before: each value rounded to 32 bits
+//! of mantissa.
 //!
 //! Two sketches, for two ways a copy of a run differs from it:
 //! - **Runs of eight** consecutive samples: a log written with few digits (a rate in
 //!   0.1 °/h, a temperature in 0.1 °C) repeats each sample's pair of values many times, and
 //!   another run of the same gyro holds the same pairs (two thirds of one were found in
-//!   another); eight in a row agreeing by chance is as unlikely as the noise of two runs
-//!   agreeing for eight samples. But a copy that dropped rows (thinned to every other row,
-//!   rows without a temperature left out) keeps none of the runs.
-//! - **Single samples**, kept beside the runs: a thinned copy keeps its samples. How often a
-//!   value recurs by chance depends on where the run is: on a ramp no temperature repeats,
-//!   on a plateau held at 20.000 °C a rate written with four decimals meets its like in
-//!   half the samples. So the chance is measured on the run itself, per degree of
-//!   temperature (its odd samples' values among its even samples', as a second run of the
-//!   same program would meet them), and only what a log shares beyond the chance of the
-//!   temperatures it holds counts; temperatures where values recur too often tell nothing
-//!   and are not looked at.
+//!   another); eight in a row rarely agree by chance. But a copy that dropped rows (thinned to
+//!   every other row, rows without a temperature left out) keeps none of the runs.
+//! - **Single samples**, kept beside the runs: a thinned copy keeps its samples.
+//!
+//! **Each is corrected for chance.** How often a value (or a run of eight) recurs by chance
+//! depends on where the run is: on a ramp no temperature repeats, on a plateau held at
+//! 20.000 °C a rate written with four decimals meets its like in half the samples, and a
+//! rate written in 2 °/h on a 0.1 °C temperature holds the same eight values for minutes. So
+//! the chance is measured on the run itself, per degree of temperature (its odd samples'
+//! values among its even samples', as a second run of the same program would meet them),
+//! and only what a log shares beyond the chance of the temperatures it holds counts;
+//! temperatures where values recur too often tell nothing and are not looked at, and a run
+//! where they do everywhere keeps no sketch (its copies are known by their bytes alone).
+//!
+//! **A limit.** The hash is public: one who crafts a copy from it can leave out the few rows
+//! whose hashes would be found and pass a copy of the run as held out. The sketch guards
+//! against accidents (another file, another unit, a part of the run), not against that.
+//! What it says stays consistent: the share of the run a log is said to hold never
+//! contradicts the share of its samples it is said to be the run's and its length.
 
 use super::Log;
-use std::collections::HashSet;
+use std::collections::HashMap;
 
 /// Hashes a sketch keeps: a log holding 3 % of a run's samples is found in it (about four
 /// of them), and the sketch is 2 KiB of hexadecimal in a calibration file.
@@ -45,12 +68,16 @@ const MIN_FOUND: usize = 2;
 /// out, and the faces say how much it shares ([`Shared::partly`]).
 const IN_SAMPLE_SHARE: f64 = 0.5;
 
-/// The chance that a value recurs, past which single samples at that temperature tell
-/// nothing of a log: a log written with so few digits, or held so long at one temperature,
-/// that another run of the program meets half of its values there. Below it, a log sharing
-/// the run's values in excess of chance by [`IN_SAMPLE_SHARE`] is at least a quarter of the
-/// way from chance to all, many standard errors of a 128-value sketch away from another run.
+/// The chance that a value recurs, past which samples at that temperature tell nothing of a
+/// log: a log written with so few digits, or held so long at one temperature, that another
+/// run of the program meets half of its values there. Below it, a log sharing the run's
+/// values in excess of chance by [`IN_SAMPLE_SHARE`] is at least a quarter of the way from
+/// chance to all, many standard errors of a 128-value sketch away from another run.
 const MAX_CHANCE: f64 = 0.5;
+
+/// Standard errors beyond chance the sketch's hashes found must be for a log to share any
+/// samples with the run.
+const SIGNIFICANT: f64 = 3.0;
 
 /// Values looked at to measure the chance of a recurring value: enough for a share known to
 /// a few tenths of a percent, few enough that a million-sample log is sketched in
@@ -61,6 +88,10 @@ const CHANCE_VALUES: usize = 1 << 16;
 /// whole range (−60 … +150 °C), wider beyond it.
 const MAX_BINS: usize = 256;
 
+/// Samples a bin of temperature must hold for its chance to be measured: fewer (the edge of
+/// a ramp) tell too little of how often values recur there, and are not looked at.
+const MIN_BIN_SAMPLES: usize = 64;
+
 /// A log's values below the sketch's largest hash that single samples must see before they
 /// judge it: fewer (a short log, or one held where values recur) leave it to the runs.
 const MIN_SEEN: usize = 8;
@@ -68,19 +99,39 @@ const MIN_SEEN: usize = 8;
 /// Samples whose values one hash of the runs sketch covers (see the module's doc).
 const RUN_OF: usize = 8;
 
-/// The smallest hashes of a run's runs of samples, and of its single samples when they
-/// tell runs apart; each ascending.
-#[derive(Debug, Clone, Default, PartialEq)]
-pub struct RunSketch {
-    runs: Vec<u64>,
-    singles: Option<Singles>,
+/// The version tag of the sketch's text since values are hashed at the run's resolution
+/// (texts without it are version 1: exact values, runs not corrected for chance).
+const VERSION_2: &str = "2";
+
+/// The steps the run's temperatures and rates are written with; `None` for a column whose
+/// values are multiples of no step (hashed by their bits, 32 of mantissa).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+struct Quanta {
+    temp: Option<f64>,
+    rate: Option<f64>,
 }
 
-/// The single samples' sketch and how often the run's values recur by chance.
+/// The smallest hashes of a run's runs of samples and of its single samples, each where it
+/// tells the run from another; the steps its values were hashed at.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct RunSketch {
+    /// Read from a version-1 text: values hashed exactly, runs not corrected for chance.
+    version1: bool,
+    quanta: Quanta,
+    runs: Option<Part>,
+    singles: Option<Part>,
+}
+
+/// One sketch (of runs of eight, or of single samples): its hashes, ascending, and how often
+/// the run's values recur by chance.
 #[derive(Debug, Clone, PartialEq)]
-struct Singles {
+struct Part {
     hashes: Vec<u64>,
-    chance: ChanceByTemperature,
+    /// The chance per temperature; `None` in a version-1 runs sketch (taken as none).
+    chance: Option<ChanceByTemperature>,
+    /// The run's samples per sketched hash (a value held by several samples counts each);
+    /// `None` in version-1 texts (taken as 1).
+    per_hash: Option<f64>,
 }
 
 /// The share of the run's odd samples whose values its even samples hold, per bin of
@@ -121,12 +172,7 @@ impl ChanceByTemperature {
         format!("{}:{}:{bytes}", self.t0, self.width)
     }
 
-    fn from_text(text: &str) -> Option<ChanceByTemperature> {
-        let mut parts = text.split(':');
-        let (t0, width, bytes) = (parts.next()?, parts.next()?, parts.next()?);
-        if parts.next().is_some() {
-            return None;
-        }
+    fn from_parts(t0: &str, width: &str, bytes: &str) -> Option<ChanceByTemperature> {
         let (t0, width): (f64, f64) = (t0.parse().ok()?, width.parse().ok()?);
         let whole = |v: f64| v.is_finite() && v.fract() == 0.0 && v.abs() < 1e6;
         if !whole(t0) || !whole(width) || width < 1.0 {
@@ -144,6 +190,15 @@ impl ChanceByTemperature {
             chance: chance?,
         })
     }
+
+    fn from_text(text: &str) -> Option<ChanceByTemperature> {
+        let mut parts = text.split(':');
+        let (t0, width, bytes) = (parts.next()?, parts.next()?, parts.next()?);
+        if parts.next().is_some() {
+            return None;
+        }
+        Self::from_parts(t0, width, bytes)
+    }
 }
 
 /// How much of a log is a run's samples.
@@ -153,19 +208,37 @@ pub struct Shared {
     pub found: usize,
     /// The hashes in the sketch.
     pub of: usize,
-    /// The share of the log's samples that are the run's, estimated (0 to 1).
+    /// The share of the log's samples that are the run's beyond chance, estimated (0 to 1).
     pub share_of_log: f64,
     /// The log's samples.
     pub log_samples: usize,
     /// The run's samples.
     pub run_samples: usize,
+    /// Whether the hashes found are beyond what chance finds in another run.
+    beyond_chance: bool,
+    /// How many times the log repeats each of the run's samples it holds, against the run
+    /// itself (at least 1).
+    repeats: f64,
 }
 
 impl Shared {
+    /// Nothing shared (nothing looked at, or nothing tells).
+    fn none(of: usize, log_samples: usize, run_samples: usize) -> Shared {
+        Shared {
+            found: 0,
+            of,
+            share_of_log: 0.0,
+            log_samples,
+            run_samples,
+            beyond_chance: false,
+            repeats: 1.0,
+        }
+    }
+
     /// Whether the log holds the run's samples at all (beyond two other runs' chance
     /// agreement).
     fn found_any(&self) -> bool {
-        self.found >= MIN_FOUND.min(self.of)
+        self.beyond_chance
     }
 
     /// Whether most of the log's samples are the run's: its figures are in-sample.
@@ -180,9 +253,12 @@ impl Shared {
     }
 
     /// The share of the run's samples the log holds, estimated (0 to 1): its samples that are
-    /// the run's, counted (exact when no sample of the log repeats another), unless that count
-    /// is beyond what the sketch found by more than its error (a log repeating a part of the
-    /// run many times), when the sketch's own estimate is taken.
+    /// the run's, counted (exact when no sample of the log repeats another). When that count
+    /// is beyond what the sketch found by more than its error, the log either repeats the
+    /// run's samples (a part of the run written many times: the count is divided by how many
+    /// times the log repeats each), or lacks just the rows the sketch holds (a copy crafted
+    /// from the public hash: the count stands, so that the two shares never contradict each
+    /// other and the log's length).
     pub fn share_of_run(&self) -> f64 {
         if self.of == 0 || self.run_samples == 0 {
             return 0.0;
@@ -196,7 +272,8 @@ impl Shared {
         if (counted - sketched).abs() <= 3.0 * error + 1.0 / self.of as f64 {
             counted
         } else {
-            sketched
+            (self.share_of_log * self.log_samples as f64 / self.repeats / self.run_samples as f64)
+                .min(1.0)
         }
     }
 }
@@ -204,75 +281,170 @@ impl Shared {
 impl RunSketch {
     /// The sketch of `log`'s samples as they are (its selected axis's rate).
     pub fn of(log: &Log) -> RunSketch {
-        let runs = smallest(run_hashes(log));
-        let chance = chance_by_temperature(log);
-        // Only the values at temperatures that tell: those a log is judged by.
-        let singles = chance
-            .filter(ChanceByTemperature::tells_any)
-            .map(|chance| Singles {
-                hashes: smallest(single_hashes(log).enumerate().filter_map(|(i, h)| {
-                    chance
-                        .at(log.temp_c[i])
-                        .is_some_and(|c| c <= MAX_CHANCE)
-                        .then_some(h)
-                })),
-                chance,
-            });
-        RunSketch { runs, singles }
+        let quanta = Quanta {
+            temp: quantum(&log.temp_c),
+            rate: quantum(&log.omega_dph),
+        };
+        let singles = single_hashes(log, quanta);
+        let runs = run_hashes(&singles);
+        let singles: Vec<Option<u64>> = singles.into_iter().map(Some).collect();
+        let twin = like_a_twin(log, quanta);
+        // A run of eight meets its twin when each of its samples does.
+        let mut alike = 0;
+        let runs_twin: Vec<bool> = twin
+            .iter()
+            .enumerate()
+            .map(|(i, &t)| {
+                alike = if t { alike + 1 } else { 0 };
+                i + 1 >= RUN_OF && alike >= RUN_OF
+            })
+            .collect();
+        RunSketch {
+            version1: false,
+            quanta,
+            runs: part_of(log, &runs, &runs_twin),
+            singles: part_of(log, &singles, &twin),
+        }
     }
 
-    /// Whether the sketch holds nothing (a file written before sketches were kept).
+    /// Whether the sketch holds nothing (a file written before sketches were kept, or a run
+    /// whose values recur everywhere).
     pub fn is_empty(&self) -> bool {
-        self.runs.is_empty()
+        self.runs.is_none() && self.singles.is_none()
     }
 
-    /// How much of `log` is the run's samples (`run_samples` of them): by its runs of samples,
-    /// or by its single samples when they say most of it is the run's (a thinned copy, a copy
-    /// less the rows its reader left out).
+    /// How much of `log` is the run's samples (`run_samples` of them): by its runs of samples
+    /// or by its single samples, whichever finds more beyond chance (single samples find a
+    /// thinned copy, a copy less the rows its reader left out).
     pub fn shared_with(&self, log: &Log, run_samples: usize) -> Shared {
-        let counts = |found, of, share_of_log| Shared {
-            found,
-            of,
-            share_of_log,
-            log_samples: log.len(),
-            run_samples,
-        };
-        let by_runs = {
-            let (found, of, share) = containment(&self.runs, run_hashes(log));
-            counts(found, of, share)
-        };
+        let singles = single_hashes(log, self.quanta);
+        let runs = run_hashes(&singles);
+        let singles: Vec<Option<u64>> = singles.into_iter().map(Some).collect();
+        let by_runs = self
+            .runs
+            .as_ref()
+            .and_then(|p| measure(p, log, &runs, 1, run_samples));
         let by_singles = self
             .singles
             .as_ref()
-            .and_then(|s| containment_beyond_chance(s, log))
-            .map(|(found, of, share)| counts(found, of, share))
-            .filter(Shared::in_sample);
-        match by_singles {
-            Some(s) if s.share_of_log > by_runs.share_of_log || !by_runs.found_any() => s,
-            _ => by_runs,
+            .and_then(|p| measure(p, log, &singles, MIN_SEEN, run_samples));
+        let of = self
+            .runs
+            .as_ref()
+            .or(self.singles.as_ref())
+            .map_or(0, |p| p.hashes.len());
+        match (by_runs, by_singles) {
+            (Some(r), Some(s)) => {
+                let told = |x: &Shared| if x.found_any() { x.share_of_log } else { -1.0 };
+                if told(&s) > told(&r) { s } else { r }
+            }
+            (Some(one), None) | (None, Some(one)) => one,
+            (None, None) => Shared::none(of, log.len(), run_samples),
         }
     }
 
-    /// The sketch as calibration files hold it: each hash of the runs in 16 hexadecimal
-    /// digits, joined; then, when single samples are sketched, `+`, the chance of a
-    /// recurring value per bin of temperature (`T0:WIDTH:` and a byte a bin, 255ths), `+`
-    /// and the single samples' hashes.
+    /// The sketch as calibration files hold it, version 2: `2;` the temperature's and the
+    /// rate's steps (`-` for none) each followed by `;`, then the runs' part, `;`, the single
+    /// samples' part. A part is empty where nothing tells, else `T0:WIDTH:BYTES:PER:HASHES`:
+    /// the chance of a recurring value per bin of temperature (whole °C, a byte a bin in
+    /// 255ths), the run's samples per sketched hash, and the hashes in 16 hexadecimal digits
+    /// each, ascending. A version-1 sketch (read from an older file) is written as it was
+    /// read: the runs' hashes, then optionally `+`, the single samples' chance, `+`, hashes.
     pub fn to_text(&self) -> String {
-        let hex =
-            |hashes: &[u64]| -> String { hashes.iter().map(|h| format!("{h:016x}")).collect() };
-        match &self.singles {
-            None => hex(&self.runs),
-            Some(s) => format!(
-                "{}+{}+{}",
-                hex(&self.runs),
-                s.chance.to_text(),
-                hex(&s.hashes)
+        if self.version1 {
+            let runs = self.runs.as_ref().map_or(String::new(), |p| hex(&p.hashes));
+            return match &self.singles {
+                Some(Part {
+                    hashes,
+                    chance: Some(chance),
+                    ..
+                }) => format!("{runs}+{}+{}", chance.to_text(), hex(hashes)),
+                _ => runs,
+            };
+        }
+        let step = |q: Option<f64>| q.map_or("-".to_string(), |q| format!("{q}"));
+        let part = |p: &Option<Part>| match p {
+            Some(Part {
+                hashes,
+                chance: Some(chance),
+                per_hash,
+            }) => format!(
+                "{}:{}:{}",
+                chance.to_text(),
+                per_hash.map_or("1".to_string(), |m| format!("{m:.4}")),
+                hex(hashes)
             ),
+            _ => String::new(),
+        };
+        format!(
+            "{VERSION_2};{};{};{};{}",
+            step(self.quanta.temp),
+            step(self.quanta.rate),
+            part(&self.runs),
+            part(&self.singles)
+        )
+    }
+
+    /// A sketch from [`RunSketch::to_text`]'s text, of either version; `None` when it is not
+    /// that.
+    pub fn from_text(text: &str) -> Option<RunSketch> {
+        if text.contains(';') {
+            Self::from_text_2(text)
+        } else {
+            Self::from_text_1(text)
         }
     }
 
-    /// A sketch from [`RunSketch::to_text`]'s text; `None` when it is not that.
-    pub fn from_text(text: &str) -> Option<RunSketch> {
+    fn from_text_2(text: &str) -> Option<RunSketch> {
+        let fields: Vec<&str> = text.split(';').collect();
+        let [version, temp, rate, runs, singles] = fields[..] else {
+            return None;
+        };
+        if version != VERSION_2 {
+            return None;
+        }
+        let step = |s: &str| -> Option<Option<f64>> {
+            if s == "-" {
+                return Some(None);
+            }
+            let q: f64 = s.parse().ok()?;
+            (q.is_finite() && q > 0.0).then_some(Some(q))
+        };
+        let part = |s: &str| -> Option<Option<Part>> {
+            if s.is_empty() {
+                return Some(None);
+            }
+            let f: Vec<&str> = s.split(':').collect();
+            let [t0, width, bytes, per, hashes] = f[..] else {
+                return None;
+            };
+            let chance = ChanceByTemperature::from_parts(t0, width, bytes)?;
+            let per: f64 = per.parse().ok()?;
+            if !(per.is_finite() && (1.0..1e12).contains(&per)) {
+                return None;
+            }
+            let hashes = hashes_from_hex(hashes)?;
+            if hashes.is_empty() {
+                return None;
+            }
+            Some(Some(Part {
+                hashes,
+                chance: Some(chance),
+                per_hash: Some(per),
+            }))
+        };
+        Some(RunSketch {
+            version1: false,
+            quanta: Quanta {
+                temp: step(temp)?,
+                rate: step(rate)?,
+            },
+            runs: part(runs)?,
+            singles: part(singles)?,
+        })
+    }
+
+    fn from_text_1(text: &str) -> Option<RunSketch> {
         let mut parts = text.split('+');
         let runs = hashes_from_hex(parts.next()?)?;
         let singles = match (parts.next(), parts.next(), parts.next()) {
@@ -283,12 +455,30 @@ impl RunSketch {
                 if hashes.is_empty() {
                     return None;
                 }
-                Some(Singles { hashes, chance })
+                Some(Part {
+                    hashes,
+                    chance: Some(chance),
+                    per_hash: None,
+                })
             }
             _ => return None,
         };
-        Some(RunSketch { runs, singles })
+        let runs = (!runs.is_empty()).then_some(Part {
+            hashes: runs,
+            chance: None,
+            per_hash: None,
+        });
+        Some(RunSketch {
+            version1: true,
+            quanta: Quanta::default(),
+            runs,
+            singles,
+        })
     }
+}
+
+fn hex(hashes: &[u64]) -> String {
+    hashes.iter().map(|h| format!("{h:016x}")).collect()
 }
 
 /// Ascending hashes of at most [`SKETCH_LEN`] digits groups; `None` when `text` is not that.
@@ -301,6 +491,28 @@ fn hashes_from_hex(text: &str) -> Option<Vec<u64>> {
         .collect();
     let hashes = hashes?;
     hashes.windows(2).all(|w| w[0] < w[1]).then_some(hashes)
+}
+
+/// The sketch of `hashes` (one per sample of `log`, `None` where a sample has none): the
+/// [`SKETCH_LEN`] smallest at the temperatures where they rarely recur, with the chance per
+/// temperature and the samples per hash; `None` when no temperature tells.
+fn part_of(log: &Log, hashes: &[Option<u64>], twin: &[bool]) -> Option<Part> {
+    let chance = chance_by_temperature(log, hashes, twin).filter(ChanceByTemperature::tells_any)?;
+    let telling = |i: usize| chance.at(log.temp_c[i]).is_some_and(|c| c <= MAX_CHANCE);
+    let told = || {
+        hashes
+            .iter()
+            .enumerate()
+            .filter_map(|(i, h)| h.filter(|_| telling(i)))
+    };
+    let kept = smallest(told());
+    let top = *kept.last()?;
+    let low = told().filter(|&h| h <= top).count();
+    Some(Part {
+        per_hash: Some(low as f64 / kept.len() as f64),
+        hashes: kept,
+        chance: Some(chance),
+    })
 }
 
 /// The [`SKETCH_LEN`] smallest distinct values of `hashes`, ascending.
@@ -323,92 +535,198 @@ fn smallest(hashes: impl Iterator<Item = u64>) -> Vec<u64> {
     heap.into_sorted_vec()
 }
 
-/// How much of a log's values are a sketch's run's: among the log's distinct hashes no
-/// larger than the sketch's largest (every run value hashed that low is in the sketch), the
-/// share found in it. The sketch's hashes found, its length, and the share.
-fn containment(sketch: &[u64], log: impl Iterator<Item = u64>) -> (usize, usize, f64) {
-    let Some(&top) = sketch.last() else {
-        return (0, 0, 0.0);
-    };
-    let low: HashSet<u64> = log.filter(|&h| h <= top).collect();
-    let found = low
-        .iter()
-        .filter(|h| sketch.binary_search(h).is_ok())
-        .count();
-    let share = if low.is_empty() {
-        0.0
-    } else {
-        found as f64 / low.len() as f64
-    };
-    (found, sketch.len(), share)
-}
-
-/// [`containment`] of the log's single samples, beyond chance: only the values at
-/// temperatures where the run's values rarely recur are looked at (the sketch holds only
-/// those of the run's), the share the chance of
-/// their temperatures would find is taken off, and the rest scaled to 0 to 1. `None` when
-/// fewer than [`MIN_SEEN`] values are looked at.
-fn containment_beyond_chance(singles: &Singles, log: &Log) -> Option<(usize, usize, f64)> {
-    let top = *singles.hashes.last()?;
-    let mut low: std::collections::HashMap<u64, f64> = std::collections::HashMap::new();
-    for (i, h) in single_hashes(log).enumerate() {
-        if h <= top
-            && let Some(c) = singles.chance.at(log.temp_c[i])
-            && c <= MAX_CHANCE
-        {
-            low.entry(h).or_insert(c);
+/// How much of a log's samples are a sketch's run's, beyond chance: among the log's samples
+/// whose hashes (`hashes`, one per sample) are no larger than the sketch's largest (every
+/// run value hashed that low is in the sketch), at temperatures where the run's values
+/// rarely recur, the share found in it, less the share the chance of their temperatures
+/// would find, scaled to 0 to 1. `None` when fewer than `min_seen` distinct values are
+/// looked at.
+fn measure(
+    part: &Part,
+    log: &Log,
+    hashes: &[Option<u64>],
+    min_seen: usize,
+    run_samples: usize,
+) -> Option<Shared> {
+    let top = *part.hashes.last()?;
+    // Per distinct value looked at: its chance, whether the sketch holds it, its samples.
+    let mut low: HashMap<u64, (f64, bool, usize)> = HashMap::new();
+    for (i, h) in hashes.iter().enumerate() {
+        let Some(h) = *h else { continue };
+        if h > top {
+            continue;
         }
+        let c = match &part.chance {
+            None => 0.0,
+            Some(chance) => match chance.at(log.temp_c[i]) {
+                Some(c) if c <= MAX_CHANCE => c,
+                _ => continue,
+            },
+        };
+        low.entry(h)
+            .or_insert_with(|| (c, part.hashes.binary_search(&h).is_ok(), 0))
+            .2 += 1;
     }
-    if low.len() < MIN_SEEN {
+    if low.len() < min_seen.max(1) {
         return None;
     }
-    let found = low
-        .keys()
-        .filter(|h| singles.hashes.binary_search(h).is_ok())
-        .count();
-    let seen = low.len() as f64;
-    let expected = low.values().sum::<f64>() / seen;
-    let share = found as f64 / seen;
-    let beyond = ((share - expected) / (1.0 - expected)).clamp(0.0, 1.0);
-    Some((found, singles.hashes.len(), beyond))
-}
-
-/// The hash of each sample's values: its temperature and rate, each with its last 20 bits
-/// of mantissa rounded off, so that a column read through another unit (°/s × 3600) or
-/// written back with fewer digits than a double holds is still the same sample. Not its
-/// time: the same samples stamped from the epoch, or in another time unit, are the same run.
-fn single_hashes(log: &Log) -> impl Iterator<Item = u64> + '_ {
-    let n = log.temp_c.len().min(log.omega_dph.len());
-    (0..n).map(move |i| {
-        let mut h = 0x05ee_d0fd_21f7_u64;
-        for v in [log.temp_c[i], log.omega_dph[i]] {
-            h = mix(h ^ rounded_bits(v));
+    let (mut samples, mut hit_samples, mut chance_sum) = (0usize, 0usize, 0.0);
+    let (mut found, mut chance_distinct) = (0usize, 0.0);
+    for &(c, hit, n) in low.values() {
+        samples += n;
+        chance_sum += c * n as f64;
+        chance_distinct += c;
+        if hit {
+            hit_samples += n;
+            found += 1;
         }
-        h
+    }
+    let share = hit_samples as f64 / samples as f64;
+    let expected = chance_sum / samples as f64;
+    let beyond = ((share - expected) / (1.0 - expected)).clamp(0.0, 1.0);
+    // Chance finds each distinct value with its temperature's chance: the hashes found must
+    // be beyond that count by [`SIGNIFICANT`] standard errors.
+    let seen = low.len() as f64;
+    let p0 = chance_distinct / seen;
+    let beyond_chance = found >= MIN_FOUND
+        && found as f64 - seen * p0 > SIGNIFICANT * (seen * p0 * (1.0 - p0)).sqrt()
+        && beyond > 0.0;
+    let repeats = if found == 0 {
+        1.0
+    } else {
+        (hit_samples as f64 / found as f64 / part.per_hash.unwrap_or(1.0)).max(1.0)
+    };
+    Some(Shared {
+        found,
+        of: part.hashes.len(),
+        share_of_log: beyond,
+        log_samples: log.len(),
+        run_samples,
+        beyond_chance,
+        repeats,
     })
 }
 
-/// The hash of each run of [`RUN_OF`] consecutive samples (one per sample from the
-/// [`RUN_OF`]-th on): their single hashes in their order.
-fn run_hashes(log: &Log) -> impl Iterator<Item = u64> + '_ {
-    let mut last = [0u64; RUN_OF];
-    single_hashes(log).enumerate().filter_map(move |(i, one)| {
-        last[i % RUN_OF] = one;
-        (i + 1 >= RUN_OF).then(|| {
-            // The run's samples in their order, oldest first.
-            (0..RUN_OF).fold(0x0dd_ba11_u64, |h, k| mix(h ^ last[(i + 1 + k) % RUN_OF]))
-        })
+/// The step `values` are written with: the smallest step between their distinct values (or
+/// a tenth of it at most) when nearly every value is a whole multiple of it; `None` when
+/// they are multiples of no step (float32 samples, noise of full precision) or hold fewer
+/// than two values.
+fn quantum(values: &[f64]) -> Option<f64> {
+    let mut v: Vec<f64> = values.iter().copied().filter(|x| x.is_finite()).collect();
+    v.sort_unstable_by(f64::total_cmp);
+    v.dedup();
+    // Steps of a value's last bits (a conversion's rounding) are not steps of the log.
+    let step = v
+        .windows(2)
+        .map(|w| (w[1] - w[0], w[0].abs().max(w[1].abs())))
+        .filter(|&(d, at)| d > 1e-9 * at)
+        .map(|(d, _)| d)
+        .fold(f64::INFINITY, f64::min);
+    if !step.is_finite() || step <= 0.0 {
+        return None;
+    }
+    // Nine significant digits: the step less the rounding of the two values it is taken
+    // from (0.0001 written in the log, read as 9.99999999999e-5).
+    let snap = |x: f64| -> f64 { format!("{x:.8e}").parse().unwrap_or(x) };
+    (1..=10).map(|j| snap(step / j as f64)).find(|&q| {
+        let off = v
+            .iter()
+            .filter(|&&x| {
+                let k = x / q;
+                k.abs() > 1e12 || (k - k.round()).abs() > 1e-3
+            })
+            .count();
+        // Nearly all: a stray value or two written otherwise does not undo the log's step.
+        off * 1000 <= v.len()
     })
 }
 
-/// How often the run's values recur by chance, per bin of temperature: the share of its odd
-/// samples' distinct values that its even samples hold, as a second run of the same program
-/// would meet them among half of the run; a run twice as long meets about twice as many, so
-/// the chance among the whole run is `1 − (1 − c)²`. Only values hashed below a bound are
-/// looked at (at most about [`CHANCE_VALUES`] of them): a value is in or out whatever sample
-/// holds it, so the share is the same. `None` for a run without temperatures.
-fn chance_by_temperature(log: &Log) -> Option<ChanceByTemperature> {
+/// `v` as a whole number of steps `q`, or its bits rounded to 32 bits of mantissa where no
+/// step is known (or `v` is too many steps from 0 to count them).
+fn key(v: f64, q: Option<f64>) -> u64 {
+    if let Some(q) = q
+        && v.is_finite()
+    {
+        let k = (v / q).round();
+        if k.abs() < 4.0e15 {
+            return (k as i64) as u64;
+        }
+    }
+    rounded_bits(v)
+}
+
+/// The hash of each sample's values: its temperature and rate, each rounded to the run's
+/// step (`quanta`), so that a column read through another unit (°/s × 3600, float32 rad/s)
+/// or written back with other digits is still the same sample. Not its time: the same
+/// samples stamped from the epoch, or in another time unit, are the same run.
+fn single_hashes(log: &Log, quanta: Quanta) -> Vec<u64> {
     let n = log.temp_c.len().min(log.omega_dph.len());
+    (0..n)
+        .map(|i| {
+            let mut h = 0x05ee_d0fd_21f7_u64;
+            for k in [
+                key(log.temp_c[i], quanta.temp),
+                key(log.omega_dph[i], quanta.rate),
+            ] {
+                h = mix(h ^ k);
+            }
+            h
+        })
+        .collect()
+}
+
+/// The hash of each run of [`RUN_OF`] consecutive samples, at the run's last sample (none
+/// before the [`RUN_OF`]-th): their single hashes in their order.
+fn run_hashes(singles: &[u64]) -> Vec<Option<u64>> {
+    (0..singles.len())
+        .map(|i| {
+            (i + 1 >= RUN_OF).then(|| {
+                singles[i + 1 - RUN_OF..=i]
+                    .iter()
+                    .fold(0x0dd_ba11_u64, |h, &one| mix(h ^ one))
+            })
+        })
+        .collect()
+}
+
+/// Whether each sample's values, at the run's steps, are what a second run of the same
+/// program would likely write at the same instant: both its temperature and its rate equal
+/// a neighbour's, or the midpoint of its two neighbours' (the run's own path there, without
+/// this sample's noise). A rate written in 2 °/h beside a temperature in 0.1 °C is: the
+/// program's path, not the gyro's noise, sets its values, and another run follows the same
+/// path, sample for sample, though its values rarely recur elsewhere in the run.
+fn like_a_twin(log: &Log, quanta: Quanta) -> Vec<bool> {
+    let n = log.temp_c.len().min(log.omega_dph.len());
+    let alike = |x: &[f64], q: Option<f64>, i: usize| {
+        let me = key(x[i], q);
+        let before = i.checked_sub(1).map(|j| x[j]);
+        let after = (i + 1 < n).then(|| x[i + 1]);
+        let mid = before.zip(after).map(|(a, b)| 0.5 * (a + b));
+        [before, after, mid]
+            .into_iter()
+            .flatten()
+            .any(|v| key(v, q) == me)
+    };
+    (0..n)
+        .map(|i| alike(&log.temp_c, quanta.temp, i) && alike(&log.omega_dph, quanta.rate, i))
+        .collect()
+}
+
+/// How often the run's values (`hashes`, one per sample) recur by chance, per bin of
+/// temperature: the share of its odd samples whose values its even samples hold, as a
+/// second run of the same program would meet them among half of the run (a run twice as
+/// long meets about twice as many, so the chance among the whole run is `1 − (1 − c)²`),
+/// or the share of its samples whose values another run would write at the same instant
+/// (`twin`, [`like_a_twin`]), whichever is larger. Only values hashed below a bound are
+/// looked at for the first (at most about [`CHANCE_VALUES`] of them): a value is in or out
+/// whatever sample holds it, so the share is the same. `None` for a run without
+/// temperatures.
+fn chance_by_temperature(
+    log: &Log,
+    hashes: &[Option<u64>],
+    twin: &[bool],
+) -> Option<ChanceByTemperature> {
+    let n = log.temp_c.len().min(hashes.len());
     let (lo, hi) = log.temp_c[..n]
         .iter()
         .filter(|t| t.is_finite())
@@ -427,8 +745,10 @@ fn chance_by_temperature(log: &Log) -> Option<ChanceByTemperature> {
     };
     // (bin, hash, odd) of every sample hashed low enough, sorted so that each bin's values
     // come together.
-    let mut seen: Vec<(usize, u64, bool)> = single_hashes(log)
+    let mut seen: Vec<(usize, u64, bool)> = hashes[..n]
+        .iter()
         .enumerate()
+        .filter_map(|(i, h)| h.map(|h| (i, h)))
         .filter(|&(i, h)| h <= bound && log.temp_c[i].is_finite())
         .map(|(i, h)| {
             let b = (((log.temp_c[i] - t0) / width).floor() as usize).min(bins - 1);
@@ -436,27 +756,34 @@ fn chance_by_temperature(log: &Log) -> Option<ChanceByTemperature> {
         })
         .collect();
     seen.sort_unstable();
-    // Per bin: the odd samples' distinct values, and those of them the even samples hold.
+    // Per bin: the odd samples, and those of them whose value the even samples hold.
     let mut odd = vec![0usize; bins];
     let mut met = vec![0usize; bins];
     for group in seen.chunk_by(|a, b| a.0 == b.0 && a.1 == b.1) {
-        let (b, any_odd, any_even) = (
-            group[0].0,
-            group.iter().any(|g| g.2),
-            group.iter().any(|g| !g.2),
-        );
-        if any_odd {
-            odd[b] += 1;
-            met[b] += usize::from(any_even);
+        let b = group[0].0;
+        let odds = group.iter().filter(|g| g.2).count();
+        odd[b] += odds;
+        if odds < group.len() {
+            met[b] += odds;
+        }
+    }
+    // Per bin: the samples with a value, and those another run would write alike.
+    let mut all = vec![0usize; bins];
+    let mut twins = vec![0usize; bins];
+    for (i, h) in hashes[..n].iter().enumerate() {
+        if h.is_some() && log.temp_c[i].is_finite() {
+            let b = (((log.temp_c[i] - t0) / width).floor() as usize).min(bins - 1);
+            all[b] += 1;
+            twins[b] += usize::from(twin.get(i).copied().unwrap_or(true));
         }
     }
     let chance = (0..bins)
         .map(|b| {
-            if odd[b] == 0 {
+            if odd[b] == 0 || all[b] < MIN_BIN_SAMPLES {
                 return u8::MAX;
             }
             let half = met[b] as f64 / odd[b] as f64;
-            let whole = 1.0 - (1.0 - half) * (1.0 - half);
+            let whole = (1.0 - (1.0 - half) * (1.0 - half)).max(twins[b] as f64 / all[b] as f64);
             // Rounded up: a chance is never told smaller than it is.
             (whole * 255.0).ceil().min(255.0) as u8
         })

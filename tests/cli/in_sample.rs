@@ -381,3 +381,153 @@ fn a_copy_less_some_rows_is_in_sample() {
     let share = json["shared"]["share_of_log"].as_f64().unwrap();
     assert!((0.03..0.15).contains(&share), "{share}");
 }
+
+fn evaluate_json(cal: &str, log: &str) -> serde_json::Value {
+    serde_json::from_str(&ok(&["evaluate", cal, log, "--json"])).unwrap()
+}
+
+/// `rows` (time, rate, temperature, ...) with the rate and the temperature rewritten.
+fn rewrite(
+    path: &str,
+    header: &str,
+    rows: &[String],
+    rate: impl Fn(f64) -> String,
+    temp: impl Fn(f64) -> String,
+) {
+    let body: String = rows
+        .iter()
+        .map(|r| {
+            let mut cells: Vec<String> = r.split(',').map(String::from).collect();
+            cells[1] = rate(cells[1].parse().unwrap());
+            cells[2] = temp(cells[2].parse().unwrap());
+            format!("{}\n", cells.join(","))
+        })
+        .collect();
+    std::fs::write(path, format!("{header}\n{body}")).unwrap();
+}
+
+/// The calibration log converted without loss at its resolution (the rate in rad/s as
+/// float32, as PX4, ArduPilot and ROS store it; with 9 significant digits; times 1.000001)
+/// is all the calibration log; every rate moved by one step of its resolution is not.
+#[test]
+fn the_calibration_log_in_another_unit_without_loss_is_in_sample() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let cal = p(d, "cal.json");
+    let log = sample("calibration.csv");
+    ok(&["calibrate", &log, "-o", &cal]);
+    let (_, rows) = rows_of(&log);
+    let to_rad = std::f64::consts::PI / 180.0 / 3600.0;
+    let header = "time_s,gyro_x_rad_s,temp_c,temp_chamber_c";
+    let same = |t: f64| format!("{t:.3}");
+    let f32_path = p(d, "f32.csv");
+    rewrite(
+        &f32_path,
+        header,
+        &rows,
+        |w| format!("{:.9e}", (w * to_rad) as f32),
+        same,
+    );
+    let sig9 = p(d, "sig9.csv");
+    rewrite(
+        &sig9,
+        header,
+        &rows,
+        |w| format!("{:.8e}", w * to_rad),
+        same,
+    );
+    let scaled = p(d, "scaled.csv");
+    let dph = "time_s,omega_dph,temp_c,temp_chamber_c";
+    rewrite(&scaled, dph, &rows, |w| format!("{}", w * 1.000_001), same);
+    for path in [&f32_path, &sig9, &scaled] {
+        let json = evaluate_json(&cal, path);
+        assert_eq!(json["in_sample"], true, "{path}");
+        assert_eq!(json["in_sample_share"], 1.0, "{path}");
+        assert_eq!(json["shared"]["share_of_calibration_log"], 1.0, "{path}");
+    }
+    // One LSB (0.0001 °/h) added to every rate: other numbers at the log's resolution.
+    let lsb = p(d, "lsb.csv");
+    rewrite(&lsb, dph, &rows, |w| format!("{:.4}", w + 0.0001), same);
+    assert!(!evaluate_in_sample(&cal, &lsb));
+}
+
+/// Two independent runs of one program (seeds 1 and 2) written with a coarse rate: the
+/// program's path sets their values, and the second shares nothing with the first.
+#[test]
+fn another_run_written_coarsely_is_held_out_sharing_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let other = p(d, "seed2.csv");
+    ok(&["simulate", "--seed", "2", "--out", &other]);
+    let (header, a_rows) = rows_of(&sample("calibration.csv"));
+    let (_, b_rows) = rows_of(&other);
+    for step in [0.5, 1.0, 2.0] {
+        let coarse = |w: f64| format!("{}", (w / step).round() * step);
+        let tenth = |t: f64| format!("{t:.1}");
+        let (a, b) = (p(d, "a.csv"), p(d, "b.csv"));
+        rewrite(&a, &header, &a_rows, coarse, tenth);
+        rewrite(&b, &header, &b_rows, coarse, tenth);
+        let cal = p(d, "a.json");
+        ok(&["calibrate", &a, "-o", &cal]);
+        let json = evaluate_json(&cal, &b);
+        assert_eq!(json["in_sample"], false, "step {step}");
+        assert!(json["shared"].is_null(), "step {step}: {}", json["shared"]);
+    }
+}
+
+/// The calibration log followed by another run written twice: a third of its samples are
+/// the calibration log's, and all of the calibration log is there.
+#[test]
+fn the_share_is_of_samples() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let cal = p(d, "cal.json");
+    let log = sample("calibration.csv");
+    ok(&["calibrate", &log, "-o", &cal]);
+    let other = p(d, "seed2.csv");
+    ok(&["simulate", "--seed", "2", "--out", &other]);
+    let (header, mine) = rows_of(&log);
+    let (_, theirs) = rows_of(&other);
+    let body: String = mine
+        .iter()
+        .chain(&theirs)
+        .chain(&theirs)
+        .enumerate()
+        .map(|(i, r)| format!("{i},{}\n", r.split_once(',').unwrap().1))
+        .collect();
+    let path = p(d, "cat.csv");
+    std::fs::write(&path, format!("{header}\n{body}")).unwrap();
+    let json = evaluate_json(&cal, &path);
+    assert_eq!(json["in_sample"], false);
+    let share = json["shared"]["share_of_log"].as_f64().unwrap();
+    assert!((0.25..0.42).contains(&share), "{share}");
+    let of_cal = json["shared"]["share_of_calibration_log"].as_f64().unwrap();
+    assert!(of_cal > 0.9, "{of_cal}");
+}
+
+/// A calibration written before values were hashed at the log's resolution (the sketch's
+/// version-1 text, as the release before it wrote it for `calibration.csv`) still loads and
+/// judges: a copy of its log is in-sample, the validation log held out with its shared hour.
+#[test]
+fn a_version_1_sketch_still_judges() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let cal = p(d, "cal.json");
+    let log = sample("calibration.csv");
+    ok(&["calibrate", &log, "-o", &cal]);
+    let old_sketch = include_str!("in_sample_v1_sketch.txt").trim();
+    assert!(old_sketch.contains('+') && !old_sketch.contains(';'));
+    let mut json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&cal).unwrap()).unwrap();
+    json.pointer_mut("/calibration/source/samples_sketch")
+        .map(|s| *s = serde_json::Value::String(old_sketch.into()))
+        .expect("a sketch");
+    let old = p(d, "old.json");
+    std::fs::write(&old, serde_json::to_string_pretty(&json).unwrap()).unwrap();
+    let copies = copies(d);
+    assert!(evaluate_in_sample(&old, &copies[1]), "the bare copy");
+    let json = evaluate_json(&old, &sample("validation.csv"));
+    assert_eq!(json["in_sample"], false);
+    let share = json["shared"]["share_of_log"].as_f64().unwrap();
+    assert!((0.03..0.15).contains(&share), "{share}");
+}

@@ -31,7 +31,10 @@ fn part(log: &Log, range: std::ops::Range<usize>) -> Log {
 fn a_part_of_the_run_is_found_in_proportion_and_another_run_is_not() {
     let cal = run(40_000, 1);
     let sketch = RunSketch::of(&cal);
-    assert_eq!(sketch.runs.len(), SKETCH_LEN);
+    assert_eq!(
+        sketch.runs.as_ref().map(|p| p.hashes.len()),
+        Some(SKETCH_LEN)
+    );
     let whole = sketch.shared_with(&cal, 40_000);
     assert_eq!((whole.found, whole.share_of_log), (SKETCH_LEN, 1.0));
     // Less its first sample: still all of it, in-sample.
@@ -108,26 +111,87 @@ fn the_same_samples_through_another_unit_are_the_same_run() {
 fn the_file_text_reads_back_and_nothing_else_does() {
     let sketch = RunSketch::of(&run(1_000, 4));
     let text = sketch.to_text();
-    // The runs', then the chance by temperature and the single samples'.
-    let parts: Vec<&str> = text.split('+').collect();
-    assert_eq!(parts.len(), 3, "{text}");
-    assert_eq!(
-        (parts[0].len(), parts[2].len()),
-        (16 * SKETCH_LEN, 16 * SKETCH_LEN)
-    );
-    // 1 000 samples between 20 and 21 °C: two bins of a degree, from 20 °C.
-    assert!(
-        parts[1].starts_with("20:1:") && parts[1].len() == 5 + 4,
-        "{}",
-        parts[1]
-    );
+    // Version 2: the steps (the temperature's whole degrees; the rate's none, its noise of
+    // full precision), then the runs' part and the single samples'.
+    let fields: Vec<&str> = text.split(';').collect();
+    assert_eq!(fields.len(), 5, "{text}");
+    assert_eq!(fields[..3], ["2", "1", "-"], "{text}");
+    for part in &fields[3..] {
+        let f: Vec<&str> = part.split(':').collect();
+        // 1 000 samples between 20 and 21 °C: two bins of a degree, from 20 °C.
+        assert_eq!((f[0], f[1], f[2].len()), ("20", "1", 4), "{part}");
+        assert_eq!(f[3], "1.0000", "{part}");
+        assert_eq!(f[4].len(), 16 * SKETCH_LEN, "{part}");
+    }
     assert_eq!(RunSketch::from_text(&text), Some(sketch));
+    let runs = fields[3];
     for bad in [
-        "abc",
-        "zzzzzzzzzzzzzzzz",
-        "00000000000000020000000000000001",
+        "abc".to_string(),
+        "zzzzzzzzzzzzzzzz".to_string(),
+        "00000000000000020000000000000001".to_string(),
+        format!("3;1;-;{runs};"),
+        format!("2;0;-;{runs};"),
+        format!("2;x;-;{runs};"),
+        format!("2;1;-;{runs}"),
+        format!("2;1;-;{runs};;"),
+        format!("2;1;-;20:1:00:0.5:{};", &runs[runs.len() - 32..]),
+        "2;1;-;20:1:00:1:;".to_string(),
+        format!("2;1;-;20:1:00:{};", &runs[runs.len() - 32..]),
     ] {
-        assert_eq!(RunSketch::from_text(bad), None, "{bad}");
+        assert_eq!(RunSketch::from_text(&bad), None, "{bad}");
+    }
+    // Nothing tells anywhere: an empty sketch, read back as such.
+    let empty = RunSketch::from_text("2;0.1;2;;").expect("a sketch");
+    assert!(empty.is_empty());
+}
+
+/// A version-1 text (exact values, runs not corrected for chance) is read and written as it
+/// was, and judges by its own hashing.
+#[test]
+fn a_version_1_text_reads_back_and_judges_as_it_did() {
+    let cal = run(2_000, 15);
+    // Version 1's text of this run: the runs' hashes, `+`, the chance, `+`, the singles'.
+    let exact = Quanta::default();
+    let singles = single_hashes(&cal, exact);
+    let runs = smallest(run_hashes(&singles).into_iter().flatten());
+    let all: Vec<Option<u64>> = singles.iter().copied().map(Some).collect();
+    let part = part_of(&cal, &all, &like_a_twin(&cal, exact)).expect("singles tell");
+    let text = format!(
+        "{}+{}+{}",
+        hex(&runs),
+        part.chance.as_ref().expect("a chance").to_text(),
+        hex(&part.hashes)
+    );
+    let sketch = RunSketch::from_text(&text).expect("version 1 reads");
+    assert!(sketch.version1 && !sketch.is_empty());
+    assert_eq!(sketch.to_text(), text);
+    assert!(RunSketch::from_text(&hex(&runs)).is_some_and(|s| s.singles.is_none()));
+    let whole = sketch.shared_with(&cal, 2_000);
+    assert!(whole.in_sample() && whole.share_of_log == 1.0, "{whole:?}");
+    let other = sketch.shared_with(&run(2_000, 16), 2_000);
+    assert!(!other.in_sample() && other.partly().is_none(), "{other:?}");
+    let thinned = sketch.shared_with(&kept(&cal, |i| i % 2 == 0), 2_000);
+    assert!(thinned.in_sample(), "{thinned:?}");
+    let singles = &text[text.rfind('+').unwrap_or(0) + 1..];
+    let runs = hex(&runs);
+    for bad in [
+        format!("{runs}+0.7+{singles}"),
+        format!("{runs}+x+{singles}"),
+        format!("{runs}+0.1+"),
+        format!("{runs}+0.1+{singles}+0.1"),
+        format!("{runs}+0.1"),
+        format!("{runs}+20:0:00+{singles}"),
+        format!("{runs}+20.5:1:00+{singles}"),
+        format!("{runs}+20:1:0+{singles}"),
+        format!("{runs}+20:1:+{singles}"),
+        format!("{runs}+20:1:00:00+{singles}"),
+    ] {
+        assert_eq!(
+            RunSketch::from_text(&bad),
+            None,
+            "{}",
+            &bad[bad.len() - 40..]
+        );
     }
 }
 
@@ -196,7 +260,11 @@ fn values_that_recur_count_only_beyond_their_chance() {
     // measures how many.
     let (a, b) = (written(run(40_000, 10), 4), written(run(40_000, 11), 4));
     let sketch = RunSketch::of(&a);
-    let chance = sketch.singles.as_ref().map(|s| s.chance.chance.clone());
+    let chance = sketch
+        .singles
+        .as_ref()
+        .and_then(|s| s.chance.as_ref())
+        .map(|c| c.chance.clone());
     assert!(
         chance
             .as_ref()
@@ -224,37 +292,16 @@ fn a_stuck_stretch_is_one_value_of_the_sketch() {
         cal.temp_c[i] = 22.0;
     }
     let sketch = RunSketch::of(&cal);
-    assert_eq!(sketch.runs.len(), SKETCH_LEN);
-    assert!(sketch.runs.windows(2).all(|w| w[0] < w[1]));
-}
-
-#[test]
-fn the_text_with_single_samples_reads_back_and_nothing_else_does() {
-    let sketch = RunSketch::of(&run(2_000, 15));
-    assert!(sketch.singles.is_some());
-    let text = sketch.to_text();
-    assert_eq!(RunSketch::from_text(&text), Some(sketch));
-    let runs = &text[..16 * SKETCH_LEN];
-    let singles = &text[text.rfind('+').unwrap_or(0) + 1..];
-    for bad in [
-        format!("{runs}+0.7+{singles}"),
-        format!("{runs}+x+{singles}"),
-        format!("{runs}+0.1+"),
-        format!("{runs}+0.1+{singles}+0.1"),
-        format!("{runs}+0.1"),
-        format!("{runs}+20:0:00+{singles}"),
-        format!("{runs}+20.5:1:00+{singles}"),
-        format!("{runs}+20:1:0+{singles}"),
-        format!("{runs}+20:1:+{singles}"),
-        format!("{runs}+20:1:00:00+{singles}"),
-    ] {
-        assert_eq!(
-            RunSketch::from_text(&bad),
-            None,
-            "{}",
-            &bad[bad.len() - 40..]
-        );
-    }
+    assert_eq!(
+        sketch.runs.as_ref().map(|p| p.hashes.len()),
+        Some(SKETCH_LEN)
+    );
+    assert!(
+        sketch
+            .runs
+            .as_ref()
+            .is_some_and(|p| p.hashes.windows(2).all(|w| w[0] < w[1]))
+    );
 }
 
 #[test]
@@ -284,4 +331,183 @@ fn a_hold_of_another_run_is_not_the_run_however_its_values_recur() {
     let thinned = sketch.shared_with(&kept(&cal, |i| i % 2 == 0), cal.len());
     assert!(thinned.in_sample(), "{thinned:?}");
     assert!((thinned.share_of_run() - 0.5).abs() < 1e-3, "{thinned:?}");
+}
+
+/// A run written as a test stand writes it: the rate with four decimals (°/h), the
+/// temperature with three, on a ramp of 1 °C per 10 min with 2 mK of sensor noise.
+fn stand(n: usize, seed: u64) -> Log {
+    let mut log = run(n, seed);
+    let mut s = seed ^ 0xabc;
+    for (i, t) in log.temp_c.iter_mut().enumerate() {
+        s = mix(s);
+        let noise = ((s >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * 0.004;
+        *t = 20.0 + i as f64 / 600.0 + noise;
+    }
+    written(log, 4)
+}
+
+#[test]
+fn the_run_converted_without_loss_is_all_the_run() {
+    let cal = stand(20_000, 21);
+    let sketch = RunSketch::of(&cal);
+    assert_eq!(
+        (sketch.quanta.temp, sketch.quanta.rate),
+        (Some(0.001), Some(0.0001))
+    );
+    let to_rad = std::f64::consts::PI / 180.0 / 3600.0;
+    let through = |f: &dyn Fn(f64) -> f64| {
+        let mut log = cal.clone();
+        for w in &mut log.omega_dph {
+            *w = f(*w);
+        }
+        log
+    };
+    let sig9 = |x: f64| -> f64 { format!("{x:.8e}").parse().unwrap_or(x) };
+    for (name, log) in [
+        // float32 rad/s, as PX4, ArduPilot and ROS store a rate, read back as °/h.
+        (
+            "float32",
+            through(&|w| f64::from((w * to_rad) as f32) / to_rad),
+        ),
+        ("9 digits", through(&|w| sig9(w * to_rad) / to_rad)),
+        ("x1.000001", through(&|w| w * 1.000_001)),
+    ] {
+        let shared = sketch.shared_with(&log, cal.len());
+        assert!(shared.in_sample(), "{name}: {shared:?}");
+        assert_eq!(shared.share_of_log, 1.0, "{name}");
+        assert_eq!(shared.share_of_run(), 1.0, "{name}");
+    }
+    // The temperature in kelvin and back.
+    let mut kelvin = cal.clone();
+    for t in &mut kelvin.temp_c {
+        *t = (*t + 273.15) - 273.15;
+    }
+    assert_eq!(sketch.shared_with(&kelvin, cal.len()).share_of_log, 1.0);
+    // Every rate moved by one step: other numbers at the run's resolution (documented).
+    let lsb = through(&|w| w + 0.0001);
+    assert!(!sketch.shared_with(&lsb, cal.len()).in_sample());
+    // Another run of the stand, converted the same way, is still another run.
+    let mut other = stand(20_000, 22);
+    for w in &mut other.omega_dph {
+        *w = f64::from((*w * to_rad) as f32) / to_rad;
+    }
+    let shared = sketch.shared_with(&other, cal.len());
+    assert!(
+        !shared.in_sample() && shared.partly().is_none(),
+        "{shared:?}"
+    );
+}
+
+#[test]
+fn two_runs_on_one_path_written_coarsely_share_nothing() {
+    // Two runs of one program: the same temperature ramps of 2 °C/min written in 0.1 °C
+    // (a new value every third sample),
+    // the rate's noise (±0.1 °/h about 0.01) written in 0.05 to 2 °/h. At a coarse step the
+    // program's path, not the gyro's noise, sets the values: another run writes them
+    // sample for sample.
+    for step in [0.05, 0.1, 0.5, 1.0, 2.0] {
+        let coarse = |seed| {
+            let mut log = stand(40_000, seed);
+            for w in &mut log.omega_dph {
+                *w = (*w / step).round() * step;
+            }
+            // Up from 20 °C to 80 °C and down again, eleven times.
+            for (i, t) in log.temp_c.iter_mut().enumerate() {
+                let at = (i % 3_600) as f64 / 30.0;
+                let path = 20.0 + if at < 60.0 { at } else { 120.0 - at };
+                *t = ((*t - 20.0 - (i / 600) as f64 + path) * 10.0).round() / 10.0;
+            }
+            log
+        };
+        let (a, b) = (coarse(23), coarse(24));
+        let sketch = RunSketch::of(&a);
+        let shared = sketch.shared_with(&b, a.len());
+        assert!(
+            !shared.in_sample() && shared.partly().is_none(),
+            "step {step}: {shared:?}"
+        );
+        // Where the noise still tells, the run itself is found.
+        if !sketch.is_empty() {
+            assert!(sketch.shared_with(&a, a.len()).in_sample(), "step {step}");
+        }
+    }
+}
+
+#[test]
+fn the_share_is_of_samples_and_of_the_run_without_repeats() {
+    let cal = stand(20_000, 25);
+    let other = stand(20_000, 26);
+    let sketch = RunSketch::of(&cal);
+    let joined = |parts: &[&Log]| {
+        let cat = |f: &dyn Fn(&Log) -> &Vec<f64>| -> Vec<f64> {
+            parts.iter().flat_map(|l| f(l).iter().copied()).collect()
+        };
+        let n: usize = parts.iter().map(|l| l.len()).sum();
+        Log::from_columns(
+            "joined.csv",
+            (0..n).map(|i| i as f64).collect(),
+            cat(&|l| &l.omega_dph),
+            cat(&|l| &l.temp_c),
+        )
+    };
+    // The run, then another run twice (a logger that dumped its buffer twice): a third of
+    // the samples are the run's, all of the run.
+    let third = sketch.shared_with(&joined(&[&cal, &other, &other]), cal.len());
+    assert!(!third.in_sample(), "{third:?}");
+    assert!(
+        third.partly().is_some_and(|s| (0.25..0.42).contains(&s)),
+        "{third:?}"
+    );
+    assert!(third.share_of_run() > 0.9, "{third:?}");
+    // Its first quarter written four times: all of its samples the run's, a quarter of the
+    // run.
+    let quarter = part(&cal, 0..5_000);
+    let four = sketch.shared_with(
+        &joined(&[&quarter, &quarter, &quarter, &quarter]),
+        cal.len(),
+    );
+    assert!(four.in_sample() && four.share_of_log == 1.0, "{four:?}");
+    assert!((0.15..0.35).contains(&four.share_of_run()), "{four:?}");
+}
+
+#[test]
+fn a_copy_less_the_rows_the_sketch_holds_says_nothing_contradictory() {
+    // One who knows the hash leaves out the rows whose hashes are sketched (the singles')
+    // and one row in each of the sketched runs of eight, a few hundred of 20,000.
+    let cal = stand(20_000, 27);
+    let sketch = RunSketch::of(&cal);
+    let singles = single_hashes(&cal, sketch.quanta);
+    let runs = run_hashes(&singles);
+    let held = |p: &Option<Part>, h: u64| {
+        p.as_ref()
+            .is_some_and(|p| p.hashes.binary_search(&h).is_ok())
+    };
+    for leave in [64, 128, 256] {
+        let mut drop = vec![false; cal.len()];
+        let mut singles_left = 0;
+        for (i, &h) in singles.iter().enumerate() {
+            if held(&sketch.singles, h) && singles_left < leave {
+                drop[i] = true;
+                singles_left += 1;
+            }
+        }
+        let mut runs_left = 0;
+        for (i, h) in runs.iter().enumerate() {
+            if h.is_some_and(|h| held(&sketch.runs, h)) && runs_left < leave {
+                drop[i - 3] = true;
+                runs_left += 1;
+            }
+        }
+        let copy = kept(&cal, |i| !drop[i]);
+        let shared = sketch.shared_with(&copy, cal.len());
+        // Whatever it concludes, the share of the run is the share of the copy's samples
+        // times its length: never "a part, about 13 %" of a copy of 99 %.
+        if shared.in_sample() || shared.partly().is_some() {
+            let counted = shared.share_of_log * copy.len() as f64 / cal.len() as f64;
+            assert!(
+                (shared.share_of_run() - counted.min(1.0)).abs() < 0.02,
+                "{leave}: {shared:?}"
+            );
+        }
+    }
 }

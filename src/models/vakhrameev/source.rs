@@ -106,11 +106,13 @@ impl SourceInfo {
             return Err(Invalid::new(
                 "source.samples_sketch",
                 format!(
-                    "is not a sketch of a run's samples (at most {} ascending hashes of 16 \
-                     hexadecimal digits each, then optionally `+`, the chance of a recurring \
-                     value per bin of temperature as `T0:WIDTH:` and a byte a bin, `+` and \
-                     as many hashes more)",
-                    crate::log::run_sketch::SKETCH_LEN
+                    "is not a sketch of a run's samples (version 2: `2;` the temperature's \
+                     and the rate's steps or `-`, each then `;`, then two parts separated by \
+                     `;`, each empty or `T0:WIDTH:` a byte a bin of temperature `:` samples \
+                     per hash `:` at most {n} ascending hashes of 16 hexadecimal digits; \
+                     version 1: at most {n} such hashes, then optionally `+`, `T0:WIDTH:` and \
+                     a byte a bin, `+` and as many hashes more)",
+                    n = crate::log::run_sketch::SKETCH_LEN
                 ),
             ));
         }
