@@ -574,7 +574,7 @@ mod tests {
         };
         assert!(s((1.0, 4000.0)).line().contains("over 3999.000 s"));
         // A 64-bit TimeUS that wrapped: its last stamp is before its first.
-        let wrapped = s((1.8446744073709552e13, 4000.0)).line();
+        let wrapped = s((1.844_674_407_370_955e13, 4000.0)).line();
         assert!(
             wrapped.contains("over n/a s (its last stamp is before its first"),
             "{wrapped}"
