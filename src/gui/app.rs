@@ -151,9 +151,17 @@ struct Recovery {
 /// A window shorter than this, points, is laid out compact (see [`Workbench::ui`]).
 const COMPACT_BELOW_H: f32 = 860.0;
 /// The height each time plot keeps when the window allows it, points.
-const TIME_PLOT_H: f32 = 122.0;
-/// The drift plot's least height, points (with its time axis).
-const DRIFT_PLOT_H: f32 = 100.0;
+const TIME_PLOT_H: f32 = 120.0;
+/// The central panel's margin above and below on a short window, points (egui's 8 would take
+/// the drift plot 12 points of the 120 it needs at 1280×720).
+const COMPACT_MARGIN_Y: i8 = 2;
+/// A window at least this wide starts its controls panel wide enough for the whole plateau
+/// table (narrower, the table scrolls sideways and the plots keep their width).
+const WHOLE_TABLE_FROM_W: f32 = 1280.0;
+/// The drift plot's least height, points (with its time axis): that of every plot, the
+/// result being the plot to read. A window too short for five plots this tall (1024×640)
+/// takes the height from the time plots.
+const DRIFT_PLOT_H: f32 = 120.0;
 
 impl Workbench {
     /// A workbench with these remembered settings (saved back to `settings_path` on exit)
@@ -530,8 +538,13 @@ impl Workbench {
         // (the log still loading) or a wider row (a button appearing) would change it. A
         // narrow window starts them narrower, so that the plots between keep some width.
         let width = ui.ctx().content_rect().width();
+        let controls_w = if width >= WHOLE_TABLE_FROM_W {
+            (width * 0.29).max(crate::gui::view_controls::CONTROLS_W_FOR_TABLE)
+        } else {
+            width * 0.29
+        };
         let r = Panel::left("controls")
-            .default_size((width * 0.29).clamp(300.0, 470.0))
+            .default_size(controls_w.clamp(300.0, 470.0))
             .size_range(290.0..=520.0)
             .show(ui, |ui| {
                 if compact {
@@ -558,7 +571,7 @@ impl Workbench {
             });
         self.window.panel_rects.insert("controls", r.response.rect);
         let r = Panel::right("coefficients")
-            .default_size((width * 0.27).clamp(300.0, 470.0))
+            .default_size((width * 0.25).clamp(300.0, 470.0))
             .size_range(300.0..=800.0)
             .show(ui, |ui| {
                 ui.set_min_width(ui.available_width());
@@ -567,14 +580,20 @@ impl Workbench {
         self.window
             .panel_rects
             .insert("coefficients", r.response.rect);
-        let r = egui::CentralPanel::default().show(ui, |ui| {
+        let mut central = egui::Frame::central_panel(ui.style());
+        if compact {
+            central.inner_margin.top = COMPACT_MARGIN_Y;
+            central.inner_margin.bottom = COMPACT_MARGIN_Y;
+        }
+        let r = egui::CentralPanel::default().frame(central).show(ui, |ui| {
             if self.state.shown.log.is_none() {
                 self.welcome(ui, actions);
                 return;
             }
             // The time plots take two thirds, and at least what keeps each of them
-            // TIME_PLOT_H tall; the drift plot what is left, never less than DRIFT_PLOT_H
-            // (the time plots give way first: on a window that short they are shorter).
+            // TIME_PLOT_H tall (a short window: just that, the drift plot needs the rest);
+            // the drift plot what is left, never less than DRIFT_PLOT_H (the time plots give
+            // way first: on a window that short they are shorter).
             let h = ui.available_height();
             // (compact: no separator line, the drift plot's frame is one)
             let sep = if compact {
@@ -583,12 +602,18 @@ impl Workbench {
                 2.0 * ui.spacing().item_spacing.y + 6.0
             };
             self.views.time.compact = compact;
-            let header = if compact {
+            // The drift plot's header takes a row unless it is drawn over the plot.
+            let header = if self.views.result.header_over_plot(ui, &self.state, compact) {
                 0.0
             } else {
                 ui.spacing().interact_size.y + ui.spacing().item_spacing.y
             };
-            let want = (h * 0.66).max(self.views.time.height_for(ui, TIME_PLOT_H));
+            let least = self.views.time.height_for(ui, TIME_PLOT_H);
+            let want = if compact {
+                least
+            } else {
+                (h * 0.66).max(least)
+            };
             let time_h = want.min(h - sep - header - DRIFT_PLOT_H).max(0.0);
             ui.allocate_ui(egui::vec2(ui.available_width(), time_h), |ui| {
                 ui.set_min_height(time_h);

@@ -2,6 +2,7 @@
 //! their labels, axis labels that fit the plot's height, and numbers and durations written
 //! for a plot or a table.
 
+use eframe::egui;
 use std::ops::RangeInclusive;
 
 /// How time is shown on the x-axis: seconds, minutes or hours, by the log's length.
@@ -82,16 +83,40 @@ pub fn label_fits(v: f64, range: &RangeInclusive<f64>, margin: f64) -> bool {
     v >= a + m && v <= b - m
 }
 
-/// A y-axis label that fits a plot `height` points tall: "name, unit" on one line when it
-/// fits, else on two (a rotated label longer than its plot runs over its neighbours').
-pub fn axis_label(label: &str, height: f32) -> String {
-    // Body text is about 7 points a character.
-    let long = label.chars().count() as f32 * 7.0;
-    if long <= height * 0.95 {
-        label.to_string()
+/// The smallest font a y-axis label is shrunk to, points (below it, it no longer reads).
+pub const MIN_AXIS_LABEL_SIZE: f32 = 9.0;
+
+/// A y-axis label that fits a plot `height` points tall, always on one line: "name, unit" in
+/// the body font when it fits, else in a font as much smaller as it needs (not under
+/// [`MIN_AXIS_LABEL_SIZE`]). A label broken onto two lines takes the y-axis a second column
+/// of text, so that one plot's axis is wider than its neighbours' and reads as two labels.
+pub fn axis_label(ctx: &egui::Context, label: &str, height: f32) -> egui::RichText {
+    egui::RichText::new(label).size(axis_label_size(ctx, label, height))
+}
+
+/// The font size of [`axis_label`], points.
+pub fn axis_label_size(ctx: &egui::Context, label: &str, height: f32) -> f32 {
+    let body = egui::TextStyle::Body.resolve(&ctx.global_style()).size;
+    let long = label_width(ctx, label, body);
+    let room = height * 0.95;
+    if long <= room {
+        body
     } else {
-        label.replacen(", ", "\n", 1)
+        (body * room / long).max(MIN_AXIS_LABEL_SIZE)
     }
+}
+
+/// The length of `label` laid out on one line in the body font at `size` points.
+pub fn label_width(ctx: &egui::Context, label: &str, size: f32) -> f32 {
+    let font = egui::FontId::new(
+        size,
+        egui::TextStyle::Body.resolve(&ctx.global_style()).family,
+    );
+    ctx.fonts_mut(|f| {
+        f.layout_no_wrap(label.to_string(), font, egui::Color32::WHITE)
+            .size()
+            .x
+    })
 }
 
 /// Share of an x-axis kept clear of labels at each end (half a label's width on a plot a few

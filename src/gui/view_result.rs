@@ -15,22 +15,53 @@ pub const RESULT_CAL_ID: &str = "result_cal";
 /// The result plot's id on the validation log.
 pub const RESULT_VAL_ID: &str = "result_val";
 
-/// View state of the result plot.
+/// The room kept between the drift plot's legend and its header drawn over the plot, points.
+const HEADER_GAP: f32 = 12.0;
+
+/// View state of the result plot: what it measured last frame to place its header.
 #[derive(Default)]
-pub struct ResultView;
+pub struct ResultView {
+    /// The width of the header drawn over the plot, as last drawn there, points, and whether
+    /// a validation log was open then (without one it holds a wider button).
+    over_w: Option<(f32, bool)>,
+    /// The width of the plot's frame (inside its axes), as last drawn, points.
+    frame_w: Option<f32>,
+}
 
 impl ResultView {
-    /// The result plot with its header: above it, or (`compact`, a short window) drawn over
-    /// its top right corner so that the plot keeps the row.
+    /// Whether the header is drawn over the plot (at its frame's top right): on a short
+    /// window (`compact`) with a calibration to plot, when the frame holds the legend (top
+    /// left) and the header side by side; else the header takes a row above the plot. Known
+    /// from last frame's widths (the first frame draws it over the plot to measure it).
+    pub fn header_over_plot(&self, ui: &Ui, state: &AppState, compact: bool) -> bool {
+        if !compact || state.shown.fit.is_none() {
+            return false;
+        }
+        let has_val = state.shown.validation.is_some();
+        match (self.over_w.filter(|w| w.1 == has_val), self.frame_w) {
+            (Some((header, _)), Some(frame)) => {
+                legend_width(ui, &legend_names(state)) + HEADER_GAP + header + 4.0 <= frame
+            }
+            _ => true,
+        }
+    }
+
+    /// The result plot with its header: above it, or drawn over its top right corner (see
+    /// [`ResultView::header_over_plot`]) so that the plot keeps the row.
     pub fn ui(&mut self, ui: &mut Ui, state: &AppState, compact: bool) -> Vec<Action> {
         let mut out = Vec::new();
         let has_val = state.shown.validation.is_some();
         let mut show_validation = state.view.show_validation && has_val;
-        let overlay = compact && state.shown.fit.is_some();
+        let overlay = self.header_over_plot(ui, state, compact);
         if !overlay {
-            ui.horizontal_wrapped(|ui| header(ui, false, has_val, &mut show_validation, &mut out));
+            let r = ui.horizontal_wrapped(|ui| {
+                let form = if compact { Form::Short } else { Form::Full };
+                header(ui, form, has_val, &mut show_validation, &mut out)
+            });
+            out.push(Action::PlotRect("result.header".into(), r.response.rect));
         }
         let plot = self.plot(ui, state, show_validation, &mut out);
+        self.frame_w = plot.map(|f| f.width()).or(self.frame_w);
         if overlay && let Some(frame) = plot {
             // Over the top right corner of the plot's frame, on the plot's background (the
             // legend is at the top left).
@@ -39,15 +70,17 @@ impl ResultView {
                 .pivot(egui::Align2::RIGHT_TOP)
                 .fixed_pos(frame.right_top() + egui::vec2(-4.0, 4.0))
                 .constrain_to(frame);
-            area.show(ui.ctx(), |ui| {
+            let r = area.show(ui.ctx(), |ui| {
                 egui::Frame::popup(ui.style())
                     .inner_margin(4.0)
                     .show(ui, |ui| {
                         ui.horizontal(|ui| {
-                            header(ui, true, has_val, &mut show_validation, &mut out)
+                            header(ui, Form::Over, has_val, &mut show_validation, &mut out)
                         });
                     });
             });
+            self.over_w = Some((r.response.rect.width(), has_val));
+            out.push(Action::PlotRect("result.header".into(), r.response.rect));
         }
         if show_validation != state.view.show_validation {
             out.push(Action::ShowValidation(show_validation));
@@ -277,32 +310,74 @@ impl ResultView {
     }
 }
 
+/// The names in the drift plot's legend, as the plot names its lines.
+fn legend_names(state: &AppState) -> Vec<String> {
+    let mut names = vec!["raw".to_string(), "corrected".to_string()];
+    if let Some(o) = &state.opened {
+        names.push(format!("opened {}", o.name()));
+    }
+    names
+}
+
+/// The width of egui_plot's legend of `names`, points, as egui_plot 0.38 lays it out (each
+/// row an icon as wide as the text is tall, a fifth of that, then the name; a frame of 8
+/// points' margin at each side and its stroke, 4 points in from the plot's frame).
+fn legend_width(ui: &Ui, names: &[String]) -> f32 {
+    let font = egui::TextStyle::Body.resolve(ui.style());
+    let row = ui.fonts_mut(|f| {
+        names
+            .iter()
+            .map(|n| {
+                let g = f.layout_no_wrap(n.clone(), font.clone(), egui::Color32::WHITE);
+                g.size().x + 1.2 * g.size().y
+            })
+            .fold(0.0, f32::max)
+    });
+    4.0 + 8.0 + row + 8.0 + 2.0
+}
+
+/// How much of the header is written: its title in full; in one word (a short window's row);
+/// or no title and one-word log names (over the plot, where the y-axis says it is drift).
+#[derive(Clone, Copy, PartialEq)]
+enum Form {
+    Full,
+    Short,
+    Over,
+}
+
 /// The result plot's title, which log it shows, and its PNG button.
-/// `short`: the title in one word (drawn over the plot).
 fn header(
     ui: &mut Ui,
-    short: bool,
+    form: Form,
     has_val: bool,
     show_validation: &mut bool,
     out: &mut Vec<Action>,
 ) {
-    ui.strong(if short {
-        "Drift"
+    let tip = "Ω filtered by the recipe's moving average: raw (grey) and corrected (green); a \
+               calibration opened to compare draws its corrected drift too (purple)";
+    match form {
+        Form::Full => {
+            ui.strong("Drift before and after correction")
+                .on_hover_text(tip);
+            ui.separator();
+        }
+        Form::Short => {
+            ui.strong("Drift").on_hover_text(tip);
+            ui.separator();
+        }
+        Form::Over => {}
+    }
+    let (cal, val) = if form == Form::Over {
+        ("calibration", "validation")
     } else {
-        "Drift before and after correction"
-    })
-    .on_hover_text(
-        "Ω filtered by the recipe's moving average: raw (grey) and corrected (green); a \
-         calibration opened to compare draws its corrected drift too (purple)",
-    );
-    ui.separator();
-    ui.radio_value(show_validation, false, "calibration log")
-        .on_hover_text("In-sample: the log the calibration was fitted on");
+        ("calibration log", "validation log")
+    };
+    ui.radio_value(show_validation, false, cal)
+        .on_hover_text("In-sample: the drift on the log the calibration was fitted on");
     ui.add_enabled_ui(has_val, |ui| {
-        ui.radio_value(show_validation, true, "validation log")
-            .on_hover_text(
-                "Held out: a second log of the same gyro, corrected with this calibration",
-            );
+        ui.radio_value(show_validation, true, val).on_hover_text(
+            "Held out: a second log of the same gyro, corrected with this calibration",
+        );
     });
     if !has_val
         && ui

@@ -17,6 +17,19 @@ use egui_plot::{HLine, HoverPosition, LineStyle, Plot, PlotTransform};
 /// The shortest a time plot is drawn, points (below it, the window is too small to read it).
 pub const MIN_PLOT_H: f32 = 60.0;
 
+/// The time plots, top to bottom: each one's id (for [`crate::gui::Workbench::plot_rect`] and
+/// saving it as PNG) and its y-axis label.
+pub const TIME_PLOTS: [(&str, &str); 4] = [
+    ("time_omega", "Ω, °/h"),
+    ("time_temp", "T, °C"),
+    ("time_tdot", "dT/dt, °C/s"),
+    ("time_tddot", "d²T/dt², °C/s²"),
+];
+
+/// The gap between two time plots on a short window, points: the plots keep the height (each
+/// one's frame parts it from the next).
+const COMPACT_GAP: f32 = 2.0;
+
 /// A pending change of the shared time axis.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum XCommand {
@@ -85,11 +98,20 @@ impl TimeView {
     /// The height the toolbar and the plots take with each plot `each` points tall (the
     /// toolbar as drawn last frame, one row before the first).
     pub fn height_for(&self, ui: &Ui, each: f32) -> f32 {
-        let spacing = ui.spacing().item_spacing.y;
+        let spacing = self.gap(ui);
         let toolbar = self
             .toolbar_h
             .unwrap_or(ui.spacing().interact_size.y + spacing);
         toolbar + 4.0 * each + 3.0 * spacing + self.x_axis_h()
+    }
+
+    /// The gap between two time plots, points.
+    fn gap(&self, ui: &Ui) -> f32 {
+        if self.compact {
+            COMPACT_GAP
+        } else {
+            ui.spacing().item_spacing.y
+        }
     }
 
     /// The height the last plot's time axis adds to it, points.
@@ -131,26 +153,10 @@ impl TimeView {
             None => state.ranges(),
         };
         let t_full = (log.time_s[0], log.time_s[log.len() - 1]);
-        let specs = [
-            Series {
-                id: "time_omega",
-                label: "Ω, °/h",
-            },
-            Series {
-                id: "time_temp",
-                label: "T, °C",
-            },
-            Series {
-                id: "time_tdot",
-                label: "dT/dt, °C/s",
-            },
-            Series {
-                id: "time_tddot",
-                label: "d²T/dt², °C/s²",
-            },
-        ];
+        let specs = TIME_PLOTS.map(|(id, label)| Series { id, label });
         let n = specs.len();
-        let spacing = ui.spacing().item_spacing.y;
+        let spacing = self.gap(ui);
+        ui.spacing_mut().item_spacing.y = spacing;
         let x_axis_h = self.x_axis_h();
         let each = ((ui.available_height() - spacing * (n as f32 - 1.0) - x_axis_h) / n as f32)
             .max(MIN_PLOT_H);
@@ -191,7 +197,7 @@ impl TimeView {
                 .allow_boxed_zoom(allow_drag);
             let plot = super::plot_items::with_time_axes(plot)
                 .y_axis_min_width(axis_w)
-                .y_axis_label(super::plot_items::axis_label(spec.label, each))
+                .y_axis_label(super::plot_items::axis_label(ui.ctx(), spec.label, each))
                 .show_axes(Vec2b::new(last, true))
                 .x_axis_label(if last && !self.compact {
                     format!("time, {}", scale.unit)
@@ -496,9 +502,11 @@ impl TimeView {
     fn toolbar(&mut self, ui: &mut Ui, out: &mut Vec<Action>, scale: TimeScale) {
         // Wrapped: on a narrow window the buttons take a second row rather than widening the
         // central panel under the side panels (which clipped the plots).
-        // Short labels, so that it keeps one row at 1280 points wide.
+        // Short labels and close buttons, so that it keeps one row at 1280 points wide (beside
+        // a controls panel wide enough for the whole plateau table).
         ui.horizontal_wrapped(|ui| {
-            ui.spacing_mut().item_spacing.x = 6.0;
+            ui.spacing_mut().item_spacing.x = 4.0;
+            ui.spacing_mut().button_padding.x = 3.0;
             if ui
                 .button("Whole log")
                 .on_hover_text("Show the whole log on the time axis (Home)")

@@ -193,7 +193,11 @@ impl CoeffView {
             Plot::new(("coeff_plot", pair.id()))
                 .height(height)
                 .x_axis_label(x_label)
-                .y_axis_label(crate::gui::plot_items::axis_label(y_label, height))
+                .y_axis_label(crate::gui::plot_items::axis_label(
+                    ui.ctx(),
+                    y_label,
+                    height,
+                ))
                 .y_axis_min_width(60.0)
                 .x_axis_formatter(crate::gui::plot_items::tick_x)
                 .y_axis_formatter(crate::gui::plot_items::tick_y)

@@ -4,6 +4,8 @@
 
 mod plateaus;
 
+pub use plateaus::CONTROLS_W_FOR_TABLE;
+
 use super::action::{Action, Edit};
 use super::jobs::Target;
 use super::plot_items::num;

@@ -8,6 +8,27 @@ use crate::gui::state::AppState;
 use crate::signal::plateau::{DetectOptions, PlateauRange, PlateauStats};
 use eframe::egui::{self, RichText, Ui};
 
+/// The plateau table's column widths, points: #, delete, start, end, T, Ω, ΔT, °C/min, std,
+/// samples. Fixed, so that a typed 28111.5 fits its cell and the × buttons line up; each just
+/// wide enough for its numbers (the units are in the header tips), so that the whole table
+/// fits the controls panel of a 1280-wide window.
+const W: [f32; 10] = [20.0, 18.0, 54.0, 54.0, 38.0, 48.0, 36.0, 40.0, 44.0, 34.0];
+/// The gap between two columns, points.
+const GAP: f32 = 2.0;
+/// The controls panel's width that shows the whole table, points: its columns and gaps, the
+/// collapsing header's indent (18), the panel's margins (2 × 8), and 28 points more: the
+/// rows come out that much wider than their columns' sum (measured at 1280×720), and the
+/// controls' scroll bar floats over the panel's right edge.
+pub const CONTROLS_W_FOR_TABLE: f32 = {
+    let mut w = 9.0 * GAP + 18.0 + 16.0 + 28.0;
+    let mut k = 0;
+    while k < W.len() {
+        w += W[k];
+        k += 1;
+    }
+    w
+};
+
 impl ControlsView {
     /// The plateau table with its buttons.
     pub(super) fn plateau_table(
@@ -84,10 +105,8 @@ impl ControlsView {
             crate::models::recipe::PlateauChoice::Manual { .. } => Default::default(),
         };
         let step = (log.nominal_dt_s() * 10.0).max(1e-3);
-        // Fixed column widths (a typed 28111.5 fits its cell, so the × buttons line up); the
-        // table scrolls sideways in a narrow panel.
-        // The delete button comes second, so that it stays in reach when the table scrolls.
-        const W: [f32; 10] = [22.0, 18.0, 56.0, 56.0, 38.0, 48.0, 38.0, 40.0, 40.0, 36.0];
+        // The table scrolls sideways in a narrow panel. The delete button comes second, so
+        // that it stays in reach when it does.
         let row_h = ui.spacing().interact_size.y;
         let cell = |ui: &mut Ui, k: usize, text: RichText| {
             ui.add_sized([W[k], row_h], egui::Label::new(text).truncate())
@@ -98,7 +117,7 @@ impl ControlsView {
             .auto_shrink([false, true])
             .show(ui, |ui| {
                 ui.horizontal(|ui| {
-                    ui.spacing_mut().item_spacing.x = 3.0;
+                    ui.spacing_mut().item_spacing.x = GAP;
                     for (k, (h, tip)) in [
                         (
                             "#",
@@ -111,15 +130,15 @@ impl ControlsView {
                         ("T, °C", "Mean temperature on the plateau"),
                         ("Ω, °/h", "Mean gyro output: the K0 point"),
                         (
-                            "ΔT, °C",
-                            "Spread of the temperature on the plateau: max − min, °C (large: not stable)",
+                            "ΔT",
+                            "ΔT, °C: the spread of the temperature on the plateau, max − min (large: not stable)",
                         ),
                         (
                             "°C/min",
-                            "How fast T moves over the plateau on average: ΔT over its length (the \
+                            "How fast T moves over the plateau on average, °C/min: ΔT over its length (the \
                              detector holds a plateau under its max rate)",
                         ),
-                        ("std, °/h", "Standard deviation of the raw Ω on the plateau"),
+                        ("std", "Standard deviation of the raw Ω on the plateau, °/h"),
                         ("n", "Samples on the plateau"),
                     ]
                     .into_iter()
@@ -138,7 +157,7 @@ impl ControlsView {
                         for k in rows {
                             let r = ranges[k];
                             ui.horizontal(|ui| {
-                                ui.spacing_mut().item_spacing.x = 3.0;
+                                ui.spacing_mut().item_spacing.x = GAP;
                                 self.plateau_row(
                                     ui,
                                     (k, r, &ranges),
