@@ -98,6 +98,11 @@ fn a_dragged_edge_previews_k0_and_the_release_refits_to_the_same() {
             .is_some(),
         "the K0 panel says what is previewed"
     );
+    assert!(
+        h.query_by_label_contains("Moving a plateau edge: its plateaus and K0 follow it")
+            .is_some(),
+        "the status line says the figures wait for the release (no refit runs)"
+    );
 
     h.event(Event::PointerButton {
         pos: to,

@@ -366,6 +366,19 @@ impl Workbench {
                         "Calibrating…".to_string(),
                         "The first calibration of this log is on its way".to_string(),
                     )
+                } else if self.state.shown.fit.is_some()
+                    && self.window.plateau_drag
+                    && self.window.pointer_down
+                {
+                    (
+                        ui.visuals().warn_fg_color,
+                        "Moving a plateau edge: its plateaus and K0 follow it; the figures are \
+                         those before the drag until it is released"
+                            .to_string(),
+                        "Only the plateaus' statistics and K0 are recomputed while the edge moves; \
+                         every axis is refitted when the mouse button is released"
+                            .to_string(),
+                    )
                 } else if self.state.shown.fit.is_some() && !self.state.fit_current() {
                     (
                         ui.visuals().warn_fg_color,
