@@ -103,9 +103,13 @@ impl ModelsView {
         running: Option<&CompareHandle>,
     ) -> Vec<Action> {
         let mut out = Vec::new();
+        // The side panels start narrower in a narrower window, so that the figures table in
+        // the middle keeps its columns whole at 1280 points (the detail panel is empty until a
+        // model is picked); they can be dragged wider.
+        let page_w = ui.available_width();
         Panel::left("models_choose")
-            .default_size(300.0)
-            .size_range(260.0..=460.0)
+            .default_size((0.2 * page_w).clamp(250.0, 300.0))
+            .size_range(250.0..=460.0)
             .show(ui, |ui| {
                 // Compare stays at the panel's foot whatever the window's height; the choices
                 // scroll above it.
@@ -121,8 +125,8 @@ impl ModelsView {
                     });
             });
         Panel::right("models_detail")
-            .default_size(380.0)
-            .size_range(320.0..=720.0)
+            .default_size((0.24 * page_w).clamp(250.0, 380.0))
+            .size_range(250.0..=720.0)
             .show(ui, |ui| {
                 ScrollArea::vertical()
                     .id_salt("models_detail_scroll")
