@@ -247,3 +247,28 @@ fn compare_is_in_the_window_on_the_models_page_at_every_size() {
         );
     }
 }
+
+/// At 1280×720 the Models page's figures table keeps its last column ("outside") clear of the
+/// detail panel: the side panels start narrower in a narrower window (it scrolled sideways).
+#[test]
+fn the_models_figures_table_is_whole_at_1280x720() {
+    let mut h = opened(
+        "calibration.csv",
+        "validation.csv",
+        egui::vec2(1280.0, 720.0),
+    );
+    let ctx = h.ctx.clone();
+    h.state_mut().act(&ctx, Action::ShowPage(Page::Models));
+    h.run_ok();
+    h.get_by_role_and_label(Role::Button, "Compare").click();
+    h.run_ok();
+    settle(&mut h);
+    assert!(h.state().state.shown.models.is_some(), "compared");
+    h.run_ok();
+    let last = h.get_by_label("outside").rect();
+    let detail = h.get_by_label("Export model…").rect();
+    assert!(
+        last.max.x <= detail.min.x,
+        "the table's last column {last:?} runs under the detail panel (its button {detail:?})"
+    );
+}
