@@ -47,3 +47,15 @@ pub fn p2p_corrected(h: &Harness<'_, Workbench>) -> f64 {
     let f = h.state().state.shown.fit.as_ref().expect("calibrated");
     f.outcome.in_sample.evaluation.comparison.corrected.p2p_dph
 }
+
+/// The primary button pressed (`true`) or released at `pos`, one frame run after: the ends
+/// of a drag as a hand makes it, the moves between left to the test.
+pub fn primary_button(h: &mut Harness<'_, Workbench>, pos: egui::Pos2, pressed: bool) {
+    h.event(egui::Event::PointerButton {
+        pos,
+        button: egui::PointerButton::Primary,
+        pressed,
+        modifiers: egui::Modifiers::NONE,
+    });
+    h.step();
+}

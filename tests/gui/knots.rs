@@ -42,28 +42,16 @@ fn fitted_knots(h: &Harness<'_, Workbench>, c: Coefficient) -> (Vec<f64>, Vec<f6
     (x.to_vec(), y.to_vec())
 }
 
-/// A primary-button drag from `from` to `to` in a few moves, `modifiers` held.
+/// A primary-button drag from `from` to `to` in a few moves.
 fn drag(h: &mut Harness<'_, Workbench>, from: Pos2, to: Pos2) {
     h.event(Event::PointerMoved(from));
     h.run_ok();
-    h.event(Event::PointerButton {
-        pos: from,
-        button: PointerButton::Primary,
-        pressed: true,
-        modifiers: Modifiers::NONE,
-    });
-    h.step();
+    primary_button(h, from, true);
     for k in 1..=6 {
         h.event(Event::PointerMoved(from + (to - from) * (k as f32 / 6.0)));
         h.step();
     }
-    h.event(Event::PointerButton {
-        pos: to,
-        button: PointerButton::Primary,
-        pressed: false,
-        modifiers: Modifiers::NONE,
-    });
-    h.step();
+    primary_button(h, to, false);
     settle(h);
 }
 

@@ -3,7 +3,7 @@
 //! preview was the refit's K0 and plateaus to the bit.
 
 use driftlab::gui::Workbench;
-use eframe::egui::{Event, Modifiers, PointerButton, Pos2};
+use eframe::egui::{Event, Pos2};
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
 use std::time::{Duration, Instant};
@@ -46,13 +46,7 @@ fn a_dragged_edge_previews_k0_and_the_release_refits_to_the_same() {
 
     h.event(Event::PointerMoved(from));
     h.run_ok();
-    h.event(Event::PointerButton {
-        pos: from,
-        button: PointerButton::Primary,
-        pressed: true,
-        modifiers: Modifiers::NONE,
-    });
-    h.step();
+    primary_button(&mut h, from, true);
     for k in 1..=5 {
         h.event(Event::PointerMoved(from + (to - from) * (k as f32 / 5.0)));
         h.step();
@@ -104,13 +98,7 @@ fn a_dragged_edge_previews_k0_and_the_release_refits_to_the_same() {
         "the status line says the figures wait for the release (no refit runs)"
     );
 
-    h.event(Event::PointerButton {
-        pos: to,
-        button: PointerButton::Primary,
-        pressed: false,
-        modifiers: Modifiers::NONE,
-    });
-    h.step();
+    primary_button(&mut h, to, false);
     frames_until(&mut h, |wb| {
         wb.state.shown.preview.is_none() && generation(wb) > fitted_at
     });
