@@ -75,9 +75,9 @@ fn staged_fit_is_the_engines_fit() {
 }
 
 #[test]
-fn a_k2_kind_change_with_the_kept_first_k1_is_the_engines_fit() {
-    // The + set refits from the first pass's K1 kept from the run before; the − set and
-    // the kept K1 of other specs must not leak in either.
+fn a_k2_kind_change_with_a_kept_set_is_the_engines_fit() {
+    // The + set refits while the − set's fit is kept from the run before (or refits when its
+    // K1 changed): neither may leak into the other.
     let log = sample_log();
     let mut recipe = Recipe::default();
     let mut p = Pipeline::new();

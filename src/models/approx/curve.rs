@@ -289,6 +289,12 @@ impl Approx {
         }
     }
 
+    /// This approximation with the statistics of its fit (a fit made from moments computes
+    /// them after the curve, on the points it was fitted to).
+    pub fn with_stats(self, stats: FitStats) -> Approx {
+        Approx { stats, ..self }
+    }
+
     /// Returns a copy with knot `j` moved to value `y` (the workbench's dragged knot).
     pub fn with_knot_value(&self, j: usize, y: f64) -> Approx {
         let mut curve = self.curve.clone();
@@ -372,6 +378,12 @@ fn check_knots(xs: &[f64], ys: &[f64]) -> Result<(), CurveError> {
     }
     if xs.windows(2).any(|w| w[1] <= w[0]) {
         return Err(CurveError::KnotOrder);
+    }
+    // Checked before the segments are made: the `splines` crate's evaluator, asked for the
+    // segments of knots whose span overflows, panics.
+    let (first, last) = (xs[0], xs[xs.len() - 1]);
+    if !(last - first).is_finite() {
+        return Err(CurveError::KnotSpan { first, last });
     }
     Ok(())
 }

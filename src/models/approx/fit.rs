@@ -58,13 +58,13 @@ impl Default for FitOptions {
 }
 
 #[inline]
-fn usable(x: f64, y: f64, w: f64) -> bool {
+pub(crate) fn usable(x: f64, y: f64, w: f64) -> bool {
     x.is_finite() && y.is_finite() && w.is_finite() && w > 0.0
 }
 
 /// Sums `chunk(from, to)` over the fixed chunks of `n` candidates, in parallel, folding the
 /// chunks' results in order with `add`.
-fn over_chunks<T: Send>(
+pub(crate) fn over_chunks<T: Send>(
     n: usize,
     chunk: impl Fn(usize, usize) -> T + Sync,
     add: impl Fn(T, T) -> T,
@@ -247,7 +247,21 @@ fn fit_curve<S: PointSource>(
         }
         Curve::Polynomial { .. } => (lo, hi),
     };
-    let approx = Approx::new(
+    let approx = fitted_approx(spec, curve, (lo, hi), needed, got)?;
+    Ok((approx, sums))
+}
+
+/// The approximation of a fitted curve over `(lo, hi)`, its stats holding the `got` points
+/// only; a curve that is not one (a coefficient that overflowed) is reported as too few
+/// points for the `needed` parameters, the only way a least-squares fit makes one.
+pub(super) fn fitted_approx(
+    spec: &ApproxSpec,
+    curve: Curve,
+    (lo, hi): (f64, f64),
+    needed: usize,
+    got: usize,
+) -> Result<Approx, FitError> {
+    Approx::new(
         spec.kind,
         curve,
         lo,
@@ -262,8 +276,7 @@ fn fit_curve<S: PointSource>(
         kind: spec.kind,
         needed,
         got,
-    })?;
-    Ok((approx, sums))
+    })
 }
 
 /// Count, Σw and Σw·y of the points a fit used, gathered while accumulating.
@@ -360,22 +373,29 @@ fn fit_polynomial<S: PointSource>(n: usize, src: &S, lo: f64, hi: f64) -> (Curve
     let ata = DMatrix::from_fn(n, n, |a, b| su[a + b]);
     let aty = DVector::from_fn(n, |a, _| suy[a]);
     let q = solve(ata, aty);
-    // Σ q_j ((x − c)/s)^j expanded into Σ coeffs_k x^k.
-    let mut coeffs = vec![0.0; n];
-    for (j, qj) in q.iter().enumerate() {
-        let scale = qj / s.powi(j as i32);
-        for (k, ck) in coeffs.iter_mut().enumerate().take(j + 1) {
-            *ck += scale * binomial(j, k) as f64 * (-c).powi((j - k) as i32);
-        }
-    }
     (
-        Curve::Polynomial { coeffs },
+        Curve::Polynomial {
+            coeffs: powers_of_x(q.as_slice(), c, s),
+        },
         Sums {
             n: used,
             sw: su[0],
             swy: suy[0],
         },
     )
+}
+
+/// `Σ q_j ((x − c)/s)^j` expanded into `Σ coeffs_k x^k`: the polynomial fitted on the scaled
+/// x, as stored.
+pub(super) fn powers_of_x(q: &[f64], c: f64, s: f64) -> Vec<f64> {
+    let mut coeffs = vec![0.0; q.len()];
+    for (j, qj) in q.iter().enumerate() {
+        let scale = qj / s.powi(j as i32);
+        for (k, ck) in coeffs.iter_mut().enumerate().take(j + 1) {
+            *ck += scale * binomial(j, k) as f64 * (-c).powi((j - k) as i32);
+        }
+    }
+    coeffs
 }
 
 fn binomial(n: usize, k: usize) -> u64 {
@@ -446,9 +466,23 @@ fn fit_knots<S: PointSource>(kind: ApproxKind, knots_x: &[f64], src: &S) -> (Vec
             },
         );
     };
-    let ata_flat = &acc.ata;
-    let mut ata = DMatrix::from_fn(m, m, |a, b| ata_flat[a.min(b) * m + a.max(b)]);
-    let aty = DVector::from_vec(acc.aty);
+    (
+        knot_values(knots_x, &acc.ata, acc.aty),
+        Sums {
+            n: acc.used,
+            sw: acc.sw,
+            swy: acc.swy,
+        },
+    )
+}
+
+/// The knot values solving the normal equations of a knot fit (`ata_upper`: the upper
+/// triangle of AᵀA, row-major over `m × m`), with the vanishing second-difference penalty
+/// that bridges a knot interval without points.
+pub(super) fn knot_values(knots_x: &[f64], ata_upper: &[f64], aty: Vec<f64>) -> Vec<f64> {
+    let m = knots_x.len();
+    let mut ata = DMatrix::from_fn(m, m, |a, b| ata_upper[a.min(b) * m + a.max(b)]);
+    let aty = DVector::from_vec(aty);
     let lambda = 1e-9 * ata.trace() / m as f64;
     for j in 1..m.saturating_sub(1) {
         // The second difference over the knots' positions, scaled to (1, −2, 1) for equal
@@ -469,19 +503,12 @@ fn fit_knots<S: PointSource>(kind: ApproxKind, knots_x: &[f64], src: &S) -> (Vec
             }
         }
     }
-    (
-        solve(ata, aty).iter().copied().collect(),
-        Sums {
-            n: acc.used,
-            sw: acc.sw,
-            swy: acc.swy,
-        },
-    )
+    solve(ata, aty).iter().copied().collect()
 }
 
 /// Least-squares solution of the normal equations; SVD so that a rank-deficient system (all
 /// points at one x) still gives the minimum-norm answer rather than an error.
-fn solve(ata: DMatrix<f64>, aty: DVector<f64>) -> DVector<f64> {
+pub(super) fn solve(ata: DMatrix<f64>, aty: DVector<f64>) -> DVector<f64> {
     let scale = ata.amax().max(f64::MIN_POSITIVE);
     let svd = ata.svd(true, true);
     svd.solve(&aty, scale * 1e-13)

@@ -18,10 +18,11 @@
 //!
 //! This module holds the choices (kind, knots, extrapolation) and what a fit reports; the
 //! fitted curve (`curve`), its fast evaluator (`evaluator`), the fit (`fit`), the knot
-//! bases (`knots`), the checks of knots placed by hand (`placement`) and the edits of one
+//! bases (`knots`), a fit's design apart from its points (`design`), the checks of knots placed by hand (`placement`) and the edits of one
 //! knot the workbench makes (`knot_edit`) are in modules of their own.
 
 mod curve;
+mod design;
 mod errors;
 mod evaluator;
 mod fit;
@@ -32,11 +33,13 @@ mod placement;
 mod tests;
 
 pub use curve::{Approx, Curve, SegmentCubics};
+pub use design::{Design, Weights};
 pub use errors::{CurveError, UnknownApproxKind};
 pub use evaluator::Evaluator;
 pub use fit::{
     CHUNK, FitOptions, PointSource, XRange, fit, fit_weighted, fit_with, fit_with_then, x_range,
 };
+pub(crate) use fit::{over_chunks, usable};
 pub use knot_edit::{KnotEdit, KnotEditError};
 pub use knots::{knot_positions, knot_weights};
 pub use placement::{KnotsError, check_positions};

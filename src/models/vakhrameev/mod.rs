@@ -23,6 +23,7 @@ pub mod correct;
 mod fit;
 mod k0_plateaus;
 pub mod knots;
+mod set_moments;
 mod sets;
 mod source;
 mod staged;

@@ -11,7 +11,7 @@ use crate::signal::plateau;
 /// fitted in the pass before. Every path to the pointwise K1 (the fits, the points shown by the
 /// workbench and the report) computes it here.
 #[inline(always)]
-fn k1_ratio(td: f64, tdd: f64, rest: f64, k2: Option<&Evaluator<'_>>) -> f64 {
+pub(super) fn k1_ratio(td: f64, tdd: f64, rest: f64, k2: Option<&Evaluator<'_>>) -> f64 {
     let k2_term = k2.map_or(0.0, |k2| k2.eval(tdd) * tdd);
     (rest - k2_term) / td
 }
@@ -19,7 +19,7 @@ fn k1_ratio(td: f64, tdd: f64, rest: f64, k2: Option<&Evaluator<'_>>) -> f64 {
 /// Pointwise K2 of one sample: `(Ω_f − K0(T) − K1(Ṫ)·Ṫ) / T̈` with the fitted K1. Every path to
 /// the pointwise K2 computes it here.
 #[inline(always)]
-fn k2_ratio(td: f64, tdd: f64, rest: f64, k1: &Evaluator<'_>) -> f64 {
+pub(super) fn k2_ratio(td: f64, tdd: f64, rest: f64, k1: &Evaluator<'_>) -> f64 {
     (rest - k1.eval(td) * td) / tdd
 }
 
@@ -346,7 +346,7 @@ fn fit_or_fallback_source<S: PointSource>(
 }
 
 /// The approximation specs of a set (K1, K2) and its sign as names carry it.
-fn set_specs(regime: Regime, recipe: &Recipe) -> (&ApproxSpec, &ApproxSpec, &'static str) {
+pub(super) fn set_specs(regime: Regime, recipe: &Recipe) -> (&ApproxSpec, &ApproxSpec, &'static str) {
     match regime {
         Regime::Minus => (&recipe.k1_minus, &recipe.k2_minus, "-"),
         _ => (&recipe.k1_plus, &recipe.k2_plus, "+"),
@@ -409,47 +409,35 @@ fn fit_k2_from<S: PointSource>(
     fit_or_fallback_source(&format!("K2{sign}"), spec2, src, opts, warnings)
 }
 
-/// The K1 of a set's first pass (fitted on the ratios alone, before any K2): it depends on
-/// the samples, K0 and K1's own spec only, so the workbench keeps it while K2 changes and hands
-/// it to [`fit_set_from`]. Its warnings are not kept, as that keeps only the last pass's.
-pub fn first_k1(
-    samples: &SetSamples,
-    inputs: SetInputs,
-    regime: Regime,
-    recipe: &Recipe,
-) -> Approx {
-    let (spec1, _, sign) = set_specs(regime, recipe);
-    let src = K1Source {
-        idx: &samples.k1,
-        inputs,
-        k2: None,
-        drift: recipe.weighting == Weighting::Drift,
-    };
-    let opts = FitOptions {
-        known: samples.k1_range,
-        stats: false,
-    };
-    fit_or_fallback_source(&format!("K1{sign}"), spec1, &src, opts, &mut Vec::new())
-}
-
 /// K1 and K2 of one set (+ or −), as the paper does (K1 from the ratios, then K2 from what the
 /// fitted K1 leaves), followed by the recipe's refinement passes, each refitting K1 with the K2
-/// term removed and then K2 with the new K1. The fits stream over the set's samples; the
-/// statistics are computed for the last pass only (the earlier ones serve only their curves), and
-/// the points of the last pass are gathered only when `points` is true (for display).
+/// term removed and then K2 with the new K1; with the last pass's statistics, and its points
+/// when `points` is true (for display).
 ///
-/// The first pass's K1 is given when it is known ([`first_k1`] of the same samples, inputs and
-/// recipe; used only when a refinement pass follows, since the last pass alone computes
-/// statistics and warnings). When the points are asked for, the last pass
-/// gathers them first and fits on them: the same curves, with K2 (K1) evaluated
-/// once per point instead of three times.
+/// The passes are solved from moments gathered once (`set_moments.rs`); a set those cannot take
+/// is fitted by [`fit_set_streaming`].
 pub fn fit_set_from(
     samples: &SetSamples,
     inputs: SetInputs,
     regime: Regime,
     recipe: &Recipe,
     points: bool,
-    first_k1: Option<&Approx>,
+) -> SetFit {
+    super::set_moments::fit_set_moments(samples, inputs, regime, recipe, points)
+        .unwrap_or_else(|| fit_set_streaming(samples, inputs, regime, recipe, points))
+}
+
+/// [`fit_set_from`] pass by pass, each fit streaming over the set's samples: the fits fall
+/// back to a simpler curve when the points cannot support the spec, and say so. The
+/// statistics are computed for the last pass only (the earlier ones serve only their curves).
+/// When the points are asked for, the last pass gathers them first and fits on them: the same
+/// curves, with K2 (K1) evaluated once per point instead of three times.
+pub(super) fn fit_set_streaming(
+    samples: &SetSamples,
+    inputs: SetInputs,
+    regime: Regime,
+    recipe: &Recipe,
+    points: bool,
 ) -> SetFit {
     let (spec1, spec2, sign) = set_specs(regime, recipe);
     let drift = recipe.weighting == Weighting::Drift;
@@ -516,10 +504,7 @@ pub fn fit_set_from(
             out.k1_points = p1;
             out.k2_points = p2;
         } else {
-            k1 = match first_k1 {
-                Some(k1) if pass == 0 && !last => k1.clone(),
-                _ => fit_or_fallback_source(&name1, spec1, &src1, opts1, &mut warnings),
-            };
+            k1 = fit_or_fallback_source(&name1, spec1, &src1, opts1, &mut warnings);
             let src2 = K2Source {
                 idx: &samples.k2,
                 inputs,

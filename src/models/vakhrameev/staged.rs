@@ -13,7 +13,7 @@
 
 use super::knots::{Coefficient, with_knots};
 use super::sets::{
-    first_k1, fit_k1_gathered, fit_k2_gathered, fit_set_from, into_rest, k2_points_of,
+    fit_k1_gathered, fit_k2_gathered, fit_set_from, into_rest, k2_points_of,
 };
 use super::stages::fit_k0;
 use super::{
@@ -53,16 +53,6 @@ struct SetKey<S> {
     refinements: usize,
 }
 
-/// What the first pass's K1 of a set depends on (not K2: it is fitted before any K2), so it is
-/// kept while only the set's K2 changes.
-#[derive(Debug, Clone, PartialEq)]
-struct FirstKey<S> {
-    plateaus: PlateauKey<S>,
-    k0: Approx,
-    spec1: ApproxSpec,
-    weighting: Weighting,
-}
-
 /// K1 and K2 of one set, with the points of its last pass (shared with the display).
 #[derive(Debug, Clone)]
 struct FittedSet {
@@ -85,7 +75,6 @@ pub struct StageMemory<S> {
     sets: Option<(PlateauKey<S>, Arc<SetsOfSamples>)>,
     stats: Option<(StatsKey<S>, Vec<PlateauStats>)>,
     rest: Option<(S, Approx, Arc<Vec<f64>>)>,
-    first_k1: [Option<(FirstKey<S>, Approx)>; 2],
     fits: [Option<(SetKey<S>, FittedSet)>; 2],
 }
 
@@ -144,7 +133,6 @@ impl<S> StageMemory<S> {
             sets: None,
             stats: None,
             rest: None,
-            first_k1: [None, None],
             fits: [None, None],
         }
     }
@@ -267,31 +255,11 @@ impl<S: Clone + PartialEq + Send + Sync> StageMemory<S> {
                 tddot: &prepared.deriv.tddot,
                 rest,
             };
-            let first_keys = [0, 1].map(|s| FirstKey {
-                plateaus: pkey.clone(),
-                k0: k0.clone(),
-                spec1: keys[s].spec1.clone(),
-                weighting: recipe.weighting,
-            });
-            let kept = [0, 1].map(|s| {
-                self.first_k1[s]
-                    .as_ref()
-                    .filter(|(k, _)| keep && *k == first_keys[s])
-                    .map(|(_, a)| a.clone())
-            });
-            let fitted: Vec<(usize, FittedSet, Option<Approx>)> = todo
+            let fitted: Vec<(usize, FittedSet)> = todo
                 .par_iter()
                 .map(|&s| {
-                    let regime = regime_of(s);
-                    // The first pass's K1, kept for the next edit; it serves only when a
-                    // refinement follows it (a batch fit makes it inside the set's fit).
-                    let first = (keep && recipe.refinements > 0).then(|| {
-                        kept[s]
-                            .clone()
-                            .unwrap_or_else(|| first_k1(&samples[s], inputs, regime, even))
-                    });
                     let gather = points || placed[s];
-                    let f = fit_set_from(&samples[s], inputs, regime, even, gather, first.as_ref());
+                    let f = fit_set_from(&samples[s], inputs, regime_of(s), even, gather);
                     let fit = FittedSet {
                         k1: f.k1,
                         k2: f.k2,
@@ -299,14 +267,11 @@ impl<S: Clone + PartialEq + Send + Sync> StageMemory<S> {
                         p2: Arc::new(f.k2_points),
                         warnings: f.warnings,
                     };
-                    (s, fit, first)
+                    (s, fit)
                 })
                 .collect();
-            for (s, fit, first) in fitted {
+            for (s, fit) in fitted {
                 if keep {
-                    if let Some(a) = first {
-                        self.first_k1[s] = Some((first_keys[s].clone(), a));
-                    }
                     self.fits[s] = Some((keys[s].clone(), fit.clone()));
                 }
                 now[s] = Some(fit);

@@ -1,0 +1,447 @@
+//! A set's K1 and K2 through the paper's passes from moments gathered once.
+//!
+//! Each pass of the paper refits K1 on `(Ω_f − K0 − K2(T̈)·T̈) / Ṫ` with the K2 of the pass
+//! before, then K2 on `(Ω_f − K0 − K1(Ṫ)·Ṫ) / T̈` with the new K1. Both curves are linear in
+//! their parameters, so a K1 point is `yr − z·θ₂` with `yr = (Ω_f − K0)/Ṫ` and
+//! `z = φ₂(T̈)·T̈/Ṫ` (`φ₂`: the weights of K2's parameters in its value), and K1's normal
+//! equations are `A₁·θ₁ = h₁ − C₁·θ₂` with `A₁ = Σ w·B₁B₁ᵀ`, `h₁ = Σ w·B₁·yr` and
+//! `C₁ = Σ w·B₁zᵀ`; K2's alike. One pass over each set's samples gathers `A`, `h` and `C`;
+//! every pass after that is two small solves. A fit of three passes over a million samples read
+//! the samples ten times; it now reads them four times (the moments, then the last pass's
+//! points and statistics), whatever the number of refinements.
+//!
+//! The designs (knots, scaling, penalty, solver) are the streaming fit's
+//! ([`approx::Design`]), so the curves differ from a fit pass by pass only by rounding; the
+//! statistics are computed on the points of the last pass, exactly as the streaming fit's. A
+//! set the moments cannot take (too few points for a curve, a sample whose rate or K2 term is
+//! not finite) is fitted by the streaming passes, which fall back to a simpler curve and say so.
+
+use super::sets::{SetFit, SetInputs, SetSamples, k1_ratio, k2_ratio, set_specs};
+use super::{PointSet, Regime};
+use crate::models::approx::{self, Approx, Design, FitStats, Weights};
+use crate::models::recipe::{Recipe, Weighting};
+use rayon::prelude::*;
+
+/// The normal equations of one coefficient's fit over its set's samples, with the
+/// cross-products that carry the other coefficient's term.
+#[derive(Debug, Clone)]
+struct Moments {
+    /// Points used, and the sum of their weights.
+    n: usize,
+    sw: f64,
+    /// `Σ w·B·Bᵀ`, upper triangle, row-major over `p × p`.
+    ata: Vec<f64>,
+    /// `Σ w·B·yr`.
+    h: Vec<f64>,
+    /// `Σ w·B·zᵀ`, row-major over `p × q`.
+    cross: Vec<f64>,
+    /// `Σ w·yr` and `Σ w·z`: the points' mean for a given other curve.
+    s_yr: f64,
+    s_z: Vec<f64>,
+    /// Whether every point used had a finite `z`.
+    finite: bool,
+}
+
+impl Moments {
+    fn zero(p: usize, q: usize) -> Moments {
+        Moments {
+            n: 0,
+            sw: 0.0,
+            ata: vec![0.0; p * p],
+            h: vec![0.0; p],
+            cross: vec![0.0; p * q],
+            s_yr: 0.0,
+            s_z: vec![0.0; q],
+            finite: true,
+        }
+    }
+
+    fn add(mut self, b: Moments) -> Moments {
+        self.n += b.n;
+        self.sw += b.sw;
+        self.s_yr += b.s_yr;
+        self.finite &= b.finite;
+        for (x, y) in [
+            (&mut self.ata, &b.ata),
+            (&mut self.h, &b.h),
+            (&mut self.cross, &b.cross),
+            (&mut self.s_z, &b.s_z),
+        ] {
+            x.iter_mut().zip(y).for_each(|(p, q)| *p += q);
+        }
+        self
+    }
+
+    /// The right-hand side `h − C·θ_other` (`h` when there is no other curve yet).
+    fn rhs(&self, other: Option<&[f64]>) -> Vec<f64> {
+        let Some(t) = other else {
+            return self.h.clone();
+        };
+        let q = t.len();
+        self.h
+            .iter()
+            .enumerate()
+            .map(|(j, h)| h - dot(&self.cross[j * q..(j + 1) * q], t))
+            .collect()
+    }
+
+    /// The weighted mean of the points `yr − z·θ_other`.
+    fn mean(&self, other: Option<&[f64]>) -> f64 {
+        let s = self.s_yr - other.map_or(0.0, |t| dot(&self.s_z, t));
+        s / self.sw
+    }
+}
+
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
+/// The columns of one coefficient's points: its own argument (Ṫ for K1), the other's (T̈).
+#[derive(Clone, Copy)]
+struct Columns<'a> {
+    own: &'a [f64],
+    other: &'a [f64],
+    rest: &'a [f64],
+}
+
+/// Gathers the moments of the points `idx` of one coefficient (basis `own`) against the other
+/// coefficient's value weights (`other`), over fixed chunks summed in order, so the sums do
+/// not depend on the number of threads.
+fn moments(idx: &[u32], cols: Columns, own: &Design, other: &Design, drift: bool) -> Moments {
+    let (p, q) = (own.params(), other.params());
+    let part = |from: usize, to: usize| {
+        let mut m = Moments::zero(p, q);
+        for &i in &idx[from..to] {
+            let i = i as usize;
+            let (x, o) = (cols.own[i], cols.other[i]);
+            let w = if drift { x * x } else { 1.0 };
+            let yr = cols.rest[i] / x;
+            if !approx::usable(x, yr, w) {
+                continue;
+            }
+            let zf = o / x;
+            let phi = if zf.is_finite() {
+                other.value_weights(o)
+            } else {
+                m.finite = false;
+                continue;
+            };
+            m.n += 1;
+            m.sw += w;
+            m.s_yr += w * yr;
+            for k in 0..phi.width {
+                m.s_z[phi.first + k] += w * phi.weights[k] * zf;
+            }
+            let Weights {
+                first,
+                width,
+                weights: b,
+            } = own.basis(x);
+            for a in 0..width {
+                let wa = w * b[a];
+                m.h[first + a] += wa * yr;
+                let row = (first + a) * p;
+                for c in a..width {
+                    m.ata[row + first + c] += wa * b[c];
+                }
+                let row = (first + a) * q;
+                let waz = wa * zf;
+                for k in 0..phi.width {
+                    m.cross[row + phi.first + k] += waz * phi.weights[k];
+                }
+            }
+        }
+        m
+    };
+    approx::over_chunks(idx.len(), part, Moments::add).unwrap_or_else(|| Moments::zero(p, q))
+}
+
+/// The statistics of `curve` on the points `(x, y)` of `idx` (made by `point`), and the points
+/// themselves when `gather` is set: as the streaming fit's statistics pass computes them, the
+/// mean given.
+fn judged(
+    idx: &[u32],
+    point: impl Fn(usize) -> (f64, f64) + Sync,
+    curve: &Approx,
+    mean: f64,
+    drift: bool,
+    gather: bool,
+) -> (FitStats, PointSet) {
+    let n = idx.len();
+    let mut pts = PointSet {
+        x: if gather { vec![0.0; n] } else { Vec::new() },
+        y: if gather { vec![0.0; n] } else { Vec::new() },
+    };
+    let eval = curve.evaluator();
+    // (points used, Σw, SSres, SStot) of one chunk, its points written when gathered.
+    let part = |c: usize, xs: &mut [f64], ys: &mut [f64]| {
+        let from = c * approx::CHUNK;
+        let to = (from + approx::CHUNK).min(n);
+        let (mut used, mut sw, mut ss_res, mut ss_tot) = (0usize, 0.0, 0.0, 0.0);
+        for (k, &i) in idx[from..to].iter().enumerate() {
+            let (x, y) = point(i as usize);
+            if gather {
+                xs[k] = x;
+                ys[k] = y;
+            }
+            let w = if drift { x * x } else { 1.0 };
+            if approx::usable(x, y, w) {
+                used += 1;
+                sw += w;
+                let r = y - eval.eval(x);
+                ss_res += w * r * r;
+                ss_tot += w * (y - mean) * (y - mean);
+            }
+        }
+        (used, sw, ss_res, ss_tot)
+    };
+    let chunks = n.div_ceil(approx::CHUNK);
+    let parts: Vec<(usize, f64, f64, f64)> = if gather {
+        pts.x
+            .par_chunks_mut(approx::CHUNK)
+            .zip(pts.y.par_chunks_mut(approx::CHUNK))
+            .enumerate()
+            .map(|(c, (xs, ys))| part(c, xs, ys))
+            .collect()
+    } else {
+        (0..chunks)
+            .into_par_iter()
+            .map(|c| part(c, &mut [], &mut []))
+            .collect()
+    };
+    let (used, sw, ss_res, ss_tot) = parts
+        .into_iter()
+        .fold((0, 0.0, 0.0, 0.0), |a, b| (a.0 + b.0, a.1 + b.1, a.2 + b.2, a.3 + b.3));
+    let stats = FitStats {
+        n: used,
+        rmse: (ss_res / sw).sqrt(),
+        r2: if ss_tot > 0.0 {
+            1.0 - ss_res / ss_tot
+        } else {
+            0.0
+        },
+    };
+    (stats, pts)
+}
+
+/// K1 and K2 of one set from its moments, through the recipe's passes, with the last pass's
+/// statistics and (when `points`) its points; `None` when the moments cannot take the set
+/// (see the module's text), which the streaming passes then fit.
+pub(super) fn fit_set_moments(
+    samples: &SetSamples,
+    inputs: SetInputs,
+    regime: Regime,
+    recipe: &Recipe,
+    points: bool,
+) -> Option<SetFit> {
+    let (spec1, spec2, _) = set_specs(regime, recipe);
+    let d1 = Design::new(spec1, samples.k1_range?).ok()?;
+    let d2 = Design::new(spec2, samples.k2_range?).ok()?;
+    let drift = recipe.weighting == Weighting::Drift;
+    let SetInputs { tdot, tddot, rest } = inputs;
+    let (m1, m2) = rayon::join(
+        || {
+            let cols = Columns {
+                own: tdot,
+                other: tddot,
+                rest,
+            };
+            moments(&samples.k1, cols, &d1, &d2, drift)
+        },
+        || {
+            let cols = Columns {
+                own: tddot,
+                other: tdot,
+                rest,
+            };
+            moments(&samples.k2, cols, &d2, &d1, drift)
+        },
+    );
+    // Every point the range counted, each with its other term: else the streaming fit.
+    if m1.n != d1.points() || m2.n != d2.points() || !m1.finite || !m2.finite {
+        return None;
+    }
+    let mut theta1 = Vec::new();
+    let mut theta2: Option<Vec<f64>> = None;
+    // The K2 the last pass's K1 points carry (the pass before's; none in a single pass).
+    let mut k2_before = None;
+    for _ in 0..=recipe.refinements {
+        theta1 = d1.solve(&m1.ata, m1.rhs(theta2.as_deref()));
+        k2_before = theta2.take();
+        theta2 = Some(d2.solve(&m2.ata, m2.rhs(Some(&theta1))));
+    }
+    let k1 = d1.approx(&theta1).ok()?;
+    let k2 = d2.approx(theta2.as_deref()?).ok()?;
+    let k2_before_curve = match &k2_before {
+        Some(t) => Some(d2.approx(t).ok()?),
+        None => None,
+    };
+    let (mean1, mean2) = (m1.mean(k2_before.as_deref()), m2.mean(Some(&theta1)));
+    let ((s1, p1), (s2, p2)) = rayon::join(
+        || {
+            let k2 = k2_before_curve.as_ref().map(Approx::evaluator);
+            let point = |i: usize| (tdot[i], k1_ratio(tdot[i], tddot[i], rest[i], k2.as_ref()));
+            judged(&samples.k1, point, &k1, mean1, drift, points)
+        },
+        || {
+            let k1 = k1.evaluator();
+            let point = |i: usize| (tddot[i], k2_ratio(tdot[i], tddot[i], rest[i], &k1));
+            judged(&samples.k2, point, &k2, mean2, drift, points)
+        },
+    );
+    Some(SetFit {
+        k1: k1.with_stats(s1),
+        k2: k2.with_stats(s2),
+        k1_points: p1,
+        k2_points: p2,
+        warnings: Vec::new(),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::fit::sets_of_samples;
+    use super::super::sets::{fit_set_from, fit_set_streaming};
+    use super::*;
+    use crate::models::approx::{ApproxKind, ApproxSpec};
+    use crate::models::vakhrameev::Prepared;
+
+    fn close(a: &Approx, b: &Approx, what: &str) {
+        assert_eq!((a.x_min(), a.x_max()), (b.x_min(), b.x_max()), "{what}: ranges");
+        let scale = 1.0 + a.bound().abs();
+        for k in 0..=40 {
+            // Inside the range and a little beyond both ends (held or extrapolated).
+            let x = a.x_min() + (a.x_max() - a.x_min()) * (k as f64 / 40.0 * 1.2 - 0.1);
+            let (p, q) = (a.eval(x), b.eval(x));
+            assert!(
+                (p - q).abs() <= 1e-9 * scale,
+                "{what} at {x}: moments {p}, streaming {q}"
+            );
+        }
+        let (s, t) = (a.stats(), b.stats());
+        assert_eq!(s.n, t.n, "{what}");
+        assert!((s.rmse - t.rmse).abs() <= 1e-9 * t.rmse.max(1e-300), "{what}: {s:?} {t:?}");
+        assert!((s.r2 - t.r2).abs() <= 1e-9, "{what}: {s:?} {t:?}");
+    }
+
+    /// Every kind of K1 and K2, with every number of refinements and both weightings, fitted
+    /// from moments and pass by pass over the samples: the same curves, statistics and points
+    /// to rounding.
+    #[test]
+    fn moments_passes_are_the_streaming_passes_to_rounding() {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("sample_logs/calibration.csv");
+        let log = crate::log::ingest::read_path(&path, &Default::default()).expect("sample log");
+        let base = Recipe::default();
+        let prepared = Prepared::new(&log, &base);
+        let ranges = crate::signal::plateau::ranges(
+            &base.plateaus,
+            &log.time_s,
+            &prepared.deriv.tdot,
+            &prepared.deriv.ready,
+        );
+        assert!(!ranges.is_empty());
+        let sets = sets_of_samples(&log.time_s, &prepared, &ranges, &base);
+        let inputs = SetInputs {
+            tdot: &prepared.deriv.tdot,
+            tddot: &prepared.deriv.tddot,
+            rest: &prepared.omega_filtered_dph,
+        };
+        let kinds = [
+            ApproxKind::Linear,
+            ApproxKind::Parabolic,
+            ApproxKind::Pwl,
+            ApproxKind::Spline,
+        ];
+        let mut fitted = 0;
+        for (n, (&k1, &k2)) in kinds
+            .iter()
+            .flat_map(|a| kinds.iter().map(move |b| (a, b)))
+            .enumerate()
+        {
+            let recipe = Recipe {
+                k1_plus: ApproxSpec::of(k1),
+                k1_minus: ApproxSpec::of(k2),
+                k2_plus: ApproxSpec {
+                    knots: 3 + n % 4,
+                    extrapolate: n % 3 == 0,
+                    ..ApproxSpec::of(k2)
+                },
+                k2_minus: ApproxSpec::of(k1),
+                refinements: [0, 1, 2, 4][n % 4],
+                weighting: if n % 2 == 0 {
+                    Weighting::Drift
+                } else {
+                    Weighting::Ratio
+                },
+                ..base.clone()
+            };
+            for (s, regime) in [(0, Regime::Plus), (1, Regime::Minus)] {
+                let what = format!("{k1:?}/{k2:?} set {s}, {recipe:?}");
+                let samples = &sets.samples[s];
+                let m = fit_set_moments(samples, inputs, regime, &recipe, true)
+                    .unwrap_or_else(|| panic!("{what}: the moments take the set"));
+                let f = fit_set_streaming(samples, inputs, regime, &recipe, true);
+                close(&m.k1, &f.k1, &format!("K1 of {what}"));
+                close(&m.k2, &f.k2, &format!("K2 of {what}"));
+                // A point is `rest/x − (other term)/x`: rounding in the other curve is
+                // amplified by the terms that cancel, so it is judged against their size.
+                for (p, q, idx, x) in [
+                    (&m.k1_points, &f.k1_points, &samples.k1, inputs.tdot),
+                    (&m.k2_points, &f.k2_points, &samples.k2, inputs.tddot),
+                ] {
+                    assert_eq!(p.x, q.x, "{what}");
+                    assert_eq!(p.y.len(), q.y.len(), "{what}");
+                    for ((a, b), &i) in p.y.iter().zip(&q.y).zip(idx) {
+                        let terms = (inputs.rest[i as usize] / x[i as usize]).abs() + b.abs();
+                        assert!((a - b).abs() <= 1e-9 * (1.0 + terms), "{what}: {a} {b}");
+                    }
+                }
+                assert!(f.warnings.is_empty(), "{what}: {:?}", f.warnings);
+                // Without the points: the same curves and statistics, bit for bit.
+                let lean = fit_set_from(samples, inputs, regime, &recipe, false);
+                assert_eq!((&lean.k1, &lean.k2), (&m.k1, &m.k2), "{what}");
+                assert!(lean.k1_points.x.is_empty() && lean.k2_points.y.is_empty());
+                fitted += 1;
+            }
+        }
+        assert_eq!(fitted, 32);
+    }
+
+    /// A set too small for its curves is not taken from moments: the streaming passes fit a
+    /// simpler curve and say so.
+    #[test]
+    fn a_set_the_moments_cannot_take_falls_back_and_says_so() {
+        let tdot = [0.01, 0.02, 0.03, 0.04];
+        let tddot = [1e-4, 2e-4, 1e-4, 3e-4];
+        let rest = [1.0, 2.0, 3.5, 4.0];
+        let inputs = SetInputs {
+            tdot: &tdot,
+            tddot: &tddot,
+            rest: &rest,
+        };
+        let range = |c: &[f64]| approx::XRange {
+            n: c.len(),
+            lo: c.iter().copied().fold(f64::INFINITY, f64::min),
+            hi: c.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+        };
+        let samples = SetSamples {
+            k1: vec![0, 1, 2, 3],
+            k2: vec![0, 1, 2, 3],
+            k1_range: Some(range(&tdot)),
+            k2_range: Some(range(&tddot)),
+        };
+        let recipe = Recipe {
+            k1_plus: ApproxSpec::of(ApproxKind::Pwl),
+            ..Recipe::default()
+        };
+        assert!(fit_set_moments(&samples, inputs, Regime::Plus, &recipe, false).is_none());
+        let f = fit_set_from(&samples, inputs, Regime::Plus, &recipe, false);
+        assert!(
+            f.warnings.iter().any(|w| w.starts_with("K1+")),
+            "{:?}",
+            f.warnings
+        );
+        assert!(f.k1.knots().0.len() < 5, "{:?}", f.k1);
+    }
+}
