@@ -712,6 +712,7 @@ pub fn in_option_words(e: &driftlab::error::Invalid) -> String {
     let option = match e.field.as_str() {
         "filter_s" => "--filter",
         "window_s" => "--window",
+        "models" => "--models",
         "temp_smoothing_s" => "--smooth",
         "step_h_s" => "--step-h",
         "deadband_tdot" => "--deadband-tdot",
@@ -750,6 +751,14 @@ pub fn chosen_axes(
         let mut out: Vec<String> = Vec::with_capacity(axes.len());
         for asked in axes {
             let asked = asked.trim();
+            if asked.is_empty() {
+                return Err(format!(
+                    "--axes: an empty name in the list (the axes of {}: {})",
+                    log.source,
+                    names.join(", ")
+                )
+                .into());
+            }
             let Some(name) = log.find_axis(asked) else {
                 return Err(format!(
                     "--axes {asked}: {} has no such gyro axis (its axes: {})",

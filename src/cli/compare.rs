@@ -75,7 +75,10 @@ pub fn run(a: Args) -> Result<(), CliError> {
         lag: a.lag.clone().unwrap_or_default(),
         samples: a.fit.unwrap_or_default(),
     };
-    let choices = ModelChoice::list(&a.models, &a.custom, &how)?;
+    let choices = ModelChoice::list(&a.models, &a.custom, &how).map_err(|e| match e {
+        driftlab::error::Error::Invalid(i) => common::with_option(i),
+        other => other.into(),
+    })?;
     let merit = MeritOptions {
         filter_s: a.filter,
         window_s: a.window.unwrap_or(MeritOptions::default().window_s),

@@ -224,9 +224,15 @@ pub fn run(a: Args) -> Result<(), CliError> {
             .map(|x| x.name.as_str())
             .collect::<Vec<_>>()
             .join(",");
+        // A flight log's columns are the format's own: one axis alone is one of `--axes`.
+        let alone = if drone.is_some() {
+            "--axes NAME"
+        } else {
+            "--rate-col NAME"
+        };
         out!(
             "    calibrate fits every axis into one unit calibration (--axes {some} chooses some, \
-             --rate-col NAME one alone);"
+             {alone} one alone);"
         )?;
         out!(
             "    evaluate, apply and report take every axis of a unit calibration; allan and \

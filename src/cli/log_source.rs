@@ -137,13 +137,13 @@ pub fn print_notes(drone: &DroneLog, log: &Log) {
     }
     note!("note: {}", in_flags(&drone.note));
     for p in &log.info.problems {
-        note!(
-            "warning: {}: {} ({} time{})",
-            log.source,
-            p.message,
-            p.count,
-            if p.count == 1 { "" } else { "s" }
-        );
+        // As a CSV's problems are told: a count only when there are several.
+        let times = if p.count > 1 {
+            format!(" ({} times)", p.count)
+        } else {
+            String::new()
+        };
+        note!("warning: {}: {}{times}", log.source, p.message);
     }
 }
 

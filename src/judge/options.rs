@@ -137,7 +137,7 @@ fn not_whole(window_s: f64, dt_s: f64) -> Option<String> {
 }
 
 /// Refuses a window the engineer asked for (not a default) that is not a window of whole
-/// samples of `log`: shorter than its step, or of one sample (the figures would be the samples
+/// samples of `log`: longer than the log, shorter than its step, or of one sample (the figures would be the samples
 /// themselves, labelled with a length they do not have), or a length the step does not make
 /// within [`WHOLE_WINDOW_TOLERANCE`] (`--window 2.5` on a 1 Hz log, computed over 3 samples
 /// and labelled 2.5 s). The refusal offers the nearest lengths that are.
@@ -190,6 +190,22 @@ pub fn check_window_asked(window_s: f64, log: &Log) -> Result<(), Invalid> {
                 readable(dt),
                 readable(window_samples(window_s, dt) as f64 * dt),
                 readable(window_s),
+            ),
+        ));
+    }
+    // A default window longer than the log leaves its figures n/a, with the reason; one the
+    // engineer asked for would be neither honoured nor refused.
+    let span = span_with_step(log, dt);
+    if window_s > span {
+        return Err(Invalid::new(
+            "window_s",
+            format!(
+                "{} s is longer than the log {} ({} s): not one whole window fits in it, so no \
+                 windowed figure could be computed; give at most {} s",
+                readable(window_s),
+                log.source,
+                readable(span),
+                readable(span)
             ),
         ));
     }

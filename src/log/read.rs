@@ -173,6 +173,14 @@ pub enum ReadError {
         /// Why none is left.
         message: String,
     },
+    /// Most of the chosen gyro's samples go back in time: the log is not in time order.
+    #[error("{path}: {message}")]
+    NotInTimeOrder {
+        /// The file.
+        path: String,
+        /// How many go back, and the first.
+        message: String,
+    },
 }
 
 /// The CSV options set in `opts`, by their names in a recipe: none of them applies to a
@@ -402,11 +410,14 @@ pub fn from_recording(
     // Time order, as the CSV reader checks it.
     let mut rep = (0, 0);
     let mut back = (0, 0);
+    let mut first_back = (0.0, 0.0);
     let mut last = f64::NEG_INFINITY;
+    let mut ordered = 0usize;
     for (i, k) in keep.iter_mut().enumerate() {
         if !*k {
             continue;
         }
+        ordered += 1;
         let t = time_all[i];
         if t > last {
             last = t;
@@ -415,9 +426,30 @@ pub fn from_recording(
             if t == last {
                 note(&mut rep, i);
             } else {
+                if back.0 == 0 {
+                    first_back = (t, last);
+                }
                 note(&mut back, i);
             }
         }
+    }
+    // Most samples before the one kept: the log runs newest first (or is shuffled), and
+    // dropping them would leave a sliver of it to calibrate, judge or correct; the CSV reader
+    // refuses such a log alike.
+    if back.0 * 2 > ordered {
+        return Err(ReadError::NotInTimeOrder {
+            path: rec.source.clone(),
+            message: format!(
+                "{} of the {ordered} samples of {} go back in time (first at sample {}: {} s \
+                 after {} s): the samples are not in time order (newest first?); the log's \
+                 clock cannot be read as written",
+                back.0,
+                inst.label,
+                back.1 + 1,
+                crate::number::readable(first_back.0),
+                crate::number::readable(first_back.1)
+            ),
+        });
     }
     for ((count, first), kind, what) in [
         (
@@ -518,7 +550,7 @@ pub fn from_recording(
     log.info
         .problems
         .extend(doubts.into_iter().map(|p| Problem {
-            message: in_flight_log_terms(&p.message),
+            message: in_flight_log_terms(&p.message, other_temperatures(rec, sel.temp_from)),
             ..p
         }));
     Ok(AnyLog {
@@ -533,15 +565,40 @@ pub fn from_recording(
     })
 }
 
+/// The `temp_from` choices other than `chosen` that some gyro of `rec` has numbers for.
+fn other_temperatures(rec: &formats::ImuRecording, chosen: TempFrom) -> Vec<TempFrom> {
+    [TempFrom::Own, TempFrom::Accel, TempFrom::ImuStatus]
+        .into_iter()
+        .filter(|&f| f != chosen)
+        .filter(|&f| {
+            rec.instances.iter().any(|i| match f {
+                TempFrom::Own => i.temp_c.has_numbers(),
+                f => i.alt_temp(f).is_some_and(|a| a.values.has_numbers()),
+            })
+        })
+        .collect()
+}
+
 /// A doubt of the CSV checks about a log made of a flight log's gyro, with the remedies a
 /// flight log has: its columns are the format's own, so where the CSV reader would say to
-/// choose another column or unit, another gyro (`gyro`) or temperature (`temp_from`) is what
-/// can be chosen.
-fn in_flight_log_terms(message: &str) -> String {
+/// choose another column or unit, another gyro (`gyro`) or temperature (`temp_from`, when the
+/// log has another: `others`) is what can be chosen.
+fn in_flight_log_terms(message: &str, others: Vec<TempFrom>) -> String {
+    let temperature = if others.is_empty() {
+        "the log holds no other temperature to choose: this one is not in °C as its format \
+         says, and no calibration can be made against it"
+            .to_string()
+    } else {
+        let names: Vec<&str> = others.iter().map(|f| f.option_name()).collect();
+        format!(
+            "choose another of the log's temperatures with temp_from ({})",
+            names.join(", ")
+        )
+    };
     [
         (
             "choose the temperature column with temp_col NAME",
-            "choose another of the log's temperatures with temp_from (inspect lists them)",
+            temperature.as_str(),
         ),
         (
             "check its unit (rate_unit) or choose another column (rate_col)",

@@ -57,10 +57,21 @@ pub(crate) fn check_drift_bound(
         format!(
             "predicts a drift of up to {} deg/h over its own range, more than the {} deg/h \
              any gyro could show: the coefficients or ranges are not a calibration's",
-            crate::number::readable(bound),
+            drift_past_limit(bound),
             crate::number::readable(MAX_DRIFT_DPH)
         ),
     ))
+}
+
+/// A drift beyond [`MAX_DRIFT_DPH`] as a message gives it: with the digits that tell it from
+/// the limit (a drift just past it read "up to 1e8, more than the 1e8").
+pub(crate) fn drift_past_limit(drift: f64) -> String {
+    let text = crate::number::readable(drift);
+    if text == crate::number::readable(MAX_DRIFT_DPH) {
+        format!("{drift:.9e}")
+    } else {
+        text
+    }
 }
 
 /// Fits `choice` on `log` with the recipe's settings.

@@ -226,6 +226,16 @@ impl ModelChoice {
                 .map(|m| Preset::from_name(m.trim()).map(ModelChoice::Preset))
                 .collect::<std::result::Result<_, _>>()?
         };
+        // A model named twice would be fitted and reported twice, side by side with itself.
+        for (k, m) in out.iter().enumerate() {
+            if out[..k].contains(m) {
+                return Err(crate::error::Invalid::new(
+                    "models",
+                    format!("{} is named twice", m.name()),
+                )
+                .into());
+            }
+        }
         for (k, c) in customs.iter().enumerate() {
             let name = if customs.len() == 1 {
                 "custom".to_string()

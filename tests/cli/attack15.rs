@@ -48,9 +48,15 @@ fn a_flight_log_with_dead_axes_and_kelvin_is_told_and_refused() {
         said.contains("outside the -100 … 200 °C a chamber reaches"),
         "{said}"
     );
-    // The remedy is one a flight log has (a CSV's --temp-col is refused on one).
-    assert!(said.contains("--temp-from"), "{said}");
+    // The remedy is one a flight log has (a CSV's --temp-col is refused on one); this log has
+    // no other temperature, so --temp-from would choose nothing either.
+    assert!(
+        said.contains("the log holds no other temperature to choose"),
+        "{said}"
+    );
     assert!(!said.contains("--temp-col"), "{said}");
+    assert!(!said.contains("--temp-from"), "{said}");
+    assert!(!said.contains("(1 time)"), "{said}");
     let err = fails(&["calibrate", &ulg, "-o", &p(d, "c.json")]);
     assert!(
         err.contains("the rate of axis gyro_y never changes") && err.contains("--axes"),
@@ -200,7 +206,9 @@ fn an_extrapolating_curve_is_bounded_where_a_chamber_takes_it() {
     std::fs::write(&edited, serde_json::to_string(&j).unwrap()).unwrap();
     let err = fails(&["evaluate", &edited, &sample("validation.csv")]);
     assert!(
-        err.contains("k1_plus") && err.contains("predicts a drift"),
+        err.contains("k1_plus.extrapolate")
+            && err.contains("predicts a drift")
+            && err.contains("without extrapolating"),
         "{err}"
     );
     // The same curve holding its edge values past its range predicts 1e7·1e-6² at most: kept.

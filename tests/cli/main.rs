@@ -10,6 +10,7 @@ mod allan_inputs;
 mod allan_temperature;
 mod attack;
 mod attack15;
+mod attack16;
 mod axis_choice;
 mod commands;
 mod degenerate_logs;

@@ -482,3 +482,78 @@ fn a_new_kind_keeps_the_hand_knots_and_a_new_count_spreads_them_again() {
          -3.25, 7, 0.001"
     );
 }
+
+/// `Σw(y − f(x))²` and `Σw(y − ȳ)²` of a curve on points, weighted by x² (the drift
+/// weighting the default recipe fits with), written out here apart from the engine.
+fn r2_by_hand(f: &Approx, xs: &[f64], ys: &[f64]) -> f64 {
+    let w: Vec<f64> = xs.iter().map(|x| x * x).collect();
+    let sw: f64 = w.iter().sum();
+    let mean = xs
+        .iter()
+        .zip(ys)
+        .zip(&w)
+        .map(|((_, y), w)| w * y)
+        .sum::<f64>()
+        / sw;
+    let (mut res, mut tot) = (0.0, 0.0);
+    for ((&x, &y), &w) in xs.iter().zip(ys).zip(&w) {
+        res += w * (y - f.eval(x)).powi(2);
+        tot += w * (y - mean).powi(2);
+    }
+    1.0 - res / tot
+}
+
+/// Knot values set by hand change the curve, so its R² and RMSE are the new curve's on the
+/// points the fit saw: they kept the fitted curve's (a K1+ knot dragged to 1000 °/h per °C/s
+/// still said R² 0.78, in the window and in the file).
+#[test]
+fn hand_set_values_carry_the_statistics_of_the_curve_they_make() {
+    let log = sample_log();
+    let even = Recipe {
+        k1_plus: ApproxSpec {
+            knots: 4,
+            ..ApproxSpec::of(ApproxKind::Pwl)
+        },
+        k2_plus: ApproxSpec {
+            knots: 4,
+            ..ApproxSpec::of(ApproxKind::Pwl)
+        },
+        ..Recipe::default()
+    };
+    let fitted = vakhrameev::fit(&log, &even.clone().checked().unwrap()).unwrap();
+    let mut values = fitted.calibration.k1_plus.knots().1.to_vec();
+    values[3] = 1000.0;
+    let mut edited = even.clone();
+    edited.k1_plus.values = Some(values);
+    let hand = vakhrameev::fit(&log, &edited.clone().checked().unwrap()).unwrap();
+    let (k1, k1_fit) = (&hand.calibration.k1_plus, &fitted.calibration.k1_plus);
+    let p = &hand.k1_plus_points;
+    // The K1 points are the fit's (the hand values change no K1 point).
+    assert_eq!(p, &fitted.k1_plus_points);
+    let want = r2_by_hand(k1, &p.x, &p.y);
+    assert!(
+        (k1.stats().r2 - want).abs() < 1e-9,
+        "{:?} {want}",
+        k1.stats()
+    );
+    assert!(k1.stats().r2 < k1_fit.stats().r2 - 0.01, "{:?}", k1.stats());
+    assert_eq!(k1.stats().n, k1_fit.stats().n);
+    // K2+ refitted on what the hand K1 leaves: its statistics are of its own fit there.
+    let q = &hand.k2_plus_points;
+    let want = r2_by_hand(&hand.calibration.k2_plus, &q.x, &q.y);
+    assert!((hand.calibration.k2_plus.stats().r2 - want).abs() < 1e-9);
+    // K2+ values set by hand as well: judged on the points the hand K1 leaves.
+    let mut both = edited.clone();
+    let mut v2 = hand.calibration.k2_plus.knots().1.to_vec();
+    v2[0] *= -3.0;
+    both.k2_plus.values = Some(v2);
+    let two = vakhrameev::fit(&log, &both.checked().unwrap()).unwrap();
+    let q = &two.k2_plus_points;
+    let want = r2_by_hand(&two.calibration.k2_plus, &q.x, &q.y);
+    assert!(
+        (two.calibration.k2_plus.stats().r2 - want).abs() < 1e-9,
+        "{:?} {want}",
+        two.calibration.k2_plus.stats()
+    );
+    assert!(two.calibration.k2_plus.stats().r2 < hand.calibration.k2_plus.stats().r2);
+}

@@ -203,3 +203,33 @@ fn a_stray_last_stamp_of_a_drone_log_is_dropped_with_its_sample() {
     assert_eq!(s[0].line, 601);
     assert!(s[0].message.contains("(sample 601)"), "{}", s[0].message);
 }
+
+#[test]
+fn a_drone_log_running_newest_first_is_refused_as_a_csv_is() {
+    // The same 8000 samples with their stamps reversed: every sample after the first went
+    // "back in time", and the reader kept one sample of 8000 (`apply` wrote one row and
+    // succeeded). Refused, as the CSV reader refuses rows written newest first.
+    let time_s: Vec<f64> = (0..8000).rev().map(|i| f64::from(i) * 0.1).collect();
+    let gyro = vec![[0.001f32, 0.0, 0.0]; time_s.len()];
+    let temp: Vec<f32> = (0..time_s.len()).map(|i| 20.0 + i as f32 * 0.001).collect();
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("backwards.ulg");
+    std::fs::write(&path, common::drone::ulog(&time_s, &gyro, &temp, 1)).unwrap();
+    let e = driftlab::log::read::read_any(&path, &opts(), &Default::default())
+        .expect_err("refused")
+        .to_string();
+    assert!(
+        e.contains("7999 of the 8000 samples") && e.contains("not in time order"),
+        "{e}"
+    );
+    assert!(e.starts_with(&path.display().to_string()), "{e}");
+    // A log that goes back once, late, keeps what came before, and says so.
+    let mut once: Vec<f64> = (0..8000).map(|i| f64::from(i) * 0.1).collect();
+    once[7000..].iter_mut().for_each(|t| *t -= 50.0);
+    let path = dir.path().join("once.ulg");
+    std::fs::write(&path, common::drone::ulog(&once, &gyro, &temp, 1)).unwrap();
+    let log = driftlab::log::read::read_any(&path, &opts(), &Default::default())
+        .unwrap()
+        .log;
+    assert!(log.len() > 7000, "{}", log.len());
+}

@@ -601,3 +601,46 @@ fn units_another_driftlab_would_not_read_are_named_in_words() {
     let e = calibration::load_unit(&file).unwrap_err().to_string();
     assert!(!e.contains("Units {"), "{e}");
 }
+
+#[test]
+fn knots_whose_span_overflows_are_refused_not_a_crash() {
+    // A K0 drawn as a flat line between knots at ±1e308: their span is more than a number can
+    // hold, and the curve's evaluator, asked for its segments, panicked while the file was
+    // read (whether it extrapolates or not). ±1e307 is a span a number holds.
+    let dir = tempfile::tempdir().unwrap();
+    let log = read("calibration.csv");
+    let recipe = Recipe {
+        k0: models::approx::ApproxSpec::of(models::approx::ApproxKind::Pwl),
+        ..Recipe::default()
+    };
+    let cal = saved(
+        dir.path(),
+        "pwl.json",
+        &fitted(&log, ModelChoice::Preset(Preset::Vakhrameev), &recipe),
+    );
+    for (name, lo, hi, extrapolate) in [
+        ("held.json", -1e308, 1e308, false),
+        ("extrapolated.json", -1e308, 1e308, true),
+    ] {
+        let file = edited(&cal, name, |v| {
+            let k0 = &mut body(v)["k0"];
+            k0["extrapolate"] = json!(extrapolate);
+            k0["x_min"] = json!(lo);
+            k0["x_max"] = json!(hi);
+            k0["curve"] = json!({"form": "pwl", "knots_x": [lo, hi], "knots_y": [0.01, 0.01]});
+            body(v)["recipe"]["k0"]["extrapolate"] = json!(extrapolate);
+        });
+        // Refused where the curve is read, with the file, line and column of the field.
+        let e = calibration::load_unit(&file)
+            .err()
+            .unwrap_or_else(|| panic!("{name} loaded"))
+            .to_string();
+        assert!(
+            e.starts_with(&file.display().to_string())
+                && e.contains("knots from -1e308 to 1e308 span more than a number can hold")
+                && e.contains(" line ")
+                && e.contains(" column "),
+            "{e}"
+        );
+    }
+}

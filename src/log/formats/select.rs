@@ -183,7 +183,15 @@ pub fn select(
                 source_name: rec.source.clone(),
                 what: match from {
                     TempFrom::Own => "no gyro in the log has a temperature of its own".into(),
-                    f => format!("no gyro in the log has a {f} temperature"),
+                    f => {
+                        let f = f.to_string();
+                        let article = if f.starts_with(['a', 'e', 'i', 'o', 'u']) {
+                            "an"
+                        } else {
+                            "a"
+                        };
+                        format!("no gyro in the log has {article} {f} temperature")
+                    }
                 },
                 alternatives: every_alternative(rec),
             })?;

@@ -516,13 +516,19 @@ pub(crate) fn plan(sn: &Sniffed, opts: &ReadOptions) -> Result<Plan, Fail> {
         Some(Kind::Temp(Some(u))) => u,
         _ => named_temp(j).unwrap_or(TempUnit::Celsius),
     };
-    // The other axes the engineer named, or every other rate column, in °/h like the first.
+    // The other axes the engineer named, or every other rate column, in °/h like the first,
+    // but for the predicted and corrected rates of a log `apply` wrote: those are kept as
+    // channels, not gyro axes to calibrate.
     let axis_cols: Vec<usize> = if !axis_x.is_empty() {
         axis_x
     } else if sn.has_header {
         (0..ncols)
             .filter(|&j| {
-                !used[j] && guessable[j] && matches!(kinds[j].0, Kind::Rate(_)) && j != rate_col
+                !used[j]
+                    && guessable[j]
+                    && matches!(kinds[j].0, Kind::Rate(_))
+                    && j != rate_col
+                    && !of_a_corrected_log(&sn.names, j)
             })
             .collect()
     } else {
@@ -662,4 +668,22 @@ pub(crate) fn fallback_columns(sn: &Sniffed) -> Vec<ColumnInfo> {
             },
         })
         .collect()
+}
+
+/// Whether column `j` is the predicted or the corrected rate of an axis in a log `apply`
+/// wrote (`gx_pred_dph`, `gx_cor_dph` beside `gx_raw_dph`): rates of the gyro, but no axis of
+/// it: read as axes, a unit of three "axes" was calibrated from one gyro's raw rate, its
+/// model's prediction and their difference.
+fn of_a_corrected_log(names: &[String], j: usize) -> bool {
+    let name = names[j].to_ascii_lowercase();
+    ["_pred", "_cor"].iter().any(|tag| {
+        name.match_indices(tag).any(|(at, _)| {
+            let rest = &name[at + tag.len()..];
+            if !(rest.is_empty() || rest.starts_with('_')) {
+                return false;
+            }
+            let raw = format!("{}_raw{rest}", &name[..at]);
+            names.iter().any(|n| n.eq_ignore_ascii_case(&raw))
+        })
+    })
 }

@@ -287,6 +287,41 @@ struct Sums {
     swy: f64,
 }
 
+/// The statistics of `a` on the points of `src`, fitted to them or not (a curve whose knot
+/// values were set by hand is judged on the points its fit saw): a pass for their mean, one
+/// for the residuals. A source without a usable point leaves `a`'s own statistics.
+pub fn stats_with<S: PointSource>(a: &Approx, src: &S) -> FitStats {
+    let part = |from, to| {
+        let mut s = Sums {
+            n: 0,
+            sw: 0.0,
+            swy: 0.0,
+        };
+        src.visit(from, to, |x, y, w| {
+            if usable(x, y, w) {
+                s.n += 1;
+                s.sw += w;
+                s.swy += w * y;
+            }
+        });
+        s
+    };
+    let add = |a: Sums, b: Sums| Sums {
+        n: a.n + b.n,
+        sw: a.sw + b.sw,
+        swy: a.swy + b.swy,
+    };
+    match over_chunks(src.candidates(), part, add) {
+        Some(sums) if sums.n > 0 && sums.sw > 0.0 => stats_of(a, src, sums),
+        _ => a.stats(),
+    }
+}
+
+/// [`stats_with`] of points given as slices (`weights`: `None` weighs every point 1).
+pub fn stats_on(a: &Approx, xs: &[f64], ys: &[f64], weights: Option<&[f64]>) -> FitStats {
+    stats_with(a, &Slices { xs, ys, weights })
+}
+
 /// Weighted statistics (plain ones when every weight is 1).
 fn stats_of<S: PointSource>(a: &Approx, src: &S, sums: Sums) -> FitStats {
     let mean = sums.swy / sums.sw;

@@ -37,7 +37,8 @@ pub use design::{Design, Weights};
 pub use errors::{CurveError, UnknownApproxKind};
 pub use evaluator::Evaluator;
 pub use fit::{
-    CHUNK, FitOptions, PointSource, XRange, fit, fit_weighted, fit_with, fit_with_then, x_range,
+    CHUNK, FitOptions, PointSource, XRange, fit, fit_weighted, fit_with, fit_with_then, stats_on,
+    stats_with, x_range,
 };
 pub(crate) use fit::{over_chunks, usable};
 pub use knot_edit::{KnotEdit, KnotEditError};

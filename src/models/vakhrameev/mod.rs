@@ -458,7 +458,27 @@ impl Calibration {
             } else {
                 a.bound() * a.x_min().abs().max(a.x_max().abs())
             };
-            crate::models::check_drift_bound(name, bound.max(beyond_range_bound(k, a)))?;
+            crate::models::check_drift_bound(name, bound)?;
+            let beyond = beyond_range_bound(k, a);
+            if !(beyond.is_finite() && beyond <= crate::models::MAX_DRIFT_DPH) {
+                let (lo, hi) = CHAMBER_REACH[k];
+                return Err(Invalid::new(
+                    format!("{name}.extrapolate"),
+                    format!(
+                        "the curve, extrapolated beyond its fitted {} .. {} {unit} out to the \
+                         {} .. {} {unit} a chamber may take it, predicts a drift of up to {} \
+                         deg/h, more than the {} deg/h any gyro could show: fit it without \
+                         extrapolating (it then holds its edge values)",
+                        crate::number::readable(a.x_min()),
+                        crate::number::readable(a.x_max()),
+                        crate::number::readable(lo.min(a.x_min())),
+                        crate::number::readable(hi.max(a.x_max())),
+                        crate::models::drift_past_limit(beyond),
+                        crate::number::readable(crate::models::MAX_DRIFT_DPH),
+                        unit = ["°C", "°C/s", "°C/s", "°C/s²", "°C/s²"][k],
+                    ),
+                ));
+            }
         }
         self.check_plateau_facts()?;
         self.check_fit_facts()

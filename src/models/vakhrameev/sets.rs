@@ -346,7 +346,10 @@ fn fit_or_fallback_source<S: PointSource>(
 }
 
 /// The approximation specs of a set (K1, K2) and its sign as names carry it.
-pub(super) fn set_specs(regime: Regime, recipe: &Recipe) -> (&ApproxSpec, &ApproxSpec, &'static str) {
+pub(super) fn set_specs(
+    regime: Regime,
+    recipe: &Recipe,
+) -> (&ApproxSpec, &ApproxSpec, &'static str) {
     match regime {
         Regime::Minus => (&recipe.k1_minus, &recipe.k2_minus, "-"),
         _ => (&recipe.k1_plus, &recipe.k2_plus, "+"),
@@ -391,6 +394,17 @@ pub fn fit_k1_gathered(
         stats: true,
     };
     fit_or_fallback_source(&format!("K1{sign}"), spec1, &src, opts, warnings)
+}
+
+/// The statistics of `curve` on a set's gathered points ([`k1_points_of`] or [`k2_points_of`]),
+/// weighted as the recipe weighs the fit: those of a curve whose knot values were set by hand,
+/// judged on the points its fit saw rather than keeping the fitted curve's.
+pub fn stats_on_points(curve: &Approx, points: &PointSet, recipe: &Recipe) -> approx::FitStats {
+    let src = Gathered {
+        p: points,
+        drift: recipe.weighting == Weighting::Drift,
+    };
+    approx::stats_with(curve, &src)
 }
 
 /// The K2 fit of both: over the set's K2 samples, with statistics.

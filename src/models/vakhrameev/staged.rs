@@ -13,7 +13,7 @@
 
 use super::knots::{Coefficient, with_knots};
 use super::sets::{
-    fit_k1_gathered, fit_k2_gathered, fit_set_from, into_rest, k2_points_of,
+    fit_k1_gathered, fit_k2_gathered, fit_set_from, into_rest, k2_points_of, stats_on_points,
 };
 use super::stages::fit_k0;
 use super::{
@@ -235,11 +235,9 @@ impl<S: Clone + PartialEq + Send + Sync> StageMemory<S> {
                 refinements: recipe.refinements,
             }
         });
-        // A batch fit gathers a set's points when the knots placed by hand are fitted on them.
-        let placed = [Regime::Plus, Regime::Minus].map(|regime| {
-            let (c1, c2, _) = set_names(regime);
-            c1.spec(recipe).at.is_some() || c2.spec(recipe).at.is_some()
-        });
+        // A batch fit gathers a set's points when knots placed by hand are fitted on them, or
+        // knot values set by hand are judged on them.
+        let placed = hand;
         let todo: Vec<usize> = (0..2)
             .filter(|&s| !keep || self.fits[s].as_ref().is_none_or(|(k, _)| *k != keys[s]))
             .collect();
@@ -361,7 +359,20 @@ pub fn k0_of(
     warnings: &mut Vec<String>,
 ) -> Result<Approx> {
     let k0 = fit_k0(stats, &recipe.k0, warnings)?;
-    Ok(with_knots(&k0, recipe.k0.values.as_ref()))
+    let values = recipe
+        .k0
+        .values
+        .as_ref()
+        .filter(|v| v.len() == k0.knots().1.len());
+    if values.is_none() {
+        return Ok(k0);
+    }
+    // Judged on the plateau points, as the fit is: the fitted curve's R² is not this one's.
+    let k0 = with_knots(&k0, values);
+    let t: Vec<f64> = stats.iter().map(|p| p.temp_c).collect();
+    let w: Vec<f64> = stats.iter().map(|p| p.omega_dph).collect();
+    let judged = crate::models::approx::stats_on(&k0, &t, &w, None);
+    Ok(k0.with_stats(judged))
 }
 
 fn ms(t: Instant) -> f64 {
@@ -418,22 +429,32 @@ fn apply_hand_knots(
         .as_ref()
         .filter(|v| v.len() == out.k1.knots().1.len());
     if values1.is_some() {
-        out.k1 = with_knots(&out.k1, values1);
+        let k1 = with_knots(&out.k1, values1);
+        // Judged on the points its fit saw: the fitted curve's R² is not this curve's.
+        out.k1 = k1.clone().with_stats(stats_on_points(&k1, &fit.p1, recipe));
         k1_changed = true;
+    }
+    if k1_changed {
+        // K2's points are what the K1 now in place leaves.
+        out.p2 = Arc::new(k2_points_of(samples, inputs, &out.k1));
     }
     if spec2.at.is_some() || (k1_changed && spec2.values.is_none()) {
         // The points are gathered for display anyway; the fit reads them rather than
         // evaluating K1 again in each of its passes.
-        if k1_changed {
-            out.p2 = Arc::new(k2_points_of(samples, inputs, &out.k1));
-        }
         let mut w = Vec::new();
         out.k2 = fit_k2_gathered(samples, &out.p2, regime, recipe, &mut w);
         out.warnings
             .retain(|m| !m.starts_with(&format!("K2{sign}")));
         out.warnings.extend(w);
     }
-    out.k2 = with_knots(&out.k2, spec2.values.as_ref());
+    let values2 = spec2
+        .values
+        .as_ref()
+        .filter(|v| v.len() == out.k2.knots().1.len());
+    if values2.is_some() {
+        let k2 = with_knots(&out.k2, values2);
+        out.k2 = k2.clone().with_stats(stats_on_points(&k2, &out.p2, recipe));
+    }
     out
 }
 
