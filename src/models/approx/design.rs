@@ -109,6 +109,17 @@ impl Design {
         self.params
     }
 
+    /// The most weights [`Design::basis`] and [`Design::value_weights`] give a point (2 for
+    /// a line or a piecewise-linear curve, 3 for a parabola, up to 4 for a spline); the weights
+    /// past a point's own width are zeros.
+    pub fn max_width(&self) -> usize {
+        match &self.form {
+            Form::Poly { .. } => self.params.min(4),
+            Form::Knots { knots_x } if self.spec.kind == ApproxKind::Pwl => 2.min(knots_x.len()),
+            Form::Knots { knots_x } => 4.min(knots_x.len()),
+        }
+    }
+
     /// Points the range counted (the fit must use as many).
     pub fn points(&self) -> usize {
         self.points
@@ -201,10 +212,12 @@ impl Design {
 #[inline(always)]
 fn powers(n: usize, u: f64) -> Weights {
     let u2 = u * u;
+    let mut weights = [1.0, u, u2, u2 * u];
+    weights[n.min(4)..].fill(0.0);
     Weights {
         first: 0,
         width: n.min(4),
-        weights: [1.0, u, u2, u2 * u],
+        weights,
     }
 }
 

@@ -56,6 +56,26 @@ impl Moments {
         }
     }
 
+    /// The `p × q` sums of moments kept with strides `p + WB` and `q + WP` (the padding holds
+    /// products with zero weights only).
+    fn unpadded(self, p: usize, q: usize) -> Moments {
+        let (sp, sq) = (self.h.len(), self.s_z.len());
+        let mut out = Moments::zero(p, q);
+        for a in 0..p {
+            out.h[a] = self.h[a];
+            out.ata[a * p..(a + 1) * p].copy_from_slice(&self.ata[a * sp..a * sp + p]);
+            out.cross[a * q..(a + 1) * q].copy_from_slice(&self.cross[a * sq..a * sq + q]);
+        }
+        out.s_z.copy_from_slice(&self.s_z[..q]);
+        Moments {
+            n: self.n,
+            sw: self.sw,
+            s_yr: self.s_yr,
+            finite: self.finite,
+            ..out
+        }
+    }
+
     fn add(mut self, b: Moments) -> Moments {
         self.n += b.n;
         self.sw += b.sw;
@@ -108,9 +128,33 @@ struct Columns<'a> {
 /// coefficient's value weights (`other`), over fixed chunks summed in order, so the sums do
 /// not depend on the number of threads.
 fn moments(idx: &[u32], cols: Columns, own: &Design, other: &Design, drift: bool) -> Moments {
+    // The kernel is made for each pair of basis widths (2: a line or a piecewise-linear
+    // curve; 3: a parabola; 4: a spline), so its loops have fixed lengths and unroll.
+    macro_rules! by_width {
+        ($($b:literal, $p:literal);*) => {
+            match (own.max_width(), other.max_width()) {
+                $(($b, $p) => moments_of::<$b, $p>(idx, cols, own, other, drift),)*
+                _ => moments_of::<4, 4>(idx, cols, own, other, drift),
+            }
+        };
+    }
+    by_width!(2, 2; 2, 3; 2, 4; 3, 2; 3, 3; 3, 4; 4, 2; 4, 3)
+}
+
+/// [`moments`] with bases of at most `WB` (own) and `WP` (other) weights a point. The sums are
+/// kept in arrays padded by the widths, so that the weights a point lacks (zeros past a
+/// basis's width) are added without a bound check and change nothing.
+fn moments_of<const WB: usize, const WP: usize>(
+    idx: &[u32],
+    cols: Columns,
+    own: &Design,
+    other: &Design,
+    drift: bool,
+) -> Moments {
     let (p, q) = (own.params(), other.params());
+    let (sp, sq) = (p + WB, q + WP);
     let part = |from: usize, to: usize| {
-        let mut m = Moments::zero(p, q);
+        let mut m = Moments::zero(sp, sq);
         for &i in &idx[from..to] {
             let i = i as usize;
             let (x, o) = (cols.own[i], cols.other[i]);
@@ -120,40 +164,39 @@ fn moments(idx: &[u32], cols: Columns, own: &Design, other: &Design, drift: bool
                 continue;
             }
             let zf = o / x;
-            let phi = if zf.is_finite() {
-                other.value_weights(o)
-            } else {
+            if !zf.is_finite() {
                 m.finite = false;
                 continue;
-            };
+            }
+            let phi = other.value_weights(o);
             m.n += 1;
             m.sw += w;
             m.s_yr += w * yr;
-            for k in 0..phi.width {
+            for k in 0..WP {
                 m.s_z[phi.first + k] += w * phi.weights[k] * zf;
             }
             let Weights {
-                first,
-                width,
-                weights: b,
+                first, weights: b, ..
             } = own.basis(x);
-            for a in 0..width {
+            for a in 0..WB {
                 let wa = w * b[a];
                 m.h[first + a] += wa * yr;
-                let row = (first + a) * p;
-                for (c, bc) in b.iter().enumerate().take(width).skip(a) {
-                    m.ata[row + first + c] += wa * bc;
+                let row = (first + a) * sp + first;
+                for (c, bc) in b.iter().enumerate().take(WB).skip(a) {
+                    m.ata[row + c] += wa * bc;
                 }
-                let row = (first + a) * q;
+                let row = (first + a) * sq + phi.first;
                 let waz = wa * zf;
-                for k in 0..phi.width {
-                    m.cross[row + phi.first + k] += waz * phi.weights[k];
+                for k in 0..WP {
+                    m.cross[row + k] += waz * phi.weights[k];
                 }
             }
         }
         m
     };
-    approx::over_chunks(idx.len(), part, Moments::add).unwrap_or_else(|| Moments::zero(p, q))
+    let padded =
+        approx::over_chunks(idx.len(), part, Moments::add).unwrap_or_else(|| Moments::zero(sp, sq));
+    padded.unpadded(p, q)
 }
 
 /// The statistics of `curve` on the points `(x, y)` of `idx` (made by `point`), and the points
