@@ -12,6 +12,7 @@ mod files;
 mod flight_export;
 mod gaps;
 mod k0_default;
+mod knot_bounds;
 mod knots;
 mod layout;
 mod models_allan;

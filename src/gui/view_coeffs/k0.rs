@@ -46,6 +46,7 @@ impl CoeffView {
         let coefs = [Coefficient::K0];
         let pending = self.drag_knot(ui, state, K0_SLOT, &coefs, out);
         let dragging = self.drag.is_some();
+        let rule = self.bounds_rule(K0_SLOT, &coefs);
         let resp = ui.scope(|ui| {
             Plot::new("k0_plot")
                 .allow_drag(!dragging)
@@ -63,8 +64,9 @@ impl CoeffView {
                     crate::gui::plot_items::nice_steps,
                 ))
                 .show(ui, |pui| {
+                    let auto = rule.apply(pui);
                     if fit.is_none() {
-                        return;
+                        return auto;
                     }
                     // A plateau edge being dragged: its plateaus and K0 as they will be.
                     let plateaus = state.plateau_stats();
@@ -89,7 +91,7 @@ impl CoeffView {
                     let Some(k0) =
                         previewed.or_else(|| shown(state, Coefficient::K0, pending.as_ref()))
                     else {
-                        return;
+                        return auto;
                     };
                     let k0 = &k0;
                     let (lo, hi) = (k0.x_min(), k0.x_max());
@@ -130,8 +132,10 @@ impl CoeffView {
                         None => &state.shown.choices.recipe.k0,
                     };
                     draw_knots(pui, "K0", k0, spec, pal.curve);
+                    auto
                 })
         });
+        self.note_auto(K0_SLOT, rule, resp.inner.inner);
         let response = &resp.inner.response;
         self.transforms[K0_SLOT] = Some(resp.inner.transform);
         self.hovered[K0_SLOT] = response.hovered();

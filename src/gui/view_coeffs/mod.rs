@@ -26,7 +26,6 @@ const K2_SLOT: usize = 1;
 const K0_SLOT: usize = 2;
 
 /// View state of the coefficient plots.
-#[derive(Default)]
 pub struct CoeffView {
     /// The knot being dragged.
     drag: Option<KnotDrag>,
@@ -42,6 +41,28 @@ pub struct CoeffView {
     table: Option<KnotTable>,
     /// Height of the panel's rows other than its three plots, last frame.
     overhead: Option<f32>,
+    /// Whether each plot scaled itself to its contents (x, y) when last drawn free of a
+    /// knot drag.
+    auto: [egui::Vec2b; 3],
+    /// A plot whose knot drag just ended: the scaling to give it back.
+    thaw: [Option<egui::Vec2b>; 3],
+}
+
+impl Default for CoeffView {
+    fn default() -> Self {
+        Self {
+            drag: None,
+            transforms: [None; 3],
+            hovered: [false; 3],
+            all_points: [false; 2],
+            menu_knot: None,
+            table: None,
+            overhead: None,
+            // egui_plot's own start: scaled to the contents.
+            auto: [egui::Vec2b::TRUE; 3],
+            thaw: [None; 3],
+        }
+    }
 }
 
 impl CoeffView {
