@@ -23,5 +23,6 @@ mod open_export;
 mod plateau_drag;
 mod plateau_table;
 mod units;
+mod validation_match;
 mod warmup;
 mod window;

@@ -158,16 +158,7 @@ impl Workbench {
                     self.ask(ctx, Purpose::OpenValidation, "");
                 }
             }
-            Action::CloseValidation => {
-                self.state.shown.validation = None;
-                self.state.validation_file = None;
-                if let Some(u) = &mut self.state.unit {
-                    for p in &mut u.parked {
-                        p.validation = None;
-                    }
-                }
-                self.state.view.show_validation = false;
-            }
+            Action::CloseValidation => self.forget_validation(),
             Action::OpenCalibration => self.ask(ctx, Purpose::OpenCalibration, ""),
             Action::OpenCalibrationPath(p) => self.open_calibration(p),
             Action::CloseCalibration => self.close_calibration(),
