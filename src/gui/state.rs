@@ -453,13 +453,16 @@ impl AppState {
         session
     }
 
-    /// True when there are choices that are not saved in a session.
+    /// True when there are choices that are not saved in a session. What is on screen and
+    /// the validation log are not: a validation log is a file on disk, opened (or closed) to
+    /// look at the calibration, not work that could be lost (a session saved keeps it).
     pub fn dirty(&self) -> bool {
         if self.shown.log.is_none() {
             return false;
         }
         let strip = |s: Session| Session {
             view: ViewState::default(),
+            validation: None,
             ..s
         };
         match &self.baseline {
