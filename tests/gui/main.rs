@@ -13,6 +13,7 @@ mod flight_export;
 mod gaps;
 mod k0_default;
 mod knot_bounds;
+mod knot_status;
 mod knots;
 mod layout;
 mod models_allan;

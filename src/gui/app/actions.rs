@@ -212,7 +212,9 @@ impl Workbench {
                     .position(|x| (x.start_s - r.start_s).abs() < 1e-9);
             }
             Action::ShowValidation(shown) => self.state.view.show_validation = shown,
-            Action::Warn(message) => self.state.say(Severity::Warning, message),
+            // A refusal of an edit holds for the choices it refused: it goes once an edit is
+            // taken.
+            Action::Warn(message) => self.state.say_about_choices(Severity::Warning, message),
             Action::Undo => {
                 if !self.state.shown.history.undo(&mut self.state.shown.choices) {
                     self.state.say(Severity::Info, "Nothing to undo");

@@ -249,7 +249,17 @@ impl CoeffView {
         if response.clicked()
             && command
             && let Some(p) = pointer
-            && self.knot_at(state, coefs, &tf, p).is_none()
+            && let Some((c, j)) = self.knot_at(state, coefs, &tf, p)
+        {
+            // A knot is added at the pointer's x: on a knot there is no room for one.
+            out.push(Action::Warn(format!(
+                "No knot added to {}: the pointer is on knot {} (Ctrl+click adds a knot at the                  pointer's x, so click beside the knots; drag a knot to move it)",
+                c.label(),
+                j + 1
+            )));
+        } else if response.clicked()
+            && command
+            && let Some(p) = pointer
         {
             let at = tf.value_from_position(p);
             if let Some((c, a)) = nearest_curve(state, coefs, &tf, p, at.x) {

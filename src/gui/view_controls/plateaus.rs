@@ -247,6 +247,8 @@ impl ControlsView {
                 egui::DragValue::new(&mut a)
                     .speed(step)
                     .max_decimals(1)
+                    .custom_formatter(|n, _| time_text(n))
+                    .custom_parser(unedited_or_typed(r.start_s))
                     .update_while_editing(false),
             )
             .on_hover_text("Start, s: drag, or click and type a time");
@@ -256,6 +258,8 @@ impl ControlsView {
                 egui::DragValue::new(&mut b)
                     .speed(step)
                     .max_decimals(1)
+                    .custom_formatter(|n, _| time_text(n))
+                    .custom_parser(unedited_or_typed(r.end_s))
                     .update_while_editing(false),
             )
             .on_hover_text("End, s: drag, or click and type a time");
@@ -358,6 +362,26 @@ fn typed_range(
         range,
         (!beyond.is_empty()).then(|| format!("Plateau {}: {}", k + 1, beyond.join("; "))),
     ))
+}
+
+/// A time in a start or end cell: at most one decimal (`3708.6`, `40200`).
+fn time_text(t: f64) -> String {
+    eframe::egui::emath::format_with_decimals_in_range(t, 0..=1)
+}
+
+/// The parser of a start or end cell showing `t`: the text as shown (the cell committed
+/// without an edit) is `t` itself, not its one-decimal display; anything else is read as
+/// typed.
+fn unedited_or_typed(t: f64) -> impl Fn(&str) -> Option<f64> {
+    let shown = time_text(t);
+    move |text: &str| {
+        let text = text.trim();
+        if text == shown {
+            Some(t)
+        } else {
+            text.parse::<f64>().ok()
+        }
+    }
 }
 
 /// A rate of T for a narrow cell: two significant digits (`2.7e-4`, `0.052`, `1.3`).
