@@ -125,6 +125,11 @@ struct Window {
     compact: bool,
     /// The size asked for on the command line, until the window is seen to have it or not.
     asked_size: Option<[f32; 2]>,
+    /// The width the menu bar's right-hand end (theme button, spinner) took last frame.
+    menu_right_w: f32,
+    /// The heights the figures and the opened strip at the controls' foot (a short window)
+    /// asked for last frame.
+    foot_h: [f32; 2],
 }
 
 /// A session being opened: its log is read first, then the rest of it is restored.
@@ -200,6 +205,8 @@ impl Workbench {
                 plateau_drag: false,
                 compact: false,
                 asked_size: None,
+                menu_right_w: 100.0,
+                foot_h: [f32::INFINITY; 2],
             },
             opening: Opening::default(),
             recovery: Recovery { autosave, offered },

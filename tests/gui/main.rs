@@ -16,6 +16,7 @@ mod knot_bounds;
 mod knot_status;
 mod knots;
 mod layout;
+mod layout_tight;
 mod models_allan;
 mod open_calibration;
 mod open_calibration_start;

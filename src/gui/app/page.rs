@@ -4,6 +4,13 @@
 use super::*;
 use crate::gui::action::Action;
 
+/// The least height the controls keep to scroll in, in a short window, points: what the
+/// figures and an opened calibration's strip at the panel's foot leave them.
+const CONTROLS_LEAST_H: f32 = 150.0;
+/// A foot panel's frame, points: its 2-point margins above and below and its separator line,
+/// and a point of room.
+const FOOT_MARGIN: f32 = 6.0;
+
 impl Workbench {
     /// The Calibration page; `compact`: a short window (see [`COMPACT_BELOW_H`]).
     pub(super) fn calibration_page(
@@ -25,13 +32,15 @@ impl Workbench {
             Panel::top("banner")
                 .resizable(false)
                 .show(ui, |ui| self.banner(ui));
-            Panel::bottom("figures").resizable(false).show(ui, |ui| {
+            let r = Panel::bottom("figures").resizable(false).show(ui, |ui| {
                 actions.extend(self.views.figures.ui(ui, &self.state, false))
             });
+            self.window.panel_rects.insert("figures", r.response.rect);
             if self.state.opened.is_some() {
-                Panel::bottom("opened").resizable(false).show(ui, |ui| {
+                let r = Panel::bottom("opened").resizable(false).show(ui, |ui| {
                     actions.extend(self.views.opened.ui(ui, &self.state, false))
                 });
+                self.window.panel_rects.insert("opened", r.response.rect);
             }
         }
         // Side panels keep the width they are given (their contents fill it, whatever they
@@ -49,17 +58,22 @@ impl Workbench {
             .size_range(290.0..=520.0)
             .show(ui, |ui| {
                 if compact {
-                    // The figures stay whole at the panel's foot; the controls scroll above.
-                    Panel::bottom("figures").resizable(false).show(ui, |ui| {
-                        actions.extend(self.views.figures.ui(ui, &self.state, true))
+                    // The figures at the panel's foot, the opened calibration's strip above
+                    // them, each as tall as it asked for last frame while the controls keep
+                    // CONTROLS_LEAST_H to scroll in (else it scrolls in its own place: the
+                    // strip was drawn over the controls, leaving them 20 points).
+                    let r = self.foot(ui, 0, "figures", |wb, ui| {
+                        wb.views.figures.ui(ui, &wb.state, true)
                     });
+                    actions.extend(r);
                     if self.state.opened.is_some() {
-                        Panel::bottom("opened").resizable(false).show(ui, |ui| {
-                            actions.extend(self.views.opened.ui(ui, &self.state, true))
+                        let r = self.foot(ui, 1, "opened", |wb, ui| {
+                            wb.views.opened.ui(ui, &wb.state, true)
                         });
+                        actions.extend(r);
                     }
                 }
-                ScrollArea::vertical()
+                let s = ScrollArea::vertical()
                     .auto_shrink([false, false])
                     .show(ui, |ui| {
                         ui.set_min_width(ui.available_width());
@@ -69,14 +83,25 @@ impl Workbench {
                         };
                         actions.extend(self.views.controls.ui(ui, &self.state, focus));
                     });
+                self.window
+                    .panel_rects
+                    .insert("controls_scroll", s.inner_rect);
             });
         self.window.panel_rects.insert("controls", r.response.rect);
+        // The coefficient plots keep a readable height and scroll in their panel (the wheel
+        // over a plot scrolls it; Ctrl+wheel zooms the plot).
         let r = Panel::right("coefficients")
             .default_size((width * 0.25).clamp(300.0, 470.0))
             .size_range(300.0..=800.0)
             .show(ui, |ui| {
                 ui.set_min_width(ui.available_width());
-                actions.extend(self.views.coeffs.ui(ui, &self.state));
+                ScrollArea::vertical()
+                    .id_salt("coefficients_scroll")
+                    .auto_shrink([false, false])
+                    .show(ui, |ui| {
+                        ui.set_min_width(ui.available_width());
+                        actions.extend(self.views.coeffs.ui(ui, &self.state));
+                    });
             });
         self.window
             .panel_rects
@@ -127,6 +152,43 @@ impl Workbench {
             actions.extend(self.views.result.ui(ui, &self.state, compact));
         });
         self.window.panel_rects.insert("central", r.response.rect);
+    }
+
+    /// A strip at the foot of the controls panel (`k`: 0 the figures, 1 the opened
+    /// calibration), named `name` among the panel rects: as tall as its contents were last
+    /// frame, at most what leaves the controls [`CONTROLS_LEAST_H`], scrolling within.
+    fn foot(
+        &mut self,
+        ui: &mut Ui,
+        k: usize,
+        name: &'static str,
+        contents: impl FnOnce(&mut Self, &mut Ui) -> Vec<Action>,
+    ) -> Vec<Action> {
+        let most = (ui.available_height() - CONTROLS_LEAST_H).max(FOOT_MARGIN);
+        let h = (self.window.foot_h[k] + FOOT_MARGIN).min(most);
+        let r = Panel::bottom(name)
+            .resizable(false)
+            .exact_size(h)
+            .show(ui, |ui| {
+                // (the panel's frame and separator, 5 points, inside the exact size; a scroll
+                // area is otherwise at least 64 points tall, and a taller frame is pushed down
+                // over the panel below)
+                let o = ScrollArea::vertical()
+                    .id_salt((name, "foot"))
+                    .max_height(h - FOOT_MARGIN)
+                    .min_scrolled_height(0.0)
+                    .auto_shrink([false, false])
+                    .show(ui, |ui| contents(self, ui));
+                (o.inner, o.content_size.y)
+            });
+        let (out, used) = r.inner;
+        if (used - self.window.foot_h[k]).abs() > 0.5 {
+            // Its height follows its contents at the next frame.
+            self.window.foot_h[k] = used;
+            ui.ctx().request_repaint();
+        }
+        self.window.panel_rects.insert(name, r.response.rect);
+        out
     }
 
     fn welcome(&mut self, ui: &mut Ui, actions: &mut Vec<Action>) {

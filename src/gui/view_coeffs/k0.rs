@@ -51,6 +51,8 @@ impl CoeffView {
             Plot::new("k0_plot")
                 .allow_drag(!dragging)
                 .allow_boxed_zoom(!dragging)
+                // The wheel scrolls the panel (Ctrl+wheel zooms the plot).
+                .allow_scroll(false)
                 .height(height)
                 .x_axis_label("T, °C")
                 .y_axis_label("K0, °/h")

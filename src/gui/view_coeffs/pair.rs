@@ -210,6 +210,8 @@ impl CoeffView {
                 ))
                 .allow_drag(!dragging)
                 .allow_boxed_zoom(!dragging)
+                // The wheel scrolls the panel (Ctrl+wheel zooms the plot).
+                .allow_scroll(false)
                 .show(ui, |pui| {
                     let auto = rule.apply(pui);
                     let Some(f) = &fit else {
