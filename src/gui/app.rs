@@ -4,7 +4,8 @@
 //! Each frame the views draw what the application data holds and return what the engineer
 //! asked for ([`Action`]); the window carries the actions out once every view has drawn.
 //! The rest of the window, one file a concern: `layout` (menus, status bar, the panels of
-//! the Calibration page and modals), `actions` (carrying out what the engineer asks for,
+//! the Calibration page and modals), `page` (the Calibration page's panels), `validation`
+//! (which axis of the validation log each axis is judged on), `actions` (carrying out what the engineer asks for,
 //! and the unsaved-work question), `results` (what the worker is asked and what its answers
 //! change), `k0_default` (K0's kind chosen once from a fresh log's plateaus), `files` (what is
 //! written and opened) and `screenshot` (PNG of the window, and the `--screenshot` mode).
@@ -14,8 +15,10 @@ mod files;
 mod k0_default;
 mod layout;
 mod opened;
+mod page;
 mod results;
 mod screenshot;
+mod validation;
 
 pub use screenshot::ScreenshotOutcome;
 use screenshot::{PendingShot, Shots};
@@ -122,6 +125,11 @@ struct Window {
     compact: bool,
     /// The size asked for on the command line, until the window is seen to have it or not.
     asked_size: Option<[f32; 2]>,
+    /// The width the menu bar's right-hand end (theme button, spinner) took last frame.
+    menu_right_w: f32,
+    /// The heights the figures and the opened strip at the controls' foot (a short window)
+    /// asked for last frame.
+    foot_h: [f32; 2],
 }
 
 /// A session being opened: its log is read first, then the rest of it is restored.
@@ -197,6 +205,8 @@ impl Workbench {
                 plateau_drag: false,
                 compact: false,
                 asked_size: None,
+                menu_right_w: 100.0,
+                foot_h: [f32::INFINITY; 2],
             },
             opening: Opening::default(),
             recovery: Recovery { autosave, offered },
@@ -509,125 +519,6 @@ impl Workbench {
         }
     }
 
-    /// The Calibration page; `compact`: a short window (see [`COMPACT_BELOW_H`]).
-    fn calibration_page(&mut self, ui: &mut Ui, actions: &mut Vec<Action>, compact: bool) {
-        if self.state.shown.validation.is_none() {
-            self.state.view.show_validation = false;
-        }
-        if self.state.unit.is_some() && !compact {
-            let r = Panel::top("axes").resizable(false).show(ui, |ui| {
-                actions.extend(self.views.axes.ui(ui, &self.state, false))
-            });
-            self.window.panel_rects.insert("axes", r.response.rect);
-        }
-        if !compact {
-            Panel::top("banner")
-                .resizable(false)
-                .show(ui, |ui| self.banner(ui));
-            Panel::bottom("figures").resizable(false).show(ui, |ui| {
-                actions.extend(self.views.figures.ui(ui, &self.state, false))
-            });
-            if self.state.opened.is_some() {
-                Panel::bottom("opened").resizable(false).show(ui, |ui| {
-                    actions.extend(self.views.opened.ui(ui, &self.state, false))
-                });
-            }
-        }
-        // Side panels keep the width they are given (their contents fill it, whatever they
-        // are): an egui panel otherwise takes its contents' width, so a narrow first frame
-        // (the log still loading) or a wider row (a button appearing) would change it. A
-        // narrow window starts them narrower, so that the plots between keep some width.
-        let width = ui.ctx().content_rect().width();
-        let controls_w = if width >= WHOLE_TABLE_FROM_W {
-            (width * 0.29).max(crate::gui::view_controls::CONTROLS_W_FOR_TABLE)
-        } else {
-            width * 0.29
-        };
-        let r = Panel::left("controls")
-            .default_size(controls_w.clamp(300.0, 470.0))
-            .size_range(290.0..=520.0)
-            .show(ui, |ui| {
-                if compact {
-                    // The figures stay whole at the panel's foot; the controls scroll above.
-                    Panel::bottom("figures").resizable(false).show(ui, |ui| {
-                        actions.extend(self.views.figures.ui(ui, &self.state, true))
-                    });
-                    if self.state.opened.is_some() {
-                        Panel::bottom("opened").resizable(false).show(ui, |ui| {
-                            actions.extend(self.views.opened.ui(ui, &self.state, true))
-                        });
-                    }
-                }
-                ScrollArea::vertical()
-                    .auto_shrink([false, false])
-                    .show(ui, |ui| {
-                        ui.set_min_width(ui.available_width());
-                        let focus = PlateauFocus {
-                            visible_s: self.views.time.visible_s,
-                            selected: self.views.time.selected,
-                        };
-                        actions.extend(self.views.controls.ui(ui, &self.state, focus));
-                    });
-            });
-        self.window.panel_rects.insert("controls", r.response.rect);
-        let r = Panel::right("coefficients")
-            .default_size((width * 0.25).clamp(300.0, 470.0))
-            .size_range(300.0..=800.0)
-            .show(ui, |ui| {
-                ui.set_min_width(ui.available_width());
-                actions.extend(self.views.coeffs.ui(ui, &self.state));
-            });
-        self.window
-            .panel_rects
-            .insert("coefficients", r.response.rect);
-        let mut central = egui::Frame::central_panel(ui.style());
-        if compact {
-            central.inner_margin.top = COMPACT_MARGIN_Y;
-            central.inner_margin.bottom = COMPACT_MARGIN_Y;
-        }
-        let r = egui::CentralPanel::default().frame(central).show(ui, |ui| {
-            if self.state.shown.log.is_none() {
-                self.welcome(ui, actions);
-                return;
-            }
-            // The time plots take two thirds, and at least what keeps each of them
-            // TIME_PLOT_H tall (a short window: just that, the drift plot needs the rest);
-            // the drift plot what is left, never less than DRIFT_PLOT_H (the time plots give
-            // way first: on a window that short they are shorter).
-            let h = ui.available_height();
-            // (compact: no separator line, the drift plot's frame is one)
-            let sep = if compact {
-                ui.spacing().item_spacing.y
-            } else {
-                2.0 * ui.spacing().item_spacing.y + 6.0
-            };
-            self.views.time.compact = compact;
-            // The drift plot's header takes a row unless it is drawn over the plot.
-            let header = if self.views.result.header_over_plot(ui, &self.state, compact) {
-                0.0
-            } else {
-                ui.spacing().interact_size.y + ui.spacing().item_spacing.y
-            };
-            let least = self.views.time.height_for(ui, TIME_PLOT_H);
-            let want = if compact {
-                least
-            } else {
-                (h * 0.66).max(least)
-            };
-            let time_h = want.min(h - sep - header - DRIFT_PLOT_H).max(0.0);
-            ui.allocate_ui(egui::vec2(ui.available_width(), time_h), |ui| {
-                ui.set_min_height(time_h);
-                actions.extend(self.views.time.ui(ui, &self.state));
-            });
-            self.state.view.time_range_s = self.views.time.visible_s.map(|(a, b)| [a, b]);
-            if !compact {
-                ui.separator();
-            }
-            actions.extend(self.views.result.ui(ui, &self.state, compact));
-        });
-        self.window.panel_rects.insert("central", r.response.rect);
-    }
-
     fn page_tabs(&mut self, ui: &mut Ui, actions: &mut Vec<Action>) {
         let ctx = ui.ctx().clone();
         ui.horizontal(|ui| {
@@ -758,34 +649,6 @@ impl Workbench {
         {
             eprintln!("warning: could not save the workbench settings: {e}");
         }
-    }
-
-    // ------------------------------------------------------------------ layout
-
-    fn welcome(&mut self, ui: &mut Ui, actions: &mut Vec<Action>) {
-        ui.vertical_centered(|ui| {
-            ui.add_space(ui.available_height() * 0.3);
-            ui.heading("driftlab workbench");
-            ui.label("Calibrate the thermal drift of a gyroscope from a thermal-chamber log.");
-            ui.add_space(12.0);
-            if self.jobs.loading.is_some() {
-                ui.spinner();
-            } else if ui
-                .button(RichText::new("Open log…").size(18.0))
-                .on_hover_text("Ctrl+O — or drop a log file onto the window")
-                .clicked()
-            {
-                actions.push(Action::OpenLog);
-            }
-            if let Some(s) = default_log()
-                && ui
-                    .button("Open the bundled sample log")
-                    .on_hover_text(s.display().to_string())
-                    .clicked()
-            {
-                self.start_load(s, LoadOptions::default(), Target::Calibration);
-            }
-        });
     }
 }
 

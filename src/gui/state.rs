@@ -264,7 +264,61 @@ fn fit_current(
     })
 }
 
+/// Why validation log `log` holds none of the calibration log's axes `missing` (each its name
+/// and the rate column it was read from), `subject` naming the log: "it has no axis gq (its
+/// axes: gx, gy, gz)" for a unit's axes, "it has 3 gyro axes (…) and none is the calibrated
+/// axis omega (column omega_dph)" for the one axis of a log of one.
+pub fn unmatched_validation(
+    log: &crate::log::Log,
+    unit: bool,
+    missing: &[(&str, &str)],
+    subject: &str,
+) -> String {
+    let axes = log.axis_names();
+    if unit {
+        let names: Vec<&str> = missing.iter().map(|(n, _)| *n).collect();
+        return format!(
+            "{subject} has no axis {} (its axes: {})",
+            names.join(", "),
+            axes.join(", ")
+        );
+    }
+    let (axis, column) = missing.first().copied().unwrap_or_default();
+    format!(
+        "{subject} has {} gyro axes ({}) and none is the calibrated axis {axis}{}",
+        axes.len(),
+        axes.join(", "),
+        if column.is_empty() || column == axis {
+            String::new()
+        } else {
+            format!(" (column {column})")
+        }
+    )
+}
+
 impl AppState {
+    /// Why the axis shown is judged on no view of the validation log open (it matches none
+    /// of its axes), in words for where its held-out figures would be; `None` when it is
+    /// judged there or no validation log is open.
+    pub fn validation_unmatched(&self) -> Option<String> {
+        let file = self.validation_file.as_ref()?;
+        let log = self.shown.log.as_ref()?;
+        if self.shown.validation.is_some() {
+            return None;
+        }
+        let unit = self.unit.is_some();
+        let name = self
+            .active_axis_name()
+            .map_or_else(|| log.log.axis.clone(), str::to_string);
+        let column = log.log.rate_column().unwrap_or_default();
+        Some(unmatched_validation(
+            &file.log,
+            unit,
+            &[(&name, &column)],
+            &super::widgets::file_name(&file.path),
+        ))
+    }
+
     /// Shows a status message.
     pub fn say(&mut self, severity: Severity, message: impl Into<String>) {
         self.status = Some((severity, message.into()));
@@ -399,13 +453,16 @@ impl AppState {
         session
     }
 
-    /// True when there are choices that are not saved in a session.
+    /// True when there are choices that are not saved in a session. What is on screen and
+    /// the validation log are not: a validation log is a file on disk, opened (or closed) to
+    /// look at the calibration, not work that could be lost (a session saved keeps it).
     pub fn dirty(&self) -> bool {
         if self.shown.log.is_none() {
             return false;
         }
         let strip = |s: Session| Session {
             view: ViewState::default(),
+            validation: None,
             ..s
         };
         match &self.baseline {

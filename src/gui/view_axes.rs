@@ -17,6 +17,36 @@ impl AxesView {
     /// The strip; nothing for a log of one axis. `compact` (a short window, the strip in the
     /// menu bar): each axis's name and peak-to-peak ratios only, the rest on hover.
     pub fn ui(&mut self, ui: &mut Ui, state: &AppState, compact: bool) -> Vec<Action> {
+        let form = if compact { Form::Compact } else { Form::Full };
+        self.strip(ui, state, form)
+    }
+
+    /// The strip in the menu bar, in `room` points: as [`AxesView::ui`] draws it compact, or
+    /// with the ratios' names left out (in the hover) when that is wider than `room`, so that
+    /// the menu bar keeps its right-hand end in the window (at 1024 points it did not).
+    pub fn ui_in(&mut self, ui: &mut Ui, state: &AppState, room: f32) -> Vec<Action> {
+        let Some(unit) = &state.unit else {
+            return Vec::new();
+        };
+        let pad = 2.0 * ui.spacing().button_padding.x + ui.spacing().item_spacing.x;
+        let wide: f32 = (0..unit.names.len())
+            .filter_map(|k| state.axis(k))
+            .map(|a| {
+                let job = axis_text(ui, &a, k_selected(state, a.name), Form::Compact);
+                ui.fonts_mut(|f| f.layout_job(job).size().x) + pad
+            })
+            .sum::<f32>()
+            + 48.0;
+        let form = if wide > room {
+            Form::Narrow
+        } else {
+            Form::Compact
+        };
+        self.strip(ui, state, form)
+    }
+
+    fn strip(&mut self, ui: &mut Ui, state: &AppState, form: Form) -> Vec<Action> {
+        let compact = form != Form::Full;
         let mut out = Vec::new();
         let Some(unit) = &state.unit else {
             return out;
@@ -33,7 +63,7 @@ impl AxesView {
                     continue;
                 };
                 let selected = k == unit.active;
-                let job = axis_text(ui, &axis, selected, compact);
+                let job = axis_text(ui, &axis, selected, form);
                 let keys = shortcuts::axis(k)
                     .map(|s| format!("{} — ", ctx.format_shortcut(&s)))
                     .unwrap_or_default();
@@ -60,14 +90,25 @@ impl AxesView {
     }
 }
 
-/// One axis's button: its name, then its ratios (in-sample, held out); `compact`: the
-/// peak-to-peak ratios only.
-fn axis_text(
-    ui: &Ui,
-    axis: &super::state::AxisRef<'_>,
-    selected: bool,
-    compact: bool,
-) -> LayoutJob {
+/// How much an axis's button says.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Form {
+    /// Its name, then its peak-to-peak and std ratios, in-sample and held out, named.
+    Full,
+    /// The peak-to-peak ratios only.
+    Compact,
+    /// The peak-to-peak ratios without their names (`gx 4.54× · 4.08×`).
+    Narrow,
+}
+
+/// Whether the axis named `name` is the one shown.
+fn k_selected(state: &AppState, name: &str) -> bool {
+    state.active_axis_name() == Some(name)
+}
+
+/// One axis's button: its name, then its ratios (in-sample, held out), as `form` says.
+fn axis_text(ui: &Ui, axis: &super::state::AxisRef<'_>, selected: bool, form: Form) -> LayoutJob {
+    let compact = form != Form::Full;
     let v = ui.visuals();
     let font = FontId::proportional(13.0);
     let mono = FontId::monospace(12.5);
@@ -132,7 +173,9 @@ fn axis_text(
         ];
         for (name, r) in &all[..if compact { 1 } else { 2 }] {
             let r = *r;
-            push(job, name, &font, weak, false);
+            if form != Form::Narrow {
+                push(job, name, &font, weak, false);
+            }
             let color = match (exact, r >= 1.0) {
                 (false, _) => provisional,
                 (true, true) => normal,

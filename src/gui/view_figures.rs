@@ -9,7 +9,7 @@ use super::plot_items::{num, ratio};
 use super::state::AppState;
 use super::widgets::file_name;
 use crate::judge::metrics::Evaluation;
-use eframe::egui::{Grid, RichText, Ui};
+use eframe::egui::{self, Grid, RichText, Ui};
 
 /// The figures panel (no state of its own).
 #[derive(Debug, Default)]
@@ -71,7 +71,22 @@ impl FiguresView {
                 None => {
                     ui.vertical(|ui| {
                         ui.strong("Held out");
-                        ui.weak("Open a validation log (File › Open validation log…)\nto judge the calibration on a run it was not fitted on.");
+                        match state.validation_unmatched() {
+                            // A validation log is open, but not of this axis: said, never
+                            // judged on another axis.
+                            Some(why) => {
+                                ui.add(
+                                    egui::Label::new(
+                                        RichText::new(format!("Not judged: {why}"))
+                                            .color(ui.visuals().warn_fg_color),
+                                    )
+                                    .wrap(),
+                                );
+                            }
+                            None => {
+                                ui.weak("Open a validation log (File › Open validation log…)\nto judge the calibration on a run it was not fitted on.");
+                            }
+                        }
                     });
                 }
             }

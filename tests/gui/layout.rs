@@ -22,7 +22,7 @@ use common::gui::*;
 const TIME_PLOTS: [&str; 4] = ["time_omega", "time_temp", "time_tdot", "time_tddot"];
 
 /// The workbench on `log` with `validation` held out, in a window of `size`, settled.
-fn opened(log: &str, validation: &str, size: egui::Vec2) -> Harness<'static, Workbench> {
+pub(crate) fn opened(log: &str, validation: &str, size: egui::Vec2) -> Harness<'static, Workbench> {
     let mut wb = Workbench::new(Settings::default(), None, Box::new(ScriptedDialogs::new()));
     // (read at once, as `--screenshot` reads it: the laser gyro's four temperatures would
     // otherwise ask for a look in the import view first)
@@ -47,7 +47,7 @@ fn opened(log: &str, validation: &str, size: egui::Vec2) -> Harness<'static, Wor
 }
 
 /// Where the workbench's window of `size` lies in the harness (see [`opened`]).
-fn window_rect(size: egui::Vec2) -> egui::Rect {
+pub(crate) fn window_rect(size: egui::Vec2) -> egui::Rect {
     egui::Rect::from_min_size(egui::pos2(8.0, 8.0), size)
 }
 

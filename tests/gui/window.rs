@@ -29,6 +29,40 @@ fn unsaved_work_is_not_lost_silently() {
     assert!(h.state().state.dirty());
 }
 
+/// A validation log opened is not work that could be lost (it is a file on disk, as an
+/// opened calibration is): `driftlab gui LOG --validation VAL` starts with nothing unsaved,
+/// no "•" beside the log's name, and quits without asking; an edit still counts.
+#[test]
+fn a_validation_log_opened_is_not_unsaved_work() {
+    use driftlab::gui::ScriptedDialogs;
+    use driftlab::gui::settings::Settings;
+    let mut wb = Workbench::new(Settings::default(), None, Box::new(ScriptedDialogs::new()));
+    wb.open_log(sample("calibration.csv"), Default::default(), false);
+    wb.open_validation_after(sample("validation.csv"), Default::default());
+    let mut h = harness(wb);
+    settle(&mut h);
+    assert!(h.state().state.shown.validation.is_some());
+    assert!(!h.state().state.dirty(), "nothing was edited");
+    assert!(h.query_by_label("calibration.csv").is_some());
+    assert!(h.query_by_label("calibration.csv •").is_none());
+    let ctx = h.ctx.clone();
+    h.state_mut().act(&ctx, Action::Quit);
+    h.run_ok();
+    assert!(
+        h.query_by_label("Unsaved work").is_none(),
+        "quitting asks nothing"
+    );
+    // Closed again: still nothing to save.
+    h.state_mut().act(&ctx, Action::CloseValidation);
+    h.run_ok();
+    assert!(!h.state().state.dirty());
+    // An edit is work.
+    h.state_mut().state.recipe_mut().filter_s = 150.0;
+    h.run_ok();
+    assert!(h.state().state.dirty());
+    assert!(h.query_by_label("calibration.csv •").is_some());
+}
+
 /// `driftlab gui X --screenshot OUT.png` when the window cannot show what was asked: the run
 /// ends with the message (which `driftlab gui` prints on standard error, status 1) within a
 /// few frames, and writes no picture. It used to show an error dialog and wait for ever (or,

@@ -158,16 +158,7 @@ impl Workbench {
                     self.ask(ctx, Purpose::OpenValidation, "");
                 }
             }
-            Action::CloseValidation => {
-                self.state.shown.validation = None;
-                self.state.validation_file = None;
-                if let Some(u) = &mut self.state.unit {
-                    for p in &mut u.parked {
-                        p.validation = None;
-                    }
-                }
-                self.state.view.show_validation = false;
-            }
+            Action::CloseValidation => self.forget_validation(),
             Action::OpenCalibration => self.ask(ctx, Purpose::OpenCalibration, ""),
             Action::OpenCalibrationPath(p) => self.open_calibration(p),
             Action::CloseCalibration => self.close_calibration(),
@@ -221,7 +212,9 @@ impl Workbench {
                     .position(|x| (x.start_s - r.start_s).abs() < 1e-9);
             }
             Action::ShowValidation(shown) => self.state.view.show_validation = shown,
-            Action::Warn(message) => self.state.say(Severity::Warning, message),
+            // A refusal of an edit holds for the choices it refused: it goes once an edit is
+            // taken.
+            Action::Warn(message) => self.state.say_about_choices(Severity::Warning, message),
             Action::Undo => {
                 if !self.state.shown.history.undo(&mut self.state.shown.choices) {
                     self.state.say(Severity::Info, "Nothing to undo");

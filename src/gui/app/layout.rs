@@ -246,7 +246,9 @@ impl Workbench {
                 && self.views.page == Page::Calibration
                 && self.state.unit.is_some()
             {
-                actions.extend(self.views.axes.ui(ui, &self.state, true));
+                // (what the right-hand end leaves, and a little for the log's name)
+                let room = ui.available_width() - self.window.menu_right_w - 60.0;
+                actions.extend(self.views.axes.ui_in(ui, &self.state, room));
                 ui.separator();
             }
             if let Some(l) = &self.state.shown.log {
@@ -262,11 +264,20 @@ impl Workbench {
                         None => String::new(),
                     }
                 );
-                ui.label(RichText::new(format!("{name}{dirty}")).strong())
-                    .on_hover_text(format!("{}{}\n{details}", l.path.display(), if dirty.is_empty() { "" } else { "\nunsaved changes" }));
-                // A short window's menu bar holds the axes of a unit: the details on hover.
-                if !(self.window.compact && self.state.unit.is_some()) {
-                    ui.weak(details);
+                let tip = format!("{}{}\n{details}", l.path.display(), if dirty.is_empty() { "" } else { "\nunsaved changes" });
+                // In what the right-hand end leaves (as wide as last frame), cut short with "…"
+                // rather than drawn under the theme button.
+                let room = ui.available_width() - self.window.menu_right_w - 2.0 * ui.spacing().item_spacing.x;
+                if room > 16.0 {
+                    let row_h = ui.spacing().interact_size.y;
+                    ui.allocate_ui_with_layout(egui::vec2(room, row_h), Layout::left_to_right(Align::Center), |ui| {
+                        ui.add(egui::Label::new(RichText::new(format!("{name}{dirty}")).strong()).truncate())
+                            .on_hover_text(&tip);
+                        // A short window's menu bar holds the axes of a unit: the details on hover.
+                        if !(self.window.compact && self.state.unit.is_some()) {
+                            ui.add(egui::Label::new(RichText::new(details).weak()).truncate()).on_hover_text(&tip);
+                        }
+                    });
                 }
             }
             ui.with_layout(Layout::right_to_left(Align::Center), |ui| {
@@ -278,9 +289,13 @@ impl Workbench {
                 {
                     actions.push(Action::Theme(if dark { ThemeChoice::Light } else { ThemeChoice::Dark }));
                 }
-                if self.jobs.fitting() {
+                // (the spinner's room kept whether it turns or not: the name does not jump)
+                let spinner = ui.spacing().interact_size.y + ui.spacing().item_spacing.x;
+                let fitting = self.jobs.fitting();
+                if fitting {
                     ui.spinner().on_hover_text("Refitting on the worker thread");
                 }
+                self.window.menu_right_w = ui.min_rect().width() + if fitting { 0.0 } else { spinner };
             });
         });
     }

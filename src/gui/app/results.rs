@@ -98,86 +98,6 @@ impl Workbench {
         }
     }
 
-    /// The view of the validation log `l` that a calibration of the one axis of the calibration
-    /// log is judged on: `l` itself when it has one gyro axis, else its axis of the same name
-    /// or rate column, as a unit's axes are matched. A log of several axes none of which is the
-    /// calibrated one is not judged on (judging gy's calibration on gx would say nothing): the
-    /// message says why and how to choose.
-    fn validation_for_one_axis(&self, l: &Loaded) -> Result<Loaded, String> {
-        if l.axis_views.is_empty() {
-            return Ok(l.clone());
-        }
-        let calibrated = self.state.shown.log.as_ref().map(|c| {
-            let column = c.log.rate_column().unwrap_or_default();
-            (c.log.axis.clone(), column)
-        });
-        let (axis, column) = calibrated.unwrap_or_default();
-        l.log
-            .matching_axis(&axis, &column)
-            .and_then(|m| l.axis_view(&m).cloned())
-            .ok_or_else(|| {
-                format!(
-                    "; it has {} gyro axes ({}) and none is the calibrated axis {axis}{}, so \
-                     nothing is judged on it: choose its rate column in Open validation log's \
-                     import view",
-                    l.axis_views.len(),
-                    l.log.axis_names().join(", "),
-                    if column.is_empty() || column == axis {
-                        String::new()
-                    } else {
-                        format!(" (column {column})")
-                    }
-                )
-            })
-    }
-
-    /// Gives each axis of the unit its view of the validation log just read: the axis of the
-    /// same name (or rate column); says which axes it lacks.
-    fn validation_for_unit(&mut self, l: Loaded) -> Option<String> {
-        let unit = self.state.unit.as_ref()?;
-        let names = unit.names.clone();
-        let active = unit.active;
-        let mut missing = Vec::new();
-        for (k, name) in names.iter().enumerate() {
-            let column = self
-                .state
-                .axis(k)
-                .and_then(|a| a.log)
-                .and_then(|v| v.log.rate_column())
-                .unwrap_or_default();
-            let view = l.log.matching_axis(name, &column).and_then(|m| {
-                if l.axis_views.is_empty() {
-                    Some(Loaded {
-                        axis_views: Vec::new(),
-                        ..l.clone()
-                    })
-                } else {
-                    l.axis_view(&m).cloned()
-                }
-            });
-            if view.is_none() {
-                missing.push(name.clone());
-            }
-            if k == active {
-                self.state.shown.validation = view;
-            } else if let Some(u) = &mut self.state.unit {
-                u.parked[k].validation = view;
-            }
-        }
-        (!missing.is_empty()).then(|| {
-            format!(
-                "; it has no axis {} (its axes: {}), so {} judged on it",
-                missing.join(", "),
-                l.log.axis_names().join(", "),
-                if missing.len() == 1 {
-                    "that one is not"
-                } else {
-                    "those are not"
-                }
-            )
-        })
-    }
-
     pub(super) fn handle(&mut self, r: JobResult) {
         match r {
             JobResult::Loaded(Target::Calibration, l) => {
@@ -235,6 +155,7 @@ impl Workbench {
                 self.views.time.selected = None;
                 let mut by_name = std::collections::HashMap::new();
                 let mut shown_axis = None;
+                let mut from_session = false;
                 match self.opening.session.take() {
                     Some((spath, s))
                         if s.log.as_ref().is_some_and(|r| same_file(&r.path, &path)) =>
@@ -257,7 +178,9 @@ impl Workbench {
                             Some([a, b]) => XCommand::Range(a, b),
                             None => XCommand::Fit,
                         });
-                        self.state.shown.validation = None;
+                        // The session opens its own validation log, if any.
+                        self.forget_validation();
+                        from_session = true;
                         self.k0_from_session();
                         if self.opening.autosaved {
                             // Autosaved work is not saved work: no session file, still dirty.
@@ -312,6 +235,13 @@ impl Workbench {
                 if !remapped || self.state.unit.is_some() {
                     self.state.shown.history.reset(&self.state.shown.choices);
                 }
+                // The validation log open is kept only where it matches the new log's axes.
+                let (validation, put_away) = match from_session {
+                    true => None,
+                    false => self.validation_after_new_log(),
+                }
+                .unwrap_or_default();
+                let msg = format!("{msg}{validation}");
                 // Choices kept for axes this log lacks are not applied to any: said, so that
                 // the engineer knows the session's work on them is not on screen.
                 let axes = match &self.state.unit {
@@ -323,7 +253,12 @@ impl Workbench {
                 let mut lost: Vec<&String> = by_name.keys().filter(|n| !axes.contains(n)).collect();
                 lost.sort();
                 if lost.is_empty() {
-                    self.state.say(Severity::Info, msg);
+                    let severity = if put_away {
+                        Severity::Warning
+                    } else {
+                        Severity::Info
+                    };
+                    self.state.say(severity, msg);
                 } else {
                     let lost: Vec<&str> = lost.iter().map(|n| n.as_str()).collect();
                     self.state.say(
@@ -356,43 +291,7 @@ impl Workbench {
                     ),
                 );
             }
-            JobResult::Loaded(Target::Validation, l) => {
-                // Every axis of it, for a calibration opened to compare.
-                self.state.validation_file = Some((*l).clone());
-                let msg = format!(
-                    "Validation log {} ({} samples)",
-                    file_name(&l.path),
-                    l.log.len()
-                );
-                self.look_at_columns(&l, Target::Validation);
-                let msg = match self.validation_for_unit((*l).clone()) {
-                    Some(missing) => format!("{msg}{missing}"),
-                    None if self.state.unit.is_some() => msg,
-                    None => match self.validation_for_one_axis(&l) {
-                        Ok(view) => {
-                            self.state.shown.validation = Some(view);
-                            msg
-                        }
-                        Err(why) => format!("{msg}{why}"),
-                    },
-                };
-                let with_session = self.opening.validation_shown.is_some();
-                match self.opening.validation_shown.take() {
-                    Some(shown) => {
-                        self.state.view.show_validation = shown;
-                        self.state.mark_saved();
-                    }
-                    None => self.state.view.show_validation = true,
-                }
-                match &self.state.status {
-                    // A warning from opening the session stays in sight.
-                    Some((Severity::Warning, earlier)) if with_session => {
-                        let both = format!("{earlier}. {msg}");
-                        self.state.say(Severity::Warning, both);
-                    }
-                    _ => self.state.say(Severity::Info, msg),
-                }
-            }
+            JobResult::Loaded(Target::Validation, l) => self.validation_read(*l),
             JobResult::LoadFailed(_, path, message) => {
                 let message = crate::gui::view_import::in_labels(&message);
                 self.opening.session = None;
@@ -601,7 +500,7 @@ impl Workbench {
 
     /// Opens the import view on a log just read when the reader found something about its
     /// columns to look at (not the rows and time steps it works around), with what it said.
-    fn look_at_columns(&mut self, l: &Loaded, target: Target) {
+    pub(super) fn look_at_columns(&mut self, l: &Loaded, target: Target) {
         let doubts = l.log.info.problems.iter().any(|p| about_columns(p.kind));
         if doubts && self.modals.import.is_none() && self.shots.auto.is_none() {
             self.modals.import = Some(

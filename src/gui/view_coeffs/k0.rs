@@ -46,10 +46,13 @@ impl CoeffView {
         let coefs = [Coefficient::K0];
         let pending = self.drag_knot(ui, state, K0_SLOT, &coefs, out);
         let dragging = self.drag.is_some();
+        let rule = self.bounds_rule(K0_SLOT, &coefs);
         let resp = ui.scope(|ui| {
             Plot::new("k0_plot")
                 .allow_drag(!dragging)
                 .allow_boxed_zoom(!dragging)
+                // The wheel scrolls the panel (Ctrl+wheel zooms the plot).
+                .allow_scroll(false)
                 .height(height)
                 .x_axis_label("T, °C")
                 .y_axis_label("K0, °/h")
@@ -63,8 +66,9 @@ impl CoeffView {
                     crate::gui::plot_items::nice_steps,
                 ))
                 .show(ui, |pui| {
+                    let auto = rule.apply(pui);
                     if fit.is_none() {
-                        return;
+                        return auto;
                     }
                     // A plateau edge being dragged: its plateaus and K0 as they will be.
                     let plateaus = state.plateau_stats();
@@ -89,7 +93,7 @@ impl CoeffView {
                     let Some(k0) =
                         previewed.or_else(|| shown(state, Coefficient::K0, pending.as_ref()))
                     else {
-                        return;
+                        return auto;
                     };
                     let k0 = &k0;
                     let (lo, hi) = (k0.x_min(), k0.x_max());
@@ -130,8 +134,10 @@ impl CoeffView {
                         None => &state.shown.choices.recipe.k0,
                     };
                     draw_knots(pui, "K0", k0, spec, pal.curve);
+                    auto
                 })
         });
+        self.note_auto(K0_SLOT, rule, resp.inner.inner);
         let response = &resp.inner.response;
         self.transforms[K0_SLOT] = Some(resp.inner.transform);
         self.hovered[K0_SLOT] = response.hovered();

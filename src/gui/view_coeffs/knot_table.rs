@@ -40,6 +40,20 @@ fn parse(text: &str) -> Option<f64> {
     text.trim().parse::<f64>().ok().filter(|v| v.is_finite())
 }
 
+/// The parser of a field showing `value` as `num` writes it: the text as shown (the field
+/// committed without an edit) is `value` itself, not its rounded display; anything else is
+/// read as typed.
+fn unedited_or_typed(value: f64) -> impl Fn(&str) -> Option<f64> {
+    let shown = num(value);
+    move |text: &str| {
+        if text.trim() == shown.trim() {
+            Some(value)
+        } else {
+            parse(text)
+        }
+    }
+}
+
 impl CoeffView {
     /// The open knot table, as a window over the page.
     pub(super) fn knot_table(
@@ -96,7 +110,7 @@ impl CoeffView {
                                     egui::DragValue::new(&mut x)
                                         .speed((span * 1e-3).max(1e-12))
                                         .custom_formatter(|n, _| num(n))
-                                        .custom_parser(parse)
+                                        .custom_parser(unedited_or_typed(x0))
                                         .update_while_editing(false),
                                 )
                                 .on_hover_text(format!(
@@ -109,7 +123,7 @@ impl CoeffView {
                                     egui::DragValue::new(&mut y)
                                         .speed((yspan * 1e-3).max(1e-12))
                                         .custom_formatter(|n, _| num(n))
-                                        .custom_parser(parse)
+                                        .custom_parser(unedited_or_typed(y0))
                                         .update_while_editing(false),
                                 )
                                 .on_hover_text(format!(

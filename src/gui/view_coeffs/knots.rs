@@ -10,8 +10,8 @@ use crate::files::session::Coefficient;
 use crate::gui::action::{Action, Edit};
 use crate::gui::state::AppState;
 use crate::models::approx::{Approx, ApproxSpec, KnotEdit};
-use eframe::egui::{self, Color32, CursorIcon, Pos2, Ui};
-use egui_plot::{MarkerShape, PlotPoint, PlotPoints, PlotTransform, PlotUi, Points};
+use eframe::egui::{self, Color32, CursorIcon, Pos2, Ui, Vec2b};
+use egui_plot::{MarkerShape, PlotBounds, PlotPoint, PlotPoints, PlotTransform, PlotUi, Points};
 
 /// How near the pointer must be to a knot to take it, points.
 const KNOT_GRAB_PX: f32 = 9.0;
@@ -33,6 +33,38 @@ pub(super) struct KnotDrag {
     /// from them, so that the clamp between the neighbours stays where it was.
     spec: ApproxSpec,
     origin: Approx,
+    /// The plot's bounds when the drag started, held while it goes on: a plot that rescaled
+    /// to the dragged curve would give the same pointer position a new value each frame, and
+    /// a knot held still would run away.
+    bounds: PlotBounds,
+    /// Whether the plot was scaling itself to its contents before the drag (given back on
+    /// release).
+    auto: Vec2b,
+}
+
+/// What a knot plot does with its bounds this frame ([`CoeffView::bounds_rule`]).
+#[derive(Clone, Copy)]
+pub(super) enum BoundsRule {
+    /// As egui_plot keeps them (scaled to the contents, or as zoomed).
+    Free,
+    /// A knot of the plot is being dragged: these bounds, whatever the curves do.
+    Frozen(PlotBounds),
+    /// A drag just ended: the scaling the plot had before it.
+    Thaw(Vec2b),
+}
+
+impl BoundsRule {
+    /// Applies the rule inside the plot; returns whether the plot scaled itself to its
+    /// contents before this frame.
+    pub(super) fn apply(self, pui: &mut PlotUi<'_>) -> Vec2b {
+        let before = pui.auto_bounds();
+        match self {
+            BoundsRule::Free => {}
+            BoundsRule::Frozen(b) => pui.set_plot_bounds(b),
+            BoundsRule::Thaw(auto) => pui.set_auto_bounds(auto),
+        }
+        before
+    }
 }
 
 /// The curve of `c` as drawn: the last fit with the knots the recipe places and sets by hand
@@ -141,6 +173,8 @@ impl CoeffView {
                 sideways: None,
                 spec: c.spec(&state.shown.choices.recipe).clone(),
                 origin,
+                bounds: *tf.bounds(),
+                auto: self.auto[slot],
             });
         }
         let d = self.drag.as_mut().filter(|d| coefs.contains(&d.c))?;
@@ -171,10 +205,28 @@ impl CoeffView {
                 edited = Some((d.c, spec));
             }
         }
-        if !down {
-            self.drag = None;
+        if !down && let Some(d) = self.drag.take() {
+            self.thaw[slot] = Some(d.auto);
         }
         edited
+    }
+
+    /// What plot `slot` does with its bounds this frame: frozen while one of its knots is
+    /// dragged, given back its own scaling the frame after.
+    pub(super) fn bounds_rule(&mut self, slot: usize, coefs: &[Coefficient]) -> BoundsRule {
+        match (&self.drag, self.thaw[slot].take()) {
+            (Some(d), _) if coefs.contains(&d.c) => BoundsRule::Frozen(d.bounds),
+            (_, Some(auto)) => BoundsRule::Thaw(auto),
+            _ => BoundsRule::Free,
+        }
+    }
+
+    /// Remembers how plot `slot` scaled itself before this frame (`auto`, from
+    /// [`BoundsRule::apply`]), unless one of its knots is being dragged.
+    pub(super) fn note_auto(&mut self, slot: usize, rule: BoundsRule, auto: Vec2b) {
+        if matches!(rule, BoundsRule::Free) {
+            self.auto[slot] = auto;
+        }
     }
 
     /// After plot `slot` is drawn: Ctrl+click adds a knot to the curve of `coefs` nearest to
@@ -197,7 +249,17 @@ impl CoeffView {
         if response.clicked()
             && command
             && let Some(p) = pointer
-            && self.knot_at(state, coefs, &tf, p).is_none()
+            && let Some((c, j)) = self.knot_at(state, coefs, &tf, p)
+        {
+            // A knot is added at the pointer's x: on a knot there is no room for one.
+            out.push(Action::Warn(format!(
+                "No knot added to {}: the pointer is on knot {} (Ctrl+click adds a knot at the                  pointer's x, so click beside the knots; drag a knot to move it)",
+                c.label(),
+                j + 1
+            )));
+        } else if response.clicked()
+            && command
+            && let Some(p) = pointer
         {
             let at = tf.value_from_position(p);
             if let Some((c, a)) = nearest_curve(state, coefs, &tf, p, at.x) {

@@ -20,13 +20,16 @@ use knot_table::KnotTable;
 use knots::KnotDrag;
 use pair::Pair;
 
+/// The least height of a coefficient plot, its axes included, points: shorter, the panel
+/// scrolls (K2± was squashed to 55 points at 1280×720, and its axis cut at 1024×640).
+const PLOT_LEAST_H: f32 = 130.0;
+
 /// The plots' slots in the view's per-plot state: K1, K2, K0.
 const K1_SLOT: usize = 0;
 const K2_SLOT: usize = 1;
 const K0_SLOT: usize = 2;
 
 /// View state of the coefficient plots.
-#[derive(Default)]
 pub struct CoeffView {
     /// The knot being dragged.
     drag: Option<KnotDrag>,
@@ -42,10 +45,33 @@ pub struct CoeffView {
     table: Option<KnotTable>,
     /// Height of the panel's rows other than its three plots, last frame.
     overhead: Option<f32>,
+    /// Whether each plot scaled itself to its contents (x, y) when last drawn free of a
+    /// knot drag.
+    auto: [egui::Vec2b; 3],
+    /// A plot whose knot drag just ended: the scaling to give it back.
+    thaw: [Option<egui::Vec2b>; 3],
+}
+
+impl Default for CoeffView {
+    fn default() -> Self {
+        Self {
+            drag: None,
+            transforms: [None; 3],
+            hovered: [false; 3],
+            all_points: [false; 2],
+            menu_knot: None,
+            table: None,
+            overhead: None,
+            // egui_plot's own start: scaled to the contents.
+            auto: [egui::Vec2b::TRUE; 3],
+            thaw: [None; 3],
+        }
+    }
 }
 
 impl CoeffView {
-    /// The panel: K0, K1 and K2, sharing the height their control rows leave.
+    /// The panel: K0, K1 and K2, sharing the height their control rows leave, each at least
+    /// [`PLOT_LEAST_H`] tall (the panel scrolls then: it is drawn in a scroll area).
     pub fn ui(&mut self, ui: &mut Ui, state: &AppState) -> Vec<Action> {
         let mut out = Vec::new();
         if state.shown.log.is_none() {
@@ -58,7 +84,7 @@ impl CoeffView {
         let h = ui.available_height();
         let row = ui.spacing().interact_size.y + ui.spacing().item_spacing.y;
         let overhead = self.overhead.unwrap_or(11.0 * row + 30.0);
-        let plot_h = ((h - overhead) / 3.0).max(90.0).floor();
+        let plot_h = ((h - overhead) / 3.0).max(PLOT_LEAST_H).floor();
         self.k0(ui, state, plot_h, &mut out);
         ui.separator();
         self.pair(ui, state, Pair::K1, plot_h, &mut out);

@@ -189,6 +189,7 @@ impl CoeffView {
         // the frame).
         let pending = self.drag_knot(ui, state, slot, &pair.coefs(), out);
         let dragging = self.drag.is_some();
+        let rule = self.bounds_rule(slot, &pair.coefs());
         let resp = ui.scope(|ui| {
             Plot::new(("coeff_plot", pair.id()))
                 .height(height)
@@ -209,9 +210,12 @@ impl CoeffView {
                 ))
                 .allow_drag(!dragging)
                 .allow_boxed_zoom(!dragging)
+                // The wheel scrolls the panel (Ctrl+wheel zooms the plot).
+                .allow_scroll(false)
                 .show(ui, |pui| {
+                    let auto = rule.apply(pui);
                     let Some(f) = &fit else {
-                        return;
+                        return auto;
                     };
                     let cal = &f.outcome.calibration;
                     let db = match pair {
@@ -233,7 +237,7 @@ impl CoeffView {
                     let rect = pui.response().rect;
                     let b = pui.plot_bounds();
                     let Some((scale, _)) = scaled else {
-                        return;
+                        return auto;
                     };
                     for (k, (c, color)) in pair
                         .coefs()
@@ -280,8 +284,10 @@ impl CoeffView {
                         };
                         draw_knots(pui, c.label(), &a, spec, darker(color));
                     }
+                    auto
                 })
         });
+        self.note_auto(slot, rule, resp.inner.inner);
         let tf = resp.inner.transform;
         self.transforms[slot] = Some(tf);
         self.hovered[slot] = resp.inner.response.hovered();

@@ -1,6 +1,6 @@
-//! The Calibration page's left-hand panel: the log (and the validation log), the signal
-//! settings (Ω filter, T smoothing, step H, dead-bands), the plateau table (`plateaus`) and
-//! the fit settings.
+//! The Calibration page's left-hand panel: the log (and the validation log), the plateau
+//! table (`plateaus`), the signal settings (Ω filter, T smoothing, step H, dead-bands) and the
+//! fit settings.
 
 mod plateaus;
 
@@ -141,6 +141,13 @@ impl ControlsView {
                     }
                 });
             });
+        // The plateaus before the derivatives' settings, as the engineer's path goes (and so
+        // that the table is in view in a short window, beside an opened calibration).
+        egui::CollapsingHeader::new("Plateaus (K0 points)")
+            .default_open(true)
+            .show(ui, |ui| {
+                self.plateau_table(ui, state, focus, &mut actions);
+            });
         let dt = state
             .shown
             .log
@@ -208,11 +215,6 @@ impl ControlsView {
                 });
             }
         });
-        egui::CollapsingHeader::new("Plateaus (K0 points)")
-            .default_open(true)
-            .show(ui, |ui| {
-                self.plateau_table(ui, state, focus, &mut actions);
-            });
         egui::CollapsingHeader::new("Fit").default_open(true).show(ui, |ui| {
             let r = &mut recipe;
             ui.horizontal(|ui| {

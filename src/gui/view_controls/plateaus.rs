@@ -8,11 +8,40 @@ use crate::gui::state::AppState;
 use crate::signal::plateau::{DetectOptions, PlateauRange, PlateauStats};
 use eframe::egui::{self, RichText, Ui};
 
-/// The plateau table's column widths, points: #, delete, start, end, T, Ω, ΔT, °C/min, std,
-/// samples. Fixed, so that a typed 28111.5 fits its cell and the × buttons line up; each just
-/// wide enough for its numbers (the units are in the header tips), so that the whole table
-/// fits the controls panel of a 1280-wide window.
+/// The plateau table's column widths the controls panel is started for, points: #, delete,
+/// start, end, T, Ω, ΔT, °C/min, std, samples, each just wide enough for the sample logs'
+/// numbers (the units are in the header tips), so that the whole table fits the controls
+/// panel of a 1280-wide window. The table itself takes each column's width from what it holds
+/// ([`column_widths`], the same for every row, so the × buttons line up).
 const W: [f32; 10] = [20.0, 18.0, 54.0, 54.0, 38.0, 48.0, 36.0, 40.0, 44.0, 34.0];
+/// The table's headers, with their tips (the units are there).
+const HEADERS: [(&str, &str); 10] = [
+    (
+        "#",
+        "Click to select the plateau in the time plots; ! marks one outside \
+     the detector's limits (hover it for why)",
+    ),
+    ("", ""),
+    (
+        "start, s",
+        "Start time, s: drag the number or click and type",
+    ),
+    ("end, s", "End time, s"),
+    ("T, °C", "Mean temperature on the plateau"),
+    ("Ω, °/h", "Mean gyro output: the K0 point"),
+    (
+        "ΔT",
+        "ΔT, °C: the spread of the temperature on the plateau, max − min (large: not stable)",
+    ),
+    (
+        "°C/min",
+        "How fast T moves over the plateau on average, °C/min: ΔT over its length (the \
+     detector holds a plateau under its max rate)",
+    ),
+    ("std", "Standard deviation of the raw Ω on the plateau, °/h"),
+    ("n", "Samples on the plateau"),
+];
+
 /// The gap between two columns, points.
 const GAP: f32 = 2.0;
 /// The controls panel's width that shows the whole table, points: its columns and gaps, the
@@ -108,8 +137,9 @@ impl ControlsView {
         // The table scrolls sideways in a narrow panel. The delete button comes second, so
         // that it stays in reach when it does.
         let row_h = ui.spacing().interact_size.y;
+        let w = column_widths(ui, &HEADERS, &ranges, &stats);
         let cell = |ui: &mut Ui, k: usize, text: RichText| {
-            ui.add_sized([W[k], row_h], egui::Label::new(text).truncate())
+            ui.add_sized([w[k], row_h], egui::Label::new(text).truncate())
         };
         let (first_s, last_s) = (log.time_s[0], log.time_s[log.len() - 1]);
         egui::ScrollArea::horizontal()
@@ -118,32 +148,7 @@ impl ControlsView {
             .show(ui, |ui| {
                 ui.horizontal(|ui| {
                     ui.spacing_mut().item_spacing.x = GAP;
-                    for (k, (h, tip)) in [
-                        (
-                            "#",
-                            "Click to select the plateau in the time plots; ! marks one outside \
-                             the detector's limits (hover it for why)",
-                        ),
-                        ("", ""),
-                        ("start, s", "Start time, s: drag the number or click and type"),
-                        ("end, s", "End time, s"),
-                        ("T, °C", "Mean temperature on the plateau"),
-                        ("Ω, °/h", "Mean gyro output: the K0 point"),
-                        (
-                            "ΔT",
-                            "ΔT, °C: the spread of the temperature on the plateau, max − min (large: not stable)",
-                        ),
-                        (
-                            "°C/min",
-                            "How fast T moves over the plateau on average, °C/min: ΔT over its length (the \
-                             detector holds a plateau under its max rate)",
-                        ),
-                        ("std", "Standard deviation of the raw Ω on the plateau, °/h"),
-                        ("n", "Samples on the plateau"),
-                    ]
-                    .into_iter()
-                    .enumerate()
-                    {
+                    for (k, (h, tip)) in HEADERS.into_iter().enumerate() {
                         cell(ui, k, RichText::new(h).strong()).on_hover_text(tip);
                     }
                 });
@@ -163,7 +168,7 @@ impl ControlsView {
                                     (k, r, &ranges),
                                     (&stats, &detector),
                                     (focus, step, (first_s, last_s), log),
-                                    (&W, row_h),
+                                    (&w, row_h),
                                     (out, &mut edited),
                                 );
                             });
@@ -247,6 +252,8 @@ impl ControlsView {
                 egui::DragValue::new(&mut a)
                     .speed(step)
                     .max_decimals(1)
+                    .custom_formatter(|n, _| time_text(n))
+                    .custom_parser(unedited_or_typed(r.start_s))
                     .update_while_editing(false),
             )
             .on_hover_text("Start, s: drag, or click and type a time");
@@ -256,6 +263,8 @@ impl ControlsView {
                 egui::DragValue::new(&mut b)
                     .speed(step)
                     .max_decimals(1)
+                    .custom_formatter(|n, _| time_text(n))
+                    .custom_parser(unedited_or_typed(r.end_s))
                     .update_while_editing(false),
             )
             .on_hover_text("End, s: drag, or click and type a time");
@@ -276,8 +285,9 @@ impl ControlsView {
         match found {
             Some(s) => {
                 let marked = |t: RichText| if outside.is_empty() { t } else { t.color(warn) };
-                cell(ui, 4, RichText::new(crate::number::fixed(s.temp_c, 2)));
-                cell(ui, 5, RichText::new(num(s.omega_dph))).on_hover_text(match s.omega_sem_dph {
+                let [t, omega, spread, rate, std, n] = stat_cells(s);
+                cell(ui, 4, RichText::new(t));
+                cell(ui, 5, RichText::new(omega)).on_hover_text(match s.omega_sem_dph {
                     Some(sem) => format!("standard error of the mean {} °/h", num(sem)),
                     None => "one sample: its spread is unknown".to_string(),
                 });
@@ -287,31 +297,14 @@ impl ControlsView {
                     crate::number::fixed(s.temp_spread_c, 3),
                     num(length_s),
                 );
-                cell(
-                    ui,
-                    6,
-                    marked(RichText::new(crate::number::fixed(s.temp_spread_c, 3))),
-                )
-                .on_hover_text(&quality);
-                cell(
-                    ui,
-                    7,
-                    marked(RichText::new(
-                        s.mean_rate_c_per_min().map_or("n/a".to_string(), rate_text),
-                    )),
-                )
-                .on_hover_text(&quality);
-                cell(
-                    ui,
-                    8,
-                    RichText::new(s.omega_std_dph.map_or("n/a".to_string(), num)),
-                )
-                .on_hover_text(if s.omega_std_dph.is_some() {
+                cell(ui, 6, marked(RichText::new(spread))).on_hover_text(&quality);
+                cell(ui, 7, marked(RichText::new(rate))).on_hover_text(&quality);
+                cell(ui, 8, RichText::new(std)).on_hover_text(if s.omega_std_dph.is_some() {
                     "Standard deviation of the raw Ω on the plateau, °/h"
                 } else {
                     "n/a: one sample has no spread"
                 });
-                cell(ui, 9, RichText::new(s.samples.to_string()));
+                cell(ui, 9, RichText::new(n));
             }
             None => {
                 for c in 4..10 {
@@ -358,6 +351,74 @@ fn typed_range(
         range,
         (!beyond.is_empty()).then(|| format!("Plateau {}: {}", k + 1, beyond.join("; "))),
     ))
+}
+
+/// The texts of a plateau's statistics cells: T, Ω, ΔT, °C/min, std, n.
+fn stat_cells(s: &PlateauStats) -> [String; 6] {
+    [
+        crate::number::fixed(s.temp_c, 2),
+        num(s.omega_dph),
+        crate::number::fixed(s.temp_spread_c, 3),
+        s.mean_rate_c_per_min().map_or("n/a".to_string(), rate_text),
+        s.omega_std_dph.map_or("n/a".to_string(), num),
+        s.samples.to_string(),
+    ]
+}
+
+/// The columns' widths, points: each as wide as the widest of its header and its cells (the
+/// numbers are never cut to "…": imu3's sample counts were), the buttons' and fields' with
+/// their padding; the delete button's as [`W`] has it.
+fn column_widths(
+    ui: &Ui,
+    headers: &[(&str, &str); 10],
+    ranges: &[PlateauRange],
+    stats: &[PlateauStats],
+) -> [f32; 10] {
+    let font = egui::TextStyle::Body.resolve(ui.style());
+    let pad = 2.0 * ui.spacing().button_padding.x;
+    let mut w = [0.0f32; 10];
+    ui.fonts_mut(|f| {
+        let mut wide = |k: usize, text: String, extra: f32| {
+            let g = f.layout_no_wrap(text, font.clone(), egui::Color32::WHITE);
+            w[k] = w[k].max(g.size().x + extra);
+        };
+        for (k, (h, _)) in headers.iter().enumerate() {
+            wide(k, h.to_string(), 0.0);
+        }
+        wide(0, format!("!{}", ranges.len()), pad);
+        for r in ranges {
+            wide(2, time_text(r.start_s), pad);
+            wide(3, time_text(r.end_s), pad);
+        }
+        for s in stats {
+            for (k, text) in stat_cells(s).into_iter().enumerate() {
+                wide(4 + k, text, 0.0);
+            }
+        }
+    });
+    w[1] = W[1];
+    // (whole points: a text as wide as its cell is never elided)
+    w.map(f32::ceil)
+}
+
+/// A time in a start or end cell: at most one decimal (`3708.6`, `40200`).
+fn time_text(t: f64) -> String {
+    eframe::egui::emath::format_with_decimals_in_range(t, 0..=1)
+}
+
+/// The parser of a start or end cell showing `t`: the text as shown (the cell committed
+/// without an edit) is `t` itself, not its one-decimal display; anything else is read as
+/// typed.
+fn unedited_or_typed(t: f64) -> impl Fn(&str) -> Option<f64> {
+    let shown = time_text(t);
+    move |text: &str| {
+        let text = text.trim();
+        if text == shown {
+            Some(t)
+        } else {
+            text.parse::<f64>().ok()
+        }
+    }
 }
 
 /// A rate of T for a narrow cell: two significant digits (`2.7e-4`, `0.052`, `1.3`).
