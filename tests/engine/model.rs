@@ -326,7 +326,10 @@ fn streamed_k2_fit_is_the_weighted_fit_of_the_walked_points() {
         let (gs, ws) = (got.stats(), want.stats());
         assert_eq!(gs.n, xs.len());
         assert_eq!(gs.n, ws.n);
-        assert!((gs.rmse - ws.rmse).abs() <= 1e-9 * ws.rmse, "{gs:?} against {ws:?}");
+        assert!(
+            (gs.rmse - ws.rmse).abs() <= 1e-9 * ws.rmse,
+            "{gs:?} against {ws:?}"
+        );
         assert!((gs.r2 - ws.r2).abs() <= 1e-9, "{gs:?} against {ws:?}");
     }
 }

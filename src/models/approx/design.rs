@@ -293,7 +293,9 @@ mod tests {
             let ours = d.approx(&theta).expect("approx");
             for probe in [-5.0, -0.95, -0.8, -0.3, 0.0, 0.77, 1.1, 1.3, 1.31, 4.0] {
                 let w = d.value_weights(probe);
-                let v: f64 = (0..w.width).map(|k| w.weights[k] * theta[w.first + k]).sum();
+                let v: f64 = (0..w.width)
+                    .map(|k| w.weights[k] * theta[w.first + k])
+                    .sum();
                 let e = ours.eval(probe);
                 assert!(
                     (v - e).abs() <= 1e-9 * (1.0 + e.abs()),
@@ -319,7 +321,11 @@ mod tests {
         };
         assert!(matches!(
             Design::new(&ApproxSpec::of(ApproxKind::Parabolic), r),
-            Err(FitError::TooFewPoints { needed: 3, got: 2, .. })
+            Err(FitError::TooFewPoints {
+                needed: 3,
+                got: 2,
+                ..
+            })
         ));
         let one_knot = ApproxSpec {
             knots: 1,

@@ -141,8 +141,8 @@ fn moments(idx: &[u32], cols: Columns, own: &Design, other: &Design, drift: bool
                 let wa = w * b[a];
                 m.h[first + a] += wa * yr;
                 let row = (first + a) * p;
-                for c in a..width {
-                    m.ata[row + first + c] += wa * b[c];
+                for (c, &bc) in b.iter().enumerate().take(width).skip(a) {
+                    m.ata[row + first + c] += wa * bc;
                 }
                 let row = (first + a) * q;
                 let waz = wa * zf;
@@ -209,9 +209,9 @@ fn judged(
             .map(|c| part(c, &mut [], &mut []))
             .collect()
     };
-    let (used, sw, ss_res, ss_tot) = parts
-        .into_iter()
-        .fold((0, 0.0, 0.0, 0.0), |a, b| (a.0 + b.0, a.1 + b.1, a.2 + b.2, a.3 + b.3));
+    let (used, sw, ss_res, ss_tot) = parts.into_iter().fold((0, 0.0, 0.0, 0.0), |a, b| {
+        (a.0 + b.0, a.1 + b.1, a.2 + b.2, a.3 + b.3)
+    });
     let stats = FitStats {
         n: used,
         rmse: (ss_res / sw).sqrt(),
@@ -307,7 +307,11 @@ mod tests {
     use crate::models::vakhrameev::Prepared;
 
     fn close(a: &Approx, b: &Approx, what: &str) {
-        assert_eq!((a.x_min(), a.x_max()), (b.x_min(), b.x_max()), "{what}: ranges");
+        assert_eq!(
+            (a.x_min(), a.x_max()),
+            (b.x_min(), b.x_max()),
+            "{what}: ranges"
+        );
         let scale = 1.0 + a.bound().abs();
         for k in 0..=40 {
             // Inside the range and a little beyond both ends (held or extrapolated).
@@ -320,7 +324,10 @@ mod tests {
         }
         let (s, t) = (a.stats(), b.stats());
         assert_eq!(s.n, t.n, "{what}");
-        assert!((s.rmse - t.rmse).abs() <= 1e-9 * t.rmse.max(1e-300), "{what}: {s:?} {t:?}");
+        assert!(
+            (s.rmse - t.rmse).abs() <= 1e-9 * t.rmse.max(1e-300),
+            "{what}: {s:?} {t:?}"
+        );
         assert!((s.r2 - t.r2).abs() <= 1e-9, "{what}: {s:?} {t:?}");
     }
 
@@ -329,8 +336,8 @@ mod tests {
     /// to rounding.
     #[test]
     fn moments_passes_are_the_streaming_passes_to_rounding() {
-        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("sample_logs/calibration.csv");
+        let path =
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("sample_logs/calibration.csv");
         let log = crate::log::ingest::read_path(&path, &Default::default()).expect("sample log");
         let base = Recipe::default();
         let prepared = Prepared::new(&log, &base);

@@ -346,7 +346,10 @@ fn fit_or_fallback_source<S: PointSource>(
 }
 
 /// The approximation specs of a set (K1, K2) and its sign as names carry it.
-pub(super) fn set_specs(regime: Regime, recipe: &Recipe) -> (&ApproxSpec, &ApproxSpec, &'static str) {
+pub(super) fn set_specs(
+    regime: Regime,
+    recipe: &Recipe,
+) -> (&ApproxSpec, &ApproxSpec, &'static str) {
     match regime {
         Regime::Minus => (&recipe.k1_minus, &recipe.k2_minus, "-"),
         _ => (&recipe.k1_plus, &recipe.k2_plus, "+"),

@@ -12,9 +12,7 @@
 //! with a warm memory, and there is no second pipeline to drift from this one.
 
 use super::knots::{Coefficient, with_knots};
-use super::sets::{
-    fit_k1_gathered, fit_k2_gathered, fit_set_from, into_rest, k2_points_of,
-};
+use super::sets::{fit_k1_gathered, fit_k2_gathered, fit_set_from, into_rest, k2_points_of};
 use super::stages::fit_k0;
 use super::{
     Calibration, PointSet, Prepared, Regime, SetInputs, SetSamples, SetsOfSamples, SourceInfo,
