@@ -152,6 +152,11 @@ impl Resolution {
     pub(super) fn words(self, column: Column) -> String {
         match self {
             Resolution::Bits => "full precision".into(),
+            // Plain decimals, as a log writes them (0.000036, not 3.6e-5), for any step a
+            // log has; a hand-edited one of 1e-300 as a number.
+            Resolution::Step(q) if (1e-9..1e9).contains(&q) => {
+                format!("steps of {q} {}", column.unit())
+            }
             Resolution::Step(q) => {
                 format!("steps of {} {}", crate::number::readable(q), column.unit())
             }
