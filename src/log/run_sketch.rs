@@ -51,7 +51,7 @@
 //!
 //! **What too few values tell.** A log shorter than the run by far, or thinned to every 20th
 //! row, holds only a few values hashed as low as the sketch's (about `128 × its samples /
-//! the run's`). From [`MIN_SEEN`] values on, the share found decides; from fewer, only a
+//! the run's`). From `MIN_SEEN` (8) values on, the share found decides; from fewer, only a
 //! count that a log half the run's would rarely reach (five of five found) or rarely fall
 //! to (none of five) tells, and otherwise the sketch says it cannot tell, with how many it
 //! compared. A unit's axes share their rows, and one that saw too few takes what all the
@@ -68,6 +68,9 @@
 //! resolution values are hashed at; `chance.rs` how often values recur by chance per
 //! temperature; `measure.rs` what a part finds of a log and what few values tell;
 //! `shared.rs` the shares and verdicts as the faces read them; `text.rs` the sketch's text.
+//! A crafted text or sketch costs no more than a genuine one: the text is bounded before it is
+//! split (`text.rs`), and a log compares at most `MAX_COMPARED` values with it (`measure.rs`).
+
 mod chance;
 mod measure;
 mod resolution;
@@ -89,6 +92,11 @@ use values::{NO_HASH, like_a_twin, run_hashes, single_hashes};
 /// Hashes a sketch keeps: a log holding 3 % of a run's samples is found in it (about four
 /// of them), and the sketch is 2 KiB of hexadecimal in a calibration file.
 pub const SKETCH_LEN: usize = 128;
+
+/// Hashes a sketch keeps when both logs are at hand and nothing is written ([`Log::same_run`]:
+/// `compare`, the workbench's validation log): 32 times a file's, so that the run thinned to
+/// every 20th row shows about 200 values, not 6, and is told.
+const IN_MEMORY_LEN: usize = 4096;
 
 /// Sketch hashes a log must hold to be called the run's: one could be two other runs'
 /// samples that happen to agree in every bit kept (a plateau's temperature, a rate of few
@@ -170,6 +178,16 @@ struct Part {
 impl RunSketch {
     /// The sketch of `log`'s samples as they are (its selected axis's rate).
     pub fn of(log: &Log) -> RunSketch {
+        Self::of_len(log, SKETCH_LEN)
+    }
+
+    /// The sketch of `log`'s samples for a judging in memory (`IN_MEMORY_LEN` hashes): not
+    /// for a file, whose text holds [`SKETCH_LEN`] at most.
+    pub fn in_memory(log: &Log) -> RunSketch {
+        Self::of_len(log, IN_MEMORY_LEN)
+    }
+
+    fn of_len(log: &Log, len: usize) -> RunSketch {
         let quanta = Quanta {
             temp: resolution(&log.temp_c, Column::Temperature),
             rate: resolution(&log.omega_dph, Column::Rate),
@@ -190,8 +208,8 @@ impl RunSketch {
         RunSketch {
             version1: false,
             quanta,
-            runs: part_of(log, &runs, &runs_twin),
-            singles: part_of(log, &singles, &twin),
+            runs: part_of(log, &runs, &runs_twin, len),
+            singles: part_of(log, &singles, &twin, len),
         }
     }
 
@@ -251,9 +269,9 @@ impl RunSketch {
 }
 
 /// The sketch of `hashes` (one per sample of `log`, [`NO_HASH`] where a sample has none): the
-/// [`SKETCH_LEN`] smallest at the temperatures where they rarely recur, with the chance per
+/// `len` smallest at the temperatures where they rarely recur, with the chance per
 /// temperature and the samples per hash; `None` when no temperature tells.
-fn part_of(log: &Log, hashes: &[u64], twin: &[bool]) -> Option<Part> {
+fn part_of(log: &Log, hashes: &[u64], twin: &[bool], len: usize) -> Option<Part> {
     let chance = chance_by_temperature(log, hashes, twin).filter(ChanceByTemperature::tells_any)?;
     let telling = |i: usize| chance.at(log.temp_c[i]).is_some_and(|c| c <= MAX_CHANCE);
     let told = || {
@@ -262,7 +280,7 @@ fn part_of(log: &Log, hashes: &[u64], twin: &[bool]) -> Option<Part> {
             .enumerate()
             .filter_map(|(i, &h)| (h != NO_HASH && telling(i)).then_some(h))
     };
-    let kept = smallest(told());
+    let kept = smallest(told(), len);
     let top = *kept.last()?;
     let low = told().filter(|&h| h <= top).count();
     Some(Part {
@@ -272,24 +290,25 @@ fn part_of(log: &Log, hashes: &[u64], twin: &[bool]) -> Option<Part> {
     })
 }
 
-/// The [`SKETCH_LEN`] smallest distinct values of `hashes`, ascending.
-fn smallest(hashes: impl Iterator<Item = u64>) -> Vec<u64> {
-    let mut heap = std::collections::BinaryHeap::with_capacity(SKETCH_LEN + 1);
+/// The `len` smallest distinct values of `hashes`, ascending: a value already kept (a stuck
+/// stretch repeats one) does not crowd out another.
+fn smallest(hashes: impl Iterator<Item = u64>, len: usize) -> Vec<u64> {
+    let mut kept = std::collections::BTreeSet::new();
+    // The largest kept once `len` are: most values are larger, and cost one comparison.
+    let mut top = u64::MAX;
     for h in hashes {
-        let full = heap.len() >= SKETCH_LEN;
-        if full && heap.peek().is_some_and(|&top| h >= top) {
+        if h >= top {
             continue;
         }
-        // A value already kept (a stuck stretch repeats one) would crowd out another.
-        if heap.iter().any(|&k| k == h) {
-            continue;
+        kept.insert(h);
+        if kept.len() > len {
+            kept.pop_last();
         }
-        heap.push(h);
-        if heap.len() > SKETCH_LEN {
-            heap.pop();
+        if kept.len() == len {
+            top = kept.last().copied().unwrap_or(u64::MAX);
         }
     }
-    heap.into_sorted_vec()
+    kept.into_iter().collect()
 }
 
 #[cfg(test)]

@@ -147,6 +147,27 @@ fn thinned_copies_are_in_sample_or_cannot_be_told_never_held_out() {
         let line = first_line(&cal, &log);
         assert!(!line.contains("held out"), "every {every}th row: {line}");
     }
+    // compare holds both logs, and a sketch 32 times a file's tells every one of them.
+    let json: serde_json::Value = serde_json::from_str(&ok(&[
+        "compare",
+        "--train",
+        &sample("calibration.csv"),
+        "--test",
+        &p(d, "every20.csv"),
+        &p(d, "every100.csv"),
+        &sample("validation.csv"),
+        "--models",
+        "poly-t",
+        "--json",
+    ]))
+    .unwrap();
+    let held: Vec<bool> = json["models"][0]["logs"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|l| l["held_out"].as_bool().unwrap())
+        .collect();
+    assert_eq!(held, [false, false, false, true]);
 
     let unit = p(d, "unit.json");
     ok(&["calibrate", &sample("imu3-calibration.csv"), "-o", &unit]);

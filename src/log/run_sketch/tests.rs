@@ -153,8 +153,12 @@ fn a_version_1_text_reads_back_and_judges_as_it_did() {
     // Version 1's text of this run: the runs' hashes, `+`, the chance, `+`, the singles'.
     let exact = Quanta::default();
     let singles = single_hashes(&cal, exact);
-    let runs = smallest(run_hashes(&singles).into_iter().filter(|&h| h != NO_HASH));
-    let part = part_of(&cal, &singles, &like_a_twin(&cal, exact)).expect("singles tell");
+    let runs = smallest(
+        run_hashes(&singles).into_iter().filter(|&h| h != NO_HASH),
+        SKETCH_LEN,
+    );
+    let part =
+        part_of(&cal, &singles, &like_a_twin(&cal, exact), SKETCH_LEN).expect("singles tell");
     let text = format!(
         "{}+{}+{}",
         hex(&runs),

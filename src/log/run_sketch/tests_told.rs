@@ -318,3 +318,34 @@ fn a_text_of_megabytes_is_refused_before_it_is_split() {
     assert!(longest.len() <= MAX_TEXT, "{} bytes", longest.len());
     assert!(longest.len() > MAX_TEXT / 2, "{} bytes", longest.len());
 }
+
+#[test]
+fn with_both_logs_at_hand_a_thinned_copy_is_told() {
+    // `compare` and the workbench hold both logs: a sketch 32 times a file's compares about
+    // 200 values of a copy kept every 20th row, where a file's compares about 6.
+    let cal = stand(40_000, 71);
+    let other = stand(40_000, 72);
+    for every in [20, 40, 100] {
+        assert!(cal.same_run(&kept(&cal, |i| i % every == 0)), "{every}");
+        assert!(!cal.same_run(&kept(&other, |i| i % every == 0)), "{every}");
+    }
+    assert!(!cal.same_run(&other));
+}
+
+#[test]
+fn the_smallest_hashes_are_the_sorted_distinct_ones() {
+    let mut s = 73;
+    let hashes: Vec<u64> = (0..50_000)
+        .map(|i| {
+            s = mix(s);
+            // A stuck stretch: one value many times.
+            if (10_000..20_000).contains(&i) { 5 } else { s }
+        })
+        .collect();
+    let mut truth = hashes.clone();
+    truth.sort_unstable();
+    truth.dedup();
+    for len in [1, SKETCH_LEN, IN_MEMORY_LEN] {
+        assert_eq!(smallest(hashes.iter().copied(), len), truth[..len], "{len}");
+    }
+}
