@@ -49,6 +49,25 @@ pub fn fixed(v: f64, decimals: usize) -> String {
     }
 }
 
+/// A share (0 to 1) in percent with one decimal, without the sign: "0" for none, "under 0.1"
+/// for a share that is not none but rounds to 0.0 (a 0 that means "less than a tenth of a
+/// percent" reads as none), "100" for all.
+pub fn percent(share: f64) -> String {
+    if share == 0.0 {
+        return "0".into();
+    }
+    if share == 1.0 {
+        return "100".into();
+    }
+    let text = fixed(100.0 * share, 1);
+    // Whatever rounds to 0.0 (of either sign) is some, but less than a tenth.
+    if text.parse::<f64>() == Ok(0.0) {
+        "under 0.1".into()
+    } else {
+        text
+    }
+}
+
 /// Drops the trailing zeros of a decimal fraction, and its point when nothing follows it.
 fn trim(s: String) -> String {
     if s.contains('.') {
@@ -61,6 +80,21 @@ fn trim(s: String) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_share_that_is_not_none_is_not_written_0() {
+        for (share, text) in [
+            (0.0, "0"),
+            (1e-9, "under 0.1"),
+            (0.000_49, "under 0.1"),
+            (0.000_5, "0.1"),
+            (0.123_4, "12.3"),
+            (0.999_99, "100.0"),
+            (1.0, "100"),
+        ] {
+            assert_eq!(percent(share), text, "{share}");
+        }
+    }
 
     #[test]
     fn fixed_decimals_stay_short() {

@@ -112,9 +112,9 @@ fn note_outside(axis: &str, outside_fraction: f64) {
             format!(" of axis {axis}")
         };
         note!(
-            "note: {:.1}% of the samples{of} lie outside the calibrated ranges of the model's \
+            "note: {}% of the samples{of} lie outside the calibrated ranges of the model's \
              inputs; edge values were held there",
-            outside_fraction * 100.0
+            driftlab::number::percent(outside_fraction)
         );
     }
 }

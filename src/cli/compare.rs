@@ -402,7 +402,7 @@ fn print_tables(reports: &[ModelReport], merit: &MeritOptions) -> Result<(), Cli
                 Some(Outcome::Evaluation(e)) => {
                     let c = &e.comparison;
                     out!(
-                        "  {:<12} {:>9} {:>9} {:>8} {:>8} {:>10} {:>8} {:>7.1}%",
+                        "  {:<12} {:>9} {:>9} {:>8} {:>8} {:>10} {:>8} {:>7}%",
                         r.model,
                         common::fixed(c.raw.p2p_dph, 4),
                         common::fixed(c.corrected.p2p_dph, 4),
@@ -410,7 +410,7 @@ fn print_tables(reports: &[ModelReport], merit: &MeritOptions) -> Result<(), Cli
                         common::ratio(c.std_ratio),
                         common::ratio(c.win_mean_ratio),
                         common::ratio(c.win_rms_ratio),
-                        100.0 * e.outside_fraction
+                        driftlab::number::percent(e.outside_fraction)
                     )?;
                 }
                 Some(Outcome::Error(msg)) => out!("  {:<12} {msg}", r.model)?,

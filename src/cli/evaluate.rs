@@ -67,6 +67,13 @@ pub fn run(a: Args) -> Result<(), CliError> {
         });
     }
     if unit.is_unit() {
+        // The axes share the log's rows: one that saw too few of them takes what all tell.
+        let mut in_sample: Vec<bool> = judged.iter().map(|j| j.in_sample).collect();
+        let mut shares: Vec<Option<Shared>> = judged.iter().map(|j| j.share).collect();
+        verify::settle_axes(&mut in_sample, &mut shares);
+        for ((j, i), s) in judged.iter_mut().zip(in_sample).zip(shares) {
+            (j.in_sample, j.share) = (i, s);
+        }
         print_unit(&a, &unit, &judged)
     } else {
         print_single(&a, &judged[0])
@@ -94,7 +101,15 @@ fn judged_json(a: &Args, j: &AxisJudged) -> serde_json::Value {
             .map(|s| serde_json::json!({
                 "share_of_log": s.share_of_log,
                 "share_of_calibration_log": s.share_of_run(),
+                "told_with_other_axes": s.told_with_other_axes(),
             })),
+        // Why the sketch cannot tell whether the log is the calibration log's (too few of its
+        // samples compared, a column written coarser), in words; null when it tells, or when
+        // the log is in-sample by its bytes.
+        "cannot_tell": j
+            .share
+            .filter(|_| !j.in_sample)
+            .and_then(|s| s.cannot_tell()),
         "options": j.opts,
         "evaluation": j.eval,
     })
@@ -205,22 +220,30 @@ fn print_unit(a: &Args, unit: &UnitCalibration, judged: &[AxisJudged]) -> Result
         }));
     }
     // Each axis is judged on its own samples: one label for the unit when they agree, else
-    // one beside each axis.
+    // the axes grouped by verdict, and each axis's label beside it.
     let labels: Vec<String> = judged
         .iter()
         .map(|j| verify::sample_label(j.in_sample, j.share))
         .collect();
     let one_label = labels.windows(2).all(|w| w[0] == w[1]);
+    let kinds: Vec<(&str, &'static str, String)> = judged
+        .iter()
+        .zip(&labels)
+        .map(|(j, l)| {
+            (
+                j.name.as_str(),
+                verify::sample_kind(j.in_sample, j.share),
+                l.clone(),
+            )
+        })
+        .collect();
     out!(
-        "{} ({} axes: {}) on {}{}:",
+        "{} ({} axes: {}) on {} ({}):",
         super::calibrate::file_name(&a.calibration),
         unit.axes.len(),
         unit.axis_names().join(", "),
         super::calibrate::file_name(&a.log),
-        match labels.first() {
-            Some(l) if one_label => format!(" ({l})"),
-            _ => " (in-sample on some axes, held out on others)".to_string(),
-        }
+        verify::unit_label(&kinds)
     )?;
     for (j, label) in judged.iter().zip(&labels) {
         out!()?;

@@ -150,11 +150,11 @@ pub fn print_evaluation(
         )?;
     }
     out!(
-        "  {} samples ({} warm-up samples left out), {} windows; {:.1}% outside the calibrated ranges",
+        "  {} samples ({} warm-up samples left out), {} windows; {}% outside the calibrated ranges",
         c.raw.samples,
         e.warmup_samples,
         c.raw.windows,
-        e.outside_fraction * 100.0
+        driftlab::number::percent(e.outside_fraction)
     )
 }
 

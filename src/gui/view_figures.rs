@@ -171,11 +171,11 @@ fn table(
         })
         .response
         .on_hover_text(format!(
-            "{} samples after {} warm-up samples; {} whole {window} windows; {:.1}% of samples outside the calibrated ranges",
+            "{} samples after {} warm-up samples; {} whole {window} windows; {}% of samples outside the calibrated ranges",
             c.raw.samples,
             e.warmup_samples,
             c.raw.windows,
-            e.outside_fraction * 100.0
+            crate::number::percent(e.outside_fraction)
         ));
         // Stacked in a narrow panel with the opened calibration's two columns beside, the
         // figures are named short (their full names on hover).

@@ -99,8 +99,7 @@ pub fn judge(
     window_asked: bool,
 ) -> Result<Judged, JudgeError> {
     let source = model.source();
-    let in_sample = source.is_run_of(log, file.name, file.sha256);
-    let share = source.shared_with(log);
+    let (in_sample, share) = source.judge_run(log, file.name, file.sha256);
     let told = crate::judge::options::check_merit(&options, log).map_err(JudgeError::Options)?;
     if window_asked {
         crate::judge::options::check_window_asked(options.window_s, log)
@@ -121,28 +120,104 @@ pub fn judge(
 
 /// Whether the log judged on is the calibration's own, in words: with how much of it is the
 /// calibration log's, or how much of the calibration log it is, when its samples' sketch
-/// (`share`) tells that it is not all of it.
+/// (`share`) tells that it is not all of it; or that the sketch cannot tell, and why (too few
+/// of its samples compared, a column written coarser than the calibration log's), rather than
+/// "not the calibration log" said of a log it could not judge.
 pub fn sample_label(in_sample: bool, share: Option<Shared>) -> String {
-    let percent = |x: f64| crate::number::fixed(100.0 * x, 0);
+    let axes = |s: &Shared| {
+        if s.told_with_other_axes() {
+            " (told with the unit's other axes)"
+        } else {
+            ""
+        }
+    };
     match (in_sample, share) {
-        (false, Some(s)) if s.partly().is_some() => format!(
-            "held out, though about {} % of its samples are the calibration log's",
-            percent(s.share_of_log)
+        (false, Some(s)) if s.cannot_tell().is_some() => format!(
+            "cannot tell if it is the calibration log: {}",
+            s.cannot_tell().unwrap_or_default()
         ),
-        (false, _) => "held out: not the calibration log".into(),
+        (false, Some(s)) if s.partly().is_some() => format!(
+            "held out, though {} of its samples are the calibration log's{}",
+            share_words(s.share_of_log),
+            axes(&s)
+        ),
+        (false, Some(s)) => format!("held out: not the calibration log{}", axes(&s)),
+        (false, None) => "held out: not the calibration log".into(),
         // In-sample by its file (its samples binned, say): the sketch has nothing to add.
         (true, Some(s)) if !s.in_sample() => "in-sample: the calibration log".into(),
         // The sketch estimates from 128 hashes: within a few % of all is all.
         (true, Some(s)) if s.share_of_log < 0.95 => format!(
-            "in-sample: about {} % of its samples are the calibration log's",
-            percent(s.share_of_log)
+            "in-sample: {} of its samples are the calibration log's{}",
+            share_words(s.share_of_log),
+            axes(&s)
         ),
         (true, Some(s)) if s.share_of_run() < 0.95 => format!(
-            "in-sample: a part of the calibration log, about {} % of it",
-            percent(s.share_of_run())
+            "in-sample: a part of the calibration log, {} of it{}",
+            share_words(s.share_of_run()),
+            axes(&s)
         ),
-        (true, _) => "in-sample: the calibration log".into(),
+        (true, Some(s)) => format!("in-sample: the calibration log{}", axes(&s)),
+        (true, None) => "in-sample: the calibration log".into(),
     }
+}
+
+/// A share (0 to 1) as the labels say it: "about 9 %", and "under 1 %" for a share that is
+/// not 0 but rounds to it (a 0 that means "less than one percent" reads as none).
+pub fn share_words(share: f64) -> String {
+    let p = 100.0 * share;
+    if p < 0.5 {
+        "under 1 %".into()
+    } else {
+        // Rounded half up, so that no share that is said at all is said to be 0.
+        format!("about {} %", crate::number::fixed(p.round(), 0))
+    }
+}
+
+/// What a unit's axes judged on one log's rows (`in_sample` and `share` of each, in the same
+/// order) tell together ([`Shared::settle_axes`]): an axis that saw too few of the rows to
+/// tell alone takes what the axes' values pooled tell, so that the axes of one unit do not
+/// contradict each other on the same rows; its `in_sample` follows. Every face judging a
+/// unit calls it.
+pub fn settle_axes(in_sample: &mut [bool], shares: &mut [Option<Shared>]) {
+    Shared::settle_axes(shares);
+    for (i, s) in in_sample.iter_mut().zip(shares.iter()) {
+        *i |= s.is_some_and(|s| s.in_sample());
+    }
+}
+
+/// The kind of a label: the sample label's first words ("in-sample", "held out",
+/// "cannot tell"), which a unit's summary groups its axes by.
+pub fn sample_kind(in_sample: bool, share: Option<Shared>) -> &'static str {
+    if in_sample {
+        "in-sample"
+    } else if share.is_some_and(|s| s.cannot_tell().is_some()) {
+        "cannot tell"
+    } else {
+        "held out"
+    }
+}
+
+/// The label of a unit's axes (`labels`, each axis's name, kind and label) on one log: the
+/// one label when every axis has it, else the axes grouped by kind ("in-sample on gx, gy;
+/// held out on gz").
+pub fn unit_label(axes: &[(&str, &'static str, String)]) -> String {
+    if let Some((_, _, first)) = axes.first()
+        && axes.iter().all(|(_, _, l)| l == first)
+    {
+        return first.clone();
+    }
+    ["in-sample", "held out", "cannot tell"]
+        .iter()
+        .filter_map(|kind| {
+            let names: Vec<&str> = axes
+                .iter()
+                .filter(|(_, k, _)| k == kind)
+                .map(|(n, _, _)| *n)
+                .collect();
+            (!names.is_empty()).then(|| format!("{kind} on {}", names.join(", ")))
+        })
+        .collect::<Vec<_>>()
+        .join("; ")
 }
 
 /// The log's axis each axis of `unit` corrects, in the unit's order, where the files tell:
@@ -173,5 +248,40 @@ mod tests {
             "held out: not the calibration log"
         );
         assert_eq!(sample_label(true, None), "in-sample: the calibration log");
+    }
+
+    /// A share under one percent is never written 0 %; from one half percent on it is the
+    /// share rounded to a whole percent.
+    #[test]
+    fn a_share_under_one_percent_is_not_said_to_be_none() {
+        for (share, words) in [
+            (0.004_975, "under 1 %"),
+            (1e-9, "under 1 %"),
+            (0.005, "about 1 %"),
+            (0.0924, "about 9 %"),
+            (0.5, "about 50 %"),
+        ] {
+            assert_eq!(share_words(share), words, "{share}");
+        }
+    }
+
+    #[test]
+    fn a_units_label_groups_its_axes_by_kind() {
+        let l = |s: &str| s.to_string();
+        let same = [
+            ("gx", "in-sample", l("in-sample: x")),
+            ("gy", "in-sample", l("in-sample: x")),
+        ];
+        assert_eq!(unit_label(&same), "in-sample: x");
+        let mixed = [
+            ("gx", "in-sample", l("in-sample: about 96 %")),
+            ("gy", "cannot tell", l("cannot tell if ...")),
+            ("gz", "in-sample", l("in-sample: about 97 %")),
+            ("gw", "held out", l("held out: ...")),
+        ];
+        assert_eq!(
+            unit_label(&mixed),
+            "in-sample on gx, gz; held out on gw; cannot tell on gy"
+        );
     }
 }

@@ -337,9 +337,11 @@ impl Log {
     }
 
     /// Whether `other` holds samples of this log's run, enough for figures judged on it to
-    /// be in-sample ([`run_sketch`]): the whole run under other bytes, or a part of it.
+    /// be in-sample ([`run_sketch`]): the whole run under other bytes, or a part of it, by a
+    /// sketch 32 times a calibration file's, as both logs are at hand (the run thinned to
+    /// every 20th row is told, where a file's sketch compares too few of its values).
     pub fn same_run(&self, other: &Log) -> bool {
-        run_sketch::RunSketch::of(self)
+        run_sketch::RunSketch::in_memory(self)
             .shared_with(other, self.len())
             .in_sample()
     }

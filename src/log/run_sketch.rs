@@ -23,9 +23,13 @@
 //! digits, is the same numbers at that resolution, and is found whole. A copy whose every
 //! value is moved by a step or more (an offset of one LSB, 0.001 °C added) holds other numbers
 //! at that resolution and is not found: the sketch cannot tell such an edit from another
-//! run, whose values differ by a step or more too. A run whose values are multiples of no
-//! step (float32 samples of a drone log) is hashed as before: each value rounded to 32 bits
-//! of mantissa.
+//! run, whose values differ by a step or more too. A run whose values are float32 numbers in
+//! some unit (a drone log's samples, or `driftlab convert`'s CSV of them, whose shortest
+//! decimals are no step of a writer's) is hashed as float32 in that unit, so the binary
+//! number and its text are one value; a run of neither is hashed by its bits, rounded to 32
+//! bits of mantissa. A judged log written coarser than the run (its rates in 0.001 °/h
+//! beside the run's 0.0001) cannot hold the run's values: the sketch says it cannot tell
+//! rather than find the tenth of them that happen to be whole multiples of the coarser step.
 //!
 //! Two sketches, for two ways a copy of a run differs from it:
 //! - **Runs of eight** consecutive samples: a log written with few digits (a rate in
@@ -45,29 +49,54 @@
 //! temperatures where values recur too often tell nothing and are not looked at, and a run
 //! where they do everywhere keeps no sketch (its copies are known by their bytes alone).
 //!
+//! **What too few values tell.** A log shorter than the run by far, or thinned to every 20th
+//! row, holds only a few values hashed as low as the sketch's (about `128 × its samples /
+//! the run's`). From `MIN_SEEN` (8) values on, the share found decides; from fewer, only a
+//! count that a log half the run's would rarely reach (five of five found) or rarely fall
+//! to (none of five) tells, and otherwise the sketch says it cannot tell, with how many it
+//! compared. A unit's axes share their rows, and one that saw too few takes what all the
+//! axes' values pooled tell ([`Shared::settle_axes`]).
+//!
 //! **A limit.** The hash is public: one who crafts a copy from it can leave out the few rows
 //! whose hashes would be found and pass a copy of the run as held out. The sketch guards
 //! against accidents (another file, another unit, a part of the run), not against that.
 //! What it says stays consistent: the share of the run a log is said to hold never
 //! contradicts the share of its samples it is said to be the run's and its length.
 //!
-//! The files: this one holds the sketch, its text and the measure of a log against it;
-//! `values.rs` what is hashed (the values at the log's steps, a sample's and a run's hash,
-//! the same-instant test); `chance.rs` how often values recur by chance per temperature.
+//! The files: this one holds the sketch and how a log is measured against it; `values.rs`
+//! what is hashed (a sample's and a run's hash, the same-instant test); `resolution.rs` the
+//! resolution values are hashed at; `chance.rs` how often values recur by chance per
+//! temperature; `measure.rs` what a part finds of a log and what few values tell;
+//! `shared.rs` the shares and verdicts as the faces read them; `text.rs` the sketch's text.
+//! A crafted text or sketch costs no more than a genuine one: the text is bounded before it is
+//! split (`text.rs`), and a log compares at most `MAX_COMPARED` values with it (`measure.rs`).
 
 mod chance;
+mod measure;
+mod resolution;
+mod shared;
+mod text;
 mod values;
 
 use super::Log;
 use chance::{ChanceByTemperature, chance_by_temperature};
-use std::collections::HashMap;
+use measure::measure;
+use resolution::{Column, Resolution, coarser, resolution};
+pub use shared::Shared;
+#[cfg(test)]
+use text::hex;
 #[cfg(test)]
 use values::mix;
-use values::{NO_HASH, like_a_twin, quantum, run_hashes, single_hashes};
+use values::{NO_HASH, like_a_twin, run_hashes, single_hashes};
 
 /// Hashes a sketch keeps: a log holding 3 % of a run's samples is found in it (about four
 /// of them), and the sketch is 2 KiB of hexadecimal in a calibration file.
 pub const SKETCH_LEN: usize = 128;
+
+/// Hashes a sketch keeps when both logs are at hand and nothing is written ([`Log::same_run`]:
+/// `compare`, the workbench's validation log): 32 times a file's, so that the run thinned to
+/// every 20th row shows about 200 values, not 6, and is told.
+const IN_MEMORY_LEN: usize = 4096;
 
 /// Sketch hashes a log must hold to be called the run's: one could be two other runs'
 /// samples that happen to agree in every bit kept (a plateau's temperature, a rate of few
@@ -103,8 +132,9 @@ const MAX_BINS: usize = 256;
 /// a ramp) tell too little of how often values recur there, and are not looked at.
 const MIN_BIN_SAMPLES: usize = 64;
 
-/// A log's values below the sketch's largest hash that single samples must see before they
-/// judge it: fewer (a short log, or one held where values recur) leave it to the runs.
+/// Values a log must show a part of the sketch for the share found among them to decide,
+/// as it is; fewer decide only by a count that rarely happens otherwise (see the module's
+/// doc).
 const MIN_SEEN: usize = 8;
 
 /// Samples whose values one hash of the runs sketch covers (see the module's doc).
@@ -114,16 +144,16 @@ const RUN_OF: usize = 8;
 /// (texts without it are version 1: exact values, runs not corrected for chance).
 const VERSION_2: &str = "2";
 
-/// The steps the run's temperatures and rates are written with; `None` for a column whose
-/// values are multiples of no step (hashed by their bits, 32 of mantissa).
+/// The resolutions the run's temperatures and rates are hashed at ([`Resolution::Bits`] in
+/// a version-1 sketch).
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 struct Quanta {
-    temp: Option<f64>,
-    rate: Option<f64>,
+    temp: Resolution,
+    rate: Resolution,
 }
 
 /// The smallest hashes of a run's runs of samples and of its single samples, each where it
-/// tells the run from another; the steps its values were hashed at.
+/// tells the run from another; the resolutions its values were hashed at.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct RunSketch {
     /// Read from a version-1 text: values hashed exactly, runs not corrected for chance.
@@ -145,89 +175,22 @@ struct Part {
     per_hash: Option<f64>,
 }
 
-/// How much of a log is a run's samples.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Shared {
-    /// The sketch's hashes found among the log's samples.
-    pub found: usize,
-    /// The hashes in the sketch.
-    pub of: usize,
-    /// The share of the log's samples that are the run's beyond chance, estimated (0 to 1).
-    pub share_of_log: f64,
-    /// The log's samples.
-    pub log_samples: usize,
-    /// The run's samples.
-    pub run_samples: usize,
-    /// Whether the hashes found are beyond what chance finds in another run.
-    beyond_chance: bool,
-    /// How many times the log repeats each of the run's samples it holds, against the run
-    /// itself (at least 1).
-    repeats: f64,
-}
-
-impl Shared {
-    /// Nothing shared (nothing looked at, or nothing tells).
-    fn none(of: usize, log_samples: usize, run_samples: usize) -> Shared {
-        Shared {
-            found: 0,
-            of,
-            share_of_log: 0.0,
-            log_samples,
-            run_samples,
-            beyond_chance: false,
-            repeats: 1.0,
-        }
-    }
-
-    /// Whether the log holds the run's samples at all (beyond two other runs' chance
-    /// agreement).
-    fn found_any(&self) -> bool {
-        self.beyond_chance
-    }
-
-    /// Whether most of the log's samples are the run's: its figures are in-sample.
-    pub fn in_sample(&self) -> bool {
-        self.found_any() && self.share_of_log >= IN_SAMPLE_SHARE
-    }
-
-    /// The share of the log's samples that are the run's when some are but not most: the
-    /// log is held out, and its figures are partly the run's own.
-    pub fn partly(&self) -> Option<f64> {
-        (self.found_any() && !self.in_sample()).then_some(self.share_of_log)
-    }
-
-    /// The share of the run's samples the log holds, estimated (0 to 1): its samples that are
-    /// the run's, counted (exact when no sample of the log repeats another). When that count
-    /// is beyond what the sketch found by more than its error, the log either repeats the
-    /// run's samples (a part of the run written many times: the count is divided by how many
-    /// times the log repeats each), or lacks just the rows the sketch holds (a copy crafted
-    /// from the public hash: the count stands, so that the two shares never contradict each
-    /// other and the log's length).
-    pub fn share_of_run(&self) -> f64 {
-        if self.of == 0 || self.run_samples == 0 {
-            return 0.0;
-        }
-        let sketched = self.found as f64 / self.of as f64;
-        let counted =
-            (self.share_of_log * self.log_samples as f64 / self.run_samples as f64).min(1.0);
-        // The sketch's standard error, at the larger of the two (a fair bound for both).
-        let p = sketched.max(counted);
-        let error = (p * (1.0 - p) / self.of as f64).sqrt();
-        if (counted - sketched).abs() <= 3.0 * error + 1.0 / self.of as f64 {
-            counted
-        } else {
-            (self.share_of_log * self.log_samples as f64 / self.repeats / self.run_samples as f64)
-                .min(1.0)
-        }
-    }
-}
-
 impl RunSketch {
     /// The sketch of `log`'s samples as they are (its selected axis's rate).
     pub fn of(log: &Log) -> RunSketch {
+        Self::of_len(log, SKETCH_LEN)
+    }
+
+    /// The sketch of `log`'s samples for a judging in memory (`IN_MEMORY_LEN` hashes): not
+    /// for a file, whose text holds [`SKETCH_LEN`] at most.
+    pub fn in_memory(log: &Log) -> RunSketch {
+        Self::of_len(log, IN_MEMORY_LEN)
+    }
+
+    fn of_len(log: &Log, len: usize) -> RunSketch {
         let quanta = Quanta {
-            temp: quantum(&log.temp_c),
-            rate: quantum(&log.omega_dph),
+            temp: resolution(&log.temp_c, Column::Temperature),
+            rate: resolution(&log.omega_dph, Column::Rate),
         };
         let singles = single_hashes(log, quanta);
         let runs = run_hashes(&singles);
@@ -245,8 +208,8 @@ impl RunSketch {
         RunSketch {
             version1: false,
             quanta,
-            runs: part_of(log, &runs, &runs_twin),
-            singles: part_of(log, &singles, &twin),
+            runs: part_of(log, &runs, &runs_twin, len),
+            singles: part_of(log, &singles, &twin, len),
         }
     }
 
@@ -258,187 +221,57 @@ impl RunSketch {
 
     /// How much of `log` is the run's samples (`run_samples` of them): by its runs of samples
     /// or by its single samples, whichever finds more beyond chance (single samples find a
-    /// thinned copy, a copy less the rows its reader left out).
+    /// thinned copy, a copy less the rows its reader left out), or both together where each
+    /// sees few; or that it cannot tell (too few of its values compared, or a column written
+    /// coarser than the run's).
     pub fn shared_with(&self, log: &Log, run_samples: usize) -> Shared {
-        let singles = single_hashes(log, self.quanta);
-        let runs = run_hashes(&singles);
-        let by_runs = self
-            .runs
-            .as_ref()
-            .and_then(|p| measure(p, log, &runs, 1, run_samples));
-        let by_singles = self
-            .singles
-            .as_ref()
-            .and_then(|p| measure(p, log, &singles, MIN_SEEN, run_samples));
         let of = self
             .runs
             .as_ref()
             .or(self.singles.as_ref())
             .map_or(0, |p| p.hashes.len());
-        match (by_runs, by_singles) {
-            (Some(r), Some(s)) => {
-                let told = |x: &Shared| if x.found_any() { x.share_of_log } else { -1.0 };
-                if told(&s) > told(&r) { s } else { r }
+        let singles = single_hashes(log, self.quanta);
+        let runs = run_hashes(&singles);
+        let by_runs = self.runs.as_ref().and_then(|p| measure(p, log, &runs));
+        let by_singles = self
+            .singles
+            .as_ref()
+            .and_then(|p| measure(p, log, &singles));
+        let shared = Shared::of_parts(by_runs, by_singles, of, log.len(), run_samples);
+        // Most of its values found, they are the run's, however coarse they look (a ramp of
+        // 0.001 °C a sample thinned to every other row is in steps of 0.002). Else a column
+        // coarser than the run's could not have shown them: found or not says nothing.
+        if shared.in_sample() {
+            return shared;
+        }
+        match self.coarser_column(log) {
+            Some((column, own, calibration)) => {
+                Shared::coarser(column, own, calibration, of, log.len(), run_samples)
             }
-            (Some(one), None) | (None, Some(one)) => one,
-            (None, None) => Shared::none(of, log.len(), run_samples),
+            None => shared,
         }
     }
 
-    /// The sketch as calibration files hold it, version 2: `2;` the temperature's and the
-    /// rate's steps (`-` for none) each followed by `;`, then the runs' part, `;`, the single
-    /// samples' part. A part is empty where nothing tells, else `T0:WIDTH:BYTES:PER:HASHES`:
-    /// the chance of a recurring value per bin of temperature (whole °C, a byte a bin in
-    /// 255ths), the run's samples per sketched hash, and the hashes in 16 hexadecimal digits
-    /// each, ascending. A version-1 sketch (read from an older file) is written as it was
-    /// read: the runs' hashes, then optionally `+`, the single samples' chance, `+`, hashes.
-    pub fn to_text(&self) -> String {
+    /// The first of `log`'s columns written coarser than the run's ([`coarser`]), with its
+    /// resolution and the run's; `None` for a version-1 sketch, which recorded none.
+    fn coarser_column(&self, log: &Log) -> Option<(Column, Resolution, Resolution)> {
         if self.version1 {
-            let runs = self.runs.as_ref().map_or(String::new(), |p| hex(&p.hashes));
-            return match &self.singles {
-                Some(Part {
-                    hashes,
-                    chance: Some(chance),
-                    ..
-                }) => format!("{runs}+{}+{}", chance.to_text(), hex(hashes)),
-                _ => runs,
-            };
-        }
-        let step = |q: Option<f64>| q.map_or("-".to_string(), |q| format!("{q}"));
-        let part = |p: &Option<Part>| match p {
-            Some(Part {
-                hashes,
-                chance: Some(chance),
-                per_hash,
-            }) => format!(
-                "{}:{}:{}",
-                chance.to_text(),
-                per_hash.map_or("1".to_string(), |m| format!("{m:.4}")),
-                hex(hashes)
-            ),
-            _ => String::new(),
-        };
-        format!(
-            "{VERSION_2};{};{};{};{}",
-            step(self.quanta.temp),
-            step(self.quanta.rate),
-            part(&self.runs),
-            part(&self.singles)
-        )
-    }
-
-    /// A sketch from [`RunSketch::to_text`]'s text, of either version; `None` when it is not
-    /// that.
-    pub fn from_text(text: &str) -> Option<RunSketch> {
-        if text.contains(';') {
-            Self::from_text_2(text)
-        } else {
-            Self::from_text_1(text)
-        }
-    }
-
-    fn from_text_2(text: &str) -> Option<RunSketch> {
-        let fields: Vec<&str> = text.split(';').collect();
-        let [version, temp, rate, runs, singles] = fields[..] else {
-            return None;
-        };
-        if version != VERSION_2 {
             return None;
         }
-        let step = |s: &str| -> Option<Option<f64>> {
-            if s == "-" {
-                return Some(None);
-            }
-            let q: f64 = s.parse().ok()?;
-            (q.is_finite() && q > 0.0).then_some(Some(q))
-        };
-        let part = |s: &str| -> Option<Option<Part>> {
-            if s.is_empty() {
-                return Some(None);
-            }
-            let f: Vec<&str> = s.split(':').collect();
-            let [t0, width, bytes, per, hashes] = f[..] else {
-                return None;
-            };
-            let chance = ChanceByTemperature::from_parts(t0, width, bytes)?;
-            let per: f64 = per.parse().ok()?;
-            if !(per.is_finite() && (1.0..1e12).contains(&per)) {
-                return None;
-            }
-            let hashes = hashes_from_hex(hashes)?;
-            if hashes.is_empty() {
-                return None;
-            }
-            Some(Some(Part {
-                hashes,
-                chance: Some(chance),
-                per_hash: Some(per),
-            }))
-        };
-        Some(RunSketch {
-            version1: false,
-            quanta: Quanta {
-                temp: step(temp)?,
-                rate: step(rate)?,
-            },
-            runs: part(runs)?,
-            singles: part(singles)?,
-        })
+        [
+            (Column::Temperature, &log.temp_c, self.quanta.temp),
+            (Column::Rate, &log.omega_dph, self.quanta.rate),
+        ]
+        .into_iter()
+        .map(|(column, values, calibration)| (column, resolution(values, column), calibration))
+        .find(|&(_, own, calibration)| coarser(own, calibration))
     }
-
-    fn from_text_1(text: &str) -> Option<RunSketch> {
-        let mut parts = text.split('+');
-        let runs = hashes_from_hex(parts.next()?)?;
-        let singles = match (parts.next(), parts.next(), parts.next()) {
-            (None, _, _) => None,
-            (Some(chance), Some(hashes), None) => {
-                let chance = ChanceByTemperature::from_text(chance)?;
-                let hashes = hashes_from_hex(hashes)?;
-                if hashes.is_empty() {
-                    return None;
-                }
-                Some(Part {
-                    hashes,
-                    chance: Some(chance),
-                    per_hash: None,
-                })
-            }
-            _ => return None,
-        };
-        let runs = (!runs.is_empty()).then_some(Part {
-            hashes: runs,
-            chance: None,
-            per_hash: None,
-        });
-        Some(RunSketch {
-            version1: true,
-            quanta: Quanta::default(),
-            runs,
-            singles,
-        })
-    }
-}
-
-fn hex(hashes: &[u64]) -> String {
-    hashes.iter().map(|h| format!("{h:016x}")).collect()
-}
-
-/// Ascending hashes of at most [`SKETCH_LEN`] digits groups; `None` when `text` is not that.
-fn hashes_from_hex(text: &str) -> Option<Vec<u64>> {
-    if !text.len().is_multiple_of(16) || !text.is_ascii() || text.len() > 16 * SKETCH_LEN {
-        return None;
-    }
-    let hashes: Option<Vec<u64>> = (0..text.len() / 16)
-        .map(|k| u64::from_str_radix(&text[16 * k..16 * k + 16], 16).ok())
-        .collect();
-    let hashes = hashes?;
-    hashes.windows(2).all(|w| w[0] < w[1]).then_some(hashes)
 }
 
 /// The sketch of `hashes` (one per sample of `log`, [`NO_HASH`] where a sample has none): the
-/// [`SKETCH_LEN`] smallest at the temperatures where they rarely recur, with the chance per
+/// `len` smallest at the temperatures where they rarely recur, with the chance per
 /// temperature and the samples per hash; `None` when no temperature tells.
-fn part_of(log: &Log, hashes: &[u64], twin: &[bool]) -> Option<Part> {
+fn part_of(log: &Log, hashes: &[u64], twin: &[bool], len: usize) -> Option<Part> {
     let chance = chance_by_temperature(log, hashes, twin).filter(ChanceByTemperature::tells_any)?;
     let telling = |i: usize| chance.at(log.temp_c[i]).is_some_and(|c| c <= MAX_CHANCE);
     let told = || {
@@ -447,7 +280,7 @@ fn part_of(log: &Log, hashes: &[u64], twin: &[bool]) -> Option<Part> {
             .enumerate()
             .filter_map(|(i, &h)| (h != NO_HASH && telling(i)).then_some(h))
     };
-    let kept = smallest(told());
+    let kept = smallest(told(), len);
     let top = *kept.last()?;
     let low = told().filter(|&h| h <= top).count();
     Some(Part {
@@ -457,97 +290,28 @@ fn part_of(log: &Log, hashes: &[u64], twin: &[bool]) -> Option<Part> {
     })
 }
 
-/// The [`SKETCH_LEN`] smallest distinct values of `hashes`, ascending.
-fn smallest(hashes: impl Iterator<Item = u64>) -> Vec<u64> {
-    let mut heap = std::collections::BinaryHeap::with_capacity(SKETCH_LEN + 1);
+/// The `len` smallest distinct values of `hashes`, ascending: a value already kept (a stuck
+/// stretch repeats one) does not crowd out another.
+fn smallest(hashes: impl Iterator<Item = u64>, len: usize) -> Vec<u64> {
+    let mut kept = std::collections::BTreeSet::new();
+    // The largest kept once `len` are: most values are larger, and cost one comparison.
+    let mut top = u64::MAX;
     for h in hashes {
-        let full = heap.len() >= SKETCH_LEN;
-        if full && heap.peek().is_some_and(|&top| h >= top) {
+        if h >= top {
             continue;
         }
-        // A value already kept (a stuck stretch repeats one) would crowd out another.
-        if heap.iter().any(|&k| k == h) {
-            continue;
+        kept.insert(h);
+        if kept.len() > len {
+            kept.pop_last();
         }
-        heap.push(h);
-        if heap.len() > SKETCH_LEN {
-            heap.pop();
-        }
-    }
-    heap.into_sorted_vec()
-}
-
-/// How much of a log's samples are a sketch's run's, beyond chance: among the log's samples
-/// whose hashes (`hashes`, one per sample) are no larger than the sketch's largest (every
-/// run value hashed that low is in the sketch), at temperatures where the run's values
-/// rarely recur, the share found in it, less the share the chance of their temperatures
-/// would find, scaled to 0 to 1. `None` when fewer than `min_seen` distinct values are
-/// looked at.
-fn measure(
-    part: &Part,
-    log: &Log,
-    hashes: &[u64],
-    min_seen: usize,
-    run_samples: usize,
-) -> Option<Shared> {
-    let top = *part.hashes.last()?;
-    // Per distinct value looked at: its chance, whether the sketch holds it, its samples.
-    let mut low: HashMap<u64, (f64, bool, usize)> = HashMap::new();
-    for (i, h) in hashes.iter().enumerate() {
-        let h = *h;
-        if h == NO_HASH || h > top {
-            continue;
-        }
-        let c = match &part.chance {
-            None => 0.0,
-            Some(chance) => match chance.at(log.temp_c[i]) {
-                Some(c) if c <= MAX_CHANCE => c,
-                _ => continue,
-            },
-        };
-        low.entry(h)
-            .or_insert_with(|| (c, part.hashes.binary_search(&h).is_ok(), 0))
-            .2 += 1;
-    }
-    if low.len() < min_seen.max(1) {
-        return None;
-    }
-    let (mut samples, mut hit_samples, mut chance_sum) = (0usize, 0usize, 0.0);
-    let (mut found, mut chance_distinct) = (0usize, 0.0);
-    for &(c, hit, n) in low.values() {
-        samples += n;
-        chance_sum += c * n as f64;
-        chance_distinct += c;
-        if hit {
-            hit_samples += n;
-            found += 1;
+        if kept.len() == len {
+            top = kept.last().copied().unwrap_or(u64::MAX);
         }
     }
-    let share = hit_samples as f64 / samples as f64;
-    let expected = chance_sum / samples as f64;
-    let beyond = ((share - expected) / (1.0 - expected)).clamp(0.0, 1.0);
-    // Chance finds each distinct value with its temperature's chance: the hashes found must
-    // be beyond that count by [`SIGNIFICANT`] standard errors.
-    let seen = low.len() as f64;
-    let p0 = chance_distinct / seen;
-    let beyond_chance = found >= MIN_FOUND
-        && found as f64 - seen * p0 > SIGNIFICANT * (seen * p0 * (1.0 - p0)).sqrt()
-        && beyond > 0.0;
-    let repeats = if found == 0 {
-        1.0
-    } else {
-        (hit_samples as f64 / found as f64 / part.per_hash.unwrap_or(1.0)).max(1.0)
-    };
-    Some(Shared {
-        found,
-        of: part.hashes.len(),
-        share_of_log: beyond,
-        log_samples: log.len(),
-        run_samples,
-        beyond_chance,
-        repeats,
-    })
+    kept.into_iter().collect()
 }
 
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod tests_told;

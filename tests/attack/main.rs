@@ -8,3 +8,4 @@
 mod limits;
 mod readers;
 mod ros_limits;
+mod sketches;

@@ -279,7 +279,7 @@ fn a_unit_judged_on_a_log_of_its_own_and_other_axes_labels_each_axis() {
     assert!(
         text.lines()
             .next()
-            .is_some_and(|l| l.contains("in-sample on some axes, held out on others")),
+            .is_some_and(|l| l.contains("(in-sample on gx, gy; held out on gz)")),
         "{text}"
     );
     assert!(line("gx").contains("in-sample"), "{text}");

@@ -16,6 +16,7 @@ mod commands;
 mod degenerate_logs;
 mod forged_lines;
 mod in_sample;
+mod in_sample_told;
 mod kalibr;
 mod output_hashes;
 mod overwrite_inputs;

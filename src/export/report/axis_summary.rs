@@ -112,7 +112,7 @@ fn axis_row(a: &PageAxis<'_>, l: &LogReport) -> Markup {
                 td class="num" { (dph(cor)) }
                 (ratio_cell(ratio))
             }
-            td class="num" { (format!("{:.1}", l.evaluation.outside_fraction * 100.0)) " %" }
+            td class="num" { (crate::number::percent(l.evaluation.outside_fraction)) " %" }
         }
         "\n"
     }

@@ -234,7 +234,7 @@ fn merit_table(l: &LogReport, d: Depth, window_s: f64) -> Markup {
             (l.samples) " samples, " (format!("{:.2}", l.duration_s / 3600.0)) " h, T "
             (format!("{:.1}", l.temp_range_c.0)) " … " (format!("{:.1}", l.temp_range_c.1))
             " °C; " (e.warmup_samples) " warm-up samples left out, " (c.raw.windows)
-            " windows of " (w) "; " (format!("{:.1}", e.outside_fraction * 100.0))
+            " windows of " (w) "; " (crate::number::percent(e.outside_fraction))
             " % of samples outside the calibrated ranges. SHA-256 " code { (l.sha256) }
         }
         "\n"

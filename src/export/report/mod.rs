@@ -287,7 +287,7 @@ pub fn write_model(
     opts: &ReportOptions,
 ) -> Result<ReportSummary> {
     folder::replace(out_dir, |dir| {
-        let mut summary = build(model, logs, dir, opts)?;
+        let mut summary = build(model, logs, dir, opts, None)?;
         let axis = PageAxis {
             name: "",
             rate_column: "",
@@ -341,11 +341,14 @@ pub fn write(
 /// The figures and figures of merit of one axis's report, without its page: the folder made
 /// (an axis's, inside a unit's staging folder), the model's own figures, then a section for
 /// every log.
+/// `in_sample`: whether each log is the model's own, when the caller settled it (a unit's
+/// axes, together); `None`: each log judged by the model's source alone.
 fn build(
     model: &DriftModel,
     logs: &[(PathBuf, Log)],
     out_dir: &Path,
     opts: &ReportOptions,
+    in_sample: Option<&[bool]>,
 ) -> Result<ReportSummary> {
     std::fs::create_dir_all(out_dir).map_err(|e| Error::io(out_dir, e))?;
     let merit = opts.merit.unwrap_or_else(|| default_merit_for(model));
@@ -367,11 +370,14 @@ fn build(
             .map(|(p, _)| calibration::sha256_file(p).unwrap_or_default())
             .collect(),
     };
-    let in_sample: Vec<bool> = logs
-        .iter()
-        .zip(&hashes)
-        .map(|((p, log), h)| model.source().is_run_of(log, &file_name(p), h))
-        .collect();
+    let in_sample: Vec<bool> = match in_sample {
+        Some(given) if given.len() == logs.len() => given.to_vec(),
+        _ => logs
+            .iter()
+            .zip(&hashes)
+            .map(|((p, log), h)| model.source().is_run_of(log, &file_name(p), h))
+            .collect(),
+    };
     let ModelFigures {
         mut taken,
         mut files,

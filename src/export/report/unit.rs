@@ -12,6 +12,7 @@ use super::page::{self, PageAxis};
 use super::{LogReport, ReportOptions, ReportSummary, build, calibration};
 use crate::error::{Error, Invalid, Result};
 use crate::judge::metrics::MeritOptions;
+use crate::judge::verify;
 use crate::log::Log;
 use crate::models::UnitCalibration;
 use std::path::{Path, PathBuf};
@@ -144,10 +145,11 @@ fn write_axes(
     hashes: &[String],
     log_axes: Vec<Vec<String>>,
 ) -> Result<UnitReportSummary> {
+    let in_sample = settled_in_sample(unit, logs, hashes, &log_axes)?;
     let mut taken: Vec<String> = vec!["report".into()];
     let mut axes = Vec::with_capacity(unit.axes.len());
     let mut files = Vec::new();
-    for (ax, found) in unit.axes.iter().zip(log_axes) {
+    for ((ax, found), in_sample) in unit.axes.iter().zip(log_axes).zip(&in_sample) {
         for ((_, log), name) in logs.iter_mut().zip(&found) {
             if !log.select_axis(name) {
                 return Err(Error::Internal(
@@ -167,10 +169,11 @@ fn write_axes(
             allan: None,
             sha256: Some(hashes.to_vec()),
         };
-        let summary = build(&ax.model, logs, &folder, &opts).map_err(|e| match e {
-            Error::Fit(e) => Error::Fit(e.on_axis(&ax.name)),
-            other => other,
-        })?;
+        let summary =
+            build(&ax.model, logs, &folder, &opts, Some(in_sample)).map_err(|e| match e {
+                Error::Fit(e) => Error::Fit(e.on_axis(&ax.name)),
+                other => other,
+            })?;
         files.extend(summary.files.iter().cloned());
         axes.push(AxisReport {
             name: ax.name.clone(),
@@ -195,6 +198,39 @@ fn write_axes(
     page::write(&page_axes, &html)?;
     files.push(html.clone());
     Ok(UnitReportSummary { html, files, axes })
+}
+
+/// Whether each log (its hash in `hashes`, its axis of each of the unit's axes in
+/// `log_axes`) is each axis's own, by axis then by log: each axis by its source, then a
+/// log's axes settled together ([`verify::settle_axes`]), as `driftlab evaluate` judges
+/// them.
+fn settled_in_sample(
+    unit: &UnitCalibration,
+    logs: &mut [(PathBuf, Log)],
+    hashes: &[String],
+    log_axes: &[Vec<String>],
+) -> Result<Vec<Vec<bool>>> {
+    let mut in_sample = vec![vec![false; logs.len()]; unit.axes.len()];
+    for (k, ((path, log), hash)) in logs.iter_mut().zip(hashes).enumerate() {
+        let name = super::file_name(path);
+        let mut own = Vec::with_capacity(unit.axes.len());
+        let mut shares = Vec::with_capacity(unit.axes.len());
+        for (ax, found) in unit.axes.iter().zip(log_axes) {
+            if !log.select_axis(&found[k]) {
+                return Err(Error::Internal(
+                    "an axis found in a log could not be selected",
+                ));
+            }
+            let (is_own, share) = ax.model.source().judge_run(log, &name, hash);
+            own.push(is_own);
+            shares.push(share);
+        }
+        verify::settle_axes(&mut own, &mut shares);
+        for (axis, i) in in_sample.iter_mut().zip(own) {
+            axis[k] = i;
+        }
+    }
+    Ok(in_sample)
 }
 
 impl Relocate for UnitReportSummary {

@@ -249,7 +249,7 @@ fn verify_log(r: &VerifyRequest, l: &LogInput) -> VerifiedLog {
         |n| n.to_string_lossy().into_owned(),
     );
     let log_axes = l.full.axis_names();
-    let axes = r
+    let mut axes = r
         .unit
         .axes
         .par_iter()
@@ -262,25 +262,48 @@ fn verify_log(r: &VerifyRequest, l: &LogInput) -> VerifiedLog {
             let (log_axis, by_hand) = match (chosen, found.get(k).cloned().flatten()) {
                 (Some(c), _) => (c.clone(), true),
                 (None, Some(f)) => (f, false),
-                (None, None) => return AxisVerdict::Unplaced(unplaced(r, k, l, &file_name)),
+                (None, None) => return Err(AxisVerdict::Unplaced(unplaced(r, k, l, &file_name))),
             };
             let Some(view) = l.views.iter().find(|v| v.axis == log_axis) else {
-                return AxisVerdict::Failed {
+                return Err(AxisVerdict::Failed {
                     why: format!("{file_name}: axis {log_axis} is not open in the workbench"),
                     log_axis,
-                };
+                });
             };
             let file = LogFile {
                 name: &file_name,
                 sha256: &l.sha256,
             };
             match verify::judge(&ax.model, view, file, r.merit, false) {
-                Ok(j) => AxisVerdict::Judged(Box::new(judged_axis(j, view, log_axis, by_hand))),
-                Err(e) => AxisVerdict::Failed {
+                Ok(j) => Ok((j, view.clone(), log_axis, by_hand)),
+                Err(e) => Err(AxisVerdict::Failed {
                     log_axis,
                     why: e.to_string(),
-                },
+                }),
             }
+        })
+        .collect::<Vec<_>>();
+    // The axes share the log's rows: one that saw too few of them takes what all tell, as
+    // `driftlab evaluate` settles them.
+    let mut judged: Vec<&mut verify::Judged> = axes
+        .iter_mut()
+        .filter_map(|a| a.as_mut().ok().map(|(j, ..)| j))
+        .collect();
+    if r.unit.is_unit() {
+        let mut in_sample: Vec<bool> = judged.iter().map(|j| j.in_sample).collect();
+        let mut shares: Vec<_> = judged.iter().map(|j| j.share).collect();
+        verify::settle_axes(&mut in_sample, &mut shares);
+        for ((j, i), s) in judged.iter_mut().zip(in_sample).zip(shares) {
+            (j.in_sample, j.share) = (i, s);
+        }
+    }
+    let axes = axes
+        .into_iter()
+        .map(|a| match a {
+            Ok((j, view, log_axis, by_hand)) => {
+                AxisVerdict::Judged(Box::new(judged_axis(j, &view, log_axis, by_hand)))
+            }
+            Err(v) => v,
         })
         .collect();
     VerifiedLog {

@@ -122,8 +122,11 @@ impl ModelsView {
                                     ui.label(if v >= 1.0 { text } else { text.color(bad) })
                                         .on_hover_text(format!("raw ÷ corrected = {v}"));
                                 }
-                                ui.monospace(format!("{:.1}%", 100.0 * e.outside_fraction))
-                                    .on_hover_text(OUTSIDE);
+                                ui.monospace(format!(
+                                    "{}%",
+                                    crate::number::percent(e.outside_fraction)
+                                ))
+                                .on_hover_text(OUTSIDE);
                             }
                             Outcome::Error(msg) => {
                                 ui.colored_label(bad, "cannot apply").on_hover_text(msg);

@@ -2,7 +2,7 @@
 use super::*;
 
 /// A run of `n` samples at 1 Hz whose rate is noise drawn from `seed`.
-fn run(n: usize, seed: u64) -> Log {
+pub(super) fn run(n: usize, seed: u64) -> Log {
     let mut s = seed;
     let omega: Vec<f64> = (0..n)
         .map(|_| {
@@ -18,7 +18,7 @@ fn run(n: usize, seed: u64) -> Log {
     )
 }
 
-fn part(log: &Log, range: std::ops::Range<usize>) -> Log {
+pub(super) fn part(log: &Log, range: std::ops::Range<usize>) -> Log {
     Log::from_columns(
         "part.csv",
         log.time_s[range.clone()].to_vec(),
@@ -153,8 +153,12 @@ fn a_version_1_text_reads_back_and_judges_as_it_did() {
     // Version 1's text of this run: the runs' hashes, `+`, the chance, `+`, the singles'.
     let exact = Quanta::default();
     let singles = single_hashes(&cal, exact);
-    let runs = smallest(run_hashes(&singles).into_iter().filter(|&h| h != NO_HASH));
-    let part = part_of(&cal, &singles, &like_a_twin(&cal, exact)).expect("singles tell");
+    let runs = smallest(
+        run_hashes(&singles).into_iter().filter(|&h| h != NO_HASH),
+        SKETCH_LEN,
+    );
+    let part =
+        part_of(&cal, &singles, &like_a_twin(&cal, exact), SKETCH_LEN).expect("singles tell");
     let text = format!(
         "{}+{}+{}",
         hex(&runs),
@@ -195,7 +199,7 @@ fn a_version_1_text_reads_back_and_judges_as_it_did() {
 }
 
 /// `log` less the rows `keep` says no to.
-fn kept(log: &Log, keep: impl Fn(usize) -> bool) -> Log {
+pub(super) fn kept(log: &Log, keep: impl Fn(usize) -> bool) -> Log {
     let pick = |v: &[f64]| -> Vec<f64> {
         v.iter()
             .enumerate()
@@ -212,7 +216,7 @@ fn kept(log: &Log, keep: impl Fn(usize) -> bool) -> Log {
 }
 
 /// `log` with its rate written with `digits` decimals, its temperature with 3.
-fn written(mut log: Log, digits: i32) -> Log {
+pub(super) fn written(mut log: Log, digits: i32) -> Log {
     let round = |x: f64, d: i32| (x * 10f64.powi(d)).round() / 10f64.powi(d);
     for w in &mut log.omega_dph {
         *w = round(*w, digits);
@@ -334,7 +338,7 @@ fn a_hold_of_another_run_is_not_the_run_however_its_values_recur() {
 
 /// A run written as a test stand writes it: the rate with four decimals (°/h), the
 /// temperature with three, on a ramp of 1 °C per 10 min with 2 mK of sensor noise.
-fn stand(n: usize, seed: u64) -> Log {
+pub(super) fn stand(n: usize, seed: u64) -> Log {
     let mut log = run(n, seed);
     let mut s = seed ^ 0xabc;
     for (i, t) in log.temp_c.iter_mut().enumerate() {
@@ -351,7 +355,7 @@ fn the_run_converted_without_loss_is_all_the_run() {
     let sketch = RunSketch::of(&cal);
     assert_eq!(
         (sketch.quanta.temp, sketch.quanta.rate),
-        (Some(0.001), Some(0.0001))
+        (Resolution::Step(0.001), Resolution::Step(0.0001))
     );
     let to_rad = std::f64::consts::PI / 180.0 / 3600.0;
     let through = |f: &dyn Fn(f64) -> f64| {

@@ -1,68 +1,10 @@
-//! The values a sketch hashes: each sample's temperature and rate as a whole number of the
-//! calibration log's steps ([`quantum`]), the hash of a sample and of a run of samples, and
-//! whether a sample is what a second run of the program would write at the same instant.
+//! The values a sketch hashes: each sample's temperature and rate as a whole number at the
+//! calibration log's resolution ([`super::resolution`]), the hash of a sample and of a run of
+//! samples, and whether a sample is what a second run of the program would write at the same
+//! instant.
 
+use super::resolution::Resolution;
 use super::{Log, Quanta, RUN_OF};
-
-/// The step `values` are written with: the smallest step between their distinct values (or
-/// a tenth of it at most) when nearly every value is a whole multiple of it; `None` when
-/// they are multiples of no step (float32 samples, noise of full precision) or hold fewer
-/// than two values.
-pub(super) fn quantum(values: &[f64]) -> Option<f64> {
-    // Every k-th value, at most about QUANTUM_VALUES of them: a step is seen between any two
-    // neighbouring levels, and so many values hold most of a log's levels (20 000 of a rate in
-    // 0.0001 °/h over ±1 °/h); sorting them all cost 35 ms and 8 MB per million samples.
-    let stride = (values.len() / QUANTUM_VALUES).max(1);
-    let mut v: Vec<f64> = values
-        .iter()
-        .step_by(stride)
-        .copied()
-        .filter(|x| x.is_finite())
-        .collect();
-    v.sort_unstable_by(f64::total_cmp);
-    v.dedup();
-    // Steps of a value's last bits (a conversion's rounding) are not steps of the log.
-    let step = v
-        .windows(2)
-        .map(|w| (w[1] - w[0], w[0].abs().max(w[1].abs())))
-        .filter(|&(d, at)| d > 1e-9 * at)
-        .map(|(d, _)| d)
-        .fold(f64::INFINITY, f64::min);
-    if !step.is_finite() || step <= 0.0 {
-        return None;
-    }
-    // Nine significant digits: the step less the rounding of the two values it is taken
-    // from (0.0001 written in the log, read as 9.99999999999e-5).
-    let snap = |x: f64| -> f64 { format!("{x:.8e}").parse().unwrap_or(x) };
-    (1..=10).map(|j| snap(step / j as f64)).find(|&q| {
-        let off = v
-            .iter()
-            .filter(|&&x| {
-                let k = x / q;
-                k.abs() > 1e12 || (k - k.round()).abs() > 1e-3
-            })
-            .count();
-        // Nearly all: a stray value or two written otherwise does not undo the log's step.
-        off * 1000 <= v.len()
-    })
-}
-
-/// How many of a column's values [`quantum`] looks at.
-const QUANTUM_VALUES: usize = 200_000;
-
-/// `v` as a whole number of steps `q`, or its bits rounded to 32 bits of mantissa where no
-/// step is known (or `v` is too many steps from 0 to count them).
-pub(super) fn key(v: f64, q: Option<f64>) -> u64 {
-    if let Some(q) = q
-        && v.is_finite()
-    {
-        let k = (v / q).round();
-        if k.abs() < 4.0e15 {
-            return (k as i64) as u64;
-        }
-    }
-    rounded_bits(v)
-}
 
 /// The hash of each sample's values: its temperature and rate, each rounded to the run's
 /// step (`quanta`), so that a column read through another unit (°/s × 3600, float32 rad/s)
@@ -76,8 +18,8 @@ pub(super) fn single_hashes(log: &Log, quanta: Quanta) -> Vec<u64> {
         .map(|i| {
             let mut h = 0x05ee_d0fd_21f7_u64;
             for k in [
-                key(log.temp_c[i], quanta.temp),
-                key(log.omega_dph[i], quanta.rate),
+                quanta.temp.key(log.temp_c[i]),
+                quanta.rate.key(log.omega_dph[i]),
             ] {
                 h = mix(h ^ k);
             }
@@ -127,8 +69,8 @@ pub(super) fn like_a_twin(log: &Log, quanta: Quanta) -> Vec<bool> {
         let start = c * CHUNK;
         let from = start.saturating_sub(1);
         let to = (start + o.len() + 1).min(n);
-        let keys = |x: &[f64], q: Option<f64>| -> Vec<u64> {
-            x[from..to].iter().map(|&v| key(v, q)).collect()
+        let keys = |x: &[f64], q: Resolution| -> Vec<u64> {
+            x[from..to].iter().map(|&v| q.key(v)).collect()
         };
         let columns = [
             (
@@ -150,27 +92,11 @@ pub(super) fn like_a_twin(log: &Log, quanta: Quanta) -> Vec<bool> {
                 let after = (i + 1 < n).then(|| kk[i + 1 - from]);
                 before == Some(me)
                     || after == Some(me)
-                    || (i > 0 && i + 1 < n && key(0.5 * (x[i - 1] + x[i + 1]), *q) == me)
+                    || (i > 0 && i + 1 < n && q.key(0.5 * (x[i - 1] + x[i + 1])) == me)
             });
         }
     });
     out
-}
-
-/// The bits of `v` rounded to 32 bits of mantissa (about 9.6 significant digits); one value
-/// for every NaN, and for 0 and −0.
-pub(super) fn rounded_bits(v: f64) -> u64 {
-    const DROPPED: u32 = 20;
-    if v.is_nan() {
-        return u64::MAX;
-    }
-    if v == 0.0 {
-        return 0;
-    }
-    let bits = v.to_bits();
-    // Round half up on the magnitude; a carry into the exponent is the next power of two,
-    // as it should be.
-    (bits + (1 << (DROPPED - 1))) >> DROPPED
 }
 
 /// SplitMix64's finaliser (Steele, Lea and Flood, 2014): a fixed, well-mixed 64-bit hash

@@ -58,10 +58,22 @@ impl SourceInfo {
     /// file recorded with none of them is known by its name alone. Every face asks this one
     /// rule before it calls figures in-sample or held out.
     pub fn is_run_of(&self, log: &Log, file_name: &str, file_sha256: &str) -> bool {
+        self.judge_run(log, file_name, file_sha256).0
+    }
+
+    /// [`SourceInfo::is_run_of`] with what the sketch found ([`SourceInfo::shared_with`]),
+    /// measured once.
+    pub fn judge_run(
+        &self,
+        log: &Log,
+        file_name: &str,
+        file_sha256: &str,
+    ) -> (bool, Option<Shared>) {
         let same_file = !self.sha256.is_empty()
             && !file_sha256.is_empty()
             && file_sha256.eq_ignore_ascii_case(&self.sha256);
-        let same_run = match self.shared_with(log) {
+        let shared = self.shared_with(log);
+        let same_run = match shared {
             Some(shared) => shared.in_sample(),
             None => !self.run.is_empty() && self.run == log.run_fingerprint(),
         };
@@ -69,7 +81,7 @@ impl SourceInfo {
             && self.run.is_empty()
             && self.samples_sketch.is_empty()
             && file_name == self.name;
-        same_file || same_run || by_name
+        (same_file || same_run || by_name, shared)
     }
 
     /// Checks what a calibration file says of the log it was fitted on: a log that lasted
@@ -102,16 +114,19 @@ impl SourceInfo {
         }
         // Their digits are not checked (a file whose hash was damaged still corrects; the
         // report then finds no log with that hash), but they are printed as they stand.
-        if !self.samples_sketch.is_empty() && RunSketch::from_text(&self.samples_sketch).is_none() {
+        if !self.samples_sketch.is_empty()
+            && let Err(why) = RunSketch::parse(&self.samples_sketch)
+        {
             return Err(Invalid::new(
                 "source.samples_sketch",
                 format!(
-                    "is not a sketch of a run's samples (version 2: `2;` the temperature's \
-                     and the rate's steps or `-`, each then `;`, then two parts separated by \
-                     `;`, each empty or `T0:WIDTH:` a byte a bin of temperature `:` samples \
-                     per hash `:` at most {n} ascending hashes of 16 hexadecimal digits; \
-                     version 1: at most {n} such hashes, then optionally `+`, `T0:WIDTH:` and \
-                     a byte a bin, `+` and as many hashes more)",
+                    "is not a sketch of a run's samples: {why} (version 2: `2;` the \
+                     temperature's and the rate's resolutions, a step, `f32@UNIT` or `-`, \
+                     each then `;`, then two parts separated by `;`, each empty or `T0:WIDTH:` \
+                     a byte a bin of temperature `:` samples per hash `:` at most {n} \
+                     ascending hashes of 16 hexadecimal digits; version 1: at most {n} such \
+                     hashes, then optionally `+`, `T0:WIDTH:` and a byte a bin, `+` and as \
+                     many hashes more)",
                     n = crate::log::run_sketch::SKETCH_LEN
                 ),
             ));
