@@ -112,7 +112,7 @@ impl Args {
     /// The recipe: the file's (or the defaults), overridden by the options given, checked.
     fn recipe(&self) -> Result<CheckedRecipe, CliError> {
         let base = match &self.recipe {
-            Some(p) => calibration::read_recipe(p).map_err(|e| e.to_string())?,
+            Some(p) => calibration::read_recipe(p).map_err(|e| unit_as_recipe(p, e))?,
             None => Recipe::default(),
         };
         self.recipe_over(base)
@@ -538,5 +538,27 @@ fn axis_of(option: &str, asked: &str, log: &Log, axes: &[String]) -> Result<Stri
             axes.join(", ")
         )
         .into()),
+    }
+}
+
+/// Why `--recipe FILE` was refused, with the way a unit's calibration is given when `FILE` is
+/// one: `--recipe` takes one recipe for every axis, a unit holds one per axis, which
+/// `--axis-recipe AXIS=FILE` takes.
+fn unit_as_recipe(path: &std::path::Path, e: driftlab::error::Error) -> CliError {
+    let shown = path.display();
+    match calibration::load_unit(path) {
+        Ok(unit) if unit.axes.len() > 1 => {
+            let each: Vec<String> = unit
+                .axes
+                .iter()
+                .map(|a| format!("--axis-recipe {}={shown}", a.name))
+                .collect();
+            format!(
+                "{e}: give each axis its recipe from it with {}",
+                each.join(" ")
+            )
+            .into()
+        }
+        _ => e.to_string().into(),
     }
 }

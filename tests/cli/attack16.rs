@@ -174,3 +174,57 @@ fn a_flight_logs_advice_names_its_own_options() {
     assert!(said.contains("--axes NAME one alone"), "{said}");
     assert!(!said.contains("--rate-col"), "{said}");
 }
+
+/// `--recipe` given a unit's calibration was refused without the way a unit's recipes are
+/// given; the refusal names `--axis-recipe` for each axis, and that command reproduces the
+/// unit.
+#[test]
+fn a_units_calibration_given_as_the_recipe_points_to_axis_recipe() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let unit = p(d, "unit.json");
+    ok(&["calibrate", &sample("imu3-calibration.csv"), "-o", &unit]);
+    let err = fails(&[
+        "calibrate",
+        &sample("imu3-calibration.csv"),
+        "--recipe",
+        &unit,
+        "-o",
+        &p(d, "again.json"),
+    ]);
+    let each: Vec<String> = ["gx", "gy", "gz"]
+        .iter()
+        .map(|a| format!("--axis-recipe {a}={unit}"))
+        .collect();
+    assert!(err.contains(&each.join(" ")), "{err}");
+    let again = p(d, "again.json");
+    let mut args = vec![
+        "calibrate".to_string(),
+        sample("imu3-calibration.csv"),
+        "-o".into(),
+        again.clone(),
+    ];
+    for a in ["gx", "gy", "gz"] {
+        args.push("--axis-recipe".into());
+        args.push(format!("{a}={unit}"));
+    }
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    ok(&args);
+    let strip = |path: &str| {
+        let mut v: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+        fn drop_created(v: &mut serde_json::Value) {
+            match v {
+                serde_json::Value::Object(m) => {
+                    m.remove("created");
+                    m.values_mut().for_each(drop_created);
+                }
+                serde_json::Value::Array(a) => a.iter_mut().for_each(drop_created),
+                _ => {}
+            }
+        }
+        drop_created(&mut v);
+        v
+    };
+    assert_eq!(strip(&unit), strip(&again));
+}
