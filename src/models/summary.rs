@@ -37,19 +37,29 @@ pub fn summary(model: &DriftModel) -> Vec<SummaryLine> {
         DriftModel::Vakhrameev(c) => {
             // K1± and K2± as one line each when their two curves are of one kind (the usual
             // case), each with what it was fitted over for one who asks.
+            let r = &c.recipe;
             let lines = [
-                ("K0(T)", vec![("K0", &c.k0)]),
+                ("K0(T)", vec![("K0", &c.k0, &r.k0)]),
                 (
                     "K1±(dT/dt)",
-                    vec![("K1+", &c.k1_plus), ("K1−", &c.k1_minus)],
+                    vec![
+                        ("K1+", &c.k1_plus, &r.k1_plus),
+                        ("K1−", &c.k1_minus, &r.k1_minus),
+                    ],
                 ),
                 (
                     "K2±(d²T/dt²)",
-                    vec![("K2+", &c.k2_plus), ("K2−", &c.k2_minus)],
+                    vec![
+                        ("K2+", &c.k2_plus, &r.k2_plus),
+                        ("K2−", &c.k2_minus, &r.k2_minus),
+                    ],
                 ),
             ];
             for (name, curves) in lines {
-                let kinds: Vec<String> = curves.iter().map(|(_, ap)| kind(ap)).collect();
+                let kinds: Vec<String> = curves
+                    .iter()
+                    .map(|(_, ap, spec)| format!("{}{}", kind(ap), by_hand(spec)))
+                    .collect();
                 let text = if kinds.windows(2).all(|w| w[0] == w[1]) {
                     kinds[0].clone()
                 } else {
@@ -57,7 +67,7 @@ pub fn summary(model: &DriftModel) -> Vec<SummaryLine> {
                 };
                 let detail = curves
                     .iter()
-                    .map(|(n, ap)| format!("{n}: {}", fitted_over(ap)))
+                    .map(|(n, ap, _)| format!("{n}: {}", fitted_over(ap)))
                     .collect::<Vec<_>>()
                     .join("\n");
                 out.push(SummaryLine {
@@ -65,7 +75,6 @@ pub fn summary(model: &DriftModel) -> Vec<SummaryLine> {
                     ..line(name, text)
                 });
             }
-            let r = &c.recipe;
             out.push(line(
                 "windows",
                 format!(
@@ -122,6 +131,17 @@ fn kind(ap: &crate::models::approx::Approx) -> String {
     }
 }
 
+/// What of a curve's knots the engineer placed or set by hand (the recipe keeps them): a
+/// curve shaped by hand is not the fit's, and one comparing calibrations must see it.
+fn by_hand(spec: &crate::models::approx::ApproxSpec) -> &'static str {
+    match (spec.at.is_some(), spec.values.is_some()) {
+        (true, true) => ", placed and set by hand",
+        (true, false) => ", placed by hand",
+        (false, true) => ", values set by hand",
+        (false, false) => "",
+    }
+}
+
 /// The range an approximation was fitted over, and what it does beyond.
 fn fitted_over(ap: &crate::models::approx::Approx) -> String {
     format!(
@@ -150,6 +170,51 @@ fn round4(v: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::round4;
+
+    /// A calibration whose K1+ knots were placed and set by hand says so beside its kind; the
+    /// fitted curves say nothing more.
+    #[test]
+    fn curves_shaped_by_hand_are_said_to_be() {
+        use crate::models::approx::{ApproxKind, ApproxSpec};
+        use crate::models::fitted::DriftModel;
+        use crate::models::recipe::Recipe;
+        let path =
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("sample_logs/calibration.csv");
+        let log = crate::log::ingest::read_path(&path, &Default::default()).unwrap();
+        let mut recipe = Recipe {
+            k1_plus: ApproxSpec {
+                knots: 4,
+                ..ApproxSpec::of(ApproxKind::Pwl)
+            },
+            ..Recipe::default()
+        };
+        let fit = |r: &Recipe| {
+            let cal = crate::models::vakhrameev::fit(&log, &r.clone().checked().unwrap())
+                .unwrap()
+                .calibration;
+            super::summary(&DriftModel::Vakhrameev(Box::new(cal)))
+        };
+        let k1 = |lines: Vec<super::SummaryLine>| {
+            lines
+                .into_iter()
+                .find(|l| l.what == "K1±(dT/dt)")
+                .unwrap()
+                .text
+        };
+        assert_eq!(k1(fit(&recipe)), "pwl, 4 knots / linear");
+        let first = crate::models::vakhrameev::fit(&log, &recipe.clone().checked().unwrap())
+            .unwrap()
+            .calibration;
+        let mut at = first.k1_plus.knots().0.to_vec();
+        at[1] += 0.25 * (at[2] - at[1]);
+        recipe.k1_plus.at = Some(at);
+        assert_eq!(k1(fit(&recipe)), "pwl, 4 knots, placed by hand / linear");
+        recipe.k1_plus.values = Some(vec![30.0, 40.0, 45.0, 50.0]);
+        assert_eq!(
+            k1(fit(&recipe)),
+            "pwl, 4 knots, placed and set by hand / linear"
+        );
+    }
 
     #[test]
     fn ranges_are_read_to_four_digits() {
