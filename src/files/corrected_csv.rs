@@ -46,7 +46,7 @@ pub fn write(
 pub fn unit_header(axes: &[&str]) -> String {
     let mut cells = vec!["time_s".to_string()];
     for a in axes {
-        cells.extend(["raw", "pred", "cor"].map(|k| format!("{a}_{k}_dph")));
+        cells.extend(crate::log::ingest::CORRECTED_LOG_RATES.map(|k| format!("{a}_{k}_dph")));
     }
     cells.push("temp_c".to_string());
     let mut h = crate::files::csv_cells::text_record(&cells);

@@ -670,19 +670,26 @@ pub(crate) fn fallback_columns(sn: &Sniffed) -> Vec<ColumnInfo> {
         .collect()
 }
 
+/// What a log `apply` writes for each axis, `<axis>_<word>_dph`: the raw rate, the model's
+/// prediction and the corrected rate (`files::corrected_csv` writes them, the reader knows the
+/// last two for what they are).
+pub(crate) const CORRECTED_LOG_RATES: [&str; 3] = ["raw", "pred", "cor"];
+
 /// Whether column `j` is the predicted or the corrected rate of an axis in a log `apply`
 /// wrote (`gx_pred_dph`, `gx_cor_dph` beside `gx_raw_dph`): rates of the gyro, but no axis of
 /// it: read as axes, a unit of three "axes" was calibrated from one gyro's raw rate, its
 /// model's prediction and their difference.
 fn of_a_corrected_log(names: &[String], j: usize) -> bool {
     let name = names[j].to_ascii_lowercase();
-    ["_pred", "_cor"].iter().any(|tag| {
-        name.match_indices(tag).any(|(at, _)| {
+    let [raw, made @ ..] = CORRECTED_LOG_RATES;
+    made.iter().any(|word| {
+        let tag = format!("_{word}");
+        name.match_indices(&tag).any(|(at, _)| {
             let rest = &name[at + tag.len()..];
             if !(rest.is_empty() || rest.starts_with('_')) {
                 return false;
             }
-            let raw = format!("{}_raw{rest}", &name[..at]);
+            let raw = format!("{}_{raw}{rest}", &name[..at]);
             names.iter().any(|n| n.eq_ignore_ascii_case(&raw))
         })
     })

@@ -73,6 +73,7 @@ pub(crate) mod names;
 mod option_error;
 mod parse;
 mod plausible;
+pub(crate) use columns::CORRECTED_LOG_RATES;
 pub(crate) use plausible::check as plausibility_problems;
 mod read;
 mod series;

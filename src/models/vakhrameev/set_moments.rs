@@ -282,23 +282,11 @@ pub(super) fn fit_set_moments(
     let d2 = Design::new(spec2, samples.k2_range?).ok()?;
     let drift = recipe.weighting == Weighting::Drift;
     let SetInputs { tdot, tddot, rest } = inputs;
+    // K1's points are over Ṫ with K2's term of T̈, K2's the other way round.
+    let cols = |own, other| Columns { own, other, rest };
     let (m1, m2) = rayon::join(
-        || {
-            let cols = Columns {
-                own: tdot,
-                other: tddot,
-                rest,
-            };
-            moments(&samples.k1, cols, &d1, &d2, drift)
-        },
-        || {
-            let cols = Columns {
-                own: tddot,
-                other: tdot,
-                rest,
-            };
-            moments(&samples.k2, cols, &d2, &d1, drift)
-        },
+        || moments(&samples.k1, cols(tdot, tddot), &d1, &d2, drift),
+        || moments(&samples.k2, cols(tddot, tdot), &d2, &d1, drift),
     );
     // Every point the range counted, each with its other term: else the streaming fit.
     if m1.n != d1.points() || m2.n != d2.points() || !m1.finite || !m2.finite {
