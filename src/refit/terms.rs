@@ -171,6 +171,7 @@ impl Terms {
             }
         }
         let k2 = [approx[0].1.evaluator(), approx[1].1.evaluator()];
+        let predictor = cal.predictor();
         let sets = &self.sets;
         let counts = c
             .pred_dph
@@ -205,7 +206,7 @@ impl Terms {
                             let i = set.idx[j] as usize;
                             let (td, tdd) = (set.tdot[j], set.tddot[j]);
                             out[s + 1] +=
-                                usize::from(cal.is_outside(log.temp_c[i], td, tdd, regime));
+                                usize::from(predictor.is_outside(log.temp_c[i], td, tdd, regime));
                         }
                     }
                 }

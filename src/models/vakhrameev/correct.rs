@@ -8,7 +8,7 @@
 
 use crate::error::Result;
 use crate::log::Log;
-use crate::models::vakhrameev::{Calibration, Regime};
+use crate::models::vakhrameev::{Calibration, Predictor, Regime};
 use crate::signal::timing::GAP_FACTOR;
 use crate::signal::{self, DerivativeSteps, Derivatives, Rates};
 use rayon::prelude::*;
@@ -48,7 +48,7 @@ pub struct Prediction {
 /// where the one before stopped.
 #[derive(Debug, Clone)]
 pub struct LogPredictor<'a> {
-    cal: &'a Calibration,
+    predictor: Predictor<'a>,
     rates: Rates,
     temps: &'a [f64],
     next: usize,
@@ -94,8 +94,8 @@ impl LogPredictor<'_> {
             let o = &mut out[at - self.next..stop - self.next];
             for (o, &t) in o.iter_mut().zip(&self.temps[at..stop]) {
                 let (td, tdd) = self.rates.push(t);
-                let (p, regime) = self.cal.predict(t, td, tdd);
-                self.outside += usize::from(self.cal.is_outside(t, td, tdd, regime));
+                let (p, _, outside) = self.predictor.sample(t, td, tdd);
+                self.outside += usize::from(outside);
                 *o = p;
             }
             at = stop;
@@ -179,6 +179,7 @@ impl Calibration {
         let n = log.len().min(deriv.tdot.len()).min(deriv.tddot.len());
         const CHUNK: usize = 1 << 15;
         let mut cor_dph = vec![0.0; n];
+        let predictor = self.predictor();
         let outside: usize = cor_dph
             .par_chunks_mut(CHUNK)
             .enumerate()
@@ -188,9 +189,9 @@ impl Calibration {
                 for (k, q) in q.iter_mut().enumerate() {
                     let i = base + k;
                     let (t, td, tdd) = (log.temp_c[i], deriv.tdot[i], deriv.tddot[i]);
-                    let (p, regime) = self.predict(t, td, tdd);
+                    let (p, _, beyond) = predictor.sample(t, td, tdd);
                     *q = log.omega_dph[i] - p;
-                    outside += usize::from(self.is_outside(t, td, tdd, regime));
+                    outside += usize::from(beyond);
                 }
                 outside
             })
@@ -224,6 +225,7 @@ impl Calibration {
         }
         const CHUNK: usize = 1 << 15;
         let omega = &log.omega_dph[..n];
+        let predictor = self.predictor();
         out.outside_by_regime = out
             .pred_dph
             .par_chunks_mut(CHUNK)
@@ -236,9 +238,10 @@ impl Calibration {
                 for k in 0..p.len() {
                     let i = base + k;
                     let (t, td, tdd) = (log.temp_c[i], deriv.tdot[i], deriv.tddot[i]);
-                    (p[k], r[k]) = self.predict(t, td, tdd);
+                    let beyond;
+                    (p[k], r[k], beyond) = predictor.sample(t, td, tdd);
                     q[k] = omega[i] - p[k];
-                    outside[r[k] as usize] += usize::from(self.is_outside(t, td, tdd, r[k]));
+                    outside[r[k] as usize] += usize::from(beyond);
                 }
                 outside
             })
@@ -272,7 +275,7 @@ impl Calibration {
         let steps = self.steps_for(dt);
         let first = timing.segments.first().map_or(n, |r| r.len());
         LogPredictor {
-            cal: self,
+            predictor: self.predictor(),
             rates: Rates::new(steps.within(first), dt),
             temps: &log.temp_c[..n],
             next: 0,

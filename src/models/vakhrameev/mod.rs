@@ -20,9 +20,11 @@
 //! every axis of a unit with one temperature processing ([`Pipeline`]).
 
 pub mod correct;
+pub use predictor::Predictor;
 mod fit;
 mod k0_plateaus;
 pub mod knots;
+mod predictor;
 mod reach;
 mod set_moments;
 mod sets;
