@@ -121,7 +121,7 @@ impl DriftModel {
     /// The log lacks a channel the model reads.
     pub fn predictor<'a>(&'a self, log: &'a Log) -> Result<Predictor<'a>> {
         Ok(match self {
-            DriftModel::Vakhrameev(c) => Predictor::Batches(c.log_predictor(log)),
+            DriftModel::Vakhrameev(c) => Predictor::Batches(Box::new(c.log_predictor(log))),
             DriftModel::Regression(_) => Predictor::Whole {
                 prediction: self.predict_log(log)?,
                 next: 0,
@@ -283,7 +283,7 @@ pub fn check_stats(
 #[derive(Debug, Clone)]
 pub enum Predictor<'a> {
     /// Predicted batch by batch.
-    Batches(LogPredictor<'a>),
+    Batches(Box<LogPredictor<'a>>),
     /// Predicted whole, handed out in batches.
     Whole {
         /// The whole prediction.
