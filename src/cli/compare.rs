@@ -272,11 +272,14 @@ fn run_axes(
 /// The heading of one log's table: its name, and whether the models were fitted on it.
 fn print_log_heading(j: &compare::Judgement) -> Result<(), CliError> {
     out!()?;
-    out!(
-        "{} ({})",
-        j.log,
-        if j.held_out { "held out" } else { "in-sample" }
-    )?;
+    match &j.cannot_tell {
+        Some(why) => out!(
+            "{} (cannot tell if it is the training log: {why}; its figures are no held-out \
+             evidence)",
+            j.log
+        )?,
+        None => out!("{} ({})", j.log, j.kind())?,
+    }
     Ok(())
 }
 
@@ -293,30 +296,29 @@ fn print_axes_summary(per_axis: &[(String, Vec<ModelReport>)]) -> Result<(), Cli
     )?;
     for (k, j) in first.logs.iter().enumerate() {
         // Each axis judged the log by its own samples: one word when they agree, else which.
-        let held: Vec<(&str, bool)> = per_axis
+        let held: Vec<(&str, &str)> = per_axis
             .iter()
             .filter_map(|(name, reports)| {
                 let r = reports.iter().find(|r| r.error.is_none())?;
-                Some((name.as_str(), r.logs.get(k)?.held_out))
+                Some((name.as_str(), r.logs.get(k)?.kind()))
             })
             .collect();
-        if held.iter().all(|&(_, h)| h == j.held_out) {
+        if held.iter().all(|&(_, h)| h == j.kind()) {
             print_log_heading(j)?;
         } else {
-            let on = |want: bool| {
-                held.iter()
-                    .filter(|&&(_, h)| h == want)
-                    .map(|&(n, _)| n)
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            };
+            let groups: Vec<String> = ["in-sample", "held out", "cannot tell"]
+                .iter()
+                .filter_map(|kind| {
+                    let names: Vec<&str> = held
+                        .iter()
+                        .filter(|&&(_, h)| h == *kind)
+                        .map(|&(n, _)| n)
+                        .collect();
+                    (!names.is_empty()).then(|| format!("{kind} on {}", names.join(", ")))
+                })
+                .collect();
             out!()?;
-            out!(
-                "{} (in-sample on {}; held out on {})",
-                j.log,
-                on(false),
-                on(true)
-            )?;
+            out!("{} ({})", j.log, groups.join("; "))?;
         }
         let mut head = format!("  {:<12}", "model");
         for (name, _) in per_axis {

@@ -134,6 +134,9 @@ pub struct AppState {
     /// The validation log as read, every axis (each axis above holds its own view of it):
     /// an opened calibration may be judged on any of them.
     pub validation_file: Option<Loaded>,
+    /// Why the calibration log's sketch cannot tell whether the validation log is the
+    /// calibration log (its figures are then marked: they may not be held out).
+    pub validation_doubt: Option<String>,
     /// A calibration opened beside the current fit, to compare ([`super::opened`]).
     pub opened: Option<super::opened::Opened>,
 }

@@ -59,15 +59,34 @@ impl FiguresView {
             );
             ui.separator();
             match &fit.outcome.held_out {
-                Some(h) => table(
-                    ui,
-                    "fig_out",
-                    &format!("Held out · {}", name(&state.shown.validation)),
-                    &h.evaluation,
-                    exact,
-                    &window,
-                    beside(OpenLog::Validation),
-                ),
+                Some(h) => {
+                    // A log the calibration log's sketch cannot tell apart from it: its
+                    // figures are shown, marked as perhaps not held out.
+                    let title = match &state.validation_doubt {
+                        Some(_) => format!("Held out? · {}", name(&state.shown.validation)),
+                        None => format!("Held out · {}", name(&state.shown.validation)),
+                    };
+                    table(
+                        ui,
+                        "fig_out",
+                        &title,
+                        &h.evaluation,
+                        exact,
+                        &window,
+                        beside(OpenLog::Validation),
+                    );
+                    if let Some(why) = &state.validation_doubt {
+                        ui.add(
+                            egui::Label::new(
+                                RichText::new(format!(
+                                    "Cannot tell if this is the calibration log: {why}"
+                                ))
+                                .color(ui.visuals().warn_fg_color),
+                            )
+                            .wrap(),
+                        );
+                    }
+                }
                 None => {
                     ui.vertical(|ui| {
                         ui.strong("Held out");

@@ -3,6 +3,7 @@
 
 use crate::judge::metrics::{Evaluation, MeritOptions};
 use crate::log::Log;
+use crate::log::run_sketch::Shared;
 use crate::models::fitted::DriftModel;
 use crate::models::presets::ModelChoice;
 use crate::models::recipe::CheckedRecipe;
@@ -16,11 +17,29 @@ pub struct Judgement {
     /// The log's name.
     pub log: String,
     /// False for the log the model was fitted on, also when it is passed again as a test log
-    /// (the same samples, under any name): figures on it are in-sample.
+    /// (the same samples, under any name): figures on it are in-sample. False too when the
+    /// training log's sketch cannot tell (`cannot_tell`): such figures are no held-out
+    /// evidence.
     pub held_out: bool,
+    /// Why the training log's sketch cannot tell whether this log is the training run (too
+    /// few of its values compared, a column written coarser than the training log's); `None`
+    /// when it tells.
+    pub cannot_tell: Option<String>,
     /// The figures, or why the model could not be applied to this log.
     #[serde(flatten)]
     pub result: Outcome,
+}
+
+impl Judgement {
+    /// What the figures on this log are, in the words every face uses: "in-sample", "held
+    /// out" or "cannot tell" ([`crate::judge::verify::sample_kind`]'s words).
+    pub fn kind(&self) -> &'static str {
+        match (self.held_out, &self.cannot_tell) {
+            (_, Some(_)) => "cannot tell",
+            (true, None) => "held out",
+            (false, None) => "in-sample",
+        }
+    }
 }
 
 /// Figures of merit, or an error message.
@@ -57,7 +76,7 @@ pub fn compare(
     recipe: &CheckedRecipe,
     merit: &MeritOptions,
 ) -> Vec<ModelReport> {
-    let tests: Vec<&Log> = tests.iter().collect();
+    let tests = tests_of(train, &tests.iter().collect::<Vec<_>>());
     choices
         .par_iter()
         .map(|choice| {
@@ -74,13 +93,34 @@ pub fn compare(
         .collect()
 }
 
+/// A test log of a comparison, with how much of it is the training run.
+#[derive(Debug, Clone, Copy)]
+pub struct TestLog<'a> {
+    /// The log.
+    pub log: &'a Log,
+    /// How much of it is the training run, by the training log's sketch.
+    pub run: Shared,
+}
+
+/// The test logs of a comparison, each told against the training log's sketch (once for every
+/// model compared).
+pub fn tests_of<'a>(train: &Log, tests: &[&'a Log]) -> Vec<TestLog<'a>> {
+    tests
+        .par_iter()
+        .map(|&log| TestLog {
+            log,
+            run: train.run_shared(log),
+        })
+        .collect()
+}
+
 /// One model of [`compare`]: fitted on `train`, judged on `train` then each of `tests`.
 /// `progress` is told the share of the fit done (0 to 1) and stops it by returning false (the
 /// report then holds the error "cancelled"); `seen(k, correction)` gets each log's correction
 /// (log `k`, the training log first) before it is dropped, for a caller that also draws them.
 pub fn compare_one(
     train: &Log,
-    tests: &[&Log],
+    tests: &[TestLog],
     choice: &ModelChoice,
     recipe: &CheckedRecipe,
     merit: &MeritOptions,
@@ -96,12 +136,20 @@ pub fn compare_one(
     };
     match crate::models::fit_with_progress(train, choice, recipe, progress) {
         Ok(m) => {
-            report.logs = std::iter::once((train, false))
-                .chain(tests.iter().map(|t| (*t, !train.same_run(t))))
+            let told = |s: Option<&Shared>| match s {
+                None => (false, None),
+                Some(s) => match s.cannot_tell() {
+                    Some(why) => (false, Some(why)),
+                    None => (!s.in_sample(), None),
+                },
+            };
+            report.logs = std::iter::once((train, told(None)))
+                .chain(tests.iter().map(|t| (t.log, told(Some(&t.run)))))
                 .enumerate()
-                .map(|(k, (log, held_out))| Judgement {
+                .map(|(k, (log, (held_out, cannot_tell)))| Judgement {
                     log: log.source.clone(),
                     held_out,
+                    cannot_tell,
                     result: match crate::models::check_rate_moves(log).and_then(|()| m.correct(log))
                     {
                         Ok(c) => {

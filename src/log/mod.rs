@@ -341,9 +341,15 @@ impl Log {
     /// sketch 32 times a calibration file's, as both logs are at hand (the run thinned to
     /// every 20th row is told, where a file's sketch compares too few of its values).
     pub fn same_run(&self, other: &Log) -> bool {
-        run_sketch::RunSketch::in_memory(self)
-            .shared_with(other, self.len())
-            .in_sample()
+        self.run_shared(other).in_sample()
+    }
+
+    /// How much of `other` is this log's run, by [`Log::same_run`]'s sketch of this log: in
+    /// words too, and why the sketch cannot tell when it cannot (too few of `other`'s values
+    /// compared, a column of `other` written coarser than this log's). `self` is the
+    /// calibration log, `other` the log judged: the sketch is always of the calibration log.
+    pub fn run_shared(&self, other: &Log) -> run_sketch::Shared {
+        run_sketch::RunSketch::in_memory(self).shared_with(other, self.len())
     }
 
     /// Number of samples.

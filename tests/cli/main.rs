@@ -13,6 +13,7 @@ mod attack15;
 mod attack16;
 mod axis_choice;
 mod commands;
+mod compare_verdicts;
 mod degenerate_logs;
 mod forged_lines;
 mod in_sample;

@@ -152,3 +152,34 @@ pub fn log_from(
     }
     Log::from_columns("synthetic", time, omega, temp)
 }
+
+/// `sample_logs/calibration.csv` with its data rows kept by `keep` (row index from 0) and each
+/// kept row's rate rewritten by `rate`, written as `name` in `dir`: a part, a thinned copy or a
+/// coarser copy of the calibration run, whose provenance the test knows.
+pub fn calibration_derived(
+    dir: &std::path::Path,
+    name: &str,
+    keep: impl Fn(usize) -> bool,
+    rate: impl Fn(f64) -> String,
+) -> std::path::PathBuf {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("sample_logs/calibration.csv");
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut out = String::new();
+    let mut row = 0;
+    for line in text.lines() {
+        if line.starts_with('#') || line.starts_with("time_s") {
+            out.push_str(line);
+            out.push('\n');
+            continue;
+        }
+        if keep(row) {
+            let cells: Vec<&str> = line.split(',').collect();
+            let r = rate(cells[1].parse().unwrap());
+            out.push_str(&format!("{},{r},{}\n", cells[0], cells[2..].join(",")));
+        }
+        row += 1;
+    }
+    let written = dir.join(name);
+    std::fs::write(&written, out).unwrap();
+    written
+}

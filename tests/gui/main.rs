@@ -26,5 +26,6 @@ mod plateau_drag;
 mod plateau_table;
 mod units;
 mod validation_match;
+mod validation_run;
 mod warmup;
 mod window;

@@ -275,22 +275,6 @@ impl Workbench {
                     self.start_load(path, options, Target::Validation);
                 }
             }
-            JobResult::Loaded(Target::Validation, l)
-                if self.state.shown.log.as_ref().is_some_and(|c| {
-                    crate::files::atomic::is_same_file(&l.path, &c.path) || l.log.same_run(&c.log)
-                }) =>
-            {
-                // Figures judged on the calibration's own log would be shown as held out.
-                self.opening.validation_shown = None;
-                self.state.say(
-                    Severity::Warning,
-                    format!(
-                        "{} is the calibration log itself: figures judged on it are not held \
-                         out, so it is not opened as the validation log; open another run",
-                        file_name(&l.path)
-                    ),
-                );
-            }
             JobResult::Loaded(Target::Validation, l) => self.validation_read(*l),
             JobResult::LoadFailed(_, path, message) => {
                 let message = crate::gui::view_import::in_labels(&message);

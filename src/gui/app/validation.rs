@@ -35,7 +35,48 @@ fn view_for(l: &Loaded, unit: bool, name: &str, column: &str) -> Option<Loaded> 
     }
 }
 
+/// What the calibration log's sketch tells of a validation log.
+#[derive(Debug, Clone, PartialEq)]
+pub(super) enum Provenance {
+    /// The calibration log itself (its file, or most of its samples under other bytes):
+    /// figures judged on it would not be held out.
+    Own,
+    /// The sketch cannot tell, and why (too few of its values compared, a column written
+    /// coarser than the calibration log's).
+    CannotTell(String),
+    /// Another run.
+    Other,
+}
+
 impl Workbench {
+    /// Whether validation log `l` is the calibration log shown, by the calibration log's
+    /// sketch (as `driftlab compare` and `evaluate` tell it: the sketch is of the calibration
+    /// log, the log judged is measured against it), on the view of `l` the shown axis is
+    /// judged on.
+    pub(super) fn provenance(&self, l: &Loaded) -> Provenance {
+        let Some(c) = self.state.shown.log.as_ref() else {
+            return Provenance::Other;
+        };
+        if crate::files::atomic::is_same_file(&l.path, &c.path) {
+            return Provenance::Own;
+        }
+        let unit = self.state.unit.is_some();
+        let active = self.state.active_axis();
+        let view = self
+            .calibrated_axes()
+            .get(active)
+            .and_then(|(name, column)| view_for(l, unit, name, column));
+        let judged = view.as_ref().map_or(&l.log, |v| &v.log);
+        let shared = c.log.run_shared(judged);
+        if shared.in_sample() {
+            Provenance::Own
+        } else if let Some(why) = shared.cannot_tell() {
+            Provenance::CannotTell(why)
+        } else {
+            Provenance::Other
+        }
+    }
+
     /// Each axis of the calibration log: its name and the rate column it was read from.
     fn calibrated_axes(&self) -> Vec<(String, String)> {
         let unit = self.state.unit.is_some();
@@ -88,6 +129,7 @@ impl Workbench {
     /// No validation log: none read, none judged on.
     pub(super) fn forget_validation(&mut self) {
         self.state.validation_file = None;
+        self.state.validation_doubt = None;
         self.set_validation_views(Vec::new());
         self.state.view.show_validation = false;
     }
@@ -95,11 +137,35 @@ impl Workbench {
     /// A validation log just read (not the calibration log itself): every axis judged on its
     /// view of it, the axes it lacks said.
     pub(super) fn validation_read(&mut self, l: Loaded) {
-        let msg = format!(
+        let provenance = self.provenance(&l);
+        if provenance == Provenance::Own {
+            // Figures judged on the calibration's own log would be shown as held out.
+            self.opening.validation_shown = None;
+            self.state.say(
+                Severity::Warning,
+                format!(
+                    "{} is the calibration log itself: figures judged on it are not held \
+                     out, so it is not opened as the validation log; open another run",
+                    file_name(&l.path)
+                ),
+            );
+            return;
+        }
+        let mut msg = format!(
             "Validation log {} ({} samples)",
             file_name(&l.path),
             l.log.len()
         );
+        if let Provenance::CannotTell(why) = &provenance {
+            msg = format!(
+                "{msg}; it cannot be told whether it is the calibration log ({why}): its \
+                 figures may not be held out"
+            );
+        }
+        self.state.validation_doubt = match provenance {
+            Provenance::CannotTell(why) => Some(why),
+            _ => None,
+        };
         self.look_at_columns(&l, Target::Validation);
         let m = self.match_validation(&l);
         let judged = m.views.iter().filter(|v| v.is_some()).count();
@@ -150,10 +216,8 @@ impl Workbench {
             return None;
         };
         let name = file_name(&file.path);
-        let own = self.state.shown.log.as_ref().is_some_and(|c| {
-            crate::files::atomic::is_same_file(&file.path, &c.path) || file.log.same_run(&c.log)
-        });
-        if own {
+        let provenance = self.provenance(&file);
+        if provenance == Provenance::Own {
             self.forget_validation();
             return Some((
                 format!(
@@ -181,7 +245,17 @@ impl Workbench {
                     "those are not"
                 }
             ),
-            None => format!("; validation log {name} kept: held out for this log too"),
+            None => match &provenance {
+                Provenance::CannotTell(why) => format!(
+                    "; validation log {name} kept, though it cannot be told whether it is this \
+                     log ({why}): its figures may not be held out"
+                ),
+                _ => format!("; validation log {name} kept: held out for this log too"),
+            },
+        };
+        self.state.validation_doubt = match provenance {
+            Provenance::CannotTell(why) => Some(why),
+            _ => None,
         };
         self.set_validation_views(m.views);
         self.state.validation_file = Some(file);

@@ -148,7 +148,10 @@ impl CompareHandle {
 /// done), then its correction of every log filtered as the figures filter it, for drawing.
 pub(super) fn run_compare(req: &CompareRequest, h: &CompareHandle, ctx: &SharedCtx) -> Compared {
     let t = Instant::now();
-    let tests: Vec<&Log> = req.tests.iter().map(|l| &**l).collect();
+    let tests = crate::judge::compare::tests_of(
+        &req.train,
+        &req.tests.iter().map(|l| &**l).collect::<Vec<_>>(),
+    );
     let all: Vec<(Arc<Log>, bool)> = std::iter::once((req.train.clone(), false))
         .chain(req.tests.iter().map(|l| (l.clone(), true)))
         .collect();

@@ -99,12 +99,14 @@ impl ModelsView {
                         } else {
                             ui.label("");
                         }
-                        ui.label(if judged.held_out {
-                            "held out"
-                        } else {
-                            "in-sample"
-                        })
-                        .on_hover_text(&judged.log);
+                        let hover = match &judged.cannot_tell {
+                            Some(why) => format!(
+                                "{}: cannot tell if it is the calibration log: {why}",
+                                judged.log
+                            ),
+                            None => judged.log.clone(),
+                        };
+                        ui.label(judged.kind()).on_hover_text(hover);
                         match &judged.result {
                             Outcome::Evaluation(e) => {
                                 let cmp = &e.comparison;
