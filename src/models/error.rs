@@ -154,6 +154,10 @@ pub enum FitError {
          (the recipe's plateaus, as ranges) or loosen the detector"
     )]
     NoK0Plateaus,
+    /// Knots placed or values set by hand that the fit could not keep: the points carry only a
+    /// simpler curve (fewer knots, a line, a constant, none), on which they cannot stand.
+    #[error("{0}")]
+    HandKnotsNotKept(Box<HandKnotsNotKept>),
     /// A model fitted on plateaus, on a log that has none.
     #[error("{log}: model {model} is fitted on plateaus and the log has none")]
     NoPlateaus {
@@ -349,4 +353,23 @@ pub enum ParseError {
         /// The term given twice.
         term: String,
     },
+}
+
+/// Knots placed or values set by hand that a fit could not keep ([`FitError::HandKnotsNotKept`]).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error(
+    "{field}: {what} by hand, but {label} could not be fitted as asked ({why}), so they would \
+     be dropped; {remedy}"
+)]
+pub struct HandKnotsNotKept {
+    /// The recipe's field (`k0.at`, `k1_plus.values`).
+    pub field: String,
+    /// What was set by hand (`4 knots placed`, `2 knot values set`).
+    pub what: String,
+    /// The coefficient (`K0`).
+    pub label: &'static str,
+    /// What the fit said of its points.
+    pub why: String,
+    /// What to change.
+    pub remedy: &'static str,
 }

@@ -21,7 +21,7 @@ pub mod summary;
 pub mod unit;
 pub mod vakhrameev;
 
-pub use error::{FitError, ParseError};
+pub use error::{FitError, HandKnotsNotKept, ParseError};
 pub use fitted::{DriftModel, ModelCorrector, Predictor, stream_inputs};
 pub use presets::{ModelChoice, Preset};
 pub use recipe::{CheckedRecipe, Recipe};

@@ -9,6 +9,7 @@ mod allan;
 mod approx;
 mod correction;
 mod crafted_settings;
+mod hand_knots_kept;
 mod k0_knots;
 mod k0_temperatures;
 mod knot_placement;

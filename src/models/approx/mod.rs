@@ -244,14 +244,36 @@ impl ApproxSpec {
 }
 
 /// How well a fit matches its points.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, Default)]
+///
+/// Written with `null` for what was not computed (the RMS residual and R² of a curve over no
+/// point, the R² of one point), never a 0 that reads as a figure; read back as 0 with the
+/// count saying why.
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize, Default)]
 pub struct FitStats {
     /// Points used.
     pub n: usize,
     /// Root-mean-square residual, in the coefficient's unit.
+    #[serde(deserialize_with = "null_as_zero")]
     pub rmse: f64,
     /// Coefficient of determination (1 − SSres/SStot); 0 when the points have no spread.
+    #[serde(deserialize_with = "null_as_zero")]
     pub r2: f64,
+}
+
+impl Serialize for FitStats {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::SerializeStruct;
+        let mut out = s.serialize_struct("FitStats", 3)?;
+        out.serialize_field("n", &self.n)?;
+        out.serialize_field("rmse", &(self.n > 0).then_some(self.rmse))?;
+        out.serialize_field("r2", &(self.n > 1).then_some(self.r2))?;
+        out.end()
+    }
+}
+
+/// A statistic written as `null` (not computed) read as 0 ([`FitStats`]).
+fn null_as_zero<'de, D: serde::Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+    Ok(Option::<f64>::deserialize(d)?.unwrap_or(0.0))
 }
 
 /// Why a fit could not be made.

@@ -130,3 +130,43 @@ fn unusable_parts_are_refused_with_their_reason() {
         "unknown approximation \"cubic\": use linear, parabolic, pwl or spline"
     );
 }
+
+/// What a fit did not compute is written `null`, not a 0 that reads as a figure: the RMS
+/// residual and R² of a curve over no point, the R² of one point; read back as 0 with the count
+/// saying why, and a computed figure round-trips exactly.
+#[test]
+fn statistics_not_computed_are_written_null() {
+    let none = FitStats::default();
+    let one = FitStats {
+        n: 1,
+        rmse: 0.0,
+        r2: 0.0,
+    };
+    let many = FitStats {
+        n: 40,
+        rmse: 0.125,
+        r2: 0.731_234_567_890_123_4,
+    };
+    let text = |s: &FitStats| serde_json::to_string(s).unwrap();
+    assert_eq!(text(&none), r#"{"n":0,"rmse":null,"r2":null}"#);
+    assert_eq!(text(&one), r#"{"n":1,"rmse":0.0,"r2":null}"#);
+    for s in [none, one, many] {
+        let back: FitStats = serde_json::from_str(&text(&s)).unwrap();
+        assert_eq!(back, s);
+    }
+    // An emptied set (a dead-band wider than every rate) is written so in a calibration.
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("sample_logs/calibration.csv");
+    let log = crate::log::ingest::read_path(&path, &Default::default()).unwrap();
+    let recipe = crate::models::recipe::Recipe {
+        deadband_tdot: Some(0.1),
+        ..Default::default()
+    };
+    let cal = crate::models::vakhrameev::fit(&log, &recipe.checked().unwrap())
+        .unwrap()
+        .calibration;
+    let json = serde_json::to_value(&cal.k1_plus).unwrap();
+    assert_eq!(
+        json["stats"],
+        serde_json::json!({"n": 0, "rmse": null, "r2": null})
+    );
+}

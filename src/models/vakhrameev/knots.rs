@@ -267,3 +267,82 @@ pub fn with_knots(approx: &Approx, values: Option<&Vec<f64>>) -> Approx {
         .enumerate()
         .fold(approx.clone(), |a, (j, &y)| a.with_knot_value(j, y))
 }
+
+/// Refuses `fitted`, coefficient `c`'s curve fitted for `spec`, when it could not keep what
+/// `spec` sets by hand: knots placed by hand (`at`) that are not its knots, or knot values set
+/// by hand (`values`) that are not as many as its knots (its points carried only a simpler
+/// curve: fewer knots, a line, a constant, or nothing). The values would be dropped and the
+/// knots spread otherwise while the recipe, the summary and the workbench said they were used.
+/// `warnings` holds what the fit said of its points (the reason given).
+///
+/// # Errors
+/// [`FitError::HandKnotsNotKept`](crate::models::FitError::HandKnotsNotKept), naming the field.
+pub fn check_hand_kept(
+    c: Coefficient,
+    spec: &ApproxSpec,
+    fitted: &Approx,
+    warnings: &[String],
+) -> crate::error::Result<()> {
+    let (xs, ys) = fitted.knots();
+    let same_kind = fitted.kind() == spec.kind;
+    let kept_at = spec.at.as_ref().is_none_or(|at| {
+        same_kind
+            && at.len() == xs.len()
+            && at
+                .iter()
+                .zip(xs)
+                .all(|(a, x)| (a - x).abs() <= 1e-12 * (1.0 + a.abs()))
+    });
+    let kept_values = spec
+        .values
+        .as_ref()
+        .is_none_or(|v| same_kind && v.len() == ys.len());
+    if kept_at && kept_values {
+        return Ok(());
+    }
+    let label = c.label();
+    let why = warnings
+        .iter()
+        .rev()
+        .find(|w| w.starts_with(&format!("{label}:")))
+        // The fit's own advice after its first sentence gives way to the remedy below.
+        .map(|w| {
+            let w = w[label.len() + 1..].trim();
+            w.split_once(". ").map_or(w, |(first, _)| first).to_string()
+        })
+        .unwrap_or_else(|| format!("its points carry {} with {} knots", fitted.kind(), xs.len()));
+    let (field, what, remedy) = if !kept_at {
+        let n = spec.at.as_ref().map_or(0, Vec::len);
+        (
+            format!("{}.at", c.key()),
+            format!("{n} knots placed"),
+            if c == Coefficient::K0 {
+                "place no more knots than the plateaus have temperatures, or hold a plateau at \
+                 another temperature"
+            } else {
+                "place fewer knots, or narrow the dead-bands so that the set has more points"
+            },
+        )
+    } else {
+        let n = spec.values.as_ref().map_or(0, Vec::len);
+        (
+            format!("{}.values", c.key()),
+            format!("{n} knot values set"),
+            if c == Coefficient::K0 {
+                "set as many values as the curve fitted has knots, or hold a plateau at another \
+                 temperature"
+            } else {
+                "set as many values as the curve fitted has knots, or narrow the dead-bands so \
+                 that the set has more points"
+            },
+        )
+    };
+    let dropped = crate::models::HandKnotsNotKept {
+        field,
+        what,
+        label,
+        why,
+        remedy,
+    };
+    Err(crate::models::FitError::HandKnotsNotKept(Box::new(dropped)).into())
+}

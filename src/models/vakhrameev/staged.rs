@@ -11,7 +11,7 @@
 //! edit of K1+ refits only the + set. Both call [`StageMemory::run`]: a refit is the batch fit
 //! with a warm memory, and there is no second pipeline to drift from this one.
 
-use super::knots::{Coefficient, with_knots};
+use super::knots::{Coefficient, check_hand_kept, with_knots};
 use super::sets::{
     fit_k1_gathered, fit_k2_gathered, fit_set_from, into_rest, k2_points_of, stats_on_points,
 };
@@ -290,7 +290,7 @@ impl<S: Clone + PartialEq + Send + Sync> StageMemory<S> {
                         tddot: &prepared.deriv.tddot,
                         rest,
                     };
-                    apply_hand_knots(&fit, &samples[s], inputs, regime_of(s), recipe)
+                    apply_hand_knots(&fit, &samples[s], inputs, regime_of(s), recipe)?
                 }
                 _ => fit,
             })
@@ -359,6 +359,7 @@ pub fn k0_of(
     warnings: &mut Vec<String>,
 ) -> Result<Approx> {
     let k0 = fit_k0(stats, &recipe.k0, warnings)?;
+    check_hand_kept(Coefficient::K0, &recipe.k0, &k0, warnings)?;
     let values = recipe
         .k0
         .values
@@ -411,7 +412,7 @@ fn apply_hand_knots(
     inputs: SetInputs,
     regime: Regime,
     recipe: &Recipe,
-) -> FittedSet {
+) -> Result<FittedSet> {
     let (c1, c2, sign) = set_names(regime);
     let (spec1, spec2) = (c1.spec(recipe), c2.spec(recipe));
     let mut out = fit.clone();
@@ -424,6 +425,7 @@ fn apply_hand_knots(
         out.warnings.extend(w);
         k1_changed = true;
     }
+    check_hand_kept(c1, spec1, &out.k1, &out.warnings)?;
     let values1 = spec1
         .values
         .as_ref()
@@ -447,6 +449,7 @@ fn apply_hand_knots(
             .retain(|m| !m.starts_with(&format!("K2{sign}")));
         out.warnings.extend(w);
     }
+    check_hand_kept(c2, spec2, &out.k2, &out.warnings)?;
     let values2 = spec2
         .values
         .as_ref()
@@ -455,7 +458,7 @@ fn apply_hand_knots(
         let k2 = with_knots(&out.k2, values2);
         out.k2 = k2.clone().with_stats(stats_on_points(&k2, &out.p2, recipe));
     }
-    out
+    Ok(out)
 }
 
 /// Why no sample has its rates of T: every segment is shorter than the history Ṫ and T̈ need.
