@@ -272,7 +272,8 @@ impl Recipe {
         }
         // Checked on every curve, with knots or not: a number no curve could take is a slip
         // wherever it stands.
-        for (name, spec) in self.specs() {
+        for (k, (name, spec)) in self.specs().into_iter().enumerate() {
+            check_hand_reach(k, name, spec)?;
             if !(2..=64).contains(&spec.knots) {
                 return Err(Invalid::new(
                     format!("{name}.knots"),
@@ -442,6 +443,36 @@ fn check_hand_knots(name: &str, spec: &ApproxSpec) -> Result<(), Invalid> {
         ));
     }
     Ok(())
+}
+
+/// Refuses knots placed by hand beyond what a chamber takes the curve's argument to
+/// ([`CHAMBER_REACH`](crate::models::vakhrameev::CHAMBER_REACH): the temperatures a log may
+/// hold for K0, 30 °C/min for K1±, that rate reversed in a minute for K2±): no sample of a log
+/// lies there, and a K0 knot at 1e300 °C made a calibration that `calibrate` wrote and
+/// `report` could not draw. `k` is the curve's place in [`Recipe::specs`].
+fn check_hand_reach(k: usize, name: &str, spec: &ApproxSpec) -> Result<(), Invalid> {
+    let (lo, hi) = crate::models::vakhrameev::CHAMBER_REACH[k];
+    let unit = ["°C", "°C/s", "°C/s²"][k.div_ceil(2)];
+    let Some((j, x)) = spec
+        .at
+        .iter()
+        .flatten()
+        .enumerate()
+        .find(|(_, x)| !(lo..=hi).contains(*x))
+    else {
+        return Ok(());
+    };
+    let readable = crate::number::readable;
+    Err(Invalid::new(
+        format!("{name}.at[{j}]"),
+        format!(
+            "{} {unit} lies beyond what a chamber reaches ({} … {} {unit}): no sample of a log \
+             is there for the knot to be fitted to",
+            readable(*x),
+            readable(lo),
+            readable(hi)
+        ),
+    ))
 }
 
 /// Refuses a T smoothing and derivative step whose history (the smoothing and four steps,

@@ -110,3 +110,56 @@ fn hand_knots_the_points_carry_stand() {
     let want = values[0] + (values[1] - values[0]) * (t - at[0]) / (at[1] - at[0]);
     assert!((cal.k0.eval(t) - want).abs() < 1e-12);
 }
+
+#[test]
+fn knots_placed_beyond_a_chambers_reach_are_refused_by_name() {
+    // A K0 knot at 1e300 °C made a calibration `report` could not draw.
+    let e = k0(ApproxSpec {
+        knots: 2,
+        at: Some(vec![-1e300, 1e300]),
+        ..ApproxSpec::of(ApproxKind::Pwl)
+    })
+    .checked()
+    .unwrap_err()
+    .to_string();
+    assert!(
+        e.contains("k0.at[0]") && e.contains("beyond what a chamber reaches (-100 … 200 °C)"),
+        "{e}"
+    );
+    // Ṫ beyond 30 °C/min, T̈ beyond that rate reversed in a minute.
+    for (recipe, field) in [
+        (
+            Recipe {
+                k1_minus: ApproxSpec {
+                    knots: 3,
+                    at: Some(vec![-0.4, 0.0, 0.6]),
+                    ..ApproxSpec::of(ApproxKind::Pwl)
+                },
+                ..Recipe::default()
+            },
+            "k1_minus.at[2]",
+        ),
+        (
+            Recipe {
+                k2_plus: ApproxSpec {
+                    knots: 2,
+                    at: Some(vec![-0.02, 0.01]),
+                    ..ApproxSpec::of(ApproxKind::Spline)
+                },
+                ..Recipe::default()
+            },
+            "k2_plus.at[0]",
+        ),
+    ] {
+        let e = recipe.checked().unwrap_err().to_string();
+        assert!(e.contains(field), "{field}: {e}");
+    }
+    // Within reach: taken.
+    k0(ApproxSpec {
+        knots: 2,
+        at: Some(vec![-100.0, 200.0]),
+        ..ApproxSpec::of(ApproxKind::Pwl)
+    })
+    .checked()
+    .unwrap();
+}

@@ -26,6 +26,7 @@ mod k0_plateaus;
 pub mod knots;
 mod predictor;
 mod reach;
+pub use reach::CHAMBER_REACH;
 mod set_moments;
 mod sets;
 mod source;

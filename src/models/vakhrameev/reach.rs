@@ -11,7 +11,7 @@ use crate::models::approx::Approx;
 /// An extrapolating curve is evaluated out there, so its drift is bounded there. (T̈ reached
 /// 0.1 °C/s² once: a parabolic K2 fitted over ±2e-4 °C/s² and extrapolated, as the fit
 /// writes it, predicted 1.4e8 °/h there, and its own calibration could not be read back.)
-const CHAMBER_REACH: [(f64, f64); 5] = [
+pub const CHAMBER_REACH: [(f64, f64); 5] = [
     crate::log::mapping_check::PLAUSIBLE_TEMP_C,
     (-0.5, 0.5),
     (-0.5, 0.5),
