@@ -1,0 +1,245 @@
+//! The seventeenth attack's findings about commands: `convert` wrote flight logs whose time
+//! runs backwards, repeats or jumps to a stray stamp that every other command refuses or
+//! drops; `inspect` listed a log written newest first as having "fewer than two distinct
+//! stamps" and its accelerometer temperature as all NaN.
+
+use crate::common::run::{driftlab, fails, ok, p};
+
+// ------------------------------------------------------------------ crafted flight logs
+
+/// A PX4 ULog of one `sensor_gyro` and the `sensor_accel` of the same device (its stamps
+/// `accel_lag_us` after the gyro's), each with a temperature: the gyro at `temp_c`, the
+/// accelerometer 0.5 °C above it. Time stamps in µs, written as given (in any order). A second
+/// gyro (`multi_id` 1, of another device, without an accelerometer) beside it at 25 °C, its
+/// stamps in order.
+fn ulog(stamps_us: &[u64], temp_c: &[f32], accel_lag_us: u64) -> Vec<u8> {
+    fn message(ty: u8, body: &[u8]) -> Vec<u8> {
+        let mut m = (body.len() as u16).to_le_bytes().to_vec();
+        m.push(ty);
+        m.extend_from_slice(body);
+        m
+    }
+    let mut b = b"ULog\x01\x12\x35".to_vec();
+    b.push(1);
+    b.extend_from_slice(&0u64.to_le_bytes());
+    b.extend(message(b'B', &[0u8; 40]));
+    for topic in ["sensor_gyro", "sensor_accel"] {
+        let format = format!(
+            "{topic}:uint64_t timestamp;uint32_t device_id;float x;float y;float z;\
+             float temperature;"
+        );
+        b.extend(message(b'F', format.as_bytes()));
+    }
+    for (multi, id, topic) in [
+        (0u8, 0u8, "sensor_gyro"),
+        (0, 1, "sensor_accel"),
+        (1, 2, "sensor_gyro"),
+    ] {
+        let mut a = vec![multi, id, 0];
+        a.extend_from_slice(topic.as_bytes());
+        b.extend(message(b'A', &a));
+    }
+    for (k, (&t, &temp)) in stamps_us.iter().zip(temp_c).enumerate() {
+        let w = 0.001 * k as f32;
+        let second = 100_000_000 + k as u64 * 1_000_000;
+        for (id, at, device, xyz, temp) in [
+            (0u8, t, 2_424_842u32, [w, -w, 0.002], temp),
+            (1, t + accel_lag_us, 2_424_842, [0.1, 0.2, -9.8], temp + 0.5),
+            (2, second, 3_670_050, [w, w, 0.001], 25.0),
+        ] {
+            let mut d = vec![id, 0];
+            d.extend_from_slice(&at.to_le_bytes());
+            d.extend_from_slice(&device.to_le_bytes());
+            for v in [xyz[0], xyz[1], xyz[2], temp] {
+                d.extend_from_slice(&v.to_le_bytes());
+            }
+            b.extend(message(b'D', &d));
+        }
+    }
+    b
+}
+
+/// An ArduPilot DataFlash log of IMU 0's messages stamped `stamps_us` (as given, in any
+/// order), its temperature rising 0.01 °C a message from 30 °C.
+fn dataflash(stamps_us: &[u64]) -> Vec<u8> {
+    fn message(ty: u8, payload: &[u8]) -> Vec<u8> {
+        let mut m = vec![0xA3, 0x95, ty];
+        m.extend_from_slice(payload);
+        m
+    }
+    let fmt = |ty: u8, length: u8, name: &str, format: &str, labels: &str| {
+        let fixed = |s: &str, n: usize| {
+            let mut v = s.as_bytes().to_vec();
+            v.resize(n, 0);
+            v
+        };
+        let mut p = vec![ty, length];
+        p.extend(fixed(name, 4));
+        p.extend(fixed(format, 16));
+        p.extend(fixed(labels, 64));
+        message(0x80, &p)
+    };
+    let mut b = fmt(0x80, 89, "FMT", "BBnNZ", "Type,Length,Name,Format,Columns");
+    b.extend(fmt(
+        163,
+        54,
+        "IMU",
+        "QBffffffIIfBBHH",
+        "TimeUS,I,GyrX,GyrY,GyrZ,AccX,AccY,AccZ,EG,EA,T,GH,AH,GHz,AHz",
+    ));
+    for (k, &t) in stamps_us.iter().enumerate() {
+        let mut p = t.to_le_bytes().to_vec();
+        p.push(0);
+        for v in [0.01f32, 0.0, 0.0, 0.0, 0.0, -9.8] {
+            p.extend_from_slice(&v.to_le_bytes());
+        }
+        p.extend_from_slice(&[0; 8]);
+        p.extend_from_slice(&(30.0 + 0.01 * k as f32).to_le_bytes());
+        p.extend_from_slice(&[1, 1, 0xE8, 0x03, 0xE8, 0x03]);
+        b.extend(message(163, &p));
+    }
+    b
+}
+
+/// The time column of a CSV `convert` wrote.
+fn times(csv: &str) -> Vec<f64> {
+    std::fs::read_to_string(csv)
+        .unwrap()
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').next().unwrap().parse().unwrap())
+        .collect()
+}
+
+/// Ten stamps one second apart from 100 s, in µs.
+fn in_order() -> Vec<u64> {
+    (0..10).map(|k| 100_000_000 + k * 1_000_000).collect()
+}
+
+// ------------------------------------------------------------------ 1. convert's time checks
+
+/// A log written newest first is refused by `convert` as by every other command (it wrote a
+/// CSV whose time ran backwards), naming the gyro and the first sample that goes back, and
+/// nothing is written.
+#[test]
+fn convert_refuses_a_flight_log_written_newest_first_as_inspect_does() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let mut reversed = in_order();
+    reversed.reverse();
+    let temps: Vec<f32> = (0..10).map(|k| 30.0 + 0.01 * k as f32).collect();
+    std::fs::write(d.join("rev.bin"), dataflash(&reversed)).unwrap();
+    std::fs::write(d.join("rev.ulg"), ulog(&reversed, &temps, 300)).unwrap();
+    for log in ["rev.bin", "rev.ulg"] {
+        let out = p(d, "out.csv");
+        let err = fails(&["convert", &p(d, log), "-o", &out]);
+        assert!(
+            err.contains("9 of the 10 samples")
+                && err.contains("go back in time (first at sample 2: 108 s after 109 s)")
+                && err.contains("not in time order"),
+            "{log}: {err}"
+        );
+        assert!(!d.join("out.csv").exists(), "{log}");
+        // The same refusal, word for word, as inspect's.
+        let inspect = driftlab(&["inspect", &p(d, log)]);
+        assert!(!inspect.status.success());
+        let refusal = |s: &str| {
+            s.lines()
+                .find(|l| l.starts_with("error:"))
+                .map(String::from)
+        };
+        assert_eq!(
+            refusal(&err),
+            refusal(&String::from_utf8_lossy(&inspect.stderr)),
+            "{log}"
+        );
+    }
+}
+
+/// A stray stamp far past the rest and stamps that repeat are dropped by `convert` as every
+/// reader drops them, told by sample number; the CSV holds the stamps written in order.
+#[test]
+fn convert_drops_stray_and_repeated_stamps_as_every_reader_does() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    // Sample 10 at 2^64 - 1 µs (a counter read as -1): a stray stamp.
+    let mut huge = in_order();
+    huge[9] = u64::MAX;
+    let temps: Vec<f32> = (0..10).map(|k| 30.0 + 0.01 * k as f32).collect();
+    std::fs::write(d.join("huge.ulg"), ulog(&huge, &temps, 300)).unwrap();
+    let out = p(d, "huge.csv");
+    let o = driftlab(&["convert", &p(d, "huge.ulg"), "-o", &out]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    assert!(err.contains("a stray time stamp (sample 10)"), "{err}");
+    let want: Vec<f64> = (0..9).map(|k| 100.0 + k as f64).collect();
+    assert_eq!(times(&out), want);
+    assert!(err.contains("9 samples of sensor_gyro"), "{err}");
+
+    // Every stamp the same: one sample kept, the nine repeats dropped and told.
+    std::fs::write(d.join("same.bin"), dataflash(&[100_000_000; 10])).unwrap();
+    let out = p(d, "same.csv");
+    let o = driftlab(&["convert", &p(d, "same.bin"), "-o", &out]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    assert!(
+        err.contains("9 samples dropped: time repeats an earlier stamp (first at sample 2)"),
+        "{err}"
+    );
+    assert!(err.contains("1 sample of IMU written"), "{err}");
+    assert_eq!(times(&out), [100.0]);
+}
+
+// ------------------------------------------------------------------ 2. inspect's listing
+
+/// A ULog written newest first: its gyro's rate is "not in time order" (not "fewer than two
+/// distinct stamps": it has ten), its accelerometer's temperature is matched to it and has a
+/// range (it was listed as all NaN), and `--temp-from accel` picks that gyro (then refused
+/// for its time order, not for a missing temperature).
+#[test]
+fn inspect_lists_a_log_written_newest_first_as_it_is() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let mut reversed = in_order();
+    reversed.reverse();
+    let temps: Vec<f32> = (0..10).map(|k| 40.0 - 0.1 * k as f32).collect();
+    std::fs::write(d.join("rev.ulg"), ulog(&reversed, &temps, 300)).unwrap();
+    let o = driftlab(&["inspect", &p(d, "rev.ulg")]);
+    let listing = String::from_utf8_lossy(&o.stdout);
+    let gyro = listing
+        .lines()
+        .find(|l| l.trim_start().starts_with("gyro 0"))
+        .unwrap_or_else(|| panic!("{listing}"));
+    assert!(
+        gyro.contains("10 samples at n/a Hz (not in time order: 9 of its 9 steps go back)")
+            && !gyro.contains("fewer than two distinct stamps"),
+        "{gyro}"
+    );
+    // The accelerometer's temperature, 0.5 °C above the gyro's 39.1 .. 40.0.
+    assert!(
+        gyro.contains("--temp-from accel: sensor_accel[0].temperature 39.60 .. 40.50 degC")
+            && !gyro.contains("all NaN"),
+        "{gyro}"
+    );
+    let err = fails(&[
+        "convert",
+        &p(d, "rev.ulg"),
+        "--temp-from",
+        "accel",
+        "-o",
+        &p(d, "x.csv"),
+    ]);
+    assert!(
+        err.contains("gyro 0 (sensor_gyro multi_id 0")
+            && err.contains("the first of 2 with an accel temperature")
+            && err.contains("not in time order"),
+        "{err}"
+    );
+    // In order, the same log lists its rate.
+    std::fs::write(d.join("fwd.ulg"), ulog(&in_order(), &temps, 300)).unwrap();
+    let listing = ok(&["inspect", &p(d, "fwd.ulg")]);
+    assert!(
+        listing.contains("10 samples at 1.000 Hz over 9.000 s"),
+        "{listing}"
+    );
+}
