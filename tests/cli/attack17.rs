@@ -243,3 +243,37 @@ fn inspect_lists_a_log_written_newest_first_as_it_is() {
         "{listing}"
     );
 }
+
+// ------------------------------------------------------------------ 3. knots told apart
+
+/// Knots placed by hand closer than six digits tell apart are printed with the digits that
+/// do (they read "-0.01, -0.01, 0.01, 0.01", as if two knots were placed twice each); the
+/// values, whole numbers, stay short.
+#[test]
+fn knots_placed_close_together_are_printed_apart() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let recipe = p(d, "recipe.json");
+    std::fs::write(
+        &recipe,
+        r#"{"k1_plus": {"kind": "pwl", "knots": 4,
+            "at": [-0.01000002, -0.01000001, 0.01, 0.01000001],
+            "values": [10, 20, 30, 40]}}"#,
+    )
+    .unwrap();
+    let out = ok(&[
+        "calibrate",
+        &crate::common::run::sample("calibration.csv"),
+        "--recipe",
+        &recipe,
+        "-o",
+        &p(d, "cal.json"),
+    ]);
+    assert!(
+        out.contains(
+            "K1+ 4 knots placed by hand at -0.01000002, -0.01000001, 0.01, 0.01000001; \
+             values set by hand: 10, 20, 30, 40"
+        ),
+        "{out}"
+    );
+}
