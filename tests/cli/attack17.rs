@@ -277,3 +277,47 @@ fn knots_placed_close_together_are_printed_apart() {
         "{out}"
     );
 }
+
+// ------------------------------------------------------------------ 4. the longest window
+
+/// The longest window `evaluate` names is one that gives a figure: the stretch judged after
+/// the warm-up, not the whole log (it named 37801 s on validation.csv, whose 179 warm-up
+/// samples leave 37622 s judged, so the window it named gave only n/a). One sample above it is
+/// refused with the same bound.
+#[test]
+fn the_longest_window_named_gives_a_figure() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let cal = p(d, "cal.json");
+    let validation = crate::common::run::sample("validation.csv");
+    ok(&[
+        "calibrate",
+        &crate::common::run::sample("calibration.csv"),
+        "-o",
+        &cal,
+    ]);
+    // What is judged, as the evaluation counts it (1 s a sample).
+    let said = ok(&["evaluate", &cal, &validation]);
+    let judged: usize = said
+        .lines()
+        .find_map(|l| l.trim().split_once(" samples (")?.0.parse().ok())
+        .unwrap_or_else(|| panic!("{said}"));
+    assert!(said.contains("warm-up samples left out"), "{said}");
+    let err = fails(&["evaluate", &cal, &validation, "--window", "40000"]);
+    let most = err
+        .split("give at most ")
+        .nth(1)
+        .and_then(|r| r.split(" s").next())
+        .unwrap_or_else(|| panic!("{err}"));
+    assert_eq!(most, judged.to_string(), "{err}");
+    let out = ok(&["evaluate", &cal, &validation, "--window", most]);
+    let row = out
+        .lines()
+        .find(|l| l.contains(&format!("max |{most}-s mean|")))
+        .unwrap_or_else(|| panic!("{out}"));
+    assert!(!row.contains("n/a"), "{row}");
+    assert!(out.contains(", 1 windows"), "{out}");
+    let above = (judged + 1).to_string();
+    let err = fails(&["evaluate", &cal, &validation, "--window", &above]);
+    assert!(err.contains(&format!("give at most {most} s")), "{err}");
+}
