@@ -321,3 +321,81 @@ fn the_longest_window_named_gives_a_figure() {
     let err = fails(&["evaluate", &cal, &validation, "--window", &above]);
     assert!(err.contains(&format!("give at most {most} s")), "{err}");
 }
+
+// ------------------------------------------------------------------ 5. a unit's recipe
+
+/// A unit's calibration given as `--recipe` for a log of one axis: the hint named
+/// `--axis-recipe` for each axis, which a log of one axis refuses. It now also names
+/// `--recipe FILE --recipe-axis AXIS`, and that command calibrates the log with that axis's
+/// recipe (gx's spline K0 of 6 knots, not gy's default parabola); a file of one recipe is
+/// refused with --recipe-axis, by name.
+#[test]
+fn a_units_recipe_on_a_log_of_one_axis_is_taken_by_the_command_the_hint_names() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let (one_axis, unit) = (p(d, "one.json"), p(d, "unit.json"));
+    std::fs::write(&one_axis, r#"{"k0": {"kind": "spline", "knots": 6}}"#).unwrap();
+    ok(&[
+        "calibrate",
+        &crate::common::run::sample("imu3-calibration.csv"),
+        "--axis-recipe",
+        &format!("gx={one_axis}"),
+        "-o",
+        &unit,
+    ]);
+    let log = crate::common::run::sample("calibration.csv");
+    let out = p(d, "cal.json");
+    let err = fails(&["calibrate", &log, "--recipe", &unit, "-o", &out]);
+    let named = format!("--recipe {unit} --recipe-axis gx");
+    assert!(err.contains(&named), "{err}");
+    let k0 = |axis: &str| -> serde_json::Value {
+        ok(&[
+            "calibrate",
+            &log,
+            "--recipe",
+            &unit,
+            "--recipe-axis",
+            axis,
+            "-o",
+            &out,
+        ]);
+        let cal: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+        cal["calibration"]["recipe"]["k0"].clone()
+    };
+    let gx = k0("gx");
+    assert_eq!(
+        (gx["kind"].as_str(), gx["knots"].as_u64()),
+        (Some("spline"), Some(6))
+    );
+    assert_eq!(k0("gy")["kind"].as_str(), Some("parabolic"));
+    // An axis the unit lacks, and a file of one recipe, are refused by name.
+    let err = fails(&[
+        "calibrate",
+        &log,
+        "--recipe",
+        &unit,
+        "--recipe-axis",
+        "gq",
+        "-o",
+        &out,
+    ]);
+    assert!(
+        err.contains("--recipe-axis gq") && err.contains("gx, gy, gz"),
+        "{err}"
+    );
+    let err = fails(&[
+        "calibrate",
+        &log,
+        "--recipe",
+        &one_axis,
+        "--recipe-axis",
+        "gx",
+        "-o",
+        &out,
+    ]);
+    assert!(
+        err.contains("--recipe-axis gx") && err.contains("no unit's calibration"),
+        "{err}"
+    );
+}
