@@ -38,7 +38,7 @@ pub fn run(a: Args) -> Result<(), CliError> {
     note!("{}", in_flags(&sel.note));
     // The samples every other command reads of this gyro: the same drops and refusals (time
     // order, stray and repeated stamps, NaN rows, temperature glitches), told the same way.
-    let kept = kept_samples(&rec.source, &sel).map_err(|e| in_flags(&e.to_string()))?;
+    let kept = kept_samples(&sel).map_err(|e| in_flags(&e.to_string()))?;
     for p in &kept.problems {
         // As every command tells them: a count only when there are several.
         let times = if p.count > 1 {

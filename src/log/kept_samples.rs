@@ -22,12 +22,12 @@ pub struct KeptSamples {
     pub problems: Vec<Problem>,
 }
 
-/// The samples of `sel`'s gyro (of the recording named `source`) that every reader keeps.
+/// The samples of `sel`'s gyro that every reader keeps.
 ///
 /// # Errors
 /// [`ReadError::NotInTimeOrder`] when most samples go back in time,
 /// [`ReadError::NoSamples`] when none is left.
-pub fn kept_samples(source: &str, sel: &Selected<'_>) -> Result<KeptSamples, ReadError> {
+pub fn kept_samples(sel: &Selected<'_>) -> Result<KeptSamples, ReadError> {
     let inst = sel.instance;
     let n = inst.len();
     let keep_nan_temp = sel.temp_from == TempFrom::None;
@@ -115,7 +115,7 @@ pub fn kept_samples(source: &str, sel: &Selected<'_>) -> Result<KeptSamples, Rea
     // refuses such a log alike.
     if back.0 * 2 > ordered {
         return Err(ReadError::NotInTimeOrder {
-            path: source.to_string(),
+            path: sel.source.to_string(),
             message: format!(
                 "{} of the {ordered} samples of {} go back in time (first at sample {}: {} s \
                  after {} s): the samples are not in time order (newest first?); the log's \
@@ -153,7 +153,7 @@ pub fn kept_samples(source: &str, sel: &Selected<'_>) -> Result<KeptSamples, Rea
     let mut rows: Vec<usize> = (0..n).filter(|&i| keep[i]).collect();
     if rows.is_empty() {
         return Err(ReadError::NoSamples {
-            path: source.to_string(),
+            path: sel.source.to_string(),
             message: format!(
                 "none of the {n} samples of {} can be used: each has a NaN gyro axis or \
                  temperature, or a time that does not increase",

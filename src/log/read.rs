@@ -358,7 +358,7 @@ pub fn from_recording(
         rows,
         time_s,
         problems,
-    } = kept_samples(&rec.source, &sel)?;
+    } = kept_samples(&sel)?;
     let pick = |v: &formats::Values, scale: f64| -> Vec<f64> {
         rows.iter().map(|&i| v.get(i) * scale).collect()
     };
