@@ -38,6 +38,24 @@ pub fn significant(v: f64, digits: usize) -> String {
     }
 }
 
+/// Each of `values` as [`readable`] writes it, or with more significant digits where six
+/// would write two different values alike: the fewest digits (6 to 17) at which every two
+/// different values read differently, for a list whose entries are told apart (knots at
+/// -0.0100001 and -0.01 are not both "-0.01"). Equal values stay written alike.
+pub fn apart(values: &[f64]) -> Vec<String> {
+    let write =
+        |digits: usize| -> Vec<String> { values.iter().map(|&v| significant(v, digits)).collect() };
+    for digits in 6..17 {
+        let texts = write(digits);
+        let confused = (0..values.len())
+            .any(|i| (i + 1..values.len()).any(|j| texts[i] == texts[j] && values[i] != values[j]));
+        if !confused {
+            return texts;
+        }
+    }
+    write(17)
+}
+
 /// `v` with `decimals` decimals for a table or a label, as long as that stays short (below
 /// 10⁹); beyond, or for a number that is not finite, [`readable`]: never the hundreds of digits
 /// a fixed format writes for 1e300.
@@ -80,6 +98,24 @@ fn trim(s: String) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn different_values_are_written_apart_with_the_fewest_digits() {
+        assert_eq!(
+            apart(&[-0.01, 0.0, 0.004, 0.01]),
+            ["-0.01", "0", "0.004", "0.01"]
+        );
+        assert_eq!(
+            apart(&[-0.0100001, -0.01, 0.01, 0.01000002]),
+            ["-0.0100001", "-0.01", "0.01", "0.01000002"]
+        );
+        // Equal values stay alike; neighbours of one ulp need all 17 digits.
+        assert_eq!(apart(&[2.5, 2.5]), ["2.5", "2.5"]);
+        let next = f64::from_bits(0.1f64.to_bits() + 1);
+        let t = apart(&[0.1, next]);
+        assert_ne!(t[0], t[1]);
+        assert_eq!(t[1].parse::<f64>(), Ok(next));
+    }
 
     #[test]
     fn a_share_that_is_not_none_is_not_written_0() {

@@ -29,6 +29,11 @@ pub struct Args {
     /// Take every setting from a recipe file (JSON), or from the recipe inside a calibration file.
     #[arg(long, value_name = "FILE")]
     pub recipe: Option<PathBuf>,
+    /// With --recipe naming a unit's calibration (several axes), the axis of it whose recipe
+    /// to take (its knots placed and set by hand among its choices): a log of one axis
+    /// calibrated as that axis was.
+    #[arg(long, value_name = "AXIS", requires = "recipe")]
+    pub recipe_axis: Option<String>,
     /// Also write the recipe that was used (JSON), to re-run or edit later.
     #[arg(long, value_name = "FILE")]
     pub save_recipe: Option<PathBuf>,
@@ -111,9 +116,17 @@ pub struct Args {
 impl Args {
     /// The recipe: the file's (or the defaults), overridden by the options given, checked.
     fn recipe(&self) -> Result<CheckedRecipe, CliError> {
-        let base = match &self.recipe {
-            Some(p) => calibration::read_recipe(p).map_err(|e| unit_as_recipe(p, e))?,
-            None => Recipe::default(),
+        let base = match (&self.recipe, &self.recipe_axis) {
+            (Some(p), Some(axis)) => unit_axis_recipe(p, axis)?,
+            (Some(p), None) => calibration::read_recipe(p).map_err(|e| unit_as_recipe(p, e))?,
+            (None, Some(_)) => {
+                return Err(
+                    "--recipe-axis names an axis of the unit's calibration --recipe \
+                            gives; give --recipe"
+                        .into(),
+                );
+            }
+            (None, None) => Recipe::default(),
         };
         self.recipe_over(base)
     }
@@ -541,9 +554,10 @@ fn axis_of(option: &str, asked: &str, log: &Log, axes: &[String]) -> Result<Stri
     }
 }
 
-/// Why `--recipe FILE` was refused, with the way a unit's calibration is given when `FILE` is
+/// Why `--recipe FILE` was refused, with the ways a unit's calibration is given when `FILE` is
 /// one: `--recipe` takes one recipe for every axis, a unit holds one per axis, which
-/// `--axis-recipe AXIS=FILE` takes.
+/// `--axis-recipe AXIS=FILE` takes on a log of several axes, and `--recipe-axis AXIS` takes one
+/// of on a log of one (where `--axis-recipe` is refused).
 fn unit_as_recipe(path: &std::path::Path, e: driftlab::error::Error) -> CliError {
     let shown = path.display();
     match calibration::load_unit(path) {
@@ -554,11 +568,29 @@ fn unit_as_recipe(path: &std::path::Path, e: driftlab::error::Error) -> CliError
                 .map(|a| format!("--axis-recipe {}={shown}", a.name))
                 .collect();
             format!(
-                "{e}: give each axis its recipe from it with {}",
-                each.join(" ")
+                "{e}: give each axis its recipe from it with {}; on a log of one axis, take one \
+                 axis's recipe with --recipe {shown} --recipe-axis {}",
+                each.join(" "),
+                unit.axes[0].name
             )
             .into()
         }
         _ => e.to_string().into(),
+    }
+}
+
+/// The recipe of the axis `axis` of the unit's calibration at `path` (`--recipe FILE
+/// --recipe-axis AXIS`); a file that is no unit's calibration is refused by name, for
+/// `--recipe` takes its one recipe alone.
+fn unit_axis_recipe(path: &std::path::Path, axis: &str) -> Result<Recipe, CliError> {
+    let shown = path.display();
+    match calibration::load_unit(path) {
+        Ok(unit) if unit.axes.len() > 1 => calibration::read_axis_recipe(path, axis)
+            .map_err(|e| format!("--recipe-axis {axis}: {e}").into()),
+        _ => Err(format!(
+            "--recipe-axis {axis}: {shown} is no unit's calibration (of several axes): it holds \
+             one recipe, which --recipe takes without --recipe-axis"
+        )
+        .into()),
     }
 }

@@ -14,7 +14,8 @@
 //! calls; only [`print_json`] and a file written to standard output keep their line breaks.
 
 pub use super::figures::{
-    check_merit, comparison_cells, figure, fixed, num, print_evaluation, ratio, raw_to_corrected,
+    check_merit, check_merit_to_judge, comparison_cells, figure, fixed, num, print_evaluation,
+    ratio, raw_to_corrected,
 };
 use driftlab::Log;
 use driftlab::log::ingest::{ColumnRef, Input, Needs, RateUnit, ReadOptions, TimeUnit};

@@ -4,6 +4,7 @@
 use super::common::{self, CliError};
 use super::log_source::in_flags;
 use driftlab::log::formats::{self, TempFrom};
+use driftlab::log::kept_samples::kept_samples;
 use std::path::PathBuf;
 
 /// Arguments of `convert`.
@@ -35,11 +36,27 @@ pub fn run(a: Args) -> Result<(), CliError> {
     }
     let sel = formats::select(&rec, a.gyro, a.temp_from).map_err(|e| in_flags(&e.to_string()))?;
     note!("{}", in_flags(&sel.note));
-    driftlab::files::atomic::write_with(&a.out, |w| formats::write_csv(&sel, w))
+    // The samples every other command reads of this gyro: the same drops and refusals (time
+    // order, stray and repeated stamps, NaN rows, temperature glitches), told the same way.
+    let kept = kept_samples(&sel).map_err(|e| in_flags(&e.to_string()))?;
+    for p in &kept.problems {
+        // As every command tells them: a count only when there are several.
+        let times = if p.count > 1 {
+            format!(" ({} times)", p.count)
+        } else {
+            String::new()
+        };
+        note!("warning: {}: {}{times}", rec.source, in_flags(&p.message));
+    }
+    driftlab::files::atomic::write_with(&a.out, |w| formats::write_csv(&sel, &kept.rows, w))
         .map_err(|e| format!("{}: {e}", a.out.display()))?;
     note!(
-        "{} samples of {} written to {}",
-        sel.instance.len(),
+        "{} of {} written to {}",
+        if kept.rows.len() == 1 {
+            "1 sample".to_string()
+        } else {
+            format!("{} samples", kept.rows.len())
+        },
         sel.instance.label,
         a.out.display()
     );

@@ -140,7 +140,7 @@ fn judge(a: &Args, model: &DriftModel, log: &Log, hash: &str) -> Result<verify::
     let opts = verify::merit_options(model, a.filter, a.window);
     // Checked here first (the engine checks again) so that its warning is printed before
     // anything the judging refuses.
-    common::check_merit(&opts, a.window.is_some(), log)?;
+    common::check_merit_to_judge(&opts, a.window.is_some(), log)?;
     let file = verify::LogFile {
         name: &name,
         sha256: hash,

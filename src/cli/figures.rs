@@ -77,9 +77,39 @@ pub fn check_merit(
     window_asked: bool,
     log: &Log,
 ) -> Result<(), CliError> {
+    checked_merit(
+        merit,
+        window_asked,
+        log,
+        driftlab::judge::options::check_window_asked,
+    )
+}
+
+/// [`check_merit`] before a saved calibration is judged ([`driftlab::judge::verify::judge`]),
+/// which checks that the window fits in the samples its correction leaves after the warm-up:
+/// here only that it is whole samples, so that the bound named is the one that works.
+pub fn check_merit_to_judge(
+    merit: &driftlab::MeritOptions,
+    window_asked: bool,
+    log: &Log,
+) -> Result<(), CliError> {
+    checked_merit(
+        merit,
+        window_asked,
+        log,
+        driftlab::judge::options::check_window_whole,
+    )
+}
+
+fn checked_merit(
+    merit: &driftlab::MeritOptions,
+    window_asked: bool,
+    log: &Log,
+    check_window: fn(f64, &Log) -> Result<(), driftlab::error::Invalid>,
+) -> Result<(), CliError> {
     let told = driftlab::judge::options::check_merit(merit, log).map_err(with_option)?;
     let not_whole = if window_asked {
-        driftlab::judge::options::check_window_asked(merit.window_s, log).map_err(with_option)?;
+        check_window(merit.window_s, log).map_err(with_option)?;
         None
     } else {
         driftlab::judge::options::default_window_not_whole(merit.window_s, log)

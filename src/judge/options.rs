@@ -137,14 +137,26 @@ fn not_whole(window_s: f64, dt_s: f64) -> Option<String> {
 }
 
 /// Refuses a window the engineer asked for (not a default) that is not a window of whole
-/// samples of `log`: longer than the log, shorter than its step, or of one sample (the figures would be the samples
+/// samples of `log` or does not fit in it: [`check_window_whole`], then
+/// [`check_window_fits`] over the whole log (for a caller that judges no one correction; one
+/// that does checks the fit over the samples the correction judges).
+///
+/// # Errors
+/// `window_s`, with the value, the log's step and the lengths to give instead.
+pub fn check_window_asked(window_s: f64, log: &Log) -> Result<(), Invalid> {
+    check_window_whole(window_s, log)?;
+    check_window_fits(window_s, log, std::slice::from_ref(&(0..log.len())))
+}
+
+/// Refuses a window the engineer asked for (not a default) that is not a window of whole
+/// samples of `log`: shorter than its step, or of one sample (the figures would be the samples
 /// themselves, labelled with a length they do not have), or a length the step does not make
 /// within [`WHOLE_WINDOW_TOLERANCE`] (`--window 2.5` on a 1 Hz log, computed over 3 samples
 /// and labelled 2.5 s). The refusal offers the nearest lengths that are.
 ///
 /// # Errors
 /// `window_s`, with the value, the log's step and the lengths to give instead.
-pub fn check_window_asked(window_s: f64, log: &Log) -> Result<(), Invalid> {
+pub fn check_window_whole(window_s: f64, log: &Log) -> Result<(), Invalid> {
     let dt = log.nominal_dt_s();
     let shortest = || {
         format!(
@@ -193,23 +205,52 @@ pub fn check_window_asked(window_s: f64, log: &Log) -> Result<(), Invalid> {
             ),
         ));
     }
-    // A default window longer than the log leaves its figures n/a, with the reason; one the
-    // engineer asked for would be neither honoured nor refused.
-    let span = span_with_step(log, dt);
-    if window_s > span {
-        return Err(Invalid::new(
-            "window_s",
-            format!(
-                "{} s is longer than the log {} ({} s): not one whole window fits in it, so no \
-                 windowed figure could be computed; give at most {} s",
-                readable(window_s),
-                log.source,
-                readable(span),
-                readable(span)
-            ),
-        ));
-    }
     Ok(())
+}
+
+/// Refuses a window the engineer asked for that no stretch of `ready` (the samples of `log`
+/// judged, one range per segment: the whole log, or what a correction leaves after its
+/// warm-up, [`crate::models::vakhrameev::correct::Correction::ready`]) holds whole: its
+/// windowed figures would be n/a, neither honoured nor refused. The length it names is the
+/// longest window that gives a figure: the longest stretch judged.
+///
+/// # Errors
+/// `window_s`, with the value and the longest window that fits.
+pub fn check_window_fits(
+    window_s: f64,
+    log: &Log,
+    ready: &[std::ops::Range<usize>],
+) -> Result<(), Invalid> {
+    let dt = log.nominal_dt_s();
+    if !(dt.is_finite() && dt > 0.0) {
+        return Ok(());
+    }
+    let longest = ready.iter().map(|r| r.len()).max().unwrap_or(0);
+    if window_samples(window_s, dt) <= longest {
+        return Ok(());
+    }
+    let most = readable(longest as f64 * dt);
+    let whole = longest == log.len() && ready.len() == 1;
+    let judged = if whole {
+        format!("the log {} ({most} s)", log.source)
+    } else {
+        let warm_up = log
+            .len()
+            .saturating_sub(ready.iter().map(|r| r.len()).sum());
+        format!(
+            "the longest stretch of {} judged ({most} s, {longest} samples; the {warm_up} \
+             warm-up samples the correction needs are left out)",
+            log.source
+        )
+    };
+    Err(Invalid::new(
+        "window_s",
+        format!(
+            "{} s is longer than {judged}: not one whole window fits in it, so no windowed \
+             figure could be computed; give at most {most} s",
+            readable(window_s)
+        ),
+    ))
 }
 
 /// What to tell of a window that was not asked for (the default 10 min) but that `log`'s step

@@ -102,11 +102,16 @@ pub fn judge(
     let (in_sample, share) = source.judge_run(log, file.name, file.sha256);
     let told = crate::judge::options::check_merit(&options, log).map_err(JudgeError::Options)?;
     if window_asked {
-        crate::judge::options::check_window_asked(options.window_s, log)
+        crate::judge::options::check_window_whole(options.window_s, log)
             .map_err(JudgeError::Options)?;
     }
     crate::models::check_rate_moves(log).map_err(JudgeError::FrozenRate)?;
     let correction = model.correct(log).map_err(JudgeError::Correct)?;
+    // A window asked for must fit in what is judged: the samples after the warm-up.
+    if window_asked {
+        crate::judge::options::check_window_fits(options.window_s, log, &correction.ready)
+            .map_err(JudgeError::Options)?;
+    }
     let evaluation = Evaluation::of_correction(log, &correction, &options);
     Ok(Judged {
         options,

@@ -8,6 +8,7 @@
 
 pub mod formats;
 pub mod ingest;
+pub mod kept_samples;
 pub mod mapping_check;
 pub mod read;
 pub mod resample;

@@ -18,14 +18,15 @@
 //! The names are those of the CSV `driftlab convert` writes for the same instance, so a
 //! calibration that reads a channel by name applies to either. Rows whose gyro axes or
 //! temperature are NaN are dropped, and so are rows whose time does not increase, as the CSV
-//! reader drops them; each is reported in [`LogInfo::problems`] with the 1-based sample
-//! number in the instance as its `line`. What the format reader noticed (dropouts, a cut last
+//! reader drops them (one pass, [`super::kept_samples`], which `driftlab convert` goes
+//! through too, so that its CSV holds the same samples); each is reported in
+//! [`LogInfo::problems`] with the 1-based sample number in the instance as its `line`. What the format reader noticed (dropouts, a cut last
 //! message) is in [`DroneLog::problems`] with its byte offset.
 
 use super::formats::{self, Format, FormatError, ImuRecording, InstanceSummary, SelectionError};
 use super::ingest::{self, IngestError, ReadOptions};
-use super::{Axis, Channel, ColumnInfo, ColumnRole, Log, LogInfo, Problem, ProblemKind};
-use crate::signal::timing::{GAP_FACTOR, Timing, stray_stamps};
+use super::kept_samples::{KeptSamples, kept_samples};
+use super::{Axis, Channel, ColumnInfo, ColumnRole, Log, LogInfo, Problem};
 use std::path::Path;
 
 pub use super::formats::TempFrom;
@@ -352,150 +353,15 @@ pub fn from_recording(
     let sel = formats::select(rec, choice.gyro, choice.temp_from)?;
     let inst = sel.instance;
     let n = inst.len();
-    let keep_nan_temp = sel.temp_from == TempFrom::None;
     let to_dph = rad_s_to_dph();
-
-    let mut problems = Vec::new();
-    // Unusable rows: a NaN gyro axis or temperature.
-    let mut missing: [(usize, usize); 4] = [(0, 0); 4];
-    let mut keep = vec![true; n];
-    for (i, k) in keep.iter_mut().enumerate() {
-        for (a, v) in inst.gyro.xyz.iter().enumerate() {
-            if !v.get(i).is_finite() {
-                note(&mut missing[a], i);
-                *k = false;
-            }
-        }
-        if !keep_nan_temp && !sel.temp_c.get(i).is_finite() {
-            note(&mut missing[3], i);
-            *k = false;
-        }
-    }
-    let channel_names = ["gyro_x_rad_s", "gyro_y_rad_s", "gyro_z_rad_s", "temp_c"];
-    for (c, &(count, first)) in missing.iter().enumerate() {
-        if count > 0 {
-            problems.push(Problem {
-                line: first + 1,
-                column: None,
-                kind: ProblemKind::MissingValue,
-                count,
-                message: format!(
-                    "{} dropped: NaN or infinite {} (first at sample {})",
-                    samples(count),
-                    channel_names[c],
-                    first + 1
-                ),
-            });
-        }
-    }
-    let time_all = inst.time.all_seconds();
-    // Stray stamps in the middle, before time order, by the CSV reader's rule.
-    {
-        let usable: Vec<usize> = (0..n).filter(|&i| keep[i]).collect();
-        let time: Vec<f64> = usable.iter().map(|&i| time_all[i]).collect();
-        if let Some(s) = stray_stamps(&time) {
-            let first = usable[s.runs[0].start] + 1;
-            problems.push(Problem {
-                line: first,
-                column: None,
-                kind: ProblemKind::TimeBackwards,
-                count: s.count(),
-                message: s.message(&time, "sample", &format!("sample {first}")),
-            });
-            for j in s.runs.into_iter().flatten() {
-                keep[usable[j]] = false;
-            }
-        }
-    }
-    // Time order, as the CSV reader checks it.
-    let mut rep = (0, 0);
-    let mut back = (0, 0);
-    let mut first_back = (0.0, 0.0);
-    let mut last = f64::NEG_INFINITY;
-    let mut ordered = 0usize;
-    for (i, k) in keep.iter_mut().enumerate() {
-        if !*k {
-            continue;
-        }
-        ordered += 1;
-        let t = time_all[i];
-        if t > last {
-            last = t;
-        } else {
-            *k = false;
-            if t == last {
-                note(&mut rep, i);
-            } else {
-                if back.0 == 0 {
-                    first_back = (t, last);
-                }
-                note(&mut back, i);
-            }
-        }
-    }
-    // Most samples before the one kept: the log runs newest first (or is shuffled), and
-    // dropping them would leave a sliver of it to calibrate, judge or correct; the CSV reader
-    // refuses such a log alike.
-    if back.0 * 2 > ordered {
-        return Err(ReadError::NotInTimeOrder {
-            path: rec.source.clone(),
-            message: format!(
-                "{} of the {ordered} samples of {} go back in time (first at sample {}: {} s \
-                 after {} s): the samples are not in time order (newest first?); the log's \
-                 clock cannot be read as written",
-                back.0,
-                inst.label,
-                back.1 + 1,
-                crate::number::readable(first_back.0),
-                crate::number::readable(first_back.1)
-            ),
-        });
-    }
-    for ((count, first), kind, what) in [
-        (
-            rep,
-            ProblemKind::TimeRepeated,
-            "time repeats an earlier stamp",
-        ),
-        (back, ProblemKind::TimeBackwards, "time went backwards"),
-    ] {
-        if count > 0 {
-            problems.push(Problem {
-                line: first + 1,
-                column: None,
-                kind,
-                count,
-                message: format!(
-                    "{} dropped: {what} (first at sample {})",
-                    samples(count),
-                    first + 1
-                ),
-            });
-        }
-    }
-    let mut rows: Vec<usize> = (0..n).filter(|&i| keep[i]).collect();
-    if rows.is_empty() {
-        return Err(ReadError::NoSamples {
-            path: rec.source.clone(),
-            message: format!(
-                "none of the {n} samples of {} can be used: each has a NaN gyro axis or \
-                 temperature, or a time that does not increase",
-                inst.label
-            ),
-        });
-    }
-    let mut time_s: Vec<f64> = rows.iter().map(|&i| time_all[i]).collect();
-    drop_stray_ends(&mut time_s, &mut rows, &mut problems);
-    if !keep_nan_temp {
-        drop_temperature_glitches(&sel.temp_c, &mut time_s, &mut rows, &mut problems);
-        tell_temperature_excursions(&sel.temp_c, &time_s, &rows, &mut problems);
-        tell_fast_temperature(&sel.temp_c, &time_s, &rows, &mut problems);
-    }
+    let KeptSamples {
+        rows,
+        time_s,
+        problems,
+    } = kept_samples(&sel)?;
     let pick = |v: &formats::Values, scale: f64| -> Vec<f64> {
         rows.iter().map(|&i| v.get(i) * scale).collect()
     };
-    gaps(&time_s, &rows, &mut problems);
-    problems.sort_by_key(|p| p.line);
 
     let [gx, gy, gz] = &inst.gyro.xyz;
     let mut columns = vec![
@@ -621,170 +487,6 @@ fn column(index: usize, name: &str, role: ColumnRole, unit: &str) -> ColumnInfo 
         name: name.to_string(),
         role,
         unit: unit.to_string(),
-    }
-}
-
-/// Counts an occurrence at sample `i`, keeping the first: `(count, first)`.
-fn note(t: &mut (usize, usize), i: usize) {
-    if t.0 == 0 {
-        t.1 = i;
-    }
-    t.0 += 1;
-}
-
-fn samples(n: usize) -> String {
-    if n == 1 {
-        "1 sample".into()
-    } else {
-        format!("{n} samples")
-    }
-}
-
-/// Drops a sample or two alone at an end of the log past a gap far longer than the rest of
-/// it (stray stamps, [`Timing::stray_end`]), as the CSV reader does, with a problem naming
-/// their samples; `rows` maps each kept sample to its place in the instance and loses the
-/// dropped ones too.
-fn drop_stray_ends(time_s: &mut Vec<f64>, rows: &mut Vec<usize>, problems: &mut Vec<Problem>) {
-    while let Some(end) = Timing::of(time_s).stray_end(time_s) {
-        let k = end.range(time_s.len());
-        let samples: Vec<String> = rows[k.clone()]
-            .iter()
-            .map(|r| (r + 1).to_string())
-            .collect();
-        let place = format!(
-            "sample{} {}",
-            if samples.len() == 1 { "" } else { "s" },
-            samples.join(" and ")
-        );
-        problems.push(Problem {
-            line: rows[k.start] + 1,
-            column: None,
-            kind: ProblemKind::TimeBackwards,
-            count: k.len(),
-            message: end.message(time_s, "sample", &place, &crate::number::readable),
-        });
-        time_s.drain(k.clone());
-        rows.drain(k);
-    }
-}
-
-/// Drops the samples whose temperature is a one-sample glitch (a bad read, by the CSV
-/// reader's rule, [`super::temp_glitch`]), with a problem naming the first; `rows` maps each
-/// kept sample to its place in the instance and loses the dropped ones too.
-fn drop_temperature_glitches(
-    temp_c: &formats::Values,
-    time_s: &mut Vec<f64>,
-    rows: &mut Vec<usize>,
-    problems: &mut Vec<Problem>,
-) {
-    let temp: Vec<f64> = rows.iter().map(|&i| temp_c.get(i)).collect();
-    let Some(g) = super::temp_glitch::find(time_s, &temp) else {
-        return;
-    };
-    problems.push(Problem {
-        line: rows[g.samples[0]] + 1,
-        column: None,
-        kind: ProblemKind::Implausible,
-        count: g.count,
-        message: g.message("sample", |k| rows[k] + 1, true),
-    });
-    let mut glitch = vec![false; rows.len()];
-    for &k in &g.samples {
-        glitch[k] = true;
-    }
-    let mut k = 0..;
-    time_s.retain(|_| k.next().is_some_and(|k| !glitch[k]));
-    let mut k = 0..;
-    rows.retain(|_| k.next().is_some_and(|k| !glitch[k]));
-}
-
-/// Tells the temperature's excursions that no chamber makes and that are no glitch
-/// ([`super::temp_glitch::excursions`]), with a problem naming the first; the samples are
-/// kept.
-fn tell_temperature_excursions(
-    temp_c: &formats::Values,
-    time_s: &[f64],
-    rows: &[usize],
-    problems: &mut Vec<Problem>,
-) {
-    let temp: Vec<f64> = rows.iter().map(|&i| temp_c.get(i)).collect();
-    let Some(j) = super::temp_glitch::excursions(time_s, &temp) else {
-        return;
-    };
-    let first = rows[j.first] + 1;
-    problems.push(Problem {
-        line: first,
-        column: None,
-        kind: ProblemKind::Implausible,
-        count: j.count,
-        message: j.message(&format!("sample {first}")),
-    });
-}
-
-/// Tells the stretches where the temperature moves faster than any chamber moves a gyro's
-/// ([`super::temp_rate`], the CSV reader's rule), with a problem naming the first; the samples
-/// are kept. A format's time stamps state their unit, so no other unit is offered: the stamps
-/// or the temperature chosen are to be checked.
-fn tell_fast_temperature(
-    temp_c: &formats::Values,
-    time_s: &[f64],
-    rows: &[usize],
-    problems: &mut Vec<Problem>,
-) {
-    let temp: Vec<f64> = rows.iter().map(|&i| temp_c.get(i)).collect();
-    let Some(f) = super::temp_rate::find(time_s, &temp) else {
-        return;
-    };
-    let first = rows[f.first] + 1;
-    problems.push(Problem {
-        line: first,
-        column: None,
-        kind: ProblemKind::Implausible,
-        count: f.count,
-        message: f.message(
-            &format!("sample {first}"),
-            "check the log's time stamps and the temperature it is read from (temp_from)",
-        ),
-    });
-}
-
-/// Steps above [`GAP_FACTOR`] × the nominal step, as the CSV reader reports them; `rows`
-/// maps each kept sample to its place in the instance.
-fn gaps(time_s: &[f64], rows: &[usize], problems: &mut Vec<Problem>) {
-    if time_s.len() < 3 {
-        return;
-    }
-    let dt = super::nominal_dt_s(time_s);
-    let mut count = 0;
-    let mut first = 0;
-    let mut largest = (0.0f64, 0usize);
-    for i in 1..time_s.len() {
-        let step = time_s[i] - time_s[i - 1];
-        if step > GAP_FACTOR * dt {
-            if count == 0 {
-                first = rows[i];
-            }
-            count += 1;
-            if step > largest.0 {
-                largest = (step, rows[i]);
-            }
-        }
-    }
-    if count > 0 {
-        problems.push(Problem {
-            line: first + 1,
-            column: None,
-            kind: ProblemKind::Gap,
-            count,
-            message: format!(
-                "{count} gap{} in time (steps above {GAP_FACTOR} × the nominal {dt} s; first at \
-                 sample {}, largest {} s at sample {})",
-                if count == 1 { "" } else { "s" },
-                first + 1,
-                largest.0,
-                largest.1 + 1
-            ),
-        });
     }
 }
 

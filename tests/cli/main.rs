@@ -11,6 +11,7 @@ mod allan_temperature;
 mod attack;
 mod attack15;
 mod attack16;
+mod attack17;
 mod axis_choice;
 mod commands;
 mod compare_verdicts;

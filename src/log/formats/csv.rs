@@ -42,18 +42,24 @@ fn inf(positive: bool) -> &'static [u8] {
     if positive { b"inf" } else { b"-inf" }
 }
 
-/// Writes `selected` as CSV to `w`.
+/// Writes the samples `rows` of `selected` (places in the instance, in the order given) as
+/// CSV to `w`: `driftlab convert` passes the samples every reader keeps
+/// ([`crate::log::kept_samples`]), so that the CSV holds what every command reads of the log.
 ///
 /// # Errors
 /// Those of `w`.
-pub fn write_csv(selected: &Selected<'_>, w: &mut dyn Write) -> std::io::Result<()> {
+pub fn write_csv(
+    selected: &Selected<'_>,
+    rows: &[usize],
+    w: &mut dyn Write,
+) -> std::io::Result<()> {
     let inst = selected.instance;
     let mut out = Vec::with_capacity(1 << 16);
     out.extend_from_slice(csv_header(selected).as_bytes());
     out.push(b'\n');
     let mut buf = zmij::Buffer::new();
     let time = &inst.time;
-    for i in 0..inst.len() {
+    for &i in rows {
         let t = time.seconds(i);
         out.extend_from_slice(buf.format(t).as_bytes());
         for v in &inst.gyro.xyz {

@@ -13,7 +13,7 @@
 //!   ImuRecording::summaries()                 (what inspect lists)
 //!   select(&rec, gyro, temp_from) -> Selected (the instance, its temperature, a note)
 //!     Selected::columns() -> Columns          (time_s, gyro rad/s, temp_c, accel as f64)
-//!     write_csv(&Selected, writer)            (driftlab convert)
+//!     write_csv(&Selected, rows, writer)      (driftlab convert, the rows kept_samples keeps)
 //! ```
 //!
 //! What is read, format by format:

@@ -339,8 +339,11 @@ pub struct InstanceSummary {
     pub device: Option<DeviceId>,
     /// Number of samples.
     pub samples: usize,
-    /// Median sampling rate, Hz; `None` with fewer than two distinct stamps.
+    /// Median sampling rate, Hz; `None` with fewer than two distinct stamps, or when most
+    /// steps go back (`steps_back`).
     pub rate_hz: Option<f64>,
+    /// How many steps between consecutive stamps go back in time (of `samples - 1`).
+    pub steps_back: usize,
     /// First and last stamp, s.
     pub time_range_s: Option<(f64, f64)>,
     /// The own temperature's range, °C; `None` when it is all NaN.
@@ -374,6 +377,12 @@ impl InstanceSummary {
         s.push_str(&format!("  {} samples", self.samples));
         match self.rate_hz {
             Some(r) => s.push_str(&format!(" at {r:.3} Hz")),
+            // Stamps that mostly go back have no rate to read (the readers refuse the gyro).
+            None if self.steps_back > 0 => s.push_str(&format!(
+                " at n/a Hz (not in time order: {} of its {} steps go back)",
+                self.steps_back,
+                self.samples.saturating_sub(1)
+            )),
             None => s.push_str(" at n/a Hz (fewer than two distinct stamps)"),
         }
         match self.time_range_s {
@@ -416,9 +425,20 @@ impl GyroInstance {
         self.len() == 0
     }
 
-    /// The median sampling rate from the integer stamps, Hz.
+    /// How many steps between consecutive stamps go back in time.
+    pub fn steps_back(&self) -> usize {
+        (1..self.len())
+            .filter(|&i| self.time.nanos(i) < self.time.nanos(i - 1))
+            .count()
+    }
+
+    /// The median sampling rate from the integer stamps, Hz: of the steps forward, when most
+    /// steps do not go back (a log written newest first, or shuffled, has no rate to read).
     pub fn rate_hz(&self) -> Option<f64> {
         let n = self.len();
+        if self.steps_back() * 2 > n.saturating_sub(1) {
+            return None;
+        }
         let mut steps: Vec<i128> = (1..n)
             .map(|i| self.time.nanos(i) - self.time.nanos(i - 1))
             .filter(|&d| d > 0)
@@ -445,6 +465,7 @@ impl GyroInstance {
             device: self.device.clone(),
             samples: n,
             rate_hz: self.rate_hz(),
+            steps_back: self.steps_back(),
             time_range_s: (n > 0).then(|| (self.time.seconds(0), self.time.seconds(n - 1))),
             temp_range_c: self.temp_c.range(),
             has_accel: self.accel.is_some(),
@@ -519,11 +540,13 @@ impl Sorted {
     }
 }
 
-/// The median positive step of sorted stamps, or `None`.
+/// The median length of the steps between consecutive stamps, forward or back (a log written
+/// newest first steps as far as one written in order, and its accelerometer is matched to it
+/// within the same tolerance), or `None` when no two stamps differ.
 pub(crate) fn median_step(times: &[i128]) -> Option<i128> {
     let mut steps: Vec<i128> = times
         .windows(2)
-        .map(|w| w[1] - w[0])
+        .map(|w| (w[1] - w[0]).abs())
         .filter(|&d| d > 0)
         .collect();
     if steps.is_empty() {
@@ -567,6 +590,7 @@ mod tests {
             device: None,
             samples: 4000,
             rate_hz: Some(1.0),
+            steps_back: 1,
             time_range_s: Some(range),
             temp_range_c: None,
             has_accel: true,

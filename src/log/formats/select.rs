@@ -185,12 +185,7 @@ pub fn select(
                     TempFrom::Own => "no gyro in the log has a temperature of its own".into(),
                     f => {
                         let f = f.to_string();
-                        let article = if f.starts_with(['a', 'e', 'i', 'o', 'u']) {
-                            "an"
-                        } else {
-                            "a"
-                        };
-                        format!("no gyro in the log has {article} {f} temperature")
+                        format!("no gyro in the log has {} {f} temperature", article(&f))
                     }
                 },
                 alternatives: every_alternative(rec),
@@ -206,8 +201,9 @@ pub fn select(
                 )
             } else {
                 format!(
-                    "the first of {} with a {from} temperature; gyro N picks another",
-                    rec.instances.len()
+                    "the first of {} with {} {from} temperature; gyro N picks another",
+                    rec.instances.len(),
+                    article(&from.to_string())
                 )
             };
             (inst, t, how)
@@ -228,4 +224,13 @@ pub fn select(
         temp_c,
         note,
     })
+}
+
+/// The article before `word`: "an" before a vowel ("an accel temperature"), else "a".
+fn article(word: &str) -> &'static str {
+    if word.starts_with(['a', 'e', 'i', 'o', 'u']) {
+        "an"
+    } else {
+        "a"
+    }
 }

@@ -70,9 +70,9 @@ pub enum KnotsError {
     #[error(
         "at[{index}] = {} does not come after at[{}] = {}: positions must be strictly \
          increasing",
-        readable(*.value),
+        crate::number::apart(&[*.value, *.previous])[0],
         .index - 1,
-        readable(*.previous)
+        crate::number::apart(&[*.value, *.previous])[1]
     )]
     NotIncreasing {
         /// The knot (0-based, at least 1).
@@ -199,12 +199,9 @@ impl ApproxSpec {
         if !self.kind.has_knots() {
             return String::new();
         }
-        let list = |v: &[f64]| {
-            v.iter()
-                .map(|&x| readable(x))
-                .collect::<Vec<_>>()
-                .join(", ")
-        };
+        // Knots close together keep the digits that tell them apart (six would write
+        // -0.0100001 and -0.01 alike, as if a knot were placed twice).
+        let list = |v: &[f64]| crate::number::apart(v).join(", ");
         let mut t = match &self.at {
             Some(at) => format!("{} knots placed by hand at {}", self.knots, list(at)),
             None => format!("{} knots, equally spaced", self.knots),
