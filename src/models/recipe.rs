@@ -273,7 +273,6 @@ impl Recipe {
         // Checked on every curve, with knots or not: a number no curve could take is a slip
         // wherever it stands.
         for (k, (name, spec)) in self.specs().into_iter().enumerate() {
-            check_hand_reach(k, name, spec)?;
             if !(2..=64).contains(&spec.knots) {
                 return Err(Invalid::new(
                     format!("{name}.knots"),
@@ -281,6 +280,7 @@ impl Recipe {
                 ));
             }
             check_hand_knots(name, spec)?;
+            check_hand_reach(k, name, spec)?;
         }
         match &self.plateaus {
             PlateauChoice::Auto(o) => o.validate()?,
