@@ -1,6 +1,6 @@
 //! The figures of merit and display series of a correction, and the validation log judged.
 
-use super::average::moving_average_centered_into;
+use super::average::moving_average_within_into;
 use super::*;
 
 impl Pipeline {
@@ -48,7 +48,15 @@ impl Pipeline {
                     crate::judge::metrics::figures_over(&corrected.cor_dph, dt_s, ready, merit)
                 }
             },
-            || moving_average_centered_into(&corrected.cor_dph, filter, prefix, out),
+            || {
+                moving_average_within_into(
+                    &corrected.cor_dph,
+                    filter,
+                    &corrected.ready,
+                    prefix,
+                    out,
+                )
+            },
         );
         self.evaluated = Some(EvalCache {
             generation,
@@ -110,7 +118,18 @@ impl Pipeline {
         }
         let (cor_figures, cor_filtered) = rayon::join(
             || crate::judge::metrics::figures_over(&corrected.cor_dph, dt, &corrected.ready, merit),
-            || signal::moving_average_centered_in(&corrected.cor_dph, filter, &timing.segments),
+            || {
+                let mut out = Vec::new();
+                let ready = &corrected.ready;
+                moving_average_within_into(
+                    &corrected.cor_dph,
+                    filter,
+                    ready,
+                    &mut Vec::new(),
+                    &mut out,
+                );
+                out
+            },
         );
         let evaluation = evaluation(v.raw_figures, cor_figures, &corrected);
         Judged {

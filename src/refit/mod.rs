@@ -98,7 +98,10 @@ pub struct Judged {
     pub evaluation: Evaluation,
     /// Ω filtered as for the figures (centred moving average), °/h.
     pub raw_filtered_dph: Arc<Vec<f64>>,
-    /// Corrected Ω filtered alike, °/h (shared: kept while the correction stays).
+    /// Corrected Ω filtered alike within the correction's ready stretches (no window reaches
+    /// into a segment's warm-up, where the correction is no reading; outside them the
+    /// corrected rate as it is, which the workbench does not draw), °/h (shared: kept while
+    /// the correction stays). The workbench draws this series: it does not filter again.
     pub cor_filtered_dph: Arc<Vec<f64>>,
 }
 

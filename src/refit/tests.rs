@@ -147,11 +147,16 @@ fn judged_afresh(log: &Arc<Log>, req: &Request, out: &Outcome) {
         out.in_sample.evaluation,
         Evaluation::of_correction(log, &c, &req.merit)
     );
+    // The display series: filtered within each ready stretch alone.
     let filter = signal::seconds_to_samples(req.merit.filter_s, out.prepared.dt_s).max(1);
-    assert_eq!(
-        *out.in_sample.cor_filtered_dph,
-        signal::moving_average_centered(&c.cor_dph, filter)
-    );
+    let mut want = c.cor_dph.clone();
+    for r in &c.ready {
+        want[r.clone()].copy_from_slice(&signal::moving_average_centered(
+            &c.cor_dph[r.clone()],
+            filter,
+        ));
+    }
+    assert_eq!(*out.in_sample.cor_filtered_dph, want);
 }
 
 #[test]

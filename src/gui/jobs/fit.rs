@@ -23,8 +23,9 @@ pub struct FitLods {
     pub raw_filtered: Arc<MinMaxPyramid>,
     /// Corrected Ω filtered alike, within the stretches of [`FitLods::ready`] only (before a
     /// segment's rates have their history the correction is no reading, and a window reaching
-    /// into those samples would draw a transient the figures do not see), °/h.
-    pub cor_filtered_dph: Vec<f64>,
+    /// into those samples would draw a transient the figures do not see), °/h: the engine's
+    /// series ([`crate::refit::Judged::cor_filtered_dph`]), not filtered again here.
+    pub cor_filtered_dph: Arc<Vec<f64>>,
     /// Its pyramid.
     pub cor_filtered: MinMaxPyramid,
     /// K1+, K1−, K2+, K2− points.
@@ -44,7 +45,7 @@ pub struct HeldLods {
     /// Raw Ω filtered.
     pub raw_filtered: Arc<MinMaxPyramid>,
     /// Corrected Ω filtered within its ready stretches (see [`FitLods::cor_filtered_dph`]).
-    pub cor_filtered_dph: Vec<f64>,
+    pub cor_filtered_dph: Arc<Vec<f64>>,
     /// Its pyramid.
     pub cor_filtered: MinMaxPyramid,
     /// Regime per sample.
@@ -317,6 +318,7 @@ pub(super) fn build_lods(cache: &mut LodCache, o: &Outcome) -> FitLods {
         cache.prepared(&o.prepared, &o.in_sample.corrected.regime);
     let raw_filtered = LodCache::series(&mut cache.raw_filtered, &o.in_sample.raw_filtered_dph);
     let filter = o.prepared.filter_samples;
+    let cor_filtered_dph = o.in_sample.cor_filtered_dph.clone();
     let ((pred_filtered, pred), cor_filtered) = rayon::join(
         || {
             let f = filtered_within(
@@ -327,17 +329,8 @@ pub(super) fn build_lods(cache: &mut LodCache, o: &Outcome) -> FitLods {
             let p = MinMaxPyramid::new(&f);
             (f, p)
         },
-        || {
-            let f = filtered_within(
-                &o.in_sample.corrected.cor_dph,
-                filter,
-                &o.in_sample.corrected.ready,
-            );
-            let p = MinMaxPyramid::new(&f);
-            (f, p)
-        },
+        || MinMaxPyramid::new(&cor_filtered_dph),
     );
-    let (cor_filtered_dph, cor_filtered) = cor_filtered;
     let scatter = cache.scatter([
         &o.k1_plus_points,
         &o.k1_minus_points,
@@ -346,24 +339,11 @@ pub(super) fn build_lods(cache: &mut LodCache, o: &Outcome) -> FitLods {
     ]);
     let held_out = o.held_out.as_ref().map(|h| HeldLods {
         raw_filtered: LodCache::series(&mut cache.held_raw, &h.raw_filtered_dph),
-        cor_filtered_dph: Vec::new(),
-        cor_filtered: MinMaxPyramid::default(),
+        cor_filtered_dph: h.cor_filtered_dph.clone(),
+        cor_filtered: MinMaxPyramid::new(&h.cor_filtered_dph),
         regime: ClassLod::new(h.corrected.regime.iter().map(|&r| r as u8).collect(), 2),
         ready: Segments::from_ranges(&h.log.time_s, &h.corrected.ready),
         segments: Segments::of(&h.log),
-    });
-    let held_out = held_out.map(|mut l| {
-        if let Some(h) = o.held_out.as_ref() {
-            // The calibration log's window, in the validation log's samples.
-            let window = crate::signal::seconds_to_samples(
-                filter as f64 * o.prepared.dt_s,
-                h.log.nominal_dt_s(),
-            )
-            .max(1);
-            l.cor_filtered_dph = filtered_within(&h.corrected.cor_dph, window, &h.corrected.ready);
-            l.cor_filtered = MinMaxPyramid::new(&l.cor_filtered_dph);
-        }
-        l
     });
     let ready = Segments::from_ranges(&o.in_sample.log.time_s, &o.in_sample.corrected.ready);
     FitLods {
