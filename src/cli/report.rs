@@ -83,7 +83,7 @@ fn print_single(summary: &report::UnitReportSummary) -> Result<(), CliError> {
         out!(
             "{} ({}): peak-to-peak of filtered drift {} -> {} deg/h ({})",
             l.name,
-            if l.in_sample { "in-sample" } else { "held out" },
+            l.kind,
             common::fixed(l.evaluation.comparison.raw.p2p_dph, 4),
             common::fixed(l.evaluation.comparison.corrected.p2p_dph, 4),
             common::ratio(l.evaluation.comparison.p2p_ratio)
@@ -146,11 +146,7 @@ fn print_axes(logs: &LogsRead, summary: &report::UnitReportSummary) -> Result<()
         out!(
             "{} ({}): peak-to-peak of filtered drift, deg/h:",
             super::calibrate::file_name(path),
-            if first.in_sample {
-                "in-sample"
-            } else {
-                "held out"
-            }
+            first.kind
         )?;
         for (axis, l) in &judged {
             let c = &l.evaluation.comparison;

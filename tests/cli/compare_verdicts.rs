@@ -78,3 +78,37 @@ fn a_test_log_the_sketch_cannot_tell_is_not_called_held_out() {
     );
     assert!(logs[0]["cannot_tell"].is_null() && logs[3]["cannot_tell"].is_null());
 }
+
+/// The report tags a log its calibration's sketch cannot tell apart from its own as such, with
+/// why, never "held out"; another run is held out.
+#[test]
+fn the_report_says_cannot_tell_of_such_a_log() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let coarse =
+        crate::common::calibration_derived(d, "coarse.csv", |_| true, |x| format!("{x:.3}"))
+            .display()
+            .to_string();
+    let cal = d.join("cal.json").display().to_string();
+    ok(&["calibrate", &sample("calibration.csv"), "-o", &cal]);
+    let out = d.join("report");
+    let text = ok(&[
+        "report",
+        &cal,
+        &coarse,
+        &sample("validation.csv"),
+        "--out",
+        &out.display().to_string(),
+    ]);
+    assert!(text.contains("coarse.csv (cannot tell)"), "{text}");
+    assert!(text.contains("validation.csv (held out)"), "{text}");
+    let html = std::fs::read_to_string(out.join("report.html")).unwrap();
+    assert!(
+        html.contains("cannot tell if held out")
+            && html.contains(
+                "cannot tell whether this is that log (its rates are written in steps of 0.001"
+            )
+            && html.contains(r#"data-set="cannot-tell""#),
+        "the report's page does not say so"
+    );
+}

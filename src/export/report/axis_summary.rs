@@ -56,7 +56,7 @@ pub(super) fn summary(axes: &[PageAxis<'_>]) -> Markup {
             p { "No log was given: the calibration alone is reported." } "\n"
         }
         @for (k, l) in first.summary.logs.iter().enumerate() {
-            h3 { (l.name) " " (tag(l.in_sample)) } "\n"
+            h3 { (l.name) " " (tag(l)) } "\n"
             table class="unit-summary" data-log=(l.name) {
                 "\n"
                 tr {

@@ -61,6 +61,7 @@ pre { background: #f6f6f6; padding: 0.6em; overflow-x: auto; }
        font-weight: bold; }
 .in-sample { background: #fde2c8; }
 .held-out { background: #cde8f6; }
+.cannot-tell { background: #e4e4e4; }
 figure { margin: 1em 0 2em; page-break-inside: avoid; break-inside: avoid; }
 figure svg { width: 100%; height: auto; border: 1px solid #ddd; }
 figcaption { font-size: 9.5pt; color: #333; margin-top: 0.3em; }
@@ -119,13 +120,15 @@ pub(super) fn row(key: &str, value: &str) -> Markup {
     html! { tr { th { (key) } td { (value) } } "\n" }
 }
 
-/// The label of a log judged in-sample or held out.
-pub(super) fn tag(in_sample: bool) -> Markup {
+/// The label of a log judged in-sample, held out, or that the calibration's sketch cannot
+/// tell apart from its own log (with why, on hover).
+pub(super) fn tag(l: &super::LogReport) -> Markup {
     html! {
-        @if in_sample {
-            span class="tag in-sample" { "in-sample" }
-        } @else {
-            span class="tag held-out" { "held out" }
+        @match (l.kind, &l.cannot_tell) {
+            ("in-sample", _) => span class="tag in-sample" { "in-sample" },
+            ("cannot tell", why) => span class="tag cannot-tell"
+                title=(why.as_deref().unwrap_or_default()) { "cannot tell if held out" },
+            _ => span class="tag held-out" { "held out" },
         }
     }
 }
@@ -229,7 +232,7 @@ fn merit_table(l: &LogReport, d: Depth, window_s: f64) -> Markup {
         ("mean", c.raw.mean_dph, c.corrected.mean_dph, None),
     ];
     html! {
-        (heading(d.part, html! { (l.name) " " (tag(l.in_sample)) }))
+        (heading(d.part, html! { (l.name) " " (tag(l)) }))
         p {
             (l.samples) " samples, " (format!("{:.2}", l.duration_s / 3600.0)) " h, T "
             (format!("{:.1}", l.temp_range_c.0)) " … " (format!("{:.1}", l.temp_range_c.1))
@@ -237,9 +240,15 @@ fn merit_table(l: &LogReport, d: Depth, window_s: f64) -> Markup {
             " windows of " (w) "; " (crate::number::percent(e.outside_fraction))
             " % of samples outside the calibrated ranges. SHA-256 " code { (l.sha256) }
         }
+        @if let Some(why) = &l.cannot_tell {
+            p {
+                "The calibration's sketch of its own log cannot tell whether this is that log ("
+                (why) "): these figures are no held-out evidence."
+            }
+        }
         "\n"
         table class="merit" data-log=(l.name)
-            data-set=(if l.in_sample { "in-sample" } else { "held-out" }) {
+            data-set=(l.kind.replace(' ', "-")) {
             "\n"
             tr { th { "figure, °/h" } th { "raw" } th { "corrected" } th { "ratio" } }
             "\n"

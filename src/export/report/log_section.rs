@@ -20,6 +20,8 @@ pub(super) struct LogSection<'a> {
     pub(super) log: &'a Log,
     pub(super) sha: &'a str,
     pub(super) in_sample: bool,
+    /// What the model's sketch found of it (`None`: no sketch kept).
+    pub(super) share: Option<crate::log::run_sketch::Shared>,
     pub(super) correction: Correction,
     /// Plateaus to shade in its temperature program, (start, end) s.
     pub(super) plateaus: &'a [(f64, f64)],
@@ -42,6 +44,7 @@ pub(super) fn log_report(
         log,
         sha,
         in_sample,
+        share,
         correction,
         plateaus,
         allan,
@@ -51,7 +54,8 @@ pub(super) fn log_report(
     // name written as its escape.
     let name = crate::text::escaped(name, false).into_owned();
     let stem = unique_stem(path, taken);
-    let label = if in_sample { "in-sample" } else { "held out" };
+    let label = crate::judge::verify::sample_kind(in_sample, share);
+    let cannot_tell = share.filter(|_| !in_sample).and_then(|s| s.cannot_tell());
     let evaluation = Evaluation::of_correction(log, &correction, merit);
     let mut log_figures = Vec::new();
 
@@ -184,6 +188,8 @@ pub(super) fn log_report(
             path: path.to_path_buf(),
             sha256: sha.to_string(),
             in_sample,
+            kind: label,
+            cannot_tell,
             evaluation,
             samples: log.len(),
             duration_s: log.duration_s(),

@@ -100,6 +100,10 @@ pub struct Figure {
     pub svg: PathBuf,
 }
 
+/// Whether a log is the model's own, with what the model's sketch found of it
+/// ([`crate::models::vakhrameev::SourceInfo::judge_run`]).
+pub type Told = (bool, Option<crate::log::run_sketch::Shared>);
+
 /// One log judged by the calibration.
 #[derive(Debug, Clone)]
 pub struct LogReport {
@@ -111,6 +115,12 @@ pub struct LogReport {
     pub sha256: String,
     /// True for the calibration's own log.
     pub in_sample: bool,
+    /// What its figures are, in the words every face uses: "in-sample", "held out", or
+    /// "cannot tell" when the calibration's sketch cannot tell whether it is its own log
+    /// ([`crate::judge::verify::sample_kind`]).
+    pub kind: &'static str,
+    /// Why the sketch cannot tell, when it cannot.
+    pub cannot_tell: Option<String>,
     /// Raw against corrected, as `metrics::Evaluation::of` computes them.
     pub evaluation: Evaluation,
     /// Samples and duration of the log.
@@ -341,14 +351,15 @@ pub fn write(
 /// The figures and figures of merit of one axis's report, without its page: the folder made
 /// (an axis's, inside a unit's staging folder), the model's own figures, then a section for
 /// every log.
-/// `in_sample`: whether each log is the model's own, when the caller settled it (a unit's
-/// axes, together); `None`: each log judged by the model's source alone.
+/// `in_sample`: whether each log is the model's own, with what the model's sketch found of it,
+/// when the caller settled it (a unit's axes, together); `None`: each log judged by the
+/// model's source alone.
 fn build(
     model: &DriftModel,
     logs: &[(PathBuf, Log)],
     out_dir: &Path,
     opts: &ReportOptions,
-    in_sample: Option<&[bool]>,
+    in_sample: Option<&[Told]>,
 ) -> Result<ReportSummary> {
     std::fs::create_dir_all(out_dir).map_err(|e| Error::io(out_dir, e))?;
     let merit = opts.merit.unwrap_or_else(|| default_merit_for(model));
@@ -370,14 +381,15 @@ fn build(
             .map(|(p, _)| calibration::sha256_file(p).unwrap_or_default())
             .collect(),
     };
-    let in_sample: Vec<bool> = match in_sample {
+    let told: Vec<Told> = match in_sample {
         Some(given) if given.len() == logs.len() => given.to_vec(),
         _ => logs
             .iter()
             .zip(&hashes)
-            .map(|((p, log), h)| model.source().is_run_of(log, &file_name(p), h))
+            .map(|((p, log), h)| model.source().judge_run(log, &file_name(p), h))
             .collect(),
     };
+    let in_sample: Vec<bool> = told.iter().map(|t| t.0).collect();
     let ModelFigures {
         mut taken,
         mut files,
@@ -396,6 +408,7 @@ fn build(
             log,
             sha,
             in_sample: in_sample[i],
+            share: told[i].1,
             correction,
             plateaus: &plateaus,
             allan: opts

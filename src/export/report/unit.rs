@@ -209,8 +209,8 @@ fn settled_in_sample(
     logs: &mut [(PathBuf, Log)],
     hashes: &[String],
     log_axes: &[Vec<String>],
-) -> Result<Vec<Vec<bool>>> {
-    let mut in_sample = vec![vec![false; logs.len()]; unit.axes.len()];
+) -> Result<Vec<Vec<super::Told>>> {
+    let mut in_sample = vec![vec![(false, None); logs.len()]; unit.axes.len()];
     for (k, ((path, log), hash)) in logs.iter_mut().zip(hashes).enumerate() {
         let name = super::file_name(path);
         let mut own = Vec::with_capacity(unit.axes.len());
@@ -226,8 +226,8 @@ fn settled_in_sample(
             shares.push(share);
         }
         verify::settle_axes(&mut own, &mut shares);
-        for (axis, i) in in_sample.iter_mut().zip(own) {
-            axis[k] = i;
+        for ((axis, i), s) in in_sample.iter_mut().zip(own).zip(shares) {
+            axis[k] = (i, s);
         }
     }
     Ok(in_sample)
