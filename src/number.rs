@@ -95,6 +95,12 @@ fn trim(s: String) -> String {
     }
 }
 
+/// A figure a fit may not have computed (`None`), in words: `f` of it, or `n/a`.
+pub fn or_na(v: Option<f64>, f: impl Fn(f64) -> String) -> String {
+    v.filter(|v| v.is_finite())
+        .map_or_else(|| "n/a".to_string(), f)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -406,8 +406,8 @@ fn print_tables(reports: &[ModelReport], merit: &MeritOptions) -> Result<(), Cli
                     out!(
                         "  {:<12} {:>9} {:>9} {:>8} {:>8} {:>10} {:>8} {:>7}%",
                         r.model,
-                        common::fixed(c.raw.p2p_dph, 4),
-                        common::fixed(c.corrected.p2p_dph, 4),
+                        common::figure(c.raw.p2p_dph),
+                        common::figure(c.corrected.p2p_dph),
                         common::ratio(c.p2p_ratio),
                         common::ratio(c.std_ratio),
                         common::ratio(c.win_mean_ratio),

@@ -16,6 +16,7 @@ mod axis_choice;
 mod commands;
 mod compare_verdicts;
 mod degenerate_logs;
+mod figures_not_computed;
 mod forged_lines;
 mod in_sample;
 mod in_sample_told;

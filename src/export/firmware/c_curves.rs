@@ -69,11 +69,11 @@ pub(super) fn curve(
     };
     h.push_str(&format!(
         "\n/* {title}, {unit}: {kind} ({form});\n   fitted on {arg} in [{x_min}, {x_max}] \
-         {arg_unit}, {outside};\n   {n} points, rmse {rmse:e}, R2 {r2}. */\n",
+         {arg_unit}, {outside};\n   {n} points, rmse {rmse}, R2 {r2}. */\n",
         kind = a.kind(),
         n = s.n,
-        rmse = s.rmse,
-        r2 = s.r2,
+        rmse = crate::number::or_na(s.computed_rmse(), |v| format!("{v:e}")),
+        r2 = crate::number::or_na(s.computed_r2(), |v| format!("{v}")),
     ));
     let head = format!(
         "static const driftlab_curve {name} = {{\n    {kind}, {knot}, {ext},\n    {x_min}, {x_max},\n",

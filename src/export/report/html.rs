@@ -16,7 +16,11 @@ use maud::{DOCTYPE, Markup, PreEscaped, html};
 
 /// A figure of merit in °/h as the page prints it (4 decimals, as `driftlab evaluate`).
 pub fn fmt_dph(v: f64) -> String {
-    format!("{v:.4}")
+    if v.is_finite() {
+        format!("{v:.4}")
+    } else {
+        "n/a".into()
+    }
 }
 
 /// An improvement ratio as the page prints it.
@@ -24,7 +28,7 @@ pub fn fmt_ratio(r: f64) -> String {
     if r.is_finite() {
         format!("{r:.2}×")
     } else {
-        "∞".into()
+        "n/a".into()
     }
 }
 
@@ -33,7 +37,7 @@ pub fn fmt_ratio(r: f64) -> String {
 pub fn fmt_num(v: f64) -> String {
     let a = v.abs();
     if !v.is_finite() {
-        return format!("{v}");
+        return "n/a".into();
     }
     if a == 0.0 {
         return "0".into();

@@ -146,8 +146,10 @@ pub(super) fn log_report(
         format!(
             "Raw rate (grey, every sample as min/max per pixel column), its {:.0}-s moving \
              average, the drift the calibration predicts, and the corrected rate filtered the \
-             same way. Peak-to-peak of the filtered drift {:.4} → {:.4} °/h.",
-            merit.filter_s, c.raw.p2p_dph, c.corrected.p2p_dph
+             same way. Peak-to-peak of the filtered drift {} → {} °/h.",
+            merit.filter_s,
+            super::html::fmt_dph(c.raw.p2p_dph),
+            super::html::fmt_dph(c.corrected.p2p_dph)
         ),
         f,
     ));

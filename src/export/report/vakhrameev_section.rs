@@ -162,8 +162,8 @@ fn coefficient_row(cal: &Calibration, name: &str, a: &Approx) -> Markup {
             td class="num" { (fmt_num(a.x_min())) " … " (fmt_num(a.x_max())) " " (xu) }
             td { (if a.extrapolates() { "extrapolated" } else { "edge value held" }) }
             td class="num" { (st.n) }
-            td class="num" { (fmt_num(st.rmse)) }
-            td class="num" { (format!("{:.4}", st.r2)) }
+            td class="num" { (crate::number::or_na(st.computed_rmse(), fmt_num)) }
+            td class="num" { (crate::number::or_na(st.computed_r2(), |v| format!("{v:.4}"))) }
             td { small { (curve_text(a)) } }
         }
         "\n"

@@ -161,10 +161,10 @@ impl CoeffView {
             Some(f) => {
                 let s = f.outcome.calibration.k0.stats();
                 ui.weak(format!(
-                    "{} plateaus · RMSE {} °/h · R² {:.4}",
+                    "{} plateaus · RMSE {} °/h · R² {}",
                     s.n,
-                    num(s.rmse),
-                    s.r2
+                    crate::number::or_na(s.computed_rmse(), num),
+                    crate::number::or_na(s.computed_r2(), |v| format!("{v:.4}"))
                 ))
                 .on_hover_text("Fit statistics of K0 over the plateau points");
             }

@@ -166,15 +166,21 @@ impl CoeffView {
                     // R² only (n on hover), never broken across rows beside a selector.
                     ui.add(
                         egui::Label::new(
-                            RichText::new(format!("R² {}", crate::number::fixed(s.r2, 3))).weak(),
+                            RichText::new(format!(
+                                "R² {}",
+                                crate::number::or_na(s.computed_r2(), |v| {
+                                    crate::number::fixed(v, 3)
+                                })
+                            ))
+                            .weak(),
                         )
                         .extend(),
                     )
                     .on_hover_text(format!(
                         "{} points fitted; RMSE {} ; R² {}{}",
                         s.n,
-                        num(s.rmse),
-                        crate::number::fixed(s.r2, 4),
+                        crate::number::or_na(s.computed_rmse(), num),
+                        crate::number::or_na(s.computed_r2(), |v| crate::number::fixed(v, 4)),
                         if edited {
                             "; knots placed or set by hand"
                         } else {

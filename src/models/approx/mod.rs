@@ -249,15 +249,60 @@ impl ApproxSpec {
 /// point, the R² of one point), never a 0 that reads as a figure; read back as 0 with the
 /// count saying why.
 #[derive(Debug, Clone, Copy, PartialEq, Deserialize, Default)]
+#[serde(try_from = "StatsRead")]
 pub struct FitStats {
     /// Points used.
     pub n: usize,
-    /// Root-mean-square residual, in the coefficient's unit.
-    #[serde(deserialize_with = "null_as_zero")]
+    /// Root-mean-square residual, in the coefficient's unit (0 over no point: see
+    /// [`FitStats::computed_rmse`]).
     pub rmse: f64,
-    /// Coefficient of determination (1 − SSres/SStot); 0 when the points have no spread.
-    #[serde(deserialize_with = "null_as_zero")]
+    /// Coefficient of determination (1 − SSres/SStot); 0 when the points have no spread (and
+    /// over fewer than two points: see [`FitStats::computed_r2`]).
     pub r2: f64,
+}
+
+impl FitStats {
+    /// The RMS residual, `None` over no point (not computed).
+    pub fn computed_rmse(&self) -> Option<f64> {
+        (self.n > 0).then_some(self.rmse)
+    }
+
+    /// R², `None` over fewer than two points (not computed).
+    pub fn computed_r2(&self) -> Option<f64> {
+        (self.n > 1).then_some(self.r2)
+    }
+}
+
+/// [`FitStats`] as a file holds them: `null` where nothing was computed, and only there.
+#[derive(Deserialize)]
+struct StatsRead {
+    n: usize,
+    rmse: Option<f64>,
+    r2: Option<f64>,
+}
+
+impl TryFrom<StatsRead> for FitStats {
+    type Error = String;
+
+    fn try_from(s: StatsRead) -> Result<FitStats, String> {
+        if s.rmse.is_none() && s.n > 0 {
+            return Err(format!(
+                "rmse is null (not computed), but the fit was over {} points",
+                s.n
+            ));
+        }
+        if s.r2.is_none() && s.n > 1 {
+            return Err(format!(
+                "r2 is null (not computed), but the fit was over {} points",
+                s.n
+            ));
+        }
+        Ok(FitStats {
+            n: s.n,
+            rmse: s.rmse.unwrap_or(0.0),
+            r2: s.r2.unwrap_or(0.0),
+        })
+    }
 }
 
 impl Serialize for FitStats {
@@ -265,15 +310,10 @@ impl Serialize for FitStats {
         use serde::ser::SerializeStruct;
         let mut out = s.serialize_struct("FitStats", 3)?;
         out.serialize_field("n", &self.n)?;
-        out.serialize_field("rmse", &(self.n > 0).then_some(self.rmse))?;
-        out.serialize_field("r2", &(self.n > 1).then_some(self.r2))?;
+        out.serialize_field("rmse", &self.computed_rmse())?;
+        out.serialize_field("r2", &self.computed_r2())?;
         out.end()
     }
-}
-
-/// A statistic written as `null` (not computed) read as 0 ([`FitStats`]).
-fn null_as_zero<'de, D: serde::Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
-    Ok(Option::<f64>::deserialize(d)?.unwrap_or(0.0))
 }
 
 /// Why a fit could not be made.

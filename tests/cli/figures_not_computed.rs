@@ -1,0 +1,110 @@
+//! A figure that could not be computed reads `n/a` wherever it is shown, never `NaN`, `∞` or
+//! a 0 that reads as a figure: the report and `compare` on a log too short for a window; the
+//! RMS residual and R² of a curve fitted to no point, in the report, the C header and the
+//! file (`null`, and only where nothing was computed).
+
+use crate::common::run::{fails, ok, sample};
+
+fn p(d: &std::path::Path, name: &str) -> String {
+    d.join(name).display().to_string()
+}
+
+/// validation.csv's first `rows` data rows.
+fn short_log(d: &std::path::Path, rows: usize) -> String {
+    let text = std::fs::read_to_string(sample("validation.csv")).unwrap();
+    let kept: Vec<&str> = text.lines().take(2 + rows).collect();
+    let path = p(d, &format!("short{rows}.csv"));
+    std::fs::write(&path, kept.join("\n") + "\n").unwrap();
+    path
+}
+
+#[test]
+fn figures_of_a_log_too_short_read_n_a() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let cal = p(d, "cal.json");
+    ok(&["calibrate", &sample("calibration.csv"), "-o", &cal]);
+    let short = short_log(d, 700);
+    for (k, extra) in [vec![], vec!["--filter", "650"]].into_iter().enumerate() {
+        let out = p(d, &format!("report{k}"));
+        let mut args = vec![
+            "report",
+            cal.as_str(),
+            short.as_str(),
+            "--out",
+            out.as_str(),
+        ];
+        args.extend(extra);
+        ok(&args);
+        let html = std::fs::read_to_string(format!("{out}/report.html")).unwrap();
+        for bad in ["NaN", "∞", ">inf<"] {
+            assert!(!html.contains(bad), "{bad} in the report ({args:?})");
+        }
+        assert!(html.contains("n/a"), "{args:?}");
+    }
+    let short250 = short_log(d, 250);
+    let text = ok(&[
+        "compare",
+        "--train",
+        &sample("calibration.csv"),
+        "--test",
+        &short250,
+        "--models",
+        "vakhrameev",
+    ]);
+    assert!(!text.contains("NaN") && !text.contains("inf"), "{text}");
+    let row = text
+        .lines()
+        .skip_while(|l| !l.contains("short250.csv"))
+        .find(|l| l.trim_start().starts_with("vakhrameev"))
+        .unwrap_or_else(|| panic!("{text}"));
+    assert!(row.contains("n/a"), "{row}");
+}
+
+#[test]
+fn statistics_of_no_point_read_n_a_and_are_null_only_there() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    // A dead-band wider than every rate leaves K1± no point.
+    let cal = p(d, "cal.json");
+    ok(&[
+        "calibrate",
+        &sample("calibration.csv"),
+        "--deadband-tdot",
+        "0.5",
+        "-o",
+        &cal,
+    ]);
+    let header = p(d, "cal.h");
+    ok(&["export", &cal, "--format", "c-header", "--out", &header]);
+    let h = std::fs::read_to_string(&header).unwrap();
+    assert!(h.contains("0 points, rmse n/a, R2 n/a"), "{h}");
+    assert!(!h.contains("rmse 0e0"), "{h}");
+    let out = p(d, "report");
+    ok(&["report", &cal, &sample("validation.csv"), "--out", &out]);
+    let html = std::fs::read_to_string(format!("{out}/report.html")).unwrap();
+    let k1 = html
+        .split("<tr>")
+        .find(|r| r.contains("K1+"))
+        .expect("K1+'s row");
+    assert!(k1.contains("n/a"), "{k1}");
+    // A hand-edited file saying nothing was computed over points that were: refused.
+    let text = std::fs::read_to_string(&cal).unwrap();
+    let mut json: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let k0 = &mut json["calibration"]["k0"]["stats"];
+    assert!(k0["n"].as_u64().unwrap() > 1, "{k0}");
+    k0["r2"] = serde_json::Value::Null;
+    let edited = p(d, "edited.json");
+    std::fs::write(&edited, serde_json::to_string_pretty(&json).unwrap()).unwrap();
+    let err = fails(&[
+        "apply",
+        &edited,
+        &sample("validation.csv"),
+        "-o",
+        &p(d, "x.csv"),
+    ]);
+    assert!(
+        err.contains("r2 is null (not computed), but the fit was over") && err.contains("line"),
+        "{err}"
+    );
+}
