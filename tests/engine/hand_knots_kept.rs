@@ -163,3 +163,30 @@ fn knots_placed_beyond_a_chambers_reach_are_refused_by_name() {
     .checked()
     .unwrap();
 }
+
+/// A calibration file whose K0 lies beyond the temperatures a log may hold (hand-edited: no fit
+/// makes one) is refused when read, naming the field; it was applied and exported, and made a
+/// report that could not draw its temperature axis.
+#[test]
+fn a_calibration_whose_k0_lies_beyond_any_log_is_refused_when_read() {
+    let log = sample_log();
+    let cal = vakhrameev::fit(&log, &Recipe::default().checked().unwrap())
+        .unwrap()
+        .calibration;
+    let dir = tempfile::tempdir().unwrap();
+    let good = dir.path().join("good.json");
+    driftlab::files::calibration::save(&good, &cal).unwrap();
+    driftlab::files::calibration::load(&good).expect("a fitted K0 is read");
+    let mut json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&good).unwrap()).unwrap();
+    json["calibration"]["k0"]["x_max"] = serde_json::json!(500.0);
+    let bad = dir.path().join("bad.json");
+    std::fs::write(&bad, serde_json::to_string_pretty(&json).unwrap()).unwrap();
+    let e = driftlab::files::calibration::load(&bad)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("k0.x_max") && e.contains("beyond the temperatures a log may hold"),
+        "{e}"
+    );
+}

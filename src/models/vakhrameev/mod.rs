@@ -465,6 +465,7 @@ impl Calibration {
             crate::models::check_drift_bound(name, bound)?;
             reach::check_extrapolation(k, name, a)?;
         }
+        reach::check_k0_temperatures(&self.k0)?;
         self.check_plateau_facts()?;
         self.check_fit_facts()
     }

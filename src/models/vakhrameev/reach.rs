@@ -70,3 +70,42 @@ pub(super) fn check_extrapolation(k: usize, name: &str, a: &Approx) -> Result<()
         ),
     ))
 }
+
+/// Refuses a K0 whose range or knots lie beyond the temperatures a log may hold
+/// ([`CHAMBER_REACH`]'s first, the range a log's temperature is held to): a fit never makes
+/// one, and a hand-edited K0 over ±1e300 °C was applied and exported, and then made a report
+/// whose temperature axis could not be drawn. (K1's and K2's ranges are the rates the fit saw,
+/// noise and all, and are bounded by the drift they predict instead.)
+///
+/// # Errors
+/// An [`Invalid`] naming `k0.x_min`, `k0.x_max` or `k0.knots_x[j]`.
+pub fn check_k0_temperatures(k0: &Approx) -> Result<(), Invalid> {
+    let (lo, hi) = CHAMBER_REACH[0];
+    let beyond = |x: f64| !(lo..=hi).contains(&x);
+    let found = [
+        ("k0.x_min".to_string(), k0.x_min()),
+        ("k0.x_max".to_string(), k0.x_max()),
+    ]
+    .into_iter()
+    .chain(
+        k0.knots()
+            .0
+            .iter()
+            .enumerate()
+            .map(|(j, &x)| (format!("k0.knots_x[{j}]"), x)),
+    )
+    .find(|(_, x)| beyond(*x));
+    match found {
+        None => Ok(()),
+        Some((field, x)) => Err(Invalid::new(
+            field,
+            format!(
+                "{} °C lies beyond the temperatures a log may hold ({} … {} °C): no fit makes \
+                 such a K0",
+                crate::number::readable(x),
+                crate::number::readable(lo),
+                crate::number::readable(hi)
+            ),
+        )),
+    }
+}
