@@ -459,7 +459,9 @@ fn unit_pipeline_benches(c: &mut Criterion) {
     drop(log);
     let request = |k: usize, recipe: &Recipe, knots: KnotEdits| {
         let mut recipe = recipe.clone();
-        knots.fold_into(&mut recipe);
+        knots
+            .fold_into(&mut recipe)
+            .expect("the recipe sets no values of its own");
         Request {
             log: views[k].clone(),
             recipe,

@@ -17,7 +17,9 @@ use std::sync::Arc;
 /// refitted with the knot at its new position).
 pub fn scenarios(log: &Arc<Log>) -> Vec<(&'static str, [Request; 2])> {
     let request = |mut recipe: Recipe, knots: KnotEdits| {
-        knots.fold_into(&mut recipe);
+        knots
+            .fold_into(&mut recipe)
+            .expect("the recipe sets no values of its own");
         Request {
             log: log.clone(),
             recipe,

@@ -229,11 +229,22 @@ pub fn from_json(path: &Path, text: &str) -> Result<Session> {
         .check(&session.recipe)
         .map_err(|e| err(format!("knots.{e}")))?;
     // Values set by hand that an older session kept beside its recipe belong to the recipe.
+    let both = |at: String, key: &str| {
+        err(format!(
+            "{at}knots.{key}: knot values set both here (where older sessions kept them) and in \
+             {at}recipe.{key}.values, and they differ: keep one of the two"
+        ))
+    };
     let knots = std::mem::take(&mut session.knots);
-    knots.fold_into(&mut session.recipe);
+    knots
+        .fold_into(&mut session.recipe)
+        .map_err(|key| both(String::new(), key))?;
     for a in &mut session.axes {
         let knots = std::mem::take(&mut a.knots);
-        knots.fold_into(&mut a.recipe);
+        let at = format!("axes[{}].", a.name);
+        knots
+            .fold_into(&mut a.recipe)
+            .map_err(|key| both(at.clone(), key))?;
     }
     if merit_given(text) {
         check_merit(&session.merit, &session.recipe).map_err(|e| err(format!("merit.{e}")))?;

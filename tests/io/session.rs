@@ -318,3 +318,49 @@ fn knot_edits_are_dropped_when_the_curve_changes() {
     k.retain_matching(&recipe);
     assert!(k.is_empty());
 }
+
+/// A session giving a coefficient's knot values both in its recipe and where older sessions
+/// kept them, differently, is refused naming both (the older list was dropped unsaid); the same
+/// values in both places, or the older place alone, are taken.
+#[test]
+fn knot_values_given_twice_and_differently_are_refused() {
+    let good = session::to_json(&a_session(sample("calibration.csv")));
+    let edited = |edit: &dyn Fn(&mut serde_json::Value)| {
+        let mut v: serde_json::Value = serde_json::from_str(&good).unwrap();
+        edit(&mut v["session"]);
+        v.to_string()
+    };
+    let recipe_values = |s: &serde_json::Value| s["recipe"]["k1_plus"]["values"].clone();
+    let good_json: serde_json::Value = serde_json::from_str(&good).unwrap();
+    let own = recipe_values(&good_json["session"]);
+    assert!(
+        own.is_array(),
+        "the sample session sets K1+'s values: {own}"
+    );
+    let other: Vec<f64> = own
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v.as_f64().unwrap() + 1.0)
+        .collect();
+    let e = refused(&edited(&|s| {
+        s["knots"]["k1_plus"] = serde_json::json!(other.clone());
+    }));
+    assert!(
+        e.contains("knots.k1_plus: knot values set both here")
+            && e.contains("recipe.k1_plus.values"),
+        "{e}"
+    );
+    let same = edited(&|s| s["knots"]["k1_plus"] = own.clone());
+    session::from_json(Path::new("s.json"), &same).expect("the same values twice");
+    let older = edited(&|s| {
+        s["knots"]["k1_plus"] = own.clone();
+        s["recipe"]["k1_plus"]["values"] = serde_json::Value::Null;
+    });
+    let loaded = session::from_json(Path::new("s.json"), &older).expect("the older place");
+    assert_eq!(
+        serde_json::json!(loaded.recipe.k1_plus.values.unwrap()),
+        own,
+        "moved into the recipe"
+    );
+}

@@ -147,15 +147,22 @@ impl KnotEdits {
     }
 
     /// Moves these values into `recipe` (a session written before the recipe held them):
-    /// each list becomes its coefficient's `values`, unless the recipe sets that coefficient's
-    /// values itself.
-    pub fn fold_into(self, recipe: &mut Recipe) {
+    /// each list becomes its coefficient's `values`, when the recipe sets none of its own or
+    /// the same.
+    ///
+    /// # Errors
+    /// The key of a coefficient whose values both this and the recipe set, and differently
+    /// (one of them would be dropped without a word).
+    pub fn fold_into(self, recipe: &mut Recipe) -> std::result::Result<(), &'static str> {
         for c in Coefficient::ALL {
             let spec = c.spec_mut(recipe);
-            if spec.values.is_none() {
-                spec.values = self.get(c).cloned();
+            match (&spec.values, self.get(c)) {
+                (Some(own), Some(old)) if own != old => return Err(c.key()),
+                (None, old) => spec.values = old.cloned(),
+                _ => {}
             }
         }
+        Ok(())
     }
 
     /// The hand-set knot values of one coefficient.
