@@ -26,11 +26,12 @@ pub struct Args {
     /// Where to write the calibration (JSON).
     #[arg(long, short)]
     pub out: PathBuf,
-    /// Take every setting from a recipe file (JSON), or from the recipe inside a calibration file.
+    /// Take every setting from a recipe file (JSON), or from the recipe inside a calibration file
+    /// (of one axis: a single-axis calibration, or a unit's of one axis).
     #[arg(long, value_name = "FILE")]
     pub recipe: Option<PathBuf>,
-    /// With --recipe naming a unit's calibration (several axes), the axis of it whose recipe
-    /// to take (its knots placed and set by hand among its choices): a log of one axis
+    /// With --recipe naming a unit's calibration (of one axis or several), the axis of it whose
+    /// recipe to take (its knots placed and set by hand among its choices): a log of one axis
     /// calibrated as that axis was.
     #[arg(long, value_name = "AXIS", requires = "recipe")]
     pub recipe_axis: Option<String>,
@@ -580,16 +581,19 @@ fn unit_as_recipe(path: &std::path::Path, e: driftlab::error::Error) -> CliError
 }
 
 /// The recipe of the axis `axis` of the unit's calibration at `path` (`--recipe FILE
-/// --recipe-axis AXIS`); a file that is no unit's calibration is refused by name, for
+/// --recipe-axis AXIS`), a unit of any number of named axes. A file that cannot be read as
+/// one is refused with what is wrong with it (file, line and column, or the field); a file
+/// that reads as one recipe (a recipe, a single-axis calibration) is refused by name, for
 /// `--recipe` takes its one recipe alone.
 fn unit_axis_recipe(path: &std::path::Path, axis: &str) -> Result<Recipe, CliError> {
-    let shown = path.display();
+    let recipe = calibration::read_axis_recipe(path, axis)
+        .map_err(|e| CliError::from(format!("--recipe-axis {axis}: {e}")))?;
     match calibration::load_unit(path) {
-        Ok(unit) if unit.axes.len() > 1 => calibration::read_axis_recipe(path, axis)
-            .map_err(|e| format!("--recipe-axis {axis}: {e}").into()),
+        Ok(unit) if unit.is_unit() => Ok(recipe),
         _ => Err(format!(
-            "--recipe-axis {axis}: {shown} is no unit's calibration (of several axes): it holds \
-             one recipe, which --recipe takes without --recipe-axis"
+            "--recipe-axis {axis}: {} is no unit's calibration: it holds one recipe, which \
+             --recipe takes without --recipe-axis",
+            path.display()
         )
         .into()),
     }

@@ -1,0 +1,148 @@
+//! The eighteenth attack's findings about commands: `--recipe FILE --recipe-axis AXIS` told
+//! every file it could not read that it held one recipe; a unit of one axis could be given
+//! neither as `--recipe` nor with `--recipe-axis`.
+
+use crate::common::run::{fails, ok, p, sample};
+
+// ------------------------------------------------------------------ helpers
+
+/// `imu3-calibration.csv`'s axis gy calibrated alone (`--axes gy`, a version-2 unit of one
+/// axis) into `out`, with `more` options.
+fn gy_unit(out: &str, more: &[&str]) {
+    let log = sample("imu3-calibration.csv");
+    let mut args = vec!["calibrate", &log, "--axes", "gy", "-o", out];
+    args.extend_from_slice(more);
+    ok(&args);
+}
+
+/// The JSON file at `path`.
+fn json(path: &str) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+}
+
+// ------------------------------------------------------------------ 1. --recipe-axis's errors
+
+/// `--recipe FILE --recipe-axis AXIS` says what is wrong with a file it cannot read (it said
+/// of each that it was "no unit's calibration: it holds one recipe"): a missing file, a
+/// unit's file cut short (with its line and column), a unit whose axis asks for a knot no
+/// chamber reaches (with the field), a CSV log (line 1, column 1). Only a file that reads as
+/// one recipe is told so.
+#[test]
+fn recipe_axis_names_what_is_wrong_with_a_file_it_cannot_read() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let unit = p(d, "gy.json");
+    gy_unit(&unit, &[]);
+    let log = sample("calibration.csv");
+    let out = p(d, "cal.json");
+    let refused = |file: &str| {
+        fails(&[
+            "calibrate",
+            &log,
+            "--recipe",
+            file,
+            "--recipe-axis",
+            "gy",
+            "-o",
+            &out,
+        ])
+    };
+    let one_recipe = "no unit's calibration";
+
+    let missing = p(d, "missing.json");
+    let err = refused(&missing);
+    assert!(
+        err.contains("missing.json") && !err.contains(one_recipe),
+        "{err}"
+    );
+
+    // Cut short inside its first line after the header: serde's line and column of the end.
+    let text = std::fs::read_to_string(&unit).unwrap();
+    let cut = &text[..text.len() / 2];
+    let (line, column) = (
+        cut.lines().count(),
+        cut.rsplit('\n').next().unwrap().chars().count(),
+    );
+    let short = p(d, "short.json");
+    std::fs::write(&short, cut).unwrap();
+    let err = refused(&short);
+    assert!(
+        err.contains("short.json")
+            && err.contains(&format!("line {line} column {column}"))
+            && !err.contains(one_recipe),
+        "{err}"
+    );
+
+    let mut bad = json(&unit);
+    bad["axes"][0]["calibration"]["recipe"]["k0"] =
+        serde_json::json!({"kind": "pwl", "knots": 3, "at": [-300, 0, 50]});
+    let bad_path = p(d, "bad.json");
+    std::fs::write(&bad_path, bad.to_string()).unwrap();
+    let err = refused(&bad_path);
+    assert!(
+        err.contains("bad.json")
+            && err.contains("axes[gy].k0.at[0]")
+            && err.contains("-300")
+            && !err.contains(one_recipe),
+        "{err}"
+    );
+
+    let err = refused(&sample("validation.csv"));
+    assert!(
+        err.contains("validation.csv")
+            && err.contains("line 1 column 1")
+            && !err.contains(one_recipe),
+        "{err}"
+    );
+
+    let recipe = p(d, "recipe.json");
+    std::fs::write(&recipe, r#"{"k0": {"kind": "linear"}}"#).unwrap();
+    let err = refused(&recipe);
+    assert!(
+        err.contains(one_recipe) && err.contains("recipe.json"),
+        "{err}"
+    );
+}
+
+// ------------------------------------------------------------------ 2. a unit of one axis
+
+/// The file `calibrate --axes gy` writes (a unit of one axis) is taken by `--recipe` as the
+/// recipe of its one axis, and reproduces its calibration bit for bit: every coefficient,
+/// statistic and the recipe of axis gy equal. `--recipe-axis gy` takes it too (it said the
+/// file was a unit to the one, and no unit to the other).
+#[test]
+fn a_unit_of_one_axis_gives_its_recipe_back_to_recipe() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let first = p(d, "gyonly.json");
+    // A recipe of its own (not the defaults), so that a recipe dropped on the way shows.
+    let recipe = p(d, "r.json");
+    std::fs::write(
+        &recipe,
+        r#"{"k0": {"kind": "spline", "knots": 5}, "k1_plus": {"kind": "parabolic"}}"#,
+    )
+    .unwrap();
+    gy_unit(&first, &["--recipe", &recipe]);
+    let again = p(d, "again.json");
+    gy_unit(&again, &["--recipe", &first]);
+    let calibration = |path: &str| json(path)["axes"][0]["calibration"].clone();
+    let gy = calibration(&first);
+    assert_eq!(gy["recipe"]["k0"]["kind"].as_str(), Some("spline"));
+    assert_eq!(calibration(&again), gy);
+
+    let by_axis = p(d, "by_axis.json");
+    ok(&[
+        "calibrate",
+        &sample("calibration.csv"),
+        "--recipe",
+        &first,
+        "--recipe-axis",
+        "gy",
+        "-o",
+        &by_axis,
+    ]);
+    assert_eq!(
+        json(&by_axis)["calibration"]["recipe"]["k0"],
+        gy["recipe"]["k0"]
+    );
+}
