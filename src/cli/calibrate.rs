@@ -129,11 +129,26 @@ impl Args {
             }
             (None, None) => Recipe::default(),
         };
-        self.recipe_over(base)
+        self.recipe_over(base, self.recipe_file().as_deref())
     }
 
-    /// `base` overridden by the options given, checked (the message names the option).
-    pub(super) fn recipe_over(&self, mut r: Recipe) -> Result<CheckedRecipe, CliError> {
+    /// The file the recipe's settings are read from, as a message names it: `FILE`, or
+    /// `FILE (axis AXIS)` with `--recipe-axis`; `None` for the defaults.
+    fn recipe_file(&self) -> Option<String> {
+        let file = self.recipe.as_ref()?.display();
+        Some(match &self.recipe_axis {
+            Some(axis) => format!("{file} (axis {axis})"),
+            None => file.to_string(),
+        })
+    }
+
+    /// `base` (read from the file `from` names, if any) overridden by the options given,
+    /// checked; a refusal names where the value came from ([`Args::refused`]).
+    pub(super) fn recipe_over(
+        &self,
+        mut r: Recipe,
+        from: Option<&str>,
+    ) -> Result<CheckedRecipe, CliError> {
         if let Some(id) = &self.gyro_id {
             r.gyro_id = id.clone();
         }
@@ -162,7 +177,39 @@ impl Args {
         r.step_h_s = self.step_h.unwrap_or(r.step_h_s);
         r.deadband_tdot = self.deadband_tdot.or(r.deadband_tdot);
         r.deadband_tddot = self.deadband_tddot.or(r.deadband_tddot);
-        r.checked().map_err(common::with_option)
+        r.checked().map_err(|e| self.refused(e, from))
+    }
+
+    /// A setting the engine refused, named by where its value came from: the option when one
+    /// given sets it (`filter_s (--filter): …`), else the file `from` names (`FILE: k0.at[0]:
+    /// …`), whose value it is; a value of neither is a default, named by its option.
+    fn refused(&self, e: driftlab::error::Invalid, from: Option<&str>) -> CliError {
+        CliError::Message(self.in_source_words(&e, from))
+    }
+
+    /// [`Args::refused`]'s words, for a warning about a setting that was taken.
+    fn in_source_words(&self, e: &driftlab::error::Invalid, from: Option<&str>) -> String {
+        match from {
+            Some(file) if !self.sets(&e.field) => format!("{file}: {e}"),
+            _ => common::in_option_words(e),
+        }
+    }
+
+    /// Whether an option given sets the recipe's `field` (as [`Args::recipe_over`] applies
+    /// them): a curve's kind given by `--k0` keeps the file's knots placed by hand, so only
+    /// its count is the option's (`--knots`).
+    fn sets(&self, field: &str) -> bool {
+        match field {
+            "filter_s" => self.filter.is_some(),
+            "temp_smoothing_s" => self.smooth.is_some(),
+            "step_h_s" => self.step_h.is_some(),
+            "deadband_tdot" => self.deadband_tdot.is_some(),
+            "deadband_tddot" => self.deadband_tddot.is_some(),
+            "gyro_id" => self.gyro_id.is_some(),
+            f if f == "plateaus" || f.starts_with("plateaus.") => !self.plateaus.is_empty(),
+            f if f.ends_with(".knots") => self.knots.is_some(),
+            _ => false,
+        }
     }
 }
 
@@ -298,7 +345,7 @@ pub fn run(a: Args) -> Result<(), CliError> {
             .one_sample_windows(log.nominal_dt_s(), &log.source)
             .iter()
             .chain(&recipe.plateaus_beyond(&log))
-            .map(common::in_option_words),
+            .map(|w| a.in_source_words(w, a.recipe_file().as_deref())),
     );
     // The axes of a unit, each with its plan; a log of one axis is a unit of one unnamed axis.
     let (plans, saved_recipe) = match common::chosen_axes(&a.axes, &a.log_args, &log)? {
@@ -468,7 +515,10 @@ impl Args {
             given.once("--axis-recipe", &name, v)?;
             let base =
                 calibration::read_axis_recipe(Path::new(file), &name).map_err(|e| e.to_string())?;
-            let (own, dropped) = self.recipe_over(base)?.into_recipe().as_axis_of(recipe);
+            let (own, dropped) = self
+                .recipe_over(base, Some(&format!("--axis-recipe {v}")))?
+                .into_recipe()
+                .as_axis_of(recipe);
             if !dropped.is_empty() {
                 axis_notes.push(format!(
                     "axis {name}: --axis-recipe {file} sets {}, which the axes of a unit share: \

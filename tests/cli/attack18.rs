@@ -146,3 +146,63 @@ fn a_unit_of_one_axis_gives_its_recipe_back_to_recipe() {
         gy["recipe"]["k0"]
     );
 }
+
+// ------------------------------------------------------------------ 3. a recipe file's refusal
+
+/// A recipe file's setting the engine refuses is refused naming the file (and, given by
+/// `--axis-recipe`, the axis): it said only `k0.at[0]: -200 °C lies beyond …`. A setting is
+/// named by its option (`filter_s (--filter)`) only when the option gave it, not when the file
+/// did.
+#[test]
+fn a_recipe_files_refused_setting_names_the_file_or_the_option_that_gave_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let out = p(d, "cal.json");
+    let log = sample("calibration.csv");
+    let write = |name: &str, text: &str| {
+        let path = p(d, name);
+        std::fs::write(&path, text).unwrap();
+        path
+    };
+    let knot = write(
+        "knot.json",
+        r#"{"k0": {"kind": "pwl", "knots": 3, "at": [-200, 0, 50]}}"#,
+    );
+    let filter = write("filter.json", r#"{"filter_s": -5}"#);
+    let plain = write("plain.json", "{}");
+
+    let err = fails(&["calibrate", &log, "--recipe", &knot, "-o", &out]);
+    assert!(err.contains(&format!("{knot}: k0.at[0]: -200 °C")), "{err}");
+    let err = fails(&["calibrate", &log, "--recipe", &filter, "-o", &out]);
+    assert!(
+        err.contains(&format!("{filter}: filter_s: ")) && !err.contains("--filter"),
+        "{err}"
+    );
+    let err = fails(&[
+        "calibrate",
+        &log,
+        "--recipe",
+        &plain,
+        "--filter=-5",
+        "-o",
+        &out,
+    ]);
+    assert!(
+        err.contains("filter_s (--filter): ") && !err.contains("plain.json"),
+        "{err}"
+    );
+
+    let unit_log = sample("imu3-calibration.csv");
+    let err = fails(&[
+        "calibrate",
+        &unit_log,
+        "--axis-recipe",
+        &format!("gy={knot}"),
+        "-o",
+        &out,
+    ]);
+    assert!(
+        err.contains(&format!("--axis-recipe gy={knot}: k0.at[0]: -200 °C")),
+        "{err}"
+    );
+}
