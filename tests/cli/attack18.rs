@@ -206,3 +206,93 @@ fn a_recipe_files_refused_setting_names_the_file_or_the_option_that_gave_it() {
         "{err}"
     );
 }
+
+// ------------------------------------------------------------------ 4. infinite temperatures
+
+/// An ArduPilot DataFlash log of IMU 0 and IMU 1, 300 messages each one second apart; IMU 0's
+/// temperature `t0(k)` at message k, IMU 1's rising 0.01 °C a message from 20 °C.
+fn dataflash_two(t0: impl Fn(usize) -> f32) -> Vec<u8> {
+    fn message(ty: u8, payload: &[u8]) -> Vec<u8> {
+        let mut m = vec![0xA3, 0x95, ty];
+        m.extend_from_slice(payload);
+        m
+    }
+    let fixed = |s: &str, n: usize| {
+        let mut v = s.as_bytes().to_vec();
+        v.resize(n, 0);
+        v
+    };
+    let fmt = |ty: u8, length: u8, name: &str, format: &str, labels: &str| {
+        let mut p = vec![ty, length];
+        p.extend(fixed(name, 4));
+        p.extend(fixed(format, 16));
+        p.extend(fixed(labels, 64));
+        message(0x80, &p)
+    };
+    let mut b = fmt(0x80, 89, "FMT", "BBnNZ", "Type,Length,Name,Format,Columns");
+    b.extend(fmt(
+        163,
+        54,
+        "IMU",
+        "QBffffffIIfBBHH",
+        "TimeUS,I,GyrX,GyrY,GyrZ,AccX,AccY,AccZ,EG,EA,T,GH,AH,GHz,AHz",
+    ));
+    for k in 0..300usize {
+        for (instance, temp) in [(0u8, t0(k)), (1, 20.0 + 0.01 * k as f32)] {
+            let stamp = 100_000_000 + k as u64 * 1_000_000 + u64::from(instance);
+            let mut p = stamp.to_le_bytes().to_vec();
+            p.push(instance);
+            for v in [0.01f32, 0.0, 0.0, 0.0, 0.0, -9.8] {
+                p.extend_from_slice(&v.to_le_bytes());
+            }
+            p.extend_from_slice(&[0; 8]);
+            p.extend_from_slice(&temp.to_le_bytes());
+            p.extend_from_slice(&[1, 1, 0xE8, 0x03, 0xE8, 0x03]);
+            b.extend(message(163, &p));
+        }
+    }
+    b
+}
+
+/// A temperature of +inf is no reading: IMU 0 reading +inf throughout is listed without a
+/// temperature (it read "temperature inf .. inf degC") and is not the default gyro, so
+/// `convert` takes IMU 1 (it took IMU 0 and then dropped every sample); one reading +inf every
+/// other sample is listed over its finite values (it read "20.00 .. inf degC").
+#[test]
+fn an_infinite_temperature_is_no_reading() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let all_inf = p(d, "inf.bin");
+    std::fs::write(&all_inf, dataflash_two(|_| f32::INFINITY)).unwrap();
+    let listing = ok(&["inspect", &all_inf]);
+    assert!(!listing.contains("inf .."), "{listing}");
+    let csv = p(d, "out.csv");
+    ok(&["convert", &all_inf, "-o", &csv]);
+    let temps: Vec<f64> = std::fs::read_to_string(&csv)
+        .unwrap()
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').nth(4).unwrap().parse().unwrap())
+        .collect();
+    assert_eq!(temps.len(), 300);
+    // IMU 1's temperatures (column temp_c), as written into the log.
+    assert!((temps[0] - 20.0).abs() < 1e-3 && (temps[299] - 22.99).abs() < 1e-3);
+
+    let half = p(d, "half.bin");
+    std::fs::write(
+        &half,
+        dataflash_two(|k| {
+            if k % 2 == 1 {
+                f32::INFINITY
+            } else {
+                30.0 + k as f32 / 100.0
+            }
+        }),
+    )
+    .unwrap();
+    let listing = ok(&["inspect", &half]);
+    assert!(
+        listing.contains("temperature 30.00 .. 32.98 degC"),
+        "{listing}"
+    );
+}
