@@ -296,3 +296,47 @@ fn an_infinite_temperature_is_no_reading() {
         "{listing}"
     );
 }
+
+// ------------------------------------------------------------------ 5. bursts below a step
+
+/// `simulate --bursts ON:EVERY` with a burst or a period shorter than the sampling step (1 s
+/// for the calibration profile) is refused by name: 1e-9:1e-9 and 1e-300:1e-300 wrote a log
+/// with samples lost at random-looking places. 1:1 (always logging) keeps every sample.
+#[test]
+fn bursts_shorter_than_a_sampling_step_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let out = p(d, "sim.csv");
+    for bursts in ["1e-9:1e-9", "1e-300:1e-300", "0.5:10"] {
+        let err = fails(&[
+            "simulate",
+            "--profile",
+            "calibration",
+            "--bursts",
+            bursts,
+            "-o",
+            &out,
+        ]);
+        assert!(
+            err.contains(&format!("--bursts {bursts}: a burst of "))
+                && err.contains("sampling step of 1 s"),
+            "{bursts}: {err}"
+        );
+        assert!(!std::path::Path::new(&out).exists());
+    }
+    let rows = |args: &[&str]| {
+        ok(args);
+        std::fs::read_to_string(&out).unwrap().lines().count()
+    };
+    let every = rows(&["simulate", "--profile", "calibration", "-o", &out]);
+    let bursts = rows(&[
+        "simulate",
+        "--profile",
+        "calibration",
+        "--bursts",
+        "1:1",
+        "-o",
+        &out,
+    ]);
+    assert_eq!(bursts, every);
+}
