@@ -26,11 +26,12 @@ pub struct Args {
     /// Where to write the calibration (JSON).
     #[arg(long, short)]
     pub out: PathBuf,
-    /// Take every setting from a recipe file (JSON), or from the recipe inside a calibration file.
+    /// Take every setting from a recipe file (JSON), or from the recipe inside a calibration file
+    /// (of one axis: a single-axis calibration, or a unit's of one axis).
     #[arg(long, value_name = "FILE")]
     pub recipe: Option<PathBuf>,
-    /// With --recipe naming a unit's calibration (several axes), the axis of it whose recipe
-    /// to take (its knots placed and set by hand among its choices): a log of one axis
+    /// With --recipe naming a unit's calibration (of one axis or several), the axis of it whose
+    /// recipe to take (its knots placed and set by hand among its choices): a log of one axis
     /// calibrated as that axis was.
     #[arg(long, value_name = "AXIS", requires = "recipe")]
     pub recipe_axis: Option<String>,
@@ -128,11 +129,26 @@ impl Args {
             }
             (None, None) => Recipe::default(),
         };
-        self.recipe_over(base)
+        self.recipe_over(base, self.recipe_file().as_deref())
     }
 
-    /// `base` overridden by the options given, checked (the message names the option).
-    pub(super) fn recipe_over(&self, mut r: Recipe) -> Result<CheckedRecipe, CliError> {
+    /// The file the recipe's settings are read from, as a message names it: `FILE`, or
+    /// `FILE (axis AXIS)` with `--recipe-axis`; `None` for the defaults.
+    fn recipe_file(&self) -> Option<String> {
+        let file = self.recipe.as_ref()?.display();
+        Some(match &self.recipe_axis {
+            Some(axis) => format!("{file} (axis {axis})"),
+            None => file.to_string(),
+        })
+    }
+
+    /// `base` (read from the file `from` names, if any) overridden by the options given,
+    /// checked; a refusal names where the value came from ([`Args::refused`]).
+    pub(super) fn recipe_over(
+        &self,
+        mut r: Recipe,
+        from: Option<&str>,
+    ) -> Result<CheckedRecipe, CliError> {
         if let Some(id) = &self.gyro_id {
             r.gyro_id = id.clone();
         }
@@ -161,7 +177,39 @@ impl Args {
         r.step_h_s = self.step_h.unwrap_or(r.step_h_s);
         r.deadband_tdot = self.deadband_tdot.or(r.deadband_tdot);
         r.deadband_tddot = self.deadband_tddot.or(r.deadband_tddot);
-        r.checked().map_err(common::with_option)
+        r.checked().map_err(|e| self.refused(e, from))
+    }
+
+    /// A setting the engine refused, named by where its value came from: the option when one
+    /// given sets it (`filter_s (--filter): …`), else the file `from` names (`FILE: k0.at[0]:
+    /// …`), whose value it is; a value of neither is a default, named by its option.
+    fn refused(&self, e: driftlab::error::Invalid, from: Option<&str>) -> CliError {
+        CliError::Message(self.in_source_words(&e, from))
+    }
+
+    /// [`Args::refused`]'s words, for a warning about a setting that was taken.
+    fn in_source_words(&self, e: &driftlab::error::Invalid, from: Option<&str>) -> String {
+        match from {
+            Some(file) if !self.sets(&e.field) => format!("{file}: {e}"),
+            _ => common::in_option_words(e),
+        }
+    }
+
+    /// Whether an option given sets the recipe's `field` (as [`Args::recipe_over`] applies
+    /// them): a curve's kind given by `--k0` keeps the file's knots placed by hand, so only
+    /// its count is the option's (`--knots`).
+    fn sets(&self, field: &str) -> bool {
+        match field {
+            "filter_s" => self.filter.is_some(),
+            "temp_smoothing_s" => self.smooth.is_some(),
+            "step_h_s" => self.step_h.is_some(),
+            "deadband_tdot" => self.deadband_tdot.is_some(),
+            "deadband_tddot" => self.deadband_tddot.is_some(),
+            "gyro_id" => self.gyro_id.is_some(),
+            f if f == "plateaus" || f.starts_with("plateaus.") => !self.plateaus.is_empty(),
+            f if f.ends_with(".knots") => self.knots.is_some(),
+            _ => false,
+        }
     }
 }
 
@@ -297,7 +345,7 @@ pub fn run(a: Args) -> Result<(), CliError> {
             .one_sample_windows(log.nominal_dt_s(), &log.source)
             .iter()
             .chain(&recipe.plateaus_beyond(&log))
-            .map(common::in_option_words),
+            .map(|w| a.in_source_words(w, a.recipe_file().as_deref())),
     );
     // The axes of a unit, each with its plan; a log of one axis is a unit of one unnamed axis.
     let (plans, saved_recipe) = match common::chosen_axes(&a.axes, &a.log_args, &log)? {
@@ -467,7 +515,10 @@ impl Args {
             given.once("--axis-recipe", &name, v)?;
             let base =
                 calibration::read_axis_recipe(Path::new(file), &name).map_err(|e| e.to_string())?;
-            let (own, dropped) = self.recipe_over(base)?.into_recipe().as_axis_of(recipe);
+            let (own, dropped) = self
+                .recipe_over(base, Some(&format!("--axis-recipe {v}")))?
+                .into_recipe()
+                .as_axis_of(recipe);
             if !dropped.is_empty() {
                 axis_notes.push(format!(
                     "axis {name}: --axis-recipe {file} sets {}, which the axes of a unit share: \
@@ -580,16 +631,19 @@ fn unit_as_recipe(path: &std::path::Path, e: driftlab::error::Error) -> CliError
 }
 
 /// The recipe of the axis `axis` of the unit's calibration at `path` (`--recipe FILE
-/// --recipe-axis AXIS`); a file that is no unit's calibration is refused by name, for
+/// --recipe-axis AXIS`), a unit of any number of named axes. A file that cannot be read as
+/// one is refused with what is wrong with it (file, line and column, or the field); a file
+/// that reads as one recipe (a recipe, a single-axis calibration) is refused by name, for
 /// `--recipe` takes its one recipe alone.
 fn unit_axis_recipe(path: &std::path::Path, axis: &str) -> Result<Recipe, CliError> {
-    let shown = path.display();
+    let recipe = calibration::read_axis_recipe(path, axis)
+        .map_err(|e| CliError::from(format!("--recipe-axis {axis}: {e}")))?;
     match calibration::load_unit(path) {
-        Ok(unit) if unit.axes.len() > 1 => calibration::read_axis_recipe(path, axis)
-            .map_err(|e| format!("--recipe-axis {axis}: {e}").into()),
+        Ok(unit) if unit.is_unit() => Ok(recipe),
         _ => Err(format!(
-            "--recipe-axis {axis}: {shown} is no unit's calibration (of several axes): it holds \
-             one recipe, which --recipe takes without --recipe-axis"
+            "--recipe-axis {axis}: {} is no unit's calibration: it holds one recipe, which \
+             --recipe takes without --recipe-axis",
+            path.display()
         )
         .into()),
     }

@@ -16,8 +16,8 @@ pub struct Args {
     /// accel_x/y/z_m_s2 when the gyro has an accelerometer.
     #[arg(long, short, value_name = "CSV")]
     pub out: PathBuf,
-    /// The gyro instance (as `inspect` lists them; default: the first whose temperature is
-    /// not all NaN).
+    /// The gyro instance (as `inspect` lists them; default: the first whose temperature has
+    /// a finite value).
     #[arg(long, value_name = "N")]
     pub gyro: Option<usize>,
     /// The temperature to write when the gyro's own is missing: accel (its accelerometer's),

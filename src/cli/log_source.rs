@@ -12,8 +12,8 @@ use std::path::Path;
 #[derive(clap::Args, Debug, Clone, Default)]
 pub struct FormatArgs {
     /// The gyro instance of a drone or robot log (PX4 ULog, ArduPilot DataFlash, ROS bag,
-    /// MCAP), as `driftlab inspect` lists them (default: the first whose temperature is not
-    /// all NaN).
+    /// MCAP), as `driftlab inspect` lists them (default: the first whose temperature has a
+    /// finite value).
     #[arg(long, value_name = "N")]
     pub gyro: Option<usize>,
     /// A temperature for a gyro whose own is missing: accel (its accelerometer's) or

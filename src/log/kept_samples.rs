@@ -51,15 +51,25 @@ pub fn kept_samples(sel: &Selected<'_>) -> Result<KeptSamples, ReadError> {
     let channel_names = ["gyro_x_rad_s", "gyro_y_rad_s", "gyro_z_rad_s", "temp_c"];
     for (c, &(count, first)) in missing.iter().enumerate() {
         if count > 0 {
+            // A temperature taken from another sensor is matched to the gyro's samples by
+            // time: one it lacks is mostly a gyro sample with none of that sensor's close
+            // enough, which "NaN or infinite" would hide.
+            let what = match sel.temp_from {
+                TempFrom::Accel | TempFrom::ImuStatus if c == 3 => format!(
+                    "no {} temperature for temp_c (none of its samples close enough in time to \
+                     the gyro's, or one NaN or infinite)",
+                    sel.temp_from
+                ),
+                _ => format!("NaN or infinite {}", channel_names[c]),
+            };
             problems.push(Problem {
                 line: first + 1,
                 column: None,
                 kind: ProblemKind::MissingValue,
                 count,
                 message: format!(
-                    "{} dropped: NaN or infinite {} (first at sample {})",
+                    "{} dropped: {what} (first at sample {})",
                     samples(count),
-                    channel_names[c],
                     first + 1
                 ),
             });

@@ -4,7 +4,7 @@
 //! bag, MCAP) through [`super::formats`], turned into the same [`Log`].
 //!
 //! A drone log holds several IMUs; one gyro instance becomes the log ([`FormatChoice`]:
-//! `--gyro N`, `--temp-from`, by default the first whose temperature is not all NaN, with a
+//! `--gyro N`, `--temp-from`, by default the first whose temperature has a finite value, with a
 //! note saying which):
 //!
 //! | `Log` field | from the instance |
@@ -35,7 +35,7 @@ pub use super::formats::TempFrom;
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct FormatChoice {
     /// The instance (as [`ImuRecording::instances`] numbers them); `None`: the first whose
-    /// temperature (of `temp_from`'s kind) is not all NaN.
+    /// temperature (of `temp_from`'s kind) has a finite value.
     pub gyro: Option<usize>,
     /// Where the temperature comes from; `None`: the gyro's own.
     pub temp_from: Option<TempFrom>,

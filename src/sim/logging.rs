@@ -71,6 +71,7 @@ impl Logging {
         }
         if let Some(b) = &self.bursts {
             b.check()?;
+            b.check_step(1.0 / rate_hz)?;
         }
         if let Some(j) = &self.jitter {
             j.check(rate_hz)?;
@@ -209,6 +210,29 @@ impl Bursts {
         let k = ((time_s + WINDOW_TOLERANCE_S) / self.every_s).floor();
         let phase = time_s - k * self.every_s;
         phase < self.on_s - WINDOW_TOLERANCE_S
+    }
+
+    /// Refuses a burst shorter than the sampling step `step_s` (and so a period shorter
+    /// than it, which [`Bursts::check`] holds at least as long): a burst holds at most one
+    /// sample, and which samples fall in one is decided by their rounding to the window
+    /// tolerance (1e-9:1e-9 lost samples at random-looking places), where the engineer meant
+    /// bursts of several.
+    fn check_step(&self, step_s: f64) -> Result<(), Invalid> {
+        if self.on_s < step_s - WINDOW_TOLERANCE_S {
+            let r = crate::number::readable;
+            return Err(Invalid::new(
+                format!("--bursts {}:{}", r(self.on_s), r(self.every_s)),
+                format!(
+                    "a burst of {} s is shorter than the sampling step of {} s ({} Hz): it \
+                     would hold at most one sample; give ON_S (and EVERY_S ≥ ON_S) of at \
+                     least one step",
+                    r(self.on_s),
+                    r(step_s),
+                    r(1.0 / step_s)
+                ),
+            ));
+        }
+        Ok(())
     }
 
     fn check(&self) -> Result<(), Invalid> {

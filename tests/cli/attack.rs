@@ -750,6 +750,8 @@ fn options_outside_sense_are_refused_with_their_name() {
     let recipe = p(d, "recipe.json");
     std::fs::write(&recipe, r#"{ "filter_s": 1e9 }"#).unwrap();
     let out = p(d, "never.json");
+    // The recipe's value is named by its file (by --filter only when that option gives it).
+    let from_file = format!("{recipe}: filter_s: 1e9 s is longer than any chamber run");
     let cases: Vec<(Vec<&str>, &str)> = vec![
         (
             vec!["allan", "--tau0", "1e-300", &log],
@@ -787,7 +789,7 @@ fn options_outside_sense_are_refused_with_their_name() {
         ),
         (
             vec!["calibrate", &log, "--recipe", &recipe, "--out", &out],
-            "filter_s (--filter): 1e9 s is longer than any chamber run",
+            &from_file,
         ),
         (
             vec!["calibrate", &log, "--smooth", "1e5", "--out", &out],

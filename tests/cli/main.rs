@@ -12,6 +12,7 @@ mod attack;
 mod attack15;
 mod attack16;
 mod attack17;
+mod attack18;
 mod axis_choice;
 mod commands;
 mod compare_verdicts;

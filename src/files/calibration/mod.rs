@@ -334,12 +334,15 @@ fn read_text(path: &Path) -> Result<String> {
 /// The byte-order mark a text file may start with.
 const BOM: char = '\u{feff}';
 
-/// Reads a recipe file, or the recipe inside a Vakhrameev calibration file. The two are told
-/// apart by the file's `format` field (a recipe has none), not by searching its text.
+/// Reads a recipe file, or the recipe inside a Vakhrameev calibration file: a single-axis
+/// one, or a unit's of one axis (one axis is a unit of one, so the file `calibrate --axes gy`
+/// writes gives its recipe back as the file of an unnamed axis does). The two are told apart
+/// by the file's `format` field (a recipe has none), not by searching its text.
 ///
 /// # Errors
-/// An unreadable file, malformed JSON (with line and column), or a calibration without a
-/// recipe (a regression model's).
+/// An unreadable file, malformed JSON (with line and column), a calibration without a recipe
+/// (a regression model's), or a unit of several axes (which holds one recipe per axis:
+/// [`read_axis_recipe`] takes one of them).
 pub fn read_recipe(path: &Path) -> Result<Recipe> {
     let text = read_text(path)?;
     let err = |e: serde_json::Error| Error::File {
@@ -347,10 +350,20 @@ pub fn read_recipe(path: &Path) -> Result<Recipe> {
         message: e.to_string(),
     };
     let value: serde_json::Value = serde_json::from_str(&text).map_err(err)?;
-    if value.get("format").is_some() {
+    if value.get("format").is_none() {
+        return serde_json::from_str(&text).map_err(err);
+    }
+    if version(path, &text)? == VERSION_SINGLE_AXIS {
         return from_json(path, &text).map(|c| c.recipe);
     }
-    serde_json::from_str(&text).map_err(err)
+    let unit = version2::from_json(path, &text)?;
+    match unit.axes.as_slice() {
+        [one] => axis_recipe(path, &unit, &one.name),
+        _ => Err(Error::File {
+            path: path.to_path_buf(),
+            message: version2::not_single(path, &text),
+        }),
+    }
 }
 
 /// The recipe of axis `axis` for a calibration of a unit: the recipe of that axis when `path`
@@ -370,6 +383,15 @@ pub fn read_axis_recipe(path: &Path, axis: &str) -> Result<Recipe> {
         return read_recipe(path);
     }
     let unit = unit_from_json(path, &text)?;
+    axis_recipe(path, &unit, axis)
+}
+
+/// The recipe of the axis `axis` of `unit`, read from the file at `path`.
+///
+/// # Errors
+/// A unit without that axis, or whose axis is no Vakhrameev calibration, naming the axes it
+/// holds.
+fn axis_recipe(path: &Path, unit: &UnitCalibration, axis: &str) -> Result<Recipe> {
     match unit.axes.iter().find(|a| a.name == axis).map(|a| &a.model) {
         Some(DriftModel::Vakhrameev(c)) => Ok(c.recipe.clone()),
         found => Err(Error::File {

@@ -207,12 +207,14 @@ impl Values {
         Values::F32(vec![f32::NAN; n])
     }
 
-    /// Smallest and largest value, NaN ignored; `None` when every value is NaN.
+    /// Smallest and largest value, NaN and infinities ignored (no sensor reads them: a field
+    /// never filled, or garbage, which every reader drops as a row); `None` when no value is
+    /// finite.
     pub fn range(&self) -> Option<(f64, f64)> {
         let mut r: Option<(f64, f64)> = None;
         for i in 0..self.len() {
             let v = self.get(i);
-            if v.is_nan() {
+            if !v.is_finite() {
                 continue;
             }
             r = Some(match r {
@@ -223,9 +225,10 @@ impl Values {
         r
     }
 
-    /// True when at least one value is a number.
+    /// True when at least one value is a reading: finite, by [`Values::range`]'s rule (a
+    /// temperature of +inf throughout is none, and every row of it would be dropped).
     pub fn has_numbers(&self) -> bool {
-        (0..self.len()).any(|i| !self.get(i).is_nan())
+        (0..self.len()).any(|i| self.get(i).is_finite())
     }
 }
 
@@ -346,7 +349,7 @@ pub struct InstanceSummary {
     pub steps_back: usize,
     /// First and last stamp, s.
     pub time_range_s: Option<(f64, f64)>,
-    /// The own temperature's range, °C; `None` when it is all NaN.
+    /// The own temperature's range, °C; `None` when no value of it is finite.
     pub temp_range_c: Option<(f64, f64)>,
     /// True when the instance has accelerometer axes.
     pub has_accel: bool,
@@ -361,7 +364,7 @@ pub struct AltTemperatureSummary {
     pub from: TempFrom,
     /// The field it comes from.
     pub field: String,
-    /// Its range, °C; `None` when it is all NaN.
+    /// Its range, °C; `None` when no value of it is finite.
     pub range_c: Option<(f64, f64)>,
 }
 
@@ -396,7 +399,7 @@ impl InstanceSummary {
         }
         match self.temp_range_c {
             Some((a, b)) => s.push_str(&format!(", temperature {a:.2} .. {b:.2} degC")),
-            None => s.push_str(", temperature n/a (none of its own)"),
+            None => s.push_str(", temperature n/a (no finite value of its own)"),
         }
         if !self.has_accel {
             s.push_str(", no accelerometer");
@@ -407,7 +410,7 @@ impl InstanceSummary {
                     "; temp_from {}: {} {lo:.2} .. {hi:.2} degC",
                     a.from, a.field
                 )),
-                None => s.push_str(&format!("; {} is all NaN", a.field)),
+                None => s.push_str(&format!("; {} has no finite value", a.field)),
             }
         }
         s
@@ -611,5 +614,14 @@ mod tests {
         let v = Values::F32(vec![f32::NAN, 2.0, -1.0, f32::NAN]);
         assert_eq!(v.range(), Some((-1.0, 2.0)));
         assert_eq!(Values::nan_f32(3).range(), None);
+    }
+
+    #[test]
+    fn ranges_and_readings_ignore_infinities() {
+        let v = Values::F32(vec![f32::INFINITY, 20.0, f32::NEG_INFINITY, 21.5]);
+        assert_eq!(v.range(), Some((20.0, 21.5)));
+        let inf = Values::F64(vec![f64::INFINITY; 3]);
+        assert_eq!(inf.range(), None);
+        assert!(!inf.has_numbers());
     }
 }

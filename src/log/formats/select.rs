@@ -1,6 +1,6 @@
 //! Which gyro a command works on (`--gyro N`) and which temperature it uses (`--temp-from`).
 //!
-//! By default: the first instance whose own temperature is not all NaN, with a note saying
+//! By default: the first instance whose own temperature has a finite value, with a note saying
 //! which. A temperature that is not the gyro's own (its accelerometer's, PX4's
 //! `vehicle_imu_status`) is used only when asked for: it may lag the gyro's die by degrees,
 //! so a calibration fitted on it should be a choice, not a fallback. Without one, the choice
@@ -62,7 +62,7 @@ fn describe(i: &GyroInstance) -> String {
 fn range(v: &Values) -> String {
     match v.range() {
         Some((a, b)) => format!("{a:.2} .. {b:.2} degC"),
-        None => "n/a: all NaN".into(),
+        None => "n/a: no finite value".into(),
     }
 }
 
@@ -196,7 +196,7 @@ pub fn select(
                 format!("the first of {}; gyro N picks another", rec.instances.len())
             } else if from == TempFrom::Own {
                 format!(
-                    "the first of {} whose temperature is not all NaN; gyro N picks another",
+                    "the first of {} with a finite temperature; gyro N picks another",
                     rec.instances.len()
                 )
             } else {
