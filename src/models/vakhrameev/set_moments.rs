@@ -408,11 +408,8 @@ mod tests {
         assert!((s.r2 - t.r2).abs() <= 1e-9, "{what}: {s:?} {t:?}");
     }
 
-    /// Every kind of K1 and K2, with every number of refinements and both weightings, fitted
-    /// from moments and pass by pass over the samples: the same curves, statistics and points
-    /// to rounding.
-    #[test]
-    fn moments_passes_are_the_streaming_passes_to_rounding() {
+    /// The sample calibration log's signals and sets under the default recipe.
+    fn sample_sets() -> (Recipe, Prepared, super::super::SetsOfSamples) {
         let path =
             std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("sample_logs/calibration.csv");
         let log = crate::log::ingest::read_path(&path, &Default::default()).expect("sample log");
@@ -426,6 +423,15 @@ mod tests {
         );
         assert!(!ranges.is_empty());
         let sets = sets_of_samples(&log.time_s, &prepared, &ranges, &base);
+        (base, prepared, sets)
+    }
+
+    /// Every kind of K1 and K2, with every number of refinements and both weightings, fitted
+    /// from moments and pass by pass over the samples: the same curves, statistics and points
+    /// to rounding.
+    #[test]
+    fn moments_passes_are_the_streaming_passes_to_rounding() {
+        let (base, prepared, sets) = sample_sets();
         let inputs = SetInputs {
             tdot: &prepared.deriv.tdot,
             tddot: &prepared.deriv.tddot,
@@ -497,18 +503,7 @@ mod tests {
     /// one refinement). Passes that converge run to the count asked for, unsaid.
     #[test]
     fn diverging_passes_stop_and_say_so() {
-        let path =
-            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("sample_logs/calibration.csv");
-        let log = crate::log::ingest::read_path(&path, &Default::default()).expect("sample log");
-        let base = Recipe::default();
-        let prepared = Prepared::new(&log, &base);
-        let ranges = crate::signal::plateau::ranges(
-            &base.plateaus,
-            &log.time_s,
-            &prepared.deriv.tdot,
-            &prepared.deriv.ready,
-        );
-        let sets = sets_of_samples(&log.time_s, &prepared, &ranges, &base);
+        let (base, prepared, sets) = sample_sets();
         let inputs = SetInputs {
             tdot: &prepared.deriv.tdot,
             tddot: &prepared.deriv.tddot,
