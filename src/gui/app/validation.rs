@@ -48,6 +48,16 @@ pub(super) enum Provenance {
     Other,
 }
 
+impl Provenance {
+    /// Why the sketch cannot tell, when it cannot: what the figures panel marks.
+    fn doubt(self) -> Option<String> {
+        match self {
+            Provenance::CannotTell(why) => Some(why),
+            _ => None,
+        }
+    }
+}
+
 impl Workbench {
     /// Whether validation log `l` is the calibration log shown, by the calibration log's
     /// sketch (as `driftlab compare` and `evaluate` tell it: the sketch is of the calibration
@@ -162,10 +172,7 @@ impl Workbench {
                  figures may not be held out"
             );
         }
-        self.state.validation_doubt = match provenance {
-            Provenance::CannotTell(why) => Some(why),
-            _ => None,
-        };
+        self.state.validation_doubt = provenance.doubt();
         self.look_at_columns(&l, Target::Validation);
         let m = self.match_validation(&l);
         let judged = m.views.iter().filter(|v| v.is_some()).count();
@@ -253,10 +260,7 @@ impl Workbench {
                 _ => format!("; validation log {name} kept: held out for this log too"),
             },
         };
-        self.state.validation_doubt = match provenance {
-            Provenance::CannotTell(why) => Some(why),
-            _ => None,
-        };
+        self.state.validation_doubt = provenance.doubt();
         self.set_validation_views(m.views);
         self.state.validation_file = Some(file);
         Some((note, false))
