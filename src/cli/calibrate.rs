@@ -374,7 +374,12 @@ pub fn run(a: Args) -> Result<(), CliError> {
             .unwrap_or_else(|_| Err("the hashing thread failed".to_string()));
         (fitted, sha256)
     });
-    let fitted = fitted.map_err(|e| common::fit_failed(&log.source, &e))?;
+    let recipe_file = a.recipe_file();
+    let fitted = fitted.map_err(|e| {
+        common::fit_failed(&log.source, &e, &|i| {
+            a.in_source_words(i, recipe_file.as_deref())
+        })
+    })?;
     let unit = stamped(&fitted, &file_name(&a.log), &sha256?);
     // Both files are written before either is put in place: a recipe that cannot be
     // written leaves the old calibration as it was.

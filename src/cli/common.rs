@@ -460,13 +460,15 @@ pub fn about(source: &str, e: impl std::fmt::Display) -> String {
 }
 
 /// A fit's error about the log `source`, in the command line's words: the plateaus the engine
-/// asks to be marked are given with `--plateau`.
-pub fn fit_failed(source: &str, e: &driftlab::Error) -> String {
+/// asks to be marked are given with `--plateau`; a setting refused is named as `setting`
+/// words it (by its option, [`in_option_words`], or by the recipe file that gave it).
+pub fn fit_failed(
+    source: &str,
+    e: &driftlab::Error,
+    setting: &dyn Fn(&driftlab::error::Invalid) -> String,
+) -> String {
     let m = match e {
-        driftlab::Error::Invalid(i) => match with_option(i.clone()) {
-            CliError::Message(m) => about(source, m),
-            CliError::ClosedOutput => about(source, e),
-        },
+        driftlab::Error::Invalid(i) => about(source, setting(i)),
         _ => about(source, e),
     };
     use driftlab::models::FitError;

@@ -147,7 +147,9 @@ fn judge(a: &Args, model: &DriftModel, log: &Log, hash: &str) -> Result<verify::
     };
     verify::judge(model, log, file, opts, a.window.is_some()).map_err(|e| match e {
         verify::JudgeError::Options(i) => common::with_option(i),
-        verify::JudgeError::FrozenRate(e) => common::fit_failed(&log.source, &e).into(),
+        verify::JudgeError::FrozenRate(e) => {
+            common::fit_failed(&log.source, &e, &common::in_option_words).into()
+        }
         verify::JudgeError::Correct(e) => format!("{}: {e}", a.calibration.display()).into(),
     })
 }

@@ -9,6 +9,7 @@
 use super::formats::{self, Selected, TempFrom};
 use super::read::ReadError;
 use super::{Problem, ProblemKind};
+use crate::signal::time_order::time_order;
 use crate::signal::timing::{GAP_FACTOR, Timing, stray_stamps};
 
 /// The samples of a chosen gyro that are kept, in time order.
@@ -94,71 +95,68 @@ pub fn kept_samples(sel: &Selected<'_>) -> Result<KeptSamples, ReadError> {
             }
         }
     }
-    // Time order, as the CSV reader checks it.
-    let mut rep = (0, 0);
-    let mut back = (0, 0);
-    let mut first_back = (0.0, 0.0);
-    let mut last = f64::NEG_INFINITY;
-    let mut ordered = 0usize;
-    for (i, k) in keep.iter_mut().enumerate() {
-        if !*k {
-            continue;
-        }
-        ordered += 1;
-        let t = time_all[i];
-        if t > last {
-            last = t;
-        } else {
-            *k = false;
-            if t == last {
-                note(&mut rep, i);
-            } else {
-                if back.0 == 0 {
-                    first_back = (t, last);
-                }
-                note(&mut back, i);
-            }
-        }
+    // Time order, by the CSV reader's rule.
+    let ordered = keep.iter().filter(|&&k| k).count();
+    let order = time_order(&time_all, |i| !keep[i]);
+    for &i in &order.dropped {
+        keep[i] = false;
     }
-    // Most samples before the one kept: the log runs newest first (or is shuffled), and
-    // dropping them would leave a sliver of it to calibrate, judge or correct; the CSV reader
-    // refuses such a log alike.
-    if back.0 * 2 > ordered {
+    // Most samples out of order: the log runs newest first (or is shuffled), and dropping
+    // them would leave a sliver of it to calibrate, judge or correct; the CSV reader refuses
+    // such a log alike.
+    if let Some((at, first_s, after_s)) = order.first_step_back()
+        && order.out_of_order() * 2 > ordered
+    {
         return Err(ReadError::NotInTimeOrder {
             path: sel.source.to_string(),
             message: format!(
                 "{} of the {ordered} samples of {} go back in time (first at sample {}: {} s \
                  after {} s): the samples are not in time order (newest first?); the log's \
                  clock cannot be read as written",
-                back.0,
+                order.out_of_order(),
                 inst.label,
-                back.1 + 1,
-                crate::number::readable(first_back.0),
-                crate::number::readable(first_back.1)
+                at + 1,
+                crate::number::readable(first_s),
+                crate::number::readable(after_s)
             ),
         });
     }
-    for ((count, first), kind, what) in [
-        (
-            rep,
-            ProblemKind::TimeRepeated,
-            "time repeats an earlier stamp",
-        ),
-        (back, ProblemKind::TimeBackwards, "time went backwards"),
-    ] {
-        if count > 0 {
-            problems.push(Problem {
-                line: first + 1,
-                column: None,
-                kind,
-                count,
-                message: format!(
-                    "{} dropped: {what} (first at sample {})",
-                    samples(count),
-                    first + 1
-                ),
-            });
-        }
+    if let Some(t) = order.repeated {
+        problems.push(Problem {
+            line: t.first + 1,
+            column: None,
+            kind: ProblemKind::TimeRepeated,
+            count: t.count,
+            message: format!(
+                "{} dropped: time repeats an earlier stamp (first at sample {})",
+                samples(t.count),
+                t.first + 1
+            ),
+        });
+    }
+    if let Some(b) = order.backwards {
+        let line = b.tally.first + 1;
+        problems.push(Problem {
+            line,
+            column: None,
+            kind: ProblemKind::TimeBackwards,
+            count: b.tally.count,
+            message: b.message("sample", &format!("sample {line}")),
+        });
+    }
+    if let Some(a) = order.ahead {
+        let line = a.tally.first + 1;
+        problems.push(Problem {
+            line,
+            column: None,
+            kind: ProblemKind::TimeBackwards,
+            count: a.tally.count,
+            message: a.message(
+                "sample",
+                &format!("sample {line}"),
+                &format!("sample {}", a.resumed + 1),
+            ),
+        });
     }
     let mut rows: Vec<usize> = (0..n).filter(|&i| keep[i]).collect();
     if rows.is_empty() {

@@ -13,6 +13,7 @@ pub mod lod;
 pub mod plateau;
 mod stray;
 pub mod summary;
+pub mod time_order;
 pub mod timing;
 
 /// Centred moving average over `window` samples, truncated symmetrically at the ends.

@@ -192,6 +192,19 @@ fn a_recipe_files_refused_setting_names_the_file_or_the_option_that_gave_it() {
         "{err}"
     );
 
+    // A value the file gives that only the fit refuses (a filter longer than the log) names
+    // the file too, not the option.
+    let long = write("long.json", r#"{"filter_s": 100000}"#);
+    let err = fails(&["calibrate", &log, "--recipe", &long, "-o", &out]);
+    assert!(
+        err.contains(&format!(
+            "{long}: filter_s: 100000 s is longer than the log"
+        )) && !err.contains("--filter"),
+        "{err}"
+    );
+    let err = fails(&["calibrate", &log, "--filter", "100000", "-o", &out]);
+    assert!(err.contains("filter_s (--filter): 100000 s"), "{err}");
+
     let unit_log = sample("imu3-calibration.csv");
     let err = fails(&[
         "calibrate",
@@ -339,4 +352,47 @@ fn bursts_shorter_than_a_sampling_step_are_refused() {
         &out,
     ]);
     assert_eq!(bursts, every);
+}
+
+// ------------------------------------------------------------------ 7. refinements stopped
+
+/// Refinement passes that diverge are stopped (64-knot splines of the + set, 14 refinements
+/// asked for: one runs); the calibration said 14 all the same, and so did its report. The
+/// file now records the passes run on each set, a hand edit claiming more than the recipe's
+/// is refused, and the report says both.
+#[test]
+fn refinements_stopped_short_are_recorded_in_the_calibration_and_its_report() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let recipe = p(d, "recipe.json");
+    std::fs::write(
+        &recipe,
+        r#"{"k1_plus": {"kind": "spline", "knots": 64},
+            "k2_plus": {"kind": "spline", "knots": 64}, "refinements": 14}"#,
+    )
+    .unwrap();
+    let cal = p(d, "cal.json");
+    let log = sample("calibration.csv");
+    ok(&["calibrate", &log, "--recipe", &recipe, "-o", &cal]);
+    let v = json(&cal);
+    let c = &v["calibration"];
+    assert_eq!(c["recipe"]["refinements"], 14);
+    assert_eq!(c["resolved"]["refinements_run"], serde_json::json!([1, 14]));
+
+    let out = p(d, "report");
+    ok(&["report", &cal, &log, "--out", &out]);
+    let html = std::fs::read_to_string(format!("{out}/report.html")).unwrap();
+    assert!(
+        html.contains("14 asked for; 1 run on the + set, 14 on the − set"),
+        "{}",
+        &html[html.find("refinement passes").unwrap_or(0)..][..300.min(html.len())]
+    );
+
+    // A file claiming more passes than its recipe asks for is refused, with the field.
+    let edited = p(d, "edited.json");
+    let mut claimed = v.clone();
+    claimed["calibration"]["resolved"]["refinements_run"] = serde_json::json!([15, 14]);
+    std::fs::write(&edited, serde_json::to_string_pretty(&claimed).unwrap()).unwrap();
+    let err = fails(&["apply", &edited, &log, "-o", &p(d, "c.csv")]);
+    assert!(err.contains("resolved.refinements_run"), "{err}");
 }

@@ -318,3 +318,68 @@ fn a_stray_stamp_ahead_at_the_start_or_behind_at_the_end_reads_as_the_clean_log(
     let log = read(&text(&r));
     assert!(strays(&log).is_empty(), "{:?}", log.info.problems);
 }
+
+/// The problems that tell a run stamped ahead of the rows after it.
+fn ahead(log: &driftlab::Log) -> Vec<driftlab::log::Problem> {
+    kinds(log, ProblemKind::TimeBackwards)
+        .into_iter()
+        .filter(|p| p.message.contains("stamped ahead"))
+        .collect()
+}
+
+#[test]
+fn a_longer_run_stamped_ahead_drops_the_run_not_the_hours_after_it() {
+    // Three rows or more side by side stamped +10,000 s are no stray stamp (those are one or
+    // two rows), but the rows after them go on from the rows before: read first way only,
+    // the three were kept and the 1,500 rows after them dropped as going backwards.
+    let clean_rows = rows(3000);
+    for (at, run) in [(1500, 3), (1500, 40), (0, 3)] {
+        let mut r = clean_rows.clone();
+        for (i, row) in r.iter_mut().enumerate().skip(at).take(run) {
+            let cells = row.split_once(',').unwrap().1.to_string();
+            *row = format!("{},{cells}", 100 + i + 10_000);
+        }
+        let mut kept = clean_rows.clone();
+        kept.drain(at..at + run);
+        let log = read(&text(&r));
+        let want = read(&text(&kept));
+        assert_eq!(
+            log.time_s, want.time_s,
+            "{at} {run}: {:?}",
+            log.info.problems
+        );
+        assert_eq!(log.omega_dph, want.omega_dph);
+        let a = ahead(&log);
+        assert_eq!(a.len(), 1, "{at} {run}: {:?}", log.info.problems);
+        assert_eq!((a[0].line, a[0].count), (line_of_row(at), run));
+        assert!(
+            a[0].message.contains(&format!(
+                "the log goes on at line {} with {} s",
+                line_of_row(at + run),
+                100 + at + run
+            )),
+            "{}",
+            a[0].message
+        );
+    }
+}
+
+#[test]
+fn a_drone_log_drops_a_run_stamped_ahead_by_the_same_rule() {
+    let clean_t: Vec<f64> = (0..1200).map(|i| 100.0 + f64::from(i)).collect();
+    let mut t = clean_t.clone();
+    for v in &mut t[600..605] {
+        *v += 10_000.0;
+    }
+    let mut without = clean_t.clone();
+    without.drain(600..605);
+    let log = ulog_log(&t);
+    assert_eq!(log.time_s, without, "{:?}", log.info.problems);
+    let a = ahead(&log);
+    assert_eq!((a[0].line, a[0].count), (601, 5), "{:?}", log.info.problems);
+    assert!(
+        a[0].message.contains("the log goes on at sample 606"),
+        "{}",
+        a[0].message
+    );
+}

@@ -127,10 +127,23 @@ fn recipe_rows(cal: &Calibration) -> Markup {
             },
         ))
         (row("weighting", &format!("{:?}", r.weighting).to_lowercase()))
-        (row("refinement passes", &r.refinements.to_string()))
+        (row("refinement passes", &refinement_passes(cal)))
         @for (name, spec) in knot_rows(cal) {
             (row(&format!("knots of {name}"), &spec))
         }
+    }
+}
+
+/// The refinement passes asked for, and the ones run when a set's passes diverged and were
+/// stopped short (the fit's warning says why).
+fn refinement_passes(cal: &Calibration) -> String {
+    let asked = cal.recipe.refinements;
+    match cal.resolved.refinements_run {
+        Some([plus, minus]) => format!(
+            "{asked} asked for; {plus} run on the + set, {minus} on the − set (the passes \
+             diverged and were stopped)"
+        ),
+        None => asked.to_string(),
     }
 }
 

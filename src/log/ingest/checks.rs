@@ -5,12 +5,13 @@
 
 use super::Fail;
 use super::columns::{Action, Plan, SLOT_TEMP, SLOT_TIME};
-use super::parse::{Tally, note};
+use super::parse::Tally;
 use super::plausible::stuck_temperature;
 use super::read::Acc;
 use super::sniff::Sniffed;
 use super::time_scale::{self, TimeColumn};
 use crate::log::{Channel, Log, LogInfo, Problem, ProblemKind};
+use crate::signal::time_order::time_order;
 use crate::signal::timing::{GAP_FACTOR, Timing, stray_stamps};
 
 /// Time-order checks, dropped rows, problems, and the `Log`.
@@ -137,38 +138,13 @@ pub(super) fn finish(mut acc: Acc, sn: &Sniffed, plan: &Plan, source: &str) -> R
         }
         None => Vec::new(),
     };
-    // Time order: keep a row only if its time is above every earlier time.
-    let mut drop: Vec<usize> = Vec::new();
+    // Time order: the rows kept rise; each backward step drops the fewer rows, the ones
+    // after it or a run kept just before it that stands ahead (`signal::time_order`).
+    let mut drop: Vec<usize> = strays.clone();
     {
         let time = &acc.cols[SLOT_TIME];
-        let (mut back, mut rep): (Option<Tally>, Option<Tally>) = (None, None);
-        let mut first_back = (0.0, 0.0);
-        // The first row that is no stray stamp (a stamp far ahead at the start is one) is the
-        // first kept.
-        let first = (0..time.len())
-            .find(|i| strays.binary_search(i).is_err())
-            .unwrap_or(0);
-        drop.extend(0..first);
-        let mut last = time[first];
-        let mut next_stray = strays.iter().copied().filter(|&i| i > first).peekable();
-        for (i, &t) in time.iter().enumerate().skip(first + 1) {
-            if next_stray.next_if_eq(&i).is_some() {
-                drop.push(i);
-            } else if t > last {
-                last = t;
-            } else {
-                drop.push(i);
-                if t == last {
-                    note(&mut rep, i);
-                } else {
-                    if back.is_none() {
-                        first_back = (t, last);
-                    }
-                    note(&mut back, i);
-                }
-            }
-        }
-        if let Some(t) = rep {
+        let order = time_order(time, |i| strays.binary_search(&i).is_ok());
+        if let Some(t) = order.repeated {
             let line = acc.line_of(t.first);
             problems.push(Problem {
                 line,
@@ -181,38 +157,52 @@ pub(super) fn finish(mut acc: Acc, sn: &Sniffed, plan: &Plan, source: &str) -> R
                 ),
             });
         }
-        if let Some(t) = back {
-            let line = acc.line_of(t.first);
-            // Most rows before the one kept: the log is written newest row first (or shuffled),
-            // and dropping them would leave a sliver of it to calibrate, judge or correct.
-            if t.count * 2 > time.len() {
-                return Err(Fail::new(
-                    line,
-                    time_col.unwrap_or(0),
-                    format!(
-                        "{} of the {} rows go back in time (first at line {line}: {} s after {} s): \
-                         the rows are not in time order (newest first?); sort the log by its \
-                         time column",
-                        t.count,
-                        time.len(),
-                        crate::number::readable(first_back.0),
-                        crate::number::readable(first_back.1)
-                    ),
-                ));
-            }
+        // Most rows out of order: the log is written newest row first (or shuffled), and
+        // dropping them would leave a sliver of it to calibrate, judge or correct.
+        if let Some((at, first_s, after_s)) = order.first_step_back()
+            && order.out_of_order() * 2 > time.len()
+        {
+            let line = acc.line_of(at);
+            return Err(Fail::new(
+                line,
+                time_col.unwrap_or(0),
+                format!(
+                    "{} of the {} rows go back in time (first at line {line}: {} s after {} s): \
+                     the rows are not in time order (newest first?); sort the log by its \
+                     time column",
+                    order.out_of_order(),
+                    time.len(),
+                    crate::number::readable(first_s),
+                    crate::number::readable(after_s)
+                ),
+            ));
+        }
+        if let Some(b) = order.backwards {
+            let line = acc.line_of(b.tally.first);
             problems.push(Problem {
                 line,
                 column: time_col,
                 kind: ProblemKind::TimeBackwards,
-                count: t.count,
-                message: format!(
-                    "{} dropped: time went backwards (first at line {line}: {} s after {} s)",
-                    rows(t.count),
-                    crate::number::readable(first_back.0),
-                    crate::number::readable(first_back.1)
+                count: b.tally.count,
+                message: b.message("row", &format!("line {line}")),
+            });
+        }
+        if let Some(a) = order.ahead {
+            let line = acc.line_of(a.tally.first);
+            problems.push(Problem {
+                line,
+                column: time_col,
+                kind: ProblemKind::TimeBackwards,
+                count: a.tally.count,
+                message: a.message(
+                    "row",
+                    &format!("line {line}"),
+                    &format!("line {}", acc.line_of(a.resumed)),
                 ),
             });
         }
+        drop.extend(order.dropped);
+        drop.sort_unstable();
     }
     if !drop.is_empty() {
         for col in &mut acc.cols {

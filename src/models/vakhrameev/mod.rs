@@ -99,6 +99,11 @@ pub struct Resolved {
     pub deadband_tdot: f64,
     /// |T̈| dead-band used, °C/s².
     pub deadband_tddot: f64,
+    /// The refinement passes run on the + and − sets, when the passes of a set diverged and
+    /// were stopped before the recipe's `refinements` (absent when both ran them all): the
+    /// file says what made its curves, not only what was asked.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub refinements_run: Option<[usize; 2]>,
 }
 
 impl Resolved {
@@ -326,6 +331,7 @@ impl Calibration {
                 step_samples: steps.step,
                 deadband_tdot: db1,
                 deadband_tddot: db2,
+                refinements_run: None,
             },
             units: Units::default(),
             plateaus,
@@ -394,6 +400,17 @@ impl Calibration {
                     ),
                 ));
             }
+        }
+        if let Some(run) = r.refinements_run
+            && run.iter().any(|&p| p > self.recipe.refinements)
+        {
+            return Err(Invalid::new(
+                "resolved.refinements_run",
+                format!(
+                    "{} and {} passes run, more than the recipe's refinements of {}",
+                    run[0], run[1], self.recipe.refinements
+                ),
+            ));
         }
         let usable = |d: f64| d.is_finite() && d >= 0.0;
         if !usable(r.deadband_tdot) || !usable(r.deadband_tddot) {

@@ -355,6 +355,7 @@ pub(super) fn fit_set_moments(
                 )]
             })
             .unwrap_or_default(),
+        refinements_run: stopped.map(|pass| pass - 1),
     })
 }
 
@@ -532,15 +533,17 @@ mod tests {
             "{:?}",
             f.warnings
         );
-        // Stopped where one refinement ends.
+        // Stopped where one refinement ends, and the passes run recorded.
         let g = fit_set_moments(samples, inputs, Regime::Plus, &one, false).expect("moments");
         assert_eq!((&f.k1, &f.k2), (&g.k1, &g.k2));
         assert!(g.warnings.is_empty());
+        assert_eq!((f.refinements_run, g.refinements_run), (Some(1), None));
         assert!(f.k1.stats().rmse < 100.0, "{:?}", f.k1.stats());
         // The default recipe's passes converge: all of them run, unsaid.
         for (s, regime) in [(0, Regime::Plus), (1, Regime::Minus)] {
             let d = fit_set_moments(&sets.samples[s], inputs, regime, &base, false).unwrap();
             assert!(d.warnings.is_empty(), "{:?}", d.warnings);
+            assert_eq!(d.refinements_run, None);
         }
     }
 

@@ -36,6 +36,9 @@ pub struct SetFit {
     pub k2_points: PointSet,
     /// What the fits had to work around.
     pub warnings: Vec<String>,
+    /// The refinement passes run when they diverged and stopped before the recipe's; `None`
+    /// when all ran.
+    pub refinements_run: Option<usize>,
 }
 
 /// The samples of the pointwise K1 and K2 of one set (+ or −), as indices into the log, in log
@@ -463,6 +466,7 @@ pub(super) fn fit_set_streaming(
         k1_points: PointSet::default(),
         k2_points: PointSet::default(),
         warnings: Vec::new(),
+        refinements_run: None,
     };
     for pass in 0..=recipe.refinements {
         let last = pass == recipe.refinements;

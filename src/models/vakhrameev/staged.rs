@@ -61,6 +61,8 @@ struct FittedSet {
     p1: Arc<PointSet>,
     p2: Arc<PointSet>,
     warnings: Vec<String>,
+    /// The refinement passes run, when they stopped before the recipe's.
+    refinements_run: Option<usize>,
 }
 
 /// What the Ω stages keep between runs, each result under the key of what made it. `S` names
@@ -264,6 +266,7 @@ impl<S: Clone + PartialEq + Send + Sync> StageMemory<S> {
                         p1: Arc::new(f.k1_points),
                         p2: Arc::new(f.k2_points),
                         warnings: f.warnings,
+                        refinements_run: f.refinements_run,
                     };
                     (s, fit)
                 })
@@ -304,7 +307,7 @@ impl<S: Clone + PartialEq + Send + Sync> StageMemory<S> {
         };
         warnings.extend(plus.warnings);
         warnings.extend(minus.warnings);
-        let calibration = Calibration::assemble(
+        let mut calibration = Calibration::assemble(
             source.cloned().unwrap_or_else(|| SourceInfo::of(log)),
             prepared,
             recipe,
@@ -312,6 +315,11 @@ impl<S: Clone + PartialEq + Send + Sync> StageMemory<S> {
             stats,
             [k0, plus.k1, minus.k1, plus.k2, minus.k2],
         );
+        if plus.refinements_run.is_some() || minus.refinements_run.is_some() {
+            let run = |r: Option<usize>| r.unwrap_or(recipe.refinements);
+            calibration.resolved.refinements_run =
+                Some([run(plus.refinements_run), run(minus.refinements_run)]);
+        }
         Ok(Staged {
             calibration,
             warnings,
