@@ -423,7 +423,8 @@ fn pipeline_benches(c: &mut Criterion, log: Arc<Log>) {
 /// `refit::Pipeline` per axis. An edit of one axis runs that axis's pipeline alone; the other
 /// two stay resident beside it, as in the workbench. `live/plateau_edge_released_unit3_1M`
 /// is what follows the release of a plateau edge: the three axes refitted on the shared
-/// plateaus side by side, as the worker runs them (`live_unit/plateau_moved_all_axes_1M`:
+/// plateaus as the worker runs them (`refit::run_unit`: the sets and the T part of their
+/// moments made once) (`live_unit/plateau_moved_all_axes_1M`:
 /// one after the other).
 fn unit_pipeline_benches(c: &mut Criterion) {
     let dir = tempfile::tempdir().expect("temp dir");
@@ -598,20 +599,17 @@ fn unit_pipeline_benches(c: &mut Criterion) {
         })
     });
     g.finish();
-    // The release as the workbench's worker runs it: the three axes side by side.
+    // The release as the workbench's worker runs it (`refit::run_unit`): the first axis alone,
+    // then the other two side by side with the T stages it made.
     let mut g = c.benchmark_group("live");
     g.sample_size(20).measurement_time(Duration::from_secs(4));
     let mut flip = 0;
     g.bench_function("plateau_edge_released_unit3_1M", |bench| {
         bench.iter(|| {
             flip ^= 1;
-            use rayon::prelude::*;
-            pipes
-                .par_iter_mut()
-                .zip(&all[flip])
-                .map(|(p, r)| black_box(p.run(r).map(|_| ())))
-                .collect::<Result<Vec<()>, _>>()
-                .expect("pipeline")
+            for out in driftlab::refit::run_unit(&mut pipes, &all[flip]) {
+                black_box(out.expect("pipeline"));
+            }
         })
     });
     g.finish();

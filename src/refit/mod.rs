@@ -45,10 +45,12 @@ mod same;
 mod terms;
 #[cfg(test)]
 mod tests;
+mod unit;
 
 pub use plateaus::suggest_plateaus;
 pub use preview::{PlateauPreview, preview_plateaus};
 pub use same::Same;
+pub use unit::run_unit;
 
 use crate::error::Error;
 use crate::files::session::Coefficient;
@@ -209,6 +211,9 @@ pub struct Pipeline {
     /// The log as calibrations record it (its samples' sketch reads every sample), kept while
     /// the log stays.
     source: Option<(Same<Log>, vakhrameev::SourceInfo)>,
+    /// This pipeline's signals and another axis's found to hold the same T
+    /// ([`Pipeline::share_t_stages`]).
+    t_twin: Option<unit::TwinKey>,
 }
 
 fn ms(t: Instant) -> f64 {

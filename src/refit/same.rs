@@ -16,6 +16,11 @@ impl<T> Same<T> {
         Same(value.clone())
     }
 
+    /// The value this key holds.
+    pub fn value(&self) -> &T {
+        &self.0
+    }
+
     /// True when `value` is the value this key holds.
     pub fn is(&self, value: &Arc<T>) -> bool {
         Arc::ptr_eq(&self.0, value)

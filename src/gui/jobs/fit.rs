@@ -182,8 +182,10 @@ struct AxisWork {
 
 /// The refit worker. Each axis has its own pipeline (its caches stay warm while another axis
 /// is edited); per axis the newest request wins. Previews of a plateau drag go first (they read
-/// the plateaus' samples alone); the refits waiting then run side by side, one thread per axis,
-/// as after the release of a plateau edge, which all the axes of a unit share.
+/// the plateaus' samples alone); then the refits waiting: the first axis's alone, the others
+/// side by side with what its T stages made (the plateau ranges, the sets' samples, the T part
+/// of the sets' moments: `refit::run_unit`), as after the release of a plateau edge, which all
+/// the axes of a unit share.
 pub(super) fn fit_worker(rx: Receiver<FitMsg>, tx: Sender<JobResult>, ctx: SharedCtx) {
     let mut work: Vec<AxisWork> = vec![AxisWork::default()];
     let mut waiting: Vec<(usize, u64, Box<Request>)> = Vec::new();
@@ -222,16 +224,29 @@ pub(super) fn fit_worker(rx: Receiver<FitMsg>, tx: Sender<JobResult>, ctx: Share
         {
             work.resize_with(top + 1, AxisWork::default);
         }
-        let stopped = work
+        // The first axis waiting runs alone; the others then take what its T stages made
+        // (the unit's axes share T: `refit::run_unit`) and run side by side.
+        let Some(lead) = batch.iter().map(|w| w.0).min() else {
+            continue;
+        };
+        let run = |w: &mut AxisWork, axis: usize, shared_from: Option<&Pipeline>| {
+            let (_, generation, request) = batch.iter().find(|b| b.0 == axis)?;
+            if let Some(from) = shared_from {
+                w.pipeline.share_t_stages(from, request);
+            }
+            let result = refit_axis(w, axis, *generation, request);
+            let sent = tx.send(result).is_ok();
+            repaint(&ctx);
+            Some(sent)
+        };
+        let (upto, after) = work.split_at_mut(lead + 1);
+        let lead_work = &mut upto[lead];
+        let mut stopped = run(lead_work, lead, None) == Some(false);
+        let lead_pipeline: &Pipeline = &lead_work.pipeline;
+        stopped |= after
             .par_iter_mut()
             .enumerate()
-            .filter_map(|(axis, w)| {
-                let (_, generation, request) = batch.iter().find(|b| b.0 == axis)?;
-                let result = refit_axis(w, axis, *generation, request);
-                let sent = tx.send(result).is_ok();
-                repaint(&ctx);
-                Some(sent)
-            })
+            .filter_map(|(j, w)| run(w, lead + 1 + j, Some(lead_pipeline)))
             .collect::<Vec<bool>>()
             .contains(&false);
         if stopped {

@@ -21,6 +21,7 @@ use super::{PointSet, Regime};
 use crate::models::approx::{self, Approx, Design, FitStats, Weights};
 use crate::models::recipe::{Recipe, Weighting};
 use rayon::prelude::*;
+use std::sync::Arc;
 
 /// The normal equations of one coefficient's fit over its set's samples, with the
 /// cross-products that carry the other coefficient's term.
@@ -112,6 +113,50 @@ impl Moments {
     }
 }
 
+/// The moments of a set that T alone makes (`A`, `C`, the weights and their sums: everything
+/// but `h` and `Σ w·yr`, which carry Ω − K0): the same for every axis of a unit fitted over
+/// the same sets' samples with the same K1 and K2 designs and weighting. Kept beside the sets'
+/// samples ([`super::staged::StageMemory`]) and given back to [`fit_set_moments`], which
+/// then reads each sample's Ω alone: a second axis's fit costs its `h` and its statistics.
+#[derive(Debug, Clone)]
+pub struct SetTMoments {
+    /// K1's moments, `h` and `Σ w·yr` left at zero.
+    k1: Moments,
+    /// K2's alike.
+    k2: Moments,
+}
+
+impl SetTMoments {
+    /// The T part of `m1` and `m2`.
+    fn of(m1: &Moments, m2: &Moments) -> SetTMoments {
+        let t = |m: &Moments| Moments {
+            h: vec![0.0; m.h.len()],
+            s_yr: 0.0,
+            ..m.clone()
+        };
+        SetTMoments {
+            k1: t(m1),
+            k2: t(m2),
+        }
+    }
+}
+
+/// The Ω part of a coefficient's moments: `Σ w·B·yr`, `Σ w·yr`, and the points they counted.
+struct OmegaMoments {
+    n: usize,
+    h: Vec<f64>,
+    s_yr: f64,
+}
+
+impl OmegaMoments {
+    fn add(mut self, b: OmegaMoments) -> OmegaMoments {
+        self.n += b.n;
+        self.s_yr += b.s_yr;
+        self.h.iter_mut().zip(&b.h).for_each(|(p, q)| *p += q);
+        self
+    }
+}
+
 fn dot(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
@@ -199,6 +244,82 @@ fn moments_of<const WB: usize, const WP: usize>(
     padded.unpadded(p, q)
 }
 
+/// The moments of the points `idx` of one coefficient whose T part `t` is known: only `h` and
+/// `Σ w·yr` are gathered, each sample's basis evaluated once more. Every sum is made as
+/// [`moments_of`] makes it (the same products, added in the same order, over the same
+/// chunks), so the moments are those [`moments`] gives, bit for bit. `None` when a sample the
+/// T part counted has an `Ω − K0` that is not finite (the set then goes to the streaming
+/// fit, as [`moments`] would send it).
+fn moments_given_t(
+    idx: &[u32],
+    cols: Columns,
+    own: &Design,
+    drift: bool,
+    t: &Moments,
+) -> Option<Moments> {
+    macro_rules! by_width {
+        ($($b:literal),*) => {
+            match own.max_width() {
+                $($b => omega_moments_of::<$b>(idx, cols, own, drift),)*
+                _ => omega_moments_of::<4>(idx, cols, own, drift),
+            }
+        };
+    }
+    let o = by_width!(2, 3);
+    if o.n != t.n {
+        return None;
+    }
+    Some(Moments {
+        h: o.h,
+        s_yr: o.s_yr,
+        ..t.clone()
+    })
+}
+
+/// [`moments_given_t`]'s pass, with a basis of at most `WB` weights a point.
+fn omega_moments_of<const WB: usize>(
+    idx: &[u32],
+    cols: Columns,
+    own: &Design,
+    drift: bool,
+) -> OmegaMoments {
+    let p = own.params();
+    let sp = p + WB;
+    let part = |from: usize, to: usize| {
+        let mut m = OmegaMoments {
+            n: 0,
+            h: vec![0.0; sp],
+            s_yr: 0.0,
+        };
+        for &i in &idx[from..to] {
+            let i = i as usize;
+            let (x, o) = (cols.own[i], cols.other[i]);
+            let w = if drift { x * x } else { 1.0 };
+            let yr = cols.rest[i] / x;
+            if !approx::usable(x, yr, w) || !(o / x).is_finite() {
+                continue;
+            }
+            m.n += 1;
+            m.s_yr += w * yr;
+            let Weights {
+                first, weights: b, ..
+            } = own.basis(x);
+            for a in 0..WB {
+                let wa = w * b[a];
+                m.h[first + a] += wa * yr;
+            }
+        }
+        m
+    };
+    let mut m = approx::over_chunks(idx.len(), part, OmegaMoments::add).unwrap_or(OmegaMoments {
+        n: 0,
+        h: vec![0.0; sp],
+        s_yr: 0.0,
+    });
+    m.h.truncate(p);
+    m
+}
+
 /// The statistics of `curve` on the points `(x, y)` of `idx` (made by `point`), and the points
 /// themselves when `gather` is set: as the streaming fit's statistics pass computes them, the
 /// mean given.
@@ -276,6 +397,7 @@ pub(super) fn fit_set_moments(
     regime: Regime,
     recipe: &Recipe,
     points: bool,
+    known: Option<&Arc<SetTMoments>>,
 ) -> Option<SetFit> {
     let (spec1, spec2, _) = set_specs(regime, recipe);
     let d1 = Design::new(spec1, samples.k1_range?).ok()?;
@@ -284,10 +406,29 @@ pub(super) fn fit_set_moments(
     let SetInputs { tdot, tddot, rest } = inputs;
     // K1's points are over Ṫ with K2's term of T̈, K2's the other way round.
     let cols = |own, other| Columns { own, other, rest };
-    let (m1, m2) = rayon::join(
-        || moments(&samples.k1, cols(tdot, tddot), &d1, &d2, drift),
-        || moments(&samples.k2, cols(tddot, tdot), &d2, &d1, drift),
-    );
+    // The T part given (another axis's, or this one's before an edit that left T's sets as
+    // they were) when its sizes are these designs'; else all of it gathered here.
+    let known = known.filter(|t| {
+        (t.k1.h.len(), t.k1.s_z.len(), t.k2.h.len(), t.k2.s_z.len())
+            == (d1.params(), d2.params(), d2.params(), d1.params())
+    });
+    let (m1, m2, t_moments) = match known {
+        Some(t) => {
+            let (m1, m2) = rayon::join(
+                || moments_given_t(&samples.k1, cols(tdot, tddot), &d1, drift, &t.k1),
+                || moments_given_t(&samples.k2, cols(tddot, tdot), &d2, drift, &t.k2),
+            );
+            (m1?, m2?, t.clone())
+        }
+        None => {
+            let (m1, m2) = rayon::join(
+                || moments(&samples.k1, cols(tdot, tddot), &d1, &d2, drift),
+                || moments(&samples.k2, cols(tddot, tdot), &d2, &d1, drift),
+            );
+            let t = Arc::new(SetTMoments::of(&m1, &m2));
+            (m1, m2, t)
+        }
+    };
     // Every point the range counted, each with its other term: else the streaming fit.
     if m1.n != d1.points() || m2.n != d2.points() || !m1.finite || !m2.finite {
         return None;
@@ -356,6 +497,7 @@ pub(super) fn fit_set_moments(
             })
             .unwrap_or_default(),
         refinements_run: stopped.map(|pass| pass - 1),
+        t_moments: Some(t_moments),
     })
 }
 
@@ -470,7 +612,7 @@ mod tests {
             for (s, regime) in [(0, Regime::Plus), (1, Regime::Minus)] {
                 let what = format!("{k1:?}/{k2:?} set {s}, {recipe:?}");
                 let samples = &sets.samples[s];
-                let m = fit_set_moments(samples, inputs, regime, &recipe, true)
+                let m = fit_set_moments(samples, inputs, regime, &recipe, true, None)
                     .unwrap_or_else(|| panic!("{what}: the moments take the set"));
                 let f = fit_set_streaming(samples, inputs, regime, &recipe, true);
                 close(&m.k1, &f.k1, &format!("K1 of {what}"));
@@ -490,7 +632,7 @@ mod tests {
                 }
                 assert!(f.warnings.is_empty(), "{what}: {:?}", f.warnings);
                 // Without the points: the same curves and statistics, bit for bit.
-                let lean = fit_set_from(samples, inputs, regime, &recipe, false);
+                let lean = fit_set_from(samples, inputs, regime, &recipe, false, None);
                 assert_eq!((&lean.k1, &lean.k2), (&m.k1, &m.k2), "{what}");
                 assert!(lean.k1_points.x.is_empty() && lean.k2_points.y.is_empty());
                 fitted += 1;
@@ -525,7 +667,8 @@ mod tests {
             ..wild.clone()
         };
         let samples = &sets.samples[0];
-        let f = fit_set_moments(samples, inputs, Regime::Plus, &wild, false).expect("moments");
+        let f =
+            fit_set_moments(samples, inputs, Regime::Plus, &wild, false, None).expect("moments");
         assert_eq!(f.warnings.len(), 1, "{:?}", f.warnings);
         assert!(
             f.warnings[0].contains("diverge")
@@ -534,14 +677,14 @@ mod tests {
             f.warnings
         );
         // Stopped where one refinement ends, and the passes run recorded.
-        let g = fit_set_moments(samples, inputs, Regime::Plus, &one, false).expect("moments");
+        let g = fit_set_moments(samples, inputs, Regime::Plus, &one, false, None).expect("moments");
         assert_eq!((&f.k1, &f.k2), (&g.k1, &g.k2));
         assert!(g.warnings.is_empty());
         assert_eq!((f.refinements_run, g.refinements_run), (Some(1), None));
         assert!(f.k1.stats().rmse < 100.0, "{:?}", f.k1.stats());
         // The default recipe's passes converge: all of them run, unsaid.
         for (s, regime) in [(0, Regime::Plus), (1, Regime::Minus)] {
-            let d = fit_set_moments(&sets.samples[s], inputs, regime, &base, false).unwrap();
+            let d = fit_set_moments(&sets.samples[s], inputs, regime, &base, false, None).unwrap();
             assert!(d.warnings.is_empty(), "{:?}", d.warnings);
             assert_eq!(d.refinements_run, None);
         }
@@ -574,8 +717,8 @@ mod tests {
             k1_plus: ApproxSpec::of(ApproxKind::Pwl),
             ..Recipe::default()
         };
-        assert!(fit_set_moments(&samples, inputs, Regime::Plus, &recipe, false).is_none());
-        let f = fit_set_from(&samples, inputs, Regime::Plus, &recipe, false);
+        assert!(fit_set_moments(&samples, inputs, Regime::Plus, &recipe, false, None).is_none());
+        let f = fit_set_from(&samples, inputs, Regime::Plus, &recipe, false, None);
         assert!(
             f.warnings.iter().any(|w| w.starts_with("K1+")),
             "{:?}",

@@ -2,9 +2,11 @@
 //! K2 (gathered for display, or streamed to the fits without being held), and the fits of
 //! K1± and K2± over them, with the paper's refinement passes.
 
+use super::set_moments::SetTMoments;
 use super::*;
 use crate::models::approx::Evaluator;
 use crate::signal::plateau;
+use std::sync::Arc;
 
 /// Pointwise K1 of one sample: `(Ω_f − K0(T) − K2(T̈)·T̈) / Ṫ`, with `rest` = `Ω_f − K0(T)`.
 /// The paper's first pass has no K2 yet (`k2 = None`); refinement passes subtract the K2 term
@@ -39,6 +41,10 @@ pub struct SetFit {
     /// The refinement passes run when they diverged and stopped before the recipe's; `None`
     /// when all ran.
     pub refinements_run: Option<usize>,
+    /// The T part of the set's moments, for the next fit over the same sets' samples and
+    /// designs (another axis's, or this one's after an edit of K0); `None` when the set was
+    /// fitted pass by pass.
+    pub t_moments: Option<Arc<SetTMoments>>,
 }
 
 /// The samples of the pointwise K1 and K2 of one set (+ or −), as indices into the log, in log
@@ -431,16 +437,19 @@ fn fit_k2_from<S: PointSource>(
 /// term removed and then K2 with the new K1; with the last pass's statistics, and its points
 /// when `points` is true (for display).
 ///
-/// The passes are solved from moments gathered once (`set_moments.rs`); a set those cannot take
-/// is fitted by [`fit_set_streaming`].
+/// The passes are solved from moments gathered once (`set_moments.rs`), their T part taken
+/// from `known` when given (made over the same sets' samples with the same designs and
+/// weighting: the caller keys it); a set those cannot take is fitted by
+/// [`fit_set_streaming`].
 pub fn fit_set_from(
     samples: &SetSamples,
     inputs: SetInputs,
     regime: Regime,
     recipe: &Recipe,
     points: bool,
+    known: Option<&Arc<SetTMoments>>,
 ) -> SetFit {
-    super::set_moments::fit_set_moments(samples, inputs, regime, recipe, points)
+    super::set_moments::fit_set_moments(samples, inputs, regime, recipe, points, known)
         .unwrap_or_else(|| fit_set_streaming(samples, inputs, regime, recipe, points))
 }
 
@@ -467,6 +476,7 @@ pub(super) fn fit_set_streaming(
         k2_points: PointSet::default(),
         warnings: Vec::new(),
         refinements_run: None,
+        t_moments: None,
     };
     for pass in 0..=recipe.refinements {
         let last = pass == recipe.refinements;

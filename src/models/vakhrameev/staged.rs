@@ -12,6 +12,7 @@
 //! with a warm memory, and there is no second pipeline to drift from this one.
 
 use super::knots::{Coefficient, check_hand_kept, with_knots};
+use super::set_moments::SetTMoments;
 use super::sets::{
     fit_k1_gathered, fit_k2_gathered, fit_set_from, into_rest, k2_points_of, stats_on_points,
 };
@@ -53,6 +54,16 @@ struct SetKey<S> {
     refinements: usize,
 }
 
+/// What the T part of one set's moments depends on: the sets' samples and the designs the
+/// set's passes are fitted with (knots equally spaced: hand-placed knots are put in after).
+#[derive(Debug, Clone, PartialEq)]
+struct TMomentsKey<S> {
+    plateaus: PlateauKey<S>,
+    spec1: ApproxSpec,
+    spec2: ApproxSpec,
+    weighting: Weighting,
+}
+
 /// K1 and K2 of one set, with the points of its last pass (shared with the display).
 #[derive(Debug, Clone)]
 struct FittedSet {
@@ -78,6 +89,9 @@ pub struct StageMemory<S> {
     stats: Option<(StatsKey<S>, Vec<PlateauStats>)>,
     rest: Option<(S, Approx, Arc<Vec<f64>>)>,
     fits: [Option<(SetKey<S>, FittedSet)>; 2],
+    /// The T part of each set's moments (T's alone, so kept in a batch fit too: the axes of a
+    /// unit with the same designs gather only their Ω part).
+    t_moments: [Option<(TMomentsKey<S>, Arc<SetTMoments>)>; 2],
 }
 
 /// What one run of the Ω stages reads.
@@ -136,6 +150,50 @@ impl<S> StageMemory<S> {
             stats: None,
             rest: None,
             fits: [None, None],
+            t_moments: [None, None],
+        }
+    }
+}
+
+impl<S: Clone + PartialEq> StageMemory<S> {
+    /// The sets' samples kept, if any (for tests of what is shared).
+    #[cfg(test)]
+    pub(crate) fn sets_kept(&self) -> Option<&Arc<SetsOfSamples>> {
+        self.sets.as_ref().map(|(_, s)| s)
+    }
+
+    /// Takes the stages `from` made from T alone (the sets' samples, the T part of the sets'
+    /// moments), made from its signals `theirs`, as made from this memory's signals `ours`.
+    /// For the axes of a unit, whose T signals are the same values held apart: the caller
+    /// vouches that `ours` and `theirs` are equal, and the next run then gathers only its Ω
+    /// part. What `from` made from other signals is left.
+    pub fn adopt_t_stages(&mut self, from: &StageMemory<S>, theirs: &S, ours: &S) {
+        let ours_of = |k: &PlateauKey<S>| PlateauKey {
+            signals: ours.clone(),
+            ..k.clone()
+        };
+        if let Some((k, sets)) = &from.sets
+            && k.signals == *theirs
+        {
+            self.sets = Some((ours_of(k), sets.clone()));
+        }
+        for (mine, (k, t)) in self
+            .t_moments
+            .iter_mut()
+            .zip(
+                from.t_moments
+                    .iter()
+                    .map(|e| e.as_ref().filter(|(k, _)| k.plateaus.signals == *theirs)),
+            )
+            .filter_map(|(m, e)| e.map(|e| (m, e)))
+        {
+            *mine = Some((
+                TMomentsKey {
+                    plateaus: ours_of(&k.plateaus),
+                    ..k.clone()
+                },
+                t.clone(),
+            ));
         }
     }
 }
@@ -226,6 +284,15 @@ impl<S: Clone + PartialEq + Send + Sync> StageMemory<S> {
             Cow::Borrowed(recipe)
         };
         let even: &Recipe = &even;
+        let t_keys = [Regime::Plus, Regime::Minus].map(|regime| {
+            let (c1, c2, _) = set_names(regime);
+            TMomentsKey {
+                plateaus: pkey.clone(),
+                spec1: c1.spec(even).clone(),
+                spec2: c2.spec(even).clone(),
+                weighting: recipe.weighting,
+            }
+        });
         let keys = [Regime::Plus, Regime::Minus].map(|regime| {
             let (c1, c2, _) = set_names(regime);
             SetKey {
@@ -255,11 +322,24 @@ impl<S: Clone + PartialEq + Send + Sync> StageMemory<S> {
                 tddot: &prepared.deriv.tddot,
                 rest,
             };
-            let fitted: Vec<(usize, FittedSet)> = todo
+            let known: [Option<Arc<SetTMoments>>; 2] = [0, 1].map(|s| {
+                self.t_moments[s]
+                    .as_ref()
+                    .filter(|(k, _)| *k == t_keys[s])
+                    .map(|(_, t)| t.clone())
+            });
+            let fitted: Vec<(usize, FittedSet, Option<Arc<SetTMoments>>)> = todo
                 .par_iter()
                 .map(|&s| {
                     let gather = points || placed[s];
-                    let f = fit_set_from(&samples[s], inputs, regime_of(s), even, gather);
+                    let f = fit_set_from(
+                        &samples[s],
+                        inputs,
+                        regime_of(s),
+                        even,
+                        gather,
+                        known[s].as_ref(),
+                    );
                     let fit = FittedSet {
                         k1: f.k1,
                         k2: f.k2,
@@ -268,10 +348,13 @@ impl<S: Clone + PartialEq + Send + Sync> StageMemory<S> {
                         warnings: f.warnings,
                         refinements_run: f.refinements_run,
                     };
-                    (s, fit)
+                    (s, fit, f.t_moments)
                 })
                 .collect();
-            for (s, fit) in fitted {
+            for (s, fit, t) in fitted {
+                if let Some(t) = t {
+                    self.t_moments[s] = Some((t_keys[s].clone(), t));
+                }
                 if keep {
                     self.fits[s] = Some((keys[s].clone(), fit.clone()));
                 }
