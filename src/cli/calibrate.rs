@@ -348,9 +348,11 @@ pub fn run(a: Args) -> Result<(), CliError> {
             .map(|w| a.in_source_words(w, a.recipe_file().as_deref())),
     );
     // The axes of a unit, each with its plan; a log of one axis is a unit of one unnamed axis.
+    // The `--axis-recipe` each axis's recipe came from, by axis name, for the fit's refusals.
+    let mut axis_files: Vec<(String, String)> = Vec::new();
     let (plans, saved_recipe) = match common::chosen_axes(&a.axes, &a.log_args, &log)? {
         Some(axes) => {
-            let (plans, axis_warnings) = a.plans(&log, &axes, &recipe, &choice)?;
+            let (plans, axis_warnings) = a.plans(&log, &axes, &recipe, &choice, &mut axis_files)?;
             warnings.extend(axis_warnings);
             let saved = a.recipe_to_save(&plans)?;
             (plans, saved)
@@ -377,7 +379,22 @@ pub fn run(a: Args) -> Result<(), CliError> {
     let recipe_file = a.recipe_file();
     let fitted = fitted.map_err(|e| {
         common::fit_failed(&log.source, &e, &|i| {
-            a.in_source_words(i, recipe_file.as_deref())
+            // An axis's setting refused: named by its `--axis-recipe` when that gave it.
+            let on_axis = i
+                .field
+                .strip_prefix("axis ")
+                .and_then(|r| r.split_once(": "));
+            match on_axis {
+                Some((axis, field)) if !a.sets(field) => {
+                    match axis_files.iter().find(|(n, _)| n == axis) {
+                        Some((_, v)) => {
+                            format!("axis {axis}: --axis-recipe {v}: {field}: {}", i.reason)
+                        }
+                        None => a.in_source_words(i, recipe_file.as_deref()),
+                    }
+                }
+                _ => a.in_source_words(i, recipe_file.as_deref()),
+            }
         })
     })?;
     let unit = stamped(&fitted, &file_name(&a.log), &sha256?);
@@ -492,6 +509,7 @@ impl Args {
         axes: &[String],
         recipe: &CheckedRecipe,
         choice: &ModelChoice,
+        axis_files: &mut Vec<(String, String)>,
     ) -> Result<(Vec<AxisPlan>, Vec<String>), CliError> {
         let mut plans: Vec<AxisPlan> = axes
             .iter()
@@ -538,6 +556,7 @@ impl Args {
             if let Some(p) = plans.iter_mut().find(|p| p.name == name) {
                 p.recipe = own;
             }
+            axis_files.push((name, v.clone()));
         }
         let mut warnings = axis_notes;
         for p in &plans {

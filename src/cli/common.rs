@@ -437,11 +437,7 @@ impl LogArgs {
                 (l, Some(c)) => format!("{l}:{c}"),
                 (l, None) => l.to_string(),
             };
-            let times = if p.count > 1 {
-                format!(" ({} times)", p.count)
-            } else {
-                String::new()
-            };
+            let times = p.times();
             note!("warning: {}:{place}: {}{times}", log.source, p.message);
         }
         Ok(log)

@@ -40,12 +40,8 @@ pub fn run(a: Args) -> Result<(), CliError> {
     // order, stray and repeated stamps, NaN rows, temperature glitches), told the same way.
     let kept = kept_samples(&sel).map_err(|e| in_flags(&e.to_string()))?;
     for p in &kept.problems {
-        // As every command tells them: a count only when there are several.
-        let times = if p.count > 1 {
-            format!(" ({} times)", p.count)
-        } else {
-            String::new()
-        };
+        // A count only when there are several and the message does not give it.
+        let times = p.times();
         note!("warning: {}: {}{times}", rec.source, in_flags(&p.message));
     }
     driftlab::files::atomic::write_with(&a.out, |w| formats::write_csv(&sel, &kept.rows, w))

@@ -137,12 +137,8 @@ pub fn print_notes(drone: &DroneLog, log: &Log) {
     }
     note!("note: {}", in_flags(&drone.note));
     for p in &log.info.problems {
-        // As a CSV's problems are told: a count only when there are several.
-        let times = if p.count > 1 {
-            format!(" ({} times)", p.count)
-        } else {
-            String::new()
-        };
+        // A count only when there are several and the message does not give it.
+        let times = p.times();
         note!("warning: {}: {}{times}", log.source, p.message);
     }
 }

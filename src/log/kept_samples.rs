@@ -111,13 +111,14 @@ pub fn kept_samples(sel: &Selected<'_>) -> Result<KeptSamples, ReadError> {
             path: sel.source.to_string(),
             message: format!(
                 "{} of the {ordered} samples of {} go back in time (first at sample {}: {} s \
-                 after {} s): the samples are not in time order (newest first?); the log's \
-                 clock cannot be read as written",
+                 after {} s): the samples are not in time order: written newest first, or by \
+                 a clock that restarts (then each run is a log of its own); the log's clock \
+                 cannot be read as written",
                 order.out_of_order(),
                 inst.label,
                 at + 1,
-                crate::number::readable(first_s),
-                crate::number::readable(after_s)
+                crate::number::significant(first_s, 10),
+                crate::number::significant(after_s, 10)
             ),
         });
     }
@@ -142,6 +143,19 @@ pub fn kept_samples(sel: &Selected<'_>) -> Result<KeptSamples, ReadError> {
             kind: ProblemKind::TimeBackwards,
             count: b.tally.count,
             message: b.message("sample", &format!("sample {line}")),
+        });
+    }
+    if let Some(r) = order.restarts {
+        problems.push(Problem {
+            line: r.tally.first + 1,
+            column: None,
+            kind: ProblemKind::TimeBackwards,
+            count: r.tally.count,
+            message: r.message(
+                "sample",
+                &format!("sample {}", r.at + 1),
+                &format!("sample {}", r.tally.first + 1),
+            ),
         });
     }
     if let Some(a) = order.ahead {
@@ -201,7 +215,7 @@ fn samples(n: usize) -> String {
     }
 }
 
-/// Drops a sample or two alone at an end of the log past a gap far longer than the rest of
+/// Drops a few samples alone at an end of the log past a gap far longer than the rest of
 /// it (stray stamps, [`Timing::stray_end`]), as the CSV reader does, with a problem naming
 /// their samples; `rows` maps each kept sample to its place in the instance and loses the
 /// dropped ones too.
@@ -212,11 +226,12 @@ fn drop_stray_ends(time_s: &mut Vec<f64>, rows: &mut Vec<usize>, problems: &mut 
             .iter()
             .map(|r| (r + 1).to_string())
             .collect();
-        let place = format!(
-            "sample{} {}",
-            if samples.len() == 1 { "" } else { "s" },
-            samples.join(" and ")
-        );
+        let place = match samples.as_slice() {
+            [one] => format!("sample {one}"),
+            [a, b] => format!("samples {a} and {b}"),
+            [a, .., b] => format!("samples {a} to {b}"),
+            [] => String::new(),
+        };
         problems.push(Problem {
             line: rows[k.start] + 1,
             column: None,

@@ -178,6 +178,18 @@ pub struct Problem {
     pub message: String,
 }
 
+impl Problem {
+    /// How often, for a line that tells it: " (3 times)" when it occurred more than once and
+    /// its message does not already begin with the count ("3 rows dropped: …"), else nothing.
+    pub fn times(&self) -> String {
+        if self.count > 1 && !self.message.starts_with(&format!("{} ", self.count)) {
+            format!(" ({} times)", self.count)
+        } else {
+            String::new()
+        }
+    }
+}
+
 /// Kinds of problems the reader reports.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]

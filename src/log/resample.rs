@@ -50,7 +50,7 @@ pub fn resample(log: Log, how: Resampling) -> Result<(Log, Option<String>), Inva
         }
         Resampling::BurstMeans => {
             let timing = log.timing();
-            let out = average(&log, &timing.segments);
+            let out = average(&log, &timing.burst_ranges(&log.time_s));
             let note = match timing.bursts {
                 Some(b) => format!(
                     "{}: each burst reduced to its mean time, rate and temperature ({} samples \

@@ -18,6 +18,19 @@ pub const STRAY_FACTOR: f64 = 100.0;
 /// of time order and gaps, which say what they drop.
 pub const MAX_STRAY_RUN: usize = 2;
 
+/// The largest share of a log's samples that an end segment past a gap far longer than the
+/// rest of the log may hold and be dropped as stray ([`Timing::stray_end`]): rows stamped
+/// before a logger's clock was set (0, 0.5, 0.7 s, then Unix time) are a handful, and kept as
+/// a segment of their own they made a 10-hour log "55 years" long. A larger end segment, however
+/// far, is data of its own, kept and told as a gap.
+pub const STRAY_END_SHARE: f64 = 0.01;
+
+/// The most samples an end segment of a log of `n` samples may hold and be stray: at least
+/// [`MAX_STRAY_RUN`], else [`STRAY_END_SHARE`] of the log.
+fn max_stray_end(n: usize) -> usize {
+    MAX_STRAY_RUN.max((STRAY_END_SHARE * n as f64) as usize)
+}
+
 /// An end of a log.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum End {
@@ -33,7 +46,7 @@ pub enum End {
 pub struct StrayEnd {
     /// Which end.
     pub end: End,
-    /// How many samples, 1 to [`MAX_STRAY_RUN`].
+    /// How many samples, 1 to [`max_stray_end`] of the log.
     pub samples: usize,
     /// The span of the body of the log they stand apart from, s.
     pub body_s: f64,
@@ -77,16 +90,17 @@ impl StrayEnd {
             ),
         };
         let times: Vec<String> = stamps.iter().map(|&t| crate::number::readable(t)).collect();
-        let (subject, what) = if stamps.len() == 1 {
-            (
-                format!("its time {} s stands", times[0]),
-                "a stray time stamp",
-            )
-        } else {
-            (
-                format!("their times {} s stand", times.join(" s and ")),
+        let (subject, what) = match times.as_slice() {
+            [one] => (format!("its time {one} s stands"), "a stray time stamp"),
+            [a, b] => (
+                format!("their times {a} s and {b} s stand"),
                 "stray time stamps",
-            )
+            ),
+            [a, .., b] => (
+                format!("their times {a} s to {b} s stand"),
+                "stray time stamps",
+            ),
+            [] => (String::new(), ""),
         };
         format!(
             "{} dropped: {subject} alone {} s {side} the rest of the log, more than \
@@ -110,8 +124,8 @@ fn counted(n: usize, noun: &str) -> String {
 impl Timing {
     /// The samples at an end of the log (the first end when both qualify) that stand alone
     /// past a gap more than [`STRAY_FACTOR`] times longer than the body of the log: a segment
-    /// of at most [`MAX_STRAY_RUN`] samples there. `None` when neither end has one. For a
-    /// segment of `k` samples the body runs from the first segment of more than `k` samples
+    /// of at most [`max_stray_end`] samples there (two, or a hundredth of the log). `None`
+    /// when neither end has one. For a segment of `k` samples the body runs from the first segment of more than `k` samples
     /// to the last one, so that stray stamps side by side (1e299 s, then 1e300 s; or 1e6 s
     /// and 1e6 + 1 s, a step apart) or at both ends do not vouch for each other.
     ///
@@ -121,7 +135,7 @@ impl Timing {
     /// the log's duration, the time axis of every figure and the duration a calibration
     /// stores. A reader drops them and says so with their lines. Samples after an outage of a
     /// few times the run are an outage, and are kept; so is an end segment longer than
-    /// [`MAX_STRAY_RUN`], however far.
+    /// [`max_stray_end`], however far.
     pub fn stray_end(&self, time_s: &[f64]) -> Option<StrayEnd> {
         if self.segments.len() < 2 {
             return None;
@@ -140,7 +154,7 @@ impl Timing {
             ),
         ];
         for (end, seg, gap) in ends {
-            if seg.len() > MAX_STRAY_RUN {
+            if seg.len() > max_stray_end(time_s.len()) {
                 continue;
             }
             if let (Some(body_s), Some(gap)) = (body_s(seg.len()), gap)

@@ -1,14 +1,30 @@
 //! Time order: which samples a reader keeps so that the stamps rise, the one rule of the CSV
 //! reader and of the drone logs' readers.
 //!
-//! A stamp that repeats the last kept one is dropped. A stamp behind the last kept one leaves
-//! two readings: the samples after it are late (the clock jumped back, and they are to go until
-//! it passes the last kept stamp again), or the samples kept just before it are early (the
-//! clock jumped ahead for a while, and the log goes on from where it was before the jump). The
-//! reading that drops fewer samples is taken; on a tie, the samples after. Read the first way
-//! only, three rows stamped +10,000 s in a log at 1 s kept those three and dropped the 9,999
-//! good rows after them; [`super::timing::stray_stamps`] takes one or two such rows with a
-//! message of their own, and this rule takes a longer run.
+//! A stamp that repeats the last kept one is dropped. A stamp behind the last kept one has
+//! three readings:
+//!
+//! - the samples after it are late (a glitch stamped a few of them behind): they go until the
+//!   clock passes the last kept stamp again;
+//! - the samples kept just before it are early (a glitch stamped a few of them ahead): they go,
+//!   and the log goes on from where it was before them;
+//! - the clock went back to (or before) the start of the run kept and ran again over the same
+//!   times (a logger restarted): both of the above would drop a run of samples and splice the
+//!   two runs of the clock into one log that is neither (a 10,000-s run followed by the second
+//!   run's samples past 10,000 s), so one run is kept whole, the longer, and the other dropped.
+//!
+//! A glitch drops few samples one way and many the other; a restart drops the whole run kept
+//! one way and about as many the other. So when both readings drop more than [`MAX_STRAY_RUN`]
+//! samples, one of them the whole run kept and the other at least half as many, the step is a
+//! restart; else the reading that drops fewer is taken (on a tie, the samples after: a block
+//! of rows sent twice loses its second copy). A clock set back into the middle of the run
+//! kept cannot be told from a block sent again, and is read that way: the rows behind the
+//! last kept stamp are dropped. Read the first
+//! way only, three rows stamped +10,000 s in a log at 1 s kept those three and dropped the
+//! 9,999 good rows after them; [`super::timing::stray_stamps`] takes one or two such rows with
+//! a message of their own.
+
+use super::stray::MAX_STRAY_RUN;
 
 /// The first occurrence and count of something dropped.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -56,17 +72,38 @@ pub struct Ahead {
     pub resumed: usize,
     /// Its stamp, s.
     pub resumed_s: f64,
+    /// The stamp kept before it (the run's last), s.
+    pub stepped_from_s: f64,
+}
+
+/// The clock going back and running again over the same times: one run is kept whole, the
+/// longer, and the samples of the other dropped ([`time_order`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Restarts {
+    /// The samples dropped: the first and how many.
+    pub tally: Tally,
+    /// Index of the first sample after the first restart.
+    pub at: usize,
+    /// Its stamp, s.
+    pub to_s: f64,
+    /// The stamp kept before it, s.
+    pub from_s: f64,
+    /// How many restarts.
+    pub count: usize,
+    /// Whether the run before the first restart was the one dropped (else the samples from
+    /// it on).
+    pub dropped_before: bool,
 }
 
 impl Backwards {
-    /// What a reader says: `noun` is what it calls a sample ("row"), `count` how many it
-    /// drops, `place` where the first stands ("line 20003").
+    /// What a reader says: `noun` is what it calls a sample ("row"), `place` where the first
+    /// stands ("line 20003").
     pub fn message(&self, noun: &str, place: &str) -> String {
         format!(
             "{}: time went backwards (first at {place}: {} s after {} s)",
             dropped(self.tally.count, noun),
-            crate::number::readable(self.first_s),
-            crate::number::readable(self.after_s)
+            stamp(self.first_s),
+            stamp(self.after_s)
         )
     }
 }
@@ -77,12 +114,44 @@ impl Ahead {
     pub fn message(&self, noun: &str, place: &str, resumed: &str) -> String {
         format!(
             "{}: stamped ahead of the {noun}s after them, which go on from the {noun}s before \
-             them (first at {place}: {} s; the log goes on at {resumed} with {} s)",
+             them (first at {place}: {} s; the log goes on at {resumed} with {} s, after {} s)",
             dropped(self.tally.count, noun),
-            crate::number::readable(self.first_s),
-            crate::number::readable(self.resumed_s)
+            stamp(self.first_s),
+            stamp(self.resumed_s),
+            stamp(self.stepped_from_s)
         )
     }
+}
+
+impl Restarts {
+    /// What a reader says: `noun` is what it calls a sample ("row"), `at` where the clock
+    /// first goes back ("line 10002"), `first` where the first dropped sample stands.
+    pub fn message(&self, noun: &str, at: &str, first: &str) -> String {
+        let which = if self.dropped_before {
+            format!("the {noun}s before it")
+        } else {
+            format!("the {noun}s from it on")
+        };
+        let times = if self.count == 1 {
+            String::new()
+        } else {
+            format!(", and {} times more", self.count - 1)
+        };
+        format!(
+            "{}: the clock goes back at {at} ({} s after {} s{times}) and runs again over the \
+             same times: the log holds runs of a clock that restarted or was set back; {which}, \
+             the shorter part, dropped (first at {first}) so that one run is kept whole rather \
+             than two spliced; to use the other, split the log at {at}",
+            dropped(self.tally.count, noun),
+            stamp(self.to_s),
+            stamp(self.from_s)
+        )
+    }
+}
+
+/// A stamp in a message: ten significant digits, so that stamps a step apart differ.
+fn stamp(t: f64) -> String {
+    crate::number::significant(t, 10)
 }
 
 /// "1 row dropped", "3 rows dropped".
@@ -106,27 +175,32 @@ pub struct TimeOrder {
     /// Runs stamped ahead of the samples after them, dropped because the log goes on from
     /// the time before them.
     pub ahead: Option<Ahead>,
+    /// The clock going back and running again: the shorter part dropped.
+    pub restarts: Option<Restarts>,
 }
 
 impl TimeOrder {
     /// How many samples go back in time: those behind and those ahead.
     pub fn out_of_order(&self) -> usize {
-        self.backwards.map_or(0, |b| b.tally.count) + self.ahead.map_or(0, |a| a.tally.count)
+        self.backwards.map_or(0, |b| b.tally.count)
+            + self.ahead.map_or(0, |a| a.tally.count)
+            + self.restarts.map_or(0, |r| r.tally.count)
     }
 
     /// The first backward step, for a refusal: the index of the sample that stands behind,
     /// its stamp and the stamp before it (for a run dropped as ahead, the sample the log goes
-    /// on with and the run's first stamp). `None` when every sample is in order.
+    /// on with and the stamp before it). `None` when every sample is in order.
     pub fn first_step_back(&self) -> Option<(usize, f64, f64)> {
-        let behind = self
-            .backwards
-            .map(|b| (b.tally.first, b.first_s, b.after_s));
-        let ahead = self.ahead.map(|a| (a.resumed, a.resumed_s, a.first_s));
-        match (behind, ahead) {
-            (Some(b), Some(a)) if a.0 < b.0 => Some(a),
-            (Some(x), _) | (None, Some(x)) => Some(x),
-            (None, None) => None,
-        }
+        [
+            self.backwards
+                .map(|b| (b.tally.first, b.first_s, b.after_s)),
+            self.ahead
+                .map(|a| (a.resumed, a.resumed_s, a.stepped_from_s)),
+            self.restarts.map(|r| (r.at, r.to_s, r.from_s)),
+        ]
+        .into_iter()
+        .flatten()
+        .min_by_key(|s| s.0)
     }
 }
 
@@ -147,10 +221,14 @@ pub fn time_order(time_s: &[f64], skip: impl Fn(usize) -> bool) -> TimeOrder {
     let mut repeated = None;
     let mut backwards: Option<Backwards> = None;
     let mut ahead: Option<Ahead> = None;
+    let mut restarts: Option<Restarts> = None;
+    // Samples not skipped from the one looked at to the end: the part after a restart.
+    let mut remaining = (0..n).filter(|&i| !skip(i)).count();
     for i in 0..n {
         if skip(i) {
             continue;
         }
+        remaining -= 1;
         let t = time_s[i];
         let last = kept.last().map_or(f64::NEG_INFINITY, |&j| time_s[j]);
         if !t.is_finite() {
@@ -171,39 +249,75 @@ pub fn time_order(time_s: &[f64], skip: impl Fn(usize) -> bool) -> TimeOrder {
             drop_behind(&mut out, &mut backwards, i, t, last);
             continue;
         }
-        // Count side by side: `early` kept samples at or ahead of `t`, `late` samples from
-        // `i` on at or behind `last`, until one count is known to be the smaller.
-        let (mut early, mut late) = (0usize, 0usize);
-        let mut fwd = i;
-        let early_wins = loop {
-            let more_early = early < kept.len() && time_s[kept[kept.len() - 1 - early]] >= t;
-            if more_early {
-                early += 1;
-            }
-            let more_late = loop {
-                if fwd >= n {
-                    break false;
-                }
-                let k = fwd;
-                fwd += 1;
-                if skip(k) {
-                    continue;
-                }
-                break time_s[k] <= last;
-            };
-            if more_late {
-                late += 1;
-            } else {
-                // The first sample past `last` (or the end): no more late ones.
-                fwd = n;
-            }
-            match (more_early, more_late) {
-                (false, _) if early < late => break true,
-                (_, false) if late <= early => break false,
-                (false, false) => break early < late,
-                _ => {}
-            }
+        // `early`: kept samples at or ahead of `t`; `late`: samples from `i` on at or behind
+        // `last`. Each counted up to a limit that doubles until one count is known (below
+        // it), so that a step costs a few looks per sample the reading taken drops.
+        let early_upto = |limit: usize| {
+            kept.iter()
+                .rev()
+                .take(limit)
+                .take_while(|&&j| time_s[j] >= t)
+                .count()
         };
+        let late_upto = |limit: usize| {
+            (i..n)
+                .filter(|&k| !skip(k))
+                .take(limit)
+                .take_while(|&k| time_s[k] <= last)
+                .count()
+        };
+        let mut limit = 4;
+        let (mut early, mut late) = loop {
+            let (e, l) = (early_upto(limit), late_upto(limit));
+            if e < limit || l < limit {
+                break (e, l);
+            }
+            limit *= 2;
+        };
+        // The smaller count is known; the other, when both are runs, up to twice it: a
+        // restart drops runs of about the same length either way, a glitch few one way and
+        // many the other.
+        let small = early.min(late);
+        if small > MAX_STRAY_RUN {
+            if early <= late {
+                late = late_upto(2 * small + 1);
+            } else {
+                early = early_upto(2 * small + 1);
+            }
+        }
+        let early_wins = early < late;
+        if small > MAX_STRAY_RUN && early == kept.len() && early.max(late) <= 2 * small {
+            // The clock went back to the start of the run kept and ran again: the longer
+            // part is kept.
+            let after = remaining + 1;
+            let dropped_before = after > kept.len();
+            let gone = if dropped_before { kept.len() } else { after };
+            let first = if dropped_before { kept[0] } else { i };
+            match &mut restarts {
+                Some(r) => {
+                    r.count += 1;
+                    r.tally.count += gone;
+                }
+                None => {
+                    restarts = Some(Restarts {
+                        tally: Tally { first, count: gone },
+                        at: i,
+                        to_s: t,
+                        from_s: last,
+                        count: 1,
+                        dropped_before,
+                    });
+                }
+            }
+            if dropped_before {
+                out.dropped.append(&mut kept);
+                kept.push(i);
+                late_behind = None;
+                continue;
+            }
+            out.dropped.extend((i..n).filter(|&k| !skip(k)));
+            break;
+        }
         if early_wins {
             let run = kept.split_off(kept.len() - early);
             let first = run[0];
@@ -218,6 +332,7 @@ pub fn time_order(time_s: &[f64], skip: impl Fn(usize) -> bool) -> TimeOrder {
                         first_s: time_s[first],
                         resumed: i,
                         resumed_s: t,
+                        stepped_from_s: last,
                     });
                 }
             }
@@ -233,6 +348,7 @@ pub fn time_order(time_s: &[f64], skip: impl Fn(usize) -> bool) -> TimeOrder {
     out.repeated = repeated;
     out.backwards = backwards;
     out.ahead = ahead;
+    out.restarts = restarts;
     out
 }
 
@@ -329,25 +445,47 @@ mod tests {
     }
 
     #[test]
-    fn a_clock_set_back_halfway_drops_the_shorter_part_and_the_later_on_a_tie() {
+    fn a_clock_that_restarts_keeps_the_longer_run_whole() {
         // 0..600 s, then the clock restarts at 0 for 400 samples: the restart's 400 go.
         let mut t = at_one_s(600);
         t.extend(at_one_s(400));
         let o = time_order(&t, |_| false);
         assert_eq!(o.dropped, (600..1000).collect::<Vec<_>>());
-        // 400 then 600: 400 go either way (the first part, or the restart's samples up to
-        // 399 s), and the tie drops the later ones.
+        let r = o.restarts.expect("a restart");
+        assert_eq!((r.at, r.to_s, r.from_s, r.count), (600, 0.0, 599.0, 1));
+        assert!(!r.dropped_before);
+        // 400 then 600: the first 400 go, whatever the tie of the two readings (either drops
+        // 400 and splices the runs: the first run with the second's samples past 399 s).
         let mut t = at_one_s(400);
         t.extend(at_one_s(600));
         let o = time_order(&t, |_| false);
-        assert_eq!(o.dropped, (400..800).collect::<Vec<_>>());
-        // A tie: the later part goes, as before this rule.
-        let mut t = at_one_s(300);
-        t.extend(at_one_s(300));
-        assert_eq!(
-            time_order(&t, |_| false).dropped,
-            (300..600).collect::<Vec<_>>()
+        assert_eq!(o.dropped, (0..400).collect::<Vec<_>>());
+        assert!(
+            o.restarts
+                .is_some_and(|r| r.dropped_before && r.tally.count == 400)
         );
+        // A block sent twice: its second copy goes, not the log before it.
+        let mut t: Vec<f64> = (0..100_000).map(|i| f64::from(i) * 0.01).collect();
+        let resent = t[99_995..].to_vec();
+        t.extend(resent);
+        t.extend((100_000..100_500).map(|i| f64::from(i) * 0.01));
+        let o = time_order(&t, |_| false);
+        assert_eq!(o.dropped, (100_000..100_005).collect::<Vec<_>>());
+        assert!(o.restarts.is_none());
+    }
+
+    #[test]
+    fn periodic_restarts_keep_the_last_run_and_name_the_first_step() {
+        let mut t = Vec::new();
+        for _ in 0..8 {
+            t.extend(at_one_s(5000));
+        }
+        t.extend(at_one_s(5201));
+        let o = time_order(&t, |_| false);
+        assert_eq!(o.dropped, (0..40_000).collect::<Vec<_>>());
+        assert_eq!(o.out_of_order(), 40_000);
+        // The first step back: 0 s at sample 5000, after 4999 s.
+        assert_eq!(o.first_step_back(), Some((5000, 0.0, 4999.0)));
     }
 
     #[test]

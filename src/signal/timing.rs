@@ -375,7 +375,10 @@ enum Runs {
 /// - the steps of runs must be at least twice as many as the pauses (runs of three samples
 ///   or more, so that `s` is a step within the runs), else `None`;
 /// - **bursts** when three pauses in four last [`MIN_BURST_PAUSE_S`] or longer and nine steps
-///   of runs in ten keep `s` within 10 % (a sampler's clock): the step is `s`;
+///   of runs in ten keep `s` within 10 % (a sampler's clock), or when the pauses of
+///   [`MIN_BURST_PAUSE_S`] or longer hold more than half of the time (a logger asleep between
+///   bursts whose samples a host stamps with jitter, in batches, after stalls): the step is
+///   `s`;
 /// - **a host's batches** when three pauses in four are shorter than [`MIN_BURST_PAUSE_S`]
 ///   and the pauses hold more than half of the time (the host stamps faster than the sampler
 ///   samples; a logger that drops samples loses less than that): the step is the mean step.
@@ -403,7 +406,7 @@ fn runs_of(time_s: &[f64]) -> Option<Runs> {
     };
     let s = median(&mut sample.clone())?;
     let (mut in_runs, mut regular, mut pauses, mut long_pauses) = (0usize, 0usize, 0usize, 0);
-    let (mut paused_s, mut total_s) = (0.0, 0.0);
+    let (mut paused_s, mut slept_s, mut total_s) = (0.0, 0.0, 0.0);
     for &d in &sample {
         total_s += d;
         if d > GAP_FACTOR * s {
@@ -411,6 +414,7 @@ fn runs_of(time_s: &[f64]) -> Option<Runs> {
             paused_s += d;
             if d >= MIN_BURST_PAUSE_S {
                 long_pauses += 1;
+                slept_s += d;
             }
         } else {
             in_runs += 1;
@@ -422,7 +426,11 @@ fn runs_of(time_s: &[f64]) -> Option<Runs> {
     if pauses == 0 || in_runs < 2 * pauses {
         return None;
     }
-    if 4 * long_pauses >= 3 * pauses && 10 * regular >= 9 * in_runs {
+    // A logger asleep most of the time between runs it logs, whatever stamps its host puts
+    // on the samples of a run (jittered, some in batches, some after a stall of half a
+    // second): the pauses of 2 s or more are its sleep.
+    let asleep = long_pauses > 0 && in_runs >= 2 * long_pauses && slept_s > 0.5 * total_s;
+    if (4 * long_pauses >= 3 * pauses && 10 * regular >= 9 * in_runs) || asleep {
         Some(Runs::Bursts { step: s })
     } else if 4 * (pauses - long_pauses) >= 3 * pauses && paused_s > 0.5 * total_s {
         Some(Runs::Batches {
@@ -533,6 +541,8 @@ fn jitter_of(time_s: &[f64], segments: &[Range<usize>], dt: f64) -> Option<Jitte
 /// agree within 20 % of their medians, covering less than half of the time between their
 /// starts.
 fn bursts_of(time_s: &[f64], segments: &[Range<usize>]) -> Option<Bursts> {
+    let groups = asleep_apart(time_s, segments);
+    let segments = groups.as_slice();
     // The last burst may be cut short by the end of the run.
     let body = &segments[..segments.len().saturating_sub(1)];
     if body.len() < 4 || body.iter().any(|r| r.len() < MIN_BURST_SAMPLES) {
@@ -555,6 +565,35 @@ fn bursts_of(time_s: &[f64], segments: &[Range<usize>]) -> Option<Bursts> {
         on_s,
         every_s,
     })
+}
+
+/// The runs of `segments` between pauses of [`MIN_BURST_PAUSE_S`] or longer: a host's stall
+/// of half a second inside a burst splits a segment, not a burst.
+fn asleep_apart(time_s: &[f64], segments: &[Range<usize>]) -> Vec<Range<usize>> {
+    let mut out: Vec<Range<usize>> = Vec::with_capacity(segments.len());
+    for r in segments {
+        match out.last_mut() {
+            Some(last)
+                if !r.is_empty() && time_s[r.start] - time_s[last.end - 1] < MIN_BURST_PAUSE_S =>
+            {
+                last.end = r.end;
+            }
+            _ => out.push(r.clone()),
+        }
+    }
+    out
+}
+
+impl Timing {
+    /// The samples of each burst when the log is written in bursts ([`Timing::bursts`]): its
+    /// segments, those a host's stall split joined again; else the segments.
+    pub fn burst_ranges(&self, time_s: &[f64]) -> Vec<Range<usize>> {
+        if self.bursts.is_some() {
+            asleep_apart(time_s, &self.segments)
+        } else {
+            self.segments.clone()
+        }
+    }
 }
 
 #[cfg(test)]
@@ -681,8 +720,13 @@ mod tests {
         let e = Timing::of(&t).stray_end(&t).expect("stray");
         assert_eq!((e.end, e.samples, e.body_s), (End::Last, 2, 999.0));
         assert_eq!(e.range(t.len()), 1000..1002);
-        // Three samples there are a segment of their own.
+        // Three are stray too (stamped before a clock was set: 0, 0.5, 0.7 s, then Unix
+        // time), up to a hundredth of the log; more are a segment of their own.
         t.push(1e9 + 2.0);
+        let e = Timing::of(&t).stray_end(&t).expect("stray");
+        assert_eq!((e.end, e.samples), (End::Last, 3));
+        t.extend((3..11).map(|k| 1e9 + f64::from(k)));
+        assert_eq!(t.len(), 1011);
         assert_eq!(Timing::of(&t).stray_end(&t), None);
     }
 }

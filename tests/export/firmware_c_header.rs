@@ -193,7 +193,8 @@ fn c_header_corrects_as_driftlab_for_mixed_kinds_and_extrapolation() {
 #[test]
 fn c_header_follows_hand_edited_curves() {
     // A calibration file edited by hand: K1+ knots no longer equally spaced (the C searches
-    // for the segment) and K0 a polynomial of degree 4 (the general Horner sum).
+    // for the segment) and K0's coefficients changed (a degree above its kind's is refused on
+    // load: the header would name a parabola and compute another curve).
     let (cal_log, val_log) = (read("calibration.csv"), read("validation.csv"));
     use ApproxKind::{Parabolic, Spline};
     let cal = calibrate(&cal_log, [Parabolic, Spline, Spline], false);
@@ -203,8 +204,8 @@ fn c_header_follows_hand_edited_curves() {
     let (a, b) = (kx[1].as_f64().unwrap(), kx[2].as_f64().unwrap());
     kx[1] = serde_json::json!(a + 0.3 * (b - a));
     let coeffs = body["k0"]["curve"]["coeffs"].as_array_mut().unwrap();
-    coeffs.push(serde_json::json!(1e-9));
-    coeffs.push(serde_json::json!(-2e-11));
+    let c2 = coeffs[2].as_f64().unwrap();
+    coeffs[2] = serde_json::json!(c2 * 1.5 + 1e-6);
     let edited = calibration::from_json(Path::new("edited.json"), &v.to_string()).unwrap();
     assert_eq!(edited.k1_plus.segment_cubics().unwrap().inv_step, 0.0);
     c_agrees_with_driftlab("hand-edited", &edited, &[&val_log, &cal_log]);

@@ -644,3 +644,81 @@ fn knots_whose_span_overflows_are_refused_not_a_crash() {
         );
     }
 }
+
+/// A kind that does not describe its curve (a parabola said to be linear or a spline), a
+/// recipe asking for another kind than the one fitted, a fitted range of no width and a
+/// record of refinements run that says they all ran: each made the report, the C header or
+/// `calibrate --recipe` describe a calibration that is not the one corrected with (the
+/// nineteenth attack). Each is refused with its field; the file as written loads.
+#[test]
+fn a_kind_its_curve_or_recipe_contradicts_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let log = read("calibration.csv");
+    let model = fitted(
+        &log,
+        ModelChoice::Preset(Preset::Vakhrameev),
+        &Recipe::default(),
+    );
+    let DriftModel::Vakhrameev(c) = &model else {
+        panic!("not a Vakhrameev calibration");
+    };
+    // The default K0 is a parabola: three coefficients.
+    assert_eq!(c.k0.kind().to_string(), "parabolic");
+    let cal = saved(dir.path(), "cal.json", &model);
+    type Edit = fn(&mut Value);
+    let cases: [(&str, Edit, &str, &str); 6] = [
+        (
+            "k0_as_spline.json",
+            |v| body(v)["k0"]["kind"] = json!("spline"),
+            "k0",
+            "more than a spline approximation has (1)",
+        ),
+        (
+            "k0_as_linear.json",
+            |v| body(v)["k0"]["kind"] = json!("linear"),
+            "k0",
+            "more than a linear approximation has (2)",
+        ),
+        (
+            "recipe_linear.json",
+            |v| body(v)["recipe"]["k0"]["kind"] = json!("linear"),
+            "k0.kind",
+            "the recipe asks for linear",
+        ),
+        (
+            "zero_width.json",
+            |v| {
+                body(v)["k2_plus"]["x_min"] = json!(0.0);
+                body(v)["k2_plus"]["x_max"] = json!(0.0);
+            },
+            "k2_plus",
+            "has no width",
+        ),
+        (
+            "all_ran.json",
+            |v| {
+                let r = body(v)["recipe"]["refinements"].clone();
+                body(v)["resolved"]["refinements_run"] = json!([r, r]);
+            },
+            "resolved.refinements_run",
+            "written only when a set's passes stopped short",
+        ),
+        (
+            "more_ran.json",
+            |v| body(v)["resolved"]["refinements_run"] = json!([1, 99]),
+            "resolved.refinements_run",
+            "never more",
+        ),
+    ];
+    for (name, edit, field, why) in cases {
+        refused(&edited(&cal, name, edit), field, why);
+    }
+    // A fallback's line under a recipe of a parabola is what a fit makes, and loads.
+    let line = edited(&cal, "line.json", |v| {
+        let k0 = &mut body(v)["k0"];
+        k0["kind"] = json!("linear");
+        let coeffs = k0["curve"]["coeffs"].as_array().unwrap()[..2].to_vec();
+        k0["curve"]["coeffs"] = json!(coeffs);
+    });
+    calibration::load_unit(&line).expect("a line under a parabola's recipe loads");
+}

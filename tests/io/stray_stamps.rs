@@ -383,3 +383,80 @@ fn a_drone_log_drops_a_run_stamped_ahead_by_the_same_rule() {
         a[0].message
     );
 }
+
+#[test]
+fn a_logger_restarted_keeps_one_run_whole_not_two_spliced() {
+    // 1000 rows, then the clock restarts at 100 s for 3000 rows: the first run goes whole
+    // (it spliced before: the first run, then the second's rows past 1099 s).
+    let first = rows(1000);
+    let second: Vec<String> = rows(3000)
+        .into_iter()
+        .map(|r| {
+            let (t, cells) = r.split_once(',').unwrap();
+            let t: f64 = t.parse().unwrap();
+            format!("{},{cells}", t, cells = cells.replace(",2", ",3"))
+        })
+        .collect();
+    let mut all = first.clone();
+    all.extend(second.iter().cloned());
+    let log = read(&text(&all));
+    let want = read(&text(&second));
+    assert_eq!(log.time_s, want.time_s, "{:?}", log.info.problems);
+    assert_eq!(log.temp_c, want.temp_c);
+    let r = kinds(&log, ProblemKind::TimeBackwards);
+    assert_eq!(r.len(), 1, "{:?}", log.info.problems);
+    assert_eq!((r[0].line, r[0].count), (line_of_row(0), 1000));
+    assert!(
+        r[0].message.contains(&format!(
+            "the clock goes back at line {} (100 s after 1099 s)",
+            line_of_row(1000)
+        )) && r[0]
+            .message
+            .contains("the rows before it, the shorter part"),
+        "{}",
+        r[0].message
+    );
+    // A block of rows sent twice loses its second copy, not the log before it.
+    let mut twice = rows(3000);
+    let block = twice[1495..1500].to_vec();
+    for (k, b) in block.into_iter().enumerate() {
+        twice.insert(1500 + k, b);
+    }
+    let log = read(&text(&twice));
+    assert_eq!(log.time_s, read(&text(&rows(3000))).time_s);
+}
+
+#[test]
+fn rows_stamped_before_the_clock_was_set_are_stray_not_decades_of_log() {
+    // Three rows at 0, 0.5 and 0.7 s, then a log stamped in Unix time: the log is the Unix
+    // part, not 55 years long.
+    let body: Vec<String> = (0..3000)
+        .map(|i| format!("{},{},{}", 1_733_397_000 + i, 0.001 * (i % 97) as f64, 20.0))
+        .collect();
+    let mut all = vec![
+        "0,0.5,99".to_string(),
+        "0.5,0.5,99".into(),
+        "0.7,0.5,99".into(),
+    ];
+    all.extend(body.iter().cloned());
+    let log = read(&text(&all));
+    assert_eq!(
+        log.time_s,
+        read(&text(&body)).time_s,
+        "{:?}",
+        log.info.problems
+    );
+    let s = strays(&log);
+    assert_eq!(
+        (s[0].line, s[0].count),
+        (line_of_row(0), 3),
+        "{:?}",
+        log.info.problems
+    );
+    assert!(
+        s[0].message.contains("their times 0 s to 0.7 s stand")
+            && s[0].message.contains("(lines 2 to 4)"),
+        "{}",
+        s[0].message
+    );
+}

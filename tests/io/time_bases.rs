@@ -325,3 +325,34 @@ fn a_1_hz_burst_log_is_calibrated_from_its_bursts() {
         );
     }
 }
+
+/// A logger that sleeps 110 s between bursts of 10 s at 10 Hz, whose samples a host stamps
+/// with jitter, in batches and after stalls (`simulate --bursts 10:120 --jitter`): the host's
+/// stalls made more short pauses than long ones and its batches made the steps irregular, and
+/// the log was read as a regular one at 1.2 s with 110 s of "jitter", which `calibrate` then
+/// refused with a rate of T of "0.000 °C/min". The sleep holds most of the time: bursts.
+#[test]
+fn the_simulators_jittered_bursts_are_read_as_bursts() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = p(dir.path(), "burst.csv");
+    ok(&[
+        "simulate",
+        "--profile",
+        "calibration",
+        "--rate-hz",
+        "10",
+        "--bursts",
+        "10:120",
+        "--jitter",
+        "-o",
+        &path,
+    ]);
+    let log = driftlab::read_path(Path::new(&path), &driftlab::ReadOptions::default()).unwrap();
+    let tm = log.timing();
+    assert!((tm.nominal_dt_s - 0.1).abs() < 0.005, "{}", tm.nominal_dt_s);
+    let b = tm.bursts.expect("named as bursts");
+    assert!((b.every_s - 120.0).abs() < 1.0, "{b:?}");
+    // Calibrated: the rate of T is what the program ramps (1 °C/min), not 0.
+    let cal = p(dir.path(), "cal.json");
+    ok(&["calibrate", &path, "-o", &cal]);
+}

@@ -168,12 +168,13 @@ pub(super) fn finish(mut acc: Acc, sn: &Sniffed, plan: &Plan, source: &str) -> R
                 time_col.unwrap_or(0),
                 format!(
                     "{} of the {} rows go back in time (first at line {line}: {} s after {} s): \
-                     the rows are not in time order (newest first?); sort the log by its \
-                     time column",
+                     the rows are not in time order: written newest first (sort the log by its \
+                     time column), or by a clock that restarts (split the log at each restart: \
+                     each run is a log of its own)",
                     order.out_of_order(),
                     time.len(),
-                    crate::number::readable(first_s),
-                    crate::number::readable(after_s)
+                    crate::number::significant(first_s, 10),
+                    crate::number::significant(after_s, 10)
                 ),
             ));
         }
@@ -185,6 +186,20 @@ pub(super) fn finish(mut acc: Acc, sn: &Sniffed, plan: &Plan, source: &str) -> R
                 kind: ProblemKind::TimeBackwards,
                 count: b.tally.count,
                 message: b.message("row", &format!("line {line}")),
+            });
+        }
+        if let Some(r) = order.restarts {
+            let line = acc.line_of(r.tally.first);
+            problems.push(Problem {
+                line,
+                column: time_col,
+                kind: ProblemKind::TimeBackwards,
+                count: r.tally.count,
+                message: r.message(
+                    "row",
+                    &format!("line {}", acc.line_of(r.at)),
+                    &format!("line {line}"),
+                ),
             });
         }
         if let Some(a) = order.ahead {
@@ -215,7 +230,7 @@ pub(super) fn finish(mut acc: Acc, sn: &Sniffed, plan: &Plan, source: &str) -> R
     unread_temperatures(&mut acc, plan, &mut drop, &mut problems);
     // Gaps: steps the later stamps do not make up (host stamps that bunch are not gaps).
     let mut timing = Timing::of(&acc.cols[SLOT_TIME]);
-    // A sample or two alone at an end past a gap far longer than the rest of the log are stray
+    // A few samples alone at an end past a gap far longer than the rest of the log are stray
     // stamps: dropped with their lines, so that they make neither the log's duration nor a
     // segment.
     while let Some(end) = timing.stray_end(&acc.cols[SLOT_TIME]) {
@@ -223,10 +238,10 @@ pub(super) fn finish(mut acc: Acc, sn: &Sniffed, plan: &Plan, source: &str) -> R
         let gone: Vec<usize> = kept.clone().map(|k| row_of(&drop, k)).collect();
         let lines: Vec<String> = gone.iter().map(|&r| acc.line_of(r).to_string()).collect();
         let line = acc.line_of(gone[0]);
-        let place = if lines.len() == 1 {
-            format!("line {line}")
-        } else {
-            format!("lines {}", lines.join(" and "))
+        let place = match lines.as_slice() {
+            [_] | [] => format!("line {line}"),
+            [a, b] => format!("lines {a} and {b}"),
+            [a, .., b] => format!("lines {a} to {b}"),
         };
         problems.push(Problem {
             line,

@@ -214,11 +214,24 @@ impl Approx {
     /// The reason, for the caller to put after the field's name.
     pub fn check(&self) -> Result<(), CurveError> {
         match (&self.curve, self.kind) {
-            // Any kind may hold a polynomial: a knot kind holds a constant when its points were
-            // too few for any curve, and a file may be edited to a higher degree.
-            (Curve::Polynomial { coeffs }, _) => {
+            // Any kind may hold a polynomial of its degree or less: a knot kind holds a constant
+            // (zero) when its points were too few for any curve. A higher degree than the
+            // kind's would be corrected with while the report and the C header name the kind.
+            (Curve::Polynomial { coeffs }, kind) => {
                 if coeffs.len() > MAX_POLY_COEFFS {
                     return Err(CurveError::TooManyCoefficients { got: coeffs.len() });
+                }
+                let most = match kind {
+                    ApproxKind::Linear => 2,
+                    ApproxKind::Parabolic => 3,
+                    ApproxKind::Pwl | ApproxKind::Spline => 1,
+                };
+                if coeffs.len() > most {
+                    return Err(CurveError::DegreeOfKind {
+                        got: coeffs.len(),
+                        kind,
+                        most,
+                    });
                 }
             }
             (Curve::Pwl { .. }, ApproxKind::Pwl)
@@ -256,6 +269,13 @@ impl Approx {
             return Err(CurveError::RangeWidth {
                 x_min: self.x_min,
                 x_max: self.x_max,
+            });
+        }
+        // Only the zero of a term with no points stands on a range of no width.
+        if self.x_max == self.x_min && self.stats.n > 1 {
+            return Err(CurveError::ZeroWidthFit {
+                x: self.x_min,
+                n: self.stats.n,
             });
         }
         if !(self.stats.rmse.is_finite() && self.stats.r2.is_finite()) {

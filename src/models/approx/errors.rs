@@ -47,6 +47,33 @@ pub enum CurveError {
         /// The kind the approximation says it is.
         kind: ApproxKind,
     },
+    /// A polynomial of more coefficients than its kind has (a parabola said to be linear): the
+    /// report and the C header would name a curve that is not the one corrected with.
+    #[error(
+        "{got} polynomial coefficients, more than a {kind} approximation has ({most}): the \
+         kind does not describe the curve"
+    )]
+    DegreeOfKind {
+        /// Coefficients held.
+        got: usize,
+        /// The kind the approximation says it is.
+        kind: ApproxKind,
+        /// The most that kind has.
+        most: usize,
+    },
+    /// A range of zero width that a fit over points claims to have been made on.
+    #[error(
+        "the fitted range [{}, {}] has no width, though {n} points are said to be fitted \
+         on it",
+        readable(*.x),
+        readable(*.x)
+    )]
+    ZeroWidthFit {
+        /// Where the range stands.
+        x: f64,
+        /// Points said to be fitted.
+        n: usize,
+    },
     /// More knots than [`MAX_KNOTS`].
     #[error("{got} knots, more than the {} a knot curve may have", MAX_KNOTS)]
     TooManyKnots {

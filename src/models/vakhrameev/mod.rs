@@ -48,7 +48,9 @@ pub(crate) use sets::{SetInputs, SetSamples, set_samples};
 
 use crate::error::Invalid;
 use crate::log::Log;
-use crate::models::approx::{self, Approx, ApproxSpec, FitOptions, PointSource, XRange};
+use crate::models::approx::{
+    self, Approx, ApproxKind, ApproxSpec, FitOptions, PointSource, XRange,
+};
 use crate::models::recipe::{Recipe, Weighting};
 use crate::signal::plateau::{PlateauRange, PlateauStats};
 use crate::signal::{self, DerivativeSteps, Derivatives};
@@ -402,12 +404,14 @@ impl Calibration {
             }
         }
         if let Some(run) = r.refinements_run
-            && run.iter().any(|&p| p > self.recipe.refinements)
+            && (run.iter().any(|&p| p > self.recipe.refinements)
+                || run.iter().all(|&p| p == self.recipe.refinements))
         {
             return Err(Invalid::new(
                 "resolved.refinements_run",
                 format!(
-                    "{} and {} passes run, more than the recipe's refinements of {}",
+                    "{} and {} passes run against the recipe's refinements of {}: written only \
+                     when a set's passes stopped short of them, and never more",
                     run[0], run[1], self.recipe.refinements
                 ),
             ));
@@ -471,8 +475,29 @@ impl Calibration {
                 }
             }
         }
+        let asked = [
+            &self.recipe.k0,
+            &self.recipe.k1_plus,
+            &self.recipe.k1_minus,
+            &self.recipe.k2_plus,
+            &self.recipe.k2_minus,
+        ];
         for (k, (name, a)) in self.fields().into_iter().enumerate() {
             a.check().map_err(|reason| Invalid::new(name, reason))?;
+            // The recipe's kind, or the line a fit falls back to: a recipe that asks for
+            // another would not make this calibration again.
+            if a.kind() != asked[k].kind && a.kind() != ApproxKind::Linear {
+                return Err(Invalid::new(
+                    format!("{name}.kind"),
+                    format!(
+                        "is {}, but the recipe asks for {} (a fit gives its kind, or a line \
+                         when its points cannot carry it): the recipe would not make this \
+                         calibration",
+                        a.kind(),
+                        asked[k].kind
+                    ),
+                ));
+            }
             // K0 is the drift itself; K1 and K2 are multiplied by the rates they are of.
             let bound = if k == 0 {
                 a.bound()

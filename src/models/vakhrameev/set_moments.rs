@@ -304,9 +304,9 @@ fn omega_moments_of<const WB: usize>(
             let Weights {
                 first, weights: b, ..
             } = own.basis(x);
-            for a in 0..WB {
-                let wa = w * b[a];
-                m.h[first + a] += wa * yr;
+            for (h, &ba) in m.h[first..first + WB].iter_mut().zip(&b[..WB]) {
+                let wa = w * ba;
+                *h += wa * yr;
             }
         }
         m
