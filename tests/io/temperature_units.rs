@@ -133,6 +133,9 @@ fn a_temperature_in_a_unit_of_another_quantity_is_refused() {
         ("temp [LSB]", "LSB", &["counts"]),
         ("temp [counts]", "counts", &["counts"]),
         ("temp [s]", "s", &["a time unit"]),
+        // A prefix on a scale the reader has no factor for.
+        ("temp [mK]", "mK", &["does not read"]),
+        ("temp [m°F]", "m°F", &["does not read"]),
         ("temp [deg/s]", "deg/s", &["a rate unit"]),
         // A count of degrees: the message names the unit that reads such counts.
         ("temp [0.1 °C]", "0.1 °C", &["d°C", "factor of 10"]),

@@ -229,6 +229,15 @@ fn unread_slot(text: &str, q: Quantity) -> Option<Unread> {
         let a = TempUnit::from_key(&unit_key(a))?;
         TimeUnit::from_key(&unit_key(b)).map(|_| a)
     };
+    // A prefix on a temperature unit the reader has no factor for (`mK`, `m°F`, `kdegC`): read
+    // as °C, its values would be off by that prefix.
+    if q == Quantity::Temp
+        && ["milli", "centi", "deci", "kilo", "m", "c", "d", "k"]
+            .iter()
+            .any(|p| key.strip_prefix(p).and_then(TempUnit::from_key).is_some())
+    {
+        return unread(Why::Unknown);
+    }
     let other = match q {
         Quantity::Rate if time_unit => Some("a time unit"),
         Quantity::Time if StatedRate::from_text(t).is_some() => Some("a rate unit"),
@@ -493,6 +502,8 @@ mod tests {
             ("temp [°C/min]", "°C/min"),
             ("temp [LSB]", "LSB"),
             ("temp [0.1 °C]", "0.1 °C"),
+            ("temp [mK]", "mK"),
+            ("temp [m°F]", "m°F"),
         ] {
             assert_eq!(u(name, Quantity::Temp), Some((unit.into(), true)), "{name}");
         }
