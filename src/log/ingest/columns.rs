@@ -8,8 +8,8 @@
 pub(crate) use super::names::rate_unit_of_name;
 use super::names::unit_words::{Quantity, StatedRate, unread_unit};
 use super::names::{
-    Kind, axis_names, classify, is_raw_register, name_parts, raw_unit, stated_rate, stated_time,
-    stated_unit,
+    Kind, axis_names, classify, is_raw_register, name_parts, raw_unit, stated_rate, stated_temp,
+    stated_time,
 };
 use super::sniff::Sniffed;
 use super::units::{RateUnit, TempUnit, TimeUnit};
@@ -401,24 +401,22 @@ pub(crate) fn plan(sn: &Sniffed, opts: &ReadOptions) -> Result<Plan, Fail> {
     let named_time = |j: usize| sn.has_header.then(|| stated_time(&sn.names[j])).flatten();
     let named_rate = |j: usize| sn.has_header.then(|| stated_rate(&sn.names[j])).flatten();
     // A unit the column's name states that the reader does not read (`Rate [furlongs/s]`,
-    // `time [10 ms]`, `time_ds`): never taken for the default, the read stops with what to
-    // give. A lone word where a unit goes (`Rate [rpm]`) is read in the default and warned of
-    // (`plausible.rs`).
+    // `time [10 ms]`, `time_ds`, `temp [V]`): never taken for the default, the read stops with
+    // what to give, at the header's line and the column's number. A lone word where a unit
+    // goes (`Rate [arb]`) is read in the default and warned of (`plausible.rs`).
     let unread = |j: usize, q: Quantity| -> Result<(), Fail> {
         match sn
             .has_header
             .then(|| unread_unit(&sn.names[j], q))
             .flatten()
         {
-            Some(u) if u.refuses() => Err(at_header(u.refusal(q, &sn.names[j]))),
+            Some(u) if u.refuses() => {
+                Err(Fail::new(sn.header_line, j + 1, u.refusal(q, &sn.names[j])))
+            }
             _ => Ok(()),
         }
     };
-    let named_temp = |j: usize| {
-        sn.has_header
-            .then(|| stated_unit(&sn.names[j], TempUnit::from_key))
-            .flatten()
-    };
+    let named_temp = |j: usize| sn.has_header.then(|| stated_temp(&sn.names[j])).flatten();
     let time = match time_col {
         None => match opts.sample_rate_hz {
             Some(rate_hz) => TimeSource::RowIndex { rate_hz },
@@ -512,9 +510,17 @@ pub(crate) fn plan(sn: &Sniffed, opts: &ReadOptions) -> Result<Plan, Fail> {
         }
     };
     let rate_unit = rate_unit_of(rate_col)?;
-    let temp_unit_of = |j: usize| match header_unit(j) {
-        Some(Kind::Temp(Some(u))) => u,
-        _ => named_temp(j).unwrap_or(TempUnit::Celsius),
+    let temp_unit_of = |j: usize| -> Result<TempUnit, Fail> {
+        match header_unit(j) {
+            Some(Kind::Temp(Some(u))) => Ok(u),
+            _ => match named_temp(j) {
+                Some(u) => Ok(u),
+                None => {
+                    unread(j, Quantity::Temp)?;
+                    Ok(TempUnit::Celsius)
+                }
+            },
+        }
     };
     // The other axes the engineer named, or every other rate column, in °/h like the first,
     // but for the predicted and corrected rates of a log `apply` wrote: those are kept as
@@ -534,9 +540,12 @@ pub(crate) fn plan(sn: &Sniffed, opts: &ReadOptions) -> Result<Plan, Fail> {
     } else {
         Vec::new()
     };
-    let celsius = |u: TempUnit| {
-        let (m, a) = u.to_celsius();
-        Conv::new(m, 1.0, a)
+    let celsius = |u: TempUnit| match u.per_degree_celsius() {
+        Some(per) => Conv::new(1.0, per, 0.0),
+        None => {
+            let (m, a) = u.to_celsius();
+            Conv::new(m, 1.0, a)
+        }
     };
 
     // Columns and actions.
@@ -571,7 +580,7 @@ pub(crate) fn plan(sn: &Sniffed, opts: &ReadOptions) -> Result<Plan, Fail> {
             };
             (ColumnRole::Rate, rate_unit.to_string())
         } else if j == temp_col {
-            let u = temp_unit_of(j);
+            let u = temp_unit_of(j)?;
             actions[j] = Action::Parse {
                 slot: SLOT_TEMP,
                 required: true,
@@ -585,6 +594,14 @@ pub(crate) fn plan(sn: &Sniffed, opts: &ReadOptions) -> Result<Plan, Fail> {
                 // A raw register stays in its counts.
                 Some(Kind::Temp(_)) if is_raw_register(&name) => {
                     (Conv::IDENT, "counts".to_string(), "counts".to_string())
+                }
+                // A temperature's name stating a unit the reader does not read as one
+                // (`heater_temp [V]`): kept as written, not called °C.
+                Some(Kind::Temp(None))
+                    if sn.has_header && unread_unit(&name, Quantity::Temp).is_some() =>
+                {
+                    let raw = raw_unit(&name);
+                    (Conv::IDENT, raw.clone(), raw)
                 }
                 Some(Kind::Temp(u)) => {
                     let u = u.unwrap_or(TempUnit::Celsius);

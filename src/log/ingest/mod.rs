@@ -24,7 +24,9 @@
 //!   `gyro_x_rad_s`, `Rate (deg/s)`...), temperature (`temp`, `temperature`, `t_c`,
 //!   `Temp [°C]`, `T1`...). The first temperature column is the calibration temperature;
 //!   every other numeric column is kept by name in [`Log::extra`] (other temperatures
-//!   converted to °C).
+//!   converted to °C). `rate` and a bare `w` name a gyro's rate only alone, with notes or
+//!   beside an angular rate's unit (`rate_x`, `rate_dps`): a chamber's channels hold them
+//!   too (`coolant_flow_rate_lpm`, `heater_power_w`), and stay channels.
 //! * Without a header, column 1 is time, 2 the rate and 3 the temperature, unless the
 //!   options map them; a two-column file without a header is rate and temperature and needs
 //!   [`ReadOptions::sample_rate_hz`].
@@ -38,8 +40,10 @@
 //! Units are read from the column names (`omega_dph`, `gyro_x_rad_s`, `Rate [deg/s]`,
 //! `time_ms`, `t [min]`, `Temp [K]`) and can be overridden with
 //! [`ReadOptions::rate_unit`] and [`ReadOptions::time_unit`]; without either, rate is in
-//! °/h and time in seconds. The unit each column was read in is recorded in
-//! [`ColumnInfo::unit`].
+//! °/h and time in seconds. A temperature is read in °C, K, °F or tenths, hundredths or
+//! thousandths of a degree Celsius (`d°C`, `c°C`, `m°C`) as its name states; there is no
+//! setting for it, and a name stating a unit of another quantity (`temp [V]`) is refused. The
+//! unit each column was read in is recorded in [`ColumnInfo::unit`].
 //!
 //! # What is an error and what is a problem
 //!

@@ -6,7 +6,9 @@
 pub(super) mod unit_words;
 
 use super::units::{RateUnit, TempUnit, TimeUnit, unit_key};
-use unit_words::{StatedRate, Words, rate_in_slot, rate_in_words, time_in_slot, time_in_words};
+use unit_words::{
+    StatedRate, Words, rate_in_slot, rate_in_words, temp_in_slot, time_in_slot, time_in_words,
+};
 
 /// What a header name says about a column.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -267,6 +269,22 @@ pub(crate) fn axis_names(columns: &[(usize, &str)]) -> Vec<String> {
         .collect()
 }
 
+/// Whether `word` is one of the rate words that name many things besides a gyro's rate:
+/// `rate` (`rate2`, `ratex`), which chambers' channels hold (`ramp_rate`, `rate_limit`), and
+/// `w` without an axis letter (`w`, `w2`), the unit of a power (`heater_w`). `wx`, `w_x` keep
+/// naming a gyro axis.
+fn is_weak_rate_word(word: &str) -> bool {
+    word_is(word, "rate") || (word_is(word, "w") && !matches!(word, "wx" | "wy" | "wz"))
+}
+
+/// Whether `word`, after `rate` or `w`, leaves the name a gyro's rate: a note of what the
+/// column is (an axis letter, a sensor number, `filtered`, `raw`) or another rate word
+/// (`rate_gyro`); not a word of another role (`rate_setpoint`, `rate_time`), nor any other
+/// word (`rate_limit`).
+fn qualifies_a_rate(word: &str) -> bool {
+    in_list(word, RATE_WORDS) || (unit_words::is_note(word) && !is_role_word(word))
+}
+
 fn in_list(word: &str, list: &[&str]) -> bool {
     list.iter().any(|kw| word_is(word, kw))
 }
@@ -286,13 +304,17 @@ pub(super) fn classify(name: &str) -> (Kind, u8) {
     let bracket = p.unit.as_deref().map(unit_key);
     // A temperature's unit: in brackets, as its last words, or as a word of its own
     // (`temp_C_est`).
-    let temp_unit = || {
-        bracket
+    // A temperature's name (`temp [mdeg]`) reads degrees without a scale as Celsius
+    // ([`TempUnit::from_column_key`]); a name that is a temperature only by its unit (`t [°C]`
+    // beside `t` the time) reads only the units that say so anywhere.
+    let temp_unit_by = |from_key: fn(&str) -> Option<TempUnit>| {
+        p.unit
             .as_deref()
-            .and_then(TempUnit::from_key)
-            .or_else(|| suffix_unit(rest, TempUnit::from_key))
-            .or_else(|| rest.iter().find_map(|w| TempUnit::from_key(&unit_key(w))))
+            .and_then(|t| temp_in_slot(t, from_key))
+            .or_else(|| suffix_unit(rest, from_key))
+            .or_else(|| rest.iter().find_map(|w| from_key(&unit_key(w))))
     };
+    let temp_unit = || temp_unit_by(TempUnit::from_column_key);
     let raw = p.words.iter().any(|w| RAW_WORDS.contains(&w.as_str()));
     let chamber = p.words.iter().any(|w| CHAMBER_WORDS.contains(&w.as_str()));
     let time_unit = || time_of(&p, 1);
@@ -311,7 +333,7 @@ pub(super) fn classify(name: &str) -> (Kind, u8) {
 
     // "t" alone is time unless a temperature unit says otherwise; "t1", "T2" are sensors.
     if first == "t" {
-        if let Some(u) = temp_unit() {
+        if let Some(u) = temp_unit_by(TempUnit::from_key) {
             return (Kind::Temp(Some(u)), 3);
         }
         if rest.is_empty() || time_unit().is_some() {
@@ -349,7 +371,14 @@ pub(super) fn classify(name: &str) -> (Kind, u8) {
         };
         return (Kind::Time(time_unit().or(implied)), 3);
     }
-    if in_list(first, RATE_WORDS)
+    // `rate` and a bare `w` name a gyro's rate only as the whole name, with notes (`rate_x`,
+    // `Rate (filtered)`), or beside an angular rate's unit (`rate_dps`, `w_rad_s_x`): the word
+    // `rate` is in many a chamber's channel (`rate_limit`, `ramp_rate_c_min`) and `w` ends
+    // one in watts (`heater_power_w`).
+    if (in_list(first, RATE_WORDS)
+        && (!is_weak_rate_word(first)
+            || rest.iter().all(|w| qualifies_a_rate(w))
+            || rate_unit().is_some()))
         || RATE_WORDS
             .iter()
             .any(|kw| first.starts_with(kw) && rate_unit().is_some())
@@ -367,7 +396,13 @@ pub(super) fn classify(name: &str) -> (Kind, u8) {
             return (Kind::Rate(Some(u.into())), 2);
         }
     }
-    if rest.iter().any(|w| in_list(w, RATE_WORDS)) {
+    // After another word, `rate` or `w` names a gyro's rate only beside an angular rate's
+    // unit (`table_rate`, `setpoint_rate`, `power_w`, `coolant_flow_rate_lpm` are a chamber's).
+    if rest
+        .iter()
+        .any(|w| in_list(w, RATE_WORDS) && !is_weak_rate_word(w))
+        || (rest.iter().any(|w| is_weak_rate_word(w)) && rate_unit().is_some())
+    {
         return (Kind::Rate(rate_unit()), 2);
     }
     if rest.iter().any(|w| w == "time") {
@@ -434,15 +469,15 @@ pub(crate) fn stated_time(name: &str) -> Option<TimeUnit> {
     time_of(&name_parts(name), 0)
 }
 
-/// The unit a column's name states in brackets or as its last words, whatever the rest of
-/// the name says: for a column the engineer mapped by name (`temp [K]`).
-pub(crate) fn stated_unit<T>(name: &str, from_key: impl Fn(&str) -> Option<T> + Copy) -> Option<T> {
+/// The temperature unit a column's name states in brackets or as its last words, whatever the
+/// rest of the name says: for a column the engineer mapped by name (`temp [K]`), which is
+/// a temperature, so degrees without a scale are Celsius ([`TempUnit::from_column_key`]).
+pub(crate) fn stated_temp(name: &str) -> Option<TempUnit> {
     let p = name_parts(name);
     p.unit
         .as_deref()
-        .map(unit_key)
-        .and_then(|k| from_key(&k))
-        .or_else(|| suffix_unit(&p.words, from_key))
+        .and_then(|t| temp_in_slot(t, TempUnit::from_column_key))
+        .or_else(|| suffix_unit(&p.words, TempUnit::from_column_key))
 }
 
 /// The rate unit a header name states (`omega_dph`, `Rate [deg/s]`), for the one-column
@@ -499,6 +534,27 @@ mod tests {
         assert_eq!(k("gyro_temp"), Kind::Temp(None));
         assert_eq!(k("sample"), Kind::Index);
         assert_eq!(k("laser_power [mW]"), Kind::Other);
+        // A chamber's channels: `rate` and `w` are no gyro's rate there.
+        for name in [
+            "heater_power_w",
+            "coolant_flow_rate_lpm",
+            "ramp_rate_c_min",
+            "power_w",
+            "heater_w",
+            "setpoint_rate",
+            "rate_limit",
+            "table_rate",
+            "rate_setpoint",
+            "rate_hz",
+        ] {
+            assert_eq!(k(name), Kind::Other, "{name}");
+        }
+        // ... but they are with notes or an angular rate's unit.
+        assert_eq!(k("rate_x"), Kind::Rate(None));
+        assert_eq!(k("Rate (filtered)"), Kind::Rate(None));
+        assert_eq!(k("w_x"), Kind::Rate(None));
+        assert_eq!(k("table_rate_dps"), rate(RateUnit::DegPerSec));
+        assert_eq!(k("imu_wx"), Kind::Rate(None));
         assert_eq!(k("status"), Kind::Other);
     }
 }

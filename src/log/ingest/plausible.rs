@@ -9,7 +9,7 @@
 
 use super::names::unit_words::{Quantity, StatedRate, unread_unit};
 use super::names::{is_raw_register, stated_rate, stated_time};
-use super::units::{RateUnit, TimeUnit};
+use super::units::{RateUnit, TempUnit, TimeUnit};
 use crate::log::mapping_check::{
     PLAUSIBLE_TEMP_C, is_plausible_rate_dph, is_plausible_temp_c, is_temp_unit,
 };
@@ -228,7 +228,7 @@ fn misnamed_temperature(log: &Log) -> Option<Problem> {
     })
 }
 
-/// Columns read in the default unit (°/h, s) whose name has a word where a unit goes that the
+/// Columns read in the default unit (°/h, s, °C) whose name has a word where a unit goes that the
 /// reader does not read (`Rate [rpm]`, `time [fortnights]`): a unit or a note, the reader
 /// cannot tell which, so the engineer hears of it. A name that states a unit the reader does
 /// not read more plainly (`Rate [furlongs/fortnight]`, `time [10 ms]`) stops the read unless
@@ -239,6 +239,7 @@ fn unread_units(log: &Log) -> Vec<Problem> {
     }
     let default_rate = RateUnit::DegPerHour.to_string();
     let default_time = TimeUnit::Seconds.to_string();
+    let default_temp = TempUnit::Celsius.to_string();
     log.info
         .columns
         .iter()
@@ -248,6 +249,7 @@ fn unread_units(log: &Log) -> Vec<Problem> {
                     Quantity::Rate
                 }
                 ColumnRole::Time if c.unit == default_time => Quantity::Time,
+                ColumnRole::Temperature if c.unit == default_temp => Quantity::Temp,
                 _ => return None,
             };
             let u = unread_unit(&c.name, q).filter(|u| !u.refuses())?;

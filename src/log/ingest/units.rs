@@ -201,22 +201,60 @@ impl From<TimeUnit> for String {
 }
 
 /// Temperature units a header may name; values are converted to °C on ingest.
+///
+/// Besides the three scales, tenths, hundredths and thousandths of a degree Celsius (`d°C`,
+/// `cdegC`, `m°C`): stands and Linux's hwmon write a temperature as an integer in them, and a
+/// prefix written with `°C` can mean nothing else. A number before the unit (`[0.1 °C]`) is a
+/// count, refused as a count of a rate or time unit is (see
+/// [`super::names::unit_words`]), with these spellings for the remedy.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) enum TempUnit {
     Celsius,
     Kelvin,
     Fahrenheit,
+    /// Tenths of a degree Celsius.
+    DeciCelsius,
+    /// Hundredths of a degree Celsius.
+    CentiCelsius,
+    /// Thousandths of a degree Celsius (Linux hwmon's millidegrees).
+    MilliCelsius,
 }
 
 impl TempUnit {
-    /// Recognises a unit key (see [`unit_key`]).
+    /// Recognises a unit key (see [`unit_key`]) that names a temperature wherever it is written
+    /// (`°C`, `K`, `m°C`): a bracket of any column, a word of a temperature's name.
     pub(crate) fn from_key(key: &str) -> Option<TempUnit> {
         Some(match key {
             "c" | "degc" | "celsius" | "degreesc" | "degreec" | "℃" | "degс" | "с" | "градс"
-            | "градусс" => TempUnit::Celsius,
+            | "градусс" | "degcelsius" => TempUnit::Celsius,
             "k" | "kelvin" | "degk" | "к" => TempUnit::Kelvin,
-            "f" | "degf" | "fahrenheit" | "degreesf" | "℉" => TempUnit::Fahrenheit,
+            "f" | "degf" | "fahrenheit" | "degreesf" | "℉" | "degfahrenheit" => {
+                TempUnit::Fahrenheit
+            }
+            "ddegc" | "decidegc" | "decicelsius" | "decidegcelsius" | "d℃" => {
+                TempUnit::DeciCelsius
+            }
+            "cdegc" | "centidegc" | "centicelsius" | "centidegcelsius" | "c℃" => {
+                TempUnit::CentiCelsius
+            }
+            "mdegc" | "millidegc" | "millicelsius" | "millidegcelsius" | "m℃" => {
+                TempUnit::MilliCelsius
+            }
             _ => return None,
+        })
+    }
+
+    /// Recognises a unit key in the name of a column known to hold a temperature: every key
+    /// of [`TempUnit::from_key`], and degrees without a scale (`temp [deg]`, `[decidegrees]`,
+    /// `[mdeg]`), which there are degrees Celsius as a stand writes them, where elsewhere
+    /// (`x [mdeg]`) they are an angle.
+    pub(crate) fn from_column_key(key: &str) -> Option<TempUnit> {
+        TempUnit::from_key(key).or(match key {
+            "deg" => Some(TempUnit::Celsius),
+            "ddeg" | "decideg" => Some(TempUnit::DeciCelsius),
+            "cdeg" | "centideg" => Some(TempUnit::CentiCelsius),
+            "mdeg" | "millideg" => Some(TempUnit::MilliCelsius),
+            _ => None,
         })
     }
 
@@ -226,6 +264,21 @@ impl TempUnit {
             TempUnit::Celsius => (1.0, 0.0),
             TempUnit::Kelvin => (1.0, -273.15),
             TempUnit::Fahrenheit => (5.0 / 9.0, -32.0 * 5.0 / 9.0),
+            TempUnit::DeciCelsius => (0.1, 0.0),
+            TempUnit::CentiCelsius => (0.01, 0.0),
+            TempUnit::MilliCelsius => (0.001, 0.0),
+        }
+    }
+
+    /// How many of this unit make a degree Celsius, for a scaled Celsius unit (10 for `d°C`),
+    /// so that the reader divides and round values stay round (`150` d°C is `15` °C, not
+    /// `15.000000000000002`); `None` for the three scales.
+    pub(crate) fn per_degree_celsius(self) -> Option<f64> {
+        match self {
+            TempUnit::DeciCelsius => Some(10.0),
+            TempUnit::CentiCelsius => Some(100.0),
+            TempUnit::MilliCelsius => Some(1000.0),
+            TempUnit::Celsius | TempUnit::Kelvin | TempUnit::Fahrenheit => None,
         }
     }
 }
@@ -236,6 +289,9 @@ impl fmt::Display for TempUnit {
             TempUnit::Celsius => "°C",
             TempUnit::Kelvin => "K",
             TempUnit::Fahrenheit => "°F",
+            TempUnit::DeciCelsius => "d°C",
+            TempUnit::CentiCelsius => "c°C",
+            TempUnit::MilliCelsius => "m°C",
         })
     }
 }
@@ -298,6 +354,32 @@ mod tests {
         }
         assert_eq!(TempUnit::from_key(&unit_key("°C")), Some(TempUnit::Celsius));
         assert_eq!(TempUnit::from_key(&unit_key("K")), Some(TempUnit::Kelvin));
+        for u in [
+            TempUnit::DeciCelsius,
+            TempUnit::CentiCelsius,
+            TempUnit::MilliCelsius,
+        ] {
+            assert_eq!(
+                TempUnit::from_key(&unit_key(&u.to_string())),
+                Some(u),
+                "{u}"
+            );
+        }
+        for (s, u) in [
+            ("m°C", TempUnit::MilliCelsius),
+            ("mdegC", TempUnit::MilliCelsius),
+            ("millidegrees Celsius", TempUnit::MilliCelsius),
+            ("cdegC", TempUnit::CentiCelsius),
+            ("decidegrees C", TempUnit::DeciCelsius),
+        ] {
+            assert_eq!(TempUnit::from_key(&unit_key(s)), Some(u), "{s}");
+        }
+        // Degrees without a scale are a temperature only in a temperature's name.
+        assert_eq!(TempUnit::from_key(&unit_key("mdeg")), None);
+        assert_eq!(
+            TempUnit::from_column_key(&unit_key("decidegrees")),
+            Some(TempUnit::DeciCelsius)
+        );
         assert_eq!(TimeUnit::from_str("ms"), Ok(TimeUnit::Millis));
         assert!(TimeUnit::from_str("fortnight").is_err());
     }

@@ -37,7 +37,13 @@
 //!   register (`[LSB]`, `[counts]`, `[ticks]`); an angle the reader has no factor for glued
 //!   to `p` and a time, as a word of the name or alone (`omega_rpm`, `Rate [rpm]`,
 //!   `omega_udps`, `gyro_revps`: revolutions, micro-degrees).
-//! * **Not read, warned**: one other word in brackets (`Rate [arb]`, `time [fortnights]`),
+//! * **A temperature** (`Quantity::Temp`): °C, K, °F and tenths, hundredths, thousandths of a
+//!   degree Celsius (`d°C`, `cdegC`, `m°C`, `millidegrees Celsius`; in a temperature's name
+//!   degrees without a scale too, `[decidegrees]`). Refused where a unit is written alone: a
+//!   unit of another quantity (`[%]`, `[V]`, `[kOhm]`, `[°C/min]`, `[s]`), counts (`[LSB]`),
+//!   and a count of degrees (`[0.1 °C]`, whose message names `d°C`). No setting gives a
+//!   temperature's unit, so the remedy is the column written in a unit read, or `temp_col`.
+//! * **Not read, warned**: one other word in brackets (`Rate [arb]`, `Rate [%]`, `time [fortnights]`),
 //!   or a short word of a rate's name shaped as a unit (`omega_kph`, `gyro_fps`), which may be
 //!   a unit or a note; a word that is plainly a note (an axis letter, a sensor
 //!   number, `filtered`, `UTC`) is neither.
@@ -49,9 +55,30 @@ mod rate_words;
 mod time_words;
 mod unread;
 
+use crate::log::ingest::units::{TempUnit, unit_key};
+
 pub(crate) use rate_words::{StatedRate, rate_in_slot, rate_in_words};
 pub(crate) use time_words::{time_in_slot, time_in_words};
-pub(crate) use unread::{Quantity, unread_unit};
+pub(crate) use unread::{Quantity, is_note, unread_unit};
+
+/// The temperature unit written where a unit is written alone (`°C`, `m°C`, `K`), read by
+/// `from_key` ([`TempUnit::from_key`], or [`TempUnit::from_column_key`] in a temperature's
+/// name), or as the first part of that text (`°C, filtered`). A number before it is a count
+/// (`0.1 °C`), which is not read as a unit unless it is one of it (`1 °C`).
+pub(crate) fn temp_in_slot(
+    text: &str,
+    from_key: impl Fn(&str) -> Option<TempUnit>,
+) -> Option<TempUnit> {
+    if counted(text) {
+        return count_of(text)
+            .filter(|&(n, _)| n == 1.0)
+            .and_then(|(_, u)| from_key(&unit_key(u)));
+    }
+    from_key(&unit_key(text)).or_else(|| {
+        let (first, _) = text.split_once([',', ';'])?;
+        from_key(&unit_key(first))
+    })
+}
 
 /// A unit among the words of a name.
 #[derive(Debug, Clone, PartialEq)]
@@ -107,7 +134,9 @@ fn count_of(text: &str) -> Option<(f64, &str)> {
     if !counted(t) {
         return None;
     }
-    let split = t.find(char::is_alphabetic)?;
+    // The unit starts at the first character of no number (`°` of `0.1 °C` too).
+    let split =
+        t.find(|c: char| !(c.is_ascii_digit() || c == '.' || c == ',' || c.is_whitespace()))?;
     let n: f64 = t[..split].trim().replace(',', ".").parse().ok()?;
     (n.is_finite() && n > 0.0).then_some((n, &t[split..]))
 }

@@ -4,7 +4,7 @@
 
 use super::super::is_role_word;
 use super::rate_words::{RateWord, unknown_rate_word};
-use super::{StatedRate, time_in_slot, time_in_words};
+use super::{StatedRate, temp_in_slot, time_in_slot, time_in_words};
 use super::{Words, count_of, counted, rate_in_slot, rate_in_words, shaped, slot_words};
 use crate::log::ingest::units::{TempUnit, TimeUnit, unit_key};
 
@@ -13,6 +13,9 @@ use crate::log::ingest::units::{TempUnit, TimeUnit, unit_key};
 pub(crate) enum Quantity {
     Rate,
     Time,
+    /// A temperature: no setting gives its unit, so what the reader cannot read is written
+    /// in a unit it does, or another column is chosen (`temp_col`).
+    Temp,
 }
 
 impl Quantity {
@@ -20,13 +23,7 @@ impl Quantity {
         match self {
             Quantity::Rate => "rate",
             Quantity::Time => "time",
-        }
-    }
-
-    fn setting(self) -> &'static str {
-        match self {
-            Quantity::Rate => "rate_unit",
-            Quantity::Time => "time_unit",
+            Quantity::Temp => "temperature",
         }
     }
 
@@ -34,14 +31,24 @@ impl Quantity {
         match self {
             Quantity::Rate => "deg/h",
             Quantity::Time => "s",
+            Quantity::Temp => "°C",
         }
     }
 
-    /// The units the setting takes, for a message.
-    fn choices(self) -> &'static str {
+    /// What gives the column's unit, for a message: the setting and the units it takes, or
+    /// for a temperature, which has no setting, the units a header may state.
+    fn remedy(self) -> &'static str {
         match self {
-            Quantity::Rate => "deg/h, deg/s, mdeg/s or rad/s",
-            Quantity::Time => "s, ms, us, ns, min, h, d, cs, ds, or samples with sample_rate_hz",
+            Quantity::Rate => "give its unit with rate_unit (deg/h, deg/s, mdeg/s or rad/s)",
+            Quantity::Time => {
+                "give its unit with time_unit (s, ms, us, ns, min, h, d, cs, ds, or samples \
+                 with sample_rate_hz)"
+            }
+            Quantity::Temp => {
+                "write the column in °C, K or °F, or in tenths, hundredths or thousandths of a \
+                 degree Celsius with its header saying so (temp [d°C], temp [c°C], \
+                 temp [m°C]), or choose another column with temp_col"
+            }
         }
     }
 }
@@ -66,6 +73,8 @@ enum Why {
     Ticks(f64),
     /// Words that may be a unit or mean something else: what they may be.
     Either(String),
+    /// A count of a temperature unit (`0.1 °C`): that many degrees Celsius a count.
+    Degrees(f64),
     /// One other word where a unit is written alone: a unit, or a note.
     Word,
 }
@@ -76,6 +85,27 @@ const COUNT_WORDS: &[&str] = &[
     "lsb", "lsbs", "count", "counts", "cnt", "cnts", "adc", "digit", "digits", "tick", "ticks",
     "int16", "uint16", "int32", "uint32", "code", "codes",
 ];
+
+/// Units of a quantity that is no temperature, as a temperature's header may state them
+/// (`temp [V]`, `temp [%]`, `temp [kOhm]`): a sensor's voltage, resistance or a percentage
+/// before it was turned into degrees, which read as °C give a drift against a wrong scale.
+/// Keys as [`unit_key`] writes them.
+fn other_quantity(key: &str) -> Option<&'static str> {
+    Some(match key {
+        "v" | "mv" | "uv" | "µv" | "μv" | "kv" | "volt" | "volts" | "millivolt" | "millivolts" => {
+            "a unit of voltage"
+        }
+        "ma" | "ua" | "µa" | "μa" | "amp" | "amps" | "ampere" | "amperes" => "a unit of current",
+        "ohm" | "ohms" | "kohm" | "kohms" | "mohm" | "mohms" | "ω" | "kω" | "mω" => {
+            "a unit of resistance"
+        }
+        "w" | "mw" | "kw" | "watt" | "watts" => "a unit of power",
+        "hz" | "khz" | "mhz" => "a unit of frequency",
+        "%" | "pct" | "percent" | "%rh" | "rh" | "ppm" | "ppb" => "a ratio",
+        "pa" | "hpa" | "kpa" | "mbar" | "bar" | "psi" => "a unit of pressure",
+        _ => return None,
+    })
+}
 
 /// Words that note what a column is rather than its unit (`Rate (x)`, `omega (filtered)`,
 /// `time (UTC)`), besides the role words of [`is_role_word`].
@@ -146,7 +176,7 @@ const NOTE_WORDS: &[&str] = &[
 ];
 
 /// Whether `word` (lower case) notes what a column is rather than naming its unit.
-fn is_note(word: &str) -> bool {
+pub(crate) fn is_note(word: &str) -> bool {
     let w = word.trim_start_matches('#');
     w.is_empty()
         || w.chars().all(|c| c.is_ascii_digit())
@@ -170,6 +200,14 @@ fn unread_slot(text: &str, q: Quantity) -> Option<Unread> {
     if key.is_empty() {
         return None;
     }
+    // A count of a temperature unit (`0.1 °C`, `0.01 degC`): the remedy names the unit that
+    // reads it (`d°C`).
+    if q == Quantity::Temp
+        && let Some((n, u)) = count_of(t)
+        && TempUnit::from_column_key(&unit_key(u)) == Some(TempUnit::Celsius)
+    {
+        return unread(Why::Degrees(n));
+    }
     // A number first: a count of a unit (`10 ms`, `0.1 s`, `100us`).
     if counted(t) && t.contains(char::is_alphabetic) {
         let ticks = count_of(t)
@@ -184,12 +222,33 @@ fn unread_slot(text: &str, q: Quantity) -> Option<Unread> {
             None => unread(Why::Unknown),
         };
     }
+    let time_unit = TimeUnit::from_key(&key).is_some_and(|u| u != TimeUnit::Samples);
+    // A temperature per a time (`°C/min`, `K/s`): a ramp rate, not a temperature.
+    let per_time = || {
+        let (a, b) = t.split_once(['/', '∕'])?;
+        let a = TempUnit::from_key(&unit_key(a))?;
+        TimeUnit::from_key(&unit_key(b)).map(|_| a)
+    };
+    // A prefix on a temperature unit the reader has no factor for (`mK`, `m°F`, `kdegC`): read
+    // as °C, its values would be off by that prefix.
+    if q == Quantity::Temp
+        && ["milli", "centi", "deci", "kilo", "m", "c", "d", "k"]
+            .iter()
+            .any(|p| key.strip_prefix(p).and_then(TempUnit::from_key).is_some())
+    {
+        return unread(Why::Unknown);
+    }
     let other = match q {
-        Quantity::Rate if TimeUnit::from_key(&key).is_some_and(|u| u != TimeUnit::Samples) => {
-            Some("a time unit")
-        }
+        Quantity::Rate if time_unit => Some("a time unit"),
         Quantity::Time if StatedRate::from_text(t).is_some() => Some("a rate unit"),
+        Quantity::Temp if per_time().is_some() => Some("a rate of change of temperature"),
+        Quantity::Temp if StatedRate::from_text(t).is_some() => Some("a rate unit"),
+        Quantity::Temp if time_unit => Some("a time unit"),
+        Quantity::Temp => other_quantity(&key),
         _ if TempUnit::from_key(&key).is_some() => Some("a temperature unit"),
+        // A percentage where a rate's or a time's unit goes is one more word the reader does
+        // not read, as `ppm` is: read in the default and warned of (`omega [%]`).
+        _ if key == "%" => return unread(Why::Word),
         _ => None,
     };
     if let Some(what) = other {
@@ -221,6 +280,7 @@ pub(crate) fn unread_unit(name: &str, q: Quantity) -> Option<Unread> {
         let read = match q {
             Quantity::Rate => rate_in_slot(text).is_some(),
             Quantity::Time => time_in_slot(text).is_some(),
+            Quantity::Temp => temp_in_slot(text, TempUnit::from_column_key).is_some(),
         };
         if read {
             return None;
@@ -239,6 +299,10 @@ pub(crate) fn unread_unit(name: &str, q: Quantity) -> Option<Unread> {
             Words::Ticks { words, seconds } => Some((words, Why::Ticks(seconds))),
             _ => None,
         },
+        // A temperature's words are left to the reader's checks of its values: a register
+        // (`temp_raw_int16`) is taken only when nothing better is, and then checked
+        // (`plausible.rs`).
+        Quantity::Temp => return None,
     };
     if let Some((text, why)) = words {
         return Some(Unread { text, why });
@@ -296,6 +360,11 @@ impl Unread {
                 crate::number::readable(*s)
             ),
             Why::Either(may_be) => format!("has \"{t}\" for its unit, which may be {may_be}"),
+            Why::Degrees(n) => format!(
+                "states its unit as \"{t}\", a count of {} °C, which driftlab does not read as \
+                 a unit",
+                crate::number::readable(*n)
+            ),
             Why::Word => format!(
                 "has \"{t}\" where a unit is written, which driftlab does not read as a unit"
             ),
@@ -305,14 +374,25 @@ impl Unread {
     /// What to do: the setting that gives the unit, and for ticks the sample rate that reads
     /// them.
     fn advice(&self, q: Quantity) -> String {
-        let setting = q.setting();
-        let mut out = format!("give its unit with {setting} ({})", q.choices());
+        let mut out = q.remedy().to_string();
         if let Why::Ticks(s) = self.why {
             out = format!(
                 "if each count is {} s, give time_unit samples and sample_rate_hz {}; else {out}",
                 crate::number::readable(s),
                 crate::number::readable(1.0 / s)
             );
+        }
+        if let Why::Degrees(n) = self.why {
+            // The prefixed unit that reads such counts, where there is one.
+            let prefixed = [(0.1, "d°C"), (0.01, "c°C"), (0.001, "m°C")]
+                .into_iter()
+                .find(|&(f, _)| (n - f).abs() <= 1e-12)
+                .map(|(_, u)| u);
+            if let Some(u) = prefixed {
+                out = format!(
+                    "if each count is {n} °C, state the unit as {u} (temp [{u}]); else {out}"
+                );
+            }
         }
         if q == Quantity::Rate {
             out.push_str(
@@ -332,6 +412,13 @@ impl Unread {
                 crate::number::readable(s.max(1.0 / s))
             ),
             Why::Either(_) => "may be off by any factor".to_string(),
+            Why::Other(_) if q == Quantity::Temp => {
+                "would be taken for temperatures they are not".to_string()
+            }
+            Why::Degrees(n) => format!(
+                "would be off by a factor of {}",
+                crate::number::readable(1.0 / n)
+            ),
             _ => "would be off by a factor driftlab cannot know".to_string(),
         };
         format!(
@@ -392,5 +479,36 @@ mod tests {
         assert_eq!(u("time_ds", Quantity::Time), Some(("ds".into(), true)));
         assert_eq!(u("gx_lsb", Quantity::Rate), Some(("lsb".into(), true)));
         assert_eq!(u("gx_raw", Quantity::Rate), None);
+        // A percentage where a rate's unit goes: one more word, warned of as `ppm` is.
+        assert_eq!(u("omega [%]", Quantity::Rate), Some(("%".into(), false)));
+        assert_eq!(
+            u("omega [ppm]", Quantity::Rate),
+            Some(("ppm".into(), false))
+        );
+        // A temperature: its units read, other quantities and counts refused, a word warned of.
+        for read in [
+            "temp [°C]",
+            "temp [m°C]",
+            "temp [decidegrees]",
+            "temp [K]",
+            "temp (x)",
+        ] {
+            assert_eq!(u(read, Quantity::Temp), None, "{read}");
+        }
+        for (name, unit) in [
+            ("temp [%]", "%"),
+            ("temp [V]", "V"),
+            ("temp [kOhm]", "kOhm"),
+            ("temp [°C/min]", "°C/min"),
+            ("temp [LSB]", "LSB"),
+            ("temp [0.1 °C]", "0.1 °C"),
+            ("temp [mK]", "mK"),
+            ("temp [m°F]", "m°F"),
+        ] {
+            assert_eq!(u(name, Quantity::Temp), Some((unit.into(), true)), "{name}");
+        }
+        assert_eq!(u("temp [arb]", Quantity::Temp), Some(("arb".into(), false)));
+        // A register's words are left to the checks of its values.
+        assert_eq!(u("temp_raw_int16", Quantity::Temp), None);
     }
 }
