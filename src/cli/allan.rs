@@ -25,9 +25,10 @@ pub struct Args {
     #[arg(long)]
     pub json: bool,
     /// Also write Kalibr's IMU noise file (imu.yaml): gyroscope_noise_density from the angle
-    /// random walk, gyroscope_random_walk from the rate random walk, the accelerometer's pair
-    /// where the log has accelerometer axes, each the largest over the axes, with the tau
-    /// ranges they were read from (atomically).
+    /// random walk, gyroscope_random_walk from the rate random walk, each the largest over
+    /// the gyro axes analysed (--axes, --rate-col), and the accelerometer's pair where the log
+    /// has accelerometer axes (the largest over them), with the tau ranges they were read from
+    /// (atomically).
     #[arg(long, value_name = "OUT.yaml")]
     pub kalibr: Option<PathBuf>,
     /// --kalibr: write the random walks even though the log's temperature moves by more than
@@ -89,7 +90,8 @@ pub fn run(a: Args) -> Result<(), CliError> {
         None => input.rate_series(&read_opts).map_err(|e| e.to_string())?,
     };
     // Every gyro axis (°/h; the one in `omega_dph` first) and the accelerometer axes (m/s²)
-    // for Kalibr, which takes the noisiest; the axes analysed, by position among the gyro's.
+    // for Kalibr, which takes the noisiest of those analysed; the axes analysed, by position
+    // among the gyro's.
     let mut accel: Vec<(String, Vec<f64>)> = Vec::new();
     // Accelerometer axes whose unit their names do not say: Kalibr's file says so.
     let mut accel_unknown: Vec<String> = Vec::new();
@@ -391,8 +393,10 @@ fn as_refs(v: &[(String, Vec<f64>)]) -> Vec<(&str, &[f64])> {
     v.iter().map(|(n, x)| (n.as_str(), x.as_slice())).collect()
 }
 
-/// Kalibr's values: the read-outs of every gyro axis of the log (those analysed as printed,
-/// the others on octave τ) with its accelerometer axes.
+/// Kalibr's values: the read-outs of the gyro axes analysed (those `--axes` or a single
+/// `--rate-col` chose, as printed), with the log's accelerometer axes. An axis left out by
+/// the choice is left out of the file too: the noisiest of every axis would give the file
+/// another axis's noise than the one asked for, and the file names the axis it read.
 fn kalibr_noise(
     source: &str,
     gyro: &[(String, Vec<f64>)],
@@ -401,20 +405,15 @@ fn kalibr_noise(
     tau0_s: f64,
     rostopic: &str,
 ) -> Result<kalibr::KalibrNoise, String> {
-    let fail = |(name, e): (String, allan::AllanError)| format!("{source}: {name}: {e}");
-    let mut readouts = Vec::with_capacity(gyro.len());
-    for (k, (name, rate)) in gyro.iter().enumerate() {
-        match devs.iter().find(|(i, _)| *i == k) {
-            Some((_, d)) => readouts.push(kalibr::AxisReadouts {
-                axis: name.clone(),
-                readouts: d.readouts.clone(),
-            }),
-            None => readouts.extend(
-                kalibr::axis_readouts(&[(name.as_str(), rate.as_slice())], tau0_s).map_err(fail)?,
-            ),
-        }
-    }
-    let accel = kalibr::axis_readouts(&as_refs(accel), tau0_s).map_err(fail)?;
+    let readouts: Vec<kalibr::AxisReadouts> = devs
+        .iter()
+        .map(|(k, d)| kalibr::AxisReadouts {
+            axis: gyro[*k].0.clone(),
+            readouts: d.readouts.clone(),
+        })
+        .collect();
+    let accel = kalibr::axis_readouts(&as_refs(accel), tau0_s)
+        .map_err(|(name, e)| format!("{source}: {name}: {e}"))?;
     Ok(kalibr::kalibr_noise(&readouts, &accel, tau0_s, rostopic))
 }
 

@@ -35,7 +35,8 @@ pub struct Args {
     /// calibrated as that axis was.
     #[arg(long, value_name = "AXIS", requires = "recipe")]
     pub recipe_axis: Option<String>,
-    /// Also write the recipe that was used (JSON), to re-run or edit later.
+    /// Also write the recipe that was used (JSON), to re-run or edit later. A recipe holds
+    /// Vakhrameev's settings and no model: refused with --model or --axis-model of another.
     #[arg(long, value_name = "FILE")]
     pub save_recipe: Option<PathBuf>,
     /// Gyro identifier (serial number) stored in the calibration.
@@ -326,6 +327,7 @@ pub fn run(a: Args) -> Result<(), CliError> {
     common::refuse_outputs(&outputs, &reads)?;
     let recipe = a.recipe()?;
     let choice = a.choice()?;
+    a.refuse_saving_a_model(&choice)?;
     let mut warnings = a.check_settings(&recipe, &choice)?;
     let merit = MeritOptions {
         filter_s: recipe.filter_s,
@@ -566,6 +568,58 @@ impl Args {
             warnings.extend(w.into_iter().map(|w| format!("axis {}: {w}", p.name)));
         }
         Ok((plans, warnings))
+    }
+
+    /// Refuses `--save-recipe` when a model other than Vakhrameev's is fitted (`--model`, or
+    /// an axis's `--axis-model`), naming the option and the model. A recipe file holds the
+    /// settings of Vakhrameev's model and has no field for a model (its fields are closed, and
+    /// a file with one would not load where recipes are read today), so `--recipe` of it
+    /// would make a Vakhrameev calibration: another calibration than the one it was saved
+    /// with, with nothing said.
+    fn refuse_saving_a_model(&self, choice: &ModelChoice) -> Result<(), CliError> {
+        let Some(save) = &self.save_recipe else {
+            return Ok(());
+        };
+        let mut given = Vec::new();
+        if !choice.is_vakhrameev() {
+            let mut option = format!("--model {}", choice.name());
+            if let Some(terms) = &self.terms {
+                option.push_str(&format!(" --terms {terms}"));
+            }
+            let settings: Vec<&str> = [
+                ("--delay", self.delay.is_some()),
+                ("--lag", self.lag.is_some()),
+                ("--fit", self.fit.is_some()),
+            ]
+            .iter()
+            .filter(|(_, given)| *given)
+            .map(|(flag, _)| *flag)
+            .collect();
+            if !settings.is_empty() {
+                option.push_str(&format!(" with its {}", settings.join(", ")));
+            }
+            given.push((choice.name().to_string(), option));
+        }
+        for v in &self.axis_models {
+            let (_, model) = pair("--axis-model", v)?;
+            let axis_choice = self
+                .choice_named(model)
+                .map_err(|e| format!("--axis-model {v}: {e}"))?;
+            if !axis_choice.is_vakhrameev() {
+                given.push((axis_choice.name().to_string(), format!("--axis-model {v}")));
+            }
+        }
+        let Some((name, option)) = given.first() else {
+            return Ok(());
+        };
+        Err(format!(
+            "--save-recipe {}: a recipe holds the settings of model vakhrameev and names no \
+             model, so --recipe of it would make a vakhrameev calibration, not one of model \
+             {name} ({option}); leave out --save-recipe, and give {option} again where the \
+             calibration is to be made again",
+            save.display()
+        )
+        .into())
     }
 
     /// The recipe `--save-recipe` writes for a unit: the one every axis shares.

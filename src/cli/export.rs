@@ -47,7 +47,8 @@ pub struct Args {
     #[arg(long, value_name = "N")]
     pub slot: Option<usize>,
     /// ardupilot-parm: the IMU N of INS_TCALN_* (1 to 3, 1 for the first IMU, DataFlash I=0;
-    /// default 1).
+    /// default: the IMU the calibration was fitted on, when its log was a DataFlash log, else
+    /// 1, with a note).
     #[arg(long, value_name = "N")]
     pub imu: Option<usize>,
     /// px4-params, ardupilot-parm: the calibration of the gyro's Y axis (CALIBRATION is then
@@ -108,9 +109,7 @@ impl Args {
                 accel_device_id: None,
                 slot: self.slot.unwrap_or(d.px4.slot),
             },
-            ardupilot: ArduPilotTarget {
-                imu: self.imu.unwrap_or(d.ardupilot.imu),
-            },
+            ardupilot: ArduPilotTarget { imu: self.imu },
         })
     }
 }
@@ -218,6 +217,7 @@ fn export_failed(calibration: &std::path::Path, e: &firmware::ExportError) -> St
                     .to_string()
             }
             FlightError::NoGyroDeviceId => " (--device-id N)".to_string(),
+            FlightError::ImuNumber(_) => " (--imu N)".to_string(),
             _ => String::new(),
         },
         _ => String::new(),

@@ -121,6 +121,25 @@ pub struct LogInfo {
     pub rows_read: usize,
     /// Things that were wrong but did not stop the read (dropped rows, gaps, ...).
     pub problems: Vec<Problem>,
+    /// The gyro of a drone or robot log the samples are, `None` for a CSV: a drone log holds
+    /// several IMUs, and a calibration records which one it was fitted on
+    /// ([`crate::models::vakhrameev::SourceInfo::instance`]) so that a flight controller's
+    /// parameters go to that IMU rather than to the first.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub instance: Option<DroneGyro>,
+}
+
+/// Which gyro of a drone or robot log a log's samples are.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DroneGyro {
+    /// The gyro as driftlab numbers a log's gyros (`--gyro N`, as `inspect` lists them).
+    pub index: usize,
+    /// ArduPilot's IMU instance, the `I` field of the DataFlash `IMU` messages (0 for the
+    /// first IMU, whose temperature calibration is `INS_TCAL1_*`); `None` for another format,
+    /// whose gyros ArduPilot does not number.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub dataflash_imu: Option<u8>,
 }
 
 /// One column of the source file.

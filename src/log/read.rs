@@ -26,7 +26,7 @@
 use super::formats::{self, Format, FormatError, ImuRecording, InstanceSummary, SelectionError};
 use super::ingest::{self, IngestError, ReadOptions};
 use super::kept_samples::{KeptSamples, kept_samples};
-use super::{Axis, Channel, ColumnInfo, ColumnRole, Log, LogInfo, Problem};
+use super::{Axis, Channel, ColumnInfo, ColumnRole, DroneGyro, Log, LogInfo, Problem};
 use std::path::Path;
 
 pub use super::formats::TempFrom;
@@ -410,6 +410,13 @@ pub fn from_recording(
             columns,
             rows_read: n,
             problems,
+            instance: Some(DroneGyro {
+                index: inst.index,
+                dataflash_imu: match &inst.device {
+                    Some(formats::DeviceId::DataFlash { instance }) => Some(*instance),
+                    _ => None,
+                },
+            }),
         },
     };
     let doubts = super::ingest::plausibility_problems(&log);

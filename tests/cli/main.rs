@@ -13,6 +13,7 @@ mod attack15;
 mod attack16;
 mod attack17;
 mod attack18;
+mod attack19;
 mod axis_choice;
 mod commands;
 mod compare_verdicts;

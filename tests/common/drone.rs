@@ -1,5 +1,5 @@
-//! Drone logs in tests: the real samples of `../shared/data/formats/` and a PX4 ULog written
-//! from known samples.
+//! Drone logs in tests: the real samples of `../shared/data/formats/`, and a PX4 ULog and an
+//! ArduPilot DataFlash log written from known samples.
 
 use std::path::PathBuf;
 
@@ -53,6 +53,62 @@ pub fn ulog(time_s: &[f64], gyro_rad_s: &[[f32; 3]], temp_c: &[f32], device_id: 
             d.extend_from_slice(&v.to_le_bytes());
         }
         b.extend(message(b'D', &d));
+    }
+    b
+}
+
+/// One `IMU` message of an ArduPilot DataFlash log: its instance `I`, its gyro axes (rad/s)
+/// and its temperature (°C), at `time_us`.
+#[derive(Debug, Clone, Copy)]
+pub struct DataFlashImu {
+    /// `TimeUS`.
+    pub time_us: u64,
+    /// `I`: 0 for the first IMU (ArduPilot's `INS_TCAL1`).
+    pub instance: u8,
+    /// `GyrX`, `GyrY`, `GyrZ`, rad/s.
+    pub gyro: [f32; 3],
+    /// `T`, °C.
+    pub temp_c: f32,
+}
+
+/// An ArduPilot DataFlash log of `IMU` messages in the order given, with the `FMT` ArduCopter
+/// 4.6 writes for them (`QBffffffIIfBBHH`), the accelerometer at rest.
+pub fn dataflash(messages: &[DataFlashImu]) -> Vec<u8> {
+    fn message(ty: u8, payload: &[u8]) -> Vec<u8> {
+        let mut m = vec![0xA3, 0x95, ty];
+        m.extend_from_slice(payload);
+        m
+    }
+    let fixed = |s: &str, n: usize| {
+        let mut v = s.as_bytes().to_vec();
+        v.resize(n, 0);
+        v
+    };
+    let fmt = |ty: u8, length: u8, name: &str, format: &str, labels: &str| {
+        let mut p = vec![ty, length];
+        p.extend(fixed(name, 4));
+        p.extend(fixed(format, 16));
+        p.extend(fixed(labels, 64));
+        message(0x80, &p)
+    };
+    let mut b = fmt(0x80, 89, "FMT", "BBnNZ", "Type,Length,Name,Format,Columns");
+    b.extend(fmt(
+        163,
+        54,
+        "IMU",
+        "QBffffffIIfBBHH",
+        "TimeUS,I,GyrX,GyrY,GyrZ,AccX,AccY,AccZ,EG,EA,T,GH,AH,GHz,AHz",
+    ));
+    for m in messages {
+        let mut p = m.time_us.to_le_bytes().to_vec();
+        p.push(m.instance);
+        for v in m.gyro.into_iter().chain([0.0f32, 0.0, -9.8]) {
+            p.extend_from_slice(&v.to_le_bytes());
+        }
+        p.extend_from_slice(&[0; 8]);
+        p.extend_from_slice(&m.temp_c.to_le_bytes());
+        p.extend_from_slice(&[1, 1, 0xE8, 0x03, 0xE8, 0x03]);
+        b.extend(message(163, &p));
     }
     b
 }

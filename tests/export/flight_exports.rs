@@ -99,7 +99,7 @@ fn px4_file(text: &str) -> HashMap<String, f32> {
         .collect()
 }
 
-fn ardupilot_file(text: &str) -> HashMap<String, f32> {
+pub(crate) fn ardupilot_file(text: &str) -> HashMap<String, f32> {
     text.lines()
         .filter(|l| !l.starts_with('#') && !l.is_empty())
         .map(|l| {
@@ -134,7 +134,7 @@ fn ardupilot_poly(c: [f32; 3], tdiff: f32) -> f32 {
 
 /// What ArduPilot's `TCal::correct_sensor` subtracts from one axis at `temperature`, with the
 /// offsets measured at `cal_temp`.
-fn ardupilot_correction(
+pub(crate) fn ardupilot_correction(
     p: &HashMap<String, f32>,
     imu: usize,
     kind: &str,
@@ -217,7 +217,7 @@ fn px4_and_ardupilot_reproduce_a_cubic_over_every_axis_in_order() {
         p["TC_G1_TREF"],
         (0.5 * (f64::from(lo) + f64::from(hi))) as f32
     );
-    let ap = ardupilot_parm(&fits, &ArduPilotTarget { imu: 2 }).unwrap();
+    let ap = ardupilot_parm(&fits, &ArduPilotTarget { imu: Some(2) }).unwrap();
     let a = ardupilot_file(&ap.text);
     let temps = grid(lo, hi);
     let t64: Vec<f64> = temps.iter().map(|&t| f64::from(t)).collect();

@@ -32,15 +32,70 @@ pub const SCALE_FACTOR: f64 = 1.0e6;
 pub const IMUS: usize = 3;
 
 /// Which IMU's parameters.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct ArduPilotTarget {
-    /// `n` of `INS_TCALn`: 1 for the first IMU (DataFlash `IMU` instance `I = 0`).
-    pub imu: usize,
+    /// `n` of `INS_TCALn`: 1 for the first IMU (DataFlash `IMU` instance `I = 0`). `None`:
+    /// the IMU the calibration was fitted on, when it was fitted on a DataFlash log's
+    /// ([`crate::models::vakhrameev::SourceInfo::instance`]), else the first, with a note
+    /// ([`imu_of`]).
+    pub imu: Option<usize>,
 }
 
-impl Default for ArduPilotTarget {
-    fn default() -> Self {
-        ArduPilotTarget { imu: 1 }
+/// The IMU number `n` of `INS_TCALn` for `fits`: the one asked for, else the one the models
+/// were fitted on. A log of several IMUs names none of them by its file name, and the
+/// parameters of another IMU than the one calibrated would correct it with a stranger's
+/// drift, so what was chosen on the user's behalf, or what the calibration says against the
+/// choice, goes into `notes`.
+///
+/// # Errors
+/// Nothing asked for, and models fitted on different IMUs (one file calibrates one IMU).
+pub fn imu_of(
+    fits: &ImuFits<'_>,
+    target: &ArduPilotTarget,
+    notes: &mut Vec<String>,
+) -> Result<usize, FlightError> {
+    let mut fitted_on: Vec<u8> = fits
+        .gyro
+        .iter()
+        .chain(&fits.accel)
+        .filter_map(|f| f.model.source().instance.as_ref()?.dataflash_imu)
+        .collect();
+    fitted_on.sort_unstable();
+    fitted_on.dedup();
+    let said = |i: &u8| format!("IMU {} (DataFlash I={i})", usize::from(*i) + 1);
+    match (target.imu, fitted_on.as_slice()) {
+        (Some(n), recorded) => {
+            if recorded.iter().any(|&i| usize::from(i) + 1 != n) {
+                notes.push(format!(
+                    "written as IMU {n} (INS_TCAL{n}) as asked, but the calibration was fitted \
+                     on {}",
+                    recorded.iter().map(said).collect::<Vec<_>>().join(" and ")
+                ));
+            }
+            Ok(n)
+        }
+        (None, [one]) => {
+            let n = usize::from(*one) + 1;
+            notes.push(format!(
+                "INS_TCAL{n}: the calibration was fitted on {} of its log",
+                said(one)
+            ));
+            Ok(n)
+        }
+        (None, []) => {
+            notes.push(
+                "INS_TCAL1, the first IMU: the calibration records no DataFlash log's IMU \
+                 (its log was a CSV or another format, or the file is older than the record); \
+                 give the export the IMU number if it is another"
+                    .into(),
+            );
+            Ok(1)
+        }
+        (None, several) => Err(FlightError::ImuNumber(format!(
+            "the axes were fitted on different IMUs ({}): one INS_TCALn calibrates one IMU; \
+             give the export the IMU number to write them as one",
+            several.iter().map(said).collect::<Vec<_>>().join(", ")
+        ))),
     }
 }
 
@@ -86,13 +141,18 @@ pub fn ardupilot_parm(
     fits: &ImuFits<'_>,
     target: &ArduPilotTarget,
 ) -> Result<FlightFile, FlightError> {
-    if !(1..=IMUS).contains(&target.imu) {
-        return Err(FlightError::Missing(format!(
-            "ArduPilot calibrates IMUs 1 to {IMUS} (INS_TCAL1 to INS_TCAL{IMUS}), not {}",
-            target.imu
+    let mut notes = Vec::new();
+    let n = imu_of(fits, target, &mut notes)?;
+    if !(1..=IMUS).contains(&n) {
+        return Err(FlightError::ImuNumber(format!(
+            "ArduPilot calibrates IMUs 1 to {IMUS} (INS_TCAL1 to INS_TCAL{IMUS}), not {n}{}",
+            if target.imu.is_none() {
+                " (the IMU the calibration was fitted on): give the export another IMU number"
+            } else {
+                ""
+            }
         )));
     }
-    let mut notes = Vec::new();
     let mut warnings = Vec::new();
     let gyro = axes3(&fits.gyro, Sensor::Gyro, &mut notes, &mut warnings)?;
     let accel = axes3(&fits.accel, Sensor::Accel, &mut notes, &mut warnings)?;
@@ -144,7 +204,6 @@ pub fn ardupilot_parm(
     ));
     let lo = f32_toward(finite(t_min, "TMIN")?, t_max);
     let hi = f32_toward(finite(t_max, "TMAX")?, t_min);
-    let n = target.imu;
     let prefix = format!("INS_TCAL{n}");
     let mut lines = vec![
         (format!("{prefix}_ENABLE"), "1".to_string()),

@@ -108,6 +108,10 @@ pub enum FlightError {
          or make it the calibration's gyro id (driftlab inspect LOG lists each gyro's)"
     )]
     NoGyroDeviceId,
+    /// The IMU a file is for cannot be told (models fitted on different IMUs), or is one the
+    /// firmware does not calibrate: the export's IMU number chooses it.
+    #[error("{0}")]
+    ImuNumber(String),
     /// The axes cannot be put in X, Y, Z order.
     #[error("{0}")]
     Axes(String),

@@ -103,7 +103,7 @@ impl Workbench {
                 }
                 for (format, label, hover) in [
                     (crate::export::firmware::Format::Px4Params, "Export PX4 parameters…", "Write PX4's TC_G* thermal compensation (K0(T) alone) as a QGroundControl .params file; the gyro id must be the gyro's device_id"),
-                    (crate::export::firmware::Format::ArdupilotParm, "Export ArduPilot parameters…", "Write ArduPilot's INS_TCAL1_* temperature calibration (K0(T) alone, up to its constant)"),
+                    (crate::export::firmware::Format::ArdupilotParm, "Export ArduPilot parameters…", "Write ArduPilot's INS_TCALn_* temperature calibration, n the IMU of the DataFlash log it was fitted on, else 1 (K0(T) alone, up to its constant)"),
                 ] {
                     if ui.add_enabled(has_fit, egui::Button::new(label)).on_hover_text(hover).clicked() {
                         actions.push(Action::ExportFlight(format));

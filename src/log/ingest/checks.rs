@@ -376,6 +376,7 @@ pub(super) fn finish(mut acc: Acc, sn: &Sniffed, plan: &Plan, source: &str) -> R
             columns: plan.columns.clone(),
             rows_read: acc.noticed.rows_read,
             problems,
+            instance: None,
         },
     };
     let doubts = super::plausible::check(&log);

@@ -2,8 +2,8 @@
 //! sketch of its samples, and the one rule every face asks to call a log in-sample or held out.
 
 use crate::error::Invalid;
-use crate::log::Log;
 use crate::log::run_sketch::{RunSketch, Shared};
+use crate::log::{DroneGyro, Log};
 use serde::{Deserialize, Serialize};
 
 /// Identity of the log a calibration was made from.
@@ -28,6 +28,12 @@ pub struct SourceInfo {
     /// empty in files written before it was recorded.
     #[serde(default, skip_serializing_if = "String::is_empty")]
     pub samples_sketch: String,
+    /// The gyro of a drone or robot log it was fitted on (a DataFlash log's `IMU` instance
+    /// among it): a log of several IMUs does not say by its name which one, and a flight
+    /// controller's parameters must go to that one. `None` for a CSV, and in files written
+    /// before it was recorded.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub instance: Option<DroneGyro>,
 }
 
 impl SourceInfo {
@@ -41,6 +47,7 @@ impl SourceInfo {
             duration_s: log.duration_s(),
             run: String::new(),
             samples_sketch: RunSketch::of(log).to_text(),
+            instance: log.info.instance.clone(),
         }
     }
 
