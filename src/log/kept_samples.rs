@@ -9,7 +9,7 @@
 use super::formats::{self, Selected, TempFrom};
 use super::read::ReadError;
 use super::{Problem, ProblemKind};
-use crate::signal::time_order::time_order;
+use crate::signal::time_order::time_order_of;
 use crate::signal::timing::{GAP_FACTOR, Timing, stray_stamps};
 
 /// The samples of a chosen gyro that are kept, in time order.
@@ -97,7 +97,14 @@ pub fn kept_samples(sel: &Selected<'_>) -> Result<KeptSamples, ReadError> {
     }
     // Time order, by the CSV reader's rule.
     let ordered = keep.iter().filter(|&&k| k).count();
-    let order = time_order(&time_all, |i| !keep[i]);
+    // Two samples read alike: the gyro's three axes and the temperature (a block sent twice
+    // repeats them; a clock set back over a run it logged does not).
+    let alike = |x: f64, y: f64| x == y || (x.is_nan() && y.is_nan());
+    let same = |a: usize, b: usize| {
+        inst.gyro.xyz.iter().all(|v| alike(v.get(a), v.get(b)))
+            && alike(sel.temp_c.get(a), sel.temp_c.get(b))
+    };
+    let order = time_order_of(&time_all, |i| !keep[i], same);
     for &i in &order.dropped {
         keep[i] = false;
     }

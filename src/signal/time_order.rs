@@ -8,23 +8,32 @@
 //!   clock passes the last kept stamp again;
 //! - the samples kept just before it are early (a glitch stamped a few of them ahead): they go,
 //!   and the log goes on from where it was before them;
-//! - the clock went back to (or before) the start of the run kept and ran again over the same
-//!   times (a logger restarted): both of the above would drop a run of samples and splice the
-//!   two runs of the clock into one log that is neither (a 10,000-s run followed by the second
-//!   run's samples past 10,000 s), so one run is kept whole, the longer, and the other dropped.
+//! - the clock went back and ran again over the same times (a logger restarted, whatever its
+//!   first stamp after the boot; a clock set back): both of the above would drop a run of
+//!   samples and splice the two runs of the clock into one log that is neither (a 10,000-s
+//!   run followed by the second run's samples past 10,000 s), so one run is kept whole, the
+//!   longer, and the other dropped.
 //!
-//! A glitch drops few samples one way and many the other; a restart drops the whole run kept
-//! one way and about as many the other. So when both readings drop more than [`MAX_STRAY_RUN`]
-//! samples, one of them the whole run kept and the other at least half as many, the step is a
-//! restart; else the reading that drops fewer is taken (on a tie, the samples after: a block
-//! of rows sent twice loses its second copy). A clock set back into the middle of the run
-//! kept cannot be told from a block sent again, and is read that way: the rows behind the
-//! last kept stamp are dropped. Read the first
+//! A glitch drops few samples one way and many the other; a restart drops about as many
+//! either way, and many: the clock goes back over most of the run kept. So when both readings
+//! would drop more than [`MIN_RESTART`] samples, neither more than twice the other, and the
+//! clock goes back over at least half of the run kept, the step is a restart, unless the
+//! samples after it are copies of the ones before (the same stamps and readings: a block sent
+//! twice, which loses its second copy). Else the reading that drops fewer is taken (on a tie,
+//! the samples after): a clock set back by 50 s late in a long run loses the 50 s of rows
+//! behind the time it had reached, not half the log. Read the first
 //! way only, three rows stamped +10,000 s in a log at 1 s kept those three and dropped the
 //! 9,999 good rows after them; [`super::timing::stray_stamps`] takes one or two such rows with
 //! a message of their own.
 
-use super::stray::MAX_STRAY_RUN;
+/// The fewest samples both readings of a backward step must drop for it to be a restart of
+/// the clock ([`time_order`]): a host that stamps a few samples out of order is no restart,
+/// and dropping a run of a dozen samples to splice is a small harm against dropping a run.
+pub const MIN_RESTART: usize = 16;
+
+/// How many samples after a backward step are compared with the ones before it to tell a
+/// block sent twice from a restart.
+const COPIES_COMPARED: usize = 8;
 
 /// The first occurrence and count of something dropped.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -93,6 +102,8 @@ pub struct Restarts {
     /// Whether the run before the first restart was the one dropped (else the samples from
     /// it on).
     pub dropped_before: bool,
+    /// Whether the two parts were as long as each other (the later is dropped).
+    pub even: bool,
 }
 
 impl Backwards {
@@ -127,21 +138,27 @@ impl Restarts {
     /// What a reader says: `noun` is what it calls a sample ("row"), `at` where the clock
     /// first goes back ("line 10002"), `first` where the first dropped sample stands.
     pub fn message(&self, noun: &str, at: &str, first: &str) -> String {
-        let which = if self.dropped_before {
-            format!("the {noun}s before it")
-        } else {
-            format!("the {noun}s from it on")
+        let which = match (self.dropped_before, self.even) {
+            (true, _) => format!("the {noun}s before it, the shorter part,"),
+            (false, false) => format!("the {noun}s from it on, the shorter part,"),
+            (false, true) => format!("the {noun}s from it on, as many as the {noun}s before it,"),
         };
-        let times = if self.count == 1 {
-            String::new()
-        } else {
-            format!(", and {} times more", self.count - 1)
+        let (times, split) = match self.count {
+            1 => (String::new(), format!("split the log at {at}")),
+            2 => (
+                ", and once more".to_string(),
+                format!("split the log at each restart (the first at {at})"),
+            ),
+            k => (
+                format!(", and {} times more", k - 1),
+                format!("split the log at each restart (the first at {at})"),
+            ),
         };
         format!(
             "{}: the clock goes back at {at} ({} s after {} s{times}) and runs again over the \
-             same times: the log holds runs of a clock that restarted or was set back; {which}, \
-             the shorter part, dropped (first at {first}) so that one run is kept whole rather \
-             than two spliced; to use the other, split the log at {at}",
+             same times: the log holds runs of a clock that restarted or was set back; {which} \
+             dropped (first at {first}) so that one run is kept whole rather than two spliced; \
+             to use the other, {split}",
             dropped(self.tally.count, noun),
             stamp(self.to_s),
             stamp(self.from_s)
@@ -212,6 +229,17 @@ impl TimeOrder {
 /// the whole pass costs a bounded number of looks per sample dropped, on any input. A stamp
 /// that is not finite is dropped as going back.
 pub fn time_order(time_s: &[f64], skip: impl Fn(usize) -> bool) -> TimeOrder {
+    time_order_of(time_s, skip, |_, _| true)
+}
+
+/// [`time_order`] of samples whose readings `same(a, b)` compares (every value but the
+/// stamp): a block sent twice repeats the readings as well as the stamps, a clock set back
+/// into a run it already logged does not. [`time_order`] takes equal stamps for copies.
+pub fn time_order_of(
+    time_s: &[f64],
+    skip: impl Fn(usize) -> bool,
+    same: impl Fn(usize, usize) -> bool,
+) -> TimeOrder {
     let n = time_s.len();
     let mut out = TimeOrder::default();
     let mut kept: Vec<usize> = Vec::with_capacity(n);
@@ -278,7 +306,7 @@ pub fn time_order(time_s: &[f64], skip: impl Fn(usize) -> bool) -> TimeOrder {
         // restart drops runs of about the same length either way, a glitch few one way and
         // many the other.
         let small = early.min(late);
-        if small > MAX_STRAY_RUN {
+        if small > MIN_RESTART {
             if early <= late {
                 late = late_upto(2 * small + 1);
             } else {
@@ -286,11 +314,25 @@ pub fn time_order(time_s: &[f64], skip: impl Fn(usize) -> bool) -> TimeOrder {
             }
         }
         let early_wins = early < late;
-        if small > MAX_STRAY_RUN && early == kept.len() && early.max(late) <= 2 * small {
-            // The clock went back to the start of the run kept and ran again: the longer
-            // part is kept.
+        // A block sent twice: the first samples after the step repeat the first at or ahead
+        // of its stamp, stamp and reading.
+        let copies = || {
+            let first_early = kept.len() - early;
+            kept[first_early..]
+                .iter()
+                .zip((i..n).filter(|&k| !skip(k)))
+                .take(COPIES_COMPARED)
+                .all(|(&a, b)| time_s[a] == time_s[b] && same(a, b))
+        };
+        if small > MIN_RESTART
+            && early.max(late) <= 2 * small
+            && 2 * early >= kept.len()
+            && !copies()
+        {
+            // The clock went back and ran again: the longer part is kept whole.
             let after = remaining + 1;
             let dropped_before = after > kept.len();
+            let even = after == kept.len();
             let gone = if dropped_before { kept.len() } else { after };
             let first = if dropped_before { kept[0] } else { i };
             match &mut restarts {
@@ -306,6 +348,7 @@ pub fn time_order(time_s: &[f64], skip: impl Fn(usize) -> bool) -> TimeOrder {
                         from_s: last,
                         count: 1,
                         dropped_before,
+                        even,
                     });
                 }
             }
@@ -444,12 +487,17 @@ mod tests {
         assert_eq!(o.out_of_order(), 3);
     }
 
+    /// Time order of samples whose readings all differ (a real run's noise).
+    fn of_distinct(t: &[f64]) -> TimeOrder {
+        time_order_of(t, |_| false, |a, b| a == b)
+    }
+
     #[test]
     fn a_clock_that_restarts_keeps_the_longer_run_whole() {
         // 0..600 s, then the clock restarts at 0 for 400 samples: the restart's 400 go.
         let mut t = at_one_s(600);
         t.extend(at_one_s(400));
-        let o = time_order(&t, |_| false);
+        let o = of_distinct(&t);
         assert_eq!(o.dropped, (600..1000).collect::<Vec<_>>());
         let r = o.restarts.expect("a restart");
         assert_eq!((r.at, r.to_s, r.from_s, r.count), (600, 0.0, 599.0, 1));
@@ -458,18 +506,38 @@ mod tests {
         // 400 and splices the runs: the first run with the second's samples past 399 s).
         let mut t = at_one_s(400);
         t.extend(at_one_s(600));
-        let o = time_order(&t, |_| false);
+        let o = of_distinct(&t);
         assert_eq!(o.dropped, (0..400).collect::<Vec<_>>());
         assert!(
             o.restarts
                 .is_some_and(|r| r.dropped_before && r.tally.count == 400)
         );
+        // A reboot whose clock starts 5 s and 0.4 s into the first run's times, and a clock
+        // set back into the middle of the run: no splice either.
+        for offset in [5.0, 5.4, 500.0] {
+            let mut t = at_one_s(1000);
+            t.extend((0..3000).map(|i| offset + f64::from(i)));
+            let o = of_distinct(&t);
+            assert_eq!(o.dropped, (0..1000).collect::<Vec<_>>(), "{offset}");
+            assert!(o.restarts.is_some() && o.backwards.is_none(), "{offset}");
+        }
+        // A hundred rows sent twice, readings and all: the copy goes, no restart.
+        let mut t = at_one_s(3000);
+        let block = t[1900..2000].to_vec();
+        t.splice(2000..2000, block);
+        let o = time_order(&t, |_| false);
+        assert_eq!(o.dropped, (2000..2100).collect::<Vec<_>>());
+        assert!(o.restarts.is_none());
+        // A few samples stamped out of order by a host are no restart.
+        let mut t = at_one_s(3000);
+        t[1000..1010].rotate_left(5);
+        assert!(of_distinct(&t).restarts.is_none());
         // A block sent twice: its second copy goes, not the log before it.
         let mut t: Vec<f64> = (0..100_000).map(|i| f64::from(i) * 0.01).collect();
         let resent = t[99_995..].to_vec();
         t.extend(resent);
         t.extend((100_000..100_500).map(|i| f64::from(i) * 0.01));
-        let o = time_order(&t, |_| false);
+        let o = of_distinct(&t);
         assert_eq!(o.dropped, (100_000..100_005).collect::<Vec<_>>());
         assert!(o.restarts.is_none());
     }
@@ -481,7 +549,7 @@ mod tests {
             t.extend(at_one_s(5000));
         }
         t.extend(at_one_s(5201));
-        let o = time_order(&t, |_| false);
+        let o = of_distinct(&t);
         assert_eq!(o.dropped, (0..40_000).collect::<Vec<_>>());
         assert_eq!(o.out_of_order(), 40_000);
         // The first step back: 0 s at sample 5000, after 4999 s.

@@ -11,7 +11,7 @@ use super::read::Acc;
 use super::sniff::Sniffed;
 use super::time_scale::{self, TimeColumn};
 use crate::log::{Channel, Log, LogInfo, Problem, ProblemKind};
-use crate::signal::time_order::time_order;
+use crate::signal::time_order::time_order_of;
 use crate::signal::timing::{GAP_FACTOR, Timing, stray_stamps};
 
 /// Time-order checks, dropped rows, problems, and the `Log`.
@@ -143,7 +143,14 @@ pub(super) fn finish(mut acc: Acc, sn: &Sniffed, plan: &Plan, source: &str) -> R
     let mut drop: Vec<usize> = strays.clone();
     {
         let time = &acc.cols[SLOT_TIME];
-        let order = time_order(time, |i| strays.binary_search(&i).is_ok());
+        // Two rows read alike in every column but time (a block sent twice repeats them; a
+        // clock set back over a run it logged does not).
+        let same = |a: usize, b: usize| {
+            acc.cols.iter().enumerate().all(|(c, col)| {
+                c == SLOT_TIME || col[a] == col[b] || (col[a].is_nan() && col[b].is_nan())
+            })
+        };
+        let order = time_order_of(time, |i| strays.binary_search(&i).is_ok(), same);
         if let Some(t) = order.repeated {
             let line = acc.line_of(t.first);
             problems.push(Problem {
