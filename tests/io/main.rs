@@ -9,6 +9,7 @@ mod atomic_writes;
 mod autosave_instances;
 mod axis_names;
 mod chamber_channels;
+mod column_roles;
 mod crafted_rows;
 mod drone_logs;
 mod formats;

@@ -134,6 +134,115 @@ const RAW_WORDS: &[&str] = &[
     "raw", "int", "int16", "uint16", "int32", "counts", "count", "adc", "lsb", "reg", "code",
     "register", "digits",
 ];
+/// Words that make a rate-named column something other than the gyro's rate reading: a
+/// reference, command or rate table's rate (`omega_ref`, `wx_cmd`, `turntable_rate_dps`), a
+/// statistic or a setting of the sensor (`gyro_x_bias`, `gyro_x_std`, `gyro_range_dps`,
+/// `gyro_rate_hz`), or its status (`gyro_device_id`, `gyro_error_count`, `gyro_dt`). PX4's
+/// `vehicle_imu_status` and rate-table logs write such columns beside the axes; read as an
+/// axis, each would be calibrated as a gyro (or refuse the whole log for its unit), so such a
+/// name is a channel. `counts`, `lsb` (a register's unit) are not here: `gx_counts` is a rate
+/// in counts, refused for its unit; the singular `count` is a number of events.
+const NOT_A_READING: &[&str] = &[
+    // A reference or a command.
+    "ref",
+    "reference",
+    "cmd",
+    "command",
+    "commanded",
+    "setpoint",
+    "set",
+    "sp",
+    "target",
+    "demand",
+    "desired",
+    "table",
+    "turntable",
+    // A statistic or a setting of the sensor.
+    "bias",
+    "offset",
+    "std",
+    "stdev",
+    "stddev",
+    "sd",
+    "sigma",
+    "var",
+    "variance",
+    "noise",
+    "rms",
+    "integral",
+    "angle",
+    "range",
+    "fs",
+    "fsr",
+    "scale",
+    "gain",
+    "sensitivity",
+    "odr",
+    "hz",
+    "khz",
+    "bw",
+    "bandwidth",
+    // Status and bookkeeping.
+    "id",
+    "dt",
+    "count",
+    "cnt",
+    "error",
+    "errors",
+    "err",
+    "clip",
+    "clipping",
+    "clipped",
+    "clips",
+    "status",
+    "state",
+    "flag",
+    "flags",
+    "health",
+    "valid",
+    "overrun",
+    "seq",
+    "time",
+    "timestamp",
+    "ts",
+    "samples",
+];
+/// Words that, in a temperature's name, make it a rate of change of temperature
+/// (`temp_rate_c_min`, `temp_deriv_c`, `temp_ramp_c_min`): a chamber's ramp rate in °C/min
+/// read as the temperature fits the drift against a ramp rate.
+const TEMP_RATE_WORDS: &[&str] = &[
+    "rate",
+    "deriv",
+    "derivative",
+    "slope",
+    "ramp",
+    "gradient",
+    "grad",
+    "dtdt",
+    "per",
+];
+/// Time words that, after a temperature's unit (`temp_c_min`, `temp_k_s`, `t_degc_h`), make it
+/// a unit of a rate of change: degrees per that time.
+const PER_TIME_WORDS: &[&str] = &[
+    "min", "mins", "minute", "s", "sec", "secs", "second", "h", "hr", "hour",
+];
+
+/// Whether a name's words state a rate of change of temperature: a rate word beside a
+/// temperature's word (`temp_rate`, `temperature_deriv`), or a temperature unit followed by
+/// `per` or a time (`temp_c_per_min`, `ramp_rate_c_min`, `temp_k_min`, `t_degc_s`). Such a column
+/// is never the calibration temperature; read as one its values would be °C/min.
+pub(super) fn states_temp_rate(words: &[String]) -> bool {
+    let temp_word = words
+        .iter()
+        .enumerate()
+        .any(|(i, w)| in_list(w, TEMP_WORDS) || (i == 0 && w == "t"));
+    (temp_word && words.iter().any(|w| TEMP_RATE_WORDS.contains(&w.as_str())))
+        || words.windows(2).any(|pair| {
+            TempUnit::from_column_key(&unit_key(&pair[0])).is_some()
+                && (pair[1] == "per" || PER_TIME_WORDS.contains(&pair[1].as_str()))
+        })
+}
+
 const TEMP_WORDS: &[&str] = &[
     "temp",
     "temperature",
@@ -331,7 +440,13 @@ pub(super) fn classify(name: &str) -> (Kind, u8) {
         })
     };
 
+    // A rate of change of temperature (`temp_rate_c_min`, `temp_k_min`) is a chamber's
+    // channel, never a temperature: its unit would read as one (`c`, `k`).
+    let temp_rate = || states_temp_rate(&p.words);
     // "t" alone is time unless a temperature unit says otherwise; "t1", "T2" are sensors.
+    if first == "t" && rest.len() > 1 && temp_rate() {
+        return (Kind::Other, 0);
+    }
     if first == "t" {
         if let Some(u) = temp_unit_by(TempUnit::from_key) {
             return (Kind::Temp(Some(u)), 3);
@@ -340,7 +455,12 @@ pub(super) fn classify(name: &str) -> (Kind, u8) {
             return (Kind::Time(time_unit()), 3);
         }
     }
-    if first.len() > 1 && first.starts_with('t') && first[1..].chars().all(|c| c.is_ascii_digit()) {
+    let sensor =
+        first.len() > 1 && first.starts_with('t') && first[1..].chars().all(|c| c.is_ascii_digit());
+    if (sensor || p.words.iter().any(|w| in_list(w, TEMP_WORDS))) && temp_rate() {
+        return (Kind::Other, 0);
+    }
+    if sensor {
         return (Kind::Temp(temp_unit()), 3);
     }
     if p.words.iter().any(|w| in_list(w, TEMP_WORDS)) {
@@ -375,13 +495,17 @@ pub(super) fn classify(name: &str) -> (Kind, u8) {
     // `Rate (filtered)`), or beside an angular rate's unit (`rate_dps`, `w_rad_s_x`): the word
     // `rate` is in many a chamber's channel (`rate_limit`, `ramp_rate_c_min`) and `w` ends
     // one in watts (`heater_power_w`).
-    if (in_list(first, RATE_WORDS)
-        && (!is_weak_rate_word(first)
-            || rest.iter().all(|w| qualifies_a_rate(w))
-            || rate_unit().is_some()))
-        || RATE_WORDS
-            .iter()
-            .any(|kw| first.starts_with(kw) && rate_unit().is_some())
+    // A reference, a command, a statistic or a status of the gyro (`omega_ref`,
+    // `gyro_x_bias`, `gyro_rate_hz`): no rate reading, whatever unit it states.
+    let not_a_reading = p.words.iter().any(|w| NOT_A_READING.contains(&w.as_str()));
+    if !not_a_reading
+        && ((in_list(first, RATE_WORDS)
+            && (!is_weak_rate_word(first)
+                || rest.iter().all(|w| qualifies_a_rate(w))
+                || rate_unit().is_some()))
+            || RATE_WORDS
+                .iter()
+                .any(|kw| first.starts_with(kw) && rate_unit().is_some()))
     {
         return (Kind::Rate(rate_unit()), 3);
     }
@@ -398,10 +522,11 @@ pub(super) fn classify(name: &str) -> (Kind, u8) {
     }
     // After another word, `rate` or `w` names a gyro's rate only beside an angular rate's
     // unit (`table_rate`, `setpoint_rate`, `power_w`, `coolant_flow_rate_lpm` are a chamber's).
-    if rest
-        .iter()
-        .any(|w| in_list(w, RATE_WORDS) && !is_weak_rate_word(w))
-        || (rest.iter().any(|w| is_weak_rate_word(w)) && rate_unit().is_some())
+    if !not_a_reading
+        && (rest
+            .iter()
+            .any(|w| in_list(w, RATE_WORDS) && !is_weak_rate_word(w))
+            || (rest.iter().any(|w| is_weak_rate_word(w)) && rate_unit().is_some()))
     {
         return (Kind::Rate(rate_unit()), 2);
     }
@@ -411,7 +536,9 @@ pub(super) fn classify(name: &str) -> (Kind, u8) {
     // Only the unit speaks.
     if let Some(b) = bracket.as_deref() {
         let raw = p.unit.as_deref().unwrap_or("");
-        if let Some(u) = StatedRate::from_text(raw).filter(|_| raw.contains('/') || b.len() > 2) {
+        if let Some(u) = StatedRate::from_text(raw)
+            .filter(|_| !not_a_reading && (raw.contains('/') || b.len() > 2))
+        {
             return (Kind::Rate(Some(u)), 2);
         }
         if let Some(u) = TempUnit::from_key(b) {
@@ -474,6 +601,10 @@ pub(crate) fn stated_time(name: &str) -> Option<TimeUnit> {
 /// a temperature, so degrees without a scale are Celsius ([`TempUnit::from_column_key`]).
 pub(crate) fn stated_temp(name: &str) -> Option<TempUnit> {
     let p = name_parts(name);
+    // A rate of change (`temp_deriv_c`) states no temperature's unit: its `c` is per a time.
+    if states_temp_rate(&p.words) {
+        return None;
+    }
     p.unit
         .as_deref()
         .and_then(|t| temp_in_slot(t, TempUnit::from_column_key))
@@ -553,8 +684,32 @@ mod tests {
         assert_eq!(k("rate_x"), Kind::Rate(None));
         assert_eq!(k("Rate (filtered)"), Kind::Rate(None));
         assert_eq!(k("w_x"), Kind::Rate(None));
-        assert_eq!(k("table_rate_dps"), rate(RateUnit::DegPerSec));
+        assert_eq!(k("imu_rate_dps"), rate(RateUnit::DegPerSec));
+        // A rate table's rate is the table's, whatever its unit.
+        assert_eq!(k("table_rate_dps"), Kind::Other);
         assert_eq!(k("imu_wx"), Kind::Rate(None));
         assert_eq!(k("status"), Kind::Other);
+        // A rate of change of temperature is no temperature; a gyro's status, statistic,
+        // reference or command is no rate reading.
+        for name in [
+            "temp_rate_c_min",
+            "temp_c_per_min",
+            "temp_k_min",
+            "temp_deriv_c",
+            "t_rate_c_min",
+            "gyro_rate_hz",
+            "gyro_device_id",
+            "gyro_x_bias",
+            "gyro_error_count",
+            "omega_ref",
+            "wx_cmd",
+            "turntable_rate_dps",
+            "table [deg/s]",
+        ] {
+            assert_eq!(k(name), Kind::Other, "{name}");
+        }
+        assert_eq!(k("gyro_time_us"), Kind::Time(Some(TimeUnit::Micros)));
+        assert_eq!(k("gyro"), Kind::Rate(None));
+        assert_eq!(k("temp_c_board"), Kind::Temp(Some(TempUnit::Celsius)));
     }
 }

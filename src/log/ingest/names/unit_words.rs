@@ -41,7 +41,11 @@
 //!   degree Celsius (`d°C`, `cdegC`, `m°C`, `millidegrees Celsius`; in a temperature's name
 //!   degrees without a scale too, `[decidegrees]`). Refused where a unit is written alone: a
 //!   unit of another quantity (`[%]`, `[V]`, `[kOhm]`, `[°C/min]`, `[s]`), counts (`[LSB]`),
-//!   and a count of degrees (`[0.1 °C]`, whose message names `d°C`). No setting gives a
+//!   a count of degrees (`[0.1 °C]`, whose message names `d°C`) and a multiplied unit alike
+//!   (`[degC*100]`, `[deg C x100]`), a prefix with no factor (`[MdegC]`: a capital M is mega,
+//!   not the milli its lower case spells; `[udegC]`, `[hdegC]`, as `[µ°C]`), and in a
+//!   hand-mapped column a rate of change named by words (`temp_k_min`). `[C°]` is °C written
+//!   the other way round, not the centi of `c°C`. No setting gives a
 //!   temperature's unit, so the remedy is the column written in a unit read, or `temp_col`.
 //! * **Not read, warned**: one other word in brackets (`Rate [arb]`, `Rate [%]`, `time [fortnights]`),
 //!   or a short word of a rate's name shaped as a unit (`omega_kph`, `gyro_fps`), which may be
@@ -74,10 +78,29 @@ pub(crate) fn temp_in_slot(
             .filter(|&(n, _)| n == 1.0)
             .and_then(|(_, u)| from_key(&unit_key(u)));
     }
+    if mega(text) {
+        return None;
+    }
+    // The degree sign after the scale's letter (`C°`, a common misspelling of `°C`): the
+    // letter is the scale, not a prefix (`c°` would read as hundredths of a degree).
+    if let Some(letter) = text.trim().strip_suffix(['°', 'º', '˚'])
+        && matches!(letter.trim(), "C" | "c" | "K" | "F" | "f")
+    {
+        return from_key(&unit_key(&format!("°{}", letter.trim())));
+    }
     from_key(&unit_key(text)).or_else(|| {
         let (first, _) = text.split_once([',', ';'])?;
         from_key(&unit_key(first))
     })
+}
+
+/// Whether a unit slot's text starts with a capital `M` before degrees (`MdegC`, `Mdeg C`,
+/// `M°C`): mega, which [`unit_key`]'s lower case would turn into the milli of `mdegC`, and
+/// which no stand means; the reader refuses it rather than divide by a thousand.
+pub(crate) fn mega(text: &str) -> bool {
+    let t = text.trim();
+    t.strip_prefix('M')
+        .is_some_and(|r| r.trim_start().starts_with(['°', 'º', '˚', 'd', 'D']))
 }
 
 /// A unit among the words of a name.

@@ -200,6 +200,21 @@ fn unread_slot(text: &str, q: Quantity) -> Option<Unread> {
     if key.is_empty() {
         return None;
     }
+    // A temperature unit with a multiplier (`degC*100`, `deg C x100`, `°C(x10)`): counts of a
+    // hundredth, a tenth of a degree, refused as a count of degrees is (`0.01 °C`), with the
+    // unit that reads them; any other scale so multiplied is refused as not read.
+    if q == Quantity::Temp
+        && let Some((n, u)) = multiplied(t)
+    {
+        return match u {
+            TempUnit::Celsius => unread(Why::Degrees(1.0 / n)),
+            _ => unread(Why::Unknown),
+        };
+    }
+    // Mega-degrees (`MdegC`): not the milli its lower case spells.
+    if q == Quantity::Temp && super::mega(t) {
+        return unread(Why::Unknown);
+    }
     // A count of a temperature unit (`0.1 °C`, `0.01 degC`): the remedy names the unit that
     // reads it (`d°C`).
     if q == Quantity::Temp
@@ -231,11 +246,7 @@ fn unread_slot(text: &str, q: Quantity) -> Option<Unread> {
     };
     // A prefix on a temperature unit the reader has no factor for (`mK`, `m°F`, `kdegC`): read
     // as °C, its values would be off by that prefix.
-    if q == Quantity::Temp
-        && ["milli", "centi", "deci", "kilo", "m", "c", "d", "k"]
-            .iter()
-            .any(|p| key.strip_prefix(p).and_then(TempUnit::from_key).is_some())
-    {
+    if q == Quantity::Temp && prefixed_temp(&key) {
         return unread(Why::Unknown);
     }
     let other = match q {
@@ -267,8 +278,53 @@ fn unread_slot(text: &str, q: Quantity) -> Option<Unread> {
             unread(Why::Unknown)
         }
         [w] if !is_note(w) => unread(Why::Word),
+        // `raw` where a temperature's unit goes says its values are a register's, not
+        // degrees: read in °C only with a word, as an unknown word is.
+        [w] if q == Quantity::Temp && w == "raw" => unread(Why::Word),
         _ => None,
     }
+}
+
+/// Whether a key is a temperature unit behind a prefix the reader has no factor for (`mK`,
+/// `m°F`, `kdegC`, `udegC`, `hdegC`, `µ°C`): read as °C, its values would be off by that
+/// prefix. The one-letter prefixes of a micro, nano or hecto count only before degrees (`udeg`,
+/// `hdeg`), where nothing else is meant; `m`, `c`, `d`, `k` before any scale.
+fn prefixed_temp(key: &str) -> bool {
+    let any_scale = [
+        "milli", "centi", "deci", "kilo", "mega", "micro", "nano", "hecto",
+    ]
+    .into_iter()
+    .chain(["m", "c", "d", "k"])
+    .any(|p| key.strip_prefix(p).and_then(TempUnit::from_key).is_some());
+    let before_degrees = ["u", "µ", "μ", "n", "h"].into_iter().any(|p| {
+        key.strip_prefix(p)
+            .is_some_and(|r| r.starts_with("deg") && TempUnit::from_column_key(r).is_some())
+    });
+    any_scale || before_degrees
+}
+
+/// A temperature unit written with a multiplier (`degC*100`, `deg C x100`, `degC(x100)`,
+/// `°C × 10`): the multiplier and the unit, when the rest of the text is one.
+fn multiplied(text: &str) -> Option<(f64, TempUnit)> {
+    // A number first is a count of the unit (`100 °C`), not a multiplier.
+    if counted(text) {
+        return None;
+    }
+    let lower = text.to_lowercase();
+    let mut factor = None;
+    let mut rest = String::new();
+    for token in lower.split(|c: char| c.is_whitespace() || matches!(c, '*' | '×' | '(' | ')')) {
+        let bare = token.trim_start_matches('x').trim_end_matches('x');
+        if token == "x" || token.is_empty() {
+            continue;
+        }
+        match bare.parse::<f64>() {
+            Ok(n) if factor.is_none() && n.is_finite() && n > 1.0 => factor = Some(n),
+            _ => rest.push_str(token),
+        }
+    }
+    let n = factor?;
+    TempUnit::from_column_key(&unit_key(&rest)).map(|u| (n, u))
 }
 
 /// The unit a `q` column's name states that the reader does not read, if any: what it wrote
@@ -299,10 +355,29 @@ pub(crate) fn unread_unit(name: &str, q: Quantity) -> Option<Unread> {
             Words::Ticks { words, seconds } => Some((words, Why::Ticks(seconds))),
             _ => None,
         },
-        // A temperature's words are left to the reader's checks of its values: a register
-        // (`temp_raw_int16`) is taken only when nothing better is, and then checked
+        // A rate of change of temperature (`ramp_rate_c_min`, `temp_rate`), mapped by hand:
+        // refused as `[°C/min]` is. A word that is a scale behind a prefix the reader has no
+        // factor for (`temp_dF`, `temp_mk`) may be a unit or a note, and is warned of as
+        // `omega_kph` is. Other words are left to the reader's checks of its values: a
+        // register (`temp_raw_int16`) is taken only when nothing better is, and then checked
         // (`plausible.rs`).
-        Quantity::Temp => return None,
+        Quantity::Temp => {
+            if super::super::states_temp_rate(&p.words) {
+                return Some(Unread {
+                    text: p.words.join("_"),
+                    why: Why::Other("a rate of change of temperature"),
+                });
+            }
+            return p
+                .words
+                .iter()
+                .skip(1)
+                .find(|w| prefixed_temp(&unit_key(w)))
+                .map(|w| Unread {
+                    text: w.clone(),
+                    why: Why::Word,
+                });
+        }
     };
     if let Some((text, why)) = words {
         return Some(Unread { text, why });
@@ -504,10 +579,19 @@ mod tests {
             ("temp [0.1 °C]", "0.1 °C"),
             ("temp [mK]", "mK"),
             ("temp [m°F]", "m°F"),
+            ("temp [degC*100]", "degC*100"),
+            ("temp [deg C x100]", "deg C x100"),
+            ("temp [MdegC]", "MdegC"),
+            ("temp [udegC]", "udegC"),
+            ("temp [hdegC]", "hdegC"),
+            ("temp_k_min", "temp_k_min"),
         ] {
             assert_eq!(u(name, Quantity::Temp), Some((unit.into(), true)), "{name}");
         }
         assert_eq!(u("temp [arb]", Quantity::Temp), Some(("arb".into(), false)));
+        assert_eq!(u("temp [raw]", Quantity::Temp), Some(("raw".into(), false)));
+        assert_eq!(u("temp_dF", Quantity::Temp), Some(("df".into(), false)));
+        assert_eq!(u("temp [C°]", Quantity::Temp), None);
         // A register's words are left to the checks of its values.
         assert_eq!(u("temp_raw_int16", Quantity::Temp), None);
     }
