@@ -24,10 +24,13 @@ pub struct Args {
 /// a unit from the log's axis of the same name or rate column) corrected and written side by
 /// side, predicted batch by batch as the rows are written: no column of the prediction, the
 /// corrected rate, rates or regimes is held.
-pub fn run(a: Args) -> Result<(), CliError> {
+pub fn run(mut a: Args) -> Result<(), CliError> {
     let mut reads = common::Reads::of("the calibration", &a.calibration);
     common::refuse_outputs(&[("--out", &a.out)], reads.add("the log", &a.log))?;
     let unit = common::load_calibration(&a.calibration)?;
+    // A drone log is read on the gyro the calibration was fitted on unless --gyro says
+    // otherwise.
+    a.log_args.format.fitted_on = unit.fitted_on();
     let input = a.log_args.open(&a.log)?;
     let log = a.log_args.read_for(&input, &unit)?;
     common::refuse_guessed_axis(&unit, &a.log_args, (&a.log, &log), &a.calibration)?;

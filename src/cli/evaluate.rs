@@ -35,8 +35,11 @@ pub struct Args {
 /// Every axis of the calibration judged on the log's axis it was calibrated on (the log's
 /// own axis for a single-axis calibration), then printed: one axis as it always was, a unit
 /// axis by axis with a summary.
-pub fn run(a: Args) -> Result<(), CliError> {
+pub fn run(mut a: Args) -> Result<(), CliError> {
     let unit = common::load_calibration(&a.calibration)?;
+    // A drone log is read on the gyro the calibration was fitted on unless --gyro says
+    // otherwise.
+    a.log_args.format.fitted_on = unit.fitted_on();
     let input = a.log_args.open(&a.log)?;
     let mut log = a.log_args.read_for(&input, &unit)?;
     common::refuse_guessed_axis(&unit, &a.log_args, (&a.log, &log), &a.calibration)?;

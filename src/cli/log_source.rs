@@ -20,6 +20,11 @@ pub struct FormatArgs {
     /// imu-status (PX4 vehicle_imu_status); none (no temperature) for `allan` only.
     #[arg(long, value_name = "accel|imu-status")]
     pub temp_from: Option<TempFrom>,
+    /// The gyro the calibration a command reads the log for was fitted on (its
+    /// `source.instance`, set by `evaluate`, `apply` and `report`): read when `--gyro` is
+    /// not given. No option of its own.
+    #[arg(skip)]
+    pub fitted_on: Option<driftlab::log::DroneGyro>,
 }
 
 impl FormatArgs {
@@ -28,6 +33,7 @@ impl FormatArgs {
         FormatChoice {
             gyro: self.gyro,
             temp_from: self.temp_from,
+            fitted_on: self.fitted_on,
         }
     }
 }

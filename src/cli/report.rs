@@ -29,12 +29,15 @@ pub struct Args {
     pub log_args: LogArgs,
 }
 
-pub fn run(a: Args) -> Result<(), CliError> {
+pub fn run(mut a: Args) -> Result<(), CliError> {
     let mut reads = common::Reads::of("the calibration", &a.calibration);
     common::refuse_folder_over("--out", &a.out, reads.add_all("a log", &a.logs))?;
     let logs: Vec<&Path> = a.logs.iter().map(PathBuf::as_path).collect();
     common::refuse_stream_twice(&logs)?;
     let unit = common::load_calibration(&a.calibration)?;
+    // A drone log is read on the gyro the calibration was fitted on unless --gyro says
+    // otherwise.
+    a.log_args.format.fitted_on = unit.fitted_on();
     let merit = report::UnitMerit {
         filter_s: a.filter,
         window_s: a

@@ -39,6 +39,10 @@ pub struct FormatChoice {
     pub gyro: Option<usize>,
     /// Where the temperature comes from; `None`: the gyro's own.
     pub temp_from: Option<TempFrom>,
+    /// The gyro the calibration a log is read for was fitted on (its `source.instance`): read
+    /// when `gyro` is `None`, and named in the note when `gyro` is another. Not a setting the
+    /// user gave, so a CSV is read without a word about it.
+    pub fitted_on: Option<DroneGyro>,
 }
 
 impl FormatChoice {
@@ -172,6 +176,15 @@ pub enum ReadError {
         /// The file.
         path: String,
         /// Why none is left.
+        message: String,
+    },
+    /// No gyro was asked for, and the log has none the calibration it is read for was
+    /// fitted on.
+    #[error("{path}: {message}")]
+    NoFittedGyro {
+        /// The file.
+        path: String,
+        /// The gyro fitted on, and the log's gyros.
         message: String,
     },
     /// Most of the chosen gyro's samples go back in time: the log is not in time order.
@@ -350,7 +363,8 @@ pub fn from_recording(
     skip_extras: bool,
     choice: &FormatChoice,
 ) -> Result<AnyLog, ReadError> {
-    let sel = formats::select(rec, choice.gyro, choice.temp_from)?;
+    let (gyro, fitted_note) = gyro_for_calibration(rec, choice)?;
+    let sel = formats::select(rec, gyro, choice.temp_from)?;
     let inst = sel.instance;
     let n = inst.len();
     let to_dph = rad_s_to_dph();
@@ -410,13 +424,7 @@ pub fn from_recording(
             columns,
             rows_read: n,
             problems,
-            instance: Some(DroneGyro {
-                index: inst.index,
-                dataflash_imu: match &inst.device {
-                    Some(formats::DeviceId::DataFlash { instance }) => Some(*instance),
-                    _ => None,
-                },
-            }),
+            instance: Some(drone_gyro(inst)),
         },
     };
     let doubts = super::ingest::plausibility_problems(&log);
@@ -432,10 +440,90 @@ pub fn from_recording(
             format: rec.format,
             instances: rec.summaries(),
             chosen: inst.index,
-            note: sel.note.clone(),
+            note: match fitted_note {
+                // Chosen for the user, not asked for: said so, and how to choose another.
+                Some(FittedNote::Chose) => sel.note.replacen(
+                    "(as asked)",
+                    "(the gyro the calibration was fitted on, its source.instance; gyro N \
+                     chooses another)",
+                    1,
+                ),
+                Some(FittedNote::Differs(n)) => format!("{}; {n}", sel.note),
+                None => sel.note.clone(),
+            },
             problems: rec.problems.clone(),
         }),
     })
+}
+
+/// How a calibration file records `inst` (`source.instance`).
+fn drone_gyro(inst: &formats::GyroInstance) -> DroneGyro {
+    DroneGyro {
+        index: inst.index,
+        dataflash_imu: match &inst.device {
+            Some(formats::DeviceId::DataFlash { instance }) => Some(*instance),
+            _ => None,
+        },
+    }
+}
+
+/// What the record of the gyro a calibration was fitted on did to the choice of gyro.
+enum FittedNote {
+    /// No gyro was asked for: the recorded one was read.
+    Chose,
+    /// Another gyro was asked for and read: the sentence saying which was fitted on.
+    Differs(String),
+}
+
+/// The gyro to read of `rec` for `choice`, with a note when a calibration's record of the
+/// gyro it was fitted on ([`FormatChoice::fitted_on`]) chose it or differs from the gyro
+/// asked for. Without a choice, another gyro than the one calibrated would be read and its
+/// figures shown as the calibration's; with one, the user may well mean another gyro (a
+/// held-out IMU of the same board), so it is read, and the difference said.
+///
+/// # Errors
+/// No gyro asked for, and the log has none the calibration was fitted on: any other would
+/// be a stranger's, and which one cannot be guessed.
+fn gyro_for_calibration(
+    rec: &ImuRecording,
+    choice: &FormatChoice,
+) -> Result<(Option<usize>, Option<FittedNote>), ReadError> {
+    let Some(fitted) = choice.fitted_on else {
+        return Ok((choice.gyro, None));
+    };
+    let found = rec
+        .instances
+        .iter()
+        .find(|i| drone_gyro(i).same_gyro(&fitted))
+        .map(|i| i.index);
+    let fitted_words = fitted.describe();
+    match (choice.gyro, found) {
+        (None, Some(k)) => Ok((Some(k), Some(FittedNote::Chose))),
+        (None, None) => Err(ReadError::NoFittedGyro {
+            path: rec.source.clone(),
+            message: format!(
+                "the calibration was fitted on {fitted_words} (its source.instance), and this \
+                 log has no such gyro (it has {}): choose the gyro to read with gyro N",
+                rec.instances
+                    .iter()
+                    .map(|i| drone_gyro(i).describe())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
+        }),
+        (Some(g), Some(k)) if g == k => Ok((Some(g), None)),
+        (Some(g), _) => Ok((
+            Some(g),
+            Some(FittedNote::Differs(format!(
+                "but the calibration was fitted on {fitted_words}{} (its source.instance): \
+                 what is read is another gyro than the one calibrated",
+                match found {
+                    Some(k) => format!(", gyro {k} of this log"),
+                    None => ", which this log does not have".to_string(),
+                }
+            ))),
+        )),
+    }
 }
 
 /// The `temp_from` choices other than `chosen` that some gyro of `rec` has numbers for.

@@ -65,6 +65,14 @@ impl UnitCalibration {
         self.axes.len() > 1 || self.axes.iter().any(|a| !a.name.is_empty())
     }
 
+    /// The gyro of a drone log the unit was fitted on (`source.instance`), which every
+    /// command that reads a drone log for it reads unless told otherwise: its axes come from
+    /// one gyro, and a unit's file holds one source for them all. `None` for a calibration
+    /// of a CSV, or one written before the record.
+    pub fn fitted_on(&self) -> Option<crate::log::DroneGyro> {
+        self.axes.iter().find_map(|a| a.model.source().instance)
+    }
+
     /// The axes' names, in order.
     pub fn axis_names(&self) -> Vec<&str> {
         self.axes.iter().map(|a| a.name.as_str()).collect()

@@ -337,11 +337,12 @@ fn the_real_dataflash_samples_gyro_records_its_imu_instance() {
         let choice = FormatChoice {
             gyro: Some(gyro),
             temp_from: None,
+            ..FormatChoice::default()
         };
         let any = read_drone_log(&bin, &ReadOptions::default(), &choice, true)
             .unwrap()
             .unwrap();
-        let instance = any.log.info.instance.clone().unwrap();
+        let instance = any.log.info.instance.unwrap();
         assert_eq!(instance.index, gyro);
         let i = instance.dataflash_imu.unwrap();
         let first = rows.iter().find(|r| r[2] == i.to_string()).unwrap();

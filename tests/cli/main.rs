@@ -14,6 +14,7 @@ mod attack16;
 mod attack17;
 mod attack18;
 mod attack19;
+mod attack20;
 mod axis_choice;
 mod commands;
 mod compare_verdicts;

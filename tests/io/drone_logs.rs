@@ -111,6 +111,7 @@ fn ulog_and_dataflash_gyros_become_logs_with_the_stored_values() {
             &FormatChoice {
                 gyro: Some(k),
                 temp_from: None,
+                ..FormatChoice::default()
             },
         )
         .unwrap();
@@ -136,6 +137,7 @@ fn ulog_and_dataflash_gyros_become_logs_with_the_stored_values() {
             &FormatChoice {
                 gyro: Some(k),
                 temp_from: None,
+                ..FormatChoice::default()
             },
         )
         .unwrap();
@@ -212,6 +214,7 @@ fn choices_that_do_not_fit_are_refused_with_the_alternatives_named() {
         &FormatChoice {
             gyro: Some(3),
             temp_from: None,
+            ..FormatChoice::default()
         },
     )
     .unwrap_err();
@@ -224,6 +227,7 @@ fn choices_that_do_not_fit_are_refused_with_the_alternatives_named() {
         &FormatChoice {
             gyro: Some(7),
             temp_from: None,
+            ..FormatChoice::default()
         },
     )
     .unwrap_err();
@@ -235,6 +239,7 @@ fn choices_that_do_not_fit_are_refused_with_the_alternatives_named() {
         &FormatChoice {
             gyro: Some(1),
             temp_from: Some(TempFrom::Accel),
+            ..FormatChoice::default()
         },
     )
     .unwrap();
@@ -257,6 +262,7 @@ fn choices_that_do_not_fit_are_refused_with_the_alternatives_named() {
         &FormatChoice {
             gyro: Some(0),
             temp_from: None,
+            ..FormatChoice::default()
         },
     )
     .unwrap_err();

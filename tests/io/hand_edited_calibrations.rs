@@ -722,3 +722,122 @@ fn a_kind_its_curve_or_recipe_contradicts_is_refused() {
     });
     calibration::load_unit(&line).expect("a line under a parabola's recipe loads");
 }
+
+/// A hand-edited `source.instance` (the gyro of a drone log a calibration was fitted on) is
+/// checked as the reader makes it, in a single-axis file (under `calibration`) and in a unit
+/// (at the top): an object of a whole `index` and a `dataflash_imu` of 0 to 255, and an index
+/// no larger than the DataFlash instance (the reader numbers a DataFlash log's gyros in the
+/// order of their instance, from 0). Each refusal names `source.instance` or its field and
+/// says why in words, never a type of the code or the axis body it is copied into; a record
+/// the reader could have made loads, and the unit reports it as the gyro it was fitted on.
+#[test]
+fn a_hand_edited_source_instance_is_checked_and_named() {
+    let dir = tempfile::tempdir().unwrap();
+    let single = saved(
+        dir.path(),
+        "single.json",
+        &fitted(
+            &read("calibration.csv"),
+            ModelChoice::Preset(Preset::PolyT),
+            &Recipe::default(),
+        ),
+    );
+    let unit = unit_file(dir.path());
+    type Place = fn(&mut Value) -> &mut Value;
+    let places: [(&str, &Path, Place); 2] = [
+        ("single", &single, |v| &mut v["calibration"]["source"]),
+        ("unit", &unit, |v| &mut v["source"]),
+    ];
+    for (kind, file, source) in places {
+        let with = |name: &str, instance: Value| {
+            edited(file, &format!("{kind}_{name}.json"), |v| {
+                source(v)["instance"] = instance
+            })
+        };
+        // What the reader makes of IMU I=1 when it is the log's second gyro, or its first.
+        for (name, record) in [
+            ("second", json!({"index": 1, "dataflash_imu": 1})),
+            ("first_of_i1", json!({"index": 0, "dataflash_imu": 1})),
+            ("ulog", json!({"index": 2})),
+        ] {
+            let loaded = calibration::load_unit(&with(name, record.clone()))
+                .unwrap_or_else(|e| panic!("{kind} {record}: {e}"));
+            let got = loaded.fitted_on().expect("the record is kept");
+            assert_eq!(got.index as u64, record["index"].as_u64().unwrap());
+            assert_eq!(
+                got.dataflash_imu.map(u64::from),
+                record["dataflash_imu"].as_u64()
+            );
+        }
+        let cases: [(&str, Value, &str, &str); 10] = [
+            (
+                "index_past_instance",
+                json!({"index": 7, "dataflash_imu": 1}),
+                "source.instance.index",
+                "is 7, and dataflash_imu is 1",
+            ),
+            (
+                "huge_index",
+                json!({"index": 1u64 << 40, "dataflash_imu": 1}),
+                "source.instance.index",
+                "one of the two is wrong",
+            ),
+            (
+                "array",
+                json!([1, 1]),
+                "source.instance",
+                "is a list, not an object",
+            ),
+            (
+                "number",
+                json!(1),
+                "source.instance",
+                "is a number, not an object",
+            ),
+            (
+                "negative_imu",
+                json!({"index": 1, "dataflash_imu": -1}),
+                "source.instance.dataflash_imu",
+                "is -1, not a whole number from 0",
+            ),
+            (
+                "text_imu",
+                json!({"index": 1, "dataflash_imu": "1"}),
+                "source.instance.dataflash_imu",
+                "is text, not a whole number from 0",
+            ),
+            (
+                "wide_imu",
+                json!({"index": 1, "dataflash_imu": 256}),
+                "source.instance.dataflash_imu",
+                "is 256, more than 255",
+            ),
+            (
+                "fractional_index",
+                json!({"index": 1.5}),
+                "source.instance.index",
+                "is 1.5, not a whole number from 0",
+            ),
+            (
+                "no_index",
+                json!({"dataflash_imu": 1}),
+                "source.instance.index",
+                "is missing",
+            ),
+            (
+                "stray_field",
+                json!({"index": 1, "imu": 1}),
+                "source.instance.imu",
+                "is no field of the record of a gyro",
+            ),
+        ];
+        for (name, record, field, why) in cases {
+            let path = with(name, record);
+            refused(&path, field, why);
+            let e = calibration::load_unit(&path).unwrap_err().to_string();
+            for internal in ["DroneGyro", "struct", "u8", "usize", "axes["] {
+                assert!(!e.contains(internal), "{kind} {name}: {e}");
+            }
+        }
+    }
+}

@@ -381,6 +381,7 @@ fn no_real_drone_log_has_a_glitch() {
                 &FormatChoice {
                     gyro: Some(k),
                     temp_from: None,
+                    ..FormatChoice::default()
                 },
             )
             .unwrap();

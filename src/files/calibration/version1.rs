@@ -65,6 +65,13 @@ pub(super) fn from_json(path: &Path, text: &str) -> Result<DriftModel> {
     };
     let header: Header =
         serde_json::from_str(text).map_err(|e| err(format!("not a calibration file: {e}")))?;
+    // Checked before the body, whose reader would name a hand-edited record by line and
+    // column only.
+    if let Ok(v) = serde_json::from_str::<serde_json::Value>(text)
+        && let Some(instance) = v.pointer("/calibration/source/instance")
+    {
+        crate::log::DroneGyro::from_value(instance).map_err(|e| err(e.to_string()))?;
+    }
     let model = if model_tag(header.model.as_deref()).map_err(err)? == "regression" {
         let file: RegressionFile = serde_json::from_str(text).map_err(|e| err(e.to_string()))?;
         DriftModel::Regression(Box::new(file.calibration))

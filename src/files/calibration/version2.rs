@@ -197,6 +197,11 @@ pub(super) fn from_json(path: &Path, text: &str) -> Result<UnitCalibration> {
     // Held once at the top, so named there (each axis's body is checked again with them).
     crate::models::fitted::check_identity(&file.gyro_id, &file.created)
         .map_err(|e| err(e.to_string()))?;
+    // Checked once, at the top where the file holds it, so that a refusal names its path
+    // there rather than the axis body it is copied into.
+    if let Some(instance) = file.source.get("instance") {
+        crate::log::DroneGyro::from_value(instance).map_err(|e| err(e.to_string()))?;
+    }
     let mut axes = Vec::with_capacity(file.axes.len());
     for entry in file.axes {
         let at = |field: &str| format!("axes[{}].{field}", entry.name);

@@ -47,7 +47,7 @@ impl SourceInfo {
             duration_s: log.duration_s(),
             run: String::new(),
             samples_sketch: RunSketch::of(log).to_text(),
-            instance: log.info.instance.clone(),
+            instance: log.info.instance,
         }
     }
 
@@ -76,6 +76,13 @@ impl SourceInfo {
         file_name: &str,
         file_sha256: &str,
     ) -> (bool, Option<Shared>) {
+        // Another gyro of the same file is another sensor's samples: held out, however
+        // the file is named or hashed.
+        if let (Some(fitted), Some(read)) = (&self.instance, &log.info.instance)
+            && !fitted.same_gyro(read)
+        {
+            return (false, None);
+        }
         let same_file = !self.sha256.is_empty()
             && !file_sha256.is_empty()
             && file_sha256.eq_ignore_ascii_case(&self.sha256);
