@@ -56,6 +56,17 @@ pub fn apart(values: &[f64]) -> Vec<String> {
     write(17)
 }
 
+/// A time stamp in whole seconds for a table (a plateau's start and end): every digit up to
+/// 10¹⁵ s, so that stamps of a clock counting from 1970 (1.70003e9) stay apart and can be
+/// copied into `--plateau`; beyond, or not finite, [`readable`].
+pub fn fixed_stamp(v: f64) -> String {
+    if v.is_finite() && v.abs() < 1e15 {
+        format!("{v:.0}")
+    } else {
+        readable(v)
+    }
+}
+
 /// `v` with `decimals` decimals for a table or a label, as long as that stays short (below
 /// 10⁹); beyond, or for a number that is not finite, [`readable`]: never the hundreds of digits
 /// a fixed format writes for 1e300.
@@ -103,6 +114,15 @@ pub fn or_na(v: Option<f64>, f: impl Fn(f64) -> String) -> String {
 
 #[cfg(test)]
 mod tests {
+
+    #[test]
+    fn stamps_of_a_clock_from_1970_keep_every_second() {
+        assert_eq!(fixed_stamp(1_700_003_708.4), "1700003708");
+        assert_ne!(fixed_stamp(1_700_028_112.0), fixed_stamp(1_700_030_636.0));
+        assert_eq!(fixed_stamp(120.5), "120");
+        assert_eq!(fixed_stamp(f64::INFINITY), readable(f64::INFINITY));
+    }
+
     use super::*;
 
     #[test]

@@ -39,8 +39,8 @@ pub fn vakhrameev_summary(cal: &Calibration, warnings: &[String]) -> Result<(), 
     for p in &cal.plateaus {
         out!(
             "  {:>10} {:>10} {:>9} {:>11} {:>9} {:>8}",
-            fixed(p.range.start_s, 0),
-            fixed(p.range.end_s, 0),
+            driftlab::number::fixed_stamp(p.range.start_s),
+            driftlab::number::fixed_stamp(p.range.end_s),
             fixed(p.temp_c, 3),
             fixed(p.omega_dph, 4),
             p.omega_std_dph.map_or("n/a".to_string(), |s| fixed(s, 4)),

@@ -272,8 +272,8 @@ pub fn run(a: Args) -> Result<(), CliError> {
     let line = |p: &driftlab::signal::plateau::PlateauStats| {
         out!(
             "    {:>9} .. {:>9} s   T {:>8} degC   Omega {:>9} deg/h   std {}   {} samples",
-            common::fixed(p.range.start_s, 0),
-            common::fixed(p.range.end_s, 0),
+            driftlab::number::fixed_stamp(p.range.start_s),
+            driftlab::number::fixed_stamp(p.range.end_s),
             common::fixed(p.temp_c, 3),
             common::fixed(p.omega_dph, 4),
             p.omega_std_dph
