@@ -83,6 +83,8 @@ pub struct Ahead {
     pub resumed_s: f64,
     /// The stamp kept before it (the run's last), s.
     pub stepped_from_s: f64,
+    /// Whether the run began the samples kept (none before it for the log to go on from).
+    pub from_start: bool,
 }
 
 /// The clock going back and running again over the same times: one run is kept whole, the
@@ -123,9 +125,17 @@ impl Ahead {
     /// What a reader says: `noun` is what it calls a sample ("row"), `place` where the first
     /// stands ("line 8947"), `resumed` where the log goes on ("line 8950").
     pub fn message(&self, noun: &str, place: &str, resumed: &str) -> String {
+        let after = if self.from_start {
+            format!("stamped ahead of the {noun}s after them, which run on past them")
+        } else {
+            format!(
+                "stamped ahead of the {noun}s after them, which go on from the {noun}s before \
+                 them"
+            )
+        };
         format!(
-            "{}: stamped ahead of the {noun}s after them, which go on from the {noun}s before \
-             them (first at {place}: {} s; the log goes on at {resumed} with {} s, after {} s)",
+            "{}: {after} (first at {place}: {} s; the log goes on at {resumed} with {} s, after \
+             {} s)",
             dropped(self.tally.count, noun),
             stamp(self.first_s),
             stamp(self.resumed_s),
@@ -314,15 +324,19 @@ pub fn time_order_of(
             }
         }
         let early_wins = early < late;
-        // A block sent twice: the first samples after the step repeat the first at or ahead
-        // of its stamp, stamp and reading.
+        // A block sent twice: the samples after the step repeat the ones at or ahead of its
+        // stamp, stamp and reading, all through the overlap (compared at places spread over
+        // it: two runs of one simulator or one chamber program may begin alike).
         let copies = || {
-            let first_early = kept.len() - early;
-            kept[first_early..]
-                .iter()
-                .zip((i..n).filter(|&k| !skip(k)))
-                .take(COPIES_COMPARED)
-                .all(|(&a, b)| time_s[a] == time_s[b] && same(a, b))
+            let early_run = &kept[kept.len() - early..];
+            let late_run: Vec<usize> = (i..n).filter(|&k| !skip(k)).take(small).collect();
+            let overlap = early_run.len().min(late_run.len());
+            (0..COPIES_COMPARED)
+                .map(|j| j * overlap.saturating_sub(1) / (COPIES_COMPARED - 1))
+                .all(|j| {
+                    let (a, b) = (early_run[j], late_run[j]);
+                    time_s[a] == time_s[b] && same(a, b)
+                })
         };
         if small > MIN_RESTART
             && early.max(late) <= 2 * small
@@ -362,6 +376,7 @@ pub fn time_order_of(
             break;
         }
         if early_wins {
+            let from_start = early == kept.len();
             let run = kept.split_off(kept.len() - early);
             let first = run[0];
             match &mut ahead {
@@ -376,6 +391,7 @@ pub fn time_order_of(
                         resumed: i,
                         resumed_s: t,
                         stepped_from_s: last,
+                        from_start,
                     });
                 }
             }

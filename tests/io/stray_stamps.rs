@@ -460,3 +460,40 @@ fn rows_stamped_before_the_clock_was_set_are_stray_not_decades_of_log() {
         s[0].message
     );
 }
+
+#[test]
+fn two_runs_that_begin_alike_are_runs_not_a_block_sent_twice() {
+    // The sample calibration and validation runs begin with the same rows (one chamber
+    // program, one simulator) and then differ: 20000 rows of each, one after the other, are
+    // two runs of a clock that restarted, of which one is kept whole (the first, on a tie),
+    // not the first run spliced with whatever of the second passes its last stamp.
+    let lines = |name: &str| -> Vec<String> {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("sample_logs")
+            .join(name);
+        std::fs::read_to_string(path)
+            .unwrap()
+            .lines()
+            .skip(2)
+            .take(20_000)
+            .map(str::to_string)
+            .collect()
+    };
+    let (cal, val) = (lines("calibration.csv"), lines("validation.csv"));
+    assert_eq!(cal[..3], val[..3], "the two runs begin alike");
+    assert_ne!(cal, val, "and differ");
+    let head = "# two runs\ntime_s,omega_dph,temp_c,temp_chamber_c\n";
+    let text = |rows: &[String]| format!("{head}{}\n", rows.join("\n"));
+    let mut both = cal.clone();
+    both.extend(val.iter().cloned());
+    let log = read(&text(&both));
+    let first = read(&text(&cal));
+    assert_eq!(log.time_s, first.time_s, "{:?}", log.info.problems);
+    assert_eq!(log.omega_dph, first.omega_dph);
+    let r = kinds(&log, ProblemKind::TimeBackwards);
+    assert!(
+        r.len() == 1 && r[0].message.contains("as many as the rows before it"),
+        "{:?}",
+        log.info.problems
+    );
+}
