@@ -129,54 +129,17 @@ pub fn kept_samples(sel: &Selected<'_>) -> Result<KeptSamples, ReadError> {
             ),
         });
     }
-    if let Some(t) = order.repeated {
+    for t in order.told("sample", |i| format!("sample {}", i + 1), "stamp") {
         problems.push(Problem {
             line: t.first + 1,
             column: None,
-            kind: ProblemKind::TimeRepeated,
+            kind: if t.repeated {
+                ProblemKind::TimeRepeated
+            } else {
+                ProblemKind::TimeBackwards
+            },
             count: t.count,
-            message: format!(
-                "{} dropped: time repeats an earlier stamp (first at sample {})",
-                samples(t.count),
-                t.first + 1
-            ),
-        });
-    }
-    if let Some(b) = order.backwards {
-        let line = b.tally.first + 1;
-        problems.push(Problem {
-            line,
-            column: None,
-            kind: ProblemKind::TimeBackwards,
-            count: b.tally.count,
-            message: b.message("sample", &format!("sample {line}")),
-        });
-    }
-    if let Some(r) = order.restarts {
-        problems.push(Problem {
-            line: r.tally.first + 1,
-            column: None,
-            kind: ProblemKind::TimeBackwards,
-            count: r.tally.count,
-            message: r.message(
-                "sample",
-                &format!("sample {}", r.at + 1),
-                &format!("sample {}", r.tally.first + 1),
-            ),
-        });
-    }
-    if let Some(a) = order.ahead {
-        let line = a.tally.first + 1;
-        problems.push(Problem {
-            line,
-            column: None,
-            kind: ProblemKind::TimeBackwards,
-            count: a.tally.count,
-            message: a.message(
-                "sample",
-                &format!("sample {line}"),
-                &format!("sample {}", a.resumed + 1),
-            ),
+            message: t.message,
         });
     }
     let mut rows: Vec<usize> = (0..n).filter(|&i| keep[i]).collect();

@@ -190,6 +190,19 @@ fn dropped(n: usize, noun: &str) -> String {
     }
 }
 
+/// One thing a reader tells of the samples [`time_order`] dropped ([`TimeOrder::told`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Told {
+    /// Index of the first sample dropped.
+    pub first: usize,
+    /// How many.
+    pub count: usize,
+    /// Whether they repeat a stamp (else they go back in time).
+    pub repeated: bool,
+    /// The sentence.
+    pub message: String,
+}
+
 /// What [`time_order`] drops.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct TimeOrder {
@@ -212,6 +225,51 @@ impl TimeOrder {
         self.backwards.map_or(0, |b| b.tally.count)
             + self.ahead.map_or(0, |a| a.tally.count)
             + self.restarts.map_or(0, |r| r.tally.count)
+    }
+
+    /// What a reader tells of the samples dropped, in the order repeats, behind, restarts,
+    /// ahead: `noun` is what it calls a sample ("row"), `place(i)` where sample `i` stands
+    /// ("line 12"), `earlier` what a repeated stamp repeats in its words ("value"). Both
+    /// readers word them through this, so that a log says the same in a CSV and a drone log.
+    pub fn told(&self, noun: &str, place: impl Fn(usize) -> String, earlier: &str) -> Vec<Told> {
+        let mut out = Vec::new();
+        if let Some(t) = self.repeated {
+            out.push(Told {
+                first: t.first,
+                count: t.count,
+                repeated: true,
+                message: format!(
+                    "{}: time repeats an earlier {earlier} (first at {})",
+                    dropped(t.count, noun),
+                    place(t.first)
+                ),
+            });
+        }
+        if let Some(b) = self.backwards {
+            out.push(Told {
+                first: b.tally.first,
+                count: b.tally.count,
+                repeated: false,
+                message: b.message(noun, &place(b.tally.first)),
+            });
+        }
+        if let Some(r) = self.restarts {
+            out.push(Told {
+                first: r.tally.first,
+                count: r.tally.count,
+                repeated: false,
+                message: r.message(noun, &place(r.at), &place(r.tally.first)),
+            });
+        }
+        if let Some(a) = self.ahead {
+            out.push(Told {
+                first: a.tally.first,
+                count: a.tally.count,
+                repeated: false,
+                message: a.message(noun, &place(a.tally.first), &place(a.resumed)),
+            });
+        }
+        out
     }
 
     /// The first backward step, for a refusal: the index of the sample that stands behind,

@@ -2,6 +2,7 @@
 //! every file it could not read that it held one recipe; a unit of one axis could be given
 //! neither as `--recipe` nor with `--recipe-axis`.
 
+use crate::common::drone::{DataFlashImu, dataflash};
 use crate::common::run::{fails, ok, p, sample};
 
 // ------------------------------------------------------------------ helpers
@@ -225,46 +226,17 @@ fn a_recipe_files_refused_setting_names_the_file_or_the_option_that_gave_it() {
 /// An ArduPilot DataFlash log of IMU 0 and IMU 1, 300 messages each one second apart; IMU 0's
 /// temperature `t0(k)` at message k, IMU 1's rising 0.01 °C a message from 20 °C.
 fn dataflash_two(t0: impl Fn(usize) -> f32) -> Vec<u8> {
-    fn message(ty: u8, payload: &[u8]) -> Vec<u8> {
-        let mut m = vec![0xA3, 0x95, ty];
-        m.extend_from_slice(payload);
-        m
-    }
-    let fixed = |s: &str, n: usize| {
-        let mut v = s.as_bytes().to_vec();
-        v.resize(n, 0);
-        v
-    };
-    let fmt = |ty: u8, length: u8, name: &str, format: &str, labels: &str| {
-        let mut p = vec![ty, length];
-        p.extend(fixed(name, 4));
-        p.extend(fixed(format, 16));
-        p.extend(fixed(labels, 64));
-        message(0x80, &p)
-    };
-    let mut b = fmt(0x80, 89, "FMT", "BBnNZ", "Type,Length,Name,Format,Columns");
-    b.extend(fmt(
-        163,
-        54,
-        "IMU",
-        "QBffffffIIfBBHH",
-        "TimeUS,I,GyrX,GyrY,GyrZ,AccX,AccY,AccZ,EG,EA,T,GH,AH,GHz,AHz",
-    ));
-    for k in 0..300usize {
-        for (instance, temp) in [(0u8, t0(k)), (1, 20.0 + 0.01 * k as f32)] {
-            let stamp = 100_000_000 + k as u64 * 1_000_000 + u64::from(instance);
-            let mut p = stamp.to_le_bytes().to_vec();
-            p.push(instance);
-            for v in [0.01f32, 0.0, 0.0, 0.0, 0.0, -9.8] {
-                p.extend_from_slice(&v.to_le_bytes());
-            }
-            p.extend_from_slice(&[0; 8]);
-            p.extend_from_slice(&temp.to_le_bytes());
-            p.extend_from_slice(&[1, 1, 0xE8, 0x03, 0xE8, 0x03]);
-            b.extend(message(163, &p));
-        }
-    }
-    b
+    let messages: Vec<DataFlashImu> = (0..300usize)
+        .flat_map(|k| {
+            [(0u8, t0(k)), (1, 20.0 + 0.01 * k as f32)].map(|(instance, temp_c)| DataFlashImu {
+                time_us: 100_000_000 + k as u64 * 1_000_000 + u64::from(instance),
+                instance,
+                gyro: [0.01, 0.0, 0.0],
+                temp_c,
+            })
+        })
+        .collect();
+    dataflash(&messages)
 }
 
 /// A temperature of +inf is no reading: IMU 0 reading +inf throughout is listed without a

@@ -151,19 +151,6 @@ pub(super) fn finish(mut acc: Acc, sn: &Sniffed, plan: &Plan, source: &str) -> R
             })
         };
         let order = time_order_of(time, |i| strays.binary_search(&i).is_ok(), same);
-        if let Some(t) = order.repeated {
-            let line = acc.line_of(t.first);
-            problems.push(Problem {
-                line,
-                column: time_col,
-                kind: ProblemKind::TimeRepeated,
-                count: t.count,
-                message: format!(
-                    "{} dropped: time repeats an earlier value (first at line {line})",
-                    rows(t.count)
-                ),
-            });
-        }
         // Most rows out of order: the log is written newest row first (or shuffled), and
         // dropping them would leave a sliver of it to calibrate, judge or correct.
         if let Some((at, first_s, after_s)) = order.first_step_back()
@@ -185,42 +172,17 @@ pub(super) fn finish(mut acc: Acc, sn: &Sniffed, plan: &Plan, source: &str) -> R
                 ),
             ));
         }
-        if let Some(b) = order.backwards {
-            let line = acc.line_of(b.tally.first);
+        for t in order.told("row", |i| format!("line {}", acc.line_of(i)), "value") {
             problems.push(Problem {
-                line,
+                line: acc.line_of(t.first),
                 column: time_col,
-                kind: ProblemKind::TimeBackwards,
-                count: b.tally.count,
-                message: b.message("row", &format!("line {line}")),
-            });
-        }
-        if let Some(r) = order.restarts {
-            let line = acc.line_of(r.tally.first);
-            problems.push(Problem {
-                line,
-                column: time_col,
-                kind: ProblemKind::TimeBackwards,
-                count: r.tally.count,
-                message: r.message(
-                    "row",
-                    &format!("line {}", acc.line_of(r.at)),
-                    &format!("line {line}"),
-                ),
-            });
-        }
-        if let Some(a) = order.ahead {
-            let line = acc.line_of(a.tally.first);
-            problems.push(Problem {
-                line,
-                column: time_col,
-                kind: ProblemKind::TimeBackwards,
-                count: a.tally.count,
-                message: a.message(
-                    "row",
-                    &format!("line {line}"),
-                    &format!("line {}", acc.line_of(a.resumed)),
-                ),
+                kind: if t.repeated {
+                    ProblemKind::TimeRepeated
+                } else {
+                    ProblemKind::TimeBackwards
+                },
+                count: t.count,
+                message: t.message,
             });
         }
         drop.extend(order.dropped);
