@@ -50,6 +50,28 @@ pub(super) struct CorrectionBuf {
     corrected: Arc<Correction>,
 }
 
+/// A correction of the calibration log that must be made whole: its key and the buffer to
+/// make it in (one the UI no longer holds, or a new one), given back with
+/// [`Pipeline::keep_correction`].
+pub(super) struct FullCorrection {
+    buf: CorrectionBuf,
+}
+
+impl FullCorrection {
+    /// The buffer to correct into.
+    pub(super) fn buffer(&mut self) -> &mut Correction {
+        Arc::get_mut(&mut self.buf.corrected).expect("a full correction's buffer is its own")
+    }
+}
+
+/// What the kept corrections give for a calibration.
+pub(super) enum CorrectionSlot {
+    /// The correction, kept or patched from a kept one.
+    Done(Arc<Correction>),
+    /// Nothing kept it can be made from: a whole correction to make.
+    Full(Box<FullCorrection>),
+}
+
 impl Pipeline {
     /// Corrects the calibration log; when only one set's approximations changed since the last
     /// run, only that set's samples are recomputed. The buffers of a correction the UI no
@@ -60,6 +82,24 @@ impl Pipeline {
         log: &Arc<Log>,
         prepared: &Arc<Prepared>,
     ) -> Arc<Correction> {
+        match self.correction_slot(cal, log, prepared) {
+            CorrectionSlot::Done(c) => c,
+            CorrectionSlot::Full(mut full) => {
+                cal.correct_into(log, &prepared.deriv, full.buffer());
+                self.keep_correction(full)
+            }
+        }
+    }
+
+    /// The correction of the calibration log with `cal` when a kept one gives it (as it is, or
+    /// patched over the sets that changed); else the buffer to make it whole in, which
+    /// [`Pipeline::keep_correction`] then keeps (a unit's axes make theirs in one pass).
+    pub(super) fn correction_slot(
+        &mut self,
+        cal: &Calibration,
+        log: &Arc<Log>,
+        prepared: &Arc<Prepared>,
+    ) -> CorrectionSlot {
         let key = CorrectionKey {
             log: Same::of(log),
             prepared: Same::of(prepared),
@@ -72,10 +112,9 @@ impl Pipeline {
         if let Some(cur) = self.corrections.first()
             && cur.key == key
         {
-            return cur.corrected.clone();
+            return CorrectionSlot::Done(cur.corrected.clone());
         }
         self.correction_generation += 1;
-        let deriv = &prepared.deriv;
         let terms = &mut self.terms;
         let mut bufs = std::mem::take(&mut self.corrections);
         // A buffer nobody else holds, preferably one that only needs patching.
@@ -86,6 +125,7 @@ impl Pipeline {
                 bufs.iter_mut()
                     .position(|b| Arc::get_mut(&mut b.corrected).is_some())
             });
+        let base_patchable = bufs.first().is_some_and(|cur| cur.key.patchable_to(&key));
         let fresh = match free {
             Some(j) => {
                 let mut b = bufs.remove(j);
@@ -99,30 +139,45 @@ impl Pipeline {
                     copy_correction(c, &cur.corrected);
                     terms.patch(cal, log, prepared, c, cur.key.changed(&key));
                 } else {
-                    cal.correct_into(log, deriv, c);
+                    b.key = key;
+                    self.corrections = bufs;
+                    return CorrectionSlot::Full(Box::new(FullCorrection { buf: b }));
                 }
                 b.key = key;
                 b
             }
-            None => {
-                let corrected = match bufs.first().filter(|cur| cur.key.patchable_to(&key)) {
-                    Some(cur) => {
-                        let mut c = Correction::clone(&cur.corrected);
-                        terms.patch(cal, log, prepared, &mut c, cur.key.changed(&key));
-                        c
-                    }
-                    None => cal.correct_with(log, deriv),
-                };
+            None if base_patchable => {
+                let cur = &bufs[0];
+                let mut c = Correction::clone(&cur.corrected);
+                terms.patch(cal, log, prepared, &mut c, cur.key.changed(&key));
                 CorrectionBuf {
                     key,
-                    corrected: Arc::new(corrected),
+                    corrected: Arc::new(c),
                 }
+            }
+            None => {
+                self.corrections = bufs;
+                return CorrectionSlot::Full(Box::new(FullCorrection {
+                    buf: CorrectionBuf {
+                        key,
+                        corrected: Arc::new(Correction::default()),
+                    },
+                }));
             }
         };
         let corrected = fresh.corrected.clone();
         bufs.truncate(1);
         bufs.insert(0, fresh);
         self.corrections = bufs;
+        CorrectionSlot::Done(corrected)
+    }
+
+    /// Keeps a whole correction made in the buffer [`Pipeline::correction_slot`] gave, as the
+    /// newest, and returns it.
+    pub(super) fn keep_correction(&mut self, full: Box<FullCorrection>) -> Arc<Correction> {
+        let corrected = full.buf.corrected.clone();
+        self.corrections.truncate(1);
+        self.corrections.insert(0, full.buf);
         corrected
     }
 }

@@ -50,7 +50,7 @@ mod unit;
 pub use plateaus::suggest_plateaus;
 pub use preview::{PlateauPreview, preview_plateaus};
 pub use same::Same;
-pub use unit::run_unit;
+pub use unit::{run_unit, run_unit_each};
 
 use crate::error::Error;
 use crate::files::session::Coefficient;
@@ -170,6 +170,19 @@ impl Outcome {
     }
 }
 
+/// A run up to its calibration ([`Pipeline::fit_part`]), before its correction.
+struct Fitted {
+    calibration: Calibration,
+    prepared: Arc<Prepared>,
+    ranges: Vec<PlateauRange>,
+    /// K1+, K1−, K2+, K2− points.
+    points: [Arc<PointSet>; 4],
+    warnings: Vec<String>,
+    timings: Timings,
+    /// When the run began.
+    t_all: Instant,
+}
+
 /// (log, filter samples) of a kept filtered raw Ω.
 type RawFilteredKey = (Same<Log>, usize);
 
@@ -254,6 +267,15 @@ impl Pipeline {
     /// # Errors
     /// An invalid recipe, a log too short to calibrate, no plateaus.
     pub fn run(&mut self, req: &Request) -> Result<Outcome, Error> {
+        let mut fitted = self.fit_part(req)?;
+        let t = Instant::now();
+        let corrected = self.correct_kept(&fitted.calibration, &req.log, &fitted.prepared);
+        fitted.timings.correct_ms = ms(t);
+        Ok(self.judge_part(req, fitted, corrected))
+    }
+
+    /// The stages up to the calibration: the signals, the plateaus, K0 and the sets' fits.
+    fn fit_part(&mut self, req: &Request) -> Result<Fitted, Error> {
         let t_all = Instant::now();
         let mut timings = Timings::default();
         let log = &req.log;
@@ -300,7 +322,7 @@ impl Pipeline {
         timings.plateaus_ms = staged.plateaus_ms;
         timings.fit_ms = staged.fit_ms;
         let calibration = staged.calibration;
-        let mut warnings = staged.warnings;
+        let warnings = staged.warnings;
         let [
             k1_plus_points,
             k1_minus_points,
@@ -308,10 +330,41 @@ impl Pipeline {
             k2_minus_points,
         ] = staged.points;
 
-        let t = Instant::now();
-        let corrected = self.correct_kept(&calibration, log, &prepared);
-        timings.correct_ms = ms(t);
+        Ok(Fitted {
+            calibration,
+            prepared,
+            ranges,
+            points: [
+                k1_plus_points,
+                k1_minus_points,
+                k2_plus_points,
+                k2_minus_points,
+            ],
+            warnings,
+            timings,
+            t_all,
+        })
+    }
 
+    /// The stages after the correction: the figures of merit, the display series and the
+    /// validation log.
+    fn judge_part(&mut self, req: &Request, fitted: Fitted, corrected: Arc<Correction>) -> Outcome {
+        let Fitted {
+            calibration,
+            prepared,
+            ranges,
+            points:
+                [
+                    k1_plus_points,
+                    k1_minus_points,
+                    k2_plus_points,
+                    k2_minus_points,
+                ],
+            mut warnings,
+            mut timings,
+            t_all,
+        } = fitted;
+        let log = &req.log;
         let t = Instant::now();
         let merit = req.merit;
         let raw_key = (Same::of(log), corrected.ready_from, merit);
@@ -364,7 +417,7 @@ impl Pipeline {
             timings.validation_ms = ms(t);
         }
         timings.total_ms = ms(t_all);
-        Ok(Outcome {
+        Outcome {
             calibration,
             prepared,
             ranges,
@@ -376,6 +429,6 @@ impl Pipeline {
             in_sample,
             held_out,
             timings,
-        })
+        }
     }
 }

@@ -9,6 +9,7 @@
 //! results are those of its pipeline run alone, bit for bit (the T stages are the same values,
 //! and a set's moments are summed in the same order whether their T part is given or not).
 
+use super::correction::CorrectionSlot;
 use super::*;
 
 /// Two pipelines' prepared signals found to hold the same T: (ours, theirs).
@@ -56,27 +57,151 @@ fn same_t(a: &Prepared, la: &Log, b: &Prepared, lb: &Log) -> bool {
         && a.deriv.tddot == b.deriv.tddot
 }
 
-/// Runs the pipelines of a unit's axes, `pipes[k]` on `reqs[k]`: the first alone, then the
-/// others side by side with the first's T stages ([`Pipeline::share_t_stages`]). The outcomes
-/// in the axes' order; each is what its pipeline's run alone gives.
+/// Runs the pipelines of a unit's axes, `pipes[k]` on `reqs[k]`: the first axis's fit alone,
+/// then the others' side by side with the first's T stages ([`Pipeline::share_t_stages`]);
+/// the corrections the axes must make whole are made in one pass for the axes of the same T
+/// ([`Calibration::correct_unit_into`]), then each axis is judged. The outcomes in the axes'
+/// order; each is what its pipeline's run alone gives, bit for bit.
 pub fn run_unit(pipes: &mut [Pipeline], reqs: &[Request]) -> Vec<Result<Outcome, Error>> {
+    let mut pipes: Vec<&mut Pipeline> = pipes.iter_mut().collect();
+    run_unit_each(&mut pipes, reqs, |_, outcome| outcome)
+}
+
+/// [`run_unit`], with each axis's outcome handed to `each` (with the axis's place in `reqs`)
+/// as soon as it is judged, side by side with the other axes' judging: the workbench draws an
+/// axis while the next is judged. Returns what `each` returned, in the axes' order.
+pub fn run_unit_each<T: Send>(
+    pipes: &mut [&mut Pipeline],
+    reqs: &[Request],
+    each: impl Fn(usize, Result<Outcome, Error>) -> T + Sync,
+) -> Vec<T> {
     let Some((first, rest)) = pipes.split_first_mut() else {
         return Vec::new();
     };
     let Some((req0, others)) = reqs.split_first() else {
         return Vec::new();
     };
-    let first_outcome = first.run(req0);
+    let first_fit = first.fit_part(req0);
     let first: &Pipeline = first;
-    let rest: Vec<Result<Outcome, Error>> = rest
+    // Each axis's fit, and whether it holds the first axis's T.
+    let rest_fits: Vec<(Result<Fitted, Error>, bool)> = rest
         .par_iter_mut()
         .zip(others)
         .map(|(p, r)| {
-            p.share_t_stages(first, r);
-            p.run(r)
+            let twin = p.share_t_stages(first, r);
+            (p.fit_part(r), twin)
         })
         .collect();
-    std::iter::once(first_outcome).chain(rest).collect()
+    let fits: Vec<(Result<Fitted, Error>, bool)> = std::iter::once((first_fit, true))
+        .chain(rest_fits)
+        .collect();
+    let corrections = correct_unit(pipes, reqs, &fits);
+    pipes
+        .par_iter_mut()
+        .zip(reqs)
+        .zip(fits.into_par_iter().zip(corrections))
+        .enumerate()
+        .map(|(k, ((p, r), ((fit, _), corrected)))| {
+            let outcome = fit.map(|mut fitted| {
+                let corrected = match corrected {
+                    Some((c, ms)) => {
+                        fitted.timings.correct_ms = ms;
+                        c
+                    }
+                    // Every fitted axis has its correction (`correct_unit`); were one missing,
+                    // the axis is corrected here, alone.
+                    None => p.correct_kept(&fitted.calibration, &r.log, &fitted.prepared),
+                };
+                p.judge_part(r, fitted, corrected)
+            });
+            each(k, outcome)
+        })
+        .collect()
+}
+
+/// The corrections of a unit's fitted axes (with the milliseconds each took, a pass shared
+/// counted whole for each axis in it); `None` for an axis whose fit failed. Kept and patched
+/// corrections come from each pipeline; the whole ones of the axes that hold the first axis's
+/// T are made in one pass, when their curves share their spots, else each alone.
+fn correct_unit(
+    pipes: &mut [&mut Pipeline],
+    reqs: &[Request],
+    fits: &[(Result<Fitted, Error>, bool)],
+) -> Vec<Option<(Arc<Correction>, f64)>> {
+    let t = Instant::now();
+    let mut slots: Vec<Option<CorrectionSlot>> = pipes
+        .iter_mut()
+        .zip(reqs)
+        .zip(fits)
+        .map(|((p, r), (fit, _))| {
+            let f = fit.as_ref().ok()?;
+            Some(p.correction_slot(&f.calibration, &r.log, &f.prepared))
+        })
+        .collect();
+    let slot_ms = ms(t);
+    // The whole corrections of the axes of the first axis's T, made in one pass.
+    let together: Vec<usize> = (0..slots.len())
+        .filter(|&k| fits[k].1 && matches!(slots[k], Some(CorrectionSlot::Full(_))))
+        .collect();
+    let mut pass_ms = None;
+    if together.len() > 1 {
+        let t = Instant::now();
+        let lead = together[0];
+        let fitted = |k: usize| fits[k].0.as_ref().ok();
+        let cals: Vec<&Calibration> = together
+            .iter()
+            .filter_map(|&k| fitted(k).map(|f| &f.calibration))
+            .collect();
+        let omegas: Vec<&[f64]> = together
+            .iter()
+            .map(|&k| reqs[k].log.omega_dph.as_slice())
+            .collect();
+        let mut bufs: Vec<&mut Correction> = slots
+            .iter_mut()
+            .enumerate()
+            .filter(|(k, _)| together.contains(k))
+            .filter_map(|(_, s)| match s {
+                Some(CorrectionSlot::Full(full)) => Some(full.buffer()),
+                _ => None,
+            })
+            .collect();
+        let deriv = fitted(lead).map(|f| &f.prepared.deriv);
+        if let Some(deriv) = deriv
+            && cals.len() == together.len()
+            && Calibration::correct_unit_into(
+                &cals,
+                &reqs[lead].log.temp_c,
+                &omegas,
+                deriv,
+                &mut bufs,
+            )
+        {
+            pass_ms = Some(ms(t));
+        }
+    }
+    pipes
+        .par_iter_mut()
+        .zip(reqs)
+        .zip(fits.par_iter().zip(slots))
+        .enumerate()
+        .map(|(k, ((p, r), ((fit, _), slot)))| {
+            let f = fit.as_ref().ok()?;
+            let t = Instant::now();
+            let corrected = match slot? {
+                CorrectionSlot::Done(c) => c,
+                CorrectionSlot::Full(full) if pass_ms.is_some() && together.contains(&k) => {
+                    p.keep_correction(full)
+                }
+                CorrectionSlot::Full(mut full) => {
+                    f.calibration
+                        .correct_into(&r.log, &f.prepared.deriv, full.buffer());
+                    p.keep_correction(full)
+                }
+            };
+            let shared = if together.contains(&k) { pass_ms } else { None };
+            Some((corrected, slot_ms + shared.unwrap_or(0.0) + ms(t)))
+        })
+        .collect()
 }
 
 #[cfg(test)]

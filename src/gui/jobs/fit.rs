@@ -182,10 +182,9 @@ struct AxisWork {
 
 /// The refit worker. Each axis has its own pipeline (its caches stay warm while another axis
 /// is edited); per axis the newest request wins. Previews of a plateau drag go first (they read
-/// the plateaus' samples alone); then the refits waiting: the first axis's alone, the others
-/// side by side with what its T stages made (the plateau ranges, the sets' samples, the T part
-/// of the sets' moments: `refit::run_unit`), as after the release of a plateau edge, which all
-/// the axes of a unit share.
+/// the plateaus' samples alone); then the refits waiting, together as the engine runs a unit's
+/// axes ([`refit_unit`]), as after the release of a plateau edge, which all the axes of a unit
+/// share.
 pub(super) fn fit_worker(rx: Receiver<FitMsg>, tx: Sender<JobResult>, ctx: SharedCtx) {
     let mut work: Vec<AxisWork> = vec![AxisWork::default()];
     let mut waiting: Vec<(usize, u64, Box<Request>)> = Vec::new();
@@ -218,70 +217,82 @@ pub(super) fn fit_worker(rx: Receiver<FitMsg>, tx: Sender<JobResult>, ctx: Share
         if waiting.is_empty() {
             continue;
         }
-        let batch = std::mem::take(&mut waiting);
-        if let Some(top) = batch.iter().map(|w| w.0).max()
+        let mut batch = std::mem::take(&mut waiting);
+        batch.sort_by_key(|w| w.0);
+        if let Some(top) = batch.last().map(|w| w.0)
             && work.len() <= top
         {
             work.resize_with(top + 1, AxisWork::default);
         }
-        // The first axis waiting runs alone; the others then take what its T stages made
-        // (the unit's axes share T: `refit::run_unit`) and run side by side.
-        let Some(lead) = batch.iter().map(|w| w.0).min() else {
-            continue;
-        };
-        let run = |w: &mut AxisWork, axis: usize, shared_from: Option<&Pipeline>| {
-            let (_, generation, request) = batch.iter().find(|b| b.0 == axis)?;
-            if let Some(from) = shared_from {
-                w.pipeline.share_t_stages(from, request);
-            }
-            let result = refit_axis(w, axis, *generation, request);
-            let sent = tx.send(result).is_ok();
-            repaint(&ctx);
-            Some(sent)
-        };
-        let (upto, after) = work.split_at_mut(lead + 1);
-        let lead_work = &mut upto[lead];
-        let mut stopped = run(lead_work, lead, None) == Some(false);
-        let lead_pipeline: &Pipeline = &lead_work.pipeline;
-        stopped |= after
-            .par_iter_mut()
-            .enumerate()
-            .filter_map(|(j, w)| run(w, lead + 1 + j, Some(lead_pipeline)))
-            .collect::<Vec<bool>>()
-            .contains(&false);
-        if stopped {
+        if !refit_unit(&mut work, &batch, &tx, &ctx) {
             break;
         }
     }
 }
 
-/// One axis refitted, with its drawing data; a panic in the fit becomes a failure (the axis's
-/// caches are dropped).
-fn refit_axis(w: &mut AxisWork, axis: usize, generation: u64, request: &Request) -> JobResult {
-    let AxisWork { pipeline, cache } = w;
+/// Refits the axes of `batch` (sorted by axis) as the engine runs a unit's axes
+/// (`refit::run_unit_each`: the first axis's fit alone, the others with what its T stages made,
+/// the whole corrections in one pass), each axis sent with its drawing data as soon as it is
+/// judged. A panic in the refit becomes a failure of each axis not yet sent (their caches are
+/// dropped). Returns `false` once the window has gone.
+fn refit_unit(
+    work: &mut [AxisWork],
+    batch: &[(usize, u64, Box<Request>)],
+    tx: &Sender<JobResult>,
+    ctx: &SharedCtx,
+) -> bool {
+    let requests: Vec<Request> = batch.iter().map(|(_, _, r)| (**r).clone()).collect();
+    let axes: Vec<usize> = batch.iter().map(|b| b.0).collect();
+    let (mut pipes, caches): (Vec<&mut Pipeline>, Vec<Mutex<&mut LodCache>>) = work
+        .iter_mut()
+        .enumerate()
+        .filter(|(a, _)| axes.binary_search(a).is_ok())
+        .map(|(_, AxisWork { pipeline, cache })| (pipeline, Mutex::new(cache)))
+        .unzip();
+    let sent: Vec<AtomicBool> = batch.iter().map(|_| AtomicBool::new(false)).collect();
+    let gone = AtomicBool::new(false);
+    let send = |result: JobResult| {
+        if tx.send(result).is_err() {
+            gone.store(true, Ordering::Relaxed);
+        }
+        repaint(ctx);
+    };
+    let each = |k: usize, outcome: Result<Outcome, crate::error::Error>| {
+        let (axis, generation) = (batch[k].0, batch[k].1);
+        let result = match outcome {
+            Ok(outcome) => {
+                let mut cache = caches[k].lock().unwrap_or_else(|e| e.into_inner());
+                let lods = build_lods(&mut cache, &outcome);
+                JobResult::Fitted(Arc::new(FitView {
+                    axis,
+                    generation,
+                    outcome,
+                    lods,
+                }))
+            }
+            Err(e) => JobResult::FitFailed(axis, generation, e.to_string()),
+        };
+        sent[k].store(true, Ordering::Relaxed);
+        send(result);
+    };
     let run = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-        let outcome = pipeline.run(request).map_err(|e| e.to_string())?;
-        let lods = build_lods(cache, &outcome);
-        Ok::<_, String>(FitView {
-            axis,
-            generation,
-            outcome,
-            lods,
-        })
+        crate::refit::run_unit_each(&mut pipes, &requests, each);
     }));
-    match run {
-        Ok(Ok(view)) => JobResult::Fitted(Arc::new(view)),
-        Ok(Err(message)) => JobResult::FitFailed(axis, generation, message),
-        Err(_) => {
+    if run.is_err() {
+        for (k, (pipeline, cache)) in pipes.iter_mut().zip(&caches).enumerate() {
+            if sent[k].load(Ordering::Relaxed) {
+                continue;
+            }
             pipeline.clear();
-            *cache = LodCache::default();
-            JobResult::FitFailed(
-                axis,
-                generation,
+            **cache.lock().unwrap_or_else(|e| e.into_inner()) = LodCache::default();
+            send(JobResult::FitFailed(
+                batch[k].0,
+                batch[k].1,
                 "the fit stopped on an internal error (see the terminal)".into(),
-            )
+            ));
         }
     }
+    !gone.load(Ordering::Relaxed)
 }
 
 /// Adds a message to the requests waiting: a refit replaces the one of its axis still

@@ -45,9 +45,10 @@ pub(super) struct Uniform<'a> {
 }
 
 impl Uniform<'_> {
-    /// [`Segments::eval`], bit for bit.
+    /// The segment `x` falls in and its local parameter there: [`Segments::locate`], bit for
+    /// bit, with what that recomputes per call taken out of the loop.
     #[inline(always)]
-    pub(super) fn eval(&self, x: f64) -> f64 {
+    pub(super) fn locate(&self, x: f64) -> (usize, f64) {
         let t = (x - self.first) * self.inv_step;
         let i = if t < self.last_f {
             t as u32 as usize
@@ -55,9 +56,28 @@ impl Uniform<'_> {
             self.last
         };
         let s = &self.flat[i];
-        let u = ((x - s.x0) / s.width).clamp(0.0, 1.0);
-        let c = &s.c;
+        (i, ((x - s.x0) / s.width).clamp(0.0, 1.0))
+    }
+
+    /// The cubic of segment `i` at its local parameter `u`.
+    #[inline(always)]
+    pub(super) fn at(&self, i: usize, u: f64) -> f64 {
+        let c = &self.flat[i].c;
         ((c[3] * u + c[2]) * u + c[1]) * u + c[0]
+    }
+
+    /// Whether `other`'s segments start and span where these do, bit for bit.
+    pub(super) fn same_knots(&self, other: &Uniform<'_>) -> bool {
+        let bits = |a: f64, b: f64| a.to_bits() == b.to_bits();
+        bits(self.first, other.first)
+            && bits(self.inv_step, other.inv_step)
+            && self.last == other.last
+            && self.flat.len() == other.flat.len()
+            && self
+                .flat
+                .iter()
+                .zip(other.flat)
+                .all(|(a, b)| bits(a.x0, b.x0) && bits(a.width, b.width))
     }
 }
 
@@ -139,6 +159,13 @@ impl Segments {
     /// Value at `x` inside the knots.
     #[inline]
     pub(super) fn eval(&self, x: f64) -> f64 {
+        let (i, u) = self.locate(x);
+        self.at(i, u)
+    }
+
+    /// The segment `x` (inside the knots) falls in, and its local parameter there.
+    #[inline]
+    pub(super) fn locate(&self, x: f64) -> (usize, f64) {
         let k = &self.knots_x;
         let last = k.len() - 2;
         let i = if self.inv_step > 0.0 {
@@ -154,9 +181,24 @@ impl Segments {
         } else {
             at_or_below(k, x).saturating_sub(1).min(last)
         };
-        let u = ((x - k[i]) / (k[i + 1] - k[i])).clamp(0.0, 1.0);
+        (i, ((x - k[i]) / (k[i + 1] - k[i])).clamp(0.0, 1.0))
+    }
+
+    /// The cubic of segment `i` at its local parameter `u`.
+    #[inline]
+    pub(super) fn at(&self, i: usize, u: f64) -> f64 {
         let c = &self.coeffs[i];
         ((c[3] * u + c[2]) * u + c[1]) * u + c[0]
+    }
+
+    /// Whether `other`'s knots are these, bit for bit.
+    pub(super) fn same_knots(&self, other: &Segments) -> bool {
+        self.knots_x.len() == other.knots_x.len()
+            && self
+                .knots_x
+                .iter()
+                .zip(&other.knots_x)
+                .all(|(a, b)| a.to_bits() == b.to_bits())
     }
 }
 

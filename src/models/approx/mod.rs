@@ -35,7 +35,7 @@ mod tests;
 pub use curve::{Approx, Curve, SegmentCubics};
 pub use design::{Design, Weights};
 pub use errors::{CurveError, UnknownApproxKind};
-pub use evaluator::Evaluator;
+pub use evaluator::{Evaluator, Spot};
 pub use fit::{
     CHUNK, FitOptions, PointSource, XRange, fit, fit_weighted, fit_with, fit_with_then, stats_on,
     stats_with, x_range,

@@ -251,6 +251,93 @@ impl Calibration {
         out.update_outside_fraction();
     }
 
+    /// Corrects the axes of a unit in one pass: axis `a`, of rate `omegas[a]`, with `cals[a]`
+    /// into `outs[a]`, the axes sharing their temperature `temp_c` and its rates `deriv`. Each
+    /// sample's T and rates are read, its regime found and its spots on the curves
+    /// ([`super::Spots`]) looked up once for all the axes, then each axis's values read at
+    /// them: each result equals [`Calibration::correct_into`]'s on a log of that T and rate,
+    /// bit for bit (a test holds them equal). Returns `false`, and corrects nothing, unless the
+    /// calibrations' curves share their spots ([`super::Predictor::shares_spots`]), as those
+    /// of a unit's axes refitted together on the same plateaus and sets do.
+    pub fn correct_unit_into(
+        cals: &[&Calibration],
+        temp_c: &[f64],
+        omegas: &[&[f64]],
+        deriv: &Derivatives,
+        outs: &mut [&mut Correction],
+    ) -> bool {
+        let predictors: Vec<Predictor<'_>> = cals.iter().map(|c| c.predictor()).collect();
+        let n = temp_c.len().min(deriv.tdot.len()).min(deriv.tddot.len());
+        let shared = !cals.is_empty()
+            && cals.len() == omegas.len()
+            && cals.len() == outs.len()
+            && omegas.iter().all(|o| o.len() >= n)
+            && predictors.iter().all(|p| p.shares_spots(&predictors[0]));
+        if !shared {
+            return false;
+        }
+        const CHUNK: usize = 1 << 15;
+        for out in outs.iter_mut() {
+            for v in [&mut out.pred_dph, &mut out.cor_dph] {
+                if v.len() != n {
+                    v.clear();
+                    v.resize(n, 0.0);
+                }
+            }
+            if out.regime.len() != n {
+                out.regime.clear();
+                out.regime.resize(n, Regime::Static);
+            }
+        }
+        // Each chunk of the log with every axis's slices of it.
+        type Slices<'s> = (&'s mut [f64], &'s mut [f64], &'s mut [Regime]);
+        let mut chunks: Vec<Vec<Slices<'_>>> = (0..n.div_ceil(CHUNK)).map(|_| Vec::new()).collect();
+        for out in outs.iter_mut() {
+            let parts = out
+                .pred_dph
+                .chunks_mut(CHUNK)
+                .zip(out.cor_dph.chunks_mut(CHUNK))
+                .zip(out.regime.chunks_mut(CHUNK));
+            for (c, ((p, q), r)) in parts.enumerate() {
+                chunks[c].push((p, q, r));
+            }
+        }
+        let temp = &temp_c[..n];
+        let counts: Vec<Vec<[usize; 3]>> = chunks
+            .into_par_iter()
+            .enumerate()
+            .map(|(c, mut axes)| {
+                let base = c * CHUNK;
+                let mut outside = vec![[0usize; 3]; axes.len()];
+                let len = axes.first().map_or(0, |a| a.0.len());
+                for k in 0..len {
+                    let i = base + k;
+                    let (t, td, tdd) = (temp[i], deriv.tdot[i], deriv.tddot[i]);
+                    let spots = predictors[0].spots(t, td, tdd);
+                    let r = spots.regime;
+                    let beyond = predictors[0].is_outside(t, td, tdd, r);
+                    for (a, (p, q, rg)) in axes.iter_mut().enumerate() {
+                        let pred = predictors[a].predict_at(&spots);
+                        p[k] = pred;
+                        q[k] = omegas[a][i] - pred;
+                        rg[k] = r;
+                        outside[a][r as usize] += usize::from(beyond);
+                    }
+                }
+                outside
+            })
+            .collect();
+        for (a, out) in outs.iter_mut().enumerate() {
+            out.outside_by_regime = counts.iter().fold([0; 3], |s, c| {
+                [s[0] + c[a][0], s[1] + c[a][1], s[2] + c[a][2]]
+            });
+            out.ready_from = deriv.ready_from;
+            out.ready.clone_from(&deriv.ready);
+            out.update_outside_fraction();
+        }
+        true
+    }
+
     /// The predicted drift of every sample, and the share outside the calibrated ranges: what
     /// `driftlab apply` writes (the corrected rate is `Ω − pred`), without the columns a whole
     /// [`Correction`] holds. On a 10⁷-sample log the rates, regimes and corrected rate it skips

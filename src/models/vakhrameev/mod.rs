@@ -20,7 +20,7 @@
 //! every axis of a unit with one temperature processing ([`Pipeline`]).
 
 pub mod correct;
-pub use predictor::Predictor;
+pub use predictor::{Predictor, Spots};
 mod fit;
 mod k0_plateaus;
 pub mod knots;

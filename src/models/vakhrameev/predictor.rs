@@ -7,7 +7,7 @@
 //! test holds them equal).
 
 use super::{Calibration, Regime};
-use crate::models::approx::{Approx, Evaluator};
+use crate::models::approx::{Approx, Evaluator, Spot};
 
 /// [`Calibration::predict`] and [`Calibration::is_outside`] for many samples.
 #[derive(Debug, Clone, Copy)]
@@ -40,18 +40,80 @@ impl Calibration {
     }
 }
 
+/// Where one sample falls on a calibration's curves: its T on K0, its Ṫ and T̈ on K1 and K2 of
+/// its regime's set ([`Predictor::spots`]). The same for every axis of a unit whose curves
+/// share their spots ([`Predictor::shares_spots`]).
+#[derive(Debug, Clone, Copy)]
+pub struct Spots {
+    /// The sample's regime.
+    pub regime: Regime,
+    k0: Spot,
+    /// K1's and K2's spots (unused in the static regime).
+    k1: Spot,
+    k2: Spot,
+    tdot: f64,
+    tddot: f64,
+}
+
 impl Predictor<'_> {
     /// [`Calibration::predict`].
     #[inline(always)]
     pub fn predict(&self, temp_c: f64, tdot: f64, tddot: f64) -> (f64, Regime) {
+        let s = self.spots(temp_c, tdot, tddot);
+        (self.predict_at(&s), s.regime)
+    }
+
+    /// Where a sample falls on this calibration's curves.
+    #[inline(always)]
+    pub fn spots(&self, temp_c: f64, tdot: f64, tddot: f64) -> Spots {
         let regime = Regime::of(tdot, tddot);
-        let k0 = self.k0.eval(temp_c);
-        let pred = match regime {
-            Regime::Static => k0,
-            Regime::Plus => k0 + self.k1[0].eval(tdot) * tdot + self.k2[0].eval(tddot) * tddot,
-            Regime::Minus => k0 + self.k1[1].eval(tdot) * tdot + self.k2[1].eval(tddot) * tddot,
+        let (k1, k2) = match regime {
+            Regime::Static => (Spot::Zero, Spot::Zero),
+            Regime::Plus => (self.k1[0].spot(tdot), self.k2[0].spot(tddot)),
+            Regime::Minus => (self.k1[1].spot(tdot), self.k2[1].spot(tddot)),
         };
-        (pred, regime)
+        Spots {
+            regime,
+            k0: self.k0.spot(temp_c),
+            k1,
+            k2,
+            tdot,
+            tddot,
+        }
+    }
+
+    /// The predicted drift of a sample at `s`, found on this calibration's curves or on those of
+    /// one that shares their spots: [`Calibration::predict`], bit for bit.
+    #[inline(always)]
+    pub fn predict_at(&self, s: &Spots) -> f64 {
+        let k0 = self.k0.at(s.k0);
+        let set = match s.regime {
+            Regime::Static => return k0,
+            Regime::Plus => 0,
+            Regime::Minus => 1,
+        };
+        k0 + self.k1[set].at(s.k1) * s.tdot + self.k2[set].at(s.k2) * s.tddot
+    }
+
+    /// Whether every sample falls on the same spots of `self`'s curves and `other`'s, and lies
+    /// inside or outside the calibrated ranges alike: the axes of a unit fitted over the same
+    /// plateaus and sets, with the same kinds of curve and knots.
+    pub fn shares_spots(&self, other: &Predictor<'_>) -> bool {
+        let same = |a: &[Evaluator<'_>], b: &[Evaluator<'_>]| {
+            a.iter().zip(b).all(|(a, b)| a.same_spots(b))
+        };
+        let bits = |a: &[[f64; 2]], b: &[[f64; 2]]| {
+            a.iter()
+                .flatten()
+                .zip(b.iter().flatten())
+                .all(|(x, y)| x.to_bits() == y.to_bits())
+        };
+        self.k0.same_spots(&other.k0)
+            && same(&self.k1, &other.k1)
+            && same(&self.k2, &other.k2)
+            && bits(&[self.k0_range], &[other.k0_range])
+            && bits(&self.k1_range, &other.k1_range)
+            && bits(&self.k2_range, &other.k2_range)
     }
 
     /// [`Calibration::is_outside`].
@@ -150,5 +212,94 @@ mod tests {
             }
         }
         assert_eq!(checked, 4 * 7 * 16 * 26);
+    }
+
+    /// The axes of the sample unit, each fitted alone with curves of every kind (the same
+    /// kinds on every axis): corrected in one pass, each axis's correction is its own
+    /// `correct_into`'s, bit for bit. Axes fitted with other knots share no spots, and the
+    /// pass then corrects nothing.
+    #[test]
+    fn a_unit_corrected_in_one_pass_is_each_axis_corrected_alone() {
+        use crate::models::vakhrameev::{Calibration, correct::Correction};
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("sample_logs/imu3-calibration.csv");
+        let unit = crate::log::ingest::read_path(&path, &Default::default()).expect("sample unit");
+        let logs: Vec<crate::log::Log> = unit
+            .axis_names()
+            .iter()
+            .map(|n| {
+                let mut v = unit.clone();
+                assert!(v.select_axis(n));
+                v
+            })
+            .collect();
+        assert_eq!(logs.len(), 3);
+        let kinds = [
+            (ApproxKind::Parabolic, ApproxKind::Pwl, ApproxKind::Spline),
+            (ApproxKind::Pwl, ApproxKind::Spline, ApproxKind::Linear),
+            (ApproxKind::Spline, ApproxKind::Parabolic, ApproxKind::Pwl),
+        ];
+        for (k0, k1, k2) in kinds {
+            let recipe = Recipe {
+                k0: ApproxSpec::of(k0),
+                k1_plus: ApproxSpec::of(k1),
+                k1_minus: ApproxSpec {
+                    extrapolate: true,
+                    ..ApproxSpec::of(k2)
+                },
+                k2_plus: ApproxSpec::of(k2),
+                k2_minus: ApproxSpec::of(k1),
+                ..Recipe::default()
+            }
+            .checked()
+            .expect("recipe");
+            let cals: Vec<Calibration> = logs
+                .iter()
+                .map(|l| super::super::fit(l, &recipe).expect("fit").calibration)
+                .collect();
+            let deriv = cals[0].derivatives(&logs[0]);
+            let alone: Vec<Correction> = cals
+                .iter()
+                .zip(&logs)
+                .map(|(c, l)| c.correct_with(l, &deriv))
+                .collect();
+            let mut outs: Vec<Correction> = (0..3).map(|_| Correction::default()).collect();
+            let mut bufs: Vec<&mut Correction> = outs.iter_mut().collect();
+            let omegas: Vec<&[f64]> = logs.iter().map(|l| l.omega_dph.as_slice()).collect();
+            let refs: Vec<&Calibration> = cals.iter().collect();
+            assert!(
+                Calibration::correct_unit_into(&refs, &logs[0].temp_c, &omegas, &deriv, &mut bufs),
+                "{k0:?} {k1:?} {k2:?}: the axes share their spots"
+            );
+            for (a, (got, want)) in outs.iter().zip(&alone).enumerate() {
+                let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+                assert_eq!(bits(&got.pred_dph), bits(&want.pred_dph), "axis {a}");
+                assert_eq!(bits(&got.cor_dph), bits(&want.cor_dph), "axis {a}");
+                assert_eq!(got.regime, want.regime, "axis {a}");
+                assert_eq!(got.outside_by_regime, want.outside_by_regime, "axis {a}");
+                assert_eq!(got.ready, want.ready, "axis {a}");
+            }
+            // Another axis fitted with more knots on K1+ shares no spots with the first.
+            let more = Recipe {
+                k1_plus: ApproxSpec {
+                    knots: 9,
+                    ..ApproxSpec::of(ApproxKind::Pwl)
+                },
+                ..(*recipe).clone()
+            }
+            .checked()
+            .expect("recipe");
+            let other = super::super::fit(&logs[1], &more).expect("fit").calibration;
+            let mut spare = [Correction::default(), Correction::default()];
+            let mut bufs: Vec<&mut Correction> = spare.iter_mut().collect();
+            assert!(!Calibration::correct_unit_into(
+                &[&cals[0], &other],
+                &logs[0].temp_c,
+                &omegas[..2],
+                &deriv,
+                &mut bufs
+            ));
+            assert!(spare.iter().all(|c| c.pred_dph.is_empty()));
+        }
     }
 }
