@@ -9,6 +9,7 @@
 use super::formats::{self, Selected, TempFrom};
 use super::read::ReadError;
 use super::{Problem, ProblemKind};
+use crate::signal::interleaved::interleaved_clocks;
 use crate::signal::time_order::time_order_of;
 use crate::signal::timing::{GAP_FACTOR, Timing, stray_stamps};
 
@@ -27,6 +28,7 @@ pub struct KeptSamples {
 ///
 /// # Errors
 /// [`ReadError::NotInTimeOrder`] when most samples go back in time,
+/// [`ReadError::TwoClocks`] when they switch between two clocks again and again,
 /// [`ReadError::NoSamples`] when none is left.
 pub fn kept_samples(sel: &Selected<'_>) -> Result<KeptSamples, ReadError> {
     let inst = sel.instance;
@@ -81,6 +83,21 @@ pub fn kept_samples(sel: &Selected<'_>) -> Result<KeptSamples, ReadError> {
     {
         let usable: Vec<usize> = (0..n).filter(|&i| keep[i]).collect();
         let time: Vec<f64> = usable.iter().map(|&i| time_all[i]).collect();
+        // Two recorders' samples interleaved: refused, by the CSV reader's rule.
+        if let Some(two) = interleaved_clocks(&time) {
+            return Err(ReadError::TwoClocks {
+                path: sel.source.to_string(),
+                message: format!(
+                    "{}: {}",
+                    inst.label,
+                    two.message(
+                        "sample",
+                        |j| format!("sample {}", usable[j] + 1),
+                        "write one recorder's samples per instance, or one clock per file",
+                    )
+                ),
+            });
+        }
         if let Some(s) = stray_stamps(&time) {
             let first = usable[s.runs[0].start] + 1;
             problems.push(Problem {

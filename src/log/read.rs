@@ -195,6 +195,15 @@ pub enum ReadError {
         /// How many go back, and the first.
         message: String,
     },
+    /// The chosen gyro's samples switch back and forth between two clocks: two recorders'
+    /// samples interleaved ([`crate::signal::interleaved`]).
+    #[error("{path}: {message}")]
+    TwoClocks {
+        /// The file.
+        path: String,
+        /// Where the samples first switch clock, and how to part them.
+        message: String,
+    },
 }
 
 /// The CSV options set in `opts`, by their names in a recipe: none of them applies to a

@@ -9,6 +9,7 @@
 //! Both are running sums written with one fixed order of operations, which the streaming
 //! corrector repeats, so the two agree to the last bit rather than only approximately.
 
+pub mod interleaved;
 pub mod lod;
 pub mod plateau;
 mod stray;

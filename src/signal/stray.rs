@@ -15,7 +15,9 @@ pub const STRAY_FACTOR: f64 = 100.0;
 /// [`Timing::stray_end`]): a clock glitch garbles a row's stamp, or a couple of rows'. A
 /// longer run that keeps to a step of its own is data with a time base of its own (another
 /// recorder's rows, a clock set wrong for a while), not a glitch, and is left to the checks
-/// of time order and gaps, which say what they drop.
+/// of time order and gaps, which say what they drop. Short runs that come back again and
+/// again, rising at the pace of the rows around them, are another recorder's rows too: the
+/// readers refuse them before looking for stray stamps ([`super::interleaved`]).
 pub const MAX_STRAY_RUN: usize = 2;
 
 /// The largest share of a log's samples that an end segment past a gap far longer than the

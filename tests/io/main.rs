@@ -6,6 +6,7 @@
 mod common;
 
 mod atomic_writes;
+mod attack21_time_order;
 mod autosave_instances;
 mod axis_names;
 mod chamber_channels;

@@ -11,6 +11,7 @@ use super::read::Acc;
 use super::sniff::Sniffed;
 use super::time_scale::{self, TimeColumn};
 use crate::log::{Channel, Log, LogInfo, Problem, ProblemKind};
+use crate::signal::interleaved::interleaved_clocks;
 use crate::signal::time_order::time_order_of;
 use crate::signal::timing::{GAP_FACTOR, Timing, stray_stamps};
 
@@ -121,6 +122,20 @@ pub(super) fn finish(mut acc: Acc, sn: &Sniffed, plan: &Plan, source: &str) -> R
     }
 
     let time_col = col_no(SLOT_TIME);
+    // Two recorders' rows interleaved: no reading of the stamps as one clock holds (half the
+    // rows would go as stray stamps), so the log is refused at the first switch of clock.
+    if let Some(two) = interleaved_clocks(&acc.cols[SLOT_TIME]) {
+        return Err(Fail::new(
+            acc.line_of(two.away),
+            time_col.unwrap_or(0),
+            two.message(
+                "row",
+                |i| format!("line {}", acc.line_of(i)),
+                "split them into two files by a column that tells the recorders apart, or \
+                 write one clock per file",
+            ),
+        ));
+    }
     // Stray stamps in the middle of the log (a clock glitch on a row or two between rows that
     // keep time): dropped before time order is looked at, which would otherwise keep a stamp
     // far ahead and drop every row after it.

@@ -1,0 +1,251 @@
+//! Two recorders' rows interleaved in one log: the rows switch back and forth between two
+//! clocks that each keep time of their own (one gyro's rows at 0, 1, 2 s, another's at
+//! 5000.5, 5001.5, 5002.5 s, written in turn). The one rule both readers (CSV and the drone
+//! logs) refuse such a log by.
+//!
+//! No reading of the stamps as one clock holds: the rows of one clock look like stray stamps
+//! between the rows of the other ([`super::timing::stray_stamps`]), so half the log would be
+//! dropped as a glitch repeated thousands of times, and the other clock's last row kept as a
+//! segment of its own past a gap that is only the offset between the clocks. The samples of
+//! the two clocks are two logs, often of two gyros: which one is wanted only the user knows,
+//! so the reader refuses and names the first place the rows switch clock.
+//!
+//! A switch is told from a glitch by what comes after it: a glitch stamps a row or two far out
+//! of line and the rows return to their clock; the second clock's rows come back again and
+//! again, and their stamps rise at the pace of the first clock's (both count real time). One
+//! stray stamp, a few in several places (each its own value), a clock set back, a logger's
+//! restart and a block sent twice make one backward step each, not a run of
+//! [`MIN_SWITCHES`] such returns side by side.
+
+use super::timing::GAP_FACTOR;
+
+/// The fewest returns to the first clock in a row, each with the second clock's rows in
+/// between and rising at the first clock's pace, for a log to hold two recorders' rows
+/// interleaved ([`interleaved_clocks`]): a clock glitch garbles a row or two in a few places,
+/// not sixteen in a row, each a step on from the one before.
+pub const MIN_SWITCHES: usize = 16;
+
+/// Where the rows of a log first switch between two clocks ([`interleaved_clocks`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Interleaved {
+    /// Index of the last sample on the first clock before the first switch.
+    pub before: usize,
+    /// Index of the first sample on the second clock: where the rows first switch.
+    pub away: usize,
+    /// Index of the sample where they come back to the first clock.
+    pub back: usize,
+    /// The stamps of those three samples, s.
+    pub before_s: f64,
+    /// See `before_s`.
+    pub away_s: f64,
+    /// See `before_s`.
+    pub back_s: f64,
+    /// How many times in a row the rows come back to the first clock from the second.
+    pub returns: usize,
+}
+
+impl Interleaved {
+    /// What a reader says when it refuses the log: `noun` is what it calls a sample ("row",
+    /// "sample"), `place(i)` where sample `i` stands ("line 3"), `advice` how the user parts
+    /// the two recorders in the reader's words. Both readers word it through this, so that a
+    /// log says the same in a CSV and a drone log.
+    pub fn message(&self, noun: &str, place: impl Fn(usize) -> String, advice: &str) -> String {
+        let offset = self.away_s - self.before_s;
+        let side = if offset > 0.0 { "ahead of" } else { "behind" };
+        format!(
+            "the {noun}s alternate between two clocks from {} on: its time {} s stands {} s \
+             {side} the {noun}s around it ({} s at {}, {} s at {}), and the {noun}s switch to \
+             that clock and back {} times in a row, each clock keeping time of its own: the log \
+             holds two recorders' {noun}s interleaved; {advice}",
+            place(self.away),
+            stamp(self.away_s),
+            crate::number::readable(offset.abs()),
+            stamp(self.before_s),
+            place(self.before),
+            stamp(self.back_s),
+            place(self.back),
+            self.returns
+        )
+    }
+}
+
+/// A stamp in a message: ten significant digits, so that stamps a step apart differ.
+fn stamp(t: f64) -> String {
+    crate::number::significant(t, 10)
+}
+
+/// One return to the first clock: the samples `away..back` stand on the second clock between
+/// `before` and `back` on the first.
+#[derive(Debug, Clone, Copy)]
+struct Return {
+    before: usize,
+    away: usize,
+    back: usize,
+}
+
+/// The return to a first clock at `back` (a step back from the sample before it), if the
+/// samples just before it rise on a clock of their own far ahead of it: a run that rises, all
+/// stamps ahead of `back`'s, after a sample behind it (`before`, the first clock's last), and
+/// standing ahead of `back` by more than [`GAP_FACTOR`] of the first clock's step there.
+fn return_at(time_s: &[f64], back: usize) -> Option<Return> {
+    let t = time_s[back];
+    let last = time_s[back - 1];
+    if !(t.is_finite() && last.is_finite() && last > t) {
+        return None;
+    }
+    let mut away = back - 1;
+    while away > 0 && time_s[away - 1] > t && time_s[away - 1] < time_s[away] {
+        away -= 1;
+    }
+    let before = away.checked_sub(1)?;
+    let step = t - time_s[before];
+    (step > 0.0 && time_s[away] - t > GAP_FACTOR * step).then_some(Return { before, away, back })
+}
+
+/// Whether `next` follows `prev` as the next return of two interleaved clocks: the first
+/// clock runs on between them, and the second clock's first stamp rises from the one return to
+/// the next at the pace of the first clock (within [`GAP_FACTOR`] either way), past the
+/// previous run's last stamp.
+fn follows(time_s: &[f64], prev: &Return, next: &Return) -> bool {
+    if next.before < prev.back {
+        return false;
+    }
+    let second = time_s[next.away] - time_s[prev.away];
+    let first = time_s[next.back] - time_s[prev.back];
+    time_s[next.away] > time_s[prev.back - 1]
+        && first > 0.0
+        && second > 0.0
+        && second <= GAP_FACTOR * first
+        && first <= GAP_FACTOR * second
+}
+
+/// The first place where the rows of `time_s` (the stamps as read, before any is dropped for
+/// time order) switch between two clocks [`MIN_SWITCHES`] times in a row or more, `None` when
+/// they do not. Each switch is a return to the first clock (a step back) from a run of samples
+/// rising on a second clock far from it; the returns follow each other with no other step
+/// back between them, the second clock's stamps rising from one to the next at the first
+/// clock's pace. Whichever clock is behind is the first. One pass: each sample is looked at a
+/// bounded number of times.
+pub fn interleaved_clocks(time_s: &[f64]) -> Option<Interleaved> {
+    let mut streak: Option<(Return, Return, usize)> = None; // (first, last, returns)
+    let mut found: Option<(Return, usize)> = None;
+    for i in 1..time_s.len() {
+        let (a, b) = (time_s[i - 1], time_s[i]);
+        // A step on or a repeat leaves the streak as it is; any other step back is a return
+        // that follows the last, or breaks the streak.
+        if b >= a {
+            continue;
+        }
+        let here = return_at(time_s, i);
+        streak = match (streak, here) {
+            (Some((first, last, k)), Some(r)) if follows(time_s, &last, &r) => {
+                Some((first, r, k + 1))
+            }
+            (_, r) => {
+                if let Some((first, _, k)) = streak
+                    && k >= MIN_SWITCHES
+                {
+                    found = Some((first, k));
+                    break;
+                }
+                r.map(|r| (r, r, 1))
+            }
+        };
+    }
+    let (first, returns) = match (found, streak) {
+        (Some(f), _) => f,
+        (None, Some((first, _, k))) if k >= MIN_SWITCHES => (first, k),
+        _ => return None,
+    };
+    Some(Interleaved {
+        before: first.before,
+        away: first.away,
+        back: first.back,
+        before_s: time_s[first.before],
+        away_s: time_s[first.away],
+        back_s: time_s[first.back],
+        returns,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn at_one_s(n: usize) -> Vec<f64> {
+        (0..n).map(|i| i as f64).collect()
+    }
+
+    /// `n` rows of a clock from 0 s at 1 s, each followed by `every`-th a row of a second clock
+    /// `offset_s` away.
+    fn two_clocks(n: usize, every: usize, offset_s: f64) -> Vec<f64> {
+        let mut t = Vec::new();
+        for i in 0..n {
+            t.push(i as f64);
+            if i % every == every - 1 {
+                t.push(i as f64 + offset_s);
+            }
+        }
+        t
+    }
+
+    #[test]
+    fn rows_alternating_between_two_clocks_are_found_at_the_first_switch() {
+        let t = two_clocks(1000, 1, 5000.5);
+        let got = interleaved_clocks(&t).expect("two clocks");
+        assert_eq!((got.before, got.away, got.back), (0, 1, 2));
+        assert_eq!((got.before_s, got.away_s, got.back_s), (0.0, 5000.5, 1.0));
+        assert_eq!(got.returns, 999);
+        // The second clock behind the first: the first switch is found where its rows have
+        // a row of their own before them.
+        let t = two_clocks(1000, 1, -5000.5);
+        let got = interleaved_clocks(&t).expect("two clocks");
+        assert_eq!((got.before, got.away, got.back), (1, 2, 3));
+        // One row of the second clock every ten of the first's.
+        let t = two_clocks(1000, 10, 1e6);
+        let got = interleaved_clocks(&t).expect("two clocks");
+        assert_eq!((got.before, got.away, got.back), (9, 10, 11));
+        assert_eq!(got.returns, 99);
+    }
+
+    #[test]
+    fn glitches_restarts_and_resent_blocks_are_no_second_clock() {
+        let n = 3000;
+        // Stray stamps in many places, each of its own value (or the same value each time).
+        for stray in [|_: usize| 1e9, |k: usize| 1e9 * (k % 7) as f64] {
+            let mut t = at_one_s(n);
+            for (k, at) in (100..n).step_by(100).enumerate() {
+                t[at] = stray(k);
+            }
+            assert_eq!(interleaved_clocks(&t), None);
+        }
+        // A logger restarting every 500 s.
+        let t: Vec<f64> = (0..n).map(|i| (i % 500) as f64).collect();
+        assert_eq!(interleaved_clocks(&t), None);
+        // A block sent twice, a few rows out of order, newest first.
+        let mut t = at_one_s(n);
+        let block = t[1900..2000].to_vec();
+        t.splice(2000..2000, block);
+        assert_eq!(interleaved_clocks(&t), None);
+        let mut t = at_one_s(n);
+        t[1000..1010].rotate_left(5);
+        assert_eq!(interleaved_clocks(&t), None);
+        let t: Vec<f64> = at_one_s(n).into_iter().rev().collect();
+        assert_eq!(interleaved_clocks(&t), None);
+        // Rows swapped in pairs stand a step apart, not on a clock of their own.
+        let t: Vec<f64> = (0..n).map(|i| (i ^ 1) as f64).collect();
+        assert_eq!(interleaved_clocks(&t), None);
+    }
+
+    #[test]
+    fn fewer_switches_than_the_least_are_no_second_clock() {
+        let mut t = at_one_s(1000);
+        // MIN_SWITCHES - 1 rows of a second clock among the first's, then the first alone.
+        let mut mixed = two_clocks(MIN_SWITCHES - 1, 1, 5000.5);
+        mixed.extend(t.drain(MIN_SWITCHES - 1..));
+        assert_eq!(interleaved_clocks(&mixed), None);
+        let mut mixed = two_clocks(MIN_SWITCHES + 1, 1, 5000.5);
+        mixed.extend(at_one_s(1000).drain(MIN_SWITCHES + 1..));
+        assert!(interleaved_clocks(&mixed).is_some());
+    }
+}
