@@ -6,8 +6,8 @@
 
 use crate::error::{Error, Invalid};
 use crate::judge::metrics::{Evaluation, MeritOptions};
-use crate::log::Log;
 use crate::log::run_sketch::Shared;
+use crate::log::{DroneGyro, Log};
 use crate::models::UnitCalibration;
 use crate::models::fitted::DriftModel;
 use crate::models::vakhrameev::correct::Correction;
@@ -56,6 +56,9 @@ pub struct Judged {
     /// What the check of the options tells without refusing them (a filter shorter than a
     /// sample, taken as one).
     pub told: Option<Invalid>,
+    /// (the gyro the model was fitted on, the gyro of the drone log judged) when they are two
+    /// gyros: another sensor's samples, held out whatever the file.
+    pub other_gyro: Option<(DroneGyro, DroneGyro)>,
     /// Raw against corrected.
     pub evaluation: Evaluation,
     /// The correction itself (the window draws it).
@@ -63,9 +66,19 @@ pub struct Judged {
 }
 
 impl Judged {
-    /// Whether the log is the calibration's own, in words ([`sample_label`]).
+    /// Whether the log is the calibration's own, in words ([`sample_label`]), and when it is
+    /// another gyro than the one calibrated, which two.
     pub fn sample_label(&self) -> String {
-        sample_label(self.in_sample, self.share)
+        let label = sample_label(self.in_sample, self.share);
+        match &self.other_gyro {
+            Some((fitted, read)) => format!(
+                "{label}; another gyro than the one calibrated: this log's {}, the \
+                 calibration's {}",
+                read.describe(),
+                fitted.describe()
+            ),
+            None => label,
+        }
     }
 }
 
@@ -100,6 +113,10 @@ pub fn judge(
 ) -> Result<Judged, JudgeError> {
     let source = model.source();
     let (in_sample, share) = source.judge_run(log, file.name, file.sha256);
+    let other_gyro = match (&source.instance, &log.info.instance) {
+        (Some(fitted), Some(read)) if !fitted.same_gyro(read) => Some((*fitted, *read)),
+        _ => None,
+    };
     let told = crate::judge::options::check_merit(&options, log).map_err(JudgeError::Options)?;
     if window_asked {
         crate::judge::options::check_window_whole(options.window_s, log)
@@ -118,6 +135,7 @@ pub fn judge(
         in_sample,
         share,
         told,
+        other_gyro,
         evaluation,
         correction,
     })
@@ -245,6 +263,52 @@ pub fn find_axes(unit: &UnitCalibration, log: &Log) -> Vec<Option<String>> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A drone log's gyro judged with a calibration fitted on another gyro of it: held out
+    /// however alike the samples are, and the label names both gyros; on the gyro it was
+    /// fitted on, in-sample and no word of gyros.
+    #[test]
+    fn another_gyro_is_held_out_and_named() {
+        let path =
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("sample_logs/calibration.csv");
+        let mut log = crate::log::ingest::read_path(&path, &Default::default()).expect("log");
+        let gyro = |index: usize, imu: u8| DroneGyro {
+            index,
+            dataflash_imu: Some(imu),
+        };
+        log.info.instance = Some(gyro(0, 0));
+        let recipe = crate::models::recipe::Recipe::default()
+            .checked()
+            .expect("recipe");
+        let mut model = crate::models::fit(
+            &log,
+            &crate::models::ModelChoice::Preset(crate::models::Preset::Vakhrameev),
+            &recipe,
+        )
+        .expect("fit");
+        let file = LogFile {
+            name: "calibration.csv",
+            sha256: "",
+        };
+        model.source_mut().instance = Some(gyro(0, 0));
+        let same = judge(&model, &log, file, MeritOptions::default(), false).expect("judged");
+        assert!(same.in_sample);
+        assert_eq!(same.other_gyro, None);
+        assert!(
+            !same.sample_label().contains("gyro"),
+            "{}",
+            same.sample_label()
+        );
+        model.source_mut().instance = Some(gyro(1, 1));
+        let other = judge(&model, &log, file, MeritOptions::default(), false).expect("judged");
+        assert!(!other.in_sample);
+        assert_eq!(other.other_gyro, Some((gyro(1, 1), gyro(0, 0))));
+        assert_eq!(
+            other.sample_label(),
+            "held out: not the calibration log; another gyro than the one calibrated: this \
+             log's gyro 0 (DataFlash IMU I=0), the calibration's gyro 1 (DataFlash IMU I=1)"
+        );
+    }
 
     #[test]
     fn the_label_says_held_out_and_in_sample() {
