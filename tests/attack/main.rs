@@ -7,5 +7,7 @@
 
 mod limits;
 mod readers;
+mod ros_frames;
 mod ros_limits;
+mod ros_stamps;
 mod sketches;

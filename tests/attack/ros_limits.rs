@@ -12,7 +12,7 @@ use super::readers::{
 use driftlab::log::formats::{self, FormatError, Values};
 
 /// A bag connection of message type `ty`.
-fn bag_connection_of(conn: u32, topic: &str, ty: &str) -> Vec<u8> {
+pub(super) fn bag_connection_of(conn: u32, topic: &str, ty: &str) -> Vec<u8> {
     bag_record(
         &[
             bag_field("op", &[0x07]),
@@ -38,7 +38,7 @@ fn bag_message_at(conn: u32, sec: u32, nsec: u32, data: &[u8]) -> Vec<u8> {
 }
 
 /// `sensor_msgs/Temperature` in the ROS 1 serialization.
-fn temperature_ros1(sec: u32, frame: &[u8], celsius: f64) -> Vec<u8> {
+pub(super) fn temperature_ros1(sec: u32, frame: &[u8], celsius: f64) -> Vec<u8> {
     let mut b = 0u32.to_le_bytes().to_vec();
     b.extend_from_slice(&sec.to_le_bytes());
     b.extend_from_slice(&0u32.to_le_bytes());
@@ -50,7 +50,7 @@ fn temperature_ros1(sec: u32, frame: &[u8], celsius: f64) -> Vec<u8> {
 }
 
 /// `sensor_msgs/msg/Temperature` in little-endian CDR.
-fn temperature_cdr(sec: i32, nsec: u32, frame: &[u8], celsius: f64) -> Vec<u8> {
+pub(super) fn temperature_cdr(sec: i32, nsec: u32, frame: &[u8], celsius: f64) -> Vec<u8> {
     let mut b = vec![0, 1, 0, 0];
     b.extend_from_slice(&sec.to_le_bytes());
     b.extend_from_slice(&nsec.to_le_bytes());

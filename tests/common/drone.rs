@@ -27,6 +27,17 @@ pub const DATAFLASH: &str = "ardupilot_dataflash/backend_log_80k.bin";
 /// A PX4 ULog of one `sensor_gyro` (with its temperature) and `sensor_accel` of the same
 /// device, at 1 Hz: the thermal-calibration profile's topics.
 pub fn ulog(time_s: &[f64], gyro_rad_s: &[[f32; 3]], temp_c: &[f32], device_id: u32) -> Vec<u8> {
+    ulog_of_devices(time_s, gyro_rad_s, temp_c, &vec![device_id; time_s.len()])
+}
+
+/// As [`ulog`], each sample of `sensor_gyro` with its own `device_id` (a chip swapped or
+/// re-enumerated partway through the log).
+pub fn ulog_of_devices(
+    time_s: &[f64],
+    gyro_rad_s: &[[f32; 3]],
+    temp_c: &[f32],
+    device_ids: &[u32],
+) -> Vec<u8> {
     fn message(ty: u8, body: &[u8]) -> Vec<u8> {
         let mut m = (body.len() as u16).to_le_bytes().to_vec();
         m.push(ty);
@@ -45,7 +56,7 @@ pub fn ulog(time_s: &[f64], gyro_rad_s: &[[f32; 3]], temp_c: &[f32], device_id: 
     let mut a = vec![0u8, 0, 0];
     a.extend_from_slice(b"sensor_gyro");
     b.extend(message(b'A', &a));
-    for ((t, g), temp) in time_s.iter().zip(gyro_rad_s).zip(temp_c) {
+    for (((t, g), temp), device_id) in time_s.iter().zip(gyro_rad_s).zip(temp_c).zip(device_ids) {
         let mut d = vec![0u8, 0];
         d.extend_from_slice(&((t * 1e6) as u64).to_le_bytes());
         d.extend_from_slice(&device_id.to_le_bytes());

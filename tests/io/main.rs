@@ -12,6 +12,7 @@ mod axis_names;
 mod chamber_channels;
 mod column_roles;
 mod crafted_rows;
+mod device_changes;
 mod drone_logs;
 mod formats;
 mod hand_edited_calibrations;

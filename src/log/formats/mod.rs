@@ -48,6 +48,7 @@ mod bytes;
 mod csv;
 mod dataflash;
 mod decompress;
+mod device_change;
 mod error;
 mod mcap;
 mod recording;
@@ -179,12 +180,16 @@ pub fn read_bytes(source: &str, bytes: &[u8]) -> Result<ImuRecording, FormatErro
         }
         Format::RosBag => {
             let mut r = rosbag::read(bytes).map_err(malformed)?;
-            let (i, untied) = r.topics.into_instances(&mut r.problems);
+            let (i, untied) = r
+                .topics
+                .into_instances(&mut r.problems, "the bag's record time");
             (i, r.problems, untied, "sensor_msgs/Imu topic")
         }
         Format::Mcap => {
             let mut r = mcap::read(bytes).map_err(malformed)?;
-            let (i, untied) = r.topics.into_instances(&mut r.problems);
+            let (i, untied) = r
+                .topics
+                .into_instances(&mut r.problems, "the MCAP log time");
             (i, r.problems, untied, "sensor_msgs/msg/Imu channel in CDR")
         }
     };

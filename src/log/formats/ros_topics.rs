@@ -1,13 +1,16 @@
 //! Gyro instances from the decoded messages of a ROS 1 bag or an MCAP file: one instance per
-//! `sensor_msgs/Imu` topic, its temperature from a `sensor_msgs/Temperature` topic of the
-//! same frame.
+//! `sensor_msgs/Imu` topic (per frame of it, when its `frame_id` changes: each frame's
+//! samples a gyro of their own, by the rule of `device_change`, as a PX4 gyro whose
+//! `device_id` changes), its temperature from a `sensor_msgs/Temperature` topic of the same
+//! frame.
 //!
 //! Bounded by construction: a topic is found by its name in a hash map once, when the
 //! connection or channel naming it is read (a bag of 100 000 topics, or an MCAP redefining a
 //! channel before each of 200 000 messages, costs one lookup each, not a walk over every
-//! topic), and a message is filed by the slot its connection holds. Of the `frame_id`s only
-//! the two that matter are kept per topic (that of its first message in log-time order, and
-//! the first that differs from it), not one string per message.
+//! topic), and a message is filed by the slot its connection holds. A `frame_id` is not kept
+//! per message: a topic keeps its first in log-time order and the first that differs from it,
+//! and the first few distinct ones ([`FRAMES_AT_MOST`]), which an Imu message names by number
+//! in bytes its stamp leaves as padding.
 //!
 //! The messages kept are bounded too: a compressed chunk may expand a thousand-fold, so a
 //! small file can hold tens of millions of messages (a 18 MB bag of lz4 chunks holds 11
@@ -16,6 +19,7 @@
 //! within it, and a log holding more is refused ([`TooLarge`], which the public error tells
 //! apart from a malformed file) with what each topic held when it ran out.
 
+use super::device_change;
 use super::error::{LIST_AT_MOST, TooLarge, listed, quoted};
 use super::recording::{
     Axes, DeviceId, GyroInstance, Problem, RosTime, Timestamps, Values, median_step, nearest_within,
@@ -48,12 +52,33 @@ fn size(bytes: usize) -> String {
     }
 }
 
-/// An Imu message as kept: all of it but its `frame_id`.
+/// An Imu message as kept: all of it but its `frame_id`, which is kept as its place among
+/// its topic's frames ([`Topic::frame_names`]). The stamp is held apart from a [`RosTime`] so
+/// that the frame's number takes the bytes a `RosTime` leaves as padding: a message takes 64
+/// bytes, as before the frame was kept.
 struct ImuSample {
-    stamp: RosTime,
+    sec: i64,
+    nsec: u32,
+    frame: u16,
     angular_velocity: [f64; 3],
     linear_acceleration: [f64; 3],
 }
+
+impl ImuSample {
+    fn stamp(&self) -> RosTime {
+        RosTime {
+            sec: self.sec,
+            nsec: self.nsec,
+        }
+    }
+}
+
+/// The most `frame_id`s a topic tells apart: a topic of two IMUs is two gyros, one of a new
+/// frame on every message (a crafted log) not a gyro each.
+const FRAMES_AT_MOST: usize = LIST_AT_MOST;
+
+/// The frame number of a message on none of the first [`FRAMES_AT_MOST`] frames of its topic.
+const ANOTHER_FRAME: u16 = u16::MAX;
 
 /// A Temperature message as kept.
 struct TempSample {
@@ -100,8 +125,8 @@ fn kept_frame(frame: &str) -> std::borrow::Cow<'_, str> {
 }
 
 impl Frames {
+    /// Notes the frame of message `key`, `frame` as kept ([`kept_frame`]).
     fn see(&mut self, key: Key, frame: &str) {
-        let frame = &*kept_frame(frame);
         match &self.first {
             None => self.first = Some((key, frame.to_string())),
             Some((k, _)) if key < *k => {
@@ -128,11 +153,37 @@ impl Frames {
     }
 }
 
+/// True when a topic of two messages or more stamps every one alike (`header.stamp` left 0
+/// by a driver that does not fill it, or set once): its samples have no time of their own,
+/// and read by it every one but the first would repeat the first's stamp.
+fn stuck<T>(msgs: &[(u64, T)], stamp: impl Fn(&T) -> RosTime) -> bool {
+    match msgs {
+        [(_, first), _, ..] => msgs.iter().all(|(_, m)| stamp(m) == stamp(first)),
+        _ => false,
+    }
+}
+
+/// True when the log times (ns) are not all one: a clock that can time the samples.
+fn advances(log_times: &[u64]) -> bool {
+    log_times.iter().any(|&t| t != log_times[0])
+}
+
+/// A log time (ns since the epoch) as a ROS time stamp.
+fn log_stamp(ns: u64) -> RosTime {
+    RosTime {
+        sec: (ns / 1_000_000_000) as i64,
+        nsec: (ns % 1_000_000_000) as u32,
+    }
+}
+
 /// The messages of one topic, with their log (bag) time in ns.
 struct Topic<T> {
     name: String,
     msgs: Vec<(u64, T)>,
     frames: Frames,
+    /// The topic's distinct `frame_id`s as kept ([`kept_frame`]), in order of arrival, the
+    /// first [`FRAMES_AT_MOST`]: what an Imu message's frame number names.
+    frame_names: Vec<String>,
 }
 
 impl<T> Topic<T> {
@@ -141,11 +192,26 @@ impl<T> Topic<T> {
             name: name.to_string(),
             msgs: Vec::new(),
             frames: Frames::default(),
+            frame_names: Vec::new(),
         }
     }
 
-    /// Keeps `m`, its vector grown (doubling) only within what `kept` (bytes allocated for
-    /// every topic's messages) leaves of `limit`; `false` when full.
+    /// The number of `frame` (as kept) among the topic's frames, given it on first sight;
+    /// [`ANOTHER_FRAME`] past the first [`FRAMES_AT_MOST`].
+    fn frame_number(&mut self, frame: &str) -> u16 {
+        if let Some(k) = self.frame_names.iter().position(|f| f == frame) {
+            return k as u16;
+        }
+        if self.frame_names.len() < FRAMES_AT_MOST {
+            self.frame_names.push(frame.to_string());
+            return (self.frame_names.len() - 1) as u16;
+        }
+        ANOTHER_FRAME
+    }
+
+    /// Keeps `m`, of frame `frame` (as kept, [`kept_frame`]), its vector grown (doubling)
+    /// only within what `kept` (bytes allocated for every topic's messages) leaves of
+    /// `limit`; `false` when full.
     fn push(&mut self, t: u64, frame: &str, m: T, kept: &mut usize, limit: usize) -> bool {
         if self.msgs.len() == self.msgs.capacity() {
             let each = std::mem::size_of::<(u64, T)>();
@@ -316,15 +382,19 @@ impl Topics {
         m: &Imu<'_>,
     ) -> Result<(), TooLarge> {
         debug_assert_eq!(slot.kind, Kind::Imu);
+        let kept = kept_frame(&m.frame_id);
+        let frame = self.imu[slot.index].frame_number(&kept);
         let sample = ImuSample {
-            stamp: m.stamp,
+            sec: m.stamp.sec,
+            nsec: m.stamp.nsec,
+            frame,
             angular_velocity: m.angular_velocity,
             linear_acceleration: m.linear_acceleration,
         };
         let (topics, order) = (&mut self.imu, &mut self.imu_order);
         let filed = self
             .room
-            .file(topics, order, slot.index, log_time_ns, &m.frame_id, sample);
+            .file(topics, order, slot.index, log_time_ns, &kept, sample);
         filed.then_some(()).ok_or_else(|| self.full(slot))
     }
 
@@ -344,9 +414,14 @@ impl Topics {
             celsius: m.celsius,
         };
         let (topics, order) = (&mut self.temperature, &mut self.temperature_order);
-        let filed = self
-            .room
-            .file(topics, order, slot.index, log_time_ns, &m.frame_id, sample);
+        let filed = self.room.file(
+            topics,
+            order,
+            slot.index,
+            log_time_ns,
+            &kept_frame(&m.frame_id),
+            sample,
+        );
         filed.then_some(()).ok_or_else(|| self.full(slot))
     }
 
@@ -359,9 +434,16 @@ impl Topics {
     /// frame_id, else the log's only one when the log has one Imu topic. When that leaves a
     /// choice unmade (several topics on the frame) or undone (several topics, none on the
     /// frame), a problem names every candidate: no setting picks a Temperature topic.
+    ///
+    /// A topic whose `header.stamp` never advances ([`stuck`]: a driver that leaves it 0)
+    /// is timed by `clock` (the log time each message was recorded at, as the format names
+    /// it: "the bag's record time") instead, with a note saying so, and its temperature
+    /// paired by that clock too; so is a gyro's pairing with a Temperature topic whose stamps
+    /// never advance.
     pub(crate) fn into_instances(
         mut self,
         problems: &mut Vec<Problem>,
+        clock: &str,
     ) -> (Vec<GyroInstance>, Vec<String>) {
         for t in &mut self.imu {
             t.msgs.sort_by_key(|(t, _)| *t);
@@ -374,7 +456,26 @@ impl Topics {
             .iter()
             .map(|&k| &self.temperature[k])
             .collect();
-        let single = self.imu_order.len() == 1 && temps.len() == 1;
+        // Each Imu topic's gyros: its messages parted by frame_id, each frame's a gyro of its
+        // own (one part when the frame never changes); messages of a frame past those a topic
+        // tells apart ([`FRAMES_AT_MOST`]) are left out, counted.
+        let gyros: Vec<(usize, Vec<device_change::Part<u16>>, usize)> = self
+            .imu_order
+            .iter()
+            .map(|&slot| {
+                let frames: Vec<u16> = self.imu[slot].msgs.iter().map(|(_, m)| m.frame).collect();
+                let (mut parts, mut left_out) = device_change::parts(&frames);
+                parts.retain(|p| {
+                    let known = p.device != ANOTHER_FRAME;
+                    if !known {
+                        left_out += p.rows.len();
+                    }
+                    known
+                });
+                (slot, parts, left_out)
+            })
+            .collect();
+        let single = gyros.iter().map(|g| g.1.len()).sum::<usize>() == 1 && temps.len() == 1;
         // The Temperature topics of each frame in order of their first message: the first is
         // the frame's, as a walk in order would find it.
         let mut by_frame: HashMap<&str, Vec<usize>> = HashMap::new();
@@ -392,111 +493,204 @@ impl Topics {
         let mut used = vec![false; temps.len()];
         // Imu topics left without a temperature although the log has Temperature topics.
         let mut without: Vec<String> = Vec::new();
+        // The frames of every gyro.
+        let mut imu_frames: std::collections::HashSet<&str> = std::collections::HashSet::new();
         let mut out = Vec::new();
-        for &slot in &self.imu_order {
+        for (slot, parts, left_out) in &gyros {
             let Topic {
                 name: topic,
                 msgs,
-                frames,
-            } = &self.imu[slot];
-            let frame = frames.first().to_string();
-            if let Some((_, other)) = &frames.other {
+                frame_names,
+                ..
+            } = &self.imu[*slot];
+            let log_times: Vec<u64> = msgs.iter().map(|(t, _)| *t).collect();
+            let by_clock = stuck(msgs, ImuSample::stamp) && advances(&log_times);
+            if by_clock {
                 problems.push(Problem::note(format!(
-                    "{}: frame_id changes from \"{}\" to \"{}\" within the topic",
+                    "{}: header.stamp never advances (all {} messages are stamped {} s, as a \
+                     driver that does not fill it leaves them): its samples are timed by {clock} \
+                     instead, and its temperature paired by it, which lags each sample by the \
+                     transport's delay and jitter; to time them by the sensor, have the driver \
+                     fill header.stamp",
                     quoted(topic),
-                    quoted(&frame),
-                    quoted(other)
+                    msgs.len(),
+                    msgs[0].1.stamp().seconds()
                 )));
             }
-            let stamps: Vec<RosTime> = msgs.iter().map(|(_, m)| m.stamp).collect();
-            let column = |f: &dyn Fn(&ImuSample) -> f64| {
-                Values::F64(msgs.iter().map(|(_, m)| f(m)).collect())
-            };
-            let gyro = Axes {
-                xyz: [
-                    column(&|m| m.angular_velocity[0]),
-                    column(&|m| m.angular_velocity[1]),
-                    column(&|m| m.angular_velocity[2]),
-                ],
-            };
-            let accel = Axes {
-                xyz: [
-                    column(&|m| m.linear_acceleration[0]),
-                    column(&|m| m.linear_acceleration[1]),
-                    column(&|m| m.linear_acceleration[2]),
-                ],
-            };
-            // Its temperature: a Temperature topic on the same frame, else the only one of a
-            // log with one IMU and one temperature.
-            let on_frame = by_frame.get(frame.as_str());
-            if let Some(ks) = on_frame.filter(|ks| ks.len() > 1) {
-                problems.push(Problem::note(format!(
-                    "{}: {} Temperature topics are on its frame_id \"{}\": {}; its temperature \
-                     is the first in the file, {} (temp_from own), and no setting picks \
-                     another: to use another, cut the others out of the log (e.g. rosbag \
-                     filter or mcap filter)",
-                    quoted(topic),
-                    ks.len(),
-                    quoted(&frame),
-                    listed(
-                        ks.iter().map(|k| quoted(&temps[*k].name).into_owned()),
-                        ", "
-                    ),
-                    quoted(&temps[ks[0]].name)
-                )));
-            }
-            let matched = on_frame.map(|ks| ks[0]).or(single.then_some(0));
-            if matched.is_none() && !temps.is_empty() {
-                without.push(format!(
-                    "{} (frame_id \"{}\")",
-                    quoted(topic),
-                    quoted(&frame)
-                ));
-            }
-            let temp_c = match matched {
-                Some(k) => {
-                    used[k] = true;
-                    let t = temps[k];
-                    let tf = t.frames.first();
-                    if tf != frame {
-                        problems.push(Problem::note(format!(
-                            "{}: temperature taken from {}, the log's only Temperature \
-                             topic, although its frame_id \"{}\" is not the IMU's \"{}\"",
-                            quoted(topic),
-                            quoted(&t.name),
-                            quoted(tf),
-                            quoted(&frame)
-                        )));
-                    }
-                    let g: Vec<i128> = stamps.iter().map(|s| s.nanos()).collect();
-                    let tk: Vec<i128> = t.msgs.iter().map(|(_, m)| m.stamp.nanos()).collect();
-                    let tol = median_step(&tk)
-                        .unwrap_or(0)
-                        .max(median_step(&g).unwrap_or(0));
-                    let pick = nearest_within(&g, &tk, tol);
-                    Values::F64(
-                        pick.iter()
-                            .map(|p| p.map_or(f64::NAN, |i| t.msgs[i].1.celsius))
-                            .collect(),
-                    )
+            let stamp_of = |i: usize| {
+                if by_clock {
+                    log_stamp(log_times[i])
+                } else {
+                    msgs[i].1.stamp()
                 }
-                None => Values::F64(vec![f64::NAN; msgs.len()]),
             };
-            out.push(GyroInstance {
-                index: out.len(),
-                label: topic.clone(),
-                device: Some(DeviceId::Ros {
-                    topic: topic.clone(),
-                    frame_id: frame,
-                }),
-                time: Timestamps::Ros(stamps),
-                time_sample_us: None,
-                log_time_ns: Some(msgs.iter().map(|(t, _)| *t).collect()),
-                gyro,
-                temp_c,
-                accel: Some(accel),
-                alt_temps: Vec::new(),
-            });
+            let frame_of =
+                |p: &device_change::Part<u16>| frame_names[usize::from(p.device)].as_str();
+            let label = |k: usize| {
+                if parts.len() == 1 {
+                    topic.clone()
+                } else {
+                    format!("{topic} frame {} of {}", k + 1, parts.len())
+                }
+            };
+            if parts.len() > 1 {
+                let at = parts[1].rows[0];
+                let first = parts[0].rows.iter().take_while(|&&i| i < at).count();
+                let each = parts.iter().enumerate().map(|(k, p)| {
+                    let n = p.rows.len();
+                    format!(
+                        "{} (frame_id \"{}\", {n} sample{})",
+                        quoted(&label(k)),
+                        quoted(frame_of(p)),
+                        if n == 1 { "" } else { "s" }
+                    )
+                });
+                let mut message = format!(
+                    "{}; each frame's samples are a gyro of their own, never one calibration \
+                     over two sensors: {}",
+                    device_change::changes(
+                        &quoted(topic),
+                        "frame_id",
+                        (
+                            &format!("\"{}\"", quoted(frame_of(&parts[0]))),
+                            &format!("\"{}\"", quoted(frame_of(&parts[1])))
+                        ),
+                        "topic",
+                        first + 1,
+                        stamp_of(at).seconds()
+                    ),
+                    listed(each, ", ")
+                );
+                if *left_out > 0 {
+                    message.push_str(&format!(
+                        "; {left_out} samples of further frames left out (a gyro of each of \
+                         the first {FRAMES_AT_MOST} only)"
+                    ));
+                }
+                problems.push(Problem::note(message));
+            }
+            for (k, part) in parts.iter().enumerate() {
+                let frame = frame_of(part).to_string();
+                imu_frames.insert(frame_of(part));
+                let rows = &part.rows;
+                let stamps: Vec<RosTime> = rows.iter().map(|&i| stamp_of(i)).collect();
+                let part_log_times: Vec<u64> = rows.iter().map(|&i| log_times[i]).collect();
+                let column = |f: &dyn Fn(&ImuSample) -> f64| {
+                    Values::F64(rows.iter().map(|&i| f(&msgs[i].1)).collect())
+                };
+                let gyro = Axes {
+                    xyz: [
+                        column(&|m| m.angular_velocity[0]),
+                        column(&|m| m.angular_velocity[1]),
+                        column(&|m| m.angular_velocity[2]),
+                    ],
+                };
+                let accel = Axes {
+                    xyz: [
+                        column(&|m| m.linear_acceleration[0]),
+                        column(&|m| m.linear_acceleration[1]),
+                        column(&|m| m.linear_acceleration[2]),
+                    ],
+                };
+                let label = label(k);
+                // Its temperature: a Temperature topic on the same frame, else the only one of
+                // a log with one gyro and one temperature.
+                let on_frame = by_frame.get(frame.as_str());
+                if let Some(ks) = on_frame.filter(|ks| ks.len() > 1) {
+                    problems.push(Problem::note(format!(
+                        "{}: {} Temperature topics are on its frame_id \"{}\": {}; its \
+                         temperature is the first in the file, {} (temp_from own), and no \
+                         setting picks another: to use another, cut the others out of the log \
+                         (e.g. rosbag filter or mcap filter)",
+                        quoted(&label),
+                        ks.len(),
+                        quoted(&frame),
+                        listed(
+                            ks.iter().map(|k| quoted(&temps[*k].name).into_owned()),
+                            ", "
+                        ),
+                        quoted(&temps[ks[0]].name)
+                    )));
+                }
+                let matched = on_frame.map(|ks| ks[0]).or(single.then_some(0));
+                if matched.is_none() && !temps.is_empty() {
+                    without.push(format!(
+                        "{} (frame_id \"{}\")",
+                        quoted(&label),
+                        quoted(&frame)
+                    ));
+                }
+                let temp_c = match matched {
+                    Some(k) => {
+                        used[k] = true;
+                        let t = temps[k];
+                        let tf = t.frames.first();
+                        if tf != frame {
+                            problems.push(Problem::note(format!(
+                                "{}: temperature taken from {}, the log's only Temperature \
+                                 topic, although its frame_id \"{}\" is not the IMU's \"{}\"",
+                                quoted(&label),
+                                quoted(&t.name),
+                                quoted(tf),
+                                quoted(&frame)
+                            )));
+                        }
+                        // Both by the log's clock when either's stamps never advance: the
+                        // stamps of one beside the log times of the other would be two clocks.
+                        let temp_stuck = stuck(&t.msgs, |m| m.stamp);
+                        let log_times_of = |t: &Topic<TempSample>| -> Vec<u64> {
+                            t.msgs.iter().map(|(lt, _)| *lt).collect()
+                        };
+                        if temp_stuck && advances(&log_times_of(t)) && !by_clock {
+                            problems.push(Problem::note(format!(
+                                "{}: header.stamp never advances (all {} messages are stamped \
+                                 {} s, as a driver that does not fill it leaves them): its \
+                                 readings are paired with {}'s samples by {clock} instead",
+                                quoted(&t.name),
+                                t.msgs.len(),
+                                t.msgs[0].1.stamp.seconds(),
+                                quoted(&label)
+                            )));
+                        }
+                        let (g, tk): (Vec<i128>, Vec<i128>) = if by_clock || temp_stuck {
+                            (
+                                part_log_times.iter().map(|&x| i128::from(x)).collect(),
+                                log_times_of(t).into_iter().map(i128::from).collect(),
+                            )
+                        } else {
+                            (
+                                stamps.iter().map(|s| s.nanos()).collect(),
+                                t.msgs.iter().map(|(_, m)| m.stamp.nanos()).collect(),
+                            )
+                        };
+                        let tol = median_step(&tk)
+                            .unwrap_or(0)
+                            .max(median_step(&g).unwrap_or(0));
+                        let pick = nearest_within(&g, &tk, tol);
+                        Values::F64(
+                            pick.iter()
+                                .map(|p| p.map_or(f64::NAN, |i| t.msgs[i].1.celsius))
+                                .collect(),
+                        )
+                    }
+                    None => Values::F64(vec![f64::NAN; rows.len()]),
+                };
+                out.push(GyroInstance {
+                    index: out.len(),
+                    label,
+                    device: Some(DeviceId::Ros {
+                        topic: topic.clone(),
+                        frame_id: frame,
+                    }),
+                    time: Timestamps::Ros(stamps),
+                    time_sample_us: None,
+                    log_time_ns: Some(part_log_times),
+                    gyro,
+                    temp_c,
+                    accel: Some(accel),
+                    alt_temps: Vec::new(),
+                });
+            }
         }
         let unused: Vec<usize> = (0..temps.len()).filter(|&k| !used[k]).collect();
         if !without.is_empty() {
@@ -522,11 +716,6 @@ impl Topics {
         } else {
             // Those on a frame of no Imu topic (the others, a frame's second or third, are in
             // the note on that frame's gyro).
-            let imu_frames: std::collections::HashSet<&str> = self
-                .imu_order
-                .iter()
-                .map(|&k| self.imu[k].frames.first())
-                .collect();
             let alone: Vec<&usize> = unused
                 .iter()
                 .filter(|k| !imu_frames.contains(temps[**k].frames.first()))
@@ -571,6 +760,13 @@ mod tests {
     }
 
     #[test]
+    fn an_imu_message_keeps_its_frame_in_no_more_room_than_without() {
+        // KEPT_BYTES_AT_MOST's count of messages, and the limits the attack tests check,
+        // take 72 bytes an Imu message with its log time.
+        assert_eq!(std::mem::size_of::<(u64, ImuSample)>(), 72);
+    }
+
+    #[test]
     fn a_temperature_topic_of_the_same_frame_is_the_gyros_own() {
         let mut t = Topics::for_file(0);
         // Slots made in another order than the first messages: the instances follow the
@@ -592,7 +788,7 @@ mod tests {
                 .unwrap();
         }
         let mut problems = Vec::new();
-        let (inst, _) = t.into_instances(&mut problems);
+        let (inst, _) = t.into_instances(&mut problems, "the log time");
         assert_eq!(inst.len(), 2);
         assert_eq!(inst[0].label, "/imu/data");
         // The nearest temperature beside each gyro sample (ties go to the earlier one).

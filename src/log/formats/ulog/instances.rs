@@ -4,6 +4,8 @@
 //! log offers, not whether its bytes are sound.
 
 use super::subscription::Sub;
+use crate::log::formats::device_change;
+use crate::log::formats::error::{LIST_AT_MOST, listed};
 use crate::log::formats::recording::{
     AltTemperature, Axes, DeviceId, GyroInstance, Problem, Sorted, TempFrom, Timestamps, Values,
     median_step,
@@ -41,9 +43,12 @@ pub(super) fn assemble(subs: Vec<Sub>, problems: &mut Vec<Problem>) -> Vec<GyroI
         .collect();
     let mut out = Vec::new();
     for g in gyros {
-        match gyro_instance(g, &accels, &statuses, out.len()) {
-            Ok(inst) => out.push(inst),
-            Err(m) => problems.push(Problem::note(format!("{}: {m}; left out", g.label()))),
+        for (part, label) in by_device(g, problems) {
+            let part = part.as_ref().unwrap_or(g);
+            match gyro_instance(part, label.clone(), &accels, &statuses, out.len()) {
+                Ok(inst) => out.push(inst),
+                Err(m) => problems.push(Problem::note(format!("{label}: {m}; left out"))),
+            }
         }
     }
     for c in subs.iter().filter(|s| s.topic == "sensor_combined") {
@@ -53,6 +58,71 @@ pub(super) fn assemble(subs: Vec<Sub>, problems: &mut Vec<Problem>) -> Vec<GyroI
         }
     }
     out
+}
+
+/// A `device_id` as a message names it: decimal, then hexadecimal (bus, address and driver
+/// packed), as [`DeviceId`] shows it.
+fn device_name(d: u64) -> String {
+    let d = d as u32;
+    format!("{d} (0x{d:X})")
+}
+
+/// The gyros of subscription `g`, each with its label: the subscription itself (`None`) when
+/// its `device_id` never changes; else each device's samples as a subscription of their own
+/// ([`device_change::parts`]), told in `problems` with the sample where it first changes. A
+/// `device_id` that changes is another chip (swapped, or re-enumerated on the bus): its samples
+/// have another bias and drift, and filed under the first chip's id they would be calibrated
+/// as one gyro.
+fn by_device(g: &Sub, problems: &mut Vec<Problem>) -> Vec<(Option<Sub>, String)> {
+    let whole = || vec![(None, g.label())];
+    let Some(ids) = g.integers("device_id") else {
+        return whole();
+    };
+    let (parts, left_out) = device_change::parts(&ids);
+    if parts.len() < 2 {
+        return whole();
+    }
+    let n = parts.len();
+    let label = |k: usize| format!("{} device {} of {n}", g.label(), k + 1);
+    let at = ids.iter().position(|&d| d != ids[0]).unwrap_or(0);
+    let time_s = g
+        .integers("timestamp")
+        .and_then(|t| t.get(at).copied())
+        .map_or(f64::NAN, |t| t as f64 / 1e6);
+    let each = parts.iter().enumerate().map(|(k, p)| {
+        let n = p.rows.len();
+        let s = if n == 1 { "" } else { "s" };
+        format!(
+            "{} (device_id {}, {n} sample{s})",
+            label(k),
+            device_name(p.device)
+        )
+    });
+    let mut message = format!(
+        "{}; each device's samples are a gyro of their own, never one calibration over two \
+         chips: {}",
+        device_change::changes(
+            &g.label(),
+            "device_id",
+            (&device_name(ids[0]), &device_name(ids[at])),
+            "subscription",
+            at + 1,
+            time_s
+        ),
+        listed(each, ", ")
+    );
+    if left_out > 0 {
+        message.push_str(&format!(
+            "; {left_out} samples of further devices left out (a gyro of each of the first \
+             {LIST_AT_MOST} only)"
+        ));
+    }
+    problems.push(Problem::note(message));
+    parts
+        .iter()
+        .enumerate()
+        .map(|(k, p)| (Some(g.with_rows(&p.rows)), label(k)))
+        .collect()
 }
 
 fn axes(s: &Sub, names: [(&str, usize); 3]) -> Result<Axes, Missing> {
@@ -75,6 +145,7 @@ fn axes_at(s: &Sub, pick: &[Option<usize>]) -> Option<Axes> {
 
 fn gyro_instance(
     g: &Sub,
+    label: String,
     accels: &[(&Sub, Keys)],
     statuses: &[(&Sub, Keys)],
     index: usize,
@@ -149,7 +220,7 @@ fn gyro_instance(
     }
     Ok(GyroInstance {
         index,
-        label: g.label(),
+        label,
         device: device.map(|d| DeviceId::Ulog {
             device_id: d as u32,
         }),

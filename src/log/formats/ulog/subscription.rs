@@ -119,6 +119,21 @@ impl Sub {
         self.integer(p, 0)
     }
 
+    /// The same subscription holding only the samples `rows` names (places among its own, in
+    /// range): one device's samples of a subscription whose device changes.
+    pub(super) fn with_rows(&self, rows: &[usize]) -> Sub {
+        let mut kept = Vec::with_capacity(rows.len() * self.stride());
+        for &i in rows {
+            kept.extend_from_slice(self.row(i));
+        }
+        Sub {
+            topic: self.topic,
+            multi_id: self.multi_id,
+            layout: Rc::clone(&self.layout),
+            rows: kept,
+        }
+    }
+
     pub(super) fn label(&self) -> String {
         format!("{} multi_id {}", self.topic, self.multi_id)
     }
