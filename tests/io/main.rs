@@ -8,6 +8,7 @@ mod common;
 mod atomic_writes;
 mod autosave_instances;
 mod axis_names;
+mod axis_units;
 mod chamber_channels;
 mod column_roles;
 mod crafted_rows;
