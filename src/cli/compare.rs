@@ -419,6 +419,18 @@ fn print_tables(reports: &[ModelReport], merit: &MeritOptions) -> Result<(), Cli
                 None => {}
             }
         }
+        // Why a figure is n/a, once per reason, as `evaluate` says it under its table.
+        let mut said = Vec::new();
+        for r in reports.iter().filter(|r| r.error.is_none()) {
+            if let Some(Outcome::Evaluation(e)) = r.logs.get(k).map(|j| &j.result) {
+                for told in e.comparison.unavailable() {
+                    if !said.contains(&told) {
+                        out!("  {} n/a: {}", told.0, told.1)?;
+                        said.push(told);
+                    }
+                }
+            }
+        }
     }
     Ok(())
 }

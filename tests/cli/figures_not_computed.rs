@@ -1,7 +1,8 @@
 //! A figure that could not be computed reads `n/a` wherever it is shown, never `NaN`, `∞` or
 //! a 0 that reads as a figure: the report and `compare` on a log too short for a window; the
 //! RMS residual and R² of a curve fitted to no point, in the report, the C header and the
-//! file (`null`, and only where nothing was computed).
+//! file (`null`, and only where nothing was computed); the peak-to-peak and std of a judged
+//! stretch shorter than twice the filter, in `evaluate` and `compare`, text and JSON.
 
 use crate::common::run::{fails, ok, sample};
 
@@ -106,5 +107,88 @@ fn statistics_of_no_point_read_n_a_and_are_null_only_there() {
     assert!(
         err.contains("r2 is null (not computed), but the fit was over") && err.contains("line"),
         "{err}"
+    );
+}
+
+/// A judged stretch (after the warm-up) of 300 to 599 samples under a 300-s filter holds no two
+/// filter windows apart: `evaluate` and `compare` print its peak-to-peak and std n/a with the
+/// reason and advice, never 0.0000 with "reproduces the record to its rounding" or a ratio;
+/// JSON has `null` and `filter_overlaps_itself`. A 100-s filter over the same log has them.
+#[test]
+fn a_filter_over_half_the_judged_stretch_gives_no_spread() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let cal = p(d, "cal.json");
+    ok(&["calibrate", &sample("calibration.csv"), "-o", &cal]);
+    let short = short_log(d, 600);
+    let text = ok(&[
+        "evaluate", &cal, &short, "--filter", "300", "--window", "60",
+    ]);
+    for row in text.lines().filter(|l| l.contains("of filtered drift")) {
+        assert!(
+            !row.contains("0.0000") && !row.contains('x'),
+            "{row}\n{text}"
+        );
+        assert!(row.matches("n/a").count() == 3, "{row}");
+    }
+    assert!(
+        text.contains("peak-to-peak and std n/a: the filter is longer than half of the judged")
+            && text.contains("shorten the filter or judge a longer log")
+            && !text.contains("rounding"),
+        "{text}"
+    );
+    let json: serde_json::Value = serde_json::from_str(&ok(&[
+        "evaluate", &cal, &short, "--filter", "300", "--window", "60", "--json",
+    ]))
+    .unwrap();
+    let c = &json["evaluation"]["comparison"];
+    for side in ["raw", "corrected"] {
+        assert!(
+            c[side]["p2p_dph"].is_null() && c[side]["std_dph"].is_null(),
+            "{c}"
+        );
+        assert_eq!(
+            c[side]["filtered_unavailable"], "filter_overlaps_itself",
+            "{c}"
+        );
+    }
+    assert!(
+        c["p2p_ratio"].is_null() && c.get("ratios_unavailable").is_none(),
+        "{c}"
+    );
+    // The same log under a 100-s filter: figures.
+    let text = ok(&[
+        "evaluate", &cal, &short, "--filter", "100", "--window", "60",
+    ]);
+    assert!(!text.contains("peak-to-peak and std n/a"), "{text}");
+    let text = ok(&[
+        "compare",
+        "--train",
+        &sample("calibration.csv"),
+        "--test",
+        &short,
+        "--models",
+        "vakhrameev",
+        "--filter",
+        "300",
+        "--window",
+        "60",
+    ]);
+    let tail: Vec<&str> = text
+        .lines()
+        .skip_while(|l| !l.contains("short600.csv"))
+        .collect();
+    let row = tail
+        .iter()
+        .find(|l| l.trim_start().starts_with("vakhrameev"))
+        .unwrap_or_else(|| panic!("{text}"));
+    assert!(
+        row.matches("n/a").count() >= 4 && !row.contains("0.0000"),
+        "{row}"
+    );
+    assert!(
+        tail.iter()
+            .any(|l| l.contains("peak-to-peak and std n/a: the filter is longer than half")),
+        "{text}"
     );
 }

@@ -9,6 +9,7 @@ mod allan;
 mod approx;
 mod correction;
 mod crafted_settings;
+mod filtered_spread;
 mod hand_knots_kept;
 mod k0_knots;
 mod k0_temperatures;

@@ -14,6 +14,7 @@ use driftlab::models::presets::{ModelChoice, Preset};
 use driftlab::models::recipe::{PlateauChoice, Recipe};
 use driftlab::models::regression::terms::parse_terms;
 use driftlab::models::regression::{LagSpec, RegressionSpec};
+use driftlab::models::vakhrameev::Calibration as VakhrameevCalibration;
 use driftlab::models::{self, AxisModel, AxisPlan, CheckedRecipe, UnitCalibration};
 use driftlab::signal::plateau::PlateauRange;
 use serde_json::{Value, json};
@@ -64,6 +65,21 @@ fn refused(path: &Path, field: &str, why: &str) {
 /// The calibration body of a version-1 file.
 fn body(v: &mut Value) -> &mut Value {
     &mut v["calibration"]
+}
+
+/// Vakhrameev's calibration of `calibration.csv` under `recipe`, fitted and written by the
+/// code into `dir` as `name` (the file as written loads): the file and what was fitted.
+fn vakhrameev_file(dir: &Path, name: &str, recipe: &Recipe) -> (PathBuf, VakhrameevCalibration) {
+    let model = fitted(
+        &read("calibration.csv"),
+        ModelChoice::Preset(Preset::Vakhrameev),
+        recipe,
+    );
+    let DriftModel::Vakhrameev(c) = &model else {
+        panic!("not a Vakhrameev calibration");
+    };
+    let c = (**c).clone();
+    (saved(dir, name, &model), c)
 }
 
 #[test]
@@ -269,21 +285,12 @@ fn the_statistics_a_regression_fit_stored_are_what_a_fit_makes() {
 #[test]
 fn every_stored_fact_of_a_vakhrameev_calibration_is_checked() {
     let dir = tempfile::tempdir().unwrap();
-    let log = read("calibration.csv");
-    let model = fitted(
-        &log,
-        ModelChoice::Preset(Preset::Vakhrameev),
-        &Recipe::default(),
-    );
-    let DriftModel::Vakhrameev(c) = &model else {
-        panic!("not a Vakhrameev calibration");
-    };
+    let (cal, c) = vakhrameev_file(dir.path(), "cal.json", &Recipe::default());
     let (plateaus, samples) = (c.plateaus.len(), c.source.samples);
     assert!(
         plateaus >= 2 && c.k1_plus.stats().n > 0,
         "a fit with points"
     );
-    let cal = saved(dir.path(), "cal.json", &model);
     let cases: Vec<(&str, Value, String, &str)> = vec![
         (
             "/k0/stats/r2",
@@ -399,7 +406,6 @@ fn every_stored_fact_of_a_vakhrameev_calibration_is_checked() {
 #[test]
 fn a_manual_plateau_stays_within_the_ranges_its_recipe_gives() {
     let dir = tempfile::tempdir().unwrap();
-    let log = read("calibration.csv");
     let recipe = Recipe {
         plateaus: PlateauChoice::Manual {
             ranges: [(4000.0, 7000.0), (14500.0, 16800.0), (28500.0, 30600.0)]
@@ -409,11 +415,7 @@ fn a_manual_plateau_stays_within_the_ranges_its_recipe_gives() {
         },
         ..Recipe::default()
     };
-    let cal = saved(
-        dir.path(),
-        "manual.json",
-        &fitted(&log, ModelChoice::Preset(Preset::Vakhrameev), &recipe),
-    );
+    let (cal, _) = vakhrameev_file(dir.path(), "manual.json", &recipe);
     let file = edited(&cal, "moved.json", |v| {
         body(v)["plateaus"][1]["range"] = json!({"start_s": 14000.0, "end_s": 16800.0})
     });
@@ -608,16 +610,11 @@ fn knots_whose_span_overflows_are_refused_not_a_crash() {
     // hold, and the curve's evaluator, asked for its segments, panicked while the file was
     // read (whether it extrapolates or not). ±1e307 is a span a number holds.
     let dir = tempfile::tempdir().unwrap();
-    let log = read("calibration.csv");
     let recipe = Recipe {
         k0: models::approx::ApproxSpec::of(models::approx::ApproxKind::Pwl),
         ..Recipe::default()
     };
-    let cal = saved(
-        dir.path(),
-        "pwl.json",
-        &fitted(&log, ModelChoice::Preset(Preset::Vakhrameev), &recipe),
-    );
+    let (cal, _) = vakhrameev_file(dir.path(), "pwl.json", &recipe);
     for (name, lo, hi, extrapolate) in [
         ("held.json", -1e308, 1e308, false),
         ("extrapolated.json", -1e308, 1e308, true),
@@ -653,18 +650,9 @@ fn knots_whose_span_overflows_are_refused_not_a_crash() {
 #[test]
 fn a_kind_its_curve_or_recipe_contradicts_is_refused() {
     let dir = tempfile::tempdir().unwrap();
-    let log = read("calibration.csv");
-    let model = fitted(
-        &log,
-        ModelChoice::Preset(Preset::Vakhrameev),
-        &Recipe::default(),
-    );
-    let DriftModel::Vakhrameev(c) = &model else {
-        panic!("not a Vakhrameev calibration");
-    };
+    let (cal, c) = vakhrameev_file(dir.path(), "cal.json", &Recipe::default());
     // The default K0 is a parabola: three coefficients.
     assert_eq!(c.k0.kind().to_string(), "parabolic");
-    let cal = saved(dir.path(), "cal.json", &model);
     type Edit = fn(&mut Value);
     let cases: [(&str, Edit, &str, &str); 6] = [
         (
@@ -840,4 +828,115 @@ fn a_hand_edited_source_instance_is_checked_and_named() {
             }
         }
     }
+}
+
+/// The indices of the lowest and the highest of `temps`.
+fn lowest_and_highest(temps: &[f64]) -> (usize, usize) {
+    let by = |a: &usize, b: &usize| temps[*a].total_cmp(&temps[*b]);
+    let lo = (0..temps.len()).min_by(by).unwrap();
+    let hi = (0..temps.len()).max_by(by).unwrap();
+    (lo, hi)
+}
+
+/// K0 is fitted through the plateaus, so a fitted parabola spans exactly the lowest and the
+/// highest plateau temperature. A hand-edited `k0.x_min`/`x_max` wider than the plateaus
+/// claimed (and exported) K0 where nothing was measured; narrower, or a plateau's `temp_c`
+/// moved outside it, contradicted the points it was fitted through (the twenty-first attack).
+/// Each is refused naming the field and both values; the file as written loads.
+#[test]
+fn k0s_range_is_the_span_of_the_plateaus_it_was_fitted_through() {
+    let dir = tempfile::tempdir().unwrap();
+    let (cal, c) = vakhrameev_file(dir.path(), "cal.json", &Recipe::default());
+    let temps: Vec<f64> = c.plateaus.iter().map(|p| p.temp_c).collect();
+    let (lo_j, hi_j) = lowest_and_highest(&temps);
+    // The sample log's set points: -50, 20 and 60 °C, two plateaus at 20.
+    assert!(
+        temps[lo_j] < -45.0
+            && temps[hi_j] > 55.0
+            && temps.iter().filter(|t| t.abs() < 45.0).count() >= 2,
+        "{temps:?}"
+    );
+    assert_eq!((c.k0.x_min(), c.k0.x_max()), (temps[lo_j], temps[hi_j]));
+    let set = |pointer: String, value: f64| {
+        move |v: &mut Value| *body(v).pointer_mut(&pointer).unwrap() = json!(value)
+    };
+    let cases: Vec<(&str, String, f64, String, String)> = vec![
+        // Wider than every plateau.
+        (
+            "wide_hi.json",
+            "/k0/x_max".into(),
+            100.0,
+            "k0.x_max".into(),
+            "is 100 °C, but the plateaus K0 was fitted through span".into(),
+        ),
+        (
+            "wide_lo.json",
+            "/k0/x_min".into(),
+            -80.0,
+            "k0.x_min".into(),
+            "is -80 °C, but the plateaus K0 was fitted through span".into(),
+        ),
+        // Narrower: the plateaus at -50 and 20 °C are below it.
+        (
+            "narrow.json",
+            "/k0/x_min".into(),
+            30.0,
+            "k0.x_min".into(),
+            "3 of them outside k0's range 30 …".into(),
+        ),
+        // One plateau moved out of the range, above or below.
+        (
+            "plateau500.json",
+            format!("/plateaus/{lo_j}/temp_c"),
+            500.0,
+            format!("plateaus[{lo_j}].temp_c"),
+            "is 500 °C, outside k0's range".into(),
+        ),
+        (
+            "plateau_below.json",
+            format!("/plateaus/{hi_j}/temp_c"),
+            -60.0,
+            format!("plateaus[{hi_j}].temp_c"),
+            "is -60 °C, outside k0's range".into(),
+        ),
+    ];
+    for (name, pointer, value, field, why) in cases {
+        refused(&edited(&cal, name, set(pointer, value)), &field, &why);
+    }
+}
+
+/// A knot curve's K0 has its end knots at the plateaus' lowest and highest set points (the
+/// mean of a set point's plateaus): that loads, and a range wider than the plateaus is
+/// refused; knots placed by hand stand where the engineer put them, beyond the plateaus too,
+/// and load.
+#[test]
+fn a_knot_k0_spans_its_plateaus_unless_its_knots_were_placed_by_hand() {
+    let dir = tempfile::tempdir().unwrap();
+    let pwl = |at: Option<Vec<f64>>| Recipe {
+        k0: models::approx::ApproxSpec {
+            knots: at.as_ref().map_or(3, Vec::len),
+            at,
+            ..models::approx::ApproxSpec::of(models::approx::ApproxKind::Pwl)
+        },
+        ..Recipe::default()
+    };
+    let (cal, c) = vakhrameev_file(dir.path(), "pwl.json", &pwl(None));
+    let temps: Vec<f64> = c.plateaus.iter().map(|p| p.temp_c).collect();
+    let (lo_j, hi_j) = lowest_and_highest(&temps);
+    // Widened past the highest plateau, knot and range alike.
+    let file = edited(&cal, "wide.json", |v| {
+        let k0 = &mut body(v)["k0"];
+        k0["x_max"] = json!(100.0);
+        let last = k0["curve"]["knots_x"].as_array().unwrap().len() - 1;
+        k0["curve"]["knots_x"][last] = json!(100.0);
+    });
+    refused(
+        &file,
+        "k0.x_max",
+        "is 100 °C, but the plateaus K0 was fitted through span",
+    );
+    // Knots placed by hand 10 °C beyond the plateaus on either side.
+    let at = vec![temps[lo_j] - 10.0, 0.0, temps[hi_j] + 10.0];
+    let (_, c) = vakhrameev_file(dir.path(), "placed.json", &pwl(Some(at.clone())));
+    assert_eq!((c.k0.x_min(), c.k0.x_max()), (at[0], at[2]));
 }

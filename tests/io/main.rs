@@ -9,6 +9,7 @@ mod atomic_writes;
 mod attack21_time_order;
 mod autosave_instances;
 mod axis_names;
+mod axis_units;
 mod chamber_channels;
 mod column_roles;
 mod crafted_rows;

@@ -8,6 +8,42 @@ use super::running::{
 use super::{Figures, MeritOptions, Unavailable};
 use crate::signal;
 
+/// The fewest filter windows that share no sample the filtered drift must hold for its
+/// peak-to-peak and std to be computed: two.
+///
+/// Consecutive filtered values average windows that overlap in all but one sample, so a
+/// stretch of `n` filtered values of a `w`-sample filter holds only `1 + (n - 1) / w` averages
+/// of samples apart. With one, every value shares most of its samples with every other: one
+/// value has no spread at all (printed 0.0000, and read as a correction that reproduced the
+/// record to its rounding), and a handful differ by the few samples their windows do not share
+/// (a 40000-s filter over 40022 s gave 23 values and a ratio of 1.00x). Two windows apart are
+/// the least that can differ by the drift itself, and a pair is what a peak-to-peak is; the
+/// stretch must then be at least twice the filter. A log of several stretches counts the
+/// windows apart in each.
+pub const MIN_DISJOINT_FILTER_WINDOWS: usize = 2;
+
+/// Why the peak-to-peak and std of a filtered drift cannot be computed, if they cannot: the
+/// filter of `window` samples over stretches that hold `lens` filtered values each. None holds
+/// one ([`Unavailable::ShorterThanFilter`]), or together they hold fewer than
+/// [`MIN_DISJOINT_FILTER_WINDOWS`] windows apart ([`Unavailable::FilterOverlapsItself`]).
+fn filtered_unavailable_of(
+    lens: impl IntoIterator<Item = usize>,
+    window: usize,
+) -> Option<Unavailable> {
+    let window = window.max(1);
+    let (values, apart) = lens
+        .into_iter()
+        .filter(|&n| n > 0)
+        .fold((0, 0), |(v, a), n| (v + n, a + 1 + (n - 1) / window));
+    if values == 0 {
+        Some(Unavailable::ShorterThanFilter)
+    } else if apart < MIN_DISJOINT_FILTER_WINDOWS {
+        Some(Unavailable::FilterOverlapsItself)
+    } else {
+        None
+    }
+}
+
 /// Moving-average values per segment of a parallel walk: each segment starts its running sum
 /// afresh (the first segment's values are those of one sequential walk).
 pub(super) const SEGMENT: usize = 1 << 15;
@@ -59,15 +95,14 @@ fn figures_of_parts(parts: &[&[f64]], dt_s: f64, opts: &MeritOptions) -> Figures
         .flat_map(|x| signal::moving_average_valid(x, window))
         .collect();
     let (mut p2p, mut std) = (0.0, 0.0);
-    let filtered_unavailable = if filtered.is_empty() {
-        Some(Unavailable::ShorterThanFilter)
-    } else {
+    let filtered_unavailable =
+        filtered_unavailable_of(parts.iter().map(|x| valid_len(x.len(), window)), window);
+    if filtered_unavailable.is_none() {
         let (lo, hi) = min_max(&filtered);
         let m = mean(&filtered);
         let var = filtered.iter().map(|v| (v - m).powi(2)).sum::<f64>() / filtered.len() as f64;
         (p2p, std) = (hi - lo, var.sqrt());
-        None
-    };
+    }
     let w = signal::seconds_to_samples(opts.window_s, dt_s).max(1);
     let (means, rms): (Vec<f64>, Vec<f64>) = parts
         .iter()
@@ -310,7 +345,7 @@ fn figures_kept(
         win_rms_max_dph: rms.iter().fold(0.0, |a: f64, &r| a.max(r)),
         windows: means.len(),
         samples: x.len(),
-        filtered_unavailable: (len == 0).then_some(Unavailable::ShorterThanFilter),
+        filtered_unavailable: filtered_unavailable_of([len], window),
         windows_unavailable: window_shorter_than_a_sample(opts, dt_s),
     }
     .mark_unavailable()

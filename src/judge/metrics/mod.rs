@@ -15,7 +15,7 @@ mod figures;
 mod running;
 
 pub use comparison::{Comparison, WorseThanRaw};
-pub use figures::{figures, figures_buffered, figures_over};
+pub use figures::{MIN_DISJOINT_FILTER_WINDOWS, figures, figures_buffered, figures_over};
 
 use serde::{Deserialize, Serialize};
 
@@ -76,6 +76,10 @@ pub enum Unavailable {
     NothingAfterWarmup,
     /// No segment is as long as the filter window.
     ShorterThanFilter,
+    /// The filter is longer than half of every judged stretch: its filtered values all
+    /// average overlapping windows ([`figures::MIN_DISJOINT_FILTER_WINDOWS`]), so their spread
+    /// is the filter's own overlap, not the drift's.
+    FilterOverlapsItself,
     /// No segment holds a whole window.
     NoWholeWindow,
     /// The window holds one sample at the log's sampling interval (shorter than it, or
@@ -93,6 +97,12 @@ impl Unavailable {
         match self {
             Unavailable::NothingAfterWarmup => "no sample left after the warm-up",
             Unavailable::ShorterThanFilter => "no stretch of the log is as long as the filter",
+            Unavailable::FilterOverlapsItself => {
+                "the filter is longer than half of the judged stretch (after the warm-up): no two \
+                 of its windows are apart, so the filtered drift is one average seen through \
+                 overlapping windows and has no spread to measure; shorten the filter or judge \
+                 a longer log"
+            }
             Unavailable::NoWholeWindow => "no stretch of the log holds a whole window",
             Unavailable::WindowShorterThanSample => {
                 "the window holds one sample at the sampling interval: each would be that \

@@ -62,8 +62,12 @@ fn reference(omega_dph: &[f64], dt_s: f64, skip: usize, opts: &MeritOptions) -> 
     if x.is_empty() {
         return Figures::default().mark_unavailable();
     }
-    let filtered = signal::moving_average_valid(x, signal::seconds_to_samples(opts.filter_s, dt_s));
-    let (p2p, std) = if filtered.is_empty() {
+    let filter = signal::seconds_to_samples(opts.filter_s, dt_s).max(1);
+    let filtered = signal::moving_average_valid(x, filter);
+    // The first filtered value averages samples 0 .. filter, the last n - 1 .. n - 1 + filter:
+    // they share none from n - 1 = filter on.
+    let apart = filtered.len() > filter;
+    let (p2p, std) = if !apart {
         (0.0, 0.0)
     } else {
         let (lo, hi) = min_max(&filtered);
@@ -103,9 +107,11 @@ fn reference(omega_dph: &[f64], dt_s: f64, skip: usize, opts: &MeritOptions) -> 
         win_rms_max_dph: rms.iter().fold(0.0, |a: f64, &r| a.max(r)),
         windows: means.len(),
         samples: x.len(),
-        filtered_unavailable: filtered
-            .is_empty()
-            .then_some(Unavailable::ShorterThanFilter),
+        filtered_unavailable: if filtered.is_empty() {
+            Some(Unavailable::ShorterThanFilter)
+        } else {
+            (!apart).then_some(Unavailable::FilterOverlapsItself)
+        },
         windows_unavailable: None,
     }
     .mark_unavailable()

@@ -494,14 +494,18 @@ pub(crate) fn plan(sn: &Sniffed, opts: &ReadOptions) -> Result<Plan, Fail> {
         Some(TimeUnit::Decis) => Conv::new(1.0, 10.0, 0.0),
         Some(u) => Conv::new(u.to_s_factor().unwrap_or(1.0), 1.0, 0.0),
     };
+    // The unit a rate column's name states, if it states one.
+    let stated_rate_of = |j: usize| -> Option<StatedRate> {
+        match header_unit(j) {
+            Some(Kind::Rate(Some(u))) => Some(u),
+            _ => named_rate(j),
+        }
+    };
     let rate_unit_of = |j: usize| -> Result<StatedRate, Fail> {
         if let Some(u) = opts.rate_unit {
             return Ok(u.into());
         }
-        if let Some(Kind::Rate(Some(u))) = header_unit(j) {
-            return Ok(u);
-        }
-        match named_rate(j) {
+        match stated_rate_of(j) {
             Some(u) => Ok(u),
             None => {
                 unread(j, Quantity::Rate)?;
@@ -540,6 +544,18 @@ pub(crate) fn plan(sn: &Sniffed, opts: &ReadOptions) -> Result<Plan, Fail> {
     } else {
         Vec::new()
     };
+    // Among the columns whose names read as rates: a column of another quantity mapped as the
+    // rate (`rate_col temp_c`) is told of by the plausibility checks, with that reason.
+    if opts.rate_unit.is_none() {
+        let stated: Vec<(usize, Option<StatedRate>)> = std::iter::once(rate_col)
+            .chain(axis_cols.iter().copied())
+            .filter(|&j| matches!(header_unit(j), Some(Kind::Rate(_))))
+            .map(|j| (j, stated_rate_of(j)))
+            .collect();
+        if let Some((j, message)) = unstated_beside_stated(&sn.names, &stated) {
+            return Err(Fail::new(sn.header_line, j + 1, message));
+        }
+    }
     let celsius = |u: TempUnit| match u.per_degree_celsius() {
         Some(per) => Conv::new(1.0, per, 0.0),
         None => {
@@ -710,4 +726,59 @@ fn of_a_corrected_log(names: &[String], j: usize) -> bool {
             names.iter().any(|n| n.eq_ignore_ascii_case(&raw))
         })
     })
+}
+
+/// A rate axis whose name states no unit beside axes whose names state one (`gx_dps, gy_dps,
+/// gz`): the first such column and why it is refused, or `None` when every axis states its
+/// unit, none does, or those that do state deg/h.
+///
+/// The axes of one unit are one gyro's, written by one logger in one unit. A name without a
+/// unit among names with one is a slip of the header far more often than a gyro whose axes
+/// are logged in different units, and reading it in the default (deg/h) beside siblings in
+/// deg/s puts it 3600 times off with no other sign: nothing in its values is implausible for
+/// deg/h. So the read stops and asks, rather than guessing either way. `rate_unit` given
+/// settles every axis and skips this; a log whose axes all state no unit keeps the documented
+/// default, and siblings that all state deg/h read as the default does.
+fn unstated_beside_stated(
+    names: &[String],
+    axes: &[(usize, Option<StatedRate>)],
+) -> Option<(usize, String)> {
+    let stated: Vec<(usize, StatedRate)> = axes
+        .iter()
+        .filter_map(|&(j, u)| u.map(|u| (j, u)))
+        .collect();
+    let &(unstated, _) = axes.iter().find(|(_, u)| u.is_none())?;
+    let &(_, first) = stated.first()?;
+    // Siblings that all state the default read alike either way.
+    let default = StatedRate::from(RateUnit::DegPerHour);
+    if stated.iter().all(|&(_, u)| u == default) {
+        return None;
+    }
+    let siblings = stated
+        .iter()
+        .map(|&(j, u)| format!("\"{}\" in {u}", names[j]))
+        .collect::<Vec<_>>()
+        .join(", ");
+    let one_unit = stated.iter().all(|&(_, u)| u == first);
+    let advice = match first.option() {
+        Some(u) if one_unit => format!(
+            "if every axis is in {u}, give rate_unit {u}; otherwise rename the column with \
+             its unit (as \"{}\" does)",
+            names[stated[0].0]
+        ),
+        _ => format!(
+            "rename the column with its unit (as \"{}\" does), or give one unit for every \
+             axis with rate_unit",
+            names[stated[0].0]
+        ),
+    };
+    Some((
+        unstated,
+        format!(
+            "the rate column \"{}\" states no unit, and the other axes of the gyro state \
+             theirs ({siblings}): read in the default deg/h, it would be off by the factor \
+             between the units (3600 for deg/s); {advice}",
+            names[unstated]
+        ),
+    ))
 }

@@ -23,6 +23,7 @@ pub mod correct;
 pub use predictor::{Predictor, Spots};
 mod fit;
 mod k0_plateaus;
+mod k0_range;
 pub mod knots;
 mod predictor;
 mod reach;
@@ -508,6 +509,7 @@ impl Calibration {
             reach::check_extrapolation(k, name, a)?;
         }
         reach::check_k0_temperatures(&self.k0)?;
+        k0_range::check_k0_range(&self.k0, &self.recipe.k0, &self.plateaus)?;
         self.check_plateau_facts()?;
         self.check_fit_facts()
     }
