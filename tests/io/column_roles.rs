@@ -94,6 +94,40 @@ fn a_rate_of_change_of_temperature_is_never_the_temperature() {
     }
 }
 
+/// A temperature named a command, reference, demand, statistic or model's value, written
+/// before the gyro's own: the gyro's is the temperature, the other a channel; alone, it is
+/// still read as the temperature.
+#[test]
+fn a_commanded_or_statistical_temperature_gives_way_to_the_gyros() {
+    for other in [
+        "temp_cmd_c",
+        "temp_command_c",
+        "temp_commanded_c",
+        "temp_demand_c",
+        "temp_desired_c",
+        "temp_ref_c",
+        "temp_reference_c",
+        "temp_control_c",
+        "temp_std_c",
+        "temp_max_c",
+        "temp_mean_c",
+        "temp_model_c",
+        "temp_pred_c",
+        "temp_sim_c",
+        "temp_nominal_c",
+    ] {
+        let names = ["omega_dph", other, "temp_c"];
+        let log = read(&names);
+        close(&log.temp_c, &written(2));
+        assert_eq!(role_of(&log, "temp_c"), ColumnRole::Temperature, "{other}");
+        assert_eq!(role_of(&log, other), ColumnRole::Extra, "{other}");
+        close(&log.channel(other).expect("kept").values, &written(1));
+        let alone = read(&["omega_dph", other]);
+        assert_eq!(role_of(&alone, other), ColumnRole::Temperature, "{other}");
+        close(&alone.temp_c, &written(1));
+    }
+}
+
 #[test]
 fn a_rate_of_change_of_temperature_mapped_as_the_temperature_is_refused() {
     for rate in ["temp_rate_c_min", "temp_k_min", "ramp_rate_c_min"] {

@@ -379,7 +379,10 @@ impl InstanceSummary {
         }
         s.push_str(&format!("  {} samples", self.samples));
         match self.rate_hz {
-            Some(r) => s.push_str(&format!(" at {r:.3} Hz")),
+            // Three decimals read every logger's rate; a slower one (three samples of a
+            // device over hours) in significant digits, never "0.000".
+            Some(r) if r >= 0.01 => s.push_str(&format!(" at {r:.3} Hz")),
+            Some(r) => s.push_str(&format!(" at {} Hz", crate::number::significant(r, 3))),
             // Stamps that mostly go back have no rate to read (the readers refuse the gyro).
             None if self.steps_back > 0 => s.push_str(&format!(
                 " at n/a Hz (not in time order: {} of its {} steps go back)",
@@ -600,6 +603,13 @@ mod tests {
             alt_temps: Vec::new(),
         };
         assert!(s((1.0, 4000.0)).line().contains("over 3999.000 s"));
+        assert!(s((1.0, 4000.0)).line().contains("at 1.000 Hz"));
+        // Three samples over hours: a rate, not 0.000.
+        let slow = InstanceSummary {
+            rate_hz: Some(1.5e-4),
+            ..s((1.0, 20000.0))
+        };
+        assert!(slow.line().contains("at 0.00015 Hz"), "{}", slow.line());
         // A 64-bit TimeUS that wrapped: its last stamp is before its first.
         let wrapped = s((1.844_674_407_370_955e13, 4000.0)).line();
         assert!(

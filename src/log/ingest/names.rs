@@ -128,6 +128,41 @@ const CHAMBER_WORDS: &[&str] = &[
     "environment",
     "target",
 ];
+/// Words that make a temperature-named column other than the gyro's temperature as measured:
+/// a command, reference or demand of the chamber's controller (`temp_cmd_c`, `temp_ref_c`,
+/// `temp_demand_c`), or a statistic or a model's value (`temp_mean_c`, `temp_std_c`,
+/// `temp_model_c`, `temp_sim_c`). Like the chamber's ([`CHAMBER_WORDS`]), never the
+/// calibration temperature while the gyro's own is there: calibrated against the chamber's
+/// command, the correction of the sample unit fell from 4.66× to 1.23×. Alone, such a column
+/// is still read (a logger may write only its burst means, `temp_mean_c`).
+const NOT_THE_GYROS_TEMP: &[&str] = &[
+    "ref",
+    "reference",
+    "cmd",
+    "command",
+    "commanded",
+    "demand",
+    "desired",
+    "control",
+    "std",
+    "stdev",
+    "stddev",
+    "sigma",
+    "var",
+    "variance",
+    "mean",
+    "avg",
+    "average",
+    "max",
+    "min",
+    "median",
+    "model",
+    "pred",
+    "predicted",
+    "sim",
+    "simulated",
+    "nominal",
+];
 /// Words that mark a raw sensor register rather than a physical value (`temp_raw_int16`):
 /// such a column is taken for a role only when nothing else fits, and is checked.
 const RAW_WORDS: &[&str] = &[
@@ -425,7 +460,10 @@ pub(super) fn classify(name: &str) -> (Kind, u8) {
     };
     let temp_unit = || temp_unit_by(TempUnit::from_column_key);
     let raw = p.words.iter().any(|w| RAW_WORDS.contains(&w.as_str()));
-    let chamber = p.words.iter().any(|w| CHAMBER_WORDS.contains(&w.as_str()));
+    let chamber = p
+        .words
+        .iter()
+        .any(|w| CHAMBER_WORDS.contains(&w.as_str()) || NOT_THE_GYROS_TEMP.contains(&w.as_str()));
     let time_unit = || time_of(&p, 1);
     let rate_unit = || {
         rate_of(&p, 1).or_else(|| {
@@ -465,7 +503,7 @@ pub(super) fn classify(name: &str) -> (Kind, u8) {
     }
     if p.words.iter().any(|w| in_list(w, TEMP_WORDS)) {
         // A raw register (`temp_raw_int16`) is a temperature only when nothing better is; the
-        // chamber's only when the gyro's is not there.
+        // chamber's, a command or a statistic only when the gyro's is not there.
         let strength = if raw {
             1
         } else if chamber {
