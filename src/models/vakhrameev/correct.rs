@@ -129,6 +129,21 @@ pub struct CorrectedRate {
 }
 
 impl Correction {
+    /// Its columns made `n` samples long, kept as they are when they already are (a
+    /// correction made into them writes every sample).
+    fn sized(&mut self, n: usize) {
+        for v in [&mut self.pred_dph, &mut self.cor_dph] {
+            if v.len() != n {
+                v.clear();
+                v.resize(n, 0.0);
+            }
+        }
+        if self.regime.len() != n {
+            self.regime.clear();
+            self.regime.resize(n, Regime::Static);
+        }
+    }
+
     /// Recomputes `outside_fraction` from the per-regime counts.
     pub fn update_outside_fraction(&mut self) {
         let n = self.pred_dph.len();
@@ -213,16 +228,7 @@ impl Calibration {
     /// equals [`Calibration::correct_with`]'s sample for sample.
     pub fn correct_into(&self, log: &Log, deriv: &Derivatives, out: &mut Correction) {
         let n = log.len().min(deriv.tdot.len()).min(deriv.tddot.len());
-        for v in [&mut out.pred_dph, &mut out.cor_dph] {
-            if v.len() != n {
-                v.clear();
-                v.resize(n, 0.0);
-            }
-        }
-        if out.regime.len() != n {
-            out.regime.clear();
-            out.regime.resize(n, Regime::Static);
-        }
+        out.sized(n);
         const CHUNK: usize = 1 << 15;
         let omega = &log.omega_dph[..n];
         let predictor = self.predictor();
@@ -278,16 +284,7 @@ impl Calibration {
         }
         const CHUNK: usize = 1 << 15;
         for out in outs.iter_mut() {
-            for v in [&mut out.pred_dph, &mut out.cor_dph] {
-                if v.len() != n {
-                    v.clear();
-                    v.resize(n, 0.0);
-                }
-            }
-            if out.regime.len() != n {
-                out.regime.clear();
-                out.regime.resize(n, Regime::Static);
-            }
+            out.sized(n);
         }
         // Each chunk of the log with every axis's slices of it.
         type Slices<'s> = (&'s mut [f64], &'s mut [f64], &'s mut [Regime]);
