@@ -147,17 +147,8 @@ pub fn kept_samples(sel: &Selected<'_>) -> Result<KeptSamples, ReadError> {
         });
     }
     for t in order.told("sample", |i| format!("sample {}", i + 1), "stamp") {
-        problems.push(Problem {
-            line: t.first + 1,
-            column: None,
-            kind: if t.repeated {
-                ProblemKind::TimeRepeated
-            } else {
-                ProblemKind::TimeBackwards
-            },
-            count: t.count,
-            message: t.message,
-        });
+        let line = t.first + 1;
+        problems.push(Problem::of_time_order(t, line, None));
     }
     let mut rows: Vec<usize> = (0..n).filter(|&i| keep[i]).collect();
     if rows.is_empty() {

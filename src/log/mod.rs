@@ -16,6 +16,7 @@ pub mod run_sketch;
 pub(crate) mod temp_glitch;
 pub(crate) mod temp_rate;
 
+use crate::signal::time_order::Told;
 use serde::{Deserialize, Serialize};
 
 /// One recorded test run of a motionless gyro.
@@ -315,6 +316,22 @@ pub struct Problem {
 }
 
 impl Problem {
+    /// The problem both readers report for what time order dropped ([`Told`]), at `line`
+    /// (the file's line or the sample's number) and `column`.
+    pub fn of_time_order(t: Told, line: usize, column: Option<usize>) -> Problem {
+        Problem {
+            line,
+            column,
+            kind: if t.repeated {
+                ProblemKind::TimeRepeated
+            } else {
+                ProblemKind::TimeBackwards
+            },
+            count: t.count,
+            message: t.message,
+        }
+    }
+
     /// How often, for a line that tells it: " (3 times)" when it occurred more than once and
     /// its message does not already begin with the count ("3 rows dropped: …"), else nothing.
     pub fn times(&self) -> String {

@@ -188,17 +188,8 @@ pub(super) fn finish(mut acc: Acc, sn: &Sniffed, plan: &Plan, source: &str) -> R
             ));
         }
         for t in order.told("row", |i| format!("line {}", acc.line_of(i)), "value") {
-            problems.push(Problem {
-                line: acc.line_of(t.first),
-                column: time_col,
-                kind: if t.repeated {
-                    ProblemKind::TimeRepeated
-                } else {
-                    ProblemKind::TimeBackwards
-                },
-                count: t.count,
-                message: t.message,
-            });
+            let line = acc.line_of(t.first);
+            problems.push(Problem::of_time_order(t, line, time_col));
         }
         drop.extend(order.dropped);
         drop.sort_unstable();
