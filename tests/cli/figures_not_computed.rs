@@ -192,3 +192,57 @@ fn a_filter_over_half_the_judged_stretch_gives_no_spread() {
         "{text}"
     );
 }
+
+/// A judged stretch of one whole window has a largest |window mean| but no spread of the
+/// window means: evaluate, its JSON and the report gave 0.0000, a perfectly flat drift (the
+/// twenty-second attack). It reads n/a with its reason; over two windows it is a figure again.
+#[test]
+fn the_window_means_of_one_window_have_no_peak_to_peak() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let cal = p(d, "cal.json");
+    ok(&["calibrate", &sample("calibration.csv"), "-o", &cal]);
+    let short = short_log(d, 900);
+    let judged = |window: &str| -> serde_json::Value {
+        serde_json::from_str(&ok(&[
+            "evaluate", &cal, &short, "--window", window, "--json",
+        ]))
+        .unwrap()
+    };
+    // The samples judged after the warm-up (1 Hz), and a window that fits once, then twice.
+    let samples = judged("60")["evaluation"]["comparison"]["raw"]["samples"]
+        .as_u64()
+        .unwrap();
+    assert!(samples > 300, "{samples}");
+    let once = (samples * 3 / 4).to_string();
+    let twice = (samples * 9 / 20).to_string();
+    let c = judged(&once)["evaluation"]["comparison"].clone();
+    for side in ["raw", "corrected"] {
+        assert_eq!(c[side]["windows"], 1, "{c}");
+        assert!(c[side]["win_mean_p2p_dph"].is_null(), "{c}");
+        assert_eq!(c[side]["win_mean_p2p_unavailable"], "one_window", "{c}");
+        assert!(
+            c[side]["win_mean_max_abs_dph"].as_f64().unwrap() > 0.0,
+            "{c}"
+        );
+    }
+    let text = ok(&["evaluate", &cal, &short, "--window", &once]);
+    assert!(
+        text.contains("peak-to-peak of the window means n/a: the log holds one whole window"),
+        "{text}"
+    );
+    let c = judged(&twice)["evaluation"]["comparison"].clone();
+    for side in ["raw", "corrected"] {
+        assert_eq!(c[side]["windows"], 2, "{c}");
+        assert!(c[side]["win_mean_p2p_dph"].as_f64().unwrap() > 0.0, "{c}");
+        assert!(c[side].get("win_mean_p2p_unavailable").is_none(), "{c}");
+    }
+    let out = p(d, "report");
+    ok(&["report", &cal, &short, "--out", &out, "--window", &once]);
+    let html = std::fs::read_to_string(format!("{out}/report.html")).unwrap();
+    let row = html
+        .split("<tr>")
+        .find(|r| r.contains("peak-to-peak of") && r.contains("means"))
+        .unwrap_or_else(|| panic!("no row of the window means' peak-to-peak"));
+    assert!(row.contains("n/a") && !row.contains("0.0000"), "{row}");
+}

@@ -194,7 +194,9 @@ fn c_header_corrects_as_driftlab_for_mixed_kinds_and_extrapolation() {
 fn c_header_follows_hand_edited_curves() {
     // A calibration file edited by hand: K1+ knots no longer equally spaced (the C searches
     // for the segment) and K0's coefficients changed (a degree above its kind's is refused on
-    // load: the header would name a parabola and compute another curve).
+    // load: the header would name a parabola and compute another curve), with the statistics
+    // of the edited K0 on its plateaus made here (a curve off the rmse the file states is
+    // refused on load).
     let (cal_log, val_log) = (read("calibration.csv"), read("validation.csv"));
     use ApproxKind::{Parabolic, Spline};
     let cal = calibrate(&cal_log, [Parabolic, Spline, Spline], false);
@@ -206,6 +208,25 @@ fn c_header_follows_hand_edited_curves() {
     let coeffs = body["k0"]["curve"]["coeffs"].as_array_mut().unwrap();
     let c2 = coeffs[2].as_f64().unwrap();
     coeffs[2] = serde_json::json!(c2 * 1.5 + 1e-6);
+    let c: Vec<f64> = coeffs.iter().map(|c| c.as_f64().unwrap()).collect();
+    let points: Vec<(f64, f64)> = body["plateaus"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|p| {
+            (
+                p["temp_c"].as_f64().unwrap(),
+                p["omega_dph"].as_f64().unwrap(),
+            )
+        })
+        .collect();
+    let n = points.len() as f64;
+    let mean = points.iter().map(|p| p.1).sum::<f64>() / n;
+    let miss = |(t, w): &(f64, f64)| w - (c[0] + c[1] * t + c[2] * t * t);
+    let ss_res: f64 = points.iter().map(|p| miss(p).powi(2)).sum();
+    let ss_tot: f64 = points.iter().map(|p| (p.1 - mean).powi(2)).sum();
+    body["k0"]["stats"]["rmse"] = serde_json::json!((ss_res / n).sqrt());
+    body["k0"]["stats"]["r2"] = serde_json::json!(1.0 - ss_res / ss_tot);
     let edited = calibration::from_json(Path::new("edited.json"), &v.to_string()).unwrap();
     assert_eq!(edited.k1_plus.segment_cubics().unwrap().inv_step, 0.0);
     c_agrees_with_driftlab("hand-edited", &edited, &[&val_log, &cal_log]);

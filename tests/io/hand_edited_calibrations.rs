@@ -28,19 +28,19 @@ fn read(name: &str) -> Log {
 }
 
 /// `model` written by the code's own writer into `dir`, after checking that it loads.
-fn saved(dir: &Path, name: &str, model: &DriftModel) -> PathBuf {
+pub(crate) fn saved(dir: &Path, name: &str, model: &DriftModel) -> PathBuf {
     let path = dir.join(name);
     calibration::save_model(&path, model).expect("a fitted model is written");
     calibration::load_unit(&path).expect("the file as written loads");
     path
 }
 
-fn fitted(log: &Log, choice: ModelChoice, recipe: &Recipe) -> DriftModel {
+pub(crate) fn fitted(log: &Log, choice: ModelChoice, recipe: &Recipe) -> DriftModel {
     models::fit(log, &choice, &recipe.clone().checked().unwrap()).expect("fit")
 }
 
 /// A copy of the calibration file `from` as `name`, with `edit` applied to its JSON.
-fn edited(from: &Path, name: &str, edit: impl FnOnce(&mut Value)) -> PathBuf {
+pub(crate) fn edited(from: &Path, name: &str, edit: impl FnOnce(&mut Value)) -> PathBuf {
     let mut v: Value = serde_json::from_str(&std::fs::read_to_string(from).unwrap()).unwrap();
     edit(&mut v);
     let path = from.with_file_name(name);
@@ -50,7 +50,7 @@ fn edited(from: &Path, name: &str, edit: impl FnOnce(&mut Value)) -> PathBuf {
 
 /// Loading `path` fails with a message that starts with the file and the field, and says
 /// `why`.
-fn refused(path: &Path, field: &str, why: &str) {
+pub(crate) fn refused(path: &Path, field: &str, why: &str) {
     let e = calibration::load_unit(path)
         .err()
         .unwrap_or_else(|| panic!("{}: loaded, and {field} should be refused", path.display()))
@@ -63,13 +63,17 @@ fn refused(path: &Path, field: &str, why: &str) {
 }
 
 /// The calibration body of a version-1 file.
-fn body(v: &mut Value) -> &mut Value {
+pub(crate) fn body(v: &mut Value) -> &mut Value {
     &mut v["calibration"]
 }
 
 /// Vakhrameev's calibration of `calibration.csv` under `recipe`, fitted and written by the
 /// code into `dir` as `name` (the file as written loads): the file and what was fitted.
-fn vakhrameev_file(dir: &Path, name: &str, recipe: &Recipe) -> (PathBuf, VakhrameevCalibration) {
+pub(crate) fn vakhrameev_file(
+    dir: &Path,
+    name: &str,
+    recipe: &Recipe,
+) -> (PathBuf, VakhrameevCalibration) {
     let model = fitted(
         &read("calibration.csv"),
         ModelChoice::Preset(Preset::Vakhrameev),
@@ -701,12 +705,39 @@ fn a_kind_its_curve_or_recipe_contradicts_is_refused() {
     for (name, edit, field, why) in cases {
         refused(&edited(&cal, name, edit), field, why);
     }
-    // A fallback's line under a recipe of a parabola is what a fit makes, and loads.
+    // A fallback's line under a recipe of a parabola is what a fit makes, and loads: the
+    // least-squares line through the plateaus, with its statistics, made here.
     let line = edited(&cal, "line.json", |v| {
+        let points: Vec<(f64, f64)> = body(v)["plateaus"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|p| {
+                (
+                    p["temp_c"].as_f64().unwrap(),
+                    p["omega_dph"].as_f64().unwrap(),
+                )
+            })
+            .collect();
+        let n = points.len() as f64;
+        let (mx, my) = (
+            points.iter().map(|p| p.0).sum::<f64>() / n,
+            points.iter().map(|p| p.1).sum::<f64>() / n,
+        );
+        let sxy: f64 = points.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
+        let sxx: f64 = points.iter().map(|p| (p.0 - mx) * (p.0 - mx)).sum();
+        let slope = sxy / sxx;
+        let c0 = my - slope * mx;
+        let ss_res: f64 = points
+            .iter()
+            .map(|p| (p.1 - c0 - slope * p.0).powi(2))
+            .sum();
+        let ss_tot: f64 = points.iter().map(|p| (p.1 - my).powi(2)).sum();
         let k0 = &mut body(v)["k0"];
         k0["kind"] = json!("linear");
-        let coeffs = k0["curve"]["coeffs"].as_array().unwrap()[..2].to_vec();
-        k0["curve"]["coeffs"] = json!(coeffs);
+        k0["curve"]["coeffs"] = json!([c0, slope]);
+        k0["stats"]["rmse"] = json!((ss_res / n).sqrt());
+        k0["stats"]["r2"] = json!(1.0 - ss_res / ss_tot);
     });
     calibration::load_unit(&line).expect("a line under a parabola's recipe loads");
 }
@@ -828,115 +859,4 @@ fn a_hand_edited_source_instance_is_checked_and_named() {
             }
         }
     }
-}
-
-/// The indices of the lowest and the highest of `temps`.
-fn lowest_and_highest(temps: &[f64]) -> (usize, usize) {
-    let by = |a: &usize, b: &usize| temps[*a].total_cmp(&temps[*b]);
-    let lo = (0..temps.len()).min_by(by).unwrap();
-    let hi = (0..temps.len()).max_by(by).unwrap();
-    (lo, hi)
-}
-
-/// K0 is fitted through the plateaus, so a fitted parabola spans exactly the lowest and the
-/// highest plateau temperature. A hand-edited `k0.x_min`/`x_max` wider than the plateaus
-/// claimed (and exported) K0 where nothing was measured; narrower, or a plateau's `temp_c`
-/// moved outside it, contradicted the points it was fitted through (the twenty-first attack).
-/// Each is refused naming the field and both values; the file as written loads.
-#[test]
-fn k0s_range_is_the_span_of_the_plateaus_it_was_fitted_through() {
-    let dir = tempfile::tempdir().unwrap();
-    let (cal, c) = vakhrameev_file(dir.path(), "cal.json", &Recipe::default());
-    let temps: Vec<f64> = c.plateaus.iter().map(|p| p.temp_c).collect();
-    let (lo_j, hi_j) = lowest_and_highest(&temps);
-    // The sample log's set points: -50, 20 and 60 °C, two plateaus at 20.
-    assert!(
-        temps[lo_j] < -45.0
-            && temps[hi_j] > 55.0
-            && temps.iter().filter(|t| t.abs() < 45.0).count() >= 2,
-        "{temps:?}"
-    );
-    assert_eq!((c.k0.x_min(), c.k0.x_max()), (temps[lo_j], temps[hi_j]));
-    let set = |pointer: String, value: f64| {
-        move |v: &mut Value| *body(v).pointer_mut(&pointer).unwrap() = json!(value)
-    };
-    let cases: Vec<(&str, String, f64, String, String)> = vec![
-        // Wider than every plateau.
-        (
-            "wide_hi.json",
-            "/k0/x_max".into(),
-            100.0,
-            "k0.x_max".into(),
-            "is 100 °C, but the plateaus K0 was fitted through span".into(),
-        ),
-        (
-            "wide_lo.json",
-            "/k0/x_min".into(),
-            -80.0,
-            "k0.x_min".into(),
-            "is -80 °C, but the plateaus K0 was fitted through span".into(),
-        ),
-        // Narrower: the plateaus at -50 and 20 °C are below it.
-        (
-            "narrow.json",
-            "/k0/x_min".into(),
-            30.0,
-            "k0.x_min".into(),
-            "3 of them outside k0's range 30 …".into(),
-        ),
-        // One plateau moved out of the range, above or below.
-        (
-            "plateau500.json",
-            format!("/plateaus/{lo_j}/temp_c"),
-            500.0,
-            format!("plateaus[{lo_j}].temp_c"),
-            "is 500 °C, outside k0's range".into(),
-        ),
-        (
-            "plateau_below.json",
-            format!("/plateaus/{hi_j}/temp_c"),
-            -60.0,
-            format!("plateaus[{hi_j}].temp_c"),
-            "is -60 °C, outside k0's range".into(),
-        ),
-    ];
-    for (name, pointer, value, field, why) in cases {
-        refused(&edited(&cal, name, set(pointer, value)), &field, &why);
-    }
-}
-
-/// A knot curve's K0 has its end knots at the plateaus' lowest and highest set points (the
-/// mean of a set point's plateaus): that loads, and a range wider than the plateaus is
-/// refused; knots placed by hand stand where the engineer put them, beyond the plateaus too,
-/// and load.
-#[test]
-fn a_knot_k0_spans_its_plateaus_unless_its_knots_were_placed_by_hand() {
-    let dir = tempfile::tempdir().unwrap();
-    let pwl = |at: Option<Vec<f64>>| Recipe {
-        k0: models::approx::ApproxSpec {
-            knots: at.as_ref().map_or(3, Vec::len),
-            at,
-            ..models::approx::ApproxSpec::of(models::approx::ApproxKind::Pwl)
-        },
-        ..Recipe::default()
-    };
-    let (cal, c) = vakhrameev_file(dir.path(), "pwl.json", &pwl(None));
-    let temps: Vec<f64> = c.plateaus.iter().map(|p| p.temp_c).collect();
-    let (lo_j, hi_j) = lowest_and_highest(&temps);
-    // Widened past the highest plateau, knot and range alike.
-    let file = edited(&cal, "wide.json", |v| {
-        let k0 = &mut body(v)["k0"];
-        k0["x_max"] = json!(100.0);
-        let last = k0["curve"]["knots_x"].as_array().unwrap().len() - 1;
-        k0["curve"]["knots_x"][last] = json!(100.0);
-    });
-    refused(
-        &file,
-        "k0.x_max",
-        "is 100 °C, but the plateaus K0 was fitted through span",
-    );
-    // Knots placed by hand 10 °C beyond the plateaus on either side.
-    let at = vec![temps[lo_j] - 10.0, 0.0, temps[hi_j] + 10.0];
-    let (_, c) = vakhrameev_file(dir.path(), "placed.json", &pwl(Some(at.clone())));
-    assert_eq!((c.k0.x_min(), c.k0.x_max()), (at[0], at[2]));
 }

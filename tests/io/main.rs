@@ -17,6 +17,7 @@ mod device_changes;
 mod drone_logs;
 mod formats;
 mod hand_edited_calibrations;
+mod hand_edited_k0;
 mod header_units;
 mod ingest_dialects;
 mod ingest_errors;

@@ -148,6 +148,12 @@ impl Comparison {
                     .windows_unavailable
                     .or(self.corrected.windows_unavailable),
             ),
+            (
+                "peak-to-peak of the window means",
+                self.raw
+                    .win_mean_p2p_unavailable
+                    .or(self.corrected.win_mean_p2p_unavailable),
+            ),
             ("ratios", self.ratios_unavailable),
         ]
         .into_iter()

@@ -132,6 +132,7 @@ fn figures_of_parts(parts: &[&[f64]], dt_s: f64, opts: &MeritOptions) -> Figures
         samples,
         filtered_unavailable,
         windows_unavailable: window_shorter_than_a_sample(opts, dt_s),
+        win_mean_p2p_unavailable: None,
     }
     .mark_unavailable()
 }
@@ -347,6 +348,7 @@ fn figures_kept(
         samples: x.len(),
         filtered_unavailable: filtered_unavailable_of([len], window),
         windows_unavailable: window_shorter_than_a_sample(opts, dt_s),
+        win_mean_p2p_unavailable: None,
     }
     .mark_unavailable()
 }

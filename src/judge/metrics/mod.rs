@@ -65,6 +65,10 @@ pub struct Figures {
     /// Why the window figures could not be computed (they are then NaN, `null` in JSON).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub windows_unavailable: Option<Unavailable>,
+    /// Why the peak-to-peak of the window means alone could not be computed, when the other
+    /// window figures could ([`Unavailable::OneWindow`]; it is then NaN, `null` in JSON).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub win_mean_p2p_unavailable: Option<Unavailable>,
 }
 
 /// Why a figure of merit could not be computed. A figure that cannot be computed is NaN
@@ -86,6 +90,9 @@ pub enum Unavailable {
     /// under one and a half): each would be that sample. (Named as it was when only a window
     /// shorter than a sample counted, which the JSON keeps: `window_shorter_than_sample`.)
     WindowShorterThanSample,
+    /// One whole window: its mean has no other to stand apart from, so the peak-to-peak of
+    /// the window means is not a spread (it would read 0, a perfectly flat drift).
+    OneWindow,
     /// A ratio over a corrected figure of zero, or of the rounding of the raw one
     /// (`RATIO_FLOOR`, a billionth).
     CorrectedAtRounding,
@@ -107,6 +114,10 @@ impl Unavailable {
             Unavailable::WindowShorterThanSample => {
                 "the window holds one sample at the sampling interval: each would be that \
                  sample, labelled with a length it does not have"
+            }
+            Unavailable::OneWindow => {
+                "the log holds one whole window: a peak-to-peak of the window means needs two; \
+                 shorten the window or judge a longer log"
             }
             Unavailable::CorrectedAtRounding => {
                 "the corrected figure is zero, or below a billionth of the raw one: what is left \
@@ -138,6 +149,10 @@ impl Figures {
         if self.windows == 0 {
             self.windows_unavailable
                 .get_or_insert(Unavailable::NoWholeWindow);
+        }
+        if self.windows == 1 && self.windows_unavailable.is_none() {
+            self.win_mean_p2p_dph = f64::NAN;
+            self.win_mean_p2p_unavailable = Some(Unavailable::OneWindow);
         }
         if self.windows_unavailable.is_some() {
             self.windows = 0;

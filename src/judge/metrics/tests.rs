@@ -113,6 +113,7 @@ fn reference(omega_dph: &[f64], dt_s: f64, skip: usize, opts: &MeritOptions) -> 
             (!apart).then_some(Unavailable::FilterOverlapsItself)
         },
         windows_unavailable: None,
+        win_mean_p2p_unavailable: None,
     }
     .mark_unavailable()
 }

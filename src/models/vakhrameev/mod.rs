@@ -22,6 +22,7 @@
 pub mod correct;
 pub use predictor::{Predictor, Spots};
 mod fit;
+mod k0_claim;
 mod k0_plateaus;
 mod k0_range;
 pub mod knots;
@@ -511,7 +512,9 @@ impl Calibration {
         reach::check_k0_temperatures(&self.k0)?;
         k0_range::check_k0_range(&self.k0, &self.recipe.k0, &self.plateaus)?;
         self.check_plateau_facts()?;
-        self.check_fit_facts()
+        self.check_fit_facts()?;
+        // After the statistics' own facts: an R² above 1 is refused for what it is.
+        k0_claim::check_k0_claim(&self.k0, &self.plateaus)
     }
 
     /// What each plateau's statistics are by how they are made

@@ -214,6 +214,8 @@ fn constant(spec: &ApproxSpec, xs: &[f64], ys: &[f64]) -> Approx {
         rmse: 0.0,
         r2: 0.0,
     };
+    // Its statistics are those of the mean on its points, as any fit's are: the residuals'
+    // rms is their spread (not 0, which a file would state as a curve through every point).
     Approx::new(
         spec.kind,
         approx::Curve::Polynomial { coeffs: vec![mean] },
@@ -222,6 +224,10 @@ fn constant(spec: &ApproxSpec, xs: &[f64], ys: &[f64]) -> Approx {
         false,
         stats,
     )
+    .map(|a| {
+        let stats = approx::stats_on(&a, &xs, &ys, None);
+        a.with_stats(stats)
+    })
     .unwrap_or_else(|_| Approx::zero(spec.kind))
 }
 
