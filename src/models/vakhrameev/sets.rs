@@ -171,6 +171,20 @@ pub(super) fn into_rest(omega_filtered_dph: &mut [f64], temp_c: &[f64], k0: &App
         });
 }
 
+/// [`into_rest`] written into `out` from `omega_filtered_dph`: the same bits, without a copy
+/// of the column first.
+pub(super) fn rest_into(out: &mut [f64], omega_filtered_dph: &[f64], temp_c: &[f64], k0: &Approx) {
+    out.par_chunks_mut(1 << 15)
+        .zip(omega_filtered_dph.par_chunks(1 << 15))
+        .zip(temp_c.par_chunks(1 << 15))
+        .for_each(|((o, w), t)| {
+            let k0 = k0.evaluator();
+            for ((o, &w), &t) in o.iter_mut().zip(w).zip(t) {
+                *o = w - k0.eval(t);
+            }
+        });
+}
+
 /// The pointwise K1 of a set as fit points: `(Ṫ, (Ω_f − K0(T) − K2(T̈)·T̈) / Ṫ)`.
 struct K1Source<'a> {
     idx: &'a [u32],

@@ -14,7 +14,8 @@
 use super::knots::{Coefficient, check_hand_kept, with_knots};
 use super::set_moments::SetTMoments;
 use super::sets::{
-    fit_k1_gathered, fit_k2_gathered, fit_set_from, into_rest, k2_points_of, stats_on_points,
+    fit_k1_gathered, fit_k2_gathered, fit_set_from, into_rest, k2_points_of, rest_into,
+    stats_on_points,
 };
 use super::stages::fit_k0;
 use super::{
@@ -428,9 +429,26 @@ impl<S: Clone + PartialEq + Send + Sync> StageMemory<S> {
         {
             return rest.clone();
         }
-        let mut rest = omega_filtered_dph.into_owned();
-        into_rest(&mut rest, temp_c, k0);
-        let rest = Arc::new(rest);
+        // The last column's buffer when nothing else holds it: written over in one pass,
+        // without a fresh allocation's zeroed pages (8 MB at a million samples).
+        let reused = self
+            .rest
+            .take()
+            .and_then(|(_, _, mut r)| Arc::get_mut(&mut r).is_some().then_some(r))
+            .filter(|r| r.len() == omega_filtered_dph.len() && r.len() == temp_c.len());
+        let rest = match reused {
+            Some(mut r) => {
+                if let Some(buf) = Arc::get_mut(&mut r) {
+                    rest_into(buf, &omega_filtered_dph, temp_c, k0);
+                }
+                r
+            }
+            None => {
+                let mut rest = omega_filtered_dph.into_owned();
+                into_rest(&mut rest, temp_c, k0);
+                Arc::new(rest)
+            }
+        };
         if self.keep_omega {
             self.rest = Some((signals.clone(), k0.clone(), rest.clone()));
         }
