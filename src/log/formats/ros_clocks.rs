@@ -155,22 +155,32 @@ pub(crate) fn paired(
         offset(temp.stamps, temp.log_times),
     ) && (to - go).abs() > limit
     {
-        let note = format!(
+        let apart = format!(
             "{}: header.stamp stands {} s from {clock} (the median over its messages), {}'s \
              {} s: the two topics are stamped by clocks {} s apart, more than {} s \
              ({ANOTHER_CLOCK_STEPS} steps of either, or 1 s), and paired by stamp each sample \
-             would take a reading that much older or newer; its readings are paired with {}'s \
-             samples by {clock} instead, which lags each by the transport's delay and jitter; \
-             to pair them by stamp, have both drivers stamp by one clock",
+             would take a reading that much older or newer",
             temp.name,
             seconds(to),
             gyro.name,
             seconds(go),
             seconds((to - go).abs()),
             seconds(limit),
-            gyro.name
         );
-        return by_log(problems, Some(note));
+        if advances(gyro.log_times) && advances(temp.log_times) {
+            let note = format!(
+                "{apart}; its readings are paired with {}'s samples by {clock} instead, which \
+                 lags each by the transport's delay and jitter; to pair them by stamp, have \
+                 both drivers stamp by one clock",
+                gyro.name
+            );
+            return by_log(problems, Some(note));
+        }
+        // A log whose own clock stands still has nothing else to pair by: said, not silent.
+        problems.push(Problem::note(format!(
+            "{apart}; {clock} does not advance, so they are paired by stamp all the same: have \
+             both drivers stamp by one clock"
+        )));
     }
     nearest_within(&g, &t, tol)
 }
@@ -223,5 +233,38 @@ mod tests {
             .map(|k: usize| k.checked_sub(3).or((k == 2).then_some(0)))
             .collect();
         assert_eq!(pick, want);
+    }
+
+    #[test]
+    fn another_clock_in_a_log_whose_clock_stands_still_is_told_and_paired_by_stamp() {
+        // Every message recorded at 0 (a writer that leaves the log time 0): nothing to pair
+        // by but the stamps, 1000 s apart, so no sample has a reading within a step.
+        let log = vec![0u64; 10];
+        let g = at(&(0..10).collect::<Vec<i64>>());
+        let t = at(&(1000..1010).collect::<Vec<i64>>());
+        let mut problems = Vec::new();
+        let side = |name, stamps| Side {
+            name,
+            stamps,
+            log_times: &log,
+        };
+        let pick = paired(
+            &side("g", &g),
+            &side("t", &t),
+            false,
+            "the log time",
+            &mut problems,
+        );
+        assert_eq!(pick, vec![None; 10]);
+        assert_eq!(problems.len(), 1);
+        assert!(
+            problems[0].message.starts_with(
+                "t: header.stamp stands 1000 s from the log time (the median over its \
+                 messages), g's 0 s"
+            ) && problems[0]
+                .message
+                .contains("the log time does not advance, so they are paired by stamp"),
+            "{problems:?}"
+        );
     }
 }
