@@ -413,8 +413,29 @@ fn kalibr_noise(
         })
         .collect();
     let accel = kalibr::axis_readouts(&as_refs(accel), tau0_s)
-        .map_err(|(name, e)| format!("{source}: {name}: {e}"))?;
+        .map_err(|(name, e)| format!("{source}: {}", accelerometer_error(&name, &e)))?;
     Ok(kalibr::kalibr_noise(&readouts, &accel, tau0_s, rostopic))
+}
+
+/// Why accelerometer axis `name` has no Allan curve, in its own words: the deviation's error
+/// speaks of a gyro's rate samples, which an accelerometer's are not.
+fn accelerometer_error(name: &str, e: &allan::AllanError) -> String {
+    match e {
+        allan::AllanError::Constant(v) => format!(
+            "accelerometer axis {name}: every sample reads {} m/s^2: an accelerometer that \
+             never changes has no noise to analyse (a sensor disconnected or stuck, or a log \
+             that fills the axis for an IMU without one: leave the column out)",
+            driftlab::number::readable(*v)
+        ),
+        allan::AllanError::NotFinite { index, value } => {
+            format!("accelerometer axis {name}: sample {index} is not a finite number ({value})")
+        }
+        allan::AllanError::TooShort(n) => format!(
+            "accelerometer axis {name}: an Allan deviation needs at least 2 samples, the \
+             series has {n}"
+        ),
+        other => format!("accelerometer axis {name}: {other}"),
+    }
 }
 
 /// The one JSON object: columns of the curve, then the read-outs.

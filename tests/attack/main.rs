@@ -10,4 +10,5 @@ mod readers;
 mod ros_frames;
 mod ros_limits;
 mod ros_stamps;
+mod ros_temperatures;
 mod sketches;

@@ -24,7 +24,7 @@ pub(super) fn bag_connection_of(conn: u32, topic: &str, ty: &str) -> Vec<u8> {
 }
 
 /// A bag message record whose time field is `sec`, `nsec`.
-fn bag_message_at(conn: u32, sec: u32, nsec: u32, data: &[u8]) -> Vec<u8> {
+pub(super) fn bag_message_at(conn: u32, sec: u32, nsec: u32, data: &[u8]) -> Vec<u8> {
     let mut time = sec.to_le_bytes().to_vec();
     time.extend_from_slice(&nsec.to_le_bytes());
     bag_record(

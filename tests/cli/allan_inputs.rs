@@ -213,3 +213,30 @@ fn kalibr_names_accelerometers_whose_unit_it_cannot_tell() {
     assert!(yaml_number(&text, "accelerometer_noise_density").is_none());
     assert!(Path::new(&yaml).exists());
 }
+
+#[test]
+fn kalibr_calls_an_accelerometer_that_never_changes_an_accelerometer_not_a_rate() {
+    // Accelerometer columns of zeros (noise and walk 0): no Allan curve, said of an
+    // accelerometer's samples, not of a gyro's rate.
+    let dir = tempfile::tempdir().unwrap();
+    let log = dir.path().join("imu.csv");
+    std::fs::write(
+        &log,
+        imu_csv((2e-4, 2e-5), (0.0, 0.0), "accel_{}_m_s2", 1.0),
+    )
+    .unwrap();
+    let yaml = dir.path().join("imu.yaml");
+    let out = driftlab(&[
+        "allan",
+        &log.display().to_string(),
+        "--kalibr",
+        &yaml.display().to_string(),
+    ]);
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("accelerometer axis accel_x_m_s2: every sample reads 0 m/s^2"),
+        "{err}"
+    );
+    assert!(!err.contains("rate"), "{err}");
+}

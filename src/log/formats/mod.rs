@@ -52,6 +52,8 @@ mod device_change;
 mod error;
 mod mcap;
 mod recording;
+mod ros_clocks;
+mod ros_frames;
 mod ros_msgs;
 mod ros_topics;
 mod rosbag;

@@ -68,6 +68,10 @@ pub(crate) struct Imu<'a> {
     pub frame_id: Cow<'a, str>,
     pub angular_velocity: [f64; 3],
     pub linear_acceleration: [f64; 3],
+    /// `linear_acceleration_covariance[0]` is -1: sensor_msgs' mark for a message without
+    /// that data (a gyro-only IMU leaves `linear_acceleration` 0 and says so there), so its
+    /// `linear_acceleration` is no reading.
+    pub no_acceleration: bool,
 }
 
 /// The fields of `sensor_msgs/Temperature` driftlab reads.
@@ -236,18 +240,25 @@ fn cdr(b: &[u8]) -> Result<Wire<'_>, MessageError> {
     })
 }
 
+/// The first element of a covariance that says its message has no such data (sensor_msgs:
+/// "If you have no estimate for one of the data elements ... please set element 0 of the
+/// associated covariance matrix to -1").
+const NO_SUCH_DATA: f64 = -1.0;
+
 fn imu(mut w: Wire<'_>) -> Result<Imu<'_>, MessageError> {
     let (stamp, frame_id) = w.header()?;
     w.skip_f64s(4 + 9)?; // orientation, its covariance
     let angular_velocity = w.vec3()?;
     w.skip_f64s(9)?;
     let linear_acceleration = w.vec3()?;
-    w.skip_f64s(9)?;
+    let no_acceleration = w.f64()? == NO_SUCH_DATA;
+    w.skip_f64s(8)?;
     Ok(Imu {
         stamp,
         frame_id,
         angular_velocity,
         linear_acceleration,
+        no_acceleration,
     })
 }
 

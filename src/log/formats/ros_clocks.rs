@@ -1,0 +1,270 @@
+//! The two clocks of a ROS log, and which of them pairs a gyro's samples with the readings of
+//! a Temperature topic.
+//!
+//! Every message has two times: its `header.stamp`, set by the driver that published it, and
+//! the time the log recorded it (the bag's record time, MCAP's `log_time`). Within a log the
+//! record times are one clock; the stamps are each driver's: an IMU driver may stamp by the
+//! sensor's clock from boot, a temperature node by the wall clock, or not at all. Stamps are
+//! read as stamped, and a gyro paired with its temperature by them, unless they cannot be:
+//!
+//! - a topic whose stamps never advance ([`stuck`], a driver that leaves them 0) has no time
+//!   of its own, and is timed by the record time instead;
+//! - a Temperature topic whose stamps stand on another clock than the gyro's: each topic's
+//!   offset from the record time (stamp minus record time, the median of the messages) is
+//!   known, and when the two offsets differ by more than [`ANOTHER_CLOCK_STEPS`] steps of the
+//!   pairing (and more than [`ANOTHER_CLOCK_AT_LEAST_NS`]), a pairing by stamp would give
+//!   each sample a reading taken that much earlier or later, or none. They are paired by
+//!   record time instead, with a note naming both topics and both offsets.
+//!
+//! Pairing by record time lags each message by its transport's delay and jitter (a few ms),
+//! which is why stamps are preferred whenever they share a clock.
+
+use super::recording::{Problem, RosTime, median_step, nearest_within};
+
+/// How many steps of the pairing (the larger median step of the two topics) two topics'
+/// offsets from the record time may differ by and still be paired by stamp: transport delays
+/// of a few steps are the same clock; ten steps or more are another clock (a reading that
+/// far from its sample would be paired with the wrong one, or with none).
+pub(crate) const ANOTHER_CLOCK_STEPS: i128 = 10;
+
+/// The least difference of offsets taken as another clock, however fast the topics: 1 s, far
+/// more than a transport's delay, less than a temperature drifts by in a real log.
+pub(crate) const ANOTHER_CLOCK_AT_LEAST_NS: i128 = 1_000_000_000;
+
+/// How many messages an offset is the median of, evenly spaced over the topic: enough to
+/// pass over a few messages stamped apart, without a copy of a million messages' offsets.
+const OFFSET_SAMPLES: usize = 1025;
+
+/// True when a topic of two messages or more stamps every one alike (`header.stamp` left 0
+/// by a driver that does not fill it, or set once): its samples have no time of their own,
+/// and read by it every one but the first would repeat the first's stamp.
+pub(crate) fn stuck(stamps: impl IntoIterator<Item = RosTime>) -> bool {
+    let mut stamps = stamps.into_iter();
+    let Some(first) = stamps.next() else {
+        return false;
+    };
+    let mut n = 1;
+    for s in stamps {
+        if s != first {
+            return false;
+        }
+        n += 1;
+    }
+    n > 1
+}
+
+/// True when the log times (ns) are not all one: a clock that can time the samples.
+pub(crate) fn advances(log_times: &[u64]) -> bool {
+    log_times.iter().any(|&t| t != log_times[0])
+}
+
+/// A log time (ns since the epoch) as a ROS time stamp.
+pub(crate) fn log_stamp(ns: u64) -> RosTime {
+    RosTime {
+        sec: (ns / 1_000_000_000) as i64,
+        nsec: (ns % 1_000_000_000) as u32,
+    }
+}
+
+/// The median of a topic's stamps minus its record times (ns), over at most
+/// [`OFFSET_SAMPLES`] messages evenly spaced; `None` without messages.
+pub(crate) fn offset(stamps: &[RosTime], log_times: &[u64]) -> Option<i128> {
+    let n = stamps.len().min(log_times.len());
+    if n == 0 {
+        return None;
+    }
+    let m = n.min(OFFSET_SAMPLES);
+    let mut d: Vec<i128> = (0..m)
+        .map(|j| {
+            let i = if m == 1 { 0 } else { j * (n - 1) / (m - 1) };
+            stamps[i].nanos() - i128::from(log_times[i])
+        })
+        .collect();
+    d.sort_unstable();
+    Some(d[m / 2])
+}
+
+/// One side of a pairing: a topic's (or a frame's) messages, by stamp and by record time.
+pub(crate) struct Side<'a> {
+    /// What messages name it by: the topic, or the gyro's label.
+    pub name: &'a str,
+    /// Each message's `header.stamp`.
+    pub stamps: &'a [RosTime],
+    /// Each message's record time (ns).
+    pub log_times: &'a [u64],
+}
+
+/// Seconds for a message, from ns: to the millisecond, every digit written (an offset of a
+/// clock from 1970 against one from boot, -1699999900 s, stays readable), trailing zeros
+/// dropped.
+fn seconds(ns: i128) -> String {
+    let s = format!("{:.3}", ns as f64 * 1e-9);
+    let s = s.trim_end_matches('0').trim_end_matches('.');
+    if s == "-0" { "0".into() } else { s.into() }
+}
+
+/// For each sample of `gyro` the reading of `temp` (its index) nearest it within the larger
+/// of the two topics' median steps, by stamp or by record time as the module says;
+/// `gyro_by_clock` when the gyro's own stamps never advance (its samples timed by the
+/// record time, already told). `clock` names the record time as the format does ("the bag's
+/// record time"). A choice other than the stamps is told in `problems`.
+pub(crate) fn paired(
+    gyro: &Side<'_>,
+    temp: &Side<'_>,
+    gyro_by_clock: bool,
+    clock: &str,
+    problems: &mut Vec<Problem>,
+) -> Vec<Option<usize>> {
+    let by_log = |problems: &mut Vec<Problem>, note: Option<String>| {
+        problems.extend(note.map(Problem::note));
+        let g: Vec<i128> = gyro.log_times.iter().map(|&x| i128::from(x)).collect();
+        let t: Vec<i128> = temp.log_times.iter().map(|&x| i128::from(x)).collect();
+        let tol = median_step(&t)
+            .unwrap_or(0)
+            .max(median_step(&g).unwrap_or(0));
+        nearest_within(&g, &t, tol)
+    };
+    // Both by the log's clock when either's stamps never advance: the stamps of one beside
+    // the log times of the other would be two clocks.
+    let temp_stuck = stuck(temp.stamps.iter().copied());
+    if gyro_by_clock {
+        return by_log(problems, None);
+    }
+    if temp_stuck {
+        let told = advances(temp.log_times).then(|| {
+            format!(
+                "{}: header.stamp never advances (all {} messages are stamped {} s, as a \
+                 driver that does not fill it leaves them): its readings are paired with {}'s \
+                 samples by {clock} instead",
+                temp.name,
+                temp.stamps.len(),
+                temp.stamps[0].seconds(),
+                gyro.name
+            )
+        });
+        return by_log(problems, told);
+    }
+    let g: Vec<i128> = gyro.stamps.iter().map(|s| s.nanos()).collect();
+    let t: Vec<i128> = temp.stamps.iter().map(|s| s.nanos()).collect();
+    let tol = median_step(&t)
+        .unwrap_or(0)
+        .max(median_step(&g).unwrap_or(0));
+    let limit = (ANOTHER_CLOCK_STEPS * tol).max(ANOTHER_CLOCK_AT_LEAST_NS);
+    if let (Some(go), Some(to)) = (
+        offset(gyro.stamps, gyro.log_times),
+        offset(temp.stamps, temp.log_times),
+    ) && (to - go).abs() > limit
+    {
+        let apart = format!(
+            "{}: header.stamp stands {} s from {clock} (the median over its messages), {}'s \
+             {} s: the two topics are stamped by clocks {} s apart, more than {} s \
+             ({ANOTHER_CLOCK_STEPS} steps of either, or 1 s), and paired by stamp each sample \
+             would take a reading that much older or newer",
+            temp.name,
+            seconds(to),
+            gyro.name,
+            seconds(go),
+            seconds((to - go).abs()),
+            seconds(limit),
+        );
+        if advances(gyro.log_times) && advances(temp.log_times) {
+            let note = format!(
+                "{apart}; its readings are paired with {}'s samples by {clock} instead, which \
+                 lags each by the transport's delay and jitter; to pair them by stamp, have \
+                 both drivers stamp by one clock",
+                gyro.name
+            );
+            return by_log(problems, Some(note));
+        }
+        // A log whose own clock stands still has nothing else to pair by: said, not silent.
+        problems.push(Problem::note(format!(
+            "{apart}; {clock} does not advance, so they are paired by stamp all the same: have \
+             both drivers stamp by one clock"
+        )));
+    }
+    nearest_within(&g, &t, tol)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn at(s: &[i64]) -> Vec<RosTime> {
+        s.iter().map(|&sec| RosTime { sec, nsec: 0 }).collect()
+    }
+
+    #[test]
+    fn an_offset_is_the_median_and_passes_over_a_stray_stamp() {
+        let log: Vec<u64> = (0..5).map(|k| (100 + k) * 1_000_000_000).collect();
+        // Stamps 3 s ahead of the record time, but one.
+        let stamps = at(&[103, 104, 900, 106, 107]);
+        assert_eq!(offset(&stamps, &log), Some(3_000_000_000));
+        assert_eq!(offset(&[], &[]), None);
+    }
+
+    #[test]
+    fn offsets_a_few_steps_apart_are_one_clock_and_paired_by_stamp() {
+        // 10 Hz, the temperature stamped 0.3 s (3 steps) later than the gyro against the
+        // record time: one clock with a delay; each sample takes the reading stamped with it.
+        let log: Vec<u64> = (0..20).map(|k| k * 100_000_000).collect();
+        let g: Vec<RosTime> = log.iter().map(|&x| log_stamp(x)).collect();
+        let t: Vec<RosTime> = log.iter().map(|&x| log_stamp(x + 300_000_000)).collect();
+        let tlog: Vec<u64> = log.iter().map(|&x| x + 600_000_000).collect();
+        let mut problems = Vec::new();
+        let pick = paired(
+            &Side {
+                name: "g",
+                stamps: &g,
+                log_times: &log,
+            },
+            &Side {
+                name: "t",
+                stamps: &t,
+                log_times: &tlog,
+            },
+            false,
+            "the log time",
+            &mut problems,
+        );
+        assert!(problems.is_empty(), "{problems:?}");
+        // Sample k is stamped k/10 s; reading j is stamped j/10 + 0.3 s: j = k - 3; sample 2
+        // (0.2 s) is one step from reading 0, within the pairing's tolerance.
+        let want: Vec<Option<usize>> = (0..20)
+            .map(|k: usize| k.checked_sub(3).or((k == 2).then_some(0)))
+            .collect();
+        assert_eq!(pick, want);
+    }
+
+    #[test]
+    fn another_clock_in_a_log_whose_clock_stands_still_is_told_and_paired_by_stamp() {
+        // Every message recorded at 0 (a writer that leaves the log time 0): nothing to pair
+        // by but the stamps, 1000 s apart, so no sample has a reading within a step.
+        let log = vec![0u64; 10];
+        let g = at(&(0..10).collect::<Vec<i64>>());
+        let t = at(&(1000..1010).collect::<Vec<i64>>());
+        let mut problems = Vec::new();
+        let side = |name, stamps| Side {
+            name,
+            stamps,
+            log_times: &log,
+        };
+        let pick = paired(
+            &side("g", &g),
+            &side("t", &t),
+            false,
+            "the log time",
+            &mut problems,
+        );
+        assert_eq!(pick, vec![None; 10]);
+        assert_eq!(problems.len(), 1);
+        assert!(
+            problems[0]
+                .message
+                .contains("the two topics are stamped by clocks 1000 s apart")
+                && problems[0]
+                    .message
+                    .contains("the log time does not advance, so they are paired by stamp"),
+            "{problems:?}"
+        );
+    }
+}
