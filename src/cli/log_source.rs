@@ -33,7 +33,7 @@ impl FormatArgs {
         FormatChoice {
             gyro: self.gyro,
             temp_from: self.temp_from,
-            fitted_on: self.fitted_on,
+            fitted_on: self.fitted_on.clone(),
         }
     }
 }

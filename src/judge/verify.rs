@@ -114,7 +114,9 @@ pub fn judge(
     let source = model.source();
     let (in_sample, share) = source.judge_run(log, file.name, file.sha256);
     let other_gyro = match (&source.instance, &log.info.instance) {
-        (Some(fitted), Some(read)) if !fitted.same_gyro(read) => Some((*fitted, *read)),
+        (Some(fitted), Some(read)) if !fitted.same_gyro(read) => {
+            Some((fitted.clone(), read.clone()))
+        }
         _ => None,
     };
     let told = crate::judge::options::check_merit(&options, log).map_err(JudgeError::Options)?;
@@ -273,8 +275,8 @@ mod tests {
             std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("sample_logs/calibration.csv");
         let mut log = crate::log::ingest::read_path(&path, &Default::default()).expect("log");
         let gyro = |index: usize, imu: u8| DroneGyro {
-            index,
             dataflash_imu: Some(imu),
+            ..DroneGyro::numbered(index)
         };
         log.info.instance = Some(gyro(0, 0));
         let recipe = crate::models::recipe::Recipe::default()
@@ -307,6 +309,33 @@ mod tests {
             other.sample_label(),
             "held out: not the calibration log; another gyro than the one calibrated: this \
              log's gyro 0 (DataFlash IMU I=0), the calibration's gyro 1 (DataFlash IMU I=1)"
+        );
+        // A PX4 chip is told by its device_id, not its number: the same chip at another
+        // number (a chip before it re-enumerated in one log) is the calibration's gyro, and
+        // another chip at the same number is not.
+        let chip = |index: usize, device_id: u32| DroneGyro {
+            px4_device_id: Some(device_id),
+            ..DroneGyro::numbered(index)
+        };
+        log.info.instance = Some(chip(1, 0x380022));
+        model.source_mut().instance = Some(chip(2, 0x380022));
+        let same = judge(&model, &log, file, MeritOptions::default(), false).expect("judged");
+        assert!(same.in_sample);
+        assert_eq!(same.other_gyro, None);
+        model.source_mut().instance = Some(chip(1, 0x280022));
+        let other = judge(&model, &log, file, MeritOptions::default(), false).expect("judged");
+        assert!(!other.in_sample);
+        assert_eq!(
+            other.other_gyro,
+            Some((chip(1, 0x280022), chip(1, 0x380022)))
+        );
+        assert!(
+            other.sample_label().ends_with(
+                "this log's gyro 1 (device_id 3670050 (0x380022)), the calibration's \
+                            gyro 1 (device_id 2621474 (0x280022))"
+            ),
+            "{}",
+            other.sample_label()
         );
     }
 

@@ -6,6 +6,7 @@
 //! DataFlash, ROS bag, MCAP). [`mapping_check`] holds the one rule set for what a column may
 //! plausibly hold; [`resample`] averages into bins or bursts.
 
+mod drone_gyro;
 pub mod formats;
 pub mod ingest;
 pub mod kept_samples;
@@ -18,6 +19,8 @@ pub(crate) mod temp_rate;
 
 use crate::signal::time_order::Told;
 use serde::{Deserialize, Serialize};
+
+pub use drone_gyro::{DroneGyro, GyroIdentity};
 
 /// One recorded test run of a motionless gyro.
 ///
@@ -128,136 +131,6 @@ pub struct LogInfo {
     /// parameters go to that IMU rather than to the first.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub instance: Option<DroneGyro>,
-}
-
-/// Which gyro of a drone or robot log a log's samples are.
-///
-/// Read from a calibration file by [`DroneGyro::from_value`] (not by a derived reader): a
-/// hand-edited record is refused naming `source.instance` and its field in words, and an
-/// index its DataFlash instance contradicts is refused rather than acted on.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
-pub struct DroneGyro {
-    /// The gyro as driftlab numbers a log's gyros (`--gyro N`, as `inspect` lists them).
-    pub index: usize,
-    /// ArduPilot's IMU instance, the `I` field of the DataFlash `IMU` messages (0 for the
-    /// first IMU, whose temperature calibration is `INS_TCAL1_*`); `None` for another format,
-    /// whose gyros ArduPilot does not number.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub dataflash_imu: Option<u8>,
-}
-
-impl DroneGyro {
-    /// Whether `self` and `other` name the same gyro: by ArduPilot's IMU instance when both
-    /// have one (driftlab's index counts only the IMUs a log has samples of, so the same IMU
-    /// can have another index in another log of the same vehicle), else by index.
-    pub fn same_gyro(&self, other: &DroneGyro) -> bool {
-        match (self.dataflash_imu, other.dataflash_imu) {
-            (Some(a), Some(b)) => a == b,
-            _ => self.index == other.index,
-        }
-    }
-
-    /// `gyro N` as `--gyro` and `inspect` name it, with its DataFlash instance when it has
-    /// one (`gyro 1 (DataFlash IMU I=1)`).
-    pub fn describe(&self) -> String {
-        match self.dataflash_imu {
-            Some(i) => format!("gyro {} (DataFlash IMU I={i})", self.index),
-            None => format!("gyro {}", self.index),
-        }
-    }
-
-    /// The record as a calibration file holds it (`source.instance`), checked field by
-    /// field: an object of a whole `index` and, optionally, a `dataflash_imu` of 0 to 255,
-    /// no larger than the index allows. A DataFlash log's gyros are numbered in the order of
-    /// their instance `I`, counting only those with samples, so gyro `index` has an `I` of
-    /// at least `index`: a smaller one is a contradiction, and which of the two is wrong
-    /// cannot be told.
-    ///
-    /// # Errors
-    /// An [`Invalid`](crate::error::Invalid) naming `source.instance` or its field.
-    pub fn from_value(v: &serde_json::Value) -> Result<DroneGyro, crate::error::Invalid> {
-        use crate::error::Invalid;
-        use serde_json::Value;
-        const FIELD: &str = "source.instance";
-        let what = |v: &Value| match v {
-            Value::Null => "null",
-            Value::Bool(_) => "true or false",
-            Value::Number(_) => "a number",
-            Value::String(_) => "text",
-            Value::Array(_) => "a list",
-            Value::Object(_) => "an object",
-        };
-        let Value::Object(map) = v else {
-            return Err(Invalid::new(
-                FIELD,
-                format!(
-                    "is {}, not an object such as {{\"index\": 1, \"dataflash_imu\": 1}} \
-                     (the gyro of the drone log the calibration was fitted on)",
-                    what(v)
-                ),
-            ));
-        };
-        if let Some(k) = map.keys().find(|k| *k != "index" && *k != "dataflash_imu") {
-            return Err(Invalid::new(
-                format!("{FIELD}.{}", crate::text::escaped(k, false)),
-                "is no field of the record of a gyro (it has index and dataflash_imu)",
-            ));
-        }
-        let whole = |name: &str, v: &Value, at_most: u64| -> Result<u64, Invalid> {
-            let field = format!("{FIELD}.{name}");
-            match v.as_u64() {
-                Some(n) if n <= at_most => Ok(n),
-                Some(n) => Err(Invalid::new(
-                    field,
-                    format!("is {n}, more than {at_most}, the most it can be"),
-                )),
-                None => Err(Invalid::new(
-                    field,
-                    match v {
-                        Value::Number(n) => format!("is {n}, not a whole number from 0"),
-                        other => format!("is {}, not a whole number from 0", what(other)),
-                    },
-                )),
-            }
-        };
-        let Some(index) = map.get("index") else {
-            return Err(Invalid::new(
-                format!("{FIELD}.index"),
-                "is missing: the record of a gyro gives its number, as inspect lists it",
-            ));
-        };
-        // A DataFlash log has at most 256 IMUs; other formats' indices are kept as a
-        // platform's whole number.
-        let index = whole("index", index, usize::MAX as u64)? as usize;
-        let dataflash_imu = match map.get("dataflash_imu") {
-            None | Some(Value::Null) => None,
-            Some(i) => Some(whole("dataflash_imu", i, u64::from(u8::MAX))? as u8),
-        };
-        if let Some(i) = dataflash_imu
-            && index > usize::from(i)
-        {
-            return Err(Invalid::new(
-                format!("{FIELD}.index"),
-                format!(
-                    "is {index}, and dataflash_imu is {i}: driftlab numbers a DataFlash log's \
-                     gyros in the order of their IMU instance, from 0, so gyro {index} has an \
-                     instance of at least {index}; one of the two is wrong"
-                ),
-            ));
-        }
-        Ok(DroneGyro {
-            index,
-            dataflash_imu,
-        })
-    }
-}
-
-/// Read through [`DroneGyro::from_value`], whose refusals name the field.
-impl<'de> Deserialize<'de> for DroneGyro {
-    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<DroneGyro, D::Error> {
-        let v = serde_json::Value::deserialize(d)?;
-        DroneGyro::from_value(&v).map_err(serde::de::Error::custom)
-    }
 }
 
 /// One column of the source file.

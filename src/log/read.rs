@@ -32,7 +32,7 @@ use std::path::Path;
 pub use super::formats::TempFrom;
 
 /// Which gyro of a drone or robot log, and which temperature (the CSV reader takes neither).
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
 pub struct FormatChoice {
     /// The instance (as [`ImuRecording::instances`] numbers them); `None`: the first whose
     /// temperature (of `temp_from`'s kind) has a finite value.
@@ -451,10 +451,13 @@ pub fn from_recording(
             chosen: inst.index,
             note: match fitted_note {
                 // Chosen for the user, not asked for: said so, and how to choose another.
-                Some(FittedNote::Chose) => sel.note.replacen(
+                Some(FittedNote::Chose { by_number }) => sel.note.replacen(
                     "(as asked)",
-                    "(the gyro the calibration was fitted on, its source.instance; gyro N \
-                     chooses another)",
+                    &format!(
+                        "(the gyro the calibration was fitted on, its source.instance{}; \
+                         gyro N chooses another)",
+                        by_number.map_or(String::new(), |why| format!(", {why}"))
+                    ),
                     1,
                 ),
                 Some(FittedNote::Differs(n)) => format!("{}; {n}", sel.note),
@@ -465,23 +468,61 @@ pub fn from_recording(
     })
 }
 
-/// How a calibration file records `inst` (`source.instance`).
+/// How a calibration file records `inst` (`source.instance`): its number and what its
+/// format calls it.
 fn drone_gyro(inst: &formats::GyroInstance) -> DroneGyro {
-    DroneGyro {
-        index: inst.index,
-        dataflash_imu: match &inst.device {
-            Some(formats::DeviceId::DataFlash { instance }) => Some(*instance),
-            _ => None,
-        },
+    let mut g = DroneGyro::numbered(inst.index);
+    match &inst.device {
+        Some(formats::DeviceId::DataFlash { instance }) => g.dataflash_imu = Some(*instance),
+        Some(formats::DeviceId::Ulog { device_id }) => g.px4_device_id = Some(*device_id),
+        Some(formats::DeviceId::Ros { topic, frame_id }) => {
+            g.ros_topic = Some(topic.clone());
+            g.ros_frame_id = Some(frame_id.clone());
+        }
+        None => {}
     }
+    g
 }
 
 /// What the record of the gyro a calibration was fitted on did to the choice of gyro.
 enum FittedNote {
-    /// No gyro was asked for: the recorded one was read.
-    Chose,
+    /// No gyro was asked for: the recorded one was read, found by what its format calls it
+    /// (`by_number: None`), or by its number alone, for the reason given.
+    Chose { by_number: Option<String> },
     /// Another gyro was asked for and read: the sentence saying which was fitted on.
     Differs(String),
+}
+
+/// The gyro of `rec` that `fitted` names, and, when it was found by its number alone, why:
+/// by what the format calls it when the record holds that and the log's gyros have it in the
+/// same kind (a PX4 `device_id` is looked for among `device_id`s); by number when the record
+/// holds no identity (a calibration file written before driftlab recorded one) or the log's
+/// gyros have none of its kind (another format, a ULog without `device_id`).
+fn find_fitted(rec: &ImuRecording, fitted: &DroneGyro) -> (Option<usize>, Option<String>) {
+    let gyros: Vec<DroneGyro> = rec.instances.iter().map(drone_gyro).collect();
+    if let Some(recorded) = fitted.identity()
+        && gyros
+            .iter()
+            .any(|g| g.identity().is_some_and(|id| id.same_kind(&recorded)))
+    {
+        let found = gyros.iter().find(|g| g.same_gyro(fitted)).map(|g| g.index);
+        return (found, None);
+    }
+    let found = gyros.iter().find(|g| g.index == fitted.index);
+    let why = match (found.and_then(DroneGyro::identity), fitted.identity()) {
+        (Some(_), None) => Some(
+            "found by its number alone: the calibration file records no identity of the \
+             chip (written before driftlab recorded one), so another chip at that number \
+             would not be told apart"
+                .to_string(),
+        ),
+        (_, Some(id)) => Some(format!(
+            "found by its number alone: the calibration records {id}, and this log names \
+             its gyros otherwise"
+        )),
+        (None, None) => None,
+    };
+    (found.map(|g| g.index), why)
 }
 
 /// The gyro to read of `rec` for `choice`, with a note when a calibration's record of the
@@ -497,17 +538,13 @@ fn gyro_for_calibration(
     rec: &ImuRecording,
     choice: &FormatChoice,
 ) -> Result<(Option<usize>, Option<FittedNote>), ReadError> {
-    let Some(fitted) = choice.fitted_on else {
+    let Some(fitted) = &choice.fitted_on else {
         return Ok((choice.gyro, None));
     };
-    let found = rec
-        .instances
-        .iter()
-        .find(|i| drone_gyro(i).same_gyro(&fitted))
-        .map(|i| i.index);
+    let (found, by_number) = find_fitted(rec, fitted);
     let fitted_words = fitted.describe();
     match (choice.gyro, found) {
-        (None, Some(k)) => Ok((Some(k), Some(FittedNote::Chose))),
+        (None, Some(k)) => Ok((Some(k), Some(FittedNote::Chose { by_number }))),
         (None, None) => Err(ReadError::NoFittedGyro {
             path: rec.source.clone(),
             message: format!(

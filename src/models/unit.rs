@@ -70,7 +70,9 @@ impl UnitCalibration {
     /// one gyro, and a unit's file holds one source for them all. `None` for a calibration
     /// of a CSV, or one written before the record.
     pub fn fitted_on(&self) -> Option<crate::log::DroneGyro> {
-        self.axes.iter().find_map(|a| a.model.source().instance)
+        self.axes
+            .iter()
+            .find_map(|a| a.model.source().instance.clone())
     }
 
     /// The axes' names, in order.

@@ -16,6 +16,15 @@
 //! stray stamp, a few in several places (each its own value), a clock set back, a logger's
 //! restart and a block sent twice make one backward step each, not a run of
 //! [`MIN_SWITCHES`] such returns side by side.
+//!
+//! A second clock close to the first (less than [`GAP_FACTOR`] of its step away: 1.5 s at a
+//! 1 s step) stands among the first's rows as rows swapped in pairs or a jittered clock's
+//! do, and its stamps alone cannot tell it. What does is the rows before it, on one clock:
+//! from the first switch on, the first clock keeps that step a row of its own while the rows
+//! come thicker, the second clock standing the same offset from it each time
+//! ([`follows_close`], [`two_clocks_in`]). Read by time order instead, the rows kept would
+//! switch from one recorder to the other at the first step back. A second clock less than a
+//! step away never steps back: the rows read as one clock at twice the rate.
 
 use super::timing::GAP_FACTOR;
 
@@ -75,18 +84,19 @@ fn stamp(t: f64) -> String {
 }
 
 /// One return to the first clock: the samples `away..back` stand on the second clock between
-/// `before` and `back` on the first.
+/// `before` and `back` on the first; `far` when they stand more than [`GAP_FACTOR`] of the
+/// first clock's step ahead of `back`.
 #[derive(Debug, Clone, Copy)]
 struct Return {
     before: usize,
     away: usize,
     back: usize,
+    far: bool,
 }
 
 /// The return to a first clock at `back` (a step back from the sample before it), if the
-/// samples just before it rise on a clock of their own far ahead of it: a run that rises, all
-/// stamps ahead of `back`'s, after a sample behind it (`before`, the first clock's last), and
-/// standing ahead of `back` by more than [`GAP_FACTOR`] of the first clock's step there.
+/// samples just before it rise on a clock of their own ahead of it: a run that rises, all
+/// stamps ahead of `back`'s, after a sample behind it (`before`, the first clock's last).
 fn return_at(time_s: &[f64], back: usize) -> Option<Return> {
     let t = time_s[back];
     let last = time_s[back - 1];
@@ -99,7 +109,12 @@ fn return_at(time_s: &[f64], back: usize) -> Option<Return> {
     }
     let before = away.checked_sub(1)?;
     let step = t - time_s[before];
-    (step > 0.0 && time_s[away] - t > GAP_FACTOR * step).then_some(Return { before, away, back })
+    (step > 0.0).then_some(Return {
+        before,
+        away,
+        back,
+        far: time_s[away] - t > GAP_FACTOR * step,
+    })
 }
 
 /// Whether `next` follows `prev` as the next return of two interleaved clocks: the first
@@ -107,7 +122,7 @@ fn return_at(time_s: &[f64], back: usize) -> Option<Return> {
 /// the next at the pace of the first clock (within [`GAP_FACTOR`] either way), past the
 /// previous run's last stamp.
 fn follows(time_s: &[f64], prev: &Return, next: &Return) -> bool {
-    if next.before < prev.back {
+    if next.before < prev.back || next.far != prev.far {
         return false;
     }
     let second = time_s[next.away] - time_s[prev.away];
@@ -119,6 +134,74 @@ fn follows(time_s: &[f64], prev: &Return, next: &Return) -> bool {
         && first <= GAP_FACTOR * second
 }
 
+/// How many steps of the rows before a run of close returns tell the first clock's step.
+const LEAD_STEPS: usize = 8;
+
+/// How far (relative) a close return may stray from the lead's step and the first return's
+/// offset ([`follows_close`]).
+const CLOSE_TOLERANCE: f64 = 0.25;
+
+/// The step of the first clock before a return at `before` whose second clock stands close
+/// (within [`GAP_FACTOR`] steps): the median of the [`LEAD_STEPS`] steps up to `before`, when
+/// they all rise. A second clock that stands close cannot be told by its stamps alone from
+/// rows swapped in pairs or a jittered clock's: what tells it is the rows before it, on one
+/// clock, whose step the first clock keeps while the rows come twice as thick.
+fn lead_step(time_s: &[f64], before: usize) -> Option<f64> {
+    let start = before.checked_sub(LEAD_STEPS)?;
+    let mut steps: Vec<f64> = time_s[start..=before]
+        .windows(2)
+        .map(|w| w[1] - w[0])
+        .collect();
+    if !steps.iter().all(|d| d.is_finite() && *d > 0.0) {
+        return None;
+    }
+    steps.sort_by(f64::total_cmp);
+    Some(steps[steps.len() / 2])
+}
+
+/// Whether close return `next` follows `prev` ([`follows`]) as a second clock interleaved
+/// with a first of step `lead_s`: the first clock's rows between them rise at `lead_s` a row
+/// (rows swapped in pairs rise two steps a row), and the second clock stands the same offset
+/// from the first each time (a jittered stamp stands out by whatever its jitter was).
+fn follows_close(time_s: &[f64], prev: &Return, next: &Return, lead_s: f64) -> bool {
+    if !follows(time_s, prev, next) {
+        return false;
+    }
+    let rise = time_s[next.back] - time_s[prev.back];
+    let first_rows = (next.away - prev.back) as f64;
+    let offset = |r: &Return| time_s[r.away] - time_s[r.back];
+    (rise / first_rows - lead_s).abs() <= CLOSE_TOLERANCE * lead_s
+        && (offset(next) - offset(prev)).abs() <= CLOSE_TOLERANCE * lead_s
+}
+
+/// A streak of returns: the first, the last, how many, and for close returns the lead's step.
+type Streak = (Return, Return, usize, Option<f64>);
+
+/// Whether `streak` is two clocks interleaved: [`MIN_SWITCHES`] switches or more and, for
+/// close returns, rows thicker over it than the lead's, the second clock's a quarter of them
+/// or more. A jittered clock's rows, the ones stamped out of line among them, come one a
+/// step: their steps back can line up as returns, never thicken the rows.
+fn two_clocks_in(time_s: &[f64], (first, last, k, lead): &Streak) -> bool {
+    let thicker = match lead {
+        None => true,
+        Some(lead_s) => {
+            let rise = time_s[last.back] - time_s[first.back];
+            let rows = (last.back - first.back) as f64;
+            rise <= (1.0 - CLOSE_TOLERANCE) * lead_s * rows
+        }
+    };
+    thicker && switches(time_s, first, *k) >= MIN_SWITCHES
+}
+
+/// The switches a streak of `returns` returns from `first` on counts: one more when the rows
+/// stepped back onto the first clock at its first row too (the second clock ahead of the
+/// first from the log's start, or behind it: the first switch is then a step back with no
+/// row of the first clock before it, and the count is the same whichever clock is ahead).
+fn switches(time_s: &[f64], first: &Return, returns: usize) -> usize {
+    let stepped_in = first.before > 0 && time_s[first.before] < time_s[first.before - 1];
+    returns + usize::from(stepped_in)
+}
+
 /// The first place where the rows of `time_s` (the stamps as read, before any is dropped for
 /// time order) switch between two clocks [`MIN_SWITCHES`] times in a row or more, `None` when
 /// they do not. Each switch is a return to the first clock (a step back) from a run of samples
@@ -127,7 +210,7 @@ fn follows(time_s: &[f64], prev: &Return, next: &Return) -> bool {
 /// clock's pace. Whichever clock is behind is the first. One pass: each sample is looked at a
 /// bounded number of times.
 pub fn interleaved_clocks(time_s: &[f64]) -> Option<Interleaved> {
-    let mut streak: Option<(Return, Return, usize)> = None; // (first, last, returns)
+    let mut streak: Option<Streak> = None;
     let mut found: Option<(Return, usize)> = None;
     for i in 1..time_s.len() {
         let (a, b) = (time_s[i - 1], time_s[i]);
@@ -137,24 +220,33 @@ pub fn interleaved_clocks(time_s: &[f64]) -> Option<Interleaved> {
             continue;
         }
         let here = return_at(time_s, i);
+        let follows_last = |(_, last, _, lead): &Streak, r: &Return| match lead {
+            None => follows(time_s, last, r),
+            Some(lead_s) => follows_close(time_s, last, r, *lead_s),
+        };
         streak = match (streak, here) {
-            (Some((first, last, k)), Some(r)) if follows(time_s, &last, &r) => {
-                Some((first, r, k + 1))
-            }
+            (Some(s), Some(r)) if follows_last(&s, &r) => Some((s.0, r, s.2 + 1, s.3)),
             (_, r) => {
-                if let Some((first, _, k)) = streak
-                    && k >= MIN_SWITCHES
+                if let Some(s) = streak
+                    && two_clocks_in(time_s, &s)
                 {
-                    found = Some((first, k));
+                    found = Some((s.0, s.2));
                     break;
                 }
-                r.map(|r| (r, r, 1))
+                // A far return starts a streak; a close one only after rows on one clock.
+                r.and_then(|r| {
+                    if r.far {
+                        Some((r, r, 1, None))
+                    } else {
+                        lead_step(time_s, r.before).map(|lead_s| (r, r, 1, Some(lead_s)))
+                    }
+                })
             }
         };
     }
     let (first, returns) = match (found, streak) {
         (Some(f), _) => f,
-        (None, Some((first, _, k))) if k >= MIN_SWITCHES => (first, k),
+        (None, Some(s)) if two_clocks_in(time_s, &s) => (s.0, s.2),
         _ => return None,
     };
     Some(Interleaved {
@@ -164,7 +256,7 @@ pub fn interleaved_clocks(time_s: &[f64]) -> Option<Interleaved> {
         before_s: time_s[first.before],
         away_s: time_s[first.away],
         back_s: time_s[first.back],
-        returns,
+        returns: switches(time_s, &first, returns),
     })
 }
 
@@ -247,5 +339,92 @@ mod tests {
         let mut mixed = two_clocks(MIN_SWITCHES + 1, 1, 5000.5);
         mixed.extend(at_one_s(1000).drain(MIN_SWITCHES + 1..));
         assert!(interleaved_clocks(&mixed).is_some());
+    }
+
+    /// Clock A at 0, 1, 2 … s alone for `lead` rows, then each of its rows followed by one of
+    /// clock B, `offset_s` away, for `n` rows more.
+    fn after_a_lead(lead: usize, n: usize, offset_s: f64) -> Vec<f64> {
+        let mut t = at_one_s(lead);
+        for i in lead..lead + n {
+            t.extend([i as f64, i as f64 + offset_s]);
+        }
+        t
+    }
+
+    #[test]
+    fn a_second_clock_close_to_the_first_is_found_after_rows_on_one_clock() {
+        // B less than 2.5 steps from A: its rows stand close among A's, yet the rows come
+        // twice as thick as before, A's keeping its own step.
+        for offset_s in [1.1, 1.5, 2.4, 3.0, 3.5] {
+            let t = after_a_lead(1000, 2000, offset_s);
+            let got = interleaved_clocks(&t).unwrap_or_else(|| panic!("{offset_s} s"));
+            // A's rows 0..=1000 at indices 0..=1000, B's first at 1001, A's next at 1002.
+            assert_eq!(
+                (got.before, got.away, got.back),
+                (1000, 1001, 1002),
+                "{offset_s}"
+            );
+            assert!(
+                (got.away_s - got.before_s - offset_s).abs() < 1e-9,
+                "{offset_s}"
+            );
+            assert_eq!(got.returns, 1999, "{offset_s} s");
+        }
+        // Fewer switches than the least: not refused.
+        let t = after_a_lead(1000, MIN_SWITCHES - 1, 1.5);
+        let mut t = t;
+        t.extend((1000 + MIN_SWITCHES - 1..3000).map(|i| i as f64));
+        assert_eq!(interleaved_clocks(&t), None);
+    }
+
+    #[test]
+    fn rows_swapped_in_pairs_after_rows_in_order_are_no_second_clock() {
+        // Their stamps are those of a second clock 1.5 steps ahead; but the rows swapped rise
+        // two of the lead's steps a row, where a second clock's leave the first's at one.
+        let mut t = at_one_s(1000);
+        t.extend((1000..3000).map(|i| (i ^ 1) as f64));
+        assert_eq!(interleaved_clocks(&t), None);
+        // A clock whose stamps jitter by up to ±0.8 steps: many steps back, none of a second
+        // clock.
+        let mut seed = 12345u64;
+        let mut draw = || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let t: Vec<f64> = (0..20_000)
+            .map(|i| i as f64 + 1.6 * (draw() - 0.5))
+            .collect();
+        assert!(t.windows(2).filter(|w| w[1] < w[0]).count() > 1000);
+        assert_eq!(interleaved_clocks(&t), None);
+    }
+
+    #[test]
+    fn a_second_clock_behind_takes_as_many_switches_as_one_ahead() {
+        // MIN_SWITCHES rows of B among A's, then A alone: refused with B ahead or behind.
+        for offset_s in [5000.5, -5000.5] {
+            let mut t = two_clocks(MIN_SWITCHES, 1, offset_s);
+            t.extend((MIN_SWITCHES..1000).map(|i| i as f64));
+            let got = interleaved_clocks(&t).unwrap_or_else(|| panic!("{offset_s}"));
+            assert_eq!(got.returns, MIN_SWITCHES, "{offset_s}");
+            let mut t = two_clocks(MIN_SWITCHES - 1, 1, offset_s);
+            t.extend((MIN_SWITCHES - 1..1000).map(|i| i as f64));
+            assert_eq!(interleaved_clocks(&t), None, "{offset_s}");
+        }
+    }
+
+    #[test]
+    fn blocks_of_a_second_clock_between_the_firsts_rows_are_found() {
+        // A at 1 s; after every 2000 of its rows a block of 1000 rows of B, whose clock is
+        // 1.5 s ahead, covering A's last 1000 s: 20 blocks.
+        let mut t = Vec::new();
+        for i in 0..40_000usize {
+            t.push(i as f64);
+            if i % 2000 == 1999 {
+                t.extend((i + 1 - 1000..=i).map(|k| k as f64 + 1.5));
+            }
+        }
+        assert!(interleaved_clocks(&t).is_some());
     }
 }

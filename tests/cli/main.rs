@@ -21,6 +21,7 @@ mod compare_verdicts;
 mod degenerate_logs;
 mod figures_not_computed;
 mod forged_lines;
+mod gyro_identity;
 mod in_sample;
 mod in_sample_told;
 mod kalibr;

@@ -38,6 +38,16 @@ pub fn ulog_of_devices(
     temp_c: &[f32],
     device_ids: &[u32],
 ) -> Vec<u8> {
+    ulog_of_subscriptions(time_s, temp_c, &[(device_ids, gyro_rad_s)])
+}
+
+/// A PX4 ULog of several `sensor_gyro` subscriptions (`multi_id` 0, 1, … in the order given),
+/// each a `(device_id, gyro in rad/s)` per sample, all stamped `time_s` and at `temp_c`.
+pub fn ulog_of_subscriptions(
+    time_s: &[f64],
+    temp_c: &[f32],
+    subscriptions: &[(&[u32], &[[f32; 3]])],
+) -> Vec<u8> {
     fn message(ty: u8, body: &[u8]) -> Vec<u8> {
         let mut m = (body.len() as u16).to_le_bytes().to_vec();
         m.push(ty);
@@ -53,17 +63,24 @@ pub fn ulog_of_devices(
         b"sensor_gyro:uint64_t timestamp;uint32_t device_id;float x;float y;float z;\
           float temperature;",
     ));
-    let mut a = vec![0u8, 0, 0];
-    a.extend_from_slice(b"sensor_gyro");
-    b.extend(message(b'A', &a));
-    for (((t, g), temp), device_id) in time_s.iter().zip(gyro_rad_s).zip(temp_c).zip(device_ids) {
-        let mut d = vec![0u8, 0];
-        d.extend_from_slice(&((t * 1e6) as u64).to_le_bytes());
-        d.extend_from_slice(&device_id.to_le_bytes());
-        for v in [g[0], g[1], g[2], *temp] {
-            d.extend_from_slice(&v.to_le_bytes());
+    for k in 0..subscriptions.len() {
+        // multi_id k, msg_id k.
+        let mut a = vec![k as u8];
+        a.extend_from_slice(&(k as u16).to_le_bytes());
+        a.extend_from_slice(b"sensor_gyro");
+        b.extend(message(b'A', &a));
+    }
+    for (i, (t, temp)) in time_s.iter().zip(temp_c).enumerate() {
+        for (k, (device_ids, gyro)) in subscriptions.iter().enumerate() {
+            let mut d = (k as u16).to_le_bytes().to_vec();
+            d.extend_from_slice(&((t * 1e6) as u64).to_le_bytes());
+            d.extend_from_slice(&device_ids[i].to_le_bytes());
+            let g = gyro[i];
+            for v in [g[0], g[1], g[2], *temp] {
+                d.extend_from_slice(&v.to_le_bytes());
+            }
+            b.extend(message(b'D', &d));
         }
-        b.extend(message(b'D', &d));
     }
     b
 }

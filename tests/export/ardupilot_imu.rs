@@ -29,8 +29,8 @@ fn fitted_on(imus: [Option<u8>; 3]) -> (Vec<Curve>, Vec<DriftModel>) {
                 &custom("1,T,T^2,T^3"),
             );
             m.source_mut().instance = imu.map(|i| DroneGyro {
-                index: usize::from(i),
                 dataflash_imu: Some(i),
+                ..DroneGyro::numbered(usize::from(i))
             });
             m
         })

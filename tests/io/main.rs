@@ -11,6 +11,7 @@ mod autosave_instances;
 mod axis_names;
 mod axis_units;
 mod chamber_channels;
+mod close_clocks;
 mod column_roles;
 mod crafted_rows;
 mod device_changes;

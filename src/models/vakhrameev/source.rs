@@ -47,7 +47,7 @@ impl SourceInfo {
             duration_s: log.duration_s(),
             run: String::new(),
             samples_sketch: RunSketch::of(log).to_text(),
-            instance: log.info.instance,
+            instance: log.info.instance.clone(),
         }
     }
 
