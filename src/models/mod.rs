@@ -150,7 +150,8 @@ pub fn check_span(log: &Log, choice: &ModelChoice) -> Result<()> {
         .into());
     }
     let rates = match choice {
-        ModelChoice::Preset(Preset::PolyT | Preset::PwlT | Preset::Sukhanov) => false,
+        ModelChoice::Preset(p) if p.is_static_polynomial() => false,
+        ModelChoice::Preset(Preset::PwlT | Preset::Sukhanov) => false,
         ModelChoice::Custom(s) => s.terms.iter().any(regression::Term::is_rate),
         _ => true,
     };
