@@ -57,6 +57,14 @@ pub enum Preset {
     /// A polynomial in T of the given order (1 to [`MAX_POLY_ORDER`]), in powers of `T − Tref`
     /// about the middle of the fitted range, T held to that range: `poly-t1` … `poly-t9`.
     PolyOrder(u8),
+    /// PX4's own script's fit, `Tools/process_sensor_caldata.py` (its median filter and
+    /// temperature bins, [`crate::models::scripts`]): a reference row, what the firmware's
+    /// script would have given.
+    Px4Script,
+    /// ArduPilot's own script's fit, `Tools/scripts/tempcal_IMU.py` (its 2-s moving average,
+    /// [`crate::models::scripts`]): a reference row.
+    #[serde(rename = "ardupilot-script")]
+    ArduPilotScript,
 }
 
 /// The names of [`Preset::PolyOrder`], by order.
@@ -68,6 +76,10 @@ const POLY_NAMES: [&str; MAX_POLY_ORDER as usize] = [
 /// The models named beside [`Preset::ALL`], not compared unless asked for: the flight
 /// controllers' forms, and polynomials of a chosen order (`poly-tN`, listed as its first).
 pub const FIRMWARE_FORMS: [Preset; 3] = [Preset::Px4, Preset::ArduPilot, Preset::PolyOrder(3)];
+
+/// The reference rows: the fits the flight controllers' own scripts make, named beside
+/// driftlab's models and compared only when asked for.
+pub const REFERENCES: [Preset; 2] = [Preset::Px4Script, Preset::ArduPilotScript];
 
 impl Preset {
     /// Every preset, in the order tables list them.
@@ -95,6 +107,8 @@ impl Preset {
             Preset::CoilLag => "coil-lag",
             Preset::Px4 => "px4",
             Preset::ArduPilot => "ardupilot",
+            Preset::Px4Script => "px4-script",
+            Preset::ArduPilotScript => "ardupilot-script",
             Preset::PolyOrder(n) => POLY_NAMES
                 .get(usize::from(n).wrapping_sub(1))
                 .copied()
@@ -139,6 +153,12 @@ impl Preset {
             Preset::PolyOrder(_) => {
                 "polynomial in T − Tref (Tref mid-range) of the order named, least squares over the whole run"
             }
+            Preset::Px4Script => {
+                "reference: PX4's process_sensor_caldata.py (median of 31, 2,000 T bins, cubic in T − TREF)"
+            }
+            Preset::ArduPilotScript => {
+                "reference: ArduPilot's tempcal_IMU.py (2-s moving average, cubic in T − 35 °C)"
+            }
         }
     }
 
@@ -149,7 +169,8 @@ impl Preset {
     pub fn from_name(name: &str) -> std::result::Result<Preset, ParseError> {
         if let Some(p) = Preset::ALL
             .into_iter()
-            .chain([Preset::Px4, Preset::ArduPilot])
+            .chain(FIRMWARE_FORMS)
+            .chain(REFERENCES)
             .find(|p| p.name() == name)
         {
             return Ok(p);
@@ -171,7 +192,13 @@ impl Preset {
             known: Preset::ALL
                 .map(Preset::name)
                 .into_iter()
-                .chain(["px4", "ardupilot", "poly-tN"])
+                .chain([
+                    "px4",
+                    "ardupilot",
+                    "poly-tN",
+                    "px4-script",
+                    "ardupilot-script",
+                ])
                 .collect(),
         })
     }
@@ -181,8 +208,23 @@ impl Preset {
     pub fn is_static_polynomial(self) -> bool {
         matches!(
             self,
-            Preset::PolyT | Preset::Px4 | Preset::ArduPilot | Preset::PolyOrder(_)
+            Preset::PolyT
+                | Preset::Px4
+                | Preset::ArduPilot
+                | Preset::PolyOrder(_)
+                | Preset::Px4Script
+                | Preset::ArduPilotScript
         )
+    }
+
+    /// The firmware script a reference row re-does; `None` for driftlab's own models.
+    pub fn script(self) -> Option<crate::models::scripts::Script> {
+        use crate::models::scripts::Script;
+        match self {
+            Preset::Px4Script => Some(Script::Px4),
+            Preset::ArduPilotScript => Some(Script::ArduPilot),
+            _ => None,
+        }
     }
 
     /// The regression spec of the preset for `log` (Sukhanov's reads the log's extra
@@ -246,6 +288,9 @@ impl Preset {
                     celsius: ARDUPILOT_TEMP_REFERENCE_C,
                 },
             ),
+            Preset::Px4Script | Preset::ArduPilotScript => self
+                .script()
+                .map(|script| crate::models::scripts::spec(script, self.name())),
             Preset::PolyOrder(n) => {
                 if !(1..=MAX_POLY_ORDER).contains(&n) {
                     return Err(ParseError::PolyOrder {
@@ -364,6 +409,13 @@ impl ModelChoice {
             ModelChoice::Preset(p) => p.spec(log),
             ModelChoice::Custom(s) => Ok(Some(s.clone())),
         }
+    }
+
+    /// Whether the model is a reference row (a firmware script's own fit) rather than one of
+    /// driftlab's models: `compare` marks it, and a recommendation leaves it out or shows it
+    /// beside.
+    pub fn is_reference(&self) -> bool {
+        matches!(self, ModelChoice::Preset(p) if p.script().is_some())
     }
 
     /// Whether the model is Vakhrameev's, which reads every setting of the recipe.
