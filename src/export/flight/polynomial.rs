@@ -144,9 +144,19 @@ pub fn static_polynomial(model: &DriftModel) -> Result<TempPolynomial, FlightErr
                     Term::Tc { power } if usize::from(*power) <= MAX_ORDER => {
                         d[usize::from(*power)] += coef;
                     }
-                    Term::Tc { power } => {
+                    Term::Tc { .. } => {
+                        let order = m
+                            .spec
+                            .terms
+                            .iter()
+                            .filter_map(|t| match t {
+                                Term::Tc { power } => Some(*power),
+                                _ => None,
+                            })
+                            .max()
+                            .unwrap_or(0);
                         return Err(FlightError::NotPolynomial(format!(
-                            "model {name} is a polynomial of order {power} in T - Tref; PX4 \
+                            "model {name} is a polynomial of order {order} in T - Tref; PX4 \
                              and ArduPilot evaluate one of order {MAX_ORDER} at most: \
                              calibrate with px4, ardupilot or poly-t3"
                         )));
