@@ -83,7 +83,9 @@ pub fn fit(log: &Log, script: Script, name: &str, spec: RegressionSpec) -> Resul
         Script::ArduPilot => ardupilot_points(&time, &temp, &rate),
     };
     let coefficients = usize::from(SCRIPT_ORDER) + 1;
-    if p.temp.len() < coefficients || !(p.t_max > p.t_min) {
+    if p.temp.len() < coefficients
+        || p.t_max.partial_cmp(&p.t_min) != Some(std::cmp::Ordering::Greater)
+    {
         return Err(FitError::TooFewForModel {
             log: log.source.clone(),
             count: p.temp.len(),

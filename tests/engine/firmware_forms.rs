@@ -141,11 +141,12 @@ fn cubic_fit(x: &[f64], y: &[f64]) -> [f64; 4] {
             .max_by(|&a, &b| m[a][col].abs().partial_cmp(&m[b][col].abs()).unwrap())
             .unwrap();
         m.swap(col, pivot);
-        for r in 0..4 {
+        let pivot_row = m[col];
+        for (r, row) in m.iter_mut().enumerate() {
             if r != col {
-                let f = m[r][col] / m[col][col];
-                for c in col..5 {
-                    m[r][c] -= f * m[col][c];
+                let f = row[col] / pivot_row[col];
+                for (v, p) in row.iter_mut().zip(pivot_row).skip(col) {
+                    *v -= f * p;
                 }
             }
         }
@@ -255,16 +256,16 @@ fn the_reference_rows_are_the_scripts_own_fits() {
     let m = model(1);
     close(m.t_ref_c.unwrap(), t_ref, "px4 TREF");
     assert_eq!(m.ranges.temp, Some([lo, hi]));
-    for k in 0..4 {
-        close(m.coefficients[k], c[k], &format!("px4 X{k}"));
+    for (k, want) in c.iter().enumerate() {
+        close(m.coefficients[k], *want, &format!("px4 X{k}"));
     }
     let (c, lo, hi) = ardupilot_script(&log);
     let m = model(2);
     assert_eq!(m.t_ref_c, Some(35.0));
     close(m.ranges.temp.unwrap()[0], lo, "ardupilot TMIN");
     close(m.ranges.temp.unwrap()[1], hi, "ardupilot TMAX");
-    for k in 0..4 {
-        close(m.coefficients[k], c[k], &format!("ardupilot GYR{k}"));
+    for (k, want) in c.iter().enumerate() {
+        close(m.coefficients[k], *want, &format!("ardupilot GYR{k}"));
     }
     // The rows' corrections are those polynomials, T held to the scripts' ranges.
     let pred = reports[2]
