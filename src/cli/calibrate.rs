@@ -43,7 +43,9 @@ pub struct Args {
     #[arg(long)]
     pub gyro_id: Option<String>,
     /// The model to fit (default vakhrameev): a preset (ieee952, yan-cross, yan-delayed,
-    /// sukhanov, poly-t, pwl-t, coil-lag) or `custom` with --terms. See `driftlab compare`.
+    /// sukhanov, poly-t, pwl-t, coil-lag), a flight controller's form (px4, ardupilot), a
+    /// polynomial in T of order N (poly-tN, N 1 to 9), a firmware script's own fit
+    /// (px4-script, ardupilot-script) or `custom` with --terms. See `driftlab compare`.
     /// --filter, --smooth, --step-h and --plateau reach every model; the K approximations
     /// and dead-bands are Vakhrameev's and are refused for another model.
     #[arg(long, value_name = "NAME")]

@@ -19,11 +19,16 @@ pub struct Args {
     #[arg(long, value_name = "LOG", num_args = 1..)]
     pub test: Vec<PathBuf>,
     /// Models to compare, comma-separated (default: every preset): vakhrameev, ieee952,
-    /// yan-cross, yan-delayed, sukhanov, poly-t, pwl-t, coil-lag.
+    /// yan-cross, yan-delayed, sukhanov, poly-t, pwl-t, coil-lag; and, only when named, the
+    /// flight controllers' forms px4 and ardupilot, a polynomial in T of order N poly-tN (N 1
+    /// to 9), and the reference rows px4-script and ardupilot-script (the fits PX4's and
+    /// ArduPilot's own scripts make, marked * in the tables and "reference": true in the
+    /// JSON).
     #[arg(long, value_name = "LIST", value_delimiter = ',')]
     pub models: Vec<String>,
     /// A custom model as comma-separated terms: 1, T, T^2, T^3, Tdot, Tddot, T*Tdot, |Tdot|,
-    /// T*Tddot, sgn(Tdot)*Tddot, dT, dT^2, selfheat, ch:NAME, ch^2:NAME, pwlT:N (repeatable).
+    /// T*Tddot, sgn(Tdot)*Tddot, dT, dT^2, selfheat, ch:NAME, ch^2:NAME, pwlT:N, T-Tref,
+    /// (T-Tref)^K (K 1 to 9; Tref the middle of the fitted T range) (repeatable).
     #[arg(long, value_name = "TERMS")]
     pub custom: Vec<String>,
     /// Delay of the temperature channels in custom models: none, SECONDS, auto (one delay
@@ -320,13 +325,14 @@ fn print_axes_summary(per_axis: &[(String, Vec<ModelReport>)]) -> Result<(), Cli
             out!()?;
             out!("{} ({})", j.log, groups.join("; "))?;
         }
-        let mut head = format!("  {:<12}", "model");
+        let w = name_width(first_axis);
+        let mut head = format!("  {:<w$}", "model");
         for (name, _) in per_axis {
             head.push_str(&format!(" {:>20}", name));
         }
         out!("{head}")?;
         for (m, r) in first_axis.iter().enumerate() {
-            let mut line = format!("  {:<12}", r.model);
+            let mut line = format!("  {:<w$}", shown_name(r));
             for (_, reports) in per_axis {
                 let cell = match reports.get(m).filter(|q| q.model == r.model) {
                     Some(r) if r.error.is_some() => "not fitted".to_string(),
@@ -345,6 +351,7 @@ fn print_axes_summary(per_axis: &[(String, Vec<ModelReport>)]) -> Result<(), Cli
             }
             out!("{line}")?;
         }
+        say_references(first_axis)?;
         // The figures not in the summary that a model made worse than raw.
         for r in first_axis.iter().filter(|r| r.error.is_none()) {
             for (name, reports) in per_axis {
@@ -369,6 +376,34 @@ fn print_axes_summary(per_axis: &[(String, Vec<ModelReport>)]) -> Result<(), Cli
     Ok(())
 }
 
+/// A model's name in a table: a reference row's marked with `*`.
+fn shown_name(r: &ModelReport) -> String {
+    if r.reference {
+        format!("{}*", r.model)
+    } else {
+        r.model.clone()
+    }
+}
+
+/// The width of the tables' model column: 12, or the longest name shown.
+fn name_width(reports: &[ModelReport]) -> usize {
+    reports
+        .iter()
+        .map(|r| shown_name(r).chars().count())
+        .fold(12, usize::max)
+}
+
+/// The line under a table that says what its `*` rows are, when it has any.
+fn say_references(reports: &[ModelReport]) -> Result<(), CliError> {
+    if reports.iter().any(|r| r.reference && r.error.is_none()) {
+        out!(
+            "  * reference: the fit the flight controller's own script makes (its filtering \
+             and binning), shown beside driftlab's models"
+        )?;
+    }
+    Ok(())
+}
+
 fn print_tables(reports: &[ModelReport], merit: &MeritOptions) -> Result<(), CliError> {
     out!(
         "Figures of the drift filtered over {} s, in deg/h; ratio = raw / corrected (above 1 is \
@@ -386,10 +421,11 @@ fn print_tables(reports: &[ModelReport], merit: &MeritOptions) -> Result<(), Cli
     let Some(first) = reports.iter().find(|r| r.error.is_none()) else {
         return Ok(());
     };
+    let w = name_width(reports);
     for (k, j) in first.logs.iter().enumerate() {
         print_log_heading(j)?;
         out!(
-            "  {:<12} {:>9} {:>9} {:>8} {:>8} {:>10} {:>8} {:>8}",
+            "  {:<w$} {:>9} {:>9} {:>8} {:>8} {:>10} {:>8} {:>8}",
             "model",
             "p2p raw",
             "p2p cor",
@@ -404,8 +440,8 @@ fn print_tables(reports: &[ModelReport], merit: &MeritOptions) -> Result<(), Cli
                 Some(Outcome::Evaluation(e)) => {
                     let c = &e.comparison;
                     out!(
-                        "  {:<12} {:>9} {:>9} {:>8} {:>8} {:>10} {:>8} {:>7}%",
-                        r.model,
+                        "  {:<w$} {:>9} {:>9} {:>8} {:>8} {:>10} {:>8} {:>7}%",
+                        shown_name(r),
                         common::figure(c.raw.p2p_dph),
                         common::figure(c.corrected.p2p_dph),
                         common::ratio(c.p2p_ratio),
@@ -415,10 +451,11 @@ fn print_tables(reports: &[ModelReport], merit: &MeritOptions) -> Result<(), Cli
                         driftlab::number::percent(e.outside_fraction)
                     )?;
                 }
-                Some(Outcome::Error(msg)) => out!("  {:<12} {msg}", r.model)?,
+                Some(Outcome::Error(msg)) => out!("  {:<w$} {msg}", shown_name(r))?,
                 None => {}
             }
         }
+        say_references(reports)?;
         // Why a figure is n/a, once per reason, as `evaluate` says it under its table.
         let mut said = Vec::new();
         for r in reports.iter().filter(|r| r.error.is_none()) {

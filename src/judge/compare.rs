@@ -59,6 +59,9 @@ pub struct ModelReport {
     pub model: String,
     /// What the model is.
     pub description: String,
+    /// Whether it is a reference row, a firmware script's own fit shown beside driftlab's
+    /// models (`px4-script`, `ardupilot-script`), rather than a model driftlab recommends.
+    pub reference: bool,
     /// The fit's error, when it failed (then `logs` is empty).
     pub error: Option<String>,
     /// The fitted model (not serialised here: calibration files hold it).
@@ -130,6 +133,7 @@ pub fn compare_one(
     let mut report = ModelReport {
         model: choice.name(),
         description: choice.describe(),
+        reference: choice.is_reference(),
         error: None,
         fitted: None,
         logs: Vec::new(),

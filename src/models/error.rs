@@ -335,10 +335,19 @@ pub enum ParseError {
         /// The most knots.
         maximum: usize,
     },
+    /// A power of `T − Tref`, or a polynomial model's order, out of range.
+    #[error("\"{text}\": a polynomial in T takes an order from 1 to {maximum}")]
+    PolyOrder {
+        /// The term or model name given.
+        text: String,
+        /// The highest order.
+        maximum: u8,
+    },
     /// A term that is none of the known ones.
     #[error(
         "unknown term \"{term}\"; terms are 1, T, T^2, T^3, Tdot, Tddot, T*Tdot, |Tdot|, \
-         T*Tddot, sgn(Tdot)*Tddot, dT, dT^2, selfheat, ch:NAME, ch^2:NAME, pwlT:N"
+         T*Tddot, sgn(Tdot)*Tddot, dT, dT^2, selfheat, ch:NAME, ch^2:NAME, pwlT:N, T-Tref, \
+         (T-Tref)^K"
     )]
     UnknownTerm {
         /// The term given.

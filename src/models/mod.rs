@@ -17,6 +17,7 @@ pub mod fitted;
 pub mod presets;
 pub mod recipe;
 pub mod regression;
+pub mod scripts;
 pub mod summary;
 pub mod unit;
 pub mod vakhrameev;
@@ -99,6 +100,19 @@ pub fn fit_with_progress(
     }
     recipe.check_against(log)?;
     check_span(log, choice)?;
+    if let ModelChoice::Preset(p) = choice
+        && let Some(script) = p.script()
+    {
+        let spec = p
+            .spec(log)?
+            .unwrap_or_else(|| scripts::spec(script, p.name()))
+            .with_recipe(recipe);
+        let m = scripts::fit(log, script, p.name(), spec)?;
+        progress(1.0);
+        return Ok(DriftModel::Regression(Box::new(
+            RegressionCalibration::new(&recipe.gyro_id, log, m),
+        )));
+    }
     match choice.spec(log)? {
         None => {
             let cal = vakhrameev::fit_lean(log, recipe)?.calibration;
@@ -150,7 +164,8 @@ pub fn check_span(log: &Log, choice: &ModelChoice) -> Result<()> {
         .into());
     }
     let rates = match choice {
-        ModelChoice::Preset(Preset::PolyT | Preset::PwlT | Preset::Sukhanov) => false,
+        ModelChoice::Preset(p) if p.is_static_polynomial() => false,
+        ModelChoice::Preset(Preset::PwlT | Preset::Sukhanov) => false,
         ModelChoice::Custom(s) => s.terms.iter().any(regression::Term::is_rate),
         _ => true,
     };

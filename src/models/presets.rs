@@ -4,9 +4,13 @@
 use crate::error::Result;
 use crate::log::Log;
 use crate::models::regression::{
-    self, DELAY_SEARCH_MAX_S, DelaySpec, FitSamples, LAG_SEARCH_MAX_S, LagSpec, RegressionSpec,
-    Term, terms,
+    self, DELAY_SEARCH_MAX_S, DelaySpec, FitSamples, LAG_SEARCH_MAX_S, LagSpec, MAX_POLY_ORDER,
+    RegressionSpec, TRefSpec, Term, terms,
 };
+
+/// ArduPilot's fixed reference temperature (`TEMP_REFERENCE` in
+/// `AP_InertialSensor_tempcal.cpp` and `TEMP_REF` in `Tools/scripts/tempcal_IMU.py`), °C.
+pub const ARDUPILOT_TEMP_REFERENCE_C: f64 = 35.0;
 use crate::models::{FitError, ParseError};
 use serde::{Deserialize, Serialize};
 
@@ -37,7 +41,45 @@ pub enum Preset {
     /// through a first-order lag whose time constant shrinks as the coil warms (both
     /// searched), a bias curve in T, and the rates with heating and cooling apart.
     CoilLag,
+    /// PX4's thermal compensation: `X0 + X1·dT + X2·dT² + X3·dT³`, `dT = T − TREF`, TREF the
+    /// middle of the fitted range and T held to it, as `TemperatureCompensation::
+    /// calc_thermal_offsets_3D` evaluates it from the parameters `Tools/process_sensor_caldata.py`
+    /// writes (`TC_G0_TREF = 0.5·(TMIN + TMAX)`); fitted by driftlab's least squares over every
+    /// sample kept.
+    Px4,
+    /// ArduPilot's IMU temperature calibration: a constant and `(T − 35)`, `(T − 35)²`,
+    /// `(T − 35)³` (`TEMP_REFERENCE`, and the three `INS_TCALn_GYR1..3` coefficients
+    /// `AP_InertialSensor::TCal::correct_sensor` evaluates, whose constant the offsets measured
+    /// at boot carry), T held to the fitted range as the firmware holds it to `[TMIN, TMAX]`;
+    /// fitted by driftlab's least squares over every sample kept.
+    #[serde(rename = "ardupilot")]
+    ArduPilot,
+    /// A polynomial in T of the given order (1 to [`MAX_POLY_ORDER`]), in powers of `T − Tref`
+    /// about the middle of the fitted range, T held to that range: `poly-t1` … `poly-t9`.
+    PolyOrder(u8),
+    /// PX4's own script's fit, `Tools/process_sensor_caldata.py` (its median filter and
+    /// temperature bins, [`crate::models::scripts`]): a reference row, what the firmware's
+    /// script would have given.
+    Px4Script,
+    /// ArduPilot's own script's fit, `Tools/scripts/tempcal_IMU.py` (its 2-s moving average,
+    /// [`crate::models::scripts`]): a reference row.
+    #[serde(rename = "ardupilot-script")]
+    ArduPilotScript,
 }
+
+/// The names of [`Preset::PolyOrder`], by order.
+const POLY_NAMES: [&str; MAX_POLY_ORDER as usize] = [
+    "poly-t1", "poly-t2", "poly-t3", "poly-t4", "poly-t5", "poly-t6", "poly-t7", "poly-t8",
+    "poly-t9",
+];
+
+/// The models named beside [`Preset::ALL`], not compared unless asked for: the flight
+/// controllers' forms, and polynomials of a chosen order (`poly-tN`, listed as its first).
+pub const FIRMWARE_FORMS: [Preset; 3] = [Preset::Px4, Preset::ArduPilot, Preset::PolyOrder(3)];
+
+/// The reference rows: the fits the flight controllers' own scripts make, named beside
+/// driftlab's models and compared only when asked for.
+pub const REFERENCES: [Preset; 2] = [Preset::Px4Script, Preset::ArduPilotScript];
 
 impl Preset {
     /// Every preset, in the order tables list them.
@@ -63,6 +105,14 @@ impl Preset {
             Preset::PolyT => "poly-t",
             Preset::PwlT => "pwl-t",
             Preset::CoilLag => "coil-lag",
+            Preset::Px4 => "px4",
+            Preset::ArduPilot => "ardupilot",
+            Preset::Px4Script => "px4-script",
+            Preset::ArduPilotScript => "ardupilot-script",
+            Preset::PolyOrder(n) => POLY_NAMES
+                .get(usize::from(n).wrapping_sub(1))
+                .copied()
+                .unwrap_or("poly-t?"),
         }
     }
 
@@ -94,6 +144,21 @@ impl Preset {
             Preset::CoilLag => {
                 "T through a lag τ20/(1 + β·(T − 20)); 1, T, T², Ṫ, |Ṫ|, T·Ṫ, T̈, T·T̈, sgn(Ṫ)·T̈ (driftlab)"
             }
+            Preset::Px4 => {
+                "PX4's form: cubic in T − TREF, TREF mid-range, T held to [TMIN, TMAX]; least squares over the whole run"
+            }
+            Preset::ArduPilot => {
+                "ArduPilot's form: constant + cubic in T − 35 °C, T held to [TMIN, TMAX]; least squares over the whole run"
+            }
+            Preset::PolyOrder(_) => {
+                "polynomial in T − Tref (Tref mid-range) of the order named, least squares over the whole run"
+            }
+            Preset::Px4Script => {
+                "reference: PX4's process_sensor_caldata.py (median of 31, 2,000 T bins, cubic in T − TREF)"
+            }
+            Preset::ArduPilotScript => {
+                "reference: ArduPilot's tempcal_IMU.py (2-s moving average, cubic in T − 35 °C)"
+            }
         }
     }
 
@@ -102,13 +167,64 @@ impl Preset {
     /// # Errors
     /// An unknown name, with the list of known ones.
     pub fn from_name(name: &str) -> std::result::Result<Preset, ParseError> {
-        Preset::ALL
+        if let Some(p) = Preset::ALL
             .into_iter()
+            .chain(FIRMWARE_FORMS)
+            .chain(REFERENCES)
             .find(|p| p.name() == name)
-            .ok_or_else(|| ParseError::UnknownModel {
-                name: name.to_string(),
-                known: Preset::ALL.map(Preset::name).to_vec(),
-            })
+        {
+            return Ok(p);
+        }
+        if let Some(n) = name.strip_prefix("poly-t")
+            && !n.is_empty()
+            && n.bytes().all(|b| b.is_ascii_digit())
+        {
+            return match n.parse::<u8>() {
+                Ok(k) if (1..=MAX_POLY_ORDER).contains(&k) => Ok(Preset::PolyOrder(k)),
+                _ => Err(ParseError::PolyOrder {
+                    text: name.to_string(),
+                    maximum: MAX_POLY_ORDER,
+                }),
+            };
+        }
+        Err(ParseError::UnknownModel {
+            name: name.to_string(),
+            known: Preset::ALL
+                .map(Preset::name)
+                .into_iter()
+                .chain([
+                    "px4",
+                    "ardupilot",
+                    "poly-tN",
+                    "px4-script",
+                    "ardupilot-script",
+                ])
+                .collect(),
+        })
+    }
+
+    /// Whether the model is a polynomial in T alone (no rate, no other channel), as a flight
+    /// controller evaluates one.
+    pub fn is_static_polynomial(self) -> bool {
+        matches!(
+            self,
+            Preset::PolyT
+                | Preset::Px4
+                | Preset::ArduPilot
+                | Preset::PolyOrder(_)
+                | Preset::Px4Script
+                | Preset::ArduPilotScript
+        )
+    }
+
+    /// The firmware script a reference row re-does; `None` for driftlab's own models.
+    pub fn script(self) -> Option<crate::models::scripts::Script> {
+        use crate::models::scripts::Script;
+        match self {
+            Preset::Px4Script => Some(Script::Px4),
+            Preset::ArduPilotScript => Some(Script::ArduPilot),
+            _ => None,
+        }
     }
 
     /// The regression spec of the preset for `log` (Sukhanov's reads the log's extra
@@ -119,6 +235,17 @@ impl Preset {
     pub fn spec(self, log: &Log) -> Result<Option<RegressionSpec>> {
         use Term::*;
         let spec = |terms: Vec<Term>| Some(RegressionSpec::new(self.name(), terms));
+        // A constant and the powers of T − Tref up to `order`, about `t_ref`.
+        let centred = |order: u8, t_ref: TRefSpec| {
+            let mut s = RegressionSpec::new(
+                self.name(),
+                std::iter::once(One)
+                    .chain((1..=order).map(|power| Tc { power }))
+                    .collect(),
+            );
+            s.t_ref = t_ref;
+            Some(s)
+        };
         Ok(match self {
             Preset::Vakhrameev => None,
             Preset::Ieee952 => spec(vec![T, Tdot, One]).map(staged),
@@ -154,6 +281,26 @@ impl Preset {
             // curves fitted on the plateaus alone (tests/engine/models.rs, README "Which model").
             Preset::PolyT => spec(vec![One, T, T2]),
             Preset::PwlT => spec(vec![PwlT { knots: 3 }]),
+            Preset::Px4 => centred(3, TRefSpec::MidRange),
+            Preset::ArduPilot => centred(
+                3,
+                TRefSpec::Fixed {
+                    celsius: ARDUPILOT_TEMP_REFERENCE_C,
+                },
+            ),
+            Preset::Px4Script | Preset::ArduPilotScript => self
+                .script()
+                .map(|script| crate::models::scripts::spec(script, self.name())),
+            Preset::PolyOrder(n) => {
+                if !(1..=MAX_POLY_ORDER).contains(&n) {
+                    return Err(ParseError::PolyOrder {
+                        text: self.name().to_string(),
+                        maximum: MAX_POLY_ORDER,
+                    }
+                    .into());
+                }
+                centred(n, TRefSpec::MidRange)
+            }
             Preset::CoilLag => spec(vec![
                 One,
                 T,
@@ -262,6 +409,13 @@ impl ModelChoice {
             ModelChoice::Preset(p) => p.spec(log),
             ModelChoice::Custom(s) => Ok(Some(s.clone())),
         }
+    }
+
+    /// Whether the model is a reference row (a firmware script's own fit) rather than one of
+    /// driftlab's models: `compare` marks it, and a recommendation leaves it out or shows it
+    /// beside.
+    pub fn is_reference(&self) -> bool {
+        matches!(self, ModelChoice::Preset(p) if p.script().is_some())
     }
 
     /// Whether the model is Vakhrameev's, which reads every setting of the recipe.

@@ -20,6 +20,7 @@ mod commands;
 mod compare_verdicts;
 mod degenerate_logs;
 mod figures_not_computed;
+mod firmware_forms;
 mod forged_lines;
 mod gyro_identity;
 mod in_sample;

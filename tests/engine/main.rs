@@ -10,6 +10,7 @@ mod approx;
 mod correction;
 mod crafted_settings;
 mod filtered_spread;
+mod firmware_forms;
 mod hand_knots_kept;
 mod k0_knots;
 mod k0_temperatures;

@@ -74,14 +74,14 @@ pub(crate) fn fit(log: &Log, choice: &ModelChoice) -> DriftModel {
 }
 
 /// driftlab's prediction at each temperature, in the model's unit.
-fn predict(model: &DriftModel, temps: &[f64]) -> Vec<f64> {
+pub(crate) fn predict(model: &DriftModel, temps: &[f64]) -> Vec<f64> {
     let time = (0..temps.len()).map(|i| i as f64).collect();
     let log = Log::from_columns("grid", time, vec![0.0; temps.len()], temps.to_vec());
     model.predict_log(&log).unwrap().pred_dph
 }
 
 /// A parameter file as the firmware stores it: name → float32.
-fn px4_file(text: &str) -> HashMap<String, f32> {
+pub(crate) fn px4_file(text: &str) -> HashMap<String, f32> {
     text.lines()
         .filter(|l| !l.starts_with('#') && !l.is_empty())
         .map(|l| {
@@ -110,7 +110,12 @@ pub(crate) fn ardupilot_file(text: &str) -> HashMap<String, f32> {
 }
 
 /// PX4's `calc_thermal_offsets_3D` for one axis, in float32 as the firmware computes it.
-fn px4_offset(p: &HashMap<String, f32>, prefix: &str, axis: usize, measured_temp: f32) -> f32 {
+pub(crate) fn px4_offset(
+    p: &HashMap<String, f32>,
+    prefix: &str,
+    axis: usize,
+    measured_temp: f32,
+) -> f32 {
     let g = |k: &str| p[&format!("{prefix}_{k}")];
     let (min_temp, max_temp, ref_temp) = (g("TMIN"), g("TMAX"), g("TREF"));
     let delta_temp = if measured_temp > max_temp {
@@ -156,7 +161,7 @@ pub(crate) fn ardupilot_correction(
 }
 
 /// Temperatures from `lo` to `hi` as float32 sensor readings, plus some outside.
-fn grid(lo: f32, hi: f32) -> Vec<f32> {
+pub(crate) fn grid(lo: f32, hi: f32) -> Vec<f32> {
     let mut v: Vec<f32> = (0..=400)
         .map(|i| lo + (hi - lo) * i as f32 / 400.0)
         .collect();

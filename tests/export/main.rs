@@ -11,6 +11,7 @@ mod firmware_regression;
 mod firmware_tables;
 mod firmware_unit;
 mod flight_exports;
+mod flight_forms;
 mod flight_one_axis;
 mod report;
 mod report_knots;

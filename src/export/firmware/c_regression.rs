@@ -8,8 +8,8 @@ use super::{AxisOfUnit, ExportError, comment_text, number};
 use crate::models::regression::{RegressionCalibration, RegressionModel, Term};
 
 /// C code of a term: its `DRIFTLAB_TERM_*` macro.
-fn term_macro(t: &Term) -> &'static str {
-    match t {
+fn term_macro(t: &Term) -> Option<&'static str> {
+    Some(match t {
         Term::One => "DRIFTLAB_TERM_ONE",
         Term::T => "DRIFTLAB_TERM_T",
         Term::T2 => "DRIFTLAB_TERM_T2",
@@ -26,7 +26,8 @@ fn term_macro(t: &Term) -> &'static str {
         Term::Channel { power: 2, .. } => "DRIFTLAB_TERM_CHANNEL_SQUARED",
         Term::Channel { .. } => "DRIFTLAB_TERM_CHANNEL",
         Term::PwlT { .. } => "DRIFTLAB_TERM_PWL_T",
-    }
+        Term::Tc { .. } => return None,
+    })
 }
 
 /// The comment block of a single-axis regression header (what the model is, how to call it,
@@ -166,7 +167,17 @@ pub(super) fn regression_constants(h: &mut String, m: &RegressionModel) -> Resul
         n_terms = terms.len(),
         n_coeffs = m.coefficients.len(),
     ));
-    let codes: Vec<String> = terms.iter().map(|t| term_macro(t).to_string()).collect();
+    let codes: Vec<String> = terms
+        .iter()
+        .map(|t| {
+            term_macro(t)
+                .map(str::to_string)
+                .ok_or_else(|| ExportError::TermNotInC {
+                    model: m.spec.name.clone(),
+                    term: t.to_string(),
+                })
+        })
+        .collect::<Result<_, _>>()?;
     h.push_str(&format!(
         "\n/* The terms, in the order of the coefficients: {} */\nstatic const int driftlab_terms[DRIFTLAB_N_TERMS] = {{\n",
         comment_text(

@@ -1,5 +1,6 @@
 //! The static part of a fitted model as a polynomial in T, which is all a flight controller
-//! evaluates: from a regression over `1, T, T², T³` (`poly-t`, a custom model) or from
+//! evaluates: from a regression over `1, T, T², T³` (`poly-t`, a custom model), over powers of
+//! `T − Tref` up to the third (`px4`, `ardupilot`, `poly-t1` to `poly-t3`), or from
 //! Vakhrameev's K0 when it is a line or a parabola. Rate terms are left out with a warning;
 //! anything else a firmware cannot evaluate is refused by name.
 
@@ -11,11 +12,16 @@ use crate::models::regression::Term;
 /// Highest power of T the flight controllers read (PX4 `X3`, ArduPilot `GYR3`).
 pub const MAX_ORDER: usize = 3;
 
-/// `Σ coeffs[k]·T^k` for T held to `[t_min, t_max]`, in the unit the model predicts in.
+/// `Σ coeffs[k]·(T − centre)^k` for T held to `[t_min, t_max]`, in the unit the model
+/// predicts in.
 #[derive(Debug, Clone, PartialEq)]
 pub struct TempPolynomial {
-    /// Coefficients of T⁰ … T³, lowest first.
+    /// Coefficients of (T − centre)⁰ … (T − centre)³, lowest first.
     pub coeffs: [f64; MAX_ORDER + 1],
+    /// The temperature the powers are taken about, °C: 0 for a polynomial in T itself, the
+    /// model's Tref for one in `T − Tref` (kept, so that re-centring on the firmware's
+    /// reference moves the coefficients by the difference of two nearby temperatures).
+    pub centre: f64,
     /// Lowest temperature of the fit, °C: below it the model holds its value there.
     pub t_min: f64,
     /// Highest temperature of the fit, °C.
@@ -37,23 +43,14 @@ impl TempPolynomial {
             t.clamp(self.t_min, self.t_max)
         };
         let c = &self.coeffs;
-        ((c[3] * t + c[2]) * t + c[1]) * t + c[0]
+        let x = t - self.centre;
+        ((c[3] * x + c[2]) * x + c[1]) * x + c[0]
     }
 
     /// The coefficients of the same polynomial in powers of `(T − t_ref)`, lowest first:
-    /// `b_k = Σ_{j≥k} C(j, k)·a_j·t_ref^(j−k)`.
+    /// `b_k = Σ_{j≥k} C(j, k)·a_j·(t_ref − centre)^(j−k)`.
     pub fn around(&self, t_ref: f64) -> [f64; MAX_ORDER + 1] {
-        let a = &self.coeffs;
-        let binom = |n: usize, k: usize| -> f64 {
-            (0..k).fold(1.0, |acc, i| acc * (n - i) as f64 / (i + 1) as f64)
-        };
-        let mut b = [0.0; MAX_ORDER + 1];
-        for (k, bk) in b.iter_mut().enumerate() {
-            *bk = (k..=MAX_ORDER)
-                .map(|j| binom(j, k) * a[j] * t_ref.powi((j - k) as i32))
-                .sum();
-        }
-        b
+        shift(&self.coeffs, t_ref - self.centre)
     }
 
     /// The same polynomial with every coefficient multiplied by `factor` (a unit change).
@@ -63,6 +60,21 @@ impl TempPolynomial {
         }
         self
     }
+}
+
+/// The coefficients `a` of a polynomial in powers of `x`, as coefficients in powers of
+/// `x − by`.
+fn shift(a: &[f64; MAX_ORDER + 1], by: f64) -> [f64; MAX_ORDER + 1] {
+    let binom = |n: usize, k: usize| -> f64 {
+        (0..k).fold(1.0, |acc, i| acc * (n - i) as f64 / (i + 1) as f64)
+    };
+    let mut b = [0.0; MAX_ORDER + 1];
+    for (k, bk) in b.iter_mut().enumerate() {
+        *bk = (k..=MAX_ORDER)
+            .map(|j| binom(j, k) * a[j] * by.powi((j - k) as i32))
+            .sum();
+    }
+    b
 }
 
 /// The static part of `model` as a polynomial in T.
@@ -91,6 +103,7 @@ pub fn static_polynomial(model: &DriftModel) -> Result<TempPolynomial, FlightErr
             c[..coeffs.len()].copy_from_slice(coeffs);
             Ok(TempPolynomial {
                 coeffs: c,
+                centre: 0.0,
                 t_min: k0.x_min(),
                 t_max: k0.x_max(),
                 extrapolates: k0.extrapolates(),
@@ -118,7 +131,9 @@ pub fn static_polynomial(model: &DriftModel) -> Result<TempPolynomial, FlightErr
                      measured"
                 )));
             }
+            // Powers of T about 0 °C in `c`, powers of T − Tref in `d`.
             let mut c = [0.0; MAX_ORDER + 1];
+            let mut d = [0.0; MAX_ORDER + 1];
             let mut left_out = Vec::new();
             for (term, coef) in m.spec.terms.iter().zip(&m.coefficients) {
                 match term {
@@ -126,6 +141,26 @@ pub fn static_polynomial(model: &DriftModel) -> Result<TempPolynomial, FlightErr
                     Term::T => c[1] += coef,
                     Term::T2 => c[2] += coef,
                     Term::T3 => c[3] += coef,
+                    Term::Tc { power } if usize::from(*power) <= MAX_ORDER => {
+                        d[usize::from(*power)] += coef;
+                    }
+                    Term::Tc { .. } => {
+                        let order = m
+                            .spec
+                            .terms
+                            .iter()
+                            .filter_map(|t| match t {
+                                Term::Tc { power } => Some(*power),
+                                _ => None,
+                            })
+                            .max()
+                            .unwrap_or(0);
+                        return Err(FlightError::NotPolynomial(format!(
+                            "model {name} is a polynomial of order {order} in T - Tref; PX4 \
+                             and ArduPilot evaluate one of order {MAX_ORDER} at most: \
+                             calibrate with px4, ardupilot or poly-t3"
+                        )));
+                    }
                     t if t.is_rate() => left_out.push(t.to_string()),
                     t => {
                         return Err(FlightError::NotPolynomial(format!(
@@ -150,8 +185,21 @@ pub fn static_polynomial(model: &DriftModel) -> Result<TempPolynomial, FlightErr
                     left_out.join(", ")
                 ));
             }
+            // A model of T − Tref terms is given about its Tref (the 0 °C terms, if any,
+            // moved there), one of T alone about 0 °C.
+            let (coeffs, centre) = match m.t_ref_c {
+                Some(t_ref) => {
+                    let mut b = shift(&c, t_ref);
+                    for (bk, dk) in b.iter_mut().zip(d) {
+                        *bk += dk;
+                    }
+                    (b, t_ref)
+                }
+                None => (c, 0.0),
+            };
             Ok(TempPolynomial {
-                coeffs: c,
+                coeffs,
+                centre,
                 t_min,
                 t_max,
                 extrapolates: false,

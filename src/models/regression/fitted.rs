@@ -111,6 +111,9 @@ pub struct RegressionModel {
     pub lag_per_c: f64,
     /// Knots of a `pwlT` term, °C.
     pub t_knots: Vec<f64>,
+    /// Tref of `(T-Tref)^k` terms, °C: present exactly when the model has such a term.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub t_ref_c: Option<f64>,
     /// Input ranges of the fit; inputs are clamped to them.
     pub ranges: InputRanges,
     /// Sampling step of the calibration log, s.
@@ -197,7 +200,7 @@ impl RegressionModel {
             x,
             channels,
             self.lambda(),
-            &self.t_knots,
+            (&self.t_knots, self.t_ref_c.unwrap_or(0.0)),
             row,
         );
         row.iter().zip(&self.coefficients).map(|(a, b)| a * b).sum()
@@ -299,6 +302,7 @@ impl RegressionModel {
                 "pwlT knots are closer together than 1e-9 of their span",
             ));
         }
+        self.check_t_ref()?;
         let ok = |r: &Range| r[0].is_finite() && r[1].is_finite() && r[0] <= r[1];
         let r = &self.ranges;
         if [r.temp, r.tdot, r.tddot, r.dt]
@@ -360,6 +364,43 @@ impl RegressionModel {
         }
         self.check_facts()?;
         crate::models::check_drift_bound("model.coefficients", self.drift_bound()?)
+    }
+
+    /// Tref against the terms and the spec: given exactly when a `(T-Tref)^k` term reads it,
+    /// a finite temperature, the spec's own when the spec fixes it.
+    fn check_t_ref(&self) -> std::result::Result<(), Invalid> {
+        let centred = self.spec.terms.iter().any(|t| matches!(t, Term::Tc { .. }));
+        match (centred, self.t_ref_c) {
+            (false, None) => Ok(()),
+            (false, Some(_)) => Err(Invalid::new(
+                "model.t_ref_c",
+                "is given, but no (T-Tref)^k term reads it",
+            )),
+            (true, None) => Err(Invalid::new(
+                "model.t_ref_c",
+                "is missing, and the (T-Tref)^k terms are powers of T less it",
+            )),
+            (true, Some(t)) if !(t.is_finite() && (-273.15..=1000.0).contains(&t)) => {
+                Err(Invalid::new(
+                    "model.t_ref_c",
+                    format!(
+                        "is {} °C: a reference temperature lies from -273.15 to 1000 °C",
+                        crate::number::readable(t)
+                    ),
+                ))
+            }
+            (true, Some(t)) => match self.spec.t_ref {
+                super::TRefSpec::Fixed { celsius } if celsius != t => Err(Invalid::new(
+                    "model.t_ref_c",
+                    format!(
+                        "is {} °C, but the spec fixes Tref at {} °C (model.spec.t_ref)",
+                        crate::number::readable(t),
+                        crate::number::readable(celsius)
+                    ),
+                )),
+                _ => Ok(()),
+            },
+        }
     }
 
     /// What the fit measured, as only a fit can have: a standard error is a root of a
@@ -536,6 +577,19 @@ impl RegressionModel {
                 Term::Channel { power, .. } => {
                     let [lo, hi] = ch.next().copied().unwrap_or([0.0, 0.0]);
                     lo.abs().max(hi.abs()).powi(i32::from(*power))
+                }
+                Term::Tc { power } => {
+                    let [lo, hi] = r.temp.ok_or_else(|| {
+                        Invalid::new(
+                            "model.ranges.temp",
+                            "is missing, and a term reads that input",
+                        )
+                    })?;
+                    let t_ref = self.t_ref_c.unwrap_or(0.0);
+                    (lo - t_ref)
+                        .abs()
+                        .max((hi - t_ref).abs())
+                        .powi(i32::from(*power))
                 }
             };
             for c in &self.coefficients[k..k + term.width()] {

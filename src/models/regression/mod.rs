@@ -30,6 +30,6 @@ pub use search::CostCurve;
 pub use signals::{guess_temp2, names_chamber_air};
 pub use spec::{
     DELAY_SEARCH_MAX_S, DelaySpec, FitSamples, LAG_REF_C, LAG_SEARCH_MAX_S, LAG_SLOPE_SEARCH_MAX,
-    LagSpec, LambdaSpec, MAX_DELAY_BANDS, MAX_TIME_CONSTANT_S, RegressionSpec, lag_at,
+    LagSpec, LambdaSpec, MAX_DELAY_BANDS, MAX_TIME_CONSTANT_S, RegressionSpec, TRefSpec, lag_at,
 };
-pub use terms::{Inputs, Term};
+pub use terms::{Inputs, MAX_POLY_ORDER, Term};

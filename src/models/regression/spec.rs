@@ -224,6 +224,29 @@ impl FromStr for FitSamples {
     }
 }
 
+/// Where the reference temperature Tref of `(T-Tref)^k` terms lies.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+pub enum TRefSpec {
+    /// The middle of the T range the model is fitted over, as PX4's
+    /// `Tools/process_sensor_caldata.py` sets `TC_G0_TREF = 0.5·(TMIN + TMAX)`.
+    #[default]
+    MidRange,
+    /// A fixed temperature, °C: ArduPilot's `TEMP_REFERENCE` of 35 °C
+    /// (`AP_InertialSensor_tempcal.cpp`).
+    Fixed {
+        /// Tref, °C.
+        celsius: f64,
+    },
+}
+
+impl TRefSpec {
+    /// Whether it is the default (left out of a file).
+    pub fn is_default(&self) -> bool {
+        *self == TRefSpec::MidRange
+    }
+}
+
 /// What an engineer asks for: the terms and how to find the non-linear parameters.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -254,6 +277,9 @@ pub struct RegressionSpec {
     /// from before the field read and write as they were).
     #[serde(default, skip_serializing_if = "PlateauChoice::is_default")]
     pub plateaus: PlateauChoice,
+    /// Where Tref of `(T-Tref)^k` terms lies (written only when fixed).
+    #[serde(default, skip_serializing_if = "TRefSpec::is_default")]
+    pub t_ref: TRefSpec,
 }
 
 impl RegressionSpec {
@@ -275,6 +301,7 @@ impl RegressionSpec {
             smoothing_s: r.temp_smoothing_s,
             step_h_s: r.step_h_s,
             plateaus: r.plateaus,
+            t_ref: TRefSpec::MidRange,
         }
     }
 
@@ -310,6 +337,17 @@ impl RegressionSpec {
             return Err(Invalid::new(
                 format!("model {}", self.name),
                 format!("the term {term} is given twice"),
+            ));
+        }
+        if let TRefSpec::Fixed { celsius } = self.t_ref
+            && !(celsius.is_finite() && (-273.15..=1000.0).contains(&celsius))
+        {
+            return Err(Invalid::new(
+                "model.spec.t_ref.celsius",
+                format!(
+                    "is {} °C: a reference temperature lies from -273.15 to 1000 °C",
+                    crate::number::readable(celsius)
+                ),
             ));
         }
         let pos = |v: f64| v.is_finite() && v > 0.0;

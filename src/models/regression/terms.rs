@@ -55,7 +55,21 @@ pub enum Term {
         /// Number of knots (at least 2).
         knots: usize,
     },
+    /// A power of T about the model's reference temperature, `(T − Tref)^k`: `T-Tref` or
+    /// `(T-Tref)^k`, k from 1 to [`MAX_POLY_ORDER`]. Tref is the middle of the fitted T range
+    /// or a fixed temperature ([`TRefSpec`](super::TRefSpec)), kept in the model; a polynomial
+    /// so centred is the form both flight controllers evaluate (PX4's `X1..X3` about `TREF`,
+    /// ArduPilot's `GYR1..3` about 35 °C), and its columns, unlike `T^k` about 0 °C, stay far
+    /// from collinear at any order.
+    Tc {
+        /// k, 1 to [`MAX_POLY_ORDER`].
+        power: u8,
+    },
 }
+
+/// The highest power of a `(T-Tref)^k` term: a ninth-order polynomial already follows the
+/// noise between a chamber's plateaus.
+pub const MAX_POLY_ORDER: u8 = 9;
 
 impl Term {
     /// Number of coefficients the term brings.
@@ -105,6 +119,8 @@ impl Term {
             Term::Channel { name, power: 1 } => format!("extra channel {name}"),
             Term::Channel { name, .. } => format!("extra channel {name}, squared"),
             Term::PwlT { knots } => format!("piecewise-linear in T over {knots} knots"),
+            Term::Tc { power: 1 } => "T less the reference temperature Tref".into(),
+            Term::Tc { power } => format!("(T − Tref) to the power {power}"),
         }
     }
 
@@ -156,6 +172,8 @@ impl fmt::Display for Term {
             Term::Channel { name, power: 1 } => write!(f, "ch:{name}"),
             Term::Channel { name, power } => write!(f, "ch^{power}:{name}"),
             Term::PwlT { knots } => write!(f, "pwlT:{knots}"),
+            Term::Tc { power: 1 } => f.write_str("T-Tref"),
+            Term::Tc { power } => write!(f, "(T-Tref)^{power}"),
         }
     }
 }
@@ -185,6 +203,7 @@ impl FromStr for Term {
             "dT" => Some(Term::Dt),
             "dT^2" | "dT2" => Some(Term::Dt2),
             "selfheat" => Some(Term::SelfHeating),
+            "T-Tref" | "(T-Tref)" => Some(Term::Tc { power: 1 }),
             _ => None,
         };
         if let Some(t) = plain {
@@ -217,6 +236,15 @@ impl FromStr for Term {
                     term: s.to_string(),
                     minimum: PWL_KNOTS_MIN,
                     maximum: PWL_KNOTS_MAX,
+                }),
+            };
+        }
+        if let Some(k) = s.strip_prefix("(T-Tref)^") {
+            return match k.parse::<u8>() {
+                Ok(power) if (1..=MAX_POLY_ORDER).contains(&power) => Ok(Term::Tc { power }),
+                _ => Err(ParseError::PolyOrder {
+                    text: s.to_string(),
+                    maximum: MAX_POLY_ORDER,
                 }),
             };
         }
@@ -283,13 +311,13 @@ pub struct Inputs {
 
 /// Writes the values of `terms` for one sample into `out` (cleared first): the row of the
 /// design matrix. `channels[k]` is the value of the k-th channel named by the terms, in the
-/// order of [`channel_names`].
+/// order of [`channel_names`]; `t_ref` is the reference temperature of `(T-Tref)^k` terms.
 pub fn row(
     terms: &[Term],
     x: &Inputs,
     channels: &[f64],
     lambda_s: f64,
-    t_knots: &[f64],
+    (t_knots, t_ref): (&[f64], f64),
     out: &mut Vec<f64>,
 ) {
     out.clear();
@@ -321,8 +349,17 @@ pub fn row(
                 out.push(if *power == 2 { v * v } else { v });
             }
             Term::PwlT { .. } => hats(t_knots, x.temp, out),
+            Term::Tc { power } => out.push(centred_power(x.temp, t_ref, *power)),
         }
     }
+}
+
+/// `(temp − t_ref)^power` as repeated products (`d·d·d`, not `powi`), the order a
+/// firmware's evaluator multiplies in.
+#[inline]
+pub fn centred_power(temp: f64, t_ref: f64, power: u8) -> f64 {
+    let d = temp - t_ref;
+    (1..power).fold(d, |v, _| v * d)
 }
 
 /// Hat-function weights of `x` over ordered `knots` (pushed, one per knot); outside the knots
@@ -379,13 +416,20 @@ mod tests {
     fn terms_read_back_what_they_write() {
         for t in Term::catalogue(&["laser_power_mw".into()])
             .into_iter()
-            .chain([Term::PwlT { knots: 5 }])
+            .chain([
+                Term::PwlT { knots: 5 },
+                Term::Tc { power: 1 },
+                Term::Tc { power: 9 },
+            ])
         {
             assert_eq!(t.to_string().parse::<Term>(), Ok(t.clone()));
         }
         assert!("T^4".parse::<Term>().is_err());
         assert!("ch:".parse::<Term>().is_err());
         assert!("pwlT:1".parse::<Term>().is_err());
+        assert!("(T-Tref)^10".parse::<Term>().is_err());
+        assert!("(T-Tref)^0".parse::<Term>().is_err());
+        assert_eq!("(T-Tref)^1".parse::<Term>(), Ok(Term::Tc { power: 1 }));
         assert!(parse_terms(" , ").is_err());
     }
 

@@ -173,6 +173,7 @@ pub fn fit_with_progress(
                         terms: &spec.terms,
                         lambda: lambda0,
                         t_knots: &knots,
+                        t_ref: t_ref_of(spec, s, &use_sample).unwrap_or(0.0),
                         delay: &Delay::default(),
                     };
                     cost(s, &d, &stages, &plateau, |_| {
@@ -220,6 +221,7 @@ pub fn fit_with_progress(
         log: log.source.clone(),
         model: spec.name.clone(),
     })?;
+    let t_ref = t_ref_of(spec, &s, &use_sample);
     // Searches run on at most SEARCH_SAMPLES evenly spread samples.
     let sub = || s.ready_samples().step_by(stride);
     let has_selfheat = spec.terms.contains(&Term::SelfHeating);
@@ -244,6 +246,7 @@ pub fn fit_with_progress(
                 terms: &spec.terms,
                 lambda: l,
                 t_knots: &t_knots,
+                t_ref: t_ref.unwrap_or(0.0),
                 delay,
             };
             cost(&s, &d, &stages, &plateau, |_| sub())
@@ -270,6 +273,7 @@ pub fn fit_with_progress(
             terms: &spec.terms,
             lambda,
             t_knots: &t_knots,
+            t_ref: t_ref.unwrap_or(0.0),
             delay: &d,
         };
         cost(&s, &design, &stages, &plateau, |on_plateaus| {
@@ -328,6 +332,7 @@ pub fn fit_with_progress(
         terms: &spec.terms,
         lambda,
         t_knots: &t_knots,
+        t_ref: t_ref.unwrap_or(0.0),
         delay: &delay,
     };
     let sol = solve_stages(&s, &design, &stages, &plateau, |_| s.ready_samples()).map_err(
@@ -349,6 +354,7 @@ pub fn fit_with_progress(
         lag_s: lag.map(|l| l.0),
         lag_per_c: lag.map_or(0.0, |l| l.1),
         t_knots,
+        t_ref_c: t_ref,
         ranges: InputRanges::default(),
         dt_s: s.dt_s,
         stats: RegressionStats::default(),
@@ -374,6 +380,30 @@ fn t_knots_of(spec: &RegressionSpec, s: &Signals) -> Option<Vec<f64>> {
         return None;
     }
     Some(search::grid(lo, hi, k, false))
+}
+
+/// Tref of the `(T-Tref)^k` terms (`None` when the model has none): the spec's fixed
+/// temperature, or the middle of T's range over the samples the fit covers (`used`, with a
+/// rate history), where PX4's script puts `TREF`; the fitted range is also where the model
+/// holds T, as PX4 holds it to `[TMIN, TMAX]`.
+fn t_ref_of(spec: &RegressionSpec, s: &Signals, used: &[bool]) -> Option<f64> {
+    if !spec.terms.iter().any(|t| matches!(t, Term::Tc { .. })) {
+        return None;
+    }
+    Some(match spec.t_ref {
+        super::TRefSpec::Fixed { celsius } => celsius,
+        super::TRefSpec::MidRange => {
+            let (lo, hi) = s
+                .ready_samples()
+                .filter(|&i| used[i])
+                .map(|i| s.temp[i])
+                .filter(|v| v.is_finite())
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+                    (a.min(v), b.max(v))
+                });
+            if lo <= hi { 0.5 * (lo + hi) } else { 0.0 }
+        }
+    })
 }
 
 /// The lowest and highest finite T over the samples with full history (∞ and −∞ when there

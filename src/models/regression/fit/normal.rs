@@ -20,6 +20,8 @@ pub(super) struct Design<'a> {
     pub(super) terms: &'a [Term],
     pub(super) lambda: f64,
     pub(super) t_knots: &'a [f64],
+    /// Tref of `(T-Tref)^k` terms (0 when there is none).
+    pub(super) t_ref: f64,
     pub(super) delay: &'a Delay,
 }
 
@@ -46,10 +48,17 @@ pub(super) fn accumulate(
         let x = s.inputs(i, d.delay, &mut ch);
         let mut y = s.omega[i];
         for (e, beta) in less {
-            terms::row(e.terms, &x, &ch, e.lambda, e.t_knots, &mut earlier);
+            terms::row(
+                e.terms,
+                &x,
+                &ch,
+                e.lambda,
+                (e.t_knots, e.t_ref),
+                &mut earlier,
+            );
             y -= earlier.iter().zip(*beta).map(|(a, b)| a * b).sum::<f64>();
         }
-        terms::row(d.terms, &x, &ch, d.lambda, d.t_knots, &mut row);
+        terms::row(d.terms, &x, &ch, d.lambda, (d.t_knots, d.t_ref), &mut row);
         if !y.is_finite() || row.iter().any(|v| !v.is_finite()) {
             continue;
         }

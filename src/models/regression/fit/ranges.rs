@@ -48,7 +48,13 @@ pub(super) fn ranges_and_stats(
             uses(|t| {
                 matches!(
                     t,
-                    Term::T | Term::T2 | Term::T3 | Term::TTdot | Term::TTddot | Term::PwlT { .. }
+                    Term::T
+                        | Term::T2
+                        | Term::T3
+                        | Term::TTdot
+                        | Term::TTddot
+                        | Term::PwlT { .. }
+                        | Term::Tc { .. }
                 )
             }),
             r[0],

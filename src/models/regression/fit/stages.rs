@@ -117,7 +117,7 @@ pub(super) fn rms_residual(
     let (mut ss, mut n) = (0.0, 0usize);
     for i in samples {
         let x = s.inputs(i, d.delay, &mut ch);
-        terms::row(d.terms, &x, &ch, d.lambda, d.t_knots, &mut row);
+        terms::row(d.terms, &x, &ch, d.lambda, (d.t_knots, d.t_ref), &mut row);
         let r = s.omega[i] - row.iter().zip(beta).map(|(a, b)| a * b).sum::<f64>();
         if r.is_finite() {
             ss += r * r;

@@ -1,0 +1,157 @@
+//! The flight controllers' own forms as models (`px4`, `ardupilot`, `poly-t3`, and the
+//! scripts' reference fits): their parameter files, evaluated as the firmware evaluates them
+//! (the evaluators of `flight_exports`, written from `TemperatureCompensation::
+//! calc_thermal_offsets_3D` and `AP_InertialSensor::TCal::correct_sensor`), equal driftlab's
+//! prediction, the one `apply` subtracts, over a sweep that reaches 5 °C past either end of
+//! the fitted range, where both hold T at the end.
+
+use super::flight_exports::{
+    Curve, DPH_PER_RAD_S, ardupilot_correction, ardupilot_file, fit, grid, log_of, predict,
+    px4_file, px4_offset,
+};
+
+use driftlab::export::flight::ardupilot::{ArduPilotTarget, ardupilot_parm};
+use driftlab::export::flight::px4::{Px4Target, px4_params};
+use driftlab::export::flight::{AxisFit, ImuFits};
+use driftlab::models::{DriftModel, ModelChoice, Preset};
+
+fn preset(name: &str) -> ModelChoice {
+    ModelChoice::Preset(Preset::from_name(name).unwrap())
+}
+
+/// The three gyro axes of one IMU, each with its own cubic around 35 °C (rad/s).
+fn three_axes(name: &str) -> Vec<DriftModel> {
+    [
+        Curve([0.012, 2.1e-4, -3.0e-6, 4.0e-8]),
+        Curve([-0.004, -1.3e-4, 2.0e-6, 0.0]),
+        Curve([0.020, 0.6e-4, 1.0e-6, -2.0e-8]),
+    ]
+    .iter()
+    .enumerate()
+    .map(|(k, &c)| {
+        fit(
+            &log_of(c, DPH_PER_RAD_S, 0.002, k as u64 + 11),
+            &preset(name),
+        )
+    })
+    .collect()
+}
+
+fn imu(models: &[DriftModel]) -> ImuFits<'_> {
+    ImuFits {
+        gyro: ["gx", "gy", "gz"]
+            .iter()
+            .zip(models)
+            .map(|(axis, model)| AxisFit { axis, model })
+            .collect(),
+        accel: Vec::new(),
+    }
+}
+
+/// The worst difference, rad/s, between each firmware's correction and driftlab's over the
+/// sweep (ArduPilot's up to its constant, both taken relative to a boot temperature).
+fn worst(models: &[DriftModel]) -> (f64, f64) {
+    let fits = imu(models);
+    let target = Px4Target {
+        gyro_device_id: Some(2424842),
+        accel_device_id: None,
+        slot: 0,
+    };
+    let p = px4_file(&px4_params(&fits, &target).unwrap().text);
+    let a = ardupilot_file(
+        &ardupilot_parm(&fits, &ArduPilotTarget { imu: Some(1) })
+            .unwrap()
+            .text,
+    );
+    let temps = grid(p["TC_G0_TMIN"], p["TC_G0_TMAX"]);
+    let t64: Vec<f64> = temps.iter().map(|&t| f64::from(t)).collect();
+    let (mut px4, mut ap) = (0.0f64, 0.0f64);
+    let cal_temp = 28.0f32;
+    for (axis, model) in models.iter().enumerate() {
+        let pred: Vec<f64> = predict(model, &t64)
+            .iter()
+            .map(|v| v / DPH_PER_RAD_S)
+            .collect();
+        let pred_cal = predict(model, &[f64::from(cal_temp)])[0] / DPH_PER_RAD_S;
+        for (i, &t) in temps.iter().enumerate() {
+            let fw = f64::from(px4_offset(&p, "TC_G0", axis, t));
+            px4 = px4.max((fw - pred[i]).abs());
+            let name = ["X", "Y", "Z"][axis];
+            let fw = f64::from(ardupilot_correction(&a, 1, "GYR", name, t, cal_temp));
+            ap = ap.max((fw - (pred[i] - pred_cal)).abs());
+        }
+    }
+    (px4, ap)
+}
+
+#[test]
+fn px4_ardupilot_and_poly_t3_models_export_what_apply_subtracts() {
+    for name in [
+        "px4",
+        "ardupilot",
+        "poly-t3",
+        "px4-script",
+        "ardupilot-script",
+    ] {
+        let models = three_axes(name);
+        let (px4, ap) = worst(&models);
+        eprintln!("{name}: firmware vs driftlab, PX4 {px4:.3e}, ArduPilot {ap:.3e} rad/s");
+        assert!(px4 < 1e-8, "{name}: PX4 {px4}");
+        assert!(ap < 1e-8, "{name}: ArduPilot {ap}");
+    }
+}
+
+#[test]
+fn the_px4_model_is_the_parameters_themselves() {
+    // One axis: the file's range is the model's own, TREF its middle, X0..X3 its coefficients
+    // in rad/s (to a float32's precision).
+    let models = three_axes("px4");
+    let DriftModel::Regression(r) = &models[0] else {
+        panic!("px4 is a regression model")
+    };
+    let m = &r.model;
+    let [lo, hi] = m.ranges.temp.unwrap();
+    let t_ref = m.t_ref_c.unwrap();
+    assert_eq!(t_ref, 0.5 * (lo + hi));
+    let fits = ImuFits {
+        gyro: vec![AxisFit {
+            axis: "gx",
+            model: &models[0],
+        }],
+        accel: Vec::new(),
+    };
+    let target = Px4Target {
+        gyro_device_id: Some(7),
+        accel_device_id: None,
+        slot: 0,
+    };
+    let p = px4_file(&px4_params(&fits, &target).unwrap().text);
+    assert!((f64::from(p["TC_G0_TREF"]) - t_ref).abs() < 1e-5);
+    for k in 0..4 {
+        let want = m.coefficients[k] / DPH_PER_RAD_S;
+        let got = f64::from(p[&format!("TC_G0_X{k}_0")]);
+        assert!(
+            (got - want).abs() <= 1e-6 * want.abs() + 1e-12,
+            "X{k}: {got} against {want}"
+        );
+    }
+}
+
+#[test]
+fn a_polynomial_above_the_third_order_is_refused_by_name() {
+    let models = three_axes("poly-t5");
+    let e = px4_params(
+        &imu(&models),
+        &Px4Target {
+            gyro_device_id: Some(7),
+            accel_device_id: None,
+            slot: 0,
+        },
+    )
+    .unwrap_err();
+    let text = e.to_string();
+    assert!(
+        text.contains("order 5") && text.contains("poly-t5"),
+        "{text}"
+    );
+}
