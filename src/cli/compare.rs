@@ -3,6 +3,7 @@
 use super::common::{self, CliError, LogArgs};
 use driftlab::judge::compare::{self, ModelReport, Outcome};
 use driftlab::judge::metrics::MeritOptions;
+use driftlab::judge::recommend::{self, Recommendation};
 use driftlab::log::ingest::{ExtraColumns, Needs};
 use driftlab::models::presets::{CustomOptions, ModelChoice, Preset};
 use driftlab::models::recipe::{CheckedRecipe, Recipe};
@@ -18,10 +19,10 @@ pub struct Args {
     /// Logs of the same gyro to judge the models on (held out).
     #[arg(long, value_name = "LOG", num_args = 1..)]
     pub test: Vec<PathBuf>,
-    /// Models to compare, comma-separated (default: every preset): vakhrameev, ieee952,
-    /// yan-cross, yan-delayed, sukhanov, poly-t, pwl-t, coil-lag; and, only when named, the
-    /// flight controllers' forms px4 and ardupilot, a polynomial in T of order N poly-tN (N 1
-    /// to 9), and the reference rows px4-script and ardupilot-script (the fits PX4's and
+    /// Models to compare, comma-separated (default: every preset and the flight
+    /// controllers' forms): vakhrameev, ieee952, yan-cross, yan-delayed, sukhanov, poly-t,
+    /// pwl-t, coil-lag, px4, ardupilot; and, only when named, a polynomial in T of order N
+    /// poly-tN (N 1 to 9), and the reference rows px4-script and ardupilot-script (the fits PX4's and
     /// ArduPilot's own scripts make, marked * in the tables and "reference": true in the
     /// JSON).
     #[arg(long, value_name = "LIST", value_delimiter = ',')]
@@ -127,15 +128,18 @@ pub fn run(a: Args) -> Result<(), CliError> {
         );
     }
     let reports = compare::compare(&train, &tests, &choices, &recipe, &merit);
+    let recommended = recommended(&train, &reports, &choices, &recipe, &merit);
     if a.json {
         common::print_json(&serde_json::json!({
             "train": a.train,
             "test": a.test,
             "options": merit,
             "models": reports,
+            "recommended": recommended,
         }))?;
     } else {
         print_tables(&reports, &merit)?;
+        print_recommendation(recommended.as_ref(), None)?;
     }
     refuse_none_fitted(&a.train, [&reports[..]])
 }
@@ -219,6 +223,7 @@ fn run_axes(
     (choices, recipe, merit): (&[ModelChoice], &CheckedRecipe, &MeritOptions),
 ) -> Result<(), CliError> {
     let mut per_axis: Vec<(String, Vec<ModelReport>)> = Vec::with_capacity(axes.len());
+    let mut recommendations: Vec<Option<Recommendation>> = Vec::with_capacity(axes.len());
     for name in axes {
         if !train.select_axis(name) {
             return Err(format!("{}: axis {name} vanished from the log", train.source).into());
@@ -242,32 +247,40 @@ fn run_axes(
             "fitting {} models on axis {name} ...",
             choices.len()
         ));
-        per_axis.push((
-            name.clone(),
-            compare::compare(train, tests, choices, recipe, merit),
-        ));
+        let reports = compare::compare(train, tests, choices, recipe, merit);
+        recommendations.push(recommended(train, &reports, choices, recipe, merit));
+        per_axis.push((name.clone(), reports));
     }
     if a.json {
         // The first axis's models at the top, as for a log of one axis; every axis under
         // "axes".
         let axes_json: Vec<serde_json::Value> = per_axis
             .iter()
-            .map(|(name, reports)| serde_json::json!({ "name": name, "models": reports }))
+            .zip(&recommendations)
+            .map(|((name, reports), rec)| {
+                serde_json::json!({ "name": name, "models": reports, "recommended": rec })
+            })
             .collect();
         common::print_json(&serde_json::json!({
             "train": a.train,
             "test": a.test,
             "options": merit,
             "models": per_axis.first().map(|(_, r)| r),
+            "recommended": recommendations.first(),
             "axes": axes_json,
         }))?;
     } else {
-        for (name, reports) in &per_axis {
+        for ((name, reports), rec) in per_axis.iter().zip(&recommendations) {
             out!("=== Axis {name} ===")?;
             print_tables(reports, merit)?;
+            print_recommendation(rec.as_ref(), None)?;
             out!()?;
         }
         print_axes_summary(&per_axis)?;
+        out!()?;
+        for ((name, _), rec) in per_axis.iter().zip(&recommendations) {
+            print_recommendation(rec.as_ref(), Some(name))?;
+        }
     }
     refuse_none_fitted(&a.train, per_axis.iter().map(|(_, r)| &r[..]))
 }
@@ -468,6 +481,63 @@ fn print_tables(reports: &[ModelReport], merit: &MeritOptions) -> Result<(), Cli
                 }
             }
         }
+    }
+    Ok(())
+}
+
+/// The recommendation of a comparison ([`recommend::recommend`]), told on the status line
+/// while the blocks of the training log are fitted when no held-out log judges it.
+fn recommended(
+    train: &driftlab::Log,
+    reports: &[ModelReport],
+    choices: &[ModelChoice],
+    recipe: &CheckedRecipe,
+    merit: &MeritOptions,
+) -> Option<Recommendation> {
+    if !reports
+        .iter()
+        .flat_map(|r| &r.logs)
+        .any(|j| j.held_out && j.cannot_tell.is_none())
+    {
+        common::status(&format!(
+            "judging the models on {} blocks of {} held out in turn (no held-out log) ...",
+            recommend::BLOCKS,
+            train.source
+        ));
+    }
+    recommend::recommend(train, reports, choices, recipe, merit)
+}
+
+/// The recommendation under a table (of `axis`, in the summary of several).
+fn print_recommendation(rec: Option<&Recommendation>, axis: Option<&str>) -> Result<(), CliError> {
+    let on = axis.map(|a| format!(" on axis {a}")).unwrap_or_default();
+    let Some(r) = rec else {
+        out!("Recommended{on}: none: no model was judged on every part (the reasons are above)")?;
+        return Ok(());
+    };
+    out!(
+        "Recommended{on}: {} (worst raw/cor peak-to-peak {}, judged {})",
+        r.model,
+        common::ratio(r.worst_p2p_ratio),
+        r.judged_on.describe()
+    )?;
+    if let Some(c) = &r.caution {
+        out!("  caution: {c}")?;
+    }
+    match &r.flight_form {
+        Some(f) if *f == r.model => {}
+        Some(f) => {
+            let ratio = r
+                .standings
+                .iter()
+                .find(|s| s.model == *f)
+                .and_then(|s| s.worst_p2p_ratio);
+            out!(
+                "  for a flight controller that takes a polynomial in T only: {f} (worst {})",
+                ratio.map_or_else(|| "n/a".to_string(), common::ratio)
+            )?;
+        }
+        None => {}
     }
     Ok(())
 }

@@ -7,4 +7,5 @@ pub mod allan;
 pub mod compare;
 pub mod metrics;
 pub mod options;
+pub mod recommend;
 pub mod verify;

@@ -13,6 +13,7 @@ pub mod kept_samples;
 pub mod mapping_check;
 pub mod read;
 pub mod resample;
+mod rows;
 pub mod run_sketch;
 pub(crate) mod temp_glitch;
 pub(crate) mod temp_rate;

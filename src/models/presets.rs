@@ -94,6 +94,22 @@ impl Preset {
         Preset::CoilLag,
     ];
 
+    /// The models a comparison fits when none is named: every preset, and the flight
+    /// controllers' forms, so that a recommendation can name the form a MEMS gyro's drift
+    /// takes (a polynomial in its die temperature) beside the FOG's (Vakhrameev's).
+    pub const COMPARED_BY_DEFAULT: [Preset; 10] = [
+        Preset::Vakhrameev,
+        Preset::Ieee952,
+        Preset::YanCross,
+        Preset::YanDelayed,
+        Preset::Sukhanov,
+        Preset::PolyT,
+        Preset::PwlT,
+        Preset::CoilLag,
+        Preset::Px4,
+        Preset::ArduPilot,
+    ];
+
     /// The name used on the command line and in files.
     pub fn name(self) -> &'static str {
         match self {
@@ -355,7 +371,8 @@ pub struct CustomOptions {
 }
 
 impl ModelChoice {
-    /// The models named in `presets` (every preset when both lists are empty), then one
+    /// The models named in `presets` ([`Preset::COMPARED_BY_DEFAULT`] when both lists are
+    /// empty), then one
     /// custom model per list of terms in `customs`, each made as `how` says.
     ///
     /// # Errors
@@ -366,7 +383,10 @@ impl ModelChoice {
         how: &CustomOptions,
     ) -> Result<Vec<ModelChoice>> {
         let mut out: Vec<ModelChoice> = if presets.is_empty() && customs.is_empty() {
-            Preset::ALL.into_iter().map(ModelChoice::Preset).collect()
+            Preset::COMPARED_BY_DEFAULT
+                .into_iter()
+                .map(ModelChoice::Preset)
+                .collect()
         } else {
             presets
                 .iter()

@@ -31,6 +31,7 @@ mod overwrite_inputs;
 mod quoting;
 mod reading;
 mod real_logs;
+mod recommend;
 mod report_escaping;
 mod report_folder;
 mod report_folder_files;

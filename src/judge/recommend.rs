@@ -1,0 +1,326 @@
+//! The model to use, named from a comparison: the one whose correction holds up best on data
+//! it was not fitted on.
+//!
+//! The figure is the raw ÷ corrected peak-to-peak of the filtered drift (the comparison's
+//! `p2p_ratio`, above 1 better), taken at its worst over what the models are judged on: a
+//! calibration ships to every run of the gyro, so the run it does least well on is the one
+//! that counts. What it is judged on, strongest first:
+//!
+//! 1. the held-out logs of the comparison, when any was given and told apart from the
+//!    training run (a log that is the training run, or that the sketch cannot tell, is no
+//!    held-out evidence);
+//! 2. otherwise, [`BLOCKS`] blocks of the training log, each held out in turn: every model
+//!    fitted on the rest of the run and judged on the block. A weaker judge, said with the
+//!    recommendation: the blocks share the run's gyro, chamber program and day, and a block
+//!    without a plateau leaves a model that needs one without it.
+//!
+//! Reference rows (the firmware scripts' own fits) are never recommended: they are shown beside
+//! so that an engineer sees what the script would have given. Among the models a flight
+//! controller can take (a polynomial in T of order 3 at most, [`flight_form`]), the best is
+//! named too, for an engineer whose export target takes nothing else.
+
+use crate::judge::compare::{ModelReport, Outcome};
+use crate::judge::metrics::{Evaluation, MeritOptions};
+use crate::log::Log;
+use crate::models::presets::{ModelChoice, Preset};
+use crate::models::recipe::CheckedRecipe;
+use rayon::prelude::*;
+use serde::Serialize;
+
+/// Blocks of the training log held out in turn when no other log judges the models.
+pub const BLOCKS: usize = 4;
+
+/// What the recommendation was judged on.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum JudgedOn {
+    /// The comparison's held-out logs, by name.
+    HeldOutLogs {
+        /// The logs.
+        logs: Vec<String>,
+    },
+    /// Blocks of the training log, each held out in turn.
+    TrainingBlocks {
+        /// How many.
+        blocks: usize,
+    },
+}
+
+impl JudgedOn {
+    /// In words, for a person.
+    pub fn describe(&self) -> String {
+        match self {
+            JudgedOn::HeldOutLogs { logs } => format!("held out on {}", logs.join(", ")),
+            JudgedOn::TrainingBlocks { blocks } => format!(
+                "on {blocks} blocks of the training log, each held out in turn (no held-out log \
+                 was given)"
+            ),
+        }
+    }
+
+    /// Why a person should weigh it less, when they should.
+    pub fn caution(&self) -> Option<&'static str> {
+        match self {
+            JudgedOn::HeldOutLogs { .. } => None,
+            JudgedOn::TrainingBlocks { .. } => Some(
+                "a weaker judge than another run: the blocks share the training run's gyro, \
+                 chamber program and day; judge on a held-out log (--test) before shipping",
+            ),
+        }
+    }
+}
+
+/// One candidate's standing.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Standing {
+    /// The model's name.
+    pub model: String,
+    /// Its worst raw ÷ corrected peak-to-peak of the filtered drift over what it was judged
+    /// on; `None` when it could not be judged on every part (`why` says which).
+    pub worst_p2p_ratio: Option<f64>,
+    /// Whether a flight controller can take it ([`flight_form`]).
+    pub flight_form: bool,
+    /// Why it was not judged on every part.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub why: Option<String>,
+}
+
+/// The recommendation of a comparison.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Recommendation {
+    /// The model to use.
+    pub model: String,
+    /// Its worst raw ÷ corrected peak-to-peak ratio over what it was judged on.
+    pub worst_p2p_ratio: f64,
+    /// What it was judged on.
+    pub judged_on: JudgedOn,
+    /// Why to weigh it less, when the judge is weak.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub caution: Option<String>,
+    /// The best of the models a flight controller can take, when one was compared and judged
+    /// (the same as `model` when that is one).
+    pub flight_form: Option<String>,
+    /// Every candidate (reference rows left out), best first; those not judged on every part
+    /// last, with why.
+    pub standings: Vec<Standing>,
+}
+
+/// Whether a flight controller's temperature calibration can take the model as it is: a
+/// polynomial in T alone of order 3 at most (PX4's `SENS_GYRO*_X0..X3`, ArduPilot's
+/// `INS_TCAL*_GYR1..3` with its constant measured at boot), fitted by driftlab.
+pub fn flight_form(choice: &ModelChoice) -> bool {
+    match choice {
+        ModelChoice::Preset(p) => match p {
+            Preset::PolyOrder(n) => *n <= 3,
+            Preset::PolyT | Preset::Px4 | Preset::ArduPilot => true,
+            _ => false,
+        },
+        ModelChoice::Custom(_) => false,
+    }
+}
+
+/// The recommendation from `reports` (one per `choices`, in order, as [`super::compare`]
+/// makes them): on their held-out logs when any, else on [`BLOCKS`] blocks of `train` held
+/// out in turn (models fitted again here). `None` when no candidate was judged on every part.
+pub fn recommend(
+    train: &Log,
+    reports: &[ModelReport],
+    choices: &[ModelChoice],
+    recipe: &CheckedRecipe,
+    merit: &MeritOptions,
+) -> Option<Recommendation> {
+    let held_out = held_out_logs(reports);
+    let (judged_on, standings) = if held_out.is_empty() {
+        let standings = on_blocks(train, reports, choices, recipe, merit);
+        (JudgedOn::TrainingBlocks { blocks: BLOCKS }, standings)
+    } else {
+        let standings = on_held_out(reports, choices);
+        (JudgedOn::HeldOutLogs { logs: held_out }, standings)
+    };
+    let standings = ranked(standings);
+    let best = standings.first()?;
+    let worst_p2p_ratio = best.worst_p2p_ratio?;
+    let flight = standings
+        .iter()
+        .find(|s| s.flight_form && s.worst_p2p_ratio.is_some())
+        .map(|s| s.model.clone());
+    Some(Recommendation {
+        model: best.model.clone(),
+        worst_p2p_ratio,
+        caution: judged_on.caution().map(str::to_string),
+        judged_on,
+        flight_form: flight,
+        standings,
+    })
+}
+
+/// The names of the logs every fitted model was judged on held out (the same for all: the
+/// training run's sketch tells each test log once).
+fn held_out_logs(reports: &[ModelReport]) -> Vec<String> {
+    reports
+        .iter()
+        .find(|r| r.error.is_none() && !r.reference)
+        .map(|r| {
+            r.logs
+                .iter()
+                .filter(|j| j.held_out && j.cannot_tell.is_none())
+                .map(|j| j.log.clone())
+                .collect()
+        })
+        .unwrap_or_default()
+}
+
+/// The worst of `ratios`, or why there is none: a part not judged, or a ratio n/a.
+fn worst(ratios: Vec<Result<f64, String>>) -> (Option<f64>, Option<String>) {
+    let mut w = f64::INFINITY;
+    for r in ratios {
+        match r {
+            Ok(x) if x.is_finite() => w = w.min(x),
+            Ok(_) => return (None, Some("its peak-to-peak ratio is n/a on a part".into())),
+            Err(e) => return (None, Some(e)),
+        }
+    }
+    if w.is_finite() {
+        (Some(w), None)
+    } else {
+        (None, Some("judged on nothing".into()))
+    }
+}
+
+/// The standings on the held-out logs of `reports`.
+fn on_held_out(reports: &[ModelReport], choices: &[ModelChoice]) -> Vec<Standing> {
+    reports
+        .iter()
+        .zip(choices)
+        .filter(|(r, _)| !r.reference)
+        .map(|(r, choice)| {
+            let (worst_p2p_ratio, why) = match &r.error {
+                Some(e) => (None, Some(format!("not fitted: {e}"))),
+                None => worst(
+                    r.logs
+                        .iter()
+                        .filter(|j| j.held_out && j.cannot_tell.is_none())
+                        .map(|j| match &j.result {
+                            Outcome::Evaluation(e) => Ok(e.comparison.p2p_ratio),
+                            Outcome::Error(e) => Err(format!("{}: {e}", j.log)),
+                        })
+                        .collect(),
+                ),
+            };
+            Standing {
+                model: r.model.clone(),
+                worst_p2p_ratio,
+                flight_form: flight_form(choice),
+                why,
+            }
+        })
+        .collect()
+}
+
+/// The rows of block `b` of [`BLOCKS`] over `n` samples.
+fn block(n: usize, b: usize) -> std::ops::Range<usize> {
+    (b * n / BLOCKS)..((b + 1) * n / BLOCKS)
+}
+
+/// The standings on [`BLOCKS`] blocks of `train`, each held out in turn: each candidate
+/// fitted on the rest of the run and judged on the block.
+fn on_blocks(
+    train: &Log,
+    reports: &[ModelReport],
+    choices: &[ModelChoice],
+    recipe: &CheckedRecipe,
+    merit: &MeritOptions,
+) -> Vec<Standing> {
+    let n = train.len();
+    let parts: Vec<(Log, Log)> = (0..BLOCKS)
+        .map(|b| {
+            let rows = block(n, b);
+            let name = format!("{} block {} of {BLOCKS}", train.source, b + 1);
+            (
+                train.rows_without(
+                    &format!("{} without block {}", train.source, b + 1),
+                    rows.clone(),
+                ),
+                train.rows_in(&name, rows),
+            )
+        })
+        .collect();
+    let candidates: Vec<(&ModelReport, &ModelChoice)> = reports
+        .iter()
+        .zip(choices)
+        .filter(|(r, _)| !r.reference)
+        .collect();
+    let jobs: Vec<(usize, usize)> = (0..candidates.len())
+        .flat_map(|c| (0..BLOCKS).map(move |b| (c, b)))
+        .collect();
+    let ratios: Vec<Result<f64, String>> = jobs
+        .par_iter()
+        .map(|&(c, b)| {
+            let (rest, held) = &parts[b];
+            let m = crate::models::fit(rest, candidates[c].1, recipe)
+                .map_err(|e| format!("not fitted without block {}: {e}", b + 1))?;
+            let corrected = m
+                .correct(held)
+                .map_err(|e| format!("not applied to block {}: {e}", b + 1))?;
+            Ok(Evaluation::of_correction(held, &corrected, merit)
+                .comparison
+                .p2p_ratio)
+        })
+        .collect();
+    candidates
+        .iter()
+        .enumerate()
+        .map(|(c, (r, choice))| {
+            let (worst_p2p_ratio, why) = match &r.error {
+                Some(e) => (None, Some(format!("not fitted: {e}"))),
+                None => worst(ratios[c * BLOCKS..(c + 1) * BLOCKS].to_vec()),
+            };
+            Standing {
+                model: r.model.clone(),
+                worst_p2p_ratio,
+                flight_form: flight_form(choice),
+                why,
+            }
+        })
+        .collect()
+}
+
+/// Best first (the highest worst ratio), those without a figure last in their order.
+fn ranked(mut s: Vec<Standing>) -> Vec<Standing> {
+    s.sort_by(|a, b| match (a.worst_p2p_ratio, b.worst_p2p_ratio) {
+        (Some(x), Some(y)) => y.total_cmp(&x),
+        (Some(_), None) => std::cmp::Ordering::Less,
+        (None, Some(_)) => std::cmp::Ordering::Greater,
+        (None, None) => std::cmp::Ordering::Equal,
+    });
+    s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn blocks_cover_every_row_once() {
+        for n in [0, 1, 3, 4, 5, 17, 1000] {
+            let mut next = 0;
+            for b in 0..BLOCKS {
+                let r = block(n, b);
+                assert_eq!(r.start, next, "{n}");
+                next = r.end;
+            }
+            assert_eq!(next, n);
+        }
+    }
+
+    #[test]
+    fn the_worst_part_counts_and_a_missing_one_is_said() {
+        assert_eq!(worst(vec![Ok(3.0), Ok(1.5), Ok(2.0)]), (Some(1.5), None));
+        assert_eq!(
+            worst(vec![Ok(3.0), Err("x".into())]),
+            (None, Some("x".into()))
+        );
+        assert!(worst(vec![Ok(f64::NAN)]).0.is_none());
+        assert!(worst(vec![]).0.is_none());
+    }
+}
