@@ -505,7 +505,7 @@ fn recommended(
             train.source
         ));
     }
-    recommend::recommend(train, reports, choices, recipe, merit)
+    recommend::recommend(train, reports, choices, recipe, merit, &|| true)
 }
 
 /// The recommendation under a table (of `axis`, in the summary of several).

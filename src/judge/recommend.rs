@@ -121,17 +121,19 @@ pub fn flight_form(choice: &ModelChoice) -> bool {
 
 /// The recommendation from `reports` (one per `choices`, in order, as [`super::compare`]
 /// makes them): on their held-out logs when any, else on [`BLOCKS`] blocks of `train` held
-/// out in turn (models fitted again here). `None` when no candidate was judged on every part.
+/// out in turn (models fitted again here, each fit started only while `keep_going` says so:
+/// a face's Cancel). `None` when no candidate was judged on every part.
 pub fn recommend(
     train: &Log,
     reports: &[ModelReport],
     choices: &[ModelChoice],
     recipe: &CheckedRecipe,
     merit: &MeritOptions,
+    keep_going: &(dyn Fn() -> bool + Sync),
 ) -> Option<Recommendation> {
     let held_out = held_out_logs(reports);
     let (judged_on, standings) = if held_out.is_empty() {
-        let standings = on_blocks(train, reports, choices, recipe, merit);
+        let standings = on_blocks(train, reports, choices, recipe, merit, keep_going);
         (JudgedOn::TrainingBlocks { blocks: BLOCKS }, standings)
     } else {
         let standings = on_held_out(reports, choices);
@@ -230,6 +232,7 @@ fn on_blocks(
     choices: &[ModelChoice],
     recipe: &CheckedRecipe,
     merit: &MeritOptions,
+    keep_going: &(dyn Fn() -> bool + Sync),
 ) -> Vec<Standing> {
     let n = train.len();
     let parts: Vec<(Log, Log)> = (0..BLOCKS)
@@ -256,6 +259,9 @@ fn on_blocks(
     let ratios: Vec<Result<f64, String>> = jobs
         .par_iter()
         .map(|&(c, b)| {
+            if !keep_going() {
+                return Err("cancelled".to_string());
+            }
             let (rest, held) = &parts[b];
             let m = crate::models::fit(rest, candidates[c].1, recipe)
                 .map_err(|e| format!("not fitted without block {}: {e}", b + 1))?;

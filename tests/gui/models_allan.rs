@@ -55,7 +55,10 @@ fn the_models_page_compares_every_model_in_sample_and_held_out_and_exports_one()
     compare_on_models_page(&mut h);
 
     let c = h.state().state.shown.models.clone().expect("compared");
-    let mut expected: Vec<String> = Preset::ALL.iter().map(|p| p.name().to_string()).collect();
+    let mut expected: Vec<String> = Preset::COMPARED_BY_DEFAULT
+        .iter()
+        .map(|p| p.name().to_string())
+        .collect();
     expected.push("custom".into());
     let names: Vec<String> = c.reports.iter().map(|r| r.model.clone()).collect();
     assert_eq!(names, expected);
@@ -131,6 +134,41 @@ fn the_models_page_compares_every_model_in_sample_and_held_out_and_exports_one()
     h.get_by_role_and_label(Role::Button, "coil-lag").click();
     h.run_ok();
     h.get_by_label("Cost of the searches");
+
+    // The recommendation: the model of the best held-out peak-to-peak ratio (found here
+    // from the table's reports), shown with what it was judged on; Adopt selects it.
+    let held_out_ratio = |r: &driftlab::judge::compare::ModelReport| {
+        r.logs
+            .iter()
+            .find(|j| j.held_out)
+            .and_then(|j| match &j.result {
+                Outcome::Evaluation(e) => Some(e.comparison.p2p_ratio),
+                Outcome::Error(_) => None,
+            })
+    };
+    let best = c
+        .reports
+        .iter()
+        .filter(|r| !r.reference)
+        .max_by(|a, b| {
+            held_out_ratio(a)
+                .unwrap_or(f64::NEG_INFINITY)
+                .total_cmp(&held_out_ratio(b).unwrap_or(f64::NEG_INFINITY))
+        })
+        .unwrap();
+    let rec = c.recommended.clone().expect("a recommendation");
+    assert_eq!(rec.model, best.model);
+    assert_eq!(Some(rec.worst_p2p_ratio), held_out_ratio(best));
+    h.get_by_label(&format!("Recommended: {}", best.model));
+    h.get_by_label_contains("judged held out on validation.csv");
+    h.get_by_role_and_label(Role::Button, "ieee952").click();
+    h.run_ok();
+    h.get_by_role_and_label(Role::Button, "Adopt").click();
+    h.run_ok();
+    assert_eq!(
+        h.state_mut().models_view().selected.as_deref(),
+        Some(best.model.as_str())
+    );
 }
 
 #[test]
@@ -155,7 +193,18 @@ fn a_model_that_cannot_be_fitted_shows_why() {
     h.get_by_label("not fitted");
     h.get_by_label_contains("sukhanov not fitted:");
     // The others still compare.
-    assert!(c.reports.iter().filter(|r| r.fitted.is_some()).count() == Preset::ALL.len() - 1);
+    assert!(
+        c.reports.iter().filter(|r| r.fitted.is_some()).count()
+            == Preset::COMPARED_BY_DEFAULT.len() - 1
+    );
+    // No validation log: the recommendation is judged on blocks of the log, with a caution.
+    let rec = c.recommended.clone().expect("a recommendation");
+    assert_eq!(
+        rec.judged_on,
+        driftlab::judge::recommend::JudgedOn::TrainingBlocks { blocks: 4 }
+    );
+    assert_ne!(rec.model, "sukhanov");
+    h.get_by_label_contains("caution: a weaker judge");
 }
 
 #[test]
@@ -290,7 +339,7 @@ fn a_comparison_shows_each_models_progress_and_is_cancelled() {
     h.step();
     assert!(h.state().busy(), "the comparison runs");
     // Each model has a row of its own while the comparison runs.
-    for p in Preset::ALL {
+    for p in Preset::COMPARED_BY_DEFAULT {
         assert!(
             h.query_all_by_label(p.name()).next().is_some(),
             "{} listed with its progress",

@@ -61,6 +61,9 @@ pub struct Compared {
     pub seconds: f64,
     /// The windows of its figures of merit, s.
     pub window_s: f64,
+    /// The model to use, as `driftlab compare` names it (`None` when none was judged on
+    /// every part, or the comparison was cancelled).
+    pub recommended: Option<crate::judge::recommend::Recommendation>,
 }
 
 /// A comparison in progress.
@@ -237,7 +240,21 @@ pub(super) fn run_compare(req: &CompareRequest, h: &CompareHandle, ctx: &SharedC
             }
         })
         .collect();
-    let (reports, series) = done.into_iter().unzip();
+    let (reports, series): (Vec<ModelReport>, _) = done.into_iter().unzip();
+    // With no validation log the models are fitted again on blocks of the calibration log
+    // (what `driftlab compare` does), still on this worker, stopped by Cancel.
+    let recommended = (!h.cancelled())
+        .then(|| {
+            crate::judge::recommend::recommend(
+                &req.train,
+                &reports,
+                &req.choices,
+                &req.recipe,
+                &req.merit,
+                &|| !h.cancelled(),
+            )
+        })
+        .flatten();
     Compared {
         generation: h.generation,
         choices: req.choices.clone(),
@@ -246,5 +263,6 @@ pub(super) fn run_compare(req: &CompareRequest, h: &CompareHandle, ctx: &SharedC
         logs,
         seconds: t.elapsed().as_secs_f64(),
         window_s: req.merit.window_s,
+        recommended,
     }
 }

@@ -29,8 +29,8 @@ use eframe::egui::{self, Color32, Panel, RichText, ScrollArea, Ui};
 
 /// View state of the Models page.
 pub struct ModelsView {
-    /// Which presets are compared, in [`Preset::ALL`] order.
-    pub presets: [bool; Preset::ALL.len()],
+    /// Which presets are compared, in [`Preset::COMPARED_BY_DEFAULT`] order.
+    pub presets: [bool; Preset::COMPARED_BY_DEFAULT.len()],
     /// The custom model.
     pub custom: CustomBuilder,
     /// The model selected in the table (by name): its details are shown, and it is the one
@@ -43,7 +43,7 @@ pub struct ModelsView {
 impl Default for ModelsView {
     fn default() -> Self {
         ModelsView {
-            presets: [true; Preset::ALL.len()],
+            presets: [true; Preset::COMPARED_BY_DEFAULT.len()],
             custom: CustomBuilder::default(),
             selected: None,
             log_index: 0,
@@ -57,7 +57,7 @@ impl ModelsView {
     /// # Errors
     /// Nothing ticked, or a custom model the engine would refuse.
     pub fn choices(&self) -> Result<Vec<ModelChoice>, String> {
-        let mut out: Vec<ModelChoice> = Preset::ALL
+        let mut out: Vec<ModelChoice> = Preset::COMPARED_BY_DEFAULT
             .iter()
             .zip(self.presets)
             .filter(|(_, on)| *on)
@@ -180,6 +180,7 @@ impl ModelsView {
                 .show(ui, |ui| self.table(ui, &c));
             // Wrapped to the page's width, under the table rather than in its scroll area.
             ui.weak(format!("outside: {}.", table::OUTSIDE));
+            self.recommendation(ui, &c);
             ui.separator();
             self.plot(ui, &c);
         });
@@ -194,16 +195,16 @@ impl ModelsView {
         ui.label("Fitted on the calibration log, judged on it and on the validation log.");
         ui.add_space(4.0);
         ui.strong("Presets");
-        for (k, p) in Preset::ALL.iter().enumerate() {
+        for (k, p) in Preset::COMPARED_BY_DEFAULT.iter().enumerate() {
             ui.checkbox(&mut self.presets[k], p.name())
                 .on_hover_text(plain(p.describe()));
         }
         ui.horizontal(|ui| {
             if ui.small_button("all").clicked() {
-                self.presets = [true; Preset::ALL.len()];
+                self.presets = [true; Preset::COMPARED_BY_DEFAULT.len()];
             }
             if ui.small_button("none").clicked() {
-                self.presets = [false; Preset::ALL.len()];
+                self.presets = [false; Preset::COMPARED_BY_DEFAULT.len()];
             }
         });
         ui.separator();
@@ -338,6 +339,51 @@ impl ModelsView {
                 ui.colored_label(ui.visuals().error_fg_color, e);
             }
         });
+    }
+}
+
+impl ModelsView {
+    /// The model `driftlab compare` would name, what it was judged on, and a button that
+    /// selects it (the model Export model… writes).
+    fn recommendation(&mut self, ui: &mut Ui, c: &Compared) {
+        let Some(r) = &c.recommended else {
+            ui.weak("Recommended: none: no model was judged on every part");
+            return;
+        };
+        // The logs by file name, as the page names them.
+        let judged = match &r.judged_on {
+            crate::judge::recommend::JudgedOn::HeldOutLogs { logs } => format!(
+                "held out on {}",
+                logs.iter()
+                    .map(|l| crate::gui::widgets::file_name(std::path::Path::new(l)))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
+            other => other.describe(),
+        };
+        ui.horizontal_wrapped(|ui| {
+            ui.strong(format!("Recommended: {}", r.model));
+            ui.label(format!(
+                "worst raw ÷ corrected peak-to-peak {}, judged {judged}",
+                crate::gui::plot_axes::ratio(r.worst_p2p_ratio),
+            ));
+            let chosen = self.selected.as_deref() == Some(r.model.as_str());
+            if ui
+                .add_enabled(!chosen, egui::Button::new("Adopt").small())
+                .on_hover_text("Select it: its details are shown, and Export model… writes it")
+                .clicked()
+            {
+                self.selected = Some(r.model.clone());
+            }
+        });
+        if let Some(caution) = &r.caution {
+            ui.colored_label(ui.visuals().warn_fg_color, format!("caution: {caution}"));
+        }
+        if let Some(f) = r.flight_form.as_ref().filter(|f| **f != r.model) {
+            ui.weak(format!(
+                "For a flight controller that takes a polynomial in T only: {f}"
+            ));
+        }
     }
 }
 
