@@ -498,15 +498,30 @@ enum FittedNote {
 /// same kind (a PX4 `device_id` is looked for among `device_id`s); by number when the record
 /// holds no identity (a calibration file written before driftlab recorded one) or the log's
 /// gyros have none of its kind (another format, a ULog without `device_id`).
-fn find_fitted(rec: &ImuRecording, fitted: &DroneGyro) -> (Option<usize>, Option<String>) {
+///
+/// # Errors
+/// The gyros that all answer to the recorded identity, when more than one does (two PX4
+/// gyros reporting one `device_id`): which of them was fitted on cannot be told.
+fn find_fitted(
+    rec: &ImuRecording,
+    fitted: &DroneGyro,
+) -> Result<(Option<usize>, Option<String>), Vec<usize>> {
     let gyros: Vec<DroneGyro> = rec.instances.iter().map(drone_gyro).collect();
     if let Some(recorded) = fitted.identity()
         && gyros
             .iter()
             .any(|g| g.identity().is_some_and(|id| id.same_kind(&recorded)))
     {
-        let found = gyros.iter().find(|g| g.same_gyro(fitted)).map(|g| g.index);
-        return (found, None);
+        let found: Vec<usize> = gyros
+            .iter()
+            .filter(|g| g.same_gyro(fitted))
+            .map(|g| g.index)
+            .collect();
+        return match found[..] {
+            [] => Ok((None, None)),
+            [k] => Ok((Some(k), None)),
+            _ => Err(found),
+        };
     }
     let found = gyros.iter().find(|g| g.index == fitted.index);
     let why = match (found.and_then(DroneGyro::identity), fitted.identity()) {
@@ -522,7 +537,7 @@ fn find_fitted(rec: &ImuRecording, fitted: &DroneGyro) -> (Option<usize>, Option
         )),
         (None, None) => None,
     };
-    (found.map(|g| g.index), why)
+    Ok((found.map(|g| g.index), why))
 }
 
 /// The gyro to read of `rec` for `choice`, with a note when a calibration's record of the
@@ -541,8 +556,30 @@ fn gyro_for_calibration(
     let Some(fitted) = &choice.fitted_on else {
         return Ok((choice.gyro, None));
     };
-    let (found, by_number) = find_fitted(rec, fitted);
     let fitted_words = fitted.describe();
+    let (found, by_number) = match (find_fitted(rec, fitted), choice.gyro) {
+        (Ok(found), _) => found,
+        // One of them asked for: read, as any gyro asked for is.
+        (Err(_), Some(g)) => return Ok((Some(g), None)),
+        (Err(several), None) => {
+            let id = fitted
+                .identity()
+                .map_or_else(|| fitted_words.clone(), |id| id.to_string());
+            return Err(ReadError::NoFittedGyro {
+                path: rec.source.clone(),
+                message: format!(
+                    "the calibration was fitted on {fitted_words} (its source.instance), and \
+                     gyros {} of this log all report {id}: which of them it was fitted on \
+                     cannot be told; choose the gyro to read with gyro N",
+                    several
+                        .iter()
+                        .map(ToString::to_string)
+                        .collect::<Vec<_>>()
+                        .join(" and ")
+                ),
+            });
+        }
+    };
     match (choice.gyro, found) {
         (None, Some(k)) => Ok((Some(k), Some(FittedNote::Chose { by_number }))),
         (None, None) => Err(ReadError::NoFittedGyro {

@@ -38,6 +38,7 @@ pub const VERSION: u32 = 2;
 /// The version of a single-axis calibration, which driftlab writes as it always has.
 pub const VERSION_SINGLE_AXIS: u32 = 1;
 
+mod twice;
 mod version1;
 mod version2;
 
@@ -328,6 +329,10 @@ fn read_text(path: &Path) -> Result<String> {
     if text.starts_with(BOM) {
         text.drain(..BOM.len_utf8());
     }
+    twice::no_key_twice(&text).map_err(|e| Error::File {
+        path: path.to_path_buf(),
+        message: e.to_string(),
+    })?;
     Ok(text)
 }
 
