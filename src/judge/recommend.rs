@@ -196,27 +196,37 @@ fn on_held_out(reports: &[ModelReport], choices: &[ModelChoice]) -> Vec<Standing
         .zip(choices)
         .filter(|(r, _)| !r.reference)
         .map(|(r, choice)| {
-            let (worst_p2p_ratio, why) = match &r.error {
-                Some(e) => (None, Some(format!("not fitted: {e}"))),
-                None => worst(
-                    r.logs
-                        .iter()
-                        .filter(|j| j.held_out && j.cannot_tell.is_none())
-                        .map(|j| match &j.result {
-                            Outcome::Evaluation(e) => Ok(e.comparison.p2p_ratio),
-                            Outcome::Error(e) => Err(format!("{}: {e}", j.log)),
-                        })
-                        .collect(),
-                ),
-            };
-            Standing {
-                model: r.model.clone(),
-                worst_p2p_ratio,
-                flight_form: flight_form(choice),
-                why,
-            }
+            standing(r, choice, || {
+                r.logs
+                    .iter()
+                    .filter(|j| j.held_out && j.cannot_tell.is_none())
+                    .map(|j| match &j.result {
+                        Outcome::Evaluation(e) => Ok(e.comparison.p2p_ratio),
+                        Outcome::Error(e) => Err(format!("{}: {e}", j.log)),
+                    })
+                    .collect()
+            })
         })
         .collect()
+}
+
+/// A candidate's standing from its ratios on the parts it was judged on (`ratios`, read
+/// only when it was fitted).
+fn standing(
+    r: &ModelReport,
+    choice: &ModelChoice,
+    ratios: impl FnOnce() -> Vec<Result<f64, String>>,
+) -> Standing {
+    let (worst_p2p_ratio, why) = match &r.error {
+        Some(e) => (None, Some(format!("not fitted: {e}"))),
+        None => worst(ratios()),
+    };
+    Standing {
+        model: r.model.clone(),
+        worst_p2p_ratio,
+        flight_form: flight_form(choice),
+        why,
+    }
 }
 
 /// The rows of block `b` of [`BLOCKS`] over `n` samples.
@@ -277,16 +287,7 @@ fn on_blocks(
         .iter()
         .enumerate()
         .map(|(c, (r, choice))| {
-            let (worst_p2p_ratio, why) = match &r.error {
-                Some(e) => (None, Some(format!("not fitted: {e}"))),
-                None => worst(ratios[c * BLOCKS..(c + 1) * BLOCKS].to_vec()),
-            };
-            Standing {
-                model: r.model.clone(),
-                worst_p2p_ratio,
-                flight_form: flight_form(choice),
-                why,
-            }
+            standing(r, choice, || ratios[c * BLOCKS..(c + 1) * BLOCKS].to_vec())
         })
         .collect()
 }

@@ -97,18 +97,16 @@ impl Preset {
     /// The models a comparison fits when none is named: every preset, and the flight
     /// controllers' forms, so that a recommendation can name the form a MEMS gyro's drift
     /// takes (a polynomial in its die temperature) beside the FOG's (Vakhrameev's).
-    pub const COMPARED_BY_DEFAULT: [Preset; 10] = [
-        Preset::Vakhrameev,
-        Preset::Ieee952,
-        Preset::YanCross,
-        Preset::YanDelayed,
-        Preset::Sukhanov,
-        Preset::PolyT,
-        Preset::PwlT,
-        Preset::CoilLag,
-        Preset::Px4,
-        Preset::ArduPilot,
-    ];
+    pub const COMPARED_BY_DEFAULT: [Preset; Preset::ALL.len() + 2] = {
+        let mut out = [Preset::Px4; Preset::ALL.len() + 2];
+        let mut k = 0;
+        while k < Preset::ALL.len() {
+            out[k] = Preset::ALL[k];
+            k += 1;
+        }
+        out[k + 1] = Preset::ArduPilot;
+        out
+    };
 
     /// The name used on the command line and in files.
     pub fn name(self) -> &'static str {
