@@ -155,3 +155,72 @@ fn a_polynomial_above_the_third_order_is_refused_by_name() {
         "{text}"
     );
 }
+
+/// The CSV table of a model of `(T-Tref)^k` terms states Tref, so that the table alone gives
+/// the prediction: its coefficients, its Tref and its clamped T range, read back here and
+/// evaluated, are driftlab's prediction over a sweep past both ends (the table gave the
+/// coefficients of powers of T − Tref and no Tref).
+#[test]
+fn the_csv_table_of_a_firmware_form_states_tref_and_predicts_alone() {
+    use driftlab::export::firmware::{ExportOptions, Format, export_model};
+    for name in ["px4", "ardupilot", "poly-t3"] {
+        let model = fit(
+            &log_of(
+                Curve([0.012, 2.1e-4, -3.0e-6, 4.0e-8]),
+                DPH_PER_RAD_S,
+                0.002,
+                7,
+            ),
+            &preset(name),
+        );
+        let text = export_model(&model, Format::CsvTable, &ExportOptions::default()).unwrap();
+        let field = |head: &str| -> String {
+            text.lines()
+                .find_map(|l| l.strip_prefix(head))
+                .unwrap_or_else(|| panic!("{name}: no {head:?} in\n{text}"))
+                .trim()
+                .to_string()
+        };
+        let t_ref: f64 =
+            field("# Tref degC (the terms T-Tref and (T-Tref)^k are powers of T less it):")
+                .parse()
+                .unwrap();
+        let range = field("# range T degC (clamped):");
+        let ends: Vec<f64> = range
+            .trim_matches(['[', ']'])
+            .split(',')
+            .map(|x| x.trim().parse().unwrap())
+            .collect();
+        // The rows `term,coefficient,std_error`: the constant, then the powers of T − Tref.
+        let coeffs: Vec<(String, f64)> = text
+            .lines()
+            .filter(|l| !l.starts_with('#') && !l.starts_with("term,"))
+            .filter_map(|l| {
+                let mut cells = l.split(',');
+                Some((cells.next()?.to_string(), cells.next()?.parse().ok()?))
+            })
+            .collect();
+        let power = |term: &str| -> i32 {
+            match term {
+                "1" => 0,
+                "T-Tref" => 1,
+                t => t
+                    .strip_prefix("(T-Tref)^")
+                    .and_then(|k| k.parse().ok())
+                    .unwrap_or_else(|| panic!("{name}: term {t}")),
+            }
+        };
+        let temps: Vec<f64> = (0..=60)
+            .map(|i| ends[0] - 5.0 + i as f64 * (ends[1] - ends[0] + 10.0) / 60.0)
+            .collect();
+        let want = predict(&model, &temps);
+        for (t, w) in temps.iter().zip(&want) {
+            let x = t.clamp(ends[0], ends[1]) - t_ref;
+            let got: f64 = coeffs.iter().map(|(term, c)| c * x.powi(power(term))).sum();
+            assert!(
+                (got - w).abs() <= 1e-9 * (1.0 + w.abs()),
+                "{name} at {t} °C: the table gives {got}, driftlab {w}"
+            );
+        }
+    }
+}

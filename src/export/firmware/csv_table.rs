@@ -398,6 +398,13 @@ fn regression(cal: &RegressionCalibration) -> Result<Table, ExportError> {
         rtdd = range(m.ranges.tddot, "the Tddot range")?,
         rdt = range(m.ranges.dt, "the dT range")?,
     );
+    // Written only for a model that reads it: the (T-Tref)^k terms are powers of T less it.
+    if let Some(t_ref) = m.t_ref_c {
+        out.push_str(&format!(
+            "# Tref degC (the terms T-Tref and (T-Tref)^k are powers of T less it): {}\n",
+            number(t_ref, "Tref")?
+        ));
+    }
     if let Some(t2) = &m.temp2 {
         out.push_str(&format!(
             "# second temperature sensor (dT = T - T2): {}\n",
