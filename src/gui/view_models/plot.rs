@@ -9,7 +9,9 @@ use egui_plot::{Corner, Legend, Plot};
 /// Colours of the models, by their place in the comparison: distinct from each other and
 /// from the grey of the raw drift, on light and dark backgrounds.
 pub fn model_color(k: usize, dark: bool) -> Color32 {
-    const LIGHT: [Color32; 9] = [
+    // Twelve: the ten models compared by default, the custom one and one more, each its own
+    // (the tenth took the first's blue beside it).
+    const LIGHT: [Color32; 12] = [
         Color32::from_rgb(31, 119, 180),
         Color32::from_rgb(230, 110, 0),
         Color32::from_rgb(40, 150, 40),
@@ -19,8 +21,11 @@ pub fn model_color(k: usize, dark: bool) -> Color32 {
         Color32::from_rgb(210, 90, 180),
         Color32::from_rgb(150, 150, 20),
         Color32::from_rgb(20, 170, 190),
+        Color32::from_rgb(0, 80, 100),
+        Color32::from_rgb(110, 110, 110),
+        Color32::from_rgb(70, 60, 170),
     ];
-    const DARK: [Color32; 9] = [
+    const DARK: [Color32; 12] = [
         Color32::from_rgb(90, 170, 255),
         Color32::from_rgb(255, 160, 60),
         Color32::from_rgb(100, 210, 100),
@@ -30,6 +35,9 @@ pub fn model_color(k: usize, dark: bool) -> Color32 {
         Color32::from_rgb(255, 140, 220),
         Color32::from_rgb(215, 215, 70),
         Color32::from_rgb(70, 220, 235),
+        Color32::from_rgb(0, 200, 150),
+        Color32::from_rgb(200, 200, 200),
+        Color32::from_rgb(150, 140, 255),
     ];
     if dark {
         DARK[k % DARK.len()]
