@@ -198,23 +198,6 @@ pub fn drive(exe: &Path, input: String) -> Vec<Vec<CSample>> {
 /// `log` with the samples at `cut` (indices) left out: a dropout of the recorder, the time
 /// jumping over it.
 pub fn with_dropout(log: &Log, cut: std::ops::Range<usize>) -> Log {
-    let keep = |v: &[f64]| -> Vec<f64> {
-        v.iter()
-            .enumerate()
-            .filter(|(i, _)| !cut.contains(i))
-            .map(|(_, x)| *x)
-            .collect()
-    };
-    let mut out = log.clone();
-    out.source = format!("{} without samples {}..{}", log.source, cut.start, cut.end);
-    out.time_s = keep(&log.time_s);
-    out.omega_dph = keep(&log.omega_dph);
-    out.temp_c = keep(&log.temp_c);
-    for (c, orig) in out.extra.iter_mut().zip(&log.extra) {
-        c.values = keep(&orig.values);
-    }
-    for (a, orig) in out.other_axes.iter_mut().zip(&log.other_axes) {
-        a.omega_dph = keep(&orig.omega_dph);
-    }
-    out
+    let name = format!("{} without samples {}..{}", log.source, cut.start, cut.end);
+    log.rows_without(&name, cut)
 }
