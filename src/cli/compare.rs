@@ -494,11 +494,7 @@ fn recommended(
     recipe: &CheckedRecipe,
     merit: &MeritOptions,
 ) -> Option<Recommendation> {
-    if !reports
-        .iter()
-        .flat_map(|r| &r.logs)
-        .any(|j| j.held_out && j.cannot_tell.is_none())
-    {
+    if recommend::held_out_logs(reports).is_empty() {
         common::status(&format!(
             "judging the models on {} blocks of {} held out in turn (no held-out log) ...",
             recommend::BLOCKS,

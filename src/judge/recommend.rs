@@ -157,8 +157,9 @@ pub fn recommend(
 }
 
 /// The names of the logs every fitted model was judged on held out (the same for all: the
-/// training run's sketch tells each test log once).
-fn held_out_logs(reports: &[ModelReport]) -> Vec<String> {
+/// training run's sketch tells each test log once); none means the blocks of the training log
+/// judge instead.
+pub fn held_out_logs(reports: &[ModelReport]) -> Vec<String> {
     reports
         .iter()
         .find(|r| r.error.is_none() && !r.reference)

@@ -80,31 +80,25 @@ trait Stamped {
     fn frame(&self) -> u16;
 }
 
-impl Stamped for ImuSample {
-    fn stamp(&self) -> RosTime {
-        RosTime {
-            sec: self.sec,
-            nsec: self.nsec,
-        }
-    }
+/// [`Stamped`] of the kept messages, which hold their stamp and frame number alike.
+macro_rules! stamped {
+    ($($kind:ty),*) => {$(
+        impl Stamped for $kind {
+            fn stamp(&self) -> RosTime {
+                RosTime {
+                    sec: self.sec,
+                    nsec: self.nsec,
+                }
+            }
 
-    fn frame(&self) -> u16 {
-        self.frame
-    }
+            fn frame(&self) -> u16 {
+                self.frame
+            }
+        }
+    )*};
 }
 
-impl Stamped for TempSample {
-    fn stamp(&self) -> RosTime {
-        RosTime {
-            sec: self.sec,
-            nsec: self.nsec,
-        }
-    }
-
-    fn frame(&self) -> u16 {
-        self.frame
-    }
-}
+stamped!(ImuSample, TempSample);
 
 /// The messages of one topic, with their log (bag) time in ns.
 struct Topic<T> {
