@@ -159,6 +159,23 @@ fn lead_step(time_s: &[f64], before: usize) -> Option<f64> {
     Some(steps[steps.len() / 2])
 }
 
+/// The lead's step of a close streak just broken, for a close return `r` that comes right
+/// after it: when the second clock stands *behind* the first, the first return takes the
+/// first clock's last row before the switch for a row of the second (both stand ahead of the
+/// step back), so its offset is not the ones after it and the streak breaks at the second
+/// return. The rows from there on are no longer on one clock, so the lead is the broken
+/// streak's, read from the rows before it, while `r` stands within [`LEAD_STEPS`] rows of it.
+fn inherited_lead(broken: Option<&Streak>, r: &Return) -> Option<f64> {
+    match broken {
+        Some((_, last, _, Some(lead_s)))
+            if r.before >= last.before && r.before - last.back < LEAD_STEPS =>
+        {
+            Some(*lead_s)
+        }
+        _ => None,
+    }
+}
+
 /// Whether close return `next` follows `prev` ([`follows`]) as a second clock interleaved
 /// with a first of step `lead_s`: the first clock's rows between them rise at `lead_s` a row
 /// (rows swapped in pairs rise two steps a row), and the second clock stands the same offset
@@ -233,12 +250,15 @@ pub fn interleaved_clocks(time_s: &[f64]) -> Option<Interleaved> {
                     found = Some((s.0, s.2));
                     break;
                 }
-                // A far return starts a streak; a close one only after rows on one clock.
+                // A far return starts a streak; a close one only after rows on one clock, or
+                // right after a close streak whose lead it inherits.
                 r.and_then(|r| {
                     if r.far {
                         Some((r, r, 1, None))
                     } else {
-                        lead_step(time_s, r.before).map(|lead_s| (r, r, 1, Some(lead_s)))
+                        lead_step(time_s, r.before)
+                            .or_else(|| inherited_lead(streak.as_ref(), &r))
+                            .map(|lead_s| (r, r, 1, Some(lead_s)))
                     }
                 })
             }
@@ -375,6 +395,21 @@ mod tests {
         let mut t = t;
         t.extend((1000 + MIN_SWITCHES - 1..3000).map(|i| i as f64));
         assert_eq!(interleaved_clocks(&t), None);
+    }
+
+    #[test]
+    fn a_second_clock_close_behind_the_first_is_found_too() {
+        // B 1.1 to 2.4 steps behind A: the mirror of the cases above, refused alike.
+        for offset_s in [-0.6, -1.1, -1.5, -2.4] {
+            let t = after_a_lead(1000, 2000, offset_s);
+            let got = interleaved_clocks(&t).unwrap_or_else(|| panic!("{offset_s} s"));
+            // Found within a row or two of where B's rows begin (index 1001).
+            assert!((1000..=1004).contains(&got.away), "{offset_s}: {got:?}");
+            assert!(
+                (got.away_s - got.before_s).abs() > 0.5 && got.returns >= 1990,
+                "{offset_s}: {got:?}"
+            );
+        }
     }
 
     #[test]

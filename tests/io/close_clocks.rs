@@ -1,5 +1,5 @@
 //! Two recorders' rows interleaved with clocks close together (less than 2.5 steps apart,
-//! 1.1 to 3.5 s at a 1 s step) are refused by both readers as at 5000.5 s, at the first row
+//! 1.1 to 3.5 s at a 1 s step, the second ahead of the first or behind it) are refused by both readers as at 5000.5 s, at the first row
 //! of the second clock: read by time order, the rows kept switched from gyro A to gyro B at
 //! the first step back (a +50 °/h splice), or half of them went as stray stamps.
 //!
@@ -34,6 +34,18 @@ fn clocks_close_together_are_refused_in_a_csv_at_the_first_row_of_the_second() {
         assert!(
             e.message
                 .contains("alternate between two clocks from line 1003 on")
+                && e.message.contains("two recorders' rows interleaved")
+                && !e.message.contains("stray"),
+            "{offset_s} s: {e}"
+        );
+    }
+    // B's clock behind A's: refused alike, a row or so on (the first return to the clock
+    // behind is read from B's second row, its first standing among A's last rows).
+    for offset_s in [-0.6, -1.1, -1.5, -2.4, -5000.5] {
+        let e = fail(csv(offset_s, 3000).as_bytes(), &opts());
+        assert!((1002..=1005).contains(&e.line), "{offset_s} s: {e}");
+        assert!(
+            e.message.contains("alternate between two clocks")
                 && e.message.contains("two recorders' rows interleaved")
                 && !e.message.contains("stray"),
             "{offset_s} s: {e}"
