@@ -218,6 +218,50 @@ fn c_header_corrects_as_driftlab_for_every_preset_on_the_fog() {
     }
 }
 
+/// The firmware forms and polynomials in T − Tref: Tref and each term's power in the header,
+/// the powers raised by repeated products as driftlab raises them.
+#[test]
+fn c_header_corrects_as_driftlab_for_models_in_t_less_tref() {
+    let (cal_log, val_log) = (read("calibration.csv"), read("validation.csv"));
+    for p in [Preset::Px4, Preset::ArduPilot, Preset::PolyOrder(9)] {
+        let model =
+            driftlab::models::fit(&cal_log, &ModelChoice::Preset(p), &CheckedRecipe::default())
+                .unwrap();
+        let DriftModel::Regression(r) = &model else {
+            panic!("{} is a regression", p.name());
+        };
+        let t_ref = r.model.t_ref_c.expect("a Tref");
+        let header =
+            firmware::export_model(&model, Format::CHeader, &ExportOptions::default()).unwrap();
+        assert!(
+            header.contains(&format!("#define DRIFTLAB_T_REF_C {t_ref:?}\n")),
+            "{}: Tref {t_ref} not in the header",
+            p.name()
+        );
+        let label = format!("{} (FOG)", p.name());
+        if regression_c_agrees(&label, &model, &[&val_log, &cal_log]).is_none() {
+            return;
+        }
+    }
+    // With other terms between them, a lag and a delay.
+    let (cal_log, held_out) = (read("laser-gyro.csv"), read("laser-gyro-2.csv"));
+    let mut spec = RegressionSpec::new(
+        "custom",
+        parse_terms("1,(T-Tref)^2,Tdot,T-Tref,selfheat,(T-Tref)^5,ch:laser_power_mw").unwrap(),
+    );
+    spec.lag = LagSpec::Fixed {
+        seconds: 300.0,
+        per_c: 0.0,
+    };
+    let model = driftlab::models::fit(
+        &cal_log,
+        &ModelChoice::Custom(spec),
+        &CheckedRecipe::default(),
+    )
+    .unwrap();
+    regression_c_agrees("custom in T - Tref", &model, &[&held_out, &cal_log]);
+}
+
 #[test]
 fn c_header_corrects_as_driftlab_for_a_custom_model_with_every_feature() {
     let (cal_log, held_out) = (read("laser-gyro.csv"), read("laser-gyro-2.csv"));

@@ -340,6 +340,40 @@ fn unit_header_with_a_regression_axis_keeps_its_own_corrector_and_agrees() {
 }
 
 #[test]
+fn unit_header_of_the_firmware_forms_agrees_bit_for_bit() {
+    // Each axis a polynomial in T - Tref: its own Tref and powers under the axis's names.
+    let dir = tempfile::tempdir().unwrap();
+    let unit = calibrate_unit(
+        dir.path(),
+        &[
+            "--axis-model",
+            "gx=px4",
+            "--axis-model",
+            "gy=ardupilot",
+            "--axis-model",
+            "gz=poly-t5",
+        ],
+    );
+    let header = firmware::export_unit(&unit, Format::CHeader, &ExportOptions::default()).unwrap();
+    for (axis, t_ref) in ["gx", "gy", "gz"].iter().zip(&unit.axes) {
+        let DriftModel::Regression(r) = &t_ref.model else {
+            panic!("{axis} is not a regression axis");
+        };
+        let line = format!(
+            "#define DRIFTLAB_{}_T_REF_C {:?}\n",
+            axis.to_uppercase(),
+            r.model.t_ref_c.unwrap()
+        );
+        assert!(header.contains(&line), "{line}");
+    }
+    let log = read("imu3-validation.csv");
+    let Some((a, _)) = c_unit_agrees(&unit, &log) else {
+        return;
+    };
+    assert_eq!(a.identical, a.compared, "{a:?}");
+}
+
+#[test]
 fn a_single_axis_calibration_exports_as_it_always_has() {
     let cal = calibrate(
         &read("calibration.csv"),

@@ -5,6 +5,7 @@
 //! moving average of T is the runtime's (`runtime.c`); its differences read rings indexed by a
 //! sample count that restarts after a dropout, so they are its own.
 
+use super::c_regression::has_centred_terms;
 use super::c_runtime::section_in_state;
 use super::{ExportError, MAX_RING_SAMPLES, number};
 use crate::models::regression::RegressionModel;
@@ -154,7 +155,7 @@ static inline int driftlab_check(double *v, const double range[2], int hold)
         gap = number(crate::signal::timing::GAP_FACTOR, "the dropout factor")?,
         delay_body = delay_body(m.delay.points.len()),
     ));
-    h.push_str(&row_fn(m.t_knots.len()));
+    h.push_str(&row_fn(m.t_knots.len(), has_centred_terms(m)));
     // The push function.
     let mut clamp = String::new();
     for (name, range, hold) in [
@@ -328,8 +329,10 @@ fn delay_body(n: usize) -> String {
 }
 
 /// The hat functions of the `pwlT` term (when there is one) and the design row (as
-/// [`crate::models::regression::terms::row`]).
-fn row_fn(knots: usize) -> String {
+/// [`crate::models::regression::terms::row`]); `centred` when a `(T-Tref)^k` term is among
+/// the terms, its power raised by repeated products as
+/// [`crate::models::regression::terms::centred_power`] does.
+fn row_fn(knots: usize, centred: bool) -> String {
     let mut out = String::new();
     let pwl_case = if knots > 0 {
         out.push_str(
@@ -370,6 +373,19 @@ static inline void driftlab_hats(double x, double *out)
     } else {
         ""
     };
+    let centred_case = if centred {
+        r#"        case DRIFTLAB_TERM_T_LESS_TREF: /* (T - Tref)^k as repeated products */
+            d = temp - DRIFTLAB_T_REF_C;
+            v = d;
+            for (k = 1; k < (size_t)driftlab_term_powers[term]; k++) {
+                v = v * d;
+            }
+            row[col++] = v;
+            break;
+"#
+    } else {
+        ""
+    };
     out.push_str(&format!(
         r#"
 /* The design row of one sample: the value of each term, in coefficient order. */
@@ -377,7 +393,7 @@ static inline void driftlab_row(double t_s, double temp, double tdot, double tdd
                                 const double *ch, double row[DRIFTLAB_N_COEFFS])
 {{
     size_t term, col = 0, c = 0{k_decl};
-    double v;
+    double v{d_decl};
     (void)t_s;
     (void)ch;
     for (term = 0; term < DRIFTLAB_N_TERMS; term++) {{
@@ -403,13 +419,14 @@ static inline void driftlab_row(double t_s, double temp, double tdot, double tdd
             c++;
             row[col++] = driftlab_terms[term] == DRIFTLAB_TERM_CHANNEL_SQUARED ? v * v : v;
             break;
-{pwl_case}        default:
+{pwl_case}{centred_case}        default:
             break;
         }}
     }}
 }}
 "#,
-        k_decl = if knots > 0 { ", k" } else { "" },
+        k_decl = if knots > 0 || centred { ", k" } else { "" },
+        d_decl = if centred { ", d" } else { "" },
     ));
     out
 }

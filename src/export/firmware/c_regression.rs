@@ -7,9 +7,10 @@ use super::c_header::{BIT_FOR_BIT_DOC, c_string, guard, source_doc};
 use super::{AxisOfUnit, ExportError, comment_text, number};
 use crate::models::regression::{RegressionCalibration, RegressionModel, Term};
 
-/// C code of a term: its `DRIFTLAB_TERM_*` macro.
-fn term_macro(t: &Term) -> Option<&'static str> {
-    Some(match t {
+/// C code of a term: its `DRIFTLAB_TERM_*` macro (a `(T-Tref)^k` term's power is in
+/// `driftlab_term_powers`).
+fn term_macro(t: &Term) -> &'static str {
+    match t {
         Term::One => "DRIFTLAB_TERM_ONE",
         Term::T => "DRIFTLAB_TERM_T",
         Term::T2 => "DRIFTLAB_TERM_T2",
@@ -26,8 +27,8 @@ fn term_macro(t: &Term) -> Option<&'static str> {
         Term::Channel { power: 2, .. } => "DRIFTLAB_TERM_CHANNEL_SQUARED",
         Term::Channel { .. } => "DRIFTLAB_TERM_CHANNEL",
         Term::PwlT { .. } => "DRIFTLAB_TERM_PWL_T",
-        Term::Tc { .. } => return None,
-    })
+        Term::Tc { .. } => "DRIFTLAB_TERM_T_LESS_TREF",
+    }
 }
 
 /// The comment block of a single-axis regression header (what the model is, how to call it,
@@ -159,6 +160,7 @@ pub(super) fn regression_constants(h: &mut String, m: &RegressionModel) -> Resul
 #define DRIFTLAB_TERM_CHANNEL 13         /* an extra channel */
 #define DRIFTLAB_TERM_CHANNEL_SQUARED 14 /* an extra channel squared */
 #define DRIFTLAB_TERM_PWL_T 15           /* hat functions of T over DRIFTLAB_N_KNOTS knots */
+#define DRIFTLAB_TERM_T_LESS_TREF 16     /* (T - DRIFTLAB_T_REF_C)^k, k its driftlab_term_powers */
 
 #define DRIFTLAB_N_TERMS {n_terms}
 #define DRIFTLAB_N_COEFFS {n_coeffs}
@@ -167,17 +169,7 @@ pub(super) fn regression_constants(h: &mut String, m: &RegressionModel) -> Resul
         n_terms = terms.len(),
         n_coeffs = m.coefficients.len(),
     ));
-    let codes: Vec<String> = terms
-        .iter()
-        .map(|t| {
-            term_macro(t)
-                .map(str::to_string)
-                .ok_or_else(|| ExportError::TermNotInC {
-                    model: m.spec.name.clone(),
-                    term: t.to_string(),
-                })
-        })
-        .collect::<Result<_, _>>()?;
+    let codes: Vec<&str> = terms.iter().map(term_macro).collect();
     h.push_str(&format!(
         "\n/* The terms, in the order of the coefficients: {} */\nstatic const int driftlab_terms[DRIFTLAB_N_TERMS] = {{\n",
         comment_text(
@@ -192,6 +184,7 @@ pub(super) fn regression_constants(h: &mut String, m: &RegressionModel) -> Resul
         h.push_str(&format!("    {},\n", chunk.join(", ")));
     }
     h.push_str("};\n");
+    centred_constants(h, m)?;
     h.push_str(
         "\n/* Coefficients, deg/h per unit of their term (one a line: name, standard error). */\n\
          static const double driftlab_coeffs[DRIFTLAB_N_COEFFS] = {\n",
@@ -303,4 +296,39 @@ pub(super) fn regression_constants(h: &mut String, m: &RegressionModel) -> Resul
         h.push_str("};\n");
     }
     Ok(())
+}
+
+/// Tref and each term's power, for a model of `(T-Tref)^k` terms (nothing otherwise): the
+/// corrector's row raises `T - DRIFTLAB_T_REF_C` to the power by repeated products, as
+/// [`crate::models::regression::terms::centred_power`] does.
+fn centred_constants(h: &mut String, m: &RegressionModel) -> Result<(), ExportError> {
+    if !has_centred_terms(m) {
+        return Ok(());
+    }
+    // A validated model of such terms has its Tref (`check_t_ref`); none reads as NaN, which
+    // `number` refuses by name.
+    let t_ref = m.t_ref_c.unwrap_or(f64::NAN);
+    let powers: Vec<String> = m
+        .spec
+        .terms
+        .iter()
+        .map(|t| match t {
+            Term::Tc { power } => power.to_string(),
+            _ => "0".to_string(),
+        })
+        .collect();
+    h.push_str(&format!(
+        "\n/* Tref, degC: the (T-Tref)^k terms are powers of T less it. */\n\
+         #define DRIFTLAB_T_REF_C {}\n\
+         /* The power k of each (T-Tref)^k term, in the order of the terms (0: another term). */\n\
+         static const int driftlab_term_powers[DRIFTLAB_N_TERMS] = {{ {} }};\n",
+        number(t_ref, "Tref (model.t_ref_c)")?,
+        powers.join(", ")
+    ));
+    Ok(())
+}
+
+/// Whether the model has a `(T-Tref)^k` term, and so a Tref and the powers in its header.
+pub(super) fn has_centred_terms(m: &RegressionModel) -> bool {
+    m.spec.terms.iter().any(|t| matches!(t, Term::Tc { .. }))
 }

@@ -126,18 +126,6 @@ pub const MAX_RING_SAMPLES: usize = 1 << 24;
 /// Why a calibration could not be exported.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum ExportError {
-    /// A regression term the C runtime does not evaluate.
-    #[error(
-        "model {model}: the C header does not evaluate the term {term} yet; a polynomial in \
-         T - Tref goes to a flight controller as px4-params or ardupilot-parm, or to C as a \
-         model of 1, T, T^2, T^3"
-    )]
-    TermNotInC {
-        /// The model's name.
-        model: String,
-        /// The term.
-        term: String,
-    },
     /// A table with fewer than two points cannot interpolate.
     #[error("a table needs at least 2 points per coefficient, got {0}")]
     TooFewPoints(usize),
