@@ -224,3 +224,42 @@ fn the_csv_table_of_a_firmware_form_states_tref_and_predicts_alone() {
         }
     }
 }
+
+/// The report of a model of `(T-Tref)^k` terms states Tref beside its coefficients, and
+/// whence it comes (fixed by the firmware's form, or the middle of the fitted range).
+#[test]
+fn the_report_of_a_firmware_form_states_tref() {
+    use driftlab::export::report::{self, ReportOptions};
+    for (name, whence) in [
+        ("px4", "the middle of the fitted range"),
+        ("ardupilot", "fixed by the model"),
+    ] {
+        let log = log_of(
+            Curve([0.012, 2.1e-4, -3.0e-6, 4.0e-8]),
+            DPH_PER_RAD_S,
+            0.002,
+            7,
+        );
+        let model = fit(&log, &preset(name));
+        let DriftModel::Regression(r) = &model else {
+            panic!("{name} is a regression");
+        };
+        let t_ref = r.model.t_ref_c.unwrap();
+        let dir = tempfile::tempdir().unwrap();
+        let logs = [(dir.path().join("log.csv"), log)];
+        let summary =
+            report::write_model(&model, &logs, dir.path(), &ReportOptions::default()).unwrap();
+        let html = std::fs::read_to_string(&summary.html).unwrap();
+        let row = html
+            .lines()
+            .find(|l| l.contains("reference temperature Tref"))
+            .unwrap_or_else(|| panic!("{name}: no Tref row"));
+        assert!(
+            row.contains(&format!(
+                "{} °C",
+                driftlab::export::report::html::fmt_num(t_ref)
+            )) && row.contains(whence),
+            "{name}: {row}"
+        );
+    }
+}

@@ -5,7 +5,7 @@
 
 use super::ReportSummary;
 use super::html::{Depth, fmt_num, heading, merit_section, row};
-use crate::models::regression::{FitSamples, RegressionCalibration};
+use crate::models::regression::{FitSamples, RegressionCalibration, TRefSpec};
 use maud::{Markup, html};
 
 /// A coefficient of a regression model as the page prints it: seven significant digits in
@@ -163,6 +163,19 @@ fn model_rows(cal: &RegressionCalibration) -> Markup {
                     .collect::<Vec<_>>()
                     .join(", ")
                     + " °C"),
+            ))
+        }
+        @if let Some(t_ref) = m.t_ref_c {
+            (row(
+                "reference temperature Tref",
+                &format!(
+                    "{} °C (the terms in T − Tref are powers of T less it; {})",
+                    fmt_num(t_ref),
+                    match spec.t_ref {
+                        TRefSpec::Fixed { .. } => "fixed by the model",
+                        TRefSpec::MidRange => "the middle of the fitted range",
+                    }
+                ),
             ))
         }
         @if let Some(t2) = &m.temp2 {
