@@ -169,6 +169,24 @@ fn the_models_page_compares_every_model_in_sample_and_held_out_and_exports_one()
         h.state_mut().models_view().selected.as_deref(),
         Some(best.model.as_str())
     );
+
+    // The plot's key, above the plot (a legend inside it covered the curves of ten models on
+    // a short window): one check box a curve ("show NAME"), raw first; a click hides the curve, another
+    // shows it again.
+    for name in std::iter::once("raw").chain(expected.iter().map(String::as_str)) {
+        h.get_by_role_and_label(Role::CheckBox, &format!("show {name}"));
+    }
+    for name in ["raw", "px4"] {
+        h.get_by_role_and_label(Role::CheckBox, &format!("show {name}"))
+            .click();
+        h.run_ok();
+    }
+    let hidden: Vec<String> = h.state_mut().models_view().hidden.iter().cloned().collect();
+    assert_eq!(hidden, ["px4", "raw"]);
+    h.get_by_role_and_label(Role::CheckBox, "show raw").click();
+    h.run_ok();
+    let hidden: Vec<String> = h.state_mut().models_view().hidden.iter().cloned().collect();
+    assert_eq!(hidden, ["px4"]);
 }
 
 #[test]

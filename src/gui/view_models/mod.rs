@@ -38,6 +38,8 @@ pub struct ModelsView {
     pub selected: Option<String>,
     /// Which log of the comparison the plot shows (0: the calibration log).
     pub log_index: usize,
+    /// The models (by name, `raw` the raw drift) the engineer hid from the plot with its key.
+    pub hidden: std::collections::BTreeSet<String>,
 }
 
 impl Default for ModelsView {
@@ -47,6 +49,7 @@ impl Default for ModelsView {
             custom: CustomBuilder::default(),
             selected: None,
             log_index: 0,
+            hidden: Default::default(),
         }
     }
 }
@@ -169,7 +172,13 @@ impl ModelsView {
                 .iter()
                 .map(|r| r.logs.len().max(1) + usize::from(r.error.is_some()))
                 .sum::<usize>();
-            let table_h = (rows as f32 * row_h).clamp(120.0, ui.available_height() * 0.55);
+            // On a short window a little less than half, so that the plot keeps a height to read.
+            let share = if ui.available_height() < 480.0 {
+                0.45
+            } else {
+                0.55
+            };
+            let table_h = (rows as f32 * row_h).clamp(120.0, ui.available_height() * share);
             // On a narrow window the table scrolls sideways, with its scroll bar always shown
             // so that the columns off to the right are not missed.
             ScrollArea::both()
@@ -178,8 +187,9 @@ impl ModelsView {
                 .max_height(table_h)
                 .auto_shrink([false, true])
                 .show(ui, |ui| self.table(ui, &c));
-            // Wrapped to the page's width, under the table rather than in its scroll area.
-            ui.weak(format!("outside: {}.", table::OUTSIDE));
+            // Under the table rather than in its scroll area; one line, the whole on hover.
+            ui.weak("outside: the share of samples beyond the fitted ranges (hover for more)")
+                .on_hover_text(format!("outside: {}.", table::OUTSIDE));
             self.recommendation(ui, &c);
             ui.separator();
             self.plot(ui, &c);

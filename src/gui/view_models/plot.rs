@@ -3,8 +3,8 @@
 use super::ModelsView;
 use crate::gui::jobs::Compared;
 use crate::gui::plot_items::{BandItem, Palette, TimeScale};
-use eframe::egui::{Color32, Ui, Vec2b};
-use egui_plot::{Corner, Legend, Plot};
+use eframe::egui::{self, Color32, RichText, Ui, Vec2b};
+use egui_plot::Plot;
 
 /// Colours of the models, by their place in the comparison: distinct from each other and
 /// from the grey of the raw drift, on light and dark backgrounds.
@@ -46,14 +46,89 @@ pub fn model_color(k: usize, dark: bool) -> Color32 {
     }
 }
 
+/// One entry of the plot's key as one widget, so that a wrap never parts the line from its
+/// name: a short line in the curve's colour, then the name (struck through when hidden).
+fn key_entry(ui: &mut Ui, name: &str, color: Color32, shown: bool) -> egui::Response {
+    const LINE_W: f32 = 16.0;
+    const GAP: f32 = 4.0;
+    let text_color = if shown {
+        ui.visuals().text_color()
+    } else {
+        color
+    };
+    let mut job = RichText::new(name).color(text_color);
+    if !shown {
+        job = job.strikethrough();
+    }
+    let galley = egui::WidgetText::from(job).into_galley(
+        ui,
+        Some(egui::TextWrapMode::Extend),
+        f32::INFINITY,
+        egui::TextStyle::Body,
+    );
+    let size = egui::vec2(LINE_W + GAP + galley.size().x, galley.size().y.max(12.0));
+    let (rect, response) = ui.allocate_exact_size(size, egui::Sense::click());
+    if ui.is_rect_visible(rect) {
+        let y = rect.center().y;
+        ui.painter().hline(
+            rect.left()..=rect.left() + LINE_W,
+            y,
+            egui::Stroke::new(3.0, color),
+        );
+        let at = egui::pos2(rect.left() + LINE_W + GAP, y - galley.size().y / 2.0);
+        ui.painter().galley(at, galley, text_color);
+    }
+    // Named apart from the presets' check boxes on the left, for screen readers (and tests).
+    response.widget_info(|| {
+        egui::WidgetInfo::selected(egui::Role::CheckBox, true, shown, format!("show {name}"))
+    });
+    response
+}
+
+/// The raw drift's name in the plot's key.
+const RAW: &str = "raw";
+
 impl ModelsView {
+    /// The plot's key above it, one toggle a curve in its colour: it wraps to the page's width
+    /// and never covers the curves, as a legend inside a plot short of height does with ten
+    /// models. A click hides a curve or shows it again.
+    fn key(&mut self, ui: &mut Ui, c: &Compared, pal: &Palette, dark: bool) {
+        let names = std::iter::once((RAW, pal.raw)).chain(
+            c.reports
+                .iter()
+                .enumerate()
+                .map(|(k, r)| (r.model.as_str(), model_color(k, dark))),
+        );
+        ui.horizontal_wrapped(|ui| {
+            for (name, color) in names {
+                let shown = !self.hidden.contains(name);
+                let weak = ui.visuals().weak_text_color();
+                let r = key_entry(ui, name, if shown { color } else { weak }, shown).on_hover_text(
+                    if shown {
+                        "click to hide"
+                    } else {
+                        "click to show"
+                    },
+                );
+                ui.add_space(8.0);
+                if r.clicked() {
+                    if shown {
+                        self.hidden.insert(name.to_string());
+                    } else {
+                        self.hidden.remove(name);
+                    }
+                }
+            }
+        });
+    }
+
     pub(super) fn plot(&mut self, ui: &mut Ui, c: &Compared) {
         let pal = Palette::of(ui);
         let dark = ui.visuals().dark_mode;
         ui.horizontal_wrapped(|ui| {
             ui.strong("Corrected drift of each model").on_hover_text(
                 "Ω filtered as for the figures: raw (grey) and corrected by each fitted model; \
-                     click a name in the legend to hide it",
+                     click a name in the key below to hide it",
             );
             ui.separator();
             for (j, l) in c.logs.iter().enumerate() {
@@ -66,6 +141,7 @@ impl ModelsView {
                     .on_hover_text(&l.log.source);
             }
         });
+        self.key(ui, c, &pal, dark);
         let Some(cl) = c.logs.get(self.log_index) else {
             return;
         };
@@ -77,13 +153,9 @@ impl ModelsView {
         let scale = TimeScale::for_duration(log.duration_s());
         let t_full = (log.time_s[0], log.time_s[n - 1]);
         let li = self.log_index;
+        let hidden = &self.hidden;
         let plot = Plot::new("models_drift")
             .height(ui.available_height().max(120.0))
-            .legend(
-                Legend::default()
-                    .position(Corner::LeftTop)
-                    .follow_insertion_order(true),
-            )
             .x_axis_label(format!("time, {}", scale.unit))
             .y_axis_label("drift, °/h");
         crate::gui::plot_items::with_time_axes(plot)
@@ -101,12 +173,17 @@ impl ModelsView {
                     x1,
                     cols,
                 );
-                pui.add(
-                    BandItem::segmented("raw", raw, scale.div, t_full)
-                        .color(pal.raw)
-                        .width(1.6),
-                );
+                if !hidden.contains(RAW) {
+                    pui.add(
+                        BandItem::segmented(RAW, raw, scale.div, t_full)
+                            .color(pal.raw)
+                            .width(1.6),
+                    );
+                }
                 for (k, r) in c.reports.iter().enumerate() {
+                    if hidden.contains(&r.model) {
+                        continue;
+                    }
                     let Some(Some(s)) = c.series.get(k).and_then(|v| v.get(li)) else {
                         continue;
                     };
