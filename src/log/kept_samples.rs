@@ -63,6 +63,15 @@ pub fn kept_samples(sel: &Selected<'_>) -> Result<KeptSamples, ReadError> {
                      the gyro's, or one NaN or infinite)",
                     sel.temp_from
                 ),
+                // A ROS gyro's own temperature is a Temperature topic's readings paired with
+                // its samples by time: the reader told which samples found none, and why.
+                TempFrom::Own
+                    if c == 3 && matches!(inst.device, Some(formats::DeviceId::Ros { .. })) =>
+                {
+                    "no reading of its Temperature topic paired with the sample (told above: \
+                     none close enough in time), or one NaN or infinite"
+                        .to_string()
+                }
                 _ => format!("NaN or infinite {}", channel_names[c]),
             };
             problems.push(Problem {

@@ -7,6 +7,7 @@
 
 mod limits;
 mod readers;
+mod ros_clock_changes;
 mod ros_frames;
 mod ros_limits;
 mod ros_stamps;

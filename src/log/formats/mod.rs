@@ -52,6 +52,7 @@ mod device_change;
 mod error;
 mod mcap;
 mod recording;
+mod ros_clock_changes;
 mod ros_clocks;
 mod ros_frames;
 mod ros_msgs;

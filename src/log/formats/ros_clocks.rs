@@ -9,17 +9,27 @@
 //!
 //! - a topic whose stamps never advance ([`stuck`], a driver that leaves them 0) has no time
 //!   of its own, and is timed by the record time instead;
+//! - a topic (Imu or Temperature) whose stamps change clock within the log, stepped once
+//!   or switching back and forth ([`super::ros_clock_changes`]): no one offset stands for
+//!   it, and paired by stamp the messages after the step would find no reading, or the
+//!   wrong one. The two are paired by record time instead, with a note naming the topic, the
+//!   message where its stamps change clock and by how much;
 //! - a Temperature topic whose stamps stand on another clock than the gyro's: each topic's
 //!   offset from the record time (stamp minus record time, the median of the messages) is
 //!   known, and when the two offsets differ by more than [`ANOTHER_CLOCK_STEPS`] steps of the
-//!   pairing (and more than [`ANOTHER_CLOCK_AT_LEAST_NS`]), a pairing by stamp would give
-//!   each sample a reading taken that much earlier or later, or none. They are paired by
-//!   record time instead, with a note naming both topics and both offsets.
+//!   pairing, at least [`ANOTHER_CLOCK_AT_LEAST_NS`] and at most [`ANOTHER_CLOCK_AT_MOST_NS`]
+//!   (the limit does not grow with a slow topic's step: minutes between two clocks are no
+//!   transport's delay at any rate), a pairing by stamp would give each sample a reading
+//!   taken that much earlier or later, or none. They are paired by record time instead,
+//!   with a note naming both topics and both offsets.
 //!
 //! Pairing by record time lags each message by its transport's delay and jitter (a few ms),
-//! which is why stamps are preferred whenever they share a clock.
+//! which is why stamps are preferred whenever they share a clock. Samples left without a
+//! reading either way are told with the reason (no reading within the pairing's tolerance),
+//! so that the temp_c they lack is not taken for a NaN in the log.
 
 use super::recording::{Problem, RosTime, median_step, nearest_within};
+use super::ros_clock_changes::{change, seconds};
 
 /// How many steps of the pairing (the larger median step of the two topics) two topics'
 /// offsets from the record time may differ by and still be paired by stamp: transport delays
@@ -30,6 +40,11 @@ pub(crate) const ANOTHER_CLOCK_STEPS: i128 = 10;
 /// The least difference of offsets taken as another clock, however fast the topics: 1 s, far
 /// more than a transport's delay, less than a temperature drifts by in a real log.
 pub(crate) const ANOTHER_CLOCK_AT_LEAST_NS: i128 = 1_000_000_000;
+
+/// The most: 10 s, however slow the topics. Ten steps of a topic published every 100 s are
+/// 1000 s, and clocks 900 s apart are no transport's delay at any rate: paired by stamp, a
+/// slow chamber's reading would be given to the samples 900 s after it.
+pub(crate) const ANOTHER_CLOCK_AT_MOST_NS: i128 = 10_000_000_000;
 
 /// How many messages an offset is the median of, evenly spaced over the topic: enough to
 /// pass over a few messages stamped apart, without a copy of a million messages' offsets.
@@ -94,20 +109,13 @@ pub(crate) struct Side<'a> {
     pub log_times: &'a [u64],
 }
 
-/// Seconds for a message, from ns: to the millisecond, every digit written (an offset of a
-/// clock from 1970 against one from boot, -1699999900 s, stays readable), trailing zeros
-/// dropped.
-fn seconds(ns: i128) -> String {
-    let s = format!("{:.3}", ns as f64 * 1e-9);
-    let s = s.trim_end_matches('0').trim_end_matches('.');
-    if s == "-0" { "0".into() } else { s.into() }
-}
-
 /// For each sample of `gyro` the reading of `temp` (its index) nearest it within the larger
 /// of the two topics' median steps, by stamp or by record time as the module says;
 /// `gyro_by_clock` when the gyro's own stamps never advance (its samples timed by the
 /// record time, already told). `clock` names the record time as the format does ("the bag's
-/// record time"). A choice other than the stamps is told in `problems`.
+/// record time"). A choice other than the stamps is told in `problems`, and so are samples
+/// left without a reading (their temp_c NaN, dropped later), with the reason: no reading of
+/// `temp` within the tolerance.
 pub(crate) fn paired(
     gyro: &Side<'_>,
     temp: &Side<'_>,
@@ -115,20 +123,61 @@ pub(crate) fn paired(
     clock: &str,
     problems: &mut Vec<Problem>,
 ) -> Vec<Option<usize>> {
-    let by_log = |problems: &mut Vec<Problem>, note: Option<String>| {
-        problems.extend(note.map(Problem::note));
+    let (pick, by, tol) = chosen(gyro, temp, gyro_by_clock, clock, problems);
+    let without = pick.iter().filter(|p| p.is_none()).count();
+    if without > 0 && !temp.stamps.is_empty() {
+        let first = pick.iter().position(Option::is_none).unwrap_or(0);
+        problems.push(Problem::note(format!(
+            "{}: {without} of {} samples have no reading of {} within {} s of their {by} \
+             (first at sample {}): their temp_c is NaN",
+            gyro.name,
+            pick.len(),
+            temp.name,
+            seconds(tol),
+            first + 1
+        )));
+    }
+    pick
+}
+
+/// How far two topics' offsets may stand apart, and one topic's offsets spread, on one
+/// clock: [`ANOTHER_CLOCK_STEPS`] steps of the pairing (`tol`), at least
+/// [`ANOTHER_CLOCK_AT_LEAST_NS`] and at most [`ANOTHER_CLOCK_AT_MOST_NS`].
+fn another_clock_limit(tol: i128) -> i128 {
+    (ANOTHER_CLOCK_STEPS * tol).clamp(ANOTHER_CLOCK_AT_LEAST_NS, ANOTHER_CLOCK_AT_MOST_NS)
+}
+
+/// Every message's stamp minus its record time, ns.
+fn offsets(side: &Side<'_>) -> Vec<i128> {
+    side.stamps
+        .iter()
+        .zip(side.log_times)
+        .map(|(s, &t)| s.nanos() - i128::from(t))
+        .collect()
+}
+
+/// [`paired`]'s pairing, what it paired by ("stamps", "record times") and its tolerance (ns).
+fn chosen(
+    gyro: &Side<'_>,
+    temp: &Side<'_>,
+    gyro_by_clock: bool,
+    clock: &str,
+    problems: &mut Vec<Problem>,
+) -> (Vec<Option<usize>>, &'static str, i128) {
+    let by_log = |problems: &mut Vec<Problem>, notes: Vec<String>| {
+        problems.extend(notes.into_iter().map(Problem::note));
         let g: Vec<i128> = gyro.log_times.iter().map(|&x| i128::from(x)).collect();
         let t: Vec<i128> = temp.log_times.iter().map(|&x| i128::from(x)).collect();
         let tol = median_step(&t)
             .unwrap_or(0)
             .max(median_step(&g).unwrap_or(0));
-        nearest_within(&g, &t, tol)
+        (nearest_within(&g, &t, tol), "record times", tol)
     };
     // Both by the log's clock when either's stamps never advance: the stamps of one beside
     // the log times of the other would be two clocks.
     let temp_stuck = stuck(temp.stamps.iter().copied());
     if gyro_by_clock {
-        return by_log(problems, None);
+        return by_log(problems, Vec::new());
     }
     if temp_stuck {
         let told = advances(temp.log_times).then(|| {
@@ -142,14 +191,43 @@ pub(crate) fn paired(
                 gyro.name
             )
         });
-        return by_log(problems, told);
+        return by_log(problems, told.into_iter().collect());
     }
     let g: Vec<i128> = gyro.stamps.iter().map(|s| s.nanos()).collect();
     let t: Vec<i128> = temp.stamps.iter().map(|s| s.nanos()).collect();
     let tol = median_step(&t)
         .unwrap_or(0)
         .max(median_step(&g).unwrap_or(0));
-    let limit = (ANOTHER_CLOCK_STEPS * tol).max(ANOTHER_CLOCK_AT_LEAST_NS);
+    let limit = another_clock_limit(tol);
+    let log_advances = advances(gyro.log_times) && advances(temp.log_times);
+    // A topic whose stamps change clock within the log: no one offset stands for it.
+    if log_advances {
+        let changes: Vec<String> = [gyro, temp]
+            .iter()
+            .filter_map(|side| {
+                change(&offsets(side), limit).map(|c| c.told(side.name, clock, limit))
+            })
+            .collect();
+        if !changes.is_empty() {
+            let last = changes.len() - 1;
+            let notes = changes
+                .into_iter()
+                .enumerate()
+                .map(|(k, c)| {
+                    if k < last {
+                        return c;
+                    }
+                    format!(
+                        "{c}; {}'s readings are paired with {}'s samples by {clock} instead \
+                         (one clock throughout), which lags each by the transport's delay and \
+                         jitter; to pair them by stamp, have each driver keep one clock",
+                        temp.name, gyro.name
+                    )
+                })
+                .collect();
+            return by_log(problems, notes);
+        }
+    }
     if let (Some(go), Some(to)) = (
         offset(gyro.stamps, gyro.log_times),
         offset(temp.stamps, temp.log_times),
@@ -158,23 +236,26 @@ pub(crate) fn paired(
         let apart = format!(
             "{}: header.stamp stands {} s from {clock} (the median over its messages), {}'s \
              {} s: the two topics are stamped by clocks {} s apart, more than {} s \
-             ({ANOTHER_CLOCK_STEPS} steps of either, or 1 s), and paired by stamp each sample \
-             would take a reading that much older or newer",
+             ({ANOTHER_CLOCK_STEPS} steps of either, at least {} s and at most {} s, whatever \
+             the rate), and paired by stamp each sample would take a reading that much older \
+             or newer",
             temp.name,
             seconds(to),
             gyro.name,
             seconds(go),
             seconds((to - go).abs()),
             seconds(limit),
+            seconds(ANOTHER_CLOCK_AT_LEAST_NS),
+            seconds(ANOTHER_CLOCK_AT_MOST_NS),
         );
-        if advances(gyro.log_times) && advances(temp.log_times) {
+        if log_advances {
             let note = format!(
                 "{apart}; its readings are paired with {}'s samples by {clock} instead, which \
                  lags each by the transport's delay and jitter; to pair them by stamp, have \
                  both drivers stamp by one clock",
                 gyro.name
             );
-            return by_log(problems, Some(note));
+            return by_log(problems, vec![note]);
         }
         // A log whose own clock stands still has nothing else to pair by: said, not silent.
         problems.push(Problem::note(format!(
@@ -182,7 +263,7 @@ pub(crate) fn paired(
              both drivers stamp by one clock"
         )));
     }
-    nearest_within(&g, &t, tol)
+    (nearest_within(&g, &t, tol), "stamps", tol)
 }
 
 #[cfg(test)]
@@ -226,7 +307,15 @@ mod tests {
             "the log time",
             &mut problems,
         );
-        assert!(problems.is_empty(), "{problems:?}");
+        // The two samples stamped before the first reading less a step have none, told.
+        let told: Vec<&str> = problems.iter().map(|p| p.message.as_str()).collect();
+        assert_eq!(
+            told,
+            [
+                "g: 2 of 20 samples have no reading of t within 0.1 s of their stamps (first at \
+              sample 1): their temp_c is NaN"
+            ]
+        );
         // Sample k is stamped k/10 s; reading j is stamped j/10 + 0.3 s: j = k - 3; sample 2
         // (0.2 s) is one step from reading 0, within the pairing's tolerance.
         let want: Vec<Option<usize>> = (0..20)
@@ -256,7 +345,13 @@ mod tests {
             &mut problems,
         );
         assert_eq!(pick, vec![None; 10]);
-        assert_eq!(problems.len(), 1);
+        assert_eq!(problems.len(), 2);
+        assert!(
+            problems[1]
+                .message
+                .starts_with("g: 10 of 10 samples have no reading of t within 1 s of their stamps"),
+            "{problems:?}"
+        );
         assert!(
             problems[0]
                 .message

@@ -1,0 +1,206 @@
+//! Whether one topic's stamps keep one clock through the log: a driver whose clock is stepped
+//! mid-log (an NTP or PTP step, a restart on another clock), or two nodes publishing one
+//! topic each by its own clock, leave stamps that stand one offset from the record time for a
+//! while and another after.
+//!
+//! Each message's offset (stamp minus record time) is the transport's delay on one clock,
+//! spread by its jitter. Sorted, the offsets of one clock lie close together; those of two
+//! clocks fall in two groups with a gap between them wider than any delay ([`change`] takes
+//! the width as `limit`). A group of one message is a stray stamp, left to the glitch filters;
+//! two groups of several messages each are two clocks, and no one offset, the median
+//! [`super::ros_clocks`] compares, stands for the topic: paired by stamp, the messages of the
+//! other clock would be given readings (or samples) that much older or newer, or none.
+//!
+//! Record times that do not keep pace with the stamps (a bag written all at once by a script,
+//! its record times seconds apart over hours of stamps) make every message a group of its
+//! own: no clock is found there, and the stamps are kept.
+
+/// Where a topic's stamps change clock, and how often.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct Change {
+    /// How many messages the topic has.
+    pub messages: usize,
+    /// The last message (0-based) on the first clock before the stamps first change clock.
+    pub before: usize,
+    /// The first message (0-based) on another clock.
+    pub at: usize,
+    /// The offsets (stamp minus record time, ns) of `before` and `at`.
+    pub before_ns: i128,
+    /// See `before_ns`.
+    pub at_ns: i128,
+    /// How many messages stand on another clock than the first's.
+    pub elsewhere: usize,
+    /// How many times the messages change clock, one to the next (stray stamps passed over).
+    pub switches: usize,
+    /// How many clocks the messages stand on (groups of two messages or more).
+    pub clocks: usize,
+}
+
+impl Change {
+    /// What the change is, for a note on topic `name` whose record time is `clock` ("the
+    /// bag's record time"): where it first changes and by how much, and whether it stays or
+    /// switches back and forth.
+    pub(crate) fn told(&self, name: &str, clock: &str, limit_ns: i128) -> String {
+        let how = if self.switches == 1 {
+            format!(
+                "the messages from there on ({} of {}) stay on that clock",
+                self.elsewhere, self.messages
+            )
+        } else {
+            format!(
+                "the messages alternate between {} clocks, changing {} times ({} of {} away from \
+                 the first message's)",
+                self.clocks, self.switches, self.elsewhere, self.messages
+            )
+        };
+        format!(
+            "{name}: header.stamp changes clock at message {}: it stands {} s from {clock} \
+             there, against {} s at message {} (a step of {} s, more than the {} s a \
+             transport's delay would explain), and {how}",
+            self.at + 1,
+            seconds(self.at_ns),
+            seconds(self.before_ns),
+            self.before + 1,
+            signed_seconds(self.at_ns - self.before_ns),
+            seconds(limit_ns),
+        )
+    }
+}
+
+/// Seconds for a message, from ns: to the millisecond, trailing zeros dropped.
+pub(crate) fn seconds(ns: i128) -> String {
+    let s = format!("{:.3}", ns as f64 * 1e-9);
+    let s = s.trim_end_matches('0').trim_end_matches('.');
+    if s == "-0" { "0".into() } else { s.into() }
+}
+
+/// As [`seconds`], with its sign: `+3600`, `-0.5`.
+fn signed_seconds(ns: i128) -> String {
+    let s = seconds(ns);
+    if s.starts_with('-') || s == "0" {
+        s
+    } else {
+        format!("+{s}")
+    }
+}
+
+/// Where the offsets `offsets_ns` (stamp minus record time of each message, in log order)
+/// stand on more than one clock: groups of two messages or more, their sorted offsets more
+/// than `limit_ns` apart. `None` when they stand on one (stray stamps aside), or when fewer
+/// than half the messages stand in a group of two or more (record times that do not keep
+/// pace with the stamps: no clock to tell).
+pub(crate) fn change(offsets_ns: &[i128], limit_ns: i128) -> Option<Change> {
+    let n = offsets_ns.len();
+    if n < 4 {
+        return None;
+    }
+    let mut sorted = offsets_ns.to_vec();
+    sorted.sort_unstable();
+    // The groups: the lowest offset of each, and how many messages it holds.
+    let mut lows: Vec<i128> = vec![sorted[0]];
+    let mut sizes: Vec<usize> = vec![1];
+    for w in sorted.windows(2) {
+        if w[1] - w[0] > limit_ns {
+            lows.push(w[1]);
+            sizes.push(1);
+        } else {
+            *sizes.last_mut()? += 1;
+        }
+    }
+    let clocks = sizes.iter().filter(|&&s| s > 1).count();
+    let grouped: usize = sizes.iter().filter(|&&s| s > 1).sum();
+    if clocks < 2 || 2 * grouped < n {
+        return None;
+    }
+    let group = |o: i128| lows.partition_point(|&l| l <= o) - 1;
+    // Walk the messages in order over the clocks, stray stamps (groups of one) passed over.
+    let mut first: Option<(usize, usize)> = None;
+    let mut last: Option<(usize, usize)> = None;
+    let mut change: Option<(usize, usize)> = None;
+    let mut switches = 0;
+    let mut elsewhere = 0;
+    for (i, &o) in offsets_ns.iter().enumerate() {
+        let g = group(o);
+        if sizes[g] < 2 {
+            continue;
+        }
+        let (_, g0) = *first.get_or_insert((i, g));
+        if g != g0 {
+            elsewhere += 1;
+        }
+        if let Some((j, h)) = last
+            && h != g
+        {
+            switches += 1;
+            change.get_or_insert((j, i));
+        }
+        last = Some((i, g));
+    }
+    let (before, at) = change?;
+    Some(Change {
+        messages: n,
+        before,
+        at,
+        before_ns: offsets_ns[before],
+        at_ns: offsets_ns[at],
+        elsewhere,
+        switches,
+        clocks,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const S: i128 = 1_000_000_000;
+
+    /// Offsets of `n` messages with a jitter of up to 20 ms, `f(i)` s each.
+    fn offsets(n: usize, f: impl Fn(usize) -> i128) -> Vec<i128> {
+        (0..n)
+            .map(|i| f(i) * S - (i as i128 * 7919 % 20) * 1_000_000)
+            .collect()
+    }
+
+    #[test]
+    fn one_clock_with_jitter_and_a_stray_stamp_is_no_change() {
+        let mut o = offsets(100, |_| 0);
+        o[40] = 3600 * S;
+        assert_eq!(change(&o, S), None);
+    }
+
+    #[test]
+    fn a_jump_that_stays_is_named_where_it_happens() {
+        let o = offsets(100, |i| if i >= 60 { 3600 } else { 0 });
+        let c = change(&o, S).unwrap();
+        assert_eq!(
+            (c.before, c.at, c.switches, c.elsewhere, c.clocks),
+            (59, 60, 1, 40, 2)
+        );
+        let told = c.told("/t", "the log time", S);
+        assert!(
+            told.contains("changes clock at message 61")
+                && told.contains("a step of +3600")
+                && told.contains("(40 of 100) stay on that clock"),
+            "{told}"
+        );
+    }
+
+    #[test]
+    fn two_clocks_in_turn_are_told_as_alternating() {
+        let o = offsets(100, |i| 300 * (i % 2) as i128);
+        let c = change(&o, S).unwrap();
+        assert_eq!((c.before, c.at, c.switches, c.elsewhere), (0, 1, 99, 50));
+        assert!(
+            c.told("/t", "the log time", S)
+                .contains("alternate between 2 clocks")
+        );
+    }
+
+    #[test]
+    fn record_times_that_do_not_keep_pace_tell_no_clock() {
+        // Stamps 100 s apart, all recorded within a second: every offset a group of its own.
+        let o: Vec<i128> = (0..50).map(|i| i * 100 * S - i * 10_000_000).collect();
+        assert_eq!(change(&o, S), None);
+    }
+}
