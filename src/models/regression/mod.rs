@@ -14,6 +14,7 @@
 //! result and `apply` corrects with it, in batch or one sample at a time.
 
 mod apply;
+mod dependence;
 mod fit;
 mod fitted;
 pub mod search;

@@ -343,6 +343,18 @@ pub fn fit_with_progress(
             coefficients,
         },
     )?;
+    if !sol.dependent.is_empty() {
+        // The net under the spec's check of polynomial terms: any other dependence of the
+        // columns on this log (pwlT's hats with a constant, an extra channel that is a copy of
+        // T, a T held constant by the plateaus chosen).
+        let names = terms::column_names(&spec.terms);
+        return Err(FitError::DependentColumns {
+            log: log.source.clone(),
+            model: spec.name.clone(),
+            columns: sol.dependent.iter().map(|&j| names[j].clone()).collect(),
+        }
+        .into());
+    }
     let mut model = RegressionModel {
         spec: spec.clone(),
         temp2,
