@@ -20,6 +20,7 @@ mod fitted;
 pub mod search;
 mod signals;
 mod spec;
+mod t_ref;
 pub mod terms;
 
 pub use apply::RegressionCorrector;
