@@ -44,7 +44,7 @@ fn terms_that_are_one_polynomial_in_t_are_refused_by_name() {
         ("1,T,T^2,(T-Tref)^2", "(T-Tref)^2 = T^2 - 2·Tref·T + Tref^2"),
         ("T^2,1,(T-Tref)^2,T", "the terms T^2, 1, (T-Tref)^2 and T"),
     ] {
-        let e = fit(&log, terms).err().expect(terms).to_string();
+        let e = fit(&log, terms).expect_err(terms).to_string();
         assert!(e.contains(named), "{terms}: {e}");
     }
 }
@@ -53,8 +53,7 @@ fn terms_that_are_one_polynomial_in_t_are_refused_by_name() {
 fn a_design_dependent_on_the_log_is_refused_naming_its_columns() {
     // pwlT's hats add up to 1 at every T: with a constant they are one effect.
     let e = fit(&parabola_log(), "1,pwlT:3")
-        .err()
-        .expect("refused")
+        .expect_err("refused")
         .to_string();
     assert!(
         e.contains("the terms 1, pwlT[0], pwlT[1], pwlT[2] are one effect between them"),
