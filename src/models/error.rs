@@ -58,6 +58,23 @@ pub enum FitError {
         /// Coefficients it solved for.
         coefficients: usize,
     },
+    /// Columns of the design that are dependent on this log: the least squares cannot tell
+    /// their coefficients apart.
+    #[error(
+        "{log}: model {model}: on this log the terms {} are one effect between them (the \
+         design's columns are linearly dependent): a fit cannot tell their coefficients apart, \
+         and would state a share for each with standard errors that mean nothing; leave one of \
+         them out",
+        columns.join(", ")
+    )]
+    DependentColumns {
+        /// The log.
+        log: String,
+        /// The model.
+        model: String,
+        /// The columns that take part, by name.
+        columns: Vec<String>,
+    },
     /// A temperature range too narrow for a model in T.
     #[error(
         "{log}: the temperature spans {}: too little for model {model} (a calibration in T \

@@ -241,6 +241,40 @@ impl Preset {
         }
     }
 
+    /// The spec of a model in powers of T − Tref, which reads nothing of the log: `px4`,
+    /// `ardupilot`, `poly-tN` and the scripts' reference rows; `None` for every other model.
+    /// A calibration file whose model bears one of these names is checked against it
+    /// ([`RegressionModel::validate`](regression::RegressionModel::validate)).
+    pub fn centred_spec(self) -> Option<RegressionSpec> {
+        // A constant and the powers of T − Tref up to `order`, about `t_ref`.
+        let centred = |order: u8, t_ref: TRefSpec| {
+            let mut s = RegressionSpec::new(
+                self.name(),
+                std::iter::once(Term::One)
+                    .chain((1..=order).map(|power| Term::Tc { power }))
+                    .collect(),
+            );
+            s.t_ref = t_ref;
+            Some(s)
+        };
+        match self {
+            Preset::Px4 => centred(3, TRefSpec::MidRange),
+            Preset::ArduPilot => centred(
+                3,
+                TRefSpec::Fixed {
+                    celsius: ARDUPILOT_TEMP_REFERENCE_C,
+                },
+            ),
+            Preset::Px4Script | Preset::ArduPilotScript => self
+                .script()
+                .map(|script| crate::models::scripts::spec(script, self.name())),
+            Preset::PolyOrder(n) if (1..=MAX_POLY_ORDER).contains(&n) => {
+                centred(n, TRefSpec::MidRange)
+            }
+            _ => None,
+        }
+    }
+
     /// The regression spec of the preset for `log` (Sukhanov's reads the log's extra
     /// channels); `None` for the Vakhrameev model, which is not a regression.
     ///
@@ -249,17 +283,6 @@ impl Preset {
     pub fn spec(self, log: &Log) -> Result<Option<RegressionSpec>> {
         use Term::*;
         let spec = |terms: Vec<Term>| Some(RegressionSpec::new(self.name(), terms));
-        // A constant and the powers of T − Tref up to `order`, about `t_ref`.
-        let centred = |order: u8, t_ref: TRefSpec| {
-            let mut s = RegressionSpec::new(
-                self.name(),
-                std::iter::once(One)
-                    .chain((1..=order).map(|power| Tc { power }))
-                    .collect(),
-            );
-            s.t_ref = t_ref;
-            Some(s)
-        };
         Ok(match self {
             Preset::Vakhrameev => None,
             Preset::Ieee952 => spec(vec![T, Tdot, One]).map(staged),
@@ -295,16 +318,9 @@ impl Preset {
             // curves fitted on the plateaus alone (tests/engine/models.rs, README "Which model").
             Preset::PolyT => spec(vec![One, T, T2]),
             Preset::PwlT => spec(vec![PwlT { knots: 3 }]),
-            Preset::Px4 => centred(3, TRefSpec::MidRange),
-            Preset::ArduPilot => centred(
-                3,
-                TRefSpec::Fixed {
-                    celsius: ARDUPILOT_TEMP_REFERENCE_C,
-                },
-            ),
-            Preset::Px4Script | Preset::ArduPilotScript => self
-                .script()
-                .map(|script| crate::models::scripts::spec(script, self.name())),
+            Preset::Px4 | Preset::ArduPilot | Preset::Px4Script | Preset::ArduPilotScript => {
+                self.centred_spec()
+            }
             Preset::PolyOrder(n) => {
                 if !(1..=MAX_POLY_ORDER).contains(&n) {
                     return Err(ParseError::PolyOrder {
@@ -313,7 +329,7 @@ impl Preset {
                     }
                     .into());
                 }
-                centred(n, TRefSpec::MidRange)
+                self.centred_spec()
             }
             Preset::CoilLag => spec(vec![
                 One,

@@ -94,6 +94,17 @@ pub fn fit(log: &Log, script: Script, name: &str, spec: RegressionSpec) -> Resul
         }
         .into());
     }
+    if p.t_max - p.t_min < crate::models::MIN_TEMP_SPAN_C {
+        // The span of the script's points (after ArduPilot's moving average), which the model
+        // holds T to and its file is checked against.
+        return Err(FitError::NarrowSpan {
+            log: log.source.clone(),
+            model: name.to_string(),
+            span_c: Some((p.t_min, p.t_max)),
+            minimum_c: crate::models::MIN_TEMP_SPAN_C,
+        }
+        .into());
+    }
     let x: Vec<f64> = p.temp.iter().map(|t| t - p.t_ref).collect();
     let (beta, std_errors) =
         polyfit(&x, &p.rate, SCRIPT_ORDER).ok_or_else(|| FitError::Unsolvable {

@@ -9,6 +9,7 @@ mod allan;
 mod approx;
 mod correction;
 mod crafted_settings;
+mod dependent_terms;
 mod filtered_spread;
 mod firmware_forms;
 mod hand_knots_kept;

@@ -19,6 +19,7 @@ mod drone_logs;
 mod formats;
 mod hand_edited_calibrations;
 mod hand_edited_k0;
+mod hand_edited_tref;
 mod header_units;
 mod ingest_dialects;
 mod ingest_errors;

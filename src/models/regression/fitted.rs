@@ -215,6 +215,7 @@ impl RegressionModel {
     /// A message naming what is inconsistent.
     pub fn validate(&self) -> std::result::Result<(), Invalid> {
         self.spec.validate()?;
+        self.check_named_preset()?;
         let columns = terms::column_names(&self.spec.terms);
         let p = columns.len();
         if self.coefficients.len() != p || self.std_errors.len() != p || self.names.len() != p {
@@ -317,6 +318,7 @@ impl RegressionModel {
                 "input ranges must be finite, ordered, one per channel",
             ));
         }
+        self.check_centred_range()?;
         let d = &self.delay.points;
         if d.len() > super::MAX_DELAY_BANDS + 1 {
             return Err(Invalid::new(
@@ -364,43 +366,6 @@ impl RegressionModel {
         }
         self.check_facts()?;
         crate::models::check_drift_bound("model.coefficients", self.drift_bound()?)
-    }
-
-    /// Tref against the terms and the spec: given exactly when a `(T-Tref)^k` term reads it,
-    /// a finite temperature, the spec's own when the spec fixes it.
-    fn check_t_ref(&self) -> std::result::Result<(), Invalid> {
-        let centred = self.spec.terms.iter().any(|t| matches!(t, Term::Tc { .. }));
-        match (centred, self.t_ref_c) {
-            (false, None) => Ok(()),
-            (false, Some(_)) => Err(Invalid::new(
-                "model.t_ref_c",
-                "is given, but no (T-Tref)^k term reads it",
-            )),
-            (true, None) => Err(Invalid::new(
-                "model.t_ref_c",
-                "is missing, and the (T-Tref)^k terms are powers of T less it",
-            )),
-            (true, Some(t)) if !(t.is_finite() && (-273.15..=1000.0).contains(&t)) => {
-                Err(Invalid::new(
-                    "model.t_ref_c",
-                    format!(
-                        "is {} °C: a reference temperature lies from -273.15 to 1000 °C",
-                        crate::number::readable(t)
-                    ),
-                ))
-            }
-            (true, Some(t)) => match self.spec.t_ref {
-                super::TRefSpec::Fixed { celsius } if celsius != t => Err(Invalid::new(
-                    "model.t_ref_c",
-                    format!(
-                        "is {} °C, but the spec fixes Tref at {} °C (model.spec.t_ref)",
-                        crate::number::readable(t),
-                        crate::number::readable(celsius)
-                    ),
-                )),
-                _ => Ok(()),
-            },
-        }
     }
 
     /// What the fit measured, as only a fit can have: a standard error is a root of a

@@ -14,11 +14,13 @@
 //! result and `apply` corrects with it, in batch or one sample at a time.
 
 mod apply;
+mod dependence;
 mod fit;
 mod fitted;
 pub mod search;
 mod signals;
 mod spec;
+mod t_ref;
 pub mod terms;
 
 pub use apply::RegressionCorrector;

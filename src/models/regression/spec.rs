@@ -339,6 +339,10 @@ impl RegressionSpec {
                 format!("the term {term} is given twice"),
             ));
         }
+        if let Some(why) = super::dependence::message(&self.terms) {
+            // The same for terms that are one polynomial in T between them, whatever Tref.
+            return Err(Invalid::new(format!("model {}", self.name), why));
+        }
         if let TRefSpec::Fixed { celsius } = self.t_ref
             && !(celsius.is_finite() && (-273.15..=1000.0).contains(&celsius))
         {

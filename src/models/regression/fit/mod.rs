@@ -173,7 +173,8 @@ pub fn fit_with_progress(
                         terms: &spec.terms,
                         lambda: lambda0,
                         t_knots: &knots,
-                        t_ref: t_ref_of(spec, s, &use_sample).unwrap_or(0.0),
+                        t_ref: t_ref_of(spec, s, &use_sample, &Delay::default())
+                            .map_or(0.0, |t| t.celsius),
                         delay: &Delay::default(),
                     };
                     cost(s, &d, &stages, &plateau, |_| {
@@ -221,7 +222,7 @@ pub fn fit_with_progress(
         log: log.source.clone(),
         model: spec.name.clone(),
     })?;
-    let t_ref = t_ref_of(spec, &s, &use_sample);
+    let t_ref = t_ref_of(spec, &s, &use_sample, &Delay::default()).map(|t| t.celsius);
     // Searches run on at most SEARCH_SAMPLES evenly spread samples.
     let sub = || s.ready_samples().step_by(stride);
     let has_selfheat = spec.terms.contains(&Term::SelfHeating);
@@ -230,7 +231,7 @@ pub fn fit_with_progress(
         DelaySpec::Fixed { seconds } => Delay::constant(seconds),
         _ => Delay::default(),
     };
-    let search_lambda = |delay: &Delay| -> Option<CostCurve> {
+    let search_lambda = |delay: &Delay, t_ref: Option<f64>| -> Option<CostCurve> {
         let LambdaSpec::Search { min_s, max_s } = spec.lambda else {
             return None;
         };
@@ -252,7 +253,7 @@ pub fn fit_with_progress(
             cost(&s, &d, &stages, &plateau, |_| sub())
         }))
     };
-    if let Some(c) = search_lambda(&delay) {
+    if let Some(c) = search_lambda(&delay, t_ref) {
         lambda = c.best;
         searches.push(c);
     }
@@ -319,8 +320,25 @@ pub fn fit_with_progress(
         }
         DelaySpec::None | DelaySpec::Fixed { .. } => {}
     }
+    // Tref in the middle of T as the model reads it, through the delay found: the range the
+    // model holds T to (`ranges.temp`), as PX4's TREF is the middle of [TMIN, TMAX]; a file's
+    // Tref is checked against that middle.
+    let centre = t_ref_of(spec, &s, &use_sample, &delay);
+    if let Some(c) = centre
+        .as_ref()
+        .filter(|c| c.span_c < crate::models::MIN_TEMP_SPAN_C)
+    {
+        return Err(FitError::NarrowSpan {
+            log: log.source.clone(),
+            model: spec.name.clone(),
+            span_c: Some(c.range),
+            minimum_c: crate::models::MIN_TEMP_SPAN_C,
+        }
+        .into());
+    }
+    let t_ref = centre.map(|c| c.celsius);
     if !delay.points.is_empty()
-        && let Some(c) = search_lambda(&delay)
+        && let Some(c) = search_lambda(&delay, t_ref)
     {
         lambda = c.best;
         searches.retain(|c| c.parameter != "lambda_s");
@@ -343,6 +361,18 @@ pub fn fit_with_progress(
             coefficients,
         },
     )?;
+    if !sol.dependent.is_empty() {
+        // The net under the spec's check of polynomial terms: any other dependence of the
+        // columns on this log (pwlT's hats with a constant, an extra channel that is a copy of
+        // T, a T held constant by the plateaus chosen).
+        let names = terms::column_names(&spec.terms);
+        return Err(FitError::DependentColumns {
+            log: log.source.clone(),
+            model: spec.name.clone(),
+            columns: sol.dependent.iter().map(|&j| names[j].clone()).collect(),
+        }
+        .into());
+    }
     let mut model = RegressionModel {
         spec: spec.clone(),
         temp2,
@@ -382,27 +412,46 @@ fn t_knots_of(spec: &RegressionSpec, s: &Signals) -> Option<Vec<f64>> {
     Some(search::grid(lo, hi, k, false))
 }
 
+/// Tref of a model's `(T-Tref)^k` terms, and the range of T it is fitted over.
+struct Centre {
+    /// Tref, °C.
+    celsius: f64,
+    /// The lowest and highest T over the samples the fit covers, as the model reads it, °C.
+    range: (f64, f64),
+    /// Their difference, °C (0 when no T is finite).
+    span_c: f64,
+}
+
 /// Tref of the `(T-Tref)^k` terms (`None` when the model has none): the spec's fixed
-/// temperature, or the middle of T's range over the samples the fit covers (`used`, with a
-/// rate history), where PX4's script puts `TREF`; the fitted range is also where the model
-/// holds T, as PX4 holds it to `[TMIN, TMAX]`.
-fn t_ref_of(spec: &RegressionSpec, s: &Signals, used: &[bool]) -> Option<f64> {
+/// temperature, or the middle of T's range as the model reads it (through `delay`) over the
+/// samples the fit covers (`used`, with a rate history), where PX4's script puts `TREF`; the
+/// fitted range is also where the model holds T, as PX4 holds it to `[TMIN, TMAX]`, and is
+/// what [`ranges_and_stats`] records as `ranges.temp`.
+fn t_ref_of(spec: &RegressionSpec, s: &Signals, used: &[bool], delay: &Delay) -> Option<Centre> {
     if !spec.terms.iter().any(|t| matches!(t, Term::Tc { .. })) {
         return None;
     }
-    Some(match spec.t_ref {
-        super::TRefSpec::Fixed { celsius } => celsius,
-        super::TRefSpec::MidRange => {
-            let (lo, hi) = s
-                .ready_samples()
-                .filter(|&i| used[i])
-                .map(|i| s.temp[i])
-                .filter(|v| v.is_finite())
-                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
-                    (a.min(v), b.max(v))
-                });
-            if lo <= hi { 0.5 * (lo + hi) } else { 0.0 }
-        }
+    let mut ch = vec![0.0; s.channels.len()];
+    let (lo, hi) = s
+        .ready_samples()
+        .filter(|&i| used[i])
+        .map(|i| s.inputs(i, delay, &mut ch).temp)
+        .filter(|v| v.is_finite())
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+            (a.min(v), b.max(v))
+        });
+    let (range, span_c) = if lo <= hi {
+        ((lo, hi), hi - lo)
+    } else {
+        ((0.0, 0.0), 0.0)
+    };
+    Some(Centre {
+        celsius: match spec.t_ref {
+            super::TRefSpec::Fixed { celsius } => celsius,
+            super::TRefSpec::MidRange => 0.5 * (range.0 + range.1),
+        },
+        range,
+        span_c,
     })
 }
 

@@ -88,6 +88,10 @@ pub(super) struct Solution {
     pub(super) beta: Vec<f64>,
     pub(super) rss: f64,
     pub(super) inv_diag: Vec<f64>,
+    /// The columns of the directions the SVD left out (below its tolerance), each column that
+    /// takes a part of one: empty when the design has full rank. Their coefficients are not
+    /// determined by the data, and the pseudo-inverse's standard errors for them mean nothing.
+    pub(super) dependent: Vec<usize>,
 }
 
 pub(super) fn solve(nm: &Normal) -> Option<Solution> {
@@ -106,6 +110,22 @@ pub(super) fn solve(nm: &Normal) -> Option<Solution> {
     let svd = a.svd(true, true);
     let tol = svd.singular_values.max() * 1e-12;
     let q = svd.solve(&b, tol).ok()?;
+    let mut dependent: Vec<usize> = Vec::new();
+    if let Some(v_t) = &svd.v_t {
+        for (k, sv) in svd.singular_values.iter().enumerate() {
+            if *sv > tol {
+                continue;
+            }
+            // The direction's components on the scaled columns, unit length: a column with a
+            // tenth or more of it is part of the dependence.
+            for j in 0..p {
+                if v_t[(k, j)].abs() >= 0.1 && !dependent.contains(&j) {
+                    dependent.push(j);
+                }
+            }
+        }
+    }
+    dependent.sort_unstable();
     let inv = svd.pseudo_inverse(tol).ok()?;
     let beta: Vec<f64> = (0..p).map(|i| q[i] / scale[i]).collect();
     // RSS = yᵀy − 2βᵀAᵀy + βᵀAᵀAβ, which equals yᵀy − βᵀAᵀy at the solution.
@@ -118,5 +138,6 @@ pub(super) fn solve(nm: &Normal) -> Option<Solution> {
         beta,
         rss,
         inv_diag,
+        dependent,
     })
 }

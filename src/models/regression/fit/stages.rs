@@ -54,6 +54,9 @@ pub(super) struct Solved {
     pub(super) std_errors: Vec<f64>,
     pub(super) last_rss: f64,
     pub(super) last_n: usize,
+    /// The columns (of the whole model) a stage's design could not tell apart
+    /// ([`super::normal::Solution::dependent`]).
+    pub(super) dependent: Vec<usize>,
 }
 
 /// Solves the stages in turn, each on what the earlier ones leave. `samples(on_plateaus)`
@@ -71,6 +74,7 @@ pub(super) fn solve_stages<I: Iterator<Item = usize>>(
         std_errors: vec![0.0; p],
         last_rss: 0.0,
         last_n: 0,
+        dependent: Vec::new(),
     };
     let designs: Vec<Design> = stages
         .iter()
@@ -98,6 +102,8 @@ pub(super) fn solve_stages<I: Iterator<Item = usize>>(
             out.beta[c] = sol.beta[j];
             out.std_errors[c] = (sigma2 * sol.inv_diag[j].max(0.0)).sqrt();
         }
+        out.dependent
+            .extend(sol.dependent.iter().map(|&j| st.cols[j]));
         out.last_rss = sol.rss;
         out.last_n = nm.n;
         fitted.push(sol.beta);
