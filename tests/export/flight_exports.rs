@@ -427,7 +427,8 @@ fn models_a_firmware_cannot_evaluate_are_refused_by_name() {
     log2.extra.push(driftlab::log::Channel {
         name: "laser_mw".into(),
         unit: String::new(),
-        values: vec![1.0; log.len()],
+        // A channel that varies: a constant one is the column of `1`, refused by the fit.
+        values: (0..log.len()).map(|i| 1.0 + (i % 7) as f64).collect(),
     });
     let ch = fit(&log2, &custom("1,T,ch:laser_mw"));
     let e = firmware::flight(&ch, Format::ArdupilotParm, &opts)
