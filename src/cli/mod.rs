@@ -139,14 +139,11 @@ pub fn run(command: Command) -> Result<(), CliError> {
 
 #[cfg(feature = "gui")]
 fn gui(a: GuiArgs) -> Result<(), String> {
-    if a.log_args.format.gyro.is_some() || a.log_args.format.temp_from.is_some() {
-        return Err(
-            "driftlab gui does not take --gyro or --temp-from: convert the gyro first with \
-             `driftlab convert LOG --out CSV --gyro N` and open the CSV"
-                .into(),
-        );
-    }
     let read = a.log_args.options()?;
+    let instance = driftlab::log::read::InstanceChoice {
+        gyro: a.log_args.format.gyro,
+        temp_from: a.log_args.format.temp_from,
+    };
     let driftlab::gui::StartFiles { log, calibration } = driftlab::gui::split_files(&a.files)?;
     let session = log.as_ref().is_some_and(|p| {
         p.extension()
@@ -157,6 +154,13 @@ fn gui(a: GuiArgs) -> Result<(), String> {
             "--time-col, --rate-col, --temp-col, --rate-unit, --time-unit, --sample-rate, \
              --delimiter, --decimal-comma and --bin apply to a log: a session keeps the mapping \
              it was saved with (open it, then File › Column mapping…)"
+                .into(),
+        );
+    }
+    if session && !instance.is_default() {
+        return Err(
+            "--gyro and --temp-from choose a gyro of a drone or robot log: a session keeps the \
+             gyro it was saved with (open it, then File › Gyro of the log)"
                 .into(),
         );
     }
@@ -202,6 +206,7 @@ fn gui(a: GuiArgs) -> Result<(), String> {
         screenshot: a.screenshot,
         read,
         bin_s: a.log_args.bin,
+        instance,
         validation: a.validation,
         window_size,
     })

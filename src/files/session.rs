@@ -26,6 +26,7 @@
 use crate::error::{Error, Invalid, Result};
 use crate::judge::metrics::MeritOptions;
 use crate::log::ingest::ReadOptions;
+use crate::log::read::InstanceChoice;
 use crate::models::recipe::Recipe;
 /// The knots set by hand are the model's (Vakhrameev's coefficients); the session stores them.
 pub use crate::models::vakhrameev::knots::{Coefficient, KnotEdits};
@@ -53,6 +54,9 @@ pub struct LogRef {
     /// a log written in bursts is reduced to one sample per burst, any other used as read.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub bin_s: Option<f64>,
+    /// The gyro and temperature chosen of a drone or robot log; absent: the reader's default.
+    #[serde(default, skip_serializing_if = "InstanceChoice::is_default")]
+    pub instance: InstanceChoice,
 }
 
 /// What was on screen, so the session reopens where it was left.

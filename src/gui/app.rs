@@ -12,6 +12,7 @@
 
 mod actions;
 mod files;
+mod gyro_menu;
 mod k0_default;
 mod layout;
 mod opened;

@@ -119,6 +119,9 @@ pub struct GuiOptions {
     pub read: crate::log::ingest::ReadOptions,
     /// Average the log into bins of this many seconds once read (a session keeps its own).
     pub bin_s: Option<f64>,
+    /// The gyro and temperature of a drone or robot log (`--gyro`, `--temp-from`), for the
+    /// log and the validation log alike.
+    pub instance: crate::log::read::InstanceChoice,
     /// A validation log to open beside the log, read as the log is.
     pub validation: Option<PathBuf>,
     /// The window's inner size, points (at least 900×620).
@@ -267,6 +270,7 @@ pub fn run(options: GuiOptions) -> Result<(), String> {
     let load = jobs::LoadOptions {
         read: options.read.clone(),
         bin_s: options.bin_s,
+        instance: options.instance,
     };
     // Screenshot mode renders with the engineer's theme but writes no settings back.
     let settings = Settings::default_path()

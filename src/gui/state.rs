@@ -417,6 +417,7 @@ impl AppState {
                 path: std::path::absolute(&l.path).unwrap_or_else(|_| l.path.clone()),
                 read: l.options.read.clone(),
                 bin_s: l.options.bin_s,
+                instance: l.options.instance,
             })
         };
         let mut session = Session {

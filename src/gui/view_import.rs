@@ -22,6 +22,9 @@ pub struct ImportView {
     /// Bins of this many seconds the log is averaged into after the read ("Average into bins
     /// of").
     pub bin_s: Option<f64>,
+    /// The gyro and temperature of a drone or robot log, kept as they were (the view maps a
+    /// CSV's columns; File › Gyro of the log chooses these).
+    instance: crate::log::read::InstanceChoice,
     /// What the reader said when it last read this file (problems it worked around, columns
     /// that do not hold what their role means, how the log was averaged), shown first while
     /// the options are the ones it was read with.
@@ -41,8 +44,9 @@ pub struct ImportView {
 const PREVIEW_ROWS: usize = 25;
 
 /// The read settings a reader's message may name, each with the label of its control in this
-/// view (the column roles are one row of controls, "Time", "Rate", "Temperature").
-const SETTING_LABELS: [(&str, &str); 7] = [
+/// view (the column roles are one row of controls, "Time", "Rate", "Temperature"), and the
+/// temperature source of a drone log by its place in File › Gyro of the log.
+const SETTING_LABELS: [(&str, &str); 8] = [
     ("time_col", "Time column"),
     ("rate_col", "Rate column"),
     ("temp_col", "Temperature column"),
@@ -50,6 +54,7 @@ const SETTING_LABELS: [(&str, &str); 7] = [
     ("time_unit", "Time unit"),
     ("sample_rate_hz", "Sample rate"),
     ("bin_s", "Average into bins of"),
+    ("temp_from", "File › Gyro of the log › Temperature from"),
 ];
 
 /// A message of the reader in the window's words: the settings it names are named by the
@@ -71,7 +76,11 @@ pub struct ReadWarning {
 impl ImportView {
     /// Opens the view on `path` with starting options.
     pub fn new(path: PathBuf, target: Target, options: LoadOptions) -> ImportView {
-        let LoadOptions { read, bin_s } = options;
+        let LoadOptions {
+            read,
+            bin_s,
+            instance,
+        } = options;
         let preview =
             ingest::preview(&path, &read, PREVIEW_ROWS).map_err(|e| in_labels(&e.to_string()));
         let concerns = preview
@@ -85,6 +94,7 @@ impl ImportView {
             warned_for: read.clone(),
             read,
             bin_s,
+            instance,
             warnings: Vec::new(),
             last_rect: None,
             preview,
@@ -115,6 +125,7 @@ impl ImportView {
         LoadOptions {
             read: self.read.clone(),
             bin_s: self.bin_s,
+            instance: self.instance,
         }
     }
 

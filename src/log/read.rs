@@ -64,6 +64,35 @@ impl FormatChoice {
     }
 }
 
+/// The gyro and temperature of a drone or robot log the engineer chose, as a session keeps
+/// them: [`FormatChoice`] less what a calibration says (`fitted_on`), which is not a choice.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct InstanceChoice {
+    /// The gyro instance (as `inspect` numbers them); `None`: the reader's default.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub gyro: Option<usize>,
+    /// Where the temperature comes from; `None`: the gyro's own.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub temp_from: Option<TempFrom>,
+}
+
+impl InstanceChoice {
+    /// True when nothing was chosen (a CSV, or a drone log read as by default).
+    pub fn is_default(&self) -> bool {
+        *self == InstanceChoice::default()
+    }
+
+    /// The reader's choice.
+    pub fn format_choice(self) -> FormatChoice {
+        FormatChoice {
+            gyro: self.gyro,
+            temp_from: self.temp_from,
+            fitted_on: None,
+        }
+    }
+}
+
 /// A message of the reader in a face's words: the reader names the settings of
 /// [`ReadOptions`] and [`FormatChoice`] as the code does (`temp_col "temp_C"`, `gyro N`), and
 /// each face words them as its own controls are named (a flag, a label). `words` pairs a

@@ -5,6 +5,8 @@ use crate::common;
 use common::drone::ulog;
 use common::gui::*;
 use driftlab::gui::Workbench;
+use egui_kittest::Harness;
+use egui_kittest::kittest::Queryable;
 
 #[test]
 fn a_px4_ulog_opens_calibrates_and_is_judged_like_its_csv() {
@@ -59,4 +61,78 @@ fn a_px4_ulog_opens_calibrates_and_is_judged_like_its_csv() {
         (from_ulog - from_csv).abs() <= 0.02 * from_csv,
         "ULog {from_ulog} °/h, CSV {from_csv} °/h"
     );
+}
+
+/// File › Gyro of the log reads another gyro of a drone log (as `--gyro N`), and the
+/// temperature from another source (as `--temp-from`); the session keeps the choice.
+#[test]
+fn another_gyro_of_a_drone_log_is_chosen_from_the_menu() {
+    use common::drone::ulog_of_subscriptions;
+    // The bundled chamber run as gyro 0, and as gyro 1 reading 1e-4 rad/s more: told apart
+    // by their rates.
+    let csv = driftlab::read_path(&sample("calibration.csv"), &Default::default()).unwrap();
+    let n = csv.len();
+    let rad_s = std::f64::consts::PI / 180.0 / 3600.0;
+    let rate = |extra: f64| -> Vec<[f32; 3]> {
+        csv.omega_dph
+            .iter()
+            .map(|w| {
+                let v = (w * rad_s + extra) as f32;
+                [v, v, v]
+            })
+            .collect()
+    };
+    let (rate_a, rate_b) = (rate(0.0), rate(1e-4));
+    let temp: Vec<f32> = csv.temp_c.iter().map(|&t| t as f32).collect();
+    let ids_a = vec![2_424_842u32; n];
+    let ids_b = vec![3_670_050u32; n];
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("two_gyros.ulg");
+    std::fs::write(
+        &path,
+        ulog_of_subscriptions(&csv.time_s, &temp, &[(&ids_a, &rate_a), (&ids_b, &rate_b)]),
+    )
+    .unwrap();
+    let mut h = harness(Workbench::new_for_test(&path));
+    settle(&mut h);
+    let dph = |v: f32| f64::from(v) / rad_s;
+    let read = |h: &Harness<'_, Workbench>| {
+        let l = h.state().state.shown.log.as_ref().expect("read");
+        let d = l.drone.as_ref().expect("a drone log");
+        (d.chosen, d.instances.len(), l.log.omega_dph[100])
+    };
+    let (chosen, gyros, omega) = read(&h);
+    assert_eq!((chosen, gyros), (0, 2));
+    assert!((omega - dph(rate_a[100][0])).abs() < 1e-6, "{omega}");
+    h.get_by_label_contains("gyro 0 (2 in the log)");
+
+    h.get_by_label("File").click();
+    h.run_ok();
+    h.get_by_label_contains("Gyro of the log").click();
+    h.run_ok();
+    h.get_by_label_contains("gyro 1  sensor_gyro multi_id 1")
+        .click();
+    settle(&mut h);
+    let (chosen, _, omega) = read(&h);
+    assert_eq!(chosen, 1);
+    assert!((omega - dph(rate_b[100][0])).abs() < 1e-6, "{omega}");
+    let session = h.state().state.session();
+    assert_eq!(session.log.as_ref().unwrap().instance.gyro, Some(1));
+
+    // The temperature from the accelerometer of the same IMU: this log has none, so the
+    // read is refused with the reader's reason and the work stays as it was (gyro 1).
+    h.get_by_label("File").click();
+    h.run_ok();
+    h.get_by_label_contains("Gyro of the log").click();
+    h.run_ok();
+    h.get_by_label("the accelerometer's of the same IMU")
+        .click();
+    settle(&mut h);
+    h.get_by_label_contains("Could not read the log. Nothing was changed.");
+    h.get_by_label_contains("has no accel temperature");
+    h.get_by_label_contains("could use File › Gyro of the log › Temperature from own");
+    let l = h.state().state.shown.log.as_ref().unwrap();
+    assert_eq!(l.options.instance.gyro, Some(1));
+    assert_eq!(l.options.instance.temp_from, None);
+    assert_eq!(l.drone.as_ref().unwrap().chosen, 1);
 }

@@ -670,6 +670,7 @@ impl Workbench {
                     let options = LoadOptions {
                         read: log.read,
                         bin_s: log.bin_s,
+                        instance: log.instance,
                     };
                     self.start_load(log.path, options, Target::Calibration);
                 }

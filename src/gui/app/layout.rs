@@ -34,6 +34,7 @@ impl Workbench {
                     actions.push(Action::ColumnMapping(Target::Calibration));
                     ui.close();
                 }
+                self.gyro_menu(ui, actions);
                 if ui
                     .add(egui::Button::new("Open calibration…").shortcut_text(sc(&shortcuts::OPEN_CALIBRATION)))
                     .on_hover_text("Open a calibration file (JSON) beside the current fit: its figures and corrected drift on the open logs, to compare")
@@ -261,6 +262,9 @@ impl Workbench {
                     num(l.log.nominal_dt_s()),
                     match self.state.unit.as_ref() {
                         Some(u) => format!(" · {} gyro axes", u.names.len()),
+                        None => String::new(),
+                    } + &match &l.drone {
+                        Some(d) => format!(" · gyro {} ({} in the log)", d.chosen, d.instances.len()),
                         None => String::new(),
                     }
                 );

@@ -196,6 +196,7 @@ impl Workbench {
                             let options = LoadOptions {
                                 read: v.read.clone(),
                                 bin_s: v.bin_s,
+                                instance: v.instance,
                             };
                             self.start_load(v.path.clone(), options, Target::Validation);
                         }

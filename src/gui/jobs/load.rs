@@ -4,6 +4,7 @@
 
 use super::*;
 use crate::gui::plot_items::Segments;
+use crate::log::read::{DroneLog, InstanceChoice};
 use crate::log::resample::{self, Resampling};
 
 /// How the workbench reads a log: the reader's options, then the averaging applied after the
@@ -15,12 +16,17 @@ pub struct LoadOptions {
     /// Average into bins of this many seconds after the read; `None`: a log written in bursts
     /// is reduced to one sample per burst, any other log is used as recorded.
     pub bin_s: Option<f64>,
+    /// The gyro and temperature of a drone or robot log (nothing for a CSV).
+    pub instance: InstanceChoice,
 }
 
 impl LoadOptions {
     /// Reading with `read`, nothing averaged unless the log is written in bursts.
     pub fn read(read: ReadOptions) -> LoadOptions {
-        LoadOptions { read, bin_s: None }
+        LoadOptions {
+            read,
+            ..LoadOptions::default()
+        }
     }
 }
 
@@ -64,6 +70,8 @@ pub struct Loaded {
     pub recorded: Option<Arc<Recorded>>,
     /// SHA-256 of the file, for the calibration's source.
     pub sha256: Option<String>,
+    /// What the reader said of a drone or robot log: its gyros, the one read and why.
+    pub drone: Option<Arc<DroneLog>>,
     /// Seconds the read took.
     pub seconds: f64,
     /// For a log of several gyro axes, each axis as a log of its own (the same time and
@@ -106,20 +114,21 @@ pub(super) fn load_log(h: &LoadHandle, options: LoadOptions) -> JobResult {
     let t = Instant::now();
     let progress = h.progress.clone();
     let cancel = h.cancel.clone();
-    // Any log driftlab reads: a CSV, or a drone or robot log told by its first bytes (its
-    // first gyro with a temperature, as every command takes it by default).
+    // Any log driftlab reads: a CSV, or a drone or robot log told by its first bytes (the
+    // gyro and temperature chosen, else its first gyro with a temperature, as every command).
     let result = crate::log::read::read_any_with_progress(
         &h.path,
         &options.read,
-        &crate::log::read::FormatChoice::default(),
+        &options.instance.format_choice(),
         &|f| {
             progress.store(f.to_bits(), Ordering::Relaxed);
             !cancel.load(Ordering::Relaxed)
         },
-    )
-    .map(|any| any.log);
+    );
     match result {
-        Ok(log) => {
+        Ok(any) => {
+            let log = any.log;
+            let drone = any.drone.map(Arc::new);
             // Averaged before anything else, as every command does (bins, or bursts).
             let how = resample::choose(&log, options.bin_s);
             let recorded = (how == Resampling::BurstMeans).then(|| {
@@ -179,6 +188,7 @@ pub(super) fn load_log(h: &LoadHandle, options: LoadOptions) -> JobResult {
                 resampled,
                 recorded,
                 sha256,
+                drone,
                 seconds: 0.0,
                 axis_views: Vec::new(),
             };

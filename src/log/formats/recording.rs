@@ -7,7 +7,7 @@
 
 use super::Format;
 use super::error::quoted;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// One log read whole: every gyro instance found, and what was wrong with the file.
 #[derive(Debug, Clone)]
@@ -240,7 +240,7 @@ pub struct Axes {
 }
 
 /// Where a temperature other than the gyro's own comes from.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum TempFrom {
     /// The gyro's own temperature field (ULog `sensor_gyro.temperature`, DataFlash `T`, a ROS
