@@ -61,6 +61,11 @@ fn a_session(log: PathBuf) -> Session {
             path: sample("validation.csv"),
             read: ReadOptions::default(),
             bin_s: Some(2.0),
+            // A drone log's gyro and temperature source: kept through a save and a load.
+            instance: driftlab::log::read::InstanceChoice {
+                gyro: Some(2),
+                temp_from: Some(driftlab::log::read::TempFrom::Accel),
+            },
         }),
         recipe,
         knots: KnotEdits::default(),
