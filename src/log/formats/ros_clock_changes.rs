@@ -86,14 +86,18 @@ fn signed_seconds(ns: i128) -> String {
 
 /// Where the offsets `offsets_ns` (stamp minus record time of each message, in log order)
 /// stand on more than one clock: groups of two messages or more, their sorted offsets more
-/// than `limit_ns` apart. `None` when they stand on one (stray stamps aside), or when fewer
-/// than half the messages stand in a group of two or more (record times that do not keep
-/// pace with the stamps: no clock to tell).
-pub(crate) fn change(offsets_ns: &[i128], limit_ns: i128) -> Option<Change> {
+/// than `limit_ns` apart, and the stamps `stamps_ns` themselves breaking their step where
+/// the messages pass from one group to another. `None` when they stand on one (stray stamps
+/// aside), when fewer than half the messages stand in a group of two or more (record times
+/// that do not keep pace with the stamps: no clock to tell), or when the stamps keep their
+/// step across every passage: then only the record times moved, a transport's delay (a
+/// burst of messages delivered late, in order), and the stamps are one clock.
+pub(crate) fn change(offsets_ns: &[i128], stamps_ns: &[i128], limit_ns: i128) -> Option<Change> {
     let n = offsets_ns.len();
-    if n < 4 {
+    if n < 4 || stamps_ns.len() != n {
         return None;
     }
+
     let mut sorted = offsets_ns.to_vec();
     sorted.sort_unstable();
     // The groups: the lowest offset of each, and how many messages it holds.
@@ -113,6 +117,26 @@ pub(crate) fn change(offsets_ns: &[i128], limit_ns: i128) -> Option<Change> {
         return None;
     }
     let group = |o: i128| lows.partition_point(|&l| l <= o) - 1;
+    // The stamps' step a message, read within the largest group (one clock): between two
+    // messages of it, the stamps rise by the step times the messages between them.
+    let largest = (0..sizes.len()).max_by_key(|&g| sizes[g])?;
+    let members: Vec<usize> = (0..n)
+        .filter(|&i| group(offsets_ns[i]) == largest)
+        .collect();
+    let mut steps: Vec<i128> = members
+        .windows(2)
+        .map(|w| (stamps_ns[w[1]] - stamps_ns[w[0]]) / (w[1] - w[0]) as i128)
+        .collect();
+    if steps.is_empty() {
+        return None;
+    }
+    steps.sort_unstable();
+    let step = steps[steps.len() / 2];
+    // Whether the stamps from message `j` to `i` break that step by more than the limit.
+    let stamps_break = |j: usize, i: usize| {
+        let expected = step * (i - j) as i128;
+        (stamps_ns[i] - stamps_ns[j] - expected).abs() > limit_ns
+    };
     // Walk the messages in order over the clocks, stray stamps (groups of one) passed over.
     let mut first: Option<(usize, usize)> = None;
     let mut last: Option<(usize, usize)> = None;
@@ -130,6 +154,7 @@ pub(crate) fn change(offsets_ns: &[i128], limit_ns: i128) -> Option<Change> {
         }
         if let Some((j, h)) = last
             && h != g
+            && stamps_break(j, i)
         {
             switches += 1;
             change.get_or_insert((j, i));
@@ -162,17 +187,27 @@ mod tests {
             .collect()
     }
 
+    /// The stamps of messages a second apart on clocks whose offsets from the record time are
+    /// `offsets` (recorded at i s, no delay): the stamp moves with the offset.
+    fn stamped(offsets: &[i128]) -> Vec<i128> {
+        offsets
+            .iter()
+            .enumerate()
+            .map(|(i, o)| i as i128 * S + o)
+            .collect()
+    }
+
     #[test]
     fn one_clock_with_jitter_and_a_stray_stamp_is_no_change() {
         let mut o = offsets(100, |_| 0);
         o[40] = 3600 * S;
-        assert_eq!(change(&o, S), None);
+        assert_eq!(change(&o, &stamped(&o), S), None);
     }
 
     #[test]
     fn a_jump_that_stays_is_named_where_it_happens() {
         let o = offsets(100, |i| if i >= 60 { 3600 } else { 0 });
-        let c = change(&o, S).unwrap();
+        let c = change(&o, &stamped(&o), S).unwrap();
         assert_eq!(
             (c.before, c.at, c.switches, c.elsewhere, c.clocks),
             (59, 60, 1, 40, 2)
@@ -189,7 +224,7 @@ mod tests {
     #[test]
     fn two_clocks_in_turn_are_told_as_alternating() {
         let o = offsets(100, |i| 300 * (i % 2) as i128);
-        let c = change(&o, S).unwrap();
+        let c = change(&o, &stamped(&o), S).unwrap();
         assert_eq!((c.before, c.at, c.switches, c.elsewhere), (0, 1, 99, 50));
         assert!(
             c.told("/t", "the log time", S)
@@ -198,9 +233,35 @@ mod tests {
     }
 
     #[test]
+    fn a_transport_delay_moves_the_record_times_not_the_stamps() {
+        // Stamps a second apart throughout; from message 40 on each recorded 0 to 20 s late
+        // (in order): the offsets fall into groups, the stamps keep their step.
+        let stamps: Vec<i128> = (0..200).map(|i| i * S).collect();
+        let mut recorded = 0;
+        let o: Vec<i128> = stamps
+            .iter()
+            .enumerate()
+            .map(|(i, &st)| {
+                let delay = if i >= 40 {
+                    (i as i128 * 7919 % 21) * S
+                } else {
+                    0
+                };
+                recorded = (st + delay).max(recorded);
+                st - recorded
+            })
+            .collect();
+        assert!(
+            o.iter().any(|&x| x < -10 * S),
+            "the delays reach past the limit"
+        );
+        assert_eq!(change(&o, &stamps, S), None);
+    }
+
+    #[test]
     fn record_times_that_do_not_keep_pace_tell_no_clock() {
         // Stamps 100 s apart, all recorded within a second: every offset a group of its own.
         let o: Vec<i128> = (0..50).map(|i| i * 100 * S - i * 10_000_000).collect();
-        assert_eq!(change(&o, S), None);
+        assert_eq!(change(&o, &stamped(&o), S), None);
     }
 }
