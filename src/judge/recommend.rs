@@ -146,10 +146,25 @@ pub fn recommend(
         .iter()
         .find(|s| s.flight_form && s.worst_p2p_ratio.is_some())
         .map(|s| s.model.clone());
+    // A best that leaves the drift as it was or worse is no model to adopt: said first.
+    let none_helps = (ratio_key(worst_p2p_ratio) <= 0).then(|| {
+        format!(
+            "no model makes the peak-to-peak of the drift smaller on what it was judged on \
+             (the best, {}, gives raw ÷ corrected {}): none is worth adopting from this \
+             comparison",
+            best.model,
+            crate::number::fixed(worst_p2p_ratio, 3)
+        )
+    });
+    let caution = match (none_helps, judged_on.caution()) {
+        (Some(a), Some(b)) => Some(format!("{a}; {b}")),
+        (Some(a), None) => Some(a),
+        (None, b) => b.map(str::to_string),
+    };
     Some(Recommendation {
         model: best.model.clone(),
         worst_p2p_ratio,
-        caution: judged_on.caution().map(str::to_string),
+        caution,
         judged_on,
         flight_form: flight,
         standings,
@@ -293,10 +308,18 @@ fn on_blocks(
         .collect()
 }
 
-/// Best first (the highest worst ratio), those without a figure last in their order.
+/// A ratio as a whole number of parts per 10⁹ of its logarithm: ratios that differ by the
+/// rounding of one fit against another (1.0000000000000002 and 1.0, the same cubic fitted
+/// as two models) rank alike, the one compared first first; 0 is a ratio of 1.
+fn ratio_key(r: f64) -> i64 {
+    (r.ln() * 1e9).round() as i64
+}
+
+/// Best first (the highest worst ratio, ratios equal to rounding in the order compared),
+/// those without a figure last in their order.
 fn ranked(mut s: Vec<Standing>) -> Vec<Standing> {
     s.sort_by(|a, b| match (a.worst_p2p_ratio, b.worst_p2p_ratio) {
-        (Some(x), Some(y)) => y.total_cmp(&x),
+        (Some(x), Some(y)) => ratio_key(y).cmp(&ratio_key(x)),
         (Some(_), None) => std::cmp::Ordering::Less,
         (None, Some(_)) => std::cmp::Ordering::Greater,
         (None, None) => std::cmp::Ordering::Equal,
@@ -307,6 +330,26 @@ fn ranked(mut s: Vec<Standing>) -> Vec<Standing> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn ratios_equal_to_rounding_rank_in_the_order_compared() {
+        let st = |m: &str, r: f64| Standing {
+            model: m.into(),
+            worst_p2p_ratio: Some(r),
+            flight_form: true,
+            why: None,
+        };
+        let got = ranked(vec![
+            st("px4", 1.0),
+            st("ardupilot", 1.000_000_000_000_000_2),
+            st("poly-t", 0.5),
+            st("vakhrameev", 4.2),
+        ]);
+        let names: Vec<&str> = got.iter().map(|s| s.model.as_str()).collect();
+        assert_eq!(names, ["vakhrameev", "px4", "ardupilot", "poly-t"]);
+        assert_eq!(ratio_key(1.0), 0);
+        assert!(ratio_key(0.999) < 0 && ratio_key(1.001) > 0);
+    }
 
     #[test]
     fn blocks_cover_every_row_once() {

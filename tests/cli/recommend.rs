@@ -218,3 +218,33 @@ fn without_a_held_out_log_blocks_of_the_training_log_judge_with_a_caution() {
         "blocks: {stated}, through files {worst}"
     );
 }
+
+/// When no model makes the held-out drift smaller (fitted on one gyro's steps, judged on
+/// another gyro's log), the best is named with a caution that none is worth adopting, not
+/// offered as if it helped; the ratio it states is the table's.
+#[test]
+fn when_no_model_helps_the_recommendation_says_so() {
+    let json = compare_json(&[
+        "--train",
+        &sample("yan-steps-low.csv"),
+        "--test",
+        &sample("laser-gyro.csv"),
+        "--models",
+        "px4,poly-t2",
+    ]);
+    let rec = &json["recommended"];
+    let ratio = rec["worst_p2p_ratio"].as_f64().unwrap();
+    let worst = worst_held_out(&json);
+    let best = worst
+        .iter()
+        .filter_map(|(_, r, reference)| r.filter(|_| !reference))
+        .fold(f64::NEG_INFINITY, f64::max);
+    assert!(best < 1.0 + 1e-9, "a model helps here: {best}");
+    assert!((ratio - best).abs() <= 1e-12, "{ratio} vs {best}");
+    let caution = rec["caution"].as_str().unwrap_or_default();
+    assert!(
+        caution.contains("no model makes the peak-to-peak of the drift smaller")
+            && caution.contains("none is worth adopting"),
+        "{rec}"
+    );
+}

@@ -86,6 +86,17 @@ fn a_mid_range_tref_is_the_middle_of_the_fitted_range() {
         body(v)["model"]["t_ref_c"] = json!(5.0);
     });
     refused(&f, "model.ranges.temp", "spans 1 °C");
+    // A custom model's Tref given as fixed (with t_ref_c to match): only the ardupilot form
+    // fixes Tref, so nothing would hold this one to the fitted range.
+    let f = edited(&plain, "custom_fixed20.json", |v| {
+        body(v)["model"]["spec"]["t_ref"] = json!({"kind": "fixed", "celsius": 20.0});
+        body(v)["model"]["t_ref_c"] = json!(20.0);
+    });
+    refused(
+        &f,
+        "model.spec.t_ref",
+        "is Tref fixed at 20 °C, but only the ardupilot form fixes Tref",
+    );
 }
 
 #[test]

@@ -343,6 +343,26 @@ impl RegressionSpec {
             // The same for terms that are one polynomial in T between them, whatever Tref.
             return Err(Invalid::new(format!("model {}", self.name), why));
         }
+        // Only a firmware's own form fixes Tref (ArduPilot's 35 °C): every other model, a
+        // custom one too, takes the middle of its fitted range, which the file is checked
+        // against; a fixed Tref on another model would be a number nothing checks.
+        let fixes_tref = crate::models::presets::Preset::from_name(&self.name)
+            .ok()
+            .and_then(crate::models::presets::Preset::centred_spec)
+            .is_some_and(|want| matches!(want.t_ref, TRefSpec::Fixed { .. }));
+        if let TRefSpec::Fixed { celsius } = self.t_ref
+            && !fixes_tref
+        {
+            return Err(Invalid::new(
+                "model.spec.t_ref",
+                format!(
+                    "is Tref fixed at {} °C, but only the ardupilot form fixes Tref: a model \
+                     named {} has Tref in the middle of its fitted range",
+                    crate::number::readable(celsius),
+                    self.name
+                ),
+            ));
+        }
         if let TRefSpec::Fixed { celsius } = self.t_ref
             && !(celsius.is_finite() && (-273.15..=1000.0).contains(&celsius))
         {
