@@ -26,11 +26,11 @@ fn true_c(k: u32) -> f64 {
 }
 
 /// A bag of `/imu/data` (one message a second, `n` of them, stamped `imu_stamp(k)`) and
-/// `/imu/temperature` on its frame (one message every `every` s, stamped `temp_stamp(k)`),
+/// `/imu/temperature` on its frame (a message at the seconds `every(k)` takes, stamped `temp_stamp(k)`),
 /// each message recorded at [`recorded`]`(k)` with the true temperature of that second.
 fn bag_of(
     n: u32,
-    every: u32,
+    every: impl Fn(u32) -> bool,
     imu_stamp: impl Fn(u32) -> u32,
     temp_stamp: impl Fn(u32) -> u32,
 ) -> Vec<u8> {
@@ -46,7 +46,7 @@ fn bag_of(
             recorded(k),
             &imu_ros1(imu_stamp(k), b"imu", 0.01),
         ));
-        if k % every == 0 {
+        if every(k) {
             let t = temperature_ros1(temp_stamp(k), b"imu", true_c(k));
             r.extend(bag_message(1, recorded(k), &t));
         }
@@ -113,7 +113,7 @@ fn a_temperature_topic_every_100_s_on_a_clock_900_s_ahead_is_paired_by_record_ti
     // Ten steps of the slow topic are 1000 s: a limit that grows with the step would take
     // 900 s (and 500 s) for a transport's delay and give each sample a reading 900 s old.
     for ahead in [500, 900] {
-        let file = bag_of(2001, 100, recorded, |k| recorded(k) + ahead);
+        let file = bag_of(2001, |k| k % 100 == 0, recorded, |k| recorded(k) + ahead);
         let rec = formats::read_bytes("slow.bag", &file).unwrap();
         // Each sample has the reading recorded nearest it (ties to the earlier one), as a
         // topic this slow on the gyro's own clock would give it: paired by stamp, the one
@@ -138,9 +138,12 @@ fn a_temperature_topic_every_100_s_on_a_clock_900_s_ahead_is_paired_by_record_ti
 #[test]
 fn a_temperature_clock_stepping_an_hour_mid_bag_is_named_and_paired_by_record_time() {
     let n = 400;
-    let file = bag_of(n, 1, recorded, |k| {
-        recorded(k) + if k >= 200 { 3600 } else { 0 }
-    });
+    let file = bag_of(
+        n,
+        |_| true,
+        recorded,
+        |k| recorded(k) + if k >= 200 { 3600 } else { 0 },
+    );
     let rec = formats::read_bytes("tempjump.bag", &file).unwrap();
     temperatures_true(&rec, 0.0);
     let notes = notes(&rec);
@@ -172,7 +175,7 @@ fn a_temperature_clock_stepping_an_hour_mid_bag_is_named_and_paired_by_record_ti
 fn an_imu_clock_stepping_an_hour_mid_bag_is_named_and_its_temperature_paired_by_record_time() {
     let file = bag_of(
         400,
-        1,
+        |_| true,
         |k| recorded(k) + if k >= 200 { 3600 } else { 0 },
         recorded,
     );
@@ -233,9 +236,12 @@ fn an_mcap_whose_temperature_clock_steps_mid_log_is_paired_by_log_time() {
 #[test]
 fn a_temperature_topic_alternating_between_two_clocks_is_told_and_paired_by_record_time() {
     for ahead in [300, 900] {
-        let file = bag_of(400, 1, recorded, |k| {
-            recorded(k) + if k % 2 == 1 { ahead } else { 0 }
-        });
+        let file = bag_of(
+            400,
+            |_| true,
+            recorded,
+            |k| recorded(k) + if k % 2 == 1 { ahead } else { 0 },
+        );
         let rec = formats::read_bytes("tempalt.bag", &file).unwrap();
         temperatures_true(&rec, 0.0);
         let notes = notes(&rec);
@@ -256,7 +262,12 @@ fn a_temperature_topic_alternating_between_two_clocks_is_told_and_paired_by_reco
 fn a_temperature_topic_alternating_by_a_second_and_a_half_stays_paired_by_stamp() {
     // 1.5 s is within a transport's delay at 1 Hz: one clock, paired by stamp, and every
     // sample's reading is at most 1.5 s (0.0125 °C) from its own.
-    let file = bag_of(400, 1, recorded, |k| recorded(k) + u32::from(k % 2 == 1));
+    let file = bag_of(
+        400,
+        |_| true,
+        recorded,
+        |k| recorded(k) + u32::from(k % 2 == 1),
+    );
     let rec = formats::read_bytes("close.bag", &file).unwrap();
     temperatures_true(&rec, 0.05);
     assert!(rec.problems.is_empty(), "{:?}", notes(&rec));
@@ -268,25 +279,7 @@ fn a_temperature_topic_alternating_by_a_second_and_a_half_stays_paired_by_stamp(
 fn samples_without_a_reading_are_dropped_for_that_reason_not_as_nan() {
     // The temperature node stops after 300 s: the last 100 samples have no reading within a
     // step, and the warning says so (not "NaN or infinite temp_c", which the bag has none of).
-    let n = 400;
-    let mut r = bag_connection(0, "/imu/data");
-    r.extend(bag_connection_of(
-        1,
-        "/imu/temperature",
-        "sensor_msgs/Temperature",
-    ));
-    for k in 0..n {
-        r.extend(bag_message(
-            0,
-            recorded(k),
-            &imu_ros1(recorded(k), b"imu", 0.01),
-        ));
-        if k < 300 {
-            let t = temperature_ros1(recorded(k), b"imu", true_c(k));
-            r.extend(bag_message(1, recorded(k), &t));
-        }
-    }
-    let file = bag(&r);
+    let file = bag_of(400, |k| k < 300, recorded, recorded);
     let (temps, stderr) = converted("stopped.bag", &file);
     assert_eq!(temps.len(), 301, "{stderr}");
     for part in [
