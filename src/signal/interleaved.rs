@@ -227,6 +227,16 @@ fn switches(time_s: &[f64], first: &Return, returns: usize) -> usize {
 /// clock's pace. Whichever clock is behind is the first. One pass: each sample is looked at a
 /// bounded number of times.
 pub fn interleaved_clocks(time_s: &[f64]) -> Option<Interleaved> {
+    // Whichever way finds the rows switching clock first.
+    match (switching_clocks(time_s), alternating(time_s)) {
+        (Some(a), Some(b)) => Some(if b.away < a.away { b } else { a }),
+        (a, b) => a.or(b),
+    }
+}
+
+/// [`interleaved_clocks`] by streaks of returns to the first clock from a second that keeps
+/// its own time (far, or close at a fixed offset).
+fn switching_clocks(time_s: &[f64]) -> Option<Interleaved> {
     let mut streak: Option<Streak> = None;
     let mut found: Option<(Return, usize)> = None;
     for i in 1..time_s.len() {
@@ -278,6 +288,87 @@ pub fn interleaved_clocks(time_s: &[f64]) -> Option<Interleaved> {
         back_s: time_s[first.back],
         returns: switches(time_s, &first, returns),
     })
+}
+
+/// A second clock whose stamps jitter about an offset less than [`GAP_FACTOR`] steps from the
+/// first's: its rows, one after each of the first clock's, step back and on in turn, but stand
+/// no fixed offset away, so [`follows_close`] finds no streak. What tells them is the same as
+/// for a close clock that keeps its offset: after rows on one clock (its step the lead's),
+/// the steps go back and on [`MIN_SWITCHES`] times in a row or more, and the rows come
+/// thicker, rising a quarter less than the lead's step a row or more. Rows swapped in pairs
+/// go back and on too, but rise the lead's step a row; a jittered clock's steps back come
+/// here and there, never in a row.
+fn alternating(time_s: &[f64]) -> Option<Interleaved> {
+    let mut start: Option<usize> = None; // the first step back of the run
+    let mut backs = 0;
+    for i in 1..time_s.len() {
+        let (a, b) = (time_s[i - 1], time_s[i]);
+        if !(a.is_finite() && b.is_finite()) {
+            start = None;
+            backs = 0;
+            continue;
+        }
+        let back = b < a;
+        match start {
+            None if back => {
+                start = Some(i);
+                backs = 1;
+            }
+            None => {}
+            Some(s) => {
+                // The run goes on while the steps go back and on in turn.
+                let want_back = (i - s) % 2 == 0;
+                if back == want_back && b != a {
+                    backs += usize::from(back);
+                } else {
+                    start = back.then_some(i);
+                    backs = usize::from(back);
+                    continue;
+                }
+            }
+        }
+        let Some(s) = start else { continue };
+        if backs < MIN_SWITCHES || s < 2 {
+            continue;
+        }
+        let before = s - 1;
+        let Some(lead_s) = lead_step(time_s, before) else {
+            // No rows on one clock before the run: nothing to tell its pace by.
+            start = None;
+            backs = 0;
+            continue;
+        };
+        let rows = (i - before) as f64;
+        let rise = time_s[i] - time_s[before];
+        if rise <= (1.0 - CLOSE_TOLERANCE) * lead_s * rows {
+            return Some(Interleaved {
+                before,
+                away: s,
+                back: s + 1,
+                before_s: time_s[before],
+                away_s: time_s[s],
+                back_s: time_s[s + 1],
+                returns: count_backs(time_s, s),
+            });
+        }
+    }
+    None
+}
+
+/// How many steps back the run from `start` (a step back) holds, the steps going back and on
+/// in turn.
+fn count_backs(time_s: &[f64], start: usize) -> usize {
+    let mut n = 0;
+    let mut i = start;
+    while i < time_s.len() && time_s[i] < time_s[i - 1] {
+        n += 1;
+        i += 1;
+        if i >= time_s.len() || time_s[i] <= time_s[i - 1] {
+            break;
+        }
+        i += 1;
+    }
+    n
 }
 
 #[cfg(test)]
@@ -409,6 +500,28 @@ mod tests {
                 (got.away_s - got.before_s).abs() > 0.5 && got.returns >= 1990,
                 "{offset_s}: {got:?}"
             );
+        }
+    }
+
+    #[test]
+    fn a_second_clock_close_behind_and_jittering_is_found() {
+        // B 1.5 s behind A, its stamps jittering by up to ±0.3 s: no fixed offset, yet the
+        // steps go back and on in turn and the rows come twice as thick.
+        let mut seed = 99u64;
+        let mut draw = || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for offset_s in [-1.5, -1.1, 1.5] {
+            let mut t: Vec<f64> = (0..1000).map(|i| i as f64).collect();
+            for i in 1000..3000 {
+                t.extend([i as f64, i as f64 + offset_s + 0.6 * (draw() - 0.5)]);
+            }
+            let got = interleaved_clocks(&t).unwrap_or_else(|| panic!("{offset_s} s"));
+            assert!((999..=1004).contains(&got.away), "{offset_s}: {got:?}");
+            assert!(got.returns >= MIN_SWITCHES, "{offset_s}: {got:?}");
         }
     }
 

@@ -41,7 +41,7 @@ fn clocks_close_together_are_refused_in_a_csv_at_the_first_row_of_the_second() {
     }
     // B's clock behind A's: refused alike, a row or so on (the first return to the clock
     // behind is read from B's second row, its first standing among A's last rows).
-    for offset_s in [-0.6, -1.1, -1.5, -2.4, -5000.5] {
+    for offset_s in [-0.6, -0.8, -0.9, -1.0, -1.1, -1.5, -2.4, -5000.5] {
         let e = fail(csv(offset_s, 3000).as_bytes(), &opts());
         assert!((1002..=1005).contains(&e.line), "{offset_s} s: {e}");
         assert!(
@@ -49,6 +49,32 @@ fn clocks_close_together_are_refused_in_a_csv_at_the_first_row_of_the_second() {
                 && e.message.contains("two recorders' rows interleaved")
                 && !e.message.contains("stray"),
             "{offset_s} s: {e}"
+        );
+    }
+    // B's clock 1.5 s behind (or ahead), its stamps jittering by up to ±0.3 s: no fixed
+    // offset, refused all the same (read, the rows kept spliced A and B).
+    for offset_s in [-1.5, 1.5] {
+        let mut s = String::from("time_s,omega_dph,temp_c\n");
+        for i in 0..3000usize {
+            let t = i as f64;
+            s.push_str(&format!("{t},0.1,{}\n", 20.0 + 0.001 * t));
+            if i >= 1000 {
+                let jitter = 0.3 * (((i * 7919) % 601) as f64 / 300.0 - 1.0);
+                s.push_str(&format!(
+                    "{},50.1,{}\n",
+                    t + offset_s + jitter,
+                    20.0 + 0.001 * t
+                ));
+            }
+        }
+        let e = fail(s.as_bytes(), &opts());
+        assert!(
+            (1002..=1005).contains(&e.line),
+            "{offset_s} s jittered: {e}"
+        );
+        assert!(
+            e.message.contains("alternate between two clocks"),
+            "{offset_s} s jittered: {e}"
         );
     }
     // Rows swapped in pairs after rows in order are kept (one clock, reordered).
