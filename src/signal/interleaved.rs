@@ -375,6 +375,17 @@ fn count_backs(time_s: &[f64], start: usize) -> usize {
 mod tests {
     use super::*;
 
+    /// Numbers uniform in [0, 1) from `seed`, the same each run (a linear congruential
+    /// generator: the tests need spread, not quality).
+    fn uniform(mut seed: u64) -> impl FnMut() -> f64 {
+        move || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        }
+    }
+
     fn at_one_s(n: usize) -> Vec<f64> {
         (0..n).map(|i| i as f64).collect()
     }
@@ -507,13 +518,7 @@ mod tests {
     fn a_second_clock_close_behind_and_jittering_is_found() {
         // B 1.5 s behind A, its stamps jittering by up to ±0.3 s: no fixed offset, yet the
         // steps go back and on in turn and the rows come twice as thick.
-        let mut seed = 99u64;
-        let mut draw = || {
-            seed = seed
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (seed >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut draw = uniform(99);
         for offset_s in [-1.5, -1.1, 1.5] {
             let mut t: Vec<f64> = (0..1000).map(|i| i as f64).collect();
             for i in 1000..3000 {
@@ -534,13 +539,7 @@ mod tests {
         assert_eq!(interleaved_clocks(&t), None);
         // A clock whose stamps jitter by up to ±0.8 steps: many steps back, none of a second
         // clock.
-        let mut seed = 12345u64;
-        let mut draw = || {
-            seed = seed
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (seed >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut draw = uniform(12345);
         let t: Vec<f64> = (0..20_000)
             .map(|i| i as f64 + 1.6 * (draw() - 0.5))
             .collect();

@@ -4,28 +4,15 @@
 //! dependence of the design's columns on the log by the fit's rank check. Independent
 //! terms still recover the curve the log was made with.
 
-use crate::common::Noise;
 use driftlab::log::Log;
 use driftlab::models::regression::RegressionSpec;
 use driftlab::models::regression::terms::parse_terms;
 use driftlab::models::{self, CheckedRecipe, DriftModel, ModelChoice};
-use std::f64::consts::TAU;
 
 /// Six hours at 1 Hz between 10 and 60 °C, the rate `0.2 + 0.01·(T − 35) + 0.001·(T − 35)²`
 /// °/h plus white noise.
 fn parabola_log() -> Log {
-    let mut noise = Noise::new(7);
-    let n = 21_600;
-    let time: Vec<f64> = (0..n).map(|i| i as f64).collect();
-    let temp: Vec<f64> = time
-        .iter()
-        .map(|t| 35.0 - 25.0 * (TAU * t / 10_800.0).cos())
-        .collect();
-    let rate = temp
-        .iter()
-        .map(|&t| 0.2 + 0.01 * (t - 35.0) + 0.001 * (t - 35.0).powi(2) + 0.01 * noise.normal())
-        .collect();
-    Log::from_columns("parabola.csv", time, rate, temp)
+    super::firmware_forms::log_of(&[0.2, 0.01, 0.001], 0.01, 1.0, 21_600.0, 7)
 }
 
 fn fit(log: &Log, terms: &str) -> driftlab::Result<DriftModel> {

@@ -14,7 +14,7 @@ use std::f64::consts::TAU;
 
 /// Six hours at 1 Hz (or `hz`) between 10 and 60 °C, the rate `Σ a_k·(T − 35)^k` °/h plus
 /// white noise of `sigma`.
-fn log_of(a: &[f64], sigma: f64, hz: f64, seconds: f64, seed: u64) -> Log {
+pub(crate) fn log_of(a: &[f64], sigma: f64, hz: f64, seconds: f64, seed: u64) -> Log {
     let mut noise = Noise::new(seed);
     let n = (seconds * hz) as usize;
     let time: Vec<f64> = (0..n).map(|i| i as f64 / hz).collect();
