@@ -136,3 +136,40 @@ fn another_gyro_of_a_drone_log_is_chosen_from_the_menu() {
     assert_eq!(l.options.instance.temp_from, None);
     assert_eq!(l.drone.as_ref().unwrap().chosen, 1);
 }
+
+/// A drone log whose axes the reader doubts (two that read one value throughout) is worked
+/// on as read, the doubt said in the status line: the import view maps a CSV's columns and
+/// would read the ULog as text ("a binary file, not a text log"), and as a modal it took the
+/// engineer's next click.
+#[test]
+fn a_drone_log_with_a_stuck_axis_opens_without_the_import_view() {
+    let csv = driftlab::read_path(&sample("calibration.csv"), &Default::default()).unwrap();
+    let rad_s = std::f64::consts::PI / 180.0 / 3600.0;
+    let gyro: Vec<[f32; 3]> = csv
+        .omega_dph
+        .iter()
+        .map(|w| [(w * rad_s) as f32, 0.0, 0.0])
+        .collect();
+    let temp: Vec<f32> = csv.temp_c.iter().map(|&t| t as f32).collect();
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("stuck.ulg");
+    std::fs::write(&path, ulog(&csv.time_s, &gyro, &temp, 2_424_842)).unwrap();
+    let mut wb = Workbench::new(
+        Default::default(),
+        None,
+        Box::new(driftlab::gui::ScriptedDialogs::new()),
+    );
+    wb.open_log(path, Default::default(), true);
+    let mut h = harness(wb);
+    settle(&mut h);
+    assert!(h.state_mut().import_view().is_none(), "no import view");
+    let (_, said) = h.state().state.status.clone().expect("a status");
+    assert!(
+        said.contains("stuck.ulg") && said.contains("gyro_y"),
+        "{said}"
+    );
+    // The menu opens at the first click: nothing modal stands over the window.
+    h.get_by_label("File").click();
+    h.run_ok();
+    h.get_by_label_contains("Open session");
+}

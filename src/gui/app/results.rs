@@ -140,7 +140,11 @@ impl Workbench {
                         .map(|n| format!("; {n}"))
                         .unwrap_or_default()
                 );
-                self.look_at_columns(&l, Target::Calibration);
+                let doubt = self.look_at_columns(&l, Target::Calibration);
+                let msg = match &doubt {
+                    Some(d) => format!("{msg}; {d}"),
+                    None => msg,
+                };
                 // The same file read again with another mapping keeps the work on it.
                 let remapped = self.opening.session.is_none()
                     && self
@@ -254,7 +258,7 @@ impl Workbench {
                 let mut lost: Vec<&String> = by_name.keys().filter(|n| !axes.contains(n)).collect();
                 lost.sort();
                 if lost.is_empty() {
-                    let severity = if put_away {
+                    let severity = if put_away || doubt.is_some() {
                         Severity::Warning
                     } else {
                         Severity::Info
@@ -485,14 +489,26 @@ impl Workbench {
 
     /// Opens the import view on a log just read when the reader found something about its
     /// columns to look at (not the rows and time steps it works around), with what it said.
-    pub(super) fn look_at_columns(&mut self, l: &Loaded, target: Target) {
+    /// For a drone or robot log, which has no columns to map (the import view would read it
+    /// as text), what the reader doubts (an axis that reads one value throughout) is returned
+    /// for the caller to say, and the log is worked on as read.
+    pub(super) fn look_at_columns(&mut self, l: &Loaded, target: Target) -> Option<String> {
         let doubts = l.log.info.problems.iter().any(|p| about_columns(p.kind));
+        if doubts && l.drone.is_some() {
+            let said: Vec<String> = read_warnings(l)
+                .into_iter()
+                .filter(|w| w.about_columns)
+                .map(|w| w.text)
+                .collect();
+            return Some(said.join("; "));
+        }
         if doubts && self.modals.import.is_none() && self.shots.auto.is_none() {
             self.modals.import = Some(
                 ImportView::new(l.path.clone(), target, l.options.clone())
                     .with_warnings(read_warnings(l)),
             );
         }
+        None
     }
 
     pub(super) fn fail(&mut self, message: String) {

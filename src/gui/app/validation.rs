@@ -173,7 +173,9 @@ impl Workbench {
             );
         }
         self.state.validation_doubt = provenance.doubt();
-        self.look_at_columns(&l, Target::Validation);
+        if let Some(doubt) = self.look_at_columns(&l, Target::Validation) {
+            msg = format!("{msg}; {doubt}");
+        }
         let m = self.match_validation(&l);
         let judged = m.views.iter().filter(|v| v.is_some()).count();
         let msg = match m.missing {
