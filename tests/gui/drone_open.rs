@@ -8,19 +8,32 @@ use driftlab::gui::Workbench;
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
 
-#[test]
-fn a_px4_ulog_opens_calibrates_and_is_judged_like_its_csv() {
+/// rad/s in one °/h.
+const RAD_S_PER_DPH: f64 = std::f64::consts::PI / 180.0 / 3600.0;
+
+/// The bundled chamber run as a PX4 ULog at `dir/name`, its rate on gyro x (y and z read 0),
+/// with the CSV it was made of and the float32 gyro and temperature written.
+fn chamber_run_as_ulog(
+    dir: &std::path::Path,
+    name: &str,
+) -> (std::path::PathBuf, driftlab::Log, Vec<[f32; 3]>, Vec<f32>) {
     let csv = driftlab::read_path(&sample("calibration.csv"), &Default::default()).unwrap();
-    let rad_s = std::f64::consts::PI / 180.0 / 3600.0;
     let gyro: Vec<[f32; 3]> = csv
         .omega_dph
         .iter()
-        .map(|w| [(w * rad_s) as f32, 0.0, 0.0])
+        .map(|w| [(w * RAD_S_PER_DPH) as f32, 0.0, 0.0])
         .collect();
     let temp: Vec<f32> = csv.temp_c.iter().map(|&t| t as f32).collect();
-    let dir = tempfile::tempdir().unwrap();
-    let path = dir.path().join("thermal.ulg");
+    let path = dir.join(name);
     std::fs::write(&path, ulog(&csv.time_s, &gyro, &temp, 2_424_842)).unwrap();
+    (path, csv, gyro, temp)
+}
+
+#[test]
+fn a_px4_ulog_opens_calibrates_and_is_judged_like_its_csv() {
+    let dir = tempfile::tempdir().unwrap();
+    let (path, csv, gyro, temp) = chamber_run_as_ulog(dir.path(), "thermal.ulg");
+    let rad_s = RAD_S_PER_DPH;
 
     let mut wb = Workbench::new(
         Default::default(),
@@ -72,7 +85,7 @@ fn another_gyro_of_a_drone_log_is_chosen_from_the_menu() {
     // by their rates.
     let csv = driftlab::read_path(&sample("calibration.csv"), &Default::default()).unwrap();
     let n = csv.len();
-    let rad_s = std::f64::consts::PI / 180.0 / 3600.0;
+    let rad_s = RAD_S_PER_DPH;
     let rate = |extra: f64| -> Vec<[f32; 3]> {
         csv.omega_dph
             .iter()
@@ -143,17 +156,8 @@ fn another_gyro_of_a_drone_log_is_chosen_from_the_menu() {
 /// engineer's next click.
 #[test]
 fn a_drone_log_with_a_stuck_axis_opens_without_the_import_view() {
-    let csv = driftlab::read_path(&sample("calibration.csv"), &Default::default()).unwrap();
-    let rad_s = std::f64::consts::PI / 180.0 / 3600.0;
-    let gyro: Vec<[f32; 3]> = csv
-        .omega_dph
-        .iter()
-        .map(|w| [(w * rad_s) as f32, 0.0, 0.0])
-        .collect();
-    let temp: Vec<f32> = csv.temp_c.iter().map(|&t| t as f32).collect();
     let dir = tempfile::tempdir().unwrap();
-    let path = dir.path().join("stuck.ulg");
-    std::fs::write(&path, ulog(&csv.time_s, &gyro, &temp, 2_424_842)).unwrap();
+    let (path, ..) = chamber_run_as_ulog(dir.path(), "stuck.ulg");
     let mut wb = Workbench::new(
         Default::default(),
         None,
