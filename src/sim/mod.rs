@@ -99,6 +99,7 @@
 //! the `driftlab simulate` command that makes the file again.
 
 mod axes;
+pub mod campaign;
 mod dialect;
 mod error;
 mod fog;
@@ -115,6 +116,9 @@ use std::path::Path;
 use crate::log::{Channel, ColumnInfo, ColumnRole, Log};
 
 pub use axes::{AccelParams, AxisParams, default_accelerometers, default_axes};
+pub use campaign::{
+    Campaign, CampaignRun, RunOfCampaign, campaign, campaign_names, simulate_campaign,
+};
 pub use dialect::{
     CsvDialect, DialectPreset, ESTIMATED_TEMP_COLUMN, RAW_TEMP_COLUMN, RAW_TEMP_COUNTS_PER_C,
     RAW_TEMP_OFFSET_C, RateNames, STAND_LINE, parse_decimal_mark, parse_separator, raw_temp_counts,
@@ -239,6 +243,9 @@ pub struct SimRun {
     /// True for a noise-only run ([`SimRun::noise_only`]): `thermal_dph` is zero and
     /// `omega_dph` is `noise_dph`. Written into the CSV comment as `--noise-only`.
     pub noise_only: bool,
+    /// The run's place in a campaign, with the turn-on offset its output and truth hold
+    /// ([`simulate_campaign`]); `None` for a run of one profile.
+    pub campaign: Option<RunOfCampaign>,
 }
 
 /// One gyro axis of a fibre-optic run, sample by sample, °/h.
@@ -462,7 +469,8 @@ impl SimRun {
     /// This run with every deterministic drift term zero: `thermal_dph` (and every axis's
     /// drift and its parts, and a laser gyro's self-heating term) set to 0, `omega_dph` =
     /// `noise_dph`, everything else unchanged (temperatures, channels, accelerometers, stamps),
-    /// marked `noise_only` so its CSV says so. The simulator's own noise floor: the same noise
+    /// marked `noise_only` so its CSV says so (a campaign run's turn-on offset, a
+    /// deterministic term, is taken out too). The simulator's own noise floor: the same noise
     /// samples as the full run, so that the full output minus this one is the drift.
     pub fn noise_only(&self) -> SimRun {
         let mut run = self.clone();
@@ -481,6 +489,10 @@ impl SimRun {
         }
         if let Some(l) = &mut run.laser {
             l.self_heating_dph.iter_mut().for_each(|x| *x = 0.0);
+        }
+        if let Some(c) = &mut run.campaign {
+            // The offset is a deterministic term too: the noise alone holds none.
+            c.turn_on_offset_dph = 0.0;
         }
         run.noise_only = true;
         run
@@ -503,8 +515,15 @@ impl SimRun {
         self.command_as(&CsvDialect::driftlab())
     }
 
-    /// The command that makes this run written in `dialect` (without `--out`).
+    /// The command that makes this run written in `dialect` (without `--out`). A campaign's
+    /// run is made by `driftlab simulate --campaign NAME`, which writes every run of it (the
+    /// file's name says which).
     pub fn command_as(&self, dialect: &CsvDialect) -> String {
+        if let Some(c) = &self.campaign {
+            let mut words = vec![format!("driftlab simulate --campaign {}", c.campaign)];
+            words.extend(dialect.args());
+            return words.join(" ");
+        }
         command_line(
             &self.profile,
             self.seed,
