@@ -3,8 +3,8 @@
 use super::common::CliError;
 use clap::builder::{PossibleValue, PossibleValuesParser};
 use driftlab::log::ingest::{RateUnit, TimeUnit};
-use driftlab::sim::{self, DialectPreset, HostJitter, Logging, RateNames, SimOptions};
-use std::path::PathBuf;
+use driftlab::sim::{self, CsvDialect, DialectPreset, HostJitter, Logging, RateNames, SimOptions};
+use std::path::{Path, PathBuf};
 
 /// Arguments of `simulate`.
 #[derive(clap::Args, Debug)]
@@ -20,11 +20,27 @@ pub struct Args {
     #[arg(long)]
     pub noise_only: bool,
     /// Where to write the log (CSV).
-    #[arg(long, short, required_unless_present = "list")]
+    #[arg(long, short, required_unless_present_any = ["list", "campaign"])]
     pub out: Option<PathBuf>,
-    /// List the profiles and exit.
+    /// List the profiles and the campaigns and exit.
     #[arg(long)]
     pub list: bool,
+    /// Simulate a campaign instead of one profile: several runs of one gyro, each with its
+    /// own program, seed and turn-on offset, written to --out-dir as CAMPAIGN-RUN.csv.
+    #[arg(
+        long,
+        value_name = "NAME",
+        requires = "out_dir",
+        value_parser = campaign_parser(),
+        conflicts_with_all = [
+            "profile", "seed", "noise_only", "out", "axes", "accel", "rate_hz", "gaps",
+            "bursts", "jitter",
+        ],
+    )]
+    pub campaign: Option<String>,
+    /// Folder the runs of --campaign are written to (made if missing).
+    #[arg(long, value_name = "DIR", requires = "campaign")]
+    pub out_dir: Option<PathBuf>,
     /// Gyro axes of the unit, 1 to 3 (x, y, z): one thermal field, each axis with its own drift
     /// constants (other signs and sizes) and its own noise; x is the single gyro. Not for
     /// laser-gyro.
@@ -85,11 +101,26 @@ fn profile_parser() -> PossibleValuesParser {
     }))
 }
 
+/// The built-in campaigns as the values `--campaign` accepts, each with its description.
+fn campaign_parser() -> PossibleValuesParser {
+    PossibleValuesParser::new(sim::campaign_names().iter().map(|&name| {
+        let help = sim::campaign(name)
+            .map(|c| c.description)
+            .unwrap_or_default();
+        PossibleValue::new(name).help(help)
+    }))
+}
+
 pub fn run(a: Args) -> Result<(), CliError> {
     if a.list {
         for name in sim::profile_names() {
             if let Some(p) = sim::profile(name) {
                 out!("{name:<14} {}", p.description)?;
+            }
+        }
+        for name in sim::campaign_names() {
+            if let Some(c) = sim::campaign(name) {
+                out!("{name:<14} (campaign) {}", c.description)?;
             }
         }
         return Ok(());
@@ -101,16 +132,6 @@ pub fn run(a: Args) -> Result<(), CliError> {
             sim::profile_names().join(", ")
         )
     })?;
-    let Some(out) = a.out else {
-        return Err("--out is required".into());
-    };
-    super::common::refuse_outputs(&[("--out", &out)], &super::common::Reads::default())?;
-    if let Some(n) = a.axes {
-        profile = profile.with_axes(n)?;
-    }
-    if a.accel {
-        profile = profile.with_accelerometers()?;
-    }
     let mut dialect = a.dialect.unwrap_or(DialectPreset::Driftlab).dialect();
     if let Some(names) = a.rate_names {
         dialect.rate_names = names;
@@ -128,6 +149,19 @@ pub fn run(a: Args) -> Result<(), CliError> {
         dialect.decimal_comma = comma;
     }
     dialect.raw_temp_register = a.raw_temp_col;
+    if let (Some(name), Some(dir)) = (&a.campaign, &a.out_dir) {
+        return write_campaign(name, dir, &dialect);
+    }
+    let Some(out) = a.out else {
+        return Err("--out is required".into());
+    };
+    super::common::refuse_outputs(&[("--out", &out)], &super::common::Reads::default())?;
+    if let Some(n) = a.axes {
+        profile = profile.with_axes(n)?;
+    }
+    if a.accel {
+        profile = profile.with_accelerometers()?;
+    }
     let options = SimOptions {
         noise_only: a.noise_only,
         logging: Logging {
@@ -156,5 +190,42 @@ pub fn run(a: Args) -> Result<(), CliError> {
         if a.noise_only { ", noise only," } else { "" },
         out.display()
     );
+    Ok(())
+}
+
+/// `simulate --campaign NAME --out-dir DIR`: every run of the campaign, written by the one CSV
+/// writer as `DIR/NAME-RUN.csv`.
+fn write_campaign(name: &str, dir: &Path, dialect: &CsvDialect) -> Result<(), CliError> {
+    let campaign = sim::campaign(name).ok_or_else(|| {
+        format!(
+            "unknown campaign \"{name}\"; campaigns: {}",
+            sim::campaign_names().join(", ")
+        )
+    })?;
+    let paths: Vec<PathBuf> = campaign
+        .runs
+        .iter()
+        .map(|r| dir.join(campaign.file_name(r)))
+        .collect();
+    let outputs: Vec<(&str, &Path)> = paths.iter().map(|p| ("--out-dir", p.as_path())).collect();
+    super::common::refuse_outputs(&outputs, &super::common::Reads::default())?;
+    std::fs::create_dir_all(dir).map_err(|e| format!("--out-dir {}: {e}", dir.display()))?;
+    let bar = super::common::progress_bar(&format!("simulating {name}"));
+    let runs = sim::simulate_campaign(&campaign);
+    if let Some(b) = bar {
+        b.finish_and_clear();
+    }
+    for (run, path) in runs.iter().zip(&paths) {
+        run.write_csv_as(path, dialect)
+            .map_err(|e| format!("{}: {e}", path.display()))?;
+        note!(
+            "{} samples of run {} ({:.2} h, turn-on offset {} °/h) written to {}",
+            run.len(),
+            run.campaign.as_ref().map_or("", |c| c.run.as_str()),
+            (run.len().saturating_sub(1)) as f64 / run.sample_rate_hz / 3600.0,
+            run.turn_on_offset_dph(),
+            path.display()
+        );
+    }
     Ok(())
 }

@@ -68,6 +68,13 @@
 //! full-range run at 0.5 °C/min (`yan-full-range`), and a laser gyro with two temperature
 //! sensors, self-heating and extra channels (`laser-gyro`; physics in [`LaserParams`]).
 //!
+//! # Campaigns
+//!
+//! [`campaign_names`] lists the built-in campaigns, several runs of one gyro (one calibration
+//! fitted on all of them, bias repeatability, thermal hysteresis): each run a profile, a seed and
+//! a turn-on offset, a constant bias that [`simulate_campaign`] adds to every axis's output and
+//! truth. The simulated gyro has no static thermal hysteresis ([`campaign`](mod@campaign)).
+//!
 //! # Noise floor
 //!
 //! [`SimRun::noise_only`] (and [`simulate_noise_only`]) gives the same run with every

@@ -547,3 +547,47 @@ fn a_one_sample_plateau_has_no_deviation_in_the_file_or_the_table() {
         }
     }
 }
+
+/// `simulate --campaign` writes one CSV per run, `<campaign>-<run>.csv`, by the one writer;
+/// the repeat's rates are its run's with the turn-on offset added, to the 0.0001 °/h written.
+#[test]
+fn simulate_campaign_writes_one_log_per_run_with_its_offset() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = p(dir.path(), "camp");
+    ok(&[
+        "simulate",
+        "--campaign",
+        "tiny-three-runs",
+        "--out-dir",
+        &out,
+    ]);
+    let c = driftlab::sim::campaign("tiny-three-runs").unwrap();
+    for (run, rows) in c.runs.iter().zip([10_801, 10_801, 9_601]) {
+        let text = std::fs::read_to_string(Path::new(&out).join(c.file_name(run))).unwrap();
+        let mut lines = text.lines();
+        assert_eq!(
+            lines.next(),
+            Some("# driftlab simulate --campaign tiny-three-runs")
+        );
+        assert_eq!(lines.next(), Some("time_s,omega_dph,temp_c,temp_chamber_c"));
+        let rates: Vec<f64> = lines
+            .map(|l| l.split(',').nth(1).unwrap().parse().unwrap())
+            .collect();
+        assert_eq!(rates.len(), rows, "{}", run.name);
+        let plain = driftlab::sim::simulate(&run.profile, run.seed);
+        for (written, omega) in rates.iter().zip(&plain.omega_dph) {
+            let expected = omega + run.turn_on_offset_dph;
+            assert!((written - expected).abs() <= 0.00005 + 1e-9, "{}", run.name);
+        }
+    }
+    let err = fails(&[
+        "simulate",
+        "--campaign",
+        "tiny-three-runs",
+        "--seed",
+        "4",
+        "--out-dir",
+        &out,
+    ]);
+    assert!(err.contains("--seed"), "{err}");
+}
