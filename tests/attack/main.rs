@@ -10,6 +10,7 @@ mod readers;
 mod ros_clock_changes;
 mod ros_frames;
 mod ros_limits;
+mod ros_sparse_and_steps;
 mod ros_stamps;
 mod ros_temperatures;
 mod sketches;

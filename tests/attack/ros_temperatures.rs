@@ -146,7 +146,7 @@ fn stamp_nanos(mut message: Vec<u8>, nsec: u32) -> Vec<u8> {
 fn a_temperature_topic_of_two_frames_is_parted_by_frame() {
     // Two IMUs on /imu/data, both sampling at each whole second; one Temperature topic of
     // both frames, a's reading published 200 ms before each sample, b's 50 ms after (so the
-    // reading nearest a's sample is b's), b running 30 degC hotter.
+    // reading nearest a's sample, and the next after it, is b's), b running 30 degC hotter.
     let hot = 30.0;
     let mut r = bag_connection(0, "/imu/data");
     r.extend(bag_connection_of(
@@ -170,11 +170,31 @@ fn a_temperature_topic_of_two_frames_is_parted_by_frame() {
         rec.instances[0].gyro.xyz[0],
         Values::F64(vec![0.01; N as usize])
     );
-    assert_eq!(rec.instances[0].temp_c, ramp());
-    assert_eq!(
-        rec.instances[1].temp_c,
-        Values::F64((1..=N).map(|k| celsius(k) + hot).collect())
-    );
+    // Each gyro's temperature is the line between its own frame's readings around its
+    // sample (a's 0.2 of the way from the reading 200 ms before to the next, b's 0.95 from
+    // the reading 950 ms before), never b's for a; past a frame's last reading (before its
+    // first), the reading within a step.
+    let line = |ca: f64, cb: f64, w: f64| ca + (cb - ca) * w;
+    let a: Vec<f64> = (1..=N)
+        .map(|k| match k {
+            N => celsius(N),
+            _ => line(celsius(k), celsius(k + 1), 0.2),
+        })
+        .collect();
+    let b: Vec<f64> = (1..=N)
+        .map(|k| match k {
+            1 => celsius(1) + hot,
+            _ => line(celsius(k - 1) + hot, celsius(k) + hot, 0.95),
+        })
+        .collect();
+    for (inst, want) in rec.instances.iter().zip([a, b]) {
+        let Values::F64(got) = &inst.temp_c else {
+            panic!("{:?}", inst.temp_c)
+        };
+        for (g, w) in got.iter().zip(&want) {
+            assert!((g - w).abs() <= 1e-12, "{got:?} against {want:?}");
+        }
+    }
     let notes: Vec<String> = rec.problems.iter().map(ToString::to_string).collect();
     // The second reading, b's after the first sample, is where the frame changes.
     let told = notes

@@ -56,6 +56,7 @@ mod ros_clock_changes;
 mod ros_clocks;
 mod ros_frames;
 mod ros_msgs;
+mod ros_readings;
 mod ros_topics;
 mod rosbag;
 mod select;

@@ -495,17 +495,6 @@ impl ImuRecording {
     }
 }
 
-/// Picks, for each of `times`, the index of the nearest of `candidates` (any order) within
-/// `tolerance`, or `None`. Used to put an accelerometer or status sample beside each gyro
-/// sample without interpolating (the value stays one the file holds).
-pub(crate) fn nearest_within(
-    times: &[i128],
-    candidates: &[i128],
-    tolerance: i128,
-) -> Vec<Option<usize>> {
-    Sorted::new(candidates.to_vec()).nearest_within(times, tolerance)
-}
-
 /// Candidate stamps with their order, sorted once for every gyro matched against them.
 pub(crate) struct Sorted {
     candidates: Vec<i128>,
@@ -524,7 +513,9 @@ impl Sorted {
         &self.candidates
     }
 
-    /// As [`nearest_within`].
+    /// Picks, for each of `times`, the index of the nearest candidate within `tolerance`, or
+    /// `None`. Used to put an accelerometer or status sample beside each gyro sample without
+    /// interpolating (the value stays one the file holds).
     pub(crate) fn nearest_within(&self, times: &[i128], tolerance: i128) -> Vec<Option<usize>> {
         let (candidates, order) = (&self.candidates, &self.order);
         times
@@ -571,10 +562,10 @@ mod tests {
         let t = [10, 20, 30, 100];
         let c = [9, 22, 29, 31];
         assert_eq!(
-            nearest_within(&t, &c, 3),
+            Sorted::new(c.to_vec()).nearest_within(&t, 3),
             vec![Some(0), Some(1), Some(2), None]
         );
-        assert_eq!(nearest_within(&t, &[], 3), vec![None; 4]);
+        assert_eq!(Sorted::new(Vec::new()).nearest_within(&t, 3), vec![None; 4]);
     }
 
     #[test]

@@ -13,7 +13,11 @@
 //!   or switching back and forth ([`super::ros_clock_changes`]): no one offset stands for
 //!   it, and paired by stamp the messages after the step would find no reading, or the
 //!   wrong one. The two are paired by record time instead, with a note naming the topic, the
-//!   message where its stamps change clock and by how much;
+//!   message where its stamps change clock and by how much. An Imu topic's samples are then
+//!   timed by the record time too, one clock throughout ([`Pairing::gyro_by_record_time`],
+//!   with or without a Temperature topic): by its stamps, a step back would run the clock
+//!   twice over the same times (half the log dropped as a restart, or the rest spliced on
+//!   early) and a step forward would leave a gap that never was;
 //! - a Temperature topic whose stamps stand on another clock than the gyro's: each topic's
 //!   offset from the record time (stamp minus record time, the median of the messages) is
 //!   known, and when the two offsets differ by more than [`ANOTHER_CLOCK_STEPS`] steps of the
@@ -24,12 +28,15 @@
 //!   with a note naming both topics and both offsets.
 //!
 //! Pairing by record time lags each message by its transport's delay and jitter (a few ms),
-//! which is why stamps are preferred whenever they share a clock. Samples left without a
-//! reading either way are told with the reason (no reading within the pairing's tolerance),
-//! so that the temp_c they lack is not taken for a NaN in the log.
+//! which is why stamps are preferred whenever they share a clock. By either clock a sample's
+//! temperature is the line between the readings around it ([`super::ros_readings`]). Samples
+//! left without a reading are told with the reason (no reading within the pairing's
+//! tolerance, or readings too far apart to draw a line between), so that the temp_c they
+//! lack is not taken for a NaN in the log.
 
-use super::recording::{Problem, RosTime, median_step, nearest_within};
-use super::ros_clock_changes::{change, seconds};
+use super::recording::{Problem, RosTime, median_step};
+use super::ros_clock_changes::{Change, change, seconds};
+use super::ros_readings::{HOLD_AT_MOST_NS, LINEAR_AT_MOST_NS, Reading, readings};
 
 /// How many steps of the pairing (the larger median step of the two topics) two topics'
 /// offsets from the record time may differ by and still be paired by stamp: transport delays
@@ -113,35 +120,101 @@ pub(crate) struct Side<'a> {
     pub log_times: &'a [u64],
 }
 
-/// For each sample of `gyro` the reading of `temp` (its index) nearest it within the larger
-/// of the two topics' median steps, by stamp or by record time as the module says;
-/// `gyro_by_clock` when the gyro's own stamps never advance (its samples timed by the
-/// record time, already told). `clock` names the record time as the format does ("the bag's
-/// record time"). A choice other than the stamps is told in `problems`, and so are samples
-/// left without a reading (their temp_c NaN, dropped later), with the reason: no reading of
-/// `temp` within the tolerance.
+/// How a gyro's samples are timed and given their temperature.
+#[derive(Debug, PartialEq)]
+pub(crate) struct Pairing {
+    /// Each sample's reading of the Temperature topic (indices into its messages), or none:
+    /// every one none without a Temperature topic.
+    pub readings: Vec<Option<Reading>>,
+    /// The gyro's own stamps change clock within the log: its samples are timed by the
+    /// record time instead, one clock throughout (told).
+    pub gyro_by_record_time: bool,
+}
+
+/// For each sample of `gyro` its reading of `temp` (the line between the two around it, or
+/// one reading, as [`readings`] gives them), by stamp or by record time as the module says;
+/// `gyro_by_clock` when the gyro's own stamps never advance (its samples timed by the record
+/// time, already told). Without a Temperature topic (`temp` `None`) the gyro's clock is still
+/// checked. `clock` names the record time as the format does ("the bag's record time"). A
+/// choice other than the stamps is told in `problems`, and so are samples left without a
+/// reading (their temp_c NaN, dropped later), with the reason: no reading of `temp` within
+/// the tolerance, or readings too far apart to pair.
 pub(crate) fn paired(
     gyro: &Side<'_>,
-    temp: &Side<'_>,
+    temp: Option<&Side<'_>>,
     gyro_by_clock: bool,
     clock: &str,
     problems: &mut Vec<Problem>,
-) -> Vec<Option<usize>> {
-    let (pick, by, tol) = chosen(gyro, temp, gyro_by_clock, clock, problems);
-    let without = pick.iter().filter(|p| p.is_none()).count();
-    if without > 0 && !temp.stamps.is_empty() {
-        let first = pick.iter().position(Option::is_none).unwrap_or(0);
+) -> Pairing {
+    let Some(temp) = temp else {
+        let restamped = !gyro_by_clock && own_clock_changes(gyro, clock, problems);
+        return Pairing {
+            readings: vec![None; gyro.stamps.len()],
+            gyro_by_record_time: restamped,
+        };
+    };
+    let c = chosen(gyro, temp, gyro_by_clock, clock, problems);
+    let r = readings(&c.gyro, &c.temp, c.tol);
+    let n = r.each.len();
+    if r.too_far > 0 {
+        let first = r.first_too_far.unwrap_or(0) + 1;
+        let why = format!(
+            "where neither the straight line between two readings nor a reading held is the \
+             temperature (a chamber's ramp can turn between them unseen, and a held reading \
+             reads as a plateau the temperature never held): their temp_c is NaN, a reading \
+             held only within {} s of a sample",
+            seconds(c.tol.min(HOLD_AT_MOST_NS))
+        );
+        let sparse = median_step(&c.temp).filter(|&s| s > LINEAR_AT_MOST_NS);
+        problems.push(Problem::note(match sparse {
+            Some(step) => format!(
+                "{} has one reading every {} s: too sparse to pair with a {} Hz gyro ({}); {} \
+                 of {n} samples fall between two readings more than {} s apart (first at \
+                 sample {first}), {why}; to calibrate, record the temperature at least every {} \
+                 s",
+                temp.name,
+                seconds(step),
+                hertz(median_step(&c.gyro)),
+                gyro.name,
+                r.too_far,
+                seconds(LINEAR_AT_MOST_NS),
+                seconds(LINEAR_AT_MOST_NS),
+            ),
+            None => format!(
+                "{}: {} of {n} samples fall between two readings of {} more than {} s apart \
+                 (first at sample {first}, the widest gap {} s), {why}",
+                gyro.name,
+                r.too_far,
+                temp.name,
+                seconds(LINEAR_AT_MOST_NS),
+                seconds(r.widest_ns),
+            ),
+        }));
+    }
+    if r.beyond > 0 && !temp.stamps.is_empty() {
         problems.push(Problem::note(format!(
-            "{}: {without} of {} samples have no reading of {} within {} s of their {by} \
-             (first at sample {}): their temp_c is NaN",
+            "{}: {} of {n} samples have no reading of {} within {} s of their {} (first at \
+             sample {}): their temp_c is NaN",
             gyro.name,
-            pick.len(),
+            r.beyond,
             temp.name,
-            seconds(tol),
-            first + 1
+            seconds(c.tol.min(HOLD_AT_MOST_NS)),
+            c.by,
+            r.first_beyond.unwrap_or(0) + 1
         )));
     }
-    pick
+    Pairing {
+        readings: r.each,
+        gyro_by_record_time: c.gyro_by_record_time,
+    }
+}
+
+/// A rate for a message, from a median step (ns): `1`, `100`, `0.5` (Hz); `?` without one.
+fn hertz(step_ns: Option<i128>) -> String {
+    match step_ns {
+        Some(s) if s > 0 => seconds(1_000_000_000_000_000_000 / s),
+        _ => "?".into(),
+    }
 }
 
 /// How far two topics' offsets may stand apart, and one topic's offsets spread, on one
@@ -160,28 +233,82 @@ fn offsets(side: &Side<'_>) -> Vec<i128> {
         .collect()
 }
 
-/// [`paired`]'s pairing, what it paired by ("stamps", "record times") and its tolerance (ns).
+/// Where `side`'s stamps change clock within the log, against `limit` (ns); `None` when they
+/// keep one, or the record time stands still (nothing to tell two clocks by).
+fn clock_change(side: &Side<'_>, limit: i128) -> Option<Change> {
+    if !advances(side.log_times) {
+        return None;
+    }
+    let stamps: Vec<i128> = side.stamps.iter().map(|s| s.nanos()).collect();
+    change(&offsets(side), &stamps, limit)
+}
+
+/// What a gyro whose stamps change clock is timed by, for its note: by the stamps, the
+/// samples on the other clock would stand a gap that never was away from the others, or,
+/// where the stamps step back, be dropped as a clock run twice or spliced onto the others.
+fn restamped_told(gyro: &str, clock: &str) -> String {
+    format!(
+        "{gyro}'s samples are timed by {clock} instead, one clock throughout (by the stamps, \
+         the samples on the other clock would stand apart by a gap that never was, or, where \
+         the stamps step back, be dropped or spliced onto the others)"
+    )
+}
+
+/// A gyro without a Temperature topic: whether its stamps change clock (told, with its
+/// samples timed by `clock` instead), against the limit of its own step.
+fn own_clock_changes(gyro: &Side<'_>, clock: &str, problems: &mut Vec<Problem>) -> bool {
+    let g: Vec<i128> = gyro.stamps.iter().map(|s| s.nanos()).collect();
+    let limit = another_clock_limit(median_step(&g).unwrap_or(0));
+    let Some(c) = clock_change(gyro, limit) else {
+        return false;
+    };
+    problems.push(Problem::note(format!(
+        "{}; {}, which lags each by the transport's delay and jitter; to time them by the \
+         sensor, have the driver keep one clock",
+        c.told(gyro.name, clock, limit),
+        restamped_told(gyro.name, clock)
+    )));
+    true
+}
+
+/// The clock [`paired`] pairs by: both sides' times on it (ns), what it is ("stamps",
+/// "record times"), its tolerance (ns), and whether the gyro is timed by the record time.
+struct Chosen {
+    gyro: Vec<i128>,
+    temp: Vec<i128>,
+    by: &'static str,
+    tol: i128,
+    gyro_by_record_time: bool,
+}
+
+/// [`paired`]'s clock, as the module says.
 fn chosen(
     gyro: &Side<'_>,
     temp: &Side<'_>,
     gyro_by_clock: bool,
     clock: &str,
     problems: &mut Vec<Problem>,
-) -> (Vec<Option<usize>>, &'static str, i128) {
-    let by_log = |problems: &mut Vec<Problem>, notes: Vec<String>| {
+) -> Chosen {
+    let by_log = |problems: &mut Vec<Problem>, notes: Vec<String>, restamped: bool| {
         problems.extend(notes.into_iter().map(Problem::note));
         let g: Vec<i128> = gyro.log_times.iter().map(|&x| i128::from(x)).collect();
         let t: Vec<i128> = temp.log_times.iter().map(|&x| i128::from(x)).collect();
         let tol = median_step(&t)
             .unwrap_or(0)
             .max(median_step(&g).unwrap_or(0));
-        (nearest_within(&g, &t, tol), "record times", tol)
+        Chosen {
+            gyro: g,
+            temp: t,
+            by: "record times",
+            tol,
+            gyro_by_record_time: restamped,
+        }
     };
     // Both by the log's clock when either's stamps never advance: the stamps of one beside
     // the log times of the other would be two clocks.
     let temp_stuck = stuck(temp.stamps.iter().copied());
     if gyro_by_clock {
-        return by_log(problems, Vec::new());
+        return by_log(problems, Vec::new(), false);
     }
     if temp_stuck {
         let told = advances(temp.log_times).then(|| {
@@ -195,7 +322,7 @@ fn chosen(
                 gyro.name
             )
         });
-        return by_log(problems, told.into_iter().collect());
+        return by_log(problems, told.into_iter().collect(), false);
     }
     let g: Vec<i128> = gyro.stamps.iter().map(|s| s.nanos()).collect();
     let t: Vec<i128> = temp.stamps.iter().map(|s| s.nanos()).collect();
@@ -204,33 +331,30 @@ fn chosen(
         .max(median_step(&g).unwrap_or(0));
     let limit = another_clock_limit(tol);
     let log_advances = advances(gyro.log_times) && advances(temp.log_times);
-    // A topic whose stamps change clock within the log: no one offset stands for it.
+    // A topic whose stamps change clock within the log: no one offset stands for it. A
+    // gyro's own is timed by the record time too.
     if log_advances {
-        let changes: Vec<String> = [gyro, temp]
-            .iter()
-            .filter_map(|side| {
-                let stamps: Vec<i128> = side.stamps.iter().map(|s| s.nanos()).collect();
-                change(&offsets(side), &stamps, limit).map(|c| c.told(side.name, clock, limit))
+        let gyro_change = clock_change(gyro, limit);
+        let restamped = gyro_change.is_some();
+        let mut notes: Vec<String> = gyro_change
+            .map(|c| {
+                format!(
+                    "{}; {}",
+                    c.told(gyro.name, clock, limit),
+                    restamped_told(gyro.name, clock)
+                )
             })
+            .into_iter()
+            .chain(clock_change(temp, limit).map(|c| c.told(temp.name, clock, limit)))
             .collect();
-        if !changes.is_empty() {
-            let last = changes.len() - 1;
-            let notes = changes
-                .into_iter()
-                .enumerate()
-                .map(|(k, c)| {
-                    if k < last {
-                        return c;
-                    }
-                    format!(
-                        "{c}; {}'s readings are paired with {}'s samples by {clock} instead \
-                         (one clock throughout), which lags each by the transport's delay and \
-                         jitter; to pair them by stamp, have each driver keep one clock",
-                        temp.name, gyro.name
-                    )
-                })
-                .collect();
-            return by_log(problems, notes);
+        if let Some(last) = notes.last_mut() {
+            last.push_str(&format!(
+                "; {}'s readings are paired with {}'s samples by {clock} instead (one clock \
+                 throughout), which lags each by the transport's delay and jitter; to pair \
+                 them by stamp, have each driver keep one clock",
+                temp.name, gyro.name
+            ));
+            return by_log(problems, notes, restamped);
         }
     }
     if let (Some(go), Some(to)) = (
@@ -260,7 +384,7 @@ fn chosen(
                  both drivers stamp by one clock",
                 gyro.name
             );
-            return by_log(problems, vec![note]);
+            return by_log(problems, vec![note], false);
         }
         // A log whose own clock stands still has nothing else to pair by: said, not silent.
         problems.push(Problem::note(format!(
@@ -268,7 +392,13 @@ fn chosen(
              both drivers stamp by one clock"
         )));
     }
-    (nearest_within(&g, &t, tol), "stamps", tol)
+    Chosen {
+        gyro: g,
+        temp: t,
+        by: "stamps",
+        tol,
+        gyro_by_record_time: false,
+    }
 }
 
 #[cfg(test)]
@@ -319,11 +449,11 @@ mod tests {
                 stamps: &g,
                 log_times: &log,
             },
-            &Side {
+            Some(&Side {
                 name: "t",
                 stamps: &t,
                 log_times: &tlog,
-            },
+            }),
             false,
             "the log time",
             &mut problems,
@@ -339,10 +469,12 @@ mod tests {
         );
         // Sample k is stamped k/10 s; reading j is stamped j/10 + 0.3 s: j = k - 3; sample 2
         // (0.2 s) is one step from reading 0, within the pairing's tolerance.
-        let want: Vec<Option<usize>> = (0..20)
+        let want: Vec<Option<Reading>> = (0..20)
             .map(|k: usize| k.checked_sub(3).or((k == 2).then_some(0)))
+            .map(|j| j.map(Reading::At))
             .collect();
-        assert_eq!(pick, want);
+        assert_eq!(pick.readings, want);
+        assert!(!pick.gyro_by_record_time);
     }
 
     #[test]
@@ -360,12 +492,12 @@ mod tests {
         };
         let pick = paired(
             &side("g", &g),
-            &side("t", &t),
+            Some(&side("t", &t)),
             false,
             "the log time",
             &mut problems,
         );
-        assert_eq!(pick, vec![None; 10]);
+        assert_eq!(pick.readings, vec![None; 10]);
         assert_eq!(problems.len(), 2);
         assert!(
             problems[1]

@@ -217,47 +217,62 @@ impl Topics {
                 let rows = &part.rows;
                 let stamps = t.times(rows, by_clock);
                 let part_log_times: Vec<u64> = rows.iter().map(|&i| t.msgs[i].0).collect();
-                let temp_c = match matched {
-                    Some(k) => {
-                        used[k] = true;
-                        let s = &sources[k];
-                        if s.frame != frame {
-                            problems.push(Problem::note(format!(
-                                "{}: temperature taken from {}, the log's only Temperature \
-                                 topic, although its frame_id \"{}\" is not the IMU's \"{}\"",
-                                quoted(&label),
-                                quoted(&s.topic.name),
-                                quoted(s.frame),
-                                quoted(frame)
-                            )));
-                        }
-                        let readings = &s.topic.msgs;
-                        let pick = ros_clocks::paired(
-                            &Side {
-                                name: &quoted(&label),
-                                stamps: &stamps,
-                                log_times: &part_log_times,
-                            },
-                            &Side {
-                                name: &quoted(&s.topic.name),
-                                stamps: &s.topic.times(&s.rows, false),
-                                log_times: &s
-                                    .rows
-                                    .iter()
-                                    .map(|&i| readings[i].0)
-                                    .collect::<Vec<_>>(),
-                            },
-                            by_clock,
-                            clock,
-                            problems,
-                        );
-                        Values::F64(
-                            pick.iter()
-                                .map(|p| p.map_or(f64::NAN, |j| readings[s.rows[j]].1.celsius))
-                                .collect(),
-                        )
-                    }
-                    None => Values::F64(vec![f64::NAN; rows.len()]),
+                if let Some(s) = matched.map(|k| &sources[k])
+                    && s.frame != frame
+                {
+                    problems.push(Problem::note(format!(
+                        "{}: temperature taken from {}, the log's only Temperature topic, \
+                         although its frame_id \"{}\" is not the IMU's \"{}\"",
+                        quoted(&label),
+                        quoted(&s.topic.name),
+                        quoted(s.frame),
+                        quoted(frame)
+                    )));
+                }
+                let source = matched.map(|k| {
+                    used[k] = true;
+                    let s = &sources[k];
+                    let stamps = s.topic.times(&s.rows, false);
+                    let log_times: Vec<u64> = s.rows.iter().map(|&i| s.topic.msgs[i].0).collect();
+                    (s, stamps, log_times)
+                });
+                let temp_name = source.as_ref().map(|(s, _, _)| quoted(&s.topic.name));
+                let temp_side = source.as_ref().zip(temp_name.as_deref()).map(
+                    |((_, stamps, log_times), name)| Side {
+                        name,
+                        stamps,
+                        log_times,
+                    },
+                );
+                let pairing = ros_clocks::paired(
+                    &Side {
+                        name: &quoted(&label),
+                        stamps: &stamps,
+                        log_times: &part_log_times,
+                    },
+                    temp_side.as_ref(),
+                    by_clock,
+                    clock,
+                    problems,
+                );
+                let temp_c = Values::F64(match &source {
+                    Some((s, _, _)) => pairing
+                        .readings
+                        .iter()
+                        .map(|r| {
+                            r.map_or(f64::NAN, |r| {
+                                r.celsius(|j| s.topic.msgs[s.rows[j]].1.celsius)
+                            })
+                        })
+                        .collect(),
+                    None => vec![f64::NAN; rows.len()],
+                });
+                // A gyro whose stamps change clock is timed by the record time, one clock
+                // throughout (told by the pairing).
+                let stamps = if pairing.gyro_by_record_time {
+                    part_log_times.iter().map(|&x| log_stamp(x)).collect()
+                } else {
+                    stamps
                 };
                 let accel = acceleration(&label, &t.msgs, rows, problems);
                 let column = |f: &dyn Fn(&ImuSample) -> f64| {
@@ -408,10 +423,11 @@ mod tests {
         let (inst, _) = t.into_instances(&mut problems, "the log time");
         assert_eq!(inst.len(), 2);
         assert_eq!(inst[0].label, "/imu/data");
-        // The nearest temperature beside each gyro sample (ties go to the earlier one).
+        // The line between the readings around each gyro sample; past the last, the last
+        // reading, within the pairing's tolerance (a step of the temperature topic).
         assert_eq!(
             inst[0].temp_c,
-            Values::F64(vec![30.0, 30.0, 32.0, 32.0, 34.0, 34.0])
+            Values::F64(vec![30.0, 31.0, 32.0, 33.0, 34.0, 34.0])
         );
         assert!(!inst[1].temp_c.has_numbers());
         assert!(
