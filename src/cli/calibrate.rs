@@ -21,8 +21,19 @@ use std::path::{Path, PathBuf};
 /// Arguments of `calibrate`. Options given here override those of `--recipe`.
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// The chamber log to calibrate on.
-    pub log: PathBuf,
+    /// The chamber log to calibrate on; several logs are the runs of one campaign (runs of
+    /// one gyro, fitted together: each run smoothed, differentiated and its plateaus found on
+    /// its own; K0 from every run's plateaus, K1 and K2 from every run's ramps).
+    #[arg(required = true, num_args = 1..)]
+    pub log: Vec<PathBuf>,
+    /// With several runs: estimate each run's turn-on offset (a constant of the run that no
+    /// temperature explains), keep it out of K0, and report it.
+    #[arg(long)]
+    pub per_run_offset: bool,
+    /// With several runs: plateaus share a temperature within this, degC (repeatability,
+    /// hysteresis, and the runs that tie the turn-on offsets together). Default 1.
+    #[arg(long, value_name = "DEGC")]
+    pub temp_tolerance: Option<f64>,
     /// Where to write the calibration (JSON).
     #[arg(long, short)]
     pub out: PathBuf,
@@ -311,7 +322,17 @@ impl Args {
 /// stamped with the log's name and SHA-256, saved, and printed.
 pub fn run(a: Args) -> Result<(), CliError> {
     let mut reads = common::Reads::default();
-    reads.add("the log", &a.log);
+    for (k, log) in a.log.iter().enumerate() {
+        reads.add(
+            if a.log.len() == 1 {
+                "the log".to_string()
+            } else {
+                format!("run {} of the campaign", k + 1)
+            },
+            log,
+        );
+    }
+    a.refuse_campaign_options()?;
     if let Some(r) = &a.recipe {
         reads.add("the recipe", r);
     }
@@ -337,13 +358,8 @@ pub fn run(a: Args) -> Result<(), CliError> {
     };
     // Vakhrameev's model reads the three calibration columns only; the others are neither
     // parsed nor held.
-    let input = a.log_args.open(&a.log)?;
     let all_vakhrameev = choice.is_vakhrameev() && a.axis_models_all_vakhrameev()?;
-    let mut log = if all_vakhrameev {
-        a.log_args.read_columns(&input)?
-    } else {
-        a.log_args.read(&input)?
-    };
+    let (mut log, sha256) = a.read_runs(all_vakhrameev)?;
     warnings.extend(
         recipe
             .one_sample_windows(log.nominal_dt_s(), &log.source)
@@ -371,15 +387,8 @@ pub fn run(a: Args) -> Result<(), CliError> {
         [_] => "fitting 1 axis ...".to_string(),
         p => format!("fitting {} axes ...", p.len()),
     });
-    // The file's hash is taken beside the fit, whose stages are partly sequential.
-    let (fitted, sha256) = std::thread::scope(|scope| {
-        let sha = scope.spawn(|| calibration::sha256_input(&input).map_err(|e| e.to_string()));
-        let fitted = models::calibrate(&mut log, &plans, &merit);
-        let sha256 = sha
-            .join()
-            .unwrap_or_else(|_| Err("the hashing thread failed".to_string()));
-        (fitted, sha256)
-    });
+    let campaign = a.campaign_options();
+    let fitted = models::campaign::calibrate_campaign(&mut log, &plans, &merit, &campaign);
     let recipe_file = a.recipe_file();
     let fitted = fitted.map_err(|e| {
         common::fit_failed(&log.source, &e, &|i| {
@@ -401,7 +410,7 @@ pub fn run(a: Args) -> Result<(), CliError> {
             }
         })
     })?;
-    let unit = stamped(&fitted, &file_name(&a.log), &sha256?);
+    let unit = stamped(&fitted, &log.source, &sha256);
     // Both files are written before either is put in place: a recipe that cannot be
     // written leaves the old calibration as it was.
     let mut outputs = Batch::new();
@@ -416,7 +425,8 @@ pub fn run(a: Args) -> Result<(), CliError> {
     outputs.commit().map_err(|e| e.to_string())?;
     let printed = calibrate_print::Printed {
         out: &a.out,
-        fitted: &fitted,
+        fitted: &fitted.axes,
+        tolerance_c: campaign.tolerance_c,
         unit: &unit,
         warnings: &warnings,
         window_s: merit.window_s,
@@ -429,19 +439,28 @@ pub fn run(a: Args) -> Result<(), CliError> {
     }
 }
 
-/// The calibration file's unit: every axis's model with the log's name and SHA-256, and one
+/// The calibration file's unit: every axis's model with the log's name and SHA-256 (a
+/// campaign's runs each with theirs, and none for the whole), its record of the runs, and one
 /// date (the axes are fitted within a second or two of each other).
-fn stamped(fitted: &[models::CalibratedAxis], log_name: &str, sha256: &str) -> UnitCalibration {
+fn stamped(
+    fitted: &models::campaign::CampaignFit,
+    log_name: &str,
+    sha256: &str,
+) -> UnitCalibration {
     let created = fitted
+        .axes
         .first()
         .map(|f| created_of(&f.calibrated.model))
         .unwrap_or_default();
     let axes = fitted
+        .axes
         .iter()
-        .map(|f| {
+        .zip(&fitted.runs)
+        .map(|(f, runs)| {
             let mut model = f.calibrated.model.clone();
             model.source_mut().name = log_name.to_string();
             model.source_mut().sha256 = sha256.to_string();
+            model.source_mut().runs = runs.clone();
             set_created(&mut model, &created);
             AxisModel {
                 name: f.name.clone(),
@@ -476,6 +495,82 @@ pub fn file_name(p: &Path) -> String {
 
 /// The per-axis options of a unit: `--axis-model`, `--axis-recipe`.
 impl Args {
+    /// Refuses the campaign's options without a campaign, and the options a campaign cannot
+    /// take yet.
+    fn refuse_campaign_options(&self) -> Result<(), CliError> {
+        if self.log.len() == 1 {
+            if self.per_run_offset {
+                return Err(CliError::Message(
+                    "--per-run-offset needs two runs or more: a turn-on offset is told apart \
+                     from K0 only between runs"
+                        .into(),
+                ));
+            }
+            if self.temp_tolerance.is_some() {
+                return Err(CliError::Message(
+                    "--temp-tolerance is for the plateaus several runs share: give two runs or \
+                     more"
+                        .into(),
+                ));
+            }
+        } else if !self.plateaus.is_empty() {
+            return Err(CliError::Message(
+                "--plateau with several runs: each run's plateaus are found on its own time; \
+                 give the plateaus of a run by calibrating it alone, or let the detector find \
+                 them"
+                    .into(),
+            ));
+        }
+        Ok(())
+    }
+
+    /// The campaign options, as given.
+    fn campaign_options(&self) -> models::campaign::CampaignOptions {
+        models::campaign::CampaignOptions {
+            per_run_offset: self.per_run_offset,
+            tolerance_c: self
+                .temp_tolerance
+                .unwrap_or(models::campaign::DEFAULT_TOLERANCE_C),
+        }
+    }
+
+    /// Reads every run (only the calibration columns when every axis is Vakhrameev's) and
+    /// joins them into one campaign (one run is its log as read), with the one file's
+    /// SHA-256 (empty for a campaign, whose runs each keep theirs).
+    fn read_runs(&self, columns_only: bool) -> Result<(Log, String), CliError> {
+        let mut runs = Vec::with_capacity(self.log.len());
+        for path in &self.log {
+            let input = self.log_args.open(path)?;
+            // The file's hash is taken beside the read.
+            let (log, sha256) = std::thread::scope(|scope| {
+                let sha =
+                    scope.spawn(|| calibration::sha256_input(&input).map_err(|e| e.to_string()));
+                let log = if columns_only {
+                    self.log_args.read_columns(&input)
+                } else {
+                    self.log_args.read(&input)
+                };
+                let sha256 = sha
+                    .join()
+                    .unwrap_or_else(|_| Err("the hashing thread failed".to_string()));
+                (log, sha256)
+            });
+            runs.push(driftlab::log::campaign::RunInput {
+                log: log?,
+                sha256: sha256?,
+            });
+        }
+        let one = runs.len() == 1;
+        let sha256 = if one {
+            runs[0].sha256.clone()
+        } else {
+            String::new()
+        };
+        let log =
+            driftlab::log::campaign::join(runs).map_err(|e| CliError::Message(e.to_string()))?;
+        Ok((log, sha256))
+    }
+
     /// Refuses `--axis-model` and `--axis-recipe` for a single-axis calibration, by name.
     fn refuse_per_axis_options(&self) -> Result<(), CliError> {
         for (option, given) in [

@@ -175,6 +175,8 @@ pub struct Printed<'a> {
     pub warnings: &'a [String],
     /// The length of the consecutive mean/RMS windows, s.
     pub window_s: f64,
+    /// Plateaus of a campaign's runs share a temperature within this, °C.
+    pub tolerance_c: f64,
 }
 
 impl Printed<'_> {
@@ -194,6 +196,12 @@ impl Printed<'_> {
         {
             out.extend(body);
         }
+        if let (Some(out), Some(c)) = (
+            out.as_object_mut(),
+            super::campaign_print::json(model, self.tolerance_c),
+        ) {
+            out.insert("campaign".into(), c);
+        }
         common::print_json(&out)
     }
 
@@ -203,6 +211,7 @@ impl Printed<'_> {
         let mut warnings = self.warnings.to_vec();
         warnings.extend(f.calibrated.warnings.iter().cloned());
         model_summary(model, &warnings)?;
+        super::campaign_print::text(model, self.tolerance_c)?;
         out!()?;
         out!(
             "In-sample (calibrated and evaluated on {}):",
@@ -232,6 +241,12 @@ impl Printed<'_> {
                     (v.as_object_mut(), model_json(&ax.model))
                 {
                     o.extend(body);
+                }
+                if let (Some(o), Some(c)) = (
+                    v.as_object_mut(),
+                    super::campaign_print::json(&ax.model, self.tolerance_c),
+                ) {
+                    o.insert("campaign".into(), c);
                 }
                 v
             })
@@ -272,6 +287,7 @@ impl Printed<'_> {
                 .map(|w| format!("axis {}: {w}", f.name))
                 .collect();
             model_summary(&ax.model, &axis_warnings)?;
+            super::campaign_print::text(&ax.model, self.tolerance_c)?;
             out!()?;
             out!(
                 "In-sample, axis {} (calibrated and evaluated on {name}):",

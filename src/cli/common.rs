@@ -718,6 +718,8 @@ pub fn in_option_words(e: &driftlab::error::Invalid) -> String {
         "deadband_tddot" => "--deadband-tddot",
         "gyro_id" => "--gyro-id",
         "plateaus" => "--plateau",
+        "per_run_offset" => "--per-run-offset",
+        "tolerance_c" => "--temp-tolerance",
         f if f.ends_with(".knots") => "--knots",
         _ => return super::log_source::in_flags(&e.to_string()),
     };

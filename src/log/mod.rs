@@ -6,6 +6,7 @@
 //! DataFlash, ROS bag, MCAP). [`mapping_check`] holds the one rule set for what a column may
 //! plausibly hold; [`resample`] averages into bins or bursts.
 
+pub mod campaign;
 mod drone_gyro;
 pub mod formats;
 pub mod ingest;
@@ -132,6 +133,10 @@ pub struct LogInfo {
     /// parameters go to that IMU rather than to the first.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub instance: Option<DroneGyro>,
+    /// The runs of a campaign's joined log ([`campaign::join`]), in order; empty for a log of
+    /// one run.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub runs: Vec<campaign::RunSpan>,
 }
 
 /// One column of the source file.
@@ -245,6 +250,9 @@ pub enum ProblemKind {
     /// A rate column read in a unit its own name contradicts (an explicit rate unit wins):
     /// the message names both.
     UnitMismatch,
+    /// A channel that some runs of a campaign do not have (or hold in another unit): left out
+    /// of the joined log ([`campaign::join`]).
+    LeftOut,
 }
 
 impl Log {
@@ -407,13 +415,16 @@ impl Log {
     /// within segments, not the median), so windows and derivative steps given in seconds are
     /// converted with the step the gyro was really sampled at.
     pub fn nominal_dt_s(&self) -> f64 {
+        if self.info.runs.len() > 1 {
+            return self.timing().nominal_dt_s;
+        }
         nominal_dt_s(&self.time_s)
     }
 
     /// How the log was sampled in real time: its nominal step, its segments between gaps,
     /// jitter and bursts ([`crate::signal::timing::Timing`]).
     pub fn timing(&self) -> crate::signal::timing::Timing {
-        crate::signal::timing::Timing::of(&self.time_s)
+        crate::signal::timing::Timing::of_runs(&self.time_s, &self.run_ranges())
     }
 
     /// Duration from the first to the last sample, s.

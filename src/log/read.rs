@@ -463,6 +463,7 @@ pub fn from_recording(
             rows_read: n,
             problems,
             instance: Some(drone_gyro(inst)),
+            runs: Vec::new(),
         },
     };
     let doubts = super::ingest::plausibility_problems(&log);

@@ -12,6 +12,7 @@
 //! them silently.
 
 pub mod approx;
+pub mod campaign;
 mod error;
 pub mod fitted;
 pub mod presets;

@@ -87,7 +87,8 @@ pub struct Timing {
     pub nominal_dt_s: f64,
     /// Contiguous runs of samples, in order, covering the log.
     pub segments: Vec<Range<usize>>,
-    /// The outages between segments, one fewer than the segments.
+    /// The outages between segments, one fewer than the segments (within each run of a
+    /// campaign, [`Timing::of_runs`]: two runs are apart by no outage).
     pub gaps: Vec<Gap>,
     /// Stamps that do not keep the nominal step, when more than 1 % of the steps are off it.
     pub jitter: Option<Jitter>,
@@ -161,6 +162,55 @@ impl Timing {
             jitter,
             bursts,
         }
+    }
+
+    /// The sampling of a campaign's joined log, whose `runs` (ranges of samples, in order,
+    /// covering it) were recorded apart: each run is timed on its own ([`Timing::of`]) and its
+    /// segments kept, so that a run's end always ends a segment, whatever lies between the
+    /// runs on the joined time axis. The gaps are those within runs (the time between two
+    /// runs is no logger outage); the step is the first run's (a campaign's runs are sampled
+    /// alike, `crate::log::campaign` refuses others); the jitter the worst run's; bursts only
+    /// when every run is written in bursts. One run gives [`Timing::of`] bit for bit.
+    pub fn of_runs(time_s: &[f64], runs: &[Range<usize>]) -> Timing {
+        if runs.len() <= 1 {
+            return Timing::of(time_s);
+        }
+        let mut joined = Timing {
+            nominal_dt_s: 1.0,
+            segments: Vec::new(),
+            gaps: Vec::new(),
+            jitter: None,
+            bursts: None,
+        };
+        let mut bursts: Option<Bursts> = None;
+        let mut all_bursts = true;
+        for (k, r) in runs.iter().enumerate() {
+            let t = Timing::of(&time_s[r.clone()]);
+            if k == 0 {
+                joined.nominal_dt_s = t.nominal_dt_s;
+            }
+            joined.segments.extend(
+                t.segments
+                    .iter()
+                    .map(|s| s.start + r.start..s.end + r.start),
+            );
+            joined.gaps.extend(t.gaps.iter().map(|g| Gap {
+                at: g.at + r.start,
+                ..*g
+            }));
+            joined.jitter = match (joined.jitter, t.jitter) {
+                (Some(a), Some(b)) if b.max_lag_s > a.max_lag_s => Some(b),
+                (None, b) => b,
+                (a, _) => a,
+            };
+            match (t.bursts, &mut bursts) {
+                (Some(b), None) => bursts = Some(b),
+                (Some(b), Some(acc)) => acc.count += b.count,
+                (None, _) => all_bursts = false,
+            }
+        }
+        joined.bursts = bursts.filter(|_| all_bursts);
+        joined
     }
 
     /// Whether the log is one contiguous segment.

@@ -592,7 +592,9 @@ fn about_columns(kind: crate::log::ProblemKind) -> bool {
     use crate::log::ProblemKind::*;
     match kind {
         Implausible | DuplicateName | UnitMismatch => true,
-        MissingValue | BadExtraValue | TimeBackwards | TimeRepeated | Gap | RaggedRow => false,
+        MissingValue | BadExtraValue | TimeBackwards | TimeRepeated | Gap | RaggedRow | LeftOut => {
+            false
+        }
     }
 }
 

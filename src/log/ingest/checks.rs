@@ -352,6 +352,7 @@ pub(super) fn finish(mut acc: Acc, sn: &Sniffed, plan: &Plan, source: &str) -> R
             rows_read: acc.noticed.rows_read,
             problems,
             instance: None,
+            runs: Vec::new(),
         },
     };
     let doubts = super::plausible::check(&log);

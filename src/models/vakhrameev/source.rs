@@ -34,6 +34,10 @@ pub struct SourceInfo {
     /// before it was recorded.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub instance: Option<DroneGyro>,
+    /// The runs of a campaign it was fitted on ([`crate::models::campaign`]), with each
+    /// run's plateaus and this axis's bias on them; empty for a calibration of one run.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub runs: Vec<crate::models::campaign::RunRecord>,
 }
 
 impl SourceInfo {
@@ -44,10 +48,13 @@ impl SourceInfo {
             name: log.source.clone(),
             sha256: String::new(),
             samples: log.len(),
+            // A campaign's: the joined time axis's, which its plateaus are placed on (each
+            // run's own duration is in its record).
             duration_s: log.duration_s(),
             run: String::new(),
             samples_sketch: RunSketch::of(log).to_text(),
             instance: log.info.instance.clone(),
+            runs: Vec::new(),
         }
     }
 
@@ -83,9 +90,10 @@ impl SourceInfo {
         {
             return (false, None);
         }
-        let same_file = !self.sha256.is_empty()
-            && !file_sha256.is_empty()
-            && file_sha256.eq_ignore_ascii_case(&self.sha256);
+        let same_file = !file_sha256.is_empty()
+            && std::iter::once(self.sha256.as_str())
+                .chain(self.runs.iter().map(|r| r.sha256.as_str()))
+                .any(|s| !s.is_empty() && file_sha256.eq_ignore_ascii_case(s));
         let shared = self.shared_with(log);
         let same_run = match shared {
             Some(shared) => shared.in_sample(),
@@ -156,6 +164,6 @@ impl SourceInfo {
                 ));
             }
         }
-        Ok(())
+        crate::models::campaign::validate_runs(&self.runs)
     }
 }

@@ -1,0 +1,497 @@
+//! A unit calibrated on a campaign: several chamber runs of one gyro, joined into one log
+//! ([`crate::log::campaign::join`]) and fitted by the one [`calibrate`] path.
+//!
+//! What a campaign adds to that path is small and kept here:
+//! - each run's record (its file, time span and plateaus, with every axis's bias on each),
+//!   written into the calibration's source so that repeatability and hysteresis can be read
+//!   from the file alone ([`crate::judge::campaign`]);
+//! - on request, each run's **turn-on offset**: a constant of that run that no temperature
+//!   explains (a FOG's bias shifts from one turn-on to the next). It is estimated from the
+//!   plateaus jointly with K0(T) (K0 in the recipe's approximation; the offsets sum to zero
+//!   over the runs, so K0 keeps the campaign's mean level), taken out of each run's Ω before
+//!   the fit, and recorded. It is never applied to another log: a new turn-on has its own.
+//!
+//! A campaign of one run is the single-run calibration, bit for bit: no record is made and no
+//! offset taken.
+
+use super::{AxisPlan, CalibratedAxis, calibrate};
+use crate::error::{Invalid, Result};
+use crate::judge::metrics::MeritOptions;
+use crate::log::Log;
+use crate::signal::plateau::{self, PlateauStats};
+use serde::{Deserialize, Serialize};
+
+/// Two plateaus share a temperature when they are within this of each other's group, °C, by
+/// default ([`CampaignOptions::tolerance_c`]).
+pub const DEFAULT_TOLERANCE_C: f64 = 1.0;
+
+/// The most rounds of the joint K0 and offsets estimate; it stops sooner when the offsets
+/// move less than [`OFFSET_SETTLED_DPH`].
+const OFFSET_ROUNDS: usize = 500;
+
+/// The offsets are settled when no run's moves more than this in a round, °/h.
+const OFFSET_SETTLED_DPH: f64 = 1e-12;
+
+/// How a campaign is fitted.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CampaignOptions {
+    /// Estimate each run's turn-on offset and keep it out of K0.
+    pub per_run_offset: bool,
+    /// Two plateaus share a temperature within this, °C (repeatability, hysteresis, and the
+    /// runs that tie the offsets together).
+    pub tolerance_c: f64,
+}
+
+impl Default for CampaignOptions {
+    fn default() -> Self {
+        CampaignOptions {
+            per_run_offset: false,
+            tolerance_c: DEFAULT_TOLERANCE_C,
+        }
+    }
+}
+
+/// How a plateau's temperature was reached.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Approach {
+    /// From below.
+    Heating,
+    /// From above.
+    Cooling,
+    /// The run started there (its first plateau, within the tolerance of the run's first
+    /// temperature): approached from neither side.
+    Start,
+}
+
+/// One plateau of a run, on the run's own time.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RunPlateau {
+    /// Its start on the run's own time, s.
+    pub start_s: f64,
+    /// Its end on the run's own time, s.
+    pub end_s: f64,
+    /// Its mean temperature, °C.
+    pub temp_c: f64,
+    /// The axis's mean raw output over it, °/h (its turn-on offset included).
+    pub bias_dph: f64,
+    /// How its temperature was reached: from the previous plateau of the run (or the run's
+    /// first temperature).
+    pub approach: Approach,
+}
+
+/// One run of a campaign, as the calibration records it.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RunRecord {
+    /// The run's file name.
+    pub name: String,
+    /// SHA-256 of the run's file, hex; empty when not read from a file.
+    #[serde(default, skip_serializing_if = "String::is_empty")]
+    pub sha256: String,
+    /// Samples of the run.
+    pub samples: usize,
+    /// Its first time stamp, on its own time, s.
+    pub start_s: f64,
+    /// Its duration, s.
+    pub duration_s: f64,
+    /// Its plateaus, in time order.
+    pub plateaus: Vec<RunPlateau>,
+    /// Its turn-on offset, °/h, when one was estimated (`--per-run-offset`): taken out of the
+    /// run's output before the fit, never applied to another log.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub turn_on_offset_dph: Option<f64>,
+}
+
+/// A campaign's fit: every axis as [`calibrate`] fits it, and each axis's record of the runs
+/// (empty for a log of one run).
+#[derive(Debug, Clone)]
+pub struct CampaignFit {
+    /// The axes, fitted.
+    pub axes: Vec<CalibratedAxis>,
+    /// For each axis, in the same order, its record of every run.
+    pub runs: Vec<Vec<RunRecord>>,
+}
+
+/// Fits `plans` on the campaign `log` ([`crate::log::campaign::join`]); a log of one run is
+/// fitted as [`calibrate`] fits it, with no record.
+///
+/// # Errors
+/// What [`calibrate`] refuses; for a campaign, a run with no plateau, and with
+/// `per_run_offset` a run whose plateaus share no temperature with another run's (its offset
+/// could not be told from K0's shape).
+pub fn calibrate_campaign(
+    log: &mut Log,
+    plans: &[AxisPlan],
+    merit: &MeritOptions,
+    options: &CampaignOptions,
+) -> Result<CampaignFit> {
+    if !(options.tolerance_c.is_finite() && options.tolerance_c > 0.0) {
+        return Err(Invalid::new(
+            "tolerance_c",
+            format!(
+                "is {}: the temperatures two plateaus share are within a tolerance above 0 °C",
+                crate::number::readable(options.tolerance_c)
+            ),
+        )
+        .into());
+    }
+    if log.runs().len() < 2 {
+        if options.per_run_offset {
+            return Err(Invalid::new(
+                "per_run_offset",
+                format!(
+                    "{} is one run: a turn-on offset is told apart from K0 only between two \
+                     runs or more",
+                    log.source
+                ),
+            )
+            .into());
+        }
+        let axes = calibrate(log, plans, merit)?;
+        let runs = vec![Vec::new(); axes.len()];
+        return Ok(CampaignFit { axes, runs });
+    }
+    let first = plans
+        .first()
+        .ok_or(crate::error::Error::Internal("a campaign fit without axes"))?;
+    let ranges = super::vakhrameev::Pipeline::new(log, &first.recipe)?
+        .ranges()
+        .to_vec();
+    let run_of = |r: &plateau::PlateauRange| {
+        log.runs()
+            .iter()
+            .position(|s| {
+                let (lo, hi) = r.index_range(&log.time_s);
+                lo >= s.samples.start && hi <= s.samples.end && lo < hi
+            })
+            .unwrap_or(usize::MAX)
+    };
+    // A plateau is a run's (detection never crosses a run's end; a range given by hand
+    // that does is no plateau of either).
+    let ranges: Vec<plateau::PlateauRange> = ranges
+        .into_iter()
+        .filter(|r| run_of(r) != usize::MAX)
+        .collect();
+    let plateau_runs: Vec<usize> = ranges.iter().map(run_of).collect();
+    if let Some(k) = (0..log.runs().len()).find(|k| !plateau_runs.contains(k)) {
+        return Err(Invalid::new(
+            "campaign",
+            format!(
+                "run {} of the campaign has no plateau: each run needs one, for its bias to be \
+                 set beside the other runs' (and its turn-on told apart); hold the chamber \
+                 steady in it, or calibrate without it",
+                log.runs()[k].name
+            ),
+        )
+        .into());
+    }
+    let names = if plans.len() == 1 && plans[0].name.is_empty() {
+        vec![log.axis.clone()]
+    } else {
+        plans.iter().map(|p| p.name.clone()).collect()
+    };
+    let mut records = Vec::with_capacity(plans.len());
+    for (plan, name) in plans.iter().zip(&names) {
+        let omega = log.axis_rate(name).unwrap_or(&log.omega_dph);
+        // Every range holds samples (`run_of` found them), so the stats stay beside their runs.
+        let stats: Vec<PlateauStats> = ranges
+            .iter()
+            .filter_map(|r| plateau::stats(&log.time_s, &log.temp_c, omega, *r))
+            .collect();
+        if stats.len() != plateau_runs.len() {
+            return Err(crate::error::Error::Internal(
+                "a campaign plateau without samples",
+            ));
+        }
+        let offsets = if options.per_run_offset {
+            Some(turn_on_offsets(
+                &stats,
+                &plateau_runs,
+                log.runs().len(),
+                plan,
+                options.tolerance_c,
+                &log.runs()
+                    .iter()
+                    .map(|r| r.name.as_str())
+                    .collect::<Vec<_>>(),
+            )?)
+        } else {
+            None
+        };
+        records.push(record(
+            log,
+            &stats,
+            &plateau_runs,
+            offsets.as_deref(),
+            options,
+        ));
+        if let Some(offsets) = offsets {
+            let spans: Vec<_> = log.runs().iter().map(|r| r.samples.clone()).collect();
+            let omega = axis_rate_mut(log, name);
+            for (span, c) in spans.into_iter().zip(offsets) {
+                for w in &mut omega[span] {
+                    *w -= c;
+                }
+            }
+        }
+    }
+    let axes = calibrate(log, plans, merit)?;
+    Ok(CampaignFit {
+        axes,
+        runs: records,
+    })
+}
+
+/// The rate column of axis `name`, to take the offsets out.
+fn axis_rate_mut<'a>(log: &'a mut Log, name: &str) -> &'a mut Vec<f64> {
+    if log.axis == name {
+        return &mut log.omega_dph;
+    }
+    match log.other_axes.iter().position(|a| a.name == name) {
+        Some(k) => &mut log.other_axes[k].omega_dph,
+        None => &mut log.omega_dph,
+    }
+}
+
+/// Each run's record of one axis: its span, its plateaus with the axis's bias on each.
+fn record(
+    log: &Log,
+    stats: &[PlateauStats],
+    plateau_runs: &[usize],
+    offsets: Option<&[f64]>,
+    options: &CampaignOptions,
+) -> Vec<RunRecord> {
+    log.runs()
+        .iter()
+        .enumerate()
+        .map(|(k, span)| {
+            let shift = span.time_shift_s;
+            let t = &log.time_s[span.samples.clone()];
+            let mut previous_c = log.temp_c[span.samples.start];
+            let mut previous = Approach::Start;
+            let plateaus = stats
+                .iter()
+                .zip(plateau_runs)
+                .filter(|(_, r)| **r == k)
+                .map(|(p, _)| {
+                    let approach = if p.temp_c > previous_c + options.tolerance_c {
+                        Approach::Heating
+                    } else if p.temp_c < previous_c - options.tolerance_c {
+                        Approach::Cooling
+                    } else {
+                        // At the run's first temperature (the first plateau), or at the
+                        // temperature of the plateau before with no ramp between (a plateau
+                        // split in two, approached as that one was).
+                        previous
+                    };
+                    previous = approach;
+                    previous_c = p.temp_c;
+                    RunPlateau {
+                        start_s: p.range.start_s - shift,
+                        end_s: p.range.end_s - shift,
+                        temp_c: p.temp_c,
+                        bias_dph: p.omega_dph,
+                        approach,
+                    }
+                })
+                .collect();
+            RunRecord {
+                name: span.name.clone(),
+                sha256: span.sha256.clone(),
+                samples: span.samples.len(),
+                start_s: t.first().map_or(0.0, |t0| t0 - shift),
+                duration_s: match (t.first(), t.last()) {
+                    (Some(a), Some(b)) => b - a,
+                    _ => 0.0,
+                },
+                plateaus,
+                turn_on_offset_dph: offsets.map(|o| o[k]),
+            }
+        })
+        .collect()
+}
+
+/// Each run's turn-on offset for one axis: the least-squares joint estimate of K0(T), in the
+/// axis's K0 approximation, and one constant per run, summing to zero, from the plateau
+/// points (`plateau_runs[i]` the run of `stats[i]`). Solved by alternating the two (K0 on the
+/// points less their run's offset; each offset the mean of its run's residuals, then centred),
+/// which reaches the joint least squares for a linear approximation.
+///
+/// # Errors
+/// A run whose plateaus share no temperature with another run's (within `tolerance_c`): its
+/// offset and K0's shape could not be told apart.
+fn turn_on_offsets(
+    stats: &[PlateauStats],
+    plateau_runs: &[usize],
+    runs: usize,
+    plan: &AxisPlan,
+    tolerance_c: f64,
+    names: &[&str],
+) -> Result<Vec<f64>> {
+    check_tied(stats, plateau_runs, runs, tolerance_c, names)?;
+    let mut offsets = vec![0.0; runs];
+    let mut warnings = Vec::new();
+    for _ in 0..OFFSET_ROUNDS {
+        let less: Vec<PlateauStats> = stats
+            .iter()
+            .zip(plateau_runs)
+            .map(|(p, &r)| PlateauStats {
+                omega_dph: p.omega_dph - offsets[r],
+                ..*p
+            })
+            .collect();
+        let k0 = super::vakhrameev::fit_k0(&less, &plan.recipe.k0, &mut warnings)?;
+        let mut sum = vec![0.0; runs];
+        let mut count = vec![0usize; runs];
+        for (p, &r) in stats.iter().zip(plateau_runs) {
+            sum[r] += p.omega_dph - k0.eval(p.temp_c);
+            count[r] += 1;
+        }
+        let mut next: Vec<f64> = sum
+            .iter()
+            .zip(&count)
+            .map(|(s, &n)| s / n.max(1) as f64)
+            .collect();
+        let mean = next.iter().sum::<f64>() / runs as f64;
+        for c in &mut next {
+            *c -= mean;
+        }
+        let moved = next
+            .iter()
+            .zip(&offsets)
+            .map(|(a, b)| (a - b).abs())
+            .fold(0.0, f64::max);
+        offsets = next;
+        if moved < OFFSET_SETTLED_DPH {
+            break;
+        }
+    }
+    if offsets.iter().any(|c| !c.is_finite()) {
+        return Err(Invalid::new(
+            "per_run_offset",
+            "the turn-on offsets could not be estimated (the plateau points give no finite \
+             solution)",
+        )
+        .into());
+    }
+    Ok(offsets)
+}
+
+/// Refuses offsets that the plateaus cannot tell from K0: every run must be tied to the
+/// others through temperatures their plateaus share.
+fn check_tied(
+    stats: &[PlateauStats],
+    plateau_runs: &[usize],
+    runs: usize,
+    tolerance_c: f64,
+    names: &[&str],
+) -> Result<()> {
+    // Runs joined when two of their plateaus are within the tolerance; all must be one group.
+    let mut group: Vec<usize> = (0..runs).collect();
+    fn root(group: &mut [usize], mut k: usize) -> usize {
+        while group[k] != k {
+            group[k] = group[group[k]];
+            k = group[k];
+        }
+        k
+    }
+    for (i, p) in stats.iter().enumerate() {
+        for (j, q) in stats.iter().enumerate().skip(i + 1) {
+            if (p.temp_c - q.temp_c).abs() <= tolerance_c {
+                let (a, b) = (
+                    root(&mut group, plateau_runs[i]),
+                    root(&mut group, plateau_runs[j]),
+                );
+                group[a] = b;
+            }
+        }
+    }
+    let first = root(&mut group, 0);
+    if let Some(k) = (1..runs).find(|&k| root(&mut group, k) != first) {
+        return Err(Invalid::new(
+            "per_run_offset",
+            format!(
+                "run {} shares no plateau temperature (within {} °C) with run {} or the runs \
+                 tied to it: its turn-on offset cannot be told from the shape of K0(T); give it \
+                 a plateau at a temperature another run holds, or fit without per-run offsets",
+                names.get(k).copied().unwrap_or("?"),
+                crate::number::readable(tolerance_c),
+                names.first().copied().unwrap_or("?"),
+            ),
+        )
+        .into());
+    }
+    Ok(())
+}
+
+/// The most plateaus a run's record may hold (a chamber program holds tens; a hand-edited
+/// file of millions would be held whole on every read).
+pub const MAX_RUN_PLATEAUS: usize = 10_000;
+
+/// Checks the runs a calibration file records: at most [`crate::log::campaign::MAX_RUNS`],
+/// names and hashes printable, every number finite, each plateau's end after its start.
+///
+/// # Errors
+/// An [`Invalid`] naming the field (`source.runs[1].plateaus[0].bias_dph`).
+pub fn validate_runs(runs: &[RunRecord]) -> std::result::Result<(), Invalid> {
+    use crate::log::campaign::MAX_RUNS;
+    if runs.len() > MAX_RUNS {
+        return Err(Invalid::new(
+            "source.runs",
+            format!(
+                "holds {} runs: a campaign joins at most {MAX_RUNS}",
+                runs.len()
+            ),
+        ));
+    }
+    let finite = |field: String, v: f64| {
+        if v.is_finite() {
+            Ok(())
+        } else {
+            Err(Invalid::new(field, "must be a finite number"))
+        }
+    };
+    for (k, r) in runs.iter().enumerate() {
+        let at = |f: &str| format!("source.runs[{k}].{f}");
+        for (f, text) in [("name", &r.name), ("sha256", &r.sha256)] {
+            if let Some(c) = text.chars().find(|&c| crate::text::is_unprintable(c)) {
+                return Err(Invalid::new(
+                    at(f),
+                    format!("holds the control character U+{:04X}", c as u32),
+                ));
+            }
+        }
+        finite(at("start_s"), r.start_s)?;
+        if !(r.duration_s.is_finite() && r.duration_s >= 0.0) {
+            return Err(Invalid::new(
+                at("duration_s"),
+                "must be a duration in seconds",
+            ));
+        }
+        if let Some(c) = r.turn_on_offset_dph {
+            finite(at("turn_on_offset_dph"), c)?;
+        }
+        if r.plateaus.len() > MAX_RUN_PLATEAUS {
+            return Err(Invalid::new(
+                at("plateaus"),
+                format!(
+                    "holds {} plateaus: a run's record holds at most {MAX_RUN_PLATEAUS}",
+                    r.plateaus.len()
+                ),
+            ));
+        }
+        for (j, p) in r.plateaus.iter().enumerate() {
+            let at = |f: &str| format!("source.runs[{k}].plateaus[{j}].{f}");
+            finite(at("start_s"), p.start_s)?;
+            finite(at("end_s"), p.end_s)?;
+            finite(at("temp_c"), p.temp_c)?;
+            finite(at("bias_dph"), p.bias_dph)?;
+            if p.end_s < p.start_s {
+                return Err(Invalid::new(at("end_s"), "ends before the plateau starts"));
+            }
+        }
+    }
+    Ok(())
+}
