@@ -359,7 +359,7 @@ pub fn run(a: Args) -> Result<(), CliError> {
     // Vakhrameev's model reads the three calibration columns only; the others are neither
     // parsed nor held.
     let all_vakhrameev = choice.is_vakhrameev() && a.axis_models_all_vakhrameev()?;
-    let (mut log, sha256) = a.read_runs(all_vakhrameev)?;
+    let (mut log, log_name, sha256) = a.read_runs(all_vakhrameev)?;
     warnings.extend(
         recipe
             .one_sample_windows(log.nominal_dt_s(), &log.source)
@@ -410,7 +410,7 @@ pub fn run(a: Args) -> Result<(), CliError> {
             }
         })
     })?;
-    let unit = stamped(&fitted, &log.source, &sha256);
+    let unit = stamped(&fitted, &log_name, &sha256);
     // Both files are written before either is put in place: a recipe that cannot be
     // written leaves the old calibration as it was.
     let mut outputs = Batch::new();
@@ -535,9 +535,10 @@ impl Args {
     }
 
     /// Reads every run (only the calibration columns when every axis is Vakhrameev's) and
-    /// joins them into one campaign (one run is its log as read), with the one file's
-    /// SHA-256 (empty for a campaign, whose runs each keep theirs).
-    fn read_runs(&self, columns_only: bool) -> Result<(Log, String), CliError> {
+    /// joins them into one campaign (one run is its log as read), with the name the
+    /// calibration records (the file's, or the runs' joined) and the one file's SHA-256
+    /// (empty for a campaign, whose runs each keep theirs).
+    fn read_runs(&self, columns_only: bool) -> Result<(Log, String, String), CliError> {
         let mut runs = Vec::with_capacity(self.log.len());
         for path in &self.log {
             let input = self.log_args.open(path)?;
@@ -560,15 +561,23 @@ impl Args {
                 sha256: sha256?,
             });
         }
-        let one = runs.len() == 1;
-        let sha256 = if one {
-            runs[0].sha256.clone()
+        let (name, sha256) = if let [one] = runs.as_slice() {
+            (file_name(&self.log[0]), one.sha256.clone())
         } else {
-            String::new()
+            // A campaign's runs are named by their files, as one log's calibration is.
+            for (r, path) in runs.iter_mut().zip(&self.log) {
+                r.log.source = file_name(path);
+            }
+            (String::new(), String::new())
         };
         let log =
             driftlab::log::campaign::join(runs).map_err(|e| CliError::Message(e.to_string()))?;
-        Ok((log, sha256))
+        let name = if name.is_empty() {
+            log.source.clone()
+        } else {
+            name
+        };
+        Ok((log, name, sha256))
     }
 
     /// Refuses `--axis-model` and `--axis-recipe` for a single-axis calibration, by name.

@@ -13,9 +13,11 @@ use std::path::{Path, PathBuf};
 /// Arguments of `compare`.
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// The log every model is fitted on.
-    #[arg(long, value_name = "LOG")]
-    pub train: PathBuf,
+    /// The log every model is fitted on; several logs are the runs of one campaign, fitted
+    /// together, and each model is then also judged on each run left out in turn (fitted on
+    /// the others).
+    #[arg(long, value_name = "LOG", num_args = 1.., required = true)]
+    pub train: Vec<PathBuf>,
     /// Logs of the same gyro to judge the models on (held out).
     #[arg(long, value_name = "LOG", num_args = 1..)]
     pub test: Vec<PathBuf>,
@@ -89,7 +91,9 @@ pub fn run(a: Args) -> Result<(), CliError> {
         filter_s: a.filter,
         window_s: a.window.unwrap_or(MeritOptions::default().window_s),
     };
-    let logs: Vec<&Path> = std::iter::once(&a.train)
+    let logs: Vec<&Path> = a
+        .train
+        .iter()
         .chain(&a.test)
         .map(PathBuf::as_path)
         .collect();
@@ -104,7 +108,29 @@ pub fn run(a: Args) -> Result<(), CliError> {
         let input = a.log_args.open(p)?;
         a.log_args.read_needing(&input, &needs)
     };
-    let mut train = read(&a.train)?;
+    let mut runs = Vec::with_capacity(a.train.len());
+    for p in &a.train {
+        let input = a.log_args.open(p)?;
+        runs.push(driftlab::log::campaign::RunInput {
+            log: a.log_args.read_needing(&input, &needs)?,
+            sha256: driftlab::files::calibration::sha256_input(&input)
+                .map_err(|e| e.to_string())?,
+        });
+    }
+    if runs.len() > 1 {
+        // A campaign's runs are named by their files, as `calibrate` names them.
+        for (r, p) in runs.iter_mut().zip(&a.train) {
+            r.log.source = super::calibrate::file_name(p);
+        }
+    }
+    let mut train =
+        driftlab::log::campaign::join(runs).map_err(|e| CliError::Message(e.to_string()))?;
+    if train.runs().len() >= 2 {
+        common::status(&format!(
+            "each model is also fitted {} times, with each run left out ...",
+            train.runs().len()
+        ));
+    }
     let mut tests = a.test.iter().map(read).collect::<Result<Vec<_>, _>>()?;
     for log in std::iter::once(&train).chain(&tests) {
         common::check_merit(&merit, a.window.is_some(), log)?;
@@ -131,7 +157,7 @@ pub fn run(a: Args) -> Result<(), CliError> {
     let recommended = recommended(&train, &reports, &choices, &recipe, &merit);
     if a.json {
         common::print_json(&serde_json::json!({
-            "train": a.train,
+            "train": train_json(&a.train),
             "test": a.test,
             "options": merit,
             "models": reports,
@@ -141,7 +167,7 @@ pub fn run(a: Args) -> Result<(), CliError> {
         print_tables(&reports, &merit)?;
         print_recommendation(recommended.as_ref(), None)?;
     }
-    refuse_none_fitted(&a.train, [&reports[..]])
+    refuse_none_fitted(&train.source, [&reports[..]])
 }
 
 /// `--delay`, `--lag` and `--fit` shape the custom models alone: given without `--custom`
@@ -167,16 +193,14 @@ fn refuse_custom_options_without_custom(a: &Args) -> Result<(), CliError> {
 /// reasons are printed (in the table or the JSON), then the command exits with an error, so
 /// that a script does not take an empty comparison for a result.
 fn refuse_none_fitted<'r>(
-    train: &Path,
+    train: &str,
     per_axis: impl IntoIterator<Item = &'r [ModelReport]>,
 ) -> Result<(), CliError> {
     let mut reports = per_axis.into_iter().flatten().peekable();
     if reports.peek().is_some() && reports.all(|r| r.error.is_some()) {
-        return Err(format!(
-            "{}: no model could be fitted (each one's reason is above)",
-            train.display()
-        )
-        .into());
+        return Err(
+            format!("{train}: no model could be fitted (each one's reason is above)",).into(),
+        );
     }
     Ok(())
 }
@@ -262,7 +286,7 @@ fn run_axes(
             })
             .collect();
         common::print_json(&serde_json::json!({
-            "train": a.train,
+            "train": train_json(&a.train),
             "test": a.test,
             "options": merit,
             "models": per_axis.first().map(|(_, r)| r),
@@ -282,7 +306,7 @@ fn run_axes(
             print_recommendation(rec.as_ref(), Some(name))?;
         }
     }
-    refuse_none_fitted(&a.train, per_axis.iter().map(|(_, r)| &r[..]))
+    refuse_none_fitted(&train.source, per_axis.iter().map(|(_, r)| &r[..]))
 }
 
 /// For every log, one line per model: its corrected peak-to-peak on each axis with the ratio
@@ -481,6 +505,72 @@ fn print_tables(reports: &[ModelReport], merit: &MeritOptions) -> Result<(), Cli
                 }
             }
         }
+    }
+    print_runs_left_out(reports)
+}
+
+/// The training runs, as `--json` gives them: the path of one log, or the list of a
+/// campaign's.
+fn train_json(train: &[PathBuf]) -> serde_json::Value {
+    match train {
+        [one] => serde_json::json!(one),
+        many => serde_json::json!(many),
+    }
+}
+
+/// On a campaign, each model's figures on every run left out in turn (fitted on the other
+/// runs): one line a run, then the mean and the worst.
+fn print_runs_left_out(reports: &[ModelReport]) -> Result<(), CliError> {
+    let Some(first) = reports.iter().find_map(|r| r.leave_one_run_out.as_ref()) else {
+        return Ok(());
+    };
+    let w = name_width(reports);
+    out!()?;
+    out!("Leave one run out (each model fitted on the other runs, judged on the run left out):")?;
+    let runs: Vec<&str> = first.runs.iter().map(|r| r.run.as_str()).collect();
+    let rw = runs
+        .iter()
+        .map(|r| r.chars().count())
+        .max()
+        .unwrap_or(3)
+        .max(3);
+    out!(
+        "  {:<w$} {:<rw$} {:>9} {:>9} {:>8}",
+        "model",
+        "run",
+        "p2p raw",
+        "p2p cor",
+        "p2p"
+    )?;
+    for r in reports.iter().filter(|r| r.error.is_none()) {
+        let Some(l) = &r.leave_one_run_out else {
+            continue;
+        };
+        for run in &l.runs {
+            match &run.error {
+                Some(e) => out!("  {:<w$} {:<rw$} {e}", shown_name(r), run.run)?,
+                None => out!(
+                    "  {:<w$} {:<rw$} {:>9} {:>9} {:>8}",
+                    shown_name(r),
+                    run.run,
+                    run.raw_p2p_dph.map_or("n/a".into(), common::figure),
+                    run.corrected_p2p_dph.map_or("n/a".into(), common::figure),
+                    run.p2p_ratio.map_or("n/a".into(), common::ratio),
+                )?,
+            }
+        }
+        out!(
+            "  {:<w$} {:<rw$} {:>9} {:>9} {:>8}   worst cor {} ratio {}",
+            "",
+            "mean",
+            "",
+            l.mean_corrected_p2p_dph
+                .map_or("n/a".into(), common::figure),
+            l.mean_p2p_ratio.map_or("n/a".into(), common::ratio),
+            l.worst_corrected_p2p_dph
+                .map_or("n/a".into(), common::figure),
+            l.worst_p2p_ratio.map_or("n/a".into(), common::ratio),
+        )?;
     }
     Ok(())
 }

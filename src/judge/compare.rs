@@ -2,6 +2,7 @@
 //! logs of the same gyro (held out) — what tells an engineer which model to ship.
 
 use crate::judge::metrics::{Evaluation, MeritOptions};
+use crate::judge::runs_left_out::{LeaveOneRunOut, leave_one_run_out};
 use crate::log::Log;
 use crate::log::run_sketch::Shared;
 use crate::models::fitted::DriftModel;
@@ -69,6 +70,10 @@ pub struct ModelReport {
     pub fitted: Option<DriftModel>,
     /// The training log first, then the test logs in order.
     pub logs: Vec<Judgement>,
+    /// On a campaign, the model judged on each run left out in turn (fitted on the others);
+    /// `None` for a training log of one run, or a model that was not fitted.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub leave_one_run_out: Option<LeaveOneRunOut>,
 }
 
 /// Fits every choice on `train` and judges it on `train` and on each of `tests`.
@@ -117,7 +122,9 @@ pub fn tests_of<'a>(train: &Log, tests: &[&'a Log]) -> Vec<TestLog<'a>> {
         .collect()
 }
 
-/// One model of [`compare`]: fitted on `train`, judged on `train` then each of `tests`.
+/// One model of [`compare`]: fitted on `train`, judged on `train` then each of `tests`, and,
+/// when `train` is a campaign, on each of its runs left out in turn
+/// ([`crate::judge::runs_left_out`]).
 /// `progress` is told the share of the fit done (0 to 1) and stops it by returning false (the
 /// report then holds the error "cancelled"); `seen(k, correction)` gets each log's correction
 /// (log `k`, the training log first) before it is dropped, for a caller that also draws them.
@@ -137,6 +144,7 @@ pub fn compare_one(
         error: None,
         fitted: None,
         logs: Vec::new(),
+        leave_one_run_out: None,
     };
     match crate::models::fit_with_progress(train, choice, recipe, progress) {
         Ok(m) => {
@@ -165,6 +173,9 @@ pub fn compare_one(
                 })
                 .collect();
             report.fitted = Some(m);
+            // The fit is done: a Cancel asked now stops the runs left out.
+            report.leave_one_run_out =
+                leave_one_run_out(train, choice, recipe, merit, &|| progress(1.0));
         }
         Err(e) => report.error = Some(e.to_string()),
     }

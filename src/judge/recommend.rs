@@ -9,7 +9,10 @@
 //! 1. the held-out logs of the comparison, when any was given and told apart from the
 //!    training run (a log that is the training run, or that the sketch cannot tell, is no
 //!    held-out evidence);
-//! 2. otherwise, [`BLOCKS`] blocks of the training log, each held out in turn: every model
+//! 2. otherwise, when the training is a campaign of several runs, its runs, each left out in
+//!    turn (every model fitted on the other runs and judged on the one left out:
+//!    [`crate::judge::runs_left_out`]);
+//! 3. otherwise, [`BLOCKS`] blocks of the training log, each held out in turn: every model
 //!    fitted on the rest of the run and judged on the block. A weaker judge, said with the
 //!    recommendation: the blocks share the run's gyro, chamber program and day, and a block
 //!    without a plateau leaves a model that needs one without it.
@@ -39,10 +42,19 @@ pub enum JudgedOn {
         /// The logs.
         logs: Vec<String>,
     },
+    /// The runs of the training campaign, each left out in turn.
+    RunsLeftOut {
+        /// The runs, by name.
+        runs: Vec<String>,
+    },
     /// Blocks of the training log, each held out in turn.
     TrainingBlocks {
         /// How many.
         blocks: usize,
+        /// The test logs that were given and set aside, being the training run (or not told
+        /// from it): why no held-out log judges although some were given.
+        #[serde(skip_serializing_if = "Vec::is_empty")]
+        set_aside: Vec<String>,
     },
 }
 
@@ -51,9 +63,20 @@ impl JudgedOn {
     pub fn describe(&self) -> String {
         match self {
             JudgedOn::HeldOutLogs { logs } => format!("held out on {}", logs.join(", ")),
-            JudgedOn::TrainingBlocks { blocks } => format!(
+            JudgedOn::RunsLeftOut { runs } => format!(
+                "on the {} runs of the campaign, each left out in turn (fitted on the others): {}",
+                runs.len(),
+                runs.join(", ")
+            ),
+            JudgedOn::TrainingBlocks { blocks, set_aside } if set_aside.is_empty() => format!(
                 "on {blocks} blocks of the training log, each held out in turn (no held-out log \
                  was given)"
+            ),
+            JudgedOn::TrainingBlocks { blocks, set_aside } => format!(
+                "on {blocks} blocks of the training log, each held out in turn ({} {} the \
+                 training run or cannot be told from it, so no held-out log judges)",
+                set_aside.join(", "),
+                if set_aside.len() == 1 { "is" } else { "are" }
             ),
         }
     }
@@ -61,7 +84,7 @@ impl JudgedOn {
     /// Why a person should weigh it less, when they should.
     pub fn caution(&self) -> Option<&'static str> {
         match self {
-            JudgedOn::HeldOutLogs { .. } => None,
+            JudgedOn::HeldOutLogs { .. } | JudgedOn::RunsLeftOut { .. } => None,
             JudgedOn::TrainingBlocks { .. } => Some(
                 "a weaker judge than another run: the blocks share the training run's gyro, \
                  chamber program and day; judge on a held-out log (--test) before shipping",
@@ -132,9 +155,20 @@ pub fn recommend(
     keep_going: &(dyn Fn() -> bool + Sync),
 ) -> Option<Recommendation> {
     let held_out = held_out_logs(reports);
-    let (judged_on, standings) = if held_out.is_empty() {
+    let (judged_on, standings) = if held_out.is_empty() && train.runs().len() >= 2 {
+        let standings = on_runs_left_out(reports, choices);
+        let runs = train.runs().iter().map(|r| r.name.clone()).collect();
+        (JudgedOn::RunsLeftOut { runs }, standings)
+    } else if held_out.is_empty() {
         let standings = on_blocks(train, reports, choices, recipe, merit, keep_going);
-        (JudgedOn::TrainingBlocks { blocks: BLOCKS }, standings)
+        let set_aside = set_aside_logs(reports);
+        (
+            JudgedOn::TrainingBlocks {
+                blocks: BLOCKS,
+                set_aside,
+            },
+            standings,
+        )
     } else {
         let standings = on_held_out(reports, choices);
         (JudgedOn::HeldOutLogs { logs: held_out }, standings)
@@ -188,6 +222,23 @@ pub fn held_out_logs(reports: &[ModelReport]) -> Vec<String> {
         .unwrap_or_default()
 }
 
+/// The test logs every fitted model set aside as no held-out evidence: the training run
+/// given again, or a log its sketch cannot tell from it.
+fn set_aside_logs(reports: &[ModelReport]) -> Vec<String> {
+    reports
+        .iter()
+        .find(|r| r.error.is_none() && !r.reference)
+        .map(|r| {
+            r.logs
+                .iter()
+                .skip(1)
+                .filter(|j| !j.held_out || j.cannot_tell.is_some())
+                .map(|j| j.log.clone())
+                .collect()
+        })
+        .unwrap_or_default()
+}
+
 /// The worst of `ratios`, or why there is none: a part not judged, or a ratio n/a.
 fn worst(ratios: Vec<Result<f64, String>>) -> (Option<f64>, Option<String>) {
     let mut w = f64::INFINITY;
@@ -221,6 +272,30 @@ fn on_held_out(reports: &[ModelReport], choices: &[ModelChoice]) -> Vec<Standing
                         Outcome::Error(e) => Err(format!("{}: {e}", j.log)),
                     })
                     .collect()
+            })
+        })
+        .collect()
+}
+
+/// The standings on the runs of the training campaign left out in turn, as each report holds
+/// them.
+fn on_runs_left_out(reports: &[ModelReport], choices: &[ModelChoice]) -> Vec<Standing> {
+    reports
+        .iter()
+        .zip(choices)
+        .filter(|(r, _)| !r.reference)
+        .map(|(r, choice)| {
+            standing(r, choice, || match &r.leave_one_run_out {
+                Some(l) => l
+                    .runs
+                    .iter()
+                    .map(|run| match (&run.error, run.p2p_ratio) {
+                        (Some(e), _) => Err(format!("{} left out: {e}", run.run)),
+                        (None, Some(x)) => Ok(x),
+                        (None, None) => Err(format!("{} left out: not judged", run.run)),
+                    })
+                    .collect(),
+                None => vec![Err("not judged on the runs left out".into())],
             })
         })
         .collect()

@@ -7,6 +7,7 @@ mod common;
 
 mod allan;
 mod approx;
+mod campaign;
 mod correction;
 mod crafted_settings;
 mod dependent_terms;

@@ -1,0 +1,380 @@
+//! Campaigns (several chamber runs of one gyro fitted together) against independent truth:
+//! the simulator's runs with known turn-on offsets and known drift, a campaign of one run
+//! against the single-run calibration, and leave-one-run-out against the same folds joined
+//! and fitted by hand.
+
+use driftlab::judge::campaign::{hysteresis, repeatability};
+use driftlab::judge::compare;
+use driftlab::judge::metrics::{Evaluation, MeritOptions};
+use driftlab::judge::recommend::{self, JudgedOn};
+use driftlab::log::Log;
+use driftlab::log::campaign::{CampaignError, RunInput, join};
+use driftlab::models::campaign::{CampaignOptions, RunRecord, calibrate_campaign};
+use driftlab::models::{self, AxisPlan, CheckedRecipe, DriftModel, ModelChoice, Preset};
+use driftlab::sim::SimRun;
+use driftlab::sim::campaign::{campaign, simulate_campaign};
+use std::sync::OnceLock;
+
+/// The simulated runs of a built-in campaign, with the logs read from them.
+fn runs_of(name: &str) -> Vec<(SimRun, Log)> {
+    let c = campaign(name).expect("a built-in campaign");
+    simulate_campaign(&c)
+        .into_iter()
+        .zip(&c.runs)
+        .map(|(sim, run)| {
+            let log = sim.to_log(&format!("{name}-{}.csv", run.name));
+            (sim, log)
+        })
+        .collect()
+}
+
+fn fog() -> &'static [(SimRun, Log)] {
+    static RUNS: OnceLock<Vec<(SimRun, Log)>> = OnceLock::new();
+    RUNS.get_or_init(|| runs_of("fog-three-runs"))
+}
+
+fn tiny() -> &'static [(SimRun, Log)] {
+    static RUNS: OnceLock<Vec<(SimRun, Log)>> = OnceLock::new();
+    RUNS.get_or_init(|| runs_of("tiny-three-runs"))
+}
+
+fn joined(runs: &[&Log]) -> Log {
+    join(
+        runs.iter()
+            .map(|l| RunInput {
+                log: (*l).clone(),
+                sha256: String::new(),
+            })
+            .collect(),
+    )
+    .expect("one gyro")
+}
+
+fn vakhrameev() -> Vec<AxisPlan> {
+    vec![AxisPlan::unnamed(
+        ModelChoice::Preset(Preset::Vakhrameev),
+        CheckedRecipe::default(),
+    )]
+}
+
+/// The model with its date set, so that two fits compare as fits.
+fn dated(model: &DriftModel) -> DriftModel {
+    let mut m = model.clone();
+    match &mut m {
+        DriftModel::Vakhrameev(c) => c.created = "2026-12-05T00:00:00Z".into(),
+        DriftModel::Regression(r) => r.created = "2026-12-05T00:00:00Z".into(),
+    }
+    m
+}
+
+fn fitted_runs(log: &mut Log, per_run_offset: bool) -> Vec<RunRecord> {
+    let options = CampaignOptions {
+        per_run_offset,
+        ..CampaignOptions::default()
+    };
+    let fit = calibrate_campaign(log, &vakhrameev(), &MeritOptions::default(), &options)
+        .expect("the campaign fits");
+    fit.runs[0].clone()
+}
+
+#[test]
+fn a_campaign_of_one_run_is_the_single_run_calibration_bit_for_bit() {
+    let one = fog()[0].1.clone();
+    let mut as_campaign = joined(&[&one]);
+    assert!(as_campaign.runs().is_empty());
+    let fit = calibrate_campaign(
+        &mut as_campaign,
+        &vakhrameev(),
+        &MeritOptions::default(),
+        &CampaignOptions::default(),
+    )
+    .unwrap();
+    let mut alone = one.clone();
+    let single = models::calibrate(&mut alone, &vakhrameev(), &MeritOptions::default()).unwrap();
+    assert_eq!(
+        dated(&fit.axes[0].calibrated.model),
+        dated(&single[0].calibrated.model)
+    );
+    assert!(fit.runs[0].is_empty());
+    let err = calibrate_campaign(
+        &mut as_campaign,
+        &vakhrameev(),
+        &MeritOptions::default(),
+        &CampaignOptions {
+            per_run_offset: true,
+            ..CampaignOptions::default()
+        },
+    )
+    .unwrap_err();
+    assert!(err.to_string().contains("one run"), "{err}");
+}
+
+#[test]
+fn each_run_is_timed_and_differentiated_on_its_own() {
+    let logs: Vec<&Log> = fog().iter().map(|(_, l)| l).collect();
+    let campaign = joined(&logs);
+    let timing = campaign.timing();
+    let ends: Vec<usize> = campaign.runs().iter().map(|r| r.samples.end).collect();
+    for end in &ends {
+        assert!(
+            timing.segments.iter().any(|s| s.end == *end),
+            "a segment ends at every run's end: {:?} {ends:?}",
+            timing.segments
+        );
+    }
+    assert!(timing.gaps.is_empty(), "no outage between runs");
+    // Each run set apart is the run as read, on its own time.
+    for (k, log) in logs.iter().enumerate() {
+        let back = campaign.run_log(k).unwrap();
+        assert_eq!(back.time_s, log.time_s);
+        assert_eq!(back.omega_dph, log.omega_dph);
+        assert_eq!(back.temp_c, log.temp_c);
+    }
+    // The T stages of the campaign are each run's own: the plateaus found are the union of
+    // those each run gives alone, moved to the joined time.
+    let recipe = CheckedRecipe::default();
+    let together = models::vakhrameev::Pipeline::new(&campaign, &recipe).unwrap();
+    let mut apart = Vec::new();
+    for (k, log) in logs.iter().enumerate() {
+        let shift = campaign.runs()[k].time_shift_s;
+        let p = models::vakhrameev::Pipeline::new(log, &recipe).unwrap();
+        apart.extend(
+            p.ranges()
+                .iter()
+                .map(|r| (r.start_s + shift, r.end_s + shift)),
+        );
+    }
+    let got: Vec<(f64, f64)> = together
+        .ranges()
+        .iter()
+        .map(|r| (r.start_s, r.end_s))
+        .collect();
+    assert_eq!(got.len(), apart.len());
+    for (a, b) in got.iter().zip(&apart) {
+        assert!(
+            (a.0 - b.0).abs() < 1e-6 && (a.1 - b.1).abs() < 1e-6,
+            "{a:?} {b:?}"
+        );
+    }
+}
+
+#[test]
+fn turn_on_offsets_built_in_are_recovered() {
+    let logs: Vec<&Log> = fog().iter().map(|(_, l)| l).collect();
+    // fog-three-runs: the repeat turned on 0.05 °/h above the heating run, the cooling run
+    // with none; a further +0.3 °/h given to the cooling run here.
+    let mut cooling = logs[2].clone();
+    for w in &mut cooling.omega_dph {
+        *w += 0.3;
+    }
+    let built = [0.0, 0.05, 0.3];
+    let mut log = joined(&[logs[0], logs[1], &cooling]);
+    let runs = fitted_runs(&mut log, true);
+    let c: Vec<f64> = runs.iter().map(|r| r.turn_on_offset_dph.unwrap()).collect();
+    assert!(
+        c.iter().sum::<f64>().abs() < 1e-9,
+        "offsets sum to zero: {c:?}"
+    );
+    for k in 1..3 {
+        let (got, want) = (c[k] - c[0], built[k] - built[0]);
+        assert!(
+            (got - want).abs() < 0.01,
+            "run {k}: offset {got} against run 0, built {want} ({c:?})"
+        );
+    }
+    // Without the offsets taken out, the cooling run's +0.3 °/h is in K0 and in its figures.
+    let mut plain = joined(&[logs[0], logs[1], &cooling]);
+    let without = fitted_runs(&mut plain, false);
+    assert!(without.iter().all(|r| r.turn_on_offset_dph.is_none()));
+}
+
+#[test]
+fn offsets_of_runs_that_share_no_temperature_are_refused() {
+    let logs: Vec<&Log> = tiny().iter().map(|(_, l)| l).collect();
+    let hot = driftlab::sim::simulate(&driftlab::sim::profile("yan-steps-high").unwrap(), 9);
+    let hot = hot.to_log("hot.csv");
+    let mut log = joined(&[logs[0], &hot]);
+    let err = calibrate_campaign(
+        &mut log,
+        &vakhrameev(),
+        &MeritOptions::default(),
+        &CampaignOptions {
+            per_run_offset: true,
+            ..CampaignOptions::default()
+        },
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(
+        err.contains("hot.csv") && err.contains("shares no plateau temperature"),
+        "{err}"
+    );
+}
+
+/// The mean of `values` (one per logged sample of `sim`) over a plateau on the run's own
+/// time.
+fn mean_over(sim: &SimRun, values: &[f64], start_s: f64, end_s: f64) -> f64 {
+    let picked: Vec<f64> = sim
+        .logged_time_s()
+        .iter()
+        .zip(values)
+        .filter(|(t, _)| **t >= start_s && **t <= end_s)
+        .map(|(_, w)| *w)
+        .collect();
+    picked.iter().sum::<f64>() / picked.len() as f64
+}
+
+#[test]
+fn repeatability_spread_is_the_one_built_in() {
+    let sims: Vec<&SimRun> = fog().iter().map(|(s, _)| s).collect();
+    let logs: Vec<&Log> = fog().iter().map(|(_, l)| l).collect();
+    let mut log = joined(&logs);
+    let runs = fitted_runs(&mut log, false);
+    // The same plateaus with the simulator's noise-free drift (its offset included) for bias:
+    // the spread built in. Each recorded bias is that truth plus the plateau's mean noise,
+    // which bounds how far the spread may stand from the one built in.
+    let mut truth = runs.clone();
+    let mut noise_bound: f64 = 0.0;
+    for ((r, t), sim) in runs.iter().zip(truth.iter_mut()).zip(&sims) {
+        for (p, q) in r.plateaus.iter().zip(t.plateaus.iter_mut()) {
+            let thermal = mean_over(sim, &sim.thermal_dph, p.start_s, p.end_s);
+            let noise = mean_over(sim, &sim.noise_dph, p.start_s, p.end_s);
+            assert!(
+                (p.bias_dph - (thermal + noise)).abs() < 1e-9,
+                "{}: bias {} is not the plateau's drift {thermal} and noise {noise}",
+                r.name,
+                p.bias_dph
+            );
+            q.bias_dph = thermal;
+            noise_bound = noise_bound.max(noise.abs());
+        }
+    }
+    let got = repeatability(&runs, 1.0);
+    let want = repeatability(&truth, 1.0);
+    assert_eq!(got.len(), want.len());
+    assert!(got.len() >= 2, "20 and 60 °C at least: {got:?}");
+    for (g, w) in got.iter().zip(&want) {
+        assert_eq!(g.runs, w.runs);
+        assert!(
+            (g.spread_dph - w.spread_dph).abs() <= 2.0 * noise_bound + 1e-12,
+            "{} °C: spread {} against {} built in (plateau noise up to {noise_bound})",
+            g.temp_c,
+            g.spread_dph,
+            w.spread_dph
+        );
+    }
+    // The repeat's +0.05 °/h turn-on is in the spread at 60 °C, held by the two heating runs
+    // and the cooling run's start.
+    let at60 = want.iter().find(|g| (g.temp_c - 60.0).abs() < 1.0).unwrap();
+    assert!(at60.spread_dph > 0.045, "{at60:?}");
+    // The simulated gyro has no static hysteresis: net of the turn-on offsets, heating and
+    // cooling agree at 20 °C to the noise and the settling left.
+    let mut log = joined(&logs);
+    let net = fitted_runs(&mut log, true);
+    let h = hysteresis(&net, 1.0);
+    let at20 = h.iter().find(|g| (g.temp_c - 20.0).abs() < 1.0).unwrap();
+    assert!(at20.net_of_turn_on_offsets);
+    assert!(at20.difference_dph.abs() < 0.01, "{at20:?}");
+}
+
+#[test]
+fn runs_not_of_one_gyro_are_refused_saying_what_differs() {
+    let logs: Vec<&Log> = tiny().iter().map(|(_, l)| l).collect();
+    let run = |log: &Log, sha: &str| RunInput {
+        log: log.clone(),
+        sha256: sha.into(),
+    };
+    // The same file twice.
+    let e = join(vec![run(logs[0], "ab"), run(logs[1], "AB")]).unwrap_err();
+    assert!(matches!(e, CampaignError::SameFile { .. }), "{e}");
+    // One run's samples under other bytes.
+    let e = join(vec![run(logs[0], "a"), run(logs[0], "b")]).unwrap_err();
+    assert!(matches!(e, CampaignError::SameRun { .. }), "{e}");
+    // Another sampling step.
+    let fast_profile = {
+        let mut p = driftlab::sim::profile("calibration").unwrap();
+        p.sample_rate_hz = 2.0;
+        p.program.truncate(2);
+        p
+    };
+    let fast = driftlab::sim::simulate(&fast_profile, 4).to_log("fast.csv");
+    let e = join(vec![run(logs[0], "a"), run(&fast, "f")]).unwrap_err();
+    let msg = e.to_string();
+    assert!(
+        msg.contains("sampling step") && msg.contains("fast.csv") && msg.contains("0.5 s"),
+        "{msg}"
+    );
+    // Other axes.
+    let mut renamed = logs[1].clone();
+    renamed.axis = "gz".into();
+    let msg = join(vec![run(logs[0], "a"), run(&renamed, "r")])
+        .unwrap_err()
+        .to_string();
+    assert!(msg.contains("gyro axes") && msg.contains("gz"), "{msg}");
+    // A run with no plateau.
+    let ramps = driftlab::sim::simulate(&driftlab::sim::profile("no-plateaus").unwrap(), 5)
+        .to_log("ramps.csv");
+    let mut log = join(vec![run(logs[0], "a"), run(&ramps, "r")]).unwrap();
+    let err = calibrate_campaign(
+        &mut log,
+        &vakhrameev(),
+        &MeritOptions::default(),
+        &CampaignOptions::default(),
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(
+        err.contains("ramps.csv") && err.contains("has no plateau"),
+        "{err}"
+    );
+}
+
+#[test]
+fn leave_one_run_out_is_each_fold_fitted_and_judged_by_hand() {
+    let logs: Vec<&Log> = tiny().iter().map(|(_, l)| l).collect();
+    let campaign = joined(&logs);
+    let choices = [
+        ModelChoice::Preset(Preset::Vakhrameev),
+        ModelChoice::Preset(Preset::PolyT),
+    ];
+    let recipe = CheckedRecipe::default();
+    let merit = MeritOptions::default();
+    let reports = compare::compare(&campaign, &[], &choices, &recipe, &merit);
+    for (report, choice) in reports.iter().zip(&choices) {
+        let loro = report.leave_one_run_out.as_ref().expect("a campaign");
+        assert_eq!(loro.runs.len(), 3);
+        let mut ratios = Vec::new();
+        for k in 0..3 {
+            let rest: Vec<&Log> = (0..3).filter(|&j| j != k).map(|j| logs[j]).collect();
+            let model = models::fit(&joined(&rest), choice, &recipe).unwrap();
+            let c = model.correct(logs[k]).unwrap();
+            let e = Evaluation::of_correction(logs[k], &c, &merit).comparison;
+            let got = &loro.runs[k];
+            assert_eq!(got.run, logs[k].source);
+            assert_eq!(got.p2p_ratio, Some(e.p2p_ratio), "{} run {k}", report.model);
+            assert_eq!(got.corrected_p2p_dph, Some(e.corrected.p2p_dph));
+            ratios.push(e.p2p_ratio);
+        }
+        let mean = ratios.iter().sum::<f64>() / 3.0;
+        let worst = ratios.iter().copied().fold(f64::INFINITY, f64::min);
+        assert_eq!(loro.mean_p2p_ratio, Some(mean));
+        assert_eq!(loro.worst_p2p_ratio, Some(worst));
+    }
+    // With no held-out log, the recommendation is judged on the runs left out.
+    let rec = recommend::recommend(&campaign, &reports, &choices, &recipe, &merit, &|| true)
+        .expect("judged");
+    assert!(matches!(rec.judged_on, JudgedOn::RunsLeftOut { ref runs } if runs.len() == 3));
+    assert!(rec.caution.is_none() || !rec.caution.as_deref().unwrap().contains("blocks"));
+    let best = reports
+        .iter()
+        .max_by(|a, b| {
+            let w =
+                |r: &compare::ModelReport| r.leave_one_run_out.as_ref().unwrap().worst_p2p_ratio;
+            w(a).partial_cmp(&w(b)).unwrap()
+        })
+        .unwrap();
+    assert_eq!(rec.model, best.model);
+    // A log of one run has nothing to leave out.
+    let single = compare::compare(logs[0], &[], &choices[..1], &recipe, &merit);
+    assert!(single[0].leave_one_run_out.is_none());
+}
