@@ -31,6 +31,7 @@
 //! function.
 
 mod axis_summary;
+mod campaign_section;
 pub mod figures;
 mod folder;
 pub mod html;
@@ -304,7 +305,11 @@ pub fn write_model(
             model,
             summary: &summary,
         };
-        page::write(&[axis], &summary.html)?;
+        page::write(
+            &[axis],
+            &summary.html,
+            crate::models::campaign::DEFAULT_TOLERANCE_C,
+        )?;
         summary.files.push(summary.html.clone());
         Ok(summary)
     })
