@@ -135,6 +135,9 @@ fn campaign_section_shows_calibrates_figures_with_turn_on_offsets() {
         assert!(page.contains(&format!(" run {} of the campaign</h3>", k + 1)));
     }
     assert!(!sec.contains("not estimated") && !sec.contains("not given"));
+    // The runs' plateau biases drawn beside K0.
+    assert!(page.contains("<b>Campaign.</b>"), "no campaign figure");
+    assert!(dir.path().join("rep/campaign.png").is_file());
 }
 
 #[test]
@@ -206,4 +209,5 @@ fn a_calibration_of_one_run_has_no_campaign_section() {
     let page = report(&cal, logs, &dir.path().join("rep"), &[]);
     assert!(!page.contains("Campaign") && !page.contains("of the campaign"));
     assert!(!page.contains("campaign-runs"));
+    assert!(!dir.path().join("rep/campaign.png").exists());
 }
