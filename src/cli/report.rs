@@ -25,11 +25,24 @@ pub struct Args {
     /// shorter than a log's step is refused; the default's figures are then n/a, with why.
     #[arg(long, value_name = "S")]
     pub window: Option<f64>,
+    /// With a calibration fitted on several runs: plateaus share a temperature within this,
+    /// degC (the campaign section's repeatability and hysteresis). Default 1, as calibrate's.
+    #[arg(long, value_name = "DEGC")]
+    pub temp_tolerance: Option<f64>,
     #[command(flatten)]
     pub log_args: LogArgs,
 }
 
 pub fn run(mut a: Args) -> Result<(), CliError> {
+    let tolerance_c = a
+        .temp_tolerance
+        .unwrap_or(driftlab::models::campaign::DEFAULT_TOLERANCE_C);
+    if !(tolerance_c.is_finite() && tolerance_c > 0.0) {
+        return Err(CliError::Message(format!(
+            "--temp-tolerance {}: plateaus share a temperature within a tolerance above 0 degC",
+            driftlab::number::readable(tolerance_c)
+        )));
+    }
     let mut reads = common::Reads::of("the calibration", &a.calibration);
     common::refuse_folder_over("--out", &a.out, reads.add_all("a log", &a.logs))?;
     let logs: Vec<&Path> = a.logs.iter().map(PathBuf::as_path).collect();
@@ -59,7 +72,7 @@ pub fn run(mut a: Args) -> Result<(), CliError> {
     });
     // One writer for every calibration, a single axis being a unit of one; the lines printed
     // are those of a unit of named axes, or the one line per log of a single axis.
-    let summary = report::write_unit(&unit, &mut logs, &a.out, merit, Some(hashes))
+    let summary = report::write_unit(&unit, &mut logs, &a.out, merit, Some(hashes), tolerance_c)
         .map_err(|e| e.to_string())?;
     if unit.is_unit() {
         print_axes(&logs, &summary)?;

@@ -117,9 +117,16 @@ pub fn write_unit_report(
         filter_s: None,
         window_s: crate::judge::metrics::MeritOptions::default().window_s,
     };
-    crate::export::report::write_unit(unit, &mut logs, dir, merit, None)
-        .map(|s| s.html)
-        .map_err(|e| e.to_string())
+    crate::export::report::write_unit(
+        unit,
+        &mut logs,
+        dir,
+        merit,
+        None,
+        crate::models::campaign::DEFAULT_TOLERANCE_C,
+    )
+    .map(|s| s.html)
+    .map_err(|e| e.to_string())
 }
 
 /// Writes any fitted model's calibration file (the engine's format, atomically), naming its

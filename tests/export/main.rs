@@ -14,4 +14,5 @@ mod flight_exports;
 mod flight_forms;
 mod flight_one_axis;
 mod report;
+mod report_campaign;
 mod report_knots;

@@ -185,7 +185,9 @@ fn figure_html(f: &Figure, page_dir: &std::path::Path) -> Result<Markup> {
     })
 }
 
-fn merit_table(l: &LogReport, d: Depth, window_s: f64) -> Markup {
+/// `run`: the number of the campaign's run this log is, when it is one
+/// ([`super::campaign_section::run_of`]).
+fn merit_table(l: &LogReport, d: Depth, window_s: f64, run: Option<usize>) -> Markup {
     let e = &l.evaluation;
     let c = &e.comparison;
     // The windowed figures named by the window they were computed over, as the CLI's tables.
@@ -236,7 +238,10 @@ fn merit_table(l: &LogReport, d: Depth, window_s: f64) -> Markup {
         ("mean", c.raw.mean_dph, c.corrected.mean_dph, None),
     ];
     html! {
-        (heading(d.part, html! { (l.name) " " (tag(l)) }))
+        (heading(d.part, html! {
+            (l.name) " " (tag(l))
+            @if let Some(k) = run { " run " (k) " of the campaign" }
+        }))
         p {
             (l.samples) " samples, " (format!("{:.2}", l.duration_s / 3600.0)) " h, T "
             (format!("{:.1}", l.temp_range_c.0)) " … " (format!("{:.1}", l.temp_range_c.1))
@@ -294,8 +299,13 @@ pub(super) fn document(gyro: &str, extra_css: &str, body: Markup) -> Markup {
     }
 }
 
-/// The figures of merit of every log.
-pub(super) fn merit_section(s: &ReportSummary, d: Depth) -> Markup {
+/// The figures of merit of every log; a log that is a run of the campaign in `runs` (empty
+/// for a calibration of one run) says which.
+pub(super) fn merit_section(
+    s: &ReportSummary,
+    d: Depth,
+    runs: &[crate::models::campaign::RunRecord],
+) -> Markup {
     html! {
         (heading(d.section, html! { "Figures of merit" }))
         p {
@@ -311,7 +321,7 @@ pub(super) fn merit_section(s: &ReportSummary, d: Depth) -> Markup {
             p { "No log was given: the calibration alone is reported." } "\n"
         }
         @for l in &s.logs {
-            (merit_table(l, d, s.merit.window_s))
+            (merit_table(l, d, s.merit.window_s, super::campaign_section::run_of(runs, &l.sha256)))
         }
     }
 }

@@ -7,6 +7,8 @@
 //! * `k0`, `k1`, `k2`: the fitted coefficients over their variables, with the plateau points
 //!   and (when the calibration's own log is among the logs) the pointwise K1± and K2± values
 //!   they were fitted to;
+//! * `campaign`, for a calibration fitted on several runs: every run's plateau biases over
+//!   temperature beside K0(T); the page then has a campaign section (`campaign_section.rs`);
 //! * `allan-LOG`: Allan deviation before and after correction, when curves are given or the
 //!   Allan hook ([`allan_curves`]) provides them;
 //! * `report.html`: the gyro's identity, the recipe, the coefficients with their ranges, the
@@ -31,6 +33,7 @@
 //! function.
 
 mod axis_summary;
+mod campaign_section;
 pub mod figures;
 mod folder;
 pub mod html;
@@ -304,7 +307,11 @@ pub fn write_model(
             model,
             summary: &summary,
         };
-        page::write(&[axis], &summary.html)?;
+        page::write(
+            &[axis],
+            &summary.html,
+            crate::models::campaign::DEFAULT_TOLERANCE_C,
+        )?;
         summary.files.push(summary.html.clone());
         Ok(summary)
     })

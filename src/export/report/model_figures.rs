@@ -1,6 +1,7 @@
 //! The figures of a model itself, drawn once per axis before its logs': a Vakhrameev
 //! calibration's coefficients (`k0`, `k1`, `k2`: the fitted curves with the plateau points and,
-//! when its own log is among the logs, the pointwise K1± and K2± values they were fitted to), a
+//! when its own log is among the logs, the pointwise K1± and K2± values they were fitted to;
+//! for a calibration of a campaign, `campaign`: every run's plateau biases beside K0), a
 //! regression model's searches (`costs`: RMS residual over the values tried, the chosen one
 //! marked; only when the model searched).
 
@@ -38,6 +39,46 @@ pub(super) fn draw(
     }
 }
 
+/// The campaign's figure (`campaign`): every run's plateau biases over temperature with K0.
+fn campaign_figure(cal: &Calibration, out_dir: &Path, files: &mut Vec<PathBuf>) -> Result<Figure> {
+    let runs: Vec<figures::RunPoints> = cal
+        .source
+        .runs
+        .iter()
+        .enumerate()
+        .map(|(k, r)| figures::RunPoints {
+            label: format!("run {}: {}", k + 1, crate::text::escaped(&r.name, false)),
+            points: r.plateaus.iter().map(|p| (p.temp_c, p.bias_dph)).collect(),
+        })
+        .collect();
+    let f = figures::campaign_biases(
+        &out_dir.join("campaign"),
+        "Plateau biases of the campaign's runs and K0(T)",
+        &cal.k0,
+        &runs,
+    )?;
+    files.extend(f.iter().cloned());
+    let offsets = cal
+        .source
+        .runs
+        .iter()
+        .any(|r| r.turn_on_offset_dph.is_some());
+    Ok(figure(
+        "Campaign".into(),
+        format!(
+            "Each plateau's bias (the mean raw rate, the run's turn-on offset included), a              colour per run, over its temperature, and the {} fit of K0(T){}.",
+            cal.k0.kind(),
+            if offsets {
+                ", which the runs' estimated turn-on offsets were kept out of: a run's points \
+                 sit about its offset (campaign section) from the others'"
+            } else {
+                ""
+            }
+        ),
+        f,
+    ))
+}
+
 /// K0(T) with its plateau points, K1± and K2± with their pointwise values.
 fn vakhrameev(
     cal: &Calibration,
@@ -47,7 +88,7 @@ fn vakhrameev(
 ) -> Result<ModelFigures> {
     let mut notes = Vec::new();
     let mut files = Vec::new();
-    let taken: Vec<String> = ["k0", "k1", "k2", "report"]
+    let mut taken: Vec<String> = ["k0", "k1", "k2", "report"]
         .iter()
         .map(|s| s.to_string())
         .collect();
@@ -82,6 +123,10 @@ fn vakhrameev(
         ),
         f,
     ));
+    if !cal.source.runs.is_empty() {
+        taken.push("campaign".into());
+        cal_figures.push(campaign_figure(cal, out_dir, &mut files)?);
+    }
 
     let own = in_sample.iter().position(|&b| b);
     let points = own.map(|i| cal.pointwise(&logs[i].1));

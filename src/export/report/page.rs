@@ -9,13 +9,14 @@
 //! The page walks the unit's axes and nothing else, so the dimensions still to come are
 //! additions: an accelerometer axis is one more axis (its kind would word its heading and its
 //! introduction, [`axis_heading`]); the runs of a campaign are more rows of the identity
-//! ([`identity`]) and more logs in each axis's figures of merit; a lot is a page above this one
+//! ([`identity`]), more logs in each axis's figures of merit, and a campaign section per axis
+//! (`campaign_section.rs`: nothing for one run); a lot is a page above this one
 //! with one row per unit, as [`super::axis_summary`] has one row per axis.
 
 use super::ReportSummary;
 use super::axis_summary::summary;
 use super::html::{AXIS, Depth, PAGE, corrected, document, figures_and_notes, row};
-use super::{regression_section, vakhrameev_section};
+use super::{campaign_section, regression_section, vakhrameev_section};
 use crate::error::{Error, Result};
 use crate::models::DriftModel;
 use maud::{Markup, html};
@@ -69,18 +70,19 @@ impl Layout {
 }
 
 /// Writes the page of `axes` to `html` (atomically); the figures' files are named from the
-/// page's folder.
+/// page's folder. `tolerance_c`: within what two plateaus of a campaign share a temperature
+/// (its section's repeatability and hysteresis).
 ///
 /// # Errors
 /// A figure's SVG that cannot be read back, the page that cannot be written;
 /// [`Error::Internal`] for a page without axes.
-pub(super) fn write(axes: &[PageAxis<'_>], html: &Path) -> Result<()> {
-    let text = page(axes, html.parent().unwrap_or(Path::new("")))?;
+pub(super) fn write(axes: &[PageAxis<'_>], html: &Path, tolerance_c: f64) -> Result<()> {
+    let text = page(axes, html.parent().unwrap_or(Path::new("")), tolerance_c)?;
     crate::files::atomic::write_bytes(html, text.as_bytes()).map_err(|e| Error::io(html, e))
 }
 
 /// The whole page of `axes`, the figures' files named from `page_dir`.
-fn page(axes: &[PageAxis<'_>], page_dir: &Path) -> Result<String> {
+fn page(axes: &[PageAxis<'_>], page_dir: &Path, tolerance_c: f64) -> Result<String> {
     let first = axes
         .first()
         .ok_or(Error::Internal("a report page without axes"))?;
@@ -116,6 +118,7 @@ fn page(axes: &[PageAxis<'_>], page_dir: &Path) -> Result<String> {
                     (regression_section::body(reg, axis.summary, depth))
                 }
             }
+            (campaign_section::body(&axis.model.source().runs, axis.summary, tolerance_c, depth))
             (figures)
         }
     };

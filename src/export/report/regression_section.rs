@@ -50,7 +50,7 @@ pub(super) fn formula_html(cal: &RegressionCalibration) -> Markup {
 pub(super) fn body(cal: &RegressionCalibration, s: &ReportSummary, d: Depth) -> Markup {
     let spec_json = serde_json::to_string_pretty(&cal.model.spec).unwrap_or_default();
     html! {
-        (merit_section(s, d))
+        (merit_section(s, d, &cal.source.runs))
         (heading(d.section, html! { "Model" }))
         table { "\n" (model_rows(cal)) }
         "\n"

@@ -82,19 +82,32 @@ impl UnitReportSummary {
 /// is replaced whole, as [`super::write_model`] replaces it. Each
 /// log's axes are selected in turn (the logs come back with the last axis in `omega_dph`).
 /// `sha256`: each log's hash, when the caller has it (see [`ReportOptions::sha256`]).
+/// `tolerance_c`: within what two plateaus of a campaign share a temperature, for the
+/// campaign section of a calibration fitted on several runs (°C, above 0;
+/// [`crate::models::campaign::DEFAULT_TOLERANCE_C`] is `calibrate`'s default).
 ///
 /// # Errors
 /// A log without an axis of the unit (by name, or by the rate column the axis was read from),
 /// a log lacking a channel a model reads, a file that cannot be written, an `out_dir` that is
-/// a file or a folder holding other things than a report.
+/// a file or a folder holding other things than a report, a `tolerance_c` not above 0.
 pub fn write_unit(
     unit: &UnitCalibration,
     logs: &mut [(PathBuf, Log)],
     out_dir: &Path,
     merit: UnitMerit,
     sha256: Option<Vec<String>>,
+    tolerance_c: f64,
 ) -> Result<UnitReportSummary> {
     unit.validate()?;
+    if !(tolerance_c.is_finite() && tolerance_c > 0.0) {
+        return Err(Error::Invalid(Invalid::new(
+            "tolerance_c",
+            format!(
+                "is {}: the temperatures two plateaus share are within a tolerance above 0 °C",
+                crate::number::readable(tolerance_c)
+            ),
+        )));
+    }
     let hashes: Vec<String> = match sha256 {
         Some(h) if h.len() == logs.len() => h,
         _ => logs
@@ -132,16 +145,17 @@ pub fn write_unit(
         }
     }
     folder::replace(out_dir, |dir| {
-        write_axes(unit, logs, dir, merit, &hashes, log_axes)
+        write_axes(unit, logs, dir, (merit, tolerance_c), &hashes, log_axes)
     })
 }
 
-/// Writes every axis's figures into a folder of its own in `out_dir`, then the page.
+/// Writes every axis's figures into a folder of its own in `out_dir`, then the page (a
+/// campaign's plateaus grouped within `tolerance_c`).
 fn write_axes(
     unit: &UnitCalibration,
     logs: &mut [(PathBuf, Log)],
     out_dir: &Path,
-    merit: UnitMerit,
+    (merit, tolerance_c): (UnitMerit, f64),
     hashes: &[String],
     log_axes: Vec<Vec<String>>,
 ) -> Result<UnitReportSummary> {
@@ -195,7 +209,7 @@ fn write_axes(
             summary: &rep.summary,
         })
         .collect();
-    page::write(&page_axes, &html)?;
+    page::write(&page_axes, &html, tolerance_c)?;
     files.push(html.clone());
     Ok(UnitReportSummary { html, files, axes })
 }

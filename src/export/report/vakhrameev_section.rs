@@ -31,7 +31,7 @@ fn curve_text(a: &Approx) -> String {
 pub(super) fn body(cal: &Calibration, s: &ReportSummary, d: Depth) -> Markup {
     let recipe_json = serde_json::to_string_pretty(&cal.recipe).unwrap_or_default();
     html! {
-        (merit_section(s, d))
+        (merit_section(s, d, &cal.source.runs))
         (heading(d.section, html! { "Recipe" }))
         table { "\n" (recipe_rows(cal)) }
         "\n"

@@ -16,7 +16,7 @@ use std::path::{Path, PathBuf};
 
 /// Samples of a curve over `[a, b]`, split where the curve holds its edge value (outside the
 /// fitted range): `(inside, outside)` runs.
-fn curve_points(f: &Approx, a: f64, b: f64) -> (Line, Vec<Line>) {
+pub(super) fn curve_points(f: &Approx, a: f64, b: f64) -> (Line, Vec<Line>) {
     const N: usize = 400;
     let (lo, hi) = (f.x_min(), f.x_max());
     let mut inside = Vec::new();

@@ -9,6 +9,7 @@
 //! kilobytes.
 
 mod allan_deviation;
+mod campaign;
 mod chart;
 mod coefficients;
 mod cost;
@@ -17,6 +18,7 @@ mod scales;
 mod time;
 
 pub use allan_deviation::{AllanLine, allan};
+pub use campaign::{RunPoints, campaign_biases};
 pub use coefficients::{PlateauPoint, RateAxes, RateSet, k0, rate_coefficient};
 pub use cost::{CostLine, cost_curves};
 pub use error::{DrawError, FigureError};
