@@ -66,6 +66,7 @@ pub fn run(mut a: Args) -> Result<(), CliError> {
             opts: judged_axis.options,
             in_sample: judged_axis.in_sample,
             share: judged_axis.share,
+            campaign_run: judged_axis.campaign_run,
             eval: judged_axis.evaluation,
         });
     }
@@ -127,7 +128,7 @@ fn print_single(a: &Args, j: &AxisJudged) -> Result<(), CliError> {
         "{} on {} ({}):",
         super::calibrate::file_name(&a.calibration),
         super::calibrate::file_name(&a.log),
-        verify::sample_label(j.in_sample, j.share)
+        j.label()
     )?;
     common::print_evaluation(&j.eval, j.opts.window_s)
 }
@@ -226,10 +227,7 @@ fn print_unit(a: &Args, unit: &UnitCalibration, judged: &[AxisJudged]) -> Result
     }
     // Each axis is judged on its own samples: one label for the unit when they agree, else
     // the axes grouped by verdict, and each axis's label beside it.
-    let labels: Vec<String> = judged
-        .iter()
-        .map(|j| verify::sample_label(j.in_sample, j.share))
-        .collect();
+    let labels: Vec<String> = judged.iter().map(AxisJudged::label).collect();
     let one_label = labels.windows(2).all(|w| w[0] == w[1]);
     let kinds: Vec<(&str, &'static str, String)> = judged
         .iter()
@@ -309,7 +307,20 @@ struct AxisJudged {
     in_sample: bool,
     /// How much of the log is the calibration log's, when its samples' sketch tells.
     share: Option<Shared>,
+    /// The run of the calibration's campaign the log is, in words, when it is one.
+    campaign_run: Option<String>,
     eval: Evaluation,
+}
+
+impl AxisJudged {
+    /// Whether the log is the calibration's own, in words: the run of its campaign it is,
+    /// or [`verify::sample_label`]'s.
+    fn label(&self) -> String {
+        match &self.campaign_run {
+            Some(run) if self.in_sample => run.clone(),
+            _ => verify::sample_label(self.in_sample, self.share),
+        }
+    }
 }
 
 /// One line of a unit's summary table.

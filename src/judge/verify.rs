@@ -59,6 +59,9 @@ pub struct Judged {
     /// (the gyro the model was fitted on, the gyro of the drone log judged) when they are two
     /// gyros: another sensor's samples, held out whatever the file.
     pub other_gyro: Option<(DroneGyro, DroneGyro)>,
+    /// The run of the calibration's campaign whose file this log is, in words
+    /// ([`campaign_run_label`]); `None` for another file, or a calibration of one run.
+    pub campaign_run: Option<String>,
     /// Raw against corrected.
     pub evaluation: Evaluation,
     /// The correction itself (the window draws it).
@@ -69,7 +72,10 @@ impl Judged {
     /// Whether the log is the calibration's own, in words ([`sample_label`]), and when it is
     /// another gyro than the one calibrated, which two.
     pub fn sample_label(&self) -> String {
-        let label = sample_label(self.in_sample, self.share);
+        let label = match &self.campaign_run {
+            Some(run) if self.in_sample => run.clone(),
+            _ => sample_label(self.in_sample, self.share),
+        };
         match &self.other_gyro {
             Some((fitted, read)) => format!(
                 "{label}; another gyro than the one calibrated: this log's {}, the \
@@ -138,9 +144,33 @@ pub fn judge(
         share,
         told,
         other_gyro,
+        campaign_run: campaign_run_label(source, file.sha256),
         evaluation,
         correction,
     })
+}
+
+/// "in-sample: run 2 of the calibration's campaign (B.csv)" for a log whose file's SHA-256
+/// is a run's of the campaign the calibration was fitted on; `None` otherwise.
+pub fn campaign_run_label(
+    source: &crate::models::vakhrameev::SourceInfo,
+    file_sha256: &str,
+) -> Option<String> {
+    if file_sha256.is_empty() {
+        return None;
+    }
+    source
+        .runs
+        .iter()
+        .position(|r| !r.sha256.is_empty() && r.sha256.eq_ignore_ascii_case(file_sha256))
+        .map(|k| {
+            format!(
+                "in-sample: run {} of the {} runs of the calibration's campaign ({})",
+                k + 1,
+                source.runs.len(),
+                crate::text::escaped(&source.runs[k].name, false)
+            )
+        })
 }
 
 /// Whether the log judged on is the calibration's own, in words: with how much of it is the

@@ -193,6 +193,10 @@ pub fn calibrate_campaign(
         plans.iter().map(|p| p.name.clone()).collect()
     };
     let mut records = Vec::with_capacity(plans.len());
+    // The raw rates of the axes whose offsets are taken out, put back after the fit: the
+    // calibration's sketch of its samples is the files' (a run given again is told by it),
+    // and the caller's log ends as it was read.
+    let mut raw: Vec<(String, Vec<f64>)> = Vec::new();
     for (plan, name) in plans.iter().zip(&names) {
         let omega = log.axis_rate(name).unwrap_or(&log.omega_dph);
         // Every range holds samples (`run_of` found them), so the stats stay beside their runs.
@@ -230,6 +234,7 @@ pub fn calibrate_campaign(
         if let Some(offsets) = offsets {
             let spans: Vec<_> = log.runs().iter().map(|r| r.samples.clone()).collect();
             let omega = axis_rate_mut(log, name);
+            raw.push((name.clone(), omega.clone()));
             for (span, c) in spans.into_iter().zip(offsets) {
                 for w in &mut omega[span] {
                     *w -= c;
@@ -237,7 +242,22 @@ pub fn calibrate_campaign(
             }
         }
     }
-    let axes = calibrate(log, plans, merit)?;
+    let fitted = calibrate(log, plans, merit);
+    let first_axis = log.axis.clone();
+    for (name, omega) in raw {
+        *axis_rate_mut(log, &name) = omega;
+    }
+    let mut axes = fitted?;
+    if options.per_run_offset {
+        let order = log.axis_names();
+        for (a, name) in axes.iter_mut().zip(&names) {
+            log.select_axis(name);
+            a.calibrated.model.source_mut().samples_sketch =
+                super::vakhrameev::SourceInfo::of(log).samples_sketch;
+        }
+        log.select_axis(&first_axis);
+        log.order_axes_as(&order);
+    }
     Ok(CampaignFit {
         axes,
         runs: records,

@@ -16,6 +16,7 @@ mod attack18;
 mod attack19;
 mod attack20;
 mod axis_choice;
+mod campaign;
 mod commands;
 mod compare_verdicts;
 mod degenerate_logs;

@@ -169,7 +169,9 @@ fn turn_on_offsets_built_in_are_recovered() {
     }
     let built = [0.0, 0.05, 0.3];
     let mut log = joined(&[logs[0], logs[1], &cooling]);
+    let read = log.omega_dph.clone();
     let runs = fitted_runs(&mut log, true);
+    assert_eq!(log.omega_dph, read, "the log's rates end as read");
     let c: Vec<f64> = runs.iter().map(|r| r.turn_on_offset_dph.unwrap()).collect();
     assert!(
         c.iter().sum::<f64>().abs() < 1e-9,

@@ -1,0 +1,184 @@
+//! A campaign on the command line, as an engineer runs one: the simulator's three runs of one
+//! gyro written as files, calibrated together, the calibration read by every command like any
+//! other, compared with each run left out, and what cannot be a campaign refused by name.
+
+use crate::common::run::{fails, ok, p};
+use serde_json::Value;
+use sha2::{Digest, Sha256};
+
+/// The three runs of `fog-three-runs`, written by `driftlab simulate --campaign`.
+fn runs(dir: &std::path::Path) -> Vec<String> {
+    ok(&[
+        "simulate",
+        "--campaign",
+        "fog-three-runs",
+        "--out-dir",
+        dir.to_str().unwrap(),
+    ]);
+    ["heating", "repeat", "cooling"]
+        .iter()
+        .map(|r| p(dir, &format!("fog-three-runs-{r}.csv")))
+        .collect()
+}
+
+fn sha256_of(path: &str) -> String {
+    Sha256::digest(std::fs::read(path).unwrap())
+        .iter()
+        .map(|b| format!("{b:02x}"))
+        .collect()
+}
+
+#[test]
+fn three_runs_calibrate_as_one_and_every_command_reads_the_calibration() {
+    let dir = tempfile::tempdir().unwrap();
+    let r = runs(dir.path());
+    let cal = p(dir.path(), "cal.json");
+    let out = ok(&[
+        "calibrate",
+        &r[0],
+        &r[1],
+        &r[2],
+        "--out",
+        &cal,
+        "--per-run-offset",
+        "--json",
+    ]);
+    let json: Value = serde_json::from_str(&out).unwrap();
+    let campaign = &json["campaign"];
+    let recorded = campaign["runs"].as_array().unwrap();
+    assert_eq!(recorded.len(), 3);
+    // The file records each run by its file's hash, computed here from the bytes.
+    let file: Value = serde_json::from_str(&std::fs::read_to_string(&cal).unwrap()).unwrap();
+    let in_file = file["calibration"]["source"]["runs"]
+        .as_array()
+        .expect("runs in the file");
+    for (k, run) in in_file.iter().enumerate() {
+        assert_eq!(run["sha256"], sha256_of(&r[k]), "run {k}");
+        assert!(run["plateaus"].as_array().unwrap().len() >= 4);
+    }
+    // The repeat's +0.05 °/h turn-on, against the heating run's.
+    let offset = |k: usize| recorded[k]["turn_on_offset_dph"].as_f64().unwrap();
+    assert!(((offset(1) - offset(0)) - 0.05).abs() < 0.01, "{campaign}");
+    assert!(
+        campaign["repeatability"].as_array().unwrap().len() >= 2,
+        "{campaign}"
+    );
+    let h = campaign["hysteresis"].as_array().unwrap();
+    assert!(
+        h.iter()
+            .any(|g| (g["temp_c"].as_f64().unwrap() - 20.0).abs() < 1.0)
+    );
+    // Each run is in-sample, named as a run of the campaign; another log is held out.
+    let said = ok(&["evaluate", &cal, &r[1]]);
+    assert!(
+        said.contains("in-sample: run 2 of the 3 runs of the calibration's campaign"),
+        "{said}"
+    );
+    let other = p(dir.path(), "validation.csv");
+    ok(&[
+        "simulate",
+        "--profile",
+        "validation",
+        "--seed",
+        "7",
+        "--out",
+        &other,
+    ]);
+    assert!(ok(&["evaluate", &cal, &other]).contains("held out"));
+    // apply, export and report take it like any calibration.
+    ok(&["apply", &cal, &other, "--out", &p(dir.path(), "cor.csv")]);
+    ok(&[
+        "export",
+        &cal,
+        "--format",
+        "c-header",
+        "--out",
+        &p(dir.path(), "cal.h"),
+    ]);
+    ok(&[
+        "report",
+        &cal,
+        &r[0],
+        &other,
+        "--out",
+        &p(dir.path(), "report"),
+    ]);
+    let page = std::fs::read_to_string(p(dir.path(), "report/report.html")).unwrap();
+    assert!(page.contains("Campaign of 3 runs"));
+}
+
+#[test]
+fn compare_leaves_each_run_out_and_recommends_on_them() {
+    let dir = tempfile::tempdir().unwrap();
+    let r = runs(dir.path());
+    let out = ok(&[
+        "compare",
+        "--train",
+        &r[0],
+        &r[1],
+        &r[2],
+        "--models",
+        "vakhrameev,poly-t",
+        "--json",
+    ]);
+    let json: Value = serde_json::from_str(&out).unwrap();
+    for m in json["models"].as_array().unwrap() {
+        let l = &m["leave_one_run_out"];
+        let ratios: Vec<f64> = l["runs"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|r| r["p2p_ratio"].as_f64().unwrap())
+            .collect();
+        assert_eq!(ratios.len(), 3, "{m}");
+        let worst = ratios.iter().copied().fold(f64::INFINITY, f64::min);
+        assert_eq!(l["worst_p2p_ratio"].as_f64(), Some(worst));
+    }
+    let rec = &json["recommended"];
+    assert_eq!(rec["judged_on"]["kind"], "runs_left_out", "{rec}");
+    assert_eq!(rec["model"], "vakhrameev", "{rec}");
+    let text = ok(&["compare", "--train", &r[0], &r[1], "--models", "poly-t"]);
+    assert!(text.contains("Leave one run out"), "{text}");
+}
+
+#[test]
+fn what_is_no_campaign_is_refused_by_name() {
+    let dir = tempfile::tempdir().unwrap();
+    let r = runs(dir.path());
+    let cal = p(dir.path(), "cal.json");
+    // One file twice, under two names.
+    let copy = p(dir.path(), "copy.csv");
+    std::fs::copy(&r[0], &copy).unwrap();
+    let e = fails(&["calibrate", &r[0], &copy, "--out", &cal]);
+    assert!(e.contains("copy.csv") && e.contains("same file"), "{e}");
+    // Another sampling step.
+    let fast = p(dir.path(), "fast.csv");
+    ok(&[
+        "simulate",
+        "--profile",
+        "fast-ramps",
+        "--rate-hz",
+        "2",
+        "--out",
+        &fast,
+    ]);
+    let e = fails(&["calibrate", &r[0], &fast, "--out", &cal]);
+    assert!(e.contains("sampling step") && e.contains("fast.csv"), "{e}");
+    // Options a campaign cannot take, or that need one.
+    let e = fails(&["calibrate", &r[0], "--per-run-offset", "--out", &cal]);
+    assert!(
+        e.contains("--per-run-offset") && e.contains("two runs"),
+        "{e}"
+    );
+    let e = fails(&[
+        "calibrate",
+        &r[0],
+        &r[1],
+        "--plateau",
+        "0:100",
+        "--out",
+        &cal,
+    ]);
+    assert!(e.contains("--plateau"), "{e}");
+    assert!(!std::path::Path::new(&cal).exists(), "nothing written");
+}
