@@ -130,7 +130,8 @@ pub struct Recommendation {
 
 /// Whether a flight controller's temperature calibration can take the model as it is: a
 /// polynomial in T alone of order 3 at most (PX4's `SENS_GYRO*_X0..X3`, ArduPilot's
-/// `INS_TCAL*_GYR1..3` with its constant measured at boot), fitted by driftlab.
+/// `INS_TCAL*_GYR1..3` with its constant measured at boot), fitted by driftlab: the presets
+/// of that form, and a custom model of those terms alone (what `export` writes for either).
 pub fn flight_form(choice: &ModelChoice) -> bool {
     match choice {
         ModelChoice::Preset(p) => match p {
@@ -138,7 +139,19 @@ pub fn flight_form(choice: &ModelChoice) -> bool {
             Preset::PolyT | Preset::Px4 | Preset::ArduPilot => true,
             _ => false,
         },
-        ModelChoice::Custom(_) => false,
+        // A custom model the export writes as it is: terms of a polynomial in T of order 3
+        // at most (about 0 °C or about Tref), on T as measured.
+        ModelChoice::Custom(spec) => {
+            use crate::models::regression::{DelaySpec, LagSpec, Term};
+            matches!(spec.delay, DelaySpec::None)
+                && matches!(spec.lag, LagSpec::None)
+                && spec.temp2.is_none()
+                && spec.terms.iter().all(|t| match t {
+                    Term::One | Term::T | Term::T2 | Term::T3 => true,
+                    Term::Tc { power } => *power <= 3,
+                    _ => false,
+                })
+        }
     }
 }
 
@@ -424,6 +437,29 @@ mod tests {
         assert_eq!(names, ["vakhrameev", "px4", "ardupilot", "poly-t"]);
         assert_eq!(ratio_key(1.0), 0);
         assert!(ratio_key(0.999) < 0 && ratio_key(1.001) > 0);
+    }
+
+    #[test]
+    fn a_custom_polynomial_in_t_of_order_three_is_a_flight_form() {
+        use crate::models::presets::CustomOptions;
+        use crate::models::regression::DelaySpec;
+        let form = |terms: &str, how: &CustomOptions| {
+            let choices = ModelChoice::list(&["poly-t".into()], &[terms.into()], how).unwrap();
+            flight_form(choices.last().unwrap())
+        };
+        let plain = CustomOptions::default();
+        assert!(form("1,T,T^2,T^3", &plain));
+        assert!(form("1,(T-Tref)^2,T-Tref,(T-Tref)^3", &plain));
+        assert!(
+            !form("1,T,Tdot", &plain),
+            "a rate term is left out by the export"
+        );
+        assert!(!form("1,(T-Tref)^4", &plain), "order 4");
+        let delayed = CustomOptions {
+            delay: DelaySpec::Fixed { seconds: 60.0 },
+            ..CustomOptions::default()
+        };
+        assert!(!form("1,T", &delayed), "T delayed is not T as measured");
     }
 
     #[test]

@@ -248,3 +248,26 @@ fn when_no_model_helps_the_recommendation_says_so() {
         "{rec}"
     );
 }
+
+/// A test log that is the training run under another name is set aside, and the
+/// recommendation says so rather than that no held-out log was given.
+#[test]
+fn a_test_log_set_aside_as_the_training_run_is_named_as_the_reason() {
+    let dir = tempfile::tempdir().unwrap();
+    let copy = p(dir.path(), "copy.csv");
+    std::fs::copy(sample("calibration.csv"), &copy).unwrap();
+    let out = ok(&[
+        "compare",
+        "--train",
+        &sample("calibration.csv"),
+        "--test",
+        &copy,
+        "--models",
+        "poly-t2",
+    ]);
+    assert!(
+        out.contains("copy.csv is the training run or cannot be told from it"),
+        "{out}"
+    );
+    assert!(!out.contains("no held-out log was given"), "{out}");
+}
