@@ -380,3 +380,62 @@ fn leave_one_run_out_is_each_fold_fitted_and_judged_by_hand() {
     let single = compare::compare(logs[0], &[], &choices[..1], &recipe, &merit);
     assert!(single[0].leave_one_run_out.is_none());
 }
+
+#[test]
+fn a_unit_fitted_on_a_campaign_keeps_each_axis_record_through_its_file() {
+    use driftlab::files::calibration::{unit_from_json, unit_to_json};
+    use driftlab::models::{AxisModel, UnitCalibration};
+    let read = |name: &str| {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("sample_logs")
+            .join(name);
+        driftlab::log::ingest::read_path(&path, &driftlab::log::ingest::ReadOptions::default())
+            .unwrap()
+    };
+    let (a, b) = (read("imu3-calibration.csv"), read("imu3-validation.csv"));
+    assert_eq!(a.axis_names().len(), 3);
+    let mut log = joined(&[&a, &b]);
+    let plans: Vec<AxisPlan> = log
+        .axis_names()
+        .into_iter()
+        .map(|name| AxisPlan {
+            name,
+            choice: ModelChoice::Preset(Preset::Vakhrameev),
+            recipe: CheckedRecipe::default(),
+        })
+        .collect();
+    let options = CampaignOptions {
+        per_run_offset: true,
+        ..CampaignOptions::default()
+    };
+    let fit = calibrate_campaign(&mut log, &plans, &MeritOptions::default(), &options).unwrap();
+    let unit = UnitCalibration {
+        axes: fit
+            .axes
+            .iter()
+            .zip(&fit.runs)
+            .map(|(f, runs)| {
+                let mut model = dated(&f.calibrated.model);
+                model.source_mut().runs = runs.clone();
+                AxisModel {
+                    name: f.name.clone(),
+                    rate_column: f.rate_column.clone(),
+                    model,
+                }
+            })
+            .collect(),
+    };
+    // The axes' records differ (their own biases and offsets): each is kept beside its axis.
+    assert_ne!(fit.runs[0], fit.runs[1]);
+    let text = unit_to_json(&unit).unwrap();
+    let back = unit_from_json(std::path::Path::new("unit.json"), &text).unwrap();
+    for (x, y) in unit.axes.iter().zip(&back.axes) {
+        assert_eq!(
+            x.model.source().runs,
+            y.model.source().runs,
+            "axis {}",
+            x.name
+        );
+    }
+    assert_eq!(back, unit);
+}

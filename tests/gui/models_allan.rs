@@ -219,7 +219,10 @@ fn a_model_that_cannot_be_fitted_shows_why() {
     let rec = c.recommended.clone().expect("a recommendation");
     assert_eq!(
         rec.judged_on,
-        driftlab::judge::recommend::JudgedOn::TrainingBlocks { blocks: 4 }
+        driftlab::judge::recommend::JudgedOn::TrainingBlocks {
+            blocks: 4,
+            set_aside: Vec::new()
+        }
     );
     assert_ne!(rec.model, "sukhanov");
     h.get_by_label_contains("caution: a weaker judge");

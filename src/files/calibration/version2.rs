@@ -54,11 +54,18 @@ struct AxisEntry {
     /// the axes share the source log, but each has its own rate, so its own sketch.
     #[serde(default, skip_serializing_if = "String::is_empty")]
     samples_sketch: String,
+    /// The runs of a campaign as this axis records them (`source.runs` of its version-1 body):
+    /// the axes share the runs, but each has its own bias on their plateaus and its own
+    /// turn-on offsets.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    runs: Option<Value>,
     calibration: Map<String, Value>,
 }
 
 /// The key of an axis's own sketch in its body's `source`.
 const SKETCH: &str = "samples_sketch";
+/// The key of an axis's own record of a campaign's runs in its body's `source`.
+const RUNS: &str = "runs";
 
 /// The message for a version-2 file given where a single-axis calibration is wanted.
 /// A broken one is named as a unit file with what is wrong with it.
@@ -99,12 +106,15 @@ pub(super) fn to_json(unit: &UnitCalibration) -> Result<String> {
             .iter()
             .filter_map(|k| body.remove(*k).map(|v| (k.to_string(), v)))
             .collect();
-        let samples_sketch = match mine.get_mut("source") {
-            Some(Value::Object(source)) => match source.remove(SKETCH) {
-                Some(Value::String(s)) => s,
-                _ => String::new(),
-            },
-            _ => String::new(),
+        let (samples_sketch, runs) = match mine.get_mut("source") {
+            Some(Value::Object(source)) => (
+                match source.remove(SKETCH) {
+                    Some(Value::String(s)) => s,
+                    _ => String::new(),
+                },
+                source.remove(RUNS),
+            ),
+            _ => (String::new(), None),
         };
         match &shared {
             None => shared = Some(mine),
@@ -145,6 +155,7 @@ pub(super) fn to_json(unit: &UnitCalibration) -> Result<String> {
             rate_column: a.rate_column.clone(),
             model: a.model.tag().to_string(),
             samples_sketch,
+            runs,
             calibration: body,
         });
     }
@@ -226,6 +237,14 @@ pub(super) fn from_json(path: &Path, text: &str) -> Result<UnitCalibration> {
             }
             if !entry.samples_sketch.is_empty() {
                 s.insert(SKETCH.into(), Value::String(entry.samples_sketch.clone()));
+            }
+            if s.contains_key(RUNS) {
+                return Err(err(format!(
+                    "source.{RUNS}: each axis has its own, beside its name, not at the top"
+                )));
+            }
+            if let Some(runs) = &entry.runs {
+                s.insert(RUNS.into(), runs.clone());
             }
         }
         body.insert("source".into(), source);
