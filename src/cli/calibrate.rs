@@ -359,7 +359,24 @@ pub fn run(a: Args) -> Result<(), CliError> {
     // Vakhrameev's model reads the three calibration columns only; the others are neither
     // parsed nor held.
     let all_vakhrameev = choice.is_vakhrameev() && a.axis_models_all_vakhrameev()?;
+    if a.log.len() > 1
+        && let PlateauChoice::Manual { .. } = recipe.plateaus
+    {
+        return Err(CliError::Message(format!(
+            "{}: plateaus given by hand (the recipe's `plateaus`) with several runs: each run's \
+             plateaus are found on its own time; calibrate on a recipe that finds them",
+            a.recipe_file().unwrap_or_else(|| "the recipe".into())
+        )));
+    }
     let (mut log, log_name, sha256) = a.read_runs(all_vakhrameev)?;
+    // What joining the runs left out (a channel some runs lack), said with the rest.
+    warnings.extend(
+        log.info
+            .problems
+            .iter()
+            .filter(|p| p.kind == driftlab::log::ProblemKind::LeftOut)
+            .map(|p| format!("{}: {}", log.source, p.message)),
+    );
     warnings.extend(
         recipe
             .one_sample_windows(log.nominal_dt_s(), &log.source)
@@ -410,7 +427,7 @@ pub fn run(a: Args) -> Result<(), CliError> {
             }
         })
     })?;
-    let unit = stamped(&fitted, &log_name, &sha256);
+    let unit = stamped(&fitted, &log_name, &sha256, campaign.tolerance_c);
     // Both files are written before either is put in place: a recipe that cannot be
     // written leaves the old calibration as it was.
     let mut outputs = Batch::new();
@@ -446,6 +463,7 @@ fn stamped(
     fitted: &models::campaign::CampaignFit,
     log_name: &str,
     sha256: &str,
+    tolerance_c: f64,
 ) -> UnitCalibration {
     let created = fitted
         .axes
@@ -461,6 +479,9 @@ fn stamped(
             model.source_mut().name = log_name.to_string();
             model.source_mut().sha256 = sha256.to_string();
             model.source_mut().runs = runs.clone();
+            if !runs.is_empty() {
+                model.source_mut().temp_tolerance_c = Some(tolerance_c);
+            }
             set_created(&mut model, &created);
             AxisModel {
                 name: f.name.clone(),

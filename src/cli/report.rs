@@ -34,20 +34,43 @@ pub struct Args {
 }
 
 pub fn run(mut a: Args) -> Result<(), CliError> {
-    let tolerance_c = a
-        .temp_tolerance
-        .unwrap_or(driftlab::models::campaign::DEFAULT_TOLERANCE_C);
-    if !(tolerance_c.is_finite() && tolerance_c > 0.0) {
-        return Err(CliError::Message(format!(
-            "--temp-tolerance {}: plateaus share a temperature within a tolerance above 0 degC",
-            driftlab::number::readable(tolerance_c)
-        )));
-    }
     let mut reads = common::Reads::of("the calibration", &a.calibration);
     common::refuse_folder_over("--out", &a.out, reads.add_all("a log", &a.logs))?;
     let logs: Vec<&Path> = a.logs.iter().map(PathBuf::as_path).collect();
     common::refuse_stream_twice(&logs)?;
     let unit = common::load_calibration(&a.calibration)?;
+    // The tolerance the campaign was grouped by when it was fitted, unless one is given; a
+    // tolerance given for a calibration of one run would group nothing.
+    let recorded = unit.axes.first().and_then(|ax| {
+        let s = ax.model.source();
+        (!s.runs.is_empty()).then(|| {
+            s.temp_tolerance_c
+                .unwrap_or(driftlab::models::campaign::DEFAULT_TOLERANCE_C)
+        })
+    });
+    let tolerance_c = match (a.temp_tolerance, recorded) {
+        (Some(_), None) => {
+            return Err(CliError::Message(format!(
+                "--temp-tolerance is for a calibration fitted on several runs; {} was fitted \
+                 on one",
+                a.calibration.display()
+            )));
+        }
+        (Some(t), Some(_)) => t,
+        (None, Some(t)) => t,
+        (None, None) => driftlab::models::campaign::DEFAULT_TOLERANCE_C,
+    };
+    if !(tolerance_c.is_finite()
+        && tolerance_c > 0.0
+        && tolerance_c <= driftlab::models::campaign::MAX_TOLERANCE_C)
+    {
+        return Err(CliError::Message(format!(
+            "--temp-tolerance {}: plateaus share a temperature within a tolerance above 0 degC \
+             and at most {} degC",
+            driftlab::number::readable(tolerance_c),
+            driftlab::models::campaign::MAX_TOLERANCE_C
+        )));
+    }
     // A drone log is read on the gyro the calibration was fitted on unless --gyro says
     // otherwise.
     a.log_args.format.fitted_on = unit.fitted_on();

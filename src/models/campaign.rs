@@ -25,6 +25,10 @@ use serde::{Deserialize, Serialize};
 /// default ([`CampaignOptions::tolerance_c`]).
 pub const DEFAULT_TOLERANCE_C: f64 = 1.0;
 
+/// The widest tolerance two plateaus may share a temperature within, °C: wider, plateaus at
+/// unlike temperatures would be compared as one.
+pub const MAX_TOLERANCE_C: f64 = 10.0;
+
 /// The most rounds of the joint K0 and offsets estimate; it stops sooner when the offsets
 /// move less than [`OFFSET_SETTLED_DPH`].
 const OFFSET_ROUNDS: usize = 500;
@@ -127,11 +131,15 @@ pub fn calibrate_campaign(
     merit: &MeritOptions,
     options: &CampaignOptions,
 ) -> Result<CampaignFit> {
-    if !(options.tolerance_c.is_finite() && options.tolerance_c > 0.0) {
+    if !(options.tolerance_c.is_finite()
+        && options.tolerance_c > 0.0
+        && options.tolerance_c <= MAX_TOLERANCE_C)
+    {
         return Err(Invalid::new(
             "tolerance_c",
             format!(
-                "is {}: the temperatures two plateaus share are within a tolerance above 0 °C",
+                "is {}: the temperatures two plateaus share are within a tolerance above 0 °C \
+                 and at most {MAX_TOLERANCE_C} °C",
                 crate::number::readable(options.tolerance_c)
             ),
         )
@@ -249,6 +257,13 @@ pub fn calibrate_campaign(
     }
     let mut axes = fitted?;
     if options.per_run_offset {
+        for a in &mut axes {
+            a.calibrated.warnings.push(
+                "the in-sample figures are of each run's rates less its turn-on offset, as \
+                 the model was fitted on them"
+                    .into(),
+            );
+        }
         let order = log.axis_names();
         for (a, name) in axes.iter_mut().zip(&names) {
             log.select_axis(name);
@@ -289,25 +304,14 @@ fn record(
         .map(|(k, span)| {
             let shift = span.time_shift_s;
             let t = &log.time_s[span.samples.clone()];
-            let mut previous_c = log.temp_c[span.samples.start];
-            let mut previous = Approach::Start;
             let plateaus = stats
                 .iter()
                 .zip(plateau_runs)
                 .filter(|(_, r)| **r == k)
                 .map(|(p, _)| {
-                    let approach = if p.temp_c > previous_c + options.tolerance_c {
-                        Approach::Heating
-                    } else if p.temp_c < previous_c - options.tolerance_c {
-                        Approach::Cooling
-                    } else {
-                        // At the run's first temperature (the first plateau), or at the
-                        // temperature of the plateau before with no ramp between (a plateau
-                        // split in two, approached as that one was).
-                        previous
-                    };
-                    previous = approach;
-                    previous_c = p.temp_c;
+                    let (lo, _) = p.range.index_range(&log.time_s);
+                    let approach =
+                        approach_to(&log.temp_c[span.samples.start..lo], p.temp_c, options);
                     RunPlateau {
                         start_s: p.range.start_s - shift,
                         end_s: p.range.end_s - shift,
@@ -331,6 +335,25 @@ fn record(
             }
         })
         .collect()
+}
+
+/// How a plateau at `temp_c` was reached, from the run's temperatures before it (`before`):
+/// walking back from its start to the last temperature more than the tolerance away, below
+/// it (heating) or above it (cooling); none so far from it since the run's start: the run
+/// started there. How the temperature arrived, whatever lay between (a dwell too short to
+/// be a plateau, a plateau at the same temperature split in two).
+fn approach_to(before: &[f64], temp_c: f64, options: &CampaignOptions) -> Approach {
+    before
+        .iter()
+        .rev()
+        .find(|t| (**t - temp_c).abs() > options.tolerance_c)
+        .map_or(Approach::Start, |t| {
+            if *t < temp_c {
+                Approach::Heating
+            } else {
+                Approach::Cooling
+            }
+        })
 }
 
 /// Each run's turn-on offset for one axis: the least-squares joint estimate of K0(T), in the
@@ -446,6 +469,25 @@ fn check_tied(
     Ok(())
 }
 
+/// The largest bias or turn-on offset a run's record may hold, °/h: a gyro's rate range, far
+/// beyond any bias.
+const MAX_RECORDED_DPH: f64 = 1e7;
+
+/// Refuses a recorded bias or offset that is no number a gyro gives.
+fn plausible_rate(field: String, v: f64) -> std::result::Result<(), Invalid> {
+    if v.is_finite() && v.abs() <= MAX_RECORDED_DPH {
+        Ok(())
+    } else {
+        Err(Invalid::new(
+            field,
+            format!(
+                "is {} °/h: a recorded bias is a finite number within ±{MAX_RECORDED_DPH:e} °/h",
+                crate::number::readable(v)
+            ),
+        ))
+    }
+}
+
 /// The most plateaus a run's record may hold (a chamber program holds tens; a hand-edited
 /// file of millions would be held whole on every read).
 pub const MAX_RUN_PLATEAUS: usize = 10_000;
@@ -491,7 +533,13 @@ pub fn validate_runs(runs: &[RunRecord]) -> std::result::Result<(), Invalid> {
             ));
         }
         if let Some(c) = r.turn_on_offset_dph {
-            finite(at("turn_on_offset_dph"), c)?;
+            plausible_rate(at("turn_on_offset_dph"), c)?;
+        }
+        if !r.sha256.is_empty() && runs[..k].iter().any(|q| q.sha256 == r.sha256) {
+            return Err(Invalid::new(
+                at("sha256"),
+                "is another run's: a campaign holds each run once",
+            ));
         }
         if r.plateaus.len() > MAX_RUN_PLATEAUS {
             return Err(Invalid::new(
@@ -507,11 +555,58 @@ pub fn validate_runs(runs: &[RunRecord]) -> std::result::Result<(), Invalid> {
             finite(at("start_s"), p.start_s)?;
             finite(at("end_s"), p.end_s)?;
             finite(at("temp_c"), p.temp_c)?;
-            finite(at("bias_dph"), p.bias_dph)?;
+            if !(-273.15..=1000.0).contains(&p.temp_c) {
+                return Err(Invalid::new(
+                    at("temp_c"),
+                    format!(
+                        "is {} °C: no chamber holds a gyro there (-273.15 to 1000 °C)",
+                        crate::number::readable(p.temp_c)
+                    ),
+                ));
+            }
+            plausible_rate(at("bias_dph"), p.bias_dph)?;
             if p.end_s < p.start_s {
                 return Err(Invalid::new(at("end_s"), "ends before the plateau starts"));
+            }
+            // Within the run's own span (to the rounding of times written in decimals).
+            let slack = 1e-6 * (r.start_s.abs() + r.duration_s).max(1.0);
+            if p.start_s < r.start_s - slack || p.end_s > r.start_s + r.duration_s + slack {
+                return Err(Invalid::new(
+                    at("start_s"),
+                    format!(
+                        "places the plateau at {} .. {} s, outside its run ({} .. {} s)",
+                        crate::number::readable(p.start_s),
+                        crate::number::readable(p.end_s),
+                        crate::number::readable(r.start_s),
+                        crate::number::readable(r.start_s + r.duration_s)
+                    ),
+                ));
             }
         }
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_plateau_is_reached_as_the_temperature_arrived() {
+        let o = CampaignOptions::default();
+        // 20 °C, up to 60 °C for a dwell too short to be a plateau, down to 40 °C.
+        let mut before: Vec<f64> = vec![20.0; 10];
+        before.extend((0..40).map(|k| 20.0 + k as f64));
+        before.extend([60.0; 5]);
+        before.extend((0..20).map(|k| 60.0 - k as f64));
+        before.push(40.5);
+        assert_eq!(approach_to(&before, 40.0, &o), Approach::Cooling);
+        // A plateau split in two at 60 °C, reached heating: the second half too.
+        let mut split: Vec<f64> = (0..40).map(|k| 20.0 + k as f64).collect();
+        split.extend([60.0, 60.1, 59.9, 60.0]);
+        assert_eq!(approach_to(&split, 60.0, &o), Approach::Heating);
+        // The run started at the plateau's temperature, within the tolerance.
+        assert_eq!(approach_to(&[20.3, 19.8, 20.0], 20.0, &o), Approach::Start);
+        assert_eq!(approach_to(&[], 20.0, &o), Approach::Start);
+    }
 }

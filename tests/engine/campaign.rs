@@ -265,6 +265,18 @@ fn repeatability_spread_is_the_one_built_in() {
             w.spread_dph
         );
     }
+    // The independent truth: the repeat ran the heating run's program with a turn-on 0.05 °/h
+    // higher, so plateau for plateau their biases differ by it, to their noise (and the
+    // second or two by which the detector places the two runs' plateaus apart).
+    assert_eq!(runs[0].plateaus.len(), runs[1].plateaus.len());
+    for (h, r) in runs[0].plateaus.iter().zip(&runs[1].plateaus) {
+        let diff = r.bias_dph - h.bias_dph;
+        assert!(
+            (diff - 0.05).abs() <= 2.0 * noise_bound + 0.002,
+            "at {} °C the repeat stands {diff} °/h from the heating run, built 0.05",
+            h.temp_c
+        );
+    }
     // The repeat's +0.05 °/h turn-on is in the spread at 60 °C, held by the two heating runs
     // and the cooling run's start.
     let at60 = want.iter().find(|g| (g.temp_c - 60.0).abs() < 1.0).unwrap();
@@ -438,4 +450,29 @@ fn a_unit_fitted_on_a_campaign_keeps_each_axis_record_through_its_file() {
         );
     }
     assert_eq!(back, unit);
+}
+
+#[test]
+fn self_heating_counts_from_each_run_s_power_on() {
+    // Two laser-gyro runs, each powered on at its start: a model with the self-heating term
+    // fits the same whichever run comes first.
+    let p = driftlab::sim::profile("laser-gyro").unwrap();
+    let a = driftlab::sim::simulate(&p, 1).to_log("lg-1.csv");
+    let b = driftlab::sim::simulate(&p, 2).to_log("lg-2.csv");
+    let sukhanov = ModelChoice::Preset(Preset::Sukhanov);
+    let recipe = CheckedRecipe::default();
+    let ab = models::fit(&joined(&[&a, &b]), &sukhanov, &recipe).unwrap();
+    let ba = models::fit(&joined(&[&b, &a]), &sukhanov, &recipe).unwrap();
+    let coefficients = |m: &DriftModel| match m {
+        DriftModel::Regression(r) => (r.model.coefficients.clone(), r.model.lambda_s),
+        DriftModel::Vakhrameev(_) => unreachable!("sukhanov is a regression"),
+    };
+    let ((ca, la), (cb, lb)) = (coefficients(&ab), coefficients(&ba));
+    // Alike to the λ search's own tolerance (the order of the sums differs); a clock that
+    // ran from the first run's start moved λ by a fifth and the coefficients by a tenth.
+    for (x, y) in ca.iter().zip(&cb) {
+        assert!((x - y).abs() <= 1e-3 * x.abs(), "{ca:?} against {cb:?}");
+    }
+    let (la, lb) = (la.unwrap(), lb.unwrap());
+    assert!((la - lb).abs() <= 0.01 * la, "λ {la} s against {lb} s");
 }

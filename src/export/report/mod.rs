@@ -408,7 +408,7 @@ fn build(
     let mut any_allan = false;
     let names = names_apart(&logs.iter().map(|(p, _)| p.as_path()).collect::<Vec<_>>());
     for (i, ((path, log), sha)) in logs.iter().zip(&hashes).enumerate() {
-        let (correction, plateaus) = correct(model, in_sample[i], path, log)?;
+        let (correction, plateaus) = correct(model, in_sample[i], sha, path, log)?;
         let section = LogSection {
             path,
             name: &names[i],
@@ -440,15 +440,30 @@ fn build(
     })
 }
 
-/// The correction of `log` (read from `path`) by `model`, and the plateaus to shade in its
-/// temperature program: a Vakhrameev calibration's, on its own log only.
+/// The correction of `log` (read from `path`, its bytes hashing to `sha256`) by `model`, and
+/// the plateaus to shade in its temperature program: a Vakhrameev calibration's, on its own
+/// log only; of a campaign's, the plateaus of the run the log is (on the run's own time),
+/// since the calibration's are on the campaign's joined time.
 fn correct(
     model: &DriftModel,
     own: bool,
+    sha256: &str,
     path: &Path,
     log: &Log,
 ) -> Result<(Correction, Vec<(f64, f64)>)> {
     match model {
+        DriftModel::Vakhrameev(cal) if !cal.source.runs.is_empty() => {
+            let run = campaign_section::run_of(&cal.source.runs, sha256);
+            let plateaus = match run {
+                Some(k) if own => cal.source.runs[k - 1]
+                    .plateaus
+                    .iter()
+                    .map(|p| (p.start_s, p.end_s))
+                    .collect(),
+                _ => Vec::new(),
+            };
+            Ok((cal.correct(log), plateaus))
+        }
         DriftModel::Vakhrameev(cal) => {
             let plateaus = if own {
                 cal.plateaus

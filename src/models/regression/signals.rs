@@ -56,6 +56,9 @@ pub(crate) struct Signals<'a> {
     pub ready: Vec<std::ops::Range<usize>>,
     /// The first sample of each segment: no delayed read reaches before its segment's start.
     pub segment_starts: Vec<usize>,
+    /// The first sample of each run of a campaign with its time (one run for a log of one):
+    /// the self-heating term's clock starts at its run's power-on.
+    pub run_starts: Vec<(usize, f64)>,
     /// Lag weights by temperature reading, for [`Signals::relag`].
     alpha_cache: AlphaCache,
 }
@@ -120,6 +123,11 @@ impl<'a> Signals<'a> {
             ready_from: d.ready_from,
             ready: d.ready,
             segment_starts: segments.iter().map(|r| r.start).collect(),
+            run_starts: log
+                .run_ranges()
+                .iter()
+                .map(|r| (r.start, log.time_s.get(r.start).copied().unwrap_or(0.0)))
+                .collect(),
             alpha_cache: AlphaCache::default(),
         })
     }
@@ -136,6 +144,17 @@ impl<'a> Signals<'a> {
     /// How many samples have full rate history.
     pub(crate) fn ready_count(&self) -> usize {
         self.ready.iter().map(|r| r.len()).sum()
+    }
+
+    /// The time of the first sample of the run holding sample `i`: the power-on the
+    /// self-heating term counts from.
+    #[inline]
+    fn run_start_s(&self, i: usize) -> f64 {
+        match self.run_starts.as_slice() {
+            [] => self.time.first().copied().unwrap_or(0.0),
+            [(_, t0)] => *t0,
+            starts => starts[starts.partition_point(|&(s, _)| s <= i).saturating_sub(1)].1,
+        }
     }
 
     /// The first sample of the segment holding sample `i`.
@@ -231,7 +250,7 @@ impl<'a> Signals<'a> {
             *v = c[i];
         }
         Inputs {
-            t_s: self.time[i] - self.time[0],
+            t_s: self.time[i] - self.run_start_s(i),
             temp,
             tdot: interp(&self.tdot, f),
             tddot: interp(&self.tddot, f),

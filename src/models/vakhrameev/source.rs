@@ -38,6 +38,11 @@ pub struct SourceInfo {
     /// run's plateaus and this axis's bias on them; empty for a calibration of one run.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub runs: Vec<crate::models::campaign::RunRecord>,
+    /// Within what two plateaus of the runs share a temperature, °C, as the fit grouped them
+    /// (`--temp-tolerance`): what the report groups them by unless told otherwise. `None` for
+    /// a calibration of one run.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub temp_tolerance_c: Option<f64>,
 }
 
 impl SourceInfo {
@@ -55,6 +60,7 @@ impl SourceInfo {
             samples_sketch: RunSketch::of(log).to_text(),
             instance: log.info.instance.clone(),
             runs: Vec::new(),
+            temp_tolerance_c: None,
         }
     }
 
@@ -163,6 +169,19 @@ impl SourceInfo {
                     ),
                 ));
             }
+        }
+        if let Some(t) = self.temp_tolerance_c
+            && !(t.is_finite() && t > 0.0 && t <= crate::models::campaign::MAX_TOLERANCE_C)
+        {
+            return Err(Invalid::new(
+                "source.temp_tolerance_c",
+                format!(
+                    "is {}: plateaus share a temperature within a tolerance above 0 °C and at \
+                     most {} °C",
+                    crate::number::readable(t),
+                    crate::models::campaign::MAX_TOLERANCE_C
+                ),
+            ));
         }
         crate::models::campaign::validate_runs(&self.runs)
     }
