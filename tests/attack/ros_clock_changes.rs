@@ -34,6 +34,17 @@ fn bag_of(
     imu_stamp: impl Fn(u32) -> u32,
     temp_stamp: impl Fn(u32) -> u32,
 ) -> Vec<u8> {
+    bag_with(n, every, imu_stamp, temp_stamp, true_c)
+}
+
+/// [`bag_of`] with the true temperature of second `k` given by `true_c`.
+pub(super) fn bag_with(
+    n: u32,
+    every: impl Fn(u32) -> bool,
+    imu_stamp: impl Fn(u32) -> u32,
+    temp_stamp: impl Fn(u32) -> u32,
+    true_c: impl Fn(u32) -> f64,
+) -> Vec<u8> {
     let mut r = bag_connection(0, "/imu/data");
     r.extend(bag_connection_of(
         1,

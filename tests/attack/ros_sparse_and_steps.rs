@@ -15,7 +15,7 @@ use super::readers::{
     mcap_message, mcap_schema,
 };
 use super::ros_clock_changes::{notes, says};
-use super::ros_limits::{bag_connection_of, temperature_cdr, temperature_ros1};
+use super::ros_limits::temperature_cdr;
 use driftlab::log::formats::{self, ImuRecording, Values};
 
 /// The record time of second `k` (from 0), s.
@@ -40,24 +40,7 @@ fn line_within(h: u32) -> f64 {
 /// and `/imu/temperature` on its frame (a reading at the seconds `every(k)` takes, stamped
 /// with its record time), each message recorded at [`recorded`]`(k)`.
 fn bag_of(n: u32, every: impl Fn(u32) -> bool, imu_stamp: impl Fn(u32) -> u32) -> Vec<u8> {
-    let mut r = bag_connection(0, "/imu/data");
-    r.extend(bag_connection_of(
-        1,
-        "/imu/temperature",
-        "sensor_msgs/Temperature",
-    ));
-    for k in 0..n {
-        r.extend(bag_message(
-            0,
-            recorded(k),
-            &imu_ros1(imu_stamp(k), b"imu", 0.01),
-        ));
-        if every(k) {
-            let t = temperature_ros1(recorded(k), b"imu", true_c(k));
-            r.extend(bag_message(1, recorded(k), &t));
-        }
-    }
-    bag(&r)
+    super::ros_clock_changes::bag_with(n, every, imu_stamp, recorded, true_c)
 }
 
 /// Converts `file` (named `name`) with the command line: each row's time (s after the first
