@@ -144,6 +144,12 @@ pub fn run(a: Args) -> Result<(), CliError> {
     }
     .checked()
     .map_err(common::with_option)?;
+    if train.runs().len() >= 2 {
+        // Each run needs a plateau, as `calibrate` asks: the one check, on the T settings
+        // every model is fitted with.
+        driftlab::models::campaign::run_plateaus(&train, &recipe)
+            .map_err(|e| CliError::Message(format!("{}: {e}", train.source)))?;
+    }
     if let Some(axes) = axes_to_compare(&a, &train)? {
         return run_axes(
             &a,

@@ -164,37 +164,7 @@ pub fn calibrate_campaign(
     let first = plans
         .first()
         .ok_or(crate::error::Error::Internal("a campaign fit without axes"))?;
-    let ranges = super::vakhrameev::Pipeline::new(log, &first.recipe)?
-        .ranges()
-        .to_vec();
-    let run_of = |r: &plateau::PlateauRange| {
-        log.runs()
-            .iter()
-            .position(|s| {
-                let (lo, hi) = r.index_range(&log.time_s);
-                lo >= s.samples.start && hi <= s.samples.end && lo < hi
-            })
-            .unwrap_or(usize::MAX)
-    };
-    // A plateau is a run's (detection never crosses a run's end; a range given by hand
-    // that does is no plateau of either).
-    let ranges: Vec<plateau::PlateauRange> = ranges
-        .into_iter()
-        .filter(|r| run_of(r) != usize::MAX)
-        .collect();
-    let plateau_runs: Vec<usize> = ranges.iter().map(run_of).collect();
-    if let Some(k) = (0..log.runs().len()).find(|k| !plateau_runs.contains(k)) {
-        return Err(Invalid::new(
-            "campaign",
-            format!(
-                "run {} of the campaign has no plateau: each run needs one, for its bias to be \
-                 set beside the other runs' (and its turn-on told apart); hold the chamber \
-                 steady in it, or calibrate without it",
-                log.runs()[k].name
-            ),
-        )
-        .into());
-    }
+    let (ranges, plateau_runs) = run_plateaus(log, &first.recipe)?;
     let names = if plans.len() == 1 && plans[0].name.is_empty() {
         vec![log.axis.clone()]
     } else {
@@ -277,6 +247,45 @@ pub fn calibrate_campaign(
         axes,
         runs: records,
     })
+}
+
+/// The plateaus of the campaign `log` as `recipe` finds them, each with its run (detection
+/// never crosses a run's end; a range given by hand that does is no plateau of either).
+///
+/// # Errors
+/// What the T stages refuse, and a run with no plateau: each run needs one, for its bias to
+/// be set beside the others' (`calibrate` and `compare` refuse it alike).
+pub fn run_plateaus(
+    log: &Log,
+    recipe: &crate::models::CheckedRecipe,
+) -> Result<(Vec<plateau::PlateauRange>, Vec<usize>)> {
+    let ranges = super::vakhrameev::Pipeline::new(log, recipe)?
+        .ranges()
+        .to_vec();
+    let run_of = |r: &plateau::PlateauRange| {
+        log.runs()
+            .iter()
+            .position(|s| {
+                let (lo, hi) = r.index_range(&log.time_s);
+                lo >= s.samples.start && hi <= s.samples.end && lo < hi
+            })
+            .unwrap_or(usize::MAX)
+    };
+    let ranges: Vec<plateau::PlateauRange> = ranges
+        .into_iter()
+        .filter(|r| run_of(r) != usize::MAX)
+        .collect();
+    let plateau_runs: Vec<usize> = ranges.iter().map(run_of).collect();
+    if let Some(k) = (0..log.runs().len()).find(|k| !plateau_runs.contains(k)) {
+        return Err(Invalid::new(
+            format!("run {}", log.runs()[k].name),
+            "has no plateau: each run of a campaign needs one, for its bias to be set beside \
+             the other runs' (and its turn-on told apart); hold the chamber steady in it, or \
+             leave it out",
+        )
+        .into());
+    }
+    Ok((ranges, plateau_runs))
 }
 
 /// The rate column of axis `name`, to take the offsets out.

@@ -180,5 +180,12 @@ fn what_is_no_campaign_is_refused_by_name() {
         &cal,
     ]);
     assert!(e.contains("--plateau"), "{e}");
+    // A run with no plateau, refused alike by calibrate and compare.
+    let ramps = p(dir.path(), "ramps.csv");
+    ok(&["simulate", "--profile", "no-plateaus", "--out", &ramps]);
+    let e = fails(&["calibrate", &r[0], &ramps, "--out", &cal]);
+    assert!(e.contains("run ramps.csv: has no plateau"), "{e}");
+    let e = fails(&["compare", "--train", &r[0], &ramps, "--models", "poly-t"]);
+    assert!(e.contains("run ramps.csv: has no plateau"), "{e}");
     assert!(!std::path::Path::new(&cal).exists(), "nothing written");
 }
