@@ -10,11 +10,20 @@ use std::path::Path;
 /// What a Vakhrameev fit found: sampling, windows, plateaus and the five approximations.
 pub fn vakhrameev_summary(cal: &Calibration, warnings: &[String]) -> Result<(), CliError> {
     let r = &cal.resolved;
+    // A campaign lasted its runs' durations; the hour put between runs on the joined time
+    // axis is no part of any.
+    let (hours, runs) = match cal.source.runs.as_slice() {
+        [] => (cal.source.duration_s / 3600.0, String::new()),
+        runs => (
+            runs.iter().map(|r| r.duration_s).sum::<f64>() / 3600.0,
+            format!(" ({} runs)", runs.len()),
+        ),
+    };
     out!(
-        "Log {}: {} samples, {} h, step {} s",
+        "Log {}{runs}: {} samples, {} h, step {} s",
         cal.source.name,
         cal.source.samples,
-        fixed(cal.source.duration_s / 3600.0, 2),
+        fixed(hours, 2),
         num(r.dt_s)
     )?;
     out!(
