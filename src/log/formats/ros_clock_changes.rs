@@ -98,6 +98,9 @@ pub(crate) fn change(offsets_ns: &[i128], stamps_ns: &[i128], limit_ns: i128) ->
         return None;
     }
 
+    if one_grid(stamps_ns, limit_ns) {
+        return None;
+    }
     let mut sorted = offsets_ns.to_vec();
     sorted.sort_unstable();
     // The groups: the lowest offset of each, and how many messages it holds.
@@ -172,6 +175,27 @@ pub(crate) fn change(offsets_ns: &[i128], stamps_ns: &[i128], limit_ns: i128) ->
         switches,
         clocks,
     })
+}
+
+/// Whether the stamps, put in their own order, are one clock's: no two alike and every step
+/// within `limit_ns`, and a tenth, of their median step. Then whatever the record times do (messages
+/// delivered late, out of order, as a transport retries them), the stamps are one clock's
+/// samples; a second clock's would fall between them off the step, or on them.
+fn one_grid(stamps_ns: &[i128], limit_ns: i128) -> bool {
+    let mut sorted = stamps_ns.to_vec();
+    sorted.sort_unstable();
+    let mut steps: Vec<i128> = sorted.windows(2).map(|w| w[1] - w[0]).collect();
+    if steps.is_empty() || steps.contains(&0) {
+        return false;
+    }
+    steps.sort_unstable();
+    let median = steps[steps.len() / 2];
+    // Within the limit and within a tenth of the step: a second clock's stamps interleaved
+    // with the first's halve the steps somewhere, which the limit alone (a step, at 1 Hz)
+    // would pass.
+    let off = limit_ns.min(median / 10);
+    steps.first().is_some_and(|&lo| median - lo <= off)
+        && steps.last().is_some_and(|&hi| hi - median <= off)
 }
 
 #[cfg(test)]
@@ -256,6 +280,34 @@ mod tests {
             "the delays reach past the limit"
         );
         assert_eq!(change(&o, &stamps, S), None);
+    }
+
+    #[test]
+    fn readings_delivered_late_out_of_order_are_one_clock() {
+        // A reading every 60 s, stamped on the grid; every 4th recorded 90 s late, after
+        // the one that follows it: in record order the stamps go back, yet they are one grid.
+        let mut msgs: Vec<(i128, i128)> = (0..80)
+            .map(|i| {
+                let stamp = i * 60 * S;
+                let late = if i % 4 == 3 { 90 * S } else { 0 };
+                (stamp + late, stamp)
+            })
+            .collect();
+        msgs.sort_unstable();
+        let stamps: Vec<i128> = msgs.iter().map(|m| m.1).collect();
+        let o: Vec<i128> = msgs.iter().map(|m| m.1 - m.0).collect();
+        assert_eq!(change(&o, &stamps, 10 * S), None);
+        // The same topic with every 4th message on a clock 90 s behind: its stamps fall off
+        // the grid, told as two clocks.
+        let stamps: Vec<i128> = (0..80)
+            .map(|i| i * 60 * S - if i % 4 == 3 { 90 * S } else { 0 })
+            .collect();
+        let o: Vec<i128> = stamps
+            .iter()
+            .enumerate()
+            .map(|(i, st)| st - i as i128 * 60 * S)
+            .collect();
+        assert!(change(&o, &stamps, 10 * S).is_some());
     }
 
     #[test]
