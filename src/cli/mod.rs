@@ -8,6 +8,7 @@ mod allan;
 mod apply;
 mod calibrate;
 mod calibrate_print;
+mod calibrate_runs;
 mod campaign_print;
 mod compare;
 mod convert;
