@@ -478,10 +478,7 @@ fn stamped(
             let mut model = f.calibrated.model.clone();
             model.source_mut().name = log_name.to_string();
             model.source_mut().sha256 = sha256.to_string();
-            model.source_mut().runs = runs.clone();
-            if !runs.is_empty() {
-                model.source_mut().temp_tolerance_c = Some(tolerance_c);
-            }
+            models::campaign::stamp_runs(model.source_mut(), runs.clone(), tolerance_c);
             set_created(&mut model, &created);
             AxisModel {
                 name: f.name.clone(),

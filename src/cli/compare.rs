@@ -569,7 +569,7 @@ fn print_runs_left_out(reports: &[ModelReport]) -> Result<(), CliError> {
             "  {:<w$} {:<rw$} {:>9} {:>9} {:>8}   worst cor {} ratio {}",
             "",
             "mean",
-            "",
+            l.mean_raw_p2p_dph.map_or("n/a".into(), common::figure),
             l.mean_corrected_p2p_dph
                 .map_or("n/a".into(), common::figure),
             l.mean_p2p_ratio.map_or("n/a".into(), common::ratio),

@@ -65,7 +65,8 @@ pub enum Command {
 #[derive(clap::Args, Debug, Default)]
 pub struct GuiArgs {
     /// Log (or saved session .json) to open (default: sample_logs/calibration.csv when
-    /// present), and a calibration .json to open beside its fit to compare, in either order.
+    /// present), and a calibration .json to open beside its fit to compare, in any order.
+    /// Several logs are the runs of one campaign, calibrated together (read as the first is).
     /// The import view shows first when a column is ambiguous or implausible.
     #[arg(value_name = "LOG|SESSION|CALIBRATION")]
     pub files: Vec<std::path::PathBuf>,
@@ -146,7 +147,11 @@ fn gui(a: GuiArgs) -> Result<(), String> {
         gyro: a.log_args.format.gyro,
         temp_from: a.log_args.format.temp_from,
     };
-    let driftlab::gui::StartFiles { log, calibration } = driftlab::gui::split_files(&a.files)?;
+    let driftlab::gui::StartFiles {
+        log,
+        more_runs,
+        calibration,
+    } = driftlab::gui::split_files(&a.files)?;
     let session = log.as_ref().is_some_and(|p| {
         p.extension()
             .is_some_and(|e| e.eq_ignore_ascii_case("json"))
@@ -180,6 +185,9 @@ fn gui(a: GuiArgs) -> Result<(), String> {
         if let Some(log) = &log {
             reads.add(if session { "the session" } else { "the log" }, log);
         }
+        for run in &more_runs {
+            reads.add("a run of the campaign", run);
+        }
         if let Some(cal) = &calibration {
             reads.add("the calibration", cal);
         }
@@ -211,6 +219,7 @@ fn gui(a: GuiArgs) -> Result<(), String> {
         instance,
         validation: a.validation,
         window_size,
+        more_runs,
     })
 }
 

@@ -57,6 +57,10 @@ pub struct LogRef {
     /// The gyro and temperature chosen of a drone or robot log; absent: the reader's default.
     #[serde(default, skip_serializing_if = "InstanceChoice::is_default")]
     pub instance: InstanceChoice,
+    /// A campaign's runs after the first (`path`), read as it is and joined after it, in
+    /// order (relative paths as `path`); absent for one log.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub more_runs: Vec<PathBuf>,
 }
 
 /// What was on screen, so the session reopens where it was left.
@@ -137,12 +141,14 @@ impl Session {
     /// Paths made relative to `dir` where the file lies in it or below it (for saving).
     pub fn relative_to(&self, dir: &Path) -> Session {
         let rel = |r: &Option<LogRef>| {
-            r.as_ref().map(|r| LogRef {
-                path: r
-                    .path
-                    .strip_prefix(dir)
+            let rel = |p: &PathBuf| {
+                p.strip_prefix(dir)
                     .map(Path::to_path_buf)
-                    .unwrap_or_else(|_| r.path.clone()),
+                    .unwrap_or_else(|_| p.clone())
+            };
+            r.as_ref().map(|r| LogRef {
+                path: rel(&r.path),
+                more_runs: r.more_runs.iter().map(rel).collect(),
                 ..r.clone()
             })
         };
@@ -155,11 +161,15 @@ impl Session {
 
     /// Relative paths resolved against `dir` (after loading).
     pub fn resolved_in(mut self, dir: &Path) -> Session {
-        for r in [&mut self.log, &mut self.validation].into_iter().flatten() {
-            if r.path.is_relative() {
-                let p = dir.join(&r.path);
-                r.path = std::fs::canonicalize(&p).unwrap_or(p);
+        let resolve = |path: &mut PathBuf| {
+            if path.is_relative() {
+                let p = dir.join(&*path);
+                *path = std::fs::canonicalize(&p).unwrap_or(p);
             }
+        };
+        for r in [&mut self.log, &mut self.validation].into_iter().flatten() {
+            resolve(&mut r.path);
+            r.more_runs.iter_mut().for_each(resolve);
         }
         self
     }

@@ -28,6 +28,15 @@ pub enum Action {
     OpenLog,
     /// Open this log (import view next).
     OpenLogPath(PathBuf),
+    /// Open these logs as the runs of one campaign, in this order (import view next, for the
+    /// first: the others are read as it is).
+    OpenRunPaths(Vec<PathBuf>),
+    /// Pick a log to add to the open log as another run of its campaign.
+    AddRun,
+    /// Add this log to the open log as another run of its campaign (read as the first run).
+    AddRunPath(PathBuf),
+    /// Show run `k` of a campaign on the time plots (its span), or every run (`None`).
+    ShowRun(Option<usize>),
     /// Read this log with these options into this slot (the import view's Load).
     ReadLog(PathBuf, LoadOptions, Target),
     /// Close the import view without reading.

@@ -41,6 +41,7 @@ use super::view_figures::FiguresView;
 use super::view_import::{ImportView, ReadWarning};
 use super::view_models::ModelsView;
 use super::view_result::ResultView;
+use super::view_runs::RunsView;
 use super::view_time::{TimeView, XCommand};
 use super::widgets::file_name;
 use crate::files::session::{self, Session};
@@ -79,6 +80,7 @@ pub struct Workbench {
 struct Views {
     page: Page,
     axes: AxesView,
+    runs: RunsView,
     time: TimeView,
     controls: ControlsView,
     coeffs: CoeffView,
@@ -598,7 +600,7 @@ impl Workbench {
             None => "driftlab workbench".to_string(),
             Some(l) => format!(
                 "{}{} — driftlab workbench{}",
-                file_name(&l.path),
+                l.name(),
                 if self.state.dirty() { " •" } else { "" },
                 match (&self.state.shown.fit, &self.state.shown.fit_error) {
                     (_, Some(_)) => " (calibration failed)",

@@ -2,8 +2,10 @@
 //! window screenshot), the calibration file, the corrected log and the session. Every file is
 //! written atomically; every failure comes back as a message naming the file.
 
+use crate::gui::jobs::Loaded;
 use crate::log::Log;
-use crate::models::vakhrameev::Calibration;
+use crate::models::vakhrameev::{Calibration, SourceInfo};
+use crate::signal::plateau::PlateauRange;
 use eframe::egui::{ColorImage, Rect};
 use std::path::{Path, PathBuf};
 
@@ -59,34 +61,56 @@ pub fn save_png(
     Ok(path.to_path_buf())
 }
 
-/// Writes the calibration file, naming its source log and the log's SHA-256.
-pub fn save_calibration(
-    path: &Path,
-    cal: &Calibration,
-    log_path: &Path,
-    sha256: Option<&str>,
-) -> Result<PathBuf, String> {
-    let cal = stamped(cal, log_path, sha256)?;
+/// Writes the calibration file, naming its source log and the log's SHA-256 (a campaign's
+/// runs, each with its own, and their plateaus: [`stamp_source`]).
+pub fn save_calibration(path: &Path, cal: &Calibration, log: &Loaded) -> Result<PathBuf, String> {
+    let cal = stamped(cal, log)?;
     crate::files::calibration::save(path, &cal).map_err(|e| e.to_string())?;
     Ok(path.to_path_buf())
 }
 
-/// The calibration with its source log's name and SHA-256 filled in, as files record it.
-pub fn stamped(
-    cal: &Calibration,
-    log_path: &Path,
-    sha256: Option<&str>,
-) -> Result<Calibration, String> {
+/// The calibration with its source filled in as files record it ([`stamp_source`]).
+pub fn stamped(cal: &Calibration, log: &Loaded) -> Result<Calibration, String> {
     let mut cal = cal.clone();
-    cal.source.name = log_path
+    let ranges: Vec<_> = cal.plateaus.iter().map(|p| p.range).collect();
+    stamp_source(&mut cal.source, log, &ranges)?;
+    Ok(cal)
+}
+
+/// Fills in a fitted model's source as the command line's `calibrate` does: the log's file
+/// name and SHA-256; for a campaign, the runs' names joined, no hash of its own, and each
+/// run's record (its name, SHA-256, span and its plateaus among `ranges`, with the axis's bias
+/// on each) at the default tolerance, through the engine's one stamp
+/// ([`crate::models::campaign::stamp_runs`]).
+///
+/// # Errors
+/// The log's file cannot be hashed; a run of the campaign has no plateau (the command line
+/// refuses the same campaign).
+pub fn stamp_source(
+    source: &mut SourceInfo,
+    log: &Loaded,
+    ranges: &[PlateauRange],
+) -> Result<(), String> {
+    use crate::models::campaign;
+    if log.log.runs().len() > 1 {
+        let options = campaign::CampaignOptions::default();
+        let runs =
+            campaign::run_records(&log.log, "", ranges, &options).map_err(|e| e.to_string())?;
+        source.name = log.log.source.clone();
+        source.sha256 = String::new();
+        campaign::stamp_runs(source, runs, options.tolerance_c);
+        return Ok(());
+    }
+    source.name = log
+        .path
         .file_name()
         .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_else(|| log_path.display().to_string());
-    cal.source.sha256 = match sha256 {
-        Some(s) => s.to_string(),
-        None => crate::files::calibration::sha256_file(log_path).map_err(|e| e.to_string())?,
+        .unwrap_or_else(|| log.path.display().to_string());
+    source.sha256 = match &log.sha256 {
+        Some(s) => s.clone(),
+        None => crate::files::calibration::sha256_file(&log.path).map_err(|e| e.to_string())?,
     };
-    Ok(cal)
+    Ok(())
 }
 
 /// Writes the test report of `cal` on `logs` into the folder `dir` (the engine's report, as
@@ -129,24 +153,16 @@ pub fn write_unit_report(
     .map_err(|e| e.to_string())
 }
 
-/// Writes any fitted model's calibration file (the engine's format, atomically), naming its
-/// source log and the log's SHA-256.
+/// Writes any fitted model's calibration file (the engine's format, atomically), its source
+/// stamped as [`stamp_source`] does with the plateaus `ranges` the workbench's fit used.
 pub fn save_model(
     path: &Path,
     model: &crate::models::fitted::DriftModel,
-    log_path: &Path,
-    sha256: Option<&str>,
+    log: &Loaded,
+    ranges: &[PlateauRange],
 ) -> Result<PathBuf, String> {
     let mut model = model.clone();
-    let source = model.source_mut();
-    source.name = log_path
-        .file_name()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_else(|| log_path.display().to_string());
-    source.sha256 = match sha256 {
-        Some(s) => s.to_string(),
-        None => crate::files::calibration::sha256_file(log_path).map_err(|e| e.to_string())?,
-    };
+    stamp_source(model.source_mut(), log, ranges)?;
     crate::files::calibration::save_model(path, &model).map_err(|e| e.to_string())?;
     Ok(path.to_path_buf())
 }

@@ -91,6 +91,7 @@ pub mod view_import;
 pub mod view_models;
 pub mod view_opened;
 pub mod view_result;
+pub mod view_runs;
 pub mod view_time;
 pub mod widgets;
 
@@ -124,6 +125,9 @@ pub struct GuiOptions {
     pub instance: crate::log::read::InstanceChoice,
     /// A validation log to open beside the log, read as the log is.
     pub validation: Option<PathBuf>,
+    /// A campaign's runs after the first (`log`), read as it is and joined after it: the
+    /// workbench calibrates them as one campaign.
+    pub more_runs: Vec<PathBuf>,
     /// The window's inner size, points (at least 900×620).
     pub window_size: Option<[f32; 2]>,
 }
@@ -137,59 +141,76 @@ pub fn parse_size(s: &str) -> Option<[f32; 2]> {
     (fits(w, 900.0) && fits(h, 620.0)).then_some([w, h])
 }
 
-/// The files `driftlab gui FILE [FILE]` was given, told apart by what they are: a log or a
-/// session (what the workbench works on), and a calibration to open beside its fit.
+/// The files `driftlab gui FILE...` was given, told apart by what they are: a log or a
+/// session (what the workbench works on), a campaign's further runs, and a calibration to open
+/// beside its fit.
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
 pub struct StartFiles {
-    /// The log or session (a `.json` that says it is one).
+    /// The log or session (a `.json` that says it is one); with several logs, the first run.
     pub log: Option<PathBuf>,
+    /// Logs after the first: the runs of one campaign, joined after it in the order given.
+    pub more_runs: Vec<PathBuf>,
     /// The calibration (a `.json` that says it is one, or says nothing readable and is not
     /// named as a session: its loader then says where it is not a calibration).
     pub calibration: Option<PathBuf>,
 }
 
-/// Tells the files given to `driftlab gui` apart, in either order: at most one log or session
-/// and at most one calibration ([`crate::files::kind`] reads what a `.json` says it is).
+/// Tells the files given to `driftlab gui` apart, in any order: one session or any number of
+/// logs (two or more: the runs of one campaign), and at most one calibration
+/// ([`crate::files::kind`] reads what a `.json` says it is).
 ///
 /// # Errors
-/// More than two files, two logs (or sessions, or a log and a session), or two calibrations,
+/// Two sessions, a session and a log, two calibrations, or more logs than a campaign joins,
 /// named.
 pub fn split_files(files: &[PathBuf]) -> Result<StartFiles, String> {
     use crate::files::kind::{JsonKind, json_kind, named_as_session};
     let mut out = StartFiles::default();
-    if files.len() > 2 {
-        return Err(format!(
-            "{} files given ({}): the workbench opens a log (or a session) and, beside it, a \
-             calibration to compare",
-            files.len(),
-            names(files)
-        ));
-    }
+    let mut logs: Vec<PathBuf> = Vec::new();
+    let mut session: Option<PathBuf> = None;
     for f in files {
-        let calibration = app::is_json(f)
+        let json = app::is_json(f);
+        let calibration = json
             && match json_kind(f) {
                 JsonKind::Calibration => true,
                 JsonKind::Session => false,
                 JsonKind::Other(_) | JsonKind::Unknown => !named_as_session(f),
             };
-        let (slot, what) = if calibration {
-            (&mut out.calibration, "calibrations")
+        if calibration {
+            if let Some(first) = out.calibration.replace(f.clone()) {
+                return Err(format!(
+                    "two calibrations given ({}): the workbench opens one calibration beside \
+                     the fit to compare",
+                    names(&[first, f.clone()])
+                ));
+            }
+        } else if json {
+            if let Some(first) = session.replace(f.clone()) {
+                return Err(format!(
+                    "two sessions given ({}): the workbench opens one session",
+                    names(&[first, f.clone()])
+                ));
+            }
         } else {
-            (&mut out.log, "logs or sessions")
-        };
-        if let Some(first) = slot.replace(f.clone()) {
-            return Err(format!(
-                "two {what} given ({}): the workbench opens one log (or session), and one \
-                 calibration beside it to compare{}",
-                names(&[first, f.clone()]),
-                if calibration {
-                    ""
-                } else {
-                    "; a second log is opened with --validation LOG"
-                }
-            ));
+            logs.push(f.clone());
         }
     }
+    if let (Some(s), Some(l)) = (&session, logs.first()) {
+        return Err(format!(
+            "two logs or sessions given ({}): a session names its own logs; open the session, \
+             then File › Add run to join a run to its campaign",
+            names(&[s.clone(), l.clone()])
+        ));
+    }
+    if logs.len() > crate::log::campaign::MAX_RUNS {
+        return Err(format!(
+            "{} logs given: a campaign joins at most {} runs",
+            logs.len(),
+            crate::log::campaign::MAX_RUNS
+        ));
+    }
+    let mut logs = logs.into_iter();
+    out.log = session.or_else(|| logs.next());
+    out.more_runs = logs.collect();
     Ok(out)
 }
 
@@ -253,6 +274,7 @@ pub fn run(options: GuiOptions) -> Result<(), String> {
     }
     for l in log
         .iter()
+        .chain(&options.more_runs)
         .chain(&options.validation)
         .chain(&options.calibration)
     {
@@ -271,6 +293,7 @@ pub fn run(options: GuiOptions) -> Result<(), String> {
         read: options.read.clone(),
         bin_s: options.bin_s,
         instance: options.instance,
+        more_runs: Vec::new(),
     };
     // Screenshot mode renders with the engineer's theme but writes no settings back.
     let settings = Settings::default_path()
@@ -317,13 +340,19 @@ pub fn run(options: GuiOptions) -> Result<(), String> {
     let slot = outcome.clone();
     let validation = options.validation.clone();
     let calibration = options.calibration.clone();
+    let more_runs = options.more_runs.clone();
     eframe::run_native(
         "driftlab",
         native,
         Box::new(move |_cc| {
             let mut wb = Workbench::new(settings, settings_path, Box::new(SystemDialogs::detect()));
             let shot = shot.map(|s| (s, slot));
-            start(&mut wb, log, load.clone(), shot);
+            // A campaign's further runs are read as the first; the validation log alone.
+            let runs = jobs::LoadOptions {
+                more_runs,
+                ..load.clone()
+            };
+            start(&mut wb, log, runs, shot);
             if let Some(v) = validation {
                 wb.open_validation_after(v, load);
             }

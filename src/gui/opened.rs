@@ -88,6 +88,7 @@ fn calibration_input(state: &AppState) -> Option<LogInput> {
     Some(LogInput {
         which: OpenLog::Calibration,
         path: shown.path.clone(),
+        name: shown.name(),
         sha256: shown.sha256.clone().unwrap_or_default(),
         full,
         views,
@@ -109,6 +110,7 @@ fn validation_input(state: &AppState) -> Option<LogInput> {
     held.then(|| LogInput {
         which: OpenLog::Validation,
         path: file.path.clone(),
+        name: file.name(),
         sha256: file.sha256.clone().unwrap_or_default(),
         full: file.log.clone(),
         views,

@@ -418,6 +418,12 @@ impl AppState {
                 read: l.options.read.clone(),
                 bin_s: l.options.bin_s,
                 instance: l.options.instance,
+                more_runs: l
+                    .options
+                    .more_runs
+                    .iter()
+                    .map(|p| std::path::absolute(p).unwrap_or_else(|_| p.clone()))
+                    .collect(),
             })
         };
         let mut session = Session {
@@ -543,11 +549,7 @@ impl AppState {
                     a.fit_error.map(|e| format!(" ({e})")).unwrap_or_default()
                 )));
             };
-            let cal = match super::export::stamped(
-                &fit.outcome.calibration,
-                &log.path,
-                log.sha256.as_deref(),
-            ) {
+            let cal = match super::export::stamped(&fit.outcome.calibration, log) {
                 Ok(c) => c,
                 Err(e) => return Some(Err(e)),
             };

@@ -7,7 +7,6 @@ use super::action::{Action, OpenLog};
 use super::opened::{self, Column};
 use super::plot_items::{num, ratio};
 use super::state::AppState;
-use super::widgets::file_name;
 use crate::judge::metrics::Evaluation;
 use eframe::egui::{self, Grid, RichText, Ui};
 
@@ -30,7 +29,7 @@ impl FiguresView {
             .unwrap_or_default();
         let name = |l: &Option<super::jobs::Loaded>| {
             l.as_ref()
-                .map(|l| format!("{}{axis}", file_name(&l.path)))
+                .map(|l| format!("{}{axis}", l.name()))
                 .unwrap_or_default()
         };
         // While a refit is on its way (a knot being dragged on a long log) the figures are those

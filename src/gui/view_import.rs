@@ -25,6 +25,9 @@ pub struct ImportView {
     /// The gyro and temperature of a drone or robot log, kept as they were (the view maps a
     /// CSV's columns; File › Gyro of the log chooses these).
     instance: crate::log::read::InstanceChoice,
+    /// A campaign's further runs, read with the mapping chosen here for the first (runs of
+    /// one gyro are logged alike), kept as they were.
+    more_runs: Vec<PathBuf>,
     /// What the reader said when it last read this file (problems it worked around, columns
     /// that do not hold what their role means, how the log was averaged), shown first while
     /// the options are the ones it was read with.
@@ -80,6 +83,7 @@ impl ImportView {
             read,
             bin_s,
             instance,
+            more_runs,
         } = options;
         let preview =
             ingest::preview(&path, &read, PREVIEW_ROWS).map_err(|e| in_labels(&e.to_string()));
@@ -95,6 +99,7 @@ impl ImportView {
             read,
             bin_s,
             instance,
+            more_runs,
             warnings: Vec::new(),
             last_rect: None,
             preview,
@@ -126,6 +131,7 @@ impl ImportView {
             read: self.read.clone(),
             bin_s: self.bin_s,
             instance: self.instance,
+            more_runs: self.more_runs.clone(),
         }
     }
 

@@ -4,10 +4,11 @@
 //! are different (another day's turn-on, another program, another rate).
 //!
 //! The figure is the comparison's: raw ÷ corrected peak-to-peak of the filtered drift on the
-//! run left out, with the corrected peak-to-peak in °/h beside it. The mean and the worst over
-//! the runs are kept; the worst is what the recommendation ranks by, as a calibration ships to
+//! run left out, with the corrected peak-to-peak in °/h beside it. The mean (the ratio of the
+//! mean raw to the mean corrected peak-to-peak) and the worst over the runs are kept; the worst is what the recommendation ranks by, as a calibration ships to
 //! every run of the gyro.
 
+use crate::judge::metrics::RATIO_FLOOR;
 use crate::judge::metrics::{Evaluation, MeritOptions};
 use crate::log::Log;
 use crate::models::presets::ModelChoice;
@@ -35,10 +36,15 @@ pub struct RunLeftOut {
 pub struct LeaveOneRunOut {
     /// Each run, in the campaign's order.
     pub runs: Vec<RunLeftOut>,
-    /// The mean of the runs' ratios; `None` when a run was not judged (or its ratio is n/a).
+    /// The runs' mean raw peak-to-peak over their mean corrected peak-to-peak (the ratio of
+    /// the two means beside it, not the mean of the runs' ratios, which one run's large ratio
+    /// lifts above a run made many times worse); `None` when a run was not judged (or a
+    /// figure is n/a).
     pub mean_p2p_ratio: Option<f64>,
     /// The worst (smallest) of the runs' ratios; `None` as the mean.
     pub worst_p2p_ratio: Option<f64>,
+    /// The mean of the runs' raw peak-to-peak, °/h; `None` as the mean.
+    pub mean_raw_p2p_dph: Option<f64>,
     /// The mean of the runs' corrected peak-to-peak, °/h; `None` as the mean.
     pub mean_corrected_p2p_dph: Option<f64>,
     /// The worst (largest) of the runs' corrected peak-to-peak, °/h; `None` as the mean.
@@ -116,14 +122,22 @@ fn summed(runs: Vec<RunLeftOut>) -> LeaveOneRunOut {
             .collect()
     };
     let ratios = all(|r| r.p2p_ratio);
+    let raw = all(|r| r.raw_p2p_dph);
     let corrected = all(|r| r.corrected_p2p_dph);
     let mean = |v: &Vec<f64>| v.iter().sum::<f64>() / v.len() as f64;
+    let (mean_raw, mean_corrected) = (raw.as_ref().map(mean), corrected.as_ref().map(mean));
+    // The ratio of the means, as every ratio is taken (n/a for a corrected figure of zero).
+    let mean_ratio = match (ratios.as_ref(), mean_raw, mean_corrected) {
+        (Some(_), Some(r), Some(c)) if c > 0.0 && c > r.abs() * RATIO_FLOOR => Some(r / c),
+        _ => None,
+    };
     LeaveOneRunOut {
-        mean_p2p_ratio: ratios.as_ref().map(mean),
+        mean_p2p_ratio: mean_ratio,
+        mean_raw_p2p_dph: mean_raw,
         worst_p2p_ratio: ratios
             .as_ref()
             .map(|v| v.iter().copied().fold(f64::INFINITY, f64::min)),
-        mean_corrected_p2p_dph: corrected.as_ref().map(mean),
+        mean_corrected_p2p_dph: mean_corrected,
         worst_corrected_p2p_dph: corrected
             .as_ref()
             .map(|v| v.iter().copied().fold(f64::NEG_INFINITY, f64::max)),

@@ -262,20 +262,35 @@ pub fn run_plateaus(
     let ranges = super::vakhrameev::Pipeline::new(log, recipe)?
         .ranges()
         .to_vec();
-    let run_of = |r: &plateau::PlateauRange| {
-        log.runs()
-            .iter()
-            .position(|s| {
-                let (lo, hi) = r.index_range(&log.time_s);
-                lo >= s.samples.start && hi <= s.samples.end && lo < hi
-            })
-            .unwrap_or(usize::MAX)
-    };
-    let ranges: Vec<plateau::PlateauRange> = ranges
-        .into_iter()
-        .filter(|r| run_of(r) != usize::MAX)
-        .collect();
-    let plateau_runs: Vec<usize> = ranges.iter().map(run_of).collect();
+    runs_of(log, ranges)
+}
+
+/// The run each plateau of `ranges` lies in, `None` for one that crosses a run's end (a range
+/// placed by hand over the gap between two runs: a plateau of neither).
+pub fn run_of_each(log: &Log, ranges: &[plateau::PlateauRange]) -> Vec<Option<usize>> {
+    ranges
+        .iter()
+        .map(|r| {
+            let (lo, hi) = r.index_range(&log.time_s);
+            log.runs()
+                .iter()
+                .position(|s| lo >= s.samples.start && hi <= s.samples.end && lo < hi)
+        })
+        .collect()
+}
+
+/// `ranges` less those that cross a run's end, each with its run; refused when a run is left
+/// with no plateau.
+fn runs_of(
+    log: &Log,
+    ranges: Vec<plateau::PlateauRange>,
+) -> Result<(Vec<plateau::PlateauRange>, Vec<usize>)> {
+    let (ranges, plateau_runs): (Vec<plateau::PlateauRange>, Vec<usize>) =
+        run_of_each(log, &ranges)
+            .into_iter()
+            .zip(ranges)
+            .filter_map(|(k, r)| Some((r, k?)))
+            .unzip();
     if let Some(k) = (0..log.runs().len()).find(|k| !plateau_runs.contains(k)) {
         return Err(Invalid::new(
             format!("run {}", log.runs()[k].name),
@@ -286,6 +301,54 @@ pub fn run_plateaus(
         .into());
     }
     Ok((ranges, plateau_runs))
+}
+
+/// Each run's record of the axis named `name` (the log's first axis for `""`), from the
+/// plateaus `ranges` a fit used (detected or placed by hand on the joined time): the faces
+/// that fit a campaign stage by stage (the workbench) record it as [`calibrate_campaign`]
+/// does, with no turn-on offset. Empty for a log of one run.
+///
+/// # Errors
+/// A run with no plateau among `ranges` (as [`run_plateaus`] refuses it).
+pub fn run_records(
+    log: &Log,
+    name: &str,
+    ranges: &[plateau::PlateauRange],
+    options: &CampaignOptions,
+) -> Result<Vec<RunRecord>> {
+    if log.runs().len() < 2 {
+        return Ok(Vec::new());
+    }
+    let (ranges, plateau_runs) = runs_of(log, ranges.to_vec())?;
+    let omega = if name.is_empty() {
+        &log.omega_dph
+    } else {
+        log.axis_rate(name).unwrap_or(&log.omega_dph)
+    };
+    let stats: Vec<PlateauStats> = ranges
+        .iter()
+        .filter_map(|r| plateau::stats(&log.time_s, &log.temp_c, omega, *r))
+        .collect();
+    if stats.len() != plateau_runs.len() {
+        return Err(crate::error::Error::Internal(
+            "a campaign plateau without samples",
+        ));
+    }
+    Ok(record(log, &stats, &plateau_runs, None, options))
+}
+
+/// Writes a campaign's record into a fitted model's source: `runs` and the tolerance its
+/// plateaus were grouped by (nothing for a calibration of one run, whose `runs` is empty).
+/// The one stamp the command line and the workbench put on a campaign's calibration.
+pub fn stamp_runs(
+    source: &mut super::vakhrameev::SourceInfo,
+    runs: Vec<RunRecord>,
+    tolerance_c: f64,
+) {
+    if !runs.is_empty() {
+        source.temp_tolerance_c = Some(tolerance_c);
+    }
+    source.runs = runs;
 }
 
 /// The rate column of axis `name`, to take the offsets out.

@@ -134,6 +134,7 @@ impl Pipeline {
         let evaluation = evaluation(v.raw_figures, cor_figures, &corrected);
         Judged {
             log: log.clone(),
+            per_run: Comparison::of_runs(log, &corrected.cor_dph, &corrected.ready, merit),
             corrected,
             evaluation,
             raw_filtered_dph: v.raw_filtered.clone(),

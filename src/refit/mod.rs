@@ -105,6 +105,9 @@ pub struct Judged {
     /// corrected rate as it is, which the workbench does not draw), °/h (shared: kept while
     /// the correction stays). The workbench draws this series: it does not filter again.
     pub cor_filtered_dph: Arc<Vec<f64>>,
+    /// Raw against corrected on each run of a campaign on its own, in run order; empty for a
+    /// log of one run.
+    pub per_run: Vec<Comparison>,
 }
 
 /// Milliseconds spent per stage of one run (0 for a stage that was reused).
@@ -151,6 +154,10 @@ pub struct Outcome {
     pub held_out: Option<Judged>,
     /// Time per stage.
     pub timings: Timings,
+    /// A campaign's runs as the calibration records them (each run's plateaus among
+    /// `ranges`, with this axis's bias), at the default tolerance; empty for a log of one run,
+    /// or when a run has no plateau (said in `warnings`).
+    pub runs: Vec<crate::models::campaign::RunRecord>,
 }
 
 impl Outcome {
@@ -399,8 +406,10 @@ impl Pipeline {
         let evaluation = evaluation(raw_figures, cor_figures, &corrected);
         // The warning the command line gives for a calibration worse than raw on its own log.
         warnings.extend(crate::models::worse_than_raw("vakhrameev", &evaluation));
+        let per_run = Comparison::of_runs(log, &corrected.cor_dph, &corrected.ready, &merit);
         let in_sample = Judged {
             log: log.clone(),
+            per_run,
             corrected,
             evaluation,
             raw_filtered_dph: raw_filtered,
@@ -416,8 +425,34 @@ impl Pipeline {
         if held_out.is_some() {
             timings.validation_ms = ms(t);
         }
+        if log.runs().len() > 1 {
+            let across = crate::models::campaign::run_of_each(log, &ranges)
+                .iter()
+                .filter(|r| r.is_none())
+                .count();
+            if across > 0 {
+                warnings.push(format!(
+                    "{across} plateau{} placed across the end of a run: a plateau of neither \
+                     run, its samples from both; move it within one run",
+                    if across == 1 { " is" } else { "s are" }
+                ));
+            }
+        }
+        let runs = match crate::models::campaign::run_records(
+            log,
+            "",
+            &ranges,
+            &crate::models::campaign::CampaignOptions::default(),
+        ) {
+            Ok(r) => r,
+            Err(e) => {
+                warnings.push(e.to_string());
+                Vec::new()
+            }
+        };
         timings.total_ms = ms(t_all);
         Outcome {
+            runs,
             calibration,
             prepared,
             ranges,

@@ -40,8 +40,7 @@ fn ardupilot_parameters_from_the_menu_are_the_engines() {
     let log = wb.state.shown.log.as_ref().unwrap();
     let cal = driftlab::gui::export::stamped(
         &wb.state.shown.fit.as_ref().unwrap().outcome.calibration,
-        &log.path,
-        log.sha256.as_deref(),
+        log,
     )
     .unwrap();
     let model = DriftModel::Vakhrameev(Box::new(cal));

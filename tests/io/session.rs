@@ -54,6 +54,9 @@ fn a_session(log: PathBuf) -> Session {
                 rate_col: Some(ColumnRef::Name("omega_dph".into())),
                 ..ReadOptions::default()
             },
+            // A campaign's further runs: kept through a save and a load (made relative to the
+            // session's folder and back).
+            more_runs: vec![sample("validation.csv")],
             ..LogRef::default()
         }),
         // Averaged into 2-s bins: kept through a save and a load.
@@ -66,6 +69,7 @@ fn a_session(log: PathBuf) -> Session {
                 gyro: Some(2),
                 temp_from: Some(driftlab::log::read::TempFrom::Accel),
             },
+            more_runs: Vec::new(),
         }),
         recipe,
         knots: KnotEdits::default(),

@@ -85,7 +85,15 @@ impl Workbench {
     pub(super) fn files_dropped(&mut self, ctx: &egui::Context, actions: &mut Vec<Action>) {
         let (hovered, dropped) =
             ctx.input(|i| (!i.raw.hovered_files.is_empty(), i.raw.dropped_files.clone()));
-        if let Some(path) = dropped.first().map(|f| f.path().to_path_buf()) {
+        let logs: Vec<PathBuf> = dropped
+            .iter()
+            .map(|f| f.path().to_path_buf())
+            .filter(|p| !p.as_os_str().is_empty() && !is_json(p))
+            .collect();
+        if logs.len() > 1 {
+            // Several logs dropped at once: the runs of one campaign, in the order given.
+            actions.push(Action::OpenRunPaths(logs));
+        } else if let Some(path) = dropped.first().map(|f| f.path().to_path_buf()) {
             // A `.json` is opened as what it says it is: a calibration or a session.
             actions.push(if is_json(&path) {
                 super::opened::json_action(path)
@@ -103,7 +111,7 @@ impl Workbench {
             painter.text(
                 r.center(),
                 egui::Align2::CENTER_CENTER,
-                "Drop a log to import it (a calibration .json to compare, a session .json to reopen)",
+                "Drop a log to import it (several: the runs of one campaign; a calibration .json to compare, a session .json to reopen)",
                 egui::FontId::proportional(22.0),
                 Color32::WHITE,
             );
@@ -130,6 +138,7 @@ impl Workbench {
             action,
             Action::OpenLog
                 | Action::OpenLogPath(_)
+                | Action::OpenRunPaths(_)
                 | Action::OpenSession
                 | Action::OpenSessionPath(_)
                 | Action::Quit
@@ -145,6 +154,17 @@ impl Workbench {
         match action {
             Action::OpenLog => self.ask(ctx, Purpose::OpenLog, ""),
             Action::OpenLogPath(p) => self.open_import(p, Target::Calibration),
+            Action::OpenRunPaths(paths) => self.open_runs(paths),
+            Action::AddRun => {
+                if self.state.shown.log.is_none() {
+                    self.state
+                        .say(Severity::Warning, "Open the first run first");
+                } else {
+                    self.ask(ctx, Purpose::AddRun, "");
+                }
+            }
+            Action::AddRunPath(p) => self.add_run(p),
+            Action::ShowRun(k) => self.show_run(k),
             Action::ReadLog(path, options, target) => {
                 self.modals.import = None;
                 self.start_load(path, options, target);
@@ -276,7 +296,11 @@ impl Workbench {
     pub(super) fn open_import(&mut self, path: PathBuf, target: Target) {
         let options = match (target, &self.state.shown.log) {
             // A second log of the same stand is likely written and averaged alike.
-            (Target::Validation, Some(l)) => l.options.clone(),
+            // (Its runs are the calibration log's own: a held-out log is one run.)
+            (Target::Validation, Some(l)) => LoadOptions {
+                more_runs: Vec::new(),
+                ..l.options.clone()
+            },
             _ => LoadOptions::default(),
         };
         // A drone or robot log (told by its first bytes) has no columns to map: it is read
@@ -286,6 +310,56 @@ impl Workbench {
             return;
         }
         self.modals.import = Some(ImportView::new(path, target, options));
+    }
+
+    /// Opens `paths` as the runs of one campaign: the first through the import view (a drone
+    /// or robot log read at once), the others read as it is.
+    fn open_runs(&mut self, mut paths: Vec<PathBuf>) {
+        if paths.is_empty() {
+            return;
+        }
+        let first = paths.remove(0);
+        let options = LoadOptions {
+            more_runs: paths,
+            ..LoadOptions::default()
+        };
+        if is_drone_log(&first) {
+            self.start_load(first, options, Target::Calibration);
+        } else {
+            self.modals.import = Some(ImportView::new(first, Target::Calibration, options));
+        }
+    }
+
+    /// Reads the open log again with `path` joined after its runs, as they were read; the
+    /// work on the runs before stays (their times on the joined axis do not move). A run the
+    /// engine refuses (another gyro, the same file) leaves everything as it was.
+    pub(super) fn add_run(&mut self, path: PathBuf) {
+        let Some(l) = &self.state.shown.log else {
+            self.state
+                .say(Severity::Warning, "Open the first run first");
+            return;
+        };
+        let mut options = l.options.clone();
+        options.more_runs.push(path);
+        let first = l.path.clone();
+        self.start_load(first, options, Target::Calibration);
+    }
+
+    /// Shows run `k` of the campaign on the time plots (its span on the joined time), or the
+    /// whole log.
+    fn show_run(&mut self, k: Option<usize>) {
+        let Some(l) = &self.state.shown.log else {
+            return;
+        };
+        let span = k.and_then(|k| l.log.runs().get(k)).and_then(|r| {
+            let t = &l.log.time_s[r.samples.clone()];
+            Some((*t.first()?, *t.last()?))
+        });
+        self.views.time.x_command = Some(match span {
+            Some((a, b)) => XCommand::Range(a, b),
+            None => XCommand::Fit,
+        });
+        self.views.runs.shown = span.and(k);
     }
 
     pub(super) fn suggest_plateaus(&mut self) {

@@ -14,6 +14,8 @@ pub(super) enum Purpose {
     OpenLog,
     /// A validation log to import.
     OpenValidation,
+    /// Another run of the open log's campaign.
+    AddRun,
     /// A calibration to open beside the current fit.
     OpenCalibration,
     /// A session to open.
@@ -41,6 +43,7 @@ impl Purpose {
         match self {
             Purpose::OpenLog => FileKind::Log,
             Purpose::OpenValidation => FileKind::ValidationLog,
+            Purpose::AddRun => FileKind::Log,
             Purpose::OpenCalibration => FileKind::OpenCalibration,
             Purpose::OpenSession | Purpose::SaveSession { .. } => FileKind::Session,
             Purpose::ExportCalibration => FileKind::Calibration,
@@ -55,6 +58,7 @@ impl Purpose {
     fn mode(&self) -> Mode {
         match self {
             Purpose::OpenLog
+            | Purpose::AddRun
             | Purpose::OpenValidation
             | Purpose::OpenCalibration
             | Purpose::OpenSession => Mode::Open,
@@ -67,6 +71,7 @@ impl Purpose {
         match self {
             Purpose::OpenLog => "No log opened".into(),
             Purpose::OpenValidation => "No validation log opened".into(),
+            Purpose::AddRun => "No run added".into(),
             Purpose::OpenCalibration => "No calibration opened".into(),
             Purpose::OpenSession => "No session opened".into(),
             Purpose::SaveSession { .. } => "Session not saved".into(),
@@ -170,6 +175,7 @@ impl Workbench {
         match purpose {
             Purpose::OpenLog => self.open_import(path, Target::Calibration),
             Purpose::OpenValidation => self.open_import(path, Target::Validation),
+            Purpose::AddRun => self.add_run(path),
             Purpose::OpenCalibration => self.open_calibration(path),
             Purpose::OpenSession => self.open_session(path),
             Purpose::SaveSession { then } => {
@@ -256,13 +262,8 @@ impl Workbench {
                 export::save_unit(path, &u)
                     .map(|p| (p, format!(" (axes {})", u.axis_names().join(", "))))
             }),
-            None => export::save_calibration(
-                path,
-                &fit.outcome.calibration,
-                &log.path,
-                log.sha256.as_deref(),
-            )
-            .map(|p| (p, String::new())),
+            None => export::save_calibration(path, &fit.outcome.calibration, &log)
+                .map(|p| (p, String::new())),
         };
         match written {
             Ok((p, axes)) => {
@@ -327,12 +328,10 @@ impl Workbench {
             Some(unit) => unit.and_then(|u| {
                 crate::export::firmware::flight_unit(&u, format, &opts).map_err(|e| e.to_string())
             }),
-            None => export::stamped(&fit.outcome.calibration, &log.path, log.sha256.as_deref())
-                .and_then(|cal| {
-                    let model = crate::models::fitted::DriftModel::Vakhrameev(Box::new(cal));
-                    crate::export::firmware::flight(&model, format, &opts)
-                        .map_err(|e| e.to_string())
-                }),
+            None => export::stamped(&fit.outcome.calibration, &log).and_then(|cal| {
+                let model = crate::models::fitted::DriftModel::Vakhrameev(Box::new(cal));
+                crate::export::firmware::flight(&model, format, &opts).map_err(|e| e.to_string())
+            }),
         }
         .and_then(|file| {
             crate::files::atomic::write_bytes(path, file.text.as_bytes())
@@ -433,9 +432,16 @@ impl Workbench {
         let what = format!("model {}", model.name());
         self.state
             .say(Severity::Info, format!("Writing {} …", path.display()));
-        let (log_path, sha) = (log.path.clone(), log.sha256.clone());
+        // Its runs' plateaus are the ones the workbench's fit found or was given.
+        let ranges: Vec<_> = self
+            .state
+            .shown
+            .fit
+            .as_ref()
+            .map(|f| f.outcome.ranges.clone())
+            .unwrap_or_default();
         self.jobs.spawn_export(&what, move || {
-            export::save_model(&path, &model, &log_path, sha.as_deref())
+            export::save_model(&path, &model, &log, &ranges)
         });
     }
 
@@ -459,8 +465,7 @@ impl Workbench {
         };
         // A name typed as "x.html" means the folder "x".
         let dir = dir.with_extension("");
-        let cal = match export::stamped(&fit.outcome.calibration, &log.path, log.sha256.as_deref())
-        {
+        let cal = match export::stamped(&fit.outcome.calibration, &log) {
             Ok(c) => c,
             Err(e) => {
                 self.state.say(
@@ -492,7 +497,7 @@ impl Workbench {
                     );
                 }
             };
-            let mut logs = vec![(log.path.clone(), (*full).clone())];
+            let mut logs = log.as_files(&full);
             let validation = self.state.unit_validation_log();
             let held_out = validation.is_some();
             logs.extend(validation);
@@ -513,7 +518,7 @@ impl Workbench {
             });
             return;
         }
-        let mut logs = vec![(log.path.clone(), (*log.log).clone())];
+        let mut logs = log.as_files(&log.log);
         if let Some(v) = &self.state.shown.validation {
             logs.push((v.path.clone(), (*v.log).clone()));
         }
@@ -671,6 +676,7 @@ impl Workbench {
                         read: log.read,
                         bin_s: log.bin_s,
                         instance: log.instance,
+                        more_runs: log.more_runs,
                     };
                     self.start_load(log.path, options, Target::Calibration);
                 }

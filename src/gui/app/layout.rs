@@ -19,6 +19,18 @@ impl Workbench {
                     ui.close();
                 }
                 if ui
+                    .add_enabled(has_log, egui::Button::new("Add run…"))
+                    .on_hover_text(
+                        "Add another chamber run of the same gyro: the runs are calibrated \
+                         together as one campaign (each run's smoothing, derivatives and \
+                         plateaus its own; K0 from every run's plateaus)",
+                    )
+                    .clicked()
+                {
+                    actions.push(Action::AddRun);
+                    ui.close();
+                }
+                if ui
                     .add_enabled(has_log, egui::Button::new("Open validation log…"))
                     .on_hover_text("A second log of the same gyro, to judge the calibration held out")
                     .clicked()
@@ -253,7 +265,7 @@ impl Workbench {
                 ui.separator();
             }
             if let Some(l) = &self.state.shown.log {
-                let name = crate::gui::widgets::file_name(&l.path);
+                let name = l.name();
                 let dirty = if self.state.dirty() { " •" } else { "" };
                 let details = format!(
                     "{} samples · {} h · step {} s{}",

@@ -28,6 +28,18 @@ impl Workbench {
             });
             self.window.panel_rects.insert("axes", r.response.rect);
         }
+        if self
+            .state
+            .shown
+            .log
+            .as_ref()
+            .is_some_and(|l| l.log.runs().len() > 1)
+        {
+            let r = Panel::top("runs")
+                .resizable(false)
+                .show(ui, |ui| actions.extend(self.views.runs.ui(ui, &self.state)));
+            self.window.panel_rects.insert("runs", r.response.rect);
+        }
         if !compact {
             Panel::top("banner")
                 .resizable(false)

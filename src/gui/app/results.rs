@@ -125,7 +125,18 @@ impl Workbench {
                 let msg = format!(
                     "Read {} samples from {} in {:.2} s{}{}",
                     l.log.info.rows_read.max(l.log.len()),
-                    file_name(&path),
+                    match l.log.runs().len() {
+                        n if n > 1 => format!(
+                            "{n} runs ({})",
+                            l.log
+                                .runs()
+                                .iter()
+                                .map(|r| r.name.as_str())
+                                .collect::<Vec<_>>()
+                                .join(", ")
+                        ),
+                        _ => file_name(&path),
+                    },
                     l.seconds,
                     if l.log.info.problems.is_empty() {
                         String::new()
@@ -201,6 +212,7 @@ impl Workbench {
                                 read: v.read.clone(),
                                 bin_s: v.bin_s,
                                 instance: v.instance,
+                                more_runs: Vec::new(),
                             };
                             self.start_load(v.path.clone(), options, Target::Validation);
                         }

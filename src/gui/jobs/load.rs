@@ -6,6 +6,7 @@ use super::*;
 use crate::gui::plot_items::Segments;
 use crate::log::read::{DroneLog, InstanceChoice};
 use crate::log::resample::{self, Resampling};
+use std::path::Path;
 
 /// How the workbench reads a log: the reader's options, then the averaging applied after the
 /// read. Sessions keep it whole.
@@ -18,6 +19,11 @@ pub struct LoadOptions {
     pub bin_s: Option<f64>,
     /// The gyro and temperature of a drone or robot log (nothing for a CSV).
     pub instance: InstanceChoice,
+    /// A campaign's runs after the first (several files on the command line or dropped,
+    /// File › Add run): each read and averaged as the first is, then joined after it by the
+    /// engine ([`crate::log::campaign::join`], which refuses runs of another gyro); empty for
+    /// one log.
+    pub more_runs: Vec<PathBuf>,
 }
 
 impl LoadOptions {
@@ -82,6 +88,30 @@ pub struct Loaded {
 }
 
 impl Loaded {
+    /// The log as `driftlab report` and `evaluate` are given it: its file and samples, or for
+    /// a campaign each run's file with that run's samples on its own time (`full`: the log
+    /// with every axis, for a unit).
+    pub fn as_files(&self, full: &Log) -> Vec<(PathBuf, Log)> {
+        if full.runs().len() < 2 {
+            return vec![(self.path.clone(), full.clone())];
+        }
+        std::iter::once(&self.path)
+            .chain(&self.options.more_runs)
+            .enumerate()
+            .filter_map(|(k, p)| Some((p.clone(), full.run_log(k)?)))
+            .collect()
+    }
+
+    /// The log's name for the window: its file's, or for a campaign the first run's and how
+    /// many runs follow (`heating.csv + 2 runs`).
+    pub fn name(&self) -> String {
+        let first = crate::gui::widgets::file_name(&self.path);
+        match self.log.runs().len() {
+            n if n > 1 => format!("{first} + {} run{}", n - 1, if n == 2 { "" } else { "s" }),
+            _ => first,
+        }
+    }
+
     /// The view of the axis named `name` (see [`Loaded::axis_views`]).
     pub fn axis_view(&self, name: &str) -> Option<&Loaded> {
         self.axis_views.iter().find(|v| v.log.axis == name)
@@ -112,53 +142,19 @@ impl LoadHandle {
 
 pub(super) fn load_log(h: &LoadHandle, options: LoadOptions) -> JobResult {
     let t = Instant::now();
-    let progress = h.progress.clone();
-    let cancel = h.cancel.clone();
-    // Any log driftlab reads: a CSV, or a drone or robot log told by its first bytes (the
-    // gyro and temperature chosen, else its first gyro with a temperature, as every command).
-    let result = crate::log::read::read_any_with_progress(
-        &h.path,
-        &options.read,
-        &options.instance.format_choice(),
-        &|f| {
-            progress.store(f.to_bits(), Ordering::Relaxed);
-            !cancel.load(Ordering::Relaxed)
-        },
-    );
-    match result {
-        Ok(any) => {
-            let log = any.log;
-            let drone = any.drone.map(Arc::new);
-            // Averaged before anything else, as every command does (bins, or bursts).
-            let how = resample::choose(&log, options.bin_s);
-            let recorded = (how == Resampling::BurstMeans).then(|| {
-                let (omega, temp) = rayon::join(
-                    || MinMaxPyramid::new(&log.omega_dph),
-                    || MinMaxPyramid::new(&log.temp_c),
-                );
-                Arc::new(Recorded {
-                    segments: Segments::of(&log),
-                    lods: LogLods {
-                        omega,
-                        temp: Arc::new(temp),
-                    },
-                    log: log.clone(),
-                })
-            });
-            let (log, resampled) = match resample::resample(log, how) {
-                Ok(r) => r,
-                Err(e) => return JobResult::LoadFailed(h.target, h.path.clone(), e.to_string()),
-            };
+    let failed = |e: String| JobResult::LoadFailed(h.target, h.path.clone(), e);
+    let read = match options.more_runs.is_empty() {
+        true => read_one(h, &h.path, &options, (0.0, 1.0)),
+        false => read_runs(h, &options),
+    };
+    match read {
+        Ok((log, resampled, recorded, drone)) => {
             if log.len() < crate::models::MIN_SAMPLES {
-                return JobResult::LoadFailed(
-                    h.target,
-                    h.path.clone(),
-                    format!(
-                        "{}: only {} samples, too few to work with",
-                        h.path.display(),
-                        log.len()
-                    ),
-                );
+                return failed(format!(
+                    "{}: only {} samples, too few to work with",
+                    h.path.display(),
+                    log.len()
+                ));
             }
             let path = h.path.clone();
             let views = other_axis_views(&log, recorded.as_deref());
@@ -174,7 +170,11 @@ pub(super) fn load_log(h: &LoadHandle, options: LoadOptions) -> JobResult {
                         || Segments::of(&log),
                     )
                 },
-                || crate::files::calibration::sha256_file(&path).ok(),
+                // A campaign's runs keep their own hashes, in the log's runs.
+                || match log.runs().is_empty() {
+                    true => crate::files::calibration::sha256_file(&path).ok(),
+                    false => None,
+                },
             );
             let mut loaded = Loaded {
                 path: h.path.clone(),
@@ -216,8 +216,90 @@ pub(super) fn load_log(h: &LoadHandle, options: LoadOptions) -> JobResult {
         Err(_) if h.cancel.load(Ordering::Relaxed) => {
             JobResult::LoadCancelled(h.target, h.path.clone())
         }
-        Err(e) => JobResult::LoadFailed(h.target, h.path.clone(), e.to_string()),
+        Err(e) => failed(e),
     }
+}
+
+/// One file read as the workbench reads a log: the reader, then the averaging; with the
+/// averaging's words, the log as recorded when it is its bursts' means, and what a drone or
+/// robot log's reader said. Progress goes from `span.0` to `span.1`.
+fn read_one(
+    h: &LoadHandle,
+    path: &Path,
+    options: &LoadOptions,
+    span: (f64, f64),
+) -> Result<Read, String> {
+    let progress = h.progress.clone();
+    let cancel = h.cancel.clone();
+    // Any log driftlab reads: a CSV, or a drone or robot log told by its first bytes (the
+    // gyro and temperature chosen, else its first gyro with a temperature, as every command).
+    let any = crate::log::read::read_any_with_progress(
+        path,
+        &options.read,
+        &options.instance.format_choice(),
+        &|f| {
+            let at = span.0 + (span.1 - span.0) * f;
+            progress.store(at.to_bits(), Ordering::Relaxed);
+            !cancel.load(Ordering::Relaxed)
+        },
+    )
+    .map_err(|e| e.to_string())?;
+    let log = any.log;
+    let drone = any.drone.map(Arc::new);
+    // Averaged before anything else, as every command does (bins, or bursts).
+    let how = resample::choose(&log, options.bin_s);
+    let recorded = (how == Resampling::BurstMeans).then(|| {
+        let (omega, temp) = rayon::join(
+            || MinMaxPyramid::new(&log.omega_dph),
+            || MinMaxPyramid::new(&log.temp_c),
+        );
+        Arc::new(Recorded {
+            segments: Segments::of(&log),
+            lods: LogLods {
+                omega,
+                temp: Arc::new(temp),
+            },
+            log: log.clone(),
+        })
+    });
+    let (log, resampled) = resample::resample(log, how).map_err(|e| e.to_string())?;
+    Ok((log, resampled, recorded, drone))
+}
+
+/// A log read, its averaging's words, the log as recorded, and a drone log's reader's words.
+type Read = (
+    Log,
+    Option<String>,
+    Option<Arc<Recorded>>,
+    Option<Arc<DroneLog>>,
+);
+
+/// A campaign: every run read and averaged as the first (`h.path`, then
+/// [`LoadOptions::more_runs`]), each named by its file and hashed, then joined by the engine.
+/// The runs are drawn as their means (a run written in bursts is not drawn behind them).
+fn read_runs(h: &LoadHandle, options: &LoadOptions) -> Result<Read, String> {
+    let paths: Vec<&PathBuf> = std::iter::once(&h.path).chain(&options.more_runs).collect();
+    let n = paths.len() as f64;
+    let mut runs = Vec::with_capacity(paths.len());
+    let mut said = Vec::new();
+    let mut first_drone = None;
+    for (k, path) in paths.iter().enumerate() {
+        let (mut log, resampled, _, drone) =
+            read_one(h, path, options, (k as f64 / n, (k + 1) as f64 / n))?;
+        let sha256 = crate::files::calibration::sha256_file(path).map_err(|e| e.to_string())?;
+        log.source = path.file_name().map_or_else(
+            || path.display().to_string(),
+            |f| f.to_string_lossy().into_owned(),
+        );
+        if let Some(r) = resampled {
+            said.push(format!("{}: {r}", log.source));
+        }
+        first_drone = first_drone.or(drone);
+        runs.push(crate::log::campaign::RunInput { log, sha256 });
+    }
+    let log = crate::log::campaign::join(runs).map_err(|e| e.to_string())?;
+    let resampled = (!said.is_empty()).then(|| said.join("; "));
+    Ok((log, resampled, None, first_drone))
 }
 
 /// Each gyro axis but the first of a log of several, as a log of its own with its rate in

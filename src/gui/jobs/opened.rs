@@ -16,8 +16,10 @@ use std::collections::BTreeMap;
 pub struct LogInput {
     /// Which of the open logs it is.
     pub which: OpenLog,
-    /// Its file.
+    /// Its file (a campaign's first run).
     pub path: PathBuf,
+    /// Its name for the window ([`super::Loaded::name`]).
+    pub name: String,
     /// SHA-256 of the file (empty when not known): the in-sample rule reads it.
     pub sha256: String,
     /// The log with every axis: the calibration's axes are found among them.
@@ -244,10 +246,8 @@ fn run_verify(r: &VerifyRequest) -> Vec<VerifiedLog> {
 
 fn verify_log(r: &VerifyRequest, l: &LogInput) -> VerifiedLog {
     let found = verify::find_axes(&r.unit, &l.full);
-    let file_name = l.path.file_name().map_or_else(
-        || l.path.display().to_string(),
-        |n| n.to_string_lossy().into_owned(),
-    );
+    // (A campaign's name: its first run's and how many follow.)
+    let file_name = l.name.clone();
     let log_axes = l.full.axis_names();
     let mut axes = r
         .unit
@@ -308,7 +308,7 @@ fn verify_log(r: &VerifyRequest, l: &LogInput) -> VerifiedLog {
         .collect();
     VerifiedLog {
         which: l.which,
-        name: crate::gui::widgets::file_name(&l.path),
+        name: l.name.clone(),
         log_axes,
         axes,
     }

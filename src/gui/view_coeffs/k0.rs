@@ -9,13 +9,14 @@ use crate::gui::action::{Action, Edit};
 use crate::gui::plot_items::{Palette, num};
 use crate::gui::state::AppState;
 use crate::gui::widgets::{approx_controls, save_plot_entry};
-use eframe::egui::Ui;
+use eframe::egui::{self, Ui};
 use egui_plot::{Line, LineStyle, MarkerShape, Plot, PlotPoints, Points};
 
 impl CoeffView {
     /// The K0(T) plot with its approximation controls.
     pub(super) fn k0(&mut self, ui: &mut Ui, state: &AppState, height: f32, out: &mut Vec<Action>) {
         let pal = Palette::of(ui);
+        let dark = ui.visuals().dark_mode;
         ui.horizontal_wrapped(|ui| {
             ui.strong("K0(T)")
                 .on_hover_text("Static bias: mean output on each plateau against its temperature");
@@ -122,13 +123,16 @@ impl CoeffView {
                                 .width(1.0),
                         );
                     }
-                    pui.points(
-                        Points::new("plateaus", PlotPoints::new(pts))
-                            .shape(MarkerShape::Circle)
-                            .radius(5.0)
-                            .filled(true)
-                            .color(pal.plateau),
-                    );
+                    match state.shown.log.as_ref().filter(|l| l.log.runs().len() > 1) {
+                        Some(l) => campaign_points(pui, state, &l.log, &plateaus, dark),
+                        None => pui.points(
+                            Points::new("plateaus", PlotPoints::new(pts))
+                                .shape(MarkerShape::Circle)
+                                .radius(5.0)
+                                .filled(true)
+                                .color(pal.plateau),
+                        ),
+                    }
                     let spec = match &pending {
                         Some((_, spec)) => spec,
                         None => &state.shown.choices.recipe.k0,
@@ -175,5 +179,82 @@ impl CoeffView {
                 ui.weak("No fit yet.");
             }
         }
+    }
+}
+
+/// A campaign's plateau points, each run in its own colour (named in the legend), and at each
+/// temperature that two plateaus or more share the spread of their biases: a bar from the
+/// smallest to the largest (the repeatability the calibration records, at its default
+/// tolerance).
+fn campaign_points(
+    pui: &mut egui_plot::PlotUi<'_>,
+    state: &AppState,
+    log: &crate::log::Log,
+    plateaus: &[crate::signal::plateau::PlateauStats],
+    dark: bool,
+) {
+    let ranges: Vec<_> = plateaus.iter().map(|p| p.range).collect();
+    let runs = crate::models::campaign::run_of_each(log, &ranges);
+    if let Some(f) = &state.shown.fit {
+        let tolerance = crate::models::campaign::DEFAULT_TOLERANCE_C;
+        for g in crate::judge::campaign::repeatability(&f.outcome.runs, tolerance) {
+            let (lo, hi) = g
+                .values
+                .iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+                    (a.min(*v), b.max(*v))
+                });
+            if lo.is_finite() && hi.is_finite() {
+                pui.line(
+                    Line::new(
+                        "spread at a shared temperature",
+                        PlotPoints::new(vec![[g.temp_c, lo], [g.temp_c, hi]]),
+                    )
+                    .color(if dark {
+                        egui::Color32::from_gray(200)
+                    } else {
+                        egui::Color32::from_gray(60)
+                    })
+                    .width(3.0)
+                    .allow_hover(false),
+                );
+            }
+        }
+    }
+    for (k, run) in log.runs().iter().enumerate() {
+        let pts: Vec<[f64; 2]> = plateaus
+            .iter()
+            .zip(&runs)
+            .filter(|(_, r)| **r == Some(k))
+            .map(|(p, _)| [p.temp_c, p.omega_dph])
+            .collect();
+        if pts.is_empty() {
+            continue;
+        }
+        pui.points(
+            Points::new(format!("run {} {}", k + 1, run.name), PlotPoints::new(pts))
+                .shape(MarkerShape::Circle)
+                .radius(5.0)
+                .filled(true)
+                .color(crate::gui::view_runs::run_color(k, dark)),
+        );
+    }
+    // A range placed by hand across two runs is a plateau of neither: drawn hollow.
+    let neither: Vec<[f64; 2]> = plateaus
+        .iter()
+        .zip(&runs)
+        .filter(|(_, r)| r.is_none())
+        .map(|(p, _)| [p.temp_c, p.omega_dph])
+        .collect();
+    if !neither.is_empty() {
+        pui.points(
+            Points::new(
+                "across two runs (a plateau of neither)",
+                PlotPoints::new(neither),
+            )
+            .shape(MarkerShape::Circle)
+            .radius(5.0)
+            .filled(false),
+        );
     }
 }

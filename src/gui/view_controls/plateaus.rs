@@ -223,14 +223,33 @@ impl ControlsView {
         } else {
             format!("Outside the detector's limits: {}.\n", outside.join("; "))
         };
+        // A campaign's plateau belongs to its run: its number in the run's colour (the K0
+        // points' and the run strip's), the run named in the tip.
+        let run = (log.runs().len() > 1)
+            .then(|| crate::models::campaign::run_of_each(log, std::slice::from_ref(&r))[0]);
         let label = if outside.is_empty() {
-            RichText::new(format!("{}", k + 1))
+            let text = RichText::new(format!("{}", k + 1));
+            match run {
+                Some(Some(j)) => text
+                    .color(crate::gui::view_runs::run_color(j, ui.visuals().dark_mode))
+                    .strong(),
+                _ => text,
+            }
         } else {
             RichText::new(format!("!{}", k + 1)).color(warn).strong()
         };
+        let of_run = match run {
+            Some(Some(j)) => format!("Run {}: {}.\n", j + 1, log.runs()[j].name),
+            Some(None) => "Across the end of a run: a plateau of neither run, its samples \
+                           from both; move it within one run.\n"
+                .to_string(),
+            None => String::new(),
+        };
         if ui
             .add_sized([w[0], row_h], egui::Button::selectable(sel, label))
-            .on_hover_text(format!("{why}Select this plateau (Delete removes it)"))
+            .on_hover_text(format!(
+                "{of_run}{why}Select this plateau (Delete removes it)"
+            ))
             .clicked()
         {
             out.push(Action::SelectPlateau(if sel { None } else { Some(k) }));

@@ -262,11 +262,7 @@ impl ModelsView {
         if let Err(e) = &choices {
             ui.colored_label(ui.visuals().warn_fg_color, e);
         }
-        let name = |l: &Option<super::jobs::Loaded>| {
-            l.as_ref()
-                .and_then(|l| l.path.file_name())
-                .map(|s| s.to_string_lossy().into_owned())
-        };
+        let name = |l: &Option<super::jobs::Loaded>| l.as_ref().map(super::jobs::Loaded::name);
         match name(&state.shown.log) {
             Some(n) => ui.weak(format!("Fitted on: {n}")),
             None => ui.weak("Open a log first."),

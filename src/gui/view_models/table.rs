@@ -138,6 +138,9 @@ impl ModelsView {
                         }
                         ui.end_row();
                     }
+                    if let Some(l) = &r.leave_one_run_out {
+                        runs_left_out_rows(ui, l, bad);
+                    }
                 }
             });
         for r in c.reports.iter().filter(|r| r.error.is_some()) {
@@ -150,5 +153,76 @@ impl ModelsView {
                 ),
             );
         }
+    }
+}
+
+/// A campaign's leave-one-run-out under a model's rows: the mean over the runs (the ratio of
+/// the mean figures) and the worst run, in the peak-to-peak columns; each run's figures in the
+/// tip.
+fn runs_left_out_rows(
+    ui: &mut Ui,
+    l: &crate::judge::runs_left_out::LeaveOneRunOut,
+    bad: egui::Color32,
+) {
+    let figure = |v: Option<f64>| v.map_or_else(|| "n/a".to_string(), num);
+    let every: String = l
+        .runs
+        .iter()
+        .map(|r| match &r.error {
+            Some(e) => format!("{}: {e}", r.run),
+            None => format!(
+                "{}: raw {} → corrected {} °/h, {}",
+                r.run,
+                figure(r.raw_p2p_dph),
+                figure(r.corrected_p2p_dph),
+                r.p2p_ratio.map_or_else(|| "n/a".to_string(), ratio)
+            ),
+        })
+        .collect::<Vec<_>>()
+        .join("\n");
+    let tip = format!(
+        "Fitted on every run but one and judged on the one left out, for each run of the \
+         campaign (peak-to-peak of the filtered drift):\n{every}"
+    );
+    let worst = l
+        .runs
+        .iter()
+        .filter(|r| r.p2p_ratio.is_some_and(f64::is_finite))
+        .min_by(|a, b| {
+            a.p2p_ratio
+                .unwrap_or(0.0)
+                .total_cmp(&b.p2p_ratio.unwrap_or(0.0))
+        });
+    let rows = [
+        (
+            "runs left out, mean",
+            l.mean_raw_p2p_dph,
+            l.mean_corrected_p2p_dph,
+            l.mean_p2p_ratio,
+        ),
+        (
+            "runs left out, worst",
+            worst.and_then(|r| r.raw_p2p_dph),
+            worst.and_then(|r| r.corrected_p2p_dph),
+            l.worst_p2p_ratio,
+        ),
+    ];
+    for (label, raw, cor, r) in rows {
+        ui.label("");
+        ui.label(label).on_hover_text(&tip);
+        ui.monospace(figure(raw));
+        ui.monospace(figure(cor));
+        match r {
+            Some(v) => {
+                let text = RichText::new(ratio(v)).monospace();
+                ui.label(if v >= 1.0 { text } else { text.color(bad) })
+                    .on_hover_text(&tip);
+            }
+            None => {
+                ui.label(RichText::new("n/a").monospace())
+                    .on_hover_text(&tip);
+            }
+        }
+        ui.end_row();
     }
 }

@@ -82,6 +82,37 @@ impl Comparison {
         Comparison::from_figures(raw, corrected)
     }
 
+    /// [`Comparison::of`] over each run of the campaign `log` on its own (its samples among
+    /// `ready`, the correction's ready ranges), in run order; empty for a log of one run.
+    /// Each run's figures are its own: no filter window reaches another run's samples.
+    pub fn of_runs(
+        log: &crate::log::Log,
+        cor_dph: &[f64],
+        ready: &[std::ops::Range<usize>],
+        opts: &MeritOptions,
+    ) -> Vec<Comparison> {
+        if log.runs().len() < 2 {
+            return Vec::new();
+        }
+        let dt = log.nominal_dt_s();
+        log.run_ranges()
+            .into_iter()
+            .map(|run| {
+                let within: Vec<std::ops::Range<usize>> = ready
+                    .iter()
+                    .map(|r| r.start.max(run.start)..r.end.min(run.end))
+                    .filter(|r| r.start < r.end)
+                    .collect();
+                // A run with no ready sample is judged on nothing: its figures say so
+                // (unavailable), never the whole log's.
+                match within.is_empty() {
+                    true => Comparison::of(&[], &[], dt, &[], opts),
+                    false => Comparison::of(&log.omega_dph, cor_dph, dt, &within, opts),
+                }
+            })
+            .collect()
+    }
+
     /// The comparison of figures already computed (the workbench keeps the raw ones).
     pub fn from_figures(raw: Figures, corrected: Figures) -> Comparison {
         // A ratio needs two finite figures and a corrected one above zero and above the

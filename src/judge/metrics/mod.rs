@@ -14,7 +14,7 @@ mod comparison;
 mod figures;
 mod running;
 
-pub use comparison::{Comparison, WorseThanRaw};
+pub use comparison::{Comparison, RATIO_FLOOR, WorseThanRaw};
 pub use figures::{MIN_DISJOINT_FILTER_WINDOWS, figures, figures_buffered, figures_over};
 
 use serde::{Deserialize, Serialize};
