@@ -279,7 +279,11 @@ pub fn worse_than_raw(model_name: &str, in_sample: &Evaluation) -> Option<String
             c.corrected.win_rms_mean_dph,
         ),
     ] {
-        if raw.is_finite() && cor.is_finite() && cor > raw {
+        // (A figure a billionth above raw is raw's, to rounding: as the ratio takes it.)
+        if raw.is_finite()
+            && cor.is_finite()
+            && cor - raw > raw.abs() * crate::judge::metrics::RATIO_FLOOR
+        {
             worse.push(format!("{figure} {} -> {} deg/h", n(raw), n(cor)));
         }
     }

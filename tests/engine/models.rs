@@ -756,3 +756,31 @@ fn a_fixed_lags_slope_outside_the_searched_range_is_refused() {
         }
     }
 }
+
+/// A bias alone (`--terms 1`) subtracts a constant: it cannot move a peak-to-peak, and its R²
+/// is zero by construction. Rounding must not make either "worse than raw" or "worse than the
+/// mean" (26th attack, 04).
+#[test]
+fn a_bias_alone_is_neither_worse_than_raw_nor_worse_than_the_mean() {
+    let log = read("calibration.csv");
+    let spec = RegressionSpec::new("bias", regression::terms::parse_terms("1").unwrap());
+    let recipe = Recipe::default().checked().unwrap();
+    let model = driftlab::models::fit(&log, &ModelChoice::Custom(spec), &recipe).unwrap();
+    let DriftModel::Regression(r) = &model else {
+        panic!("a regression")
+    };
+    assert_eq!(r.model.stats.r2, 0.0, "a model of the mean has R² 0");
+    let merit = MeritOptions::default();
+    let corrected = model.correct(&log).unwrap();
+    let e = driftlab::judge::metrics::Evaluation::of_correction(&log, &corrected, &merit);
+    // The same filtered drift less a constant: the same peak-to-peak, to rounding.
+    let c = &e.comparison;
+    assert!((c.raw.p2p_dph - c.corrected.p2p_dph).abs() <= 1e-9 * c.raw.p2p_dph);
+    assert_eq!(c.p2p_ratio, 1.0);
+    assert!(!c.worse_than_raw.p2p, "{c:?}");
+    let said = driftlab::models::judge_on_own_log(&model, &e);
+    assert!(
+        said.iter().all(|w| !w.contains("worse")),
+        "nothing is worse: {said:?}"
+    );
+}

@@ -119,9 +119,15 @@ impl Comparison {
         // rounding of the raw one (a corrected figure a billionth of the raw is what is left
         // of subtracting a number from itself): otherwise it is NaN (`n/a`), never an
         // infinite improvement.
+        // Two figures a billionth apart are the same figure (a correction by a constant
+        // leaves the peak-to-peak as it was, to rounding): their ratio is 1, neither better nor
+        // worse than raw.
         let ratio = |a: f64, b: f64| {
             if a.is_finite() && b.is_finite() && b > 0.0 && b > a.abs() * RATIO_FLOOR {
-                a / b
+                match (a - b).abs() <= a.abs() * RATIO_FLOOR {
+                    true => 1.0,
+                    false => a / b,
+                }
             } else {
                 f64::NAN
             }

@@ -2,6 +2,10 @@
 //! residuals over the fitted samples. Apart from the fit because it runs once on the result.
 
 use crate::models::regression::signals::Signals;
+
+/// An R² this close to zero is zero: what is left of `1 - ss_res / ss_tot` when the two sums
+/// are equal to their rounding.
+const R2_ROUNDING: f64 = 1e-9;
 use crate::models::regression::{InputRanges, Range, RegressionModel, RegressionStats, Term};
 
 /// The input ranges over the fitted samples and the fit's statistics (from the residuals, not
@@ -82,10 +86,12 @@ pub(super) fn ranges_and_stats(
     let stats = RegressionStats {
         n,
         rmse: (ss_res / n.max(1) as f64).sqrt(),
-        r2: if ss_tot > 0.0 {
-            1.0 - ss_res / ss_tot
-        } else {
-            0.0
+        // Within a billionth of zero, R² is zero: the residual and the total sums equal to
+        // their rounding (a model of the mean alone, a bias), never a fit "worse than the
+        // mean" by 2e-15.
+        r2: match 1.0 - ss_res / ss_tot {
+            r2 if ss_tot > 0.0 && r2.abs() > R2_ROUNDING => r2,
+            _ => 0.0,
         },
     };
     (ranges, stats)
