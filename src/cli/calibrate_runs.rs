@@ -12,6 +12,17 @@ impl Args {
     /// Refuses the campaign's options without a campaign, and the options a campaign cannot
     /// take yet.
     pub(super) fn refuse_campaign_options(&self) -> Result<(), CliError> {
+        // Before any run is read: a mistyped glob of thousands of logs is refused at once.
+        let n = self.log.len();
+        if n > driftlab::log::campaign::MAX_RUNS {
+            return Err(CliError::Message(
+                driftlab::log::campaign::CampaignError::TooManyRuns(n).to_string(),
+            ));
+        }
+        if let Some(t) = self.temp_tolerance {
+            models::campaign::check_tolerance("--temp-tolerance", t)
+                .map_err(|e| CliError::Message(e.to_string()))?;
+        }
         if self.log.len() == 1 {
             if self.per_run_offset {
                 return Err(CliError::Message(

@@ -10,6 +10,10 @@ use driftlab::models::recipe::{CheckedRecipe, Recipe};
 use driftlab::models::regression::{DelaySpec, FitSamples, LagSpec, Term, terms};
 use std::path::{Path, PathBuf};
 
+/// More runs than this in a campaign compared: the leave-one-run-out is announced as long, on
+/// any stderr.
+const LONG_CAMPAIGN_RUNS: usize = 8;
+
 /// Arguments of `compare`.
 #[derive(clap::Args, Debug)]
 pub struct Args {
@@ -108,6 +112,13 @@ pub fn run(a: Args) -> Result<(), CliError> {
         let input = a.log_args.open(p)?;
         a.log_args.read_needing(&input, &needs)
     };
+    // Before any run is read: a mistyped glob of thousands of logs is refused at once.
+    if a.train.len() > driftlab::log::campaign::MAX_RUNS {
+        return Err(CliError::Message(format!(
+            "--train: {}",
+            driftlab::log::campaign::CampaignError::TooManyRuns(a.train.len())
+        )));
+    }
     let mut runs = Vec::with_capacity(a.train.len());
     for p in &a.train {
         let input = a.log_args.open(p)?;
@@ -125,11 +136,19 @@ pub fn run(a: Args) -> Result<(), CliError> {
     }
     let mut train =
         driftlab::log::campaign::join(runs).map_err(|e| CliError::Message(e.to_string()))?;
-    if train.runs().len() >= 2 {
-        common::status(&format!(
-            "each model is also fitted {} times, with each run left out ...",
-            train.runs().len()
-        ));
+    let runs = train.runs().len();
+    if runs >= 2 {
+        // Said whether or not stderr is a terminal when it is long: N runs make N more fits
+        // of every model (64 runs: the better part of an hour).
+        let said = format!(
+            "{} models, each also fitted {runs} times with each run left out: {} fits in all",
+            choices.len(),
+            choices.len() * (runs + 1)
+        );
+        match runs > LONG_CAMPAIGN_RUNS {
+            true => note!("{said}; this takes long (the runs left out are judged one by one)"),
+            false => common::status(&format!("{said} ...")),
+        }
     }
     let mut tests = a.test.iter().map(read).collect::<Result<Vec<_>, _>>()?;
     for log in std::iter::once(&train).chain(&tests) {
@@ -159,7 +178,17 @@ pub fn run(a: Args) -> Result<(), CliError> {
             (&choices, &recipe, &merit),
         );
     }
-    let reports = compare::compare(&train, &tests, &choices, &recipe, &merit);
+    let bar = common::progress_bar(&format!("comparing {} models", choices.len()));
+    let done = std::sync::atomic::AtomicUsize::new(0);
+    let reports = compare::compare_telling(&train, &tests, &choices, &recipe, &merit, &|| {
+        let k = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
+        if let Some(b) = &bar {
+            b.set_position((1000 * k / choices.len().max(1)) as u64);
+        }
+    });
+    if let Some(b) = bar {
+        b.finish_and_clear();
+    }
     let recommended = recommended(&train, &reports, &choices, &recipe, &merit);
     if a.json {
         common::print_json(&serde_json::json!({

@@ -60,17 +60,8 @@ pub fn run(mut a: Args) -> Result<(), CliError> {
         (None, Some(t)) => t,
         (None, None) => driftlab::models::campaign::DEFAULT_TOLERANCE_C,
     };
-    if !(tolerance_c.is_finite()
-        && tolerance_c > 0.0
-        && tolerance_c <= driftlab::models::campaign::MAX_TOLERANCE_C)
-    {
-        return Err(CliError::Message(format!(
-            "--temp-tolerance {}: plateaus share a temperature within a tolerance above 0 degC \
-             and at most {} degC",
-            driftlab::number::readable(tolerance_c),
-            driftlab::models::campaign::MAX_TOLERANCE_C
-        )));
-    }
+    driftlab::models::campaign::check_tolerance("--temp-tolerance", tolerance_c)
+        .map_err(|e| CliError::Message(e.to_string()))?;
     // A drone log is read on the gyro the calibration was fitted on unless --gyro says
     // otherwise.
     a.log_args.format.fitted_on = unit.fitted_on();

@@ -207,6 +207,13 @@ fn write_campaign(name: &str, dir: &Path, dialect: &CsvDialect) -> Result<(), Cl
         .iter()
         .map(|r| dir.join(campaign.file_name(r)))
         .collect();
+    if dir.exists() && !dir.is_dir() {
+        return Err(CliError::Message(format!(
+            "--out-dir {}: is a file, not a folder (the runs are written into a folder, made \
+             when missing)",
+            super::common::shown(&dir.display().to_string())
+        )));
+    }
     let outputs: Vec<(&str, &Path)> = paths.iter().map(|p| ("--out-dir", p.as_path())).collect();
     super::common::refuse_outputs(&outputs, &super::common::Reads::default())?;
     std::fs::create_dir_all(dir).map_err(|e| format!("--out-dir {}: {e}", dir.display()))?;

@@ -84,11 +84,25 @@ pub fn compare(
     recipe: &CheckedRecipe,
     merit: &MeritOptions,
 ) -> Vec<ModelReport> {
+    compare_telling(train, tests, choices, recipe, merit, &|| {})
+}
+
+/// [`compare`], calling `model_done` as each model is fitted and judged (a face's progress:
+/// on a campaign each model is fitted once more per run, so a comparison of many runs takes
+/// long).
+pub fn compare_telling(
+    train: &Log,
+    tests: &[Log],
+    choices: &[ModelChoice],
+    recipe: &CheckedRecipe,
+    merit: &MeritOptions,
+    model_done: &(dyn Fn() + Sync),
+) -> Vec<ModelReport> {
     let tests = tests_of(train, &tests.iter().collect::<Vec<_>>());
     choices
         .par_iter()
         .map(|choice| {
-            compare_one(
+            let report = compare_one(
                 train,
                 &tests,
                 choice,
@@ -96,7 +110,9 @@ pub fn compare(
                 merit,
                 &|_| true,
                 &mut |_, _| {},
-            )
+            );
+            model_done();
+            report
         })
         .collect()
 }

@@ -29,6 +29,29 @@ pub const DEFAULT_TOLERANCE_C: f64 = 1.0;
 /// unlike temperatures would be compared as one.
 pub const MAX_TOLERANCE_C: f64 = 10.0;
 
+/// The narrowest tolerance, °C: below a hundredth of a degree no chamber holds a set point
+/// (nor reads it), so plateaus would share no temperature and a run's start would be told
+/// heating or cooling by its sensor's last digit.
+pub const MIN_TOLERANCE_C: f64 = 0.01;
+
+/// Checks a tolerance plateaus share a temperature within (`field`: the setting or option
+/// that gave it, named in the refusal with the value as given, every digit).
+///
+/// # Errors
+/// A tolerance that is not a number from [`MIN_TOLERANCE_C`] to [`MAX_TOLERANCE_C`].
+pub fn check_tolerance(field: &str, tolerance_c: f64) -> std::result::Result<(), Invalid> {
+    if tolerance_c.is_finite() && (MIN_TOLERANCE_C..=MAX_TOLERANCE_C).contains(&tolerance_c) {
+        return Ok(());
+    }
+    Err(Invalid::new(
+        field,
+        format!(
+            "is {tolerance_c:?}: the temperatures two plateaus share are within a tolerance from \
+             {MIN_TOLERANCE_C} °C (a chamber's steadiness) to {MAX_TOLERANCE_C} °C"
+        ),
+    ))
+}
+
 /// The most rounds of the joint K0 and offsets estimate; it stops sooner when the offsets
 /// move less than [`OFFSET_SETTLED_DPH`].
 const OFFSET_ROUNDS: usize = 500;
@@ -131,20 +154,7 @@ pub fn calibrate_campaign(
     merit: &MeritOptions,
     options: &CampaignOptions,
 ) -> Result<CampaignFit> {
-    if !(options.tolerance_c.is_finite()
-        && options.tolerance_c > 0.0
-        && options.tolerance_c <= MAX_TOLERANCE_C)
-    {
-        return Err(Invalid::new(
-            "tolerance_c",
-            format!(
-                "is {}: the temperatures two plateaus share are within a tolerance above 0 °C \
-                 and at most {MAX_TOLERANCE_C} °C",
-                crate::number::readable(options.tolerance_c)
-            ),
-        )
-        .into());
-    }
+    check_tolerance("tolerance_c", options.tolerance_c)?;
     if log.runs().len() < 2 {
         if options.per_run_offset {
             return Err(Invalid::new(

@@ -189,3 +189,53 @@ fn what_is_no_campaign_is_refused_by_name() {
     assert!(e.contains("run ramps.csv: has no plateau"), "{e}");
     assert!(!std::path::Path::new(&cal).exists(), "nothing written");
 }
+
+/// What a campaign's options and counts can be told from the command line alone is refused
+/// before any run is read, naming the option with the value as given (26th attack, 10, 11,
+/// 13).
+#[test]
+fn a_campaigns_options_are_checked_before_its_runs_are_read() {
+    let dir = tempfile::tempdir().unwrap();
+    let cal = p(dir.path(), "cal.json");
+    // Files that do not exist: a refusal that read them would name the first missing one.
+    let missing: Vec<String> = (0..65)
+        .map(|k| p(dir.path(), &format!("run{k}.csv")))
+        .collect();
+    let mut args: Vec<&str> = vec!["calibrate"];
+    args.extend(missing.iter().map(String::as_str));
+    args.extend(["--out", &cal]);
+    let e = fails(&args);
+    assert!(e.contains("65 runs") && e.contains("at most 64"), "{e}");
+    let mut args: Vec<&str> = vec!["compare", "--train"];
+    args.extend(missing.iter().map(String::as_str));
+    let e = fails(&args);
+    assert!(e.contains("65 runs") && e.contains("--train"), "{e}");
+    // The tolerance: the value as given (not rounded into the bound it breaks), and a floor.
+    for (given, shown) in [("10.0000001", "10.0000001"), ("1e-300", "1e-300")] {
+        let e = fails(&[
+            "calibrate",
+            &missing[0],
+            &missing[1],
+            "--temp-tolerance",
+            given,
+            "--out",
+            &cal,
+        ]);
+        assert!(
+            e.contains(&format!("--temp-tolerance: is {shown}:")) && e.contains("0.01"),
+            "{e}"
+        );
+        assert!(!e.contains("run0.csv"), "refused before reading: {e}");
+    }
+    // A file where the runs' folder should be.
+    let file = p(dir.path(), "notadir");
+    std::fs::write(&file, "x").unwrap();
+    let e = fails(&[
+        "simulate",
+        "--campaign",
+        "tiny-three-runs",
+        "--out-dir",
+        &file,
+    ]);
+    assert!(e.contains("is a file, not a folder"), "{e}");
+}

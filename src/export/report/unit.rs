@@ -99,15 +99,7 @@ pub fn write_unit(
     tolerance_c: f64,
 ) -> Result<UnitReportSummary> {
     unit.validate()?;
-    if !(tolerance_c.is_finite() && tolerance_c > 0.0) {
-        return Err(Error::Invalid(Invalid::new(
-            "tolerance_c",
-            format!(
-                "is {}: the temperatures two plateaus share are within a tolerance above 0 °C",
-                crate::number::readable(tolerance_c)
-            ),
-        )));
-    }
+    crate::models::campaign::check_tolerance("tolerance_c", tolerance_c).map_err(Error::Invalid)?;
     let hashes: Vec<String> = match sha256 {
         Some(h) if h.len() == logs.len() => h,
         _ => logs
