@@ -41,13 +41,7 @@ pub fn run(mut a: Args) -> Result<(), CliError> {
     let unit = common::load_calibration(&a.calibration)?;
     // The tolerance the campaign was grouped by when it was fitted, unless one is given; a
     // tolerance given for a calibration of one run would group nothing.
-    let recorded = unit.axes.first().and_then(|ax| {
-        let s = ax.model.source();
-        (!s.runs.is_empty()).then(|| {
-            s.temp_tolerance_c
-                .unwrap_or(driftlab::models::campaign::DEFAULT_TOLERANCE_C)
-        })
-    });
+    let recorded = unit.campaign_tolerance_c();
     let tolerance_c = match (a.temp_tolerance, recorded) {
         (Some(_), None) => {
             return Err(CliError::Message(format!(

@@ -75,6 +75,24 @@ impl UnitCalibration {
             .find_map(|a| a.model.source().instance.clone())
     }
 
+    /// The tolerance within which the plateaus of the campaign the unit was fitted on share a
+    /// temperature, °C: the one recorded (`source.temp_tolerance_c`), or
+    /// [`DEFAULT_TOLERANCE_C`](crate::models::campaign::DEFAULT_TOLERANCE_C) for a file
+    /// written before it was. `None` for a calibration of one run.
+    /// Any axis that records the runs tells it (a unit read from a file records them on every
+    /// axis alike, [`UnitCalibration::validate`]).
+    pub fn campaign_tolerance_c(&self) -> Option<f64> {
+        let s = self
+            .axes
+            .iter()
+            .map(|a| a.model.source())
+            .find(|s| !s.runs.is_empty())?;
+        Some(
+            s.temp_tolerance_c
+                .unwrap_or(crate::models::campaign::DEFAULT_TOLERANCE_C),
+        )
+    }
+
     /// The axes' names, in order.
     pub fn axis_names(&self) -> Vec<&str> {
         self.axes.iter().map(|a| a.name.as_str()).collect()
@@ -99,8 +117,10 @@ impl UnitCalibration {
 
     /// Checks a unit read from a file or about to be written: at least one axis, names unique
     /// and not empty in a unit of several, each model as [`DriftModel::validate`] checks it
-    /// (its field named with the axis, `axes[gy].k0...`), and the T settings of its
-    /// Vakhrameev axes alike (they were made from one T).
+    /// (its field named with the axis, `axes[gy].k0...`), every axis's record of a campaign's
+    /// runs the first axis's but for the biases and offsets
+    /// ([`check_same_runs`](crate::models::campaign::check_same_runs)), and the T settings of
+    /// its Vakhrameev axes alike (they were made from one T).
     ///
     /// # Errors
     /// An [`Invalid`] naming the axis and the field.
@@ -145,6 +165,15 @@ impl UnitCalibration {
             a.model
                 .validate()
                 .map_err(|e| Invalid::new(field(&e.field), e.reason))?;
+            if k > 0 {
+                let first = &self.axes[0];
+                crate::models::campaign::check_same_runs(
+                    &a.model.source().runs,
+                    &first.model.source().runs,
+                    &label(0, &first.name),
+                )
+                .map_err(|e| Invalid::new(field(&e.field), e.reason))?;
+            }
         }
         let recipes: Vec<(&str, &Recipe)> = self
             .axes

@@ -13,4 +13,5 @@ mod ros_limits;
 mod ros_sparse_and_steps;
 mod ros_stamps;
 mod ros_temperatures;
+mod run_records;
 mod sketches;

@@ -1,4 +1,4 @@
-//! Files in and out: test-stand CSV, drone and robot logs, odd and broken files, atomic writes, files written together, killed writes, autosaves, the session file, hand-edited calibration files.
+//! Files in and out: test-stand CSV, drone and robot logs, odd and broken files, atomic writes, files written together, killed writes, autosaves, the session file, hand-edited calibration files and their record of a campaign's runs.
 //!
 //! One test binary for the area (it links the crate once); a module per file.
 
@@ -19,6 +19,7 @@ mod drone_logs;
 mod formats;
 mod hand_edited_calibrations;
 mod hand_edited_k0;
+mod hand_edited_runs;
 mod hand_edited_tref;
 mod header_units;
 mod ingest_dialects;

@@ -150,7 +150,7 @@ fn runs_table(runs: &[RunRecord], s: &ReportSummary) -> Markup {
                     td { (shown(&r.name)) }
                     td { code title=(r.sha256) { (r.sha256.get(..12).unwrap_or(&r.sha256)) } }
                     td class="num" { (r.samples) }
-                    td class="num" { (format!("{:.2}", r.duration_s / 3600.0)) }
+                    td class="num" { (crate::number::fixed(r.duration_s / 3600.0, 2)) }
                     td class="num" { (r.plateaus.len()) }
                     td class="num" {
                         @match r.turn_on_offset_dph {

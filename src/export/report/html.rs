@@ -243,7 +243,7 @@ fn merit_table(l: &LogReport, d: Depth, window_s: f64, run: Option<usize>) -> Ma
             @if let Some(k) = run { " run " (k) " of the campaign" }
         }))
         p {
-            (l.samples) " samples, " (format!("{:.2}", l.duration_s / 3600.0)) " h, T "
+            (l.samples) " samples, " (crate::number::fixed(l.duration_s / 3600.0, 2)) " h, T "
             (format!("{:.1}", l.temp_range_c.0)) " … " (format!("{:.1}", l.temp_range_c.1))
             " °C; " (e.warmup_samples) " warm-up samples left out, " (c.raw.windows)
             " windows of " (w) "; " (crate::number::percent(e.outside_fraction))

@@ -193,7 +193,11 @@ fn identity(axes: &[PageAxis<'_>], layout: Layout, gyro: &str) -> Markup {
             (row("its SHA-256", &source.sha256))
             (row(
                 "its samples, duration",
-                &format!("{} samples, {:.2} h", source.samples, source.duration_s / 3600.0),
+                &format!(
+                    "{} samples, {} h",
+                    source.samples,
+                    crate::number::fixed(source.duration_s / 3600.0, 2)
+                ),
             ))
             (row("calibration created", created(first.model)))
             (row(

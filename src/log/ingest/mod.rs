@@ -87,6 +87,7 @@ mod units;
 
 pub use option_error::OptionError;
 pub use series::{RateSeries, read_rate_series};
+pub use time_scale::STATED_UNIT_LONGEST_S;
 
 use std::io::Read;
 use std::path::PathBuf;

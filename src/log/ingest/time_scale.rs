@@ -21,8 +21,10 @@ use crate::log::{Problem, ProblemKind};
 use crate::models::recipe::MAX_WINDOW_S;
 
 /// The longest span, s, of a time in a unit its name or a setting states that is not told: a
-/// year (a time in ms under `time_s` makes an 11-hour run 465 days long).
-const STATED_UNIT_LONGEST_S: f64 = 365.25 * 86_400.0;
+/// year (a time in ms under `time_s` makes an 11-hour run 465 days long). Longer, the reader
+/// says the log is "longer than any chamber run", and a calibration's record of a campaign's
+/// run refuses such a span ([`crate::models::campaign::validate_runs`]).
+pub const STATED_UNIT_LONGEST_S: f64 = 365.25 * 86_400.0;
 
 /// The time column as it was read, for the messages.
 pub(super) struct TimeColumn<'a> {

@@ -114,7 +114,8 @@ impl SourceInfo {
 
     /// Checks what a calibration file says of the log it was fitted on: a log that lasted
     /// (no calibration is fitted on a single instant), at least the two samples that make a
-    /// duration, and a SHA-256 that is printable text.
+    /// duration, a SHA-256 that is printable text, and the record of a campaign's runs
+    /// ([`crate::models::campaign::validate_runs`]), its tolerance only beside them.
     ///
     /// # Errors
     /// An [`Invalid`] naming the field (`source.duration_s`).
@@ -181,6 +182,13 @@ impl SourceInfo {
                     crate::number::readable(t),
                     crate::models::campaign::MAX_TOLERANCE_C
                 ),
+            ));
+        }
+        if self.temp_tolerance_c.is_some() && self.runs.is_empty() {
+            return Err(Invalid::new(
+                "source.temp_tolerance_c",
+                "is given, and there are no runs: it is the tolerance a campaign's plateaus \
+                 were grouped by, recorded beside its runs (source.runs)",
             ));
         }
         crate::models::campaign::validate_runs(&self.runs)
