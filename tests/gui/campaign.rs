@@ -187,7 +187,7 @@ fn a_session_reopens_the_campaign_and_a_run_added_keeps_the_work() {
         let c = &wb.state.shown.fit.as_ref().unwrap().outcome.calibration;
         [c.k0.eval(-20.0), c.k0.eval(40.0)]
     };
-    let before = k0(&wb);
+    let before = k0(wb);
     let mut again = Workbench::new_for_test(&runs[0]);
     again.open_session(path);
     again.wait_for_jobs();
