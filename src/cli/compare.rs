@@ -119,12 +119,15 @@ pub fn run(a: Args) -> Result<(), CliError> {
     }
     if runs.len() > 1 {
         // A campaign's runs are named by their files, as `calibrate` names them.
-        for (r, p) in runs.iter_mut().zip(&a.train) {
-            r.log.source = super::calibrate::file_name(p);
+        for (r, name) in runs
+            .iter_mut()
+            .zip(driftlab::log::campaign::run_names(&a.train))
+        {
+            r.log.source = name;
         }
     }
-    let mut train =
-        driftlab::log::campaign::join(runs).map_err(|e| CliError::Message(e.to_string()))?;
+    let mut train = driftlab::log::campaign::join(runs)
+        .map_err(|e| CliError::Message(super::log_source::in_flags(&e.to_string())))?;
     if train.runs().len() >= 2 {
         common::status(&format!(
             "each model is also fitted {} times, with each run left out ...",
