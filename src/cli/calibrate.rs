@@ -369,12 +369,18 @@ pub fn run(a: Args) -> Result<(), CliError> {
         )));
     }
     let (mut log, log_name, sha256) = a.read_runs(all_vakhrameev)?;
-    // What joining the runs left out (a channel some runs lack), said with the rest.
+    // What joining the runs left out (a channel some runs lack) or could not check (which
+    // drone-log gyro a CSV run is), said with the rest.
     warnings.extend(
         log.info
             .problems
             .iter()
-            .filter(|p| p.kind == driftlab::log::ProblemKind::LeftOut)
+            .filter(|p| {
+                matches!(
+                    p.kind,
+                    driftlab::log::ProblemKind::LeftOut | driftlab::log::ProblemKind::Unchecked
+                )
+            })
             .map(|p| format!("{}: {}", log.source, p.message)),
     );
     warnings.extend(

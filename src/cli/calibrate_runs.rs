@@ -2,7 +2,7 @@
 //! its runs read and joined by the engine (`driftlab::log::campaign::join`). Apart from
 //! `calibrate.rs` because it is the one place the command meets runs.
 
-use super::calibrate::{Args, file_name};
+use super::calibrate::Args;
 use super::common::CliError;
 use driftlab::Log;
 use driftlab::files::calibration;
@@ -86,17 +86,19 @@ impl Args {
                 sha256: sha256?,
             });
         }
+        // A campaign's runs are named by their files, as one log's calibration is (by the
+        // folders that tell them apart where files share a name).
+        let names = driftlab::log::campaign::run_names(&self.log);
         let (name, sha256) = if let [one] = runs.as_slice() {
-            (file_name(&self.log[0]), one.sha256.clone())
+            (names[0].clone(), one.sha256.clone())
         } else {
-            // A campaign's runs are named by their files, as one log's calibration is.
-            for (r, path) in runs.iter_mut().zip(&self.log) {
-                r.log.source = file_name(path);
+            for (r, name) in runs.iter_mut().zip(names) {
+                r.log.source = name;
             }
             (String::new(), String::new())
         };
-        let log =
-            driftlab::log::campaign::join(runs).map_err(|e| CliError::Message(e.to_string()))?;
+        let log = driftlab::log::campaign::join(runs)
+            .map_err(|e| CliError::Message(super::log_source::in_flags(&e.to_string())))?;
         let name = if name.is_empty() {
             log.source.clone()
         } else {

@@ -130,12 +130,15 @@ pub fn run(a: Args) -> Result<(), CliError> {
     }
     if runs.len() > 1 {
         // A campaign's runs are named by their files, as `calibrate` names them.
-        for (r, p) in runs.iter_mut().zip(&a.train) {
-            r.log.source = super::calibrate::file_name(p);
+        for (r, name) in runs
+            .iter_mut()
+            .zip(driftlab::log::campaign::run_names(&a.train))
+        {
+            r.log.source = name;
         }
     }
-    let mut train =
-        driftlab::log::campaign::join(runs).map_err(|e| CliError::Message(e.to_string()))?;
+    let mut train = driftlab::log::campaign::join(runs)
+        .map_err(|e| CliError::Message(super::log_source::in_flags(&e.to_string())))?;
     let runs = train.runs().len();
     if runs >= 2 {
         // Said whether or not stderr is a terminal when it is long: N runs make N more fits

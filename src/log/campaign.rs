@@ -10,8 +10,11 @@
 //! A campaign of one run is that run's log, unchanged.
 //!
 //! What is joined must be one gyro logged alike: the same axes, read in the same units, at
-//! the same sampling step, from the same drone-log gyro. Anything else is refused, saying
-//! what differs, as are a file given twice and two files that hold one run's samples.
+//! the same sampling step, with the temperature of one sensor, from the same drone-log gyro.
+//! Anything else is refused, saying what differs, as are a file given twice, two files that
+//! hold one run's samples, and a run that holds a part of another's. A run that records no
+//! drone-log gyro (a CSV) beside one that does is joined, saying that which gyro it is could
+//! not be checked. Runs are named by their files ([`run_names`]).
 
 use super::{Log, LogInfo, Problem};
 use serde::{Deserialize, Serialize};
@@ -30,6 +33,19 @@ pub const RUN_GAP_STEPS: f64 = 100.0;
 
 /// Two runs whose sampling steps differ by more than this share were logged differently.
 const STEP_TOLERANCE: f64 = 0.02;
+
+/// The share of a run's samples another run may hold, beyond chance, before the two are
+/// refused ([`CampaignError::SharesSamples`]): about a plateau's worth (a 15-minute dwell of
+/// an 11-hour run is 2.3 %). Two runs of a chamber share none (their noise differs at every
+/// sample, and the sketch counts only what is shared beyond chance: the simulated campaigns'
+/// runs share 0 %); a run whose first 400 of 40,000 samples are another's is found at 1.1 %,
+/// the 2,000 of a 33-minute plateau at 5 %.
+pub const MAX_SHARED: f64 = 0.02;
+
+/// The share of a run's samples that are another run's from which it is that run's samples
+/// again ([`CampaignError::SameRun`]: the run under other bytes, or a part of it), rather than
+/// a run that holds a part of another ([`CampaignError::SharesSamples`]).
+const SAME_RUN_SHARE: f64 = 0.9;
 
 /// One run of a campaign's joined log.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -86,24 +102,58 @@ pub enum CampaignError {
         /// The run that repeats it.
         second: String,
     },
+    /// A run that holds a part of another run's samples (beyond chance), too large a part to
+    /// be two runs of one program meeting by chance.
+    #[error(
+        "{second} holds samples of {first}: about {} % of its samples ({samples} of them) are \
+         {first}'s, {} % of {first}'s; each run of a campaign is given once, whole and alone: \
+         give each run's own samples (a plateau of both would count twice, and the \
+         repeatability be read from a plateau and its own copy)",
+        (.share * 100.0).round(),
+        (.share_of_first * 100.0).round()
+    )]
+    SharesSamples {
+        /// The run given first.
+        first: String,
+        /// The run that holds some of its samples.
+        second: String,
+        /// The share of `second`'s samples that are `first`'s (0 to 1), estimated.
+        share: f64,
+        /// The share of `first`'s samples that `second` holds (0 to 1), estimated.
+        share_of_first: f64,
+        /// The samples of `second` that are `first`'s, estimated.
+        samples: usize,
+    },
     /// The runs are not one gyro logged alike.
     #[error(
         "{run} is not a run of the gyro of {first}: its {what} ({theirs}), where {first} has \
-         {ours}; a campaign joins runs of one gyro logged alike (calibrate the others apart)"
+         {ours}; a campaign joins runs of one gyro logged alike ({})",
+        what_to_do(.what)
     )]
     Differs {
-        /// The first run.
+        /// The first run (for a drone-log gyro, the first run that records one).
         first: String,
         /// The run that differs.
         run: String,
-        /// What differs: "gyro axes", "rate units", "temperature unit", "sampling step",
-        /// "drone-log gyro".
+        /// What differs: "gyro axes", "rate units", "temperature unit", "temperature column",
+        /// "sampling step", "drone-log gyro".
         what: &'static str,
         /// The first run's.
         ours: String,
         /// The other run's.
         theirs: String,
     },
+}
+
+/// What to do about runs that differ in `what` ([`CampaignError::Differs`]).
+fn what_to_do(what: &str) -> &'static str {
+    match what {
+        "temperature column" => {
+            "the temperature of one sensor in every run: choose the gyro's own with temp_col \
+             where a run has it, or calibrate the others apart"
+        }
+        _ => "calibrate the others apart",
+    }
 }
 
 impl Log {
@@ -167,7 +217,41 @@ pub fn join(mut runs: Vec<RunInput>) -> Result<Log, CampaignError> {
         _ => {}
     }
     check_one_gyro(&runs)?;
-    Ok(joined(&runs))
+    let mut log = joined(&runs);
+    log.info.problems.extend(unchecked_gyros(&runs));
+    Ok(log)
+}
+
+/// The runs whose drone-log gyro could not be checked: they record none (a CSV, one `convert`
+/// wrote of a drone log among them), where another run does. Said once, naming them, with
+/// the gyro the campaign is taken to be.
+fn unchecked_gyros(runs: &[RunInput]) -> Option<Problem> {
+    let (known, gyro) = runs
+        .iter()
+        .find_map(|r| r.log.info.instance.as_ref().map(|g| (&r.log, g)))?;
+    let unknown: Vec<&str> = runs
+        .iter()
+        .filter(|r| r.log.info.instance.is_none())
+        .map(|r| r.log.source.as_str())
+        .collect();
+    let one = unknown.len() == 1;
+    (!unknown.is_empty()).then(|| Problem {
+        line: 0,
+        column: None,
+        kind: super::ProblemKind::Unchecked,
+        count: unknown.len(),
+        message: format!(
+            "{} record{} no drone-log gyro (a CSV records none, one `convert` wrote too), so \
+             which gyro {} cannot be checked against {}'s {}: the campaign is taken as that \
+             gyro's; make sure {} of it",
+            unknown.join(", "),
+            if one { "s" } else { "" },
+            if one { "it is" } else { "they are" },
+            known.source,
+            gyro.describe(),
+            if one { "the run is" } else { "the runs are" },
+        ),
+    })
 }
 
 /// `runs` (two or more, already checked to be one gyro's) laid one after the other.
@@ -225,6 +309,8 @@ fn joined(runs: &[RunInput]) -> Log {
             runs: Vec::with_capacity(runs.len()),
             problems: Vec::new(),
             rows_read: 0,
+            // The one gyro the runs that record one are (a run of a CSV records none).
+            instance: runs.iter().find_map(|r| r.log.info.instance.clone()),
             ..first.info.clone()
         },
     };
@@ -398,12 +484,7 @@ fn check_one_gyro(runs: &[RunInput]) -> Result<(), CampaignError> {
                     second: log.source.clone(),
                 });
             }
-            if earlier.log.same_run(log) {
-                return Err(CampaignError::SameRun {
-                    first: earlier.log.source.clone(),
-                    second: log.source.clone(),
-                });
-            }
+            check_shared(&earlier.log, log)?;
         }
         if log.axis_names() != first.axis_names() {
             let names = |l: &Log| {
@@ -442,20 +523,118 @@ fn check_one_gyro(runs: &[RunInput]) -> Result<(), CampaignError> {
                 format!("{} s", crate::number::readable(dt)),
             ));
         }
-        match (&first.info.instance, &log.info.instance) {
-            (Some(a), Some(b)) if !a.same_gyro(b) => {
-                return Err(differs(log, "drone-log gyro", a.describe(), b.describe()));
-            }
-            (Some(a), None) | (None, Some(a)) => {
-                let which = if first.info.instance.is_some() {
-                    (a.describe(), "a gyro of no drone log".to_string())
-                } else {
-                    ("a gyro of no drone log".to_string(), a.describe())
-                };
-                return Err(differs(log, "drone-log gyro", which.0, which.1));
-            }
-            _ => {}
+        if let (Some(ours), Some(theirs)) = (temp_column(first), temp_column(log))
+            && super::ingest::temperature_sensor(ours) != super::ingest::temperature_sensor(theirs)
+        {
+            let named = |c: &str| crate::text::escaped(c, false).into_owned();
+            return Err(differs(
+                log,
+                "temperature column",
+                named(ours),
+                named(theirs),
+            ));
+        }
+        // Drone-log gyros are compared where both runs record one: a CSV records none, and
+        // is joined with a warning ([`unchecked_gyros`]).
+        let recorded = runs[..k]
+            .iter()
+            .find_map(|r| r.log.info.instance.as_ref().map(|g| (&r.log, g)));
+        if let (Some((known, a)), Some(b)) = (recorded, &log.info.instance)
+            && !a.same_gyro(b)
+        {
+            return Err(CampaignError::Differs {
+                first: known.source.clone(),
+                run: log.source.clone(),
+                what: "drone-log gyro",
+                ours: a.describe(),
+                theirs: b.describe(),
+            });
         }
     }
     Ok(())
+}
+
+/// The name of the column `log`'s temperature was read from, when its reader recorded it.
+fn temp_column(log: &Log) -> Option<&str> {
+    log.info
+        .columns
+        .iter()
+        .find(|c| c.role == super::ColumnRole::Temperature)
+        .map(|c| c.name.as_str())
+}
+
+/// Refuses `log` when it holds samples of `earlier`'s run beyond chance and more than
+/// [`MAX_SHARED`] of either run (by the sketch [`Log::run_shared`] compares with, 4096
+/// hashes of `earlier`): nearly all of it, as the same run ([`CampaignError::SameRun`]),
+/// else as a run holding a part of another ([`CampaignError::SharesSamples`]).
+fn check_shared(earlier: &Log, log: &Log) -> Result<(), CampaignError> {
+    let shared = earlier.run_shared(log);
+    if shared.in_sample() && shared.share_of_log >= SAME_RUN_SHARE {
+        return Err(CampaignError::SameRun {
+            first: earlier.source.clone(),
+            second: log.source.clone(),
+        });
+    }
+    let of_log = if shared.in_sample() || shared.partly().is_some() {
+        shared.share_of_log
+    } else {
+        0.0
+    };
+    let of_earlier = shared.share_of_run();
+    if of_log.max(of_earlier) > MAX_SHARED {
+        return Err(CampaignError::SharesSamples {
+            first: earlier.source.clone(),
+            second: log.source.clone(),
+            share: of_log,
+            share_of_first: of_earlier,
+            samples: (of_log * log.len() as f64).round() as usize,
+        });
+    }
+    Ok(())
+}
+
+/// The names of runs read from `paths`, as every face names them (the runs' record in a
+/// calibration, its repeatability lines, leave-one-run-out, the report): each file's name,
+/// or where files share a name (`day1/run.csv`, `day2/run.csv`), the fewest of its path's
+/// last parts that tell it from every other path (`day1/run.csv`). A path given twice keeps
+/// its whole path (the files are then refused as one file given twice).
+pub fn run_names<P: AsRef<std::path::Path>>(paths: &[P]) -> Vec<String> {
+    use std::path::Component;
+    let parts: Vec<Vec<String>> = paths
+        .iter()
+        .map(|p| {
+            p.as_ref()
+                .components()
+                .filter_map(|c| match c {
+                    Component::Normal(s) => Some(s.to_string_lossy().into_owned()),
+                    Component::ParentDir => Some("..".to_string()),
+                    Component::CurDir | Component::RootDir | Component::Prefix(_) => None,
+                })
+                .collect()
+        })
+        .collect();
+    // The last `k` parts of a path (all of them for a shorter one).
+    let last = |p: &[String], k: usize| p[p.len().saturating_sub(k)..].to_vec();
+    parts
+        .iter()
+        .enumerate()
+        .map(|(i, own)| {
+            let told = (1..=own.len().max(1)).find(|&k| {
+                let mine = last(own, k);
+                parts
+                    .iter()
+                    .enumerate()
+                    .all(|(j, other)| j == i || last(other, k) != mine)
+            });
+            let name = match told {
+                Some(k) => last(own, k).join("/"),
+                None => own.join("/"),
+            };
+            if name.is_empty() {
+                paths[i].as_ref().display().to_string()
+            } else {
+                name
+            }
+        })
+        .collect()
 }

@@ -253,6 +253,10 @@ pub enum ProblemKind {
     /// A channel that some runs of a campaign do not have (or hold in another unit): left out
     /// of the joined log ([`campaign::join`]).
     LeftOut,
+    /// What joining a campaign's runs could not check (which drone-log gyro a run is, when
+    /// it records none: a CSV): the runs were joined, and the message says what to make sure
+    /// of ([`campaign::join`]).
+    Unchecked,
 }
 
 impl Log {

@@ -239,3 +239,127 @@ fn a_campaigns_options_are_checked_before_its_runs_are_read() {
     ]);
     assert!(e.contains("is a file, not a folder"), "{e}");
 }
+
+/// The data rows of a run written by `simulate` (its comment line left out), each row's
+/// fields.
+fn rows(path: &str) -> Vec<Vec<String>> {
+    std::fs::read_to_string(path)
+        .unwrap()
+        .lines()
+        .filter(|l| !l.starts_with('#'))
+        .map(|l| l.split(',').map(str::to_string).collect())
+        .collect()
+}
+
+fn write_rows(path: &str, rows: &[Vec<String>]) {
+    let text: String = rows.iter().map(|r| r.join(",") + "\n").collect();
+    std::fs::write(path, text).unwrap();
+}
+
+#[test]
+fn runs_of_one_file_name_are_named_by_their_folders() {
+    let dir = tempfile::tempdir().unwrap();
+    let r = runs(dir.path());
+    let mut days = Vec::new();
+    for (k, run) in r.iter().enumerate() {
+        let day = dir.path().join(format!("day{}", k + 1));
+        std::fs::create_dir(&day).unwrap();
+        let path = day.join("run.csv");
+        std::fs::copy(run, &path).unwrap();
+        days.push(path.to_str().unwrap().to_string());
+    }
+    let cal = p(dir.path(), "cal.json");
+    let out = ok(&[
+        "calibrate",
+        &days[0],
+        &days[1],
+        &days[2],
+        "--out",
+        &cal,
+        "--per-run-offset",
+    ]);
+    for k in 1..=3 {
+        assert!(
+            out.contains(&format!("run {k} day{k}/run.csv:")),
+            "run {k}: {out}"
+        );
+    }
+    assert!(out.contains("(day1/run.csv "), "{out}");
+    let file: Value = serde_json::from_str(&std::fs::read_to_string(&cal).unwrap()).unwrap();
+    let names: Vec<&str> = file["calibration"]["source"]["runs"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|r| r["name"].as_str().unwrap())
+        .collect();
+    assert_eq!(names, ["day1/run.csv", "day2/run.csv", "day3/run.csv"]);
+    let text = ok(&[
+        "compare", "--train", &days[0], &days[1], "--models", "poly-t", "--json",
+    ]);
+    let json: Value = serde_json::from_str(&text).unwrap();
+    let left_out: Vec<&str> = json["models"][0]["leave_one_run_out"]["runs"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|r| r["run"].as_str().unwrap())
+        .collect();
+    assert_eq!(left_out, ["day1/run.csv", "day2/run.csv"]);
+}
+
+#[test]
+fn a_run_read_from_the_chamber_s_air_is_refused_naming_both_columns() {
+    let dir = tempfile::tempdir().unwrap();
+    let r = runs(dir.path());
+    // The repeat with only the chamber's air: time_s, omega_dph, temp_chamber_c.
+    let air: Vec<Vec<String>> = rows(&r[1])
+        .into_iter()
+        .map(|f| vec![f[0].clone(), f[1].clone(), f[3].clone()])
+        .collect();
+    assert_eq!(air[0][2], "temp_chamber_c");
+    let chamber = p(dir.path(), "repeat-chamber-only.csv");
+    write_rows(&chamber, &air);
+    let cal = p(dir.path(), "cal.json");
+    let e = fails(&["calibrate", &r[0], &chamber, "--out", &cal]);
+    assert!(
+        e.contains("repeat-chamber-only.csv")
+            && e.contains("temperature column (temp_chamber_c)")
+            && e.contains("has temp_c")
+            && e.contains("--temp-col"),
+        "{e}"
+    );
+    assert!(!std::path::Path::new(&cal).exists(), "nothing written");
+}
+
+#[test]
+fn a_run_half_made_of_another_run_is_refused_with_the_share() {
+    let dir = tempfile::tempdir().unwrap();
+    let r = runs(dir.path());
+    // The repeat's first 20,000 rows replaced by the heating run's (a logger's file continued
+    // from a copy of the run before).
+    let (heating, repeat) = (rows(&r[0]), rows(&r[1]));
+    let spliced: Vec<Vec<String>> = heating[..=20_000]
+        .iter()
+        .chain(&repeat[20_001..])
+        .cloned()
+        .collect();
+    let path = p(dir.path(), "spliced.csv");
+    write_rows(&path, &spliced);
+    let cal = p(dir.path(), "cal.json");
+    let e = fails(&["calibrate", &r[0], &path, &r[2], "--out", &cal]);
+    assert!(
+        e.contains("spliced.csv holds samples of fog-three-runs-heating.csv")
+            && e.contains("% of its samples"),
+        "{e}"
+    );
+    let share: f64 = e
+        .split("about ")
+        .nth(1)
+        .and_then(|s| s.split(' ').next())
+        .and_then(|s| s.parse().ok())
+        .unwrap_or_else(|| panic!("{e}"));
+    let truth = 100.0 * 20_000.0 / (repeat.len() - 1) as f64;
+    assert!(
+        (share - truth).abs() <= 5.0,
+        "{share} % against {truth} %: {e}"
+    );
+}

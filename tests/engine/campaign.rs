@@ -480,3 +480,198 @@ fn self_heating_counts_from_each_run_s_power_on() {
     let (la, lb) = (la.unwrap(), lb.unwrap());
     assert!((la - lb).abs() <= 0.01 * la, "λ {la} s against {lb} s");
 }
+
+/// Why `runs` are not joined (a joined log is not printed: it is millions of numbers).
+fn refused(runs: Vec<RunInput>) -> CampaignError {
+    match join(runs) {
+        Ok(log) => panic!("joined {}", log.source),
+        Err(e) => e,
+    }
+}
+
+/// `log` with its temperature read from another column: its values in `temp_c`, the
+/// column the reader recorded renamed `name` (the chamber's air, where the gyro's sensor is
+/// not in the file).
+fn temperature_from(log: &Log, name: &str, values: Vec<f64>) -> Log {
+    let mut out = log.clone();
+    out.temp_c = values;
+    for c in &mut out.info.columns {
+        if c.role == driftlab::log::ColumnRole::Temperature {
+            c.name = name.to_string();
+        }
+    }
+    out
+}
+
+#[test]
+fn runs_whose_temperatures_are_other_sensors_are_refused_naming_both_columns() {
+    let (heating, repeat) = (&fog()[0].1, &fog()[1].1);
+    let run = |log: &Log| RunInput {
+        log: log.clone(),
+        sha256: String::new(),
+    };
+    // The repeat logged with only the chamber's air: same unit, another sensor.
+    let air = repeat.channel("temp_chamber_c").unwrap().values.clone();
+    let chamber = temperature_from(repeat, "temp_chamber_c", air);
+    let e = refused(vec![run(heating), run(&chamber)]);
+    assert!(matches!(e, CampaignError::Differs { .. }), "{e}");
+    let msg = e.to_string();
+    assert!(
+        msg.contains("temp_chamber_c")
+            && msg.contains("temp_c")
+            && msg.contains("temp_col")
+            && msg.contains(&heating.source),
+        "{msg}"
+    );
+    // Two numbered sensors, whatever they are, are not one.
+    let t1 = temperature_from(heating, "T1 [°C]", heating.temp_c.clone());
+    let t2 = temperature_from(repeat, "T2 [°C]", repeat.temp_c.clone());
+    refused(vec![run(&t1), run(&t2)]);
+    // The gyro's own sensor under another spelling is the same sensor.
+    for name in ["Temperature [°C]", "gyro_temp_c", "TEMP_C"] {
+        let renamed = temperature_from(repeat, name, repeat.temp_c.clone());
+        let log = join(vec![run(heating), run(&renamed)]).unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert_eq!(log.runs().len(), 2);
+    }
+}
+
+/// A run whose first `head` samples are `first`'s and the rest `second`'s (a logger's file
+/// continued from a copy of the run before), named `name`.
+fn spliced(first: &Log, second: &Log, head: usize, name: &str) -> Log {
+    let mut out = second.clone();
+    out.source = name.to_string();
+    out.time_s[..head].copy_from_slice(&first.time_s[..head]);
+    out.omega_dph[..head].copy_from_slice(&first.omega_dph[..head]);
+    out.temp_c[..head].copy_from_slice(&first.temp_c[..head]);
+    out
+}
+
+#[test]
+fn a_run_holding_part_of_another_run_is_refused_with_the_share() {
+    let (heating, repeat, cooling) = (&fog()[0].1, &fog()[1].1, &fog()[2].1);
+    let run = |log: &Log| RunInput {
+        log: log.clone(),
+        sha256: String::new(),
+    };
+    // The honest campaign joins.
+    assert!(join(vec![run(heating), run(repeat), run(cooling)]).is_ok());
+    // Half of the second run is the first's: its plateaus would count twice, and the
+    // repeatability be read from a plateau and its own copy.
+    let half = spliced(heating, repeat, 20_000, "spliced.csv");
+    let e = refused(vec![run(heating), run(&half), run(cooling)]);
+    let CampaignError::SharesSamples {
+        ref first,
+        ref second,
+        share,
+        ..
+    } = e
+    else {
+        panic!("{e}");
+    };
+    assert_eq!(
+        (first.as_str(), second.as_str()),
+        (heating.source.as_str(), "spliced.csv")
+    );
+    let truth = 20_000.0 / repeat.len() as f64;
+    assert!((share - truth).abs() < 0.1, "{share} against {truth}");
+    let msg = e.to_string();
+    assert!(
+        msg.contains("spliced.csv") && msg.contains(&heating.source),
+        "{msg}"
+    );
+    assert!(
+        msg.contains(&format!("{} %", (share * 100.0).round())),
+        "{msg}"
+    );
+    // Given the other way round, the first run is the one that holds part of the other.
+    let e = refused(vec![run(&half), run(heating)]);
+    assert!(matches!(e, CampaignError::SharesSamples { .. }), "{e}");
+    // A tenth of it is still a plateau or two counted twice.
+    let tenth = spliced(heating, repeat, 4_000, "tenth.csv");
+    let e = refused(vec![run(heating), run(&tenth)]);
+    assert!(matches!(e, CampaignError::SharesSamples { .. }), "{e}");
+}
+
+#[test]
+fn runs_of_one_file_name_are_named_by_the_folders_that_tell_them_apart() {
+    use driftlab::log::campaign::run_names;
+    use std::path::PathBuf;
+    let p = |s: &str| PathBuf::from(s);
+    assert_eq!(
+        run_names(&[
+            p("data/day1/run.csv"),
+            p("data/day2/run.csv"),
+            p("data/cold.csv")
+        ]),
+        ["day1/run.csv", "day2/run.csv", "cold.csv"]
+    );
+    // Only as far up as they differ, each on its own.
+    assert_eq!(
+        run_names(&[p("/a/x/run.csv"), p("/b/x/run.csv"), p("/a/y/run.csv")]),
+        ["a/x/run.csv", "b/x/run.csv", "y/run.csv"]
+    );
+    assert_eq!(
+        run_names(&[p("run.csv"), p("old/run.csv")]),
+        ["run.csv", "old/run.csv"]
+    );
+    // Names that already differ are the files' names, as before.
+    assert_eq!(
+        run_names(&[p("/x/heating.csv"), p("/y/cooling.csv")]),
+        ["heating.csv", "cooling.csv"]
+    );
+    assert_eq!(run_names(&[p("./day1/./run.csv")]), ["run.csv"]);
+}
+
+#[test]
+fn a_run_that_records_no_drone_gyro_joins_with_a_warning_that_it_is_unchecked() {
+    use driftlab::log::{DroneGyro, ProblemKind};
+    let logs: Vec<&Log> = tiny().iter().map(|(_, l)| l).collect();
+    let of_gyro = |log: &Log, device: u32| {
+        let mut out = log.clone();
+        out.info.instance = Some(DroneGyro {
+            px4_device_id: Some(device),
+            ..DroneGyro::numbered(0)
+        });
+        out
+    };
+    let run = |log: Log| RunInput {
+        log,
+        sha256: String::new(),
+    };
+    // A drone log's gyro beside a CSV (one `convert` wrote of it, or of another flight):
+    // which gyro the CSV is cannot be checked, and is said.
+    let ulog = of_gyro(logs[0], 2_424_842);
+    let joined = join(vec![run(ulog.clone()), run(logs[1].clone())]).expect("joined");
+    let said: Vec<&str> = joined
+        .info
+        .problems
+        .iter()
+        .filter(|p| p.kind == ProblemKind::Unchecked)
+        .map(|p| p.message.as_str())
+        .collect();
+    assert_eq!(said.len(), 1, "{:?}", joined.info.problems);
+    assert!(
+        said[0].contains(&logs[1].source) && said[0].contains("device_id 2424842"),
+        "{}",
+        said[0]
+    );
+    // The campaign is of the one gyro a run records, whichever run it is.
+    let csv_first = join(vec![run(logs[1].clone()), run(ulog.clone())]).expect("joined");
+    assert_eq!(csv_first.info.instance, ulog.info.instance);
+    // Two runs that record other gyros are refused, though a CSV stands between them.
+    let other = of_gyro(logs[2], 3_670_050);
+    let e = refused(vec![run(ulog), run(logs[1].clone()), run(other)]);
+    let msg = e.to_string();
+    assert!(
+        matches!(
+            e,
+            CampaignError::Differs {
+                what: "drone-log gyro",
+                ..
+            }
+        ) && msg.contains("2424842")
+            && msg.contains("3670050")
+            && !msg.contains("no drone log"),
+        "{msg}"
+    );
+}

@@ -604,9 +604,8 @@ fn about_columns(kind: crate::log::ProblemKind) -> bool {
     use crate::log::ProblemKind::*;
     match kind {
         Implausible | DuplicateName | UnitMismatch => true,
-        MissingValue | BadExtraValue | TimeBackwards | TimeRepeated | Gap | RaggedRow | LeftOut => {
-            false
-        }
+        MissingValue | BadExtraValue | TimeBackwards | TimeRepeated | Gap | RaggedRow | LeftOut
+        | Unchecked => false,
     }
 }
 

@@ -283,14 +283,14 @@ fn read_runs(h: &LoadHandle, options: &LoadOptions) -> Result<Read, String> {
     let mut runs = Vec::with_capacity(paths.len());
     let mut said = Vec::new();
     let mut first_drone = None;
-    for (k, path) in paths.iter().enumerate() {
+    // Each run is named as the command line names it (by the folders that tell runs of one
+    // file name apart).
+    let names = crate::log::campaign::run_names(&paths);
+    for (k, (path, name)) in paths.iter().zip(names).enumerate() {
         let (mut log, resampled, _, drone) =
             read_one(h, path, options, (k as f64 / n, (k + 1) as f64 / n))?;
         let sha256 = crate::files::calibration::sha256_file(path).map_err(|e| e.to_string())?;
-        log.source = path.file_name().map_or_else(
-            || path.display().to_string(),
-            |f| f.to_string_lossy().into_owned(),
-        );
+        log.source = name;
         if let Some(r) = resampled {
             said.push(format!("{}: {r}", log.source));
         }

@@ -307,6 +307,15 @@ pub fn names_an_accelerometer(name: &str) -> bool {
     names::is_accelerometer(name)
 }
 
+/// The words of a temperature column's name that say which sensor it reads, sorted (`chamber`
+/// in `temp_chamber_c`, `t2` in `T2 [°C]`); none for a name that says only "the temperature"
+/// or "the gyro's temperature" (`temp_c`, `Temperature [°C]`, `gyro_temp_c`). Two temperature
+/// columns read one sensor when their words are the same: a campaign refuses runs whose
+/// temperatures are other sensors ([`crate::log::campaign::join`]).
+pub fn temperature_sensor(name: &str) -> Vec<String> {
+    names::temperature_sensor_words(name)
+}
+
 /// Reads a separator as people write it on a command line or in a recipe: `,`, `;`, `\t`
 /// or `tab`, `space` or `whitespace` (runs of blanks), or any single ASCII character.
 ///

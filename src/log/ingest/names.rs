@@ -290,6 +290,31 @@ const TEMP_WORDS: &[&str] = &[
     "темп",
 ];
 
+/// Words of a temperature's name that say whose it is without naming another sensor: the
+/// gyro's (`gyro_temp_c`, `imu_temperature`).
+const OWN_SENSOR_WORDS: &[&str] = &["gyro", "gyr", "gyroscope", "imu", "sensor"];
+
+/// The words of a temperature column's name that say which sensor it reads (`chamber` in
+/// `temp_chamber_c`, `coil` in `T_coil [°C]`, `t2` in `T2`): the name's words less those of a
+/// temperature, of the gyro and of a unit, sorted, each once. None for a name
+/// that says only "the temperature" (`temp_c`, `Temperature [°C]`, `gyro_temp_c`): the gyro's
+/// own sensor, the one a reader takes first.
+pub(crate) fn temperature_sensor_words(name: &str) -> Vec<String> {
+    let p = name_parts(name);
+    let mut out: Vec<String> = Vec::new();
+    for (i, w) in p.words.iter().enumerate() {
+        let generic = TEMP_WORDS.contains(&w.as_str())
+            || (i == 0 && w == "t")
+            || OWN_SENSOR_WORDS.contains(&w.as_str())
+            || TempUnit::from_column_key(&unit_key(w)).is_some();
+        if !generic && !out.contains(w) {
+            out.push(w.clone());
+        }
+    }
+    out.sort();
+    out
+}
+
 /// Whether `word` is `kw` followed by nothing, digits, or an axis letter (`gyro2`, `wz`).
 /// The one-letter words `g`, `a` and `f` count only with an axis letter (`gx`, `ay`).
 fn word_is(word: &str, kw: &str) -> bool {
