@@ -630,11 +630,15 @@ pub fn run_names<P: AsRef<std::path::Path>>(paths: &[P]) -> Vec<String> {
                 Some(k) => last(own, k).join("/"),
                 None => own.join("/"),
             };
-            if name.is_empty() {
+            let name = if name.is_empty() {
                 paths[i].as_ref().display().to_string()
             } else {
                 name
-            }
+            };
+            // A file's name may hold a control character (an escape sequence): the run's
+            // name is written with it escaped, as a calibration records it and every face
+            // shows it, never refused after the fit.
+            crate::text::escaped(&name, false).into_owned()
         })
         .collect()
 }

@@ -363,3 +363,25 @@ fn a_run_half_made_of_another_run_is_refused_with_the_share() {
         "{share} % against {truth} %: {e}"
     );
 }
+
+/// A run whose file name holds an escape sequence is calibrated, its name recorded and shown
+/// escaped, as one log's name is (26th attack, 09: it was refused after the whole fit).
+#[test]
+fn a_run_named_with_a_control_character_is_recorded_escaped() {
+    let dir = tempfile::tempdir().unwrap();
+    let r = runs(dir.path());
+    let odd = p(dir.path(), "cold\u{1b}[2J.csv");
+    std::fs::rename(&r[2], &odd).unwrap();
+    let cal = p(dir.path(), "cal.json");
+    let out = ok(&["calibrate", &r[0], &r[1], &odd, "--out", &cal]);
+    assert!(!out.contains('\u{1b}'), "nothing reaches the terminal raw");
+    let json: Value = serde_json::from_str(&std::fs::read_to_string(&cal).unwrap()).unwrap();
+    let names: Vec<&str> = json["calibration"]["source"]["runs"]
+        .as_array()
+        .or_else(|| json["source"]["runs"].as_array())
+        .expect("the runs recorded")
+        .iter()
+        .map(|r| r["name"].as_str().unwrap())
+        .collect();
+    assert_eq!(names[2], "cold\\u001b[2J.csv", "{names:?}");
+}

@@ -171,18 +171,8 @@ impl SourceInfo {
                 ));
             }
         }
-        if let Some(t) = self.temp_tolerance_c
-            && !(t.is_finite() && t > 0.0 && t <= crate::models::campaign::MAX_TOLERANCE_C)
-        {
-            return Err(Invalid::new(
-                "source.temp_tolerance_c",
-                format!(
-                    "is {}: plateaus share a temperature within a tolerance above 0 °C and at \
-                     most {} °C",
-                    crate::number::readable(t),
-                    crate::models::campaign::MAX_TOLERANCE_C
-                ),
-            ));
+        if let Some(t) = self.temp_tolerance_c {
+            crate::models::campaign::check_tolerance("source.temp_tolerance_c", t)?;
         }
         if self.temp_tolerance_c.is_some() && self.runs.is_empty() {
             return Err(Invalid::new(
