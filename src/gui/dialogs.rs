@@ -20,6 +20,8 @@ pub enum FileKind {
     Log,
     /// A held-out validation log.
     ValidationLog,
+    /// Another run of the open log's campaign.
+    Run,
     /// A workbench session (JSON).
     Session,
     /// A calibration file (JSON).
@@ -44,6 +46,7 @@ impl FileKind {
         match self {
             FileKind::Log => "Open chamber log",
             FileKind::ValidationLog => "Open validation log",
+            FileKind::Run => "Add a run of the same gyro (calibrated together as one campaign)",
             FileKind::Session => "Workbench session",
             FileKind::Calibration => "Export calibration",
             FileKind::Model => "Export model",
@@ -58,9 +61,13 @@ impl FileKind {
     /// Filter name and extensions (`*`: anything, for a folder).
     pub fn filter(self) -> (&'static str, &'static [&'static str]) {
         match self {
-            FileKind::Log | FileKind::ValidationLog => {
-                ("Logs", &["csv", "txt", "dat", "tsv", "log"])
-            }
+            // Drone and robot logs too: they are told by their first bytes.
+            FileKind::Log | FileKind::ValidationLog | FileKind::Run => (
+                "Logs",
+                &[
+                    "csv", "txt", "dat", "tsv", "log", "ulg", "bin", "bag", "mcap",
+                ],
+            ),
             FileKind::Session => ("driftlab session", &["json"]),
             FileKind::Calibration | FileKind::Model | FileKind::OpenCalibration => {
                 ("Calibration", &["json"])
@@ -96,7 +103,7 @@ impl FileKind {
             | FileKind::OpenCalibration => Some("json"),
             FileKind::CorrectedCsv => Some("csv"),
             FileKind::Png => Some("png"),
-            FileKind::Log | FileKind::ValidationLog | FileKind::Report => None,
+            FileKind::Log | FileKind::ValidationLog | FileKind::Run | FileKind::Report => None,
             // The suggested name carries the format's own (.params, .parm).
             FileKind::FlightParams => None,
         }

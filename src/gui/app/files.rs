@@ -43,7 +43,7 @@ impl Purpose {
         match self {
             Purpose::OpenLog => FileKind::Log,
             Purpose::OpenValidation => FileKind::ValidationLog,
-            Purpose::AddRun => FileKind::Log,
+            Purpose::AddRun => FileKind::Run,
             Purpose::OpenCalibration => FileKind::OpenCalibration,
             Purpose::OpenSession | Purpose::SaveSession { .. } => FileKind::Session,
             Purpose::ExportCalibration => FileKind::Calibration,
