@@ -675,3 +675,74 @@ fn a_run_that_records_no_drone_gyro_joins_with_a_warning_that_it_is_unchecked() 
         "{msg}"
     );
 }
+
+/// The campaign's point, against the simulator's truth: its 13 plateaus at 7 temperatures hold
+/// a K0 spline that no single run's 4 or 5 plateaus at 3 to 5 temperatures can, and the one
+/// calibration on all three runs corrects two held-out programs of the same gyro better than
+/// any run's own calibration does, with K0 parabolic (the default), piecewise-linear or spline
+/// (docs/campaigns.md gives the figures).
+#[test]
+fn a_campaign_with_a_spline_k0_beats_every_run_alone_held_out() {
+    use driftlab::models::approx::{ApproxKind, ApproxSpec};
+    let held: Vec<Log> = [("validation", 11), ("yan-full-range", 12)]
+        .iter()
+        .map(|(name, seed)| {
+            driftlab::sim::simulate(&driftlab::sim::profile(name).unwrap(), *seed)
+                .to_log(&format!("{name}.csv"))
+        })
+        .collect();
+    let merit = MeritOptions::default();
+    let plan = |k0: ApproxSpec| {
+        let recipe = driftlab::models::recipe::Recipe {
+            k0,
+            ..Default::default()
+        };
+        vec![AxisPlan::unnamed(
+            ModelChoice::Preset(Preset::Vakhrameev),
+            recipe.checked().unwrap(),
+        )]
+    };
+    let spline = ApproxSpec {
+        knots: 6,
+        ..ApproxSpec::of(ApproxKind::Spline)
+    };
+    // Corrected peak-to-peak on each held-out log of a calibration fitted on `runs`.
+    let held_out = |runs: &[&Log], k0: ApproxSpec| -> Vec<f64> {
+        let mut log = joined(runs);
+        let fit = calibrate_campaign(&mut log, &plan(k0), &merit, &CampaignOptions::default())
+            .expect("fits");
+        let model = &fit.axes[0].calibrated.model;
+        held.iter()
+            .map(|h| {
+                let c = model.correct(h).unwrap();
+                Evaluation::of_correction(h, &c, &merit)
+                    .comparison
+                    .corrected
+                    .p2p_dph
+            })
+            .collect()
+    };
+    let logs: Vec<&Log> = fog().iter().map(|(_, l)| l).collect();
+    let campaign = held_out(&logs, spline.clone());
+    for one in &logs {
+        for k0 in [
+            ApproxSpec::of(ApproxKind::Parabolic),
+            ApproxSpec {
+                knots: 5,
+                ..ApproxSpec::of(ApproxKind::Pwl)
+            },
+            spline.clone(),
+        ] {
+            let alone = held_out(&[one], k0.clone());
+            for (h, (c, a)) in held.iter().zip(campaign.iter().zip(&alone)) {
+                assert!(
+                    c < a,
+                    "on {}: the campaign {c} °/h, {} alone with K0 {:?} {a} °/h",
+                    h.source,
+                    one.source,
+                    k0.kind
+                );
+            }
+        }
+    }
+}
