@@ -186,17 +186,7 @@ pub fn calibrate_campaign(
     // and the caller's log ends as it was read.
     let mut raw: Vec<(String, Vec<f64>)> = Vec::new();
     for (plan, name) in plans.iter().zip(&names) {
-        let omega = log.axis_rate(name).unwrap_or(&log.omega_dph);
-        // Every range holds samples (`run_of` found them), so the stats stay beside their runs.
-        let stats: Vec<PlateauStats> = ranges
-            .iter()
-            .filter_map(|r| plateau::stats(&log.time_s, &log.temp_c, omega, *r))
-            .collect();
-        if stats.len() != plateau_runs.len() {
-            return Err(crate::error::Error::Internal(
-                "a campaign plateau without samples",
-            ));
-        }
+        let stats = axis_stats(log, name, &ranges)?;
         let offsets = if options.per_run_offset {
             Some(turn_on_offsets(
                 &stats,
@@ -330,21 +320,32 @@ pub fn run_records(
         return Ok(Vec::new());
     }
     let (ranges, plateau_runs) = runs_of(log, ranges.to_vec())?;
-    let omega = if name.is_empty() {
-        &log.omega_dph
-    } else {
-        log.axis_rate(name).unwrap_or(&log.omega_dph)
-    };
+    let stats = axis_stats(log, name, &ranges)?;
+    Ok(record(log, &stats, &plateau_runs, None, options))
+}
+
+/// The statistics of axis `name` (the log's first for `""` or a name it lacks) on each of
+/// `ranges`, every one of a run ([`runs_of`]).
+///
+/// # Errors
+/// None but the internal one of a range without samples: each range holds samples of its
+/// run (`run_of_each` found them there), so the statistics stay beside their runs.
+fn axis_stats(
+    log: &Log,
+    name: &str,
+    ranges: &[plateau::PlateauRange],
+) -> Result<Vec<PlateauStats>> {
+    let omega = log.axis_rate(name).unwrap_or(&log.omega_dph);
     let stats: Vec<PlateauStats> = ranges
         .iter()
         .filter_map(|r| plateau::stats(&log.time_s, &log.temp_c, omega, *r))
         .collect();
-    if stats.len() != plateau_runs.len() {
+    if stats.len() != ranges.len() {
         return Err(crate::error::Error::Internal(
             "a campaign plateau without samples",
         ));
     }
-    Ok(record(log, &stats, &plateau_runs, None, options))
+    Ok(stats)
 }
 
 /// Writes a campaign's record into a fitted model's source: `runs` and the tolerance its
