@@ -269,3 +269,55 @@ fn the_models_page_shows_each_model_judged_on_the_runs_left_out() {
     );
     assert_eq!(h.query_all_by_label("runs left out, worst").count(), with);
 }
+
+/// A campaign of a unit (two runs of a three-axis IMU): every axis exported with the runs'
+/// records `calibrate` writes for it.
+#[test]
+fn a_units_campaign_is_exported_with_every_axis_recording_the_runs() {
+    let dir = tempfile::tempdir().unwrap();
+    let sample = |n: &str| {
+        Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("sample_logs")
+            .join(n)
+    };
+    let runs = [
+        sample("imu3-calibration.csv"),
+        sample("imu3-validation.csv"),
+    ];
+    let mut wb = opened(&runs);
+    assert_eq!(wb.state.axis_count(), 3, "{:?}", wb.state.status);
+    let from_window = dir.path().join("window.json");
+    let dialogs = ScriptedDialogs::new();
+    dialogs.answer(Some(from_window.clone()));
+    wb.set_dialogs(Box::new(dialogs));
+    wb.act(&eframe::egui::Context::default(), Action::ExportCalibration);
+    wb.wait_for_jobs();
+    assert!(from_window.is_file(), "{:?}", wb.state.status);
+    let from_cli = dir.path().join("cli.json");
+    let out = Command::new(env!("CARGO_BIN_EXE_driftlab"))
+        .arg("calibrate")
+        .args(&runs)
+        .arg("--out")
+        .arg(&from_cli)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let (w, c) = (
+        calibration::load_unit(&from_window).unwrap(),
+        calibration::load_unit(&from_cli).unwrap(),
+    );
+    assert_eq!(w.axis_names(), c.axis_names());
+    for (a, b) in w.axes.iter().zip(&c.axes) {
+        assert_eq!(a.model.source().runs.len(), 2, "axis {}", a.name);
+        assert_eq!(
+            a.model.source().runs,
+            b.model.source().runs,
+            "axis {}",
+            a.name
+        );
+    }
+}
