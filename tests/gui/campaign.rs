@@ -268,6 +268,34 @@ fn the_models_page_shows_each_model_judged_on_the_runs_left_out() {
         "one mean row under each model judged so"
     );
     assert_eq!(h.query_all_by_label("runs left out, worst").count(), with);
+
+    // A model of the page exported records the campaign's runs, as `calibrate --model` does.
+    let path = dir.path().join("poly-t.json");
+    let dialogs = ScriptedDialogs::new();
+    dialogs.answer(Some(path.clone()));
+    h.state_mut().set_dialogs(Box::new(dialogs));
+    // (Its row may lie below the table's fold: chosen as the page's selection.)
+    h.state_mut().models_view().selected = Some("poly-t".into());
+    h.run_ok();
+    h.get_by_label("Export poly-t…").click();
+    settle(&mut h);
+    let window = calibration::load_model(&path).expect("the model is written");
+    let cli = dir.path().join("poly-t-cli.json");
+    let out = Command::new(env!("CARGO_BIN_EXE_driftlab"))
+        .arg("calibrate")
+        .args(&runs)
+        .args(["--model", "poly-t", "--out"])
+        .arg(&cli)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let cli = calibration::load_model(&cli).unwrap();
+    assert_eq!(window.source().runs.len(), 3);
+    assert_eq!(window.source().runs, cli.source().runs);
 }
 
 /// A campaign of a unit (two runs of a three-axis IMU): every axis exported with the runs'
