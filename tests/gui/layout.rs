@@ -272,3 +272,39 @@ fn the_models_figures_table_is_whole_at_1280x720() {
         "the table's last column {last:?} runs under the detail panel (its button {detail:?})"
     );
 }
+
+/// A campaign (its run strip in a short window at the head of the controls) keeps the same
+/// room: every time plot and the drift plot 120 points tall at 1280×720, the drift plot whole.
+#[test]
+fn a_campaign_keeps_the_plots_at_1280x720() {
+    let size = egui::vec2(1280.0, 720.0);
+    let mut wb = Workbench::new(Settings::default(), None, Box::new(ScriptedDialogs::new()));
+    let options = driftlab::gui::jobs::LoadOptions {
+        more_runs: vec![sample("yan-full-range.csv")],
+        ..Default::default()
+    };
+    wb.open_log(sample("calibration.csv"), options, false);
+    wb.open_validation_after(sample("validation.csv"), Default::default());
+    let mut h = Harness::builder()
+        .with_size(size + egui::vec2(16.0, 16.0))
+        .build_ui_state(|ui, wb: &mut Workbench| wb.ui(ui), wb);
+    settle(&mut h);
+    for _ in 0..3 {
+        h.run_ok();
+    }
+    let s = &h.state().state;
+    assert_eq!(
+        s.shown.log.as_ref().map(|l| l.log.runs().len()),
+        Some(2),
+        "{:?}",
+        s.status
+    );
+    assert!(s.shown.validation.is_some(), "{:?}", s.status);
+    let hs = heights(&h);
+    for (name, height) in &hs {
+        assert!(*height >= 120.0, "{name} is {height} points tall: {hs:?}");
+    }
+    let drift = h.state().plot_rect("result").unwrap();
+    assert!(window_rect(size).contains_rect(drift), "{drift:?}");
+    assert_linked_plots_aligned(&h, "a campaign at 1280×720");
+}

@@ -28,13 +28,15 @@ impl Workbench {
             });
             self.window.panel_rects.insert("axes", r.response.rect);
         }
-        if self
+        // A campaign's runs: a row above the page, or in a short window at the head of the
+        // controls (the plots keep the row).
+        let campaign = self
             .state
             .shown
             .log
             .as_ref()
-            .is_some_and(|l| l.log.runs().len() > 1)
-        {
+            .is_some_and(|l| l.log.runs().len() > 1);
+        if campaign && !compact {
             let r = Panel::top("runs")
                 .resizable(false)
                 .show(ui, |ui| actions.extend(self.views.runs.ui(ui, &self.state)));
@@ -89,6 +91,10 @@ impl Workbench {
                     .auto_shrink([false, false])
                     .show(ui, |ui| {
                         ui.set_min_width(ui.available_width());
+                        if campaign && compact {
+                            actions.extend(self.views.runs.ui(ui, &self.state));
+                            ui.separator();
+                        }
                         let focus = PlateauFocus {
                             visible_s: self.views.time.visible_s,
                             selected: self.views.time.selected,
