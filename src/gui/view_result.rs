@@ -374,11 +374,13 @@ fn header(
     };
     ui.radio_value(show_validation, false, cal)
         .on_hover_text("In-sample: the drift on the log the calibration was fitted on");
-    ui.add_enabled_ui(has_val, |ui| {
+    // Without a validation log its choice is the button that opens one (a choice that cannot
+    // be made beside it wrapped the header onto a second row, taken from the plots).
+    if has_val {
         ui.radio_value(show_validation, true, val).on_hover_text(
             "Held out: a second log of the same gyro, corrected with this calibration",
         );
-    });
+    }
     if !has_val
         && ui
             .button("Open validation log…")

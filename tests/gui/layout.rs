@@ -308,3 +308,30 @@ fn a_campaign_keeps_the_plots_at_1280x720() {
     assert!(window_rect(size).contains_rect(drift), "{drift:?}");
     assert_linked_plots_aligned(&h, "a campaign at 1280×720");
 }
+
+/// With no validation log open, the drift plot's header stays one row and the plots keep
+/// their 120 points at 1280×720 (its "Open validation log…" stands where the choice of the
+/// validation log would be).
+#[test]
+fn without_a_validation_log_the_plots_keep_120_points_at_1280x720() {
+    let size = egui::vec2(1280.0, 720.0);
+    for log in ["calibration.csv", "imu3-calibration.csv"] {
+        let mut wb = Workbench::new(Settings::default(), None, Box::new(ScriptedDialogs::new()));
+        wb.open_log(sample(log), Default::default(), false);
+        let mut h = Harness::builder()
+            .with_size(size + egui::vec2(16.0, 16.0))
+            .build_ui_state(|ui, wb: &mut Workbench| wb.ui(ui), wb);
+        settle(&mut h);
+        for _ in 0..3 {
+            h.run_ok();
+        }
+        assert!(h.state().state.shown.validation.is_none());
+        let hs = heights(&h);
+        for (name, height) in &hs {
+            assert!(
+                *height >= 120.0,
+                "{log}: {name} is {height} points tall: {hs:?}"
+            );
+        }
+    }
+}
