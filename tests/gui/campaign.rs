@@ -47,6 +47,32 @@ fn opened(runs: &[PathBuf]) -> Workbench {
     wb
 }
 
+/// `driftlab calibrate RUNS... [ARGS] --out OUT`, as an engineer runs it.
+fn calibrate_cli(runs: &[PathBuf], args: &[&str], out: &Path) {
+    let done = Command::new(env!("CARGO_BIN_EXE_driftlab"))
+        .arg("calibrate")
+        .args(runs)
+        .args(args)
+        .arg("--out")
+        .arg(out)
+        .output()
+        .unwrap();
+    assert!(
+        done.status.success(),
+        "{}",
+        String::from_utf8_lossy(&done.stderr)
+    );
+}
+
+/// `action` asked of the workbench with `path` answered to its file dialog, and its work done.
+fn answered(wb: &mut Workbench, action: Action, path: &Path) {
+    let dialogs = ScriptedDialogs::new();
+    dialogs.answer(Some(path.to_path_buf()));
+    wb.set_dialogs(Box::new(dialogs));
+    wb.act(&eframe::egui::Context::default(), action);
+    wb.wait_for_jobs();
+}
+
 fn sha256sum(path: &Path) -> String {
     let out = Command::new("sha256sum").arg(path).output().unwrap();
     assert!(out.status.success());
@@ -83,27 +109,12 @@ fn three_runs_open_as_one_campaign_and_export_what_calibrate_writes() {
 
     // The export, through the menu's path.
     let from_window = dir.path().join("window.json");
-    let dialogs = ScriptedDialogs::new();
-    dialogs.answer(Some(from_window.clone()));
-    wb.set_dialogs(Box::new(dialogs));
-    wb.act(&eframe::egui::Context::default(), Action::ExportCalibration);
-    wb.wait_for_jobs();
+    answered(&mut wb, Action::ExportCalibration, &from_window);
     assert!(from_window.is_file(), "{:?}", wb.state.status);
 
     // The command line on the same three files.
     let from_cli = dir.path().join("cli.json");
-    let out = Command::new(env!("CARGO_BIN_EXE_driftlab"))
-        .arg("calibrate")
-        .args(&runs)
-        .arg("--out")
-        .arg(&from_cli)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    calibrate_cli(&runs, &[], &from_cli);
 
     let (w, c) = (vakhrameev(&from_window), vakhrameev(&from_cli));
     assert_eq!(w.source.runs.len(), 3);
@@ -126,11 +137,7 @@ fn three_runs_open_as_one_campaign_and_export_what_calibrate_writes() {
     // The report from the window has the campaign section, and judges each run as the run
     // of the campaign it is.
     let report = dir.path().join("report");
-    let dialogs = ScriptedDialogs::new();
-    dialogs.answer(Some(report.clone()));
-    wb.set_dialogs(Box::new(dialogs));
-    wb.act(&eframe::egui::Context::default(), Action::ExportReport);
-    wb.wait_for_jobs();
+    answered(&mut wb, Action::ExportReport, &report);
     let html = std::fs::read_to_string(report.join("report.html")).expect("the report page");
     assert!(html.contains("Campaign of 3 runs"), "the campaign section");
     for path in &runs {
@@ -281,18 +288,7 @@ fn the_models_page_shows_each_model_judged_on_the_runs_left_out() {
     settle(&mut h);
     let window = calibration::load_model(&path).expect("the model is written");
     let cli = dir.path().join("poly-t-cli.json");
-    let out = Command::new(env!("CARGO_BIN_EXE_driftlab"))
-        .arg("calibrate")
-        .args(&runs)
-        .args(["--model", "poly-t", "--out"])
-        .arg(&cli)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    calibrate_cli(&runs, &["--model", "poly-t"], &cli);
     let cli = calibration::load_model(&cli).unwrap();
     assert_eq!(window.source().runs.len(), 3);
     assert_eq!(window.source().runs, cli.source().runs);
@@ -315,25 +311,10 @@ fn a_units_campaign_is_exported_with_every_axis_recording_the_runs() {
     let mut wb = opened(&runs);
     assert_eq!(wb.state.axis_count(), 3, "{:?}", wb.state.status);
     let from_window = dir.path().join("window.json");
-    let dialogs = ScriptedDialogs::new();
-    dialogs.answer(Some(from_window.clone()));
-    wb.set_dialogs(Box::new(dialogs));
-    wb.act(&eframe::egui::Context::default(), Action::ExportCalibration);
-    wb.wait_for_jobs();
+    answered(&mut wb, Action::ExportCalibration, &from_window);
     assert!(from_window.is_file(), "{:?}", wb.state.status);
     let from_cli = dir.path().join("cli.json");
-    let out = Command::new(env!("CARGO_BIN_EXE_driftlab"))
-        .arg("calibrate")
-        .args(&runs)
-        .arg("--out")
-        .arg(&from_cli)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    calibrate_cli(&runs, &[], &from_cli);
     let (w, c) = (
         calibration::load_unit(&from_window).unwrap(),
         calibration::load_unit(&from_cli).unwrap(),

@@ -28,8 +28,19 @@ pub(crate) fn opened(log: &str, validation: &str, size: egui::Vec2) -> Harness<'
     // otherwise ask for a look in the import view first)
     wb.open_log(sample(log), Default::default(), false);
     wb.open_validation_after(sample(validation), Default::default());
-    // egui_kittest draws the app 8 points inside its window: the window is that much larger,
-    // so that the workbench has the whole area of a real window of `size`.
+    let h = drawn(wb, size);
+    assert!(
+        h.state().state.shown.validation.is_some(),
+        "{log}: the validation log {validation} is not open: {:?}",
+        h.state().state.status
+    );
+    h
+}
+
+/// `wb` in a window of `size`, its work done and drawn. egui_kittest draws the app 8 points
+/// inside its window: the window is that much larger, so that the workbench has the whole
+/// area of a real window of `size`.
+pub(crate) fn drawn(wb: Workbench, size: egui::Vec2) -> Harness<'static, Workbench> {
     let mut h = Harness::builder()
         .with_size(size + egui::vec2(16.0, 16.0))
         .build_ui_state(|ui, wb: &mut Workbench| wb.ui(ui), wb);
@@ -38,11 +49,6 @@ pub(crate) fn opened(log: &str, validation: &str, size: egui::Vec2) -> Harness<'
     for _ in 0..3 {
         h.run_ok();
     }
-    assert!(
-        h.state().state.shown.validation.is_some(),
-        "{log}: the validation log {validation} is not open: {:?}",
-        h.state().state.status
-    );
     h
 }
 
@@ -285,13 +291,7 @@ fn a_campaign_keeps_the_plots_at_1280x720() {
     };
     wb.open_log(sample("calibration.csv"), options, false);
     wb.open_validation_after(sample("validation.csv"), Default::default());
-    let mut h = Harness::builder()
-        .with_size(size + egui::vec2(16.0, 16.0))
-        .build_ui_state(|ui, wb: &mut Workbench| wb.ui(ui), wb);
-    settle(&mut h);
-    for _ in 0..3 {
-        h.run_ok();
-    }
+    let h = drawn(wb, size);
     let s = &h.state().state;
     assert_eq!(
         s.shown.log.as_ref().map(|l| l.log.runs().len()),
@@ -318,13 +318,7 @@ fn without_a_validation_log_the_plots_keep_120_points_at_1280x720() {
     for log in ["calibration.csv", "imu3-calibration.csv"] {
         let mut wb = Workbench::new(Settings::default(), None, Box::new(ScriptedDialogs::new()));
         wb.open_log(sample(log), Default::default(), false);
-        let mut h = Harness::builder()
-            .with_size(size + egui::vec2(16.0, 16.0))
-            .build_ui_state(|ui, wb: &mut Workbench| wb.ui(ui), wb);
-        settle(&mut h);
-        for _ in 0..3 {
-            h.run_ok();
-        }
+        let h = drawn(wb, size);
         assert!(h.state().state.shown.validation.is_none());
         let hs = heights(&h);
         for (name, height) in &hs {
