@@ -101,6 +101,16 @@ enum Form {
     Narrow,
 }
 
+/// The text colours of a strip's button (an axis's, a run's): its words and its labels, which
+/// stand on the selection colour when it is the one shown (not greyed there).
+pub fn strip_colors(ui: &Ui, selected: bool) -> (Color32, Color32) {
+    let v = ui.visuals();
+    match selected {
+        true => (v.strong_text_color(), v.text_color()),
+        false => (v.text_color(), v.weak_text_color()),
+    }
+}
+
 /// Whether the axis named `name` is the one shown.
 fn k_selected(state: &AppState, name: &str) -> bool {
     state.active_axis_name() == Some(name)
@@ -112,17 +122,7 @@ fn axis_text(ui: &Ui, axis: &super::state::AxisRef<'_>, selected: bool, form: Fo
     let v = ui.visuals();
     let font = FontId::proportional(13.0);
     let mono = FontId::monospace(12.5);
-    let normal = if selected {
-        v.strong_text_color()
-    } else {
-        v.text_color()
-    };
-    // The labels of the axis shown stand on the selection colour: not greyed there.
-    let weak = if selected {
-        v.text_color()
-    } else {
-        v.weak_text_color()
-    };
+    let (normal, weak) = strip_colors(ui, selected);
     let bad = v.error_fg_color;
     let provisional = v.weak_text_color();
     let mut job = LayoutJob::default();

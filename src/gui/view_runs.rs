@@ -117,18 +117,8 @@ fn run_text(
     selected: bool,
     dark: bool,
 ) -> LayoutJob {
-    let v = ui.visuals();
-    let normal = if selected {
-        v.strong_text_color()
-    } else {
-        v.text_color()
-    };
-    let weak = if selected {
-        v.text_color()
-    } else {
-        v.weak_text_color()
-    };
-    let bad = v.error_fg_color;
+    let (normal, weak) = super::view_axes::strip_colors(ui, selected);
+    let bad = ui.visuals().error_fg_color;
     let font = FontId::proportional(13.0);
     let mut job = LayoutJob::default();
     let mut push = |text: &str, font: &FontId, color: Color32| {
