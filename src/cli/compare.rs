@@ -663,5 +663,24 @@ fn print_recommendation(rec: Option<&Recommendation>, axis: Option<&str>) -> Res
         }
         None => {}
     }
+    if !r.references.is_empty() {
+        let rows: Vec<String> = r
+            .references
+            .iter()
+            .map(|s| match (s.worst_p2p_ratio, &s.why) {
+                (Some(x), _) => format!("{} {}", s.model, common::ratio(x)),
+                (None, Some(why)) => format!("{} not judged ({why})", s.model),
+                (None, None) => format!("{} not judged", s.model),
+            })
+            .collect();
+        let verdict = match &r.against_references {
+            Some(v) => format!("{} {}", r.model, v.describe()),
+            None => "none of them could be judged".to_string(),
+        };
+        out!(
+            "  beside it, the firmware scripts' own fits judged alike (worst): {}; {verdict}",
+            rows.join(", ")
+        )?;
+    }
     Ok(())
 }

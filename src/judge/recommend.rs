@@ -126,6 +126,97 @@ pub struct Recommendation {
     /// Every candidate (reference rows left out), best first; those not judged on every part
     /// last, with why.
     pub standings: Vec<Standing>,
+    /// The reference rows compared (the firmware scripts' own fits), judged alike on the same
+    /// parts, in the order compared: what the recommendation is set beside, never a candidate.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub references: Vec<Standing>,
+    /// How the recommended model stands against the reference rows judged; `None` when none
+    /// was.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub against_references: Option<AgainstReferences>,
+}
+
+impl AgainstReferences {
+    /// How a recommendation whose worst ratio is `worst_p2p_ratio` stands against the
+    /// `references` judged (the firmware scripts' own fits); `None` when none was judged.
+    fn of(worst_p2p_ratio: f64, references: &[Standing]) -> Option<AgainstReferences> {
+        // The reference whose worst ratio is highest: the one to be at least as good as.
+        let best = references
+            .iter()
+            .filter_map(|r| r.worst_p2p_ratio.map(|x| (r.model.clone(), x)))
+            .max_by(|a, b| a.1.total_cmp(&b.1))?;
+        if ratio_key(worst_p2p_ratio) >= ratio_key(best.1) {
+            return Some(AgainstReferences::AtLeastAsGood);
+        }
+        // Corrected peak-to-peak over the same raw drift: the ratio of ratios.
+        let shortfall = 1.0 - worst_p2p_ratio / best.1;
+        Some(if shortfall <= SAME_WITHIN {
+            AgainstReferences::WithinNoise {
+                model: best.0,
+                shortfall,
+            }
+        } else {
+            AgainstReferences::Worse {
+                model: best.0,
+                shortfall,
+            }
+        })
+    }
+}
+
+/// How far below the best reference row's worst ratio the recommendation may fall and still
+/// be called as good: two fits of one form on one log differ by about this much on its noise
+/// alone. Measured on simulated MEMS logs whose bias is a cubic in T (three axes, 24 seeds,
+/// held out on another chamber program, every corrected drift at the noise floor): driftlab's
+/// `px4` fit against the better of `px4-script` and `ardupilot-script` ranged from 0.3 % above
+/// to 2.3 % below, 0.4 % below on average (the better of two noisy rows is itself favoured by
+/// the noise).
+pub const SAME_WITHIN: f64 = 0.03;
+
+/// The recommendation set beside the firmware scripts' own fits.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(tag = "verdict", rename_all = "snake_case")]
+pub enum AgainstReferences {
+    /// Its worst ratio is not below any reference row's.
+    AtLeastAsGood,
+    /// Below the best reference row's by no more than [`SAME_WITHIN`]: as good, to the noise.
+    WithinNoise {
+        /// The reference row it falls short of.
+        model: String,
+        /// By how much, as a fraction of that row's worst ratio.
+        shortfall: f64,
+    },
+    /// Below the best reference row's by more than [`SAME_WITHIN`].
+    Worse {
+        /// The reference row it falls short of.
+        model: String,
+        /// By how much, as a fraction of that row's worst ratio.
+        shortfall: f64,
+    },
+}
+
+impl AgainstReferences {
+    /// In words, after the recommended model's name.
+    pub fn describe(&self) -> String {
+        let pct = |f: f64| crate::number::fixed(100.0 * f, 1);
+        match self {
+            AgainstReferences::AtLeastAsGood => "is at least as good as each".into(),
+            AgainstReferences::WithinNoise { model, shortfall } => format!(
+                "is as good as each to the noise ({}% below {model}; two fits of one form \
+                 differ by up to {}% on a log's noise)",
+                pct(*shortfall),
+                pct(SAME_WITHIN)
+            ),
+            AgainstReferences::Worse { model, shortfall } => {
+                format!("is worse than {model} by {}%", pct(*shortfall))
+            }
+        }
+    }
+
+    /// Whether it is worse than a reference row beyond the noise.
+    pub fn is_worse(&self) -> bool {
+        matches!(self, AgainstReferences::Worse { .. })
+    }
 }
 
 /// Whether a flight controller's temperature calibration can take the model as it is: a
@@ -168,25 +259,35 @@ pub fn recommend(
     keep_going: &(dyn Fn() -> bool + Sync),
 ) -> Option<Recommendation> {
     let held_out = held_out_logs(reports);
-    let (judged_on, standings) = if held_out.is_empty() && train.runs().len() >= 2 {
-        let standings = on_runs_left_out(reports, choices);
+    // Every row judged alike, candidates and reference rows, then parted.
+    let (judged_on, all) = if held_out.is_empty() && train.runs().len() >= 2 {
+        let all = on_runs_left_out(reports, choices);
         let runs = train.runs().iter().map(|r| r.name.clone()).collect();
-        (JudgedOn::RunsLeftOut { runs }, standings)
+        (JudgedOn::RunsLeftOut { runs }, all)
     } else if held_out.is_empty() {
-        let standings = on_blocks(train, reports, choices, recipe, merit, keep_going);
+        let all = on_blocks(train, reports, choices, recipe, merit, keep_going);
         let set_aside = set_aside_logs(reports);
         (
             JudgedOn::TrainingBlocks {
                 blocks: BLOCKS,
                 set_aside,
             },
-            standings,
+            all,
         )
     } else {
-        let standings = on_held_out(reports, choices);
-        (JudgedOn::HeldOutLogs { logs: held_out }, standings)
+        let all = on_held_out(reports, choices);
+        (JudgedOn::HeldOutLogs { logs: held_out }, all)
     };
-    let standings = ranked(standings);
+    let mut references = Vec::new();
+    let mut candidates = Vec::new();
+    for (r, s) in reports.iter().zip(all) {
+        if r.reference {
+            references.push(s);
+        } else {
+            candidates.push(s);
+        }
+    }
+    let standings = ranked(candidates);
     let best = standings.first()?;
     let worst_p2p_ratio = best.worst_p2p_ratio?;
     let flight = standings
@@ -215,6 +316,8 @@ pub fn recommend(
         judged_on,
         flight_form: flight,
         standings,
+        against_references: AgainstReferences::of(worst_p2p_ratio, &references),
+        references,
     })
 }
 
@@ -269,12 +372,11 @@ fn worst(ratios: Vec<Result<f64, String>>) -> (Option<f64>, Option<String>) {
     }
 }
 
-/// The standings on the held-out logs of `reports`.
+/// The standings on the held-out logs of `reports` (reference rows too), in their order.
 fn on_held_out(reports: &[ModelReport], choices: &[ModelChoice]) -> Vec<Standing> {
     reports
         .iter()
         .zip(choices)
-        .filter(|(r, _)| !r.reference)
         .map(|(r, choice)| {
             standing(r, choice, || {
                 r.logs
@@ -291,12 +393,11 @@ fn on_held_out(reports: &[ModelReport], choices: &[ModelChoice]) -> Vec<Standing
 }
 
 /// The standings on the runs of the training campaign left out in turn, as each report holds
-/// them.
+/// them (reference rows too), in their order.
 fn on_runs_left_out(reports: &[ModelReport], choices: &[ModelChoice]) -> Vec<Standing> {
     reports
         .iter()
         .zip(choices)
-        .filter(|(r, _)| !r.reference)
         .map(|(r, choice)| {
             standing(r, choice, || match &r.leave_one_run_out {
                 Some(l) => l
@@ -338,8 +439,8 @@ fn block(n: usize, b: usize) -> std::ops::Range<usize> {
     (b * n / BLOCKS)..((b + 1) * n / BLOCKS)
 }
 
-/// The standings on [`BLOCKS`] blocks of `train`, each held out in turn: each candidate
-/// fitted on the rest of the run and judged on the block.
+/// The standings on [`BLOCKS`] blocks of `train`, each held out in turn: each row (reference
+/// rows too, in their order) fitted on the rest of the run and judged on the block.
 fn on_blocks(
     train: &Log,
     reports: &[ModelReport],
@@ -362,11 +463,7 @@ fn on_blocks(
             )
         })
         .collect();
-    let candidates: Vec<(&ModelReport, &ModelChoice)> = reports
-        .iter()
-        .zip(choices)
-        .filter(|(r, _)| !r.reference)
-        .collect();
+    let candidates: Vec<(&ModelReport, &ModelChoice)> = reports.iter().zip(choices).collect();
     let jobs: Vec<(usize, usize)> = (0..candidates.len())
         .flat_map(|c| (0..BLOCKS).map(move |b| (c, b)))
         .collect();
@@ -418,6 +515,43 @@ fn ranked(mut s: Vec<Standing>) -> Vec<Standing> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_verdict_beside_the_scripts_is_taken_against_the_better_one() {
+        let st = |m: &str, r: Option<f64>| Standing {
+            model: m.into(),
+            worst_p2p_ratio: r,
+            flight_form: false,
+            why: None,
+        };
+        let refs = [
+            st("px4-script", Some(100.0)),
+            st("ardupilot-script", Some(98.0)),
+        ];
+        assert_eq!(
+            AgainstReferences::of(100.0, &refs),
+            Some(AgainstReferences::AtLeastAsGood)
+        );
+        // 2.5 % below the better script: as good to the noise.
+        let Some(AgainstReferences::WithinNoise { model, shortfall }) =
+            AgainstReferences::of(97.5, &refs)
+        else {
+            panic!("within the noise")
+        };
+        assert_eq!(model, "px4-script");
+        assert!((shortfall - 0.025).abs() < 1e-12);
+        // 4 % below it: worse, though above the other script.
+        assert!(AgainstReferences::of(96.0, &refs).unwrap().is_worse());
+        // A script not judged is no bar; none judged, no verdict.
+        assert_eq!(
+            AgainstReferences::of(
+                99.0,
+                &[st("px4-script", None), st("ardupilot-script", Some(98.0))]
+            ),
+            Some(AgainstReferences::AtLeastAsGood)
+        );
+        assert_eq!(AgainstReferences::of(99.0, &[st("px4-script", None)]), None);
+    }
 
     #[test]
     fn ratios_equal_to_rounding_rank_in_the_order_compared() {

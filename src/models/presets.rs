@@ -78,7 +78,8 @@ const POLY_NAMES: [&str; MAX_POLY_ORDER as usize] = [
 pub const FIRMWARE_FORMS: [Preset; 3] = [Preset::Px4, Preset::ArduPilot, Preset::PolyOrder(3)];
 
 /// The reference rows: the fits the flight controllers' own scripts make, named beside
-/// driftlab's models and compared only when asked for.
+/// driftlab's models; compared by default after [`Preset::COMPARED_BY_DEFAULT`], never
+/// recommended.
 pub const REFERENCES: [Preset; 2] = [Preset::Px4Script, Preset::ArduPilotScript];
 
 impl Preset {
@@ -385,9 +386,9 @@ pub struct CustomOptions {
 }
 
 impl ModelChoice {
-    /// The models named in `presets` ([`Preset::COMPARED_BY_DEFAULT`] when both lists are
-    /// empty), then one
-    /// custom model per list of terms in `customs`, each made as `how` says.
+    /// The models named in `presets` ([`Preset::COMPARED_BY_DEFAULT`] and the [`REFERENCES`]
+    /// when both lists are empty), then one custom model per list of terms in `customs`, each
+    /// made as `how` says.
     ///
     /// # Errors
     /// An unknown preset, a term that does not parse, or a spec that does not validate.
@@ -397,8 +398,11 @@ impl ModelChoice {
         how: &CustomOptions,
     ) -> Result<Vec<ModelChoice>> {
         let mut out: Vec<ModelChoice> = if presets.is_empty() && customs.is_empty() {
+            // The reference rows beside, so that what the firmware's own script would give
+            // is seen without asking (they are cheap: a filter, bins and one small fit).
             Preset::COMPARED_BY_DEFAULT
                 .into_iter()
+                .chain(REFERENCES)
                 .map(ModelChoice::Preset)
                 .collect()
         } else {

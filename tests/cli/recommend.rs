@@ -271,3 +271,102 @@ fn a_test_log_set_aside_as_the_training_run_is_named_as_the_reason() {
     );
     assert!(!out.contains("no held-out log was given"), "{out}");
 }
+
+/// A three-axis MEMS IMU at 1 Hz: each gyro's bias a cubic in `T − 35` of its own (°/h) plus
+/// white noise of 0.3 °/h; returns the held-out noise of each axis, for its floor.
+fn mems3_csv(path: &str, seconds: usize, temp: impl Fn(f64) -> f64, seed: u64) -> [Vec<f64>; 3] {
+    const A: [[f64; 4]; 3] = [
+        [12.0, 0.8, -0.03, 4e-4],
+        [-30.0, -2.5, 0.06, 1.2e-3],
+        [5.0, 1.6, 0.09, -9e-4],
+    ];
+    let mut noise = Noise::new(seed);
+    let mut drawn: [Vec<f64>; 3] = Default::default();
+    let mut text = String::from("time_s,gx_dph,gy_dph,gz_dph,temp_c\n");
+    for i in 0..seconds {
+        let t = i as f64;
+        let temp = temp(t);
+        text.push_str(&format!("{t}"));
+        for (k, a) in A.iter().enumerate() {
+            let bias = a.iter().rev().fold(0.0, |v, c| v * (temp - 35.0) + c);
+            let n = 0.3 * noise.normal();
+            drawn[k].push(n);
+            text.push_str(&format!(",{}", bias + n));
+        }
+        text.push_str(&format!(",{temp}\n"));
+    }
+    std::fs::write(path, text).unwrap();
+    drawn
+}
+
+/// Peak-to-peak of the centred 100-sample moving average over full windows.
+fn filtered_p2p(x: &[f64]) -> f64 {
+    let w = 100;
+    let means: Vec<f64> = x
+        .windows(w)
+        .map(|s| s.iter().sum::<f64>() / w as f64)
+        .collect();
+    let (lo, hi) = means
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &v| {
+            (l.min(v), h.max(v))
+        });
+    hi - lo
+}
+
+#[test]
+fn on_a_three_axis_mems_imu_the_recommendation_is_as_good_as_the_scripts_on_every_axis() {
+    let dir = tempfile::tempdir().unwrap();
+    let (train, test) = (p(dir.path(), "train.csv"), p(dir.path(), "test.csv"));
+    mems3_csv(
+        &train,
+        21_600,
+        |t| 35.0 - 25.0 * (TAU * t / 10_800.0).cos(),
+        3,
+    );
+    let noise = mems3_csv(
+        &test,
+        14_400,
+        |t| 35.0 + 20.0 * (TAU * t / 5_400.0).sin() + 3.0 * (TAU * t / 1_300.0).sin(),
+        4,
+    );
+    // The default models, with the scripts' reference rows among them.
+    let json = compare_json(&["--train", &train, "--test", &test]);
+    let axes = json["axes"].as_array().unwrap();
+    assert_eq!(axes.len(), 3, "{json}");
+    for (axis, noise) in axes.iter().zip(&noise) {
+        let name = axis["name"].as_str().unwrap();
+        let rec = &axis["recommended"];
+        let model = rec["model"].as_str().unwrap();
+        assert!(["px4", "ardupilot"].contains(&model), "{name}: {rec}");
+        let refs = rec["references"].as_array().unwrap();
+        let names: Vec<&str> = refs.iter().map(|r| r["model"].as_str().unwrap()).collect();
+        assert_eq!(names, ["px4-script", "ardupilot-script"], "{name}: {rec}");
+        // As good as each script to within the noise, by the JSON's own figures.
+        let worst = rec["worst_p2p_ratio"].as_f64().unwrap();
+        for r in refs {
+            let theirs = r["worst_p2p_ratio"].as_f64().unwrap();
+            assert!(worst >= theirs * 0.97, "{name}: {worst} against {r}");
+        }
+        assert_ne!(
+            rec["against_references"]["verdict"], "worse",
+            "{name}: {rec}"
+        );
+        // And at the noise floor: the corrected drift's peak-to-peak is the noise's own,
+        // filtered as the figures filter it, to 10 %.
+        let row = axis["models"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|m| m["model"] == model)
+            .unwrap();
+        let cor = row["logs"][1]["evaluation"]["comparison"]["corrected"]["p2p_dph"]
+            .as_f64()
+            .unwrap();
+        let floor = filtered_p2p(noise);
+        assert!(
+            (cor / floor - 1.0).abs() < 0.10,
+            "{name}: corrected {cor} against the noise's {floor}"
+        );
+    }
+}

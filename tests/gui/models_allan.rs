@@ -55,13 +55,29 @@ fn the_models_page_compares_every_model_in_sample_and_held_out_and_exports_one()
     compare_on_models_page(&mut h);
 
     let c = h.state().state.shown.models.clone().expect("compared");
+    // The presets, the firmware scripts' reference rows (ticked at first, as `compare` fits
+    // them by default), then the custom model.
     let mut expected: Vec<String> = Preset::COMPARED_BY_DEFAULT
         .iter()
+        .chain(&driftlab::models::presets::REFERENCES)
         .map(|p| p.name().to_string())
         .collect();
     expected.push("custom".into());
     let names: Vec<String> = c.reports.iter().map(|r| r.model.clone()).collect();
     assert_eq!(names, expected);
+    let references: Vec<&str> = c
+        .reports
+        .iter()
+        .filter(|r| r.reference)
+        .map(|r| r.model.as_str())
+        .collect();
+    assert_eq!(references, ["px4-script", "ardupilot-script"]);
+    // The recommendation is set beside them, judged alike, with the engine's verdict.
+    let rec = c.recommended.clone().expect("a recommendation");
+    assert_eq!(rec.references.len(), 2);
+    h.get_by_label_contains("Beside it, the firmware scripts judged alike");
+    let verdict = rec.against_references.expect("the scripts judged");
+    h.get_by_label(&format!("{} {}", rec.model, verdict.describe()));
     let custom = c.reports.last().unwrap();
     assert_eq!(custom.description, "1 + T + Tdot");
     for r in &c.reports {
@@ -213,7 +229,7 @@ fn a_model_that_cannot_be_fitted_shows_why() {
     // The others still compare.
     assert!(
         c.reports.iter().filter(|r| r.fitted.is_some()).count()
-            == Preset::COMPARED_BY_DEFAULT.len() - 1
+            == Preset::COMPARED_BY_DEFAULT.len() + driftlab::models::presets::REFERENCES.len() - 1
     );
     // No validation log: the recommendation is judged on blocks of the log, with a caution.
     let rec = c.recommended.clone().expect("a recommendation");

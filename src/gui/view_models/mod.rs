@@ -24,13 +24,17 @@ use super::jobs::{CompareHandle, Compared};
 use super::state::AppState;
 use crate::gui::plot_items::num;
 use crate::log::Log;
-use crate::models::presets::{ModelChoice, Preset};
+use crate::models::presets::{ModelChoice, Preset, REFERENCES};
 use eframe::egui::{self, Color32, Panel, RichText, ScrollArea, Ui};
 
 /// View state of the Models page.
 pub struct ModelsView {
     /// Which presets are compared, in [`Preset::COMPARED_BY_DEFAULT`] order.
     pub presets: [bool; Preset::COMPARED_BY_DEFAULT.len()],
+    /// Which reference rows (the firmware scripts' own fits) are compared beside, in
+    /// [`REFERENCES`] order: ticked at first, so that the recommendation is set beside what
+    /// the flight controller's own script would have given.
+    pub references: [bool; REFERENCES.len()],
     /// The custom model.
     pub custom: CustomBuilder,
     /// The model selected in the table (by name): its details are shown, and it is the one
@@ -46,6 +50,7 @@ impl Default for ModelsView {
     fn default() -> Self {
         ModelsView {
             presets: [true; Preset::COMPARED_BY_DEFAULT.len()],
+            references: [true; REFERENCES.len()],
             custom: CustomBuilder::default(),
             selected: None,
             log_index: 0,
@@ -66,6 +71,13 @@ impl ModelsView {
             .filter(|(_, on)| *on)
             .map(|(p, _)| ModelChoice::Preset(*p))
             .collect();
+        out.extend(
+            REFERENCES
+                .iter()
+                .zip(self.references)
+                .filter(|(_, on)| *on)
+                .map(|(p, _)| ModelChoice::Preset(*p)),
+        );
         if self.custom.enabled {
             let spec = self.custom.spec()?;
             if out.iter().any(|c| c.name() == spec.name) {
@@ -217,6 +229,14 @@ impl ModelsView {
                 self.presets = [false; Preset::COMPARED_BY_DEFAULT.len()];
             }
         });
+        ui.add_space(4.0);
+        ui.strong("Firmware scripts (reference)").on_hover_text(
+            "The fits PX4's and ArduPilot's own calibration scripts make, shown beside              driftlab's models and judged alike; never recommended",
+        );
+        for (k, p) in REFERENCES.iter().enumerate() {
+            ui.checkbox(&mut self.references[k], p.name())
+                .on_hover_text(plain(p.describe()));
+        }
         ui.separator();
         self.builder(ui, state);
         ui.separator();
@@ -390,6 +410,48 @@ impl ModelsView {
                 "For a flight controller that takes a polynomial in T only: {f}"
             ));
         }
+        self.beside_references(ui, r);
+    }
+
+    /// The firmware scripts' fits judged alike, set beside the recommendation, and whether it
+    /// is at least as good as each.
+    fn beside_references(&self, ui: &mut Ui, r: &crate::judge::recommend::Recommendation) {
+        if r.references.is_empty() {
+            return;
+        }
+        let rows: Vec<String> = r
+            .references
+            .iter()
+            .map(|s| match s.worst_p2p_ratio {
+                Some(x) => format!("{} {}", s.model, crate::gui::plot_axes::ratio(x)),
+                None => format!("{} not judged", s.model),
+            })
+            .collect();
+        let why: Vec<String> = r
+            .references
+            .iter()
+            .filter_map(|s| s.why.as_ref().map(|w| format!("{}: {w}", s.model)))
+            .collect();
+        ui.horizontal_wrapped(|ui| {
+            ui.label(format!(
+                "Beside it, the firmware scripts judged alike (worst): {}",
+                rows.join(", ")
+            ))
+            .on_hover_text(if why.is_empty() {
+                "The fits PX4's and ArduPilot's own scripts make (their filtering and binning),                  judged on the same parts as the recommendation"
+                    .to_string()
+            } else {
+                why.join("; ")
+            });
+            if let Some(v) = &r.against_references {
+                let text = format!("{} {}", r.model, v.describe());
+                if v.is_worse() {
+                    ui.colored_label(ui.visuals().error_fg_color, text);
+                } else {
+                    ui.strong(text);
+                }
+            }
+        });
     }
 }
 
@@ -405,6 +467,17 @@ fn accessible(r: &egui::Response, name: &str, value: &str) {
 fn swatch(ui: &mut Ui, color: Color32) {
     let (rect, _) = ui.allocate_exact_size(egui::vec2(12.0, 12.0), egui::Sense::hover());
     ui.painter().rect_filled(rect, 2.0, color);
+}
+
+/// A swatch drawn as an outline: a reference row's.
+fn hollow_swatch(ui: &mut Ui, color: Color32) {
+    let (rect, _) = ui.allocate_exact_size(egui::vec2(12.0, 12.0), egui::Sense::hover());
+    ui.painter().rect_stroke(
+        rect.shrink(1.0),
+        2.0,
+        egui::Stroke::new(2.0, color),
+        egui::StrokeKind::Inside,
+    );
 }
 
 /// One line: how many models are done, and Cancel.

@@ -2,11 +2,15 @@
 //! and the choice of the model shown and exported.
 
 use super::ModelsView;
-use super::{model_color, plain, short, swatch};
+use super::{hollow_swatch, model_color, plain, short, swatch};
 use crate::gui::jobs::Compared;
 use crate::gui::plot_items::{num, ratio};
 use crate::judge::compare::Outcome;
 use eframe::egui::{self, Grid, RichText, Ui};
+
+/// What a reference row is.
+const REFERENCE: &str = "the fit the flight controller's own script makes, with its filtering \
+    and binning, shown beside driftlab's models and never recommended";
 
 /// What the "outside" column means.
 pub(super) const OUTSIDE: &str = "the share of the log's samples whose inputs (T, dT/dt, d²T/dt², the \
@@ -23,7 +27,7 @@ impl ModelsView {
         Grid::new("models_table")
             .striped(true)
             .num_columns(10)
-            .spacing([14.0, 3.0])
+            .spacing([10.0, 3.0])
             .show(ui, |ui| {
                 // Two header rows: the four ratios are headed "raw ÷ corrected" above their
                 // figure's name.
@@ -75,10 +79,21 @@ impl ModelsView {
                     let name = |ui: &mut Ui, this: &mut ModelsView| {
                         let sel = this.selected.as_deref() == Some(r.model.as_str());
                         ui.horizontal(|ui| {
-                            swatch(ui, color);
+                            // A reference row's swatch is hollow: a firmware script's fit,
+                            // set beside and never recommended (said in the tip).
+                            let tip = if r.reference {
+                                format!("{} (reference: {REFERENCE})", plain(&r.description))
+                            } else {
+                                plain(&r.description)
+                            };
+                            if r.reference {
+                                hollow_swatch(ui, color);
+                            } else {
+                                swatch(ui, color);
+                            }
                             if ui
-                                .selectable_label(sel, RichText::new(&r.model).monospace())
-                                .on_hover_text(plain(&r.description))
+                                .selectable_label(sel, RichText::new(&r.model))
+                                .on_hover_text(tip)
                                 .clicked()
                             {
                                 this.selected = Some(r.model.clone());
@@ -87,9 +102,9 @@ impl ModelsView {
                     };
                     if let Some(e) = &r.error {
                         name(ui, self);
+                        // The reason in the tip and in full under the table: written in a
+                        // figure's column, it widened that column past the window.
                         ui.colored_label(bad, "not fitted").on_hover_text(e);
-                        ui.add(egui::Label::new(RichText::new(short(e, 70)).color(bad)))
-                            .on_hover_text(e);
                         ui.end_row();
                         continue;
                     }
@@ -132,7 +147,7 @@ impl ModelsView {
                             }
                             Outcome::Error(msg) => {
                                 ui.colored_label(bad, "cannot apply").on_hover_text(msg);
-                                ui.add(egui::Label::new(RichText::new(short(msg, 70)).color(bad)))
+                                ui.add(egui::Label::new(RichText::new(short(msg, 24)).color(bad)))
                                     .on_hover_text(msg);
                             }
                         }
