@@ -165,13 +165,14 @@ impl AgainstReferences {
 }
 
 /// How far below the best reference row's worst ratio the recommendation may fall and still
-/// be called as good: two fits of one form on one log differ by about this much on its noise
-/// alone. Measured on simulated MEMS logs whose bias is a cubic in T (three axes, 24 seeds,
-/// held out on another chamber program, every corrected drift at the noise floor): driftlab's
-/// `px4` fit against the better of `px4-script` and `ardupilot-script` ranged from 0.3 % above
-/// to 2.3 % below, 0.4 % below on average (the better of two noisy rows is itself favoured by
-/// the noise).
-pub const SAME_WITHIN: f64 = 0.03;
+/// be called as good: two fits of one form on one log differ by up to about this much on its
+/// noise alone, which no single log can rank. Measured on simulated three-axis MEMS logs whose
+/// biases are cubics in T (24 seeds at each of two noise levels, 0.3 and 0.03 °/h, held out on
+/// another chamber program, every corrected drift at the noise floor): driftlab's `px4` fit
+/// against the better of `px4-script` and `ardupilot-script` ranged from 0.3 % above to 3.1 %
+/// below, 0.4 % below on average (the better of two noisy rows is itself favoured by the
+/// noise).
+pub const SAME_WITHIN: f64 = 0.05;
 
 /// The recommendation set beside the firmware scripts' own fits.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -532,16 +533,16 @@ mod tests {
             AgainstReferences::of(100.0, &refs),
             Some(AgainstReferences::AtLeastAsGood)
         );
-        // 2.5 % below the better script: as good to the noise.
+        // 4.5 % below the better script: as good to the noise.
         let Some(AgainstReferences::WithinNoise { model, shortfall }) =
-            AgainstReferences::of(97.5, &refs)
+            AgainstReferences::of(95.5, &refs)
         else {
             panic!("within the noise")
         };
         assert_eq!(model, "px4-script");
-        assert!((shortfall - 0.025).abs() < 1e-12);
-        // 4 % below it: worse, though above the other script.
-        assert!(AgainstReferences::of(96.0, &refs).unwrap().is_worse());
+        assert!((shortfall - 0.045).abs() < 1e-12);
+        // 6 % below it: worse, though less so against the other script.
+        assert!(AgainstReferences::of(94.0, &refs).unwrap().is_worse());
         // A script not judged is no bar; none judged, no verdict.
         assert_eq!(
             AgainstReferences::of(

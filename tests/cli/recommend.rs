@@ -346,7 +346,7 @@ fn on_a_three_axis_mems_imu_the_recommendation_is_as_good_as_the_scripts_on_ever
         let worst = rec["worst_p2p_ratio"].as_f64().unwrap();
         for r in refs {
             let theirs = r["worst_p2p_ratio"].as_f64().unwrap();
-            assert!(worst >= theirs * 0.97, "{name}: {worst} against {r}");
+            assert!(worst >= theirs * 0.95, "{name}: {worst} against {r}");
         }
         assert_ne!(
             rec["against_references"]["verdict"], "worse",
