@@ -84,9 +84,14 @@ pub fn run(a: Args) -> Result<(), CliError> {
 fn print(outcome: &LotOutcome, out: &std::path::Path) -> Result<(), CliError> {
     let r = driftlab::number::readable;
     for u in &outcome.units {
+        let unchanged = if u.cached {
+            " (unchanged: not calibrated again)"
+        } else {
+            ""
+        };
         match u.status {
-            Status::Pass => out!("pass   {}", u.unit)?,
-            Status::Fail => out!("FAIL   {}: {}", u.unit, u.reasons.join("; "))?,
+            Status::Pass => out!("pass   {}{unchanged}", u.unit)?,
+            Status::Fail => out!("FAIL   {}{unchanged}: {}", u.unit, u.reasons.join("; "))?,
             Status::Error => out!("ERROR  {}: {}", u.unit, u.reasons.join("; "))?,
         }
     }
@@ -109,11 +114,14 @@ fn print(outcome: &LotOutcome, out: &std::path::Path) -> Result<(), CliError> {
     let [pass, fail, error] = outcome.counts();
     let mut flagged: Vec<&str> = outcome.outliers.iter().map(|o| o.unit.as_str()).collect();
     flagged.dedup();
+    let cached = outcome.units.iter().filter(|u| u.cached).count();
     out!(
-        "{} units: {pass} pass, {fail} fail, {error} error; {} outlier{}",
+        "{} units: {pass} pass, {fail} fail, {error} error; {} outlier{}; {cached} unchanged \
+         since the last lot in {}",
         outcome.units.len(),
         flagged.len(),
-        if flagged.len() == 1 { "" } else { "s" }
+        if flagged.len() == 1 { "" } else { "s" },
+        out.display()
     )?;
     out!(
         "Lot written to {} (lot.csv, lot.json, {} calibrations)",

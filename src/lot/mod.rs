@@ -12,6 +12,7 @@
 //! every unit wrong: a spec or shared recipe that cannot be read, folders that cannot be
 //! listed or hold no unit, an output folder among the inputs.
 
+pub mod cache;
 pub mod figures;
 pub mod outliers;
 mod run;
@@ -135,6 +136,10 @@ pub struct UnitOutcome {
     /// What reading and fitting told (they did not stop it).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub warnings: Vec<String>,
+    /// Taken from the record of an earlier lot: its runs, recipe and spec unchanged, it was
+    /// not calibrated again ([`cache`]).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub cached: bool,
 }
 
 /// A lot as it came out: every unit in order, and the outliers.

@@ -7,7 +7,7 @@
 
 use super::figures::axis_figures;
 use super::units::UnitJob;
-use super::{LotError, LotOutcome, Spec, Status, UnitOutcome, table, verdict};
+use super::{LotError, LotOutcome, Spec, Status, UnitOutcome, cache, table, verdict};
 use crate::files::calibration;
 use crate::log::campaign::RunInput;
 use crate::log::ingest::ReadOptions;
@@ -140,17 +140,20 @@ fn in_parallel(
 /// [`calibrate_unit`], with a defect of driftlab that panics made that unit's error rather
 /// than the end of the lot.
 fn guarded(job: &UnitJob, context: &Context<'_>) -> UnitOutcome {
-    std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-        calibrate_unit(job, context)
-    }))
-    .unwrap_or_else(|_| {
+    let run = std::panic::AssertUnwindSafe(|| calibrate_unit(job, context));
+    let mut outcome = std::panic::catch_unwind(run).unwrap_or_else(|_| {
         errored(
             job,
             None,
-            "internal: the unit's calibration stopped on a defect of driftlab (please \
-                 report this)",
+            "internal: the unit's calibration stopped on a defect of driftlab (please report \
+             this)",
         )
-    })
+    });
+    if outcome.status == Status::Error {
+        let left = cache::forget(&context.out.join(&job.folder));
+        outcome.warnings.extend(left);
+    }
+    outcome
 }
 
 /// One unit read, calibrated, judged and its calibration written.
@@ -175,10 +178,18 @@ fn calibrate_unit(job: &UnitJob, context: &Context<'_>) -> UnitOutcome {
             Err(e) => return fail(e.to_string()),
         },
     };
+    let folder = context.out.join(&job.folder);
+    let key = match cache::key(&job.runs, recipe.recipe(), context.spec) {
+        Ok(k) => k,
+        Err(e) => return fail(e),
+    };
+    if let Some(outcome) = cache::recorded(&folder, &key) {
+        return outcome;
+    }
     let mut warnings = job.notes.clone();
     let mut runs = Vec::with_capacity(job.runs.len());
-    for path in &job.runs {
-        match read_run(path, &mut warnings) {
+    for (path, run) in job.runs.iter().zip(&key.runs) {
+        match read_run(path, run.sha256.clone(), &mut warnings) {
             Ok(run) => runs.push(run),
             Err(e) => return fail(e),
         }
@@ -210,15 +221,15 @@ fn calibrate_unit(job: &UnitJob, context: &Context<'_>) -> UnitOutcome {
         axes.push(axis_figures(&mut joined.log, axis, &context.temps_c));
     }
     drop(joined);
-    let file = Path::new(&job.folder).join("calibration.json");
-    let written = std::fs::create_dir_all(context.out.join(&job.folder))
-        .map_err(|e| crate::Error::io(context.out.join(&job.folder), e))
+    let file = Path::new(&job.folder).join(cache::CALIBRATION);
+    let written = std::fs::create_dir_all(&folder)
+        .map_err(|e| crate::Error::io(&folder, e))
         .and_then(|()| calibration::save_unit(&context.out.join(&file), &fitted.unit));
     if let Err(e) = written {
         return fail(format!("its calibration could not be written: {e}"));
     }
     let reasons = verdict::reasons(context.spec, &axes);
-    UnitOutcome {
+    let outcome = UnitOutcome {
         unit: job.name.clone(),
         folder: job.folder.clone(),
         status: if reasons.is_empty() {
@@ -232,14 +243,25 @@ fn calibrate_unit(job: &UnitJob, context: &Context<'_>) -> UnitOutcome {
         calibration: Some(file.display().to_string()),
         axes,
         warnings,
+        cached: false,
+    };
+    // Without its record the unit is calibrated again next time: said, not an error.
+    match cache::record(&folder, &key, &outcome) {
+        Ok(()) => outcome,
+        Err(e) => {
+            let mut outcome = outcome;
+            outcome.warnings.push(format!(
+                "its record was not written, so the next lot calibrates it again: {e}"
+            ));
+            outcome
+        }
     }
 }
 
 /// One run read as `calibrate` reads a log given no option: the calibration columns alone, a
 /// drone or robot log's first gyro with a temperature, a log written in bursts reduced to one
-/// sample per burst; what the reader noticed added to `warnings`; the file's SHA-256 beside.
-fn read_run(path: &Path, warnings: &mut Vec<String>) -> Result<RunInput, String> {
-    let sha256 = calibration::sha256_file(path).map_err(|e| e.to_string())?;
+/// sample per burst; what the reader noticed added to `warnings`; `sha256` the file's.
+fn read_run(path: &Path, sha256: String, warnings: &mut Vec<String>) -> Result<RunInput, String> {
     let opts = ReadOptions {
         skip_extras: true,
         ..ReadOptions::default()
@@ -293,6 +315,7 @@ fn errored(job: &UnitJob, recipe: Option<String>, message: &str) -> UnitOutcome 
         calibration: None,
         axes: Vec::new(),
         warnings: job.notes.clone(),
+        cached: false,
     }
 }
 

@@ -172,3 +172,73 @@ fn a_spec_key_the_spec_does_not_know_is_refused_by_name_before_any_unit() {
     assert!(stderr.contains("unknown field `max_arw`"), "{stderr}");
     assert!(!Path::new(&out).exists());
 }
+
+#[test]
+fn a_unit_whose_logs_recipe_and_spec_are_unchanged_is_not_calibrated_again() {
+    let dir = tempfile::tempdir().unwrap();
+    let (units, spec) = lot_in(dir.path());
+    let out = p(dir.path(), "out");
+    let args = ["lot", &units, "--spec", &spec, "--out", &out];
+    assert_eq!(status(&args).0, 3);
+    let calibration = |unit: &str| Path::new(&out).join(unit).join("calibration.json");
+    let written = |unit: &str| {
+        let path = calibration(unit);
+        (
+            std::fs::metadata(&path).unwrap().modified().unwrap(),
+            std::fs::read(&path).unwrap(),
+        )
+    };
+    let first: Vec<_> = ORDINARY.iter().map(|u| written(u)).collect();
+    let table = std::fs::read_to_string(Path::new(&out).join("lot.csv")).unwrap();
+
+    // Again, unchanged: no unit calibrated, the same table; the corrupt file tried again.
+    let (code, stdout, _) = status(&args);
+    assert_eq!(code, 3);
+    assert!(
+        stdout.contains("8 unchanged since the last lot"),
+        "{stdout}"
+    );
+    assert!(
+        stdout.contains(&format!(
+            "pass   {} (unchanged: not calibrated again)",
+            ORDINARY[0]
+        )),
+        "{stdout}"
+    );
+    for (k, unit) in ORDINARY.iter().enumerate() {
+        assert_eq!(written(unit), first[k], "{unit}");
+    }
+    assert_eq!(
+        std::fs::read_to_string(Path::new(&out).join("lot.csv")).unwrap(),
+        table
+    );
+
+    // One log replaced (another unit's bytes under its name): that unit alone is calibrated.
+    std::fs::copy(
+        Path::new(&units).join(ORDINARY[2]),
+        Path::new(&units).join(ORDINARY[1]),
+    )
+    .unwrap();
+    let (_, stdout, _) = status(&args);
+    assert!(stdout.contains("7 unchanged"), "{stdout}");
+    assert!(
+        stdout.contains(&format!("pass   {}\n", ORDINARY[1])),
+        "{stdout}"
+    );
+    assert_ne!(written(ORDINARY[1]).1, first[1].1);
+
+    // The spec changed: every unit judged again.
+    std::fs::write(&spec, r#"{"min_plateaus": 2}"#).unwrap();
+    let (code, stdout, _) = status(&args);
+    assert_eq!(code, 3);
+    assert!(stdout.contains("0 unchanged"), "{stdout}");
+
+    // A unit now an error leaves no calibration of an earlier lot behind it.
+    std::fs::write(
+        Path::new(&units).join(ORDINARY[0]),
+        "time_s,omega_dph,temp_c\n0,x,1\n",
+    )
+    .unwrap();
+    status(&args);
+    assert!(!calibration(ORDINARY[0]).exists());
+}
