@@ -16,6 +16,7 @@ pub mod cache;
 pub mod figures;
 pub mod outliers;
 mod run;
+pub mod shard;
 pub mod spec;
 pub mod table;
 pub mod units;
@@ -24,6 +25,7 @@ pub mod verdict;
 pub use figures::{AxisFigures, Figure};
 pub use outliers::{Outlier, Spread};
 pub use run::{Lot, Progress, run};
+pub use shard::{Shard, merge};
 pub use spec::Spec;
 pub use units::{UnitJob, find_units, folder_of};
 
@@ -80,6 +82,14 @@ pub enum LotError {
         out: PathBuf,
         /// The folder of units.
         input: PathBuf,
+    },
+    /// The shards' tables in a folder cannot be merged into one lot.
+    #[error("{}: {message}", out.display())]
+    Merge {
+        /// The folder of the shards' tables.
+        out: PathBuf,
+        /// Why not.
+        message: String,
     },
     /// An output of the lot could not be written.
     #[error(transparent)]

@@ -6,6 +6,7 @@
 //! the memory of `jobs` units.
 
 use super::figures::axis_figures;
+use super::shard::{Placed, Shard, ShardTable};
 use super::units::UnitJob;
 use super::{LotError, LotOutcome, Spec, Status, UnitOutcome, cache, table, verdict};
 use crate::files::calibration;
@@ -29,6 +30,8 @@ pub struct Lot {
     pub recipe: Option<PathBuf>,
     /// Units calibrated at once (at least 1).
     pub jobs: usize,
+    /// The one shard of the lot to calibrate ([`super::shard`]); the whole lot when `None`.
+    pub shard: Option<Shard>,
 }
 
 /// How far a lot has come, told after each unit.
@@ -44,7 +47,9 @@ pub struct Progress<'a> {
 
 /// Runs the lot: every unit calibrated into `OUT/<unit>/calibration.json`, judged against
 /// the spec, the outliers found, and `OUT/lot.csv` and `OUT/lot.json` written. `progress` is
-/// called after each unit, from the calling thread.
+/// called after each unit, from the calling thread. With a shard, its units alone, and its
+/// table written as `OUT/lot-shard-I-of-N.json` for [`super::merge`] (no outliers: they are
+/// the whole lot's).
 ///
 /// # Errors
 /// What stops the lot before any unit ([`LotError`]), and the table that cannot be written. A
@@ -69,15 +74,46 @@ pub fn run(lot: &Lot, progress: &mut dyn FnMut(Progress<'_>)) -> Result<LotOutco
         shared: lot.recipe.as_deref().zip(shared.as_ref()),
         out: &lot.out,
     };
-    let units = in_parallel(&jobs, lot.jobs, &context, progress);
-    let outliers = LotOutcome::find_outliers(&lot.spec, &units);
-    let outcome = LotOutcome {
+    let Some(shard) = lot.shard else {
+        let units = in_parallel(&jobs, lot.jobs, &context, progress);
+        let outliers = LotOutcome::find_outliers(&lot.spec, &units);
+        let outcome = LotOutcome {
+            spec: lot.spec.clone(),
+            units,
+            outliers,
+        };
+        table::write(&lot.out, &outcome)?;
+        return Ok(outcome);
+    };
+    let (positions, mine): (Vec<usize>, Vec<UnitJob>) = jobs
+        .iter()
+        .enumerate()
+        .filter(|(_, j)| shard.holds(&j.name))
+        .map(|(k, j)| (k, j.clone()))
+        .unzip();
+    let units = in_parallel(&mine, lot.jobs, &context, progress);
+    super::shard::write(
+        &lot.out,
+        &ShardTable {
+            shard,
+            spec: lot.spec.clone(),
+            lot_units: jobs.len(),
+            lot_fingerprint: super::shard::fingerprint(jobs.iter().map(|j| j.name.as_str())),
+            units: positions
+                .into_iter()
+                .zip(&units)
+                .map(|(position, outcome)| Placed {
+                    position,
+                    outcome: outcome.clone(),
+                })
+                .collect(),
+        },
+    )?;
+    Ok(LotOutcome {
         spec: lot.spec.clone(),
         units,
-        outliers,
-    };
-    table::write(&lot.out, &outcome)?;
-    Ok(outcome)
+        outliers: Vec::new(),
+    })
 }
 
 /// What every unit is calibrated and judged with.

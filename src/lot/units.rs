@@ -19,8 +19,9 @@ use super::LotError;
 use crate::log::campaign::run_names;
 use std::path::{Path, PathBuf};
 
-/// The names of the lot's own files in `OUT`, which no unit's folder may take.
-pub const LOT_FILES: [&str; 4] = ["lot.csv", "lot.json", "lot.html", "lot-cache.json"];
+/// How the names of the lot's own files in `OUT` begin (`lot.csv`, `lot.json`, `lot.html`,
+/// `lot-shard-3-of-100.json`): no unit's folder begins so.
+pub const LOT_FILE_PREFIXES: [&str; 2] = ["lot.", "lot-"];
 
 /// One unit to calibrate.
 #[derive(Debug, Clone, PartialEq)]
@@ -175,7 +176,8 @@ fn is_log_name(path: &Path) -> bool {
 /// The folder of `OUT` a unit named `name` writes into: the name with every byte but ASCII
 /// letters, digits, `-`, `_` and a `.` after the first written as `%XX`, so that it stays one
 /// folder inside `OUT` (no `/`, no `..`, no hidden name) and two names never share one; a name
-/// that is one of the lot's own files ([`LOT_FILES`]) has its first letter so written too.
+/// that begins as the lot's own files do ([`LOT_FILE_PREFIXES`]) has its first letter so
+/// written too.
 pub fn folder_of(name: &str) -> String {
     let mut out = String::with_capacity(name.len());
     for (i, b) in name.bytes().enumerate() {
@@ -186,7 +188,7 @@ pub fn folder_of(name: &str) -> String {
             out.push_str(&format!("%{b:02X}"));
         }
     }
-    if LOT_FILES.contains(&out.as_str()) {
+    if LOT_FILE_PREFIXES.iter().any(|p| out.starts_with(p)) {
         out = format!("%{:02X}{}", out.as_bytes()[0], &out[1..]);
     }
     out
@@ -204,6 +206,11 @@ mod tests {
         assert_eq!(folder_of("a b"), "a%20b");
         assert_eq!(folder_of("a%20b"), "a%2520b");
         assert_eq!(folder_of("lot.csv"), "%6Cot.csv");
+        assert_eq!(
+            folder_of("lot-shard-1-of-2.json"),
+            "%6Cot-shard-1-of-2.json"
+        );
+        assert_eq!(folder_of("lots"), "lots");
         assert_ne!(folder_of("%6Cot.csv"), folder_of("lot.csv"));
     }
 }

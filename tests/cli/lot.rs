@@ -242,3 +242,50 @@ fn a_unit_whose_logs_recipe_and_spec_are_unchanged_is_not_calibrated_again() {
     status(&args);
     assert!(!calibration(ORDINARY[0]).exists());
 }
+
+#[test]
+fn shards_merged_are_the_whole_lot_run_at_once() {
+    let dir = tempfile::tempdir().unwrap();
+    let (units, spec) = lot_in(dir.path());
+    let whole = p(dir.path(), "whole");
+    assert_eq!(
+        status(&["lot", &units, "--spec", &spec, "--out", &whole]).0,
+        3
+    );
+    // Three tasks of a job array writing into one folder, then the merge.
+    let sharded = p(dir.path(), "sharded");
+    let mut calibrated = 0;
+    for i in 1..=3 {
+        let shard = format!("{i}/3");
+        let (_, stdout, stderr) = status(&[
+            "lot", &units, "--spec", &spec, "--out", &sharded, "--shard", &shard,
+        ]);
+        assert!(
+            stdout.contains(&format!("Shard {i} of 3 written")),
+            "{stdout}{stderr}"
+        );
+        let of = |line: &str| line.split(" units:").next().unwrap().parse::<usize>().ok();
+        calibrated += stdout.lines().find_map(of).unwrap();
+        assert!(!Path::new(&sharded).join("lot.csv").exists());
+        if i == 2 {
+            // A shard missing: the merge says which, and writes nothing.
+            let (code, _, stderr) = status(&["lot", "merge", &sharded]);
+            assert_eq!(code, 1);
+            assert!(stderr.contains("lot-shard-3-of-3.json"), "{stderr}");
+        }
+    }
+    assert_eq!(calibrated, 9);
+    let (code, stdout, stderr) = status(&["lot", "merge", &sharded]);
+    assert_eq!(code, 3, "{stdout}{stderr}");
+    assert!(
+        stdout.contains(&format!("outlier {SLOPED}: k0_")),
+        "{stdout}"
+    );
+    for file in ["lot.csv", "lot.json"] {
+        assert_eq!(
+            std::fs::read_to_string(Path::new(&whole).join(file)).unwrap(),
+            std::fs::read_to_string(Path::new(&sharded).join(file)).unwrap(),
+            "{file}"
+        );
+    }
+}

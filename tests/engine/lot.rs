@@ -34,6 +34,7 @@ fn a_simulated_lot_is_judged_as_its_truth_says() {
         out: dir.path().join("out"),
         recipe: None,
         jobs: 2,
+        shard: None,
     };
     let mut told = 0;
     let outcome = driftlab::lot::run(&lot, &mut |p| {
