@@ -15,6 +15,7 @@
 pub mod cache;
 pub mod figures;
 pub mod outliers;
+pub mod page;
 mod run;
 pub mod shard;
 pub mod spec;

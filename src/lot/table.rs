@@ -1,6 +1,6 @@
 //! The lot's table: `lot.csv`, one row per unit, and `lot.json`, the same with every unit's
-//! warnings and the outliers. Both are put in place together ([`Batch`]): never a table of one
-//! lot beside the JSON of another.
+//! warnings and the outliers, and the page of both, `lot.html` ([`super::page`]). The three are
+//! put in place together ([`Batch`]): never a table of one lot beside the JSON of another.
 //!
 //! The CSV's columns are `unit`, `status`, `reasons`, `calibration`, then each figure of each
 //! axis the lot's units have (`corrected_p2p_dph` for a single-axis unit, `gx.corrected_p2p_dph`
@@ -15,7 +15,7 @@ use crate::files::atomic::Batch;
 use crate::files::csv_cells::{Cell, record, text_record};
 use std::path::Path;
 
-/// Writes `OUT/lot.csv` and `OUT/lot.json`, both or neither.
+/// Writes `OUT/lot.csv`, `OUT/lot.json` and `OUT/lot.html`, all or none.
 ///
 /// # Errors
 /// A write that fails; the previous files stay as they were.
@@ -26,6 +26,7 @@ pub fn write(out: &Path, lot: &LotOutcome) -> crate::Result<()> {
     let mut batch = Batch::new();
     batch.stage_bytes(&out.join("lot.csv"), csv(lot).as_bytes())?;
     batch.stage_bytes(&out.join("lot.json"), json.as_bytes())?;
+    batch.stage_bytes(&out.join("lot.html"), super::page::page(lot).as_bytes())?;
     batch.commit()
 }
 

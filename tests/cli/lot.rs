@@ -289,3 +289,69 @@ fn shards_merged_are_the_whole_lot_run_at_once() {
         );
     }
 }
+
+#[test]
+fn the_lot_page_draws_every_figure_marks_the_outliers_and_links_each_unit() {
+    let dir = tempfile::tempdir().unwrap();
+    let (units, spec) = lot_in(dir.path());
+    // A unit whose file name is markup: shown as text, its folder reached by its link.
+    let crafted = "<img src=x onerror=alert(1)>&.csv";
+    std::fs::copy(
+        Path::new(&units).join(ORDINARY[0]),
+        Path::new(&units).join(crafted),
+    )
+    .unwrap();
+    let out = p(dir.path(), "out");
+    assert_eq!(
+        status(&["lot", &units, "--spec", &spec, "--out", &out]).0,
+        3
+    );
+    let page = std::fs::read_to_string(Path::new(&out).join("lot.html")).unwrap();
+    assert!(!page.contains("<img"), "the name is text");
+    assert!(page.contains("&lt;img src=x onerror=alert(1)&gt;&amp;.csv"));
+    // A heading per column of figures of lot.csv.
+    let mut reader = csv::Reader::from_path(Path::new(&out).join("lot.csv")).unwrap();
+    let header = reader.headers().unwrap().clone();
+    let figures: Vec<&str> = header
+        .iter()
+        .skip(4)
+        .filter(|h| *h != "unavailable" && *h != "outliers")
+        .collect();
+    assert!(figures.len() > 10);
+    for f in &figures {
+        assert!(page.contains(&format!("<h3>{f}</h3>")), "{f}");
+    }
+    // As many red dots as lot.json has outliers.
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(Path::new(&out).join("lot.json")).unwrap())
+            .unwrap();
+    let outliers = json["outliers"].as_array().unwrap().len();
+    assert!(outliers > 0);
+    assert_eq!(page.matches("class=\"outlier\"").count(), outliers);
+    // Every link, decoded as a browser decodes it, is a calibration in the output folder.
+    let decode = |s: &str| -> String {
+        let b = s.as_bytes();
+        let mut out = Vec::new();
+        let mut k = 0;
+        while k < b.len() {
+            if b[k] == b'%' {
+                out.push(u8::from_str_radix(&s[k + 1..k + 3], 16).unwrap());
+                k += 3;
+            } else {
+                out.push(b[k]);
+                k += 1;
+            }
+        }
+        String::from_utf8(out).unwrap()
+    };
+    let links: Vec<String> = page
+        .split("href=\"")
+        .skip(1)
+        .map(|rest| decode(rest.split('"').next().unwrap()))
+        .collect();
+    assert!(links.len() > 9);
+    for link in &links {
+        assert!(link.ends_with("/calibration.json"), "{link}");
+        assert!(Path::new(&out).join(link).is_file(), "{link}");
+    }
+}
