@@ -70,6 +70,18 @@ pub enum LotError {
         /// The folders given.
         paths: Vec<PathBuf>,
     },
+    /// One unit found twice: a folder or a file given twice.
+    #[error(
+        "{} and {} are one unit found twice (a folder or a file given twice): give each once",
+        first.display(),
+        second.display()
+    )]
+    UnitTwice {
+        /// Where it was found first.
+        first: PathBuf,
+        /// Where it was found again.
+        second: PathBuf,
+    },
     /// The output folder lies among the inputs, or an input inside it: the next lot would
     /// take the outputs for units.
     #[error(

@@ -135,8 +135,8 @@ pub fn merge(out: &Path) -> Result<LotOutcome, LotError> {
     let tables = read_tables(out)?;
     let Some((first_path, first)) = tables.first() else {
         return Err(refused(
-            "holds no shard's table (lot-shard-I-of-N.json, which `lot --shard I/N --out` \
-             writes)"
+            "holds no shard's table (lot-shard-I-of-N.json, which each shard of a lot writes \
+             into its output folder)"
                 .into(),
         ));
     };

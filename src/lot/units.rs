@@ -30,6 +30,8 @@ pub struct UnitJob {
     pub name: String,
     /// Its folder in `OUT` ([`folder_of`] its name).
     pub folder: String,
+    /// Its file, or its folder of runs.
+    pub path: PathBuf,
     /// Its runs: one log, or a folder's logs in the order of their names.
     pub runs: Vec<PathBuf>,
     /// Its own recipe, when one lies beside it.
@@ -81,9 +83,26 @@ pub fn find_units(paths: &[PathBuf]) -> Result<Vec<UnitJob>, LotError> {
     }
     let units: Vec<&Path> = found.iter().map(|(p, _)| p.as_path()).collect();
     let names = run_names(&units);
-    let mut jobs = Vec::with_capacity(found.len());
+    let mut jobs: Vec<UnitJob> = Vec::with_capacity(found.len());
     for ((path, is_folder), name) in found.iter().zip(names) {
-        jobs.push(unit_job(path, *is_folder, name)?);
+        let job = unit_job(path, *is_folder, name)?;
+        // One unit found twice (a folder given twice, a file given beside its folder, by any
+        // path) would be calibrated twice, into one folder or two.
+        let same = |j: &UnitJob| {
+            j.folder == job.folder
+                || crate::files::atomic::is_same_file(&j.path, path) && j.path.is_file()
+                || matches!(
+                    (std::fs::canonicalize(&j.path), std::fs::canonicalize(path)),
+                    (Ok(a), Ok(b)) if a == b
+                )
+        };
+        if let Some(first) = jobs.iter().find(|j| same(j)) {
+            return Err(LotError::UnitTwice {
+                first: first.path.clone(),
+                second: path.clone(),
+            });
+        }
+        jobs.push(job);
     }
     Ok(jobs)
 }
@@ -92,6 +111,7 @@ pub fn find_units(paths: &[PathBuf]) -> Result<Vec<UnitJob>, LotError> {
 fn unit_job(path: &Path, is_folder: bool, name: String) -> Result<UnitJob, LotError> {
     let mut job = UnitJob {
         folder: folder_of(&name),
+        path: path.to_path_buf(),
         name,
         runs: Vec::new(),
         recipe: None,

@@ -355,3 +355,33 @@ fn the_lot_page_draws_every_figure_marks_the_outliers_and_links_each_unit() {
         assert!(Path::new(&out).join(link).is_file(), "{link}");
     }
 }
+
+#[test]
+fn a_unit_found_twice_or_an_output_among_the_units_is_refused_before_any_unit() {
+    let dir = tempfile::tempdir().unwrap();
+    let units = dir.path().join("units");
+    std::fs::create_dir(&units).unwrap();
+    std::fs::write(units.join("u.csv"), "time_s,omega_dph,temp_c\n").unwrap();
+    let spec = p(dir.path(), "spec.json");
+    std::fs::write(&spec, "{}").unwrap();
+    let u = units.display().to_string();
+    let by_another_path = format!("{}/../units/u.csv", u);
+    for (args, said) in [
+        (vec![u.as_str(), by_another_path.as_str()], "found twice"),
+        (vec![u.as_str(), u.as_str()], "found twice"),
+    ] {
+        let out = p(dir.path(), "out");
+        let mut all = vec!["lot"];
+        all.extend(args);
+        all.extend(["--spec", &spec, "--out", &out]);
+        let (code, _, stderr) = status(&all);
+        assert_eq!(code, 1, "{stderr}");
+        assert!(stderr.contains(said), "{stderr}");
+        assert!(!Path::new(&out).exists());
+    }
+    // The output inside the folder of units: the next lot would read it as a unit.
+    let inside = format!("{u}/out");
+    let (code, _, stderr) = status(&["lot", &u, "--spec", &spec, "--out", &inside]);
+    assert_eq!(code, 1);
+    assert!(stderr.contains("one inside the other"), "{stderr}");
+}
