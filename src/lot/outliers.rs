@@ -8,7 +8,8 @@
 //! half the lot shares the median exactly (a count such as the plateaus, a share of zero), the
 //! MAD is 0 and would make any other value infinitely far: the spread is then √(π/2) times the
 //! mean absolute deviation from the median, the standard deviation of a normal lot by that
-//! measure. When that is 0 too, every unit holds the same value and none is an outlier.
+//! measure. When that is 0 too (to the rounding of the values), every unit holds the same value
+//! and none is an outlier.
 
 use super::figures::AxisFigures;
 use serde::{Deserialize, Serialize};
@@ -85,7 +86,7 @@ pub fn outliers(units: &[(&str, &[AxisFigures])], sigmas: f64) -> Vec<Outlier> {
         };
         for (k, v) in values {
             let z = (v - median) / sd;
-            if z.abs() > sigmas {
+            if z.is_finite() && z.abs() > sigmas {
                 out.push(Outlier {
                     unit: units[*k].0.to_string(),
                     axis: axis.to_string(),
@@ -105,16 +106,19 @@ pub fn outliers(units: &[(&str, &[AxisFigures])], sigmas: f64) -> Vec<Outlier> {
 }
 
 /// The median of `xs`, its robust standard deviation and how it was measured; `None` when
-/// there is no spread to measure (no value, or every value the same).
+/// there is no spread to measure (no value, or every value the same to the rounding of the
+/// values themselves: a spread of a few ulps is no spread, and would put a unit 10³⁰⁰
+/// deviations away).
 pub fn robust_spread(xs: &[f64]) -> Option<(f64, f64, Spread)> {
     let m = median(xs)?;
     let deviations: Vec<f64> = xs.iter().map(|x| (x - m).abs()).collect();
+    let rounding = (m.abs() * 8.0 * f64::EPSILON).max(f64::MIN_POSITIVE);
     let mad = median(&deviations)?;
-    if mad > 0.0 {
+    if mad > rounding {
         return Some((m, MAD_TO_SD * mad, Spread::Mad));
     }
     let mean_ad = deviations.iter().sum::<f64>() / deviations.len() as f64;
-    (mean_ad > 0.0).then_some((m, MEAN_AD_TO_SD * mean_ad, Spread::MeanAbsoluteDeviation))
+    (mean_ad > rounding).then_some((m, MEAN_AD_TO_SD * mean_ad, Spread::MeanAbsoluteDeviation))
 }
 
 /// The median (the mean of the two middle values of an even count); `None` for no value.
@@ -180,6 +184,8 @@ mod tests {
         assert_eq!(spread, Spread::MeanAbsoluteDeviation);
         assert!((sd - MEAN_AD_TO_SD / 8.0).abs() < 1e-15);
         assert!(robust_spread(&[3.0; 6]).is_none());
+        // A spread at the values' rounding is none.
+        assert!(robust_spread(&[1.0, 1.0 + f64::EPSILON, 1.0, 1.0 - f64::EPSILON]).is_none());
         assert!(robust_spread(&[]).is_none());
     }
 }
