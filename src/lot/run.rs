@@ -32,6 +32,9 @@ pub struct Lot {
     pub jobs: usize,
     /// The one shard of the lot to calibrate ([`super::shard`]); the whole lot when `None`.
     pub shard: Option<Shard>,
+    /// Write each calibrated unit's test report, `OUT/<unit>/report/report.html`, judged on
+    /// its own runs.
+    pub report: bool,
 }
 
 /// How far a lot has come, told after each unit.
@@ -73,6 +76,7 @@ pub fn run(lot: &Lot, progress: &mut dyn FnMut(Progress<'_>)) -> Result<LotOutco
         temps_c: lot.spec.reference_temps(),
         shared: lot.recipe.as_deref().zip(shared.as_ref()),
         out: &lot.out,
+        report: lot.report,
     };
     let Some(shard) = lot.shard else {
         let units = in_parallel(&jobs, lot.jobs, &context, progress);
@@ -122,6 +126,7 @@ struct Context<'a> {
     temps_c: Vec<f64>,
     shared: Option<(&'a Path, &'a CheckedRecipe)>,
     out: &'a Path,
+    report: bool,
 }
 
 /// Every job's outcome, in the jobs' order, from `workers` threads each taking the next job
@@ -215,7 +220,7 @@ fn calibrate_unit(job: &UnitJob, context: &Context<'_>) -> UnitOutcome {
         },
     };
     let folder = context.out.join(&job.folder);
-    let key = match cache::key(&job.runs, recipe.recipe(), context.spec) {
+    let key = match cache::key(&job.runs, recipe.recipe(), context.spec, context.report) {
         Ok(k) => k,
         Err(e) => return fail(e),
     };
@@ -256,7 +261,6 @@ fn calibrate_unit(job: &UnitJob, context: &Context<'_>) -> UnitOutcome {
         warnings.extend(axis.calibrated.warnings.iter().map(|w| format!("{on}{w}")));
         axes.push(axis_figures(&mut joined.log, axis, &context.temps_c));
     }
-    drop(joined);
     let file = Path::new(&job.folder).join(cache::CALIBRATION);
     let written = std::fs::create_dir_all(&folder)
         .map_err(|e| crate::Error::io(&folder, e))
@@ -264,6 +268,24 @@ fn calibrate_unit(job: &UnitJob, context: &Context<'_>) -> UnitOutcome {
     if let Err(e) = written {
         return fail(format!("its calibration could not be written: {e}"));
     }
+    let report = if context.report {
+        match write_report(job, &key, &joined.log, &fitted.unit, &folder) {
+            Ok(()) => Some(
+                Path::new(&job.folder)
+                    .join(REPORT_PAGE)
+                    .display()
+                    .to_string(),
+            ),
+            // The calibration stands without its report: said, not an error.
+            Err(e) => {
+                warnings.push(format!("its report could not be written: {e}"));
+                None
+            }
+        }
+    } else {
+        None
+    };
+    drop(joined);
     let reasons = verdict::reasons(context.spec, &axes);
     let outcome = UnitOutcome {
         unit: job.name.clone(),
@@ -277,6 +299,7 @@ fn calibrate_unit(job: &UnitJob, context: &Context<'_>) -> UnitOutcome {
         runs: run_files(job),
         recipe: recipe_file,
         calibration: Some(file.display().to_string()),
+        report,
         axes,
         warnings,
         cached: false,
@@ -292,6 +315,43 @@ fn calibrate_unit(job: &UnitJob, context: &Context<'_>) -> UnitOutcome {
             outcome
         }
     }
+}
+
+/// A unit's report page in its folder.
+const REPORT_PAGE: &str = "report/report.html";
+
+/// The test report of `unit` judged on each of its runs (in-sample), written into
+/// `folder/report` as `driftlab report` writes it, with its default figures.
+fn write_report(
+    job: &UnitJob,
+    key: &cache::UnitKey,
+    log: &crate::log::Log,
+    unit: &crate::models::UnitCalibration,
+    folder: &Path,
+) -> crate::Result<()> {
+    let mut logs: Vec<(PathBuf, crate::log::Log)> = job
+        .runs
+        .iter()
+        .enumerate()
+        .filter_map(|(k, path)| Some((path.clone(), log.run_log(k)?)))
+        .collect();
+    let merit = crate::export::report::UnitMerit {
+        filter_s: None,
+        window_s: crate::MeritOptions::default().window_s,
+    };
+    let hashes = key.runs.iter().map(|r| r.sha256.clone()).collect();
+    let tolerance_c = unit
+        .campaign_tolerance_c()
+        .unwrap_or(crate::models::campaign::DEFAULT_TOLERANCE_C);
+    crate::export::report::write_unit(
+        unit,
+        &mut logs,
+        &folder.join("report"),
+        merit,
+        Some(hashes),
+        tolerance_c,
+    )
+    .map(|_| ())
 }
 
 /// One run read as `calibrate` reads a log given no option: the calibration columns alone, a
@@ -349,6 +409,7 @@ fn errored(job: &UnitJob, recipe: Option<String>, message: &str) -> UnitOutcome 
         runs: run_files(job),
         recipe,
         calibration: None,
+        report: None,
         axes: Vec::new(),
         warnings: job.notes.clone(),
         cached: false,
