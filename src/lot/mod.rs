@@ -20,6 +20,7 @@ mod run;
 pub mod shard;
 pub mod spec;
 pub mod table;
+mod unit;
 pub mod units;
 pub mod verdict;
 
