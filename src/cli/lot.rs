@@ -37,6 +37,10 @@ pub struct Args {
     /// Units calibrated at once (default: the processors the machine has).
     #[arg(long, value_name = "N")]
     pub jobs: Option<usize>,
+    /// Also write each calibrated unit's test report (OUT/UNIT/report/report.html), judged on
+    /// its own runs, as `driftlab report` writes it.
+    #[arg(long)]
+    pub report: bool,
     /// Calibrate shard I of N of the lot only (a job array's task I of N), writing
     /// OUT/lot-shard-I-of-N.json; `driftlab lot merge OUT` joins the shards.
     #[arg(long, value_name = "I/N")]
@@ -87,6 +91,7 @@ pub fn run(a: Args) -> Result<(), CliError> {
         recipe: a.recipe.clone(),
         jobs,
         shard: a.shard,
+        report: a.report,
     };
     let bar = common::progress_bar("lot");
     let outcome = lot::run(&request, &mut |p| {

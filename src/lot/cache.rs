@@ -47,6 +47,9 @@ pub struct UnitKey {
     pub recipe_sha256: String,
     /// SHA-256 of the spec it was judged by, as JSON.
     pub spec_sha256: String,
+    /// Whether its report was written.
+    #[serde(default)]
+    pub report: bool,
 }
 
 /// A unit's recorded outcome and the calibration file it wrote.
@@ -58,11 +61,17 @@ struct Record {
     outcome: UnitOutcome,
 }
 
-/// The key of a unit of `runs`, calibrated with `recipe` and judged by `spec`.
+/// The key of a unit of `runs`, calibrated with `recipe` and judged by `spec`, with its report
+/// or without.
 ///
 /// # Errors
 /// A run whose bytes cannot be read, with its message.
-pub fn key(runs: &[PathBuf], recipe: &Recipe, spec: &Spec) -> Result<UnitKey, String> {
+pub fn key(
+    runs: &[PathBuf],
+    recipe: &Recipe,
+    spec: &Spec,
+    report: bool,
+) -> Result<UnitKey, String> {
     let mut keys = Vec::with_capacity(runs.len());
     for path in runs {
         keys.push(RunKey {
@@ -75,6 +84,7 @@ pub fn key(runs: &[PathBuf], recipe: &Recipe, spec: &Spec) -> Result<UnitKey, St
         runs: keys,
         recipe_sha256: sha256_of_json(recipe),
         spec_sha256: sha256_of_json(spec),
+        report,
     })
 }
 
@@ -127,16 +137,24 @@ pub fn record(folder: &Path, key: &UnitKey, outcome: &UnitOutcome) -> crate::Res
         .map_err(|e| crate::Error::io(&path, e))
 }
 
-/// Removes what a unit's folder holds from an earlier lot (its calibration and record), when
-/// the unit is now an error: a station flashing `OUT/<unit>/calibration.json` must not find
-/// one its lot no longer stands behind. Returns what could not be removed, said.
+/// Removes what a unit's folder holds from an earlier lot (its calibration, record and
+/// report), when the unit is now an error: a station flashing `OUT/<unit>/calibration.json`
+/// must not find one its lot no longer stands behind. A report folder is removed only when
+/// its marker says a report wrote it. Returns what could not be removed, said.
 pub fn forget(folder: &Path) -> Vec<String> {
+    let report = folder.join("report");
+    let report = report
+        .join(crate::export::report::MARKER)
+        .is_file()
+        .then_some(report);
     [CALIBRATION, RECORD]
         .iter()
         .map(|name| folder.join(name))
         .filter(|path| path.exists())
-        .filter_map(|path| {
-            std::fs::remove_file(&path).err().map(|e| {
+        .map(|path| (std::fs::remove_file(&path), path))
+        .chain(report.map(|r| (std::fs::remove_dir_all(&r), r)))
+        .filter_map(|(removed, path)| {
+            removed.err().map(|e| {
                 format!(
                     "{}: an earlier lot's file, which this one does not stand behind, could not \
                      be removed: {e}",

@@ -20,6 +20,7 @@ mod run;
 pub mod shard;
 pub mod spec;
 pub mod table;
+mod unit;
 pub mod units;
 pub mod verdict;
 
@@ -154,6 +155,9 @@ pub struct UnitOutcome {
     /// Its calibration file, relative to the output folder; none for an error.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub calibration: Option<String>,
+    /// Its report's page, relative to the output folder, when one was asked for and written.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub report: Option<String>,
     /// Each axis's figures; none for an error.
     pub axes: Vec<AxisFigures>,
     /// What reading and fitting told (they did not stop it).

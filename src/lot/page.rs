@@ -1,6 +1,7 @@
 //! `lot.html`: the lot on one page. The counts and the spec; each figure's distribution over
 //! the lot as a strip of dots, one per unit, the outliers marked and each dot a link to its
-//! unit's calibration; and the table of units, each linked to its calibration.
+//! unit's calibration; and the table of units, each linked to its calibration (and its report,
+//! when one was written).
 //!
 //! The page is a maud template, as the report's pages are ([`crate::export::report::html`]):
 //! every name it shows (a unit's, from a file name; a reason quoting a column) is text escaped
@@ -159,7 +160,9 @@ fn dot_class(u: &UnitOutcome, outlier: bool) -> &'static str {
 fn units_table(lot: &LotOutcome) -> Markup {
     html! {
         table {
-            tr { th { "unit" } th { "status" } th { "reasons" } th { "outliers" } } "\n"
+            tr {
+                th { "unit" } th { "status" } th { "reasons" } th { "outliers" } th { "report" }
+            } "\n"
             @for u in &lot.units {
                 tr {
                     td {
@@ -182,6 +185,11 @@ fn units_table(lot: &LotOutcome) -> Markup {
                             ))
                             .collect::<Vec<_>>()
                             .join("; "))
+                    }
+                    td {
+                        @if let Some(r) = &u.report {
+                            a href=(link(r)) { "report" }
+                        }
                     }
                 } "\n"
             }

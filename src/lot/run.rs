@@ -5,16 +5,11 @@
 //! hands back its outcome (a few figures and sentences), so a lot of ten thousand units needs
 //! the memory of `jobs` units.
 
-use super::figures::axis_figures;
 use super::shard::{Placed, Shard, ShardTable};
+use super::unit::{calibrate_unit, errored, load_recipe};
 use super::units::UnitJob;
-use super::{LotError, LotOutcome, Spec, Status, UnitOutcome, cache, table, verdict};
-use crate::files::calibration;
-use crate::log::campaign::RunInput;
-use crate::log::ingest::ReadOptions;
-use crate::log::read::{FormatChoice, read_any};
-use crate::models::campaign::{CampaignOptions, JoinedRuns, UnitPlan, calibrate_runs};
-use crate::models::{CheckedRecipe, ModelChoice, Preset, Recipe};
+use super::{LotError, LotOutcome, Spec, Status, UnitOutcome, cache, table};
+use crate::models::CheckedRecipe;
 use std::path::{Path, PathBuf};
 
 /// What a lot is run on.
@@ -32,6 +27,9 @@ pub struct Lot {
     pub jobs: usize,
     /// The one shard of the lot to calibrate ([`super::shard`]); the whole lot when `None`.
     pub shard: Option<Shard>,
+    /// Write each calibrated unit's test report, `OUT/<unit>/report/report.html`, judged on
+    /// its own runs.
+    pub report: bool,
 }
 
 /// How far a lot has come, told after each unit.
@@ -73,6 +71,7 @@ pub fn run(lot: &Lot, progress: &mut dyn FnMut(Progress<'_>)) -> Result<LotOutco
         temps_c: lot.spec.reference_temps(),
         shared: lot.recipe.as_deref().zip(shared.as_ref()),
         out: &lot.out,
+        report: lot.report,
     };
     let Some(shard) = lot.shard else {
         let units = in_parallel(&jobs, lot.jobs, &context, progress);
@@ -117,11 +116,17 @@ pub fn run(lot: &Lot, progress: &mut dyn FnMut(Progress<'_>)) -> Result<LotOutco
 }
 
 /// What every unit is calibrated and judged with.
-struct Context<'a> {
-    spec: &'a Spec,
-    temps_c: Vec<f64>,
-    shared: Option<(&'a Path, &'a CheckedRecipe)>,
-    out: &'a Path,
+pub(super) struct Context<'a> {
+    /// The spec.
+    pub spec: &'a Spec,
+    /// The reference temperatures of K0.
+    pub temps_c: Vec<f64>,
+    /// The shared recipe and its file, if one was given.
+    pub shared: Option<(&'a Path, &'a CheckedRecipe)>,
+    /// The output folder.
+    pub out: &'a Path,
+    /// Whether each unit's report is written.
+    pub report: bool,
 }
 
 /// Every job's outcome, in the jobs' order, from `workers` threads each taking the next job
@@ -190,176 +195,6 @@ fn guarded(job: &UnitJob, context: &Context<'_>) -> UnitOutcome {
         outcome.warnings.extend(left);
     }
     outcome
-}
-
-/// One unit read, calibrated, judged and its calibration written.
-fn calibrate_unit(job: &UnitJob, context: &Context<'_>) -> UnitOutcome {
-    let recipe_file = job
-        .recipe
-        .as_deref()
-        .or(context.shared.map(|(p, _)| p))
-        .map(|p| p.display().to_string());
-    let fail = |message: String| errored(job, recipe_file.clone(), &message);
-    if let Some(problem) = &job.problem {
-        return fail(problem.clone());
-    }
-    let recipe = match (&job.recipe, context.shared) {
-        (Some(own), _) => match load_recipe(own) {
-            Ok(r) => r,
-            Err(e) => return fail(format!("{}: {e}", own.display())),
-        },
-        (None, Some((_, shared))) => shared.clone(),
-        (None, None) => match Recipe::default().checked() {
-            Ok(r) => r,
-            Err(e) => return fail(e.to_string()),
-        },
-    };
-    let folder = context.out.join(&job.folder);
-    let key = match cache::key(&job.runs, recipe.recipe(), context.spec) {
-        Ok(k) => k,
-        Err(e) => return fail(e),
-    };
-    if let Some(outcome) = cache::recorded(&folder, &key) {
-        return outcome;
-    }
-    let mut warnings = job.notes.clone();
-    let mut runs = Vec::with_capacity(job.runs.len());
-    for (path, run) in job.runs.iter().zip(&key.runs) {
-        match read_run(path, run.sha256.clone(), &mut warnings) {
-            Ok(run) => runs.push(run),
-            Err(e) => return fail(e),
-        }
-    }
-    let mut joined = match JoinedRuns::join(runs, &job.runs) {
-        Ok(j) => j,
-        Err(e) => return fail(e.to_string()),
-    };
-    let plan = UnitPlan::every_axis(
-        &joined.log,
-        ModelChoice::Preset(Preset::Vakhrameev),
-        recipe,
-        CampaignOptions::default(),
-    );
-    let fitted = match calibrate_runs(&mut joined, &plan) {
-        Ok(f) => f,
-        Err(e) => return fail(about(&joined.log.source, &e)),
-    };
-    warnings.extend(fitted.warnings.iter().cloned());
-    warnings.extend(fitted.settings_told.iter().map(|i| i.to_string()));
-    let mut axes = Vec::with_capacity(fitted.fit.axes.len());
-    for axis in &fitted.fit.axes {
-        let on = if axis.name.is_empty() {
-            String::new()
-        } else {
-            format!("axis {}: ", axis.name)
-        };
-        warnings.extend(axis.calibrated.warnings.iter().map(|w| format!("{on}{w}")));
-        axes.push(axis_figures(&mut joined.log, axis, &context.temps_c));
-    }
-    drop(joined);
-    let file = Path::new(&job.folder).join(cache::CALIBRATION);
-    let written = std::fs::create_dir_all(&folder)
-        .map_err(|e| crate::Error::io(&folder, e))
-        .and_then(|()| calibration::save_unit(&context.out.join(&file), &fitted.unit));
-    if let Err(e) = written {
-        return fail(format!("its calibration could not be written: {e}"));
-    }
-    let reasons = verdict::reasons(context.spec, &axes);
-    let outcome = UnitOutcome {
-        unit: job.name.clone(),
-        folder: job.folder.clone(),
-        status: if reasons.is_empty() {
-            Status::Pass
-        } else {
-            Status::Fail
-        },
-        reasons,
-        runs: run_files(job),
-        recipe: recipe_file,
-        calibration: Some(file.display().to_string()),
-        axes,
-        warnings,
-        cached: false,
-    };
-    // Without its record the unit is calibrated again next time: said, not an error.
-    match cache::record(&folder, &key, &outcome) {
-        Ok(()) => outcome,
-        Err(e) => {
-            let mut outcome = outcome;
-            outcome.warnings.push(format!(
-                "its record was not written, so the next lot calibrates it again: {e}"
-            ));
-            outcome
-        }
-    }
-}
-
-/// One run read as `calibrate` reads a log given no option: the calibration columns alone, a
-/// drone or robot log's first gyro with a temperature, a log written in bursts reduced to one
-/// sample per burst; what the reader noticed added to `warnings`; `sha256` the file's.
-fn read_run(path: &Path, sha256: String, warnings: &mut Vec<String>) -> Result<RunInput, String> {
-    let opts = ReadOptions {
-        skip_extras: true,
-        ..ReadOptions::default()
-    };
-    let any = read_any(path, &opts, &FormatChoice::default()).map_err(|e| e.to_string())?;
-    let source = any.log.source.clone();
-    if let Some(drone) = &any.drone {
-        warnings.extend(drone.problems.iter().map(|p| format!("{source}: {p}")));
-        warnings.push(format!("{source}: {}", drone.note));
-    }
-    warnings.extend(
-        any.log
-            .info
-            .problems
-            .iter()
-            .map(|p| format!("{source}: {}{}", p.message, p.times())),
-    );
-    let (log, note) =
-        crate::log::resample::prepare(any.log, None).map_err(|e| format!("{source}: {e}"))?;
-    warnings.extend(note.map(|n| format!("{source}: {n}")));
-    Ok(RunInput { log, sha256 })
-}
-
-/// An error about the log `source`, naming it once (a fit's messages already start with it).
-fn about(source: &str, e: &crate::Error) -> String {
-    let m = e.to_string();
-    if m.starts_with(&format!("{source}: ")) {
-        m
-    } else {
-        format!("{source}: {m}")
-    }
-}
-
-/// A recipe file (or the recipe inside a calibration file), checked.
-fn load_recipe(path: &Path) -> Result<CheckedRecipe, String> {
-    calibration::read_recipe(path)
-        .map_err(|e| e.to_string())?
-        .checked()
-        .map_err(|e| e.to_string())
-}
-
-/// A unit that could not be calibrated, with `message`.
-fn errored(job: &UnitJob, recipe: Option<String>, message: &str) -> UnitOutcome {
-    UnitOutcome {
-        unit: job.name.clone(),
-        folder: job.folder.clone(),
-        status: Status::Error,
-        reasons: vec![message.to_string()],
-        runs: run_files(job),
-        recipe,
-        calibration: None,
-        axes: Vec::new(),
-        warnings: job.notes.clone(),
-        cached: false,
-    }
-}
-
-fn run_files(job: &UnitJob) -> Vec<String> {
-    job.runs
-        .iter()
-        .map(|p| crate::text::escaped(&p.display().to_string(), false).into_owned())
-        .collect()
 }
 
 /// Refuses an output folder inside a folder of units, or one that holds a folder of units or

@@ -193,3 +193,83 @@ fn against(
         )),
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::lot::figures::Figure;
+
+    fn axis(name: &str, values: &[(&str, Option<f64>)], worse: &[&str]) -> AxisFigures {
+        AxisFigures {
+            axis: name.into(),
+            figures: values
+                .iter()
+                .map(|(n, v)| Figure {
+                    name: (*n).into(),
+                    value: *v,
+                    unavailable: v.is_none().then(|| "no floor".to_string()),
+                })
+                .collect(),
+            worse_than_raw: worse.iter().map(|w| (*w).into()).collect(),
+        }
+    }
+
+    #[test]
+    fn every_limit_broken_is_named_by_its_key_and_a_figure_not_computed_fails_its_limit() {
+        let spec: Spec = serde_json::from_str(
+            r#"{"max_corrected_p2p_dph": 0.2, "min_plateaus": 4, "max_bias_instability_dph": 0.01,
+                "k0_range_dph": [-0.1, 0.1], "temp_range_c": [-40, 60],
+                "refuse_worse_than_raw": true}"#,
+        )
+        .unwrap();
+        let gx = axis(
+            "gx",
+            &[
+                (figures::CORRECTED_P2P, Some(0.25)),
+                (figures::PLATEAUS, Some(4.0)),
+                (figures::BIAS_INSTABILITY, None),
+                (figures::K0_MIN, Some(-0.05)),
+                (figures::K0_MAX, Some(0.15)),
+                (figures::TEMP_MIN, Some(-39.5)),
+                (figures::TEMP_MAX, Some(60.2)),
+            ],
+            &["std"],
+        );
+        let reasons = reasons(&spec, &[gx]);
+        let keys: Vec<&str> = reasons
+            .iter()
+            .map(|r| r.split(':').next().unwrap())
+            .collect();
+        assert_eq!(
+            keys,
+            [
+                "max_corrected_p2p_dph",
+                "max_bias_instability_dph",
+                "k0_range_dph",
+                "temp_range_c",
+                "refuse_worse_than_raw"
+            ],
+            "{reasons:?}"
+        );
+        assert!(reasons.iter().all(|r| r.ends_with("(axis gx)")));
+        assert!(reasons[1].contains("no floor"));
+        // K0's highest value is what breaks the range; -39.5 °C does not reach -40.
+        assert!(reasons[2].contains("highest K0"), "{}", reasons[2]);
+        assert!(reasons[3].contains("-39.5"), "{}", reasons[3]);
+        // The same figures within every limit pass.
+        let ok = axis(
+            "",
+            &[
+                (figures::CORRECTED_P2P, Some(0.2)),
+                (figures::PLATEAUS, Some(5.0)),
+                (figures::BIAS_INSTABILITY, Some(0.005)),
+                (figures::K0_MIN, Some(-0.1)),
+                (figures::K0_MAX, Some(0.1)),
+                (figures::TEMP_MIN, Some(-40.0)),
+                (figures::TEMP_MAX, Some(61.0)),
+            ],
+            &[],
+        );
+        assert!(super::reasons(&spec, &[ok]).is_empty());
+    }
+}

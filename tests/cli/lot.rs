@@ -385,3 +385,24 @@ fn a_unit_found_twice_or_an_output_among_the_units_is_refused_before_any_unit() 
     assert_eq!(code, 1);
     assert!(stderr.contains("one inside the other"), "{stderr}");
 }
+
+#[test]
+fn a_report_on_request_is_written_for_each_calibrated_unit_and_linked() {
+    let dir = tempfile::tempdir().unwrap();
+    let (units, spec) = lot_in(dir.path());
+    let out = p(dir.path(), "out");
+    let (code, stdout, stderr) =
+        status(&["lot", &units, "--spec", &spec, "--out", &out, "--report"]);
+    assert_eq!(code, 3, "{stdout}{stderr}");
+    for unit in [ORDINARY[0], CAMPAIGN] {
+        let page =
+            std::fs::read_to_string(Path::new(&out).join(unit).join("report/report.html")).unwrap();
+        assert!(page.contains("in-sample"), "{unit}");
+    }
+    let campaign_page =
+        std::fs::read_to_string(Path::new(&out).join(CAMPAIGN).join("report/report.html")).unwrap();
+    assert!(campaign_page.contains("Campaign of 2 runs"));
+    assert!(!Path::new(&out).join(CORRUPT).join("report").exists());
+    let lot_page = std::fs::read_to_string(Path::new(&out).join("lot.html")).unwrap();
+    assert!(lot_page.contains(&format!("href=\"{CAMPAIGN}/report/report.html\"")));
+}

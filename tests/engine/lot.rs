@@ -35,6 +35,7 @@ fn a_simulated_lot_is_judged_as_its_truth_says() {
         recipe: None,
         jobs: 2,
         shard: None,
+        report: false,
     };
     let mut told = 0;
     let outcome = driftlab::lot::run(&lot, &mut |p| {
