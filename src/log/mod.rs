@@ -79,6 +79,10 @@ pub struct Channel {
 /// log's, and a CSV column whose name says `m_s2` or `[m/s^2]`.
 pub const ACCEL_UNIT_M_S2: &str = "m/s^2";
 
+/// m/s² in one g: the standard gravity (ISO 80000-3, the CGPM's of 1901), by which an
+/// accelerometer read in g or mg is taken to m/s².
+pub const STANDARD_GRAVITY_M_S2: f64 = 9.80665;
+
 impl Channel {
     /// Whether the channel is an accelerometer axis: its name reads as one (`ax_g`, `acc_x`,
     /// `accel_x_m_s2`, `linear_acceleration_x`), as the CSV reader recognises it. The one
@@ -99,7 +103,6 @@ impl Channel {
     /// 9.80665 m/s² for g (ISO 80000-3, the CGPM's of 1901), a thousandth of it for mg. `None`
     /// for a channel that is no accelerometer, or one whose name says no unit.
     pub fn accelerometer_to_m_s2(&self) -> Option<f64> {
-        const STANDARD_GRAVITY_M_S2: f64 = 9.80665;
         if !self.is_accelerometer() {
             return None;
         }

@@ -84,6 +84,59 @@ impl fmt::Display for RateNames {
     }
 }
 
+/// The unit the accelerometer columns are written in.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+pub enum AccelUnit {
+    /// g (`acc_x_g`), to 1 µg: a test stand's.
+    #[default]
+    G,
+    /// m/s² (`acc_x_m_s2`), to 10⁻⁶ m/s²: a flight controller's (PX4's `sensor_accel`,
+    /// ArduPilot's `IMU`), by the standard gravity.
+    MetersPerSecond2,
+}
+
+impl AccelUnit {
+    /// The unit's word in a column's name.
+    fn suffix(self) -> &'static str {
+        match self {
+            AccelUnit::G => "g",
+            AccelUnit::MetersPerSecond2 => "m_s2",
+        }
+    }
+
+    /// The factor from g to this unit.
+    fn from_g(self) -> f64 {
+        match self {
+            AccelUnit::G => 1.0,
+            AccelUnit::MetersPerSecond2 => crate::log::STANDARD_GRAVITY_M_S2,
+        }
+    }
+}
+
+impl FromStr for AccelUnit {
+    type Err = UnknownChoice;
+    fn from_str(s: &str) -> Result<AccelUnit, UnknownChoice> {
+        match s.trim().to_ascii_lowercase().as_str() {
+            "g" => Ok(AccelUnit::G),
+            "m/s2" | "m/s^2" | "m_s2" | "mps2" => Ok(AccelUnit::MetersPerSecond2),
+            other => Err(UnknownChoice {
+                what: "accelerometer unit",
+                given: other.to_string(),
+                known: "g or m/s2",
+            }),
+        }
+    }
+}
+
+impl fmt::Display for AccelUnit {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            AccelUnit::G => "g",
+            AccelUnit::MetersPerSecond2 => "m/s2",
+        })
+    }
+}
+
 /// The two presets of `driftlab simulate --dialect`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum DialectPreset {
@@ -142,6 +195,9 @@ pub struct CsvDialect {
     pub raw_temp_register: bool,
     /// A `#` line above the command line naming the test stand (without the `# `), if any.
     pub stand: Option<String>,
+    /// Unit of the accelerometer columns.
+    #[serde(default)]
+    pub accel_unit: AccelUnit,
 }
 
 impl Default for CsvDialect {
@@ -161,6 +217,7 @@ impl CsvDialect {
             rate_unit: RateUnit::DegPerHour,
             raw_temp_register: false,
             stand: None,
+            accel_unit: AccelUnit::G,
         }
     }
 
@@ -175,6 +232,7 @@ impl CsvDialect {
             rate_unit: RateUnit::DegPerSec,
             raw_temp_register: false,
             stand: Some(STAND_LINE.to_string()),
+            accel_unit: AccelUnit::G,
         }
     }
 
@@ -240,6 +298,9 @@ impl CsvDialect {
         if self.raw_temp_register {
             out.push("--raw-temp-col".to_string());
         }
+        if self.accel_unit != preset.accel_unit {
+            out.push(format!("--accel-unit {}", self.accel_unit));
+        }
         out
     }
 
@@ -268,11 +329,13 @@ impl CsvDialect {
         }
     }
 
-    /// Name of the column of accelerometer `axis`, in g.
+    /// Name of the column of accelerometer `axis`, its unit the last word (`acc_x_g`,
+    /// `ax_m_s2`).
     pub fn accel_column(&self, axis: &str) -> String {
+        let unit = self.accel_unit.suffix();
         match self.rate_names {
-            RateNames::Omega | RateNames::Gyro => format!("acc_{axis}_g"),
-            RateNames::G | RateNames::W => format!("a{axis}_g"),
+            RateNames::Omega | RateNames::Gyro => format!("acc_{axis}_{unit}"),
+            RateNames::G | RateNames::W => format!("a{axis}_{unit}"),
         }
     }
 
@@ -370,6 +433,7 @@ pub(crate) struct Writer<'d> {
     bytes: Vec<u8>,
     rate_factor: f64,
     rate_decimals: usize,
+    accel_factor: f64,
 }
 
 impl<'d> Writer<'d> {
@@ -380,6 +444,7 @@ impl<'d> Writer<'d> {
             bytes: Vec::with_capacity(256),
             rate_factor: 1.0 / dialect.rate_unit.to_dph_factor(),
             rate_decimals: dialect.rate_decimals(),
+            accel_factor: dialect.accel_unit.from_g(),
         }
     }
 
@@ -421,7 +486,8 @@ impl<'d> Writer<'d> {
     }
 
     /// One row. Time is written as the shortest text that reads back to it (in ms: the time
-    /// rounded to 1 ns, then so), rates to their unit's decimals, accelerations to 1 µg,
+    /// rounded to 1 ns, then so), rates to their unit's decimals, accelerations to 1 µg (or
+    /// 10⁻⁶ m/s²),
     /// temperatures to 0.001 °C, channels to their own decimals.
     pub(crate) fn row(&mut self, w: &mut dyn Write, r: &Row, shape: &Shape) -> std::io::Result<()> {
         use std::fmt::Write as _;
@@ -442,7 +508,11 @@ impl<'d> Writer<'d> {
             }
         }
         for &v in r.accel_g {
-            let _ = write!(line, "{sep}{v:.6}");
+            if self.accel_factor == 1.0 {
+                let _ = write!(line, "{sep}{v:.6}");
+            } else {
+                let _ = write!(line, "{sep}{:.6}", v * self.accel_factor);
+            }
         }
         if d.raw_temp_register {
             let _ = write!(line, "{sep}{}", raw_temp_counts(r.temp_c));

@@ -27,6 +27,7 @@ mod sim_axes;
 mod sim_dialect;
 mod sim_laser;
 mod sim_logging;
+mod sim_mems;
 mod sim_output;
 mod sim_physics;
 mod sim_programs;
