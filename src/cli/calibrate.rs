@@ -12,9 +12,7 @@ use driftlab::judge::metrics::MeritOptions;
 use driftlab::models::approx::{ApproxKind, ApproxSpec};
 use driftlab::models::recipe::{CheckedRecipe, PlateauChoice, Recipe};
 use driftlab::models::regression::{DelaySpec, FitSamples, LagSpec, RegressionSpec, terms};
-use driftlab::models::{
-    self, AxisModel, AxisPlan, DriftModel, ModelChoice, Preset, UnitCalibration,
-};
+use driftlab::models::{self, AxisPlan, DriftModel, ModelChoice, Preset, UnitCalibration};
 use driftlab::signal::plateau::PlateauRange;
 use std::path::{Path, PathBuf};
 
@@ -121,6 +119,11 @@ pub struct Args {
     /// Options given here still apply.
     #[arg(long = "axis-recipe", value_name = "AXIS=FILE")]
     pub axis_recipes: Vec<String>,
+    /// Calibrate the log's accelerometer axes too, after its gyro axes (the columns whose
+    /// names say so, or those --accel-col names): each a static model in T (poly-t3 unless
+    /// --model or --axis-model gives another), about its mean, which its correction keeps.
+    #[arg(long)]
+    pub accel: bool,
     /// Print the summary as JSON.
     #[arg(long)]
     pub json: bool,
@@ -368,7 +371,11 @@ pub fn run(a: Args) -> Result<(), CliError> {
             a.recipe_file().unwrap_or_else(|| "the recipe".into())
         )));
     }
-    let (mut log, log_name, sha256) = a.read_runs(all_vakhrameev)?;
+    let accel = a.accel_asked()?;
+    let (mut log, log_name, sha256) = a.read_runs(all_vakhrameev && accel.is_none())?;
+    if let Some(ask) = &accel {
+        a.log_args.take_accelerometers(&mut log, ask)?;
+    }
     // What joining the runs left out (a channel some runs lack) or could not check (which
     // drone-log gyro a CSV run is), said with the rest.
     warnings.extend(
@@ -393,7 +400,9 @@ pub fn run(a: Args) -> Result<(), CliError> {
     // The axes of a unit, each with its plan; a log of one axis is a unit of one unnamed axis.
     // The `--axis-recipe` each axis's recipe came from, by axis name, for the fit's refusals.
     let mut axis_files: Vec<(String, String)> = Vec::new();
-    let (plans, saved_recipe) = match common::chosen_axes(&a.axes, &a.log_args, &log)? {
+    let (plans, saved_recipe) = match a
+        .with_accelerometers(common::chosen_axes(&a.axes, &a.log_args, &log)?, &log)?
+    {
         Some(axes) => {
             let (plans, axis_warnings) = a.plans(&log, &axes, &recipe, &choice, &mut axis_files)?;
             warnings.extend(axis_warnings);
@@ -486,11 +495,7 @@ fn stamped(
             model.source_mut().sha256 = sha256.to_string();
             models::campaign::stamp_runs(model.source_mut(), runs.clone(), tolerance_c);
             set_created(&mut model, &created);
-            AxisModel {
-                name: f.name.clone(),
-                rate_column: f.rate_column.clone(),
-                model,
-            }
+            f.axis_model(model)
         })
         .collect();
     UnitCalibration { axes }
@@ -562,7 +567,7 @@ impl Args {
             .iter()
             .map(|name| AxisPlan {
                 name: name.clone(),
-                choice: choice.clone(),
+                choice: self.choice_for(log, name, choice),
                 recipe: recipe.clone(),
             })
             .collect();
@@ -606,7 +611,10 @@ impl Args {
             axis_files.push((name, v.clone()));
         }
         let mut warnings = axis_notes;
-        for p in &plans {
+        for p in plans
+            .iter()
+            .filter(|p| !self.accel_by_default(log, p, &given))
+        {
             let w = self
                 .check_settings(&p.recipe, &p.choice)
                 .map_err(|e| format!("axis {}: {e}", p.name))?;
@@ -688,11 +696,16 @@ impl Args {
 /// the same axis given twice (`gx=poly-t` and `x=ieee952`) is refused rather than the last
 /// taken, as `--axes gx,gx` is.
 #[derive(Default)]
-struct Given<'a> {
+pub(super) struct Given<'a> {
     seen: Vec<(&'static str, String, &'a str)>,
 }
 
 impl<'a> Given<'a> {
+    /// Whether `option` gave axis `name` a value.
+    pub(super) fn gave(&self, option: &str, name: &str) -> bool {
+        self.seen.iter().any(|(o, n, _)| *o == option && n == name)
+    }
+
     /// Records `option` `value` for axis `name`, or refuses it naming both values.
     fn once(&mut self, option: &'static str, name: &str, value: &'a str) -> Result<(), CliError> {
         if let Some((_, _, first)) = self.seen.iter().find(|(o, n, _)| *o == option && n == name) {

@@ -126,12 +126,21 @@ pub fn print_evaluation(
     e: &driftlab::judge::metrics::Evaluation,
     window_s: f64,
 ) -> Result<(), CliError> {
+    print_evaluation_in(e, window_s, driftlab::log::AxisKind::Gyro)
+}
+
+/// [`print_evaluation`] of an axis of kind `kind`, its figures in its unit (deg/h, m/s^2).
+pub fn print_evaluation_in(
+    e: &driftlab::judge::metrics::Evaluation,
+    window_s: f64,
+    kind: driftlab::log::AxisKind,
+) -> Result<(), CliError> {
     let c = &e.comparison;
     let w = driftlab::judge::options::window_label(window_s);
     let (mean_label, rms_label) = (format!("max |{w} mean|"), format!("mean {w} RMS"));
     out!(
         "  {:<34} {:>11} {:>11} {:>12}",
-        "figure (deg/h)",
+        format!("figure ({})", kind.unit_ascii()),
         "raw",
         "corrected",
         "raw/cor"

@@ -173,6 +173,13 @@ pub(super) fn csv_table_of_axis(
     points: usize,
 ) -> Result<String, ExportError> {
     let mut table = axis_table(model, points)?;
+    if of.kind == crate::log::AxisKind::Accel {
+        // A regression's table states its unit once, in its formula's line.
+        table.comments = table.comments.replace(
+            "sum of coefficient * term (deg/h)",
+            "sum of coefficient * term (m/s^2)",
+        );
+    }
     let line = format!("# axis: {}\n", of.describe());
     // The title is the comments' first line.
     let at = table.comments.find('\n').map_or(0, |i| i + 1);
