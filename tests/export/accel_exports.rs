@@ -219,3 +219,62 @@ fn the_c_header_of_a_six_axis_unit_corrects_every_axis_as_apply_bit_for_bit() {
     }
     assert_eq!(same, 6 * log.len());
 }
+
+#[test]
+fn a_ulog_of_gyro_and_accelerometer_calibrates_and_loads_into_px4_as_apply_predicts() {
+    // The MEMS IMU's run written as PX4 logs it: sensor_gyro in rad/s and sensor_accel in
+    // m/s² of one device, float32, with the die's temperature.
+    let dir = tempfile::tempdir().unwrap();
+    let run = driftlab::sim::simulate(&driftlab::sim::profile("mems-imu").unwrap(), 5);
+    let g: Vec<[f32; 3]> = (0..run.len())
+        .map(|i| [0, 1, 2].map(|k| (run.axes[k].omega_dph[i] / DPH_PER_RAD_S) as f32))
+        .collect();
+    let a: Vec<[f32; 3]> = (0..run.len())
+        .map(|i| [0, 1, 2].map(|k| (run.accelerometers[k].values_g[i] * 9.80665) as f32))
+        .collect();
+    let t: Vec<f32> = run.temp_c.iter().map(|&v| v as f32).collect();
+    let ulg = at(dir.path(), "thermal.ulg");
+    std::fs::write(
+        &ulg,
+        common::drone::ulog_imu(&run.time_s, &g, &a, &t, 2424842),
+    )
+    .unwrap();
+    let cal = at(dir.path(), "cal.json");
+    let printed = ok(&[
+        "calibrate",
+        &ulg,
+        "--accel",
+        "--model",
+        "px4",
+        "--out",
+        &cal,
+    ]);
+    assert!(
+        printed.contains("(gyro_x, gyro_y, gyro_z, accel_x, accel_y, accel_z)"),
+        "{printed}"
+    );
+    assert!(
+        printed.contains("Gravity: axis accel_z carries it"),
+        "{printed}"
+    );
+    // The accelerometer's device id is the gyro's unless given: one chip.
+    let text = ok(&[
+        "export",
+        &cal,
+        "--format",
+        "px4-params",
+        "--device-id",
+        "2424842",
+    ]);
+    let p = px4_file(&text);
+    assert_eq!(p["TC_A0_ID"], 2424842.0);
+    let applied = applied(dir.path(), &cal, &ulg);
+    let mut worst = 0.0f64;
+    for (accel, k, pred) in applied.axes.iter().filter(|(accel, _, _)| *accel) {
+        assert!(*accel);
+        let (s, _) = spread(pred, |i| f64::from(px4_offset(&p, "TC_A0", *k, t[i])));
+        worst = worst.max(s);
+    }
+    eprintln!("ULog, PX4 against apply: accelerometer spread {worst:.3e} m/s^2");
+    assert!(worst < 2e-7, "{worst}");
+}
