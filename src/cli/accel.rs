@@ -69,23 +69,8 @@ impl LogArgs {
         unit: &UnitCalibration,
         plain: bool,
     ) -> Result<Log, String> {
-        let mut ask = self.accel_ask()?;
-        if ask.columns.is_empty() {
-            ask.columns = unit
-                .axes
-                .iter()
-                .filter(|a| a.kind == driftlab::log::AxisKind::Accel && !a.rate_column.is_empty())
-                .map(|a| ColumnRef::Name(a.rate_column.clone()))
-                .collect();
-        }
-        let by_name: Vec<String> = ask
-            .columns
-            .iter()
-            .filter_map(|c| match c {
-                ColumnRef::Name(n) => Some(n.clone()),
-                ColumnRef::Index(_) => None,
-            })
-            .collect();
+        let ask = self.accel_ask_for(unit)?;
+        let by_name = by_name(&ask);
         let every = !plain || by_name.len() < ask.columns.len();
         let mut log = if every {
             self.read(input)?
@@ -105,6 +90,33 @@ impl LogArgs {
         self.take_accelerometers(&mut log, &ask)?;
         Ok(log)
     }
+
+    /// The accelerometer axes a log is read with for `unit`'s accelerometer axes: the columns
+    /// `--accel-col` gives, else those the axes were calibrated from (every column named as an
+    /// accelerometer where the calibration does not say).
+    pub(super) fn accel_ask_for(&self, unit: &UnitCalibration) -> Result<AccelAsk, String> {
+        let mut ask = self.accel_ask()?;
+        if ask.columns.is_empty() {
+            ask.columns = unit
+                .axes
+                .iter()
+                .filter(|a| a.kind == driftlab::log::AxisKind::Accel && !a.rate_column.is_empty())
+                .map(|a| ColumnRef::Name(a.rate_column.clone()))
+                .collect();
+        }
+        Ok(ask)
+    }
+}
+
+/// The columns of `ask` named by their header names.
+pub(super) fn by_name(ask: &AccelAsk) -> Vec<String> {
+    ask.columns
+        .iter()
+        .filter_map(|c| match c {
+            ColumnRef::Name(n) => Some(n.clone()),
+            ColumnRef::Index(_) => None,
+        })
+        .collect()
 }
 
 /// An accelerometer axis that could not be made, in the command line's words.

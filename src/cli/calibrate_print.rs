@@ -365,7 +365,7 @@ impl Printed<'_> {
         )?;
         for (f, ax) in self.fitted.iter().zip(&self.unit.axes) {
             let c = &f.calibrated.in_sample.comparison;
-            let [p2p, std, win_mean] = common::comparison_cells(c);
+            let [p2p, std, win_mean] = common::comparison_cells_in(c, ax.kind);
             out!(
                 "  {:<8} {:<12} {:>30} {:>30} {:>30}",
                 f.name,

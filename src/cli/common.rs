@@ -14,8 +14,8 @@
 //! calls; only [`print_json`] and a file written to standard output keep their line breaks.
 
 pub use super::figures::{
-    check_merit, check_merit_to_judge, comparison_cells, figure, fixed, num, print_evaluation,
-    print_evaluation_in, ratio, raw_to_corrected,
+    check_merit, check_merit_to_judge, comparison_cells_in, figure, figure_in, fixed, num,
+    print_evaluation, print_evaluation_in, ratio, raw_to_corrected_in,
 };
 use driftlab::Log;
 use driftlab::log::ingest::{ColumnRef, Input, Needs, RateUnit, ReadOptions, TimeUnit};

@@ -309,6 +309,7 @@ fn print_unit(a: &Args, unit: &UnitCalibration, judged: &[AxisJudged]) -> Result
             axis: &j.name,
             model: &j.model,
             comparison: &j.eval.comparison,
+            kind: j.kind,
         })
         .collect();
     print_summary(
@@ -371,6 +372,8 @@ pub(super) struct SummaryRow<'a> {
     pub(super) axis: &'a str,
     pub(super) model: &'a str,
     pub(super) comparison: &'a Comparison,
+    /// What the axis measures: the unit its figures are written in.
+    pub(super) kind: driftlab::log::AxisKind,
 }
 
 /// The summary of every axis: raw -> corrected and the ratio of the four figures, a ratio
@@ -394,7 +397,7 @@ pub(super) fn print_summary(
     )?;
     for r in rows {
         let c = r.comparison;
-        let [p2p, std, win_mean] = common::comparison_cells(c);
+        let [p2p, std, win_mean] = common::comparison_cells_in(c, r.kind);
         out!(
             "  {:<8} {:<12} {:>28} {:>28} {:>28} {:>28}",
             r.axis,
@@ -402,10 +405,11 @@ pub(super) fn print_summary(
             p2p,
             std,
             win_mean,
-            common::raw_to_corrected(
+            common::raw_to_corrected_in(
                 c.raw.win_rms_mean_dph,
                 c.corrected.win_rms_mean_dph,
-                c.win_rms_ratio
+                c.win_rms_ratio,
+                r.kind
             )
         )?;
     }
