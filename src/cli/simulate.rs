@@ -91,9 +91,9 @@ pub struct Args {
     /// Decimal mark: point or comma.
     #[arg(long, value_name = "point|comma", value_parser = sim::parse_decimal_mark)]
     pub decimal_mark: Option<bool>,
-    /// Unit of the accelerometer columns: g (acc_x_g, the default) or m/s2 (acc_x_m_s2, as a
-    /// flight controller logs them).
-    #[arg(long, value_name = "g|m/s2")]
+    /// Unit of the accelerometer columns: g (acc_x_g, the default), mg (acc_x_mg) or m/s2
+    /// (acc_x_m_s2, as a flight controller logs them).
+    #[arg(long, value_name = "g|mg|m/s2")]
     pub accel_unit: Option<AccelUnit>,
 }
 

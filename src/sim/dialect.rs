@@ -14,6 +14,7 @@ use std::str::FromStr;
 
 use super::UnknownChoice;
 use crate::error::Invalid;
+pub use crate::log::accel_axes::AccelUnit;
 use crate::log::ingest::{RateUnit, TimeUnit};
 
 /// Counts per °C of the raw temperature register (`--raw-temp-col`).
@@ -84,56 +85,13 @@ impl fmt::Display for RateNames {
     }
 }
 
-/// The unit the accelerometer columns are written in.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
-pub enum AccelUnit {
-    /// g (`acc_x_g`), to 1 µg: a test stand's.
-    #[default]
-    G,
-    /// m/s² (`acc_x_m_s2`), to 10⁻⁶ m/s²: a flight controller's (PX4's `sensor_accel`,
-    /// ArduPilot's `IMU`), by the standard gravity.
-    MetersPerSecond2,
-}
-
-impl AccelUnit {
-    /// The unit's word in a column's name.
-    fn suffix(self) -> &'static str {
-        match self {
-            AccelUnit::G => "g",
-            AccelUnit::MetersPerSecond2 => "m_s2",
-        }
-    }
-
-    /// The factor from g to this unit.
-    fn from_g(self) -> f64 {
-        match self {
-            AccelUnit::G => 1.0,
-            AccelUnit::MetersPerSecond2 => crate::log::STANDARD_GRAVITY_M_S2,
-        }
-    }
-}
-
-impl FromStr for AccelUnit {
-    type Err = UnknownChoice;
-    fn from_str(s: &str) -> Result<AccelUnit, UnknownChoice> {
-        match s.trim().to_ascii_lowercase().as_str() {
-            "g" => Ok(AccelUnit::G),
-            "m/s2" | "m/s^2" | "m_s2" | "mps2" => Ok(AccelUnit::MetersPerSecond2),
-            other => Err(UnknownChoice {
-                what: "accelerometer unit",
-                given: other.to_string(),
-                known: "g or m/s2",
-            }),
-        }
-    }
-}
-
-impl fmt::Display for AccelUnit {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(match self {
-            AccelUnit::G => "g",
-            AccelUnit::MetersPerSecond2 => "m/s2",
-        })
+/// How many g one of the accelerometer unit `u` is, and the decimals it is written to: 1 µg
+/// in g, 10⁻⁶ m/s² in m/s², 1 µg in mg.
+fn accel_writing(u: AccelUnit) -> (f64, usize) {
+    match u {
+        AccelUnit::G => (1.0, 6),
+        AccelUnit::MetersPerSecond2 => (crate::log::STANDARD_GRAVITY_M_S2, 6),
+        AccelUnit::MilliG => (1000.0, 3),
     }
 }
 
@@ -434,6 +392,7 @@ pub(crate) struct Writer<'d> {
     rate_factor: f64,
     rate_decimals: usize,
     accel_factor: f64,
+    accel_decimals: usize,
 }
 
 impl<'d> Writer<'d> {
@@ -444,7 +403,8 @@ impl<'d> Writer<'d> {
             bytes: Vec::with_capacity(256),
             rate_factor: 1.0 / dialect.rate_unit.to_dph_factor(),
             rate_decimals: dialect.rate_decimals(),
-            accel_factor: dialect.accel_unit.from_g(),
+            accel_factor: accel_writing(dialect.accel_unit).0,
+            accel_decimals: accel_writing(dialect.accel_unit).1,
         }
     }
 
@@ -508,10 +468,11 @@ impl<'d> Writer<'d> {
             }
         }
         for &v in r.accel_g {
+            let d = self.accel_decimals;
             if self.accel_factor == 1.0 {
-                let _ = write!(line, "{sep}{v:.6}");
+                let _ = write!(line, "{sep}{v:.d$}");
             } else {
-                let _ = write!(line, "{sep}{:.6}", v * self.accel_factor);
+                let _ = write!(line, "{sep}{:.d$}", v * self.accel_factor);
             }
         }
         if d.raw_temp_register {
