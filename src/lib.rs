@@ -58,6 +58,7 @@ pub mod export;
 pub mod files;
 pub mod judge;
 pub mod log;
+pub mod lot;
 pub mod models;
 pub mod number;
 pub mod refit;

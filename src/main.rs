@@ -16,6 +16,8 @@ fn main() -> std::process::ExitCode {
         // The reader of the output is gone; a shell reports 141 for a program a closed pipe
         // stopped, and says nothing.
         Err(cli::CliError::ClosedOutput) => std::process::ExitCode::from(141),
+        // The command's verdict (a lot's units not all passing), already printed.
+        Err(cli::CliError::Status(code)) => std::process::ExitCode::from(code),
         Err(cli::CliError::Message(message)) => {
             // Standard error full or closed: nothing is left to tell; the status still says it.
             // Nothing in the message a terminal would obey reaches it (cli::write_err).

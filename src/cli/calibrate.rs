@@ -8,11 +8,11 @@ use super::common::{self, CliError, LogArgs};
 use driftlab::Log;
 use driftlab::files::atomic::Batch;
 use driftlab::files::calibration;
-use driftlab::judge::metrics::MeritOptions;
 use driftlab::models::approx::{ApproxKind, ApproxSpec};
+use driftlab::models::campaign::UnitPlan;
 use driftlab::models::recipe::{CheckedRecipe, PlateauChoice, Recipe};
 use driftlab::models::regression::{DelaySpec, FitSamples, LagSpec, RegressionSpec, terms};
-use driftlab::models::{self, AxisPlan, DriftModel, ModelChoice, Preset, UnitCalibration};
+use driftlab::models::{self, AxisPlan, ModelChoice, Preset};
 use driftlab::signal::plateau::PlateauRange;
 use std::path::{Path, PathBuf};
 
@@ -355,10 +355,6 @@ pub fn run(a: Args) -> Result<(), CliError> {
     let choice = a.choice()?;
     a.refuse_saving_a_model(&choice)?;
     let mut warnings = a.check_settings(&recipe, &choice)?;
-    let merit = MeritOptions {
-        filter_s: recipe.filter_s,
-        ..MeritOptions::default()
-    };
     // Vakhrameev's model reads the three calibration columns only; the others are neither
     // parsed nor held.
     let all_vakhrameev = choice.is_vakhrameev() && a.axis_models_all_vakhrameev()?;
@@ -372,46 +368,30 @@ pub fn run(a: Args) -> Result<(), CliError> {
         )));
     }
     let accel = a.accel_asked()?;
-    let (mut log, log_name, sha256) = a.read_runs(all_vakhrameev && accel.is_none())?;
+    let mut runs = a.read_runs(all_vakhrameev && accel.is_none())?;
     if let Some(ask) = &accel {
-        a.log_args.take_accelerometers(&mut log, ask)?;
+        a.log_args.take_accelerometers(&mut runs.log, ask)?;
     }
-    // What joining the runs left out (a channel some runs lack) or could not check (which
-    // drone-log gyro a CSV run is), said with the rest.
-    warnings.extend(
-        log.info
-            .problems
-            .iter()
-            .filter(|p| {
-                matches!(
-                    p.kind,
-                    driftlab::log::ProblemKind::LeftOut | driftlab::log::ProblemKind::Unchecked
-                )
-            })
-            .map(|p| format!("{}: {}", log.source, p.message)),
-    );
-    warnings.extend(
-        recipe
-            .one_sample_windows(log.nominal_dt_s(), &log.source)
-            .iter()
-            .chain(&recipe.plateaus_beyond(&log))
-            .map(|w| a.in_source_words(w, a.recipe_file().as_deref())),
-    );
     // The axes of a unit, each with its plan; a log of one axis is a unit of one unnamed axis.
     // The `--axis-recipe` each axis's recipe came from, by axis name, for the fit's refusals.
     let mut axis_files: Vec<(String, String)> = Vec::new();
-    let (plans, saved_recipe) = match a
-        .with_accelerometers(common::chosen_axes(&a.axes, &a.log_args, &log)?, &log)?
-    {
+    let (plans, saved_recipe, axis_warnings) = match a.with_accelerometers(
+        common::chosen_axes(&a.axes, &a.log_args, &runs.log)?,
+        &runs.log,
+    )? {
         Some(axes) => {
-            let (plans, axis_warnings) = a.plans(&log, &axes, &recipe, &choice, &mut axis_files)?;
-            warnings.extend(axis_warnings);
+            let (plans, axis_warnings) =
+                a.plans(&runs.log, &axes, &recipe, &choice, &mut axis_files)?;
             let saved = a.recipe_to_save(&plans)?;
-            (plans, saved)
+            (plans, saved, axis_warnings)
         }
         None => {
             a.refuse_per_axis_options()?;
-            (vec![AxisPlan::unnamed(choice, recipe.clone())], recipe)
+            (
+                vec![AxisPlan::unnamed(choice, recipe.clone())],
+                recipe.clone(),
+                Vec::new(),
+            )
         }
     };
     common::status(&match plans.as_slice() {
@@ -419,11 +399,15 @@ pub fn run(a: Args) -> Result<(), CliError> {
         [_] => "fitting 1 axis ...".to_string(),
         p => format!("fitting {} axes ...", p.len()),
     });
-    let campaign = a.campaign_options();
-    let fitted = models::campaign::calibrate_campaign(&mut log, &plans, &merit, &campaign);
+    let plan = UnitPlan {
+        recipe,
+        plans,
+        campaign: a.campaign_options(),
+    };
+    let merit = plan.merit();
     let recipe_file = a.recipe_file();
-    let fitted = fitted.map_err(|e| {
-        common::fit_failed(&log.source, &e, &|i| {
+    let fitted = models::campaign::calibrate_runs(&mut runs, &plan).map_err(|e| {
+        common::fit_failed(&runs.log.source, &e, &|i| {
             // An axis's setting refused: named by its `--axis-recipe` when that gave it.
             let on_axis = i
                 .field
@@ -442,11 +426,21 @@ pub fn run(a: Args) -> Result<(), CliError> {
             }
         })
     })?;
-    let unit = stamped(&fitted, &log_name, &sha256, campaign.tolerance_c);
+    // What joining the runs left out (a channel some runs lack) or could not check (which
+    // drone-log gyro a CSV run is), the settings the log makes odd, then each axis's own.
+    warnings.extend(fitted.warnings.iter().cloned());
+    warnings.extend(
+        fitted
+            .settings_told
+            .iter()
+            .map(|w| a.in_source_words(w, recipe_file.as_deref())),
+    );
+    warnings.extend(axis_warnings);
+    let unit = &fitted.unit;
     // Both files are written before either is put in place: a recipe that cannot be
     // written leaves the old calibration as it was.
     let mut outputs = Batch::new();
-    calibration::stage_unit(&mut outputs, &a.out, &unit).map_err(|e| e.to_string())?;
+    calibration::stage_unit(&mut outputs, &a.out, unit).map_err(|e| e.to_string())?;
     if let Some(p) = &a.save_recipe {
         let text =
             serde_json::to_string_pretty(saved_recipe.recipe()).map_err(|e| e.to_string())? + "\n";
@@ -457,9 +451,9 @@ pub fn run(a: Args) -> Result<(), CliError> {
     outputs.commit().map_err(|e| e.to_string())?;
     let printed = calibrate_print::Printed {
         out: &a.out,
-        fitted: &fitted.axes,
-        tolerance_c: campaign.tolerance_c,
-        unit: &unit,
+        fitted: &fitted.fit.axes,
+        tolerance_c: plan.campaign.tolerance_c,
+        unit,
         warnings: &warnings,
         window_s: merit.window_s,
     };
@@ -468,50 +462,6 @@ pub fn run(a: Args) -> Result<(), CliError> {
         (false, false) => printed.single_text(),
         (true, true) => printed.unit_json(),
         (true, false) => printed.unit_text(),
-    }
-}
-
-/// The calibration file's unit: every axis's model with the log's name and SHA-256 (a
-/// campaign's runs each with theirs, and none for the whole), its record of the runs, and one
-/// date (the axes are fitted within a second or two of each other).
-fn stamped(
-    fitted: &models::campaign::CampaignFit,
-    log_name: &str,
-    sha256: &str,
-    tolerance_c: f64,
-) -> UnitCalibration {
-    let created = fitted
-        .axes
-        .first()
-        .map(|f| created_of(&f.calibrated.model))
-        .unwrap_or_default();
-    let axes = fitted
-        .axes
-        .iter()
-        .zip(&fitted.runs)
-        .map(|(f, runs)| {
-            let mut model = f.calibrated.model.clone();
-            model.source_mut().name = log_name.to_string();
-            model.source_mut().sha256 = sha256.to_string();
-            models::campaign::stamp_runs(model.source_mut(), runs.clone(), tolerance_c);
-            set_created(&mut model, &created);
-            f.axis_model(model)
-        })
-        .collect();
-    UnitCalibration { axes }
-}
-
-fn created_of(model: &DriftModel) -> String {
-    match model {
-        DriftModel::Vakhrameev(c) => c.created.clone(),
-        DriftModel::Regression(r) => r.created.clone(),
-    }
-}
-
-fn set_created(model: &mut DriftModel, created: &str) {
-    match model {
-        DriftModel::Vakhrameev(c) => c.created = created.to_string(),
-        DriftModel::Regression(r) => r.created = created.to_string(),
     }
 }
 

@@ -4,7 +4,6 @@
 
 use super::calibrate::Args;
 use super::common::CliError;
-use driftlab::Log;
 use driftlab::files::calibration;
 use driftlab::models;
 
@@ -60,10 +59,13 @@ impl Args {
     }
 
     /// Reads every run (only the calibration columns when every axis is Vakhrameev's) and
-    /// joins them into one campaign (one run is its log as read), with the name the
-    /// calibration records (the file's, or the runs' joined) and the one file's SHA-256
-    /// (empty for a campaign, whose runs each keep theirs).
-    pub(super) fn read_runs(&self, columns_only: bool) -> Result<(Log, String, String), CliError> {
+    /// joins them into one campaign (one run is its log as read) by the engine's one path
+    /// ([`models::campaign::JoinedRuns::join`]), which names them and keeps the one file's
+    /// SHA-256.
+    pub(super) fn read_runs(
+        &self,
+        columns_only: bool,
+    ) -> Result<models::campaign::JoinedRuns, CliError> {
         let mut runs = Vec::with_capacity(self.log.len());
         for path in &self.log {
             let input = self.log_args.open(path)?;
@@ -86,24 +88,7 @@ impl Args {
                 sha256: sha256?,
             });
         }
-        // A campaign's runs are named by their files, as one log's calibration is (by the
-        // folders that tell them apart where files share a name).
-        let names = driftlab::log::campaign::run_names(&self.log);
-        let (name, sha256) = if let [one] = runs.as_slice() {
-            (names[0].clone(), one.sha256.clone())
-        } else {
-            for (r, name) in runs.iter_mut().zip(names) {
-                r.log.source = name;
-            }
-            (String::new(), String::new())
-        };
-        let log = driftlab::log::campaign::join(runs)
-            .map_err(|e| CliError::Message(super::log_source::in_flags(&e.to_string())))?;
-        let name = if name.is_empty() {
-            log.source.clone()
-        } else {
-            name
-        };
-        Ok((log, name, sha256))
+        models::campaign::JoinedRuns::join(runs, &self.log)
+            .map_err(|e| CliError::Message(super::log_source::in_flags(&e.to_string())))
     }
 }

@@ -32,6 +32,9 @@ pub enum CliError {
     /// The reader of standard output closed it (`| head -1`): the command stops without a
     /// word, with the status a shell gives a program a closed pipe stopped (141).
     ClosedOutput,
+    /// The command did its work and printed it, and ends with this status to say what it
+    /// found (`lot`: a unit failed, or could not be calibrated), with nothing more to print.
+    Status(u8),
 }
 
 impl From<String> for CliError {

@@ -19,6 +19,7 @@ mod export;
 mod figures;
 mod inspect;
 mod log_source;
+mod lot;
 mod report;
 mod simulate;
 
@@ -59,6 +60,10 @@ pub enum Command {
     Convert(convert::Args),
     /// Allan deviation of a log's rate with intervals, and ARW, bias instability and RRW.
     Allan(allan::Args),
+    /// Calibrate every unit of a lot, judge each against an acceptance spec, and find the
+    /// outliers: a line per unit, lot.csv and lot.json; exit 0 when every unit passes, 2 when
+    /// one fails, 3 when one could not be calibrated.
+    Lot(lot::Args),
     /// Open the workbench (the default when no command is given).
     Gui(GuiArgs),
 }
@@ -137,6 +142,7 @@ pub fn run(command: Command) -> Result<(), CliError> {
         Command::Compare(a) => compare::run(a),
         Command::Allan(a) => allan::run(a),
         Command::Convert(a) => convert::run(a),
+        Command::Lot(a) => lot::run(a),
         Command::Gui(a) => a
             .log_args
             .refuse_accel("gui")

@@ -22,10 +22,12 @@ use crate::signal::plateau::{self, PlateauStats};
 use serde::{Deserialize, Serialize};
 
 mod check;
+mod unit_runs;
 pub use check::{
     MAX_RUN_DURATION_S, MAX_RUN_NAME_CHARS, MAX_RUN_PLATEAUS, MAX_RUN_START_S, check_same_runs,
     validate_runs,
 };
+pub use unit_runs::{JoinedRuns, UnitFit, UnitPlan, calibrate_runs};
 
 /// Two plateaus share a temperature when they are within this of each other's group, °C, by
 /// default ([`CampaignOptions::tolerance_c`]).

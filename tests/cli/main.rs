@@ -28,6 +28,7 @@ mod gyro_identity;
 mod in_sample;
 mod in_sample_told;
 mod kalibr;
+mod lot;
 mod output_hashes;
 mod overwrite_inputs;
 mod quoting;

@@ -11,6 +11,16 @@ use crate::common::run::{ok, p, sample};
 use serde_json::Value;
 use std::f64::consts::TAU;
 
+/// The training chamber program of the MEMS logs: a slow cosine over 10 .. 60 °C.
+fn training_program(t: f64) -> f64 {
+    35.0 - 25.0 * (TAU * t / 10_800.0).cos()
+}
+
+/// The held-out chamber program of the MEMS logs: another program over 12 .. 58 °C.
+fn held_out_program(t: f64) -> f64 {
+    35.0 + 20.0 * (TAU * t / 5_400.0).sin() + 3.0 * (TAU * t / 1_300.0).sin()
+}
+
 /// A MEMS gyro's log at 1 Hz: its bias `Σ a_k·(T − 35)^k` °/h plus white noise, under the
 /// chamber program `temp(t)`.
 fn mems_csv(path: &str, seconds: usize, temp: impl Fn(f64) -> f64, seed: u64) {
@@ -68,19 +78,8 @@ fn compare_json(args: &[&str]) -> Value {
 fn on_a_mems_gyro_the_cubic_forms_are_recommended_and_match_the_scripts() {
     let dir = tempfile::tempdir().unwrap();
     let (train, test) = (p(dir.path(), "train.csv"), p(dir.path(), "test.csv"));
-    // Training: a slow cosine 10 .. 60 °C; held out: another program over 12 .. 58 °C.
-    mems_csv(
-        &train,
-        21_600,
-        |t| 35.0 - 25.0 * (TAU * t / 10_800.0).cos(),
-        1,
-    );
-    mems_csv(
-        &test,
-        14_400,
-        |t| 35.0 + 20.0 * (TAU * t / 5_400.0).sin() + 3.0 * (TAU * t / 1_300.0).sin(),
-        2,
-    );
+    mems_csv(&train, 21_600, training_program, 1);
+    mems_csv(&test, 14_400, held_out_program, 2);
     let json = compare_json(&[
         "--train",
         &train,
@@ -318,18 +317,8 @@ fn filtered_p2p(x: &[f64]) -> f64 {
 fn on_a_three_axis_mems_imu_the_recommendation_is_as_good_as_the_scripts_on_every_axis() {
     let dir = tempfile::tempdir().unwrap();
     let (train, test) = (p(dir.path(), "train.csv"), p(dir.path(), "test.csv"));
-    mems3_csv(
-        &train,
-        21_600,
-        |t| 35.0 - 25.0 * (TAU * t / 10_800.0).cos(),
-        3,
-    );
-    let noise = mems3_csv(
-        &test,
-        14_400,
-        |t| 35.0 + 20.0 * (TAU * t / 5_400.0).sin() + 3.0 * (TAU * t / 1_300.0).sin(),
-        4,
-    );
+    mems3_csv(&train, 21_600, training_program, 3);
+    let noise = mems3_csv(&test, 14_400, held_out_program, 4);
     // The default models, with the scripts' reference rows among them.
     let json = compare_json(&["--train", &train, "--test", &test]);
     let axes = json["axes"].as_array().unwrap();

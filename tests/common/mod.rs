@@ -7,6 +7,7 @@ pub mod firmware;
 pub mod gui;
 pub mod imu;
 pub mod ingest;
+pub mod lot;
 pub mod run;
 pub mod sim;
 

@@ -19,6 +19,7 @@ mod k0_knots;
 mod k0_temperatures;
 mod knot_placement;
 mod lod;
+mod lot;
 mod model;
 mod models;
 mod properties;

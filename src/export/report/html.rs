@@ -58,7 +58,9 @@ pub fn fmt_num(v: f64) -> String {
     format!("{v:.decimals$}")
 }
 
-pub(super) const CSS: &str = "
+/// The styles of every page driftlab writes (the report's, and a lot's `lot.html`), so they
+/// read and print alike.
+pub const CSS: &str = "
 body { font-family: 'DejaVu Sans', Verdana, sans-serif; font-size: 10.5pt; color: #111;
        max-width: 1100px; margin: 2em auto; padding: 0 1em; line-height: 1.4; }
 h1 { font-size: 20pt; margin-bottom: 0.2em; }
