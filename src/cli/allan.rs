@@ -49,6 +49,7 @@ pub struct Args {
 }
 
 pub fn run(a: Args) -> Result<(), CliError> {
+    a.log_args.refuse_accel("allan")?;
     if let Some(k) = &a.kalibr {
         let mut reads = common::Reads::default();
         reads.add("the log", &a.log);

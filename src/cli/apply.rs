@@ -2,6 +2,7 @@
 
 use super::common::{self, CliError, LogArgs};
 use driftlab::files::corrected_csv::{self, WriteError};
+use driftlab::models::UnitCalibration;
 use std::path::{Path, PathBuf};
 
 /// Arguments of `apply`.
@@ -13,7 +14,8 @@ pub struct Args {
     pub log: PathBuf,
     /// Where to write `time_s,omega_raw_dph,omega_pred_dph,omega_cor_dph,temp_c`; for a unit
     /// of several axes `time_s`, then `<axis>_raw_dph,<axis>_pred_dph,<axis>_cor_dph` for each
-    /// axis in the calibration's order, then `temp_c`.
+    /// axis in the calibration's order (`<axis>_raw_m_s2,…` for an accelerometer axis, after
+    /// the gyro axes), then `temp_c`.
     #[arg(long, short)]
     pub out: PathBuf,
     #[command(flatten)]
@@ -43,7 +45,7 @@ pub fn run(mut a: Args) -> Result<(), CliError> {
     if let Some(b) = bar {
         b.finish_and_clear();
     }
-    let outside = written.map_err(|e| in_words(e, &a.calibration))?;
+    let outside = written.map_err(|e| in_words(e, &unit, &a.calibration))?;
     for (ax, fraction) in unit.axes.iter().zip(outside) {
         note_outside(&ax.name, fraction);
         note_warm_up(&ax.name, ax.model.warm_up_samples(&log), log.len());
@@ -68,14 +70,23 @@ pub fn run(mut a: Args) -> Result<(), CliError> {
 
 /// The command line's words for why the log was not corrected: a missing axis with the flag
 /// that maps the rate columns, a model's error with the calibration file.
-fn in_words(e: WriteError, calibration: &Path) -> CliError {
+fn in_words(e: WriteError, unit: &UnitCalibration, calibration: &Path) -> CliError {
     match e {
         WriteError::MissingAxis {
             log,
             axis,
             rate_column,
             log_axes,
-        } => super::evaluate::missing_axis(&log, &axis, &rate_column, &log_axes, calibration),
+        } => super::evaluate::missing_axis(
+            &log,
+            (
+                &axis,
+                unit.axis(&axis).map_or(Default::default(), |a| a.kind),
+            ),
+            &rate_column,
+            &log_axes,
+            calibration,
+        ),
         WriteError::Predict { .. } => format!("{}: {e}", calibration.display()).into(),
         WriteError::Io { .. } => e.to_string().into(),
     }

@@ -119,6 +119,11 @@ pub struct Args {
     /// Options given here still apply.
     #[arg(long = "axis-recipe", value_name = "AXIS=FILE")]
     pub axis_recipes: Vec<String>,
+    /// Calibrate the log's accelerometer axes too, after its gyro axes (the columns whose
+    /// names say so, or those --accel-col names): each a static model in T (poly-t3 unless
+    /// --model or --axis-model gives another), about its mean, which its correction keeps.
+    #[arg(long)]
+    pub accel: bool,
     /// Print the summary as JSON.
     #[arg(long)]
     pub json: bool,
@@ -362,27 +367,33 @@ pub fn run(a: Args) -> Result<(), CliError> {
             a.recipe_file().unwrap_or_else(|| "the recipe".into())
         )));
     }
-    let mut runs = a.read_runs(all_vakhrameev)?;
+    let accel = a.accel_asked()?;
+    let mut runs = a.read_runs(all_vakhrameev && accel.is_none())?;
+    if let Some(ask) = &accel {
+        a.log_args.take_accelerometers(&mut runs.log, ask)?;
+    }
     // The axes of a unit, each with its plan; a log of one axis is a unit of one unnamed axis.
     // The `--axis-recipe` each axis's recipe came from, by axis name, for the fit's refusals.
     let mut axis_files: Vec<(String, String)> = Vec::new();
-    let (plans, saved_recipe, axis_warnings) =
-        match common::chosen_axes(&a.axes, &a.log_args, &runs.log)? {
-            Some(axes) => {
-                let (plans, axis_warnings) =
-                    a.plans(&runs.log, &axes, &recipe, &choice, &mut axis_files)?;
-                let saved = a.recipe_to_save(&plans)?;
-                (plans, saved, axis_warnings)
-            }
-            None => {
-                a.refuse_per_axis_options()?;
-                (
-                    vec![AxisPlan::unnamed(choice, recipe.clone())],
-                    recipe.clone(),
-                    Vec::new(),
-                )
-            }
-        };
+    let (plans, saved_recipe, axis_warnings) = match a.with_accelerometers(
+        common::chosen_axes(&a.axes, &a.log_args, &runs.log)?,
+        &runs.log,
+    )? {
+        Some(axes) => {
+            let (plans, axis_warnings) =
+                a.plans(&runs.log, &axes, &recipe, &choice, &mut axis_files)?;
+            let saved = a.recipe_to_save(&plans)?;
+            (plans, saved, axis_warnings)
+        }
+        None => {
+            a.refuse_per_axis_options()?;
+            (
+                vec![AxisPlan::unnamed(choice, recipe.clone())],
+                recipe.clone(),
+                Vec::new(),
+            )
+        }
+    };
     common::status(&match plans.as_slice() {
         [one] if one.name.is_empty() => "fitting ...".to_string(),
         [_] => "fitting 1 axis ...".to_string(),
@@ -506,7 +517,7 @@ impl Args {
             .iter()
             .map(|name| AxisPlan {
                 name: name.clone(),
-                choice: choice.clone(),
+                choice: self.choice_for(log, name, choice),
                 recipe: recipe.clone(),
             })
             .collect();
@@ -550,7 +561,10 @@ impl Args {
             axis_files.push((name, v.clone()));
         }
         let mut warnings = axis_notes;
-        for p in &plans {
+        for p in plans
+            .iter()
+            .filter(|p| !self.accel_by_default(log, p, &given))
+        {
             let w = self
                 .check_settings(&p.recipe, &p.choice)
                 .map_err(|e| format!("axis {}: {e}", p.name))?;
@@ -632,11 +646,16 @@ impl Args {
 /// the same axis given twice (`gx=poly-t` and `x=ieee952`) is refused rather than the last
 /// taken, as `--axes gx,gx` is.
 #[derive(Default)]
-struct Given<'a> {
+pub(super) struct Given<'a> {
     seen: Vec<(&'static str, String, &'a str)>,
 }
 
 impl<'a> Given<'a> {
+    /// Whether `option` gave axis `name` a value.
+    pub(super) fn gave(&self, option: &str, name: &str) -> bool {
+        self.seen.iter().any(|(o, n, _)| *o == option && n == name)
+    }
+
     /// Records `option` `value` for axis `name`, or refuses it naming both values.
     fn once(&mut self, option: &'static str, name: &str, value: &'a str) -> Result<(), CliError> {
         if let Some((_, _, first)) = self.seen.iter().find(|(o, n, _)| *o == option && n == name) {

@@ -2,6 +2,8 @@
 //! always was, or each axis of a unit and a summary of them.
 
 use super::common::{self, CliError, fixed, num};
+use driftlab::log::AxisKind;
+use driftlab::models::accel::{self, Gravity};
 use driftlab::models::regression::RegressionCalibration;
 use driftlab::models::vakhrameev::Calibration;
 use driftlab::models::{CalibratedAxis, DriftModel, UnitCalibration};
@@ -102,15 +104,17 @@ pub fn vakhrameev_summary(cal: &Calibration, warnings: &[String]) -> Result<(), 
 }
 
 /// What a regression fit found: terms with coefficients and standard errors, λ, lag, delays,
-/// and searches that ended at the edge of their range.
-pub fn regression_summary(r: &RegressionCalibration) -> Result<(), CliError> {
+/// and searches that ended at the edge of their range; its residual in the unit of the axis's
+/// kind.
+fn regression_summary(r: &RegressionCalibration, kind: AxisKind) -> Result<(), CliError> {
     let m = &r.model;
     out!(
-        "Model {} on {}: {} samples, RMS residual {:.4} deg/h, R² {:.3}",
+        "Model {} on {}: {} samples, RMS residual {:.4} {}, R² {:.3}",
         m.spec.name,
         r.source.name,
         m.stats.n,
         m.stats.rmse,
+        kind.unit_ascii(),
         m.stats.r2
     )?;
     out!("  {:<22} {:>14} {:>12}", "term", "coefficient", "std error")?;
@@ -159,11 +163,11 @@ pub fn model_json(model: &DriftModel) -> serde_json::Value {
 }
 
 /// What a model's fit found, and the warnings about it.
-fn model_summary(model: &DriftModel, warnings: &[String]) -> Result<(), CliError> {
+fn model_summary(model: &DriftModel, warnings: &[String], kind: AxisKind) -> Result<(), CliError> {
     match model {
         DriftModel::Vakhrameev(cal) => vakhrameev_summary(cal, warnings),
         DriftModel::Regression(r) => {
-            regression_summary(r)?;
+            regression_summary(r, kind)?;
             for w in warnings {
                 note!("warning: {w}");
             }
@@ -219,7 +223,7 @@ impl Printed<'_> {
         let (f, model) = (&self.fitted[0], &self.unit.axes[0].model);
         let mut warnings = self.warnings.to_vec();
         warnings.extend(f.calibrated.warnings.iter().cloned());
-        model_summary(model, &warnings)?;
+        model_summary(model, &warnings, AxisKind::Gyro)?;
         super::campaign_print::text(model, self.tolerance_c)?;
         out!()?;
         out!(
@@ -246,6 +250,12 @@ impl Printed<'_> {
                     "in_sample": f.calibrated.in_sample,
                     "warnings": f.calibrated.warnings,
                 });
+                // An accelerometer says so: its figures are in m/s², about the mean it keeps.
+                if let (Some(o), AxisKind::Accel) = (v.as_object_mut(), ax.kind) {
+                    o.insert("kind".into(), serde_json::json!(ax.kind));
+                    o.insert("unit".into(), serde_json::json!(ax.kind.unit_ascii()));
+                    o.insert("kept_mean_m_s2".into(), serde_json::json!(ax.kept_mean));
+                }
                 if let (Some(o), serde_json::Value::Object(body)) =
                     (v.as_object_mut(), model_json(&ax.model))
                 {
@@ -260,11 +270,15 @@ impl Printed<'_> {
                 v
             })
             .collect();
-        common::print_json(&serde_json::json!({
+        let mut out = serde_json::json!({
             "calibration": self.out,
             "warnings": self.warnings,
             "axes": axes,
-        }))
+        });
+        if let (Some(o), Some(g)) = (out.as_object_mut(), accel::gravity(self.unit)) {
+            o.insert("gravity".into(), gravity_json(&g));
+        }
+        common::print_json(&out)
     }
 
     /// A unit as text: each axis's fit and in-sample figures, a summary, the file.
@@ -295,17 +309,30 @@ impl Printed<'_> {
                 .iter()
                 .map(|w| format!("axis {}: {w}", f.name))
                 .collect();
-            model_summary(&ax.model, &axis_warnings)?;
+            model_summary(&ax.model, &axis_warnings, ax.kind)?;
             super::campaign_print::text(&ax.model, self.tolerance_c)?;
             out!()?;
-            out!(
-                "In-sample, axis {} (calibrated and evaluated on {name}):",
-                f.name
-            )?;
-            common::print_evaluation(&f.calibrated.in_sample, self.window_s)?;
+            match ax.kept_mean {
+                Some(mean) => out!(
+                    "In-sample, axis {} (calibrated and evaluated on {name}, about its mean {} \
+                     {}, which its correction keeps):",
+                    f.name,
+                    num(mean),
+                    ax.kind.unit_ascii()
+                )?,
+                None => out!(
+                    "In-sample, axis {} (calibrated and evaluated on {name}):",
+                    f.name
+                )?,
+            }
+            common::print_evaluation_in(&f.calibrated.in_sample, self.window_s, ax.kind)?;
             out!()?;
         }
         self.unit_summary(&name)?;
+        if let Some(g) = accel::gravity(self.unit) {
+            out!()?;
+            out!("{}", gravity_text(&g))?;
+        }
         out!()?;
         out!(
             "Calibration of {} ({}) written to {}",
@@ -322,7 +349,12 @@ impl Printed<'_> {
     /// One line per axis: the in-sample figures, raw against corrected.
     fn unit_summary(&self, log_name: &str) -> Result<(), CliError> {
         let w = driftlab::judge::options::window_label(self.window_s);
-        out!("Unit summary, in-sample on {log_name} (deg/h; raw -> corrected, raw/cor):")?;
+        let units = if self.unit.has_accelerometers() {
+            "deg/h, m/s^2 for the accelerometer axes"
+        } else {
+            "deg/h"
+        };
+        out!("Unit summary, in-sample on {log_name} ({units}; raw -> corrected, raw/cor):")?;
         out!(
             "  {:<8} {:<12} {:>30} {:>30} {:>30}",
             "axis",
@@ -333,7 +365,7 @@ impl Printed<'_> {
         )?;
         for (f, ax) in self.fitted.iter().zip(&self.unit.axes) {
             let c = &f.calibrated.in_sample.comparison;
-            let [p2p, std, win_mean] = common::comparison_cells(c);
+            let [p2p, std, win_mean] = common::comparison_cells_in(c, ax.kind);
             out!(
                 "  {:<8} {:<12} {:>30} {:>30} {:>30}",
                 f.name,
@@ -345,4 +377,35 @@ impl Printed<'_> {
         }
         Ok(())
     }
+}
+
+/// Which axis carries gravity and how its reading changes with T, in one line.
+pub fn gravity_text(g: &Gravity) -> String {
+    let change = match g.scale_change_per_c {
+        Some(c) => format!(
+            "; its reading changes by {} ppm/degC of its mean over {} .. {} degC: its scale \
+             factor's change with T, its bias's change included (one orientation cannot part \
+             them)",
+            num(c * 1e6),
+            num(g.range_c.0),
+            num(g.range_c.1)
+        ),
+        None => String::new(),
+    };
+    format!(
+        "Gravity: axis {} carries it (mean {} m/s^2 on the calibration log, kept by its \
+         correction){change}",
+        g.axis,
+        num(g.mean_m_s2)
+    )
+}
+
+/// [`gravity_text`]'s numbers for `--json`.
+pub fn gravity_json(g: &Gravity) -> serde_json::Value {
+    serde_json::json!({
+        "axis": g.axis,
+        "mean_m_s2": g.mean_m_s2,
+        "range_c": [g.range_c.0, g.range_c.1],
+        "scale_change_ppm_per_c": g.scale_change_per_c.map(|c| c * 1e6),
+    })
 }

@@ -14,8 +14,8 @@
 //! calls; only [`print_json`] and a file written to standard output keep their line breaks.
 
 pub use super::figures::{
-    check_merit, check_merit_to_judge, comparison_cells, figure, fixed, num, print_evaluation,
-    ratio, raw_to_corrected,
+    check_merit, check_merit_to_judge, comparison_cells_in, figure, figure_in, fixed, num,
+    print_evaluation, print_evaluation_in, ratio, raw_to_corrected_in,
 };
 use driftlab::Log;
 use driftlab::log::ingest::{ColumnRef, Input, Needs, RateUnit, ReadOptions, TimeUnit};
@@ -208,6 +208,15 @@ pub struct LogArgs {
     /// Which gyro of a drone or robot log (`log_source.rs`).
     #[command(flatten)]
     pub format: super::log_source::FormatArgs,
+    /// Accelerometer column, a header name or a 1-based index (repeatable): read as an
+    /// accelerometer axis, beside the gyro axes (default: the columns whose names say so,
+    /// acc_x, ax_g, accel_x_m_s2). calibrate, apply, evaluate, report and allan take it.
+    #[arg(long, value_name = "NAME|N")]
+    pub accel_col: Vec<String>,
+    /// Unit of the accelerometer columns whose names state none: g, mg or m/s2 (default:
+    /// told by the magnitude of gravity on them).
+    #[arg(long, value_name = "UNIT")]
+    pub accel_unit: Option<String>,
 }
 
 impl LogArgs {
@@ -278,7 +287,15 @@ impl LogArgs {
             .axes
             .iter()
             .all(|ax| matches!(ax.model.inputs(), (None, c) if c.is_empty()));
-        let log = if plain {
+        let log = if unit.has_accelerometers() {
+            self.read_with_accelerometers(input, unit, plain)?
+        } else if self.accel_given() {
+            return Err(format!(
+                "--accel-col, --accel-unit: the calibration has no accelerometer axis (its axes: \
+                 {})",
+                unit.axis_names().join(", ")
+            ));
+        } else if plain {
             self.read_columns(input)?
         } else {
             self.read(input)?
@@ -477,6 +494,7 @@ pub fn fit_failed(
             FitError::NoK0Plateaus => Some("--plateau START:END"),
             FitError::NoRateHistory { .. } => Some("--smooth, --step-h"),
             FitError::DelayBeyondLog { .. } => Some("--delay"),
+            FitError::NotStatic { .. } => Some("--axis-model AXIS=poly-t3, or --model of one"),
             FitError::FrozenRate { axis, .. } if !axis.is_empty() => {
                 Some("calibrate the other axes: --axes")
             }

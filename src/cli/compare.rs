@@ -81,6 +81,7 @@ pub struct Args {
 }
 
 pub fn run(a: Args) -> Result<(), CliError> {
+    a.log_args.refuse_accel("compare")?;
     refuse_custom_options_without_custom(&a)?;
     let how = CustomOptions {
         delay: a.delay.clone().unwrap_or_default(),

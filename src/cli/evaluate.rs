@@ -52,7 +52,8 @@ pub fn run(mut a: Args) -> Result<(), CliError> {
         if !log.select_axis(column) {
             return Err(format!("{}: axis {column} vanished from the log", log.source).into());
         }
-        let judged_axis = judge(&a, &ax.model, &log, &hash).map_err(|e| {
+        // An accelerometer axis is judged about the mean its correction keeps, as it was fitted.
+        let judged_axis = judge(&a, &ax.model, &ax.as_fitted(&log), &hash).map_err(|e| {
             if unit.is_unit() {
                 in_axis(&ax.name, e)
             } else {
@@ -68,6 +69,8 @@ pub fn run(mut a: Args) -> Result<(), CliError> {
             share: judged_axis.share,
             campaign_run: judged_axis.campaign_run,
             eval: judged_axis.evaluation,
+            kind: ax.kind,
+            kept_mean: ax.kept_mean,
         });
     }
     if unit.is_unit() {
@@ -172,7 +175,16 @@ pub(super) fn unit_axes(
             axis,
             rate_column,
             log_axes,
-        } => missing_axis(&log, &axis, &rate_column, &log_axes, calibration),
+        } => missing_axis(
+            &log,
+            (
+                &axis,
+                unit.axis(&axis).map_or(Default::default(), |a| a.kind),
+            ),
+            &rate_column,
+            &log_axes,
+            calibration,
+        ),
         other => other.to_string().into(),
     })
 }
@@ -181,23 +193,33 @@ pub(super) fn unit_axes(
 /// calibration file `calibration`.
 pub(super) fn missing_axis(
     log: &str,
-    axis: &str,
+    (axis, kind): (&str, driftlab::log::AxisKind),
     rate_column: &str,
     log_axes: &[String],
     calibration: &Path,
 ) -> CliError {
-    format!(
-        "{log}: no gyro axis {axis} (column {}) for axis {axis} of {} (the log's axes: {}); a \
-         unit's axes are found in a log by their names or their rate columns' names, so the log \
-         must name its rate columns as the calibration's log did (rename them in its header)",
-        if rate_column.is_empty() {
-            "?"
-        } else {
-            rate_column
-        },
-        calibration.display(),
-        log_axes.join(", ")
-    )
+    let column = if rate_column.is_empty() {
+        "?"
+    } else {
+        rate_column
+    };
+    match kind {
+        driftlab::log::AxisKind::Gyro => format!(
+            "{log}: no gyro axis {axis} (column {column}) for axis {axis} of {} (the log's axes: \
+             {}); a unit's axes are found in a log by their names or their rate columns' names, \
+             so the log must name its rate columns as the calibration's log did (rename them in \
+             its header)",
+            calibration.display(),
+            log_axes.join(", ")
+        ),
+        driftlab::log::AxisKind::Accel => format!(
+            "{log}: no accelerometer axis {axis} (column {column}) for axis {axis} of {} (the \
+             log's axes: {}); name its column with --accel-col, or rename it in the log's header \
+             as the calibration's log named it",
+            calibration.display(),
+            log_axes.join(", ")
+        ),
+    }
     .into()
 }
 
@@ -211,6 +233,11 @@ fn print_unit(a: &Args, unit: &UnitCalibration, judged: &[AxisJudged]) -> Result
                     "name": j.name,
                     "log_axis": j.column,
                 });
+                if let (Some(o), driftlab::log::AxisKind::Accel) = (axis.as_object_mut(), j.kind) {
+                    o.insert("kind".into(), serde_json::json!(j.kind));
+                    o.insert("unit".into(), serde_json::json!(j.kind.unit_ascii()));
+                    o.insert("kept_mean_m_s2".into(), serde_json::json!(j.kept_mean));
+                }
                 if let (Some(axis), serde_json::Value::Object(rest)) =
                     (axis.as_object_mut(), judged_json(a, j))
                 {
@@ -266,7 +293,14 @@ fn print_unit(a: &Args, unit: &UnitCalibration, judged: &[AxisJudged]) -> Result
                 format!("; {label}")
             }
         )?;
-        common::print_evaluation(&j.eval, j.opts.window_s)?;
+        if let Some(mean) = j.kept_mean {
+            out!(
+                "  (about its mean on the calibration log, {} {}, which its correction keeps)",
+                common::num(mean),
+                j.kind.unit_ascii()
+            )?;
+        }
+        common::print_evaluation_in(&j.eval, j.opts.window_s, j.kind)?;
     }
     out!()?;
     let rows: Vec<SummaryRow> = judged
@@ -275,12 +309,18 @@ fn print_unit(a: &Args, unit: &UnitCalibration, judged: &[AxisJudged]) -> Result
             axis: &j.name,
             model: &j.model,
             comparison: &j.eval.comparison,
+            kind: j.kind,
         })
         .collect();
     print_summary(
         &format!(
-            "Unit summary on {} (deg/h; raw -> corrected, raw/cor):",
-            super::calibrate::file_name(&a.log)
+            "Unit summary on {} ({}; raw -> corrected, raw/cor):",
+            super::calibrate::file_name(&a.log),
+            if unit.has_accelerometers() {
+                "deg/h, m/s^2 for the accelerometer axes"
+            } else {
+                "deg/h"
+            }
         ),
         &rows,
         a.window.unwrap_or(MeritOptions::default().window_s),
@@ -310,6 +350,10 @@ struct AxisJudged {
     /// The run of the calibration's campaign the log is, in words, when it is one.
     campaign_run: Option<String>,
     eval: Evaluation,
+    /// What the axis measures: the unit of its figures.
+    kind: driftlab::log::AxisKind,
+    /// The mean an accelerometer axis keeps, its figures taken about it.
+    kept_mean: Option<f64>,
 }
 
 impl AxisJudged {
@@ -328,6 +372,8 @@ pub(super) struct SummaryRow<'a> {
     pub(super) axis: &'a str,
     pub(super) model: &'a str,
     pub(super) comparison: &'a Comparison,
+    /// What the axis measures: the unit its figures are written in.
+    pub(super) kind: driftlab::log::AxisKind,
 }
 
 /// The summary of every axis: raw -> corrected and the ratio of the four figures, a ratio
@@ -351,7 +397,7 @@ pub(super) fn print_summary(
     )?;
     for r in rows {
         let c = r.comparison;
-        let [p2p, std, win_mean] = common::comparison_cells(c);
+        let [p2p, std, win_mean] = common::comparison_cells_in(c, r.kind);
         out!(
             "  {:<8} {:<12} {:>28} {:>28} {:>28} {:>28}",
             r.axis,
@@ -359,10 +405,11 @@ pub(super) fn print_summary(
             p2p,
             std,
             win_mean,
-            common::raw_to_corrected(
+            common::raw_to_corrected_in(
                 c.raw.win_rms_mean_dph,
                 c.corrected.win_rms_mean_dph,
-                c.win_rms_ratio
+                c.win_rms_ratio,
+                r.kind
             )
         )?;
     }

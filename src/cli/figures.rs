@@ -43,27 +43,43 @@ pub fn figure(v: f64) -> String {
     }
 }
 
-/// A table's cell for one figure of a summary: `raw -> corrected ratio`.
-pub fn raw_to_corrected(raw: f64, corrected: f64, ratio_raw_cor: f64) -> String {
+/// A figure of an axis of kind `kind`: a gyro's to 0.0001 °/h, an accelerometer's to 10⁻⁶
+/// m/s² (its corrected figures are thousandths of its raw ones, a few 10⁻⁴ m/s²).
+pub fn figure_in(v: f64, kind: driftlab::log::AxisKind) -> String {
+    match kind {
+        driftlab::log::AxisKind::Accel if v.is_finite() => fixed(v, 6),
+        _ => figure(v),
+    }
+}
+
+/// A table's cell for one figure of a summary of an axis of kind `kind`: `raw -> corrected
+/// ratio`, its figures as [`figure_in`] writes them.
+pub fn raw_to_corrected_in(
+    raw: f64,
+    corrected: f64,
+    ratio_raw_cor: f64,
+    kind: driftlab::log::AxisKind,
+) -> String {
     format!(
         "{} -> {} {}",
-        figure(raw),
-        figure(corrected),
+        figure_in(raw, kind),
+        figure_in(corrected, kind),
         ratio(ratio_raw_cor)
     )
 }
 
-/// The cells of the figures a summary shows for raw against corrected, as
-/// [`raw_to_corrected`] writes each: peak-to-peak, standard deviation and the largest
-/// |window mean|.
-pub fn comparison_cells(c: &driftlab::Comparison) -> [String; 3] {
+/// The cells of the figures a summary shows for raw against corrected of an axis of kind
+/// `kind`, as [`raw_to_corrected_in`] writes each: peak-to-peak, standard deviation and the
+/// largest |window mean|.
+pub fn comparison_cells_in(c: &driftlab::Comparison, kind: driftlab::log::AxisKind) -> [String; 3] {
     [
-        raw_to_corrected(c.raw.p2p_dph, c.corrected.p2p_dph, c.p2p_ratio),
-        raw_to_corrected(c.raw.std_dph, c.corrected.std_dph, c.std_ratio),
-        raw_to_corrected(
+        raw_to_corrected_in(c.raw.p2p_dph, c.corrected.p2p_dph, c.p2p_ratio, kind),
+        raw_to_corrected_in(c.raw.std_dph, c.corrected.std_dph, c.std_ratio, kind),
+        raw_to_corrected_in(
             c.raw.win_mean_max_abs_dph,
             c.corrected.win_mean_max_abs_dph,
             c.win_mean_ratio,
+            kind,
         ),
     ]
 }
@@ -126,12 +142,21 @@ pub fn print_evaluation(
     e: &driftlab::judge::metrics::Evaluation,
     window_s: f64,
 ) -> Result<(), CliError> {
+    print_evaluation_in(e, window_s, driftlab::log::AxisKind::Gyro)
+}
+
+/// [`print_evaluation`] of an axis of kind `kind`, its figures in its unit (deg/h, m/s^2).
+pub fn print_evaluation_in(
+    e: &driftlab::judge::metrics::Evaluation,
+    window_s: f64,
+    kind: driftlab::log::AxisKind,
+) -> Result<(), CliError> {
     let c = &e.comparison;
     let w = driftlab::judge::options::window_label(window_s);
     let (mean_label, rms_label) = (format!("max |{w} mean|"), format!("mean {w} RMS"));
     out!(
         "  {:<34} {:>11} {:>11} {:>12}",
-        "figure (deg/h)",
+        format!("figure ({})", kind.unit_ascii()),
         "raw",
         "corrected",
         "raw/cor"
@@ -165,8 +190,8 @@ pub fn print_evaluation(
     for (name, raw, cor, r) in rows {
         out!(
             "  {name:<34} {:>11} {:>11} {:>12}",
-            figure(raw),
-            figure(cor),
+            figure_in(raw, kind),
+            figure_in(cor, kind),
             ratio(r)
         )?;
     }

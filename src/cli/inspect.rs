@@ -116,6 +116,7 @@ fn drone(a: &Args) -> Result<Option<(driftlab::Log, Drone)>, CliError> {
 }
 
 pub fn run(a: Args) -> Result<(), CliError> {
+    a.log_args.refuse_accel("inspect")?;
     // The sampling as recorded; the plateaus and rates as the other commands see the log
     // (a burst log reduced to its bursts' means). A drone or robot log is read from its file.
     let input = a.log_args.open(&a.log)?;

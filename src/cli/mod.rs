@@ -4,9 +4,11 @@
 // First: its `out!` and `note!` macros are for every module below.
 #[macro_use]
 mod common;
+mod accel;
 mod allan;
 mod apply;
 mod calibrate;
+mod calibrate_accel;
 mod calibrate_print;
 mod calibrate_runs;
 mod campaign_print;
@@ -141,7 +143,10 @@ pub fn run(command: Command) -> Result<(), CliError> {
         Command::Allan(a) => allan::run(a),
         Command::Convert(a) => convert::run(a),
         Command::Lot(a) => lot::run(a),
-        Command::Gui(a) => gui(a).map_err(CliError::Message),
+        Command::Gui(a) => a
+            .log_args
+            .refuse_accel("gui")
+            .and_then(|()| gui(a).map_err(CliError::Message)),
     };
     result.and_then(|()| common::flush_out())
 }

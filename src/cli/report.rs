@@ -136,6 +136,21 @@ fn read_logs(
         kept.names.extend(temp2);
         kept.names.extend(channels);
     }
+    // The accelerometer axes' columns, made axes once read.
+    let accel = if unit.has_accelerometers() {
+        let ask = a.log_args.accel_ask_for(unit)?;
+        kept.names.extend(super::accel::by_name(&ask));
+        kept.accelerometers |= super::accel::by_name(&ask).len() < ask.columns.len();
+        Some(ask)
+    } else if a.log_args.accel_given() {
+        return Err(format!(
+            "--accel-col, --accel-unit: the calibration has no accelerometer axis (its axes: {})",
+            unit.axis_names().join(", ")
+        )
+        .into());
+    } else {
+        None
+    };
     let needs = Needs {
         extras: Some(kept),
         ..Needs::default()
@@ -144,7 +159,10 @@ fn read_logs(
     let mut hashes = Vec::with_capacity(a.logs.len());
     for path in &a.logs {
         let input = a.log_args.open(path)?;
-        let log = a.log_args.read_needing(&input, &needs)?;
+        let mut log = a.log_args.read_needing(&input, &needs)?;
+        if let Some(ask) = &accel {
+            a.log_args.take_accelerometers(&mut log, ask)?;
+        }
         check(path, &log)?;
         logs.push((path.clone(), log));
         hashes.push(calibration::sha256_input(&input).unwrap_or_default());
@@ -167,17 +185,26 @@ fn print_axes(logs: &LogsRead, summary: &report::UnitReportSummary) -> Result<()
         let Some((_, first)) = judged.first() else {
             continue;
         };
+        // Each axis in its unit where the unit has accelerometers, else in deg/h as always.
+        let mixed = judged.iter().any(|(_, l)| l.unit != judged[0].1.unit);
         out!(
-            "{} ({}): peak-to-peak of filtered drift, deg/h:",
+            "{} ({}): peak-to-peak of filtered drift, {}:",
             super::calibrate::file_name(path),
-            first.kind
+            first.kind,
+            if mixed { "deg/h, m/s^2" } else { "deg/h" }
         )?;
         for (axis, l) in &judged {
             let c = &l.evaluation.comparison;
+            let (unit, kind) = match (mixed, l.unit) {
+                (_, "m/s²") => (" m/s^2", driftlab::log::AxisKind::Accel),
+                (true, _) => (" deg/h", driftlab::log::AxisKind::Gyro),
+                (false, _) => ("", driftlab::log::AxisKind::Gyro),
+            };
+            let unit = if mixed { unit } else { "" };
             out!(
-                "  axis {axis:<6} {} -> {} ({})",
-                common::figure(c.raw.p2p_dph),
-                common::figure(c.corrected.p2p_dph),
+                "  axis {axis:<6} {} -> {}{unit} ({})",
+                common::figure_in(c.raw.p2p_dph, kind),
+                common::figure_in(c.corrected.p2p_dph, kind),
                 common::ratio(c.p2p_ratio)
             )?;
             if c.worse_than_raw.any() {

@@ -3,7 +3,9 @@
 use super::common::CliError;
 use clap::builder::{PossibleValue, PossibleValuesParser};
 use driftlab::log::ingest::{RateUnit, TimeUnit};
-use driftlab::sim::{self, CsvDialect, DialectPreset, HostJitter, Logging, RateNames, SimOptions};
+use driftlab::sim::{
+    self, AccelUnit, CsvDialect, DialectPreset, HostJitter, Logging, RateNames, SimOptions,
+};
 use std::path::{Path, PathBuf};
 
 /// Arguments of `simulate`.
@@ -34,7 +36,7 @@ pub struct Args {
         value_parser = campaign_parser(),
         conflicts_with_all = [
             "profile", "seed", "noise_only", "out", "axes", "accel", "rate_hz", "gaps",
-            "bursts", "jitter",
+            "bursts", "jitter", "accel_unit",
         ],
     )]
     pub campaign: Option<String>,
@@ -89,6 +91,10 @@ pub struct Args {
     /// Decimal mark: point or comma.
     #[arg(long, value_name = "point|comma", value_parser = sim::parse_decimal_mark)]
     pub decimal_mark: Option<bool>,
+    /// Unit of the accelerometer columns: g (acc_x_g, the default), mg (acc_x_mg) or m/s2
+    /// (acc_x_m_s2, as a flight controller logs them).
+    #[arg(long, value_name = "g|mg|m/s2")]
+    pub accel_unit: Option<AccelUnit>,
 }
 
 /// The built-in profiles as the values `--profile` accepts, each with its description.
@@ -149,6 +155,9 @@ pub fn run(a: Args) -> Result<(), CliError> {
         dialect.decimal_comma = comma;
     }
     dialect.raw_temp_register = a.raw_temp_col;
+    if let Some(unit) = a.accel_unit {
+        dialect.accel_unit = unit;
+    }
     if let (Some(name), Some(dir)) = (&a.campaign, &a.out_dir) {
         return write_campaign(name, dir, &dialect);
     }
@@ -161,6 +170,16 @@ pub fn run(a: Args) -> Result<(), CliError> {
     }
     if a.accel {
         profile = profile.with_accelerometers()?;
+    }
+    if let Some(unit) = a.accel_unit
+        && profile.accelerometers.is_empty()
+    {
+        return Err(format!(
+            "--accel-unit {unit}: profile {} has no accelerometers to write (give --accel, or \
+             the profile mems-imu)",
+            a.profile
+        )
+        .into());
     }
     let options = SimOptions {
         noise_only: a.noise_only,

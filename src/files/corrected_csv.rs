@@ -1,7 +1,9 @@
 //! The corrected log as CSV: `time_s,omega_raw_dph,omega_pred_dph,omega_cor_dph,temp_c`, the
 //! output of `driftlab apply` and of the workbench's export. A unit of several axes writes
 //! `time_s`, then `<axis>_raw_dph,<axis>_pred_dph,<axis>_cor_dph` for each axis in the
-//! calibration's order, then `temp_c`. [`correct_and_write`] is the one way a face corrects
+//! calibration's order, then `temp_c`; an accelerometer axis, which a unit lists after its
+//! gyro axes, is written in m/s², `<axis>_raw_m_s2,<axis>_pred_m_s2,<axis>_cor_m_s2` (its
+//! corrected reading keeps the mean it was fitted about: [`crate::models::accel`]). [`correct_and_write`] is the one way a face corrects
 //! and writes a log, for one axis or a unit.
 //!
 //! The header goes through the `csv` crate as every record with names does
@@ -43,10 +45,11 @@ pub fn write(
 /// The header line of a unit's corrected log, without its line break, written as every CSV
 /// record with text is ([`crate::files::csv_cells`]): an axis name with a comma, a quote or a
 /// line break quoted, one a spreadsheet would take for a formula neutralised.
-pub fn unit_header(axes: &[&str]) -> String {
+pub fn unit_header(axes: &[(&str, crate::log::AxisKind)]) -> String {
     let mut cells = vec!["time_s".to_string()];
-    for a in axes {
-        cells.extend(crate::log::ingest::CORRECTED_LOG_RATES.map(|k| format!("{a}_{k}_dph")));
+    for (a, kind) in axes {
+        let unit = kind.unit_suffix();
+        cells.extend(crate::log::ingest::CORRECTED_LOG_RATES.map(|k| format!("{a}_{k}_{unit}")));
     }
     cells.push("temp_c".to_string());
     let mut h = crate::files::csv_cells::text_record(&cells);
@@ -58,7 +61,7 @@ pub fn unit_header(axes: &[&str]) -> String {
 #[derive(Debug, thiserror::Error)]
 pub enum WriteError {
     /// The log has no axis for an axis of the calibration.
-    #[error("{log}: no gyro axis {axis} (its axes: {})", log_axes.join(", "))]
+    #[error("{log}: no axis {axis} (its axes: {})", log_axes.join(", "))]
     MissingAxis {
         /// The log's source.
         log: String,
@@ -163,7 +166,12 @@ pub fn correct_and_write(
         );
     }
     let header = if unit.is_unit() {
-        unit_header(&unit.axis_names())
+        let axes: Vec<(&str, crate::log::AxisKind)> = unit
+            .axes
+            .iter()
+            .map(|a| (a.name.as_str(), a.kind))
+            .collect();
+        unit_header(&axes)
     } else {
         HEADER.to_string()
     };

@@ -522,6 +522,7 @@ impl AppState {
             .map(|v| crate::log::Axis {
                 name: v.log.axis.clone(),
                 omega_dph: v.log.omega_dph.clone(),
+                kind: v.log.axis_kind,
             })
             .collect();
         views[1..]
@@ -553,11 +554,11 @@ impl AppState {
                 Ok(c) => c,
                 Err(e) => return Some(Err(e)),
             };
-            axes.push(crate::models::AxisModel {
-                name: a.name.to_string(),
-                rate_column: log.log.rate_column().unwrap_or_default(),
-                model: crate::models::DriftModel::Vakhrameev(Box::new(cal)),
-            });
+            axes.push(crate::models::AxisModel::gyro(
+                a.name.to_string(),
+                log.log.rate_column().unwrap_or_default(),
+                crate::models::DriftModel::Vakhrameev(Box::new(cal)),
+            ));
         }
         Some(Ok(crate::models::UnitCalibration { axes }))
     }

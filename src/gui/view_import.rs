@@ -511,7 +511,9 @@ impl ImportView {
 fn role_color(ui: &Ui, r: ColumnRole) -> Color32 {
     match r {
         ColumnRole::Time => ui.visuals().hyperlink_color,
-        ColumnRole::Rate | ColumnRole::OtherAxis => Color32::from_rgb(220, 120, 0),
+        ColumnRole::Rate | ColumnRole::OtherAxis | ColumnRole::AccelAxis => {
+            Color32::from_rgb(220, 120, 0)
+        }
         ColumnRole::Temperature => Color32::from_rgb(200, 50, 40),
         ColumnRole::Extra => ui.visuals().text_color(),
         ColumnRole::Ignored => ui.visuals().weak_text_color(),
@@ -542,6 +544,7 @@ fn preview_table(ui: &mut Ui, p: &Preview) {
                             ColumnRole::Time => "time",
                             ColumnRole::Rate => "rate",
                             ColumnRole::OtherAxis => "other axis",
+                            ColumnRole::AccelAxis => "accelerometer axis",
                             ColumnRole::Temperature => "temperature",
                             ColumnRole::Extra => "kept",
                             ColumnRole::Ignored => "ignored",

@@ -297,12 +297,14 @@ fn joined(runs: &[RunInput]) -> Log {
             })
             .collect(),
         axis: first.axis.clone(),
+        axis_kind: first.axis_kind,
         other_axes: first
             .other_axes
             .iter()
             .map(|a| super::Axis {
                 name: a.name.clone(),
                 omega_dph: Vec::with_capacity(total),
+                kind: a.kind,
             })
             .collect(),
         info: LogInfo {
@@ -412,12 +414,14 @@ fn slice(log: &Log, span: &RunSpan) -> Log {
             })
             .collect(),
         axis: log.axis.clone(),
+        axis_kind: log.axis_kind,
         other_axes: log
             .other_axes
             .iter()
             .map(|a| super::Axis {
                 name: a.name.clone(),
                 omega_dph: a.omega_dph[r.clone()].to_vec(),
+                kind: a.kind,
             })
             .collect(),
         info: LogInfo {

@@ -6,6 +6,7 @@
 //! DataFlash, ROS bag, MCAP). [`mapping_check`] holds the one rule set for what a column may
 //! plausibly hold; [`resample`] averages into bins or bursts.
 
+pub mod accel_axes;
 pub mod campaign;
 mod drone_gyro;
 pub mod formats;
@@ -35,18 +36,25 @@ pub struct Log {
     pub source: String,
     /// Time since an arbitrary origin, seconds, strictly increasing.
     pub time_s: Vec<f64>,
-    /// Gyro output, °/h.
+    /// The output of the axis `axis` names, in its kind's unit ([`Log::axis_kind`]): a gyro's
+    /// rate in °/h, an accelerometer's reading in m/s². Every stage from the fit on reads an
+    /// axis here, whatever it measures (one path for both kinds).
     pub omega_dph: Vec<f64>,
     /// The temperature the calibration uses (coil or frame sensor), °C.
     pub temp_c: Vec<f64>,
     /// Every other numeric column, by name, aligned with `time_s`.
     pub extra: Vec<Channel>,
-    /// The name of the gyro axis `omega_dph` holds (`gx`, `x`, ...), empty for a log with one
+    /// The name of the axis `omega_dph` holds (`gx`, `x`, ...), empty for a log with one
     /// rate column that names no axis.
     pub axis: String,
-    /// The log's other gyro axes (a multi-axis IMU's), each a rate in °/h aligned with
-    /// `time_s`: [`Log::select_axis`] swaps one of them into `omega_dph`, so every stage that
-    /// reads `omega_dph` calibrates any axis without a copy of the columns they share.
+    /// What the axis `omega_dph` holds measures: a gyro's, unless an accelerometer axis was
+    /// selected.
+    pub axis_kind: AxisKind,
+    /// The log's other axes (a multi-axis IMU's gyros; its accelerometers once
+    /// [`accel_axes::take`] made them axes), each aligned with `time_s`:
+    /// [`Log::select_axis`] swaps one of them into `omega_dph`, so every stage that reads
+    /// `omega_dph` calibrates any axis without a copy of the columns they share. The gyro
+    /// axes come first.
     pub other_axes: Vec<Axis>,
     /// How the file was read and what was wrong with it.
     pub info: LogInfo,
@@ -55,13 +63,66 @@ pub struct Log {
 /// Samples a run's fingerprint reads ([`Log::run_fingerprint`]).
 pub const FINGERPRINT_SAMPLES: usize = 4096;
 
-/// One gyro axis of a multi-axis log.
+/// One axis of a multi-axis log.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Axis {
-    /// The axis's name: the rate column's name without its unit (`gx` for `gx_dps`).
+    /// The axis's name: the column's name without its unit (`gx` for `gx_dps`, `acc_x` for
+    /// `acc_x_m_s2`).
     pub name: String,
-    /// Rate, °/h.
+    /// The output, in the kind's unit: a rate in °/h, an acceleration in m/s².
     pub omega_dph: Vec<f64>,
+    /// What the axis measures.
+    pub kind: AxisKind,
+}
+
+/// What an axis of a unit measures. The kind decides the unit of its samples and of every
+/// figure and column written of it (°/h for a gyro, m/s² for an accelerometer), the models it
+/// may take, and where a flight controller's file puts it; every stage in between is the same
+/// for both.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum AxisKind {
+    /// A gyro: a rate, °/h.
+    #[default]
+    Gyro,
+    /// An accelerometer: an acceleration, m/s² (gravity included, on the axis that carries
+    /// it).
+    #[serde(rename = "accelerometer")]
+    Accel,
+}
+
+impl AxisKind {
+    /// The unit's word in a column's or a field's name: `dph`, `m_s2`.
+    pub fn unit_suffix(self) -> &'static str {
+        match self {
+            AxisKind::Gyro => "dph",
+            AxisKind::Accel => "m_s2",
+        }
+    }
+
+    /// The unit as tables and messages print it: `°/h`, `m/s²`.
+    pub fn unit(self) -> &'static str {
+        match self {
+            AxisKind::Gyro => "°/h",
+            AxisKind::Accel => "m/s²",
+        }
+    }
+
+    /// The unit in printable ASCII, for files that hold no other: `deg/h`, `m/s^2`.
+    pub fn unit_ascii(self) -> &'static str {
+        match self {
+            AxisKind::Gyro => "deg/h",
+            AxisKind::Accel => "m/s^2",
+        }
+    }
+
+    /// The sensor in words: `gyro`, `accelerometer`.
+    pub fn sensor(self) -> &'static str {
+        match self {
+            AxisKind::Gyro => "gyro",
+            AxisKind::Accel => "accelerometer",
+        }
+    }
 }
 
 /// A named column kept alongside the calibration columns.
@@ -78,6 +139,10 @@ pub struct Channel {
 /// The unit accelerometer channels are kept in when the reader knows them in SI: a drone
 /// log's, and a CSV column whose name says `m_s2` or `[m/s^2]`.
 pub const ACCEL_UNIT_M_S2: &str = "m/s^2";
+
+/// m/s² in one g: the standard gravity (ISO 80000-3, the CGPM's of 1901), by which an
+/// accelerometer read in g or mg is taken to m/s².
+pub const STANDARD_GRAVITY_M_S2: f64 = 9.80665;
 
 impl Channel {
     /// Whether the channel is an accelerometer axis: its name reads as one (`ax_g`, `acc_x`,
@@ -99,7 +164,6 @@ impl Channel {
     /// 9.80665 m/s² for g (ISO 80000-3, the CGPM's of 1901), a thousandth of it for mg. `None`
     /// for a channel that is no accelerometer, or one whose name says no unit.
     pub fn accelerometer_to_m_s2(&self) -> Option<f64> {
-        const STANDARD_GRAVITY_M_S2: f64 = 9.80665;
         if !self.is_accelerometer() {
             return None;
         }
@@ -172,6 +236,8 @@ pub enum ColumnRole {
     Temperature,
     /// Another gyro axis of a multi-axis unit, kept in `Log::other_axes`.
     OtherAxis,
+    /// An accelerometer axis, kept in `Log::other_axes` in m/s² ([`accel_axes::take`]).
+    AccelAxis,
     /// Kept by name in `Log::extra`.
     #[default]
     Extra,
@@ -260,10 +326,30 @@ pub enum ProblemKind {
 }
 
 impl Log {
-    /// The names of every gyro axis, `omega_dph`'s first, then the others in file order.
+    /// The names of every axis, `omega_dph`'s first, then the others in file order (the gyro
+    /// axes, then any accelerometer axes).
     pub fn axis_names(&self) -> Vec<String> {
         std::iter::once(self.axis.clone())
             .chain(self.other_axes.iter().map(|a| a.name.clone()))
+            .collect()
+    }
+
+    /// The kind of the axis named `name`.
+    pub fn kind_of(&self, name: &str) -> Option<AxisKind> {
+        if self.axis == name {
+            return Some(self.axis_kind);
+        }
+        self.other_axes
+            .iter()
+            .find(|a| a.name == name)
+            .map(|a| a.kind)
+    }
+
+    /// The names of the axes of kind `kind`, in [`Log::axis_names`]'s order.
+    pub fn axes_of(&self, kind: AxisKind) -> Vec<String> {
+        self.axis_names()
+            .into_iter()
+            .filter(|n| self.kind_of(n) == Some(kind))
             .collect()
     }
 
@@ -279,6 +365,7 @@ impl Log {
         let a = &mut self.other_axes[k];
         std::mem::swap(&mut self.omega_dph, &mut a.omega_dph);
         std::mem::swap(&mut self.axis, &mut a.name);
+        std::mem::swap(&mut self.axis_kind, &mut a.kind);
         true
     }
 
@@ -348,8 +435,9 @@ impl Log {
             .map(|(_, column)| column)
     }
 
-    /// Each gyro axis's name with the name of the file's column it was read from, as the
-    /// reader named them ([`ingest::names::axis_names`]: two columns never share an axis).
+    /// Each axis's name with the name of the file's column it was read from, as the reader
+    /// named them ([`ingest::names::axis_names`]: two columns never share an axis), the
+    /// accelerometer axes as [`accel_axes::take`] named them.
     fn axis_columns(&self) -> Vec<(String, String)> {
         let columns: Vec<(usize, &str)> = self
             .info
@@ -358,9 +446,12 @@ impl Log {
             .filter(|c| matches!(c.role, ColumnRole::Rate | ColumnRole::OtherAxis))
             .map(|c| (c.index, c.name.as_str()))
             .collect();
-        ingest::names::axis_names(&columns)
+        let gyros = ingest::names::axis_names(&columns);
+        let accels = accel_axes::names_of(self, &gyros);
+        gyros
             .into_iter()
             .zip(columns.iter().map(|(_, n)| n.to_string()))
+            .chain(accels)
             .collect()
     }
 
@@ -459,6 +550,7 @@ impl Log {
             temp_c,
             extra: Vec::new(),
             axis: String::new(),
+            axis_kind: AxisKind::Gyro,
             other_axes: Vec::new(),
             info: LogInfo {
                 delimiter: ',',

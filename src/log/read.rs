@@ -26,7 +26,7 @@
 use super::formats::{self, Format, FormatError, ImuRecording, InstanceSummary, SelectionError};
 use super::ingest::{self, IngestError, ReadOptions};
 use super::kept_samples::{KeptSamples, kept_samples};
-use super::{Axis, Channel, ColumnInfo, ColumnRole, DroneGyro, Log, LogInfo, Problem};
+use super::{Axis, AxisKind, Channel, ColumnInfo, ColumnRole, DroneGyro, Log, LogInfo, Problem};
 use std::path::Path;
 
 pub use super::formats::TempFrom;
@@ -445,14 +445,17 @@ pub fn from_recording(
         temp_c: pick(&sel.temp_c, 1.0),
         extra,
         axis: GYRO_AXES[0].to_string(),
+        axis_kind: AxisKind::Gyro,
         other_axes: vec![
             Axis {
                 name: GYRO_AXES[1].to_string(),
                 omega_dph: pick(gy, to_dph),
+                kind: AxisKind::Gyro,
             },
             Axis {
                 name: GYRO_AXES[2].to_string(),
                 omega_dph: pick(gz, to_dph),
+                kind: AxisKind::Gyro,
             },
         ],
         info: LogInfo {

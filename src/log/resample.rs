@@ -198,12 +198,14 @@ pub fn longest_segment(log: Log) -> (Log, Option<String>) {
             })
             .collect(),
         axis: log.axis.clone(),
+        axis_kind: log.axis_kind,
         other_axes: log
             .other_axes
             .iter()
             .map(|a| super::Axis {
                 name: a.name.clone(),
                 omega_dph: cut(&a.omega_dph),
+                kind: a.kind,
             })
             .collect(),
         info: log.info.clone(),
@@ -292,6 +294,7 @@ fn average(log: &Log, groups: &Groups) -> Log {
         .map(|a| super::Axis {
             name: a.name.clone(),
             omega_dph: avg(&a.omega_dph),
+            kind: a.kind,
         })
         .collect();
     Log {
@@ -301,6 +304,7 @@ fn average(log: &Log, groups: &Groups) -> Log {
         temp_c,
         extra,
         axis: log.axis.clone(),
+        axis_kind: log.axis_kind,
         other_axes,
         info,
     }

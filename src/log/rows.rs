@@ -23,6 +23,7 @@ impl Log {
             temp_c: kept(&self.temp_c),
             extra: self.extra.clone(),
             axis: self.axis.clone(),
+            axis_kind: self.axis_kind,
             other_axes: self.other_axes.clone(),
             info: self.info.clone(),
         };

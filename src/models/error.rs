@@ -125,20 +125,33 @@ pub enum FitError {
         /// The log's duration, s.
         duration_s: f64,
     },
-    /// A rate column that holds one value throughout: a gyro disconnected (zeros) or stuck.
-    #[error(
-        "{log}: the rate{} never changes (every sample reads {} °/h): a gyro that is \
-         disconnected or stuck has no drift to calibrate; check the rate column",
-        if axis.is_empty() { String::new() } else { format!(" of axis {axis}") },
-        crate::number::readable(*value_dph)
-    )]
+    /// A rate column that holds one value throughout: a gyro disconnected (zeros) or stuck;
+    /// or an accelerometer's.
+    #[error("{}", frozen(log, axis, *kind, *value_dph))]
     FrozenRate {
         /// The log.
         log: String,
         /// The axis, empty for a log of one.
         axis: String,
-        /// The one value, °/h.
+        /// What the axis measures.
+        kind: crate::log::AxisKind,
+        /// The one value, in the kind's unit (°/h for a gyro).
         value_dph: f64,
+    },
+    /// A model that is no static curve in T asked of an accelerometer axis.
+    #[error(
+        "{log}: accelerometer axis {axis}: model {model} reads more than T (a rate of T, \
+         another channel, a delay or a lag), and an accelerometer's bias is a static curve in \
+         T: give it {}",
+        super::accel::STATIC_MODELS
+    )]
+    NotStatic {
+        /// The log.
+        log: String,
+        /// The axis.
+        axis: String,
+        /// The model asked for.
+        model: String,
     },
     /// A log none of whose segments (the stretches between its gaps) lasts long enough for
     /// a temperature rate: T's smoothing and derivative steps restart after every gap.
@@ -278,6 +291,27 @@ impl FitError {
             FitError::OnAxis { source, .. } | FitError::OnFile { source, .. } => source.innermost(),
             other => other,
         }
+    }
+}
+
+/// [`FitError::FrozenRate`]'s message, in the words of the axis's kind.
+fn frozen(log: &str, axis: &str, kind: crate::log::AxisKind, value: f64) -> String {
+    let value = crate::number::readable(value);
+    match kind {
+        crate::log::AxisKind::Gyro => format!(
+            "{log}: the rate{} never changes (every sample reads {value} °/h): a gyro that is \
+             disconnected or stuck has no drift to calibrate; check the rate column",
+            if axis.is_empty() {
+                String::new()
+            } else {
+                format!(" of axis {axis}")
+            },
+        ),
+        crate::log::AxisKind::Accel => format!(
+            "{log}: accelerometer axis {axis} never changes (every sample reads {value} m/s²): \
+             an accelerometer that is disconnected or stuck has no drift to calibrate; check \
+             its column"
+        ),
     }
 }
 

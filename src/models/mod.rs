@@ -11,6 +11,7 @@
 //! listed by [`settings_unused_by`] so that a face can refuse or flag them instead of dropping
 //! them silently.
 
+pub mod accel;
 pub mod approx;
 pub mod campaign;
 mod error;
@@ -230,6 +231,7 @@ pub fn check_rate_moves(log: &Log) -> Result<()> {
         return Err(FitError::FrozenRate {
             log: log.source.clone(),
             axis: log.axis.clone(),
+            kind: log.axis_kind,
             value_dph: *first,
         }
         .into());

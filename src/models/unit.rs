@@ -1,5 +1,7 @@
-//! A unit: every gyro axis of one IMU (a three-axis FOG unit, a MEMS IMU), calibrated from one
-//! log as one calibration.
+//! A unit: every axis of one IMU (a three-axis FOG unit, a MEMS IMU's gyros and
+//! accelerometers), calibrated from one log as one calibration. An accelerometer axis is an
+//! axis of kind [`AxisKind::Accel`] beside the gyro axes, through the same fit, correction and
+//! writers; what its kind changes is in [`super::accel`].
 //!
 //! The axes share the housing and its temperature, so they share everything a calibration
 //! takes from T: one smoothing, one pair of derivatives, one set of plateaus
@@ -19,7 +21,7 @@ use super::{
 };
 use crate::error::{Error, Invalid, Result};
 use crate::judge::metrics::{Comparison, Evaluation, MeritOptions};
-use crate::log::Log;
+use crate::log::{AxisKind, Log};
 use crate::models::vakhrameev;
 
 /// The most axes a unit may have: four IMUs of three gyro and three accelerometer axes each
@@ -27,17 +29,47 @@ use crate::models::vakhrameev;
 /// memory on `apply`.
 pub const MAX_UNIT_AXES: usize = 64;
 
-/// One gyro axis of a unit's calibration.
+/// One axis of a unit's calibration.
 #[derive(Debug, Clone, PartialEq)]
 pub struct AxisModel {
     /// The axis's name (`gx`): the rate column's name without its unit, by default. Empty for
     /// the one axis of a single-axis calibration.
     pub name: String,
-    /// The rate column the axis was read from on the calibration log (`gx_dps`), to find it in
-    /// another log of the same stand; empty when not known.
+    /// The column the axis was read from on the calibration log (`gx_dps`, `acc_x_m_s2`), to
+    /// find it in another log of the same stand; empty when not known.
     pub rate_column: String,
-    /// The axis's fitted model.
+    /// The axis's fitted model, predicting in the kind's unit (°/h, m/s²).
     pub model: DriftModel,
+    /// What the axis measures: the unit of its model and columns, the models it may take, its
+    /// place in a flight controller's file.
+    pub kind: AxisKind,
+    /// An accelerometer axis's mean on its calibration log, m/s², which its correction keeps
+    /// (it was fitted on its samples less this: [`super::accel`]); `None` for a gyro axis.
+    pub kept_mean: Option<f64>,
+}
+
+impl AxisModel {
+    /// A gyro axis of a unit.
+    pub fn gyro(
+        name: impl Into<String>,
+        rate_column: impl Into<String>,
+        model: DriftModel,
+    ) -> AxisModel {
+        AxisModel {
+            name: name.into(),
+            rate_column: rate_column.into(),
+            model,
+            kind: AxisKind::Gyro,
+            kept_mean: None,
+        }
+    }
+
+    /// `log` (holding the axis this one corrects) as this axis's model was fitted on it: an
+    /// accelerometer's samples less the mean it keeps ([`super::accel::as_fitted`]), what
+    /// every judgement of the axis reads.
+    pub fn as_fitted<'a>(&self, log: &'a Log) -> std::borrow::Cow<'a, Log> {
+        super::accel::as_fitted(log, self.kind, self.kept_mean)
+    }
 }
 
 /// The calibration of a whole unit: one model per gyro axis, in the order they were fitted.
@@ -51,11 +83,7 @@ impl UnitCalibration {
     /// The single-axis calibration of `model`, as driftlab has always made it.
     pub fn single(model: DriftModel) -> UnitCalibration {
         UnitCalibration {
-            axes: vec![AxisModel {
-                name: String::new(),
-                rate_column: String::new(),
-                model,
-            }],
+            axes: vec![AxisModel::gyro("", "", model)],
         }
     }
 
@@ -96,6 +124,11 @@ impl UnitCalibration {
     /// The axes' names, in order.
     pub fn axis_names(&self) -> Vec<&str> {
         self.axes.iter().map(|a| a.name.as_str()).collect()
+    }
+
+    /// Whether any axis is an accelerometer's.
+    pub fn has_accelerometers(&self) -> bool {
+        self.axes.iter().any(|a| a.kind == AxisKind::Accel)
     }
 
     /// The axis named `name`.
@@ -165,6 +198,7 @@ impl UnitCalibration {
             a.model
                 .validate()
                 .map_err(|e| Invalid::new(field(&e.field), e.reason))?;
+            check_kind(self, k).map_err(|reason| Invalid::new(field("kind"), reason))?;
             if k > 0 {
                 let first = &self.axes[0];
                 crate::models::campaign::check_same_runs(
@@ -240,6 +274,63 @@ impl UnitCalibration {
     }
 }
 
+/// Checks what the kind of axis `k` of `unit` says of it: an accelerometer axis is named,
+/// listed after every gyro axis (the order every writer keeps), holds a static model and the
+/// finite mean it keeps; a gyro axis keeps none.
+fn check_kind(unit: &UnitCalibration, k: usize) -> std::result::Result<(), String> {
+    let a = &unit.axes[k];
+    match a.kind {
+        AxisKind::Gyro => {
+            if a.kept_mean.is_some() {
+                return Err(
+                    "a gyro axis keeps no mean: kept_mean_m_s2 is an accelerometer's".into(),
+                );
+            }
+            if unit.axes[..k].iter().any(|b| b.kind == AxisKind::Accel) {
+                return Err(
+                    "a gyro axis after an accelerometer axis: a unit lists its gyro \
+                            axes first"
+                        .into(),
+                );
+            }
+        }
+        AxisKind::Accel => {
+            if a.name.trim().is_empty() {
+                return Err("an accelerometer axis needs a name".into());
+            }
+            match a.kept_mean {
+                Some(m)
+                    if m.is_finite() && m.abs() <= 100.0 * crate::log::STANDARD_GRAVITY_M_S2 => {}
+                Some(m) => {
+                    return Err(format!(
+                        "kept_mean_m_s2 {m} is no mean an accelerometer at rest reads"
+                    ));
+                }
+                None => {
+                    return Err("an accelerometer axis records the mean it keeps \
+                                (kept_mean_m_s2)"
+                        .into());
+                }
+            }
+            let static_model = match &a.model {
+                DriftModel::Regression(r) => {
+                    super::accel::is_static(&ModelChoice::Custom(r.model.spec.clone()))
+                }
+                DriftModel::Vakhrameev(_) => false,
+            };
+            if !static_model {
+                return Err(format!(
+                    "model {} reads more than T: an accelerometer axis takes a static curve in T \
+                     ({})",
+                    a.model.name(),
+                    super::accel::STATIC_MODELS
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
 /// An axis in a message: its name, or its position when it has none.
 fn label(k: usize, name: &str) -> String {
     if name.is_empty() {
@@ -294,8 +385,27 @@ pub struct CalibratedAxis {
     /// The rate column it was read from (empty when the log does not say, or the axis is
     /// unnamed).
     pub rate_column: String,
-    /// The model, its in-sample figures and its warnings.
+    /// The model, its in-sample figures (an accelerometer's about the mean it keeps) and its
+    /// warnings.
     pub calibrated: Calibrated,
+    /// What the axis measures.
+    pub kind: AxisKind,
+    /// The mean an accelerometer axis keeps ([`AxisModel::kept_mean`]).
+    pub kept_mean: Option<f64>,
+}
+
+impl CalibratedAxis {
+    /// The axis of a unit's calibration this fit makes, with `model` (the fitted one, stamped
+    /// by the caller with its log's name and runs).
+    pub fn axis_model(&self, model: DriftModel) -> AxisModel {
+        AxisModel {
+            name: self.name.clone(),
+            rate_column: self.rate_column.clone(),
+            model,
+            kind: self.kind,
+            kept_mean: self.kept_mean,
+        }
+    }
 }
 
 /// Fits and judges every axis of `plans` on `log`, in their order, reading T once for all the
@@ -361,6 +471,36 @@ fn check_plans(log: &Log, plans: &[AxisPlan]) -> Result<()> {
     }
     let names = log.axis_names();
     for (k, p) in plans.iter().enumerate() {
+        if log.kind_of(&p.name) == Some(AxisKind::Accel) {
+            super::accel::check_static(log, &p.name, &p.choice)?;
+            if log.runs().len() > 1 {
+                return Err(Invalid::new(
+                    "axes",
+                    format!(
+                        "accelerometer axis {}: a campaign of {} runs calibrates its gyro axes; \
+                         an accelerometer's mean is kept from one run, so calibrate its \
+                         accelerometers on one run",
+                        p.name,
+                        log.runs().len()
+                    ),
+                )
+                .into());
+            }
+        }
+        if log.kind_of(&p.name) == Some(AxisKind::Gyro)
+            && let Some(a) = plans[..k]
+                .iter()
+                .find(|q| log.kind_of(&q.name) == Some(AxisKind::Accel))
+        {
+            return Err(Invalid::new(
+                "axes",
+                format!(
+                    "gyro axis {} after accelerometer axis {}: a unit lists its gyro axes first",
+                    p.name, a.name
+                ),
+            )
+            .into());
+        }
         if !names.contains(&p.name) {
             return Err(FitError::MissingAxis {
                 log: log.source.clone(),
@@ -433,6 +573,21 @@ fn calibrate_axes(
             filter_s: plan.recipe.filter_s,
             ..*merit
         };
+        // An accelerometer axis: fitted and judged about the mean it keeps.
+        if log.axis_kind == AxisKind::Accel {
+            let mean = super::accel::mean_of(&log.omega_dph);
+            let centred = super::accel::about_mean(log, mean);
+            let calibrated = regression_axis(&centred, &plan.choice, &plan.recipe, merit)
+                .map_err(|e| about(&plan.name, e))?;
+            out.push(CalibratedAxis {
+                name: plan.name.clone(),
+                rate_column: log.rate_column().unwrap_or_default(),
+                calibrated,
+                kind: AxisKind::Accel,
+                kept_mean: Some(mean),
+            });
+            continue;
+        }
         let calibrated = match shared.as_mut().filter(|_| plan.choice.is_vakhrameev()) {
             Some((shared, first)) => {
                 let filtered = first.take_if(|(axis, _)| *axis == k).map(|(_, f)| f);
@@ -467,6 +622,8 @@ fn calibrate_axes(
                 false => log.rate_column().unwrap_or_default(),
             },
             calibrated,
+            kind: AxisKind::Gyro,
+            kept_mean: None,
         });
     }
     Ok(out)

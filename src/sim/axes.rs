@@ -162,8 +162,10 @@ pub fn default_axes(n: usize) -> Result<Vec<AxisParams>, Invalid> {
 
 /// One accelerometer axis of the unit, on the housing.
 ///
-/// Reading, g: `gravity·(1 + s·(T_h − 20)) + b0 + b1·(T_h − 20) + noise`, T_h the true housing
-/// temperature, quantised to `resolution_g`. The white noise of a sample taken at `rate` Hz
+/// Reading, g: `gravity·(1 + s·d) + b0 + b1·d + b2·d² + b3·d³ + noise` with `d = T_h − 20`,
+/// T_h the true housing temperature, quantised to `resolution_g`: a bias that is a known cubic
+/// in T (what a MEMS accelerometer's drifts like, and what PX4 and ArduPilot fit), and on the
+/// axis that carries gravity a scale factor that moves with T too. The white noise of a sample taken at `rate` Hz
 /// has σ = `noise_g_per_sqrt_hz`·√(rate/2) (the density over the Nyquist band).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct AccelParams {
@@ -175,6 +177,13 @@ pub struct AccelParams {
     pub bias_20c_g: f64,
     /// Bias change per °C of housing temperature, g/°C.
     pub bias_slope_g_per_c: f64,
+    /// Quadratic coefficient of the bias around 20 °C, g/°C² (0 when a profile file leaves
+    /// it out: the accelerometers of the FOG unit have a linear bias).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub bias_curvature_g_per_c2: f64,
+    /// Cubic coefficient of the bias around 20 °C, g/°C³.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub bias_cubic_g_per_c3: f64,
     /// Relative change of the scale factor per °C, 1/°C.
     pub scale_tempco_per_c: f64,
     /// White-noise density, g/√Hz.
@@ -187,9 +196,16 @@ impl AccelParams {
     /// The noise-free reading at true housing temperature `housing_c`, g.
     pub fn true_g(&self, housing_c: f64) -> f64 {
         let d = housing_c - 20.0;
-        self.gravity_g * (1.0 + self.scale_tempco_per_c * d)
-            + self.bias_20c_g
-            + self.bias_slope_g_per_c * d
+        self.gravity_g * (1.0 + self.scale_tempco_per_c * d) + self.bias_g(housing_c)
+    }
+
+    /// The bias alone at housing temperature `housing_c`, g: the reading less the gravity
+    /// the axis carries (and its scale factor's change with T).
+    pub fn bias_g(&self, housing_c: f64) -> f64 {
+        let d = housing_c - 20.0;
+        self.bias_20c_g
+            + d * (self.bias_slope_g_per_c
+                + d * (self.bias_curvature_g_per_c2 + d * self.bias_cubic_g_per_c3))
     }
 
     /// Checks the name and the constants, with a sentence naming the one that is wrong.
@@ -199,6 +215,8 @@ impl AccelParams {
             ("gravity_g", self.gravity_g),
             ("bias_20c_g", self.bias_20c_g),
             ("bias_slope_g_per_c", self.bias_slope_g_per_c),
+            ("bias_curvature_g_per_c2", self.bias_curvature_g_per_c2),
+            ("bias_cubic_g_per_c3", self.bias_cubic_g_per_c3),
             ("scale_tempco_per_c", self.scale_tempco_per_c),
         ] {
             if !v.is_finite() {
@@ -241,6 +259,8 @@ pub fn default_accelerometers() -> Vec<AccelParams> {
             gravity_g,
             bias_20c_g,
             bias_slope_g_per_c,
+            bias_curvature_g_per_c2: 0.0,
+            bias_cubic_g_per_c3: 0.0,
             scale_tempco_per_c,
             noise_g_per_sqrt_hz: 30e-6,
             resolution_g: 1e-6,
@@ -252,7 +272,13 @@ pub fn default_accelerometers() -> Vec<AccelParams> {
     ]
 }
 
-fn check_name(what: &str, name: &str) -> Result<(), Invalid> {
+/// Whether a constant a profile file may leave out is its default, zero (so that a profile
+/// written without it reads and writes as it was).
+fn is_zero(v: &f64) -> bool {
+    *v == 0.0
+}
+
+pub(super) fn check_name(what: &str, name: &str) -> Result<(), Invalid> {
     if name.is_empty() || !name.chars().all(|c| c.is_ascii_alphanumeric()) {
         return Err(Invalid::new(
             format!("{what} name {name:?}"),

@@ -14,6 +14,7 @@ use std::str::FromStr;
 
 use super::UnknownChoice;
 use crate::error::Invalid;
+pub use crate::log::accel_axes::AccelUnit;
 use crate::log::ingest::{RateUnit, TimeUnit};
 
 /// Counts per °C of the raw temperature register (`--raw-temp-col`).
@@ -84,6 +85,16 @@ impl fmt::Display for RateNames {
     }
 }
 
+/// How many g one of the accelerometer unit `u` is, and the decimals it is written to: 1 µg
+/// in g, 10⁻⁶ m/s² in m/s², 1 µg in mg.
+fn accel_writing(u: AccelUnit) -> (f64, usize) {
+    match u {
+        AccelUnit::G => (1.0, 6),
+        AccelUnit::MetersPerSecond2 => (crate::log::STANDARD_GRAVITY_M_S2, 6),
+        AccelUnit::MilliG => (1000.0, 3),
+    }
+}
+
 /// The two presets of `driftlab simulate --dialect`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum DialectPreset {
@@ -142,6 +153,9 @@ pub struct CsvDialect {
     pub raw_temp_register: bool,
     /// A `#` line above the command line naming the test stand (without the `# `), if any.
     pub stand: Option<String>,
+    /// Unit of the accelerometer columns.
+    #[serde(default)]
+    pub accel_unit: AccelUnit,
 }
 
 impl Default for CsvDialect {
@@ -161,6 +175,7 @@ impl CsvDialect {
             rate_unit: RateUnit::DegPerHour,
             raw_temp_register: false,
             stand: None,
+            accel_unit: AccelUnit::G,
         }
     }
 
@@ -175,6 +190,7 @@ impl CsvDialect {
             rate_unit: RateUnit::DegPerSec,
             raw_temp_register: false,
             stand: Some(STAND_LINE.to_string()),
+            accel_unit: AccelUnit::G,
         }
     }
 
@@ -240,6 +256,9 @@ impl CsvDialect {
         if self.raw_temp_register {
             out.push("--raw-temp-col".to_string());
         }
+        if self.accel_unit != preset.accel_unit {
+            out.push(format!("--accel-unit {}", self.accel_unit));
+        }
         out
     }
 
@@ -268,11 +287,13 @@ impl CsvDialect {
         }
     }
 
-    /// Name of the column of accelerometer `axis`, in g.
+    /// Name of the column of accelerometer `axis`, its unit the last word (`acc_x_g`,
+    /// `ax_m_s2`).
     pub fn accel_column(&self, axis: &str) -> String {
+        let unit = self.accel_unit.suffix();
         match self.rate_names {
-            RateNames::Omega | RateNames::Gyro => format!("acc_{axis}_g"),
-            RateNames::G | RateNames::W => format!("a{axis}_g"),
+            RateNames::Omega | RateNames::Gyro => format!("acc_{axis}_{unit}"),
+            RateNames::G | RateNames::W => format!("a{axis}_{unit}"),
         }
     }
 
@@ -370,6 +391,8 @@ pub(crate) struct Writer<'d> {
     bytes: Vec<u8>,
     rate_factor: f64,
     rate_decimals: usize,
+    accel_factor: f64,
+    accel_decimals: usize,
 }
 
 impl<'d> Writer<'d> {
@@ -380,6 +403,8 @@ impl<'d> Writer<'d> {
             bytes: Vec::with_capacity(256),
             rate_factor: 1.0 / dialect.rate_unit.to_dph_factor(),
             rate_decimals: dialect.rate_decimals(),
+            accel_factor: accel_writing(dialect.accel_unit).0,
+            accel_decimals: accel_writing(dialect.accel_unit).1,
         }
     }
 
@@ -421,7 +446,8 @@ impl<'d> Writer<'d> {
     }
 
     /// One row. Time is written as the shortest text that reads back to it (in ms: the time
-    /// rounded to 1 ns, then so), rates to their unit's decimals, accelerations to 1 µg,
+    /// rounded to 1 ns, then so), rates to their unit's decimals, accelerations to 1 µg (or
+    /// 10⁻⁶ m/s²),
     /// temperatures to 0.001 °C, channels to their own decimals.
     pub(crate) fn row(&mut self, w: &mut dyn Write, r: &Row, shape: &Shape) -> std::io::Result<()> {
         use std::fmt::Write as _;
@@ -442,7 +468,12 @@ impl<'d> Writer<'d> {
             }
         }
         for &v in r.accel_g {
-            let _ = write!(line, "{sep}{v:.6}");
+            let d = self.accel_decimals;
+            if self.accel_factor == 1.0 {
+                let _ = write!(line, "{sep}{v:.d$}");
+            } else {
+                let _ = write!(line, "{sep}{:.d$}", v * self.accel_factor);
+            }
         }
         if d.raw_temp_register {
             let _ = write!(line, "{sep}{}", raw_temp_counts(r.temp_c));

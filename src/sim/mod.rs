@@ -112,6 +112,7 @@ mod error;
 mod fog;
 mod laser;
 mod logging;
+mod mems;
 mod noise;
 mod profile;
 mod run;
@@ -127,9 +128,9 @@ pub use campaign::{
     Campaign, CampaignRun, RunOfCampaign, campaign, campaign_names, simulate_campaign,
 };
 pub use dialect::{
-    CsvDialect, DialectPreset, ESTIMATED_TEMP_COLUMN, RAW_TEMP_COLUMN, RAW_TEMP_COUNTS_PER_C,
-    RAW_TEMP_OFFSET_C, RateNames, STAND_LINE, parse_decimal_mark, parse_separator, raw_temp_counts,
-    raw_temp_to_c,
+    AccelUnit, CsvDialect, DialectPreset, ESTIMATED_TEMP_COLUMN, RAW_TEMP_COLUMN,
+    RAW_TEMP_COUNTS_PER_C, RAW_TEMP_OFFSET_C, RateNames, STAND_LINE, parse_decimal_mark,
+    parse_separator, raw_temp_counts, raw_temp_to_c,
 };
 pub use error::{SimError, UnknownChoice};
 pub use laser::LaserParams;
@@ -461,10 +462,13 @@ fn command_line(
     if noise_only {
         words.push("--noise-only".into());
     }
-    if shape.axes.len() > 1 {
+    // A profile whose unit is its own (`mems-imu`) is made again without the options that
+    // build a unit of another profile's gyro.
+    let own = profile::profile(profile);
+    if shape.axes.len() > 1 && own.as_ref().is_none_or(|p| p.axes.is_empty()) {
         words.push(format!("--axes {}", shape.axes.len()));
     }
-    if !shape.accels.is_empty() {
+    if !shape.accels.is_empty() && own.as_ref().is_none_or(|p| p.accelerometers.is_empty()) {
         words.push("--accel".into());
     }
     words.extend(logging.args());

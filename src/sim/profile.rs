@@ -245,6 +245,17 @@ impl Profile {
                 ),
             ));
         }
+        if !self.axes.is_empty() {
+            return Err(Invalid::new(
+                "--axes",
+                format!(
+                    "profile {} is a unit of {} gyro axes of its own; --axes makes a unit of \
+                     the fibre-optic gyro of another profile",
+                    self.name,
+                    self.axes.len()
+                ),
+            ));
+        }
         let mut axes = default_axes(n)?;
         axes[0] = AxisParams::of_gyro("x", &self.gyro);
         self.axes = if n == 1 { Vec::new() } else { axes };
@@ -264,6 +275,17 @@ impl Profile {
                     "profile {} is a ring laser gyro without accelerometers; they come with \
                      the fibre-optic unit (any other profile)",
                     self.name
+                ),
+            ));
+        }
+        if !self.accelerometers.is_empty() {
+            return Err(Invalid::new(
+                "--accel",
+                format!(
+                    "profile {} has {} accelerometers of its own; --accel puts the fibre-optic \
+                     unit's on another profile",
+                    self.name,
+                    self.accelerometers.len()
                 ),
             ));
         }
@@ -435,6 +457,7 @@ pub fn profile_names() -> &'static [&'static str] {
         "yan-steps-high",
         "yan-full-range",
         "laser-gyro",
+        "mems-imu",
     ]
 }
 
@@ -584,18 +607,49 @@ pub fn profile(name: &str) -> Option<Profile> {
                 hold_min(60.0),
             ],
         ),
+        "mems-imu" => (
+            "A six-axis MEMS IMU (a flight controller's: three gyros, three accelerometers \
+             reading 1 g on z) soaked at -20 °C, then 1 °C/min to 60 °C with 45-min holds at \
+             -20, 0, 20, 40 and 60 °C; accelerometer biases known cubics in T, z's scale \
+             factor -150 ppm/°C; about 5.1 h at 1 Hz.",
+            -20.0,
+            vec![
+                hold_min(45.0),
+                ramp(0.0, 1.0),
+                hold_min(45.0),
+                ramp(20.0, 1.0),
+                hold_min(45.0),
+                ramp(40.0, 1.0),
+                hold_min(45.0),
+                ramp(60.0, 1.0),
+                hold_min(45.0),
+            ],
+        ),
         _ => return None,
     };
+    let mems = name == "mems-imu";
     Some(Profile {
         name: name.to_string(),
         description: description.to_string(),
         sample_rate_hz: 1.0,
         start_c,
         program,
-        gyro: GyroParams::default(),
+        gyro: if mems {
+            super::mems::board()
+        } else {
+            GyroParams::default()
+        },
         laser: (name == "laser-gyro").then(LaserParams::default),
-        axes: Vec::new(),
-        accelerometers: Vec::new(),
+        axes: if mems {
+            super::mems::gyros()
+        } else {
+            Vec::new()
+        },
+        accelerometers: if mems {
+            super::mems::accelerometers()
+        } else {
+            Vec::new()
+        },
     })
 }
 

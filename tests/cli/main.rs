@@ -5,6 +5,7 @@
 #[path = "../common/mod.rs"]
 mod common;
 
+mod accel_axes;
 mod allan;
 mod allan_inputs;
 mod allan_temperature;

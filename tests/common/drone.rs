@@ -85,6 +85,57 @@ pub fn ulog_of_subscriptions(
     b
 }
 
+/// A PX4 ULog of one `sensor_gyro` (rad/s) and the `sensor_accel` of the same device (m/s²),
+/// stamped alike and each with the temperature `temp_c`: a flight controller's IMU logged with
+/// the thermal-calibration profile.
+pub fn ulog_imu(
+    time_s: &[f64],
+    gyro_rad_s: &[[f32; 3]],
+    accel_m_s2: &[[f32; 3]],
+    temp_c: &[f32],
+    device_id: u32,
+) -> Vec<u8> {
+    fn message(ty: u8, body: &[u8]) -> Vec<u8> {
+        let mut m = (body.len() as u16).to_le_bytes().to_vec();
+        m.push(ty);
+        m.extend_from_slice(body);
+        m
+    }
+    let mut b = b"ULog\x01\x12\x35".to_vec();
+    b.push(1);
+    b.extend_from_slice(&0u64.to_le_bytes());
+    b.extend(message(b'B', &[0u8; 40]));
+    for topic in ["sensor_gyro", "sensor_accel"] {
+        b.extend(message(
+            b'F',
+            format!(
+                "{topic}:uint64_t timestamp;uint32_t device_id;float x;float y;float z;\
+                 float temperature;"
+            )
+            .as_bytes(),
+        ));
+    }
+    for (k, topic) in ["sensor_gyro", "sensor_accel"].iter().enumerate() {
+        // multi_id 0, msg_id k.
+        let mut a = vec![0u8];
+        a.extend_from_slice(&(k as u16).to_le_bytes());
+        a.extend_from_slice(topic.as_bytes());
+        b.extend(message(b'A', &a));
+    }
+    for (i, (t, temp)) in time_s.iter().zip(temp_c).enumerate() {
+        for (k, v) in [gyro_rad_s[i], accel_m_s2[i]].iter().enumerate() {
+            let mut d = (k as u16).to_le_bytes().to_vec();
+            d.extend_from_slice(&((t * 1e6) as u64).to_le_bytes());
+            d.extend_from_slice(&device_id.to_le_bytes());
+            for x in [v[0], v[1], v[2], *temp] {
+                d.extend_from_slice(&x.to_le_bytes());
+            }
+            b.extend(message(b'D', &d));
+        }
+    }
+    b
+}
+
 /// One `IMU` message of an ArduPilot DataFlash log: its instance `I`, its gyro axes (rad/s)
 /// and its temperature (°C), at `time_us`.
 #[derive(Debug, Clone, Copy)]

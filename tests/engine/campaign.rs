@@ -433,11 +433,7 @@ fn a_unit_fitted_on_a_campaign_keeps_each_axis_record_through_its_file() {
             .map(|(f, runs)| {
                 let mut model = dated(&f.calibrated.model);
                 model.source_mut().runs = runs.clone();
-                AxisModel {
-                    name: f.name.clone(),
-                    rate_column: f.rate_column.clone(),
-                    model,
-                }
+                AxisModel::gyro(f.name.clone(), f.rate_column.clone(), model)
             })
             .collect(),
     };

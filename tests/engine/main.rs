@@ -5,6 +5,7 @@
 #[path = "../common/mod.rs"]
 mod common;
 
+mod accel_axes;
 mod allan;
 mod approx;
 mod campaign;
@@ -28,6 +29,7 @@ mod sim_axes;
 mod sim_dialect;
 mod sim_laser;
 mod sim_logging;
+mod sim_mems;
 mod sim_output;
 mod sim_physics;
 mod sim_programs;

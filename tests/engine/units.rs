@@ -44,10 +44,12 @@ fn unit_of(fitted: &[models::CalibratedAxis]) -> UnitCalibration {
     UnitCalibration {
         axes: fitted
             .iter()
-            .map(|f| AxisModel {
-                name: f.name.clone(),
-                rate_column: f.rate_column.clone(),
-                model: dated(&f.calibrated.model, "2026-12-02T00:00:00Z"),
+            .map(|f| {
+                AxisModel::gyro(
+                    f.name.clone(),
+                    f.rate_column.clone(),
+                    dated(&f.calibrated.model, "2026-12-02T00:00:00Z"),
+                )
             })
             .collect(),
     }

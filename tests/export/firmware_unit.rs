@@ -115,18 +115,21 @@ fn model_dt(model: &DriftModel) -> f64 {
 
 /// How far the C is from driftlab on one log, over every axis.
 #[derive(Debug, Default)]
-struct Agreement {
+pub(crate) struct Agreement {
     /// Axis samples compared.
-    compared: usize,
+    pub(crate) compared: usize,
     /// Of them, those whose corrected rate, prediction, Ṫ, T̈, regime and flag are driftlab's.
-    identical: usize,
+    pub(crate) identical: usize,
     /// Largest |C − driftlab| of the corrected rate, °/h.
-    max_dph: f64,
+    pub(crate) max_dph: f64,
 }
 
 /// Compiles the unit's header, runs it on `log` and compares every axis of every sample with
 /// a streaming corrector of that axis alone; `None` without a C compiler.
-fn c_unit_agrees(unit: &UnitCalibration, log: &Log) -> Option<(Agreement, Vec<CSample>)> {
+pub(crate) fn c_unit_agrees(
+    unit: &UnitCalibration,
+    log: &Log,
+) -> Option<(Agreement, Vec<CSample>)> {
     let header = firmware::export_unit(unit, Format::CHeader, &ExportOptions::default()).unwrap();
     let dir = tempfile::tempdir().unwrap();
     // Vakhrameev axes call no libm function: nothing to link unless a regression axis does.

@@ -696,10 +696,8 @@ pub(crate) fn unit_file(dir: &std::path::Path, axes: &[(&str, &DriftModel)]) -> 
     let unit = models::UnitCalibration {
         axes: axes
             .iter()
-            .map(|&(name, model)| models::AxisModel {
-                name: name.to_string(),
-                rate_column: format!("{name}_dps"),
-                model: model.clone(),
+            .map(|&(name, model)| {
+                models::AxisModel::gyro(name.to_string(), format!("{name}_dps"), model.clone())
             })
             .collect(),
     };
@@ -811,11 +809,7 @@ fn a_unit_whose_names_give_no_axis_letter_goes_in_order_and_two_axes_are_refused
         axes: ["fog1", "fog2", "fog3"]
             .iter()
             .zip(&models)
-            .map(|(n, m)| models::AxisModel {
-                name: n.to_string(),
-                rate_column: String::new(),
-                model: m.clone(),
-            })
+            .map(|(n, m)| models::AxisModel::gyro(n.to_string(), String::new(), m.clone()))
             .collect(),
     };
     let opts = ExportOptions {

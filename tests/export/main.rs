@@ -2,6 +2,7 @@
 //!
 //! One test binary for the area (it links the crate once); a module per file.
 
+mod accel_exports;
 mod ardupilot_imu;
 #[path = "../common/mod.rs"]
 mod common;

@@ -446,11 +446,7 @@ fn unit_file(dir: &Path) -> PathBuf {
     let unit = UnitCalibration {
         axes: fitted
             .into_iter()
-            .map(|f| AxisModel {
-                name: f.name,
-                rate_column: f.rate_column,
-                model: f.calibrated.model,
-            })
+            .map(|f| AxisModel::gyro(f.name, f.rate_column, f.calibrated.model))
             .collect(),
     };
     let path = dir.join("unit.json");

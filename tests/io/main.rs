@@ -5,6 +5,7 @@
 #[path = "../common/mod.rs"]
 mod common;
 
+mod accel_drone_logs;
 mod atomic_writes;
 mod attack21_time_order;
 mod autosave_instances;

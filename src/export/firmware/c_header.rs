@@ -76,6 +76,8 @@ struct Axis<'a> {
     /// What its identifiers start with (`driftlab_gx`, or `driftlab` for a single axis).
     names: ModelNames,
     model: &'a DriftModel,
+    /// What the axis measures: the unit of its rate's slot and coefficients.
+    kind: crate::log::AxisKind,
 }
 
 /// The header for `unit`: a single axis as driftlab has always written it, a unit of named axes
@@ -140,7 +142,11 @@ fn write_header(
     parts: &[String],
     of: Option<&AxisOfUnit<'_>>,
 ) -> Result<String, ExportError> {
-    let axes = header_axes(unit, layout, parts)?;
+    let mut axes = header_axes(unit, layout, parts)?;
+    // One axis of a unit exported alone keeps its kind in the single-axis header.
+    if let (Some(of), [one]) = (of, axes.as_mut_slice()) {
+        one.kind = of.kind;
+    }
     let history = temperature_history(&axes)?;
     for a in &axes {
         if let DriftModel::Regression(r) = a.model {
@@ -198,6 +204,7 @@ fn header_axes<'a>(
                 Layout::Unit => ModelNames::axis(&a.name, ident),
             },
             model: &a.model,
+            kind: a.kind,
         })
         .collect())
 }
@@ -253,11 +260,15 @@ fn one_temperature(
 /// range functions beside its own, where its header has always had them.
 fn axis_part(h: &mut String, a: &Axis<'_>, layout: Layout) -> Result<(), ExportError> {
     if layout == Layout::Unit {
+        let kind = match a.kind {
+            crate::log::AxisKind::Gyro => String::new(),
+            crate::log::AxisKind::Accel => ", accelerometer, m/s^2".to_string(),
+        };
         h.push_str(&format!(
-            "\n/* ==== Axis {} ({}) {} */\n",
+            "\n/* ==== Axis {} ({}{kind}) {} */\n",
             comment_text(a.name),
             a.model.tag(),
-            "=".repeat(60usize.saturating_sub(a.name.len()))
+            "=".repeat(60usize.saturating_sub(a.name.len() + kind.len()))
         ));
     }
     match a.model {
@@ -274,7 +285,7 @@ fn axis_part(h: &mut String, a: &Axis<'_>, layout: Layout) -> Result<(), ExportE
         }
         DriftModel::Regression(r) => {
             let mut part = String::new();
-            regression_constants(&mut part, &r.model)?;
+            regression_constants(&mut part, &r.model, a.kind.unit_ascii())?;
             regression_corrector(&mut part, &r.model)?;
             h.push_str(&a.names.rename_all(&part));
         }
@@ -488,8 +499,12 @@ fn unit_preamble(h: &mut String, unit: &UnitCalibration, axes: &[Axis<'_>], shar
         } else {
             format!(", gyro {}", comment_text(a.model.gyro_id()))
         };
+        let kind = match a.kind {
+            crate::log::AxisKind::Gyro => "",
+            crate::log::AxisKind::Accel => " (accelerometer, m/s^2: its slot of the rate arrays)",
+        };
         list.push_str(&format!(
-            " *   [{k}] {name}: {model}{gyro}\n",
+            " *   [{k}] {name}{kind}: {model}{gyro}\n",
             name = comment_text(a.name)
         ));
     }
@@ -532,7 +547,7 @@ fn unit_preamble(h: &mut String, unit: &UnitCalibration, axes: &[Axis<'_>], shar
         .collect();
     h.push_str(&format!(
         r#"/*
- * Thermal-drift calibration of a unit of {n} gyro axes ({axis_list}), for the unit's processor.
+ * Thermal-drift calibration of a unit of {n} {what} ({axis_list}), for the unit's processor.
  * Written by driftlab {version} (`driftlab export --format c-header`); do not edit by hand:
  * export again from the calibration file instead.
  *
@@ -574,6 +589,18 @@ fn unit_preamble(h: &mut String, unit: &UnitCalibration, axes: &[Axis<'_>], shar
 #define DRIFTLAB_AXIS_NAMES {{ {names} }}
 {indices}"#,
         n = unit.axes.len(),
+        what = match unit
+            .axes
+            .iter()
+            .filter(|a| a.kind == crate::log::AxisKind::Accel)
+            .count()
+        {
+            0 => "gyro axes".to_string(),
+            accel => format!(
+                "axes, {} of a gyro and {accel} of an accelerometer,",
+                unit.axes.len() - accel
+            ),
+        },
         axis_list = comment_text(&unit.axis_names().join(", ")),
         version = env!("CARGO_PKG_VERSION"),
         source_doc = source_doc(src, created),

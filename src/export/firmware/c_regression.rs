@@ -75,6 +75,11 @@ pub(super) fn regression_preamble(
     } else {
         " * This model calls no libm function (isfinite, fabs and NAN are macros or builtins).\n"
     };
+    let kind = of.map_or(crate::log::AxisKind::Gyro, |o| o.kind);
+    let (what, unit) = match kind {
+        crate::log::AxisKind::Gyro => ("rate", "deg/h"),
+        crate::log::AxisKind::Accel => ("reading", "m/s^2"),
+    };
     h.push_str(&format!(
         r#"/*
  * Thermal-drift calibration of gyro {gyro}, for the gyro's processor.
@@ -85,8 +90,8 @@ pub(super) fn regression_preamble(
  *   terms:     {terms}
  *   gyro id:   {gyro}
 {axis_doc}{source_doc} *
- * Units: time s, rate deg/h, temperatures degC, Tdot degC/s, Tddot degC/s^2; each coefficient
- * in deg/h per unit of its term.
+ * Units: time s, {what} {unit}, temperatures degC, Tdot degC/s, Tddot degC/s^2; each
+ * coefficient in {unit} per unit of its term.
  *
  * Correction, sample by sample, using only past samples:
  *     Omega_cor = Omega_raw - Omega_pred,   Omega_pred = sum_k coeff[k] * term_k
@@ -136,7 +141,11 @@ pub(super) fn regression_preamble(
 }
 
 /// Terms, coefficients, ranges, knots, delay points and lag of the model.
-pub(super) fn regression_constants(h: &mut String, m: &RegressionModel) -> Result<(), ExportError> {
+pub(super) fn regression_constants(
+    h: &mut String,
+    m: &RegressionModel,
+    unit: &str,
+) -> Result<(), ExportError> {
     let terms = &m.spec.terms;
     let n_ch = m.channel_names().len();
     h.push_str(&format!(
@@ -185,10 +194,10 @@ pub(super) fn regression_constants(h: &mut String, m: &RegressionModel) -> Resul
     }
     h.push_str("};\n");
     centred_constants(h, m)?;
-    h.push_str(
-        "\n/* Coefficients, deg/h per unit of their term (one a line: name, standard error). */\n\
-         static const double driftlab_coeffs[DRIFTLAB_N_COEFFS] = {\n",
-    );
+    h.push_str(&format!(
+        "\n/* Coefficients, {unit} per unit of their term (one a line: name, standard error). */\n\
+         static const double driftlab_coeffs[DRIFTLAB_N_COEFFS] = {{\n",
+    ));
     for ((name, c), se) in m.names.iter().zip(&m.coefficients).zip(&m.std_errors) {
         h.push_str(&format!(
             "    {}, /* {} +- {:e} */\n",

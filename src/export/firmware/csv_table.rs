@@ -77,10 +77,11 @@ pub fn csv_table(unit: &UnitCalibration, points: usize) -> Result<String, Export
     let mut first: Option<(Table, &str, &'static str)> = None;
     let mut rows = Vec::new();
     for a in &unit.axes {
-        let table = axis_table(&a.model, points).map_err(|e| ExportError::Axis {
+        let mut table = axis_table(&a.model, points).map_err(|e| ExportError::Axis {
             axis: a.name.clone(),
             source: Box::new(e),
         })?;
+        in_unit(&mut table, a.kind);
         let axis_comment = comment_text(&a.name).replace(':', ";");
         for line in table.comments.lines() {
             let c = line.strip_prefix('#').unwrap_or(line);
@@ -173,11 +174,24 @@ pub(super) fn csv_table_of_axis(
     points: usize,
 ) -> Result<String, ExportError> {
     let mut table = axis_table(model, points)?;
+    in_unit(&mut table, of.kind);
     let line = format!("# axis: {}\n", of.describe());
     // The title is the comments' first line.
     let at = table.comments.find('\n').map_or(0, |i| i + 1);
     table.comments.insert_str(at, &line);
     Ok(table.text())
+}
+
+/// The table of an axis of kind `kind` in its unit: a regression's table states its unit once,
+/// in its formula's line, deg/h, which an accelerometer axis's says in m/s^2 (its model is a
+/// static regression).
+fn in_unit(table: &mut Table, kind: crate::log::AxisKind) {
+    if kind == crate::log::AxisKind::Accel {
+        table.comments = table.comments.replace(
+            "sum of coefficient * term (deg/h)",
+            "sum of coefficient * term (m/s^2)",
+        );
+    }
 }
 
 /// The table of one axis, by its model.

@@ -28,13 +28,17 @@ mod c_regression;
 mod c_runtime;
 mod c_vakhrameev;
 pub mod csv_table;
+mod flight_of;
 
-use crate::export::flight::ardupilot::{ArduPilotTarget, ardupilot_parm};
-use crate::export::flight::px4::{Px4Target, px4_params};
-use crate::export::flight::{AxisFit, FlightError, FlightFile, ImuFits};
+pub use flight_of::{flight, flight_axes, flight_of, flight_unit};
+
+use crate::export::flight::FlightError;
+use crate::export::flight::ardupilot::ArduPilotTarget;
+use crate::export::flight::px4::Px4Target;
 use crate::models::fitted::DriftModel;
-use crate::models::unit::{AxisModel, UnitCalibration};
+use crate::models::unit::UnitCalibration;
 use crate::models::vakhrameev::Calibration;
+use flight_of::picked;
 use std::fmt;
 use std::str::FromStr;
 
@@ -264,82 +268,6 @@ pub fn export(
     export_model(&DriftModel::Vakhrameev(Box::new(cal.clone())), format, opts)
 }
 
-/// A one-model calibration as a flight controller's parameter file: the model's axis (a
-/// calibration file names none yet) written as the gyro's X, what was chosen in
-/// [`FlightFile::notes`] and left out in [`FlightFile::warnings`] (both also comments in the
-/// file). PX4's device id is `opts.px4`'s, else the calibration's gyro id when that is one
-/// (decimal or 0x hex).
-///
-/// # Errors
-/// `format` is not a flight controller's, or the model cannot be written for one.
-pub fn flight(
-    model: &DriftModel,
-    format: Format,
-    opts: &ExportOptions,
-) -> Result<FlightFile, ExportError> {
-    flight_axes(&[("", model)], format, opts)
-}
-
-/// As [`flight`], one model per gyro axis: `(axis, model)` with the axis `x`, `y` or `z`
-/// (or a name holding one, `gyro_y`), put in X, Y, Z order; the device id from the first
-/// model's gyro id when `opts` gives none.
-///
-/// # Errors
-/// As [`flight`], and axes that cannot be told apart.
-pub fn flight_axes(
-    axes: &[(&str, &DriftModel)],
-    format: Format,
-    opts: &ExportOptions,
-) -> Result<FlightFile, ExportError> {
-    let Some(&(_, model)) = axes.first() else {
-        return Err(ExportError::NoAxes);
-    };
-    // One calibration given for two axes (`--y x.json`, or a copy of it) would write one
-    // axis's drift as another's: every axis of a gyro drifts its own way.
-    for (i, &(a, first)) in axes.iter().enumerate() {
-        if let Some(&(b, _)) = axes[i + 1..].iter().find(|&&(_, m)| m == first) {
-            return Err(ExportError::Flight(
-                crate::export::flight::FlightError::Axes(format!(
-                    "axes {} and {} are given the same calibration (every coefficient equal): \
-                     each axis of a gyro drifts its own way; give each axis its own calibration",
-                    a.to_uppercase(),
-                    b.to_uppercase()
-                )),
-            ));
-        }
-    }
-    let fits = ImuFits {
-        gyro: axes
-            .iter()
-            .map(|&(axis, model)| AxisFit { axis, model })
-            .collect(),
-        accel: Vec::new(),
-    };
-    Ok(match format {
-        Format::Px4Params => {
-            // A gyro id that is a device id (as a drone log's gyro has) serves as one.
-            let from_id = crate::export::flight::px4::parse_device_id(model.gyro_id())
-                .filter(|_| opts.px4.gyro_device_id.is_none());
-            let target = Px4Target {
-                gyro_device_id: opts.px4.gyro_device_id.or(from_id),
-                ..opts.px4
-            };
-            let mut file = px4_params(&fits, &target)?;
-            if let Some(id) = from_id {
-                file.notes.push(format!(
-                    "TC_G{}_ID is the calibration's gyro id {id}",
-                    target.slot
-                ));
-            }
-            file
-        }
-        Format::ArdupilotParm => ardupilot_parm(&fits, &opts.ardupilot)?,
-        other => {
-            return Err(ExportError::NotFlight(other));
-        }
-    })
-}
-
 /// Writes any model's calibration in `format`, as [`export_unit`] writes the single-axis
 /// calibration of it.
 pub fn export_model(
@@ -369,109 +297,6 @@ pub fn export_unit(
     }
 }
 
-/// A unit of three gyro axes as a flight controller's parameter file, the axes as the gyro's
-/// X, Y and Z: by the letter their names end with (`gx`, `gyro_y`) when the three names give
-/// x, y and z, else in the unit's order (and a note says so). A single-axis calibration is
-/// written as [`flight`] writes it.
-///
-/// # Errors
-/// A unit without exactly three axes (naming the axes it has); as [`flight_axes`].
-pub fn flight_unit(
-    unit: &UnitCalibration,
-    format: Format,
-    opts: &ExportOptions,
-) -> Result<FlightFile, ExportError> {
-    flight_of(unit, None, format, opts)
-}
-
-/// The flight file of a unit, or of the one axis `pick` names alone: the one writer behind
-/// [`flight_unit`] and [`export_axis`]. Every axis's place (X, Y or Z) is the one the whole
-/// unit's file gives it ([`flight_places`]), so an axis written alone lands in the parameters
-/// the unit's file writes it in, the others at zero (and a note says so).
-///
-/// # Errors
-/// `pick` names no axis of the unit ([`ExportError::NoSuchAxis`]) or is given for a
-/// single-axis calibration ([`ExportError::NotAUnit`]); the whole of a unit without exactly
-/// three axes; as [`flight_axes`].
-pub fn flight_of(
-    unit: &UnitCalibration,
-    pick: Option<&str>,
-    format: Format,
-    opts: &ExportOptions,
-) -> Result<FlightFile, ExportError> {
-    if !unit.is_unit() {
-        if pick.is_some() {
-            return Err(ExportError::NotAUnit);
-        }
-        let model = &unit.axes.first().ok_or(ExportError::NoAxes)?.model;
-        return flight(model, format, opts);
-    }
-    let names = unit.axis_names();
-    if let Some(name) = pick {
-        picked(unit, name)?;
-    } else if names.len() != 3 {
-        return Err(FlightError::Axes(format!(
-            "the unit has {} gyro {} ({}): {format} holds a gyro's X, Y and Z, so it takes a \
-             unit of three axes",
-            names.len(),
-            if names.len() == 1 { "axis" } else { "axes" },
-            names.join(", ")
-        ))
-        .into());
-    }
-    let (labels, in_order) = flight_places(&names);
-    let axes: Vec<(&str, &DriftModel)> = labels
-        .iter()
-        .zip(&unit.axes)
-        .filter(|(_, a)| pick.is_none_or(|p| a.name == p))
-        .map(|(l, a)| (l.as_str(), &a.model))
-        .collect();
-    let mut file = flight_axes(&axes, format, opts)?;
-    if in_order {
-        file.notes.push(format!(
-            "the unit's axes {} do not name x, y and z: written as X, Y, Z in their order",
-            names.join(", ")
-        ));
-    }
-    Ok(file)
-}
-
-/// The label each axis of a unit named `names` is written under in a flight file, whose x, y
-/// or z places it ([`crate::export::flight::axis_index`]), and whether the places are the
-/// unit's order: its names when they give each axis a letter of its own; for three axes whose
-/// names do not, `x (axis a)`, `y (axis b)`, `z (axis c)` in the unit's order; else the names
-/// as they are (one axis of such a unit, written alone, goes where its name places it, or into
-/// X with a note when it names no letter).
-fn flight_places(names: &[&str]) -> (Vec<String>, bool) {
-    let by_letter: Vec<Option<usize>> = names
-        .iter()
-        .map(|n| crate::export::flight::axis_index(n))
-        .collect();
-    let distinct = by_letter
-        .iter()
-        .enumerate()
-        .all(|(i, k)| k.is_some() && !by_letter[..i].contains(k));
-    if distinct || names.len() != 3 {
-        (names.iter().map(|n| n.to_string()).collect(), false)
-    } else {
-        // The letter first: it is the word that places the axis.
-        let labels = names
-            .iter()
-            .zip(["x", "y", "z"])
-            .map(|(n, l)| format!("{l} (axis {n})"))
-            .collect();
-        (labels, true)
-    }
-}
-
-/// The axis `name` of `unit`, or the refusal naming the axes it has.
-fn picked<'a>(unit: &'a UnitCalibration, name: &str) -> Result<&'a AxisModel, ExportError> {
-    unit.axis(name).ok_or_else(|| ExportError::NoSuchAxis {
-        name: name.to_string(),
-        axes: unit.axis_names().iter().map(|n| n.to_string()).collect(),
-    })
-}
-
 /// One axis of a unit written alone in `format`, under its own name: a flight controller's
 /// file places it as the whole unit's file does ([`flight_of`]), the other axes at zero; the
 /// C header and the table are the single-axis ones of its model (one rate per push, no `axis`
@@ -494,6 +319,7 @@ pub fn export_axis(
         name: &axis.name,
         rate_column: &axis.rate_column,
         unit_axes: unit.axis_names(),
+        kind: axis.kind,
     };
     match format {
         Format::CHeader => c_header::c_header_of_axis(&axis.model, &of),
@@ -512,16 +338,25 @@ pub(crate) struct AxisOfUnit<'a> {
     pub rate_column: &'a str,
     /// Every axis of its unit, in order.
     pub unit_axes: Vec<&'a str>,
+    /// What the axis measures.
+    pub kind: crate::log::AxisKind,
 }
 
 impl AxisOfUnit<'_> {
     /// One line of printable ASCII (no comment delimiters) naming the axis: `gy (rate column
-    /// gy_dps), one of the unit's axes gx, gy, gz, exported alone`.
+    /// gy_dps), one of the unit's axes gx, gy, gz, exported alone`; an accelerometer's says so,
+    /// with its unit: `acc_z, an accelerometer in m/s^2 (column acc_z_g), one of ...`.
     pub(crate) fn describe(&self) -> String {
-        let column = if self.rate_column.is_empty() {
-            String::new()
-        } else {
-            format!(" (rate column {})", comment_text(self.rate_column))
+        let column = match (self.kind, self.rate_column.is_empty()) {
+            (crate::log::AxisKind::Gyro, true) => String::new(),
+            (crate::log::AxisKind::Gyro, false) => {
+                format!(" (rate column {})", comment_text(self.rate_column))
+            }
+            (crate::log::AxisKind::Accel, true) => ", an accelerometer in m/s^2".to_string(),
+            (crate::log::AxisKind::Accel, false) => format!(
+                ", an accelerometer in m/s^2 (column {})",
+                comment_text(self.rate_column)
+            ),
         };
         let axes: Vec<String> = self.unit_axes.iter().map(|n| comment_text(n)).collect();
         format!(

@@ -4,15 +4,15 @@
 //! once (a lot's table of units would be its sibling).
 
 use super::LogReport;
-use super::html::{fmt_dph, fmt_ratio, tag};
+use super::html::{fmt_in, fmt_ratio, tag};
 use super::page::PageAxis;
 use crate::judge::metrics::Comparison;
 use maud::{Markup, html};
 
 /// A figure in °/h, `n/a` when it could not be computed.
-fn dph(v: f64) -> String {
+fn dph(v: f64, unit: &str) -> String {
     if v.is_finite() {
-        fmt_dph(v)
+        fmt_in(v, unit)
     } else {
         "n/a".into()
     }
@@ -36,6 +36,12 @@ fn ratio_cell(r: f64) -> Markup {
 pub(super) fn summary(axes: &[PageAxis<'_>]) -> Markup {
     let Some(first) = axes.first() else {
         return html! {};
+    };
+    // The figures are in each axis's unit: °/h, and m/s² where the unit has accelerometers.
+    let units = if axes.iter().any(|a| a.kind == crate::log::AxisKind::Accel) {
+        "°/h (m/s² on accelerometer axes)"
+    } else {
+        "°/h"
     };
     let filters = axes
         .iter()
@@ -62,10 +68,10 @@ pub(super) fn summary(axes: &[PageAxis<'_>]) -> Markup {
                 tr {
                     th rowspan="2" { "axis" }
                     th rowspan="2" { "model" }
-                    th colspan="3" { "peak-to-peak of filtered drift, °/h" }
-                    th colspan="3" { "std of filtered drift, °/h" }
-                    th colspan="3" { "max |window mean|, °/h" }
-                    th colspan="3" { "mean window RMS, °/h" }
+                    th colspan="3" { "peak-to-peak of filtered drift, " (units) }
+                    th colspan="3" { "std of filtered drift, " (units) }
+                    th colspan="3" { "max |window mean|, " (units) }
+                    th colspan="3" { "mean window RMS, " (units) }
                     th rowspan="2" { "outside the calibrated ranges" }
                 }
                 "\n"
@@ -108,8 +114,8 @@ fn axis_row(a: &PageAxis<'_>, l: &LogReport) -> Markup {
             td { (a.name) }
             td { (a.model.name()) }
             @for (raw, cor, ratio) in cells {
-                td class="num" { (dph(raw)) }
-                td class="num" { (dph(cor)) }
+                td class="num" { (dph(raw, l.unit)) }
+                td class="num" { (dph(cor, l.unit)) }
                 (ratio_cell(ratio))
             }
             td class="num" { (crate::number::percent(l.evaluation.outside_fraction)) " %" }

@@ -23,6 +23,15 @@ pub fn fmt_dph(v: f64) -> String {
     }
 }
 
+/// A figure in `unit` as the page prints it: °/h to 0.0001, m/s² to 10⁻⁶ (a tenth of a µg:
+/// an accelerometer's corrected figures are thousandths of its raw ones).
+pub fn fmt_in(v: f64, unit: &str) -> String {
+    match unit {
+        "m/s²" if v.is_finite() => format!("{v:.6}"),
+        _ => fmt_dph(v),
+    }
+}
+
 /// An improvement ratio as the page prints it.
 pub fn fmt_ratio(r: f64) -> String {
     if r.is_finite() {
@@ -261,13 +270,13 @@ fn merit_table(l: &LogReport, d: Depth, window_s: f64, run: Option<usize>) -> Ma
         table class="merit" data-log=(l.name)
             data-set=(l.kind.replace(' ', "-")) {
             "\n"
-            tr { th { "figure, °/h" } th { "raw" } th { "corrected" } th { "ratio" } }
+            tr { th { "figure, " (l.unit) } th { "raw" } th { "corrected" } th { "ratio" } }
             "\n"
             @for (name, raw, cor, ratio) in rows {
                 tr {
                     td { (name) }
-                    td class="num" { (fmt_dph(raw)) }
-                    td class="num" { (fmt_dph(cor)) }
+                    td class="num" { (fmt_in(raw, l.unit)) }
+                    td class="num" { (fmt_in(cor, l.unit)) }
                     td class="num" { (ratio.map(fmt_ratio).unwrap_or_default()) }
                 }
                 "\n"

@@ -17,6 +17,8 @@ pub(super) struct LogSection<'a> {
     /// The log's name as the page shows it: its file name, with as many of its folders as
     /// tell it apart from another log of the same file name ([`super::names_apart`]).
     pub(super) name: &'a str,
+    /// What the axis measures: the unit of its drift and Allan figures.
+    pub(super) kind: crate::log::AxisKind,
     pub(super) log: &'a Log,
     pub(super) sha: &'a str,
     pub(super) in_sample: bool,
@@ -41,6 +43,7 @@ pub(super) fn log_report(
     let LogSection {
         path,
         name,
+        kind,
         log,
         sha,
         in_sample,
@@ -107,9 +110,17 @@ pub(super) fn log_report(
     let cor_f = signal::moving_average_centered_in(&correction.cor_dph, window, &segments);
     let filter_label = format!("raw, {:.0}-s moving average", merit.filter_s);
     let cor_label = format!("corrected, {:.0}-s moving average", merit.filter_s);
+    let (raw_label, y_desc, quantity) = match kind {
+        crate::log::AxisKind::Gyro => ("raw rate (every sample)", "gyro rate Ω, °/h", "rate"),
+        crate::log::AxisKind::Accel => (
+            "raw reading (every sample)",
+            "accelerometer reading about its kept mean, m/s²",
+            "reading",
+        ),
+    };
     let series = [
         TimeSeries {
-            label: "raw rate (every sample)",
+            label: raw_label,
             values: &log.omega_dph,
             width: 1,
             faint: true,
@@ -136,6 +147,7 @@ pub(super) fn log_report(
     let f = figures::drift(
         &out_dir.join(format!("drift-{stem}")),
         &format!("Drift before and after correction: {name} ({label})"),
+        y_desc,
         &log.time_s,
         &series,
     )?;
@@ -144,12 +156,13 @@ pub(super) fn log_report(
     log_figures.push(figure(
         format!("Drift, {name}"),
         format!(
-            "Raw rate (grey, every sample as min/max per pixel column), its {:.0}-s moving \
-             average, the drift the calibration predicts, and the corrected rate filtered the \
-             same way. Peak-to-peak of the filtered drift {} → {} °/h.",
+            "Raw {quantity} (grey, every sample as min/max per pixel column), its {:.0}-s \
+             moving average, the drift the calibration predicts, and the corrected {quantity} \
+             filtered the same way. Peak-to-peak of the filtered drift {} → {} {}.",
             merit.filter_s,
-            super::html::fmt_dph(c.raw.p2p_dph),
-            super::html::fmt_dph(c.corrected.p2p_dph)
+            super::html::fmt_in(c.raw.p2p_dph, kind.unit()),
+            super::html::fmt_in(c.corrected.p2p_dph, kind.unit()),
+            kind.unit()
         ),
         f,
     ));
@@ -174,11 +187,12 @@ pub(super) fn log_report(
             &out_dir.join(format!("allan-{stem}")),
             &format!("Allan deviation before and after correction: {name} ({label})"),
             &lines,
+            kind.unit(),
         )?;
         files.extend(f.iter().cloned());
         log_figures.push(figure(
             format!("Allan deviation, {name}"),
-            "Allan deviation of the rate before and after correction, log-log.".into(),
+            format!("Allan deviation of the {quantity} before and after correction, log-log."),
             f,
         ));
     }
@@ -197,6 +211,7 @@ pub(super) fn log_report(
             duration_s: log.duration_s(),
             temp_range_c: (t_lo, t_hi),
             figures: log_figures,
+            unit: kind.unit(),
         },
         drew_allan,
     ))

@@ -88,6 +88,8 @@ pub struct ReportOptions {
     /// read from a pipe cannot be opened again to be hashed. `None`: each log is hashed from
     /// its path.
     pub sha256: Option<Vec<String>>,
+    /// What the axis reported measures: the unit of its figures, columns and coefficients.
+    pub kind: crate::log::AxisKind,
 }
 
 /// One figure of the report.
@@ -134,6 +136,8 @@ pub struct LogReport {
     pub temp_range_c: (f64, f64),
     /// Its figures (temperature program, drift, Allan deviation when available).
     pub figures: Vec<Figure>,
+    /// The unit of its figures of merit: `°/h`, `m/s²` for an accelerometer axis.
+    pub unit: &'static str,
 }
 
 /// What [`write()`] wrote.
@@ -151,6 +155,8 @@ pub struct ReportSummary {
     pub merit: MeritOptions,
     /// Things the reader should know (no in-sample log given, no Allan curves, ...).
     pub notes: Vec<String>,
+    /// The unit of the axis's figures of merit and coefficients: `°/h`, `m/s²`.
+    pub unit: &'static str,
 }
 
 impl Relocate for Figure {
@@ -306,11 +312,14 @@ pub fn write_model(
             rate_column: "",
             model,
             summary: &summary,
+            kind: opts.kind,
+            kept_mean: None,
         };
         page::write(
             &[axis],
             &summary.html,
             crate::models::campaign::DEFAULT_TOLERANCE_C,
+            None,
         )?;
         summary.files.push(summary.html.clone());
         Ok(summary)
@@ -412,6 +421,7 @@ fn build(
         let section = LogSection {
             path,
             name: &names[i],
+            kind: opts.kind,
             log,
             sha,
             in_sample: in_sample[i],
@@ -437,6 +447,7 @@ fn build(
         logs: reports,
         merit,
         notes,
+        unit: opts.kind.unit(),
     })
 }
 

@@ -6,9 +6,10 @@
 //! section per axis, each holding what the single-axis page holds for its model one heading
 //! level deeper.
 //!
-//! The page walks the unit's axes and nothing else, so the dimensions still to come are
-//! additions: an accelerometer axis is one more axis (its kind would word its heading and its
-//! introduction, [`axis_heading`]); the runs of a campaign are more rows of the identity
+//! The page walks the unit's axes and nothing else, so each dimension is an addition: an
+//! accelerometer axis is one more axis, its kind wording its heading and its figures' unit
+//! ([`axis_heading`]), the axis that carries gravity said under the summary ([`gravity`]);
+//! the runs of a campaign are more rows of the identity
 //! ([`identity`]), more logs in each axis's figures of merit, and a campaign section per axis
 //! (`campaign_section.rs`: nothing for one run); a lot is a page above this one
 //! with one row per unit, as [`super::axis_summary`] has one row per axis.
@@ -18,7 +19,9 @@ use super::axis_summary::summary;
 use super::html::{AXIS, Depth, PAGE, corrected, document, figures_and_notes, row};
 use super::{campaign_section, regression_section, vakhrameev_section};
 use crate::error::{Error, Result};
+use crate::log::AxisKind;
 use crate::models::DriftModel;
+use crate::models::accel::Gravity;
 use maud::{Markup, html};
 use std::path::Path;
 
@@ -33,6 +36,10 @@ pub(super) struct PageAxis<'a> {
     pub(super) model: &'a DriftModel,
     /// Its figures and figures of merit.
     pub(super) summary: &'a ReportSummary,
+    /// What it measures.
+    pub(super) kind: crate::log::AxisKind,
+    /// The mean an accelerometer axis keeps, m/s².
+    pub(super) kept_mean: Option<f64>,
 }
 
 /// Styles a unit's page adds to the single-axis page's.
@@ -76,13 +83,28 @@ impl Layout {
 /// # Errors
 /// A figure's SVG that cannot be read back, the page that cannot be written;
 /// [`Error::Internal`] for a page without axes.
-pub(super) fn write(axes: &[PageAxis<'_>], html: &Path, tolerance_c: f64) -> Result<()> {
-    let text = page(axes, html.parent().unwrap_or(Path::new("")), tolerance_c)?;
+pub(super) fn write(
+    axes: &[PageAxis<'_>],
+    html: &Path,
+    tolerance_c: f64,
+    gravity: Option<&Gravity>,
+) -> Result<()> {
+    let text = page(
+        axes,
+        html.parent().unwrap_or(Path::new("")),
+        tolerance_c,
+        gravity,
+    )?;
     crate::files::atomic::write_bytes(html, text.as_bytes()).map_err(|e| Error::io(html, e))
 }
 
 /// The whole page of `axes`, the figures' files named from `page_dir`.
-fn page(axes: &[PageAxis<'_>], page_dir: &Path, tolerance_c: f64) -> Result<String> {
+fn page(
+    axes: &[PageAxis<'_>],
+    page_dir: &Path,
+    tolerance_c: f64,
+    gravity: Option<&Gravity>,
+) -> Result<String> {
     let first = axes
         .first()
         .ok_or(Error::Internal("a report page without axes"))?;
@@ -105,6 +127,9 @@ fn page(axes: &[PageAxis<'_>], page_dir: &Path, tolerance_c: f64) -> Result<Stri
         (identity(axes, layout, gyro))
         @if layout == Layout::Unit {
             (summary(axes))
+        }
+        @if let Some(g) = gravity {
+            (self::gravity(g))
         }
         @for (axis, figures) in axes.iter().zip(&figures) {
             @if layout == Layout::Unit {
@@ -158,12 +183,26 @@ fn unit_intro(axes: &[PageAxis<'_>], gyro: &str) -> Markup {
         .iter()
         .map(|a| format!("{} {}", a.name, a.model.name()))
         .collect();
+    let accels = axes.iter().filter(|a| a.kind == AxisKind::Accel).count();
+    let what = match accels {
+        0 => format!("{} gyro axes", axes.len()),
+        n => format!(
+            "{} axes, {} of a gyro and {n} of an accelerometer,",
+            axes.len(),
+            axes.len() - n
+        ),
+    };
     html! {
         h1 { "Thermal drift calibration report" } "\n"
         p {
-            "Unit " b class="gyro-id" { (gyro) } " of " (axes.len()) " gyro axes ("
+            "Unit " b class="gyro-id" { (gyro) } " of " (what) " ("
             (names.join(", ")) "), each calibrated with its own model (" (models.join(", "))
             ") from the unit's one temperature; " (corrected()) " on each axis."
+            @if accels > 0 {
+                " Gyro axes in °/h; accelerometer axes in m/s², each fitted about its mean on \
+                 the calibration log, which its correction keeps (gravity's share and the bias \
+                 at rest are the ordinary accelerometer calibration's), and judged about it."
+            }
         }
         "\n"
     }
@@ -225,8 +264,20 @@ fn axis_heading(axis: &PageAxis<'_>) -> Markup {
             ", calibrated from column " code { (axis.rate_column) }
         }
     };
+    let kind = match axis.kind {
+        AxisKind::Gyro => "Axis ",
+        AxisKind::Accel => "Accelerometer axis ",
+    };
     html! {
-        h2 class="axis" id={ "axis-" (axis.name) } { "Axis " (axis.name) } "\n"
+        h2 class="axis" id={ "axis-" (axis.name) } { (kind) (axis.name) } "\n"
+        @if let Some(mean) = axis.kept_mean {
+            p {
+                "Readings in m/s², fitted about their mean on the calibration log, "
+                (crate::number::readable(mean)) " m/s², which the correction keeps: every \
+                 figure below is of the reading less that mean."
+            }
+            "\n"
+        }
         p {
             @match axis.model {
                 DriftModel::Vakhrameev(_) => {
@@ -236,6 +287,25 @@ fn axis_heading(axis: &PageAxis<'_>) -> Markup {
                     "Regression model " b class="model-name" { (reg.model.spec.name) } ": "
                     (regression_section::formula_html(reg)) (column) "."
                 }
+            }
+        }
+        "\n"
+    }
+}
+
+/// Which axis carries gravity, and its reading's change with T over its mean: what one
+/// orientation tells of its scale factor.
+fn gravity(g: &Gravity) -> Markup {
+    html! {
+        h2 { "Gravity" } "\n"
+        p class="gravity" {
+            "Axis " b { (g.axis) } " carries gravity: its mean on the calibration log is "
+            (crate::number::readable(g.mean_m_s2)) " m/s², which its correction keeps."
+            @if let Some(c) = g.scale_change_per_c {
+                " Its reading changes by " (crate::number::readable(c * 1e6)) " ppm/°C of its \
+                 mean over " (crate::number::readable(g.range_c.0)) " … "
+                (crate::number::readable(g.range_c.1)) " °C: its scale factor's change with T, \
+                 its bias's change included (one orientation cannot part them)."
             }
         }
         "\n"

@@ -52,11 +52,11 @@ pub(super) fn body(cal: &RegressionCalibration, s: &ReportSummary, d: Depth) -> 
     html! {
         (merit_section(s, d, &cal.source.runs))
         (heading(d.section, html! { "Model" }))
-        table { "\n" (model_rows(cal)) }
+        table { "\n" (model_rows(cal, s.unit)) }
         "\n"
         (heading(d.section, html! { "Coefficients" }))
         p {
-            "Least-squares coefficients, °/h per unit of their term, ± standard error \
+            "Least-squares coefficients, " (s.unit) " per unit of their term, ± standard error \
              (white-noise assumption: correlated noise makes the real uncertainty larger)."
         }
         "\n"
@@ -87,7 +87,7 @@ pub(super) fn body(cal: &RegressionCalibration, s: &ReportSummary, d: Depth) -> 
                 "\n"
                 tr {
                     th { "parameter" } th { "values tried" } th { "chosen" }
-                    th { "RMS residual there, °/h" } th { "note" }
+                    th { "RMS residual there, " (s.unit) } th { "note" }
                 }
                 "\n"
                 (search_rows(cal))
@@ -101,7 +101,7 @@ pub(super) fn body(cal: &RegressionCalibration, s: &ReportSummary, d: Depth) -> 
 
 /// The rows of the model's table: its terms, what it was fitted on, its statistics, λ, τd(T),
 /// the lag, the knots and the T settings.
-fn model_rows(cal: &RegressionCalibration) -> Markup {
+fn model_rows(cal: &RegressionCalibration, unit: &str) -> Markup {
     let m = &cal.model;
     let spec = &m.spec;
     let delay = if m.delay.points.is_empty() {
@@ -139,7 +139,7 @@ fn model_rows(cal: &RegressionCalibration) -> Markup {
         (row(
             "fit statistics",
             &format!(
-                "{} samples, RMS residual {} °/h, R² {:.4}",
+                "{} samples, RMS residual {} {unit}, R² {:.4}",
                 m.stats.n,
                 fmt_num(m.stats.rmse),
                 m.stats.r2

@@ -174,12 +174,26 @@ fn write_axes(
             merit: Some(merit.for_model(&ax.model)),
             allan: None,
             sha256: Some(hashes.to_vec()),
+            kind: ax.kind,
         };
-        let summary =
-            build(&ax.model, logs, &folder, &opts, Some(in_sample)).map_err(|e| match e {
-                Error::Fit(e) => Error::Fit(e.on_axis(&ax.name)),
-                other => other,
-            })?;
+        // An accelerometer axis is reported about the mean its correction keeps, as it was
+        // fitted and as `evaluate` judges it.
+        let about: Option<Vec<(PathBuf, Log)>> = ax.kept_mean.map(|_| {
+            logs.iter()
+                .map(|(p, l)| (p.clone(), ax.as_fitted(l).into_owned()))
+                .collect()
+        });
+        let summary = build(
+            &ax.model,
+            about.as_deref().unwrap_or(logs),
+            &folder,
+            &opts,
+            Some(in_sample),
+        )
+        .map_err(|e| match e {
+            Error::Fit(e) => Error::Fit(e.on_axis(&ax.name)),
+            other => other,
+        })?;
         files.extend(summary.files.iter().cloned());
         axes.push(AxisReport {
             name: ax.name.clone(),
@@ -199,9 +213,12 @@ fn write_axes(
             rate_column: &ax.rate_column,
             model: &ax.model,
             summary: &rep.summary,
+            kind: ax.kind,
+            kept_mean: ax.kept_mean,
         })
         .collect();
-    page::write(&page_axes, &html, tolerance_c)?;
+    let gravity = crate::models::accel::gravity(unit);
+    page::write(&page_axes, &html, tolerance_c, gravity.as_ref())?;
     files.push(html.clone());
     Ok(UnitReportSummary { html, files, axes })
 }
@@ -227,7 +244,7 @@ fn settled_in_sample(
                     "an axis found in a log could not be selected",
                 ));
             }
-            let (is_own, share) = ax.model.source().judge_run(log, &name, hash);
+            let (is_own, share) = ax.model.source().judge_run(&ax.as_fitted(log), &name, hash);
             own.push(is_own);
             shares.push(share);
         }

@@ -10,6 +10,10 @@
 //!     { "name": "gy", ... } ] }
 //! ```
 //!
+//! An accelerometer axis says so, `"kind": "accelerometer"`, with the mean its correction
+//! keeps, `"kept_mean_m_s2"` ([`crate::models::accel`]); a gyro axis writes neither, so a file
+//! of gyro axes is what it always was.
+//!
 //! Each axis's `calibration` is the body of a version-1 file of its model, less what the axes
 //! share, which the file holds once: the gyro, the source log and the date at the top, and
 //! under `temperature` the T settings of the Vakhrameev axes (they were made from one T, so
@@ -19,6 +23,7 @@
 
 use super::{FORMAT, VERSION, check_windows, model_tag, windows};
 use crate::error::{Error, Result};
+use crate::log::AxisKind;
 use crate::models::fitted::DriftModel;
 use crate::models::unit::{AxisModel, UnitCalibration};
 use serde::{Deserialize, Serialize};
@@ -49,6 +54,12 @@ struct AxisEntry {
     name: String,
     #[serde(default)]
     rate_column: String,
+    /// What the axis measures; written only for an accelerometer.
+    #[serde(default, skip_serializing_if = "is_gyro")]
+    kind: AxisKind,
+    /// The mean an accelerometer axis keeps, m/s².
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    kept_mean_m_s2: Option<f64>,
     model: String,
     /// The sketch of this axis's samples (`source.samples_sketch` of its version-1 body):
     /// the axes share the source log, but each has its own rate, so its own sketch.
@@ -60,6 +71,10 @@ struct AxisEntry {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     runs: Option<Value>,
     calibration: Map<String, Value>,
+}
+
+fn is_gyro(kind: &AxisKind) -> bool {
+    *kind == AxisKind::Gyro
 }
 
 /// The key of an axis's own sketch in its body's `source`.
@@ -153,6 +168,8 @@ pub(super) fn to_json(unit: &UnitCalibration) -> Result<String> {
         axes.push(AxisEntry {
             name: a.name.clone(),
             rate_column: a.rate_column.clone(),
+            kind: a.kind,
+            kept_mean_m_s2: a.kept_mean,
             model: a.model.tag().to_string(),
             samples_sketch,
             runs,
@@ -285,6 +302,8 @@ pub(super) fn from_json(path: &Path, text: &str) -> Result<UnitCalibration> {
             name: entry.name,
             rate_column: entry.rate_column,
             model,
+            kind: entry.kind,
+            kept_mean: entry.kept_mean_m_s2,
         });
     }
     let unit = UnitCalibration { axes };

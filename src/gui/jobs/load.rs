@@ -351,6 +351,7 @@ fn log_without_axes(log: &Log) -> Log {
         temp_c: log.temp_c.clone(),
         extra: log.extra.clone(),
         axis: String::new(),
+        axis_kind: crate::log::AxisKind::Gyro,
         other_axes: Vec::new(),
         info: log.info.clone(),
     }

@@ -325,6 +325,7 @@ pub(super) fn finish(mut acc: Acc, sn: &Sniffed, plan: &Plan, source: &str) -> R
         .map(|name| crate::log::Axis {
             name: name.clone(),
             omega_dph: take(),
+            kind: crate::log::AxisKind::Gyro,
         })
         .collect();
     let extra = plan
@@ -343,6 +344,7 @@ pub(super) fn finish(mut acc: Acc, sn: &Sniffed, plan: &Plan, source: &str) -> R
         temp_c,
         extra,
         axis: plan.axis.clone(),
+        axis_kind: crate::log::AxisKind::Gyro,
         other_axes,
         info: LogInfo {
             delimiter: sn.delim.as_char(),

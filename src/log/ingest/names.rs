@@ -366,6 +366,33 @@ fn accel_unit(words: &[String], bracket: Option<&str>) -> Option<&'static str> {
         .or_else(|| (1..words.len()).find_map(|i| key(&unit_key(&words[i..].concat()))))
 }
 
+/// The name of the accelerometer axis a column holds: its words without the unit its name
+/// states (`ax` for `ax_g`, `acc_x` for `acc_x_m_s2` or `Acc X [m/s^2]`, `linear_acceleration_x`
+/// as it is), as [`axis_name`] names a gyro's.
+pub(crate) fn accel_axis_name(name: &str) -> String {
+    let printable: String = name
+        .chars()
+        .filter(|&c| !crate::text::is_unprintable(c))
+        .collect();
+    let p = name_parts(&printable);
+    let words = &p.words;
+    let key = |k: &str| {
+        matches!(
+            k,
+            "ms2" | "mss" | "mps2" | "mpers2" | "mpersec2" | "g" | "gee" | "mg" | "millig"
+        )
+    };
+    let end = (1..words.len())
+        .find(|&i| key(&unit_key(&words[i..].concat())))
+        .unwrap_or(words.len());
+    let name = words[..end].join("_");
+    if name.is_empty() {
+        "accel".to_string()
+    } else {
+        name
+    }
+}
+
 /// Whether a column's name reads as an accelerometer axis (`ax_g`, `acc_x`,
 /// `linear_acceleration_x`): such a column is kept by name beside the gyro's.
 pub(crate) fn is_accelerometer(name: &str) -> bool {

@@ -16,7 +16,7 @@ use crate::judge::metrics::MeritOptions;
 use crate::log::campaign::{CampaignError, RunInput, join, run_names};
 use crate::log::{Log, ProblemKind};
 use crate::models::recipe::PlateauChoice;
-use crate::models::{AxisModel, AxisPlan, CheckedRecipe, DriftModel, UnitCalibration};
+use crate::models::{AxisPlan, CheckedRecipe, DriftModel, UnitCalibration};
 use std::path::Path;
 
 /// A unit's runs read and joined into one log: the name its calibration records and the one
@@ -218,11 +218,7 @@ fn stamped(
             model.source_mut().sha256 = sha256.to_string();
             stamp_runs(model.source_mut(), runs.clone(), tolerance_c);
             set_created(&mut model, &created);
-            AxisModel {
-                name: f.name.clone(),
-                rate_column: f.rate_column.clone(),
-                model,
-            }
+            f.axis_model(model)
         })
         .collect();
     UnitCalibration { axes }

@@ -21,6 +21,8 @@ pub struct AllanLine<'a> {
 
 struct AllanPlot<'a> {
     caption: &'a str,
+    /// The y axis's description, its unit the axis's.
+    y_desc: &'a str,
     lines: &'a [AllanLine<'a>],
 }
 
@@ -60,7 +62,7 @@ impl Plot for AllanPlot<'_> {
             .x_labels(12)
             .y_labels(12)
             .x_desc("averaging time τ, s")
-            .y_desc("Allan deviation σ(τ), °/h")
+            .y_desc(self.y_desc)
             .x_label_formatter(&fmt)
             .y_label_formatter(&fmt)
             .label_style((FAMILY, LABEL_PT))
@@ -81,11 +83,20 @@ impl Plot for AllanPlot<'_> {
     }
 }
 
-/// Allan deviation curves (already computed), log-log.
+/// Allan deviation curves (already computed), log-log, in `unit` (`°/h`, `m/s²`).
 pub fn allan(
     stem: &Path,
     caption: &str,
     lines: &[AllanLine<'_>],
+    unit: &str,
 ) -> Result<Vec<PathBuf>, FigureError> {
-    render(stem, &AllanPlot { caption, lines })
+    let y_desc = format!("Allan deviation σ(τ), {unit}");
+    render(
+        stem,
+        &AllanPlot {
+            caption,
+            y_desc: &y_desc,
+            lines,
+        },
+    )
 }

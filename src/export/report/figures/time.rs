@@ -230,15 +230,17 @@ pub fn temperature_program(
     )
 }
 
-/// Raw and corrected drift over time (the raw record faint, filtered records drawn over it).
+/// Raw and corrected drift over time (the raw record faint, filtered records drawn over it),
+/// the y axis described as `y_desc` (`gyro rate Ω, °/h`).
 pub fn drift(
     stem: &Path,
     caption: &str,
+    y_desc: &str,
     time_s: &[f64],
     series: &[TimeSeries<'_>],
 ) -> Result<Vec<PathBuf>, FigureError> {
     render(
         stem,
-        &TimePlot::new(caption, "gyro rate Ω, °/h", time_s, series, (&[], "")),
+        &TimePlot::new(caption, y_desc, time_s, series, (&[], "")),
     )
 }

@@ -1,0 +1,166 @@
+//! `calibrate --accel`, `apply` and `evaluate` on a six-axis MEMS IMU's log, as a user runs
+//! them: the accelerometer axes calibrated after the gyro axes; `apply` writing them in m/s²
+//! after the gyro axes, each corrected reading its raw less its prediction, the prediction's
+//! change with T the simulator's cubic; the axis along g named with its apparent scale-factor
+//! change; and the options that cannot reach an accelerometer refused by name.
+
+use crate::common::run::{fails, ok, p};
+
+/// m/s² in one g, written out here.
+const G: f64 = 9.80665;
+
+/// x's accelerometer bias (g, g/°C, g/°C², g/°C³ about 20 °C), as the profile documents it.
+const X_BIAS: [f64; 4] = [8.0e-3, 1.5e-4, -2.0e-6, 5.0e-8];
+
+fn x_truth_m_s2(t: f64) -> f64 {
+    let d = t - 20.0;
+    let b = X_BIAS;
+    G * (b[0] + d * (b[1] + d * (b[2] + d * b[3])))
+}
+
+/// The `mems-imu` run of `seed` in m/s², written into `dir`.
+fn mems(dir: &std::path::Path, seed: u64) -> String {
+    let path = p(dir, &format!("mems{seed}.csv"));
+    ok(&[
+        "simulate",
+        "--profile",
+        "mems-imu",
+        "--seed",
+        &seed.to_string(),
+        "--accel-unit",
+        "m/s2",
+        "--out",
+        &path,
+    ]);
+    path
+}
+
+#[test]
+fn accelerometer_axes_are_calibrated_applied_and_judged_in_m_s2() {
+    let dir = tempfile::tempdir().unwrap();
+    let (train, test) = (mems(dir.path(), 1), mems(dir.path(), 2));
+    let cal = p(dir.path(), "imu.json");
+    let printed = ok(&["calibrate", &train, "--accel", "--out", &cal]);
+    assert!(printed.contains("=== Axis acc_x (column acc_x_m_s2) — model poly-t3 ==="));
+    assert!(printed.contains("figure (m/s^2)"), "{printed}");
+    assert!(
+        printed.contains("Gravity: axis acc_z carries it (mean 9.9"),
+        "{printed}"
+    );
+    assert!(printed.contains(
+        "Calibration of 6 axes (omega_x, omega_y, omega_z, acc_x, acc_y, acc_z) written to"
+    ));
+    let json = ok(&["calibrate", &train, "--accel", "--out", &cal, "--json"]);
+    let v: serde_json::Value = serde_json::from_str(&json).unwrap();
+    assert_eq!(v["gravity"]["axis"], "acc_z");
+    assert_eq!(v["axes"][3]["kind"], "accelerometer");
+    assert_eq!(v["axes"][0].get("kind"), None);
+
+    let out = p(dir.path(), "corrected.csv");
+    ok(&["apply", &cal, &test, "--out", &out]);
+    let text = std::fs::read_to_string(&out).unwrap();
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    assert_eq!(
+        header[10..19],
+        [
+            "acc_x_raw_m_s2",
+            "acc_x_pred_m_s2",
+            "acc_x_cor_m_s2",
+            "acc_y_raw_m_s2",
+            "acc_y_pred_m_s2",
+            "acc_y_cor_m_s2",
+            "acc_z_raw_m_s2",
+            "acc_z_pred_m_s2",
+            "acc_z_cor_m_s2"
+        ]
+    );
+    assert_eq!(header[..2], ["time_s", "omega_x_raw_dph"]);
+    let rows: Vec<Vec<f64>> = lines
+        .map(|l| l.split(',').map(|c| c.parse().unwrap()).collect())
+        .collect();
+    // The raw readings are the log's; each corrected reading is the raw less the prediction.
+    let log = std::fs::read_to_string(&test).unwrap();
+    let logged: Vec<f64> = log
+        .lines()
+        .skip(2)
+        .map(|l| l.split(',').nth(4).unwrap().parse().unwrap())
+        .collect();
+    assert_eq!(rows.len(), logged.len());
+    for (row, raw) in rows.iter().zip(&logged) {
+        assert_eq!(row[10], *raw);
+        assert_eq!(row[12], row[10] - row[11]);
+        assert_eq!(row[18], row[16] - row[17]);
+    }
+    // The prediction's change with T is x's bias cubic, to 10 µg where it moves by 18 mg.
+    let t_col = header.iter().position(|h| *h == "temp_c").unwrap();
+    let at20 = rows
+        .iter()
+        .min_by(|a, b| (a[t_col] - 20.0).abs().total_cmp(&(b[t_col] - 20.0).abs()))
+        .unwrap();
+    for row in rows.iter().step_by(101) {
+        let (t, t20) = (row[t_col], at20[t_col]);
+        let fitted = row[11] - at20[11];
+        let truth = x_truth_m_s2(t) - x_truth_m_s2(t20);
+        assert!((fitted - truth).abs() < 1e-4, "at {t} °C: {fitted} {truth}");
+    }
+    // The axis along g keeps its mean: gravity stays on z.
+    let z_mean = rows.iter().map(|r| r[18]).sum::<f64>() / rows.len() as f64;
+    assert!((z_mean / G - 1.0).abs() < 0.02, "{z_mean}");
+
+    // Judged on its own log and on another run, each axis in its unit.
+    let own = ok(&["evaluate", &cal, &train]);
+    assert!(own.contains("(in-sample: the calibration log)"), "{own}");
+    let held = ok(&["evaluate", &cal, &test]);
+    assert!(held.contains("held out"), "{held}");
+    assert!(held.contains("=== Axis acc_z — model poly-t3"), "{held}");
+    assert!(
+        held.contains("deg/h, m/s^2 for the accelerometer axes"),
+        "{held}"
+    );
+}
+
+#[test]
+fn what_cannot_reach_an_accelerometer_is_refused_by_name() {
+    let dir = tempfile::tempdir().unwrap();
+    let train = mems(dir.path(), 3);
+    let cal = p(dir.path(), "imu.json");
+    let e = fails(&[
+        "calibrate",
+        &train,
+        "--accel",
+        "--model",
+        "vakhrameev",
+        "--out",
+        &cal,
+    ]);
+    assert!(
+        e.contains("accelerometer axis acc_x: model vakhrameev reads more than T")
+            && e.contains("--axis-model"),
+        "{e}"
+    );
+    // A static model named for every axis reaches the accelerometers too.
+    let printed = ok(&[
+        "calibrate",
+        &train,
+        "--accel",
+        "--model",
+        "px4",
+        "--out",
+        &cal,
+    ]);
+    assert!(printed.contains("=== Axis acc_x (column acc_x_m_s2) — model px4 ==="));
+    assert!(printed.contains("=== Axis omega_x (column omega_x_dph) — model px4 ==="));
+    // A log without accelerometers, and the options of commands that read none.
+    let fog = p(dir.path(), "fog.csv");
+    ok(&["simulate", "--profile", "fast-ramps", "--out", &fog]);
+    let e = fails(&["calibrate", &fog, "--accel", "--out", &cal]);
+    assert!(e.contains("no accelerometer column"), "{e}");
+    let e = fails(&["compare", "--train", &train, "--accel-col", "acc_x_m_s2"]);
+    assert!(
+        e.contains("--accel-col: compare reads no accelerometer axis"),
+        "{e}"
+    );
+    let e = fails(&["calibrate", &train, &train, "--accel", "--out", &cal]);
+    assert!(e.contains("--accel: a campaign of 2 runs"), "{e}");
+}
