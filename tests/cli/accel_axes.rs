@@ -164,3 +164,87 @@ fn what_cannot_reach_an_accelerometer_is_refused_by_name() {
     let e = fails(&["calibrate", &train, &train, "--accel", "--out", &cal]);
     assert!(e.contains("--accel: a campaign of 2 runs"), "{e}");
 }
+
+/// The `mems-imu` log of `path` rewritten by `edit` (of its header line and of each data
+/// line's cells) into `to`.
+fn rewritten(path: &str, to: &str, edit: impl Fn(usize, &mut Vec<String>)) -> String {
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut out = String::new();
+    for (k, line) in text.lines().enumerate() {
+        let mut cells: Vec<String> = line.split(',').map(str::to_string).collect();
+        edit(k, &mut cells);
+        out.push_str(&cells.join(","));
+        out.push('\n');
+    }
+    std::fs::write(to, out).unwrap();
+    to.to_string()
+}
+
+#[test]
+fn a_unit_contradicted_or_no_gravity_is_refused_and_a_bad_cell_costs_only_its_sample() {
+    let dir = tempfile::tempdir().unwrap();
+    let train = mems(dir.path(), 4);
+    let cal = p(dir.path(), "imu.json");
+    let header = std::fs::read_to_string(&train).unwrap();
+    // The simulator's first line is the command that made the log; the header is the next.
+    let header: Vec<String> = header
+        .lines()
+        .nth(1)
+        .unwrap()
+        .split(',')
+        .map(str::to_string)
+        .collect();
+    let acc: Vec<usize> = (0..header.len())
+        .filter(|&k| header[k].starts_with("acc_"))
+        .collect();
+    assert_eq!(acc.len(), 3, "{header:?}");
+
+    // m/s² written under names that say g: gravity then reads 9.9 g, refused, naming it.
+    let as_g = rewritten(&train, &p(dir.path(), "as_g.csv"), |k, cells| {
+        if k == 1 {
+            for &c in &acc {
+                cells[c] = cells[c].replace("_m_s2", "_g");
+            }
+        }
+    });
+    let e = fails(&["calibrate", &as_g, "--accel", "--out", &cal]);
+    assert!(
+        e.contains("IMU at rest reads 1 g") && e.contains("(9.9"),
+        "{e}"
+    );
+    // And a unit given against the unit every column states.
+    let e = fails(&[
+        "calibrate",
+        &as_g,
+        "--accel",
+        "--accel-unit",
+        "m/s2",
+        "--out",
+        &cal,
+    ]);
+    assert!(
+        e.contains("accelerometer unit given, m/s2, contradicts") && e.contains("acc_x_g in g"),
+        "{e}"
+    );
+
+    // The column of another part of the log, named as an accelerometer.
+    let e = fails(&["calibrate", &train, "--accel-col", "temp_c", "--out", &cal]);
+    assert!(
+        e.contains("column temp_c is the log's temperature column"),
+        "{e}"
+    );
+
+    // One cell that reads inf and one in a hundred NaN: those samples left out, the axis
+    // fitted, its kept mean finite.
+    let holed = rewritten(&train, &p(dir.path(), "holed.csv"), |k, cells| {
+        if k == 1000 {
+            cells[acc[0]] = "inf".into();
+        } else if k > 2 && k % 100 == 0 {
+            cells[acc[0]] = "NaN".into();
+        }
+    });
+    let json = ok(&["calibrate", &holed, "--accel", "--out", &cal, "--json"]);
+    let v: serde_json::Value = serde_json::from_str(&json).unwrap();
+    let mean = v["axes"][3]["kept_mean_m_s2"].as_f64().unwrap();
+    assert!(mean.is_finite() && mean.abs() < 1.0, "{mean}");
+}
