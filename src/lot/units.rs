@@ -125,8 +125,9 @@ fn identity(path: &Path) -> Option<Identity> {
 }
 
 /// The units' names made distinct: two units whose names are one once escaped or made valid
-/// text (`u\xff.csv` and `u\xfe.csv` both read `u\u{fffd}.csv`) are two units, the later
-/// ones named `~2`, `~3`... after it, so that each has its row and its folder.
+/// text (`u\xff.csv` and `u\xfe.csv` both read `u\u{fffd}.csv`), or whose folders differ
+/// only in case (one folder where case is ignored), are two units, the later ones named
+/// `~2`, `~3`... after it, so that each has its row and its folder.
 fn distinct(names: Vec<String>) -> Vec<String> {
     let mut taken: HashSet<String> = HashSet::with_capacity(names.len());
     let mut folders: HashSet<String> = HashSet::with_capacity(names.len());
@@ -135,11 +136,13 @@ fn distinct(names: Vec<String>) -> Vec<String> {
         .map(|name| {
             let mut candidate = name.clone();
             let mut k = 1;
-            while taken.contains(&candidate) || folders.contains(&folder_of(&candidate)) {
+            // Folders compared as a file system that ignores case would (macOS, Windows).
+            let folder = |c: &str| folder_of(c).to_ascii_lowercase();
+            while taken.contains(&candidate) || folders.contains(&folder(&candidate)) {
                 k += 1;
                 candidate = format!("{name}~{k}");
             }
-            folders.insert(folder_of(&candidate));
+            folders.insert(folder(&candidate));
             taken.insert(candidate.clone());
             candidate
         })
@@ -249,7 +252,8 @@ pub fn folder_of(name: &str) -> String {
             out.push_str(&format!("%{b:02X}"));
         }
     }
-    if LOT_FILE_PREFIXES.iter().any(|p| out.starts_with(p)) {
+    let lower = out.to_ascii_lowercase();
+    if LOT_FILE_PREFIXES.iter().any(|p| lower.starts_with(p)) {
         out = format!("%{:02X}{}", out.as_bytes()[0], &out[1..]);
     }
     if out.len() > MAX_FOLDER_BYTES {
@@ -315,5 +319,8 @@ mod tests {
             "v".into(),
         ]);
         assert_eq!(names, ["u\u{fffd}.csv", "u\u{fffd}.csv~2", "v"]);
+        let names = distinct(vec!["U1.csv".into(), "u1.csv".into()]);
+        assert_eq!(names, ["U1.csv", "u1.csv~2"]);
+        assert_eq!(folder_of("LOT.csv"), "%4COT.csv");
     }
 }
