@@ -372,10 +372,16 @@ fn role_in_words(role: ColumnRole) -> Option<&'static str> {
     }
 }
 
-/// Refuses accelerometers whose units make them no IMU at rest: the mean vector of the
+/// The lengths, in g, the mean vector of accelerometers in their units may have: wide enough
+/// for a unit handled or shaken while logging (a real robot's IMU reads 0.63 g on average),
+/// narrow enough to catch a unit off by the factor of ten between g and m/s², or of a
+/// thousand between g and mg.
+const GRAVITY_BOUNDS: (f64, f64) = (0.5, 1.5);
+
+/// Refuses accelerometers whose units make them no IMU in gravity: the mean vector of the
 /// columns, in m/s², longer than gravity allows (a part of the three axes reads at most 1 g),
-/// or, for three axes or more, shorter (a mislabelled column, g read as m/s², or m/s² as g,
-/// would give every coefficient ten times too large or too small).
+/// or, for three axes or more, much shorter (a mislabelled column, g read as m/s², or m/s² as
+/// g, would give every coefficient ten times too large or too small).
 fn check_gravity(
     log: &Log,
     picked: &[usize],
@@ -389,8 +395,8 @@ fn check_gravity(
         .sum();
     let magnitude_m_s2 = squares.sqrt();
     let ratio = magnitude_m_s2 / STANDARD_GRAVITY_M_S2;
-    let too_long = ratio > 1.0 + MAGNITUDE_TOLERANCE;
-    let too_short = picked.len() >= 3 && ratio < 1.0 - MAGNITUDE_TOLERANCE;
+    let too_long = ratio > GRAVITY_BOUNDS.1;
+    let too_short = picked.len() >= 3 && ratio < GRAVITY_BOUNDS.0;
     if too_long || too_short || !ratio.is_finite() {
         return Err(AccelError::NotGravity {
             log: log.source.clone(),

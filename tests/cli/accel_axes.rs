@@ -248,3 +248,81 @@ fn a_unit_contradicted_or_no_gravity_is_refused_and_a_bad_cell_costs_only_its_sa
     let mean = v["axes"][3]["kept_mean_m_s2"].as_f64().unwrap();
     assert!(mean.is_finite() && mean.abs() < 1.0, "{mean}");
 }
+
+#[test]
+fn a_run_in_another_orientation_is_judged_about_its_own_mean_and_said() {
+    let dir = tempfile::tempdir().unwrap();
+    let (train, test) = (mems(dir.path(), 5), mems(dir.path(), 6));
+    let cal = p(dir.path(), "imu.json");
+    ok(&["calibrate", &train, "--accel", "--out", &cal]);
+    let header = std::fs::read_to_string(&test).unwrap();
+    let z = header
+        .lines()
+        .nth(1)
+        .unwrap()
+        .split(',')
+        .position(|h| h == "acc_z_m_s2")
+        .unwrap();
+    // The unit flipped: gravity's share on z is −1 g where it was +1 g; its bias, in the
+    // sensor's own frame, is what it was.
+    let flipped = rewritten(&test, &p(dir.path(), "flipped.csv"), |k, cells| {
+        if k > 1 {
+            let v: f64 = cells[z].parse().unwrap();
+            cells[z] = format!("{}", v - 2.0 * G);
+        }
+    });
+    let out = crate::common::run::driftlab(&["evaluate", &cal, &flipped, "--json"]);
+    assert!(out.status.success());
+    let stderr = String::from_utf8(out.stderr).unwrap();
+    assert!(
+        stderr.contains("accelerometer axis acc_z reads a mean of -9.6")
+            && stderr.contains("another orientation"),
+        "{stderr}"
+    );
+    // Judged about its own mean, its figures are its change with T (tens of mg), not 2 g.
+    let same = crate::common::run::driftlab(&["evaluate", &cal, &test, "--json"]);
+    let figure = |json: &[u8]| -> f64 {
+        let v: serde_json::Value = serde_json::from_slice(json).unwrap();
+        let axes = v["axes"].as_array().unwrap();
+        let z = axes.iter().find(|a| a["name"] == "acc_z").unwrap();
+        // The largest |10-min mean| of the corrected axis, m/s² (the field keeps its gyro name).
+        z["evaluation"]["comparison"]["corrected"]["win_mean_max_abs_dph"]
+            .as_f64()
+            .unwrap()
+    };
+    let (upright, flipped) = (figure(&same.stdout), figure(&out.stdout));
+    // Two g of gravity would read 19.9 m/s²; the flipped run's change with T is its own.
+    assert!(flipped < 0.05, "{flipped}");
+    assert!(upright < 0.05, "{upright}");
+}
+
+#[test]
+fn an_accelerometer_with_no_reading_at_the_hottest_sample_is_written() {
+    let dir = tempfile::tempdir().unwrap();
+    let train = mems(dir.path(), 7);
+    let text = std::fs::read_to_string(&train).unwrap();
+    let header: Vec<&str> = text.lines().nth(1).unwrap().split(',').collect();
+    let (x, t) = (
+        header.iter().position(|h| *h == "acc_x_m_s2").unwrap(),
+        header.iter().position(|h| *h == "temp_c").unwrap(),
+    );
+    let hottest = text
+        .lines()
+        .enumerate()
+        .skip(2)
+        .max_by(|a, b| {
+            let t_of = |l: &str| l.split(',').nth(t).unwrap().parse::<f64>().unwrap();
+            t_of(a.1).total_cmp(&t_of(b.1))
+        })
+        .unwrap()
+        .0;
+    let holed = rewritten(&train, &p(dir.path(), "hot.csv"), |k, cells| {
+        if k == hottest {
+            cells[x] = "NaN".into();
+        }
+    });
+    // Its fitted range is a little narrower than the log's: its Tref the middle of its own.
+    let cal = p(dir.path(), "imu.json");
+    ok(&["calibrate", &holed, "--accel", "--out", &cal]);
+    ok(&["evaluate", &cal, &holed]);
+}
