@@ -77,16 +77,9 @@ fn in_words(e: WriteError, unit: &UnitCalibration, calibration: &Path) -> CliErr
             axis,
             rate_column,
             log_axes,
-        } => super::evaluate::missing_axis(
-            &log,
-            (
-                &axis,
-                unit.axis(&axis).map_or(Default::default(), |a| a.kind),
-            ),
-            &rate_column,
-            &log_axes,
-            calibration,
-        ),
+        } => {
+            super::evaluate::missing_axis(&log, (unit, &axis), &rate_column, &log_axes, calibration)
+        }
         WriteError::Predict { .. } => format!("{}: {e}", calibration.display()).into(),
         WriteError::Io { .. } => e.to_string().into(),
     }

@@ -181,16 +181,7 @@ pub(super) fn unit_axes(
             axis,
             rate_column,
             log_axes,
-        } => missing_axis(
-            &log,
-            (
-                &axis,
-                unit.axis(&axis).map_or(Default::default(), |a| a.kind),
-            ),
-            &rate_column,
-            &log_axes,
-            calibration,
-        ),
+        } => missing_axis(&log, (unit, &axis), &rate_column, &log_axes, calibration),
         other => other.to_string().into(),
     })
 }
@@ -199,11 +190,12 @@ pub(super) fn unit_axes(
 /// calibration file `calibration`.
 pub(super) fn missing_axis(
     log: &str,
-    (axis, kind): (&str, driftlab::log::AxisKind),
+    (unit, axis): (&UnitCalibration, &str),
     rate_column: &str,
     log_axes: &[String],
     calibration: &Path,
 ) -> CliError {
+    let kind = unit.axis(axis).map_or(Default::default(), |a| a.kind);
     let column = if rate_column.is_empty() {
         "?"
     } else {

@@ -2,7 +2,9 @@
 //! station gates on, the table, each unit's calibration the very file `calibrate` writes, a
 //! unit's own recipe, and a spec with a key it does not know refused by name.
 
-use crate::common::lot::{CAMPAIGN, CORRUPT, NOISY, ORDINARY, SLOPED, spec_json, write_lot};
+use crate::common::lot::{
+    CAMPAIGN, CORRUPT, NOISY, ORDINARY, SLOPED, header_only_lot, spec_json, write_lot,
+};
 use crate::common::run::{driftlab, p};
 use std::path::Path;
 
@@ -359,12 +361,7 @@ fn the_lot_page_draws_every_figure_marks_the_outliers_and_links_each_unit() {
 #[test]
 fn a_unit_found_twice_or_an_output_among_the_units_is_refused_before_any_unit() {
     let dir = tempfile::tempdir().unwrap();
-    let units = dir.path().join("units");
-    std::fs::create_dir(&units).unwrap();
-    std::fs::write(units.join("u.csv"), "time_s,omega_dph,temp_c\n").unwrap();
-    let spec = p(dir.path(), "spec.json");
-    std::fs::write(&spec, "{}").unwrap();
-    let u = units.display().to_string();
+    let (u, spec) = header_only_lot(dir.path(), "{}");
     let by_another_path = format!("{}/../units/u.csv", u);
     for (args, said) in [
         (vec![u.as_str(), by_another_path.as_str()], "found twice"),

@@ -4,7 +4,7 @@
 //! alike or that no file system takes as a folder, an output folder reached by `..` or by a
 //! link among the units, a second lot writing the same folder, a report removed.
 
-use crate::common::lot::{NOISY, ORDINARY, arws, profile};
+use crate::common::lot::{NOISY, ORDINARY, arws, header_only_lot, profile};
 use crate::common::run::{driftlab, p};
 use driftlab::sim::{GyroParams, simulate};
 use std::path::Path;
@@ -160,12 +160,8 @@ fn shards_of_two_recipes_are_not_merged_and_one_shard_is_not_run_twice_at_once()
 #[test]
 fn a_spec_is_an_object_read_within_its_bound_and_a_recipe_too() {
     let dir = tempfile::tempdir().unwrap();
-    let units = dir.path().join("units");
-    std::fs::create_dir(&units).unwrap();
-    std::fs::write(units.join("u.csv"), "time_s,omega_dph,temp_c\n").unwrap();
-    let u = units.display().to_string();
+    let (u, spec) = header_only_lot(dir.path(), "{}");
     let out = p(dir.path(), "out");
-    let spec = p(dir.path(), "spec.json");
     for (text, said) in [
         ("[]", "not an array"),
         ("[0.0001]", "not an array"),
@@ -243,12 +239,8 @@ fn names_alike_once_escaped_too_long_or_an_option_each_get_a_folder_of_their_own
 #[test]
 fn an_output_reached_by_dots_or_by_a_link_among_the_units_is_refused() {
     let dir = tempfile::tempdir().unwrap();
-    let units = dir.path().join("units");
-    std::fs::create_dir(&units).unwrap();
-    std::fs::write(units.join("u.csv"), "time_s,omega_dph,temp_c\n").unwrap();
-    let spec = p(dir.path(), "spec.json");
-    std::fs::write(&spec, "{}").unwrap();
-    let u = units.display().to_string();
+    let (u, spec) = header_only_lot(dir.path(), "{}");
+    let units = Path::new(&u);
     let dotted = format!("{}/nothere/../units/out", dir.path().display());
     let (code, _, stderr) = status(&["lot", &u, "--spec", &spec, "--out", &dotted]);
     assert_eq!(code, 1, "{stderr}");

@@ -115,3 +115,15 @@ pub fn spec_json() -> String {
         (ordinary * noisy).sqrt()
     )
 }
+
+/// A lot that is refused before any unit is read: `dir/units` holding one log of a header
+/// alone (`u.csv`), and `dir/spec.json` holding `spec`. Returns the folder of units and the
+/// spec's path.
+pub fn header_only_lot(dir: &Path, spec: &str) -> (String, String) {
+    let units = dir.join("units");
+    std::fs::create_dir(&units).unwrap();
+    std::fs::write(units.join("u.csv"), "time_s,omega_dph,temp_c\n").unwrap();
+    let spec_path = dir.join("spec.json");
+    std::fs::write(&spec_path, spec).unwrap();
+    (units.display().to_string(), spec_path.display().to_string())
+}

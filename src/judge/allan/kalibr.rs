@@ -621,19 +621,3 @@ mod topic_tests {
         }
     }
 }
-
-#[cfg(test)]
-mod run_tests {
-    use super::longest_finite_run;
-
-    #[test]
-    fn the_longest_run_of_readings_is_found_around_the_holes() {
-        let nan = f64::NAN;
-        assert_eq!(longest_finite_run(&[1.0, 2.0]), None);
-        assert_eq!(
-            longest_finite_run(&[1.0, nan, 2.0, 3.0, 4.0, f64::INFINITY, 5.0]),
-            Some((2..5, 2))
-        );
-        assert_eq!(longest_finite_run(&[nan, nan]), Some((0..0, 2)));
-    }
-}
