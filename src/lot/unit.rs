@@ -122,6 +122,7 @@ pub(super) fn calibrate_unit(job: &UnitJob, context: &Context<'_>) -> UnitOutcom
         },
         reasons,
         runs: run_files(job),
+        runs_at: runs_at(job),
         recipe: recipe_file,
         calibration: Some(file.display().to_string()),
         report,
@@ -232,6 +233,7 @@ pub(super) fn errored(job: &UnitJob, recipe: Option<String>, message: &str) -> U
         status: Status::Error,
         reasons: vec![message.to_string()],
         runs: run_files(job),
+        runs_at: runs_at(job),
         recipe,
         calibration: None,
         report: None,
@@ -245,5 +247,17 @@ fn run_files(job: &UnitJob) -> Vec<String> {
     job.runs
         .iter()
         .map(|p| crate::text::escaped(&p.display().to_string(), false).into_owned())
+        .collect()
+}
+
+/// The unit's runs as absolute paths (as the system names them, not resolved through links),
+/// escaped as [`run_files`] escapes them.
+fn runs_at(job: &UnitJob) -> Vec<String> {
+    job.runs
+        .iter()
+        .map(|p| {
+            let at = std::path::absolute(p).unwrap_or_else(|_| p.clone());
+            crate::text::escaped(&at.display().to_string(), false).into_owned()
+        })
         .collect()
 }
