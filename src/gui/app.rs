@@ -8,7 +8,8 @@
 //! (which axis of the validation log each axis is judged on), `actions` (carrying out what the engineer asks for,
 //! and the unsaved-work question), `results` (what the worker is asked and what its answers
 //! change), `k0_default` (K0's kind chosen once from a fresh log's plateaus), `files` (what is
-//! written and opened) and `screenshot` (PNG of the window, and the `--screenshot` mode).
+//! written and opened), `lot` (a lot opened, and a unit of it opened on the Calibration page)
+//! and `screenshot` (PNG of the window, and the `--screenshot` mode).
 
 mod actions;
 mod files;

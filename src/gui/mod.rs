@@ -15,7 +15,8 @@
 //!   (K0, K1±, K2±), [`view_result`] (the drift before and after), [`view_figures`] (the
 //!   figures of merit), [`view_models`] (the Models page), [`view_allan`] (the Allan page) and
 //!   [`view_opened`] (a calibration opened beside the current fit, to compare: what it holds
-//!   and is judged on is [`opened`]);
+//!   and is judged on is [`opened`]), [`view_lot`] (the Lot page: a lot's table and each
+//!   figure's distribution);
 //! * [`export`], [`dialogs`] (which file dialog can appear), [`file_dialog`] (the workbench's
 //!   own, where no system dialog can), [`settings`], [`autosave`];
 //! * [`app`]: the window, on top — menus, shortcuts, layout, job results, unsaved-work
@@ -62,6 +63,7 @@
 //! [`view_allan`]: crate::gui::view_allan
 //! [`view_opened`]: crate::gui::view_opened
 //! [`opened`]: crate::gui::opened
+//! [`view_lot`]: crate::gui::view_lot
 //! [`export`]: crate::gui::export
 //! [`dialogs`]: crate::gui::dialogs
 //! [`file_dialog`]: crate::gui::file_dialog

@@ -26,7 +26,9 @@ const STRIP_H: f32 = 16.0;
 /// A dot's radius, points.
 const DOT_R: f32 = 3.5;
 /// The width of the strips' labels, points.
-const LABEL_W: f32 = 210.0;
+const LABEL_W: f32 = 200.0;
+/// The width of the strips' ranges at their right, points.
+const RANGE_W: f32 = 130.0;
 
 /// The colour of a unit's dot and status.
 pub fn status_color(status: Status, outlier: bool, dark: bool) -> Color32 {
@@ -59,10 +61,15 @@ impl LotView {
             };
             self.header(ui, lot, &mut out);
             ui.separator();
-            let strips_h = (ui.available_height() * 0.45).max(80.0);
+            // Whole strips in the space given (no strip cut at the foot), the bar always
+            // shown when they do not all fit: a short window scrolls them.
+            let row_h = STRIP_H + ui.spacing().item_spacing.y;
+            let fit = ((ui.available_height() * 0.45) / row_h).floor().max(4.0);
+            let strips_h = fit * row_h - ui.spacing().item_spacing.y;
             ScrollArea::vertical()
                 .id_salt("lot_strips")
                 .max_height(strips_h)
+                .scroll_bar_visibility(egui::scroll_area::ScrollBarVisibility::AlwaysVisible)
                 .auto_shrink([false, true])
                 .show(ui, |ui| self.strips(ui, lot, &mut out));
             ui.separator();
@@ -115,11 +122,22 @@ impl LotView {
                 FontId::monospace(11.0),
                 text,
             );
+            // The dots at the ends keep clear of the label and of the range.
             let strip = egui::Rect::from_min_max(
-                egui::pos2(rect.left() + LABEL_W, rect.top()),
-                egui::pos2(rect.right() - 90.0, rect.bottom()),
+                egui::pos2(rect.left() + LABEL_W + 2.0 * DOT_R, rect.top()),
+                egui::pos2(rect.right() - RANGE_W - 2.0 * DOT_R, rect.bottom()),
             );
-            if points.is_empty() || strip.width() < 20.0 {
+            if points.is_empty() {
+                painter.text(
+                    egui::pos2(strip.left(), rect.center().y),
+                    Align2::LEFT_CENTER,
+                    "no unit has it (hover its column in the table for why)",
+                    FontId::proportional(11.0),
+                    ui.visuals().weak_text_color(),
+                );
+                continue;
+            }
+            if strip.width() < 20.0 {
                 continue;
             }
             let lo = points.iter().map(|p| p.1).fold(f64::INFINITY, f64::min);
