@@ -246,3 +246,44 @@ fn a_malformed_lot_leaves_the_lot_shown_and_names_its_line_and_column() {
         h.run_ok();
     }
 }
+
+#[test]
+fn a_unit_opened_over_unsaved_work_asks_first_and_cancel_keeps_the_work() {
+    let dir = tempfile::tempdir().unwrap();
+    let (out, outcome) = made_lot(dir.path());
+    let mut h = harness(Workbench::new_for_test(&sample("calibration.csv")));
+    settle(&mut h);
+    h.get_by_label("Suggest plateaus").click();
+    settle(&mut h);
+    assert!(h.state().state.dirty(), "the plateaus are unsaved work");
+    let choices = h.state().state.shown.choices.clone();
+    act(&mut h, Action::OpenLotPath(out));
+    h.get_by_label(ORDINARY[1]).click();
+    h.run_ok();
+    h.get_by_label("Unsaved work");
+    h.get_by_label("Cancel").click();
+    h.run_ok();
+    settle(&mut h);
+    let s = &h.state().state;
+    assert!(same_file(
+        &s.shown.log.as_ref().unwrap().path,
+        &sample("calibration.csv")
+    ));
+    assert_eq!(s.shown.choices, choices);
+    assert!(h.state().opened().is_none());
+
+    // Discarded: the unit opens.
+    h.get_by_label(ORDINARY[1]).click();
+    h.run_ok();
+    h.get_by_label("Discard").click();
+    h.run_ok();
+    settle(&mut h);
+    let unit = outcome
+        .units
+        .iter()
+        .find(|u| u.unit == ORDINARY[1])
+        .unwrap();
+    let log = h.state().state.shown.log.as_ref().unwrap();
+    assert!(same_file(&log.path, Path::new(&unit.runs_at[0])));
+    assert!(h.state().opened().is_some());
+}
