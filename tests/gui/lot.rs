@@ -287,3 +287,34 @@ fn a_unit_opened_over_unsaved_work_asks_first_and_cancel_keeps_the_work() {
     assert!(same_file(&log.path, Path::new(&unit.runs_at[0])));
     assert!(h.state().opened().is_some());
 }
+
+#[test]
+fn a_lot_of_a_three_axis_unit_reads_its_axes_columns_from_lot_csv_as_from_lot_json() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let lot = Lot {
+        inputs: vec![sample("imu3-calibration.csv")],
+        spec: Spec::from_json(r#"{ "reference_temps_c": [0.5, 20] }"#).unwrap(),
+        out: out.clone(),
+        recipe: None,
+        jobs: 1,
+        shard: None,
+        report: false,
+    };
+    let outcome = driftlab::lot::run(&lot, &mut |_| {}).unwrap();
+    let axes: Vec<&str> = outcome.units[0]
+        .axes
+        .iter()
+        .map(|a| a.axis.as_str())
+        .collect();
+    assert_eq!(axes, ["gx", "gy", "gz"]);
+    let json = open::open(&out.join("lot.json")).unwrap();
+    let csv = open::open(&out.join("lot.csv")).unwrap();
+    assert_eq!(csv.columns, json.columns);
+    assert!(
+        json.columns
+            .iter()
+            .any(|c| c.axis == "gy" && c.figure == figures::k0_at(0.5))
+    );
+    assert_eq!(csv.rows[0].values, json.rows[0].values);
+}
