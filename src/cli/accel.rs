@@ -129,6 +129,12 @@ fn in_words(e: &accel_axes::AccelError) -> String {
             "name them with --accel-col",
         ),
         AccelError::UnitUntold { .. } => format!("{e} (--accel-unit g, mg or m/s2)"),
-        AccelError::NotAnAcceleration { .. } => format!("{e} (--accel-col)"),
+        AccelError::NotAnAcceleration { .. } | AccelError::TakenColumn { .. } => {
+            format!("{e} (--accel-col)")
+        }
+        AccelError::UnitContradicted { .. } => format!("{e} (--accel-unit)"),
+        AccelError::NotGravity { .. } => {
+            format!("{e} (--accel-unit g, mg or m/s2 gives the unit of columns that state none)")
+        }
     }
 }

@@ -163,7 +163,23 @@ pub fn run(a: Args) -> Result<(), CliError> {
             let chosen = axes_to_analyse(&a, &log)?;
             for c in log.extra.into_iter().filter(|c| c.is_accelerometer()) {
                 match c.accelerometer_to_m_s2() {
-                    Some(f) => accel.push((c.name, c.values.into_iter().map(|v| v * f).collect())),
+                    Some(f) => {
+                        let mut values: Vec<f64> = c.values.into_iter().map(|v| v * f).collect();
+                        if let Some((run, holes)) = kalibr::longest_finite_run(&values) {
+                            note!(
+                                "note: {}: accelerometer axis {}: {holes} of its {} samples \
+                                 read no number; its Allan deviation is taken over its longest \
+                                 run of readings, samples {} to {}",
+                                log.source,
+                                driftlab::text::escaped(&c.name, false),
+                                values.len(),
+                                run.start + 1,
+                                run.end
+                            );
+                            values = values[run].to_vec();
+                        }
+                        accel.push((c.name, values));
+                    }
                     None => accel_unknown.push(c.name),
                 }
             }

@@ -52,7 +52,13 @@ pub fn run(mut a: Args) -> Result<(), CliError> {
         if !log.select_axis(column) {
             return Err(format!("{}: axis {column} vanished from the log", log.source).into());
         }
-        // An accelerometer axis is judged about the mean its correction keeps, as it was fitted.
+        // An accelerometer axis is judged about the mean its correction keeps, as it was fitted
+        // (about the log's own in another orientation, and said).
+        if let Some(note) =
+            driftlab::models::accel::orientation_note(&log, &ax.name, ax.kind, ax.kept_mean)
+        {
+            eprintln!("note: {}", driftlab::text::escaped(&note, false));
+        }
         let judged_axis = judge(&a, &ax.model, &ax.as_fitted(&log), &hash).map_err(|e| {
             if unit.is_unit() {
                 in_axis(&ax.name, e)

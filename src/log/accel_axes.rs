@@ -137,6 +137,50 @@ pub enum AccelError {
         /// Its unit.
         unit: String,
     },
+    /// A column asked for that holds another part of the log.
+    #[error(
+        "{log}: column {column} is the log's {role} column; an accelerometer axis needs a \
+         column of its own"
+    )]
+    TakenColumn {
+        /// The log.
+        log: String,
+        /// The column.
+        column: String,
+        /// What it is, in words.
+        role: &'static str,
+    },
+    /// The unit given for columns that state none, where every column states another.
+    #[error(
+        "{log}: the accelerometer unit given, {given}, contradicts the unit the columns \
+         state ({}): the columns' own unit is the one read; leave the option out, or rename \
+         the columns",
+        columns.join(", ")
+    )]
+    UnitContradicted {
+        /// The log.
+        log: String,
+        /// The unit given.
+        given: AccelUnit,
+        /// Each column with the unit it states.
+        columns: Vec<String>,
+    },
+    /// The accelerometers read in their units are no IMU at rest in gravity.
+    #[error(
+        "{log}: the accelerometer columns {} read a mean vector {} m/s² long ({} g), where an \
+         IMU at rest reads 1 g: is their unit right (as their names state it, or as given)?",
+        columns.join(", "),
+        crate::number::readable(*magnitude_m_s2),
+        crate::number::readable(*magnitude_m_s2 / STANDARD_GRAVITY_M_S2)
+    )]
+    NotGravity {
+        /// The log.
+        log: String,
+        /// The columns with their units.
+        columns: Vec<String>,
+        /// The length of their mean vector, m/s².
+        magnitude_m_s2: f64,
+    },
     /// Columns that state no unit, whose magnitude tells none.
     #[error(
         "{log}: the accelerometer columns {} state no unit, and their mean vector is {} long, \
@@ -189,6 +233,22 @@ pub fn take(log: &mut Log, ask: &AccelAsk) -> Result<Vec<String>, AccelError> {
             }
         }
     }
+    // A unit given that no column takes would be dropped without a word: where every column
+    // states one and some other, the option contradicts the file.
+    if let Some(given) = ask.unit
+        && units.iter().all(Option::is_some)
+        && units.iter().any(|u| *u != Some(given))
+    {
+        return Err(AccelError::UnitContradicted {
+            log: log.source.clone(),
+            given,
+            columns: picked
+                .iter()
+                .zip(&units)
+                .map(|(&k, u)| format!("{} in {}", log.extra[k].name, u.unwrap_or_default()))
+                .collect(),
+        });
+    }
     let untold: Vec<usize> = (0..picked.len()).filter(|&i| units[i].is_none()).collect();
     if !untold.is_empty() {
         let channels: Vec<&Channel> = untold.iter().map(|&i| &log.extra[picked[i]]).collect();
@@ -201,6 +261,7 @@ pub fn take(log: &mut Log, ask: &AccelAsk) -> Result<Vec<String>, AccelError> {
             units[i] = Some(unit);
         }
     }
+    check_gravity(log, &picked, &units)?;
     // Taken out of `extra` from the last, so that the indices still stand.
     let mut taken: Vec<(Channel, AccelUnit)> = Vec::with_capacity(picked.len());
     let mut order: Vec<(usize, AccelUnit)> = picked
@@ -274,6 +335,20 @@ fn picked(log: &Log, ask: &AccelAsk) -> Result<Vec<usize>, AccelError> {
             Some(k) if !out.contains(&k) => out.push(k),
             Some(_) => {}
             None => {
+                let role = name.as_ref().and_then(|n| {
+                    log.info
+                        .columns
+                        .iter()
+                        .find(|c| c.name == *n || c.name.eq_ignore_ascii_case(n))
+                        .and_then(|c| role_in_words(c.role))
+                });
+                if let Some(role) = role {
+                    return Err(AccelError::TakenColumn {
+                        log: log.source.clone(),
+                        column: asked.to_string(),
+                        role,
+                    });
+                }
                 return Err(AccelError::NoColumn {
                     log: log.source.clone(),
                     column: asked.to_string(),
@@ -286,17 +361,71 @@ fn picked(log: &Log, ask: &AccelAsk) -> Result<Vec<usize>, AccelError> {
     Ok(out)
 }
 
+/// What a column that is not free to be an accelerometer holds, in words.
+fn role_in_words(role: ColumnRole) -> Option<&'static str> {
+    match role {
+        ColumnRole::Time => Some("time"),
+        ColumnRole::Rate => Some("gyro rate"),
+        ColumnRole::Temperature => Some("temperature"),
+        ColumnRole::OtherAxis => Some("gyro axis"),
+        ColumnRole::AccelAxis | ColumnRole::Extra | ColumnRole::Ignored => None,
+    }
+}
+
+/// The lengths, in g, the mean vector of accelerometers in their units may have: wide enough
+/// for a unit handled or shaken while logging (a real robot's IMU reads 0.63 g on average),
+/// narrow enough to catch a unit off by the factor of ten between g and m/s², or of a
+/// thousand between g and mg.
+const GRAVITY_BOUNDS: (f64, f64) = (0.5, 1.5);
+
+/// Refuses accelerometers whose units make them no IMU in gravity: the mean vector of the
+/// columns, in m/s², longer than gravity allows (a part of the three axes reads at most 1 g),
+/// or, for three axes or more, much shorter (a mislabelled column, g read as m/s², or m/s² as
+/// g, would give every coefficient ten times too large or too small).
+fn check_gravity(
+    log: &Log,
+    picked: &[usize],
+    units: &[Option<AccelUnit>],
+) -> Result<(), AccelError> {
+    let squares: f64 = picked
+        .iter()
+        .zip(units)
+        .map(|(&k, u)| finite_mean(&log.extra[k].values) * u.unwrap_or_default().to_m_s2())
+        .map(|m| m * m)
+        .sum();
+    let magnitude_m_s2 = squares.sqrt();
+    let ratio = magnitude_m_s2 / STANDARD_GRAVITY_M_S2;
+    let too_long = ratio > GRAVITY_BOUNDS.1;
+    let too_short = picked.len() >= 3 && ratio < GRAVITY_BOUNDS.0;
+    if too_long || too_short || !ratio.is_finite() {
+        return Err(AccelError::NotGravity {
+            log: log.source.clone(),
+            columns: picked
+                .iter()
+                .zip(units)
+                .map(|(&k, u)| format!("{} in {}", log.extra[k].name, u.unwrap_or_default()))
+                .collect(),
+            magnitude_m_s2,
+        });
+    }
+    Ok(())
+}
+
+/// The mean of the finite values (0 when there are none).
+fn finite_mean(values: &[f64]) -> f64 {
+    let (sum, n) = values
+        .iter()
+        .filter(|v| v.is_finite())
+        .fold((0.0, 0usize), |(s, n), v| (s + v, n + 1));
+    if n == 0 { 0.0 } else { sum / n as f64 }
+}
+
 /// The unit whose gravity the mean vector of `channels` measures, or the vector's length.
 fn by_magnitude(channels: &[&Channel]) -> Result<AccelUnit, f64> {
     let squares: f64 = channels
         .iter()
         .map(|c| {
-            let (sum, n) = c
-                .values
-                .iter()
-                .filter(|v| v.is_finite())
-                .fold((0.0, 0usize), |(s, n), v| (s + v, n + 1));
-            let mean = if n == 0 { 0.0 } else { sum / n as f64 };
+            let mean = finite_mean(&c.values);
             mean * mean
         })
         .sum();

@@ -619,17 +619,23 @@ pub fn run_names<P: AsRef<std::path::Path>>(paths: &[P]) -> Vec<String> {
         .collect();
     // The last `k` parts of a path (all of them for a shorter one).
     let last = |p: &[String], k: usize| p[p.len().saturating_sub(k)..].to_vec();
+    // How many paths end in each run of last parts, for each count of parts: a path is told
+    // by its fewest last parts that no other path ends in (counted once, not path by path:
+    // a lot lists ten thousand units).
+    let longest = parts.iter().map(Vec::len).max().unwrap_or(0).max(1);
+    let mut ends: Vec<std::collections::HashMap<Vec<String>, usize>> = (0..=longest)
+        .map(|_| std::collections::HashMap::with_capacity(parts.len()))
+        .collect();
+    for own in &parts {
+        for (k, counts) in ends.iter_mut().enumerate().skip(1) {
+            *counts.entry(last(own, k)).or_insert(0) += 1;
+        }
+    }
     parts
         .iter()
         .enumerate()
         .map(|(i, own)| {
-            let told = (1..=own.len().max(1)).find(|&k| {
-                let mine = last(own, k);
-                parts
-                    .iter()
-                    .enumerate()
-                    .all(|(j, other)| j == i || last(other, k) != mine)
-            });
+            let told = (1..=own.len().max(1)).find(|&k| ends[k][&last(own, k)] == 1);
             let name = match told {
                 Some(k) => last(own, k).join("/"),
                 None => own.join("/"),

@@ -88,6 +88,12 @@ pub fn key(
     })
 }
 
+/// The SHA-256 of a recipe as a unit's key holds it: what tells two lots' shared recipes
+/// apart.
+pub fn recipe_sha256(recipe: &crate::models::Recipe) -> String {
+    sha256_of_json(recipe)
+}
+
 fn sha256_of_json<T: Serialize>(value: &T) -> String {
     // Serializing plain data to memory cannot fail; an empty text would only miss the cache.
     let text = serde_json::to_string(value).unwrap_or_default();

@@ -14,6 +14,7 @@
 
 pub mod cache;
 pub mod figures;
+pub mod lock;
 pub mod open;
 pub mod outliers;
 pub mod page;
@@ -98,6 +99,18 @@ pub enum LotError {
         /// The folder of units.
         input: PathBuf,
     },
+    /// Another lot (or a merge, or the same shard) is writing the output folder.
+    #[error(
+        "{}: {why}; wait for it to end, or give another output folder (two lots writing one \
+         folder would leave one's table beside the other's calibrations)",
+        out.display()
+    )]
+    Busy {
+        /// The output folder.
+        out: PathBuf,
+        /// Who holds it.
+        why: String,
+    },
     /// The shards' tables in a folder cannot be merged into one lot.
     #[error("{}: {message}", out.display())]
     Merge {
@@ -172,6 +185,48 @@ pub struct UnitOutcome {
     /// not calibrated again ([`cache`]).
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub cached: bool,
+}
+
+impl UnitOutcome {
+    /// The outcome read back from a file of `OUT` (a unit's record on a cache hit, a shard's
+    /// table in a merge) settled by what the lot itself knows, never by what the file says:
+    /// its folder made from its name, its status and reasons judged again from its figures
+    /// against `spec`, its calibration and report linked where the lot writes them and only
+    /// when they are there. An edited record or table can then neither pass a unit that fails
+    /// nor link out of `OUT`.
+    pub fn settled(mut self, spec: &Spec, out: &std::path::Path) -> UnitOutcome {
+        self.folder = folder_of(&self.unit);
+        let folder = std::path::Path::new(&self.folder);
+        self.report = None;
+        if self.status == Status::Error {
+            self.calibration = None;
+            self.axes.clear();
+            return self;
+        }
+        let calibration = folder.join(cache::CALIBRATION);
+        if !out.join(&calibration).is_file() {
+            self.status = Status::Error;
+            self.reasons = vec![format!(
+                "its calibration {} is not in the output folder",
+                calibration.display()
+            )];
+            self.calibration = None;
+            self.axes.clear();
+            return self;
+        }
+        self.calibration = Some(calibration.display().to_string());
+        let report = folder.join(unit::REPORT_PAGE);
+        if out.join(&report).is_file() {
+            self.report = Some(report.display().to_string());
+        }
+        self.reasons = verdict::reasons(spec, &self.axes);
+        self.status = if self.reasons.is_empty() {
+            Status::Pass
+        } else {
+            Status::Fail
+        };
+        self
+    }
 }
 
 /// A lot as it came out: every unit in order, and the outliers.

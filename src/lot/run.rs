@@ -62,10 +62,9 @@ pub fn run(lot: &Lot, progress: &mut dyn FnMut(Progress<'_>)) -> Result<LotOutco
         None => None,
     };
     let jobs = super::find_units(&lot.inputs)?;
-    std::fs::create_dir_all(&lot.out).map_err(|e| LotError::Io {
-        path: lot.out.clone(),
-        source: e,
-    })?;
+    refuse_units_holding_out(&lot.out, &jobs)?;
+    // Made and held from here to the table's write.
+    let _lock = super::lock::lock(&lot.out, lot.shard)?;
     let context = Context {
         spec: &lot.spec,
         temps_c: lot.spec.reference_temps(),
@@ -98,6 +97,9 @@ pub fn run(lot: &Lot, progress: &mut dyn FnMut(Progress<'_>)) -> Result<LotOutco
             spec: lot.spec.clone(),
             lot_units: jobs.len(),
             lot_fingerprint: super::shard::fingerprint(jobs.iter().map(|j| j.name.as_str())),
+            recipe_sha256: shared
+                .as_ref()
+                .map(|r| super::cache::recipe_sha256(r.recipe())),
             units: positions
                 .into_iter()
                 .zip(&units)
@@ -200,21 +202,6 @@ fn guarded(job: &UnitJob, context: &Context<'_>) -> UnitOutcome {
 /// Refuses an output folder inside a folder of units, or one that holds a folder of units or
 /// a unit's file given alone.
 fn refuse_out_among_inputs(out: &Path, inputs: &[PathBuf]) -> Result<(), LotError> {
-    let resolved = |p: &Path| -> Option<PathBuf> {
-        // The output folder may not exist yet: resolve the nearest folder that does.
-        let mut tail = Vec::new();
-        let mut at = p.to_path_buf();
-        loop {
-            if let Ok(r) = std::fs::canonicalize(&at) {
-                return Some(tail.iter().rev().fold(r, |acc: PathBuf, t| acc.join(t)));
-            }
-            tail.push(at.file_name()?.to_os_string());
-            at = match at.parent() {
-                Some(parent) if !parent.as_os_str().is_empty() => parent.to_path_buf(),
-                _ => PathBuf::from("."),
-            };
-        }
-    };
     let Some(out_r) = resolved(out) else {
         return Ok(());
     };
@@ -231,6 +218,62 @@ fn refuse_out_among_inputs(out: &Path, inputs: &[PathBuf]) -> Result<(), LotErro
             return Err(LotError::OutAmongInputs {
                 out: out.to_path_buf(),
                 input: input.clone(),
+            });
+        }
+    }
+    Ok(())
+}
+
+/// `p` resolved: links followed, `.` and `..` taken; a path that does not exist yet (an
+/// output folder) resolved up to the nearest folder that does, its `..` taken first
+/// (`nothere/../units/out` is `units/out`).
+fn resolved(p: &Path) -> Option<PathBuf> {
+    if let Ok(r) = std::fs::canonicalize(p) {
+        return Some(r);
+    }
+    let mut tail = Vec::new();
+    let mut at = lexically_normal(&std::path::absolute(p).ok()?);
+    loop {
+        if let Ok(r) = std::fs::canonicalize(&at) {
+            return Some(tail.iter().rev().fold(r, |acc: PathBuf, t| acc.join(t)));
+        }
+        tail.push(at.file_name()?.to_os_string());
+        at = match at.parent() {
+            Some(parent) if !parent.as_os_str().is_empty() => parent.to_path_buf(),
+            _ => PathBuf::from("."),
+        };
+    }
+}
+
+/// `path` with its `.` and `..` parts taken as written (`a/b/../c` is `a/c`).
+fn lexically_normal(path: &Path) -> PathBuf {
+    use std::path::Component;
+    let mut out = PathBuf::new();
+    for c in path.components() {
+        match c {
+            Component::CurDir => {}
+            Component::ParentDir => {
+                out.pop();
+            }
+            other => out.push(other),
+        }
+    }
+    out
+}
+
+/// Refuses a unit that is the output folder or holds it (a link among the units to `OUT`, or
+/// to a folder above it): the next lot would read the outputs as units.
+fn refuse_units_holding_out(out: &Path, jobs: &[UnitJob]) -> Result<(), LotError> {
+    let Some(out_r) = resolved(out) else {
+        return Ok(());
+    };
+    for job in jobs {
+        if let Ok(unit_r) = std::fs::canonicalize(&job.path)
+            && out_r.starts_with(&unit_r)
+        {
+            return Err(LotError::OutAmongInputs {
+                out: out.to_path_buf(),
+                input: job.path.clone(),
             });
         }
     }

@@ -89,6 +89,10 @@ pub struct ShardTable {
     /// SHA-256 of the whole lot's unit names, in order: the same for every shard of one
     /// listing of one lot.
     pub lot_fingerprint: String,
+    /// SHA-256 of the shared recipe (`--recipe`), as a unit's key holds it; none for the
+    /// defaults. Shards of one lot share it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub recipe_sha256: Option<String>,
     /// The shard's units.
     pub units: Vec<Placed>,
 }
@@ -132,6 +136,14 @@ pub fn merge(out: &Path) -> Result<LotOutcome, LotError> {
         out: out.to_path_buf(),
         message,
     };
+    if !out.is_dir() {
+        return Err(LotError::Io {
+            path: out.to_path_buf(),
+            source: std::io::Error::from(std::io::ErrorKind::NotFound),
+        });
+    }
+    // No shard writes while the lot is joined.
+    let _lock = super::lock::lock(out, None)?;
     let tables = read_tables(out)?;
     let Some((first_path, first)) = tables.first() else {
         return Err(refused(
@@ -149,6 +161,8 @@ pub fn merge(out: &Path) -> Result<LotOutcome, LotError> {
             Some("a count of shards")
         } else if t.spec != first.spec {
             Some("a spec")
+        } else if t.recipe_sha256 != first.recipe_sha256 {
+            Some("shared recipe")
         } else if t.lot_units != first.lot_units || t.lot_fingerprint != first.lot_fingerprint {
             Some("a list of units")
         } else {
@@ -182,11 +196,23 @@ pub fn merge(out: &Path) -> Result<LotOutcome, LotError> {
             }
         )));
     }
-    let mut slots: Vec<Option<UnitOutcome>> = vec![None; first.lot_units];
+    // The lot's size is what its tables hold, never a number a table states: a table cut,
+    // edited or made by hand is refused before anything is made for it.
+    let held: usize = tables.iter().map(|(_, t)| t.units.len()).sum();
+    if held != first.lot_units {
+        return Err(refused(format!(
+            "the shards' tables hold {held} units, and say their lot has {}: a shard's table \
+             was cut or edited; run that shard again",
+            first.lot_units
+        )));
+    }
+    let mut slots: Vec<Option<UnitOutcome>> = vec![None; held];
     for (path, t) in &tables {
         for p in &t.units {
             match slots.get_mut(p.position) {
-                Some(slot @ None) => *slot = Some(p.outcome.clone()),
+                Some(slot @ None) => {
+                    *slot = Some(p.outcome.clone().settled(&first.spec, out));
+                }
                 _ => {
                     return Err(refused(format!(
                         "{}: unit {} at place {} of a lot of {}, which another shard holds or \

@@ -90,15 +90,16 @@ impl Spec {
             path: path.to_path_buf(),
             message,
         };
-        let size = std::fs::metadata(path)
-            .map_err(|e| refused(e.to_string()))?
-            .len();
-        if size > MAX_SPEC_BYTES {
-            return Err(refused(format!(
-                "{size} bytes: a spec is a few lines of limits (at most {MAX_SPEC_BYTES} bytes)"
-            )));
-        }
-        let text = std::fs::read_to_string(path).map_err(|e| refused(e.to_string()))?;
+        let text = crate::files::calibration::read_json_text(
+            path,
+            MAX_SPEC_BYTES,
+            "which no spec is: a spec is a few lines of limits",
+        )
+        .map_err(|e| match e {
+            crate::Error::File { message, .. } => refused(message),
+            crate::Error::Io { source, .. } => refused(source.to_string()),
+            other => refused(other.to_string()),
+        })?;
         Spec::from_json(&text).map_err(refused)
     }
 
@@ -107,6 +108,16 @@ impl Spec {
     /// # Errors
     /// As [`Spec::load`], without the file.
     pub fn from_json(text: &str) -> Result<Spec, String> {
+        // serde reads a struct from an array field by field, in order: `[]` would be a spec of
+        // no limit, `[0.5]` a limit whose key is written nowhere.
+        let value: serde_json::Value = serde_json::from_str(text).map_err(|e| e.to_string())?;
+        if !value.is_object() {
+            return Err(format!(
+                "a spec is a JSON object of limits ({{\"max_corrected_p2p_dph\": 0.5, …}}), not \
+                 {}",
+                crate::files::calibration::json_kind(&value)
+            ));
+        }
         let spec: Spec = serde_json::from_str(text).map_err(|e| e.to_string())?;
         spec.check()?;
         Ok(spec)

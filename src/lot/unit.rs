@@ -29,6 +29,8 @@ pub(super) fn calibrate_unit(job: &UnitJob, context: &Context<'_>) -> UnitOutcom
     let recipe = match (&job.recipe, context.shared) {
         (Some(own), _) => match load_recipe(own) {
             Ok(r) => r,
+            // A file's error names it already; a value's does not.
+            Err(e) if e.starts_with(&format!("{}: ", own.display())) => return fail(e),
             Err(e) => return fail(format!("{}: {e}", own.display())),
         },
         (None, Some((_, shared))) => shared.clone(),
@@ -42,8 +44,19 @@ pub(super) fn calibrate_unit(job: &UnitJob, context: &Context<'_>) -> UnitOutcom
         Ok(k) => k,
         Err(e) => return fail(e),
     };
-    if let Some(outcome) = cache::recorded(&folder, &key) {
-        return outcome;
+    if let Some(recorded) = cache::recorded(&folder, &key) {
+        let outcome = UnitOutcome {
+            unit: job.name.clone(),
+            runs: run_files(job),
+            runs_at: runs_at(job),
+            recipe: recipe_file.clone(),
+            ..recorded
+        }
+        .settled(context.spec, context.out);
+        // A report asked for and gone is made again with its calibration.
+        if outcome.status != Status::Error && (outcome.report.is_some() || !context.report) {
+            return outcome;
+        }
     }
     let mut warnings = job.notes.clone();
     let mut runs = Vec::with_capacity(job.runs.len());
@@ -144,7 +157,7 @@ pub(super) fn calibrate_unit(job: &UnitJob, context: &Context<'_>) -> UnitOutcom
 }
 
 /// A unit's report page in its folder.
-const REPORT_PAGE: &str = "report/report.html";
+pub(super) const REPORT_PAGE: &str = "report/report.html";
 
 /// The test report of `unit` judged on each of its runs (in-sample), written into
 /// `folder/report` as `driftlab report` writes it, with its default figures.

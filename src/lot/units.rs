@@ -17,6 +17,7 @@
 
 use super::LotError;
 use crate::log::campaign::run_names;
+use std::collections::{HashMap, HashSet};
 use std::path::{Path, PathBuf};
 
 /// How the names of the lot's own files in `OUT` begin (`lot.csv`, `lot.json`, `lot.html`,
@@ -82,29 +83,70 @@ pub fn find_units(paths: &[PathBuf]) -> Result<Vec<UnitJob>, LotError> {
         });
     }
     let units: Vec<&Path> = found.iter().map(|(p, _)| p.as_path()).collect();
-    let names = run_names(&units);
+    let names = distinct(run_names(&units));
+    // One unit found twice (a folder given twice, a file given beside its folder, by any
+    // path, a hard link) would be calibrated twice, into one folder or two. Each unit is
+    // looked up once (a lot of ten thousand units is listed in a moment, not in pairs).
+    let mut seen: HashMap<Identity, usize> = HashMap::with_capacity(found.len());
     let mut jobs: Vec<UnitJob> = Vec::with_capacity(found.len());
     for ((path, is_folder), name) in found.iter().zip(names) {
-        let job = unit_job(path, *is_folder, name)?;
-        // One unit found twice (a folder given twice, a file given beside its folder, by any
-        // path) would be calibrated twice, into one folder or two.
-        let same = |j: &UnitJob| {
-            j.folder == job.folder
-                || crate::files::atomic::is_same_file(&j.path, path) && j.path.is_file()
-                || matches!(
-                    (std::fs::canonicalize(&j.path), std::fs::canonicalize(path)),
-                    (Ok(a), Ok(b)) if a == b
-                )
-        };
-        if let Some(first) = jobs.iter().find(|j| same(j)) {
+        if let Some(id) = identity(path)
+            && let Some(&first) = seen.get(&id)
+        {
             return Err(LotError::UnitTwice {
-                first: first.path.clone(),
+                first: jobs[first].path.clone(),
                 second: path.clone(),
             });
+        } else if let Some(id) = identity(path) {
+            seen.insert(id, jobs.len());
         }
-        jobs.push(job);
+        jobs.push(unit_job(path, *is_folder, name)?);
     }
     Ok(jobs)
+}
+
+/// What tells one unit from another on disk: its file's device and inode (a hard link, a
+/// second path, a link to it are one unit), else its path resolved.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+enum Identity {
+    Inode(u64, u64),
+    Path(PathBuf),
+}
+
+fn identity(path: &Path) -> Option<Identity> {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::MetadataExt;
+        if let Ok(m) = std::fs::metadata(path) {
+            return Some(Identity::Inode(m.dev(), m.ino()));
+        }
+    }
+    std::fs::canonicalize(path).ok().map(Identity::Path)
+}
+
+/// The units' names made distinct: two units whose names are one once escaped or made valid
+/// text (`u\xff.csv` and `u\xfe.csv` both read `u\u{fffd}.csv`), or whose folders differ
+/// only in case (one folder where case is ignored), are two units, the later ones named
+/// `~2`, `~3`... after it, so that each has its row and its folder.
+fn distinct(names: Vec<String>) -> Vec<String> {
+    let mut taken: HashSet<String> = HashSet::with_capacity(names.len());
+    let mut folders: HashSet<String> = HashSet::with_capacity(names.len());
+    names
+        .into_iter()
+        .map(|name| {
+            let mut candidate = name.clone();
+            let mut k = 1;
+            // Folders compared as a file system that ignores case would (macOS, Windows).
+            let folder = |c: &str| folder_of(c).to_ascii_lowercase();
+            while taken.contains(&candidate) || folders.contains(&folder(&candidate)) {
+                k += 1;
+                candidate = format!("{name}~{k}");
+            }
+            folders.insert(folder(&candidate));
+            taken.insert(candidate.clone());
+            candidate
+        })
+        .collect()
 }
 
 /// The unit at `path`, named `name`.
@@ -194,25 +236,45 @@ fn is_log_name(path: &Path) -> bool {
 }
 
 /// The folder of `OUT` a unit named `name` writes into: the name with every byte but ASCII
-/// letters, digits, `-`, `_` and a `.` after the first written as `%XX`, so that it stays one
-/// folder inside `OUT` (no `/`, no `..`, no hidden name) and two names never share one; a name
-/// that begins as the lot's own files do ([`LOT_FILE_PREFIXES`]) has its first letter so
-/// written too.
+/// letters, digits, `_`, a `-` and a `.` after the first written as `%XX`, so that it stays
+/// one folder inside `OUT` (no `/`, no `..`, no hidden name, nothing a shell tool takes for an
+/// option or a spreadsheet for a formula) and two names never share one; a name that begins
+/// as the lot's own files do ([`LOT_FILE_PREFIXES`]) has its first letter so written too. A
+/// folder name longer than [`MAX_FOLDER_BYTES`] (a file system takes 255 bytes) is cut and
+/// ends in `~` and a hash of the whole name, which keeps it apart from every other.
 pub fn folder_of(name: &str) -> String {
     let mut out = String::with_capacity(name.len());
     for (i, b) in name.bytes().enumerate() {
-        let keep = b.is_ascii_alphanumeric() || b == b'-' || b == b'_' || (b == b'.' && i > 0);
+        let keep = b.is_ascii_alphanumeric() || b == b'_' || ((b == b'.' || b == b'-') && i > 0);
         if keep {
             out.push(b as char);
         } else {
             out.push_str(&format!("%{b:02X}"));
         }
     }
-    if LOT_FILE_PREFIXES.iter().any(|p| out.starts_with(p)) {
+    let lower = out.to_ascii_lowercase();
+    if LOT_FILE_PREFIXES.iter().any(|p| lower.starts_with(p)) {
         out = format!("%{:02X}{}", out.as_bytes()[0], &out[1..]);
+    }
+    if out.len() > MAX_FOLDER_BYTES {
+        use sha2::Digest;
+        let hash: String = sha2::Sha256::digest(name.as_bytes())[..8]
+            .iter()
+            .map(|b| format!("{b:02x}"))
+            .collect();
+        // Cut before a `%XX` it would split (the text is ASCII: any byte is a boundary).
+        let mut cut = MAX_FOLDER_BYTES - hash.len() - 1;
+        while let Some(p) = out[..cut].rfind('%').filter(|&p| p + 3 > cut) {
+            cut = p;
+        }
+        out = format!("{}~{hash}", &out[..cut]);
     }
     out
 }
+
+/// The longest folder name [`folder_of`] writes, in bytes: under the 255 of common file
+/// systems, with room for the `.driftlab-staging-…` names written beside it.
+pub const MAX_FOLDER_BYTES: usize = 160;
 
 #[cfg(test)]
 mod tests {
@@ -232,5 +294,33 @@ mod tests {
         );
         assert_eq!(folder_of("lots"), "lots");
         assert_ne!(folder_of("%6Cot.csv"), folder_of("lot.csv"));
+        assert_eq!(folder_of("-42.csv"), "%2D42.csv");
+        assert_eq!(folder_of("a-b"), "a-b");
+    }
+
+    #[test]
+    fn a_long_name_gets_a_short_folder_of_its_own() {
+        let a = "\u{e9}".repeat(100);
+        let b = format!("{}x", "\u{e9}".repeat(100));
+        let (fa, fb) = (folder_of(&a), folder_of(&b));
+        assert!(fa.len() <= MAX_FOLDER_BYTES, "{}", fa.len());
+        assert_ne!(fa, fb);
+        assert!(!fa.contains('/') && !fa.starts_with('.'));
+        // A `%XX` is never cut in two.
+        let stem = fa.rsplit_once('~').unwrap().0;
+        assert!(stem.len() >= 3 && stem.rfind('%').is_none_or(|p| p + 3 <= stem.len()));
+    }
+
+    #[test]
+    fn names_one_once_escaped_are_made_two() {
+        let names = distinct(vec![
+            "u\u{fffd}.csv".into(),
+            "u\u{fffd}.csv".into(),
+            "v".into(),
+        ]);
+        assert_eq!(names, ["u\u{fffd}.csv", "u\u{fffd}.csv~2", "v"]);
+        let names = distinct(vec!["U1.csv".into(), "u1.csv".into()]);
+        assert_eq!(names, ["U1.csv", "u1.csv~2"]);
+        assert_eq!(folder_of("LOT.csv"), "%4COT.csv");
     }
 }

@@ -78,12 +78,14 @@ pub fn check_static(log: &Log, axis: &str, choice: &ModelChoice) -> Result<(), F
     })
 }
 
-/// The mean of an accelerometer axis's samples, the constant its correction keeps.
+/// The mean of an accelerometer axis's finite samples, the constant its correction keeps (a
+/// cell the reader could not read is no sample; the fit skips it as it skips a gyro's).
 pub fn mean_of(samples: &[f64]) -> f64 {
-    if samples.is_empty() {
-        return 0.0;
-    }
-    samples.iter().sum::<f64>() / samples.len() as f64
+    let (sum, n) = samples
+        .iter()
+        .filter(|v| v.is_finite())
+        .fold((0.0, 0usize), |(s, n), v| (s + v, n + 1));
+    if n == 0 { 0.0 } else { sum / n as f64 }
 }
 
 /// `log` with the samples of the axis it holds less `mean`: what an accelerometer axis is
@@ -103,12 +105,54 @@ pub fn about_mean(log: &Log, mean: f64) -> Log {
 }
 
 /// `log` (holding the axis a unit's axis of kind `kind` corrects) as that axis's model was
-/// fitted: an accelerometer's samples less the mean it keeps, a gyro's as they are.
+/// fitted: an accelerometer's samples less the mean it keeps, a gyro's as they are. A log
+/// whose mean on the axis is more than [`ORIENTATION_SHIFT_G`] from the kept one was run in
+/// another orientation (z down after z up) or on another unit: gravity's share differs, and
+/// taken about the kept mean it would be judged as drift (2 g of it); its samples are then
+/// taken less their own mean ([`orientation_note`] says so).
 pub fn as_fitted(log: &Log, kind: AxisKind, kept_mean: Option<f64>) -> Cow<'_, Log> {
     match (kind, kept_mean) {
-        (AxisKind::Accel, Some(mean)) => Cow::Owned(about_mean(log, mean)),
+        (AxisKind::Accel, Some(kept)) => {
+            let own = mean_of(&log.omega_dph);
+            let mean = if moved(own, kept) { own } else { kept };
+            Cow::Owned(about_mean(log, mean))
+        }
         _ => Cow::Borrowed(log),
     }
+}
+
+/// How far, in g, a log's mean on an accelerometer axis may lie from the mean its calibration
+/// keeps and still be taken as the same orientation: a turn-on bias and a unit set down again
+/// move it by milli-g, a quarter turn or a flip by 1 or 2 g.
+pub const ORIENTATION_SHIFT_G: f64 = 0.05;
+
+fn moved(own: f64, kept: f64) -> bool {
+    (own - kept).abs() > ORIENTATION_SHIFT_G * STANDARD_GRAVITY_M_S2
+}
+
+/// What to tell of an accelerometer axis `axis` judged on `log` (holding its samples) when the
+/// log's mean is not the kept one ([`as_fitted`]); `None` when it is, or for a gyro axis.
+pub fn orientation_note(
+    log: &Log,
+    axis: &str,
+    kind: AxisKind,
+    kept_mean: Option<f64>,
+) -> Option<String> {
+    let (AxisKind::Accel, Some(kept)) = (kind, kept_mean) else {
+        return None;
+    };
+    let own = mean_of(&log.omega_dph);
+    moved(own, kept).then(|| {
+        let r = crate::number::readable;
+        format!(
+            "{}: accelerometer axis {axis} reads a mean of {} m/s² here, {} m/s² ({} g) from              the {} m/s² its calibration keeps: another orientation or another unit; its              figures are of its change about this log's own mean",
+            log.source,
+            r(own),
+            r(own - kept),
+            r((own - kept) / STANDARD_GRAVITY_M_S2),
+            r(kept)
+        )
+    })
 }
 
 /// The axis of a unit that carries gravity, and how its reading changes with T.

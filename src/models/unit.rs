@@ -199,7 +199,7 @@ impl UnitCalibration {
             a.model
                 .validate()
                 .map_err(|e| Invalid::new(field(&e.field), e.reason))?;
-            check_kind(self, k).map_err(|reason| Invalid::new(field("kind"), reason))?;
+            check_kind(self, k).map_err(|(name, reason)| Invalid::new(field(name), reason))?;
             if k > 0 {
                 let first = &self.axes[0];
                 crate::models::campaign::check_same_runs(
@@ -278,39 +278,46 @@ impl UnitCalibration {
 /// Checks what the kind of axis `k` of `unit` says of it: an accelerometer axis is named,
 /// listed after every gyro axis (the order every writer keeps), holds a static model and the
 /// finite mean it keeps; a gyro axis keeps none.
-fn check_kind(unit: &UnitCalibration, k: usize) -> std::result::Result<(), String> {
+/// The field at fault is named with the reason.
+fn check_kind(unit: &UnitCalibration, k: usize) -> std::result::Result<(), (&'static str, String)> {
     let a = &unit.axes[k];
     match a.kind {
         AxisKind::Gyro => {
             if a.kept_mean.is_some() {
-                return Err(
+                return Err((
+                    "kept_mean_m_s2",
                     "a gyro axis keeps no mean: kept_mean_m_s2 is an accelerometer's".into(),
-                );
+                ));
             }
             if unit.axes[..k].iter().any(|b| b.kind == AxisKind::Accel) {
-                return Err(
-                    "a gyro axis after an accelerometer axis: a unit lists its gyro \
-                            axes first"
+                return Err((
+                    "kind",
+                    "a gyro axis after an accelerometer axis: a unit lists its gyro axes first"
                         .into(),
-                );
+                ));
             }
         }
         AxisKind::Accel => {
             if a.name.trim().is_empty() {
-                return Err("an accelerometer axis needs a name".into());
+                return Err(("name", "an accelerometer axis needs a name".into()));
             }
             match a.kept_mean {
                 Some(m)
                     if m.is_finite() && m.abs() <= 100.0 * crate::log::STANDARD_GRAVITY_M_S2 => {}
                 Some(m) => {
-                    return Err(format!(
-                        "kept_mean_m_s2 {m} is no mean an accelerometer at rest reads"
+                    return Err((
+                        "kept_mean_m_s2",
+                        format!(
+                            "{} m/s² is no mean an accelerometer at rest reads (at most 100 g)",
+                            crate::number::readable(m)
+                        ),
                     ));
                 }
                 None => {
-                    return Err("an accelerometer axis records the mean it keeps \
-                                (kept_mean_m_s2)"
-                        .into());
+                    return Err((
+                        "kept_mean_m_s2",
+                        "an accelerometer axis records the mean it keeps (kept_mean_m_s2)".into(),
+                    ));
                 }
             }
             let static_model = match &a.model {
@@ -320,11 +327,14 @@ fn check_kind(unit: &UnitCalibration, k: usize) -> std::result::Result<(), Strin
                 DriftModel::Vakhrameev(_) => false,
             };
             if !static_model {
-                return Err(format!(
-                    "model {} reads more than T: an accelerometer axis takes a static curve in T \
+                return Err((
+                    "model",
+                    format!(
+                        "model {} reads more than T: an accelerometer axis takes a static curve in T \
                      ({})",
-                    a.model.name(),
-                    super::accel::STATIC_MODELS
+                        a.model.name(),
+                        super::accel::STATIC_MODELS
+                    ),
                 ));
             }
         }

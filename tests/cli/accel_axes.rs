@@ -164,3 +164,165 @@ fn what_cannot_reach_an_accelerometer_is_refused_by_name() {
     let e = fails(&["calibrate", &train, &train, "--accel", "--out", &cal]);
     assert!(e.contains("--accel: a campaign of 2 runs"), "{e}");
 }
+
+/// The `mems-imu` log of `path` rewritten by `edit` (of its header line and of each data
+/// line's cells) into `to`.
+fn rewritten(path: &str, to: &str, edit: impl Fn(usize, &mut Vec<String>)) -> String {
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut out = String::new();
+    for (k, line) in text.lines().enumerate() {
+        let mut cells: Vec<String> = line.split(',').map(str::to_string).collect();
+        edit(k, &mut cells);
+        out.push_str(&cells.join(","));
+        out.push('\n');
+    }
+    std::fs::write(to, out).unwrap();
+    to.to_string()
+}
+
+#[test]
+fn a_unit_contradicted_or_no_gravity_is_refused_and_a_bad_cell_costs_only_its_sample() {
+    let dir = tempfile::tempdir().unwrap();
+    let train = mems(dir.path(), 4);
+    let cal = p(dir.path(), "imu.json");
+    let header = std::fs::read_to_string(&train).unwrap();
+    // The simulator's first line is the command that made the log; the header is the next.
+    let header: Vec<String> = header
+        .lines()
+        .nth(1)
+        .unwrap()
+        .split(',')
+        .map(str::to_string)
+        .collect();
+    let acc: Vec<usize> = (0..header.len())
+        .filter(|&k| header[k].starts_with("acc_"))
+        .collect();
+    assert_eq!(acc.len(), 3, "{header:?}");
+
+    // m/s² written under names that say g: gravity then reads 9.9 g, refused, naming it.
+    let as_g = rewritten(&train, &p(dir.path(), "as_g.csv"), |k, cells| {
+        if k == 1 {
+            for &c in &acc {
+                cells[c] = cells[c].replace("_m_s2", "_g");
+            }
+        }
+    });
+    let e = fails(&["calibrate", &as_g, "--accel", "--out", &cal]);
+    assert!(
+        e.contains("IMU at rest reads 1 g") && e.contains("(9.9"),
+        "{e}"
+    );
+    // And a unit given against the unit every column states.
+    let e = fails(&[
+        "calibrate",
+        &as_g,
+        "--accel",
+        "--accel-unit",
+        "m/s2",
+        "--out",
+        &cal,
+    ]);
+    assert!(
+        e.contains("accelerometer unit given, m/s2, contradicts") && e.contains("acc_x_g in g"),
+        "{e}"
+    );
+
+    // The column of another part of the log, named as an accelerometer.
+    let e = fails(&["calibrate", &train, "--accel-col", "temp_c", "--out", &cal]);
+    assert!(
+        e.contains("column temp_c is the log's temperature column"),
+        "{e}"
+    );
+
+    // One cell that reads inf and one in a hundred NaN: those samples left out, the axis
+    // fitted, its kept mean finite.
+    let holed = rewritten(&train, &p(dir.path(), "holed.csv"), |k, cells| {
+        if k == 1000 {
+            cells[acc[0]] = "inf".into();
+        } else if k > 2 && k % 100 == 0 {
+            cells[acc[0]] = "NaN".into();
+        }
+    });
+    let json = ok(&["calibrate", &holed, "--accel", "--out", &cal, "--json"]);
+    let v: serde_json::Value = serde_json::from_str(&json).unwrap();
+    let mean = v["axes"][3]["kept_mean_m_s2"].as_f64().unwrap();
+    assert!(mean.is_finite() && mean.abs() < 1.0, "{mean}");
+}
+
+#[test]
+fn a_run_in_another_orientation_is_judged_about_its_own_mean_and_said() {
+    let dir = tempfile::tempdir().unwrap();
+    let (train, test) = (mems(dir.path(), 5), mems(dir.path(), 6));
+    let cal = p(dir.path(), "imu.json");
+    ok(&["calibrate", &train, "--accel", "--out", &cal]);
+    let header = std::fs::read_to_string(&test).unwrap();
+    let z = header
+        .lines()
+        .nth(1)
+        .unwrap()
+        .split(',')
+        .position(|h| h == "acc_z_m_s2")
+        .unwrap();
+    // The unit flipped: gravity's share on z is −1 g where it was +1 g; its bias, in the
+    // sensor's own frame, is what it was.
+    let flipped = rewritten(&test, &p(dir.path(), "flipped.csv"), |k, cells| {
+        if k > 1 {
+            let v: f64 = cells[z].parse().unwrap();
+            cells[z] = format!("{}", v - 2.0 * G);
+        }
+    });
+    let out = crate::common::run::driftlab(&["evaluate", &cal, &flipped, "--json"]);
+    assert!(out.status.success());
+    let stderr = String::from_utf8(out.stderr).unwrap();
+    assert!(
+        stderr.contains("accelerometer axis acc_z reads a mean of -9.6")
+            && stderr.contains("another orientation"),
+        "{stderr}"
+    );
+    // Judged about its own mean, its figures are its change with T (tens of mg), not 2 g.
+    let same = crate::common::run::driftlab(&["evaluate", &cal, &test, "--json"]);
+    let figure = |json: &[u8]| -> f64 {
+        let v: serde_json::Value = serde_json::from_slice(json).unwrap();
+        let axes = v["axes"].as_array().unwrap();
+        let z = axes.iter().find(|a| a["name"] == "acc_z").unwrap();
+        // The largest |10-min mean| of the corrected axis, m/s² (the field keeps its gyro name).
+        z["evaluation"]["comparison"]["corrected"]["win_mean_max_abs_dph"]
+            .as_f64()
+            .unwrap()
+    };
+    let (upright, flipped) = (figure(&same.stdout), figure(&out.stdout));
+    // Two g of gravity would read 19.9 m/s²; the flipped run's change with T is its own.
+    assert!(flipped < 0.05, "{flipped}");
+    assert!(upright < 0.05, "{upright}");
+}
+
+#[test]
+fn an_accelerometer_with_no_reading_at_the_hottest_sample_is_written() {
+    let dir = tempfile::tempdir().unwrap();
+    let train = mems(dir.path(), 7);
+    let text = std::fs::read_to_string(&train).unwrap();
+    let header: Vec<&str> = text.lines().nth(1).unwrap().split(',').collect();
+    let (x, t) = (
+        header.iter().position(|h| *h == "acc_x_m_s2").unwrap(),
+        header.iter().position(|h| *h == "temp_c").unwrap(),
+    );
+    let hottest = text
+        .lines()
+        .enumerate()
+        .skip(2)
+        .max_by(|a, b| {
+            let t_of = |l: &str| l.split(',').nth(t).unwrap().parse::<f64>().unwrap();
+            t_of(a.1).total_cmp(&t_of(b.1))
+        })
+        .unwrap()
+        .0;
+    let holed = rewritten(&train, &p(dir.path(), "hot.csv"), |k, cells| {
+        if k == hottest {
+            cells[x] = "NaN".into();
+        }
+    });
+    // Its fitted range is a little narrower than the log's: its Tref the middle of its own.
+    let cal = p(dir.path(), "imu.json");
+    ok(&["calibrate", &holed, "--accel", "--out", &cal]);
+    ok(&["evaluate", &cal, &holed]);
+}

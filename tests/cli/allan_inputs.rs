@@ -240,3 +240,43 @@ fn kalibr_calls_an_accelerometer_that_never_changes_an_accelerometer_not_a_rate(
     );
     assert!(!err.contains("rate"), "{err}");
 }
+
+#[test]
+fn kalibr_takes_an_accelerometer_with_a_hole_over_its_longest_run_of_readings() {
+    let dir = tempfile::tempdir().unwrap();
+    let (gyro, accel) = ((2e-4, 2e-5), (2e-3, 2e-4));
+    let log = imu_csv(gyro, accel, "accel_{}_m_s2", 1.0);
+    // One reading of accel_x that is no number, a tenth of the way in.
+    let lines: Vec<&str> = log.lines().collect();
+    let header: Vec<&str> = lines[0].split(',').collect();
+    let x = header.iter().position(|h| *h == "accel_x_m_s2").unwrap();
+    let hole = lines.len() / 10;
+    let mut holed = String::new();
+    for (k, line) in lines.iter().enumerate() {
+        let mut cells: Vec<&str> = line.split(',').collect();
+        if k == hole {
+            cells[x] = "NaN";
+        }
+        holed.push_str(&cells.join(","));
+        holed.push('\n');
+    }
+    let path = dir.path().join("holed.csv");
+    std::fs::write(&path, holed).unwrap();
+    let yaml = dir.path().join("holed.yaml");
+    let out = crate::common::run::driftlab(&[
+        "allan",
+        &path.display().to_string(),
+        "--kalibr",
+        &yaml.display().to_string(),
+    ]);
+    let stderr = String::from_utf8(out.stderr).unwrap();
+    assert!(out.status.success(), "{stderr}");
+    assert!(
+        stderr.contains("accelerometer axis accel_x_m_s2: 1 of its 144000 samples read no number")
+            && stderr.contains("longest run of readings"),
+        "{stderr}"
+    );
+    let text = std::fs::read_to_string(yaml).unwrap();
+    let v = yaml_number(&text, "accelerometer_noise_density").unwrap();
+    assert!((v / (1.5 * accel.0) - 1.0).abs() < 0.10, "{v}");
+}

@@ -29,6 +29,7 @@ mod in_sample;
 mod in_sample_told;
 mod kalibr;
 mod lot;
+mod lot_crafted;
 mod output_hashes;
 mod overwrite_inputs;
 mod quoting;

@@ -187,22 +187,36 @@ fn the_models_page_compares_every_model_in_sample_and_held_out_and_exports_one()
     );
 
     // The plot's key, above the plot (a legend inside it covered the curves of ten models on
-    // a short window): one check box a curve ("show NAME"), raw first; a click hides the curve, another
-    // shows it again.
+    // a short window), or a menu of the same toggles where the plot is short of height: one
+    // check box a curve ("show NAME"), raw first; a click hides the curve, another shows it
+    // again.
+    open_key(&mut h);
     for name in std::iter::once("raw").chain(expected.iter().map(String::as_str)) {
         h.get_by_role_and_label(Role::CheckBox, &format!("show {name}"));
     }
     for name in ["raw", "px4"] {
+        open_key(&mut h);
         h.get_by_role_and_label(Role::CheckBox, &format!("show {name}"))
             .click();
         h.run_ok();
     }
     let hidden: Vec<String> = h.state_mut().models_view().hidden.iter().cloned().collect();
     assert_eq!(hidden, ["px4", "raw"]);
+    open_key(&mut h);
     h.get_by_role_and_label(Role::CheckBox, "show raw").click();
     h.run_ok();
     let hidden: Vec<String> = h.state_mut().models_view().hidden.iter().cloned().collect();
     assert_eq!(hidden, ["px4"]);
+}
+
+/// Opens the plot's key where it is a menu (its toggles not on the page).
+fn open_key(h: &mut Harness<'static, Workbench>) {
+    if h.query_by_role_and_label(Role::CheckBox, "show raw")
+        .is_none()
+    {
+        h.get_by_label_contains("key: ").click();
+        h.run_ok();
+    }
 }
 
 #[test]

@@ -25,6 +25,11 @@ pub(super) fn fallback(k: usize) -> String {
     format!("axis{k}")
 }
 
+/// The longest identifier a name may give, in characters: C99's significant length for an
+/// internal identifier (§5.2.4.1); an axis whose name would make a longer one keeps its
+/// placeholder part.
+const MAX_IDENT: usize = 63;
+
 /// Whether a word of an identifier is a placeholder part (`axis0`, `AXIS12`).
 fn is_placeholder(word: &str) -> bool {
     let digits = word
@@ -77,6 +82,9 @@ pub(super) fn axis_idents(probe: &str, names: &[&str]) -> Vec<String> {
         let part = plain_part(name)
             .filter(|p| !p.split('_').any(is_placeholder))
             .filter(|p| make(p).iter().all(|id| !taken.contains(id)))
+            // C99 guarantees 63 significant characters of an identifier; past them two axes'
+            // identifiers could be one to a compiler that keeps no more.
+            .filter(|p| make(p).iter().all(|id| id.len() <= MAX_IDENT))
             .unwrap_or_else(|| fallback(k));
         taken.extend(make(&part));
         parts.push(part);
@@ -251,5 +259,9 @@ mod tests {
         );
         let parts = axis_idents(probe, &["k0", "k0_k0", ""]);
         assert_eq!(parts, ["k0", "k0_k0", "axis2"]);
+        // A name that would make an identifier past C99's 63 significant characters.
+        let long = "a".repeat(60);
+        let parts = axis_idents(probe, &[long.as_str(), "gx"]);
+        assert_eq!(parts, ["axis0", "gx"]);
     }
 }

@@ -304,19 +304,35 @@ pub fn load(path: &Path) -> Result<Calibration> {
 pub const MAX_FILE_BYTES: u64 = 16 << 20;
 
 fn read_text(path: &Path) -> Result<String> {
+    read_json_text(
+        path,
+        MAX_FILE_BYTES,
+        "which no calibration or recipe is: is it a log?",
+    )
+}
+
+/// A small JSON file's text, read through at most `max_bytes` (a pipe or a device states no
+/// length and is cut there, whatever it would go on giving): UTF-8, a byte-order mark left out,
+/// no key twice in one object. `too_large` ends the message of a larger file.
+///
+/// # Errors
+/// The read's, a file over `max_bytes`, text that is not UTF-8, a key given twice.
+pub(crate) fn read_json_text(path: &Path, max_bytes: u64, too_large: &str) -> Result<String> {
     use std::io::Read;
     let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
     let mut bytes = Vec::new();
-    file.take(MAX_FILE_BYTES + 1)
+    file.take(max_bytes + 1)
         .read_to_end(&mut bytes)
         .map_err(|e| Error::io(path, e))?;
-    if bytes.len() as u64 > MAX_FILE_BYTES {
+    if bytes.len() as u64 > max_bytes {
+        let size = if max_bytes >= 1 << 20 {
+            format!("{} MiB", max_bytes >> 20)
+        } else {
+            format!("{max_bytes} bytes")
+        };
         return Err(Error::File {
             path: path.to_path_buf(),
-            message: format!(
-                "larger than {} MiB, which no calibration or recipe is: is it a log?",
-                MAX_FILE_BYTES >> 20
-            ),
+            message: format!("larger than {size}, {too_large}"),
         });
     }
     let mut text = String::from_utf8(bytes).map_err(|e| Error::File {
@@ -334,6 +350,18 @@ fn read_text(path: &Path) -> Result<String> {
         message: e.to_string(),
     })?;
     Ok(text)
+}
+
+/// What a JSON value is, in words, for a message.
+pub(crate) fn json_kind(value: &serde_json::Value) -> &'static str {
+    match value {
+        serde_json::Value::Null => "null",
+        serde_json::Value::Bool(_) => "true or false",
+        serde_json::Value::Number(_) => "a number",
+        serde_json::Value::String(_) => "a string",
+        serde_json::Value::Array(_) => "an array",
+        serde_json::Value::Object(_) => "an object",
+    }
 }
 
 /// The byte-order mark a text file may start with.
@@ -355,6 +383,17 @@ pub fn read_recipe(path: &Path) -> Result<Recipe> {
         message: e.to_string(),
     };
     let value: serde_json::Value = serde_json::from_str(&text).map_err(err)?;
+    // serde reads a struct from an array field by field, in order: `[]` would be the
+    // defaults, `[600]` a filter, and no key named anywhere.
+    if !value.is_object() {
+        return Err(Error::File {
+            path: path.to_path_buf(),
+            message: format!(
+                "a recipe is a JSON object of choices ({{\"filter_s\": 600, …}}), not {}",
+                json_kind(&value)
+            ),
+        });
+    }
     if value.get("format").is_none() {
         return serde_json::from_str(&text).map_err(err);
     }

@@ -190,7 +190,12 @@ impl ModelsView {
             } else {
                 0.55
             };
-            let table_h = (rows as f32 * row_h).clamp(120.0, ui.available_height() * share);
+            // And never so tall that the recommendation's lines and the plot (at least 160
+            // points) fall below the window's foot.
+            const BELOW_TABLE: f32 = 330.0;
+            let room = (ui.available_height() - BELOW_TABLE).max(120.0);
+            let table_h =
+                (rows as f32 * row_h).clamp(120.0, (ui.available_height() * share).min(room));
             // On a narrow window the table scrolls sideways, with its scroll bar always shown
             // so that the columns off to the right are not missed.
             ScrollArea::both()

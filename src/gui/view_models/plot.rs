@@ -89,18 +89,25 @@ fn key_entry(ui: &mut Ui, name: &str, color: Color32, shown: bool) -> egui::Resp
 const RAW: &str = "raw";
 
 impl ModelsView {
-    /// The plot's key above it, one toggle a curve in its colour: it wraps to the page's width
-    /// and never covers the curves, as a legend inside a plot short of height does with ten
-    /// models. A click hides a curve or shows it again.
-    fn key(&mut self, ui: &mut Ui, c: &Compared, pal: &Palette, dark: bool) {
-        let names = std::iter::once((RAW, pal.raw)).chain(
-            c.reports
-                .iter()
-                .enumerate()
-                .map(|(k, r)| (r.model.as_str(), model_color(k, dark))),
-        );
-        ui.horizontal_wrapped(|ui| {
-            for (name, color) in names {
+    /// The plot's key, one toggle a curve in its colour: above the plot it wraps to the page's
+    /// width and never covers the curves, as a legend inside a plot short of height does with
+    /// ten models; on a short window it is a menu of the same toggles (`compact`), so that
+    /// its rows do not take the plot's height. A click hides a curve or shows it again.
+    fn key(&mut self, ui: &mut Ui, c: &Compared, pal: &Palette, dark: bool, compact: bool) {
+        let names: Vec<(&str, Color32)> = std::iter::once((RAW, pal.raw))
+            .chain(
+                c.reports
+                    .iter()
+                    .enumerate()
+                    .map(|(k, r)| (r.model.as_str(), model_color(k, dark))),
+            )
+            .collect();
+        let shown_count = names
+            .iter()
+            .filter(|(n, _)| !self.hidden.contains(*n))
+            .count();
+        let mut entries = |ui: &mut Ui| {
+            for &(name, color) in &names {
                 let shown = !self.hidden.contains(name);
                 let weak = ui.visuals().weak_text_color();
                 let r = key_entry(ui, name, if shown { color } else { weak }, shown).on_hover_text(
@@ -110,7 +117,9 @@ impl ModelsView {
                         "click to show"
                     },
                 );
-                ui.add_space(8.0);
+                if !compact {
+                    ui.add_space(8.0);
+                }
                 if r.clicked() {
                     if shown {
                         self.hidden.insert(name.to_string());
@@ -119,12 +128,25 @@ impl ModelsView {
                     }
                 }
             }
-        });
+        };
+        if compact {
+            let label = format!("key: {shown_count} of {} shown", names.len());
+            ui.menu_button(label, |ui| entries(ui))
+                .response
+                .on_hover_text("the curves drawn: click a name to hide it or show it again");
+        } else {
+            ui.horizontal_wrapped(entries);
+        }
     }
+
+    /// The height under which the plot's key folds into a menu: its rows (three at 1024 px
+    /// with twelve models) would leave the plot too short to read.
+    const COMPACT_BELOW: f32 = 320.0;
 
     pub(super) fn plot(&mut self, ui: &mut Ui, c: &Compared) {
         let pal = Palette::of(ui);
         let dark = ui.visuals().dark_mode;
+        let compact = ui.available_height() < Self::COMPACT_BELOW;
         ui.horizontal_wrapped(|ui| {
             ui.strong("Corrected drift of each model").on_hover_text(
                 "Ω filtered as for the figures: raw (grey) and corrected by each fitted model; \
@@ -140,8 +162,14 @@ impl ModelsView {
                 ui.radio_value(&mut self.log_index, j, label)
                     .on_hover_text(&l.log.source);
             }
+            if compact {
+                ui.separator();
+                self.key(ui, c, &pal, dark, true);
+            }
         });
-        self.key(ui, c, &pal, dark);
+        if !compact {
+            self.key(ui, c, &pal, dark, false);
+        }
         let Some(cl) = c.logs.get(self.log_index) else {
             return;
         };

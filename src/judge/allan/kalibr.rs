@@ -155,6 +155,27 @@ pub fn axis_readouts(
         .collect()
 }
 
+/// The longest run of finite samples of `values`, and how many samples are not finite, when
+/// some are not finite (an accelerometer's reading a drone log marks as missing, a cell that
+/// could not be read): an Allan deviation needs evenly spaced readings, so an axis with holes
+/// is analysed over its longest run without one rather than not at all. `None` when every
+/// sample is finite.
+pub fn longest_finite_run(values: &[f64]) -> Option<(std::ops::Range<usize>, usize)> {
+    if values.iter().all(|v| v.is_finite()) {
+        return None;
+    }
+    let (mut best, mut start) = (0..0, 0);
+    for (i, v) in values.iter().enumerate() {
+        if !v.is_finite() {
+            start = i + 1;
+        } else if i + 1 - start > best.len() {
+            best = start..i + 1;
+        }
+    }
+    let holes = values.iter().filter(|v| !v.is_finite()).count();
+    Some((best, holes))
+}
+
 /// The largest value of one read-out over the axes.
 fn entry(
     key: &'static str,
@@ -533,6 +554,17 @@ mod tests {
     use super::*;
 
     #[test]
+    fn the_longest_run_of_readings_is_found_around_the_holes() {
+        let nan = f64::NAN;
+        assert_eq!(longest_finite_run(&[1.0, 2.0]), None);
+        assert_eq!(
+            longest_finite_run(&[1.0, nan, 2.0, 3.0, 4.0, f64::INFINITY, 5.0]),
+            Some((2..5, 2))
+        );
+        assert_eq!(longest_finite_run(&[nan, nan]), Some((0..0, 2)));
+    }
+
+    #[test]
     fn strings_are_double_quoted_with_every_break_escaped() {
         assert_eq!(yaml_string("/imu0"), "\"/imu0\"");
         assert_eq!(yaml_string("true"), "\"true\"");
@@ -587,5 +619,21 @@ mod topic_tests {
         ] {
             assert!(check_rostopic(bad).is_err(), "{bad:?}");
         }
+    }
+}
+
+#[cfg(test)]
+mod run_tests {
+    use super::longest_finite_run;
+
+    #[test]
+    fn the_longest_run_of_readings_is_found_around_the_holes() {
+        let nan = f64::NAN;
+        assert_eq!(longest_finite_run(&[1.0, 2.0]), None);
+        assert_eq!(
+            longest_finite_run(&[1.0, nan, 2.0, 3.0, 4.0, f64::INFINITY, 5.0]),
+            Some((2..5, 2))
+        );
+        assert_eq!(longest_finite_run(&[nan, nan]), Some((0..0, 2)));
     }
 }

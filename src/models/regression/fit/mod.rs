@@ -424,7 +424,7 @@ struct Centre {
 
 /// Tref of the `(T-Tref)^k` terms (`None` when the model has none): the spec's fixed
 /// temperature, or the middle of T's range as the model reads it (through `delay`) over the
-/// samples the fit covers (`used`, with a rate history), where PX4's script puts `TREF`; the
+/// samples the fit covers (`used`, with a rate history and a reading), where PX4's script puts `TREF`; the
 /// fitted range is also where the model holds T, as PX4 holds it to `[TMIN, TMAX]`, and is
 /// what [`ranges_and_stats`] records as `ranges.temp`.
 fn t_ref_of(spec: &RegressionSpec, s: &Signals, used: &[bool], delay: &Delay) -> Option<Centre> {
@@ -432,10 +432,16 @@ fn t_ref_of(spec: &RegressionSpec, s: &Signals, used: &[bool], delay: &Delay) ->
         return None;
     }
     let mut ch = vec![0.0; s.channels.len()];
+    // Over the samples `ranges_and_stats` takes the range from: a sample with no reading (an
+    // accelerometer's cell that could not be read, a channel's gap) is none, so that Tref is
+    // the middle of the range the file records.
     let (lo, hi) = s
         .ready_samples()
-        .filter(|&i| used[i])
-        .map(|i| s.inputs(i, delay, &mut ch).temp)
+        .filter(|&i| used[i] && s.omega[i].is_finite())
+        .filter_map(|i| {
+            let temp = s.inputs(i, delay, &mut ch).temp;
+            ch.iter().all(|v| v.is_finite()).then_some(temp)
+        })
         .filter(|v| v.is_finite())
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
             (a.min(v), b.max(v))

@@ -1,0 +1,290 @@
+//! A lot against what a crafted or careless file can do to it: a unit's record or a shard's
+//! table edited to pass a unit or link out of the output folder, a table that states a lot of
+//! 10^15 units, shards of two recipes, a spec that is an array or a device, names that escape
+//! alike or that no file system takes as a folder, an output folder reached by `..` or by a
+//! link among the units, a second lot writing the same folder, a report removed.
+
+use crate::common::lot::{NOISY, ORDINARY, arws, profile};
+use crate::common::run::{driftlab, p};
+use driftlab::sim::{GyroParams, simulate};
+use std::path::Path;
+
+fn status(args: &[&str]) -> (i32, String, String) {
+    let out = driftlab(args);
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8(out.stdout).unwrap(),
+        String::from_utf8(out.stderr).unwrap(),
+    )
+}
+
+/// A small lot in `dir/units`: two ordinary units and the noisy one, which the spec in
+/// `dir/spec.json` fails on its noise floor.
+fn small_lot(dir: &Path) -> (String, String) {
+    let units = dir.join("units");
+    std::fs::create_dir(&units).unwrap();
+    for (k, name) in ORDINARY[..2].iter().enumerate() {
+        simulate(&profile(GyroParams::default()), 100 + k as u64)
+            .write_csv(&units.join(name))
+            .unwrap();
+    }
+    let noisy = GyroParams {
+        arw_deg_per_sqrt_h: arws().1,
+        ..GyroParams::default()
+    };
+    simulate(&profile(noisy), 200)
+        .write_csv(&units.join(NOISY))
+        .unwrap();
+    let (ordinary, noisy) = arws();
+    std::fs::write(
+        dir.join("spec.json"),
+        format!(r#"{{"max_arw_deg_rt_h": {}}}"#, (ordinary * noisy).sqrt()),
+    )
+    .unwrap();
+    (units.display().to_string(), p(dir, "spec.json"))
+}
+
+fn lot_json(out: &str) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(Path::new(out).join("lot.json")).unwrap())
+        .unwrap()
+}
+
+fn unit<'a>(lot: &'a serde_json::Value, name: &str) -> &'a serde_json::Value {
+    lot["units"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|u| u["unit"] == name)
+        .unwrap_or_else(|| panic!("{name} in {lot}"))
+}
+
+#[test]
+fn an_edited_record_or_shard_table_neither_passes_a_failing_unit_nor_links_out() {
+    let dir = tempfile::tempdir().unwrap();
+    let (units, spec) = small_lot(dir.path());
+    let out = p(dir.path(), "out");
+    let args = ["lot", &units, "--spec", &spec, "--out", &out];
+    assert_eq!(status(&args).0, 2);
+
+    // The noisy unit's record made a pass, its link made a script.
+    let record = Path::new(&out).join(NOISY).join("unit.json");
+    let mut r: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&record).unwrap()).unwrap();
+    r["outcome"]["status"] = "pass".into();
+    r["outcome"]["reasons"] = serde_json::json!([]);
+    r["outcome"]["calibration"] = "javascript:alert(1)".into();
+    std::fs::write(&record, r.to_string()).unwrap();
+    let (code, stdout, _) = status(&args);
+    assert_eq!(code, 2, "{stdout}");
+    let lot = lot_json(&out);
+    let noisy = unit(&lot, NOISY);
+    assert_eq!(noisy["status"], "fail", "{noisy}");
+    assert!(
+        noisy["reasons"][0]
+            .as_str()
+            .unwrap()
+            .contains("max_arw_deg_rt_h")
+    );
+    assert_eq!(noisy["calibration"], format!("{NOISY}/calibration.json"));
+    let page = std::fs::read_to_string(Path::new(&out).join("lot.html")).unwrap();
+    assert!(!page.contains("javascript:"));
+
+    // The same through a shard's table and the merge.
+    let sharded = p(dir.path(), "sharded");
+    status(&[
+        "lot", &units, "--spec", &spec, "--out", &sharded, "--shard", "1/1",
+    ]);
+    let table = Path::new(&sharded).join("lot-shard-1-of-1.json");
+    let mut t: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&table).unwrap()).unwrap();
+    for placed in t["units"].as_array_mut().unwrap() {
+        placed["outcome"]["status"] = "pass".into();
+        placed["outcome"]["reasons"] = serde_json::json!([]);
+        placed["outcome"]["calibration"] = "https://example.invalid/x".into();
+        placed["outcome"]["report"] = "javascript:alert(1)".into();
+    }
+    std::fs::write(&table, t.to_string()).unwrap();
+    let (code, stdout, stderr) = status(&["lot", "merge", &sharded]);
+    assert_eq!(code, 2, "{stdout}{stderr}");
+    let lot = lot_json(&sharded);
+    assert_eq!(unit(&lot, NOISY)["status"], "fail");
+    for u in lot["units"].as_array().unwrap() {
+        let cal = u["calibration"].as_str().unwrap();
+        assert!(Path::new(&sharded).join(cal).is_file(), "{cal}");
+        assert!(u.get("report").is_none(), "{u}");
+    }
+
+    // A table stating a lot of 10^15 units: refused by what the tables hold, nothing made
+    // for the number it states.
+    t["lot_units"] = serde_json::json!(1_000_000_000_000_000u64);
+    std::fs::write(&table, t.to_string()).unwrap();
+    let (code, _, stderr) = status(&["lot", "merge", &sharded]);
+    assert_eq!(code, 1, "{stderr}");
+    assert!(stderr.contains("hold 3 units"), "{stderr}");
+}
+
+#[test]
+fn shards_of_two_recipes_are_not_merged_and_one_shard_is_not_run_twice_at_once() {
+    let dir = tempfile::tempdir().unwrap();
+    let (units, spec) = small_lot(dir.path());
+    let recipe = p(dir.path(), "r.json");
+    std::fs::write(&recipe, r#"{"filter_s": 1200}"#).unwrap();
+    let out = p(dir.path(), "out");
+    status(&[
+        "lot", &units, "--spec", &spec, "--out", &out, "--shard", "1/2",
+    ]);
+    status(&[
+        "lot", &units, "--spec", &spec, "--out", &out, "--shard", "2/2", "--recipe", &recipe,
+    ]);
+    let (code, _, stderr) = status(&["lot", "merge", &out]);
+    assert_eq!(code, 1, "{stderr}");
+    assert!(stderr.contains("another shared recipe"), "{stderr}");
+
+    // The folder held by another lot (its lock taken here, as a running lot holds it).
+    let lock = std::fs::OpenOptions::new()
+        .create(true)
+        .truncate(false)
+        .write(true)
+        .open(Path::new(&out).join(".lot.lock"))
+        .unwrap();
+    lock.lock().unwrap();
+    let (code, _, stderr) = status(&["lot", &units, "--spec", &spec, "--out", &out]);
+    assert_eq!(code, 1, "{stderr}");
+    assert!(stderr.contains("is writing it"), "{stderr}");
+    let (code, _, stderr) = status(&["lot", "merge", &out]);
+    assert_eq!(code, 1, "{stderr}");
+    assert!(stderr.contains("is writing it"), "{stderr}");
+    drop(lock);
+}
+
+#[test]
+fn a_spec_is_an_object_read_within_its_bound_and_a_recipe_too() {
+    let dir = tempfile::tempdir().unwrap();
+    let units = dir.path().join("units");
+    std::fs::create_dir(&units).unwrap();
+    std::fs::write(units.join("u.csv"), "time_s,omega_dph,temp_c\n").unwrap();
+    let u = units.display().to_string();
+    let out = p(dir.path(), "out");
+    let spec = p(dir.path(), "spec.json");
+    for (text, said) in [
+        ("[]", "not an array"),
+        ("[0.0001]", "not an array"),
+        ("7", "not a number"),
+    ] {
+        std::fs::write(&spec, text).unwrap();
+        let (code, _, stderr) = status(&["lot", &u, "--spec", &spec, "--out", &out]);
+        assert_eq!(code, 1, "{text}: {stderr}");
+        assert!(stderr.contains(said), "{text}: {stderr}");
+    }
+    // A device states no length: read to the bound, then refused.
+    let (code, _, stderr) = status(&["lot", &u, "--spec", "/dev/zero", "--out", &out]);
+    assert_eq!(code, 1, "{stderr}");
+    assert!(stderr.contains("larger than"), "{stderr}");
+    // A byte-order mark says UTF-8 and nothing else.
+    std::fs::write(&spec, "\u{feff}{\"min_plateaus\": 3}").unwrap();
+    let recipe = p(dir.path(), "r.json");
+    std::fs::write(&recipe, "[]").unwrap();
+    let (code, _, stderr) = status(&[
+        "lot", &u, "--spec", &spec, "--out", &out, "--recipe", &recipe,
+    ]);
+    assert_eq!(code, 1, "{stderr}");
+    assert!(
+        stderr.contains("a recipe is a JSON object") && !stderr.contains("spec.json"),
+        "{stderr}"
+    );
+    assert!(!Path::new(&out).exists());
+}
+
+#[test]
+fn names_alike_once_escaped_too_long_or_an_option_each_get_a_folder_of_their_own() {
+    use std::os::unix::ffi::OsStrExt;
+    let dir = tempfile::tempdir().unwrap();
+    let units = dir.path().join("units");
+    std::fs::create_dir(&units).unwrap();
+    let log = dir.path().join("log.csv");
+    simulate(&profile(GyroParams::default()), 7)
+        .write_csv(&log)
+        .unwrap();
+    let long = format!("{}.csv", "\u{e9}".repeat(100));
+    let names: Vec<std::ffi::OsString> = vec![
+        std::ffi::OsStr::from_bytes(b"u\xff.csv").into(),
+        std::ffi::OsStr::from_bytes(b"u\xfe.csv").into(),
+        long.clone().into(),
+        "-42.csv".into(),
+    ];
+    for n in &names {
+        std::fs::copy(&log, units.join(n)).unwrap();
+    }
+    let spec = p(dir.path(), "spec.json");
+    std::fs::write(&spec, "{}").unwrap();
+    let out = p(dir.path(), "out");
+    let u = units.display().to_string();
+    let (code, stdout, stderr) = status(&["lot", &u, "--spec", &spec, "--out", &out]);
+    assert_eq!(code, 0, "{stdout}{stderr}");
+    let lot = lot_json(&out);
+    let rows = lot["units"].as_array().unwrap();
+    assert_eq!(rows.len(), 4);
+    let mut folders: Vec<&str> = Vec::new();
+    for row in rows {
+        let cal = row["calibration"].as_str().unwrap();
+        assert!(Path::new(&out).join(cal).is_file(), "{cal}");
+        let folder = row["folder"].as_str().unwrap();
+        assert!(folder.len() <= 160 && !folder.starts_with('-'), "{folder}");
+        folders.push(folder);
+    }
+    folders.sort_unstable();
+    folders.dedup();
+    assert_eq!(folders.len(), 4);
+    // lot.csv's path column names a file that is there, with no formula guard before it.
+    let table = std::fs::read_to_string(Path::new(&out).join("lot.csv")).unwrap();
+    assert!(table.contains("%2D42.csv/calibration.json"), "{table}");
+}
+
+#[test]
+fn an_output_reached_by_dots_or_by_a_link_among_the_units_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let units = dir.path().join("units");
+    std::fs::create_dir(&units).unwrap();
+    std::fs::write(units.join("u.csv"), "time_s,omega_dph,temp_c\n").unwrap();
+    let spec = p(dir.path(), "spec.json");
+    std::fs::write(&spec, "{}").unwrap();
+    let u = units.display().to_string();
+    let dotted = format!("{}/nothere/../units/out", dir.path().display());
+    let (code, _, stderr) = status(&["lot", &u, "--spec", &spec, "--out", &dotted]);
+    assert_eq!(code, 1, "{stderr}");
+    assert!(stderr.contains("one inside the other"), "{stderr}");
+    assert!(!units.join("out").exists() && !dir.path().join("nothere").exists());
+
+    let out = dir.path().join("out");
+    std::fs::create_dir(&out).unwrap();
+    std::os::unix::fs::symlink(&out, units.join("link")).unwrap();
+    let (code, _, stderr) = status(&["lot", &u, "--spec", &spec, "--out", &p(dir.path(), "out")]);
+    assert_eq!(code, 1, "{stderr}");
+    assert!(stderr.contains("one inside the other"), "{stderr}");
+}
+
+#[test]
+fn a_report_asked_for_and_removed_is_written_again() {
+    let dir = tempfile::tempdir().unwrap();
+    let units = dir.path().join("units");
+    std::fs::create_dir(&units).unwrap();
+    simulate(&profile(GyroParams::default()), 11)
+        .write_csv(&units.join("u1.csv"))
+        .unwrap();
+    let spec = p(dir.path(), "spec.json");
+    std::fs::write(&spec, "{}").unwrap();
+    let out = p(dir.path(), "out");
+    let u = units.display().to_string();
+    let args = ["lot", &u, "--spec", &spec, "--out", &out, "--report"];
+    assert_eq!(status(&args).0, 0);
+    let report = Path::new(&out).join("u1.csv/report");
+    std::fs::remove_dir_all(&report).unwrap();
+    let (code, stdout, _) = status(&args);
+    assert_eq!(code, 0);
+    assert!(stdout.contains("0 unchanged"), "{stdout}");
+    assert!(report.join("report.html").is_file());
+    assert_eq!(
+        unit(&lot_json(&out), "u1.csv")["report"],
+        "u1.csv/report/report.html"
+    );
+}
