@@ -403,6 +403,7 @@ pub fn run(a: Args) -> Result<(), CliError> {
         recipe,
         plans,
         campaign: a.campaign_options(),
+        keep: models::Keep::Figures,
     };
     let merit = plan.merit();
     let recipe_file = a.recipe_file();

@@ -89,6 +89,10 @@ pub struct GuiArgs {
     /// known size too.
     #[arg(long, value_name = "WxH")]
     pub window_size: Option<String>,
+    /// A lot to open on the Lot page: its output folder (as `driftlab lot --out` made it), or
+    /// its lot.json or lot.csv. Given alone, no sample log is opened behind it.
+    #[arg(long, value_name = "OUT")]
+    pub lot: Option<std::path::PathBuf>,
     /// How to read the log (a session keeps its own mapping).
     #[command(flatten)]
     pub log_args: common::LogArgs,
@@ -231,6 +235,7 @@ fn gui(a: GuiArgs) -> Result<(), String> {
         validation: a.validation,
         window_size,
         more_runs,
+        lot: a.lot,
     })
 }
 

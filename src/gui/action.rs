@@ -54,6 +54,15 @@ pub enum Action {
     /// Judge axis `.1` (its index) of the opened calibration on this axis of log `.0` (`None`:
     /// on none), where the files do not say which it corrects.
     ChooseOpenedAxis(OpenLog, usize, Option<String>),
+    /// Pick a lot to open (its output folder's `lot.json` or `lot.csv`).
+    OpenLot,
+    /// Open the lot at this path (its output folder, or either table), on the Lot page.
+    OpenLotPath(PathBuf),
+    /// Open unit `.0` (its row in the lot's order) on the Calibration page: its log(s), and
+    /// its calibration beside the fit.
+    OpenLotUnit(usize),
+    /// Put the lot away.
+    CloseLot,
     /// Pick a session to open.
     OpenSession,
     /// Open this session.
@@ -149,11 +158,13 @@ pub enum Page {
     Models,
     /// Allan deviation, raw and corrected.
     Allan,
+    /// A lot of units: the table, and each figure's distribution.
+    Lot,
 }
 
 impl Page {
     /// Every page, in tab order.
-    pub const ALL: [Page; 3] = [Page::Calibration, Page::Models, Page::Allan];
+    pub const ALL: [Page; 4] = [Page::Calibration, Page::Models, Page::Allan, Page::Lot];
 
     /// The tab's title.
     pub fn title(self) -> &'static str {
@@ -161,6 +172,7 @@ impl Page {
             Page::Calibration => "Calibration",
             Page::Models => "Models",
             Page::Allan => "Allan deviation",
+            Page::Lot => "Lot",
         }
     }
 
@@ -171,6 +183,7 @@ impl Page {
             "calibration" | "main" => Some(Page::Calibration),
             "models" => Some(Page::Models),
             "allan" => Some(Page::Allan),
+            "lot" => Some(Page::Lot),
             _ => None,
         }
     }
@@ -181,6 +194,7 @@ impl Page {
             Page::Calibration => shortcuts::PAGE1,
             Page::Models => shortcuts::PAGE2,
             Page::Allan => shortcuts::PAGE3,
+            Page::Lot => shortcuts::PAGE4,
         }
     }
 
@@ -197,6 +211,10 @@ impl Page {
             Page::Allan => {
                 "Allan deviation of the raw and the corrected rate, with ARW, bias \
                  instability and RRW"
+            }
+            Page::Lot => {
+                "A lot of units (File › Open lot): each figure's distribution, the table of \
+                 units sorted by any column; a click opens a unit"
             }
         }
     }
@@ -241,6 +259,8 @@ pub mod shortcuts {
     pub const PAGE2: KeyboardShortcut = KeyboardShortcut::new(Modifiers::COMMAND, Key::Num2);
     /// The Allan page.
     pub const PAGE3: KeyboardShortcut = KeyboardShortcut::new(Modifiers::COMMAND, Key::Num3);
+    /// The Lot page.
+    pub const PAGE4: KeyboardShortcut = KeyboardShortcut::new(Modifiers::COMMAND, Key::Num4);
     /// Compare the models ticked (Models page).
     pub const COMPARE: KeyboardShortcut = KeyboardShortcut::new(Modifiers::NONE, Key::F5);
     /// The previous gyro axis of a unit.

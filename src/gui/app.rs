@@ -8,13 +8,15 @@
 //! (which axis of the validation log each axis is judged on), `actions` (carrying out what the engineer asks for,
 //! and the unsaved-work question), `results` (what the worker is asked and what its answers
 //! change), `k0_default` (K0's kind chosen once from a fresh log's plateaus), `files` (what is
-//! written and opened) and `screenshot` (PNG of the window, and the `--screenshot` mode).
+//! written and opened), `lot` (a lot opened, and a unit of it opened on the Calibration page)
+//! and `screenshot` (PNG of the window, and the `--screenshot` mode).
 
 mod actions;
 mod files;
 mod gyro_menu;
 mod k0_default;
 mod layout;
+mod lot;
 mod opened;
 mod page;
 mod results;
@@ -89,6 +91,7 @@ struct Views {
     models: ModelsView,
     allan: AllanPage,
     opened: super::view_opened::OpenedView,
+    lot: super::view_lot::LotView,
 }
 
 /// What shows over the page: the import view, the file dialogs, the unsaved-work question,
@@ -149,6 +152,9 @@ struct Opening {
     validation: Option<(PathBuf, LoadOptions)>,
     /// Whether K0 is still the window's to choose from a log's plateaus.
     k0: k0_default::K0Default,
+    /// A lot's unit being opened: its calibration, opened beside the fit once its log is
+    /// read (a log that cannot be read leaves the opened calibration as it was too).
+    calibration: Option<PathBuf>,
 }
 
 /// Unsaved work written to disk every few seconds, and work left behind offered back.
@@ -475,6 +481,7 @@ impl Workbench {
                 let running = self.jobs.allan.is_some();
                 actions.extend(self.views.allan.ui(ui, &self.state, running));
             }
+            Page::Lot => actions.extend(self.views.lot.ui(ui, &self.state)),
         }
         for (name, rect) in &self.views.time.rects {
             self.window.plot_rects.insert((*name).to_string(), *rect);
@@ -526,6 +533,10 @@ impl Workbench {
         let ctx = ui.ctx().clone();
         ui.horizontal(|ui| {
             for p in Page::ALL {
+                // The Lot tab while a lot is open (or its page shown).
+                if p == Page::Lot && self.state.lot.is_none() && self.views.page != Page::Lot {
+                    continue;
+                }
                 if ui
                     .selectable_label(self.views.page == p, RichText::new(p.title()).size(15.0))
                     .on_hover_text(format!(

@@ -38,6 +38,8 @@ pub enum FileKind {
     Png,
     /// The test report (a folder of figures and one HTML page).
     Report,
+    /// A lot's table (`lot.json` or `lot.csv` in its output folder).
+    Lot,
 }
 
 impl FileKind {
@@ -55,6 +57,7 @@ impl FileKind {
             FileKind::CorrectedCsv => "Export corrected log",
             FileKind::Png => "Save picture",
             FileKind::Report => "Export test report (a folder)",
+            FileKind::Lot => "Open lot (lot.json or lot.csv in its output folder)",
         }
     }
 
@@ -76,6 +79,7 @@ impl FileKind {
             FileKind::FlightParams => ("Parameters", &["params", "parm"]),
             FileKind::Png => ("PNG image", &["png"]),
             FileKind::Report => ("Report folder", &["*"]),
+            FileKind::Lot => ("Lot table", &["json", "csv"]),
         }
     }
 
@@ -103,7 +107,11 @@ impl FileKind {
             | FileKind::OpenCalibration => Some("json"),
             FileKind::CorrectedCsv => Some("csv"),
             FileKind::Png => Some("png"),
-            FileKind::Log | FileKind::ValidationLog | FileKind::Run | FileKind::Report => None,
+            FileKind::Log
+            | FileKind::ValidationLog
+            | FileKind::Run
+            | FileKind::Report
+            | FileKind::Lot => None,
             // The suggested name carries the format's own (.params, .parm).
             FileKind::FlightParams => None,
         }

@@ -15,7 +15,8 @@
 //!   (K0, K1±, K2±), [`view_result`] (the drift before and after), [`view_figures`] (the
 //!   figures of merit), [`view_models`] (the Models page), [`view_allan`] (the Allan page) and
 //!   [`view_opened`] (a calibration opened beside the current fit, to compare: what it holds
-//!   and is judged on is [`opened`]);
+//!   and is judged on is [`opened`]), [`view_lot`] (the Lot page: a lot's table and each
+//!   figure's distribution);
 //! * [`export`], [`dialogs`] (which file dialog can appear), [`file_dialog`] (the workbench's
 //!   own, where no system dialog can), [`settings`], [`autosave`];
 //! * [`app`]: the window, on top — menus, shortcuts, layout, job results, unsaved-work
@@ -62,6 +63,7 @@
 //! [`view_allan`]: crate::gui::view_allan
 //! [`view_opened`]: crate::gui::view_opened
 //! [`opened`]: crate::gui::opened
+//! [`view_lot`]: crate::gui::view_lot
 //! [`export`]: crate::gui::export
 //! [`dialogs`]: crate::gui::dialogs
 //! [`file_dialog`]: crate::gui::file_dialog
@@ -88,6 +90,7 @@ pub mod view_coeffs;
 pub mod view_controls;
 pub mod view_figures;
 pub mod view_import;
+pub mod view_lot;
 pub mod view_models;
 pub mod view_opened;
 pub mod view_result;
@@ -130,6 +133,8 @@ pub struct GuiOptions {
     pub more_runs: Vec<PathBuf>,
     /// The window's inner size, points (at least 900×620).
     pub window_size: Option<[f32; 2]>,
+    /// A lot to open on the Lot page: its output folder, or its `lot.json` or `lot.csv`.
+    pub lot: Option<PathBuf>,
 }
 
 /// `1280x800` as points, when at least the window's smallest size and at most 16384 points
@@ -256,7 +261,11 @@ pub fn start(
 /// When no window can be opened, or (screenshot mode) when the log cannot be read or
 /// calibrated or the picture cannot be written.
 pub fn run(options: GuiOptions) -> Result<(), String> {
-    let log = options.log.clone().or_else(default_log);
+    // A lot given alone opens on its page, with no sample log behind it.
+    let log = match &options.lot {
+        Some(_) => options.log.clone(),
+        None => options.log.clone().or_else(default_log),
+    };
     // DRIFTLAB_GUI_PAGE=models|allan|calibration: the page to start on (a screenshot of it).
     let page = match std::env::var("DRIFTLAB_GUI_PAGE") {
         Ok(name) if !name.trim().is_empty() => Some(Page::from_name(&name).ok_or_else(|| {
@@ -340,6 +349,7 @@ pub fn run(options: GuiOptions) -> Result<(), String> {
     let slot = outcome.clone();
     let validation = options.validation.clone();
     let calibration = options.calibration.clone();
+    let lot = options.lot.clone();
     let more_runs = options.more_runs.clone();
     eframe::run_native(
         "driftlab",
@@ -358,6 +368,9 @@ pub fn run(options: GuiOptions) -> Result<(), String> {
             }
             if let Some(c) = calibration {
                 wb.open_calibration(c);
+            }
+            if let Some(l) = lot {
+                wb.open_lot(l);
             }
             if let Some(s) = size {
                 wb.ask_window_size(s);

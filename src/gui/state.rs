@@ -139,6 +139,8 @@ pub struct AppState {
     pub validation_doubt: Option<String>,
     /// A calibration opened beside the current fit, to compare ([`super::opened`]).
     pub opened: Option<super::opened::Opened>,
+    /// A lot opened on the Lot page ([`crate::lot::open`]).
+    pub lot: Option<crate::lot::open::LotTable>,
 }
 
 /// What the workbench holds for one gyro axis: its view of the logs, its choices, its fit

@@ -122,6 +122,17 @@ pub fn recorded(folder: &Path, key: &UnitKey) -> Option<UnitOutcome> {
     })
 }
 
+/// The runs of the unit recorded in `folder`, as given and as absolute paths, whatever its
+/// key: what a face showing `lot.csv` (which does not list them) opens the unit from.
+pub fn recorded_runs(folder: &Path) -> Option<(Vec<String>, Vec<String>)> {
+    let path = folder.join(RECORD);
+    if std::fs::metadata(&path).ok()?.len() > MAX_RECORD_BYTES {
+        return None;
+    }
+    let record: Record = serde_json::from_str(&std::fs::read_to_string(&path).ok()?).ok()?;
+    Some((record.outcome.runs, record.outcome.runs_at))
+}
+
 /// Records `outcome` under `key` in `folder`, beside the calibration it wrote.
 ///
 /// # Errors

@@ -8,6 +8,7 @@
 use crate::judge::allan::{AllanOptions, allan};
 use crate::judge::metrics::Unavailable;
 use crate::log::Log;
+use crate::models::vakhrameev::correct::CorrectedRate;
 use crate::models::{CalibratedAxis, DriftModel};
 use serde::{Deserialize, Serialize};
 
@@ -123,6 +124,9 @@ impl AxisFigures {
 }
 
 /// The figures of `axis`, fitted on `log` (the unit's joined runs), with K0 at `temps_c`.
+/// The Allan figures are read from the corrected rate the fit kept
+/// ([`CalibratedAxis::corrected`], [`crate::models::Keep::Corrected`]); an axis fitted
+/// without it has its log corrected again, to the same bits.
 pub fn axis_figures(log: &mut Log, axis: &CalibratedAxis, temps_c: &[f64]) -> AxisFigures {
     let e = &axis.calibrated.in_sample;
     let c = &e.comparison;
@@ -169,7 +173,7 @@ pub fn axis_figures(log: &mut Log, axis: &CalibratedAxis, temps_c: &[f64]) -> Ax
     if !axis.name.is_empty() {
         log.select_axis(&axis.name);
     }
-    figures.extend(noise(log, model));
+    figures.extend(noise(log, model, axis.corrected.as_ref()));
     figures.extend(k0_figures(model, temps_c));
     AxisFigures {
         axis: axis.name.clone(),
@@ -186,15 +190,23 @@ pub fn axis_figures(log: &mut Log, axis: &CalibratedAxis, temps_c: &[f64]) -> Ax
 /// ARW, bias instability and RRW of the rate `model` leaves of the log's selected axis, read
 /// off the Allan deviation of its longest stretch with every rate ready (one segment of one
 /// run, past its warm-up): the gyro's noise floor with its thermal drift taken out, which the
-/// raw rate of a chamber run would hide under the drift at long τ.
-fn noise(log: &Log, model: &DriftModel) -> [Figure; 3] {
+/// raw rate of a chamber run would hide under the drift at long τ. `kept` is the corrected
+/// rate the fit judged the axis on, when it was kept; else the log is corrected here.
+fn noise(log: &Log, model: &DriftModel, kept: Option<&CorrectedRate>) -> [Figure; 3] {
     let names = [ARW, BIAS_INSTABILITY, RRW];
     let none = |why: String| names.map(|n| Figure::none(n, why.clone()));
-    let correction = match model.correct(log) {
-        Ok(c) => c,
-        Err(e) => return none(format!("the log could not be corrected: {e}")),
+    let corrected;
+    let (cor_dph, ready) = match kept {
+        Some(k) => (&k.cor_dph, &k.ready),
+        None => match model.correct(log) {
+            Ok(c) => {
+                corrected = c;
+                (&corrected.cor_dph, &corrected.ready)
+            }
+            Err(e) => return none(format!("the log could not be corrected: {e}")),
+        },
     };
-    let Some(longest) = correction.ready.iter().max_by_key(|r| r.len()).cloned() else {
+    let Some(longest) = ready.iter().max_by_key(|r| r.len()).cloned() else {
         return none("no sample of the log has its rates of T ready".into());
     };
     if longest.len() < MIN_ALLAN_SAMPLES {
@@ -204,7 +216,7 @@ fn noise(log: &Log, model: &DriftModel) -> [Figure; 3] {
             longest.len()
         ));
     }
-    let rate = &correction.cor_dph[longest];
+    let rate = &cor_dph[longest];
     let opts = AllanOptions {
         tau0_s: log.nominal_dt_s(),
         ..AllanOptions::default()

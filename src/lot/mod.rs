@@ -15,6 +15,7 @@
 pub mod cache;
 pub mod figures;
 pub mod lock;
+pub mod open;
 pub mod outliers;
 pub mod page;
 mod run;
@@ -161,6 +162,10 @@ pub struct UnitOutcome {
     pub reasons: Vec<String>,
     /// Its runs' files, as given.
     pub runs: Vec<String>,
+    /// Its runs' files as absolute paths, in the same order: where a face opening the unit
+    /// from elsewhere than the lot was run (the workbench, [`open`]) finds them.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub runs_at: Vec<String>,
     /// The recipe it was calibrated with: its own file, the shared one, or none (the
     /// defaults).
     #[serde(default, skip_serializing_if = "Option::is_none")]

@@ -12,7 +12,7 @@ use crate::log::campaign::RunInput;
 use crate::log::ingest::ReadOptions;
 use crate::log::read::{FormatChoice, read_any};
 use crate::models::campaign::{CampaignOptions, JoinedRuns, UnitPlan, calibrate_runs};
-use crate::models::{CheckedRecipe, ModelChoice, Preset, Recipe};
+use crate::models::{CheckedRecipe, Keep, ModelChoice, Preset, Recipe};
 use std::path::{Path, PathBuf};
 
 /// One unit read, calibrated, judged and its calibration written.
@@ -48,6 +48,7 @@ pub(super) fn calibrate_unit(job: &UnitJob, context: &Context<'_>) -> UnitOutcom
         let outcome = UnitOutcome {
             unit: job.name.clone(),
             runs: run_files(job),
+            runs_at: runs_at(job),
             recipe: recipe_file.clone(),
             ..recorded
         }
@@ -69,20 +70,25 @@ pub(super) fn calibrate_unit(job: &UnitJob, context: &Context<'_>) -> UnitOutcom
         Ok(j) => j,
         Err(e) => return fail(e.to_string()),
     };
-    let plan = UnitPlan::every_axis(
-        &joined.log,
-        ModelChoice::Preset(Preset::Vakhrameev),
-        recipe,
-        CampaignOptions::default(),
-    );
-    let fitted = match calibrate_runs(&mut joined, &plan) {
+    // Each axis's corrected rate kept from its fit: its Allan figures are read from it,
+    // rather than from the log corrected a second time.
+    let plan = UnitPlan {
+        keep: Keep::Corrected,
+        ..UnitPlan::every_axis(
+            &joined.log,
+            ModelChoice::Preset(Preset::Vakhrameev),
+            recipe,
+            CampaignOptions::default(),
+        )
+    };
+    let mut fitted = match calibrate_runs(&mut joined, &plan) {
         Ok(f) => f,
         Err(e) => return fail(about(&joined.log.source, &e)),
     };
     warnings.extend(fitted.warnings.iter().cloned());
     warnings.extend(fitted.settings_told.iter().map(|i| i.to_string()));
     let mut axes = Vec::with_capacity(fitted.fit.axes.len());
-    for axis in &fitted.fit.axes {
+    for axis in &mut fitted.fit.axes {
         let on = if axis.name.is_empty() {
             String::new()
         } else {
@@ -90,6 +96,8 @@ pub(super) fn calibrate_unit(job: &UnitJob, context: &Context<'_>) -> UnitOutcom
         };
         warnings.extend(axis.calibrated.warnings.iter().map(|w| format!("{on}{w}")));
         axes.push(axis_figures(&mut joined.log, axis, &context.temps_c));
+        // Read: its memory goes back before the next axis is judged.
+        axis.corrected = None;
     }
     let file = Path::new(&job.folder).join(cache::CALIBRATION);
     let written = std::fs::create_dir_all(&folder)
@@ -127,6 +135,7 @@ pub(super) fn calibrate_unit(job: &UnitJob, context: &Context<'_>) -> UnitOutcom
         },
         reasons,
         runs: run_files(job),
+        runs_at: runs_at(job),
         recipe: recipe_file,
         calibration: Some(file.display().to_string()),
         report,
@@ -237,6 +246,7 @@ pub(super) fn errored(job: &UnitJob, recipe: Option<String>, message: &str) -> U
         status: Status::Error,
         reasons: vec![message.to_string()],
         runs: run_files(job),
+        runs_at: runs_at(job),
         recipe,
         calibration: None,
         report: None,
@@ -250,5 +260,17 @@ fn run_files(job: &UnitJob) -> Vec<String> {
     job.runs
         .iter()
         .map(|p| crate::text::escaped(&p.display().to_string(), false).into_owned())
+        .collect()
+}
+
+/// The unit's runs as absolute paths (as the system names them, not resolved through links),
+/// escaped as [`run_files`] escapes them.
+fn runs_at(job: &UnitJob) -> Vec<String> {
+    job.runs
+        .iter()
+        .map(|p| {
+            let at = std::path::absolute(p).unwrap_or_else(|_| p.clone());
+            crate::text::escaped(&at.display().to_string(), false).into_owned()
+        })
         .collect()
 }

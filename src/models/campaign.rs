@@ -1,5 +1,5 @@
 //! A unit calibrated on a campaign: several chamber runs of one gyro, joined into one log
-//! ([`crate::log::campaign::join`]) and fitted by the one [`calibrate`] path.
+//! ([`crate::log::campaign::join`]) and fitted by the one [`calibrate`](super::calibrate) path.
 //!
 //! What a campaign adds to that path is small and kept here:
 //! - each run's record (its file, time span and plateaus, with every axis's bias on each),
@@ -14,7 +14,8 @@
 //! A campaign of one run is the single-run calibration, bit for bit: no record is made and no
 //! offset taken.
 
-use super::{AxisPlan, CalibratedAxis, calibrate};
+use super::unit::{Keep, calibrate_keeping};
+use super::{AxisPlan, CalibratedAxis};
 use crate::error::{Invalid, Result};
 use crate::judge::metrics::MeritOptions;
 use crate::log::Log;
@@ -139,8 +140,8 @@ pub struct RunRecord {
     pub turn_on_offset_dph: Option<f64>,
 }
 
-/// A campaign's fit: every axis as [`calibrate`] fits it, and each axis's record of the runs
-/// (empty for a log of one run).
+/// A campaign's fit: every axis as [`calibrate`](super::calibrate) fits it, and each axis's
+/// record of the runs (empty for a log of one run).
 #[derive(Debug, Clone)]
 pub struct CampaignFit {
     /// The axes, fitted.
@@ -150,17 +151,32 @@ pub struct CampaignFit {
 }
 
 /// Fits `plans` on the campaign `log` ([`crate::log::campaign::join`]); a log of one run is
-/// fitted as [`calibrate`] fits it, with no record.
+/// fitted as [`calibrate`](super::calibrate) fits it, with no record.
 ///
 /// # Errors
-/// What [`calibrate`] refuses; for a campaign, a run with no plateau, and with
-/// `per_run_offset` a run whose plateaus share no temperature with another run's (its offset
-/// could not be told from K0's shape).
+/// What [`calibrate`](super::calibrate) refuses; for a campaign, a run with no plateau, and
+/// with `per_run_offset` a run whose plateaus share no temperature with another run's (its
+/// offset could not be told from K0's shape).
 pub fn calibrate_campaign(
     log: &mut Log,
     plans: &[AxisPlan],
     merit: &MeritOptions,
     options: &CampaignOptions,
+) -> Result<CampaignFit> {
+    calibrate_campaign_keeping(log, plans, merit, options, Keep::Figures)
+}
+
+/// [`calibrate_campaign`], keeping each axis's corrected rate when `keep` says so
+/// ([`CalibratedAxis::corrected`](crate::models::CalibratedAxis::corrected)).
+///
+/// # Errors
+/// What [`calibrate_campaign`] refuses.
+pub fn calibrate_campaign_keeping(
+    log: &mut Log,
+    plans: &[AxisPlan],
+    merit: &MeritOptions,
+    options: &CampaignOptions,
+    keep: Keep,
 ) -> Result<CampaignFit> {
     check_tolerance("tolerance_c", options.tolerance_c)?;
     if log.runs().len() < 2 {
@@ -175,7 +191,7 @@ pub fn calibrate_campaign(
             )
             .into());
         }
-        let axes = calibrate(log, plans, merit)?;
+        let axes = calibrate_keeping(log, plans, merit, keep)?;
         let runs = vec![Vec::new(); axes.len()];
         return Ok(CampaignFit { axes, runs });
     }
@@ -228,7 +244,7 @@ pub fn calibrate_campaign(
             }
         }
     }
-    let fitted = calibrate(log, plans, merit);
+    let fitted = calibrate_keeping(log, plans, merit, keep);
     let first_axis = log.axis.clone();
     for (name, omega) in raw {
         *axis_rate_mut(log, &name) = omega;

@@ -28,7 +28,9 @@ pub use error::{FitError, HandKnotsNotKept, ParseError};
 pub use fitted::{DriftModel, ModelCorrector, Predictor, stream_inputs};
 pub use presets::{ModelChoice, Preset};
 pub use recipe::{CheckedRecipe, Recipe};
-pub use unit::{AxisModel, AxisPlan, CalibratedAxis, UnitCalibration, calibrate};
+pub use unit::{
+    AxisModel, AxisPlan, CalibratedAxis, Keep, UnitCalibration, calibrate, calibrate_keeping,
+};
 
 use crate::error::{Error, Result};
 use crate::judge::metrics::Evaluation;

@@ -23,6 +23,7 @@ use crate::error::{Error, Invalid, Result};
 use crate::judge::metrics::{Comparison, Evaluation, MeritOptions};
 use crate::log::{AxisKind, Log};
 use crate::models::vakhrameev;
+use crate::models::vakhrameev::correct::CorrectedRate;
 
 /// The most axes a unit may have: four IMUs of three gyro and three accelerometer axes each
 /// are 24, and a hand-edited file of 1,000 axes would hold a thousand corrected columns in
@@ -402,6 +403,21 @@ pub struct CalibratedAxis {
     pub kind: AxisKind,
     /// The mean an accelerometer axis keeps ([`AxisModel::kept_mean`]).
     pub kept_mean: Option<f64>,
+    /// The corrected rate its in-sample figures were read from, when the caller asked to keep
+    /// it ([`Keep::Corrected`]): a caller that reads more of it (the lot's Allan figures)
+    /// takes it here rather than correcting the log a second time. `None` otherwise, so that
+    /// a unit of many axes on a long log holds one axis's corrected rate at a time.
+    pub corrected: Option<CorrectedRate>,
+}
+
+/// Whether [`calibrate`] keeps each axis's corrected rate beside its fit.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Keep {
+    /// The figures alone: each corrected rate dropped once judged.
+    #[default]
+    Figures,
+    /// Each axis's corrected rate too ([`CalibratedAxis::corrected`]).
+    Corrected,
 }
 
 impl CalibratedAxis {
@@ -435,9 +451,22 @@ pub fn calibrate(
     plans: &[AxisPlan],
     merit: &MeritOptions,
 ) -> Result<Vec<CalibratedAxis>> {
+    calibrate_keeping(log, plans, merit, Keep::Figures)
+}
+
+/// [`calibrate`], keeping each axis's corrected rate when `keep` says so.
+///
+/// # Errors
+/// What [`calibrate`] refuses.
+pub fn calibrate_keeping(
+    log: &mut Log,
+    plans: &[AxisPlan],
+    merit: &MeritOptions,
+    keep: Keep,
+) -> Result<Vec<CalibratedAxis>> {
     check_plans(log, plans)?;
     let order = log.axis_names();
-    let result = calibrate_axes(log, plans, merit);
+    let result = calibrate_axes(log, plans, merit, keep);
     log.select_axis(&order[0]);
     log.order_axes_as(&order);
     result
@@ -550,7 +579,9 @@ fn calibrate_axes(
     log: &mut Log,
     plans: &[AxisPlan],
     merit: &MeritOptions,
+    keep: Keep,
 ) -> Result<Vec<CalibratedAxis>> {
+    let kept = |c: CorrectedRate| (keep == Keep::Corrected).then_some(c);
     let about = |name: &str, e: Error| match e {
         _ if name.is_empty() => e,
         Error::Fit(e) => Error::Fit(e.on_axis(name)),
@@ -587,18 +618,21 @@ fn calibrate_axes(
         if log.axis_kind == AxisKind::Accel {
             let mean = super::accel::mean_of(&log.omega_dph);
             let centred = super::accel::about_mean(log, mean);
-            let calibrated = regression_axis(&centred, &plan.choice, &plan.recipe, merit)
-                .map_err(|e| about(&plan.name, e))?;
+            let (calibrated, corrected) =
+                regression_axis(&centred, &plan.choice, &plan.recipe, merit)
+                    .map_err(|e| about(&plan.name, e))?;
             out.push(CalibratedAxis {
                 name: plan.name.clone(),
                 rate_column: log.rate_column().unwrap_or_default(),
                 calibrated,
                 kind: AxisKind::Accel,
                 kept_mean: Some(mean),
+                corrected: kept(corrected),
             });
             continue;
         }
-        let calibrated = match shared.as_mut().filter(|_| plan.choice.is_vakhrameev()) {
+        let (calibrated, corrected) = match shared.as_mut().filter(|_| plan.choice.is_vakhrameev())
+        {
             Some((shared, first)) => {
                 let filtered = first.take_if(|(axis, _)| *axis == k).map(|(_, f)| f);
                 let (calibration, mut warnings) = shared
@@ -616,11 +650,12 @@ fn calibrate_axes(
                 };
                 let model = DriftModel::Vakhrameev(Box::new(calibration));
                 warnings.extend(judge_on_own_log(&model, &in_sample));
-                Calibrated {
+                let calibrated = Calibrated {
                     model,
                     in_sample,
                     warnings,
-                }
+                };
+                (calibrated, c)
             }
             None => regression_axis(log, &plan.choice, &plan.recipe, merit)
                 .map_err(|e| about(&plan.name, e))?,
@@ -634,6 +669,7 @@ fn calibrate_axes(
             calibrated,
             kind: AxisKind::Gyro,
             kept_mean: None,
+            corrected: kept(corrected),
         });
     }
     Ok(out)
@@ -647,19 +683,26 @@ fn select(log: &mut Log, name: &str) {
 }
 
 /// An axis of a model fitted over every sample (not Vakhrameev's): fitted, corrected and
-/// judged on its own log.
+/// judged on its own log; with the corrected rate it was judged on.
 fn regression_axis(
     log: &Log,
     choice: &ModelChoice,
     recipe: &CheckedRecipe,
     merit: &MeritOptions,
-) -> Result<Calibrated> {
+) -> Result<(Calibrated, CorrectedRate)> {
     let model = fit(log, choice, recipe)?;
     let correction = model.correct(log)?;
     let in_sample = Evaluation::of_correction(log, &correction, merit);
-    Ok(Calibrated {
+    let calibrated = Calibrated {
         warnings: judge_on_own_log(&model, &in_sample),
         in_sample,
         model,
-    })
+    };
+    let corrected = CorrectedRate {
+        cor_dph: correction.cor_dph,
+        outside_fraction: correction.outside_fraction,
+        ready_from: correction.ready_from,
+        ready: correction.ready,
+    };
+    Ok((calibrated, corrected))
 }

@@ -20,6 +20,7 @@ mod k0_temperatures;
 mod knot_placement;
 mod lod;
 mod lot;
+mod lot_noise;
 mod model;
 mod models;
 mod properties;

@@ -18,6 +18,7 @@ mod knot_status;
 mod knots;
 mod layout;
 mod layout_tight;
+mod lot;
 mod models_allan;
 mod open_calibration;
 mod open_calibration_start;

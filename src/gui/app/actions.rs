@@ -141,6 +141,7 @@ impl Workbench {
                 | Action::OpenRunPaths(_)
                 | Action::OpenSession
                 | Action::OpenSessionPath(_)
+                | Action::OpenLotUnit(_)
                 | Action::Quit
         );
         if drops_work && self.state.dirty() && self.modals.confirm.is_none() {
@@ -169,7 +170,10 @@ impl Workbench {
                 self.modals.import = None;
                 self.start_load(path, options, target);
             }
-            Action::CloseImport => self.modals.import = None,
+            Action::CloseImport => {
+                self.modals.import = None;
+                self.opening.calibration = None;
+            }
             Action::OpenValidation => {
                 if self.state.shown.log.is_none() {
                     self.state
@@ -183,6 +187,10 @@ impl Workbench {
             Action::OpenCalibrationPath(p) => self.open_calibration(p),
             Action::CloseCalibration => self.close_calibration(),
             Action::ChooseOpenedAxis(which, k, axis) => self.choose_opened_axis(which, k, axis),
+            Action::OpenLot => self.ask(ctx, Purpose::OpenLot, ""),
+            Action::OpenLotPath(p) => self.open_lot(p),
+            Action::OpenLotUnit(k) => self.open_lot_unit(k),
+            Action::CloseLot => self.close_lot(),
             Action::OpenSession => self.ask(ctx, Purpose::OpenSession, ""),
             Action::OpenSessionPath(p) => self.open_session(p),
             Action::SaveSession => self.save_session(ctx, false, None),

@@ -18,6 +18,8 @@ pub(super) enum Purpose {
     AddRun,
     /// A calibration to open beside the current fit.
     OpenCalibration,
+    /// A lot to open.
+    OpenLot,
     /// A session to open.
     OpenSession,
     /// Where to save the session; then the action that waited for it (quit, open another).
@@ -45,6 +47,7 @@ impl Purpose {
             Purpose::OpenValidation => FileKind::ValidationLog,
             Purpose::AddRun => FileKind::Run,
             Purpose::OpenCalibration => FileKind::OpenCalibration,
+            Purpose::OpenLot => FileKind::Lot,
             Purpose::OpenSession | Purpose::SaveSession { .. } => FileKind::Session,
             Purpose::ExportCalibration => FileKind::Calibration,
             Purpose::ExportFlight(_) => FileKind::FlightParams,
@@ -61,6 +64,7 @@ impl Purpose {
             | Purpose::AddRun
             | Purpose::OpenValidation
             | Purpose::OpenCalibration
+            | Purpose::OpenLot
             | Purpose::OpenSession => Mode::Open,
             _ => Mode::Save,
         }
@@ -73,6 +77,7 @@ impl Purpose {
             Purpose::OpenValidation => "No validation log opened".into(),
             Purpose::AddRun => "No run added".into(),
             Purpose::OpenCalibration => "No calibration opened".into(),
+            Purpose::OpenLot => "No lot opened".into(),
             Purpose::OpenSession => "No session opened".into(),
             Purpose::SaveSession { .. } => "Session not saved".into(),
             Purpose::ExportCalibration => "Calibration not exported".into(),
@@ -177,6 +182,7 @@ impl Workbench {
             Purpose::OpenValidation => self.open_import(path, Target::Validation),
             Purpose::AddRun => self.add_run(path),
             Purpose::OpenCalibration => self.open_calibration(path),
+            Purpose::OpenLot => self.open_lot(path),
             Purpose::OpenSession => self.open_session(path),
             Purpose::SaveSession { then } => {
                 if self.write_session(&path)

@@ -64,6 +64,23 @@ impl Workbench {
                     actions.push(Action::CloseCalibration);
                     ui.close();
                 }
+                if ui
+                    .button("Open lot…")
+                    .on_hover_text("Open a lot's output folder (lot.json or lot.csv, as `driftlab lot` writes them): the table of units sorted by any column, each figure's distribution; a click opens a unit on the Calibration page")
+                    .clicked()
+                {
+                    actions.push(Action::OpenLot);
+                    ui.close();
+                }
+                if self.state.lot.is_some()
+                    && ui
+                        .button("Close lot")
+                        .on_hover_text("Put the lot away (the work on the Calibration page stays)")
+                        .clicked()
+                {
+                    actions.push(Action::CloseLot);
+                    ui.close();
+                }
                 ui.menu_button("Recent", |ui| {
                     if self.window.settings.recent.is_empty() {
                         ui.weak("No recent files");

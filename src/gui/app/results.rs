@@ -291,6 +291,9 @@ impl Workbench {
                 if let Some((path, options)) = self.opening.validation.take() {
                     self.start_load(path, options, Target::Validation);
                 }
+                if let Some(c) = self.opening.calibration.take() {
+                    self.open_calibration(c);
+                }
             }
             JobResult::Loaded(Target::Validation, l) => self.validation_read(*l),
             JobResult::LoadFailed(_, path, message) => {
@@ -298,6 +301,7 @@ impl Workbench {
                 self.opening.session = None;
                 self.opening.validation_shown = None;
                 self.opening.validation = None;
+                self.opening.calibration = None;
                 self.state.say(
                     Severity::Error,
                     format!("Could not read {}", file_name(&path)),
@@ -312,6 +316,7 @@ impl Workbench {
             }
             JobResult::LoadCancelled(_, path) => {
                 self.opening.session = None;
+                self.opening.calibration = None;
                 self.state.say(
                     Severity::Info,
                     format!("Reading {} cancelled", file_name(&path)),

@@ -128,6 +128,7 @@ impl Workbench {
                         || self.state.shown.models_error.is_some())
             }
             Page::Allan => self.state.shown.allan.is_some(),
+            Page::Lot => true,
         };
         if let Some(a) = &mut self.shots.auto {
             // Ten frames a second while the work runs (the workers wake the window when they

@@ -8,15 +8,15 @@
 //! on the command line are options. What is done here is what must not differ between them:
 //! how runs are named and joined ([`JoinedRuns::join`]), what joining is told as
 //! ([`UnitFit::warnings`]), which settings are told about ([`UnitFit::settings_told`]), the fit
-//! ([`calibrate_campaign`]) and the stamp the calibration file carries ([`UnitFit::unit`]).
+//! ([`calibrate_campaign`](super::calibrate_campaign)) and the stamp the calibration file carries ([`UnitFit::unit`]).
 
-use super::{CampaignFit, CampaignOptions, calibrate_campaign, stamp_runs};
+use super::{CampaignFit, CampaignOptions, calibrate_campaign_keeping, stamp_runs};
 use crate::error::{Invalid, Result};
 use crate::judge::metrics::MeritOptions;
 use crate::log::campaign::{CampaignError, RunInput, join, run_names};
 use crate::log::{Log, ProblemKind};
 use crate::models::recipe::PlateauChoice;
-use crate::models::{AxisPlan, CheckedRecipe, DriftModel, UnitCalibration};
+use crate::models::{AxisPlan, CheckedRecipe, DriftModel, Keep, UnitCalibration};
 use std::path::Path;
 
 /// A unit's runs read and joined into one log: the name its calibration records and the one
@@ -82,6 +82,9 @@ pub struct UnitPlan {
     pub plans: Vec<AxisPlan>,
     /// How the runs of a campaign are fitted.
     pub campaign: CampaignOptions,
+    /// Whether each axis's corrected rate is kept beside its fit, for a caller that reads
+    /// more of it than the in-sample figures (the lot's Allan figures).
+    pub keep: Keep,
 }
 
 impl UnitPlan {
@@ -111,6 +114,7 @@ impl UnitPlan {
             recipe,
             plans,
             campaign,
+            keep: Keep::Figures,
         }
     }
 
@@ -147,7 +151,7 @@ pub struct UnitFit {
 ///
 /// # Errors
 /// Plateaus given by hand for a campaign (each run's plateaus are found on its own time), and
-/// what [`calibrate_campaign`] refuses.
+/// what [`calibrate_campaign`](super::calibrate_campaign) refuses.
 pub fn calibrate_runs(runs: &mut JoinedRuns, plan: &UnitPlan) -> Result<UnitFit> {
     if runs.is_campaign()
         && let Some(p) = plan
@@ -184,7 +188,8 @@ pub fn calibrate_runs(runs: &mut JoinedRuns, plan: &UnitPlan) -> Result<UnitFit>
         .into_iter()
         .chain(plan.recipe.plateaus_beyond(log))
         .collect();
-    let fit = calibrate_campaign(log, &plan.plans, &plan.merit(), &plan.campaign)?;
+    let fit =
+        calibrate_campaign_keeping(log, &plan.plans, &plan.merit(), &plan.campaign, plan.keep)?;
     let unit = stamped(&fit, &runs.name, &runs.sha256, plan.campaign.tolerance_c);
     Ok(UnitFit {
         unit,
