@@ -366,15 +366,22 @@ fn accel_unit(words: &[String], bracket: Option<&str>) -> Option<&'static str> {
         .or_else(|| (1..words.len()).find_map(|i| key(&unit_key(&words[i..].concat()))))
 }
 
-/// The name of the accelerometer axis a column holds: its words without the unit its name
-/// states (`ax` for `ax_g`, `acc_x` for `acc_x_m_s2` or `Acc X [m/s^2]`, `linear_acceleration_x`
-/// as it is), as [`axis_name`] names a gyro's.
-pub(crate) fn accel_axis_name(name: &str) -> String {
+/// The parts of a column's name that an axis is named from, with nothing in it that could
+/// steer a terminal or reorder text: an axis's name goes into every output (CSV headers,
+/// tables, the report, folder names).
+fn printable_parts(name: &str) -> NameParts {
     let printable: String = name
         .chars()
         .filter(|&c| !crate::text::is_unprintable(c))
         .collect();
-    let p = name_parts(&printable);
+    name_parts(&printable)
+}
+
+/// The name of the accelerometer axis a column holds: its words without the unit its name
+/// states (`ax` for `ax_g`, `acc_x` for `acc_x_m_s2` or `Acc X [m/s^2]`, `linear_acceleration_x`
+/// as it is), as [`axis_name`] names a gyro's.
+pub(crate) fn accel_axis_name(name: &str) -> String {
+    let p = printable_parts(name);
     let words = &p.words;
     let key = |k: &str| {
         matches!(
@@ -403,13 +410,7 @@ pub(crate) fn is_accelerometer(name: &str) -> bool {
 /// `gx_dps`, `gyro_x` for `gyro_x_rad_s`, `rate` for `Rate (deg/s)`, `w_x` for `w_rad_s_x`,
 /// `gyro_x_avg` for `gyro_x_dps_avg`).
 pub(crate) fn axis_name(name: &str) -> String {
-    // An axis's name goes into every output (CSV headers, tables, the report, folder names):
-    // nothing in it may steer a terminal or reorder text.
-    let printable: String = name
-        .chars()
-        .filter(|&c| !crate::text::is_unprintable(c))
-        .collect();
-    let p = name_parts(&printable);
+    let p = printable_parts(name);
     let words = &p.words;
     let name = match rate_in_words(words, 1) {
         Words::Unit { at, end, .. } => [&words[..at], &words[end..]].concat().join("_"),
