@@ -95,6 +95,18 @@ pub fn ulog_imu(
     temp_c: &[f32],
     device_id: u32,
 ) -> Vec<u8> {
+    ulog_imu_stamped(time_s, time_s, gyro_rad_s, accel_m_s2, temp_c, device_id)
+}
+
+/// [`ulog_imu`] with the accelerometer's messages stamped `accel_time_s` (a clock of its own).
+pub fn ulog_imu_stamped(
+    time_s: &[f64],
+    accel_time_s: &[f64],
+    gyro_rad_s: &[[f32; 3]],
+    accel_m_s2: &[[f32; 3]],
+    temp_c: &[f32],
+    device_id: u32,
+) -> Vec<u8> {
     fn message(ty: u8, body: &[u8]) -> Vec<u8> {
         let mut m = (body.len() as u16).to_le_bytes().to_vec();
         m.push(ty);
@@ -124,6 +136,7 @@ pub fn ulog_imu(
     }
     for (i, (t, temp)) in time_s.iter().zip(temp_c).enumerate() {
         for (k, v) in [gyro_rad_s[i], accel_m_s2[i]].iter().enumerate() {
+            let t = if k == 0 { t } else { &accel_time_s[i] };
             let mut d = (k as u16).to_le_bytes().to_vec();
             d.extend_from_slice(&((t * 1e6) as u64).to_le_bytes());
             d.extend_from_slice(&device_id.to_le_bytes());

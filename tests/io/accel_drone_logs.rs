@@ -112,3 +112,60 @@ fn a_real_ulogs_z_accelerometer_reads_gravity_in_m_s2() {
     let mean = z.iter().sum::<f64>() / z.len() as f64;
     assert!((mean + 9.7).abs() < 0.1, "{mean}");
 }
+
+#[test]
+fn an_accelerometer_whose_clock_steps_back_is_matched_across_no_step_and_said() {
+    // 1 Hz, 400 s; the accelerometer's clock steps back 150 s at its 201st message, and its
+    // readings say which second they were read at (x = that second, in mm/s²).
+    let n = 400;
+    let time_s: Vec<f64> = (0..n).map(|k| 1.0 + k as f64).collect();
+    let accel_time_s: Vec<f64> = (0..n)
+        .map(|k| {
+            if k < 200 {
+                time_s[k]
+            } else {
+                time_s[k] - 150.0
+            }
+        })
+        .collect();
+    let gyro = vec![[0.0f32; 3]; n];
+    let accel: Vec<[f32; 3]> = (0..n).map(|k| [k as f32 * 1e-3, 0.0, 9.81]).collect();
+    let temp: Vec<f32> = (0..n).map(|k| 20.0 + k as f32 * 0.05).collect();
+    let bytes = crate::common::drone::ulog_imu_stamped(
+        &time_s,
+        &accel_time_s,
+        &gyro,
+        &accel,
+        &temp,
+        2424842,
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("step.ulg");
+    std::fs::write(&path, bytes).unwrap();
+    let any = read::read_any(&path, &ReadOptions::default(), &FormatChoice::default()).unwrap();
+    let mut log = any.log;
+    let said: Vec<&str> = any
+        .drone
+        .iter()
+        .flat_map(|d| d.problems.iter().map(|p| p.message.as_str()))
+        .chain(log.info.problems.iter().map(|p| p.message.as_str()))
+        .collect();
+    assert!(
+        said.iter()
+            .any(|m| m
+                .contains("sensor_accel[0]: its clock steps back (first at message 201); the 200")),
+        "{said:?}"
+    );
+    accel_axes::take(&mut log, &AccelAsk::default()).unwrap();
+    log.select_axis("accel_x");
+    // Every gyro sample's accelerometer was read at its own second, or is NaN: none from
+    // 150 s away.
+    for (k, v) in log.omega_dph.iter().enumerate() {
+        let second = log.time_s[k] - log.time_s[0];
+        assert!(
+            v.is_nan() || (*v * 1e3 - second).abs() < 0.5,
+            "at {second} s: {v}"
+        );
+    }
+    assert!(log.omega_dph.iter().any(|v| v.is_nan()));
+}

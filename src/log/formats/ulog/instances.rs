@@ -27,14 +27,61 @@ enum Missing {
 /// An accelerometer's or status's stamps, sorted once for every gyro matched against them.
 type Keys = OnceCell<Option<Sorted>>;
 
+/// An accelerometer's stamps in order, sorted once for every gyro matched against them, with
+/// the messages left out because its clock stepped back (how many, and the first's index).
+type AccelKeys = OnceCell<Option<(Sorted, Option<(usize, usize)>)>>;
+
+/// Stamps that never come within a gyro's tolerance of a real one: a message left out.
+const NEVER: i128 = i128::MIN / 4;
+
+/// The stamps of a stream as they may be matched. A stream whose clock steps back (a message
+/// stamped at or before the one before it) is in runs on different clocks, and a stamp of one
+/// run says nothing of when the other runs' messages were read: the longest run in order is
+/// kept (the first of the longest), and every other message left out (its stamp made
+/// [`NEVER`]), as the time-order rules do a log's own rows. With how many were left out and
+/// the index of the first step back.
+fn in_order(stamps: Vec<i128>) -> (Vec<i128>, Option<(usize, usize)>) {
+    let n = stamps.len();
+    let steps: Vec<usize> = (1..n).filter(|&i| stamps[i] <= stamps[i - 1]).collect();
+    let Some(&first) = steps.first() else {
+        return (stamps, None);
+    };
+    let bounds: Vec<usize> = std::iter::once(0)
+        .chain(steps.iter().copied())
+        .chain(std::iter::once(n))
+        .collect();
+    let (keep_from, keep_to) = bounds
+        .windows(2)
+        .map(|w| (w[0], w[1]))
+        .fold((0, 0), |best, run| {
+            if run.1 - run.0 > best.1 - best.0 {
+                run
+            } else {
+                best
+            }
+        });
+    let out = stamps
+        .into_iter()
+        .enumerate()
+        .map(|(i, t)| {
+            if (keep_from..keep_to).contains(&i) {
+                t
+            } else {
+                NEVER
+            }
+        })
+        .collect();
+    (out, Some((n - (keep_to - keep_from), first)))
+}
+
 /// Turns the subscriptions into gyro instances.
 pub(super) fn assemble(subs: Vec<Sub>, problems: &mut Vec<Problem>) -> Vec<GyroInstance> {
     let mut gyros: Vec<&Sub> = subs.iter().filter(|s| s.topic == "sensor_gyro").collect();
     gyros.sort_by_key(|s| s.multi_id);
-    let accels: Vec<(&Sub, Keys)> = subs
+    let accels: Vec<(&Sub, AccelKeys)> = subs
         .iter()
         .filter(|s| s.topic == "sensor_accel")
-        .map(|s| (s, Keys::new()))
+        .map(|s| (s, AccelKeys::new()))
         .collect();
     let statuses: Vec<(&Sub, Keys)> = subs
         .iter()
@@ -49,6 +96,20 @@ pub(super) fn assemble(subs: Vec<Sub>, problems: &mut Vec<Problem>) -> Vec<GyroI
                 Ok(inst) => out.push(inst),
                 Err(m) => problems.push(Problem::note(format!("{label}: {m}; left out"))),
             }
+        }
+    }
+    // An accelerometer whose clock stepped back: its messages out of order were matched to no
+    // gyro sample (said once, whichever gyros it served).
+    for (a, keys) in &accels {
+        if let Some(Some((_, Some((left, first))))) = keys.get() {
+            problems.push(Problem::note(format!(
+                "sensor_accel[{}]: its clock steps back (first at message {}); the {left} \
+                 message{} outside its longest run in order left out: their readings are \
+                 matched to no gyro sample, whose accelerometer there is NaN",
+                a.multi_id,
+                first + 1,
+                if *left == 1 { "" } else { "s" },
+            )));
         }
     }
     for c in subs.iter().filter(|s| s.topic == "sensor_combined") {
@@ -146,7 +207,7 @@ fn axes_at(s: &Sub, pick: &[Option<usize>]) -> Option<Axes> {
 fn gyro_instance(
     g: &Sub,
     label: String,
-    accels: &[(&Sub, Keys)],
+    accels: &[(&Sub, AccelKeys)],
     statuses: &[(&Sub, Keys)],
     index: usize,
 ) -> Result<GyroInstance, Missing> {
@@ -163,10 +224,13 @@ fn gyro_instance(
         .iter()
         .find(|(a, _)| device.is_some() && a.first_integer("device_id") == device)
         .or_else(|| accels.iter().find(|(a, _)| a.multi_id == g.multi_id));
-    let key = |s: &Sub| -> Option<Sorted> {
+    let key = |s: &Sub| -> Option<(Sorted, Option<(usize, usize)>)> {
         s.integers("timestamp_sample")
             .or_else(|| s.integers("timestamp"))
-            .map(|v| Sorted::new(v.into_iter().map(i128::from).collect()))
+            .map(|v| {
+                let (stamps, left) = in_order(v.into_iter().map(i128::from).collect());
+                (Sorted::new(stamps), left)
+            })
     };
     let gyro_key: Vec<i128> = sample
         .clone()
@@ -178,7 +242,7 @@ fn gyro_instance(
     let mut accel = None;
     let mut alt_temps = Vec::new();
     if let Some((a, keys)) = accel_sub
-        && let Some(akey) = keys.get_or_init(|| key(a))
+        && let Some((akey, _)) = keys.get_or_init(|| key(a))
         && ["x", "y", "z"].iter().all(|f| a.is_float(f, 0))
     {
         let pick = akey.nearest_within(&gyro_key, step / 2);
@@ -262,4 +326,23 @@ fn combined_instance(c: &Sub, index: usize) -> Result<GyroInstance, Missing> {
         accel,
         alt_temps: Vec::new(),
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{NEVER, in_order};
+
+    #[test]
+    fn a_stream_whose_clock_steps_back_keeps_its_messages_in_order_only() {
+        // Two runs on two clocks: the longer kept, whichever comes first.
+        let (stamps, left) = in_order(vec![10, 20, 30, 5, 15, 25, 35, 40]);
+        assert_eq!(stamps, [NEVER, NEVER, NEVER, 5, 15, 25, 35, 40]);
+        assert_eq!(left, Some((3, 3)));
+        let (stamps, left) = in_order(vec![10, 20, 30, 40, 5, 15, 25]);
+        assert_eq!(stamps, [10, 20, 30, 40, NEVER, NEVER, NEVER]);
+        assert_eq!(left, Some((3, 4)));
+        let (stamps, left) = in_order(vec![1, 2, 3]);
+        assert_eq!(stamps, [1, 2, 3]);
+        assert_eq!(left, None);
+    }
 }
