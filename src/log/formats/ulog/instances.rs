@@ -38,11 +38,22 @@ const NEVER: i128 = i128::MIN / 4;
 /// stamped at or before the one before it) is in runs on different clocks, and a stamp of one
 /// run says nothing of when the other runs' messages were read: the longest run in order is
 /// kept (the first of the longest), and every other message left out (its stamp made
-/// [`NEVER`]), as the time-order rules do a log's own rows. With how many were left out and
-/// the index of the first step back.
+/// [`NEVER`]), as the time-order rules do a log's own rows; a stream written newest first is
+/// in order the other way. With how many were left out and the index of the first step back.
 fn in_order(stamps: Vec<i128>) -> (Vec<i128>, Option<(usize, usize)>) {
     let n = stamps.len();
-    let steps: Vec<usize> = (1..n).filter(|&i| stamps[i] <= stamps[i - 1]).collect();
+    // A log written newest first steps back at every message: its order is the other way, and
+    // a break is then a step forward.
+    let back = (1..n).filter(|&i| stamps[i] < stamps[i - 1]).count();
+    let newest_first = 2 * back > n.saturating_sub(1);
+    let breaks = |i: usize| {
+        if newest_first {
+            stamps[i] >= stamps[i - 1]
+        } else {
+            stamps[i] <= stamps[i - 1]
+        }
+    };
+    let steps: Vec<usize> = (1..n).filter(|&i| breaks(i)).collect();
     let Some(&first) = steps.first() else {
         return (stamps, None);
     };
@@ -343,6 +354,10 @@ mod tests {
         assert_eq!(left, Some((3, 4)));
         let (stamps, left) = in_order(vec![1, 2, 3]);
         assert_eq!(stamps, [1, 2, 3]);
+        assert_eq!(left, None);
+        // Written newest first: in order the other way.
+        let (stamps, left) = in_order(vec![3, 2, 1]);
+        assert_eq!(stamps, [3, 2, 1]);
         assert_eq!(left, None);
     }
 }
