@@ -412,7 +412,7 @@ fn check_gravity(
 }
 
 /// The mean of the finite values (0 when there are none).
-fn finite_mean(values: &[f64]) -> f64 {
+pub(crate) fn finite_mean(values: &[f64]) -> f64 {
     let (sum, n) = values
         .iter()
         .filter(|v| v.is_finite())

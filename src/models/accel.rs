@@ -81,11 +81,7 @@ pub fn check_static(log: &Log, axis: &str, choice: &ModelChoice) -> Result<(), F
 /// The mean of an accelerometer axis's finite samples, the constant its correction keeps (a
 /// cell the reader could not read is no sample; the fit skips it as it skips a gyro's).
 pub fn mean_of(samples: &[f64]) -> f64 {
-    let (sum, n) = samples
-        .iter()
-        .filter(|v| v.is_finite())
-        .fold((0.0, 0usize), |(s, n), v| (s + v, n + 1));
-    if n == 0 { 0.0 } else { sum / n as f64 }
+    crate::log::accel_axes::finite_mean(samples)
 }
 
 /// `log` with the samples of the axis it holds less `mean`: what an accelerometer axis is

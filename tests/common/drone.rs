@@ -41,6 +41,23 @@ pub fn ulog_of_devices(
     ulog_of_subscriptions(time_s, temp_c, &[(device_ids, gyro_rad_s)])
 }
 
+/// One ULog message: its size, type and body.
+fn message(ty: u8, body: &[u8]) -> Vec<u8> {
+    let mut m = (body.len() as u16).to_le_bytes().to_vec();
+    m.push(ty);
+    m.extend_from_slice(body);
+    m
+}
+
+/// A ULog's header (version 1, timestamp 0) and its flag bits message, all zero.
+fn ulog_head() -> Vec<u8> {
+    let mut b = b"ULog\x01\x12\x35".to_vec();
+    b.push(1);
+    b.extend_from_slice(&0u64.to_le_bytes());
+    b.extend(message(b'B', &[0u8; 40]));
+    b
+}
+
 /// A PX4 ULog of several `sensor_gyro` subscriptions (`multi_id` 0, 1, … in the order given),
 /// each a `(device_id, gyro in rad/s)` per sample, all stamped `time_s` and at `temp_c`.
 pub fn ulog_of_subscriptions(
@@ -48,16 +65,7 @@ pub fn ulog_of_subscriptions(
     temp_c: &[f32],
     subscriptions: &[(&[u32], &[[f32; 3]])],
 ) -> Vec<u8> {
-    fn message(ty: u8, body: &[u8]) -> Vec<u8> {
-        let mut m = (body.len() as u16).to_le_bytes().to_vec();
-        m.push(ty);
-        m.extend_from_slice(body);
-        m
-    }
-    let mut b = b"ULog\x01\x12\x35".to_vec();
-    b.push(1);
-    b.extend_from_slice(&0u64.to_le_bytes());
-    b.extend(message(b'B', &[0u8; 40]));
+    let mut b = ulog_head();
     b.extend(message(
         b'F',
         b"sensor_gyro:uint64_t timestamp;uint32_t device_id;float x;float y;float z;\
@@ -107,16 +115,7 @@ pub fn ulog_imu_stamped(
     temp_c: &[f32],
     device_id: u32,
 ) -> Vec<u8> {
-    fn message(ty: u8, body: &[u8]) -> Vec<u8> {
-        let mut m = (body.len() as u16).to_le_bytes().to_vec();
-        m.push(ty);
-        m.extend_from_slice(body);
-        m
-    }
-    let mut b = b"ULog\x01\x12\x35".to_vec();
-    b.push(1);
-    b.extend_from_slice(&0u64.to_le_bytes());
-    b.extend(message(b'B', &[0u8; 40]));
+    let mut b = ulog_head();
     for topic in ["sensor_gyro", "sensor_accel"] {
         b.extend(message(
             b'F',
