@@ -43,6 +43,11 @@ pub struct Args {
     /// calibration's gyro id, when it is one).
     #[arg(long, value_name = "ID")]
     pub device_id: Option<String>,
+    /// px4-params: the accelerometer's device_id, decimal or 0x hex, for a calibration with
+    /// accelerometer axes (default: the gyro's, one chip; a log whose accelerometer had an id
+    /// of its own is refused until it is given).
+    #[arg(long, value_name = "ID")]
+    pub accel_device_id: Option<String>,
     /// px4-params: the calibration slot N of TC_GN_* (0 to 3; default 0).
     #[arg(long, value_name = "N")]
     pub slot: Option<usize>,
@@ -65,10 +70,10 @@ pub struct Args {
     pub axis: Option<String>,
 }
 
-/// A device id as `inspect` prints it: decimal or `0x` hex.
-fn device_id(s: &str) -> Result<u32, String> {
+/// A device id as `inspect` prints it, given to option `flag`: decimal or `0x` hex.
+fn device_id(flag: &str, s: &str) -> Result<u32, String> {
     px4::parse_device_id(s)
-        .ok_or_else(|| format!("--device-id {s}: give PX4's device_id, decimal or 0x hex"))
+        .ok_or_else(|| format!("{flag} {s}: give PX4's device_id, decimal or 0x hex"))
 }
 
 impl Args {
@@ -96,6 +101,11 @@ impl Args {
             "--device-id",
             "px4-params",
         )?;
+        refuse(
+            self.accel_device_id.is_some() && !px4,
+            "--accel-device-id",
+            "px4-params",
+        )?;
         refuse(self.slot.is_some() && !px4, "--slot", "px4-params")?;
         refuse(self.imu.is_some() && !ardupilot, "--imu", "ardupilot-parm")?;
         let flight = "px4-params or ardupilot-parm";
@@ -105,8 +115,16 @@ impl Args {
         Ok(ExportOptions {
             points: self.points.unwrap_or(d.points),
             px4: Px4Target {
-                gyro_device_id: self.device_id.as_deref().map(device_id).transpose()?,
-                accel_device_id: None,
+                gyro_device_id: self
+                    .device_id
+                    .as_deref()
+                    .map(|s| device_id("--device-id", s))
+                    .transpose()?,
+                accel_device_id: self
+                    .accel_device_id
+                    .as_deref()
+                    .map(|s| device_id("--accel-device-id", s))
+                    .transpose()?,
                 slot: self.slot.unwrap_or(d.px4.slot),
             },
             ardupilot: ArduPilotTarget { imu: self.imu },
@@ -130,6 +148,7 @@ pub fn run(mut a: Args) -> Result<(), CliError> {
         super::common::refuse_outputs(&[("--out", out)], &reads)?;
     }
     let unit = super::common::load_calibration(&a.calibration)?;
+    refuse_accel_device_id(&a, &unit)?;
     if unit.is_unit() {
         return run_unit(&a, &unit);
     }
@@ -168,6 +187,37 @@ pub fn run(mut a: Args) -> Result<(), CliError> {
         model.gyro_id().to_string()
     };
     write(&a, &text, &what)
+}
+
+/// Refuses `--accel-device-id` where no accelerometer axis is written: a calibration of gyro
+/// axes alone, or a gyro axis picked with `--axis`.
+fn refuse_accel_device_id(a: &Args, unit: &UnitCalibration) -> Result<(), CliError> {
+    if a.accel_device_id.is_none() {
+        return Ok(());
+    }
+    let written: Vec<&str> = unit
+        .axes
+        .iter()
+        .filter(|x| a.axis.as_ref().is_none_or(|n| *n == x.name))
+        .filter(|x| x.kind == driftlab::log::AxisKind::Accel)
+        .map(|x| x.name.as_str())
+        .collect();
+    if written.is_empty() {
+        return Err(format!(
+            "--accel-device-id: {}{} has no accelerometer axis to write ({})",
+            a.calibration.display(),
+            a.axis
+                .as_ref()
+                .map_or(String::new(), |n| format!(" --axis {n}")),
+            if unit.is_unit() {
+                format!("its axes: {}", unit.axis_names().join(", "))
+            } else {
+                "it is the calibration of one gyro axis".to_string()
+            }
+        )
+        .into());
+    }
+    Ok(())
 }
 
 /// Refuses `--points` for a calibration with a regression model: its csv-table is its terms

@@ -29,6 +29,12 @@ pub struct DroneGyro {
     /// packed in 32 bits); `None` for another format, or a ULog whose `sensor_gyro` has none.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub px4_device_id: Option<u32>,
+    /// PX4's `device_id` of the `sensor_accel` paired with the gyro, when it is not the
+    /// gyro's (a driver that numbers the chip's two sensors apart, or an accelerometer paired
+    /// by `multi_id`): PX4 finds the accelerometer's calibration (`TC_A{n}_ID`) by it. Given
+    /// only with `px4_device_id`; it identifies no gyro.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub px4_accel_device_id: Option<u32>,
     /// The ROS topic of the `sensor_msgs/Imu` messages (a ROS 1 bag or an MCAP file), given
     /// with `ros_frame_id`; `None` for another format.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -82,6 +88,7 @@ impl DroneGyro {
             index,
             dataflash_imu: None,
             px4_device_id: None,
+            px4_accel_device_id: None,
             ros_topic: None,
             ros_frame_id: None,
         }
@@ -137,10 +144,11 @@ impl DroneGyro {
         use crate::error::Invalid;
         use serde_json::Value;
         const FIELD: &str = "source.instance";
-        const FIELDS: [&str; 5] = [
+        const FIELDS: [&str; 6] = [
             "index",
             "dataflash_imu",
             "px4_device_id",
+            "px4_accel_device_id",
             "ros_topic",
             "ros_frame_id",
         ];
@@ -166,7 +174,7 @@ impl DroneGyro {
             return Err(Invalid::new(
                 format!("{FIELD}.{}", crate::text::escaped(k, false)),
                 "is no field of the record of a gyro (it has index, and dataflash_imu, \
-                 px4_device_id, or ros_topic with ros_frame_id)",
+                 px4_device_id (and px4_accel_device_id), or ros_topic with ros_frame_id)",
             ));
         }
         let whole = |name: &str, v: &Value, at_most: u64| -> Result<u64, Invalid> {
@@ -213,6 +221,17 @@ impl DroneGyro {
             None | Some(Value::Null) => None,
             Some(d) => Some(whole("px4_device_id", d, u64::from(u32::MAX))? as u32),
         };
+        let px4_accel_device_id = match map.get("px4_accel_device_id") {
+            None | Some(Value::Null) => None,
+            Some(d) => Some(whole("px4_accel_device_id", d, u64::from(u32::MAX))? as u32),
+        };
+        if px4_accel_device_id.is_some() && px4_device_id.is_none() {
+            return Err(Invalid::new(
+                format!("{FIELD}.px4_accel_device_id"),
+                "is given without px4_device_id: it is the accelerometer beside a PX4 gyro, \
+                 recorded with the gyro's own device_id",
+            ));
+        }
         let ros_topic = text("ros_topic")?;
         let ros_frame_id = text("ros_frame_id")?;
         match (&ros_topic, &ros_frame_id) {
@@ -268,6 +287,7 @@ impl DroneGyro {
             index,
             dataflash_imu,
             px4_device_id,
+            px4_accel_device_id,
             ros_topic,
             ros_frame_id,
         })

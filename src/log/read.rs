@@ -507,7 +507,10 @@ fn drone_gyro(inst: &formats::GyroInstance) -> DroneGyro {
     let mut g = DroneGyro::numbered(inst.index);
     match &inst.device {
         Some(formats::DeviceId::DataFlash { instance }) => g.dataflash_imu = Some(*instance),
-        Some(formats::DeviceId::Ulog { device_id }) => g.px4_device_id = Some(*device_id),
+        Some(formats::DeviceId::Ulog { device_id }) => {
+            g.px4_device_id = Some(*device_id);
+            g.px4_accel_device_id = inst.accel_device_id.filter(|a| a != device_id);
+        }
         Some(formats::DeviceId::Ros { topic, frame_id }) => {
             g.ros_topic = Some(topic.clone());
             g.ros_frame_id = Some(frame_id.clone());

@@ -73,12 +73,15 @@ pub fn driftlab_within(dir: &Path, limit_mib: u64, args: &[&str]) -> Ran {
         ))
         .arg(env!("CARGO_BIN_EXE_driftlab"))
         .args(args)
-        // glibc reserves 64 MiB of address space for each malloc arena, and opens one more
-        // whenever threads contend for one: how many a run opens depends on the machine's
-        // load, and under a limit of address space a loaded machine failed an allocation a
-        // quiet one made (a 15 MB calibration refused on its own, "out of memory" beside
-        // another test run). Two arenas make the limit measure what the run holds.
-        .env("MALLOC_ARENA_MAX", "2")
+        // glibc reserves 64 MiB of address space for each malloc arena (mapping 128 MiB for a
+        // moment to align it), and opens one more whenever threads contend for one: how many a
+        // run opens, and when, depends on the machine's load, and under a limit of address
+        // space a loaded machine failed an allocation a quiet one made (a 15 MB calibration
+        // refused on its own, "out of memory" beside another test run, first with any number
+        // of arenas, then, once in a hundred runs, with two: a reading thread opened the
+        // second while the main one held the file). One arena makes the limit measure what
+        // the run holds.
+        .env("MALLOC_ARENA_MAX", "1")
         .stdin(Stdio::null())
         .stdout(std::fs::File::create(&out).unwrap())
         .stderr(std::fs::File::create(&err).unwrap())

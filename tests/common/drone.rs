@@ -115,6 +115,26 @@ pub fn ulog_imu_stamped(
     temp_c: &[f32],
     device_id: u32,
 ) -> Vec<u8> {
+    ulog_imu_of(
+        time_s,
+        accel_time_s,
+        gyro_rad_s,
+        accel_m_s2,
+        temp_c,
+        [device_id, device_id],
+    )
+}
+
+/// [`ulog_imu_stamped`] with the gyro's and the accelerometer's `device_id`s, in that order
+/// (a driver that numbers the chip's two sensors apart gives two).
+pub fn ulog_imu_of(
+    time_s: &[f64],
+    accel_time_s: &[f64],
+    gyro_rad_s: &[[f32; 3]],
+    accel_m_s2: &[[f32; 3]],
+    temp_c: &[f32],
+    device_ids: [u32; 2],
+) -> Vec<u8> {
     let mut b = ulog_head();
     for topic in ["sensor_gyro", "sensor_accel"] {
         b.extend(message(
@@ -138,7 +158,7 @@ pub fn ulog_imu_stamped(
             let t = if k == 0 { t } else { &accel_time_s[i] };
             let mut d = (k as u16).to_le_bytes().to_vec();
             d.extend_from_slice(&((t * 1e6) as u64).to_le_bytes());
-            d.extend_from_slice(&device_id.to_le_bytes());
+            d.extend_from_slice(&device_ids[k].to_le_bytes());
             for x in [v[0], v[1], v[2], *temp] {
                 d.extend_from_slice(&x.to_le_bytes());
             }

@@ -278,3 +278,74 @@ fn a_ulog_of_gyro_and_accelerometer_calibrates_and_loads_into_px4_as_apply_predi
     eprintln!("ULog, PX4 against apply: accelerometer spread {worst:.3e} m/s^2");
     assert!(worst < 2e-7, "{worst}");
 }
+
+#[test]
+fn an_accelerometer_with_its_own_device_id_is_recorded_and_asked_for_never_given_the_gyros() {
+    // A driver that numbers the chip's gyro and accelerometer apart: PX4 finds TC_A0 by the
+    // accelerometer's id, so the gyro's would leave the accelerometer uncompensated.
+    let dir = tempfile::tempdir().unwrap();
+    let run = driftlab::sim::simulate(&driftlab::sim::profile("mems-imu").unwrap(), 5);
+    let g: Vec<[f32; 3]> = (0..run.len())
+        .map(|i| [0, 1, 2].map(|k| (run.axes[k].omega_dph[i] / DPH_PER_RAD_S) as f32))
+        .collect();
+    let a: Vec<[f32; 3]> = (0..run.len())
+        .map(|i| [0, 1, 2].map(|k| (run.accelerometers[k].values_g[i] * 9.80665) as f32))
+        .collect();
+    let t: Vec<f32> = run.temp_c.iter().map(|&v| v as f32).collect();
+    let ulg = at(dir.path(), "thermal.ulg");
+    std::fs::write(
+        &ulg,
+        common::drone::ulog_imu_of(&run.time_s, &run.time_s, &g, &a, &t, [2424842, 2424843]),
+    )
+    .unwrap();
+    let listed = ok(&["inspect", &ulg]);
+    assert!(
+        listed.contains("device_id 2424842 (0x25000A)")
+            && listed.contains("its accelerometer device_id 2424843 (0x25000B)"),
+        "{listed}"
+    );
+    let cal = at(dir.path(), "cal.json");
+    ok(&["calibrate", &ulg, "--accel", "--model", "px4", "--out", &cal]);
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&cal).unwrap()).unwrap();
+    let instance = json
+        .pointer("/source/instance")
+        .unwrap_or_else(|| panic!("no source.instance in {json}"));
+    assert_eq!(instance["px4_device_id"], 2424842);
+    assert_eq!(instance["px4_accel_device_id"], 2424843);
+    // Given the gyro's id alone, the export asks for the accelerometer's, naming it.
+    let out = driftlab(&["export", &cal, "--format", "px4-params", "--device-id", "2424842"]);
+    let said = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "{said}");
+    assert!(said.contains("--accel-device-id 2424843"), "{said}");
+    let p = px4_file(&ok(&[
+        "export",
+        &cal,
+        "--format",
+        "px4-params",
+        "--device-id",
+        "2424842",
+        "--accel-device-id",
+        "0x25000B",
+    ]));
+    assert_eq!(p["TC_G0_ID"], 2424842.0);
+    assert_eq!(p["TC_A0_ID"], 2424843.0);
+    // A gyro axis alone has no accelerometer to give an id to.
+    let out = driftlab(&[
+        "export",
+        &cal,
+        "--format",
+        "px4-params",
+        "--device-id",
+        "2424842",
+        "--axis",
+        "gyro_x",
+        "--accel-device-id",
+        "2424843",
+    ]);
+    let said = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        !out.status.success() && said.contains("has no accelerometer axis to write"),
+        "{said}"
+    );
+}

@@ -84,6 +84,7 @@ fn flight_sensors(
                 .filter(|_| opts.px4.gyro_device_id.is_none());
             let target = Px4Target {
                 gyro_device_id: opts.px4.gyro_device_id.or(from_id),
+                accel_device_id: accel_device_id(accel, &opts.px4)?,
                 ..opts.px4
             };
             let mut file = px4_params(&fits, &target)?;
@@ -101,6 +102,33 @@ fn flight_sensors(
             return Err(ExportError::NotFlight(other));
         }
     })
+}
+
+/// The accelerometer's device id for `TC_A{n}_ID`: the one given, else none (the gyro's is
+/// taken, one chip); refused when the calibration records that the accelerometer it was
+/// fitted on had a device id of its own, which the gyro's would not match, so PX4 would apply
+/// the compensation to no accelerometer, with nothing said.
+fn accel_device_id(
+    accel: &[(&str, &DriftModel)],
+    px4: &Px4Target,
+) -> Result<Option<u32>, ExportError> {
+    if px4.accel_device_id.is_some() {
+        return Ok(px4.accel_device_id);
+    }
+    let recorded = accel
+        .iter()
+        .filter_map(|(_, m)| m.source().instance.as_ref())
+        .find_map(|g| Some((g.px4_device_id?, g.px4_accel_device_id?)));
+    match recorded {
+        Some((gyro, a)) => Err(ExportError::Flight(FlightError::Missing(format!(
+            "TC_A{n}_ID: the accelerometer the calibration was fitted on has its own device_id \
+             {a} (0x{a:X}), not the gyro's {gyro} (0x{gyro:X}) \
+             (source.instance.px4_accel_device_id): PX4 finds the accelerometer's \
+             compensation by it, so give it (--accel-device-id {a})",
+            n = px4.slot
+        )))),
+        None => Ok(None),
+    }
 }
 
 /// `(axis, model)` pairs as the flight writers take them.

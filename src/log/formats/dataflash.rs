@@ -334,6 +334,7 @@ pub(crate) fn read(data: &[u8]) -> Result<Read, Broken> {
             accel: r.has_accel.then(|| Axes {
                 xyz: r.accel.map(Col::into_values),
             }),
+            accel_device_id: None,
             alt_temps: Vec::new(),
         })
         .collect();

@@ -327,6 +327,11 @@ pub struct GyroInstance {
     /// one (ULog `sensor_accel` of the same `multi_id`, DataFlash `Acc*`, ROS
     /// `linear_acceleration`).
     pub accel: Option<Axes>,
+    /// PX4's `device_id` of the `sensor_accel` paired with the gyro, when it has one: PX4
+    /// finds the accelerometer's thermal calibration by it (`TC_A{n}_ID`), and a chip whose
+    /// driver numbers gyro and accelerometer apart, or an accelerometer paired by `multi_id`,
+    /// has another than the gyro's.
+    pub accel_device_id: Option<u32>,
     /// Other temperatures a user may ask for instead of `temp_c`.
     pub alt_temps: Vec<AltTemperature>,
 }
@@ -353,6 +358,8 @@ pub struct InstanceSummary {
     pub temp_range_c: Option<(f64, f64)>,
     /// True when the instance has accelerometer axes.
     pub has_accel: bool,
+    /// PX4's `device_id` of its accelerometer, when the gyro's is another.
+    pub accel_device_id: Option<u32>,
     /// The other temperatures, each with its range.
     pub alt_temps: Vec<AltTemperatureSummary>,
 }
@@ -406,6 +413,9 @@ impl InstanceSummary {
         }
         if !self.has_accel {
             s.push_str(", no accelerometer");
+        }
+        if let Some(a) = self.accel_device_id {
+            s.push_str(&format!(", its accelerometer device_id {a} (0x{a:X})"));
         }
         for a in &self.alt_temps {
             match a.range_c {
@@ -475,6 +485,9 @@ impl GyroInstance {
             time_range_s: (n > 0).then(|| (self.time.seconds(0), self.time.seconds(n - 1))),
             temp_range_c: self.temp_c.range(),
             has_accel: self.accel.is_some(),
+            accel_device_id: self.accel_device_id.filter(|&a| {
+                !matches!(self.device, Some(DeviceId::Ulog { device_id }) if device_id == a)
+            }),
             alt_temps: self
                 .alt_temps
                 .iter()
@@ -591,6 +604,7 @@ mod tests {
             time_range_s: Some(range),
             temp_range_c: None,
             has_accel: true,
+            accel_device_id: None,
             alt_temps: Vec::new(),
         };
         assert!(s((1.0, 4000.0)).line().contains("over 3999.000 s"));

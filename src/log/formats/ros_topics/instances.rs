@@ -298,6 +298,7 @@ impl Topics {
                     gyro,
                     temp_c,
                     accel,
+                    accel_device_id: None,
                     alt_temps: Vec::new(),
                 });
             }

@@ -251,6 +251,7 @@ fn gyro_instance(
         .collect();
     let step = median_step(&gyro_key).unwrap_or(0);
     let mut accel = None;
+    let mut accel_device_id = None;
     let mut alt_temps = Vec::new();
     if let Some((a, keys)) = accel_sub
         && let Some((akey, _)) = keys.get_or_init(|| key(a))
@@ -258,6 +259,10 @@ fn gyro_instance(
     {
         let pick = akey.nearest_within(&gyro_key, step / 2);
         accel = axes_at(a, &pick);
+        accel_device_id = accel
+            .as_ref()
+            .and(a.first_integer("device_id"))
+            .map(|d| d as u32);
         if let Some(t) = a.values_at("temperature", 0, &pick) {
             alt_temps.push(AltTemperature {
                 from: TempFrom::Accel,
@@ -305,6 +310,7 @@ fn gyro_instance(
         gyro,
         temp_c,
         accel,
+        accel_device_id,
         alt_temps,
     })
 }
@@ -335,6 +341,7 @@ fn combined_instance(c: &Sub, index: usize) -> Result<GyroInstance, Missing> {
         gyro,
         temp_c: Values::nan_f32(n),
         accel,
+        accel_device_id: None,
         alt_temps: Vec::new(),
     })
 }
