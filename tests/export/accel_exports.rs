@@ -305,7 +305,15 @@ fn an_accelerometer_with_its_own_device_id_is_recorded_and_asked_for_never_given
         "{listed}"
     );
     let cal = at(dir.path(), "cal.json");
-    ok(&["calibrate", &ulg, "--accel", "--model", "px4", "--out", &cal]);
+    ok(&[
+        "calibrate",
+        &ulg,
+        "--accel",
+        "--model",
+        "px4",
+        "--out",
+        &cal,
+    ]);
     let json: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&cal).unwrap()).unwrap();
     let instance = json
@@ -314,7 +322,14 @@ fn an_accelerometer_with_its_own_device_id_is_recorded_and_asked_for_never_given
     assert_eq!(instance["px4_device_id"], 2424842);
     assert_eq!(instance["px4_accel_device_id"], 2424843);
     // Given the gyro's id alone, the export asks for the accelerometer's, naming it.
-    let out = driftlab(&["export", &cal, "--format", "px4-params", "--device-id", "2424842"]);
+    let out = driftlab(&[
+        "export",
+        &cal,
+        "--format",
+        "px4-params",
+        "--device-id",
+        "2424842",
+    ]);
     let said = String::from_utf8_lossy(&out.stderr);
     assert!(!out.status.success(), "{said}");
     assert!(said.contains("--accel-device-id 2424843"), "{said}");

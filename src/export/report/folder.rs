@@ -18,7 +18,10 @@
 //! report wrote; a report whose marker lists none (written before the list) may hold its page,
 //! figures (PNG, SVG) and its axes' folders of figures. Any other folder, or a report beside
 //! which the user has put a file of theirs (a log, a calibration, notes), is refused with a
-//! message naming the folder and the first such file: a user's file is never deleted.
+//! message naming the folder and the first such file: a user's file is never deleted. The
+//! replaced folder is judged again once it is swapped out, before it is removed: a file
+//! written into it while the report ran (another job's output) puts it back in place, file
+//! and all, and the report is refused, naming the file.
 //!
 //! Reports racing to create one new folder: the first renames its folder in, and each of the
 //! others finds a report there and replaces it as it would any report.
@@ -169,6 +172,43 @@ fn check_destination(target: &Path) -> Result<Option<std::fs::Metadata>> {
              {foreign} out of the folder, or give a new or empty folder"
         ))),
     }
+}
+
+/// The first entry of the folder `dir` that no report wrote: any entry of a folder that holds
+/// no report, else as [`first_foreign`]; `None` for an empty folder or a report's own. The
+/// same judgement as [`check_destination`], made again on the replaced folder just before it
+/// is removed: a file written into it while the report ran (another job's output) was not
+/// there when the destination was checked.
+fn foreign_entry(dir: &Path) -> io::Result<Option<String>> {
+    match report_files(dir) {
+        Some(written) => first_foreign(dir, &written),
+        None => {
+            let mut names: Vec<String> = std::fs::read_dir(dir)?
+                .map(|e| e.map(|e| e.file_name().to_string_lossy().into_owned()))
+                .collect::<io::Result<_>>()?;
+            names.sort();
+            Ok(names.into_iter().next())
+        }
+    }
+}
+
+/// Why the replaced folder `target` was put back: `found`, the entry written into it while
+/// the report ran (or why its entries could not be read).
+fn written_meanwhile(target: &Path, found: io::Result<Option<String>>) -> Error {
+    let what = match found {
+        Ok(Some(name)) => format!(
+            "{name} was written into it while the report ran, and a report replaces its \
+             folder whole, which would delete it: the folder is left as it was, with {name}, \
+             and the report is not written; move {name} out of the folder, or give a new or \
+             empty folder"
+        ),
+        Ok(None) => "was changed while the report ran: the folder is left as it was".into(),
+        Err(e) => format!(
+            "could not be read again before the old report was removed ({e}): the folder is \
+             left as it was, and the report is not written"
+        ),
+    };
+    Error::io(target, io::Error::new(io::ErrorKind::AlreadyExists, what))
 }
 
 /// What a report folder's report wrote, as far as its folder tells.
@@ -446,8 +486,28 @@ impl Staging {
         }
         #[cfg(target_os = "linux")]
         if exchange(&self.path, target).map_err(|e| Error::io(target, e))? {
-            // The old report is now at the staging path: dropping `self` removes it.
-            return Ok(());
+            // The old report is now at the staging path, and dropping `self` removes it,
+            // unless something was written into it since the destination was checked: then
+            // it is swapped back (with that file) and the new report is the one removed.
+            match foreign_entry(&self.path) {
+                Ok(None) => return Ok(()),
+                found => {
+                    if !exchange(&self.path, target).unwrap_or(false) {
+                        // It cannot go back: it is kept, named in the message.
+                        self.armed = false;
+                        return Err(Error::io(
+                            target,
+                            io::Error::other(format!(
+                                "the report is written, but the folder it replaced held a \
+                                 file written while it ran, and could not be put back: it \
+                                 is kept, whole, as {}",
+                                kept(&self.path, target).display()
+                            )),
+                        ));
+                    }
+                    return Err(written_meanwhile(target, found));
+                }
+            }
         }
         let aside = aside_name(&self.path);
         std::fs::rename(target, &aside).map_err(|e| Error::io(target, e))?;
@@ -457,8 +517,29 @@ impl Staging {
             return Err(Error::io(target, e));
         }
         self.armed = false;
-        let _ = std::fs::remove_dir_all(&aside);
-        Ok(())
+        match foreign_entry(&aside) {
+            Ok(None) => {
+                let _ = std::fs::remove_dir_all(&aside);
+                Ok(())
+            }
+            found => {
+                // The new report out again (removed on drop), the old folder back.
+                if std::fs::rename(target, &self.path).is_ok()
+                    && std::fs::rename(&aside, target).is_ok()
+                {
+                    self.armed = true;
+                    return Err(written_meanwhile(target, found));
+                }
+                Err(Error::io(
+                    target,
+                    io::Error::other(format!(
+                        "the report is written, but the folder it replaced held a file \
+                         written while it ran: it is kept, whole, as {}",
+                        kept(&aside, target).display()
+                    )),
+                ))
+            }
+        }
     }
 }
 
@@ -468,6 +549,18 @@ impl Drop for Staging {
         if self.armed {
             let _ = std::fs::remove_dir_all(&self.path);
         }
+    }
+}
+
+/// The replaced folder `old`, which holds a user's file, renamed beside `target` to a name
+/// that no sweep of staging folders takes (`REPORT.kept-PID`); where it is when it cannot be.
+fn kept(old: &Path, target: &Path) -> PathBuf {
+    let mut name = target.as_os_str().to_owned();
+    name.push(format!(".kept-{}", std::process::id()));
+    let to = PathBuf::from(name);
+    match rename_new(old, &to) {
+        Ok(()) => to,
+        Err(_) => old.to_path_buf(),
     }
 }
 
@@ -558,4 +651,74 @@ fn sweep_abandoned(parent: &Path) {
     }
     #[cfg(not(target_os = "linux"))]
     let _ = parent;
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// What a test's report returns: nothing with paths in it.
+    #[derive(Debug)]
+    struct Nothing;
+
+    impl Relocate for Nothing {
+        fn relocate(&mut self, _: &Path, _: &Path) {}
+    }
+
+    /// A report of one page into `dest`, during which `meanwhile` runs (another job writing
+    /// into the destination after it was checked, before the swap).
+    fn report(dest: &Path, page: &str, meanwhile: impl FnOnce()) -> Result<Nothing> {
+        replace(dest, |staged| {
+            std::fs::write(staged.join("report.html"), page).unwrap();
+            meanwhile();
+            Ok(Nothing)
+        })
+    }
+
+    #[test]
+    fn a_file_written_into_the_folder_while_the_report_runs_is_kept_with_the_old_report() {
+        let dir = tempfile::tempdir().unwrap();
+        let dest = dir.path().join("rep");
+        report(&dest, "first", || {}).unwrap();
+        let notes = dest.join("notes.txt");
+        let err = report(&dest, "second", || std::fs::write(&notes, "mine").unwrap())
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.contains("notes.txt was written into it while the report ran"),
+            "{err}"
+        );
+        // The user's file and the old report, untouched; no staging folder left behind.
+        assert_eq!(std::fs::read_to_string(&notes).unwrap(), "mine");
+        assert_eq!(
+            std::fs::read_to_string(dest.join("report.html")).unwrap(),
+            "first"
+        );
+        let left: Vec<String> = std::fs::read_dir(dir.path())
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        assert_eq!(left, ["rep"]);
+        // Without a writer meanwhile, the next report (the file moved out) replaces it.
+        std::fs::remove_file(&notes).unwrap();
+        report(&dest, "third", || {}).unwrap();
+        assert_eq!(
+            std::fs::read_to_string(dest.join("report.html")).unwrap(),
+            "third"
+        );
+    }
+
+    #[test]
+    fn an_empty_folder_given_a_file_while_the_report_runs_is_left_as_it_was() {
+        let dir = tempfile::tempdir().unwrap();
+        let dest = dir.path().join("rep");
+        std::fs::create_dir(&dest).unwrap();
+        let log = dest.join("run.csv");
+        let err = report(&dest, "first", || std::fs::write(&log, "t,w").unwrap())
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("run.csv was written into it"), "{err}");
+        assert_eq!(std::fs::read_to_string(&log).unwrap(), "t,w");
+        assert!(!dest.join("report.html").exists());
+    }
 }

@@ -485,9 +485,9 @@ impl GyroInstance {
             time_range_s: (n > 0).then(|| (self.time.seconds(0), self.time.seconds(n - 1))),
             temp_range_c: self.temp_c.range(),
             has_accel: self.accel.is_some(),
-            accel_device_id: self.accel_device_id.filter(|&a| {
-                !matches!(self.device, Some(DeviceId::Ulog { device_id }) if device_id == a)
-            }),
+            accel_device_id: self.accel_device_id.filter(
+                |&a| !matches!(self.device, Some(DeviceId::Ulog { device_id }) if device_id == a),
+            ),
             alt_temps: self
                 .alt_temps
                 .iter()
