@@ -56,7 +56,12 @@ impl LogArgs {
         log: &mut Log,
         ask: &AccelAsk,
     ) -> Result<Vec<String>, String> {
-        accel_axes::take(log, ask).map_err(|e| in_words(&e))
+        let told = log.info.problems.len();
+        let names = accel_axes::take(log, ask).map_err(|e| in_words(&e))?;
+        // What making them axes found (readings no accelerometer gives), told as the log's
+        // own problems were when it was read.
+        super::common::print_problems(&log.source, &log.info.problems[told..]);
+        Ok(names)
     }
 
     /// Reads a log for a calibration with accelerometer axes: the calibration columns, the

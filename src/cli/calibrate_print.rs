@@ -267,6 +267,8 @@ impl Printed<'_> {
                 ) {
                     o.insert("campaign".into(), c);
                 }
+                // An accelerometer's readings named in m/s² (`rmse_m_s2`), not °/h.
+                ax.kind.name_fields_in_unit(&mut v);
                 v
             })
             .collect();

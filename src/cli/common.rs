@@ -449,18 +449,24 @@ impl LogArgs {
             })?;
         }
         super::log_source::problems_in_flags(&mut log);
-        for p in &log.info.problems {
-            // A problem of a whole column has no line.
-            let place = match (p.line, p.column) {
-                (0, Some(c)) => format!(" column {c}"),
-                (0, None) => String::new(),
-                (l, Some(c)) => format!("{l}:{c}"),
-                (l, None) => l.to_string(),
-            };
-            let times = p.times();
-            note!("warning: {}:{place}: {}{times}", log.source, p.message);
-        }
+        print_problems(&log.source, &log.info.problems);
         Ok(log)
+    }
+}
+
+/// Prints the problems of the log read from `source`, each a warning with its line and column
+/// when it has them, on standard error.
+pub fn print_problems(source: &str, problems: &[driftlab::log::Problem]) {
+    for p in problems {
+        // A problem of a whole column has no line.
+        let place = match (p.line, p.column) {
+            (0, Some(c)) => format!(" column {c}"),
+            (0, None) => String::new(),
+            (l, Some(c)) => format!("{l}:{c}"),
+            (l, None) => l.to_string(),
+        };
+        let times = p.times();
+        note!("warning: {source}:{place}: {}{times}", p.message);
     }
 }
 

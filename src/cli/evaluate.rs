@@ -236,8 +236,9 @@ fn print_unit(a: &Args, unit: &UnitCalibration, judged: &[AxisJudged]) -> Result
                     o.insert("unit".into(), serde_json::json!(j.kind.unit_ascii()));
                     o.insert("kept_mean_m_s2".into(), serde_json::json!(j.kept_mean));
                 }
-                if let (Some(axis), serde_json::Value::Object(rest)) =
-                    (axis.as_object_mut(), judged_json(a, j))
+                let mut rest = judged_json(a, j);
+                j.kind.name_fields_in_unit(&mut rest);
+                if let (Some(axis), serde_json::Value::Object(rest)) = (axis.as_object_mut(), rest)
                 {
                     axis.extend(rest);
                 }

@@ -9,7 +9,9 @@
 //! so the mean vector of its accelerometer axes is 1 g long, 9.81 in m/s², 1000 in mg.
 
 use super::ingest::ColumnRef;
-use super::{Axis, AxisKind, Channel, ColumnInfo, ColumnRole, Log, STANDARD_GRAVITY_M_S2};
+use super::{
+    Axis, AxisKind, Channel, ColumnInfo, ColumnRole, Log, ProblemKind, STANDARD_GRAVITY_M_S2,
+};
 use std::fmt;
 use std::str::FromStr;
 
@@ -261,6 +263,7 @@ pub fn take(log: &mut Log, ask: &AccelAsk) -> Result<Vec<String>, AccelError> {
             units[i] = Some(unit);
         }
     }
+    unread_glitches(log, &picked, &units);
     check_gravity(log, &picked, &units)?;
     // Taken out of `extra` from the last, so that the indices still stand.
     let mut taken: Vec<(Channel, AccelUnit)> = Vec::with_capacity(picked.len());
@@ -409,6 +412,45 @@ fn check_gravity(
         });
     }
     Ok(())
+}
+
+/// Makes NaN the readings of the accelerometer channels `picked` (in `units`) that no
+/// accelerometer gives ([`crate::log::impossible`]), each channel's told as a problem of the
+/// log: an accelerometer axis keeps its samples where its gyro has them, and its fits and
+/// means pass over NaN.
+fn unread_glitches(log: &mut Log, picked: &[usize], units: &[Option<AccelUnit>]) {
+    use crate::log::impossible::{ACCEL_LIMIT_WORDS, MAX_PLAUSIBLE_ACCEL_M_S2, glitches};
+    for (&k, u) in picked.iter().zip(units) {
+        let bound = MAX_PLAUSIBLE_ACCEL_M_S2 / u.unwrap_or_default().to_m_s2();
+        let c = &mut log.extra[k];
+        let Some(g) = glitches(c.values.iter().copied(), bound) else {
+            continue;
+        };
+        for &i in &g.samples {
+            c.values[i] = f64::NAN;
+        }
+        let first = g.samples[0] + 1;
+        let message = g.message(
+            &c.name,
+            ACCEL_LIMIT_WORDS,
+            &format!("sample {first}"),
+            "accelerometer",
+            false,
+        );
+        let column = log
+            .info
+            .columns
+            .iter()
+            .find(|ci| ci.name == c.name)
+            .map(|ci| ci.index);
+        log.info.problems.push(super::Problem {
+            line: 0,
+            column,
+            kind: ProblemKind::Implausible,
+            count: g.samples.len(),
+            message,
+        });
+    }
 }
 
 /// The mean of the finite values (0 when there are none).

@@ -87,6 +87,32 @@ pub fn kept_samples(sel: &Selected<'_>) -> Result<KeptSamples, ReadError> {
             });
         }
     }
+    // Rates no gyro reads (a float register's 1e38): dropped as a NaN axis is.
+    for (a, v) in inst.gyro.xyz.iter().enumerate() {
+        use crate::log::impossible::{RATE_LIMIT_WORDS, glitches};
+        use crate::log::mapping_check::MAX_PLAUSIBLE_RATE_DPH;
+        // In rad/s as stored, so that the message quotes the reading itself.
+        let bound = MAX_PLAUSIBLE_RATE_DPH / super::read::rad_s_to_dph();
+        if let Some(g) = glitches((0..n).map(|i| v.get(i)), bound) {
+            let first = g.samples[0] + 1;
+            problems.push(Problem {
+                line: first,
+                column: None,
+                kind: ProblemKind::Implausible,
+                count: g.samples.len(),
+                message: g.message(
+                    channel_names[a],
+                    RATE_LIMIT_WORDS,
+                    &format!("sample {first}"),
+                    "gyro",
+                    true,
+                ),
+            });
+            for i in g.samples {
+                keep[i] = false;
+            }
+        }
+    }
     let time_all = inst.time.all_seconds();
     // Stray stamps in the middle, before time order, by the CSV reader's rule.
     {

@@ -10,6 +10,7 @@ pub mod accel_axes;
 pub mod campaign;
 mod drone_gyro;
 pub mod formats;
+pub mod impossible;
 pub mod ingest;
 pub mod kept_samples;
 pub mod mapping_check;
@@ -121,6 +122,41 @@ impl AxisKind {
         match self {
             AxisKind::Gyro => "gyro",
             AxisKind::Accel => "accelerometer",
+        }
+    }
+
+    /// The ending of a JSON field that holds a reading in this kind's unit: `_dph`, `_m_s2`.
+    pub fn field_suffix(self) -> &'static str {
+        match self {
+            AxisKind::Gyro => "_dph",
+            AxisKind::Accel => "_m_s2",
+        }
+    }
+
+    /// `value` (figures, a model's body, as the engine's types serialise them, every reading
+    /// named `…_dph`) with each field ending in `_dph`, at any depth, named in this kind's
+    /// unit: an accelerometer axis's `p2p_dph` holds m/s², and is written `p2p_m_s2`, so that
+    /// no script reads m/s² as °/h.
+    pub fn name_fields_in_unit(self, value: &mut serde_json::Value) {
+        if self == AxisKind::Gyro {
+            return;
+        }
+        match value {
+            serde_json::Value::Object(map) => {
+                let old = std::mem::take(map);
+                for (k, mut v) in old {
+                    self.name_fields_in_unit(&mut v);
+                    let key = match k.strip_suffix("_dph") {
+                        Some(stem) => format!("{stem}{}", self.field_suffix()),
+                        None => k,
+                    };
+                    map.insert(key, v);
+                }
+            }
+            serde_json::Value::Array(items) => {
+                items.iter_mut().for_each(|v| self.name_fields_in_unit(v));
+            }
+            _ => {}
         }
     }
 }

@@ -374,7 +374,7 @@ pub fn read_any_with_progress(
 
 /// The angular rate of a drone log (rad/s) in driftlab's °/h: the factor the CSV reader uses
 /// for a column in rad/s.
-fn rad_s_to_dph() -> f64 {
+pub(crate) fn rad_s_to_dph() -> f64 {
     ingest::RateUnit::RadPerSec.to_dph_factor()
 }
 

@@ -518,7 +518,9 @@ fn find_gaps(time_s: &[f64], dt: f64) -> Vec<Gap> {
             continue;
         }
         let lost = s - dt;
-        let window = ((4.0 * lost / dt) as usize + 16).clamp(CATCH_UP_MIN, CATCH_UP_MAX);
+        // In floats until clamped: a stamp 10²¹ s ahead makes the count past any integer.
+        let window =
+            (4.0 * lost / dt + 16.0).clamp(CATCH_UP_MIN as f64, CATCH_UP_MAX as f64) as usize;
         let base = time_s[i - 1];
         let end = (i + window).min(n);
         let caught_up =

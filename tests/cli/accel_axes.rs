@@ -285,8 +285,10 @@ fn a_run_in_another_orientation_is_judged_about_its_own_mean_and_said() {
         let v: serde_json::Value = serde_json::from_slice(json).unwrap();
         let axes = v["axes"].as_array().unwrap();
         let z = axes.iter().find(|a| a["name"] == "acc_z").unwrap();
-        // The largest |10-min mean| of the corrected axis, m/s² (the field keeps its gyro name).
-        z["evaluation"]["comparison"]["corrected"]["win_mean_max_abs_dph"]
+        // The largest |10-min mean| of the corrected axis, named in its unit, m/s²; no field
+        // of the axis is named in °/h.
+        assert!(!z.to_string().contains("_dph\""), "{z}");
+        z["evaluation"]["comparison"]["corrected"]["win_mean_max_abs_m_s2"]
             .as_f64()
             .unwrap()
     };

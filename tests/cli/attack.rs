@@ -632,15 +632,19 @@ fn a_hand_edited_regression_model_is_checked_as_a_whole() {
 
 #[test]
 fn calibrate_writes_only_what_it_can_read_back() {
-    // One rate cell of 1e160 inside the first plateau: its standard deviation overflows. The
-    // calibration used to be written with `null` there, and `apply` then refused it.
+    // Rate cells of 1e160 inside the first plateau: its standard deviation overflows. The
+    // calibration used to be written with `null` there, and `apply` then refused it. (One such
+    // cell is a glitch, its row dropped by the reader, tests/io/glitch_readings.rs; 500 of the
+    // log's 40,202 rows, more than 1 %, are the column's own and kept.)
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
     let text = std::fs::read_to_string(sample("calibration.csv")).unwrap();
     let mut lines: Vec<String> = text.lines().map(String::from).collect();
-    let mut cells: Vec<&str> = lines[5000].split(',').collect();
-    cells[1] = "1e160";
-    lines[5000] = cells.join(",");
+    for line in &mut lines[5000..5500] {
+        let mut cells: Vec<&str> = line.split(',').collect();
+        cells[1] = "1e160";
+        *line = cells.join(",");
+    }
     let log = p(d, "cell.csv");
     std::fs::write(&log, lines.join("\n") + "\n").unwrap();
     let out = p(d, "cell.json");

@@ -261,3 +261,28 @@ fn a_calibration_that_could_not_be_read_back_is_not_written() {
     assert!(e.contains("not written"), "{e}");
     assert_eq!(std::fs::read_to_string(&path).unwrap(), "old");
 }
+
+/// fuzz `read_log`, minimized from crash-cf90ca0177c941950fd2deafb85b6ba4fb8a6dc5: a stamp
+/// 6·10²¹ s after steps of 200 s. Sizing the window in which later stamps may make up a gap
+/// cast `4 × lost / step` (10²⁰ samples) to an integer and added 16 past its largest: a panic
+/// where overflow is checked (debug builds, the fuzz targets), a wrapped count elsewhere. The
+/// stamp is a stray one, dropped and told; the three rows before it are the log.
+#[test]
+fn a_stamp_ten_to_the_twenty_one_seconds_ahead_is_a_stray_not_an_overflow() {
+    let bytes = b"599800;-0;0\n600000;00;0\n600200;-,1;0\n6055555555555555555294;105;0\n";
+    let log = driftlab::log::ingest::read_bytes(
+        "stamps.csv",
+        bytes,
+        &driftlab::log::ingest::ReadOptions::default(),
+    )
+    .unwrap();
+    assert_eq!(log.time_s, [599800.0, 600000.0, 600200.0]);
+    assert!(
+        log.info
+            .problems
+            .iter()
+            .any(|p| p.line == 4 && p.message.contains("stray")),
+        "{:?}",
+        log.info.problems
+    );
+}

@@ -18,6 +18,7 @@ mod crafted_rows;
 mod device_changes;
 mod drone_logs;
 mod formats;
+mod glitch_readings;
 mod hand_edited_calibrations;
 mod hand_edited_k0;
 mod hand_edited_runs;

@@ -4,7 +4,7 @@
 //! output, whatever path (fast or sequential) read the file.
 
 use super::Fail;
-use super::columns::{Action, Plan, SLOT_TEMP, SLOT_TIME};
+use super::columns::{Action, Plan, SLOT_RATE, SLOT_TEMP, SLOT_TIME};
 use super::parse::Tally;
 use super::plausible::stuck_temperature;
 use super::read::Acc;
@@ -203,6 +203,8 @@ pub(super) fn finish(mut acc: Acc, sn: &Sniffed, plan: &Plan, source: &str) -> R
     // stuck at one value while the chamber moves. Read as missing, as a blank cell is, before
     // the gaps are looked at (the rows dropped leave the holes the gaps then tell).
     unread_temperatures(&mut acc, plan, &mut drop, &mut problems);
+    // Rates no gyro reads (a float register's 1e38): dropped as a blank cell is.
+    impossible_rates(&mut acc, plan, &mut drop, &mut problems);
     // Gaps: steps the later stamps do not make up (host stamps that bunch are not gaps).
     let mut timing = Timing::of(&acc.cols[SLOT_TIME]);
     // A few samples alone at an end past a gap far longer than the rest of the log are stray
@@ -463,6 +465,56 @@ fn unread_temperatures(
         let gone: Vec<usize> = (a..b).collect();
         unread(acc, drop, &gone);
     }
+}
+
+/// Drops the rows whose rate, in the rate column or another gyro axis, is a reading no gyro
+/// gives ([`crate::log::impossible`]), each column's told with its first line (`drop` the
+/// sorted rows dropped so far, which gains these).
+fn impossible_rates(
+    acc: &mut Acc,
+    plan: &Plan,
+    drop: &mut Vec<usize>,
+    problems: &mut Vec<Problem>,
+) {
+    use crate::log::impossible::{RATE_LIMIT_WORDS, rate_glitches};
+    let slots = std::iter::once(SLOT_RATE).chain(SLOT_TEMP + 1..SLOT_TEMP + 1 + plan.axes.len());
+    let mut gone: Vec<usize> = Vec::new();
+    for slot in slots {
+        let Some(col) = acc.cols.get(slot) else {
+            continue;
+        };
+        let Some(g) = rate_glitches(col.iter().copied()) else {
+            continue;
+        };
+        let column = plan.slot_col.get(slot).copied().flatten();
+        let name = column.map_or("?", |c| plan.name(c));
+        let line = acc.line_of(row_of(drop, g.samples[0]));
+        problems.push(Problem {
+            line,
+            column: column.map(|c| c + 1),
+            kind: ProblemKind::Implausible,
+            count: g.samples.len(),
+            message: g.message(
+                name,
+                RATE_LIMIT_WORDS,
+                &format!("line {line}"),
+                "gyro",
+                true,
+            ),
+        });
+        gone.extend(g.samples);
+    }
+    if gone.is_empty() {
+        return;
+    }
+    gone.sort_unstable();
+    gone.dedup();
+    let rows: Vec<usize> = gone.iter().map(|&k| row_of(drop, k)).collect();
+    for col in &mut acc.cols {
+        remove_sorted(col, &gone);
+    }
+    drop.extend(rows);
+    drop.sort_unstable();
 }
 
 /// A duration in seconds to six significant digits, for messages.
