@@ -3,6 +3,7 @@
 use super::common::{self, CliError, LogArgs};
 use driftlab::files::corrected_csv::{self, WriteError};
 use driftlab::models::UnitCalibration;
+use driftlab::models::vakhrameev::LeftOut;
 use std::path::{Path, PathBuf};
 
 /// Arguments of `apply`.
@@ -47,7 +48,7 @@ pub fn run(mut a: Args) -> Result<(), CliError> {
     }
     let outside = written.map_err(|e| in_words(e, &unit, &a.calibration))?;
     for (ax, fraction) in unit.axes.iter().zip(outside) {
-        note_outside(&ax.name, fraction);
+        note_outside(&ax.name, fraction, ax.model.left_out());
         note_warm_up(&ax.name, ax.model.warm_up_samples(&log), log.len());
     }
     if unit.is_unit() {
@@ -111,16 +112,21 @@ fn note_warm_up(axis: &str, warming: usize, samples: usize) {
     );
 }
 
-fn note_outside(axis: &str, outside_fraction: f64) {
+fn note_outside(axis: &str, outside_fraction: f64, left_out: LeftOut) {
     if outside_fraction > 0.0 {
         let of = if axis.is_empty() {
             String::new()
         } else {
             format!(" of axis {axis}")
         };
+        let left = if left_out.is_none() {
+            String::new()
+        } else {
+            format!(" ({left_out})")
+        };
         note!(
             "note: {}% of the samples{of} lie outside the calibrated ranges of the model's \
-             inputs; edge values were held there",
+             inputs{left}; edge values were held there",
             driftlab::number::percent(outside_fraction)
         );
     }

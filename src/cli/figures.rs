@@ -205,11 +205,11 @@ pub fn print_evaluation_in(
         )?;
     }
     out!(
-        "  {} samples ({} warm-up samples left out), {} windows; {}% outside the calibrated ranges",
+        "  {} samples ({} warm-up samples left out), {} windows; {}",
         c.raw.samples,
         e.warmup_samples,
         c.raw.windows,
-        driftlab::number::percent(e.outside_fraction)
+        e.outside_text()
     )
 }
 

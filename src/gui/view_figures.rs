@@ -189,11 +189,11 @@ fn table(
         })
         .response
         .on_hover_text(format!(
-            "{} samples after {} warm-up samples; {} whole {window} windows; {}% of samples outside the calibrated ranges",
+            "{} samples after {} warm-up samples; {} whole {window} windows; {}",
             c.raw.samples,
             e.warmup_samples,
             c.raw.windows,
-            crate::number::percent(e.outside_fraction)
+            e.outside_text()
         ));
         // Stacked in a narrow panel with the opened calibration's two columns beside, the
         // figures are named short (their full names on hover).
@@ -210,79 +210,115 @@ fn table(
         Grid::new(id)
             .striped(true)
             // (stacked in a narrow panel, its rows tight: the columns closer too)
-            .spacing([if ui.spacing().item_spacing.y <= 2.0 { 8.0 } else { 14.0 }, 2.0]).show(ui, |ui| {
-            let heads: &[&str] = if beside.is_some() && !ratios {
-                &["°/h", "raw", "current", "opened"]
-            } else if beside.is_some() {
-                &["°/h", "raw", "current", "ratio", "opened", "ratio"]
-            } else {
-                &["°/h", "raw", "corrected", "ratio"]
-            };
-            let opened_color = super::plot_items::Palette::of(ui).opened;
-            for h in heads {
-                let text = RichText::new(*h).strong();
-                let r = if *h == "opened" {
-                    ui.label(text.color(opened_color))
+            .spacing([
+                if ui.spacing().item_spacing.y <= 2.0 {
+                    8.0
                 } else {
-                    ui.label(text)
+                    14.0
+                },
+                2.0,
+            ])
+            .show(ui, |ui| {
+                let heads: &[&str] = if beside.is_some() && !ratios {
+                    &["°/h", "raw", "current", "opened"]
+                } else if beside.is_some() {
+                    &["°/h", "raw", "current", "ratio", "opened", "ratio"]
+                } else {
+                    &["°/h", "raw", "corrected", "ratio"]
                 };
-                if *h == "opened"
-                    && let Some(b) = &beside
-                {
-                    r.on_hover_text(format!(
+                let opened_color = super::plot_items::Palette::of(ui).opened;
+                for h in heads {
+                    let text = RichText::new(*h).strong();
+                    let r = if *h == "opened" {
+                        ui.label(text.color(opened_color))
+                    } else {
+                        ui.label(text)
+                    };
+                    if *h == "opened"
+                        && let Some(b) = &beside
+                    {
+                        r.on_hover_text(format!(
                         "Corrected by the opened calibration {}, judged with the same filter and \
                          windows as the current fit",
                         b.name
                     ));
-                }
-            }
-            ui.end_row();
-            // Each figure of a comparison: raw, corrected and their ratio.
-            type Pick = fn(&crate::judge::metrics::Comparison) -> (f64, f64, f64);
-            let rows: [(&str, &str, Pick); 4] = [
-                (if narrow { "p-p" } else { "peak-to-peak" }, "Peak-to-peak of the filtered drift", |c| {
-                    (c.raw.p2p_dph, c.corrected.p2p_dph, c.p2p_ratio)
-                }),
-                ("std", "Standard deviation of the filtered drift", |c| {
-                    (c.raw.std_dph, c.corrected.std_dph, c.std_ratio)
-                }),
-                (&rms_label, "Mean over the consecutive windows of the RMS within each window", |c| {
-                    (c.raw.win_rms_mean_dph, c.corrected.win_rms_mean_dph, c.win_rms_ratio)
-                }),
-                (&mean_label, "Largest |mean| over the consecutive windows", |c| {
-                    (c.raw.win_mean_max_abs_dph, c.corrected.win_mean_max_abs_dph, c.win_mean_ratio)
-                }),
-            ];
-            let weak = ui.visuals().weak_text_color();
-            for (name, tip, pick) in rows {
-                let (raw, cor, r) = pick(c);
-                ui.label(name).on_hover_text(tip);
-                ui.monospace(num(raw));
-                let cor_text = RichText::new(num(cor)).monospace();
-                let shown = ui.label(if exact { cor_text } else { cor_text.italics().color(weak) });
-                if !ratios {
-                    shown.on_hover_text(format!("raw ÷ corrected: {}", ratio(r)));
-                    if let Some(b) = &beside {
-                        opened_cells(ui, b, opened_eval.map(|o| pick(&o.comparison)), raw, false);
                     }
-                    ui.end_row();
-                    continue;
-                }
-                let good = r >= 1.0;
-                let color = match (exact, good) {
-                    (false, _) => weak,
-                    (true, true) => ui.visuals().text_color(),
-                    (true, false) => ui.visuals().error_fg_color,
-                };
-                let text = RichText::new(ratio(r)).monospace().strong().color(color);
-                ui.label(if exact { text } else { text.italics() })
-                    .on_hover_text("raw ÷ corrected: above 1 is better");
-                if let Some(b) = &beside {
-                    opened_cells(ui, b, opened_eval.map(|o| pick(&o.comparison)), raw, true);
                 }
                 ui.end_row();
-            }
-        });
+                // Each figure of a comparison: raw, corrected and their ratio.
+                type Pick = fn(&crate::judge::metrics::Comparison) -> (f64, f64, f64);
+                let rows: [(&str, &str, Pick); 4] = [
+                    (
+                        if narrow { "p-p" } else { "peak-to-peak" },
+                        "Peak-to-peak of the filtered drift",
+                        |c| (c.raw.p2p_dph, c.corrected.p2p_dph, c.p2p_ratio),
+                    ),
+                    ("std", "Standard deviation of the filtered drift", |c| {
+                        (c.raw.std_dph, c.corrected.std_dph, c.std_ratio)
+                    }),
+                    (
+                        &rms_label,
+                        "Mean over the consecutive windows of the RMS within each window",
+                        |c| {
+                            (
+                                c.raw.win_rms_mean_dph,
+                                c.corrected.win_rms_mean_dph,
+                                c.win_rms_ratio,
+                            )
+                        },
+                    ),
+                    (
+                        &mean_label,
+                        "Largest |mean| over the consecutive windows",
+                        |c| {
+                            (
+                                c.raw.win_mean_max_abs_dph,
+                                c.corrected.win_mean_max_abs_dph,
+                                c.win_mean_ratio,
+                            )
+                        },
+                    ),
+                ];
+                let weak = ui.visuals().weak_text_color();
+                for (name, tip, pick) in rows {
+                    let (raw, cor, r) = pick(c);
+                    ui.label(name).on_hover_text(tip);
+                    ui.monospace(num(raw));
+                    let cor_text = RichText::new(num(cor)).monospace();
+                    let shown = ui.label(if exact {
+                        cor_text
+                    } else {
+                        cor_text.italics().color(weak)
+                    });
+                    if !ratios {
+                        shown.on_hover_text(format!("raw ÷ corrected: {}", ratio(r)));
+                        if let Some(b) = &beside {
+                            opened_cells(
+                                ui,
+                                b,
+                                opened_eval.map(|o| pick(&o.comparison)),
+                                raw,
+                                false,
+                            );
+                        }
+                        ui.end_row();
+                        continue;
+                    }
+                    let good = r >= 1.0;
+                    let color = match (exact, good) {
+                        (false, _) => weak,
+                        (true, true) => ui.visuals().text_color(),
+                        (true, false) => ui.visuals().error_fg_color,
+                    };
+                    let text = RichText::new(ratio(r)).monospace().strong().color(color);
+                    ui.label(if exact { text } else { text.italics() })
+                        .on_hover_text("raw ÷ corrected: above 1 is better");
+                    if let Some(b) = &beside {
+                        opened_cells(ui, b, opened_eval.map(|o| pick(&o.comparison)), raw, true);
+                    }
+                    ui.end_row();
+                }
+            });
         // Each n/a with its reason, in the engine's words, as the command line prints them.
         for (what, why) in c.unavailable() {
             ui.label(
@@ -296,11 +332,15 @@ fn table(
                 Column::Judged { judged, .. } => format!("opened {}: {}", b.name, judged.label),
                 Column::Not(why) => format!("opened {}: {why}", b.name),
             };
-            ui.label(RichText::new(text).small().color(super::plot_items::Palette::of(ui).opened))
-                .on_hover_text(
-                    "In-sample or held out, as `driftlab evaluate` says it of the opened \
+            ui.label(
+                RichText::new(text)
+                    .small()
+                    .color(super::plot_items::Palette::of(ui).opened),
+            )
+            .on_hover_text(
+                "In-sample or held out, as `driftlab evaluate` says it of the opened \
                      calibration on this log",
-                );
+            );
         }
     });
 }

@@ -182,7 +182,9 @@ pub fn compare_one(
                     {
                         Ok(c) => {
                             seen(k, &c);
-                            Outcome::Evaluation(Evaluation::of_correction(log, &c, merit))
+                            Outcome::Evaluation(
+                                Evaluation::of_correction(log, &c, merit).of_model(&m),
+                            )
                         }
                         Err(e) => Outcome::Error(e.to_string()),
                     },

@@ -137,7 +137,7 @@ pub fn judge(
         crate::judge::options::check_window_fits(options.window_s, log, &correction.ready)
             .map_err(JudgeError::Options)?;
     }
-    let evaluation = Evaluation::of_correction(log, &correction, &options);
+    let evaluation = Evaluation::of_correction(log, &correction, &options).of_model(model);
     Ok(Judged {
         options,
         in_sample,

@@ -21,6 +21,15 @@ pub enum DriftModel {
 }
 
 impl DriftModel {
+    /// The rate terms left out for want of points (Vakhrameev's K1±, K2±); none for a model
+    /// fitted over every sample.
+    pub fn left_out(&self) -> crate::models::vakhrameev::LeftOut {
+        match self {
+            DriftModel::Vakhrameev(c) => c.left_out(),
+            DriftModel::Regression(_) => Default::default(),
+        }
+    }
+
     /// How many samples of `log` are corrected before the rates of T the model reads have
     /// their full history: the first [`DerivativeSteps::ready_from`] samples of each segment
     /// (the rates restart after every gap), or every sample of a segment shorter than that.

@@ -647,6 +647,7 @@ fn calibrate_axes(
                     comparison: Comparison::of(&log.omega_dph, &c.cor_dph, dt_s, &c.ready, merit),
                     outside_fraction: c.outside_fraction,
                     warmup_samples: log.len().saturating_sub(used),
+                    left_out: calibration.left_out(),
                 };
                 let model = DriftModel::Vakhrameev(Box::new(calibration));
                 warnings.extend(judge_on_own_log(&model, &in_sample));

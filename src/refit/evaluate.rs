@@ -131,7 +131,7 @@ impl Pipeline {
                 out
             },
         );
-        let evaluation = evaluation(v.raw_figures, cor_figures, &corrected);
+        let evaluation = evaluation(v.raw_figures, cor_figures, &corrected, cal);
         Judged {
             log: log.clone(),
             per_run: Comparison::of_runs(log, &corrected.cor_dph, &corrected.ready, merit),
@@ -143,11 +143,18 @@ impl Pipeline {
     }
 }
 
-/// Raw against corrected figures, with the ratios as [`Comparison::of`] makes them.
-pub(super) fn evaluation(raw: Figures, corrected: Figures, c: &Correction) -> Evaluation {
+/// Raw against corrected figures, with the ratios as [`Comparison::of`] makes them, of the
+/// calibration `cal` (whose terms left out are named beside the share outside its ranges).
+pub(super) fn evaluation(
+    raw: Figures,
+    corrected: Figures,
+    c: &Correction,
+    cal: &Calibration,
+) -> Evaluation {
     Evaluation {
         comparison: Comparison::from_figures(raw, corrected),
         outside_fraction: c.outside_fraction,
         warmup_samples: c.ready_from,
+        left_out: cal.left_out(),
     }
 }

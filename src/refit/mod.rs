@@ -403,7 +403,7 @@ impl Pipeline {
         };
         let (cor_figures, cor_filtered) =
             self.evaluate_kept(&corrected, prepared.dt_s, &merit, filter);
-        let evaluation = evaluation(raw_figures, cor_figures, &corrected);
+        let evaluation = evaluation(raw_figures, cor_figures, &corrected, &calibration);
         // The warning the command line gives for a calibration worse than raw on its own log.
         warnings.extend(crate::models::worse_than_raw("vakhrameev", &evaluation));
         let per_run = Comparison::of_runs(log, &corrected.cor_dph, &corrected.ready, &merit);

@@ -403,3 +403,71 @@ fn a_report_on_request_is_written_for_each_calibrated_unit_and_linked() {
     let lot_page = std::fs::read_to_string(Path::new(&out).join("lot.html")).unwrap();
     assert!(lot_page.contains(&format!("href=\"{CAMPAIGN}/report/report.html\"")));
 }
+
+/// The share of samples outside the calibrated ranges in a figures line (`…; 0.5% outside the
+/// calibrated ranges …`), 0 to 1.
+fn outside_share(text: &str) -> f64 {
+    let line = text
+        .lines()
+        .find(|l| l.contains("outside the calibrated ranges"))
+        .unwrap_or_else(|| panic!("no share outside the ranges in:\n{text}"));
+    let before = line.split("% outside").next().unwrap();
+    before.rsplit(' ').next().unwrap().parse::<f64>().unwrap() / 100.0
+}
+
+#[test]
+fn a_term_left_out_counts_no_sample_outside_and_is_named() {
+    // `--deadband-tddot 1` switches K2 off: K2± have no usable point and are left out (zero).
+    // They add nothing wherever T̈ lies, so no sample is outside a range of theirs: the share
+    // is at most that of the calibration with K2 (whose K0 and K1 ranges are as wide), and a
+    // lot whose spec allows a fifth outside passes the unit, as it does under the default
+    // recipe. Where the share is shown, the terms left out are named.
+    let dir = tempfile::tempdir().unwrap();
+    let cal = crate::common::run::sample("calibration.csv");
+    let val = crate::common::run::sample("validation.csv");
+    let (with, without, recipe) = (
+        p(dir.path(), "with.json"),
+        p(dir.path(), "without.json"),
+        p(dir.path(), "no-k2.json"),
+    );
+    let (_, text, _) = status(&["calibrate", &cal, "--out", &with]);
+    let share_with = outside_share(&text);
+    let (code, text, err) = status(&[
+        "calibrate",
+        &cal,
+        "--out",
+        &without,
+        "--deadband-tddot",
+        "1",
+        "--save-recipe",
+        &recipe,
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(err.contains("K2+: no usable points"), "{err}");
+    let note = "outside the calibrated ranges (K2+ and K2− left out: zero, with no range)";
+    assert!(text.contains(note), "{text}");
+    assert!(outside_share(&text) <= share_with, "{text}");
+    for file in [&with, &without] {
+        let (code, text, err) = status(&["evaluate", file, &val]);
+        assert_eq!(code, 0, "{err}");
+        assert!(outside_share(&text) < 0.2, "{file}: {text}");
+        assert_eq!(text.contains(note), file == &without, "{text}");
+    }
+    let units = dir.path().join("units");
+    std::fs::create_dir(&units).unwrap();
+    std::fs::copy(&cal, units.join("u1.csv")).unwrap();
+    let spec = p(dir.path(), "spec.json");
+    std::fs::write(&spec, r#"{"max_outside_fraction": 0.2}"#).unwrap();
+    let (code, stdout, stderr) = status(&[
+        "lot",
+        &units.display().to_string(),
+        "--spec",
+        &spec,
+        "--recipe",
+        &recipe,
+        "--out",
+        &p(dir.path(), "lot"),
+    ]);
+    assert_eq!(code, 0, "{stdout}{stderr}");
+    assert!(stdout.contains("1 pass, 0 fail"), "{stdout}");
+}

@@ -189,6 +189,60 @@ fn nothing_a_terminal_would_obey_reaches_it_from_a_name() {
     }
 }
 
+/// Characters that print as nothing, Unicode format characters (category Cf) and a tag
+/// character: a zero-width space, a byte order mark, a soft hyphen, a word joiner, and the tag
+/// of the letter A (U+E0041).
+const INVISIBLE: [char; 5] = ['\u{200b}', '\u{feff}', '\u{ad}', '\u{2060}', '\u{e0041}'];
+
+#[test]
+fn a_gyro_id_with_an_invisible_character_is_refused() {
+    // `FOG-0001` and `FOG-0001` followed by tag characters spelling a hidden text print alike
+    // on a terminal, and are two serial numbers to every output that copies them.
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("cal.json").display().to_string();
+    let log = sample("calibration.csv");
+    let hidden: String = "flash unit 7"
+        .chars()
+        .map(|c| char::from_u32(0xE0000 + c as u32).unwrap())
+        .collect();
+    let ids = INVISIBLE
+        .iter()
+        .map(|&c| (format!("FOG-0001{c}"), c))
+        .chain([(format!("FOG-0001{hidden}"), '\u{e0066}')]);
+    for (id, first) in ids {
+        let err = fails(&["calibrate", &log, "--gyro-id", &id, "--out", &out]);
+        let want = format!(
+            "gyro_id (--gyro-id): holds the control character U+{:04X}",
+            first as u32
+        );
+        assert!(err.contains(&want), "{id:?}: wanted {want}, got {err}");
+        assert!(!Path::new(&out).exists(), "{id:?}");
+    }
+}
+
+#[test]
+fn an_invisible_character_in_a_column_name_is_shown_escaped() {
+    // A column name that holds a zero-width space and a tag character is shown with both as
+    // their escapes (the tag character, above U+FFFF, as its UTF-16 surrogate pair, as JSON
+    // writes it), so that it does not print as another name; `--json` reads back the name.
+    let dir = tempfile::tempdir().unwrap();
+    let log = dir.path().join("log.csv");
+    let column = "omega\u{200b}\u{e0041}_dph";
+    let mut text = format!("time_s,{column},temp_c\n");
+    for i in 0..600 {
+        let t = i as f64;
+        text.push_str(&format!("{t},{},{}\n", (t / 50.0).sin(), 20.0 + t * 0.01));
+    }
+    std::fs::write(&log, text).unwrap();
+    let log = log.display().to_string();
+    let shown = ok(&["inspect", &log]);
+    assert!(shown.contains("omega\\u200b\\udb40\\udc41_dph"), "{shown}");
+    assert!(!shown.contains('\u{200b}') && !shown.contains('\u{e0041}'));
+    let json = ok(&["inspect", &log, "--json"]);
+    let json: serde_json::Value = serde_json::from_str(&json).unwrap();
+    assert_eq!(json["info"]["columns"][1]["name"], column);
+}
+
 #[test]
 fn an_axis_name_with_a_line_break_is_refused_on_load() {
     // A line break (or any control character) in a name would start a line of its own on the

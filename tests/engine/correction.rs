@@ -165,6 +165,66 @@ fn correction_reduces_drift_in_sample_and_held_out() {
 }
 
 #[test]
+fn a_term_left_out_has_no_range_to_lie_outside_of() {
+    // A dead-band on |T̈| wider than any T̈ of the log leaves K2± without a usable point: each is
+    // fitted as zero over the empty range [0, 0]. Zero wherever T̈ lies, such a term can hold no
+    // sample at an edge, so the share outside the calibrated ranges is the one a zero K2 over
+    // every T̈ of the log gives (K0's and K1's ranges alone), not the 99 % of the samples whose
+    // T̈ is not exactly 0.
+    use driftlab::models::approx::{Approx, ApproxKind, Curve, FitStats};
+    let log = noisy_log();
+    let recipe = Recipe {
+        deadband_tddot: Some(1.0),
+        ..Recipe::default()
+    };
+    let cal = vakhrameev::fit(&log, &recipe.checked().unwrap())
+        .unwrap()
+        .calibration;
+    assert!(cal.k2_plus.is_left_out() && cal.k2_minus.is_left_out());
+    assert!(!cal.k0.is_left_out() && !cal.k1_plus.is_left_out() && !cal.k1_minus.is_left_out());
+    assert_eq!(cal.left_out().names(), ["K2+", "K2−"]);
+    let zero_over_every_tddot = Approx::new(
+        ApproxKind::Linear,
+        Curve::Polynomial { coeffs: vec![0.0] },
+        -1e9,
+        1e9,
+        false,
+        FitStats::default(),
+    )
+    .unwrap();
+    let mut wide = cal.clone();
+    wide.k2_plus = zero_over_every_tddot.clone();
+    wide.k2_minus = zero_over_every_tddot;
+    let (left, truth) = (cal.correct(&log), wide.correct(&log));
+    assert_eq!(left.cor_dph, truth.cor_dph);
+    assert_eq!(left.outside_by_regime, truth.outside_by_regime);
+    assert_eq!(left.outside_fraction, truth.outside_fraction);
+    // As a file writes it and reads it back, the term is still left out, and named beside
+    // the share.
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("no-k2.json");
+    calibration::save(&path, &cal).unwrap();
+    let back = calibration::load(&path).unwrap();
+    assert_eq!(back.left_out(), cal.left_out());
+    let model = driftlab::models::DriftModel::Vakhrameev(Box::new(back.clone()));
+    let e = metrics::Evaluation::of(&back, &log, &MeritOptions::default()).of_model(&model);
+    assert_eq!(e.outside_fraction, truth.outside_fraction);
+    assert!(
+        e.outside_text()
+            .ends_with("outside the calibrated ranges (K2+ and K2− left out: zero, with no range)"),
+        "{}",
+        e.outside_text()
+    );
+    // A calibration that left nothing out is judged by every range, as before.
+    let full = vakhrameev::fit(&log, &driftlab::models::CheckedRecipe::default())
+        .unwrap()
+        .calibration;
+    assert!(full.left_out().is_none());
+    let e = metrics::Evaluation::of(&full, &log, &MeritOptions::default());
+    assert!(!e.outside_text().contains("left out"));
+}
+
+#[test]
 fn corrected_csv_reads_back_exactly() {
     let log = noisy_log();
     let cal = vakhrameev::fit(&log, &driftlab::models::CheckedRecipe::default())

@@ -269,3 +269,23 @@ fn c_header_restarts_after_a_dropout_as_driftlab() {
         assert_ne!(runs[0][seg.start - 1].tdot, 0.0, "sample {}", seg.start - 1);
     }
 }
+
+#[test]
+fn c_header_flags_no_sample_outside_a_term_left_out() {
+    // K2± left out for want of points (a dead-band on |T̈| wider than any T̈): zero over the
+    // range [0, 0]. The C flags a sample outside as driftlab judges it, by K0's and K1's ranges
+    // alone; with K2's [0, 0] every sample whose T̈ was not exactly 0 was outside.
+    let (cal_log, val_log) = (read("calibration.csv"), read("validation.csv"));
+    let recipe = driftlab::models::recipe::Recipe {
+        deadband_tddot: Some(1.0),
+        ..Default::default()
+    };
+    let cal = driftlab::models::vakhrameev::fit(&cal_log, &recipe.checked().unwrap())
+        .unwrap()
+        .calibration;
+    assert!(cal.k2_plus.is_left_out() && cal.k2_minus.is_left_out());
+    let Some(a) = c_agrees_with_driftlab("K2 left out", &cal, &[&val_log]) else {
+        return;
+    };
+    assert!(a.outside * 10 < a.samples, "{a:?}");
+}

@@ -550,6 +550,48 @@ fn a_serial_number_or_date_with_control_characters_is_refused_in_every_version()
     refused(&id, "gyro_id", "holds the control character U+001B");
 }
 
+/// Characters that print as nothing, Unicode format characters (category Cf) and a tag
+/// character: a zero-width space, a byte order mark, a soft hyphen, a word joiner, and the tag
+/// of the letter A (U+E0041), which with others spells a text no terminal shows.
+const INVISIBLE: [char; 5] = ['\u{200b}', '\u{feff}', '\u{ad}', '\u{2060}', '\u{e0041}'];
+
+#[test]
+fn a_serial_number_date_or_axis_name_with_an_invisible_character_is_refused() {
+    // `FOG-0001` and `FOG-0001` followed by a zero-width space print alike and are two gyros
+    // to anything matching units by serial number: refused as a control character is, by the
+    // rule every name, serial number and date of a file is judged printable by.
+    let dir = tempfile::tempdir().unwrap();
+    let poly = saved(
+        dir.path(),
+        "poly.json",
+        &fitted(
+            &read("calibration.csv"),
+            ModelChoice::Preset(Preset::PolyT),
+            &Recipe::default(),
+        ),
+    );
+    let unit = unit_file(dir.path());
+    for c in INVISIBLE {
+        let why = format!("holds the control character U+{:04X}", c as u32);
+        let id = edited(&poly, "id.json", |v| {
+            body(v)["gyro_id"] = json!(format!("FOG-0001{c}"))
+        });
+        refused(&id, "gyro_id", &why);
+        let date = edited(&poly, "date.json", |v| {
+            body(v)["created"] = json!(format!("2026-12-04T00:00:00Z{c}"))
+        });
+        refused(&date, "created", &why);
+        let unit_id = edited(&unit, "unit-id.json", |v| {
+            v["gyro_id"] = json!(format!("FOG{c}-0001"))
+        });
+        refused(&unit_id, "gyro_id", &why);
+        let axis = edited(&unit, "unit-axis.json", |v| {
+            v["axes"][1]["name"] = json!(format!("g{c}y"))
+        });
+        refused(&axis, "axes.name", &format!("axis 1's name {why}"));
+    }
+}
+
 #[test]
 fn a_calibration_saved_with_a_byte_order_mark_reads_as_without() {
     let dir = tempfile::tempdir().unwrap();

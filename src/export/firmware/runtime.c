@@ -131,8 +131,20 @@ static inline int driftlab_regime(double tdot_c_s, double tddot_c_s2)
 /*@ end regime_fn */
 /*@ begin beyond_fn */
 
+/* 1 when x lies beyond the range c was fitted on. A term left out for want of points (the zero
+ * polynomial over an empty range, x_min == x_max) adds nothing wherever x lies: no x is beyond
+ * it, as driftlab judges it. */
 static inline int driftlab_beyond(const driftlab_curve *c, double x)
 {
+    if (!c->knot_curve && c->x_min == c->x_max) {
+        size_t k;
+        for (k = 0; k < c->n; k++) {
+            if (c->coeffs[k] != 0.0) {
+                return x < c->x_min || x > c->x_max;
+            }
+        }
+        return 0;
+    }
     return x < c->x_min || x > c->x_max;
 }
 /*@ end beyond_fn */

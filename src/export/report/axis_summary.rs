@@ -118,7 +118,10 @@ fn axis_row(a: &PageAxis<'_>, l: &LogReport) -> Markup {
                 td class="num" { (dph(cor, l.unit)) }
                 (ratio_cell(ratio))
             }
-            td class="num" { (crate::number::percent(l.evaluation.outside_fraction)) " %" }
+            td class="num" {
+                (crate::number::percent(l.evaluation.outside_fraction)) " %"
+                @if !l.evaluation.left_out.is_none() { br; small { (l.evaluation.left_out.to_string()) } }
+            }
         }
         "\n"
     }

@@ -258,7 +258,9 @@ fn merit_table(l: &LogReport, d: Depth, window_s: f64, run: Option<usize>) -> Ma
             (format!("{:.1}", l.temp_range_c.0)) " … " (format!("{:.1}", l.temp_range_c.1))
             " °C; " (e.warmup_samples) " warm-up samples left out, " (c.raw.windows)
             " windows of " (w) "; " (crate::number::percent(e.outside_fraction))
-            " % of samples outside the calibrated ranges. SHA-256 " code { (l.sha256) }
+            " % of samples outside the calibrated ranges"
+            @if !e.left_out.is_none() { " (" (e.left_out.to_string()) ")" }
+            ". SHA-256 " code { (l.sha256) }
         }
         @if let Some(why) = &l.cannot_tell {
             p {

@@ -25,6 +25,9 @@ pub(super) struct LogSection<'a> {
     /// What the model's sketch found of it (`None`: no sketch kept).
     pub(super) share: Option<crate::log::run_sketch::Shared>,
     pub(super) correction: Correction,
+    /// The model's terms left out for want of points, named beside the share of samples
+    /// outside its ranges.
+    pub(super) left_out: crate::models::vakhrameev::LeftOut,
     /// Plateaus to shade in its temperature program, (start, end) s.
     pub(super) plateaus: &'a [(f64, f64)],
     /// Allan curves given by the caller (`None`: computed here).
@@ -49,6 +52,7 @@ pub(super) fn log_report(
         in_sample,
         share,
         correction,
+        left_out,
         plateaus,
         allan,
     } = section;
@@ -59,7 +63,10 @@ pub(super) fn log_report(
     let stem = unique_stem(path, taken);
     let label = crate::judge::verify::sample_kind(in_sample, share);
     let cannot_tell = share.filter(|_| !in_sample).and_then(|s| s.cannot_tell());
-    let evaluation = Evaluation::of_correction(log, &correction, merit);
+    let evaluation = Evaluation {
+        left_out,
+        ..Evaluation::of_correction(log, &correction, merit)
+    };
     let mut log_figures = Vec::new();
 
     // Temperature program.

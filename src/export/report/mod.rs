@@ -427,6 +427,7 @@ fn build(
             in_sample: in_sample[i],
             share: told[i].1,
             correction,
+            left_out: model.left_out(),
             plateaus: &plateaus,
             allan: opts
                 .allan

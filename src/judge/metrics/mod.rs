@@ -17,6 +17,7 @@ mod running;
 pub use comparison::{Comparison, RATIO_FLOOR, WorseThanRaw};
 pub use figures::{MIN_DISJOINT_FILTER_WINDOWS, figures, figures_buffered, figures_over};
 
+use crate::models::vakhrameev::LeftOut;
 use serde::{Deserialize, Serialize};
 
 /// How the figures are computed.
@@ -175,6 +176,11 @@ pub struct Evaluation {
     pub outside_fraction: f64,
     /// Samples left out at the start of each segment (no rate history yet).
     pub warmup_samples: usize,
+    /// The terms left out for want of points, which have no range `outside_fraction` counts
+    /// ([`Approx::judged_range`](crate::models::approx::Approx::judged_range)): said beside it
+    /// wherever it is shown. Written only when a term was left out.
+    #[serde(default, skip_serializing_if = "LeftOut::is_none")]
+    pub left_out: LeftOut,
 }
 
 impl Evaluation {
@@ -212,6 +218,27 @@ impl Evaluation {
             comparison: Comparison::of(&log.omega_dph, cor_dph, log.nominal_dt_s(), ready, opts),
             outside_fraction,
             warmup_samples: log.len().saturating_sub(used),
+            left_out: LeftOut::default(),
+        }
+    }
+
+    /// This evaluation of `model`, with the terms it left out named.
+    pub fn of_model(self, model: &crate::models::DriftModel) -> Evaluation {
+        Evaluation {
+            left_out: model.left_out(),
+            ..self
+        }
+    }
+
+    /// The share of samples outside the calibrated ranges as a sentence's end: `7.7% outside
+    /// the calibrated ranges`, and the terms left out of it (`99 %` of a log would otherwise
+    /// read as if the calibration covered nothing).
+    pub fn outside_text(&self) -> String {
+        let share = crate::number::percent(self.outside_fraction);
+        if self.left_out.is_none() {
+            format!("{share}% outside the calibrated ranges")
+        } else {
+            format!("{share}% outside the calibrated ranges ({})", self.left_out)
         }
     }
 }

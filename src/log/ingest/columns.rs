@@ -544,6 +544,13 @@ pub(crate) fn plan(sn: &Sniffed, opts: &ReadOptions) -> Result<Plan, Fail> {
     } else {
         Vec::new()
     };
+    // Each other axis's unit, before the axes are weighed against each other: a name stating
+    // a unit the reader does not read (`gy_dps_x1000`) is refused for what it states, not
+    // taken for one that states none.
+    let axis_units = axis_cols
+        .iter()
+        .map(|&j| rate_unit_of(j))
+        .collect::<Result<Vec<StatedRate>, Fail>>()?;
     // Among the columns whose names read as rates: a column of another quantity mapped as the
     // rate (`rate_col temp_c`) is told of by the plausibility checks, with that reason.
     if opts.rate_unit.is_none() {
@@ -573,7 +580,7 @@ pub(crate) fn plan(sn: &Sniffed, opts: &ReadOptions) -> Result<Plan, Fail> {
     for j in 0..ncols {
         let name = sn.names[j].clone();
         let (role, unit) = if let Some(k) = axis_cols.iter().position(|&a| a == j) {
-            let u = rate_unit_of(j)?;
+            let u = axis_units[k];
             actions[j] = Action::Parse {
                 slot: SLOT_TEMP + 1 + k,
                 required: false,

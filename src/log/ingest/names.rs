@@ -7,7 +7,8 @@ pub(super) mod unit_words;
 
 use super::units::{RateUnit, TempUnit, TimeUnit, unit_key};
 use unit_words::{
-    StatedRate, Words, rate_in_slot, rate_in_words, temp_in_slot, time_in_slot, time_in_words,
+    StatedRate, Words, rate_in_slot, rate_in_words, rate_scale, temp_in_slot, time_in_slot,
+    time_in_words,
 };
 
 /// What a header name says about a column.
@@ -34,12 +35,17 @@ pub(super) struct NameParts {
     pub(super) words: Vec<String>,
     /// The unit as written in brackets or after a comma, if any.
     pub(super) unit: Option<String>,
+    /// How many of [`words`](Self::words) stand before the unit's brackets: the words from
+    /// here on were written after them (`1000` in `omega [deg/s]/1000`). All the words, for a
+    /// unit after a comma or ` in `, or none.
+    pub(super) unit_at: usize,
 }
 
 pub(super) fn name_parts(name: &str) -> NameParts {
     let name = name.trim();
     let mut base = name.to_string();
     let mut unit = None;
+    let mut before_brackets = None;
     if let Some(open) = name.find(['[', '(', '{']) {
         let close = match name[open..].chars().next() {
             Some('[') => ']',
@@ -53,6 +59,7 @@ pub(super) fn name_parts(name: &str) -> NameParts {
         unit = Some(name[inner_start..inner_end].trim().to_string());
         let after = name.get(inner_end + 1..).unwrap_or("");
         base = format!("{} {}", &name[..open], after).trim().to_string();
+        before_brackets = Some(words_of(&name[..open].to_lowercase()).len());
     } else if let Some(i) = name.rfind(',') {
         let (b, u) = (&name[..i], name[i + 1..].trim());
         if !u.is_empty() && u.chars().count() <= 12 {
@@ -64,12 +71,22 @@ pub(super) fn name_parts(name: &str) -> NameParts {
         base = name[..i].trim().to_string();
     }
     let base = base.to_lowercase();
-    let words = base
-        .split(|c: char| !c.is_alphanumeric() && c != 'ω')
+    let words = words_of(&base);
+    let unit_at = before_brackets.unwrap_or(words.len());
+    NameParts {
+        base,
+        words,
+        unit,
+        unit_at,
+    }
+}
+
+/// The words of a lower-case name: its runs of letters and digits (`ω` among the letters).
+fn words_of(base: &str) -> Vec<String> {
+    base.split(|c: char| !c.is_alphanumeric() && c != 'ω')
         .filter(|w| !w.is_empty())
         .map(str::to_string)
-        .collect();
-    NameParts { base, words, unit }
+        .collect()
 }
 
 const TIME_WORDS: &[&str] = &[
@@ -518,7 +535,9 @@ pub(super) fn classify(name: &str) -> (Kind, u8) {
         .iter()
         .any(|w| CHAMBER_WORDS.contains(&w.as_str()) || NOT_THE_GYROS_TEMP.contains(&w.as_str()));
     let time_unit = || time_of(&p, 1);
-    let rate_unit = || {
+    // A rate unit the name states, whether or not a number beside it scales it: what makes a
+    // name a rate's (`rate_dps_x1000` is a rate column as `rate_dps` is).
+    let rate_named = || {
         rate_of(&p, 1).or_else(|| {
             // A unit glued to the word: omegadph.
             RATE_WORDS.iter().find_map(|kw| {
@@ -530,6 +549,10 @@ pub(super) fn classify(name: &str) -> (Kind, u8) {
             })
         })
     };
+    // The unit the column is in: none where a number beside the unit scales it
+    // (`omega [deg/s]/1000`, `omega_1000dps`), whose read the reader refuses.
+    let scaled = || rate_scale(&p).is_some();
+    let rate_unit = || rate_named().filter(|_| !scaled());
 
     // A rate of change of temperature (`temp_rate_c_min`, `temp_k_min`) is a chamber's
     // channel, never a temperature: its unit would read as one (`c`, `k`).
@@ -593,10 +616,10 @@ pub(super) fn classify(name: &str) -> (Kind, u8) {
         && ((in_list(first, RATE_WORDS)
             && (!is_weak_rate_word(first)
                 || rest.iter().all(|w| qualifies_a_rate(w))
-                || rate_unit().is_some()))
+                || rate_named().is_some()))
             || RATE_WORDS
                 .iter()
-                .any(|kw| first.starts_with(kw) && rate_unit().is_some()))
+                .any(|kw| first.starts_with(kw) && rate_named().is_some()))
     {
         return (Kind::Rate(rate_unit()), 3);
     }
@@ -617,7 +640,7 @@ pub(super) fn classify(name: &str) -> (Kind, u8) {
         && (rest
             .iter()
             .any(|w| in_list(w, RATE_WORDS) && !is_weak_rate_word(w))
-            || (rest.iter().any(|w| is_weak_rate_word(w)) && rate_unit().is_some()))
+            || (rest.iter().any(|w| is_weak_rate_word(w)) && rate_named().is_some()))
     {
         return (Kind::Rate(rate_unit()), 2);
     }
@@ -630,7 +653,7 @@ pub(super) fn classify(name: &str) -> (Kind, u8) {
         if let Some(u) = StatedRate::from_text(raw)
             .filter(|_| !not_a_reading && (raw.contains('/') || b.len() > 2))
         {
-            return (Kind::Rate(Some(u)), 2);
+            return (Kind::Rate(Some(u).filter(|_| !scaled())), 2);
         }
         if let Some(u) = TempUnit::from_key(b) {
             return (Kind::Temp(Some(u)), 2);
@@ -677,9 +700,10 @@ fn time_of(p: &NameParts, from: usize) -> Option<TimeUnit> {
 
 /// The rate unit a column's name states, whatever the rest of the name says: for a column the
 /// engineer mapped by name (`--rate-col gx_dps` is in deg/s even where `gx` alone would not be
-/// read as a rate).
+/// read as a rate). None where a number beside the unit scales it ([`rate_scale`]).
 pub(crate) fn stated_rate(name: &str) -> Option<StatedRate> {
-    rate_of(&name_parts(name), 0)
+    let p = name_parts(name);
+    rate_of(&p, 0).filter(|_| rate_scale(&p).is_none())
 }
 
 /// The time unit a column's name states, whatever the rest of the name says.

@@ -7,6 +7,7 @@
 //! but stricter about gaps: a missing or unreadable value stops the read at its line, because
 //! a rate series without time cannot show where a sample was dropped.
 
+use super::names::unit_words::{Quantity, unread_unit};
 use super::parse::{Cell, parse_cell};
 use super::sniff::{is_skippable, strip_cr};
 use super::{IngestError, RateUnit, ReadOptions};
@@ -34,7 +35,9 @@ pub struct RateSeries {
 /// separator.
 ///
 /// # Errors
-/// An unreadable file, a missing value, or a cell that is not a number, at its line.
+/// An unreadable file, a missing value, or a cell that is not a number, at its line; a header
+/// that states a unit the reader does not read (a rate unit with a scale beside it), without
+/// `rate_unit`.
 pub fn read_rate_series(
     path: &Path,
     opts: &ReadOptions,
@@ -56,6 +59,7 @@ pub(super) fn read_rate_series_from(
     };
     let comma = opts.decimal_comma.unwrap_or(false);
     let mut header: Option<String> = None;
+    let mut header_line = 0;
     let mut values = Vec::new();
     let mut buf = Vec::new();
     let mut reader = BufReader::new(reader);
@@ -102,6 +106,7 @@ pub(super) fn read_rate_series_from(
             Cell::Num(v) => values.push(v),
             Cell::Bad if values.is_empty() && header.is_none() => {
                 header = Some(String::from_utf8_lossy(cell).into_owned());
+                header_line = line_no;
             }
             Cell::Missing => {
                 return Err(fail(
@@ -129,6 +134,13 @@ pub(super) fn read_rate_series_from(
     }
     if values.is_empty() && header.is_none() {
         return Err(fail(0, "the file holds no data".into()));
+    }
+    // A unit the header states that the reader does not read (`omega [deg/s]/1000`,
+    // `omega_rpm`): refused as the log reader refuses it, never read in the default.
+    if let Some(name) = header.as_deref().filter(|_| opts.rate_unit.is_none())
+        && let Some(u) = unread_unit(name, Quantity::Rate).filter(|u| u.refuses())
+    {
+        return Err(fail(header_line, u.refusal(Quantity::Rate, name)));
     }
     let name = header.unwrap_or_else(|| "col1".into());
     let unit = opts

@@ -159,6 +159,35 @@ impl Approx {
         }
     }
 
+    /// Whether this is a term left out for want of points: the zero polynomial over an empty
+    /// range, as [`Approx::zero`] makes it and every calibration file has written it (`coeffs
+    /// [0]`, `x_min` = `x_max` = 0). Such a term adds nothing wherever its input lies, so it has
+    /// no range a sample could lie outside of ([`Approx::judged_range`]).
+    pub fn is_left_out(&self) -> bool {
+        self.x_min == self.x_max
+            && matches!(&self.curve, Curve::Polynomial { coeffs } if coeffs.iter().all(|&c| c == 0.0))
+    }
+
+    /// The range a sample's input is judged against, `[lo, hi]`: beyond it (`x < lo || x > hi`)
+    /// the calibration never saw the input, and the edge value was held or the curve
+    /// extrapolated. The range the curve was fitted on; the whole line for a term left out
+    /// ([`Approx::is_left_out`]), which no input lies outside of: with its range `[0, 0]`
+    /// every sample with a nonzero Ṫ or T̈ counted as outside the calibrated ranges, 99 % of a
+    /// log, for a term that is zero everywhere.
+    pub fn judged_range(&self) -> [f64; 2] {
+        if self.is_left_out() {
+            [f64::NEG_INFINITY, f64::INFINITY]
+        } else {
+            [self.x_min, self.x_max]
+        }
+    }
+
+    /// Whether `x` lies beyond [`Approx::judged_range`] (a NaN lies nowhere: never beyond).
+    pub fn is_beyond(&self, x: f64) -> bool {
+        let [lo, hi] = self.judged_range();
+        x < lo || x > hi
+    }
+
     /// The family this approximation was fitted as.
     pub fn kind(&self) -> ApproxKind {
         self.kind

@@ -372,15 +372,15 @@ impl Calibration {
     }
 
     /// Whether a sample lies beyond what the calibration saw (its T outside K0's range, or its
-    /// rate outside the range of the approximation its regime uses).
+    /// rate outside the range of the approximation its regime uses; a term left out has no
+    /// range, [`Approx::judged_range`](crate::models::approx::Approx::judged_range)).
     #[inline]
     pub fn is_outside(&self, temp_c: f64, tdot: f64, tddot: f64, regime: Regime) -> bool {
-        let beyond = |a: &crate::models::approx::Approx, x: f64| x < a.x_min() || x > a.x_max();
-        beyond(&self.k0, temp_c)
+        self.k0.is_beyond(temp_c)
             || match regime {
                 Regime::Static => false,
-                Regime::Plus => beyond(&self.k1_plus, tdot) || beyond(&self.k2_plus, tddot),
-                Regime::Minus => beyond(&self.k1_minus, tdot) || beyond(&self.k2_minus, tddot),
+                Regime::Plus => self.k1_plus.is_beyond(tdot) || self.k2_plus.is_beyond(tddot),
+                Regime::Minus => self.k1_minus.is_beyond(tdot) || self.k2_minus.is_beyond(tddot),
             }
     }
 

@@ -26,6 +26,8 @@ mod k0_claim;
 mod k0_plateaus;
 mod k0_range;
 pub mod knots;
+mod left_out;
+pub use left_out::LeftOut;
 mod predictor;
 mod reach;
 pub use reach::CHAMBER_REACH;

@@ -16,14 +16,15 @@ pub struct Predictor<'a> {
     /// K1 and K2 of the + set, then of the − set.
     k1: [Evaluator<'a>; 2],
     k2: [Evaluator<'a>; 2],
-    /// `[x_min, x_max]` of K0, then of K1 and K2 of each set.
+    /// The range each input is judged against ([`Approx::judged_range`]): of K0, then of K1
+    /// and K2 of each set.
     k0_range: [f64; 2],
     k1_range: [[f64; 2]; 2],
     k2_range: [[f64; 2]; 2],
 }
 
 fn range(a: &Approx) -> [f64; 2] {
-    [a.x_min(), a.x_max()]
+    a.judged_range()
 }
 
 impl Calibration {

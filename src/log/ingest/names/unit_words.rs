@@ -22,7 +22,7 @@
 //!   `rate_dps_mean`, `w_rad_s_x`): the words after a unit qualify the column or name its
 //!   axis; a unit does not stop being one because a word follows it. Only when a name states
 //!   two different units (`gyro_dps_x_rad_s_filtered`) is it unclear which, and the reader
-//!   asks.
+//!   asks. A number is no such word: see the scales below.
 //! * **Time in days, centiseconds and deciseconds**: `days`, `cs`, spelt-out names
 //!   (`deciseconds`) are read wherever a time unit is; the one-letter `d` and the ambiguous
 //!   `ds` only where a unit is written alone (`time [d]`, `time [ds]`), since `time_d` may be a
@@ -33,7 +33,10 @@
 //!   of that length: the message says they read as samples at the rate they make, with
 //!   `time_unit samples` and `sample_rate_hz`); anything with a slash, `per`, `^` or a degree
 //!   sign that is not a unit above (`[furlongs/fortnight]`); a count of a rate unit
-//!   (`[10 deg/h]`); a unit of another quantity (`Rate [°C]`, `time [deg/s]`); a count of a
+//!   (`[10 deg/h]`); a rate unit with a number, or a sign of a product or quotient and a
+//!   number, right beside it (`[deg/s/1000]`, `[deg/s x 1e-3]`, `[deg/s]/1000`,
+//!   `(deg/s)*1000`, `omega_dps_div1000`, `omega_dps_x1000`, `omega_1000dps`: a scale or a
+//!   count of the unit, `rate_scale.rs`; a one, `omega_1_dps`, is the unit); a unit of another quantity (`Rate [°C]`, `time [deg/s]`); a count of a
 //!   register (`[LSB]`, `[counts]`, `[ticks]`); an angle the reader has no factor for glued
 //!   to `p` and a time, as a word of the name or alone (`omega_rpm`, `Rate [rpm]`,
 //!   `omega_udps`, `gyro_revps`: revolutions, micro-degrees).
@@ -52,15 +55,18 @@
 //!   a unit or a note; a word that is plainly a note (an axis letter, a sensor
 //!   number, `filtered`, `UTC`) is neither.
 //!
-//! The rate words are `rate_words.rs`, the time words `time_words.rs`, and what is refused or
-//! warned of `unread.rs`; this file holds what the three share.
+//! The rate words are `rate_words.rs` (a number beside them `rate_scale.rs`), the time words
+//! `time_words.rs`, and what is refused or warned of `unread.rs`; this file holds what they
+//! share.
 
+mod rate_scale;
 mod rate_words;
 mod time_words;
 mod unread;
 
 use crate::log::ingest::units::{TempUnit, unit_key};
 
+pub(crate) use rate_scale::rate_scale;
 pub(crate) use rate_words::{StatedRate, rate_in_slot, rate_in_words};
 pub(crate) use time_words::{time_in_slot, time_in_words};
 pub(crate) use unread::{Quantity, is_note, unread_unit};

@@ -264,7 +264,7 @@ impl StatedRate {
     /// `rad_s`, `deg_h`), a glued one (`mrads`), an angle per a time with `per`
     /// (`deg_per_min`), or an angle word and a time word (`arcsec_s`, `mrad_s`) unless the
     /// time is a minute (see [`Words::Either`]).
-    fn from_words(words: &[String]) -> Option<StatedRate> {
+    pub(super) fn from_words(words: &[String]) -> Option<StatedRate> {
         let key = unit_key(&words.concat());
         if let Some(u) = RateUnit::from_key(&key) {
             return Some(u.into());

@@ -4,7 +4,7 @@
 
 use super::super::is_role_word;
 use super::rate_words::{RateWord, unknown_rate_word};
-use super::{StatedRate, temp_in_slot, time_in_slot, time_in_words};
+use super::{StatedRate, rate_scale, temp_in_slot, time_in_slot, time_in_words};
 use super::{Words, count_of, counted, rate_in_slot, rate_in_words, shaped, slot_words};
 use crate::log::ingest::units::{TempUnit, TimeUnit, unit_key};
 
@@ -77,6 +77,9 @@ enum Why {
     Degrees(f64),
     /// One other word where a unit is written alone: a unit, or a note.
     Word,
+    /// A rate unit with a number beside it (`deg/s/1000`, `dps_x1000`, `1000dps`): a scale or
+    /// a count of the unit, or a sensor's number.
+    Scaled,
 }
 
 /// Words of a register's or a clock's counts where a unit goes: the reader has no factor for
@@ -332,6 +335,15 @@ fn multiplied(text: &str) -> Option<(f64, TempUnit)> {
 /// `gx_lsb`). `None` when the name states a unit the reader reads, or none.
 pub(crate) fn unread_unit(name: &str, q: Quantity) -> Option<Unread> {
     let p = super::super::name_parts(name);
+    // A rate unit with a number beside it, wherever it is written: not the unit beside it.
+    if q == Quantity::Rate
+        && let Some(text) = rate_scale(&p)
+    {
+        return Some(Unread {
+            text,
+            why: Why::Scaled,
+        });
+    }
     if let Some(text) = p.unit.as_deref() {
         let read = match q {
             Quantity::Rate => rate_in_slot(text).is_some(),
@@ -443,6 +455,11 @@ impl Unread {
             Why::Word => format!(
                 "has \"{t}\" where a unit is written, which driftlab does not read as a unit"
             ),
+            Why::Scaled => format!(
+                "states its unit as \"{t}\", a rate unit with a number beside it (a scale or a \
+                 count of the unit, or a sensor's number), which driftlab does not read as that \
+                 unit"
+            ),
         }
     }
 
@@ -468,6 +485,13 @@ impl Unread {
                     "if each count is {n} °C, state the unit as {u} (temp [{u}]); else {out}"
                 );
             }
+        }
+        if self.why == Why::Scaled {
+            // The scale is in the unit the engineer gives: a thousandth of a deg/s is the
+            // mdeg/s the setting offers.
+            out = "give the unit the column is in with rate_unit (deg/h, deg/s, mdeg/s or \
+                   rad/s; deg/s/1000 is mdeg/s)"
+                .to_string();
         }
         if q == Quantity::Rate {
             out.push_str(
