@@ -220,11 +220,10 @@ fn the_c_header_of_a_six_axis_unit_corrects_every_axis_as_apply_bit_for_bit() {
     assert_eq!(same, 6 * log.len());
 }
 
-#[test]
-fn a_ulog_of_gyro_and_accelerometer_calibrates_and_loads_into_px4_as_apply_predicts() {
-    // The MEMS IMU's run written as PX4 logs it: sensor_gyro in rad/s and sensor_accel in
-    // m/s² of one device, float32, with the die's temperature.
-    let dir = tempfile::tempdir().unwrap();
+/// The MEMS IMU's run (seed 5) written as PX4 logs it into `dir/thermal.ulg`: sensor_gyro in
+/// rad/s and sensor_accel in m/s², float32, with the die's temperature, the two sensors'
+/// `device_id`s as given; the file and its temperatures.
+fn mems_ulog(dir: &Path, device_ids: [u32; 2]) -> (String, Vec<f32>) {
     let run = driftlab::sim::simulate(&driftlab::sim::profile("mems-imu").unwrap(), 5);
     let g: Vec<[f32; 3]> = (0..run.len())
         .map(|i| [0, 1, 2].map(|k| (run.axes[k].omega_dph[i] / DPH_PER_RAD_S) as f32))
@@ -233,12 +232,18 @@ fn a_ulog_of_gyro_and_accelerometer_calibrates_and_loads_into_px4_as_apply_predi
         .map(|i| [0, 1, 2].map(|k| (run.accelerometers[k].values_g[i] * 9.80665) as f32))
         .collect();
     let t: Vec<f32> = run.temp_c.iter().map(|&v| v as f32).collect();
-    let ulg = at(dir.path(), "thermal.ulg");
-    std::fs::write(
-        &ulg,
-        common::drone::ulog_imu(&run.time_s, &g, &a, &t, 2424842),
-    )
-    .unwrap();
+    let ulg = at(dir, "thermal.ulg");
+    let bytes = common::drone::ulog_imu_of(&run.time_s, &run.time_s, &g, &a, &t, device_ids);
+    std::fs::write(&ulg, bytes).unwrap();
+    (ulg, t)
+}
+
+#[test]
+fn a_ulog_of_gyro_and_accelerometer_calibrates_and_loads_into_px4_as_apply_predicts() {
+    // The MEMS IMU's run written as PX4 logs it: sensor_gyro in rad/s and sensor_accel in
+    // m/s² of one device, float32, with the die's temperature.
+    let dir = tempfile::tempdir().unwrap();
+    let (ulg, t) = mems_ulog(dir.path(), [2424842, 2424842]);
     let cal = at(dir.path(), "cal.json");
     let printed = ok(&[
         "calibrate",
@@ -284,20 +289,7 @@ fn an_accelerometer_with_its_own_device_id_is_recorded_and_asked_for_never_given
     // A driver that numbers the chip's gyro and accelerometer apart: PX4 finds TC_A0 by the
     // accelerometer's id, so the gyro's would leave the accelerometer uncompensated.
     let dir = tempfile::tempdir().unwrap();
-    let run = driftlab::sim::simulate(&driftlab::sim::profile("mems-imu").unwrap(), 5);
-    let g: Vec<[f32; 3]> = (0..run.len())
-        .map(|i| [0, 1, 2].map(|k| (run.axes[k].omega_dph[i] / DPH_PER_RAD_S) as f32))
-        .collect();
-    let a: Vec<[f32; 3]> = (0..run.len())
-        .map(|i| [0, 1, 2].map(|k| (run.accelerometers[k].values_g[i] * 9.80665) as f32))
-        .collect();
-    let t: Vec<f32> = run.temp_c.iter().map(|&v| v as f32).collect();
-    let ulg = at(dir.path(), "thermal.ulg");
-    std::fs::write(
-        &ulg,
-        common::drone::ulog_imu_of(&run.time_s, &run.time_s, &g, &a, &t, [2424842, 2424843]),
-    )
-    .unwrap();
+    let (ulg, _) = mems_ulog(dir.path(), [2424842, 2424843]);
     let listed = ok(&["inspect", &ulg]);
     assert!(
         listed.contains("device_id 2424842 (0x25000A)")
