@@ -6,6 +6,7 @@
 //! opens with them.
 
 use super::common::gui::{harness, settle, with_dialogs};
+use driftlab::export::firmware::Format;
 use driftlab::files::calibration;
 use driftlab::gui::{Action, Workbench};
 use driftlab::log::AxisKind;
@@ -215,6 +216,37 @@ fn exports_hold_the_accelerometer_axes_as_calibrate_accel_and_apply_write_them()
         written[0]
     );
     assert_eq!(written, body(&applied));
+
+    // ArduPilot's file: what `driftlab export` writes of the command line's calibration, the
+    // accelerometers' parameters among them.
+    let parm = dir.path().join("window.parm");
+    dialogs.answer(Some(parm.clone()));
+    act(&mut h, Action::ExportFlight(Format::ArdupilotParm));
+    let exported = dir.path().join("exported.parm");
+    driftlab(&[
+        "export".as_ref(),
+        cli.as_os_str(),
+        "--format".as_ref(),
+        "ardupilot-parm".as_ref(),
+        "--out".as_ref(),
+        exported.as_os_str(),
+    ]);
+    let written = body(&parm);
+    assert!(
+        written.iter().any(|l| l.starts_with("INS_TCAL1_ACC1_X")),
+        "{written:?}"
+    );
+    assert_eq!(written, body(&exported));
+
+    // The report: every axis, the accelerometers' with the axis that carries gravity.
+    let report = dir.path().join("report");
+    dialogs.answer(Some(report.clone()));
+    act(&mut h, Action::ExportReport);
+    let html = std::fs::read_to_string(report.join("report.html")).expect("the report is written");
+    for name in accel_names(&log) {
+        assert!(html.contains(&name), "axis {name} in the report");
+    }
+    assert!(html.contains("carries gravity"));
 }
 
 #[test]
