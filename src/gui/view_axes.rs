@@ -22,7 +22,7 @@ impl AxesView {
     /// menu bar): each axis's name and peak-to-peak ratios only, the rest on hover.
     pub fn ui(&mut self, ui: &mut Ui, state: &AppState, compact: bool) -> Vec<Action> {
         let form = if compact { Form::Compact } else { Form::Full };
-        self.strip(ui, state, form)
+        self.strip(ui, state, form, false)
     }
 
     /// The strip in the menu bar, in `room` points: as [`AxesView::ui`] draws it compact, or
@@ -42,15 +42,25 @@ impl AxesView {
             .sum::<f32>()
             + 48.0
             + accel_width(ui, state, Form::Compact, pad);
-        let form = if wide > room {
-            Form::Narrow
+        let narrow: f32 = (0..unit.names.len())
+            .filter_map(|k| state.axis(k))
+            .map(|a| {
+                let job = axis_text(ui, &a, k_selected(state, a.name), Form::Narrow);
+                ui.fonts_mut(|f| f.layout_job(job).size().x) + pad
+            })
+            .sum::<f32>()
+            + 48.0
+            + accel_width(ui, state, Form::Narrow, pad);
+        // Narrower still, the accelerometer axes fold into a menu of their own.
+        let (form, fold) = if wide <= room {
+            (Form::Compact, false)
         } else {
-            Form::Compact
+            (Form::Narrow, narrow > room)
         };
-        self.strip(ui, state, form)
+        self.strip(ui, state, form, fold)
     }
 
-    fn strip(&mut self, ui: &mut Ui, state: &AppState, form: Form) -> Vec<Action> {
+    fn strip(&mut self, ui: &mut Ui, state: &AppState, form: Form, fold: bool) -> Vec<Action> {
         let compact = form != Form::Full;
         let mut out = Vec::new();
         let Some(unit) = &state.unit else {
@@ -92,7 +102,15 @@ impl AxesView {
             }
             if state.accel.is_some() {
                 ui.separator();
-                out.extend(accel_strip(ui, state, form));
+                if fold {
+                    ui.menu_button(switch_label(form), |ui| {
+                        out.extend(accel_strip(ui, state, Form::Compact));
+                    })
+                    .response
+                    .on_hover_text("The accelerometer axes: the switch, and each axis's figures");
+                } else {
+                    out.extend(accel_strip(ui, state, form));
+                }
             }
         });
         out

@@ -252,6 +252,8 @@ impl Workbench {
                 if !remapped && !from_session {
                     self.state.accel_off = false;
                 }
+                // (a campaign calibrates its gyro axes alone: an accelerometer keeps the mean of
+                // the one run it is fitted on)
                 self.state.accel = if views.is_empty() {
                     None
                 } else {
@@ -259,6 +261,7 @@ impl Workbench {
                         .shown
                         .log
                         .as_ref()
+                        .filter(|l| l.log.runs().len() < 2)
                         .and_then(crate::gui::state::AccelAxes::of)
                 };
                 if views.is_empty() {
