@@ -300,3 +300,47 @@ fn the_switch_leaves_them_out_and_the_session_keeps_it() {
         assert!(!s.dirty(), "{}: nothing unsaved", session.display());
     }
 }
+
+#[test]
+fn a_calibration_opened_beside_is_judged_on_the_accelerometer_axes_as_evaluate_judges_it() {
+    use super::open_calibration::evaluate_json;
+    use driftlab::gui::action::OpenLog;
+    use driftlab::gui::jobs::AxisVerdict;
+    let dir = tempfile::tempdir().unwrap();
+    let log = imu6(dir.path());
+    let cal = dir.path().join("cli.json");
+    driftlab(&[
+        "calibrate".as_ref(),
+        log.as_os_str(),
+        "--accel".as_ref(),
+        "--out".as_ref(),
+        cal.as_os_str(),
+    ]);
+    let cli = evaluate_json(&cal, &log, &[]);
+    let mut h = opened(&log);
+    act(&mut h, Action::OpenCalibrationPath(cal.clone()));
+    let v = h.state().opened().unwrap().verified.as_ref().unwrap();
+    let axes = &v
+        .logs
+        .iter()
+        .find(|l| l.which == OpenLog::Calibration)
+        .unwrap()
+        .axes;
+    let names = accel_names(&log);
+    let file = calibration::load_unit(&cal).unwrap();
+    for (k, ax) in file.axes.iter().enumerate() {
+        let AxisVerdict::Judged(j) = &axes[k] else {
+            panic!("axis {} is not judged on the log", ax.name);
+        };
+        assert_eq!(j.log_axis, ax.name);
+        let want = &cli["axes"][k];
+        assert_eq!(want["name"], ax.name.as_str());
+        assert_eq!(
+            serde_json::to_value(j.evaluation).unwrap(),
+            want["evaluation"],
+            "axis {}",
+            ax.name
+        );
+    }
+    assert!(names.iter().all(|n| file.axes.iter().any(|a| a.name == *n)));
+}

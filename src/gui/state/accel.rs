@@ -20,6 +20,10 @@ pub struct AccelAxes {
     pub read_error: Option<String>,
     /// Their names, in the log's order.
     pub names: Vec<String>,
+    /// Each as a log of its own (its samples in `omega_dph`, no other axis), in the same
+    /// order: what a calibration opened beside the fit is judged on for its accelerometer
+    /// axes, as each gyro axis's view is for its gyro axes.
+    pub views: Vec<Arc<crate::log::Log>>,
     /// The newest calibration of them answered.
     pub fit: Option<Arc<crate::gui::jobs::AccelView>>,
     /// The one shown on the Calibration page in place of the gyro axis, when one is.
@@ -31,11 +35,24 @@ impl AccelAxes {
     /// ([`Loaded::accel`]); `None` for a log without accelerometer columns.
     pub fn of(loaded: &Loaded) -> Option<AccelAxes> {
         Some(match loaded.accel.as_ref()? {
-            Ok(log) => AccelAxes {
-                names: log.axes_of(crate::log::AxisKind::Accel),
-                log: Some(log.clone()),
-                ..AccelAxes::default()
-            },
+            Ok(log) => {
+                let names = log.axes_of(crate::log::AxisKind::Accel);
+                let views = names
+                    .iter()
+                    .map(|n| {
+                        let mut view = (**log).clone();
+                        view.select_axis(n);
+                        view.other_axes.clear();
+                        Arc::new(view)
+                    })
+                    .collect();
+                AccelAxes {
+                    names,
+                    views,
+                    log: Some(log.clone()),
+                    ..AccelAxes::default()
+                }
+            }
             Err(e) => AccelAxes {
                 read_error: Some(e.clone()),
                 ..AccelAxes::default()
