@@ -114,6 +114,11 @@ pub struct Session {
     /// for a log of one axis).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub axes: Vec<AxisChoices>,
+    /// The log's accelerometer axes left out of the unit (turned off in the axis strip).
+    /// They are in it by default, so that a file written before the workbench calibrated
+    /// accelerometers opens with them, and the field is written only when they are off.
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub accelerometers_off: bool,
 }
 
 impl Session {

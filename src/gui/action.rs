@@ -121,6 +121,10 @@ pub enum Action {
     SelectAxis(usize),
     /// Show the next (true) or the previous gyro axis of a unit.
     StepAxis(bool),
+    /// Show this accelerometer axis of a unit (its index among them) on the Calibration page.
+    SelectAccel(usize),
+    /// Calibrate the unit's accelerometer axes (true) or leave them out (false).
+    AccelOn(bool),
     /// Reopen the import view on the loaded log (or the validation log) to change its
     /// column mapping, units or format.
     ColumnMapping(Target),

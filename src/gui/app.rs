@@ -82,6 +82,7 @@ pub struct Workbench {
 struct Views {
     page: Page,
     axes: AxesView,
+    accel: super::view_accel::AccelView,
     runs: RunsView,
     time: TimeView,
     controls: ControlsView,

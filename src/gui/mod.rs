@@ -10,7 +10,8 @@
 //! * [`plot_items`]: plot items drawn from level-of-detail data ([`crate::signal::lod`]), and
 //!   the number formats; [`widgets`]: the widgets more than one view draws;
 //! * one module per view: [`view_import`], [`view_axes`] (a unit's axes: the switch and each
-//!   axis's figures), [`view_time`] (the run over time),
+//!   axis's figures, the accelerometer axes beside the gyro axes), [`view_accel`] (an
+//!   accelerometer axis, in m/s²), [`view_time`] (the run over time),
 //!   [`view_controls`] (the log, the signal settings and the plateau table), [`view_coeffs`]
 //!   (K0, K1±, K2±), [`view_result`] (the drift before and after), [`view_figures`] (the
 //!   figures of merit), [`view_models`] (the Models page), [`view_allan`] (the Allan page) and
@@ -54,6 +55,7 @@
 //! [`widgets`]: crate::gui::widgets
 //! [`view_import`]: crate::gui::view_import
 //! [`view_axes`]: crate::gui::view_axes
+//! [`view_accel`]: crate::gui::view_accel
 //! [`view_time`]: crate::gui::view_time
 //! [`view_controls`]: crate::gui::view_controls
 //! [`view_coeffs`]: crate::gui::view_coeffs
@@ -84,6 +86,7 @@ pub mod plot_axes;
 pub mod plot_items;
 pub mod settings;
 pub mod state;
+pub mod view_accel;
 pub mod view_allan;
 pub mod view_axes;
 pub mod view_coeffs;

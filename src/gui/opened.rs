@@ -77,10 +77,17 @@ impl Opened {
 fn calibration_input(state: &AppState) -> Option<LogInput> {
     let shown = state.shown.log.as_ref()?;
     let (full, views) = match &state.unit {
+        // (with the log's accelerometer axes, whatever the unit's switch says: the opened
+        // file's own may be judged on them)
         Some(u) => (
-            u.full_log.clone()?,
+            state
+                .accel
+                .as_ref()
+                .and_then(|a| a.log.clone())
+                .or_else(|| u.full_log.clone())?,
             (0..u.names.len())
                 .filter_map(|k| state.axis(k)?.log.map(|l| l.log.clone()))
+                .chain(state.accel.iter().flat_map(|a| a.views.iter().cloned()))
                 .collect(),
         ),
         None => (shown.log.clone(), vec![shown.log.clone()]),

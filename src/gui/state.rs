@@ -14,6 +14,9 @@ use crate::signal::plateau::{PlateauRange, PlateauStats};
 use std::path::PathBuf;
 use std::sync::Arc;
 
+mod accel;
+pub use accel::AccelAxes;
+
 /// Everything the engineer chose: what undo and redo step through.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct Choices {
@@ -141,6 +144,13 @@ pub struct AppState {
     pub opened: Option<super::opened::Opened>,
     /// A lot opened on the Lot page ([`crate::lot::open`]).
     pub lot: Option<crate::lot::open::LotTable>,
+    /// The accelerometer axes of the calibration log, when it has accelerometer columns and
+    /// several gyro axes (a unit).
+    pub accel: Option<AccelAxes>,
+    /// The accelerometer axes left out of the unit (turned off in the axis strip; kept in
+    /// sessions). They are in it by default: an engineer who logged them wants them
+    /// calibrated, and a log without them is not changed by it.
+    pub accel_off: bool,
 }
 
 /// What the workbench holds for one gyro axis: its view of the logs, its choices, its fit
@@ -436,6 +446,7 @@ impl AppState {
             merit: self.merit(),
             view: self.view.clone(),
             axes: Vec::new(),
+            accelerometers_off: self.accel_off && self.accel.is_some(),
         };
         if let Some(u) = &self.unit {
             // A unit: every axis's own choices, the first axis's at the top as well.
@@ -507,6 +518,7 @@ impl AppState {
     /// Whether every axis's fit answers its choices (the one axis of a log of one).
     pub fn all_current(&self) -> bool {
         (0..self.axis_count()).all(|k| self.axis(k).is_some_and(|a| a.fit_current()))
+            && self.accel_current()
     }
 
     /// The validation log with every axis of the unit, put back together from each axis's view
@@ -527,6 +539,25 @@ impl AppState {
                 kind: v.log.axis_kind,
             })
             .collect();
+        // The accelerometer axes of the unit, from the validation log's own columns.
+        if self.accel_on() {
+            let with = self
+                .validation_file
+                .as_ref()?
+                .accel
+                .as_ref()?
+                .as_ref()
+                .ok()?;
+            let accel = self.accel.as_ref()?;
+            for name in &accel.names {
+                let rate = with.axis_rate(name)?;
+                log.other_axes.push(crate::log::Axis {
+                    name: name.clone(),
+                    omega_dph: rate.to_vec(),
+                    kind: crate::log::AxisKind::Accel,
+                });
+            }
+        }
         views[1..]
             .iter()
             .all(|v| v.log.len() == log.len())
@@ -534,10 +565,12 @@ impl AppState {
     }
 
     /// The unit's calibration from every axis's current fit, each stamped with the log's
-    /// name and SHA-256 as files record it; `None` for a log of one axis.
+    /// name and SHA-256 as files record it, its accelerometer axes after the gyro axes when it
+    /// calibrates them ([`AppState::accel_calibration`]); `None` for a log of one axis.
     ///
     /// # Errors
-    /// Naming the first axis with no calibration of its current choices.
+    /// Naming the first axis with no calibration of its current choices, or why the
+    /// accelerometer axes have none.
     pub fn unit_calibration(&self) -> Option<Result<crate::models::UnitCalibration, String>> {
         let u = self.unit.as_ref()?;
         let mut axes = Vec::with_capacity(u.names.len());
@@ -561,6 +594,12 @@ impl AppState {
                 log.log.rate_column().unwrap_or_default(),
                 crate::models::DriftModel::Vakhrameev(Box::new(cal)),
             ));
+        }
+        // The accelerometer axes after the gyro axes, as `calibrate --accel` lists them.
+        match self.accel_calibration() {
+            Some(Ok(unit)) => axes.extend(unit.axes),
+            Some(Err(e)) => return Some(Err(e)),
+            None => {}
         }
         Some(Ok(crate::models::UnitCalibration { axes }))
     }

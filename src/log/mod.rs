@@ -102,7 +102,7 @@ impl AxisKind {
     }
 
     /// The unit as tables and messages print it: `°/h`, `m/s²`.
-    pub fn unit(self) -> &'static str {
+    pub const fn unit(self) -> &'static str {
         match self {
             AxisKind::Gyro => "°/h",
             AxisKind::Accel => "m/s²",

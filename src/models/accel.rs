@@ -222,3 +222,20 @@ pub fn static_at(model: &DriftModel, temp_c: f64) -> Option<f64> {
     let mut row = Vec::new();
     Some(m.predict(&x, &[], &mut row))
 }
+
+/// Every accelerometer axis of `log` (in the log's order), each with [`DEFAULT_MODEL`] and
+/// `recipe`: the plans `calibrate --accel` makes when no model is named, for a face that
+/// offers the accelerometers without a model of their own (the workbench).
+pub fn default_plans(
+    log: &Log,
+    recipe: &crate::models::recipe::CheckedRecipe,
+) -> Vec<crate::models::AxisPlan> {
+    log.axes_of(AxisKind::Accel)
+        .into_iter()
+        .map(|name| crate::models::AxisPlan {
+            name,
+            choice: ModelChoice::Preset(DEFAULT_MODEL),
+            recipe: recipe.clone(),
+        })
+        .collect()
+}

@@ -5,6 +5,7 @@
 #[path = "../common/mod.rs"]
 mod common;
 
+mod accel;
 mod campaign;
 mod drone_open;
 mod editing;

@@ -243,6 +243,8 @@ fn export_writes_the_unit_calibration_the_engine_makes_and_its_corrected_csv() {
     let dir = tempfile::tempdir().unwrap();
     let mut h = unit_harness();
     let dialogs = with_dialogs(h.state_mut());
+    // The gyro axes alone (the sample's accelerometers are tests/gui/accel.rs's).
+    act(&mut h, Action::AccelOn(false));
     // Each axis its own approximations.
     act(&mut h, Action::SelectAxis(1));
     let mut spec = h.state().state.recipe().k1_minus.clone();

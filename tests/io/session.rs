@@ -84,6 +84,7 @@ fn a_session(log: PathBuf) -> Session {
             axis: None,
         },
         axes: Vec::new(),
+        accelerometers_off: false,
     }
 }
 
@@ -107,10 +108,13 @@ fn a_unit_session_is_version_2_and_loads_back_equal() {
         })
         .collect();
     s.view.axis = Some("gy".into());
+    // Its accelerometer axes turned off: kept through a save and a load.
+    s.accelerometers_off = true;
     let path = dir.path().join("imu3.session.json");
     session::save(&path, &s).unwrap();
     let text = std::fs::read_to_string(&path).unwrap();
     assert!(text.contains("\"version\": 2"), "{text}");
+    assert!(text.contains("\"accelerometers_off\": true"), "{text}");
     assert_eq!(session::load(&path).unwrap(), s);
     // Axes need version 2: a version-1 file that holds them is refused, naming them.
     let v1 = text.replace("\"version\": 2", "\"version\": 1");

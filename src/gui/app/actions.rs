@@ -269,6 +269,22 @@ impl Workbench {
             Action::ShowPage(p) => self.views.page = p,
             Action::CompareModels => self.compare_models(),
             Action::SelectAxis(k) => self.select_axis(k),
+            Action::SelectAccel(k) => {
+                if let Some(a) = &mut self.state.accel
+                    && k < a.names.len()
+                {
+                    a.shown = Some(k);
+                    self.views.page = Page::Calibration;
+                }
+            }
+            Action::AccelOn(on) => {
+                self.state.accel_off = !on;
+                if let Some(a) = &mut self.state.accel
+                    && !on
+                {
+                    a.shown = None;
+                }
+            }
             Action::StepAxis(next) => {
                 let n = self.state.axis_count();
                 let k = self.state.active_axis();

@@ -485,7 +485,8 @@ impl Workbench {
         if let Some(unit) = self.state.unit_calibration() {
             // A unit: every axis on the calibration log and the validation log, one section
             // each, as `driftlab report` writes it.
-            let full = self.state.unit.as_ref().and_then(|u| u.full_log.clone());
+            // (with its accelerometer axes, when the unit calibrates them)
+            let full = self.state.unit_full_log();
             let (unit, full) = match (unit, full) {
                 (Ok(u), Some(f)) => (u, f),
                 (Err(e), _) => {
@@ -584,7 +585,7 @@ impl Workbench {
         if let Some(unit) = self.state.unit_calibration() {
             // A unit: every axis side by side, as `driftlab apply` writes it.
             let full = match which {
-                OpenLog::Calibration => self.state.unit.as_ref().and_then(|u| u.full_log.clone()),
+                OpenLog::Calibration => self.state.unit_full_log(),
                 OpenLog::Validation => self
                     .state
                     .unit_validation_log()

@@ -28,6 +28,14 @@ impl Workbench {
             });
             self.window.panel_rects.insert("axes", r.response.rect);
         }
+        // An accelerometer axis shown: its own view in m/s², in place of the gyro axis's.
+        if let Some(k) = self.state.accel_shown() {
+            let r = egui::CentralPanel::default().show(ui, |ui| {
+                actions.extend(self.views.accel.ui(ui, &self.state, k))
+            });
+            self.window.panel_rects.insert("central", r.response.rect);
+            return;
+        }
         // A campaign's runs: a row above the page, or in a short window at the head of the
         // controls (the plots keep the row).
         let campaign = self

@@ -30,10 +30,18 @@ impl Workbench {
                 self.jobs.refit(k, req);
             }
         }
+        // The accelerometer axes, with the unit's recipe (the first gyro axis's).
+        if let Some(req) = self.state.accel_request() {
+            self.jobs.accel(req);
+        }
     }
 
     /// Shows axis `k` of the unit (nothing is refitted: each axis keeps its fit).
     pub(super) fn select_axis(&mut self, k: usize) {
+        // A gyro axis chosen: the accelerometer axis shown makes way for it.
+        if let Some(a) = &mut self.state.accel {
+            a.shown = None;
+        }
         if self.state.unit.is_none() || k == self.state.active_axis() {
             return;
         }
@@ -187,6 +195,7 @@ impl Workbench {
                             );
                         }
                         shown_axis = s.view.axis.clone();
+                        self.state.accel_off = s.accelerometers_off;
                         self.state.view = s.view.clone();
                         self.state.merit_window_s = Some(s.merit.window_s);
                         self.views.time.x_command = Some(match s.view.time_range_s {
@@ -239,6 +248,22 @@ impl Workbench {
                         self.k0_on_fresh_log();
                     }
                 }
+                // The accelerometer axes of a unit (on unless a session turned them off).
+                if !remapped && !from_session {
+                    self.state.accel_off = false;
+                }
+                // (a campaign calibrates its gyro axes alone: an accelerometer keeps the mean of
+                // the one run it is fitted on)
+                self.state.accel = if views.is_empty() {
+                    None
+                } else {
+                    self.state
+                        .shown
+                        .log
+                        .as_ref()
+                        .filter(|l| l.log.runs().len() < 2)
+                        .and_then(crate::gui::state::AccelAxes::of)
+                };
                 if views.is_empty() {
                     self.jobs.set_axes(1);
                 } else {
@@ -339,6 +364,14 @@ impl Workbench {
                         p.fit_error = None;
                     }
                     p.fit = Some(view);
+                }
+            }
+            JobResult::AccelFitted(v) => {
+                // The newest asked for alone (an older answer arriving late is stale).
+                if v.generation == self.jobs.newest_accel()
+                    && let Some(a) = &mut self.state.accel
+                {
+                    a.fit = Some(v);
                 }
             }
             JobResult::Previewed(p) => {

@@ -85,6 +85,12 @@ pub struct Loaded {
     /// one axis. The first is this log itself; the others hold no other axis (one copy of
     /// each rate in memory, not one per view).
     pub axis_views: Vec<Loaded>,
+    /// The log with its accelerometer columns made axes after its gyro axes, in m/s², by the
+    /// engine's one rule ([`crate::log::accel_axes::take`], every column named as one, as
+    /// `calibrate --accel` takes them), or why they cannot be; `None` for a log with no
+    /// accelerometer column. Read once with the log, so that turning the accelerometer axes on
+    /// and off reads nothing again.
+    pub accel: Option<Result<Arc<Log>, String>>,
 }
 
 impl Loaded {
@@ -158,6 +164,7 @@ pub(super) fn load_log(h: &LoadHandle, options: LoadOptions) -> JobResult {
             }
             let path = h.path.clone();
             let views = other_axis_views(&log, recorded.as_deref());
+            let accel = accel_log(&log);
             let (((omega, temp), segments), sha256) = rayon::join(
                 || {
                     rayon::join(
@@ -191,6 +198,7 @@ pub(super) fn load_log(h: &LoadHandle, options: LoadOptions) -> JobResult {
                 drone,
                 seconds: 0.0,
                 axis_views: Vec::new(),
+                accel,
             };
             if !views.is_empty() {
                 let first = loaded.clone();
@@ -340,6 +348,21 @@ fn other_axis_views(
             (view, omega, recorded)
         })
         .collect()
+}
+
+/// `log` with its accelerometer columns made axes ([`Loaded::accel`]); `None` when it keeps
+/// no column named as an accelerometer.
+fn accel_log(log: &Log) -> Option<Result<Arc<Log>, String>> {
+    if !log.extra.iter().any(|c| c.is_accelerometer()) {
+        return None;
+    }
+    let mut with = log.clone();
+    let ask = crate::log::accel_axes::AccelAsk::default();
+    Some(
+        crate::log::accel_axes::take(&mut with, &ask)
+            .map(|_| Arc::new(with))
+            .map_err(|e| e.to_string()),
+    )
 }
 
 /// A copy of `log` without its rates (the fields a view of one axis shares with it).

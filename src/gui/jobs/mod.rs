@@ -3,16 +3,19 @@
 //! egui for a repaint so the UI shows them at once.
 //!
 //! One file a job: `load` (a log, with progress and cancel), `fit` (the live refit and its
-//! plot levels of detail), `compare` (the Models page), `allan` (the Allan page) and `opened`
+//! plot levels of detail), `accel` (a unit's accelerometer axes), `compare` (the Models page), `allan` (the Allan page) and `opened`
 //! (a calibration opened to compare: its file read and its judging on the open logs); this
 //! file holds the workers' handle and the channel their results come back through.
 
+mod accel;
 mod allan;
 mod compare;
 mod fit;
 mod load;
 mod opened;
 
+use accel::run_accel;
+pub use accel::{AccelAxisView, AccelFit, AccelKey, AccelRequest, AccelView, Line};
 use allan::run_allan;
 pub use allan::{AllanRequest, AllanView};
 use compare::run_compare;
@@ -82,6 +85,8 @@ pub enum JobResult {
     Verified(Arc<Verified>),
     /// The plateaus and K0 of a plateau edge drag in progress.
     Previewed(Arc<PreviewView>),
+    /// A unit's accelerometer axes were calibrated, or refused.
+    AccelFitted(Arc<AccelView>),
 }
 
 /// The plateaus and K0 of a plateau edge drag in progress, for the axis it was asked for.
@@ -167,6 +172,11 @@ pub struct Jobs {
     verify_sent: Option<VerifyKey>,
     /// The newest judging asked for while another ran, with its number.
     verify_waiting: Option<(u64, Box<VerifyRequest>)>,
+    /// The number of the newest calibration of the accelerometer axes asked for, and of the
+    /// newest answered.
+    accel_numbers: (u64, u64),
+    /// What the newest calibration of the accelerometer axes was asked with.
+    accel_sent: Option<AccelKey>,
 }
 
 impl Default for Jobs {
@@ -209,6 +219,8 @@ impl Jobs {
             verifying: None,
             verify_sent: None,
             verify_waiting: None,
+            accel_numbers: (0, 0),
+            accel_sent: None,
         }
     }
 
@@ -232,9 +244,48 @@ impl Jobs {
             || self.verifying.is_some()
     }
 
-    /// True while a refit asked for has not been answered, of any axis.
+    /// True while a refit asked for has not been answered, of any axis (the accelerometer
+    /// axes among them).
     pub fn fitting(&self) -> bool {
-        (0..self.requested_by_axis.len()).any(|k| self.fitting_axis(k))
+        (0..self.requested_by_axis.len()).any(|k| self.fitting_axis(k)) || self.fitting_accel()
+    }
+
+    /// True while a calibration of the accelerometer axes asked for has not been answered.
+    pub fn fitting_accel(&self) -> bool {
+        self.accel_numbers.1 < self.accel_numbers.0
+    }
+
+    /// The number of the newest calibration of the accelerometer axes asked for (0: none).
+    pub fn newest_accel(&self) -> u64 {
+        self.accel_numbers.0
+    }
+
+    /// Asks for the calibration of the accelerometer axes `request` describes, on a thread,
+    /// unless the newest asked for was the same; true when it was asked for.
+    pub fn accel(&mut self, request: AccelRequest) -> bool {
+        let key = AccelKey::of(&request);
+        if self.accel_sent.as_ref() == Some(&key) {
+            return false;
+        }
+        self.accel_numbers.0 += 1;
+        let generation = self.accel_numbers.0;
+        self.accel_sent = Some(key.clone());
+        let (tx, ctx) = (self.tx.clone(), self.ctx.clone());
+        let spawned = std::thread::Builder::new()
+            .name("driftlab-accel".into())
+            .spawn(move || {
+                let view = run_accel(&request, generation);
+                let _ = tx.send(JobResult::AccelFitted(Arc::new(view)));
+                repaint(&ctx);
+            });
+        if let Err(e) = spawned {
+            let _ = self.tx.send(JobResult::AccelFitted(Arc::new(AccelView {
+                generation,
+                key,
+                result: Err(format!("cannot start a thread: {e}")),
+            })));
+        }
+        true
     }
 
     /// True while a refit of axis `k` asked for has not been answered.
@@ -477,6 +528,9 @@ impl Jobs {
             JobResult::Fitted(v) => self.answered(v.axis, v.generation),
             JobResult::FitFailed(axis, g, _) => self.answered(*axis, *g),
             JobResult::Previewed(_) => {}
+            JobResult::AccelFitted(v) => {
+                self.accel_numbers.1 = self.accel_numbers.1.max(v.generation);
+            }
             JobResult::Exported(..) => self.exports = self.exports.saturating_sub(1),
             JobResult::Compared(g, _) => {
                 if self.comparing.as_ref().is_some_and(|c| c.generation == *g) {

@@ -274,7 +274,8 @@ fn verify_log(r: &VerifyRequest, l: &LogInput) -> VerifiedLog {
                 name: &file_name,
                 sha256: &l.sha256,
             };
-            match verify::judge(&ax.model, view, file, r.merit, false) {
+            // (an accelerometer axis judged about the mean it keeps, as `evaluate` judges it)
+            match verify::judge(&ax.model, &ax.as_fitted(view), file, r.merit, false) {
                 Ok(j) => Ok((j, view.clone(), log_axis, by_hand)),
                 Err(e) => Err(AxisVerdict::Failed {
                     log_axis,

@@ -1,0 +1,346 @@
+//! Accelerometer axes in the workbench: a six-axis log (the simulator's MEMS IMU) opens with its
+//! accelerometers in the axis strip beside the gyro axes, each shown in m/s² with the axis
+//! that carries gravity said; the exports hold them as `driftlab calibrate --accel` and
+//! `driftlab apply` write them (the command line run beside the window, as an engineer would);
+//! the switch that leaves them out is kept by the session, and a session written without it
+//! opens with them.
+
+use super::common::gui::{harness, settle, with_dialogs};
+use driftlab::export::firmware::Format;
+use driftlab::files::calibration;
+use driftlab::gui::{Action, Workbench};
+use driftlab::log::AxisKind;
+use driftlab::log::accel_axes::{self, AccelAsk};
+use driftlab::log::ingest::{self, ReadOptions};
+use eframe::egui::{Key, Modifiers};
+use egui_kittest::Harness;
+use egui_kittest::kittest::Queryable;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+/// Runs `driftlab ARGS` (which must succeed) and returns what it printed.
+fn driftlab(args: &[&std::ffi::OsStr]) -> String {
+    let out = Command::new(env!("CARGO_BIN_EXE_driftlab"))
+        .args(args)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "driftlab {args:?}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8(out.stdout).unwrap()
+}
+
+/// The six-axis MEMS IMU of seed 1, written into `dir` by `driftlab simulate` as the
+/// documentation tells an engineer to make it.
+fn imu6(dir: &Path) -> PathBuf {
+    let path = dir.join("imu6.csv");
+    driftlab(&[
+        "simulate".as_ref(),
+        "--profile".as_ref(),
+        "mems-imu".as_ref(),
+        "--seed".as_ref(),
+        "1".as_ref(),
+        "-o".as_ref(),
+        path.as_os_str(),
+    ]);
+    path
+}
+
+/// The accelerometer axes the engine makes of the log's columns, read apart from the window.
+fn accel_names(path: &Path) -> Vec<String> {
+    let mut log = ingest::read_path(path, &ReadOptions::default()).unwrap();
+    accel_axes::take(&mut log, &AccelAsk::default()).unwrap();
+    log.axes_of(AxisKind::Accel)
+}
+
+fn opened(path: &Path) -> Harness<'static, Workbench> {
+    let mut h = harness(Workbench::new_for_test(path));
+    settle(&mut h);
+    h
+}
+
+fn act(h: &mut Harness<'_, Workbench>, a: Action) {
+    let ctx = h.ctx.clone();
+    h.state_mut().act(&ctx, a);
+    h.run_ok();
+    settle(h);
+}
+
+/// A calibration file as JSON with the time it was written taken out of every axis (the only
+/// field two runs of one calibration may differ in).
+fn without_dates(path: &Path) -> serde_json::Value {
+    fn strip(v: &mut serde_json::Value) {
+        match v {
+            serde_json::Value::Object(o) => {
+                o.remove("created");
+                o.values_mut().for_each(strip);
+            }
+            serde_json::Value::Array(a) => a.iter_mut().for_each(strip),
+            _ => {}
+        }
+    }
+    let mut v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+    strip(&mut v);
+    v
+}
+
+#[test]
+fn a_six_axis_log_lists_its_accelerometers_and_shows_them_in_m_s2() {
+    let dir = tempfile::tempdir().unwrap();
+    let log = imu6(dir.path());
+    let names = accel_names(&log);
+    assert_eq!(names.len(), 3, "the simulated IMU has three accelerometers");
+    // The command line's figures and its gravity axis, for the same log.
+    let cli_out = dir.path().join("cli.json");
+    let printed = driftlab(&[
+        "calibrate".as_ref(),
+        log.as_os_str(),
+        "--accel".as_ref(),
+        "--json".as_ref(),
+        "--out".as_ref(),
+        cli_out.as_os_str(),
+    ]);
+    let cli: serde_json::Value = serde_json::from_str(&printed).unwrap();
+    let gravity_axis = cli["gravity"]["axis"].as_str().unwrap().to_string();
+
+    let mut h = opened(&log);
+    let s = &h.state().state;
+    assert!(s.accel_on(), "accelerometer axes are on by default");
+    assert_eq!(s.accel.as_ref().unwrap().names, names);
+    assert!(s.accel_current(), "calibrated on opening");
+    // Each in the strip, beside the gyro axes, with its figures in m/s².
+    for name in &names {
+        let mark = if *name == gravity_axis { " g" } else { "" };
+        h.get_by_label_contains(&format!("{name}{mark}  p2p "));
+    }
+    assert_eq!(
+        h.query_all_by_label_contains(" m/s²").count(),
+        names.len(),
+        "every accelerometer's figures in m/s²"
+    );
+
+    // Shown: its figures in m/s², as the command line gives them, and no °/h anywhere.
+    let k = 1;
+    h.get_by_label_contains(&format!("{}  p2p ", names[k]))
+        .click();
+    h.run_ok();
+    assert_eq!(h.state().state.accel_shown(), Some(k));
+    h.get_by_label_contains(&format!("Accelerometer axis {}", names[k]));
+    h.get_by_label("raw, m/s²");
+    h.get_by_label("corrected, m/s²");
+    let axis = cli["axes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|a| a["name"] == names[k].as_str())
+        .expect("the command line's axis");
+    assert_eq!(axis["unit"], "m/s^2");
+    let figures = &axis["in_sample"]["comparison"];
+    for which in ["raw", "corrected"] {
+        for figure in ["p2p_dph", "std_dph"] {
+            let v = figures[which][figure].as_f64().unwrap();
+            h.get_by_label(&driftlab::number::fixed(v, 6));
+        }
+    }
+    h.get_by_label_contains(&format!("Gravity: axis {gravity_axis} carries it"));
+    assert_eq!(
+        h.query_all_by_label_contains("°/h").count(),
+        0,
+        "no °/h on an accelerometer axis"
+    );
+
+    // A gyro axis chosen again: its own page.
+    act(&mut h, Action::SelectAxis(0));
+    assert_eq!(h.state().state.accel_shown(), None);
+}
+
+#[test]
+fn exports_hold_the_accelerometer_axes_as_calibrate_accel_and_apply_write_them() {
+    let dir = tempfile::tempdir().unwrap();
+    let log = imu6(dir.path());
+    let mut h = opened(&log);
+    let dialogs = with_dialogs(h.state_mut());
+
+    let window = dir.path().join("window.json");
+    dialogs.answer(Some(window.clone()));
+    h.key_press_modifiers(Modifiers::COMMAND, Key::E);
+    settle(&mut h);
+    let cli = dir.path().join("cli.json");
+    driftlab(&[
+        "calibrate".as_ref(),
+        log.as_os_str(),
+        "--accel".as_ref(),
+        "--out".as_ref(),
+        cli.as_os_str(),
+    ]);
+    let unit = calibration::load_unit(&window).expect("the window's unit reads back");
+    assert_eq!(
+        unit.axes
+            .iter()
+            .filter(|a| a.kind == AxisKind::Accel)
+            .map(|a| a.name.clone())
+            .collect::<Vec<_>>(),
+        accel_names(&log)
+    );
+    // Every axis, coefficient for coefficient, kept means and records alike.
+    assert_eq!(without_dates(&window), without_dates(&cli));
+
+    // The corrected log: what `driftlab apply` writes with the command line's calibration.
+    let csv = dir.path().join("window-corrected.csv");
+    dialogs.answer(Some(csv.clone()));
+    h.key_press_modifiers(Modifiers::COMMAND.plus(Modifiers::SHIFT), Key::E);
+    settle(&mut h);
+    let applied = dir.path().join("applied.csv");
+    driftlab(&[
+        "apply".as_ref(),
+        cli.as_os_str(),
+        log.as_os_str(),
+        "--out".as_ref(),
+        applied.as_os_str(),
+    ]);
+    let body = |p: &Path| {
+        std::fs::read_to_string(p)
+            .unwrap()
+            .lines()
+            .filter(|l| !l.starts_with('#'))
+            .map(str::to_string)
+            .collect::<Vec<_>>()
+    };
+    let written = body(&csv);
+    assert!(
+        written[0].contains("acc_x_raw_m_s2"),
+        "the accelerometer axes' columns: {}",
+        written[0]
+    );
+    assert_eq!(written, body(&applied));
+
+    // ArduPilot's file: what `driftlab export` writes of the command line's calibration, the
+    // accelerometers' parameters among them.
+    let parm = dir.path().join("window.parm");
+    dialogs.answer(Some(parm.clone()));
+    act(&mut h, Action::ExportFlight(Format::ArdupilotParm));
+    let exported = dir.path().join("exported.parm");
+    driftlab(&[
+        "export".as_ref(),
+        cli.as_os_str(),
+        "--format".as_ref(),
+        "ardupilot-parm".as_ref(),
+        "--out".as_ref(),
+        exported.as_os_str(),
+    ]);
+    let written = body(&parm);
+    assert!(
+        written.iter().any(|l| l.starts_with("INS_TCAL1_ACC1_X")),
+        "{written:?}"
+    );
+    assert_eq!(written, body(&exported));
+
+    // The report: every axis, the accelerometers' with the axis that carries gravity.
+    let report = dir.path().join("report");
+    dialogs.answer(Some(report.clone()));
+    act(&mut h, Action::ExportReport);
+    let html = std::fs::read_to_string(report.join("report.html")).expect("the report is written");
+    for name in accel_names(&log) {
+        assert!(html.contains(&name), "axis {name} in the report");
+    }
+    assert!(html.contains("carries gravity"));
+}
+
+#[test]
+fn the_switch_leaves_them_out_and_the_session_keeps_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let log = imu6(dir.path());
+    let mut h = opened(&log);
+    let dialogs = with_dialogs(h.state_mut());
+
+    // A session saved with them on says nothing of them: as written before they existed.
+    let on = dir.path().join("on.session.json");
+    dialogs.answer(Some(on.clone()));
+    h.key_press_modifiers(Modifiers::COMMAND, Key::S);
+    settle(&mut h);
+    let text = std::fs::read_to_string(&on).unwrap();
+    assert!(!text.contains("accelerometers"), "{text}");
+
+    // Off: the strip says so, the export holds the gyro axes alone, the session is unsaved.
+    h.get_by_label("Accelerometers").click();
+    h.run_ok();
+    settle(&mut h);
+    assert!(!h.state().state.accel_on());
+    assert!(h.state().state.dirty(), "turning them off is a change");
+    assert_eq!(h.query_all_by_label_contains(" m/s²").count(), 0);
+    let gyro_only = dir.path().join("gyro.json");
+    dialogs.answer(Some(gyro_only.clone()));
+    h.key_press_modifiers(Modifiers::COMMAND, Key::E);
+    settle(&mut h);
+    let unit = calibration::load_unit(&gyro_only).unwrap();
+    assert!(unit.axes.iter().all(|a| a.kind == AxisKind::Gyro));
+    assert_eq!(unit.axes.len(), 3);
+    let off = dir.path().join("off.session.json");
+    dialogs.answer(Some(off.clone()));
+    act(&mut h, Action::SaveSessionAs);
+    assert!(
+        std::fs::read_to_string(&off)
+            .unwrap()
+            .contains("\"accelerometers_off\": true")
+    );
+
+    // Each session opens as it was saved.
+    for (session, want_on) in [(off, false), (on, true)] {
+        let mut other = opened(&log);
+        let ctx = other.ctx.clone();
+        other
+            .state_mut()
+            .act(&ctx, Action::OpenSessionPath(session.clone()));
+        settle(&mut other);
+        let s = &other.state().state;
+        assert_eq!(s.accel_on(), want_on, "{}", session.display());
+        assert!(!s.dirty(), "{}: nothing unsaved", session.display());
+    }
+}
+
+#[test]
+fn a_calibration_opened_beside_is_judged_on_the_accelerometer_axes_as_evaluate_judges_it() {
+    use super::open_calibration::evaluate_json;
+    use driftlab::gui::action::OpenLog;
+    use driftlab::gui::jobs::AxisVerdict;
+    let dir = tempfile::tempdir().unwrap();
+    let log = imu6(dir.path());
+    let cal = dir.path().join("cli.json");
+    driftlab(&[
+        "calibrate".as_ref(),
+        log.as_os_str(),
+        "--accel".as_ref(),
+        "--out".as_ref(),
+        cal.as_os_str(),
+    ]);
+    let cli = evaluate_json(&cal, &log, &[]);
+    let mut h = opened(&log);
+    act(&mut h, Action::OpenCalibrationPath(cal.clone()));
+    let v = h.state().opened().unwrap().verified.as_ref().unwrap();
+    let axes = &v
+        .logs
+        .iter()
+        .find(|l| l.which == OpenLog::Calibration)
+        .unwrap()
+        .axes;
+    let names = accel_names(&log);
+    let file = calibration::load_unit(&cal).unwrap();
+    for (k, ax) in file.axes.iter().enumerate() {
+        let AxisVerdict::Judged(j) = &axes[k] else {
+            panic!("axis {} is not judged on the log", ax.name);
+        };
+        assert_eq!(j.log_axis, ax.name);
+        let want = &cli["axes"][k];
+        assert_eq!(want["name"], ax.name.as_str());
+        assert_eq!(
+            serde_json::to_value(j.evaluation).unwrap(),
+            want["evaluation"],
+            "axis {}",
+            ax.name
+        );
+    }
+    assert!(names.iter().all(|n| file.axes.iter().any(|a| a.name == *n)));
+}
