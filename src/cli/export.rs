@@ -267,6 +267,7 @@ fn export_failed(calibration: &std::path::Path, e: &firmware::ExportError) -> St
                     .to_string()
             }
             FlightError::NoGyroDeviceId => " (--device-id N)".to_string(),
+            FlightError::AccelDeviceId(_) => " (--accel-device-id N)".to_string(),
             FlightError::ImuNumber(_) => " (--imu N)".to_string(),
             _ => String::new(),
         },

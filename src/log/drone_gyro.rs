@@ -225,12 +225,25 @@ impl DroneGyro {
             None | Some(Value::Null) => None,
             Some(d) => Some(whole("px4_accel_device_id", d, u64::from(u32::MAX))? as u32),
         };
-        if px4_accel_device_id.is_some() && px4_device_id.is_none() {
-            return Err(Invalid::new(
-                format!("{FIELD}.px4_accel_device_id"),
-                "is given without px4_device_id: it is the accelerometer beside a PX4 gyro, \
-                 recorded with the gyro's own device_id",
-            ));
+        if let Some(a) = px4_accel_device_id {
+            let why = match px4_device_id {
+                None => Some(
+                    "is given without px4_device_id: it is the accelerometer beside a PX4 gyro, \
+                     recorded with the gyro's own device_id"
+                        .to_string(),
+                ),
+                Some(g) if g == a => Some(format!(
+                    "is {a}, the gyro's px4_device_id: it is recorded only when the \
+                     accelerometer's is another"
+                )),
+                Some(_) if a == 0 => {
+                    Some("is 0, PX4's \"no device\": no accelerometer has it".to_string())
+                }
+                Some(_) => None,
+            };
+            if let Some(why) = why {
+                return Err(Invalid::new(format!("{FIELD}.px4_accel_device_id"), why));
+            }
         }
         let ros_topic = text("ros_topic")?;
         let ros_frame_id = text("ros_frame_id")?;
@@ -346,6 +359,40 @@ mod tests {
         ] {
             let v = serde_json::to_value(&g).unwrap();
             assert_eq!(DroneGyro::from_value(&v).unwrap(), g, "{v}");
+        }
+    }
+
+    #[test]
+    fn an_accelerometer_id_is_recorded_only_beside_the_gyros_and_only_when_another() {
+        let read = |v: serde_json::Value| DroneGyro::from_value(&v).map_err(|e| e.to_string());
+        let g = read(serde_json::json!({
+            "index": 0, "px4_device_id": 2424842, "px4_accel_device_id": 2424843
+        }))
+        .unwrap();
+        assert_eq!(g.px4_accel_device_id, Some(2424843));
+        // Recorded with the gyro's identity, and only the same by what the gyro is.
+        assert!(g.same_gyro(&px4(0, 2424842)));
+        for (v, why) in [
+            (
+                serde_json::json!({"index": 0, "px4_accel_device_id": 2424843}),
+                "without px4_device_id",
+            ),
+            (
+                serde_json::json!({
+                    "index": 0, "px4_device_id": 2424842, "px4_accel_device_id": 2424842
+                }),
+                "the gyro's px4_device_id",
+            ),
+            (
+                serde_json::json!({"index": 0, "px4_device_id": 2424842, "px4_accel_device_id": 0}),
+                "PX4's \"no device\"",
+            ),
+        ] {
+            let e = read(v).unwrap_err();
+            assert!(
+                e.contains("source.instance.px4_accel_device_id") && e.contains(why),
+                "{e}"
+            );
         }
     }
 }

@@ -324,7 +324,26 @@ fn an_accelerometer_with_its_own_device_id_is_recorded_and_asked_for_never_given
     ]);
     let said = String::from_utf8_lossy(&out.stderr);
     assert!(!out.status.success(), "{said}");
-    assert!(said.contains("--accel-device-id 2424843"), "{said}");
+    assert!(
+        said.contains("has its own device_id 2424843") && said.contains("(--accel-device-id N)"),
+        "{said}"
+    );
+    // The gyro's id given for it is the mistake itself, refused naming the recorded one.
+    let out = driftlab(&[
+        "export",
+        &cal,
+        "--format",
+        "px4-params",
+        "--device-id",
+        "2424842",
+        "--accel-device-id",
+        "2424842",
+    ]);
+    let said = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        !out.status.success() && said.contains("its accelerometer had its own, 2424843"),
+        "{said}"
+    );
     let p = px4_file(&ok(&[
         "export",
         &cal,

@@ -112,19 +112,30 @@ fn accel_device_id(
     accel: &[(&str, &DriftModel)],
     px4: &Px4Target,
 ) -> Result<Option<u32>, ExportError> {
-    if px4.accel_device_id.is_some() {
-        return Ok(px4.accel_device_id);
-    }
     let recorded = accel
         .iter()
         .filter_map(|(_, m)| m.source().instance.as_ref())
         .find_map(|g| Some((g.px4_device_id?, g.px4_accel_device_id?)));
+    if let Some(given) = px4.accel_device_id {
+        // The gyro's id given for the accelerometer that had one of its own: the very
+        // mistake the option is there to prevent.
+        if let Some((gyro, a)) = recorded
+            && given == gyro
+        {
+            return Err(ExportError::Flight(FlightError::AccelDeviceId(format!(
+                "the accelerometer's device_id given, {given}, is that of the gyro the \
+                 calibration was fitted on; its accelerometer had its own, {a} (0x{a:X}) \
+                 (source.instance.px4_accel_device_id), by which PX4 finds its compensation"
+            ))));
+        }
+        return Ok(Some(given));
+    }
     match recorded {
-        Some((gyro, a)) => Err(ExportError::Flight(FlightError::Missing(format!(
+        Some((gyro, a)) => Err(ExportError::Flight(FlightError::AccelDeviceId(format!(
             "TC_A{n}_ID: the accelerometer the calibration was fitted on has its own device_id \
              {a} (0x{a:X}), not the gyro's {gyro} (0x{gyro:X}) \
              (source.instance.px4_accel_device_id): PX4 finds the accelerometer's \
-             compensation by it, so give it (--accel-device-id {a})",
+             compensation by it, so give it",
             n = px4.slot
         )))),
         None => Ok(None),

@@ -108,6 +108,10 @@ pub enum FlightError {
          or make it the calibration's gyro id (driftlab inspect LOG lists each gyro's)"
     )]
     NoGyroDeviceId,
+    /// The accelerometer's device id for PX4 (`TC_A{n}_ID`) is not the gyro's, and the one
+    /// given (or none) is not it: the export's accelerometer id gives it.
+    #[error("{0}")]
+    AccelDeviceId(String),
     /// The IMU a file is for cannot be told (models fitted on different IMUs), or is one the
     /// firmware does not calibrate: the export's IMU number chooses it.
     #[error("{0}")]

@@ -130,6 +130,13 @@ pub fn px4_params(fits: &ImuFits<'_>, target: &Px4Target) -> Result<FlightFile, 
                 )
             })?;
         refuse_no_device(id, "accelerometer", &format!("TC_A{n}_ID"))?;
+        if id > i32::MAX as u32 {
+            notes.push(format!(
+                "device_id {id} is above 2^31: TC_A{n}_ID holds it as the int32 {} (PX4 \
+                 compares it as uint32)",
+                id as i32
+            ));
+        }
         if target.accel_device_id.is_none() {
             notes.push(format!(
                 "TC_A{n}_ID is the gyro's device_id {id}: give the accelerometer's if the IMU \
