@@ -75,6 +75,11 @@ impl Comparison {
         ready: &[std::ops::Range<usize>],
         opts: &MeritOptions,
     ) -> Comparison {
+        // Samples read as missing (an accelerometer's glitch kept as NaN, a blank cell of a
+        // second axis) are left out of both series' figures, which a NaN would otherwise cut
+        // short or make n/a.
+        let split = finite_ranges(raw_dph, cor_dph, ready);
+        let ready = split.as_deref().unwrap_or(ready);
         let (raw, corrected) = rayon::join(
             || figures_over(raw_dph, dt_s, ready, opts),
             || figures_over(cor_dph, dt_s, ready, opts),
@@ -197,4 +202,37 @@ impl Comparison {
         .filter_map(|(what, why)| Some((what, why?)))
         .collect()
     }
+}
+
+/// `ready` cut around the samples where `raw` or `cor` is not finite; `None` (nothing to cut,
+/// nothing allocated) when every sample of `ready` is finite in both.
+fn finite_ranges(
+    raw: &[f64],
+    cor: &[f64],
+    ready: &[std::ops::Range<usize>],
+) -> Option<Vec<std::ops::Range<usize>>> {
+    let n = raw.len().min(cor.len());
+    let finite = |i: usize| raw[i].is_finite() && cor[i].is_finite();
+    let clipped = |r: &std::ops::Range<usize>| r.start.min(n)..r.end.min(n);
+    if ready.iter().all(|r| clipped(r).all(finite)) {
+        return None;
+    }
+    let mut out = Vec::new();
+    for r in ready {
+        let mut start = None;
+        for i in clipped(r) {
+            match (finite(i), start) {
+                (true, None) => start = Some(i),
+                (false, Some(a)) => {
+                    out.push(a..i);
+                    start = None;
+                }
+                _ => {}
+            }
+        }
+        if let Some(a) = start {
+            out.push(a..r.end.min(n));
+        }
+    }
+    Some(out)
 }
