@@ -313,65 +313,44 @@ fn an_accelerometer_with_its_own_device_id_is_recorded_and_asked_for_never_given
         .unwrap_or_else(|| panic!("no source.instance in {json}"));
     assert_eq!(instance["px4_device_id"], 2424842);
     assert_eq!(instance["px4_accel_device_id"], 2424843);
+    // The PX4 export of `cal` for the gyro 2424842 and the options `more`: whether it was
+    // written, what it said on standard error, and the file.
+    let px4 = |more: &[&str]| {
+        let mut args = vec![
+            "export",
+            &cal,
+            "--format",
+            "px4-params",
+            "--device-id",
+            "2424842",
+        ];
+        args.extend_from_slice(more);
+        let out = driftlab(&args);
+        let said = String::from_utf8_lossy(&out.stderr).into_owned();
+        (out.status.success(), said, out.stdout)
+    };
     // Given the gyro's id alone, the export asks for the accelerometer's, naming it.
-    let out = driftlab(&[
-        "export",
-        &cal,
-        "--format",
-        "px4-params",
-        "--device-id",
-        "2424842",
-    ]);
-    let said = String::from_utf8_lossy(&out.stderr);
-    assert!(!out.status.success(), "{said}");
+    let (written, said, _) = px4(&[]);
+    assert!(!written, "{said}");
     assert!(
         said.contains("has its own device_id 2424843") && said.contains("(--accel-device-id N)"),
         "{said}"
     );
     // The gyro's id given for it is the mistake itself, refused naming the recorded one.
-    let out = driftlab(&[
-        "export",
-        &cal,
-        "--format",
-        "px4-params",
-        "--device-id",
-        "2424842",
-        "--accel-device-id",
-        "2424842",
-    ]);
-    let said = String::from_utf8_lossy(&out.stderr);
+    let (written, said, _) = px4(&["--accel-device-id", "2424842"]);
     assert!(
-        !out.status.success() && said.contains("its accelerometer had its own, 2424843"),
+        !written && said.contains("its accelerometer had its own, 2424843"),
         "{said}"
     );
-    let p = px4_file(&ok(&[
-        "export",
-        &cal,
-        "--format",
-        "px4-params",
-        "--device-id",
-        "2424842",
-        "--accel-device-id",
-        "0x25000B",
-    ]));
+    let (written, said, text) = px4(&["--accel-device-id", "0x25000B"]);
+    assert!(written, "{said}");
+    let p = px4_file(&String::from_utf8(text).unwrap());
     assert_eq!(p["TC_G0_ID"], 2424842.0);
     assert_eq!(p["TC_A0_ID"], 2424843.0);
     // A gyro axis alone has no accelerometer to give an id to.
-    let out = driftlab(&[
-        "export",
-        &cal,
-        "--format",
-        "px4-params",
-        "--device-id",
-        "2424842",
-        "--axis",
-        "gyro_x",
-        "--accel-device-id",
-        "2424843",
-    ]);
-    let said = String::from_utf8_lossy(&out.stderr);
+    let (written, said, _) = px4(&["--axis", "gyro_x", "--accel-device-id", "2424843"]);
     assert!(
-        !out.status.success() && said.contains("has no accelerometer axis to write"),
+        !written && said.contains("has no accelerometer axis to write"),
         "{said}"
     );
 }
