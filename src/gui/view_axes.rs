@@ -33,24 +33,20 @@ impl AxesView {
             return Vec::new();
         };
         let pad = 2.0 * ui.spacing().button_padding.x + ui.spacing().item_spacing.x;
-        let wide: f32 = (0..unit.names.len())
-            .filter_map(|k| state.axis(k))
-            .map(|a| {
-                let job = axis_text(ui, &a, k_selected(state, a.name), Form::Compact);
-                ui.fonts_mut(|f| f.layout_job(job).size().x) + pad
-            })
-            .sum::<f32>()
-            + 48.0
-            + accel_width(ui, state, Form::Compact, pad);
-        let narrow: f32 = (0..unit.names.len())
-            .filter_map(|k| state.axis(k))
-            .map(|a| {
-                let job = axis_text(ui, &a, k_selected(state, a.name), Form::Narrow);
-                ui.fonts_mut(|f| f.layout_job(job).size().x) + pad
-            })
-            .sum::<f32>()
-            + 48.0
-            + accel_width(ui, state, Form::Narrow, pad);
+        // The strip's width in `form`: every gyro axis's button, the label, the accelerometers.
+        let width = |ui: &Ui, form: Form| -> f32 {
+            (0..unit.names.len())
+                .filter_map(|k| state.axis(k))
+                .map(|a| {
+                    let job = axis_text(ui, &a, k_selected(state, a.name), form);
+                    ui.fonts_mut(|f| f.layout_job(job).size().x) + pad
+                })
+                .sum::<f32>()
+                + 48.0
+                + accel_width(ui, state, form, pad)
+        };
+        let wide = width(ui, Form::Compact);
+        let narrow = width(ui, Form::Narrow);
         // Narrower still, the accelerometer axes fold into a menu of their own.
         let (form, fold) = if wide <= room {
             (Form::Compact, false)
