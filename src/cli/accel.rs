@@ -125,7 +125,7 @@ pub(super) fn by_name(ask: &AccelAsk) -> Vec<String> {
 }
 
 /// An accelerometer axis that could not be made, in the command line's words.
-fn in_words(e: &accel_axes::AccelError) -> String {
+pub(super) fn in_words(e: &accel_axes::AccelError) -> String {
     use accel_axes::AccelError;
     match e {
         AccelError::NoColumn { .. } => format!("{e} (--accel-col)"),

@@ -3,6 +3,7 @@
 use super::common::{self, CliError, LogArgs};
 use super::log_source;
 use driftlab::log::ColumnRole;
+use driftlab::log::accel_axes::{self, AccelAsk};
 use driftlab::log::formats::{self, InstanceSummary};
 use driftlab::log::ingest::Input;
 use driftlab::log::read::{self, TempFrom};
@@ -138,6 +139,8 @@ pub fn run(a: Args) -> Result<(), CliError> {
     } else {
         recorded
     };
+    // What a calibration with the accelerometers would meet in their columns, by its rule.
+    let accel_problems = accelerometer_problems(&log);
     let summary = summarise(&log, &summary_options(&Recipe::default()));
     let (tmin, tmax) = (summary.temp_min_c, summary.temp_max_c);
     let rate_max = summary.max_abs_rate_c_per_min;
@@ -159,6 +162,7 @@ pub fn run(a: Args) -> Result<(), CliError> {
             // What the summary could not find, and why (the reason beside each null above);
             // the reading's own problems are `info.problems`.
             "problems": summary.problems,
+            "accelerometer_problems": accel_problems,
             "extra_channels": log.extra.iter().map(|c| &c.name).collect::<Vec<_>>(),
             "accelerometers": log
                 .extra
@@ -294,7 +298,7 @@ pub fn run(a: Args) -> Result<(), CliError> {
             .iter()
             .try_for_each(line)?;
     }
-    if i.problems.is_empty() && summary.problems.is_empty() {
+    if i.problems.is_empty() && summary.problems.is_empty() && accel_problems.is_empty() {
         out!("  problems: none")?;
     } else {
         out!("  problems:")?;
@@ -309,8 +313,27 @@ pub fn run(a: Args) -> Result<(), CliError> {
                 out!("    {at} {}: {}", p.line, p.message)?;
             }
         }
+        for p in &accel_problems {
+            out!("    {p}")?;
+        }
     }
     Ok(())
+}
+
+/// What making the accelerometer columns of `log` axes would tell (`calibrate --accel`'s rule,
+/// [`accel_axes::check`]): readings no accelerometer gives, or why the columns cannot be
+/// axes; each a sentence naming the columns.
+fn accelerometer_problems(log: &driftlab::Log) -> Vec<String> {
+    match accel_axes::check(log, &AccelAsk::default()) {
+        Ok(problems) => problems
+            .into_iter()
+            .map(|p| format!("accelerometers: {}", p.message))
+            .collect(),
+        Err(e) => vec![format!(
+            "accelerometers: calibrate --accel would refuse them: {}",
+            super::accel::in_words(&e)
+        )],
+    }
 }
 
 /// The summary's settings from a recipe: its derivative settings, and its detector (the

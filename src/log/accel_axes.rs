@@ -263,8 +263,8 @@ pub fn take(log: &mut Log, ask: &AccelAsk) -> Result<Vec<String>, AccelError> {
             units[i] = Some(unit);
         }
     }
-    unread_glitches(log, &picked, &units);
-    check_gravity(log, &picked, &units)?;
+    let kept = unread_glitches(log, &picked, &units);
+    check_gravity(log, &picked, &units, &kept)?;
     // Taken out of `extra` from the last, so that the indices still stand.
     let mut taken: Vec<(Channel, AccelUnit)> = Vec::with_capacity(picked.len());
     let mut order: Vec<(usize, AccelUnit)> = picked
@@ -301,6 +301,30 @@ pub fn take(log: &mut Log, ask: &AccelAsk) -> Result<Vec<String>, AccelError> {
         names.push(name);
     }
     Ok(names)
+}
+
+/// What [`take`] with `ask` would tell of the accelerometer columns of `log`, without making
+/// them axes: the problems it adds (readings no accelerometer gives), or why the columns
+/// cannot be axes. Nothing for a log with no accelerometer column and none asked for. For a
+/// look at a log (`inspect`) that says what a calibration with its accelerometers would meet,
+/// by the one rule, at the cost of a copy of those columns alone.
+///
+/// # Errors
+/// What [`take`] refuses, but [`AccelError::NoAccelerometers`].
+pub fn check(log: &Log, ask: &AccelAsk) -> Result<Vec<super::Problem>, AccelError> {
+    let mut probe = Log::from_columns(&log.source, Vec::new(), Vec::new(), Vec::new());
+    probe.info.columns = log.info.columns.clone();
+    probe.extra = log
+        .extra
+        .iter()
+        .filter(|c| !ask.columns.is_empty() || c.is_accelerometer())
+        .cloned()
+        .collect();
+    match take(&mut probe, ask) {
+        Ok(_) => Ok(probe.info.problems),
+        Err(AccelError::NoAccelerometers { .. }) => Ok(Vec::new()),
+        Err(e) => Err(e),
+    }
 }
 
 /// The indices in `log.extra` of the channels `ask` names, in the file's order.
@@ -384,16 +408,29 @@ const GRAVITY_BOUNDS: (f64, f64) = (0.5, 1.5);
 /// Refuses accelerometers whose units make them no IMU in gravity: the mean vector of the
 /// columns, in m/s², longer than gravity allows (a part of the three axes reads at most 1 g),
 /// or, for three axes or more, much shorter (a mislabelled column, g read as m/s², or m/s² as
-/// g, would give every coefficient ten times too large or too small).
+/// g, would give every coefficient ten times too large or too small). The channels `kept`
+/// hold a stretch of readings no accelerometer gives ([`unread_glitches`]), told already and
+/// refused by every fit: their means leave those out, so that 10³⁸ is not blamed on a unit.
 fn check_gravity(
     log: &Log,
     picked: &[usize],
     units: &[Option<AccelUnit>],
+    kept: &[usize],
 ) -> Result<(), AccelError> {
+    use crate::log::impossible::MAX_PLAUSIBLE_ACCEL_M_S2;
     let squares: f64 = picked
         .iter()
         .zip(units)
-        .map(|(&k, u)| finite_mean(&log.extra[k].values) * u.unwrap_or_default().to_m_s2())
+        .map(|(&k, u)| {
+            let factor = u.unwrap_or_default().to_m_s2();
+            let values = &log.extra[k].values;
+            let mean = if kept.contains(&k) {
+                mean_within(values, MAX_PLAUSIBLE_ACCEL_M_S2 / factor)
+            } else {
+                finite_mean(values)
+            };
+            mean * factor
+        })
         .map(|m| m * m)
         .sum();
     let magnitude_m_s2 = squares.sqrt();
@@ -415,28 +452,49 @@ fn check_gravity(
 }
 
 /// Makes NaN the readings of the accelerometer channels `picked` (in `units`) that no
-/// accelerometer gives ([`crate::log::impossible`]), each channel's told as a problem of the
-/// log: an accelerometer axis keeps its samples where its gyro has them, and its fits and
-/// means pass over NaN.
-fn unread_glitches(log: &mut Log, picked: &[usize], units: &[Option<AccelUnit>]) {
-    use crate::log::impossible::{ACCEL_LIMIT_WORDS, MAX_PLAUSIBLE_ACCEL_M_S2, glitches};
+/// accelerometer gives ([`crate::log::impossible`]) while they are glitches, each channel's
+/// told as a problem of the log: an accelerometer axis keeps its samples where its gyro has
+/// them, and its fits and means pass over NaN. More of them than glitches are kept and told
+/// (every fit refuses the axis, [`crate::models::check_rate_moves`]); the channels holding
+/// such a stretch are returned. Most of a channel beyond is its unit's doing, which
+/// [`check_gravity`] tells.
+fn unread_glitches(log: &mut Log, picked: &[usize], units: &[Option<AccelUnit>]) -> Vec<usize> {
+    use crate::log::impossible::{ACCEL_LIMIT_WORDS, MAX_PLAUSIBLE_ACCEL_M_S2, Verdict, beyond};
+    let mut kept = Vec::new();
     for (&k, u) in picked.iter().zip(units) {
         let bound = MAX_PLAUSIBLE_ACCEL_M_S2 / u.unwrap_or_default().to_m_s2();
         let c = &mut log.extra[k];
-        let Some(g) = glitches(c.values.iter().copied(), bound) else {
+        let Some(b) = beyond(c.values.iter().copied(), bound) else {
             continue;
         };
-        for &i in &g.samples {
-            c.values[i] = f64::NAN;
-        }
-        let first = g.samples[0] + 1;
-        let message = g.message(
-            &c.name,
-            ACCEL_LIMIT_WORDS,
-            &format!("sample {first}"),
-            "accelerometer",
-            false,
-        );
+        let first = b.samples[0] + 1;
+        let message = match b.verdict() {
+            Verdict::Glitches => {
+                for &i in &b.samples {
+                    c.values[i] = f64::NAN;
+                }
+                b.message(
+                    &c.name,
+                    ACCEL_LIMIT_WORDS,
+                    &format!("sample {first}"),
+                    "accelerometer",
+                    false,
+                )
+            }
+            Verdict::TooMany => {
+                kept.push(k);
+                b.too_many_message(
+                    &c.name,
+                    ACCEL_LIMIT_WORDS,
+                    (
+                        &format!("sample {first}"),
+                        &format!("sample {}", b.samples[b.samples.len() - 1] + 1),
+                    ),
+                    "accelerometer",
+                )
+            }
+            Verdict::Column => continue,
+        };
         let column = log
             .info
             .columns
@@ -447,10 +505,20 @@ fn unread_glitches(log: &mut Log, picked: &[usize], units: &[Option<AccelUnit>])
             line: 0,
             column,
             kind: ProblemKind::Implausible,
-            count: g.samples.len(),
+            count: b.samples.len(),
             message,
         });
     }
+    kept
+}
+
+/// The mean of the values within `bound` in magnitude (0 when there are none).
+fn mean_within(values: &[f64], bound: f64) -> f64 {
+    let (sum, n) = values
+        .iter()
+        .filter(|v| v.abs() <= bound)
+        .fold((0.0, 0usize), |(s, n), v| (s + v, n + 1));
+    if n == 0 { 0.0 } else { sum / n as f64 }
 }
 
 /// The mean of the finite values (0 when there are none).
@@ -464,10 +532,14 @@ pub(crate) fn finite_mean(values: &[f64]) -> f64 {
 
 /// The unit whose gravity the mean vector of `channels` measures, or the vector's length.
 fn by_magnitude(channels: &[&Channel]) -> Result<AccelUnit, f64> {
+    use crate::log::impossible::MAX_PLAUSIBLE_ACCEL_M_S2;
+    // Readings beyond what any accelerometer gives in any of the units (1000 g in mg) are
+    // garbage, told once the unit is known: they tell nothing of it.
+    let loosest = MAX_PLAUSIBLE_ACCEL_M_S2 / AccelUnit::MilliG.to_m_s2();
     let squares: f64 = channels
         .iter()
         .map(|c| {
-            let mean = finite_mean(&c.values);
+            let mean = mean_within(&c.values, loosest);
             mean * mean
         })
         .sum();

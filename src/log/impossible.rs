@@ -18,19 +18,38 @@ pub const MAX_PLAUSIBLE_ACCEL_M_S2: f64 = 1000.0 * STANDARD_GRAVITY_M_S2;
 /// beyond are the column's own (a unit or a column mistaken), not glitches.
 pub const MOST_GLITCH_SHARE: f64 = 0.01;
 
-/// The readings of a column beyond its bound, read as glitches.
+/// The share of a column's finite readings beyond its bound past which they are the column's
+/// own (read in the wrong unit, or another quantity altogether): the plausibility checks doubt
+/// its unit. Between [`MOST_GLITCH_SHARE`] and this share they are too many to be glitches
+/// and too few to be the column: a stretch of garbage the engineer must cut out.
+pub const MOST_OF_A_COLUMN: f64 = 0.5;
+
+/// The readings of a column beyond its bound.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Glitches {
+pub struct Beyond {
     /// Their places in the column, increasing.
     pub samples: Vec<usize>,
     /// The reading farthest from zero among them, for the message.
     pub worst: f64,
+    /// How many readings the column has that are not NaN.
+    pub readings: usize,
+}
+
+/// What the readings beyond a column's bound are, by their share of its readings.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Verdict {
+    /// At most [`MOST_GLITCH_SHARE`]: glitches, dropped (or kept as NaN) and told.
+    Glitches,
+    /// More, but at most [`MOST_OF_A_COLUMN`]: too many to drop without a word, too few to be
+    /// a unit: kept and told, and no fit or judgement takes the axis.
+    TooMany,
+    /// Most of the column: its unit (or the column chosen) is in doubt.
+    Column,
 }
 
 /// The readings of `values` whose magnitude is beyond `bound` (infinities included: no reading
-/// is infinite), when they are at most [`MOST_GLITCH_SHARE`] of the readings that are not NaN;
-/// `None` when there are none, or more.
-pub fn glitches(values: impl IntoIterator<Item = f64>, bound: f64) -> Option<Glitches> {
+/// is infinite); `None` when there are none.
+pub fn beyond(values: impl IntoIterator<Item = f64>, bound: f64) -> Option<Beyond> {
     let mut samples = Vec::new();
     let mut worst = 0.0f64;
     let mut readings = 0usize;
@@ -46,11 +65,48 @@ pub fn glitches(values: impl IntoIterator<Item = f64>, bound: f64) -> Option<Gli
             }
         }
     }
-    let few = samples.len() as f64 <= MOST_GLITCH_SHARE * readings as f64;
-    (!samples.is_empty() && few).then_some(Glitches { samples, worst })
+    (!samples.is_empty()).then_some(Beyond {
+        samples,
+        worst,
+        readings,
+    })
 }
 
-impl Glitches {
+/// The readings of `values` beyond `bound` when they are glitches ([`Verdict::Glitches`]: at
+/// most [`MOST_GLITCH_SHARE`] of the readings that are not NaN); `None` when there are none,
+/// or more.
+pub fn glitches(values: impl IntoIterator<Item = f64>, bound: f64) -> Option<Beyond> {
+    beyond(values, bound).filter(|b| b.verdict() == Verdict::Glitches)
+}
+
+impl Beyond {
+    /// Their share of the column's readings.
+    pub fn share(&self) -> f64 {
+        self.samples.len() as f64 / self.readings.max(1) as f64
+    }
+
+    /// What they are, by [`Beyond::share`].
+    pub fn verdict(&self) -> Verdict {
+        let n = self.samples.len() as f64;
+        let readings = self.readings as f64;
+        if n <= MOST_GLITCH_SHARE * readings {
+            Verdict::Glitches
+        } else if n <= MOST_OF_A_COLUMN * readings {
+            Verdict::TooMany
+        } else {
+            Verdict::Column
+        }
+    }
+
+    /// Their share in words, `1.01 % of its N readings`.
+    fn share_words(&self) -> String {
+        format!(
+            "{} % of its {} readings",
+            crate::number::significant(100.0 * self.share(), 3),
+            self.readings
+        )
+    }
+
     /// What was done, for a problem: `N readings of "COLUMN" beyond BOUND (WORST at WHERE, the
     /// first), which no QUANTITY gives: read as glitches, their rows dropped` (or `kept as NaN`
     /// when `dropped` is false).
@@ -82,10 +138,34 @@ impl Glitches {
             }
         )
     }
+
+    /// Why they are kept, for [`Verdict::TooMany`]: `N readings of "COLUMN" beyond BOUND
+    /// (WORST at WHERE, the first; the last at LAST), S % of its N readings, which no QUANTITY
+    /// gives: more than the 1 % taken for glitches, so they are kept as read, and the axis is
+    /// neither fitted nor judged: cut that stretch out …`.
+    pub fn too_many_message(
+        &self,
+        column: &str,
+        limit: &str,
+        (first_at, last_at): (&str, &str),
+        quantity: &str,
+    ) -> String {
+        format!(
+            "{} readings of \"{}\" beyond {limit} ({} at {first_at}, the first; the last at \
+             {last_at}), {}, which no {quantity} gives: more than the {} % taken for \
+             glitches, so they are kept as read, and the axis is neither fitted nor judged: \
+             cut that stretch out of the log, or check the logger",
+            self.samples.len(),
+            crate::text::escaped(column, false),
+            crate::number::readable(self.worst),
+            self.share_words(),
+            100.0 * MOST_GLITCH_SHARE
+        )
+    }
 }
 
 /// [`glitches`] of a gyro's rate, °/h, beyond [`MAX_PLAUSIBLE_RATE_DPH`].
-pub fn rate_glitches(rate_dph: impl IntoIterator<Item = f64>) -> Option<Glitches> {
+pub fn rate_glitches(rate_dph: impl IntoIterator<Item = f64>) -> Option<Beyond> {
     glitches(rate_dph, MAX_PLAUSIBLE_RATE_DPH)
 }
 
@@ -120,5 +200,27 @@ mod tests {
         x[200] = 1e3;
         assert_eq!(glitches(x.iter().copied(), 100.0), None);
         assert_eq!(glitches([0.5, -0.5], 100.0), None);
+    }
+
+    #[test]
+    fn past_a_few_readings_are_a_stretch_and_past_half_the_column() {
+        // 1000 readings: 11 beyond are too many for glitches; 500 are still a stretch; 501 are
+        // most of the column.
+        let with = |n: usize| {
+            let mut x = vec![0.5; 1000];
+            x[..n].fill(1e3);
+            beyond(x, 100.0).unwrap()
+        };
+        assert_eq!(with(10).verdict(), Verdict::Glitches);
+        assert_eq!(with(11).verdict(), Verdict::TooMany);
+        assert_eq!(with(11).share(), 0.011);
+        assert_eq!(with(500).verdict(), Verdict::TooMany);
+        assert_eq!(with(501).verdict(), Verdict::Column);
+        assert_eq!(beyond([0.5, f64::NAN], 100.0), None);
+        let m = with(11).too_many_message("w", "the bound", ("line 2", "line 12"), "gyro");
+        assert!(
+            m.starts_with("11 readings of \"w\" beyond the bound (1000 at line 2, the first; the last at line 12), 1.1 % of its 1000 readings"),
+            "{m}"
+        );
     }
 }

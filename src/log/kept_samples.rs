@@ -87,28 +87,46 @@ pub fn kept_samples(sel: &Selected<'_>) -> Result<KeptSamples, ReadError> {
             });
         }
     }
-    // Rates no gyro reads (a float register's 1e38): dropped as a NaN axis is.
+    // Rates no gyro reads (a float register's 1e38): dropped as a NaN axis is while they are
+    // glitches; more are kept and told (no fit takes the axis); most of an axis beyond is left
+    // to the plausibility check, which doubts its unit.
     for (a, v) in inst.gyro.xyz.iter().enumerate() {
-        use crate::log::impossible::{RATE_LIMIT_WORDS, glitches};
+        use crate::log::impossible::{RATE_LIMIT_WORDS, Verdict, beyond};
         use crate::log::mapping_check::MAX_PLAUSIBLE_RATE_DPH;
         // In rad/s as stored, so that the message quotes the reading itself.
         let bound = MAX_PLAUSIBLE_RATE_DPH / super::read::rad_s_to_dph();
-        if let Some(g) = glitches((0..n).map(|i| v.get(i)), bound) {
-            let first = g.samples[0] + 1;
-            problems.push(Problem {
-                line: first,
-                column: None,
-                kind: ProblemKind::Implausible,
-                count: g.samples.len(),
-                message: g.message(
-                    channel_names[a],
-                    RATE_LIMIT_WORDS,
+        let Some(b) = beyond((0..n).map(|i| v.get(i)), bound) else {
+            continue;
+        };
+        let first = b.samples[0] + 1;
+        let message = match b.verdict() {
+            Verdict::Glitches => b.message(
+                channel_names[a],
+                RATE_LIMIT_WORDS,
+                &format!("sample {first}"),
+                "gyro",
+                true,
+            ),
+            Verdict::TooMany => b.too_many_message(
+                channel_names[a],
+                RATE_LIMIT_WORDS,
+                (
                     &format!("sample {first}"),
-                    "gyro",
-                    true,
+                    &format!("sample {}", b.samples[b.samples.len() - 1] + 1),
                 ),
-            });
-            for i in g.samples {
+                "gyro",
+            ),
+            Verdict::Column => continue,
+        };
+        problems.push(Problem {
+            line: first,
+            column: None,
+            kind: ProblemKind::Implausible,
+            count: b.samples.len(),
+            message,
+        });
+        if b.verdict() == Verdict::Glitches {
+            for i in b.samples {
                 keep[i] = false;
             }
         }

@@ -138,6 +138,26 @@ pub enum FitError {
         /// The one value, in the kind's unit (°/h for a gyro).
         value_dph: f64,
     },
+    /// An axis holding readings no sensor of its kind gives (beyond 10⁴ °/s, or 1000 g), more
+    /// of them than the readers drop as glitches.
+    #[error("{}", impossible(self))]
+    Impossible {
+        /// The log.
+        log: String,
+        /// The axis, empty for a log of one.
+        axis: String,
+        /// What the axis measures.
+        kind: crate::log::AxisKind,
+        /// How many readings are beyond.
+        count: usize,
+        /// How many readings the axis has (not NaN).
+        readings: usize,
+        /// The one farthest from zero, in the kind's unit (°/h for a gyro).
+        worst: f64,
+        /// The time of the first and of the last, s.
+        first_s: f64,
+        last_s: f64,
+    },
     /// A model that is no static curve in T asked of an accelerometer axis.
     #[error(
         "{log}: accelerometer axis {axis}: model {model} reads more than T (a rate of T, \
@@ -313,6 +333,52 @@ fn frozen(log: &str, axis: &str, kind: crate::log::AxisKind, value: f64) -> Stri
              its column"
         ),
     }
+}
+
+/// [`FitError::Impossible`]'s message, in the words of the axis's kind.
+fn impossible(e: &FitError) -> String {
+    let FitError::Impossible {
+        log,
+        axis,
+        kind,
+        count,
+        readings,
+        worst,
+        first_s,
+        last_s,
+    } = e
+    else {
+        return String::new();
+    };
+    let r = crate::number::readable;
+    let (what, unit, limit) = match kind {
+        crate::log::AxisKind::Gyro => (
+            if axis.is_empty() {
+                "the rate".to_string()
+            } else {
+                format!("the rate of axis {axis}")
+            },
+            "°/h",
+            crate::log::impossible::RATE_LIMIT_WORDS,
+        ),
+        crate::log::AxisKind::Accel => (
+            format!("accelerometer axis {axis}"),
+            "m/s²",
+            crate::log::impossible::ACCEL_LIMIT_WORDS,
+        ),
+    };
+    let share = 100.0 * *count as f64 / (*readings).max(1) as f64;
+    format!(
+        "{log}: {what} holds {count} reading{} beyond {limit} ({} {unit}; from {} s to {} s), \
+         {} % of its {readings}: more than the {} % taken for glitches, so no fit or figure \
+         can take the axis: cut that stretch out of the log, or check its unit",
+        if *count == 1 { "" } else { "s" },
+        r(*worst),
+        r(*first_s),
+        r(*last_s),
+        crate::number::significant(share, 3),
+        100.0 * crate::log::impossible::MOST_GLITCH_SHARE,
+    )
 }
 
 /// A temperature span in a message: its width and ends, or that there is none.

@@ -34,7 +34,7 @@ pub use unit::{
 
 use crate::error::{Error, Result};
 use crate::judge::metrics::Evaluation;
-use crate::log::Log;
+use crate::log::{AxisKind, Log};
 use regression::RegressionCalibration;
 
 /// The fewest samples a log must have to be calibrated (or its pointwise coefficients
@@ -215,26 +215,70 @@ pub fn check_span(log: &Log, choice: &ModelChoice) -> Result<()> {
     Ok(())
 }
 
-/// Refuses a log whose rate holds one value throughout (of its finite samples): any real
-/// gyro's output moves by its noise from one sample to the next; one value is a wire, not a
-/// gyro, and every figure fitted to it, or judged on it, is rounding. Every fit asks it
+/// Refuses a log whose rate holds one value throughout (of its finite samples), or holds
+/// readings no sensor of its kind gives.
+///
+/// Any real gyro's output moves by its noise from one sample to the next; one value is a
+/// wire, not a gyro, and every figure fitted to it, or judged on it, is rounding. A reading
+/// beyond [`crate::log::impossible`]'s bound (10⁴ °/s, 1000 g) is garbage the readers drop
+/// while it is a glitch; more of them are kept and told, and a fit through them (10³⁸ °/h)
+/// would be refused only when written, after all its work. Every fit asks it
 /// ([`check_span`]), and so do `evaluate` and `compare` of a model on a log (a report, of
 /// several logs, draws each; the reader tells a rate held at one value).
 ///
 /// # Errors
-/// [`FitError::FrozenRate`], naming the axis and the value.
+/// [`FitError::FrozenRate`], naming the axis and the value; [`FitError::Impossible`], naming
+/// the axis, how many readings, their share and where.
 pub fn check_rate_moves(log: &Log) -> Result<()> {
-    let mut finite = log.omega_dph.iter().filter(|v| v.is_finite()).peekable();
+    use crate::log::impossible::{MAX_PLAUSIBLE_ACCEL_M_S2, beyond};
+    let bound = match log.axis_kind {
+        AxisKind::Gyro => crate::log::mapping_check::MAX_PLAUSIBLE_RATE_DPH,
+        AxisKind::Accel => MAX_PLAUSIBLE_ACCEL_M_S2,
+    };
+    let mut first: Option<f64> = None;
+    let mut frozen = true;
+    let mut beyond_any = false;
+    for &v in &log.omega_dph {
+        if !v.is_finite() {
+            beyond_any |= v.is_infinite();
+            continue;
+        }
+        beyond_any |= v.abs() > bound;
+        match first {
+            None => first = Some(v),
+            Some(f) => frozen &= v.to_bits() == f.to_bits(),
+        }
+    }
+    if beyond_any && let Some(b) = beyond(log.omega_dph.iter().copied(), bound) {
+        let at = |k: usize| log.time_s.get(k).copied().unwrap_or(f64::NAN);
+        return Err(FitError::Impossible {
+            log: log.source.clone(),
+            axis: log.axis.clone(),
+            kind: log.axis_kind,
+            count: b.samples.len(),
+            readings: b.readings,
+            worst: b.worst,
+            first_s: at(b.samples[0]),
+            last_s: at(b.samples[b.samples.len() - 1]),
+        }
+        .into());
+    }
     // One sample is no stretch at all: it takes two to hold a value.
-    if let Some(first) = finite.next()
-        && finite.peek().is_some()
-        && finite.all(|v| v.to_bits() == first.to_bits())
+    let finite = log
+        .omega_dph
+        .iter()
+        .filter(|v| v.is_finite())
+        .take(2)
+        .count();
+    if frozen
+        && finite == 2
+        && let Some(value_dph) = first
     {
         return Err(FitError::FrozenRate {
             log: log.source.clone(),
             axis: log.axis.clone(),
             kind: log.axis_kind,
-            value_dph: *first,
+            value_dph,
         }
         .into());
     }

@@ -590,6 +590,16 @@ fn calibrate_axes(
         }
         other => other,
     };
+    // Each axis's own rate, before any is fitted: a stuck axis, or one holding readings no
+    // sensor gives, is refused as `evaluate` refuses it, not written into the unit, and not
+    // after the other axes' fits.
+    for plan in plans {
+        select(log, &plan.name);
+        crate::models::check_rate_moves(log)?;
+    }
+    if let Some(first) = plans.first() {
+        select(log, &first.name);
+    }
     // T's part, once, from the first Vakhrameev axis's recipe (they all agree), with that
     // axis's Ω filtered beside it.
     let mut shared = match plans.iter().position(|p| p.choice.is_vakhrameev()) {
@@ -606,9 +616,6 @@ fn calibrate_axes(
     let mut out = Vec::with_capacity(plans.len());
     for (k, plan) in plans.iter().enumerate() {
         select(log, &plan.name);
-        // Each axis's own rate (the span check above read the first axis's): a stuck axis is
-        // refused here as `evaluate` refuses it, not written into the unit.
-        crate::models::check_rate_moves(log)?;
         // The figures are filtered as the axis's recipe filters Ω.
         let merit = &MeritOptions {
             filter_s: plan.recipe.filter_s,

@@ -631,11 +631,12 @@ fn a_hand_edited_regression_model_is_checked_as_a_whole() {
 }
 
 #[test]
-fn calibrate_writes_only_what_it_can_read_back() {
+fn calibrate_refuses_up_front_what_it_could_not_write() {
     // Rate cells of 1e160 inside the first plateau: its standard deviation overflows. The
-    // calibration used to be written with `null` there, and `apply` then refused it. (One such
-    // cell is a glitch, its row dropped by the reader, tests/io/glitch_readings.rs; 500 of the
-    // log's 40,202 rows, more than 1 %, are the column's own and kept.)
+    // calibration used to be written with `null` there, and `apply` then refused it; then the
+    // writer refused it, after the whole fit. (One such cell is a glitch, its row dropped by
+    // the reader, tests/io/glitch_readings.rs.) 500 of the log's 40,202 rows, more than 1 %,
+    // are kept as read, told, and refused before any fit.
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
     let text = std::fs::read_to_string(sample("calibration.csv")).unwrap();
@@ -649,15 +650,17 @@ fn calibrate_writes_only_what_it_can_read_back() {
     std::fs::write(&log, lines.join("\n") + "\n").unwrap();
     let out = p(d, "cell.json");
     let err = fails(&["calibrate", &log, "--out", &out]);
-    // One error line, the last; the reader's warning about the rate column may come first.
+    // One error line, the last; the reader's warning about the stretch comes first.
     let errors: Vec<&str> = err.lines().filter(|l| l.starts_with("error: ")).collect();
     assert_eq!(errors.len(), 1, "{err}");
     assert!(
         err.lines().last().is_some_and(|l| l.starts_with(&format!(
-            "error: {out}: not written: plateaus[0].omega_std_dph: is inf"
+            "error: {log}: the rate of axis omega holds 500 readings beyond the 10⁴ °/s of any \
+             gyro (1e160 °/h; from 4998 s to 5497 s), 1.24 % of its 40201"
         ))),
         "{err}"
     );
+    assert!(!err.contains("not written"), "{err}");
     assert!(!Path::new(&out).exists());
     assert!(temporaries(d).is_empty());
 }

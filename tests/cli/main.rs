@@ -25,6 +25,7 @@ mod figures_not_computed;
 mod firmware_forms;
 mod forged_lines;
 mod gyro_identity;
+mod impossible_readings;
 mod in_sample;
 mod in_sample_told;
 mod kalibr;

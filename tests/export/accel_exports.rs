@@ -347,6 +347,38 @@ fn an_accelerometer_with_its_own_device_id_is_recorded_and_asked_for_never_given
     let p = px4_file(&String::from_utf8(text).unwrap());
     assert_eq!(p["TC_G0_ID"], 2424842.0);
     assert_eq!(p["TC_A0_ID"], 2424843.0);
+    // The ids recorded given: nothing to say of them.
+    assert!(!said.contains("not that of the"), "{said}");
+    // Another accelerometer's id is taken (a sensor on another bus or address) but said,
+    // naming the recorded one; as is another gyro's.
+    let (written, said, _) = px4(&["--accel-device-id", "2424999"]);
+    assert!(written, "{said}");
+    assert!(
+        said.contains(
+            "TC_A0_ID is the device_id given, 2424999 (0x2500A7), not that of the \
+             accelerometer the calibration was fitted on, 2424843 (0x25000B)"
+        ),
+        "{said}"
+    );
+    let out = driftlab(&[
+        "export",
+        &cal,
+        "--format",
+        "px4-params",
+        "--device-id",
+        "1234",
+        "--accel-device-id",
+        "2424843",
+    ]);
+    let said = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{said}");
+    assert!(
+        said.contains(
+            "TC_G0_ID is the device_id given, 1234 (0x4D2), not that of the gyro the \
+             calibration was fitted on, 2424842 (0x25000A)"
+        ),
+        "{said}"
+    );
     // A gyro axis alone has no accelerometer to give an id to.
     let (written, said, _) = px4(&["--axis", "gyro_x", "--accel-device-id", "2424843"]);
     assert!(

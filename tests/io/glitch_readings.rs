@@ -155,3 +155,133 @@ fn a_ulog_gyro_sample_of_1e38_is_dropped_with_its_sample_number() {
         told[0]
     );
 }
+
+/// `text` with `cell` put in column `col` of the data rows `rows` (0-based; the header is kept).
+fn with_cells(text: &str, rows: std::ops::Range<usize>, col: usize, cell: &str) -> String {
+    text.lines()
+        .enumerate()
+        .map(|(i, l)| {
+            if i >= 1 && rows.contains(&(i - 1)) {
+                let mut c: Vec<&str> = l.split(',').collect();
+                c[col] = cell;
+                format!("{}\n", c.join(","))
+            } else {
+                format!("{l}\n")
+            }
+        })
+        .collect()
+}
+
+/// The messages of `log`'s problems that contain `words`.
+fn told<'a>(log: &'a driftlab::Log, words: &str) -> Vec<&'a str> {
+    log.info
+        .problems
+        .iter()
+        .map(|p| p.message.as_str())
+        .filter(|m| m.contains(words))
+        .collect()
+}
+
+#[test]
+fn a_blank_nan_or_infinite_cell_of_any_gyro_axis_drops_its_row_as_the_first_axis_does() {
+    // omega_y and omega_z are the unit's other axes: a cell no reading can be, in either, once
+    // went untold and reached every fit and figure of its axis as NaN.
+    for (col, name) in [(3, "omega_y_dph"), (4, "omega_z_dph")] {
+        for (cell, why) in [
+            ("", "blank or NaN"),
+            ("nan", "blank or NaN"),
+            ("inf", "an infinite value"),
+        ] {
+            let text = stand_log(2000, 1200, col, cell);
+            let log = read_bytes("stand.csv", text.as_bytes(), &ReadOptions::default()).unwrap();
+            assert_eq!(log.len(), 1999, "{name} {cell:?}");
+            assert!(log.time_s.iter().all(|&t| t != 1200.0));
+            let m = told(&log, "1 row dropped");
+            assert_eq!(m.len(), 1, "{name} {cell:?}: {:?}", log.info.problems);
+            // Data row 1200 is line 1202.
+            assert!(
+                m[0].contains(why) && m[0].contains(&format!("\"{name}\"")),
+                "{}",
+                m[0]
+            );
+            let p = &log.info.problems[0];
+            assert_eq!((p.line, p.column), (1202, Some(col + 1)), "{p:?}");
+            for axis in log.axis_names() {
+                let rate = log.axis_rate(&axis).unwrap();
+                assert!(rate.iter().all(|v| v.is_finite()), "{axis} keeps a NaN");
+            }
+        }
+    }
+}
+
+#[test]
+fn more_readings_beyond_than_glitches_are_kept_and_told_with_their_lines_and_share() {
+    // 30 of 2000 readings of omega_z (1.5 %): too many to drop as glitches, too few to doubt
+    // the column's unit. Kept, and told with the first and last lines and the share.
+    let text = with_cells(&stand_log(2000, usize::MAX, 0, ""), 500..530, 4, "1e38");
+    let log = read_bytes("stand.csv", text.as_bytes(), &ReadOptions::default()).unwrap();
+    assert_eq!(log.len(), 2000);
+    let m = told(&log, "taken for glitches");
+    assert_eq!(m.len(), 1, "{:?}", log.info.problems);
+    assert!(
+        m[0].starts_with(
+            "30 readings of \"omega_z_dph\" beyond the 10⁴ °/s of any gyro (1e38 at line 502, \
+             the first; the last at line 531), 1.5 % of its 2000 readings"
+        ),
+        "{}",
+        m[0]
+    );
+    // No unit is doubted for them.
+    assert!(
+        told(&log, "check its unit").is_empty(),
+        "{:?}",
+        log.info.problems
+    );
+}
+
+#[test]
+fn another_axis_beyond_throughout_has_its_unit_doubted_by_name() {
+    // Every omega_y reading 1e9 °/h: the unit (or the column) is in doubt, told of that
+    // column as it is of the first axis.
+    let text = with_cells(&stand_log(500, usize::MAX, 0, ""), 0..500, 3, "1e9");
+    let log = read_bytes("counts.csv", text.as_bytes(), &ReadOptions::default()).unwrap();
+    assert_eq!(log.len(), 500);
+    let m = told(&log, "check its unit");
+    assert_eq!(m.len(), 1, "{:?}", log.info.problems);
+    assert!(
+        m[0].starts_with(
+            "the rate column \"omega_y_dph\" read as deg/h reaches 2.778e5 °/s, beyond the 10⁴ \
+             °/s of any gyro on a stand, in 100 % of its readings"
+        ),
+        "{}",
+        m[0]
+    );
+}
+
+#[test]
+fn a_stretch_of_accelerometer_readings_beyond_is_told_as_such_not_as_a_unit() {
+    // 30 of 2000 acc_z readings at 1e38 (1.5 %): too many for glitches. Gravity is still read
+    // from the others, so the unit is not blamed; the stretch is told and kept.
+    let text = with_cells(&stand_log(2000, usize::MAX, 0, ""), 700..730, 7, "1e38");
+    let mut log = read_bytes("imu.csv", text.as_bytes(), &ReadOptions::default()).unwrap();
+    let names = accel_axes::take(&mut log, &AccelAsk::default()).unwrap();
+    assert_eq!(names, ["acc_x", "acc_y", "acc_z"]);
+    let z = log.axis_rate("acc_z").unwrap();
+    assert_eq!(z.iter().filter(|v| v.abs() > 1e37).count(), 30);
+    let m = told(&log, "taken for glitches");
+    assert_eq!(m.len(), 1, "{:?}", log.info.problems);
+    assert!(
+        m[0].starts_with(
+            "30 readings of \"acc_z_m_s2\" beyond the 1000 g of any accelerometer (1e38 at \
+             sample 701, the first; the last at sample 730), 1.5 % of its 2000 readings"
+        ),
+        "{}",
+        m[0]
+    );
+    // What `inspect` shows: the same, without making the columns axes.
+    let log = read_bytes("imu.csv", text.as_bytes(), &ReadOptions::default()).unwrap();
+    let seen = accel_axes::check(&log, &AccelAsk::default()).unwrap();
+    assert_eq!(seen.len(), 1);
+    assert_eq!(seen[0].message, m[0]);
+    assert!(log.axis_rate("acc_z").is_none());
+}

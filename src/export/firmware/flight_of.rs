@@ -88,6 +88,8 @@ fn flight_sensors(
                 ..opts.px4
             };
             let mut file = px4_params(&fits, &target)?;
+            file.warnings
+                .extend(ids_not_recorded(gyro, accel, &opts.px4));
             if let Some(id) = from_id {
                 let param = if gyro.is_empty() { "TC_A" } else { "TC_G" };
                 file.notes.push(format!(
@@ -140,6 +142,56 @@ fn accel_device_id(
         )))),
         None => Ok(None),
     }
+}
+
+/// The device ids given that differ from those the calibration records of the sensors it was
+/// fitted on (`source.instance.px4_device_id`, `px4_accel_device_id`): taken, since a unit's
+/// calibration may be meant for a sensor on another bus or address, but said, naming both,
+/// since PX4 then compensates the sensor of the id given and no other.
+fn ids_not_recorded(
+    gyro: &[(&str, &DriftModel)],
+    accel: &[(&str, &DriftModel)],
+    px4: &Px4Target,
+) -> Vec<String> {
+    use crate::log::DroneGyro;
+    let recorded = |axes: &[(&str, &DriftModel)], pick: fn(&DroneGyro) -> Option<u32>| {
+        axes.iter()
+            .filter_map(|(_, m)| m.source().instance.as_ref())
+            .find_map(pick)
+    };
+    let mut out = Vec::new();
+    let gyro_recorded = recorded(gyro, |i| i.px4_device_id);
+    // One chip's accelerometer has the gyro's id.
+    let accel_recorded = recorded(accel, |i| i.px4_accel_device_id.or(i.px4_device_id));
+    for (param, given, recorded, field, what) in [
+        (
+            "TC_G",
+            px4.gyro_device_id,
+            gyro_recorded,
+            "px4_device_id",
+            "gyro",
+        ),
+        (
+            "TC_A",
+            px4.accel_device_id,
+            accel_recorded,
+            "px4_accel_device_id",
+            "accelerometer",
+        ),
+    ] {
+        if let (Some(given), Some(rec)) = (given, recorded)
+            && given != rec
+        {
+            out.push(format!(
+                "{param}{}_ID is the device_id given, {given} (0x{given:X}), not that of the \
+                 {what} the calibration was fitted on, {rec} (0x{rec:X}) \
+                 (source.instance.{field}): PX4 applies the compensation to the sensor of the \
+                 id given",
+                px4.slot
+            ));
+        }
+    }
+    out
 }
 
 /// `(axis, model)` pairs as the flight writers take them.

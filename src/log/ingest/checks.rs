@@ -53,7 +53,7 @@ pub(super) fn finish(mut acc: Acc, sn: &Sniffed, plan: &Plan, source: &str) -> R
             0,
             format!(
                 "none of the {} data rows can be used: each has a blank, NaN or infinite value \
-                 in the time, rate or temperature column",
+                 in the time, rate or temperature column, or in a gyro axis's",
                 acc.noticed.rows_read
             ),
         ));
@@ -469,40 +469,59 @@ fn unread_temperatures(
 
 /// Drops the rows whose rate, in the rate column or another gyro axis, is a reading no gyro
 /// gives ([`crate::log::impossible`]), each column's told with its first line (`drop` the
-/// sorted rows dropped so far, which gains these).
+/// sorted rows dropped so far, which gains these). Too many such readings to be glitches are
+/// kept and told with their first and last lines (no fit takes the axis); most of a column
+/// beyond is left to the plausibility check, which doubts its unit.
 fn impossible_rates(
     acc: &mut Acc,
     plan: &Plan,
     drop: &mut Vec<usize>,
     problems: &mut Vec<Problem>,
 ) {
-    use crate::log::impossible::{RATE_LIMIT_WORDS, rate_glitches};
+    use crate::log::impossible::{RATE_LIMIT_WORDS, Verdict, beyond};
+    use crate::log::mapping_check::MAX_PLAUSIBLE_RATE_DPH;
     let slots = std::iter::once(SLOT_RATE).chain(SLOT_TEMP + 1..SLOT_TEMP + 1 + plan.axes.len());
     let mut gone: Vec<usize> = Vec::new();
     for slot in slots {
         let Some(col) = acc.cols.get(slot) else {
             continue;
         };
-        let Some(g) = rate_glitches(col.iter().copied()) else {
+        let Some(b) = beyond(col.iter().copied(), MAX_PLAUSIBLE_RATE_DPH) else {
             continue;
         };
         let column = plan.slot_col.get(slot).copied().flatten();
         let name = column.map_or("?", |c| plan.name(c));
-        let line = acc.line_of(row_of(drop, g.samples[0]));
-        problems.push(Problem {
-            line,
-            column: column.map(|c| c + 1),
-            kind: ProblemKind::Implausible,
-            count: g.samples.len(),
-            message: g.message(
+        let line_at = |k: usize| acc.line_of(row_of(drop, k));
+        let line = line_at(b.samples[0]);
+        let message = match b.verdict() {
+            Verdict::Glitches => b.message(
                 name,
                 RATE_LIMIT_WORDS,
                 &format!("line {line}"),
                 "gyro",
                 true,
             ),
+            Verdict::TooMany => b.too_many_message(
+                name,
+                RATE_LIMIT_WORDS,
+                (
+                    &format!("line {line}"),
+                    &format!("line {}", line_at(b.samples[b.samples.len() - 1])),
+                ),
+                "gyro",
+            ),
+            Verdict::Column => continue,
+        };
+        problems.push(Problem {
+            line,
+            column: column.map(|c| c + 1),
+            kind: ProblemKind::Implausible,
+            count: b.samples.len(),
+            message,
         });
-        gone.extend(g.samples);
+        if b.verdict() == Verdict::Glitches {
+            gone.extend(b.samples);
+        }
     }
     if gone.is_empty() {
         return;

@@ -581,9 +581,11 @@ pub(crate) fn plan(sn: &Sniffed, opts: &ReadOptions) -> Result<Plan, Fail> {
         let name = sn.names[j].clone();
         let (role, unit) = if let Some(k) = axis_cols.iter().position(|&a| a == j) {
             let u = axis_units[k];
+            // A gyro axis's blank, NaN or infinite cell drops its row as the rate column's
+            // does: every axis of a unit is fitted and judged on the same samples.
             actions[j] = Action::Parse {
                 slot: SLOT_TEMP + 1 + k,
-                required: false,
+                required: true,
                 conv: Conv::new(u.to_dph_factor(), 1.0, 0.0),
             };
             (ColumnRole::OtherAxis, u.to_string())

@@ -10,9 +10,7 @@
 use super::names::unit_words::{Quantity, StatedRate, unread_unit};
 use super::names::{is_raw_register, stated_rate, stated_time};
 use super::units::{RateUnit, TempUnit, TimeUnit};
-use crate::log::mapping_check::{
-    PLAUSIBLE_TEMP_C, is_plausible_rate_dph, is_plausible_temp_c, is_temp_unit,
-};
+use crate::log::mapping_check::{PLAUSIBLE_TEMP_C, is_plausible_temp_c, is_temp_unit};
 use crate::log::{ColumnRole, Log, Problem, ProblemKind};
 
 /// Range of the finite values, and whether they are all whole numbers.
@@ -264,6 +262,65 @@ fn unread_units(log: &Log) -> Vec<Problem> {
         .collect()
 }
 
+/// Each gyro axis most of whose readings are beyond
+/// [`MAX_PLAUSIBLE_RATE_DPH`](crate::log::mapping_check::MAX_PLAUSIBLE_RATE_DPH): its column is
+/// read in the wrong unit, or is no rate. (A few readings beyond are glitches the readers drop,
+/// and more than a few but not most are a stretch they keep and tell, by the rule of
+/// [`crate::log::impossible`].)
+fn rates_beyond(log: &Log) -> Vec<Problem> {
+    use crate::log::impossible::{Verdict, beyond};
+    use crate::log::mapping_check::MAX_PLAUSIBLE_RATE_DPH;
+    let columns = log.axis_columns();
+    let mut axes: Vec<(&str, &[f64])> = vec![(log.axis.as_str(), &log.omega_dph)];
+    axes.extend(
+        log.other_axes
+            .iter()
+            .filter(|a| a.kind == crate::log::AxisKind::Gyro)
+            .map(|a| (a.name.as_str(), a.omega_dph.as_slice())),
+    );
+    let mut out = Vec::new();
+    for (axis, rate) in axes {
+        if log.axis_kind != crate::log::AxisKind::Gyro && axis == log.axis {
+            continue;
+        }
+        let Some(b) = beyond(rate.iter().copied(), MAX_PLAUSIBLE_RATE_DPH) else {
+            continue;
+        };
+        if b.verdict() != Verdict::Column {
+            continue;
+        }
+        let column = columns
+            .iter()
+            .find(|(name, _)| name == axis)
+            .and_then(|(_, col)| log.info.columns.iter().find(|c| c.name == *col))
+            .or_else(|| {
+                log.info
+                    .columns
+                    .iter()
+                    .find(|c| c.role == ColumnRole::Rate && axis == log.axis)
+            });
+        let (what, unit) = match column {
+            Some(c) => (format!("the rate column \"{}\"", c.name), c.unit.clone()),
+            None => (format!("the rate of axis {axis}"), "deg/h".to_string()),
+        };
+        let worst = b.worst.abs() / 3600.0;
+        out.push(Problem {
+            line: 0,
+            column: column.map(|c| c.index),
+            kind: ProblemKind::Implausible,
+            count: 1,
+            message: format!(
+                "{what} read as {unit} reaches {:.3e} °/s, beyond the 10⁴ °/s of any gyro on a \
+                 stand, in {} % of its readings: check its unit (rate_unit) or choose another \
+                 column (rate_col)",
+                worst,
+                crate::number::significant(100.0 * b.share(), 3)
+            ),
+        });
+    }
+    out
+}
+
 /// How many times larger a rate reads in `a` than in `b` (≥ 1).
 fn ratio(a: StatedRate, b: StatedRate) -> f64 {
     let (x, y) = (a.to_dph_factor(), b.to_dph_factor());
@@ -479,24 +536,6 @@ pub(crate) fn check(log: &Log) -> Vec<Problem> {
             message: format!("the temperature column \"{}\" {why}; {advice}", c.name),
         });
     }
-    if let Some(c) = column(ColumnRole::Rate)
-        && let Some((lo, hi, _)) = survey(&log.omega_dph)
-        && !(is_plausible_rate_dph(lo) && is_plausible_rate_dph(hi))
-    {
-        out.push(Problem {
-            line: 0,
-            column: Some(c.index),
-            kind: ProblemKind::Implausible,
-            count: 1,
-            message: format!(
-                "the rate column \"{}\" read as {} reaches {:.3e} °/s, beyond the 10⁴ °/s of any \
-                 gyro on a stand: check its unit (rate_unit) or choose another column \
-                 (rate_col)",
-                c.name,
-                c.unit,
-                lo.abs().max(hi.abs()) / 3600.0
-            ),
-        });
-    }
+    out.extend(rates_beyond(log));
     out
 }

@@ -1,0 +1,181 @@
+//! Readings no sensor gives, past the few the readers drop as glitches, as a user meets them:
+//! a stretch of a float register's 1e38 on any gyro axis or accelerometer is told with its
+//! lines and share, and refused before any fit, naming the axis; never fitted and refused when
+//! written, nor blamed on a unit. A cell no reading can be, on any gyro axis, drops its row.
+
+use crate::common::drone::ulog_imu;
+use crate::common::run::{driftlab, fails, ok, p};
+
+/// The `mems-imu` run (18,301 rows at 1 s, gyro axes in °/h, accelerometers in m/s²) with
+/// `cell` in column `col` (0-based) of the data rows `rows`, written as `name` into `dir`.
+fn mems_with(
+    dir: &std::path::Path,
+    name: &str,
+    col: usize,
+    rows: std::ops::Range<usize>,
+    cell: &str,
+) -> String {
+    let clean = p(dir, "clean.csv");
+    if !std::path::Path::new(&clean).exists() {
+        ok(&[
+            "simulate",
+            "--profile",
+            "mems-imu",
+            "--accel-unit",
+            "m/s2",
+            "--out",
+            &clean,
+        ]);
+    }
+    let text = std::fs::read_to_string(&clean).unwrap();
+    let mut row = 0usize;
+    let mut out = String::new();
+    for line in text.lines() {
+        if line.starts_with(|c: char| c.is_ascii_digit()) {
+            if rows.contains(&row) {
+                let mut cells: Vec<&str> = line.split(',').collect();
+                cells[col] = cell;
+                out.push_str(&cells.join(","));
+            } else {
+                out.push_str(line);
+            }
+            row += 1;
+        } else {
+            out.push_str(line);
+        }
+        out.push('\n');
+    }
+    assert_eq!(row, 18301, "the profile's length");
+    let path = p(dir, name);
+    std::fs::write(&path, out).unwrap();
+    path
+}
+
+#[test]
+fn a_stretch_beyond_any_gyro_on_the_third_axis_is_refused_before_any_fit() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    // 300 of 18,301 omega_z readings (1.64 %): more than the 1 % read as glitches. The file
+    // has a comment line and a header: data row 1000 is line 1003.
+    let log = mems_with(d, "z300.csv", 3, 1000..1300, "1e38");
+    let out = p(d, "kept.json");
+    std::fs::write(&out, "last week's calibration\n").unwrap();
+    let err = fails(&["calibrate", &log, "--out", &out]);
+    assert!(
+        err.contains(
+            "300 readings of \"omega_z_dph\" beyond the 10⁴ °/s of any gyro (1e38 at line \
+             1003, the first; the last at line 1302), 1.64 % of its 18301 readings"
+        ),
+        "{err}"
+    );
+    let last = err.lines().last().unwrap();
+    assert!(
+        last.starts_with(&format!(
+            "error: {log}: the rate of axis omega_z holds 300 readings beyond the 10⁴ °/s of \
+             any gyro (1e38 °/h; from 1000 s to 1299 s), 1.64 % of its 18301: more than the 1 % taken for glitches"
+        )),
+        "{err}"
+    );
+    // Refused before the fit, not by the writer after it.
+    assert!(!err.contains("not written"), "{err}");
+    assert_eq!(
+        std::fs::read_to_string(&out).unwrap(),
+        "last week's calibration\n"
+    );
+    // `inspect` tells the same stretch, naming its lines.
+    let seen = ok(&["inspect", &log]);
+    assert!(
+        seen.contains("line 1003: 300 readings of \"omega_z_dph\""),
+        "{seen}"
+    );
+}
+
+#[test]
+fn a_nan_on_the_third_axis_drops_its_row_for_calibrate_and_allan_alike() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let log = mems_with(d, "znan.csv", 3, 5000..5001, "nan");
+    let seen = ok(&["inspect", &log]);
+    assert!(
+        seen.contains("line 5003: 1 row dropped: blank or NaN in column \"omega_z_dph\""),
+        "{seen}"
+    );
+    // `allan` once refused every axis for that one cell.
+    let o = driftlab(&["allan", &log]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let o = driftlab(&["calibrate", &log, "--out", &p(d, "c.json")]);
+    assert!(o.status.success());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("1 row dropped: blank or NaN in column \"omega_z_dph\""),
+        "{err}"
+    );
+}
+
+#[test]
+fn a_stretch_beyond_any_accelerometer_is_refused_naming_the_axis_not_the_unit() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    // acc_z is column 6; 300 readings of 1e38 (1.64 %).
+    let log = mems_with(d, "a300.csv", 6, 1000..1300, "1e38");
+    let seen = ok(&["inspect", &log]);
+    assert!(
+        seen.contains(
+            "accelerometers: 300 readings of \"acc_z_m_s2\" beyond the 1000 g of any \
+             accelerometer (1e38 at sample 1001, the first; the last at sample 1300), 1.64 %"
+        ),
+        "{seen}"
+    );
+    let err = fails(&["calibrate", &log, "--accel", "--out", &p(d, "c.json")]);
+    assert!(!err.contains("is their unit right"), "{err}");
+    assert!(
+        err.lines().last().unwrap().starts_with(&format!(
+            "error: {log}: accelerometer axis acc_z holds 300 readings beyond the 1000 g of \
+             any accelerometer (1e38 m/s²; from 1000 s to 1299 s), 1.64 % of its 18301: more than the 1 % taken for glitches"
+        )),
+        "{err}"
+    );
+    // A few are glitches, kept as NaN, and the calibration is made.
+    let few = mems_with(d, "a100.csv", 6, 1000..1100, "1e38");
+    let seen = ok(&["inspect", &few]);
+    assert!(
+        seen.contains("accelerometers: 100 readings of \"acc_z_m_s2\"")
+            && seen.contains("kept as NaN"),
+        "{seen}"
+    );
+    ok(&["calibrate", &few, "--accel", "--out", &p(d, "c100.json")]);
+}
+
+#[test]
+fn convert_tells_a_stretch_of_gyro_readings_beyond_any_gyro() {
+    // 37 of 3600 gyro_x samples of a ULog at 1e38 rad/s: one past the 1 % dropped as glitches.
+    let n = 3600;
+    let time: Vec<f64> = (0..n).map(|i| i as f64).collect();
+    let mut gyro: Vec<[f32; 3]> = (0..n)
+        .map(|i| [1e-5 + 1e-9 * i as f32, -2e-5, 3e-5])
+        .collect();
+    for g in &mut gyro[1000..1037] {
+        g[0] = 1e38;
+    }
+    let accel = vec![[0.0f32, 0.0, -9.81]; n];
+    let temp: Vec<f32> = (0..n).map(|i| 20.0 + 0.01 * i as f32).collect();
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let log = p(d, "imu.ulg");
+    std::fs::write(&log, ulog_imu(&time, &gyro, &accel, &temp, 2424842)).unwrap();
+    let o = driftlab(&["convert", &log, "-o", &p(d, "imu.csv")]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains(
+            "37 readings of \"gyro_x_rad_s\" beyond the 10⁴ °/s of any gyro (1e38 at sample \
+             1001, the first; the last at sample 1037), 1.03 % of its 3600 readings"
+        ),
+        "{err}"
+    );
+    let err = fails(&["calibrate", &log, "--out", &p(d, "c.json")]);
+    assert!(
+        err.contains("the rate of axis gyro_x holds 37 readings beyond"),
+        "{err}"
+    );
+    assert!(!err.contains("not written"), "{err}");
+}
