@@ -384,14 +384,11 @@ fn accel_unit(words: &[String], bracket: Option<&str>) -> Option<&'static str> {
 }
 
 /// The parts of a column's name that an axis is named from, with nothing in it that could
-/// steer a terminal or reorder text: an axis's name goes into every output (CSV headers,
-/// tables, the report, folder names).
+/// steer a terminal, reorder text or print as nothing or as a blank other than the space
+/// ([`crate::text::folded`]): an axis's name goes into every output (CSV headers, tables, the
+/// report, folder names), and two that print alike would be two axes.
 fn printable_parts(name: &str) -> NameParts {
-    let printable: String = name
-        .chars()
-        .filter(|&c| !crate::text::is_unprintable(c))
-        .collect();
-    name_parts(&printable)
+    name_parts(&crate::text::folded(name))
 }
 
 /// The name of the accelerometer axis a column holds: its words without the unit its name
@@ -456,11 +453,7 @@ pub(crate) fn axis_names(columns: &[(usize, &str)]) -> Vec<String> {
         .iter()
         .zip(&bases)
         .map(|((_, n), base)| {
-            let printable: String = n
-                .chars()
-                .filter(|&c| !crate::text::is_unprintable(c))
-                .collect();
-            let printable = printable.trim().to_string();
+            let printable = crate::text::folded(n).trim().to_string();
             if printable.is_empty() {
                 base.clone()
             } else {
