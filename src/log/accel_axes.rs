@@ -593,11 +593,7 @@ pub(crate) fn names_of(log: &Log, gyros: &[String]) -> Vec<(String, String)> {
                 || out.iter().any(|(a, _)| a == n)
                 || bases.iter().enumerate().any(|(j, b)| j != k && b == n)
         };
-        let whole: String = c
-            .name
-            .chars()
-            .filter(|&ch| !crate::text::is_unprintable(ch))
-            .collect();
+        let whole = crate::text::folded(&c.name);
         let name = if !taken(&bases[k]) {
             bases[k].clone()
         } else if !whole.trim().is_empty() && !taken(whole.trim()) {

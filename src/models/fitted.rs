@@ -181,26 +181,28 @@ impl DriftModel {
 
 /// Checks the gyro's serial number and the date a calibration holds, which every output
 /// copies and the terminal shows: printable text (the rule of
-/// [`is_unprintable`](crate::text::is_unprintable), as for a recipe's `gyro_id`), the serial
-/// number at most [`MAX_GYRO_ID_CHARS`](crate::models::recipe::MAX_GYRO_ID_CHARS) long.
+/// [`is_unprintable`](crate::text::is_unprintable)), the serial number with no space around
+/// it either ([`id_fault`](crate::text::id_fault), as for a recipe's `gyro_id`) and at most
+/// [`MAX_GYRO_ID_CHARS`](crate::models::recipe::MAX_GYRO_ID_CHARS) long.
 ///
 /// # Errors
 /// An [`Invalid`] naming `gyro_id` or `created`.
 pub fn check_identity(gyro_id: &str, created: &str) -> std::result::Result<(), Invalid> {
     use crate::models::recipe::MAX_GYRO_ID_CHARS;
-    for (field, text, what) in [
-        ("gyro_id", gyro_id, "a serial number"),
-        ("created", created, "a date"),
-    ] {
-        if let Some(c) = text.chars().find(|&c| crate::text::is_unprintable(c)) {
-            return Err(Invalid::new(
-                field,
-                format!(
-                    "holds the control character U+{:04X}: {what} is printable text",
-                    c as u32
-                ),
-            ));
-        }
+    if let Some(why) = crate::text::id_fault(gyro_id) {
+        return Err(Invalid::new(
+            "gyro_id",
+            format!("{why}: a serial number is printable text, with no space around it"),
+        ));
+    }
+    if let Some(c) = created.chars().find(|&c| crate::text::is_unprintable(c)) {
+        return Err(Invalid::new(
+            "created",
+            format!(
+                "holds {}: a date is printable text",
+                crate::text::unprintable_named(c)
+            ),
+        ));
     }
     if !is_date_time(created) {
         return Err(Invalid::new(

@@ -208,18 +208,12 @@ impl Recipe {
             }
         };
         // A serial number is copied into every output and printed on the terminal: no
-        // character in it may steer a terminal, start a line or reorder text.
-        if let Some(c) = self
-            .gyro_id
-            .chars()
-            .find(|&c| crate::text::is_unprintable(c))
-        {
+        // character in it may steer a terminal, start a line or reorder text, and two that
+        // print alike must be one (no invisible or blank character, no space around it).
+        if let Some(why) = crate::text::id_fault(&self.gyro_id) {
             return Err(Invalid::new(
                 "gyro_id",
-                format!(
-                    "holds the control character U+{:04X}: a serial number is printable text",
-                    c as u32
-                ),
+                format!("{why}: a serial number is printable text, with no space around it"),
             ));
         }
         if self.gyro_id.chars().count() > MAX_GYRO_ID_CHARS {

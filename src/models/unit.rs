@@ -184,9 +184,8 @@ impl UnitCalibration {
                 return Err(Invalid::new(
                     "axes.name",
                     format!(
-                        "axis {k}'s name holds the control character U+{:04X}: a name is \
-                         printable text",
-                        c as u32
+                        "axis {k}'s name holds {}: a name is printable text",
+                        crate::text::unprintable_named(c)
                     ),
                 ));
             }

@@ -220,6 +220,64 @@ fn a_gyro_id_with_an_invisible_character_is_refused() {
     }
 }
 
+/// Characters outside Unicode's format category that still print as nothing or as a blank,
+/// or that are no character every font draws alike: the Hangul fillers (letters, Lo), the
+/// braille blank (a symbol, So), the combining grapheme joiner, the emoji variation selector
+/// and a Khmer inherent vowel (marks, Mn, all default-ignorable), the no-break, en quad and
+/// ideographic spaces (Zs), the noncharacter U+FFFE, U+0378 (assigned to no character in
+/// Unicode 16.0) and the first private-use character.
+const BLANK_OR_NO_CHARACTER: [char; 14] = [
+    '\u{3164}', '\u{115f}', '\u{1160}', '\u{ffa0}', '\u{2800}', '\u{34f}', '\u{fe0f}', '\u{17b4}',
+    '\u{a0}', '\u{2000}', '\u{3000}', '\u{fffe}', '\u{378}', '\u{e000}',
+];
+
+#[test]
+fn a_gyro_id_that_prints_as_another_is_refused() {
+    // `FOG-0001` followed by a Hangul filler printed as `FOG-0001` and went into every output
+    // as another serial number; so did one with a space before or after it. Each is refused,
+    // naming the character; a serial number of printable text in any script, a space inside
+    // it or a visible combining accent, is taken.
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("cal.json").display().to_string();
+    let log = sample("calibration.csv");
+    for c in BLANK_OR_NO_CHARACTER {
+        let id = format!("FOG-0001{c}");
+        let err = fails(&["calibrate", &log, "--gyro-id", &id, "--out", &out]);
+        let want = format!("gyro_id (--gyro-id): holds U+{:04X}, ", c as u32);
+        assert!(err.contains(&want), "{id:?}: wanted {want}, got {err}");
+        assert!(!Path::new(&out).exists(), "{id:?}");
+    }
+    for id in [" FOG-0001", "FOG-0001 "] {
+        let err = fails(&["calibrate", &log, "--gyro-id", id, "--out", &out]);
+        assert!(
+            err.contains("gyro_id (--gyro-id): starts or ends with a space"),
+            "{id:?}: {err}"
+        );
+        assert!(!Path::new(&out).exists(), "{id:?}");
+    }
+    for id in ["FOG 0001", "ГИРО-7", "陀螺仪-7", "FOG-0001e\u{301}"] {
+        ok(&["calibrate", &log, "--gyro-id", id, "--out", &out]);
+        let json: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+        assert_eq!(json["calibration"]["gyro_id"], id, "{id:?}");
+        std::fs::remove_file(&out).unwrap();
+    }
+    // A calibration file whose serial number was edited to hold one is refused on load,
+    // naming the field and the character.
+    ok(&["calibrate", &log, "--gyro-id", "FOG-0001", "--out", &out]);
+    let mut json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+    json["calibration"]["gyro_id"] = serde_json::Value::from("FOG-0001\u{3164}");
+    std::fs::write(&out, serde_json::to_string_pretty(&json).unwrap()).unwrap();
+    let header = dir.path().join("cal.h").display().to_string();
+    let err = fails(&["export", &out, "--format", "c-header", "--out", &header]);
+    assert!(
+        err.contains("gyro_id") && err.contains("holds U+3164, "),
+        "{err}"
+    );
+    assert!(!Path::new(&header).exists());
+}
+
 #[test]
 fn an_invisible_character_in_a_column_name_is_shown_escaped() {
     // A column name that holds a zero-width space and a tag character is shown with both as

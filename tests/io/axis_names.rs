@@ -70,6 +70,38 @@ fn columns_of_one_name_are_told_apart_by_their_number() {
 }
 
 #[test]
+fn a_blank_or_invisible_character_in_a_column_name_stays_out_of_its_axis_name() {
+    // Characters that print as nothing or as a blank without being Unicode format characters
+    // (Hangul fillers, the braille blank, the combining grapheme joiner, a variation
+    // selector, a Khmer inherent vowel, spaces other than the ASCII one), a noncharacter, an
+    // unassigned and a private-use code point: a column `omega_y` with one of them named the
+    // axis `omega_y` and the character, which printed as `omega_y` and was another axis to
+    // every output. The axis is named as the column prints, each column's own values read.
+    let n = 20;
+    for c in [
+        '\u{3164}', '\u{115f}', '\u{1160}', '\u{ffa0}', '\u{2800}', '\u{34f}', '\u{fe0f}',
+        '\u{17b4}', '\u{a0}', '\u{2000}', '\u{3000}', '\u{fffe}', '\u{378}', '\u{e000}',
+    ] {
+        let header = format!("time_s,omega_x_dph,omega_y{c}_dph,omega_z_dph{c},temp_c");
+        let log = read(&log_text(&header, n));
+        assert_eq!(
+            log.axis_names(),
+            ["omega_x", "omega_y", "omega_z"],
+            "U+{:04X}",
+            c as u32
+        );
+        for (k, name) in ["omega_x", "omega_y", "omega_z"].iter().enumerate() {
+            close(&rate(&log, name), &column(k, n, 1.0));
+        }
+    }
+    // A space other than the ASCII one still parts two words, as a space does: the unit
+    // after it is read (1 deg/s = 3600 deg/h).
+    let log = read(&log_text("time_s,gx\u{a0}dps,temp_c", n));
+    assert_eq!(log.axis_names(), ["gx"]);
+    close(&rate(&log, "gx"), &column(0, n, 3600.0));
+}
+
+#[test]
 fn allan_analyses_each_columns_own_samples() {
     let tmp = tempfile::tempdir().unwrap();
     let path = tmp.path().join("unit.csv");

@@ -384,14 +384,11 @@ fn accel_unit(words: &[String], bracket: Option<&str>) -> Option<&'static str> {
 }
 
 /// The parts of a column's name that an axis is named from, with nothing in it that could
-/// steer a terminal or reorder text: an axis's name goes into every output (CSV headers,
-/// tables, the report, folder names).
+/// steer a terminal, reorder text or print as nothing or as a blank other than the space
+/// ([`crate::text::folded`]): an axis's name goes into every output (CSV headers, tables, the
+/// report, folder names), and two that print alike would be two axes.
 fn printable_parts(name: &str) -> NameParts {
-    let printable: String = name
-        .chars()
-        .filter(|&c| !crate::text::is_unprintable(c))
-        .collect();
-    name_parts(&printable)
+    name_parts(&crate::text::folded(name))
 }
 
 /// The name of the accelerometer axis a column holds: its words without the unit its name
@@ -456,11 +453,7 @@ pub(crate) fn axis_names(columns: &[(usize, &str)]) -> Vec<String> {
         .iter()
         .zip(&bases)
         .map(|((_, n), base)| {
-            let printable: String = n
-                .chars()
-                .filter(|&c| !crate::text::is_unprintable(c))
-                .collect();
-            let printable = printable.trim().to_string();
+            let printable = crate::text::folded(n).trim().to_string();
             if printable.is_empty() {
                 base.clone()
             } else {
@@ -535,7 +528,7 @@ pub(super) fn classify(name: &str) -> (Kind, u8) {
         .iter()
         .any(|w| CHAMBER_WORDS.contains(&w.as_str()) || NOT_THE_GYROS_TEMP.contains(&w.as_str()));
     let time_unit = || time_of(&p, 1);
-    // A rate unit the name states, whether or not a number beside it scales it: what makes a
+    // A rate unit the name states, whether or not a scale stands beside it: what makes a
     // name a rate's (`rate_dps_x1000` is a rate column as `rate_dps` is).
     let rate_named = || {
         rate_of(&p, 1).or_else(|| {
@@ -549,7 +542,7 @@ pub(super) fn classify(name: &str) -> (Kind, u8) {
             })
         })
     };
-    // The unit the column is in: none where a number beside the unit scales it
+    // The unit the column is in: none where a scale beside the unit scales it
     // (`omega [deg/s]/1000`, `omega_1000dps`), whose read the reader refuses.
     let scaled = || rate_scale(&p).is_some();
     let rate_unit = || rate_named().filter(|_| !scaled());
@@ -700,7 +693,7 @@ fn time_of(p: &NameParts, from: usize) -> Option<TimeUnit> {
 
 /// The rate unit a column's name states, whatever the rest of the name says: for a column the
 /// engineer mapped by name (`--rate-col gx_dps` is in deg/s even where `gx` alone would not be
-/// read as a rate). None where a number beside the unit scales it ([`rate_scale`]).
+/// read as a rate). None where a scale beside the unit scales it ([`rate_scale`]).
 pub(crate) fn stated_rate(name: &str) -> Option<StatedRate> {
     let p = name_parts(name);
     rate_of(&p, 0).filter(|_| rate_scale(&p).is_none())

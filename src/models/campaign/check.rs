@@ -78,7 +78,7 @@ pub fn validate_runs(runs: &[RunRecord]) -> std::result::Result<(), Invalid> {
             if let Some(c) = text.chars().find(|&c| crate::text::is_unprintable(c)) {
                 return Err(Invalid::new(
                     at(f),
-                    format!("holds the control character U+{:04X}", c as u32),
+                    format!("holds {}", crate::text::unprintable_named(c)),
                 ));
             }
         }

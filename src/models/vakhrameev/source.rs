@@ -165,8 +165,8 @@ impl SourceInfo {
                 return Err(Invalid::new(
                     field,
                     format!(
-                        "holds the control character U+{:04X}: a hash is printable text",
-                        c as u32
+                        "holds {}: a hash is printable text",
+                        crate::text::unprintable_named(c)
                     ),
                 ));
             }

@@ -33,10 +33,14 @@
 //!   of that length: the message says they read as samples at the rate they make, with
 //!   `time_unit samples` and `sample_rate_hz`); anything with a slash, `per`, `^` or a degree
 //!   sign that is not a unit above (`[furlongs/fortnight]`); a count of a rate unit
-//!   (`[10 deg/h]`); a rate unit with a number, or a sign of a product or quotient and a
-//!   number, right beside it (`[deg/s/1000]`, `[deg/s x 1e-3]`, `[deg/s]/1000`,
-//!   `(deg/s)*1000`, `omega_dps_div1000`, `omega_dps_x1000`, `omega_1000dps`: a scale or a
-//!   count of the unit, `rate_scale.rs`; a one, `omega_1_dps`, is the unit); a unit of another quantity (`Rate [°C]`, `time [deg/s]`); a count of a
+//!   (`[10 deg/h]`); a rate unit with a scale right beside it: a number, a sign of a
+//!   product or quotient and a number, a fraction, a ratio sign or a word that scales
+//!   (`[deg/s/1000]`, `[deg/s x 1e-3]`, `[deg/s]/1000`, `(deg/s)*1000`, `omega_dps_div1000`,
+//!   `omega_dps_x1000`, `omega_1000dps`, `[deg/s] (1/1000)`, `[deg/s] per 1000`,
+//!   `[thousandths of deg/s]`, `[% of deg/s]`, `omega_dps_k`), or a number glued after it
+//!   (`omega_dps3`: `rate_scale.rs`; a one, `omega_1_dps`, is the unit, and a sensor's
+//!   number glued to its word, `gyro2_dps`, is a note); a unit of another quantity
+//!   (`Rate [°C]`, `time [deg/s]`); a count of a
 //!   register (`[LSB]`, `[counts]`, `[ticks]`); an angle the reader has no factor for glued
 //!   to `p` and a time, as a word of the name or alone (`omega_rpm`, `Rate [rpm]`,
 //!   `omega_udps`, `gyro_revps`: revolutions, micro-degrees).
@@ -55,7 +59,7 @@
 //!   a unit or a note; a word that is plainly a note (an axis letter, a sensor
 //!   number, `filtered`, `UTC`) is neither.
 //!
-//! The rate words are `rate_words.rs` (a number beside them `rate_scale.rs`), the time words
+//! The rate words are `rate_words.rs` (a scale beside them `rate_scale.rs`), the time words
 //! `time_words.rs`, and what is refused or warned of `unread.rs`; this file holds what they
 //! share.
 

@@ -77,8 +77,9 @@ enum Why {
     Degrees(f64),
     /// One other word where a unit is written alone: a unit, or a note.
     Word,
-    /// A rate unit with a number beside it (`deg/s/1000`, `dps_x1000`, `1000dps`): a scale or
-    /// a count of the unit, or a sensor's number.
+    /// A rate unit with a scale beside it or a number glued to it (`deg/s/1000`, `dps_x1000`,
+    /// `1000dps`, `[deg/s] per 1000`, `% of deg/s`, `dps3`): a scale or a count of the unit,
+    /// or a number the reader cannot tell from one (`gyro_2_dps`).
     Scaled,
 }
 
@@ -335,7 +336,7 @@ fn multiplied(text: &str) -> Option<(f64, TempUnit)> {
 /// `gx_lsb`). `None` when the name states a unit the reader reads, or none.
 pub(crate) fn unread_unit(name: &str, q: Quantity) -> Option<Unread> {
     let p = super::super::name_parts(name);
-    // A rate unit with a number beside it, wherever it is written: not the unit beside it.
+    // A rate unit with a scale beside it, wherever it is written: not the unit beside it.
     if q == Quantity::Rate
         && let Some(text) = rate_scale(&p)
     {
@@ -456,9 +457,9 @@ impl Unread {
                 "has \"{t}\" where a unit is written, which driftlab does not read as a unit"
             ),
             Why::Scaled => format!(
-                "states its unit as \"{t}\", a rate unit with a number beside it (a scale or a \
-                 count of the unit, or a sensor's number), which driftlab does not read as that \
-                 unit"
+                "states its unit as \"{t}\", a rate unit with a scale beside it or a number \
+                 glued to it (a number, a fraction, a percentage, or a word such as per, milli \
+                 or k), which driftlab does not read as that unit"
             ),
         }
     }
@@ -497,6 +498,13 @@ impl Unread {
             out.push_str(
                 " or in the header, which may also state mrad/s, urad/s, deg/min or arcsec/s \
                  (omega [mrad/s])",
+            );
+        }
+        if self.why == Why::Scaled {
+            // A number alone beside the unit may be a sensor's: say how one is read.
+            out.push_str(
+                "; a sensor's number is read as a note when glued to the word it numbers \
+                 (gyro2_dps, omega_dps_imu2)",
             );
         }
         out
