@@ -50,7 +50,7 @@ fn is_noncharacter(c: char) -> bool {
 /// (Unicode's Zs: the no-break space, the en to hair spaces, the ideographic space), the
 /// braille blank U+2800, and the Hangul fillers, letters that print as nothing or as a blank.
 /// `FOG 0001` with one of them is another serial number than with the space, printed alike.
-fn prints_as_blank(c: char) -> bool {
+pub fn prints_as_blank(c: char) -> bool {
     c != ' '
         && (get_general_category(c) == GeneralCategory::SpaceSeparator
             || matches!(

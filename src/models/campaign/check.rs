@@ -75,7 +75,14 @@ pub fn validate_runs(runs: &[RunRecord]) -> std::result::Result<(), Invalid> {
     for (k, r) in runs.iter().enumerate() {
         let at = |f: &str| format!("source.runs[{k}].{f}");
         for (f, text) in [("name", &r.name), ("sha256", &r.sha256)] {
-            if let Some(c) = text.chars().find(|&c| crate::text::is_unprintable(c)) {
+            // A run is named by its file, whose name may hold a blank other than the space (an
+            // ideographic space): written escaped now, but as read by earlier versions, whose
+            // files must still load. It is shown escaped ([`crate::text::escaped`]).
+            let blank_allowed = |c: char| f == "name" && crate::text::prints_as_blank(c);
+            if let Some(c) = text
+                .chars()
+                .find(|&c| crate::text::is_unprintable(c) && !blank_allowed(c))
+            {
                 return Err(Invalid::new(
                     at(f),
                     format!("holds {}", crate::text::unprintable_named(c)),
@@ -330,5 +337,35 @@ fn cut(text: &str) -> String {
     match text.char_indices().nth(80) {
         None => text.to_string(),
         Some((end, _)) => format!("{}… ({} characters)", &text[..end], text.chars().count()),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::models::campaign::RunRecord;
+
+    fn run(name: &str) -> RunRecord {
+        RunRecord {
+            name: name.to_string(),
+            sha256: format!("{:064x}", name.len()),
+            samples: 10,
+            start_s: 0.0,
+            duration_s: 9.0,
+            plateaus: Vec::new(),
+            turn_on_offset_dph: None,
+        }
+    }
+
+    #[test]
+    fn a_run_named_by_a_file_with_an_ideographic_space_loads_and_a_control_does_not() {
+        // Earlier versions recorded a file's name as read; one holding U+3000 must still load.
+        let r = validate_runs(&[run("run\u{3000}1.csv"), run("run2.csv")]);
+        assert!(r.is_ok(), "{r:?}");
+        let e = validate_runs(&[run("run\u{1b}[2J.csv"), run("run2.csv")]).unwrap_err();
+        assert_eq!(e.field, "source.runs[0].name");
+        // A Hangul filler prints as a blank too: a name may hold it as it may the space.
+        let r = validate_runs(&[run("run\u{3164}.csv"), run("run2.csv")]);
+        assert!(r.is_ok(), "{r:?}");
     }
 }
