@@ -436,6 +436,7 @@ impl AppState {
                     .iter()
                     .map(|p| std::path::absolute(p).unwrap_or_else(|_| p.clone()))
                     .collect(),
+                accelerometers: l.options.accel.clone(),
             })
         };
         let mut session = Session {

@@ -19,7 +19,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 /// Runs `driftlab ARGS` (which must succeed) and returns what it printed.
-fn driftlab(args: &[&std::ffi::OsStr]) -> String {
+pub(crate) fn driftlab(args: &[&std::ffi::OsStr]) -> String {
     let out = Command::new(env!("CARGO_BIN_EXE_driftlab"))
         .args(args)
         .output()
@@ -34,7 +34,7 @@ fn driftlab(args: &[&std::ffi::OsStr]) -> String {
 
 /// The six-axis MEMS IMU of seed 1, written into `dir` by `driftlab simulate` as the
 /// documentation tells an engineer to make it.
-fn imu6(dir: &Path) -> PathBuf {
+pub(crate) fn imu6(dir: &Path) -> PathBuf {
     let path = dir.join("imu6.csv");
     driftlab(&[
         "simulate".as_ref(),
@@ -55,13 +55,13 @@ fn accel_names(path: &Path) -> Vec<String> {
     log.axes_of(AxisKind::Accel)
 }
 
-fn opened(path: &Path) -> Harness<'static, Workbench> {
+pub(crate) fn opened(path: &Path) -> Harness<'static, Workbench> {
     let mut h = harness(Workbench::new_for_test(path));
     settle(&mut h);
     h
 }
 
-fn act(h: &mut Harness<'_, Workbench>, a: Action) {
+pub(crate) fn act(h: &mut Harness<'_, Workbench>, a: Action) {
     let ctx = h.ctx.clone();
     h.state_mut().act(&ctx, a);
     h.run_ok();
@@ -70,7 +70,7 @@ fn act(h: &mut Harness<'_, Workbench>, a: Action) {
 
 /// A calibration file as JSON with the time it was written taken out of every axis (the only
 /// field two runs of one calibration may differ in).
-fn without_dates(path: &Path) -> serde_json::Value {
+pub(crate) fn without_dates(path: &Path) -> serde_json::Value {
     fn strip(v: &mut serde_json::Value) {
         match v {
             serde_json::Value::Object(o) => {

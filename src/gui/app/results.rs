@@ -222,6 +222,7 @@ impl Workbench {
                                 bin_s: v.bin_s,
                                 instance: v.instance,
                                 more_runs: Vec::new(),
+                                accel: v.accelerometers.clone(),
                             };
                             self.start_load(v.path.clone(), options, Target::Validation);
                         }

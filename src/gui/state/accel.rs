@@ -54,7 +54,7 @@ impl AccelAxes {
                 }
             }
             Err(e) => AccelAxes {
-                read_error: Some(e.clone()),
+                read_error: Some(crate::gui::view_import::accel_in_labels(e)),
                 ..AccelAxes::default()
             },
         })
