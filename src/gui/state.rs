@@ -526,8 +526,10 @@ impl AppState {
     /// of it (each holds its own rate beside the shared columns): what the unit's report
     /// judges. `None` for a log of one axis, no validation log, or one lacking an axis.
     pub fn unit_validation_log(&self) -> Option<(std::path::PathBuf, crate::log::Log)> {
-        let u = self.unit.as_ref()?;
-        let views: Vec<&Loaded> = (0..u.names.len())
+        if self.unit.is_none() && !self.accel_on() {
+            return None;
+        }
+        let views: Vec<&Loaded> = (0..self.axis_count())
             .map(|k| self.axis(k).and_then(|a| a.validation))
             .collect::<Option<_>>()?;
         let first = views.first()?;
@@ -567,22 +569,25 @@ impl AppState {
 
     /// The unit's calibration from every axis's current fit, each stamped with the log's
     /// name and SHA-256 as files record it, its accelerometer axes after the gyro axes when it
-    /// calibrates them ([`AppState::accel_calibration`]); `None` for a log of one axis.
+    /// calibrates them ([`AppState::accel_calibration`]); `None` for a log of one axis alone
+    /// (one gyro axis with its accelerometer axes on is a unit, [`AppState::unit_gyro_names`]).
     ///
     /// # Errors
     /// Naming the first axis with no calibration of its current choices, or why the
     /// accelerometer axes have none.
     pub fn unit_calibration(&self) -> Option<Result<crate::models::UnitCalibration, String>> {
-        let u = self.unit.as_ref()?;
-        let mut axes = Vec::with_capacity(u.names.len());
-        for k in 0..u.names.len() {
+        let names = match self.unit_gyro_names()? {
+            Ok(n) => n,
+            Err(e) => return Some(Err(e)),
+        };
+        let mut axes = Vec::with_capacity(names.len());
+        for (k, name) in names.iter().enumerate() {
             let Some(a) = self.axis(k) else {
-                return Some(Err(format!("axis {} is missing", u.names[k])));
+                return Some(Err(format!("axis {name} is missing")));
             };
             let (Some(log), Some(fit)) = (a.log, a.fit.filter(|_| a.fit_current())) else {
                 return Some(Err(format!(
-                    "axis {} has no calibration of its current choices{}",
-                    a.name,
+                    "axis {name} has no calibration of its current choices{}",
                     a.fit_error.map(|e| format!(" ({e})")).unwrap_or_default()
                 )));
             };
@@ -591,7 +596,7 @@ impl AppState {
                 Err(e) => return Some(Err(e)),
             };
             axes.push(crate::models::AxisModel::gyro(
-                a.name.to_string(),
+                name.clone(),
                 log.log.rate_column().unwrap_or_default(),
                 crate::models::DriftModel::Vakhrameev(Box::new(cal)),
             ));

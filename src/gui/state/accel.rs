@@ -63,9 +63,47 @@ impl AccelAxes {
 
 impl AppState {
     /// Whether the unit calibrates its accelerometer axes: it has some, and they are not
-    /// turned off.
+    /// turned off. A log of one gyro axis with accelerometer axes is a unit of them.
     pub fn accel_on(&self) -> bool {
-        self.accel.is_some() && !self.accel_off && self.unit.is_some()
+        self.accel.is_some() && !self.accel_off
+    }
+
+    /// Whether the Calibration page has an axis strip: a unit of several gyro axes, or a log
+    /// with accelerometer axes (its one gyro axis beside them).
+    pub fn has_axis_strip(&self) -> bool {
+        self.unit.is_some() || self.accel.is_some()
+    }
+
+    /// The gyro axes of the unit, by name: a unit's, or for a log of one gyro axis with its
+    /// accelerometer axes on, that axis as the engine names it in a unit
+    /// ([`crate::models::accel::with_accelerometers`], the rule `calibrate --accel` takes it
+    /// by); `None` for a log of one axis alone.
+    ///
+    /// # Errors
+    /// Its gyro axis has no name to find it by (the engine's words).
+    pub fn unit_gyro_names(&self) -> Option<Result<Vec<String>, String>> {
+        if let Some(u) = &self.unit {
+            return Some(Ok(u.names.clone()));
+        }
+        if !self.accel_on() {
+            return None;
+        }
+        let log = self.unit_full_log()?;
+        Some(
+            crate::models::accel::with_accelerometers(None, false, &log)
+                .map(|axes| {
+                    axes.unwrap_or_default()
+                        .into_iter()
+                        .filter(|n| log.kind_of(n) == Some(crate::log::AxisKind::Gyro))
+                        .collect()
+                })
+                .map_err(|e| {
+                    format!(
+                        "{e} (turn Accelerometers off in the axis strip to calibrate the gyro \
+                         axis alone)"
+                    )
+                }),
+        )
     }
 
     /// What the accelerometer axes are calibrated with now: the calibration log with them and
