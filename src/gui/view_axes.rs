@@ -238,6 +238,16 @@ fn accel_buttons(ui: &Ui, state: &AppState, form: Form) -> Vec<(LayoutJob, Strin
                         };
                         push(&ratio(c.p2p_ratio), &mono, ratio_color, !exact);
                     }
+                    // Held out on the validation log, as a gyro axis's button gives it.
+                    let held = a.held_out.as_ref().and_then(|h| h.as_ref().ok());
+                    if let Some(h) = held
+                        && form == Form::Full
+                    {
+                        let r = h.evaluation.comparison.p2p_ratio;
+                        push(" · held out ", &font, weak, false);
+                        let color = if r < 1.0 && exact { bad } else { color };
+                        push(&ratio(r), &mono, color, !exact);
+                    }
                     if let Some(m) = a.fitted.kept_mean {
                         hover += &format!("; mean {} {unit}, kept by its correction", num(m));
                     }
@@ -251,6 +261,21 @@ fn accel_buttons(ui: &Ui, state: &AppState, form: Form) -> Vec<(LayoutJob, Strin
                         six(cor),
                         ratio(c.p2p_ratio)
                     );
+                    match &a.held_out {
+                        Some(Ok(h)) => {
+                            let c = &h.evaluation.comparison;
+                            hover += &format!(
+                                "; {} on the validation log, {} {unit} raw, {} {unit} \
+                                 corrected ({} better)",
+                                h.label,
+                                six(c.raw.p2p_dph),
+                                six(c.corrected.p2p_dph),
+                                ratio(c.p2p_ratio)
+                            );
+                        }
+                        Some(Err(why)) => hover += &format!("; not judged held out: {why}"),
+                        None => {}
+                    }
                 }
                 None => push(
                     if form == Form::Narrow {

@@ -6,6 +6,7 @@
 mod common;
 
 mod accel;
+mod accel_held_out;
 mod accel_import;
 mod campaign;
 mod drone_open;

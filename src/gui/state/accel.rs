@@ -125,6 +125,32 @@ impl AppState {
                 .unwrap_or_else(|| loaded.path.display().to_string()),
             sha256: loaded.sha256.clone().unwrap_or_default(),
             recipe: first.choices.recipe.clone(),
+            validation: self.accel_validation(),
+        })
+    }
+
+    /// The validation log open, with its accelerometer axes made of its columns as the
+    /// calibration log's were (its import view's mapping), for the held-out figures.
+    fn accel_validation(&self) -> Option<crate::gui::jobs::AccelValidation> {
+        let file = self.validation_file.as_ref()?;
+        let log = match &file.accel {
+            Some(Ok(log)) => Ok(log.clone()),
+            Some(Err(e)) => Err(crate::gui::view_import::accel_in_labels(e)),
+            None => Err(format!(
+                "{}: no accelerometer column (none of its columns is named as one, and none is \
+                 mapped as one in its import view)",
+                crate::gui::widgets::file_name(&file.path)
+            )),
+        };
+        Some(crate::gui::jobs::AccelValidation {
+            log,
+            // (the file's name as `evaluate` gives it to the in-sample rule)
+            name: file
+                .path
+                .file_name()
+                .map(|s| s.to_string_lossy().into_owned())
+                .unwrap_or_else(|| file.path.display().to_string()),
+            sha256: file.sha256.clone().unwrap_or_default(),
         })
     }
 
