@@ -41,7 +41,7 @@ impl LogArgs {
             if given {
                 return Err(format!(
                     "{option}: {command} reads no accelerometer axis (calibrate --accel, \
-                     apply, evaluate and report do)"
+                     apply, evaluate, report and gui do)"
                 )
                 .into());
             }

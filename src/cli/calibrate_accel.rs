@@ -37,36 +37,22 @@ impl Args {
 
     /// The axes to fit with the accelerometer axes after the gyro axes `chosen` (`None`: the
     /// log's one axis, unnamed): every accelerometer axis is added unless `--axes` chose the
-    /// axes; the one gyro axis a single `--rate-col` names is fitted by its name beside them.
+    /// axes; the one gyro axis a single `--rate-col` names is fitted by its name beside them:
+    /// the engine's rule ([`accel::with_accelerometers`]), its refusal in flags.
     pub(super) fn with_accelerometers(
         &self,
         chosen: Option<Vec<String>>,
         log: &Log,
     ) -> Result<Option<Vec<String>>, CliError> {
-        let accels = log.axes_of(AxisKind::Accel);
-        if accels.is_empty() {
-            return Ok(chosen);
-        }
-        let mut axes = match chosen {
-            Some(axes) if !self.axes.is_empty() => return Ok(Some(axes)),
-            Some(axes) => axes
-                .into_iter()
-                .filter(|n| log.kind_of(n) == Some(AxisKind::Gyro))
-                .collect(),
-            None if log.axis.is_empty() => {
-                return Err(format!(
-                    "{}: its gyro axis has no name, and a unit's axes are found by theirs: name \
-                     its rate column (--rate-col) or calibrate the accelerometers alone \
-                     (--axes {})",
-                    log.source,
-                    accels.join(",")
-                )
-                .into());
-            }
-            None => vec![log.axis.clone()],
-        };
-        axes.extend(accels);
-        Ok(Some(axes))
+        accel::with_accelerometers(chosen, !self.axes.is_empty(), log).map_err(|e| {
+            format!(
+                "{}: its gyro axis has no name, and a unit's axes are found by theirs: name its \
+                 rate column (--rate-col) or calibrate the accelerometers alone (--axes {})",
+                e.log,
+                e.accels.join(",")
+            )
+            .into()
+        })
     }
 
     /// The model of axis `name` of `log`: `choice` for a gyro axis, and for an accelerometer

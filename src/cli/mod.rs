@@ -147,10 +147,7 @@ pub fn run(command: Command) -> Result<(), CliError> {
         Command::Allan(a) => allan::run(a),
         Command::Convert(a) => convert::run(a),
         Command::Lot(a) => lot::run(a),
-        Command::Gui(a) => a
-            .log_args
-            .refuse_accel("gui")
-            .and_then(|()| gui(a).map_err(CliError::Message)),
+        Command::Gui(a) => gui(a).map_err(CliError::Message),
     };
     result.and_then(|()| common::flush_out())
 }
@@ -158,6 +155,7 @@ pub fn run(command: Command) -> Result<(), CliError> {
 #[cfg(feature = "gui")]
 fn gui(a: GuiArgs) -> Result<(), String> {
     let read = a.log_args.options()?;
+    let accel = a.log_args.accel_ask()?;
     let instance = driftlab::log::read::InstanceChoice {
         gyro: a.log_args.format.gyro,
         temp_from: a.log_args.format.temp_from,
@@ -171,11 +169,16 @@ fn gui(a: GuiArgs) -> Result<(), String> {
         p.extension()
             .is_some_and(|e| e.eq_ignore_ascii_case("json"))
     });
-    if session && (read != driftlab::ReadOptions::default() || a.log_args.bin.is_some()) {
+    if session
+        && (read != driftlab::ReadOptions::default()
+            || a.log_args.bin.is_some()
+            || !accel.is_default())
+    {
         return Err(
             "--time-col, --rate-col, --temp-col, --rate-unit, --time-unit, --sample-rate, \
-             --delimiter, --decimal-comma and --bin apply to a log: a session keeps the mapping \
-             it was saved with (open it, then File › Column mapping…)"
+             --delimiter, --decimal-comma, --accel-col, --accel-unit and --bin apply to a log: \
+             a session keeps the mapping it was saved with (open it, then File › Column \
+             mapping…)"
                 .into(),
         );
     }
@@ -235,6 +238,7 @@ fn gui(a: GuiArgs) -> Result<(), String> {
         validation: a.validation,
         window_size,
         more_runs,
+        accel,
         lot: a.lot,
     })
 }

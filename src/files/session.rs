@@ -25,6 +25,7 @@
 
 use crate::error::{Error, Invalid, Result};
 use crate::judge::metrics::MeritOptions;
+use crate::log::accel_axes::AccelAsk;
 use crate::log::ingest::ReadOptions;
 use crate::log::read::InstanceChoice;
 use crate::models::recipe::Recipe;
@@ -61,6 +62,11 @@ pub struct LogRef {
     /// order (relative paths as `path`); absent for one log.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub more_runs: Vec<PathBuf>,
+    /// The accelerometer columns and their unit chosen in the import view (`--accel-col`,
+    /// `--accel-unit`); absent: every column named as an accelerometer, its unit stated or
+    /// told by gravity.
+    #[serde(default, skip_serializing_if = "AccelAsk::is_default")]
+    pub accelerometers: AccelAsk,
 }
 
 /// What was on screen, so the session reopens where it was left.

@@ -134,6 +134,9 @@ pub struct GuiOptions {
     /// A campaign's runs after the first (`log`), read as it is and joined after it: the
     /// workbench calibrates them as one campaign.
     pub more_runs: Vec<PathBuf>,
+    /// The columns read as accelerometer axes and their unit (`--accel-col`, `--accel-unit`),
+    /// for the log and the validation log alike; the default: every column named as one.
+    pub accel: crate::log::accel_axes::AccelAsk,
     /// The window's inner size, points (at least 900×620).
     pub window_size: Option<[f32; 2]>,
     /// A lot to open on the Lot page: its output folder, or its `lot.json` or `lot.csv`.
@@ -306,6 +309,7 @@ pub fn run(options: GuiOptions) -> Result<(), String> {
         bin_s: options.bin_s,
         instance: options.instance,
         more_runs: Vec::new(),
+        accel: options.accel.clone(),
     };
     // Screenshot mode renders with the engineer's theme but writes no settings back.
     let settings = Settings::default_path()

@@ -76,21 +76,24 @@ impl Opened {
 /// and each axis's view the workbench holds.
 fn calibration_input(state: &AppState) -> Option<LogInput> {
     let shown = state.shown.log.as_ref()?;
+    // (with the log's accelerometer axes, whatever the unit's switch says: the opened file's
+    // own may be judged on them; a log of one gyro axis has them too)
+    let accel_log = state.accel.as_ref().and_then(|a| a.log.clone());
+    let accel_views = state.accel.iter().flat_map(|a| a.views.iter().cloned());
     let (full, views) = match &state.unit {
-        // (with the log's accelerometer axes, whatever the unit's switch says: the opened
-        // file's own may be judged on them)
         Some(u) => (
-            state
-                .accel
-                .as_ref()
-                .and_then(|a| a.log.clone())
-                .or_else(|| u.full_log.clone())?,
+            accel_log.or_else(|| u.full_log.clone())?,
             (0..u.names.len())
                 .filter_map(|k| state.axis(k)?.log.map(|l| l.log.clone()))
-                .chain(state.accel.iter().flat_map(|a| a.views.iter().cloned()))
+                .chain(accel_views)
                 .collect(),
         ),
-        None => (shown.log.clone(), vec![shown.log.clone()]),
+        None => (
+            accel_log.unwrap_or_else(|| shown.log.clone()),
+            std::iter::once(shown.log.clone())
+                .chain(accel_views)
+                .collect(),
+        ),
     };
     Some(LogInput {
         which: OpenLog::Calibration,

@@ -1,17 +1,20 @@
 //! An accelerometer axis of a unit, on the Calibration page in place of the gyro axis's plots:
 //! what the engine fitted (its static model, the mean its correction keeps, the axis that
-//! carries gravity), its in-sample figures raw against corrected, and its change about the
-//! kept mean against time and against T, every figure and plot in m/s², the unit of its kind
+//! carries gravity), its figures raw against corrected, in-sample and, with a validation log
+//! open, held out (as `driftlab evaluate` judges the axis there), in the figures panel's
+//! tables ([`super::view_figures::axis_table`]), and its change about the kept mean against
+//! time and against T, every figure and plot in m/s², the unit of its kind
 //! ([`AxisKind::unit`]). It has no choices of its own: the unit's T, smoothing and plateaus
 //! are its, and its model is the one `calibrate --accel` gives it.
 
 use super::action::Action;
 use super::jobs::{AccelAxisView, AccelFit};
-use super::plot_items::{Palette, num, ratio};
+use super::plot_items::{Palette, num};
 use super::state::AppState;
+use super::view_figures::{Scale, axis_table};
 use crate::log::AxisKind;
 use crate::models::accel::Gravity;
-use eframe::egui::{Grid, RichText, Ui};
+use eframe::egui::{RichText, Ui};
 use egui_plot::{Corner, Legend, Line, Plot, PlotPoints, Points};
 
 /// The unit an accelerometer's figures are in.
@@ -54,6 +57,7 @@ impl AccelView {
             return out;
         };
         summary(ui, axis, fit);
+        figures(ui, state, axis, fit, current);
         ui.separator();
         plots(ui, axis);
         out
@@ -87,44 +91,68 @@ fn summary(ui: &mut Ui, axis: &AccelAxisView, fit: &AccelFit) {
             ui.label("Gravity: no accelerometer axis reads half of g or more.");
         }
     }
-    let e = &f.calibrated.in_sample.comparison;
-    let six = |v: f64| crate::number::fixed(v, 6);
-    Grid::new("accel_figures")
-        .num_columns(4)
-        .striped(true)
-        .show(ui, |ui| {
-            ui.label("");
-            ui.label(RichText::new(format!("raw, {UNIT}")).strong());
-            ui.label(RichText::new(format!("corrected, {UNIT}")).strong());
-            ui.label(RichText::new("raw ÷ corrected").strong());
-            ui.end_row();
-            let bad = ui.visuals().error_fg_color;
-            for (what, raw, cor, r) in [
-                (
-                    "peak-to-peak",
-                    e.raw.p2p_dph,
-                    e.corrected.p2p_dph,
-                    e.p2p_ratio,
-                ),
-                ("std", e.raw.std_dph, e.corrected.std_dph, e.std_ratio),
-                (
-                    "max |window mean|",
-                    e.raw.win_mean_max_abs_dph,
-                    e.corrected.win_mean_max_abs_dph,
-                    e.win_mean_ratio,
-                ),
-            ] {
-                ui.label(what);
-                ui.monospace(six(raw));
-                ui.monospace(six(cor));
-                let text = RichText::new(ratio(r)).monospace();
-                ui.label(if r < 1.0 { text.color(bad) } else { text });
-                ui.end_row();
-            }
-        });
     for w in f.calibrated.warnings.iter().chain(&fit.warnings) {
         ui.colored_label(ui.visuals().warn_fg_color, w);
     }
+}
+
+/// Its figures in the figures panel's tables: in-sample on the calibration log, and beside
+/// them, with a validation log open, held out on it (or why it could not be judged there).
+fn figures(ui: &mut Ui, state: &AppState, axis: &AccelAxisView, fit: &AccelFit, exact: bool) {
+    let window = crate::judge::options::window_label(fit.merit.window_s);
+    let scale = Scale {
+        window: &window,
+        kind: AxisKind::Accel,
+    };
+    let name = |l: &Option<super::jobs::Loaded>| {
+        l.as_ref()
+            .map(|l| format!("{} · axis {}", l.name(), axis.fitted.name))
+            .unwrap_or_default()
+    };
+    ui.horizontal_top(|ui| {
+        axis_table(
+            ui,
+            "accel_in",
+            &format!("In-sample · {}", name(&state.shown.log)),
+            &axis.fitted.calibrated.in_sample,
+            exact,
+            scale,
+        );
+        // (space, not a separator: a separator in a row takes the page's whole height, and
+        // the plots below would have none)
+        ui.add_space(24.0);
+        match &axis.held_out {
+            Some(Ok(h)) => {
+                ui.vertical(|ui| {
+                    // (a validation log that is the calibration log's own run is said so)
+                    let title = if h.in_sample {
+                        format!("{} · {}", h.label, name(&state.shown.validation))
+                    } else {
+                        format!("Held out · {}", name(&state.shown.validation))
+                    };
+                    axis_table(ui, "accel_out", &title, &h.evaluation, exact, scale);
+                    if let Some(note) = &h.note {
+                        ui.colored_label(ui.visuals().warn_fg_color, note);
+                    }
+                });
+            }
+            Some(Err(why)) => {
+                ui.vertical(|ui| {
+                    ui.strong("Held out");
+                    ui.colored_label(ui.visuals().warn_fg_color, format!("Not judged: {why}"));
+                });
+            }
+            None => {
+                ui.vertical(|ui| {
+                    ui.strong("Held out");
+                    ui.weak(
+                        "Open a validation log (File › Open validation log…)\nto judge the \
+                         calibration on a run it was not fitted on.",
+                    );
+                });
+            }
+        }
+    });
 }
 
 /// The gravity sentence, as `calibrate` prints it, in the window's words.

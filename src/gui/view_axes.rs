@@ -1,11 +1,14 @@
 //! The gyro axes of a unit, above the Calibration page: one button per axis, with the axis's
 //! figures at a glance (in-sample and, with a validation log, held-out peak-to-peak and std
 //! ratios of raw over corrected, worse than raw marked as the figures panel marks it).
-//! Clicking an axis shows it (Alt+1…9, or `[` and `]`). Shown only for a log of several axes.
+//! Clicking an axis shows it (Alt+1…9, or `[` and `]`). Shown for a log of several axes, or
+//! of accelerometer axes beside its gyro axis or axes ([`AppState::has_axis_strip`]).
 //!
 //! A unit whose log has accelerometer columns lists them after the gyro axes, with the switch
 //! that calibrates them (on by default) and each one's figures in m/s², the axis that carries
-//! gravity marked; clicking one shows it ([`super::view_accel`]).
+//! gravity marked; clicking one shows it ([`super::view_accel`]). A log of one gyro axis with
+//! them is a unit of that axis and them, as `calibrate --accel` makes it: its axis's button
+//! goes back to it.
 
 use super::action::{Action, shortcuts};
 use super::plot_items::{num, ratio};
@@ -29,13 +32,13 @@ impl AxesView {
     /// with the ratios' names left out (in the hover) when that is wider than `room`, so that
     /// the menu bar keeps its right-hand end in the window (at 1024 points it did not).
     pub fn ui_in(&mut self, ui: &mut Ui, state: &AppState, room: f32) -> Vec<Action> {
-        let Some(unit) = &state.unit else {
+        if !state.has_axis_strip() {
             return Vec::new();
-        };
+        }
         let pad = 2.0 * ui.spacing().button_padding.x + ui.spacing().item_spacing.x;
         // The strip's width in `form`: every gyro axis's button, the label, the accelerometers.
         let width = |ui: &Ui, form: Form| -> f32 {
-            (0..unit.names.len())
+            (0..state.axis_count())
                 .filter_map(|k| state.axis(k))
                 .map(|a| {
                     let job = axis_text(ui, &a, k_selected(state, a.name), form);
@@ -59,9 +62,9 @@ impl AxesView {
     fn strip(&mut self, ui: &mut Ui, state: &AppState, form: Form, fold: bool) -> Vec<Action> {
         let compact = form != Form::Full;
         let mut out = Vec::new();
-        let Some(unit) = &state.unit else {
+        if !state.has_axis_strip() {
             return out;
-        };
+        }
         let ctx = ui.ctx().clone();
         ui.horizontal_wrapped(|ui| {
             let axis_label = if compact { "Axis:" } else { "Axis" };
@@ -69,11 +72,11 @@ impl AxesView {
                 "The unit's gyro axes: each keeps its own approximations, knots and \
                  dead-bands; the plateaus and the T settings are shared (they come from T)",
             );
-            for k in 0..unit.names.len() {
+            for k in 0..state.axis_count() {
                 let Some(axis) = state.axis(k) else {
                     continue;
                 };
-                let selected = k == unit.active && state.accel_shown().is_none();
+                let selected = k == state.active_axis() && state.accel_shown().is_none();
                 let job = axis_text(ui, &axis, selected, form);
                 let keys = shortcuts::axis(k)
                     .map(|s| format!("{} — ", ctx.format_shortcut(&s)))
@@ -90,7 +93,7 @@ impl AxesView {
                          p2p and std: raw ÷ corrected peak-to-peak and standard deviation of \
                          the filtered drift, in-sample, then on the validation log; above 1 is \
                          better, red: worse than raw",
-                        axis.name
+                        gyro_name(&axis)
                     ));
                 if r.clicked() {
                     out.push(Action::SelectAxis(k));
@@ -235,6 +238,16 @@ fn accel_buttons(ui: &Ui, state: &AppState, form: Form) -> Vec<(LayoutJob, Strin
                         };
                         push(&ratio(c.p2p_ratio), &mono, ratio_color, !exact);
                     }
+                    // Held out on the validation log, as a gyro axis's button gives it.
+                    let held = a.held_out.as_ref().and_then(|h| h.as_ref().ok());
+                    if let Some(h) = held
+                        && form == Form::Full
+                    {
+                        let r = h.evaluation.comparison.p2p_ratio;
+                        push(" · held out ", &font, weak, false);
+                        let color = if r < 1.0 && exact { bad } else { color };
+                        push(&ratio(r), &mono, color, !exact);
+                    }
                     if let Some(m) = a.fitted.kept_mean {
                         hover += &format!("; mean {} {unit}, kept by its correction", num(m));
                     }
@@ -248,6 +261,21 @@ fn accel_buttons(ui: &Ui, state: &AppState, form: Form) -> Vec<(LayoutJob, Strin
                         six(cor),
                         ratio(c.p2p_ratio)
                     );
+                    match &a.held_out {
+                        Some(Ok(h)) => {
+                            let c = &h.evaluation.comparison;
+                            hover += &format!(
+                                "; {} on the validation log, {} {unit} raw, {} {unit} \
+                                 corrected ({} better)",
+                                h.label,
+                                six(c.raw.p2p_dph),
+                                six(c.corrected.p2p_dph),
+                                ratio(c.p2p_ratio)
+                            );
+                        }
+                        Some(Err(why)) => hover += &format!("; not judged held out: {why}"),
+                        None => {}
+                    }
                 }
                 None => push(
                     if form == Form::Narrow {
@@ -309,6 +337,15 @@ pub fn strip_colors(ui: &Ui, selected: bool) -> (Color32, Color32) {
     }
 }
 
+/// The name of a gyro axis as the strip shows it: the unit's, or for a log of one gyro axis
+/// (no unit of gyro axes), the log's.
+fn gyro_name<'a>(axis: &super::state::AxisRef<'a>) -> &'a str {
+    match (axis.name, axis.log) {
+        ("", Some(l)) => l.log.axis.as_str(),
+        (name, _) => name,
+    }
+}
+
 /// Whether the axis named `name` is the one shown.
 fn k_selected(state: &AppState, name: &str) -> bool {
     state.active_axis_name() == Some(name)
@@ -338,7 +375,7 @@ fn axis_text(ui: &Ui, axis: &super::state::AxisRef<'_>, selected: bool, form: Fo
     };
     push(
         &mut job,
-        axis.name,
+        gyro_name(axis),
         &FontId::proportional(15.0),
         normal,
         false,

@@ -8,6 +8,7 @@ use super::opened::{self, Column};
 use super::plot_items::{num, ratio};
 use super::state::AppState;
 use crate::judge::metrics::Evaluation;
+use crate::log::AxisKind;
 use eframe::egui::{self, Grid, RichText, Ui};
 
 /// The figures panel (no state of its own).
@@ -53,7 +54,7 @@ impl FiguresView {
                 &format!("In-sample · {}", name(&state.shown.log)),
                 &fit.outcome.in_sample.evaluation,
                 exact,
-                &window,
+                Scale::gyro(&window),
                 beside(OpenLog::Calibration),
             );
             ui.separator();
@@ -71,7 +72,7 @@ impl FiguresView {
                         &title,
                         &h.evaluation,
                         exact,
-                        &window,
+                        Scale::gyro(&window),
                         beside(OpenLog::Validation),
                     );
                     if let Some(why) = &state.validation_doubt {
@@ -153,17 +154,54 @@ struct Beside<'a> {
     name: &'a str,
 }
 
-/// `window`: the label of the figures' windows (`10-min`); `beside`: a calibration opened to
-/// compare, whose figures take two more columns.
+/// What a table's figures are read over and in.
+#[derive(Debug, Clone, Copy)]
+pub struct Scale<'a> {
+    /// The label of the figures' windows (`10-min`).
+    pub window: &'a str,
+    /// The kind of axis they are of: its unit heads the table, an accelerometer's figures
+    /// to 10⁻⁶ m/s² as the command line prints them.
+    pub kind: AxisKind,
+}
+
+impl<'a> Scale<'a> {
+    /// A gyro axis's figures, in °/h.
+    fn gyro(window: &'a str) -> Scale<'a> {
+        Scale {
+            window,
+            kind: AxisKind::Gyro,
+        }
+    }
+
+    /// A figure as the table writes it.
+    fn number(&self, v: f64) -> String {
+        match self.kind {
+            AxisKind::Gyro => num(v),
+            AxisKind::Accel => crate::number::fixed(v, 6),
+        }
+    }
+}
+
+/// One axis's figures on one log, titled `title`, as the figures panel draws them (the
+/// accelerometer view's tables, in-sample and held out): raw, corrected and their ratio,
+/// worse than raw in red; `exact` false greys them as provisional.
+pub fn axis_table(ui: &mut Ui, id: &str, title: &str, e: &Evaluation, exact: bool, scale: Scale) {
+    table(ui, id, title, e, exact, scale, None);
+}
+
+/// `scale`: the figures' windows and unit; `beside`: a calibration opened to compare, whose
+/// figures take two more columns.
 fn table(
     ui: &mut Ui,
     id: &str,
     title: &str,
     e: &Evaluation,
     exact: bool,
-    window: &str,
+    scale: Scale,
     beside: Option<Beside<'_>>,
 ) {
+    let window = scale.window;
+    let unit = scale.kind.unit();
     let c = &e.comparison;
     let opened_eval = match &beside {
         Some(Beside {
@@ -220,11 +258,11 @@ fn table(
             ])
             .show(ui, |ui| {
                 let heads: &[&str] = if beside.is_some() && !ratios {
-                    &["°/h", "raw", "current", "opened"]
+                    &[unit, "raw", "current", "opened"]
                 } else if beside.is_some() {
-                    &["°/h", "raw", "current", "ratio", "opened", "ratio"]
+                    &[unit, "raw", "current", "ratio", "opened", "ratio"]
                 } else {
-                    &["°/h", "raw", "corrected", "ratio"]
+                    &[unit, "raw", "corrected", "ratio"]
                 };
                 let opened_color = super::plot_items::Palette::of(ui).opened;
                 for h in heads {
@@ -283,8 +321,8 @@ fn table(
                 for (name, tip, pick) in rows {
                     let (raw, cor, r) = pick(c);
                     ui.label(name).on_hover_text(tip);
-                    ui.monospace(num(raw));
-                    let cor_text = RichText::new(num(cor)).monospace();
+                    ui.monospace(scale.number(raw));
+                    let cor_text = RichText::new(scale.number(cor)).monospace();
                     let shown = ui.label(if exact {
                         cor_text
                     } else {

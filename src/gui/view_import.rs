@@ -1,11 +1,18 @@
 //! The import view: what the reader would make of a file (its first rows, the column each
 //! role would take, the units), what it said about the file when it last read it, and the
-//! controls to correct the mapping, units, separator and decimal comma, and to average the log
-//! into bins, before the (possibly long) read starts.
+//! controls to correct the mapping, units, separator and decimal comma, the accelerometer
+//! columns and their unit ([`accel`]), and to average the log into bins, before the (possibly
+//! long) read starts.
+
+mod accel;
+pub use accel::{
+    COLUMNS_LABEL as ACCEL_COLUMNS_LABEL, UNIT_LABEL as ACCEL_UNIT_LABEL, accel_in_labels,
+};
 
 use super::action::Action;
 use super::jobs::{LoadOptions, Target};
 use crate::log::ColumnRole;
+use crate::log::accel_axes::AccelAsk;
 use crate::log::ingest::{self, ColumnRef, Preview, RateUnit, ReadOptions, TimeUnit};
 use crate::log::mapping_check::{self, Concern};
 use eframe::egui::{self, Color32, ComboBox, Grid, RichText, ScrollArea, Ui};
@@ -22,6 +29,9 @@ pub struct ImportView {
     /// Bins of this many seconds the log is averaged into after the read ("Average into bins
     /// of").
     pub bin_s: Option<f64>,
+    /// The columns read as accelerometer axes and the unit of those whose name states none
+    /// ("Accelerometers", "unit"): the engine's ask, `--accel-col` and `--accel-unit`.
+    pub accel: AccelAsk,
     /// The gyro and temperature of a drone or robot log, kept as they were (the view maps a
     /// CSV's columns; File › Gyro of the log chooses these).
     instance: crate::log::read::InstanceChoice,
@@ -84,6 +94,7 @@ impl ImportView {
             bin_s,
             instance,
             more_runs,
+            accel,
         } = options;
         let preview =
             ingest::preview(&path, &read, PREVIEW_ROWS).map_err(|e| in_labels(&e.to_string()));
@@ -98,6 +109,7 @@ impl ImportView {
             warned_for: read.clone(),
             read,
             bin_s,
+            accel,
             instance,
             more_runs,
             warnings: Vec::new(),
@@ -132,6 +144,7 @@ impl ImportView {
             bin_s: self.bin_s,
             instance: self.instance,
             more_runs: self.more_runs.clone(),
+            accel: self.accel.clone(),
         }
     }
 
@@ -212,6 +225,8 @@ impl ImportView {
         let detected = self.preview.as_ref().ok().cloned();
         self.dialect_controls(ui, detected.as_ref());
         self.column_controls(ui, detected.as_ref());
+        self.accel_controls(ui, detected.as_ref());
+        self.bin_control(ui);
         ui.add_space(4.0);
         let mut ok = false;
         match &self.preview {
@@ -261,8 +276,24 @@ impl ImportView {
                             ""
                         }
                     ));
+                    // The accelerometer axes the engine would make of the columns, or why
+                    // it cannot (columns asked for that are none of the kept ones).
+                    match accel::summary(p, &self.accel, &self.path.display().to_string()) {
+                        Some(Ok(s)) => {
+                            ui.label(s);
+                        }
+                        Some(Err(e)) => {
+                            ok = false;
+                            ui.colored_label(ui.visuals().error_fg_color, e);
+                        }
+                        None => {}
+                    }
                 }
-                preview_table(ui, p);
+                let accels: Vec<usize> =
+                    accel::taken(p, &self.accel, &self.path.display().to_string())
+                        .map(|c| c.iter().map(|c| c.index).collect())
+                        .unwrap_or_default();
+                preview_table(ui, p, &accels);
             }
         }
         ui.separator();
@@ -285,6 +316,7 @@ impl ImportView {
             {
                 self.read = ReadOptions::default();
                 self.bin_s = None;
+                self.accel = AccelAsk::default();
             }
         });
         if ui.input(|i| i.key_pressed(egui::Key::Enter))
@@ -472,7 +504,6 @@ impl ImportView {
                     .on_hover_text("Samples per second");
             }
         });
-        self.bin_control(ui);
     }
 
     /// Average the log into bins of a few seconds once it is read.
@@ -520,7 +551,9 @@ fn role_color(ui: &Ui, r: ColumnRole) -> Color32 {
     }
 }
 
-fn preview_table(ui: &mut Ui, p: &Preview) {
+/// The preview's columns, each with the role it would be read with (`accels`: the columns
+/// that would be accelerometer axes, by their numbers).
+fn preview_table(ui: &mut Ui, p: &Preview, accels: &[usize]) {
     // As tall as it will be from the first frame (a scroll area that needs scrolling would
     // otherwise grow by a row a frame, and the window with it).
     ScrollArea::both()
@@ -537,9 +570,13 @@ fn preview_table(ui: &mut Ui, p: &Preview) {
                     ui.label(RichText::new("line").weak());
                     for (i, n) in p.names.iter().enumerate() {
                         let info = p.columns.iter().find(|c| c.index == i + 1);
-                        let (role, unit) = info.map_or((ColumnRole::Ignored, String::new()), |c| {
-                            (c.role, c.unit.clone())
-                        });
+                        let (mut role, unit) = info
+                            .map_or((ColumnRole::Ignored, String::new()), |c| {
+                                (c.role, c.unit.clone())
+                            });
+                        if accels.contains(&(i + 1)) {
+                            role = ColumnRole::AccelAxis;
+                        }
                         let role_name = match role {
                             ColumnRole::Time => "time",
                             ColumnRole::Rate => "rate",

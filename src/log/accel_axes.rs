@@ -15,15 +15,19 @@ use super::{
 use std::fmt;
 use std::str::FromStr;
 
-/// The unit an accelerometer column is written in.
+/// The unit an accelerometer column is written in; in files by the words `--accel-unit` takes
+/// (`g`, `mg`, `m/s2`), its variants' names read too.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
 pub enum AccelUnit {
     /// g, the standard gravity.
     #[default]
+    #[serde(rename = "g", alias = "G")]
     G,
     /// Thousandths of g.
+    #[serde(rename = "mg", alias = "MilliG")]
     MilliG,
     /// m/s², driftlab's unit for an accelerometer axis.
+    #[serde(rename = "m/s2", alias = "MetersPerSecond2")]
     MetersPerSecond2,
 }
 
@@ -89,15 +93,27 @@ impl fmt::Display for AccelUnit {
     }
 }
 
-/// Which accelerometer axes a command asks of a log.
-#[derive(Debug, Clone, Default, PartialEq)]
+/// Which accelerometer axes a command asks of a log: the command line's `--accel-col` and
+/// `--accel-unit`, the workbench's import view, and a session that keeps what it chose.
+#[derive(Debug, Clone, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(default, deny_unknown_fields)]
 pub struct AccelAsk {
     /// The columns to read as accelerometer axes, by header name or 1-based index
     /// (`--accel-col`); empty: every column whose name reads as an accelerometer.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
     pub columns: Vec<ColumnRef>,
     /// The unit of the columns whose name states none (`--accel-unit`); `None`: told by
     /// magnitude.
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub unit: Option<AccelUnit>,
+}
+
+impl AccelAsk {
+    /// Whether nothing is asked beyond the default (every column named as an accelerometer,
+    /// its unit stated or told by magnitude): what a session leaves out.
+    pub fn is_default(&self) -> bool {
+        *self == AccelAsk::default()
+    }
 }
 
 /// The longest a magnitude may differ from gravity and still tell a unit: a unit tilted on a
@@ -329,13 +345,51 @@ pub fn check(log: &Log, ask: &AccelAsk) -> Result<Vec<super::Problem>, AccelErro
 
 /// The indices in `log.extra` of the channels `ask` names, in the file's order.
 fn picked(log: &Log, ask: &AccelAsk) -> Result<Vec<usize>, AccelError> {
+    let kept: Vec<&str> = log.extra.iter().map(|c| c.name.as_str()).collect();
+    pick(&log.source, &kept, &log.info.columns, ask)
+}
+
+/// The columns of a file not yet read that [`take`] would make accelerometer axes, by the
+/// same rule: `columns` are every column with the role the reader gives it (a preview's,
+/// [`super::ingest::Preview::columns`]); the answer is those it would take, in the file's
+/// order. A face shows them before the read (the workbench's import view), with the refusal
+/// `take` would give of the columns asked for. Their unit is told once they are read.
+///
+/// # Errors
+/// As [`take`]'s, of the columns alone: a column asked for that the file lacks or that holds
+/// its time, rate or temperature; no accelerometer named as one when none is asked for.
+pub fn columns_taken<'a>(
+    source: &str,
+    columns: &'a [ColumnInfo],
+    ask: &AccelAsk,
+) -> Result<Vec<&'a ColumnInfo>, AccelError> {
+    let kept: Vec<&ColumnInfo> = columns
+        .iter()
+        .filter(|c| c.role == ColumnRole::Extra)
+        .collect();
+    let names: Vec<&str> = kept.iter().map(|c| c.name.as_str()).collect();
+    Ok(pick(source, &names, columns, ask)?
+        .into_iter()
+        .map(|k| kept[k])
+        .collect())
+}
+
+/// The indices in `kept` (the names of the columns the reader kept beside time, rates and
+/// temperature, in the file's order) of those `ask` names; `columns`, every column with its
+/// role, tells a column asked for by number, or one that holds another part of the log.
+fn pick(
+    source: &str,
+    kept: &[&str],
+    columns: &[ColumnInfo],
+    ask: &AccelAsk,
+) -> Result<Vec<usize>, AccelError> {
     if ask.columns.is_empty() {
-        let all: Vec<usize> = (0..log.extra.len())
-            .filter(|&k| log.extra[k].is_accelerometer())
+        let all: Vec<usize> = (0..kept.len())
+            .filter(|&k| super::ingest::names_an_accelerometer(kept[k]))
             .collect();
         if all.is_empty() {
             return Err(AccelError::NoAccelerometers {
-                log: log.source.clone(),
+                log: source.to_string(),
             });
         }
         return Ok(all);
@@ -343,43 +397,38 @@ fn picked(log: &Log, ask: &AccelAsk) -> Result<Vec<usize>, AccelError> {
     let mut out = Vec::with_capacity(ask.columns.len());
     for asked in &ask.columns {
         let name = match asked {
-            ColumnRef::Index(i) => log
-                .info
-                .columns
+            ColumnRef::Index(i) => columns
                 .iter()
                 .find(|c| c.index == *i)
                 .map(|c| c.name.clone()),
             ColumnRef::Name(n) => Some(n.clone()),
         };
         let found = name.as_ref().and_then(|n| {
-            log.extra.iter().position(|c| c.name == *n).or_else(|| {
-                log.extra
-                    .iter()
-                    .position(|c| c.name.eq_ignore_ascii_case(n))
-            })
+            kept.iter()
+                .position(|c| *c == n)
+                .or_else(|| kept.iter().position(|c| c.eq_ignore_ascii_case(n)))
         });
         match found {
             Some(k) if !out.contains(&k) => out.push(k),
             Some(_) => {}
             None => {
                 let role = name.as_ref().and_then(|n| {
-                    log.info
-                        .columns
+                    columns
                         .iter()
                         .find(|c| c.name == *n || c.name.eq_ignore_ascii_case(n))
                         .and_then(|c| role_in_words(c.role))
                 });
                 if let Some(role) = role {
                     return Err(AccelError::TakenColumn {
-                        log: log.source.clone(),
+                        log: source.to_string(),
                         column: asked.to_string(),
                         role,
                     });
                 }
                 return Err(AccelError::NoColumn {
-                    log: log.source.clone(),
+                    log: source.to_string(),
                     column: asked.to_string(),
-                    available: log.extra.iter().map(|c| c.name.clone()).collect(),
+                    available: kept.iter().map(|c| c.to_string()).collect(),
                 });
             }
         }

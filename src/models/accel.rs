@@ -223,6 +223,58 @@ pub fn static_at(model: &DriftModel, temp_c: f64) -> Option<f64> {
     Some(m.predict(&x, &[], &mut row))
 }
 
+/// A log of one gyro axis without a name beside accelerometer axes: a unit's axes are found
+/// in a log (and its calibration's in the next) by their names, and the gyro's has none.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error(
+    "{log}: its gyro axis has no name, and a unit's axes are found by theirs: name its rate \
+     column, or calibrate the accelerometers alone (axes {})",
+    accels.join(",")
+)]
+pub struct UnnamedGyro {
+    /// The log.
+    pub log: String,
+    /// Its accelerometer axes.
+    pub accels: Vec<String>,
+}
+
+/// The axes a unit is calibrated on when its accelerometer axes are asked for: `chosen`, the
+/// gyro axes a face chose (`None`: the log's one axis, unnamed), then every accelerometer
+/// axis of `log`; `by_hand`: the engineer named the axes to fit (`--axes`), and they are
+/// taken as named, accelerometers among them or not. A log of one gyro axis becomes a unit
+/// of that axis, by its name, and the accelerometers: the one rule `calibrate --accel` and
+/// the workbench choose by, so that a log of one gyro and three accelerometers is the same
+/// unit of four axes in both.
+///
+/// # Errors
+/// [`UnnamedGyro`]: the log's one gyro axis has no name to find it by.
+pub fn with_accelerometers(
+    chosen: Option<Vec<String>>,
+    by_hand: bool,
+    log: &Log,
+) -> Result<Option<Vec<String>>, UnnamedGyro> {
+    let accels = log.axes_of(AxisKind::Accel);
+    if accels.is_empty() {
+        return Ok(chosen);
+    }
+    let mut axes = match chosen {
+        Some(axes) if by_hand => return Ok(Some(axes)),
+        Some(axes) => axes
+            .into_iter()
+            .filter(|n| log.kind_of(n) == Some(AxisKind::Gyro))
+            .collect(),
+        None if log.axis.is_empty() => {
+            return Err(UnnamedGyro {
+                log: log.source.clone(),
+                accels,
+            });
+        }
+        None => vec![log.axis.clone()],
+    };
+    axes.extend(accels);
+    Ok(Some(axes))
+}
+
 /// Every accelerometer axis of `log` (in the log's order), each with [`DEFAULT_MODEL`] and
 /// `recipe`: the plans `calibrate --accel` makes when no model is named, for a face that
 /// offers the accelerometers without a model of their own (the workbench).

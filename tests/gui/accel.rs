@@ -19,7 +19,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 /// Runs `driftlab ARGS` (which must succeed) and returns what it printed.
-fn driftlab(args: &[&std::ffi::OsStr]) -> String {
+pub(crate) fn driftlab(args: &[&std::ffi::OsStr]) -> String {
     let out = Command::new(env!("CARGO_BIN_EXE_driftlab"))
         .args(args)
         .output()
@@ -34,7 +34,7 @@ fn driftlab(args: &[&std::ffi::OsStr]) -> String {
 
 /// The six-axis MEMS IMU of seed 1, written into `dir` by `driftlab simulate` as the
 /// documentation tells an engineer to make it.
-fn imu6(dir: &Path) -> PathBuf {
+pub(crate) fn imu6(dir: &Path) -> PathBuf {
     let path = dir.join("imu6.csv");
     driftlab(&[
         "simulate".as_ref(),
@@ -55,13 +55,13 @@ fn accel_names(path: &Path) -> Vec<String> {
     log.axes_of(AxisKind::Accel)
 }
 
-fn opened(path: &Path) -> Harness<'static, Workbench> {
+pub(crate) fn opened(path: &Path) -> Harness<'static, Workbench> {
     let mut h = harness(Workbench::new_for_test(path));
     settle(&mut h);
     h
 }
 
-fn act(h: &mut Harness<'_, Workbench>, a: Action) {
+pub(crate) fn act(h: &mut Harness<'_, Workbench>, a: Action) {
     let ctx = h.ctx.clone();
     h.state_mut().act(&ctx, a);
     h.run_ok();
@@ -70,7 +70,7 @@ fn act(h: &mut Harness<'_, Workbench>, a: Action) {
 
 /// A calibration file as JSON with the time it was written taken out of every axis (the only
 /// field two runs of one calibration may differ in).
-fn without_dates(path: &Path) -> serde_json::Value {
+pub(crate) fn without_dates(path: &Path) -> serde_json::Value {
     fn strip(v: &mut serde_json::Value) {
         match v {
             serde_json::Value::Object(o) => {
@@ -129,8 +129,8 @@ fn a_six_axis_log_lists_its_accelerometers_and_shows_them_in_m_s2() {
     h.run_ok();
     assert_eq!(h.state().state.accel_shown(), Some(k));
     h.get_by_label_contains(&format!("Accelerometer axis {}", names[k]));
-    h.get_by_label("raw, m/s²");
-    h.get_by_label("corrected, m/s²");
+    // (the figures panel's table, headed by the axis's unit)
+    h.get_by_label("m/s²");
     let axis = cli["axes"]
         .as_array()
         .unwrap()
@@ -341,4 +341,124 @@ fn a_calibration_opened_beside_is_judged_on_the_accelerometer_axes_as_evaluate_j
         assert_eq!(got, want["evaluation"], "axis {}", ax.name);
     }
     assert!(names.iter().all(|n| file.axes.iter().any(|a| a.name == *n)));
+}
+
+/// The simulated IMU of `dir` with its gyro axes but the first left out: a log of one gyro
+/// axis (`omega_x_dph`) and three accelerometers.
+pub(crate) fn one_gyro(dir: &Path) -> PathBuf {
+    let text = std::fs::read_to_string(imu6(dir)).unwrap();
+    let mut out = String::new();
+    for line in text.lines().filter(|l| !l.starts_with('#')) {
+        let cells: Vec<&str> = line.split(',').collect();
+        out.push_str(&[&cells[..2], &cells[4..]].concat().join(","));
+        out.push('\n');
+    }
+    assert!(out.starts_with("time_s,omega_x_dph,acc_x_g,acc_y_g,acc_z_g,temp_c,"));
+    let path = dir.join("one-gyro.csv");
+    std::fs::write(&path, out).unwrap();
+    path
+}
+
+#[test]
+fn a_log_of_one_gyro_axis_is_a_unit_with_its_accelerometers_as_calibrate_accel_makes_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let log = one_gyro(dir.path());
+    let names = accel_names(&log);
+    assert_eq!(names, ["acc_x", "acc_y", "acc_z"]);
+    let mut h = opened(&log);
+    let dialogs = with_dialogs(h.state_mut());
+    let s = &h.state().state;
+    assert!(s.unit.is_none(), "one gyro axis");
+    assert!(s.accel_on() && s.accel_current());
+    assert_eq!(s.accel.as_ref().unwrap().names, names);
+    // The strip: the gyro axis by its name, then the accelerometers.
+    h.get_by_label_contains("omega_x  ");
+    // (the simulated IMU reads g on z)
+    for name in &names {
+        let mark = if name == "acc_z" { " g" } else { "" };
+        h.get_by_label_contains(&format!("{name}{mark}  p2p "));
+    }
+    h.get_by_label_contains("acc_y  p2p ").click();
+    h.run_ok();
+    assert_eq!(h.state().state.accel_shown(), Some(1));
+    h.get_by_label_contains("Accelerometer axis acc_y");
+    h.get_by_label_contains("omega_x  ").click();
+    h.run_ok();
+    assert_eq!(h.state().state.accel_shown(), None, "back to the gyro axis");
+
+    // Its calibration: the unit `calibrate --accel` writes of the log, every axis.
+    let window = dir.path().join("window.json");
+    dialogs.answer(Some(window.clone()));
+    h.key_press_modifiers(Modifiers::COMMAND, Key::E);
+    settle(&mut h);
+    let cli = dir.path().join("cli.json");
+    let os = std::ffi::OsStr::new;
+    driftlab(&[
+        os("calibrate"),
+        log.as_os_str(),
+        os("--accel"),
+        os("--out"),
+        cli.as_os_str(),
+    ]);
+    let unit = calibration::load_unit(&window).expect("the window's unit reads back");
+    assert_eq!(unit.axis_names(), ["omega_x", "acc_x", "acc_y", "acc_z"]);
+    assert_eq!(without_dates(&window), without_dates(&cli));
+
+    // Its corrected log: `apply`'s of that calibration, every axis.
+    let csv = dir.path().join("window-corrected.csv");
+    dialogs.answer(Some(csv.clone()));
+    h.key_press_modifiers(Modifiers::COMMAND.plus(Modifiers::SHIFT), Key::E);
+    settle(&mut h);
+    let applied = dir.path().join("applied.csv");
+    driftlab(&[
+        os("apply"),
+        cli.as_os_str(),
+        log.as_os_str(),
+        os("--out"),
+        applied.as_os_str(),
+    ]);
+    let body = |p: &Path| {
+        std::fs::read_to_string(p)
+            .unwrap()
+            .lines()
+            .filter(|l| !l.starts_with('#'))
+            .map(str::to_string)
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(body(&csv), body(&applied));
+
+    // That calibration opened beside the fit is judged on every axis of the log, the
+    // accelerometers' among them.
+    act(&mut h, Action::OpenCalibrationPath(cli.clone()));
+    let v = h.state().opened().unwrap().verified.as_ref().unwrap();
+    let on_log = v
+        .logs
+        .iter()
+        .find(|l| l.which == driftlab::gui::action::OpenLog::Calibration)
+        .unwrap();
+    for (k, name) in unit.axis_names().iter().enumerate() {
+        match &on_log.axes[k] {
+            driftlab::gui::jobs::AxisVerdict::Judged(j) => assert_eq!(j.log_axis, *name),
+            _ => panic!("axis {name} is not judged on the log"),
+        }
+    }
+    act(&mut h, Action::CloseCalibration);
+
+    // Switched off, the log is the one axis it was: the file `calibrate` writes without
+    // --accel (version 1, one unnamed axis).
+    h.get_by_label("Accelerometers").click();
+    h.run_ok();
+    settle(&mut h);
+    let alone = dir.path().join("alone.json");
+    dialogs.answer(Some(alone.clone()));
+    h.key_press_modifiers(Modifiers::COMMAND, Key::E);
+    settle(&mut h);
+    let cli_alone = dir.path().join("cli-alone.json");
+    driftlab(&[
+        os("calibrate"),
+        log.as_os_str(),
+        os("--out"),
+        cli_alone.as_os_str(),
+    ]);
+    assert_eq!(without_dates(&alone), without_dates(&cli_alone));
 }

@@ -6,6 +6,8 @@
 mod common;
 
 mod accel;
+mod accel_held_out;
+mod accel_import;
 mod campaign;
 mod drone_open;
 mod editing;

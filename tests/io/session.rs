@@ -70,6 +70,12 @@ fn a_session(log: PathBuf) -> Session {
                 temp_from: Some(driftlab::log::read::TempFrom::Accel),
             },
             more_runs: Vec::new(),
+            // The accelerometer columns and unit chosen in the import view: kept through a
+            // save and a load.
+            accelerometers: driftlab::log::accel_axes::AccelAsk {
+                columns: vec![ColumnRef::Index(4), ColumnRef::Name("acc_b".into())],
+                unit: Some(driftlab::log::accel_axes::AccelUnit::MilliG),
+            },
         }),
         recipe,
         knots: KnotEdits::default(),

@@ -684,6 +684,7 @@ impl Workbench {
                         bin_s: log.bin_s,
                         instance: log.instance,
                         more_runs: log.more_runs,
+                        accel: log.accelerometers,
                     };
                     self.start_load(log.path, options, Target::Calibration);
                 }

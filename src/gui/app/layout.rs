@@ -274,7 +274,7 @@ impl Workbench {
             // A short window: a unit's axes in the menu bar (the strip's row goes to the plots).
             if self.window.compact
                 && self.views.page == Page::Calibration
-                && self.state.unit.is_some()
+                && self.state.has_axis_strip()
             {
                 // (what the right-hand end leaves, and a little for the log's name)
                 let room = ui.available_width() - self.window.menu_right_w - 60.0;
@@ -307,7 +307,7 @@ impl Workbench {
                         ui.add(egui::Label::new(RichText::new(format!("{name}{dirty}")).strong()).truncate())
                             .on_hover_text(&tip);
                         // A short window's menu bar holds the axes of a unit: the details on hover.
-                        if !(self.window.compact && self.state.unit.is_some()) {
+                        if !(self.window.compact && self.state.has_axis_strip()) {
                             ui.add(egui::Label::new(RichText::new(details).weak()).truncate()).on_hover_text(&tip);
                         }
                     });

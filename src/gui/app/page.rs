@@ -22,7 +22,7 @@ impl Workbench {
         if self.state.shown.validation.is_none() {
             self.state.view.show_validation = false;
         }
-        if self.state.unit.is_some() && !compact {
+        if self.state.has_axis_strip() && !compact {
             let r = Panel::top("axes").resizable(false).show(ui, |ui| {
                 actions.extend(self.views.axes.ui(ui, &self.state, false))
             });

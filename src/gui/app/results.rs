@@ -222,6 +222,7 @@ impl Workbench {
                                 bin_s: v.bin_s,
                                 instance: v.instance,
                                 more_runs: Vec::new(),
+                                accel: v.accelerometers.clone(),
                             };
                             self.start_load(v.path.clone(), options, Target::Validation);
                         }
@@ -254,16 +255,15 @@ impl Workbench {
                 }
                 // (a campaign calibrates its gyro axes alone: an accelerometer keeps the mean of
                 // the one run it is fitted on)
-                self.state.accel = if views.is_empty() {
-                    None
-                } else {
-                    self.state
-                        .shown
-                        .log
-                        .as_ref()
-                        .filter(|l| l.log.runs().len() < 2)
-                        .and_then(crate::gui::state::AccelAxes::of)
-                };
+                // A log of one gyro axis has them too: with them it is a unit of that axis
+                // and its accelerometers, as `calibrate --accel` makes it.
+                self.state.accel = self
+                    .state
+                    .shown
+                    .log
+                    .as_ref()
+                    .filter(|l| l.log.runs().len() < 2)
+                    .and_then(crate::gui::state::AccelAxes::of);
                 if views.is_empty() {
                     self.jobs.set_axes(1);
                 } else {

@@ -1,13 +1,30 @@
 //! A unit's accelerometer axes calibrated on a worker, through the engine's one path of a
 //! unit's calibration ([`crate::models::campaign::calibrate_runs`], the call `calibrate
 //! --accel` makes), each with the static model the engine gives an accelerometer when none is
-//! named ([`crate::models::accel::default_plans`]); then what the window draws of each, in
-//! m/s², thinned here so that a frame draws a few thousand points whatever the log's length.
+//! named ([`crate::models::accel::default_plans`]); then, with a validation log open, each
+//! judged on it as `driftlab evaluate` judges a calibration's accelerometer axis
+//! ([`crate::judge::verify::judge`] on the axis about the mean it keeps); then what the window
+//! draws of each, in m/s², thinned here so that a frame draws a few thousand points whatever
+//! the log's length.
 
 use super::*;
+use crate::judge::metrics::Evaluation;
+use crate::judge::verify::{self, LogFile};
 use crate::models::accel::{self, Gravity};
 use crate::models::campaign::{CampaignOptions, JoinedRuns, UnitPlan, calibrate_runs};
 use crate::models::{CalibratedAxis, Keep, UnitCalibration};
+
+/// The validation log the accelerometer axes are judged on.
+#[derive(Debug, Clone)]
+pub struct AccelValidation {
+    /// The log with its accelerometer axes (made of its columns as the calibration log's
+    /// were), or why they could not be made (the window's words).
+    pub log: Result<Arc<Log>, String>,
+    /// Its file's name, as `evaluate` gives it to the in-sample rule.
+    pub name: String,
+    /// SHA-256 of the file (empty when not known).
+    pub sha256: String,
+}
 
 /// What the accelerometer axes are calibrated with.
 #[derive(Debug, Clone)]
@@ -22,6 +39,8 @@ pub struct AccelRequest {
     /// unit's, and `calibrate` gives its one recipe to every axis). The figures are read
     /// with its filter over 10-minute windows, as `calibrate` reads them.
     pub recipe: Recipe,
+    /// The validation log open, each axis judged on it held out.
+    pub validation: Option<AccelValidation>,
 }
 
 /// What an accelerometer calibration answers: the same log (by identity) and recipe need
@@ -30,6 +49,7 @@ pub struct AccelRequest {
 pub struct AccelKey {
     log: Same<Log>,
     recipe: Recipe,
+    validation: Option<Result<Same<Log>, String>>,
 }
 
 impl AccelKey {
@@ -38,8 +58,26 @@ impl AccelKey {
         AccelKey {
             log: Same::of(&r.log),
             recipe: r.recipe.clone(),
+            validation: r
+                .validation
+                .as_ref()
+                .map(|v| v.log.as_ref().map(Same::of).map_err(Clone::clone)),
         }
     }
+}
+
+/// An accelerometer axis judged on the validation log, as `evaluate` judges it.
+#[derive(Debug, Clone)]
+pub struct AccelHeldOut {
+    /// Raw against corrected, about the mean the axis keeps, in m/s².
+    pub evaluation: Evaluation,
+    /// Whether the log is the calibration's own, in `evaluate`'s words (`held out`).
+    pub label: String,
+    /// Whether the log is the calibration's own run.
+    pub in_sample: bool,
+    /// The log's mean on the axis is another orientation's: its figures are of its change
+    /// about its own mean (`evaluate`'s note).
+    pub note: Option<String>,
 }
 
 /// The points of a plot drawn from it, in the plot's units.
@@ -59,6 +97,8 @@ pub struct AccelAxisView {
     pub raw_temp: Line,
     /// Its model's prediction over its fitted T range, °C.
     pub model_temp: Line,
+    /// Judged on the validation log, or why it could not be; `None` without one.
+    pub held_out: Option<Result<AccelHeldOut, String>>,
 }
 
 /// The accelerometer axes calibrated.
@@ -73,6 +113,9 @@ pub struct AccelFit {
     pub gravity: Option<Gravity>,
     /// What the engine said of the log.
     pub warnings: Vec<String>,
+    /// The options of every figure, in-sample and held out: the recipe's filter over
+    /// 10-minute windows, as `calibrate` and `evaluate` read them.
+    pub merit: MeritOptions,
 }
 
 /// One answer.
@@ -109,12 +152,14 @@ fn calibrate(req: &AccelRequest) -> Result<AccelFit, String> {
         campaign: CampaignOptions::default(),
         keep: Keep::Corrected,
     };
+    let merit = plan.merit();
     let mut runs = JoinedRuns {
         log: (*req.log).clone(),
         name: req.name.clone(),
         sha256: req.sha256.clone(),
     };
     let fitted = calibrate_runs(&mut runs, &plan).map_err(|e| e.to_string())?;
+    let mut held_out = held_out(&fitted.unit, req.validation.as_ref(), merit).into_iter();
     let log = &req.log;
     let hours: Vec<f64> = log.time_s.iter().map(|t| t / 3600.0).collect();
     let axes = fitted
@@ -136,6 +181,7 @@ fn calibrate(req: &AccelRequest) -> Result<AccelFit, String> {
                 cor_t: columns(&hours, &cor),
                 raw_temp: cloud(&log.temp_c, &about),
                 model_temp: curve(&f.calibrated.model),
+                held_out: held_out.next().flatten(),
                 fitted: f,
             }
         })
@@ -145,7 +191,81 @@ fn calibrate(req: &AccelRequest) -> Result<AccelFit, String> {
         unit: fitted.unit,
         axes,
         warnings: fitted.warnings,
+        merit,
     })
+}
+
+/// Each axis of `unit` judged on the validation log `v`, in the unit's order, as `driftlab
+/// evaluate` judges a calibration's axes on a log: the log's axis each corrects
+/// ([`verify::find_axes`]), taken about the mean the axis keeps ([`AxisModel::as_fitted`]),
+/// judged with `merit` ([`verify::judge`]), in-sample or held out settled over the axes
+/// together ([`verify::settle_axes`]). Empty without a validation log.
+///
+/// [`AxisModel::as_fitted`]: crate::models::AxisModel::as_fitted
+fn held_out(
+    unit: &UnitCalibration,
+    v: Option<&AccelValidation>,
+    merit: MeritOptions,
+) -> Vec<Option<Result<AccelHeldOut, String>>> {
+    let Some(v) = v else {
+        return Vec::new();
+    };
+    let log = match &v.log {
+        Ok(log) => log,
+        Err(e) => return unit.axes.iter().map(|_| Some(Err(e.clone()))).collect(),
+    };
+    let file = LogFile {
+        name: &v.name,
+        sha256: &v.sha256,
+    };
+    let found = verify::find_axes(unit, log);
+    let mut judged: Vec<Result<(verify::Judged, Option<String>), String>> = unit
+        .axes
+        .iter()
+        .zip(found)
+        .map(|(ax, column)| {
+            let column = column.ok_or_else(|| {
+                format!(
+                    "{}: no accelerometer axis {} (column {}) (its axes: {})",
+                    log.source,
+                    ax.name,
+                    ax.rate_column,
+                    log.axis_names().join(", ")
+                )
+            })?;
+            let mut view = (**log).clone();
+            view.select_axis(&column);
+            view.other_axes.clear();
+            let note = accel::orientation_note(&view, &ax.name, ax.kind, ax.kept_mean);
+            let opts = verify::merit_options(&ax.model, Some(merit.filter_s), Some(merit.window_s));
+            verify::judge(&ax.model, &ax.as_fitted(&view), file, opts, false)
+                .map(|j| (j, note))
+                .map_err(|e| e.to_string())
+        })
+        .collect();
+    // The axes share the log's rows: one that saw too few of them takes what all tell, as
+    // `evaluate` settles a unit's axes.
+    let mut ok: Vec<&mut verify::Judged> = judged
+        .iter_mut()
+        .filter_map(|j| j.as_mut().ok().map(|(j, _)| j))
+        .collect();
+    let mut in_sample: Vec<bool> = ok.iter().map(|j| j.in_sample).collect();
+    let mut shares: Vec<_> = ok.iter().map(|j| j.share).collect();
+    verify::settle_axes(&mut in_sample, &mut shares);
+    for ((j, i), s) in ok.iter_mut().zip(in_sample).zip(shares) {
+        (j.in_sample, j.share) = (i, s);
+    }
+    judged
+        .into_iter()
+        .map(|j| {
+            Some(j.map(|(j, note)| AccelHeldOut {
+                label: j.sample_label(),
+                in_sample: j.in_sample,
+                evaluation: j.evaluation,
+                note,
+            }))
+        })
+        .collect()
 }
 
 /// Each of [`COLUMNS`] columns of `y` against `x` as its least and greatest finite value, in

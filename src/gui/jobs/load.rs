@@ -4,6 +4,7 @@
 
 use super::*;
 use crate::gui::plot_items::Segments;
+use crate::log::accel_axes::{AccelAsk, AccelError};
 use crate::log::read::{DroneLog, InstanceChoice};
 use crate::log::resample::{self, Resampling};
 use std::path::Path;
@@ -24,6 +25,10 @@ pub struct LoadOptions {
     /// engine ([`crate::log::campaign::join`], which refuses runs of another gyro); empty for
     /// one log.
     pub more_runs: Vec<PathBuf>,
+    /// The columns read as accelerometer axes and their unit, as the import view chose them
+    /// (the engine's [`AccelAsk`], the command line's `--accel-col` and `--accel-unit`); the
+    /// default: every column named as one.
+    pub accel: AccelAsk,
 }
 
 impl LoadOptions {
@@ -86,11 +91,12 @@ pub struct Loaded {
     /// each rate in memory, not one per view).
     pub axis_views: Vec<Loaded>,
     /// The log with its accelerometer columns made axes after its gyro axes, in m/s², by the
-    /// engine's one rule ([`crate::log::accel_axes::take`], every column named as one, as
-    /// `calibrate --accel` takes them), or why they cannot be; `None` for a log with no
-    /// accelerometer column. Read once with the log, so that turning the accelerometer axes on
-    /// and off reads nothing again.
-    pub accel: Option<Result<Arc<Log>, String>>,
+    /// engine's one rule ([`crate::log::accel_axes::take`], the columns
+    /// [`LoadOptions::accel`] asks for, by default every column named as one, as `calibrate
+    /// --accel` takes them), or why they cannot be; `None` for a log with no accelerometer
+    /// column that asks for none. Read once with the log, so that turning the accelerometer
+    /// axes on and off reads nothing again.
+    pub accel: Option<Result<Arc<Log>, AccelError>>,
 }
 
 impl Loaded {
@@ -164,7 +170,7 @@ pub(super) fn load_log(h: &LoadHandle, options: LoadOptions) -> JobResult {
             }
             let path = h.path.clone();
             let views = other_axis_views(&log, recorded.as_deref());
-            let accel = accel_log(&log);
+            let accel = accel_log(&log, &options.accel);
             let (((omega, temp), segments), sha256) = rayon::join(
                 || {
                     rayon::join(
@@ -350,19 +356,15 @@ fn other_axis_views(
         .collect()
 }
 
-/// `log` with its accelerometer columns made axes ([`Loaded::accel`]); `None` when it keeps
-/// no column named as an accelerometer.
-fn accel_log(log: &Log) -> Option<Result<Arc<Log>, String>> {
-    if !log.extra.iter().any(|c| c.is_accelerometer()) {
+/// `log` with the accelerometer columns `ask` names made axes ([`Loaded::accel`]); `None`
+/// when it asks for none by name or unit and the log keeps no column named as an
+/// accelerometer (a gyro's log without them).
+fn accel_log(log: &Log, ask: &AccelAsk) -> Option<Result<Arc<Log>, AccelError>> {
+    if ask.is_default() && !log.extra.iter().any(|c| c.is_accelerometer()) {
         return None;
     }
     let mut with = log.clone();
-    let ask = crate::log::accel_axes::AccelAsk::default();
-    Some(
-        crate::log::accel_axes::take(&mut with, &ask)
-            .map(|_| Arc::new(with))
-            .map_err(|e| e.to_string()),
-    )
+    Some(crate::log::accel_axes::take(&mut with, ask).map(|_| Arc::new(with)))
 }
 
 /// A copy of `log` without its rates (the fields a view of one axis shares with it).

@@ -15,7 +15,9 @@ mod load;
 mod opened;
 
 use accel::run_accel;
-pub use accel::{AccelAxisView, AccelFit, AccelKey, AccelRequest, AccelView, Line};
+pub use accel::{
+    AccelAxisView, AccelFit, AccelHeldOut, AccelKey, AccelRequest, AccelValidation, AccelView, Line,
+};
 use allan::run_allan;
 pub use allan::{AllanRequest, AllanView};
 use compare::run_compare;

@@ -54,7 +54,7 @@ impl AccelAxes {
                 }
             }
             Err(e) => AccelAxes {
-                read_error: Some(e.clone()),
+                read_error: Some(crate::gui::view_import::accel_in_labels(e)),
                 ..AccelAxes::default()
             },
         })
@@ -63,9 +63,47 @@ impl AccelAxes {
 
 impl AppState {
     /// Whether the unit calibrates its accelerometer axes: it has some, and they are not
-    /// turned off.
+    /// turned off. A log of one gyro axis with accelerometer axes is a unit of them.
     pub fn accel_on(&self) -> bool {
-        self.accel.is_some() && !self.accel_off && self.unit.is_some()
+        self.accel.is_some() && !self.accel_off
+    }
+
+    /// Whether the Calibration page has an axis strip: a unit of several gyro axes, or a log
+    /// with accelerometer axes (its one gyro axis beside them).
+    pub fn has_axis_strip(&self) -> bool {
+        self.unit.is_some() || self.accel.is_some()
+    }
+
+    /// The gyro axes of the unit, by name: a unit's, or for a log of one gyro axis with its
+    /// accelerometer axes on, that axis as the engine names it in a unit
+    /// ([`crate::models::accel::with_accelerometers`], the rule `calibrate --accel` takes it
+    /// by); `None` for a log of one axis alone.
+    ///
+    /// # Errors
+    /// Its gyro axis has no name to find it by (the engine's words).
+    pub fn unit_gyro_names(&self) -> Option<Result<Vec<String>, String>> {
+        if let Some(u) = &self.unit {
+            return Some(Ok(u.names.clone()));
+        }
+        if !self.accel_on() {
+            return None;
+        }
+        let log = self.unit_full_log()?;
+        Some(
+            crate::models::accel::with_accelerometers(None, false, &log)
+                .map(|axes| {
+                    axes.unwrap_or_default()
+                        .into_iter()
+                        .filter(|n| log.kind_of(n) == Some(crate::log::AxisKind::Gyro))
+                        .collect()
+                })
+                .map_err(|e| {
+                    format!(
+                        "{e} (turn Accelerometers off in the axis strip to calibrate the gyro \
+                         axis alone)"
+                    )
+                }),
+        )
     }
 
     /// What the accelerometer axes are calibrated with now: the calibration log with them and
@@ -87,6 +125,32 @@ impl AppState {
                 .unwrap_or_else(|| loaded.path.display().to_string()),
             sha256: loaded.sha256.clone().unwrap_or_default(),
             recipe: first.choices.recipe.clone(),
+            validation: self.accel_validation(),
+        })
+    }
+
+    /// The validation log open, with its accelerometer axes made of its columns as the
+    /// calibration log's were (its import view's mapping), for the held-out figures.
+    fn accel_validation(&self) -> Option<crate::gui::jobs::AccelValidation> {
+        let file = self.validation_file.as_ref()?;
+        let log = match &file.accel {
+            Some(Ok(log)) => Ok(log.clone()),
+            Some(Err(e)) => Err(crate::gui::view_import::accel_in_labels(e)),
+            None => Err(format!(
+                "{}: no accelerometer column (none of its columns is named as one, and none is \
+                 mapped as one in its import view)",
+                crate::gui::widgets::file_name(&file.path)
+            )),
+        };
+        Some(crate::gui::jobs::AccelValidation {
+            log,
+            // (the file's name as `evaluate` gives it to the in-sample rule)
+            name: file
+                .path
+                .file_name()
+                .map(|s| s.to_string_lossy().into_owned())
+                .unwrap_or_else(|| file.path.display().to_string()),
+            sha256: file.sha256.clone().unwrap_or_default(),
         })
     }
 
