@@ -65,60 +65,45 @@ pub(super) fn judged(
             }
     });
     let chunks = n.div_ceil(approx::CHUNK);
-    // Each chunk with every axis's slices of the points (empty when not gathered).
-    type Slices<'s> = Vec<(&'s mut [f64], &'s mut [f64])>;
-    let mut parts: Vec<Slices<'_>> = (0..chunks).map(|_| Vec::new()).collect();
-    for p in &mut pts {
+    // Each chunk with every axis's lane: its curves and its slices of the points (empty when
+    // not gathered).
+    let mut parts: Vec<Vec<Lane<'_, '_>>> = (0..chunks).map(|_| Vec::new()).collect();
+    for ((p, axis), (curve, other)) in pts.iter_mut().zip(axes).zip(&evals) {
+        let lane = |xs, ys| Lane {
+            rest: axis.rest,
+            curve: *curve,
+            other: *other,
+            mean: axis.mean,
+            xs,
+            ys,
+            sums: (0, 0.0, 0.0, 0.0),
+        };
         if p.x.is_empty() {
-            parts.iter_mut().for_each(|c| c.push((&mut [], &mut [])));
+            parts
+                .iter_mut()
+                .for_each(|c| c.push(lane(&mut [], &mut [])));
         } else {
             let xs = p.x.chunks_mut(approx::CHUNK);
-            for (c, s) in xs.zip(p.y.chunks_mut(approx::CHUNK)).enumerate() {
-                parts[c].push(s);
+            for (c, (xs, ys)) in xs.zip(p.y.chunks_mut(approx::CHUNK)).enumerate() {
+                parts[c].push(lane(xs, ys));
             }
         }
     }
-    let part = |c: usize, mut slices: Slices<'_>| -> Vec<Sums> {
+    let part = |c: usize, mut lanes: Vec<Lane<'_, '_>>| -> Vec<Sums> {
         let from = c * approx::CHUNK;
         let to = (from + approx::CHUNK).min(n);
-        let mut sums: Vec<Sums> = vec![(0, 0.0, 0.0, 0.0); axes.len()];
-        for (k, &i) in idx[from..to].iter().enumerate() {
-            let i = i as usize;
-            let (x, o) = (own[i], other[i]);
-            let w = if drift { x * x } else { 1.0 };
-            let (at_x, at_o) = if shared {
-                let (c0, o0) = &evals[0];
-                (c0.spot(x), o0.as_ref().map_or(Spot::Zero, |e| e.spot(o)))
-            } else {
-                (Spot::Zero, Spot::Zero)
-            };
-            for (a, (axis, (curve, other_curve))) in axes.iter().zip(&evals).enumerate() {
-                let term = other_curve.as_ref().map_or(0.0, |e| {
-                    let s = if shared { at_o } else { e.spot(o) };
-                    e.at(s) * o
-                });
-                let y = (axis.rest[i] - term) / x;
-                if axis.gather {
-                    let (xs, ys) = &mut slices[a];
-                    xs[k] = x;
-                    ys[k] = y;
-                }
-                if approx::usable(x, y, w) {
-                    let s = &mut sums[a];
-                    s.0 += 1;
-                    s.1 += w;
-                    let r = y - curve.at(if shared { at_x } else { curve.spot(x) });
-                    s.2 += w * r * r;
-                    s.3 += w * (y - axis.mean) * (y - axis.mean);
-                }
-            }
+        let idx = &idx[from..to];
+        if shared {
+            judge_chunk::<true>(idx, own, other, drift, &mut lanes);
+        } else {
+            judge_chunk::<false>(idx, own, other, drift, &mut lanes);
         }
-        sums
+        lanes.into_iter().map(|l| l.sums).collect()
     };
     let per_chunk: Vec<Vec<Sums>> = parts
         .into_par_iter()
         .enumerate()
-        .map(|(c, slices)| part(c, slices))
+        .map(|(c, lanes)| part(c, lanes))
         .collect();
     pts.into_iter()
         .enumerate()
@@ -138,4 +123,64 @@ pub(super) fn judged(
             (stats, p)
         })
         .collect()
+}
+
+/// One axis in a chunk of points: its `Ω_f − K0`, its curves, its slices of the points
+/// (empty when they are not kept) and its sums so far.
+struct Lane<'a, 's> {
+    rest: &'a [f64],
+    curve: Evaluator<'a>,
+    other: Option<Evaluator<'a>>,
+    mean: f64,
+    xs: &'s mut [f64],
+    ys: &'s mut [f64],
+    sums: Sums,
+}
+
+/// The points `idx` (a chunk's) made and judged for every lane; with `SHARED`, each point's
+/// spots are found on the first lane's curves once for every lane (their curves have the same
+/// spots), else on each lane's own.
+#[inline(always)]
+fn judge_chunk<const SHARED: bool>(
+    idx: &[u32],
+    own: &[f64],
+    other: &[f64],
+    drift: bool,
+    lanes: &mut [Lane<'_, '_>],
+) {
+    let Some(first) = lanes.first() else {
+        return;
+    };
+    let (lead, lead_other) = (first.curve, first.other);
+    for (k, &i) in idx.iter().enumerate() {
+        let i = i as usize;
+        let (x, o) = (own[i], other[i]);
+        let w = if drift { x * x } else { 1.0 };
+        let (at_x, at_o) = if SHARED {
+            (lead.spot(x), lead_other.map_or(Spot::Zero, |e| e.spot(o)))
+        } else {
+            (Spot::Zero, Spot::Zero)
+        };
+        for lane in lanes.iter_mut() {
+            let term = match &lane.other {
+                Some(e) => e.at(if SHARED { at_o } else { e.spot(o) }) * o,
+                None => 0.0,
+            };
+            let y = (lane.rest[i] - term) / x;
+            if let (Some(px), Some(py)) = (lane.xs.get_mut(k), lane.ys.get_mut(k)) {
+                *px = x;
+                *py = y;
+            }
+            if approx::usable(x, y, w) {
+                let s = &mut lane.sums;
+                s.0 += 1;
+                s.1 += w;
+                let r = y - lane
+                    .curve
+                    .at(if SHARED { at_x } else { lane.curve.spot(x) });
+                s.2 += w * r * r;
+                s.3 += w * (y - lane.mean) * (y - lane.mean);
+            }
+        }
+    }
 }
