@@ -96,13 +96,13 @@ fn average_into(x: &[f64], window: usize, prefix: &mut Vec<f64>, out: &mut [f64]
     }
     // The rest: shrunk windows at both ends of the series (lo = 0 at the start; hi + 1 = n at
     // the end, with lo ≥ n − lead, whose sums the ring still holds).
-    for i in 0..back {
+    for (i, o) in out[..back].iter_mut().enumerate() {
         let hi = (i + ahead).min(n - 1);
-        out[i] = origin + (head[hi + 1] - head[0]) / (hi + 1) as f64;
+        *o = origin + (head[hi + 1] - head[0]) / (hi + 1) as f64;
     }
-    for i in n - ahead..n {
+    for (i, o) in out.iter_mut().enumerate().skip(n - ahead) {
         let lo = i - back;
-        out[i] = origin + (ring[n & mask] - ring[lo & mask]) / (n - lo) as f64;
+        *o = origin + (ring[n & mask] - ring[lo & mask]) / (n - lo) as f64;
     }
 }
 

@@ -60,6 +60,9 @@ impl<S: Clone + PartialEq + Send + Sync> StageMemory<S> {
     }
 }
 
+/// One axis's set fitted in a group: (axis, set, its fit, the T part of its moments).
+type GroupFit = (usize, usize, FittedSet, Option<Arc<SetTMoments>>);
+
 /// The sets each axis of `begun` must fit again, fitted: the axes over the same sets' samples
 /// (one allocation: the axes of one T), with the same K1 and K2 specs, weighting and T
 /// moments kept, together ([`fit_sets_from`]); each group and set side by side. In the axes'
@@ -96,7 +99,7 @@ pub(super) fn fit_sets<S: Sync>(begun: &[&Begun<'_, S>]) -> Vec<FittedNow> {
             }
         }
     }
-    let done: Vec<Vec<(usize, usize, FittedSet, Option<Arc<SetTMoments>>)>> = groups
+    let done: Vec<Vec<GroupFit>> = groups
         .par_iter()
         .map(|(s, axes)| {
             let s = *s;
