@@ -599,8 +599,8 @@ fn unit_pipeline_benches(c: &mut Criterion) {
         })
     });
     g.finish();
-    // The release as the workbench's worker runs it (`refit::run_unit`): the first axis alone,
-    // then the other two side by side with the T stages it made.
+    // The release as the workbench's worker runs it (`refit::run_unit`): the first axis's
+    // plateau stage, then every axis's sets fitted together on the sets' samples it made.
     let mut g = c.benchmark_group("live");
     g.sample_size(20).measurement_time(Duration::from_secs(4));
     let mut flip = 0;

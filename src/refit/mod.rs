@@ -190,6 +190,37 @@ struct Fitted {
     t_all: Instant,
 }
 
+/// A run before its Ω stages ([`Pipeline::fit_inputs`]).
+struct FitInputs {
+    prepared: Arc<Prepared>,
+    ranges: Vec<PlateauRange>,
+    timings: Timings,
+    t_all: Instant,
+}
+
+impl FitInputs {
+    /// The run up to its calibration, with what its Ω stages made.
+    fn fitted(self, staged: vakhrameev::Staged) -> Fitted {
+        let FitInputs {
+            prepared,
+            ranges,
+            mut timings,
+            t_all,
+        } = self;
+        timings.plateaus_ms = staged.plateaus_ms;
+        timings.fit_ms = staged.fit_ms;
+        Fitted {
+            calibration: staged.calibration,
+            prepared,
+            ranges,
+            points: staged.points,
+            warnings: staged.warnings,
+            timings,
+            t_all,
+        }
+    }
+}
+
 /// (log, filter samples) of a kept filtered raw Ω.
 type RawFilteredKey = (Same<Log>, usize);
 
@@ -283,6 +314,23 @@ impl Pipeline {
 
     /// The stages up to the calibration: the signals, the plateaus, K0 and the sets' fits.
     fn fit_part(&mut self, req: &Request) -> Result<Fitted, Error> {
+        let pre = self.fit_inputs(req)?;
+        let staged = self.stages.run(StageInputs {
+            log: &req.log,
+            signals: Same::of(&pre.prepared),
+            prepared: &pre.prepared,
+            omega_filtered_dph: Cow::Borrowed(&pre.prepared.omega_filtered_dph),
+            ranges: &pre.ranges,
+            recipe: &req.recipe,
+            points: true,
+            source: self.source.as_ref().map(|(_, s)| s),
+        })?;
+        Ok(pre.fitted(staged))
+    }
+
+    /// The stages before the Ω stages: the checks, the signals, the plateau ranges and the log
+    /// as calibrations record it.
+    fn fit_inputs(&mut self, req: &Request) -> Result<FitInputs, Error> {
         let t_all = Instant::now();
         let mut timings = Timings::default();
         let log = &req.log;
@@ -316,38 +364,9 @@ impl Pipeline {
         if self.source.as_ref().is_none_or(|(l, _)| !l.is(log)) {
             self.source = Some((Same::of(log), vakhrameev::SourceInfo::of(log)));
         }
-        let staged = self.stages.run(StageInputs {
-            log,
-            signals: Same::of(&prepared),
-            prepared: &prepared,
-            omega_filtered_dph: Cow::Borrowed(&prepared.omega_filtered_dph),
-            ranges: &ranges,
-            recipe,
-            points: true,
-            source: self.source.as_ref().map(|(_, s)| s),
-        })?;
-        timings.plateaus_ms = staged.plateaus_ms;
-        timings.fit_ms = staged.fit_ms;
-        let calibration = staged.calibration;
-        let warnings = staged.warnings;
-        let [
-            k1_plus_points,
-            k1_minus_points,
-            k2_plus_points,
-            k2_minus_points,
-        ] = staged.points;
-
-        Ok(Fitted {
-            calibration,
+        Ok(FitInputs {
             prepared,
             ranges,
-            points: [
-                k1_plus_points,
-                k1_minus_points,
-                k2_plus_points,
-                k2_minus_points,
-            ],
-            warnings,
             timings,
             t_all,
         })

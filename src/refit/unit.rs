@@ -1,13 +1,15 @@
 //! The axes of a unit refitted together: what T alone makes is made once for the unit.
 //!
 //! Each axis of a unit has a pipeline of its own (its Ω, its choices), but the axes share
-//! their time and temperature: the plateau ranges, the sets' samples and dead-bands, and the
-//! T part of each set's moments are the same for every axis whose T settings and designs are
-//! the same. [`run_unit`] runs the first axis, then hands what its T stages made to the others
-//! ([`Pipeline::share_t_stages`]) and runs them side by side: a plateau edge released on a
-//! unit of three axes makes the sets and the T moments once, not three times. Each axis's
+//! their time and temperature: the plateau ranges, the sets' samples and dead-bands, the T
+//! part of each set's moments and each sample's place on the curves are the same for every
+//! axis whose T settings and designs are the same. [`run_unit`] makes the first axis's plateau
+//! ranges, hands them to the others ([`Pipeline::share_t_stages`]), then runs the Ω stages of
+//! every axis together ([`StageMemory::run_unit`]): a plateau edge released on a unit of three
+//! axes makes the sets and the T moments once, not three times, and reads each set's samples
+//! once for the three axes' moments and once for their statistics and points. Each axis's
 //! results are those of its pipeline run alone, bit for bit (the T stages are the same values,
-//! and a set's moments are summed in the same order whether their T part is given or not).
+//! and every sum is made in the same order whether one axis or three are summed).
 
 use super::correction::CorrectionSlot;
 use super::*;
@@ -16,10 +18,11 @@ use super::*;
 pub(super) type TwinKey = (Same<Prepared>, Same<Prepared>);
 
 impl Pipeline {
-    /// Takes `other`'s plateau ranges, sets' samples and the T part of its sets' moments, when
-    /// this pipeline's signals for `req` hold the same time, temperature and T derivatives as
-    /// `other`'s last (the axes of one unit, with the same T settings). Compared by value once
-    /// per pair of signals, then by identity. Returns whether they were taken.
+    /// Takes `other`'s plateau ranges when this pipeline's signals for `req` hold the same
+    /// time, temperature and T derivatives as `other`'s last (the axes of one unit, with the
+    /// same T settings), and says whether they do: then the Ω stages run with `other`'s
+    /// ([`StageMemory::run_unit`]) take the sets' samples and the T part of the sets' moments
+    /// its T stages made. Compared by value once per pair of signals, then by identity.
     pub fn share_t_stages(&mut self, other: &Pipeline, req: &Request) -> bool {
         let (Some((_, theirs)), Some((their_log, _))) = (&other.prepared, &other.source) else {
             return false;
@@ -37,8 +40,6 @@ impl Pipeline {
         {
             self.ranges = Some((Same::of(&ours), choice.clone(), ranges.clone()));
         }
-        self.stages
-            .adopt_t_stages(&other.stages, &Same::of(theirs), &Same::of(&ours));
         true
     }
 }
@@ -57,10 +58,12 @@ fn same_t(a: &Prepared, la: &Log, b: &Prepared, lb: &Log) -> bool {
         && a.deriv.tddot == b.deriv.tddot
 }
 
-/// Runs the pipelines of a unit's axes, `pipes[k]` on `reqs[k]`: the first axis's fit alone,
-/// then the others' side by side with the first's T stages ([`Pipeline::share_t_stages`]);
-/// the corrections the axes must make whole are made in one pass for the axes of the same T
-/// ([`Calibration::correct_unit_into`]), then each axis is judged. The outcomes in the axes'
+/// Runs the pipelines of a unit's axes, `pipes[k]` on `reqs[k]`: the first axis's signals and
+/// plateau ranges, then the others' with the first's ranges ([`Pipeline::share_t_stages`]);
+/// the Ω stages of every axis together ([`StageMemory::run_unit`]: the sets' samples and the T
+/// part of their moments made once, each set's fits of the axes of one T in one pass); the
+/// corrections the axes must make whole in one pass for the axes of the same T
+/// ([`Calibration::correct_unit_into`]), then each axis judged. The outcomes in the axes'
 /// order; each is what its pipeline's run alone gives, bit for bit.
 pub fn run_unit(pipes: &mut [Pipeline], reqs: &[Request]) -> Vec<Result<Outcome, Error>> {
     let mut pipes: Vec<&mut Pipeline> = pipes.iter_mut().collect();
@@ -81,19 +84,59 @@ pub fn run_unit_each<T: Send>(
     let Some((req0, others)) = reqs.split_first() else {
         return Vec::new();
     };
-    let first_fit = first.fit_part(req0);
+    let first_inputs = first.fit_inputs(req0);
     let first: &Pipeline = first;
-    // Each axis's fit, and whether it holds the first axis's T.
-    let rest_fits: Vec<(Result<Fitted, Error>, bool)> = rest
+    // Each axis's inputs, and whether it holds the first axis's T (none does when the first
+    // has no inputs: the Ω stages would take another's as the first).
+    let first_ok = first_inputs.is_ok();
+    let rest_inputs: Vec<(Result<FitInputs, Error>, bool)> = rest
         .par_iter_mut()
         .zip(others)
         .map(|(p, r)| {
-            let twin = p.share_t_stages(first, r);
-            (p.fit_part(r), twin)
+            let twin = first_ok && p.share_t_stages(first, r);
+            (p.fit_inputs(r), twin)
         })
         .collect();
-    let fits: Vec<(Result<Fitted, Error>, bool)> = std::iter::once((first_fit, true))
-        .chain(rest_fits)
+    let inputs: Vec<(Result<FitInputs, Error>, bool)> = std::iter::once((first_inputs, true))
+        .chain(rest_inputs)
+        .collect();
+    // The Ω stages of the axes with their inputs, together.
+    let staged = {
+        let mut memories = Vec::new();
+        let mut stage_inputs = Vec::new();
+        let mut twins = Vec::new();
+        for ((p, r), (fit_inputs, twin)) in pipes.iter_mut().zip(reqs).zip(&inputs) {
+            let Ok(f) = fit_inputs else {
+                continue;
+            };
+            let Pipeline { stages, source, .. } = &mut **p;
+            memories.push(stages);
+            stage_inputs.push(StageInputs {
+                log: &r.log,
+                signals: Same::of(&f.prepared),
+                prepared: &f.prepared,
+                omega_filtered_dph: Cow::Borrowed(&f.prepared.omega_filtered_dph),
+                ranges: &f.ranges,
+                recipe: &r.recipe,
+                points: true,
+                source: source.as_ref().map(|(_, s)| s),
+            });
+            twins.push(*twin);
+        }
+        StageMemory::run_unit(&mut memories, stage_inputs, &twins)
+    };
+    let mut staged = staged.into_iter();
+    let fits: Vec<(Result<Fitted, Error>, bool)> = inputs
+        .into_iter()
+        .map(|(fit_inputs, twin)| {
+            let fitted = fit_inputs.and_then(|f| {
+                let s = staged
+                    .next()
+                    .ok_or(Error::Internal("an axis's Ω stages are missing"))??;
+                Ok(f.fitted(s))
+            });
+            (fitted, twin)
+        })
         .collect();
     let corrections = correct_unit(pipes, reqs, &fits);
     pipes

@@ -31,10 +31,12 @@ pub use left_out::LeftOut;
 mod predictor;
 mod reach;
 pub use reach::CHAMBER_REACH;
+mod set_judged;
 mod set_moments;
 mod sets;
 mod source;
 mod staged;
+mod staged_unit;
 mod stages;
 
 pub use fit::{Calibrated, Fit, Pipeline, fit, fit_lean};

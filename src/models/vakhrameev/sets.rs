@@ -2,7 +2,7 @@
 //! K2 (gathered for display, or streamed to the fits without being held), and the fits of
 //! K1± and K2± over them, with the paper's refinement passes.
 
-use super::set_moments::SetTMoments;
+use super::set_moments::{SetAxis, SetTMoments, fit_sets_moments};
 use super::*;
 use crate::models::approx::Evaluator;
 use crate::signal::plateau;
@@ -454,7 +454,8 @@ fn fit_k2_from<S: PointSource>(
 /// The passes are solved from moments gathered once (`set_moments.rs`), their T part taken
 /// from `known` when given (made over the same sets' samples with the same designs and
 /// weighting: the caller keys it); a set those cannot take is fitted by
-/// [`fit_set_streaming`].
+/// [`fit_set_streaming`]. [`fit_sets_from`] of one axis, for the tests.
+#[cfg(test)]
 pub fn fit_set_from(
     samples: &SetSamples,
     inputs: SetInputs,
@@ -463,8 +464,43 @@ pub fn fit_set_from(
     points: bool,
     known: Option<&Arc<SetTMoments>>,
 ) -> SetFit {
-    super::set_moments::fit_set_moments(samples, inputs, regime, recipe, points, known)
+    let axis = SetAxis {
+        rest: inputs.rest,
+        recipe,
+        points,
+    };
+    let (tdot, tddot) = (inputs.tdot, inputs.tddot);
+    let mut fits = fit_sets_from(samples, tdot, tddot, &[axis], regime, known);
+    fits.pop()
         .unwrap_or_else(|| fit_set_streaming(samples, inputs, regime, recipe, points))
+}
+
+/// [`fit_set_from`] for the axes of a unit over the same set's samples, T, K1 and K2 specs
+/// and weighting: fitted together from moments ([`fit_sets_moments`]: the T part and each
+/// sample's lookups made once for all of them), an axis they cannot take by the streaming
+/// passes alone. Each axis's fit is the one [`fit_set_from`] makes of it alone, bit for bit.
+pub(super) fn fit_sets_from(
+    samples: &SetSamples,
+    tdot: &[f64],
+    tddot: &[f64],
+    axes: &[SetAxis<'_>],
+    regime: Regime,
+    known: Option<&Arc<SetTMoments>>,
+) -> Vec<SetFit> {
+    fit_sets_moments(samples, tdot, tddot, axes, regime, known)
+        .into_iter()
+        .zip(axes)
+        .map(|(fit, a)| {
+            fit.unwrap_or_else(|| {
+                let inputs = SetInputs {
+                    tdot,
+                    tddot,
+                    rest: a.rest,
+                };
+                fit_set_streaming(samples, inputs, regime, a.recipe, a.points)
+            })
+        })
+        .collect()
 }
 
 /// [`fit_set_from`] pass by pass, each fit streaming over the set's samples: the fits fall

@@ -14,9 +14,9 @@
 use super::knots::{Coefficient, check_hand_kept, with_knots};
 use super::set_moments::SetTMoments;
 use super::sets::{
-    fit_k1_gathered, fit_k2_gathered, fit_set_from, into_rest, k2_points_of, rest_into,
-    stats_on_points,
+    fit_k1_gathered, fit_k2_gathered, into_rest, k2_points_of, rest_into, stats_on_points,
 };
+use super::staged_unit::fit_sets;
 use super::stages::fit_k0;
 use super::{
     Calibration, PointSet, Prepared, Regime, SetInputs, SetSamples, SetsOfSamples, SourceInfo,
@@ -26,7 +26,6 @@ use crate::log::Log;
 use crate::models::approx::{Approx, ApproxSpec};
 use crate::models::recipe::{Recipe, Weighting};
 use crate::signal::plateau::{self, PlateauRange, PlateauStats};
-use rayon::prelude::*;
 use std::borrow::Cow;
 use std::sync::Arc;
 use std::time::Instant;
@@ -67,14 +66,14 @@ struct TMomentsKey<S> {
 
 /// K1 and K2 of one set, with the points of its last pass (shared with the display).
 #[derive(Debug, Clone)]
-struct FittedSet {
-    k1: Approx,
-    k2: Approx,
-    p1: Arc<PointSet>,
-    p2: Arc<PointSet>,
-    warnings: Vec<String>,
+pub(super) struct FittedSet {
+    pub(super) k1: Approx,
+    pub(super) k2: Approx,
+    pub(super) p1: Arc<PointSet>,
+    pub(super) p2: Arc<PointSet>,
+    pub(super) warnings: Vec<String>,
     /// The refinement passes run, when they stopped before the recipe's.
-    refinements_run: Option<usize>,
+    pub(super) refinements_run: Option<usize>,
 }
 
 /// What the Ω stages keep between runs, each result under the key of what made it. `S` names
@@ -94,6 +93,41 @@ pub struct StageMemory<S> {
     /// unit with the same designs gather only their Ω part).
     t_moments: [Option<(TMomentsKey<S>, Arc<SetTMoments>)>; 2],
 }
+
+/// One axis's Ω stages up to its sets' fits ([`StageMemory::begin`]): what the sets' fits
+/// read ([`super::staged_unit::fit_sets`], the axes of a unit together) and what the
+/// calibration is assembled from after ([`StageMemory::finish`]).
+pub(super) struct Begun<'a, S> {
+    log: &'a Log,
+    pub(super) prepared: &'a Prepared,
+    recipe: &'a Recipe,
+    /// Whether the points are gathered for display.
+    pub(super) points: bool,
+    source: Option<&'a SourceInfo>,
+    stats: Vec<PlateauStats>,
+    /// The sets' samples (shared between the axes of one T).
+    pub(super) sets: Arc<SetsOfSamples>,
+    k0: Approx,
+    warnings: Vec<String>,
+    /// Whether each set has knots placed or set by hand (its points are then gathered).
+    pub(super) hand: [bool; 2],
+    /// The recipe the sets are fitted with: the knots placed and set by hand left out.
+    pub(super) even: Cow<'a, Recipe>,
+    t_keys: [TMomentsKey<S>; 2],
+    keys: [SetKey<S>; 2],
+    /// The sets to fit again (0: +, 1: −).
+    pub(super) todo: Vec<usize>,
+    /// `Ω_f − K0(T)`, when a set is fitted or has knots set by hand.
+    pub(super) rest: Option<Arc<Vec<f64>>>,
+    /// The T part of each set's moments, kept for these sets and designs.
+    pub(super) known: [Option<Arc<SetTMoments>>; 2],
+    plateaus_ms: f64,
+    /// When the sets' fits began.
+    t: Instant,
+}
+
+/// Each set (+, −) fitted now, with the T part of its moments when made from them.
+pub(super) type FittedNow = [Option<(FittedSet, Option<Arc<SetTMoments>>)>; 2];
 
 /// What one run of the Ω stages reads.
 pub struct StageInputs<'a, S> {
@@ -212,6 +246,17 @@ impl<S: Clone + PartialEq + Send + Sync> StageMemory<S> {
     /// # Errors
     /// What K0's fit refuses (no plateaus).
     pub fn run(&mut self, i: StageInputs<'_, S>) -> Result<Staged> {
+        let begun = self.begin(i)?;
+        let fitted = fit_sets(&[&begun]).pop().unwrap_or_default();
+        self.finish(begun, fitted)
+    }
+
+    /// The Ω stages of one axis up to its sets' fits: the plateau statistics, the sets'
+    /// samples, K0, which sets must be fitted again and `Ω_f − K0(T)` for them.
+    ///
+    /// # Errors
+    /// What K0's fit refuses (no plateaus).
+    pub(super) fn begin<'a>(&mut self, i: StageInputs<'a, S>) -> Result<Begun<'a, S>> {
         let StageInputs {
             log,
             signals,
@@ -284,13 +329,12 @@ impl<S: Clone + PartialEq + Send + Sync> StageMemory<S> {
         } else {
             Cow::Borrowed(recipe)
         };
-        let even: &Recipe = &even;
         let t_keys = [Regime::Plus, Regime::Minus].map(|regime| {
             let (c1, c2, _) = set_names(regime);
             TMomentsKey {
                 plateaus: pkey.clone(),
-                spec1: c1.spec(even).clone(),
-                spec2: c2.spec(even).clone(),
+                spec1: c1.spec(&even).clone(),
+                spec2: c2.spec(&even).clone(),
                 weighting: recipe.weighting,
             }
         });
@@ -299,69 +343,83 @@ impl<S: Clone + PartialEq + Send + Sync> StageMemory<S> {
             SetKey {
                 plateaus: pkey.clone(),
                 k0: k0.clone(),
-                spec1: c1.spec(even).clone(),
-                spec2: c2.spec(even).clone(),
+                spec1: c1.spec(&even).clone(),
+                spec2: c2.spec(&even).clone(),
                 weighting: recipe.weighting,
                 refinements: recipe.refinements,
             }
         });
-        // A batch fit gathers a set's points when knots placed by hand are fitted on them, or
-        // knot values set by hand are judged on them.
-        let placed = hand;
         let todo: Vec<usize> = (0..2)
             .filter(|&s| !keep || self.fits[s].as_ref().is_none_or(|(k, _)| *k != keys[s]))
             .collect();
         let rest = (!todo.is_empty() || hand.contains(&true))
             .then(|| self.rest(&signals, &k0, omega_filtered_dph, &log.temp_c));
-        let samples = &sets.samples;
+        let known: [Option<Arc<SetTMoments>>; 2] = [0, 1].map(|s| {
+            self.t_moments[s]
+                .as_ref()
+                .filter(|(k, _)| *k == t_keys[s])
+                .map(|(_, t)| t.clone())
+        });
+        Ok(Begun {
+            log,
+            prepared,
+            recipe,
+            points,
+            source,
+            stats,
+            sets,
+            k0,
+            warnings,
+            hand,
+            even,
+            t_keys,
+            keys,
+            todo,
+            rest,
+            known,
+            plateaus_ms,
+            t,
+        })
+    }
+
+    /// The Ω stages of one axis after its sets' fits: the sets fitted now kept, the knots
+    /// placed and set by hand put in, and the calibration.
+    ///
+    /// # Errors
+    /// A set's fit missing; what the knots placed or set by hand refuse.
+    pub(super) fn finish(&mut self, b: Begun<'_, S>, fitted: FittedNow) -> Result<Staged> {
+        let Begun {
+            log,
+            prepared,
+            recipe,
+            source,
+            stats,
+            sets,
+            k0,
+            mut warnings,
+            hand,
+            t_keys,
+            keys,
+            todo,
+            rest,
+            plateaus_ms,
+            t,
+            ..
+        } = b;
         let mut now: [Option<FittedSet>; 2] = [None, None];
-        if let Some(rest) = &rest
-            && !todo.is_empty()
-        {
-            let inputs = SetInputs {
-                tdot: &prepared.deriv.tdot,
-                tddot: &prepared.deriv.tddot,
-                rest,
+        for (s, f) in fitted.into_iter().enumerate() {
+            let Some((fit, t_moments)) = f else {
+                continue;
             };
-            let known: [Option<Arc<SetTMoments>>; 2] = [0, 1].map(|s| {
-                self.t_moments[s]
-                    .as_ref()
-                    .filter(|(k, _)| *k == t_keys[s])
-                    .map(|(_, t)| t.clone())
-            });
-            let fitted: Vec<(usize, FittedSet, Option<Arc<SetTMoments>>)> = todo
-                .par_iter()
-                .map(|&s| {
-                    let gather = points || placed[s];
-                    let f = fit_set_from(
-                        &samples[s],
-                        inputs,
-                        regime_of(s),
-                        even,
-                        gather,
-                        known[s].as_ref(),
-                    );
-                    let fit = FittedSet {
-                        k1: f.k1,
-                        k2: f.k2,
-                        p1: Arc::new(f.k1_points),
-                        p2: Arc::new(f.k2_points),
-                        warnings: f.warnings,
-                        refinements_run: f.refinements_run,
-                    };
-                    (s, fit, f.t_moments)
-                })
-                .collect();
-            for (s, fit, t) in fitted {
-                if let Some(t) = t {
-                    self.t_moments[s] = Some((t_keys[s].clone(), t));
-                }
-                if keep {
-                    self.fits[s] = Some((keys[s].clone(), fit.clone()));
-                }
-                now[s] = Some(fit);
+            if let Some(tm) = t_moments {
+                self.t_moments[s] = Some((t_keys[s].clone(), tm));
             }
+            if self.keep_omega {
+                self.fits[s] = Some((keys[s].clone(), fit.clone()));
+            }
+            now[s] = Some(fit);
         }
+        let samples = &sets.samples;
         let mut set = |s: usize| -> Result<FittedSet> {
             let fit = match now[s].take() {
                 Some(fit) => fit,
@@ -490,7 +548,7 @@ fn ms(t: Instant) -> f64 {
 }
 
 /// The regime of set `s` (`0`: +, `1`: −).
-fn regime_of(s: usize) -> Regime {
+pub(super) fn regime_of(s: usize) -> Regime {
     if s == 0 { Regime::Plus } else { Regime::Minus }
 }
 
