@@ -510,6 +510,9 @@ fn check_gravity(
 fn unread_glitches(log: &mut Log, picked: &[usize], units: &[Option<AccelUnit>]) -> Vec<usize> {
     use crate::log::impossible::{ACCEL_LIMIT_WORDS, MAX_PLAUSIBLE_ACCEL_M_S2, Verdict, beyond};
     let mut kept = Vec::new();
+    for &k in picked {
+        missing_readings(log, k);
+    }
     for (&k, u) in picked.iter().zip(units) {
         let bound = MAX_PLAUSIBLE_ACCEL_M_S2 / u.unwrap_or_default().to_m_s2();
         let c = &mut log.extra[k];
@@ -561,8 +564,44 @@ fn unread_glitches(log: &mut Log, picked: &[usize], units: &[Option<AccelUnit>])
     kept
 }
 
+/// Tells the samples of the accelerometer channel `k` of `log` that hold no reading (a blank,
+/// NaN or unreadable cell: an accelerometer logged at a lower rate than its gyro, or not at
+/// all for a while): none of them is a sample of its fit or figures, and the engineer hears
+/// how many, their share and the first.
+fn missing_readings(log: &mut Log, k: usize) {
+    let c = &log.extra[k];
+    let n = c.values.len();
+    let Some(first) = c.values.iter().position(|v| v.is_nan()) else {
+        return;
+    };
+    let count = c.values.iter().filter(|v| v.is_nan()).count();
+    let message = format!(
+        "{count} reading{} of \"{}\" blank, NaN or unreadable ({} % of its {n} samples, the \
+         first at sample {}): no sample of that axis there; its fit and figures take the {} \
+         others",
+        if count == 1 { "" } else { "s" },
+        crate::text::escaped(&c.name, false),
+        crate::number::significant(100.0 * count as f64 / n.max(1) as f64, 3),
+        first + 1,
+        n - count
+    );
+    let column = log
+        .info
+        .columns
+        .iter()
+        .find(|ci| ci.name == c.name)
+        .map(|ci| ci.index);
+    log.info.problems.push(super::Problem {
+        line: 0,
+        column,
+        kind: ProblemKind::MissingValue,
+        count,
+        message,
+    });
+}
+
 /// The mean of the values within `bound` in magnitude (0 when there are none).
-fn mean_within(values: &[f64], bound: f64) -> f64 {
+pub(crate) fn mean_within(values: &[f64], bound: f64) -> f64 {
     let (sum, n) = values
         .iter()
         .filter(|v| v.abs() <= bound)

@@ -158,6 +158,24 @@ pub enum FitError {
         first_s: f64,
         last_s: f64,
     },
+    /// A gyro axis more than 1 % of whose samples are missing (blank, NaN or infinite cells
+    /// the reader kept, since they were the column's own).
+    #[error(
+        "{log}: the rate of axis {axis} is missing at {count} of its {total} samples ({} %): \
+         more than the 1 % whose rows the reader drops, so that axis is neither fitted nor \
+         judged; choose the other axes, or fill or cut that column",
+        crate::number::significant(100.0 * *count as f64 / (*total).max(1) as f64, 3)
+    )]
+    MissingSamples {
+        /// The log.
+        log: String,
+        /// The axis.
+        axis: String,
+        /// How many samples are missing.
+        count: usize,
+        /// How many the axis has.
+        total: usize,
+    },
     /// A model that is no static curve in T asked of an accelerometer axis.
     #[error(
         "{log}: accelerometer axis {axis}: model {model} reads more than T (a rate of T, \

@@ -228,7 +228,8 @@ pub fn check_span(log: &Log, choice: &ModelChoice) -> Result<()> {
 ///
 /// # Errors
 /// [`FitError::FrozenRate`], naming the axis and the value; [`FitError::Impossible`], naming
-/// the axis, how many readings, their share and where.
+/// the axis, how many readings, their share and where; [`FitError::MissingSamples`], a gyro
+/// axis with more than 1 % of its samples missing.
 pub fn check_rate_moves(log: &Log) -> Result<()> {
     use crate::log::impossible::{MAX_PLAUSIBLE_ACCEL_M_S2, beyond};
     let bound = match log.axis_kind {
@@ -238,9 +239,11 @@ pub fn check_rate_moves(log: &Log) -> Result<()> {
     let mut first: Option<f64> = None;
     let mut frozen = true;
     let mut beyond_any = false;
+    let mut missing = 0usize;
     for &v in &log.omega_dph {
         if !v.is_finite() {
             beyond_any |= v.is_infinite();
+            missing += usize::from(v.is_nan());
             continue;
         }
         beyond_any |= v.abs() > bound;
@@ -260,6 +263,21 @@ pub fn check_rate_moves(log: &Log) -> Result<()> {
             worst: b.worst,
             first_s: at(b.samples[0]),
             last_s: at(b.samples[b.samples.len() - 1]),
+        }
+        .into());
+    }
+    // A gyro axis whose column is mostly not read (the readers drop the rows of a few missing
+    // cells): an accelerometer may be logged at a lower rate than its gyro, and its missing
+    // samples are none of the fit's, but a gyro axis's Ω is the fit's every sample.
+    let total = log.omega_dph.len();
+    if log.axis_kind == AxisKind::Gyro
+        && missing as f64 > crate::log::impossible::MOST_GLITCH_SHARE * total as f64
+    {
+        return Err(FitError::MissingSamples {
+            log: log.source.clone(),
+            axis: log.axis.clone(),
+            count: missing,
+            total,
         }
         .into());
     }

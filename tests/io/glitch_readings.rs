@@ -183,15 +183,12 @@ fn told<'a>(log: &'a driftlab::Log, words: &str) -> Vec<&'a str> {
 }
 
 #[test]
-fn a_blank_nan_or_infinite_cell_of_any_gyro_axis_drops_its_row_as_the_first_axis_does() {
+fn a_few_blank_nan_or_infinite_cells_of_any_gyro_axis_drop_their_rows_as_the_first_axis_does() {
     // omega_y and omega_z are the unit's other axes: a cell no reading can be, in either, once
     // went untold and reached every fit and figure of its axis as NaN.
     for (col, name) in [(3, "omega_y_dph"), (4, "omega_z_dph")] {
-        for (cell, why) in [
-            ("", "blank or NaN"),
-            ("nan", "blank or NaN"),
-            ("inf", "an infinite value"),
-        ] {
+        for cell in ["", "nan", "inf", "n/a"] {
+            let why = "blank, NaN, infinite or unreadable";
             let text = stand_log(2000, 1200, col, cell);
             let log = read_bytes("stand.csv", text.as_bytes(), &ReadOptions::default()).unwrap();
             assert_eq!(log.len(), 1999, "{name} {cell:?}");
@@ -284,4 +281,49 @@ fn a_stretch_of_accelerometer_readings_beyond_is_told_as_such_not_as_a_unit() {
     assert_eq!(seen.len(), 1);
     assert_eq!(seen[0].message, m[0]);
     assert!(log.axis_rate("acc_z").is_none());
+}
+
+#[test]
+fn an_axis_mostly_blank_keeps_the_other_axes_rows_and_is_refused_alone() {
+    // omega_y logged in one row of three: its blanks are the column's own. The other axes keep
+    // every row (dropping them would leave omega_x a third of its log), and every fit of
+    // omega_y is refused, naming it; omega_x alone is fitted on all its rows.
+    let base = stand_log(3000, usize::MAX, 0, "");
+    let text: String = base
+        .lines()
+        .enumerate()
+        .map(|(i, l)| {
+            if i >= 1 && (i - 1) % 3 != 0 {
+                let mut c: Vec<&str> = l.split(',').collect();
+                c[3] = "";
+                format!("{}\n", c.join(","))
+            } else {
+                format!("{l}\n")
+            }
+        })
+        .collect();
+    let log = read_bytes("half.csv", text.as_bytes(), &ReadOptions::default()).unwrap();
+    assert_eq!(log.len(), 3000);
+    let m = told(&log, "kept as missing");
+    assert_eq!(m.len(), 1, "{:?}", log.info.problems);
+    assert!(
+        m[0].starts_with(
+            "2000 cells of column \"omega_y_dph\" (66.7 % of its 3000 rows) are blank, NaN, \
+             infinite or unreadable (first at line 3)"
+        ),
+        "{}",
+        m[0]
+    );
+    let mut y = log.clone();
+    assert!(y.select_axis("omega_y"));
+    let e = driftlab::models::check_rate_moves(&y)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("the rate of axis omega_y is missing at 2000 of its 3000 samples (66.7 %)"),
+        "{e}"
+    );
+    let mut x = log.clone();
+    assert!(x.select_axis("omega_x"));
+    driftlab::models::check_rate_moves(&x).unwrap();
 }

@@ -87,8 +87,12 @@ pub(super) fn finish(mut acc: Acc, sn: &Sniffed, plan: &Plan, source: &str) -> R
             }
         }
     }
+    // (A gyro axis's unreadable cells are told with its missing ones, `missing_axis_cells`.)
+    let axis_slots = SLOT_TEMP + 1..SLOT_TEMP + 1 + plan.axes.len();
     for (slot, t) in acc.noticed.bad_extra.iter().enumerate() {
-        if let Some(t) = t {
+        if let Some(t) = t
+            && !axis_slots.contains(&slot)
+        {
             problems.push(Problem {
                 line: t.first,
                 column: col_no(slot),
@@ -203,6 +207,9 @@ pub(super) fn finish(mut acc: Acc, sn: &Sniffed, plan: &Plan, source: &str) -> R
     // stuck at one value while the chamber moves. Read as missing, as a blank cell is, before
     // the gaps are looked at (the rows dropped leave the holes the gaps then tell).
     unread_temperatures(&mut acc, plan, &mut drop, &mut problems);
+    // A few blank, NaN or infinite cells of another gyro axis: their rows dropped, as the
+    // rate column's are.
+    missing_axis_cells(&mut acc, plan, &mut drop, &mut problems);
     // Rates no gyro reads (a float register's 1e38): dropped as a blank cell is.
     impossible_rates(&mut acc, plan, &mut drop, &mut problems);
     // Gaps: steps the later stamps do not make up (host stamps that bunch are not gaps).
@@ -521,6 +528,77 @@ fn impossible_rates(
         });
         if b.verdict() == Verdict::Glitches {
             gone.extend(b.samples);
+        }
+    }
+    if gone.is_empty() {
+        return;
+    }
+    gone.sort_unstable();
+    gone.dedup();
+    let rows: Vec<usize> = gone.iter().map(|&k| row_of(drop, k)).collect();
+    for col in &mut acc.cols {
+        remove_sorted(col, &gone);
+    }
+    drop.extend(rows);
+    drop.sort_unstable();
+}
+
+/// The cells of the gyro axes other than the rate column that hold no reading (blank, NaN,
+/// infinite, or text): while they are at most [`MOST_GLITCH_SHARE`] of a column's rows, their
+/// rows are dropped, as a blank rate cell's are, and told with the first line; more are the
+/// column's own (an axis logged at a lower rate, or not at all) and are kept as NaN and told
+/// with their share: the other axes keep their rows, and every fit and judgement refuses that
+/// axis ([`crate::models::check_rate_moves`]). `drop` (the sorted rows dropped so far) gains
+/// the rows dropped.
+///
+/// [`MOST_GLITCH_SHARE`]: crate::log::impossible::MOST_GLITCH_SHARE
+fn missing_axis_cells(
+    acc: &mut Acc,
+    plan: &Plan,
+    drop: &mut Vec<usize>,
+    problems: &mut Vec<Problem>,
+) {
+    use crate::log::impossible::MOST_GLITCH_SHARE;
+    let mut gone: Vec<usize> = Vec::new();
+    for slot in SLOT_TEMP + 1..SLOT_TEMP + 1 + plan.axes.len() {
+        let Some(col) = acc.cols.get(slot) else {
+            continue;
+        };
+        let missing: Vec<usize> = (0..col.len()).filter(|&k| col[k].is_nan()).collect();
+        let Some(&first) = missing.first() else {
+            continue;
+        };
+        let column = plan.slot_col.get(slot).copied().flatten();
+        let name = crate::text::escaped(column.map_or("?", |c| plan.name(c)), false).into_owned();
+        let line = acc.line_of(row_of(drop, first));
+        let n = missing.len();
+        let few = n as f64 <= MOST_GLITCH_SHARE * col.len() as f64;
+        let message = if few {
+            format!(
+                "{} dropped: blank, NaN, infinite or unreadable in column \"{name}\" (first at \
+                 line {line})",
+                rows(n)
+            )
+        } else {
+            format!(
+                "{n} cells of column \"{name}\" ({} % of its {} rows) are blank, NaN, infinite \
+                 or unreadable (first at line {line}): more than the {} % whose rows are \
+                 dropped, so they are kept as missing, the other axes keep their rows, and \
+                 that axis is neither fitted nor judged",
+                crate::number::significant(100.0 * n as f64 / col.len() as f64, 3),
+                col.len(),
+                100.0 * MOST_GLITCH_SHARE
+            )
+        };
+        problems.push(Problem {
+            line,
+            column: column.map(|c| c + 1),
+            kind: ProblemKind::MissingValue,
+            count: n,
+            message,
+        });
+        if few {
+            gone.extend(missing);
         }
     }
     if gone.is_empty() {

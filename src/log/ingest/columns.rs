@@ -581,11 +581,13 @@ pub(crate) fn plan(sn: &Sniffed, opts: &ReadOptions) -> Result<Plan, Fail> {
         let name = sn.names[j].clone();
         let (role, unit) = if let Some(k) = axis_cols.iter().position(|&a| a == j) {
             let u = axis_units[k];
-            // A gyro axis's blank, NaN or infinite cell drops its row as the rate column's
-            // does: every axis of a unit is fitted and judged on the same samples.
+            // A gyro axis's blank, NaN or infinite cell is read as NaN; the checks then drop
+            // its row while such cells are few ([`super::checks`]), and keep and tell them
+            // when they are the column's (an axis logged at half the rate, or not at all), so
+            // that an axis no one asked for never costs the others their rows.
             actions[j] = Action::Parse {
                 slot: SLOT_TEMP + 1 + k,
-                required: true,
+                required: false,
                 conv: Conv::new(u.to_dph_factor(), 1.0, 0.0),
             };
             (ColumnRole::OtherAxis, u.to_string())

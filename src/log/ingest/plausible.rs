@@ -352,17 +352,18 @@ fn stuck_rates(log: &Log) -> Vec<Problem> {
     let n = log.len();
     let least = STUCK_SAMPLES.max((STUCK_SHARE * n as f64).ceil() as usize);
     let mut out = Vec::new();
+    // Once for all the axes: naming them reads every rate column.
+    let columns = log.axis_columns();
     for (axis, rate) in axes {
         let (a, b) = longest_run(rate);
         if b - a < least || b > log.time_s.len() {
             continue;
         }
         let r = crate::number::readable;
-        let column = log
-            .axis_columns()
-            .into_iter()
+        let column = columns
+            .iter()
             .find(|(name, _)| name == axis)
-            .and_then(|(_, col)| log.info.columns.iter().find(|c| c.name == col))
+            .and_then(|(_, col)| log.info.columns.iter().find(|c| c.name == *col))
             .map(|c| c.index);
         out.push(Problem {
             line: 0,
