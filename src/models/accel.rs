@@ -144,7 +144,9 @@ pub fn orientation_note(
     moved(own, kept).then(|| {
         let r = crate::number::readable;
         format!(
-            "{}: accelerometer axis {axis} reads a mean of {} m/s² here, {} m/s² ({} g) from              the {} m/s² its calibration keeps: another orientation or another unit; its              figures are of its change about this log's own mean",
+            "{}: accelerometer axis {axis} reads a mean of {} m/s² here, {} m/s² ({} g) from \
+             the {} m/s² its calibration keeps: another orientation or another unit; its \
+             figures are of its change about this log's own mean",
             log.source,
             r(own),
             r(own - kept),

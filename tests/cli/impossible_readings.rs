@@ -97,7 +97,9 @@ fn a_nan_on_the_third_axis_drops_its_row_for_calibrate_and_allan_alike() {
     let log = mems_with(d, "znan.csv", 3, 5000..5001, "nan");
     let seen = ok(&["inspect", &log]);
     assert!(
-        seen.contains("line 5003: 1 row dropped: blank or NaN in column \"omega_z_dph\""),
+        seen.contains(
+            "line 5003: 1 row dropped: blank, NaN, infinite or unreadable in column \"omega_z_dph\""
+        ),
         "{seen}"
     );
     // `allan` once refused every axis for that one cell.
@@ -107,7 +109,7 @@ fn a_nan_on_the_third_axis_drops_its_row_for_calibrate_and_allan_alike() {
     assert!(o.status.success());
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(
-        err.contains("1 row dropped: blank or NaN in column \"omega_z_dph\""),
+        err.contains("1 row dropped: blank, NaN, infinite or unreadable in column \"omega_z_dph\""),
         "{err}"
     );
 }
