@@ -7,7 +7,9 @@
 //!
 //! - a figure's name is one the lot writes ([`figures::names`], with K0 at the spec's reference
 //!   temperatures), each once per axis: no column the lot never computes reaches a table, and
-//!   no second value of a figure hides behind the first, which the verdict reads;
+//!   no second value of a figure hides behind the first, which the verdict reads. An axis
+//!   holds at most as many figures as there are names, and the names are looked up in a set,
+//!   so a table of many figures is refused at once and the check is linear in what it holds;
 //! - an axis's name is one of the unit's own calibration's (the `calibration.json` the lot
 //!   wrote beside it), each once, and printable by [`crate::text::is_unprintable`]'s rule;
 //! - each run, as given and as an absolute path, is printable (the lot writes both escaped),
@@ -157,7 +159,7 @@ pub fn axes(
                 ),
             ));
         }
-        figures_of(axis, &known).map_err(|(j, message)| match j {
+        figures_of(axis, &known, names.len()).map_err(|(j, message)| match j {
             Some(j) => refused(field(&format!(".figures[{j}].name")), message),
             None => refused(field(".figures"), message),
         })?;
@@ -165,9 +167,22 @@ pub fn axes(
     Ok(())
 }
 
-/// Checks one axis's figures against the `known` names: the place of the figure that is
-/// wrong (none for the whole list) and what is wrong.
-fn figures_of(axis: &AxisFigures, known: &HashSet<&str>) -> Result<(), (Option<usize>, String)> {
+/// Checks one axis's figures against the `known` names, `count` of them: the place of the
+/// figure that is wrong (none for the whole list) and what is wrong.
+fn figures_of(
+    axis: &AxisFigures,
+    known: &HashSet<&str>,
+    count: usize,
+) -> Result<(), (Option<usize>, String)> {
+    if axis.figures.len() > count {
+        return Err((
+            None,
+            format!(
+                "{} figures, more than the {count} the lot computes for an axis",
+                axis.figures.len()
+            ),
+        ));
+    }
     let mut seen: HashSet<&str> = HashSet::with_capacity(axis.figures.len());
     for (j, figure) in axis.figures.iter().enumerate() {
         let name = crate::text::escaped(&figure.name, false);

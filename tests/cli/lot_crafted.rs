@@ -426,3 +426,41 @@ fn a_record_naming_what_the_lot_does_not_compute_is_calibrated_again_saying_so()
         assert!(!text.contains(ESC), "{file}");
     }
 }
+
+#[test]
+fn a_shard_table_of_many_figures_is_refused_by_their_count() {
+    let dir = tempfile::tempdir().unwrap();
+    let (units, spec) = small_lot(dir.path());
+    let sharded = p(dir.path(), "sharded");
+    status(&[
+        "lot", &units, "--spec", &spec, "--out", &sharded, "--shard", "1/1",
+    ]);
+    let table = Path::new(&sharded).join("lot-shard-1-of-1.json");
+    let mut t: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&table).unwrap()).unwrap();
+    // The figures an axis has: the fifteen of every axis and K0 at the spec's default
+    // reference temperatures, -40, 20 and 60 °C.
+    let computed = 15 + 3;
+    let first = t["units"][0]["outcome"]["axes"][0]["figures"]
+        .as_array()
+        .unwrap()
+        .len();
+    assert_eq!(first, computed);
+    for placed in t["units"].as_array_mut().unwrap() {
+        let figures = placed["outcome"]["axes"][0]["figures"]
+            .as_array_mut()
+            .unwrap();
+        figures.extend(
+            (0..20_000).map(|i| serde_json::json!({"name": format!("f{i:06}"), "value": i})),
+        );
+    }
+    std::fs::write(&table, t.to_string()).unwrap();
+    let (code, stdout, stderr) = status(&["lot", "merge", &sharded]);
+    assert_eq!(code, 1, "{stdout}{stderr}");
+    let said = format!(
+        ": axes[0].figures: {} figures, more than the {computed} the lot computes for an axis",
+        computed + 20_000
+    );
+    assert!(stderr.contains(&said), "{stderr}");
+    assert!(!Path::new(&sharded).join("lot.csv").exists());
+}
