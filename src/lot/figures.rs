@@ -57,6 +57,33 @@ pub fn k0_at(temp_c: f64) -> String {
     format!("k0_at_{temp_c}c_dph")
 }
 
+/// Every figure an axis of a unit has, in the table's order, K0 read at `temps_c`: the names
+/// [`axis_figures`] writes, and the only ones a record or a shard's table read back may hold
+/// ([`super::read_back`]).
+pub fn names(temps_c: &[f64]) -> Vec<String> {
+    [
+        RAW_P2P,
+        CORRECTED_P2P,
+        P2P_RATIO,
+        CORRECTED_STD,
+        CORRECTED_WIN_MEAN,
+        OUTSIDE_FRACTION,
+        PLATEAUS,
+        ARW,
+        BIAS_INSTABILITY,
+        RRW,
+        K0_MIN,
+        K0_MAX,
+        K0_MAX_SLOPE,
+        TEMP_MIN,
+        TEMP_MAX,
+    ]
+    .into_iter()
+    .map(String::from)
+    .chain(temps_c.iter().map(|t| k0_at(*t)))
+    .collect()
+}
+
 /// Points K0 is read at over its fitted range, for its extremes and its largest slope.
 const K0_GRID: usize = 256;
 

@@ -18,6 +18,7 @@ pub mod lock;
 pub mod open;
 pub mod outliers;
 pub mod page;
+pub mod read_back;
 mod run;
 pub mod shard;
 pub mod spec;
@@ -119,6 +120,10 @@ pub enum LotError {
         /// Why not.
         message: String,
     },
+    /// A shard's table holds a unit's outcome the lot does not compute: a figure or axis it
+    /// has not, one given twice, a run's path that is not the run's.
+    #[error(transparent)]
+    ReadBack(#[from] read_back::ReadBack),
     /// An output of the lot could not be written.
     #[error(transparent)]
     Write(#[from] crate::Error),
@@ -188,32 +193,55 @@ pub struct UnitOutcome {
 }
 
 impl UnitOutcome {
-    /// The outcome read back from a file of `OUT` (a unit's record on a cache hit, a shard's
+    /// The outcome read back from `file` in `OUT` (a unit's record on a cache hit, a shard's
     /// table in a merge) settled by what the lot itself knows, never by what the file says:
-    /// its folder made from its name, its status and reasons judged again from its figures
-    /// against `spec`, its calibration and report linked where the lot writes them and only
-    /// when they are there. An edited record or table can then neither pass a unit that fails
-    /// nor link out of `OUT`.
-    pub fn settled(mut self, spec: &Spec, out: &std::path::Path) -> UnitOutcome {
+    /// its runs, axes and figures checked against what the lot computes ([`read_back`]), its
+    /// folder made from its name, its status and reasons judged again from its figures against
+    /// `spec`, its calibration and report linked where the lot writes them and only when they
+    /// are there. An edited record or table can then neither pass a unit that fails, nor link
+    /// out of `OUT`, nor put a name of its own (or a control character) into the lot's files.
+    ///
+    /// # Errors
+    /// The outcome holds what the lot does not compute ([`read_back::ReadBack`]).
+    pub fn settled(
+        mut self,
+        spec: &Spec,
+        out: &std::path::Path,
+        file: &std::path::Path,
+    ) -> Result<UnitOutcome, read_back::ReadBack> {
+        read_back::runs(&self, file)?;
         self.folder = folder_of(&self.unit);
         let folder = std::path::Path::new(&self.folder);
         self.report = None;
         if self.status == Status::Error {
             self.calibration = None;
             self.axes.clear();
-            return self;
+            return Ok(self);
         }
         let calibration = folder.join(cache::CALIBRATION);
+        let errored = |mut this: UnitOutcome, reason: String| {
+            this.status = Status::Error;
+            this.reasons = vec![reason];
+            this.calibration = None;
+            this.axes.clear();
+            this
+        };
         if !out.join(&calibration).is_file() {
-            self.status = Status::Error;
-            self.reasons = vec![format!(
+            let reason = format!(
                 "its calibration {} is not in the output folder",
                 calibration.display()
-            )];
-            self.calibration = None;
-            self.axes.clear();
-            return self;
+            );
+            return Ok(errored(self, reason));
         }
+        let own_axes: Vec<String> =
+            match crate::files::calibration::load_unit(&out.join(&calibration)) {
+                Ok(unit) => unit.axes.into_iter().map(|a| a.name).collect(),
+                Err(e) => {
+                    let reason = format!("its calibration cannot be read: {e}");
+                    return Ok(errored(self, reason));
+                }
+            };
+        read_back::axes(&self, spec, &own_axes, file)?;
         self.calibration = Some(calibration.display().to_string());
         let report = folder.join(unit::REPORT_PAGE);
         if out.join(&report).is_file() {
@@ -225,7 +253,7 @@ impl UnitOutcome {
         } else {
             Status::Fail
         };
-        self
+        Ok(self)
     }
 }
 

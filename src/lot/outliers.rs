@@ -13,6 +13,7 @@
 
 use super::figures::AxisFigures;
 use serde::{Deserialize, Serialize};
+use std::collections::HashMap;
 
 /// MAD × this is the standard deviation of a normal distribution.
 const MAD_TO_SD: f64 = 1.4826;
@@ -64,6 +65,8 @@ type Column<'a> = (&'a str, &'a str);
 pub fn outliers(units: &[(&str, &[AxisFigures])], sigmas: f64) -> Vec<Outlier> {
     // (axis, figure) → every unit's value (its index in `units`), in the order first met.
     let mut groups: Vec<(Column<'_>, Vec<(usize, f64)>)> = Vec::new();
+    // Each group's place in `groups`, so that gathering is linear in the figures.
+    let mut index: HashMap<Column<'_>, usize> = HashMap::new();
     for (k, (_, axes)) in units.iter().enumerate() {
         for axis in axes.iter() {
             for f in &axis.figures {
@@ -71,9 +74,12 @@ pub fn outliers(units: &[(&str, &[AxisFigures])], sigmas: f64) -> Vec<Outlier> {
                     continue;
                 };
                 let key = (axis.axis.as_str(), f.name.as_str());
-                match groups.iter_mut().find(|(g, _)| *g == key) {
-                    Some((_, values)) => values.push((k, v)),
-                    None => groups.push((key, vec![(k, v)])),
+                match index.get(&key) {
+                    Some(&at) => groups[at].1.push((k, v)),
+                    None => {
+                        index.insert(key, groups.len());
+                        groups.push((key, vec![(k, v)]));
+                    }
                 }
             }
         }

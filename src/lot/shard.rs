@@ -130,7 +130,8 @@ pub fn write(out: &Path, table: &ShardTable) -> crate::Result<()> {
 ///
 /// # Errors
 /// No shard's table in `out`, tables of different lots (shard counts, specs, listings), a
-/// shard missing or given twice, and the write.
+/// shard missing or given twice, a unit's outcome holding what the lot does not compute
+/// ([`super::read_back`]), and the write.
 pub fn merge(out: &Path) -> Result<LotOutcome, LotError> {
     let refused = |message: String| LotError::Merge {
         out: out.to_path_buf(),
@@ -211,7 +212,7 @@ pub fn merge(out: &Path) -> Result<LotOutcome, LotError> {
         for p in &t.units {
             match slots.get_mut(p.position) {
                 Some(slot @ None) => {
-                    *slot = Some(p.outcome.clone().settled(&first.spec, out));
+                    *slot = Some(p.outcome.clone().settled(&first.spec, out, path)?);
                 }
                 _ => {
                     return Err(refused(format!(

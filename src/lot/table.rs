@@ -13,6 +13,7 @@
 use super::{LotOutcome, UnitOutcome};
 use crate::files::atomic::Batch;
 use crate::files::csv_cells::{Cell, record, text_record};
+use std::collections::HashSet;
 use std::path::Path;
 
 /// Writes `OUT/lot.csv`, `OUT/lot.json` and `OUT/lot.html`, all or none.
@@ -31,13 +32,15 @@ pub fn write(out: &Path, lot: &LotOutcome) -> crate::Result<()> {
 }
 
 /// The column of each figure of each axis: (axis, figure), in the order first met over the
-/// units.
+/// units. The columns met are kept in a set, so that listing them is linear in the figures
+/// the units hold, however many columns there are.
 pub fn columns(units: &[UnitOutcome]) -> Vec<(String, String)> {
     let mut out: Vec<(String, String)> = Vec::new();
+    let mut met: HashSet<(&str, &str)> = HashSet::new();
     for u in units {
         for a in &u.axes {
             for f in &a.figures {
-                if !out.iter().any(|(x, n)| *x == a.axis && *n == f.name) {
+                if met.insert((a.axis.as_str(), f.name.as_str())) {
                     out.push((a.axis.clone(), f.name.clone()));
                 }
             }

@@ -44,21 +44,32 @@ pub(super) fn calibrate_unit(job: &UnitJob, context: &Context<'_>) -> UnitOutcom
         Ok(k) => k,
         Err(e) => return fail(e),
     };
+    // A record that holds what the lot does not compute is no record: the unit is calibrated
+    // again, saying why.
+    let mut refused_record = None;
     if let Some(recorded) = cache::recorded(&folder, &key) {
-        let outcome = UnitOutcome {
+        let read_back = UnitOutcome {
             unit: job.name.clone(),
             runs: run_files(job),
             runs_at: runs_at(job),
             recipe: recipe_file.clone(),
             ..recorded
         }
-        .settled(context.spec, context.out);
-        // A report asked for and gone is made again with its calibration.
-        if outcome.status != Status::Error && (outcome.report.is_some() || !context.report) {
-            return outcome;
+        .settled(context.spec, context.out, &folder.join(cache::RECORD));
+        match read_back {
+            // A report asked for and gone is made again with its calibration.
+            Ok(outcome)
+                if outcome.status != Status::Error
+                    && (outcome.report.is_some() || !context.report) =>
+            {
+                return outcome;
+            }
+            Ok(_) => {}
+            Err(e) => refused_record = Some(format!("{e}; calibrated again")),
         }
     }
     let mut warnings = job.notes.clone();
+    warnings.extend(refused_record);
     let mut runs = Vec::with_capacity(job.runs.len());
     for (path, run) in job.runs.iter().zip(&key.runs) {
         match read_run(path, run.sha256.clone(), &mut warnings) {

@@ -280,3 +280,187 @@ fn a_report_asked_for_and_removed_is_written_again() {
         "u1.csv/report/report.html"
     );
 }
+
+/// The escape character, which a terminal obeys (`ESC ] 0 ;` sets its window title).
+const ESC: char = '\u{1b}';
+
+#[test]
+fn a_shard_table_naming_what_the_lot_does_not_compute_is_refused_by_file_and_field() {
+    let dir = tempfile::tempdir().unwrap();
+    let (units, spec) = small_lot(dir.path());
+    let sharded = p(dir.path(), "sharded");
+    status(&[
+        "lot", &units, "--spec", &spec, "--out", &sharded, "--shard", "1/1",
+    ]);
+    let table = Path::new(&sharded).join("lot-shard-1-of-1.json");
+    let original: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&table).unwrap()).unwrap();
+    let last = original["units"][0]["outcome"]["axes"][0]["figures"]
+        .as_array()
+        .unwrap()
+        .len()
+        - 1;
+    let title = format!("evil{ESC}]0;pwned\u{7}");
+    // Each edit of the first unit's outcome, the field it is refused by and what is said.
+    type Edit = Box<dyn Fn(&mut serde_json::Value)>;
+    // Its last figure (K0 at the last reference temperature) replaced.
+    let figure = |name: &str, value: f64| -> Edit {
+        let name = name.to_string();
+        Box::new(move |o| {
+            o["axes"][0]["figures"][last] = serde_json::json!({"name": name, "value": value})
+        })
+    };
+    let added = format!("axes[0].figures[{last}].name");
+    let edits: Vec<(Edit, String, &str)> = vec![
+        (
+            figure("=HYPERLINK(\"http://x\")", 1.0),
+            added.clone(),
+            "is no figure the lot computes",
+        ),
+        (
+            figure(&title, 2.0),
+            added.clone(),
+            "is no figure the lot computes",
+        ),
+        (
+            figure("not_a_figure", -1e308),
+            added.clone(),
+            "is no figure",
+        ),
+        // A second corrected peak-to-peak above any spec, behind the first the verdict reads.
+        (
+            figure("corrected_p2p_dph", 1e6),
+            added,
+            "\"corrected_p2p_dph\" is given twice",
+        ),
+        (
+            Box::new(|o| o["axes"][0]["axis"] = "=1+1".into()),
+            "axes[0].axis".into(),
+            "\"=1+1\" is no axis of its calibration (one unnamed axis)",
+        ),
+        (
+            Box::new(move |o| o["axes"][0]["axis"] = format!("{ESC}]0;PWNED\u{7}gx").into()),
+            "axes[0].axis".into(),
+            "holds the control character U+001B",
+        ),
+        (
+            Box::new(|o| o["runs_at"] = serde_json::json!(["/etc/passwd"])),
+            "runs_at[0]".into(),
+            "\"/etc/passwd\" is not run",
+        ),
+        (
+            Box::new(move |o| o["runs"] = serde_json::json!([format!("{ESC}[31mred")])),
+            "runs[0]".into(),
+            "holds the control character U+001B",
+        ),
+    ];
+    for (edit, field, said) in &edits {
+        let mut t = original.clone();
+        edit(&mut t["units"][0]["outcome"]);
+        std::fs::write(&table, t.to_string()).unwrap();
+        let (code, stdout, stderr) = status(&["lot", "merge", &sharded]);
+        assert_eq!(code, 1, "{field}: {stdout}{stderr}");
+        assert!(
+            stderr.contains("lot-shard-1-of-1.json: unit ")
+                && stderr.contains(&format!(": {field}: "))
+                && stderr.contains(said),
+            "{field}: {stderr}"
+        );
+        assert!(!stderr.contains(ESC), "{stderr:?}");
+        for file in ["lot.csv", "lot.json", "lot.html"] {
+            assert!(!Path::new(&sharded).join(file).exists(), "{field}: {file}");
+        }
+    }
+    // The table as its shard wrote it merges, its noisy unit failing as before.
+    std::fs::write(&table, original.to_string()).unwrap();
+    let (code, stdout, stderr) = status(&["lot", "merge", &sharded]);
+    assert_eq!(code, 2, "{stdout}{stderr}");
+    assert_eq!(unit(&lot_json(&sharded), NOISY)["status"], "fail");
+}
+
+#[test]
+fn a_record_naming_what_the_lot_does_not_compute_is_calibrated_again_saying_so() {
+    let dir = tempfile::tempdir().unwrap();
+    let (units, spec) = small_lot(dir.path());
+    let out = p(dir.path(), "out");
+    let args = ["lot", &units, "--spec", &spec, "--out", &out];
+    assert_eq!(status(&args).0, 2);
+    let csv_before = std::fs::read_to_string(Path::new(&out).join("lot.csv")).unwrap();
+    let record = Path::new(&out).join(ORDINARY[0]).join("unit.json");
+    let text = std::fs::read_to_string(&record).unwrap();
+    // The ordinary unit's corrected peak-to-peak renamed a formula, and a second one added.
+    let mut r: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let figures = r["outcome"]["axes"][0]["figures"].as_array_mut().unwrap();
+    let at = figures
+        .iter()
+        .position(|f| f["name"] == "corrected_p2p_dph")
+        .unwrap();
+    figures[at]["name"] = format!("=HYPERLINK(1){ESC}]0;x\u{7}").into();
+    std::fs::write(&record, r.to_string()).unwrap();
+    let (code, stdout, _) = status(&args);
+    assert_eq!(code, 2, "{stdout}");
+    let lot = lot_json(&out);
+    let ordinary = unit(&lot, ORDINARY[0]);
+    assert!(ordinary.get("cached").is_none(), "{ordinary}");
+    assert_eq!(ordinary["status"], "pass", "{ordinary}");
+    let warned = ordinary["warnings"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter_map(|w| w.as_str())
+        .find(|w| w.contains("unit.json"))
+        .unwrap_or_else(|| panic!("{ordinary}"));
+    assert!(
+        warned.contains(&format!(": axes[0].figures[{at}].name: "))
+            && warned.contains("is no figure the lot computes")
+            && warned.ends_with("calibrated again"),
+        "{warned}"
+    );
+    assert!(!warned.contains(ESC), "{warned:?}");
+    // The table's columns are those it had: no name of the record's reaches a file.
+    let csv = std::fs::read_to_string(Path::new(&out).join("lot.csv")).unwrap();
+    assert_eq!(csv.lines().next(), csv_before.lines().next());
+    for file in ["lot.csv", "lot.json", "lot.html"] {
+        let text = std::fs::read_to_string(Path::new(&out).join(file)).unwrap();
+        assert!(!text.contains("HYPERLINK") || file == "lot.json", "{file}");
+        assert!(!text.contains(ESC), "{file}");
+    }
+}
+
+#[test]
+fn a_shard_table_of_many_figures_is_refused_by_their_count() {
+    let dir = tempfile::tempdir().unwrap();
+    let (units, spec) = small_lot(dir.path());
+    let sharded = p(dir.path(), "sharded");
+    status(&[
+        "lot", &units, "--spec", &spec, "--out", &sharded, "--shard", "1/1",
+    ]);
+    let table = Path::new(&sharded).join("lot-shard-1-of-1.json");
+    let mut t: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&table).unwrap()).unwrap();
+    // The figures an axis has: the fifteen of every axis and K0 at the spec's default
+    // reference temperatures, -40, 20 and 60 °C.
+    let computed = 15 + 3;
+    let first = t["units"][0]["outcome"]["axes"][0]["figures"]
+        .as_array()
+        .unwrap()
+        .len();
+    assert_eq!(first, computed);
+    for placed in t["units"].as_array_mut().unwrap() {
+        let figures = placed["outcome"]["axes"][0]["figures"]
+            .as_array_mut()
+            .unwrap();
+        figures.extend(
+            (0..20_000).map(|i| serde_json::json!({"name": format!("f{i:06}"), "value": i})),
+        );
+    }
+    std::fs::write(&table, t.to_string()).unwrap();
+    let (code, stdout, stderr) = status(&["lot", "merge", &sharded]);
+    assert_eq!(code, 1, "{stdout}{stderr}");
+    let said = format!(
+        ": axes[0].figures: {} figures, more than the {computed} the lot computes for an axis",
+        computed + 20_000
+    );
+    assert!(stderr.contains(&said), "{stderr}");
+    assert!(!Path::new(&sharded).join("lot.csv").exists());
+}
