@@ -530,17 +530,7 @@ fn impossible_rates(
             gone.extend(b.samples);
         }
     }
-    if gone.is_empty() {
-        return;
-    }
-    gone.sort_unstable();
-    gone.dedup();
-    let rows: Vec<usize> = gone.iter().map(|&k| row_of(drop, k)).collect();
-    for col in &mut acc.cols {
-        remove_sorted(col, &gone);
-    }
-    drop.extend(rows);
-    drop.sort_unstable();
+    drop_kept(acc, drop, gone);
 }
 
 /// The cells of the gyro axes other than the rate column that hold no reading (blank, NaN,
@@ -601,6 +591,12 @@ fn missing_axis_cells(
             gone.extend(missing);
         }
     }
+    drop_kept(acc, drop, gone);
+}
+
+/// Drops the kept samples `gone` (any order, repeats allowed) from every column of `acc`, and
+/// adds their rows to `drop` (the sorted rows dropped so far).
+fn drop_kept(acc: &mut Acc, drop: &mut Vec<usize>, mut gone: Vec<usize>) {
     if gone.is_empty() {
         return;
     }
