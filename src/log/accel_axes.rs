@@ -515,6 +515,7 @@ fn unread_glitches(log: &mut Log, picked: &[usize], units: &[Option<AccelUnit>])
     }
     for (&k, u) in picked.iter().zip(units) {
         let bound = MAX_PLAUSIBLE_ACCEL_M_S2 / u.unwrap_or_default().to_m_s2();
+        let column = column_number(log, &log.extra[k].name);
         let c = &mut log.extra[k];
         let Some(b) = beyond(c.values.iter().copied(), bound) else {
             continue;
@@ -547,12 +548,6 @@ fn unread_glitches(log: &mut Log, picked: &[usize], units: &[Option<AccelUnit>])
             }
             Verdict::Column => continue,
         };
-        let column = log
-            .info
-            .columns
-            .iter()
-            .find(|ci| ci.name == c.name)
-            .map(|ci| ci.index);
         log.info.problems.push(super::Problem {
             line: 0,
             column,
@@ -585,12 +580,7 @@ fn missing_readings(log: &mut Log, k: usize) {
         first + 1,
         n - count
     );
-    let column = log
-        .info
-        .columns
-        .iter()
-        .find(|ci| ci.name == c.name)
-        .map(|ci| ci.index);
+    let column = column_number(log, &c.name);
     log.info.problems.push(super::Problem {
         line: 0,
         column,
@@ -598,6 +588,15 @@ fn missing_readings(log: &mut Log, k: usize) {
         count,
         message,
     });
+}
+
+/// The 1-based number of the column named `name` in the file, for a problem about it.
+fn column_number(log: &Log, name: &str) -> Option<usize> {
+    log.info
+        .columns
+        .iter()
+        .find(|ci| ci.name == name)
+        .map(|ci| ci.index)
 }
 
 /// The mean of the values within `bound` in magnitude (0 when there are none).
