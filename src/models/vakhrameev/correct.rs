@@ -8,7 +8,7 @@
 
 use crate::error::Result;
 use crate::log::Log;
-use crate::models::vakhrameev::{Calibration, Predictor, Regime};
+use crate::models::vakhrameev::{Calibration, Predictor, Regime, Spots};
 use crate::signal::timing::GAP_FACTOR;
 use crate::signal::{self, DerivativeSteps, Derivatives, Rates};
 use rayon::prelude::*;
@@ -300,34 +300,55 @@ impl Calibration {
             }
         }
         let temp = &temp_c[..n];
-        let counts: Vec<Vec<[usize; 3]>> = chunks
+        let (tdot, tddot) = (&deriv.tdot[..n], &deriv.tddot[..n]);
+        // Each chunk a block at a time: the block's spots found once, then each axis's values
+        // read at them in a loop of its own (the axis's curves held through the loop). A
+        // sample's regime and whether it lies outside are the same for every axis whose curves
+        // share their spots, so they are counted once.
+        let counts: Vec<[usize; 3]> = chunks
             .into_par_iter()
             .enumerate()
             .map(|(c, mut axes)| {
+                const BLOCK: usize = 512;
                 let base = c * CHUNK;
-                let mut outside = vec![[0usize; 3]; axes.len()];
+                let mut outside = [0usize; 3];
                 let len = axes.first().map_or(0, |a| a.0.len());
-                for k in 0..len {
-                    let i = base + k;
-                    let (t, td, tdd) = (temp[i], deriv.tdot[i], deriv.tddot[i]);
-                    let spots = predictors[0].spots(t, td, tdd);
-                    let r = spots.regime;
-                    let beyond = predictors[0].is_outside(t, td, tdd, r);
-                    for (a, (p, q, rg)) in axes.iter_mut().enumerate() {
-                        let pred = predictors[a].predict_at(&spots);
-                        p[k] = pred;
-                        q[k] = omegas[a][i] - pred;
-                        rg[k] = r;
-                        outside[a][r as usize] += usize::from(beyond);
+                let mut spots: Vec<Spots> = Vec::with_capacity(BLOCK);
+                for from in (0..len).step_by(BLOCK) {
+                    let to = (from + BLOCK).min(len);
+                    let (i0, i1) = (base + from, base + to);
+                    spots.clear();
+                    for ((&t, &td), &tdd) in
+                        temp[i0..i1].iter().zip(&tdot[i0..i1]).zip(&tddot[i0..i1])
+                    {
+                        let s = predictors[0].spots(t, td, tdd);
+                        let beyond = predictors[0].is_outside(t, td, tdd, s.regime);
+                        outside[s.regime as usize] += usize::from(beyond);
+                        spots.push(s);
+                    }
+                    for ((p, q, rg), (predictor, omega)) in
+                        axes.iter_mut().zip(predictors.iter().zip(omegas))
+                    {
+                        let omega = &omega[i0..i1];
+                        let p = &mut p[from..to];
+                        let q = &mut q[from..to];
+                        let rg = &mut rg[from..to];
+                        for (k, s) in spots.iter().enumerate() {
+                            let pred = predictor.predict_at(s);
+                            p[k] = pred;
+                            q[k] = omega[k] - pred;
+                            rg[k] = s.regime;
+                        }
                     }
                 }
                 outside
             })
             .collect();
-        for (a, out) in outs.iter_mut().enumerate() {
-            out.outside_by_regime = counts.iter().fold([0; 3], |s, c| {
-                [s[0] + c[a][0], s[1] + c[a][1], s[2] + c[a][2]]
-            });
+        let outside = counts
+            .iter()
+            .fold([0; 3], |s, c| [s[0] + c[0], s[1] + c[1], s[2] + c[2]]);
+        for out in outs.iter_mut() {
+            out.outside_by_regime = outside;
             out.ready_from = deriv.ready_from;
             out.ready.clone_from(&deriv.ready);
             out.update_outside_fraction();

@@ -90,11 +90,27 @@ pub fn set_samples(deriv: &Derivatives, mask: &[bool], (db1, db2): (f64, f64)) -
                 .map(move |a| (a, (a + SPAN).min(end)))
         })
         .collect();
-    // [set][k1, k2] index lists of one span of the log.
-    let parts: Vec<[[Vec<u32>; 2]; 2]> = spans
+    // [set][k1, k2] index lists of one span of the log, with the count and range of their
+    // finite x. A sample of a set has Ṫ·T̈ ≠ 0, so no x is a zero (whose sign `min` and `max`
+    // could take from either side), and the spans' ranges combine to the whole's exactly.
+    let no_range = XRange {
+        n: 0,
+        lo: f64::INFINITY,
+        hi: f64::NEG_INFINITY,
+    };
+    let widen = |r: &mut XRange, x: f64| {
+        if x.is_finite() {
+            r.n += 1;
+            r.lo = r.lo.min(x);
+            r.hi = r.hi.max(x);
+        }
+    };
+    type Part = ([[Vec<u32>; 2]; 2], [[XRange; 2]; 2]);
+    let parts: Vec<Part> = spans
         .into_par_iter()
         .map(|(a, b)| {
             let mut out: [[Vec<u32>; 2]; 2] = Default::default();
+            let mut ranges = [[no_range; 2]; 2];
             for i in a..b {
                 let (td, tdd) = (deriv.tdot[i], deriv.tddot[i]);
                 if mask[i] {
@@ -109,45 +125,40 @@ pub fn set_samples(deriv: &Derivatives, mask: &[bool], (db1, db2): (f64, f64)) -
                 let (skip1, skip2) = (td.abs() <= db1, tdd.abs() <= db2);
                 if !skip1 {
                     out[s][0].push(i as u32);
+                    widen(&mut ranges[s][0], td);
                 }
                 if !skip2 {
                     out[s][1].push(i as u32);
+                    widen(&mut ranges[s][1], tdd);
                 }
             }
-            out
+            (out, ranges)
         })
         .collect();
     let gather = |s: usize, k: usize| {
-        let mut v = Vec::with_capacity(parts.iter().map(|p| p[s][k].len()).sum());
+        let mut v = Vec::with_capacity(parts.iter().map(|p| p.0[s][k].len()).sum());
         for p in &parts {
-            v.extend_from_slice(&p[s][k]);
+            v.extend_from_slice(&p.0[s][k]);
         }
-        v
-    };
-    let range = |idx: &[u32], col: &[f64]| {
-        let mut r = XRange {
-            n: 0,
-            lo: f64::INFINITY,
-            hi: f64::NEG_INFINITY,
-        };
-        for &i in idx {
-            let x = col[i as usize];
-            if x.is_finite() {
-                r.n += 1;
-                r.lo = r.lo.min(x);
-                r.hi = r.hi.max(x);
+        let r = parts.iter().fold(no_range, |r, p| {
+            let q = p.1[s][k];
+            XRange {
+                n: r.n + q.n,
+                lo: r.lo.min(q.lo),
+                hi: r.hi.max(q.hi),
             }
-        }
-        r
+        });
+        (v, r)
     };
-    [0, 1].map(|s| {
-        let (k1, k2) = (gather(s, 0), gather(s, 1));
-        SetSamples {
-            k1_range: Some(range(&k1, &deriv.tdot)),
-            k2_range: Some(range(&k2, &deriv.tddot)),
-            k1,
-            k2,
-        }
+    let (plus, minus) = rayon::join(
+        || rayon::join(|| gather(0, 0), || gather(0, 1)),
+        || rayon::join(|| gather(1, 0), || gather(1, 1)),
+    );
+    [plus, minus].map(|((k1, k1_range), (k2, k2_range))| SetSamples {
+        k1_range: Some(k1_range),
+        k2_range: Some(k2_range),
+        k1,
+        k2,
     })
 }
 
@@ -626,3 +637,6 @@ impl Calibration {
         ]
     }
 }
+
+#[cfg(test)]
+mod tests;
