@@ -538,7 +538,7 @@ fn impossible_rates(
 /// rows are dropped, as a blank rate cell's are, and told with the first line; more are the
 /// column's own (an axis logged at a lower rate, or not at all) and are kept as NaN and told
 /// with their share: the other axes keep their rows, and every fit and judgement refuses that
-/// axis ([`crate::models::check_rate_moves`]). `drop` (the sorted rows dropped so far) gains
+/// axis ([`crate::models::check_axis_readings`]). `drop` (the sorted rows dropped so far) gains
 /// the rows dropped.
 ///
 /// [`MOST_GLITCH_SHARE`]: crate::log::impossible::MOST_GLITCH_SHARE
