@@ -576,7 +576,7 @@ fn missing_readings(log: &mut Log, k: usize) {
          others",
         if count == 1 { "" } else { "s" },
         crate::text::escaped(&c.name, false),
-        crate::number::significant(100.0 * count as f64 / n.max(1) as f64, 3),
+        crate::log::impossible::share_percent(count, n),
         first + 1,
         n - count
     );

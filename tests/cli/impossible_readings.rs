@@ -254,3 +254,36 @@ fn report_and_allan_leave_out_an_axis_holding_readings_beyond_any_sensor() {
     );
     assert!(!std::path::Path::new(&yaml).exists());
 }
+
+#[test]
+fn at_half_the_column_the_two_sides_read_apart_and_both_keep_the_count_and_lines() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    // omega_x is column 1. 9150 of 18,301 readings are 49.99727 %, a stretch; 9151 are
+    // 50.00273 %, most of the column, whose unit is doubted. Data row 0 is line 3.
+    let below = mems_with(d, "x9150.csv", 1, 0..9150, "1e38");
+    let above = mems_with(d, "x9151.csv", 1, 0..9151, "1e38");
+    let seen = ok(&["inspect", &below]);
+    assert!(
+        seen.contains(
+            "9150 readings of \"omega_x_dph\" beyond the 10⁴ °/s of any gyro (1e38 at line 3, \
+             the first; the last at line 9152), 49.997 % of its 18301 readings"
+        ),
+        "{seen}"
+    );
+    let seen = ok(&["inspect", &above]);
+    assert!(
+        seen.contains(
+            "line 3: the rate column \"omega_x_dph\" read as deg/h reaches 2.778e34 °/s, beyond \
+             the 10⁴ °/s of any gyro on a stand, in 9151 of its 18301 readings (50.003 %, the \
+             first at line 3, the last at line 9153): more than half of the column"
+        ),
+        "{seen}"
+    );
+    // Told once, by the reader, not again by the plausibility check.
+    assert_eq!(
+        seen.matches("check its unit (--rate-unit)").count(),
+        1,
+        "{seen}"
+    );
+}
