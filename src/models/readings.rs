@@ -5,6 +5,11 @@
 //! take for glitches ([`crate::log::impossible`]), and a gyro axis most of whose samples are
 //! missing. A figure taken through any of them is rounding or 10³⁸, so it is refused here,
 //! naming the axis and where, rather than printed.
+//!
+//! A campaign's joined log is checked run by run: a share over the joined log dilutes one
+//! run's stretch of garbage among the other runs' samples (600 readings are 1.49 % of their
+//! run and 0.5 % of three), and the joined time axis is in no file. Each run is judged as it
+//! would be alone, and the refusal names it with its own share and its own times.
 
 use super::FitError;
 use crate::error::Result;
@@ -30,22 +35,40 @@ pub struct AxisReadings<'a> {
     pub time_shift_s: f64,
 }
 
-/// Refuses a log's selected axis whose readings no fit or figure can take.
+/// Refuses a log's selected axis whose readings no fit or figure can take: checked over each
+/// run of a campaign's joined log in turn (`LogInfo::runs`), else over the whole log.
 ///
 /// Every fit asks it ([`super::check_span`]), and so do `evaluate`, `compare`, `report` (which
 /// leaves the log out of that axis's tables with this reason) and `allan`.
 ///
 /// # Errors
-/// As [`check_readings`].
+/// As [`check_readings`], naming the run for a campaign.
 pub fn check_axis_readings(log: &Log) -> Result<()> {
-    check_readings(&AxisReadings {
+    let whole = AxisReadings {
         source: &log.source,
         axis: &log.axis,
         kind: log.axis_kind,
         values: &log.omega_dph,
         time_s: &log.time_s,
         time_shift_s: 0.0,
-    })
+    };
+    let spans = &log.info.runs;
+    let fits = spans
+        .iter()
+        .all(|r| r.samples.end <= log.omega_dph.len() && r.samples.end <= log.time_s.len());
+    if spans.len() < 2 || !fits {
+        return check_readings(&whole);
+    }
+    for r in spans {
+        check_readings(&AxisReadings {
+            source: &r.name,
+            values: &log.omega_dph[r.samples.clone()],
+            time_s: &log.time_s[r.samples.clone()],
+            time_shift_s: r.time_shift_s,
+            ..whole
+        })?;
+    }
+    Ok(())
 }
 
 /// Refuses an axis whose readings hold one value throughout (of the finite ones), more
