@@ -99,6 +99,10 @@ pub fn run(a: Args) -> Result<(), CliError> {
     let mut recorded_step_s = None;
     // What the temperature of the analysed samples did (a log of one column has none).
     let mut temperature = None;
+    // The time of each sample, s, for the messages of the readings check.
+    let times: Vec<f64>;
+    // A column of rate samples alone, whose one axis has no name.
+    let one_column = series.is_some();
     let (source, gyro, tau0_s, chosen) = match series {
         Some(series) => {
             let tau0 = a
@@ -118,6 +122,9 @@ pub fn run(a: Args) -> Result<(), CliError> {
                 )
                 .into());
             }
+            times = (0..series.omega_dph.len())
+                .map(|k| k as f64 * tau0)
+                .collect();
             let gyro = vec![("rate".to_string(), series.omega_dph)];
             (series.source, gyro, tau0, None)
         }
@@ -165,6 +172,23 @@ pub fn run(a: Args) -> Result<(), CliError> {
                 match c.accelerometer_to_m_s2() {
                     Some(f) => {
                         let mut values: Vec<f64> = c.values.into_iter().map(|v| v * f).collect();
+                        // Refused as `evaluate` refuses the axis: its noise read through 10³⁸
+                        // would be written to Kalibr's file. (One that never changes is told
+                        // below, in the words of an Allan curve that cannot be drawn.)
+                        match driftlab::models::check_readings(&driftlab::models::AxisReadings {
+                            source: &log.source,
+                            axis: &c.name,
+                            kind: driftlab::log::AxisKind::Accel,
+                            values: &values,
+                            time_s: &log.time_s,
+                            time_shift_s: 0.0,
+                        }) {
+                            Err(driftlab::Error::Fit(driftlab::models::FitError::FrozenRate {
+                                ..
+                            }))
+                            | Ok(()) => {}
+                            Err(e) => return Err(e.to_string().into()),
+                        }
                         if let Some((run, holes)) = kalibr::longest_finite_run(&values) {
                             note!(
                                 "note: {}: accelerometer axis {}: {holes} of its {} samples \
@@ -183,6 +207,7 @@ pub fn run(a: Args) -> Result<(), CliError> {
                     None => accel_unknown.push(c.name),
                 }
             }
+            times = log.time_s;
             let mut gyro = vec![(log.axis, log.omega_dph)];
             gyro.extend(log.other_axes.into_iter().map(|x| (x.name, x.omega_dph)));
             (log.source, gyro, tau0, chosen)
@@ -223,6 +248,17 @@ pub fn run(a: Args) -> Result<(), CliError> {
     let mut devs: Vec<(usize, AllanDeviation)> = Vec::with_capacity(chosen.len());
     for &k in &chosen {
         let (name, rate) = &gyro[k];
+        // An axis no figure can take is refused as `evaluate` refuses it: its read-outs would
+        // be those of the readings beyond any gyro's, or of a wire.
+        driftlab::models::check_readings(&driftlab::models::AxisReadings {
+            source: &source,
+            axis: if one_column { "" } else { name },
+            kind: driftlab::log::AxisKind::Gyro,
+            values: rate,
+            time_s: &times,
+            time_shift_s: 0.0,
+        })
+        .map_err(|e| e.to_string())?;
         let dev = if several {
             common::status(&format!(
                 "computing the Allan deviation of {source}, axis {name}"

@@ -235,10 +235,19 @@ pub fn run(a: Args) -> Result<(), CliError> {
         } else {
             "--rate-col NAME"
         };
-        out!(
-            "    calibrate fits every axis into one unit calibration (--axes {some} chooses some, \
-             {alone} one alone);"
-        )?;
+        let most = driftlab::models::unit::MAX_UNIT_AXES;
+        if axes.len() > most {
+            out!(
+                "    calibrate fits at most {most} axes into one unit calibration, and this log \
+                 has {}: choose them (--axes {some}), or one alone ({alone});",
+                axes.len()
+            )?;
+        } else {
+            out!(
+                "    calibrate fits every axis into one unit calibration (--axes {some} chooses \
+                 some, {alone} one alone);"
+            )?;
+        }
         out!(
             "    evaluate, apply and report take every axis of a unit calibration; allan and \
              compare analyse every axis (--axes chooses)"
@@ -376,15 +385,28 @@ impl GyroAxis {
 }
 
 /// Every gyro axis of `log` (the one in `omega_dph` first) with the column and unit it was
-/// read from.
+/// read from: the axes paired with their columns once (a log of 400 rate columns took minutes
+/// when each axis named every column again).
 fn gyro_axes(log: &driftlab::Log) -> Vec<GyroAxis> {
+    let pairs = log.axis_columns();
+    let rates: std::collections::HashMap<&str, &driftlab::log::ColumnInfo> = log
+        .info
+        .columns
+        .iter()
+        .filter(|c| matches!(c.role, ColumnRole::Rate | ColumnRole::OtherAxis))
+        .map(|c| (c.name.as_str(), c))
+        .collect();
+    let by_axis: std::collections::HashMap<&str, &str> = pairs
+        .iter()
+        .map(|(axis, column)| (axis.as_str(), column.as_str()))
+        .collect();
     log.axis_names()
         .into_iter()
         .map(|name| {
-            let column = log.info.columns.iter().find(|c| {
-                matches!(c.role, ColumnRole::Rate | ColumnRole::OtherAxis)
-                    && log.find_axis(&c.name).as_deref() == Some(name.as_str())
-            });
+            let column = by_axis
+                .get(name.as_str())
+                .and_then(|c| rates.get(c))
+                .or_else(|| rates.get(name.as_str()));
             GyroAxis {
                 column: column.map(|c| c.name.clone()).unwrap_or_default(),
                 unit: column.map(|c| c.unit.clone()).unwrap_or_default(),

@@ -85,7 +85,7 @@ pub fn run(mut a: Args) -> Result<(), CliError> {
     if unit.is_unit() {
         print_axes(&logs, &summary)?;
     } else {
-        print_single(&summary)?;
+        print_single(&summary, logs.len())?;
     }
     let mut notes: Vec<&String> = Vec::new();
     for ax in &summary.axes {
@@ -101,17 +101,23 @@ pub fn run(mut a: Args) -> Result<(), CliError> {
     print_files(&summary.files)
 }
 
-/// The figures of the one axis of a single-axis calibration, a line per log.
-fn print_single(summary: &report::UnitReportSummary) -> Result<(), CliError> {
-    for l in summary.axes.iter().flat_map(|a| &a.summary.logs) {
-        out!(
-            "{} ({}): peak-to-peak of filtered drift {} -> {} deg/h ({})",
-            l.name,
-            l.kind,
-            common::fixed(l.evaluation.comparison.raw.p2p_dph, 4),
-            common::fixed(l.evaluation.comparison.corrected.p2p_dph, 4),
-            common::ratio(l.evaluation.comparison.p2p_ratio)
-        )?;
+/// The figures of the one axis of a single-axis calibration, a line per log of the `count`
+/// given, or why it was left out.
+fn print_single(summary: &report::UnitReportSummary, count: usize) -> Result<(), CliError> {
+    for k in 0..count {
+        for (_, o) in summary.left_out(k) {
+            out!("{} (left out): {}", o.name, o.reason)?;
+        }
+        for (_, l) in summary.log(k) {
+            out!(
+                "{} ({}): peak-to-peak of filtered drift {} -> {} deg/h ({})",
+                l.name,
+                l.kind,
+                common::fixed(l.evaluation.comparison.raw.p2p_dph, 4),
+                common::fixed(l.evaluation.comparison.corrected.p2p_dph, 4),
+                common::ratio(l.evaluation.comparison.p2p_ratio)
+            )?;
+        }
     }
     Ok(())
 }
@@ -182,6 +188,9 @@ fn print_files(files: &[PathBuf]) -> Result<(), CliError> {
 fn print_axes(logs: &LogsRead, summary: &report::UnitReportSummary) -> Result<(), CliError> {
     for (k, (path, _)) in logs.iter().enumerate() {
         let judged = summary.log(k);
+        for (axis, o) in summary.left_out(k) {
+            out!("{} (left out), axis {axis}: {}", o.name, o.reason)?;
+        }
         let Some((_, first)) = judged.first() else {
             continue;
         };

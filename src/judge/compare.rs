@@ -178,7 +178,8 @@ pub fn compare_one(
                     log: log.source.clone(),
                     held_out,
                     cannot_tell,
-                    result: match crate::models::check_rate_moves(log).and_then(|()| m.correct(log))
+                    result: match crate::models::check_axis_readings(log)
+                        .and_then(|()| m.correct(log))
                     {
                         Ok(c) => {
                             seen(k, &c);

@@ -98,11 +98,11 @@ fn one_run(
         Ok(m) => m,
         Err(e) => return failed(format!("not fitted on the other runs: {e}")),
     };
-    let corrected = match crate::models::check_rate_moves(&held).and_then(|()| model.correct(&held))
-    {
-        Ok(c) => c,
-        Err(e) => return failed(format!("not applied to it: {e}")),
-    };
+    let corrected =
+        match crate::models::check_axis_readings(&held).and_then(|()| model.correct(&held)) {
+            Ok(c) => c,
+            Err(e) => return failed(format!("not applied to it: {e}")),
+        };
     let c = Evaluation::of_correction(&held, &corrected, merit).comparison;
     RunLeftOut {
         run: name,

@@ -130,7 +130,7 @@ pub fn judge(
         crate::judge::options::check_window_whole(options.window_s, log)
             .map_err(JudgeError::Options)?;
     }
-    crate::models::check_rate_moves(log).map_err(JudgeError::FrozenRate)?;
+    crate::models::check_axis_readings(log).map_err(JudgeError::FrozenRate)?;
     let correction = model.correct(log).map_err(JudgeError::Correct)?;
     // A window asked for must fit in what is judged: the samples after the warm-up.
     if window_asked {

@@ -504,7 +504,7 @@ fn check_gravity(
 /// accelerometer gives ([`crate::log::impossible`]) while they are glitches, each channel's
 /// told as a problem of the log: an accelerometer axis keeps its samples where its gyro has
 /// them, and its fits and means pass over NaN. More of them than glitches are kept and told
-/// (every fit refuses the axis, [`crate::models::check_rate_moves`]); the channels holding
+/// (every fit refuses the axis, [`crate::models::check_axis_readings`]); the channels holding
 /// such a stretch are returned. Most of a channel beyond is its unit's doing, which
 /// [`check_gravity`] tells.
 fn unread_glitches(log: &mut Log, picked: &[usize], units: &[Option<AccelUnit>]) -> Vec<usize> {
@@ -576,7 +576,7 @@ fn missing_readings(log: &mut Log, k: usize) {
          others",
         if count == 1 { "" } else { "s" },
         crate::text::escaped(&c.name, false),
-        crate::number::significant(100.0 * count as f64 / n.max(1) as f64, 3),
+        crate::log::impossible::share_percent(count, n),
         first + 1,
         n - count
     );

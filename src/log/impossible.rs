@@ -102,8 +102,31 @@ impl Beyond {
     fn share_words(&self) -> String {
         format!(
             "{} % of its {} readings",
-            crate::number::significant(100.0 * self.share(), 3),
+            share_percent(self.samples.len(), self.readings),
             self.readings
+        )
+    }
+
+    /// Why a column most of whose readings are beyond is doubted ([`Verdict::Column`]): `WHAT
+    /// read as UNIT reaches W °/s, beyond the 10⁴ °/s of any gyro on a stand, in N of its M
+    /// readings (S %, the first at FIRST, the last at LAST): check its unit …`. The count and
+    /// where they lie are kept, as the stretch's message has them, so that the edge between the
+    /// two (half the column) reads as one.
+    pub fn column_message(
+        &self,
+        what: &str,
+        unit: &str,
+        (first_at, last_at): (&str, &str),
+    ) -> String {
+        format!(
+            "{what} read as {unit} reaches {:.3e} °/s, beyond the 10⁴ °/s of any gyro on a \
+             stand, in {} of its {} readings ({} %, the first at {first_at}, the last at \
+             {last_at}): more than half of the column, so it is no stretch of glitches: check \
+             its unit (rate_unit) or choose another column (rate_col)",
+            self.worst.abs() / 3600.0,
+            self.samples.len(),
+            self.readings,
+            share_percent(self.samples.len(), self.readings),
         )
     }
 
@@ -164,6 +187,25 @@ impl Beyond {
     }
 }
 
+/// `count` of `of` in percent, for a message, with as many significant digits (three at the
+/// least) as keep it on its side of the bounds of the rules it is judged by
+/// ([`MOST_GLITCH_SHARE`], [`MOST_OF_A_COLUMN`]): 9150 of 18301 is `49.997`, 9151 `50.003`,
+/// 183 of 18301 `0.9999`, never a rounded `50` or `1` on the wrong side of the rule that
+/// changed what the message says. Exactly at a bound it reads the bound.
+pub fn share_percent(count: usize, of: usize) -> String {
+    let exact = 100.0 * count as f64 / of.max(1) as f64;
+    let bounds = [100.0 * MOST_GLITCH_SHARE, 100.0 * MOST_OF_A_COLUMN];
+    let on_its_side = |shown: f64| {
+        bounds
+            .iter()
+            .all(|&b| (shown > b) == (exact > b) && (shown < b) == (exact < b))
+    };
+    (3..=17)
+        .map(|digits| crate::number::significant(exact, digits))
+        .find(|text| text.parse::<f64>().is_ok_and(on_its_side))
+        .unwrap_or_else(|| exact.to_string())
+}
+
 /// [`glitches`] of a gyro's rate, °/h, beyond [`MAX_PLAUSIBLE_RATE_DPH`].
 pub fn rate_glitches(rate_dph: impl IntoIterator<Item = f64>) -> Option<Beyond> {
     glitches(rate_dph, MAX_PLAUSIBLE_RATE_DPH)
@@ -222,5 +264,20 @@ mod tests {
             m.starts_with("11 readings of \"w\" beyond the bound (1000 at line 2, the first; the last at line 12), 1.1 % of its 1000 readings"),
             "{m}"
         );
+    }
+
+    #[test]
+    fn a_share_is_never_printed_on_the_other_side_of_a_bound() {
+        // 9150 and 9151 of 18301 are 49.99727 % and 50.00273 %: three digits read 50 for both.
+        assert_eq!(share_percent(9150, 18301), "49.997");
+        assert_eq!(share_percent(9151, 18301), "50.003");
+        // 183 and 184 of 18301: 0.999945 % and 1.0054 %.
+        assert_eq!(share_percent(183, 18301), "0.9999");
+        assert_eq!(share_percent(184, 18301), "1.01");
+        // Exactly at a bound, the bound; away from the bounds, three digits.
+        assert_eq!(share_percent(5, 10), "50");
+        assert_eq!(share_percent(1, 100), "1");
+        assert_eq!(share_percent(600, 40201), "1.49");
+        assert_eq!(share_percent(10, 10), "100");
     }
 }

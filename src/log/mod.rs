@@ -473,8 +473,10 @@ impl Log {
 
     /// Each axis's name with the name of the file's column it was read from, as the reader
     /// named them ([`ingest::names::axis_names`]: two columns never share an axis), the
-    /// accelerometer axes as [`accel_axes::take`] named them.
-    fn axis_columns(&self) -> Vec<(String, String)> {
+    /// accelerometer axes as [`accel_axes::take`] named them. The names depend on every
+    /// column at once, so a caller pairing every axis with its column takes this list once
+    /// rather than asking [`Log::find_axis`] per column (which names them all each time).
+    pub fn axis_columns(&self) -> Vec<(String, String)> {
         let columns: Vec<(usize, &str)> = self
             .info
             .columns

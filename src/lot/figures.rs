@@ -52,9 +52,18 @@ pub fn compared(name: &str) -> bool {
     name != TEMP_MIN && name != TEMP_MAX
 }
 
-/// The name of K0 at the reference temperature `temp_c`: `k0_at_20c_dph`, `k0_at_-40c_dph`.
+/// The name of K0 at the reference temperature `temp_c`: `k0_at_20c_dph`, `k0_at_-40c_dph`,
+/// `k0_at_0.25c_dph`. The temperature is written at the spec's resolution
+/// ([`super::spec::REFERENCE_RESOLUTION_C`], 0.01 °C): no chamber sensor resolves finer, and a
+/// temperature of `1e-300` would name a figure of 300 digits.
 pub fn k0_at(temp_c: f64) -> String {
-    format!("k0_at_{temp_c}c_dph")
+    let steps = 1.0 / super::spec::REFERENCE_RESOLUTION_C;
+    let mut t = (temp_c * steps).round() / steps;
+    // -0.001 °C is 0 °C, not "-0".
+    if t == 0.0 {
+        t = 0.0;
+    }
+    format!("k0_at_{t}c_dph")
 }
 
 /// Every figure an axis of a unit has, in the table's order, K0 read at `temps_c`: the names
@@ -341,4 +350,23 @@ fn k0_figures(model: &DriftModel, temps_c: &[f64]) -> Vec<Figure> {
         }
     }));
     out
+}
+
+#[cfg(test)]
+mod k0_at_tests {
+    use super::k0_at;
+
+    #[test]
+    fn a_reference_temperature_is_named_at_a_hundredth_of_a_degree() {
+        assert_eq!(k0_at(20.0), "k0_at_20c_dph");
+        assert_eq!(k0_at(-40.0), "k0_at_-40c_dph");
+        assert_eq!(k0_at(0.5), "k0_at_0.5c_dph");
+        assert_eq!(k0_at(0.25), "k0_at_0.25c_dph");
+        assert_eq!(k0_at(0.1), "k0_at_0.1c_dph");
+        assert_eq!(k0_at(0.100_000_000_000_000_02), "k0_at_0.1c_dph");
+        assert_eq!(k0_at(1e-300), "k0_at_0c_dph");
+        assert_eq!(k0_at(5e-7), "k0_at_0c_dph");
+        assert_eq!(k0_at(-0.001), "k0_at_0c_dph");
+        assert_eq!(k0_at(-12.346), "k0_at_-12.35c_dph");
+    }
 }

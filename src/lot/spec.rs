@@ -18,6 +18,10 @@ pub const DEFAULT_OUTLIER_SIGMAS: f64 = 5.0;
 /// The most reference temperatures a spec may name (each is a column of `lot.csv`).
 pub const MAX_REFERENCE_TEMPS: usize = 32;
 
+/// How close two reference temperatures may be, °C: a chamber sensor resolves no finer, so
+/// two closer are one temperature, and a figure's name writes its temperature to this.
+pub const REFERENCE_RESOLUTION_C: f64 = 0.01;
+
 /// The largest file read as a spec: a spec is a few lines, and anything larger is not one.
 const MAX_SPEC_BYTES: u64 = 1 << 20;
 
@@ -203,6 +207,27 @@ impl Spec {
                         r(*t)
                     ));
                 }
+                // Two temperatures no chamber sensor tells apart are one figure under two
+                // names; the figures are named at that resolution, so they may not share one.
+                if let Some(j) = temps[..k].iter().position(|u| {
+                    (t - u).abs() < REFERENCE_RESOLUTION_C
+                        || super::figures::k0_at(*t) == super::figures::k0_at(*u)
+                }) {
+                    let (named, earlier) =
+                        (super::figures::k0_at(*t), super::figures::k0_at(temps[j]));
+                    let names = if named == earlier {
+                        format!("{named} for both")
+                    } else {
+                        format!("{earlier} and {named}")
+                    };
+                    return Err(format!(
+                        // Each as given, to the last digit that tells them apart.
+                        "reference_temps_c[{k}]: {t:?} °C is within {REFERENCE_RESOLUTION_C} °C \
+                         of reference_temps_c[{j}], {:?} °C: K0 is reported at a resolution of \
+                         {REFERENCE_RESOLUTION_C} °C ({names}); give one of them",
+                        temps[j],
+                    ));
+                }
             }
         }
         if let Some(s) = self.outlier_sigmas
@@ -247,6 +272,14 @@ mod tests {
             (r#"{"max_outside_fraction": 1.5}"#, "max_outside_fraction"),
             (r#"{"k0_range_dph": [1, -1]}"#, "k0_range_dph"),
             (r#"{"reference_temps_c": [20, 20]}"#, "reference_temps_c[1]"),
+            (
+                r#"{"reference_temps_c": [0.1, 0.10000000000000002]}"#,
+                "reference_temps_c[1]",
+            ),
+            (
+                r#"{"reference_temps_c": [20, -40, 20.009]}"#,
+                "reference_temps_c[2]",
+            ),
             (r#"{"reference_temps_c": []}"#, "reference_temps_c"),
             (r#"{"outlier_sigmas": 0}"#, "outlier_sigmas"),
         ] {

@@ -81,7 +81,7 @@ pub fn check_static(log: &Log, axis: &str, choice: &ModelChoice) -> Result<(), F
 /// The mean of an accelerometer axis's samples, the constant its correction keeps (a cell the
 /// reader could not read is no sample; the fit skips it as it skips a gyro's), over the
 /// readings an accelerometer gives: a stretch of 10³⁸ (refused by every fit and judgement,
-/// [`crate::models::check_rate_moves`]) would make every other sample read as beyond, and the
+/// [`crate::models::check_axis_readings`]) would make every other sample read as beyond, and the
 /// log's orientation seem turned.
 pub fn mean_of(samples: &[f64]) -> f64 {
     crate::log::accel_axes::mean_within(samples, crate::log::impossible::MAX_PLAUSIBLE_ACCEL_M_S2)

@@ -164,7 +164,7 @@ pub enum FitError {
         "{log}: the rate of axis {axis} is missing at {count} of its {total} samples ({} %): \
          more than the 1 % whose rows the reader drops, so that axis is neither fitted nor \
          judged; choose the other axes, or fill or cut that column",
-        crate::number::significant(100.0 * *count as f64 / (*total).max(1) as f64, 3)
+        crate::log::impossible::share_percent(*count, *total)
     )]
     MissingSamples {
         /// The log.
@@ -385,7 +385,6 @@ fn impossible(e: &FitError) -> String {
             crate::log::impossible::ACCEL_LIMIT_WORDS,
         ),
     };
-    let share = 100.0 * *count as f64 / (*readings).max(1) as f64;
     format!(
         "{log}: {what} holds {count} reading{} beyond {limit} ({} {unit}; from {} s to {} s), \
          {} % of its {readings}: more than the {} % taken for glitches, so no fit or figure \
@@ -394,7 +393,7 @@ fn impossible(e: &FitError) -> String {
         r(*worst),
         r(*first_s),
         r(*last_s),
-        crate::number::significant(share, 3),
+        crate::log::impossible::share_percent(*count, *readings),
         100.0 * crate::log::impossible::MOST_GLITCH_SHARE,
     )
 }

@@ -17,6 +17,7 @@ pub mod campaign;
 mod error;
 pub mod fitted;
 pub mod presets;
+mod readings;
 pub mod recipe;
 pub mod regression;
 pub mod scripts;
@@ -27,6 +28,7 @@ pub mod vakhrameev;
 pub use error::{FitError, HandKnotsNotKept, ParseError};
 pub use fitted::{DriftModel, ModelCorrector, Predictor, stream_inputs};
 pub use presets::{ModelChoice, Preset};
+pub use readings::{AxisReadings, check_axis_readings, check_readings};
 pub use recipe::{CheckedRecipe, Recipe};
 pub use unit::{
     AxisModel, AxisPlan, CalibratedAxis, Keep, UnitCalibration, calibrate, calibrate_keeping,
@@ -34,7 +36,7 @@ pub use unit::{
 
 use crate::error::{Error, Result};
 use crate::judge::metrics::Evaluation;
-use crate::log::{AxisKind, Log};
+use crate::log::Log;
 use regression::RegressionCalibration;
 
 /// The fewest samples a log must have to be calibrated (or its pointwise coefficients
@@ -148,7 +150,7 @@ pub const MIN_RAMP_C_PER_MIN: f64 = 0.05;
 /// [`FitError::NarrowSpan`] or [`FitError::NoRamps`], saying what the log spans and what the
 /// model needs.
 pub fn check_span(log: &Log, choice: &ModelChoice) -> Result<()> {
-    check_rate_moves(log)?;
+    check_axis_readings(log)?;
     let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
     for &v in log.temp_c.iter().filter(|v| v.is_finite()) {
         if v < lo {
@@ -211,94 +213,6 @@ pub fn check_span(log: &Log, choice: &ModelChoice) -> Result<()> {
             }
             .into());
         }
-    }
-    Ok(())
-}
-
-/// Refuses a log whose rate holds one value throughout (of its finite samples), or holds
-/// readings no sensor of its kind gives.
-///
-/// Any real gyro's output moves by its noise from one sample to the next; one value is a
-/// wire, not a gyro, and every figure fitted to it, or judged on it, is rounding. A reading
-/// beyond [`crate::log::impossible`]'s bound (10⁴ °/s, 1000 g) is garbage the readers drop
-/// while it is a glitch; more of them are kept and told, and a fit through them (10³⁸ °/h)
-/// would be refused only when written, after all its work. Every fit asks it
-/// ([`check_span`]), and so do `evaluate` and `compare` of a model on a log (a report, of
-/// several logs, draws each; the reader tells a rate held at one value).
-///
-/// # Errors
-/// [`FitError::FrozenRate`], naming the axis and the value; [`FitError::Impossible`], naming
-/// the axis, how many readings, their share and where; [`FitError::MissingSamples`], a gyro
-/// axis with more than 1 % of its samples missing.
-pub fn check_rate_moves(log: &Log) -> Result<()> {
-    use crate::log::impossible::{MAX_PLAUSIBLE_ACCEL_M_S2, beyond};
-    let bound = match log.axis_kind {
-        AxisKind::Gyro => crate::log::mapping_check::MAX_PLAUSIBLE_RATE_DPH,
-        AxisKind::Accel => MAX_PLAUSIBLE_ACCEL_M_S2,
-    };
-    let mut first: Option<f64> = None;
-    let mut frozen = true;
-    let mut beyond_any = false;
-    let mut missing = 0usize;
-    for &v in &log.omega_dph {
-        if !v.is_finite() {
-            beyond_any |= v.is_infinite();
-            missing += usize::from(v.is_nan());
-            continue;
-        }
-        beyond_any |= v.abs() > bound;
-        match first {
-            None => first = Some(v),
-            Some(f) => frozen &= v.to_bits() == f.to_bits(),
-        }
-    }
-    if beyond_any && let Some(b) = beyond(log.omega_dph.iter().copied(), bound) {
-        let at = |k: usize| log.time_s.get(k).copied().unwrap_or(f64::NAN);
-        return Err(FitError::Impossible {
-            log: log.source.clone(),
-            axis: log.axis.clone(),
-            kind: log.axis_kind,
-            count: b.samples.len(),
-            readings: b.readings,
-            worst: b.worst,
-            first_s: at(b.samples[0]),
-            last_s: at(b.samples[b.samples.len() - 1]),
-        }
-        .into());
-    }
-    // A gyro axis whose column is mostly not read (the readers drop the rows of a few missing
-    // cells): an accelerometer may be logged at a lower rate than its gyro, and its missing
-    // samples are none of the fit's, but a gyro axis's Ω is the fit's every sample.
-    let total = log.omega_dph.len();
-    if log.axis_kind == AxisKind::Gyro
-        && missing as f64 > crate::log::impossible::MOST_GLITCH_SHARE * total as f64
-    {
-        return Err(FitError::MissingSamples {
-            log: log.source.clone(),
-            axis: log.axis.clone(),
-            count: missing,
-            total,
-        }
-        .into());
-    }
-    // One sample is no stretch at all: it takes two to hold a value.
-    let finite = log
-        .omega_dph
-        .iter()
-        .filter(|v| v.is_finite())
-        .take(2)
-        .count();
-    if frozen
-        && finite == 2
-        && let Some(value_dph) = first
-    {
-        return Err(FitError::FrozenRate {
-            log: log.source.clone(),
-            axis: log.axis.clone(),
-            kind: log.axis_kind,
-            value_dph,
-        }
-        .into());
     }
     Ok(())
 }

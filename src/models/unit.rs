@@ -594,7 +594,7 @@ fn calibrate_axes(
     // after the other axes' fits.
     for plan in plans {
         select(log, &plan.name);
-        crate::models::check_rate_moves(log)?;
+        crate::models::check_axis_readings(log)?;
     }
     if let Some(first) = plans.first() {
         select(log, &first.name);

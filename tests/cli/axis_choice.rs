@@ -242,3 +242,54 @@ fn axes_and_a_single_rate_column_both_choosing_the_axis_are_refused() {
     ]);
     assert!(words.iter().all(|w| e.contains(w)), "{e}");
 }
+
+#[test]
+fn inspect_pairs_each_of_four_hundred_axes_with_its_column_and_bounds_the_advice() {
+    // 400 rate columns `omega_aaa_dph` … `omega_apj_dph` and 20 rows: each axis is named from
+    // its column, and is listed with it.
+    let dir = tempfile::tempdir().unwrap();
+    let letters = |k: usize| {
+        let l = |i: usize| char::from(b'a' + u8::try_from(i).unwrap());
+        format!("{}{}{}", l(k / 676), l(k / 26 % 26), l(k % 26))
+    };
+    let n = 400;
+    let mut text = String::from("time_s,");
+    for k in 0..n {
+        text.push_str(&format!("omega_{}_dph,", letters(k)));
+    }
+    text.push_str("temp_c\n");
+    for r in 0..20 {
+        text.push_str(&format!("{r},"));
+        for k in 0..n {
+            text.push_str(&format!("{:.1},", r as f64 * 0.1 + k as f64));
+        }
+        text.push_str(&format!("{:.2}\n", 20.0 + r as f64 * 0.01));
+    }
+    let log = p(dir.path(), "wide.csv");
+    std::fs::write(&log, text).unwrap();
+    let seen = ok(&["inspect", &log]);
+    let axes = seen
+        .lines()
+        .find(|l| l.starts_with("  gyro axes: "))
+        .unwrap_or_else(|| panic!("{seen}"));
+    let listed: Vec<&str> = axes["  gyro axes: ".len()..].split(", ").collect();
+    assert_eq!(listed.len(), n, "{axes}");
+    for (k, item) in listed.iter().enumerate() {
+        let w = letters(k);
+        assert_eq!(*item, format!("omega_{w} [deg/h] (column omega_{w}_dph)"));
+    }
+    assert_eq!(letters(n - 1), "apj");
+    // Every column listed, the last rate column as column 401.
+    assert!(
+        seen.contains("   401  omega_apj_dph            OtherAxis [deg/h]"),
+        "{seen}"
+    );
+    // A unit holds at most 64 axes: the advice says so instead of "every axis".
+    assert!(
+        seen.contains(
+            "calibrate fits at most 64 axes into one unit calibration, and this log has 400: \
+             choose them (--axes omega_aaa,omega_aab), or one alone (--rate-col NAME);"
+        ),
+        "{seen}"
+    );
+}

@@ -385,3 +385,40 @@ fn a_run_named_with_a_control_character_is_recorded_escaped() {
         .collect();
     assert_eq!(names[2], "cold\\u001b[2J.csv", "{names:?}");
 }
+
+#[test]
+fn a_run_holding_a_stretch_of_impossible_readings_is_refused_with_its_own_share_and_times() {
+    let dir = tempfile::tempdir().unwrap();
+    let r = runs(dir.path());
+    // 600 rates of the repeat run at 1e38 °/h, data rows 5000 to 5599 (its time steps by 1 s
+    // from 0): 1.49 % of that run, 0.53 % of the three runs joined.
+    let mut repeat = rows(&r[1]);
+    let readings = repeat.len() - 1;
+    assert_eq!(repeat[5001][0], "5000", "the run's time at data row 5000");
+    for row in &mut repeat[5001..5601] {
+        row[1] = "1e38".into();
+    }
+    let path = p(dir.path(), "glitched.csv");
+    write_rows(&path, &repeat);
+    let share = format!("{:.2}", 100.0 * 600.0 / readings as f64);
+    assert_eq!(share, "1.49");
+    let own = format!(
+        "glitched.csv: the rate of axis omega holds 600 readings beyond the 10⁴ °/s of any gyro \
+         (1e38 °/h; from 5000 s to 5599 s), {share} % of its {readings}: more than the 1 %"
+    );
+    let cal = p(dir.path(), "cal.json");
+    let e = fails(&["calibrate", &r[0], &path, &r[2], "--out", &cal]);
+    assert!(e.contains(&own), "{e}");
+    let o = crate::common::run::driftlab(&[
+        "compare",
+        "--train",
+        &r[0],
+        &path,
+        &r[2],
+        "--models",
+        "vakhrameev",
+    ]);
+    let said = String::from_utf8_lossy(&o.stdout).to_string() + &String::from_utf8_lossy(&o.stderr);
+    // Named by its run, not by the joined log.
+    assert!(said.contains(&format!("not fitted: {own}")), "{said}");
+}

@@ -181,3 +181,109 @@ fn convert_tells_a_stretch_of_gyro_readings_beyond_any_gyro() {
     );
     assert!(!err.contains("not written"), "{err}");
 }
+
+#[test]
+fn report_and_allan_leave_out_an_axis_holding_readings_beyond_any_sensor() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let z300 = mems_with(d, "z300.csv", 3, 1000..1300, "1e38");
+    let a300 = mems_with(d, "a300.csv", 6, 1000..1300, "1e38");
+    let clean = p(d, "clean.csv");
+    let cal = p(d, "cal.json");
+    ok(&["calibrate", &clean, "--accel", "--out", &cal]);
+    // The report judges the other axes of each log, and leaves out the one whose readings no
+    // figure can take, with the words `evaluate` refuses it with.
+    let rep = p(d, "rep");
+    let said = ok(&["report", &cal, &clean, &z300, &a300, "--out", &rep]);
+    assert!(
+        said.contains(&format!(
+            "z300.csv (left out), axis omega_z: {z300}: the rate of axis omega_z holds 300 \
+             readings beyond the 10⁴ °/s of any gyro (1e38 °/h; from 1000 s to 1299 s), 1.64 %"
+        )),
+        "{said}"
+    );
+    assert!(
+        said.contains(&format!(
+            "a300.csv (left out), axis acc_z: {a300}: accelerometer axis acc_z holds 300 \
+             readings beyond the 1000 g of any accelerometer"
+        )),
+        "{said}"
+    );
+    // No figure of 10³⁸ anywhere: not printed, not in the page.
+    assert!(!said.contains("1e38 ->"), "{said}");
+    let page = std::fs::read_to_string(format!("{rep}/report.html")).unwrap();
+    assert!(
+        !page.contains("100000000000000"),
+        "a figure of 1e38 in the page"
+    );
+    assert!(
+        page.contains(&format!(
+            "left out: {z300}: the rate of axis omega_z holds 300 readings"
+        )),
+        "the page does not say why omega_z of z300.csv is left out"
+    );
+    // The log's other axes are judged: a row of omega_x in z300.csv's table.
+    let z_table = page.split("data-log=\"z300.csv\"").nth(1).unwrap();
+    let z_table = z_table.split("</table>").next().unwrap();
+    assert!(
+        z_table.contains("<tr data-axis=\"omega_x\"><td>omega_x</td>"),
+        "{z_table}"
+    );
+    // `allan` refuses the axis as `evaluate` does, and writes no Kalibr file through it.
+    let err = fails(&["allan", &z300]);
+    assert!(
+        err.contains(&format!(
+            "{z300}: the rate of axis omega_z holds 300 readings beyond"
+        )),
+        "{err}"
+    );
+    ok(&["allan", &z300, "--axes", "omega_x"]);
+    let yaml = p(d, "imu.yaml");
+    let err = fails(&[
+        "allan",
+        &a300,
+        "--kalibr",
+        &yaml,
+        "--allow-moving-temperature",
+    ]);
+    assert!(
+        err.contains(&format!(
+            "{a300}: accelerometer axis acc_z_m_s2 holds 300 readings beyond"
+        )),
+        "{err}"
+    );
+    assert!(!std::path::Path::new(&yaml).exists());
+}
+
+#[test]
+fn at_half_the_column_the_two_sides_read_apart_and_both_keep_the_count_and_lines() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    // omega_x is column 1. 9150 of 18,301 readings are 49.99727 %, a stretch; 9151 are
+    // 50.00273 %, most of the column, whose unit is doubted. Data row 0 is line 3.
+    let below = mems_with(d, "x9150.csv", 1, 0..9150, "1e38");
+    let above = mems_with(d, "x9151.csv", 1, 0..9151, "1e38");
+    let seen = ok(&["inspect", &below]);
+    assert!(
+        seen.contains(
+            "9150 readings of \"omega_x_dph\" beyond the 10⁴ °/s of any gyro (1e38 at line 3, \
+             the first; the last at line 9152), 49.997 % of its 18301 readings"
+        ),
+        "{seen}"
+    );
+    let seen = ok(&["inspect", &above]);
+    assert!(
+        seen.contains(
+            "line 3: the rate column \"omega_x_dph\" read as deg/h reaches 2.778e34 °/s, beyond \
+             the 10⁴ °/s of any gyro on a stand, in 9151 of its 18301 readings (50.003 %, the \
+             first at line 3, the last at line 9153): more than half of the column"
+        ),
+        "{seen}"
+    );
+    // Told once, by the reader, not again by the plausibility check.
+    assert_eq!(
+        seen.matches("check its unit (--rate-unit)").count(),
+        1,
+        "{seen}"
+    );
+}

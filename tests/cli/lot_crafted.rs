@@ -464,3 +464,38 @@ fn a_shard_table_of_many_figures_is_refused_by_their_count() {
     assert!(stderr.contains(&said), "{stderr}");
     assert!(!Path::new(&sharded).join("lot.csv").exists());
 }
+
+#[test]
+fn reference_temperatures_closer_than_a_sensor_resolves_are_refused_naming_both() {
+    let dir = tempfile::tempdir().unwrap();
+    let (u, spec) = header_only_lot(dir.path(), "{}");
+    let out = p(dir.path(), "out");
+    for (text, said) in [
+        (
+            r#"{"reference_temps_c": [20, 0.1, 0.10000000000000002]}"#,
+            "reference_temps_c[2]: 0.10000000000000002 °C is within 0.01 °C of reference_temps_c[1], \
+             0.1 °C: K0 is reported at a resolution of 0.01 °C (k0_at_0.1c_dph for both)",
+        ),
+        // Apart by less than the resolution though named apart: both names given.
+        (
+            r#"{"reference_temps_c": [1e-300, 0.005]}"#,
+            "reference_temps_c[1]: 0.005 °C is within 0.01 °C of reference_temps_c[0], 1e-300 °C: \
+             K0 is reported at a resolution of 0.01 °C (k0_at_0c_dph and k0_at_0.01c_dph)",
+        ),
+        (
+            r#"{"reference_temps_c": [1e-300, 5e-7]}"#,
+            "reference_temps_c[1]: 5e-7 °C is within 0.01 °C of reference_temps_c[0], 1e-300 °C: \
+             K0 is reported at a resolution of 0.01 °C (k0_at_0c_dph for both)",
+        ),
+    ] {
+        std::fs::write(&spec, text).unwrap();
+        let (code, _, stderr) = status(&["lot", &u, "--spec", &spec, "--out", &out]);
+        assert_eq!(code, 1, "{text}: {stderr}");
+        assert!(stderr.contains(said), "{text}: {stderr}");
+        assert!(
+            stderr.contains("k0_at_0.1c_dph") || stderr.contains("k0_at_0c_dph"),
+            "{stderr}"
+        );
+    }
+    assert!(!Path::new(&out).exists());
+}

@@ -315,7 +315,9 @@ fn odd_logs_give_a_report_not_a_panic() {
     let t: Vec<f64> = (0..n).map(f64::from).collect();
     let mut w: Vec<f64> = t.iter().map(|x| (x * 0.1).sin()).collect();
     w[17] = f64::NAN;
-    w[18] = f64::INFINITY;
+    // A rate no gyro reads, and one held at zero: left out with why, not drawn.
+    let mut inf = w.clone();
+    inf[18] = f64::INFINITY;
     let logs = vec![
         (
             dir.path().join("empty.csv"),
@@ -330,9 +332,22 @@ fn odd_logs_give_a_report_not_a_panic() {
             Log::from_columns(
                 "flat",
                 t.clone(),
+                t.iter().map(|x| 1e-3 * x).collect(),
+                vec![20.0; n as usize],
+            ),
+        ),
+        (
+            dir.path().join("stuck.csv"),
+            Log::from_columns(
+                "stuck",
+                t.clone(),
                 vec![0.0; n as usize],
                 vec![20.0; n as usize],
             ),
+        ),
+        (
+            dir.path().join("inf.csv"),
+            Log::from_columns("inf", t.clone(), inf, vec![20.0; n as usize]),
         ),
         (
             dir.path().join("nan.csv"),
@@ -344,7 +359,7 @@ fn odd_logs_give_a_report_not_a_panic() {
             Log::from_columns(
                 "clock",
                 (0..n).map(|i| 1.7e9 + f64::from(i)).collect(),
-                vec![0.1; n as usize],
+                (0..n).map(|i| 0.1 + 1e-3 * f64::from(i)).collect(),
                 (0..n).map(|i| 20.0 + 0.01 * f64::from(i)).collect(),
             ),
         ),
@@ -354,7 +369,7 @@ fn odd_logs_give_a_report_not_a_panic() {
             Log::from_columns(
                 "flat",
                 vec![0.0, 1.0, 2.0],
-                vec![0.0; 3],
+                vec![0.0, 0.1, 0.0],
                 vec![1.0, 2.0, 3.0],
             ),
         ),
@@ -363,7 +378,20 @@ fn odd_logs_give_a_report_not_a_panic() {
     let summary = report::write(cal, &logs, &out, &ReportOptions::default()).unwrap();
     assert!(out.join("drift-flat.png").is_file());
     assert!(out.join("drift-flat-2.png").is_file());
-    assert_eq!(summary.logs.len(), 6);
+    assert_eq!(summary.logs.len(), 6, "{:?}", summary.left_out);
+    // Left out, each with the reason evaluate refuses it with, and not drawn.
+    let left: Vec<(&str, usize, &str)> = summary
+        .left_out
+        .iter()
+        .map(|l| (l.name.as_str(), l.index, l.reason.as_str()))
+        .collect();
+    assert_eq!(left.len(), 2, "{left:?}");
+    assert_eq!((left[0].0, left[0].1), ("stuck.csv", 3));
+    assert!(left[0].2.contains("never changes"), "{left:?}");
+    assert_eq!((left[1].0, left[1].1), ("inf.csv", 4));
+    assert!(left[1].2.contains("holds 1 reading beyond"), "{left:?}");
+    assert!(!out.join("drift-stuck.png").exists());
+    assert!(!out.join("drift-inf.png").exists());
     let clock = svg_text(&out.join("temperature-clock.svg"));
     assert!(clock.contains("time, s from the first sample"));
     assert!(summary.logs.iter().all(|l| !l.in_sample));

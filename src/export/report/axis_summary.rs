@@ -48,6 +48,15 @@ pub(super) fn summary(axes: &[PageAxis<'_>]) -> Markup {
         .map(|a| format!("{} {:.0} s", a.name, a.summary.merit.filter_s))
         .collect::<Vec<_>>()
         .join(", ");
+    // Every log given, judged or left out, by its place among the logs.
+    let count = axes
+        .iter()
+        .flat_map(|a| {
+            let judged = a.summary.logs.iter().map(|l| l.index);
+            judged.chain(a.summary.left_out.iter().map(|l| l.index))
+        })
+        .max()
+        .map_or(0, |m| m + 1);
     html! {
         h2 { "Summary of every axis" } "\n"
         p {
@@ -58,12 +67,18 @@ pub(super) fn summary(axes: &[PageAxis<'_>]) -> Markup {
              figure worse than raw, marked " b { "worse" } ")."
         }
         "\n"
-        @if first.summary.logs.is_empty() {
+        @if count == 0 {
             p { "No log was given: the calibration alone is reported." } "\n"
         }
-        @for (k, l) in first.summary.logs.iter().enumerate() {
-            h3 { (l.name) " " (tag(l)) } "\n"
-            table class="unit-summary" data-log=(l.name) {
+        @for k in 0..count {
+            @let judged = axes.iter().find_map(|a| a.summary.logs.iter().find(|l| l.index == k));
+            @let left = axes.iter().find_map(|a| a.summary.left_out.iter().find(|l| l.index == k));
+            @match (judged, left) {
+                (Some(l), _) => { h3 { (l.name) " " (tag(l)) } "\n" }
+                (None, Some(o)) => { h3 { (o.name) " (left out)" } "\n" }
+                (None, None) => {}
+            }
+            table class="unit-summary" data-log=[judged.map(|l| &l.name).or(left.map(|o| &o.name))] {
                 "\n"
                 tr {
                     th rowspan="2" { "axis" }
@@ -82,8 +97,15 @@ pub(super) fn summary(axes: &[PageAxis<'_>]) -> Markup {
                 }
                 "\n"
                 @for a in axes {
-                    @if let Some(l) = a.summary.logs.get(k) {
+                    @if let Some(l) = a.summary.logs.iter().find(|l| l.index == k) {
                         (axis_row(a, l))
+                    } @else if let Some(o) = a.summary.left_out.iter().find(|l| l.index == k) {
+                        tr data-axis=(a.name) class="left-out" {
+                            td { (a.name) }
+                            td { (a.model.name()) }
+                            td colspan="13" { "left out: " (o.reason) }
+                        }
+                        "\n"
                     }
                 }
             }

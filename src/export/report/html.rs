@@ -330,11 +330,14 @@ pub(super) fn merit_section(
             b { "held out" } ": judged on another log of the same gyro, what matters in service."
         }
         "\n"
-        @if s.logs.is_empty() {
+        @if s.logs.is_empty() && s.left_out.is_empty() {
             p { "No log was given: the calibration alone is reported." } "\n"
         }
         @for l in &s.logs {
             (merit_table(l, d, s.merit.window_s, super::campaign_section::run_of(runs, &l.sha256)))
+        }
+        @for o in &s.left_out {
+            p class="left-out" data-log=(o.name) { b { (o.name) } " is left out: " (o.reason) } "\n"
         }
     }
 }

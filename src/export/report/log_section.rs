@@ -219,6 +219,7 @@ pub(super) fn log_report(
             temp_range_c: (t_lo, t_hi),
             figures: log_figures,
             unit: kind.unit(),
+            index: 0,
         },
         drew_allan,
     ))

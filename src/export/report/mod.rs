@@ -138,6 +138,21 @@ pub struct LogReport {
     pub figures: Vec<Figure>,
     /// The unit of its figures of merit: `°/h`, `m/s²` for an accelerometer axis.
     pub unit: &'static str,
+    /// Its place among the logs given, counted from 0 (a log left out takes its place too).
+    pub index: usize,
+}
+
+/// A log left out of an axis's tables: its readings of that axis are none a figure can take
+/// ([`crate::models::check_axis_readings`]: held at one value, more readings beyond any
+/// sensor's than glitches, most samples missing), so any figure of it is 10³⁸ or rounding.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LeftOutLog {
+    /// Its name as the page shows it.
+    pub name: String,
+    /// Its place among the logs given, counted from 0.
+    pub index: usize,
+    /// Why, the words `evaluate` refuses it with.
+    pub reason: String,
 }
 
 /// What [`write()`] wrote.
@@ -149,8 +164,10 @@ pub struct ReportSummary {
     pub files: Vec<PathBuf>,
     /// The calibration's figures (K0, K1±, K2±).
     pub figures: Vec<Figure>,
-    /// Every log, in the order given.
+    /// Every log judged, in the order given.
     pub logs: Vec<LogReport>,
+    /// The logs left out, with why, in the order given.
+    pub left_out: Vec<LeftOutLog>,
     /// The merit options used.
     pub merit: MeritOptions,
     /// Things the reader should know (no in-sample log given, no Allan curves, ...).
@@ -305,8 +322,9 @@ pub fn write_model(
     out_dir: &Path,
     opts: &ReportOptions,
 ) -> Result<ReportSummary> {
+    let refused = refusals(logs);
     folder::replace(out_dir, |dir| {
-        let mut summary = build(model, logs, dir, opts, None)?;
+        let mut summary = build(model, (logs, &refused), dir, opts, None)?;
         let axis = PageAxis {
             name: "",
             rate_column: "",
@@ -364,15 +382,29 @@ pub fn write(
     )
 }
 
+/// Why each log's selected axis can take no figure, `None` for one that can
+/// ([`crate::models::check_axis_readings`], on the readings as read).
+pub(super) fn refusals(logs: &[(PathBuf, Log)]) -> Vec<Option<String>> {
+    logs.iter()
+        .map(|(_, log)| {
+            crate::models::check_axis_readings(log)
+                .err()
+                .map(|e| e.to_string())
+        })
+        .collect()
+}
+
 /// The figures and figures of merit of one axis's report, without its page: the folder made
 /// (an axis's, inside a unit's staging folder), the model's own figures, then a section for
-/// every log.
+/// every log. A log `refused` gives a reason for (its readings as read, before an
+/// accelerometer's mean is taken off) is left out of the figures, with that reason, in the
+/// summary's `left_out`.
 /// `in_sample`: whether each log is the model's own, with what the model's sketch found of it,
 /// when the caller settled it (a unit's axes, together); `None`: each log judged by the
 /// model's source alone.
 fn build(
     model: &DriftModel,
-    logs: &[(PathBuf, Log)],
+    (logs, refused): (&[(PathBuf, Log)], &[Option<String>]),
     out_dir: &Path,
     opts: &ReportOptions,
     in_sample: Option<&[Told]>,
@@ -405,7 +437,13 @@ fn build(
             .map(|((p, log), h)| model.source().judge_run(log, &file_name(p), h))
             .collect(),
     };
-    let in_sample: Vec<bool> = told.iter().map(|t| t.0).collect();
+    // A log left out is no model's own: its figures are none.
+    let is_refused = |i: usize| refused.get(i).is_some_and(Option::is_some);
+    let in_sample: Vec<bool> = told
+        .iter()
+        .enumerate()
+        .map(|(i, t)| t.0 && !is_refused(i))
+        .collect();
     let ModelFigures {
         mut taken,
         mut files,
@@ -414,9 +452,18 @@ fn build(
     } = model_figures::draw(model, logs, &in_sample, out_dir)?;
 
     let mut reports = Vec::new();
+    let mut left_out = Vec::new();
     let mut any_allan = false;
     let names = names_apart(&logs.iter().map(|(p, _)| p.as_path()).collect::<Vec<_>>());
     for (i, ((path, log), sha)) in logs.iter().zip(&hashes).enumerate() {
+        if let Some(Some(reason)) = refused.get(i) {
+            left_out.push(LeftOutLog {
+                name: names[i].clone(),
+                index: i,
+                reason: reason.clone(),
+            });
+            continue;
+        }
         let (correction, plateaus) = correct(model, in_sample[i], sha, path, log)?;
         let section = LogSection {
             path,
@@ -434,11 +481,13 @@ fn build(
                 .as_ref()
                 .map(|given| given.get(i).cloned().flatten()),
         };
-        let (report, drew_allan) = log_report(out_dir, section, &merit, &mut taken, &mut files)?;
+        let (mut report, drew_allan) =
+            log_report(out_dir, section, &merit, &mut taken, &mut files)?;
+        report.index = i;
         any_allan |= drew_allan;
         reports.push(report);
     }
-    if !any_allan && !logs.is_empty() {
+    if !any_allan && !reports.is_empty() {
         notes.push(ALLAN_NOTE.into());
     }
     Ok(ReportSummary {
@@ -446,6 +495,7 @@ fn build(
         files,
         figures,
         logs: reports,
+        left_out,
         merit,
         notes,
         unit: opts.kind.unit(),

@@ -9,7 +9,7 @@
 
 use super::folder::{self, Relocate, moved};
 use super::page::{self, PageAxis};
-use super::{LogReport, ReportOptions, ReportSummary, build, calibration};
+use super::{LeftOutLog, LogReport, ReportOptions, ReportSummary, build, calibration};
 use crate::error::{Error, Invalid, Result};
 use crate::judge::metrics::MeritOptions;
 use crate::judge::verify;
@@ -70,7 +70,21 @@ impl UnitReportSummary {
     pub fn log(&self, k: usize) -> Vec<(&str, &LogReport)> {
         self.axes
             .iter()
-            .filter_map(|a| a.summary.logs.get(k).map(|l| (a.name.as_str(), l)))
+            .filter_map(|a| {
+                let l = a.summary.logs.iter().find(|l| l.index == k)?;
+                Some((a.name.as_str(), l))
+            })
+            .collect()
+    }
+
+    /// The axes that left log `k` out, with why: (axis name, what was left out).
+    pub fn left_out(&self, k: usize) -> Vec<(&str, &LeftOutLog)> {
+        self.axes
+            .iter()
+            .filter_map(|a| {
+                let l = a.summary.left_out.iter().find(|l| l.index == k)?;
+                Some((a.name.as_str(), l))
+            })
             .collect()
     }
 }
@@ -176,6 +190,9 @@ fn write_axes(
             sha256: Some(hashes.to_vec()),
             kind: ax.kind,
         };
+        // Each log's readings of the axis checked as read, before an accelerometer's mean is
+        // taken off (a mean of 10³⁶ taken off would make every reading look beyond).
+        let refused = super::refusals(logs);
         // An accelerometer axis is reported about the mean its correction keeps, as it was
         // fitted and as `evaluate` judges it.
         let about: Option<Vec<(PathBuf, Log)>> = ax.kept_mean.map(|_| {
@@ -185,7 +202,7 @@ fn write_axes(
         });
         let summary = build(
             &ax.model,
-            about.as_deref().unwrap_or(logs),
+            (about.as_deref().unwrap_or(logs), &refused),
             &folder,
             &opts,
             Some(in_sample),

@@ -478,7 +478,7 @@ fn unread_temperatures(
 /// gives ([`crate::log::impossible`]), each column's told with its first line (`drop` the
 /// sorted rows dropped so far, which gains these). Too many such readings to be glitches are
 /// kept and told with their first and last lines (no fit takes the axis); most of a column
-/// beyond is left to the plausibility check, which doubts its unit.
+/// beyond is the column's own, and its unit is doubted, with the same count and lines.
 fn impossible_rates(
     acc: &mut Acc,
     plan: &Plan,
@@ -517,7 +517,18 @@ fn impossible_rates(
                 ),
                 "gyro",
             ),
-            Verdict::Column => continue,
+            // Most of the column: its unit is doubted, told here with its lines (the
+            // plausibility check, which tells a drone log's, leaves one told so alone).
+            Verdict::Column => b.column_message(
+                &format!("the rate column \"{}\"", crate::text::escaped(name, false)),
+                column
+                    .and_then(|c| plan.columns.get(c))
+                    .map_or("deg/h", |c| c.unit.as_str()),
+                (
+                    &format!("line {line}"),
+                    &format!("line {}", line_at(b.samples[b.samples.len() - 1])),
+                ),
+            ),
         };
         problems.push(Problem {
             line,
@@ -538,7 +549,7 @@ fn impossible_rates(
 /// rows are dropped, as a blank rate cell's are, and told with the first line; more are the
 /// column's own (an axis logged at a lower rate, or not at all) and are kept as NaN and told
 /// with their share: the other axes keep their rows, and every fit and judgement refuses that
-/// axis ([`crate::models::check_rate_moves`]). `drop` (the sorted rows dropped so far) gains
+/// axis ([`crate::models::check_axis_readings`]). `drop` (the sorted rows dropped so far) gains
 /// the rows dropped.
 ///
 /// [`MOST_GLITCH_SHARE`]: crate::log::impossible::MOST_GLITCH_SHARE
@@ -575,7 +586,7 @@ fn missing_axis_cells(
                  or unreadable (first at line {line}): more than the {} % whose rows are \
                  dropped, so they are kept as missing, the other axes keep their rows, and \
                  that axis is neither fitted nor judged",
-                crate::number::significant(100.0 * n as f64 / col.len() as f64, 3),
+                crate::log::impossible::share_percent(n, col.len()),
                 col.len(),
                 100.0 * MOST_GLITCH_SHARE
             )

@@ -448,7 +448,14 @@ pub(crate) fn axis_name(name: &str) -> String {
 /// alike.
 pub(crate) fn axis_names(columns: &[(usize, &str)]) -> Vec<String> {
     let bases: Vec<String> = columns.iter().map(|(_, n)| axis_name(n)).collect();
-    let count = |list: &[String], s: &String| list.iter().filter(|b| *b == s).count();
+    // Each name's count taken once: counting it per column made hundreds of columns slow.
+    let counts = |list: &[String]| {
+        let mut c: std::collections::HashMap<String, usize> = std::collections::HashMap::new();
+        for s in list {
+            *c.entry(s.clone()).or_default() += 1;
+        }
+        c
+    };
     let whole: Vec<String> = columns
         .iter()
         .zip(&bases)
@@ -461,13 +468,17 @@ pub(crate) fn axis_names(columns: &[(usize, &str)]) -> Vec<String> {
             }
         })
         .collect();
+    let of_bases = counts(&bases);
+    let of_whole = counts(&whole);
+    let count =
+        |c: &std::collections::HashMap<String, usize>, s: &String| c.get(s).copied().unwrap_or(0);
     columns
         .iter()
         .enumerate()
         .map(|(k, (index, _))| {
-            if count(&bases, &bases[k]) == 1 {
+            if count(&of_bases, &bases[k]) == 1 {
                 bases[k].clone()
-            } else if count(&whole, &whole[k]) == 1 && count(&bases, &whole[k]) == 0 {
+            } else if count(&of_whole, &whole[k]) == 1 && count(&of_bases, &whole[k]) == 0 {
                 whole[k].clone()
             } else {
                 format!("{}_col{index}", bases[k])

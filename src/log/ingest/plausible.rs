@@ -299,22 +299,34 @@ fn rates_beyond(log: &Log) -> Vec<Problem> {
                     .iter()
                     .find(|c| c.role == ColumnRole::Rate && axis == log.axis)
             });
+        // The CSV reader tells a column of it with its lines as it reads.
+        let told = log.info.problems.iter().any(|p| {
+            p.kind == ProblemKind::Implausible
+                && p.line > 0
+                && p.count == b.samples.len()
+                && p.column.is_some()
+                && p.column == column.map(|c| c.index)
+        });
+        if told {
+            continue;
+        }
         let (what, unit) = match column {
             Some(c) => (format!("the rate column \"{}\"", c.name), c.unit.clone()),
             None => (format!("the rate of axis {axis}"), "deg/h".to_string()),
         };
-        let worst = b.worst.abs() / 3600.0;
+        let at = |k: usize| {
+            let t = log.time_s.get(k).copied().unwrap_or(f64::NAN);
+            format!("{} s", crate::number::readable(t))
+        };
         out.push(Problem {
             line: 0,
             column: column.map(|c| c.index),
             kind: ProblemKind::Implausible,
-            count: 1,
-            message: format!(
-                "{what} read as {unit} reaches {:.3e} °/s, beyond the 10⁴ °/s of any gyro on a \
-                 stand, in {} % of its readings: check its unit (rate_unit) or choose another \
-                 column (rate_col)",
-                worst,
-                crate::number::significant(100.0 * b.share(), 3)
+            count: b.samples.len(),
+            message: b.column_message(
+                &what,
+                &unit,
+                (&at(b.samples[0]), &at(b.samples[b.samples.len() - 1])),
             ),
         });
     }
