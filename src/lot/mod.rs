@@ -127,6 +127,21 @@ pub enum LotError {
     /// An output of the lot could not be written.
     #[error(transparent)]
     Write(#[from] crate::Error),
+    /// A unit's calibration could not be written: the output's fault (a full disk, a quota, a
+    /// folder that cannot be written), not the unit's. The lot stops before its tables, and no
+    /// unit is made an error for it, so no earlier lot's calibration is removed.
+    #[error(
+        "unit {unit}: its calibration could not be written: {source}: the lot stopped before its \
+         tables, and lot.csv, lot.json and lot.html are as the last lot left them; no unit's \
+         earlier files were removed (the units written before it keep their new calibration and \
+         record, and a lot run again takes them from there)"
+    )]
+    Unwritten {
+        /// The unit whose calibration could not be written.
+        unit: String,
+        /// Why.
+        source: crate::Error,
+    },
 }
 
 /// How a unit came out.

@@ -73,7 +73,7 @@ pub fn run(lot: &Lot, progress: &mut dyn FnMut(Progress<'_>)) -> Result<LotOutco
         report: lot.report,
     };
     let Some(shard) = lot.shard else {
-        let units = in_parallel(&jobs, lot.jobs, &context, progress);
+        let units = in_parallel(&jobs, lot.jobs, &context, progress)?;
         let outliers = LotOutcome::find_outliers(&lot.spec, &units);
         let outcome = LotOutcome {
             spec: lot.spec.clone(),
@@ -89,7 +89,7 @@ pub fn run(lot: &Lot, progress: &mut dyn FnMut(Progress<'_>)) -> Result<LotOutco
         .filter(|(_, j)| shard.holds(&j.name))
         .map(|(k, j)| (k, j.clone()))
         .unzip();
-    let units = in_parallel(&mine, lot.jobs, &context, progress);
+    let units = in_parallel(&mine, lot.jobs, &context, progress)?;
     super::shard::write(
         &lot.out,
         &ShardTable {
@@ -133,22 +133,29 @@ pub(super) struct Context<'a> {
 
 /// Every job's outcome, in the jobs' order, from `workers` threads each taking the next job
 /// when done with its last; `progress` told on this thread as each arrives.
+///
+/// # Errors
+/// The first unit whose calibration could not be written ([`LotError::Unwritten`]): no
+/// worker takes a new job after it, and the ones under way finish.
 fn in_parallel(
     jobs: &[UnitJob],
     workers: usize,
     context: &Context<'_>,
     progress: &mut dyn FnMut(Progress<'_>),
-) -> Vec<UnitOutcome> {
-    let next = std::sync::atomic::AtomicUsize::new(0);
+) -> Result<Vec<UnitOutcome>, LotError> {
+    use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+    let next = AtomicUsize::new(0);
+    let stop = AtomicBool::new(false);
     let mut slots: Vec<Option<UnitOutcome>> = vec![None; jobs.len()];
-    let (send, receive) = std::sync::mpsc::channel::<(usize, UnitOutcome)>();
+    let mut unwritten = None;
+    let (send, receive) = std::sync::mpsc::channel::<(usize, Result<UnitOutcome, LotError>)>();
     std::thread::scope(|scope| {
         for _ in 0..workers.clamp(1, jobs.len().max(1)) {
             let send = send.clone();
-            let next = &next;
+            let (next, stop) = (&next, &stop);
             scope.spawn(move || {
-                loop {
-                    let k = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                while !stop.load(Ordering::Relaxed) {
+                    let k = next.fetch_add(1, Ordering::Relaxed);
                     let Some(job) = jobs.get(k) else { break };
                     if send.send((k, guarded(job, context))).is_err() {
                         break;
@@ -157,16 +164,30 @@ fn in_parallel(
             });
         }
         drop(send);
-        for (done, (k, outcome)) in receive.into_iter().enumerate() {
-            progress(Progress {
-                done: done + 1,
-                total: jobs.len(),
-                unit: &outcome,
-            });
-            slots[k] = Some(outcome);
+        let mut done = 0;
+        for (k, outcome) in receive {
+            match outcome {
+                Ok(outcome) => {
+                    done += 1;
+                    progress(Progress {
+                        done,
+                        total: jobs.len(),
+                        unit: &outcome,
+                    });
+                    slots[k] = Some(outcome);
+                }
+                Err(e) => {
+                    stop.store(true, Ordering::Relaxed);
+                    unwritten.get_or_insert(e);
+                }
+            }
         }
     });
-    jobs.iter()
+    if let Some(e) = unwritten {
+        return Err(e);
+    }
+    Ok(jobs
+        .iter()
         .zip(slots)
         .map(|(job, slot)| {
             slot.unwrap_or_else(|| {
@@ -177,26 +198,29 @@ fn in_parallel(
                 )
             })
         })
-        .collect()
+        .collect())
 }
 
 /// [`calibrate_unit`], with a defect of driftlab that panics made that unit's error rather
 /// than the end of the lot.
-fn guarded(job: &UnitJob, context: &Context<'_>) -> UnitOutcome {
+///
+/// # Errors
+/// [`LotError::Unwritten`], which stops the lot.
+fn guarded(job: &UnitJob, context: &Context<'_>) -> Result<UnitOutcome, LotError> {
     let run = std::panic::AssertUnwindSafe(|| calibrate_unit(job, context));
     let mut outcome = std::panic::catch_unwind(run).unwrap_or_else(|_| {
-        errored(
+        Ok(errored(
             job,
             None,
             "internal: the unit's calibration stopped on a defect of driftlab (please report \
              this)",
-        )
-    });
+        ))
+    })?;
     if outcome.status == Status::Error {
         let left = cache::forget(&context.out.join(&job.folder));
         outcome.warnings.extend(left);
     }
-    outcome
+    Ok(outcome)
 }
 
 /// Refuses an output folder inside a folder of units, or one that holds a folder of units or

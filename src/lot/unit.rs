@@ -6,7 +6,7 @@
 use super::figures::axis_figures;
 use super::run::Context;
 use super::units::UnitJob;
-use super::{Status, UnitOutcome, cache, verdict};
+use super::{LotError, Status, UnitOutcome, cache, verdict};
 use crate::files::calibration;
 use crate::log::campaign::RunInput;
 use crate::log::ingest::ReadOptions;
@@ -15,8 +15,16 @@ use crate::models::campaign::{CampaignOptions, JoinedRuns, UnitPlan, calibrate_r
 use crate::models::{CheckedRecipe, Keep, ModelChoice, Preset, Recipe};
 use std::path::{Path, PathBuf};
 
-/// One unit read, calibrated, judged and its calibration written.
-pub(super) fn calibrate_unit(job: &UnitJob, context: &Context<'_>) -> UnitOutcome {
+/// One unit read, calibrated, judged and its calibration written; an error of the unit's (its
+/// runs, its recipe, its fit) is its outcome, with the status error.
+///
+/// # Errors
+/// [`LotError::Unwritten`]: its calibration could not be written, which is the output's fault,
+/// not the unit's, and stops the lot.
+pub(super) fn calibrate_unit(
+    job: &UnitJob,
+    context: &Context<'_>,
+) -> Result<UnitOutcome, LotError> {
     let recipe_file = job
         .recipe
         .as_deref()
@@ -24,25 +32,25 @@ pub(super) fn calibrate_unit(job: &UnitJob, context: &Context<'_>) -> UnitOutcom
         .map(|p| p.display().to_string());
     let fail = |message: String| errored(job, recipe_file.clone(), &message);
     if let Some(problem) = &job.problem {
-        return fail(problem.clone());
+        return Ok(fail(problem.clone()));
     }
     let recipe = match (&job.recipe, context.shared) {
         (Some(own), _) => match load_recipe(own) {
             Ok(r) => r,
             // A file's error names it already; a value's does not.
-            Err(e) if e.starts_with(&format!("{}: ", own.display())) => return fail(e),
-            Err(e) => return fail(format!("{}: {e}", own.display())),
+            Err(e) if e.starts_with(&format!("{}: ", own.display())) => return Ok(fail(e)),
+            Err(e) => return Ok(fail(format!("{}: {e}", own.display()))),
         },
         (None, Some((_, shared))) => shared.clone(),
         (None, None) => match Recipe::default().checked() {
             Ok(r) => r,
-            Err(e) => return fail(e.to_string()),
+            Err(e) => return Ok(fail(e.to_string())),
         },
     };
     let folder = context.out.join(&job.folder);
     let key = match cache::key(&job.runs, recipe.recipe(), context.spec, context.report) {
         Ok(k) => k,
-        Err(e) => return fail(e),
+        Err(e) => return Ok(fail(e)),
     };
     // A record that holds what the lot does not compute is no record: the unit is calibrated
     // again, saying why.
@@ -62,7 +70,7 @@ pub(super) fn calibrate_unit(job: &UnitJob, context: &Context<'_>) -> UnitOutcom
                 if outcome.status != Status::Error
                     && (outcome.report.is_some() || !context.report) =>
             {
-                return outcome;
+                return Ok(outcome);
             }
             Ok(_) => {}
             Err(e) => refused_record = Some(format!("{e}; calibrated again")),
@@ -74,12 +82,12 @@ pub(super) fn calibrate_unit(job: &UnitJob, context: &Context<'_>) -> UnitOutcom
     for (path, run) in job.runs.iter().zip(&key.runs) {
         match read_run(path, run.sha256.clone(), &mut warnings) {
             Ok(run) => runs.push(run),
-            Err(e) => return fail(e),
+            Err(e) => return Ok(fail(e)),
         }
     }
     let mut joined = match JoinedRuns::join(runs, &job.runs) {
         Ok(j) => j,
-        Err(e) => return fail(e.to_string()),
+        Err(e) => return Ok(fail(e.to_string())),
     };
     // Each axis's corrected rate kept from its fit: its Allan figures are read from it,
     // rather than from the log corrected a second time.
@@ -94,7 +102,7 @@ pub(super) fn calibrate_unit(job: &UnitJob, context: &Context<'_>) -> UnitOutcom
     };
     let mut fitted = match calibrate_runs(&mut joined, &plan) {
         Ok(f) => f,
-        Err(e) => return fail(about(&joined.log.source, &e)),
+        Err(e) => return Ok(fail(about(&joined.log.source, &e))),
     };
     warnings.extend(fitted.warnings.iter().cloned());
     warnings.extend(fitted.settings_told.iter().map(|i| i.to_string()));
@@ -111,11 +119,21 @@ pub(super) fn calibrate_unit(job: &UnitJob, context: &Context<'_>) -> UnitOutcom
         axis.corrected = None;
     }
     let file = Path::new(&job.folder).join(cache::CALIBRATION);
+    let path = context.out.join(&file);
+    // A calibration this build would not read back is the unit's error; one that cannot be
+    // put on the disk is the output's, and stops the lot.
+    let text = match calibration::checked_text(&path, &fitted.unit) {
+        Ok(text) => text,
+        Err(e) => return Ok(fail(format!("its calibration could not be written: {e}"))),
+    };
     let written = std::fs::create_dir_all(&folder)
-        .map_err(|e| crate::Error::io(&folder, e))
-        .and_then(|()| calibration::save_unit(&context.out.join(&file), &fitted.unit));
-    if let Err(e) = written {
-        return fail(format!("its calibration could not be written: {e}"));
+        .and_then(|()| crate::files::atomic::write_bytes(&path, text.as_bytes()))
+        .map_err(|e| crate::Error::io(&path, e));
+    if let Err(source) = written {
+        return Err(LotError::Unwritten {
+            unit: job.name.clone(),
+            source,
+        });
     }
     let report = if context.report {
         match write_report(job, &key, &joined.log, &fitted.unit, &folder) {
@@ -155,7 +173,7 @@ pub(super) fn calibrate_unit(job: &UnitJob, context: &Context<'_>) -> UnitOutcom
         cached: false,
     };
     // Without its record the unit is calibrated again next time: said, not an error.
-    match cache::record(&folder, &key, &outcome) {
+    Ok(match cache::record(&folder, &key, &outcome) {
         Ok(()) => outcome,
         Err(e) => {
             let mut outcome = outcome;
@@ -164,7 +182,7 @@ pub(super) fn calibrate_unit(job: &UnitJob, context: &Context<'_>) -> UnitOutcom
             ));
             outcome
         }
-    }
+    })
 }
 
 /// A unit's report page in its folder.

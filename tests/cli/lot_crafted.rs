@@ -499,3 +499,71 @@ fn reference_temperatures_closer_than_a_sensor_resolves_are_refused_naming_both(
     }
     assert!(!Path::new(&out).exists());
 }
+
+/// Every file under `dir`, with its bytes, by path.
+fn files_under(dir: &Path) -> std::collections::BTreeMap<String, Vec<u8>> {
+    let mut out = std::collections::BTreeMap::new();
+    let mut todo = vec![dir.to_path_buf()];
+    while let Some(d) = todo.pop() {
+        for e in std::fs::read_dir(&d).unwrap() {
+            let path = e.unwrap().path();
+            if path.is_dir() {
+                todo.push(path);
+            } else {
+                out.insert(path.display().to_string(), std::fs::read(&path).unwrap());
+            }
+        }
+    }
+    out
+}
+
+/// A lot run again when the disk takes no more (a file-size limit, its signal ignored, as a
+/// full disk refuses a write) is the output's fault, not its units': it stops, exit 1, naming
+/// the file, and the last lot's calibrations, records, reports and tables are left whole
+/// (they were removed, every unit made an error, and an all-error table written).
+#[cfg(unix)]
+#[test]
+fn a_lot_run_again_on_a_full_disk_stops_and_leaves_the_last_lot_whole() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (units, spec) = small_lot(tmp.path());
+    let out = p(tmp.path(), "out");
+    let (code, _, err) = status(&["lot", &units, "--spec", &spec, "--out", &out, "--report"]);
+    // The noisy unit fails the spec (2); nothing is an error.
+    assert_eq!(code, 2, "{err}");
+    let before = files_under(Path::new(&out));
+    assert!(
+        before
+            .keys()
+            .filter(|k| k.ends_with("calibration.json"))
+            .count()
+            == 3
+            && before.keys().any(|k| k.ends_with("report.html")),
+        "{:?}",
+        before.keys()
+    );
+    // Another spec: every unit is calibrated again, and its calibration outgrows the limit.
+    let spec2 = p(tmp.path(), "spec2.json");
+    std::fs::write(&spec2, r#"{"max_arw_deg_rt_h": 1e-9}"#).unwrap();
+    let run = std::process::Command::new("sh")
+        .arg("-c")
+        .arg("trap '' XFSZ; ulimit -f 8; exec \"$0\" \"$@\"")
+        .arg(env!("CARGO_BIN_EXE_driftlab"))
+        .args([
+            "lot", &units, "--spec", &spec2, "--out", &out, "--jobs", "1",
+        ])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&run.stderr);
+    assert_eq!(run.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("calibration.json")
+            && err.contains("could not be written")
+            && err.contains("the lot stopped before its tables"),
+        "{err}"
+    );
+    let after = files_under(Path::new(&out));
+    // The lock is the running lot's own (it names its holder).
+    for (path, bytes) in before.iter().filter(|(k, _)| !k.ends_with(".lock")) {
+        assert!(after.get(path) == Some(bytes), "{path} changed or gone");
+    }
+}

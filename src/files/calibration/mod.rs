@@ -220,7 +220,7 @@ fn check(unit: &UnitCalibration) -> std::result::Result<(), String> {
 /// The text of `unit`'s file, if this build would read it back: the checks loading runs, on
 /// the unit and then on the text itself (a number that is not finite is written by JSON as
 /// `null`, which no reader takes). The error says why nothing was written.
-fn checked_text(path: &Path, unit: &UnitCalibration) -> Result<String> {
+pub(crate) fn checked_text(path: &Path, unit: &UnitCalibration) -> Result<String> {
     let not_written = |message: String| Error::File {
         path: path.to_path_buf(),
         message: format!("not written: {message}"),
