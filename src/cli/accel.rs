@@ -32,21 +32,44 @@ impl LogArgs {
         Ok(AccelAsk { columns, unit })
     }
 
-    /// Refuses the accelerometer options for a command that reads no accelerometer axis.
-    pub fn refuse_accel(&self, command: &str) -> Result<(), CliError> {
-        for (option, given) in [
+    /// The accelerometer options given, by name.
+    fn accel_options_given(&self) -> Vec<&'static str> {
+        [
             ("--accel-col", !self.accel_col.is_empty()),
             ("--accel-unit", self.accel_unit.is_some()),
-        ] {
-            if given {
-                return Err(format!(
-                    "{option}: {command} reads no accelerometer axis (calibrate --accel, \
-                     apply, evaluate, report and gui do)"
-                )
-                .into());
-            }
+        ]
+        .into_iter()
+        .filter_map(|(option, given)| given.then_some(option))
+        .collect()
+    }
+
+    /// Refuses the accelerometer options given for a calibration that has no accelerometer
+    /// axis, naming the options given and the axes it has.
+    pub fn refuse_accel_without(&self, unit: &UnitCalibration) -> Result<(), String> {
+        let given = self.accel_options_given();
+        if given.is_empty() {
+            return Ok(());
         }
-        Ok(())
+        let axes = match unit.axis_names().as_slice() {
+            [""] => "it holds one gyro axis".to_string(),
+            names => format!("its axes: {}", names.join(", ")),
+        };
+        Err(format!(
+            "{}: the calibration has no accelerometer axis ({axes})",
+            given.join(", ")
+        ))
+    }
+
+    /// Refuses the accelerometer options for a command that reads no accelerometer axis.
+    pub fn refuse_accel(&self, command: &str) -> Result<(), CliError> {
+        match self.accel_options_given().first() {
+            Some(option) => Err(format!(
+                "{option}: {command} reads no accelerometer axis (calibrate --accel, apply, \
+                 evaluate, report and gui do)"
+            )
+            .into()),
+            None => Ok(()),
+        }
     }
 
     /// Makes the accelerometer axes `ask` names axes of `log`, after its gyro axes; their

@@ -289,16 +289,13 @@ impl LogArgs {
             .all(|ax| matches!(ax.model.inputs(), (None, c) if c.is_empty()));
         let log = if unit.has_accelerometers() {
             self.read_with_accelerometers(input, unit, plain)?
-        } else if self.accel_given() {
-            return Err(format!(
-                "--accel-col, --accel-unit: the calibration has no accelerometer axis (its axes: \
-                 {})",
-                unit.axis_names().join(", ")
-            ));
-        } else if plain {
-            self.read_columns(input)?
         } else {
-            self.read(input)?
+            self.refuse_accel_without(unit)?;
+            if plain {
+                self.read_columns(input)?
+            } else {
+                self.read(input)?
+            }
         };
         if unit.is_unit() {
             self.refuse_rate_cols_beside(unit, &log)?;

@@ -148,13 +148,8 @@ fn read_logs(
         kept.names.extend(super::accel::by_name(&ask));
         kept.accelerometers |= super::accel::by_name(&ask).len() < ask.columns.len();
         Some(ask)
-    } else if a.log_args.accel_given() {
-        return Err(format!(
-            "--accel-col, --accel-unit: the calibration has no accelerometer axis (its axes: {})",
-            unit.axis_names().join(", ")
-        )
-        .into());
     } else {
+        a.log_args.refuse_accel_without(unit)?;
         None
     };
     let needs = Needs {

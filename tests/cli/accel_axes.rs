@@ -163,6 +163,30 @@ fn what_cannot_reach_an_accelerometer_is_refused_by_name() {
     );
     let e = fails(&["calibrate", &train, &train, "--accel", "--out", &cal]);
     assert!(e.contains("--accel: a campaign of 2 runs"), "{e}");
+    // A calibration of one gyro axis, given accelerometer options: the option given, and what
+    // the calibration holds, named (it said "--accel-col, --accel-unit: … (its axes: )").
+    let fog_cal = p(dir.path(), "fog.json");
+    ok(&["calibrate", &fog, "--out", &fog_cal]);
+    let e = fails(&["evaluate", &fog_cal, &fog, "--accel-unit", "mg"]);
+    assert!(
+        e.contains(
+            "--accel-unit: the calibration has no accelerometer axis (it holds one gyro axis)"
+        ),
+        "{e}"
+    );
+    let e = fails(&[
+        "report",
+        &fog_cal,
+        &fog,
+        "--accel-col",
+        "3",
+        "--out",
+        &p(dir.path(), "r"),
+    ]);
+    assert!(
+        e.contains("--accel-col: the calibration has no accelerometer axis (it holds one"),
+        "{e}"
+    );
 }
 
 /// The `mems-imu` log of `path` rewritten by `edit` (of its header line and of each data
