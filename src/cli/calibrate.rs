@@ -175,20 +175,36 @@ impl Args {
             };
         }
         // By the engine's rules: another kind keeps the recipe's hand-placed knots while it has
-        // knots, another count spreads them evenly again.
-        let set = |spec: &mut ApproxSpec, kind: Option<ApproxKind>| {
-            if let Some(k) = kind {
+        // knots, another count spreads them evenly again. Knots dropped so are told: they were
+        // placed on purpose, and the option that drops them says nothing of them.
+        let mut dropped = Vec::new();
+        let mut set = |name: &str, spec: &mut ApproxSpec, kind: Option<(&str, ApproxKind)>| {
+            let by_hand = spec.hand_knots();
+            let mut by = Vec::new();
+            if let Some((option, k)) = kind {
                 *spec = spec.with_kind(k);
+                by.push(format!("{option} {k}"));
             }
             if let Some(n) = self.knots {
                 *spec = spec.with_knot_count(n);
+                by.push(format!("--knots {n}"));
+            }
+            if by_hand && !spec.hand_knots() {
+                dropped.push(format!(
+                    "note: {}: {name}'s knots placed or set by hand{} are dropped",
+                    by.join(", "),
+                    from.map(|f| format!(" in {f}")).unwrap_or_default()
+                ));
             }
         };
-        set(&mut r.k0, self.k0);
-        set(&mut r.k1_plus, self.k1);
-        set(&mut r.k1_minus, self.k1);
-        set(&mut r.k2_plus, self.k2);
-        set(&mut r.k2_minus, self.k2);
+        set("K0", &mut r.k0, self.k0.map(|k| ("--k0", k)));
+        set("K1+", &mut r.k1_plus, self.k1.map(|k| ("--k1", k)));
+        set("K1−", &mut r.k1_minus, self.k1.map(|k| ("--k1", k)));
+        set("K2+", &mut r.k2_plus, self.k2.map(|k| ("--k2", k)));
+        set("K2−", &mut r.k2_minus, self.k2.map(|k| ("--k2", k)));
+        for d in dropped {
+            note!("{d}");
+        }
         r.filter_s = self.filter.unwrap_or(r.filter_s);
         r.temp_smoothing_s = self.smooth.unwrap_or(r.temp_smoothing_s);
         r.step_h_s = self.step_h.unwrap_or(r.step_h_s);

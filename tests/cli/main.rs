@@ -29,6 +29,7 @@ mod impossible_readings;
 mod in_sample;
 mod in_sample_told;
 mod kalibr;
+mod knots_dropped;
 mod lot;
 mod lot_crafted;
 mod output_hashes;
