@@ -251,8 +251,8 @@ fn read_blocks(
     block_bytes: usize,
 ) -> Result<Log, Fail> {
     let total = src.len()?;
-    let (head, eof) = read_head(&mut *src.open_at(0)?, HEAD_LINES).map_err(io_fail)?;
-    let sn = sniff(&head, eof, opts, 0)?;
+    let head = read_head(&mut *src.open_at(0)?, HEAD_LINES).map_err(io_fail)?;
+    let sn = sniff(&head, opts, 0)?;
     drop(head);
     let (checked, trim) = with_other_temperatures(opts, needs);
     let (opts, needs) = (&checked.0, &checked.1);
@@ -550,8 +550,8 @@ fn quote_runs_on(o: OpenQuote) -> Fail {
 pub(crate) fn preview(src: Src<'_>, opts: &ReadOptions, max_rows: usize) -> Result<Preview, Fail> {
     src.len()?;
     let min_lines = max_rows.saturating_add(HEAD_LINES);
-    let (head, eof) = read_head(&mut *src.open_at(0)?, min_lines).map_err(io_fail)?;
-    let sn = sniff(&head, eof, opts, max_rows)?;
+    let head = read_head(&mut *src.open_at(0)?, min_lines).map_err(io_fail)?;
+    let sn = sniff(&head, opts, max_rows)?;
     let (columns, mapping_error, time_from_sample_rate) = match plan(&sn, opts) {
         Ok(p) => (
             p.columns,
