@@ -15,6 +15,15 @@ fn mems_with(
     rows: std::ops::Range<usize>,
     cell: &str,
 ) -> String {
+    mems_with_cells(dir, name, &[(col, rows, cell)])
+}
+
+/// [`mems_with`] with several columns' cells set, each `(col, rows, cell)`.
+fn mems_with_cells(
+    dir: &std::path::Path,
+    name: &str,
+    edits: &[(usize, std::ops::Range<usize>, &str)],
+) -> String {
     let clean = p(dir, "clean.csv");
     if !std::path::Path::new(&clean).exists() {
         ok(&[
@@ -32,13 +41,13 @@ fn mems_with(
     let mut out = String::new();
     for line in text.lines() {
         if line.starts_with(|c: char| c.is_ascii_digit()) {
-            if rows.contains(&row) {
-                let mut cells: Vec<&str> = line.split(',').collect();
-                cells[col] = cell;
-                out.push_str(&cells.join(","));
-            } else {
-                out.push_str(line);
+            let mut cells: Vec<&str> = line.split(',').collect();
+            for (col, rows, cell) in edits {
+                if rows.contains(&row) {
+                    cells[*col] = cell;
+                }
             }
+            out.push_str(&cells.join(","));
             row += 1;
         } else {
             out.push_str(line);
@@ -111,6 +120,34 @@ fn a_nan_on_the_third_axis_drops_its_row_for_calibrate_and_allan_alike() {
     assert!(
         err.contains("1 row dropped: blank, NaN, infinite or unreadable in column \"omega_z_dph\""),
         "{err}"
+    );
+}
+
+#[test]
+fn each_axis_is_judged_against_the_file_s_rows_whatever_the_other_axes_drop() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    // 183 of the file's 18,301 rows (1.000 %) on omega_x and as many, in other rows, on
+    // omega_y: each alone is dropped, so together both are (the second once was judged
+    // against the 18,118 rows the first left, 1.01 %, and refused).
+    for (name, y_cell) in [("blank_blank.csv", ""), ("blank_glitch.csv", "1e38")] {
+        let log = mems_with_cells(d, name, &[(1, 0..183, ""), (2, 5000..5183, y_cell)]);
+        let err = ok(&["calibrate", &log, "--out", &p(d, "c.json")]);
+        assert!(err.contains("written"), "{name}: {err}");
+        let seen = ok(&["inspect", &log]);
+        assert!(seen.contains("183 rows dropped: blank or NaN in column \"omega_x_dph\""));
+        assert!(seen.contains("\"omega_y_dph\""), "{name}: {seen}");
+        assert!(
+            !seen.contains("neither fitted nor judged"),
+            "{name}: {seen}"
+        );
+    }
+    // One cell more on omega_y is more than 1 % of the file's rows, whatever omega_x drops.
+    let log = mems_with_cells(d, "over.csv", &[(1, 0..183, ""), (2, 5000..5184, "")]);
+    let seen = ok(&["inspect", &log]);
+    assert!(
+        seen.contains("184 cells of column \"omega_y_dph\" (1.01 % of the file's 18301 rows)"),
+        "{seen}"
     );
 }
 

@@ -308,8 +308,8 @@ fn an_axis_mostly_blank_keeps_the_other_axes_rows_and_is_refused_alone() {
     assert_eq!(m.len(), 1, "{:?}", log.info.problems);
     assert!(
         m[0].starts_with(
-            "2000 cells of column \"omega_y_dph\" (66.7 % of its 3000 rows) are blank, NaN, \
-             infinite or unreadable (first at line 3)"
+            "2000 cells of column \"omega_y_dph\" (66.7 % of the file's 3000 rows) are blank, \
+             NaN, infinite or unreadable (first at line 3)"
         ),
         "{}",
         m[0]

@@ -219,6 +219,37 @@ fn quoted_field_spanning_lines_keeps_line_numbers() {
     close(&log.omega_dph, &[1.0, 2.0, 3.0, 4.0]);
 }
 
+#[test]
+fn quote_left_open_is_refused_where_it_opened() {
+    // A header, a quote opened in the rate cell, then lines of blank cells: the field runs on
+    // past what a cell can be, and is refused at its line and column however long the file.
+    for after in [17, 200_000] {
+        let text = format!(
+            "time_s,omega_dph,temp_c\n0,\"1,20\n{}",
+            ",,\n".repeat(after)
+        );
+        let e = fail(text.as_bytes(), &opts());
+        assert_eq!((e.line, e.column), (2, 2), "{e}");
+        assert!(e.message.contains("still open after 17 lines"), "{e}");
+    }
+    // Closed at the end of the file, it is refused just the same.
+    let text = format!(
+        "time_s,omega_dph,temp_c\n0,\"1,20\n{}\",1,20\n",
+        ",,\n".repeat(200_000)
+    );
+    let e = fail(text.as_bytes(), &opts());
+    assert_eq!((e.line, e.column), (2, 2), "{e}");
+    // Left open on the last lines, it is never closed: named where it opened.
+    let e = fail(b"time,omega,temp,note\n0,1,20,ok\n1,2,21,\"a\nb\n", &opts());
+    assert_eq!((e.line, e.column), (3, 4), "{e}");
+    assert!(e.message.contains("never closed"), "{e}");
+    // A short word on a few lines is still one cell.
+    let text = "time,omega,temp,note\n0,1,20,ok\n1,2,21,\"a\nb\nc\"\n2,3,22,\"\"\"x\"\"\"\n\
+                3,4,23,ok\n4,5,24,ok\n";
+    let log = read(text);
+    close(&log.omega_dph, &[1.0, 2.0, 3.0, 4.0, 5.0]);
+}
+
 // ---------------------------------------------------------------------------------------------
 // Units
 

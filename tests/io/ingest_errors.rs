@@ -195,6 +195,28 @@ fn broken_files_give_clear_errors() {
 }
 
 #[test]
+fn any_number_of_comment_lines_before_the_header_is_skipped() {
+    // Far more comment bytes than the head sniffed at once (a logger's settings dump).
+    for (bom, end) in [("", "\n"), ("\u{feff}", "\r\n")] {
+        let preamble = format!("# setting = value{end}\n").repeat(20_000);
+        let rows = "time,omega,temp\n0,1,20\n1,2,21\n2,3,22\n";
+        let log = read(&format!("{bom}{preamble}{rows}"));
+        close(&log.omega_dph, &[1.0, 2.0, 3.0]);
+        close(&log.temp_c, &[20.0, 21.0, 22.0]);
+        // Lines keep their numbers in the file: 40,000 preamble lines, the header, three rows.
+        let bad = format!("{bom}{preamble}{rows}3,x,23\n");
+        let e = read_bytes("t.csv", bad.as_bytes(), &opts()).unwrap_err();
+        assert_eq!((e.line, e.column), (40_005, 2), "{e}");
+    }
+    let e = read_bytes("t.csv", "# c\n".repeat(20_000).as_bytes(), &opts()).unwrap_err();
+    assert!(
+        e.message
+            .contains("its 20000 lines are all blank or comment lines"),
+        "{e}"
+    );
+}
+
+#[test]
 fn huge_lines_are_refused() {
     let mut big = b"time,omega,temp\n0,1,20\n".to_vec();
     big.extend(std::iter::repeat_n(b'7', 9 << 20));

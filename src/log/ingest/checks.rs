@@ -493,9 +493,11 @@ fn impossible_rates(
         let Some(col) = acc.cols.get(slot) else {
             continue;
         };
-        let Some(b) = beyond(col.iter().copied(), MAX_PLAUSIBLE_RATE_DPH) else {
+        let Some(mut b) = beyond(col.iter().copied(), MAX_PLAUSIBLE_RATE_DPH) else {
             continue;
         };
+        // Of the file's rows: a column's verdict never hangs on another's drops or order.
+        b.readings += acc.noticed.rows_read.saturating_sub(col.len());
         let column = plan.slot_col.get(slot).copied().flatten();
         let name = column.map_or("?", |c| plan.name(c));
         let line_at = |k: usize| acc.line_of(row_of(drop, k));
@@ -573,7 +575,9 @@ fn missing_axis_cells(
         let name = crate::text::escaped(column.map_or("?", |c| plan.name(c)), false).into_owned();
         let line = acc.line_of(row_of(drop, first));
         let n = missing.len();
-        let few = n as f64 <= MOST_GLITCH_SHARE * col.len() as f64;
+        // Of the file's rows: a column's verdict never hangs on another's drops or order.
+        let of = acc.noticed.rows_read.max(col.len());
+        let few = n as f64 <= MOST_GLITCH_SHARE * of as f64;
         let message = if few {
             format!(
                 "{} dropped: blank, NaN, infinite or unreadable in column \"{name}\" (first at \
@@ -582,12 +586,11 @@ fn missing_axis_cells(
             )
         } else {
             format!(
-                "{n} cells of column \"{name}\" ({} % of its {} rows) are blank, NaN, infinite \
-                 or unreadable (first at line {line}): more than the {} % whose rows are \
-                 dropped, so they are kept as missing, the other axes keep their rows, and \
+                "{n} cells of column \"{name}\" ({} % of the file's {of} rows) are blank, NaN, \
+                 infinite or unreadable (first at line {line}): more than the {} % whose rows \
+                 are dropped, so they are kept as missing, the other axes keep their rows, and \
                  that axis is neither fitted nor judged",
-                crate::log::impossible::share_percent(n, col.len()),
-                col.len(),
+                crate::log::impossible::share_percent(n, of),
                 100.0 * MOST_GLITCH_SHARE
             )
         };
@@ -625,9 +628,6 @@ fn drop_kept(acc: &mut Acc, drop: &mut Vec<usize>, mut gone: Vec<usize>) {
 fn short(s: f64) -> String {
     if s == 0.0 || !s.is_finite() || !(1e-6..1e9).contains(&s.abs()) {
         return crate::number::readable(s);
-    }
-    if s == 0.0 {
-        return s.to_string();
     }
     let digits = (5 - s.abs().log10().floor() as i32).max(0) as usize;
     let t = format!("{s:.digits$}");

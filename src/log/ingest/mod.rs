@@ -80,6 +80,7 @@ mod plausible;
 pub(crate) use columns::CORRECTED_LOG_RATES;
 pub(crate) use plausible::check as plausibility_problems;
 mod read;
+mod record;
 mod series;
 mod sniff;
 mod time_scale;

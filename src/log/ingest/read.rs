@@ -10,8 +10,9 @@
 use super::checks::finish;
 use super::columns::{SLOT_TIME, TimeSource, plan};
 use super::parse::{Chunk, Noticed, Parser, Stop, plan_for};
+use super::record::{MAX_QUOTED_BYTES, MAX_QUOTED_LINES, OpenQuote, RecordScan};
 use super::sniff::{
-    MAX_LINE_BYTES, Sniffed, Unterminated, is_skippable, read_head, sniff, split_fields, strip_cr,
+    MAX_LINE_BYTES, Sniffed, is_skippable, read_head, sniff, split_fields, strip_cr,
 };
 use super::{ExtraColumns, Fail, Needs, Preview, ReadOptions};
 use crate::log::{ColumnRole, Log, ProblemKind};
@@ -250,8 +251,8 @@ fn read_blocks(
     block_bytes: usize,
 ) -> Result<Log, Fail> {
     let total = src.len()?;
-    let (head, eof) = read_head(&mut *src.open_at(0)?, HEAD_LINES).map_err(io_fail)?;
-    let sn = sniff(&head, eof, opts, 0)?;
+    let head = read_head(&mut *src.open_at(0)?, HEAD_LINES).map_err(io_fail)?;
+    let sn = sniff(&head, opts, 0)?;
     drop(head);
     let (checked, trim) = with_other_temperatures(opts, needs);
     let (opts, needs) = (&checked.0, &checked.1);
@@ -469,6 +470,8 @@ fn general(pass: &Pass<'_>, acc: &mut Acc) -> Result<(), Fail> {
     loop {
         rec.clear();
         let start = line;
+        let mut scan = RecordScan::new(sn.delim);
+        let mut open: Option<OpenQuote> = None;
         loop {
             let limit = (MAX_LINE_BYTES + 1 - rec.len().min(MAX_LINE_BYTES)) as u64;
             let n = (&mut rdr)
@@ -483,13 +486,13 @@ fn general(pass: &Pass<'_>, acc: &mut Acc) -> Result<(), Fail> {
                 return Err(too_long(start));
             }
             line += 1;
-            if rec.last() != Some(&b'\n') {
-                break;
-            }
-            let body = strip_cr(&rec[..rec.len() - 1]);
-            let mut fields = Vec::new();
-            if split_fields(body, sn.delim, &mut fields).is_ok() {
-                break;
+            let ends = rec.last() == Some(&b'\n');
+            let new_line = &rec[rec.len() - n..rec.len() - usize::from(ends)];
+            open = scan.feed(strip_cr(new_line), line - 1);
+            match open {
+                Some(o) if o.too_long() => return Err(quote_runs_on(o)),
+                Some(_) if ends => {}
+                _ => break,
             }
         }
         if rec.is_empty() {
@@ -499,14 +502,15 @@ fn general(pass: &Pass<'_>, acc: &mut Acc) -> Result<(), Fail> {
         if is_skippable(body) {
             continue;
         }
-        let mut fields: Vec<Cow<'_, [u8]>> = Vec::new();
-        if let Err(Unterminated) = split_fields(body, sn.delim, &mut fields) {
+        if let Some(o) = open {
             return Err(Fail::new(
-                start,
-                0,
-                "a quoted field opened on this line is never closed".to_string(),
+                o.line,
+                o.column,
+                "a quoted field opened here is never closed".to_string(),
             ));
         }
+        let mut fields: Vec<Cow<'_, [u8]>> = Vec::new();
+        let _ = split_fields(body, sn.delim, &mut fields);
         match parser.fields_row(&mut chunk, &fields, start, &mut vals) {
             Ok(()) => {}
             Err(Stop::Error(f)) => return Err(f),
@@ -527,12 +531,27 @@ fn general(pass: &Pass<'_>, acc: &mut Acc) -> Result<(), Fail> {
     Ok(())
 }
 
+/// The refusal of a quoted field that runs on past what a cell can be: most likely its
+/// closing quote is missing, and reading on would take the rest of the file as one cell.
+fn quote_runs_on(o: OpenQuote) -> Fail {
+    Fail::new(
+        o.line,
+        o.column,
+        format!(
+            "a quoted field opened here is still open after {} lines ({} bytes): a cell of a \
+             log is a number or a short word (at most {MAX_QUOTED_LINES} lines, \
+             {MAX_QUOTED_BYTES} bytes); is a closing quote missing?",
+            o.lines, o.bytes
+        ),
+    )
+}
+
 /// Sniffs and maps without reading the data.
 pub(crate) fn preview(src: Src<'_>, opts: &ReadOptions, max_rows: usize) -> Result<Preview, Fail> {
     src.len()?;
     let min_lines = max_rows.saturating_add(HEAD_LINES);
-    let (head, eof) = read_head(&mut *src.open_at(0)?, min_lines).map_err(io_fail)?;
-    let sn = sniff(&head, eof, opts, max_rows)?;
+    let head = read_head(&mut *src.open_at(0)?, min_lines).map_err(io_fail)?;
+    let sn = sniff(&head, opts, max_rows)?;
     let (columns, mapping_error, time_from_sample_rate) = match plan(&sn, opts) {
         Ok(p) => (
             p.columns,

@@ -2,7 +2,7 @@
 //! writes for a failed formula, a wide text encoding, and the bounded head read before
 //! anything else. Apart from sniffing because the reader meets lines long after it.
 
-use memchr::memchr_iter;
+use memchr::{memchr, memchr_iter};
 use std::io::{self, Read};
 
 /// The longest line the reader accepts; anything longer is not a text log.
@@ -77,21 +77,73 @@ pub(crate) fn wide_encoding(head: &[u8]) -> Option<&'static str> {
     None
 }
 
+/// The head of a log as read for sniffing.
+#[derive(Debug, Default)]
+pub(crate) struct Head {
+    /// The bytes, from the first line not skipped.
+    pub bytes: Vec<u8>,
+    /// The bytes reach the end of the file.
+    pub eof: bool,
+    /// Bytes and lines of blank and comment lines skipped before `bytes` (0 for most files).
+    pub skipped_bytes: usize,
+    pub skipped_lines: usize,
+}
+
 /// Reads the head of a log: whole lines enough to sniff (and preview) it, bounded in size.
 ///
-/// Returns the bytes and whether they are the whole file.
-pub(crate) fn read_head(r: &mut dyn Read, min_lines: usize) -> io::Result<(Vec<u8>, bool)> {
-    let mut head = Vec::new();
+/// A preamble of blank and comment lines (a logger's settings dump, say) can be longer than
+/// the head: once a whole chunk has been read without a line of data, its blank and comment
+/// lines are counted and let go, so any number of them is skipped in bounded memory and the
+/// head starts at the first line that carries data. A line holding a NUL byte is never let go
+/// (sniffing tells a binary file or a wide encoding by it).
+pub(crate) fn read_head(r: &mut dyn Read, min_lines: usize) -> io::Result<Head> {
+    let mut head = Head::default();
     let mut lines = 0usize;
+    let mut in_preamble = true;
     loop {
-        let before = head.len();
-        let n = r.take(HEAD_CHUNK as u64).read_to_end(&mut head)?;
-        lines += memchr_iter(b'\n', &head[before..]).count();
+        let before = head.bytes.len();
+        let n = r.take(HEAD_CHUNK as u64).read_to_end(&mut head.bytes)?;
+        lines += memchr_iter(b'\n', &head.bytes[before..]).count();
         if n < HEAD_CHUNK {
-            return Ok((head, true));
+            head.eof = true;
+            return Ok(head);
         }
-        if head.len() >= MAX_LINE_BYTES || lines >= min_lines {
-            return Ok((head, false));
+        if in_preamble {
+            in_preamble = skip_preamble(&mut head);
+            lines = memchr_iter(b'\n', &head.bytes).count();
+        }
+        if head.bytes.len() >= MAX_LINE_BYTES || (lines >= min_lines && !in_preamble) {
+            return Ok(head);
         }
     }
+}
+
+/// Lets go of the whole blank and comment lines at the start of `head.bytes`, counting them;
+/// true while no line of data has been met.
+fn skip_preamble(head: &mut Head) -> bool {
+    let bytes = &head.bytes;
+    if head.skipped_bytes == 0 && wide_encoding(bytes).is_some() {
+        return false;
+    }
+    // A byte-order mark stays at the start, where sniffing looks for it.
+    let bom = if bytes.starts_with(b"\xEF\xBB\xBF") {
+        3
+    } else {
+        0
+    };
+    let (mut cut, mut n) = (bom, 0usize);
+    let mut data = false;
+    while let Some(i) = memchr(b'\n', &bytes[cut..]) {
+        let line = &bytes[cut..cut + i];
+        if !is_skippable(strip_cr(line)) || memchr(0, line).is_some() {
+            data = true;
+            break;
+        }
+        cut += i + 1;
+        n += 1;
+    }
+    head.bytes.drain(bom..cut);
+    head.skipped_bytes += cut - bom;
+    head.skipped_lines += n;
+    !data
 }

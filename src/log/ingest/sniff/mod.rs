@@ -18,7 +18,7 @@ mod tests;
 
 pub(crate) use fields::{Delim, Unterminated, split_fields};
 pub(crate) use lines::{
-    MAX_LINE_BYTES, is_skippable, is_spreadsheet_error, read_head, strip_cr, wide_encoding,
+    Head, MAX_LINE_BYTES, is_skippable, is_spreadsheet_error, read_head, strip_cr, wide_encoding,
 };
 
 use super::parse::{Cell, parse_cell};
@@ -80,19 +80,18 @@ impl ColStats {
 
 /// Sniffs the dialect and header of a log from its head.
 ///
-/// `head` starts at the file's first byte; `eof` says it is the whole file. `preview_rows`
-/// data rows are kept as text.
-pub(crate) fn sniff(
-    head: &[u8],
-    eof: bool,
-    opts: &ReadOptions,
-    preview_rows: usize,
-) -> Result<Sniffed, Fail> {
+/// `head` starts at the file's first byte, or after the blank and comment lines it skipped;
+/// `eof` says it reaches the end of the file. `preview_rows` data rows are kept as text.
+pub(crate) fn sniff(h: &Head, opts: &ReadOptions, preview_rows: usize) -> Result<Sniffed, Fail> {
+    let (head, eof) = (&h.bytes[..], h.eof);
     let bom = if head.starts_with(b"\xEF\xBB\xBF") {
         3
     } else {
         0
     };
+    if head.len() <= bom && h.skipped_lines > 0 {
+        return Err(no_data(h.skipped_lines));
+    }
     if head.len() <= bom {
         return Err(Fail::file("the file is empty"));
     }
@@ -138,7 +137,7 @@ pub(crate) fn sniff(
     // Whole lines of the head; content lines are those carrying data or a header.
     let mut all: Vec<HeadLine> = Vec::new();
     let mut pos = bom;
-    let mut no = 1;
+    let mut no = 1 + h.skipped_lines;
     while pos < head.len() {
         let (end, next) = match memchr(b'\n', &head[pos..]) {
             Some(i) => (pos + i, pos + i + 1),
@@ -168,9 +167,7 @@ pub(crate) fn sniff(
         .copied()
         .collect();
     let Some(first) = content.first().copied() else {
-        return Err(Fail::file(
-            "the file has no data: only blank or comment lines",
-        ));
+        return Err(no_data(h.skipped_lines + all.len()));
     };
 
     // Dialect.
@@ -387,7 +384,7 @@ pub(crate) fn sniff(
     let (data_start, data_first_line) = if has_header {
         (first.next, first.no + 1)
     } else {
-        (bom, 1)
+        (bom, 1 + h.skipped_lines)
     };
     let (mut bytes, mut nlines) = (0usize, 0usize);
     for l in all.iter().filter(|l| l.start >= data_start) {
@@ -400,6 +397,7 @@ pub(crate) fn sniff(
         32.0
     };
 
+    let data_start = data_start + h.skipped_bytes;
     Ok(Sniffed {
         delim,
         decimal_comma,
@@ -413,6 +411,13 @@ pub(crate) fn sniff(
         data_first_line,
         avg_line_len,
     })
+}
+
+/// The refusal of a file whose `lines` lines are all blank or comments.
+fn no_data(lines: usize) -> Fail {
+    Fail::file(format!(
+        "the file has no data: its {lines} lines are all blank or comment lines"
+    ))
 }
 
 /// The most frequent value and how often it occurs (0, 0 for none).
