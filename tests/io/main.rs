@@ -21,6 +21,7 @@ mod formats;
 mod glitch_readings;
 mod hand_edited_calibrations;
 mod hand_edited_k0;
+mod hand_edited_knots;
 mod hand_edited_runs;
 mod hand_edited_tref;
 mod header_units;

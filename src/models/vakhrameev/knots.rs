@@ -275,6 +275,63 @@ pub fn with_knots(approx: &Approx, values: Option<&Vec<f64>>) -> Approx {
         .fold(approx.clone(), |a, (j, &y)| a.with_knot_value(j, y))
 }
 
+/// Refuses a calibration whose recipe's knots placed or set by hand (`at`, `values`) are not
+/// the knots of its curves: a file edited in one place and not the other. Its corrections
+/// would follow the curve while `calibrate --recipe` of the same file made another
+/// calibration, and the recipe, the summary and the workbench showed knots no curve has. The
+/// fit keeps them as given ([`check_hand_kept`], the same tolerance), so a file driftlab wrote
+/// always passes.
+///
+/// # Errors
+/// [`Invalid`], naming the recipe's field and the curve's.
+pub fn check_hand_in_curves(cal: &Calibration) -> std::result::Result<(), Invalid> {
+    let same = |a: &[f64], b: &[f64]| {
+        a.len() == b.len()
+            && a.iter()
+                .zip(b)
+                .all(|(x, y)| (x - y).abs() <= 1e-12 * (1.0 + x.abs()))
+    };
+    for c in Coefficient::ALL {
+        let spec = c.spec(&cal.recipe);
+        let (xs, ys) = c.approx(cal).knots();
+        for (part, hand, got, what) in [
+            ("at", spec.at.as_deref(), xs, "knots_x"),
+            ("values", spec.values.as_deref(), ys, "knots_y"),
+        ] {
+            let Some(hand) = hand else { continue };
+            if !same(hand, got) {
+                return Err(Invalid::new(
+                    format!("recipe.{}.{part}", c.key()),
+                    format!(
+                        "{} are not the {} of the curve {} (its {what}: {}): the file was edited \
+                         in one place and not the other; set both alike, or remove recipe.{}.{part}",
+                        list(hand),
+                        if part == "at" { "knots" } else { "knot values" },
+                        c.key(),
+                        list(got),
+                        c.key()
+                    ),
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// A short list of numbers for a message: the first few, and how many more.
+fn list(v: &[f64]) -> String {
+    let shown: Vec<String> = v
+        .iter()
+        .take(6)
+        .map(|x| crate::number::readable(*x))
+        .collect();
+    match v.len() {
+        0 => "none".to_string(),
+        n if n > 6 => format!("[{}, … {} in all]", shown.join(", "), n),
+        _ => format!("[{}]", shown.join(", ")),
+    }
+}
+
 /// Refuses `fitted`, coefficient `c`'s curve fitted for `spec`, when it could not keep what
 /// `spec` sets by hand: knots placed by hand (`at`) that are not its knots, or knot values set
 /// by hand (`values`) that are not as many as its knots (its points carried only a simpler

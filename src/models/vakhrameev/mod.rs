@@ -517,6 +517,7 @@ impl Calibration {
         k0_range::check_k0_range(&self.k0, &self.recipe.k0, &self.plateaus)?;
         self.check_plateau_facts()?;
         self.check_fit_facts()?;
+        knots::check_hand_in_curves(self)?;
         // After the statistics' own facts: an R² above 1 is refused for what it is.
         k0_claim::check_k0_claim(&self.k0, &self.plateaus)
     }
