@@ -6,6 +6,31 @@
 
 use super::*;
 
+/// Each header of `cases` (with what its refusal quotes of it) over rates in mdeg/s: refused,
+/// naming the column, what it states and rate_unit, and `odd` of the message said nothing
+/// against it; given rate_unit mdeg/s, the column reads the truth. What failed, in words.
+fn refused_in_mdeg(
+    cases: &[(&str, &str)],
+    odd: impl Fn(&str, &str) -> Option<String>,
+) -> Vec<String> {
+    let mut failures = Vec::new();
+    let given = ReadOptions {
+        rate_unit: Some(RateUnit::MilliDegPerSec),
+        ..opts()
+    };
+    for &(name, shown) in cases {
+        let text = log_text("time_s", SECOND, name, MDEG_PER_S);
+        match refusal(&text, name, &format!("\"{shown}\""), "rate_unit") {
+            Ok(m) => failures.extend(odd(name, &m)),
+            Err(e) => failures.push(e),
+        }
+        if let Err(e) = truth_of(&text, &given) {
+            failures.push(format!("with rate_unit mdeg/s: {e}"));
+        }
+    }
+    failures
+}
+
 #[test]
 fn a_scale_beside_a_rate_unit_is_refused_not_dropped() {
     // The same rates in mdeg/s under headers that say so with a number beside deg/s: read as
@@ -25,22 +50,9 @@ fn a_scale_beside_a_rate_unit_is_refused_not_dropped() {
         ("omega_1000_dps", "1000_dps"),
         ("x [deg/s]/1000", "[deg/s] 1000"),
     ];
-    let mut failures = Vec::new();
-    let given = ReadOptions {
-        rate_unit: Some(RateUnit::MilliDegPerSec),
-        ..opts()
-    };
-    for (name, shown) in cases {
-        let text = log_text("time_s", SECOND, name, MDEG_PER_S);
-        match refusal(&text, name, &format!("\"{shown}\""), "rate_unit") {
-            Ok(m) if !m.contains("mdeg/s") => failures.push(format!("{name}: no mdeg/s in: {m}")),
-            Ok(_) => {}
-            Err(e) => failures.push(e),
-        }
-        if let Err(e) = truth_of(&text, &given) {
-            failures.push(format!("with rate_unit mdeg/s: {e}"));
-        }
-    }
+    let mut failures = refused_in_mdeg(&cases, |name, m| {
+        (!m.contains("mdeg/s")).then(|| format!("{name}: no mdeg/s in: {m}"))
+    });
     // A second axis so named beside one whose unit reads: refused for its scale.
     let gy = log_text("time_s", SECOND, "gx_mdps", MDEG_PER_S).replace(
         "time_s,gx_mdps,temp_c",
@@ -108,22 +120,10 @@ fn a_fraction_a_ratio_a_scale_word_or_a_glued_number_beside_a_rate_unit_is_refus
         ("gyro_x_rad_s2", "rad_s2"),
         ("omega_1dps", "1dps"),
     ];
-    let mut failures = Vec::new();
-    let given = ReadOptions {
-        rate_unit: Some(RateUnit::MilliDegPerSec),
-        ..opts()
-    };
-    for (name, shown) in cases {
-        let text = log_text("time_s", SECOND, name, MDEG_PER_S);
-        match refusal(&text, name, &format!("\"{shown}\""), "rate_unit") {
-            Ok(m) if m.contains("--") => failures.push(format!("{name}: an option in: {m}")),
-            Ok(_) => {}
-            Err(e) => failures.push(e),
-        }
-        if let Err(e) = truth_of(&text, &given) {
-            failures.push(format!("with rate_unit mdeg/s: {e}"));
-        }
-    }
+    let failures = refused_in_mdeg(&cases, |name, m| {
+        m.contains("--")
+            .then(|| format!("{name}: an option in: {m}"))
+    });
     none_failed(failures);
     // The command line words the same refusal with its own option.
     let dir = tempfile::tempdir().unwrap();
